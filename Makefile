@@ -1,0 +1,183 @@
+# kelp: plain GNU make. See README.md for the targets.
+#
+# Source layout rules (wildcards, so a new module needs no Makefile edit):
+#   core (libkelp_core.a): src/<module>/*.c           -- no malloc, no I/O, no clocks
+#   edge (libkelp.a):      src/<module>/edge/*.c, src/app/*.c, generated lcmtypes
+#   apps:                  apps/<name>/*.c   -> build/bin/<name>
+#   core unit tests:       test/check_*.c    (each exports Suite *kelp_<x>_suite(void))
+#   edge unit tests:       test/edge/check_*.c
+#   integration tests:     test/integration/*.sh (run in a private network namespace)
+#   fuzz targets:          fuzz/fuzz_*.c     (LLVMFuzzerTestOneInput)
+#   benchmarks:            bench/bench_*.c, bench/run.sh
+
+SHELL      := /bin/bash
+CC         ?= cc
+ifeq ($(origin CC),default)
+CC         := gcc
+endif
+AR         ?= ar
+BUILD      ?= build
+PREFIX     ?= /usr/local
+DESTDIR    ?=
+VERSION    := 0.1.0
+FUZZ_SECONDS ?= 20
+ARCH       ?= aarch64
+
+WARN     := -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wmissing-prototypes \
+            -Wpointer-arith -Wformat=2 -Wvla -Wundef
+OPT      ?= -O2 -g
+CSTD     := -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE
+CPPFLAGS += -Iinclude -I$(BUILD)/gen -DKELP_VERSION='"$(VERSION)"'
+CFLAGS   += $(CSTD) $(OPT) $(WARN) -fno-common
+LCM_CFLAGS := $(shell pkg-config --cflags lcm 2>/dev/null)
+EXT_LIBS := $(shell pkg-config --libs lcm 2>/dev/null) -lexpat -lmbedtls -lmbedx509 -lmbedcrypto \
+            -lserialport -lsqlite3 $(shell pkg-config --libs cairo 2>/dev/null) -lm -lpthread -lutil
+CHECK_LIBS := $(shell pkg-config --libs check 2>/dev/null)
+
+CORE_SRC := $(sort $(wildcard src/*/*.c))
+EDGE_SRC := $(sort $(wildcard src/*/edge/*.c))
+LCM_DEFS := $(sort $(wildcard lcmtypes/*.lcm))
+GEN_DIR  := $(BUILD)/gen
+# lcm-gen names the C file <package>_<struct>.c; every type here is in package kelp.
+LCM_C    := $(patsubst lcmtypes/%.lcm,$(GEN_DIR)/kelp_%.c,$(LCM_DEFS))
+LCM_H    := $(LCM_C:.c=.h)
+
+CORE_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(CORE_SRC))
+EDGE_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(EDGE_SRC)) $(patsubst %.c,$(BUILD)/obj/%.o,$(LCM_C))
+APPS     := $(notdir $(patsubst %/,%,$(sort $(dir $(wildcard apps/*/*.c)))))
+APP_BINS := $(addprefix $(BUILD)/bin/,$(APPS))
+SCRIPTS  := $(notdir $(wildcard tools/kelp-*))
+
+CORE_TESTS := $(filter-out test/check_main.c,$(sort $(wildcard test/check_*.c)))
+EDGE_TESTS := $(sort $(wildcard test/edge/check_*.c))
+FAKES      := $(sort $(wildcard test/fakes/*.c))
+FUZZERS    := $(patsubst fuzz/%.c,%,$(sort $(wildcard fuzz/fuzz_*.c)))
+BENCHES    := $(patsubst bench/%.c,$(BUILD)/bench/%,$(sort $(wildcard bench/bench_*.c)))
+
+LIBCORE := $(BUILD)/libkelp_core.a
+LIBEDGE := $(BUILD)/libkelp.a
+
+.PHONY: all deps test unit integration check-alloc firmware cross asan lint fuzz bench install \
+        demo spy-jar clean tests-bin
+.DEFAULT_GOAL := all
+
+all: $(LIBCORE) $(LIBEDGE) $(APP_BINS) scripts
+
+deps:
+	@scripts/deps.sh build
+
+# ---------------------------------------------------------------- generated lcmtypes
+$(GEN_DIR)/kelp_%.c $(GEN_DIR)/kelp_%.h: lcmtypes/%.lcm
+	@mkdir -p $(GEN_DIR)
+	lcm-gen -c --c-cpath $(GEN_DIR) --c-hpath $(GEN_DIR) $<
+
+# ---------------------------------------------------------------- objects
+$(BUILD)/obj/%.o: %.c | $(LCM_H)
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -MMD -MP -c $< -o $@
+
+# edge objects and generated code see LCM/glib headers; generated code is not ours, relax warnings
+$(patsubst %.c,$(BUILD)/obj/%.o,$(EDGE_SRC)): CPPFLAGS += $(LCM_CFLAGS)
+$(BUILD)/obj/$(GEN_DIR)/%.o: CFLAGS := $(CSTD) $(OPT) -w
+$(BUILD)/obj/$(GEN_DIR)/%.o: CPPFLAGS += $(LCM_CFLAGS)
+
+$(LIBCORE): $(CORE_OBJ)
+	@mkdir -p $(dir $@)
+	rm -f $@ && $(AR) rcs $@ $^
+
+$(LIBEDGE): $(EDGE_OBJ)
+	@mkdir -p $(dir $@)
+	rm -f $@ && $(AR) rcs $@ $^
+
+# ---------------------------------------------------------------- apps
+define APP_RULE
+$(BUILD)/bin/$(1): $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard apps/$(1)/*.c)) $(LIBEDGE) $(LIBCORE)
+	@mkdir -p $$(dir $$@)
+	$$(CC) $$(CFLAGS) -o $$@ $$(filter %.o,$$^) $(LIBEDGE) $(LIBCORE) $$(EXT_LIBS)
+endef
+$(foreach a,$(APPS),$(eval $(call APP_RULE,$(a))))
+$(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard apps/*/*.c)): CPPFLAGS += $(LCM_CFLAGS)
+
+scripts: $(addprefix $(BUILD)/bin/,$(SCRIPTS))
+$(BUILD)/bin/kelp-%: tools/kelp-%
+	@mkdir -p $(dir $@)
+	cp $< $@ && chmod +x $@
+
+# ---------------------------------------------------------------- unit tests
+# The list of suites is generated from the test sources, so adding a suite needs no edit here.
+$(BUILD)/gen/core_suites.h: $(CORE_TESTS) Makefile
+	@mkdir -p $(dir $@)
+	@grep -ho 'Suite \*kelp_[a-z0-9_]*_suite(void)' $(CORE_TESTS) /dev/null | sed 's/Suite \*\(.*\)(void)/X(\1)/' > $@.tmp; mv $@.tmp $@
+$(BUILD)/gen/edge_suites.h: $(EDGE_TESTS) Makefile
+	@mkdir -p $(dir $@)
+	@grep -ho 'Suite \*kelp_[a-z0-9_]*_suite(void)' $(EDGE_TESTS) /dev/null | sed 's/Suite \*\(.*\)(void)/X(\1)/' > $@.tmp; mv $@.tmp $@
+
+$(BUILD)/test/check_core: test/check_main.c $(CORE_TESTS) $(FAKES) $(BUILD)/gen/core_suites.h $(LIBCORE)
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) -Itest $(CFLAGS) -Wno-missing-prototypes -DKELP_SUITES='"core_suites.h"' -DKELP_RUNNER_NAME='"core"' \
+	  -o $@ test/check_main.c $(CORE_TESTS) $(FAKES) $(LIBCORE) $(CHECK_LIBS) -lm
+$(BUILD)/test/check_edge: test/check_main.c $(EDGE_TESTS) $(FAKES) $(BUILD)/gen/edge_suites.h $(LIBEDGE) $(LIBCORE)
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(LCM_CFLAGS) -Itest $(CFLAGS) -Wno-missing-prototypes -DKELP_SUITES='"edge_suites.h"' -DKELP_RUNNER_NAME='"edge"' \
+	  -o $@ test/check_main.c $(EDGE_TESTS) $(FAKES) $(LIBEDGE) $(LIBCORE) $(EXT_LIBS) $(CHECK_LIBS)
+
+tests-bin: $(BUILD)/test/check_core $(BUILD)/test/check_edge
+
+unit: tests-bin
+	@$(BUILD)/test/check_core && $(BUILD)/test/check_edge
+
+integration: all
+	@BUILD=$(abspath $(BUILD)) scripts/run-integration.sh
+
+test: deps-test
+	@$(MAKE) --no-print-directory all tests-bin
+	@scripts/run-tests.sh $(BUILD)
+
+deps-test:
+	@scripts/deps.sh test
+
+# ---------------------------------------------------------------- checks
+check-alloc: $(LIBCORE)
+	@scripts/check-alloc.sh $(LIBCORE)
+
+firmware:
+	@scripts/firmware.sh
+
+cross:
+	@scripts/cross.sh $(ARCH)
+
+asan:
+	@$(MAKE) --no-print-directory BUILD=build-asan CC=gcc \
+	  OPT="-O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" \
+	  LDFLAGS="-fsanitize=address,undefined" all tests-bin
+	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  scripts/run-tests.sh build-asan
+
+lint:
+	@scripts/lint.sh
+
+fuzz:
+	@FUZZ_SECONDS=$(FUZZ_SECONDS) scripts/fuzz.sh $(FUZZERS)
+
+bench: all
+	@scripts/bench.sh $(BUILD)
+
+demo: 
+	@scripts/deps.sh build
+	@$(MAKE) --no-print-directory all
+	@scripts/demo.sh $(BUILD)
+
+spy-jar: $(BUILD)/kelp_types.jar
+$(BUILD)/kelp_types.jar: $(LCM_DEFS)
+	@rm -rf $(BUILD)/java && mkdir -p $(BUILD)/java/src $(BUILD)/java/classes
+	lcm-gen -j --jpath $(BUILD)/java/src $(LCM_DEFS)
+	javac -nowarn -cp /usr/share/java/lcm.jar -d $(BUILD)/java/classes $$(find $(BUILD)/java/src -name '*.java')
+	jar cf $@ -C $(BUILD)/java/classes .
+
+install: all
+	@PREFIX=$(PREFIX) DESTDIR=$(DESTDIR) VERSION=$(VERSION) scripts/install.sh $(BUILD)
+
+clean:
+	rm -rf build build-asan build-cross-* build-fw build-fuzz
+
+-include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Install the Debian packages kelp needs, only those missing. Usage: deps.sh build|test|ci|all
+# Uses sudo when not root. Set KELP_NO_APT=1 to skip.
+set -euo pipefail
+what=${1:-build}
+BUILD_PKGS="build-essential pkg-config liblcm-dev liblcm-bin liblcm-java libglib2.0-dev libserialport-dev
+ check libexpat1-dev libmbedtls-dev libsqlite3-dev libncurses-dev libcairo2-dev socat iproute2"
+TEST_PKGS="$BUILD_PKGS valgrind"
+CI_PKGS="$TEST_PKGS clang libclang-rt-14-dev cppcheck clang-tidy
+ gcc-arm-none-eabi libnewlib-arm-none-eabi gcc-aarch64-linux-gnu libc6-dev-arm64-cross
+ gcc-arm-linux-gnueabihf libc6-dev-armhf-cross qemu-user default-jdk-headless"
+case "$what" in
+  build) pkgs=$BUILD_PKGS ;;
+  test) pkgs=$TEST_PKGS ;;
+  ci|all) pkgs=$CI_PKGS ;;
+  *) echo "deps.sh: unknown set '$what'" >&2; exit 2 ;;
+esac
+[ "${KELP_NO_APT:-0}" = 1 ] && exit 0
+missing=()
+for p in $pkgs; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+SUDO=; [ "$(id -u)" -ne 0 ] && SUDO=sudo
+echo "deps.sh: installing ${missing[*]}"
+$SUDO apt-get update -q >/dev/null
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}" >/dev/null
