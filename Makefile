@@ -2,7 +2,7 @@
 #
 # Source layout rules (wildcards, so a new module needs no Makefile edit):
 #   core (libkelp_core.a): src/<module>/*.c           -- no malloc, no I/O, no clocks
-#   edge (libkelp.a):      src/<module>/edge/*.c, src/app/*.c, generated lcmtypes
+#   edge (libkelp.a):      src/<module>/edge/*.c, src/app/*.c (the app runner), generated lcmtypes
 #   apps:                  apps/<name>/*.c   -> build/bin/<name>
 #   core unit tests:       test/check_*.c    (each exports Suite *kelp_<x>_suite(void))
 #   edge unit tests:       test/edge/check_*.c
@@ -34,8 +34,8 @@ EXT_LIBS := $(shell pkg-config --libs lcm 2>/dev/null) -lexpat -lmbedtls -lmbedx
             -lserialport -lsqlite3 $(shell pkg-config --libs cairo 2>/dev/null) -lm -lpthread -lutil
 CHECK_LIBS := $(shell pkg-config --libs check 2>/dev/null)
 
-CORE_SRC := $(sort $(wildcard src/*/*.c))
-EDGE_SRC := $(sort $(wildcard src/*/edge/*.c))
+CORE_SRC := $(filter-out src/app/%,$(sort $(wildcard src/*/*.c)))
+EDGE_SRC := $(sort $(wildcard src/*/edge/*.c) $(wildcard src/app/*.c))
 LCM_DEFS := $(sort $(wildcard lcmtypes/*.lcm))
 GEN_DIR  := $(BUILD)/gen
 # lcm-gen names the C file <package>_<struct>.c; every type here is in package kelp.
@@ -67,6 +67,7 @@ deps:
 	@scripts/deps.sh build
 
 # ---------------------------------------------------------------- generated lcmtypes
+.SECONDARY: $(LCM_C) $(LCM_H)
 $(GEN_DIR)/kelp_%.c $(GEN_DIR)/kelp_%.h: lcmtypes/%.lcm
 	@mkdir -p $(GEN_DIR)
 	lcm-gen -c --c-cpath $(GEN_DIR) --c-hpath $(GEN_DIR) $<

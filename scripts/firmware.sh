@@ -8,7 +8,7 @@ rm -rf "$O"; mkdir -p "$O/obj"
 FLAGS="-std=c11 -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 -Os -ffunction-sections -fdata-sections
  -Wall -Wextra -Werror -Wno-double-promotion -Iinclude --specs=nano.specs"
 objs=()
-for f in src/*/*.c; do
+for f in $(ls src/*/*.c | grep -v "^src/app/"); do
   o="$O/obj/$(echo "${f%.c}" | tr / _).o"
   $CC $FLAGS -c "$f" -o "$o"
   objs+=("$o")

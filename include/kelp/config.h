@@ -16,6 +16,19 @@
 #define KELP_MAX_CACHE 512          /**< variables whose latest value a client retains */
 #endif
 
+#ifndef KELP_MAX_SYNC_PATTERNS
+#define KELP_MAX_SYNC_PATTERNS 16   /**< patterns in one sync request */
+#endif
+#ifndef KELP_MAX_LOOPBACK_CLIENTS
+#define KELP_MAX_LOOPBACK_CLIENTS 8 /**< clients on one in-process loopback network */
+#endif
+#ifndef KELP_LOOPBACK_FIFO
+#define KELP_LOOPBACK_FIFO 65536    /**< bytes queued on one loopback network */
+#endif
+#ifndef KELP_BUS_MAX_DEPTH
+#define KELP_BUS_MAX_DEPTH 8        /**< nested publish-from-handler depth on loopback */
+#endif
+
 /* ---- mission files ---- */
 #ifndef KELP_MAX_LINE
 #define KELP_MAX_LINE 1024          /**< bytes in one mission-file line */

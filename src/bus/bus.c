@@ -1,0 +1,311 @@
+/* kelp bus: registrations, dispatch, the retained-value cache and the sync protocol.
+ *
+ * Why a cache in every client: MOOS gives a registrant the current value of a variable
+ * at registration. kelp has no MOOSDB, so each client keeps the latest value of every
+ * variable it wrote or received (bounded by storage) and answers sync requests from
+ * late registrants. A requester takes a sync reply only when it is newer than what it
+ * already delivered for that variable, so several answers (or a live write racing the
+ * replay) deliver each value at most once.
+ */
+#include <string.h>
+#include <kelp/bus.h>
+#include "bus_int.h"
+
+static bool has_wildcard(const char *s)
+{
+    return strchr(s, '*') != NULL || strchr(s, '?') != NULL;
+}
+
+size_t kelp_bus_scratch_size(void)
+{
+    /* fingerprint + time + 3 names + kind + dval + sval + nbytes + bval + flags */
+    size_t var = 8 + 8 + 3 * (4 + KELP_MAX_NAME) + 1 + 8 + (4 + KELP_MAX_SVAL + 1) + 4 + KELP_MAX_SVAL + 1;
+    size_t req = 8 + 8 + 3 * (4 + KELP_MAX_NAME) + 2 + KELP_MAX_SYNC_PATTERNS * (4 + KELP_MAX_NAME);
+    return var > req ? var : req;
+}
+
+int kelp_bus_init(kelp_bus *b, const char *app, const char *community, const char *reply_channel,
+                  const kelp_bus_transport *tr, const kelp_bus_storage *st, kelp_bus_handler handler,
+                  void *user)
+{
+    if (!b || !app || !community || !reply_channel || !tr || !tr->publish || !tr->subscribe || !st)
+        return KELP_ERR_ARG;
+    if (!st->rx || !st->scratch || st->scratch_cap < kelp_bus_scratch_size()) return KELP_ERR_NOSPACE;
+    if ((st->nsubs && !st->subs) || (st->ncache && !st->cache)) return KELP_ERR_ARG;
+    memset(b, 0, sizeof *b);
+    int rc;
+    if ((rc = kelp_name_set(b->app, app)) < 0) return rc;
+    if ((rc = kelp_name_set(b->community, community)) < 0) return rc;
+    if ((rc = kelp_name_set(b->reply_channel, reply_channel)) < 0) return rc;
+    b->tr = *tr;
+    b->st = *st;
+    b->handler = handler;
+    b->user = user;
+    /* Sync requests and our replies: every client answers requests from others. */
+    if ((rc = tr->subscribe(tr->ctx, KELP_BUS_SYNC_CHANNEL)) < 0) return rc;
+    if ((rc = tr->subscribe(tr->ctx, b->reply_channel)) < 0) return rc;
+    return KELP_OK;
+}
+
+static kelp_var *cache_find(const kelp_bus *b, const char *name)
+{
+    /* O(n) over retained variables; n is small (hundreds) and this is not the hot path
+     * of a 10 Hz app. */
+    for (size_t i = 0; i < b->ncache_used; i++)
+        if (strcmp(b->st.cache[i].name, name) == 0) return &b->st.cache[i];
+    return NULL;
+}
+
+const kelp_var *kelp_bus_cached(const kelp_bus *b, const char *name)
+{
+    return b ? cache_find(b, name) : NULL;
+}
+
+static void cache_put(kelp_bus *b, const kelp_var *v)
+{
+    kelp_var *slot = cache_find(b, v->name);
+    if (!slot) {
+        if (b->ncache_used >= b->st.ncache) {
+            b->stats.cache_full++;
+            return;
+        }
+        slot = &b->st.cache[b->ncache_used++];
+    } else if (slot->time > v->time) {
+        return; /* keep the newer one */
+    }
+    /* copy only the used part of the value */
+    memcpy(slot, v, offsetof(kelp_var, sval));
+    memcpy(slot->sval, v->sval, v->slen);
+    slot->sval[v->slen] = 0;
+    slot->flags = (uint8_t)(v->flags & ~KELP_VAR_FLAG_SYNC);
+}
+
+static int send_var(kelp_bus *b, const kelp_var *v, const char *channel)
+{
+    size_t n = 0;
+    int rc = kelp_var_encode(v, b->st.scratch, b->st.scratch_cap, &n);
+    if (rc < 0) return rc;
+    rc = b->tr.publish(b->tr.ctx, channel, b->st.scratch, n);
+    if (rc < 0) return rc;
+    b->stats.published++;
+    return KELP_OK;
+}
+
+int kelp_bus_forward(kelp_bus *b, const kelp_var *v)
+{
+    if (!b || !v || v->name[0] == 0) return KELP_ERR_ARG;
+    cache_put(b, v);
+    return send_var(b, v, v->name);
+}
+
+static int notify(kelp_bus *b, const char *name, kelp_var_kind kind, double d, const char *data,
+                  size_t len, double now)
+{
+    if (!b || !name || !*name) return KELP_ERR_ARG;
+    if (strlen(name) >= KELP_MAX_NAME) return KELP_ERR_RANGE;
+    if (len > KELP_MAX_SVAL) return KELP_ERR_RANGE;
+    size_t n = 0;
+    int rc = kelp_var_encode_parts(now, name, b->app, b->community, kind, d, data, len, 0,
+                                   b->st.scratch, b->st.scratch_cap, &n);
+    if (rc < 0) return rc;
+    /* retain it: we answer late registrants for what we wrote */
+    kelp_var *slot = cache_find(b, name);
+    if (!slot && b->ncache_used < b->st.ncache) slot = &b->st.cache[b->ncache_used++];
+    if (slot) {
+        memset(slot, 0, offsetof(kelp_var, sval));
+        memcpy(slot->name, name, strlen(name) + 1);
+        memcpy(slot->source, b->app, sizeof b->app);
+        memcpy(slot->community, b->community, sizeof b->community);
+        slot->time = now;
+        slot->kind = kind;
+        slot->dval = kind == KELP_VAR_DOUBLE ? d : 0.0;
+        slot->slen = len;
+        if (len) memcpy(slot->sval, data, len);
+        slot->sval[len] = 0;
+    } else {
+        b->stats.cache_full++;
+    }
+    rc = b->tr.publish(b->tr.ctx, name, b->st.scratch, n);
+    if (rc < 0) return rc;
+    b->stats.published++;
+    return KELP_OK;
+}
+
+int kelp_bus_notify_double(kelp_bus *b, const char *name, double value, double now)
+{
+    return notify(b, name, KELP_VAR_DOUBLE, value, NULL, 0, now);
+}
+
+int kelp_bus_notify_string(kelp_bus *b, const char *name, const char *value, double now)
+{
+    if (!value) return KELP_ERR_ARG;
+    return notify(b, name, KELP_VAR_STRING, 0.0, value, strlen(value), now);
+}
+
+int kelp_bus_notify_binary(kelp_bus *b, const char *name, const void *data, size_t len, double now)
+{
+    if (!data && len) return KELP_ERR_ARG;
+    return notify(b, name, KELP_VAR_BINARY, 0.0, data, len, now);
+}
+
+static int send_sync_request(kelp_bus *b, const char *pattern, double now)
+{
+    kelp_sync_req q;
+    memset(&q, 0, sizeof q);
+    q.time = now;
+    memcpy(q.requester, b->app, sizeof q.requester);
+    memcpy(q.community, b->community, sizeof q.community);
+    memcpy(q.reply_channel, b->reply_channel, sizeof q.reply_channel);
+    q.npatterns = 1;
+    memcpy(q.patterns[0], pattern, strlen(pattern) + 1);
+    size_t n = 0;
+    int rc = kelp_sync_req_encode(&q, b->st.scratch, b->st.scratch_cap, &n);
+    if (rc < 0) return rc;
+    return b->tr.publish(b->tr.ctx, KELP_BUS_SYNC_CHANNEL, b->st.scratch, n);
+}
+
+int kelp_bus_register(kelp_bus *b, const char *pattern, double min_interval, double now)
+{
+    if (!b || !pattern || !*pattern || min_interval < 0) return KELP_ERR_ARG;
+    if (strlen(pattern) >= KELP_MAX_NAME) return KELP_ERR_RANGE;
+    for (size_t i = 0; i < b->nsubs_used; i++) {
+        if (strcmp(b->st.subs[i].pattern, pattern) == 0) {
+            b->st.subs[i].min_interval = min_interval;
+            return KELP_OK;
+        }
+    }
+    if (b->nsubs_used >= b->st.nsubs) return KELP_ERR_NOSPACE;
+    kelp_bus_sub *s = &b->st.subs[b->nsubs_used];
+    memset(s, 0, sizeof *s);
+    memcpy(s->pattern, pattern, strlen(pattern) + 1);
+    s->wildcard = has_wildcard(pattern);
+    s->min_interval = min_interval;
+    s->last_delivered = -1e300;
+    int rc = b->tr.subscribe(b->tr.ctx, pattern);
+    if (rc < 0) return rc;
+    b->nsubs_used++;
+    /* Values we already hold (we wrote them, or another registration brought them) are
+     * delivered now; others come from the peers' answers to the sync request. */
+    for (size_t i = 0; i < b->ncache_used; i++) {
+        const kelp_var *c = &b->st.cache[i];
+        if (kelp_bus_match(pattern, c->name) && b->handler) {
+            b->stats.delivered++;
+            b->handler(c, b->user);
+        }
+    }
+    return send_sync_request(b, pattern, now);
+}
+
+int kelp_bus_retain_all(kelp_bus *b, double now)
+{
+    (void)now;
+    if (!b) return KELP_ERR_ARG;
+    if (b->nsubs_used >= b->st.nsubs) return KELP_ERR_NOSPACE;
+    kelp_bus_sub *s = &b->st.subs[b->nsubs_used];
+    memset(s, 0, sizeof *s);
+    s->pattern[0] = '*';
+    s->wildcard = true;
+    s->last_delivered = -1e300;
+    int rc = b->tr.subscribe(b->tr.ctx, "*");
+    if (rc < 0) return rc;
+    b->nsubs_used++;
+    return KELP_OK;
+}
+
+/* Which subscription (if any) wants this name; honour its rate limit. */
+static bool wanted(kelp_bus *b, const kelp_var *v, bool *rate_limited)
+{
+    bool match = false;
+    *rate_limited = false;
+    for (size_t i = 0; i < b->nsubs_used; i++) {
+        kelp_bus_sub *s = &b->st.subs[i];
+        if (s->wildcard ? !kelp_bus_match(s->pattern, v->name) : strcmp(s->pattern, v->name) != 0)
+            continue;
+        if (s->min_interval > 0 && v->time - s->last_delivered < s->min_interval) {
+            *rate_limited = true;
+            continue;
+        }
+        s->last_delivered = v->time;
+        match = true;
+    }
+    return match;
+}
+
+static void answer_sync(kelp_bus *b, const kelp_sync_req *q)
+{
+    if (strcmp(q->reply_channel, b->reply_channel) == 0) return; /* our own request */
+    for (size_t i = 0; i < b->ncache_used; i++) {
+        kelp_var *c = &b->st.cache[i];
+        for (uint16_t k = 0; k < q->npatterns; k++) {
+            if (kelp_bus_match(q->patterns[k], c->name)) {
+                uint8_t keep = c->flags;
+                c->flags |= KELP_VAR_FLAG_SYNC;
+                if (send_var(b, c, q->reply_channel) == 0) b->stats.sync_sent++;
+                c->flags = keep;
+                break;
+            }
+        }
+    }
+}
+
+int kelp_bus_receive(kelp_bus *b, const char *channel, const uint8_t *data, size_t len, double now)
+{
+    (void)now;
+    if (!b || !channel) return KELP_ERR_ARG;
+    b->stats.received++;
+    if (b->depth >= KELP_BUS_MAX_DEPTH) return KELP_ERR_STATE;
+    int rc;
+    if (strcmp(channel, KELP_BUS_SYNC_CHANNEL) == 0) {
+        kelp_sync_req q;
+        rc = kelp_sync_req_decode(data, len, &q);
+        if (rc < 0) {
+            b->stats.bad++;
+            b->stats.last_bad_err = rc;
+            return rc;
+        }
+        b->depth++;
+        answer_sync(b, &q);
+        b->depth--;
+        return KELP_OK;
+    }
+    kelp_var *v = b->st.rx;
+    rc = kelp_var_decode(data, len, v);
+    if (rc < 0) {
+        b->stats.bad++;
+        b->stats.last_bad_err = rc;
+        return rc;
+    }
+    bool is_sync = strcmp(channel, b->reply_channel) == 0;
+    if (!is_sync && strcmp(channel, v->name) != 0) {
+        /* a var must travel on the channel of its own name */
+        b->stats.bad++;
+        b->stats.last_bad_err = KELP_ERR_PARSE;
+        return KELP_ERR_PARSE;
+    }
+    if (is_sync) {
+        const kelp_var *have = cache_find(b, v->name);
+        if (have && have->time >= v->time) {
+            b->stats.sync_stale++;
+            return KELP_OK;
+        }
+    }
+    bool limited = false;
+    bool want = wanted(b, v, &limited);
+    if (limited && !want) b->stats.rate_limited++;
+    /* retain what we see (wanted or answered for others) */
+    if (want || is_sync) cache_put(b, v);
+    if (!want) return KELP_OK;
+    if (is_sync) b->stats.sync_delivered++;
+    b->stats.delivered++;
+    if (b->handler) {
+        b->depth++;
+        b->handler(v, b->user);
+        b->depth--;
+    }
+    return KELP_OK;
+}
+
+const kelp_bus_stats *kelp_bus_get_stats(const kelp_bus *b)
+{
+    return b ? &b->stats : NULL;
+}
