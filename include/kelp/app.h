@@ -1,0 +1,91 @@
+/* kelp app runner (edge): the MOOS application model over the LCM bus.
+ *
+ * An app is a kelp_app_def: OnStartUp (read the ProcessConfig block, register), OnNewMail
+ * (one call per message, just before Iterate, only when mail arrived) and Iterate (at up
+ * to AppTick Hz of MOOS time, so MOOSTimeWarp speeds it up). kelp_app_run() handles the
+ * MOOS command line:
+ *
+ *   app [--alias=NAME] [--verbose] mission.moos [NAME]
+ *   app --help | --example | --interface | --version
+ *
+ * and prints an AppCast-style status report (iteration, mail counts, configuration and
+ * run warnings) to stdout, publishes <NAME>_STATUS, and exits cleanly on SIGINT/SIGTERM.
+ *
+ * Time: MOOS time = epoch + (unix time - epoch) * MOOSTimeWarp, where epoch is
+ * $KELP_WARP_EPOCH (kelp-launch sets it so a community shares one clock) or 0.
+ */
+#ifndef KELP_APP_H
+#define KELP_APP_H
+
+#include <stdio.h>
+#include <stdbool.h>
+#include <kelp/bus.h>
+#include <kelp/mission.h>
+
+typedef struct kelp_app kelp_app;
+
+typedef struct kelp_app_def {
+    const char *name;        /**< default MOOS name, e.g. "pXRelay" */
+    const char *purpose;     /**< one line for --help */
+    const char *example;     /**< an example ProcessConfig block (--example) */
+    const char *interface;   /**< subscriptions and publications (--interface) */
+    /** OnStartUp: read parameters (kelp_app_param*), register. Return <0 to stop the app
+     *  (after kelp_app_config_error). */
+    int (*startup)(kelp_app *app, void *state);
+    /** OnNewMail, one call per message in arrival order. */
+    void (*on_mail)(kelp_app *app, void *state, const kelp_var *v);
+    /** Iterate. Return <0 to stop the app. */
+    int (*iterate)(kelp_app *app, void *state, double now);
+    /** App-specific lines of the status report. */
+    void (*report)(kelp_app *app, void *state, FILE *out);
+    /** Called once on exit. */
+    void (*shutdown)(kelp_app *app, void *state);
+} kelp_app_def;
+
+/** Run the app; returns the process exit status. */
+int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state);
+
+/* ---- publish / subscribe (MOOS Notify / Register) ---- */
+int kelp_app_notify_double(kelp_app *app, const char *name, double value);
+int kelp_app_notify_string(kelp_app *app, const char *name, const char *value);
+int kelp_app_notify_stringf(kelp_app *app, const char *name, const char *fmt, ...) KELP_PRINTF(3, 4);
+int kelp_app_notify_binary(kelp_app *app, const char *name, const void *data, size_t len);
+int kelp_app_register(kelp_app *app, const char *pattern, double min_interval);
+
+/* ---- identity and time ---- */
+const char *kelp_app_name(const kelp_app *app);      /**< MOOS name (alias) */
+const char *kelp_app_community(const kelp_app *app);
+double kelp_app_time(const kelp_app *app);           /**< MOOS time now */
+double kelp_app_start_time(const kelp_app *app);
+double kelp_app_warp(const kelp_app *app);
+unsigned long kelp_app_iteration(const kelp_app *app);
+kelp_bus *kelp_app_bus(kelp_app *app);
+const char *kelp_app_mission_path(const kelp_app *app);
+
+/* ---- configuration (this app's ProcessConfig block; keys case-insensitive) ---- */
+const kelp_mission *kelp_app_mission(const kelp_app *app);
+int kelp_app_block(const kelp_app *app);             /**< node index of our block, -1 if none */
+/** First parameter `key` in our block (marked as used); NULL if absent. */
+const kelp_mission_node *kelp_app_param(kelp_app *app, const char *key);
+/** Iterate repeated parameters: pass the previous node (or NULL); marks them used. */
+const kelp_mission_node *kelp_app_param_next(kelp_app *app, const char *key, const kelp_mission_node *prev);
+/** Typed getters: 1 if found and converted, 0 if absent, <0 (and a config warning) if malformed. */
+int kelp_app_param_str(kelp_app *app, const char *key, char *buf, size_t cap);
+int kelp_app_param_double(kelp_app *app, const char *key, double *out);
+int kelp_app_param_bool(kelp_app *app, const char *key, bool *out);
+/** Global (top-of-file) parameter. */
+int kelp_app_global_str(kelp_app *app, const char *key, char *buf, size_t cap);
+int kelp_app_global_double(kelp_app *app, const char *key, double *out);
+/** Mark a node as handled (for parameters read through kelp_mission_* directly). */
+void kelp_app_param_used(kelp_app *app, const kelp_mission_node *n);
+
+/* ---- warnings and events, shown in the status report ---- */
+void kelp_app_config_warning(kelp_app *app, const char *fmt, ...) KELP_PRINTF(2, 3);
+/** A fatal configuration error: printed as "file:line: reason"; the app exits non-zero. */
+int kelp_app_config_error(kelp_app *app, const kelp_mission_node *at, const char *fmt, ...) KELP_PRINTF(3, 4);
+void kelp_app_run_warning(kelp_app *app, const char *fmt, ...) KELP_PRINTF(2, 3);
+void kelp_app_event(kelp_app *app, const char *fmt, ...) KELP_PRINTF(2, 3);
+/** Ask the loop to end after this iteration. */
+void kelp_app_quit(kelp_app *app);
+
+#endif

@@ -1,0 +1,36 @@
+/* kelp LCM transport (edge): one community = one LCM URL.
+ *
+ * Wraps a kelp_bus client around an lcm_t. Received datagrams are validated by kelp's own
+ * decoder (never LCM's generated one), so a malformed datagram is counted, not fatal.
+ * The receive side is set up for bursts: recv_buf_size=4 MiB is added to udpm URLs that
+ * do not set it, and each subscription's queue is unbounded (LCM's default of 30 drops
+ * most of a burst).
+ */
+#ifndef KELP_LCMBUS_H
+#define KELP_LCMBUS_H
+
+#include <kelp/bus.h>
+
+#define KELP_LCM_DEFAULT_URL "udpm://239.255.76.67:7667?ttl=0"
+#define KELP_LCM_RECV_BUF 4194304
+
+typedef struct kelp_lcmbus kelp_lcmbus;
+
+/** Resolve the URL for a community: $KELP_LCM_URL, else mission_url (may be NULL), else
+ *  the default. Writes into buf. */
+KELP_MUST_CHECK int kelp_lcm_url(const char *mission_url, char *buf, size_t cap);
+
+/** Open a client. @param url LCM URL (see kelp_lcm_url); @return NULL on failure with a
+ *  reason in err (cap errcap). */
+kelp_lcmbus *kelp_lcmbus_open(const char *url, const char *app, const char *community, kelp_bus_handler handler,
+                              void *user, char *err, size_t errcap);
+void kelp_lcmbus_close(kelp_lcmbus *lb);
+kelp_bus *kelp_lcmbus_bus(kelp_lcmbus *lb);
+int kelp_lcmbus_fd(kelp_lcmbus *lb);
+/** Handle every datagram already received (non-blocking), then wait up to timeout_ms for
+ *  more. `now` is the MOOS time handed to the bus. @return datagrams handled, or <0. */
+int kelp_lcmbus_handle(kelp_lcmbus *lb, int timeout_ms, double now);
+/** Publish raw bytes on a channel (bridges, tools). */
+KELP_MUST_CHECK int kelp_lcmbus_publish_raw(kelp_lcmbus *lb, const char *channel, const void *data, size_t len);
+
+#endif

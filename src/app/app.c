@@ -1,0 +1,499 @@
+/* kelp app runner: command line, mission, bus, loop, status report, signals. */
+#include <errno.h>
+#include <math.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+#include <kelp/app.h>
+#include <kelp/lcmbus.h>
+
+#define MAX_WARN 32
+#define WARN_LEN 200
+#define MAX_EVENTS 8
+#define MAX_REAL_HZ 1000.0          /* cap on Iterate rate in wall-clock Hz */
+#define STATUS_PERIOD_TTY 1.0       /* wall seconds between status reports on a terminal */
+#define STATUS_PERIOD_LOG 10.0      /* ... when stdout is a file */
+
+struct kelp_app {
+    const kelp_app_def *def;
+    void *state;
+    char name[KELP_MAX_NAME];
+    char community[KELP_MAX_NAME];
+    char mission_path[512];
+    char url[512];
+    kelp_mission_file mf;
+    int block;
+    unsigned char *used;             /* one flag per mission node */
+    kelp_lcmbus *lb;
+    double warp, epoch, start, app_tick, comms_tick;
+    unsigned long iter;
+    unsigned long mail_in, mail_total;
+    /* mail queued between iterations */
+    kelp_var *mail;
+    size_t nmail, capmail;
+    uint64_t mail_dropped;
+    char cfg_warn[MAX_WARN][WARN_LEN];
+    int ncfg_warn;
+    char run_warn[MAX_WARN][WARN_LEN];
+    unsigned long run_warn_count[MAX_WARN];
+    int nrun_warn;
+    char events[MAX_EVENTS][WARN_LEN];
+    int nevents;
+    bool quit;
+    bool tty;
+    bool verbose;
+};
+
+static volatile sig_atomic_t g_stop; /* set by SIGINT/SIGTERM; the edge may hold this one global */
+
+static void on_signal(int sig)
+{
+    (void)sig;
+    g_stop = 1;
+}
+
+static double wall_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+double kelp_app_time(const kelp_app *app)
+{
+    double w = wall_now();
+    return app->epoch + (w - app->epoch) * app->warp;
+}
+
+/* ------------------------------------------------------------------ mail */
+static void on_var(const kelp_var *v, void *user)
+{
+    kelp_app *app = user;
+    app->mail_total++;
+    if (app->nmail == app->capmail) {
+        size_t nc = app->capmail ? app->capmail * 2 : 64;
+        if (nc > 1u << 20) {
+            app->mail_dropped++;
+            return;
+        }
+        kelp_var *nm = realloc(app->mail, nc * sizeof *nm);
+        if (!nm) {
+            app->mail_dropped++;
+            return;
+        }
+        app->mail = nm;
+        app->capmail = nc;
+    }
+    kelp_var *d = &app->mail[app->nmail++];
+    memcpy(d, v, offsetof(kelp_var, sval));
+    memcpy(d->sval, v->sval, v->slen);
+    d->sval[v->slen] = 0;
+}
+
+/* ------------------------------------------------------------------ API */
+int kelp_app_notify_double(kelp_app *app, const char *name, double value)
+{
+    return kelp_bus_notify_double(kelp_lcmbus_bus(app->lb), name, value, kelp_app_time(app));
+}
+
+int kelp_app_notify_string(kelp_app *app, const char *name, const char *value)
+{
+    return kelp_bus_notify_string(kelp_lcmbus_bus(app->lb), name, value, kelp_app_time(app));
+}
+
+int kelp_app_notify_stringf(kelp_app *app, const char *name, const char *fmt, ...)
+{
+    char buf[KELP_MAX_SVAL + 1];
+    va_list ap;
+    va_start(ap, fmt);
+    int n = vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    if (n < 0 || (size_t)n >= sizeof buf) return KELP_ERR_RANGE;
+    return kelp_app_notify_string(app, name, buf);
+}
+
+int kelp_app_notify_binary(kelp_app *app, const char *name, const void *data, size_t len)
+{
+    return kelp_bus_notify_binary(kelp_lcmbus_bus(app->lb), name, data, len, kelp_app_time(app));
+}
+
+int kelp_app_register(kelp_app *app, const char *pattern, double min_interval)
+{
+    return kelp_bus_register(kelp_lcmbus_bus(app->lb), pattern, min_interval, kelp_app_time(app));
+}
+
+const char *kelp_app_name(const kelp_app *app) { return app->name; }
+const char *kelp_app_community(const kelp_app *app) { return app->community; }
+double kelp_app_start_time(const kelp_app *app) { return app->start; }
+double kelp_app_warp(const kelp_app *app) { return app->warp; }
+unsigned long kelp_app_iteration(const kelp_app *app) { return app->iter; }
+kelp_bus *kelp_app_bus(kelp_app *app) { return kelp_lcmbus_bus(app->lb); }
+const char *kelp_app_mission_path(const kelp_app *app) { return app->mission_path; }
+const kelp_mission *kelp_app_mission(const kelp_app *app) { return &app->mf.m; }
+int kelp_app_block(const kelp_app *app) { return app->block; }
+void kelp_app_quit(kelp_app *app) { app->quit = true; }
+
+void kelp_app_param_used(kelp_app *app, const kelp_mission_node *n)
+{
+    if (!n || !app->used) return;
+    size_t i = (size_t)(n - app->mf.m.nodes);
+    if (i < app->mf.m.nnodes) app->used[i] = 1;
+}
+
+const kelp_mission_node *kelp_app_param_next(kelp_app *app, const char *key, const kelp_mission_node *prev)
+{
+    if (app->block < 0) return NULL;
+    int after = prev ? (int)(prev - app->mf.m.nodes) : -1;
+    int i = kelp_mission_next(&app->mf.m, app->block, after, key);
+    if (i < 0) return NULL;
+    app->used[i] = 1;
+    return &app->mf.m.nodes[i];
+}
+
+const kelp_mission_node *kelp_app_param(kelp_app *app, const char *key)
+{
+    return kelp_app_param_next(app, key, NULL);
+}
+
+int kelp_app_param_str(kelp_app *app, const char *key, char *buf, size_t cap)
+{
+    const kelp_mission_node *n = kelp_app_param(app, key);
+    if (!n) return 0;
+    if (kelp_mission_copy(n, buf, cap) < 0) {
+        kelp_app_config_warning(app, "line %d: value of %s too long", n->line, key);
+        return KELP_ERR_RANGE;
+    }
+    return 1;
+}
+
+int kelp_app_param_double(kelp_app *app, const char *key, double *out)
+{
+    const kelp_mission_node *n = kelp_app_param(app, key);
+    if (!n) return 0;
+    if (kelp_mission_double(n, out) < 0) {
+        kelp_app_config_warning(app, "line %d: %s = '%.*s' is not a number", n->line, key, (int)n->vlen, n->val);
+        return KELP_ERR_PARSE;
+    }
+    return 1;
+}
+
+int kelp_app_param_bool(kelp_app *app, const char *key, bool *out)
+{
+    const kelp_mission_node *n = kelp_app_param(app, key);
+    if (!n) return 0;
+    if (kelp_mission_bool(n, out) < 0) {
+        kelp_app_config_warning(app, "line %d: %s = '%.*s' is not true/false", n->line, key, (int)n->vlen, n->val);
+        return KELP_ERR_PARSE;
+    }
+    return 1;
+}
+
+int kelp_app_global_str(kelp_app *app, const char *key, char *buf, size_t cap)
+{
+    int i = kelp_mission_next(&app->mf.m, -1, -1, key);
+    if (i < 0) return 0;
+    return kelp_mission_copy(&app->mf.m.nodes[i], buf, cap) < 0 ? KELP_ERR_RANGE : 1;
+}
+
+int kelp_app_global_double(kelp_app *app, const char *key, double *out)
+{
+    int i = kelp_mission_next(&app->mf.m, -1, -1, key);
+    if (i < 0) return 0;
+    return kelp_mission_double(&app->mf.m.nodes[i], out) < 0 ? KELP_ERR_PARSE : 1;
+}
+
+static void vadd(char (*list)[WARN_LEN], int *n, unsigned long *counts, const char *fmt, va_list ap)
+{
+    char buf[WARN_LEN];
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    for (int i = 0; i < *n; i++) {
+        if (strcmp(list[i], buf) == 0) {
+            if (counts) counts[i]++;
+            return;
+        }
+    }
+    if (*n >= MAX_WARN) return;
+    memcpy(list[*n], buf, WARN_LEN);
+    if (counts) counts[*n] = 1;
+    (*n)++;
+}
+
+void kelp_app_config_warning(kelp_app *app, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vadd(app->cfg_warn, &app->ncfg_warn, NULL, fmt, ap);
+    va_end(ap);
+}
+
+void kelp_app_run_warning(kelp_app *app, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vadd(app->run_warn, &app->nrun_warn, app->run_warn_count, fmt, ap);
+    va_end(ap);
+}
+
+void kelp_app_event(kelp_app *app, const char *fmt, ...)
+{
+    char buf[WARN_LEN];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    if (app->nevents == MAX_EVENTS) {
+        memmove(app->events[0], app->events[1], (MAX_EVENTS - 1) * WARN_LEN);
+        app->nevents--;
+    }
+    snprintf(app->events[app->nevents++], WARN_LEN, "[%.2f] %.*s", kelp_app_time(app) - app->start, WARN_LEN - 24, buf);
+    if (app->verbose) printf("%s: %s\n", app->name, buf);
+}
+
+int kelp_app_config_error(kelp_app *app, const kelp_mission_node *at, const char *fmt, ...)
+{
+    char buf[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(buf, sizeof buf, fmt, ap);
+    va_end(ap);
+    if (at)
+        fprintf(stderr, "%s:%d: %s\n", app->mission_path, at->line, buf);
+    else
+        fprintf(stderr, "%s: %s\n", app->mission_path, buf);
+    return KELP_ERR_PARSE;
+}
+
+/* ------------------------------------------------------------------ status report */
+static void report(kelp_app *app, FILE *out)
+{
+    const kelp_bus_stats *st = kelp_bus_get_stats(kelp_lcmbus_bus(app->lb));
+    if (app->tty) fputs("\033[H\033[2J", out);
+    fprintf(out, "==================================================================\n");
+    fprintf(out, "%s (%s)%*s iter %lu\n", app->name, app->community,
+            (int)(40 - strlen(app->name) - strlen(app->community)) > 0 ? (int)(40 - strlen(app->name) - strlen(app->community)) : 1, "",
+            app->iter);
+    fprintf(out, "==================================================================\n");
+    fprintf(out, "AppTick %g  CommsTick %g  MOOSTimeWarp %g  elapsed %.1f s (MOOS time)\n", app->app_tick,
+            app->comms_tick, app->warp, kelp_app_time(app) - app->start);
+    fprintf(out, "Mail: %lu received, %llu published; bus: %llu bad datagrams, %llu retained values received, "
+                 "%llu sent to late registrants\n",
+            app->mail_total, (unsigned long long)st->published, (unsigned long long)st->bad,
+            (unsigned long long)st->sync_delivered, (unsigned long long)st->sync_sent);
+    if (app->def->report) {
+        fprintf(out, "------------------------------------------------------------------\n");
+        app->def->report(app, app->state, out);
+    }
+    fprintf(out, "------------------------------------------------------------------\n");
+    fprintf(out, "Configuration warnings: %d\n", app->ncfg_warn);
+    for (int i = 0; i < app->ncfg_warn; i++) fprintf(out, "  [%d] %s\n", i + 1, app->cfg_warn[i]);
+    fprintf(out, "Run warnings: %d\n", app->nrun_warn + (st->bad ? 1 : 0));
+    if (st->bad)
+        fprintf(out, "  [bad] %llu malformed datagrams rejected (last: %s)\n", (unsigned long long)st->bad,
+                kelp_strerror(st->last_bad_err));
+    for (int i = 0; i < app->nrun_warn; i++) fprintf(out, "  [%lux] %s\n", app->run_warn_count[i], app->run_warn[i]);
+    if (app->nevents) {
+        fprintf(out, "Events:\n");
+        for (int i = 0; i < app->nevents; i++) fprintf(out, "  %s\n", app->events[i]);
+    }
+    fflush(out);
+}
+
+static void publish_status(kelp_app *app)
+{
+    const kelp_bus_stats *st = kelp_bus_get_stats(kelp_lcmbus_bus(app->lb));
+    char var[KELP_MAX_NAME + 8];
+    snprintf(var, sizeof var, "%.*s_STATUS", KELP_MAX_NAME - 8, app->name);
+    for (char *c = var; *c; c++)
+        if (*c >= 'a' && *c <= 'z') *c = (char)(*c - 'a' + 'A');
+    (void)kelp_app_notify_stringf(app, var,
+                                  "AppErrorFlag=%s,Uptime=%.1f,iter=%lu,mail=%lu,published=%llu,bad=%llu,"
+                                  "cfg_warnings=%d,run_warnings=%d",
+                                  (app->nrun_warn || st->bad) ? "true" : "false", kelp_app_time(app) - app->start,
+                                  app->iter, app->mail_total, (unsigned long long)st->published,
+                                  (unsigned long long)st->bad, app->ncfg_warn, app->nrun_warn);
+}
+
+/* ------------------------------------------------------------------ command line */
+static void usage(const kelp_app_def *def, FILE *out)
+{
+    fprintf(out,
+            "Usage: %s [OPTIONS] MISSION.moos [NAME]\n"
+            "%s\n\n"
+            "Options:\n"
+            "  --alias=NAME   run under the MOOS name NAME (reads ProcessConfig = NAME)\n"
+            "  --example      print an example configuration block\n"
+            "  --interface    print the variables the app subscribes to and publishes\n"
+            "  --version      print the version\n"
+            "  --verbose      print events as they happen\n"
+            "  --help         this text\n\n"
+            "The LCM URL of the community comes from $KELP_LCM_URL, else the mission's global\n"
+            "LCM_URL, else " KELP_LCM_DEFAULT_URL ".\n",
+            def->name, def->purpose ? def->purpose : "");
+}
+
+static bool is_common_param(const kelp_mission_node *n)
+{
+    static const char *const common[] = { "AppTick", "CommsTick", "MaxAppTick", "IterateMode", "MaxIterate", NULL };
+    for (int i = 0; common[i]; i++)
+        if (kelp_mission_key_is(n, common[i])) return true;
+    return false;
+}
+
+int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
+{
+    const char *mission = NULL, *alias = NULL;
+    bool verbose = false;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            usage(def, stdout);
+            return 0;
+        } else if (strcmp(a, "--example") == 0 || strcmp(a, "-e") == 0) {
+            printf("%s", def->example ? def->example : "(no example)\n");
+            return 0;
+        } else if (strcmp(a, "--interface") == 0 || strcmp(a, "-i") == 0) {
+            printf("%s", def->interface ? def->interface : "(no interface description)\n");
+            return 0;
+        } else if (strcmp(a, "--version") == 0 || strcmp(a, "-v") == 0) {
+            printf("%s (kelp) %s\n", def->name, KELP_VERSION);
+            return 0;
+        } else if (strncmp(a, "--alias=", 8) == 0) {
+            alias = a + 8;
+        } else if (strcmp(a, "--verbose") == 0) {
+            verbose = true;
+        } else if (a[0] == '-' && a[1] == '-') {
+            fprintf(stderr, "%s: unknown option '%s' (try --help)\n", def->name, a);
+            return 2;
+        } else if (!mission) {
+            mission = a;
+        } else if (!alias) {
+            alias = a;
+        } else {
+            fprintf(stderr, "%s: unexpected argument '%s'\n", def->name, a);
+            return 2;
+        }
+    }
+    if (!mission) {
+        usage(def, stderr);
+        return 2;
+    }
+    kelp_app *app = calloc(1, sizeof *app);
+    if (!app) return 1;
+    app->def = def;
+    app->state = state;
+    app->verbose = verbose;
+    app->tty = isatty(STDOUT_FILENO);
+    snprintf(app->mission_path, sizeof app->mission_path, "%s", mission);
+    snprintf(app->name, sizeof app->name, "%s", alias ? alias : def->name);
+    if (kelp_mission_load(&app->mf, mission) < 0) {
+        fprintf(stderr, "%s\n", app->mf.error);
+        free(app);
+        return 1;
+    }
+    app->used = calloc(app->mf.m.nnodes + 1, 1);
+    app->block = kelp_mission_block(&app->mf.m, "ProcessConfig", app->name);
+    if (app->block < 0) kelp_app_config_warning(app, "no ProcessConfig = %s block in %s", app->name, mission);
+    if (kelp_app_global_str(app, "Community", app->community, sizeof app->community) <= 0)
+        snprintf(app->community, sizeof app->community, "%s", "kelp");
+    app->warp = 1;
+    if (kelp_app_global_double(app, "MOOSTimeWarp", &app->warp) < 0 || !(app->warp > 0) || app->warp > 1000) {
+        fprintf(stderr, "%s: MOOSTimeWarp must be a number in (0, 1000]\n", mission);
+        kelp_mission_free(&app->mf);
+        free(app);
+        return 1;
+    }
+    const char *ep = getenv("KELP_WARP_EPOCH");
+    app->epoch = ep ? atof(ep) : 0.0;
+    app->app_tick = 4;
+    app->comms_tick = 4;
+    if (kelp_app_param_double(app, "AppTick", &app->app_tick) < 0 || app->app_tick < 0) app->app_tick = 4;
+    if (kelp_app_param_double(app, "CommsTick", &app->comms_tick) < 0) app->comms_tick = 4;
+    char murl[400] = "";
+    (void)kelp_app_global_str(app, "LCM_URL", murl, sizeof murl);
+    if (kelp_lcm_url(murl[0] ? murl : NULL, app->url, sizeof app->url) < 0) {
+        fprintf(stderr, "%s: LCM URL too long\n", mission);
+        return 1;
+    }
+    char err[600];
+    app->lb = kelp_lcmbus_open(app->url, app->name, app->community, on_var, app, err, sizeof err);
+    if (!app->lb) {
+        fprintf(stderr, "%s: %s\n", app->name, err);
+        kelp_mission_free(&app->mf);
+        free(app);
+        return 1;
+    }
+    app->start = kelp_app_time(app);
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    signal(SIGPIPE, SIG_IGN);
+
+    if (def->startup && def->startup(app, state) < 0) {
+        kelp_lcmbus_close(app->lb);
+        kelp_mission_free(&app->mf);
+        free(app->used);
+        free(app);
+        return 1;
+    }
+    /* any parameter nobody read is unknown: a warning, not a crash */
+    for (int i = app->block >= 0 ? kelp_mission_next(&app->mf.m, app->block, -1, NULL) : -1; i >= 0;
+         i = kelp_mission_next(&app->mf.m, app->block, i, NULL)) {
+        const kelp_mission_node *n = &app->mf.m.nodes[i];
+        if (!app->used[i] && !is_common_param(n))
+            kelp_app_config_warning(app, "line %d: unknown parameter %.*s", n->line, (int)n->klen, n->key);
+    }
+    double real_hz = app->app_tick > 0 ? app->app_tick * app->warp : MAX_REAL_HZ;
+    if (real_hz > MAX_REAL_HZ) real_hz = MAX_REAL_HZ;
+    double period = 1.0 / real_hz;
+    double next_iter = wall_now();
+    double status_period = app->tty ? STATUS_PERIOD_TTY : STATUS_PERIOD_LOG;
+    double next_status = wall_now() + (app->tty ? 0.5 : 2.0);
+    double next_status_var = wall_now() + 1.0;
+    int rc_exit = 0;
+    while (!g_stop && !app->quit) {
+        double w = wall_now();
+        int wait_ms = (int)((next_iter - w) * 1000.0);
+        if (wait_ms < 0) wait_ms = 0;
+        if (kelp_lcmbus_handle(app->lb, wait_ms, kelp_app_time(app)) < 0) {
+            kelp_app_run_warning(app, "LCM receive error");
+        }
+        w = wall_now();
+        if (w < next_iter) continue;
+        next_iter += period;
+        if (next_iter < w) next_iter = w + period; /* overran: do not try to catch up */
+        /* OnNewMail (only when mail arrived), then Iterate */
+        if (app->nmail && def->on_mail) {
+            for (size_t i = 0; i < app->nmail; i++) def->on_mail(app, state, &app->mail[i]);
+        }
+        app->mail_in += app->nmail;
+        app->nmail = 0;
+        app->iter++;
+        if (def->iterate && def->iterate(app, state, kelp_app_time(app)) < 0) {
+            rc_exit = 1;
+            break;
+        }
+        if (w >= next_status) {
+            report(app, stdout);
+            next_status = w + status_period;
+        }
+        if (w >= next_status_var) {
+            publish_status(app);
+            next_status_var = w + 2.0;
+        }
+    }
+    if (def->shutdown) def->shutdown(app, state);
+    app->tty = false;
+    report(app, stdout);
+    kelp_lcmbus_close(app->lb);
+    kelp_mission_free(&app->mf);
+    free(app->used);
+    free(app->mail);
+    free(app);
+    return rc_exit;
+}
