@@ -40,6 +40,8 @@ typedef enum kelp_var_kind {
 
 /** Channel on which sync requests travel. */
 #define KELP_BUS_SYNC_CHANNEL "KELP_SYNC_REQ"
+/** Reply channels start with this prefix (clients pick a unique rest, see kelp_bus_init). */
+#define KELP_BUS_SYNC_REPLY_PREFIX "KELP_SYNC_"
 
 /** One variable write. Strings are NUL-terminated in sval; slen excludes the NUL. */
 typedef struct kelp_var {
@@ -152,7 +154,8 @@ typedef struct kelp_bus {
 } kelp_bus;
 
 /** @param app this client's MOOS name (source of its writes); @param reply_channel a channel
- *  name unique to this client (sync replies arrive there), e.g. "KELP_SYNC_<app>_<nonce>".
+ *  name unique to this client, starting with KELP_BUS_SYNC_REPLY_PREFIX (sync replies arrive
+ *  there), e.g. "KELP_SYNC_<app>_<nonce>".
  *  The handler receives every delivered var (live and sync). */
 KELP_MUST_CHECK int kelp_bus_init(kelp_bus *b, const char *app, const char *community,
                                   const char *reply_channel, const kelp_bus_transport *tr,

@@ -268,6 +268,11 @@ int kelp_bus_receive(kelp_bus *b, const char *channel, const uint8_t *data, size
         b->depth--;
         return KELP_OK;
     }
+    bool is_sync = strcmp(channel, b->reply_channel) == 0;
+    /* sync replies addressed to other clients are none of our business (a "*" retainer
+     * sees them) */
+    if (!is_sync && strncmp(channel, KELP_BUS_SYNC_REPLY_PREFIX, sizeof KELP_BUS_SYNC_REPLY_PREFIX - 1) == 0)
+        return KELP_OK;
     kelp_var *v = b->st.rx;
     rc = kelp_var_decode(data, len, v);
     if (rc < 0) {
@@ -275,7 +280,6 @@ int kelp_bus_receive(kelp_bus *b, const char *channel, const uint8_t *data, size
         b->stats.last_bad_err = rc;
         return rc;
     }
-    bool is_sync = strcmp(channel, b->reply_channel) == 0;
     if (!is_sync && strcmp(channel, v->name) != 0) {
         /* a var must travel on the channel of its own name */
         b->stats.bad++;
