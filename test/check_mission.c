@@ -162,7 +162,7 @@ static const struct { const char *text; int line; const char *why; } bad[] = {
     { "x: 3\n", 1, "protobuf-style 'key: value' outside a ProcessConfig block" },
     { "P = a\n{\n  s: \"abc\n}\n", 3, "unterminated string" },
     { "P = a\n{\n  s 3\n}\n", 3, "expected ':' or '{' after field name" },
-    { "P = a\n{\n  m {\n    x: 1\n", 5, "end of file inside a '{' block" },
+    { "P = a\n{\n  m {\n    x: 1\n", 3, "block not closed: missing '}'" },
     { " = 5\n", 1, "missing parameter name before '='" },
     { "P = a\n{\n  [Ext.name: 1\n}\n", 3, "unterminated [extension] name" },
 };

@@ -271,6 +271,7 @@ int kelp_bus_receive(kelp_bus *b, const char *channel, const uint8_t *data, size
     bool is_sync = strcmp(channel, b->reply_channel) == 0;
     /* sync replies addressed to other clients are none of our business (a "*" retainer
      * sees them) */
+    if (strcmp(channel, "LCM_SELF_TEST") == 0) return KELP_OK; /* liblcm's own start-up probe */
     if (!is_sync && strncmp(channel, KELP_BUS_SYNC_REPLY_PREFIX, sizeof KELP_BUS_SYNC_REPLY_PREFIX - 1) == 0)
         return KELP_OK;
     kelp_var *v = b->st.rx;

@@ -20,6 +20,7 @@ typedef struct ps {
     int stack[MAX_DEPTH]; /* node index of each open BLOCK / MSG */
     int depth;
     bool stack_pb[MAX_DEPTH];
+    int stack_line[MAX_DEPTH]; /* line of each open block's header */
 } ps;
 
 static bool sp(char c)
@@ -128,6 +129,7 @@ static int pb_statement(ps *p)
         if (p->depth >= MAX_DEPTH) return fail(p, kline, "blocks nested too deeply");
         if ((rc = add(p, KELP_MN_MSG, k, kl, k, 0, false, kline)) < 0) return rc;
         p->stack_pb[p->depth] = true;
+        p->stack_line[p->depth] = kline;
         p->stack[p->depth++] = rc;
         return KELP_OK;
     }
@@ -166,7 +168,7 @@ static int pb_run(ps *p, int base)
     int rc;
     for (;;) {
         pb_skip(p);
-        if (p->pos >= p->len) return fail(p, p->line, "end of file inside a '{' block");
+        if (p->pos >= p->len) return fail(p, p->stack_line[p->depth - 1], "block not closed: missing '}'");
         if (p->s[p->pos] == '}') {
             p->pos++;
             p->depth--;
@@ -213,6 +215,7 @@ int kelp_mission_parse(kelp_mission *m, const char *text, size_t len, kelp_missi
             if (pending_block < 0) return fail(&p, line, "'{' without a block header (Kind = Name) before it");
             if (p.depth >= MAX_DEPTH) return fail(&p, line, "blocks nested too deeply");
             p.stack_pb[p.depth] = false;
+            p.stack_line[p.depth] = pending_line;
             p.stack[p.depth++] = pending_block;
             pending_block = -1;
             p.pos = (size_t)(a - p.s) + 1;
@@ -262,6 +265,7 @@ int kelp_mission_parse(kelp_mission *m, const char *text, size_t len, kelp_missi
                 if (brace_here) {
                     if (p.depth >= MAX_DEPTH) return fail(&p, line, "blocks nested too deeply");
                     p.stack_pb[p.depth] = false;
+                    p.stack_line[p.depth] = line;
                     p.stack[p.depth++] = rc;
                 } else {
                     pending_block = rc;
@@ -305,9 +309,7 @@ int kelp_mission_parse(kelp_mission *m, const char *text, size_t len, kelp_missi
     }
     if (pending_block >= 0) return fail(&p, pending_line, "block header not followed by '{'");
     if (p.depth > 0) {
-        int open = p.stack[p.depth - 1];
-        int l = m->nodes ? m->nodes[open].line : p.line;
-        return fail(&p, l, "block not closed: missing '}'");
+        return fail(&p, p.stack_line[p.depth - 1], "block not closed: missing '}'");
     }
     if (!nodes) return KELP_OK;
     return KELP_OK;

@@ -1,0 +1,93 @@
+/* kelp-logcheck: decode every event of an LCM log with kelp's types.
+ *
+ *   kelp-logcheck LOGFILE [--print]
+ *
+ * Every event must decode with kelp's validating decoder and, for kelp.var_t and
+ * kelp.sync_req_t, with the lcm-gen decoder too, to the same fields. Prints a line per
+ * channel (events, kind) and exits 1 if any event does not decode. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <lcm/eventlog.h>
+#include <kelp/bus.h>
+#include "kelp_var_t.h"
+#include "kelp_sync_req_t.h"
+
+typedef struct chan { char name[128]; long n, bad; char kind[16]; } chan;
+
+int main(int argc, char **argv)
+{
+    if (argc < 2 || strcmp(argv[1], "--help") == 0) {
+        printf("usage: kelp-logcheck LOGFILE [--print]\n");
+        return argc < 2 ? 2 : 0;
+    }
+    int print = argc > 2 && strcmp(argv[2], "--print") == 0;
+    lcm_eventlog_t *log = lcm_eventlog_create(argv[1], "r");
+    if (!log) {
+        fprintf(stderr, "kelp-logcheck: cannot open %s\n", argv[1]);
+        return 1;
+    }
+    static chan chans[1024];
+    int nch = 0;
+    long total = 0, bad = 0;
+    kelp_var *v = malloc(sizeof *v);
+    kelp_sync_req q;
+    lcm_eventlog_event_t *e;
+    while ((e = lcm_eventlog_read_next_event(log)) != NULL) {
+        if (strcmp(e->channel, "LCM_SELF_TEST") == 0) { /* liblcm's own probe, not a kelp type */
+            lcm_eventlog_free_event(e);
+            continue;
+        }
+        total++;
+        chan *c = NULL;
+        for (int i = 0; i < nch; i++)
+            if (strcmp(chans[i].name, e->channel) == 0) c = &chans[i];
+        if (!c && nch < 1024) {
+            c = &chans[nch++];
+            snprintf(c->name, sizeof c->name, "%s", e->channel);
+        }
+        int ok = 0;
+        if (strcmp(e->channel, KELP_BUS_SYNC_CHANNEL) == 0) {
+            kelp_sync_req_t g;
+            ok = kelp_sync_req_decode(e->data, (size_t)e->datalen, &q) == 0 &&
+                 kelp_sync_req_t_decode(e->data, 0, e->datalen, &g) == e->datalen;
+            if (ok) {
+                ok = strcmp(g.reply_channel, q.reply_channel) == 0 && g.npatterns == q.npatterns;
+                kelp_sync_req_t_decode_cleanup(&g);
+            }
+            if (c) snprintf(c->kind, sizeof c->kind, "sync_req_t");
+        } else {
+            kelp_var_t g;
+            ok = kelp_var_decode(e->data, (size_t)e->datalen, v) == 0 &&
+                 kelp_var_t_decode(e->data, 0, e->datalen, &g) == e->datalen;
+            if (ok) {
+                ok = strcmp(g.name, v->name) == 0 && strcmp(g.source, v->source) == 0 &&
+                     strcmp(g.community, v->community) == 0 && g.kind == (int8_t)v->kind &&
+                     (v->kind != KELP_VAR_DOUBLE || g.dval == v->dval) &&
+                     (v->kind != KELP_VAR_STRING || strcmp(g.sval, v->sval) == 0) &&
+                     (v->kind != KELP_VAR_BINARY || ((size_t)g.nbytes == v->slen && memcmp(g.bval, v->sval, v->slen) == 0));
+                kelp_var_t_decode_cleanup(&g);
+            }
+            if (c) snprintf(c->kind, sizeof c->kind, "var_t");
+            if (ok && print) {
+                if (v->kind == KELP_VAR_DOUBLE) printf("%.3f %s %s %.17g\n", v->time, v->source, v->name, v->dval);
+                else if (v->kind == KELP_VAR_STRING) printf("%.3f %s %s %s\n", v->time, v->source, v->name, v->sval);
+            }
+        }
+        if (c) c->n++;
+        if (!ok) {
+            bad++;
+            if (c) c->bad++;
+        }
+        lcm_eventlog_free_event(e);
+    }
+    lcm_eventlog_destroy(log);
+    free(v);
+    if (!print) {
+        for (int i = 0; i < nch; i++)
+            printf("  %-32s %-11s %7ld events%s\n", chans[i].name, chans[i].kind, chans[i].n,
+                   chans[i].bad ? "  <- UNDECODABLE" : "");
+        printf("kelp-logcheck: %ld events on %d channels, %ld undecodable\n", total, nch, bad);
+    }
+    return (bad || total == 0) ? 1 : 0;
+}
