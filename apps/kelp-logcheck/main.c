@@ -69,7 +69,9 @@ int main(int argc, char **argv)
                 kelp_var_t_decode_cleanup(&g);
             }
             if (c) snprintf(c->kind, sizeof c->kind, "var_t");
-            if (ok && print) {
+            /* --print lists bus writes; sync replies (retained values replayed to a late
+             * registrant on its own channel) are not new writes */
+            if (ok && print && strcmp(e->channel, v->name) == 0) {
                 if (v->kind == KELP_VAR_DOUBLE) printf("%.3f %s %s %.17g\n", v->time, v->source, v->name, v->dval);
                 else if (v->kind == KELP_VAR_STRING) printf("%.3f %s %s %s\n", v->time, v->source, v->name, v->sval);
             }

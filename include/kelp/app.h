@@ -85,6 +85,11 @@ void kelp_app_config_warning(kelp_app *app, const char *fmt, ...) KELP_PRINTF(2,
 int kelp_app_config_error(kelp_app *app, const kelp_mission_node *at, const char *fmt, ...) KELP_PRINTF(3, 4);
 void kelp_app_run_warning(kelp_app *app, const char *fmt, ...) KELP_PRINTF(2, 3);
 void kelp_app_event(kelp_app *app, const char *fmt, ...) KELP_PRINTF(2, 3);
+/** Watch an extra file descriptor: cb runs (between iterations) when it is readable.
+ *  At most 8 per app. */
+typedef void (*kelp_app_fd_cb)(kelp_app *app, void *state, int fd);
+int kelp_app_watch_fd(kelp_app *app, int fd, kelp_app_fd_cb cb);
+
 /** Ask the loop to end after this iteration. */
 void kelp_app_quit(kelp_app *app);
 

@@ -1,6 +1,7 @@
 /* kelp app runner: command line, mission, bus, loop, status report, signals. */
 #include <errno.h>
 #include <math.h>
+#include <poll.h>
 #include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -43,6 +44,9 @@ struct kelp_app {
     int nrun_warn;
     char events[MAX_EVENTS][WARN_LEN];
     int nevents;
+    int xfd[8];
+    kelp_app_fd_cb xcb[8];
+    int nxfd;
     bool quit;
     bool tty;
     bool verbose;
@@ -136,6 +140,37 @@ const char *kelp_app_mission_path(const kelp_app *app) { return app->mission_pat
 const kelp_mission *kelp_app_mission(const kelp_app *app) { return &app->mf.m; }
 int kelp_app_block(const kelp_app *app) { return app->block; }
 void kelp_app_quit(kelp_app *app) { app->quit = true; }
+
+int kelp_app_watch_fd(kelp_app *app, int fd, kelp_app_fd_cb cb)
+{
+    if (app->nxfd >= 8 || fd < 0 || !cb) return KELP_ERR_NOSPACE;
+    app->xfd[app->nxfd] = fd;
+    app->xcb[app->nxfd++] = cb;
+    return KELP_OK;
+}
+
+/* Wait up to wait_ms for the bus or a watched fd; handle what is ready. */
+static void wait_and_handle(kelp_app *app, int wait_ms)
+{
+    if (app->nxfd == 0) {
+        if (kelp_lcmbus_handle(app->lb, wait_ms, kelp_app_time(app)) < 0) kelp_app_run_warning(app, "LCM receive error");
+        return;
+    }
+    struct pollfd pf[9];
+    pf[0].fd = kelp_lcmbus_fd(app->lb);
+    pf[0].events = POLLIN;
+    for (int i = 0; i < app->nxfd; i++) {
+        pf[i + 1].fd = app->xfd[i];
+        pf[i + 1].events = POLLIN;
+    }
+    int n = poll(pf, (nfds_t)(app->nxfd + 1), wait_ms);
+    if (n <= 0) return;
+    if (pf[0].revents & POLLIN) {
+        if (kelp_lcmbus_handle(app->lb, 0, kelp_app_time(app)) < 0) kelp_app_run_warning(app, "LCM receive error");
+    }
+    for (int i = 0; i < app->nxfd; i++)
+        if (pf[i + 1].revents & (POLLIN | POLLERR | POLLHUP)) app->xcb[i](app, app->state, app->xfd[i]);
+}
 
 void kelp_app_param_used(kelp_app *app, const kelp_mission_node *n)
 {
@@ -460,9 +495,7 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
         double w = wall_now();
         int wait_ms = (int)((next_iter - w) * 1000.0);
         if (wait_ms < 0) wait_ms = 0;
-        if (kelp_lcmbus_handle(app->lb, wait_ms, kelp_app_time(app)) < 0) {
-            kelp_app_run_warning(app, "LCM receive error");
-        }
+        wait_and_handle(app, wait_ms);
         w = wall_now();
         if (w < next_iter) continue;
         next_iter += period;

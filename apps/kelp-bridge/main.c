@@ -1,0 +1,237 @@
+/* kelp-bridge (the pMOOSBridge role): forward variables between communities over UDP.
+ *
+ * ProcessConfig = pMOOSBridge (or the name it runs under):
+ *   UDPListen = 9200                                        UDP port this bridge listens on
+ *   UDPSHARE  = [VAR1,VAR2] -> community @ host:port [A1,A2]   (repeatable; SHARE is a synonym)
+ *   KEY       = shared-secret                               authenticate datagrams (HMAC-SHA256)
+ * Run time: PMB_REGISTER = "src_var=V,dest_community=C,dest_host=H,dest_port=P,dest_alias=A".
+ * Publishes PMB_UDP_LISTEN (the port) at start-up. Variables that arrived through a bridge
+ * are never forwarded again (no loops); a route is added once (no duplicates). */
+#include <errno.h>
+#include <netdb.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <mbedtls/md.h>
+#include <kelp/app.h>
+#include <kelp/bridge.h>
+
+#define MAX_ROUTES 256
+#define DGRAM_MAX 16384
+
+typedef struct route {
+    kelp_bridge_route r;
+    struct sockaddr_in addr;
+    unsigned long sent;
+} route;
+
+typedef struct bridge {
+    int sock;
+    uint16_t port;
+    uint8_t key[256];
+    size_t keylen;
+    route routes[MAX_ROUTES];
+    int nroutes;
+    unsigned long rx, rx_auth_fail, rx_bad, tx, tx_err, reg_ok, reg_bad;
+    kelp_var *rxv;
+    uint8_t buf[DGRAM_MAX];
+} bridge;
+
+static int hmac_sha256(const uint8_t *key, size_t keylen, const uint8_t *data, size_t len, uint8_t out[32], void *user)
+{
+    (void)user;
+    const mbedtls_md_info_t *md = mbedtls_md_info_from_type(MBEDTLS_MD_SHA256);
+    return mbedtls_md_hmac(md, key, keylen, data, len, out) == 0 ? 0 : KELP_ERR_CRYPTO;
+}
+
+static int resolve(const char *host, uint16_t port, struct sockaddr_in *out)
+{
+    struct addrinfo hints, *res = NULL;
+    memset(&hints, 0, sizeof hints);
+    hints.ai_family = AF_INET;
+    hints.ai_socktype = SOCK_DGRAM;
+    if (getaddrinfo(host, NULL, &hints, &res) != 0 || !res) return KELP_ERR_NOTFOUND;
+    memcpy(out, res->ai_addr, sizeof *out);
+    out->sin_port = htons(port);
+    freeaddrinfo(res);
+    return KELP_OK;
+}
+
+static int add_route(kelp_app *app, bridge *b, const kelp_bridge_route *r)
+{
+    for (int i = 0; i < b->nroutes; i++) {
+        const kelp_bridge_route *o = &b->routes[i].r;
+        if (strcmp(o->src, r->src) == 0 && strcmp(o->alias, r->alias) == 0 && strcmp(o->host, r->host) == 0 &&
+            o->port == r->port)
+            return 0; /* already bridged: no duplicates */
+    }
+    if (b->nroutes >= MAX_ROUTES) {
+        kelp_app_run_warning(app, "too many routes (max %d)", MAX_ROUTES);
+        return KELP_ERR_NOSPACE;
+    }
+    route *rt = &b->routes[b->nroutes];
+    memset(rt, 0, sizeof *rt);
+    rt->r = *r;
+    if (resolve(r->host, r->port, &rt->addr) < 0) {
+        kelp_app_run_warning(app, "cannot resolve host %s", r->host);
+        return KELP_ERR_NOTFOUND;
+    }
+    b->nroutes++;
+    /* register once per distinct source */
+    int first = 1;
+    for (int i = 0; i < b->nroutes - 1; i++)
+        if (strcmp(b->routes[i].r.src, r->src) == 0) first = 0;
+    if (first && kelp_app_register(app, r->src, 0) < 0) kelp_app_run_warning(app, "cannot register %s", r->src);
+    kelp_app_event(app, "bridge %s -> %s@%s:%u as %s", r->src, r->community, r->host, r->port,
+                   r->alias[0] ? r->alias : r->src);
+    return 1;
+}
+
+static void on_udp(kelp_app *app, void *st, int fd)
+{
+    bridge *b = st;
+    for (;;) {
+        ssize_t n = recv(fd, b->buf, sizeof b->buf, MSG_DONTWAIT);
+        if (n < 0) return;
+        b->rx++;
+        int rc = kelp_bridge_unframe(b->buf, (size_t)n, b->key, b->keylen, hmac_sha256, NULL, b->rxv);
+        if (rc == KELP_ERR_AUTH) {
+            b->rx_auth_fail++;
+            kelp_app_run_warning(app, "datagram failed authentication: dropped");
+            continue;
+        }
+        if (rc < 0) {
+            b->rx_bad++;
+            kelp_app_run_warning(app, "malformed bridge datagram: %s", kelp_strerror(rc));
+            continue;
+        }
+        if (kelp_bus_forward(kelp_app_bus(app), b->rxv) < 0) kelp_app_run_warning(app, "republish failed");
+    }
+}
+
+static void on_mail(kelp_app *app, void *st, const kelp_var *v)
+{
+    bridge *b = st;
+    if (strcmp(v->name, "PMB_REGISTER") == 0) {
+        kelp_bridge_route r;
+        const char *why = NULL;
+        if (v->kind != KELP_VAR_STRING || kelp_bridge_parse_register(v->sval, &r, &why) < 0) {
+            b->reg_bad++;
+            kelp_app_run_warning(app, "bad PMB_REGISTER (%s)", why ? why : "not a string");
+            return;
+        }
+        b->reg_ok++;
+        (void)add_route(app, b, &r);
+    }
+    /* forward what belongs to this community and did not come through a bridge */
+    if (v->flags & KELP_VAR_FLAG_BRIDGED) return;
+    if (strcmp(v->community, kelp_app_community(app)) != 0) return;
+    for (int i = 0; i < b->nroutes; i++) {
+        route *rt = &b->routes[i];
+        if (!kelp_bus_match(rt->r.src, v->name)) continue;
+        size_t len = 0;
+        if (kelp_bridge_frame(v, rt->r.alias, b->key, b->keylen, hmac_sha256, NULL, b->buf, sizeof b->buf, &len) < 0) {
+            b->tx_err++;
+            continue;
+        }
+        if (sendto(b->sock, b->buf, len, 0, (struct sockaddr *)&rt->addr, sizeof rt->addr) < 0) {
+            b->tx_err++;
+            kelp_app_run_warning(app, "send to %s:%u failed: %s", rt->r.host, rt->r.port, strerror(errno));
+        } else {
+            b->tx++;
+            rt->sent++;
+        }
+    }
+}
+
+static int startup(kelp_app *app, void *st)
+{
+    bridge *b = st;
+    b->rxv = malloc(sizeof *b->rxv);
+    double port = 0;
+    const kelp_mission_node *pn = kelp_app_param(app, "UDPListen");
+    if (pn && (kelp_mission_double(pn, &port) < 0 || port < 1 || port > 65535 || port != (int)port))
+        return kelp_app_config_error(app, pn, "UDPListen must be a port number 1-65535");
+    b->port = (uint16_t)port;
+    char key[256];
+    int kr = kelp_app_param_str(app, "KEY", key, sizeof key);
+    if (kr < 0) return kelp_app_config_error(app, kelp_app_param(app, "KEY"), "KEY too long (max 255)");
+    if (kr > 0) {
+        b->keylen = strlen(key);
+        memcpy(b->key, key, b->keylen);
+    }
+    b->sock = socket(AF_INET, SOCK_DGRAM, 0);
+    if (b->sock < 0) return kelp_app_config_error(app, NULL, "socket: %s", strerror(errno));
+    if (b->port) {
+        struct sockaddr_in a;
+        memset(&a, 0, sizeof a);
+        a.sin_family = AF_INET;
+        a.sin_port = htons(b->port);
+        a.sin_addr.s_addr = htonl(INADDR_ANY);
+        if (bind(b->sock, (struct sockaddr *)&a, sizeof a) < 0)
+            return kelp_app_config_error(app, pn, "cannot listen on UDP port %u: %s", b->port, strerror(errno));
+        int rcvbuf = 4 << 20;
+        setsockopt(b->sock, SOL_SOCKET, SO_RCVBUF, &rcvbuf, sizeof rcvbuf);
+        if (kelp_app_watch_fd(app, b->sock, on_udp) < 0) return KELP_ERR_NOSPACE;
+        (void)kelp_app_notify_double(app, "PMB_UDP_LISTEN", b->port);
+    }
+    const char *names[] = { "UDPSHARE", "SHARE" };
+    for (int k = 0; k < 2; k++) {
+        for (const kelp_mission_node *n = kelp_app_param_next(app, names[k], NULL); n;
+             n = kelp_app_param_next(app, names[k], n)) {
+            char line[1024];
+            kelp_bridge_route rs[16];
+            size_t nr = 0;
+            const char *why = "too long";
+            if (kelp_mission_copy(n, line, sizeof line) < 0 || kelp_bridge_parse_share(line, rs, 16, &nr, &why) < 0)
+                return kelp_app_config_error(app, n, "bad %s: %s", names[k], why ? why : "too many variables");
+            for (size_t i = 0; i < nr; i++)
+                if (add_route(app, b, &rs[i]) < 0) return kelp_app_config_error(app, n, "cannot add route");
+        }
+    }
+    return kelp_app_register(app, "PMB_REGISTER", 0);
+}
+
+static int iterate(kelp_app *app, void *st, double now)
+{
+    (void)app; (void)st; (void)now;
+    return 0;
+}
+
+static void report(kelp_app *app, void *st, FILE *out)
+{
+    bridge *b = st;
+    (void)app;
+    fprintf(out, "UDP port %u  key %s  routes %d  PMB_REGISTER ok %lu bad %lu\n", b->port, b->keylen ? "yes" : "no",
+            b->nroutes, b->reg_ok, b->reg_bad);
+    fprintf(out, "sent %lu (errors %lu)  received %lu  auth failures %lu  malformed %lu\n", b->tx, b->tx_err, b->rx,
+            b->rx_auth_fail, b->rx_bad);
+    for (int i = 0; i < b->nroutes; i++)
+        fprintf(out, "  %-20s -> %-10s %s:%u as %-20s sent %lu\n", b->routes[i].r.src, b->routes[i].r.community,
+                b->routes[i].r.host, b->routes[i].r.port, b->routes[i].r.alias[0] ? b->routes[i].r.alias : b->routes[i].r.src,
+                b->routes[i].sent);
+}
+
+static const kelp_app_def def = {
+    .name = "pMOOSBridge",
+    .purpose = "Forward variables between communities over UDP, with renaming and optional HMAC authentication.",
+    .example = "ProcessConfig = pMOOSBridge\n{\n  UDPListen = 9200\n"
+               "  UDPSHARE  = [NODE_REPORT_LOCAL] -> shoreside @ 192.168.1.10:9200 [NODE_REPORT]\n"
+               "  KEY       = change-me   // optional shared secret\n}\n",
+    .interface = "Subscribes: PMB_REGISTER, every shared source variable\n"
+                 "Publishes:  PMB_UDP_LISTEN; on the receiving side, every bridged variable (under its alias)\n",
+    .startup = startup,
+    .on_mail = on_mail,
+    .iterate = iterate,
+    .report = report,
+};
+
+int main(int argc, char **argv)
+{
+    static bridge b;
+    return kelp_app_run(argc, argv, &def, &b);
+}

@@ -1,0 +1,202 @@
+/* kelp bridge: route parsing and datagram framing (core). */
+#include <string.h>
+#include <kelp/bridge.h>
+#include <kelp/kv.h>
+#include <kelp/mission.h>
+#include "bus_int.h"
+
+static const char *skip_ws(const char *s)
+{
+    while (*s == ' ' || *s == '\t') s++;
+    return s;
+}
+
+/* Copy a comma-separated list inside [...] into names; returns count or <0. */
+static int bracket_list(const char **ps, char (*names)[KELP_MAX_NAME], int cap)
+{
+    const char *s = skip_ws(*ps);
+    if (*s != '[') return KELP_ERR_PARSE;
+    const char *e = strchr(s, ']');
+    if (!e) return KELP_ERR_PARSE;
+    int n = 0;
+    const char *a = s + 1;
+    while (a < e) {
+        const char *c = memchr(a, ',', (size_t)(e - a));
+        if (!c) c = e;
+        const char *x = a, *y = c;
+        while (x < y && (*x == ' ' || *x == '\t')) x++;
+        while (y > x && (y[-1] == ' ' || y[-1] == '\t')) y--;
+        if (y > x) {
+            if (n >= cap || (size_t)(y - x) >= KELP_MAX_NAME) return KELP_ERR_RANGE;
+            memcpy(names[n], x, (size_t)(y - x));
+            names[n][y - x] = 0;
+            n++;
+        }
+        a = c + 1;
+    }
+    *ps = e + 1;
+    return n;
+}
+
+static int parse_port(const char *s, size_t len, uint16_t *port)
+{
+    long p;
+    if (kelp_parse_long(s, len, &p) < 0 || p < 1 || p > 65535) return KELP_ERR_PARSE;
+    *port = (uint16_t)p;
+    return KELP_OK;
+}
+
+int kelp_bridge_parse_share(const char *line, kelp_bridge_route *routes, size_t cap, size_t *n, const char **why)
+{
+    char src[16][KELP_MAX_NAME], alias[16][KELP_MAX_NAME];
+    const char *s = line;
+    *why = NULL;
+    int ns = bracket_list(&s, src, 16);
+    if (ns <= 0) {
+        *why = "expected [VAR,...] at the start";
+        return KELP_ERR_PARSE;
+    }
+    s = skip_ws(s);
+    while (*s == '-') s++;
+    if (*s != '>') {
+        *why = "expected '->' after the variable list";
+        return KELP_ERR_PARSE;
+    }
+    s = skip_ws(s + 1);
+    const char *at = strchr(s, '@');
+    if (!at) {
+        *why = "expected 'community @ host:port'";
+        return KELP_ERR_PARSE;
+    }
+    const char *c0 = s, *c1 = at;
+    while (c1 > c0 && (c1[-1] == ' ' || c1[-1] == '\t')) c1--;
+    if (c1 == c0 || (size_t)(c1 - c0) >= KELP_MAX_NAME) {
+        *why = "bad community name";
+        return KELP_ERR_PARSE;
+    }
+    s = skip_ws(at + 1);
+    const char *colon = strchr(s, ':');
+    if (!colon) {
+        *why = "expected host:port";
+        return KELP_ERR_PARSE;
+    }
+    const char *h1 = colon;
+    while (h1 > s && (h1[-1] == ' ' || h1[-1] == '\t')) h1--;
+    if (h1 == s || (size_t)(h1 - s) >= KELP_MAX_NAME) {
+        *why = "bad host";
+        return KELP_ERR_PARSE;
+    }
+    const char *p0 = skip_ws(colon + 1), *p1 = p0;
+    while (*p1 >= '0' && *p1 <= '9') p1++;
+    uint16_t port;
+    if (parse_port(p0, (size_t)(p1 - p0), &port) < 0) {
+        *why = "bad port (1-65535)";
+        return KELP_ERR_PARSE;
+    }
+    s = skip_ws(p1);
+    int na = 0;
+    if (*s == '[') {
+        na = bracket_list(&s, alias, 16);
+        if (na < 0) {
+            *why = "bad [ALIAS,...] list";
+            return KELP_ERR_PARSE;
+        }
+        if (na != ns) {
+            *why = "alias list length differs from variable list";
+            return KELP_ERR_PARSE;
+        }
+    }
+    if (*skip_ws(s)) {
+        *why = "unexpected text at the end";
+        return KELP_ERR_PARSE;
+    }
+    if ((size_t)ns > cap) return KELP_ERR_NOSPACE;
+    for (int i = 0; i < ns; i++) {
+        kelp_bridge_route *r = &routes[i];
+        memset(r, 0, sizeof *r);
+        memcpy(r->src, src[i], sizeof r->src);
+        if (na) memcpy(r->alias, alias[i], sizeof r->alias);
+        memcpy(r->community, c0, (size_t)(c1 - c0));
+        size_t hl = (size_t)(h1 - (skip_ws(at + 1)));
+        memcpy(r->host, skip_ws(at + 1), hl);
+        r->host[hl] = 0;
+        r->port = port;
+    }
+    *n = (size_t)ns;
+    return KELP_OK;
+}
+
+int kelp_bridge_parse_register(const char *s, kelp_bridge_route *r, const char **why)
+{
+    memset(r, 0, sizeof *r);
+    char port[16];
+    *why = NULL;
+    if (kelp_kv_get(s, ',', "src_var", r->src, sizeof r->src) != 1 || !r->src[0]) {
+        *why = "missing src_var";
+        return KELP_ERR_PARSE;
+    }
+    if (kelp_kv_get(s, ',', "dest_host", r->host, sizeof r->host) != 1 || !r->host[0]) {
+        *why = "missing dest_host";
+        return KELP_ERR_PARSE;
+    }
+    if (kelp_kv_get(s, ',', "dest_port", port, sizeof port) != 1 || parse_port(port, strlen(port), &r->port) < 0) {
+        *why = "missing or bad dest_port";
+        return KELP_ERR_PARSE;
+    }
+    if (kelp_kv_get(s, ',', "dest_community", r->community, sizeof r->community) < 0 ||
+        kelp_kv_get(s, ',', "dest_alias", r->alias, sizeof r->alias) < 0) {
+        *why = "value too long";
+        return KELP_ERR_PARSE;
+    }
+    return KELP_OK;
+}
+
+int kelp_bridge_frame(const kelp_var *v, const char *as, const uint8_t *key, size_t keylen, kelp_hmac_fn hmac,
+                      void *user, uint8_t *buf, size_t cap, size_t *len)
+{
+    if (!v || !buf || !len || (keylen && !hmac)) return KELP_ERR_ARG;
+    if (cap < 5) return KELP_ERR_NOSPACE;
+    memcpy(buf, KELP_BRIDGE_MAGIC, 4);
+    buf[4] = keylen ? KELP_BRIDGE_F_AUTH : 0;
+    const char *name = (as && *as) ? as : v->name;
+    size_t n = 0;
+    /* encode with the alias name and the BRIDGED flag without copying the value */
+    int rc = kelp_var_encode_parts(v->time, name, v->source, v->community, v->kind, v->dval,
+                                   v->kind == KELP_VAR_DOUBLE ? NULL : v->sval, v->kind == KELP_VAR_DOUBLE ? 0 : v->slen,
+                                   (uint8_t)(v->flags | KELP_VAR_FLAG_BRIDGED), buf + 5, cap - 5, &n);
+    if (rc < 0) return rc;
+    n += 5;
+    if (keylen) {
+        if (cap - n < KELP_BRIDGE_HMAC_LEN) return KELP_ERR_NOSPACE;
+        if ((rc = hmac(key, keylen, buf, n, buf + n, user)) < 0) return KELP_ERR_CRYPTO;
+        n += KELP_BRIDGE_HMAC_LEN;
+    }
+    *len = n;
+    return KELP_OK;
+}
+
+int kelp_bridge_unframe(const uint8_t *buf, size_t len, const uint8_t *key, size_t keylen, kelp_hmac_fn hmac,
+                        void *user, kelp_var *out)
+{
+    if (!buf || !out || (keylen && !hmac)) return KELP_ERR_ARG;
+    if (len < 5 || memcmp(buf, KELP_BRIDGE_MAGIC, 4) != 0) return KELP_ERR_PARSE;
+    uint8_t flags = buf[4];
+    size_t body = len - 5;
+    if (flags & KELP_BRIDGE_F_AUTH) {
+        if (body < KELP_BRIDGE_HMAC_LEN) return KELP_ERR_TRUNCATED;
+        body -= KELP_BRIDGE_HMAC_LEN;
+    }
+    if (keylen) {
+        if (!(flags & KELP_BRIDGE_F_AUTH)) return KELP_ERR_AUTH;
+        uint8_t mac[KELP_BRIDGE_HMAC_LEN];
+        if (hmac(key, keylen, buf, 5 + body, mac, user) < 0) return KELP_ERR_CRYPTO;
+        /* constant-time compare */
+        uint8_t d = 0;
+        for (size_t i = 0; i < KELP_BRIDGE_HMAC_LEN; i++) d |= (uint8_t)(mac[i] ^ buf[5 + body + i]);
+        if (d) return KELP_ERR_AUTH;
+    }
+    int rc = kelp_var_decode(buf + 5, body, out);
+    if (rc < 0) return rc;
+    out->flags |= KELP_VAR_FLAG_BRIDGED;
+    return KELP_OK;
+}

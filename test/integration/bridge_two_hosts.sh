@@ -1,0 +1,107 @@
+# Two hosts (network namespaces joined by a bridge), one community each, joined by
+# kelp-bridge over UDP: static UDPSHARE with renaming, run-time PMB_REGISTER, no loops,
+# no duplicates, and datagrams failing the shared-key HMAC are dropped.
+set -euo pipefail
+[ "$(id -u)" -eq 0 ] || { echo "SKIP-needs-root"; exit 1; }
+KELP_ROOT=${KELP_ROOT:-$(cd "$(dirname "$0")/../.." && pwd)}
+BIN=${BUILD:-$KELP_ROOT/build}/bin
+P=kb$$
+T=$(mktemp -d /tmp/kelp-bridge.XXXXXX)
+PIDS=()
+cleanup() {
+  for p in "${PIDS[@]:-}"; do [ -n "$p" ] && kill "$p" 2>/dev/null || true; done
+  wait 2>/dev/null || true
+  for ns in ${P}h1 ${P}h2 ${P}br; do ip netns del $ns 2>/dev/null || true; done
+  [ -n "${KEEP_T:-}" ] || rm -rf "$T"
+}
+trap cleanup EXIT
+fail() { echo "FAIL: $*"; for f in $T/*.log $T/*.out; do echo "--- $f"; tail -25 $f; done 2>/dev/null; exit 1; }
+ip netns add ${P}br
+ip -n ${P}br link set lo up
+ip -n ${P}br link add br0 type bridge
+ip -n ${P}br link set br0 type bridge mcast_snooping 0
+ip -n ${P}br link set br0 up
+for i in 1 2; do
+  ns=${P}h$i
+  ip netns add $ns
+  ip -n $ns link set lo up
+  ip -n $ns link add eth0 type veth peer name ${P}v$i
+  ip -n $ns link set ${P}v$i netns ${P}br
+  ip -n ${P}br link set ${P}v$i master br0
+  ip -n ${P}br link set ${P}v$i up
+  ip -n $ns addr add 198.51.100.$i/24 dev eth0
+  ip -n $ns link set eth0 up
+  ip -n $ns route add 224.0.0.0/4 dev eth0
+done
+U='udpm://239.255.76.67:7667?ttl=0'   # each community stays on its host
+cat > $T/shore.moos <<M
+Community = shoreside
+LCM_URL = $U
+ProcessConfig = pMOOSBridge
+{
+  UDPListen = 9300
+  KEY = sea-secret
+  // a deliberate loop back to the vehicle: must not echo forever
+  UDPSHARE = [STATE] -> alpha @ 198.51.100.2:9301
+}
+ProcessConfig = scope
+{
+  VAR = NAV_X_ALPHA, STATE, NAV_Y
+}
+M
+cat > $T/alpha.moos <<M
+Community = alpha
+LCM_URL = $U
+ProcessConfig = pMOOSBridge
+{
+  UDPListen = 9301
+  KEY = sea-secret
+  UDPSHARE = [NAV_X, STATE] -> shoreside @ 198.51.100.1:9300 [NAV_X_ALPHA, STATE]
+}
+ProcessConfig = rogue
+{
+  UDPListen = 9302
+  KEY = wrong-key
+  UDPSHARE = [NAV_Y] -> shoreside @ 198.51.100.1:9300
+}
+ProcessConfig = scope
+{
+  VAR = DEPLOY, STATE
+}
+M
+cd $T
+ip netns exec ${P}h1 lcm-logger --lcm-url="$U" -f shore.lcmlog > logger1.out 2>&1 & PIDS+=($!)
+ip netns exec ${P}h2 lcm-logger --lcm-url="$U" -f alpha.lcmlog > logger2.out 2>&1 & PIDS+=($!)
+ip netns exec ${P}h1 $BIN/kelp-bridge shore.moos > shore_bridge.log 2>&1 & PIDS+=($!)
+ip netns exec ${P}h2 $BIN/kelp-bridge alpha.moos > alpha_bridge.log 2>&1 & PIDS+=($!)
+ip netns exec ${P}h2 $BIN/kelp-bridge alpha.moos rogue > rogue_bridge.log 2>&1 & PIDS+=($!)
+sleep 1
+# static share with renaming, host 2 -> host 1
+ip netns exec ${P}h2 $BIN/kelp-poke alpha.moos NAV_X=12.5 NAV_Y=3 > poke1.out
+# run-time bridge from the shore to the vehicle (what uFldShoreBroker asks for)
+ip netns exec ${P}h1 $BIN/kelp-poke shore.moos "PMB_REGISTER:=src_var=DEPLOY_ALL,dest_community=alpha,dest_host=198.51.100.2,dest_port=9301,dest_alias=DEPLOY" > poke2.out
+sleep 0.5
+ip netns exec ${P}h1 $BIN/kelp-poke shore.moos DEPLOY_ALL:=true > poke3.out
+# a shared variable bridged both ways: one write on alpha must arrive once on shore and not come back
+ip netns exec ${P}h2 $BIN/kelp-poke alpha.moos STATE:=go > poke4.out
+sleep 1
+timeout 2 ip netns exec ${P}h1 $BIN/kelp-scope shore.moos scope > shore_scope.out 2>&1 || true
+timeout 2 ip netns exec ${P}h2 $BIN/kelp-scope alpha.moos scope > alpha_scope.out 2>&1 || true
+for p in "${PIDS[@]}"; do kill -INT $p 2>/dev/null || true; done
+wait 2>/dev/null || true
+PIDS=()
+grep -E '^  NAV_X_ALPHA +kelp-poke .* alpha +12.50000' shore_scope.out | tail -1 | grep -q . || fail "NAV_X did not reach the shore as NAV_X_ALPHA"
+grep -E '^  DEPLOY +kelp-poke .* shoreside +"true"' alpha_scope.out | tail -1 | grep -q . || fail "PMB_REGISTER bridge DEPLOY_ALL -> DEPLOY failed"
+grep -E '^  NAV_Y +n/a' shore_scope.out | tail -1 | grep -q . || fail "NAV_Y from the wrong key was accepted"
+grep -qE "auth failures [1-9]" shore_bridge.log || fail "shore did not count the auth failure"
+$BIN/kelp-logcheck shore.lcmlog --print > shore_events.txt || fail "shore log undecodable"
+$BIN/kelp-logcheck alpha.lcmlog --print > alpha_events.txt || fail "alpha log undecodable"
+n_state_alpha=$(awk '$3=="STATE"' alpha_events.txt | wc -l)
+n_state_shore=$(awk '$3=="STATE"' shore_events.txt | wc -l)
+n_navx=$(awk '$3=="NAV_X_ALPHA"' shore_events.txt | wc -l)
+[ "$n_state_alpha" -eq 1 ] || fail "STATE written $n_state_alpha times on alpha (loop?)"
+[ "$n_state_shore" -eq 1 ] || fail "STATE arrived $n_state_shore times on shore (duplicate?)"
+[ "$n_navx" -eq 1 ] || fail "NAV_X_ALPHA arrived $n_navx times"
+# negative control: ttl=0 multicast does not cross between the hosts
+grep -q "NAV_X " shore_events.txt && fail "alpha's multicast leaked to the shore host"
+echo "ok: renamed share, PMB_REGISTER, no loop (STATE 1/1), no duplicate, wrong key dropped"
