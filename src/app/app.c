@@ -241,6 +241,7 @@ int kelp_app_global_double(kelp_app *app, const char *key, double *out)
     return kelp_mission_double(&app->mf.m.nodes[i], out) < 0 ? KELP_ERR_PARSE : 1;
 }
 
+static void vadd(char (*list)[WARN_LEN], int *n, unsigned long *counts, const char *fmt, va_list ap) KELP_PRINTF(4, 0);
 static void vadd(char (*list)[WARN_LEN], int *n, unsigned long *counts, const char *fmt, va_list ap)
 {
     char buf[WARN_LEN];
