@@ -20,6 +20,7 @@ if [ ! -f "$SYS/.done" ]; then
     $SUDO dpkg --add-architecture $DEB
     $SUDO apt-get update -q >/dev/null
   fi
+  chmod 777 "$SYS/debs"
   (cd "$SYS/debs" && apt-get download -q check:$DEB libsubunit-dev:$DEB libsubunit0:$DEB >/dev/null)
   for d in "$SYS"/debs/*.deb; do dpkg-deb -x "$d" "$SYS"; done
   touch "$SYS/.done"

@@ -14,9 +14,10 @@ for f in $(ls src/*/*.c | grep -v "^src/app/"); do
   objs+=("$o")
 done
 arm-none-eabi-ar rcs "$O/libkelp_core_m4.a" "${objs[@]}"
-# Link a firmware image that keeps every core function (no gc of our code) to show what it costs
+# Link a firmware image that keeps every public core function (--undefined for each) to show what it costs
 # with nano newlib; firmware/fw_main.c provides a reset handler and references the public API.
-$CC $FLAGS --specs=nosys.specs -Wl,--gc-sections -Wl,-Map="$O/fw.map" -Wl,--whole-archive "$O/libkelp_core_m4.a" -Wl,--no-whole-archive \
+syms=$(arm-none-eabi-nm -g --defined-only "$O/libkelp_core_m4.a" | awk '$2=="T"{printf " -Wl,--undefined=%s", $3}')
+$CC $FLAGS --specs=nosys.specs -Wl,--gc-sections $syms -Wl,-Map="$O/fw.map" -Wl,--whole-archive "$O/libkelp_core_m4.a" -Wl,--no-whole-archive \
   firmware/fw_main.c -lm -o "$O/kelp_fw.elf"
 echo "== arm-none-eabi-size (core archive, per object, Cortex-M4 -Os)"
 arm-none-eabi-size -t "$O/libkelp_core_m4.a" | tail -n 1 | sed 's/(TOTALS)/libkelp_core_m4.a (total)/'

@@ -188,8 +188,8 @@ int main(int argc, char **argv)
         snprintf(c->prog, sizeof c->prog, "%.127s", line);
         snprintf(c->alias, sizeof c->alias, "%.63s", alias && *alias ? alias : line);
         const char *real = map_prog(line);
-        snprintf(c->path, sizeof c->path, "%s/%s", selfdir, real);
-        if (access(c->path, X_OK) != 0) snprintf(c->path, sizeof c->path, "%s", real); /* PATH */
+        int pl = snprintf(c->path, sizeof c->path, "%.3000s/%.1000s", selfdir, real);
+        if (pl < 0 || access(c->path, X_OK) != 0) snprintf(c->path, sizeof c->path, "%.1000s", real); /* PATH */
     }
     if (nkids == 0) {
         fprintf(stderr, "%s: no Run lines in ProcessConfig = ANTLER\n", mission);
