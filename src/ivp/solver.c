@@ -29,10 +29,9 @@ typedef struct spiece {
 typedef struct sfunc {
     spiece *p;
     uint32_t n;
-    double *cellmax;          /* grid of per-cell maxima */
-    int32_t cellw[D];         /* points per cell per variable */
-    uint32_t ncell[D];
-    uint32_t cstride[D];
+    double gmax;              /* max over all pieces */
+    double *proj[D];          /* per variable: per cell, max over the slab of that cell */
+    bool rel[D];              /* the function varies along this variable */
 } sfunc;
 
 typedef struct snode {
@@ -75,31 +74,24 @@ static size_t align8(size_t n)
     return (n + 7u) & ~(size_t)7u;
 }
 
-static void grid_shape(const kelp_ivp_domain *dom, sfunc *sf)
+typedef struct gshape {
+    int32_t cellw[D];
+    uint32_t ncell[D];
+    size_t total;
+} gshape;
+
+static void grid_shape(const kelp_ivp_domain *dom, gshape *g)
 {
+    g->total = 0;
     for (unsigned d = 0; d < dom->dim; d++) {
         uint32_t pts = dom->var[d].points;
         uint32_t w = (pts + GRID_CELLS - 1) / GRID_CELLS;
         if (w < 1)
             w = 1;
-        sf->cellw[d] = (int32_t)w;
-        sf->ncell[d] = (pts + w - 1) / w;
+        g->cellw[d] = (int32_t)w;
+        g->ncell[d] = (pts + w - 1) / w;
+        g->total += g->ncell[d];
     }
-    uint32_t st = 1;
-    for (unsigned d = 0; d < dom->dim; d++) {
-        sf->cstride[d] = st;
-        st *= sf->ncell[d];
-    }
-}
-
-static size_t grid_len(const kelp_ivp_domain *dom)
-{
-    sfunc sf;
-    grid_shape(dom, &sf);
-    size_t n = 1;
-    for (unsigned d = 0; d < dom->dim; d++)
-        n *= sf.ncell[d];
-    return n;
 }
 
 size_t kelp_ivp_solve_work_size(const kelp_ivp_problem *p)
@@ -107,10 +99,11 @@ size_t kelp_ivp_solve_work_size(const kelp_ivp_problem *p)
     size_t sz = align8(sizeof(sfunc) * (p->nf + 1));
     sz += align8(sizeof(snode) * (p->nf + 1));
     sz += align8(sizeof(double) * (p->nf + 2));
-    size_t g = grid_len(&p->dom);
+    gshape g;
+    grid_shape(&p->dom, &g);
     for (unsigned i = 0; i < p->nf; i++) {
         sz += align8(sizeof(spiece) * p->f[i]->n);
-        sz += align8(sizeof(double) * g);
+        sz += align8(sizeof(double) * g.total);
     }
     return sz;
 }
@@ -123,39 +116,24 @@ static inline double box_max(const int32_t *lo, const int32_t *hi, const double 
     return v;
 }
 
-/* Max of function sf over the box [lo,hi] (an upper bound: cell maxima of the touched cells). */
-static double grid_bound(const sfunc *sf, const int32_t *lo, const int32_t *hi, unsigned dim)
+/* Upper bound of function sf over the box [lo,hi]: per varying variable, the best cell of the
+ * projection over the box's range; the smallest of those. */
+static double proj_bound(const sfunc *sf, const gshape *g, const int32_t *lo, const int32_t *hi, unsigned dim)
 {
-    uint32_t a[D], b[D], k[D];
-    size_t base = 0;
+    double b = sf->gmax;
     for (unsigned d = 0; d < dim; d++) {
-        a[d] = (uint32_t)lo[d] / (uint32_t)sf->cellw[d];
-        b[d] = (uint32_t)hi[d] / (uint32_t)sf->cellw[d];
-        k[d] = a[d];
-        base += a[d] * sf->cstride[d];
+        if (!sf->rel[d])
+            continue;
+        uint32_t a = (uint32_t)lo[d] / (uint32_t)g->cellw[d], e = (uint32_t)hi[d] / (uint32_t)g->cellw[d];
+        const double *q = sf->proj[d];
+        double m = q[a];
+        for (uint32_t c = a + 1; c <= e; c++)
+            if (q[c] > m)
+                m = q[c];
+        if (m < b)
+            b = m;
     }
-    double best = -INFINITY;
-    for (;;) {
-        size_t ix = 0;
-        for (unsigned d = 0; d < dim; d++)
-            ix += k[d] * sf->cstride[d];
-        double v = sf->cellmax[ix];
-        if (v > best)
-            best = v;
-        unsigned d = 0;
-        while (d < dim) {
-            if (k[d] < b[d]) {
-                k[d]++;
-                break;
-            }
-            k[d] = a[d];
-            d++;
-        }
-        if (d == dim)
-            break;
-    }
-    (void)base;
-    return best;
+    return b;
 }
 
 int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_result *res)
@@ -179,7 +157,8 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
     w += align8(sizeof(snode) * (k + 1));
     double *suffix = (double *)(void *)w;
     w += align8(sizeof(double) * (k + 2));
-    size_t glen = grid_len(&p->dom);
+    gshape gs;
+    grid_shape(&p->dom, &gs);
 
     /* Prepare: normalise (range > 100), weight, align to the problem's variable order. */
     for (unsigned i = 0; i < k; i++) {
@@ -187,10 +166,14 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
         sfunc *s = &sf[i];
         s->p = (spiece *)(void *)w;
         w += align8(sizeof(spiece) * f->n);
-        s->cellmax = (double *)(void *)w;
-        w += align8(sizeof(double) * glen);
+        double *proj = (double *)(void *)w;
+        w += align8(sizeof(double) * gs.total);
         s->n = (uint32_t)f->n;
-        grid_shape(&p->dom, s);
+        for (unsigned e = 0; e < dim; e++) {
+            s->proj[e] = proj;
+            proj += gs.ncell[e];
+            s->rel[e] = false;
+        }
         int map[D];
         for (unsigned d = 0; d < f->dom.dim; d++)
             map[d] = kelp_ivp_domain_index(&p->dom, f->dom.var[d].name);
@@ -220,44 +203,89 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
                 t->s[map[d]] = sl * pwt;
             }
         }
-        /* cell maxima: each piece's max over its intersection with each cell it touches */
-        for (size_t g = 0; g < glen; g++)
-            s->cellmax[g] = -INFINITY;
-        for (uint32_t j = 0; j < s->n; j++) {
+        /* projections: per variable and cell, the best piece max over the piece's part in that slab */
+        s->gmax = -INFINITY;
+        for (unsigned e = 0; e < dim; e++) {
+            for (uint32_t c = 0; c < gs.ncell[e]; c++)
+                s->proj[e][c] = -INFINITY;
+        }
+        for (size_t j = 0; j < f->n; j++) {
             const spiece *t = &s->p[j];
-            uint32_t a[D], b[D], c[D];
-            for (unsigned d = 0; d < dim; d++) {
-                a[d] = (uint32_t)t->lo[d] / (uint32_t)s->cellw[d];
-                b[d] = (uint32_t)t->hi[d] / (uint32_t)s->cellw[d];
-                c[d] = a[d];
-            }
-            for (;;) {
+            double m = box_max(t->lo, t->hi, t->s, t->c, dim);
+            if (m > s->gmax)
+                s->gmax = m;
+            for (unsigned e = 0; e < dim; e++)
+                if (t->s[e] != 0 || t->lo[e] != 0 || t->hi[e] != (int32_t)p->dom.var[e].points - 1)
+                    s->rel[e] = true;
+        }
+        for (size_t j = 0; j < f->n; j++) {
+            const spiece *t = &s->p[j];
+            for (unsigned e = 0; e < dim; e++) {
+                if (!s->rel[e])
+                    continue;
+                uint32_t a = (uint32_t)t->lo[e] / (uint32_t)gs.cellw[e], b = (uint32_t)t->hi[e] / (uint32_t)gs.cellw[e];
                 int32_t clo[D], chi[D];
-                size_t ix = 0;
-                for (unsigned d = 0; d < dim; d++) {
-                    int32_t cl = (int32_t)c[d] * s->cellw[d], ch = cl + s->cellw[d] - 1;
-                    clo[d] = t->lo[d] > cl ? t->lo[d] : cl;
-                    chi[d] = t->hi[d] < ch ? t->hi[d] : ch;
-                    ix += c[d] * s->cstride[d];
+                memcpy(clo, t->lo, sizeof clo);
+                memcpy(chi, t->hi, sizeof chi);
+                for (uint32_t c = a; c <= b; c++) {
+                    int32_t cl = (int32_t)c * gs.cellw[e], ch = cl + gs.cellw[e] - 1;
+                    clo[e] = t->lo[e] > cl ? t->lo[e] : cl;
+                    chi[e] = t->hi[e] < ch ? t->hi[e] : ch;
+                    double v = box_max(clo, chi, t->s, t->c, dim);
+                    if (v > s->proj[e][c])
+                        s->proj[e][c] = v;
                 }
-                double v = box_max(clo, chi, t->s, t->c, dim);
-                if (v > s->cellmax[ix])
-                    s->cellmax[ix] = v;
-                unsigned d = 0;
-                while (d < dim) {
-                    if (c[d] < b[d]) {
-                        c[d]++;
-                        break;
-                    }
-                    c[d] = a[d];
-                    d++;
-                }
-                if (d == dim)
-                    break;
             }
         }
     }
-    (void)suffix;
+    /* suffix[i] = sum of the global maxima of functions i..k-1 (a cheap first test) */
+    suffix[k] = 0;
+    for (unsigned i = k; i-- > 0;)
+        suffix[i] = suffix[i + 1] + sf[i].gmax;
+
+    /* A lower bound on the optimum from the objective at each function's own best point. It only
+     * prunes nodes whose bound is strictly below it (with a margin for rounding), so the first
+     * optimum in depth-first order is still found and still wins. */
+    double floor_v = -INFINITY;
+    for (unsigned i = 0; i < k; i++) {
+        const sfunc *s = &sf[i];
+        const spiece *bp = NULL;
+        for (uint32_t j = 0; j < s->n; j++)
+            if (box_max(s->p[j].lo, s->p[j].hi, s->p[j].s, s->p[j].c, dim) == s->gmax) {
+                bp = &s->p[j];
+                break;
+            }
+        if (!bp)
+            continue;
+        int32_t x[D];
+        for (unsigned e = 0; e < dim; e++)
+            x[e] = bp->s[e] < 0 ? bp->lo[e] : bp->hi[e];
+        double tot = 0;
+        bool covered = true;
+        for (unsigned j = 0; j < k && covered; j++) {
+            const sfunc *t = &sf[j];
+            covered = false;
+            for (uint32_t m = 0; m < t->n; m++) {
+                const spiece *q = &t->p[m];
+                unsigned e;
+                for (e = 0; e < dim; e++)
+                    if (x[e] < q->lo[e] || x[e] > q->hi[e])
+                        break;
+                if (e == dim) {
+                    double v = q->c;
+                    for (e = 0; e < dim; e++)
+                        v += q->s[e] * (double)x[e];
+                    tot += v;
+                    covered = true;
+                    break;
+                }
+            }
+        }
+        if (covered && tot > floor_v)
+            floor_v = tot;
+    }
+    if (isfinite(floor_v))
+        floor_v -= 1e-9 * (fabs(floor_v) + 1.0);
 
     /* Depth-first branch and bound. node[l] is the box after intersecting functions 0..l-1. */
     bool found = false;
@@ -307,6 +335,8 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
         double v = box_max(nx->lo, nx->hi, nx->s, nx->c, dim);
         if (l + 1 == k) {
             leaves++;
+            if (v < floor_v)
+                continue;
             if (!found || v > best) {
                 found = true;
                 best = v;
@@ -316,11 +346,19 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
             }
             continue;
         }
-        if (found) {
+        {
+            double tb = v + suffix[l + 1];
+            if (tb < floor_v || (found && !(tb > best)))
+                continue;
             double bound = v;
-            for (unsigned i = l + 1; i < k; i++)
-                bound += grid_bound(&sf[i], nx->lo, nx->hi, dim);
-            if (!(bound > best))
+            unsigned i;
+            for (i = l + 1; i < k; i++) {
+                bound += proj_bound(&sf[i], &gs, nx->lo, nx->hi, dim);
+                tb = bound + suffix[i + 1];
+                if (tb < floor_v || (found && !(tb > best)))
+                    break;
+            }
+            if (i < k)
                 continue;
         }
         nx->next = 0;
