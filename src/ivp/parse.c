@@ -106,6 +106,8 @@ static int parse_component(const char **pp, kelp_ivp_spec *sp, unsigned ci, kelp
             double *dst[6] = {&c->summit, &c->peakwidth, &c->basewidth, &c->summitdelta, &c->minutil, &c->maxutil};
             *dst[kix] = v;
         }
+        if (e < close && e + 1 >= close)
+            return ivp_fail(err, KELP_ERR_PARSE, "spec: empty argument in", k0, (size_t)(close - k0) + 1);
         q = e < close ? e + 1 : e;
     }
     *pp = close + 1;
