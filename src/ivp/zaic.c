@@ -291,9 +291,36 @@ int kelp_ivp_zaic_peak_extract(const kelp_ivp_zaic_peak *z, bool use_max, double
     double *vals = work;
     const kelp_ivp_var *v = &z->dom.var[0];
     if (z->ncomp == 1) {
+        /* comp_value() with the per-component constants hoisted; same operations, same bits */
         const kelp_ivp_zaic_comp *c = &z->comp[0];
-        for (uint32_t i = 0; i < n; i++)
-            vals[i] = comp_value(z, c, ((double)i * v->delta) + v->low);
+        const double s = c->summit, pw = c->peakwidth, pwbw = c->peakwidth + c->basewidth;
+        const double maxu = c->maxutil, minu = c->minutil;
+        const double sd = pw <= 0 ? 0 : c->summitdelta;
+        const double slope1 = sd > 0 ? sd / pw : 0.0, edge = maxu - sd;
+        const double slope2 = c->basewidth != 0 ? (edge - minu) / c->basewidth : 0.0;
+        const double low = v->low, delta = v->delta, s_top = v->high - s, s_bot = s - v->low, high = v->high;
+        const bool wrap = z->wrap;
+        double di = 0.0; /* == (double)i, exactly */
+        for (uint32_t i = 0; i < n; i++, di += 1.0) {
+            double x = (di * delta) + low, dist;
+            if (!wrap) {
+                dist = s >= x ? s - x : x - s;
+            } else if (s > x) {
+                double r = s - x, l = (x - low) + s_top + delta;
+                dist = l < r ? l : r;
+            } else {
+                double l = x - s, r = (high - x) + s_bot + delta;
+                dist = l < r ? l : r;
+            }
+            double val;
+            if (dist <= pw)
+                val = sd <= 0 ? maxu : maxu - slope1 * dist;
+            else if (dist <= pwbw)
+                val = edge - slope2 * (dist - pw);
+            else
+                val = minu;
+            vals[i] = val > maxu ? maxu : val;
+        }
     } else {
         for (uint32_t i = 0; i < n; i++)
             vals[i] = kelp_ivp_zaic_peak_value(z, i, use_max);
@@ -308,19 +335,18 @@ int kelp_ivp_zaic_peak_extract(const kelp_ivp_zaic_peak *z, bool use_max, double
     uint32_t first = 0;
     double first_val = vals[0];
     bool trend = false;
-    double s_m = 0, s_b = 0;
-    for (uint32_t i = 1; i < n; i++) {
+    double s_m = 0, s_b = 0, di = 1.0, prev = vals[0];
+    for (uint32_t i = 1; i < n; i++, di += 1.0) {
         double vi = vals[i];
         if (!trend) {
             trend = true;
             s_m = (vi - first_val) / (double)(i - first);
-            s_b = vi - s_m * (double)i;
+            s_b = vi - s_m * di;
         }
-        double ext = s_m * (double)i + s_b;
-        bool brk = fabs(ext - vi) > ZAIC_TOLERANCE;
-        double loc_m = vi - vals[i - 1];
-        if ((loc_m < 0 && s_m > 0) || (loc_m > 0 && s_m < 0))
-            brk = true;
+        double ext = s_m * di + s_b;
+        double loc_m = vi - prev;
+        prev = vi;
+        bool brk = fabs(ext - vi) > ZAIC_TOLERANCE || (loc_m < 0 ? s_m > 0 : (loc_m > 0 && s_m < 0));
         if (i == n - 1) {
             if (brk)
                 rc = push1(out, (int32_t)i, (int32_t)i, 0.0, vi); /* MOOS-IvP stores this one first */
