@@ -334,7 +334,7 @@ static int cmd_solve(int argc, char **argv)
     }
     {
         kelp_ivp_problem *prob = xcalloc(1, sizeof *prob);
-        kelp_ivp_result res;
+        kelp_ivp_result res = {0};
         void *work = NULL;
         size_t wsz = 0;
         for (long r = 0; r < repeat; r++) {

@@ -129,7 +129,7 @@ void kelp_ivp_func_scale(kelp_ivp_func *f, double w)
 
 int kelp_ivp_func_align(kelp_ivp_func *f, const kelp_ivp_domain *big)
 {
-    int map[KELP_IVP_MAX_DIM];
+    int map[KELP_IVP_MAX_DIM] = {0};
     for (unsigned d = 0; d < f->dom.dim; d++) {
         int j = kelp_ivp_domain_index(big, f->dom.var[d].name);
         if (j < 0)

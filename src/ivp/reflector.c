@@ -224,7 +224,7 @@ static size_t region_tiles(const kelp_ivp_reflector *r, unsigned k)
 
 size_t kelp_ivp_reflector_max_pieces(const kelp_ivp_reflector *r, int uniform_amount, int smart_amount)
 {
-    uint32_t edge[D];
+    uint32_t edge[D] = {0};
     int amount = uniform_amount >= 1 ? uniform_amount : r->uniform_amount;
     choose_uniform(r, amount, edge);
     size_t n = uniform_count(&r->dom, edge);
@@ -270,7 +270,7 @@ static double regress(const kelp_ivp_reflector *r, kelp_ivp_piece *p)
 {
     unsigned dim = r->dom.dim;
     unsigned nc = 1u << dim;
-    double cv[1u << D];
+    double cv[1u << D] = {0};
     int32_t pt[D];
     for (unsigned i = 0; i < nc; i++) {
         unsigned dup = dim;
@@ -495,9 +495,9 @@ int kelp_ivp_reflector_create(kelp_ivp_reflector *r, int uniform_amount, int sma
     double sthresh = smart_amount >= 0 ? smart_thresh : r->smart_thresh;
 
     /* 1. uniform */
-    uint32_t edge[D];
+    uint32_t edge[D] = {0};
     choose_uniform(r, amount, edge);
-    int32_t lo[D], hi[D];
+    int32_t lo[D] = {0}, hi[D] = {0};
     for (unsigned d = 0; d < dim; d++) {
         lo[d] = 0;
         hi[d] = (int32_t)r->dom.var[d].points - 1;

@@ -174,7 +174,7 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
             proj += gs.ncell[e];
             s->rel[e] = false;
         }
-        int map[D];
+        int map[D] = {0};
         for (unsigned d = 0; d < f->dom.dim; d++)
             map[d] = kelp_ivp_domain_index(&p->dom, f->dom.var[d].name);
         double lo = 0, hi = 0;
