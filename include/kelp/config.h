@@ -37,4 +37,30 @@
 _Static_assert(KELP_MAX_NAME >= 16, "KELP_MAX_NAME too small");
 _Static_assert(KELP_MAX_SVAL >= 256, "KELP_MAX_SVAL too small");
 
+
+/* ---- ivp (IvP domain, functions, ZAIC/Reflector/Coupler, solver) ---- */
+#ifndef KELP_IVP_MAX_DIM
+#define KELP_IVP_MAX_DIM 4          /**< decision variables in one IvP domain */
+#endif
+#ifndef KELP_IVP_MAX_VARNAME
+#define KELP_IVP_MAX_VARNAME 32     /**< bytes in an IvP domain variable name, with NUL */
+#endif
+#ifndef KELP_IVP_MAX_FUNCS
+#define KELP_IVP_MAX_FUNCS 64       /**< IvP functions in one solver problem */
+#endif
+#ifndef KELP_IVP_MAX_COMPONENTS
+#define KELP_IVP_MAX_COMPONENTS 8   /**< ZAIC_PEAK components (modes) */
+#endif
+#ifndef KELP_IVP_MAX_REFINE
+#define KELP_IVP_MAX_REFINE 8       /**< queued Reflector refine_region/refine_piece pairs */
+#endif
+#ifndef KELP_IVP_MAX_WARN
+#define KELP_IVP_MAX_WARN 256       /**< bytes of accumulated builder warning text, with NUL */
+#endif
+_Static_assert(KELP_IVP_MAX_DIM >= 1 && KELP_IVP_MAX_DIM <= 16, "KELP_IVP_MAX_DIM out of range");
+_Static_assert(KELP_IVP_MAX_VARNAME >= 8, "KELP_IVP_MAX_VARNAME too small");
+_Static_assert(KELP_IVP_MAX_FUNCS >= 1, "KELP_IVP_MAX_FUNCS too small");
+_Static_assert(KELP_IVP_MAX_COMPONENTS >= 1, "KELP_IVP_MAX_COMPONENTS too small");
+_Static_assert(KELP_IVP_MAX_WARN >= 64, "KELP_IVP_MAX_WARN too small");
+
 #endif

@@ -1,0 +1,189 @@
+/* kelp IvP: piecewise-linear IvP functions (PDMap). Arithmetic order mirrors MOOS-IvP's IvPBox
+ * (cst first, then dimensions in order) so that values and ties agree bit for bit. */
+#include <string.h>
+#include <math.h>
+#include "ivp_int.h"
+
+int kelp_ivp_func_init(kelp_ivp_func *f, const kelp_ivp_domain *dom, kelp_ivp_piece *store, size_t cap)
+{
+    if (!f || !dom || (!store && cap))
+        return KELP_ERR_ARG;
+    memset(f, 0, sizeof *f);
+    f->dom = *dom;
+    f->pcs = store;
+    f->cap = cap;
+    f->pwt = 100.0;
+    return 0;
+}
+
+int kelp_ivp_func_add(kelp_ivp_func *f, const int32_t *lo, const int32_t *hi, const double *slope, double cst)
+{
+    if (f->n >= f->cap)
+        return KELP_ERR_NOSPACE;
+    kelp_ivp_piece *p = &f->pcs[f->n];
+    memset(p, 0, sizeof *p);
+    for (unsigned d = 0; d < f->dom.dim; d++) {
+        if (lo[d] < 0 || hi[d] < lo[d] || (uint32_t)hi[d] >= f->dom.var[d].points)
+            return KELP_ERR_RANGE;
+        if (!isfinite(slope[d]))
+            return KELP_ERR_RANGE;
+        p->lo[d] = lo[d];
+        p->hi[d] = hi[d];
+        p->slope[d] = slope[d];
+    }
+    if (!isfinite(cst))
+        return KELP_ERR_RANGE;
+    p->cst = cst;
+    f->n++;
+    return 0;
+}
+
+double kelp_ivp_piece_max(const kelp_ivp_piece *p, unsigned dim)
+{
+    double v = p->cst;
+    for (unsigned d = 0; d < dim; d++)
+        v += p->slope[d] < 0 ? p->slope[d] * (double)p->lo[d] : p->slope[d] * (double)p->hi[d];
+    return v;
+}
+
+double kelp_ivp_piece_min(const kelp_ivp_piece *p, unsigned dim)
+{
+    double v = p->cst;
+    for (unsigned d = 0; d < dim; d++)
+        v += p->slope[d] < 0 ? p->slope[d] * (double)p->hi[d] : p->slope[d] * (double)p->lo[d];
+    return v;
+}
+
+int kelp_ivp_func_eval(const kelp_ivp_func *f, const uint32_t *ix, double *out)
+{
+    unsigned dim = f->dom.dim;
+    for (unsigned d = 0; d < dim; d++)
+        if (ix[d] >= f->dom.var[d].points)
+            return KELP_ERR_RANGE;
+    for (size_t i = 0; i < f->n; i++) {
+        const kelp_ivp_piece *p = &f->pcs[i];
+        unsigned d;
+        for (d = 0; d < dim; d++)
+            if ((int32_t)ix[d] < p->lo[d] || (int32_t)ix[d] > p->hi[d])
+                break;
+        if (d == dim) {
+            double v = p->cst;
+            for (d = 0; d < dim; d++)
+                v += p->slope[d] * (double)ix[d];
+            *out = v;
+            return 0;
+        }
+    }
+    return KELP_ERR_NOTFOUND;
+}
+
+int kelp_ivp_func_range(const kelp_ivp_func *f, double *min, double *max)
+{
+    if (f->n == 0)
+        return KELP_ERR_EMPTY;
+    double lo = kelp_ivp_piece_min(&f->pcs[0], f->dom.dim);
+    double hi = kelp_ivp_piece_max(&f->pcs[0], f->dom.dim);
+    for (size_t i = 1; i < f->n; i++) {
+        double a = kelp_ivp_piece_min(&f->pcs[i], f->dom.dim);
+        double b = kelp_ivp_piece_max(&f->pcs[i], f->dom.dim);
+        if (a < lo)
+            lo = a;
+        if (b > hi)
+            hi = b;
+    }
+    *min = lo;
+    *max = hi;
+    return 0;
+}
+
+int kelp_ivp_func_normalize(kelp_ivp_func *f, double base, double range)
+{
+    double lo, hi;
+    int rc = kelp_ivp_func_range(f, &lo, &hi);
+    if (rc)
+        return rc;
+    double er = hi - lo;
+    if (er <= 0)
+        return 0;
+    double badj = base - lo;
+    double radj = range / er;
+    for (size_t i = 0; i < f->n; i++) {
+        kelp_ivp_piece *p = &f->pcs[i];
+        p->cst += badj;
+        for (unsigned d = 0; d < f->dom.dim; d++)
+            p->slope[d] *= radj;
+        p->cst *= radj;
+    }
+    return 0;
+}
+
+void kelp_ivp_func_scale(kelp_ivp_func *f, double w)
+{
+    for (size_t i = 0; i < f->n; i++) {
+        kelp_ivp_piece *p = &f->pcs[i];
+        for (unsigned d = 0; d < f->dom.dim; d++)
+            p->slope[d] *= w;
+        p->cst *= w;
+    }
+}
+
+int kelp_ivp_func_align(kelp_ivp_func *f, const kelp_ivp_domain *big)
+{
+    int map[KELP_IVP_MAX_DIM] = {0};
+    for (unsigned d = 0; d < f->dom.dim; d++) {
+        int j = kelp_ivp_domain_index(big, f->dom.var[d].name);
+        if (j < 0)
+            return KELP_ERR_NOTFOUND;
+        if (big->var[j].low != f->dom.var[d].low || big->var[j].high != f->dom.var[d].high ||
+            big->var[j].points != f->dom.var[d].points)
+            return KELP_ERR_RANGE;
+        map[d] = j;
+    }
+    for (size_t i = 0; i < f->n; i++) {
+        kelp_ivp_piece *p = &f->pcs[i];
+        kelp_ivp_piece q;
+        memset(&q, 0, sizeof q);
+        for (unsigned e = 0; e < big->dim; e++)
+            q.hi[e] = (int32_t)big->var[e].points - 1;
+        for (unsigned d = 0; d < f->dom.dim; d++) {
+            q.lo[map[d]] = p->lo[d];
+            q.hi[map[d]] = p->hi[d];
+            q.slope[map[d]] = p->slope[d];
+        }
+        q.cst = p->cst;
+        *p = q;
+    }
+    f->dom = *big;
+    return 0;
+}
+
+static bool tiles_rec(const kelp_ivp_func *f, uint32_t *ix, unsigned d)
+{
+    if (d == f->dom.dim) {
+        unsigned hits = 0;
+        for (size_t i = 0; i < f->n; i++) {
+            const kelp_ivp_piece *p = &f->pcs[i];
+            unsigned e;
+            for (e = 0; e < f->dom.dim; e++)
+                if ((int32_t)ix[e] < p->lo[e] || (int32_t)ix[e] > p->hi[e])
+                    break;
+            if (e == f->dom.dim)
+                hits++;
+        }
+        return hits == 1;
+    }
+    for (uint32_t k = 0; k < f->dom.var[d].points; k++) {
+        ix[d] = k;
+        if (!tiles_rec(f, ix, d + 1))
+            return false;
+    }
+    return true;
+}
+
+bool kelp_ivp_func_tiles(const kelp_ivp_func *f)
+{
+    uint32_t ix[KELP_IVP_MAX_DIM] = {0};
+    if (f->dom.dim == 0)
+        return false;
+    return tiles_rec(f, ix, 0);
+}

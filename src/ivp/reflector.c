@@ -1,0 +1,639 @@
+/* kelp IvP: the Reflector (seed 004 ch. 8-9): uniform pieces from a piece count (Listing 26,
+ * integer ratio, which reproduces Tables 3 and 4) or an explicit shape, directed refinement,
+ * smart refinement and auto-peak refinement, over an AOF callback.
+ *
+ * Regression (section 9.4.2): the AOF is sampled at the 2^k corners of a piece and at its centre
+ * (when some edge spans more than two points). Per dimension the slope is the mean difference
+ * between corners that differ only in that dimension divided by the edge run; the constant is the
+ * mean residual, clamped with strict_range so the piece stays within the sampled range (the
+ * method of MOOS-IvP's Regressor). The score is eq. (4): sqrt(sum of squared residuals).
+ * Splits (smart and auto-peak) halve the longest edge (lowest dimension on ties), the first half
+ * getting the extra point. Stored order: uniform tiles with the last variable varying fastest;
+ * a refined piece keeps its slot for its first fragment, further fragments and tiles are
+ * appended; a split piece keeps its slot for its first half and appends the second. */
+#include <string.h>
+#include <math.h>
+#include "ivp_int.h"
+
+#define D KELP_IVP_MAX_DIM
+
+int kelp_ivp_reflector_init(kelp_ivp_reflector *r, const kelp_ivp_domain *dom, kelp_ivp_aof_fn aof, void *user)
+{
+    memset(r, 0, sizeof *r);
+    r->ok = true;
+    r->strict_range = true;
+    r->uniform_amount = -1;
+    r->smart_amount = -1;
+    r->smart_percent = -1;
+    r->auto_peak_max_pcs = -1;
+    if (!dom || !aof || dom->dim == 0) {
+        r->ok = false;
+        ivp_warn(r->warn, "Reflector: null domain or AOF");
+        return KELP_ERR_ARG;
+    }
+    r->dom = *dom;
+    r->aof = aof;
+    r->aof_user = user;
+    return 0;
+}
+
+static int fatal(kelp_ivp_reflector *r, int code, const char *name, const char *what)
+{
+    char buf[KELP_IVP_MAX_WARN];
+    buf[0] = '\0';
+    ivp_strcat(buf, sizeof buf, name);
+    ivp_strcat(buf, sizeof buf, ": ");
+    ivp_strcat(buf, sizeof buf, what);
+    ivp_warn(r->warn, buf);
+    r->ok = false;
+    return code;
+}
+
+static int set_int(kelp_ivp_reflector *r, const char *name, double v, int min, int *dst)
+{
+    if (!isfinite(v) || v != floor(v) || v < (double)min || v > 100000000.0)
+        return fatal(r, KELP_ERR_RANGE, name, min >= 1 ? "value must be an integer >= 1" : "value must be an integer >= 0");
+    *dst = (int)v;
+    return 0;
+}
+
+int kelp_ivp_reflector_set_paramf(kelp_ivp_reflector *r, const char *name, double v)
+{
+    size_t n = strlen(name);
+    const char *s = name;
+    ivp_trim(&s, &n);
+    if (ivp_word_eq(s, n, "uniform_amount"))
+        return set_int(r, "uniform_amount", v, 1, &r->uniform_amount);
+    if (ivp_word_eq(s, n, "smart_amount"))
+        return set_int(r, "smart_amount", v, 0, &r->smart_amount);
+    if (ivp_word_eq(s, n, "smart_percent"))
+        return set_int(r, "smart_percent", v, 0, &r->smart_percent);
+    if (ivp_word_eq(s, n, "auto_peak_max_pcs"))
+        return set_int(r, "auto_peak_max_pcs", v, 1, &r->auto_peak_max_pcs);
+    if (ivp_word_eq(s, n, "smart_thresh")) {
+        if (!isfinite(v) || v < 0)
+            return fatal(r, KELP_ERR_RANGE, "smart_thresh", "value must be >= 0");
+        r->smart_thresh = v;
+        r->have_smart_thresh = true;
+        return 0;
+    }
+    return fatal(r, KELP_ERR_NOTFOUND, name, "unhandled parameter");
+}
+
+int kelp_ivp_reflector_set_param(kelp_ivp_reflector *r, const char *name, const char *value)
+{
+    size_t n = strlen(name), vn = strlen(value);
+    const char *s = name, *v = value;
+    ivp_trim(&s, &n);
+    ivp_trim(&v, &vn);
+    kelp_ivp_errbuf err;
+    err.msg[0] = '\0';
+    int rc;
+    if (ivp_word_eq(s, n, "uniform_amount") || ivp_word_eq(s, n, "smart_amount") || ivp_word_eq(s, n, "smart_percent") ||
+        ivp_word_eq(s, n, "smart_thresh") || ivp_word_eq(s, n, "auto_peak_max_pcs")) {
+        double x;
+        if (ivp_parse_double(v, vn, &x))
+            return fatal(r, KELP_ERR_PARSE, name, "value is not a number");
+        return kelp_ivp_reflector_set_paramf(r, name, x);
+    }
+    if (ivp_word_eq(s, n, "strict_range") || ivp_word_eq(s, n, "auto_peak")) {
+        bool b;
+        if (ivp_word_eq(v, vn, "true"))
+            b = true;
+        else if (ivp_word_eq(v, vn, "false"))
+            b = false;
+        else
+            return fatal(r, KELP_ERR_PARSE, name, "value must be true or false");
+        if (ivp_word_eq(s, n, "auto_peak"))
+            r->auto_peak = b;
+        else
+            r->strict_range = b;
+        return 0;
+    }
+    if (ivp_word_eq(s, n, "uniform_piece")) {
+        rc = kelp_ivp_parse_shape(&r->dom, value, r->uniform_piece, &err);
+        if (rc)
+            return fatal(r, rc, "uniform_piece", err.msg);
+        r->have_uniform_piece = true;
+        return 0;
+    }
+    if (ivp_word_eq(s, n, "refine_region")) {
+        if (r->refine_pending)
+            return fatal(r, KELP_ERR_STATE, "refine_region", "refine_region and refine_piece must be added in pairs");
+        if (r->nrefine >= KELP_IVP_MAX_REFINE)
+            return fatal(r, KELP_ERR_NOSPACE, "refine_region", "too many refine regions");
+        rc = kelp_ivp_parse_region(&r->dom, value, r->refine_lo[r->nrefine], r->refine_hi[r->nrefine], &err);
+        if (rc)
+            return fatal(r, rc, "refine_region", err.msg);
+        r->refine_pending = true;
+        return 0;
+    }
+    if (ivp_word_eq(s, n, "refine_piece")) {
+        if (!r->refine_pending)
+            return fatal(r, KELP_ERR_STATE, "refine_piece", "refine_region and refine_piece must be added in pairs");
+        rc = kelp_ivp_parse_shape(&r->dom, value, r->refine_piece[r->nrefine], &err);
+        if (rc)
+            return fatal(r, rc, "refine_piece", err.msg);
+        r->refine_pending = false;
+        r->nrefine++;
+        return 0;
+    }
+    if (ivp_word_eq(s, n, "refine_point")) {
+        uint32_t ix[D];
+        rc = kelp_ivp_parse_point(&r->dom, value, ix, &err);
+        if (rc)
+            return fatal(r, rc, "refine_point", err.msg);
+        return 0;
+    }
+    return fatal(r, KELP_ERR_NOTFOUND, name, "unhandled parameter");
+}
+
+void kelp_ivp_uniform_piece(const kelp_ivp_domain *d, int amount, uint32_t *edge)
+{
+    uint32_t pcs[D], pts[D];
+    bool maxed[D];
+    unsigned dim = d->dim;
+    if (amount < 1)
+        amount = 1;
+    for (unsigned i = 0; i < dim; i++) {
+        pcs[i] = 1;
+        pts[i] = d->var[i].points;
+        maxed[i] = pts[i] <= 1;
+    }
+    for (;;) {
+        unsigned aug = dim;
+        uint32_t biggest = 0;
+        for (unsigned i = 0; i < dim; i++) {
+            if (maxed[i])
+                continue;
+            uint32_t ratio = pts[i] / pcs[i]; /* integer division, as Listing 26 */
+            if (aug == dim || ratio > biggest) {
+                biggest = ratio;
+                aug = i;
+            }
+        }
+        if (aug == dim)
+            break;
+        pcs[aug]++;
+        double total = 1;
+        for (unsigned i = 0; i < dim; i++)
+            total *= (double)pcs[i];
+        if (total > (double)amount) {
+            maxed[aug] = true;
+            pcs[aug]--;
+        }
+        if (pcs[aug] >= pts[aug])
+            maxed[aug] = true;
+    }
+    for (unsigned i = 0; i < dim; i++)
+        edge[i] = (uint32_t)ceil((double)pts[i] / (double)pcs[i]);
+}
+
+static uint32_t tiles_on(uint32_t len, uint32_t e)
+{
+    return (len + e - 1) / e;
+}
+
+static size_t uniform_count(const kelp_ivp_domain *d, const uint32_t *edge)
+{
+    size_t n = 1;
+    for (unsigned i = 0; i < d->dim; i++)
+        n *= tiles_on(d->var[i].points, edge[i]);
+    return n;
+}
+
+static void choose_uniform(const kelp_ivp_reflector *r, int amount, uint32_t *edge)
+{
+    if (r->have_uniform_piece) {
+        memcpy(edge, r->uniform_piece, sizeof(uint32_t) * r->dom.dim);
+    } else if (amount >= 1) {
+        kelp_ivp_uniform_piece(&r->dom, amount, edge);
+    } else {
+        for (unsigned i = 0; i < r->dom.dim; i++)
+            edge[i] = r->dom.var[i].points; /* one piece */
+    }
+}
+
+static size_t region_tiles(const kelp_ivp_reflector *r, unsigned k)
+{
+    size_t n = 1;
+    for (unsigned i = 0; i < r->dom.dim; i++)
+        n *= tiles_on((uint32_t)(r->refine_hi[k][i] - r->refine_lo[k][i] + 1), r->refine_piece[k][i]);
+    return n;
+}
+
+size_t kelp_ivp_reflector_max_pieces(const kelp_ivp_reflector *r, int uniform_amount, int smart_amount)
+{
+    uint32_t edge[D] = {0};
+    int amount = uniform_amount >= 1 ? uniform_amount : r->uniform_amount;
+    choose_uniform(r, amount, edge);
+    size_t n = uniform_count(&r->dom, edge);
+    for (unsigned k = 0; k < r->nrefine; k++)
+        n = n * (2 * r->dom.dim + 1) + region_tiles(r, k);
+    int sa = smart_amount >= 0 ? smart_amount : r->smart_amount;
+    size_t extra = sa > 0 ? (size_t)sa : 0;
+    if (r->smart_percent > 0) {
+        size_t pe = n * (size_t)r->smart_percent / 100u;
+        if (pe > extra)
+            extra = pe;
+    }
+    n += extra;
+    if (r->auto_peak) {
+        if (r->auto_peak_max_pcs > 0) {
+            n += (size_t)r->auto_peak_max_pcs;
+        } else {
+            double t = kelp_ivp_domain_total(&r->dom);
+            if (t > (double)n)
+                n = t > 1e9 ? (size_t)1000000000u : (size_t)t;
+        }
+    }
+    return n;
+}
+
+size_t kelp_ivp_reflector_work_len(size_t cap)
+{
+    return cap;
+}
+
+/* ------------------------------------------------------------------ regression */
+
+static double eval_ix(const kelp_ivp_reflector *r, const int32_t *ix)
+{
+    double pt[D];
+    for (unsigned d = 0; d < r->dom.dim; d++)
+        pt[d] = kelp_ivp_domain_value(&r->dom, d, (uint32_t)ix[d]);
+    return r->aof(pt, r->aof_user);
+}
+
+/* Fit p's interior to the AOF; returns the regression score (eq. 4). */
+static double regress(const kelp_ivp_reflector *r, kelp_ivp_piece *p)
+{
+    unsigned dim = r->dom.dim;
+    unsigned nc = 1u << dim;
+    double cv[1u << D] = {0};
+    int32_t pt[D];
+    for (unsigned i = 0; i < nc; i++) {
+        unsigned dup = dim;
+        for (unsigned d = 0; d < dim; d++)
+            if (((i >> d) & 1u) && p->lo[d] == p->hi[d]) {
+                dup = d;
+                break;
+            }
+        if (dup < dim) {
+            cv[i] = cv[i ^ (1u << dup)]; /* same point: evaluate the AOF once */
+            continue;
+        }
+        for (unsigned d = 0; d < dim; d++)
+            pt[d] = ((i >> d) & 1u) ? p->hi[d] : p->lo[d];
+        cv[i] = eval_ix(r, pt);
+    }
+    bool center = false;
+    int32_t cp[D];
+    for (unsigned d = 0; d < dim; d++) {
+        cp[d] = (p->lo[d] + p->hi[d]) / 2;
+        if (p->hi[d] - p->lo[d] >= 2)
+            center = true;
+    }
+    double cval = center ? eval_ix(r, cp) : 0.0;
+    double hv = cv[0], lv = cv[0];
+    for (unsigned i = 1; i < nc; i++) {
+        if (cv[i] > hv)
+            hv = cv[i];
+        if (cv[i] < lv)
+            lv = cv[i];
+    }
+    if (center) {
+        if (cval > hv)
+            hv = cval;
+        if (cval < lv)
+            lv = cval;
+    }
+    for (unsigned d = 0; d < dim; d++) {
+        double run = (double)(p->hi[d] - p->lo[d]);
+        if (run == 0) {
+            p->slope[d] = 0;
+            continue;
+        }
+        double rise = 0;
+        for (unsigned i = 0; i < nc; i++)
+            if ((i >> d) & 1u)
+                rise += cv[i] - cv[i ^ (1u << d)];
+        rise /= (double)nc / 2.0;
+        p->slope[d] = rise / run;
+    }
+    double total = 0, maxi = 0, mini = 0;
+    unsigned ns = nc + (center ? 1u : 0u);
+    for (unsigned i = 0; i < ns; i++) {
+        double plane = 0, val;
+        for (unsigned d = 0; d < dim; d++) {
+            double x = i < nc ? (double)(((i >> d) & 1u) ? p->hi[d] : p->lo[d]) : (double)cp[d];
+            plane += p->slope[d] * x;
+        }
+        val = i < nc ? cv[i] : cval;
+        total += val - plane;
+        double imax = hv - plane, imin = lv - plane;
+        if (i == 0 || imax < maxi)
+            maxi = imax;
+        if (i == 0 || imin > mini)
+            mini = imin;
+    }
+    double c = total / (double)ns;
+    if (r->strict_range) {
+        if (c > maxi)
+            c = maxi;
+        if (c < mini)
+            c = mini;
+    }
+    p->cst = c;
+    double err = 0;
+    for (unsigned i = 0; i < ns; i++) {
+        double lin = c;
+        for (unsigned d = 0; d < dim; d++) {
+            double x = i < nc ? (double)(((i >> d) & 1u) ? p->hi[d] : p->lo[d]) : (double)cp[d];
+            lin += p->slope[d] * x;
+        }
+        double dv = lin - (i < nc ? cv[i] : cval);
+        err += dv * dv;
+    }
+    return sqrt(err);
+}
+
+/* ------------------------------------------------------------------ heap of (key, piece) */
+
+static void heap_up(kelp_ivp_pq_entry *h, size_t i)
+{
+    while (i > 0) {
+        size_t pa = (i - 1) / 2;
+        if (!(h[i].key > h[pa].key))
+            break;
+        kelp_ivp_pq_entry t = h[i];
+        h[i] = h[pa];
+        h[pa] = t;
+        i = pa;
+    }
+}
+
+static void heap_down(kelp_ivp_pq_entry *h, size_t n, size_t i)
+{
+    for (;;) {
+        size_t l = 2 * i + 1, m = i;
+        if (l < n && h[l].key > h[m].key)
+            m = l;
+        if (l + 1 < n && h[l + 1].key > h[m].key)
+            m = l + 1;
+        if (m == i)
+            return;
+        kelp_ivp_pq_entry t = h[i];
+        h[i] = h[m];
+        h[m] = t;
+        i = m;
+    }
+}
+
+static void heapify(kelp_ivp_pq_entry *h, size_t n)
+{
+    for (size_t i = n / 2; i-- > 0;)
+        heap_down(h, n, i);
+}
+
+/* Split p along its longest edge: p keeps the first half, q gets the rest. false if p is a point. */
+static bool split(unsigned dim, kelp_ivp_piece *p, kelp_ivp_piece *q)
+{
+    unsigned best = dim;
+    int32_t len = 1;
+    for (unsigned d = 0; d < dim; d++) {
+        int32_t l = p->hi[d] - p->lo[d] + 1;
+        if (l > len) {
+            len = l;
+            best = d;
+        }
+    }
+    if (best == dim)
+        return false;
+    *q = *p;
+    int32_t first = (len + 1) / 2;
+    p->hi[best] = p->lo[best] + first - 1;
+    q->lo[best] = p->hi[best] + 1;
+    return true;
+}
+
+static bool is_point(unsigned dim, const kelp_ivp_piece *p)
+{
+    for (unsigned d = 0; d < dim; d++)
+        if (p->lo[d] != p->hi[d])
+            return false;
+    return true;
+}
+
+/* ------------------------------------------------------------------ create */
+
+static int add_box(kelp_ivp_func *f, const int32_t *lo, const int32_t *hi)
+{
+    if (f->n >= f->cap)
+        return KELP_ERR_NOSPACE;
+    kelp_ivp_piece *p = &f->pcs[f->n++];
+    memset(p, 0, sizeof *p);
+    memcpy(p->lo, lo, sizeof(int32_t) * f->dom.dim);
+    memcpy(p->hi, hi, sizeof(int32_t) * f->dom.dim);
+    return 0;
+}
+
+/* Tile [lo,hi] with edge-sized boxes from its low corner (last variable fastest). */
+static int tile(kelp_ivp_func *f, const int32_t *lo, const int32_t *hi, const uint32_t *edge)
+{
+    unsigned dim = f->dom.dim;
+    int32_t a[D], b[D], cur[D];
+    memcpy(cur, lo, sizeof(int32_t) * dim);
+    for (;;) {
+        for (unsigned d = 0; d < dim; d++) {
+            a[d] = cur[d];
+            b[d] = cur[d] + (int32_t)edge[d] - 1;
+            if (b[d] > hi[d])
+                b[d] = hi[d];
+        }
+        int rc = add_box(f, a, b);
+        if (rc)
+            return rc;
+        int d = (int)dim - 1;
+        for (; d >= 0; d--) {
+            cur[d] += (int32_t)edge[d];
+            if (cur[d] <= hi[d])
+                break;
+            cur[d] = lo[d];
+        }
+        if (d < 0)
+            return 0;
+    }
+}
+
+static bool overlaps(unsigned dim, const kelp_ivp_piece *p, const int32_t *lo, const int32_t *hi)
+{
+    for (unsigned d = 0; d < dim; d++)
+        if (p->hi[d] < lo[d] || p->lo[d] > hi[d])
+            return false;
+    return true;
+}
+
+int kelp_ivp_reflector_create(kelp_ivp_reflector *r, int uniform_amount, int smart_amount, double smart_thresh,
+                              kelp_ivp_piece *store, size_t cap, kelp_ivp_pq_entry *work, size_t work_len,
+                              kelp_ivp_func *out)
+{
+    if (!r->ok)
+        return KELP_ERR_STATE;
+    if (r->refine_pending) {
+        fatal(r, KELP_ERR_STATE, "refine_region", "refine_region without refine_piece");
+        return KELP_ERR_STATE;
+    }
+    unsigned dim = r->dom.dim;
+    int rc = kelp_ivp_func_init(out, &r->dom, store, cap);
+    if (rc)
+        return rc;
+    if (!work || work_len < cap)
+        return KELP_ERR_NOSPACE;
+    int amount = uniform_amount >= 1 ? uniform_amount : r->uniform_amount;
+    int sa = smart_amount >= 0 ? smart_amount : r->smart_amount;
+    double sthresh = smart_amount >= 0 ? smart_thresh : r->smart_thresh;
+
+    /* 1. uniform */
+    uint32_t edge[D] = {0};
+    choose_uniform(r, amount, edge);
+    int32_t lo[D] = {0}, hi[D] = {0};
+    for (unsigned d = 0; d < dim; d++) {
+        lo[d] = 0;
+        hi[d] = (int32_t)r->dom.var[d].points - 1;
+    }
+    if ((rc = tile(out, lo, hi, edge)))
+        return rc;
+    for (size_t i = 0; i < out->n; i++)
+        work[i].key = regress(r, &out->pcs[i]);
+
+    /* 2. directed refinement */
+    for (unsigned k = 0; k < r->nrefine; k++) {
+        const int32_t *rlo = r->refine_lo[k], *rhi = r->refine_hi[k];
+        size_t n0 = out->n;
+        for (size_t i = 0; i < n0; i++) {
+            kelp_ivp_piece *p = &out->pcs[i];
+            if (!overlaps(dim, p, rlo, rhi))
+                continue;
+            kelp_ivp_piece rest = *p;
+            bool first = true;
+            for (unsigned d = 0; d < dim; d++) {
+                for (int side = 0; side < 2; side++) {
+                    kelp_ivp_piece frag = rest;
+                    if (side == 0 && rest.hi[d] > rhi[d]) {
+                        frag.lo[d] = rhi[d] + 1;
+                        rest.hi[d] = rhi[d];
+                    } else if (side == 1 && rest.lo[d] < rlo[d]) {
+                        frag.hi[d] = rlo[d] - 1;
+                        rest.lo[d] = rlo[d];
+                    } else {
+                        continue;
+                    }
+                    kelp_ivp_piece *dst;
+                    size_t at;
+                    if (first) {
+                        at = i;
+                    } else {
+                        if (out->n >= out->cap)
+                            return KELP_ERR_NOSPACE;
+                        at = out->n++;
+                    }
+                    dst = &out->pcs[at];
+                    *dst = frag;
+                    work[at].key = regress(r, dst);
+                    first = false;
+                }
+            }
+            if (first)
+                p->lo[0] = -1; /* wholly inside the region: dead, removed below */
+        }
+        size_t w = 0;
+        for (size_t i = 0; i < out->n; i++) {
+            if (out->pcs[i].lo[0] < 0)
+                continue;
+            out->pcs[w] = out->pcs[i];
+            work[w] = work[i];
+            w++;
+        }
+        out->n = w;
+        size_t t0 = out->n;
+        if ((rc = tile(out, rlo, rhi, r->refine_piece[k])))
+            return rc;
+        for (size_t i = t0; i < out->n; i++)
+            work[i].key = regress(r, &out->pcs[i]);
+    }
+
+    /* 3. smart refinement */
+    size_t extra = sa > 0 ? (size_t)sa : 0;
+    if (r->smart_percent > 0) {
+        size_t pe = out->n * (size_t)r->smart_percent / 100u;
+        if (pe > extra)
+            extra = pe;
+    }
+    if (extra > 0) {
+        size_t hn = out->n;
+        for (size_t i = 0; i < hn; i++)
+            work[i].piece = (uint32_t)i;
+        heapify(work, hn);
+        size_t made = 0;
+        while (made < extra && hn > 0) {
+            if (work[0].key < sthresh)
+                break;
+            uint32_t pi = work[0].piece;
+            kelp_ivp_piece q;
+            if (!split(dim, &out->pcs[pi], &q)) {
+                work[0].key = -1.0; /* a single point cannot be split; sink it */
+                heap_down(work, hn, 0);
+                if (work[0].key < 0)
+                    break;
+                continue;
+            }
+            if (out->n >= out->cap)
+                return KELP_ERR_NOSPACE;
+            size_t qi = out->n++;
+            out->pcs[qi] = q;
+            work[0].key = regress(r, &out->pcs[pi]);
+            heap_down(work, hn, 0);
+            work[hn].key = regress(r, &out->pcs[qi]);
+            work[hn].piece = (uint32_t)qi;
+            heap_up(work, hn);
+            hn++;
+            made++;
+        }
+    }
+
+    /* 4. auto-peak */
+    if (r->auto_peak) {
+        size_t hn = out->n;
+        for (size_t i = 0; i < hn; i++) {
+            work[i].key = kelp_ivp_piece_max(&out->pcs[i], dim);
+            work[i].piece = (uint32_t)i;
+        }
+        heapify(work, hn);
+        size_t made = 0;
+        for (;;) {
+            uint32_t pi = work[0].piece;
+            if (is_point(dim, &out->pcs[pi]))
+                break;
+            if (r->auto_peak_max_pcs > 0 && made >= (size_t)r->auto_peak_max_pcs)
+                break;
+            kelp_ivp_piece q;
+            if (!split(dim, &out->pcs[pi], &q))
+                break;
+            if (out->n >= out->cap)
+                return KELP_ERR_NOSPACE;
+            size_t qi = out->n++;
+            out->pcs[qi] = q;
+            (void)regress(r, &out->pcs[pi]);
+            (void)regress(r, &out->pcs[qi]);
+            work[0].key = kelp_ivp_piece_max(&out->pcs[pi], dim);
+            heap_down(work, hn, 0);
+            work[hn].key = kelp_ivp_piece_max(&out->pcs[qi], dim);
+            work[hn].piece = (uint32_t)qi;
+            heap_up(work, hn);
+            hn++;
+            made++;
+        }
+    }
+    return (int)out->n;
+}

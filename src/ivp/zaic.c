@@ -1,0 +1,519 @@
+/* kelp IvP: ZAIC_PEAK, ZAIC_LEQ, ZAIC_HEQ (seed 004 ch. 7).
+ *
+ * ZAIC_PEAK values follow the seed's distance form (section 7.1.2, which MOOS-IvP's evalPoint
+ * implements); pieces are cut from the sampled values with MOOS-IvP's rule (linear runs within
+ * 0.001, a break where the slope changes sign) so piece counts and pointwise values agree with
+ * MOOS-IvP. LEQ/HEQ follow the seed's forms, with MOOS-IvP's index snapping but measured from
+ * the domain low (upstream forgets to subtract it). */
+#include <string.h>
+#include <math.h>
+#include "ivp_int.h"
+
+#define ZAIC_TOLERANCE 0.001 /* MOOS-IvP ZAIC_PEAK::setPDMap default tolerance */
+
+static int one_var(kelp_ivp_domain *out, const kelp_ivp_domain *dom, const char *var)
+{
+    kelp_ivp_domain_init(out);
+    if (!dom || !var)
+        return KELP_ERR_ARG;
+    int ix = kelp_ivp_domain_index(dom, var);
+    if (ix < 0)
+        return KELP_ERR_NOTFOUND;
+    return kelp_ivp_domain_add(out, var, dom->var[ix].low, dom->var[ix].high, dom->var[ix].points);
+}
+
+/* ------------------------------------------------------------------ ZAIC_PEAK */
+
+int kelp_ivp_zaic_peak_init(kelp_ivp_zaic_peak *z, const kelp_ivp_domain *dom, const char *var)
+{
+    memset(z, 0, sizeof *z);
+    z->ok = true;
+    z->insist = true;
+    z->wrap = false;
+    z->ncomp = 1;
+    z->comp[0].maxutil = 100;
+    int rc = one_var(&z->dom, dom, var);
+    if (rc) {
+        z->ok = false;
+        ivp_warn(z->warn, "ZAIC_PEAK: variable not in domain");
+    }
+    return rc;
+}
+
+int kelp_ivp_zaic_peak_add_component(kelp_ivp_zaic_peak *z)
+{
+    if (z->ncomp >= KELP_IVP_MAX_COMPONENTS) {
+        z->ok = false;
+        ivp_warn(z->warn, "addComponent: too many components");
+        return KELP_ERR_NOSPACE;
+    }
+    kelp_ivp_zaic_comp *c = &z->comp[z->ncomp];
+    memset(c, 0, sizeof *c);
+    c->summitdelta = 50; /* seed 004 section 7.1.6 */
+    c->maxutil = 100;
+    return (int)z->ncomp++;
+}
+
+static int bad_index(kelp_ivp_zaic_peak *z, unsigned idx, const char *what)
+{
+    if (idx < z->ncomp)
+        return 0;
+    z->ok = false;
+    ivp_warn(z->warn, what);
+    return KELP_ERR_RANGE;
+}
+
+int kelp_ivp_zaic_peak_set_summit(kelp_ivp_zaic_peak *z, double v, unsigned idx)
+{
+    if (bad_index(z, idx, "setSummit: index out of range"))
+        return KELP_ERR_RANGE;
+    if (!isfinite(v)) {
+        z->ok = false;
+        ivp_warn(z->warn, "setSummit: value not finite");
+        return KELP_ERR_RANGE;
+    }
+    if (z->dom.dim == 1 && (v < z->dom.var[0].low || v > z->dom.var[0].high))
+        ivp_warn(z->warn, "setSummit: summit outside the domain");
+    z->comp[idx].summit = v;
+    return 0;
+}
+
+static int set_width(kelp_ivp_zaic_peak *z, double v, unsigned idx, double *dst, const char *name)
+{
+    if (bad_index(z, idx, name))
+        return KELP_ERR_RANGE;
+    if (!isfinite(v)) {
+        z->ok = false;
+        ivp_warn(z->warn, "width: value not finite");
+        return KELP_ERR_RANGE;
+    }
+    if (v < 0) {
+        v = 0;
+        ivp_warn(z->warn, "width: value less than zero, clipped to 0");
+    }
+    *dst = v;
+    return 0;
+}
+
+int kelp_ivp_zaic_peak_set_peakwidth(kelp_ivp_zaic_peak *z, double v, unsigned idx)
+{
+    return set_width(z, v, idx, idx < z->ncomp ? &z->comp[idx].peakwidth : NULL, "setPeakWidth: index out of range");
+}
+
+int kelp_ivp_zaic_peak_set_basewidth(kelp_ivp_zaic_peak *z, double v, unsigned idx)
+{
+    return set_width(z, v, idx, idx < z->ncomp ? &z->comp[idx].basewidth : NULL, "setBaseWidth: index out of range");
+}
+
+int kelp_ivp_zaic_peak_set_summitdelta(kelp_ivp_zaic_peak *z, double v, unsigned idx)
+{
+    if (bad_index(z, idx, "setSummitDelta: index out of range"))
+        return KELP_ERR_RANGE;
+    if (!(v >= 0) || !isfinite(v)) {
+        z->ok = false; /* seed 004 section 7.1.3: fatal */
+        ivp_warn(z->warn, "setSummitDelta: value less than zero");
+        return KELP_ERR_RANGE;
+    }
+    double range = z->comp[idx].maxutil - z->comp[idx].minutil;
+    if (v > range) {
+        v = range;
+        ivp_warn(z->warn, "setSummitDelta: delta greater than util range, clipped");
+    }
+    z->comp[idx].summitdelta = v;
+    return 0;
+}
+
+int kelp_ivp_zaic_peak_set_minmaxutil(kelp_ivp_zaic_peak *z, double min, double max, unsigned idx)
+{
+    if (bad_index(z, idx, "setMinMaxUtil: index out of range"))
+        return KELP_ERR_RANGE;
+    if (!(min < max) || !isfinite(min) || !isfinite(max)) {
+        z->ok = false;
+        ivp_warn(z->warn, "setMinMaxUtil: min>=max");
+        return KELP_ERR_RANGE;
+    }
+    kelp_ivp_zaic_comp *c = &z->comp[idx];
+    c->minutil = min;
+    c->maxutil = max;
+    if (c->summitdelta > max - min) {
+        c->summitdelta = max - min;
+        ivp_warn(z->warn, "setMinMaxUtil: summitdelta clipped to util range");
+    }
+    return 0;
+}
+
+int kelp_ivp_zaic_peak_set_params(kelp_ivp_zaic_peak *z, double summit, double pwidth, double bwidth,
+                                  double sdelta, double minutil, double maxutil, unsigned idx)
+{
+    int rc = kelp_ivp_zaic_peak_set_summit(z, summit, idx);
+    int r2 = kelp_ivp_zaic_peak_set_basewidth(z, bwidth, idx);
+    int r3 = kelp_ivp_zaic_peak_set_peakwidth(z, pwidth, idx);
+    int r4 = kelp_ivp_zaic_peak_set_minmaxutil(z, minutil, maxutil, idx);
+    int r5 = kelp_ivp_zaic_peak_set_summitdelta(z, sdelta, idx);
+    if (rc)
+        return rc;
+    if (r2)
+        return r2;
+    if (r3)
+        return r3;
+    if (r4)
+        return r4;
+    return r5;
+}
+
+/* Value of component c at native value x (seed 004 section 7.1.2 in distance form). */
+static double comp_value(const kelp_ivp_zaic_peak *z, const kelp_ivp_zaic_comp *c, double x)
+{
+    double s = c->summit, pw = c->peakwidth, bw = c->basewidth;
+    double maxu = c->maxutil, minu = c->minutil;
+    double sd = pw <= 0 ? 0 : c->summitdelta;
+    double dist;
+    if (!z->wrap) {
+        dist = s >= x ? s - x : x - s;
+    } else {
+        /* the domain is a circle of period high-low+delta */
+        const kelp_ivp_var *v = &z->dom.var[0];
+        double l, r;
+        if (s > x) {
+            r = s - x;
+            l = (x - v->low) + (v->high - s) + v->delta;
+        } else {
+            l = x - s;
+            r = (v->high - x) + (s - v->low) + v->delta;
+        }
+        dist = l < r ? l : r;
+    }
+    double val;
+    if (dist <= pw) {
+        if (sd <= 0)
+            val = maxu;
+        else
+            val = maxu - (sd / pw) * dist;
+    } else if (dist <= pw + bw) {
+        double edge = maxu - sd;
+        double slope = (edge - minu) / bw;
+        val = edge - slope * (dist - pw);
+    } else {
+        val = minu;
+    }
+    if (val > maxu)
+        val = maxu;
+    return val;
+}
+
+double kelp_ivp_zaic_peak_value(const kelp_ivp_zaic_peak *z, uint32_t ix, bool use_max)
+{
+    double x = ((double)ix * z->dom.var[0].delta) + z->dom.var[0].low;
+    double best = 0, total = 0;
+    for (unsigned k = 0; k < z->ncomp; k++) {
+        double v = comp_value(z, &z->comp[k], x);
+        if (k == 0 || v > best)
+            best = v;
+        total += v;
+    }
+    return use_max ? best : total;
+}
+
+size_t kelp_ivp_zaic_peak_max_pieces(const kelp_ivp_zaic_peak *z)
+{
+    return z->dom.dim == 1 ? z->dom.var[0].points : 0;
+}
+
+size_t kelp_ivp_zaic_peak_work_len(const kelp_ivp_zaic_peak *z)
+{
+    return kelp_ivp_zaic_peak_max_pieces(z);
+}
+
+static void insist_summit(const kelp_ivp_zaic_peak *z, const kelp_ivp_zaic_comp *c, double *vals, uint32_t n)
+{
+    for (uint32_t i = 0; i < n; i++)
+        if (vals[i] != c->minutil)
+            return;
+    const kelp_ivp_var *v = &z->dom.var[0];
+    if (c->summit < v->low) {
+        vals[0] = c->maxutil;
+        return;
+    }
+    if (c->summit > v->high) {
+        vals[n - 1] = c->maxutil;
+        return;
+    }
+    double best = 0;
+    uint32_t bi = 0;
+    for (uint32_t i = 0; i < n; i++) {
+        double d = (((double)i * v->delta) + v->low) - c->summit;
+        if (d < 0)
+            d = -d;
+        if (i == 0 || d < best) {
+            best = d;
+            bi = i;
+        }
+    }
+    vals[bi] = c->maxutil;
+}
+
+static int push1(kelp_ivp_func *f, int32_t lo, int32_t hi, double slope, double cst)
+{
+    if (f->n >= f->cap)
+        return KELP_ERR_NOSPACE;
+    kelp_ivp_piece *p = &f->pcs[f->n++];
+    p->lo[0] = lo;
+    p->hi[0] = hi;
+    p->slope[0] = slope;
+    p->cst = cst;
+    for (unsigned d = 1; d < KELP_IVP_MAX_DIM; d++) {
+        p->lo[d] = p->hi[d] = 0;
+        p->slope[d] = 0;
+    }
+    return 0;
+}
+
+/* Piece for the run [a,b] through (a, va) and (b, vb): MOOS-IvP's slope/intercept arithmetic. */
+static int push_run(kelp_ivp_func *f, uint32_t a, uint32_t b, double va, double vb)
+{
+    double run = (double)b - (double)a;
+    double slope = run > 0 ? (vb - va) / run : 0.0;
+    double cst = va - slope * (double)a;
+    return push1(f, (int32_t)a, (int32_t)b, slope, cst);
+}
+
+int kelp_ivp_zaic_peak_extract(const kelp_ivp_zaic_peak *z, bool use_max, double *work, size_t work_len,
+                               kelp_ivp_piece *store, size_t cap, kelp_ivp_func *out)
+{
+    if (!z->ok || z->dom.dim != 1)
+        return KELP_ERR_STATE;
+    uint32_t n = z->dom.var[0].points;
+    if (!work || work_len < n)
+        return KELP_ERR_NOSPACE;
+    int rc = kelp_ivp_func_init(out, &z->dom, store, cap);
+    if (rc)
+        return rc;
+    double *vals = work;
+    const kelp_ivp_var *v = &z->dom.var[0];
+    if (z->ncomp == 1) {
+        /* comp_value() with the per-component constants hoisted; same operations, same bits */
+        const kelp_ivp_zaic_comp *c = &z->comp[0];
+        const double s = c->summit, pw = c->peakwidth, pwbw = c->peakwidth + c->basewidth;
+        const double maxu = c->maxutil, minu = c->minutil;
+        const double sd = pw <= 0 ? 0 : c->summitdelta;
+        const double slope1 = sd > 0 ? sd / pw : 0.0, edge = maxu - sd;
+        const double slope2 = c->basewidth != 0 ? (edge - minu) / c->basewidth : 0.0;
+        const double low = v->low, delta = v->delta, s_top = v->high - s, s_bot = s - v->low, high = v->high;
+        const bool wrap = z->wrap;
+        double di = 0.0; /* == (double)i, exactly */
+        for (uint32_t i = 0; i < n; i++, di += 1.0) {
+            double x = (di * delta) + low, dist;
+            if (!wrap) {
+                dist = s >= x ? s - x : x - s;
+            } else if (s > x) {
+                double r = s - x, l = (x - low) + s_top + delta;
+                dist = l < r ? l : r;
+            } else {
+                double l = x - s, r = (high - x) + s_bot + delta;
+                dist = l < r ? l : r;
+            }
+            double val;
+            if (dist <= pw)
+                val = sd <= 0 ? maxu : maxu - slope1 * dist;
+            else if (dist <= pwbw)
+                val = edge - slope2 * (dist - pw);
+            else
+                val = minu;
+            vals[i] = val > maxu ? maxu : val;
+        }
+    } else {
+        for (uint32_t i = 0; i < n; i++)
+            vals[i] = kelp_ivp_zaic_peak_value(z, i, use_max);
+    }
+    if (z->insist)
+        for (unsigned k = 0; k < z->ncomp; k++)
+            insist_summit(z, &z->comp[k], vals, n);
+
+    if (n == 1) /* upstream makes no piece here; one point is one piece */
+        return push1(out, 0, 0, 0.0, vals[0]);
+
+    uint32_t first = 0;
+    double first_val = vals[0];
+    bool trend = false;
+    double s_m = 0, s_b = 0, di = 1.0, prev = vals[0];
+    for (uint32_t i = 1; i < n; i++, di += 1.0) {
+        double vi = vals[i];
+        if (!trend) {
+            trend = true;
+            s_m = (vi - first_val) / (double)(i - first);
+            s_b = vi - s_m * di;
+        }
+        double ext = s_m * di + s_b;
+        double loc_m = vi - prev;
+        prev = vi;
+        bool brk = fabs(ext - vi) > ZAIC_TOLERANCE || (loc_m < 0 ? s_m > 0 : (loc_m > 0 && s_m < 0));
+        if (i == n - 1) {
+            if (brk)
+                rc = push1(out, (int32_t)i, (int32_t)i, 0.0, vi); /* MOOS-IvP stores this one first */
+            else
+                rc = push_run(out, first, i, first_val, vi);
+            if (rc)
+                return rc;
+        }
+        if (brk) {
+            rc = push_run(out, first, i - 1, first_val, vals[i - 1]);
+            if (rc)
+                return rc;
+            trend = false;
+            first = i;
+            first_val = vi;
+        }
+    }
+    return 0;
+}
+
+/* ------------------------------------------------------------------ ZAIC_LEQ / ZAIC_HEQ */
+
+int kelp_ivp_zaic_hleq_init(kelp_ivp_zaic_hleq *z, kelp_ivp_zaic_kind kind, const kelp_ivp_domain *dom, const char *var)
+{
+    memset(z, 0, sizeof *z);
+    z->kind = kind;
+    z->ok = true;
+    z->maxutil = 100;
+    int rc = one_var(&z->dom, dom, var);
+    if (rc) {
+        z->ok = false;
+        ivp_warn(z->warn, "ZAIC_LEQ/HEQ: variable not in domain");
+    } else {
+        z->summit = z->dom.var[0].low;
+    }
+    return rc;
+}
+
+int kelp_ivp_zaic_hleq_set_summit(kelp_ivp_zaic_hleq *z, double v)
+{
+    if (z->dom.dim != 1)
+        return 0;
+    if (!isfinite(v)) {
+        ivp_warn(z->warn, "setSummit: value not finite, ignored");
+        return 0;
+    }
+    if (v < z->dom.var[0].low) {
+        v = z->dom.var[0].low;
+        ivp_warn(z->warn, "setSummit: summit below the domain, clipped");
+    } else if (v > z->dom.var[0].high) {
+        v = z->dom.var[0].high;
+        ivp_warn(z->warn, "setSummit: summit above the domain, clipped");
+    }
+    z->summit = v;
+    return 0;
+}
+
+int kelp_ivp_zaic_hleq_set_basewidth(kelp_ivp_zaic_hleq *z, double v)
+{
+    if (!(v >= 0) || !isfinite(v)) {
+        z->ok = false;
+        ivp_warn(z->warn, "setBaseWidth: val<0");
+        return KELP_ERR_RANGE;
+    }
+    z->basewidth = v;
+    return 0;
+}
+
+int kelp_ivp_zaic_hleq_set_minmaxutil(kelp_ivp_zaic_hleq *z, double min, double max)
+{
+    if (!(min < max) || !isfinite(min) || !isfinite(max)) {
+        z->ok = false;
+        ivp_warn(z->warn, "setMinMaxUtil: min>=max");
+        return KELP_ERR_RANGE;
+    }
+    z->minutil = min;
+    z->maxutil = max;
+    return 0;
+}
+
+int kelp_ivp_zaic_hleq_set_summitdelta(kelp_ivp_zaic_hleq *z, double v)
+{
+    if (!(v >= 0) || !isfinite(v)) {
+        ivp_warn(z->warn, "setSummitDelta: value less than zero, clipped to 0");
+        v = 0;
+    }
+    z->summitdelta = v;
+    return 0;
+}
+
+/* Index nearest native value v (MOOS-IvP's (int)(x/delta+0.5), measured from low), clipped. */
+static int32_t hleq_index(const kelp_ivp_var *var, double v)
+{
+    if (var->points <= 1 || var->delta <= 0)
+        return 0;
+    double x = (v - var->low) / var->delta + 0.5;
+    if (x < 0)
+        return 0;
+    if (x > (double)(var->points - 1))
+        return (int32_t)var->points - 1;
+    return (int32_t)x;
+}
+
+int kelp_ivp_zaic_hleq_extract(const kelp_ivp_zaic_hleq *z, kelp_ivp_piece *store, size_t cap, kelp_ivp_func *out)
+{
+    if (!z->ok || z->dom.dim != 1)
+        return KELP_ERR_STATE;
+    int rc = kelp_ivp_func_init(out, &z->dom, store, cap);
+    if (rc)
+        return rc;
+    const kelp_ivp_var *v = &z->dom.var[0];
+    int32_t hi = (int32_t)v->points - 1;
+    double maxu = z->maxutil, minu = z->minutil, sd = z->summitdelta;
+    int32_t ibw = 0;
+    if (v->delta > 0)
+        ibw = (int32_t)((z->basewidth + v->delta / 2) / v->delta);
+    double run = ibw >= 1 ? (double)ibw : 1.0; /* upstream divides by 0 here for tiny widths */
+    if (z->kind == KELP_IVP_ZAIC_LEQ) {
+        int32_t i1 = hleq_index(v, z->summit);
+        int32_t i2 = hleq_index(v, z->summit + z->basewidth);
+        if (i2 < i1)
+            i2 = i1;
+        if (sd > 0 && i1 > 1) {
+            if ((rc = push1(out, 0, i1 - 1, 0.0, maxu)) || (rc = push1(out, i1, i1, 0.0, maxu + sd)))
+                return rc;
+        } else if ((rc = push1(out, 0, i1, 0.0, maxu))) {
+            return rc;
+        }
+        if (i1 < i2) {
+            double slope = -(maxu - minu) / run;
+            double cst = maxu + (-slope * (double)i1);
+            if ((rc = push1(out, i1 + 1, i2, slope, cst)))
+                return rc;
+        }
+        if (i2 < hi && (rc = push1(out, i2 + 1, hi, 0.0, minu)))
+            return rc;
+        return 0;
+    }
+    /* HEQ */
+    int32_t i2 = hleq_index(v, z->summit);
+    int32_t i1 = hleq_index(v, z->summit - z->basewidth);
+    if (i1 > i2)
+        i1 = i2;
+    bool spike = sd > 0 && (hi - i2) > 1;
+    if (i1 < i2) {
+        if ((rc = push1(out, 0, i1, 0.0, minu)))
+            return rc;
+        double slope = (maxu - minu) / run;
+        double cst = minu + (-slope * (double)i1);
+        int32_t rhi = spike ? i2 - 1 : i2;
+        if (rhi >= i1 + 1 && (rc = push1(out, i1 + 1, rhi, slope, cst)))
+            return rc;
+        if (spike && (rc = push1(out, i2, i2, 0.0, maxu + sd)))
+            return rc;
+    } else {
+        if (i2 > 0 && (rc = push1(out, 0, i2 - 1, 0.0, minu)))
+            return rc;
+        if (spike) {
+            if ((rc = push1(out, i2, i2, 0.0, maxu + sd)))
+                return rc;
+        } else {
+            if ((rc = push1(out, i2, hi, 0.0, maxu)))
+                return rc;
+            return 0;
+        }
+    }
+    if (i2 < hi && (rc = push1(out, i2 + 1, hi, 0.0, maxu)))
+        return rc;
+    return 0;
+}
