@@ -452,7 +452,9 @@ static void flush_toa(kelp_mm *mm, int src, int64_t now_us)
     ev.has_src = true;
     ev.src = src;
     ev.dest = mm->modem_id;
-    for (int i = 0; i <= TOA_MAX_RANGE / ROUGH_SPEED_OF_SOUND && i < 7; i++) ev.tt[ev.n_tt++] = mm->toa_frac + i;
+    /* i = 0 .. MAX_RANGE / speed of sound (10000 / 1500 = 6): 7 candidates */
+    _Static_assert(TOA_MAX_RANGE / ROUGH_SPEED_OF_SOUND + 1 <= 7, "tt[] holds 7 travel times");
+    for (int i = 0; i <= TOA_MAX_RANGE / ROUGH_SPEED_OF_SOUND; i++) ev.tt[ev.n_tt++] = mm->toa_frac + i;
     mm->toa_pending = false;
     emit(mm, &ev);
 }
@@ -564,8 +566,8 @@ static void process_sentence(kelp_mm *mm, const char *line, size_t len, int64_t 
         rc = clk(mm, s, now_us);
     } else if (!strcmp(id, "CYC")) {
         /* $CACYC,CMD,ADR1,ADR2,RATE,ACK,NPKT */
-        if ((rc = field_u(s, 2, &a)) || (rc = field_u(s, 3, &b)) || (rc = field_u(s, 4, &c)) ||
-            (rc = field_u(s, 6, &d))) {
+        if (field_u(s, 2, &a) != KELP_OK || field_u(s, 3, &b) != KELP_OK || field_u(s, 4, &c) != KELP_OK ||
+            field_u(s, 6, &d) != KELP_OK) {
             rc = KELP_ERR_PARSE;
         } else if (c < 0 || c > 5 || d < 0) {
             rc = KELP_ERR_RANGE;
@@ -590,8 +592,8 @@ static void process_sentence(kelp_mm *mm, const char *line, size_t len, int64_t 
         uint8_t data[KELP_MAX_ACOMMS_FRAME];
         size_t dl = 0;
         const char *ackf = kelp_nmea_field(s, 3);
-        if ((rc = field_u(s, 1, &a)) || (rc = field_u(s, 2, &b)) || (rc = field_u(s, 4, &d)) ||
-            (strcmp(ackf, "0") && strcmp(ackf, "1")) || s->nfields < 6) {
+        if (field_u(s, 1, &a) != KELP_OK || field_u(s, 2, &b) != KELP_OK || field_u(s, 4, &d) != KELP_OK ||
+            (strcmp(ackf, "0") != 0 && strcmp(ackf, "1") != 0) || s->nfields < 6) {
             rc = KELP_ERR_PARSE;
         } else if ((rc = hex_decode(kelp_nmea_field(s, 5), data, sizeof data, &dl)) == KELP_OK) {
             rx.has_src = true;
@@ -610,7 +612,7 @@ static void process_sentence(kelp_mm *mm, const char *line, size_t len, int64_t 
         }
     } else if (!strcmp(id, "ACK")) {
         /* $CAACK,SRC,DEST,FRAME,ACK */
-        if ((rc = field_u(s, 1, &a)) || (rc = field_u(s, 2, &b)) || (rc = field_u(s, 3, &c))) {
+        if (field_u(s, 1, &a) != KELP_OK || field_u(s, 2, &b) != KELP_OK || field_u(s, 3, &c) != KELP_OK) {
             rc = KELP_ERR_PARSE;
         } else {
             uint32_t fr = (uint32_t)(c - 1);
@@ -632,7 +634,7 @@ static void process_sentence(kelp_mm *mm, const char *line, size_t len, int64_t 
     } else if (!strcmp(id, "MPR")) {
         /* $CAMPR,SRC,DEST,TRAVELTIME: reply src/dest swapped back to match the request */
         mm->toa_pending = false;
-        if ((rc = field_u(s, 1, &a)) || (rc = field_u(s, 2, &b))) {
+        if (field_u(s, 1, &a) != KELP_OK || field_u(s, 2, &b) != KELP_OK) {
             rc = KELP_ERR_PARSE;
         } else {
             kelp_mm_event rg;

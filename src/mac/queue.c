@@ -528,8 +528,7 @@ int kelp_dccl_header_read(const uint8_t *d, size_t n, kelp_dccl_header *h)
 
 void kelp_dccl_header_write(const kelp_dccl_header *h, uint8_t out[KELP_DCCL_HEADER_BYTES])
 {
-    uint64_t v = 0;
-    v = (v << 8) | (h->ccl_id & 0xffu);
+    uint64_t v = h->ccl_id & 0xffu;
     v = (v << 9) | (h->id & 0x1ffu);
     v = (v << 17) | (h->time_of_day & 0x1ffffu);
     v = (v << 5) | (h->src & 0x1fu);
