@@ -62,5 +62,39 @@ _Static_assert(KELP_IVP_MAX_VARNAME >= 8, "KELP_IVP_MAX_VARNAME too small");
 _Static_assert(KELP_IVP_MAX_FUNCS >= 1, "KELP_IVP_MAX_FUNCS too small");
 _Static_assert(KELP_IVP_MAX_COMPONENTS >= 1, "KELP_IVP_MAX_COMPONENTS too small");
 _Static_assert(KELP_IVP_MAX_WARN >= 64, "KELP_IVP_MAX_WARN too small");
+/* ---- acomms: priority queue, TDMA MAC, NMEA, WHOI Micro-Modem driver ---- */
+#ifndef KELP_MAX_NMEA_LINE
+#define KELP_MAX_NMEA_LINE 640      /**< bytes in one NMEA line (a rate-5 $CARXD is ~535) */
+#endif
+#ifndef KELP_MAX_NMEA_FIELDS
+#define KELP_MAX_NMEA_FIELDS 40     /**< comma-separated fields in one sentence ($CACST has 29) */
+#endif
+#ifndef KELP_MAX_ACOMMS_FRAME
+#define KELP_MAX_ACOMMS_FRAME 256   /**< bytes in one modem frame / one queued message */
+#endif
+#ifndef KELP_MAX_QUEUE_ACK_WAIT
+#define KELP_MAX_QUEUE_ACK_WAIT 64  /**< (frame, queue) records awaiting an ack per packet */
+#endif
+#ifndef KELP_MAX_MAC_SLOTS
+#define KELP_MAX_MAC_SLOTS 32       /**< slots in one TDMA cycle (AUTO: ids heard + own + blank) */
+#endif
+#ifndef KELP_MAX_MM_OUTQ
+#define KELP_MAX_MM_OUTQ 16         /**< commands waiting for the modem */
+#endif
+#ifndef KELP_MAX_MM_FRAMES
+#define KELP_MAX_MM_FRAMES 8        /**< frames cached for one cycle (rate 5 = 8) */
+#endif
+#ifndef KELP_MAX_MM_NVRAM
+#define KELP_MAX_MM_NVRAM 16        /**< nvram_cfg entries sent at start-up */
+#endif
+#ifndef KELP_MAX_MM_NVRAM_LEN
+#define KELP_MAX_MM_NVRAM_LEN 32    /**< bytes in one nvram_cfg entry ("CST,1"), with NUL */
+#endif
+#ifndef KELP_MAX_MM_BACKLOG
+#define KELP_MAX_MM_BACKLOG 2048    /**< bytes held while the driver "sleeps" (Goby's sleep(1)/(2)) */
+#endif
+_Static_assert(KELP_MAX_NMEA_LINE >= 560, "KELP_MAX_NMEA_LINE must hold a 256-byte $CARXD");
+_Static_assert(KELP_MAX_ACOMMS_FRAME >= 32 && KELP_MAX_ACOMMS_FRAME <= 65535, "KELP_MAX_ACOMMS_FRAME out of range");
+_Static_assert(KELP_MAX_MM_FRAMES >= 8 && KELP_MAX_MM_FRAMES <= 32, "KELP_MAX_MM_FRAMES must be 8..32");
 
 #endif

@@ -1,0 +1,779 @@
+/* kelp: WHOI Micro-Modem driver core (Goby 1.1 MMDriver behaviour). */
+#include <kelp/mmdriver.h>
+
+#include <math.h>
+#include <string.h>
+
+#define US_PER_S 1000000LL
+#define US_PER_DAY (86400LL * US_PER_S)
+#define ROUGH_SPEED_OF_SOUND 1500
+#define REMUS_LBL_TURN_AROUND_MS 50
+#define TOA_MAX_RANGE 10000
+#define HYDROID_PREFIX_LEN 3
+
+const unsigned kelp_mm_packet_frames[6] = { 1, 3, 3, 2, 2, 8 };
+const unsigned kelp_mm_packet_size[6] = { 32, 32, 64, 256, 256, 256 };
+
+static const char HEXL[] = "0123456789abcdef";
+
+/* ------------------------------------------------------------------ time helpers */
+
+static int64_t floor_div(int64_t a, int64_t b)
+{
+    int64_t q = a / b;
+    if ((a % b != 0) && ((a < 0) != (b < 0))) q--;
+    return q;
+}
+
+/* days since 1970-01-01 of a proleptic Gregorian date (H. Hinnant's civil algorithm) */
+static int64_t days_from_civil(int64_t y, unsigned m, unsigned d)
+{
+    y -= m <= 2;
+    int64_t era = floor_div(y, 400);
+    unsigned yoe = (unsigned)(y - era * 400);
+    unsigned doy = (153 * (m + (m > 2 ? -3 : 9)) + 2) / 5 + d - 1;
+    unsigned doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+    return era * 146097 + (int64_t)doe - 719468;
+}
+
+void kelp_mm_civil(int64_t unix_us, int *year, int *month, int *day, int *hour, int *minute, int *second)
+{
+    int64_t days = floor_div(unix_us, US_PER_DAY);
+    int64_t tod = (unix_us - days * US_PER_DAY) / US_PER_S;
+    int64_t z = days + 719468;
+    int64_t era = floor_div(z, 146097);
+    unsigned doe = (unsigned)(z - era * 146097);
+    unsigned yoe = (doe - doe / 1460 + doe / 36524 - doe / 146096) / 365;
+    int64_t y = (int64_t)yoe + era * 400;
+    unsigned doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    unsigned mp = (5 * doy + 2) / 153;
+    unsigned d = doy - (153 * mp + 2) / 5 + 1;
+    unsigned m = mp < 10 ? mp + 3 : mp - 9;
+    if (year) *year = (int)(y + (m <= 2));
+    if (month) *month = (int)m;
+    if (day) *day = (int)d;
+    if (hour) *hour = (int)(tod / 3600);
+    if (minute) *minute = (int)(tod / 60 % 60);
+    if (second) *second = (int)(tod % 60);
+}
+
+/* nmea_time2ptime: "HHMMSS[.ffff]" on today's UTC date; false = not_a_date_time */
+static bool nmea_time(const char *t, int64_t now_us, int64_t *out)
+{
+    size_t n = strlen(t);
+    if (n < 6) return false;
+    int v[3];
+    for (int i = 0; i < 3; i++) {
+        if (t[2 * i] < '0' || t[2 * i] > '9' || t[2 * i + 1] < '0' || t[2 * i + 1] > '9') return false;
+        v[i] = (t[2 * i] - '0') * 10 + (t[2 * i + 1] - '0');
+    }
+    int64_t micro = 0;
+    if (n > 7) {
+        const char *fs = t + 7;
+        size_t nf = strlen(fs);
+        if (nf > 9) return false; /* lexical_cast<int> overflow */
+        int64_t f = 0;
+        for (size_t i = 0; i < nf; i++) {
+            if (fs[i] < '0' || fs[i] > '9') return false;
+            f = f * 10 + (fs[i] - '0');
+        }
+        micro = (int64_t)((double)f * pow(10.0, 6.0 - (double)nf));
+    }
+    int64_t midnight = floor_div(now_us, US_PER_DAY) * US_PER_DAY;
+    *out = midnight + ((int64_t)v[0] * 3600 + v[1] * 60 + v[2]) * US_PER_S + micro;
+    return true;
+}
+
+/* ------------------------------------------------------------------ events and writing */
+
+static void set_err(kelp_mm *mm, const char *msg)
+{
+    if (!mm->errmsg) mm->errmsg = msg;
+}
+
+static void ev_init(kelp_mm_event *ev, kelp_mm_event_kind kind, int64_t now_us)
+{
+    memset(ev, 0, sizeof *ev);
+    ev->kind = kind;
+    ev->time_us = now_us;
+    ev->raw = "";
+}
+
+static void emit(kelp_mm *mm, const kelp_mm_event *ev)
+{
+    if (mm->ops.event) mm->ops.event(ev, mm->user);
+}
+
+static void emit_simple(kelp_mm *mm, kelp_mm_event_kind kind, const char *raw, size_t len, int err, int64_t now_us)
+{
+    kelp_mm_event ev;
+    ev_init(&ev, kind, now_us);
+    ev.raw = raw ? raw : "";
+    ev.raw_len = raw ? len : 0;
+    ev.err = err;
+    ev.clock_ok = mm->clock_set;
+    emit(mm, &ev);
+}
+
+static void set_clock_state(kelp_mm *mm, bool ok, int64_t now_us)
+{
+    if (mm->clock_set == ok) return;
+    mm->clock_set = ok;
+    emit_simple(mm, KELP_MM_EV_CLOCK, NULL, 0, 0, now_us);
+}
+
+static void mm_write(kelp_mm *mm, const kelp_mm_cmd *c, int64_t now_us)
+{
+    char buf[sizeof mm->prefix + KELP_MAX_NMEA_LINE + 3];
+    size_t pl = strlen(mm->prefix);
+    memcpy(buf, mm->prefix, pl);
+    memcpy(buf + pl, c->line, c->len);
+    buf[pl + c->len] = '\r';
+    buf[pl + c->len + 1] = '\n';
+    buf[pl + c->len + 2] = '\0';
+    mm->count.lines_out++;
+    emit_simple(mm, KELP_MM_EV_NMEA_OUT, c->line, c->len, 0, now_us);
+    if (mm->ops.write) mm->ops.write(buf, pl + c->len + 2, mm->user);
+}
+
+static kelp_mm_cmd *front(kelp_mm *mm)
+{
+    return mm->out_n ? &mm->outq[mm->out_head] : NULL;
+}
+
+static void pop_out(kelp_mm *mm)
+{
+    mm->waiting = false;
+    if (mm->out_n) {
+        mm->out_head = (mm->out_head + 1) % KELP_MAX_MM_OUTQ;
+        mm->out_n--;
+    }
+    mm->present_fail = 0;
+}
+
+static void clear_out(kelp_mm *mm)
+{
+    mm->out_head = 0;
+    mm->out_n = 0;
+}
+
+static bool holding(const kelp_mm *mm, int64_t now_us)
+{
+    return now_us < mm->hold_until_us;
+}
+
+/* count one failure of the pending command; false when the command queue was given up or the
+ * modem declared dead (nothing to write) */
+static bool count_failure(kelp_mm *mm, int64_t now_us)
+{
+    mm->global_fail++;
+    mm->present_fail++;
+    mm->count.retries++;
+    if (mm->global_fail == KELP_MM_MAX_FAILS_BEFORE_DEAD) {
+        mm->dead = true;
+        mm->count.deaths++;
+        set_err(mm, "mmdriver: modem appears to not be responding");
+        emit_simple(mm, KELP_MM_EV_DEAD, NULL, 0, KELP_ERR_TIMEOUT, now_us);
+        return false;
+    }
+    if (mm->present_fail == KELP_MM_RETRIES) {
+        mm->count.give_ups++;
+        kelp_mm_cmd *f = front(mm);
+        emit_simple(mm, KELP_MM_EV_GIVE_UP, f ? f->line : NULL, f ? f->len : 0, KELP_ERR_TIMEOUT, now_us);
+        clear_out(mm);
+        return false;
+    }
+    kelp_mm_cmd *f = front(mm);
+    emit_simple(mm, KELP_MM_EV_RETRY, f ? f->line : NULL, f ? f->len : 0, 0, now_us);
+    return true;
+}
+
+static void try_send(kelp_mm *mm, int64_t now_us)
+{
+    if (mm->dead || !mm->out_n || holding(mm, now_us)) return;
+    bool resend = mm->waiting && mm->last_write_us <= now_us - KELP_MM_MODEM_WAIT_US;
+    if (mm->waiting && !resend) return;
+    if (resend && !count_failure(mm, now_us)) return;
+    mm_write(mm, front(mm), now_us);
+    mm->waiting = true;
+    mm->last_write_us = now_us;
+}
+
+static int append(kelp_mm *mm, kelp_nmea_writer *w, int64_t now_us)
+{
+    size_t len;
+    int rc = kelp_nmea_writer_finish(w, &len);
+    if (rc) { set_err(mm, "mmdriver: sentence too long"); return rc; }
+    if (mm->out_n >= KELP_MAX_MM_OUTQ) { set_err(mm, "mmdriver: command queue full"); return KELP_ERR_NOSPACE; }
+    kelp_mm_cmd *c = &mm->outq[(mm->out_head + mm->out_n) % KELP_MAX_MM_OUTQ];
+    memcpy(c->line, w->buf, len + 1);
+    c->len = len;
+    memcpy(c->id, c->line + 3, 3);
+    c->id[3] = '\0';
+    mm->out_n++;
+    try_send(mm, now_us);
+    return KELP_OK;
+}
+
+static int set_clock(kelp_mm *mm, int64_t now_us)
+{
+    char buf[64];
+    kelp_nmea_writer w;
+    int y, mo, d, h, mi, s;
+    kelp_mm_civil(now_us, &y, &mo, &d, &h, &mi, &s);
+    kelp_nmea_writer_init(&w, buf, sizeof buf, "$CCCLK");
+    kelp_nmea_writer_long(&w, y);
+    kelp_nmea_writer_long(&w, mo);
+    kelp_nmea_writer_long(&w, d);
+    kelp_nmea_writer_long(&w, h);
+    kelp_nmea_writer_long(&w, mi);
+    kelp_nmea_writer_long(&w, s);
+    int rc = append(mm, &w, now_us);
+    mm->hold_until_us = now_us + US_PER_S; /* sleep(1): let the clock be set */
+    return rc;
+}
+
+static int write_single_cfg(kelp_mm *mm, const char *s, int64_t now_us)
+{
+    char buf[KELP_MAX_MM_NVRAM_LEN + 16];
+    char up[KELP_MAX_MM_NVRAM_LEN];
+    size_t i = 0;
+    for (; s[i] && i + 1 < sizeof up; i++) up[i] = (s[i] >= 'a' && s[i] <= 'z') ? (char)(s[i] - 32) : s[i];
+    up[i] = '\0';
+    kelp_nmea_writer w;
+    kelp_nmea_writer_init(&w, buf, sizeof buf, "$CCCFG");
+    kelp_nmea_writer_str(&w, up);
+    return append(mm, &w, now_us);
+}
+
+/* ------------------------------------------------------------------ configuration */
+
+int kelp_mm_init(kelp_mm *mm, const kelp_mm_cfg *cfg, const kelp_mm_ops *ops, void *user)
+{
+    if (!mm || !cfg) return KELP_ERR_ARG;
+    memset(mm, 0, sizeof *mm);
+    if (cfg->modem_id < 1 || cfg->modem_id > 31) return KELP_ERR_ARG;
+    if (cfg->n_nvram > KELP_MAX_MM_NVRAM) return KELP_ERR_NOSPACE;
+    if (cfg->hydroid_gateway_id < 0 || cfg->hydroid_gateway_id > 99) return KELP_ERR_ARG;
+    mm->modem_id = cfg->modem_id;
+    mm->reset_nvram = cfg->reset_nvram;
+    for (size_t i = 0; i < cfg->n_nvram; i++) {
+        const char *s = cfg->nvram_cfg[i];
+        if (!s || !*s) return KELP_ERR_ARG;
+        size_t n = strlen(s);
+        if (n >= KELP_MAX_MM_NVRAM_LEN) return KELP_ERR_NOSPACE;
+        for (size_t k = 0; k < n; k++)
+            if (s[k] == '*' || s[k] == '$' || s[k] == '\r' || s[k] == '\n') return KELP_ERR_ARG;
+        memcpy(mm->nvram[i], s, n + 1);
+    }
+    mm->n_nvram = cfg->n_nvram;
+    mm->hydroid_id = cfg->hydroid_gateway_id;
+    if (mm->hydroid_id) {
+        kelp_nmea_writer w; /* reuse the integer formatter: "#M" + id */
+        char tmp[12];
+        kelp_nmea_writer_init(&w, tmp, sizeof tmp, "");
+        kelp_nmea_writer_long(&w, mm->hydroid_id);
+        mm->prefix[0] = '#';
+        mm->prefix[1] = 'M';
+        memcpy(mm->prefix + 2, tmp + 1, w.len - 1);
+        mm->prefix[2 + w.len - 1] = '\0';
+    }
+    if (ops) mm->ops = *ops;
+    mm->user = user;
+    kelp_nmea_reader_init(&mm->rd, cfg->line_delimiter);
+    return KELP_OK;
+}
+
+int kelp_mm_start(kelp_mm *mm, int64_t now_us)
+{
+    if (!mm || mm->modem_id < 1) return KELP_ERR_ARG;
+    clear_out(mm);
+    mm->waiting = false;
+    mm->global_fail = mm->present_fail = 0;
+    mm->clock_set = false;
+    mm->dead = false;
+    mm->local_cccyc = false;
+    mm->hold_until_us = 0;
+    mm->backlog_len = 0;
+    mm->ncache = 0;
+    mm->ack_mask = 0;
+    mm->toa_pending = false;
+    mm->last_write_us = now_us;
+    mm->last_gps_us = now_us;
+    kelp_nmea_reader_init(&mm->rd, mm->rd.delim);
+    mm->started = true;
+    int rc = set_clock(mm, now_us);
+    if (!rc && !mm->hydroid_id && mm->reset_nvram) rc = write_single_cfg(mm, "ALL,0", now_us);
+    if (!rc) {
+        char src[16];
+        kelp_nmea_writer w;
+        kelp_nmea_writer_init(&w, src, sizeof src, "SRC");
+        kelp_nmea_writer_long(&w, mm->modem_id);
+        src[w.len] = '\0';
+        rc = write_single_cfg(mm, src, now_us);
+    }
+    for (size_t i = 0; !rc && i < mm->n_nvram; i++) rc = write_single_cfg(mm, mm->nvram[i], now_us);
+    if (!rc) {
+        char buf[32];
+        kelp_nmea_writer w;
+        kelp_nmea_writer_init(&w, buf, sizeof buf, "$CCCFQ,ALL");
+        rc = append(mm, &w, now_us);
+    }
+    return rc;
+}
+
+int64_t kelp_mm_busy_until(const kelp_mm *mm)
+{
+    return mm->hold_until_us;
+}
+
+bool kelp_mm_clock_ok(const kelp_mm *mm)
+{
+    return mm->clock_set;
+}
+
+size_t kelp_mm_pending(const kelp_mm *mm)
+{
+    return mm->out_n;
+}
+
+/* ------------------------------------------------------------------ outgoing cycles */
+
+static int cache_outgoing(kelp_mm *mm, int src, int dest, unsigned rate, unsigned nframes, int64_t now_us)
+{
+    (void)now_us;
+    if (src != mm->modem_id) return KELP_OK;
+    if (rate > 5) { set_err(mm, "mmdriver: rate out of range (0..5)"); return KELP_ERR_RANGE; }
+    mm->ncache = 0; /* flush frames never asked for by a $CADRQ */
+    mm->ack_mask = 0;
+    if (nframes > KELP_MAX_MM_FRAMES) nframes = KELP_MAX_MM_FRAMES;
+    for (unsigned i = 0; i < nframes; i++) {
+        kelp_mm_data_request req;
+        req.src = src;
+        req.dest = dest;
+        req.frame = i;
+        req.max_bytes = kelp_mm_packet_size[rate];
+        kelp_mm_frame *f = &mm->cache[mm->ncache];
+        memset(f, 0, sizeof *f);
+        if (mm->ops.data_request) mm->ops.data_request(&req, f, mm->user);
+        if (f->len == 0) break; /* no more data */
+        if (f->len > req.max_bytes) f->len = req.max_bytes;
+        mm->ncache++;
+    }
+    return KELP_OK;
+}
+
+int kelp_mm_initiate_transmission(kelp_mm *mm, int src, int dest, unsigned rate, int64_t now_us)
+{
+    if (!mm) return KELP_ERR_ARG;
+    if (!mm->started) return KELP_ERR_STATE;
+    if (rate > 5) { set_err(mm, "mmdriver: rate out of range (0..5)"); return KELP_ERR_RANGE; }
+    mm->local_cccyc = true; /* we initiated: don't fetch data again on the $CACYC echo */
+    unsigned nframes = kelp_mm_packet_frames[rate];
+    int rc = cache_outgoing(mm, src, dest, rate, nframes, now_us);
+    if (rc) return rc;
+    bool local = (src == mm->modem_id);
+    if (local && mm->ncache == 0) return KELP_OK; /* no data: no cycle */
+    char buf[96];
+    kelp_nmea_writer w;
+    kelp_nmea_writer_init(&w, buf, sizeof buf, "$CCCYC");
+    kelp_nmea_writer_long(&w, 0);                                     /* CMD (deprecated) */
+    kelp_nmea_writer_long(&w, src);                                   /* ADR1 */
+    kelp_nmea_writer_long(&w, local ? mm->cache[0].dest : dest);      /* ADR2 */
+    kelp_nmea_writer_long(&w, (long)rate);                            /* packet type */
+    kelp_nmea_writer_long(&w, local ? (mm->cache[0].ack_requested ? 1 : 0) : 1); /* ACK */
+    kelp_nmea_writer_long(&w, (long)nframes);
+    return append(mm, &w, now_us);
+}
+
+int kelp_mm_initiate_ranging(kelp_mm *mm, int src, int dest, kelp_ranging_type type, unsigned max_range,
+                             unsigned enable_beacons, int64_t now_us)
+{
+    if (!mm) return KELP_ERR_ARG;
+    if (!mm->started) return KELP_ERR_STATE;
+    char buf[96];
+    kelp_nmea_writer w;
+    switch (type) {
+    case KELP_RANGING_TWO_WAY_PING:
+        kelp_nmea_writer_init(&w, buf, sizeof buf, "$CCMPC");
+        kelp_nmea_writer_long(&w, src);
+        kelp_nmea_writer_long(&w, dest);
+        return append(mm, &w, now_us);
+    case KELP_RANGING_REMUS_LBL:
+        kelp_nmea_writer_init(&w, buf, sizeof buf, "$CCPDT");
+        kelp_nmea_writer_long(&w, 1);                              /* group */
+        kelp_nmea_writer_long(&w, (long)((unsigned)src % 4 + 1));  /* channel 1..4 */
+        kelp_nmea_writer_long(&w, 0);
+        kelp_nmea_writer_long(&w, 0);
+        kelp_nmea_writer_long(&w, (long)((max_range * 2.0 / ROUGH_SPEED_OF_SOUND) * 1000 + REMUS_LBL_TURN_AROUND_MS));
+        for (unsigned b = 0; b < 4; b++) kelp_nmea_writer_long(&w, (long)((enable_beacons >> b) & 1u));
+        return append(mm, &w, now_us);
+    case KELP_RANGING_ONE_WAY_SYNCHRONOUS:
+    default:
+        set_err(mm, "mmdriver: ONE_WAY_SYNCHRONOUS cannot be requested (enable NVRAM TOA,1)");
+        return KELP_ERR_UNSUPPORTED;
+    }
+}
+
+/* ------------------------------------------------------------------ incoming sentences */
+
+static int field_u(const kelp_nmea_sentence *s, unsigned i, long *v)
+{
+    return kelp_nmea_field_long(s, i, v);
+}
+
+static int hex_decode(const char *h, uint8_t *out, size_t cap, size_t *len)
+{
+    size_t n = strlen(h);
+    if (n % 2) return KELP_ERR_PARSE;
+    if (n / 2 > cap) return KELP_ERR_NOSPACE;
+    for (size_t i = 0; i < n; i += 2) {
+        int a = -1, b = -1;
+        char c = h[i], d = h[i + 1];
+        if (c >= '0' && c <= '9') a = c - '0';
+        else if (c >= 'a' && c <= 'f') a = c - 'a' + 10;
+        else if (c >= 'A' && c <= 'F') a = c - 'A' + 10;
+        if (d >= '0' && d <= '9') b = d - '0';
+        else if (d >= 'a' && d <= 'f') b = d - 'a' + 10;
+        else if (d >= 'A' && d <= 'F') b = d - 'A' + 10;
+        if (a < 0 || b < 0) return KELP_ERR_PARSE;
+        out[i / 2] = (uint8_t)(a * 16 + b);
+    }
+    *len = n / 2;
+    return KELP_OK;
+}
+
+static void flush_toa(kelp_mm *mm, int src, int64_t now_us)
+{
+    if (!mm->toa_pending) return;
+    kelp_mm_event ev;
+    ev_init(&ev, KELP_MM_EV_RANGE, now_us);
+    ev.ranging = KELP_RANGING_ONE_WAY_SYNCHRONOUS;
+    ev.has_src = true;
+    ev.src = src;
+    ev.dest = mm->modem_id;
+    /* i = 0 .. MAX_RANGE / speed of sound (10000 / 1500 = 6): 7 candidates */
+    _Static_assert(TOA_MAX_RANGE / ROUGH_SPEED_OF_SOUND + 1 <= 7, "tt[] holds 7 travel times");
+    for (int i = 0; i <= TOA_MAX_RANGE / ROUGH_SPEED_OF_SOUND; i++) ev.tt[ev.n_tt++] = mm->toa_frac + i;
+    mm->toa_pending = false;
+    emit(mm, &ev);
+}
+
+static int drq(kelp_mm *mm, const kelp_nmea_sentence *s, int64_t now_us)
+{
+    if (s->nfields < 5) return KELP_ERR_PARSE;
+    long f = 0;
+    bool cached = field_u(s, 6, &f) == KELP_OK && f >= 1 && (unsigned long)(f - 1) < mm->ncache;
+    char buf[KELP_MAX_NMEA_LINE + 1];
+    kelp_nmea_writer w;
+    kelp_nmea_writer_init(&w, buf, sizeof buf, "$CCTXD");
+    if (cached) {
+        const kelp_mm_frame *fr = &mm->cache[f - 1];
+        kelp_nmea_writer_long(&w, fr->src);
+        kelp_nmea_writer_long(&w, fr->dest);
+        kelp_nmea_writer_long(&w, fr->ack_requested ? 1 : 0);
+        char hex[2 * KELP_MAX_ACOMMS_FRAME + 1];
+        for (size_t i = 0; i < fr->len; i++) {
+            hex[2 * i] = HEXL[fr->data[i] >> 4];
+            hex[2 * i + 1] = HEXL[fr->data[i] & 15];
+        }
+        hex[2 * fr->len] = '\0';
+        kelp_nmea_writer_str(&w, hex);
+        if (fr->ack_requested && f - 1 < 32) mm->ack_mask |= 1u << (f - 1);
+    } else {
+        /* nothing cached: a blank to stop further requests, echoing SRC, DEST, ACK */
+        kelp_nmea_writer_str(&w, kelp_nmea_field(s, 2));
+        kelp_nmea_writer_str(&w, kelp_nmea_field(s, 3));
+        kelp_nmea_writer_str(&w, kelp_nmea_field(s, 4));
+        kelp_nmea_writer_str(&w, "");
+    }
+    return append(mm, &w, now_us);
+}
+
+static int clk(kelp_mm *mm, const kelp_nmea_sentence *s, int64_t now_us)
+{
+    kelp_mm_cmd *f = front(mm);
+    if (!f || strcmp(f->id, "CLK") != 0) return KELP_OK;
+    long v[6];
+    for (unsigned i = 0; i < 6; i++)
+        if (field_u(s, i + 1, &v[i]) != KELP_OK) return KELP_ERR_PARSE;
+    if (v[1] < 1 || v[1] > 12 || v[2] < 1 || v[2] > 31 || v[0] < 1400 || v[0] > 9999) return KELP_ERR_RANGE;
+    int64_t reported = (days_from_civil(v[0], (unsigned)v[1], (unsigned)v[2]) * 86400 + v[3] * 3600 + v[4] * 60 + v[5]) *
+                       US_PER_S;
+    if (reported >= now_us - KELP_MM_ALLOWED_SKEW_US) set_clock_state(mm, true, now_us);
+    return KELP_OK;
+}
+
+static void rev(kelp_mm *mm, const kelp_nmea_sentence *s, int64_t now_us)
+{
+    const char *what = kelp_nmea_field(s, 2);
+    if (strcmp(what, "INIT") == 0) {
+        mm->hold_until_us = now_us + 2 * US_PER_S; /* sleep(WAIT_AFTER_REBOOT) */
+        set_clock_state(mm, false, now_us);
+    } else if (strcmp(what, "AUV") == 0) {
+        int64_t reported;
+        if (nmea_time(kelp_nmea_field(s, 1), now_us, &reported) && reported < now_us - KELP_MM_ALLOWED_SKEW_US)
+            set_clock_state(mm, false, now_us);
+    }
+}
+
+static void err_sentence(kelp_mm *mm, const kelp_nmea_sentence *s, const char *raw, size_t rawlen, int64_t now_us)
+{
+    mm->count.modem_errors++;
+    emit_simple(mm, KELP_MM_EV_MODEM_ERROR, raw, rawlen, 0, now_us);
+    /* the modem did not understand the pending command: one failure, re-send it now */
+    if (strcmp(kelp_nmea_field(s, 2), "NMEA") == 0 && mm->out_n && mm->waiting) {
+        if (count_failure(mm, now_us)) {
+            mm_write(mm, front(mm), now_us);
+            mm->waiting = true;
+            mm->last_write_us = now_us;
+        }
+    }
+}
+
+static void process_sentence(kelp_mm *mm, const char *line, size_t len, int64_t now_us)
+{
+    kelp_nmea_sentence *s = &mm->s;
+    int rc = kelp_nmea_parse(line, len, s);
+    if (rc) {
+        mm->count.bad_lines++;
+        emit_simple(mm, KELP_MM_EV_BAD_LINE, line, len, rc, now_us);
+        return;
+    }
+    char raw[KELP_MAX_NMEA_LINE + 4];
+    size_t rawlen = 0;
+    if (kelp_nmea_render(s, raw, sizeof raw, &rawlen) != KELP_OK) {
+        mm->count.bad_lines++;
+        emit_simple(mm, KELP_MM_EV_BAD_LINE, line, len, KELP_ERR_NOSPACE, now_us);
+        return;
+    }
+    mm->global_fail = 0; /* the modem is alive */
+    kelp_mm_event ev;
+    ev_init(&ev, KELP_MM_EV_NMEA_IN, now_us);
+    const char *id = s->id;
+    long a = 0, b = 0, c = 0, d = 0;
+    rc = KELP_OK;
+    if (!strcmp(id, "REV")) {
+        rev(mm, s, now_us);
+    } else if (!strcmp(id, "ERR")) {
+        err_sentence(mm, s, raw, rawlen, now_us);
+    } else if (!strcmp(id, "DRQ")) {
+        rc = drq(mm, s, now_us);
+    } else if (!strcmp(id, "CFG")) {
+        kelp_mm_cmd *f = front(mm);
+        if (f && !strcmp(f->id, "CFQ")) pop_out(mm); /* the first $CACFG also completes $CCCFQ */
+    } else if (!strcmp(id, "CLK")) {
+        rc = clk(mm, s, now_us);
+    } else if (!strcmp(id, "CYC")) {
+        /* $CACYC,CMD,ADR1,ADR2,RATE,ACK,NPKT */
+        if (field_u(s, 2, &a) != KELP_OK || field_u(s, 3, &b) != KELP_OK || field_u(s, 4, &c) != KELP_OK ||
+            field_u(s, 6, &d) != KELP_OK) {
+            rc = KELP_ERR_PARSE;
+        } else if (c < 0 || c > 5 || d < 0) {
+            rc = KELP_ERR_RANGE;
+        } else {
+            kelp_mm_event cy;
+            ev_init(&cy, KELP_MM_EV_CYCLE, now_us);
+            cy.has_src = true;
+            cy.src = (int)a;
+            cy.dest = (int)b;
+            cy.rate = (unsigned)c;
+            cy.frame = (uint32_t)d;
+            emit(mm, &cy);
+            ev.has_src = true;
+            ev.src = (int)a;
+            if (!mm->local_cccyc) rc = cache_outgoing(mm, (int)a, (int)b, (unsigned)c, (unsigned)d, now_us);
+            else mm->local_cccyc = false;
+        }
+    } else if (!strcmp(id, "RXD")) {
+        /* $CARXD,SRC,DEST,ACK,FRAME,HEX */
+        kelp_mm_event rx;
+        ev_init(&rx, KELP_MM_EV_RECEIVE, now_us);
+        uint8_t data[KELP_MAX_ACOMMS_FRAME];
+        size_t dl = 0;
+        const char *ackf = kelp_nmea_field(s, 3);
+        if (field_u(s, 1, &a) != KELP_OK || field_u(s, 2, &b) != KELP_OK || field_u(s, 4, &d) != KELP_OK ||
+            (strcmp(ackf, "0") != 0 && strcmp(ackf, "1") != 0) || s->nfields < 6) {
+            rc = KELP_ERR_PARSE;
+        } else if ((rc = hex_decode(kelp_nmea_field(s, 5), data, sizeof data, &dl)) == KELP_OK) {
+            rx.has_src = true;
+            rx.src = (int)a;
+            rx.dest = (int)b;
+            rx.ack_requested = ackf[0] == '1';
+            rx.frame = (uint32_t)(d - 1); /* WHOI counts from 1 */
+            rx.data = data;
+            rx.data_len = dl;
+            rx.raw = raw;
+            rx.raw_len = rawlen;
+            emit(mm, &rx);
+            ev.has_src = true;
+            ev.src = (int)a;
+            flush_toa(mm, (int)a, now_us);
+        }
+    } else if (!strcmp(id, "ACK")) {
+        /* $CAACK,SRC,DEST,FRAME,ACK */
+        if (field_u(s, 1, &a) != KELP_OK || field_u(s, 2, &b) != KELP_OK || field_u(s, 3, &c) != KELP_OK) {
+            rc = KELP_ERR_PARSE;
+        } else {
+            uint32_t fr = (uint32_t)(c - 1);
+            if (fr < 32 && (mm->ack_mask & (1u << fr))) {
+                kelp_mm_event ak;
+                ev_init(&ak, KELP_MM_EV_ACK, now_us);
+                ak.has_src = true;
+                ak.src = (int)a;
+                ak.dest = (int)b;
+                ak.frame = fr;
+                ak.raw = raw;
+                ak.raw_len = rawlen;
+                emit(mm, &ak);
+            }
+            ev.has_src = true;
+            ev.src = (int)a;
+            flush_toa(mm, (int)a, now_us);
+        }
+    } else if (!strcmp(id, "MPR")) {
+        /* $CAMPR,SRC,DEST,TRAVELTIME: reply src/dest swapped back to match the request */
+        mm->toa_pending = false;
+        if (field_u(s, 1, &a) != KELP_OK || field_u(s, 2, &b) != KELP_OK) {
+            rc = KELP_ERR_PARSE;
+        } else {
+            kelp_mm_event rg;
+            ev_init(&rg, KELP_MM_EV_RANGE, now_us);
+            rg.ranging = KELP_RANGING_TWO_WAY_PING;
+            rg.has_src = true;
+            rg.src = (int)b;
+            rg.dest = (int)a;
+            if (s->nfields > 3) {
+                double t;
+                rg.tt[rg.n_tt++] = kelp_nmea_field_double(s, 3, &t) == KELP_OK ? t : (double)NAN;
+            }
+            rg.raw = raw;
+            rg.raw_len = rawlen;
+            emit(mm, &rg);
+            ev.has_src = true;
+            ev.src = (int)b;
+        }
+    } else if (!strcmp(id, "TTA")) {
+        /* $SNTTA,T1,T2,T3,T4,HHMMSS.SS */
+        mm->toa_pending = false;
+        kelp_mm_event rg;
+        ev_init(&rg, KELP_MM_EV_RANGE, now_us);
+        rg.ranging = KELP_RANGING_REMUS_LBL;
+        rg.has_src = true;
+        rg.src = mm->modem_id;
+        for (unsigned i = 1; i <= 4; i++) {
+            double t;
+            rg.tt[rg.n_tt++] = kelp_nmea_field_double(s, i, &t) == KELP_OK ? t : (double)NAN;
+        }
+        rg.raw = raw;
+        rg.raw_len = rawlen;
+        emit(mm, &rg);
+        ev.has_src = true;
+        ev.src = mm->modem_id;
+    } else if (!strcmp(id, "TOA")) {
+        /* $CATOA,HHMMSS.ssss,MODE: only mode 3 (PPS and $CCCLK good) is used */
+        mm->toa_pending = false;
+        int64_t t;
+        if (field_u(s, 2, &a) == KELP_OK && a == 3 && nmea_time(kelp_nmea_field(s, 1), now_us, &t)) {
+            int64_t us = t - floor_div(t, US_PER_S) * US_PER_S;
+            mm->toa_frac = (double)us / 1e6;
+            mm->toa_pending = true;
+        }
+    } else if (!strcmp(id, "RXP")) {
+        mm->toa_pending = false; /* a pending TOA that was never flushed */
+    }
+    if (rc) {
+        /* Goby throws out of the handler: the line is logged and dropped */
+        mm->count.bad_lines++;
+        emit_simple(mm, KELP_MM_EV_BAD_LINE, raw, rawlen, rc, now_us);
+        return;
+    }
+    mm->count.lines_in++;
+    ev.raw = raw;
+    ev.raw_len = rawlen;
+    emit(mm, &ev);
+    kelp_mm_cmd *f = front(mm);
+    if (f && !strcmp(f->id, id)) pop_out(mm); /* the modem answered the pending command */
+}
+
+static void process_line(kelp_mm *mm, const char *line, size_t len, int64_t now_us)
+{
+    if (mm->hydroid_id) {
+        size_t k = len < HYDROID_PREFIX_LEN ? len : HYDROID_PREFIX_LEN;
+        line += k;
+        len -= k;
+    }
+    process_sentence(mm, line, len, now_us);
+}
+
+static void feed_byte(kelp_mm *mm, uint8_t byte, int64_t now_us)
+{
+    const char *line;
+    size_t len;
+    int rc = kelp_nmea_reader_feed(&mm->rd, byte, &line, &len);
+    if (rc == KELP_ERR_PARTIAL) return;
+    if (rc != KELP_OK) {
+        mm->count.bad_lines++;
+        emit_simple(mm, KELP_MM_EV_BAD_LINE, NULL, 0, rc, now_us);
+        return;
+    }
+    process_line(mm, line, len, now_us);
+}
+
+static void drain_backlog(kelp_mm *mm, int64_t now_us)
+{
+    size_t i = 0;
+    while (i < mm->backlog_len && !holding(mm, now_us)) feed_byte(mm, mm->backlog[i++], now_us);
+    memmove(mm->backlog, mm->backlog + i, mm->backlog_len - i);
+    mm->backlog_len -= i;
+}
+
+int kelp_mm_feed(kelp_mm *mm, const uint8_t *bytes, size_t n, int64_t now_us)
+{
+    if (!mm || (n && !bytes)) return KELP_ERR_ARG;
+    if (!mm->started) return KELP_ERR_STATE;
+    if (!holding(mm, now_us) && mm->backlog_len) drain_backlog(mm, now_us);
+    for (size_t i = 0; i < n; i++) {
+        if (holding(mm, now_us) || mm->backlog_len) {
+            if (mm->backlog_len < sizeof mm->backlog) mm->backlog[mm->backlog_len++] = bytes[i];
+            else mm->count.backlog_dropped++;
+        } else {
+            feed_byte(mm, bytes[i], now_us);
+        }
+    }
+    return KELP_OK;
+}
+
+int kelp_mm_tick(kelp_mm *mm, int64_t now_us)
+{
+    if (!mm) return KELP_ERR_ARG;
+    if (!mm->started) return KELP_ERR_STATE;
+    if (mm->dead) return KELP_ERR_TIMEOUT;
+    if (holding(mm, now_us)) return KELP_OK;
+    /* don't set the clock while commands are queued: the time would be stale when sent */
+    if (!mm->clock_set && mm->out_n == 0) {
+        int rc = set_clock(mm, now_us);
+        if (rc) return rc;
+        return KELP_OK; /* sleeping */
+    }
+    try_send(mm, now_us);
+    if (mm->dead) return KELP_ERR_TIMEOUT;
+    if (mm->backlog_len) drain_backlog(mm, now_us);
+    if (mm->hydroid_id && mm->last_gps_us + KELP_MM_HYDROID_GPS_INTERVAL_US < now_us) {
+        char q[16];
+        kelp_nmea_writer w;
+        kelp_nmea_writer_init(&w, q, sizeof q, "");
+        kelp_nmea_writer_long(&w, mm->hydroid_id);
+        char out[20];
+        out[0] = '#';
+        out[1] = 'G';
+        memcpy(out + 2, q + 1, w.len - 1);
+        size_t n = 2 + w.len - 1;
+        out[n++] = '\r';
+        out[n++] = '\n';
+        out[n] = '\0';
+        if (mm->ops.write) mm->ops.write(out, n, mm->user);
+        mm->last_gps_us = now_us;
+    }
+    return mm->dead ? KELP_ERR_TIMEOUT : KELP_OK;
+}
