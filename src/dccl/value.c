@@ -65,6 +65,9 @@ void kelp_dccl_val_set_str(kelp_dccl_val *v, const char *s)
 
 void kelp_dccl_val_set_double(kelp_dccl_val *v, double d, int precision)
 {
+    v->len = 0;
+    v->s[0] = '\0';
+    v->cut = false;
     v->kind = KELP_DCCL_V_DOUBLE;
     v->d = d;
     v->precision = precision;
@@ -72,6 +75,9 @@ void kelp_dccl_val_set_double(kelp_dccl_val *v, double d, int precision)
 
 void kelp_dccl_val_set_long(kelp_dccl_val *v, int64_t l)
 {
+    v->len = 0;
+    v->s[0] = '\0';
+    v->cut = false;
     v->kind = KELP_DCCL_V_LONG;
     v->l = l;
     v->precision = KELP_DCCL_MAX_DBL_PRECISION;
@@ -79,6 +85,9 @@ void kelp_dccl_val_set_long(kelp_dccl_val *v, int64_t l)
 
 void kelp_dccl_val_set_bool(kelp_dccl_val *v, bool b)
 {
+    v->len = 0;
+    v->s[0] = '\0';
+    v->cut = false;
     v->kind = KELP_DCCL_V_BOOL;
     v->b = b;
     v->precision = KELP_DCCL_MAX_DBL_PRECISION;
