@@ -715,7 +715,7 @@ START_TEST(finalize_rejects)
     ck_assert_int_eq(kelp_dccl_def_finalize(&d, f, &why), KELP_ERR_RANGE);
     d.size = 32;
     d.repeat = 2;
-    f[8].array_length = 2;
+    f[8].array_length = 3;
     ck_assert_int_eq(kelp_dccl_def_finalize(&d, f, &why), KELP_ERR_RANGE);
     ck_assert_ptr_nonnull(strstr(why, "<repeat>"));
 }

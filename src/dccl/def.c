@@ -79,7 +79,7 @@ int kelp_dccl_def_finalize(kelp_dccl_msgdef *def, kelp_dccl_field *fields, const
     if (def->repeat == 0) def->repeat = 1;
     if (def->repeat > 1) {
         for (i = KELP_DCCL_N_HEAD; i < def->n_fields; i++) {
-            if (fields[i].array_length != 1) {
+            if (fields[i].array_length != 1 && fields[i].array_length != def->repeat) {
                 *why = "<repeat> is not allowed on messages with arrays (<array_length> not 1)";
                 return KELP_ERR_RANGE;
             }
@@ -102,7 +102,7 @@ int kelp_dccl_def_finalize(kelp_dccl_msgdef *def, kelp_dccl_field *fields, const
             }
             if (def->repeat > 1) f->array_length = def->repeat;
             if (f->array_length == 0) f->array_length = 1;
-            f->has_delta = f->has_delta && f->array_length > 1 && (f->type == KELP_DCCL_T_INT || f->type == KELP_DCCL_T_FLOAT);
+            f->has_delta = f->has_delta && (f->type == KELP_DCCL_T_INT || f->type == KELP_DCCL_T_FLOAT);
             switch (f->type) {
             case KELP_DCCL_T_INT:
             case KELP_DCCL_T_FLOAT:
@@ -114,7 +114,8 @@ int kelp_dccl_def_finalize(kelp_dccl_msgdef *def, kelp_dccl_field *fields, const
                 }
                 if (f->has_delta && f->max_delta < 0) f->max_delta = -f->max_delta;
                 f->bits = (uint16_t)kelp_dccl_width(f->max - f->min, f->precision);
-                f->delta_bits = f->has_delta ? (uint16_t)kelp_dccl_width(2 * f->max_delta, f->precision) : f->bits;
+                f->delta_bits = (f->has_delta && f->array_length > 1) ? (uint16_t)kelp_dccl_width(2 * f->max_delta, f->precision)
+                                                                       : f->bits;
                 break;
             case KELP_DCCL_T_BOOL: f->bits = f->delta_bits = 2; break;
             case KELP_DCCL_T_STRING:

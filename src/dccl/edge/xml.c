@@ -925,6 +925,15 @@ static void end_message(parser *p)
             }
         }
     }
+    if (m->repeat_auto || m->def.repeat > 1) {
+        for (i = KELP_DCCL_N_HEAD; i < m->n_fields; i++) {
+            if (m->fields[i].f.array_length != 1) {
+                fail(p, KELP_ERR_RANGE, m->fields[i].line,
+                     "message %s: <repeat> is not allowed on messages with arrays (<array_length> not 1)", m->def.name);
+                return;
+            }
+        }
+    }
     /* algorithms (header and layout) */
     for (i = 0; i < m->n_fields; i++) {
         pfield *f = &m->fields[i];
