@@ -261,15 +261,15 @@ static int atoi_c(const char *s, size_t n)
 {
     size_t i = 0;
     int neg = 0;
-    long v = 0;
+    int64_t v = 0;
     while (i < n && (s[i] == ' ' || (s[i] >= '\t' && s[i] <= '\r'))) i++;
     if (i < n && (s[i] == '+' || s[i] == '-')) neg = s[i++] == '-';
     for (; i < n && s[i] >= '0' && s[i] <= '9'; i++) {
         v = v * 10 + (s[i] - '0');
-        if (v > 2147483648L) v = 2147483648L;
+        if (v > 2147483648LL) v = 2147483648LL;
     }
     v = neg ? -v : v;
-    if (v > 2147483647L) v = 2147483647L;
+    if (v > 2147483647LL) v = 2147483647LL;
     return (int)v;
 }
 

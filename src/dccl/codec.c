@@ -263,7 +263,20 @@ static int put_string(enc_ctx *e, const kelp_dccl_field *f, const kelp_dccl_val 
             if (bytes[i] & 0x80u)
                 for (j = 0; j < i; j++) bytes[j] = 0xff;
     }
-    for (i = 0; i < m; i++) put_bits(buf, pos, bytes[i], 8);
+    {
+        uint32_t p = *pos;
+        unsigned sh = p & 7u;
+        uint8_t *b = buf + (p >> 3);
+        if (sh == 0) {
+            memcpy(b, bytes, m); /* the buffer is zeroed: a store is an OR */
+        } else {
+            for (i = 0; i < m; i++) {
+                b[i] |= (uint8_t)(bytes[i] >> sh);
+                b[i + 1] |= (uint8_t)(bytes[i] << (8u - sh));
+            }
+        }
+        *pos = p + 8u * (uint32_t)m;
+    }
     return KELP_OK;
 }
 

@@ -167,6 +167,27 @@ bool kelp_dccl_parse_double(const char *s, size_t n, double *out)
         if (!ed) return false;
     }
     if (i != n) return false;
+    {
+        /* Clinger's fast path: a mantissa below 2^53 and at most 22 decimals is
+         * one exact division, i.e. exactly what strtod returns. */
+        size_t j = (s[0] == '+' || s[0] == '-') ? 1u : 0u;
+        uint64_t m = 0;
+        int frac = -1;
+        bool fast = true;
+        for (; j < n; j++) {
+            char c = s[j];
+            if (c == '.') { frac = 0; continue; }
+            if (c < '0' || c > '9' || m > 900719925474099ULL) { fast = false; break; }
+            m = m * 10u + (uint64_t)(c - '0');
+            if (frac >= 0) frac++;
+        }
+        if (fast && m <= 9007199254740992ULL && frac <= 22) {
+            double v = (double)m;
+            if (frac > 0) v /= POS10[frac];
+            *out = neg ? -v : v;
+            return true;
+        }
+    }
 #if KELP_DCCL_LIBC_NUM
     {
         char buf[128];
