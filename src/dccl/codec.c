@@ -555,9 +555,8 @@ static int decode_element(kelp_dccl_codec *cx, const kelp_dccl_field *f, const u
         return KELP_OK;
     case KELP_DCCL_T_STRING: {
         unsigned i;
+        kelp_dccl_val_clear(out);
         out->kind = KELP_DCCL_V_STRING;
-        out->precision = KELP_DCCL_MAX_DBL_PRECISION;
-        out->cut = false;
         for (i = 0; i < f->max_length; i++) {
             char c = (char)get_bits(buf, pos + 8u * i, 8);
             if (c == '\0') break;
@@ -571,9 +570,8 @@ static int decode_element(kelp_dccl_codec *cx, const kelp_dccl_field *f, const u
     case KELP_DCCL_T_HEX: {
         static const char HEX[] = "0123456789abcdef";
         unsigned i;
+        kelp_dccl_val_clear(out);
         out->kind = KELP_DCCL_V_STRING;
-        out->precision = KELP_DCCL_MAX_DBL_PRECISION;
-        out->cut = false;
         for (i = 0; i < f->num_bytes; i++) {
             unsigned b = (unsigned)get_bits(buf, pos + 8u * i, 8);
             out->s[2 * i] = HEX[b >> 4];

@@ -52,6 +52,9 @@ void kelp_dccl_val_set_strn(kelp_dccl_val *v, const char *s, size_t n)
     size_t k = n > KELP_DCCL_MAX_STRLEN ? KELP_DCCL_MAX_STRLEN : n;
     v->kind = KELP_DCCL_V_STRING;
     v->precision = KELP_DCCL_MAX_DBL_PRECISION;
+    v->d = 0;
+    v->l = 0;
+    v->b = false;
     v->cut = k < n;
     if (k) memmove(v->s, s, k);
     v->s[k] = '\0';
@@ -70,6 +73,8 @@ void kelp_dccl_val_set_double(kelp_dccl_val *v, double d, int precision)
     v->cut = false;
     v->kind = KELP_DCCL_V_DOUBLE;
     v->d = d;
+    v->l = 0;
+    v->b = false;
     v->precision = precision;
 }
 
@@ -79,6 +84,8 @@ void kelp_dccl_val_set_long(kelp_dccl_val *v, int64_t l)
     v->s[0] = '\0';
     v->cut = false;
     v->kind = KELP_DCCL_V_LONG;
+    v->d = 0;
+    v->b = false;
     v->l = l;
     v->precision = KELP_DCCL_MAX_DBL_PRECISION;
 }
@@ -89,6 +96,8 @@ void kelp_dccl_val_set_bool(kelp_dccl_val *v, bool b)
     v->s[0] = '\0';
     v->cut = false;
     v->kind = KELP_DCCL_V_BOOL;
+    v->d = 0;
+    v->l = 0;
     v->b = b;
     v->precision = KELP_DCCL_MAX_DBL_PRECISION;
 }
