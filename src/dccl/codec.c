@@ -22,15 +22,20 @@ void kelp_dccl_codec_init(kelp_dccl_codec *cx, unsigned modem_id, const kelp_dcc
 }
 
 /* ------------------------------------------------------------------ bits */
+static const uint8_t LOWMASK[9] = {0x00, 0x01, 0x03, 0x07, 0x0f, 0x1f, 0x3f, 0x7f, 0xff};
+
 static void put_bits(uint8_t *buf, uint32_t *pos, uint64_t v, unsigned n)
 {
     /* MSB-first; n <= 64 */
     uint32_t p = *pos;
+    if (n > 64) n = 64;
     while (n) {
         unsigned room = 8u - (p & 7u);
         unsigned take = n < room ? n : room;
-        unsigned shift = n - take;
-        uint8_t chunk = (uint8_t)((v >> shift) & ((1u << take) - 1u));
+        unsigned shift;
+        if (take > 8u) take = 8u; /* never: room <= 8 */
+        shift = n - take;
+        uint8_t chunk = (uint8_t)((v >> shift) & LOWMASK[take]);
         buf[p >> 3] |= (uint8_t)(chunk << (room - take));
         p += take;
         n -= take;
@@ -41,11 +46,13 @@ static void put_bits(uint8_t *buf, uint32_t *pos, uint64_t v, unsigned n)
 static uint64_t get_bits(const uint8_t *buf, uint32_t pos, unsigned n)
 {
     uint64_t v = 0;
+    if (n > 64) n = 64;
     while (n) {
         unsigned room = 8u - (pos & 7u);
         unsigned take = n < room ? n : room;
         uint8_t b = buf[pos >> 3];
-        v = (v << take) | (uint64_t)((b >> (room - take)) & ((1u << take) - 1u));
+        if (take > 8u) take = 8u; /* never: room <= 8 */
+        v = (take >= 8 ? v << 8 : v << take) | (uint64_t)((b >> (room - take)) & LOWMASK[take]);
         pos += take;
         n -= take;
     }
@@ -306,7 +313,6 @@ static int encode_field(enc_ctx *e, unsigned fi, uint8_t *buf, uint32_t *pos)
     double key = 0;
     bool key_ok = false, rounded = f->n_algs > 0;
     unsigned k;
-    int rc;
     uint32_t key_pos;
     if (f->type == KELP_DCCL_T_STATIC) return KELP_OK;
     e->cur = fi;
@@ -319,7 +325,7 @@ static int encode_field(enc_ctx *e, unsigned fi, uint8_t *buf, uint32_t *pos)
     key_pos = *pos + (uint32_t)(f->array_length - 1u) * f->delta_bits;
     for (k = 1; k < f->array_length; k++) {
         const kelp_dccl_val *v = element_value(e, fi, k, &ew);
-        rc = put_element(e, fi, v, rounded, f->has_delta, key, key_ok, buf, pos);
+        int rc = put_element(e, fi, v, rounded, f->has_delta, key, key_ok, buf, pos);
         if (rc) return rc;
     }
     *pos = key_pos;
@@ -394,7 +400,6 @@ int kelp_dccl_encode(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, const kel
     uint32_t pos = 0, nbody, pad;
     size_t blen, total;
     unsigned h, fi;
-    int rc;
     cx->errmsg = NULL;
     if (!def || !in || !len || n_in < def->n_slots) return DCCL_FAIL(cx, KELP_ERR_ARG, "values array too short");
     nbody = (def->body_bits + 7u) / 8u;
@@ -425,12 +430,9 @@ int kelp_dccl_encode(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, const kel
         } else {
             double d;
             /* pre-encode rounding then long(): same as unbiased_round + sci_round */
-            if (h != KELP_DCCL_H_MULTIMESSAGE && h != KELP_DCCL_H_BROADCAST && v->kind != KELP_DCCL_V_LONG &&
-                kelp_dccl_val_to_double(v, &d)) {
-                kelp_dccl_val_set_double(&w, kelp_dccl_unbiased_round(d, 0), 0);
-                v = &w;
-            } else if ((h == KELP_DCCL_H_MULTIMESSAGE || h == KELP_DCCL_H_BROADCAST) && v->kind != KELP_DCCL_V_BOOL &&
-                       kelp_dccl_val_to_double(v, &d)) {
+            bool flag = h == KELP_DCCL_H_MULTIMESSAGE || h == KELP_DCCL_H_BROADCAST;
+            kelp_dccl_kind exact = flag ? KELP_DCCL_V_BOOL : KELP_DCCL_V_LONG; /* nothing to round */
+            if (v->kind != exact && kelp_dccl_val_to_double(v, &d)) {
                 kelp_dccl_val_set_double(&w, kelp_dccl_unbiased_round(d, 0), 0);
                 v = &w;
             }
@@ -443,7 +445,7 @@ int kelp_dccl_encode(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, const kel
     pos = 8u * KELP_DCCL_HEAD_BYTES + pad;
     for (fi = KELP_DCCL_N_HEAD; fi < def->n_fields; fi++) {
         uint32_t start = pos;
-        rc = encode_field(&e, fi, msg, &pos);
+        int rc = encode_field(&e, fi, msg, &pos);
         if (rc) return rc;
         pos = start + def->fields[fi].total_bits;
     }
@@ -476,8 +478,8 @@ double kelp_dccl_time_infer(unsigned tod, double now)
 static uint64_t head48(const uint8_t *in, size_t n)
 {
     uint64_t hv = 0;
-    size_t i, m = n < KELP_DCCL_HEAD_BYTES ? n : KELP_DCCL_HEAD_BYTES;
-    for (i = 0; i < m; i++) hv = (hv << 8) | in[i];
+    size_t i;
+    for (i = 0; i < n && i < KELP_DCCL_HEAD_BYTES; i++) hv = (hv << 8) | in[i];
     return hv;
 }
 

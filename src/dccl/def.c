@@ -27,6 +27,8 @@ unsigned kelp_dccl_width(double range, int precision)
 
 static unsigned enum_width(unsigned n)
 {
+    /* Goby: ceil(log(n + 1)/log(2)), not log1p */
+    // cppcheck-suppress unpreciseMathCall
     double w = ceil(log((double)n + 1) / log(2.0));
     return w > 0 ? (unsigned)w : 0;
 }

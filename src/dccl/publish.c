@@ -101,14 +101,13 @@ static size_t emit_arg(char *out, size_t cap, size_t n, const fmt_item *it, cons
 
 int kelp_dccl_format(const char *fmt, const char *const *args, size_t n_args, char *out, size_t cap, size_t *len)
 {
-    size_t i = 0, n = 0, pass;
+    size_t n = 0, pass;
     int positional = -1; /* -1 unknown, 0 sequential, 1 positional */
-    size_t seq = 0, max_arg = 0;
+    size_t max_arg = 0;
     /* pass 0 validates and counts arguments; pass 1 writes */
     for (pass = 0; pass < 2; pass++) {
-        i = 0;
+        size_t i = 0, seq = 0;
         n = 0;
-        seq = 0;
         while (fmt[i]) {
             fmt_item it = {-1, false, false, false, 0, -1};
             size_t lit = i;

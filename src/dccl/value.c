@@ -428,7 +428,7 @@ bool kelp_dccl_val_to_str(const kelp_dccl_val *v, char *out, size_t cap, size_t 
     case KELP_DCCL_V_LONG: n = dccl_fmt_long(v->l, out, cap); break;
     case KELP_DCCL_V_BOOL: n = put(out, cap, v->b ? "true" : "false", v->b ? 4 : 5); break;
     default:
-        n = put(out, cap, "", 0);
+        (void)put(out, cap, "", 0);
         if (len) *len = 0;
         return false;
     }

@@ -244,8 +244,11 @@ int kelp_dccl_gen_main(int argc, char **argv)
         if (n >= sizeof base) n = sizeof base - 1;
         memcpy(base, b, n);
         base[n] = '\0';
-        ident(pbuf, sizeof pbuf - 6, base);
-        strcat(pbuf, "_dccl");
+        {
+            char id[160];
+            ident(id, sizeof id, base);
+            snprintf(pbuf, sizeof pbuf, "%s_dccl", id);
+        }
         prefix = pbuf;
     } else {
         ident(pbuf, sizeof pbuf, prefix);

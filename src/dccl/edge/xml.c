@@ -81,7 +81,7 @@ typedef struct pfield {
     const char **enums;
     size_t n_enum, cap_enum;
     unsigned seen;        /* bit per child element (xs:all) */
-    bool have_max, have_min, have_prec, have_len, have_bytes, have_value, have_name, have_delta;
+    bool have_max, have_min, have_prec, have_len, have_bytes, have_value, have_name;
     int line;
 } pfield;
 
@@ -131,7 +131,6 @@ typedef struct parser {
     pfield *field; /* current layout/header field */
     ppub *pub;
     int headvar;   /* header field index of <time>/<src_id>/<dest_id> */
-    size_t first_new; /* set index of the first message of this file */
     bool saw_root;
 } parser;
 
@@ -139,17 +138,15 @@ static void fail(parser *p, int rc, int line, const char *fmt, ...) KELP_PRINTF(
 
 static void fail(parser *p, int rc, int line, const char *fmt, ...)
 {
+    char why[512];
     va_list ap;
-    int n;
+    va_start(ap, fmt);
+    vsnprintf(why, sizeof why, fmt, ap); /* NOLINT(clang-analyzer-valist.Uninitialized): va_start above */
+    va_end(ap);
     if (p->rc) return;
     p->rc = rc;
-    if (!p->err || !p->errcap) return;
-    n = snprintf(p->err, p->errcap, "%s:%d: ", p->file, line);
-    if (n < 0 || (size_t)n >= p->errcap) return;
-    va_start(ap, fmt);
-    vsnprintf(p->err + n, p->errcap - (size_t)n, fmt, ap);
-    va_end(ap);
     if (p->xp) XML_StopParser(p->xp, XML_FALSE);
+    if (p->err && p->errcap) snprintf(p->err, p->errcap, "%s:%d: %s", p->file, line, why);
 }
 
 static int cur_line(parser *p)
@@ -377,6 +374,11 @@ static void XMLCALL on_start(void *ud, const XML_Char *el, const XML_Char **atts
     }
     parent = p->depth ? p->kind[p->depth - 1] : C_ROOT;
     p->tlen = 0;
+    if (parent != C_ROOT && parent != C_SET && (!p->msg || ((parent == C_FIELD || parent == C_HEADVAR) && !p->field) ||
+                                                 (parent == C_PUBLISH && !p->pub))) {
+        fail(p, KELP_ERR_PARSE, line, "internal: no current message");
+        return;
+    }
     switch (parent) {
     case C_ROOT:
         if (strcmp(el, "message_set") != 0) {
@@ -841,9 +843,10 @@ static bool finish_publish(parser *p, pmsg *m, ppub *pb, kelp_dccl_publish *out)
         bool ok = str_append(&buf, &n, &cap, "");
         for (j = 0; ok && j < k; j++) {
             const kelp_dccl_field *f = &m->fields[args[j].field].f;
-            size_t reps = m->def.repeat > 1 ? 1 : f->array_length, e, same = 0, q;
+            size_t reps = m->def.repeat > 1 ? 1 : f->array_length, e;
             char num[32];
             if (k > 1) {
+                size_t same = 0, q;
                 if (j) ok = ok && str_append(&buf, &n, &cap, ",");
                 for (q = 0; q < k; q++)
                     if (args[q].field == args[j].field) same++;
@@ -1002,7 +1005,7 @@ static void end_message(parser *p)
     }
     if (p->ld->set.n >= p->ld->cap) {
         size_t nc = p->ld->cap ? p->ld->cap * 2 : 16;
-        const kelp_dccl_msgdef **nm = realloc(p->ld->msgs, nc * sizeof *nm);
+        const kelp_dccl_msgdef **nm = realloc(p->ld->msgs, nc * sizeof(void *)); /* NOLINT(bugprone-sizeof-expression) */
         if (!nm) { fail(p, KELP_ERR_NOSPACE, line, "out of memory"); return; }
         p->ld->msgs = nm;
         p->ld->cap = nc;
