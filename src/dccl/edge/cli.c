@@ -21,7 +21,7 @@ typedef struct cli {
     const char *lookup;
     unsigned modem_id;
     double now;
-    bool have_now, plain, have_lat, have_lon;
+    bool have_now, plain, have_lat, have_lon, no_algs;
     double lat, lon;
     unsigned long repeat;
     char **pos;
@@ -36,7 +36,8 @@ static void usage(FILE *f)
           "  kelp-dccl decode  --xml FILE... [--modem-id N] [--now UNIXTIME] [--passphrase PW] [--plain] [--repeat N] HEX\n"
           "  kelp-dccl publish --xml FILE... [--modem-id N] [--now UNIXTIME] [--passphrase PW] [--plain] HEX\n"
           "  kelp-dccl info    --xml FILE...\n"
-          "options for algorithms: --lat-origin DEG --lon-origin DEG --modem-lookup FILE\n",
+          "options for algorithms: --lat-origin DEG --lon-origin DEG --modem-lookup FILE\n"
+          "  --no-algorithms: register none (algorithm names are then ignored, as in a bare Goby DCCLCodec)\n",
           f);
 }
 
@@ -99,6 +100,10 @@ static int parse_args(cli *c, int argc, char **argv)
         }
         if (strcmp(opt, "--plain") == 0) {
             c->plain = true;
+            continue;
+        }
+        if (strcmp(opt, "--no-algorithms") == 0) {
+            c->no_algs = true;
             continue;
         }
         if (strcmp(opt, "--help") == 0) {
@@ -259,7 +264,7 @@ int kelp_dccl_cli_main(int argc, char **argv)
     }
     kelp_dccl_loaded_init(&ld);
     for (i = 0; i < c.n_xml; i++) {
-        if (kelp_dccl_load_file(&ld, c.xml[i], &algs, err, sizeof err) != 0) {
+        if (kelp_dccl_load_file(&ld, c.xml[i], c.no_algs ? NULL : &algs, err, sizeof err) != 0) {
             kelp_dccl_loaded_free(&ld);
             free(c.pos);
             return die("%s", err, NULL);
@@ -277,7 +282,7 @@ int kelp_dccl_cli_main(int argc, char **argv)
         free(c.pos);
         return die("crypto initialisation failed", NULL, NULL);
     }
-    kelp_dccl_codec_init(&cx, c.modem_id, c.plain ? NULL : &mb.ops, &algs);
+    kelp_dccl_codec_init(&cx, c.modem_id, c.plain ? NULL : &mb.ops, c.no_algs ? NULL : &algs);
 
     if (is_encode) {
         const kelp_dccl_msgdef *def;
