@@ -96,5 +96,27 @@ _Static_assert(KELP_IVP_MAX_WARN >= 64, "KELP_IVP_MAX_WARN too small");
 _Static_assert(KELP_MAX_NMEA_LINE >= 560, "KELP_MAX_NMEA_LINE must hold a 256-byte $CARXD");
 _Static_assert(KELP_MAX_ACOMMS_FRAME >= 32 && KELP_MAX_ACOMMS_FRAME <= 65535, "KELP_MAX_ACOMMS_FRAME out of range");
 _Static_assert(KELP_MAX_MM_FRAMES >= 8 && KELP_MAX_MM_FRAMES <= 32, "KELP_MAX_MM_FRAMES must be 8..32");
+/* ---- dccl (Goby 1.1 DCCL codec) ---- */
+#ifndef KELP_DCCL_MAX_STRLEN
+#define KELP_DCCL_MAX_STRLEN 255    /**< bytes of a string value (string/hex fields, algorithm results) */
+#endif
+#ifndef KELP_DCCL_MAX_SIZE
+#define KELP_DCCL_MAX_SIZE 1024     /**< bytes of one encoded message (<size> limit) */
+#endif
+#ifndef KELP_DCCL_MAX_ALG_REFS
+#define KELP_DCCL_MAX_ALG_REFS 4    /**< reference arguments of one algorithm call (name:ref:ref) */
+#endif
+#ifndef KELP_DCCL_MAX_MODEM_NAME
+#define KELP_DCCL_MAX_MODEM_NAME 32 /**< bytes of a vehicle name or type in the modem-id lookup */
+#endif
+#ifndef KELP_DCCL_MAX_NAME
+#define KELP_DCCL_MAX_NAME 64       /**< bytes of a published variable name, with NUL */
+#endif
+#ifndef KELP_DCCL_MAX_PUBLEN
+#define KELP_DCCL_MAX_PUBLEN 1024   /**< bytes of one published string value, with NUL */
+#endif
+_Static_assert(KELP_DCCL_MAX_STRLEN >= 32 && KELP_DCCL_MAX_STRLEN <= 65535, "KELP_DCCL_MAX_STRLEN out of range");
+_Static_assert(KELP_DCCL_MAX_SIZE > 6 && KELP_DCCL_MAX_SIZE <= 8192, "KELP_DCCL_MAX_SIZE out of range");
+_Static_assert(KELP_DCCL_MAX_ALG_REFS >= 2, "KELP_DCCL_MAX_ALG_REFS too small (TSD_to_soundspeed needs 2)");
 
 #endif

@@ -1,0 +1,7 @@
+/* kelp-dccl: encode, decode, publish and inspect Goby 1.1 DCCL messages. */
+#include <kelp/dccl_edge.h>
+
+int main(int argc, char **argv)
+{
+    return kelp_dccl_cli_main(argc, argv);
+}
