@@ -15,6 +15,7 @@ cppcheck --enable=warning,style,performance,portability --std=c11 --inline-suppr
 echo "cppcheck: clean"
 echo "== clang-tidy"
 checks='-*,clang-analyzer-*,-clang-analyzer-security.insecureAPI.DeprecatedOrUnsafeBufferHandling,bugprone-*,-bugprone-easily-swappable-parameters,-bugprone-reserved-identifier,-bugprone-narrowing-conversions,-bugprone-implicit-widening-of-multiplication-result,cert-err34-c'
-files=$(ls src/*/*.c src/*/edge/*.c apps/*/*.c 2>/dev/null)
+shopt -s nullglob
+files=$(echo src/*/*.c src/*/edge/*.c apps/*/*.c)
 out=$(clang-tidy --quiet --checks="$checks" --warnings-as-errors='*' $files -- -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE $inc 2>&1) || { echo "$out" | grep -v 'warnings generated' ; exit 1; }
 echo "clang-tidy: clean ($(echo $files | wc -w) files)"
