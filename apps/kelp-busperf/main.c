@@ -101,7 +101,7 @@ int main(int argc, char **argv)
         return 2;
     }
     const char *mode = argv[1];
-    long n = argc > 2 ? (long)num(argv[2]) : 10000;
+    long n = (argc > 2 && strcmp(mode, "junk") != 0) ? (long)num(argv[2]) : 10000;
     char url[512];
     if (kelp_lcm_url(NULL, url, sizeof url) < 0) return 1;
     static ctr c;
