@@ -194,6 +194,8 @@ int bhv_general_param(kelp_bhv *b, const char *p, const char *v)
             (void)hx_copy(names[n++], KELP_MAX_NAME, w, wn);
             s = c + 1;
         }
+        if (n == 0)
+            return kelp_bhv_fail(b, "nostarve names no variable");
         memcpy(b->starve, names, sizeof names);
         b->nstarve = n;
         b->starve_time = d;

@@ -329,7 +329,9 @@ void helm_queue_post(kelp_helm *h, kelp_bhv *b, const char *var, bool is_str, co
 
 void helm_post_flags(kelp_bhv *b, kelp_bhv_flag_kind kind)
 {
-    const char *key = kind == KELP_FLAG_END ? "repeatable" : NULL;
+    /* Flags are posted on state transitions only, so each posting is made (repeatable):
+     * a flag that fires again after someone else changed the variable must reach the bus. */
+    const char *key = "repeatable";
     for (unsigned i = 0; i < b->nflag; i++) {
         const kelp_bhv_flag *f = &b->flag[i];
         if (f->kind != kind)
