@@ -134,6 +134,8 @@ int kelp_helm_parse_points(const char *str, kelp_bhv_pt *pts, size_t cap, unsign
         pts[k].x = x;
         pts[k].y = y;
         k++;
+        if (c && c + 1 >= end)
+            return KELP_ERR_PARSE; /* trailing ':' */
         p = c ? c + 1 : end;
     }
     if (k == 0)
