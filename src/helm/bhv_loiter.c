@@ -3,7 +3,6 @@
  * outside the polygon by more than acquire_dist and in "loitering" mode otherwise. Posts
  * LOITER_INDEX, LOITER_ACQUIRE (1/0), LOITER_REPORT and VIEW_POLYGON. */
 #include <math.h>
-#include <stdio.h>
 #include <string.h>
 #include "helm_int.h"
 
@@ -114,15 +113,14 @@ static void post_polygon(kelp_bhv *b, bool active)
 {
     const kelp_bhv_loiter *s = &b->u.loiter;
     char buf[KELP_HELM_MAX_SVAL];
-    size_t n = (size_t)snprintf(buf, sizeof buf, "pts={");
-    for (unsigned i = 0; i < s->ngiven && n < sizeof buf; i++) {
+    size_t n = hx_cat(buf, sizeof buf, "pts={", NULL);
+    for (unsigned i = 0; i < s->ngiven; i++) {
         char x[32], y[32];
         hx_fmt_double(x, sizeof x, s->given[i].x);
         hx_fmt_double(y, sizeof y, s->given[i].y);
-        n += (size_t)snprintf(buf + n, sizeof buf - n, "%s%s,%s", i ? ":" : "", x, y);
+        n += hx_cat(buf + n, sizeof buf - n, i ? ":" : "", x, ",", y, NULL);
     }
-    if (n < sizeof buf)
-        snprintf(buf + n, sizeof buf - n, "},label=%s,active=%s", b->name, active ? "true" : "false");
+    hx_cat(buf + n, sizeof buf - n, "},label=", b->name, ",active=", active ? "true" : "false", NULL);
     kelp_bhv_post_string(b, "VIEW_POLYGON", buf, NULL);
 }
 
@@ -173,8 +171,11 @@ static int loiter_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
         cur = s->pts[s->index];
     }
     char rep[128];
-    snprintf(rep, sizeof rep, "mode=%s,index=%u,vertices_reached=%lu", s->acquiring ? "acquiring" : "loitering",
-             s->index, s->laps_pts);
+    char ix[24], vr[24];
+    hx_fmt_ulong(ix, sizeof ix, s->index);
+    hx_fmt_ulong(vr, sizeof vr, s->laps_pts);
+    hx_cat(rep, sizeof rep, "mode=", s->acquiring ? "acquiring" : "loitering", ",index=", ix, ",vertices_reached=", vr,
+           NULL);
     kelp_bhv_post_double(b, "LOITER_INDEX", (double)s->index, NULL);
     kelp_bhv_post_double(b, "LOITER_ACQUIRE", s->acquiring ? 1.0 : 0.0, NULL);
     kelp_bhv_post_string(b, "LOITER_REPORT", rep, NULL);

@@ -1,6 +1,5 @@
 /* kelp helm: BHV_SimpleWaypoint, exactly as seed 004 chapter 5 describes it. */
 #include <math.h>
-#include <stdio.h>
 #include <string.h>
 #include "helm_int.h"
 
@@ -70,8 +69,8 @@ static void post_view_point(kelp_bhv *b, bool viewable)
     char x[32], y[32], spec[KELP_MAX_NAME * 2 + 128];
     hx_fmt_double(x, sizeof x, s->nextpt.x);
     hx_fmt_double(y, sizeof y, s->nextpt.y);
-    snprintf(spec, sizeof spec, "label=%s's next waypoint,type=waypoint,source=%s,x=%s,y=%s,active=%s",
-             b->us[0] ? b->us : "vehicle", b->name, x, y, viewable ? "true" : "false");
+    hx_cat(spec, sizeof spec, "label=", b->us[0] ? b->us : "vehicle", "'s next waypoint,type=waypoint,source=", b->name,
+           ",x=", x, ",y=", y, ",active=", viewable ? "true" : "false", NULL);
     kelp_bhv_post_string(b, "VIEW_POINT", spec, NULL);
 }
 

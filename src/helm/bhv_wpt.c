@@ -3,7 +3,6 @@
  * following), speed; posts WPT_STAT, WPT_INDEX, CYCLE_INDEX, VIEW_POINT, VIEW_SEGLIST, and
  * wptflag / cycleflag / endflag. The course x speed function is the SimpleWaypoint ZAIC one. */
 #include <math.h>
-#include <stdio.h>
 #include <string.h>
 #include "helm_int.h"
 
@@ -109,16 +108,15 @@ static void post_seglist(kelp_bhv *b, bool active)
 {
     const kelp_bhv_wpt *s = &b->u.wpt;
     char buf[KELP_HELM_MAX_SVAL];
-    size_t n = (size_t)snprintf(buf, sizeof buf, "pts={");
-    for (unsigned i = 0; i < s->npts && n < sizeof buf; i++) {
+    size_t n = hx_cat(buf, sizeof buf, "pts={", NULL);
+    for (unsigned i = 0; i < s->npts; i++) {
         char x[32], y[32];
         kelp_bhv_pt p = point(s, i);
         hx_fmt_double(x, sizeof x, p.x);
         hx_fmt_double(y, sizeof y, p.y);
-        n += (size_t)snprintf(buf + n, sizeof buf - n, "%s%s,%s", i ? ":" : "", x, y);
+        n += hx_cat(buf + n, sizeof buf - n, i ? ":" : "", x, ",", y, NULL);
     }
-    if (n < sizeof buf)
-        snprintf(buf + n, sizeof buf - n, "},label=%s,active=%s", b->name, active ? "true" : "false");
+    hx_cat(buf + n, sizeof buf - n, "},label=", b->name, ",active=", active ? "true" : "false", NULL);
     kelp_bhv_post_string(b, "VIEW_SEGLIST", buf, NULL);
 }
 
@@ -127,8 +125,8 @@ static void post_point(kelp_bhv *b, kelp_bhv_pt p, bool active)
     char x[32], y[32], spec[KELP_MAX_NAME * 2 + 128];
     hx_fmt_double(x, sizeof x, p.x);
     hx_fmt_double(y, sizeof y, p.y);
-    snprintf(spec, sizeof spec, "label=%s's next waypoint,type=waypoint,source=%s,x=%s,y=%s,active=%s",
-             b->us[0] ? b->us : "vehicle", b->name, x, y, active ? "true" : "false");
+    hx_cat(spec, sizeof spec, "label=", b->us[0] ? b->us : "vehicle", "'s next waypoint,type=waypoint,source=", b->name,
+           ",x=", x, ",y=", y, ",active=", active ? "true" : "false", NULL);
     kelp_bhv_post_string(b, "VIEW_POINT", spec, NULL);
 }
 
@@ -147,9 +145,15 @@ static void post_stat(kelp_bhv *b, double dist)
     const kelp_bhv_wpt *s = &b->u.wpt;
     char buf[KELP_MAX_NAME * 2 + 160];
     double eta = s->speed > 0 ? dist / s->speed : -1;
-    snprintf(buf, sizeof buf, "vname=%s,behavior-name=%s,index=%u,hits=%lu/%lu,cycles=%lu,dist=%.0f,eta=%.0f",
-             b->us[0] ? b->us : "vehicle", b->name, s->index, s->captured, s->captured + s->slipped, s->cycles, dist,
-             eta);
+    char ix[24], hc[24], ht[24], cy[24], ds[32], et[32];
+    hx_fmt_ulong(ix, sizeof ix, s->index);
+    hx_fmt_ulong(hc, sizeof hc, s->captured);
+    hx_fmt_ulong(ht, sizeof ht, s->captured + s->slipped);
+    hx_fmt_ulong(cy, sizeof cy, s->cycles);
+    hx_fmt_fixed(ds, sizeof ds, dist, 0);
+    hx_fmt_fixed(et, sizeof et, eta, 0);
+    hx_cat(buf, sizeof buf, "vname=", b->us[0] ? b->us : "vehicle", ",behavior-name=", b->name, ",index=", ix, ",hits=", hc,
+           "/", ht, ",cycles=", cy, ",dist=", ds, ",eta=", et, NULL);
     kelp_bhv_post_string(b, "WPT_STAT", buf, NULL);
     kelp_bhv_post_double(b, "WPT_INDEX", (double)s->index, NULL);
     kelp_bhv_post_double(b, "CYCLE_INDEX", (double)s->cycles, NULL);

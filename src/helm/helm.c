@@ -2,7 +2,6 @@
  * behaviour set, .bhv loading, the per-iteration call sequence, the duplicate filter and the
  * decision. */
 #include <math.h>
-#include <stdio.h>
 #include <string.h>
 #include "helm_int.h"
 
@@ -200,7 +199,7 @@ int kelp_helm_load_bhv(kelp_helm *h, const kelp_mission *m)
                 b->fail = NULL;
                 if (kelp_bhv_set_param(b, key, val) < 0) {
                     char what[KELP_MAX_NAME + 96];
-                    snprintf(what, sizeof what, ": bad parameter %s (%s)", key, b->fail ? b->fail : "rejected");
+                    hx_cat(what, sizeof what, ": bad parameter ", key, " (", b->fail ? b->fail : "rejected", ")", NULL);
                     return helm_fail(h, c->line, KELP_ERR_PARSE, "behaviour ", b->name, what);
                 }
             }
@@ -221,7 +220,7 @@ int kelp_helm_configured(kelp_helm *h)
         b->fail = NULL;
         if (b->ops->params_done && b->ops->params_done(b) < 0) {
             char what[KELP_MAX_NAME + 64];
-            snprintf(what, sizeof what, ": %s", b->fail ? b->fail : "bad configuration");
+            hx_cat(what, sizeof what, ": ", b->fail ? b->fail : "bad configuration", NULL);
             return helm_fail(h, b->line, KELP_ERR_PARSE, "behaviour ", b->name, what);
         }
         if (b->dom.dim == 0)
@@ -385,7 +384,9 @@ static void flush_posts(kelp_helm *h)
             h->rep.warnings++;
         else if (!strcmp(var, "BHV_ERROR"))
             h->rep.errors++;
-        snprintf(aux, sizeof aux, "%lu:%s", h->iteration, b->name);
+        char it[24];
+        hx_fmt_ulong(it, sizeof it, h->iteration);
+        hx_cat(aux, sizeof aux, it, ":", b->name, NULL);
         sink(h, var, q->is_str, sv, q->dval, aux);
     }
     h->nq = 0;
@@ -482,7 +483,7 @@ static void check_updates(kelp_helm *h, kelp_bhv *b)
             continue;
         any = true;
         bool ok = true;
-        char bad[KELP_HELM_MAX_SVAL] = "";
+        char bad[KELP_HELM_MAX_SVAL - 128] = "";
         const char *p = s;
         for (;;) {
             const char *e = strchr(p, '#');
@@ -514,7 +515,7 @@ static void check_updates(kelp_helm *h, kelp_bhv *b)
         if (!ok) {
             b->bad_updates++;
             char msg[KELP_HELM_MAX_SVAL];
-            snprintf(msg, sizeof msg, "Faulty update for behavior: %s. Bad parameter(s): %s.", b->name, bad);
+            hx_cat(msg, sizeof msg, "Faulty update for behavior: ", b->name, ". Bad parameter(s): ", bad, ".", NULL);
             kelp_bhv_post_string(b, "BHV_WARNING", msg, NULL);
         } else {
             made = true;
@@ -526,8 +527,11 @@ static void check_updates(kelp_helm *h, kelp_bhv *b)
         (void)b->ops->params_done(b);
     if (any || b->good_updates + b->bad_updates) {
         char var[KELP_MAX_NAME + 4], msg[96];
-        snprintf(var, sizeof var, "UH_%s", b->name);
-        snprintf(msg, sizeof msg, "%lu update(s), and %lu failure(s)", b->good_updates, b->bad_updates);
+        char g[24], f[24];
+        hx_fmt_ulong(g, sizeof g, b->good_updates);
+        hx_fmt_ulong(f, sizeof f, b->bad_updates);
+        hx_cat(var, sizeof var, "UH_", b->name, NULL);
+        hx_cat(msg, sizeof msg, g, " update(s), and ", f, " failure(s)", NULL);
         kelp_bhv_post_string(b, var, msg, NULL);
     }
 }
@@ -555,7 +559,7 @@ static kelp_bhv_state runnable(kelp_helm *h, kelp_bhv *b)
         if (t < 0 || now - t > b->starve_time) {
             char msg[KELP_MAX_NAME + 96], secs[32];
             hx_fmt_double(secs, sizeof secs, b->starve_time);
-            snprintf(msg, sizeof msg, "%s: VarStarve: %s older than %s s", b->name, b->starve[i], secs);
+            hx_cat(msg, sizeof msg, b->name, ": VarStarve: ", b->starve[i], " older than ", secs, " s", NULL);
             kelp_bhv_post_string(b, "BHV_ERROR", msg, NULL);
             b->state_ok = false;
             return KELP_BHV_IDLE;
@@ -635,7 +639,7 @@ static bool produce(kelp_helm *h, unsigned i, size_t *pool_used, bool *halted)
 
 static void desired_name(const char *var, char *out, size_t cap)
 {
-    snprintf(out, cap, "DESIRED_%s", hx_ieq(var, "course") ? "heading" : var);
+    hx_cat(out, cap, "DESIRED_", hx_ieq(var, "course") ? "heading" : var, NULL);
     for (char *c = out + 8; *c; c++)
         if (*c >= 'a' && *c <= 'z')
             *c = (char)(*c - 'a' + 'A');
@@ -684,7 +688,7 @@ static void solve(kelp_helm *h, const bool *has_fn)
     int rc = kelp_ivp_solve(&h->prob, h->mem.solve_work, h->mem.solve_work_size, &res);
     if (rc < 0) {
         char msg[220];
-        snprintf(msg, sizeof msg, "pHelmIvP: IvP solve failed: %s (%s)", kelp_strerror(rc), h->prob.err.msg);
+        hx_cat(msg, sizeof msg, "pHelmIvP: IvP solve failed: ", kelp_strerror(rc), " (", h->prob.err.msg, ")", NULL);
         sink(h, "BHV_ERROR", true, msg, 0, NULL);
         r->halted = true;
         return;
@@ -715,7 +719,7 @@ static void post_outputs(kelp_helm *h)
             if (!r->decided[d] && !h->cfg.optional[d])
                 list_append(missing, sizeof missing, hd->var[d].name, ',');
         if (missing[0]) {
-            snprintf(r->allstop, sizeof r->allstop, "MissingDecVars:%s", missing);
+            hx_cat(r->allstop, sizeof r->allstop, "MissingDecVars:", missing, NULL);
             sink(h, "BHV_ERROR", true, r->allstop, 0, NULL);
         }
     }
@@ -751,20 +755,28 @@ static void post_outputs(kelp_helm *h)
             memcpy(h->last_lists[k], lists[k], sizeof lists[k]);
         }
     /* summary: key=value pairs; behaviour lists joined with ':' */
-    int n = snprintf(buf, sizeof buf, "iter=%lu,time=%.2f,ofnum=%u,warnings=%lu,halted=%s,allstop=%s", r->iteration,
-                     r->time, r->ofnum, r->warnings, r->halted ? "true" : "false", r->allstop);
-    for (unsigned d = 0; d < hd->dim && n > 0 && (size_t)n < sizeof buf; d++)
-        if (r->decided[d] && clear)
-            n += snprintf(buf + n, sizeof buf - (size_t)n, ",var=%s:%.2f", hd->var[d].name, r->decision[d]);
+    char it[24], tm[32], of[24], wn[24];
+    hx_fmt_ulong(it, sizeof it, r->iteration);
+    hx_fmt_fixed(tm, sizeof tm, r->time, 2);
+    hx_fmt_ulong(of, sizeof of, r->ofnum);
+    hx_fmt_ulong(wn, sizeof wn, r->warnings);
+    size_t n = hx_cat(buf, sizeof buf, "iter=", it, ",time=", tm, ",ofnum=", of, ",warnings=", wn, ",halted=",
+                      r->halted ? "true" : "false", ",allstop=", r->allstop, NULL);
+    for (unsigned d = 0; d < hd->dim; d++)
+        if (r->decided[d] && clear) {
+            char dv[32];
+            hx_fmt_fixed(dv, sizeof dv, r->decision[d], 2);
+            n += hx_cat(buf + n, sizeof buf - n, ",var=", hd->var[d].name, ":", dv, NULL);
+        }
     const char *keys[4] = {"active_bhvs", "running_bhvs", "idle_bhvs", "completed_bhvs"};
     const char *vals[4] = {lists[0], lists[1], lists[2], cmpl};
-    for (int k = 0; k < 4 && n > 0 && (size_t)n < sizeof buf; k++) {
+    for (int k = 0; k < 4; k++) {
         char tmp[256];
         memcpy(tmp, vals[k], sizeof tmp);
         for (char *c = tmp; *c; c++)
             if (*c == ',')
                 *c = ':';
-        n += snprintf(buf + n, sizeof buf - (size_t)n, ",%s=%s", keys[k], tmp[0] ? tmp : "none");
+        n += hx_cat(buf + n, sizeof buf - n, ",", keys[k], "=", tmp[0] ? tmp : "none", NULL);
     }
     sink(h, "IVPHELM_SUMMARY", true, buf, 0, NULL);
     sink(h, "IVPHELM_IPF_CNT", false, NULL, (double)r->ofnum, NULL);

@@ -31,8 +31,14 @@ bool hx_pair(const char *s, kelp_helm_pair *out);
 bool hx_pair_value(const char *v, size_t n, kelp_helm_pair *out);
 /** A valid MOOS variable name: non-empty, fits, no blanks. */
 bool hx_varname(const char *s, size_t n);
-/** Format a double the way the helm writes numbers in text (%.10g, "-0" -> "0"). */
+/** Numbers as text without stdio (newlib's snprintf would pull in malloc on firmware):
+ *  hx_fmt_double: up to 6 decimals, trailing zeros dropped ("-0" -> "0"; >= 1e12 as m.mmmmmme+N);
+ *  hx_fmt_fixed: exactly dec decimals (rounded half away from zero). */
 void hx_fmt_double(char *buf, size_t cap, double v);
+void hx_fmt_fixed(char *buf, size_t cap, double v, unsigned dec);
+void hx_fmt_ulong(char *buf, size_t cap, unsigned long v);
+/** Concatenate NULL-terminated string arguments into buf (truncating); returns the length. */
+size_t hx_cat(char *buf, size_t cap, ...);
 
 /* helm internals used by bhv.c */
 void helm_queue_post(kelp_helm *h, kelp_bhv *b, const char *var, bool is_str, const char *sval, double dval,

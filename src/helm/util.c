@@ -1,6 +1,6 @@
 /* kelp helm: small text helpers (trim, case, numbers, variable-value pairs, hashing). */
 #include <math.h>
-#include <stdio.h>
+#include <stdarg.h>
 #include <string.h>
 #include <kelp/mission.h>
 #include "helm_int.h"
@@ -109,9 +109,99 @@ bool hx_pair(const char *s, kelp_helm_pair *out)
     return hx_pair_value(eq + 1, strlen(eq + 1), out);
 }
 
+void hx_fmt_ulong(char *buf, size_t cap, unsigned long v)
+{
+    char t[24];
+    size_t n = 0;
+    do {
+        t[n++] = (char)('0' + v % 10);
+        v /= 10;
+    } while (v && n < sizeof t);
+    size_t i = 0;
+    for (; i < n && i + 1 < cap; i++)
+        buf[i] = t[n - 1 - i];
+    if (cap)
+        buf[i < cap ? i : cap - 1] = '\0';
+}
+
+/* v with exactly dec decimals (|v| < 1e12), or shortest up to 6 decimals when strip. */
+static void fmt_fixed(char *buf, size_t cap, double v, unsigned dec, bool strip)
+{
+    if (cap == 0)
+        return;
+    if (!isfinite(v)) {
+        (void)hx_copy(buf, cap, isnan(v) ? "nan" : (v > 0 ? "inf" : "-inf"), isnan(v) ? 3 : (v > 0 ? 3 : 4));
+        return;
+    }
+    double scale = 1;
+    for (unsigned i = 0; i < dec; i++)
+        scale *= 10;
+    bool neg = v < 0;
+    double a = floor(fabs(v) * scale + 0.5);
+    if (a == 0)
+        neg = false;
+    unsigned long long ip = (unsigned long long)(a / scale);
+    unsigned long long fp = (unsigned long long)(a - (double)ip * scale);
+    char t[48];
+    size_t n = 0;
+    if (neg)
+        t[n++] = '-';
+    char d[24];
+    hx_fmt_ulong(d, sizeof d, (unsigned long)ip);
+    for (const char *c = d; *c; c++)
+        t[n++] = *c;
+    if (dec) {
+        char f[16];
+        for (unsigned i = dec; i-- > 0;) {
+            f[i] = (char)('0' + fp % 10);
+            fp /= 10;
+        }
+        unsigned keep = dec;
+        if (strip)
+            while (keep && f[keep - 1] == '0')
+                keep--;
+        if (keep) {
+            t[n++] = '.';
+            for (unsigned i = 0; i < keep; i++)
+                t[n++] = f[i];
+        }
+    }
+    (void)hx_copy(buf, cap, t, n < cap ? n : cap - 1);
+}
+
+void hx_fmt_fixed(char *buf, size_t cap, double v, unsigned dec)
+{
+    if (fabs(v) >= 1e12) {
+        hx_fmt_double(buf, cap, v);
+        return;
+    }
+    fmt_fixed(buf, cap, v, dec > 9 ? 9 : dec, false);
+}
+
 void hx_fmt_double(char *buf, size_t cap, double v)
 {
-    if (v == 0)
-        v = 0; /* -0 -> 0 */
-    snprintf(buf, cap, "%.10g", v);
+    if (isfinite(v) && fabs(v) >= 1e12) {
+        int e = (int)floor(log10(fabs(v)));
+        double m = v / pow(10, e);
+        char mb[32], eb[16];
+        fmt_fixed(mb, sizeof mb, m, 6, true);
+        hx_fmt_ulong(eb, sizeof eb, (unsigned long)e);
+        hx_cat(buf, cap, mb, "e+", eb, NULL);
+        return;
+    }
+    fmt_fixed(buf, cap, v, 6, true);
+}
+
+size_t hx_cat(char *buf, size_t cap, ...)
+{
+    va_list ap;
+    size_t n = 0;
+    va_start(ap, cap);
+    for (const char *s = va_arg(ap, const char *); s; s = va_arg(ap, const char *))
+        for (; *s && n + 1 < cap; s++)
+            buf[n++] = *s;
+    va_end(ap);
+    if (cap)
+        buf[n] = '\0';
+    return n;
 }
