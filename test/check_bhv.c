@@ -285,7 +285,7 @@ START_TEST(number_text)
     ck_assert_str_eq(b, "124.00");
     hx_fmt_ulong(b, sizeof b, 4294967295ul);
     ck_assert_str_eq(b, "4294967295");
-    ck_assert_uint_eq(hx_cat(b, 6, "abc", "def", NULL), 5);
+    ck_assert_uint_eq(hx_cat(b, 6, "abc", "def", HX_END), 5);
     ck_assert_str_eq(b, "abcde");
 }
 END_TEST

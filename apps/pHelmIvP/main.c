@@ -69,7 +69,7 @@ static int parse_domain(kelp_app *app, const kelp_mission_node *n, kelp_helm_con
     if (kelp_parse_double(tok[1], strlen(tok[1]), &lo) || kelp_parse_double(tok[2], strlen(tok[2]), &hi) ||
         kelp_parse_long(tok[3], strlen(tok[3]), &pts) || pts < 1 || pts > 100000)
         return kelp_app_config_error(app, n, "Domain %s: bad low/high/points", tok[0]);
-    if (nt == 5 && strcmp(tok[4], "optional"))
+    if (nt == 5 && strcmp(tok[4], "optional") != 0)
         return kelp_app_config_error(app, n, "Domain %s: the fifth field may only be 'optional'", tok[0]);
     unsigned d = cfg->domain.dim;
     int rc = kelp_ivp_domain_add(&cfg->domain, tok[0], lo, hi, (uint32_t)pts);

@@ -113,14 +113,14 @@ static void post_polygon(kelp_bhv *b, bool active)
 {
     const kelp_bhv_loiter *s = &b->u.loiter;
     char buf[KELP_HELM_MAX_SVAL];
-    size_t n = hx_cat(buf, sizeof buf, "pts={", NULL);
+    size_t n = hx_cat(buf, sizeof buf, "pts={", HX_END);
     for (unsigned i = 0; i < s->ngiven; i++) {
         char x[32], y[32];
         hx_fmt_double(x, sizeof x, s->given[i].x);
         hx_fmt_double(y, sizeof y, s->given[i].y);
-        n += hx_cat(buf + n, sizeof buf - n, i ? ":" : "", x, ",", y, NULL);
+        n += hx_cat(buf + n, sizeof buf - n, i ? ":" : "", x, ",", y, HX_END);
     }
-    hx_cat(buf + n, sizeof buf - n, "},label=", b->name, ",active=", active ? "true" : "false", NULL);
+    hx_cat(buf + n, sizeof buf - n, "},label=", b->name, ",active=", active ? "true" : "false", HX_END);
     kelp_bhv_post_string(b, "VIEW_POLYGON", buf, NULL);
 }
 
@@ -175,7 +175,7 @@ static int loiter_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     hx_fmt_ulong(ix, sizeof ix, s->index);
     hx_fmt_ulong(vr, sizeof vr, s->laps_pts);
     hx_cat(rep, sizeof rep, "mode=", s->acquiring ? "acquiring" : "loitering", ",index=", ix, ",vertices_reached=", vr,
-           NULL);
+           HX_END);
     kelp_bhv_post_double(b, "LOITER_INDEX", (double)s->index, NULL);
     kelp_bhv_post_double(b, "LOITER_ACQUIRE", s->acquiring ? 1.0 : 0.0, NULL);
     kelp_bhv_post_string(b, "LOITER_REPORT", rep, NULL);

@@ -70,7 +70,7 @@ static void post_view_point(kelp_bhv *b, bool viewable)
     hx_fmt_double(x, sizeof x, s->nextpt.x);
     hx_fmt_double(y, sizeof y, s->nextpt.y);
     hx_cat(spec, sizeof spec, "label=", b->us[0] ? b->us : "vehicle", "'s next waypoint,type=waypoint,source=", b->name,
-           ",x=", x, ",y=", y, ",active=", viewable ? "true" : "false", NULL);
+           ",x=", x, ",y=", y, ",active=", viewable ? "true" : "false", HX_END);
     kelp_bhv_post_string(b, "VIEW_POINT", spec, NULL);
 }
 

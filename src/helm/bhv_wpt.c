@@ -108,15 +108,15 @@ static void post_seglist(kelp_bhv *b, bool active)
 {
     const kelp_bhv_wpt *s = &b->u.wpt;
     char buf[KELP_HELM_MAX_SVAL];
-    size_t n = hx_cat(buf, sizeof buf, "pts={", NULL);
+    size_t n = hx_cat(buf, sizeof buf, "pts={", HX_END);
     for (unsigned i = 0; i < s->npts; i++) {
         char x[32], y[32];
         kelp_bhv_pt p = point(s, i);
         hx_fmt_double(x, sizeof x, p.x);
         hx_fmt_double(y, sizeof y, p.y);
-        n += hx_cat(buf + n, sizeof buf - n, i ? ":" : "", x, ",", y, NULL);
+        n += hx_cat(buf + n, sizeof buf - n, i ? ":" : "", x, ",", y, HX_END);
     }
-    hx_cat(buf + n, sizeof buf - n, "},label=", b->name, ",active=", active ? "true" : "false", NULL);
+    hx_cat(buf + n, sizeof buf - n, "},label=", b->name, ",active=", active ? "true" : "false", HX_END);
     kelp_bhv_post_string(b, "VIEW_SEGLIST", buf, NULL);
 }
 
@@ -126,7 +126,7 @@ static void post_point(kelp_bhv *b, kelp_bhv_pt p, bool active)
     hx_fmt_double(x, sizeof x, p.x);
     hx_fmt_double(y, sizeof y, p.y);
     hx_cat(spec, sizeof spec, "label=", b->us[0] ? b->us : "vehicle", "'s next waypoint,type=waypoint,source=", b->name,
-           ",x=", x, ",y=", y, ",active=", active ? "true" : "false", NULL);
+           ",x=", x, ",y=", y, ",active=", active ? "true" : "false", HX_END);
     kelp_bhv_post_string(b, "VIEW_POINT", spec, NULL);
 }
 
@@ -153,7 +153,7 @@ static void post_stat(kelp_bhv *b, double dist)
     hx_fmt_fixed(ds, sizeof ds, dist, 0);
     hx_fmt_fixed(et, sizeof et, eta, 0);
     hx_cat(buf, sizeof buf, "vname=", b->us[0] ? b->us : "vehicle", ",behavior-name=", b->name, ",index=", ix, ",hits=", hc,
-           "/", ht, ",cycles=", cy, ",dist=", ds, ",eta=", et, NULL);
+           "/", ht, ",cycles=", cy, ",dist=", ds, ",eta=", et, HX_END);
     kelp_bhv_post_string(b, "WPT_STAT", buf, NULL);
     kelp_bhv_post_double(b, "WPT_INDEX", (double)s->index, NULL);
     kelp_bhv_post_double(b, "CYCLE_INDEX", (double)s->cycles, NULL);

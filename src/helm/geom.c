@@ -156,10 +156,7 @@ int bhv_zaic1(kelp_bhv *b, const kelp_helm_work *w, const char *var, double summ
     z.wrap = wrap;
     if (!z.ok) {
         char msg[KELP_IVP_MAX_WARN + 48];
-        size_t n = strlen(var);
-        memcpy(msg, var, n);
-        memcpy(msg + n, " ZAIC problems ", 16);
-        (void)hx_copy(msg + n + 15, sizeof msg - n - 15, z.warn, strlen(z.warn));
+        hx_cat(msg, sizeof msg, var, " ZAIC problems ", z.warn, HX_END);
         if (msg[0] >= 'a' && msg[0] <= 'z')
             msg[0] = (char)(msg[0] - 'a' + 'A');
         kelp_bhv_post_warning(b, msg);

@@ -199,7 +199,7 @@ int kelp_helm_load_bhv(kelp_helm *h, const kelp_mission *m)
                 b->fail = NULL;
                 if (kelp_bhv_set_param(b, key, val) < 0) {
                     char what[KELP_MAX_NAME + 96];
-                    hx_cat(what, sizeof what, ": bad parameter ", key, " (", b->fail ? b->fail : "rejected", ")", NULL);
+                    hx_cat(what, sizeof what, ": bad parameter ", key, " (", b->fail ? b->fail : "rejected", ")", HX_END);
                     return helm_fail(h, c->line, KELP_ERR_PARSE, "behaviour ", b->name, what);
                 }
             }
@@ -220,7 +220,7 @@ int kelp_helm_configured(kelp_helm *h)
         b->fail = NULL;
         if (b->ops->params_done && b->ops->params_done(b) < 0) {
             char what[KELP_MAX_NAME + 64];
-            hx_cat(what, sizeof what, ": ", b->fail ? b->fail : "bad configuration", NULL);
+            hx_cat(what, sizeof what, ": ", b->fail ? b->fail : "bad configuration", HX_END);
             return helm_fail(h, b->line, KELP_ERR_PARSE, "behaviour ", b->name, what);
         }
         if (b->dom.dim == 0)
@@ -261,7 +261,7 @@ void kelp_helm_start(kelp_helm *h, double now)
 
 static bool override_mail(kelp_helm *h, const char *var, const char *v)
 {
-    if (strcmp(var, "MOOS_MANUAL_OVERIDE") && strcmp(var, "MOOS_MANUAL_OVERRIDE"))
+    if (strcmp(var, "MOOS_MANUAL_OVERIDE") != 0 && strcmp(var, "MOOS_MANUAL_OVERRIDE") != 0)
         return false;
     if (v && hx_ieq(v, "false"))
         h->engaged = true;
@@ -301,7 +301,7 @@ static uint32_t qstr(kelp_helm *h, const char *s, bool *ok)
     return off;
 }
 
-void helm_queue_post(kelp_helm *h, kelp_bhv *b, const char *var, bool is_str, const char *sval, double dval,
+void helm_queue_post(kelp_helm *h, const kelp_bhv *b, const char *var, bool is_str, const char *sval, double dval,
                      const char *key)
 {
     if (h->nq >= KELP_HELM_MAX_POSTS) {
@@ -386,7 +386,7 @@ static void flush_posts(kelp_helm *h)
             h->rep.errors++;
         char it[24];
         hx_fmt_ulong(it, sizeof it, h->iteration);
-        hx_cat(aux, sizeof aux, it, ":", b->name, NULL);
+        hx_cat(aux, sizeof aux, it, ":", b->name, HX_END);
         sink(h, var, q->is_str, sv, q->dval, aux);
     }
     h->nq = 0;
@@ -515,7 +515,7 @@ static void check_updates(kelp_helm *h, kelp_bhv *b)
         if (!ok) {
             b->bad_updates++;
             char msg[KELP_HELM_MAX_SVAL];
-            hx_cat(msg, sizeof msg, "Faulty update for behavior: ", b->name, ". Bad parameter(s): ", bad, ".", NULL);
+            hx_cat(msg, sizeof msg, "Faulty update for behavior: ", b->name, ". Bad parameter(s): ", bad, ".", HX_END);
             kelp_bhv_post_string(b, "BHV_WARNING", msg, NULL);
         } else {
             made = true;
@@ -530,8 +530,8 @@ static void check_updates(kelp_helm *h, kelp_bhv *b)
         char g[24], f[24];
         hx_fmt_ulong(g, sizeof g, b->good_updates);
         hx_fmt_ulong(f, sizeof f, b->bad_updates);
-        hx_cat(var, sizeof var, "UH_", b->name, NULL);
-        hx_cat(msg, sizeof msg, g, " update(s), and ", f, " failure(s)", NULL);
+        hx_cat(var, sizeof var, "UH_", b->name, HX_END);
+        hx_cat(msg, sizeof msg, g, " update(s), and ", f, " failure(s)", HX_END);
         kelp_bhv_post_string(b, var, msg, NULL);
     }
 }
@@ -559,7 +559,7 @@ static kelp_bhv_state runnable(kelp_helm *h, kelp_bhv *b)
         if (t < 0 || now - t > b->starve_time) {
             char msg[KELP_MAX_NAME + 96], secs[32];
             hx_fmt_double(secs, sizeof secs, b->starve_time);
-            hx_cat(msg, sizeof msg, b->name, ": VarStarve: ", b->starve[i], " older than ", secs, " s", NULL);
+            hx_cat(msg, sizeof msg, b->name, ": VarStarve: ", b->starve[i], " older than ", secs, " s", HX_END);
             kelp_bhv_post_string(b, "BHV_ERROR", msg, NULL);
             b->state_ok = false;
             return KELP_BHV_IDLE;
@@ -639,7 +639,7 @@ static bool produce(kelp_helm *h, unsigned i, size_t *pool_used, bool *halted)
 
 static void desired_name(const char *var, char *out, size_t cap)
 {
-    hx_cat(out, cap, "DESIRED_", hx_ieq(var, "course") ? "heading" : var, NULL);
+    hx_cat(out, cap, "DESIRED_", hx_ieq(var, "course") ? "heading" : var, HX_END);
     for (char *c = out + 8; *c; c++)
         if (*c >= 'a' && *c <= 'z')
             *c = (char)(*c - 'a' + 'A');
@@ -688,7 +688,7 @@ static void solve(kelp_helm *h, const bool *has_fn)
     int rc = kelp_ivp_solve(&h->prob, h->mem.solve_work, h->mem.solve_work_size, &res);
     if (rc < 0) {
         char msg[220];
-        hx_cat(msg, sizeof msg, "pHelmIvP: IvP solve failed: ", kelp_strerror(rc), " (", h->prob.err.msg, ")", NULL);
+        hx_cat(msg, sizeof msg, "pHelmIvP: IvP solve failed: ", kelp_strerror(rc), " (", h->prob.err.msg, ")", HX_END);
         sink(h, "BHV_ERROR", true, msg, 0, NULL);
         r->halted = true;
         return;
@@ -719,7 +719,7 @@ static void post_outputs(kelp_helm *h)
             if (!r->decided[d] && !h->cfg.optional[d])
                 list_append(missing, sizeof missing, hd->var[d].name, ',');
         if (missing[0]) {
-            hx_cat(r->allstop, sizeof r->allstop, "MissingDecVars:", missing, NULL);
+            hx_cat(r->allstop, sizeof r->allstop, "MissingDecVars:", missing, HX_END);
             sink(h, "BHV_ERROR", true, r->allstop, 0, NULL);
         }
     }
@@ -731,7 +731,7 @@ static void post_outputs(kelp_helm *h)
         else if (r->decided[d])
             sink(h, name, false, NULL, r->decision[d], NULL);
     }
-    if (strcmp(r->allstop, h->last_allstop)) {
+    if (strcmp(r->allstop, h->last_allstop) != 0) {
         sink(h, "IVPHELM_ALLSTOP", true, r->allstop, 0, NULL);
         memcpy(h->last_allstop, r->allstop, sizeof h->last_allstop);
     }
@@ -750,7 +750,7 @@ static void post_outputs(kelp_helm *h)
     }
     static const char *const lvar[3] = {"IVPHELM_BHV_ACTIVE", "IVPHELM_BHV_RUNNING", "IVPHELM_BHV_IDLE"};
     for (int k = 0; k < 3; k++)
-        if (h->iteration == 1 || strcmp(lists[k], h->last_lists[k])) {
+        if (h->iteration == 1 || strcmp(lists[k], h->last_lists[k]) != 0) {
             sink(h, lvar[k], true, lists[k], 0, NULL);
             memcpy(h->last_lists[k], lists[k], sizeof lists[k]);
         }
@@ -761,12 +761,12 @@ static void post_outputs(kelp_helm *h)
     hx_fmt_ulong(of, sizeof of, r->ofnum);
     hx_fmt_ulong(wn, sizeof wn, r->warnings);
     size_t n = hx_cat(buf, sizeof buf, "iter=", it, ",time=", tm, ",ofnum=", of, ",warnings=", wn, ",halted=",
-                      r->halted ? "true" : "false", ",allstop=", r->allstop, NULL);
+                      r->halted ? "true" : "false", ",allstop=", r->allstop, HX_END);
     for (unsigned d = 0; d < hd->dim; d++)
         if (r->decided[d] && clear) {
             char dv[32];
             hx_fmt_fixed(dv, sizeof dv, r->decision[d], 2);
-            n += hx_cat(buf + n, sizeof buf - n, ",var=", hd->var[d].name, ":", dv, NULL);
+            n += hx_cat(buf + n, sizeof buf - n, ",var=", hd->var[d].name, ":", dv, HX_END);
         }
     const char *keys[4] = {"active_bhvs", "running_bhvs", "idle_bhvs", "completed_bhvs"};
     const char *vals[4] = {lists[0], lists[1], lists[2], cmpl};
@@ -776,7 +776,7 @@ static void post_outputs(kelp_helm *h)
         for (char *c = tmp; *c; c++)
             if (*c == ',')
                 *c = ':';
-        n += hx_cat(buf + n, sizeof buf - n, ",", keys[k], "=", tmp[0] ? tmp : "none", NULL);
+        n += hx_cat(buf + n, sizeof buf - n, ",", keys[k], "=", tmp[0] ? tmp : "none", HX_END);
     }
     sink(h, "IVPHELM_SUMMARY", true, buf, 0, NULL);
     sink(h, "IVPHELM_IPF_CNT", false, NULL, (double)r->ofnum, NULL);
@@ -809,7 +809,7 @@ int kelp_helm_iterate(kelp_helm *h, double now)
     r->time = h->ib.curr_time;
     sink(h, "IVPHELM_STATE", true, h->engaged ? "DRIVE" : "PARK", 0, NULL);
     if (h->engaged) {
-        bool has_fn[KELP_HELM_MAX_BHVS];
+        bool has_fn[KELP_HELM_MAX_BHVS] = {false};
         size_t pool_used = 0;
         for (unsigned i = 0; i < h->nbhv; i++)
             has_fn[i] = produce(h, i, &pool_used, &r->halted);

@@ -39,9 +39,10 @@ void hx_fmt_fixed(char *buf, size_t cap, double v, unsigned dec);
 void hx_fmt_ulong(char *buf, size_t cap, unsigned long v);
 /** Concatenate NULL-terminated string arguments into buf (truncating); returns the length. */
 size_t hx_cat(char *buf, size_t cap, ...);
+#define HX_END ((const char *)0)
 
 /* helm internals used by bhv.c */
-void helm_queue_post(kelp_helm *h, kelp_bhv *b, const char *var, bool is_str, const char *sval, double dval,
+void helm_queue_post(kelp_helm *h, const kelp_bhv *b, const char *var, bool is_str, const char *sval, double dval,
                      const char *key);
 int helm_need_var(kelp_helm *h, const char *name, size_t n);
 void helm_post_flags(kelp_bhv *b, kelp_bhv_flag_kind kind);

@@ -186,7 +186,7 @@ void hx_fmt_double(char *buf, size_t cap, double v)
         char mb[32], eb[16];
         fmt_fixed(mb, sizeof mb, m, 6, true);
         hx_fmt_ulong(eb, sizeof eb, (unsigned long)e);
-        hx_cat(buf, cap, mb, "e+", eb, NULL);
+        hx_cat(buf, cap, mb, "e+", eb, HX_END);
         return;
     }
     fmt_fixed(buf, cap, v, 6, true);
