@@ -12,6 +12,7 @@ static void start(double x, double y, double hdg, double spd, double dep, double
     kelp_sim_params p;
     kelp_sim_params_default(&p);
     p.turn_rate = turn;
+    p.turn_speed = 0; /* turning at any speed: the closed forms below assume it */
     p.max_accel = acc;
     p.max_decel = dec;
     p.max_depth_rate = drate;
@@ -23,7 +24,7 @@ START_TEST(test_defaults)
 {
     kelp_sim_params p;
     kelp_sim_params_default(&p);
-    ck_assert(p.turn_rate == 20.0 && p.max_accel == 0.5 && p.max_decel == 0.5 && p.max_depth_rate == 0.5);
+    ck_assert(p.turn_rate == 20.0 && p.turn_speed == 0.5 && p.max_accel == 0.5 && p.max_decel == 0.5 && p.max_depth_rate == 0.5);
     ck_assert(p.step == 0.05 && p.max_speed == 0.0 && p.max_depth_rate_speed == 0.0);
 }
 END_TEST
@@ -72,6 +73,38 @@ START_TEST(test_turn_rate)
     ck_assert_int_eq(kelp_sim_set_heading(&S, 200), KELP_OK);
     ck_assert_int_eq(kelp_sim_step(&S, 1000.05), KELP_OK);
     ck_assert_double_eq_tol(S.s.heading, 200.0, 1e-9);
+}
+END_TEST
+
+START_TEST(test_turn_speed)
+{
+    /* stopped: no turn at all (an all-stop's DESIRED_HEADING 0 does not spin the vehicle) */
+    start(0, 0, 180, 0, 0, 10, 0.5, 0.5, 0.5);
+    S.p.turn_speed = 0.5;
+    ck_assert_int_eq(kelp_sim_set_heading(&S, 0), KELP_OK);
+    ck_assert_int_eq(kelp_sim_set_speed(&S, 0), KELP_OK);
+    ck_assert_int_eq(kelp_sim_step(&S, 1010.0), KELP_OK);
+    ck_assert_double_eq_tol(S.s.heading, 180.0, 1e-12);
+    /* at 0.25 m/s (half of turn_speed) the turn rate is halved: 5 deg/s */
+    start(0, 0, 0, 0.25, 0, 10, 0.5, 0.5, 0.5);
+    S.p.turn_speed = 0.5;
+    ck_assert_int_eq(kelp_sim_set_heading(&S, 90), KELP_OK);
+    ck_assert_int_eq(kelp_sim_step(&S, 1004.0), KELP_OK);
+    ck_assert_double_eq_tol(S.s.heading, 20.0, 1e-9);
+    /* at or above turn_speed: the full rate */
+    start(0, 0, 0, 0.5, 0, 10, 0.5, 0.5, 0.5);
+    S.p.turn_speed = 0.5;
+    ck_assert_int_eq(kelp_sim_set_heading(&S, 90), KELP_OK);
+    ck_assert_int_eq(kelp_sim_step(&S, 1004.0), KELP_OK);
+    ck_assert_double_eq_tol(S.s.heading, 40.0, 1e-9);
+    /* accelerating from rest: 0.5 m/s^2 reaches 0.5 m/s at 1 s; the heading change over the
+     * first second is the integral of 10 * v/0.5 = 10 * t -> 5 degrees */
+    start(0, 0, 0, 0.0, 0, 10, 0.5, 0.5, 0.5);
+    S.p.turn_speed = 0.5;
+    ck_assert_int_eq(kelp_sim_set_heading(&S, 90), KELP_OK);
+    ck_assert_int_eq(kelp_sim_set_speed(&S, 2), KELP_OK);
+    ck_assert_int_eq(kelp_sim_step(&S, 1001.0), KELP_OK);
+    ck_assert_double_eq_tol(S.s.heading, 5.0, 1e-9);
 }
 END_TEST
 
@@ -268,6 +301,7 @@ Suite *kelp_sim_suite(void)
     tcase_add_test(tc, test_hold_course);
     tcase_add_test(tc, test_straight_south_west);
     tcase_add_test(tc, test_turn_rate);
+    tcase_add_test(tc, test_turn_speed);
     tcase_add_test(tc, test_accel_decel);
     tcase_add_test(tc, test_depth_rate);
     tcase_add_test(tc, test_circle);

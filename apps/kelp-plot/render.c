@@ -479,32 +479,37 @@ static void draw_tracks(cairo_t *cr, const plot_scene *s, const view_map *m, dou
     }
 }
 
+static void draw_track_starts(cairo_t *cr, const plot_scene *s, const view_map *m)
+{
+    for (size_t i = 0; i < s->ntracks; i++) {
+        const plot_track *t = &s->tracks[i];
+        if (!t->n || !ok_coord(t->pts[0].x) || !ok_coord(t->pts[0].y)) continue;
+        const double *c = palette[i % NPAL];
+        cairo_new_sub_path(cr);
+        cairo_arc(cr, X(m, t->pts[0].x), Y(m, t->pts[0].y), 6, 0, 2 * M_PI);
+        cairo_set_source_rgba(cr, 1, 1, 1, 1);
+        cairo_fill_preserve(cr);
+        set_rgb(cr, c, 1);
+        cairo_set_line_width(cr, 2.4);
+        cairo_stroke(cr);
+    }
+}
+
 static void draw_track_ends(cairo_t *cr, const plot_scene *s, const view_map *m)
 {
-    /* start rings, end glyphs, names */
     for (size_t i = 0; i < s->ntracks; i++) {
         const plot_track *t = &s->tracks[i];
         if (!t->n) continue;
         const double *c = palette[i % NPAL];
-        const plot_pt *a = &t->pts[0], *b = &t->pts[t->n - 1];
-        if (ok_coord(a->x) && ok_coord(a->y)) {
-            cairo_new_sub_path(cr);
-            cairo_arc(cr, X(m, a->x), Y(m, a->y), 6, 0, 2 * M_PI);
-            cairo_set_source_rgba(cr, 1, 1, 1, 1);
-            cairo_fill_preserve(cr);
-            set_rgb(cr, c, 1);
-            cairo_set_line_width(cr, 2.4);
-            cairo_stroke(cr);
+        const plot_pt *b = &t->pts[t->n - 1];
+        if (!ok_coord(b->x) || !ok_coord(b->y)) continue;
+        double hdg = b->hdg;
+        if (!isfinite(hdg) && t->n >= 2) {
+            const plot_pt *p = &t->pts[t->n - 2];
+            hdg = atan2(b->x - p->x, b->y - p->y) * 180 / M_PI;
         }
-        if (ok_coord(b->x) && ok_coord(b->y)) {
-            double hdg = b->hdg;
-            if (!isfinite(hdg) && t->n >= 2) {
-                const plot_pt *p = &t->pts[t->n - 2];
-                hdg = atan2(b->x - p->x, b->y - p->y) * 180 / M_PI;
-            }
-            vehicle(cr, X(m, b->x), Y(m, b->y), hdg, 22, c);
-            text(cr, X(m, b->x) + 14, Y(m, b->y) - 12, t->name, 15, true, c, A_LEFT, true);
-        }
+        vehicle(cr, X(m, b->x), Y(m, b->y), hdg, 22, c);
+        text(cr, X(m, b->x) + 14, Y(m, b->y) - 12, t->name, 15, true, c, A_LEFT, true);
     }
 }
 
@@ -769,6 +774,7 @@ static void draw(cairo_t *cr, const plot_scene *s, const plot_opts *o)
     double tick = tick_period(dur > 0 ? dur : 60);
     draw_views(cr, s, &m, o, 0);
     draw_tracks(cr, s, &m, tick);
+    draw_track_starts(cr, s, &m);
     draw_views(cr, s, &m, o, 1);
     draw_point_labels(cr, s, &m);
     draw_track_ends(cr, s, &m);

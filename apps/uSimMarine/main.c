@@ -55,6 +55,7 @@ static int startup(kelp_app *app, void *st)
     if ((rc = num_param(app, "START_SPEED", 0, &s.speed)) < 0) return rc;
     if ((rc = num_param(app, "START_DEPTH", 0, &s.depth)) < 0) return rc;
     if ((rc = num_param(app, "TURN_RATE", 0, &p.turn_rate)) < 0) return rc;
+    if ((rc = num_param(app, "TURN_SPEED", 0, &p.turn_speed)) < 0) return rc;
     if ((rc = num_param(app, "MAX_ACCELERATION", 0, &p.max_accel)) < 0) return rc;
     if ((rc = num_param(app, "MAX_DECELERATION", 0, &p.max_decel)) < 0) return rc;
     if ((rc = num_param(app, "MAX_DEPTH_RATE", 0, &p.max_depth_rate)) < 0) return rc;
@@ -164,8 +165,8 @@ static void report(kelp_app *app, void *st, FILE *out)
     fprintf(out, "  %-8s %10.2f %10.2f %9.2f %8.2f %8.2f\n", "state", s->x, s->y, s->heading, s->speed, s->depth);
     fprintf(out, "  %-8s %10s %10s %9.2f %8.2f %8.2f\n", "desired", "", "", u->sim.des_heading, u->sim.des_speed,
             u->sim.des_depth);
-    fprintf(out, "Limits: turn %g deg/s, accel %g m/s^2, decel %g m/s^2, depth rate %g m/s (0 = none)\n",
-            u->sim.p.turn_rate, u->sim.p.max_accel, u->sim.p.max_decel, u->sim.p.max_depth_rate);
+    fprintf(out, "Limits: turn %g deg/s (full from %g m/s), accel %g m/s^2, decel %g m/s^2, depth rate %g m/s (0 = none)\n",
+            u->sim.p.turn_rate, u->sim.p.turn_speed, u->sim.p.max_accel, u->sim.p.max_decel, u->sim.p.max_depth_rate);
     fprintf(out, "Odometer %.1f m; DESIRED_* mail: heading %lu, speed %lu, depth %lu; bad %lu; resets %lu\n",
             u->sim.odometer, u->des_mail[0], u->des_mail[1], u->des_mail[2], u->bad_mail, u->resets);
     if (u->have_geo) fprintf(out, "Datum: LatOrigin %.6f LongOrigin %.6f\n", u->geo.lat0, u->geo.lon0);
@@ -179,6 +180,7 @@ static const kelp_app_def def = {
                "  // START_X = 0, START_Y = 0, START_HEADING = 180, START_SPEED = 0, START_DEPTH = 0\n"
                "  PREFIX    = NAV\n\n"
                "  TURN_RATE            = 20    // deg/s (0 = turn at once)\n"
+               "  TURN_SPEED           = 0.5   // m/s: below it the turn rate scales with speed (0 = off)\n"
                "  MAX_ACCELERATION     = 0.5   // m/s^2 (0 = no limit)\n"
                "  MAX_DECELERATION     = 0.5   // m/s^2 (0 = no limit)\n"
                "  MAX_DEPTH_RATE       = 0.5   // m/s (0 = no limit)\n"

@@ -2,7 +2,10 @@
  *
  * The vehicle follows its desired heading, speed and depth (DESIRED_HEADING/SPEED/DEPTH from
  * the helm) within rate limits:
- *   heading  turns the short way round at up to turn_rate deg/s
+ *   heading  turns the short way round at up to turn_rate deg/s; below turn_speed m/s that
+ *            rate is scaled by speed / turn_speed (a vehicle without way on does not turn,
+ *            as a rudder needs flow; so an all-stop's DESIRED_HEADING = 0 does not spin a
+ *            stopped vehicle)
  *   speed    rises at up to max_accel m/s^2 and falls at up to max_decel m/s^2
  *   depth    changes at up to max_depth_rate m/s; with max_depth_rate_speed > 0 that limit
  *            is scaled by min(1, speed / max_depth_rate_speed) (a vehicle needs way on to
@@ -24,6 +27,7 @@
 
 typedef struct kelp_sim_params {
     double turn_rate;            /**< deg/s (default 20); 0 = turn at once */
+    double turn_speed;           /**< m/s (default 0.5): full turn rate from this speed up; 0 = always */
     double max_accel;            /**< m/s^2 (default 0.5); 0 = no limit */
     double max_decel;            /**< m/s^2 (default 0.5); 0 = no limit */
     double max_depth_rate;       /**< m/s (default 0.5); 0 = no limit */

@@ -33,6 +33,7 @@ double kelp_sim_bearing(double x0, double y0, double x1, double y1)
 void kelp_sim_params_default(kelp_sim_params *p)
 {
     p->turn_rate = 20.0;
+    p->turn_speed = 0.5;
     p->max_accel = 0.5;
     p->max_decel = 0.5;
     p->max_depth_rate = 0.5;
@@ -46,7 +47,7 @@ static bool nonneg(double v) { return isfinite(v) && v >= 0.0; }
 int kelp_sim_init(kelp_sim *sim, const kelp_sim_params *p, const kelp_sim_state *start, double now)
 {
     if (!sim || !p || !start || !isfinite(now)) return KELP_ERR_ARG;
-    if (!nonneg(p->turn_rate) || !nonneg(p->max_accel) || !nonneg(p->max_decel) || !nonneg(p->max_depth_rate) ||
+    if (!nonneg(p->turn_rate) || !nonneg(p->turn_speed) || !nonneg(p->max_accel) || !nonneg(p->max_decel) || !nonneg(p->max_depth_rate) ||
         !nonneg(p->max_depth_rate_speed) || !nonneg(p->max_speed) || !isfinite(p->step) || p->step <= 0.0)
         return KELP_ERR_ARG;
     if (!isfinite(start->x) || !isfinite(start->y) || !isfinite(start->heading) || !nonneg(start->speed) ||
@@ -98,18 +99,24 @@ static void substep(kelp_sim *sim, double h)
 {
     const kelp_sim_params *p = &sim->p;
     kelp_sim_state *s = &sim->s;
-    /* heading: the short way round, at most turn_rate*h */
-    double dh = kelp_sim_angle180(sim->des_heading - s->heading);
-    double maxdh = p->turn_rate * h;
-    if (p->turn_rate > 0.0 && fabs(dh) > maxdh) dh = dh > 0 ? maxdh : -maxdh;
-    double hmid = s->heading + dh / 2.0;
-    s->heading = kelp_sim_angle360(s->heading + dh);
     /* speed: separate acceleration and deceleration limits */
     double v0 = s->speed;
     double lim = sim->des_speed > v0 ? p->max_accel : p->max_decel;
     s->speed = approach(v0, sim->des_speed, lim > 0.0 ? lim * h : 0.0);
     if (s->speed < 0.0) s->speed = 0.0;
     double vmid = (v0 + s->speed) / 2.0;
+    /* heading: the short way round, at most turn_rate*h, scaled down below turn_speed */
+    double dh = kelp_sim_angle180(sim->des_heading - s->heading);
+    if (p->turn_rate > 0.0) {
+        double rate = p->turn_rate;
+        if (p->turn_speed > 0.0 && vmid < p->turn_speed) rate *= vmid / p->turn_speed;
+        double maxdh = rate * h;
+        if (fabs(dh) > maxdh) dh = dh > 0 ? maxdh : -maxdh;
+    } else if (p->turn_speed > 0.0 && vmid <= 0.0) {
+        dh = 0.0;
+    }
+    double hmid = s->heading + dh / 2.0;
+    s->heading = kelp_sim_angle360(s->heading + dh);
     /* depth: rate limit, optionally scaled by speed; never above the surface */
     if (p->max_depth_rate > 0.0) {
         double rate = p->max_depth_rate;
