@@ -153,7 +153,8 @@ static int offline(int argc, char **argv)
 
 typedef struct live {
     plot_scene s;
-    char image[512], svg[512], title[128];
+    char image[512], svg[512], title[128], table[512];
+    double table_period, table_last;
     bool pulses;
     unsigned long mail;
 } live;
@@ -167,6 +168,12 @@ static int live_startup(kelp_app *app, void *st)
     if (kelp_app_param_str(app, "SVG", l->svg, sizeof l->svg) < 0) return -1;
     if (kelp_app_param_str(app, "TITLE", l->title, sizeof l->title) < 0) return -1;
     if (kelp_app_param_bool(app, "SHOW_PULSES", &l->pulses) < 0) return -1;
+    if (kelp_app_param_str(app, "TABLE_FILE", l->table, sizeof l->table) < 0) return -1;
+    l->table_period = 5;
+    const kelp_mission_node *n = kelp_app_param(app, "TABLE_PERIOD");
+    if (n && (kelp_mission_double(n, &l->table_period) < 0 || !(l->table_period > 0)))
+        return kelp_app_config_error(app, n, "TABLE_PERIOD must be a number of seconds > 0");
+    l->table_last = -INFINITY;
     const char *vars[] = {"NODE_REPORT", "NODE_REPORT_LOCAL", "VIEW_*", "NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"};
     for (size_t i = 0; i < sizeof vars / sizeof vars[0]; i++)
         if (kelp_app_register(app, vars[i], 0) < 0) return kelp_app_config_error(app, NULL, "cannot register %s", vars[i]);
@@ -181,10 +188,8 @@ static void live_mail(kelp_app *app, void *st, const kelp_var *v)
     if (!(v->flags & KELP_VAR_FLAG_SYNC)) scene_add_var(&l->s, v);
 }
 
-static void live_report(kelp_app *app, void *st, FILE *out)
+static void vehicle_table(live *l, double now, FILE *out)
 {
-    live *l = st;
-    double now = kelp_app_time(app);
     fprintf(out, "%-10s %-6s %9s %9s %6s %7s %6s %-22s %7s %8s %6s\n", "Vehicle", "Type", "X", "Y", "Spd", "Hdg",
             "Dep", "Mode", "Reports", "Dist(m)", "Age(s)");
     fprintf(out, "%-10s %-6s %9s %9s %6s %7s %6s %-22s %7s %8s %6s\n", "-------", "----", "-", "-", "---", "---", "---",
@@ -210,6 +215,36 @@ static void live_report(kelp_app *app, void *st, FILE *out)
             l->s.bad_views, l->s.last_bad[0] ? "; last: " : "", l->s.last_bad);
 }
 
+static void live_report(kelp_app *app, void *st, FILE *out)
+{
+    vehicle_table(st, kelp_app_time(app), out);
+}
+
+/* the table also goes to TABLE_FILE (replaced atomically) every TABLE_PERIOD s of MOOS time */
+static void write_table(kelp_app *app, live *l, double now)
+{
+    char tmp[600];
+    snprintf(tmp, sizeof tmp, "%s.tmp", l->table);
+    FILE *f = fopen(tmp, "w");
+    if (!f) {
+        kelp_app_run_warning(app, "cannot write %s", tmp);
+        return;
+    }
+    fprintf(f, "Shoreside (%s) at MOOS time +%.0f s\n", kelp_app_community(app), now - kelp_app_start_time(app));
+    vehicle_table(l, now, f);
+    if (fclose(f) != 0 || rename(tmp, l->table) != 0) kelp_app_run_warning(app, "cannot write %s", l->table);
+}
+
+static int live_iterate(kelp_app *app, void *st, double now)
+{
+    live *l = st;
+    if (l->table[0] && now - l->table_last >= l->table_period) {
+        write_table(app, l, now);
+        l->table_last = now;
+    }
+    return 0;
+}
+
 static void live_shutdown(kelp_app *app, void *st)
 {
     live *l = st;
@@ -225,6 +260,7 @@ static void live_shutdown(kelp_app *app, void *st)
             if (plot_render(&l->s, &o, outs[i]) == 0) kelp_app_event(app, "wrote %s", outs[i]);
             else kelp_app_run_warning(app, "cannot write %s", outs[i]);
         }
+    if (l->table[0]) write_table(app, l, kelp_app_time(app));
     plot_print_summary(&l->s, stdout);
 }
 
@@ -235,11 +271,14 @@ static const kelp_app_def live_def = {
                "  IMAGE = mission.png        // written when the app stops (optional)\n"
                "  SVG   = mission.svg        // likewise (optional)\n"
                "  TITLE = Fleet demo         // picture title (optional)\n"
-               "  SHOW_PULSES = true         // draw comms/range pulses\n}\n",
+               "  SHOW_PULSES = true         // draw comms/range pulses\n"
+               "  TABLE_FILE  = vehicles.txt // the vehicle table, rewritten every TABLE_PERIOD (optional)\n"
+               "  TABLE_PERIOD = 5           // seconds of MOOS time\n}\n",
     .interface = "Subscribes: NODE_REPORT, NODE_REPORT_LOCAL, VIEW_*, NAV_X, NAV_Y, NAV_HEADING, NAV_SPEED\n"
                  "Publishes:  nothing (the status report holds the vehicle table)\n",
     .startup = live_startup,
     .on_mail = live_mail,
+    .iterate = live_iterate,
     .report = live_report,
     .shutdown = live_shutdown,
 };

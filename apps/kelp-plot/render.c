@@ -105,6 +105,52 @@ static void text(cairo_t *cr, double x, double y, const char *str, double size, 
     cairo_new_path(cr);
 }
 
+/* labels that avoid each other: candidate spots around the anchor, the first free one wins */
+typedef struct lbox {
+    double x0, y0, x1, y1;
+} lbox;
+
+typedef struct placer {
+    lbox b[1024];
+    int n;
+} placer;
+
+static void placer_add(placer *p, double x0, double y0, double x1, double y1)
+{
+    if (p->n < (int)(sizeof p->b / sizeof p->b[0])) p->b[p->n++] = (lbox){x0, y0, x1, y1};
+}
+
+static bool placer_free(const placer *p, lbox b)
+{
+    for (int i = 0; i < p->n; i++)
+        if (b.x0 < p->b[i].x1 && b.x1 > p->b[i].x0 && b.y0 < p->b[i].y1 && b.y1 > p->b[i].y0) return false;
+    return true;
+}
+
+/* choose where to put `str` near (ax, ay): baseline-left in *tx, *ty; the spot is taken */
+static void place(cairo_t *cr, placer *p, double ax, double ay, const char *str, double size, bool bold, double *tx,
+                  double *ty)
+{
+    cairo_select_font_face(cr, FONT, CAIRO_FONT_SLANT_NORMAL, bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
+    cairo_set_font_size(cr, size);
+    cairo_text_extents_t e;
+    cairo_text_extents(cr, str, &e);
+    double w = e.x_advance;
+    const double cand[][2] = {{12, -10}, {12, 18}, {-12 - w, -10}, {-12 - w, 18}, {-w / 2, -16}, {-w / 2, 28},
+                              {16, -30}, {-16 - w, -30}, {16, 38}, {-16 - w, 38}, {-w / 2, -40}, {-w / 2, 52}};
+    int best = 0;
+    for (int i = 0; i < (int)(sizeof cand / sizeof cand[0]); i++) {
+        lbox b = {ax + cand[i][0] - 2, ay + cand[i][1] - size, ax + cand[i][0] + w + 2, ay + cand[i][1] + 4};
+        if (placer_free(p, b)) {
+            best = i;
+            break;
+        }
+    }
+    *tx = ax + cand[best][0];
+    *ty = ay + cand[best][1];
+    placer_add(p, *tx - 2, *ty - size, *tx + w + 2, *ty + 4);
+}
+
 /* ------------------------------------------------------------------ bounds, grid */
 
 typedef struct bbox {
@@ -329,29 +375,32 @@ static void draw_views(cairo_t *cr, const plot_scene *s, const view_map *m, cons
             break;
         }
         case KELP_VIEW_SEGLIST: {
-            if (pass != 0 || v->npts == 0) break;
+            if (v->npts == 0) break;
             if (!art_color(s, pv, v->edge_color, 0x5b6b7f, ec)) break;
-            bool first = true;
-            for (size_t j = 0; j < v->npts; j++) {
-                if (!ok_coord(v->pts[j][0]) || !ok_coord(v->pts[j][1])) continue;
-                if (first) cairo_move_to(cr, X(m, v->pts[j][0]), Y(m, v->pts[j][1]));
-                else cairo_line_to(cr, X(m, v->pts[j][0]), Y(m, v->pts[j][1]));
-                first = false;
-            }
-            double d[2] = {7, 5};
-            cairo_set_dash(cr, d, 2, 0);
-            set_rgb(cr, ec, v->active ? 0.75 : 0.35);
-            cairo_set_line_width(cr, 1.5);
-            cairo_stroke(cr);
-            cairo_set_dash(cr, NULL, 0, 0);
-            for (size_t j = 0; j < v->npts; j++) {
-                if (!ok_coord(v->pts[j][0]) || !ok_coord(v->pts[j][1])) continue;
-                cairo_rectangle(cr, X(m, v->pts[j][0]) - 3, Y(m, v->pts[j][1]) - 3, 6, 6);
-                cairo_set_source_rgba(cr, 1, 1, 1, 1);
-                cairo_fill_preserve(cr);
-                set_rgb(cr, ec, 0.9);
-                cairo_set_line_width(cr, 1.3);
+            if (pass == 0) { /* the path under the tracks */
+                bool first = true;
+                for (size_t j = 0; j < v->npts; j++) {
+                    if (!ok_coord(v->pts[j][0]) || !ok_coord(v->pts[j][1])) continue;
+                    if (first) cairo_move_to(cr, X(m, v->pts[j][0]), Y(m, v->pts[j][1]));
+                    else cairo_line_to(cr, X(m, v->pts[j][0]), Y(m, v->pts[j][1]));
+                    first = false;
+                }
+                double d[2] = {7, 5};
+                cairo_set_dash(cr, d, 2, 0);
+                set_rgb(cr, ec, v->active ? 0.8 : 0.55);
+                cairo_set_line_width(cr, 1.4);
                 cairo_stroke(cr);
+                cairo_set_dash(cr, NULL, 0, 0);
+            } else { /* its vertices over them */
+                for (size_t j = 0; j < v->npts; j++) {
+                    if (!ok_coord(v->pts[j][0]) || !ok_coord(v->pts[j][1])) continue;
+                    cairo_rectangle(cr, X(m, v->pts[j][0]) - 3.5, Y(m, v->pts[j][1]) - 3.5, 7, 7);
+                    cairo_set_source_rgba(cr, 1, 1, 1, 1);
+                    cairo_fill_preserve(cr);
+                    set_rgb(cr, ec, 1);
+                    cairo_set_line_width(cr, 1.6);
+                    cairo_stroke(cr);
+                }
             }
             break;
         }
@@ -397,7 +446,7 @@ static void draw_views(cairo_t *cr, const plot_scene *s, const view_map *m, cons
 }
 
 /* point labels: one per distinct (position, label), so repeated postings do not pile up */
-static void draw_point_labels(cairo_t *cr, const plot_scene *s, const view_map *m)
+static void draw_point_labels(cairo_t *cr, const plot_scene *s, const view_map *m, placer *pl)
 {
     static const double c[3] = {0.29, 0.35, 0.42};
     for (size_t i = 0; i < s->nviews; i++) {
@@ -414,7 +463,9 @@ static void draw_point_labels(cairo_t *cr, const plot_scene *s, const view_map *
         fmt_num(xs, sizeof xs, v->x, 0.1);
         fmt_num(ys, sizeof ys, v->y, 0.1);
         snprintf(buf, sizeof buf, "(%s, %s)", xs, ys);
-        text(cr, X(m, v->x) + 9, Y(m, v->y) + 17, buf, 10.5, false, c, A_LEFT, true);
+        double tx, ty;
+        place(cr, pl, X(m, v->x), Y(m, v->y), buf, 10.5, false, &tx, &ty);
+        text(cr, tx, ty, buf, 10.5, false, c, A_LEFT, true);
     }
 }
 
@@ -495,7 +546,25 @@ static void draw_track_starts(cairo_t *cr, const plot_scene *s, const view_map *
     }
 }
 
-static void draw_track_ends(cairo_t *cr, const plot_scene *s, const view_map *m)
+/* reserve the glyphs and rings, then the vehicle names (before any other label) */
+static void place_names(cairo_t *cr, const plot_scene *s, const view_map *m, placer *pl, double (*at)[2])
+{
+    for (size_t i = 0; i < s->ntracks; i++) {
+        const plot_track *t = &s->tracks[i];
+        if (!t->n) continue;
+        const plot_pt *a = &t->pts[0], *b = &t->pts[t->n - 1];
+        if (ok_coord(a->x) && ok_coord(a->y)) placer_add(pl, X(m, a->x) - 7, Y(m, a->y) - 7, X(m, a->x) + 7, Y(m, a->y) + 7);
+        if (ok_coord(b->x) && ok_coord(b->y))
+            placer_add(pl, X(m, b->x) - 11, Y(m, b->y) - 11, X(m, b->x) + 11, Y(m, b->y) + 11);
+    }
+    for (size_t i = 0; i < s->ntracks && i < 64; i++) {
+        const plot_track *t = &s->tracks[i];
+        if (!t->n || !ok_coord(t->pts[t->n - 1].x) || !ok_coord(t->pts[t->n - 1].y)) continue;
+        place(cr, pl, X(m, t->pts[t->n - 1].x), Y(m, t->pts[t->n - 1].y), t->name, 15, true, &at[i][0], &at[i][1]);
+    }
+}
+
+static void draw_track_ends(cairo_t *cr, const plot_scene *s, const view_map *m, double (*at)[2])
 {
     for (size_t i = 0; i < s->ntracks; i++) {
         const plot_track *t = &s->tracks[i];
@@ -509,7 +578,7 @@ static void draw_track_ends(cairo_t *cr, const plot_scene *s, const view_map *m)
             hdg = atan2(b->x - p->x, b->y - p->y) * 180 / M_PI;
         }
         vehicle(cr, X(m, b->x), Y(m, b->y), hdg, 22, c);
-        text(cr, X(m, b->x) + 14, Y(m, b->y) - 12, t->name, 15, true, c, A_LEFT, true);
+        if (i < 64) text(cr, at[i][0], at[i][1], t->name, 15, true, c, A_LEFT, true);
     }
 }
 
@@ -776,8 +845,12 @@ static void draw(cairo_t *cr, const plot_scene *s, const plot_opts *o)
     draw_tracks(cr, s, &m, tick);
     draw_track_starts(cr, s, &m);
     draw_views(cr, s, &m, o, 1);
-    draw_point_labels(cr, s, &m);
-    draw_track_ends(cr, s, &m);
+    static placer pl;
+    pl.n = 0;
+    double name_at[64][2];
+    place_names(cr, s, &m, &pl, name_at);
+    draw_point_labels(cr, s, &m, &pl);
+    draw_track_ends(cr, s, &m, name_at);
     if (!s->ntracks && !s->nviews)
         text(cr, m.ox, m.oy, "nothing to draw: no vehicle positions or VIEW_* postings", 16, false, mid, A_CENTER, true);
 

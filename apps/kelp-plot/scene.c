@@ -70,9 +70,8 @@ static bool same_key(const plot_view *a, const kelp_view *b, const char *communi
     if (a->v.kind != b->kind || strcmp(a->v.label, b->label) != 0) return false;
     /* points of different behaviours may share a label ("alder's next waypoint") */
     if (b->kind == KELP_VIEW_POINT && strcmp(a->v.source, b->source) != 0) return false;
-    /* unlabelled artifacts of different communities are different objects */
-    if (!b->label[0] && strcmp(a->community, community) != 0) return false;
-    return true;
+    /* the same label from two communities: two vehicles' behaviours of the same name */
+    return strcmp(a->community, community) == 0;
 }
 
 static void add_view(plot_scene *s, const kelp_var *var, kelp_view_kind kind)

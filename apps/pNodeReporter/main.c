@@ -23,7 +23,7 @@ typedef struct nrep {
     kelp_geo geo;
     bool have_geo;
     char helm_state[KELP_NODEREPORT_MAX_FIELD], helm_modes[KELP_NODEREPORT_MAX_FIELD], mode[KELP_NODEREPORT_MAX_FIELD];
-    char allstop[KELP_NODEREPORT_MAX_FIELD];
+    char allstop[KELP_NODEREPORT_MAX_FIELD], helm_active[KELP_NODEREPORT_MAX_FIELD];
     bool fresh;
     unsigned long posted, nav_mail, bad_mail;
     char last[KELP_NODEREPORT_MAX_LEN];
@@ -116,8 +116,15 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
     } else if (strcmp(v->name, "IVPHELM_ALLSTOP") == 0) {
         copy_field(r->allstop, v->sval);
     } else if (strcmp(v->name, "IVPHELM_SUMMARY") == 0) {
+        /* MOOS-IvP helm modes ("modes=MODE@ACTIVE:LOITERING") when present, else the active
+         * behaviours of kelp's helm ("active_bhvs=survey") */
         char modes[KELP_NODEREPORT_MAX_FIELD * 2];
-        if (kelp_kv_get(v->sval, ',', "modes", modes, sizeof modes) == 1) copy_field(r->helm_modes, modes);
+        if (kelp_kv_get(v->sval, ',', "modes", modes, sizeof modes) == 1) {
+            copy_field(r->helm_modes, modes);
+        } else if (kelp_kv_get(v->sval, ',', "active_bhvs", modes, sizeof modes) == 1) {
+            if (!strcmp(modes, "none")) r->helm_active[0] = 0;
+            else copy_field(r->helm_active, modes);
+        }
     } else if (r->mode_var[0] && strcmp(v->name, r->mode_var) == 0) {
         copy_field(r->mode, v->sval);
     }
@@ -142,9 +149,18 @@ static int iterate(kelp_app *app, void *st, double now)
     n.depth = r->nav[N_DEP];
     n.fields |= KELP_NR_SPD | KELP_NR_HDG | KELP_NR_DEPTH;
     if (r->have_length) n.length = r->length, n.fields |= KELP_NR_LENGTH;
-    /* MODE: MODE_VAR if configured, else the helm summary's modes, else the helm state */
-    const char *mode = r->mode[0] ? r->mode : r->helm_modes[0] ? r->helm_modes : r->helm_state;
-    if (mode[0]) memcpy(n.mode, mode, sizeof n.mode), n.fields |= KELP_NR_MODE;
+    /* MODE: MODE_VAR if configured, else the helm summary's modes, else the helm state with its
+     * active behaviours ("DRIVE@survey") */
+    char hm[KELP_NODEREPORT_MAX_FIELD * 2 + 2];
+    snprintf(hm, sizeof hm, "%s%s%s", r->helm_state, r->helm_state[0] && r->helm_active[0] ? "@" : "", r->helm_active);
+    const char *mode = r->mode[0] ? r->mode : r->helm_modes[0] ? r->helm_modes : hm;
+    if (mode[0]) {
+        size_t ml = strlen(mode);
+        if (ml >= sizeof n.mode) ml = sizeof n.mode - 1; /* bounded: a long behaviour list is cut */
+        memcpy(n.mode, mode, ml);
+        n.mode[ml] = 0;
+        n.fields |= KELP_NR_MODE;
+    }
     if (r->allstop[0]) memcpy(n.allstop, r->allstop, sizeof n.allstop), n.fields |= KELP_NR_ALLSTOP;
     if (r->group[0]) memcpy(n.group, r->group, sizeof n.group), n.fields |= KELP_NR_GROUP;
     size_t len;
@@ -181,7 +197,8 @@ static const kelp_app_def def = {
                "  // NODE_REPORT_OUTPUT = NODE_REPORT_LOCAL\n}\n"
                "Globals used: LatOrigin, LongOrigin (LAT/LON from X/Y, or X/Y from LAT/LON).\n",
     .interface = "Subscribes: NAV_X, NAV_Y, NAV_LAT, NAV_LONG, NAV_SPEED, NAV_HEADING, NAV_DEPTH (double)\n"
-                 "            IVPHELM_STATE, IVPHELM_SUMMARY (modes=...), IVPHELM_ALLSTOP (string)\n"
+                 "            IVPHELM_STATE, IVPHELM_SUMMARY (modes=... or active_bhvs=...), IVPHELM_ALLSTOP\n"
+                 "            (MODE= is the helm modes, else <state>@<active behaviours>, e.g. DRIVE@survey)\n"
                  "Publishes:  NODE_REPORT_LOCAL (string), once per iteration with new navigation data, e.g.\n"
                  "  NAME=alpha,TYPE=UUV,TIME=1252348077.59,X=51.71,Y=-35.50,LAT=43.824981,LON=-70.329755,\n"
                  "  SPD=2.00,HDG=118.85,DEPTH=4.63,LENGTH=3.8,MODE=LOITERING\n",
