@@ -40,7 +40,7 @@ static int hexval(char c)
 
 int plot_color(const char *name, double rgb[3])
 {
-    char n[64];
+    char n[64] = "";
     size_t k = 0;
     for (const char *p = name; *p && k + 1 < sizeof n; p++)
         if (*p != '_' && *p != ' ' && *p != '-') n[k++] = (char)tolower((unsigned char)*p);
@@ -51,7 +51,7 @@ int plot_color(const char *name, double rgb[3])
     else if (!strncmp(n, "hex:", 4)) h = n + 4;
     if (h) {
         /* "ff8800" or MOOS's "hex:ff,88,00" (commas already kept) */
-        char d[7];
+        char d[7] = "";
         size_t m = 0;
         for (const char *p = h; *p && m < 7; p++)
             if (*p != ',') d[m++] = *p;

@@ -17,6 +17,25 @@
 #include <kelp/app.h>
 #include "plot.h"
 
+#ifndef KELP_VERSION
+#define KELP_VERSION "dev"
+#endif
+
+/* "WxH" with both in range; 0 or -1 */
+static int parse_size(const char *s, int *w, int *h)
+{
+    char *e;
+    long a = strtol(s, &e, 10);
+    if (e == s || *e != 'x') return -1;
+    const char *s2 = e + 1;
+    long b = strtol(s2, &e, 10);
+    if (e == s2 || *e) return -1;
+    if (a < 400 || b < 300 || a > 10000 || b > 10000) return -1;
+    *w = (int)a;
+    *h = (int)b;
+    return 0;
+}
+
 static void usage(FILE *f)
 {
     fprintf(f, "usage: kelp-plot [-o OUT.png|OUT.svg]... [--title T] [--size WxH] [--no-pulses] [--quiet] LOG [LOG...]\n"
@@ -91,7 +110,7 @@ static int offline(int argc, char **argv)
             o.title = argv[++i];
         } else if (!strcmp(a, "--size") && i + 1 < argc) {
             int w, h;
-            if (sscanf(argv[++i], "%dx%d", &w, &h) != 2 || w < 400 || h < 300 || w > 10000 || h > 10000) {
+            if (parse_size(argv[++i], &w, &h) < 0) {
                 fprintf(stderr, "kelp-plot: --size WxH with 400 <= W, 300 <= H, both <= 10000\n");
                 return 2;
             }
@@ -146,6 +165,7 @@ static int offline(int argc, char **argv)
         rc = 1;
     }
     scene_free(&s);
+    plot_release();
     return rc;
 }
 
@@ -262,6 +282,7 @@ static void live_shutdown(kelp_app *app, void *st)
         }
     if (l->table[0]) write_table(app, l, kelp_app_time(app));
     plot_print_summary(&l->s, stdout);
+    plot_release(); /* the scene stays: the runner prints a last report after this */
 }
 
 static const kelp_app_def live_def = {

@@ -67,6 +67,9 @@ typedef struct plot_opts {
  *  stderr. */
 int plot_render(const plot_scene *s, const plot_opts *o, const char *path);
 
+/** Free the drawing libraries' caches (call once, at exit). */
+void plot_release(void);
+
 /** MOOS colour names ("dark_green", "DodgerBlue", "hex:ff8800", "#ff8800"): 0 and rgb in
  *  [0,1], or -1 when unknown. "invisible"/"off"/"none" give 1 (do not draw). */
 int plot_color(const char *name, double rgb[3]);

@@ -1,4 +1,5 @@
 /* kelp-plot: drawing a scene with cairo (PNG and SVG from one drawing routine). */
+#include <dlfcn.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -802,11 +803,13 @@ static void draw(cairo_t *cr, const plot_scene *s, const plot_opts *o)
     if (minor * m.s >= 11) {
         cairo_set_source_rgb(cr, 0.905, 0.925, 0.950);
         cairo_set_line_width(cr, 0.6);
-        for (double gx = ceil(wx0 / minor) * minor; gx <= wx1; gx += minor) {
+        for (long k = (long)ceil(wx0 / minor), k1 = (long)floor(wx1 / minor); k <= k1; k++) {
+            double gx = (double)k * minor;
             cairo_move_to(cr, round(X(&m, gx)) + 0.5, m.py0);
             cairo_line_to(cr, round(X(&m, gx)) + 0.5, m.py0 + m.ph);
         }
-        for (double gy = ceil(wy0 / minor) * minor; gy <= wy1; gy += minor) {
+        for (long k = (long)ceil(wy0 / minor), k1 = (long)floor(wy1 / minor); k <= k1; k++) {
+            double gy = (double)k * minor;
             cairo_move_to(cr, m.px0, round(Y(&m, gy)) + 0.5);
             cairo_line_to(cr, m.px0 + m.pw, round(Y(&m, gy)) + 0.5);
         }
@@ -814,11 +817,13 @@ static void draw(cairo_t *cr, const plot_scene *s, const plot_opts *o)
     }
     cairo_set_source_rgb(cr, 0.815, 0.851, 0.894);
     cairo_set_line_width(cr, 1);
-    for (double gx = ceil(wx0 / step) * step; gx <= wx1; gx += step) {
+    for (long k = (long)ceil(wx0 / step), k1 = (long)floor(wx1 / step); k <= k1; k++) {
+        double gx = (double)k * step;
         cairo_move_to(cr, round(X(&m, gx)) + 0.5, m.py0);
         cairo_line_to(cr, round(X(&m, gx)) + 0.5, m.py0 + m.ph);
     }
-    for (double gy = ceil(wy0 / step) * step; gy <= wy1; gy += step) {
+    for (long k = (long)ceil(wy0 / step), k1 = (long)floor(wy1 / step); k <= k1; k++) {
+        double gy = (double)k * step;
         cairo_move_to(cr, m.px0, round(Y(&m, gy)) + 0.5);
         cairo_line_to(cr, m.px0 + m.pw, round(Y(&m, gy)) + 0.5);
     }
@@ -847,7 +852,7 @@ static void draw(cairo_t *cr, const plot_scene *s, const plot_opts *o)
     draw_views(cr, s, &m, o, 1);
     static placer pl;
     pl.n = 0;
-    double name_at[64][2];
+    double name_at[64][2] = {{0}};
     place_names(cr, s, &m, &pl, name_at);
     draw_point_labels(cr, s, &m, &pl);
     draw_track_ends(cr, s, &m, name_at);
@@ -890,7 +895,8 @@ static void draw(cairo_t *cr, const plot_scene *s, const plot_opts *o)
     cairo_set_line_width(cr, 1);
     cairo_stroke(cr);
     char buf[32];
-    for (double gx = ceil(wx0 / step) * step; gx <= wx1; gx += step) {
+    for (long k = (long)ceil(wx0 / step), k1 = (long)floor(wx1 / step); k <= k1; k++) {
+        double gx = (double)k * step;
         double px = X(&m, gx);
         if (px < m.px0 + 12 || px > m.px0 + m.pw - 12) continue;
         fmt_num(buf, sizeof buf, gx, step);
@@ -900,7 +906,8 @@ static void draw(cairo_t *cr, const plot_scene *s, const plot_opts *o)
         cairo_stroke(cr);
         text(cr, px, m.py0 + m.ph + 20, buf, 12, false, axis, A_CENTER, false);
     }
-    for (double gy = ceil(wy0 / step) * step; gy <= wy1; gy += step) {
+    for (long k = (long)ceil(wy0 / step), k1 = (long)floor(wy1 / step); k <= k1; k++) {
+        double gy = (double)k * step;
         double py = Y(&m, gy);
         if (py < m.py0 + 8 || py > m.py0 + m.ph - 8) continue;
         fmt_num(buf, sizeof buf, gy, step);
@@ -918,6 +925,17 @@ static void draw(cairo_t *cr, const plot_scene *s, const plot_opts *o)
     cairo_restore(cr);
 
     draw_legend(cr, s, W - LEGEND_W - 16, m.py0, LEGEND_W, tick);
+}
+
+void plot_release(void)
+{
+    /* cairo's and fontconfig's caches, so a leak checker sees only real leaks. FcFini is
+     * looked up at run time: fontconfig comes in with libcairo, it is not linked directly. */
+    cairo_debug_reset_static_data();
+    void (*fc_fini)(void);
+    void *sym = dlsym(RTLD_DEFAULT, "FcFini");
+    memcpy(&fc_fini, &sym, sizeof fc_fini);
+    if (fc_fini) fc_fini();
 }
 
 int plot_render(const plot_scene *s, const plot_opts *o, const char *path)

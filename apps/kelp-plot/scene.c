@@ -190,22 +190,33 @@ void scene_finish(plot_scene *s)
 {
     s->t0 = INFINITY;
     s->t1 = -INFINITY;
-    /* a vehicle with node reports is drawn from them; its NAV_* track is dropped */
-    size_t w = 0;
+    /* a vehicle with node reports is drawn from them; its NAV_* track is dropped. Decide
+     * first (no entry moves), then compact. */
+    bool *drop = calloc(s->ntracks ? s->ntracks : 1, sizeof *drop);
+    if (!drop) return;
     for (size_t i = 0; i < s->ntracks; i++) {
-        plot_track *t = &s->tracks[i];
-        bool drop = t->n == 0;
-        if (!drop && t->src == PLOT_SRC_NAV)
+        const plot_track *t = &s->tracks[i];
+        drop[i] = t->n == 0;
+        if (!drop[i] && t->src == PLOT_SRC_NAV)
             for (size_t j = 0; j < s->ntracks; j++)
                 if (s->tracks[j].src == PLOT_SRC_REPORT && s->tracks[j].n > 0 &&
                     strcasecmp(s->tracks[j].name, t->name) == 0)
-                    drop = true;
-        if (drop) {
-            free(t->pts);
-            continue;
-        }
-        s->tracks[w++] = *t;
+                    drop[i] = true;
     }
+    plot_track *kept = calloc(s->ntracks ? s->ntracks : 1, sizeof *kept);
+    if (!kept) {
+        free(drop);
+        return;
+    }
+    size_t w = 0;
+    for (size_t i = 0; i < s->ntracks; i++) {
+        if (drop[i]) free(s->tracks[i].pts);
+        else kept[w++] = s->tracks[i];
+    }
+    free(drop);
+    free(s->tracks);
+    s->tracks = kept;
+    s->tcap = s->ntracks ? s->ntracks : 1;
     s->ntracks = w;
     for (size_t i = 0; i < s->ntracks; i++) {
         plot_track *t = &s->tracks[i];
