@@ -42,6 +42,8 @@ M
 # one warped clock for the launcher, its apps and our pokes
 export KELP_WARP_EPOCH=$(date +%s.%N)
 lcm-logger --lcm-url="$KELP_LCM_URL" -f -q run.lcm > logger.out 2>&1 & LG=$!; PIDS+=($LG)
+# a second log with the simulator's NAV_* only: kelp-plot must fall back to NAV_X/NAV_Y
+lcm-logger --lcm-url="$KELP_LCM_URL" -c 'NAV_.*' -f -q nav.lcm > logger_nav.out 2>&1 & LGN=$!; PIDS+=($LGN)
 sleep 0.4
 $BIN/kelp-launch --run-seconds 8 --log-dir logs sim.moos > launch.out 2>&1 & LP=$!; PIDS+=($LP)
 sleep 1.2
@@ -49,7 +51,7 @@ $BIN/kelp-poke sim.moos DESIRED_SPEED=2 DESIRED_HEADING=90 > poke1.out || fail "
 sleep 3
 $BIN/kelp-poke sim.moos DESIRED_HEADING=180 > poke2.out || fail "poke"
 wait $LP || { cat launch.out; fail "launcher exit non-zero"; }
-kill -INT $LG; wait $LG 2>/dev/null || true
+kill -INT $LG $LGN; wait $LG $LGN 2>/dev/null || true
 $BIN/kelp-logcheck run.lcm --print > log.txt || fail "log does not decode"
 for v in NAV_X NAV_Y NAV_HEADING NAV_SPEED NAV_DEPTH NAV_LAT NAV_LONG; do
   grep -qE "^[0-9.]+ uSimMarine $v " log.txt || fail "uSimMarine did not publish $v"
@@ -90,6 +92,10 @@ awk '{ split($4, f, ","); for (i in f) { split(f[i], kv, "="); v[kv[1]] = kv[2] 
 # kelp-plot on the run
 $BIN/kelp-plot run.lcm -o run.png -o run.svg > plot.out || { cat plot.out; fail "kelp-plot failed"; }
 grep -qE "^alpha +report " plot.out || { cat plot.out; fail "no alpha track"; }
+$BIN/kelp-plot nav.lcm -o nav.png > navplot.out || { cat navplot.out; fail "kelp-plot failed on the NAV-only log"; }
+grep -qE "^alpha +nav +[0-9]+ " navplot.out || { cat navplot.out; fail "no alpha track from NAV_X/NAV_Y"; }
+rd=$(awk '$1=="alpha"{print $4}' plot.out); nd=$(awk '$1=="alpha"{print $4}' navplot.out)
+awk -v a="$rd" -v b="$nd" 'BEGIN{d=a-b; if(d<0)d=-d; exit !(b > 50 && d < 3)}' || fail "report track $rd m and NAV track $nd m differ"
 head -c 8 run.png | od -An -tx1 | grep -q "89 50 4e 47 0d 0a 1a 0a" || fail "run.png is not a PNG"
 grep -q "<svg" run.svg || fail "run.svg is not SVG"
 ok "simulator follows DESIRED_* and the node reports match"
