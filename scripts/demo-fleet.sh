@@ -84,7 +84,15 @@ for v in "${NAMES[@]}"; do
   "$B/bin/kelp-launch" --run-seconds $((TIMEOUT + 10)) --log-dir "logs_$v" "$v.moos" > "launch_$v.out" 2>&1 &
   LAUNCH+=($!); PIDS+=($!)
 done
-sleep 2
+# wait until every bridge listens (a bridge subscribes before it binds), then a little more
+ports=$(printf '%s|' "$SHORE_BRIDGE" $(sed -n 's/^ *UDPListen *= *//p' "${NAMES[@]/%/.moos}")); ports=${ports%|}
+if command -v ss >/dev/null; then
+  for i in $(seq 100); do
+    n=$(ss -Huln 2>/dev/null | grep -cE ":($ports) " || true)
+    [ "$n" -ge $(( ${#NAMES[@]} + 1 )) ] && break; sleep 0.1
+  done
+fi
+sleep 1.5
 echo "== DEPLOY: kelp-poke shoreside.moos DEPLOY:=true MOOS_MANUAL_OVERIDE:=false (bridged to every vehicle)"
 "$B/bin/kelp-poke" shoreside.moos DEPLOY:=true MOOS_MANUAL_OVERIDE:=false > poke_deploy.out
 t0=$(date +%s)
