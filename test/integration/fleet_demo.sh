@@ -5,6 +5,7 @@
 . "$(dirname "$0")/lib.sh"
 if [ ! -x "$BIN/pHelmIvP" ]; then echo "SKIP: pHelmIvP not built (the helm is on branch helm)"; exit 0; fi
 command -v lcm-logger >/dev/null || fail "lcm-logger missing (liblcm-bin)"
+cd $T
 start=$(date +%s)
 DEMO_DIR=$T/demo DEMO_TIMEOUT=50 "$KELP_ROOT/scripts/demo-fleet.sh" "$BUILD" > demo.out 2>&1 || { tail -40 demo.out; fail "demo-fleet.sh failed"; }
 el=$(( $(date +%s) - start ))
