@@ -171,5 +171,25 @@ _Static_assert(KELP_DCCL_MAX_ALG_REFS >= 2, "KELP_DCCL_MAX_ALG_REFS too small (T
 _Static_assert(KELP_HELM_MAX_SVAL >= 64, "KELP_HELM_MAX_SVAL too small");
 _Static_assert(KELP_HELM_MAX_BHVS >= 1 && KELP_HELM_MAX_BHVS <= 1024, "KELP_HELM_MAX_BHVS out of range");
 _Static_assert(KELP_HELM_MAX_PTS >= 4, "KELP_HELM_MAX_PTS too small");
+/* ---- sim: vehicle simulator, node reports, VIEW_* artifacts ---- */
+#ifndef KELP_SIM_MAX_SUBSTEPS
+#define KELP_SIM_MAX_SUBSTEPS 2000000L  /**< sub-steps one kelp_sim_step may take (a time jump bound) */
+#endif
+#ifndef KELP_NODEREPORT_MAX_FIELD
+#define KELP_NODEREPORT_MAX_FIELD 48    /**< bytes of a text field of a node report (NAME, TYPE, MODE...), with NUL */
+#endif
+#ifndef KELP_NODEREPORT_MAX_LEN
+#define KELP_NODEREPORT_MAX_LEN 512     /**< bytes of a formatted node report, with NUL */
+#endif
+#ifndef KELP_VIEW_MAX_PTS
+#define KELP_VIEW_MAX_PTS 64            /**< vertices of one VIEW_POLYGON / VIEW_SEGLIST */
+#endif
+#ifndef KELP_VIEW_MAX_FIELD
+#define KELP_VIEW_MAX_FIELD 64          /**< bytes of a text field of a VIEW_* artifact (label, colour...), with NUL */
+#endif
+_Static_assert(KELP_NODEREPORT_MAX_FIELD >= 16, "KELP_NODEREPORT_MAX_FIELD too small");
+_Static_assert(KELP_NODEREPORT_MAX_LEN >= 256, "KELP_NODEREPORT_MAX_LEN too small for a full report");
+_Static_assert(KELP_VIEW_MAX_PTS >= 4, "KELP_VIEW_MAX_PTS too small");
+_Static_assert(KELP_VIEW_MAX_FIELD >= 16, "KELP_VIEW_MAX_FIELD too small");
 
 #endif
