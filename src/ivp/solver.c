@@ -9,16 +9,24 @@
  *  - node coefficients are accumulated level by level (node[l+1] = node[l] + piece), and a
  *    box's max takes per dimension the high end when the summed slope is >= 0, else the low end;
  *  - a leaf replaces the incumbent only when strictly greater, so the first optimum wins.
- * Pruning only removes nodes whose upper bound is <= the incumbent, which can never hold a
- * strictly better leaf, so a tighter bound changes speed and never the answer. kelp bounds a
- * node by its own max plus, for each remaining function, the best piece max over the node box
- * read from a small per-function grid of cell maxima (MOOS-IvP uses each function's global max). */
+ *
+ * Pruning only removes a node when no leaf below it can be strictly greater than the incumbent
+ * (or than a value known to be reached), so a tighter bound changes speed, never the answer.
+ * The comparisons keep a margin well above the rounding error of any leaf value or bound, so a
+ * leaf that is better by rounding alone is never pruned either. A node is bounded by its own
+ * max plus an upper bound on the remaining functions that is separable by variable:
+ *     f_i(x) <= k_i + sum_d a_id(x_d)
+ * with a_id sampled at every index. A function of one variable is its own upper envelope; a
+ * coupled function (pieces that are the cross product of a course part and a speed part, as
+ * the Coupler makes them) splits exactly into its two parts (k_i takes the rounding residual);
+ * any other function uses the mean of its projections. Per level the rows are summed over the
+ * remaining functions, so a node's bound costs one range maximum per variable (a sparse table).
+ * An initial floor comes from the objective at the bound's own maximiser. */
 #include <string.h>
 #include <math.h>
 #include "ivp_int.h"
 
 #define D KELP_IVP_MAX_DIM
-#define GRID_CELLS 8 /* bound grid cells per variable (at most) */
 
 typedef struct spiece {
     int32_t lo[D], hi[D];
@@ -30,8 +38,7 @@ typedef struct sfunc {
     spiece *p;
     uint32_t n;
     double gmax;              /* max over all pieces */
-    double *proj[D];          /* per variable: per cell, max over the slab of that cell */
-    bool rel[D];              /* the function varies along this variable */
+    double mag;               /* max over pieces of |c| + sum |s_d| * (points_d - 1) */
 } sfunc;
 
 typedef struct snode {
@@ -74,37 +81,27 @@ static size_t align8(size_t n)
     return (n + 7u) & ~(size_t)7u;
 }
 
-typedef struct gshape {
-    int32_t cellw[D];
-    uint32_t ncell[D];
-    size_t total;
-} gshape;
-
-static void grid_shape(const kelp_ivp_domain *dom, gshape *g)
+/* Doubles in one bound row: every index of every variable. */
+static size_t row_len(const kelp_ivp_domain *dom, size_t *off)
 {
-    g->total = 0;
+    size_t t = 0;
     for (unsigned d = 0; d < dom->dim; d++) {
-        uint32_t pts = dom->var[d].points;
-        uint32_t w = (pts + GRID_CELLS - 1) / GRID_CELLS;
-        if (w < 1)
-            w = 1;
-        g->cellw[d] = (int32_t)w;
-        g->ncell[d] = (pts + w - 1) / w;
-        g->total += g->ncell[d];
+        if (off)
+            off[d] = t;
+        t += dom->var[d].points;
     }
+    return t;
 }
 
 size_t kelp_ivp_solve_work_size(const kelp_ivp_problem *p)
 {
-    size_t sz = align8(sizeof(sfunc) * (p->nf + 1));
-    sz += align8(sizeof(snode) * (p->nf + 1));
-    sz += align8(sizeof(double) * (p->nf + 2));
-    gshape g;
-    grid_shape(&p->dom, &g);
-    for (unsigned i = 0; i < p->nf; i++) {
+    size_t k = p->nf;
+    size_t sz = align8(sizeof(sfunc) * (k + 1));
+    sz += align8(sizeof(snode) * (k + 1));
+    sz += 2 * align8(sizeof(double) * (k + 2));
+    sz += align8(sizeof(double) * row_len(&p->dom, NULL) * (k + 1));
+    for (unsigned i = 0; i < k; i++)
         sz += align8(sizeof(spiece) * p->f[i]->n);
-        sz += align8(sizeof(double) * g.total);
-    }
     return sz;
 }
 
@@ -116,24 +113,100 @@ static inline double box_max(const int32_t *lo, const int32_t *hi, const double 
     return v;
 }
 
-/* Upper bound of function sf over the box [lo,hi]: per varying variable, the best cell of the
- * projection over the box's range; the smallest of those. */
-static double proj_bound(const sfunc *sf, const gshape *g, const int32_t *lo, const int32_t *hi, unsigned dim)
+/* row[x] = max(row[x], w * (base + slope * x)) for x in [lo, hi]. */
+static void envelope(double *row, int32_t lo, int32_t hi, double base, double slope, double w)
 {
-    double b = sf->gmax;
-    for (unsigned d = 0; d < dim; d++) {
-        if (!sf->rel[d])
-            continue;
-        uint32_t a = (uint32_t)lo[d] / (uint32_t)g->cellw[d], e = (uint32_t)hi[d] / (uint32_t)g->cellw[d];
-        const double *q = sf->proj[d];
-        double m = q[a];
-        for (uint32_t c = a + 1; c <= e; c++)
-            if (q[c] > m)
-                m = q[c];
-        if (m < b)
-            b = m;
+    double x = (double)lo;
+    for (int32_t i = lo; i <= hi; i++, x += 1.0) {
+        double v = w * (base + slope * x);
+        if (v > row[i])
+            row[i] = v;
     }
-    return b;
+}
+
+static bool same_var(const spiece *a, const spiece *b, unsigned d)
+{
+    return a->lo[d] == b->lo[d] && a->hi[d] == b->hi[d] && a->s[d] == b->s[d];
+}
+
+/* A coupled function: piece j*nb+m has variable u as piece j*nb and variable v as piece m. Then
+ * f <= alpha_j + beta_m + r with alpha_j = c[j*nb], beta_m = c[m] - c[0], r the largest residual. */
+static bool coupled(const sfunc *sf, unsigned u, unsigned v, double *ru, double *rv, double *res)
+{
+    const spiece *p = sf->p;
+    uint32_t n = sf->n, nb = 1;
+    while (nb < n && same_var(&p[nb], &p[0], u))
+        nb++;
+    if (n % nb)
+        return false;
+    for (uint32_t j = 0; j < n; j += nb)
+        for (uint32_t m = 0; m < nb; m++)
+            if (!same_var(&p[j + m], &p[j], u) || !same_var(&p[j + m], &p[m], v))
+                return false;
+    double r = -INFINITY, c0 = p[0].c;
+    for (uint32_t j = 0; j < n; j += nb) {
+        double alpha = p[j].c;
+        for (uint32_t m = 0; m < nb; m++) {
+            double e = p[j + m].c - (alpha + (p[m].c - c0));
+            if (e > r)
+                r = e;
+        }
+        envelope(ru, p[j].lo[u], p[j].hi[u], alpha, p[j].s[u], 1.0);
+    }
+    for (uint32_t m = 0; m < nb; m++)
+        envelope(rv, p[m].lo[v], p[m].hi[v], p[m].c - c0, p[m].s[v], 1.0);
+    *res = r;
+    return true;
+}
+
+/* Separable upper bound of one function: rows (at off[d]) get a_d, the return value is k.
+ * Variables the function does not depend on get a row of zeros and rel[d] = false. */
+static double majorant(const sfunc *sf, const kelp_ivp_domain *dom, double *row, const size_t *off, bool *rel)
+{
+    unsigned dim = dom->dim, m = 0, rv[D];
+    for (unsigned e = 0; e < dim; e++)
+        rel[e] = false;
+    for (uint32_t j = 0; j < sf->n; j++) {
+        const spiece *t = &sf->p[j];
+        for (unsigned e = 0; e < dim; e++)
+            if (t->s[e] != 0 || t->lo[e] != 0 || t->hi[e] != (int32_t)dom->var[e].points - 1)
+                rel[e] = true;
+    }
+    for (unsigned e = 0; e < dim; e++) {
+        double *r = row + off[e], init = rel[e] ? -INFINITY : 0.0;
+        for (uint32_t x = 0; x < dom->var[e].points; x++)
+            r[x] = init;
+        if (rel[e])
+            rv[m++] = e;
+    }
+    if (m == 0)
+        return sf->gmax;
+    double res;
+    if (m == 2 && (coupled(sf, rv[0], rv[1], row + off[rv[0]], row + off[rv[1]], &res) ||
+                   coupled(sf, rv[1], rv[0], row + off[rv[1]], row + off[rv[0]], &res)))
+        return res;
+    double w = m == 1 ? 1.0 : 1.0 / (double)m;
+    for (uint32_t j = 0; j < sf->n; j++) {
+        const spiece *t = &sf->p[j];
+        for (unsigned a = 0; a < m; a++) {
+            unsigned d = rv[a];
+            double base = t->c;
+            for (unsigned e = 0; e < dim; e++)
+                if (e != d)
+                    base += t->s[e] < 0 ? t->s[e] * (double)t->lo[e] : t->s[e] * (double)t->hi[e];
+            envelope(row + off[d], t->lo[d], t->hi[d], base, t->s[d], w);
+        }
+    }
+    return 0.0;
+}
+
+static inline double range_max(const double *r, int32_t lo, int32_t hi)
+{
+    double m = r[lo];
+    for (int32_t i = lo + 1; i <= hi; i++)
+        if (r[i] > m)
+            m = r[i];
+    return m;
 }
 
 int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_result *res)
@@ -150,6 +223,8 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
     if (!work || work_size < need)
         return ivp_fail(&p->err, KELP_ERR_NOSPACE, "solver: work storage too small", NULL, 0);
 
+    size_t off[D];
+    size_t tot = row_len(&p->dom, off);
     unsigned char *w = (unsigned char *)work;
     sfunc *sf = (sfunc *)(void *)w;
     w += align8(sizeof(sfunc) * (k + 1));
@@ -157,23 +232,20 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
     w += align8(sizeof(snode) * (k + 1));
     double *suffix = (double *)(void *)w;
     w += align8(sizeof(double) * (k + 2));
-    gshape gs;
-    grid_shape(&p->dom, &gs);
+    double *sk = (double *)(void *)w;
+    w += align8(sizeof(double) * (k + 2));
+    double *rows = (double *)(void *)w;
+    w += align8(sizeof(double) * tot * (k + 1));
+    bool relany[KELP_IVP_MAX_FUNCS + 1][D];
 
     /* Prepare: normalise (range > 100), weight, align to the problem's variable order. */
+    double magsum = 0;
     for (unsigned i = 0; i < k; i++) {
         const kelp_ivp_func *f = p->f[i];
         sfunc *s = &sf[i];
         s->p = (spiece *)(void *)w;
         w += align8(sizeof(spiece) * f->n);
-        double *proj = (double *)(void *)w;
-        w += align8(sizeof(double) * gs.total);
         s->n = (uint32_t)f->n;
-        for (unsigned e = 0; e < dim; e++) {
-            s->proj[e] = proj;
-            proj += gs.ncell[e];
-            s->rel[e] = false;
-        }
         int map[D] = {0};
         for (unsigned d = 0; d < f->dom.dim; d++)
             map[d] = kelp_ivp_domain_index(&p->dom, f->dom.var[d].name);
@@ -182,6 +254,8 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
         if (f->n && kelp_ivp_func_range(f, &lo, &hi) == 0 && hi - lo > 100)
             norm = true;
         double badj = 0.0 - lo, radj = norm ? 100.0 / (hi - lo) : 1.0, pwt = f->pwt;
+        s->gmax = -INFINITY;
+        s->mag = 0;
         for (size_t j = 0; j < f->n; j++) {
             const kelp_ivp_piece *q = &f->pcs[j];
             spiece *t = &s->p[j];
@@ -202,65 +276,54 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
                 t->hi[map[d]] = q->hi[d];
                 t->s[map[d]] = sl * pwt;
             }
-        }
-        /* projections: per variable and cell, the best piece max over the piece's part in that slab */
-        s->gmax = -INFINITY;
-        for (unsigned e = 0; e < dim; e++) {
-            for (uint32_t c = 0; c < gs.ncell[e]; c++)
-                s->proj[e][c] = -INFINITY;
-        }
-        for (size_t j = 0; j < f->n; j++) {
-            const spiece *t = &s->p[j];
             double m = box_max(t->lo, t->hi, t->s, t->c, dim);
             if (m > s->gmax)
                 s->gmax = m;
+            double g = fabs(t->c);
             for (unsigned e = 0; e < dim; e++)
-                if (t->s[e] != 0 || t->lo[e] != 0 || t->hi[e] != (int32_t)p->dom.var[e].points - 1)
-                    s->rel[e] = true;
+                g += fabs(t->s[e]) * (double)(p->dom.var[e].points - 1);
+            if (g > s->mag)
+                s->mag = g;
         }
-        for (size_t j = 0; j < f->n; j++) {
-            const spiece *t = &s->p[j];
-            for (unsigned e = 0; e < dim; e++) {
-                if (!s->rel[e])
-                    continue;
-                uint32_t a = (uint32_t)t->lo[e] / (uint32_t)gs.cellw[e], b = (uint32_t)t->hi[e] / (uint32_t)gs.cellw[e];
-                int32_t clo[D], chi[D];
-                memcpy(clo, t->lo, sizeof clo);
-                memcpy(chi, t->hi, sizeof chi);
-                for (uint32_t c = a; c <= b; c++) {
-                    int32_t cl = (int32_t)c * gs.cellw[e], ch = cl + gs.cellw[e] - 1;
-                    clo[e] = t->lo[e] > cl ? t->lo[e] : cl;
-                    chi[e] = t->hi[e] < ch ? t->hi[e] : ch;
-                    double v = box_max(clo, chi, t->s, t->c, dim);
-                    if (v > s->proj[e][c])
-                        s->proj[e][c] = v;
-                }
-            }
+        magsum += s->mag;
+    }
+    /* suffix[i]: sum of the global maxima of functions i..k-1; rows of level i: the separable
+     * bound of functions i..k-1 (sk[i] its constant part). */
+    suffix[k] = 0;
+    sk[k] = 0;
+    for (unsigned e = 0; e < dim; e++)
+        relany[k][e] = false;
+    for (unsigned i = k; i-- > 0;) {
+        suffix[i] = suffix[i + 1] + sf[i].gmax;
+        double *r = rows + (size_t)i * tot;
+        bool rel[D];
+        sk[i] = sk[i + 1] + majorant(&sf[i], &p->dom, r, off, rel);
+        for (unsigned e = 0; e < dim; e++) {
+            relany[i][e] = rel[e] || relany[i + 1][e];
+            if (!relany[i + 1][e])
+                continue;
+            const double *nx = r + tot + off[e];
+            double *cu = r + off[e];
+            for (uint32_t x = 0; x < p->dom.var[e].points; x++)
+                cu[x] += nx[x];
         }
     }
-    /* suffix[i] = sum of the global maxima of functions i..k-1 (a cheap first test) */
-    suffix[k] = 0;
-    for (unsigned i = k; i-- > 0;)
-        suffix[i] = suffix[i + 1] + sf[i].gmax;
+    /* Margin: far above the rounding error of any leaf value or bound computed here. */
+    double margin = 1e-12 * (double)(k + dim + 8) * (4.0 * magsum + 1.0);
 
-    /* A lower bound on the optimum from the objective at each function's own best point. It only
-     * prunes nodes whose bound is strictly below it (with a margin for rounding), so the first
-     * optimum in depth-first order is still found and still wins. */
-    double floor_v = -INFINITY;
-    for (unsigned i = 0; i < k; i++) {
-        const sfunc *s = &sf[i];
-        const spiece *bp = NULL;
-        for (uint32_t j = 0; j < s->n; j++)
-            if (box_max(s->p[j].lo, s->p[j].hi, s->p[j].s, s->p[j].c, dim) == s->gmax) {
-                bp = &s->p[j];
-                break;
-            }
-        if (!bp)
-            continue;
+    /* Floor: the objective at the maximiser of the level-0 bound is reached by some leaf. */
+    double thr = -INFINITY;
+    {
         int32_t x[D];
-        for (unsigned e = 0; e < dim; e++)
-            x[e] = bp->s[e] < 0 ? bp->lo[e] : bp->hi[e];
-        double tot = 0;
+        for (unsigned e = 0; e < dim; e++) {
+            const double *r = rows + off[e];
+            uint32_t bi = 0;
+            for (uint32_t i = 1; i < p->dom.var[e].points; i++)
+                if (r[i] > r[bi])
+                    bi = i;
+            x[e] = (int32_t)bi;
+        }
+        double tot_v = 0;
         bool covered = true;
         for (unsigned j = 0; j < k && covered; j++) {
             const sfunc *t = &sf[j];
@@ -275,17 +338,15 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
                     double v = q->c;
                     for (e = 0; e < dim; e++)
                         v += q->s[e] * (double)x[e];
-                    tot += v;
+                    tot_v += v;
                     covered = true;
                     break;
                 }
             }
         }
-        if (covered && tot > floor_v)
-            floor_v = tot;
+        if (covered)
+            thr = tot_v - margin;
     }
-    if (isfinite(floor_v))
-        floor_v -= 1e-9 * (fabs(floor_v) + 1.0);
 
     /* Depth-first branch and bound. node[l] is the box after intersecting functions 0..l-1. */
     bool found = false;
@@ -335,30 +396,26 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
         double v = box_max(nx->lo, nx->hi, nx->s, nx->c, dim);
         if (l + 1 == k) {
             leaves++;
-            if (v < floor_v)
-                continue;
             if (!found || v > best) {
                 found = true;
                 best = v;
+                if (best - margin > thr)
+                    thr = best - margin;
                 memcpy(blo, nx->lo, sizeof blo);
                 memcpy(bhi, nx->hi, sizeof bhi);
                 memcpy(bs, nx->s, sizeof bs);
             }
             continue;
         }
+        if (v + suffix[l + 1] < thr)
+            continue;
         {
-            double tb = v + suffix[l + 1];
-            if (tb < floor_v || (found && !(tb > best)))
-                continue;
-            double bound = v;
-            unsigned i;
-            for (i = l + 1; i < k; i++) {
-                bound += proj_bound(&sf[i], &gs, nx->lo, nx->hi, dim);
-                tb = bound + suffix[i + 1];
-                if (tb < floor_v || (found && !(tb > best)))
-                    break;
-            }
-            if (i < k)
+            const double *r = rows + (size_t)(l + 1) * tot;
+            double bound = v + sk[l + 1];
+            for (e = 0; e < dim; e++)
+                if (relany[l + 1][e])
+                    bound += range_max(r + off[e], nx->lo[e], nx->hi[e]);
+            if (bound < thr)
                 continue;
         }
         nx->next = 0;
