@@ -81,17 +81,37 @@ static size_t align8(size_t n)
     return (n + 7u) & ~(size_t)7u;
 }
 
-/* Doubles in one bound row: every index of every variable. */
-static size_t row_len(const kelp_ivp_domain *dom, size_t *off)
+/* Doubles for one level's bound rows: every index of every variable. */
+static size_t row_len(const kelp_ivp_domain *dom)
 {
     size_t t = 0;
-    for (unsigned d = 0; d < dom->dim; d++) {
-        if (off)
-            off[d] = t;
+    for (unsigned d = 0; d < dom->dim; d++)
         t += dom->var[d].points;
-    }
     return t;
 }
+
+static size_t max_pieces(const kelp_ivp_problem *p)
+{
+    size_t m = 1;
+    for (unsigned i = 0; i < p->nf; i++)
+        if (p->f[i]->n > m)
+            m = p->f[i]->n;
+    return m;
+}
+
+/* The bound on functions l..k-1 along one variable (level l shares level l+1's row when
+ * function l does not depend on the variable). */
+typedef struct brow {
+    const double *v;          /* per index */
+    double all;               /* max over the whole row, once have_all */
+    bool have_all;
+} brow;
+
+/* One linear segment of a function's bound along one variable. */
+typedef struct seg {
+    int32_t lo, hi;
+    double base, slope;
+} seg;
 
 size_t kelp_ivp_solve_work_size(const kelp_ivp_problem *p)
 {
@@ -99,7 +119,10 @@ size_t kelp_ivp_solve_work_size(const kelp_ivp_problem *p)
     size_t sz = align8(sizeof(sfunc) * (k + 1));
     sz += align8(sizeof(snode) * (k + 1));
     sz += 2 * align8(sizeof(double) * (k + 2));
-    sz += align8(sizeof(double) * row_len(&p->dom, NULL) * (k + 1));
+    sz += align8(sizeof(brow *) * D * (k + 1));
+    sz += align8(sizeof(brow) * D * k);
+    sz += align8(sizeof(double) * row_len(&p->dom) * k);
+    sz += align8(sizeof(seg) * max_pieces(p));
     for (unsigned i = 0; i < k; i++)
         sz += align8(sizeof(spiece) * p->f[i]->n);
     return sz;
@@ -113,15 +136,59 @@ static inline double box_max(const int32_t *lo, const int32_t *hi, const double 
     return v;
 }
 
-/* row[x] = max(row[x], w * (base + slope * x)) for x in [lo, hi]. */
-static void envelope(double *row, int32_t lo, int32_t hi, double base, double slope, double w)
+/* Row of one level along one variable with `pts` indices:
+ *     row[x] = next[x] + max over the segments covering x of (base + slope * x)
+ * (no next: 0; no covering segment: -inf). */
+static void fill_row(double *row, uint32_t pts, const brow *next, const seg *sg, uint32_t ns)
 {
-    double x = (double)lo;
-    for (int32_t i = lo; i <= hi; i++, x += 1.0) {
-        double v = w * (base + slope * x);
-        if (v > row[i])
-            row[i] = v;
+    bool tiles = sg[0].lo == 0 && sg[ns - 1].hi == (int32_t)pts - 1;
+    for (uint32_t j = 1; j < ns && tiles; j++)
+        tiles = sg[j].lo == sg[j - 1].hi + 1;
+    const double *nx = next ? next->v : NULL;
+    if (tiles) { /* segments in order, no gap, no overlap: one pass */
+        for (uint32_t j = 0; j < ns; j++) {
+            double b = sg[j].base, s = sg[j].slope;
+            if (nx) {
+                for (int32_t i = sg[j].lo; i <= sg[j].hi; i++)
+                    row[i] = (b + s * (double)i) + nx[i];
+            } else {
+                for (int32_t i = sg[j].lo; i <= sg[j].hi; i++)
+                    row[i] = b + s * (double)i;
+            }
+        }
+        return;
     }
+    for (uint32_t i = 0; i < pts; i++)
+        row[i] = -INFINITY;
+    for (uint32_t j = 0; j < ns; j++) {
+        double b = sg[j].base, s = sg[j].slope;
+        for (int32_t i = sg[j].lo; i <= sg[j].hi; i++) {
+            double v = b + s * (double)i;
+            if (v > row[i])
+                row[i] = v;
+        }
+    }
+    if (nx)
+        for (uint32_t i = 0; i < pts; i++)
+            row[i] += nx[i];
+}
+
+/* Max of a level's row over [lo, hi]. */
+static inline double row_max(brow *b, int32_t lo, int32_t hi, int32_t last)
+{
+    const double *r = b->v;
+    if (lo == 0 && hi == last) {
+        if (b->have_all)
+            return b->all;
+        b->have_all = true;
+    }
+    double m = r[lo];
+    for (int32_t i = lo + 1; i <= hi; i++)
+        if (r[i] > m)
+            m = r[i];
+    if (lo == 0 && hi == last)
+        b->all = m;
+    return m;
 }
 
 static bool same_var(const spiece *a, const spiece *b, unsigned d)
@@ -130,19 +197,20 @@ static bool same_var(const spiece *a, const spiece *b, unsigned d)
 }
 
 /* A coupled function: piece j*nb+m has variable u as piece j*nb and variable v as piece m. Then
- * f <= alpha_j + beta_m + r with alpha_j = c[j*nb], beta_m = c[m] - c[0], r the largest residual. */
-static bool coupled(const sfunc *sf, unsigned u, unsigned v, double *ru, double *rv, double *res)
+ * f <= alpha_j + beta_m + r with alpha_j = c[j*nb], beta_m = c[m] - c[0], r the largest
+ * residual. Returns nb (0: not coupled over u, v) and r. */
+static uint32_t coupled(const sfunc *sf, unsigned u, unsigned v, double *res)
 {
     const spiece *p = sf->p;
     uint32_t n = sf->n, nb = 1;
     while (nb < n && same_var(&p[nb], &p[0], u))
         nb++;
     if (n % nb)
-        return false;
+        return 0;
     for (uint32_t j = 0; j < n; j += nb)
         for (uint32_t m = 0; m < nb; m++)
             if (!same_var(&p[j + m], &p[j], u) || !same_var(&p[j + m], &p[m], v))
-                return false;
+                return 0;
     double r = -INFINITY, c0 = p[0].c;
     for (uint32_t j = 0; j < n; j += nb) {
         double alpha = p[j].c;
@@ -151,19 +219,18 @@ static bool coupled(const sfunc *sf, unsigned u, unsigned v, double *ru, double 
             if (e > r)
                 r = e;
         }
-        envelope(ru, p[j].lo[u], p[j].hi[u], alpha, p[j].s[u], 1.0);
     }
-    for (uint32_t m = 0; m < nb; m++)
-        envelope(rv, p[m].lo[v], p[m].hi[v], p[m].c - c0, p[m].s[v], 1.0);
     *res = r;
-    return true;
+    return nb;
 }
 
-/* Separable upper bound of one function: rows (at off[d]) get a_d, the return value is k.
- * Variables the function does not depend on get a row of zeros and rel[d] = false. */
-static double majorant(const sfunc *sf, const kelp_ivp_domain *dom, double *row, const size_t *off, bool *rel)
+/* Level l's rows (cur) from level l+1's (next) and function sf's separable bound. Storage for new
+ * rows comes from *store. Returns the bound's constant part k_l. */
+static double majorant(const sfunc *sf, const kelp_ivp_domain *dom, brow *const *next, brow **cur, brow **owner, double **store,
+                       seg *sg)
 {
     unsigned dim = dom->dim, m = 0, rv[D];
+    bool rel[D];
     for (unsigned e = 0; e < dim; e++)
         rel[e] = false;
     for (uint32_t j = 0; j < sf->n; j++) {
@@ -173,40 +240,55 @@ static double majorant(const sfunc *sf, const kelp_ivp_domain *dom, double *row,
                 rel[e] = true;
     }
     for (unsigned e = 0; e < dim; e++) {
-        double *r = row + off[e], init = rel[e] ? -INFINITY : 0.0;
-        for (uint32_t x = 0; x < dom->var[e].points; x++)
-            r[x] = init;
+        cur[e] = next[e];
         if (rel[e])
             rv[m++] = e;
     }
     if (m == 0)
         return sf->gmax;
-    double res;
-    if (m == 2 && (coupled(sf, rv[0], rv[1], row + off[rv[0]], row + off[rv[1]], &res) ||
-                   coupled(sf, rv[1], rv[0], row + off[rv[1]], row + off[rv[0]], &res)))
-        return res;
-    double w = m == 1 ? 1.0 : 1.0 / (double)m;
-    for (uint32_t j = 0; j < sf->n; j++) {
-        const spiece *t = &sf->p[j];
-        for (unsigned a = 0; a < m; a++) {
-            unsigned d = rv[a];
-            double base = t->c;
-            for (unsigned e = 0; e < dim; e++)
-                if (e != d)
-                    base += t->s[e] < 0 ? t->s[e] * (double)t->lo[e] : t->s[e] * (double)t->hi[e];
-            envelope(row + off[d], t->lo[d], t->hi[d], base, t->s[d], w);
+    const spiece *p = sf->p;
+    double res = 0.0;
+    uint32_t nb = 0;
+    unsigned u = 0, v = 0;
+    if (m == 2) {
+        u = rv[0];
+        v = rv[1];
+        nb = coupled(sf, u, v, &res);
+        if (!nb) {
+            u = rv[1];
+            v = rv[0];
+            nb = coupled(sf, u, v, &res);
         }
     }
-    return 0.0;
-}
-
-static inline double range_max(const double *r, int32_t lo, int32_t hi)
-{
-    double m = r[lo];
-    for (int32_t i = lo + 1; i <= hi; i++)
-        if (r[i] > m)
-            m = r[i];
-    return m;
+    for (unsigned a = 0; a < m; a++) {
+        unsigned d = rv[a];
+        uint32_t ns = 0, pts = dom->var[d].points;
+        if (nb && d == u) {
+            for (uint32_t j = 0; j < sf->n; j += nb, ns++)
+                sg[ns] = (seg){p[j].lo[u], p[j].hi[u], p[j].c, p[j].s[u]};
+        } else if (nb) {
+            for (uint32_t j = 0; j < nb; j++, ns++)
+                sg[ns] = (seg){p[j].lo[v], p[j].hi[v], p[j].c - p[0].c, p[j].s[v]};
+        } else { /* f <= the mean of its projections (m == 1: its upper envelope) */
+            double w = m == 1 ? 1.0 : 1.0 / (double)m;
+            for (uint32_t j = 0; j < sf->n; j++, ns++) {
+                const spiece *t = &p[j];
+                double base = t->c;
+                for (unsigned e = 0; e < dim; e++)
+                    if (e != d)
+                        base += t->s[e] < 0 ? t->s[e] * (double)t->lo[e] : t->s[e] * (double)t->hi[e];
+                sg[ns] = (seg){t->lo[d], t->hi[d], w * base, w * t->s[d]};
+            }
+        }
+        double *row = *store;
+        *store = row + pts;
+        fill_row(row, pts, next[d], sg, ns);
+        brow *o = (*owner)++;
+        o->v = row;
+        o->have_all = false;
+        cur[d] = o;
+    }
+    return res;
 }
 
 int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_result *res)
@@ -223,8 +305,6 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
     if (!work || work_size < need)
         return ivp_fail(&p->err, KELP_ERR_NOSPACE, "solver: work storage too small", NULL, 0);
 
-    size_t off[D];
-    size_t tot = row_len(&p->dom, off);
     unsigned char *w = (unsigned char *)work;
     sfunc *sf = (sfunc *)(void *)w;
     w += align8(sizeof(sfunc) * (k + 1));
@@ -234,9 +314,14 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
     w += align8(sizeof(double) * (k + 2));
     double *sk = (double *)(void *)w;
     w += align8(sizeof(double) * (k + 2));
-    double *rows = (double *)(void *)w;
-    w += align8(sizeof(double) * tot * (k + 1));
-    bool relany[KELP_IVP_MAX_FUNCS + 1][D];
+    brow **br = (brow **)(void *)w; /* br[l * D + e]: NULL when no function l.. depends on e */
+    w += align8(sizeof(brow *) * D * (k + 1));
+    brow *owner = (brow *)(void *)w;
+    w += align8(sizeof(brow) * D * k);
+    double *rowstore = (double *)(void *)w;
+    w += align8(sizeof(double) * row_len(&p->dom) * k);
+    seg *sg = (seg *)(void *)w;
+    w += align8(sizeof(seg) * max_pieces(p));
 
     /* Prepare: normalise (range > 100), weight, align to the problem's variable order. */
     double magsum = 0;
@@ -287,26 +372,16 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
         }
         magsum += s->mag;
     }
-    /* suffix[i]: sum of the global maxima of functions i..k-1; rows of level i: the separable
-     * bound of functions i..k-1 (sk[i] its constant part). */
+    /* suffix[i]: sum of the global maxima of functions i..k-1; br[i*D+e] and sk[i]: the separable
+     * bound of functions i..k-1. */
     suffix[k] = 0;
     sk[k] = 0;
-    for (unsigned e = 0; e < dim; e++)
-        relany[k][e] = false;
+    for (unsigned e = 0; e < D; e++)
+        br[(size_t)k * D + e] = NULL;
     for (unsigned i = k; i-- > 0;) {
         suffix[i] = suffix[i + 1] + sf[i].gmax;
-        double *r = rows + (size_t)i * tot;
-        bool rel[D];
-        sk[i] = sk[i + 1] + majorant(&sf[i], &p->dom, r, off, rel);
-        for (unsigned e = 0; e < dim; e++) {
-            relany[i][e] = rel[e] || relany[i + 1][e];
-            if (!relany[i + 1][e])
-                continue;
-            const double *nx = r + tot + off[e];
-            double *cu = r + off[e];
-            for (uint32_t x = 0; x < p->dom.var[e].points; x++)
-                cu[x] += nx[x];
-        }
+        sk[i] = sk[i + 1] + majorant(&sf[i], &p->dom, &br[(size_t)(i + 1) * D], &br[(size_t)i * D], &owner, &rowstore,
+                                   sg);
     }
     /* Margin: far above the rounding error of any leaf value or bound computed here. */
     double margin = 1e-12 * (double)(k + dim + 8) * (4.0 * magsum + 1.0);
@@ -316,9 +391,9 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
     {
         int32_t x[D];
         for (unsigned e = 0; e < dim; e++) {
-            const double *r = rows + off[e];
+            const double *r = br[e] ? br[e]->v : NULL;
             uint32_t bi = 0;
-            for (uint32_t i = 1; i < p->dom.var[e].points; i++)
+            for (uint32_t i = 1; r && i < p->dom.var[e].points; i++)
                 if (r[i] > r[bi])
                     bi = i;
             x[e] = (int32_t)bi;
@@ -361,6 +436,9 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
     }
     node[0].c = 0;
     node[0].next = 0;
+    int32_t last[D];
+    for (unsigned e = 0; e < dim; e++)
+        last[e] = (int32_t)p->dom.var[e].points - 1;
     unsigned l = 0;
     for (;;) {
         snode *cur = &node[l];
@@ -410,11 +488,11 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
         if (v + suffix[l + 1] < thr)
             continue;
         {
-            const double *r = rows + (size_t)(l + 1) * tot;
+            brow *const *b = &br[(size_t)(l + 1) * D];
             double bound = v + sk[l + 1];
             for (e = 0; e < dim; e++)
-                if (relany[l + 1][e])
-                    bound += range_max(r + off[e], nx->lo[e], nx->hi[e]);
+                if (b[e])
+                    bound += row_max(b[e], nx->lo[e], nx->hi[e], last[e]);
             if (bound < thr)
                 continue;
         }
