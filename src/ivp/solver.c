@@ -81,12 +81,14 @@ static size_t align8(size_t n)
     return (n + 7u) & ~(size_t)7u;
 }
 
-/* Doubles for one level's bound rows: every index of every variable. */
-static size_t row_len(const kelp_ivp_domain *dom)
+/* Doubles for the bound rows: each function adds a row only for variables of its own domain
+ * (it is constant along the others), one double per index. */
+static size_t rows_len(const kelp_ivp_problem *p)
 {
     size_t t = 0;
-    for (unsigned d = 0; d < dom->dim; d++)
-        t += dom->var[d].points;
+    for (unsigned i = 0; i < p->nf; i++)
+        for (unsigned d = 0; d < p->f[i]->dom.dim; d++)
+            t += p->f[i]->dom.var[d].points;
     return t;
 }
 
@@ -121,7 +123,7 @@ size_t kelp_ivp_solve_work_size(const kelp_ivp_problem *p)
     sz += 2 * align8(sizeof(double) * (k + 2));
     sz += align8(sizeof(brow *) * D * (k + 1));
     sz += align8(sizeof(brow) * D * k);
-    sz += align8(sizeof(double) * row_len(&p->dom) * k);
+    sz += align8(sizeof(double) * rows_len(p));
     sz += align8(sizeof(seg) * max_pieces(p));
     for (unsigned i = 0; i < k; i++)
         sz += align8(sizeof(spiece) * p->f[i]->n);
@@ -319,7 +321,7 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
     brow *owner = (brow *)(void *)w;
     w += align8(sizeof(brow) * D * k);
     double *rowstore = (double *)(void *)w;
-    w += align8(sizeof(double) * row_len(&p->dom) * k);
+    w += align8(sizeof(double) * rows_len(p));
     seg *sg = (seg *)(void *)w;
     w += align8(sizeof(seg) * max_pieces(p));
 
