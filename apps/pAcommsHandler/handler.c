@@ -42,6 +42,8 @@ struct handler {
     bool started;
     bool link_up;
     bool driver_dead;
+    bool started_on_link; /* the driver's first start-up went out on an open link */
+    bool seen_link;
     double next_status;
     /* counters */
     unsigned long encoded, encode_errors, decoded, decode_errors, pushed, push_errors, in_data, out_data, acks,
@@ -559,8 +561,9 @@ static int startup(kelp_app *app, void *state)
     /* start */
     if (h->cfg.driver_type == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
         if (open_link(h) != KELP_OK) return -1;
-        h->link_up = false; /* kelp_link_service reports the connection in the first iterate */
-        kelp_acomms_node_set_link_up(&h->node, false);
+        h->link_up = kelp_link_connected(h->link);
+        h->started_on_link = h->link_up;
+        kelp_acomms_node_set_link_up(&h->node, h->link_up);
     }
     kelp_acomms_dccl_start(h->dccl, h->now);
     rc = kelp_acomms_node_start(&h->node, now_us);
@@ -717,13 +720,15 @@ static int iterate(kelp_app *app, void *state, double now)
     int64_t now_us = us_of(now);
     if (h->link) {
         if (kelp_link_service(h->link, now) == 1) {
-            bool first = !h->link_up && h->reconnects == 0 && h->deaths == 0 && !h->driver_dead;
+            bool first = !h->seen_link;
+            h->seen_link = true;
             h->link_up = true;
             h->driver_dead = false;
             kelp_acomms_node_set_link_up(&h->node, true);
             if (!first) h->reconnects++;
             kelp_app_event(app, "modem link %s: %s", first ? "up" : "re-established", kelp_link_describe(h->link));
-            if (kelp_acomms_node_restart_driver(&h->node, now_us) != KELP_OK)
+            /* the start-up sequence already went out if the link was open at start */
+            if (!(first && h->started_on_link) && kelp_acomms_node_restart_driver(&h->node, now_us) != KELP_OK)
                 kelp_app_run_warning(app, "driver restart failed: %s", h->node.errmsg ? h->node.errmsg : "?");
         } else if (h->link_up && !kelp_link_connected(h->link)) {
             h->link_up = false;

@@ -180,7 +180,7 @@ static int open_termios(kelp_link *l, const char *path)
     t.c_cflag &= ~(tcflag_t)(CSIZE | PARENB | CSTOPB | CRTSCTS);
     t.c_cflag |= CS8 | CLOCAL | CREAD;
     t.c_iflag &= ~(tcflag_t)(IXON | IXOFF | IXANY);
-    t.c_cc[VMIN] = 0;
+    t.c_cc[VMIN] = 1; /* with O_NONBLOCK: EAGAIN when empty (VMIN 0 would read 0 = "EOF") */
     t.c_cc[VTIME] = 0;
     speed_t sp = speed_of(l->cfg.baud);
     if (cfsetispeed(&t, sp) < 0 || cfsetospeed(&t, sp) < 0 || tcsetattr(fd, TCSANOW, &t) < 0) {
@@ -372,11 +372,12 @@ static int op_read(kelp_link *l, uint8_t *buf, size_t cap, size_t *n)
         l->count.bytes_in += (uint64_t)r;
         return KELP_OK;
     }
-    if (r == 0) {
-        lost(l, l->cfg.type == KELP_LINK_SERIAL ? "device closed" : "connection closed by peer");
+    if (r == 0 && l->cfg.type != KELP_LINK_SERIAL) {
+        lost(l, "connection closed by peer");
         return KELP_ERR_IO;
     }
-    if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) {
+    /* a tty read of 0 bytes is "nothing now" (VMIN 0), not end of file: look for a hang-up */
+    if (r == 0 || errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) {
         /* nothing to read: but a hung-up device keeps the epoll set readable, so look */
         struct pollfd pf = { l->fd, POLLIN, 0 };
         if (poll(&pf, 1, 0) > 0 && (pf.revents & (POLLHUP | POLLERR | POLLNVAL)) && !(pf.revents & POLLIN)) {
