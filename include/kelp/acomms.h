@@ -207,8 +207,8 @@ typedef struct kelp_acomms_node_cfg {
     kelp_mm_cfg mm;               /**< WHOI driver configuration (modem_id is forced) */
     kelp_mac_cfg mac;             /**< modem_id is forced */
     /** DRIVER_NONE only: an ideal in-process channel.  At our MAC data slots the frames the
-     *  queue hands out are delivered back to us when broadcast, and every frame that asked for
-     *  an ack is acknowledged as if its destination answered. */
+     *  queue hands out are delivered back to our receive path (which keeps the broadcast pieces),
+     *  and every frame that asked for an ack is acknowledged as if its destination answered. */
     bool loopback_channel;
 } kelp_acomms_node_cfg;
 

@@ -257,13 +257,12 @@ static int transmit_internal(kelp_acomms_node *n, int src, int dest, unsigned ra
         ev_init(&ev, KELP_ACOMMS_EV_LOOPBACK, now_us);
         ev.frame = m;
         emit(n, &ev);
-        if (m->dest == KELP_ACOMMS_BROADCAST) {
-            kelp_acomms_msg rx = *m;
-            rx.has_time = true;
-            rx.time_us = now_us;
-            n->count.loopback_delivered++;
-            (void)kelp_queue_receive(&n->q, &rx);
-        }
+        /* everyone hears a frame: the queue keeps the pieces for us (broadcast pieces, also
+         * those stitched into a frame addressed to another modem) */
+        kelp_acomms_msg rx = *m;
+        rx.has_time = true;
+        rx.time_us = now_us;
+        if (kelp_queue_receive(&n->q, &rx) > 0) n->count.loopback_delivered++;
         if (m->ack_requested && m->dest != KELP_ACOMMS_BROADCAST) {
             n->count.loopback_acked++;
             (void)kelp_queue_ack(&n->q, m->dest, n->modem_id, m->frame);

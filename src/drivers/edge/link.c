@@ -101,6 +101,7 @@ static void lost(kelp_link *l, const char *why)
 {
     set_err(l, "%s", why);
     l->count.disconnects++;
+    l->just_connected = false; /* a connection nobody saw is not news any more */
     drop_fd(l);
 }
 
@@ -270,6 +271,16 @@ static int tcp_client_open(kelp_link *l)
         close(fd);
         return KELP_ERR_IO;
     }
+    /* nobody listening on a local ephemeral port can give a TCP "simultaneous open" with
+     * ourselves (source port == destination port): that is not a modem */
+    struct sockaddr_in me, peer;
+    socklen_t ml = sizeof me, pl = sizeof peer;
+    if (getsockname(fd, (struct sockaddr *)&me, &ml) == 0 && getpeername(fd, (struct sockaddr *)&peer, &pl) == 0 &&
+        me.sin_port == peer.sin_port && me.sin_addr.s_addr == peer.sin_addr.s_addr) {
+        set_err(l, "cannot connect to %s:%u: Connection refused (self-connection)", l->host, l->cfg.port);
+        close(fd);
+        return KELP_ERR_IO;
+    }
     int one = 1;
     (void)setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
     l->fd = fd;
@@ -380,7 +391,7 @@ static int op_read(kelp_link *l, uint8_t *buf, size_t cap, size_t *n)
     if (r == 0 || errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) {
         /* nothing to read: but a hung-up device keeps the epoll set readable, so look */
         struct pollfd pf = { l->fd, POLLIN, 0 };
-        if (poll(&pf, 1, 0) > 0 && (pf.revents & (POLLHUP | POLLERR | POLLNVAL)) && !(pf.revents & POLLIN)) {
+        if (poll(&pf, 1, 0) > 0 && (pf.revents & (POLLHUP | POLLERR | POLLNVAL))) {
             lost(l, "device hung up");
             return KELP_ERR_IO;
         }
