@@ -221,6 +221,7 @@ static void on_driver_event(handler *h, const kelp_mm_event *e)
     case KELP_MM_EV_DEAD:
         h->deaths++;
         kelp_app_run_warning(h->app, "modem not responding: reconnecting the link");
+        kelp_app_event(h->app, "modem not responding: reconnecting the link");
         break;
     case KELP_MM_EV_CLOCK:
         kelp_app_event(h->app, "modem clock %s", e->clock_ok ? "set" : "needs setting");
@@ -356,6 +357,7 @@ static void on_link_readable(kelp_app *app, void *state, int fd)
         int rc = kelp_link_read(h->link, buf, sizeof buf, &n);
         if (rc) {
             kelp_app_run_warning(h->app, "modem link lost: %s", kelp_link_error(h->link));
+            kelp_app_event(h->app, "modem link lost: %s", kelp_link_error(h->link));
             h->link_up = false;
             kelp_acomms_node_set_link_up(&h->node, false);
             return;
@@ -734,6 +736,7 @@ static int iterate(kelp_app *app, void *state, double now)
             h->link_up = false;
             kelp_acomms_node_set_link_up(&h->node, false);
             kelp_app_run_warning(app, "modem link lost: %s", kelp_link_error(h->link));
+            kelp_app_event(app, "modem link lost: %s", kelp_link_error(h->link));
         }
     }
     int rc = kelp_acomms_node_tick(&h->node, now_us);

@@ -35,47 +35,9 @@ ProcessConfig = pAcommsHandler
 }
 EOF
 
-# ---- the fake modem (bash, run by socat on the other side of the pty): answers like a WHOI
+# the fake modem (bash, run by socat on the other side of the pty): answers like a WHOI
 # Micro-Modem; lines appended to $T/inject are sent as if the modem produced them
-cat > fakemodem.sh <<'EOS'
-T=$1
-cks() { local s=$1 c=0 i o; for ((i = 0; i < ${#s}; i++)); do printf -v o '%d' "'${s:i:1}"; c=$((c ^ o)); done; printf '%02X' $c; }
-say() { printf '$%s*%s\r\n' "$1" "$(cks "$1")"; echo "< \$$1" >> "$T/modem.log"; }
-handle() {
-  local line=${1#$'\n'} body
-  [ -n "$line" ] || return 0
-  echo "> $line" >> "$T/modem.log"
-  [ "$(cat "$T/mode" 2>/dev/null)" = silent ] && return 0
-  body=${line#\$}; body=${body%%\**}
-  case $body in
-    CCCLK,*) say "CACLK,${body#CCCLK,}" ;;
-    CCCFG,*) say "CACFG,${body#CCCFG,}" ;;
-    CCCFQ,*) say "CACFG,SRC,1"; say "CACFG,DTO,2" ;;
-    CCCYC,*) IFS=, read -r _ cmd a1 a2 rate ack nf <<< "$body"
-             say "CACYC,$cmd,$a1,$a2,$rate,$ack,$nf"
-             say "CADRQ,$(date -u +%H%M%S),$a1,$a2,$ack,32,1" ;;
-    CCTXD,*) IFS=, read -r _ s d ack hex <<< "$body"
-             echo "$hex" >> "$T/txd.log"
-             say "CATXD,$s,$d,$ack,$(( ${#hex} / 2 ))"
-             [ "$ack" = 1 ] && [ -n "$hex" ] && say "CAACK,$d,$s,1,1" ;;
-  esac
-}
-echo "modem up" >> "$T/modem.log"
-buf=""; sent=0
-while :; do
-  if IFS= read -r -t 0.1 -d $'\r' part; then
-    handle "$buf$part"; buf=""
-  else
-    rc=$?; buf+=$part
-    [ $rc -gt 128 ] || break   # EOF: the pty went away
-  fi
-  if [ -f "$T/inject" ]; then
-    n=$(wc -l < "$T/inject")
-    while [ $sent -lt $n ]; do sent=$((sent + 1)); l=$(sed -n "${sent}p" "$T/inject"); printf '%s\r\n' "$l"; echo "< $l" >> "$T/modem.log"; done
-  fi
-done
-echo "modem gone" >> "$T/modem.log"
-EOS
+cp "$KELP_ROOT/test/shim/fake_modem.sh" fakemodem.sh
 cks() { local s=$1 c=0 i o; for ((i = 0; i < ${#s}; i++)); do printf -v o '%d' "'${s:i:1}"; c=$((c ^ o)); done; printf '%02X' $c; }
 inject() { echo "$1" >> "$T/inject"; }
 # wait until a $CCTXD carried a GoToCommand with this goto_x (decoded independently)
@@ -101,7 +63,7 @@ echo normal > mode
 start_modem
 sleep 0.3
 lcm-logger --lcm-url="$KELP_LCM_URL" -f "$T/bus.lcmlog" >/dev/null 2>&1 & PIDS+=($!)
-"$BIN/pAcommsHandler" mm.moos > h.out 2>&1 & H=$!; PIDS+=($H)
+stdbuf -oL "$BIN/pAcommsHandler" --verbose mm.moos > h.out 2>&1 & H=$!; PIDS+=($H)
 
 # 1. start-up sequence
 wait_for modem.log '^> \$CCCFQ,ALL\*' 10 || { cat modem.log; tail -30 h.out; fail "no start-up sequence"; }
