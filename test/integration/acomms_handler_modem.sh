@@ -10,6 +10,8 @@
 #  6. the device disappears (socat killed) and comes back under the same name: the handler
 #     reconnects, re-runs the start-up, and a message poked while the device was gone is sent
 . "$(dirname "$0")/lib.sh"
+# stdbuf (and the pty shim) are LD_PRELOADs: let an ASan build (make asan) accept them
+export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}verify_asan_link_order=0"
 cd "$T"
 cp "$KELP_ROOT/missions/acomms/example1.xml" .
 command -v socat >/dev/null || fail "socat not installed"
