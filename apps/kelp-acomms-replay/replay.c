@@ -56,7 +56,7 @@ static void error(replay *r, const char *fmt, ...)
     stamp(r);
     fprintf(r->out, "error line=%lu ", r->lineno);
     va_start(ap, fmt);
-    vfprintf(r->out, fmt, ap);
+    vfprintf(r->out, fmt, ap); /* NOLINT(clang-analyzer-valist.Uninitialized): va_start above */
     va_end(ap);
     fputc('\n', r->out);
 }
@@ -66,7 +66,6 @@ static void error(replay *r, const char *fmt, ...)
 static void on_event(const kelp_acomms_event *ev, void *user)
 {
     replay *r = user;
-    char text[1024];
     switch (ev->kind) {
     case KELP_ACOMMS_EV_SLOT:
         stamp(r);
@@ -105,15 +104,17 @@ static void on_event(const kelp_acomms_event *ev, void *user)
             hex(r->out, q->msg->data, q->msg->len);
             fputc('\n', r->out);
             break;
-        case KELP_QUEUE_EV_RECEIVE:
+        case KELP_QUEUE_EV_RECEIVE: {
+            char text[1024] = "";
             if (r->dccl && kelp_acomms_dccl_describe(r->dccl, q->msg->data, q->msg->len,
                                                      (double)r->now_us / 1e6, text, sizeof text) != KELP_OK) {
                 /* text holds the reason */
             }
             fprintf(r->out, "receive queue=%s src=%d dest=%d hex=", nm, q->msg->src, q->msg->dest);
             hex(r->out, q->msg->data, q->msg->len);
-            fprintf(r->out, " decoded=\"%s\"\n", r->dccl ? text : "");
+            fprintf(r->out, " decoded=\"%s\"\n", text);
             break;
+        }
         case KELP_QUEUE_EV_RECEIVE_CCL:
             fprintf(r->out, "receive queue=%s src=%d dest=%d hex=", nm, q->msg->src, q->msg->dest);
             hex(r->out, q->msg->data, q->msg->len);
@@ -488,11 +489,11 @@ static void run_line(replay *r, char *line)
     } else if (!strcmp(w[0], "status")) {
         cmd_status(r);
     } else if (!strcmp(w[0], "auto_request")) {
-        if (n != 2 || (strcmp(w[1], "on") && strcmp(w[1], "off"))) {
+        if (n != 2 || (strcmp(w[1], "on") != 0 && strcmp(w[1], "off") != 0)) {
             error(r, "auto_request on|off");
             return;
         }
-        r->auto_request = !strcmp(w[1], "on");
+        r->auto_request = strcmp(w[1], "on") == 0;
     } else if (!strcmp(w[0], "echo")) {
         stamp(r);
         fputs("echo", r->out);

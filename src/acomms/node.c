@@ -191,7 +191,6 @@ int kelp_acomms_node_start(kelp_acomms_node *n, int64_t now_us)
     n->now_us = now_us;
     /* re-align the cycle to the start time (kelp_mac_init at 0 aligned it to 1970) */
     kelp_mac_slot slots[KELP_MAX_MAC_SLOTS];
-    size_t ns = 0;
     kelp_mac_cfg mc;
     kelp_mac_cfg_default(&mc);
     mc.type = n->mac.type;
@@ -200,6 +199,7 @@ int kelp_acomms_node_start(kelp_acomms_node *n, int64_t now_us)
     mc.slot_seconds = n->mac.slot_seconds;
     mc.expire_cycles = n->mac.expire_cycles;
     if (mc.type == KELP_MAC_FIXED_DECENTRALIZED || mc.type == KELP_MAC_POLLED) {
+        size_t ns = 0;
         for (size_t i = 0; i < n->mac.n && i < KELP_MAX_MAC_SLOTS; i++) slots[ns++] = n->mac.slot[i];
         mc.slots = slots;
         mc.nslots = ns;

@@ -24,20 +24,22 @@ typedef struct rd {
     const char *base;
 } rd;
 
-static int fail(rd *r, const kelp_mission_node *n, const char *fmt, ...) KELP_PRINTF(3, 4);
-static int fail(rd *r, const kelp_mission_node *n, const char *fmt, ...)
+static void note_fail(rd *r, const kelp_mission_node *n, const char *fmt, ...) KELP_PRINTF(3, 4);
+static void note_fail(rd *r, const kelp_mission_node *n, const char *fmt, ...)
 {
     char msg[256];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(msg, sizeof msg, fmt, ap);
+    vsnprintf(msg, sizeof msg, fmt, ap); /* NOLINT(clang-analyzer-valist.Uninitialized): va_start above */
     va_end(ap);
     if (r->err && r->errcap) {
         if (n) snprintf(r->err, r->errcap, "line %d: %.*s: %s", n->line, (int)n->klen, n->key, msg);
         else snprintf(r->err, r->errcap, "%s", msg);
     }
-    return KELP_ERR_PARSE;
 }
+
+/* a constant status (the analyzer does not follow variadic calls) */
+#define fail(...) (note_fail(__VA_ARGS__), KELP_ERR_PARSE)
 
 static void warn(rd *r, const kelp_mission_node *n, const char *fmt, ...) KELP_PRINTF(3, 4);
 static void warn(rd *r, const kelp_mission_node *n, const char *fmt, ...)
@@ -46,7 +48,7 @@ static void warn(rd *r, const kelp_mission_node *n, const char *fmt, ...)
     va_list ap;
     if (!r->warn || !r->warncap) return;
     va_start(ap, fmt);
-    vsnprintf(msg, sizeof msg, fmt, ap);
+    vsnprintf(msg, sizeof msg, fmt, ap); /* NOLINT(clang-analyzer-valist.Uninitialized): va_start above */
     va_end(ap);
     size_t o = strlen(r->warn);
     if (o + 1 >= r->warncap) return;
@@ -62,7 +64,7 @@ static int get_str(rd *r, const kelp_mission_node *n, char *buf, size_t cap)
 
 static int get_long(rd *r, const kelp_mission_node *n, long lo, long hi, long *out)
 {
-    long v;
+    long v = 0;
     if (n->kind != KELP_MN_FIELD || n->quoted || kelp_parse_long(n->val, n->vlen, &v) != KELP_OK)
         return fail(r, n, "expected an integer, got \"%.*s\"", (int)n->vlen, n->val ? n->val : "");
     if (v < lo || v > hi) return fail(r, n, "%ld is out of range %ld..%ld", v, lo, hi);
@@ -93,7 +95,7 @@ static int get_enum(rd *r, const kelp_mission_node *n, const char *const *names,
             *out = values[i];
             return KELP_OK;
         }
-    long v;
+    long v = 0;
     if (!n->quoted && kelp_parse_long(n->val, n->vlen, &v) == KELP_OK)
         for (size_t i = 0; i < count; i++)
             if (values[i] == v) {
@@ -146,7 +148,7 @@ static int read_initializer(rd *r, int idx)
         if (is(n, "type")) {
             static const char *const N[] = { "INI_DOUBLE", "INI_STRING" };
             static const int V[] = { 1, 2 };
-            int t;
+            int t = 0;
             if ((rc = get_enum(r, n, N, V, 2, &t))) return rc;
             in->is_double = t == 1;
             has_type = true;
@@ -199,7 +201,7 @@ static int read_common(rd *r, int idx)
             static const int V[] = { KELP_ACOMMS_VERBOSITY_QUIET, KELP_ACOMMS_VERBOSITY_WARN,
                                      KELP_ACOMMS_VERBOSITY_VERBOSE, KELP_ACOMMS_VERBOSITY_DEBUG,
                                      KELP_ACOMMS_VERBOSITY_GUI };
-            int v;
+            int v = 0;
             if ((rc = get_enum(r, n, N, V, 5, &v))) return rc;
             c->verbosity = (kelp_acomms_verbosity)v;
         } else if (is(n, "initializer")) {
@@ -215,7 +217,7 @@ static int read_common(rd *r, int idx)
 
 static int read_modem_id(rd *r, const kelp_mission_node *n)
 {
-    long v;
+    long v = 0;
     int rc = get_long(r, n, 0, 31, &v);
     if (rc) return rc;
     if (r->c->modem_id && v != r->c->modem_id)
@@ -227,7 +229,7 @@ static int read_driver(rd *r, int idx)
 {
     kelp_acomms_config *c = r->c;
     int rc;
-    long v;
+    long v = 0;
     FOR_CHILDREN(r, idx, ch)
     {
         const kelp_mission_node *n = node(r, ch_i);
@@ -238,7 +240,7 @@ static int read_driver(rd *r, int idx)
                                              "CONNECTION_DUAL_UDP_BROADCAST" };
             static const int V[] = { KELP_ACOMMS_CONN_SERIAL, KELP_ACOMMS_CONN_TCP_AS_CLIENT,
                                      KELP_ACOMMS_CONN_TCP_AS_SERVER, KELP_ACOMMS_CONN_DUAL_UDP_BROADCAST };
-            int t;
+            int t = 0;
             if ((rc = get_enum(r, n, N, V, 4, &t))) return rc;
             c->connection = (kelp_acomms_connection)t;
         } else if (is(n, "line_delimiter")) {
@@ -284,7 +286,7 @@ static int read_slot(rd *r, int idx)
     kelp_mac_slot_default(s, 0);
     bool has_src = false;
     int rc;
-    long v;
+    long v = 0;
     FOR_CHILDREN(r, idx, ch)
     {
         const kelp_mission_node *n = node(r, ch_i);
@@ -301,7 +303,7 @@ static int read_slot(rd *r, int idx)
         } else if (is(n, "type")) {
             static const char *const N[] = { "SLOT_DATA", "SLOT_PING", "SLOT_REMUS_LBL" };
             static const int V[] = { KELP_SLOT_DATA, KELP_SLOT_PING, KELP_SLOT_REMUS_LBL };
-            int t;
+            int t = 0;
             if ((rc = get_enum(r, n, N, V, 3, &t))) return rc;
             s->type = (kelp_slot_type)t;
         } else if (is(n, "slot_seconds")) {
@@ -323,7 +325,7 @@ static int read_mac(rd *r, int idx)
 {
     kelp_acomms_config *c = r->c;
     int rc;
-    long v;
+    long v = 0;
     FOR_CHILDREN(r, idx, ch)
     {
         const kelp_mission_node *n = node(r, ch_i);
@@ -334,7 +336,7 @@ static int read_mac(rd *r, int idx)
                                              "MAC_POLLED" };
             static const int V[] = { KELP_MAC_NONE, KELP_MAC_FIXED_DECENTRALIZED, KELP_MAC_AUTO_DECENTRALIZED,
                                      KELP_MAC_POLLED };
-            int t;
+            int t = 0;
             if ((rc = get_enum(r, n, N, V, 4, &t))) return rc;
             c->mac_type = (kelp_mac_type)t;
         } else if (is(n, "slot")) {
@@ -412,14 +414,14 @@ static int read_message_file(rd *r, int idx)
 static int read_key(rd *r, int idx, kelp_queue_key *key, bool *has_id)
 {
     int rc;
-    long v;
+    long v = 0;
     FOR_CHILDREN(r, idx, ch)
     {
         const kelp_mission_node *n = node(r, ch_i);
         if (is(n, "type")) {
             static const char *const N[] = { "QUEUE_DCCL", "QUEUE_CCL" };
             static const int V[] = { KELP_QUEUE_DCCL, KELP_QUEUE_CCL };
-            int t;
+            int t = 0;
             if ((rc = get_enum(r, n, N, V, 2, &t))) return rc;
             key->type = (uint8_t)t;
         } else if (is(n, "id")) {
@@ -443,7 +445,7 @@ static int read_queue(rd *r, int idx)
     kelp_queue_cfg_default(&q->cfg, KELP_QUEUE_DCCL, 0);
     bool has_id = false, has_key = false;
     int rc;
-    long v;
+    long v = 0;
     double d;
     FOR_CHILDREN(r, idx, ch)
     {
@@ -567,7 +569,7 @@ int kelp_acomms_config_read(const struct kelp_mission *m, int block, const char 
     if (block < 0) return fail(&r, NULL, "no pAcommsHandler configuration block");
     bool has_log = false, has_log_path = false, has_lookup = false;
     int rc;
-    long v;
+    long v = 0;
     const kelp_mission_node *modem_id_node = NULL, *driver_node = NULL;
     /* modem_id first, so sub-block modem_ids can be compared with it */
     FOR_CHILDREN(&r, block, pre)
@@ -595,7 +597,7 @@ int kelp_acomms_config_read(const struct kelp_mission *m, int block, const char 
         } else if (is(n, "driver_type")) {
             static const char *const N[] = { "DRIVER_NONE", "DRIVER_WHOI_MICROMODEM", "DRIVER_ABC_EXAMPLE_MODEM" };
             static const int V[] = { KELP_ACOMMS_DRIVER_NONE, KELP_ACOMMS_DRIVER_WHOI_MICROMODEM, 99 };
-            int t;
+            int t = 0;
             if ((rc = get_enum(&r, n, N, V, 3, &t))) return rc;
             if (t == 99) return fail(&r, n, "DRIVER_ABC_EXAMPLE_MODEM (Goby's toy modem) is not provided by kelp");
             c->driver_type = (kelp_acomms_driver_type)t;

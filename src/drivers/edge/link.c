@@ -53,7 +53,7 @@ static void set_err(kelp_link *l, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(l->err, sizeof l->err, fmt, ap);
+    vsnprintf(l->err, sizeof l->err, fmt, ap); /* NOLINT(clang-analyzer-valist.Uninitialized): va_start above */
     va_end(ap);
 }
 
@@ -274,6 +274,8 @@ static int tcp_client_open(kelp_link *l)
     /* nobody listening on a local ephemeral port can give a TCP "simultaneous open" with
      * ourselves (source port == destination port): that is not a modem */
     struct sockaddr_in me, peer;
+    memset(&me, 0, sizeof me);
+    memset(&peer, 0, sizeof peer);
     socklen_t ml = sizeof me, pl = sizeof peer;
     if (getsockname(fd, (struct sockaddr *)&me, &ml) == 0 && getpeername(fd, (struct sockaddr *)&peer, &pl) == 0 &&
         me.sin_port == peer.sin_port && me.sin_addr.s_addr == peer.sin_addr.s_addr) {
