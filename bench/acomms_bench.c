@@ -60,7 +60,7 @@ int main(void)
            (t1 - t0) / N * 1e6, bytes / frames);
     t0 = now_s();
     int pieces = 0;
-    for (int i = 0; i < N * 5; i++) pieces += kelp_dccl_unstitch(out.data, out.len, NULL, NULL);
+    for (int i = 0; i < N * 5; i++) pieces += kelp_queue_unstitch(out.data, out.len, NULL, NULL);
     t1 = now_s();
     printf("unstitch 256-byte frame (%d pieces): %.3f us/frame\n", pieces / (N * 5), (t1 - t0) / (N * 5) * 1e6);
 

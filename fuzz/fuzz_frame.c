@@ -67,8 +67,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if (p + body > size) body = size - p;
         kelp_acomms_msg m;
         memset(&m, 0, sizeof m);
-        kelp_dccl_header h = { KELP_DCCL_CCL_ID, id, 100, 1, (id & 2) ? 0u : 2u, false, false, 0 };
-        kelp_dccl_header_write(&h, m.data);
+        kelp_queue_header h = { KELP_DCCL_CCL_ID, id, 100, 1, (id & 2) ? 0u : 2u, false, false, 0 };
+        kelp_queue_header_write(&h, m.data);
         memcpy(m.data + 6, data + p, body);
         p += body;
         m.len = 6 + body;

@@ -334,6 +334,25 @@ START_TEST(bad_datagram_counted_and_client_goes_on)
 }
 END_TEST
 
+/* Another LCM type on a channel reached only through a wildcard is foreign, not bad; on a
+ * channel registered by exact name it is bad. */
+START_TEST(foreign_type_through_wildcard_is_not_bad)
+{
+    static kelp_loopback net;
+    kelp_loopback_init(&net);
+    tclient *b = tc_new(&net, "pB", 32);
+    ck_assert_int_eq(kelp_bus_register(&b->bus, "*", 0, 0), 0);
+    ck_assert_int_eq(kelp_bus_register(&b->bus, "EXACT", 0, 0), 0);
+    uint8_t other[24] = { 0x12, 0x34, 0x56, 0x78, 0x9a, 0xbc, 0xde, 0xf0 };
+    ck_assert_int_eq(kelp_bus_receive(&b->bus, "ACOMMS_ACK_LCM", other, sizeof other, 0), 0);
+    ck_assert_uint_eq(kelp_bus_get_stats(&b->bus)->foreign, 1);
+    ck_assert_uint_eq(kelp_bus_get_stats(&b->bus)->bad, 0);
+    ck_assert_int_eq(kelp_bus_receive(&b->bus, "EXACT", other, sizeof other, 0), KELP_ERR_DEFMISMATCH);
+    ck_assert_uint_eq(kelp_bus_get_stats(&b->bus)->bad, 1);
+    free(b);
+}
+END_TEST
+
 START_TEST(cache_full_still_publishes)
 {
     static kelp_loopback net;
@@ -384,6 +403,7 @@ Suite *kelp_bus_suite(void)
     tcase_add_test(c, handlers_may_publish);
     tcase_add_test(c, bad_datagram_counted_and_client_goes_on);
     tcase_add_test(c, cache_full_still_publishes);
+    tcase_add_test(c, foreign_type_through_wildcard_is_not_bad);
     tcase_add_test(c, init_rejects_small_scratch);
     suite_add_tcase(s, c);
     return s;

@@ -55,8 +55,8 @@ static kelp_acomms_msg dccl(unsigned id, int dest, size_t body, uint8_t fill)
 {
     kelp_acomms_msg m;
     memset(&m, 0, sizeof m);
-    kelp_dccl_header h = { KELP_DCCL_CCL_ID, id, 43200, 1, (unsigned)dest, false, false, 0 };
-    kelp_dccl_header_write(&h, m.data);
+    kelp_queue_header h = { KELP_DCCL_CCL_ID, id, 43200, 1, (unsigned)dest, false, false, 0 };
+    kelp_queue_header_write(&h, m.data);
     for (size_t i = 0; i < body; i++) m.data[6 + i] = (uint8_t)(fill + i);
     m.len = 6 + body;
     m.dest = dest;
@@ -82,8 +82,8 @@ static kelp_acomms_msg request(int dest, uint32_t frame, uint32_t max_bytes, int
 
 static unsigned id_of(const kelp_acomms_msg *m)
 {
-    kelp_dccl_header h;
-    ck_assert_int_eq(kelp_dccl_header_read(m->data, m->len, &h), KELP_OK);
+    kelp_queue_header h;
+    ck_assert_int_eq(kelp_queue_header_read(m->data, m->len, &h), KELP_OK);
     return h.id;
 }
 
@@ -529,8 +529,8 @@ END_TEST
 START_TEST(dccl_header_fields)
 {
     static const uint8_t ss[6] = { 0x20, 0x0a, 0x2a, 0x30, 0x04, 0x00 }; /* SIMPLE_STATUS vector */
-    kelp_dccl_header h;
-    ck_assert_int_eq(kelp_dccl_header_read(ss, 6, &h), KELP_OK);
+    kelp_queue_header h;
+    ck_assert_int_eq(kelp_queue_header_read(ss, 6, &h), KELP_OK);
     ck_assert_uint_eq(h.ccl_id, 0x20);
     ck_assert_uint_eq(h.id, 20);
     ck_assert_uint_eq(h.time_of_day, 43200);
@@ -538,12 +538,12 @@ START_TEST(dccl_header_fields)
     ck_assert_uint_eq(h.dest, 0);
     ck_assert(!h.multimessage && !h.broadcast);
     uint8_t back[6];
-    kelp_dccl_header_write(&h, back);
+    kelp_queue_header_write(&h, back);
     ck_assert_mem_eq(back, ss, 6);
-    ck_assert_int_eq(kelp_dccl_header_read(ss, 5, &h), KELP_ERR_TRUNCATED);
+    ck_assert_int_eq(kelp_queue_header_read(ss, 5, &h), KELP_ERR_TRUNCATED);
     h.multimessage = h.broadcast = true;
     h.dest = 31;
-    kelp_dccl_header_write(&h, back);
+    kelp_queue_header_write(&h, back);
     ck_assert_uint_eq(back[4], 0x05);
     ck_assert_uint_eq(back[5], 0xFC);
 }
@@ -561,16 +561,16 @@ START_TEST(unstitch_malformed_frames)
     /* multimessage flag without the size byte */
     static const uint8_t a[6] = { 0x20, 0, 0xAA, 0x30, 0x02, 0x08 };
     npieces = 0;
-    ck_assert_int_eq(kelp_dccl_unstitch(a, 6, count_piece, NULL), KELP_ERR_TRUNCATED);
+    ck_assert_int_eq(kelp_queue_unstitch(a, 6, count_piece, NULL), KELP_ERR_TRUNCATED);
     ck_assert_int_eq(npieces, 0);
     /* size byte larger than the rest: clamped piece, then nothing left for the next header */
     static const uint8_t b[10] = { 0x20, 0, 0xAA, 0x30, 0x02, 0x08, 200, 1, 2, 3 };
     npieces = 0;
-    ck_assert_int_eq(kelp_dccl_unstitch(b, 10, count_piece, NULL), KELP_ERR_TRUNCATED);
+    ck_assert_int_eq(kelp_queue_unstitch(b, 10, count_piece, NULL), KELP_ERR_TRUNCATED);
     ck_assert_int_eq(npieces, 1);
-    ck_assert_int_eq(kelp_dccl_unstitch(b, 5, count_piece, NULL), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_queue_unstitch(b, 5, count_piece, NULL), KELP_ERR_PARSE);
     static const uint8_t c[7] = { 0x21, 0, 0xAA, 0x30, 0x02, 0x00, 1 };
-    ck_assert_int_eq(kelp_dccl_unstitch(c, 7, count_piece, NULL), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_queue_unstitch(c, 7, count_piece, NULL), KELP_ERR_PARSE);
 }
 END_TEST
 

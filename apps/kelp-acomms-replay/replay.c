@@ -237,8 +237,8 @@ static void cmd_push(replay *r, char **w, int n)
         error(r, "cannot encode: %s", why);
         return;
     }
-    kelp_dccl_header hd;
-    if (kelp_dccl_header_read(m.data, len, &hd) != KELP_OK) {
+    kelp_queue_header hd;
+    if (kelp_queue_header_read(m.data, len, &hd) != KELP_OK) {
         error(r, "encoded message too short");
         return;
     }

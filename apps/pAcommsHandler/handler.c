@@ -267,8 +267,8 @@ static int build_msg(handler *h, size_t idx, kelp_acomms_msg *m, double now, con
     size_t len = 0;
     int rc = kelp_acomms_dccl_encode_vars(h->dccl, idx, now, m->data, sizeof m->data, &len, why);
     if (rc) return rc;
-    kelp_dccl_header hd;
-    if (kelp_dccl_header_read(m->data, len, &hd) != KELP_OK) {
+    kelp_queue_header hd;
+    if (kelp_queue_header_read(m->data, len, &hd) != KELP_OK) {
         *why = "encoded message shorter than its header";
         return KELP_ERR_TRUNCATED;
     }

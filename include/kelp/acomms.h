@@ -10,9 +10,8 @@
  *     through one callback.
  *  4. Configuration (edge): the pAcommsHandler ProcessConfig block (seed 002 section 2.3.5).
  *
- * Part 1 needs no other kelp header, so a translation unit that includes <kelp/dccl.h> (whose
- * kelp_dccl_header clashes with the one in <kelp/queue.h>) defines KELP_ACOMMS_DCCL_ONLY
- * before including this header and sees part 1 only.
+ * A translation unit that needs part 1 only may define KELP_ACOMMS_DCCL_ONLY before
+ * including this header.
  */
 #ifndef KELP_ACOMMS_H
 #define KELP_ACOMMS_H

@@ -116,6 +116,7 @@ typedef struct kelp_bus_stats {
     uint64_t received;               /**< datagrams handed to kelp_bus_receive */
     uint64_t delivered;              /**< handler calls */
     uint64_t bad;                    /**< datagrams rejected by validation */
+    uint64_t foreign;                /**< other LCM types reached only through a wildcard */
     uint64_t sync_sent;              /**< retained values sent to late registrants */
     uint64_t sync_delivered;         /**< retained values delivered to us on registration */
     uint64_t sync_stale;             /**< sync replies dropped as not newer than what we had */

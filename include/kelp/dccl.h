@@ -34,7 +34,9 @@ extern "C" {
 
 /* ------------------------------------------------------------------ constants */
 #define KELP_DCCL_HEAD_BYTES 6u        /**< header length on the wire */
-#define KELP_DCCL_CCL_ID 32u           /**< first byte of every DCCL message */
+#ifndef KELP_DCCL_CCL_ID
+#define KELP_DCCL_CCL_ID 32u          /**< first byte of every DCCL message (also in queue.h) */
+#endif
 #define KELP_DCCL_N_HEAD 8u            /**< header fields (fields[0..7]) */
 #define KELP_DCCL_MAX_DBL_PRECISION 15 /**< Goby MAX_DBL_PRECISION */
 

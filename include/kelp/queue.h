@@ -30,7 +30,9 @@
 #define KELP_QUEUE_CCL 2              /**< QueueType QUEUE_CCL */
 #define KELP_ACOMMS_BROADCAST 0       /**< modem id 0 = broadcast */
 #define KELP_ACOMMS_QUERY_DEST (-1)   /**< slot/request dest -1 = "ask the queue" */
-#define KELP_DCCL_CCL_ID 0x20         /**< first byte of every DCCL message */
+#ifndef KELP_DCCL_CCL_ID
+#define KELP_DCCL_CCL_ID 32u          /**< first byte of every DCCL message (also in dccl.h) */
+#endif
 #define KELP_DCCL_HEADER_BYTES 6
 #define KELP_DCCL_MULTIMESSAGE_MASK 0x08 /**< bit 44 = header byte 5, 0x08 */
 #define KELP_DCCL_BROADCAST_MASK 0x04    /**< bit 45 = header byte 5, 0x04 */
@@ -199,19 +201,19 @@ KELP_MUST_CHECK int kelp_queue_priority(const kelp_queue_mgr *m, kelp_queue_key 
 
 /* ------------------------------------------------------------------ DCCL header helpers */
 
-typedef struct kelp_dccl_header {
+typedef struct kelp_queue_header {
     unsigned ccl_id;        /**< 8 bits, 0x20 for DCCL */
     unsigned id;            /**< 9 bits */
     unsigned time_of_day;   /**< 17 bits: seconds since UTC midnight */
     unsigned src, dest;     /**< 5 bits each */
     bool multimessage, broadcast;
     unsigned unused;        /**< 2 bits */
-} kelp_dccl_header;
+} kelp_queue_header;
 
 /** Read the 6-byte header.  KELP_ERR_TRUNCATED if n < 6. */
-KELP_MUST_CHECK int kelp_dccl_header_read(const uint8_t *d, size_t n, kelp_dccl_header *h);
+KELP_MUST_CHECK int kelp_queue_header_read(const uint8_t *d, size_t n, kelp_queue_header *h);
 /** Write a header (values are taken modulo their widths). */
-void kelp_dccl_header_write(const kelp_dccl_header *h, uint8_t out[KELP_DCCL_HEADER_BYTES]);
+void kelp_queue_header_write(const kelp_queue_header *h, uint8_t out[KELP_DCCL_HEADER_BYTES]);
 
 /** Callback for each unstitched piece: the piece (header flags cleared) and the broadcast flag. */
 typedef void (*kelp_unstitch_fn)(const uint8_t *piece, size_t len, unsigned dccl_id, bool broadcast, void *user);
@@ -220,6 +222,6 @@ typedef void (*kelp_unstitch_fn)(const uint8_t *piece, size_t len, unsigned dccl
  *  @return number of pieces, or KELP_ERR_PARSE (not DCCL / < 6 bytes) or KELP_ERR_TRUNCATED
  *  (a multimessage piece without its size byte or without a following header; the pieces before
  *  it were still reported). */
-int kelp_dccl_unstitch(const uint8_t *d, size_t n, kelp_unstitch_fn fn, void *user);
+int kelp_queue_unstitch(const uint8_t *d, size_t n, kelp_unstitch_fn fn, void *user);
 
 #endif

@@ -214,6 +214,13 @@ int kelp_bus_retain_all(kelp_bus *b, double now)
     return KELP_OK;
 }
 
+static bool exact_sub(const kelp_bus *b, const char *channel)
+{
+    for (size_t i = 0; i < b->nsubs_used; i++)
+        if (!b->st.subs[i].wildcard && strcmp(b->st.subs[i].pattern, channel) == 0) return true;
+    return false;
+}
+
 /* Which subscription (if any) wants this name; honour its rate limit. */
 static bool wanted(kelp_bus *b, const kelp_var *v, bool *rate_limited)
 {
@@ -278,6 +285,12 @@ int kelp_bus_receive(kelp_bus *b, const char *channel, const uint8_t *data, size
         return KELP_OK;
     kelp_var *v = b->st.rx;
     rc = kelp_var_decode(data, len, v);
+    if (rc == KELP_ERR_DEFMISMATCH && !exact_sub(b, channel)) {
+        /* another LCM type on a channel only a wildcard reached (structured acomms types,
+         * other programs' traffic): not ours to judge */
+        b->stats.foreign++;
+        return KELP_OK;
+    }
     if (rc < 0) {
         b->stats.bad++;
         b->stats.last_bad_err = rc;

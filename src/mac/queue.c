@@ -480,10 +480,12 @@ int kelp_queue_receive(kelp_queue_mgr *m, const kelp_acomms_msg *frame)
     if (!m || !frame) return 0;
     m->count.rx_frames++;
     size_t n = frame->len > KELP_MAX_ACOMMS_FRAME ? KELP_MAX_ACOMMS_FRAME : frame->len;
-    if (n < KELP_DCCL_HEADER_BYTES) { m->count.rx_malformed++; return 0; }
+    if (n == 0) { m->count.rx_malformed++; return 0; }
     if (frame->data[0] == KELP_DCCL_CCL_ID) {
+        /* the 6-byte header rule applies to DCCL only; a CCL frame may be shorter */
+        if (n < KELP_DCCL_HEADER_BYTES) { m->count.rx_malformed++; return 0; }
         struct rx_ctx c = { m, frame, 0 };
-        if (kelp_dccl_unstitch(frame->data, n, publish_piece, &c) < 0) m->count.rx_malformed++;
+        if (kelp_queue_unstitch(frame->data, n, publish_piece, &c) < 0) m->count.rx_malformed++;
         return c.n;
     }
     kelp_queue_key key = { KELP_QUEUE_CCL, frame->data[0] };
@@ -510,7 +512,7 @@ static unsigned field48(uint64_t v, unsigned off, unsigned width)
     return (unsigned)((v >> (48 - off - width)) & ((1u << width) - 1u));
 }
 
-int kelp_dccl_header_read(const uint8_t *d, size_t n, kelp_dccl_header *h)
+int kelp_queue_header_read(const uint8_t *d, size_t n, kelp_queue_header *h)
 {
     if (!d || !h) return KELP_ERR_ARG;
     if (n < KELP_DCCL_HEADER_BYTES) return KELP_ERR_TRUNCATED;
@@ -526,7 +528,7 @@ int kelp_dccl_header_read(const uint8_t *d, size_t n, kelp_dccl_header *h)
     return KELP_OK;
 }
 
-void kelp_dccl_header_write(const kelp_dccl_header *h, uint8_t out[KELP_DCCL_HEADER_BYTES])
+void kelp_queue_header_write(const kelp_queue_header *h, uint8_t out[KELP_DCCL_HEADER_BYTES])
 {
     uint64_t v = h->ccl_id & 0xffu;
     v = (v << 9) | (h->id & 0x1ffu);
@@ -539,7 +541,7 @@ void kelp_dccl_header_write(const kelp_dccl_header *h, uint8_t out[KELP_DCCL_HEA
     for (int i = 5; i >= 0; i--) { out[i] = (uint8_t)(v & 0xff); v >>= 8; }
 }
 
-int kelp_dccl_unstitch(const uint8_t *d, size_t n, kelp_unstitch_fn fn, void *user)
+int kelp_queue_unstitch(const uint8_t *d, size_t n, kelp_unstitch_fn fn, void *user)
 {
     if (!d || n < KELP_DCCL_HEADER_BYTES || d[0] != KELP_DCCL_CCL_ID) return KELP_ERR_PARSE;
     uint8_t piece[KELP_MAX_ACOMMS_FRAME + 1];
