@@ -1,23 +1,37 @@
 #!/usr/bin/env bash
-# Run each test/integration/*.sh. Each test creates its own network namespace(s).
-# Set KELP_IT=pattern to run a subset.
+# Run each test/integration/*.sh, several at a time (KELP_IT_JOBS, default 3): every test
+# makes its own network namespace(s) and LCM port, so they cannot hear each other.
+# KELP_IT=pattern runs a subset. Each test's output is kept and shown when it fails.
 set -uo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 export BUILD=${BUILD:-$here/build} KELP_ROOT=$here
-pass=0; failn=0; failed=()
+jobs=${KELP_IT_JOBS:-3}
+R=$(mktemp -d /tmp/kelp-it.XXXXXX)
+tests=()
 for t in "$here"/test/integration/*.sh; do
   [ -e "$t" ] || continue
   n=$(basename "$t" .sh)
   case "$n" in lib*) continue ;; esac
   [ -n "${KELP_IT:-}" ] && [[ "$n" != *${KELP_IT}* ]] && continue
-  log=$(mktemp /tmp/kelp-it-$n.XXXXXX)
-  start=$(date +%s.%N)
-  if timeout 300 bash "$t" >"$log" 2>&1; then
-    pass=$((pass+1)); printf 'PASS %-28s %5.1fs\n' "$n" "$(echo "$(date +%s.%N) - $start" | bc)"
-    rm -f "$log"
-  else
-    failn=$((failn+1)); failed+=("$n"); printf 'FAIL %s (log follows)\n' "$n"; tail -40 "$log" | sed 's/^/    /'
-  fi
+  tests+=("$t")
 done
+run_one() {
+  local t=$1 R=$2 n s rc
+  n=$(basename "$t" .sh)
+  s=$(date +%s.%N)
+  timeout 300 bash "$t" > "$R/$n.log" 2>&1; rc=$?
+  printf '%s %.1f\n' "$rc" "$(echo "$(date +%s.%N) - $s" | bc)" > "$R/$n.rc"
+  if [ "$rc" -eq 0 ]; then printf 'PASS %-28s %5.1fs\n' "$n" "$(cut -d' ' -f2 "$R/$n.rc")"
+  else printf 'FAIL %-28s (exit %s)\n' "$n" "$rc"; fi
+}
+export -f run_one
+printf '%s\n' "${tests[@]}" | xargs -P "$jobs" -I{} bash -c 'run_one "$@"' _ {} "$R"
+pass=0; failn=0
+for t in "${tests[@]}"; do
+  n=$(basename "$t" .sh)
+  if [ "$(cut -d' ' -f1 "$R/$n.rc" 2>/dev/null)" = 0 ]; then pass=$((pass+1)); else
+    failn=$((failn+1)); echo "---- $n (last 40 lines)"; tail -40 "$R/$n.log" | sed 's/^/    /'; fi
+done
+rm -rf "$R"
 echo "integration: $pass passed, $failn failed"
 [ $failn -eq 0 ]
