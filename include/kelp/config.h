@@ -119,4 +119,23 @@ _Static_assert(KELP_DCCL_MAX_STRLEN >= 32 && KELP_DCCL_MAX_STRLEN <= 65535, "KEL
 _Static_assert(KELP_DCCL_MAX_SIZE > 6 && KELP_DCCL_MAX_SIZE <= 8192, "KELP_DCCL_MAX_SIZE out of range");
 _Static_assert(KELP_DCCL_MAX_ALG_REFS >= 2, "KELP_DCCL_MAX_ALG_REFS too small (TSD_to_soundspeed needs 2)");
 
+/* ---- modemsim (WHOI Micro-Modem simulator: modem-side protocol, acoustic channel) ---- */
+#ifndef KELP_MAX_MSIM_ARRIVALS
+#define KELP_MAX_MSIM_ARRIVALS 16   /**< packets on their way to (or recently heard by) one modem */
+#endif
+#ifndef KELP_MAX_MSIM_TXQ
+#define KELP_MAX_MSIM_TXQ 8         /**< own transmissions scheduled (CI, data, ack, ping replies) */
+#endif
+#ifndef KELP_MAX_MSIM_TXLOG
+#define KELP_MAX_MSIM_TXLOG 8       /**< own past transmissions remembered (half-duplex check) */
+#endif
+#ifndef KELP_MAX_MSIM_NVRAM
+#define KELP_MAX_MSIM_NVRAM 64      /**< NVRAM (CFG) parameters the simulated modem holds */
+#endif
+#ifndef KELP_MAX_MSIM_POLL_SLOTS
+#define KELP_MAX_MSIM_POLL_SLOTS 32 /**< slots in a pAcommsPoller cycle */
+#endif
+_Static_assert(KELP_MAX_MSIM_ARRIVALS >= 4, "KELP_MAX_MSIM_ARRIVALS too small");
+_Static_assert(KELP_MAX_MSIM_TXQ >= 4, "KELP_MAX_MSIM_TXQ too small");
+
 #endif
