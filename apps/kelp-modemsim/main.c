@@ -290,15 +290,15 @@ static void on_event(const kelp_msim_event *e, void *u)
     const kelp_msim_pkt *p = e->pkt;
     switch (e->kind) {
     case KELP_MSIM_EV_TX:
-        snprintf(text, sizeof text, "modem=%d,event=tx,kind=%s,src=%u,dest=%u,frames=%u,rate=%u", kelp_msim_src(&s->m),
+        snprintf(text, sizeof text, "modem=%d,event=tx,kind=%s,src=%d,dest=%d,frames=%d,rate=%d", kelp_msim_src(&s->m),
                  kind_name(p->kind), p->src, p->dest, p->kind == KELP_MSIM_PKT_DATA ? p->nframes : 0, p->rate);
         break;
     case KELP_MSIM_EV_RX:
-        snprintf(text, sizeof text, "modem=%d,event=rx,kind=%s,src=%u,dest=%u,frame=%u,range=%.1f,travel=%.4f",
+        snprintf(text, sizeof text, "modem=%d,event=rx,kind=%s,src=%d,dest=%d,frame=%u,range=%.1f,travel=%.4f",
                  kelp_msim_src(&s->m), kind_name(p->kind), p->src, p->dest, e->frame, e->range_m, e->travel_s);
         break;
     case KELP_MSIM_EV_LOST:
-        snprintf(text, sizeof text, "modem=%d,event=lost,kind=%s,src=%u,dest=%u,frame=%u,reason=%s",
+        snprintf(text, sizeof text, "modem=%d,event=lost,kind=%s,src=%d,dest=%d,frame=%u,reason=%s",
                  kelp_msim_src(&s->m), p ? kind_name(p->kind) : "?", p ? p->src : 0, p ? p->dest : 0, e->frame,
                  loss_name(e->loss));
         break;
@@ -371,7 +371,7 @@ static int startup(kelp_app *app, void *st)
     kelp_msim_cfg_default(&c);
     double d = 0;
     int rc;
-    if ((rc = kelp_app_param_double(app, "modem_id", &d)) <= 0 || d != floor(d) || d < 1 || d > KELP_MSIM_MAX_ID)
+    if (kelp_app_param_double(app, "modem_id", &d) <= 0 || d != floor(d) || d < 1 || d > KELP_MSIM_MAX_ID)
         return kelp_app_config_error(app, kelp_app_param(app, "modem_id"), "modem_id (1..%d) is required",
                                      KELP_MSIM_MAX_ID);
     c.modem_id = s->modem_id = (int)d;

@@ -482,7 +482,7 @@ static void gather_next(kelp_msim *m, int64_t now_us)
     kelp_nmea_writer_long(&w, m->cyc.adr2);
     kelp_nmea_writer_long(&w, m->cyc.ack);
     kelp_nmea_writer_long(&w, (long)kelp_msim_rate_bytes[m->cyc.rate]);
-    kelp_nmea_writer_long(&w, (long)(m->cyc.next + 1));
+    kelp_nmea_writer_long(&w, (long)m->cyc.next + 1);
     send_sentence(m, &w, now_us);
     m->cyc.drq_pending = true;
     m->cyc.drq_deadline_us = now_us + us_of(m->cfg.drq_timeout_seconds);
@@ -965,7 +965,7 @@ static void receive_data(kelp_msim *m, kelp_msim_arrival *a, int64_t now_us)
         kelp_nmea_writer_long(&w, f->src);
         kelp_nmea_writer_long(&w, f->dest);
         kelp_nmea_writer_long(&w, f->ack ? 1 : 0);
-        kelp_nmea_writer_long(&w, (long)(i + 1));
+        kelp_nmea_writer_long(&w, (long)i + 1);
         write_hex(&w, f->data, f->len);
         send_sentence(m, &w, now_us);
         m->count.frames_rx++;
@@ -1016,7 +1016,7 @@ static void decide(kelp_msim *m, kelp_msim_arrival *a, int64_t now_us)
             kelp_nmea_writer_init(&w, buf, sizeof buf, "$CAACK");
             kelp_nmea_writer_long(&w, p->src);
             kelp_nmea_writer_long(&w, me);
-            kelp_nmea_writer_long(&w, (long)(f + 1));
+            kelp_nmea_writer_long(&w, (long)f + 1);
             kelp_nmea_writer_long(&w, 1);
             send_sentence(m, &w, now_us);
             m->count.acks_out++;
@@ -1095,7 +1095,7 @@ static void lbl_reply(kelp_msim *m, int64_t now_us)
     kelp_nmea_writer_init(&w, buf, sizeof buf, "$SNTTA");
     for (unsigned i = 0; i < 4; i++) {
         char tt[24] = "";
-        if (m->lbl_enable[i] && i < m->cfg.n_lbl) {
+        if (i < m->cfg.n_lbl && m->lbl_enable[i]) {
             double ow = kelp_msim_travel_time(m->x, m->y, m->depth, m->cfg.lbl_x[i], m->cfg.lbl_y[i],
                                               m->cfg.lbl_depth[i], m->cfg.sound_speed);
             double two_way = 2 * ow + m->cfg.lbl_turnaround_seconds;
