@@ -212,6 +212,7 @@ int main(int argc, char **argv)
             lcm_publish(l, chan, junk, sizeof junk);
         }
         printf("published %ld malformed datagrams on %s\n", k, chan);
+        if (l != lcm) lcm_destroy(l);
     } else {
         fprintf(stderr, "unknown mode %s\n", mode);
         return 2;

@@ -13,7 +13,7 @@ ProcessConfig = relay
   NO_SUCH_PARAM = 3
 }
 M
-$BIN/pXRelay m.moos relay > relay.out 2>&1 & RP=$!
+$BIN/pXRelay m.moos relay > relay.out 2>&1 & RP=$!; PIDS+=($RP)
 sleep 0.7
 $BIN/kelp-busperf junk PING_IN 200
 $BIN/kelp-busperf junk KELP_SYNC_REQ 50

@@ -75,7 +75,13 @@ ip netns exec ${P}h2 lcm-logger --lcm-url="$U" -f alpha.lcmlog > logger2.out 2>&
 ip netns exec ${P}h1 $BIN/kelp-bridge shore.moos > shore_bridge.log 2>&1 & PIDS+=($!)
 ip netns exec ${P}h2 $BIN/kelp-bridge alpha.moos > alpha_bridge.log 2>&1 & PIDS+=($!)
 ip netns exec ${P}h2 $BIN/kelp-bridge alpha.moos rogue > rogue_bridge.log 2>&1 & PIDS+=($!)
-sleep 1
+# wait until the three bridges listen (a bridge subscribes before it binds)
+for i in $(seq 100); do
+  n=$( (ip netns exec ${P}h1 ss -Huln; ip netns exec ${P}h2 ss -Huln) | grep -cE ':(9300|9301|9302) ' || true)
+  [ "$n" -ge 3 ] && break; sleep 0.1
+done
+[ "$n" -ge 3 ] || fail "bridges did not start"
+sleep 0.3
 # static share with renaming, host 2 -> host 1
 ip netns exec ${P}h2 $BIN/kelp-poke alpha.moos NAV_X=12.5 NAV_Y=3 > poke1.out
 # run-time bridge from the shore to the vehicle (what uFldShoreBroker asks for)

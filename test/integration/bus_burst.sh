@@ -1,6 +1,6 @@
 # A burst of 10,000 messages between two processes arrives complete (kelp bus and raw LCM).
 . "$(dirname "$0")/lib.sh"
-$BIN/kelp-busperf sub 10000 30 > $T/sub.out 2>&1 & SP=$!
+$BIN/kelp-busperf sub 10000 30 > $T/sub.out 2>&1 & SP=$!; PIDS+=($SP)
 wait_for $T/sub.out ready 5 || fail "subscriber not ready"
 $BIN/kelp-busperf pub 10000 32
 wait $SP || { cat $T/sub.out; fail "burst incomplete"; }

@@ -25,7 +25,7 @@ ProcessConfig = scope2
   VAR = DEPLOY, NEVER_WRITTEN, DEPLOYED_COUNT
 }
 M
-$BIN/kelp-launch --run-seconds 8 --log-dir logs m.moos > launch.out 2>&1 & LP=$!
+$BIN/kelp-launch --run-seconds 8 --log-dir logs m.moos > launch.out 2>&1 & LP=$!; PIDS+=($LP)
 sleep 1
 $BIN/kelp-poke m.moos DEPLOY=true > poke.out
 sleep 0.5

@@ -4,9 +4,9 @@
 cd $T
 command -v lcm-logger >/dev/null || fail "lcm-logger missing (liblcm-bin)"
 cp $KELP_ROOT/missions/xrelay/xrelay.moos .
-lcm-logger --lcm-url="$KELP_LCM_URL" -f run.lcmlog > logger.out 2>&1 & LG=$!
+lcm-logger --lcm-url="$KELP_LCM_URL" -f run.lcmlog > logger.out 2>&1 & LG=$!; PIDS+=($LG)
 sleep 0.5
-$BIN/kelp-launch --run-seconds 3 --log-dir logs xrelay.moos > launch.out 2>&1 & LP=$!
+$BIN/kelp-launch --run-seconds 3 --log-dir logs xrelay.moos > launch.out 2>&1 & LP=$!; PIDS+=($LP)
 sleep 0.8
 $BIN/kelp-poke xrelay.moos APPLES=1 > /dev/null
 wait $LP || fail "launcher failed"

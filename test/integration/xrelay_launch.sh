@@ -4,7 +4,7 @@
 cd $T
 cp $KELP_ROOT/missions/xrelay/xrelay.moos .
 start=$(date +%s)
-$BIN/kelp-launch --run-seconds 5 --log-dir logs --report xrelay.moos > launch.out 2>&1 & LP=$!
+$BIN/kelp-launch --run-seconds 5 --log-dir logs --report xrelay.moos > launch.out 2>&1 & LP=$!; PIDS+=($LP)
 sleep 1
 $BIN/kelp-poke xrelay.moos APPLES=1 > poke.out
 grep -qE "APPLES +kelp-poke .* 1\.00000" poke.out || { cat poke.out; fail "poke not echoed"; }
