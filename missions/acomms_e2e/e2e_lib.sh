@@ -11,19 +11,20 @@ URL2="$base:$((TEST_PORT + 2))?ttl=0"
 CHAN="$base:$((TEST_PORT + 3))?ttl=0"
 unset KELP_LCM_URL # each community has its own URL (the missions' LCM_URL)
 
-# mission TEMPLATE NAME URL: fill a template with LOSS GOTO RATE SLOT (variables set by run)
+# mission TEMPLATE OUT URL: fill a template with LOSS GOTO RATE SLOT (variables set by the test)
 mission() {
   sed -e "s|@URL@|$3|; s|@CHAN@|$CHAN|; s|@DIR@|$T|g; s|@LOSS@|$LOSS|; s|@GOTO@|$GOTO|g; s|@RATE@|$RATE|g" \
-      -e "s|@SLOT@|$SLOT|g" $M/$1 > $T/${1%.moos}$2.moos
+      -e "s|@SLOT@|$SLOT|g" $M/$1 > $T/$2
 }
 
-# run NAME SECONDS NCOMMANDS SPACING, with LOSS GOTO RATE SLOT set: the vehicle for SECONDS and
+# run NAME SECONDS NCOMMANDS SPACING, with LOSS GOTO RATE SLOT set (and TOPSIDE / AUV naming other
+# templates than topside.moos / auv.moos): the vehicle for SECONDS and
 # the topside 6 s longer (so that whatever the vehicle sent has landed), the GoToCommands
 # goto_x=101.. poked into the topside SPACING s apart after start-up
 run() {
   local name=$1 secs=$2 n=$3 gap=$4 k
-  mission topside.moos $name "$URL1"
-  mission auv.moos $name "$URL2"
+  mission ${TOPSIDE:-topside.moos} topside$name.moos "$URL1"
+  mission ${AUV:-auv.moos} auv$name.moos "$URL2"
   bg lcm-logger --lcm-url="$URL1" -f $name.mm1.lcm -q
   bg lcm-logger --lcm-url="$URL2" -f $name.mm2.lcm -q
   sleep 0.3
