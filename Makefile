@@ -58,7 +58,7 @@ LIBCORE := $(BUILD)/libkelp_core.a
 LIBEDGE := $(BUILD)/libkelp.a
 
 .PHONY: all deps test unit integration check-alloc firmware cross asan lint fuzz bench install \
-        demo spy-jar clean tests-bin
+        demo demo-xrelay spy-jar clean tests-bin
 .DEFAULT_GOAL := all
 
 all: $(LIBCORE) $(LIBEDGE) $(APP_BINS) scripts
@@ -164,7 +164,14 @@ fuzz:
 bench: all
 	@scripts/bench.sh $(BUILD)
 
-demo: 
+# the main job: a shoreside and three vehicles (missions/fleet), tracks drawn to build/demo-fleet/fleet.png
+demo:
+	@scripts/deps.sh build
+	@$(MAKE) --no-print-directory all
+	@scripts/demo-fleet.sh $(BUILD)
+
+# the pXRelay example mission of seed 004 through the launcher
+demo-xrelay:
 	@scripts/deps.sh build
 	@$(MAKE) --no-print-directory all
 	@scripts/demo.sh $(BUILD)

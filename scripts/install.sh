@@ -9,6 +9,7 @@ install -m 644 include/kelp/*.h "$D$P/include/kelp/"
 for h in "$B"/gen/kelp_*.h; do [ -e "$h" ] && install -m 644 "$h" "$D$P/include/kelp/"; done
 install -m 644 lcmtypes/*.lcm "$D$P/share/kelp/lcmtypes/"
 for b in "$B"/bin/*; do install -m 755 "$b" "$D$P/bin/"; done
+[ -f "$B/kelp_types.jar" ] && install -m 644 "$B/kelp_types.jar" "$D$P/share/kelp/"
 cat > "$D$P/lib/pkgconfig/kelp.pc" <<PC
 prefix=$P
 exec_prefix=\${prefix}

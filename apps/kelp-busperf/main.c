@@ -14,6 +14,18 @@
 #include <time.h>
 #include <lcm/lcm.h>
 #include <kelp/lcmbus.h>
+#include <kelp/mission.h>
+
+/* a command-line number; exits with a message when it is not one */
+static double num(const char *s)
+{
+    double d;
+    if (kelp_parse_double(s, strlen(s), &d) < 0) {
+        fprintf(stderr, "kelp-busperf: '%s' is not a number\n", s);
+        exit(2);
+    }
+    return d;
+}
 
 static double wall(void)
 {
@@ -25,7 +37,6 @@ static double wall(void)
 typedef struct ctr {
     long n, want;
     double first, last;
-    long bad_seq;
     double *rtt;
     long nrtt;
     double sent_at;
@@ -90,10 +101,9 @@ int main(int argc, char **argv)
         return 2;
     }
     const char *mode = argv[1];
-    long n = argc > 2 ? atol(argv[2]) : 10000;
+    long n = (argc > 2 && strcmp(mode, "junk") != 0) ? (long)num(argv[2]) : 10000;
     char url[512];
     if (kelp_lcm_url(NULL, url, sizeof url) < 0) return 1;
-    char err[600];
     static ctr c;
     c.want = n;
     int raw = strncmp(mode, "raw-", 4) == 0;
@@ -105,12 +115,13 @@ int main(int argc, char **argv)
         if (!lcm) { fprintf(stderr, "lcm_create failed\n"); return 1; }
         c.lcm = lcm;
     } else {
+        char err[600];
         lb = kelp_lcmbus_open(url, "kelp-busperf", "bench", on_kelp, &c, err, sizeof err);
         if (!lb) { fprintf(stderr, "%s\n", err); return 1; }
         c.bus = kelp_lcmbus_bus(lb);
     }
     if (strcmp(m, "pub") == 0) {
-        size_t size = argc > 3 ? (size_t)atol(argv[3]) : 32;
+        size_t size = argc > 3 ? (size_t)(long)num(argv[3]) : 32;
         if (size > KELP_MAX_SVAL) size = KELP_MAX_SVAL;
         char *payload = malloc(size + 1);
         memset(payload, 'x', size);
@@ -125,15 +136,26 @@ int main(int argc, char **argv)
         v->kind = KELP_VAR_STRING;
         memcpy(v->sval, payload, size + 1);
         v->slen = size;
-        if (kelp_var_encode(v, buf, sizeof buf, &len) < 0) return 1;
+        if (kelp_var_encode(v, buf, sizeof buf, &len) < 0) {
+            free(payload);
+            free(v);
+            return 1;
+        }
+        int perr = 0;
         double t0 = wall();
         for (long i = 0; i < n; i++) {
             if (raw) {
-                if (lcm_publish(lcm, "BURST", buf, (unsigned)len) != 0) { fprintf(stderr, "publish failed\n"); return 1; }
+                if (lcm_publish(lcm, "BURST", buf, (unsigned)len) != 0) perr = 1;
             } else if (kelp_bus_notify_string(c.bus, "BURST", payload, (double)i) < 0) {
-                fprintf(stderr, "publish failed\n");
-                return 1;
+                perr = 1;
             }
+            if (perr) break;
+        }
+        if (perr) {
+            fprintf(stderr, "publish failed\n");
+            free(payload);
+            free(v);
+            return 1;
         }
         double dt = wall() - t0;
         printf("%s published %ld messages (%zu-byte datagrams) in %.3f s: %.0f msg/s\n", raw ? "raw liblcm" : "kelp bus",
@@ -141,7 +163,7 @@ int main(int argc, char **argv)
         free(payload);
         free(v);
     } else if (strcmp(m, "sub") == 0) {
-        double timeout = argc > 3 ? atof(argv[3]) : 10;
+        double timeout = argc > 3 ? num(argv[3]) : 10;
         if (raw) {
             lcm_subscription_t *s = lcm_subscribe(lcm, "BURST", on_raw, &c);
             lcm_subscription_set_queue_capacity(s, 0);
@@ -167,7 +189,7 @@ int main(int argc, char **argv)
         else if (kelp_bus_register(c.bus, "PING", 0, 0) < 0) return 1;
         printf("ready\n");
         fflush(stdout);
-        double until = wall() + (argc > 2 ? atof(argv[2]) : 30);
+        double until = wall() + (argc > 2 ? num(argv[2]) : 30);
         while (wall() < until) {
             if (raw) lcm_handle_timeout(lcm, 50);
             else (void)kelp_lcmbus_handle(lb, 50, 0);
@@ -178,7 +200,8 @@ int main(int argc, char **argv)
         else if (kelp_bus_register(c.bus, "PONG", 0, 0) < 0) return 1;
         uint8_t buf[256];
         size_t len = 0;
-        kelp_var *v = calloc(1, sizeof *v);
+        static kelp_var pv;
+        kelp_var *v = &pv;
         strcpy(v->name, "PING");
         strcpy(v->source, "kelp-busperf");
         strcpy(v->community, "bench");
@@ -195,10 +218,9 @@ int main(int argc, char **argv)
             }
         }
         pct(&c, raw ? "raw liblcm" : "kelp bus");
-        free(v);
     } else if (strcmp(m, "junk") == 0 && argc > 3) {
         const char *chan = argv[2];
-        long k = atol(argv[3]);
+        long k = (long)num(argv[3]);
         lcm_t *l = lcm ? lcm : lcm_create(url);
         uint8_t junk[64];
         for (long i = 0; i < k; i++) {

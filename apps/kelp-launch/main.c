@@ -6,7 +6,8 @@
  * MSBetweenLaunches. Each app is started as "prog MISSION.moos MOOSName" with its output in
  * DIR/<MOOSName>.log. MOOS program names map to kelp's: MOOSDB is not needed (kelp has no
  * broker: the launcher itself retains the latest value of every variable for late
- * registrants), uXMS -> kelp-scope, uPokeDB -> kelp-poke, pMOOSBridge -> kelp-bridge.
+ * registrants), uXMS -> kelp-scope, uPokeDB -> kelp-poke, pMOOSBridge -> kelp-bridge,
+ * iMarineSim -> uSimMarine, pMarineViewer -> kelp-plot.
  * Waits for all apps to exit, or stops them (SIGTERM, then SIGKILL after 3 s) on SIGINT,
  * SIGTERM or when --run-seconds have passed. Exit status 0 when every app ended cleanly. */
 #include <errno.h>
@@ -75,6 +76,8 @@ static const char *map_prog(const char *p)
     if (strcmp(p, "uPokeDB") == 0) return "kelp-poke";
     if (strcmp(p, "pMOOSBridge") == 0) return "kelp-bridge";
     if (strcmp(p, "pAntler") == 0) return "kelp-launch";
+    if (strcmp(p, "iMarineSim") == 0) return "uSimMarine";
+    if (strcmp(p, "pMarineViewer") == 0) return "kelp-plot";
     return p;
 }
 
@@ -109,9 +112,16 @@ int main(int argc, char **argv)
             printf("kelp-launch (kelp) %s\n", KELP_VERSION);
             return 0;
         } else if (strncmp(argv[i], "--run-seconds=", 14) == 0) {
-            run_seconds = atof(argv[i] + 14);
+            if (kelp_parse_double(argv[i] + 14, strlen(argv[i] + 14), &run_seconds) < 0) {
+                fprintf(stderr, "kelp-launch: bad --run-seconds\n");
+                return 2;
+            }
         } else if (strcmp(argv[i], "--run-seconds") == 0 && i + 1 < argc) {
-            run_seconds = atof(argv[++i]);
+            ++i;
+            if (kelp_parse_double(argv[i], strlen(argv[i]), &run_seconds) < 0) {
+                fprintf(stderr, "kelp-launch: bad --run-seconds\n");
+                return 2;
+            }
         } else if (strncmp(argv[i], "--log-dir=", 10) == 0) {
             logdir = argv[i] + 10;
         } else if (strcmp(argv[i], "--log-dir") == 0 && i + 1 < argc) {
@@ -210,13 +220,12 @@ int main(int argc, char **argv)
     char ldir[PATH_MAX];
     snprintf(ldir, sizeof ldir, "%s", logdir ? logdir : "kelp-logs");
     mkdir(ldir, 0755);
-    /* one clock for the community */
-    char epoch[64];
-    if (!getenv("KELP_WARP_EPOCH")) {
-        snprintf(epoch, sizeof epoch, "%.6f", wall());
-        setenv("KELP_WARP_EPOCH", epoch, 1);
-    }
-    double ep = atof(getenv("KELP_WARP_EPOCH"));
+    /* MOOS time is wall time times MOOSTimeWarp for every process (as MOOS does), so apps,
+     * pokes from outside and other communities agree without coordination. A caller may
+     * set KELP_WARP_EPOCH to warp relative to a chosen instant instead; it is passed on. */
+    double ep = 0;
+    const char *eps = getenv("KELP_WARP_EPOCH");
+    if (eps && kelp_parse_double(eps, strlen(eps), &ep) < 0) ep = 0;
     double warp = 1;
     ix = kelp_mission_next(m, -1, -1, "MOOSTimeWarp");
     if (ix >= 0 && kelp_mission_double(&m->nodes[ix], &warp) < 0) warp = 1;

@@ -113,7 +113,7 @@ int main(int argc, char **argv)
         }
         memcpy(p->name, a, nl);
         p->name[nl] = 0;
-        strcpy(p->value, eq + 1);
+        memcpy(p->value, eq + 1, strlen(eq + 1) + 1);
         if (!p->is_string && kelp_parse_double(p->value, strlen(p->value), &p->d) < 0) p->is_string = 1;
         n++;
     }
@@ -126,7 +126,8 @@ int main(int argc, char **argv)
     gi = kelp_mission_next(&mf.m, -1, -1, "MOOSTimeWarp");
     if (gi >= 0 && kelp_mission_double(&mf.m.nodes[gi], &warp) < 0) warp = 1;
     const char *ep = getenv("KELP_WARP_EPOCH");
-    double epoch = ep ? atof(ep) : 0;
+    double epoch = 0;
+    if (ep && kelp_parse_double(ep, strlen(ep), &epoch) < 0) epoch = 0;
     if (kelp_lcm_url(murl[0] ? murl : NULL, url, sizeof url) < 0) return 1;
     static seen s;
     s.n = n;

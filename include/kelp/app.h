@@ -12,7 +12,8 @@
  * run warnings) to stdout, publishes <NAME>_STATUS, and exits cleanly on SIGINT/SIGTERM.
  *
  * Time: MOOS time = epoch + (unix time - epoch) * MOOSTimeWarp, where epoch is
- * $KELP_WARP_EPOCH (kelp-launch sets it so a community shares one clock) or 0.
+ * $KELP_WARP_EPOCH (optional, inherited by every app a launcher starts) or 0, so by default
+ * every process computes the same warped clock without coordination, as MOOS does.
  */
 #ifndef KELP_APP_H
 #define KELP_APP_H

@@ -119,6 +119,79 @@ _Static_assert(KELP_DCCL_MAX_STRLEN >= 32 && KELP_DCCL_MAX_STRLEN <= 65535, "KEL
 _Static_assert(KELP_DCCL_MAX_SIZE > 6 && KELP_DCCL_MAX_SIZE <= 8192, "KELP_DCCL_MAX_SIZE out of range");
 _Static_assert(KELP_DCCL_MAX_ALG_REFS >= 2, "KELP_DCCL_MAX_ALG_REFS too small (TSD_to_soundspeed needs 2)");
 
+/* ---- helm (IvP helm, behaviour framework, behaviours) ---- */
+#ifndef KELP_HELM_MAX_BHVS
+#define KELP_HELM_MAX_BHVS 32       /**< behaviours in one helm */
+#endif
+#ifndef KELP_HELM_MAX_VARS
+#define KELP_HELM_MAX_VARS 128      /**< variables held in the information buffer */
+#endif
+#ifndef KELP_HELM_MAX_SVAL
+#define KELP_HELM_MAX_SVAL 512      /**< bytes of a string value in the buffer or a posting, with NUL */
+#endif
+#ifndef KELP_HELM_MAX_DELTAS
+#define KELP_HELM_MAX_DELTAS 256    /**< values kept for the buffer's per-iteration vectors (all variables) */
+#endif
+#ifndef KELP_HELM_DELTA_POOL
+#define KELP_HELM_DELTA_POOL 16384  /**< bytes of string storage for those values */
+#endif
+#ifndef KELP_HELM_MAX_POSTS
+#define KELP_HELM_MAX_POSTS 256     /**< behaviour postings queued in one iteration */
+#endif
+#ifndef KELP_HELM_POST_POOL
+#define KELP_HELM_POST_POOL 32768   /**< bytes of string storage for those postings */
+#endif
+#ifndef KELP_HELM_MAX_FILTER
+#define KELP_HELM_MAX_FILTER 512    /**< keys remembered by the duplicate-posting filter */
+#endif
+#ifndef KELP_HELM_MAX_CONDS
+#define KELP_HELM_MAX_CONDS 8       /**< condition lines per behaviour */
+#endif
+#ifndef KELP_HELM_MAX_COND_LEN
+#define KELP_HELM_MAX_COND_LEN 160  /**< bytes of one condition expression, with NUL */
+#endif
+#ifndef KELP_HELM_MAX_FLAGS
+#define KELP_HELM_MAX_FLAGS 16      /**< run/idle/active/inactive/end flags per behaviour (all kinds) */
+#endif
+#ifndef KELP_HELM_MAX_FLAG_VAL
+#define KELP_HELM_MAX_FLAG_VAL 160  /**< bytes of a flag (or initialize) value, with NUL */
+#endif
+#ifndef KELP_HELM_MAX_INFOVARS
+#define KELP_HELM_MAX_INFOVARS 16   /**< addInfoVars / nostarve variables per behaviour */
+#endif
+#ifndef KELP_HELM_MAX_MAPPINGS
+#define KELP_HELM_MAX_MAPPINGS 8    /**< post_mapping pairs per behaviour */
+#endif
+#ifndef KELP_HELM_MAX_INIT
+#define KELP_HELM_MAX_INIT 32       /**< initialize lines of the behaviour files */
+#endif
+#ifndef KELP_HELM_MAX_PTS
+#define KELP_HELM_MAX_PTS 64        /**< points of a waypoint list or loiter polygon */
+#endif
+_Static_assert(KELP_HELM_MAX_SVAL >= 64, "KELP_HELM_MAX_SVAL too small");
+_Static_assert(KELP_HELM_MAX_BHVS >= 1 && KELP_HELM_MAX_BHVS <= 1024, "KELP_HELM_MAX_BHVS out of range");
+_Static_assert(KELP_HELM_MAX_PTS >= 4, "KELP_HELM_MAX_PTS too small");
+/* ---- sim: vehicle simulator, node reports, VIEW_* artifacts ---- */
+#ifndef KELP_SIM_MAX_SUBSTEPS
+#define KELP_SIM_MAX_SUBSTEPS 2000000L  /**< sub-steps one kelp_sim_step may take (a time jump bound) */
+#endif
+#ifndef KELP_NODEREPORT_MAX_FIELD
+#define KELP_NODEREPORT_MAX_FIELD 48    /**< bytes of a text field of a node report (NAME, TYPE, MODE...), with NUL */
+#endif
+#ifndef KELP_NODEREPORT_MAX_LEN
+#define KELP_NODEREPORT_MAX_LEN 512     /**< bytes of a formatted node report, with NUL */
+#endif
+#ifndef KELP_VIEW_MAX_PTS
+#define KELP_VIEW_MAX_PTS 64            /**< vertices of one VIEW_POLYGON / VIEW_SEGLIST */
+#endif
+#ifndef KELP_VIEW_MAX_FIELD
+#define KELP_VIEW_MAX_FIELD 64          /**< bytes of a text field of a VIEW_* artifact (label, colour...), with NUL */
+#endif
+_Static_assert(KELP_NODEREPORT_MAX_FIELD >= 16, "KELP_NODEREPORT_MAX_FIELD too small");
+_Static_assert(KELP_NODEREPORT_MAX_LEN >= 256, "KELP_NODEREPORT_MAX_LEN too small for a full report");
+_Static_assert(KELP_VIEW_MAX_PTS >= 4, "KELP_VIEW_MAX_PTS too small");
+_Static_assert(KELP_VIEW_MAX_FIELD >= 16, "KELP_VIEW_MAX_FIELD too small");
+
 /* ---- modemsim (WHOI Micro-Modem simulator: modem-side protocol, acoustic channel) ---- */
 #ifndef KELP_MAX_MSIM_ARRIVALS
 #define KELP_MAX_MSIM_ARRIVALS 16   /**< packets on their way to (or recently heard by) one modem */

@@ -163,7 +163,7 @@ static void wait_and_handle(kelp_app *app, int wait_ms)
         pf[i + 1].fd = app->xfd[i];
         pf[i + 1].events = POLLIN;
     }
-    int n = poll(pf, (nfds_t)(app->nxfd + 1), wait_ms);
+    int n = poll(pf, (nfds_t)app->nxfd + 1, wait_ms);
     if (n <= 0) return;
     if (pf[0].revents & POLLIN) {
         if (kelp_lcmbus_handle(app->lb, 0, kelp_app_time(app)) < 0) kelp_app_run_warning(app, "LCM receive error");
@@ -443,7 +443,8 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
         return 1;
     }
     const char *ep = getenv("KELP_WARP_EPOCH");
-    app->epoch = ep ? atof(ep) : 0.0;
+    app->epoch = 0.0;
+    if (ep && kelp_parse_double(ep, strlen(ep), &app->epoch) < 0) app->epoch = 0.0;
     app->app_tick = 4;
     app->comms_tick = 4;
     if (kelp_app_param_double(app, "AppTick", &app->app_tick) < 0 || app->app_tick < 0) app->app_tick = 4;

@@ -168,7 +168,7 @@ int kelp_bridge_frame(const kelp_var *v, const char *as, const uint8_t *key, siz
     n += 5;
     if (keylen) {
         if (cap - n < KELP_BRIDGE_HMAC_LEN) return KELP_ERR_NOSPACE;
-        if ((rc = hmac(key, keylen, buf, n, buf + n, user)) < 0) return KELP_ERR_CRYPTO;
+        if (hmac(key, keylen, buf, n, buf + n, user) < 0) return KELP_ERR_CRYPTO;
         n += KELP_BRIDGE_HMAC_LEN;
     }
     *len = n;

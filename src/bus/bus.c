@@ -16,12 +16,14 @@ static bool has_wildcard(const char *s)
     return strchr(s, '*') != NULL || strchr(s, '?') != NULL;
 }
 
+/* fingerprint + time + 3 names + kind + dval + sval + nbytes + bval + flags */
+#define VAR_MAX_BYTES (8 + 8 + 3 * (4 + KELP_MAX_NAME) + 1 + 8 + (4 + KELP_MAX_SVAL + 1) + 4 + KELP_MAX_SVAL + 1)
+#define REQ_MAX_BYTES (8 + 8 + 3 * (4 + KELP_MAX_NAME) + 2 + KELP_MAX_SYNC_PATTERNS * (4 + KELP_MAX_NAME))
+_Static_assert(VAR_MAX_BYTES >= REQ_MAX_BYTES, "a sync request must fit the var scratch buffer");
+
 size_t kelp_bus_scratch_size(void)
 {
-    /* fingerprint + time + 3 names + kind + dval + sval + nbytes + bval + flags */
-    size_t var = 8 + 8 + 3 * (4 + KELP_MAX_NAME) + 1 + 8 + (4 + KELP_MAX_SVAL + 1) + 4 + KELP_MAX_SVAL + 1;
-    size_t req = 8 + 8 + 3 * (4 + KELP_MAX_NAME) + 2 + KELP_MAX_SYNC_PATTERNS * (4 + KELP_MAX_NAME);
-    return var > req ? var : req;
+    return VAR_MAX_BYTES;
 }
 
 int kelp_bus_init(kelp_bus *b, const char *app, const char *community, const char *reply_channel,

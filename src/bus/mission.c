@@ -247,19 +247,19 @@ int kelp_mission_parse(kelp_mission *m, const char *text, size_t len, kelp_missi
             size_t nn;
             size_t la = next;
             /* look ahead for a line starting with '{' */
-            bool brace_next = false;
-            if (!brace_here) {
+            bool is_block = brace_here;
+            if (!is_block) {
                 while (la < p.len) {
                     size_t e2 = line_end(&p, la, &nn);
                     const char *b = p.s + la;
                     size_t bl = e2 - la;
                     trim(&b, &bl);
                     if (bl == 0) { la = nn; continue; }
-                    brace_next = b[0] == '{';
+                    is_block = b[0] == '{';
                     break;
                 }
             }
-            if (brace_here || brace_next) {
+            if (is_block) {
                 if (vl == 0) return fail(&p, line, "block header without a name");
                 if ((rc = add(&p, KELP_MN_BLOCK, k, kl, v, vl, false, line)) < 0) return rc;
                 if (brace_here) {
@@ -337,7 +337,7 @@ int kelp_mission_block(const kelp_mission *m, const char *kind, const char *name
 int kelp_mission_next(const kelp_mission *m, int parent, int after, const char *key)
 {
     if (!m->nodes) return -1;
-    for (size_t i = (size_t)(after + 1); i < m->nnodes; i++) {
+    for (size_t i = after < 0 ? 0 : (size_t)after + 1; i < m->nnodes; i++) {
         const kelp_mission_node *n = &m->nodes[i];
         if (n->parent != parent) continue;
         if (!key || kelp_mission_key_is(n, key)) return (int)i;

@@ -161,7 +161,8 @@ int kelp_var_encode(const kelp_var *v, uint8_t *buf, size_t cap, size_t *len)
 
 int kelp_var_decode(const uint8_t *buf, size_t len, kelp_var *out)
 {
-    if (!out || (!buf && len)) return KELP_ERR_ARG;
+    if (!out) return KELP_ERR_ARG;
+    if (!buf) return len ? KELP_ERR_ARG : KELP_ERR_TRUNCATED;
     rd r = { buf, len, 0, 0 };
     uint64_t fp = get_uN(&r, 8);
     if (r.err) return r.err;
@@ -219,7 +220,8 @@ int kelp_sync_req_encode(const kelp_sync_req *q, uint8_t *buf, size_t cap, size_
 
 int kelp_sync_req_decode(const uint8_t *buf, size_t len, kelp_sync_req *out)
 {
-    if (!out || (!buf && len)) return KELP_ERR_ARG;
+    if (!out) return KELP_ERR_ARG;
+    if (!buf) return len ? KELP_ERR_ARG : KELP_ERR_TRUNCATED;
     rd r = { buf, len, 0, 0 };
     uint64_t fp = get_uN(&r, 8);
     if (r.err) return r.err;

@@ -9,16 +9,24 @@
  *  - node coefficients are accumulated level by level (node[l+1] = node[l] + piece), and a
  *    box's max takes per dimension the high end when the summed slope is >= 0, else the low end;
  *  - a leaf replaces the incumbent only when strictly greater, so the first optimum wins.
- * Pruning only removes nodes whose upper bound is <= the incumbent, which can never hold a
- * strictly better leaf, so a tighter bound changes speed and never the answer. kelp bounds a
- * node by its own max plus, for each remaining function, the best piece max over the node box
- * read from a small per-function grid of cell maxima (MOOS-IvP uses each function's global max). */
+ *
+ * Pruning only removes a node when no leaf below it can be strictly greater than the incumbent
+ * (or than a value known to be reached), so a tighter bound changes speed, never the answer.
+ * The comparisons keep a margin well above the rounding error of any leaf value or bound, so a
+ * leaf that is better by rounding alone is never pruned either. A node is bounded by its own
+ * max plus an upper bound on the remaining functions that is separable by variable:
+ *     f_i(x) <= k_i + sum_d a_id(x_d)
+ * with a_id sampled at every index. A function of one variable is its own upper envelope; a
+ * coupled function (pieces that are the cross product of a course part and a speed part, as
+ * the Coupler makes them) splits exactly into its two parts (k_i takes the rounding residual);
+ * any other function uses the mean of its projections. Per level the rows are summed over the
+ * remaining functions, so a node's bound costs one range maximum per variable (a sparse table).
+ * An initial floor comes from the objective at the bound's own maximiser. */
 #include <string.h>
 #include <math.h>
 #include "ivp_int.h"
 
 #define D KELP_IVP_MAX_DIM
-#define GRID_CELLS 8 /* bound grid cells per variable (at most) */
 
 typedef struct spiece {
     int32_t lo[D], hi[D];
@@ -30,8 +38,7 @@ typedef struct sfunc {
     spiece *p;
     uint32_t n;
     double gmax;              /* max over all pieces */
-    double *proj[D];          /* per variable: per cell, max over the slab of that cell */
-    bool rel[D];              /* the function varies along this variable */
+    double mag;               /* max over pieces of |c| + sum |s_d| * (points_d - 1) */
 } sfunc;
 
 typedef struct snode {
@@ -74,37 +81,52 @@ static size_t align8(size_t n)
     return (n + 7u) & ~(size_t)7u;
 }
 
-typedef struct gshape {
-    int32_t cellw[D];
-    uint32_t ncell[D];
-    size_t total;
-} gshape;
-
-static void grid_shape(const kelp_ivp_domain *dom, gshape *g)
+/* Doubles for the bound rows: each function adds a row only for variables of its own domain
+ * (it is constant along the others), one double per index. */
+static size_t rows_len(const kelp_ivp_problem *p)
 {
-    g->total = 0;
-    for (unsigned d = 0; d < dom->dim; d++) {
-        uint32_t pts = dom->var[d].points;
-        uint32_t w = (pts + GRID_CELLS - 1) / GRID_CELLS;
-        if (w < 1)
-            w = 1;
-        g->cellw[d] = (int32_t)w;
-        g->ncell[d] = (pts + w - 1) / w;
-        g->total += g->ncell[d];
-    }
+    size_t t = 0;
+    for (unsigned i = 0; i < p->nf; i++)
+        for (unsigned d = 0; d < p->f[i]->dom.dim; d++)
+            t += p->f[i]->dom.var[d].points;
+    return t;
 }
+
+static size_t max_pieces(const kelp_ivp_problem *p)
+{
+    size_t m = 1;
+    for (unsigned i = 0; i < p->nf; i++)
+        if (p->f[i]->n > m)
+            m = p->f[i]->n;
+    return m;
+}
+
+/* The bound on functions l..k-1 along one variable (level l shares level l+1's row when
+ * function l does not depend on the variable). */
+typedef struct brow {
+    const double *v;          /* per index */
+    double all;               /* max over the whole row, once have_all */
+    bool have_all;
+} brow;
+
+/* One linear segment of a function's bound along one variable. */
+typedef struct seg {
+    int32_t lo, hi;
+    double base, slope;
+} seg;
 
 size_t kelp_ivp_solve_work_size(const kelp_ivp_problem *p)
 {
-    size_t sz = align8(sizeof(sfunc) * (p->nf + 1));
-    sz += align8(sizeof(snode) * (p->nf + 1));
-    sz += align8(sizeof(double) * (p->nf + 2));
-    gshape g;
-    grid_shape(&p->dom, &g);
-    for (unsigned i = 0; i < p->nf; i++) {
+    size_t k = p->nf;
+    size_t sz = align8(sizeof(sfunc) * (k + 1));
+    sz += align8(sizeof(snode) * (k + 1));
+    sz += 2 * align8(sizeof(double) * (k + 2));
+    sz += align8(sizeof(brow *) * D * (k + 1));
+    sz += align8(sizeof(brow) * D * k);
+    sz += align8(sizeof(double) * rows_len(p));
+    sz += align8(sizeof(seg) * max_pieces(p));
+    for (unsigned i = 0; i < k; i++)
         sz += align8(sizeof(spiece) * p->f[i]->n);
-        sz += align8(sizeof(double) * g.total);
-    }
     return sz;
 }
 
@@ -116,24 +138,159 @@ static inline double box_max(const int32_t *lo, const int32_t *hi, const double 
     return v;
 }
 
-/* Upper bound of function sf over the box [lo,hi]: per varying variable, the best cell of the
- * projection over the box's range; the smallest of those. */
-static double proj_bound(const sfunc *sf, const gshape *g, const int32_t *lo, const int32_t *hi, unsigned dim)
+/* Row of one level along one variable with `pts` indices:
+ *     row[x] = next[x] + max over the segments covering x of (base + slope * x)
+ * (no next: 0; no covering segment: -inf). */
+static void fill_row(double *row, uint32_t pts, const brow *next, const seg *sg, uint32_t ns)
 {
-    double b = sf->gmax;
-    for (unsigned d = 0; d < dim; d++) {
-        if (!sf->rel[d])
-            continue;
-        uint32_t a = (uint32_t)lo[d] / (uint32_t)g->cellw[d], e = (uint32_t)hi[d] / (uint32_t)g->cellw[d];
-        const double *q = sf->proj[d];
-        double m = q[a];
-        for (uint32_t c = a + 1; c <= e; c++)
-            if (q[c] > m)
-                m = q[c];
-        if (m < b)
-            b = m;
+    bool tiles = sg[0].lo == 0 && sg[ns - 1].hi == (int32_t)pts - 1;
+    for (uint32_t j = 1; j < ns && tiles; j++)
+        tiles = sg[j].lo == sg[j - 1].hi + 1;
+    const double *nx = next ? next->v : NULL;
+    if (tiles) { /* segments in order, no gap, no overlap: one pass */
+        for (uint32_t j = 0; j < ns; j++) {
+            double b = sg[j].base, s = sg[j].slope;
+            if (nx) {
+                for (int32_t i = sg[j].lo; i <= sg[j].hi; i++)
+                    row[i] = (b + s * (double)i) + nx[i];
+            } else {
+                for (int32_t i = sg[j].lo; i <= sg[j].hi; i++)
+                    row[i] = b + s * (double)i;
+            }
+        }
+        return;
     }
-    return b;
+    for (uint32_t i = 0; i < pts; i++)
+        row[i] = -INFINITY;
+    for (uint32_t j = 0; j < ns; j++) {
+        double b = sg[j].base, s = sg[j].slope;
+        for (int32_t i = sg[j].lo; i <= sg[j].hi; i++) {
+            double v = b + s * (double)i;
+            if (v > row[i])
+                row[i] = v;
+        }
+    }
+    if (nx)
+        for (uint32_t i = 0; i < pts; i++)
+            row[i] += nx[i];
+}
+
+/* Max of a level's row over [lo, hi]. */
+static inline double row_max(brow *b, int32_t lo, int32_t hi, int32_t last)
+{
+    const double *r = b->v;
+    if (lo == 0 && hi == last) {
+        if (b->have_all)
+            return b->all;
+        b->have_all = true;
+    }
+    double m = r[lo];
+    for (int32_t i = lo + 1; i <= hi; i++)
+        if (r[i] > m)
+            m = r[i];
+    if (lo == 0 && hi == last)
+        b->all = m;
+    return m;
+}
+
+static bool same_var(const spiece *a, const spiece *b, unsigned d)
+{
+    return a->lo[d] == b->lo[d] && a->hi[d] == b->hi[d] && a->s[d] == b->s[d];
+}
+
+/* A coupled function: piece j*nb+m has variable u as piece j*nb and variable v as piece m. Then
+ * f <= alpha_j + beta_m + r with alpha_j = c[j*nb], beta_m = c[m] - c[0], r the largest
+ * residual. Returns nb (0: not coupled over u, v) and r. */
+static uint32_t coupled(const sfunc *sf, unsigned u, unsigned v, double *res)
+{
+    const spiece *p = sf->p;
+    uint32_t n = sf->n, nb = 1;
+    while (nb < n && same_var(&p[nb], &p[0], u))
+        nb++;
+    if (n % nb)
+        return 0;
+    for (uint32_t j = 0; j < n; j += nb)
+        for (uint32_t m = 0; m < nb; m++)
+            if (!same_var(&p[j + m], &p[j], u) || !same_var(&p[j + m], &p[m], v))
+                return 0;
+    double r = -INFINITY, c0 = p[0].c;
+    for (uint32_t j = 0; j < n; j += nb) {
+        double alpha = p[j].c;
+        for (uint32_t m = 0; m < nb; m++) {
+            double e = p[j + m].c - (alpha + (p[m].c - c0));
+            if (e > r)
+                r = e;
+        }
+    }
+    *res = r;
+    return nb;
+}
+
+/* Level l's rows (cur) from level l+1's (next) and function sf's separable bound. Storage for new
+ * rows comes from *store. Returns the bound's constant part k_l. */
+static double majorant(const sfunc *sf, const kelp_ivp_domain *dom, brow *const *next, brow **cur, brow **owner, double **store,
+                       seg *sg)
+{
+    unsigned dim = dom->dim, m = 0, rv[D];
+    bool rel[D];
+    for (unsigned e = 0; e < dim; e++)
+        rel[e] = false;
+    for (uint32_t j = 0; j < sf->n; j++) {
+        const spiece *t = &sf->p[j];
+        for (unsigned e = 0; e < dim; e++)
+            if (t->s[e] != 0 || t->lo[e] != 0 || t->hi[e] != (int32_t)dom->var[e].points - 1)
+                rel[e] = true;
+    }
+    for (unsigned e = 0; e < dim; e++) {
+        cur[e] = next[e];
+        if (rel[e])
+            rv[m++] = e;
+    }
+    if (m == 0)
+        return sf->gmax;
+    const spiece *p = sf->p;
+    double res = 0.0;
+    uint32_t nb = 0;
+    unsigned u = 0, v = 0;
+    if (m == 2) {
+        u = rv[0];
+        v = rv[1];
+        nb = coupled(sf, u, v, &res);
+        if (!nb) {
+            u = rv[1];
+            v = rv[0];
+            nb = coupled(sf, u, v, &res);
+        }
+    }
+    for (unsigned a = 0; a < m; a++) {
+        unsigned d = rv[a];
+        uint32_t ns = 0, pts = dom->var[d].points;
+        if (nb && d == u) {
+            for (uint32_t j = 0; j < sf->n; j += nb, ns++)
+                sg[ns] = (seg){p[j].lo[u], p[j].hi[u], p[j].c, p[j].s[u]};
+        } else if (nb) {
+            for (uint32_t j = 0; j < nb; j++, ns++)
+                sg[ns] = (seg){p[j].lo[v], p[j].hi[v], p[j].c - p[0].c, p[j].s[v]};
+        } else { /* f <= the mean of its projections (m == 1: its upper envelope) */
+            double w = m == 1 ? 1.0 : 1.0 / (double)m;
+            for (uint32_t j = 0; j < sf->n; j++, ns++) {
+                const spiece *t = &p[j];
+                double base = t->c;
+                for (unsigned e = 0; e < dim; e++)
+                    if (e != d)
+                        base += t->s[e] < 0 ? t->s[e] * (double)t->lo[e] : t->s[e] * (double)t->hi[e];
+                sg[ns] = (seg){t->lo[d], t->hi[d], w * base, w * t->s[d]};
+            }
+        }
+        double *row = *store;
+        *store = row + pts;
+        fill_row(row, pts, next[d], sg, ns);
+        brow *o = (*owner)++;
+        o->v = row;
+        o->have_all = false;
+        cur[d] = o;
+    }
+    return res;
 }
 
 int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_result *res)
@@ -157,23 +314,25 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
     w += align8(sizeof(snode) * (k + 1));
     double *suffix = (double *)(void *)w;
     w += align8(sizeof(double) * (k + 2));
-    gshape gs;
-    grid_shape(&p->dom, &gs);
+    double *sk = (double *)(void *)w;
+    w += align8(sizeof(double) * (k + 2));
+    brow **br = (brow **)(void *)w; /* br[l * D + e]: NULL when no function l.. depends on e */
+    w += align8(sizeof(brow *) * D * (k + 1));
+    brow *owner = (brow *)(void *)w;
+    w += align8(sizeof(brow) * D * k);
+    double *rowstore = (double *)(void *)w;
+    w += align8(sizeof(double) * rows_len(p));
+    seg *sg = (seg *)(void *)w;
+    w += align8(sizeof(seg) * max_pieces(p));
 
     /* Prepare: normalise (range > 100), weight, align to the problem's variable order. */
+    double magsum = 0;
     for (unsigned i = 0; i < k; i++) {
         const kelp_ivp_func *f = p->f[i];
         sfunc *s = &sf[i];
         s->p = (spiece *)(void *)w;
         w += align8(sizeof(spiece) * f->n);
-        double *proj = (double *)(void *)w;
-        w += align8(sizeof(double) * gs.total);
         s->n = (uint32_t)f->n;
-        for (unsigned e = 0; e < dim; e++) {
-            s->proj[e] = proj;
-            proj += gs.ncell[e];
-            s->rel[e] = false;
-        }
         int map[D] = {0};
         for (unsigned d = 0; d < f->dom.dim; d++)
             map[d] = kelp_ivp_domain_index(&p->dom, f->dom.var[d].name);
@@ -182,6 +341,8 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
         if (f->n && kelp_ivp_func_range(f, &lo, &hi) == 0 && hi - lo > 100)
             norm = true;
         double badj = 0.0 - lo, radj = norm ? 100.0 / (hi - lo) : 1.0, pwt = f->pwt;
+        s->gmax = -INFINITY;
+        s->mag = 0;
         for (size_t j = 0; j < f->n; j++) {
             const kelp_ivp_piece *q = &f->pcs[j];
             spiece *t = &s->p[j];
@@ -202,65 +363,44 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
                 t->hi[map[d]] = q->hi[d];
                 t->s[map[d]] = sl * pwt;
             }
-        }
-        /* projections: per variable and cell, the best piece max over the piece's part in that slab */
-        s->gmax = -INFINITY;
-        for (unsigned e = 0; e < dim; e++) {
-            for (uint32_t c = 0; c < gs.ncell[e]; c++)
-                s->proj[e][c] = -INFINITY;
-        }
-        for (size_t j = 0; j < f->n; j++) {
-            const spiece *t = &s->p[j];
             double m = box_max(t->lo, t->hi, t->s, t->c, dim);
             if (m > s->gmax)
                 s->gmax = m;
+            double g = fabs(t->c);
             for (unsigned e = 0; e < dim; e++)
-                if (t->s[e] != 0 || t->lo[e] != 0 || t->hi[e] != (int32_t)p->dom.var[e].points - 1)
-                    s->rel[e] = true;
+                g += fabs(t->s[e]) * (double)(p->dom.var[e].points - 1);
+            if (g > s->mag)
+                s->mag = g;
         }
-        for (size_t j = 0; j < f->n; j++) {
-            const spiece *t = &s->p[j];
-            for (unsigned e = 0; e < dim; e++) {
-                if (!s->rel[e])
-                    continue;
-                uint32_t a = (uint32_t)t->lo[e] / (uint32_t)gs.cellw[e], b = (uint32_t)t->hi[e] / (uint32_t)gs.cellw[e];
-                int32_t clo[D], chi[D];
-                memcpy(clo, t->lo, sizeof clo);
-                memcpy(chi, t->hi, sizeof chi);
-                for (uint32_t c = a; c <= b; c++) {
-                    int32_t cl = (int32_t)c * gs.cellw[e], ch = cl + gs.cellw[e] - 1;
-                    clo[e] = t->lo[e] > cl ? t->lo[e] : cl;
-                    chi[e] = t->hi[e] < ch ? t->hi[e] : ch;
-                    double v = box_max(clo, chi, t->s, t->c, dim);
-                    if (v > s->proj[e][c])
-                        s->proj[e][c] = v;
-                }
-            }
-        }
+        magsum += s->mag;
     }
-    /* suffix[i] = sum of the global maxima of functions i..k-1 (a cheap first test) */
+    /* suffix[i]: sum of the global maxima of functions i..k-1; br[i*D+e] and sk[i]: the separable
+     * bound of functions i..k-1. */
     suffix[k] = 0;
-    for (unsigned i = k; i-- > 0;)
+    sk[k] = 0;
+    for (unsigned e = 0; e < D; e++)
+        br[(size_t)k * D + e] = NULL;
+    for (unsigned i = k; i-- > 0;) {
         suffix[i] = suffix[i + 1] + sf[i].gmax;
+        sk[i] = sk[i + 1] + majorant(&sf[i], &p->dom, &br[(size_t)(i + 1) * D], &br[(size_t)i * D], &owner, &rowstore,
+                                   sg);
+    }
+    /* Margin: far above the rounding error of any leaf value or bound computed here. */
+    double margin = 1e-12 * (double)(k + dim + 8) * (4.0 * magsum + 1.0);
 
-    /* A lower bound on the optimum from the objective at each function's own best point. It only
-     * prunes nodes whose bound is strictly below it (with a margin for rounding), so the first
-     * optimum in depth-first order is still found and still wins. */
-    double floor_v = -INFINITY;
-    for (unsigned i = 0; i < k; i++) {
-        const sfunc *s = &sf[i];
-        const spiece *bp = NULL;
-        for (uint32_t j = 0; j < s->n; j++)
-            if (box_max(s->p[j].lo, s->p[j].hi, s->p[j].s, s->p[j].c, dim) == s->gmax) {
-                bp = &s->p[j];
-                break;
-            }
-        if (!bp)
-            continue;
+    /* Floor: the objective at the maximiser of the level-0 bound is reached by some leaf. */
+    double thr = -INFINITY;
+    {
         int32_t x[D];
-        for (unsigned e = 0; e < dim; e++)
-            x[e] = bp->s[e] < 0 ? bp->lo[e] : bp->hi[e];
-        double tot = 0;
+        for (unsigned e = 0; e < dim; e++) {
+            const double *r = br[e] ? br[e]->v : NULL;
+            uint32_t bi = 0;
+            for (uint32_t i = 1; r && i < p->dom.var[e].points; i++)
+                if (r[i] > r[bi])
+                    bi = i;
+            x[e] = (int32_t)bi;
+        }
+        double tot_v = 0;
         bool covered = true;
         for (unsigned j = 0; j < k && covered; j++) {
             const sfunc *t = &sf[j];
@@ -275,17 +415,15 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
                     double v = q->c;
                     for (e = 0; e < dim; e++)
                         v += q->s[e] * (double)x[e];
-                    tot += v;
+                    tot_v += v;
                     covered = true;
                     break;
                 }
             }
         }
-        if (covered && tot > floor_v)
-            floor_v = tot;
+        if (covered)
+            thr = tot_v - margin;
     }
-    if (isfinite(floor_v))
-        floor_v -= 1e-9 * (fabs(floor_v) + 1.0);
 
     /* Depth-first branch and bound. node[l] is the box after intersecting functions 0..l-1. */
     bool found = false;
@@ -300,6 +438,9 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
     }
     node[0].c = 0;
     node[0].next = 0;
+    int32_t last[D];
+    for (unsigned e = 0; e < dim; e++)
+        last[e] = (int32_t)p->dom.var[e].points - 1;
     unsigned l = 0;
     for (;;) {
         snode *cur = &node[l];
@@ -335,30 +476,26 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
         double v = box_max(nx->lo, nx->hi, nx->s, nx->c, dim);
         if (l + 1 == k) {
             leaves++;
-            if (v < floor_v)
-                continue;
             if (!found || v > best) {
                 found = true;
                 best = v;
+                if (best - margin > thr)
+                    thr = best - margin;
                 memcpy(blo, nx->lo, sizeof blo);
                 memcpy(bhi, nx->hi, sizeof bhi);
                 memcpy(bs, nx->s, sizeof bs);
             }
             continue;
         }
+        if (v + suffix[l + 1] < thr)
+            continue;
         {
-            double tb = v + suffix[l + 1];
-            if (tb < floor_v || (found && !(tb > best)))
-                continue;
-            double bound = v;
-            unsigned i;
-            for (i = l + 1; i < k; i++) {
-                bound += proj_bound(&sf[i], &gs, nx->lo, nx->hi, dim);
-                tb = bound + suffix[i + 1];
-                if (tb < floor_v || (found && !(tb > best)))
-                    break;
-            }
-            if (i < k)
+            brow *const *b = &br[(size_t)(l + 1) * D];
+            double bound = v + sk[l + 1];
+            for (e = 0; e < dim; e++)
+                if (b[e])
+                    bound += row_max(b[e], nx->lo[e], nx->hi[e], last[e]);
+            if (bound < thr)
                 continue;
         }
         nx->next = 0;

@@ -277,6 +277,233 @@ static int push_run(kelp_ivp_func *f, uint32_t a, uint32_t b, double va, double 
     return push1(f, (int32_t)a, (int32_t)b, slope, cst);
 }
 
+/* Cut vals[0..n) (n >= 2) into pieces with MOOS-IvP's rule (ZAIC_PEAK::setPDMap): a run grows
+ * while each value stays within the tolerance of the line through the run's first two points and
+ * does not step against that line's slope. A run's second point always follows its first, so the
+ * line's slope is (v1 - v0) / 1 == v1 - v0. A break at the domain's last point stores that point's
+ * own piece before the run it ends (as MOOS-IvP does). */
+static int cut_all(const double *vals, uint32_t n, kelp_ivp_func *out)
+{
+    uint32_t first = 0, i = 1;
+    double first_val = vals[0];
+    for (;;) {
+        /* point i = first + 1 sets the run's line */
+        double vi = vals[i], di = (double)i, prev = first_val;
+        double s_m = vi - first_val;
+        double s_b = vi - s_m * di;
+        /* step against the slope: (vi - prev) * sg < 0 is loc_m < 0 for s_m > 0, loc_m > 0 for
+         * s_m < 0, never for s_m == 0 */
+        double sg = s_m > 0 ? 1.0 : (s_m < 0 ? -1.0 : 0.0);
+        bool brk;
+        for (;;) {
+            brk = fabs((s_m * di + s_b) - vi) > ZAIC_TOLERANCE || (vi - prev) * sg < 0;
+            if (brk || i == n - 1)
+                break;
+            prev = vi;
+            i++;
+            di += 1.0;
+            vi = vals[i];
+        }
+        int rc;
+        if (i == n - 1) {
+            if (!brk)
+                return push_run(out, first, i, first_val, vi);
+            if ((rc = push1(out, (int32_t)i, (int32_t)i, 0.0, vi)) != 0)
+                return rc;
+            return push_run(out, first, i - 1, first_val, prev);
+        }
+        if ((rc = push_run(out, first, i - 1, first_val, prev)) != 0)
+            return rc;
+        first = i;
+        first_val = vi;
+        i++;
+    }
+}
+
+/* ---- one component, by index ranges
+ *
+ * For a single component, comp_value's branches are fixed over a few index ranges: x = i*delta+low
+ * is nondecreasing in i (rounding is monotone), so are x-low and x-s, and s-x, high-x are
+ * nonincreasing; every distance form is one of those plus constants, so each branch condition
+ * holds on a prefix (or suffix) of a range where the others are fixed. The ranges are found by
+ * binary search on those exact conditions, then each range is evaluated with the operations
+ * comp_value uses for that branch: the same bits, without the per-point branching. */
+
+typedef struct peak1 {
+    double s, pw, pwbw, maxu, minu, slope1, edge, slope2, low, delta, high, s_top, s_bot;
+} peak1;
+
+static inline double p1_x(const peak1 *k, uint32_t i)
+{
+    return ((double)i * k->delta) + k->low;
+}
+
+/* The distance forms of comp_value: 0 s-x, 1 x-s, 2 around the low end, 3 around the high end. */
+static inline double p1_dist(const peak1 *k, int form, double x)
+{
+    switch (form) {
+    case 0:
+        return k->s - x;
+    case 1:
+        return x - k->s;
+    case 2:
+        return (x - k->low) + k->s_top + k->delta;
+    default:
+        return (k->high - x) + k->s_bot + k->delta;
+    }
+}
+
+/* Condition of range split c at index i: 0 (s > x), 1 (s >= x), 2 the low-end wrap distance is
+ * the shorter (s > x), 3 x-s is the shorter (x >= s). Each is true on a prefix. */
+static inline bool p1_cond(const peak1 *k, int c, uint32_t i)
+{
+    double x = p1_x(k, i);
+    switch (c) {
+    case 0:
+        return k->s > x;
+    case 1:
+        return k->s >= x;
+    case 2:
+        return p1_dist(k, 2, x) < p1_dist(k, 0, x);
+    default:
+        return p1_dist(k, 1, x) < p1_dist(k, 3, x);
+    }
+}
+
+/* First index in [a, b) where condition c (true on a prefix) is false; b if none. */
+static uint32_t p1_split(const peak1 *k, int c, uint32_t a, uint32_t b)
+{
+    while (a < b) {
+        uint32_t m = a + (b - a) / 2;
+        if (p1_cond(k, c, m))
+            a = m + 1;
+        else
+            b = m;
+    }
+    return a;
+}
+
+/* First index in [a, b) where d[i] <= t is false (true on a prefix: d nondecreasing) or, with
+ * down, where d[i] <= t is true (false on a prefix: d nonincreasing); b if none. */
+static uint32_t p1_thresh(const double *d, double t, bool down, uint32_t a, uint32_t b)
+{
+    while (a < b) {
+        uint32_t m = a + (b - a) / 2;
+        if ((d[m] <= t) != down)
+            a = m + 1;
+        else
+            b = m;
+    }
+    return a;
+}
+
+static void p1_peak(const peak1 *k, double *v, uint32_t a, uint32_t b)
+{
+    const double maxu = k->maxu, sl = k->slope1;
+    for (uint32_t i = a; i < b; i++) {
+        double val = maxu - sl * v[i]; /* sd <= 0: slope1 == 0 and maxu - 0*dist == maxu */
+        v[i] = maxu < val ? maxu : val;
+    }
+}
+
+static void p1_ramp(const peak1 *k, double *v, uint32_t a, uint32_t b)
+{
+    const double maxu = k->maxu, edge = k->edge, sl = k->slope2, pw = k->pw;
+    for (uint32_t i = a; i < b; i++) {
+        double val = edge - sl * (v[i] - pw);
+        v[i] = maxu < val ? maxu : val;
+    }
+}
+
+static void p1_flat(const peak1 *k, double *v, uint32_t a, uint32_t b)
+{
+    const double val = k->maxu < k->minu ? k->maxu : k->minu;
+    for (uint32_t i = a; i < b; i++)
+        v[i] = val;
+}
+
+/* Values over [a, b) where distance form `form` applies; down: that distance is nonincreasing. */
+static void p1_range(const peak1 *k, int form, bool down, double *v, uint32_t a, uint32_t b)
+{
+    if (a >= b)
+        return;
+    double di = (double)a;
+    switch (form) { /* the distances, in place */
+    case 0:
+        for (uint32_t i = a; i < b; i++, di += 1.0)
+            v[i] = k->s - ((di * k->delta) + k->low);
+        break;
+    case 1:
+        for (uint32_t i = a; i < b; i++, di += 1.0)
+            v[i] = ((di * k->delta) + k->low) - k->s;
+        break;
+    case 2:
+        for (uint32_t i = a; i < b; i++, di += 1.0)
+            v[i] = ((((di * k->delta) + k->low) - k->low) + k->s_top) + k->delta;
+        break;
+    default:
+        for (uint32_t i = a; i < b; i++, di += 1.0)
+            v[i] = ((k->high - ((di * k->delta) + k->low)) + k->s_bot) + k->delta;
+        break;
+    }
+    /* comp_value: dist <= pw -> peak; else dist <= pw+bw -> ramp; else minutil */
+    if (!down) {
+        uint32_t e1 = p1_thresh(v, k->pw, false, a, b);
+        uint32_t e2 = p1_thresh(v, k->pwbw, false, e1, b);
+        p1_peak(k, v, a, e1);
+        p1_ramp(k, v, e1, e2);
+        p1_flat(k, v, e2, b);
+    } else {
+        uint32_t e1 = p1_thresh(v, k->pwbw, true, a, b);
+        uint32_t e2 = p1_thresh(v, k->pw, true, e1, b);
+        p1_flat(k, v, a, e1);
+        p1_ramp(k, v, e1, e2);
+        p1_peak(k, v, e2, b);
+    }
+}
+
+/* false when a parameter is too large or not finite for the range method (then per point). */
+static bool peak1_values(const kelp_ivp_zaic_peak *z, double *vals, uint32_t n)
+{
+    const kelp_ivp_zaic_comp *c = &z->comp[0];
+    const kelp_ivp_var *v = &z->dom.var[0];
+    const double lim = 1e150;
+    if (!(fabs(c->summit) < lim && fabs(c->peakwidth) < lim && fabs(c->basewidth) < lim && fabs(c->maxutil) < lim &&
+          fabs(c->minutil) < lim && fabs(c->summitdelta) < lim && fabs(v->low) < lim && fabs(v->high) < lim &&
+          fabs(v->delta) * (double)n < lim))
+        return false;
+    peak1 k;
+    k.s = c->summit;
+    k.pw = c->peakwidth;
+    k.pwbw = c->peakwidth + c->basewidth;
+    k.maxu = c->maxutil;
+    k.minu = c->minutil;
+    double sd = k.pw <= 0 ? 0 : c->summitdelta;
+    k.slope1 = sd > 0 ? sd / k.pw : 0.0;
+    k.edge = k.maxu - sd;
+    /* comp_value computes (edge - minu) / bw only on the ramp, which is empty when bw == 0 */
+    k.slope2 = c->basewidth != 0 ? (k.edge - k.minu) / c->basewidth : 0.0;
+    k.low = v->low;
+    k.delta = v->delta;
+    k.high = v->high;
+    k.s_top = v->high - k.s;
+    k.s_bot = k.s - v->low;
+    if (!z->wrap) { /* dist = s >= x ? s - x : x - s */
+        uint32_t a = p1_split(&k, 1, 0, n);
+        p1_range(&k, 0, true, vals, 0, a);
+        p1_range(&k, 1, false, vals, a, n);
+    } else { /* s > x: min(low-end wrap, s - x); else min(x - s, high-end wrap) */
+        uint32_t a = p1_split(&k, 0, 0, n);
+        uint32_t a1 = p1_split(&k, 2, 0, a);
+        uint32_t b1 = p1_split(&k, 3, a, n);
+        p1_range(&k, 2, false, vals, 0, a1);
+        p1_range(&k, 0, true, vals, a1, a);
+        p1_range(&k, 1, false, vals, a, b1);
+        p1_range(&k, 3, true, vals, b1, n);
+    }
+    return true;
+}
+
 int kelp_ivp_zaic_peak_extract(const kelp_ivp_zaic_peak *z, bool use_max, double *work, size_t work_len,
                                kelp_ivp_piece *store, size_t cap, kelp_ivp_func *out)
 {
@@ -289,37 +516,11 @@ int kelp_ivp_zaic_peak_extract(const kelp_ivp_zaic_peak *z, bool use_max, double
     if (rc)
         return rc;
     double *vals = work;
-    const kelp_ivp_var *v = &z->dom.var[0];
-    if (z->ncomp == 1) {
-        /* comp_value() with the per-component constants hoisted; same operations, same bits */
-        const kelp_ivp_zaic_comp *c = &z->comp[0];
-        const double s = c->summit, pw = c->peakwidth, pwbw = c->peakwidth + c->basewidth;
-        const double maxu = c->maxutil, minu = c->minutil;
-        const double sd = pw <= 0 ? 0 : c->summitdelta;
-        const double slope1 = sd > 0 ? sd / pw : 0.0, edge = maxu - sd;
-        const double slope2 = c->basewidth != 0 ? (edge - minu) / c->basewidth : 0.0;
-        const double low = v->low, delta = v->delta, s_top = v->high - s, s_bot = s - v->low, high = v->high;
-        const bool wrap = z->wrap;
-        double di = 0.0; /* == (double)i, exactly */
-        for (uint32_t i = 0; i < n; i++, di += 1.0) {
-            double x = (di * delta) + low, dist;
-            if (!wrap) {
-                dist = s >= x ? s - x : x - s;
-            } else if (s > x) {
-                double r = s - x, l = (x - low) + s_top + delta;
-                dist = l < r ? l : r;
-            } else {
-                double l = x - s, r = (high - x) + s_bot + delta;
-                dist = l < r ? l : r;
-            }
-            double val;
-            if (dist <= pw)
-                val = sd <= 0 ? maxu : maxu - slope1 * dist;
-            else if (dist <= pwbw)
-                val = edge - slope2 * (dist - pw);
-            else
-                val = minu;
-            vals[i] = val > maxu ? maxu : val;
+    if (z->ncomp == 1) { /* one component: its own value (no 0 + v of the sum) */
+        if (!peak1_values(z, vals, n)) {
+            const kelp_ivp_var *v = &z->dom.var[0];
+            for (uint32_t i = 0; i < n; i++)
+                vals[i] = comp_value(z, &z->comp[0], ((double)i * v->delta) + v->low);
         }
     } else {
         for (uint32_t i = 0; i < n; i++)
@@ -331,40 +532,7 @@ int kelp_ivp_zaic_peak_extract(const kelp_ivp_zaic_peak *z, bool use_max, double
 
     if (n == 1) /* upstream makes no piece here; one point is one piece */
         return push1(out, 0, 0, 0.0, vals[0]);
-
-    uint32_t first = 0;
-    double first_val = vals[0];
-    bool trend = false;
-    double s_m = 0, s_b = 0, di = 1.0, prev = vals[0];
-    for (uint32_t i = 1; i < n; i++, di += 1.0) {
-        double vi = vals[i];
-        if (!trend) {
-            trend = true;
-            s_m = (vi - first_val) / (double)(i - first);
-            s_b = vi - s_m * di;
-        }
-        double ext = s_m * di + s_b;
-        double loc_m = vi - prev;
-        prev = vi;
-        bool brk = fabs(ext - vi) > ZAIC_TOLERANCE || (loc_m < 0 ? s_m > 0 : (loc_m > 0 && s_m < 0));
-        if (i == n - 1) {
-            if (brk)
-                rc = push1(out, (int32_t)i, (int32_t)i, 0.0, vi); /* MOOS-IvP stores this one first */
-            else
-                rc = push_run(out, first, i, first_val, vi);
-            if (rc)
-                return rc;
-        }
-        if (brk) {
-            rc = push_run(out, first, i - 1, first_val, vals[i - 1]);
-            if (rc)
-                return rc;
-            trend = false;
-            first = i;
-            first_val = vi;
-        }
-    }
-    return 0;
+    return cut_all(vals, n, out);
 }
 
 /* ------------------------------------------------------------------ ZAIC_LEQ / ZAIC_HEQ */

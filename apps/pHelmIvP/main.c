@@ -1,0 +1,251 @@
+/* pHelmIvP: the IvP helm. Reads "Behaviors = file.bhv" and "Domain = name:low:high:points"
+ * lines, publishes the behaviour files' initialize values, registers for every variable the
+ * behaviours need, and each iteration runs the behaviours, solves with kelp's IvP solver and
+ * posts DESIRED_HEADING / DESIRED_SPEED / DESIRED_DEPTH (zeros on all-stop) plus the helm
+ * summary. The logic is in src/helm (core); this file wires it to the app runner. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include <kelp/app.h>
+#include <kelp/helm.h>
+
+#define MAX_BHV_FILES 8
+#define POOL_PIECES 32768   /* pieces of all functions of one iteration */
+#define TMP_PIECES 8192     /* scratch pieces (one-variable ZAIC builds) */
+#define PQ_ENTRIES 8192     /* Reflector work */
+
+typedef struct helm_app {
+    kelp_app *app;
+    kelp_helm *h;
+    kelp_helm_mem mem;
+    char files[MAX_BHV_FILES][512];
+    unsigned nfiles;
+    unsigned long posts, iterations;
+    char last_summary[512];
+} helm_app;
+
+static void sink(const kelp_helm_post *p, void *user)
+{
+    helm_app *a = user;
+    int rc = p->is_str ? kelp_app_notify_string(a->app, p->var, p->sval) : kelp_app_notify_double(a->app, p->var, p->dval);
+    if (rc < 0)
+        kelp_app_run_warning(a->app, "publish of %s failed", p->var);
+    else
+        a->posts++;
+    if (p->is_str && !strcmp(p->var, "IVPHELM_SUMMARY"))
+        snprintf(a->last_summary, sizeof a->last_summary, "%s", p->sval);
+    if (p->is_str && (!strcmp(p->var, "BHV_WARNING") || !strcmp(p->var, "BHV_ERROR")))
+        kelp_app_run_warning(a->app, "%s: %s", p->var, p->sval);
+}
+
+/* Domain = name:low:high:points[:optional] */
+static int parse_domain(kelp_app *app, const kelp_mission_node *n, kelp_helm_config *cfg)
+{
+    char buf[256], *tok[6];
+    int nt = 0;
+    if (kelp_mission_copy(n, buf, sizeof buf) != 0)
+        return kelp_app_config_error(app, n, "Domain value too long");
+    for (char *s = buf, *c; nt < 6; s = c + 1) {
+        tok[nt++] = s;
+        c = strchr(s, ':');
+        if (!c)
+            break;
+        *c = '\0';
+    }
+    if (nt < 4 || nt > 5)
+        return kelp_app_config_error(app, n, "Domain is name:low:high:points[:optional], got '%.*s'", (int)n->vlen, n->val);
+    double lo, hi;
+    long pts;
+    for (int i = 0; i < nt; i++) {
+        char *t = tok[i];
+        while (*t == ' ' || *t == '\t')
+            t++;
+        size_t l = strlen(t);
+        while (l && (t[l - 1] == ' ' || t[l - 1] == '\t'))
+            t[--l] = '\0';
+        tok[i] = t;
+    }
+    if (kelp_parse_double(tok[1], strlen(tok[1]), &lo) || kelp_parse_double(tok[2], strlen(tok[2]), &hi) ||
+        kelp_parse_long(tok[3], strlen(tok[3]), &pts) || pts < 1 || pts > 100000)
+        return kelp_app_config_error(app, n, "Domain %s: bad low/high/points", tok[0]);
+    if (nt == 5 && strcmp(tok[4], "optional") != 0)
+        return kelp_app_config_error(app, n, "Domain %s: the fifth field may only be 'optional'", tok[0]);
+    unsigned d = cfg->domain.dim;
+    int rc = kelp_ivp_domain_add(&cfg->domain, tok[0], lo, hi, (uint32_t)pts);
+    if (rc < 0)
+        return kelp_app_config_error(app, n, "Domain %s: %s", tok[0], kelp_strerror(rc));
+    cfg->optional[d] = nt == 5;
+    return 0;
+}
+
+static void resolve(kelp_app *app, const char *file, char *out, size_t cap)
+{
+    snprintf(out, cap, "%s", file);
+    if (file[0] == '/' || access(file, R_OK) == 0)
+        return;
+    const char *mp = kelp_app_mission_path(app);
+    const char *slash = mp ? strrchr(mp, '/') : NULL;
+    if (slash)
+        snprintf(out, cap, "%.*s/%s", (int)(slash - mp), mp, file);
+}
+
+static int startup(kelp_app *app, void *st)
+{
+    helm_app *a = st;
+    a->app = app;
+    kelp_helm_config cfg;
+    kelp_helm_config_default(&cfg);
+    snprintf(cfg.us, sizeof cfg.us, "%s", kelp_app_community(app));
+    cfg.sink = sink;
+    cfg.user = a;
+    for (const kelp_mission_node *n = NULL; (n = kelp_app_param_next(app, "Domain", n)) != NULL;)
+        if (parse_domain(app, n, &cfg) < 0)
+            return -1;
+    if (cfg.domain.dim == 0)
+        return kelp_app_config_error(app, NULL, "ProcessConfig = %s needs Domain = name:low:high:points lines",
+                                     kelp_app_name(app));
+    bool drive = true;
+    if (kelp_app_param_bool(app, "start_in_drive", &drive) < 0)
+        return -1;
+    cfg.start_engaged = drive;
+    static const char *const ignored[] = {"Verbose", "ok_skew", "IVP_BEHAVIOR_DIR", "IVP_BEHAVIOR_DIRS", NULL};
+    for (int i = 0; ignored[i]; i++)
+        for (const kelp_mission_node *n = NULL; (n = kelp_app_param_next(app, ignored[i], n)) != NULL;)
+            kelp_app_event(app, "%s is accepted for MOOS compatibility and ignored", ignored[i]);
+
+    a->h = calloc(1, sizeof *a->h);
+    a->mem.pool_cap = POOL_PIECES;
+    a->mem.tmp_cap = TMP_PIECES;
+    a->mem.pq_cap = PQ_ENTRIES;
+    a->mem.dwork_cap = TMP_PIECES;
+    for (unsigned d = 0; d < cfg.domain.dim; d++)
+        if (cfg.domain.var[d].points > a->mem.dwork_cap) {
+            a->mem.dwork_cap = cfg.domain.var[d].points;
+            a->mem.tmp_cap = cfg.domain.var[d].points * 2u;
+        }
+    a->mem.pool = calloc(a->mem.pool_cap, sizeof *a->mem.pool);
+    a->mem.tmp = calloc(a->mem.tmp_cap, sizeof *a->mem.tmp);
+    a->mem.dwork = calloc(a->mem.dwork_cap, sizeof *a->mem.dwork);
+    a->mem.pq = calloc(a->mem.pq_cap, sizeof *a->mem.pq);
+    a->mem.solve_work_size = (size_t)POOL_PIECES * 160u + (size_t)KELP_HELM_MAX_BHVS * 4096u + 65536u;
+    a->mem.solve_work = calloc(1, a->mem.solve_work_size);
+    if (!a->h || !a->mem.pool || !a->mem.tmp || !a->mem.dwork || !a->mem.pq || !a->mem.solve_work)
+        return kelp_app_config_error(app, NULL, "out of memory");
+    if (kelp_helm_init(a->h, &cfg, &a->mem) < 0)
+        return kelp_app_config_error(app, NULL, "helm init failed");
+
+    for (const kelp_mission_node *n = NULL; (n = kelp_app_param_next(app, "Behaviors", n)) != NULL;) {
+        char file[256];
+        if (a->nfiles >= MAX_BHV_FILES || kelp_mission_copy(n, file, sizeof file) != 0)
+            return kelp_app_config_error(app, n, "too many or too long Behaviors lines");
+        resolve(app, file, a->files[a->nfiles], sizeof a->files[0]);
+        kelp_mission_file mf;
+        int rc = kelp_mission_load(&mf, a->files[a->nfiles]);
+        if (rc < 0)
+            return kelp_app_config_error(app, n, "behaviour file: %s", mf.error);
+        rc = kelp_helm_load_bhv(a->h, &mf.m);
+        if (rc < 0) {
+            fprintf(stderr, "%s:%d: %s\n", a->files[a->nfiles], a->h->err_line, a->h->err);
+            kelp_app_config_error(app, n, "%s:%d: %s", a->files[a->nfiles], a->h->err_line, a->h->err);
+            kelp_mission_free(&mf);
+            return -1;
+        }
+        kelp_mission_free(&mf);
+        a->nfiles++;
+    }
+    if (a->nfiles == 0)
+        return kelp_app_config_error(app, NULL, "ProcessConfig = %s needs a Behaviors = file.bhv line", kelp_app_name(app));
+    if (kelp_helm_configured(a->h) < 0) {
+        const char *f = a->files[0];
+        return kelp_app_config_error(app, NULL, "%s:%d: %s", f, a->h->err_line, a->h->err);
+    }
+    printf("The IvP Helm (pHelmIvP) is starting...\nNumber of behavior files: %u\n", a->nfiles);
+    for (unsigned i = 0; i < a->h->nbhv; i++)
+        printf("  Behavior %s (%s)\n", a->h->bhv[i].name, a->h->bhv[i].type);
+    kelp_helm_start(a->h, kelp_app_time(app));
+    for (const char *v; (v = kelp_helm_next_new_var(a->h)) != NULL;)
+        if (kelp_app_register(app, v, 0) < 0)
+            kelp_app_config_warning(app, "cannot register for %s", v);
+    return 0;
+}
+
+static void on_mail(kelp_app *app, void *st, const kelp_var *v)
+{
+    helm_app *a = st;
+    (void)app;
+    if (v->kind == KELP_VAR_DOUBLE)
+        kelp_helm_mail_double(a->h, v->name, v->dval);
+    else if (v->kind == KELP_VAR_STRING)
+        kelp_helm_mail_string(a->h, v->name, v->sval);
+}
+
+static int iterate(kelp_app *app, void *st, double now)
+{
+    helm_app *a = st;
+    a->iterations++;
+    if (kelp_helm_iterate(a->h, now) < 0)
+        kelp_app_run_warning(app, "helm iteration failed");
+    for (const char *v; (v = kelp_helm_next_new_var(a->h)) != NULL;)
+        if (kelp_app_register(app, v, 0) < 0)
+            kelp_app_run_warning(app, "cannot register for %s", v);
+    return 0;
+}
+
+static void report(kelp_app *app, void *st, FILE *out)
+{
+    helm_app *a = st;
+    const kelp_helm *h = a->h;
+    (void)app;
+    if (!h)
+        return;
+    fprintf(out, "Helm: %s   iteration %lu   functions %u   allstop %s\n", h->engaged ? "DRIVE" : "PARK",
+            h->rep.iteration, h->rep.ofnum, h->rep.allstop);
+    for (unsigned d = 0; d < h->cfg.domain.dim; d++)
+        if (h->rep.decided[d])
+            fprintf(out, "  decision %s = %.2f\n", h->cfg.domain.var[d].name, h->rep.decision[d]);
+    for (unsigned i = 0; i < h->nbhv; i++)
+        fprintf(out, "  %-24s %-20s %s\n", h->bhv[i].name, h->bhv[i].type, kelp_bhv_state_name(h->bhv[i].state));
+    fprintf(out, "  posts %lu   BHV_WARNING %lu   BHV_ERROR %lu   buffer drops %lu   post drops %lu\n", a->posts,
+            h->rep.warnings, h->rep.errors, h->ib.dropped, h->posts_dropped);
+}
+
+static void shutdown_app(kelp_app *app, void *st)
+{
+    helm_app *a = st;
+    (void)app;
+    free(a->mem.pool);
+    free(a->mem.tmp);
+    free(a->mem.dwork);
+    free(a->mem.pq);
+    free(a->mem.solve_work);
+    free(a->h);
+    a->h = NULL;
+}
+
+static const kelp_app_def def = {
+    .name = "pHelmIvP",
+    .purpose = "The IvP helm: runs the behaviours of a .bhv file and posts DESIRED_HEADING/SPEED/DEPTH.",
+    .example = "ProcessConfig = pHelmIvP\n{\n  AppTick    = 4\n  CommsTick  = 4\n\n  Behaviors  = alder.bhv\n"
+               "  Domain     = course:0:359:360\n  Domain     = speed:0:4:21\n  //Domain   = depth:0:100:101:optional\n"
+               "  start_in_drive = true   // kelp default; false waits for MOOS_MANUAL_OVERIDE=false\n}\n",
+    .interface = "Subscribes: every variable the behaviours need (conditions, UPDATES, NOSTARVE, NAV_X, NAV_Y,\n"
+                 "            duration_reset, initialize variables), MOOS_MANUAL_OVERIDE, MOOS_MANUAL_OVERRIDE\n"
+                 "Publishes:  DESIRED_HEADING, DESIRED_SPEED, DESIRED_<VAR> (double; zeros on all-stop)\n"
+                 "            IVPHELM_STATE (DRIVE|PARK), IVPHELM_ALLSTOP (clear|NothingToDo|BehaviorError|\n"
+                 "            ManualOverride|MissingDecVars:x), IVPHELM_SUMMARY, IVPHELM_ITER, IVPHELM_IPF_CNT,\n"
+                 "            IVPHELM_BHV_ACTIVE/RUNNING/IDLE, BHV_WARNING, BHV_ERROR, UH_<behaviour>,\n"
+                 "            behaviour flags and postings (VIEW_POINT, VIEW_SEGLIST, VIEW_POLYGON, WPT_STAT,\n"
+                 "            WPT_INDEX, CYCLE_INDEX, LOITER_INDEX, LOITER_ACQUIRE, LOITER_REPORT, ...)\n",
+    .startup = startup,
+    .on_mail = on_mail,
+    .iterate = iterate,
+    .report = report,
+    .shutdown = shutdown_app,
+};
+
+int main(int argc, char **argv)
+{
+    static helm_app a;
+    return kelp_app_run(argc, argv, &def, &a);
+}

@@ -1,0 +1,462 @@
+/* kelp helm: the IvP helm, its behaviour framework and the built-in behaviours.
+ *
+ * Specification: seed 004 (MIT-CSAIL-TR-2009-037) chapters 4 and 5; digest
+ * ../shared/spec/moosapp_helm.md part 2. Functions are built and solved with kelp's IvP
+ * library (include/kelp/ivp.h).
+ *
+ * Core and allocation-free: the caller places a kelp_helm (it is large: size it with the
+ * KELP_HELM_* limits of config.h) and passes piece/work storage in a kelp_helm_mem. Time is
+ * an argument (MOOS time, seconds); "buffer time" is seconds since kelp_helm_start().
+ *
+ * One helm iteration (kelp_helm_iterate), as pHelmIvP's Iterate:
+ *   1. buffer time is set once; mail received since the last iteration is stamped with it;
+ *   2. per behaviour, in file order: checkUpdates (UPDATES strings), duration reset check,
+ *      isComplete (completed behaviours are skipped), isRunnable (run conditions, then the
+ *      duration clock, then the domain, then NOSTARVE), then onIdleState or onRunState with
+ *      the idle/run/active/inactive flags posted on state transitions;
+ *   3. the active behaviours' functions are solved (argmax of the weighted sum);
+ *   4. behaviour postings are applied to the buffer and, through the duplicate filter,
+ *      sent to the sink; then DESIRED_<VAR> (course -> DESIRED_HEADING), or zeros on
+ *      all-stop, and the helm summary variables;
+ *   5. the per-iteration value vectors are cleared.
+ *
+ * Not thread-safe; one thread owns a helm.
+ */
+#ifndef KELP_HELM_H
+#define KELP_HELM_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <kelp/config.h>
+#include <kelp/err.h>
+#include <kelp/ivp.h>
+#include <kelp/mission.h>
+
+/* ------------------------------------------------------------------ information buffer */
+
+typedef struct kelp_helm_ibvar {
+    char name[KELP_MAX_NAME];
+    bool is_str;
+    bool pending;              /**< arrived by mail; stamped at the next iteration start */
+    double dval;
+    double time;               /**< buffer time of the last write */
+    char sval[KELP_HELM_MAX_SVAL];
+} kelp_helm_ibvar;
+
+typedef struct kelp_helm_ibdelta {
+    uint16_t var;
+    bool is_str;
+    double dval;
+    uint32_t soff;             /**< offset of the string in pool */
+} kelp_helm_ibdelta;
+
+/** The information buffer (InfoBuffer): latest value and write time of each variable the
+ *  behaviours need, plus every value received since the last iteration. */
+typedef struct kelp_helm_ib {
+    double curr_time;          /**< buffer time, set once per iteration */
+    unsigned nvar;
+    kelp_helm_ibvar var[KELP_HELM_MAX_VARS];
+    unsigned ndelta;
+    kelp_helm_ibdelta delta[KELP_HELM_MAX_DELTAS];
+    size_t npool;
+    char pool[KELP_HELM_DELTA_POOL];
+    unsigned long dropped;     /**< writes refused: buffer full or string too long */
+} kelp_helm_ib;
+
+void kelp_helm_ib_init(kelp_helm_ib *ib);
+/** Write a value at buffer time t (also appended to the iteration's vectors when delta).
+ *  KELP_ERR_NOSPACE when the buffer is full, KELP_ERR_RANGE for a too long string. */
+KELP_MUST_CHECK int kelp_helm_ib_set_double(kelp_helm_ib *ib, const char *name, double v, double t, bool delta);
+KELP_MUST_CHECK int kelp_helm_ib_set_string(kelp_helm_ib *ib, const char *name, const char *v, double t, bool delta);
+/** Latest double (a numeric string counts, as getBufferDoubleVal). false if unknown. */
+bool kelp_helm_ib_double(const kelp_helm_ib *ib, const char *name, double *out);
+/** Latest value as a string (a double is formatted with %g precision 10). false if unknown. */
+bool kelp_helm_ib_string(const kelp_helm_ib *ib, const char *name, char *buf, size_t cap);
+/** Buffer time of the variable's last write; -1 if unknown (getBufferTimeVal). */
+double kelp_helm_ib_time(const kelp_helm_ib *ib, const char *name);
+/** Values received since the last iteration for name, oldest first: the k-th (from 0).
+ *  Returns false past the end. *sval is NULL for a double. */
+bool kelp_helm_ib_delta(const kelp_helm_ib *ib, const char *name, unsigned k, double *dval, const char **sval);
+/** Number of values of name received since the last iteration. */
+unsigned kelp_helm_ib_ndeltas(const kelp_helm_ib *ib, const char *name);
+/** Forget the per-iteration values. */
+void kelp_helm_ib_clear_deltas(kelp_helm_ib *ib);
+/** Index of name, or -1. */
+int kelp_helm_ib_find(const kelp_helm_ib *ib, const char *name);
+
+/* ------------------------------------------------------------------ run conditions */
+
+/** Check the syntax of a run condition. Grammar (seed: "VAR = value", "(K <= 4)"; the rest
+ *  is kelp's resolution of ambiguity H1):
+ *    expr     := term { ("or" | "||") term }
+ *    term     := factor { ("and" | "&&") factor }
+ *    factor   := ("not" | "!") factor | "(" expr ")" | relation
+ *    relation := operand op operand,  op := = | == | != | < | <= | > | >=
+ *    operand  := "quoted string" | number | word | $(VAR)
+ *  In a relation with two words the LEFT one is the variable and the right one a literal
+ *  (DEPLOY = true); with one word and a number/string, the word is the variable ((4 > K));
+ *  $(VAR) always names a variable. An unknown variable makes the relation false. Numbers
+ *  compare numerically (a numeric string value counts); strings compare exactly, except that
+ *  = and != between a value and the literal true/false ignore case. <,<=,>,>= on strings
+ *  compare lexically. A bare word (no op) is not allowed.
+ *  @param on_var called for each variable named (may be NULL). @return 0 or KELP_ERR_PARSE. */
+KELP_MUST_CHECK int kelp_helm_cond_check(const char *cond, void (*on_var)(const char *var, size_t len, void *user),
+                                         void *user);
+/** Evaluate a condition against the buffer: 1 true, 0 false, KELP_ERR_PARSE. */
+int kelp_helm_cond_eval(const char *cond, const kelp_helm_ib *ib);
+
+/* ------------------------------------------------------------------ behaviours */
+
+typedef struct kelp_bhv kelp_bhv;
+typedef struct kelp_helm kelp_helm;
+
+/** Activity states (Figure 3). NONE before the first iteration. */
+typedef enum kelp_bhv_state {
+    KELP_BHV_NONE = 0,
+    KELP_BHV_IDLE,
+    KELP_BHV_RUNNING,
+    KELP_BHV_ACTIVE,
+    KELP_BHV_COMPLETED
+} kelp_bhv_state;
+
+const char *kelp_bhv_state_name(kelp_bhv_state s);
+
+/** Storage a behaviour uses to build its function in onRunState. out/out_cap: pieces of the
+ *  returned function (valid until the solve of this iteration). tmp, dwork, pq: scratch. */
+typedef struct kelp_helm_work {
+    kelp_ivp_piece *out;
+    size_t out_cap;
+    kelp_ivp_piece *tmp;
+    size_t tmp_cap;
+    double *dwork;
+    size_t dwork_cap;
+    kelp_ivp_pq_entry *pq;
+    size_t pq_cap;
+} kelp_helm_work;
+
+/** A behaviour type: the overloadable functions (setParam, onIdleState, onRunState) plus a
+ *  constructor. Helm-invoked immutable functions live in the helm. */
+typedef struct kelp_bhv_ops {
+    const char *type;                  /**< "BHV_SimpleWaypoint" (matched case-insensitively) */
+    /** Constructor: defaults, subdomain of the helm domain, addInfoVars. May be NULL. */
+    void (*init)(kelp_bhv *b);
+    /** setParam: param is lower-cased (a leading '_' removed), value trimmed. 0 = accepted,
+     *  <0 = not recognised or malformed. Called after the general parameters declined. */
+    int (*set_param)(kelp_bhv *b, const char *param, const char *value);
+    /** After the .bhv parameters and after each applied update (onSetParamComplete). <0 at
+     *  startup refuses the configuration (with kelp_bhv_fail's reason). May be NULL. */
+    int (*params_done)(kelp_bhv *b);
+    /** onIdleState. May be NULL. */
+    void (*on_idle)(kelp_bhv *b);
+    /** onRunState: 1 = *out holds a function built in w->out, 0 = no function. */
+    int (*on_run)(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out);
+} kelp_bhv_ops;
+
+typedef enum kelp_bhv_flag_kind {
+    KELP_FLAG_RUN = 0,
+    KELP_FLAG_IDLE,
+    KELP_FLAG_ACTIVE,
+    KELP_FLAG_INACTIVE,
+    KELP_FLAG_END
+} kelp_bhv_flag_kind;
+
+/** A variable-value pair (flags, initialize lines): a quoted or non-numeric value is a
+ *  string, a number is a double (MOOS VarDataPair "auto"). */
+typedef struct kelp_helm_pair {
+    char var[KELP_MAX_NAME];
+    bool is_str;
+    double dval;
+    char sval[KELP_HELM_MAX_FLAG_VAL];
+} kelp_helm_pair;
+
+typedef struct kelp_bhv_flag {
+    kelp_bhv_flag_kind kind;
+    kelp_helm_pair p;
+} kelp_bhv_flag;
+
+/* Built-in behaviour state. */
+typedef struct kelp_bhv_pt { double x, y; } kelp_bhv_pt;
+
+typedef struct kelp_bhv_swpt {         /* BHV_SimpleWaypoint (seed ch. 5) */
+    kelp_bhv_pt nextpt;
+    double desired_speed, arrival_radius;
+    bool reflector;                    /* ipf_type */
+    double osx, osy;
+} kelp_bhv_swpt;
+
+typedef struct kelp_bhv_wpt {          /* BHV_Waypoint */
+    kelp_bhv_pt pts[KELP_HELM_MAX_PTS];
+    unsigned npts;
+    double speed, capture_radius, slip_radius, lead, lead_damper;
+    long repeat;                       /* extra passes through the list; <0 forever */
+    bool reverse;
+    kelp_bhv_flag cycleflag[4], wptflag[4];
+    unsigned ncycleflag, nwptflag;
+    /* state */
+    unsigned index;                    /* next point */
+    unsigned long cycles;              /* completed passes */
+    unsigned long captured, slipped;   /* arrivals by capture / by slip radius */
+    bool have_prev;                    /* trackline start known */
+    kelp_bhv_pt prev;                  /* start of the current leg */
+    double min_dist;                   /* closest approach to the current point so far */
+    bool restart;                      /* re-seed the leg at the next run (idle->run) */
+    double osx, osy;
+} kelp_bhv_wpt;
+
+typedef struct kelp_bhv_loiter {       /* BHV_Loiter */
+    kelp_bhv_pt pts[KELP_HELM_MAX_PTS];  /* stored in visiting order (clockwise or not) */
+    unsigned npts;
+    double speed, capture_radius, slip_radius, acquire_dist;
+    int clockwise;                     /* 1 true, 0 false, -1 best (keep the given order) */
+    kelp_bhv_pt given[KELP_HELM_MAX_PTS];  /* the polygon as configured */
+    unsigned ngiven;
+    /* state */
+    unsigned index;
+    bool acquiring;
+    bool started;
+    double min_dist;
+    unsigned long laps_pts;            /* vertices reached */
+} kelp_bhv_loiter;
+
+typedef struct kelp_bhv_c1 {           /* BHV_ConstantDepth / ConstantSpeed / ConstantHeading */
+    double value, peakwidth, basewidth, summitdelta;
+    bool have_value;
+} kelp_bhv_c1;
+
+/** One behaviour instance (IvPBehavior plus its subclass state). Members are public for
+ *  tests and reports; change them through the functions below. */
+struct kelp_bhv {
+    const kelp_bhv_ops *ops;
+    kelp_helm *helm;
+    int line;                          /**< .bhv line of the Behavior block (0 if built in code) */
+    char type[KELP_MAX_NAME];
+    char name[KELP_MAX_NAME];
+    char us[KELP_MAX_NAME];            /**< vehicle name (MOOS "us", default: helm's) */
+    double pwt;                        /**< priority weight, default 100 */
+    kelp_ivp_domain dom;               /**< behaviour's (sub)domain; dim 0 = null */
+    char cond[KELP_HELM_MAX_CONDS][KELP_HELM_MAX_COND_LEN];
+    unsigned ncond;
+    kelp_bhv_flag flag[KELP_HELM_MAX_FLAGS];
+    unsigned nflag;
+    char updates[KELP_MAX_NAME];       /**< UPDATES variable, "" none */
+    uint64_t prev_update_hash;         /**< last fully applied update string */
+    unsigned long good_updates, bad_updates;
+    double duration;                   /**< <0: no limit */
+    char duration_status[KELP_MAX_NAME];
+    char duration_reset_var[KELP_MAX_NAME];
+    char duration_reset_val[KELP_HELM_MAX_FLAG_VAL];
+    bool duration_idle_decay;          /**< default true */
+    bool perpetual;
+    char starve[KELP_HELM_MAX_INFOVARS][KELP_MAX_NAME];
+    unsigned nstarve;
+    double starve_time;                /**< NOSTARVE seconds */
+    char map_from[KELP_HELM_MAX_MAPPINGS][KELP_MAX_NAME];
+    char map_to[KELP_HELM_MAX_MAPPINGS][KELP_MAX_NAME];
+    unsigned nmap;
+    char infovars[KELP_HELM_MAX_INFOVARS][KELP_MAX_NAME];
+    unsigned ninfovars;
+    /* run state */
+    kelp_bhv_state state;              /**< state reported for the last iteration */
+    bool completed;                    /**< setComplete() was called (not perpetual) */
+    bool state_ok;                     /**< cleared by postEMessage for this iteration */
+    double state_entered;              /**< buffer time the current state began */
+    bool dur_started;
+    double dur_start, dur_idle_time, dur_prev_time, dur_reset_stamp;
+    bool dur_have_prev;
+    const char *fail;                  /**< reason of a rejected parameter (first wins) */
+    union {
+        kelp_bhv_swpt swpt;
+        kelp_bhv_wpt wpt;
+        kelp_bhv_loiter loiter;
+        kelp_bhv_c1 c1;
+        double raw[64];                /**< for behaviour types outside kelp (cast it) */
+    } u;
+};
+
+/* ---- implementor-invoked utilities (section 4.5.1) ---- */
+
+/** Post end flags (and inactive flags); completed from the next iteration unless perpetual. */
+void kelp_bhv_set_complete(kelp_bhv *b);
+/** addInfoVars("NAV_X, NAV_Y"): one or comma-separated; duplicates ignored. <0 when full. */
+int kelp_bhv_add_info_vars(kelp_bhv *b, const char *names);
+bool kelp_bhv_buf_double(const kelp_bhv *b, const char *var, double *out);
+bool kelp_bhv_buf_string(const kelp_bhv *b, const char *var, char *buf, size_t cap);
+double kelp_bhv_buf_time(const kelp_bhv *b, const char *var);
+double kelp_bhv_buf_now(const kelp_bhv *b);
+unsigned kelp_bhv_buf_ndeltas(const kelp_bhv *b, const char *var);
+bool kelp_bhv_buf_delta(const kelp_bhv *b, const char *var, unsigned k, double *dval, const char **sval);
+/** postMessage: queued for the end of the iteration. key NULL/"" = default key; "repeatable"
+ *  bypasses the duplicate filter. post_mapping applies (a mapping to "silent" drops it). */
+void kelp_bhv_post_string(kelp_bhv *b, const char *var, const char *val, const char *key);
+void kelp_bhv_post_double(kelp_bhv *b, const char *var, double val, const char *key);
+void kelp_bhv_post_bool(kelp_bhv *b, const char *var, bool val, const char *key);
+/** postIntMessage: rounded to the nearest integer (2.6 -> 3, -2.6 -> -3). */
+void kelp_bhv_post_int(kelp_bhv *b, const char *var, double val, const char *key);
+/** postWMessage: BHV_WARNING = "<name>: <msg>" (repeatable). */
+void kelp_bhv_post_warning(kelp_bhv *b, const char *msg);
+/** postEMessage: BHV_ERROR = "<name>: <msg>" (repeatable); state_ok=false -> helm all-stop. */
+void kelp_bhv_post_error(kelp_bhv *b, const char *msg);
+/** Record why a parameter was refused (first wins) and return KELP_ERR_PARSE. */
+int kelp_bhv_fail(kelp_bhv *b, const char *why);
+
+/** setParam as the helm applies it: general parameters (section 4.2) first, then the type's.
+ *  param is matched case-insensitively. 0 or <0 (b->fail says why). */
+KELP_MUST_CHECK int kelp_bhv_set_param(kelp_bhv *b, const char *param, const char *value);
+
+/** relAng: compass bearing from (xa,ya) to (xb,yb) in [0,360): 0 = +y, 90 = +x; 0 if equal. */
+double kelp_helm_relang(double xa, double ya, double xb, double yb);
+/** Parse a MOOS point list into pts: "x,y:x,y", "pts={x,y:x,y}", "{x,y:...}", "(x,y)",
+ *  "x=1,y=2", or a regular polygon "format=radial, x=, y=, radius=, pts=[, snap=]"
+ *  (first vertex straight north (+y) of the centre, then clockwise). */
+KELP_MUST_CHECK int kelp_helm_parse_points(const char *s, kelp_bhv_pt *pts, size_t cap, unsigned *n);
+
+/** The built-in behaviour types (BHV_SimpleWaypoint, BHV_Waypoint, BHV_Loiter,
+ *  BHV_ConstantDepth, BHV_ConstantSpeed, BHV_ConstantHeading), NULL-terminated. */
+extern const kelp_bhv_ops *const kelp_bhv_builtin_types[];
+extern const kelp_bhv_ops kelp_bhv_simple_waypoint_ops;
+extern const kelp_bhv_ops kelp_bhv_waypoint_ops;
+extern const kelp_bhv_ops kelp_bhv_loiter_ops;
+extern const kelp_bhv_ops kelp_bhv_constant_depth_ops;
+extern const kelp_bhv_ops kelp_bhv_constant_speed_ops;
+extern const kelp_bhv_ops kelp_bhv_constant_heading_ops;
+
+/** The AOF_SimpleWaypoint objective (0..100) at (course, speed) for the reflector build. */
+typedef struct kelp_bhv_swpt_aof {
+    double desired_speed, osx, osy, ptx, pty;
+    double angle_to_wpt, min_speed, max_speed;
+    int icrs, ispd;                    /* indices of course and speed in the domain */
+} kelp_bhv_swpt_aof;
+double kelp_bhv_swpt_aof_eval(const double *pt, void *user);
+
+/* ------------------------------------------------------------------ the helm */
+
+/** One posting leaving the helm. aux: "<iter>:<behaviour>" for behaviour posts, else NULL. */
+typedef struct kelp_helm_post {
+    const char *var;
+    bool is_str;
+    const char *sval;
+    double dval;
+    const char *aux;
+} kelp_helm_post;
+
+typedef void (*kelp_helm_sink)(const kelp_helm_post *p, void *user);
+
+typedef struct kelp_helm_config {
+    kelp_ivp_domain domain;            /**< the helm's IvP domain (Domain = lines) */
+    bool optional[KELP_IVP_MAX_DIM];   /**< ":optional" domain variables (no all-stop if undecided) */
+    char us[KELP_MAX_NAME];            /**< vehicle (community) name */
+    bool start_engaged;                /**< start in DRIVE (MOOS start_in_drive); default true */
+    kelp_helm_sink sink;
+    void *user;
+    const kelp_bhv_ops *const *types;  /**< NULL-terminated list; NULL = kelp_bhv_builtin_types */
+} kelp_helm_config;
+
+void kelp_helm_config_default(kelp_helm_config *cfg);
+
+/** Storage of one helm: pieces of all functions of one iteration (pool), scratch pieces,
+ *  doubles and priority-queue entries for builders, and the solver's work. A Reflector
+ *  function of 1000 pieces needs ~1100 pool pieces and as many pq entries; a ZAIC function
+ *  needs tmp/dwork of the variable's point count. */
+typedef struct kelp_helm_mem {
+    kelp_ivp_piece *pool;
+    size_t pool_cap;
+    kelp_ivp_piece *tmp;
+    size_t tmp_cap;
+    double *dwork;
+    size_t dwork_cap;
+    kelp_ivp_pq_entry *pq;
+    size_t pq_cap;
+    void *solve_work;
+    size_t solve_work_size;
+} kelp_helm_mem;
+
+typedef struct kelp_helm_filter_entry {
+    uint64_t key, val;
+} kelp_helm_filter_entry;
+
+typedef struct kelp_helm_qpost {
+    uint16_t bhv;
+    bool is_str, repeatable;
+    double dval;
+    uint32_t var, sval, key;            /* offsets into the post pool */
+} kelp_helm_qpost;
+
+/** The last iteration's outcome. */
+typedef struct kelp_helm_report {
+    unsigned long iteration;
+    double time;                       /**< buffer time */
+    unsigned ofnum;                    /**< functions solved */
+    bool halted;                       /**< a behaviour error (state_ok false) */
+    bool decided[KELP_IVP_MAX_DIM];
+    double decision[KELP_IVP_MAX_DIM]; /**< per helm domain variable */
+    char allstop[96];                  /**< "clear", "NothingToDo", "BehaviorError", "ManualOverride", "MissingDecVars:x" */
+    unsigned nactive, nrunning, nidle, ncompleted;
+    unsigned long warnings;            /**< BHV_WARNING posts so far */
+    unsigned long errors;              /**< BHV_ERROR posts so far */
+} kelp_helm_report;
+
+struct kelp_helm {
+    kelp_helm_config cfg;
+    kelp_helm_mem mem;
+    kelp_helm_ib ib;
+    kelp_bhv bhv[KELP_HELM_MAX_BHVS];
+    unsigned nbhv;
+    kelp_helm_pair init[KELP_HELM_MAX_INIT];
+    bool init_defer[KELP_HELM_MAX_INIT];
+    unsigned ninit;
+    /* variables the helm needs (registration list) */
+    char need[KELP_HELM_MAX_VARS][KELP_MAX_NAME];
+    unsigned nneed, nneed_reported;
+    /* postings of the current iteration */
+    kelp_helm_qpost q[KELP_HELM_MAX_POSTS];
+    unsigned nq;
+    size_t qpool_used;
+    char qpool[KELP_HELM_POST_POOL];
+    unsigned long posts_dropped;
+    kelp_helm_filter_entry filter[KELP_HELM_MAX_FILTER];
+    unsigned nfilter;
+    bool engaged;
+    bool started;
+    double t0;
+    unsigned long iteration;
+    kelp_helm_report rep;
+    kelp_ivp_func fn[KELP_HELM_MAX_BHVS];   /* functions of the current iteration */
+    kelp_ivp_problem prob;
+    char last_lists[3][256];           /* last IVPHELM_BHV_ACTIVE / RUNNING / IDLE posted */
+    char last_allstop[96];
+    char err[192];                     /**< configuration error text (first wins) */
+    int err_line;
+};
+
+/** Initialise an empty helm. The storage in mem must outlive the helm. */
+KELP_MUST_CHECK int kelp_helm_init(kelp_helm *h, const kelp_helm_config *cfg, const kelp_helm_mem *mem);
+/** Instantiate a behaviour of a registered type (constructor run). KELP_ERR_NOTFOUND for an
+ *  unknown type, KELP_ERR_NOSPACE when full. Then set parameters with kelp_bhv_set_param
+ *  and call kelp_helm_configured(). */
+KELP_MUST_CHECK int kelp_helm_add(kelp_helm *h, const char *type, kelp_bhv **out);
+/** Add an initialize line ("initialize VAR = value"; defer: "initialize_", posted only if
+ *  the variable is still unknown at the first iteration). */
+KELP_MUST_CHECK int kelp_helm_add_init(kelp_helm *h, const char *var, const char *value, bool defer);
+/** Load a parsed .bhv file: "initialize VAR = value" lines and "Behavior = BHV_X { ... }"
+ *  blocks. Any bad line (unknown type, unknown or malformed parameter, other top-level
+ *  lines) refuses the file: KELP_ERR_PARSE with h->err / h->err_line. */
+KELP_MUST_CHECK int kelp_helm_load_bhv(kelp_helm *h, const kelp_mission *m);
+/** Finish configuration: params_done of every behaviour, domain checks. <0 with h->err. */
+KELP_MUST_CHECK int kelp_helm_configured(kelp_helm *h);
+/** Start: buffer time 0 = now; publish the (non-deferred) initialize values to the sink and
+ *  the buffer. */
+void kelp_helm_start(kelp_helm *h, double now);
+/** Mail (OnNewMail). MOOS_MANUAL_OVERIDE / MOOS_MANUAL_OVERRIDE = true|false park / drive
+ *  the helm; everything else goes to the buffer. */
+void kelp_helm_mail_double(kelp_helm *h, const char *var, double v);
+void kelp_helm_mail_string(kelp_helm *h, const char *var, const char *v);
+/** One helm iteration at MOOS time now. Returns 0, or <0 only for misuse. */
+KELP_MUST_CHECK int kelp_helm_iterate(kelp_helm *h, double now);
+/** Variables to register for that were not yet returned (conditions, updates, nostarve,
+ *  info vars, duration_reset): call after configuration and after each iteration. */
+const char *kelp_helm_next_new_var(kelp_helm *h);
+/** Find a behaviour by name, or NULL. */
+kelp_bhv *kelp_helm_find(kelp_helm *h, const char *name);
+
+#endif

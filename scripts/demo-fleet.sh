@@ -1,0 +1,145 @@
+#!/usr/bin/env bash
+# make demo: a multi-vehicle mission on one host. A shoreside community and three vehicle
+# communities (missions/fleet), each on its own LCM URL, joined by kelp-bridge; every vehicle
+# runs pHelmIvP, uSimMarine and pNodeReporter on an Alder-like mission (a survey over several
+# waypoints, a loiter, then home) under MOOSTimeWarp. The shoreside shows the vehicles in a
+# table while they run; every community is logged with lcm-logger; at the end a summary per
+# vehicle is printed and a picture of the tracks is written (build/demo-fleet/fleet.png).
+# Runs inside a private network namespace when root (nothing leaves the machine); otherwise
+# on the host with ttl=0.
+#   usage: scripts/demo-fleet.sh [BUILD_DIR]
+#   env: DEMO_WARP (10), DEMO_TIMEOUT (75 s wall), DEMO_DIR (build/demo-fleet: missions, logs, picture)
+set -euo pipefail
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+B=$(cd "${1:-$ROOT/build}" && pwd)
+WARP=${DEMO_WARP:-10}
+TIMEOUT=${DEMO_TIMEOUT:-75}
+if [ -z "${KELP_IN_NETNS:-}" ] && [ "$(id -u)" -eq 0 ] && command -v unshare >/dev/null; then
+  export KELP_IN_NETNS=1
+  exec unshare -n "$0" "$@"
+fi
+if [ -n "${KELP_IN_NETNS:-}" ]; then
+  ip link set lo up; ip link set lo multicast on; ip route add 224.0.0.0/4 dev lo 2>/dev/null || true
+fi
+for p in kelp-launch kelp-poke kelp-bridge kelp-plot kelp-logcheck uSimMarine pNodeReporter; do
+  [ -x "$B/bin/$p" ] || { echo "demo-fleet: $B/bin/$p not built (run make)"; exit 1; }
+done
+[ -x "$B/bin/pHelmIvP" ] || { echo "demo-fleet: pHelmIvP not built (the helm is not in this tree yet)"; exit 1; }
+command -v lcm-logger >/dev/null || { echo "demo-fleet: lcm-logger missing (apt-get install liblcm-bin)"; exit 1; }
+unset KELP_LCM_URL   # each community's own LCM_URL must win
+W=${DEMO_DIR:-$ROOT/build/demo-fleet}
+rm -rf "$W"; mkdir -p "$W"; cd "$W"
+M=$ROOT/missions/fleet
+SHORE_LCM=7680 SHORE_BRIDGE=9200
+
+trim() { local s=$1; s=${s#"${s%%[![:space:]]*}"}; s=${s%"${s##*[![:space:]]}"}; printf '%s' "$s"; }
+# fill $(NAME) macros of a template from the variables named in the rest of the arguments
+fill() {
+  local text; text=$(<"$1"); shift
+  for kv in "$@"; do text=${text//"\$(${kv%%=*})"/${kv#*=}}; done
+  printf '%s\n' "$text"
+}
+
+# ---- generate the missions (nsplug style)
+NAMES=(); SHARES=""
+i=0
+while IFS='|' read -r name lport bport start speed points loiter cw ltime; do
+  name=$(trim "$name"); [ -z "$name" ] || [ "${name:0:1}" = "#" ] && continue
+  lport=$(trim "$lport"); bport=$(trim "$bport"); start=$(trim "$start"); speed=$(trim "$speed")
+  points=$(trim "$points"); loiter=$(trim "$loiter"); cw=$(trim "$cw"); ltime=$(trim "$ltime")
+  IFS=, read -r sx sy sh <<< "$start"; IFS=, read -r lx ly lr <<< "$loiter"
+  i=$((i + 1)); NAMES+=("$name")
+  uc=$(echo "$name" | tr a-z A-Z)
+  fill "$M/meta_vehicle.moos" VNAME="$name" VNAME_UC="$uc" MOOS_PORT=$((9000 + i)) WARP="$WARP" LCM_PORT="$lport" \
+       START_POS="x=$sx, y=$sy, heading=$sh, speed=0" BRIDGE_PORT="$bport" SHORE_BRIDGE="$SHORE_BRIDGE" > "$name.moos"
+  fill "$M/meta_vehicle.bhv" VNAME="$name" SPEED="$speed" POINTS="${points//:/ : }" LOITER_TIME="$ltime" CLOCKWISE="$cw" \
+       LOITER_X="$lx" LOITER_Y="$ly" LOITER_R="$lr" START_X="$sx" START_Y="$sy" > "$name.bhv"
+  SHARES+="  UDPSHARE  = [DEPLOY, RETURN, MOOS_MANUAL_OVERIDE] -> $name @ 127.0.0.1:$bport"$'\n'
+done < "$M/fleet.conf"
+[ ${#NAMES[@]} -gt 0 ] || { echo "demo-fleet: no vehicles in $M/fleet.conf"; exit 1; }
+fill "$M/meta_shoreside.moos" WARP="$WARP" SHORE_LCM="$SHORE_LCM" SHORE_BRIDGE="$SHORE_BRIDGE" SHARES="${SHARES%$'\n'}" > shoreside.moos
+
+echo "== kelp fleet demo: shoreside + ${#NAMES[@]} vehicles (${NAMES[*]}), MOOSTimeWarp $WARP"
+echo "   missions in $W (generated from missions/fleet)"
+# one warped clock for every community and the pokes
+export KELP_WARP_EPOCH=$(date +%s.%N)
+PIDS=()
+cleanup() {
+  for p in "${PIDS[@]:-}"; do [ -n "$p" ] && kill "$p" 2>/dev/null || true; done
+  wait 2>/dev/null || true
+}
+trap cleanup EXIT
+lcm-logger --lcm-url="udpm://239.255.76.67:$SHORE_LCM?ttl=0" -f -q shoreside.lcm > logger_shoreside.out 2>&1 &
+LOGGERS=($!); PIDS+=($!)
+for v in "${NAMES[@]}"; do
+  port=$(sed -n 's/^LCM_URL *= *udpm:\/\/239.255.76.67:\([0-9]*\).*/\1/p' "$v.moos")
+  lcm-logger --lcm-url="udpm://239.255.76.67:$port?ttl=0" -f -q "$v.lcm" > "logger_$v.out" 2>&1 &
+  LOGGERS+=($!); PIDS+=($!)
+done
+sleep 0.3
+LAUNCH=()
+"$B/bin/kelp-launch" --run-seconds $((TIMEOUT + 10)) --log-dir logs_shoreside shoreside.moos > launch_shoreside.out 2>&1 &
+LAUNCH+=($!); PIDS+=($!)
+for v in "${NAMES[@]}"; do
+  "$B/bin/kelp-launch" --run-seconds $((TIMEOUT + 10)) --log-dir "logs_$v" "$v.moos" > "launch_$v.out" 2>&1 &
+  LAUNCH+=($!); PIDS+=($!)
+done
+# wait until every bridge listens (a bridge subscribes before it binds), then a little more
+ports=$(printf '%s|' "$SHORE_BRIDGE" $(sed -n 's/^ *UDPListen *= *//p' "${NAMES[@]/%/.moos}")); ports=${ports%|}
+if command -v ss >/dev/null; then
+  for i in $(seq 100); do
+    n=$(ss -Huln 2>/dev/null | grep -cE ":($ports) " || true)
+    [ "$n" -ge $(( ${#NAMES[@]} + 1 )) ] && break; sleep 0.1
+  done
+fi
+sleep 1.5
+echo "== DEPLOY: kelp-poke shoreside.moos DEPLOY:=true MOOS_MANUAL_OVERIDE:=false (bridged to every vehicle)"
+"$B/bin/kelp-poke" shoreside.moos DEPLOY:=true MOOS_MANUAL_OVERIDE:=false > poke_deploy.out
+t0=$(date +%s)
+done_all=0
+while :; do
+  sleep 4
+  el=$(( $(date +%s) - t0 ))
+  echo "---- after ${el} s (wall) ----"
+  if [ -f vehicles.txt ]; then cat vehicles.txt; else echo "(no vehicle table yet)"; fi
+  ndone=$("$B/bin/kelp-logcheck" shoreside.lcm --print 2>/dev/null | awk '$3 ~ /^MISSION_/ && $4=="complete" {d[$3]=1} END{print length(d)}')
+  if [ "${ndone:-0}" -ge ${#NAMES[@]} ]; then done_all=1; break; fi
+  [ $el -ge "$TIMEOUT" ] && break
+done
+sleep 1
+for p in "${LAUNCH[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
+rc_launch=0
+for p in "${LAUNCH[@]}"; do wait "$p" || rc_launch=1; done
+for p in "${LOGGERS[@]}"; do kill -INT "$p" 2>/dev/null || true; wait "$p" 2>/dev/null || true; done
+PIDS=()
+echo "== final vehicle table (shoreside viewer)"
+cat vehicles.txt 2>/dev/null || true
+
+# ---- the picture (from the shoreside log: every vehicle's reports and drawings came there)
+"$B/bin/kelp-plot" shoreside.lcm -o fleet.png -o fleet.svg \
+  --title "kelp fleet demo: ${NAMES[*]} (survey, loiter, return; MOOSTimeWarp $WARP)" > plot.out || { cat plot.out; exit 1; }
+
+# ---- summary per vehicle: distance (shoreside track), waypoints reached (wptflag WPT_HIT),
+# behaviour completions (the helm's completed list), mission time (DEPLOY to MISSION=complete)
+echo "== summary"
+printf '%-9s %10s %10s %-28s %-34s %s\n' vehicle "dist (m)" "time (s)" "waypoints reached" "behaviours completed" "mission"
+ok_all=1
+for v in "${NAMES[@]}"; do
+  "$B/bin/kelp-logcheck" "$v.lcm" --print > "$v.txt" 2>/dev/null || true
+  dist=$(awk -v v="$v" '$1==v && $2=="report" {print $4}' plot.out)
+  hits=$(awk '$2=="pHelmIvP" && $3=="WPT_HIT" {n[$4]++; t++} END{printf "%d (survey %d, return %d)", t, n["survey"], n["return"]}' "$v.txt")
+  cmpl=$(grep " pHelmIvP IVPHELM_SUMMARY " "$v.txt" | tail -1 | sed -n 's/.*completed_bhvs=\([^,]*\).*/\1/p')
+  ncmpl=$(echo "${cmpl:-none}" | awk -F: '$1=="none"{print 0; exit} {print NF}')
+  td=$(awk '$3=="DEPLOY" && $4=="true" {print $1; exit}' "$v.txt")
+  tm=$(awk '$2=="pHelmIvP" && $3=="MISSION" && $4=="complete" {print $1; exit}' "$v.txt")
+  if [ -n "$td" ] && [ -n "$tm" ]; then
+    mt=$(awk -v a="$td" -v b="$tm" 'BEGIN{printf "%.0f", b - a}'); state="complete"
+  else
+    mt="-"; state="NOT complete"; ok_all=0
+  fi
+  printf '%-9s %10s %10s %-28s %-34s %s\n' "$v" "${dist:--}" "$mt" "$hits" "$ncmpl (${cmpl:-none})" "$state"
+done
+echo "== picture: $W/fleet.png (and fleet.svg); logs: $W/*.lcm"
+grep -E "^(vehicle|alpha|bravo|charlie|[a-z]+ +report)" plot.out | head -8
+[ $rc_launch -eq 0 ] || echo "demo-fleet: a launcher did not end cleanly (see $W/launch_*.out)"
+[ $done_all -eq 1 ] && [ $ok_all -eq 1 ] && [ $rc_launch -eq 0 ]

@@ -1,0 +1,375 @@
+/* kelp helm: the IvPBehavior superclass: general parameters (seed 4.2), utilities (4.5.1). */
+#include <math.h>
+#include <string.h>
+#include "helm_int.h"
+
+const char *kelp_bhv_state_name(kelp_bhv_state s)
+{
+    switch (s) {
+    case KELP_BHV_IDLE: return "idle";
+    case KELP_BHV_RUNNING: return "running";
+    case KELP_BHV_ACTIVE: return "active";
+    case KELP_BHV_COMPLETED: return "completed";
+    case KELP_BHV_NONE: break;
+    }
+    return "";
+}
+
+void bhv_defaults(kelp_bhv *b)
+{
+    b->pwt = 100.0;
+    b->duration = -1;
+    b->duration_idle_decay = true;
+    b->state_ok = true;
+    b->state = KELP_BHV_NONE;
+    b->dur_reset_stamp = -1;
+}
+
+int kelp_bhv_fail(kelp_bhv *b, const char *why)
+{
+    if (!b->fail)
+        b->fail = why;
+    return KELP_ERR_PARSE;
+}
+
+static bool parse_bool(const char *v, bool *out)
+{
+    if (hx_ieq(v, "true")) {
+        *out = true;
+        return true;
+    }
+    if (hx_ieq(v, "false")) {
+        *out = false;
+        return true;
+    }
+    return false;
+}
+
+static void cond_var(const char *var, size_t len, void *user)
+{
+    kelp_bhv *b = user;
+    if (b->helm)
+        (void)helm_need_var(b->helm, var, len);
+}
+
+static int add_flag(kelp_bhv *b, kelp_bhv_flag_kind kind, const char *v)
+{
+    if (b->nflag >= KELP_HELM_MAX_FLAGS)
+        return kelp_bhv_fail(b, "too many flags");
+    kelp_bhv_flag *f = &b->flag[b->nflag];
+    if (!hx_pair(v, &f->p))
+        return kelp_bhv_fail(b, "a flag is VAR=value");
+    f->kind = kind;
+    b->nflag++;
+    return 0;
+}
+
+static int copy_name(kelp_bhv *b, char *dst, const char *v, bool need)
+{
+    size_t n = strlen(v);
+    if (!hx_varname(v, n))
+        return kelp_bhv_fail(b, "bad variable name");
+    memcpy(dst, v, n + 1);
+    if (need && b->helm)
+        (void)helm_need_var(b->helm, v, n);
+    return 0;
+}
+
+/* 0 accepted, KELP_ERR_NOTFOUND not a general parameter, KELP_ERR_PARSE malformed. */
+int bhv_general_param(kelp_bhv *b, const char *p, const char *v)
+{
+    size_t vn = strlen(v);
+    double d;
+    if (!strcmp(p, "name") || !strcmp(p, "descriptor")) {
+        if (vn == 0 || !hx_copy(b->name, sizeof b->name, v, vn))
+            return kelp_bhv_fail(b, "bad name");
+        return 0;
+    }
+    if (!strcmp(p, "us")) {
+        if (vn == 0 || !hx_copy(b->us, sizeof b->us, v, vn))
+            return kelp_bhv_fail(b, "bad vehicle name");
+        return 0;
+    }
+    if (!strcmp(p, "pwt") || !strcmp(p, "priority") || !strcmp(p, "priwt")) {
+        if (!hx_number(v, vn, &d) || d < 0)
+            return kelp_bhv_fail(b, "priority must be a number >= 0");
+        b->pwt = d;
+        return 0;
+    }
+    if (!strcmp(p, "condition")) {
+        if (b->ncond >= KELP_HELM_MAX_CONDS)
+            return kelp_bhv_fail(b, "too many conditions");
+        if (vn >= KELP_HELM_MAX_COND_LEN)
+            return kelp_bhv_fail(b, "condition too long");
+        if (kelp_helm_cond_check(v, cond_var, b) != 0)
+            return kelp_bhv_fail(b, "malformed condition");
+        memcpy(b->cond[b->ncond++], v, vn + 1);
+        return 0;
+    }
+    if (!strcmp(p, "runflag"))
+        return add_flag(b, KELP_FLAG_RUN, v);
+    if (!strcmp(p, "idleflag"))
+        return add_flag(b, KELP_FLAG_IDLE, v);
+    if (!strcmp(p, "activeflag"))
+        return add_flag(b, KELP_FLAG_ACTIVE, v);
+    if (!strcmp(p, "inactiveflag"))
+        return add_flag(b, KELP_FLAG_INACTIVE, v);
+    if (!strcmp(p, "endflag"))
+        return add_flag(b, KELP_FLAG_END, v);
+    if (!strcmp(p, "updates"))
+        return copy_name(b, b->updates, v, true);
+    if (!strcmp(p, "duration")) {
+        if (hx_ieq(v, "no-time-limit") || !strcmp(v, "-1")) {
+            b->duration = -1;
+            return 0;
+        }
+        if (!hx_number(v, vn, &d) || d <= 0)
+            return kelp_bhv_fail(b, "duration must be a positive number");
+        b->duration = d;
+        return 0;
+    }
+    if (!strcmp(p, "duration_status"))
+        return copy_name(b, b->duration_status, v, false);
+    if (!strcmp(p, "duration_reset")) {
+        kelp_helm_pair pr;
+        if (!hx_pair(v, &pr))
+            return kelp_bhv_fail(b, "duration_reset is VAR=value");
+        const char *eq = strchr(v, '=');
+        const char *rv = eq + 1;
+        size_t rn = strlen(rv);
+        hx_trim(&rv, &rn);
+        if (!hx_copy(b->duration_reset_val, sizeof b->duration_reset_val, rv, rn))
+            return kelp_bhv_fail(b, "duration_reset value too long");
+        return copy_name(b, b->duration_reset_var, pr.var, true);
+    }
+    if (!strcmp(p, "duration_idle_decay")) {
+        if (!parse_bool(v, &b->duration_idle_decay))
+            return kelp_bhv_fail(b, "duration_idle_decay is true or false");
+        return 0;
+    }
+    if (!strcmp(p, "perpetual")) {
+        if (!parse_bool(v, &b->perpetual))
+            return kelp_bhv_fail(b, "perpetual is true or false");
+        return 0;
+    }
+    if (!strcmp(p, "post_mapping")) {
+        const char *c = strchr(v, ',');
+        if (!c)
+            return kelp_bhv_fail(b, "post_mapping is OLD, NEW");
+        const char *l = v, *r = c + 1;
+        size_t ln = (size_t)(c - v), rn = strlen(r);
+        hx_trim(&l, &ln);
+        hx_trim(&r, &rn);
+        if (!hx_varname(l, ln) || !hx_varname(r, rn))
+            return kelp_bhv_fail(b, "post_mapping is OLD, NEW");
+        unsigned i;
+        for (i = 0; i < b->nmap; i++)
+            if (kelp_strieq_n(l, ln, b->map_from[i]) && strlen(b->map_from[i]) == ln)
+                break;
+        if (i == b->nmap) {
+            if (b->nmap >= KELP_HELM_MAX_MAPPINGS)
+                return kelp_bhv_fail(b, "too many post_mapping lines");
+            b->nmap++;
+        }
+        (void)hx_copy(b->map_from[i], KELP_MAX_NAME, l, ln);
+        (void)hx_copy(b->map_to[i], KELP_MAX_NAME, r, rn);
+        return 0;
+    }
+    if (!strcmp(p, "nostarve") || !strcmp(p, "no_starve")) {
+        const char *last = strrchr(v, ',');
+        if (!last)
+            return kelp_bhv_fail(b, "nostarve is VAR, ..., VAR, seconds");
+        if (!hx_number(last + 1, strlen(last + 1), &d) || d <= 0)
+            return kelp_bhv_fail(b, "nostarve time must be a positive number");
+        char names[KELP_HELM_MAX_INFOVARS][KELP_MAX_NAME];
+        unsigned n = 0;
+        const char *s = v;
+        while (s < last) {
+            const char *c = memchr(s, ',', (size_t)(last - s) + 1);
+            const char *w = s;
+            size_t wn = (size_t)(c - s);
+            hx_trim(&w, &wn);
+            if (!hx_varname(w, wn) || n >= KELP_HELM_MAX_INFOVARS)
+                return kelp_bhv_fail(b, "nostarve is VAR, ..., VAR, seconds");
+            (void)hx_copy(names[n++], KELP_MAX_NAME, w, wn);
+            s = c + 1;
+        }
+        if (n == 0)
+            return kelp_bhv_fail(b, "nostarve names no variable");
+        memcpy(b->starve, names, sizeof names);
+        b->nstarve = n;
+        b->starve_time = d;
+        for (unsigned i = 0; i < n; i++)
+            if (b->helm)
+                (void)helm_need_var(b->helm, names[i], strlen(names[i]));
+        return 0;
+    }
+    return KELP_ERR_NOTFOUND;
+}
+
+int kelp_bhv_set_param(kelp_bhv *b, const char *param, const char *value)
+{
+    if (!b || !param || !value)
+        return KELP_ERR_ARG;
+    const char *p = param, *v = value;
+    size_t pn = strlen(p), vn = strlen(v);
+    hx_trim(&p, &pn);
+    hx_trim(&v, &vn);
+    if (pn && p[0] == '_') {
+        p++;
+        pn--;
+    }
+    char lp[KELP_MAX_NAME], val[KELP_HELM_MAX_SVAL];
+    if (pn == 0 || pn >= sizeof lp)
+        return kelp_bhv_fail(b, "bad parameter name");
+    for (size_t i = 0; i < pn; i++)
+        lp[i] = hx_lower(p[i]);
+    lp[pn] = '\0';
+    if (!hx_copy(val, sizeof val, v, vn))
+        return kelp_bhv_fail(b, "value too long");
+    int rc = bhv_general_param(b, lp, val);
+    if (rc != KELP_ERR_NOTFOUND)
+        return rc;
+    if (!b->ops->set_param)
+        return kelp_bhv_fail(b, "unknown parameter");
+    rc = b->ops->set_param(b, lp, val);
+    if (rc == KELP_ERR_NOTFOUND)
+        return kelp_bhv_fail(b, "unknown parameter");
+    if (rc < 0)
+        return kelp_bhv_fail(b, "bad value");
+    return 0;
+}
+
+/* ---------------------------------------------------------------- utilities */
+
+void kelp_bhv_set_complete(kelp_bhv *b)
+{
+    helm_post_flags(b, KELP_FLAG_END);
+    helm_post_flags(b, KELP_FLAG_INACTIVE);
+    if (!b->perpetual)
+        b->completed = true;
+}
+
+int kelp_bhv_add_info_vars(kelp_bhv *b, const char *names)
+{
+    const char *s = names;
+    int rc = 0;
+    while (*s) {
+        const char *c = strchr(s, ',');
+        size_t n = c ? (size_t)(c - s) : strlen(s);
+        const char *w = s;
+        hx_trim(&w, &n);
+        if (n) {
+            unsigned i;
+            for (i = 0; i < b->ninfovars; i++)
+                if (strlen(b->infovars[i]) == n && !memcmp(b->infovars[i], w, n))
+                    break;
+            if (i == b->ninfovars) {
+                if (!hx_varname(w, n) || b->ninfovars >= KELP_HELM_MAX_INFOVARS)
+                    rc = KELP_ERR_NOSPACE;
+                else
+                    (void)hx_copy(b->infovars[b->ninfovars++], KELP_MAX_NAME, w, n);
+            }
+            if (b->helm)
+                (void)helm_need_var(b->helm, w, n);
+        }
+        if (!c)
+            break;
+        s = c + 1;
+    }
+    return rc;
+}
+
+bool kelp_bhv_buf_double(const kelp_bhv *b, const char *var, double *out)
+{
+    return kelp_helm_ib_double(&b->helm->ib, var, out);
+}
+
+bool kelp_bhv_buf_string(const kelp_bhv *b, const char *var, char *buf, size_t cap)
+{
+    return kelp_helm_ib_string(&b->helm->ib, var, buf, cap);
+}
+
+double kelp_bhv_buf_time(const kelp_bhv *b, const char *var)
+{
+    return kelp_helm_ib_time(&b->helm->ib, var);
+}
+
+double kelp_bhv_buf_now(const kelp_bhv *b)
+{
+    return b->helm->ib.curr_time;
+}
+
+unsigned kelp_bhv_buf_ndeltas(const kelp_bhv *b, const char *var)
+{
+    return kelp_helm_ib_ndeltas(&b->helm->ib, var);
+}
+
+bool kelp_bhv_buf_delta(const kelp_bhv *b, const char *var, unsigned k, double *dval, const char **sval)
+{
+    return kelp_helm_ib_delta(&b->helm->ib, var, k, dval, sval);
+}
+
+static const char *mapped(const kelp_bhv *b, const char *var)
+{
+    for (unsigned i = 0; i < b->nmap; i++)
+        if (!strcmp(b->map_from[i], var))
+            return b->map_to[i];
+    return var;
+}
+
+static void post(kelp_bhv *b, const char *var, bool is_str, const char *s, double d, const char *key)
+{
+    if (!b->helm || !var)
+        return;
+    var = mapped(b, var);
+    if (hx_ieq(var, "silent"))
+        return;
+    helm_queue_post(b->helm, b, var, is_str, s, d, key);
+}
+
+void kelp_bhv_post_string(kelp_bhv *b, const char *var, const char *val, const char *key)
+{
+    post(b, var, true, val ? val : "", 0, key);
+}
+
+void kelp_bhv_post_double(kelp_bhv *b, const char *var, double val, const char *key)
+{
+    post(b, var, false, NULL, val, key);
+}
+
+void kelp_bhv_post_bool(kelp_bhv *b, const char *var, bool val, const char *key)
+{
+    post(b, var, true, val ? "true" : "false", 0, key);
+}
+
+void kelp_bhv_post_int(kelp_bhv *b, const char *var, double val, const char *key)
+{
+    post(b, var, false, NULL, floor(val + 0.5), key);
+}
+
+static void post_msg(kelp_bhv *b, const char *var, const char *msg)
+{
+    char buf[KELP_HELM_MAX_SVAL];
+    size_t n = strlen(b->name), m = strlen(msg);
+    if (n + 2 + m + 1 > sizeof buf)
+        m = sizeof buf - n - 3;
+    memcpy(buf, b->name, n);
+    buf[n] = ':';
+    buf[n + 1] = ' ';
+    memcpy(buf + n + 2, msg, m);
+    buf[n + 2 + m] = '\0';
+    post(b, var, true, buf, 0, "repeatable");
+}
+
+void kelp_bhv_post_warning(kelp_bhv *b, const char *msg)
+{
+    if (msg && *msg)
+        post_msg(b, "BHV_WARNING", msg);
+}
+
+void kelp_bhv_post_error(kelp_bhv *b, const char *msg)
+{
+    post_msg(b, "BHV_ERROR", msg ? msg : "");
+    b->state_ok = false;
+}

@@ -1,0 +1,198 @@
+/* kelp helm: BHV_Loiter, a polygon loiter: the vehicle visits the polygon's vertices in turn
+ * (clockwise, counter-clockwise or in the given order), in "acquiring" mode while it is
+ * outside the polygon by more than acquire_dist and in "loitering" mode otherwise. Posts
+ * LOITER_INDEX, LOITER_ACQUIRE (1/0), LOITER_REPORT and VIEW_POLYGON. */
+#include <math.h>
+#include <string.h>
+#include "helm_int.h"
+
+static void loiter_init(kelp_bhv *b)
+{
+    kelp_bhv_loiter *s = &b->u.loiter;
+    (void)hx_copy(b->name, sizeof b->name, "loiter", 6);
+    kelp_ivp_domain d;
+    if (kelp_ivp_domain_sub(&b->helm->cfg.domain, "course,speed", &d) == 0)
+        b->dom = d;
+    else
+        kelp_ivp_domain_init(&b->dom);
+    s->speed = 0;
+    s->capture_radius = 3;
+    s->slip_radius = 15;
+    s->acquire_dist = 10;
+    s->clockwise = 1;
+    s->min_dist = INFINITY;
+    (void)kelp_bhv_add_info_vars(b, "NAV_X, NAV_Y");
+}
+
+static double signed_area(const kelp_bhv_pt *p, unsigned n)
+{
+    double a = 0;
+    for (unsigned i = 0; i < n; i++) {
+        const kelp_bhv_pt *q = &p[(i + 1) % n];
+        a += p[i].x * q->y - q->x * p[i].y;
+    }
+    return a / 2; /* > 0: counter-clockwise (x east, y north) */
+}
+
+static void order(kelp_bhv_loiter *s)
+{
+    memcpy(s->pts, s->given, sizeof s->pts);
+    s->npts = s->ngiven;
+    double a = signed_area(s->given, s->ngiven);
+    bool reverse = (s->clockwise == 1 && a > 0) || (s->clockwise == 0 && a < 0);
+    if (reverse)
+        for (unsigned i = 0; i < s->npts; i++)
+            s->pts[i] = s->given[s->ngiven - 1 - i];
+    s->started = false;
+}
+
+static int loiter_set_param(kelp_bhv *b, const char *p, const char *v)
+{
+    kelp_bhv_loiter *s = &b->u.loiter;
+    double d;
+    bool num = hx_number(v, strlen(v), &d);
+    if (!strcmp(p, "polygon") || !strcmp(p, "points")) {
+        kelp_bhv_pt pts[KELP_HELM_MAX_PTS];
+        unsigned n;
+        if (kelp_helm_parse_points(v, pts, KELP_HELM_MAX_PTS, &n) != 0 || n < 3)
+            return KELP_ERR_PARSE;
+        memcpy(s->given, pts, sizeof pts);
+        s->ngiven = n;
+        order(s);
+        return 0;
+    }
+    if (!strcmp(p, "clockwise")) {
+        if (hx_ieq(v, "true"))
+            s->clockwise = 1;
+        else if (hx_ieq(v, "false"))
+            s->clockwise = 0;
+        else if (hx_ieq(v, "best"))
+            s->clockwise = -1;
+        else
+            return KELP_ERR_PARSE;
+        if (s->ngiven)
+            order(s);
+        return 0;
+    }
+    if (!strcmp(p, "speed"))
+        return num && d >= 0 ? (s->speed = d, 0) : KELP_ERR_PARSE;
+    if (!strcmp(p, "capture_radius") || !strcmp(p, "radius"))
+        return num && d >= 0 ? (s->capture_radius = d, 0) : KELP_ERR_PARSE;
+    if (!strcmp(p, "slip_radius") || !strcmp(p, "nm_radius"))
+        return num && d >= 0 ? (s->slip_radius = d, 0) : KELP_ERR_PARSE;
+    if (!strcmp(p, "acquire_dist"))
+        return num && d >= 0 ? (s->acquire_dist = d, 0) : KELP_ERR_PARSE;
+    return KELP_ERR_NOTFOUND;
+}
+
+static int loiter_params_done(kelp_bhv *b)
+{
+    if (b->u.loiter.npts < 3)
+        return kelp_bhv_fail(b, "no polygon given");
+    return 0;
+}
+
+static bool inside(const kelp_bhv_pt *p, unsigned n, double x, double y)
+{
+    bool in = false;
+    for (unsigned i = 0, j = n - 1; i < n; j = i++)
+        if ((p[i].y > y) != (p[j].y > y) && x < (p[j].x - p[i].x) * (y - p[i].y) / (p[j].y - p[i].y) + p[i].x)
+            in = !in;
+    return in;
+}
+
+static double seg_dist(kelp_bhv_pt a, kelp_bhv_pt b, double x, double y)
+{
+    double dx = b.x - a.x, dy = b.y - a.y, l2 = dx * dx + dy * dy, t = 0;
+    if (l2 > 0)
+        t = fmax(0, fmin(1, ((x - a.x) * dx + (y - a.y) * dy) / l2));
+    return hypot(a.x + t * dx - x, a.y + t * dy - y);
+}
+
+static void post_polygon(kelp_bhv *b, bool active)
+{
+    const kelp_bhv_loiter *s = &b->u.loiter;
+    char buf[KELP_HELM_MAX_SVAL];
+    size_t n = hx_cat(buf, sizeof buf, "pts={", HX_END);
+    for (unsigned i = 0; i < s->ngiven; i++) {
+        char x[32], y[32];
+        hx_fmt_double(x, sizeof x, s->given[i].x);
+        hx_fmt_double(y, sizeof y, s->given[i].y);
+        n += hx_cat(buf + n, sizeof buf - n, i ? ":" : "", x, ",", y, HX_END);
+    }
+    hx_cat(buf + n, sizeof buf - n, "},label=", b->name, ",active=", active ? "true" : "false", HX_END);
+    kelp_bhv_post_string(b, "VIEW_POLYGON", buf, NULL);
+}
+
+static void loiter_idle(kelp_bhv *b)
+{
+    b->u.loiter.started = false;
+    if (b->u.loiter.npts)
+        post_polygon(b, false);
+}
+
+static int loiter_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
+{
+    kelp_bhv_loiter *s = &b->u.loiter;
+    double x, y;
+    bool ok1 = kelp_bhv_buf_double(b, "NAV_X", &x);
+    bool ok2 = kelp_bhv_buf_double(b, "NAV_Y", &y);
+    if (!ok1 || !ok2) {
+        kelp_bhv_post_warning(b, "No ownship X/Y info in info_buffer.");
+        return 0;
+    }
+    if (s->npts < 3)
+        return 0;
+    if (!s->started) {
+        /* start at the nearest vertex */
+        double best = INFINITY;
+        for (unsigned i = 0; i < s->npts; i++) {
+            double d = hypot(s->pts[i].x - x, s->pts[i].y - y);
+            if (d < best) {
+                best = d;
+                s->index = i;
+            }
+        }
+        s->started = true;
+        s->min_dist = INFINITY;
+    }
+    double pd = INFINITY;
+    for (unsigned i = 0; i < s->npts; i++)
+        pd = fmin(pd, seg_dist(s->pts[i], s->pts[(i + 1) % s->npts], x, y));
+    s->acquiring = !inside(s->pts, s->npts, x, y) && pd > s->acquire_dist;
+    kelp_bhv_pt cur = s->pts[s->index];
+    double dist = hypot(cur.x - x, cur.y - y);
+    bool hit = dist <= s->capture_radius || (s->slip_radius > 0 && dist <= s->slip_radius && dist > s->min_dist);
+    s->min_dist = fmin(s->min_dist, dist);
+    if (hit) {
+        s->index = (s->index + 1) % s->npts;
+        s->laps_pts++;
+        s->min_dist = INFINITY;
+        cur = s->pts[s->index];
+    }
+    char rep[128];
+    char ix[24], vr[24];
+    hx_fmt_ulong(ix, sizeof ix, s->index);
+    hx_fmt_ulong(vr, sizeof vr, s->laps_pts);
+    hx_cat(rep, sizeof rep, "mode=", s->acquiring ? "acquiring" : "loitering", ",index=", ix, ",vertices_reached=", vr,
+           HX_END);
+    kelp_bhv_post_double(b, "LOITER_INDEX", (double)s->index, NULL);
+    kelp_bhv_post_double(b, "LOITER_ACQUIRE", s->acquiring ? 1.0 : 0.0, NULL);
+    kelp_bhv_post_string(b, "LOITER_REPORT", rep, NULL);
+    post_polygon(b, true);
+    double crs = kelp_helm_relang(x, y, cur.x, cur.y);
+    if (bhv_course_speed_zaic(b, w, crs, s->speed, 0.5, 1.0, 0.8, out) < 0) {
+        kelp_bhv_post_warning(b, "Problem Creating the IvP Function");
+        return 0;
+    }
+    return 1;
+}
+
+const kelp_bhv_ops kelp_bhv_loiter_ops = {
+    .type = "BHV_Loiter",
+    .init = loiter_init,
+    .set_param = loiter_set_param,
+    .params_done = loiter_params_done,
+    .on_idle = loiter_idle,
+    .on_run = loiter_run,
+};

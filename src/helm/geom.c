@@ -1,0 +1,190 @@
+/* kelp helm: geometry and IvP-function helpers shared by the behaviours. */
+#include <math.h>
+#include <string.h>
+#include <kelp/kv.h>
+#include <kelp/mission.h>
+#include "helm_int.h"
+
+#define DEG_PER_RAD 57.29577951308232
+
+double kelp_helm_relang(double xa, double ya, double xb, double yb)
+{
+    if (xa == xb && ya == yb)
+        return 0;
+    double a = atan2(xb - xa, yb - ya) * DEG_PER_RAD;
+    if (a < 0)
+        a += 360.0;
+    if (a >= 360.0)
+        a -= 360.0;
+    return a;
+}
+
+static bool kv_num(const char *s, const char *key, double *out, bool *present)
+{
+    char v[64];
+    int rc = kelp_kv_get(s, ',', key, v, sizeof v);
+    *present = rc == 1;
+    if (rc != 1)
+        return rc == 0;
+    return hx_number(v, strlen(v), out);
+}
+
+static int parse_radial(const char *s, kelp_bhv_pt *pts, size_t cap, unsigned *n)
+{
+    double x, y, r, np, snap = 0;
+    bool px, py, pr, pn, ps;
+    if (!kv_num(s, "x", &x, &px) || !kv_num(s, "y", &y, &py) || !kv_num(s, "radius", &r, &pr) ||
+        !kv_num(s, "pts", &np, &pn) || !kv_num(s, "snap", &snap, &ps))
+        return KELP_ERR_PARSE;
+    if (!px || !py || !pr || !pn || r <= 0 || np < 3 || np != floor(np) || snap < 0)
+        return KELP_ERR_PARSE;
+    if (np > (double)cap)
+        return KELP_ERR_NOSPACE;
+    unsigned k = (unsigned)np;
+    for (unsigned i = 0; i < k; i++) {
+        double a = (360.0 * i / k) / DEG_PER_RAD;
+        double vx = x + r * sin(a), vy = y + r * cos(a);
+        if (snap > 0) {
+            vx = floor(vx / snap + 0.5) * snap;
+            vy = floor(vy / snap + 0.5) * snap;
+        }
+        pts[i].x = vx;
+        pts[i].y = vy;
+    }
+    *n = k;
+    return 0;
+}
+
+int kelp_helm_parse_points(const char *str, kelp_bhv_pt *pts, size_t cap, unsigned *n)
+{
+    const char *s = str;
+    size_t len = strlen(s);
+    hx_trim(&s, &len);
+    char buf[KELP_HELM_MAX_SVAL];
+    if (len == 0 || !hx_copy(buf, sizeof buf, s, len))
+        return KELP_ERR_PARSE;
+    char *b = buf;
+    if (!strncmp(b, "radial::", 8) || !strncmp(b, "radial:", 7)) {
+        b += b[7] == ':' ? 8 : 7;
+        return parse_radial(b, pts, cap, n);
+    }
+    char fmt[32];
+    int rc = kelp_kv_get(b, ',', "format", fmt, sizeof fmt);
+    if (rc == 1) {
+        if (!hx_ieq(fmt, "radial"))
+            return KELP_ERR_UNSUPPORTED;
+        return parse_radial(b, pts, cap, n);
+    }
+    char tmp[8];
+    if (kelp_kv_get(b, ',', "radius", tmp, sizeof tmp) == 1)
+        return parse_radial(b, pts, cap, n);
+    if ((b[0] == 'p' || b[0] == 'P') && kelp_strieq_n(b, 3, "pts")) {
+        char *eq = strchr(b, '=');
+        if (!eq)
+            return KELP_ERR_PARSE;
+        b = eq + 1;
+    } else if (strchr(b, '=')) {
+        double x, y;
+        bool px, py;
+        if (!kv_num(b, "x", &x, &px) || !kv_num(b, "y", &y, &py) || !px || !py)
+            return KELP_ERR_PARSE;
+        if (cap < 1)
+            return KELP_ERR_NOSPACE;
+        pts[0].x = x;
+        pts[0].y = y;
+        *n = 1;
+        return 0;
+    }
+    /* strip one level of braces or parentheses */
+    size_t bl = strlen(b);
+    const char *t = b;
+    hx_trim(&t, &bl);
+    if (bl >= 2 && ((t[0] == '{' && t[bl - 1] == '}') || (t[0] == '(' && t[bl - 1] == ')'))) {
+        t++;
+        bl -= 2;
+    }
+    unsigned k = 0;
+    const char *p = t, *end = t + bl;
+    while (p < end) {
+        const char *c = memchr(p, ':', (size_t)(end - p));
+        const char *e = c ? c : end;
+        const char *comma = memchr(p, ',', (size_t)(e - p));
+        if (!comma)
+            return KELP_ERR_PARSE;
+        double x, y;
+        const char *q = p;
+        size_t qn = (size_t)(comma - p);
+        /* tolerate "(x,y)" items */
+        hx_trim(&q, &qn);
+        if (qn && *q == '(') {
+            q++;
+            qn--;
+        }
+        const char *r = comma + 1;
+        size_t rn = (size_t)(e - r);
+        hx_trim(&r, &rn);
+        if (rn && r[rn - 1] == ')')
+            rn--;
+        if (memchr(r, ',', rn))
+            return KELP_ERR_PARSE;
+        if (!hx_number(q, qn, &x) || !hx_number(r, rn, &y))
+            return KELP_ERR_PARSE;
+        if (k >= cap)
+            return KELP_ERR_NOSPACE;
+        pts[k].x = x;
+        pts[k].y = y;
+        k++;
+        if (c && c + 1 >= end)
+            return KELP_ERR_PARSE; /* trailing ':' */
+        p = c ? c + 1 : end;
+    }
+    if (k == 0)
+        return KELP_ERR_PARSE;
+    *n = k;
+    return 0;
+}
+
+int bhv_zaic1(kelp_bhv *b, const kelp_helm_work *w, const char *var, double summit, double pw, double bw, double sd,
+              bool wrap, kelp_ivp_func *out)
+{
+    kelp_ivp_zaic_peak z;
+    (void)kelp_ivp_zaic_peak_init(&z, &b->dom, var);
+    (void)kelp_ivp_zaic_peak_set_summit(&z, summit, 0);
+    (void)kelp_ivp_zaic_peak_set_peakwidth(&z, pw, 0);
+    (void)kelp_ivp_zaic_peak_set_basewidth(&z, bw, 0);
+    (void)kelp_ivp_zaic_peak_set_summitdelta(&z, sd, 0);
+    z.wrap = wrap;
+    if (!z.ok) {
+        char msg[KELP_IVP_MAX_WARN + 48];
+        hx_cat(msg, sizeof msg, var, " ZAIC problems ", z.warn, HX_END);
+        if (msg[0] >= 'a' && msg[0] <= 'z')
+            msg[0] = (char)(msg[0] - 'a' + 'A');
+        kelp_bhv_post_warning(b, msg);
+        return KELP_ERR_STATE;
+    }
+    return kelp_ivp_zaic_peak_extract(&z, true, w->dwork, w->dwork_cap, w->out, w->out_cap, out);
+}
+
+int bhv_course_speed_zaic(kelp_bhv *b, const kelp_helm_work *w, double course, double speed, double spw, double sbw,
+                          double ssd, kelp_ivp_func *out)
+{
+    int is = kelp_ivp_domain_index(&b->dom, "speed");
+    if (is < 0 || kelp_ivp_domain_index(&b->dom, "course") < 0)
+        return KELP_ERR_NOTFOUND;
+    size_t ns = b->dom.var[is].points;
+    if (w->tmp_cap <= ns)
+        return KELP_ERR_NOSPACE;
+    kelp_ivp_func spd, crs;
+    kelp_helm_work ws = *w, wc = *w;
+    ws.out = w->tmp;
+    ws.out_cap = ns;
+    wc.out = w->tmp + ns;
+    wc.out_cap = w->tmp_cap - ns;
+    int rc = bhv_zaic1(b, &ws, "speed", speed, spw, sbw, ssd, false, &spd);
+    if (rc < 0)
+        return rc;
+    rc = bhv_zaic1(b, &wc, "course", course, 0, 180.0, 0, true, &crs);
+    if (rc < 0)
+        return rc;
+    return kelp_ivp_couple(&crs, 50, &spd, 50, true, 0, 100, w->out, w->out_cap, out);
+}

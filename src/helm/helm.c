@@ -1,0 +1,826 @@
+/* kelp helm: the helm engine (HelmIvP + BehaviorSet + HelmEngine of MOOS-IvP, re-written):
+ * behaviour set, .bhv loading, the per-iteration call sequence, the duplicate filter and the
+ * decision. */
+#include <math.h>
+#include <string.h>
+#include "helm_int.h"
+
+#define AUX_INIT "HELM_VAR_INIT"
+
+void kelp_helm_config_default(kelp_helm_config *cfg)
+{
+    memset(cfg, 0, sizeof *cfg);
+    kelp_ivp_domain_init(&cfg->domain);
+    cfg->start_engaged = true;
+}
+
+/* First error wins: h->err = a b c (NULL parts skipped). */
+static int helm_fail(kelp_helm *h, int line, int code, const char *a, const char *b, const char *c)
+{
+    if (!h->err[0]) {
+        const char *part[3] = {a, b, c};
+        size_t n = 0;
+        for (int i = 0; i < 3; i++)
+            for (const char *p = part[i]; p && *p && n + 1 < sizeof h->err; p++)
+                h->err[n++] = *p;
+        h->err[n] = '\0';
+        h->err_line = line;
+    }
+    return code;
+}
+
+int helm_need_var(kelp_helm *h, const char *name, size_t n)
+{
+    if (!hx_varname(name, n))
+        return KELP_ERR_ARG;
+    for (unsigned i = 0; i < h->nneed; i++)
+        if (strlen(h->need[i]) == n && !memcmp(h->need[i], name, n))
+            return 0;
+    if (h->nneed >= KELP_HELM_MAX_VARS)
+        return KELP_ERR_NOSPACE;
+    (void)hx_copy(h->need[h->nneed++], KELP_MAX_NAME, name, n);
+    return 0;
+}
+
+const char *kelp_helm_next_new_var(kelp_helm *h)
+{
+    if (h->nneed_reported >= h->nneed)
+        return NULL;
+    return h->need[h->nneed_reported++];
+}
+
+int kelp_helm_init(kelp_helm *h, const kelp_helm_config *cfg, const kelp_helm_mem *mem)
+{
+    if (!h || !cfg || !mem)
+        return KELP_ERR_ARG;
+    memset(h, 0, sizeof *h);
+    h->cfg = *cfg;
+    if (!h->cfg.types)
+        h->cfg.types = kelp_bhv_builtin_types;
+    h->mem = *mem;
+    kelp_helm_ib_init(&h->ib);
+    h->engaged = cfg->start_engaged;
+    (void)helm_need_var(h, "MOOS_MANUAL_OVERIDE", 19);
+    (void)helm_need_var(h, "MOOS_MANUAL_OVERRIDE", 20);
+    strcpy(h->rep.allstop, "clear");
+    return 0;
+}
+
+kelp_bhv *kelp_helm_find(kelp_helm *h, const char *name)
+{
+    for (unsigned i = 0; i < h->nbhv; i++)
+        if (!strcmp(h->bhv[i].name, name))
+            return &h->bhv[i];
+    return NULL;
+}
+
+int kelp_helm_add(kelp_helm *h, const char *type, kelp_bhv **out)
+{
+    const kelp_bhv_ops *ops = NULL;
+    for (const kelp_bhv_ops *const *t = h->cfg.types; *t; t++)
+        if (hx_ieq((*t)->type, type)) {
+            ops = *t;
+            break;
+        }
+    if (!ops)
+        return KELP_ERR_NOTFOUND;
+    if (h->nbhv >= KELP_HELM_MAX_BHVS)
+        return KELP_ERR_NOSPACE;
+    kelp_bhv *b = &h->bhv[h->nbhv];
+    memset(b, 0, sizeof *b);
+    b->ops = ops;
+    b->helm = h;
+    (void)hx_copy(b->type, sizeof b->type, ops->type, strlen(ops->type));
+    (void)hx_copy(b->name, sizeof b->name, ops->type, strlen(ops->type));
+    memcpy(b->us, h->cfg.us, sizeof b->us);
+    b->dom = h->cfg.domain;
+    bhv_defaults(b);
+    if (ops->init)
+        ops->init(b);
+    h->nbhv++;
+    if (out)
+        *out = b;
+    return 0;
+}
+
+int kelp_helm_add_init(kelp_helm *h, const char *var, const char *value, bool defer)
+{
+    if (h->ninit >= KELP_HELM_MAX_INIT)
+        return KELP_ERR_NOSPACE;
+    kelp_helm_pair *p = &h->init[h->ninit];
+    size_t n = strlen(var);
+    const char *v = var;
+    hx_trim(&v, &n);
+    if (!hx_varname(v, n) || !hx_pair_value(value, strlen(value), p))
+        return KELP_ERR_PARSE;
+    (void)hx_copy(p->var, sizeof p->var, v, n);
+    h->init_defer[h->ninit] = defer;
+    h->ninit++;
+    (void)helm_need_var(h, p->var, strlen(p->var));
+    return 0;
+}
+
+/* "initialize VAR = value[, VAR2 = value2 ...]": key holds "initialize VAR". */
+static int load_init(kelp_helm *h, const kelp_mission_node *nd)
+{
+    const char *k = nd->key + 10; /* strlen("initialize") */
+    size_t kn = nd->klen - 10;
+    bool defer = false;
+    if (kn && *k == '_') {
+        defer = true;
+        k++;
+        kn--;
+    }
+    hx_trim(&k, &kn);
+    char var[KELP_MAX_NAME], val[KELP_HELM_MAX_SVAL];
+    if (!hx_varname(k, kn) || !hx_copy(var, sizeof var, k, kn) || !hx_copy(val, sizeof val, nd->val, nd->vlen))
+        return helm_fail(h, nd->line, KELP_ERR_PARSE, "bad initialize line", NULL, NULL);
+    /* split further pairs: a comma followed by a piece holding '=' starts a new pair */
+    char *s = val;
+    for (;;) {
+        char *c = s, *cut = NULL;
+        while ((c = strchr(c, ',')) != NULL) {
+            char *nc = strchr(c + 1, ','), *eq = strchr(c + 1, '=');
+            if (eq && (!nc || eq < nc)) {
+                cut = c;
+                break;
+            }
+            c++;
+        }
+        if (cut)
+            *cut = '\0';
+        if (kelp_helm_add_init(h, var, s, defer) < 0)
+            return helm_fail(h, nd->line, KELP_ERR_PARSE, "bad initialize value for ", var, NULL);
+        if (!cut)
+            break;
+        kelp_helm_pair pr;
+        if (!hx_pair(cut + 1, &pr))
+            return helm_fail(h, nd->line, KELP_ERR_PARSE, "bad initialize pair", NULL, NULL);
+        char *eq = strchr(cut + 1, '=');
+        memcpy(var, pr.var, sizeof var);
+        s = eq + 1;
+    }
+    return 0;
+}
+
+int kelp_helm_load_bhv(kelp_helm *h, const kelp_mission *m)
+{
+    for (size_t i = 0; i < m->nnodes; i++) {
+        const kelp_mission_node *nd = &m->nodes[i];
+        if (nd->parent >= 0)
+            continue;
+        if (nd->kind == KELP_MN_PARAM && nd->klen >= 10 && kelp_strieq_n(nd->key, 10, "initialize") &&
+            (nd->klen == 10 || nd->key[10] == '_' || hx_is_space(nd->key[10]))) {
+            int rc = load_init(h, nd);
+            if (rc < 0)
+                return rc;
+            continue;
+        }
+        if (nd->kind == KELP_MN_BLOCK && kelp_strieq_n(nd->key, nd->klen, "Behavior")) {
+            char type[KELP_MAX_NAME];
+            if (!hx_copy(type, sizeof type, nd->val, nd->vlen))
+                return helm_fail(h, nd->line, KELP_ERR_PARSE, "behaviour type too long", NULL, NULL);
+            kelp_bhv *b;
+            int rc = kelp_helm_add(h, type, &b);
+            if (rc == KELP_ERR_NOTFOUND)
+                return helm_fail(h, nd->line, KELP_ERR_PARSE, "unknown behaviour type ", type, NULL);
+            if (rc < 0)
+                return helm_fail(h, nd->line, rc, "too many behaviours (KELP_HELM_MAX_BHVS)", NULL, NULL);
+            b->line = nd->line;
+            for (size_t j = i + 1; j < m->nnodes; j++) {
+                const kelp_mission_node *c = &m->nodes[j];
+                if (c->parent != (int)i)
+                    continue;
+                char key[KELP_MAX_NAME], val[KELP_HELM_MAX_SVAL];
+                if (c->kind != KELP_MN_PARAM)
+                    return helm_fail(h, c->line, KELP_ERR_PARSE, "expected parameter = value", NULL, NULL);
+                if (!hx_copy(key, sizeof key, c->key, c->klen) || !hx_copy(val, sizeof val, c->val, c->vlen))
+                    return helm_fail(h, c->line, KELP_ERR_PARSE, "parameter or value too long", NULL, NULL);
+                b->fail = NULL;
+                if (kelp_bhv_set_param(b, key, val) < 0) {
+                    char what[KELP_MAX_NAME + 96];
+                    hx_cat(what, sizeof what, ": bad parameter ", key, " (", b->fail ? b->fail : "rejected", ")", HX_END);
+                    return helm_fail(h, c->line, KELP_ERR_PARSE, "behaviour ", b->name, what);
+                }
+            }
+            continue;
+        }
+        char key[KELP_MAX_NAME];
+        if (!hx_copy(key, sizeof key, nd->key, nd->klen))
+            key[0] = '\0';
+        return helm_fail(h, nd->line, KELP_ERR_PARSE, "unexpected line in a behaviour file: ", key, NULL);
+    }
+    return 0;
+}
+
+int kelp_helm_configured(kelp_helm *h)
+{
+    for (unsigned i = 0; i < h->nbhv; i++) {
+        kelp_bhv *b = &h->bhv[i];
+        b->fail = NULL;
+        if (b->ops->params_done && b->ops->params_done(b) < 0) {
+            char what[KELP_MAX_NAME + 64];
+            hx_cat(what, sizeof what, ": ", b->fail ? b->fail : "bad configuration", HX_END);
+            return helm_fail(h, b->line, KELP_ERR_PARSE, "behaviour ", b->name, what);
+        }
+        if (b->dom.dim == 0)
+            return helm_fail(h, b->line, KELP_ERR_STATE, "behaviour ", b->name,
+                             ": null IvP domain (the helm Domain lacks a variable it decides)");
+        if (!kelp_ivp_domain_is_sub(&b->dom, &h->cfg.domain))
+            return helm_fail(h, b->line, KELP_ERR_STATE, "behaviour ", b->name, ": domain is not a sub-domain of the helm domain");
+    }
+    return 0;
+}
+
+static void sink(kelp_helm *h, const char *var, bool is_str, const char *s, double d, const char *aux)
+{
+    if (!h->cfg.sink)
+        return;
+    kelp_helm_post p = {var, is_str, is_str ? s : NULL, is_str ? 0 : d, aux};
+    h->cfg.sink(&p, h->cfg.user);
+}
+
+static void post_init(kelp_helm *h, const kelp_helm_pair *p)
+{
+    if (p->is_str)
+        hx_ignore(kelp_helm_ib_set_string(&h->ib, p->var, p->sval, h->ib.curr_time, false));
+    else
+        hx_ignore(kelp_helm_ib_set_double(&h->ib, p->var, p->dval, h->ib.curr_time, false));
+    sink(h, p->var, p->is_str, p->sval, p->dval, AUX_INIT);
+}
+
+void kelp_helm_start(kelp_helm *h, double now)
+{
+    h->t0 = now;
+    h->started = true;
+    h->ib.curr_time = 0;
+    for (unsigned i = 0; i < h->ninit; i++)
+        if (!h->init_defer[i])
+            post_init(h, &h->init[i]);
+}
+
+static bool override_mail(kelp_helm *h, const char *var, const char *v)
+{
+    if (strcmp(var, "MOOS_MANUAL_OVERIDE") != 0 && strcmp(var, "MOOS_MANUAL_OVERRIDE") != 0)
+        return false;
+    if (v && hx_ieq(v, "false"))
+        h->engaged = true;
+    else if (v && hx_ieq(v, "true"))
+        h->engaged = false;
+    return true;
+}
+
+void kelp_helm_mail_double(kelp_helm *h, const char *var, double v)
+{
+    if (override_mail(h, var, NULL))
+        return;
+    if (kelp_helm_ib_set_double(&h->ib, var, v, h->ib.curr_time, true) == 0)
+        h->ib.var[kelp_helm_ib_find(&h->ib, var)].pending = true;
+}
+
+void kelp_helm_mail_string(kelp_helm *h, const char *var, const char *v)
+{
+    if (override_mail(h, var, v))
+        return;
+    if (kelp_helm_ib_set_string(&h->ib, var, v, h->ib.curr_time, true) == 0)
+        h->ib.var[kelp_helm_ib_find(&h->ib, var)].pending = true;
+}
+
+/* ---------------------------------------------------------------- postings */
+
+static uint32_t qstr(kelp_helm *h, const char *s, bool *ok)
+{
+    size_t n = strlen(s) + 1;
+    if (h->qpool_used + n > sizeof h->qpool) {
+        *ok = false;
+        return 0;
+    }
+    memcpy(h->qpool + h->qpool_used, s, n);
+    uint32_t off = (uint32_t)h->qpool_used;
+    h->qpool_used += n;
+    return off;
+}
+
+void helm_queue_post(kelp_helm *h, const kelp_bhv *b, const char *var, bool is_str, const char *sval, double dval,
+                     const char *key)
+{
+    if (h->nq >= KELP_HELM_MAX_POSTS) {
+        h->posts_dropped++;
+        return;
+    }
+    kelp_helm_qpost *q = &h->q[h->nq];
+    bool ok = true;
+    size_t mark = h->qpool_used;
+    q->bhv = (uint16_t)(b - h->bhv);
+    q->is_str = is_str;
+    q->dval = dval;
+    q->repeatable = key && !strcmp(key, "repeatable");
+    q->var = qstr(h, var, &ok);
+    q->sval = qstr(h, is_str ? sval : "", &ok);
+    q->key = qstr(h, key && !q->repeatable ? key : "", &ok);
+    if (!ok) {
+        h->qpool_used = mark;
+        h->posts_dropped++;
+        return;
+    }
+    h->nq++;
+}
+
+void helm_post_flags(kelp_bhv *b, kelp_bhv_flag_kind kind)
+{
+    /* Flags are posted on state transitions only, so each posting is made (repeatable):
+     * a flag that fires again after someone else changed the variable must reach the bus. */
+    const char *key = "repeatable";
+    for (unsigned i = 0; i < b->nflag; i++) {
+        const kelp_bhv_flag *f = &b->flag[i];
+        if (f->kind != kind)
+            continue;
+        if (f->p.is_str)
+            kelp_bhv_post_string(b, f->p.var, f->p.sval, key);
+        else
+            kelp_bhv_post_double(b, f->p.var, f->p.dval, key);
+    }
+}
+
+/* Duplicate filter: true when this (key, value) differs from the last one posted. */
+static bool filter_pass(kelp_helm *h, uint64_t key, uint64_t val)
+{
+    for (unsigned i = 0; i < h->nfilter; i++)
+        if (h->filter[i].key == key) {
+            if (h->filter[i].val == val)
+                return false;
+            h->filter[i].val = val;
+            return true;
+        }
+    if (h->nfilter < KELP_HELM_MAX_FILTER) {
+        h->filter[h->nfilter].key = key;
+        h->filter[h->nfilter].val = val;
+        h->nfilter++;
+    }
+    return true;
+}
+
+static void flush_posts(kelp_helm *h)
+{
+    char aux[KELP_MAX_NAME + 24];
+    for (unsigned i = 0; i < h->nq; i++) {
+        const kelp_helm_qpost *q = &h->q[i];
+        const kelp_bhv *b = &h->bhv[q->bhv];
+        const char *var = h->qpool + q->var, *sv = h->qpool + q->sval, *key = h->qpool + q->key;
+        if (q->is_str)
+            hx_ignore(kelp_helm_ib_set_string(&h->ib, var, sv, h->ib.curr_time, false));
+        else
+            hx_ignore(kelp_helm_ib_set_double(&h->ib, var, q->dval, h->ib.curr_time, false));
+        if (!q->repeatable) {
+            uint64_t k = hx_hash(HX_HASH_INIT, b->name, strlen(b->name) + 1);
+            k = hx_hash(k, var, strlen(var) + 1);
+            k = hx_hash(k, key, strlen(key));
+            uint64_t v = hx_hash(HX_HASH_INIT, q->is_str ? "s" : "d", 1);
+            v = q->is_str ? hx_hash(v, sv, strlen(sv)) : hx_hash(v, &q->dval, sizeof q->dval);
+            if (!filter_pass(h, k, v))
+                continue;
+        }
+        if (!strcmp(var, "BHV_WARNING"))
+            h->rep.warnings++;
+        else if (!strcmp(var, "BHV_ERROR"))
+            h->rep.errors++;
+        char it[24];
+        hx_fmt_ulong(it, sizeof it, h->iteration);
+        hx_cat(aux, sizeof aux, it, ":", b->name, HX_END);
+        sink(h, var, q->is_str, sv, q->dval, aux);
+    }
+    h->nq = 0;
+    h->qpool_used = 0;
+}
+
+/* ---------------------------------------------------------------- duration */
+
+static bool duration_exceeded(kelp_bhv *b, double now)
+{
+    if (b->duration < 0)
+        return false;
+    if (!b->dur_started) {
+        b->dur_started = true;
+        b->dur_start = now;
+        b->dur_idle_time = 0;
+    }
+    double el = now - b->dur_start;
+    if (!b->duration_idle_decay)
+        el -= b->dur_idle_time;
+    return el >= b->duration;
+}
+
+static void duration_reset(kelp_bhv *b)
+{
+    b->dur_started = false;
+    b->dur_start = -1;
+    b->dur_idle_time = 0;
+    if (b->duration_status[0] && b->duration >= 0)
+        kelp_bhv_post_double(b, b->duration_status, b->duration, NULL);
+}
+
+static void post_duration_status(kelp_bhv *b, double now)
+{
+    if (b->duration < 0 || !b->duration_status[0])
+        return;
+    double el = b->dur_started ? now - b->dur_start : 0;
+    double rem = b->duration - el;
+    if (!b->duration_idle_decay)
+        rem += b->dur_idle_time;
+    if (rem < 0)
+        rem = 0;
+    if (rem < 10)
+        kelp_bhv_post_double(b, b->duration_status, floor(rem * 100 + 0.5) / 100, NULL);
+    else
+        kelp_bhv_post_int(b, b->duration_status, rem, NULL);
+}
+
+static void update_state_durations(kelp_bhv *b, bool idle, double now)
+{
+    if (b->dur_have_prev && idle && b->dur_started)
+        b->dur_idle_time += now - b->dur_prev_time;
+    b->dur_have_prev = true;
+    b->dur_prev_time = now;
+}
+
+static void check_duration_reset(kelp_helm *h, kelp_bhv *b)
+{
+    if (!b->duration_reset_var[0])
+        return;
+    int i = kelp_helm_ib_find(&h->ib, b->duration_reset_var);
+    if (i < 0 || h->ib.var[i].time < 0)
+        return;
+    const kelp_helm_ibvar *x = &h->ib.var[i];
+    bool hit;
+    if (x->is_str) {
+        hit = !strcmp(x->sval, b->duration_reset_val);
+    } else {
+        double d;
+        hit = hx_number(b->duration_reset_val, strlen(b->duration_reset_val), &d) && d == x->dval;
+    }
+    if (!hit)
+        return;
+    if (b->dur_reset_stamp < 0 || x->time > b->dur_reset_stamp) {
+        b->dur_reset_stamp = x->time;
+        duration_reset(b);
+    }
+}
+
+/* ---------------------------------------------------------------- updates */
+
+static void check_updates(kelp_helm *h, kelp_bhv *b)
+{
+    if (!b->updates[0])
+        return;
+    bool made = false, any = false;
+    unsigned n = kelp_helm_ib_ndeltas(&h->ib, b->updates);
+    for (unsigned k = 0; k < n; k++) {
+        const char *s = NULL;
+        if (!kelp_helm_ib_delta(&h->ib, b->updates, k, NULL, &s) || !s || !*s)
+            continue;
+        uint64_t hs = hx_hash(HX_HASH_INIT, s, strlen(s));
+        if (b->prev_update_hash && hs == b->prev_update_hash)
+            continue;
+        any = true;
+        bool ok = true;
+        char bad[KELP_HELM_MAX_SVAL - 128] = "";
+        const char *p = s;
+        for (;;) {
+            const char *e = strchr(p, '#');
+            size_t pn = e ? (size_t)(e - p) : strlen(p);
+            const char *piece = p;
+            hx_trim(&piece, &pn);
+            const char *eq = memchr(piece, '=', pn);
+            char param[KELP_MAX_NAME], val[KELP_HELM_MAX_SVAL];
+            const char *pp = piece, *vp = eq ? eq + 1 : piece;
+            size_t ppn = eq ? (size_t)(eq - piece) : pn, vpn = eq ? pn - ppn - 1 : 0;
+            hx_trim(&pp, &ppn);
+            hx_trim(&vp, &vpn);
+            b->fail = NULL;
+            if (!eq || !hx_copy(param, sizeof param, pp, ppn) || !hx_copy(val, sizeof val, vp, vpn) ||
+                kelp_bhv_set_param(b, param, val) < 0) {
+                ok = false;
+                size_t bl = strlen(bad);
+                if (bl + ppn + 2 < sizeof bad) {
+                    if (bl)
+                        bad[bl++] = ',';
+                    memcpy(bad + bl, pp, ppn);
+                    bad[bl + ppn] = '\0';
+                }
+            }
+            if (!e)
+                break;
+            p = e + 1;
+        }
+        if (!ok) {
+            b->bad_updates++;
+            char msg[KELP_HELM_MAX_SVAL];
+            hx_cat(msg, sizeof msg, "Faulty update for behavior: ", b->name, ". Bad parameter(s): ", bad, ".", HX_END);
+            kelp_bhv_post_string(b, "BHV_WARNING", msg, NULL);
+        } else {
+            made = true;
+            b->good_updates++;
+            b->prev_update_hash = hs;
+        }
+    }
+    if (made && b->ops->params_done)
+        (void)b->ops->params_done(b);
+    if (any || b->good_updates + b->bad_updates) {
+        char var[KELP_MAX_NAME + 4], msg[96];
+        char g[24], f[24];
+        hx_fmt_ulong(g, sizeof g, b->good_updates);
+        hx_fmt_ulong(f, sizeof f, b->bad_updates);
+        hx_cat(var, sizeof var, "UH_", b->name, HX_END);
+        hx_cat(msg, sizeof msg, g, " update(s), and ", f, " failure(s)", HX_END);
+        kelp_bhv_post_string(b, var, msg, NULL);
+    }
+}
+
+/* ---------------------------------------------------------------- isRunnable */
+
+static kelp_bhv_state runnable(kelp_helm *h, kelp_bhv *b)
+{
+    double now = h->ib.curr_time;
+    for (unsigned i = 0; i < b->ncond; i++)
+        if (kelp_helm_cond_eval(b->cond[i], &h->ib) != 1)
+            return KELP_BHV_IDLE;
+    if (duration_exceeded(b, now)) {
+        kelp_bhv_set_complete(b);
+        if (!b->perpetual)
+            return KELP_BHV_COMPLETED;
+        duration_reset(b);
+    }
+    if (b->dom.dim == 0) {
+        kelp_bhv_post_error(b, "Null IvPDomain given to Behavior");
+        return KELP_BHV_IDLE;
+    }
+    for (unsigned i = 0; i < b->nstarve; i++) {
+        double t = kelp_helm_ib_time(&h->ib, b->starve[i]);
+        if (t < 0 || now - t > b->starve_time) {
+            char msg[KELP_MAX_NAME + 96], secs[32];
+            hx_fmt_double(secs, sizeof secs, b->starve_time);
+            hx_cat(msg, sizeof msg, b->name, ": VarStarve: ", b->starve[i], " older than ", secs, " s", HX_END);
+            kelp_bhv_post_string(b, "BHV_ERROR", msg, NULL);
+            b->state_ok = false;
+            return KELP_BHV_IDLE;
+        }
+    }
+    return KELP_BHV_RUNNING;
+}
+
+static bool func_finite(const kelp_ivp_func *f)
+{
+    for (size_t i = 0; i < f->n; i++) {
+        if (!isfinite(f->pcs[i].cst))
+            return false;
+        for (unsigned d = 0; d < f->dom.dim; d++)
+            if (!isfinite(f->pcs[i].slope[d]))
+                return false;
+    }
+    return true;
+}
+
+/* produceOF for behaviour i; returns true when it produced a function into h->fn[i]. */
+static bool produce(kelp_helm *h, unsigned i, size_t *pool_used, bool *halted)
+{
+    kelp_bhv *b = &h->bhv[i];
+    double now = h->ib.curr_time;
+    kelp_bhv_state old = b->state;
+    bool made = false;
+    if (b->completed) { /* isComplete(): completed in a prior iteration */
+        b->state = KELP_BHV_COMPLETED;
+        return false;
+    }
+    b->state_ok = true;
+    check_updates(h, b);
+    check_duration_reset(h, b);
+    kelp_bhv_state ns = runnable(h, b);
+    if (ns == KELP_BHV_IDLE) {
+        if (old != KELP_BHV_IDLE) {
+            helm_post_flags(b, KELP_FLAG_IDLE);
+            helm_post_flags(b, KELP_FLAG_INACTIVE);
+        }
+        if (b->ops->on_idle)
+            b->ops->on_idle(b);
+        update_state_durations(b, true, now);
+    } else if (ns == KELP_BHV_RUNNING) {
+        if (old == KELP_BHV_IDLE || old == KELP_BHV_NONE)
+            helm_post_flags(b, KELP_FLAG_RUN);
+        post_duration_status(b, now);
+        kelp_helm_work w = {h->mem.pool + *pool_used, h->mem.pool_cap - *pool_used, h->mem.tmp, h->mem.tmp_cap,
+                            h->mem.dwork, h->mem.dwork_cap, h->mem.pq, h->mem.pq_cap};
+        kelp_ivp_func *f = &h->fn[i];
+        int rc = b->ops->on_run ? b->ops->on_run(b, &w, f) : 0;
+        if (rc == 1 && f->n > 0 && !func_finite(f)) {
+            kelp_bhv_post_error(b, "NaN detected in IvP Function");
+            rc = 0;
+        }
+        if (rc == 1 && f->n > 0 && b->pwt > 0) {
+            f->pwt = b->pwt;
+            made = true;
+            *pool_used += f->n;
+            if (old != KELP_BHV_ACTIVE)
+                helm_post_flags(b, KELP_FLAG_ACTIVE);
+            ns = KELP_BHV_ACTIVE;
+        } else if (old == KELP_BHV_ACTIVE) {
+            helm_post_flags(b, KELP_FLAG_INACTIVE);
+        }
+        update_state_durations(b, false, now);
+    }
+    if (!b->state_ok)
+        *halted = true;
+    if (ns != old)
+        b->state_entered = now;
+    b->state = ns;
+    return made;
+}
+
+/* ---------------------------------------------------------------- decision */
+
+static void desired_name(const char *var, char *out, size_t cap)
+{
+    hx_cat(out, cap, "DESIRED_", hx_ieq(var, "course") ? "heading" : var, HX_END);
+    for (char *c = out + 8; *c; c++)
+        if (*c >= 'a' && *c <= 'z')
+            *c = (char)(*c - 'a' + 'A');
+}
+
+static void list_append(char *buf, size_t cap, const char *name, char sep)
+{
+    size_t n = strlen(buf), m = strlen(name);
+    if (n + m + 2 > cap)
+        return;
+    if (n)
+        buf[n++] = sep;
+    memcpy(buf + n, name, m + 1);
+}
+
+static void solve(kelp_helm *h, const bool *has_fn)
+{
+    kelp_helm_report *r = &h->rep;
+    const kelp_ivp_domain *hd = &h->cfg.domain;
+    bool cover[KELP_IVP_MAX_DIM] = {false};
+    for (unsigned i = 0; i < h->nbhv; i++) {
+        if (!has_fn[i])
+            continue;
+        for (unsigned d = 0; d < h->fn[i].dom.dim; d++) {
+            int k = kelp_ivp_domain_index(hd, h->fn[i].dom.var[d].name);
+            if (k < 0) {
+                r->halted = true;
+                sink(h, "BHV_ERROR", true, "pHelmIvP: HELM HALTING: Unrecognized domain var", 0, NULL);
+                return;
+            }
+            cover[k] = true;
+        }
+    }
+    kelp_ivp_domain sub;
+    kelp_ivp_domain_init(&sub);
+    for (unsigned d = 0; d < hd->dim; d++)
+        if (cover[d])
+            hx_ignore(kelp_ivp_domain_add(&sub, hd->var[d].name, hd->var[d].low, hd->var[d].high, hd->var[d].points));
+    kelp_ivp_problem_init(&h->prob, &sub);
+    for (unsigned i = 0; i < h->nbhv; i++)
+        if (has_fn[i] && r->ofnum < KELP_IVP_MAX_FUNCS && kelp_ivp_problem_add(&h->prob, &h->fn[i]) == 0)
+            r->ofnum++;
+    if (r->ofnum == 0)
+        return;
+    kelp_ivp_result res;
+    int rc = kelp_ivp_solve(&h->prob, h->mem.solve_work, h->mem.solve_work_size, &res);
+    if (rc < 0) {
+        char msg[220];
+        hx_cat(msg, sizeof msg, "pHelmIvP: IvP solve failed: ", kelp_strerror(rc), " (", h->prob.err.msg, ")", HX_END);
+        sink(h, "BHV_ERROR", true, msg, 0, NULL);
+        r->halted = true;
+        return;
+    }
+    for (unsigned j = 0; j < sub.dim; j++) {
+        int k = kelp_ivp_domain_index(hd, sub.var[j].name);
+        r->decided[k] = true;
+        r->decision[k] = res.val[j];
+    }
+}
+
+static void post_outputs(kelp_helm *h)
+{
+    kelp_helm_report *r = &h->rep;
+    const kelp_ivp_domain *hd = &h->cfg.domain;
+    char buf[KELP_HELM_MAX_SVAL], name[KELP_MAX_NAME + 16];
+    /* all-stop reason (MOOS-IvP's strings) */
+    if (!h->engaged)
+        strcpy(r->allstop, "ManualOverride");
+    else if (r->halted)
+        strcpy(r->allstop, "BehaviorError");
+    else if (r->ofnum == 0)
+        strcpy(r->allstop, "NothingToDo");
+    else {
+        strcpy(r->allstop, "clear");
+        char missing[80] = "";
+        for (unsigned d = 0; d < hd->dim; d++)
+            if (!r->decided[d] && !h->cfg.optional[d])
+                list_append(missing, sizeof missing, hd->var[d].name, ',');
+        if (missing[0]) {
+            hx_cat(r->allstop, sizeof r->allstop, "MissingDecVars:", missing, HX_END);
+            sink(h, "BHV_ERROR", true, r->allstop, 0, NULL);
+        }
+    }
+    bool clear = !strcmp(r->allstop, "clear");
+    for (unsigned d = 0; d < hd->dim; d++) {
+        desired_name(hd->var[d].name, name, sizeof name);
+        if (!clear)
+            sink(h, name, false, NULL, 0.0, NULL);
+        else if (r->decided[d])
+            sink(h, name, false, NULL, r->decision[d], NULL);
+    }
+    if (strcmp(r->allstop, h->last_allstop) != 0) {
+        sink(h, "IVPHELM_ALLSTOP", true, r->allstop, 0, NULL);
+        memcpy(h->last_allstop, r->allstop, sizeof h->last_allstop);
+    }
+    /* behaviour lists */
+    char lists[3][256] = {"", "", ""}, cmpl[256] = "";
+    r->nactive = r->nrunning = r->nidle = r->ncompleted = 0;
+    for (unsigned i = 0; i < h->nbhv; i++) {
+        const kelp_bhv *b = &h->bhv[i];
+        switch (b->state) {
+        case KELP_BHV_ACTIVE: list_append(lists[0], sizeof lists[0], b->name, ','); r->nactive++; break;
+        case KELP_BHV_RUNNING: list_append(lists[1], sizeof lists[1], b->name, ','); r->nrunning++; break;
+        case KELP_BHV_IDLE: list_append(lists[2], sizeof lists[2], b->name, ','); r->nidle++; break;
+        case KELP_BHV_COMPLETED: list_append(cmpl, sizeof cmpl, b->name, ','); r->ncompleted++; break;
+        case KELP_BHV_NONE: break;
+        }
+    }
+    static const char *const lvar[3] = {"IVPHELM_BHV_ACTIVE", "IVPHELM_BHV_RUNNING", "IVPHELM_BHV_IDLE"};
+    for (int k = 0; k < 3; k++)
+        if (h->iteration == 1 || strcmp(lists[k], h->last_lists[k]) != 0) {
+            sink(h, lvar[k], true, lists[k], 0, NULL);
+            memcpy(h->last_lists[k], lists[k], sizeof lists[k]);
+        }
+    /* summary: key=value pairs; behaviour lists joined with ':' */
+    char it[24], tm[32], of[24], wn[24];
+    hx_fmt_ulong(it, sizeof it, r->iteration);
+    hx_fmt_fixed(tm, sizeof tm, r->time, 2);
+    hx_fmt_ulong(of, sizeof of, r->ofnum);
+    hx_fmt_ulong(wn, sizeof wn, r->warnings);
+    size_t n = hx_cat(buf, sizeof buf, "iter=", it, ",time=", tm, ",ofnum=", of, ",warnings=", wn, ",halted=",
+                      r->halted ? "true" : "false", ",allstop=", r->allstop, HX_END);
+    for (unsigned d = 0; d < hd->dim; d++)
+        if (r->decided[d] && clear) {
+            char dv[32];
+            hx_fmt_fixed(dv, sizeof dv, r->decision[d], 2);
+            n += hx_cat(buf + n, sizeof buf - n, ",var=", hd->var[d].name, ":", dv, HX_END);
+        }
+    const char *keys[4] = {"active_bhvs", "running_bhvs", "idle_bhvs", "completed_bhvs"};
+    const char *vals[4] = {lists[0], lists[1], lists[2], cmpl};
+    for (int k = 0; k < 4; k++) {
+        char tmp[256];
+        memcpy(tmp, vals[k], sizeof tmp);
+        for (char *c = tmp; *c; c++)
+            if (*c == ',')
+                *c = ':';
+        n += hx_cat(buf + n, sizeof buf - n, ",", keys[k], "=", tmp[0] ? tmp : "none", HX_END);
+    }
+    sink(h, "IVPHELM_SUMMARY", true, buf, 0, NULL);
+    sink(h, "IVPHELM_IPF_CNT", false, NULL, (double)r->ofnum, NULL);
+    sink(h, "IVPHELM_ITER", false, NULL, (double)h->iteration, NULL);
+}
+
+int kelp_helm_iterate(kelp_helm *h, double now)
+{
+    if (!h)
+        return KELP_ERR_ARG;
+    if (!h->started)
+        kelp_helm_start(h, now);
+    h->iteration++;
+    h->ib.curr_time = now - h->t0;
+    for (unsigned i = 0; i < h->ib.nvar; i++)
+        if (h->ib.var[i].pending) {
+            h->ib.var[i].time = h->ib.curr_time;
+            h->ib.var[i].pending = false;
+        }
+    if (h->iteration == 1)
+        for (unsigned i = 0; i < h->ninit; i++)
+            if (h->init_defer[i] && kelp_helm_ib_find(&h->ib, h->init[i].var) < 0)
+                post_init(h, &h->init[i]);
+    kelp_helm_report *r = &h->rep;
+    unsigned long w = r->warnings, e = r->errors;
+    memset(r, 0, sizeof *r);
+    r->warnings = w;
+    r->errors = e;
+    r->iteration = h->iteration;
+    r->time = h->ib.curr_time;
+    sink(h, "IVPHELM_STATE", true, h->engaged ? "DRIVE" : "PARK", 0, NULL);
+    if (h->engaged) {
+        bool has_fn[KELP_HELM_MAX_BHVS] = {false};
+        size_t pool_used = 0;
+        for (unsigned i = 0; i < h->nbhv; i++)
+            has_fn[i] = produce(h, i, &pool_used, &r->halted);
+        flush_posts(h);
+        if (!r->halted)
+            solve(h, has_fn);
+    } else {
+        h->nq = 0;
+        h->qpool_used = 0;
+    }
+    post_outputs(h);
+    kelp_helm_ib_clear_deltas(&h->ib);
+    return 0;
+}

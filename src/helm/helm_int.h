@@ -1,0 +1,61 @@
+/* kelp helm: private helpers shared by the helm sources. */
+#ifndef KELP_HELM_INT_H
+#define KELP_HELM_INT_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <kelp/helm.h>
+
+/** Copy s[0..n) into dst (cap bytes). false if it does not fit (dst then untouched). */
+bool hx_copy(char *dst, size_t cap, const char *s, size_t n);
+/** Trim blanks: advance *s and shrink *n. */
+void hx_trim(const char **s, size_t *n);
+bool hx_is_space(char c);
+char hx_lower(char c);
+/** Case-insensitive equality of two C strings. */
+bool hx_ieq(const char *a, const char *b);
+/** Strict number parse of s[0..n) (trimmed first). */
+bool hx_number(const char *s, size_t n, double *out);
+/** FNV-1a 64 over bytes, chained from h. */
+uint64_t hx_hash(uint64_t h, const void *p, size_t n);
+static inline void hx_ignore(int rc)
+{
+    (void)rc;
+}
+#define HX_HASH_INIT UINT64_C(0xcbf29ce484222325)
+/** Parse "VAR = value" (split at the first '='): var must be a word without blanks. The value
+ *  is typed as MOOS "auto" (quoted -> string without quotes, number -> double, else string). */
+bool hx_pair(const char *s, kelp_helm_pair *out);
+/** Type a value string into a pair (var untouched). */
+bool hx_pair_value(const char *v, size_t n, kelp_helm_pair *out);
+/** A valid MOOS variable name: non-empty, fits, no blanks. */
+bool hx_varname(const char *s, size_t n);
+/** Numbers as text without stdio (newlib's snprintf would pull in malloc on firmware):
+ *  hx_fmt_double: up to 6 decimals, trailing zeros dropped ("-0" -> "0"; >= 1e12 as m.mmmmmme+N);
+ *  hx_fmt_fixed: exactly dec decimals (rounded half away from zero). */
+void hx_fmt_double(char *buf, size_t cap, double v);
+void hx_fmt_fixed(char *buf, size_t cap, double v, unsigned dec);
+void hx_fmt_ulong(char *buf, size_t cap, unsigned long v);
+/** Concatenate NULL-terminated string arguments into buf (truncating); returns the length. */
+size_t hx_cat(char *buf, size_t cap, ...);
+#define HX_END ((const char *)0)
+
+/* helm internals used by bhv.c */
+void helm_queue_post(kelp_helm *h, const kelp_bhv *b, const char *var, bool is_str, const char *sval, double dval,
+                     const char *key);
+int helm_need_var(kelp_helm *h, const char *name, size_t n);
+void helm_post_flags(kelp_bhv *b, kelp_bhv_flag_kind kind);
+int bhv_general_param(kelp_bhv *b, const char *param, const char *value);
+void bhv_defaults(kelp_bhv *b);
+
+/* shared by the waypoint-like behaviours: coupled course x speed ZAIC function (seed Listing 13):
+ * speed peak at speed (peakwidth spw, basewidth sbw, summitdelta ssd), course peak at course
+ * (peakwidth 0, basewidth 180, summitdelta 0, wrap), coupled 50/50 and normalised to [0,100]. */
+int bhv_course_speed_zaic(kelp_bhv *b, const kelp_helm_work *w, double course, double speed, double spw, double sbw,
+                          double ssd, kelp_ivp_func *out);
+/** A one-variable ZAIC_PEAK over var into w->out. */
+int bhv_zaic1(kelp_bhv *b, const kelp_helm_work *w, const char *var, double summit, double pw, double bw, double sd,
+              bool wrap, kelp_ivp_func *out);
+
+#endif

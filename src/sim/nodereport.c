@@ -1,0 +1,173 @@
+/* NODE_REPORT formatting and parsing (see include/kelp/nodereport.h). */
+#include <math.h>
+#include <string.h>
+#include <kelp/nodereport.h>
+#include <kelp/mission.h>
+#include "sim_int.h"
+
+void kelp_nodereport_init(kelp_nodereport *r)
+{
+    memset(r, 0, sizeof *r);
+}
+
+static bool text_ok(const char *s)
+{
+    for (; *s; s++)
+        if (*s == ',' || *s == '=') return false;
+    return true;
+}
+
+int kelp_nodereport_format(const kelp_nodereport *r, char *buf, size_t cap, size_t *len)
+{
+    size_t n = 0;
+    if (buf && cap) buf[0] = 0;
+    if (!r || !buf || !(r->fields & KELP_NR_NAME) || !r->name[0]) return KELP_ERR_ARG;
+    const char *texts[] = {r->name, r->type, r->mode, r->allstop, r->group};
+    const uint32_t tbits[] = {KELP_NR_NAME, KELP_NR_TYPE, KELP_NR_MODE, KELP_NR_ALLSTOP, KELP_NR_GROUP};
+    for (size_t i = 0; i < sizeof texts / sizeof texts[0]; i++)
+        if ((r->fields & tbits[i]) && (!memchr(texts[i], 0, KELP_NODEREPORT_MAX_FIELD) || !text_ok(texts[i])))
+            return KELP_ERR_ARG;
+    const struct {
+        const char *key;
+        uint32_t bit;
+        const char *text;  /* NULL: a number */
+        double num;
+        int dec;
+        bool strip;
+    } f[] = {
+        {"NAME", KELP_NR_NAME, r->name, 0, 0, false},
+        {"TYPE", KELP_NR_TYPE, r->type, 0, 0, false},
+        {"TIME", KELP_NR_TIME, NULL, r->time, 2, false},
+        {"X", KELP_NR_X, NULL, r->x, 2, false},
+        {"Y", KELP_NR_Y, NULL, r->y, 2, false},
+        {"LAT", KELP_NR_LAT, NULL, r->lat, 6, false},
+        {"LON", KELP_NR_LON, NULL, r->lon, 6, false},
+        {"SPD", KELP_NR_SPD, NULL, r->spd, 2, false},
+        {"HDG", KELP_NR_HDG, NULL, r->hdg, 2, false},
+        {"DEPTH", KELP_NR_DEPTH, NULL, r->depth, 2, false},
+        {"LENGTH", KELP_NR_LENGTH, NULL, r->length, 2, true},
+        {"MODE", KELP_NR_MODE, r->mode, 0, 0, false},
+        {"ALLSTOP", KELP_NR_ALLSTOP, r->allstop, 0, 0, false},
+        {"GROUP", KELP_NR_GROUP, r->group, 0, 0, false},
+    };
+    int rc = KELP_OK;
+    for (size_t i = 0; i < sizeof f / sizeof f[0] && rc == KELP_OK; i++) {
+        if (!(r->fields & f[i].bit)) continue;
+        if (n > 0) rc = sim_put_str(buf, cap, &n, ",");
+        if (rc == KELP_OK) rc = sim_put_str(buf, cap, &n, f[i].key);
+        if (rc == KELP_OK) rc = sim_put_str(buf, cap, &n, "=");
+        if (rc == KELP_OK) rc = f[i].text ? sim_put_str(buf, cap, &n, f[i].text)
+                                          : sim_put_fixed(buf, cap, &n, f[i].num, f[i].dec, f[i].strip);
+    }
+    if (rc < 0) {
+        if (cap) buf[0] = 0;
+        return rc;
+    }
+    if (len) *len = n;
+    return KELP_OK;
+}
+
+typedef struct nrparse {
+    kelp_nodereport *r;
+    const char *why;
+} nrparse;
+
+static int on_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl)
+{
+    nrparse *p = ctx;
+    kelp_nodereport *r = p->r;
+    static const struct {
+        const char *key;
+        uint32_t bit;
+    } keys[] = {
+        {"NAME", KELP_NR_NAME},   {"VNAME", KELP_NR_NAME},     {"TYPE", KELP_NR_TYPE},   {"TIME", KELP_NR_TIME},
+        {"X", KELP_NR_X},         {"Y", KELP_NR_Y},            {"LAT", KELP_NR_LAT},     {"LON", KELP_NR_LON},
+        {"LONG", KELP_NR_LON},    {"SPD", KELP_NR_SPD},        {"SPEED", KELP_NR_SPD},   {"HDG", KELP_NR_HDG},
+        {"HEADING", KELP_NR_HDG}, {"DEPTH", KELP_NR_DEPTH},    {"DEP", KELP_NR_DEPTH},   {"LENGTH", KELP_NR_LENGTH},
+        {"MODE", KELP_NR_MODE},   {"ALLSTOP", KELP_NR_ALLSTOP}, {"GROUP", KELP_NR_GROUP},
+    };
+    uint32_t bit = 0;
+    for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++)
+        if (kelp_strieq_n(k, kl, keys[i].key)) {
+            bit = keys[i].bit;
+            break;
+        }
+    if (!bit || (r->fields & bit)) return KELP_OK; /* unknown key, or a repeat: first wins */
+    char *text = NULL;
+    double *num = NULL;
+    switch (bit) {
+    case KELP_NR_NAME: text = r->name; break;
+    case KELP_NR_TYPE: text = r->type; break;
+    case KELP_NR_MODE: text = r->mode; break;
+    case KELP_NR_ALLSTOP: text = r->allstop; break;
+    case KELP_NR_GROUP: text = r->group; break;
+    case KELP_NR_TIME: num = &r->time; break;
+    case KELP_NR_X: num = &r->x; break;
+    case KELP_NR_Y: num = &r->y; break;
+    case KELP_NR_LAT: num = &r->lat; break;
+    case KELP_NR_LON: num = &r->lon; break;
+    case KELP_NR_SPD: num = &r->spd; break;
+    case KELP_NR_HDG: num = &r->hdg; break;
+    case KELP_NR_DEPTH: num = &r->depth; break;
+    default: num = &r->length; break;
+    }
+    if (text) {
+        if (sim_copy_text(text, KELP_NODEREPORT_MAX_FIELD, v, vl) < 0) {
+            p->why = "text field too long";
+            return KELP_ERR_RANGE;
+        }
+    } else if (sim_number(v, vl, num) < 0) {
+        p->why = "bad number";
+        return KELP_ERR_PARSE;
+    }
+    r->fields |= bit;
+    return KELP_OK;
+}
+
+int kelp_nodereport_parse(const char *s, size_t len, kelp_nodereport *out, const char **why)
+{
+    const char *dummy;
+    if (!why) why = &dummy;
+    *why = NULL;
+    if (!s || !out) {
+        *why = "no input";
+        return KELP_ERR_ARG;
+    }
+    kelp_nodereport r;
+    kelp_nodereport_init(&r);
+    /* a report quoted as a whole ("NAME=...") */
+    while (len && (s[len - 1] == ' ' || s[len - 1] == '\n' || s[len - 1] == '\r')) len--;
+    while (len && *s == ' ') s++, len--;
+    if (len >= 2 && s[0] == '"' && s[len - 1] == '"') s++, len -= 2;
+    nrparse p = {&r, NULL};
+    int rc = sim_for_pairs(s, len, ',', on_pair, &p, why);
+    if (rc < 0) {
+        if (p.why) *why = p.why;
+        return rc;
+    }
+    if (!(r.fields & KELP_NR_NAME) || !r.name[0]) {
+        *why = "no NAME";
+        return KELP_ERR_PARSE;
+    }
+    bool xy = (r.fields & (KELP_NR_X | KELP_NR_Y)) == (KELP_NR_X | KELP_NR_Y);
+    bool ll = (r.fields & (KELP_NR_LAT | KELP_NR_LON)) == (KELP_NR_LAT | KELP_NR_LON);
+    if (!xy && !ll) {
+        *why = "no position (X,Y or LAT,LON)";
+        return KELP_ERR_PARSE;
+    }
+    *out = r;
+    return KELP_OK;
+}
+
+int kelp_nodereport_complete(kelp_nodereport *r, const kelp_geo *g)
+{
+    const uint32_t XY = KELP_NR_X | KELP_NR_Y, LL = KELP_NR_LAT | KELP_NR_LON;
+    if ((r->fields & XY) != XY && (r->fields & LL) == LL) {
+        if (kelp_geo_to_local(g, r->lat, r->lon, &r->x, &r->y) < 0) return KELP_ERR_RANGE;
+        r->fields |= XY;
+    } else if ((r->fields & LL) != LL && (r->fields & XY) == XY) {
+        if (kelp_geo_to_latlon(g, r->x, r->y, &r->lat, &r->lon) < 0) return KELP_ERR_RANGE;
+        r->fields |= LL;
+    }
+    return KELP_OK;
+}

@@ -1,0 +1,215 @@
+/* The uSimMarine-role kinematic model (see include/kelp/sim.h). */
+#include <math.h>
+#include <string.h>
+#include <kelp/sim.h>
+#include <kelp/kv.h>
+#include <kelp/mission.h>
+
+#define DEG2RAD (3.14159265358979323846 / 180.0)
+#define RAD2DEG (180.0 / 3.14159265358979323846)
+
+double kelp_sim_angle360(double deg)
+{
+    if (!isfinite(deg)) return 0.0;
+    double a = fmod(deg, 360.0);
+    if (a < 0) a += 360.0;
+    if (a >= 360.0) a = 0.0; /* -tiny + 360 rounds to 360 */
+    return a;
+}
+
+double kelp_sim_angle180(double deg)
+{
+    double a = kelp_sim_angle360(deg);
+    return a > 180.0 ? a - 360.0 : a;
+}
+
+double kelp_sim_bearing(double x0, double y0, double x1, double y1)
+{
+    double dx = x1 - x0, dy = y1 - y0;
+    if (dx == 0.0 && dy == 0.0) return 0.0;
+    return kelp_sim_angle360(atan2(dx, dy) * RAD2DEG);
+}
+
+void kelp_sim_params_default(kelp_sim_params *p)
+{
+    p->turn_rate = 20.0;
+    p->turn_speed = 0.5;
+    p->max_accel = 0.5;
+    p->max_decel = 0.5;
+    p->max_depth_rate = 0.5;
+    p->max_depth_rate_speed = 0.0;
+    p->max_speed = 0.0;
+    p->step = 0.05;
+}
+
+static bool nonneg(double v) { return isfinite(v) && v >= 0.0; }
+
+int kelp_sim_init(kelp_sim *sim, const kelp_sim_params *p, const kelp_sim_state *start, double now)
+{
+    if (!sim || !p || !start || !isfinite(now)) return KELP_ERR_ARG;
+    if (!nonneg(p->turn_rate) || !nonneg(p->turn_speed) || !nonneg(p->max_accel) || !nonneg(p->max_decel) || !nonneg(p->max_depth_rate) ||
+        !nonneg(p->max_depth_rate_speed) || !nonneg(p->max_speed) || !isfinite(p->step) || p->step <= 0.0)
+        return KELP_ERR_ARG;
+    if (!isfinite(start->x) || !isfinite(start->y) || !isfinite(start->heading) || !nonneg(start->speed) ||
+        !nonneg(start->depth))
+        return KELP_ERR_ARG;
+    memset(sim, 0, sizeof *sim);
+    sim->p = *p;
+    sim->s = *start;
+    sim->s.heading = kelp_sim_angle360(start->heading);
+    sim->time = now;
+    sim->des_heading = sim->s.heading;
+    sim->des_speed = sim->s.speed;
+    sim->des_depth = sim->s.depth;
+    return KELP_OK;
+}
+
+int kelp_sim_set_heading(kelp_sim *sim, double deg)
+{
+    if (!isfinite(deg)) return KELP_ERR_ARG;
+    sim->des_heading = kelp_sim_angle360(deg);
+    return KELP_OK;
+}
+
+int kelp_sim_set_speed(kelp_sim *sim, double mps)
+{
+    if (!isfinite(mps)) return KELP_ERR_ARG;
+    if (mps < 0.0) mps = 0.0;
+    if (sim->p.max_speed > 0.0 && mps > sim->p.max_speed) mps = sim->p.max_speed;
+    sim->des_speed = mps;
+    return KELP_OK;
+}
+
+int kelp_sim_set_depth(kelp_sim *sim, double m)
+{
+    if (!isfinite(m)) return KELP_ERR_ARG;
+    sim->des_depth = m < 0.0 ? 0.0 : m;
+    return KELP_OK;
+}
+
+/* Move `v` toward `target` by at most `lim` (lim <= 0: no limit). */
+static double approach(double v, double target, double lim)
+{
+    double d = target - v;
+    if (lim > 0.0 && fabs(d) > lim) d = d > 0 ? lim : -lim;
+    return v + d;
+}
+
+static void substep(kelp_sim *sim, double h)
+{
+    const kelp_sim_params *p = &sim->p;
+    kelp_sim_state *s = &sim->s;
+    /* speed: separate acceleration and deceleration limits */
+    double v0 = s->speed;
+    double lim = sim->des_speed > v0 ? p->max_accel : p->max_decel;
+    s->speed = approach(v0, sim->des_speed, lim > 0.0 ? lim * h : 0.0);
+    if (s->speed < 0.0) s->speed = 0.0;
+    double vmid = (v0 + s->speed) / 2.0;
+    /* heading: the short way round, at most turn_rate*h, scaled down below turn_speed */
+    double dh = kelp_sim_angle180(sim->des_heading - s->heading);
+    if (p->turn_rate > 0.0) {
+        double rate = p->turn_rate;
+        if (p->turn_speed > 0.0 && vmid < p->turn_speed) rate *= vmid / p->turn_speed;
+        double maxdh = rate * h;
+        if (fabs(dh) > maxdh) dh = dh > 0 ? maxdh : -maxdh;
+    } else if (p->turn_speed > 0.0 && vmid <= 0.0) {
+        dh = 0.0;
+    }
+    double hmid = s->heading + dh / 2.0;
+    s->heading = kelp_sim_angle360(s->heading + dh);
+    /* depth: rate limit, optionally scaled by speed; never above the surface */
+    if (p->max_depth_rate > 0.0) {
+        double rate = p->max_depth_rate;
+        if (p->max_depth_rate_speed > 0.0) {
+            double f = vmid / p->max_depth_rate_speed;
+            rate *= f < 1.0 ? f : 1.0;
+        }
+        double d = sim->des_depth - s->depth;
+        double m = rate * h;
+        if (fabs(d) > m) d = d > 0 ? m : -m;
+        s->depth += d;
+    } else {
+        s->depth = sim->des_depth;
+    }
+    if (s->depth < 0.0) s->depth = 0.0;
+    /* position: mean heading and mean speed over the sub-step */
+    double r = hmid * DEG2RAD;
+    s->x += vmid * sin(r) * h;
+    s->y += vmid * cos(r) * h;
+    sim->odometer += vmid * h;
+}
+
+int kelp_sim_step(kelp_sim *sim, double now)
+{
+    if (!sim || !isfinite(now)) return KELP_ERR_ARG;
+    double dt = now - sim->time;
+    if (dt < 0.0) return KELP_ERR_RANGE;
+    if (dt == 0.0) return KELP_OK;
+    double nd = ceil(dt / sim->p.step - 1e-9);
+    if (nd < 1.0) nd = 1.0;
+    if (nd > (double)KELP_SIM_MAX_SUBSTEPS) return KELP_ERR_RANGE;
+    long n = (long)nd;
+    double h = dt / (double)n;
+    for (long i = 0; i < n; i++) substep(sim, h);
+    sim->time = now;
+    return KELP_OK;
+}
+
+/* ------------------------------------------------------------------ START_POS */
+
+static int set_field(kelp_sim_state *st, const char *k, size_t kl, double v)
+{
+    if (kelp_strieq_n(k, kl, "x")) st->x = v;
+    else if (kelp_strieq_n(k, kl, "y")) st->y = v;
+    else if (kelp_strieq_n(k, kl, "heading") || kelp_strieq_n(k, kl, "hdg") || kelp_strieq_n(k, kl, "deg"))
+        st->heading = kelp_sim_angle360(v);
+    else if (kelp_strieq_n(k, kl, "speed") || kelp_strieq_n(k, kl, "spd")) {
+        if (v < 0.0) return KELP_ERR_ARG;
+        st->speed = v;
+    } else if (kelp_strieq_n(k, kl, "depth") || kelp_strieq_n(k, kl, "dep")) {
+        if (v < 0.0) return KELP_ERR_ARG;
+        st->depth = v;
+    } else
+        return KELP_ERR_PARSE;
+    return KELP_OK;
+}
+
+int kelp_sim_parse_start(const char *s, kelp_sim_state *st)
+{
+    if (!s || !st) return KELP_ERR_ARG;
+    kelp_sim_state tmp = *st;
+    if (strchr(s, '=')) {
+        size_t pos = 0;
+        const char *k, *v;
+        size_t kl, vl;
+        int rc, n = 0;
+        while ((rc = kelp_kv_next(s, ',', &pos, &k, &kl, &v, &vl)) == 1) {
+            double d;
+            if (kelp_parse_double(v, vl, &d) < 0 || !isfinite(d)) return KELP_ERR_PARSE;
+            rc = set_field(&tmp, k, kl, d);
+            if (rc < 0) return rc;
+            n++;
+        }
+        if (rc < 0) return KELP_ERR_PARSE;
+        if (n == 0) return KELP_ERR_PARSE;
+    } else {
+        static const char *const order[] = {"x", "y", "heading", "speed", "depth"};
+        const char *p = s;
+        int i = 0;
+        for (;;) {
+            const char *e = strchr(p, ',');
+            size_t len = e ? (size_t)(e - p) : strlen(p);
+            double d;
+            if (i >= 5) return KELP_ERR_PARSE;
+            if (kelp_parse_double(p, len, &d) < 0 || !isfinite(d)) return KELP_ERR_PARSE;
+            int rc = set_field(&tmp, order[i], strlen(order[i]), d);
+            if (rc < 0) return rc;
+            i++;
+            if (!e) break;
+            p = e + 1;
+        }
+        if (i < 2) return KELP_ERR_PARSE;
+    }
+    *st = tmp;
+    return KELP_OK;
+}

@@ -1,0 +1,181 @@
+/* Text helpers for node reports and VIEW_* strings: pair walking and number printing. */
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+#include <kelp/err.h>
+#include <kelp/mission.h>
+#include "sim_int.h"
+
+static bool is_ws(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
+
+static void trim(const char **p, size_t *n)
+{
+    while (*n && is_ws(**p)) (*p)++, (*n)--;
+    while (*n && is_ws((*p)[*n - 1])) (*n)--;
+}
+
+int sim_next_item(const char *s, size_t len, size_t *pos, char sep, const char **item, size_t *ilen)
+{
+    for (;;) {
+        if (*pos >= len) return 0;
+        size_t i = *pos;
+        int depth = 0;
+        bool quote = false;
+        for (; i < len; i++) {
+            char c = s[i];
+            if (c == '\0') break;
+            if (quote) {
+                if (c == '"') quote = false;
+                continue;
+            }
+            if (c == '"') quote = true;
+            else if (c == '{') depth++;
+            else if (c == '}') {
+                if (--depth < 0) return KELP_ERR_PARSE;
+            } else if (c == sep && depth == 0)
+                break;
+        }
+        if (quote || depth != 0) return KELP_ERR_PARSE;
+        const char *p = s + *pos;
+        size_t n = i - *pos;
+        *pos = (i < len && s[i] == sep) ? i + 1 : len;
+        if (i < len && s[i] == '\0') *pos = len;
+        trim(&p, &n);
+        if (n == 0) continue;
+        *item = p;
+        *ilen = n;
+        return 1;
+    }
+}
+
+/* first '=' of v outside braces and quotes, or vl */
+static size_t find_eq(const char *v, size_t vl)
+{
+    int depth = 0;
+    bool quote = false;
+    for (size_t i = 0; i < vl; i++) {
+        char c = v[i];
+        if (quote) {
+            if (c == '"') quote = false;
+        } else if (c == '"')
+            quote = true;
+        else if (c == '{')
+            depth++;
+        else if (c == '}')
+            depth--;
+        else if (c == '=' && depth == 0)
+            return i;
+    }
+    return vl;
+}
+
+int sim_for_pairs(const char *s, size_t len, char sep, sim_pair_fn fn, void *ctx, const char **why)
+{
+    size_t pos = 0;
+    const char *it;
+    size_t il;
+    int rc;
+    while ((rc = sim_next_item(s, len, &pos, sep, &it, &il)) == 1) {
+        for (;;) {
+            size_t eq = find_eq(it, il);
+            if (eq >= il) {
+                if (why) *why = "item without '='";
+                return KELP_ERR_PARSE;
+            }
+            const char *k = it, *v = it + eq + 1;
+            size_t kl = eq, vl = il - eq - 1;
+            trim(&k, &kl);
+            trim(&v, &vl);
+            if (kl == 0) {
+                if (why) *why = "empty key";
+                return KELP_ERR_PARSE;
+            }
+            /* "type=waypoint source=transit": the value holds another pair after a space */
+            size_t eq2 = find_eq(v, vl);
+            size_t rest = vl;
+            if (eq2 < vl) {
+                size_t sp = eq2;
+                while (sp > 0 && !is_ws(v[sp - 1])) sp--;
+                if (sp > 0) rest = sp - 1;
+            }
+            size_t cur = rest;
+            const char *cv = v;
+            trim(&cv, &cur);
+            if (cur >= 2 && cv[0] == '"' && cv[cur - 1] == '"') cv++, cur -= 2;
+            rc = fn(ctx, k, kl, cv, cur);
+            if (rc < 0) return rc;
+            if (rest >= vl) break;
+            it = v + rest + 1;
+            il = vl - rest - 1;
+            trim(&it, &il);
+            if (il == 0) break;
+        }
+    }
+    if (rc < 0 && why) *why = "unbalanced brace or quote";
+    return rc < 0 ? KELP_ERR_PARSE : KELP_OK;
+}
+
+int sim_copy_text(char *dst, size_t cap, const char *v, size_t vl)
+{
+    if (vl + 1 > cap) return KELP_ERR_RANGE;
+    memcpy(dst, v, vl);
+    dst[vl] = 0;
+    return KELP_OK;
+}
+
+int sim_number(const char *v, size_t vl, double *out)
+{
+    double d;
+    if (kelp_parse_double(v, vl, &d) < 0 || !isfinite(d)) return KELP_ERR_PARSE;
+    *out = d;
+    return KELP_OK;
+}
+
+int sim_put_str(char *buf, size_t cap, size_t *n, const char *s)
+{
+    size_t l = strlen(s);
+    if (*n + l + 1 > cap) return KELP_ERR_NOSPACE;
+    memcpy(buf + *n, s, l + 1);
+    *n += l;
+    return KELP_OK;
+}
+
+int sim_put_fixed(char *buf, size_t cap, size_t *n, double v, int dec, bool strip)
+{
+    static const double pow10[] = {1, 10, 100, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
+    if (!isfinite(v)) return KELP_ERR_ARG;
+    if (dec < 0) dec = 0;
+    if (dec > 9) dec = 9;
+    bool neg = v < 0;
+    double a = neg ? -v : v;
+    double scaled = floor(a * pow10[dec] + 0.5);
+    if (scaled >= 9.0e18) return KELP_ERR_RANGE;
+    uint64_t u = (uint64_t)scaled;
+    char tmp[48];
+    int t = 0;
+    /* digits, least significant first */
+    for (int i = 0; i < dec; i++) {
+        tmp[t++] = (char)('0' + u % 10);
+        u /= 10;
+    }
+    if (dec > 0) tmp[t++] = '.';
+    do {
+        tmp[t++] = (char)('0' + u % 10);
+        u /= 10;
+    } while (u);
+    /* strip trailing zeros of the fraction (which sit at the start of tmp) */
+    int start = 0;
+    if (strip && dec > 0) {
+        while (start < dec && tmp[start] == '0') start++;
+        if (start == dec) start++; /* the '.' too */
+    }
+    bool allzero = true;
+    for (int i = start; i < t; i++)
+        if (tmp[i] >= '1' && tmp[i] <= '9') allzero = false;
+    if (neg && !allzero) tmp[t++] = '-';
+    size_t need = (size_t)(t - start);
+    if (*n + need + 1 > cap) return KELP_ERR_NOSPACE;
+    for (int i = t - 1; i >= start; i--) buf[(*n)++] = tmp[i];
+    buf[*n] = 0;
+    return KELP_OK;
+}

@@ -1,0 +1,537 @@
+/* Behaviour unit tests: BHV_SimpleWaypoint against seed 004 chapter 5 (parameters, the ZAIC
+ * pieces of Figure 5, the coupled function, the Reflector's underlying function, postings,
+ * the Alder mission flown against a kinematic vehicle), BHV_Waypoint, BHV_Loiter and the
+ * constant behaviours. Uses the ht_* harness of check_helm.c. */
+#include <check.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <kelp/helm.h>
+#include "../src/helm/helm_int.h"
+
+typedef struct ht_post {
+    char var[KELP_MAX_NAME];
+    bool is_str;
+    char sval[KELP_HELM_MAX_SVAL];
+    double dval;
+    unsigned long iter;
+} ht_post;
+kelp_helm *ht_helm(void);
+kelp_helm *ht_setup(const char *domain, const kelp_bhv_ops *const *types);
+void ht_load(const char *bhv);
+int ht_load_rc(const char *bhv);
+void ht_iter(double now);
+const ht_post *ht_last(const char *var);
+unsigned ht_count(const char *var);
+bool ht_has_str(const char *var, const char *val);
+double ht_num(const char *var);
+
+#define DOM2 "course:0:359:360,speed:0:4:21"
+
+static kelp_bhv *find(const char *name)
+{
+    kelp_bhv *b = kelp_helm_find(ht_helm(), name);
+    ck_assert_msg(b != NULL, "no behaviour %s", name);
+    return b;
+}
+
+static void nav(double x, double y)
+{
+    kelp_helm_mail_double(ht_helm(), "NAV_X", x);
+    kelp_helm_mail_double(ht_helm(), "NAV_Y", y);
+}
+
+static double eval2(const kelp_ivp_func *f, uint32_t a, uint32_t b)
+{
+    uint32_t ix[2] = {a, b};
+    double v = NAN;
+    ck_assert_int_eq(kelp_ivp_func_eval(f, ix, &v), 0);
+    return v;
+}
+
+/* ---------------------------------------------------------------- relAng */
+
+START_TEST(relang_examples)
+{
+    ck_assert(kelp_helm_relang(0, 0, 0, 10) == 0);
+    ck_assert(fabs(kelp_helm_relang(0, 0, 10, 0) - 90) < 1e-9);
+    ck_assert(fabs(kelp_helm_relang(0, 0, 0, -10) - 180) < 1e-9);
+    ck_assert(fabs(kelp_helm_relang(0, 0, -10, 0) - 270) < 1e-9);
+    ck_assert(fabs(kelp_helm_relang(0, 0, 60, -40) - 123.690068) < 1e-6);
+    ck_assert(kelp_helm_relang(5, 5, 5, 5) == 0);
+    ck_assert(fabs(kelp_helm_relang(58, -38, 0, 0) - 303.2317) < 1e-3);
+}
+END_TEST
+
+/* ---------------------------------------------------------------- SimpleWaypoint */
+
+START_TEST(swpt_zaic_pieces_figure5)
+{
+    /* Listing 13 over the Alder domain: speed function 6 pieces, course function 3 pieces
+     * (Figure 5), coupled 50/50 into 18 pieces normalised to [0,100] (Figure 6). */
+    kelp_helm *h = ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_SimpleWaypoint\n{\n speed = 2.0\n ptx = 60\n pty = -40\n}\n");
+    kelp_bhv *b = find("simple_waypoint");
+    kelp_helm_work w = {h->mem.pool, h->mem.pool_cap, h->mem.tmp, h->mem.tmp_cap, h->mem.dwork, h->mem.dwork_cap,
+                        h->mem.pq, h->mem.pq_cap};
+    kelp_ivp_func spd, crs, cp;
+    ck_assert_int_eq(bhv_zaic1(b, &w, "speed", 2.0, 0.5, 1.0, 0.8, false, &spd), 0);
+    ck_assert_uint_eq(spd.n, 6);
+    kelp_helm_work w2 = w;
+    w2.out += 100;
+    w2.out_cap -= 100;
+    double rel = kelp_helm_relang(0, 0, 60, -40);
+    ck_assert_int_eq(bhv_zaic1(b, &w2, "course", rel, 0, 180, 0, true, &crs), 0);
+    ck_assert_uint_eq(crs.n, 3);
+    kelp_helm_work w3 = w;
+    w3.out += 1000;
+    w3.out_cap -= 1000;
+    ck_assert_int_eq(bhv_course_speed_zaic(b, &w3, rel, 2.0, 0.5, 1.0, 0.8, &cp), 0);
+    ck_assert_uint_eq(cp.n, 18);
+    double mn, mx;
+    ck_assert_int_eq(kelp_ivp_func_range(&cp, &mn, &mx), 0);
+    ck_assert(fabs(mx - 100) < 1e-9 && fabs(mn) < 1e-9);
+    /* peak: course 124 (nearest point to 123.69), speed 2.0 (index 10) */
+    ck_assert(fabs(eval2(&cp, 124, 10) - 100) < 0.6);
+    ck_assert(eval2(&cp, 124, 10) > eval2(&cp, 123, 10));
+    ck_assert(eval2(&cp, 124, 10) > eval2(&cp, 124, 9));
+    ck_assert(eval2(&cp, 124, 10) > eval2(&cp, 124, 11));
+    /* course 180 degrees off (304) at speed 0: the minimum */
+    ck_assert(fabs(eval2(&cp, 304, 0)) < 1.0);
+}
+END_TEST
+
+START_TEST(swpt_reflector_aof_values)
+{
+    /* AOF_SimpleWaypoint: 0.75 rate-of-closure + 0.2 rate-of-detour + 0.05 speed deviation */
+    kelp_bhv_swpt_aof a = {2.0, 0, 0, 60, -40, 0, 0, 4, 0, 1};
+    a.angle_to_wpt = kelp_helm_relang(0, 0, 60, -40);
+    double on[2] = {a.angle_to_wpt, 2.0};
+    ck_assert(fabs(kelp_bhv_swpt_aof_eval(on, &a) - 100) < 1e-9);
+    double back[2] = {a.angle_to_wpt + 180, 2.0};
+    /* roc -2: diff 4 -> 50; rod 180*2 -> 50; speed exact -> 100: 37.5 + 10 + 5 */
+    ck_assert(fabs(kelp_bhv_swpt_aof_eval(back, &a) - 52.5) < 1e-9);
+    double slow[2] = {a.angle_to_wpt, 0.0};
+    /* roc 0: diff 2 -> 75; rod 0 -> 100; speed diff 2 of range 2 -> 0: 56.25 + 20 + 0 */
+    ck_assert(fabs(kelp_bhv_swpt_aof_eval(slow, &a) - 76.25) < 1e-9);
+    double fast[2] = {a.angle_to_wpt, 4.0};
+    /* roc 4: diff -2 -> *-0.5 = 1 -> 87.5; rod 0 -> 100; speed diff 2 -> 0: 65.625 + 20 */
+    ck_assert(fabs(kelp_bhv_swpt_aof_eval(fast, &a) - 85.625) < 1e-9);
+}
+END_TEST
+
+START_TEST(swpt_reflector_function)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_SimpleWaypoint\n{\n name = waypt_return\n speed = 2.0\n ptx = 0\n pty = 0\n ipf_type = reflector\n}\n");
+    nav(58, -38);
+    ht_iter(0);
+    kelp_helm *h = ht_helm();
+    ck_assert_int_eq(find("waypt_return")->state, KELP_BHV_ACTIVE);
+    ck_assert(h->fn[0].n >= 500 && h->fn[0].n <= 1100); /* ~1000 requested pieces */
+    double crs = ht_num("DESIRED_HEADING");
+    ck_assert_msg(fabs(crs - 303.23) <= 3.0, "heading %g", crs);
+    /* the 1000-piece approximation of the peak at 2.0 m/s peaks one 0.2 step away at most */
+    ck_assert_msg(fabs(ht_num("DESIRED_SPEED") - 2.0) <= 0.21, "speed %g", ht_num("DESIRED_SPEED"));
+}
+END_TEST
+
+START_TEST(swpt_no_nav_warning)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_SimpleWaypoint\n{\n name = transit\n speed = 2.0\n ptx = 60\n pty = -40\n}\n");
+    ht_iter(0);
+    ck_assert(ht_has_str("BHV_WARNING", "transit: No ownship X/Y info in info_buffer."));
+    ck_assert_int_eq(find("transit")->state, KELP_BHV_RUNNING); /* running, not active */
+    ck_assert_str_eq(ht_helm()->rep.allstop, "NothingToDo");
+    ck_assert(ht_num("DESIRED_SPEED") == 0);
+}
+END_TEST
+
+START_TEST(swpt_view_point_and_arrival)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_SimpleWaypoint\n{\n name = transit\n condition = DEPLOY = true\n endflag = RETURN = true\n"
+            " speed = 2.0\n radius = 8.0\n ptx = 60\n pty = -40\n}\n");
+    ht_iter(0);
+    ck_assert(ht_has_str("VIEW_POINT", "label=alder's next waypoint,type=waypoint,source=transit,x=60,y=-40,active=false"));
+    nav(0, 0);
+    kelp_helm_mail_string(ht_helm(), "DEPLOY", "true");
+    ht_iter(1);
+    ck_assert(ht_has_str("VIEW_POINT", "label=alder's next waypoint,type=waypoint,source=transit,x=60,y=-40,active=true"));
+    ck_assert(ht_num("DESIRED_HEADING") == 124 && ht_num("DESIRED_SPEED") == 2);
+    ht_iter(2);
+    ck_assert_uint_eq(ht_count("VIEW_POINT"), 0); /* unchanged: duplicate filter */
+    nav(60, -31.9); /* 8.1 m: not yet */
+    ht_iter(3);
+    ck_assert_int_eq(find("transit")->state, KELP_BHV_ACTIVE);
+    ck_assert(ht_num("DESIRED_HEADING") == 180);
+    nav(60, -32); /* exactly 8 m: arrived (dist <= radius) */
+    ht_iter(4);
+    ck_assert(ht_has_str("RETURN", "true"));
+    ck_assert(ht_has_str("VIEW_POINT", "label=alder's next waypoint,type=waypoint,source=transit,x=60,y=-40,active=false"));
+    ck_assert_int_eq(find("transit")->state, KELP_BHV_RUNNING);
+    ht_iter(5);
+    ck_assert_int_eq(find("transit")->state, KELP_BHV_COMPLETED);
+}
+END_TEST
+
+/* The Alder mission (seed 5.3) against a kinematic vehicle that turns and changes speed
+ * instantly: reaches (60,-40) within 8 m, RETURN=true, returns within 8 m of (0,0). */
+START_TEST(alder_mission_flown)
+{
+    static const char *alder =
+        "initialize  DEPLOY = false\ninitialize  RETURN = false\n"
+        "Behavior = BHV_SimpleWaypoint\n{\n name = transit_to_point\n pwt = 100\n condition = RETURN = false\n"
+        " condition = DEPLOY = true\n endflag = RETURN = true\n speed = 2.0\n radius = 8.0\n ptx = 60\n pty = -40\n"
+        " ipf_type = zaic\n}\n"
+        "Behavior = BHV_SimpleWaypoint\n{\n name = waypt_return\n pwt = 100\n condition = RETURN = true\n"
+        " condition = DEPLOY = true\n speed = 2.0\n radius = 8.0\n ptx = 0\n pty = 0\n ipf_type = reflector\n}\n";
+    kelp_helm *h = ht_setup(DOM2, NULL);
+    ht_load(alder);
+    double x = 0, y = 0, dt = 0.25, closest = 1e9, t_return = -1;
+    kelp_helm_mail_string(h, "DEPLOY", "true");
+    int i;
+    for (i = 0; i < 2000; i++) {
+        nav(x, y);
+        if (t_return < 0)
+            closest = fmin(closest, hypot(x - 60, y + 40));
+        ht_iter(i * dt);
+        if (t_return < 0 && ht_has_str("RETURN", "true"))
+            t_return = i * dt;
+        if (find("waypt_return")->state == KELP_BHV_COMPLETED)
+            break;
+        double hd = ht_num("DESIRED_HEADING") / 57.29577951308232, sp = ht_num("DESIRED_SPEED");
+        x += sp * dt * sin(hd);
+        y += sp * dt * cos(hd);
+    }
+    ck_assert_msg(closest <= 8.0, "closest approach to (60,-40): %g", closest);
+    ck_assert_msg(t_return > 30 && t_return < 40, "RETURN at %g s (72 m at 2 m/s is 36 s)", t_return);
+    ck_assert_int_eq(find("transit_to_point")->state, KELP_BHV_COMPLETED);
+    ck_assert_int_eq(find("waypt_return")->state, KELP_BHV_COMPLETED);
+    ck_assert_msg(hypot(x, y) <= 8.0, "final (%g,%g)", x, y);
+    ck_assert_msg(i * dt < 80, "took %g s", i * dt);
+    ht_iter(i * dt + dt);
+    ck_assert_str_eq(h->rep.allstop, "NothingToDo");
+    ck_assert(ht_num("DESIRED_SPEED") == 0);
+}
+END_TEST
+
+/* ---------------------------------------------------------------- points */
+
+typedef struct pts_case {
+    const char *s;
+    int n;        /* <0: error */
+    double x0, y0, xl, yl;
+} pts_case;
+
+static const pts_case g_pts[] = {
+    {"60,-40:60,-100:150,-100", 3, 60, -40, 150, -100},
+    {"pts={0,0:10,0}", 2, 0, 0, 10, 0},
+    {"{1,2:3,4}", 2, 1, 2, 3, 4},
+    {"(50,50)", 1, 50, 50, 50, 50},
+    {"0,0", 1, 0, 0, 0, 0},
+    {"x=5,y=6", 1, 5, 6, 5, 6},
+    {"format=radial, x=0, y=0, radius=10, pts=4", 4, 0, 10, -10, 0},
+    {"radial:: x=100, y=-50, radius=20, pts=8", 8, 100, -30, 100 - 20 * 0.70710678, -50 + 20 * 0.70710678},
+    {"format=radial, x=0, y=0, radius=10, pts=6, snap=1", 6, 0, 10, -9, 5},
+    {"", -1, 0, 0, 0, 0},
+    {"1,2,3", -1, 0, 0, 0, 0},
+    {"a,b", -1, 0, 0, 0, 0},
+    {"1,2:", -1, 0, 0, 0, 0},
+    {"format=ellipse, x=0, y=0, radius=10, pts=4", -1, 0, 0, 0, 0},
+    {"format=radial, x=0, y=0, radius=-1, pts=4", -1, 0, 0, 0, 0},
+    {"format=radial, x=0, radius=5, pts=4", -1, 0, 0, 0, 0},
+    {"format=radial, x=0, y=0, radius=5, pts=2", -1, 0, 0, 0, 0},
+    {"x=5", -1, 0, 0, 0, 0},
+};
+
+START_TEST(points_formats)
+{
+    const pts_case *c = &g_pts[_i];
+    kelp_bhv_pt p[KELP_HELM_MAX_PTS];
+    unsigned n = 0;
+    int rc = kelp_helm_parse_points(c->s, p, KELP_HELM_MAX_PTS, &n);
+    if (c->n < 0) {
+        ck_assert_msg(rc < 0, "'%s' accepted", c->s);
+        return;
+    }
+    ck_assert_msg(rc == 0, "'%s' rejected (%d)", c->s, rc);
+    ck_assert_int_eq((int)n, c->n);
+    ck_assert_msg(fabs(p[0].x - c->x0) < 1e-6 && fabs(p[0].y - c->y0) < 1e-6, "first (%g,%g)", p[0].x, p[0].y);
+    ck_assert_msg(fabs(p[n - 1].x - c->xl) < 1e-6 && fabs(p[n - 1].y - c->yl) < 1e-6, "last (%g,%g)", p[n - 1].x,
+                  p[n - 1].y);
+}
+END_TEST
+
+START_TEST(number_text)
+{
+    char b[40];
+    hx_fmt_double(b, sizeof b, 123.456);
+    ck_assert_str_eq(b, "123.456");
+    hx_fmt_double(b, sizeof b, -0.0000001);
+    ck_assert_str_eq(b, "0");
+    hx_fmt_double(b, sizeof b, -40);
+    ck_assert_str_eq(b, "-40");
+    hx_fmt_double(b, sizeof b, 0.1 + 0.2);
+    ck_assert_str_eq(b, "0.3");
+    hx_fmt_double(b, sizeof b, 2.5e13);
+    ck_assert_str_eq(b, "2.5e+13");
+    hx_fmt_fixed(b, sizeof b, 9.456, 2);
+    ck_assert_str_eq(b, "9.46");
+    hx_fmt_fixed(b, sizeof b, -1, 0);
+    ck_assert_str_eq(b, "-1");
+    hx_fmt_fixed(b, sizeof b, 124, 2);
+    ck_assert_str_eq(b, "124.00");
+    hx_fmt_ulong(b, sizeof b, 4294967295ul);
+    ck_assert_str_eq(b, "4294967295");
+    ck_assert_uint_eq(hx_cat(b, 6, "abc", "def", HX_END), 5);
+    ck_assert_str_eq(b, "abcde");
+}
+END_TEST
+
+START_TEST(points_capacity)
+{
+    kelp_bhv_pt p[2];
+    unsigned n;
+    ck_assert_int_eq(kelp_helm_parse_points("0,0:1,1:2,2", p, 2, &n), KELP_ERR_NOSPACE);
+}
+END_TEST
+
+/* ---------------------------------------------------------------- Waypoint */
+
+START_TEST(waypoint_sequence_flags_end)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = survey\n speed = 1.0\n capture_radius = 2\n slip_radius = 0\n"
+            " points = 0,10:10,10\n wptflag = HIT = 1\n endflag = DONE = true\n}\n");
+    nav(0, 0);
+    ht_iter(0);
+    ck_assert(ht_num("WPT_INDEX") == 0);
+    ck_assert(ht_num("DESIRED_HEADING") == 0 && ht_num("DESIRED_SPEED") == 1);
+    ck_assert(ht_has_str("WPT_STAT", "vname=alder,behavior-name=survey,index=0,hits=0/0,cycles=0,dist=10,eta=10"));
+    ck_assert(ht_has_str("VIEW_SEGLIST", "pts={0,10:10,10},label=survey,active=true"));
+    nav(0, 8.5);
+    ht_iter(1); /* 1.5 m: captured, next point (10,10) */
+    ck_assert(ht_num("HIT") == 1);
+    ck_assert(ht_num("WPT_INDEX") == 1);
+    ck_assert(ht_num("DESIRED_HEADING") == 81); /* relAng((0,8.5),(10,10)) = 81.47 */
+    nav(9, 10.5);
+    ht_iter(2);
+    ck_assert(ht_has_str("DONE", "true"));
+    ck_assert_uint_eq(ht_count("HIT"), 1);
+    ht_iter(3);
+    ck_assert_int_eq(find("survey")->state, KELP_BHV_COMPLETED);
+}
+END_TEST
+
+START_TEST(waypoint_repeat_and_order)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = w\n speed = 1\n radius = 1\n points = 0,10:0,20\n repeat = 1\n"
+            " order = reverse\n cycleflag = LAP = 1\n endflag = DONE = 1\n}\n");
+    nav(0, 0);
+    ht_iter(0);
+    ck_assert(ht_num("DESIRED_HEADING") == 0);
+    ck_assert(ht_has_str("VIEW_SEGLIST", "pts={0,20:0,10},label=w,active=true")); /* reversed */
+    nav(0, 20);
+    ht_iter(1);
+    ck_assert(ht_num("WPT_INDEX") == 1);
+    ck_assert(ht_num("DESIRED_HEADING") == 180);
+    nav(0, 10);
+    ht_iter(2); /* end of the first pass: repeat once */
+    ck_assert(ht_num("LAP") == 1);
+    ck_assert(ht_num("CYCLE_INDEX") == 1 && ht_num("WPT_INDEX") == 0);
+    ck_assert_uint_eq(ht_count("DONE"), 0);
+    nav(0, 20);
+    ht_iter(3);
+    nav(0, 10);
+    ht_iter(4);
+    ck_assert(ht_num("DONE") == 1 && ht_num("LAP") == 1);
+    ht_iter(5);
+    ck_assert_int_eq(find("w")->state, KELP_BHV_COMPLETED);
+}
+END_TEST
+
+START_TEST(waypoint_slip_radius)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = w\n speed = 1\n capture_radius = 1\n slip_radius = 5\n points = 0,10:0,50\n}\n");
+    nav(2, 0);
+    ht_iter(0);
+    nav(3, 7); /* 4.24 m */
+    ht_iter(1);
+    ck_assert_uint_eq(find("w")->u.wpt.index, 0);
+    nav(3.5, 8); /* 4.03 m, closer */
+    ht_iter(2);
+    ck_assert_uint_eq(find("w")->u.wpt.index, 0);
+    nav(4, 11); /* 4.12 m: inside slip radius and moving away: counts as arrived */
+    ht_iter(3);
+    ck_assert(ht_num("WPT_INDEX") == 1);
+    ck_assert_ptr_nonnull(strstr(ht_last("WPT_STAT")->sval, "hits=0/1"));
+}
+END_TEST
+
+START_TEST(waypoint_lead)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = w\n speed = 1\n points = 0,100\n lead = 10\n}\n");
+    nav(0, 0);
+    ht_iter(0); /* trackline (0,0) -> (0,100) */
+    nav(5, 20);
+    ht_iter(1); /* track point (0, 20 + 10): relAng((5,20),(0,30)) = 333.43 */
+    ck_assert_msg(ht_num("DESIRED_HEADING") == 333, "heading %g", ht_num("DESIRED_HEADING"));
+    ck_assert_int_eq(kelp_bhv_set_param(find("w"), "lead", "0"), 0);
+    nav(5, 21);
+    ht_iter(2); /* straight at (0,100): 356.4 */
+    ck_assert(ht_num("DESIRED_HEADING") == 356);
+}
+END_TEST
+
+START_TEST(waypoint_updates_points)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = WAYPT_RETURN\n priority = 100\n speed = 2.0\n radius = 8.0\n"
+            " points = 0,0\n UPDATES = RETURN_UPDATES\n condition = RETURN = true\n condition = DEPLOY = true\n}\n");
+    nav(0, -100);
+    kelp_helm_mail_string(ht_helm(), "RETURN", "true");
+    kelp_helm_mail_string(ht_helm(), "DEPLOY", "true");
+    ht_iter(0);
+    ck_assert(ht_num("DESIRED_HEADING") == 0);
+    /* Listing 6's poke: both parameters change in the same iteration */
+    kelp_helm_mail_string(ht_helm(), "RETURN_UPDATES", "points = (50,50) # speed = 1.5");
+    ht_iter(1);
+    kelp_bhv *b = find("WAYPT_RETURN");
+    ck_assert(b->u.wpt.npts == 1 && b->u.wpt.pts[0].x == 50 && b->u.wpt.pts[0].y == 50);
+    ck_assert(b->u.wpt.speed == 1.5);
+    ck_assert(ht_num("DESIRED_HEADING") == 18); /* relAng((0,-100),(50,50)) = 18.43 */
+}
+END_TEST
+
+/* ---------------------------------------------------------------- Loiter */
+
+START_TEST(loiter_acquire_then_loiter)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Loiter\n{\n name = loiter\n speed = 1.5\n clockwise = true\n"
+            " polygon = format=radial, x=0, y=0, radius=10, pts=4\n}\n");
+    kelp_bhv *b = find("loiter");
+    ck_assert_uint_eq(b->u.loiter.npts, 4);
+    ck_assert(fabs(b->u.loiter.pts[1].x - 10) < 1e-9); /* N, E, S, W: clockwise already */
+    nav(0, 100);
+    ht_iter(0);
+    ck_assert(ht_num("LOITER_ACQUIRE") == 1);
+    ck_assert(ht_num("LOITER_INDEX") == 0); /* nearest vertex (0,10) */
+    ck_assert(ht_num("DESIRED_HEADING") == 180);
+    ck_assert(fabs(ht_num("DESIRED_SPEED") - 1.6) < 1e-9 || fabs(ht_num("DESIRED_SPEED") - 1.4) < 1e-9);
+    ck_assert(ht_has_str("VIEW_POLYGON", "pts={0,10:10,0:0,-10:-10,0},label=loiter,active=true"));
+    nav(0, 9);
+    ht_iter(1); /* vertex captured (1 m), inside: loitering, next vertex (10,0) */
+    ck_assert(ht_num("LOITER_ACQUIRE") == 0);
+    ck_assert(ht_num("LOITER_INDEX") == 1);
+    ck_assert(ht_num("DESIRED_HEADING") == 132); /* relAng((0,9),(10,0)) = 131.99 */
+    nav(9, 0);
+    ht_iter(2);
+    ck_assert(ht_num("LOITER_INDEX") == 2);
+    ck_assert(ht_num("DESIRED_HEADING") == 222); /* relAng((9,0),(0,-10)) = 221.99 */
+}
+END_TEST
+
+START_TEST(loiter_counter_clockwise)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Loiter\n{\n name = l\n speed = 1\n clockwise = false\n polygon = 0,10:10,0:0,-10:-10,0\n}\n");
+    kelp_bhv *b = find("l");
+    ck_assert(b->u.loiter.pts[0].x == -10 && b->u.loiter.pts[1].y == -10); /* reversed: W, S, E, N */
+    nav(0, 9);
+    ht_iter(0);
+    ck_assert(ht_num("LOITER_INDEX") == 0); /* N captured at once; after N comes W when counter-clockwise */
+    ht_iter(1);
+    ck_assert_uint_eq(b->u.loiter.index, 0);
+    ck_assert(ht_num("DESIRED_HEADING") == 228); /* relAng((0,9),(-10,0)) = 228.0 */
+    ck_assert_int_lt(ht_load_rc("Behavior = BHV_Loiter\n{\n polygon = 0,0:1,1\n}\n"), 0); /* < 3 vertices */
+}
+END_TEST
+
+/* ---------------------------------------------------------------- constant behaviours */
+
+START_TEST(constant_depth_speed_heading)
+{
+    ht_setup(DOM2 ",depth:0:100:101", NULL);
+    ht_load("Behavior = BHV_ConstantDepth\n{\n name = cd\n depth = 20\n}\n"
+            "Behavior = BHV_ConstantSpeed\n{\n name = cs\n speed = 1.2\n}\n"
+            "Behavior = BHV_ConstantHeading\n{\n name = ch\n heading = 270\n}\n");
+    kelp_bhv *b = find("cd");
+    ck_assert(b->u.c1.peakwidth == 3 && b->u.c1.basewidth == 100 && b->u.c1.summitdelta == 50);
+    ht_iter(0);
+    ck_assert_str_eq(ht_helm()->rep.allstop, "clear");
+    ck_assert(ht_num("DESIRED_DEPTH") == 20);
+    ck_assert(fabs(ht_num("DESIRED_SPEED") - 1.2) < 1e-9);
+    ck_assert(ht_num("DESIRED_HEADING") == 270);
+    kelp_helm_mail_string(ht_helm(), "X", "y");
+    ck_assert_int_eq(kelp_bhv_set_param(b, "depth", "55"), 0);
+    ht_iter(1);
+    ck_assert(ht_num("DESIRED_DEPTH") == 55);
+    ck_assert_int_eq(kelp_bhv_set_param(b, "depth", "-3"), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_bhv_set_param(b, "peakwidth", "abc"), KELP_ERR_PARSE);
+}
+END_TEST
+
+START_TEST(constant_depth_needs_depth)
+{
+    ht_setup(DOM2 ",depth:0:100:101", NULL);
+    ck_assert_int_lt(ht_load_rc("Behavior = BHV_ConstantDepth\n{\n name = cd\n}\n"), 0);
+    ck_assert_ptr_nonnull(strstr(ht_helm()->err, "depth not set"));
+    ht_setup(DOM2, NULL); /* no depth variable: null domain */
+    ck_assert_int_lt(ht_load_rc("Behavior = BHV_ConstantDepth\n{\n depth = 5\n}\n"), 0);
+}
+END_TEST
+
+START_TEST(priority_weights_trade_off)
+{
+    /* two constant-heading behaviours: the heavier one wins */
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_ConstantHeading\n{\n name = a\n heading = 90\n pwt = 100\n basewidth = 90\n}\n"
+            "Behavior = BHV_ConstantHeading\n{\n name = b\n heading = 180\n pwt = 300\n basewidth = 90\n}\n"
+            "Behavior = BHV_ConstantSpeed\n{\n name = s\n speed = 1\n}\n");
+    ht_iter(0);
+    ck_assert(ht_num("DESIRED_HEADING") == 180);
+    ck_assert_int_eq(kelp_bhv_set_param(find("a"), "pwt", "500"), 0);
+    ht_iter(1);
+    ck_assert(ht_num("DESIRED_HEADING") == 90);
+    ck_assert_int_eq(kelp_bhv_set_param(find("a"), "pwt", "0"), 0); /* weight 0: no function */
+    ht_iter(2);
+    ck_assert(ht_num("DESIRED_HEADING") == 180);
+    ck_assert_int_eq(find("a")->state, KELP_BHV_RUNNING);
+}
+END_TEST
+
+Suite *kelp_bhv_suite(void);
+Suite *kelp_bhv_suite(void)
+{
+    Suite *s = suite_create("bhv");
+    TCase *tc = tcase_create("behaviours");
+    tcase_set_timeout(tc, 30);
+    tcase_add_test(tc, relang_examples);
+    tcase_add_test(tc, swpt_zaic_pieces_figure5);
+    tcase_add_test(tc, swpt_reflector_aof_values);
+    tcase_add_test(tc, swpt_reflector_function);
+    tcase_add_test(tc, swpt_no_nav_warning);
+    tcase_add_test(tc, swpt_view_point_and_arrival);
+    tcase_add_test(tc, alder_mission_flown);
+    tcase_add_loop_test(tc, points_formats, 0, (int)(sizeof g_pts / sizeof g_pts[0]));
+    tcase_add_test(tc, points_capacity);
+    tcase_add_test(tc, number_text);
+    tcase_add_test(tc, waypoint_sequence_flags_end);
+    tcase_add_test(tc, waypoint_repeat_and_order);
+    tcase_add_test(tc, waypoint_slip_radius);
+    tcase_add_test(tc, waypoint_lead);
+    tcase_add_test(tc, waypoint_updates_points);
+    tcase_add_test(tc, loiter_acquire_then_loiter);
+    tcase_add_test(tc, loiter_counter_clockwise);
+    tcase_add_test(tc, constant_depth_speed_heading);
+    tcase_add_test(tc, constant_depth_needs_depth);
+    tcase_add_test(tc, priority_weights_trade_off);
+    suite_add_tcase(s, tc);
+    return s;
+}
