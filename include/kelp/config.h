@@ -212,3 +212,30 @@ _Static_assert(KELP_MAX_MSIM_ARRIVALS >= 4, "KELP_MAX_MSIM_ARRIVALS too small");
 _Static_assert(KELP_MAX_MSIM_TXQ >= 4, "KELP_MAX_MSIM_TXQ too small");
 
 #endif
+/* ---- acomms glue, links, pAcommsHandler, kelp-acomms-replay (branch acomms2) ---- */
+#ifndef KELP_ACOMMS_MAX_TEXT
+#define KELP_ACOMMS_MAX_TEXT 256    /**< bytes of a configured string (initializer sval, passphrase) */
+#endif
+#ifndef KELP_ACOMMS_MAX_PATH
+#define KELP_ACOMMS_MAX_PATH 256    /**< bytes of a configured path (message file, serial port, host) */
+#endif
+#ifndef KELP_ACOMMS_MAX_INIT
+#define KELP_ACOMMS_MAX_INIT 32     /**< common.initializer entries */
+#endif
+#ifndef KELP_ACOMMS_MAX_CCL
+#define KELP_ACOMMS_MAX_CCL 16      /**< queue_cfg.queue (CCL) entries */
+#endif
+#ifndef KELP_ACOMMS_MAX_FILES
+#define KELP_ACOMMS_MAX_FILES 16    /**< DCCL message files (queue_cfg + dccl_cfg, merged) */
+#endif
+#ifndef KELP_ACOMMS_MAX_QUEUES
+#define KELP_ACOMMS_MAX_QUEUES 64   /**< queues of one node (DCCL messages + CCL queues) */
+#endif
+#ifndef KELP_ACOMMS_MAX_POOL
+#define KELP_ACOMMS_MAX_POOL 512    /**< messages held over all queues of one node */
+#endif
+#ifndef KELP_ACOMMS_MAX_PRINT
+#define KELP_ACOMMS_MAX_PRINT 4096  /**< bytes of one TextFormat ACOMMS_* string, with NUL */
+#endif
+_Static_assert(KELP_ACOMMS_MAX_PRINT >= 6 * KELP_MAX_ACOMMS_FRAME, "KELP_ACOMMS_MAX_PRINT must hold an ack of a full frame");
+_Static_assert(KELP_ACOMMS_MAX_QUEUES >= 2 && KELP_ACOMMS_MAX_POOL >= 8, "acomms node storage too small");

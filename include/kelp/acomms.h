@@ -1,0 +1,423 @@
+/* kelp acomms: the glue of the Goby 1.1 acoustic stack (what pAcommsHandler is made of).
+ *
+ *  1. DCCL glue (edge, libkelp.a): message files, crypto, algorithms, src_var/trigger_var
+ *     sourcing, encode and decode-and-publish, behind an opaque handle with plain types only.
+ *  2. Protobuf TextFormat (core): the ACOMMS_* variable strings (ModemDataTransmission,
+ *     ModemDataAck, ModemDataExpire, QueueSize, ModemRangingReply, ModemRangingRequest,
+ *     MACUpdate) printed and parsed as Goby's serialize_for_moos / parse_for_moos do.
+ *  3. The node (core): one vehicle's queue manager + TDMA MAC + modem driver wired together
+ *     (Goby's pAcommsHandler signal connections), time as an argument, every event reported
+ *     through one callback.
+ *  4. Configuration (edge): the pAcommsHandler ProcessConfig block (seed 002 section 2.3.5).
+ *
+ * Part 1 needs no other kelp header, so a translation unit that includes <kelp/dccl.h> (whose
+ * kelp_dccl_header clashes with the one in <kelp/queue.h>) defines KELP_ACOMMS_DCCL_ONLY
+ * before including this header and sees part 1 only.
+ */
+#ifndef KELP_ACOMMS_H
+#define KELP_ACOMMS_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <kelp/config.h>
+#include <kelp/err.h>
+
+/* ================================================================== 1. DCCL glue (edge) */
+
+/** message_file manipulators (bit set). */
+#define KELP_ACOMMS_MANIP_NO_ENCODE 0x01u
+#define KELP_ACOMMS_MANIP_NO_DECODE 0x02u
+#define KELP_ACOMMS_MANIP_NO_QUEUE 0x04u
+#define KELP_ACOMMS_MANIP_LOOPBACK 0x08u
+#define KELP_ACOMMS_MANIP_ON_DEMAND 0x10u
+#define KELP_ACOMMS_MANIP_TCP_SHARE_IN 0x20u
+
+/** Bit for a manipulator name ("NO_ENCODE", ...); NO_MANIP gives 0; -1 if unknown. */
+long kelp_acomms_manip_from_name(const char *name, size_t len);
+
+typedef struct kelp_acomms_dccl kelp_acomms_dccl;
+
+typedef struct kelp_acomms_dccl_cfg {
+    unsigned modem_id;
+    const char *passphrase;       /**< NULL = "" (Goby encrypts with SHA-256("") then) */
+    bool plaintext;               /**< true: no crypto at all (NOT Goby-compatible; tests only) */
+    const char *lookup_path;      /**< modem_id lookup file, NULL/"" = none */
+    bool have_origin;
+    double lat_origin, lon_origin;
+    const char *const *files;     /**< XML message files */
+    const unsigned *manips;       /**< manipulator bits per file (may be NULL) */
+    size_t nfiles;
+} kelp_acomms_dccl_cfg;
+
+/** What the handler needs to know about one message. Strings live as long as the handle. */
+typedef struct kelp_acomms_dccl_info {
+    const char *name;
+    unsigned id;
+    unsigned size;
+    int trigger;                  /**< 0 none, 1 publish, 2 time */
+    const char *trigger_var;      /**< may be NULL */
+    const char *mandatory;        /**< trigger_var mandatory_content, may be NULL */
+    double trigger_time;
+    const char *in_var, *out_var; /**< IN_/OUT_<NAME>_HEX_<size>B unless set in the XML */
+    unsigned manip;               /**< KELP_ACOMMS_MANIP_* of its file */
+    bool ack;                     /**< <queuing> (libqueue defaults when absent) */
+    double blackout_time;
+    uint32_t max_queue;
+    bool newest_first;
+    double value_base;
+    double ttl;
+} kelp_acomms_dccl_info;
+
+/** Load the message files (every file once, manipulators of repeated paths merged), set up
+ *  algorithms (lat/lon origin, lookup file) and crypto.  NULL with err on failure. */
+kelp_acomms_dccl *kelp_acomms_dccl_open(const kelp_acomms_dccl_cfg *cfg, char *err, size_t errcap);
+void kelp_acomms_dccl_close(kelp_acomms_dccl *d);
+
+size_t kelp_acomms_dccl_count(const kelp_acomms_dccl *d);
+KELP_MUST_CHECK int kelp_acomms_dccl_info_get(const kelp_acomms_dccl *d, size_t i, kelp_acomms_dccl_info *out);
+/** Index of a message by DCCL id / by name, or -1. */
+long kelp_acomms_dccl_find_id(const kelp_acomms_dccl *d, unsigned id);
+long kelp_acomms_dccl_find_name(const kelp_acomms_dccl *d, const char *name);
+
+/** The bus variables the messages read (src_vars and trigger_vars), each once. */
+size_t kelp_acomms_dccl_nvars(const kelp_acomms_dccl *d);
+const char *kelp_acomms_dccl_var_name(const kelp_acomms_dccl *d, size_t i);
+/** Remember the newest value of a bus variable (ignored unless a message reads it). */
+void kelp_acomms_dccl_set_var(kelp_acomms_dccl *d, const char *name, bool is_double, double dval, const char *sval);
+/** Messages (indices) a write of this variable triggers (publish trigger, mandatory content,
+ *  not NO_ENCODE).  Call after kelp_acomms_dccl_set_var().  @return the count (<= cap). */
+size_t kelp_acomms_dccl_triggered(const kelp_acomms_dccl *d, const char *name, size_t *idx, size_t cap);
+/** Start the time-trigger clocks (trigger_time periods count from `now`). */
+void kelp_acomms_dccl_start(kelp_acomms_dccl *d, double now);
+/** Time-triggered messages due at `now` (each firing counted once). */
+size_t kelp_acomms_dccl_due(kelp_acomms_dccl *d, double now, size_t *idx, size_t cap);
+
+/** Encode message i from the remembered variables at `now` (UNIX seconds).
+ *  @return 0, or <0 with *why set. */
+KELP_MUST_CHECK int kelp_acomms_dccl_encode_vars(kelp_acomms_dccl *d, size_t i, double now, uint8_t *out, size_t cap,
+                                                 size_t *len, const char **why);
+/** Encode message i from one "field=value,field=value" string that every field reads
+ *  (header fields by their <name>, e.g. Destination=3). */
+KELP_MUST_CHECK int kelp_acomms_dccl_encode_string(kelp_acomms_dccl *d, size_t i, const char *kv, double now,
+                                                   uint8_t *out, size_t cap, size_t *len, const char **why);
+
+typedef void (*kelp_acomms_pub_fn)(const char *var, bool is_double, double dval, const char *sval, void *user);
+/** Decode one (unstitched, flags cleared) DCCL message and run its <publish> blocks, calling
+ *  fn for each publication.  NO_DECODE messages give KELP_ERR_STATE.
+ *  @return 0, or <0 with *why (unknown id, bad bytes). */
+KELP_MUST_CHECK int kelp_acomms_dccl_decode(kelp_acomms_dccl *d, const uint8_t *in, size_t n, double now,
+                                            kelp_acomms_pub_fn fn, void *user, const char **why);
+/** "Name: field=value,field=value" of a message (every header and layout field). */
+KELP_MUST_CHECK int kelp_acomms_dccl_describe(kelp_acomms_dccl *d, const uint8_t *in, size_t n, double now, char *buf,
+                                              size_t cap);
+
+#ifndef KELP_ACOMMS_DCCL_ONLY
+
+#include <kelp/mac.h>
+#include <kelp/mmdriver.h>
+#include <kelp/queue.h>
+
+/* ================================================================== 2. TextFormat (core) */
+
+/** boost ptime text of a UNIX time: "2011-Jan-22 12:08:06.887950" ("2002-Jan-01 14:23:11"
+ *  when the microseconds are 0).  @return 0 or KELP_ERR_NOSPACE. */
+KELP_MUST_CHECK int kelp_acomms_time_text(int64_t unix_us, char *buf, size_t cap);
+
+/** ModemDataTransmission:
+ *  `base { src: 1 dest: 2 time: "..." } ack_requested: true data: "\002..." frame: 0
+ *   queue_key { type: QUEUE_CCL id: 2 }` (queue_key only when key.type != 0).
+ *  @return 0 or KELP_ERR_NOSPACE (output cut, NUL-terminated). */
+KELP_MUST_CHECK int kelp_acomms_print_data(const kelp_acomms_msg *m, char *buf, size_t cap, size_t *len);
+/** ModemDataAck: `base { src: S dest: D time: ".." } frame: F orig_msg { ... }`. */
+KELP_MUST_CHECK int kelp_acomms_print_ack(int src, int dest, uint32_t frame, int64_t time_us, const kelp_acomms_msg *orig,
+                                          char *buf, size_t cap, size_t *len);
+/** ModemDataExpire: `orig_msg { ... }`. */
+KELP_MUST_CHECK int kelp_acomms_print_expire(const kelp_acomms_msg *orig, char *buf, size_t cap, size_t *len);
+/** QueueSize: `key { type: QUEUE_DCCL id: 1 } size: 3`. */
+KELP_MUST_CHECK int kelp_acomms_print_qsize(kelp_queue_key key, uint32_t size, char *buf, size_t cap, size_t *len);
+/** ModemRangingReply: `base { src: S dest: D time: ".." } one_way_travel_time: 0.0101 ...
+ *  type: MODEM_TWO_WAY_PING` (NaN travel times print as "nan"). */
+KELP_MUST_CHECK int kelp_acomms_print_range(int src, int dest, int64_t time_us, kelp_ranging_type type, const double *tt,
+                                            unsigned n_tt, char *buf, size_t cap, size_t *len);
+
+/** ModemRangingRequest (ACOMMS_RANGE_COMMAND). */
+typedef struct kelp_acomms_range_req {
+    int src, dest;
+    kelp_ranging_type type;       /**< default MODEM_TWO_WAY_PING */
+    unsigned max_range;           /**< default 1000 m */
+    unsigned enable_beacons;      /**< default 15 */
+} kelp_acomms_range_req;
+
+/** MACUpdate (ACOMMS_MAC_CYCLE_UPDATE). */
+typedef struct kelp_acomms_mac_update {
+    int dest;
+    bool has_dest;
+    kelp_mac_update_type type;    /**< default REPLACE */
+    kelp_mac_slot slot[KELP_MAX_MAC_SLOTS];
+    size_t nslots;
+} kelp_acomms_mac_update;
+
+/** Parse a ModemDataTransmission (CCL out var, IN_ hex var).  Unknown fields, bad values and
+ *  data longer than KELP_MAX_ACOMMS_FRAME are errors.  @return 0 or KELP_ERR_PARSE /
+ *  KELP_ERR_NOSPACE with *why. */
+KELP_MUST_CHECK int kelp_acomms_parse_data(const char *text, size_t len, kelp_acomms_msg *out, const char **why);
+KELP_MUST_CHECK int kelp_acomms_parse_range_req(const char *text, size_t len, kelp_acomms_range_req *out, const char **why);
+/** dest is required; slot fields default as Slot does (dest -1, rate 0, SLOT_DATA). */
+KELP_MUST_CHECK int kelp_acomms_parse_mac_update(const char *text, size_t len, kelp_acomms_mac_update *out,
+                                                 const char **why);
+
+/* ================================================================== 3. the node (core) */
+
+typedef enum kelp_acomms_driver_type {
+    KELP_ACOMMS_DRIVER_NONE = 0,             /**< no modem */
+    KELP_ACOMMS_DRIVER_WHOI_MICROMODEM = 1
+} kelp_acomms_driver_type;
+
+typedef enum kelp_acomms_ev_kind {
+    KELP_ACOMMS_EV_QUEUE = 1,   /**< q: received piece, CCL frame, ack, expiry, queue size */
+    KELP_ACOMMS_EV_DRIVER,      /**< mm: NMEA in/out, range, cycle, errors, retries, dead */
+    KELP_ACOMMS_EV_SLOT,        /**< slot: a MAC slot of ours started */
+    KELP_ACOMMS_EV_FRAME_OUT,   /**< req + frame: the queue answered a data request */
+    KELP_ACOMMS_EV_LOOPBACK     /**< frame: DRIVER_NONE's ideal channel delivered/acked a frame */
+} kelp_acomms_ev_kind;
+
+typedef struct kelp_acomms_event {
+    kelp_acomms_ev_kind kind;
+    int64_t time_us;
+    const kelp_queue_event *q;
+    const kelp_mm_event *mm;
+    const kelp_mac_action *slot;
+    const kelp_queue_request *req;
+    const kelp_acomms_msg *frame;
+} kelp_acomms_event;
+
+typedef struct kelp_acomms_node_ops {
+    /** Bytes for the modem link (WHOI driver). */
+    void (*write)(const char *bytes, size_t len, void *user);
+    void (*event)(const kelp_acomms_event *ev, void *user);
+    /** ON_DEMAND queues: fill a message for `key` now (may be NULL). */
+    kelp_queue_on_demand_fn on_demand;
+} kelp_acomms_node_ops;
+
+typedef struct kelp_acomms_node_cfg {
+    int modem_id;                 /**< 1..31 */
+    kelp_acomms_driver_type driver;
+    kelp_mm_cfg mm;               /**< WHOI driver configuration (modem_id is forced) */
+    kelp_mac_cfg mac;             /**< modem_id is forced */
+    /** DRIVER_NONE only: an ideal in-process channel.  At our MAC data slots the frames the
+     *  queue hands out are delivered back to our receive path (which keeps the broadcast pieces),
+     *  and every frame that asked for an ack is acknowledged as if its destination answered. */
+    bool loopback_channel;
+} kelp_acomms_node_cfg;
+
+typedef struct kelp_acomms_node_counters {
+    uint32_t slots, transmissions, ranging, frames_out, blank_frames, frames_in, acks, loopback_delivered,
+        loopback_acked, driver_restarts, slots_skipped;
+} kelp_acomms_node_counters;
+
+typedef struct kelp_acomms_node {
+    /* private */
+    int modem_id;
+    kelp_acomms_driver_type driver;
+    bool loopback;
+    bool started;
+    bool link_up;                 /**< WHOI: false while the link is down (no cycles, no driver ticks) */
+    kelp_queue_mgr q;
+    kelp_mac mac;
+    kelp_mm mm;
+    kelp_acomms_node_ops ops;
+    void *user;
+    int64_t now_us;               /**< time of the call in progress (for callbacks) */
+    kelp_acomms_msg scratch;
+    kelp_acomms_node_counters count;
+    const char *errmsg;
+} kelp_acomms_node;
+
+void kelp_acomms_node_cfg_default(kelp_acomms_node_cfg *cfg);
+
+/** Set up over caller storage for queues and queued messages.  KELP_ERR_ARG for a modem id
+ *  outside 1..31 (0 is broadcast) or a bad driver configuration. */
+KELP_MUST_CHECK int kelp_acomms_node_init(kelp_acomms_node *n, const kelp_acomms_node_cfg *cfg, kelp_queue *queues,
+                                          size_t cap_queues, kelp_queue_entry *pool, size_t cap_pool,
+                                          const kelp_acomms_node_ops *ops, void *user);
+/** Add a queue (before or after start). */
+KELP_MUST_CHECK int kelp_acomms_node_add_queue(kelp_acomms_node *n, const kelp_queue_cfg *cfg, int64_t now_us);
+/** Start the MAC and (WHOI) the driver's start-up sequence. */
+KELP_MUST_CHECK int kelp_acomms_node_start(kelp_acomms_node *n, int64_t now_us);
+/** The link came back: run the driver's start-up sequence again (queued messages are kept). */
+KELP_MUST_CHECK int kelp_acomms_node_restart_driver(kelp_acomms_node *n, int64_t now_us);
+/** WHOI: tell the node whether the modem link is up.  While it is down (or the driver is dead)
+ *  MAC slots are reported but start no cycle -- so no queued message is handed to a modem that
+ *  cannot send it -- and the driver is not ticked.  Default: up. */
+void kelp_acomms_node_set_link_up(kelp_acomms_node *n, bool up);
+/** Periodic work: queue expiry, MAC slots, driver timers.  @return 0, or KELP_ERR_TIMEOUT when
+ *  the modem has stopped answering (reconnect, then kelp_acomms_node_restart_driver). */
+KELP_MUST_CHECK int kelp_acomms_node_tick(kelp_acomms_node *n, int64_t now_us);
+/** Bytes read from the modem link. */
+KELP_MUST_CHECK int kelp_acomms_node_feed(kelp_acomms_node *n, const uint8_t *bytes, size_t len, int64_t now_us);
+/** Queue a message (see kelp_queue_push). */
+KELP_MUST_CHECK int kelp_acomms_node_push(kelp_acomms_node *n, const kelp_acomms_msg *msg, int64_t now_us);
+/** Start a transmission as a MAC data slot would (src, dest -1 = ask the queue, rate 0..5). */
+KELP_MUST_CHECK int kelp_acomms_node_transmit(kelp_acomms_node *n, int src, int dest, unsigned rate, int64_t now_us);
+/** Ranging (ACOMMS_RANGE_COMMAND or a MAC ping slot).  KELP_ERR_STATE without a driver. */
+KELP_MUST_CHECK int kelp_acomms_node_range(kelp_acomms_node *n, const kelp_acomms_range_req *r, int64_t now_us);
+/** ACOMMS_MAC_CYCLE_UPDATE (see kelp_mac_update). */
+KELP_MUST_CHECK int kelp_acomms_node_mac_update(kelp_acomms_node *n, const kelp_acomms_mac_update *u, int64_t now_us);
+
+/* Direct access for replay tools (what the modem would cause): */
+/** A data request as the modem would make it; the FRAME_OUT event is emitted too. */
+KELP_MUST_CHECK int kelp_acomms_node_data_request(kelp_acomms_node *n, const kelp_queue_request *req, int64_t now_us,
+                                                  kelp_acomms_msg *out);
+/** A modem ack of `frame` from src (dest must be us).  @return messages acknowledged. */
+int kelp_acomms_node_ack(kelp_acomms_node *n, int src, int dest, uint32_t frame, int64_t now_us);
+/** A frame received from the modem. */
+int kelp_acomms_node_receive(kelp_acomms_node *n, const kelp_acomms_msg *frame, int64_t now_us);
+/** Modem `src` was heard (MAC auto-discovery). */
+void kelp_acomms_node_heard(kelp_acomms_node *n, int src, int64_t now_us);
+
+kelp_queue_mgr *kelp_acomms_node_queue(kelp_acomms_node *n);
+kelp_mac *kelp_acomms_node_mac(kelp_acomms_node *n);
+kelp_mm *kelp_acomms_node_driver(kelp_acomms_node *n);
+const kelp_acomms_node_counters *kelp_acomms_node_get_counters(const kelp_acomms_node *n);
+
+/* ================================================================== 4. configuration (edge) */
+
+#ifndef KELP_MISSION_H
+struct kelp_mission;
+#endif
+
+typedef enum kelp_acomms_connection {
+    KELP_ACOMMS_CONN_SERIAL = 0,
+    KELP_ACOMMS_CONN_TCP_AS_CLIENT = 1,
+    KELP_ACOMMS_CONN_TCP_AS_SERVER = 2,
+    KELP_ACOMMS_CONN_DUAL_UDP_BROADCAST = 3 /**< accepted, unimplemented (as Goby 1.1) */
+} kelp_acomms_connection;
+
+typedef struct kelp_acomms_initializer {
+    bool is_double;               /**< INI_DOUBLE, else INI_STRING */
+    char moos_var[KELP_MAX_NAME];
+    char global_cfg_var[KELP_MAX_NAME];
+    bool has_dval, has_sval;
+    double dval;
+    char sval[KELP_ACOMMS_MAX_TEXT];
+    int line;
+} kelp_acomms_initializer;
+
+typedef struct kelp_acomms_msgfile {
+    char path[KELP_ACOMMS_MAX_PATH];
+    unsigned manip;               /**< KELP_ACOMMS_MANIP_* */
+} kelp_acomms_msgfile;
+
+typedef struct kelp_acomms_ccl_queue {
+    kelp_queue_cfg cfg;           /**< cfg.name points at name below */
+    char name[KELP_MAX_NAME];
+    char in_var[KELP_MAX_NAME];   /**< published on receipt */
+    char out_var[KELP_MAX_NAME];  /**< subscribed: messages to queue */
+} kelp_acomms_ccl_queue;
+
+typedef enum kelp_acomms_verbosity {
+    KELP_ACOMMS_VERBOSITY_QUIET = 0,
+    KELP_ACOMMS_VERBOSITY_WARN,
+    KELP_ACOMMS_VERBOSITY_VERBOSE,
+    KELP_ACOMMS_VERBOSITY_DEBUG,
+    KELP_ACOMMS_VERBOSITY_GUI
+} kelp_acomms_verbosity;
+
+/** The pAcommsHandler configuration block, every field of seed 002 section 2.3.5. */
+typedef struct kelp_acomms_config {
+    /* common { } (global fallbacks: log, log_path, Community, LatOrigin, LongOrigin) */
+    bool log;
+    char log_path[KELP_ACOMMS_MAX_PATH];
+    char community[KELP_MAX_NAME];
+    bool has_lat_origin, has_lon_origin;
+    double lat_origin, lon_origin;
+    double app_tick, comm_tick;
+    kelp_acomms_verbosity verbosity;
+    kelp_acomms_initializer init[KELP_ACOMMS_MAX_INIT];
+    size_t n_init;
+    /* top level */
+    int modem_id;
+    kelp_acomms_driver_type driver_type;
+    /* driver_cfg { } */
+    kelp_acomms_connection connection;
+    char line_delimiter[8];
+    char serial_port[KELP_ACOMMS_MAX_PATH];
+    unsigned serial_baud;
+    char tcp_server[KELP_ACOMMS_MAX_PATH];
+    unsigned tcp_port;
+    bool reset_nvram;
+    char nvram[KELP_MAX_MM_NVRAM][KELP_MAX_MM_NVRAM_LEN];
+    size_t n_nvram;
+    int hydroid_gateway_id;
+    /* mac_cfg { } */
+    kelp_mac_type mac_type;
+    unsigned mac_rate, mac_slot_seconds, mac_expire_cycles;
+    kelp_mac_slot slots[KELP_MAX_MAC_SLOTS];
+    size_t nslots;
+    /* queue_cfg { } and dccl_cfg { } (message files merged, de-duplicated by path) */
+    kelp_acomms_ccl_queue ccl[KELP_ACOMMS_MAX_CCL];
+    size_t nccl;
+    kelp_acomms_msgfile files[KELP_ACOMMS_MAX_FILES];
+    size_t nfiles;
+    bool has_passphrase;
+    char crypto_passphrase[KELP_ACOMMS_MAX_TEXT];
+    char modem_id_lookup_path[KELP_ACOMMS_MAX_PATH];
+    bool tcp_share_enable;
+    unsigned tcp_share_port;
+    char tcp_share_to_ip[4][KELP_MAX_NAME];
+    size_t n_tcp_share;
+} kelp_acomms_config;
+
+void kelp_acomms_config_default(kelp_acomms_config *cfg);
+
+/** Read the pAcommsHandler block (node index `block` of m; globals of m fill the fallbacks).
+ *  Relative message-file and lookup paths are taken relative to `base_dir` (the mission's
+ *  directory; NULL = as written).  Unknown fields, bad enums and out-of-range numbers are
+ *  errors: "line N: reason" in err.  Values the seed defines as warnings (e.g. tcp sharing
+ *  is experimental) go to warn (may be NULL).  @return 0 or KELP_ERR_PARSE / KELP_ERR_RANGE. */
+KELP_MUST_CHECK int kelp_acomms_config_read(const struct kelp_mission *m, int block, const char *base_dir,
+                                            kelp_acomms_config *cfg, char *err, size_t errcap, char *warn,
+                                            size_t warncap);
+
+/** Node configuration from a block (driver, MAC, modem id); nvram strings point into cfg. */
+void kelp_acomms_config_node(const kelp_acomms_config *cfg, kelp_acomms_node_cfg *out);
+
+/* ================================================================== 5. LCM structures (edge) */
+
+/** A second LCM handle that publishes the lcm-gen'd kelp.acomms_*_t structures on
+ *  <VARIABLE>_LCM channels (lcm-spy decodes them with `make spy-jar`). */
+typedef struct kelp_acomms_lcm kelp_acomms_lcm;
+
+/** Counters for kelp.acomms_status_t. */
+typedef struct kelp_acomms_status {
+    double time;
+    int modem_id;
+    const char *driver, *link, *mac;
+    bool link_up, clock_ok;
+    int64_t next_slot_us;
+    uint32_t lines_in, lines_out, bad_lines, retries, modem_errors, reconnects, frames_out, frames_in, acks, expired,
+        encoded, decoded;
+    size_t nqueues;
+    const char *const *queue_name;
+    const int32_t *queue_size;
+} kelp_acomms_status;
+
+kelp_acomms_lcm *kelp_acomms_lcm_open(const char *url, char *err, size_t errcap);
+void kelp_acomms_lcm_close(kelp_acomms_lcm *l);
+/** name: DCCL message / CCL queue name (may be NULL); decoded: "Name: f=v,..." (may be NULL). */
+KELP_MUST_CHECK int kelp_acomms_lcm_data(kelp_acomms_lcm *l, const char *channel, double time, const kelp_acomms_msg *m,
+                                         const char *name, const char *decoded);
+KELP_MUST_CHECK int kelp_acomms_lcm_ack(kelp_acomms_lcm *l, const char *channel, double time, int src, int dest,
+                                        uint32_t frame, const kelp_acomms_msg *orig, const char *name);
+KELP_MUST_CHECK int kelp_acomms_lcm_expire(kelp_acomms_lcm *l, const char *channel, double time,
+                                           const kelp_acomms_msg *orig, const char *name);
+KELP_MUST_CHECK int kelp_acomms_lcm_qsize(kelp_acomms_lcm *l, const char *channel, double time, kelp_queue_key key,
+                                          const char *name, uint32_t size);
+KELP_MUST_CHECK int kelp_acomms_lcm_range(kelp_acomms_lcm *l, const char *channel, double time, int src, int dest,
+                                          kelp_ranging_type type, const double *tt, unsigned n_tt);
+KELP_MUST_CHECK int kelp_acomms_lcm_status(kelp_acomms_lcm *l, const char *channel, const kelp_acomms_status *s);
+
+#endif /* KELP_ACOMMS_DCCL_ONLY */
+#endif
