@@ -5,7 +5,7 @@
 # topside sends four of the seed's GoToCommand (acknowledged) to the vehicle and the vehicle
 # broadcasts the seed's VehicleStatus every 10 s.  Every GoToCommand arrives exactly once and is
 # acknowledged once; every VehicleStatus sent arrives once.  (missions/acomms_e2e)
-. "$(dirname "$0")/../../test/integration/lib.sh"
+. "$(dirname "$0")/lib.sh"
 cd $T
 . $KELP_ROOT/missions/acomms_e2e/e2e_lib.sh
 

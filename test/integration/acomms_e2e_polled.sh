@@ -6,7 +6,7 @@
 #  - the poller's REPLACE reaches the handler: the topside writes $CCCYC for both slots
 #  - GoToCommands (topside slot) arrive once each and are acknowledged
 #  - VehicleStatus (polled slot) arrives at the topside, each once, none unsolicited
-. "$(dirname "$0")/../../test/integration/lib.sh"
+. "$(dirname "$0")/lib.sh"
 cd $T
 . $KELP_ROOT/missions/acomms_e2e/e2e_lib.sh
 

@@ -10,7 +10,7 @@
 #  - the ones not acknowledged within the ttl are reported on ACOMMS_EXPIRE;
 #  - nothing else is lost: each message is acknowledged once or expires once, and each
 #    acknowledged one arrived at the vehicle.
-. "$(dirname "$0")/../../test/integration/lib.sh"
+. "$(dirname "$0")/lib.sh"
 cd $T
 . $KELP_ROOT/missions/acomms_e2e/e2e_lib.sh
 
