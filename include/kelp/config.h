@@ -192,6 +192,25 @@ _Static_assert(KELP_NODEREPORT_MAX_LEN >= 256, "KELP_NODEREPORT_MAX_LEN too smal
 _Static_assert(KELP_VIEW_MAX_PTS >= 4, "KELP_VIEW_MAX_PTS too small");
 _Static_assert(KELP_VIEW_MAX_FIELD >= 16, "KELP_VIEW_MAX_FIELD too small");
 
+/* ---- modemsim (WHOI Micro-Modem simulator: modem-side protocol, acoustic channel) ---- */
+#ifndef KELP_MAX_MSIM_ARRIVALS
+#define KELP_MAX_MSIM_ARRIVALS 16   /**< packets on their way to (or recently heard by) one modem */
+#endif
+#ifndef KELP_MAX_MSIM_TXQ
+#define KELP_MAX_MSIM_TXQ 8         /**< own transmissions scheduled (CI, data, ack, ping replies) */
+#endif
+#ifndef KELP_MAX_MSIM_TXLOG
+#define KELP_MAX_MSIM_TXLOG 8       /**< own past transmissions remembered (half-duplex check) */
+#endif
+#ifndef KELP_MAX_MSIM_NVRAM
+#define KELP_MAX_MSIM_NVRAM 64      /**< NVRAM (CFG) parameters the simulated modem holds */
+#endif
+#ifndef KELP_MAX_MSIM_POLL_SLOTS
+#define KELP_MAX_MSIM_POLL_SLOTS 32 /**< slots in a pAcommsPoller cycle */
+#endif
+_Static_assert(KELP_MAX_MSIM_ARRIVALS >= 4, "KELP_MAX_MSIM_ARRIVALS too small");
+_Static_assert(KELP_MAX_MSIM_TXQ >= 4, "KELP_MAX_MSIM_TXQ too small");
+
 #endif
 /* ---- acomms glue, links, pAcommsHandler, kelp-acomms-replay (branch acomms2) ---- */
 #ifndef KELP_ACOMMS_MAX_TEXT

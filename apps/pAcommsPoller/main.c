@@ -1,0 +1,306 @@
+/* pAcommsPoller: centralized polling from the topside (seed 002 section 2.10; Goby 1.1 folded it
+ * into pAcommsHandler's MAC_POLLED).  This process owns the poll list -- which vehicle sends to
+ * whom, at which rate, for how long -- and drives the topside pAcommsHandler (mac_cfg type
+ * MAC_POLLED) through ACOMMS_MAC_CYCLE_UPDATE: at start-up, on every change made at run time
+ * through POLLER_COMMAND, and (optionally) periodically.  Each update is a full REPLACE in
+ * Goby's TextFormat, so a lost or late update never leaves the handler with half a cycle. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <kelp/app.h>
+#include <kelp/mac.h>
+#include <kelp/modemsim.h>
+
+#define MAXS KELP_MAX_MSIM_POLL_SLOTS
+
+typedef struct poller {
+    int modem_id;
+    unsigned default_seconds;
+    kelp_mac_slot slot[MAXS];
+    size_t n;
+    bool paused;
+    char update_var[KELP_MAX_NAME], legacy_var[KELP_MAX_NAME], command_var[KELP_MAX_NAME];
+    double republish, last_publish, max_range;
+    bool dirty;
+    unsigned long updates, commands, bad_commands;
+    char last_update[4096];
+} poller;
+
+static unsigned cycle_seconds(const poller *p)
+{
+    unsigned s = 0;
+    for (size_t i = 0; i < p->n; i++) s += p->slot[i].slot_seconds;
+    return s;
+}
+
+static void check_slot(kelp_app *app, const poller *p, const kelp_mac_slot *s)
+{
+    if (s->type != KELP_SLOT_DATA || p->max_range <= 0) return;
+    double need = kelp_msim_min_slot_seconds(s->rate, p->max_range, 1.0, 0.5, 0.25, KELP_MSIM_SOUND_SPEED);
+    if ((double)s->slot_seconds < need)
+        kelp_app_run_warning(app, "slot src=%d dest=%d rate %u: %u s is short for %.0f m (a full packet with its "
+                                  "ack needs %.1f s)",
+                             s->src, s->dest, s->rate, s->slot_seconds, p->max_range, need);
+}
+
+static int publish(kelp_app *app, poller *p)
+{
+    size_t len;
+    int rc = kelp_poller_format_update(p->modem_id, KELP_MAC_UPDATE_REPLACE, p->slot, p->paused ? 0 : p->n,
+                                       p->last_update, sizeof p->last_update, &len);
+    if (rc < 0) {
+        kelp_app_run_warning(app, "update too long: %s", kelp_strerror(rc));
+        return rc;
+    }
+    if (kelp_app_notify_string(app, p->update_var, p->last_update) < 0) return KELP_ERR_IO;
+    if (p->legacy_var[0]) (void)kelp_app_notify_string(app, p->legacy_var, p->last_update);
+    char list[2048] = "";
+    size_t off = 0;
+    for (size_t i = 0; i < p->n; i++) {
+        char one[128];
+        size_t l;
+        if (kelp_poller_format_slot(&p->slot[i], one, sizeof one, &l) < 0 || off + l + 2 > sizeof list) break;
+        if (off) list[off++] = ';';
+        memcpy(list + off, one, l + 1);
+        off += l;
+    }
+    (void)kelp_app_notify_string(app, "POLLER_CYCLE", list);
+    (void)kelp_app_notify_stringf(app, "POLLER_STATUS", "state=%s,slots=%zu,cycle_seconds=%u,updates=%lu",
+                                  p->paused ? "paused" : "active", p->n, cycle_seconds(p), p->updates + 1);
+    p->updates++;
+    p->dirty = false;
+    p->last_publish = kelp_app_time(app);
+    kelp_app_event(app, "%s%s", p->update_var, p->paused ? " (paused: no slots)" : "");
+    return KELP_OK;
+}
+
+/* "src: 2 dest: 1 ..." children of a protobuf-style slot { } block -> "src=2,dest=1,..." */
+static int block_to_spec(kelp_app *app, const kelp_mission_node *blk, char *out, size_t cap)
+{
+    const kelp_mission *m = kelp_app_mission(app);
+    int parent = (int)(blk - m->nodes);
+    size_t off = 0;
+    out[0] = '\0';
+    for (int i = kelp_mission_next(m, parent, -1, NULL); i >= 0; i = kelp_mission_next(m, parent, i, NULL)) {
+        const kelp_mission_node *c = &m->nodes[i];
+        kelp_app_param_used(app, c);
+        char val[64];
+        if (c->kind != KELP_MN_FIELD || kelp_mission_copy(c, val, sizeof val) < 0) return -1;
+        int n = snprintf(out + off, cap - off, "%s%.*s=%s", off ? "," : "", (int)c->klen, c->key, val);
+        if (n < 0 || (size_t)n >= cap - off) return -1;
+        off += (size_t)n;
+    }
+    return 0;
+}
+
+static int add_slot(kelp_app *app, poller *p, const char *spec, const kelp_mission_node *at)
+{
+    kelp_mac_slot s;
+    const char *bad;
+    int rc = kelp_poller_parse_slot(spec, p->default_seconds, &s, &bad);
+    if (rc < 0) {
+        if (at) return kelp_app_config_error(app, at, "bad poll slot '%s' (%s)", spec, bad);
+        kelp_app_run_warning(app, "bad poll slot '%s' (%s)", spec, bad);
+        return rc;
+    }
+    if (p->n >= MAXS) {
+        if (at) return kelp_app_config_error(app, at, "more than %d poll slots", MAXS);
+        kelp_app_run_warning(app, "more than %d poll slots", MAXS);
+        return KELP_ERR_NOSPACE;
+    }
+    p->slot[p->n++] = s;
+    check_slot(app, p, &s);
+    return 0;
+}
+
+static bool same(const kelp_mac_slot *a, const kelp_mac_slot *b)
+{
+    return a->src == b->src && a->dest == b->dest && a->rate == b->rate && a->type == b->type &&
+           a->slot_seconds == b->slot_seconds;
+}
+
+static int startup(kelp_app *app, void *st)
+{
+    poller *p = st;
+    double d;
+    int rc = kelp_app_param_double(app, "modem_id", &d);
+    if (rc <= 0 || d != floor(d) || d < 1 || d > 31)
+        return kelp_app_config_error(app, kelp_app_param(app, "modem_id"),
+                                     "modem_id (1..31, the polling topside modem) is required");
+    p->modem_id = (int)d;
+    p->default_seconds = 15;
+    if ((rc = kelp_app_param_double(app, "slot_seconds", &d)) < 0 || (rc > 0 && (d < 1 || d > 86400 || d != floor(d))))
+        return kelp_app_config_error(app, kelp_app_param(app, "slot_seconds"), "slot_seconds must be 1..86400");
+    if (rc > 0) p->default_seconds = (unsigned)d;
+    p->max_range = 2000;
+    if (kelp_app_param_double(app, "max_range", &p->max_range) < 0 || p->max_range < 0)
+        return kelp_app_config_error(app, kelp_app_param(app, "max_range"), "max_range must be >= 0 (m)");
+    snprintf(p->update_var, sizeof p->update_var, "ACOMMS_MAC_CYCLE_UPDATE");
+    (void)kelp_app_param_str(app, "update_var", p->update_var, sizeof p->update_var);
+    bool legacy = false;
+    if (kelp_app_param_bool(app, "legacy_update", &legacy) < 0) return -1;
+    if (legacy) snprintf(p->legacy_var, sizeof p->legacy_var, "ACOMMS_POLLER_UPDATE");
+    snprintf(p->command_var, sizeof p->command_var, "POLLER_COMMAND");
+    (void)kelp_app_param_str(app, "command_var", p->command_var, sizeof p->command_var);
+    if (kelp_app_param_double(app, "republish_interval", &p->republish) < 0 || p->republish < 0)
+        return kelp_app_config_error(app, kelp_app_param(app, "republish_interval"), "republish_interval >= 0");
+    bool enabled = true;
+    if (kelp_app_param_bool(app, "enabled", &enabled) < 0) return -1;
+    p->paused = !enabled;
+    /* the poll list, in order: MOOS lines "poll = src=2,dest=1,..." and Goby blocks "slot { src: 2 ... }" */
+    const kelp_mission *m = kelp_app_mission(app);
+    int blk = kelp_app_block(app);
+    for (int i = blk >= 0 ? kelp_mission_next(m, blk, -1, NULL) : -1; i >= 0; i = kelp_mission_next(m, blk, i, NULL)) {
+        const kelp_mission_node *n = &m->nodes[i];
+        char spec[256];
+        if (kelp_mission_key_is(n, "poll") || kelp_mission_key_is(n, "pair")) {
+            kelp_app_param_used(app, n);
+            if (kelp_mission_copy(n, spec, sizeof spec) < 0) return kelp_app_config_error(app, n, "poll line too long");
+            if (add_slot(app, p, spec, n) < 0) return -1;
+        } else if (kelp_mission_key_is(n, "slot") && n->kind == KELP_MN_MSG) {
+            kelp_app_param_used(app, n);
+            if (block_to_spec(app, n, spec, sizeof spec) < 0) return kelp_app_config_error(app, n, "bad slot block");
+            if (add_slot(app, p, spec, n) < 0) return -1;
+        }
+    }
+    if (p->n == 0) kelp_app_config_warning(app, "no poll slots: the cycle is empty until POLLER_COMMAND adds some");
+    if (kelp_app_register(app, p->command_var, 0) < 0) return -1;
+    p->dirty = true;
+    return 0;
+}
+
+static void command(kelp_app *app, poller *p, const char *cmd)
+{
+    p->commands++;
+    while (*cmd == ' ') cmd++;
+    const char *arg = strchr(cmd, ' ');
+    size_t vl = arg ? (size_t)(arg - cmd) : strlen(cmd);
+    if (arg)
+        while (*arg == ' ') arg++;
+#define VERB(w) (vl == strlen(w) && strncmp(cmd, w, vl) == 0)
+    if (VERB("add") && arg) {
+        if (add_slot(app, p, arg, NULL) == 0) p->dirty = true;
+        else p->bad_commands++;
+    } else if (VERB("remove") && arg) {
+        kelp_mac_slot s;
+        const char *bad;
+        if (kelp_poller_parse_slot(arg, p->default_seconds, &s, &bad) < 0) {
+            p->bad_commands++;
+            kelp_app_run_warning(app, "remove: bad slot '%s' (%s)", arg, bad);
+            return;
+        }
+        for (size_t i = 0; i < p->n; i++) {
+            if (!same(&p->slot[i], &s)) continue;
+            memmove(&p->slot[i], &p->slot[i + 1], (p->n - i - 1) * sizeof p->slot[0]);
+            p->n--;
+            p->dirty = true;
+            return;
+        }
+        p->bad_commands++;
+        kelp_app_run_warning(app, "remove: no slot %s", arg);
+    } else if (VERB("replace")) {
+        /* replace src=..;src=..;... (empty = no slots) */
+        kelp_mac_slot keep[MAXS];
+        size_t nk = p->n;
+        memcpy(keep, p->slot, sizeof keep);
+        p->n = 0;
+        char buf[2048];
+        snprintf(buf, sizeof buf, "%s", arg ? arg : "");
+        for (char *save = NULL, *t = strtok_r(buf, ";", &save); t; t = strtok_r(NULL, ";", &save)) {
+            if (add_slot(app, p, t, NULL) < 0) {
+                memcpy(p->slot, keep, sizeof keep);
+                p->n = nk;
+                p->bad_commands++;
+                return;
+            }
+        }
+        p->dirty = true;
+    } else if (VERB("clear")) {
+        p->n = 0;
+        p->dirty = true;
+    } else if (VERB("pause")) {
+        p->paused = true;
+        p->dirty = true;
+    } else if (VERB("resume")) {
+        p->paused = false;
+        p->dirty = true;
+    } else if (VERB("publish")) {
+        p->dirty = true;
+    } else {
+        p->bad_commands++;
+        kelp_app_run_warning(app, "unknown %s '%s' (add SLOT | remove SLOT | replace SLOT;SLOT | clear | pause | "
+                                  "resume | publish)",
+                             p->command_var, cmd);
+    }
+#undef VERB
+}
+
+static void on_mail(kelp_app *app, void *st, const kelp_var *v)
+{
+    poller *p = st;
+    if (strcmp(v->name, p->command_var) != 0) return;
+    if (v->flags & KELP_VAR_FLAG_SYNC) return; /* an old command replayed on registration */
+    if (v->kind != KELP_VAR_STRING) {
+        p->bad_commands++;
+        kelp_app_run_warning(app, "%s must be a string", p->command_var);
+        return;
+    }
+    command(app, p, v->sval);
+}
+
+static int iterate(kelp_app *app, void *st, double now)
+{
+    poller *p = st;
+    if (p->dirty || (p->republish > 0 && now - p->last_publish >= p->republish)) (void)publish(app, p);
+    return 0;
+}
+
+static void report(kelp_app *app, void *st, FILE *out)
+{
+    poller *p = st;
+    (void)app;
+    fprintf(out, "polling modem %d: %s, %zu slots, cycle %u s; %lu updates, %lu commands (%lu bad)\n", p->modem_id,
+            p->paused ? "PAUSED" : "active", p->n, cycle_seconds(p), p->updates, p->commands, p->bad_commands);
+    for (size_t i = 0; i < p->n; i++) {
+        char one[128];
+        size_t l;
+        if (kelp_poller_format_slot(&p->slot[i], one, sizeof one, &l) == 0) fprintf(out, "  %2zu  %s\n", i + 1, one);
+    }
+}
+
+static const kelp_app_def def = {
+    .name = "pAcommsPoller",
+    .purpose = "Centralized polling from the topside: owns the poll list and drives the topside pAcommsHandler "
+               "(MAC_POLLED) through ACOMMS_MAC_CYCLE_UPDATE.",
+    .example = "ProcessConfig = pAcommsPoller\n"
+               "{\n"
+               "  AppTick   = 4\n"
+               "  modem_id  = 1                        // the topside modem (its pAcommsHandler runs MAC_POLLED)\n"
+               "  slot_seconds = 15                    // default slot length\n"
+               "  max_range = 2000                     // m: warn about slots too short for a packet + ack\n"
+               "  poll = src=2,dest=1,rate=0,type=data,slot_seconds=15   // vehicle 2 -> topside\n"
+               "  poll = src=1,dest=2,rate=0                             // topside -> vehicle 2\n"
+               "  slot { src: 3 dest: 1 rate: 0 type: SLOT_DATA slot_seconds: 15 }   // Goby style\n"
+               "  // update_var = ACOMMS_MAC_CYCLE_UPDATE\n"
+               "  // legacy_update = false             // also write ACOMMS_POLLER_UPDATE\n"
+               "  // republish_interval = 0            // s; re-send the full cycle periodically\n"
+               "  // command_var = POLLER_COMMAND\n"
+               "  // enabled = true                    // false: start paused (empty cycle)\n"
+               "}\n",
+    .interface = "Subscribes: POLLER_COMMAND (string): add SLOT | remove SLOT | replace SLOT;SLOT... | clear |\n"
+                 "            pause | resume | publish      (SLOT = src=2,dest=1,rate=0,type=data,slot_seconds=15)\n"
+                 "Publishes:  ACOMMS_MAC_CYCLE_UPDATE (MACUpdate TextFormat: dest: <modem_id> update_type: REPLACE\n"
+                 "            slot { ... } ...), ACOMMS_POLLER_UPDATE (legacy_update), POLLER_CYCLE (slot list),\n"
+                 "            POLLER_STATUS (state, slots, cycle_seconds, updates)\n",
+    .startup = startup,
+    .on_mail = on_mail,
+    .iterate = iterate,
+    .report = report,
+};
+
+int main(int argc, char **argv)
+{
+    static poller p;
+    return kelp_app_run(argc, argv, &def, &p);
+}

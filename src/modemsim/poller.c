@@ -1,0 +1,218 @@
+/* kelp modemsim: pAcommsPoller core -- poll-slot parsing and the MACUpdate TextFormat. */
+#include <kelp/kv.h>
+#include <kelp/mission.h>
+#include <kelp/modemsim.h>
+
+#include <string.h>
+
+static bool key_is(const char *k, size_t kl, const char *name)
+{
+    size_t n = strlen(name);
+    if (kl != n) return false;
+    for (size_t i = 0; i < n; i++) {
+        char a = k[i], b = name[i];
+        if (a >= 'A' && a <= 'Z') a = (char)(a + 32);
+        if (b >= 'A' && b <= 'Z') b = (char)(b + 32);
+        if (a != b) return false;
+    }
+    return true;
+}
+
+static int slot_type(const char *v, size_t vl, kelp_slot_type *out)
+{
+    static const struct {
+        const char *name;
+        kelp_slot_type t;
+    } T[] = { { "data", KELP_SLOT_DATA },         { "slot_data", KELP_SLOT_DATA }, { "ping", KELP_SLOT_PING },
+              { "slot_ping", KELP_SLOT_PING },    { "remus_lbl", KELP_SLOT_REMUS_LBL },
+              { "slot_remus_lbl", KELP_SLOT_REMUS_LBL } };
+    for (size_t i = 0; i < sizeof T / sizeof T[0]; i++)
+        if (key_is(v, vl, T[i].name)) {
+            *out = T[i].t;
+            return KELP_OK;
+        }
+    return KELP_ERR_PARSE;
+}
+
+int kelp_poller_parse_slot(const char *spec, unsigned default_seconds, kelp_mac_slot *out, const char **bad)
+{
+    static const char *const KEYS[] = { "src", "dest", "rate", "type", "slot_seconds" };
+    if (bad) *bad = "";
+    if (!spec || !out) return KELP_ERR_ARG;
+    kelp_mac_slot_default(out, 0);
+    out->slot_seconds = default_seconds;
+    bool have_src = false;
+    size_t pos = 0;
+    const char *k, *v;
+    size_t kl, vl;
+    int rc;
+    while ((rc = kelp_kv_next(spec, ',', &pos, &k, &kl, &v, &vl)) == 1) {
+        long n = 0;
+        size_t which = sizeof KEYS / sizeof KEYS[0];
+        for (size_t i = 0; i < sizeof KEYS / sizeof KEYS[0]; i++)
+            if (key_is(k, kl, KEYS[i])) which = i;
+        if (which == sizeof KEYS / sizeof KEYS[0]) {
+            if (bad) *bad = "unknown key";
+            return KELP_ERR_PARSE;
+        }
+        if (which == 3) {
+            if (slot_type(v, vl, &out->type) != KELP_OK) {
+                if (bad) *bad = "type";
+                return KELP_ERR_PARSE;
+            }
+            continue;
+        }
+        if (kelp_parse_long(v, vl, &n) != KELP_OK) {
+            if (bad) *bad = KEYS[which];
+            return KELP_ERR_PARSE;
+        }
+        switch (which) {
+        case 0:
+            if (n < 1 || n > 31) goto range;
+            out->src = (int)n;
+            have_src = true;
+            break;
+        case 1:
+            if (n < -1 || n > 31) goto range;
+            out->dest = (int)n;
+            break;
+        case 2:
+            if (n < 0 || n > 5) goto range;
+            out->rate = (unsigned)n;
+            break;
+        default:
+            if (n < 1 || n > 86400) goto range;
+            out->slot_seconds = (unsigned)n;
+            break;
+        }
+        continue;
+    range:
+        if (bad) *bad = KEYS[which];
+        return KELP_ERR_RANGE;
+    }
+    if (rc < 0) {
+        if (bad) *bad = "not key=value";
+        return KELP_ERR_PARSE;
+    }
+    if (!have_src) {
+        if (bad) *bad = "src";
+        return KELP_ERR_PARSE;
+    }
+    if (out->slot_seconds < 1) {
+        if (bad) *bad = "slot_seconds";
+        return KELP_ERR_RANGE;
+    }
+    return KELP_OK;
+}
+
+/* ------------------------------------------------------------------ formatting */
+
+typedef struct sbuf {
+    char *p;
+    size_t cap, n;
+    bool over;
+} sbuf;
+
+static void add(sbuf *b, const char *s)
+{
+    size_t l = strlen(s);
+    if (b->over || b->n + l + 1 > b->cap) {
+        b->over = true;
+        return;
+    }
+    memcpy(b->p + b->n, s, l);
+    b->n += l;
+    b->p[b->n] = '\0';
+}
+
+static void add_long(sbuf *b, long v)
+{
+    char t[24];
+    size_t n = 0;
+    unsigned long u = v < 0 ? (unsigned long)(-(v + 1)) + 1 : (unsigned long)v;
+    char rev[24];
+    size_t r = 0;
+    do {
+        rev[r++] = (char)('0' + u % 10);
+        u /= 10;
+    } while (u);
+    if (v < 0) t[n++] = '-';
+    while (r) t[n++] = rev[--r];
+    t[n] = '\0';
+    add(b, t);
+}
+
+static const char *type_name(kelp_slot_type t)
+{
+    switch (t) {
+    case KELP_SLOT_PING: return "SLOT_PING";
+    case KELP_SLOT_REMUS_LBL: return "SLOT_REMUS_LBL";
+    case KELP_SLOT_DATA:
+    default: return "SLOT_DATA";
+    }
+}
+
+static const char *short_type(kelp_slot_type t)
+{
+    switch (t) {
+    case KELP_SLOT_PING: return "ping";
+    case KELP_SLOT_REMUS_LBL: return "remus_lbl";
+    case KELP_SLOT_DATA:
+    default: return "data";
+    }
+}
+
+int kelp_poller_format_update(int dest, kelp_mac_update_type type, const kelp_mac_slot *slots, size_t n, char *buf,
+                              size_t cap, size_t *len)
+{
+    if (!buf || cap == 0 || (n && !slots)) return KELP_ERR_ARG;
+    sbuf b = { buf, cap, 0, false };
+    buf[0] = '\0';
+    add(&b, "dest: ");
+    add_long(&b, dest);
+    add(&b, " update_type: ");
+    add(&b, type == KELP_MAC_UPDATE_ADD ? "ADD" : type == KELP_MAC_UPDATE_REMOVE ? "REMOVE" : "REPLACE");
+    for (size_t i = 0; i < n; i++) {
+        const kelp_mac_slot *s = &slots[i];
+        add(&b, " slot { src: ");
+        add_long(&b, s->src);
+        add(&b, " dest: ");
+        add_long(&b, s->dest);
+        add(&b, " rate: ");
+        add_long(&b, (long)s->rate);
+        add(&b, " type: ");
+        add(&b, type_name(s->type));
+        add(&b, " slot_seconds: ");
+        add_long(&b, (long)s->slot_seconds);
+        add(&b, " }");
+    }
+    if (b.over) {
+        buf[0] = '\0';
+        return KELP_ERR_NOSPACE;
+    }
+    if (len) *len = b.n;
+    return KELP_OK;
+}
+
+int kelp_poller_format_slot(const kelp_mac_slot *s, char *buf, size_t cap, size_t *len)
+{
+    if (!s || !buf || cap == 0) return KELP_ERR_ARG;
+    sbuf b = { buf, cap, 0, false };
+    buf[0] = '\0';
+    add(&b, "src=");
+    add_long(&b, s->src);
+    add(&b, ",dest=");
+    add_long(&b, s->dest);
+    add(&b, ",rate=");
+    add_long(&b, (long)s->rate);
+    add(&b, ",type=");
+    add(&b, short_type(s->type));
+    add(&b, ",slot_seconds=");
+    add_long(&b, (long)s->slot_seconds);
+    if (b.over) {
+        buf[0] = '\0';
+        return KELP_ERR_NOSPACE;
+    }
+    if (len) *len = b.n;
+    return KELP_OK;
+}
