@@ -55,8 +55,8 @@ static void fifo_put(fifo *f, const void *b, size_t n)
 /* the message tag is the low byte of the DCCL header's time field (header byte 4) */
 static int tag_of(const uint8_t *d, size_t n)
 {
-    kelp_dccl_header h;
-    if (kelp_dccl_header_read(d, n, &h) != KELP_OK) return -1;
+    kelp_queue_header h;
+    if (kelp_queue_header_read(d, n, &h) != KELP_OK) return -1;
     return (int)(h.time_of_day % MAXMSG);
 }
 
@@ -147,14 +147,14 @@ static void push(node *nd, unsigned dccl_id, int dest, int tag)
 {
     static kelp_acomms_msg m;
     memset(&m, 0, sizeof m);
-    kelp_dccl_header h;
+    kelp_queue_header h;
     memset(&h, 0, sizeof h);
     h.ccl_id = 0x20;
     h.id = dccl_id;
     h.time_of_day = (unsigned)(43200 + tag); /* 43200 % 64 == 0: tag = time % 64 */
     h.src = (unsigned)nd->id;
     h.dest = (unsigned)dest;
-    kelp_dccl_header_write(&h, m.data);
+    kelp_queue_header_write(&h, m.data);
     const uint8_t *body = dccl_id == 1 ? GOTO_BODY : STATUS_BODY;
     size_t bl = dccl_id == 1 ? sizeof GOTO_BODY : sizeof STATUS_BODY;
     memcpy(m.data + 6, body, bl);

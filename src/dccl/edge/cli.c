@@ -225,6 +225,10 @@ int kelp_dccl_cli_main(int argc, char **argv)
     size_t i;
     int rc, status = 0;
     bool is_encode, is_decode, is_publish, is_info;
+    if (argc >= 2 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "help") == 0)) {
+        usage(stdout);
+        return 0;
+    }
     rc = parse_args(&c, argc, argv);
     if (rc == -1 || !c.cmd) {
         usage(stderr);
