@@ -11,6 +11,10 @@
 #   benchmarks:            bench/bench_*.c, bench/run.sh
 
 SHELL      := /bin/bash
+# build in parallel unless the caller chose (-jN on the command line wins)
+ifeq ($(filter -j%,$(MAKEFLAGS)),)
+MAKEFLAGS  += -j$(shell nproc 2>/dev/null || echo 2)
+endif
 CC         ?= cc
 ifeq ($(origin CC),default)
 CC         := gcc

@@ -479,8 +479,8 @@ int kelp_queue_receive(kelp_queue_mgr *m, const kelp_acomms_msg *frame)
 {
     if (!m || !frame) return 0;
     m->count.rx_frames++;
+    if (frame->len == 0) { m->count.rx_malformed++; return 0; }
     size_t n = frame->len > KELP_MAX_ACOMMS_FRAME ? KELP_MAX_ACOMMS_FRAME : frame->len;
-    if (n == 0) { m->count.rx_malformed++; return 0; }
     if (frame->data[0] == KELP_DCCL_CCL_ID) {
         /* the 6-byte header rule applies to DCCL only; a CCL frame may be shorter */
         if (n < KELP_DCCL_HEADER_BYTES) { m->count.rx_malformed++; return 0; }
