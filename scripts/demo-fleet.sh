@@ -5,10 +5,16 @@
 # waypoints, a loiter, then home) under MOOSTimeWarp. The shoreside shows the vehicles in a
 # table while they run; every community is logged with lcm-logger; at the end a summary per
 # vehicle is printed and a picture of the tracks is written (build/demo-fleet/fleet.png).
+# The acoustic link: each community also runs pAcommsHandler with a simulated WHOI Micro-Modem
+# (kelp-modemsim on a pseudo-terminal; the modems share a channel on their own LCM URL); every
+# vehicle sends a DCCL FleetStatus (missions/fleet/fleet_status.xml) to the shoreside modem in
+# its TDMA slot, the shoreside decodes and acknowledges it; the summary counts them per vehicle
+# and the picture shows a comms pulse per message received.
 # Runs inside a private network namespace when root (nothing leaves the machine); otherwise
 # on the host with ttl=0.
 #   usage: scripts/demo-fleet.sh [BUILD_DIR]
-#   env: DEMO_WARP (10), DEMO_TIMEOUT (75 s wall), DEMO_DIR (build/demo-fleet: missions, logs, picture)
+#   env: DEMO_WARP (10), DEMO_TIMEOUT (75 s wall), DEMO_DIR (build/demo-fleet: missions, logs, picture),
+#        DEMO_ACOMMS_LOSS (0: probability that the simulated channel loses a packet / data frame)
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 B=$(cd "${1:-$ROOT/build}" && pwd)
@@ -76,7 +82,7 @@ done < "$M/fleet.conf"
 fill "$M/meta_shoreside.moos" WARP="$WARP" SHORE_LCM="$SHORE_LCM" SHORE_BRIDGE="$SHORE_BRIDGE" SHARES="${SHARES%$'\n'}" \
      PTY="$W/tty_shoreside" "${ACOMMS[@]}" > shoreside.moos
 
-echo "== kelp fleet demo: shoreside + ${#NAMES[@]} vehicles (${NAMES[*]}), MOOSTimeWarp $WARP"
+echo "== kelp fleet demo: shoreside + ${#NAMES[@]} vehicles (${NAMES[*]}), MOOSTimeWarp $WARP, acoustic modems 1 (shoreside) to $(( ${#NAMES[@]} + 1 ))"
 echo "   missions in $W (generated from missions/fleet)"
 # one warped clock for every community and the pokes
 export KELP_WARP_EPOCH=$(date +%s.%N)
@@ -121,9 +127,9 @@ while :; do
   if [ -f vehicles.txt ]; then cat vehicles.txt; else echo "(no vehicle table yet)"; fi
   # (kelp-logcheck exits 1 because pAcommsHandler's structured ACOMMS_*_LCM channels are not kelp vars)
   "$B/bin/kelp-logcheck" shoreside.lcm --print > shoreside.txt 2>/dev/null || true
-  awk '$2=="pAcommsHandler" && $3=="STATUS_REPORT" {split($4, f, ","); for (i in f) if (f[i] ~ /^name=/) n[substr(f[i], 6)]++; t++}
-       END {printf "acoustic: %d FleetStatus received at the shoreside", t; s=" ("; for (v in n) {printf "%s%s %d", s, v, n[v]; s=", "}
-            print (t ? ")" : "")}' shoreside.txt
+  awk -v names="${NAMES[*]}" '$2=="pAcommsHandler" && $3=="STATUS_REPORT" {split($4, f, ","); for (i in f) if (f[i] ~ /^name=/) n[substr(f[i], 6)]++; t++}
+       END {printf "acoustic: %d FleetStatus received at the shoreside (", t; k = split(names, v, " ")
+            for (i = 1; i <= k; i++) printf "%s%s %d", (i > 1 ? ", " : ""), v[i], n[v[i]] + 0; print ")"}' shoreside.txt
   ndone=$(awk '$3 ~ /^MISSION_/ && $4=="complete" {d[$3]=1} END{print length(d)}' shoreside.txt)
   if [ "${ndone:-0}" -ge ${#NAMES[@]} ]; then done_all=1; break; fi
   [ $el -ge "$TIMEOUT" ] && break
@@ -139,7 +145,7 @@ cat vehicles.txt 2>/dev/null || true
 
 # ---- the picture (from the shoreside log: every vehicle's reports and drawings came there)
 "$B/bin/kelp-plot" shoreside.lcm -o fleet.png -o fleet.svg \
-  --title "kelp fleet demo: ${NAMES[*]} (survey, loiter, return; MOOSTimeWarp $WARP)" > plot.out || { cat plot.out; exit 1; }
+  --title "kelp fleet demo: ${NAMES[*]} (survey, loiter, return; acoustic status to the gateway; MOOSTimeWarp $WARP)" > plot.out || { cat plot.out; exit 1; }
 
 # ---- summary per vehicle: distance (shoreside track), waypoints reached (wptflag WPT_HIT),
 # behaviour completions (the helm's completed list), mission time (DEPLOY to MISSION=complete)
@@ -182,6 +188,9 @@ for v in "${NAMES[@]}"; do
   last=$(awk -v v="$v" '$2=="pAcommsHandler" && $3=="STATUS_REPORT" && index($4, ",name="v",") {l=$4} END{sub(/^dest=[0-9]*,name=[^,]*,/, "", l); print l}' shoreside.txt)
   printf '%-9s %5s %5s %11s %9s %12s %6s %7s %6s  %s\n' "$v" "$k" "$sent" "$tx" "$rcv" "$lost" "$ack" "$exp" "$q" "${last:--}"
 done
+awk '$3=="ACOMMS_SIM_EVENT" && $4 ~ /^modem=1,event=lost,kind=data,/ {r = $4; sub(/.*reason=/, "", r); n[r]++; t++}
+     END {printf "   the shoreside modem lost %d data frames", t; s = " ("; for (r in n) {printf "%s%s %d", s, r, n[r]; s = ", "}
+          print (t ? ")" : "")}' shoreside.txt
 echo "== picture: $W/fleet.png (and fleet.svg); logs: $W/*.lcm"
 grep -E "^(vehicle|alpha|bravo|charlie|[a-z]+ +report)" plot.out | head -8
 [ $rc_launch -eq 0 ] || echo "demo-fleet: a launcher did not end cleanly (see $W/launch_*.out)"
