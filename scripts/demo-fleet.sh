@@ -5,10 +5,16 @@
 # waypoints, a loiter, then home) under MOOSTimeWarp. The shoreside shows the vehicles in a
 # table while they run; every community is logged with lcm-logger; at the end a summary per
 # vehicle is printed and a picture of the tracks is written (build/demo-fleet/fleet.png).
+# The acoustic link: each community also runs pAcommsHandler with a simulated WHOI Micro-Modem
+# (kelp-modemsim on a pseudo-terminal; the modems share a channel on their own LCM URL); every
+# vehicle sends a DCCL FleetStatus (missions/fleet/fleet_status.xml) to the shoreside modem in
+# its TDMA slot, the shoreside decodes and acknowledges it; the summary counts them per vehicle
+# and the picture shows a comms pulse per message received.
 # Runs inside a private network namespace when root (nothing leaves the machine); otherwise
 # on the host with ttl=0.
 #   usage: scripts/demo-fleet.sh [BUILD_DIR]
-#   env: DEMO_WARP (10), DEMO_TIMEOUT (75 s wall), DEMO_DIR (build/demo-fleet: missions, logs, picture)
+#   env: DEMO_WARP (10), DEMO_TIMEOUT (75 s wall), DEMO_DIR (build/demo-fleet: missions, logs, picture),
+#        DEMO_ACOMMS_LOSS (0: probability that the simulated channel loses a packet / data frame)
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 B=$(cd "${1:-$ROOT/build}" && pwd)
@@ -21,7 +27,7 @@ fi
 if [ -n "${KELP_IN_NETNS:-}" ]; then
   ip link set lo up; ip link set lo multicast on; ip route add 224.0.0.0/4 dev lo 2>/dev/null || true
 fi
-for p in kelp-launch kelp-poke kelp-bridge kelp-plot kelp-logcheck uSimMarine pNodeReporter; do
+for p in kelp-launch kelp-poke kelp-bridge kelp-plot kelp-logcheck uSimMarine pNodeReporter pAcommsHandler kelp-modemsim; do
   [ -x "$B/bin/$p" ] || { echo "demo-fleet: $B/bin/$p not built (run make)"; exit 1; }
 done
 [ -x "$B/bin/pHelmIvP" ] || { echo "demo-fleet: pHelmIvP not built (the helm is not in this tree yet)"; exit 1; }
@@ -31,6 +37,13 @@ W=${DEMO_DIR:-$ROOT/build/demo-fleet}
 rm -rf "$W"; mkdir -p "$W"; cd "$W"
 M=$ROOT/missions/fleet
 SHORE_LCM=7680 SHORE_BRIDGE=9200
+# the acoustic link: every community runs pAcommsHandler + kelp-modemsim; the simulated modems
+# share the acoustic channel on their own LCM URL. Modem 1 is the shoreside gateway, vehicle i
+# is modem i+1. TDMA (MAC_FIXED_DECENTRALIZED): one rate-0 slot of ACOMMS_SLOT s per vehicle
+# (the shoreside needs none: it only acknowledges, inside the vehicles' slots).
+ACOMMS_CHAN="udpm://239.255.76.67:7690?ttl=0"
+ACOMMS_SLOT=8
+ACOMMS_LOSS=${DEMO_ACOMMS_LOSS:-0}
 
 trim() { local s=$1; s=${s#"${s%%[![:space:]]*}"}; s=${s%"${s##*[![:space:]]}"}; printf '%s' "$s"; }
 # fill $(NAME) macros of a template from the variables named in the rest of the arguments
@@ -41,7 +54,15 @@ fill() {
 }
 
 # ---- generate the missions (nsplug style)
-NAMES=(); SHARES=""
+NAMES=(); SHARES=""; SLOTS=""
+n=0
+while IFS='|' read -r name _; do
+  name=$(trim "$name"); [ -z "$name" ] || [ "${name:0:1}" = "#" ] && continue
+  n=$((n + 1))
+  SLOTS+="    slot { src: $((n + 1)) dest: -1 rate: 0 type: SLOT_DATA slot_seconds: $ACOMMS_SLOT }   // $name"$'\n'
+done < "$M/fleet.conf"
+SLOTS=${SLOTS%$'\n'}
+ACOMMS=(ACOMMS_CHAN="$ACOMMS_CHAN" ACOMMS_LOSS="$ACOMMS_LOSS" STATUS_XML="$M/fleet_status.xml" MAC_SLOTS="$SLOTS")
 i=0
 while IFS='|' read -r name lport bport start speed points loiter cw ltime; do
   name=$(trim "$name"); [ -z "$name" ] || [ "${name:0:1}" = "#" ] && continue
@@ -51,15 +72,17 @@ while IFS='|' read -r name lport bport start speed points loiter cw ltime; do
   i=$((i + 1)); NAMES+=("$name")
   uc=$(echo "$name" | tr a-z A-Z)
   fill "$M/meta_vehicle.moos" VNAME="$name" VNAME_UC="$uc" MOOS_PORT=$((9000 + i)) WARP="$WARP" LCM_PORT="$lport" \
-       START_POS="x=$sx, y=$sy, heading=$sh, speed=0" BRIDGE_PORT="$bport" SHORE_BRIDGE="$SHORE_BRIDGE" > "$name.moos"
+       START_POS="x=$sx, y=$sy, heading=$sh, speed=0" BRIDGE_PORT="$bport" SHORE_BRIDGE="$SHORE_BRIDGE" \
+       START_X="$sx" START_Y="$sy" MODEM_ID=$((i + 1)) PTY="$W/tty_$name" "${ACOMMS[@]}" > "$name.moos"
   fill "$M/meta_vehicle.bhv" VNAME="$name" SPEED="$speed" POINTS="${points//:/ : }" LOITER_TIME="$ltime" CLOCKWISE="$cw" \
        LOITER_X="$lx" LOITER_Y="$ly" LOITER_R="$lr" START_X="$sx" START_Y="$sy" > "$name.bhv"
   SHARES+="  UDPSHARE  = [DEPLOY, RETURN, MOOS_MANUAL_OVERIDE] -> $name @ 127.0.0.1:$bport"$'\n'
 done < "$M/fleet.conf"
 [ ${#NAMES[@]} -gt 0 ] || { echo "demo-fleet: no vehicles in $M/fleet.conf"; exit 1; }
-fill "$M/meta_shoreside.moos" WARP="$WARP" SHORE_LCM="$SHORE_LCM" SHORE_BRIDGE="$SHORE_BRIDGE" SHARES="${SHARES%$'\n'}" > shoreside.moos
+fill "$M/meta_shoreside.moos" WARP="$WARP" SHORE_LCM="$SHORE_LCM" SHORE_BRIDGE="$SHORE_BRIDGE" SHARES="${SHARES%$'\n'}" \
+     PTY="$W/tty_shoreside" "${ACOMMS[@]}" > shoreside.moos
 
-echo "== kelp fleet demo: shoreside + ${#NAMES[@]} vehicles (${NAMES[*]}), MOOSTimeWarp $WARP"
+echo "== kelp fleet demo: shoreside + ${#NAMES[@]} vehicles (${NAMES[*]}), MOOSTimeWarp $WARP, acoustic modems 1 (shoreside) to $(( ${#NAMES[@]} + 1 ))"
 echo "   missions in $W (generated from missions/fleet)"
 # one warped clock for every community and the pokes
 export KELP_WARP_EPOCH=$(date +%s.%N)
@@ -102,7 +125,12 @@ while :; do
   el=$(( $(date +%s) - t0 ))
   echo "---- after ${el} s (wall) ----"
   if [ -f vehicles.txt ]; then cat vehicles.txt; else echo "(no vehicle table yet)"; fi
-  ndone=$("$B/bin/kelp-logcheck" shoreside.lcm --print 2>/dev/null | awk '$3 ~ /^MISSION_/ && $4=="complete" {d[$3]=1} END{print length(d)}')
+  # (kelp-logcheck exits 1 because pAcommsHandler's structured ACOMMS_*_LCM channels are not kelp vars)
+  "$B/bin/kelp-logcheck" shoreside.lcm --print > shoreside.txt 2>/dev/null || true
+  awk -v names="${NAMES[*]}" '$2=="pAcommsHandler" && $3=="STATUS_REPORT" {split($4, f, ","); for (i in f) if (f[i] ~ /^name=/) n[substr(f[i], 6)]++; t++}
+       END {printf "acoustic: %d FleetStatus received at the shoreside (", t; k = split(names, v, " ")
+            for (i = 1; i <= k; i++) printf "%s%s %d", (i > 1 ? ", " : ""), v[i], n[v[i]] + 0; print ")"}' shoreside.txt
+  ndone=$(awk '$3 ~ /^MISSION_/ && $4=="complete" {d[$3]=1} END{print length(d)}' shoreside.txt)
   if [ "${ndone:-0}" -ge ${#NAMES[@]} ]; then done_all=1; break; fi
   [ $el -ge "$TIMEOUT" ] && break
 done
@@ -117,7 +145,7 @@ cat vehicles.txt 2>/dev/null || true
 
 # ---- the picture (from the shoreside log: every vehicle's reports and drawings came there)
 "$B/bin/kelp-plot" shoreside.lcm -o fleet.png -o fleet.svg \
-  --title "kelp fleet demo: ${NAMES[*]} (survey, loiter, return; MOOSTimeWarp $WARP)" > plot.out || { cat plot.out; exit 1; }
+  --title "kelp fleet demo: ${NAMES[*]} (survey, loiter, return; acoustic status to the gateway; MOOSTimeWarp $WARP)" > plot.out || { cat plot.out; exit 1; }
 
 # ---- summary per vehicle: distance (shoreside track), waypoints reached (wptflag WPT_HIT),
 # behaviour completions (the helm's completed list), mission time (DEPLOY to MISSION=complete)
@@ -139,6 +167,30 @@ for v in "${NAMES[@]}"; do
   fi
   printf '%-9s %10s %10s %-28s %-34s %s\n' "$v" "${dist:--}" "$mt" "$hits" "$ncmpl (${cmpl:-none})" "$state"
 done
+# ---- the acoustic link per vehicle: DCCL FleetStatus messages queued by the vehicle's
+# pAcommsHandler (ACOMMS_OUTGOING_DATA), data packets its modem put on the water ($CCTXD), those
+# received and decoded at the shoreside (ACOMMS_INCOMING_DATA from its modem id), data frames
+# the shoreside modem lost (kelp-modemsim ACOMMS_SIM_EVENT), acknowledgements back at the
+# vehicle (ACOMMS_ACK), expired (ACOMMS_EXPIRE) and still queued when the demo stopped
+"$B/bin/kelp-logcheck" shoreside.lcm --print > shoreside.txt 2>/dev/null || true
+echo "== acoustic link: DCCL FleetStatus every 25 s -> shoreside modem 1 (ack requested); TDMA ${#NAMES[@]} x $ACOMMS_SLOT s, rate 0; loss $ACOMMS_LOSS"
+printf '%-9s %5s %5s %11s %9s %12s %6s %7s %6s  %s\n' vehicle modem sent transmitted received "lost (shore)" acked expired queued "last status decoded at the shoreside"
+k=1
+for v in "${NAMES[@]}"; do
+  k=$((k + 1))
+  sent=$(awk '$2=="pAcommsHandler" && $3=="ACOMMS_OUTGOING_DATA"' "$v.txt" | grep -c . || true)
+  tx=$(awk -v id=$k '$2=="pAcommsHandler" && $3=="ACOMMS_NMEA_OUT" && $4 ~ "^[$]CCTXD,"id"," {split($4, f, ","); if (length(f[5]) > 4) n++} END{print n+0}' "$v.txt")
+  rcv=$(awk -v id=$k '$2=="pAcommsHandler" && $3=="ACOMMS_INCOMING_DATA" && index($0, "base { src: "id" ") {n++} END{print n+0}' shoreside.txt)
+  lost=$(awk -v id=$k '$3=="ACOMMS_SIM_EVENT" && $4 ~ "^modem=1,event=lost,kind=data,src="id"," {n++} END{print n+0}' shoreside.txt)
+  ack=$(awk '$2=="pAcommsHandler" && $3=="ACOMMS_ACK" {n++} END{print n+0}' "$v.txt")
+  exp=$(awk '$2=="pAcommsHandler" && $3=="ACOMMS_EXPIRE" {n++} END{print n+0}' "$v.txt")
+  q=$(awk '$2=="pAcommsHandler" && $3=="ACOMMS_QSIZE" {q=$NF} END{print q+0}' "$v.txt")
+  last=$(awk -v v="$v" '$2=="pAcommsHandler" && $3=="STATUS_REPORT" && index($4, ",name="v",") {l=$4} END{sub(/^dest=[0-9]*,name=[^,]*,/, "", l); print l}' shoreside.txt)
+  printf '%-9s %5s %5s %11s %9s %12s %6s %7s %6s  %s\n' "$v" "$k" "$sent" "$tx" "$rcv" "$lost" "$ack" "$exp" "$q" "${last:--}"
+done
+awk '$3=="ACOMMS_SIM_EVENT" && $4 ~ /^modem=1,event=lost,kind=data,/ {r = $4; sub(/.*reason=/, "", r); n[r]++; t++}
+     END {printf "   the shoreside modem lost %d data frames", t; s = " ("; for (r in n) {printf "%s%s %d", s, r, n[r]; s = ", "}
+          print (t ? ")" : "")}' shoreside.txt
 echo "== picture: $W/fleet.png (and fleet.svg); logs: $W/*.lcm"
 grep -E "^(vehicle|alpha|bravo|charlie|[a-z]+ +report)" plot.out | head -8
 [ $rc_launch -eq 0 ] || echo "demo-fleet: a launcher did not end cleanly (see $W/launch_*.out)"

@@ -1,7 +1,10 @@
 # The fleet demo (scripts/demo-fleet.sh, the main job of make demo): shoreside + three vehicle
 # communities on separate LCM URLs joined by kelp-bridge. Every vehicle must finish its mission
 # (survey waypoints, loiter, return) within the demo's time, the shoreside must have seen all
-# three through the bridge, and the picture must be written.
+# three through the bridge, and the picture must be written.  The acoustic link: every vehicle's
+# pAcommsHandler sends DCCL FleetStatus messages over its simulated modem to the shoreside modem;
+# at least one from each must arrive, be decoded and be acknowledged, and the counts must agree
+# (every message queued is acknowledged or still queued; only what was sent arrives).
 . "$(dirname "$0")/lib.sh"
 if [ ! -x "$BIN/pHelmIvP" ]; then echo "SKIP: pHelmIvP not built (the helm is on branch helm)"; exit 0; fi
 command -v lcm-logger >/dev/null || fail "lcm-logger missing (liblcm-bin)"
@@ -12,7 +15,7 @@ el=$(( $(date +%s) - start ))
 sed -n '/^== summary/,$p' demo.out
 [ $el -le 60 ] || fail "the demo took ${el}s (more than a minute)"
 for v in alpha bravo charlie; do
-  line=$(awk -v v="$v" '/^== summary/{s=1} s && $1==v' demo.out)
+  line=$(awk -v v="$v" '/^== /{s=0} /^== summary/{s=1} s && $1==v' demo.out)
   [ -n "$line" ] || fail "no summary line for $v"
   echo "$line" | grep -qE " 4 \(survey 3, return 1\) +3 \(survey:loiter:return\) +complete$" || fail "$v: $line"
   dist=$(echo "$line" | awk '{print $2}')
@@ -26,5 +29,48 @@ grep -q "<svg" $T/demo/fleet.svg || fail "fleet.svg missing"
 grep -qE "^alpha +report .* \(0\.0,0\.0\)" $T/demo/plot.out || fail "alpha track does not start at (0,0)"
 grep -qE "^bravo +report .* \(15\.0,10\.0\)" $T/demo/plot.out || fail "bravo track does not start at (15,10)"
 grep -qE "^charlie +report .* \(-15\.0,-5\.0\)" $T/demo/plot.out || fail "charlie track does not start at (-15,-5)"
+
+# ---- the acoustic link
+D=$T/demo
+grep -q "^== acoustic link: DCCL FleetStatus" demo.out || fail "no acoustic link summary"
+# the printed bus logs: the ModemDataTransmission data field of ACOMMS_* lines
+data_of() { sed -n 's/.* data: "\(.*\)" frame: .*/\1/p'; }
+k=1 total=0
+for v in alpha bravo charlie; do
+  k=$((k + 1))
+  line=$(awk -v v="$v" '/^== /{s=0} /^== acoustic link/{s=1} s && $1==v' demo.out)
+  [ -n "$line" ] || fail "no acoustic summary line for $v"
+  read -r _ modem sent tx rcv lost acked expired queued _ <<< "$line"
+  [ "$modem" = $k ] || fail "$v: modem $modem, want $k ($line)"
+  # about one status every 25 s of a ~300 s mission, one 8 s slot every 24 s
+  [ "$sent" -ge 8 ] && [ "$tx" -ge 8 ] || fail "$v: only $sent FleetStatus queued, $tx transmitted ($line)"
+  [ "$rcv" -ge 1 ] && [ "$acked" -ge 1 ] || fail "$v: no FleetStatus received and acknowledged at the shoreside ($line)"
+  [ "$acked" -le "$rcv" ] && [ "$rcv" -le "$tx" ] || fail "$v: acked $acked, received $rcv, transmitted $tx ($line)"
+  # each transmission either arrived or the shoreside modem reports the data frame lost (the
+  # last one may still have been on the water when the demo stopped)
+  [ $((rcv + lost)) -ge $((tx - 1)) ] && [ $((rcv + lost)) -le "$tx" ] || fail "$v: $tx transmitted, $rcv received + $lost lost ($line)"
+  [ "$expired" = 0 ] || fail "$v: $expired FleetStatus expired ($line)"
+  [ $((acked + queued)) = "$sent" ] || fail "$v: $sent queued = $acked acknowledged + $queued still queued? ($line)"
+  # what arrived was sent by this vehicle, and what was acknowledged had arrived
+  awk '$2=="pAcommsHandler" && $3=="ACOMMS_OUTGOING_DATA"' $D/$v.txt | data_of | sort -u > sent_$v.txt
+  awk -v k=$k '$2=="pAcommsHandler" && $3=="ACOMMS_INCOMING_DATA" && index($0, "base { src: "k" ")' $D/shoreside.txt | data_of | sort -u > rcv_$v.txt
+  awk '$2=="pAcommsHandler" && $3=="ACOMMS_ACK"' $D/$v.txt | data_of | sort -u > ack_$v.txt
+  [ "$(wc -l < sent_$v.txt)" = "$sent" ] || fail "$v: FleetStatus messages not all different"
+  [ -s rcv_$v.txt ] && [ -z "$(comm -13 sent_$v.txt rcv_$v.txt)" ] || fail "$v: the shoreside received data $v never sent"
+  [ -s ack_$v.txt ] && [ -z "$(comm -13 rcv_$v.txt ack_$v.txt)" ] || fail "$v: acknowledged a FleetStatus the shoreside never received"
+  # decoded at the shoreside: STATUS_REPORT with this vehicle's name, a position on the chart
+  nrep=$(awk -v v="$v" '$2=="pAcommsHandler" && $3=="STATUS_REPORT" && index($4, ",name="v",")' $D/shoreside.txt | grep -c . || true)
+  [ "$nrep" = "$rcv" ] || fail "$v: $rcv received, $nrep STATUS_REPORT decoded"
+  awk -v v="$v" '$3=="STATUS_REPORT" && index($4, ",name="v",")' $D/shoreside.txt |
+    grep -qE ",nav_x=-?[0-9]+\.[0-9],nav_y=-?[0-9]+\.[0-9],heading=[0-9]+,speed=[0-9]\.[0-9],behavior=(survey|loiter|return|)$" ||
+    fail "$v: STATUS_REPORT content: $(grep -m1 "name=$v," $D/shoreside.txt)"
+  total=$((total + rcv))
+done
+# one comms pulse per message decoded, drawn in the picture; no random loss on this channel
+npulse=$(awk '$2=="pAcommsHandler" && $3=="VIEW_COMMS_PULSE"' $D/shoreside.txt | grep -c . || true)
+[ "$npulse" = $total ] || fail "$npulse VIEW_COMMS_PULSE for $total FleetStatus received"
+! grep -q "reason=random" $D/shoreside.txt || fail "random losses on a loss-free channel"
+grep -q "ACOMMS_SIM_EVENT modem=1,event=tx,kind=ack" $D/shoreside.txt || fail "the shoreside modem never acknowledged"
+
 if [ -n "${FLEET_PNG:-}" ]; then cp $T/demo/fleet.png "$FLEET_PNG"; fi
-ok "fleet demo in ${el}s: three missions complete, picture written"
+ok "fleet demo in ${el}s: three missions complete, picture written; $total FleetStatus received at the shoreside"
