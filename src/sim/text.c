@@ -123,10 +123,15 @@ int sim_copy_text(char *dst, size_t cap, const char *v, size_t vl)
     return KELP_OK;
 }
 
+#define SIM_MAX_ABS_NUMBER 1e12
+
 int sim_number(const char *v, size_t vl, double *out)
 {
     double d;
     if (kelp_parse_double(v, vl, &d) < 0 || !isfinite(d)) return KELP_ERR_PARSE;
+    /* no position, speed, heading or time of a vehicle is this large; beyond it a value
+     * would not survive format -> parse exactly */
+    if (d > SIM_MAX_ABS_NUMBER || d < -SIM_MAX_ABS_NUMBER) return KELP_ERR_PARSE;
     *out = d;
     return KELP_OK;
 }
