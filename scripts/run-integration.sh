@@ -5,7 +5,7 @@
 set -uo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 export BUILD=${BUILD:-$here/build} KELP_ROOT=$here
-jobs=${KELP_IT_JOBS:-4}
+jobs=${KELP_IT_JOBS:-3}
 R=$(mktemp -d /tmp/kelp-it.XXXXXX)
 tests=()
 for t in "$here"/test/integration/*.sh; do

@@ -57,7 +57,7 @@ ProcessConfig = pHelmIvP
 M
 lcm-logger --lcm-url="$KELP_LCM_URL" -f run.lcmlog > logger.out 2>&1 & LG=$!
 PIDS+=($LG)
-sleep 0.4
+sleep 1   # the logger must be listening before anything starts
 bg $BIN/pHelmIvP alder.moos > helm.out 2>&1
 sleep 1.0
 $BIN/kelp-poke alder.moos NAV_X=0 NAV_Y=0 > /dev/null
