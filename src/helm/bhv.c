@@ -250,6 +250,15 @@ void kelp_bhv_set_complete(kelp_bhv *b)
         b->completed = true;
 }
 
+void bhv_use_subdomain(kelp_bhv *b, const char *vars)
+{
+    kelp_ivp_domain d;
+    if (kelp_ivp_domain_sub(&b->helm->cfg.domain, vars, &d) == 0)
+        b->dom = d;
+    else
+        kelp_ivp_domain_init(&b->dom);
+}
+
 int kelp_bhv_add_info_vars(kelp_bhv *b, const char *names)
 {
     const char *s = names;

@@ -27,11 +27,7 @@ static void c1_init(kelp_bhv *b)
 {
     const c1_kind *k = kind_of(b);
     kelp_bhv_c1 *s = &b->u.c1;
-    kelp_ivp_domain d;
-    if (kelp_ivp_domain_sub(&b->helm->cfg.domain, k->var, &d) == 0)
-        b->dom = d;
-    else
-        kelp_ivp_domain_init(&b->dom);
+    bhv_use_subdomain(b, k->var);
     s->value = 0;
     s->have_value = false;
     s->peakwidth = k->pw;

@@ -11,11 +11,7 @@ static void swpt_init(kelp_bhv *b)
     kelp_bhv_swpt *s = &b->u.swpt;
     /* Listing 9: name "simple_waypoint", subDomain "course,speed", defaults, NAV_X/NAV_Y */
     (void)hx_copy(b->name, sizeof b->name, "simple_waypoint", 15);
-    kelp_ivp_domain d;
-    if (kelp_ivp_domain_sub(&b->helm->cfg.domain, "course,speed", &d) == 0)
-        b->dom = d;
-    else
-        kelp_ivp_domain_init(&b->dom); /* null domain: refused at configuration */
+    bhv_use_subdomain(b, "course,speed");
     s->desired_speed = 0;
     s->arrival_radius = 10;
     s->reflector = false;

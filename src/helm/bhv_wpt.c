@@ -19,11 +19,7 @@ static void wpt_init(kelp_bhv *b)
 {
     kelp_bhv_wpt *s = &b->u.wpt;
     (void)hx_copy(b->name, sizeof b->name, "waypoint", 8);
-    kelp_ivp_domain d;
-    if (kelp_ivp_domain_sub(&b->helm->cfg.domain, "course,speed", &d) == 0)
-        b->dom = d;
-    else
-        kelp_ivp_domain_init(&b->dom);
+    bhv_use_subdomain(b, "course,speed");
     s->speed = 0;
     s->capture_radius = 3;
     s->slip_radius = 15;

@@ -58,4 +58,8 @@ int bhv_course_speed_zaic(kelp_bhv *b, const kelp_helm_work *w, double course, d
 int bhv_zaic1(kelp_bhv *b, const kelp_helm_work *w, const char *var, double summit, double pw, double bw, double sd,
               bool wrap, kelp_ivp_func *out);
 
+/* Set a behaviour's domain to the helm domain's sub-domain over `vars` (e.g. "course,speed");
+ * when the helm domain lacks them the domain is left empty, which configuration refuses. */
+void bhv_use_subdomain(kelp_bhv *b, const char *vars);
+
 #endif
