@@ -15,11 +15,13 @@ O=build-cross-$ARCH
 SYS=$O/sysroot
 if [ ! -f "$SYS/.done" ]; then
   mkdir -p "$SYS/debs"
+  SUDO=; [ "$(id -u)" -ne 0 ] && SUDO=sudo
+  SUDO_U=$SUDO
   if ! dpkg --print-foreign-architectures | grep -qx $DEB; then
-    SUDO=; [ "$(id -u)" -ne 0 ] && SUDO=sudo
     $SUDO dpkg --add-architecture $DEB
-    $SUDO apt-get update -q >/dev/null
   fi
+  # a mirror mid-sync can fail one index; retry, and go on if the packages can be fetched
+  for try in 1 2 3; do $SUDO_U apt-get update -q >/dev/null 2>&1 && break; sleep 5; done
   chmod 777 "$SYS/debs"
   (cd "$SYS/debs" && apt-get download -q check:$DEB libsubunit-dev:$DEB libsubunit0:$DEB >/dev/null)
   for d in "$SYS"/debs/*.deb; do dpkg-deb -x "$d" "$SYS"; done

@@ -23,5 +23,14 @@ done
 [ ${#missing[@]} -eq 0 ] && exit 0
 SUDO=; [ "$(id -u)" -ne 0 ] && SUDO=sudo
 echo "deps.sh: installing ${missing[*]}"
-$SUDO apt-get update -q >/dev/null
-DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}" >/dev/null
+# a mirror caught mid-sync makes "update" fail on one index; retry, then go on with what we have
+for try in 1 2 3; do
+  $SUDO apt-get update -q >/dev/null 2>&1 && break
+  echo "deps.sh: apt-get update failed (try $try), retrying"; sleep 5
+done
+for try in 1 2; do
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}" >/dev/null && exit 0
+  echo "deps.sh: apt-get install failed (try $try)"; sleep 5; $SUDO apt-get update -q >/dev/null 2>&1 || true
+done
+echo "deps.sh: could not install: ${missing[*]}" >&2
+exit 1
