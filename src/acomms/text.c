@@ -518,14 +518,14 @@ static int walk(tf_walk *wk, const char *text, size_t len, uint8_t *sbuf, size_t
     }
 }
 
-static int val_long(const tf_val *v, long lo, long hi, long *out)
+static int val_long(const tf_val *v, long long lo, long long hi, long long *out)
 {
     if (v->kind != TK_NUMBER) return KELP_ERR_PARSE;
-    long x;
+    long long x;
     const char *s = v->s;
     size_t n = v->n;
     if (n && s[0] == '+') s++, n--;
-    if (kelp_parse_long(s, n, &x) != KELP_OK) return KELP_ERR_PARSE;
+    if (kelp_parse_llong(s, n, &x) != KELP_OK) return KELP_ERR_PARSE;
     if (x < lo || x > hi) return KELP_ERR_RANGE;
     *out = x;
     return KELP_OK;
@@ -551,9 +551,9 @@ static int val_bool(const tf_val *v, bool *out)
 /* base { src dest time time_source rate raw description }: src/dest kept, others checked */
 static int base_field(const char *name, size_t nlen, const tf_val *v, int *src, int *dest, const char **why)
 {
-    long x;
+    long long x;
     if (tok_is(name, nlen, "src") || tok_is(name, nlen, "dest")) {
-        if (val_long(v, -2147483647L - 1, 2147483647L, &x) != KELP_OK) {
+        if (val_long(v, -2147483647LL - 1, 2147483647LL, &x) != KELP_OK) {
             *why = "base.src/dest must be an integer";
             return KELP_ERR_PARSE;
         }
@@ -575,7 +575,7 @@ static int base_field(const char *name, size_t nlen, const tf_val *v, int *src, 
         return KELP_ERR_PARSE;
     }
     if (tok_is(name, nlen, "rate")) {
-        if (val_long(v, 0, 4294967295L, &x) != KELP_OK) {
+        if (val_long(v, 0, 4294967295LL, &x) != KELP_OK) {
             *why = "base.rate must be an unsigned integer";
             return KELP_ERR_PARSE;
         }
@@ -622,7 +622,7 @@ static int data_field(void *c, const char *const *path, unsigned depth, const ch
     (void)path;
     data_ctx *x = c;
     kelp_acomms_msg *m = x->m;
-    long l;
+    long long l;
     if (depth == 1 && x->in_base) return base_field(name, nlen, v, &m->src, &m->dest, x->why);
     if (depth == 1 && x->in_key) {
         if (tok_is(name, nlen, "type")) {
@@ -637,7 +637,7 @@ static int data_field(void *c, const char *const *path, unsigned depth, const ch
             return KELP_OK;
         }
         if (tok_is(name, nlen, "id")) {
-            if (val_long(v, 0, 4294967295L, &l) != KELP_OK) {
+            if (val_long(v, 0, 4294967295LL, &l) != KELP_OK) {
                 *x->why = "queue_key.id must be an unsigned integer";
                 return KELP_ERR_PARSE;
             }
@@ -670,7 +670,7 @@ static int data_field(void *c, const char *const *path, unsigned depth, const ch
         return KELP_OK;
     }
     if (tok_is(name, nlen, "frame")) {
-        if (val_long(v, 0, 4294967295L, &l) != KELP_OK) {
+        if (val_long(v, 0, 4294967295LL, &l) != KELP_OK) {
             *x->why = "frame must be an unsigned integer";
             return KELP_ERR_PARSE;
         }
@@ -727,7 +727,7 @@ static int range_field(void *c, const char *const *path, unsigned depth, const c
 {
     (void)path;
     range_ctx *x = c;
-    long l;
+    long long l;
     if (depth == 1 && x->in_base) return base_field(name, nlen, v, &x->r->src, &x->r->dest, x->why);
     if (depth != 0) {
         *x->why = "unexpected nesting";
@@ -746,7 +746,7 @@ static int range_field(void *c, const char *const *path, unsigned depth, const c
         return KELP_OK;
     }
     if (tok_is(name, nlen, "max_range") || tok_is(name, nlen, "enable_beacons")) {
-        if (val_long(v, 0, 4294967295L, &l) != KELP_OK) {
+        if (val_long(v, 0, 4294967295LL, &l) != KELP_OK) {
             *x->why = "max_range/enable_beacons must be unsigned integers";
             return KELP_ERR_PARSE;
         }
@@ -821,7 +821,7 @@ static int mac_field(void *c, const char *const *path, unsigned depth, const cha
 {
     (void)path;
     mac_ctx *x = c;
-    long l;
+    long long l;
     if (depth == 1 && x->in_slot) {
         kelp_mac_slot *s = &x->u->slot[x->u->nslots];
         if (tok_is(name, nlen, "src") || tok_is(name, nlen, "dest")) {
@@ -879,7 +879,7 @@ static int mac_field(void *c, const char *const *path, unsigned depth, const cha
         return KELP_ERR_PARSE;
     }
     if (tok_is(name, nlen, "dest")) {
-        if (val_long(v, -2147483647L - 1, 2147483647L, &l) != KELP_OK) {
+        if (val_long(v, -2147483647LL - 1, 2147483647LL, &l) != KELP_OK) {
             *x->why = "dest must be an integer";
             return KELP_ERR_PARSE;
         }

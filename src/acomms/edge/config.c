@@ -62,12 +62,12 @@ static int get_str(rd *r, const kelp_mission_node *n, char *buf, size_t cap)
     return KELP_OK;
 }
 
-static int get_long(rd *r, const kelp_mission_node *n, long lo, long hi, long *out)
+static int get_long(rd *r, const kelp_mission_node *n, long long lo, long long hi, long long *out)
 {
-    long v = 0;
-    if (n->kind != KELP_MN_FIELD || n->quoted || kelp_parse_long(n->val, n->vlen, &v) != KELP_OK)
+    long long v = 0;
+    if (n->kind != KELP_MN_FIELD || n->quoted || kelp_parse_llong(n->val, n->vlen, &v) != KELP_OK)
         return fail(r, n, "expected an integer, got \"%.*s\"", (int)n->vlen, n->val ? n->val : "");
-    if (v < lo || v > hi) return fail(r, n, "%ld is out of range %ld..%ld", v, lo, hi);
+    if (v < lo || v > hi) return fail(r, n, "%lld is out of range %lld..%lld", v, lo, hi);
     *out = v;
     return KELP_OK;
 }
@@ -95,8 +95,8 @@ static int get_enum(rd *r, const kelp_mission_node *n, const char *const *names,
             *out = values[i];
             return KELP_OK;
         }
-    long v = 0;
-    if (!n->quoted && kelp_parse_long(n->val, n->vlen, &v) == KELP_OK)
+    long long v = 0;
+    if (!n->quoted && kelp_parse_llong(n->val, n->vlen, &v) == KELP_OK)
         for (size_t i = 0; i < count; i++)
             if (values[i] == v) {
                 *out = values[i];
@@ -217,11 +217,11 @@ static int read_common(rd *r, int idx)
 
 static int read_modem_id(rd *r, const kelp_mission_node *n)
 {
-    long v = 0;
+    long long v = 0;
     int rc = get_long(r, n, 0, 31, &v);
     if (rc) return rc;
     if (r->c->modem_id && v != r->c->modem_id)
-        warn(r, n, "modem_id %ld differs from the top-level modem_id %d (the top level wins)", v, r->c->modem_id);
+        warn(r, n, "modem_id %lld differs from the top-level modem_id %d (the top level wins)", v, r->c->modem_id);
     return KELP_OK;
 }
 
@@ -229,7 +229,7 @@ static int read_driver(rd *r, int idx)
 {
     kelp_acomms_config *c = r->c;
     int rc;
-    long v = 0;
+    long long v = 0;
     FOR_CHILDREN(r, idx, ch)
     {
         const kelp_mission_node *n = node(r, ch_i);
@@ -286,7 +286,7 @@ static int read_slot(rd *r, int idx)
     kelp_mac_slot_default(s, 0);
     bool has_src = false;
     int rc;
-    long v = 0;
+    long long v = 0;
     FOR_CHILDREN(r, idx, ch)
     {
         const kelp_mission_node *n = node(r, ch_i);
@@ -325,7 +325,7 @@ static int read_mac(rd *r, int idx)
 {
     kelp_acomms_config *c = r->c;
     int rc;
-    long v = 0;
+    long long v = 0;
     FOR_CHILDREN(r, idx, ch)
     {
         const kelp_mission_node *n = node(r, ch_i);
@@ -414,7 +414,7 @@ static int read_message_file(rd *r, int idx)
 static int read_key(rd *r, int idx, kelp_queue_key *key, bool *has_id)
 {
     int rc;
-    long v = 0;
+    long long v = 0;
     FOR_CHILDREN(r, idx, ch)
     {
         const kelp_mission_node *n = node(r, ch_i);
@@ -445,7 +445,7 @@ static int read_queue(rd *r, int idx)
     kelp_queue_cfg_default(&q->cfg, KELP_QUEUE_DCCL, 0);
     bool has_id = false, has_key = false;
     int rc;
-    long v = 0;
+    long long v = 0;
     double d;
     FOR_CHILDREN(r, idx, ch)
     {
@@ -453,10 +453,10 @@ static int read_queue(rd *r, int idx)
         if (is(n, "ack")) {
             if ((rc = get_bool(r, n, &q->cfg.ack))) return rc;
         } else if (is(n, "blackout_time")) {
-            if ((rc = get_long(r, n, 0, 4294967295L, &v))) return rc;
+            if ((rc = get_long(r, n, 0, 4294967295LL, &v))) return rc;
             q->cfg.blackout_time = (uint32_t)v;
         } else if (is(n, "max_queue")) {
-            if ((rc = get_long(r, n, 0, 4294967295L, &v))) return rc;
+            if ((rc = get_long(r, n, 0, 4294967295LL, &v))) return rc;
             q->cfg.max_queue = (uint32_t)v;
         } else if (is(n, "newest_first")) {
             if ((rc = get_bool(r, n, &q->cfg.newest_first))) return rc;
@@ -464,7 +464,7 @@ static int read_queue(rd *r, int idx)
             if ((rc = get_double(r, n, &d))) return rc;
             q->cfg.value_base = d;
         } else if (is(n, "ttl")) {
-            if ((rc = get_long(r, n, 0, 4294967295L, &v))) return rc;
+            if ((rc = get_long(r, n, 0, 4294967295LL, &v))) return rc;
             q->cfg.ttl = (uint32_t)v;
         } else if (is(n, "key")) {
             if ((rc = need_block(r, n)) || (rc = read_key(r, ch_i, &q->cfg.key, &has_id))) return rc;
@@ -569,7 +569,7 @@ int kelp_acomms_config_read(const struct kelp_mission *m, int block, const char 
     if (block < 0) return fail(&r, NULL, "no pAcommsHandler configuration block");
     bool has_log = false, has_log_path = false, has_lookup = false;
     int rc;
-    long v = 0;
+    long long v = 0;
     const kelp_mission_node *modem_id_node = NULL, *driver_node = NULL;
     /* modem_id first, so sub-block modem_ids can be compared with it */
     FOR_CHILDREN(&r, block, pre)
@@ -655,10 +655,10 @@ int kelp_acomms_config_read(const struct kelp_mission *m, int block, const char 
         if (w > 0 && (size_t)w < sizeof full) snprintf(c->modem_id_lookup_path, sizeof c->modem_id_lookup_path, "%s", full);
     }
     if (!modem_id_node) {
-        long gv;
-        if ((g = global(m, "modem_id")) && kelp_parse_long(g->val, g->vlen, &gv) == KELP_OK && gv >= 1 && gv <= 31) {
+        long long gv;
+        if ((g = global(m, "modem_id")) && kelp_parse_llong(g->val, g->vlen, &gv) == KELP_OK && gv >= 1 && gv <= 31) {
             c->modem_id = (int)gv;
-            warn(&r, g, "modem_id taken from the global modem_id = %ld (Goby 1.1 requires it in the block)", gv);
+            warn(&r, g, "modem_id taken from the global modem_id = %lld (Goby 1.1 requires it in the block)", gv);
         } else {
             return fail(&r, node(&r, block), "modem_id (required) missing");
         }
