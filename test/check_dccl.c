@@ -550,6 +550,12 @@ START_TEST(trigger_and_timer)
     ck_assert_str_eq(s, "3");
     str_of(&goto_def, v, "goto_x", 0, s);
     ck_assert_str_eq(s, "351");
+    /* default-named header fields read no variable: _id and _time are not taken from the
+     * whole trigger string (that would make _id 0) */
+    str_of(&goto_def, v, "_id", 0, s);
+    ck_assert_str_eq(s, "");
+    str_of(&goto_def, v, "_time", 0, s);
+    ck_assert_str_eq(s, "");
     goto_def.trigger = KELP_DCCL_TRIG_TIME;
     goto_def.trigger_time = 30;
     kelp_dccl_timer_init(&t, 1000);

@@ -70,6 +70,12 @@ int kelp_dccl_source(const kelp_dccl_msgdef *def, const kelp_dccl_var *vars, siz
     if (element >= def->repeat && element != 0) return KELP_ERR_RANGE;
     for (fi = 0; fi < def->n_fields; fi++) {
         const kelp_dccl_field *f = &def->fields[fi];
+        /* a header field keeping its default name reads no variable (Goby clears its source
+         * in DCCLMessageVarHead::initialize_specific); only a renamed one is sourced */
+        if (fi < KELP_DCCL_N_HEAD) {
+            const char *dn = kelp_dccl_head_default_name(fi);
+            if (!f->name || (dn && strcmp(f->name, dn) == 0)) continue;
+        }
         const char *src = f->src_var ? f->src_var : def->trigger_var;
         const kelp_dccl_var *v = find_var(vars, n_vars, src);
         const char *s;

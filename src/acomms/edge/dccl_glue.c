@@ -298,20 +298,6 @@ size_t kelp_acomms_dccl_due(kelp_acomms_dccl *d, double now, size_t *idx, size_t
     return n;
 }
 
-/* Goby's header fields read no variable unless the XML renamed them (DCCLMessageVarHead::
- * initialize_specific clears source_var_ when the name is the default one): undo what
- * kelp_dccl_source() put there from the trigger var, or "_id" would be the whole trigger string
- * (-> id 0) */
-static void clear_unnamed_header(const kelp_dccl_msgdef *def, kelp_dccl_val *vals)
-{
-    for (unsigned h = 0; h < KELP_DCCL_N_HEAD && h < def->n_fields; h++) {
-        const kelp_dccl_field *f = &def->fields[h];
-        const char *dn = kelp_dccl_head_default_name(h);
-        if (f->name && dn && strcmp(f->name, dn) != 0) continue;
-        for (unsigned e = 0; e < f->array_length; e++) kelp_dccl_val_clear(&vals[f->slot + e]);
-    }
-}
-
 static int encode_vals(kelp_acomms_dccl *d, const kelp_dccl_msgdef *def, const kelp_dccl_val *vals, double now,
                        uint8_t *out, size_t cap, size_t *len, const char **why)
 {
@@ -351,7 +337,6 @@ int kelp_acomms_dccl_encode_vars(kelp_acomms_dccl *d, size_t i, double now, uint
             *why = "cannot source values";
             return rc;
         }
-        clear_unnamed_header(def, g->rep);
         if (++g->rep_count < def->repeat) {
             *why = "repeat: collecting";
             return KELP_ERR_PARTIAL;
@@ -365,7 +350,6 @@ int kelp_acomms_dccl_encode_vars(kelp_acomms_dccl *d, size_t i, double now, uint
         *why = "cannot source values";
         return rc;
     }
-    clear_unnamed_header(def, d->vals);
     return encode_vals(d, def, d->vals, now, out, cap, len, why);
 }
 
