@@ -39,10 +39,13 @@ ns=$(echo "$sent" | grep -c . || true); nr=$(echo "$recv" | grep -c . || true)
 [ "$ns" -ge 3 ] && [ "$nr" -ge 2 ] || fail "only $ns VehicleStatus queued, $nr sent"
 [ -z "$(echo "$recv" | uniq -d)" ] || fail "a VehicleStatus arrived twice"
 [ -z "$(comm -13 <(echo "$sent") <(echo "$recv"))" ] || fail "a VehicleStatus arrived that was not sent"
-# the ones not arrived are still queued at the vehicle when it stopped (last ACOMMS_QSIZE); the
-# topside listened 6 s longer, so none was still on the water
+# the ones not arrived are still queued at the vehicle when it stopped (last ACOMMS_QSIZE), or
+# (at most one) handed to the modem in the vehicle's last slot as the run ended: on a loaded
+# machine the topside's extra 6 s of listening can end before that packet is on the water.
+# Nothing may be lost on the channel itself: that is checked strictly below.
 pending=$(vals clean.mm2.txt ACOMMS_QSIZE | grep 'id: 2 }' | tail -1 | sed 's/.*size: //')
-[ "$nr" = $((ns - ${pending:-0})) ] || fail "$ns VehicleStatus queued, $nr arrived, ${pending:-0} still queued"
+missing=$((ns - ${pending:-0} - nr))
+[ "$missing" -ge 0 ] && [ "$missing" -le 1 ] || fail "$ns VehicleStatus queued, $nr arrived, ${pending:-0} still queued"
 [ "$(vals clean.mm1.txt STATUS_SUMMARY | sort -u)" = "nav_x=100.0,nav_y=300.0,health=low_battery" ] ||
   { vals clean.mm1.txt STATUS_SUMMARY; fail "STATUS_SUMMARY content"; }
 # the channel lost nothing and nothing collided
