@@ -9,7 +9,7 @@
 . "$(dirname "$0")/lib.sh"
 cd "$T"
 cp "$KELP_ROOT"/missions/acomms/{loopback.moos,example1.xml,simple_status.xml,modemidlookup.txt} .
-lcm-logger --lcm-url="$KELP_LCM_URL" -f "$T/bus.lcmlog" >/dev/null 2>&1 & PIDS+=($!)
+"$BIN/kelp-record" --lcm-url="$KELP_LCM_URL" -f "$T/bus.lcmlog" >/dev/null 2>&1 & PIDS+=($!)
 # the handler's start-up writes (MODEM_ID, initializers) must not race the logger's start
 sleep 1
 "$BIN/pAcommsHandler" loopback.moos > h.out 2>&1 & H=$!; PIDS+=($H)

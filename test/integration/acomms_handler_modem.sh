@@ -64,7 +64,7 @@ start_modem() {
 echo normal > mode
 start_modem
 sleep 0.3
-lcm-logger --lcm-url="$KELP_LCM_URL" -f "$T/bus.lcmlog" >/dev/null 2>&1 & PIDS+=($!)
+"$BIN/kelp-record" --lcm-url="$KELP_LCM_URL" -f "$T/bus.lcmlog" >/dev/null 2>&1 & PIDS+=($!)
 sleep 1   # the logger must be listening before the handler's start-up writes
 stdbuf -oL "$BIN/pAcommsHandler" --verbose mm.moos > h.out 2>&1 & H=$!; PIDS+=($H)
 
