@@ -112,6 +112,15 @@ static int on_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl
     default: num = &r->length; break;
     }
     if (text) {
+        /* a text field must survive format -> parse: no quote, brace, separator or control
+         * byte (a fuzz finding: name=char"lie parsed, but its report could not be re-read) */
+        for (size_t i = 0; i < vl; i++) {
+            unsigned char c = (unsigned char)v[i];
+            if (c < 0x20 || c == 0x7f || c == '"' || c == '{' || c == '}' || c == ',' || c == '=') {
+                p->why = "text field holds a quote, brace, ',', '=' or control character";
+                return KELP_ERR_PARSE;
+            }
+        }
         if (sim_copy_text(text, KELP_NODEREPORT_MAX_FIELD, v, vl) < 0) {
             p->why = "text field too long";
             return KELP_ERR_RANGE;
