@@ -690,15 +690,7 @@ int replay_main(int argc, char **argv)
         kelp_acomms_dccl_info info;
         if (kelp_acomms_dccl_info_get(r->dccl, i, &info) != KELP_OK) continue;
         kelp_queue_cfg q;
-        kelp_queue_cfg_default(&q, KELP_QUEUE_DCCL, info.id);
-        q.name = info.name;
-        q.ack = info.ack;
-        q.blackout_time = info.blackout_time > 0 ? (uint32_t)info.blackout_time : 0;
-        q.max_queue = info.max_queue;
-        q.newest_first = info.newest_first;
-        q.value_base = info.value_base;
-        q.ttl = info.ttl > 0 ? (uint32_t)info.ttl : 0;
-        q.no_queue = (info.manip & KELP_ACOMMS_MANIP_NO_QUEUE) != 0;
+        kelp_acomms_queue_cfg_from_info(&info, &q);
         r->qname[r->nq] = info.name;
         r->qkey[r->nq++] = q.key;
         if (kelp_acomms_node_add_queue(&r->node, &q, r->now_us) != KELP_OK) {

@@ -407,17 +407,8 @@ static int add_queues(handler *h, int64_t now_us)
         kelp_acomms_dccl_info info;
         if (kelp_acomms_dccl_info_get(h->dccl, i, &info) != KELP_OK) continue;
         kelp_queue_cfg q;
-        kelp_queue_cfg_default(&q, KELP_QUEUE_DCCL, info.id);
-        q.name = info.name;
-        q.ack = info.ack;
-        q.blackout_time = info.blackout_time > 0 ? (uint32_t)info.blackout_time : 0;
-        q.max_queue = info.max_queue;
-        q.newest_first = info.newest_first;
-        q.value_base = info.value_base;
-        q.ttl = info.ttl > 0 ? (uint32_t)info.ttl : 0;
-        q.on_demand = (info.manip & KELP_ACOMMS_MANIP_ON_DEMAND) != 0;
-        q.loopback = false; /* LOOPBACK is done here, right after the encode (whatever the dest) */
-        q.no_queue = (info.manip & KELP_ACOMMS_MANIP_NO_QUEUE) != 0;
+        /* loopback stays off: LOOPBACK is done here, right after the encode (whatever the dest) */
+        kelp_acomms_queue_cfg_from_info(&info, &q);
         int rc = kelp_acomms_node_add_queue(&h->node, &q, now_us);
         if (rc)
             return kelp_app_config_error(h->app, NULL, "cannot add the queue of DCCL message %s (id %u): %s", info.name,

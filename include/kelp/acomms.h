@@ -243,6 +243,9 @@ KELP_MUST_CHECK int kelp_acomms_node_init(kelp_acomms_node *n, const kelp_acomms
                                           const kelp_acomms_node_ops *ops, void *user);
 /** Add a queue (before or after start). */
 KELP_MUST_CHECK int kelp_acomms_node_add_queue(kelp_acomms_node *n, const kelp_queue_cfg *cfg, int64_t now_us);
+/** The queue configuration of a DCCL message: its <queuing> block and its file's manipulators
+ *  (on_demand, no_queue). Loopback stays off: the handler decodes its own sends itself. */
+void kelp_acomms_queue_cfg_from_info(const kelp_acomms_dccl_info *info, kelp_queue_cfg *q);
 /** Start the MAC and (WHOI) the driver's start-up sequence. */
 KELP_MUST_CHECK int kelp_acomms_node_start(kelp_acomms_node *n, int64_t now_us);
 /** The link came back: run the driver's start-up sequence again (queued messages are kept). */

@@ -11,6 +11,21 @@
 
 #include <kelp/acomms.h>
 
+void kelp_acomms_queue_cfg_from_info(const kelp_acomms_dccl_info *info, kelp_queue_cfg *q)
+{
+    kelp_queue_cfg_default(q, KELP_QUEUE_DCCL, info->id);
+    q->name = info->name;
+    q->ack = info->ack;
+    q->blackout_time = info->blackout_time > 0 ? (uint32_t)info->blackout_time : 0;
+    q->max_queue = info->max_queue;
+    q->newest_first = info->newest_first;
+    q->value_base = info->value_base;
+    q->ttl = info->ttl > 0 ? (uint32_t)info->ttl : 0;
+    q->on_demand = (info->manip & KELP_ACOMMS_MANIP_ON_DEMAND) != 0;
+    q->loopback = false;
+    q->no_queue = (info->manip & KELP_ACOMMS_MANIP_NO_QUEUE) != 0;
+}
+
 static void emit(kelp_acomms_node *n, const kelp_acomms_event *ev)
 {
     if (n->ops.event) n->ops.event(ev, n->user);
