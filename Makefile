@@ -107,7 +107,7 @@ $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard apps/*/*.c)): CPPFLAGS += $(LCM_CFLAG
 scripts: $(addprefix $(BUILD)/bin/,$(SCRIPTS))
 $(BUILD)/bin/kelp-%: tools/kelp-%
 	@mkdir -p $(dir $@)
-	cp $< $@ && chmod +x $@
+	sed "s/@KELP_VERSION@/$(VERSION)/g" $< > $@ && chmod +x $@
 
 # ---------------------------------------------------------------- unit tests
 # The list of suites is generated from the test sources, so adding a suite needs no edit here.

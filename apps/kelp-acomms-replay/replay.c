@@ -1,5 +1,5 @@
 /* kelp-acomms-replay: what the Goby 1.1 queue and MAC do with a scripted timeline.
- * Deterministic: the only clock is the timeline's. See usage() for the language. */
+ * Deterministic: the only clock is the timeline's. See --help for the language. */
 #include <ctype.h>
 #include <math.h>
 #include <stdarg.h>
@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include <kelp/acomms.h>
+#include <kelp/edge/cli.h>
 #include <kelp/mission.h>
 
 #include "replay.h"
@@ -506,12 +507,7 @@ static void run_line(replay *r, char *line)
 
 /* ------------------------------------------------------------------ main */
 
-static void usage(FILE *f)
-{
-    fputs(
-        "usage: kelp-acomms-replay [--moos FILE.moos [--block NAME]] [--xml FILE]... [--modem-id N]\n"
-        "                          [--start UNIXTIME] [--passphrase PW | --plain] [TIMELINE]\n"
-        "\n"
+static const char replay_purpose[] =
         "Replays a timeline against the Goby 1.1 priority queue and TDMA MAC (kelp's core, no modem,\n"
         "no clock: time comes only from the timeline) and prints what they do.  The queue and MAC\n"
         "configuration is the pAcommsHandler block of FILE.moos (modem_id, mac_cfg, queue_cfg with its\n"
@@ -555,9 +551,16 @@ static void usage(FILE *f)
         "  receive queue= src= dest= hex= decoded=\"...\"          a received piece for us\n"
         "  ack-ignored / receive-ignored / mac_update / heard / status / echo   as named\n"
         "  error line=N reason                                   a bad command (the replay goes on;\n"
-        "                                                        the exit status is 1)\n",
-        f);
-}
+        "                                                        the exit status is 1)";
+
+static const char replay_options[] =
+    "  --moos FILE.moos   read the pAcommsHandler block of FILE.moos\n"
+    "  --block NAME       the block's name (default pAcommsHandler)\n"
+    "  --xml FILE         add a DCCL message file (repeatable)\n"
+    "  --modem-id N       our modem id, 1..31 (default 1 or the block's)\n"
+    "  --start UNIXTIME   the timeline's start (default 1262304000)\n"
+    "  --passphrase PW    DCCL crypto passphrase\n"
+    "  --plain            no DCCL crypto\n";
 
 static int load_config(replay *r, const char *moos, const char *block_name, char *err, size_t cap)
 {
@@ -590,46 +593,43 @@ int replay_main(int argc, char **argv)
     long modem_id = -1;
     double start = 1262304000.0;
     bool plain = false;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        bool has_val = i + 1 < argc;
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage(stdout);
-            return 0;
-        } else if (!strcmp(a, "--moos") && has_val) {
-            moos = argv[++i];
-        } else if (!strcmp(a, "--block") && has_val) {
-            block = argv[++i];
-        } else if (!strcmp(a, "--xml") && has_val) {
-            if (nxml >= KELP_ACOMMS_MAX_FILES) {
-                fprintf(stderr, "kelp-acomms-replay: too many --xml files\n");
-                return 2;
-            }
-            xml[nxml++] = argv[++i];
-        } else if (!strcmp(a, "--modem-id") && has_val) {
-            if (!parse_int(argv[++i], &modem_id) || modem_id < 1 || modem_id > 31) {
-                fprintf(stderr, "kelp-acomms-replay: --modem-id must be 1..31\n");
-                return 2;
-            }
-        } else if (!strcmp(a, "--start") && has_val) {
-            if (!parse_num(argv[++i], &start) || start < 0) {
-                fprintf(stderr, "kelp-acomms-replay: bad --start\n");
-                return 2;
-            }
-        } else if (!strcmp(a, "--passphrase") && has_val) {
-            pass = argv[++i];
-        } else if (!strcmp(a, "--plain")) {
-            plain = true;
-        } else if (a[0] == '-' && a[1] == '-') {
-            fprintf(stderr, "kelp-acomms-replay: unknown or incomplete option %s (try --help)\n", a);
-            return 2;
-        } else if (!timeline) {
-            timeline = a;
-        } else {
-            fprintf(stderr, "kelp-acomms-replay: unexpected argument %s\n", a);
-            return 2;
+    enum { O_MOOS = 0x100, O_BLOCK, O_XML, O_ID, O_START, O_PASS, O_PLAIN };
+    static const struct option opts[] = { { "moos", required_argument, NULL, O_MOOS },
+                                           { "block", required_argument, NULL, O_BLOCK },
+                                           { "xml", required_argument, NULL, O_XML },
+                                           { "modem-id", required_argument, NULL, O_ID },
+                                           { "start", required_argument, NULL, O_START },
+                                           { "passphrase", required_argument, NULL, O_PASS },
+                                           { "plain", no_argument, NULL, O_PLAIN },
+                                           { NULL, 0, NULL, 0 } };
+    static const kelp_cli cli = { "kelp-acomms-replay",
+                                  "[--moos FILE.moos [--block NAME]] [--xml FILE]... [--modem-id N]\n"
+                                  "[--start UNIXTIME] [--passphrase PW | --plain] [TIMELINE]",
+                                  replay_purpose, replay_options, opts, NULL };
+    int c, status;
+    while ((c = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
+        switch (c) {
+        case KELP_CLI_EXIT: return status;
+        case O_MOOS: moos = optarg; break;
+        case O_BLOCK: block = optarg; break;
+        case O_XML:
+            if (nxml >= KELP_ACOMMS_MAX_FILES) return kelp_cli_error(&cli, "too many --xml files");
+            xml[nxml++] = optarg;
+            break;
+        case O_ID:
+            if (!parse_int(optarg, &modem_id) || modem_id < 1 || modem_id > 31)
+                return kelp_cli_error(&cli, "--modem-id must be 1..31");
+            break;
+        case O_START:
+            if (!parse_num(optarg, &start) || start < 0) return kelp_cli_error(&cli, "bad --start '%s'", optarg);
+            break;
+        case O_PASS: pass = optarg; break;
+        case O_PLAIN: plain = true; break;
+        default: return kelp_cli_error(&cli, "unexpected option");
         }
     }
+    if (optind < argc) timeline = argv[optind++];
+    if (optind < argc) return kelp_cli_error(&cli, "unexpected argument '%s'", argv[optind]);
     char err[1024];
     kelp_acomms_config_default(&r->cfg);
     r->cfg.modem_id = 1;
@@ -727,8 +727,8 @@ int replay_main(int argc, char **argv)
         r->lineno++;
         if (!strchr(line, '\n') && !feof(in)) {
             error(r, "line too long");
-            int c;
-            while ((c = fgetc(in)) != EOF && c != '\n') {
+            int ch;
+            while ((ch = fgetc(in)) != EOF && ch != '\n') {
             }
             continue;
         }

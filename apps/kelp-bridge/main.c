@@ -217,7 +217,8 @@ static void report(kelp_app *app, void *st, FILE *out)
 }
 
 static const kelp_app_def def = {
-    .name = "pMOOSBridge",
+    .name = "kelp-bridge",
+    .moos_name = "pMOOSBridge",
     .purpose = "Forward variables between communities over UDP, with renaming and optional HMAC authentication.",
     .example = "ProcessConfig = pMOOSBridge\n{\n  UDPListen = 9200\n"
                "  UDPSHARE  = [NODE_REPORT_LOCAL] -> shoreside @ 192.168.1.10:9200 [NODE_REPORT]\n"

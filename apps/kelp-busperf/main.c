@@ -13,6 +13,7 @@
 #include <string.h>
 #include <time.h>
 #include <lcm/lcm.h>
+#include <kelp/edge/cli.h>
 #include <kelp/lcmbus.h>
 #include <kelp/mission.h>
 
@@ -96,8 +97,25 @@ static void pct(ctr *c, const char *what)
 
 int main(int argc, char **argv)
 {
+    static const kelp_cli cli = { "kelp-busperf",
+                                  "pub|raw-pub N [SIZE]\nsub|raw-sub N [TIMEOUT_S]\nping|raw-ping N\n"
+                                  "pong|raw-pong [SECONDS]\njunk CHANNEL N",
+                                  "Bus throughput, latency and robustness probe (for tests and `make bench`).\n"
+                                  "  pub N [SIZE]       publish N string variables of SIZE bytes on BURST (kelp bus)\n"
+                                  "  sub N [TIMEOUT_S]  count BURST messages until N or the timeout: \"received R/N\"\n"
+                                  "  ping N | pong      kelp round trips (PING -> PONG): p50/p90/p99 in microseconds\n"
+                                  "  junk CHANNEL N     publish N malformed datagrams on CHANNEL\n"
+                                  "  raw-*              the same through raw liblcm (pre-encoded bytes)\n"
+                                  "The LCM URL is $KELP_LCM_URL or the default (recv_buf_size added for udpm).",
+                                  NULL, NULL, NULL };
+    int opt, status;
+    while ((opt = kelp_cli_next(&cli, argc, argv, &status)) != -1)
+        if (opt == KELP_CLI_EXIT) return status;
+    /* the mode becomes argv[1] */
+    argc -= optind - 1;
+    argv += optind - 1;
     if (argc < 2) {
-        fprintf(stderr, "usage: see the comment at the top of apps/kelp-busperf/main.c\n");
+        kelp_cli_usage(&cli, stderr);
         return 2;
     }
     const char *mode = argv[1];
@@ -236,8 +254,7 @@ int main(int argc, char **argv)
         printf("published %ld malformed datagrams on %s\n", k, chan);
         if (l != lcm) lcm_destroy(l);
     } else {
-        fprintf(stderr, "unknown mode %s\n", mode);
-        return 2;
+        return kelp_cli_error(&cli, "unknown mode '%s'", mode);
     }
     if (lb) kelp_lcmbus_close(lb);
     if (lcm) lcm_destroy(lcm);

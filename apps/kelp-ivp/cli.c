@@ -2,17 +2,23 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <kelp/edge/cli.h>
 #include <kelp/ivp.h>
 #include "cli.h"
 
+static const kelp_cli ivp_cli = {
+    "kelp-ivp",
+    "eval DOMAIN SPEC\ncouple DOMAIN2 CRS_SPEC SPD_SPEC WC WS\nsolve FILE [--repeat N]",
+    "Evaluates, couples and solves IvP functions.\n"
+    "DOMAIN: name:low:high:points[,name:low:high:points]...\n"
+    "SPEC:   peak(summit=S,peakwidth=P,basewidth=B,summitdelta=D,minutil=m,maxutil=M[,wrap][,insist][,sum])"
+    "[+peak(...)]...\n        | leq(summit=S,basewidth=B,minutil=m,maxutil=M[,summitdelta=D]) | heq(...)",
+    "  --repeat N       solve: solve N times (for timing)\n", NULL, NULL
+};
+
 static int usage(void)
 {
-    fprintf(stderr, "usage: kelp-ivp eval DOMAIN SPEC\n"
-                    "       kelp-ivp couple DOMAIN2 CRS_SPEC SPD_SPEC WC WS\n"
-                    "       kelp-ivp solve FILE [--repeat N]\n"
-                    "DOMAIN: name:low:high:points[,name:low:high:points]...\n"
-                    "SPEC:   peak(summit=S,peakwidth=P,basewidth=B,summitdelta=D,minutil=m,maxutil=M[,wrap][,insist][,sum])"
-                    "[+peak(...)]... | leq(summit=S,basewidth=B,minutil=m,maxutil=M[,summitdelta=D]) | heq(...)\n");
+    kelp_cli_usage(&ivp_cli, stderr);
     return 2;
 }
 
@@ -229,29 +235,10 @@ static char *next_line(char **cur, unsigned *lineno)
     return NULL;
 }
 
-static int cmd_solve(int argc, char **argv)
+static int cmd_solve(int argc, char **argv, long repeat)
 {
-    long repeat = 1;
-    const char *path = NULL;
-    for (int i = 2; i < argc; i++) {
-        if (strcmp(argv[i], "--repeat") == 0) {
-            char *end;
-            if (i + 1 >= argc) {
-                fprintf(stderr, "kelp-ivp: --repeat needs a count\n");
-                return 1;
-            }
-            repeat = strtol(argv[++i], &end, 10);
-            if (*end || end == argv[i] || repeat < 1) {
-                fprintf(stderr, "kelp-ivp: bad --repeat count '%s'\n", argv[i]);
-                return 1;
-            }
-        } else if (!path) {
-            path = argv[i];
-        } else {
-            fprintf(stderr, "kelp-ivp: unexpected argument '%s'\n", argv[i]);
-            return 1;
-        }
-    }
+    const char *path = argc > 2 ? argv[2] : NULL;
+    if (argc > 3) return kelp_cli_error(&ivp_cli, "unexpected argument '%s'", argv[3]);
     if (!path)
         return usage();
     char *text = read_file(path);
@@ -380,6 +367,22 @@ out:
 
 int kelp_ivp_cli(int argc, char **argv)
 {
+    static const struct option opts[] = { { "repeat", required_argument, NULL, 'r' }, { NULL, 0, NULL, 0 } };
+    kelp_cli cl = ivp_cli;
+    cl.longopts = opts;
+    long repeat = 1;
+    int o, status;
+    while ((o = kelp_cli_next(&cl, argc, argv, &status)) != -1) {
+        if (o == KELP_CLI_EXIT) return status;
+        if (o == 'r') {
+            char *end;
+            repeat = strtol(optarg, &end, 10);
+            if (*end || end == optarg || repeat < 1) return kelp_cli_error(&cl, "bad --repeat count '%s'", optarg);
+        }
+    }
+    /* the command becomes argv[1] */
+    argc -= optind - 1;
+    argv += optind - 1;
     if (argc < 2)
         return usage();
     if (strcmp(argv[1], "eval") == 0)
@@ -387,11 +390,6 @@ int kelp_ivp_cli(int argc, char **argv)
     if (strcmp(argv[1], "couple") == 0)
         return cmd_couple(argc, argv);
     if (strcmp(argv[1], "solve") == 0)
-        return cmd_solve(argc, argv);
-    if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
-        usage();
-        return 0;
-    }
-    fprintf(stderr, "kelp-ivp: unknown command '%s'\n", argv[1]);
-    return usage();
+        return cmd_solve(argc, argv, repeat);
+    return kelp_cli_error(&cl, "unknown command '%s'", argv[1]);
 }

@@ -24,6 +24,7 @@
 #include <unistd.h>
 #include <kelp/lcmbus.h>
 #include <kelp/mission.h>
+#include <kelp/edge/cli.h>
 
 #define MAX_APPS 64
 #define MAX_VARS 512
@@ -100,43 +101,37 @@ int main(int argc, char **argv)
     double run_seconds = 0;
     const char *mission = NULL, *logdir = NULL;
     int want_report = 0;
-    for (int i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            printf("Usage: kelp-launch [--run-seconds S] [--log-dir DIR] [--report] MISSION.moos\n"
-                   "Starts every 'Run = prog @ config ~ name' of ProcessConfig = ANTLER (the pAntler role)\n"
-                   "and stops them all on exit, on SIGINT/SIGTERM or after --run-seconds.\n"
-                   "--report prints, at the end, every variable written on the bus with its write count,\n"
-                   "last value and source. App output goes to DIR/<name>.log (default ./kelp-logs).\n");
-            return 0;
-        } else if (strcmp(argv[i], "--version") == 0) {
-            printf("kelp-launch (kelp) %s\n", KELP_VERSION);
-            return 0;
-        } else if (strncmp(argv[i], "--run-seconds=", 14) == 0) {
-            if (kelp_parse_double(argv[i] + 14, strlen(argv[i] + 14), &run_seconds) < 0) {
-                fprintf(stderr, "kelp-launch: bad --run-seconds\n");
-                return 2;
-            }
-        } else if (strcmp(argv[i], "--run-seconds") == 0 && i + 1 < argc) {
-            ++i;
-            if (kelp_parse_double(argv[i], strlen(argv[i]), &run_seconds) < 0) {
-                fprintf(stderr, "kelp-launch: bad --run-seconds\n");
-                return 2;
-            }
-        } else if (strncmp(argv[i], "--log-dir=", 10) == 0) {
-            logdir = argv[i] + 10;
-        } else if (strcmp(argv[i], "--log-dir") == 0 && i + 1 < argc) {
-            logdir = argv[++i];
-        } else if (strcmp(argv[i], "--report") == 0) {
-            want_report = 1;
-        } else if (argv[i][0] == '-') {
-            fprintf(stderr, "kelp-launch: unknown option '%s'\n", argv[i]);
-            return 2;
-        } else {
-            mission = argv[i];
+    static const struct option opts[] = { { "run-seconds", required_argument, NULL, 's' },
+                                           { "log-dir", required_argument, NULL, 'd' },
+                                           { "report", no_argument, NULL, 'r' },
+                                           { NULL, 0, NULL, 0 } };
+    static const kelp_cli cli = {
+        "kelp-launch", "[--run-seconds S] [--log-dir DIR] [--report] MISSION.moos",
+        "Starts every 'Run = prog @ config ~ name' of ProcessConfig = ANTLER (the pAntler role)\n"
+        "and stops them all on exit, on SIGINT/SIGTERM or after --run-seconds.",
+        "  --run-seconds S  stop the mission after S seconds\n"
+        "  --log-dir DIR    app output goes to DIR/<name>.log (default ./kelp-logs)\n"
+        "  --report         print, at the end, every variable written on the bus with its write\n"
+        "                   count, last value and source\n",
+        opts, NULL
+    };
+    int o, status;
+    while ((o = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
+        switch (o) {
+        case KELP_CLI_EXIT: return status;
+        case 's':
+            if (kelp_parse_double(optarg, strlen(optarg), &run_seconds) < 0 || !(run_seconds >= 0))
+                return kelp_cli_error(&cli, "bad --run-seconds '%s'", optarg);
+            break;
+        case 'd': logdir = optarg; break;
+        case 'r': want_report = 1; break;
+        default: return 2;
         }
     }
+    if (optind < argc) mission = argv[optind++];
+    if (optind < argc) return kelp_cli_error(&cli, "unexpected argument '%s'", argv[optind]);
     if (!mission) {
-        fprintf(stderr, "usage: kelp-launch [--run-seconds S] [--log-dir DIR] [--report] MISSION.moos\n");
+        kelp_cli_usage(&cli, stderr);
         return 2;
     }
     static kelp_mission_file mf;

@@ -10,6 +10,7 @@
 #include <string.h>
 #include <lcm/eventlog.h>
 #include <kelp/bus.h>
+#include <kelp/edge/cli.h>
 #include "kelp_var_t.h"
 #include "kelp_sync_req_t.h"
 
@@ -17,11 +18,22 @@ typedef struct chan { char name[128]; long n, bad; char kind[16]; } chan;
 
 int main(int argc, char **argv)
 {
-    if (argc < 2 || strcmp(argv[1], "--help") == 0) {
-        printf("usage: kelp-logcheck LOGFILE [--print]\n");
-        return argc < 2 ? 2 : 0;
+    static const struct option opts[] = { { "print", no_argument, NULL, 'p' }, { NULL, 0, NULL, 0 } };
+    static const kelp_cli cli = { "kelp-logcheck", "[--print] LOGFILE",
+                                  "Decodes every event of an LCM log with kelp's types (and, for kelp.var_t and\n"
+                                  "kelp.sync_req_t, with the lcm-gen decoder too, to the same fields); prints a line\n"
+                                  "per channel and exits 1 if any event does not decode.",
+                                  "  --print          print every variable write\n", opts, NULL };
+    int o, status, print = 0;
+    while ((o = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
+        if (o == KELP_CLI_EXIT) return status;
+        if (o == 'p') print = 1;
     }
-    int print = argc > 2 && strcmp(argv[2], "--print") == 0;
+    if (optind != argc - 1) {
+        kelp_cli_usage(&cli, stderr);
+        return 2;
+    }
+    argv += optind - 1; /* the log becomes argv[1] */
     lcm_eventlog_t *log = lcm_eventlog_create(argv[1], "r");
     if (!log) {
         fprintf(stderr, "kelp-logcheck: cannot open %s\n", argv[1]);

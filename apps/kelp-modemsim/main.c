@@ -592,6 +592,11 @@ static const kelp_app_def def = {
         "  channel_var = ACOMMS_SIM_CHANNEL       // where transmissions travel\n"
         "  // channel_url = udpm://239.255.76.67:7690?ttl=0  // a channel bus shared by several communities\n"
         "  publish_events = true                  // ACOMMS_SIM_EVENT per transmission / reception / loss\n"
+        "  ping_timeout = 10                      // s a $CCMPC ping waits for its reply\n"
+        "  clock_set_at_boot = false              // false: the modem clock starts at 2000-01-01 until $CCCLK\n"
+        "  revision   = 0.93.0.52                 // firmware revision in $CAREV\n"
+        "  // iModemSim names also accepted: Port = /tmp/ttyMM1, Speed = 19200 (ignored: a pty has no\n"
+        "  // baud), InputLocType (ignored), loss_probability = 0.0 (same as loss)\n"
         "}\n",
     .interface = "Host link: pseudo-terminal (pty_link) or TCP (tcp_port); WHOI Micro-Modem NMEA:\n"
                  "  in  $CCCLK $CCCFG $CCCFQ $CCCYC $CCTXD $CCMPC $CCMUC $CCPDT\n"

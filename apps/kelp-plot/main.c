@@ -15,6 +15,7 @@
 #include <string.h>
 #include <lcm/eventlog.h>
 #include <kelp/app.h>
+#include <kelp/edge/cli.h>
 #include "plot.h"
 
 #ifndef KELP_VERSION
@@ -36,16 +37,22 @@ static int parse_size(const char *s, int *w, int *h)
     return 0;
 }
 
-static void usage(FILE *f)
-{
-    fprintf(f, "usage: kelp-plot [-o OUT.png|OUT.svg]... [--title T] [--size WxH] [--no-pulses] [--quiet] LOG [LOG...]\n"
-               "       kelp-plot MISSION.moos [NAME]      (live viewer app; see --example)\n"
-               "Renders lcm-logger logs of a mission: vehicle tracks (NODE_REPORT, NODE_REPORT_LOCAL or NAV_X/NAV_Y\n"
-               "per community) with names, VIEW_POINT/POLYGON/SEGLIST/CIRCLE/MARKER/COMMS_PULSE/RANGE_PULSE,\n"
-               "metre grid, legend. Without -o it writes LOG.png and LOG.svg next to the first log.\n"
-               "Prints a per-vehicle summary (fixes, distance, duration, start, end). Exit 1 when a log cannot be\n"
-               "read or holds nothing to draw.\n");
-}
+static const kelp_cli plot_cli = {
+    "kelp-plot",
+    "[-o OUT.png|OUT.svg]... [--title T] [--size WxH] [--no-pulses] [--quiet] LOG [LOG...]\n"
+    "MISSION.moos [NAME]      (live viewer app; see --example)",
+    "Renders lcm-logger logs of a mission: vehicle tracks (NODE_REPORT, NODE_REPORT_LOCAL or NAV_X/NAV_Y\n"
+    "per community) with names, VIEW_POINT/POLYGON/SEGLIST/CIRCLE/MARKER/COMMS_PULSE/RANGE_PULSE,\n"
+    "metre grid, legend. Without -o it writes LOG.png and LOG.svg next to the first log.\n"
+    "Prints a per-vehicle summary (fixes, distance, duration, start, end). Exit 1 when a log cannot be\n"
+    "read or holds nothing to draw.",
+    "  -o FILE          write FILE (.png or .svg; repeatable)\n"
+    "  --title T        the picture's title\n"
+    "  --size WxH       picture size in pixels (default 1600x1100)\n"
+    "  --no-pulses      do not draw COMMS_PULSE/RANGE_PULSE\n"
+    "  -q, --quiet      no summary\n",
+    NULL, NULL
+};
 
 /* ------------------------------------------------------------------ offline */
 
@@ -96,40 +103,37 @@ static int offline(int argc, char **argv)
     int nlogs = 0;
     plot_opts o = {1600, 1100, NULL, NULL, true};
     bool quiet = false;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage(stdout);
-            return 0;
-        } else if (!strcmp(a, "--version")) {
-            printf("kelp-plot (kelp) %s\n", KELP_VERSION);
-            return 0;
-        } else if (!strcmp(a, "-o") && i + 1 < argc) {
-            if (nouts < 8) outs[nouts++] = argv[++i];
-        } else if (!strcmp(a, "--title") && i + 1 < argc) {
-            o.title = argv[++i];
-        } else if (!strcmp(a, "--size") && i + 1 < argc) {
-            int w, h;
-            if (parse_size(argv[++i], &w, &h) < 0) {
-                fprintf(stderr, "kelp-plot: --size WxH with 400 <= W, 300 <= H, both <= 10000\n");
-                return 2;
-            }
+    enum { O_TITLE = 0x100, O_SIZE, O_NOPULSE };
+    static const struct option opts[] = { { "title", required_argument, NULL, O_TITLE },
+                                           { "size", required_argument, NULL, O_SIZE },
+                                           { "no-pulses", no_argument, NULL, O_NOPULSE },
+                                           { "quiet", no_argument, NULL, 'q' },
+                                           { NULL, 0, NULL, 0 } };
+    kelp_cli cli = plot_cli;
+    cli.longopts = opts;
+    cli.shortopts = "o:q";
+    int c, status, w, h;
+    while ((c = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
+        switch (c) {
+        case KELP_CLI_EXIT: return status;
+        case 'o':
+            if (nouts < 8) outs[nouts++] = optarg;
+            break;
+        case O_TITLE: o.title = optarg; break;
+        case O_SIZE:
+            if (parse_size(optarg, &w, &h) < 0)
+                return kelp_cli_error(&cli, "--size WxH with 400 <= W, 300 <= H, both <= 10000");
             o.width = w;
             o.height = h;
-        } else if (!strcmp(a, "--no-pulses")) {
-            o.show_pulses = false;
-        } else if (!strcmp(a, "--quiet") || !strcmp(a, "-q")) {
-            quiet = true;
-        } else if (a[0] == '-') {
-            fprintf(stderr, "kelp-plot: unknown option '%s'\n", a);
-            usage(stderr);
-            return 2;
-        } else if (nlogs < 64) {
-            logs[nlogs++] = a;
+            break;
+        case O_NOPULSE: o.show_pulses = false; break;
+        case 'q': quiet = true; break;
+        default: return 2;
         }
     }
+    while (optind < argc && nlogs < 64) logs[nlogs++] = argv[optind++];
     if (!nlogs) {
-        usage(stderr);
+        kelp_cli_usage(&plot_cli, stderr);
         return 2;
     }
     plot_scene s;
@@ -312,7 +316,8 @@ int main(int argc, char **argv)
             static live l;
             return kelp_app_run(argc, argv, &live_def, &l);
         }
-        if (!strcmp(argv[i], "--example") || !strcmp(argv[i], "--interface")) {
+        if (!strcmp(argv[i], "--example") || !strcmp(argv[i], "--interface") || !strcmp(argv[i], "-e") ||
+            !strcmp(argv[i], "-i") || !strncmp(argv[i], "--alias", 7)) {
             static live l;
             return kelp_app_run(argc, argv, &live_def, &l);
         }

@@ -11,6 +11,7 @@
 #include <time.h>
 #include <kelp/lcmbus.h>
 #include <kelp/mission.h>
+#include <kelp/edge/cli.h>
 
 #define MAX_POKES 64
 #define SYNC_WAIT_S 0.6   /* wall seconds to collect current values before poking */
@@ -69,18 +70,18 @@ static void show(const kelp_var *v, int have, const char *name, double t0)
 
 int main(int argc, char **argv)
 {
-    if (argc >= 2 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
-        printf("Usage: kelp-poke MISSION.moos VAR=value [VAR=value ...]\n"
-               "Writes variables to the mission's community (the uPokeDB role) and shows each before\n"
-               "and after. Numbers post as doubles, other values as strings; VAR:=value forces a string.\n");
-        return 0;
-    }
-    if (argc >= 2 && strcmp(argv[1], "--version") == 0) {
-        printf("kelp-poke (kelp) %s\n", KELP_VERSION);
-        return 0;
-    }
+    static const kelp_cli cli = { "kelp-poke", "MISSION.moos VAR=value [VAR=value ...]",
+                                  "Writes variables to the mission's community (the uPokeDB role) and shows each before\n"
+                                  "and after. Numbers post as doubles, other values as strings; VAR:=value forces a string.",
+                                  NULL, NULL, NULL };
+    int o, status;
+    while ((o = kelp_cli_next(&cli, argc, argv, &status)) != -1)
+        if (o == KELP_CLI_EXIT) return status;
+    /* the mission becomes argv[1] */
+    argc -= optind - 1;
+    argv += optind - 1;
     if (argc < 3) {
-        fprintf(stderr, "usage: kelp-poke MISSION.moos VAR=value [VAR=value ...]\n");
+        kelp_cli_usage(&cli, stderr);
         return 2;
     }
     static kelp_mission_file mf;

@@ -15,6 +15,7 @@
 #include <lcm/lcm.h>
 #include <lcm/eventlog.h>
 #include <kelp/lcmbus.h>
+#include <kelp/edge/cli.h>
 
 static volatile sig_atomic_t g_stop;
 static void on_signal(int s) { (void)s; g_stop = 1; }
@@ -42,27 +43,28 @@ int main(int argc, char **argv)
 {
     const char *url_in = NULL, *file = NULL, *chan = ".*";
     int quiet = 0;
-    for (int i = 1; i < argc; i++) {
-        if (strncmp(argv[i], "--lcm-url=", 10) == 0) url_in = argv[i] + 10;
-        else if (strcmp(argv[i], "-f") == 0) continue; /* overwrite: always */
-        else if (strcmp(argv[i], "-q") == 0) quiet = 1;
-        else if (strcmp(argv[i], "-c") == 0 && i + 1 < argc) chan = argv[++i]; /* channel regex */
-        else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            printf("usage: kelp-record [--lcm-url=URL] [-c CHANNEL_REGEX] [-f] [-q] FILE\n"
-                   "Records every channel to an LCM event log with no loss (unbounded queue, 4 MiB socket\n"
-                   "buffer); stops on SIGINT/SIGTERM. URL defaults to $KELP_LCM_URL or kelp's default.\n");
-            return 0;
-        } else if (argv[i][0] != '-' && !file) {
-            file = argv[i];
-        } else {
-            fprintf(stderr, "kelp-record: unknown argument '%s' (try --help)\n", argv[i]);
-            return 2;
+    static const struct option opts[] = { { "lcm-url", required_argument, NULL, 'u' }, { NULL, 0, NULL, 0 } };
+    static const kelp_cli cli = { "kelp-record", "[--lcm-url=URL] [-c CHANNEL_REGEX] [-f] [-q] FILE",
+                                  "Records every channel to an LCM event log with no loss (unbounded queue, 4 MiB socket\n"
+                                  "buffer); stops on SIGINT/SIGTERM. URL defaults to $KELP_LCM_URL or kelp's default.",
+                                  "  --lcm-url=URL    the bus to record\n"
+                                  "  -c REGEX         channels to record (default .*)\n"
+                                  "  -f               overwrite FILE (always done; accepted for lcm-logger users)\n"
+                                  "  -q               quiet\n",
+                                  opts, "c:fq" };
+    int o, status;
+    while ((o = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
+        switch (o) {
+        case KELP_CLI_EXIT: return status;
+        case 'u': url_in = optarg; break;
+        case 'c': chan = optarg; break;
+        case 'q': quiet = 1; break;
+        default: break; /* -f */
         }
     }
-    if (!file) {
-        fprintf(stderr, "kelp-record: FILE is required\n");
-        return 2;
-    }
+    if (optind < argc) file = argv[optind++];
+    if (optind < argc) return kelp_cli_error(&cli, "unexpected argument '%s'", argv[optind]);
+    if (!file) return kelp_cli_error(&cli, "FILE is required");
     char url[600];
     if (url_in && *url_in) {
         /* an explicit URL wins over $KELP_LCM_URL; add the receive buffer as kelp_lcm_url does */

@@ -146,10 +146,11 @@ static void report(kelp_app *app, void *st, FILE *out)
 }
 
 static const kelp_app_def def = {
-    .name = "uXMS",
+    .name = "kelp-scope",
+    .moos_name = "uXMS",
     .purpose = "Terminal scope of bus variables: value, source, time and community (the uXMS role).",
     .example = "ProcessConfig = uXMS\n{\n  AppTick   = 4\n  CommsTick = 4\n\n  PAUSED            = false\n"
-               "  DISPLAY_SOURCE    = true\n  DISPLAY_TIME      = true\n  DISPLAY_COMMUNITY = true\n\n"
+               "  DISPLAY_ALL       = false   // true: every variable of the community\n  DISPLAY_SOURCE    = true\n  DISPLAY_TIME      = true\n  DISPLAY_COMMUNITY = true\n\n"
                "  VAR = APPLES\n  VAR = PEARS\n  VAR = *_HZ\n}\n",
     .interface = "Subscribes: every VAR named (or matching) in the configuration\n"
                  "Publishes:  <NAME>_STATUS\n",

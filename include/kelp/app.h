@@ -26,7 +26,9 @@
 typedef struct kelp_app kelp_app;
 
 typedef struct kelp_app_def {
-    const char *name;        /**< default MOOS name, e.g. "pXRelay" */
+    const char *name;        /**< the program's name (command line, --help, --version), e.g. "pXRelay" */
+    const char *moos_name;   /**< default MOOS name when it differs from the program's (e.g. kelp-scope
+                                  runs as "uXMS" so `ProcessConfig = uXMS` blocks work), or NULL */
     const char *purpose;     /**< one line for --help */
     const char *example;     /**< an example ProcessConfig block (--example) */
     const char *interface;   /**< subscriptions and publications (--interface) */

@@ -10,6 +10,7 @@
 #include <time.h>
 #include <unistd.h>
 #include <kelp/app.h>
+#include <kelp/edge/cli.h>
 #include <kelp/lcmbus.h>
 
 #define MAX_WARN 32
@@ -354,22 +355,15 @@ static void publish_status(kelp_app *app)
 }
 
 /* ------------------------------------------------------------------ command line */
-static void usage(const kelp_app_def *def, FILE *out)
-{
-    fprintf(out,
-            "Usage: %s [OPTIONS] MISSION.moos [NAME]\n"
-            "%s\n\n"
-            "Options:\n"
-            "  --alias=NAME   run under the MOOS name NAME (reads ProcessConfig = NAME)\n"
-            "  --example      print an example configuration block\n"
-            "  --interface    print the variables the app subscribes to and publishes\n"
-            "  --version      print the version\n"
-            "  --verbose      print events as they happen\n"
-            "  --help         this text\n\n"
-            "The LCM URL of the community comes from $KELP_LCM_URL, else the mission's global\n"
-            "LCM_URL, else " KELP_LCM_DEFAULT_URL ".\n",
-            def->name, def->purpose ? def->purpose : "");
-}
+static const char app_options[] =
+    "  --alias=NAME     run under the MOOS name NAME (reads ProcessConfig = NAME)\n"
+    "  -e, --example    print an example configuration block with every parameter\n"
+    "  -i, --interface  print the variables the app subscribes to and publishes\n"
+    "  --verbose        print events as they happen\n";
+
+static const char app_purpose_tail[] =
+    "The LCM URL of the community comes from $KELP_LCM_URL, else the mission's global\n"
+    "LCM_URL, else " KELP_LCM_DEFAULT_URL ".";
 
 static bool is_common_param(const kelp_mission_node *n)
 {
@@ -383,38 +377,32 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
 {
     const char *mission = NULL, *alias = NULL;
     bool verbose = false;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-            usage(def, stdout);
-            return 0;
-        } else if (strcmp(a, "--example") == 0 || strcmp(a, "-e") == 0) {
-            printf("%s", def->example ? def->example : "(no example)\n");
-            return 0;
-        } else if (strcmp(a, "--interface") == 0 || strcmp(a, "-i") == 0) {
-            printf("%s", def->interface ? def->interface : "(no interface description)\n");
-            return 0;
-        } else if (strcmp(a, "--version") == 0 || strcmp(a, "-v") == 0) {
-            printf("%s (kelp) %s\n", def->name, KELP_VERSION);
-            return 0;
-        } else if (strncmp(a, "--alias=", 8) == 0) {
-            alias = a + 8;
-        } else if (strcmp(a, "--verbose") == 0) {
-            verbose = true;
-        } else if (a[0] == '-' && a[1] == '-') {
-            fprintf(stderr, "%s: unknown option '%s' (try --help)\n", def->name, a);
-            return 2;
-        } else if (!mission) {
-            mission = a;
-        } else if (!alias) {
-            alias = a;
-        } else {
-            fprintf(stderr, "%s: unexpected argument '%s'\n", def->name, a);
-            return 2;
+    enum { OPT_ALIAS = 0x100, OPT_VERBOSE };
+    static const struct option opts[] = { { "alias", required_argument, NULL, OPT_ALIAS },
+                                           { "example", no_argument, NULL, 'e' },
+                                           { "interface", no_argument, NULL, 'i' },
+                                           { "verbose", no_argument, NULL, OPT_VERBOSE },
+                                           { NULL, 0, NULL, 0 } };
+    char purpose[1024];
+    snprintf(purpose, sizeof purpose, "%s\n\n%s", def->purpose ? def->purpose : "", app_purpose_tail);
+    const kelp_cli cli = { def->name, "[OPTIONS] MISSION.moos [NAME]", purpose, app_options, opts, "ei" };
+    int c, status = 0;
+    optind = 1;
+    while ((c = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
+        switch (c) {
+        case KELP_CLI_EXIT: return status;
+        case 'e': printf("%s", def->example ? def->example : "(no example)\n"); return 0;
+        case 'i': printf("%s", def->interface ? def->interface : "(no interface description)\n"); return 0;
+        case OPT_ALIAS: alias = optarg; break;
+        case OPT_VERBOSE: verbose = true; break;
+        default: return kelp_cli_error(&cli, "unexpected option");
         }
     }
+    if (optind < argc) mission = argv[optind++];
+    if (optind < argc && !alias) alias = argv[optind++];
+    if (optind < argc) return kelp_cli_error(&cli, "unexpected argument '%s'", argv[optind]);
     if (!mission) {
-        usage(def, stderr);
+        kelp_cli_usage(&cli, stderr);
         return 2;
     }
     kelp_app *app = calloc(1, sizeof *app);
@@ -424,7 +412,7 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
     app->verbose = verbose;
     app->tty = isatty(STDOUT_FILENO);
     snprintf(app->mission_path, sizeof app->mission_path, "%s", mission);
-    snprintf(app->name, sizeof app->name, "%s", alias ? alias : def->name);
+    snprintf(app->name, sizeof app->name, "%s", alias ? alias : def->moos_name ? def->moos_name : def->name);
     if (kelp_mission_load(&app->mf, mission) < 0) {
         fprintf(stderr, "%s\n", app->mf.error);
         free(app);

@@ -6,6 +6,7 @@
 #include <time.h>
 
 #include <kelp/dccl_edge.h>
+#include <kelp/edge/cli.h>
 
 #define CLI_MAX_XML 64
 #define CLI_MAX_ALGS 64
@@ -28,18 +29,30 @@ typedef struct cli {
     int n_pos;
 } cli;
 
-static void usage(FILE *f)
-{
-    fputs("usage:\n"
-          "  kelp-dccl encode --xml FILE [--xml FILE]... --msg NAME [--modem-id N] [--now UNIXTIME]\n"
-          "                   [--passphrase PW] [--plain] [--repeat N] FIELD=VALUE|FIELD#=NUMBER...\n"
-          "  kelp-dccl decode  --xml FILE... [--modem-id N] [--now UNIXTIME] [--passphrase PW] [--plain] [--repeat N] HEX\n"
-          "  kelp-dccl publish --xml FILE... [--modem-id N] [--now UNIXTIME] [--passphrase PW] [--plain] HEX\n"
-          "  kelp-dccl info    --xml FILE...\n"
-          "options for algorithms: --lat-origin DEG --lon-origin DEG --modem-lookup FILE\n"
-          "  --no-algorithms: register none (algorithm names are then ignored, as in a bare Goby DCCLCodec)\n",
-          f);
-}
+static const char dccl_purpose[] =
+    "Encodes, decodes and publishes Goby 1.1 DCCL messages defined in message XML files, and\n"
+    "prints a message set's layout (info).";
+
+static const char dccl_options[] =
+    "  --xml FILE            a DCCL message file (repeatable)\n"
+    "  --msg NAME            the message to encode\n"
+    "  --modem-id N          our modem id (the header's source)\n"
+    "  --now UNIXTIME        the time used for time fields (default: the clock)\n"
+    "  --passphrase PW       crypto passphrase (default: the files' or none)\n"
+    "  --plain               no crypto\n"
+    "  --repeat N            encode/decode N times (for timing)\n"
+    "  --lat-origin DEG, --lon-origin DEG, --modem-lookup FILE   for algorithms\n"
+    "  --no-algorithms       register none (algorithm names are then ignored, as in a bare Goby DCCLCodec)\n";
+
+static const kelp_cli dccl_cli = {
+    "kelp-dccl",
+    "encode --xml FILE [--xml FILE]... --msg NAME [--modem-id N] [--now UNIXTIME]\n"
+    "       [--passphrase PW] [--plain] [--repeat N] FIELD=VALUE|FIELD#=NUMBER...\n"
+    "decode  --xml FILE... [--modem-id N] [--now UNIXTIME] [--passphrase PW] [--plain] [--repeat N] HEX\n"
+    "publish --xml FILE... [--modem-id N] [--now UNIXTIME] [--passphrase PW] [--plain] HEX\n"
+    "info    --xml FILE...",
+    dccl_purpose, dccl_options, NULL, NULL
+};
 
 static int die(const char *fmt, const char *a, const char *b) KELP_PRINTF(1, 0);
 
@@ -75,76 +88,68 @@ static bool parse_num(const char *s, double *out)
 
 static int parse_args(cli *c, int argc, char **argv)
 {
-    int i;
+    enum { O_XML = 0x100, O_MSG, O_PASS, O_LOOKUP, O_ID, O_NOW, O_REPEAT, O_LAT, O_LON, O_PLAIN, O_NOALG };
+    static const struct option opts[] = { { "xml", required_argument, NULL, O_XML },
+                                           { "msg", required_argument, NULL, O_MSG },
+                                           { "passphrase", required_argument, NULL, O_PASS },
+                                           { "modem-lookup", required_argument, NULL, O_LOOKUP },
+                                           { "modem-id", required_argument, NULL, O_ID },
+                                           { "now", required_argument, NULL, O_NOW },
+                                           { "repeat", required_argument, NULL, O_REPEAT },
+                                           { "lat-origin", required_argument, NULL, O_LAT },
+                                           { "lon-origin", required_argument, NULL, O_LON },
+                                           { "plain", no_argument, NULL, O_PLAIN },
+                                           { "no-algorithms", no_argument, NULL, O_NOALG },
+                                           { NULL, 0, NULL, 0 } };
+    kelp_cli cl = dccl_cli;
+    cl.longopts = opts;
     memset(c, 0, sizeof *c);
     c->repeat = 1;
-    if (argc < 2) return -1;
-    c->cmd = argv[1];
-    c->pos = calloc((size_t)argc, sizeof *c->pos);
-    if (!c->pos) return -1;
-    for (i = 2; i < argc; i++) {
-        const char *a = argv[i], *val = NULL;
-        char opt[32];
-        const char *eq;
-        if (strncmp(a, "--", 2) != 0 || strlen(a) < 3) {
-            c->pos[c->n_pos++] = argv[i];
-            continue;
-        }
-        eq = strchr(a, '=');
-        if (eq && (size_t)(eq - a) < sizeof opt) {
-            memcpy(opt, a, (size_t)(eq - a));
-            opt[eq - a] = '\0';
-            val = eq + 1;
-        } else {
-            snprintf(opt, sizeof opt, "%s", a);
-        }
-        if (strcmp(opt, "--plain") == 0) {
-            c->plain = true;
-            continue;
-        }
-        if (strcmp(opt, "--no-algorithms") == 0) {
-            c->no_algs = true;
-            continue;
-        }
-        if (strcmp(opt, "--help") == 0) {
-            usage(stdout);
-            exit(0);
-        }
-        if (!val) {
-            if (i + 1 >= argc) return die("option %s needs a value", opt, NULL), -2;
-            val = argv[++i];
-        }
-        if (strcmp(opt, "--xml") == 0) {
+    int o, status;
+    double d;
+    /* options may come before or after the command (getopt_long permutes); the rest is positional */
+    while ((o = kelp_cli_next(&cl, argc, argv, &status)) != -1) {
+        const char *val = optarg;
+        switch (o) {
+        case KELP_CLI_EXIT: return status ? -2 : -3;
+        case O_PLAIN: c->plain = true; break;
+        case O_NOALG: c->no_algs = true; break;
+        case O_XML:
             if (c->n_xml >= CLI_MAX_XML) return die("too many --xml files", NULL, NULL), -2;
             c->xml[c->n_xml++] = val;
-        } else if (strcmp(opt, "--msg") == 0) {
-            c->msg = val;
-        } else if (strcmp(opt, "--passphrase") == 0) {
-            c->passphrase = val;
-        } else if (strcmp(opt, "--modem-lookup") == 0) {
-            c->lookup = val;
-        } else if (strcmp(opt, "--modem-id") == 0) {
-            double d;
+            break;
+        case O_MSG: c->msg = val; break;
+        case O_PASS: c->passphrase = val; break;
+        case O_LOOKUP: c->lookup = val; break;
+        case O_ID:
             if (!parse_num(val, &d) || d < 0 || d > 4294967295.0 || d != (double)(unsigned long)d)
                 return die("bad --modem-id \"%s\"", val, NULL), -2;
             c->modem_id = (unsigned)d;
-        } else if (strcmp(opt, "--now") == 0) {
+            break;
+        case O_NOW:
             if (!parse_num(val, &c->now)) return die("bad --now \"%s\"", val, NULL), -2;
             c->have_now = true;
-        } else if (strcmp(opt, "--repeat") == 0) {
-            double d;
+            break;
+        case O_REPEAT:
             if (!parse_num(val, &d) || d < 1 || d > 1e9) return die("bad --repeat \"%s\"", val, NULL), -2;
             c->repeat = (unsigned long)d;
-        } else if (strcmp(opt, "--lat-origin") == 0) {
+            break;
+        case O_LAT:
             if (!parse_num(val, &c->lat)) return die("bad --lat-origin \"%s\"", val, NULL), -2;
             c->have_lat = true;
-        } else if (strcmp(opt, "--lon-origin") == 0) {
+            break;
+        case O_LON:
             if (!parse_num(val, &c->lon)) return die("bad --lon-origin \"%s\"", val, NULL), -2;
             c->have_lon = true;
-        } else {
-            return die("unknown option %s", opt, NULL), -2;
+            break;
+        default: return -2;
         }
     }
+    if (optind >= argc) return -1;
+    c->cmd = argv[optind++];
+    c->pos = calloc((size_t)argc, sizeof *c->pos);
+    if (!c->pos) return -1;
+    while (optind < argc) c->pos[c->n_pos++] = argv[optind++];
     return 0;
 }
 
@@ -225,13 +230,10 @@ int kelp_dccl_cli_main(int argc, char **argv)
     size_t i;
     int rc, status = 0;
     bool is_encode, is_decode, is_publish, is_info;
-    if (argc >= 2 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "help") == 0)) {
-        usage(stdout);
-        return 0;
-    }
     rc = parse_args(&c, argc, argv);
+    if (rc == -3) return 0; /* --help, --version */
     if (rc == -1 || !c.cmd) {
-        usage(stderr);
+        kelp_cli_usage(&dccl_cli, stderr);
         free(c.pos);
         return 2;
     }

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include <kelp/dccl_edge.h>
+#include <kelp/edge/cli.h>
 
 static void put_str(FILE *f, const char *s)
 {
@@ -212,26 +213,24 @@ int kelp_dccl_gen_main(int argc, char **argv)
     char pbuf[200], cpath[1024], hpath[1024], hname[256], err[512];
     kelp_dccl_loaded ld;
     FILE *c, *h;
-    int i, rc;
-    for (i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "-o") == 0 && i + 1 < argc) dir = argv[++i];
-        else if (strcmp(argv[i], "--prefix") == 0 && i + 1 < argc) prefix = argv[++i];
-        else if (strcmp(argv[i], "--help") == 0) {
-            puts("usage: kelp-dccl-gen FILE.xml [-o DIR] [--prefix NAME]\n"
-                 "writes DIR/NAME.c and DIR/NAME.h (NAME defaults to <file>_dccl) holding the messages as const "
-                 "kelp_dccl_msgdef tables and NAME_set");
-            return 0;
-        } else if (argv[i][0] == '-') {
-            fprintf(stderr, "kelp-dccl-gen: unknown option %s\n", argv[i]);
-            return 2;
-        } else if (!xml) xml = argv[i];
-        else {
-            fprintf(stderr, "kelp-dccl-gen: one XML file at a time\n");
-            return 2;
-        }
+    int rc;
+    static const struct option opts[] = { { "prefix", required_argument, NULL, 'p' }, { NULL, 0, NULL, 0 } };
+    static const kelp_cli cli = { "kelp-dccl-gen", "FILE.xml [-o DIR] [--prefix NAME]",
+                                  "Writes DIR/NAME.c and DIR/NAME.h (NAME defaults to <file>_dccl) holding the\n"
+                                  "messages of FILE.xml as const kelp_dccl_msgdef tables and NAME_set, for firmware.",
+                                  "  -o DIR           output directory (default .)\n"
+                                  "  --prefix NAME    name of the generated files and tables\n",
+                                  opts, "o:" };
+    int o, status;
+    while ((o = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
+        if (o == KELP_CLI_EXIT) return status;
+        if (o == 'o') dir = optarg;
+        else if (o == 'p') prefix = optarg;
     }
+    if (optind < argc) xml = argv[optind++];
+    if (optind < argc) return kelp_cli_error(&cli, "one XML file at a time");
     if (!xml) {
-        fprintf(stderr, "usage: kelp-dccl-gen FILE.xml [-o DIR] [--prefix NAME]\n");
+        kelp_cli_usage(&cli, stderr);
         return 2;
     }
     if (!prefix) {
