@@ -1,7 +1,7 @@
 /* kelp helm: the IvP helm, its behaviour framework and the built-in behaviours.
  *
- * Specification: seed 004 (MIT-CSAIL-TR-2009-037) chapters 4 and 5; digest
- * ../shared/spec/moosapp_helm.md part 2. Functions are built and solved with kelp's IvP
+ * Follows the IvP helm of MOOS-IvP (Benjamin et al., MIT-CSAIL-TR-2009-037, chapters 4 and 5).
+ * Functions are built and solved with kelp's IvP
  * library (include/kelp/ivp.h).
  *
  * Core and allocation-free: the caller places a kelp_helm (it is large: size it with the
@@ -32,6 +32,10 @@
 #include <kelp/err.h>
 #include <kelp/ivp.h>
 #include <kelp/mission.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 /* ------------------------------------------------------------------ information buffer */
 
@@ -515,5 +519,9 @@ KELP_MUST_CHECK int kelp_helm_iterate(kelp_helm *h, double now);
 const char *kelp_helm_next_new_var(kelp_helm *h);
 /** Find a behaviour by name, or NULL. */
 kelp_bhv *kelp_helm_find(kelp_helm *h, const char *name);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif
