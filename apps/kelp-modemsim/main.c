@@ -568,39 +568,54 @@ static const kelp_app_def def = {
     .name = "kelp-modemsim",
     .purpose = "Simulated WHOI Micro-Modem (iModemSim): the modem side of the Micro-Modem NMEA protocol on a "
                "pseudo-terminal or TCP port; modems share a simulated acoustic channel over the bus.",
-    .example =
-        "ProcessConfig = kelp-modemsim            // or iModemSim (run with ~ iModemSim)\n"
-        "{\n"
-        "  AppTick    = 20                        // timing resolution of the channel (s / AppTick)\n"
-        "  CommsTick  = 20\n"
-        "  modem_id   = 1                         // initial NVRAM SRC (the host sets it with $CCCFG,SRC)\n"
-        "  pty_link   = /tmp/ttyMM1               // symlink to the pseudo-terminal the host opens (alias: Port)\n"
-        "  // tcp_port = 50010                    // ... or serve the host on a TCP port instead\n"
-        "  position   = x=0,y=0,depth=10          // or x = / y = / depth =, or ConstantPosX/Y/ConstantDepth\n"
-        "  // node_report_var = NODE_REPORT_LOCAL // follow the vehicle: X=,Y=,DEP= of this variable\n"
-        "  // nav_vars = true                     // ... or NAV_X, NAV_Y, NAV_DEPTH\n"
-        "  sound_speed = 1500                     // m/s\n"
-        "  loss       = 0.0                       // probability of losing a packet / data frame (seeded)\n"
-        "  seed       = 1\n"
-        "  max_range  = 0                         // m, 0 = unlimited\n"
-        "  ci_seconds = 1.0                       // cycle-init packet length\n"
-        "  mini_seconds = 0.5                     // ack / ping / mini-packet length\n"
-        "  turnaround_seconds = 0.25\n"
-        "  drq_timeout = 2                        // s to wait for $CCTXD after $CADRQ\n"
-        "  rev_interval = 60                      // $CAREV heartbeat period while a host talks, 0 = off\n"
-        "  // lbl_beacon = x=1000,y=0,depth=50    // REMUS LBL transponders A..D for $CCPDT\n"
-        "  channel_var = ACOMMS_SIM_CHANNEL       // where transmissions travel\n"
-        "  // channel_url = udpm://239.255.76.67:7690?ttl=0  // a channel bus shared by several communities\n"
-        "  publish_events = true                  // ACOMMS_SIM_EVENT per transmission / reception / loss\n"
-        "}\n",
-    .interface = "Host link: pseudo-terminal (pty_link) or TCP (tcp_port); WHOI Micro-Modem NMEA:\n"
-                 "  in  $CCCLK $CCCFG $CCCFQ $CCCYC $CCTXD $CCMPC $CCMUC $CCPDT\n"
-                 "  out $CACLK $CACFG $CACYC $CADRQ $CATXD $CATXP $CATXF $CARXD $CAACK $CAMPC $CAMPA $CAMPR\n"
-                 "      $CAMUC $CAMUA $SNPDT $SNTTA $CAREV $CAERR\n"
-                 "Subscribes: <channel_var> (binary channel packets; or on channel_url), <node_report_var>,\n"
-                 "            NAV_X NAV_Y NAV_DEPTH (nav_vars = true)\n"
-                 "Publishes:  <channel_var> (binary: each transmission), ACOMMS_SIM_EVENT (string),\n"
-                 "            MODEMSIM_STATUS (string, every 2 s)\n",
+    .params = (const kelp_app_param_info[]){
+        { "modem_id", "1", "required: initial NVRAM SRC, 1..31 (the host sets it with $CCCFG,SRC)" },
+        { "pty_link", "/tmp/ttyMM1", "symlink to the pseudo-terminal the host opens" },
+        { "Port", "/tmp/ttyMM1", "iModemSim's name for pty_link" },
+        { "Speed", "19200", "iModemSim's baud: accepted, ignored (a pty has none)" },
+        { "tcp_port", "50010", "serve the host on this TCP port instead of a pty" },
+        { "position", "x=0,y=0,depth=0", "fixed position, m" },
+        { "x", "0", "m (also ConstantPosX)" },
+        { "y", "0", "m (also ConstantPosY)" },
+        { "depth", "0", "m (also ConstantDepth)" },
+        { "ConstantPosX", "0", "iModemSim's x" },
+        { "ConstantPosY", "0", "iModemSim's y" },
+        { "ConstantDepth", "0", "iModemSim's depth" },
+        { "InputLocType", "Constant", "iModemSim's: accepted, ignored" },
+        { "node_report_var", "NODE_REPORT_LOCAL", "follow the vehicle: X=, Y=, DEP= of this variable (optional)" },
+        { "nav_vars", "false", "true: follow NAV_X, NAV_Y, NAV_DEPTH" },
+        { "sound_speed", "1500", "m/s" },
+        { "loss", "0", "probability of losing a packet or data frame, 0..1 (seeded)" },
+        { "loss_probability", "0", "same as loss" },
+        { "seed", "1", "random seed of the channel" },
+        { "max_range", "0", "m, 0 = unlimited" },
+        { "ci_seconds", "1.0", "cycle-init packet length, s" },
+        { "mini_seconds", "0.5", "ack, ping and mini-packet length, s" },
+        { "turnaround_seconds", "0.25", "s" },
+        { "drq_timeout", "2", "s to wait for $CCTXD after $CADRQ" },
+        { "ping_timeout", "10", "s to wait for a ping reply" },
+        { "rev_interval", "60", "$CAREV heartbeat period while a host talks, s (0 = off)" },
+        { "clock_set_at_boot", "false", "true: the modem clock starts set" },
+        { "revision", "0.93.0.52", "firmware revision in $CAREV" },
+        { "lbl_beacon", "x=1000,y=0,depth=50", "repeatable (up to 4): REMUS LBL transponders A..D for $CCPDT" },
+        { "channel_var", "ACOMMS_SIM_CHANNEL", "where transmissions travel" },
+        { "channel_url", "udpm://239.255.76.67:7690?ttl=0", "a channel bus shared by communities (optional)" },
+        { "publish_events", "true", "ACOMMS_SIM_EVENT per transmission, reception and loss" },
+        { NULL, NULL, NULL } },
+    .subscribes = (const kelp_app_var_info[]){
+        { "ACOMMS_SIM_CHANNEL", "(binary channel packet)", "<channel_var>; or on channel_url" },
+        { "NODE_REPORT_LOCAL", "NAME=alpha,X=10,Y=-20,DEP=5", "<node_report_var>, when set" },
+        { "NAV_X", "10", "with nav_vars = true; also NAV_Y, NAV_DEPTH" },
+        { NULL, NULL, NULL } },
+    .publishes = (const kelp_app_var_info[]){
+        { "ACOMMS_SIM_CHANNEL", "(binary channel packet)", "<channel_var>: each transmission" },
+        { "ACOMMS_SIM_EVENT", "event=tx,src=1,dest=2,rate=0,time=12.5", "with publish_events = true" },
+        { NULL, NULL, NULL } },
+    .notes = "Host link: a pseudo-terminal (pty_link) or TCP (tcp_port) speaking WHOI Micro-Modem NMEA:\n"
+             "  in  $CCCLK $CCCFG $CCCFQ $CCCYC $CCTXD $CCMPC $CCMUC $CCPDT\n"
+             "  out $CACLK $CACFG $CACYC $CADRQ $CATXD $CATXP $CATXF $CARXD $CAACK $CAMPC $CAMPA $CAMPR\n"
+             "      $CAMUC $CAMUA $SNPDT $SNTTA $CAREV $CAERR\n"
+             "Run it as iModemSim with: Run = kelp-modemsim ~ iModemSim\n",
     .startup = startup,
     .on_mail = on_mail,
     .iterate = iterate,

@@ -288,15 +288,20 @@ static void live_shutdown(kelp_app *app, void *st)
 static const kelp_app_def live_def = {
     .name = "kelp-plot",
     .purpose = "Live shoreside viewer: a table of the vehicles (NODE_REPORT) and a picture of the mission on exit.",
-    .example = "ProcessConfig = kelp-plot\n{\n  AppTick = 2\n  CommsTick = 2\n"
-               "  IMAGE = mission.png        // written when the app stops (optional)\n"
-               "  SVG   = mission.svg        // likewise (optional)\n"
-               "  TITLE = Fleet demo         // picture title (optional)\n"
-               "  SHOW_PULSES = true         // draw comms/range pulses\n"
-               "  TABLE_FILE  = vehicles.txt // the vehicle table, rewritten every TABLE_PERIOD (optional)\n"
-               "  TABLE_PERIOD = 5           // seconds of MOOS time\n}\n",
-    .interface = "Subscribes: NODE_REPORT, NODE_REPORT_LOCAL, VIEW_*, NAV_X, NAV_Y, NAV_HEADING, NAV_SPEED\n"
-                 "Publishes:  nothing (the status report holds the vehicle table)\n",
+    .params = (const kelp_app_param_info[]){
+        { "IMAGE", "mission.png", "PNG written when the app stops (optional)" },
+        { "SVG", "mission.svg", "SVG written when the app stops (optional)" },
+        { "TITLE", "Fleet demo", "picture title (optional)" },
+        { "SHOW_PULSES", "true", "draw comms and range pulses" },
+        { "TABLE_FILE", "vehicles.txt", "the vehicle table, rewritten every TABLE_PERIOD (optional)" },
+        { "TABLE_PERIOD", "5", "seconds of MOOS time" },
+        { NULL, NULL, NULL } },
+    .subscribes = (const kelp_app_var_info[]){
+        { "NODE_REPORT", "NAME=alpha,TYPE=UUV,TIME=1252348077.59,X=51.71,Y=-35.50,SPD=2.0,HDG=118.8", NULL },
+        { "NODE_REPORT_LOCAL", "(as NODE_REPORT)", NULL },
+        { "VIEW_*", "x=10,y=20,label=alpha", "VIEW_POINT, VIEW_SEGLIST, VIEW_POLYGON, VIEW_RANGE_PULSE, ..." },
+        { "NAV_X", "112.3", "also NAV_Y, NAV_HEADING, NAV_SPEED" },
+        { NULL, NULL, NULL } },
     .startup = live_startup,
     .on_mail = live_mail,
     .iterate = live_iterate,

@@ -146,13 +146,21 @@ static void report(kelp_app *app, void *st, FILE *out)
 }
 
 static const kelp_app_def def = {
-    .name = "uXMS",
+    .name = "kelp-scope",
+    .moos_name = "uXMS",
     .purpose = "Terminal scope of bus variables: value, source, time and community (the uXMS role).",
-    .example = "ProcessConfig = uXMS\n{\n  AppTick   = 4\n  CommsTick = 4\n\n  PAUSED            = false\n"
-               "  DISPLAY_SOURCE    = true\n  DISPLAY_TIME      = true\n  DISPLAY_COMMUNITY = true\n\n"
-               "  VAR = APPLES\n  VAR = PEARS\n  VAR = *_HZ\n}\n",
-    .interface = "Subscribes: every VAR named (or matching) in the configuration\n"
-                 "Publishes:  <NAME>_STATUS\n",
+    .params = (const kelp_app_param_info[]){
+        { "VAR", "APPLES", "repeatable: a variable (or pattern, *_HZ) to show" },
+        { "PAUSED", "false", "start paused" },
+        { "DISPLAY_SOURCE", "true", "show the source column" },
+        { "DISPLAY_TIME", "true", "show the time column" },
+        { "DISPLAY_COMMUNITY", "true", "show the community column" },
+        { "DISPLAY_ALL", "false", "show every variable on the bus" },
+        { NULL, NULL, NULL } },
+    .subscribes = (const kelp_app_var_info[]){
+        { "<VAR>", "any value", "every VAR named or matched" },
+        { NULL, NULL, NULL } },
+    .notes = "Environment: KELP_SCOPE_VARS, more variables to show (as VAR).\n",
     .startup = startup,
     .on_mail = on_mail,
     .iterate = iterate,

@@ -3,10 +3,12 @@
  * An app is a kelp_app_def: OnStartUp (read the ProcessConfig block, register), OnNewMail
  * (one call per message, just before Iterate, only when mail arrived) and Iterate (at up
  * to AppTick Hz of MOOS time, so MOOSTimeWarp speeds it up). kelp_app_run() handles the
- * MOOS command line:
+ * MOOS command line (through kelp_cli_next):
  *
  *   app [--alias=NAME] [--verbose] mission.moos [NAME]
- *   app --help | --example | --interface | --version
+ *   app --help | --example | --interface | --version    (-h, -e, -i, -v)
+ *
+ * --example and --interface are generated from the def's parameter and variable tables.
  *
  * and prints an AppCast-style status report (iteration, mail counts, configuration and
  * run warnings) to stdout, publishes <NAME>_STATUS, and exits cleanly on SIGINT/SIGTERM.
@@ -18,18 +20,91 @@
 #ifndef KELP_APP_H
 #define KELP_APP_H
 
+#include <getopt.h>
 #include <stdio.h>
 #include <stdbool.h>
 #include <kelp/bus.h>
 #include <kelp/mission.h>
 
+/* ---- one command line for every kelp program (getopt_long) ----
+ *
+ * Every program describes itself in a kelp_cli and reads its options with kelp_cli_next(),
+ * which adds --help/-h and --version/-v (the short forms only where the program does not
+ * use h or v itself): both print to stdout and end the program with status 0. A usage error
+ * prints "<name>: <what> (try --help)" to stderr and ends it with status 2.
+ *
+ *   static const kelp_cli_opt opts[] = {
+ *       { "count", required_argument, 'c', "N", "stop after N messages" },
+ *       { "raw", no_argument, 1000, NULL, "print raw bytes" },     // long only: val >= 256
+ *       { NULL, 0, 0, NULL, NULL },
+ *   };
+ *   static const kelp_cli cli = { "kelp-foo", "What it is for.", "[OPTIONS] FILE", opts, NULL };
+ *   int c, status;
+ *   while ((c = kelp_cli_next(&cli, argc, argv, &status)) != -1) switch (c) {
+ *   case KELP_CLI_EXIT: return status;
+ *   case 'c': ... optarg ...; break;
+ *   }
+ *   // argv[optind..argc-1] are the positional arguments
+ */
+typedef struct kelp_cli_opt {
+    const char *name;   /**< long name without "--" */
+    int has_arg;        /**< no_argument, required_argument or optional_argument */
+    int val;            /**< returned by kelp_cli_next; a letter also gives the short form -<val> */
+    const char *arg;    /**< name of the argument in --help ("URL"), NULL if none */
+    const char *help;   /**< one line for --help */
+} kelp_cli_opt;
+
+typedef struct kelp_cli {
+    const char *name;          /**< the program's own name, e.g. "kelp-scope" */
+    const char *purpose;       /**< one line: what the program is for */
+    const char *synopsis;      /**< what follows the name in "usage:"; lines split on '\n' */
+    const kelp_cli_opt *opts;  /**< terminated by a NULL name; NULL for none */
+    const char *more;          /**< more text at the end of --help (arguments, environment), or NULL */
+    bool in_order;             /**< stop at the first positional argument (it starts a sub-command) */
+} kelp_cli;
+
+#define KELP_CLI_EXIT (-2) /**< kelp_cli_next: help/version printed or a usage error; return *status */
+
+/** The next option (its val), -1 when only positional arguments remain (from argv[optind]),
+ *  or KELP_CLI_EXIT with *status set (0 after --help/--version, 2 after a usage error, whose
+ *  message is already on stderr). Uses getopt_long's global state: parse one argv at a time. */
+int kelp_cli_next(const kelp_cli *cli, int argc, char **argv, int *status);
+/** Print "<name>: <message> (try --help)" to stderr; returns 2, the usage-error exit status. */
+int kelp_cli_error(const kelp_cli *cli, const char *fmt, ...) KELP_PRINTF(2, 3);
+/** Print the usage lines ("usage: <name> <synopsis>") to out. */
+void kelp_cli_usage(const kelp_cli *cli, FILE *out);
+/** Print "<name> (kelp) <version>" to stdout. */
+void kelp_cli_version(const char *name);
+
+/* ---- the MOOS application model ---- */
 typedef struct kelp_app kelp_app;
 
+/** One parameter of the app's ProcessConfig block (names compare case-insensitively). The
+ *  table is what --example prints, and a parameter the app reads that is not in it is
+ *  reported as a configuration warning, so the two cannot drift apart. */
+typedef struct kelp_app_param_info {
+    const char *name;   /**< as written in the block, e.g. "PLATFORM_TYPE" */
+    const char *value;  /**< its default, or a sample value when it has none */
+    const char *help;   /**< one line: meaning, unit, range; say "required" or "optional" */
+} kelp_app_param_info;
+
+/** One subscription or publication, for --interface. */
+typedef struct kelp_app_var_info {
+    const char *name;   /**< the MOOS variable; <PARAM> when a parameter names it */
+    const char *sample; /**< a sample value */
+    const char *help;   /**< one line, or NULL */
+} kelp_app_var_info;
+
 typedef struct kelp_app_def {
-    const char *name;        /**< default MOOS name, e.g. "pXRelay" */
-    const char *purpose;     /**< one line for --help */
-    const char *example;     /**< an example ProcessConfig block (--example) */
-    const char *interface;   /**< subscriptions and publications (--interface) */
+    const char *name;        /**< the program's name, e.g. "pXRelay"; also the default MOOS name */
+    const char *moos_name;   /**< a different default MOOS name (the role, e.g. "uXMS"), or NULL */
+    const char *purpose;     /**< one line for --help and the --interface synopsis */
+    const char *synopsis;    /**< a longer --interface synopsis, or NULL for purpose */
+    const kelp_app_param_info *params;    /**< every ProcessConfig parameter, NULL-name terminated */
+    const kelp_app_var_info *subscribes;  /**< every subscription, NULL-name terminated */
+    const kelp_app_var_info *publishes;   /**< every publication, NULL-name terminated */
+    const char *notes;       /**< extra --example lines (globals used, repeats), or NULL */
+    bool textformat;         /**< a Goby TextFormat block: --example prints "name: value" */
     /** OnStartUp: read parameters (kelp_app_param*), register. Return <0 to stop the app
      *  (after kelp_app_config_error). */
     int (*startup)(kelp_app *app, void *state);
