@@ -17,10 +17,6 @@
 #include <kelp/app.h>
 #include "plot.h"
 
-#ifndef KELP_VERSION
-#define KELP_VERSION "dev"
-#endif
-
 /* "WxH" with both in range; 0 or -1 */
 static int parse_size(const char *s, int *w, int *h)
 {
@@ -36,16 +32,26 @@ static int parse_size(const char *s, int *w, int *h)
     return 0;
 }
 
-static void usage(FILE *f)
-{
-    fprintf(f, "usage: kelp-plot [-o OUT.png|OUT.svg]... [--title T] [--size WxH] [--no-pulses] [--quiet] LOG [LOG...]\n"
-               "       kelp-plot MISSION.moos [NAME]      (live viewer app; see --example)\n"
-               "Renders lcm-logger logs of a mission: vehicle tracks (NODE_REPORT, NODE_REPORT_LOCAL or NAV_X/NAV_Y\n"
-               "per community) with names, VIEW_POINT/POLYGON/SEGLIST/CIRCLE/MARKER/COMMS_PULSE/RANGE_PULSE,\n"
-               "metre grid, legend. Without -o it writes LOG.png and LOG.svg next to the first log.\n"
-               "Prints a per-vehicle summary (fixes, distance, duration, start, end). Exit 1 when a log cannot be\n"
-               "read or holds nothing to draw.\n");
-}
+enum { OPT_TITLE = 256, OPT_SIZE, OPT_NO_PULSES };
+
+static const kelp_cli cli = {
+    .name = "kelp-plot",
+    .purpose = "Pictures of a mission: renders lcm-logger logs (vehicle tracks from NODE_REPORT, NODE_REPORT_LOCAL\n"
+               "or NAV_X/NAV_Y per community, with names; VIEW_POINT/POLYGON/SEGLIST/CIRCLE/MARKER/COMMS_PULSE/\n"
+               "RANGE_PULSE; metre grid, legend) to PNG and SVG, or runs live as a shoreside viewer app.",
+    .synopsis = "[OPTIONS] LOG [LOG...]\n"
+                "[--alias=NAME] MISSION.moos [NAME]    (live viewer app; see --example, --interface)",
+    .opts = (const kelp_cli_opt[]){
+        { "output", required_argument, 'o', "OUT.png|OUT.svg", "write this picture (repeatable, up to 8)" },
+        { "title", required_argument, OPT_TITLE, "T", "picture title" },
+        { "size", required_argument, OPT_SIZE, "WxH", "picture size, 400 <= W, 300 <= H, both <= 10000" },
+        { "no-pulses", no_argument, OPT_NO_PULSES, NULL, "do not draw comms and range pulses" },
+        { "quiet", no_argument, 'q', NULL, "print nothing but errors" },
+        { NULL, 0, 0, NULL, NULL } },
+    .more = "Without -o it writes LOG.png and LOG.svg next to the first log, and prints a per-vehicle summary\n"
+            "(fixes, distance, duration, start, end). Exit 1 when a log cannot be read or holds nothing to draw.\n"
+            "Live (a MISSION.moos argument, -e or -i): the MOOS options of every kelp app.\n",
+};
 
 /* ------------------------------------------------------------------ offline */
 
@@ -96,41 +102,37 @@ static int offline(int argc, char **argv)
     int nlogs = 0;
     plot_opts o = {1600, 1100, NULL, NULL, true};
     bool quiet = false;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage(stdout);
-            return 0;
-        } else if (!strcmp(a, "--version")) {
-            printf("kelp-plot (kelp) %s\n", KELP_VERSION);
-            return 0;
-        } else if (!strcmp(a, "-o") && i + 1 < argc) {
-            if (nouts < 8) outs[nouts++] = argv[++i];
-        } else if (!strcmp(a, "--title") && i + 1 < argc) {
-            o.title = argv[++i];
-        } else if (!strcmp(a, "--size") && i + 1 < argc) {
+    int c, status;
+    while ((c = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
+        switch (c) {
+        case KELP_CLI_EXIT:
+            return status;
+        case 'o':
+            if (nouts < 8) outs[nouts++] = optarg;
+            break;
+        case OPT_TITLE:
+            o.title = optarg;
+            break;
+        case OPT_SIZE: {
             int w, h;
-            if (parse_size(argv[++i], &w, &h) < 0) {
-                fprintf(stderr, "kelp-plot: --size WxH with 400 <= W, 300 <= H, both <= 10000\n");
-                return 2;
-            }
+            if (parse_size(optarg, &w, &h) < 0)
+                return kelp_cli_error(&cli, "--size WxH with 400 <= W, 300 <= H, both <= 10000");
             o.width = w;
             o.height = h;
-        } else if (!strcmp(a, "--no-pulses")) {
+            break;
+        }
+        case OPT_NO_PULSES:
             o.show_pulses = false;
-        } else if (!strcmp(a, "--quiet") || !strcmp(a, "-q")) {
+            break;
+        case 'q':
             quiet = true;
-        } else if (a[0] == '-') {
-            fprintf(stderr, "kelp-plot: unknown option '%s'\n", a);
-            usage(stderr);
-            return 2;
-        } else if (nlogs < 64) {
-            logs[nlogs++] = a;
+            break;
         }
     }
+    for (int i = optind; i < argc && nlogs < 64; i++) logs[nlogs++] = argv[i];
     if (!nlogs) {
-        usage(stderr);
-        return 2;
+        kelp_cli_usage(&cli, stderr);
+        return kelp_cli_error(&cli, "no log given");
     }
     plot_scene s;
     scene_init(&s);
@@ -317,7 +319,8 @@ int main(int argc, char **argv)
             static live l;
             return kelp_app_run(argc, argv, &live_def, &l);
         }
-        if (!strcmp(argv[i], "--example") || !strcmp(argv[i], "--interface")) {
+        if (!strcmp(argv[i], "--example") || !strcmp(argv[i], "--interface") || !strcmp(argv[i], "-e") ||
+            !strcmp(argv[i], "-i") || !strncmp(argv[i], "--alias", 7)) {
             static live l;
             return kelp_app_run(argc, argv, &live_def, &l);
         }

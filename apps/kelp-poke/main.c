@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <kelp/app.h>
 #include <kelp/lcmbus.h>
 #include <kelp/mission.h>
 
@@ -69,19 +70,21 @@ static void show(const kelp_var *v, int have, const char *name, double t0)
 
 int main(int argc, char **argv)
 {
-    if (argc >= 2 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
-        printf("Usage: kelp-poke MISSION.moos VAR=value [VAR=value ...]\n"
-               "Writes variables to the mission's community (the uPokeDB role) and shows each before\n"
-               "and after. Numbers post as doubles, other values as strings; VAR:=value forces a string.\n");
-        return 0;
-    }
-    if (argc >= 2 && strcmp(argv[1], "--version") == 0) {
-        printf("kelp-poke (kelp) %s\n", KELP_VERSION);
-        return 0;
-    }
+    static const kelp_cli cli = {
+        .name = "kelp-poke",
+        .purpose = "Write variables to the mission's community (the uPokeDB role) and show each before and\n"
+                   "after. Numbers post as doubles, other values as strings; VAR:=value forces a string.",
+        .synopsis = "MISSION.moos VAR=value [VAR=value ...]",
+        .in_order = true,
+    };
+    int c, status;
+    while ((c = kelp_cli_next(&cli, argc, argv, &status)) != -1)
+        if (c == KELP_CLI_EXIT) return status;
+    argc -= optind - 1; /* from here argv[1] is the mission, argv[2..] the pokes */
+    argv += optind - 1;
     if (argc < 3) {
-        fprintf(stderr, "usage: kelp-poke MISSION.moos VAR=value [VAR=value ...]\n");
-        return 2;
+        kelp_cli_usage(&cli, stderr);
+        return kelp_cli_error(&cli, argc < 2 ? "no mission file" : "nothing to poke");
     }
     static kelp_mission_file mf;
     if (kelp_mission_load(&mf, argv[1]) < 0) {

@@ -14,6 +14,7 @@
 #include <sys/time.h>
 #include <lcm/lcm.h>
 #include <lcm/eventlog.h>
+#include <kelp/app.h>
 #include <kelp/lcmbus.h>
 
 static volatile sig_atomic_t g_stop;
@@ -42,27 +43,31 @@ int main(int argc, char **argv)
 {
     const char *url_in = NULL, *file = NULL, *chan = ".*";
     int quiet = 0;
-    for (int i = 1; i < argc; i++) {
-        if (strncmp(argv[i], "--lcm-url=", 10) == 0) url_in = argv[i] + 10;
-        else if (strcmp(argv[i], "-f") == 0) continue; /* overwrite: always */
-        else if (strcmp(argv[i], "-q") == 0) quiet = 1;
-        else if (strcmp(argv[i], "-c") == 0 && i + 1 < argc) chan = argv[++i]; /* channel regex */
-        else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            printf("usage: kelp-record [--lcm-url=URL] [-c CHANNEL_REGEX] [-f] [-q] FILE\n"
-                   "Records every channel to an LCM event log with no loss (unbounded queue, 4 MiB socket\n"
-                   "buffer); stops on SIGINT/SIGTERM. URL defaults to $KELP_LCM_URL or kelp's default.\n");
-            return 0;
-        } else if (argv[i][0] != '-' && !file) {
-            file = argv[i];
-        } else {
-            fprintf(stderr, "kelp-record: unknown argument '%s' (try --help)\n", argv[i]);
-            return 2;
+    const kelp_cli cli = {
+        .name = "kelp-record",
+        .purpose = "Record every channel to an LCM event log with no loss (unbounded queue, 4 MiB socket\n"
+                   "buffer); stops on SIGINT/SIGTERM.",
+        .synopsis = "[--lcm-url=URL] [-c CHANNEL_REGEX] [-f] [-q] FILE",
+        .opts = (const kelp_cli_opt[]){
+            { "lcm-url", required_argument, 'u', "URL", "the bus (default: $KELP_LCM_URL or kelp's default)" },
+            { "channel", required_argument, 'c', "REGEX", "record only channels matching REGEX (default .*)" },
+            { "force", no_argument, 'f', NULL, "overwrite FILE (always done; accepted as lcm-logger's)" },
+            { "quiet", no_argument, 'q', NULL, "print nothing but errors" },
+            { NULL, 0, 0, NULL, NULL } },
+    };
+    int c, status;
+    while ((c = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
+        switch (c) {
+        case KELP_CLI_EXIT: return status;
+        case 'u': url_in = optarg; break;
+        case 'c': chan = optarg; break;
+        case 'q': quiet = 1; break;
+        default: break; /* -f */
         }
     }
-    if (!file) {
-        fprintf(stderr, "kelp-record: FILE is required\n");
-        return 2;
-    }
+    if (optind < argc) file = argv[optind++];
+    if (optind < argc) return kelp_cli_error(&cli, "unexpected argument '%s'", argv[optind]);
+    if (!file) return kelp_cli_error(&cli, "FILE is required");
     char url[600];
     if (url_in && *url_in) {
         /* an explicit URL wins over $KELP_LCM_URL; add the receive buffer as kelp_lcm_url does */

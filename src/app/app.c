@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <time.h>
 #include <unistd.h>
 #include <kelp/app.h>
@@ -72,6 +73,16 @@ double kelp_app_time(const kelp_app *app)
     double w = wall_now();
     return app->epoch + (w - app->epoch) * app->warp;
 }
+
+/* the parameters every app accepts; only the first two are used, the rest are MOOS's and ignored */
+static const kelp_app_param_info common_params[] = {
+    { "AppTick", "4", "Iterate rate, Hz of MOOS time (0: as fast as mail allows)" },
+    { "CommsTick", "4", "mail rate, Hz (accepted for MOOS; kelp handles mail as it comes)" },
+    { "MaxAppTick", "0", "accepted for MOOS, ignored" },
+    { "IterateMode", "0", "accepted for MOOS, ignored" },
+    { "MaxIterate", "0", "accepted for MOOS, ignored" },
+    { NULL, NULL, NULL },
+};
 
 /* ------------------------------------------------------------------ mail */
 static void on_var(const kelp_var *v, void *user)
@@ -179,8 +190,18 @@ void kelp_app_param_used(kelp_app *app, const kelp_mission_node *n)
     if (i < app->mf.m.nnodes) app->used[i] = 1;
 }
 
+static bool declared(const kelp_app_param_info *t, const char *key)
+{
+    for (; t && t->name; t++)
+        if (strcasecmp(t->name, key) == 0) return true;
+    return false;
+}
+
 const kelp_mission_node *kelp_app_param_next(kelp_app *app, const char *key, const kelp_mission_node *prev)
 {
+    /* a lookup of a parameter --example does not show is a bug in the app: say so */
+    if (!prev && !declared(common_params, key) && !declared(app->def->params, key))
+        kelp_app_config_warning(app, "parameter %s is read but missing from %s --example", key, app->def->name);
     if (app->block < 0) return NULL;
     int after = prev ? (int)(prev - app->mf.m.nodes) : -1;
     int i = kelp_mission_next(&app->mf.m, app->block, after, key);
@@ -354,16 +375,6 @@ static void publish_status(kelp_app *app)
 }
 
 /* ------------------------------------------------------------------ command line */
-/* the parameters every app accepts; only the first two are used, the rest are MOOS's and ignored */
-static const kelp_app_param_info common_params[] = {
-    { "AppTick", "4", "Iterate rate, Hz of MOOS time (0: as fast as mail allows)" },
-    { "CommsTick", "4", "mail rate, Hz (accepted for MOOS; kelp handles mail as it comes)" },
-    { "MaxAppTick", "0", "accepted for MOOS, ignored" },
-    { "IterateMode", "0", "accepted for MOOS, ignored" },
-    { "MaxIterate", "0", "accepted for MOOS, ignored" },
-    { NULL, NULL, NULL },
-};
-
 enum { OPT_ALIAS = 256, OPT_VERBOSE };
 
 static const kelp_cli_opt moos_opts[] = {

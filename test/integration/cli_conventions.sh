@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# One command-line convention (src/app/cli.c): every program in build/bin answers --help and
+# --version on stdout with exit 0 and names itself; an unknown option is a usage error (exit 2,
+# "<name>: unknown option '--x'" on stderr). MOOS-role apps (kelp_app_run) also answer
+# --example and --interface, their --example lists every parameter the app's source reads, and
+# run with their own --example block they report no parameter outside the table.
+. "$(dirname "$0")/lib.sh"
+cd "$T"
+n=0
+for b in "$BIN"/*; do
+  [ -x "$b" ] && [ -f "$b" ] || continue
+  name=$(basename "$b")
+  for opt in --help --version; do
+    out=$(timeout 10 "$b" $opt 2> err) || fail "$name $opt: exit $? ($(head -3 err))"
+    [ -n "$out" ] || fail "$name $opt: nothing on stdout"
+    grep -qF -- "$name" <<< "$out" || fail "$name $opt does not name itself: $(head -2 <<< "$out")"
+  done
+  grep -qE '[0-9]+\.[0-9]+' <<< "$(timeout 10 "$b" --version)" || fail "$name --version has no version number"
+  rc=0; timeout 10 "$b" --no-such-option > out 2> err || rc=$?
+  [ $rc -eq 2 ] || fail "$name --no-such-option: exit $rc, want 2"
+  grep -qF -- "$name: unknown option '--no-such-option'" err || fail "$name --no-such-option said: $(head -2 err)"
+  [ ! -s out ] || fail "$name --no-such-option wrote to stdout"
+  n=$((n + 1))
+done
+[ $n -ge 15 ] || fail "only $n programs in $BIN"
+ok "$n programs: --help, --version, unknown option"
+
+# MOOS-role apps: the ones whose source runs kelp_app_run
+m=0
+for d in "$KELP_ROOT"/apps/*/; do
+  name=$(basename "$d")
+  grep -q 'kelp_app_run(' "$d"*.c || continue
+  b=$BIN/$name
+  [ -x "$b" ] || fail "$name not built"
+  "$b" --example > ex.txt || fail "$name --example: exit $?"
+  "$b" -e | cmp -s - ex.txt || fail "$name -e differs from --example"
+  "$b" --interface > if.txt || fail "$name --interface: exit $?"
+  "$b" -i | cmp -s - if.txt || fail "$name -i differs from --interface"
+  grep -q "^$name Example MOOS Configuration" ex.txt || fail "$name --example header"
+  grep -q "^ProcessConfig = " ex.txt || fail "$name --example has no ProcessConfig block"
+  grep -q "^$name INTERFACE" if.txt || fail "$name --interface header"
+  for s in SYNOPSIS: SUBSCRIPTIONS: PUBLICATIONS:; do grep -q "^$s" if.txt || fail "$name --interface lacks $s"; done
+  # every parameter named in the source appears in --example as "  NAME =", "  NAME:" or "  NAME {"
+  keys=$(grep -ohE 'kelp_app_param(_str|_double|_bool|_next)?\([a-z]+, "[A-Za-z_0-9]+"' "$d"*.c |
+         sed -E 's/.*"([^"]+)"/\1/' | sort -u)
+  for k in $keys; do
+    grep -qiE "^  $k( *=|:| \\{)" ex.txt || fail "$name reads parameter $k but --example does not show it"
+  done
+  # run it with its own example block: nothing read outside the table, nothing in the table unknown
+  { echo "ServerHost = localhost"; echo "Community = clitest"; echo "LatOrigin = 43.825"; echo "LongOrigin = -70.33"
+    sed -n '/^ProcessConfig = /,/^}/p' ex.txt; } > m.moos
+  timeout -s INT 2 "$b" m.moos > run.txt 2>&1 || true
+  if grep -E "missing from .* --example|unknown parameter" run.txt; then fail "$name: table and parser disagree"; fi
+  m=$((m + 1))
+done
+[ $m -ge 8 ] || fail "only $m MOOS-role apps found"
+ok "$m MOOS-role apps: --example lists what the source reads, --interface has its sections"
