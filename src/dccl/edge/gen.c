@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <kelp/app.h>
 #include <kelp/dccl_edge.h>
 
 static void put_str(FILE *f, const char *s)
@@ -213,26 +214,26 @@ int kelp_dccl_gen_main(int argc, char **argv)
     kelp_dccl_loaded ld;
     FILE *c, *h;
     int i, rc;
-    for (i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "-o") == 0 && i + 1 < argc) dir = argv[++i];
-        else if (strcmp(argv[i], "--prefix") == 0 && i + 1 < argc) prefix = argv[++i];
-        else if (strcmp(argv[i], "--help") == 0) {
-            puts("usage: kelp-dccl-gen FILE.xml [-o DIR] [--prefix NAME]\n"
-                 "writes DIR/NAME.c and DIR/NAME.h (NAME defaults to <file>_dccl) holding the messages as const "
-                 "kelp_dccl_msgdef tables and NAME_set");
-            return 0;
-        } else if (argv[i][0] == '-') {
-            fprintf(stderr, "kelp-dccl-gen: unknown option %s\n", argv[i]);
-            return 2;
-        } else if (!xml) xml = argv[i];
-        else {
-            fprintf(stderr, "kelp-dccl-gen: one XML file at a time\n");
-            return 2;
-        }
+    const kelp_cli cli = {
+        .name = "kelp-dccl-gen",
+        .purpose = "DCCL message XML -> C const tables for firmware: writes DIR/NAME.c and DIR/NAME.h (NAME\n"
+                   "defaults to <file>_dccl) holding the messages as const kelp_dccl_msgdef tables and NAME_set.",
+        .synopsis = "[-o DIR] [--prefix NAME] FILE.xml",
+        .opts = (const kelp_cli_opt[]){
+            { "output-dir", required_argument, 'o', "DIR", "where to write (default .)" },
+            { "prefix", required_argument, 'p', "NAME", "name of the files and tables" },
+            { NULL, 0, 0, NULL, NULL } },
+    };
+    while ((i = kelp_cli_next(&cli, argc, argv, &rc)) != -1) {
+        if (i == KELP_CLI_EXIT) return rc;
+        if (i == 'o') dir = optarg;
+        else if (i == 'p') prefix = optarg;
     }
+    if (optind < argc) xml = argv[optind++];
+    if (optind < argc) return kelp_cli_error(&cli, "one XML file at a time");
     if (!xml) {
-        fprintf(stderr, "usage: kelp-dccl-gen FILE.xml [-o DIR] [--prefix NAME]\n");
-        return 2;
+        kelp_cli_usage(&cli, stderr);
+        return kelp_cli_error(&cli, "no XML file given");
     }
     if (!prefix) {
         const char *b = strrchr(xml, '/');
