@@ -2,18 +2,29 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <kelp/app.h>
 #include <kelp/ivp.h>
 #include "cli.h"
 
+static const kelp_cli cli = {
+    .name = "kelp-ivp",
+    .purpose = "Build, inspect and solve IvP functions from the command line.",
+    .synopsis = "eval DOMAIN SPEC\n"
+                "couple DOMAIN2 CRS_SPEC SPD_SPEC WC WS\n"
+                "solve [--repeat=N] FILE",
+    .opts = (const kelp_cli_opt[]){
+        { "repeat", required_argument, 'r', "N", "solve: solve N times (timing)" },
+        { NULL, 0, 0, NULL, NULL } },
+    .more = "DOMAIN: name:low:high:points[,name:low:high:points]...\n"
+            "SPEC:   peak(summit=S,peakwidth=P,basewidth=B,summitdelta=D,minutil=m,maxutil=M[,wrap][,insist][,sum])\n"
+            "        [+peak(...)]... | leq(summit=S,basewidth=B,minutil=m,maxutil=M[,summitdelta=D]) | heq(...)\n"
+            "Put -- before arguments that begin with '-'.\n",
+};
+
 static int usage(void)
 {
-    fprintf(stderr, "usage: kelp-ivp eval DOMAIN SPEC\n"
-                    "       kelp-ivp couple DOMAIN2 CRS_SPEC SPD_SPEC WC WS\n"
-                    "       kelp-ivp solve FILE [--repeat N]\n"
-                    "DOMAIN: name:low:high:points[,name:low:high:points]...\n"
-                    "SPEC:   peak(summit=S,peakwidth=P,basewidth=B,summitdelta=D,minutil=m,maxutil=M[,wrap][,insist][,sum])"
-                    "[+peak(...)]... | leq(summit=S,basewidth=B,minutil=m,maxutil=M[,summitdelta=D]) | heq(...)\n");
-    return 2;
+    kelp_cli_usage(&cli, stderr);
+    return kelp_cli_error(&cli, "wrong arguments");
 }
 
 static int fail(const char *where, const kelp_ivp_errbuf *e, int rc)
@@ -229,23 +240,11 @@ static char *next_line(char **cur, unsigned *lineno)
     return NULL;
 }
 
-static int cmd_solve(int argc, char **argv)
+static int cmd_solve(int argc, char **argv, long repeat)
 {
-    long repeat = 1;
     const char *path = NULL;
     for (int i = 2; i < argc; i++) {
-        if (strcmp(argv[i], "--repeat") == 0) {
-            char *end;
-            if (i + 1 >= argc) {
-                fprintf(stderr, "kelp-ivp: --repeat needs a count\n");
-                return 1;
-            }
-            repeat = strtol(argv[++i], &end, 10);
-            if (*end || end == argv[i] || repeat < 1) {
-                fprintf(stderr, "kelp-ivp: bad --repeat count '%s'\n", argv[i]);
-                return 1;
-            }
-        } else if (!path) {
+        if (!path) {
             path = argv[i];
         } else {
             fprintf(stderr, "kelp-ivp: unexpected argument '%s'\n", argv[i]);
@@ -380,6 +379,18 @@ out:
 
 int kelp_ivp_cli(int argc, char **argv)
 {
+    long repeat = 1;
+    int opt, status;
+    while ((opt = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
+        if (opt == KELP_CLI_EXIT) return status;
+        if (opt == 'r') {
+            char *end;
+            repeat = strtol(optarg, &end, 10);
+            if (*end || end == optarg || repeat < 1) return kelp_cli_error(&cli, "bad --repeat count '%s'", optarg);
+        }
+    }
+    argc -= optind - 1; /* from here argv[1] is the command */
+    argv += optind - 1;
     if (argc < 2)
         return usage();
     if (strcmp(argv[1], "eval") == 0)
@@ -387,11 +398,6 @@ int kelp_ivp_cli(int argc, char **argv)
     if (strcmp(argv[1], "couple") == 0)
         return cmd_couple(argc, argv);
     if (strcmp(argv[1], "solve") == 0)
-        return cmd_solve(argc, argv);
-    if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
-        usage();
-        return 0;
-    }
-    fprintf(stderr, "kelp-ivp: unknown command '%s'\n", argv[1]);
-    return usage();
+        return cmd_solve(argc, argv, repeat);
+    return kelp_cli_error(&cli, "unknown command '%s'", argv[1]);
 }

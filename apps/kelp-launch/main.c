@@ -22,6 +22,7 @@
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
+#include <kelp/app.h>
 #include <kelp/lcmbus.h>
 #include <kelp/mission.h>
 
@@ -100,44 +101,35 @@ int main(int argc, char **argv)
     double run_seconds = 0;
     const char *mission = NULL, *logdir = NULL;
     int want_report = 0;
-    for (int i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            printf("Usage: kelp-launch [--run-seconds S] [--log-dir DIR] [--report] MISSION.moos\n"
-                   "Starts every 'Run = prog @ config ~ name' of ProcessConfig = ANTLER (the pAntler role)\n"
-                   "and stops them all on exit, on SIGINT/SIGTERM or after --run-seconds.\n"
-                   "--report prints, at the end, every variable written on the bus with its write count,\n"
-                   "last value and source. App output goes to DIR/<name>.log (default ./kelp-logs).\n");
-            return 0;
-        } else if (strcmp(argv[i], "--version") == 0) {
-            printf("kelp-launch (kelp) %s\n", KELP_VERSION);
-            return 0;
-        } else if (strncmp(argv[i], "--run-seconds=", 14) == 0) {
-            if (kelp_parse_double(argv[i] + 14, strlen(argv[i] + 14), &run_seconds) < 0) {
-                fprintf(stderr, "kelp-launch: bad --run-seconds\n");
-                return 2;
-            }
-        } else if (strcmp(argv[i], "--run-seconds") == 0 && i + 1 < argc) {
-            ++i;
-            if (kelp_parse_double(argv[i], strlen(argv[i]), &run_seconds) < 0) {
-                fprintf(stderr, "kelp-launch: bad --run-seconds\n");
-                return 2;
-            }
-        } else if (strncmp(argv[i], "--log-dir=", 10) == 0) {
-            logdir = argv[i] + 10;
-        } else if (strcmp(argv[i], "--log-dir") == 0 && i + 1 < argc) {
-            logdir = argv[++i];
-        } else if (strcmp(argv[i], "--report") == 0) {
-            want_report = 1;
-        } else if (argv[i][0] == '-') {
-            fprintf(stderr, "kelp-launch: unknown option '%s'\n", argv[i]);
-            return 2;
-        } else {
-            mission = argv[i];
+    const kelp_cli cli = {
+        .name = "kelp-launch",
+        .purpose = "Start every 'Run = prog @ config ~ name' of ProcessConfig = ANTLER (the pAntler role) and\n"
+                   "stop them all on exit, on SIGINT/SIGTERM or after --run-seconds.",
+        .synopsis = "[--run-seconds=S] [--log-dir=DIR] [--report] MISSION.moos",
+        .opts = (const kelp_cli_opt[]){
+            { "run-seconds", required_argument, 's', "S", "stop everything after S seconds (default: never)" },
+            { "log-dir", required_argument, 'd', "DIR", "app output goes to DIR/<name>.log (default ./kelp-logs)" },
+            { "report", no_argument, 'r', NULL,
+              "at the end, print every variable written on the bus: writes, last value, source" },
+            { NULL, 0, 0, NULL, NULL } },
+    };
+    int opt, status;
+    while ((opt = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
+        switch (opt) {
+        case KELP_CLI_EXIT: return status;
+        case 's':
+            if (kelp_parse_double(optarg, strlen(optarg), &run_seconds) < 0)
+                return kelp_cli_error(&cli, "bad --run-seconds '%s'", optarg);
+            break;
+        case 'd': logdir = optarg; break;
+        case 'r': want_report = 1; break;
         }
     }
+    if (optind < argc) mission = argv[optind++];
+    if (optind < argc) return kelp_cli_error(&cli, "one mission at a time ('%s')", argv[optind]);
     if (!mission) {
-        fprintf(stderr, "usage: kelp-launch [--run-seconds S] [--log-dir DIR] [--report] MISSION.moos\n");
-        return 2;
+        kelp_cli_usage(&cli, stderr);
+        return kelp_cli_error(&cli, "no mission file");
     }
     static kelp_mission_file mf;
     if (kelp_mission_load(&mf, mission) < 0) {
