@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include <kelp/acomms.h>
+#include <kelp/app.h>
 #include <kelp/mission.h>
 
 #include "replay.h"
@@ -506,12 +507,8 @@ static void run_line(replay *r, char *line)
 
 /* ------------------------------------------------------------------ main */
 
-static void usage(FILE *f)
-{
-    fputs(
-        "usage: kelp-acomms-replay [--moos FILE.moos [--block NAME]] [--xml FILE]... [--modem-id N]\n"
-        "                          [--start UNIXTIME] [--passphrase PW | --plain] [TIMELINE]\n"
-        "\n"
+/* --help after the options: what it does, the timeline language, the output */
+static const char replay_more[] =
         "Replays a timeline against the Goby 1.1 priority queue and TDMA MAC (kelp's core, no modem,\n"
         "no clock: time comes only from the timeline) and prints what they do.  The queue and MAC\n"
         "configuration is the pAcommsHandler block of FILE.moos (modem_id, mac_cfg, queue_cfg with its\n"
@@ -555,9 +552,26 @@ static void usage(FILE *f)
         "  receive queue= src= dest= hex= decoded=\"...\"          a received piece for us\n"
         "  ack-ignored / receive-ignored / mac_update / heard / status / echo   as named\n"
         "  error line=N reason                                   a bad command (the replay goes on;\n"
-        "                                                        the exit status is 1)\n",
-        f);
-}
+        "                                                        the exit status is 1)\n";
+
+enum { O_MOOS = 256, O_BLOCK, O_XML, O_MODEM_ID, O_START, O_PASS, O_PLAIN };
+
+static const kelp_cli cli = {
+    .name = "kelp-acomms-replay",
+    .purpose = "Replay a timeline against the Goby 1.1 priority queue and TDMA MAC and print what they do.",
+    .synopsis = "[--moos=FILE.moos [--block=NAME]] [--xml=FILE]... [--modem-id=N]\n"
+                " [--start=UNIXTIME] [--passphrase=PW | --plain] [TIMELINE]",
+    .opts = (const kelp_cli_opt[]){
+        { "moos", required_argument, O_MOOS, "FILE.moos", "queue and MAC configuration from this mission" },
+        { "block", required_argument, O_BLOCK, "NAME", "... its ProcessConfig = NAME (default pAcommsHandler)" },
+        { "xml", required_argument, O_XML, "FILE", "a DCCL message file (repeatable)" },
+        { "modem-id", required_argument, O_MODEM_ID, "N", "our modem id, 1..31 (default 1)" },
+        { "start", required_argument, O_START, "UNIXTIME", "time of the timeline's start (default 1262304000)" },
+        { "passphrase", required_argument, O_PASS, "PW", "DCCL encryption passphrase" },
+        { "plain", no_argument, O_PLAIN, NULL, "no DCCL encryption" },
+        { NULL, 0, 0, NULL, NULL } },
+    .more = replay_more,
+};
 
 static int load_config(replay *r, const char *moos, const char *block_name, char *err, size_t cap)
 {
@@ -590,46 +604,29 @@ int replay_main(int argc, char **argv)
     long modem_id = -1;
     double start = 1262304000.0;
     bool plain = false;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        bool has_val = i + 1 < argc;
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage(stdout);
-            return 0;
-        } else if (!strcmp(a, "--moos") && has_val) {
-            moos = argv[++i];
-        } else if (!strcmp(a, "--block") && has_val) {
-            block = argv[++i];
-        } else if (!strcmp(a, "--xml") && has_val) {
-            if (nxml >= KELP_ACOMMS_MAX_FILES) {
-                fprintf(stderr, "kelp-acomms-replay: too many --xml files\n");
-                return 2;
-            }
-            xml[nxml++] = argv[++i];
-        } else if (!strcmp(a, "--modem-id") && has_val) {
-            if (!parse_int(argv[++i], &modem_id) || modem_id < 1 || modem_id > 31) {
-                fprintf(stderr, "kelp-acomms-replay: --modem-id must be 1..31\n");
-                return 2;
-            }
-        } else if (!strcmp(a, "--start") && has_val) {
-            if (!parse_num(argv[++i], &start) || start < 0) {
-                fprintf(stderr, "kelp-acomms-replay: bad --start\n");
-                return 2;
-            }
-        } else if (!strcmp(a, "--passphrase") && has_val) {
-            pass = argv[++i];
-        } else if (!strcmp(a, "--plain")) {
-            plain = true;
-        } else if (a[0] == '-' && a[1] == '-') {
-            fprintf(stderr, "kelp-acomms-replay: unknown or incomplete option %s (try --help)\n", a);
-            return 2;
-        } else if (!timeline) {
-            timeline = a;
-        } else {
-            fprintf(stderr, "kelp-acomms-replay: unexpected argument %s\n", a);
-            return 2;
+    int opt, status;
+    while ((opt = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
+        switch (opt) {
+        case KELP_CLI_EXIT: return status;
+        case O_MOOS: moos = optarg; break;
+        case O_BLOCK: block = optarg; break;
+        case O_XML:
+            if (nxml >= KELP_ACOMMS_MAX_FILES) return kelp_cli_error(&cli, "too many --xml files");
+            xml[nxml++] = optarg;
+            break;
+        case O_MODEM_ID:
+            if (!parse_int(optarg, &modem_id) || modem_id < 1 || modem_id > 31)
+                return kelp_cli_error(&cli, "--modem-id must be 1..31");
+            break;
+        case O_START:
+            if (!parse_num(optarg, &start) || start < 0) return kelp_cli_error(&cli, "bad --start '%s'", optarg);
+            break;
+        case O_PASS: pass = optarg; break;
+        case O_PLAIN: plain = true; break;
         }
     }
+    if (optind < argc) timeline = argv[optind++];
+    if (optind < argc) return kelp_cli_error(&cli, "unexpected argument '%s'", argv[optind]);
     char err[1024];
     kelp_acomms_config_default(&r->cfg);
     r->cfg.modem_id = 1;

@@ -221,12 +221,12 @@ static const kelp_app_def def = {
     .moos_name = "pMOOSBridge",
     .purpose = "Forward variables between communities over UDP, with renaming and optional HMAC authentication.",
     .params = (const kelp_app_param_info[]){
-        { "UDPListen", "9200", "UDP port other bridges send to (default: none, send only)" },
+        { "UDPListen", "9200", "UDP port other bridges send to (default: none, send only)", NULL },
         { "UDPSHARE", "[NODE_REPORT_LOCAL] -> shoreside @ 192.168.1.10:9200 [NODE_REPORT]",
-          "repeatable: [vars] -> community @ host:port [aliases]" },
-        { "SHARE", "[APPLES] -> shoreside @ 192.168.1.10:9200", "repeatable: same as UDPSHARE" },
-        { "KEY", "change-me", "optional shared secret (HMAC), up to 255 characters" },
-        { NULL, NULL, NULL } },
+          "repeatable: [vars] -> community @ host:port [aliases]", NULL },
+        { "SHARE", "[APPLES] -> shoreside @ 192.168.1.10:9200", "repeatable: same as UDPSHARE", NULL },
+        { "KEY", "change-me", "optional shared secret (HMAC), up to 255 characters", NULL },
+        { NULL, NULL, NULL, NULL } },
     .subscribes = (const kelp_app_var_info[]){
         { "PMB_REGISTER", "[NAV_X] -> shoreside @ 192.168.1.10:9200 [VEHICLE_X]", "a UDPSHARE line added at run time" },
         { "<shared variable>", "any value", "every source variable of UDPSHARE" },

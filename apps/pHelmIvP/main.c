@@ -231,14 +231,15 @@ static const kelp_app_def def = {
                 "It subscribes to whatever its behaviours name (conditions, UPDATES, NOSTARVE,\n"
                 "duration_reset, initialize variables, NAV_X/NAV_Y ...).",
     .params = (const kelp_app_param_info[]){
-        { "Behaviors", "alder.bhv", "required, repeatable: a behaviour file (relative to the mission)" },
-        { "Domain", "course:0:359:360", "required, repeatable: name:low:high:points[:optional]" },
-        { "start_in_drive", "true", "false: PARK until MOOS_MANUAL_OVERIDE=false" },
-        { "Verbose", "false", "accepted for MOOS, ignored" },
-        { "ok_skew", "any", "accepted for MOOS, ignored" },
-        { "IVP_BEHAVIOR_DIR", "/path", "accepted for MOOS, ignored" },
-        { "IVP_BEHAVIOR_DIRS", "/path", "accepted for MOOS, ignored" },
-        { NULL, NULL, NULL } },
+        { "Behaviors", "alder.bhv", "required, repeatable: a behaviour file (relative to the mission)", NULL },
+        { "Domain", "course:0:359:360", "required, repeatable: name:low:high:points[:optional]", NULL },
+        { "Domain", "speed:0:4:21", NULL, NULL },
+        { "start_in_drive", "true", "false: PARK until MOOS_MANUAL_OVERIDE=false", NULL },
+        { "Verbose", "false", "accepted for MOOS, ignored", NULL },
+        { "ok_skew", "any", "accepted for MOOS, ignored", NULL },
+        { "IVP_BEHAVIOR_DIR", "/path", "accepted for MOOS, ignored", NULL },
+        { "IVP_BEHAVIOR_DIRS", "/path", "accepted for MOOS, ignored", NULL },
+        { NULL, NULL, NULL, NULL } },
     .subscribes = (const kelp_app_var_info[]){
         { "MOOS_MANUAL_OVERIDE", "false", "true: all stop (PARK); false: DRIVE" },
         { "MOOS_MANUAL_OVERRIDE", "false", "same, correctly spelt" },

@@ -63,9 +63,9 @@ static const kelp_app_def def = {
     .name = "pXRelay",
     .purpose = "Relay: one post of OUTGOING_VAR (a counter) per mail on INCOMING_VAR (the MOOS example app).",
     .params = (const kelp_app_param_info[]){
-        { "INCOMING_VAR", "PEARS", "required: the variable whose mail is counted" },
-        { "OUTGOING_VAR", "APPLES", "required: the variable posted (a counter) once per mail" },
-        { NULL, NULL, NULL } },
+        { "INCOMING_VAR", "PEARS", "required: the variable whose mail is counted", NULL },
+        { "OUTGOING_VAR", "APPLES", "required: the variable posted (a counter) once per mail", NULL },
+        { NULL, NULL, NULL, NULL } },
     .subscribes = (const kelp_app_var_info[]){
         { "<INCOMING_VAR>", "any value", "each mail asks for one post of OUTGOING_VAR" },
         { NULL, NULL, NULL } },

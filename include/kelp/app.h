@@ -57,7 +57,8 @@ typedef struct kelp_cli_opt {
 typedef struct kelp_cli {
     const char *name;          /**< the program's own name, e.g. "kelp-scope" */
     const char *purpose;       /**< one line: what the program is for */
-    const char *synopsis;      /**< what follows the name in "usage:"; lines split on '\n' */
+    const char *synopsis;      /**< what follows the name in "usage:"; one form per line ('\n'),
+                                    a line starting with ' ' continues the one before */
     const kelp_cli_opt *opts;  /**< terminated by a NULL name; NULL for none */
     const char *more;          /**< more text at the end of --help (arguments, environment), or NULL */
     bool in_order;             /**< stop at the first positional argument (it starts a sub-command) */
@@ -86,6 +87,8 @@ typedef struct kelp_app_param_info {
     const char *name;   /**< as written in the block, e.g. "PLATFORM_TYPE" */
     const char *value;  /**< its default, or a sample value when it has none */
     const char *help;   /**< one line: meaning, unit, range; say "required" or "optional" */
+    const char *alt;    /**< NULL, or the parameter this one stands in for (an older name, or a
+                             choice excluding it): --example shows it commented out */
 } kelp_app_param_info;
 
 /** One subscription or publication, for --interface. */

@@ -76,12 +76,12 @@ double kelp_app_time(const kelp_app *app)
 
 /* the parameters every app accepts; only the first two are used, the rest are MOOS's and ignored */
 static const kelp_app_param_info common_params[] = {
-    { "AppTick", "4", "Iterate rate, Hz of MOOS time (0: as fast as mail allows)" },
-    { "CommsTick", "4", "mail rate, Hz (accepted for MOOS; kelp handles mail as it comes)" },
-    { "MaxAppTick", "0", "accepted for MOOS, ignored" },
-    { "IterateMode", "0", "accepted for MOOS, ignored" },
-    { "MaxIterate", "0", "accepted for MOOS, ignored" },
-    { NULL, NULL, NULL },
+    { "AppTick", "4", "Iterate rate, Hz of MOOS time (0: as fast as mail allows)", NULL },
+    { "CommsTick", "4", "mail rate, Hz (accepted for MOOS; kelp handles mail as it comes)", NULL },
+    { "MaxAppTick", "0", "accepted for MOOS, ignored", NULL },
+    { "IterateMode", "0", "accepted for MOOS, ignored", NULL },
+    { "MaxIterate", "0", "accepted for MOOS, ignored", NULL },
+    { NULL, NULL, NULL, NULL },
 };
 
 /* ------------------------------------------------------------------ mail */
@@ -406,8 +406,9 @@ static void example_params(const kelp_app_param_info *t, int w, bool textformat)
         const char *v = t->value ? t->value : "";
         /* a sub-block is "name { ... }" in both syntaxes */
         const char *sep = v[0] == '{' ? " " : textformat ? ": " : " = ";
-        int len = printf("  %-*s%s%s", textformat ? 0 : w, t->name, sep, v);
+        int len = printf("  %s%-*s%s%s", t->alt ? "// " : "", textformat ? 0 : w, t->name, sep, v);
         if (t->help && t->help[0]) printf("%*s// %s", len < 40 ? 40 - len : 1, "", t->help);
+        if (t->alt) printf("%s(instead of %s)", t->help && t->help[0] ? " " : "// ", t->alt);
         printf("\n");
     }
 }

@@ -27,7 +27,10 @@ void kelp_cli_usage(const kelp_cli *cli, FILE *out)
     for (;;) {
         const char *nl = strchr(s, '\n');
         int len = nl ? (int)(nl - s) : (int)strlen(s);
-        fprintf(out, "%-6s %s %.*s\n", lead, cli->name, len, s);
+        if (s[0] == ' ') /* a continuation of the line before */
+            fprintf(out, "%-6s %*s%.*s\n", "", (int)strlen(cli->name), "", len, s);
+        else
+            fprintf(out, "%-6s %s %.*s\n", lead, cli->name, len, s);
         lead = "";
         if (!nl || !nl[1]) break;
         s = nl + 1;
