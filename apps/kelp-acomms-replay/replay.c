@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include <kelp/acomms.h>
-#include <kelp/app.h>
+#include <kelp/edge/cli.h>
 #include <kelp/mission.h>
 
 #include "replay.h"

@@ -13,7 +13,7 @@
 #include <string.h>
 #include <time.h>
 #include <lcm/lcm.h>
-#include <kelp/app.h>
+#include <kelp/edge/cli.h>
 #include <kelp/lcmbus.h>
 #include <kelp/mission.h>
 

@@ -2,7 +2,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <kelp/app.h>
+#include <kelp/edge/cli.h>
 #include <kelp/ivp.h>
 #include "cli.h"
 

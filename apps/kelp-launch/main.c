@@ -22,7 +22,7 @@
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
-#include <kelp/app.h>
+#include <kelp/edge/cli.h>
 #include <kelp/lcmbus.h>
 #include <kelp/mission.h>
 

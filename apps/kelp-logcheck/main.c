@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <lcm/eventlog.h>
-#include <kelp/app.h>
+#include <kelp/edge/cli.h>
 #include <kelp/bus.h>
 #include "kelp_var_t.h"
 #include "kelp_sync_req_t.h"

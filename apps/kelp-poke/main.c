@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include <kelp/app.h>
+#include <kelp/edge/cli.h>
 #include <kelp/lcmbus.h>
 #include <kelp/mission.h>
 

@@ -14,7 +14,7 @@
 #include <sys/time.h>
 #include <lcm/lcm.h>
 #include <lcm/eventlog.h>
-#include <kelp/app.h>
+#include <kelp/edge/cli.h>
 #include <kelp/lcmbus.h>
 
 static volatile sig_atomic_t g_stop;

@@ -189,19 +189,41 @@ typedef struct kelp_bhv_wpt {          /* BHV_Waypoint */
     kelp_bhv_pt pts[KELP_HELM_MAX_PTS];
     unsigned npts;
     double speed, capture_radius, slip_radius, lead, lead_damper;
+    double speed_alt;                  /* speed_alt (used with use_alt_speed), <0 unset */
+    double course_pct;                 /* crs_spd_zaic_ratio: course share of the coupling, 1..99 */
     long repeat;                       /* extra passes through the list; <0 forever */
     bool reverse;
+    bool lead_to_start;                /* lead on the first leg from where the vehicle started */
+    bool use_alt_speed;
+    bool capture_line;                 /* crossing the line through the point, square to the leg */
+    bool efficiency;                   /* efficiency_measure = all */
     kelp_bhv_flag cycleflag[4], wptflag[4];
     unsigned ncycleflag, nwptflag;
+    char var_report[KELP_MAX_NAME];    /* WPT_STAT (wpt_status_var), "silent" */
+    char var_index[KELP_MAX_NAME];     /* WPT_INDEX (wpt_index_var), "silent" */
+    char var_cyindex[KELP_MAX_NAME];   /* CYCLE_INDEX (cycle_index_var), "silent" */
+    char var_dist_prev[KELP_MAX_NAME]; /* wpt_dist_to_prev, "" off */
+    char var_dist_next[KELP_MAX_NAME]; /* wpt_dist_to_next, "" off */
+    char suffix[24];                   /* post_suffix ("_" added) */
+    /* visual_hints */
+    char hint_vertex_color[24], hint_edge_color[24], hint_label_color[24], hint_nextpt_color[24],
+        hint_nextpt_lcolor[24];
+    double hint_vertex_size, hint_edge_size, hint_nextpt_vertex_size;
     /* state */
     unsigned index;                    /* next point */
     unsigned long cycles;              /* completed passes */
     unsigned long captured, slipped;   /* arrivals by capture / by slip radius */
     bool have_prev;                    /* trackline start known */
     kelp_bhv_pt prev;                  /* start of the current leg */
+    bool have_mark;                    /* where the vehicle was when the first leg began */
+    kelp_bhv_pt mark;
     double min_dist;                   /* closest approach to the current point so far */
     bool restart;                      /* re-seed the leg at the next run (idle->run) */
     double osx, osy;
+    /* odometry (WPT_ODO, efficiency_measure) */
+    bool odo_virgin;
+    double odo_px, odo_py, odo_leg, odo_setx, odo_sety;
+    double eff_linear, eff_odo;        /* sums over completed legs */
 } kelp_bhv_wpt;
 
 typedef struct kelp_bhv_loiter {       /* BHV_Loiter */

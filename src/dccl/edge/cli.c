@@ -5,7 +5,7 @@
 #include <string.h>
 #include <time.h>
 
-#include <kelp/app.h>
+#include <kelp/edge/cli.h>
 #include <kelp/dccl_edge.h>
 
 #define CLI_MAX_XML 64

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <kelp/app.h>
+#include <kelp/edge/cli.h>
 #include <kelp/dccl_edge.h>
 
 static void put_str(FILE *f, const char *s)

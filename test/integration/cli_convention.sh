@@ -6,6 +6,7 @@
 # run with their own --example block they report no parameter outside the table.
 . "$(dirname "$0")/lib.sh"
 cd "$T"
+version=$(sed -n 's/^VERSION *:= *//p' "$KELP_ROOT/Makefile")
 n=0
 for b in "$BIN"/*; do
   [ -x "$b" ] && [ -f "$b" ] || continue
@@ -15,7 +16,8 @@ for b in "$BIN"/*; do
     [ -n "$out" ] || fail "$name $opt: nothing on stdout"
     grep -qF -- "$name" <<< "$out" || fail "$name $opt does not name itself: $(head -2 <<< "$out")"
   done
-  grep -qE '[0-9]+\.[0-9]+' <<< "$(timeout 10 "$b" --version)" || fail "$name --version has no version number"
+  [ "$(timeout 10 "$b" --version)" = "$name (kelp) $version" ] || fail "$name --version: $(timeout 10 "$b" --version)"
+  grep -q "^usage: $name" <<< "$(timeout 10 "$b" --help)" || fail "$name --help has no 'usage: $name' line"
   rc=0; timeout 10 "$b" --no-such-option > out 2> err || rc=$?
   [ $rc -eq 2 ] || fail "$name --no-such-option: exit $rc, want 2"
   grep -qF -- "$name: unknown option '--no-such-option'" err || fail "$name --no-such-option said: $(head -2 err)"
@@ -43,7 +45,8 @@ for d in "$KELP_ROOT"/apps/*/; do
   for s in SYNOPSIS: SUBSCRIPTIONS: PUBLICATIONS:; do grep -q "^$s" if.txt || fail "$name --interface lacks $s"; done
   # every parameter named in the source appears in --example as "  NAME =", "  NAME:" or "  NAME {"
   # (commented out, "  // NAME =", when it stands in for another)
-  keys=$(grep -ohE 'kelp_app_param(_str|_double|_bool|_next)?\([a-z]+, "[A-Za-z_0-9]+"' "$d"*.c |
+  # (kelp_app_param*(app, "Key") and the app's own helpers taking (app, "Key"))
+  keys=$(grep -ohE '[a-z_]+\(app, "[A-Za-z_0-9]+"' "$d"*.c | grep -vE 'notify|register|warning|error|event|global' |
          sed -E 's/.*"([^"]+)"/\1/' | sort -u || true)
   for k in $keys; do
     grep -qiE "^  (// )?$k( *=|:| \\{)" ex.txt || fail "$name reads parameter $k but --example does not show it"
