@@ -604,9 +604,9 @@ int replay_main(int argc, char **argv)
     long modem_id = -1;
     double start = 1262304000.0;
     bool plain = false;
-    int opt, status;
-    while ((opt = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
-        switch (opt) {
+    int o, status;
+    while ((o = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
+        switch (o) {
         case KELP_CLI_EXIT: return status;
         case O_MOOS: moos = optarg; break;
         case O_BLOCK: block = optarg; break;

@@ -441,7 +441,6 @@ static void interface_vars(const char *title, const kelp_app_var_info *t)
         printf("  %-*s = %s\n", w, t->name, t->sample ? t->sample : "");
         if (t->help && t->help[0]) printf("  %*s   %s\n", w, "", t->help);
     }
-    printf("\n");
 }
 
 static void print_interface(const kelp_app_def *def)
@@ -458,10 +457,11 @@ static void print_interface(const kelp_app_def *def)
     }
     printf("\n");
     interface_vars("SUBSCRIPTIONS", def->subscribes);
+    printf("\n");
     interface_vars("PUBLICATIONS", def->publishes);
     printf("  <NAME>_STATUS = AppErrorFlag=false,Uptime=12.0,iter=48,mail=10,published=52,bad=0,"
            "cfg_warnings=0,run_warnings=0\n"
-           "  %*s   (every app: its status, every 2 s; NAME is the app's MOOS name, upper case)\n", 13, "");
+           "  %*s   every app, every 2 s: its status (NAME: its MOOS name, upper case)\n", 13, "");
 }
 
 static bool in_table(const kelp_app_param_info *t, const kelp_mission_node *n)
@@ -475,14 +475,18 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
 {
     const char *mission = NULL, *alias = NULL;
     bool verbose = false;
+    char more[400];
+    snprintf(more, sizeof more,
+             "MISSION.moos is the mission file; NAME (or --alias) the MOOS name to run under (default\n"
+             "%s: the app reads ProcessConfig = NAME). The LCM URL of the community comes from\n"
+             "$KELP_LCM_URL, else the mission's global LCM_URL, else " KELP_LCM_DEFAULT_URL ".\n",
+             moos_name(def));
     const kelp_cli cli = {
         .name = def->name,
         .purpose = def->purpose,
         .synopsis = "[OPTIONS] MISSION.moos [NAME]",
         .opts = moos_opts,
-        .more = "MISSION.moos is the mission file; NAME (or --alias) the MOOS name to run under.\n"
-                "The LCM URL of the community comes from $KELP_LCM_URL, else the mission's global\n"
-                "LCM_URL, else " KELP_LCM_DEFAULT_URL ".\n",
+        .more = more,
     };
     int c, status;
     while ((c = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
