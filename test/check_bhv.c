@@ -563,6 +563,47 @@ START_TEST(constant_depth_speed_heading)
 }
 END_TEST
 
+/* ---------------------------------------------------------------- hierarchical modes */
+
+START_TEST(hierarchical_modes)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("initialize DEPLOY = false\ninitialize RETURN = false\n"
+            "set MODE = ACTIVE {\n  DEPLOY = true\n} INACTIVE\n"
+            "set MODE = SURVEYING {\n  MODE = ACTIVE\n  RETURN != true\n} RETURNING\n"
+            "Behavior = BHV_ConstantSpeed\n{\n name = survey\n speed = 2\n condition = MODE == ACTIVE:SURVEYING\n}\n"
+            "Behavior = BHV_ConstantSpeed\n{\n name = ret\n speed = 1\n condition = MODE == ACTIVE:RETURNING\n}\n"
+            "Behavior = BHV_ConstantHeading\n{\n name = h\n heading = 90\n}\n");
+    ck_assert_uint_eq(ht_helm()->nmodes, 2);
+    /* posted at start */
+    ck_assert_ptr_nonnull(ht_last("IVPHELM_MODESET"));
+    ck_assert_str_eq(ht_last("IVPHELM_MODESET")->sval, "MODE#---,ACTIVE#---,INACTIVE#ACTIVE,SURVEYING#ACTIVE,RETURNING");
+    ht_iter(0);
+    ck_assert_str_eq(ht_last("MODE")->sval, "INACTIVE");
+    ck_assert(ht_num("DESIRED_SPEED") == 0); /* no speed behaviour runs: all-stop (MissingDecVars) */
+    ck_assert_str_ne(ht_helm()->rep.allstop, "clear");
+    kelp_helm_mail_string(ht_helm(), "DEPLOY", "true");
+    ht_iter(1);
+    ck_assert_str_eq(ht_last("MODE")->sval, "ACTIVE:SURVEYING");
+    ck_assert(ht_num("DESIRED_SPEED") == 2);
+    ck_assert_ptr_nonnull(strstr(ht_last("IVPHELM_SUMMARY")->sval, ",modes=MODE@ACTIVE:SURVEYING"));
+    ht_iter(2);
+    ck_assert_uint_eq(ht_count("MODE"), 0); /* posted on change only */
+    kelp_helm_mail_string(ht_helm(), "RETURN", "true");
+    ht_iter(3);
+    ck_assert_str_eq(ht_last("MODE")->sval, "ACTIVE:RETURNING");
+    ck_assert(ht_num("DESIRED_SPEED") == 1);
+    kelp_helm_mail_string(ht_helm(), "DEPLOY", "false");
+    ht_iter(4);
+    ck_assert_str_eq(ht_last("MODE")->sval, "INACTIVE");
+
+    /* errors name the line */
+    ht_setup(DOM2, NULL);
+    ck_assert_int_lt(ht_load_rc("set MODE = TWO WORDS {\n  A = 1\n}\n"), 0);
+    ck_assert_ptr_nonnull(strstr(ht_helm()->err, "mode"));
+}
+END_TEST
+
 START_TEST(constant_depth_needs_depth)
 {
     ht_setup(DOM2 ",depth:0:100:101", NULL);
@@ -620,6 +661,7 @@ Suite *kelp_bhv_suite(void)
     tcase_add_test(tc, loiter_counter_clockwise);
     tcase_add_test(tc, constant_depth_speed_heading);
     tcase_add_test(tc, constant_depth_needs_depth);
+    tcase_add_test(tc, hierarchical_modes);
     tcase_add_test(tc, priority_weights_trade_off);
     suite_add_tcase(s, tc);
     return s;

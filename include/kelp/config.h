@@ -165,6 +165,9 @@ _Static_assert(KELP_DCCL_MAX_ALG_REFS >= 2, "KELP_DCCL_MAX_ALG_REFS too small (T
 #ifndef KELP_HELM_MAX_INIT
 #define KELP_HELM_MAX_INIT 32       /**< initialize lines of the behaviour files */
 #endif
+#ifndef KELP_HELM_MAX_MODES
+#define KELP_HELM_MAX_MODES 16      /**< "set MODE = ..." entries of the behaviour files */
+#endif
 #ifndef KELP_HELM_MAX_PTS
 #define KELP_HELM_MAX_PTS 64        /**< points of a waypoint list or loiter polygon */
 #endif

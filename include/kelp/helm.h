@@ -418,6 +418,27 @@ typedef struct kelp_helm_report {
     unsigned long errors;              /**< BHV_ERROR posts so far */
 } kelp_helm_report;
 
+/** One hierarchical mode declaration of a .bhv file:
+ *
+ *     set MODE = SURVEYING {
+ *       MODE = ACTIVE            <- a condition on the mode variable: the prefix "ACTIVE"
+ *       RETURN != true
+ *     } RETURNING                <- the else value
+ *
+ * Entries are evaluated in file order every iteration: all conditions true gives the value,
+ * otherwise the conditions on the mode variable alone true gives the else value (if any); a
+ * result is prefixed "PREFIX:" and is seen by the entries after it, so the last result wins
+ * ("ACTIVE:SURVEYING"). */
+typedef struct kelp_helm_mode {
+    char var[KELP_MAX_NAME];
+    char val[KELP_MAX_NAME];
+    char elseval[KELP_MAX_NAME];
+    char prefix[128];
+    char cond[KELP_HELM_MAX_CONDS][KELP_HELM_MAX_COND_LEN];
+    unsigned ncond;
+    uint32_t modevar_conds;            /**< bit i: cond[i] is the prefix condition */
+} kelp_helm_mode;
+
 struct kelp_helm {
     kelp_helm_config cfg;
     kelp_helm_mem mem;
@@ -447,6 +468,10 @@ struct kelp_helm {
     kelp_ivp_problem prob;
     char last_lists[3][256];           /* last IVPHELM_BHV_ACTIVE / RUNNING / IDLE posted */
     char last_allstop[96];
+    kelp_helm_mode modes[KELP_HELM_MAX_MODES];
+    unsigned nmodes;
+    char mode_posted[KELP_HELM_MAX_MODES][128]; /* last value posted per mode variable (by first entry) */
+    char mode_summary[KELP_HELM_MAX_SVAL];      /* "MODE@ACTIVE:SURVEYING#MODE2@X" after the iteration */
     char err[192];                     /**< configuration error text (first wins) */
     int err_line;
 };

@@ -176,6 +176,13 @@ int kelp_helm_load_bhv(kelp_helm *h, const kelp_mission *m)
                 return rc;
             continue;
         }
+        if (nd->kind == KELP_MN_BLOCK && nd->klen > 4 && kelp_strieq_n(nd->key, 3, "set") && hx_is_space(nd->key[3])) {
+            char why[96] = "";
+            int rc = helm_mode_load(h, m, i, why, sizeof why);
+            if (rc < 0)
+                return helm_fail(h, nd->line, rc, "mode declaration: ", why, NULL);
+            continue;
+        }
         if (nd->kind == KELP_MN_BLOCK && kelp_strieq_n(nd->key, nd->klen, "Behavior")) {
             char type[KELP_MAX_NAME];
             if (!hx_copy(type, sizeof type, nd->val, nd->vlen))
@@ -249,11 +256,21 @@ static void post_init(kelp_helm *h, const kelp_helm_pair *p)
     sink(h, p->var, p->is_str, p->sval, p->dval, AUX_INIT);
 }
 
+static void post_mode(kelp_helm *h, const char *var, const char *val)
+{
+    sink(h, var, true, val, 0, NULL);
+}
+
 void kelp_helm_start(kelp_helm *h, double now)
 {
     h->t0 = now;
     h->started = true;
     h->ib.curr_time = 0;
+    if (h->nmodes) {
+        char buf[KELP_HELM_MAX_SVAL];
+        helm_mode_describe(h, buf, sizeof buf);
+        sink(h, "IVPHELM_MODESET", true, buf, 0, NULL);
+    }
     for (unsigned i = 0; i < h->ninit; i++)
         if (!h->init_defer[i])
             post_init(h, &h->init[i]);
@@ -778,6 +795,8 @@ static void post_outputs(kelp_helm *h)
                 *c = ':';
         n += hx_cat(buf + n, sizeof buf - n, ",", keys[k], "=", tmp[0] ? tmp : "none", HX_END);
     }
+    if (h->mode_summary[0])
+        hx_cat(buf + n, sizeof buf - n, ",modes=", h->mode_summary, HX_END);
     sink(h, "IVPHELM_SUMMARY", true, buf, 0, NULL);
     sink(h, "IVPHELM_IPF_CNT", false, NULL, (double)r->ofnum, NULL);
     sink(h, "IVPHELM_ITER", false, NULL, (double)h->iteration, NULL);
@@ -800,6 +819,7 @@ int kelp_helm_iterate(kelp_helm *h, double now)
         for (unsigned i = 0; i < h->ninit; i++)
             if (h->init_defer[i] && kelp_helm_ib_find(&h->ib, h->init[i].var) < 0)
                 post_init(h, &h->init[i]);
+    helm_mode_eval(h, post_mode);
     kelp_helm_report *r = &h->rep;
     unsigned long w = r->warnings, e = r->errors;
     memset(r, 0, sizeof *r);
