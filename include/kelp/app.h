@@ -8,10 +8,9 @@
  *   app [--alias=NAME] [--verbose] mission.moos [NAME]
  *   app --help | --example | --interface | --version    (-h, -e, -i, -v)
  *
- * --example and --interface are generated from the def's parameter and variable tables.
- *
- * and prints an AppCast-style status report (iteration, mail counts, configuration and
- * run warnings) to stdout, publishes <NAME>_STATUS, and exits cleanly on SIGINT/SIGTERM.
+ * (--example and --interface are generated from the def's parameter and variable tables),
+ * prints an AppCast-style status report (iteration, mail counts, configuration and run
+ * warnings) to stdout, publishes <NAME>_STATUS, and exits cleanly on SIGINT/SIGTERM.
  *
  * Time: MOOS time = epoch + (unix time - epoch) * MOOSTimeWarp, where epoch is
  * $KELP_WARP_EPOCH (optional, inherited by every app a launcher starts) or 0, so by default

@@ -430,10 +430,10 @@ static void print_example(const kelp_app_def *def)
     if (def->notes && def->notes[0]) printf("\n%s%s", def->notes, def->notes[strlen(def->notes) - 1] == '\n' ? "" : "\n");
 }
 
-static void interface_vars(const char *title, const kelp_app_var_info *t)
+static void interface_vars(const char *title, const kelp_app_var_info *t, bool more)
 {
     printf("%s:\n------------------------------------\n", title);
-    if (!t || !t->name) printf("  (none)\n");
+    if ((!t || !t->name) && !more) printf("  (none)\n");
     int w = 0;
     for (const kelp_app_var_info *v = t; v && v->name; v++)
         if ((int)strlen(v->name) > w) w = (int)strlen(v->name);
@@ -456,9 +456,9 @@ static void print_interface(const kelp_app_def *def)
         s += len + (nl ? 1 : 0);
     }
     printf("\n");
-    interface_vars("SUBSCRIPTIONS", def->subscribes);
+    interface_vars("SUBSCRIPTIONS", def->subscribes, false);
     printf("\n");
-    interface_vars("PUBLICATIONS", def->publishes);
+    interface_vars("PUBLICATIONS", def->publishes, true); /* <NAME>_STATUS follows */
     printf("  <NAME>_STATUS = AppErrorFlag=false,Uptime=12.0,iter=48,mail=10,published=52,bad=0,"
            "cfg_warnings=0,run_warnings=0\n"
            "  %*s   every app, every 2 s: its status (NAME: its MOOS name, upper case)\n", 13, "");
