@@ -604,6 +604,48 @@ START_TEST(hierarchical_modes)
 }
 END_TEST
 
+/* fake CPU clock: 1 ms per reading */
+static double fake_cpu(void *user)
+{
+    static double t;
+    (void)user;
+    return t += 0.001;
+}
+
+START_TEST(helm_interface_publications)
+{
+    kelp_helm *h = ht_setup(DOM2, NULL);
+    h->cfg.cpu_clock = fake_cpu;
+    ht_load("set MODE = ACTIVE {\n  DEPLOY = true\n} INACTIVE\n"
+            "Behavior = BHV_Waypoint\n{\n name = wpt\n speed = 1\n points = 0,50\n updates = WPT_UPDATES\n}\n"
+            "Behavior = BHV_ConstantHeading\n{\n name = ch\n heading = 90\n condition = MODE == INACTIVE\n}\n");
+    ck_assert_str_eq(ht_last("IVPHELM_DOMAIN")->sval, "course,0,359,360:speed,0,4,21");
+    ck_assert_uint_eq(ht_count("IVPHELM_LIFE_EVENT"), 2);
+    ck_assert_str_eq(ht_last("IVPHELM_LIFE_EVENT")->sval,
+                     "time=0.00, iter=0, bname=ch, btype=BHV_ConstantHeading, event=spawn, seed=helm startup");
+    ck_assert_str_eq(ht_last("IVPHELM_UPDATEVARS")->sval, "WPT_UPDATES");
+    ck_assert_str_eq(ht_last("IVPHELM_STATEVARS")->sval, "DEPLOY");
+    nav(0, 0);
+    ht_iter(0);
+    ck_assert(ht_num("IVPHELM_BHV_CNT") == 2 && ht_num("IVPHELM_BHV_CNT_EVER") == 2);
+    ck_assert(ht_num("IVPHELM_BHV_RUNNING_CNT") + ht_num("IVPHELM_BHV_ACTIVE_CNT") == 2);
+    ck_assert(ht_num("IVPHELM_BHV_DISABLED_CNT") == 0);
+    ck_assert_str_eq(ht_last("IVPHELM_ENGAGED")->sval, "ENGAGED");
+    ck_assert(fabs(ht_num("IVPHELM_CREATE_CPU") - 0.001) < 1e-9);
+    ck_assert(fabs(ht_num("IVPHELM_LOOP_CPU") - 0.002) < 1e-9);
+    const char *sum = ht_last("IVPHELM_SUMMARY")->sval;
+    ck_assert_ptr_nonnull(strstr(sum, ",utc_time=1000.00,"));
+    ck_assert_ptr_nonnull(strstr(sum, ",create_time=0.0010,solve_time=0.0010,loop_time=0.0020,"));
+    ck_assert_ptr_nonnull(strstr(sum, ",total_pcs_formed="));
+    ck_assert_ptr_nonnull(strstr(sum, ",modes=MODE@INACTIVE"));
+    ht_iter(0.5);
+    ck_assert_uint_eq(ht_count("IVPHELM_BHV_CNT"), 0);  /* unchanged: not posted */
+    ck_assert_uint_eq(ht_count("IVPHELM_ENGAGED"), 0);  /* heartbeat once a second */
+    ht_iter(1.0);
+    ck_assert_uint_eq(ht_count("IVPHELM_ENGAGED"), 1);
+}
+END_TEST
+
 START_TEST(constant_depth_needs_depth)
 {
     ht_setup(DOM2 ",depth:0:100:101", NULL);
@@ -662,6 +704,7 @@ Suite *kelp_bhv_suite(void)
     tcase_add_test(tc, constant_depth_speed_heading);
     tcase_add_test(tc, constant_depth_needs_depth);
     tcase_add_test(tc, hierarchical_modes);
+    tcase_add_test(tc, helm_interface_publications);
     tcase_add_test(tc, priority_weights_trade_off);
     suite_add_tcase(s, tc);
     return s;

@@ -372,6 +372,9 @@ typedef struct kelp_helm_config {
     kelp_helm_sink sink;
     void *user;
     const kelp_bhv_ops *const *types;  /**< NULL-terminated list; NULL = kelp_bhv_builtin_types */
+    /** Optional CPU clock (seconds) the helm reads around building and solving, for
+     *  IVPHELM_CREATE_CPU / IVPHELM_LOOP_CPU and the summary's times; NULL: not measured. */
+    double (*cpu_clock)(void *user);
 } kelp_helm_config;
 
 void kelp_helm_config_default(kelp_helm_config *cfg);
@@ -416,6 +419,10 @@ typedef struct kelp_helm_report {
     unsigned nactive, nrunning, nidle, ncompleted;
     unsigned long warnings;            /**< BHV_WARNING posts so far */
     unsigned long errors;              /**< BHV_ERROR posts so far */
+    double create_time, solve_time, loop_time;          /**< CPU seconds this iteration (cpu_clock) */
+    double max_create_time, max_solve_time, max_loop_time;
+    unsigned long pcs_formed;          /**< pieces of this iteration's functions */
+    unsigned long total_pcs_formed;    /**< ... summed over all iterations */
 } kelp_helm_report;
 
 /** One hierarchical mode declaration of a .bhv file:
@@ -472,6 +479,9 @@ struct kelp_helm {
     unsigned nmodes;
     char mode_posted[KELP_HELM_MAX_MODES][128]; /* last value posted per mode variable (by first entry) */
     char mode_summary[KELP_HELM_MAX_SVAL];      /* "MODE@ACTIVE:SURVEYING#MODE2@X" after the iteration */
+    unsigned last_cnt[5];              /* last IVPHELM_BHV_{,ACTIVE_,RUNNING_,IDLE_,DISABLED_}CNT posted + 1 */
+    double last_engaged_post;          /* buffer time of the last IVPHELM_ENGAGED */
+    bool last_engaged;
     char err[192];                     /**< configuration error text (first wins) */
     int err_line;
 };
