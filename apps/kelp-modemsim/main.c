@@ -605,11 +605,15 @@ static const kelp_app_def def = {
     .subscribes = (const kelp_app_var_info[]){
         { "ACOMMS_SIM_CHANNEL", "(binary channel packet)", "<channel_var>; or on channel_url" },
         { "NODE_REPORT_LOCAL", "NAME=alpha,X=10,Y=-20,DEP=5", "<node_report_var>, when set" },
-        { "NAV_X", "10", "with nav_vars = true; also NAV_Y, NAV_DEPTH" },
+        { "NAV_X", "10", "with nav_vars = true" },
+        { "NAV_Y", "-20", "with nav_vars = true" },
+        { "NAV_DEPTH", "5", "with nav_vars = true" },
         { NULL, NULL, NULL } },
     .publishes = (const kelp_app_var_info[]){
         { "ACOMMS_SIM_CHANNEL", "(binary channel packet)", "<channel_var>: each transmission" },
         { "ACOMMS_SIM_EVENT", "event=tx,src=1,dest=2,rate=0,time=12.5", "with publish_events = true" },
+        { "MODEMSIM_STATUS", "modem=1,port=/dev/pts/3,host_lines=12,host_errors=0,tx_data=3,rx_frames=2,acks=1,"
+          "lost_random=0,lost_collision=0,lost_half_duplex=0", "every 2 s" },
         { NULL, NULL, NULL } },
     .notes = "Host link: a pseudo-terminal (pty_link) or TCP (tcp_port) speaking WHOI Micro-Modem NMEA:\n"
              "  in  $CCCLK $CCCFG $CCCFQ $CCCYC $CCTXD $CCMPC $CCMUC $CCPDT\n"

@@ -870,7 +870,8 @@ const kelp_app_def pacomms_def = {
         { "ACOMMS_RANGE_RESPONSE", "src: 1 dest: 2 one_way_travel_time: 0.35", "ModemRangingReply" },
         { "ACOMMS_NMEA_IN", "$CARXD,2,1,0,1,0102*2C", "every sentence from the modem" },
         { "ACOMMS_NMEA_OUT", "$CCCYC,0,1,2,0,0,1*5B", "every sentence to the modem" },
-        { "MODEM_ID", "1", "at start-up; also VEHICLE_ID and the common.initializer variables" },
+        { "MODEM_ID", "1", "at start-up; also the common.initializer variables" },
+        { "VEHICLE_ID", "1", "at start-up" },
         { "ACOMMS_STATUS_LCM", "(kelp.acomms_status_t)", "LCM structures on their own channels, once a second;"
           " also ACOMMS_{INCOMING,OUTGOING}_DATA_LCM, ACOMMS_{ACK,EXPIRE,QSIZE,RANGE_RESPONSE}_LCM" },
         { NULL, NULL, NULL } },

@@ -267,6 +267,17 @@ static const kelp_app_def def = {
         { "IVPHELM_ITER", "12", NULL },
         { "IVPHELM_IPF_CNT", "1", NULL },
         { "IVPHELM_BHV_ACTIVE", "loiter", "also IVPHELM_BHV_RUNNING and IVPHELM_BHV_IDLE" },
+        { "IVPHELM_BHV_CNT", "3", "on change; also IVPHELM_BHV_CNT_EVER, IVPHELM_BHV_ACTIVE_CNT,"
+          " IVPHELM_BHV_RUNNING_CNT, IVPHELM_BHV_IDLE_CNT, IVPHELM_BHV_DISABLED_CNT" },
+        { "IVPHELM_CREATE_CPU", "0.0012", "CPU seconds building the objective functions; also IVPHELM_LOOP_CPU" },
+        { "IVPHELM_DOMAIN", "course,0,359,360:speed,0,4,21", NULL },
+        { "IVPHELM_MODESET", "MODE#---,ACTIVE#---,INACTIVE#ACTIVE,SURVEYING#ACTIVE,RETURNING",
+          "at start, when the behaviour file declares modes" },
+        { "IVPHELM_LIFE_EVENT", "time=0.00, iter=0, bname=loiter, btype=BHV_Loiter, event=spawn, seed=helm startup",
+          NULL },
+        { "IVPHELM_UPDATEVARS", "UP_LOITER", "the variables behaviour updates and mode declarations listen to" },
+        { "IVPHELM_STATEVARS", "DEPLOY,RETURN", "the variables the conditions read" },
+        { "IVPHELM_ENGAGED", "ENGAGED", "heartbeat (DISENGAGED when parked)" },
         { "BHV_WARNING", "loiter: no points", "also BHV_ERROR" },
         { "UH_<behaviour>", "points=0,0:10,10", "the behaviour's update replies" },
         { "VIEW_POINT", "x=10,y=20,label=alpha", "behaviour postings: VIEW_SEGLIST, VIEW_POLYGON, WPT_STAT,"

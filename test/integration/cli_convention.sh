@@ -3,7 +3,8 @@
 # --version on stdout with exit 0 and names itself; an unknown option is a usage error (exit 2,
 # "<name>: unknown option '--x'" on stderr). MOOS-role apps (kelp_app_run) also answer
 # --example and --interface, their --example lists every parameter the app's source reads, and
-# run with their own --example block they report no parameter outside the table.
+# run with their own --example block they report no parameter outside the table; --interface
+# lists every variable the source publishes or registers by name.
 . "$(dirname "$0")/lib.sh"
 cd "$T"
 version=$(sed -n 's/^VERSION *:= *//p' "$KELP_ROOT/Makefile")
@@ -52,6 +53,12 @@ for d in "$KELP_ROOT"/apps/*/; do
   for k in $keys; do
     grep -qiE "^  (// )?$k( *=|:| \\{)" ex.txt || fail "$name reads parameter $k but --example does not show it"
   done
+  # every variable the source publishes or subscribes to by name appears in --interface
+  vars=$(grep -ohE 'kelp_app_(notify_[a-z]+|register)\([a-z>-]+, "[A-Z][A-Z_0-9]+"' "$d"*.c |
+         sed -E 's/.*"([^"]+)"/\1/' | sort -u || true)
+  for v in $vars; do
+    grep -qE "^  $v( |$)" if.txt || fail "$name uses variable $v but --interface does not list it"
+  done
   # run it with its own example block: nothing read outside the table, nothing in the table unknown
   { echo "ServerHost = localhost"; echo "Community = clitest"; echo "LatOrigin = 43.825"; echo "LongOrigin = -70.33"
     sed -n '/^ProcessConfig = /,/^}/p' ex.txt; } > m.moos
@@ -62,7 +69,7 @@ for d in "$KELP_ROOT"/apps/*/; do
   m=$((m + 1))
 done
 [ $m -ge 8 ] || fail "only $m MOOS-role apps found"
-ok "$m MOOS-role apps: --example lists what the source reads, --interface has its sections"
+ok "$m MOOS-role apps: --example lists what the source reads, --interface what it publishes and registers by name"
 echo "ran with their own --example block:$ran"
 # every one must start on its own example, or the run-time check above proved nothing for it
 [ -z "$refused" ] || fail "refused their own --example block at start-up:$refused"
