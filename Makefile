@@ -122,9 +122,9 @@ $(foreach a,$(APPS),$(eval $(call APP_RULE,$(a))))
 $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard apps/*/*.c)): CPPFLAGS += $(LCM_CFLAGS)
 
 scripts: $(addprefix $(BUILD)/bin/,$(SCRIPTS))
-$(BUILD)/bin/kelp-%: tools/kelp-%
+$(BUILD)/bin/kelp-%: tools/kelp-% Makefile
 	@mkdir -p $(dir $@)
-	sed "s/@KELP_VERSION@/$(VERSION)/g" $< > $@ && chmod +x $@
+	sed 's/@KELP_VERSION@/$(VERSION)/g' $< > $@ && chmod +x $@
 
 # ---------------------------------------------------------------- unit tests
 # The list of suites is generated from the test sources, so adding a suite needs no edit here.

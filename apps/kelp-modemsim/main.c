@@ -568,44 +568,58 @@ static const kelp_app_def def = {
     .name = "kelp-modemsim",
     .purpose = "Simulated WHOI Micro-Modem (iModemSim): the modem side of the Micro-Modem NMEA protocol on a "
                "pseudo-terminal or TCP port; modems share a simulated acoustic channel over the bus.",
-    .example =
-        "ProcessConfig = kelp-modemsim            // or iModemSim (run with ~ iModemSim)\n"
-        "{\n"
-        "  AppTick    = 20                        // timing resolution of the channel (s / AppTick)\n"
-        "  CommsTick  = 20\n"
-        "  modem_id   = 1                         // initial NVRAM SRC (the host sets it with $CCCFG,SRC)\n"
-        "  pty_link   = /tmp/ttyMM1               // symlink to the pseudo-terminal the host opens (alias: Port)\n"
-        "  // tcp_port = 50010                    // ... or serve the host on a TCP port instead\n"
-        "  position   = x=0,y=0,depth=10          // or x = / y = / depth =, or ConstantPosX/Y/ConstantDepth\n"
-        "  // node_report_var = NODE_REPORT_LOCAL // follow the vehicle: X=,Y=,DEP= of this variable\n"
-        "  // nav_vars = true                     // ... or NAV_X, NAV_Y, NAV_DEPTH\n"
-        "  sound_speed = 1500                     // m/s\n"
-        "  loss       = 0.0                       // probability of losing a packet / data frame (seeded)\n"
-        "  seed       = 1\n"
-        "  max_range  = 0                         // m, 0 = unlimited\n"
-        "  ci_seconds = 1.0                       // cycle-init packet length\n"
-        "  mini_seconds = 0.5                     // ack / ping / mini-packet length\n"
-        "  turnaround_seconds = 0.25\n"
-        "  drq_timeout = 2                        // s to wait for $CCTXD after $CADRQ\n"
-        "  rev_interval = 60                      // $CAREV heartbeat period while a host talks, 0 = off\n"
-        "  // lbl_beacon = x=1000,y=0,depth=50    // REMUS LBL transponders A..D for $CCPDT\n"
-        "  channel_var = ACOMMS_SIM_CHANNEL       // where transmissions travel\n"
-        "  // channel_url = udpm://239.255.76.67:7690?ttl=0  // a channel bus shared by several communities\n"
-        "  publish_events = true                  // ACOMMS_SIM_EVENT per transmission / reception / loss\n"
-        "  ping_timeout = 10                      // s a $CCMPC ping waits for its reply\n"
-        "  clock_set_at_boot = false              // false: the modem clock starts at 2000-01-01 until $CCCLK\n"
-        "  revision   = 0.93.0.52                 // firmware revision in $CAREV\n"
-        "  // iModemSim names also accepted: Port = /tmp/ttyMM1, Speed = 19200 (ignored: a pty has no\n"
-        "  // baud), InputLocType (ignored), loss_probability = 0.0 (same as loss)\n"
-        "}\n",
-    .interface = "Host link: pseudo-terminal (pty_link) or TCP (tcp_port); WHOI Micro-Modem NMEA:\n"
-                 "  in  $CCCLK $CCCFG $CCCFQ $CCCYC $CCTXD $CCMPC $CCMUC $CCPDT\n"
-                 "  out $CACLK $CACFG $CACYC $CADRQ $CATXD $CATXP $CATXF $CARXD $CAACK $CAMPC $CAMPA $CAMPR\n"
-                 "      $CAMUC $CAMUA $SNPDT $SNTTA $CAREV $CAERR\n"
-                 "Subscribes: <channel_var> (binary channel packets; or on channel_url), <node_report_var>,\n"
-                 "            NAV_X NAV_Y NAV_DEPTH (nav_vars = true)\n"
-                 "Publishes:  <channel_var> (binary: each transmission), ACOMMS_SIM_EVENT (string),\n"
-                 "            MODEMSIM_STATUS (string, every 2 s)\n",
+    .params = (const kelp_app_param_info[]){
+        { "modem_id", "1", "required: initial NVRAM SRC, 1..31 (the host sets it with $CCCFG,SRC)", NULL },
+        { "pty_link", "/tmp/ttyMM1", "symlink to the pseudo-terminal the host opens", NULL },
+        { "Port", "/tmp/ttyMM1", "iModemSim's name for pty_link", "pty_link" },
+        { "Speed", "19200", "iModemSim's baud: accepted, ignored (a pty has none)", NULL },
+        { "tcp_port", "50010", "serve the host on this TCP port instead of a pty", "pty_link" },
+        { "position", "x=0,y=0,depth=0", "fixed position, m", NULL },
+        { "x", "0", "m (also ConstantPosX)", NULL },
+        { "y", "0", "m (also ConstantPosY)", NULL },
+        { "depth", "0", "m (also ConstantDepth)", NULL },
+        { "ConstantPosX", "0", "iModemSim's x", NULL },
+        { "ConstantPosY", "0", "iModemSim's y", NULL },
+        { "ConstantDepth", "0", "iModemSim's depth", NULL },
+        { "InputLocType", "Constant", "iModemSim's: accepted, ignored", NULL },
+        { "node_report_var", "NODE_REPORT_LOCAL", "follow the vehicle: X=, Y=, DEP= of this variable (optional)", NULL },
+        { "nav_vars", "false", "true: follow NAV_X, NAV_Y, NAV_DEPTH", NULL },
+        { "sound_speed", "1500", "m/s", NULL },
+        { "loss", "0", "probability of losing a packet or data frame, 0..1 (seeded)", NULL },
+        { "loss_probability", "0", "same as loss", NULL },
+        { "seed", "1", "random seed of the channel", NULL },
+        { "max_range", "0", "m, 0 = unlimited", NULL },
+        { "ci_seconds", "1.0", "cycle-init packet length, s", NULL },
+        { "mini_seconds", "0.5", "ack, ping and mini-packet length, s", NULL },
+        { "turnaround_seconds", "0.25", "s", NULL },
+        { "drq_timeout", "2", "s to wait for $CCTXD after $CADRQ", NULL },
+        { "ping_timeout", "10", "s to wait for a ping reply", NULL },
+        { "rev_interval", "60", "$CAREV heartbeat period while a host talks, s (0 = off)", NULL },
+        { "clock_set_at_boot", "false", "true: the modem clock starts set", NULL },
+        { "revision", "0.93.0.52", "firmware revision in $CAREV", NULL },
+        { "lbl_beacon", "x=1000,y=0,depth=50", "repeatable (up to 4): REMUS LBL transponders A..D for $CCPDT", NULL },
+        { "channel_var", "ACOMMS_SIM_CHANNEL", "where transmissions travel", NULL },
+        { "channel_url", "udpm://239.255.76.67:7690?ttl=0", "a channel bus shared by communities (optional)", NULL },
+        { "publish_events", "true", "ACOMMS_SIM_EVENT per transmission, reception and loss", NULL },
+        { NULL, NULL, NULL, NULL } },
+    .subscribes = (const kelp_app_var_info[]){
+        { "ACOMMS_SIM_CHANNEL", "(binary channel packet)", "<channel_var>; or on channel_url" },
+        { "NODE_REPORT_LOCAL", "NAME=alpha,X=10,Y=-20,DEP=5", "<node_report_var>, when set" },
+        { "NAV_X", "10", "with nav_vars = true" },
+        { "NAV_Y", "-20", "with nav_vars = true" },
+        { "NAV_DEPTH", "5", "with nav_vars = true" },
+        { NULL, NULL, NULL } },
+    .publishes = (const kelp_app_var_info[]){
+        { "ACOMMS_SIM_CHANNEL", "(binary channel packet)", "<channel_var>: each transmission" },
+        { "ACOMMS_SIM_EVENT", "event=tx,src=1,dest=2,rate=0,time=12.5", "with publish_events = true" },
+        { "MODEMSIM_STATUS", "modem=1,port=/dev/pts/3,host_lines=12,host_errors=0,tx_data=3,rx_frames=2,acks=1,"
+          "lost_random=0,lost_collision=0,lost_half_duplex=0", "every 2 s" },
+        { NULL, NULL, NULL } },
+    .notes = "Host link: a pseudo-terminal (pty_link) or TCP (tcp_port) speaking WHOI Micro-Modem NMEA:\n"
+             "  in  $CCCLK $CCCFG $CCCFQ $CCCYC $CCTXD $CCMPC $CCMUC $CCPDT\n"
+             "  out $CACLK $CACFG $CACYC $CADRQ $CATXD $CATXP $CATXF $CARXD $CAACK $CAMPC $CAMPA $CAMPR\n"
+             "      $CAMUC $CAMUA $SNPDT $SNTTA $CAREV $CAERR\n"
+             "Run it as iModemSim with: Run = kelp-modemsim ~ iModemSim\n",
     .startup = startup,
     .on_mail = on_mail,
     .iterate = iterate,

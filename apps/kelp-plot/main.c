@@ -15,12 +15,7 @@
 #include <string.h>
 #include <lcm/eventlog.h>
 #include <kelp/app.h>
-#include <kelp/edge/cli.h>
 #include "plot.h"
-
-#ifndef KELP_VERSION
-#define KELP_VERSION "dev"
-#endif
 
 /* "WxH" with both in range; 0 or -1 */
 static int parse_size(const char *s, int *w, int *h)
@@ -37,21 +32,25 @@ static int parse_size(const char *s, int *w, int *h)
     return 0;
 }
 
-static const kelp_cli plot_cli = {
-    "kelp-plot",
-    "[-o OUT.png|OUT.svg]... [--title T] [--size WxH] [--no-pulses] [--quiet] LOG [LOG...]\n"
-    "MISSION.moos [NAME]      (live viewer app; see --example)",
-    "Renders lcm-logger logs of a mission: vehicle tracks (NODE_REPORT, NODE_REPORT_LOCAL or NAV_X/NAV_Y\n"
-    "per community) with names, VIEW_POINT/POLYGON/SEGLIST/CIRCLE/MARKER/COMMS_PULSE/RANGE_PULSE,\n"
-    "metre grid, legend. Without -o it writes LOG.png and LOG.svg next to the first log.\n"
-    "Prints a per-vehicle summary (fixes, distance, duration, start, end). Exit 1 when a log cannot be\n"
-    "read or holds nothing to draw.",
-    "  -o FILE          write FILE (.png or .svg; repeatable)\n"
-    "  --title T        the picture's title\n"
-    "  --size WxH       picture size in pixels (default 1600x1100)\n"
-    "  --no-pulses      do not draw COMMS_PULSE/RANGE_PULSE\n"
-    "  -q, --quiet      no summary\n",
-    NULL, NULL
+enum { OPT_TITLE = 256, OPT_SIZE, OPT_NO_PULSES };
+
+static const kelp_cli cli = {
+    .name = "kelp-plot",
+    .purpose = "Pictures of a mission: renders lcm-logger logs (vehicle tracks from NODE_REPORT, NODE_REPORT_LOCAL\n"
+               "or NAV_X/NAV_Y per community, with names; VIEW_POINT/POLYGON/SEGLIST/CIRCLE/MARKER/COMMS_PULSE/\n"
+               "RANGE_PULSE; metre grid, legend) to PNG and SVG, or runs live as a shoreside viewer app.",
+    .synopsis = "[OPTIONS] LOG [LOG...]\n"
+                "[--alias=NAME] MISSION.moos [NAME]    (live viewer app; see --example, --interface)",
+    .opts = (const kelp_cli_opt[]){
+        { "output", required_argument, 'o', "OUT.png|OUT.svg", "write this picture (repeatable, up to 8)" },
+        { "title", required_argument, OPT_TITLE, "T", "picture title" },
+        { "size", required_argument, OPT_SIZE, "WxH", "picture size, 400 <= W, 300 <= H, both <= 10000" },
+        { "no-pulses", no_argument, OPT_NO_PULSES, NULL, "do not draw comms and range pulses" },
+        { "quiet", no_argument, 'q', NULL, "print nothing but errors" },
+        { NULL, 0, 0, NULL, NULL } },
+    .more = "Without -o it writes LOG.png and LOG.svg next to the first log, and prints a per-vehicle summary\n"
+            "(fixes, distance, duration, start, end). Exit 1 when a log cannot be read or holds nothing to draw.\n"
+            "Live (a MISSION.moos argument, -e or -i): the MOOS options of every kelp app.\n",
 };
 
 /* ------------------------------------------------------------------ offline */
@@ -103,38 +102,37 @@ static int offline(int argc, char **argv)
     int nlogs = 0;
     plot_opts o = {1600, 1100, NULL, NULL, true};
     bool quiet = false;
-    enum { O_TITLE = 0x100, O_SIZE, O_NOPULSE };
-    static const struct option opts[] = { { "title", required_argument, NULL, O_TITLE },
-                                           { "size", required_argument, NULL, O_SIZE },
-                                           { "no-pulses", no_argument, NULL, O_NOPULSE },
-                                           { "quiet", no_argument, NULL, 'q' },
-                                           { NULL, 0, NULL, 0 } };
-    kelp_cli cli = plot_cli;
-    cli.longopts = opts;
-    cli.shortopts = "o:q";
-    int c, status, w, h;
+    int c, status;
     while ((c = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
         switch (c) {
-        case KELP_CLI_EXIT: return status;
+        case KELP_CLI_EXIT:
+            return status;
         case 'o':
             if (nouts < 8) outs[nouts++] = optarg;
             break;
-        case O_TITLE: o.title = optarg; break;
-        case O_SIZE:
+        case OPT_TITLE:
+            o.title = optarg;
+            break;
+        case OPT_SIZE: {
+            int w, h;
             if (parse_size(optarg, &w, &h) < 0)
                 return kelp_cli_error(&cli, "--size WxH with 400 <= W, 300 <= H, both <= 10000");
             o.width = w;
             o.height = h;
             break;
-        case O_NOPULSE: o.show_pulses = false; break;
-        case 'q': quiet = true; break;
-        default: return 2;
+        }
+        case OPT_NO_PULSES:
+            o.show_pulses = false;
+            break;
+        case 'q':
+            quiet = true;
+            break;
         }
     }
-    while (optind < argc && nlogs < 64) logs[nlogs++] = argv[optind++];
+    for (int i = optind; i < argc && nlogs < 64; i++) logs[nlogs++] = argv[i];
     if (!nlogs) {
-        kelp_cli_usage(&plot_cli, stderr);
-        return 2;
+        kelp_cli_usage(&cli, stderr);
+        return kelp_cli_error(&cli, "no log given");
     }
     plot_scene s;
     scene_init(&s);
@@ -292,15 +290,20 @@ static void live_shutdown(kelp_app *app, void *st)
 static const kelp_app_def live_def = {
     .name = "kelp-plot",
     .purpose = "Live shoreside viewer: a table of the vehicles (NODE_REPORT) and a picture of the mission on exit.",
-    .example = "ProcessConfig = kelp-plot\n{\n  AppTick = 2\n  CommsTick = 2\n"
-               "  IMAGE = mission.png        // written when the app stops (optional)\n"
-               "  SVG   = mission.svg        // likewise (optional)\n"
-               "  TITLE = Fleet demo         // picture title (optional)\n"
-               "  SHOW_PULSES = true         // draw comms/range pulses\n"
-               "  TABLE_FILE  = vehicles.txt // the vehicle table, rewritten every TABLE_PERIOD (optional)\n"
-               "  TABLE_PERIOD = 5           // seconds of MOOS time\n}\n",
-    .interface = "Subscribes: NODE_REPORT, NODE_REPORT_LOCAL, VIEW_*, NAV_X, NAV_Y, NAV_HEADING, NAV_SPEED\n"
-                 "Publishes:  nothing (the status report holds the vehicle table)\n",
+    .params = (const kelp_app_param_info[]){
+        { "IMAGE", "mission.png", "PNG written when the app stops (optional)", NULL },
+        { "SVG", "mission.svg", "SVG written when the app stops (optional)", NULL },
+        { "TITLE", "Fleet demo", "picture title (optional)", NULL },
+        { "SHOW_PULSES", "true", "draw comms and range pulses", NULL },
+        { "TABLE_FILE", "vehicles.txt", "the vehicle table, rewritten every TABLE_PERIOD (optional)", NULL },
+        { "TABLE_PERIOD", "5", "seconds of MOOS time", NULL },
+        { NULL, NULL, NULL, NULL } },
+    .subscribes = (const kelp_app_var_info[]){
+        { "NODE_REPORT", "NAME=alpha,TYPE=UUV,TIME=1252348077.59,X=51.71,Y=-35.50,SPD=2.0,HDG=118.8", NULL },
+        { "NODE_REPORT_LOCAL", "(as NODE_REPORT)", NULL },
+        { "VIEW_*", "x=10,y=20,label=alpha", "VIEW_POINT, VIEW_SEGLIST, VIEW_POLYGON, VIEW_RANGE_PULSE, ..." },
+        { "NAV_X", "112.3", "also NAV_Y, NAV_HEADING, NAV_SPEED" },
+        { NULL, NULL, NULL } },
     .startup = live_startup,
     .on_mail = live_mail,
     .iterate = live_iterate,

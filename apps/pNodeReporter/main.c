@@ -187,21 +187,36 @@ static void report(kelp_app *app, void *st, FILE *out)
 static const kelp_app_def def = {
     .name = "pNodeReporter",
     .purpose = "Publish NODE_REPORT_LOCAL (NAME,TYPE,TIME,X,Y,LAT,LON,SPD,HDG,DEPTH,...) from NAV_* and the helm.",
-    .example = "ProcessConfig = pNodeReporter\n{\n  AppTick   = 4\n  CommsTick = 4\n\n"
-               "  PLATFORM_TYPE   = UUV          // TYPE= (VESSEL_TYPE is a synonym)\n"
-               "  PLATFORM_LENGTH = 3.8          // LENGTH= (optional)\n"
-               "  // VESSEL_NAME = alpha         // NAME= (default: the Community)\n"
-               "  // GROUP = red_team            // GROUP= (optional)\n"
-               "  // PREFIX = NAV                // navigation variables read\n"
-               "  // MODE_VAR = MY_MODE          // MODE= from this variable instead of the helm\n"
-               "  // NODE_REPORT_OUTPUT = NODE_REPORT_LOCAL\n}\n"
-               "Globals used: LatOrigin, LongOrigin (LAT/LON from X/Y, or X/Y from LAT/LON).\n",
-    .interface = "Subscribes: NAV_X, NAV_Y, NAV_LAT, NAV_LONG, NAV_SPEED, NAV_HEADING, NAV_DEPTH (double)\n"
-                 "            IVPHELM_STATE, IVPHELM_SUMMARY (modes=... or active_bhvs=...), IVPHELM_ALLSTOP\n"
-                 "            (MODE= is the helm modes, else <state>@<active behaviours>, e.g. DRIVE@survey)\n"
-                 "Publishes:  NODE_REPORT_LOCAL (string), once per iteration with new navigation data, e.g.\n"
-                 "  NAME=alpha,TYPE=UUV,TIME=1252348077.59,X=51.71,Y=-35.50,LAT=43.824981,LON=-70.329755,\n"
-                 "  SPD=2.00,HDG=118.85,DEPTH=4.63,LENGTH=3.8,MODE=LOITERING\n",
+    .params = (const kelp_app_param_info[]){
+        { "PLATFORM_TYPE", "UUV", "TYPE= in the report", NULL },
+        { "VESSEL_TYPE", "UUV", "older name of PLATFORM_TYPE (used when that is absent)", "PLATFORM_TYPE" },
+        { "PLATFORM_LENGTH", "3.8", "meters, LENGTH= (optional; no default)", NULL },
+        { "VESSEL_LENGTH", "3.8", "older name of PLATFORM_LENGTH", "PLATFORM_LENGTH" },
+        { "VESSEL_NAME", "alpha", "NAME= (default: the Community)", NULL },
+        { "GROUP", "red_team", "GROUP= (optional; no default)", NULL },
+        { "PREFIX", "NAV", "navigation variables read: <PREFIX>_X, _Y, ...", NULL },
+        { "MODE_VAR", "MY_MODE", "MODE= from this variable instead of the helm (optional)", NULL },
+        { "NODE_REPORT_OUTPUT", "NODE_REPORT_LOCAL", "the variable the report is posted to", NULL },
+        { NULL, NULL, NULL, NULL } },
+    .subscribes = (const kelp_app_var_info[]){
+        { "NAV_X", "112.3", "meters east of the datum (NAV = PREFIX)" },
+        { "NAV_Y", "-99.1", "meters north of the datum" },
+        { "NAV_LAT", "43.824981", NULL },
+        { "NAV_LONG", "-70.329755", NULL },
+        { "NAV_SPEED", "2.0", "m/s" },
+        { "NAV_HEADING", "118.8", "degrees" },
+        { "NAV_DEPTH", "4.6", "meters" },
+        { "IVPHELM_STATE", "DRIVE", NULL },
+        { "IVPHELM_SUMMARY", "iter=12,modes=MODE@ACTIVE:LOITERING,active_bhvs=loiter", "MODE= from modes=, else active_bhvs=" },
+        { "IVPHELM_ALLSTOP", "clear", NULL },
+        { "<MODE_VAR>", "SURVEYING", "when MODE_VAR is set" },
+        { NULL, NULL, NULL } },
+    .publishes = (const kelp_app_var_info[]){
+        { "NODE_REPORT_LOCAL", "NAME=alpha,TYPE=UUV,TIME=1252348077.59,X=51.71,Y=-35.50,LAT=43.824981,"
+          "LON=-70.329755,SPD=2.00,HDG=118.85,DEPTH=4.63,LENGTH=3.8,MODE=LOITERING",
+          "once per iteration with new navigation data (the variable is NODE_REPORT_OUTPUT)" },
+        { NULL, NULL, NULL } },
+    .notes = "Globals used: LatOrigin, LongOrigin (LAT/LON from X/Y, or X/Y from LAT/LON).\n",
     .startup = startup,
     .on_mail = on_mail,
     .iterate = iterate,
