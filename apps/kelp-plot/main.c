@@ -15,7 +15,7 @@
 #include <string.h>
 #include <lcm/eventlog.h>
 #include <kelp/app.h>
-#include "plot.h"
+#include <kelp/edge/plot.h>
 
 /* "WxH" with both in range; 0 or -1 */
 static int parse_size(const char *s, int *w, int *h)
@@ -55,52 +55,13 @@ static const kelp_cli cli = {
 
 /* ------------------------------------------------------------------ offline */
 
-static int read_log(plot_scene *s, const char *path, unsigned long *events, unsigned long *undecoded)
-{
-    FILE *probe = fopen(path, "rb");
-    if (!probe) {
-        fprintf(stderr, "kelp-plot: %s: %s\n", path, strerror(errno));
-        return -1;
-    }
-    fclose(probe);
-    lcm_eventlog_t *log = lcm_eventlog_create(path, "r");
-    if (!log) {
-        fprintf(stderr, "kelp-plot: %s: not readable as an LCM log\n", path);
-        return -1;
-    }
-    kelp_var *v = malloc(sizeof *v);
-    if (!v) {
-        lcm_eventlog_destroy(log);
-        return -1;
-    }
-    lcm_eventlog_event_t *e;
-    unsigned long n = 0;
-    while ((e = lcm_eventlog_read_next_event(log)) != NULL) {
-        n++;
-        if (e->datalen >= 0 && kelp_var_decode(e->data, (size_t)e->datalen, v) == 0) {
-            if (!(v->flags & KELP_VAR_FLAG_SYNC)) scene_add_var(s, v);
-        } else {
-            (*undecoded)++;
-        }
-        lcm_eventlog_free_event(e);
-    }
-    *events += n;
-    free(v);
-    lcm_eventlog_destroy(log);
-    if (n == 0) {
-        fprintf(stderr, "kelp-plot: %s: no events (empty or not an LCM log)\n", path);
-        return -1;
-    }
-    return 0;
-}
-
 static int offline(int argc, char **argv)
 {
     const char *outs[8];
     int nouts = 0;
     const char *logs[64];
     int nlogs = 0;
-    plot_opts o = {1600, 1100, NULL, NULL, true};
+    kelp_plot_opts o = {1600, 1100, NULL, NULL, true};
     bool quiet = false;
     int c, status;
     while ((c = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
@@ -134,13 +95,13 @@ static int offline(int argc, char **argv)
         kelp_cli_usage(&cli, stderr);
         return kelp_cli_error(&cli, "no log given");
     }
-    plot_scene s;
-    scene_init(&s);
+    kelp_plot_scene s;
+    kelp_plot_scene_init(&s);
     unsigned long events = 0, undecoded = 0;
     int rc = 0;
     for (int i = 0; i < nlogs; i++)
-        if (read_log(&s, logs[i], &events, &undecoded) < 0) rc = 1;
-    scene_finish(&s);
+        if (kelp_plot_scene_read_log(&s, logs[i], &events, &undecoded) < 0) rc = 1;
+    kelp_plot_scene_finish(&s);
     char sub[512];
     const char *base = strrchr(logs[0], '/') ? strrchr(logs[0], '/') + 1 : logs[0];
     double dur = isfinite(s.t0) && s.t1 > s.t0 ? s.t1 - s.t0 : 0;
@@ -155,26 +116,26 @@ static int offline(int argc, char **argv)
         outs[nouts++] = defsvg;
     }
     for (int i = 0; i < nouts; i++) {
-        if (plot_render(&s, &o, outs[i]) < 0) rc = 1;
+        if (kelp_plot_render(&s, &o, outs[i]) < 0) rc = 1;
         else if (!quiet) printf("kelp-plot: wrote %s\n", outs[i]);
     }
     if (!quiet) {
         printf("kelp-plot: %lu events, %lu not kelp variables (skipped)\n", events, undecoded);
-        plot_print_summary(&s, stdout);
+        kelp_plot_print_summary(&s, stdout);
     }
     if (!s.ntracks && !s.nviews) {
         fprintf(stderr, "kelp-plot: nothing to draw (no vehicle positions, no VIEW_* postings)\n");
         rc = 1;
     }
-    scene_free(&s);
-    plot_release();
+    kelp_plot_scene_free(&s);
+    kelp_plot_release();
     return rc;
 }
 
 /* ------------------------------------------------------------------ live */
 
 typedef struct live {
-    plot_scene s;
+    kelp_plot_scene s;
     char image[512], svg[512], title[128], table[512];
     double table_period, table_last;
     bool pulses;
@@ -184,7 +145,7 @@ typedef struct live {
 static int live_startup(kelp_app *app, void *st)
 {
     live *l = st;
-    scene_init(&l->s);
+    kelp_plot_scene_init(&l->s);
     l->pulses = true;
     if (kelp_app_param_str(app, "IMAGE", l->image, sizeof l->image) < 0) return -1;
     if (kelp_app_param_str(app, "SVG", l->svg, sizeof l->svg) < 0) return -1;
@@ -207,7 +168,7 @@ static void live_mail(kelp_app *app, void *st, const kelp_var *v)
     live *l = st;
     (void)app;
     l->mail++;
-    if (!(v->flags & KELP_VAR_FLAG_SYNC)) scene_add_var(&l->s, v);
+    if (!(v->flags & KELP_VAR_FLAG_SYNC)) kelp_plot_scene_add_var(&l->s, v);
 }
 
 static void vehicle_table(live *l, double now, FILE *out)
@@ -218,14 +179,14 @@ static void vehicle_table(live *l, double now, FILE *out)
             "----", "-------", "-------", "------");
     size_t shown = 0;
     for (size_t i = 0; i < l->s.ntracks; i++) {
-        const plot_track *t = &l->s.tracks[i];
+        const kelp_plot_track *t = &l->s.tracks[i];
         if (!t->n) continue;
-        if (t->src == PLOT_SRC_NAV && scene_track(&l->s, t->name) != t) continue; /* has reports */
-        const plot_pt *p = &t->pts[t->n - 1];
+        if (t->src == KELP_PLOT_SRC_NAV && kelp_plot_scene_track(&l->s, t->name) != t) continue; /* has reports */
+        const kelp_plot_pt *p = &t->pts[t->n - 1];
         double d = 0;
         for (size_t j = 1; j < t->n; j++) d += hypot(t->pts[j].x - t->pts[j - 1].x, t->pts[j].y - t->pts[j - 1].y);
         const kelp_nodereport *r = &t->last;
-        bool rep = t->src == PLOT_SRC_REPORT;
+        bool rep = t->src == KELP_PLOT_SRC_REPORT;
         fprintf(out, "%-10.10s %-6.6s %9.1f %9.1f %6.2f %7.1f %6.1f %-22.22s %7lu %8.0f %6.1f\n", t->name,
                 rep && (r->fields & KELP_NR_TYPE) ? r->type : "-", p->x, p->y, isfinite(p->spd) ? p->spd : 0,
                 isfinite(p->hdg) ? p->hdg : 0, rep && (r->fields & KELP_NR_DEPTH) ? r->depth : 0,
@@ -270,21 +231,21 @@ static int live_iterate(kelp_app *app, void *st, double now)
 static void live_shutdown(kelp_app *app, void *st)
 {
     live *l = st;
-    scene_finish(&l->s);
+    kelp_plot_scene_finish(&l->s);
     char sub[256];
     double dur = isfinite(l->s.t0) && l->s.t1 > l->s.t0 ? l->s.t1 - l->s.t0 : 0;
     snprintf(sub, sizeof sub, "community %s (live)  ·  %zu vehicle%s  ·  %.0f s of MOOS time  ·  %zu artifacts",
              kelp_app_community(app), l->s.ntracks, l->s.ntracks == 1 ? "" : "s", dur, l->s.nviews);
-    plot_opts o = {1600, 1100, l->title[0] ? l->title : NULL, sub, l->pulses};
+    kelp_plot_opts o = {1600, 1100, l->title[0] ? l->title : NULL, sub, l->pulses};
     const char *outs[2] = {l->image, l->svg};
     for (int i = 0; i < 2; i++)
         if (outs[i][0]) {
-            if (plot_render(&l->s, &o, outs[i]) == 0) kelp_app_event(app, "wrote %s", outs[i]);
+            if (kelp_plot_render(&l->s, &o, outs[i]) == 0) kelp_app_event(app, "wrote %s", outs[i]);
             else kelp_app_run_warning(app, "cannot write %s", outs[i]);
         }
     if (l->table[0]) write_table(app, l, kelp_app_time(app));
-    plot_print_summary(&l->s, stdout);
-    plot_release(); /* the scene stays: the runner prints a last report after this */
+    kelp_plot_print_summary(&l->s, stdout);
+    kelp_plot_release(); /* the scene stays: the runner prints a last report after this */
 }
 
 static const kelp_app_def live_def = {
