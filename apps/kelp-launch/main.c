@@ -23,19 +23,12 @@
 #include <time.h>
 #include <unistd.h>
 #include <kelp/edge/cli.h>
+#include <kelp/edge/launch.h>
 #include <kelp/lcmbus.h>
 #include <kelp/mission.h>
 
-#define MAX_APPS 64
 #define MAX_VARS 512
 #define STOP_GRACE_S 3.0
-
-typedef struct child {
-    char prog[128], alias[KELP_MAX_NAME], path[PATH_MAX];
-    pid_t pid;
-    int status, exited, stopped_by_us;
-    double started, ended;
-} child;
 
 typedef struct varstat {
     char name[KELP_MAX_NAME];
@@ -71,29 +64,103 @@ static void on_var(const kelp_var *v, void *user)
     }
 }
 
-static const char *map_prog(const char *p)
-{
-    if (strcmp(p, "uXMS") == 0) return "kelp-scope";
-    if (strcmp(p, "uPokeDB") == 0) return "kelp-poke";
-    if (strcmp(p, "pMOOSBridge") == 0) return "kelp-bridge";
-    if (strcmp(p, "pAntler") == 0) return "kelp-launch";
-    if (strcmp(p, "iMarineSim") == 0) return "uSimMarine";
-    if (strcmp(p, "pMarineViewer") == 0) return "kelp-plot";
-    return p;
-}
-
-static void trim(char *s)
-{
-    char *a = s;
-    while (*a == ' ' || *a == '\t') a++;
-    memmove(s, a, strlen(a) + 1);
-    size_t n = strlen(s);
-    while (n && (s[n - 1] == ' ' || s[n - 1] == '\t')) s[--n] = 0;
-}
-
 static int varcmp(const void *a, const void *b)
 {
     return strcmp(((const varstat *)a)->name, ((const varstat *)b)->name);
+}
+
+typedef struct launcher {
+    kelp_launch_plan *plan;
+    kelp_lcmbus *lb;
+    double ep, warp, t_start, run_seconds, stop_at;
+} launcher;
+
+static double moos_now(const launcher *L) { return L->ep + (wall() - L->ep) * L->warp; }
+
+/* the stop request: a signal, or --run-seconds passed */
+static bool stop_due(const launcher *L)
+{
+    return g_stop || (L->run_seconds > 0 && wall() - L->t_start >= L->run_seconds);
+}
+
+/* start the apps in order, serving the bus during MSBetweenLaunches; a stop request at any
+ * moment ends the start-up (the apps not started yet are never started) */
+static void start_all(launcher *L, const char *mission, const char *ldir)
+{
+    for (int k = 0; k < L->plan->nkids && !stop_due(L); k++) {
+        kelp_launch_child *c = &L->plan->kids[k];
+        char logpath[PATH_MAX + KELP_MAX_NAME + 8];
+        snprintf(logpath, sizeof logpath, "%s/%s.log", ldir, c->alias);
+        if (kelp_launch_start(c, mission, logpath, wall()) < 0) {
+            fprintf(stderr, "kelp-launch: fork: %s\n", strerror(errno));
+            g_stop = 1;
+            break;
+        }
+        printf("kelp-launch: started %-16s as %-18s pid %d  log %s\n", c->prog, c->alias, (int)c->pid, logpath);
+        fflush(stdout);
+        double until = wall() + L->plan->ms_between / 1000.0;
+        do {
+            (void)kelp_lcmbus_handle(L->lb, 20, moos_now(L));
+        } while (wall() < until && !stop_due(L));
+    }
+}
+
+static void on_own_exit(const kelp_launch_child *c, void *ctx)
+{
+    (void)ctx;
+    printf("kelp-launch: %s exited on its own (%s %d)\n", c->alias, WIFEXITED(c->status) ? "status" : "signal",
+           WIFEXITED(c->status) ? WEXITSTATUS(c->status) : WTERMSIG(c->status));
+    fflush(stdout);
+}
+
+/* serve the bus until every started app has ended; on a stop request SIGTERM, then SIGKILL
+ * after STOP_GRACE_S */
+static void supervise(launcher *L)
+{
+    while (kelp_launch_reap(L->plan, wall(), on_own_exit, NULL) > 0) {
+        (void)kelp_lcmbus_handle(L->lb, 50, moos_now(L));
+        if (!L->stop_at && stop_due(L)) {
+            L->stop_at = wall();
+            kelp_launch_signal_all(L->plan, SIGTERM);
+        }
+        if (L->stop_at && wall() - L->stop_at > STOP_GRACE_S) kelp_launch_signal_all(L->plan, SIGKILL);
+    }
+}
+
+static int summary(const kelp_launch_plan *plan, double t_start)
+{
+    int rc = 0, started = 0;
+    for (int k = 0; k < plan->nkids; k++) started += plan->kids[k].pid > 0;
+    printf("kelp-launch: all %d apps stopped after %.1f s%s\n", started, wall() - t_start,
+           started < plan->nkids ? " (start-up was interrupted)" : "");
+    for (int k = 0; k < plan->nkids; k++) {
+        const kelp_launch_child *c = &plan->kids[k];
+        if (c->pid <= 0) continue;
+        int st = c->status;
+        bool clean = kelp_launch_clean(c);
+        if (!clean) rc = 1;
+        printf("  %-20s %-14s %s %d%s\n", c->alias, c->prog, WIFEXITED(st) ? "exit" : "signal",
+               WIFEXITED(st) ? WEXITSTATUS(st) : WTERMSIG(st), clean ? "" : "  <- not clean");
+    }
+    return rc;
+}
+
+static void print_report(retain *rt, kelp_bus *bus, const char *community)
+{
+    qsort(rt->vars, (size_t)rt->nvars, sizeof rt->vars[0], varcmp);
+    printf("Variables written in community %s (%d):\n", community, rt->nvars);
+    printf("  %-24s %8s  %-18s %s\n", "VarName", "writes", "last source", "last value");
+    for (int i = 0; i < rt->nvars; i++) {
+        const kelp_var *v = kelp_bus_cached(bus, rt->vars[i].name);
+        char val[96] = "?";
+        if (v && v->kind == KELP_VAR_DOUBLE) snprintf(val, sizeof val, "%.5g", v->dval);
+        else if (v && v->kind == KELP_VAR_STRING) snprintf(val, sizeof val, "\"%.80s\"", v->sval);
+        else if (v) snprintf(val, sizeof val, "<%zu bytes>", v->slen);
+        printf("  %-24s %8lu  %-18s %s\n", rt->vars[i].name, rt->vars[i].writes, v ? v->source : "?", val);
+    }
+    const kelp_bus_stats *bs = kelp_bus_get_stats(bus);
+    printf("Retained values sent to late registrants: %llu; malformed datagrams: %llu\n",
+           (unsigned long long)bs->sync_sent, (unsigned long long)bs->bad);
 }
 
 int main(int argc, char **argv)
@@ -137,68 +204,22 @@ int main(int argc, char **argv)
         return 1;
     }
     const kelp_mission *m = &mf.m;
-    int ant = kelp_mission_block(m, "ProcessConfig", "ANTLER");
-    if (ant < 0) {
-        fprintf(stderr, "%s: no ProcessConfig = ANTLER block\n", mission);
-        return 1;
-    }
-    double ms_between = 0;
-    int ix = kelp_mission_next(m, ant, -1, "MSBetweenLaunches");
-    if (ix >= 0 && (kelp_mission_double(&m->nodes[ix], &ms_between) < 0 || ms_between < 0)) {
-        fprintf(stderr, "%s:%d: MSBetweenLaunches must be a non-negative number\n", mission, m->nodes[ix].line);
-        return 1;
-    }
     /* where our sibling programs live */
-    char selfdir[PATH_MAX] = ".";
+    char selfdir[PATH_MAX] = ".", err[600];
     ssize_t sl = readlink("/proc/self/exe", selfdir, sizeof selfdir - 1);
     if (sl > 0) {
         selfdir[sl] = 0;
         char *d = dirname(selfdir);
         memmove(selfdir, d, strlen(d) + 1);
     }
-    static child kids[MAX_APPS];
-    int nkids = 0;
-    for (int i = kelp_mission_next(m, ant, -1, "Run"); i >= 0; i = kelp_mission_next(m, ant, i, "Run")) {
-        char line[1024];
-        if (kelp_mission_copy(&m->nodes[i], line, sizeof line) < 0) {
-            fprintf(stderr, "%s:%d: Run line too long\n", mission, m->nodes[i].line);
-            return 1;
-        }
-        char *alias = strchr(line, '~');
-        if (alias) *alias++ = 0;
-        char *cfg = strchr(line, '@');
-        if (cfg) *cfg++ = 0;
-        trim(line);
-        if (!line[0] || strchr(line, ' ')) {
-            fprintf(stderr, "%s:%d: Run = prog [@ config] [~ name]: bad program '%s'\n", mission, m->nodes[i].line, line);
-            return 1;
-        }
-        if (alias) trim(alias);
-        if (strcmp(line, "MOOSDB") == 0) {
-            printf("kelp-launch: %s: MOOSDB is not needed (no broker in kelp); skipped\n", mission);
-            continue;
-        }
-        if (nkids >= MAX_APPS) {
-            fprintf(stderr, "%s: more than %d Run lines\n", mission, MAX_APPS);
-            return 1;
-        }
-        if (strlen(line) >= sizeof kids[0].prog || (alias && strlen(alias) >= sizeof kids[0].alias)) {
-            fprintf(stderr, "%s:%d: program or name too long\n", mission, m->nodes[i].line);
-            return 1;
-        }
-        child *c = &kids[nkids++];
-        snprintf(c->prog, sizeof c->prog, "%.127s", line);
-        snprintf(c->alias, sizeof c->alias, "%.63s", alias && *alias ? alias : line);
-        const char *real = map_prog(line);
-        int pl = snprintf(c->path, sizeof c->path, "%.3000s/%.1000s", selfdir, real);
-        if (pl < 0 || access(c->path, X_OK) != 0) snprintf(c->path, sizeof c->path, "%.1000s", real); /* PATH */
-    }
-    if (nkids == 0) {
-        fprintf(stderr, "%s: no Run lines in ProcessConfig = ANTLER\n", mission);
+    static kelp_launch_plan plan;
+    if (kelp_launch_plan_read(&plan, m, mission, selfdir, err, sizeof err) < 0) {
+        fprintf(stderr, "%s\n", err);
         return 1;
     }
+    if (plan.skipped_moosdb) printf("kelp-launch: %s: MOOSDB is not needed (no broker in kelp); skipped\n", mission);
     char community[KELP_MAX_NAME] = "kelp", murl[400] = "", url[512];
-    ix = kelp_mission_next(m, -1, -1, "Community");
+    int ix = kelp_mission_next(m, -1, -1, "Community");
     if (ix >= 0 && kelp_mission_copy(&m->nodes[ix], community, sizeof community) < 0) {
         fprintf(stderr, "%s:%d: Community too long\n", mission, m->nodes[ix].line);
         return 1;
@@ -224,7 +245,6 @@ int main(int argc, char **argv)
 
     /* the retainer: answers late registrants, counts writes for the report */
     static retain rt;
-    char err[600];
     kelp_lcmbus *lb = kelp_lcmbus_open(url, "kelp-launch", community, on_var, &rt, err, sizeof err);
     if (!lb) {
         fprintf(stderr, "kelp-launch: %s\n", err);
@@ -238,100 +258,11 @@ int main(int argc, char **argv)
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
     double t_start = wall();
-#define MOOSNOW() (ep + (wall() - ep) * warp)
-    for (int k = 0; k < nkids && !g_stop; k++) {
-        child *c = &kids[k];
-        char logpath[PATH_MAX + KELP_MAX_NAME + 8];
-        snprintf(logpath, sizeof logpath, "%s/%s.log", ldir, c->alias);
-        pid_t pid = fork();
-        if (pid < 0) {
-            fprintf(stderr, "kelp-launch: fork: %s\n", strerror(errno));
-            g_stop = 1;
-            break;
-        }
-        if (pid == 0) {
-            int fd = open(logpath, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-            if (fd >= 0) {
-                dup2(fd, 1);
-                dup2(fd, 2);
-                close(fd);
-            }
-            signal(SIGINT, SIG_DFL);
-            signal(SIGTERM, SIG_DFL);
-            execlp(c->path, c->path, mission, c->alias, (char *)NULL);
-            fprintf(stderr, "kelp-launch: cannot run %s: %s\n", c->path, strerror(errno));
-            _exit(127);
-        }
-        c->pid = pid;
-        c->started = wall();
-        printf("kelp-launch: started %-16s as %-18s pid %d  log %s\n", c->prog, c->alias, (int)pid, logpath);
-        fflush(stdout);
-        double until = wall() + ms_between / 1000.0;
-        do {
-            (void)kelp_lcmbus_handle(lb, 20, MOOSNOW());
-        } while (wall() < until && !g_stop);
-    }
-    int running = nkids;
-    double stop_at = 0;
-    while (running > 0) {
-        (void)kelp_lcmbus_handle(lb, 50, MOOSNOW());
-        if (!stop_at && (g_stop || (run_seconds > 0 && wall() - t_start >= run_seconds))) {
-            stop_at = wall();
-            for (int k = 0; k < nkids; k++)
-                if (kids[k].pid > 0 && !kids[k].exited) {
-                    kids[k].stopped_by_us = 1;
-                    kill(kids[k].pid, SIGTERM);
-                }
-        }
-        if (stop_at && wall() - stop_at > STOP_GRACE_S) {
-            for (int k = 0; k < nkids; k++)
-                if (kids[k].pid > 0 && !kids[k].exited) kill(kids[k].pid, SIGKILL);
-        }
-        int st;
-        pid_t p;
-        while ((p = waitpid(-1, &st, WNOHANG)) > 0) {
-            for (int k = 0; k < nkids; k++)
-                if (kids[k].pid == p) {
-                    kids[k].exited = 1;
-                    kids[k].status = st;
-                    kids[k].ended = wall();
-                    running--;
-                    if (!kids[k].stopped_by_us) {
-                        printf("kelp-launch: %s exited on its own (%s %d)\n", kids[k].alias,
-                               WIFEXITED(st) ? "status" : "signal", WIFEXITED(st) ? WEXITSTATUS(st) : WTERMSIG(st));
-                        fflush(stdout);
-                    }
-                }
-        }
-    }
-    int rc = 0;
-    printf("kelp-launch: all %d apps stopped after %.1f s\n", nkids, wall() - t_start);
-    for (int k = 0; k < nkids; k++) {
-        child *c = &kids[k];
-        int st = c->status;
-        int clean = (WIFEXITED(st) && WEXITSTATUS(st) == 0) ||
-                    (c->stopped_by_us && WIFSIGNALED(st) && WTERMSIG(st) == SIGTERM);
-        if (!clean) rc = 1;
-        printf("  %-20s %-14s %s %d%s\n", c->alias, c->prog, WIFEXITED(st) ? "exit" : "signal",
-               WIFEXITED(st) ? WEXITSTATUS(st) : WTERMSIG(st), clean ? "" : "  <- not clean");
-    }
-    if (want_report) {
-        kelp_bus *bus = kelp_lcmbus_bus(lb);
-        qsort(rt.vars, (size_t)rt.nvars, sizeof rt.vars[0], varcmp);
-        printf("Variables written in community %s (%d):\n", community, rt.nvars);
-        printf("  %-24s %8s  %-18s %s\n", "VarName", "writes", "last source", "last value");
-        for (int i = 0; i < rt.nvars; i++) {
-            const kelp_var *v = kelp_bus_cached(bus, rt.vars[i].name);
-            char val[96] = "?";
-            if (v && v->kind == KELP_VAR_DOUBLE) snprintf(val, sizeof val, "%.5g", v->dval);
-            else if (v && v->kind == KELP_VAR_STRING) snprintf(val, sizeof val, "\"%.80s\"", v->sval);
-            else if (v) snprintf(val, sizeof val, "<%zu bytes>", v->slen);
-            printf("  %-24s %8lu  %-18s %s\n", rt.vars[i].name, rt.vars[i].writes, v ? v->source : "?", val);
-        }
-        const kelp_bus_stats *bs = kelp_bus_get_stats(bus);
-        printf("Retained values sent to late registrants: %llu; malformed datagrams: %llu\n",
-               (unsigned long long)bs->sync_sent, (unsigned long long)bs->bad);
-    }
+    launcher L = { &plan, lb, ep, warp, t_start, run_seconds, 0 };
+    start_all(&L, mission, ldir);
+    supervise(&L);
+    int rc = summary(&plan, t_start);
+    if (want_report) print_report(&rt, kelp_lcmbus_bus(lb), community);
     kelp_lcmbus_close(lb);
     kelp_mission_free(&mf);
     return rc;
