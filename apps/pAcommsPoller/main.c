@@ -12,27 +12,16 @@
 #include <kelp/mac.h>
 #include <kelp/modemsim.h>
 
-#define MAXS KELP_MAX_MSIM_POLL_SLOTS
 
 typedef struct poller {
     int modem_id;
-    unsigned default_seconds;
-    kelp_mac_slot slot[MAXS];
-    size_t n;
-    bool paused;
+    kelp_poller_list list;
     char update_var[KELP_MAX_NAME], legacy_var[KELP_MAX_NAME], command_var[KELP_MAX_NAME];
     double republish, last_publish, max_range;
     bool dirty;
     unsigned long updates, commands, bad_commands;
     char last_update[4096];
 } poller;
-
-static unsigned cycle_seconds(const poller *p)
-{
-    unsigned s = 0;
-    for (size_t i = 0; i < p->n; i++) s += p->slot[i].slot_seconds;
-    return s;
-}
 
 static void check_slot(kelp_app *app, const poller *p, const kelp_mac_slot *s)
 {
@@ -47,7 +36,7 @@ static void check_slot(kelp_app *app, const poller *p, const kelp_mac_slot *s)
 static int publish(kelp_app *app, poller *p)
 {
     size_t len;
-    int rc = kelp_poller_format_update(p->modem_id, KELP_MAC_UPDATE_REPLACE, p->slot, p->paused ? 0 : p->n,
+    int rc = kelp_poller_format_update(p->modem_id, KELP_MAC_UPDATE_REPLACE, p->list.slot, p->list.paused ? 0 : p->list.n,
                                        p->last_update, sizeof p->last_update, &len);
     if (rc < 0) {
         kelp_app_run_warning(app, "update too long: %s", kelp_strerror(rc));
@@ -57,21 +46,21 @@ static int publish(kelp_app *app, poller *p)
     if (p->legacy_var[0]) (void)kelp_app_notify_string(app, p->legacy_var, p->last_update);
     char list[2048] = "";
     size_t off = 0;
-    for (size_t i = 0; i < p->n; i++) {
+    for (size_t i = 0; i < p->list.n; i++) {
         char one[128];
         size_t l;
-        if (kelp_poller_format_slot(&p->slot[i], one, sizeof one, &l) < 0 || off + l + 2 > sizeof list) break;
+        if (kelp_poller_format_slot(&p->list.slot[i], one, sizeof one, &l) < 0 || off + l + 2 > sizeof list) break;
         if (off) list[off++] = ';';
         memcpy(list + off, one, l + 1);
         off += l;
     }
     (void)kelp_app_notify_string(app, "POLLER_CYCLE", list);
     (void)kelp_app_notify_stringf(app, "POLLER_STATUS", "state=%s,slots=%zu,cycle_seconds=%u,updates=%lu",
-                                  p->paused ? "paused" : "active", p->n, cycle_seconds(p), p->updates + 1);
+                                  p->list.paused ? "paused" : "active", p->list.n, kelp_poller_cycle_seconds(&p->list), p->updates + 1);
     p->updates++;
     p->dirty = false;
     p->last_publish = kelp_app_time(app);
-    kelp_app_event(app, "%s%s", p->update_var, p->paused ? " (paused: no slots)" : "");
+    kelp_app_event(app, "%s%s", p->update_var, p->list.paused ? " (paused: no slots)" : "");
     return KELP_OK;
 }
 
@@ -96,28 +85,10 @@ static int block_to_spec(kelp_app *app, const kelp_mission_node *blk, char *out,
 
 static int add_slot(kelp_app *app, poller *p, const char *spec, const kelp_mission_node *at)
 {
-    kelp_mac_slot s;
-    const char *bad;
-    int rc = kelp_poller_parse_slot(spec, p->default_seconds, &s, &bad);
-    if (rc < 0) {
-        if (at) return kelp_app_config_error(app, at, "bad poll slot '%s' (%s)", spec, bad);
-        kelp_app_run_warning(app, "bad poll slot '%s' (%s)", spec, bad);
-        return rc;
-    }
-    if (p->n >= MAXS) {
-        if (at) return kelp_app_config_error(app, at, "more than %d poll slots", MAXS);
-        kelp_app_run_warning(app, "more than %d poll slots", MAXS);
-        return KELP_ERR_NOSPACE;
-    }
-    p->slot[p->n++] = s;
-    check_slot(app, p, &s);
+    const char *why = "";
+    if (kelp_poller_add(&p->list, spec, &why) < 0) return kelp_app_config_error(app, at, "poll slot '%s': %s", spec, why);
+    check_slot(app, p, &p->list.slot[p->list.n - 1]);
     return 0;
-}
-
-static bool same(const kelp_mac_slot *a, const kelp_mac_slot *b)
-{
-    return a->src == b->src && a->dest == b->dest && a->rate == b->rate && a->type == b->type &&
-           a->slot_seconds == b->slot_seconds;
 }
 
 static int startup(kelp_app *app, void *st)
@@ -129,10 +100,10 @@ static int startup(kelp_app *app, void *st)
         return kelp_app_config_error(app, kelp_app_param(app, "modem_id"),
                                      "modem_id (1..31, the polling topside modem) is required");
     p->modem_id = (int)d;
-    p->default_seconds = 15;
+    p->list.default_seconds = 15;
     if ((rc = kelp_app_param_double(app, "slot_seconds", &d)) < 0 || (rc > 0 && (d < 1 || d > 86400 || d != floor(d))))
         return kelp_app_config_error(app, kelp_app_param(app, "slot_seconds"), "slot_seconds must be 1..86400");
-    if (rc > 0) p->default_seconds = (unsigned)d;
+    if (rc > 0) p->list.default_seconds = (unsigned)d;
     p->max_range = 2000;
     if (kelp_app_param_double(app, "max_range", &p->max_range) < 0 || p->max_range < 0)
         return kelp_app_config_error(app, kelp_app_param(app, "max_range"), "max_range must be >= 0 (m)");
@@ -147,7 +118,7 @@ static int startup(kelp_app *app, void *st)
         return kelp_app_config_error(app, kelp_app_param(app, "republish_interval"), "republish_interval >= 0");
     bool enabled = true;
     if (kelp_app_param_bool(app, "enabled", &enabled) < 0) return -1;
-    p->paused = !enabled;
+    p->list.paused = !enabled;
     /* the poll list, in order: MOOS lines "poll = src=2,dest=1,..." and Goby blocks "slot { src: 2 ... }" */
     const kelp_mission *m = kelp_app_mission(app);
     int blk = kelp_app_block(app);
@@ -164,7 +135,7 @@ static int startup(kelp_app *app, void *st)
             if (add_slot(app, p, spec, n) < 0) return -1;
         }
     }
-    if (p->n == 0) kelp_app_config_warning(app, "no poll slots: the cycle is empty until POLLER_COMMAND adds some");
+    if (p->list.n == 0) kelp_app_config_warning(app, "no poll slots: the cycle is empty until POLLER_COMMAND adds some");
     if (kelp_app_register(app, p->command_var, 0) < 0) return -1;
     p->dirty = true;
     return 0;
@@ -172,68 +143,16 @@ static int startup(kelp_app *app, void *st)
 
 static void command(kelp_app *app, poller *p, const char *cmd)
 {
+    const char *why = "";
+    size_t before = p->list.n;
     p->commands++;
-    while (*cmd == ' ') cmd++;
-    const char *arg = strchr(cmd, ' ');
-    size_t vl = arg ? (size_t)(arg - cmd) : strlen(cmd);
-    if (arg)
-        while (*arg == ' ') arg++;
-#define VERB(w) (vl == strlen(w) && strncmp(cmd, w, vl) == 0)
-    if (VERB("add") && arg) {
-        if (add_slot(app, p, arg, NULL) == 0) p->dirty = true;
-        else p->bad_commands++;
-    } else if (VERB("remove") && arg) {
-        kelp_mac_slot s;
-        const char *bad;
-        if (kelp_poller_parse_slot(arg, p->default_seconds, &s, &bad) < 0) {
-            p->bad_commands++;
-            kelp_app_run_warning(app, "remove: bad slot '%s' (%s)", arg, bad);
-            return;
-        }
-        for (size_t i = 0; i < p->n; i++) {
-            if (!same(&p->slot[i], &s)) continue;
-            memmove(&p->slot[i], &p->slot[i + 1], (p->n - i - 1) * sizeof p->slot[0]);
-            p->n--;
-            p->dirty = true;
-            return;
-        }
+    if (kelp_poller_command(&p->list, cmd, &why) < 0) {
         p->bad_commands++;
-        kelp_app_run_warning(app, "remove: no slot %s", arg);
-    } else if (VERB("replace")) {
-        /* replace src=..;src=..;... (empty = no slots) */
-        kelp_mac_slot keep[MAXS];
-        size_t nk = p->n;
-        memcpy(keep, p->slot, sizeof keep);
-        p->n = 0;
-        char buf[2048];
-        snprintf(buf, sizeof buf, "%s", arg ? arg : "");
-        for (char *save = NULL, *t = strtok_r(buf, ";", &save); t; t = strtok_r(NULL, ";", &save)) {
-            if (add_slot(app, p, t, NULL) < 0) {
-                memcpy(p->slot, keep, sizeof keep);
-                p->n = nk;
-                p->bad_commands++;
-                return;
-            }
-        }
-        p->dirty = true;
-    } else if (VERB("clear")) {
-        p->n = 0;
-        p->dirty = true;
-    } else if (VERB("pause")) {
-        p->paused = true;
-        p->dirty = true;
-    } else if (VERB("resume")) {
-        p->paused = false;
-        p->dirty = true;
-    } else if (VERB("publish")) {
-        p->dirty = true;
-    } else {
-        p->bad_commands++;
-        kelp_app_run_warning(app, "unknown %s '%s' (add SLOT | remove SLOT | replace SLOT;SLOT | clear | pause | "
-                                  "resume | publish)",
-                             p->command_var, cmd);
+        kelp_app_run_warning(app, "%s '%s' refused (%s)", p->command_var, cmd, why);
+        return;
     }
-#undef VERB
+    for (size_t i = before; i < p->list.n; i++) check_slot(app, p, &p->list.slot[i]);
+    p->dirty = true;
 }
 
 static void on_mail(kelp_app *app, void *st, const kelp_var *v)
@@ -261,11 +180,11 @@ static void report(kelp_app *app, void *st, FILE *out)
     poller *p = st;
     (void)app;
     fprintf(out, "polling modem %d: %s, %zu slots, cycle %u s; %lu updates, %lu commands (%lu bad)\n", p->modem_id,
-            p->paused ? "PAUSED" : "active", p->n, cycle_seconds(p), p->updates, p->commands, p->bad_commands);
-    for (size_t i = 0; i < p->n; i++) {
+            p->list.paused ? "PAUSED" : "active", p->list.n, kelp_poller_cycle_seconds(&p->list), p->updates, p->commands, p->bad_commands);
+    for (size_t i = 0; i < p->list.n; i++) {
         char one[128];
         size_t l;
-        if (kelp_poller_format_slot(&p->slot[i], one, sizeof one, &l) == 0) fprintf(out, "  %2zu  %s\n", i + 1, one);
+        if (kelp_poller_format_slot(&p->list.slot[i], one, sizeof one, &l) == 0) fprintf(out, "  %2zu  %s\n", i + 1, one);
     }
 }
 

@@ -328,6 +328,25 @@ KELP_MUST_CHECK int kelp_poller_format_update(int dest, kelp_mac_update_type typ
 /** One slot in the "src=2,dest=1,rate=0,type=data,slot_seconds=10" form (buf NUL-terminated). */
 KELP_MUST_CHECK int kelp_poller_format_slot(const kelp_mac_slot *s, char *buf, size_t cap, size_t *len);
 
+/** The poll list pAcommsPoller owns: the cycle in order, and whether it is paused. */
+typedef struct kelp_poller_list {
+    kelp_mac_slot slot[KELP_MAX_MSIM_POLL_SLOTS];
+    size_t n;
+    bool paused;
+    unsigned default_seconds;          /**< slot_seconds of a slot that does not say */
+} kelp_poller_list;
+
+/** Append one slot spec. 0, or <0 with *why (the bad key, or "list full"). */
+KELP_MUST_CHECK int kelp_poller_add(kelp_poller_list *l, const char *spec, const char **why);
+
+/** Apply one POLLER_COMMAND: "add SLOT", "remove SLOT", "replace SLOT;SLOT;..." (all or
+ *  nothing), "clear", "pause", "resume", "publish". @return 1 (the cycle is to be published
+ *  again), or <0 with *why; the list is unchanged on an error. */
+KELP_MUST_CHECK int kelp_poller_command(kelp_poller_list *l, const char *cmd, const char **why);
+
+/** Sum of the slots' lengths (s). */
+unsigned kelp_poller_cycle_seconds(const kelp_poller_list *l);
+
 #ifdef __cplusplus
 }
 #endif

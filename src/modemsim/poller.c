@@ -216,3 +216,84 @@ int kelp_poller_format_slot(const kelp_mac_slot *s, char *buf, size_t cap, size_
     if (len) *len = b.n;
     return KELP_OK;
 }
+
+/* ------------------------------------------------------------------ the poll list */
+
+int kelp_poller_add(kelp_poller_list *l, const char *spec, const char **why)
+{
+    kelp_mac_slot s;
+    int rc = kelp_poller_parse_slot(spec, l->default_seconds, &s, why);
+    if (rc < 0) return rc;
+    if (l->n >= KELP_MAX_MSIM_POLL_SLOTS) {
+        *why = "list full (KELP_MAX_MSIM_POLL_SLOTS)";
+        return KELP_ERR_NOSPACE;
+    }
+    l->slot[l->n++] = s;
+    return KELP_OK;
+}
+
+static bool same_slot(const kelp_mac_slot *a, const kelp_mac_slot *b)
+{
+    return a->src == b->src && a->dest == b->dest && a->rate == b->rate && a->type == b->type &&
+           a->slot_seconds == b->slot_seconds;
+}
+
+int kelp_poller_command(kelp_poller_list *l, const char *cmd, const char **why)
+{
+    while (*cmd == ' ') cmd++;
+    const char *arg = strchr(cmd, ' ');
+    size_t vl = arg ? (size_t)(arg - cmd) : strlen(cmd);
+    if (arg)
+        while (*arg == ' ') arg++;
+#define VERB(w) (vl == strlen(w) && strncmp(cmd, w, vl) == 0)
+    if (VERB("add") && arg && *arg) return kelp_poller_add(l, arg, why) < 0 ? KELP_ERR_PARSE : 1;
+    if (VERB("remove") && arg && *arg) {
+        kelp_mac_slot s;
+        if (kelp_poller_parse_slot(arg, l->default_seconds, &s, why) < 0) return KELP_ERR_PARSE;
+        for (size_t i = 0; i < l->n; i++) {
+            if (!same_slot(&l->slot[i], &s)) continue;
+            memmove(&l->slot[i], &l->slot[i + 1], (l->n - i - 1) * sizeof l->slot[0]);
+            l->n--;
+            return 1;
+        }
+        *why = "no such slot";
+        return KELP_ERR_NOTFOUND;
+    }
+    if (VERB("replace")) {
+        /* replace src=..;src=..;... (empty = no slots): all or nothing */
+        kelp_poller_list n = *l;
+        n.n = 0;
+        const char *p = arg ? arg : "";
+        while (*p) {
+            const char *e = strchr(p, ';');
+            size_t len = e ? (size_t)(e - p) : strlen(p);
+            char one[256];
+            if (len >= sizeof one) {
+                *why = "slot too long";
+                return KELP_ERR_RANGE;
+            }
+            memcpy(one, p, len);
+            one[len] = '\0';
+            if (len && kelp_poller_add(&n, one, why) < 0) return KELP_ERR_PARSE;
+            p += len + (e ? 1 : 0);
+        }
+        *l = n;
+        return 1;
+    }
+    if (VERB("clear")) l->n = 0;
+    else if (VERB("pause")) l->paused = true;
+    else if (VERB("resume")) l->paused = false;
+    else if (!VERB("publish")) {
+        *why = "unknown command (add SLOT | remove SLOT | replace SLOT;SLOT | clear | pause | resume | publish)";
+        return KELP_ERR_PARSE;
+    }
+#undef VERB
+    return 1;
+}
+
+unsigned kelp_poller_cycle_seconds(const kelp_poller_list *l)
+{
+    unsigned s = 0;
+    for (size_t i = 0; i < l->n; i++) s += l->slot[i].slot_seconds;
+    return s;
+}

@@ -58,7 +58,7 @@ grep -q ' POLLER_CYCLE src=2,dest=1,rate=0,type=data,slot_seconds=12;src=3,dest=
 grep -q "slot src=3 dest=1 rate 2: 8 s is short for 3000 m (a full packet with its ack needs 11.1 s)" poller.out ||
   { cat poller.out; fail "no short-slot warning"; }
 [ "$(grep -c "is short for" poller.out | head -1)" -ge 1 ] && ! grep -q "rate 0: 12 s is short" poller.out || fail "wrong short-slot warnings"
-grep -q "bad poll slot 'src=40,dest=1' (src)" poller.out || { cat poller.out; fail "bad command not reported"; }
+grep -q "POLLER_COMMAND 'add src=40,dest=1' refused (src)" poller.out || { cat poller.out; fail "bad command not reported"; }
 grep -q "5 commands (1 bad)" poller.out || { tail -20 poller.out; fail "command counts"; }
 # a configuration error is reported with file:line and a non-zero exit
 cat > bad.moos <<'EOF'
