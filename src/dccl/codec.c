@@ -9,6 +9,7 @@
  */
 #include <math.h>
 #include <string.h>
+#include <kelp/util.h>
 
 #include "dccl_int.h"
 
@@ -231,14 +232,6 @@ static uint64_t enum_code(const kelp_dccl_field *f, const kelp_dccl_val *v)
     return 0;
 }
 
-static int hexval(char c)
-{
-    if (c >= '0' && c <= '9') return c - '0';
-    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-    return -1;
-}
-
 static int put_string(enc_ctx *e, const kelp_dccl_field *f, const kelp_dccl_val *v, uint8_t *buf, uint32_t *pos)
 {
     uint8_t bytes[KELP_DCCL_MAX_STRLEN + 1];
@@ -257,7 +250,7 @@ static int put_string(enc_ctx *e, const kelp_dccl_field *f, const kelp_dccl_val 
         if (n < 2 * m || (n == 2 * m && v->cut)) return DCCL_FAIL(e->cx, KELP_ERR_PARSE, "hex value too short");
         if (n > 2 * m || v->cut) return DCCL_FAIL(e->cx, KELP_ERR_PARSE, "hex value too long");
         for (i = 0; i < m; i++) {
-            int hi = hexval(s[2 * i]), lo = hexval(s[2 * i + 1]);
+            int hi = kelp_hex_digit(s[2 * i]), lo = kelp_hex_digit(s[2 * i + 1]);
             if (hi < 0 || lo < 0) return DCCL_FAIL(e->cx, KELP_ERR_PARSE, "hex value has a non-hex character");
             bytes[i] = (uint8_t)(hi << 4 | lo);
         }

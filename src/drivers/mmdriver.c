@@ -1,5 +1,6 @@
 /* kelp: WHOI Micro-Modem driver core (Goby 1.1 MMDriver behaviour). */
 #include <kelp/mmdriver.h>
+#include <kelp/util.h>
 
 #include <math.h>
 #include <string.h>
@@ -18,38 +19,14 @@ static const char HEXL[] = "0123456789abcdef";
 
 /* ------------------------------------------------------------------ time helpers */
 
-static int64_t floor_div(int64_t a, int64_t b)
-{
-    int64_t q = a / b;
-    if ((a % b != 0) && ((a < 0) != (b < 0))) q--;
-    return q;
-}
-
-/* days since 1970-01-01 of a proleptic Gregorian date (H. Hinnant's civil algorithm) */
-static int64_t days_from_civil(int64_t y, unsigned m, unsigned d)
-{
-    y -= m <= 2;
-    int64_t era = floor_div(y, 400);
-    unsigned yoe = (unsigned)(y - era * 400);
-    unsigned doy = (153 * (m + (m > 2 ? -3 : 9)) + 2) / 5 + d - 1;
-    unsigned doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
-    return era * 146097 + (int64_t)doe - 719468;
-}
-
 void kelp_mm_civil(int64_t unix_us, int *year, int *month, int *day, int *hour, int *minute, int *second)
 {
-    int64_t days = floor_div(unix_us, US_PER_DAY);
+    int64_t days = kelp_floor_div(unix_us, US_PER_DAY);
     int64_t tod = (unix_us - days * US_PER_DAY) / US_PER_S;
-    int64_t z = days + 719468;
-    int64_t era = floor_div(z, 146097);
-    unsigned doe = (unsigned)(z - era * 146097);
-    unsigned yoe = (doe - doe / 1460 + doe / 36524 - doe / 146096) / 365;
-    int64_t y = (int64_t)yoe + era * 400;
-    unsigned doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    unsigned mp = (5 * doy + 2) / 153;
-    unsigned d = doy - (153 * mp + 2) / 5 + 1;
-    unsigned m = mp < 10 ? mp + 3 : mp - 9;
-    if (year) *year = (int)(y + (m <= 2));
+    int64_t y;
+    unsigned m, d;
+    kelp_civil_from_days(days, &y, &m, &d);
+    if (year) *year = (int)y;
     if (month) *month = (int)m;
     if (day) *day = (int)d;
     if (hour) *hour = (int)(tod / 3600);
@@ -79,7 +56,7 @@ static bool nmea_time(const char *t, int64_t now_us, int64_t *out)
         }
         micro = (int64_t)((double)f * pow(10.0, 6.0 - (double)nf));
     }
-    int64_t midnight = floor_div(now_us, US_PER_DAY) * US_PER_DAY;
+    int64_t midnight = kelp_floor_div(now_us, US_PER_DAY) * US_PER_DAY;
     *out = midnight + ((int64_t)v[0] * 3600 + v[1] * 60 + v[2]) * US_PER_S + micro;
     return true;
 }
@@ -422,27 +399,6 @@ static int field_u(const kelp_nmea_sentence *s, unsigned i, long *v)
     return kelp_nmea_field_long(s, i, v);
 }
 
-static int hex_decode(const char *h, uint8_t *out, size_t cap, size_t *len)
-{
-    size_t n = strlen(h);
-    if (n % 2) return KELP_ERR_PARSE;
-    if (n / 2 > cap) return KELP_ERR_NOSPACE;
-    for (size_t i = 0; i < n; i += 2) {
-        int a = -1, b = -1;
-        char c = h[i], d = h[i + 1];
-        if (c >= '0' && c <= '9') a = c - '0';
-        else if (c >= 'a' && c <= 'f') a = c - 'a' + 10;
-        else if (c >= 'A' && c <= 'F') a = c - 'A' + 10;
-        if (d >= '0' && d <= '9') b = d - '0';
-        else if (d >= 'a' && d <= 'f') b = d - 'a' + 10;
-        else if (d >= 'A' && d <= 'F') b = d - 'A' + 10;
-        if (a < 0 || b < 0) return KELP_ERR_PARSE;
-        out[i / 2] = (uint8_t)(a * 16 + b);
-    }
-    *len = n / 2;
-    return KELP_OK;
-}
-
 static void flush_toa(kelp_mm *mm, int src, int64_t now_us)
 {
     if (!mm->toa_pending) return;
@@ -498,7 +454,7 @@ static int clk(kelp_mm *mm, const kelp_nmea_sentence *s, int64_t now_us)
     for (unsigned i = 0; i < 6; i++)
         if (field_u(s, i + 1, &v[i]) != KELP_OK) return KELP_ERR_PARSE;
     if (v[1] < 1 || v[1] > 12 || v[2] < 1 || v[2] > 31 || v[0] < 1400 || v[0] > 9999) return KELP_ERR_RANGE;
-    int64_t reported = (days_from_civil(v[0], (unsigned)v[1], (unsigned)v[2]) * 86400 + v[3] * 3600 + v[4] * 60 + v[5]) *
+    int64_t reported = (kelp_days_from_civil(v[0], (unsigned)v[1], (unsigned)v[2]) * 86400 + v[3] * 3600 + v[4] * 60 + v[5]) *
                        US_PER_S;
     if (reported >= now_us - KELP_MM_ALLOWED_SKEW_US) set_clock_state(mm, true, now_us);
     return KELP_OK;
@@ -595,7 +551,7 @@ static void process_sentence(kelp_mm *mm, const char *line, size_t len, int64_t 
         if (field_u(s, 1, &a) != KELP_OK || field_u(s, 2, &b) != KELP_OK || field_u(s, 4, &d) != KELP_OK ||
             (strcmp(ackf, "0") != 0 && strcmp(ackf, "1") != 0) || s->nfields < 6) {
             rc = KELP_ERR_PARSE;
-        } else if ((rc = hex_decode(kelp_nmea_field(s, 5), data, sizeof data, &dl)) == KELP_OK) {
+        } else if ((rc = kelp_hex_decode(kelp_nmea_field(s, 5), strlen(kelp_nmea_field(s, 5)), data, sizeof data, &dl)) == KELP_OK) {
             rx.has_src = true;
             rx.src = (int)a;
             rx.dest = (int)b;
@@ -675,7 +631,7 @@ static void process_sentence(kelp_mm *mm, const char *line, size_t len, int64_t 
         mm->toa_pending = false;
         int64_t t;
         if (field_u(s, 2, &a) == KELP_OK && a == 3 && nmea_time(kelp_nmea_field(s, 1), now_us, &t)) {
-            int64_t us = t - floor_div(t, US_PER_S) * US_PER_S;
+            int64_t us = t - kelp_floor_div(t, US_PER_S) * US_PER_S;
             mm->toa_frac = (double)us / 1e6;
             mm->toa_pending = true;
         }

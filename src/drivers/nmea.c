@@ -1,4 +1,5 @@
 /* kelp: NMEA 0183 line reader, parser and writer (core). */
+#include <kelp/util.h>
 #include <kelp/nmea.h>
 
 #include <limits.h>
@@ -11,13 +12,6 @@ static bool is_space(char c)
     return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
 }
 
-static int hexval(char c)
-{
-    if (c >= '0' && c <= '9') return c - '0';
-    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-    return -1;
-}
 
 uint8_t kelp_nmea_checksum(const char *s, size_t n)
 {
@@ -40,7 +34,7 @@ int kelp_nmea_parse(const char *line, size_t len, kelp_nmea_sentence *out)
     if (len > KELP_MAX_NMEA_LINE) return KELP_ERR_NOSPACE;
     /* checksum first: "*hh" must be the last three characters */
     if (len > 3 && line[len - 3] == '*') {
-        int h = hexval(line[len - 2]), l = hexval(line[len - 1]);
+        int h = kelp_hex_digit(line[len - 2]), l = kelp_hex_digit(line[len - 1]);
         if (h < 0 || l < 0) return KELP_ERR_PARSE;
         if (kelp_nmea_checksum(line + 1, len - 4) != (uint8_t)(h * 16 + l)) return KELP_ERR_CHECKSUM;
         out->had_checksum = true;

@@ -1,6 +1,7 @@
 /* kelp modemsim: one simulated WHOI Micro-Modem (the modem side of the NMEA protocol). */
 #include <kelp/mmdriver.h>
 #include <kelp/modemsim.h>
+#include <kelp/util.h>
 
 #include <math.h>
 #include <stdio.h>
@@ -38,23 +39,6 @@ static const char HEXL[] = "0123456789abcdef";
 
 /* ------------------------------------------------------------------ small helpers */
 
-static int64_t floor_div(int64_t a, int64_t b)
-{
-    int64_t q = a / b;
-    if ((a % b != 0) && ((a < 0) != (b < 0))) q--;
-    return q;
-}
-
-static int64_t days_from_civil(int64_t y, unsigned mo, unsigned d)
-{
-    y -= mo <= 2;
-    int64_t era = floor_div(y, 400);
-    unsigned yoe = (unsigned)(y - era * 400);
-    unsigned doy = (153 * (mo + (mo > 2 ? -3 : 9)) + 2) / 5 + d - 1;
-    unsigned doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
-    return era * 146097 + (int64_t)doe - 719468;
-}
-
 static unsigned days_in_month(long y, long mo)
 {
     static const unsigned dm[12] = { 31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31 };
@@ -81,7 +65,7 @@ static size_t put_digits(char *b, unsigned long v, unsigned width)
 /* HHMMSS of a modem clock time */
 static void hhmmss(int64_t clock_us, char out[7])
 {
-    int64_t tod = (clock_us - floor_div(clock_us, US_PER_DAY) * US_PER_DAY) / US_PER_S;
+    int64_t tod = (clock_us - kelp_floor_div(clock_us, US_PER_DAY) * US_PER_DAY) / US_PER_S;
     (void)put_digits(out, (unsigned long)(tod / 3600), 2);
     (void)put_digits(out + 2, (unsigned long)(tod / 60 % 60), 2);
     (void)put_digits(out + 4, (unsigned long)(tod % 60), 2);
@@ -515,28 +499,6 @@ static bool field_range(const kelp_nmea_sentence *s, unsigned i, long lo, long h
     return kelp_nmea_field_long(s, i, v) == KELP_OK && *v >= lo && *v <= hi;
 }
 
-static int hex_value(char c)
-{
-    if (c >= '0' && c <= '9') return c - '0';
-    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-    return -1;
-}
-
-static int hex_decode(const char *h, uint8_t *out, size_t cap, size_t *len)
-{
-    size_t n = strlen(h);
-    if (n % 2) return KELP_ERR_PARSE;
-    if (n / 2 > cap) return KELP_ERR_RANGE;
-    for (size_t i = 0; i < n; i += 2) {
-        int a = hex_value(h[i]), b = hex_value(h[i + 1]);
-        if (a < 0 || b < 0) return KELP_ERR_PARSE;
-        out[i / 2] = (uint8_t)(a * 16 + b);
-    }
-    *len = n / 2;
-    return KELP_OK;
-}
-
 static void cmd_clk(kelp_msim *m, const kelp_nmea_sentence *s, const char *line, int64_t now_us)
 {
     long v[6];
@@ -551,7 +513,7 @@ static void cmd_clk(kelp_msim *m, const kelp_nmea_sentence *s, const char *line,
         host_error(m, ERR_FIELD, "BAD_CLK_FIELD", line, KELP_ERR_PARSE, now_us);
         return;
     }
-    int64_t t = (days_from_civil(v[0], (unsigned)v[1], (unsigned)v[2]) * 86400 + v[3] * 3600 + v[4] * 60 + v[5]) *
+    int64_t t = (kelp_days_from_civil(v[0], (unsigned)v[1], (unsigned)v[2]) * 86400 + v[3] * 3600 + v[4] * 60 + v[5]) *
                 US_PER_S;
     m->clock_offset_us = t - now_us;
     emit(m, KELP_MSIM_EV_INFO, NULL, 0, KELP_MSIM_LOSS_NONE, "clock set", 0, now_us);
@@ -688,7 +650,7 @@ static void cmd_txd(kelp_msim *m, const kelp_nmea_sentence *s, const char *line,
     memset(&f, 0, sizeof f);
     size_t n = 0;
     size_t cap = m->cyc.active ? kelp_msim_rate_bytes[m->cyc.rate] : KELP_MAX_ACOMMS_FRAME;
-    int rc = hex_decode(kelp_nmea_field(s, 4), f.data, cap, &n);
+    int rc = kelp_hex_decode(kelp_nmea_field(s, 4), strlen(kelp_nmea_field(s, 4)), f.data, cap, &n);
     if (rc) {
         host_error(m, ERR_FIELD, rc == KELP_ERR_RANGE ? "TXD_TOO_LONG" : "BAD_TXD_HEX", line, rc, now_us);
         return;
@@ -748,7 +710,7 @@ static void cmd_muc(kelp_msim *m, const kelp_nmea_sentence *s, const char *line,
     bool ok = s->nfields == 4 && field_range(s, 1, 0, KELP_MSIM_MAX_ID, &src) &&
               field_range(s, 2, 0, KELP_MSIM_MAX_ID, &dest) && hl >= 1 && hl <= 4;
     for (size_t i = 0; ok && i < hl; i++) {
-        int d = hex_value(h[i]);
+        int d = kelp_hex_digit(h[i]);
         if (d < 0) ok = false;
         else v = v * 16 + d;
     }
@@ -1111,7 +1073,7 @@ static void lbl_reply(kelp_msim *m, int64_t now_us)
     int64_t c = kelp_msim_clock(m, now_us);
     char t[16];
     hhmmss(c, t);
-    int64_t cs = (c - floor_div(c, US_PER_S) * US_PER_S) / 10000;
+    int64_t cs = (c - kelp_floor_div(c, US_PER_S) * US_PER_S) / 10000;
     t[6] = '.';
     (void)put_digits(t + 7, (unsigned long)cs, 2);
     kelp_nmea_writer_str(&w, t);

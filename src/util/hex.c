@@ -1,0 +1,23 @@
+/* Hexadecimal digits and byte strings. */
+#include <kelp/util.h>
+
+int kelp_hex_digit(char c)
+{
+    if (c >= '0' && c <= '9') return c - '0';
+    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return -1;
+}
+
+int kelp_hex_decode(const char *hex, size_t n, uint8_t *out, size_t cap, size_t *len)
+{
+    if (n % 2) return KELP_ERR_PARSE;
+    if (n / 2 > cap) return KELP_ERR_NOSPACE;
+    for (size_t i = 0; i < n; i += 2) {
+        int a = kelp_hex_digit(hex[i]), b = kelp_hex_digit(hex[i + 1]);
+        if (a < 0 || b < 0) return KELP_ERR_PARSE;
+        out[i / 2] = (uint8_t)(a * 16 + b);
+    }
+    *len = n / 2;
+    return KELP_OK;
+}
