@@ -29,6 +29,10 @@
 #define KELP_BUS_MAX_DEPTH 8        /**< nested publish-from-handler depth on loopback */
 #endif
 
+#ifndef KELP_UDPM_MAX_FRAGS
+#define KELP_UDPM_MAX_FRAGS 1024    /**< fragments in one reassembled UDP multicast message */
+#endif
+
 /* ---- mission files ---- */
 #ifndef KELP_MAX_LINE
 #define KELP_MAX_LINE 1024          /**< bytes in one mission-file line */
