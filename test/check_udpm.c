@@ -355,6 +355,32 @@ START_TEST(init_and_args)
 }
 END_TEST
 
+START_TEST(url_parse)
+{
+    kelp_udpm_url u;
+    ck_assert_int_eq(kelp_udpm_url_parse("udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304", &u), 0);
+    ck_assert_uint_eq(u.group, 0xefff4c43u);
+    ck_assert_uint_eq(u.port, 7667);
+    ck_assert_int_eq(u.ttl, 0);
+    ck_assert_int_eq(u.recv_buf_size, 4194304);
+    ck_assert_int_eq(kelp_udpm_url_parse("udpm://239.1.2.3", &u), 0);
+    ck_assert_uint_eq(u.port, KELP_UDPM_DEFAULT_PORT);
+    ck_assert_int_eq(kelp_udpm_url_parse("udpm://239.1.2.3:9000?ttl=1&queue_size=1000&transmit_only=true", &u), 0);
+    ck_assert_int_eq(u.ttl, 1);
+    ck_assert_int_eq(u.queue_size, 1000);
+    ck_assert_int_eq(kelp_udpm_url_parse("memq://", &u), KELP_ERR_UNSUPPORTED);
+    ck_assert_int_eq(kelp_udpm_url_parse("udpm://10.0.0.1:7667", &u), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_udpm_url_parse("udpm://239.1.2:7667", &u), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_udpm_url_parse("udpm://239.1.2.3.4:7667", &u), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_udpm_url_parse("udpm://239.1.2.300:7667", &u), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_udpm_url_parse("udpm://239.1.2.3:70000", &u), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_udpm_url_parse("udpm://239.1.2.3:x", &u), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_udpm_url_parse("udpm://239.1.2.3:1?ttl=256", &u), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_udpm_url_parse("udpm://239.1.2.3:1?ttl=abc", &u), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_udpm_url_parse("udpm://239.1.2.3:1?colour=red", &u), KELP_ERR_PARSE);
+}
+END_TEST
+
 Suite *kelp_udpm_suite(void)
 {
     Suite *s = suite_create("udpm");
@@ -371,6 +397,7 @@ Suite *kelp_udpm_suite(void)
     tcase_add_test(tc, conflicting_shape_rejected);
     tcase_add_test(tc, random_datagrams_survive);
     tcase_add_test(tc, init_and_args);
+    tcase_add_test(tc, url_parse);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -1,15 +1,16 @@
 /* kelp LCM transport (edge): one community = one LCM URL.
  *
- * Wraps a kelp_bus client around an lcm_t. Received datagrams are validated by kelp's own
- * decoder (never LCM's generated one), so a malformed datagram is counted, not fatal.
- * The receive side is set up for bursts: recv_buf_size=4 MiB is added to udpm URLs that
- * do not set it, and each subscription's queue is unbounded (LCM's default of 30 drops
- * most of a burst).
+ * Wraps a kelp_bus client around kelp's own udpm socket (kelp/edge/udpm.h: LCM's wire
+ * format, no liblcm receive path). Datagrams and messages are validated by kelp's own
+ * code, so a malformed datagram is counted, not fatal. The receive side is set up for
+ * bursts: recv_buf_size=4 MiB is added to udpm URLs that do not set it, and a receive
+ * thread drains the socket into a bounded queue (queue_size in the URL).
  */
 #ifndef KELP_LCMBUS_H
 #define KELP_LCMBUS_H
 
 #include <kelp/bus.h>
+#include <kelp/edge/udpm.h>
 
 #define KELP_LCM_DEFAULT_URL "udpm://239.255.76.67:7667?ttl=0"
 #define KELP_LCM_RECV_BUF 4194304
@@ -30,6 +31,8 @@ int kelp_lcmbus_fd(kelp_lcmbus *lb);
 /** Handle every datagram already received (non-blocking), then wait up to timeout_ms for
  *  more. `now` is the MOOS time handed to the bus. @return datagrams handled, or <0. */
 int kelp_lcmbus_handle(kelp_lcmbus *lb, int timeout_ms, double now);
+/** Transport counters (bad datagrams, reassembly timeouts, queue drops...). */
+void kelp_lcmbus_get_stats(kelp_lcmbus *lb, kelp_udpm_sock_stats *out);
 /** Publish raw bytes on a channel (bridges, tools). */
 KELP_MUST_CHECK int kelp_lcmbus_publish_raw(kelp_lcmbus *lb, const char *channel, const void *data, size_t len);
 

@@ -133,4 +133,24 @@ void kelp_udpm_put_frag_header(uint8_t out[KELP_UDPM_FRAG_HDR], uint32_t seqno, 
 KELP_MUST_CHECK int kelp_udpm_datagram(const char *channel, const uint8_t *data, size_t len, uint32_t seqno,
                                        size_t max_datagram, uint16_t k, uint8_t *buf, size_t cap, size_t *out_len);
 
+/* ------------------------------------------------------------------ URLs */
+
+/** A parsed udpm URL: udpm://A.B.C.D:PORT?ttl=N&recv_buf_size=BYTES&queue_size=BYTES
+ *  (the LCM form; queue_size is kelp's: bytes of the receive queue). */
+typedef struct kelp_udpm_url {
+    uint32_t group;          /**< IPv4 multicast group, host order */
+    uint16_t port;
+    int ttl;                 /**< 0..255; LCM's default is 0 */
+    long recv_buf_size;      /**< SO_RCVBUF request, 0 = not given */
+    long queue_size;         /**< receive queue bytes, 0 = not given */
+} kelp_udpm_url;
+
+#define KELP_UDPM_DEFAULT_PORT 7667u
+
+/** Parse a udpm URL. The group must be a multicast address (224.0.0.0/4); a missing port
+ *  is LCM's 7667; the options are ttl, recv_buf_size, queue_size and LCM's obsolete
+ *  transmit_only (ignored). @return 0, KELP_ERR_UNSUPPORTED (not udpm://), KELP_ERR_PARSE
+ *  (address, port, option, unknown key), KELP_ERR_RANGE (a value out of range). */
+KELP_MUST_CHECK int kelp_udpm_url_parse(const char *url, kelp_udpm_url *out);
+
 #endif

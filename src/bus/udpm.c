@@ -7,6 +7,8 @@
  * any byte is copied.
  */
 #include <string.h>
+#include <kelp/kv.h>
+#include <kelp/mission.h>
 #include <kelp/udpm.h>
 
 static uint32_t rd32(const uint8_t *p)
@@ -269,5 +271,69 @@ int kelp_udpm_datagram(const char *channel, const uint8_t *data, size_t len, uin
     if (pre) memcpy(buf + KELP_UDPM_FRAG_HDR, channel, pre);
     memcpy(buf + KELP_UDPM_FRAG_HDR + pre, data + off, chunk);
     *out_len = need;
+    return KELP_OK;
+}
+
+/* ------------------------------------------------------------------ URLs */
+
+static int parse_group(const char *s, size_t n, uint32_t *out)
+{
+    uint32_t g = 0;
+    size_t a = 0;
+    for (int part = 0; part < 4; part++) {
+        size_t e = a;
+        while (e < n && s[e] != '.') e++;
+        if ((part < 3) != (e < n)) return KELP_ERR_PARSE;
+        long v;
+        if (e == a || e - a > 3 || kelp_parse_long(s + a, e - a, &v) < 0 || v < 0 || v > 255) return KELP_ERR_PARSE;
+        g = g << 8 | (uint32_t)v;
+        a = e + 1;
+    }
+    *out = g;
+    return KELP_OK;
+}
+
+int kelp_udpm_url_parse(const char *url, kelp_udpm_url *out)
+{
+    static const char scheme[] = "udpm://";
+    if (!url || !out) return KELP_ERR_ARG;
+    if (strncmp(url, scheme, sizeof scheme - 1) != 0) return KELP_ERR_UNSUPPORTED;
+    memset(out, 0, sizeof *out);
+    out->port = KELP_UDPM_DEFAULT_PORT;
+    const char *h = url + sizeof scheme - 1;
+    const char *q = strchr(h, '?');
+    size_t hl = q ? (size_t)(q - h) : strlen(h);
+    const char *colon = memchr(h, ':', hl);
+    size_t gl = colon ? (size_t)(colon - h) : hl;
+    if (parse_group(h, gl, &out->group) < 0) return KELP_ERR_PARSE;
+    if ((out->group >> 28) != 0xEu) return KELP_ERR_RANGE; /* not 224.0.0.0/4 */
+    if (colon) {
+        long p;
+        if (kelp_parse_long(colon + 1, hl - gl - 1, &p) < 0) return KELP_ERR_PARSE;
+        if (p < 1 || p > 65535) return KELP_ERR_RANGE;
+        out->port = (uint16_t)p;
+    }
+    if (!q) return KELP_OK;
+    size_t pos = 0, kl, vl;
+    const char *k, *v;
+    int rc;
+    while ((rc = kelp_kv_next(q + 1, '&', &pos, &k, &kl, &v, &vl)) != 0) {
+        if (rc < 0) return rc;
+        long n;
+        if (kelp_strieq_n(k, kl, "transmit_only")) continue;
+        if (kelp_parse_long(v, vl, &n) < 0) return KELP_ERR_PARSE;
+        if (kelp_strieq_n(k, kl, "ttl")) {
+            if (n < 0 || n > 255) return KELP_ERR_RANGE;
+            out->ttl = (int)n;
+        } else if (kelp_strieq_n(k, kl, "recv_buf_size")) {
+            if (n < 0 || n > (1L << 30)) return KELP_ERR_RANGE;
+            out->recv_buf_size = n;
+        } else if (kelp_strieq_n(k, kl, "queue_size")) {
+            if (n < 0 || n > (1L << 30)) return KELP_ERR_RANGE;
+            out->queue_size = n;
+        } else {
+            return KELP_ERR_PARSE;
+        }
+    }
     return KELP_OK;
 }
