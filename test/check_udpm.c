@@ -227,6 +227,28 @@ START_TEST(busy_slots_evict_oldest)
 }
 END_TEST
 
+/* one sender starting many messages cannot push out another sender's message */
+START_TEST(one_sender_cannot_take_every_slot)
+{
+    rxfix *f = fix_new();
+    uint8_t pay[300], dg[8][SMALL_DG], fl[8][SMALL_DG];
+    size_t lens[8], fll[8];
+    fill(pay, sizeof pay, 8);
+    kelp_udpm_msg m;
+    int n = frames("GOOD", pay, sizeof pay, 1, SMALL_DG, dg, lens, 8);
+    ck_assert_int_eq(kelp_udpm_feed(&f->rx, dg[0], lens[0], 42, 0, &m), 0);
+    for (uint32_t seq = 0; seq < 50; seq++) {
+        (void)frames("FLOOD", pay, sizeof pay, seq, SMALL_DG, fl, fll, 8);
+        ck_assert_int_eq(kelp_udpm_feed(&f->rx, fl[0], fll[0], 666, 0.01 * seq, &m), 0);
+    }
+    for (int k = 1; k < n; k++)
+        ck_assert_int_eq(kelp_udpm_feed(&f->rx, dg[k], lens[k], 42, 0.6, &m), k == n - 1 ? 1 : 0);
+    ck_assert_str_eq(m.channel, "GOOD");
+    ck_assert_uint_ge(kelp_udpm_get_stats(&f->rx)->evicted, 48);
+    free(f);
+}
+END_TEST
+
 /* ---- malformed datagrams: each is rejected with the right counter, nothing else happens */
 typedef struct bad_case {
     const char *what;
@@ -393,6 +415,7 @@ Suite *kelp_udpm_suite(void)
     tcase_add_test(tc, duplicates_ignored_and_counted);
     tcase_add_test(tc, incomplete_slot_times_out);
     tcase_add_test(tc, busy_slots_evict_oldest);
+    tcase_add_test(tc, one_sender_cannot_take_every_slot);
     tcase_add_loop_test(tc, malformed_is_rejected, 0, N_BAD);
     tcase_add_test(tc, conflicting_shape_rejected);
     tcase_add_test(tc, random_datagrams_survive);

@@ -320,6 +320,14 @@ static void report(kelp_app *app, FILE *out)
                  "%llu sent to late registrants\n",
             app->mail_total, (unsigned long long)st->published, (unsigned long long)st->bad,
             (unsigned long long)st->sync_delivered, (unsigned long long)st->sync_sent);
+    kelp_udpm_sock_stats ts;
+    kelp_lcmbus_get_stats(app->lb, &ts);
+    fprintf(out, "Transport: %llu datagrams, %llu rejected (%llu header, %llu channel, %llu fragment, %llu magic, "
+                 "%llu too big), %llu reassembly timeouts, %llu queue drops\n",
+            (unsigned long long)ts.rx.datagrams, (unsigned long long)ts.rx.bad, (unsigned long long)ts.rx.bad_header,
+            (unsigned long long)ts.rx.bad_channel, (unsigned long long)ts.rx.bad_fragment,
+            (unsigned long long)ts.rx.bad_magic, (unsigned long long)ts.rx.too_big,
+            (unsigned long long)ts.rx.timeouts, (unsigned long long)ts.queue_dropped);
     if (app->def->report) {
         fprintf(out, "------------------------------------------------------------------\n");
         app->def->report(app, app->state, out);

@@ -93,15 +93,30 @@ static kelp_udpm_slot *slot_find(kelp_udpm_rx *r, uint64_t sender, uint32_t seqn
     return NULL;
 }
 
-/* A free slot, else the oldest busy one (counted as evicted). */
-static kelp_udpm_slot *slot_take(kelp_udpm_rx *r)
+/* A free slot, else the oldest busy one (counted as evicted). One sender may hold at most
+ * half of the slots (at least one): a sender that wants more reuses its own oldest, so a
+ * flood of fragment starts from one address cannot evict everyone else's messages. */
+static kelp_udpm_slot *slot_take(kelp_udpm_rx *r, uint64_t sender)
 {
-    kelp_udpm_slot *old = NULL;
+    kelp_udpm_slot *free_slot = NULL, *old = NULL, *own = NULL;
+    size_t mine = 0, cap = r->nslots / 2 ? r->nslots / 2 : 1;
     for (size_t i = 0; i < r->nslots; i++) {
         kelp_udpm_slot *s = &r->slots[i];
-        if (!s->used) return s;
+        if (!s->used) {
+            if (!free_slot) free_slot = s;
+            continue;
+        }
         if (!old || s->first < old->first) old = s;
+        if (s->sender == sender) {
+            mine++;
+            if (!own || s->first < own->first) own = s;
+        }
     }
+    if (mine >= cap) {
+        r->stats.evicted++;
+        return own;
+    }
+    if (free_slot) return free_slot;
     if (old) r->stats.evicted++;
     return old;
 }
@@ -133,7 +148,7 @@ static int feed_fragment(kelp_udpm_rx *r, const uint8_t *dg, size_t len, uint64_
         return reject(r, &r->stats.bad_fragment, KELP_ERR_RANGE);
     }
     if (!s) {
-        s = slot_take(r);
+        s = slot_take(r, sender);
         memset(s->seen, 0, sizeof s->seen);
         s->used = true;
         s->have_channel = false;
