@@ -33,6 +33,10 @@
 #define KELP_UDPM_MAX_FRAGS 1024    /**< fragments in one reassembled UDP multicast message */
 #endif
 
+#ifndef KELP_BUS_SYNC_PEERS
+#define KELP_BUS_SYNC_PEERS 16      /**< requesters whose sync-reply budget a client tracks */
+#endif
+
 /* ---- mission files ---- */
 #ifndef KELP_MAX_LINE
 #define KELP_MAX_LINE 1024          /**< bytes in one mission-file line */

@@ -153,4 +153,14 @@ typedef struct kelp_udpm_url {
  *  (address, port, option, unknown key), KELP_ERR_RANGE (a value out of range). */
 KELP_MUST_CHECK int kelp_udpm_url_parse(const char *url, kelp_udpm_url *out);
 
+#define KELP_UDPM_DEFAULT_GROUP "239.255.76.67"
+
+/** The URL of a community from its mission: lcm_url when given (non-empty), else
+ *  udpm://239.255.76.67:<server_port>?ttl=0 when server_port is given -- one port per
+ *  community, the number MOOS users already give each community as its ServerPort -- else
+ *  NULL is written as "" and 0 returned so the caller uses its default.
+ *  @return 0, KELP_ERR_RANGE (server_port not an integer in 1..65535 or lcm_url not a
+ *  valid udpm URL), KELP_ERR_NOSPACE. */
+KELP_MUST_CHECK int kelp_udpm_community_url(const char *lcm_url, const char *server_port, char *buf, size_t cap);
+
 #endif

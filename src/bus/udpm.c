@@ -352,3 +352,27 @@ int kelp_udpm_url_parse(const char *url, kelp_udpm_url *out)
     }
     return KELP_OK;
 }
+
+int kelp_udpm_community_url(const char *lcm_url, const char *server_port, char *buf, size_t cap)
+{
+    static const char pre[] = "udpm://" KELP_UDPM_DEFAULT_GROUP ":", post[] = "?ttl=0";
+    if (!buf || cap == 0) return KELP_ERR_ARG;
+    buf[0] = 0;
+    if (lcm_url && *lcm_url) {
+        kelp_udpm_url u;
+        if (kelp_udpm_url_parse(lcm_url, &u) < 0) return KELP_ERR_RANGE;
+        size_t n = strlen(lcm_url);
+        if (n + 1 > cap) return KELP_ERR_NOSPACE;
+        memcpy(buf, lcm_url, n + 1);
+        return KELP_OK;
+    }
+    if (!server_port || !*server_port) return KELP_OK;
+    long port;
+    size_t pl = strlen(server_port);
+    if (kelp_parse_long(server_port, pl, &port) < 0 || port < 1 || port > 65535) return KELP_ERR_RANGE;
+    if (sizeof pre - 1 + pl + sizeof post > cap) return KELP_ERR_NOSPACE;
+    memcpy(buf, pre, sizeof pre - 1);
+    memcpy(buf + sizeof pre - 1, server_port, pl);
+    memcpy(buf + sizeof pre - 1 + pl, post, sizeof post);
+    return KELP_OK;
+}

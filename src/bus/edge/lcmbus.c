@@ -33,6 +33,30 @@ int kelp_lcm_url(const char *mission_url, char *buf, size_t cap)
     return (n < 0 || (size_t)n >= cap) ? KELP_ERR_NOSPACE : KELP_OK;
 }
 
+int kelp_lcm_mission_url(const kelp_mission *m, char *buf, size_t cap, int *line)
+{
+    char murl[400] = "", port[16] = "", url[512];
+    static const char *const keys[2] = { "LCM_URL", "ServerPort" };
+    char *vals[2] = { murl, port };
+    size_t caps[2] = { sizeof murl, sizeof port };
+    *line = 0;
+    for (int k = 0; k < 2; k++) {
+        int i = kelp_mission_next(m, -1, -1, keys[k]);
+        if (i < 0) continue;
+        if (kelp_mission_copy(&m->nodes[i], vals[k], caps[k]) < 0) {
+            *line = m->nodes[i].line;
+            return KELP_ERR_RANGE;
+        }
+    }
+    int rc = kelp_udpm_community_url(murl, port, url, sizeof url);
+    if (rc < 0) {
+        int i = kelp_mission_next(m, -1, -1, murl[0] ? "LCM_URL" : "ServerPort");
+        *line = i >= 0 ? m->nodes[i].line : 0;
+        return rc;
+    }
+    return kelp_lcm_url(url[0] ? url : NULL, buf, cap);
+}
+
 /* Only channels some registration (or the sync protocol) asked for reach the bus. */
 static bool subscribed(const kelp_lcmbus *lb, const char *channel)
 {
@@ -92,7 +116,11 @@ kelp_lcmbus *kelp_lcmbus_open(const char *url, const char *app, const char *comm
         if (fread(&nonce, sizeof nonce, 1, r) != 1) nonce = 0;
         fclose(r);
     }
-    snprintf(reply, sizeof reply, "KELP_SYNC_%.24s_%08lx", app, nonce & 0xfffffffful);
+    if (kelp_bus_reply_channel(app, (uint32_t)nonce, reply) < 0) {
+        snprintf(err, errcap, "bad app name");
+        kelp_lcmbus_close(lb);
+        return NULL;
+    }
     kelp_bus_transport tr = { tr_publish, tr_subscribe, lb };
     int rc = kelp_bus_init(&lb->bus, app, community, reply, &tr, &lb->st, handler, user);
     if (rc < 0) {
@@ -100,6 +128,10 @@ kelp_lcmbus *kelp_lcmbus_open(const char *url, const char *app, const char *comm
         kelp_lcmbus_close(lb);
         return NULL;
     }
+    kelp_bus_limits lim;
+    kelp_bus_limits_default(&lim);
+    lim.time_margin = KELP_BUS_TIME_MARGIN; /* real clocks here: reject far-future stamps */
+    if (kelp_bus_set_limits(&lb->bus, &lim) < 0) { /* constant limits: cannot fail */ }
     return lb;
 }
 
