@@ -32,10 +32,14 @@ WARN     := -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wmissing-prototy
 OPT      ?= -O2 -g
 CSTD     := -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE
 CPPFLAGS += -Iinclude -I$(BUILD)/gen -DKELP_VERSION='"$(VERSION)"'
-CFLAGS   += $(CSTD) $(OPT) $(WARN) -fno-common
+# position-independent everywhere on the host, so the same objects make the static and the
+# shared libraries (firmware and cross builds use their own flags)
+CFLAGS   += $(CSTD) $(OPT) $(WARN) -fno-common -fPIC
 LCM_CFLAGS := $(shell pkg-config --cflags lcm 2>/dev/null)
-EXT_LIBS := $(shell pkg-config --libs lcm 2>/dev/null) -lexpat -lmbedtls -lmbedx509 -lmbedcrypto \
-            -lserialport -lsqlite3 $(shell pkg-config --libs cairo 2>/dev/null) -lm -lpthread -lutil
+# what libkelp (the edge) links against; apps add cairo (kelp-plot)
+EDGE_LIBS := $(shell pkg-config --libs lcm 2>/dev/null) -lexpat -lmbedtls -lmbedx509 -lmbedcrypto \
+            -lserialport -lm -lpthread -lutil
+EXT_LIBS := $(EDGE_LIBS) $(shell pkg-config --libs cairo 2>/dev/null)
 CHECK_LIBS := $(shell pkg-config --libs check 2>/dev/null)
 
 CORE_SRC := $(filter-out src/app/%,$(sort $(wildcard src/*/*.c)))
@@ -60,12 +64,15 @@ BENCHES    := $(patsubst bench/%.c,$(BUILD)/bench/%,$(sort $(wildcard bench/benc
 
 LIBCORE := $(BUILD)/libkelp_core.a
 LIBEDGE := $(BUILD)/libkelp.a
+SOMAJOR := $(firstword $(subst ., ,$(VERSION)))
+SOCORE  := $(BUILD)/libkelp_core.so.$(VERSION)
+SOEDGE  := $(BUILD)/libkelp.so.$(VERSION)
 
 .PHONY: all deps test unit integration check-alloc firmware cross asan lint fuzz bench install \
         demo demo-xrelay spy-jar clean tests-bin
 .DEFAULT_GOAL := all
 
-all: $(LIBCORE) $(LIBEDGE) $(APP_BINS) scripts
+all: $(LIBCORE) $(LIBEDGE) $(SOCORE) $(SOEDGE) $(APP_BINS) scripts
 
 deps:
 	@scripts/deps.sh build
@@ -84,7 +91,7 @@ $(BUILD)/obj/%.o: %.c | $(LCM_H)
 # edge objects and generated code see LCM/glib headers; generated code is not ours, relax warnings
 $(patsubst %.c,$(BUILD)/obj/%.o,$(EDGE_SRC)): CPPFLAGS += $(LCM_CFLAGS)
 # generated code: not ours, so no warnings and no sanitizers (LCM 1.3.1 memcpy(NULL, 0) trips UBSan)
-$(BUILD)/obj/$(GEN_DIR)/%.o: CFLAGS := $(CSTD) -O2 -g -w
+$(BUILD)/obj/$(GEN_DIR)/%.o: CFLAGS := $(CSTD) -O2 -g -w -fPIC
 $(BUILD)/obj/$(GEN_DIR)/%.o: CPPFLAGS += $(LCM_CFLAGS)
 
 $(LIBCORE): $(CORE_OBJ)
@@ -94,6 +101,16 @@ $(LIBCORE): $(CORE_OBJ)
 $(LIBEDGE): $(EDGE_OBJ)
 	@mkdir -p $(dir $@)
 	rm -f $@ && $(AR) rcs $@ $^
+
+# shared libraries with sonames (libkelp_core.so.0, libkelp.so.0) and the usual links
+$(SOCORE): $(CORE_OBJ)
+	$(CC) -shared -Wl,-soname,libkelp_core.so.$(SOMAJOR) -Wl,--no-undefined $(LDFLAGS) -o $@ $^ -lm
+	ln -sf $(notdir $@) $(BUILD)/libkelp_core.so.$(SOMAJOR) && ln -sf libkelp_core.so.$(SOMAJOR) $(BUILD)/libkelp_core.so
+
+$(SOEDGE): $(EDGE_OBJ) $(SOCORE)
+	$(CC) -shared -Wl,-soname,libkelp.so.$(SOMAJOR) -Wl,--no-undefined $(LDFLAGS) -o $@ $(EDGE_OBJ) \
+	  -L$(BUILD) -lkelp_core $(EDGE_LIBS)
+	ln -sf $(notdir $@) $(BUILD)/libkelp.so.$(SOMAJOR) && ln -sf libkelp.so.$(SOMAJOR) $(BUILD)/libkelp.so
 
 # ---------------------------------------------------------------- apps
 define APP_RULE

@@ -11,7 +11,7 @@ make --no-print-directory BUILD=$O CC=clang OPT="-O1 -g -fsanitize=fuzzer-no-lin
 # build every target first, then run them two at a time (one per core)
 for t in "$@"; do
   clang -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE -O1 -g -fsanitize=fuzzer,address,undefined $inc -o $O/$t fuzz/$t.c \
-    $O/libkelp.a $O/libkelp_core.a $(pkg-config --libs lcm) -lexpat -lmbedtls -lmbedx509 -lmbedcrypto -lserialport -lsqlite3 -lm &
+    $O/libkelp.a $O/libkelp_core.a $(pkg-config --libs lcm) -lexpat -lmbedtls -lmbedx509 -lmbedcrypto -lserialport -lm -lpthread -lutil &
 done
 wait
 for t in "$@"; do [ -x $O/$t ] || { echo "FUZZ BUILD FAIL: $t"; exit 1; }; done

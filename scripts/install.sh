@@ -1,16 +1,39 @@
 #!/usr/bin/env bash
+# make install: libraries (static and shared, with sonames), headers, apps, lcmtypes, and the
+# pkg-config files kelp-core.pc (the allocation-free core alone) and kelp.pc (core + edge).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 B=${1:-build}
 P=${PREFIX:-/usr/local}; D=${DESTDIR:-}
-install -d "$D$P/lib/pkgconfig" "$D$P/include/kelp" "$D$P/bin" "$D$P/share/kelp/lcmtypes"
-install -m 644 "$B/libkelp_core.a" "$B/libkelp.a" "$D$P/lib/"
+V=${VERSION:-0.1.0}; M=${V%%.*}
+L="$D$P/lib"
+install -d "$L/pkgconfig" "$D$P/include/kelp/edge" "$D$P/bin" "$D$P/share/kelp/lcmtypes"
+install -m 644 "$B/libkelp_core.a" "$B/libkelp.a" "$L/"
+for lib in libkelp_core libkelp; do
+  install -m 755 "$B/$lib.so.$V" "$L/"
+  ln -sf "$lib.so.$V" "$L/$lib.so.$M"
+  ln -sf "$lib.so.$M" "$L/$lib.so"
+done
 install -m 644 include/kelp/*.h "$D$P/include/kelp/"
+install -m 644 include/kelp/edge/*.h "$D$P/include/kelp/edge/"
 for h in "$B"/gen/kelp_*.h; do [ -e "$h" ] && install -m 644 "$h" "$D$P/include/kelp/"; done
 install -m 644 lcmtypes/*.lcm "$D$P/share/kelp/lcmtypes/"
 for b in "$B"/bin/*; do install -m 755 "$b" "$D$P/bin/"; done
 [ -f "$B/kelp_types.jar" ] && install -m 644 "$B/kelp_types.jar" "$D$P/share/kelp/"
-cat > "$D$P/lib/pkgconfig/kelp.pc" <<PC
+cat > "$L/pkgconfig/kelp-core.pc" <<PC
+prefix=$P
+exec_prefix=\${prefix}
+libdir=\${prefix}/lib
+includedir=\${prefix}/include
+
+Name: kelp-core
+Description: kelp's allocation-free core: IvP solver, DCCL, priority queue, TDMA MAC, Micro-Modem protocol
+Version: $V
+Libs: -L\${libdir} -lkelp_core
+Libs.private: -lm
+Cflags: -I\${includedir}
+PC
+cat > "$L/pkgconfig/kelp.pc" <<PC
 prefix=$P
 exec_prefix=\${prefix}
 libdir=\${prefix}/lib
@@ -18,10 +41,11 @@ includedir=\${prefix}/include
 
 Name: kelp
 Description: autonomy and acoustic-communications library for marine vehicle computers (LCM transport)
-Version: ${VERSION:-0.1.0}
-Requires.private: lcm expat sqlite3 cairo
-Libs: -L\${libdir} -lkelp -lkelp_core -lm
-Libs.private: -lmbedtls -lmbedx509 -lmbedcrypto -lserialport
+Version: $V
+Requires: kelp-core = $V
+Requires.private: lcm expat
+Libs: -L\${libdir} -lkelp
+Libs.private: -lmbedtls -lmbedx509 -lmbedcrypto -lserialport -lm -lpthread -lutil
 Cflags: -I\${includedir}
 PC
 echo "installed into $D$P"

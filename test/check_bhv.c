@@ -310,7 +310,7 @@ START_TEST(waypoint_sequence_flags_end)
     ck_assert(ht_num("WPT_INDEX") == 0);
     ck_assert(ht_num("DESIRED_HEADING") == 0 && ht_num("DESIRED_SPEED") == 1);
     ck_assert(ht_has_str("WPT_STAT", "vname=alder,behavior-name=survey,index=0,hits=0/0,cycles=0,dist=10,eta=10"));
-    ck_assert(ht_has_str("VIEW_SEGLIST", "pts={0,10:10,10},label=survey,active=true"));
+    ck_assert(ht_has_str("VIEW_SEGLIST", "pts={0,10:10,10},label=survey,active=true,vertex_color=dodger_blue,edge_color=white,label_color=white,vertex_size=3,edge_size=1"));
     nav(0, 8.5);
     ht_iter(1); /* 1.5 m: captured, next point (10,10) */
     ck_assert(ht_num("HIT") == 1);
@@ -333,7 +333,7 @@ START_TEST(waypoint_repeat_and_order)
     nav(0, 0);
     ht_iter(0);
     ck_assert(ht_num("DESIRED_HEADING") == 0);
-    ck_assert(ht_has_str("VIEW_SEGLIST", "pts={0,20:0,10},label=w,active=true")); /* reversed */
+    ck_assert(ht_has_str("VIEW_SEGLIST", "pts={0,20:0,10},label=w,active=true,vertex_color=dodger_blue,edge_color=white,label_color=white,vertex_size=3,edge_size=1")); /* reversed */
     nav(0, 20);
     ht_iter(1);
     ck_assert(ht_num("WPT_INDEX") == 1);
@@ -374,17 +374,103 @@ END_TEST
 
 START_TEST(waypoint_lead)
 {
+    /* MOOS-IvP: no leg before the first point, so no lead on it unless lead_to_start */
     ht_setup(DOM2, NULL);
     ht_load("Behavior = BHV_Waypoint\n{\n name = w\n speed = 1\n points = 0,100\n lead = 10\n}\n");
     nav(0, 0);
-    ht_iter(0); /* trackline (0,0) -> (0,100) */
+    ht_iter(0);
+    nav(5, 20);
+    ht_iter(1); /* straight at (0,100): relAng((5,20),(0,100)) = 356.4 */
+    ck_assert_msg(ht_num("DESIRED_HEADING") == 356, "heading %g", ht_num("DESIRED_HEADING"));
+
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = w\n speed = 1\n points = 0,100\n lead = 10\n lead_to_start = true\n}\n");
+    nav(0, 0);
+    ht_iter(0); /* leg (0,0) -> (0,100) from where the vehicle started */
     nav(5, 20);
     ht_iter(1); /* track point (0, 20 + 10): relAng((5,20),(0,30)) = 333.43 */
     ck_assert_msg(ht_num("DESIRED_HEADING") == 333, "heading %g", ht_num("DESIRED_HEADING"));
     ck_assert_int_eq(kelp_bhv_set_param(find("w"), "lead", "0"), 0);
     nav(5, 21);
-    ht_iter(2); /* straight at (0,100): 356.4 */
+    ht_iter(2); /* lead off: straight at (0,100): 356.4 */
     ck_assert(ht_num("DESIRED_HEADING") == 356);
+}
+END_TEST
+
+START_TEST(waypoint_lead_second_leg_and_damper)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = w\n speed = 1\n points = 0,0:0,100\n lead = 10\n}\n");
+    nav(0, 1);
+    ht_iter(0); /* captured (0,0); second leg (0,0)->(0,100) */
+    nav(5, 20);
+    ht_iter(1); /* lead point (0,30): 333.43 */
+    ck_assert_msg(ht_num("DESIRED_HEADING") == 333, "heading %g", ht_num("DESIRED_HEADING"));
+    nav(-20, 120); /* beyond the leg's end: projection clipped to (0,100), no lead past it */
+    ht_iter(2);
+    ck_assert_msg(ht_num("DESIRED_HEADING") == 135, "heading %g", ht_num("DESIRED_HEADING"));
+
+    /* damper 20 m, vehicle 5 m off the line: lead x (1 + 2 x (1 - 5/20)) = 25 m */
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = w\n speed = 1\n points = 0,0:0,100\n lead = 10\n"
+            " lead_damper = 20\n}\n");
+    nav(0, 1);
+    ht_iter(0);
+    nav(5, 20);
+    ht_iter(1); /* track point (0,45): relAng((5,20),(0,45)) = 348.7 */
+    ck_assert_msg(ht_num("DESIRED_HEADING") == 349, "heading %g", ht_num("DESIRED_HEADING"));
+}
+END_TEST
+
+START_TEST(waypoint_capture_line)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = w\n speed = 1\n capture_radius = 1\n slip_radius = 0\n"
+            " points = 0,10:0,50\n capture_line = true\n}\n");
+    nav(0, 0);
+    ht_iter(0);
+    nav(6, 9);
+    ht_iter(1); /* before the line y = 10 */
+    ck_assert_uint_eq(find("w")->u.wpt.index, 0);
+    nav(8, 10.5); /* 8 m away but past the line */
+    ht_iter(2);
+    ck_assert_uint_eq(find("w")->u.wpt.index, 1);
+    ck_assert_ptr_nonnull(strstr(ht_last("WPT_STAT")->sval, "hits=1/1"));
+    /* absolute: radii zero, only the line counts */
+    ck_assert_int_eq(kelp_bhv_set_param(find("w"), "capture_line", "absolute"), 0);
+    ck_assert(find("w")->u.wpt.capture_radius == 0 && find("w")->u.wpt.slip_radius == 0);
+    ck_assert_int_lt(kelp_bhv_set_param(find("w"), "capture_line", "maybe"), 0);
+}
+END_TEST
+
+START_TEST(waypoint_reports_and_hints)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = w\n speed = 1\n points = 0,10:0,20\n post_suffix = A\n"
+            " wpt_index_var = silent\n wpt_status_var = MY_STAT\n wpt_dist_to_next = DNEXT\n"
+            " visual_hints = vertex_size=5, edge_color=red, nextpt_color=green, bogus=1\n"
+            " efficiency_measure = all\n crs_spd_zaic_ratio = 80\n order = toggle\n}\n");
+    nav(0, 0);
+    ht_iter(0);
+    ck_assert_uint_eq(ht_count("WPT_INDEX_A") + ht_count("WPT_INDEX"), 0);
+    ck_assert_ptr_nonnull(ht_last("MY_STAT_A"));
+    ck_assert(ht_num("DNEXT") == 20); /* order toggled: (0,20) first */
+    ck_assert_ptr_nonnull(strstr(ht_last("VIEW_SEGLIST")->sval, "edge_color=red"));
+    ck_assert_ptr_nonnull(strstr(ht_last("VIEW_SEGLIST")->sval, "vertex_size=5"));
+    ck_assert_ptr_nonnull(strstr(ht_last("VIEW_POINT")->sval, "vertex_color=green"));
+    ck_assert(find("w")->u.wpt.course_pct == 80);
+    nav(0, 8);
+    ht_iter(1);
+    nav(0, 16);
+    ht_iter(2);
+    nav(0, 19.5);
+    ht_iter(3); /* leg done: 19.5 m straight from where the leg was marked, 19.5 m travelled */
+    ck_assert_ptr_nonnull(ht_last("WPT_EFFICIENCY_LEG"));
+    ck_assert_str_eq(ht_last("WPT_EFFICIENCY_LEG")->sval, "linear_dist=19.5,odo_dist=19.5,efficiency=100.0");
+    ck_assert(ht_num("WPT_ODO_A") < 1e-9); /* the next leg's odometry starts over */
+    ck_assert_int_lt(kelp_bhv_set_param(find("w"), "crs_spd_zaic_ratio", "100"), 0);
+    ck_assert_int_lt(kelp_bhv_set_param(find("w"), "wpt_status_var", "A B"), 0);
+    ck_assert_int_lt(kelp_bhv_set_param(find("w"), "capture_radius", "0"), 0);
 }
 END_TEST
 
@@ -477,6 +563,89 @@ START_TEST(constant_depth_speed_heading)
 }
 END_TEST
 
+/* ---------------------------------------------------------------- hierarchical modes */
+
+START_TEST(hierarchical_modes)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("initialize DEPLOY = false\ninitialize RETURN = false\n"
+            "set MODE = ACTIVE {\n  DEPLOY = true\n} INACTIVE\n"
+            "set MODE = SURVEYING {\n  MODE = ACTIVE\n  RETURN != true\n} RETURNING\n"
+            "Behavior = BHV_ConstantSpeed\n{\n name = survey\n speed = 2\n condition = MODE == ACTIVE:SURVEYING\n}\n"
+            "Behavior = BHV_ConstantSpeed\n{\n name = ret\n speed = 1\n condition = MODE == ACTIVE:RETURNING\n}\n"
+            "Behavior = BHV_ConstantHeading\n{\n name = h\n heading = 90\n}\n");
+    ck_assert_uint_eq(ht_helm()->nmodes, 2);
+    /* posted at start */
+    ck_assert_ptr_nonnull(ht_last("IVPHELM_MODESET"));
+    ck_assert_str_eq(ht_last("IVPHELM_MODESET")->sval, "MODE#---,ACTIVE#---,INACTIVE#ACTIVE,SURVEYING#ACTIVE,RETURNING");
+    ht_iter(0);
+    ck_assert_str_eq(ht_last("MODE")->sval, "INACTIVE");
+    ck_assert(ht_num("DESIRED_SPEED") == 0); /* no speed behaviour runs: all-stop (MissingDecVars) */
+    ck_assert_str_ne(ht_helm()->rep.allstop, "clear");
+    kelp_helm_mail_string(ht_helm(), "DEPLOY", "true");
+    ht_iter(1);
+    ck_assert_str_eq(ht_last("MODE")->sval, "ACTIVE:SURVEYING");
+    ck_assert(ht_num("DESIRED_SPEED") == 2);
+    ck_assert_ptr_nonnull(strstr(ht_last("IVPHELM_SUMMARY")->sval, ",modes=MODE@ACTIVE:SURVEYING"));
+    ht_iter(2);
+    ck_assert_uint_eq(ht_count("MODE"), 0); /* posted on change only */
+    kelp_helm_mail_string(ht_helm(), "RETURN", "true");
+    ht_iter(3);
+    ck_assert_str_eq(ht_last("MODE")->sval, "ACTIVE:RETURNING");
+    ck_assert(ht_num("DESIRED_SPEED") == 1);
+    kelp_helm_mail_string(ht_helm(), "DEPLOY", "false");
+    ht_iter(4);
+    ck_assert_str_eq(ht_last("MODE")->sval, "INACTIVE");
+
+    /* errors name the line */
+    ht_setup(DOM2, NULL);
+    ck_assert_int_lt(ht_load_rc("set MODE = TWO WORDS {\n  A = 1\n}\n"), 0);
+    ck_assert_ptr_nonnull(strstr(ht_helm()->err, "mode"));
+}
+END_TEST
+
+/* fake CPU clock: 1 ms per reading */
+static double fake_cpu(void *user)
+{
+    static double t;
+    (void)user;
+    return t += 0.001;
+}
+
+START_TEST(helm_interface_publications)
+{
+    kelp_helm *h = ht_setup(DOM2, NULL);
+    h->cfg.cpu_clock = fake_cpu;
+    ht_load("set MODE = ACTIVE {\n  DEPLOY = true\n} INACTIVE\n"
+            "Behavior = BHV_Waypoint\n{\n name = wpt\n speed = 1\n points = 0,50\n updates = WPT_UPDATES\n}\n"
+            "Behavior = BHV_ConstantHeading\n{\n name = ch\n heading = 90\n condition = MODE == INACTIVE\n}\n");
+    ck_assert_str_eq(ht_last("IVPHELM_DOMAIN")->sval, "course,0,359,360:speed,0,4,21");
+    ck_assert_uint_eq(ht_count("IVPHELM_LIFE_EVENT"), 2);
+    ck_assert_str_eq(ht_last("IVPHELM_LIFE_EVENT")->sval,
+                     "time=0.00, iter=0, bname=ch, btype=BHV_ConstantHeading, event=spawn, seed=helm startup");
+    ck_assert_str_eq(ht_last("IVPHELM_UPDATEVARS")->sval, "WPT_UPDATES");
+    ck_assert_str_eq(ht_last("IVPHELM_STATEVARS")->sval, "DEPLOY");
+    nav(0, 0);
+    ht_iter(0);
+    ck_assert(ht_num("IVPHELM_BHV_CNT") == 2 && ht_num("IVPHELM_BHV_CNT_EVER") == 2);
+    ck_assert(ht_num("IVPHELM_BHV_RUNNING_CNT") + ht_num("IVPHELM_BHV_ACTIVE_CNT") == 2);
+    ck_assert(ht_num("IVPHELM_BHV_DISABLED_CNT") == 0);
+    ck_assert_str_eq(ht_last("IVPHELM_ENGAGED")->sval, "ENGAGED");
+    ck_assert(fabs(ht_num("IVPHELM_CREATE_CPU") - 0.001) < 1e-9);
+    ck_assert(fabs(ht_num("IVPHELM_LOOP_CPU") - 0.002) < 1e-9);
+    const char *sum = ht_last("IVPHELM_SUMMARY")->sval;
+    ck_assert_ptr_nonnull(strstr(sum, ",utc_time=1000.00,"));
+    ck_assert_ptr_nonnull(strstr(sum, ",create_time=0.0010,solve_time=0.0010,loop_time=0.0020,"));
+    ck_assert_ptr_nonnull(strstr(sum, ",total_pcs_formed="));
+    ck_assert_ptr_nonnull(strstr(sum, ",modes=MODE@INACTIVE"));
+    ht_iter(0.5);
+    ck_assert_uint_eq(ht_count("IVPHELM_BHV_CNT"), 0);  /* unchanged: not posted */
+    ck_assert_uint_eq(ht_count("IVPHELM_ENGAGED"), 0);  /* heartbeat once a second */
+    ht_iter(1.0);
+    ck_assert_uint_eq(ht_count("IVPHELM_ENGAGED"), 1);
+}
+END_TEST
+
 START_TEST(constant_depth_needs_depth)
 {
     ht_setup(DOM2 ",depth:0:100:101", NULL);
@@ -526,11 +695,16 @@ Suite *kelp_bhv_suite(void)
     tcase_add_test(tc, waypoint_repeat_and_order);
     tcase_add_test(tc, waypoint_slip_radius);
     tcase_add_test(tc, waypoint_lead);
+    tcase_add_test(tc, waypoint_lead_second_leg_and_damper);
+    tcase_add_test(tc, waypoint_capture_line);
+    tcase_add_test(tc, waypoint_reports_and_hints);
     tcase_add_test(tc, waypoint_updates_points);
     tcase_add_test(tc, loiter_acquire_then_loiter);
     tcase_add_test(tc, loiter_counter_clockwise);
     tcase_add_test(tc, constant_depth_speed_heading);
     tcase_add_test(tc, constant_depth_needs_depth);
+    tcase_add_test(tc, hierarchical_modes);
+    tcase_add_test(tc, helm_interface_publications);
     tcase_add_test(tc, priority_weights_trade_off);
     suite_add_tcase(s, tc);
     return s;

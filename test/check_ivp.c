@@ -398,13 +398,85 @@ START_TEST(leq_heq_fig18_19)
 }
 END_TEST
 
+/* ZAIC_LEQ/HEQ at the domain's edges, as MOOS-IvP builds them (ZAIC_LEQ/ZAIC_HEQ
+ * setPointLocations/setPDMap): summit and ramp end snapped to indices and clipped, slope from
+ * the whole base width, line through the summit utility at the summit index unless that index
+ * is 0 (then through the other end's utility at the other end). Domain x:0:10:11, util 0..100.
+ * NAN in a table = no piece covers the point (HEQ with its summit at or beyond the last index). */
+static void hleq_expect(kelp_ivp_zaic_kind kind, double summit, double bw, double sd, const double want[11])
+{
+    kelp_ivp_domain d = dom1("x:0:10:11");
+    kelp_ivp_zaic_hleq z;
+    ck_assert_int_eq(kelp_ivp_zaic_hleq_init(&z, kind, &d, "x"), 0);
+    ck_assert_int_eq(kelp_ivp_zaic_hleq_set_summit(&z, summit), 0);
+    ck_assert_int_eq(kelp_ivp_zaic_hleq_set_basewidth(&z, bw), 0);
+    ck_assert_int_eq(kelp_ivp_zaic_hleq_set_minmaxutil(&z, 0, 100), 0);
+    ck_assert_int_eq(kelp_ivp_zaic_hleq_set_summitdelta(&z, sd), 0);
+    kelp_ivp_func f;
+    ck_assert_int_eq(kelp_ivp_zaic_hleq_extract(&z, g_store, 8, &f), 0);
+    for (uint32_t i = 0; i < 11; i++) {
+        double v = NAN;
+        int rc = kelp_ivp_func_eval(&f, &i, &v);
+        if (isnan(want[i])) {
+            ck_assert_msg(rc == KELP_ERR_NOTFOUND, "%s summit=%g bw=%g sd=%g: point %u should have no piece, has %g",
+                          kind == KELP_IVP_ZAIC_LEQ ? "LEQ" : "HEQ", summit, bw, sd, i, v);
+        } else {
+            ck_assert_msg(rc == 0 && fabs(v - want[i]) < 1e-6, "%s summit=%g bw=%g sd=%g: point %u is %g, want %g",
+                          kind == KELP_IVP_ZAIC_LEQ ? "LEQ" : "HEQ", summit, bw, sd, i, rc ? NAN : v, want[i]);
+        }
+    }
+}
+
+START_TEST(leq_heq_edges)
+{
+    const double N = NAN, t = 100.0 / 3, s = 100.0 / 6;
+    /* LEQ, summit below the domain: index 0 at max, the ramp keeps its 6-wide slope and ends at 3 */
+    hleq_expect(KELP_IVP_ZAIC_LEQ, -3, 6, 0, (const double[11]){ 100, 2 * s, s, 0, 0, 0, 0, 0, 0, 0, 0 });
+    /* ... and with a summit delta (no summit point inside the domain: no spike) */
+    hleq_expect(KELP_IVP_ZAIC_LEQ, -3, 6, 10, (const double[11]){ 100, 2 * s, s, 0, 0, 0, 0, 0, 0, 0, 0 });
+    /* LEQ, base width past both ends: slope 100/20, line through (10, 0) */
+    hleq_expect(KELP_IVP_ZAIC_LEQ, -2, 20, 0, (const double[11]){ 100, 45, 40, 35, 30, 25, 20, 15, 10, 5, 0 });
+    /* LEQ, summit on the low end */
+    hleq_expect(KELP_IVP_ZAIC_LEQ, 0, 4, 0, (const double[11]){ 100, 75, 50, 25, 0, 0, 0, 0, 0, 0, 0 });
+    /* LEQ, summit next to the low end with a delta: index 1 gets no spike */
+    hleq_expect(KELP_IVP_ZAIC_LEQ, 1, 3, 10, (const double[11]){ 100, 100, 2 * t, t, 0, 0, 0, 0, 0, 0, 0 });
+    /* LEQ, summit just inside with a delta: the spike */
+    hleq_expect(KELP_IVP_ZAIC_LEQ, 2, 4, 10, (const double[11]){ 100, 100, 110, 75, 50, 25, 0, 0, 0, 0, 0 });
+    /* LEQ, ramp past the high end: cut, slope kept */
+    hleq_expect(KELP_IVP_ZAIC_LEQ, 8, 5, 0, (const double[11]){ 100, 100, 100, 100, 100, 100, 100, 100, 100, 80, 60 });
+    /* LEQ, summit above the domain: all max, the clipped summit index takes the delta */
+    hleq_expect(KELP_IVP_ZAIC_LEQ, 12, 5, 10, (const double[11]){ 100, 100, 100, 100, 100, 100, 100, 100, 100, 100, 110 });
+    hleq_expect(KELP_IVP_ZAIC_LEQ, 12, 5, 0, (const double[11]){ 100, 100, 100, 100, 100, 100, 100, 100, 100, 100, 100 });
+    /* LEQ, zero base width */
+    hleq_expect(KELP_IVP_ZAIC_LEQ, 5, 0, 0, (const double[11]){ 100, 100, 100, 100, 100, 100, 0, 0, 0, 0, 0 });
+    /* HEQ, summit above the domain: ramp 7..9 on its 6-wide slope, the last index has no piece */
+    hleq_expect(KELP_IVP_ZAIC_HEQ, 13, 6, 0, (const double[11]){ 0, 0, 0, 0, 0, 0, 0, 0, s, 2 * s, N });
+    /* HEQ, summit on the high end with a delta */
+    hleq_expect(KELP_IVP_ZAIC_HEQ, 10, 4, 5, (const double[11]){ 0, 0, 0, 0, 0, 0, 0, 25, 50, 75, N });
+    /* HEQ, summit next to the high end with a delta: no spike */
+    hleq_expect(KELP_IVP_ZAIC_HEQ, 9, 2, 5, (const double[11]){ 0, 0, 0, 0, 0, 0, 0, 0, 50, 100, 100 });
+    /* HEQ, summit just inside with a delta: the spike */
+    hleq_expect(KELP_IVP_ZAIC_HEQ, 8, 3, 5, (const double[11]){ 0, 0, 0, 0, 0, 0, t, 2 * t, 105, 100, 100 });
+    /* HEQ, ramp past the low end: line through (2, 100) */
+    hleq_expect(KELP_IVP_ZAIC_HEQ, 2, 5, 0, (const double[11]){ 60, 80, 100, 100, 100, 100, 100, 100, 100, 100, 100 });
+    /* HEQ, summit below the domain: all max, the clipped summit index takes the delta */
+    hleq_expect(KELP_IVP_ZAIC_HEQ, -4, 3, 5, (const double[11]){ 105, 100, 100, 100, 100, 100, 100, 100, 100, 100, 100 });
+    hleq_expect(KELP_IVP_ZAIC_HEQ, -4, 3, 0, (const double[11]){ 100, 100, 100, 100, 100, 100, 100, 100, 100, 100, 100 });
+    /* HEQ, base width past both ends: slope 100/30, line through (10, 100); index 10 has no piece */
+    hleq_expect(KELP_IVP_ZAIC_HEQ, 15, 30, 0,
+                (const double[11]){ 100 - 1000.0 / 30 * 1, 100 - 900.0 / 30, 100 - 800.0 / 30, 100 - 700.0 / 30,
+                                    100 - 600.0 / 30, 100 - 500.0 / 30, 100 - 400.0 / 30, 100 - 300.0 / 30,
+                                    100 - 200.0 / 30, 100 - 100.0 / 30, N });
+}
+END_TEST
+
 START_TEST(leq_errors)
 {
     kelp_ivp_domain d = dom1("depth:0:600:601");
     kelp_ivp_zaic_hleq z;
     ck_assert_int_eq(kelp_ivp_zaic_hleq_init(&z, KELP_IVP_ZAIC_LEQ, &d, "depth"), 0);
     ck_assert_int_eq(kelp_ivp_zaic_hleq_set_summit(&z, 650), 0);
-    ck_assert_double_eq(z.summit, 600);
+    ck_assert_double_eq(z.summit, 650); /* kept; the domain cuts the function, not the summit */
     ck_assert(z.ok);
     ck_assert(z.warn[0] != '\0');
     ck_assert_int_lt(kelp_ivp_zaic_hleq_set_basewidth(&z, -1), 0);
@@ -526,6 +598,7 @@ Suite *kelp_ivp_suite(void)
     tcase_add_test(tc, peak_defaults_and_errors);
     tcase_add_test(tc, leq_heq_fig18_19);
     tcase_add_test(tc, leq_errors);
+    tcase_add_test(tc, leq_heq_edges);
     tcase_add_loop_test(tc, spec_bad_text, 0, (int)(sizeof bad_specs / sizeof bad_specs[0]));
     tcase_add_test(tc, func_normalize_align);
     tcase_add_test(tc, coupler_argmax_and_range);

@@ -1,5 +1,5 @@
 /* kelp-dccl-gen: DCCL message XML -> C const tables for firmware. */
-#include <kelp/dccl_edge.h>
+#include "../../src/dccl/edge/programs.h"
 
 int main(int argc, char **argv)
 {

@@ -1,5 +1,5 @@
 /* kelp-dccl: encode, decode, publish and inspect Goby 1.1 DCCL messages. */
-#include <kelp/dccl_edge.h>
+#include "../../src/dccl/edge/programs.h"
 
 int main(int argc, char **argv)
 {

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 #include <kelp/app.h>
 #include <kelp/helm.h>
@@ -90,6 +91,16 @@ static void resolve(kelp_app *app, const char *file, char *out, size_t cap)
         snprintf(out, cap, "%.*s/%s", (int)(slash - mp), mp, file);
 }
 
+/* the process's CPU time, for IVPHELM_CREATE_CPU / IVPHELM_LOOP_CPU */
+static double cpu_seconds(void *user)
+{
+    (void)user;
+    struct timespec ts;
+    if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts) != 0)
+        return 0;
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
 static int startup(kelp_app *app, void *st)
 {
     helm_app *a = st;
@@ -99,6 +110,7 @@ static int startup(kelp_app *app, void *st)
     snprintf(cfg.us, sizeof cfg.us, "%s", kelp_app_community(app));
     cfg.sink = sink;
     cfg.user = a;
+    cfg.cpu_clock = cpu_seconds;
     for (const kelp_mission_node *n = NULL; (n = kelp_app_param_next(app, "Domain", n)) != NULL;)
         if (parse_domain(app, n, &cfg) < 0)
             return -1;

@@ -8,7 +8,7 @@
  *  3. The node (core): one vehicle's queue manager + TDMA MAC + modem driver wired together
  *     (Goby's pAcommsHandler signal connections), time as an argument, every event reported
  *     through one callback.
- *  4. Configuration (edge): the pAcommsHandler ProcessConfig block (seed 002 section 2.3.5).
+ *  4. Configuration (edge): the pAcommsHandler ProcessConfig block (the keys of Goby 1.1's pAcommsHandler).
  *
  * A translation unit that needs part 1 only may define KELP_ACOMMS_DCCL_ONLY before
  * including this header.
@@ -22,6 +22,10 @@
 
 #include <kelp/config.h>
 #include <kelp/err.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 /* ================================================================== 1. DCCL glue (edge) */
 
@@ -327,7 +331,7 @@ typedef enum kelp_acomms_verbosity {
     KELP_ACOMMS_VERBOSITY_GUI
 } kelp_acomms_verbosity;
 
-/** The pAcommsHandler configuration block, every field of seed 002 section 2.3.5. */
+/** The pAcommsHandler configuration block, every field Goby 1.1's pAcommsHandler reads. */
 typedef struct kelp_acomms_config {
     /* common { } (global fallbacks: log, log_path, Community, LatOrigin, LongOrigin) */
     bool log;
@@ -422,4 +426,8 @@ KELP_MUST_CHECK int kelp_acomms_lcm_range(kelp_acomms_lcm *l, const char *channe
 KELP_MUST_CHECK int kelp_acomms_lcm_status(kelp_acomms_lcm *l, const char *channel, const kelp_acomms_status *s);
 
 #endif /* KELP_ACOMMS_DCCL_ONLY */
+#ifdef __cplusplus
+}
+#endif
+
 #endif

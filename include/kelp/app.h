@@ -23,6 +23,10 @@
 #include <kelp/bus.h>
 #include <kelp/mission.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct kelp_app kelp_app;
 
 typedef struct kelp_app_def {
@@ -95,5 +99,9 @@ int kelp_app_watch_fd(kelp_app *app, int fd, kelp_app_fd_cb cb);
 
 /** Ask the loop to end after this iteration. */
 void kelp_app_quit(kelp_app *app);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

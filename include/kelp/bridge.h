@@ -16,6 +16,10 @@
 #include <stddef.h>
 #include <kelp/bus.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #define KELP_BRIDGE_MAGIC "KBR1"
 #define KELP_BRIDGE_HMAC_LEN 32
 #define KELP_BRIDGE_F_AUTH 0x01u
@@ -46,4 +50,8 @@ KELP_MUST_CHECK int kelp_bridge_frame(const kelp_var *v, const char *as, const u
  *  (KELP_ERR_AUTH otherwise). */
 KELP_MUST_CHECK int kelp_bridge_unframe(const uint8_t *buf, size_t len, const uint8_t *key, size_t keylen,
                                         kelp_hmac_fn hmac, void *user, kelp_var *out);
+#ifdef __cplusplus
+}
+#endif
+
 #endif

@@ -24,6 +24,10 @@
 #include <kelp/config.h>
 #include <kelp/err.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef enum kelp_var_kind {
     KELP_VAR_DOUBLE = 0,
     KELP_VAR_STRING = 1,
@@ -263,5 +267,9 @@ void kelp_loopback_transport(kelp_loopback *net, kelp_loopback_port *port, kelp_
 KELP_MUST_CHECK int kelp_loopback_attach(kelp_loopback *net, kelp_bus *b);
 /** Deliver everything queued. */
 void kelp_loopback_pump(kelp_loopback *net);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

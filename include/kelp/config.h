@@ -2,6 +2,17 @@
 #ifndef KELP_CONFIG_H
 #define KELP_CONFIG_H
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** A compile-time check that C11 and C++ (11 and later) both accept. */
+#ifdef __cplusplus
+#define KELP_STATIC_ASSERT(cond, msg) static_assert(cond, msg)
+#else
+#define KELP_STATIC_ASSERT(cond, msg) _Static_assert(cond, msg)
+#endif
+
 /* ---- bus ---- */
 #ifndef KELP_MAX_NAME
 #define KELP_MAX_NAME 64            /**< bytes in a variable / app / community name, with NUL */
@@ -42,8 +53,8 @@
 #define KELP_MAX_LINE 1024          /**< bytes in one mission-file line */
 #endif
 
-_Static_assert(KELP_MAX_NAME >= 16, "KELP_MAX_NAME too small");
-_Static_assert(KELP_MAX_SVAL >= 256, "KELP_MAX_SVAL too small");
+KELP_STATIC_ASSERT(KELP_MAX_NAME >= 16, "KELP_MAX_NAME too small");
+KELP_STATIC_ASSERT(KELP_MAX_SVAL >= 256, "KELP_MAX_SVAL too small");
 
 
 /* ---- ivp (IvP domain, functions, ZAIC/Reflector/Coupler, solver) ---- */
@@ -65,11 +76,11 @@ _Static_assert(KELP_MAX_SVAL >= 256, "KELP_MAX_SVAL too small");
 #ifndef KELP_IVP_MAX_WARN
 #define KELP_IVP_MAX_WARN 256       /**< bytes of accumulated builder warning text, with NUL */
 #endif
-_Static_assert(KELP_IVP_MAX_DIM >= 1 && KELP_IVP_MAX_DIM <= 16, "KELP_IVP_MAX_DIM out of range");
-_Static_assert(KELP_IVP_MAX_VARNAME >= 8, "KELP_IVP_MAX_VARNAME too small");
-_Static_assert(KELP_IVP_MAX_FUNCS >= 1, "KELP_IVP_MAX_FUNCS too small");
-_Static_assert(KELP_IVP_MAX_COMPONENTS >= 1, "KELP_IVP_MAX_COMPONENTS too small");
-_Static_assert(KELP_IVP_MAX_WARN >= 64, "KELP_IVP_MAX_WARN too small");
+KELP_STATIC_ASSERT(KELP_IVP_MAX_DIM >= 1 && KELP_IVP_MAX_DIM <= 16, "KELP_IVP_MAX_DIM out of range");
+KELP_STATIC_ASSERT(KELP_IVP_MAX_VARNAME >= 8, "KELP_IVP_MAX_VARNAME too small");
+KELP_STATIC_ASSERT(KELP_IVP_MAX_FUNCS >= 1, "KELP_IVP_MAX_FUNCS too small");
+KELP_STATIC_ASSERT(KELP_IVP_MAX_COMPONENTS >= 1, "KELP_IVP_MAX_COMPONENTS too small");
+KELP_STATIC_ASSERT(KELP_IVP_MAX_WARN >= 64, "KELP_IVP_MAX_WARN too small");
 /* ---- acomms: priority queue, TDMA MAC, NMEA, WHOI Micro-Modem driver ---- */
 #ifndef KELP_MAX_NMEA_LINE
 #define KELP_MAX_NMEA_LINE 640      /**< bytes in one NMEA line (a rate-5 $CARXD is ~535) */
@@ -101,9 +112,9 @@ _Static_assert(KELP_IVP_MAX_WARN >= 64, "KELP_IVP_MAX_WARN too small");
 #ifndef KELP_MAX_MM_BACKLOG
 #define KELP_MAX_MM_BACKLOG 2048    /**< bytes held while the driver "sleeps" (Goby's sleep(1)/(2)) */
 #endif
-_Static_assert(KELP_MAX_NMEA_LINE >= 560, "KELP_MAX_NMEA_LINE must hold a 256-byte $CARXD");
-_Static_assert(KELP_MAX_ACOMMS_FRAME >= 32 && KELP_MAX_ACOMMS_FRAME <= 65535, "KELP_MAX_ACOMMS_FRAME out of range");
-_Static_assert(KELP_MAX_MM_FRAMES >= 8 && KELP_MAX_MM_FRAMES <= 32, "KELP_MAX_MM_FRAMES must be 8..32");
+KELP_STATIC_ASSERT(KELP_MAX_NMEA_LINE >= 560, "KELP_MAX_NMEA_LINE must hold a 256-byte $CARXD");
+KELP_STATIC_ASSERT(KELP_MAX_ACOMMS_FRAME >= 32 && KELP_MAX_ACOMMS_FRAME <= 65535, "KELP_MAX_ACOMMS_FRAME out of range");
+KELP_STATIC_ASSERT(KELP_MAX_MM_FRAMES >= 8 && KELP_MAX_MM_FRAMES <= 32, "KELP_MAX_MM_FRAMES must be 8..32");
 /* ---- dccl (Goby 1.1 DCCL codec) ---- */
 #ifndef KELP_DCCL_MAX_STRLEN
 #define KELP_DCCL_MAX_STRLEN 255    /**< bytes of a string value (string/hex fields, algorithm results) */
@@ -123,9 +134,9 @@ _Static_assert(KELP_MAX_MM_FRAMES >= 8 && KELP_MAX_MM_FRAMES <= 32, "KELP_MAX_MM
 #ifndef KELP_DCCL_MAX_PUBLEN
 #define KELP_DCCL_MAX_PUBLEN 1024   /**< bytes of one published string value, with NUL */
 #endif
-_Static_assert(KELP_DCCL_MAX_STRLEN >= 32 && KELP_DCCL_MAX_STRLEN <= 65535, "KELP_DCCL_MAX_STRLEN out of range");
-_Static_assert(KELP_DCCL_MAX_SIZE > 6 && KELP_DCCL_MAX_SIZE <= 8192, "KELP_DCCL_MAX_SIZE out of range");
-_Static_assert(KELP_DCCL_MAX_ALG_REFS >= 2, "KELP_DCCL_MAX_ALG_REFS too small (TSD_to_soundspeed needs 2)");
+KELP_STATIC_ASSERT(KELP_DCCL_MAX_STRLEN >= 32 && KELP_DCCL_MAX_STRLEN <= 65535, "KELP_DCCL_MAX_STRLEN out of range");
+KELP_STATIC_ASSERT(KELP_DCCL_MAX_SIZE > 6 && KELP_DCCL_MAX_SIZE <= 8192, "KELP_DCCL_MAX_SIZE out of range");
+KELP_STATIC_ASSERT(KELP_DCCL_MAX_ALG_REFS >= 2, "KELP_DCCL_MAX_ALG_REFS too small (TSD_to_soundspeed needs 2)");
 
 /* ---- helm (IvP helm, behaviour framework, behaviours) ---- */
 #ifndef KELP_HELM_MAX_BHVS
@@ -173,12 +184,15 @@ _Static_assert(KELP_DCCL_MAX_ALG_REFS >= 2, "KELP_DCCL_MAX_ALG_REFS too small (T
 #ifndef KELP_HELM_MAX_INIT
 #define KELP_HELM_MAX_INIT 32       /**< initialize lines of the behaviour files */
 #endif
+#ifndef KELP_HELM_MAX_MODES
+#define KELP_HELM_MAX_MODES 16      /**< "set MODE = ..." entries of the behaviour files */
+#endif
 #ifndef KELP_HELM_MAX_PTS
 #define KELP_HELM_MAX_PTS 64        /**< points of a waypoint list or loiter polygon */
 #endif
-_Static_assert(KELP_HELM_MAX_SVAL >= 64, "KELP_HELM_MAX_SVAL too small");
-_Static_assert(KELP_HELM_MAX_BHVS >= 1 && KELP_HELM_MAX_BHVS <= 1024, "KELP_HELM_MAX_BHVS out of range");
-_Static_assert(KELP_HELM_MAX_PTS >= 4, "KELP_HELM_MAX_PTS too small");
+KELP_STATIC_ASSERT(KELP_HELM_MAX_SVAL >= 64, "KELP_HELM_MAX_SVAL too small");
+KELP_STATIC_ASSERT(KELP_HELM_MAX_BHVS >= 1 && KELP_HELM_MAX_BHVS <= 1024, "KELP_HELM_MAX_BHVS out of range");
+KELP_STATIC_ASSERT(KELP_HELM_MAX_PTS >= 4, "KELP_HELM_MAX_PTS too small");
 /* ---- sim: vehicle simulator, node reports, VIEW_* artifacts ---- */
 #ifndef KELP_SIM_MAX_SUBSTEPS
 #define KELP_SIM_MAX_SUBSTEPS 2000000L  /**< sub-steps one kelp_sim_step may take (a time jump bound) */
@@ -195,10 +209,10 @@ _Static_assert(KELP_HELM_MAX_PTS >= 4, "KELP_HELM_MAX_PTS too small");
 #ifndef KELP_VIEW_MAX_FIELD
 #define KELP_VIEW_MAX_FIELD 64          /**< bytes of a text field of a VIEW_* artifact (label, colour...), with NUL */
 #endif
-_Static_assert(KELP_NODEREPORT_MAX_FIELD >= 16, "KELP_NODEREPORT_MAX_FIELD too small");
-_Static_assert(KELP_NODEREPORT_MAX_LEN >= 256, "KELP_NODEREPORT_MAX_LEN too small for a full report");
-_Static_assert(KELP_VIEW_MAX_PTS >= 4, "KELP_VIEW_MAX_PTS too small");
-_Static_assert(KELP_VIEW_MAX_FIELD >= 16, "KELP_VIEW_MAX_FIELD too small");
+KELP_STATIC_ASSERT(KELP_NODEREPORT_MAX_FIELD >= 16, "KELP_NODEREPORT_MAX_FIELD too small");
+KELP_STATIC_ASSERT(KELP_NODEREPORT_MAX_LEN >= 256, "KELP_NODEREPORT_MAX_LEN too small for a full report");
+KELP_STATIC_ASSERT(KELP_VIEW_MAX_PTS >= 4, "KELP_VIEW_MAX_PTS too small");
+KELP_STATIC_ASSERT(KELP_VIEW_MAX_FIELD >= 16, "KELP_VIEW_MAX_FIELD too small");
 
 /* ---- modemsim (WHOI Micro-Modem simulator: modem-side protocol, acoustic channel) ---- */
 #ifndef KELP_MAX_MSIM_ARRIVALS
@@ -216,8 +230,8 @@ _Static_assert(KELP_VIEW_MAX_FIELD >= 16, "KELP_VIEW_MAX_FIELD too small");
 #ifndef KELP_MAX_MSIM_POLL_SLOTS
 #define KELP_MAX_MSIM_POLL_SLOTS 32 /**< slots in a pAcommsPoller cycle */
 #endif
-_Static_assert(KELP_MAX_MSIM_ARRIVALS >= 4, "KELP_MAX_MSIM_ARRIVALS too small");
-_Static_assert(KELP_MAX_MSIM_TXQ >= 4, "KELP_MAX_MSIM_TXQ too small");
+KELP_STATIC_ASSERT(KELP_MAX_MSIM_ARRIVALS >= 4, "KELP_MAX_MSIM_ARRIVALS too small");
+KELP_STATIC_ASSERT(KELP_MAX_MSIM_TXQ >= 4, "KELP_MAX_MSIM_TXQ too small");
 
 #endif
 /* ---- acomms glue, links, pAcommsHandler, kelp-acomms-replay (branch acomms2) ---- */
@@ -244,6 +258,10 @@ _Static_assert(KELP_MAX_MSIM_TXQ >= 4, "KELP_MAX_MSIM_TXQ too small");
 #endif
 #ifndef KELP_ACOMMS_MAX_PRINT
 #define KELP_ACOMMS_MAX_PRINT 4096  /**< bytes of one TextFormat ACOMMS_* string, with NUL */
+#ifdef __cplusplus
+}
 #endif
-_Static_assert(KELP_ACOMMS_MAX_PRINT >= 6 * KELP_MAX_ACOMMS_FRAME, "KELP_ACOMMS_MAX_PRINT must hold an ack of a full frame");
-_Static_assert(KELP_ACOMMS_MAX_QUEUES >= 2 && KELP_ACOMMS_MAX_POOL >= 8, "acomms node storage too small");
+
+#endif
+KELP_STATIC_ASSERT(KELP_ACOMMS_MAX_PRINT >= 6 * KELP_MAX_ACOMMS_FRAME, "KELP_ACOMMS_MAX_PRINT must hold an ack of a full frame");
+KELP_STATIC_ASSERT(KELP_ACOMMS_MAX_QUEUES >= 2 && KELP_ACOMMS_MAX_POOL >= 8, "acomms node storage too small");

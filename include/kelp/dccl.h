@@ -4,7 +4,7 @@
  * (kelp_dccl_msgdef, produced by the XML loader in <kelp/dccl_edge.h> or as
  * const tables by kelp-dccl-gen) drives encode, decode, publish and value sourcing.
  *
- * Wire format (see ../shared/spec/goby-wire.md section 5):
+ * Wire format (Goby 1.1's DCCL):
  *   wire = header[6] || AES-256-CTR(body)
  * header: ccl id 32 (8 bits), DCCL id (9), seconds of UTC day (17), src (5),
  * dest (5), multimessage flag (1), broadcast flag (1), unused (2), MSB first.

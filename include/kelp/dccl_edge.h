@@ -6,7 +6,6 @@
 
 #include <stdio.h>
 
-#include <mbedtls/aes.h>
 
 #include <kelp/dccl.h>
 
@@ -45,10 +44,16 @@ KELP_MUST_CHECK int kelp_dccl_load_buffer(kelp_dccl_loaded *ld, const char *name
 /* ------------------------------------------------------------------ mbedTLS crypto */
 /** Goby 1.1 crypto: key = SHA-256(passphrase) (also for the empty passphrase),
  *  AES-256-CTR, IV = SHA-256(header)[0..15]. `ops` is what kelp_dccl_codec wants. */
+#define KELP_DCCL_AES_CTX_SIZE 512   /**< room for mbedTLS's AES context (288 bytes in 2.28) */
 typedef struct kelp_dccl_mbedtls {
     kelp_dccl_crypto ops;
-    /* private */
-    mbedtls_aes_context aes;
+    /* private: the AES context lives here, opaque so that no mbedTLS header is needed */
+    union {
+        unsigned char bytes[KELP_DCCL_AES_CTX_SIZE];
+        long double align_ld;
+        void *align_p;
+        unsigned long long align_ll;
+    } aes;
     unsigned char key[32];
 } kelp_dccl_mbedtls;
 
@@ -66,12 +71,6 @@ KELP_MUST_CHECK int kelp_dccl_builtin_load_modems(kelp_dccl_builtin *ctx, const 
  * @param header_name  how the source #includes the header */
 KELP_MUST_CHECK int kelp_dccl_gen_write(const kelp_dccl_set *set, const char *prefix, const char *header_name,
                                         const char *source_name, FILE *c_out, FILE *h_out);
-
-/* ------------------------------------------------------------------ programs */
-/** kelp-dccl (see apps/kelp-dccl). Returns the process exit status. */
-int kelp_dccl_cli_main(int argc, char **argv);
-/** kelp-dccl-gen FILE.xml [-o DIR] [--prefix NAME]. Returns the exit status. */
-int kelp_dccl_gen_main(int argc, char **argv);
 
 #ifdef __cplusplus
 }

@@ -6,6 +6,10 @@
 #ifndef KELP_ERR_H
 #define KELP_ERR_H
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #if defined(__GNUC__) || defined(__clang__)
 #define KELP_MUST_CHECK __attribute__((warn_unused_result))
 #define KELP_PRINTF(f, a) __attribute__((format(printf, f, a)))
@@ -38,5 +42,9 @@ typedef enum kelp_err {
 
 /** Constant text for a status code; unknown codes give "unknown error". */
 const char *kelp_strerror(int code);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -21,6 +21,10 @@
 
 #include <kelp/err.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #define KELP_GEO_WGS84_A 6378137.0   /**< semi-major axis used by MOOS (m) */
 #define KELP_GEO_MOOS_B 6356752.0    /**< semi-minor axis used by MOOS (m) */
 
@@ -47,5 +51,9 @@ KELP_MUST_CHECK int kelp_geo_to_latlon(const kelp_geo *g, double x, double y, do
 /** Latitude/longitude in degrees -> local x/y in metres. @return 0, KELP_ERR_RANGE for a
  *  non-finite or out-of-range latitude/longitude. */
 KELP_MUST_CHECK int kelp_geo_to_local(const kelp_geo *g, double lat, double lon, double *x, double *y);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -1,7 +1,7 @@
 /* kelp helm: the IvP helm, its behaviour framework and the built-in behaviours.
  *
- * Specification: seed 004 (MIT-CSAIL-TR-2009-037) chapters 4 and 5; digest
- * ../shared/spec/moosapp_helm.md part 2. Functions are built and solved with kelp's IvP
+ * Follows the IvP helm of MOOS-IvP (Benjamin et al., MIT-CSAIL-TR-2009-037, chapters 4 and 5).
+ * Functions are built and solved with kelp's IvP
  * library (include/kelp/ivp.h).
  *
  * Core and allocation-free: the caller places a kelp_helm (it is large: size it with the
@@ -32,6 +32,10 @@
 #include <kelp/err.h>
 #include <kelp/ivp.h>
 #include <kelp/mission.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 /* ------------------------------------------------------------------ information buffer */
 
@@ -189,19 +193,41 @@ typedef struct kelp_bhv_wpt {          /* BHV_Waypoint */
     kelp_bhv_pt pts[KELP_HELM_MAX_PTS];
     unsigned npts;
     double speed, capture_radius, slip_radius, lead, lead_damper;
+    double speed_alt;                  /* speed_alt (used with use_alt_speed), <0 unset */
+    double course_pct;                 /* crs_spd_zaic_ratio: course share of the coupling, 1..99 */
     long repeat;                       /* extra passes through the list; <0 forever */
     bool reverse;
+    bool lead_to_start;                /* lead on the first leg from where the vehicle started */
+    bool use_alt_speed;
+    bool capture_line;                 /* crossing the line through the point, square to the leg */
+    bool efficiency;                   /* efficiency_measure = all */
     kelp_bhv_flag cycleflag[4], wptflag[4];
     unsigned ncycleflag, nwptflag;
+    char var_report[KELP_MAX_NAME];    /* WPT_STAT (wpt_status_var), "silent" */
+    char var_index[KELP_MAX_NAME];     /* WPT_INDEX (wpt_index_var), "silent" */
+    char var_cyindex[KELP_MAX_NAME];   /* CYCLE_INDEX (cycle_index_var), "silent" */
+    char var_dist_prev[KELP_MAX_NAME]; /* wpt_dist_to_prev, "" off */
+    char var_dist_next[KELP_MAX_NAME]; /* wpt_dist_to_next, "" off */
+    char suffix[24];                   /* post_suffix ("_" added) */
+    /* visual_hints */
+    char hint_vertex_color[24], hint_edge_color[24], hint_label_color[24], hint_nextpt_color[24],
+        hint_nextpt_lcolor[24];
+    double hint_vertex_size, hint_edge_size, hint_nextpt_vertex_size;
     /* state */
     unsigned index;                    /* next point */
     unsigned long cycles;              /* completed passes */
     unsigned long captured, slipped;   /* arrivals by capture / by slip radius */
     bool have_prev;                    /* trackline start known */
     kelp_bhv_pt prev;                  /* start of the current leg */
+    bool have_mark;                    /* where the vehicle was when the first leg began */
+    kelp_bhv_pt mark;
     double min_dist;                   /* closest approach to the current point so far */
     bool restart;                      /* re-seed the leg at the next run (idle->run) */
     double osx, osy;
+    /* odometry (WPT_ODO, efficiency_measure) */
+    bool odo_virgin;
+    double odo_px, odo_py, odo_leg, odo_setx, odo_sety;
+    double eff_linear, eff_odo;        /* sums over completed legs */
 } kelp_bhv_wpt;
 
 typedef struct kelp_bhv_loiter {       /* BHV_Loiter */
@@ -350,6 +376,9 @@ typedef struct kelp_helm_config {
     kelp_helm_sink sink;
     void *user;
     const kelp_bhv_ops *const *types;  /**< NULL-terminated list; NULL = kelp_bhv_builtin_types */
+    /** Optional CPU clock (seconds) the helm reads around building and solving, for
+     *  IVPHELM_CREATE_CPU / IVPHELM_LOOP_CPU and the summary's times; NULL: not measured. */
+    double (*cpu_clock)(void *user);
 } kelp_helm_config;
 
 void kelp_helm_config_default(kelp_helm_config *cfg);
@@ -394,7 +423,32 @@ typedef struct kelp_helm_report {
     unsigned nactive, nrunning, nidle, ncompleted;
     unsigned long warnings;            /**< BHV_WARNING posts so far */
     unsigned long errors;              /**< BHV_ERROR posts so far */
+    double create_time, solve_time, loop_time;          /**< CPU seconds this iteration (cpu_clock) */
+    double max_create_time, max_solve_time, max_loop_time;
+    unsigned long pcs_formed;          /**< pieces of this iteration's functions */
+    unsigned long total_pcs_formed;    /**< ... summed over all iterations */
 } kelp_helm_report;
+
+/** One hierarchical mode declaration of a .bhv file:
+ *
+ *     set MODE = SURVEYING {
+ *       MODE = ACTIVE            <- a condition on the mode variable: the prefix "ACTIVE"
+ *       RETURN != true
+ *     } RETURNING                <- the else value
+ *
+ * Entries are evaluated in file order every iteration: all conditions true gives the value,
+ * otherwise the conditions on the mode variable alone true gives the else value (if any); a
+ * result is prefixed "PREFIX:" and is seen by the entries after it, so the last result wins
+ * ("ACTIVE:SURVEYING"). */
+typedef struct kelp_helm_mode {
+    char var[KELP_MAX_NAME];
+    char val[KELP_MAX_NAME];
+    char elseval[KELP_MAX_NAME];
+    char prefix[128];
+    char cond[KELP_HELM_MAX_CONDS][KELP_HELM_MAX_COND_LEN];
+    unsigned ncond;
+    uint32_t modevar_conds;            /**< bit i: cond[i] is the prefix condition */
+} kelp_helm_mode;
 
 struct kelp_helm {
     kelp_helm_config cfg;
@@ -425,6 +479,13 @@ struct kelp_helm {
     kelp_ivp_problem prob;
     char last_lists[3][256];           /* last IVPHELM_BHV_ACTIVE / RUNNING / IDLE posted */
     char last_allstop[96];
+    kelp_helm_mode modes[KELP_HELM_MAX_MODES];
+    unsigned nmodes;
+    char mode_posted[KELP_HELM_MAX_MODES][128]; /* last value posted per mode variable (by first entry) */
+    char mode_summary[KELP_HELM_MAX_SVAL];      /* "MODE@ACTIVE:SURVEYING#MODE2@X" after the iteration */
+    unsigned last_cnt[5];              /* last IVPHELM_BHV_{,ACTIVE_,RUNNING_,IDLE_,DISABLED_}CNT posted + 1 */
+    double last_engaged_post;          /* buffer time of the last IVPHELM_ENGAGED */
+    bool last_engaged;
     char err[192];                     /**< configuration error text (first wins) */
     int err_line;
 };
@@ -458,5 +519,9 @@ KELP_MUST_CHECK int kelp_helm_iterate(kelp_helm *h, double now);
 const char *kelp_helm_next_new_var(kelp_helm *h);
 /** Find a behaviour by name, or NULL. */
 kelp_bhv *kelp_helm_find(kelp_helm *h, const char *name);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -1,7 +1,7 @@
 /* kelp IvP: domains, piecewise-linear IvP functions, the IvPBuild tools (ZAIC_PEAK, ZAIC_LEQ,
  * ZAIC_HEQ, Reflector, Coupler) and the branch-and-bound IvP solver.
  *
- * Specification: seed 004 (MIT-CSAIL-TR-2009-037) chapters 6-9; digest ../shared/spec/ivp.md.
+ * Follows MOOS-IvP's IvP model (Benjamin et al., MIT-CSAIL-TR-2009-037, chapters 6-9).
  *
  * Everything here is allocation-free: the caller owns every struct and passes piece and work
  * storage, sized with the *_max_pieces / *_work_size queries. Too little storage gives
@@ -23,6 +23,10 @@
 #include <stdint.h>
 #include <kelp/config.h>
 #include <kelp/err.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 /* ------------------------------------------------------------------ errors */
 
@@ -336,5 +340,9 @@ KELP_MUST_CHECK int kelp_ivp_file_piece(const char *line, unsigned nvars, kelp_i
 /** The two variables a couple line applies to: "course" and "speed" when the domain has both,
  * else variables 0 and 1. KELP_ERR_RANGE when the domain has fewer than two variables. */
 KELP_MUST_CHECK int kelp_ivp_couple_vars(const kelp_ivp_domain *dom, int *vc, int *vs);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -5,6 +5,10 @@
 #include <stdbool.h>
 #include <kelp/err.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** Find `key` (case-insensitive, trimmed) in a list of pairs separated by `sep` (usually
  *  ',') and copy its trimmed value into out. Later duplicates do not override the first.
  *  @return 1 found, 0 absent, KELP_ERR_NOSPACE if the value does not fit. */
@@ -14,4 +18,8 @@ KELP_MUST_CHECK int kelp_kv_get(const char *s, char sep, const char *key, char *
  *  @return 1 while a pair is produced, 0 at the end, KELP_ERR_PARSE on a pair without '='. */
 KELP_MUST_CHECK int kelp_kv_next(const char *s, char sep, size_t *pos, const char **key, size_t *klen, const char **val,
                                  size_t *vlen);
+#ifdef __cplusplus
+}
+#endif
+
 #endif

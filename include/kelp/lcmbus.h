@@ -13,6 +13,10 @@
 #include <kelp/edge/udpm.h>
 #include <kelp/mission.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #define KELP_LCM_DEFAULT_URL "udpm://239.255.76.67:7667?ttl=0"
 #define KELP_LCM_RECV_BUF 4194304
 
@@ -43,5 +47,9 @@ int kelp_lcmbus_handle(kelp_lcmbus *lb, int timeout_ms, double now);
 void kelp_lcmbus_get_stats(kelp_lcmbus *lb, kelp_udpm_sock_stats *out);
 /** Publish raw bytes on a channel (bridges, tools). */
 KELP_MUST_CHECK int kelp_lcmbus_publish_raw(kelp_lcmbus *lb, const char *channel, const void *data, size_t len);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

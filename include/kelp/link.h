@@ -26,6 +26,10 @@
 
 #include <kelp/err.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef enum kelp_link_type {
     KELP_LINK_SERIAL = 0,
     KELP_LINK_TCP_CLIENT = 1,
@@ -112,5 +116,9 @@ const kelp_link_counters *kelp_link_get_counters(const kelp_link *l);
 const char *kelp_link_backend(const kelp_link *l);
 /** tcp server: the port actually bound (useful with port 0). */
 unsigned kelp_link_bound_port(const kelp_link *l);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -27,6 +27,10 @@
 #include <kelp/config.h>
 #include <kelp/err.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef enum kelp_mac_type {
     KELP_MAC_NONE = 1,
     KELP_MAC_FIXED_DECENTRALIZED = 2,
@@ -133,5 +137,9 @@ unsigned kelp_mac_cycle_length(const kelp_mac *mac);
 int64_t kelp_mac_next_slot_time(const kelp_mac *mac);
 /** First cycle start at or after `now` for a cycle of `cycle_seconds` (Goby's next_cycle_time). */
 int64_t kelp_mac_aligned_start(int64_t now_us, unsigned cycle_seconds, unsigned long *cycles_since_day_start);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -25,6 +25,10 @@
 #include <stdbool.h>
 #include <kelp/err.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef enum kelp_mission_kind {
     KELP_MN_PARAM = 0,   /**< Key = Value (global when parent < 0) */
     KELP_MN_BLOCK = 1,   /**< Kind = Name { ... }; key = Kind, val = Name */
@@ -104,6 +108,10 @@ KELP_MUST_CHECK int kelp_mission_load(kelp_mission_file *f, const char *path);
 /** Parse text held in memory (copied) with a name for messages. */
 KELP_MUST_CHECK int kelp_mission_load_text(kelp_mission_file *f, const char *name, const char *text, size_t len);
 void kelp_mission_free(kelp_mission_file *f);
+#endif
+
+#ifdef __cplusplus
+}
 #endif
 
 #endif

@@ -1,5 +1,5 @@
 /* kelp: WHOI Micro-Modem driver core -- the protocol state machine of Goby 1.1's MMDriver
- * (mm_driver.cpp, goby-wire.md section 10) with no file descriptor, no clock, no allocation.
+ * with no file descriptor, no clock, no allocation.
  *
  *   bytes in   kelp_mm_feed(mm, bytes, n, now)      (serial/TCP reader at the edge)
  *   lines out  ops.write(bytes, n, user)             ("#M1" Hydroid prefix + "$CC...*hh\r\n")
@@ -33,6 +33,10 @@
 #include <kelp/err.h>
 #include <kelp/mac.h>
 #include <kelp/nmea.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 #define KELP_MM_MODEM_WAIT_US 3000000LL   /**< MODEM_WAIT: resend after 3 s */
 #define KELP_MM_RETRIES 3                 /**< RETRIES: clear the command queue */
@@ -178,5 +182,9 @@ size_t kelp_mm_pending(const kelp_mm *mm);
 
 /** UTC civil date of a UNIX time (helper, exposed for tests and the simulator). */
 void kelp_mm_civil(int64_t unix_us, int *year, int *month, int *day, int *hour, int *minute, int *second);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

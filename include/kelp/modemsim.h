@@ -12,7 +12,7 @@
  *   timers          kelp_msim_tick(m, now)                  (often: every 10-50 ms)
  *   time            every call takes now = UNIX UTC microseconds of the shared simulation clock
  *
- * Host protocol (sentence forms of the WHOI Micro-Modem, data/real_nmea_examples.md):
+ * Host protocol (sentence forms of the WHOI Micro-Modem):
  *   $CCCLK,Y,M,D,h,m,s      -> $CACLK,YYYY,MM,DD,hh,mm,ss (the modem clock is set)
  *   $CCCFG,NAME,VALUE       -> $CACFG,NAME,VALUE          (ALL,0 resets every NVRAM value)
  *   $CCCFQ,NAME | ALL       -> $CACFG,NAME,VALUE for the one / for every parameter
@@ -51,6 +51,10 @@
 #include <kelp/err.h>
 #include <kelp/mac.h>
 #include <kelp/nmea.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 #define KELP_MSIM_SOUND_SPEED 1500.0       /**< m/s, default */
 #define KELP_MSIM_MAX_ID 127               /**< highest acoustic address */
@@ -317,5 +321,9 @@ KELP_MUST_CHECK int kelp_poller_format_update(int dest, kelp_mac_update_type typ
 
 /** One slot in the "src=2,dest=1,rate=0,type=data,slot_seconds=10" form (buf NUL-terminated). */
 KELP_MUST_CHECK int kelp_poller_format_slot(const kelp_mac_slot *s, char *buf, size_t cap, size_t *len);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -19,6 +19,10 @@
 #include <kelp/config.h>
 #include <kelp/err.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /** One parsed sentence.  Fields are NUL-terminated copies inside buf (field 0 = "$CARXD"). */
 typedef struct kelp_nmea_sentence {
     char buf[KELP_MAX_NMEA_LINE + 1];     /**< fields, each NUL-terminated */
@@ -99,5 +103,9 @@ void kelp_nmea_writer_str(kelp_nmea_writer *w, const char *field);
 void kelp_nmea_writer_long(kelp_nmea_writer *w, long v);
 /** Append "*HH" and NUL-terminate.  @return 0 or the first error; *len = sentence length. */
 KELP_MUST_CHECK int kelp_nmea_writer_finish(kelp_nmea_writer *w, size_t *len);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -15,7 +15,7 @@
  * VIEW_* artifacts (behaviours, uField tools; pMarineViewer's inputs), parsed for drawing:
  *   VIEW_POINT        x=60,y=-40,label=alder's next waypoint,type=waypoint,source=transit,active=true
  *                     or the colon form "active,false:label,alder's next waypoint:type,waypoint:
- *                     source,waypt_return:0,0,0" (seed 004 5.2.3)
+ *                     source,waypt_return:0,0,0" (MIT-CSAIL-TR-2009-037 section 5.2.3)
  *   VIEW_CIRCLE       x=..,y=..,radius=10,label=..,edge_color=..,fill_color=..,fill=0.3,edge_size=1
  *   VIEW_POLYGON      pts={x1,y1:x2,y2:x3,y3},label=..,edge_color=..,fill_color=..,fill=..
  *   VIEW_SEGLIST      pts={x1,y1:x2,y2:...},label=..   (colon form "label,L:x1,y1:x2,y2" too)
@@ -38,6 +38,10 @@
 #include <kelp/config.h>
 #include <kelp/err.h>
 #include <kelp/geo.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 /* presence bits of kelp_nodereport.fields */
 #define KELP_NR_NAME 0x0001u
@@ -143,5 +147,9 @@ const char *kelp_view_var(kelp_view_kind kind);
  *  @return 0; KELP_ERR_PARSE (with *why); KELP_ERR_RANGE (text too long); KELP_ERR_NOSPACE
  *  (more than KELP_VIEW_MAX_PTS vertices). */
 KELP_MUST_CHECK int kelp_view_parse(kelp_view_kind kind, const char *s, size_t len, kelp_view *out, const char **why);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -12,7 +12,7 @@
  * microseconds.  Everything the queue reports (received pieces, acks, expiries, queue sizes)
  * goes through one event callback with `void *user` last.
  *
- * DCCL messages are byte strings whose first 6 bytes are the DCCL header (goby-wire.md 5.2):
+ * DCCL messages are byte strings whose first 6 bytes are the DCCL header:
  *   ccl id 8 (0x20) | id 9 | time 17 | src 5 | dest 5 | multimessage 1 | broadcast 1 | unused 2
  * The queue never decodes bodies; it only touches the two flag bits of header byte 5.
  */
@@ -25,6 +25,10 @@
 
 #include <kelp/config.h>
 #include <kelp/err.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
 
 #define KELP_QUEUE_DCCL 1             /**< QueueType QUEUE_DCCL */
 #define KELP_QUEUE_CCL 2              /**< QueueType QUEUE_CCL */
@@ -223,5 +227,9 @@ typedef void (*kelp_unstitch_fn)(const uint8_t *piece, size_t len, unsigned dccl
  *  (a multimessage piece without its size byte or without a following header; the pieces before
  *  it were still reported). */
 int kelp_queue_unstitch(const uint8_t *d, size_t n, kelp_unstitch_fn fn, void *user);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

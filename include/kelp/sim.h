@@ -25,6 +25,10 @@
 #include <kelp/config.h>
 #include <kelp/err.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct kelp_sim_params {
     double turn_rate;            /**< deg/s (default 20); 0 = turn at once */
     double turn_speed;           /**< m/s (default 0.5): full turn rate from this speed up; 0 = always */
@@ -84,5 +88,9 @@ double kelp_sim_angle360(double deg);
 double kelp_sim_angle180(double deg);
 /** Compass bearing from (x0,y0) to (x1,y1) in [0, 360); 0 when the points coincide. */
 double kelp_sim_bearing(double x0, double y0, double x1, double y1);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

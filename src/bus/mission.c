@@ -20,6 +20,7 @@ typedef struct ps {
     int stack[MAX_DEPTH]; /* node index of each open BLOCK / MSG */
     int depth;
     bool stack_pb[MAX_DEPTH];
+    bool stack_set[MAX_DEPTH]; /* a .bhv "set VAR = VAL" block */
     int stack_line[MAX_DEPTH]; /* line of each open block's header */
 } ps;
 
@@ -129,6 +130,7 @@ static int pb_statement(ps *p)
         if (p->depth >= MAX_DEPTH) return fail(p, kline, "blocks nested too deeply");
         if ((rc = add(p, KELP_MN_MSG, k, kl, k, 0, false, kline)) < 0) return rc;
         p->stack_pb[p->depth] = true;
+        p->stack_set[p->depth] = false;
         p->stack_line[p->depth] = kline;
         p->stack[p->depth++] = rc;
         return KELP_OK;
@@ -197,6 +199,7 @@ int kelp_mission_parse(kelp_mission *m, const char *text, size_t len, kelp_missi
     p.line = 1;
     int pending_block = -1; /* a "Kind = Name" line waiting for its '{' */
     int pending_line = 0;
+    bool pending_set = false;
     int rc;
     while (p.pos < p.len) {
         size_t next;
@@ -215,6 +218,7 @@ int kelp_mission_parse(kelp_mission *m, const char *text, size_t len, kelp_missi
             if (pending_block < 0) return fail(&p, line, "'{' without a block header (Kind = Name) before it");
             if (p.depth >= MAX_DEPTH) return fail(&p, line, "blocks nested too deeply");
             p.stack_pb[p.depth] = false;
+            p.stack_set[p.depth] = pending_set;
             p.stack_line[p.depth] = pending_line;
             p.stack[p.depth++] = pending_block;
             pending_block = -1;
@@ -225,6 +229,20 @@ int kelp_mission_parse(kelp_mission *m, const char *text, size_t len, kelp_missi
         if (pending_block >= 0) return fail(&p, pending_line, "block header not followed by '{'");
         if (a[0] == '}') {
             if (p.depth == 0) return fail(&p, line, "'}' without an open block");
+            /* a .bhv mode declaration "set MODE = VAL { ... } ELSEVAL": the word after '}' is
+             * kept as the block's last child, key "}else" */
+            const char *w = a + 1;
+            size_t wl = n - 1;
+            trim(&w, &wl);
+            if (wl && w[0] != '}' && w[0] != '#' && !(wl > 1 && w[0] == '/' && w[1] == '/') &&
+                p.stack_set[p.depth - 1]) {
+                size_t k = 0;
+                while (k < wl && !sp(w[k]) && w[k] != '#') k++;
+                if ((rc = add(&p, KELP_MN_PARAM, "}else", 5, w, k, false, line)) < 0) return rc;
+                p.depth--;
+                p.pos = (size_t)(w + k - p.s);
+                continue;
+            }
             p.depth--;
             p.pos = (size_t)(a - p.s) + 1;
             continue;
@@ -262,14 +280,17 @@ int kelp_mission_parse(kelp_mission *m, const char *text, size_t len, kelp_missi
             if (is_block) {
                 if (vl == 0) return fail(&p, line, "block header without a name");
                 if ((rc = add(&p, KELP_MN_BLOCK, k, kl, v, vl, false, line)) < 0) return rc;
+                bool is_set = kl > 4 && kelp_strieq_n(k, 3, "set") && sp(k[3]);
                 if (brace_here) {
                     if (p.depth >= MAX_DEPTH) return fail(&p, line, "blocks nested too deeply");
                     p.stack_pb[p.depth] = false;
+                    p.stack_set[p.depth] = is_set;
                     p.stack_line[p.depth] = line;
                     p.stack[p.depth++] = rc;
                 } else {
                     pending_block = rc;
                     pending_line = line;
+                    pending_set = is_set;
                 }
             } else {
                 if ((rc = add(&p, KELP_MN_PARAM, k, kl, v, vl, false, line)) < 0) return rc;

@@ -1,9 +1,20 @@
 /* kelp helm: BHV_Waypoint, the multi-point waypoint behaviour MOOS-IvP users expect:
- * points (or polygon), order, repeat, capture_radius, slip_radius, lead (trackline
- * following), speed; posts WPT_STAT, WPT_INDEX, CYCLE_INDEX, VIEW_POINT, VIEW_SEGLIST, and
- * wptflag / cycleflag / endflag. The course x speed function is the SimpleWaypoint ZAIC one. */
+ * points (or polygon), order, repeat, capture_radius, slip_radius, capture_line, lead,
+ * lead_damper, lead_to_start, speed, speed_alt/use_alt_speed, crs_spd_zaic_ratio,
+ * efficiency_measure, visual_hints, the names of its reports (wpt_status_var, wpt_index_var,
+ * cycle_index_var, post_suffix, wpt_dist_to_prev/next); posts WPT_STAT, WPT_INDEX,
+ * CYCLE_INDEX, WPT_ODO, VIEW_POINT, VIEW_SEGLIST, and wptflag / cycleflag / endflag.
+ *
+ * Steering follows MOOS-IvP's BHV_Waypoint: with a lead distance, the vehicle steers at a point
+ * `lead` metres (times the damper factor near the trackline) beyond its perpendicular
+ * projection on the current leg. The leg starts at the previous waypoint; on the very first
+ * leg there is none, so the vehicle heads straight at the first point unless lead_to_start
+ * asks for a leg from where it started. The course x speed function is the SimpleWaypoint
+ * ZAIC one. */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
+#include <kelp/kv.h>
 #include "helm_int.h"
 
 static void wpt_reset(kelp_bhv_wpt *s)
@@ -12,8 +23,11 @@ static void wpt_reset(kelp_bhv_wpt *s)
     s->cycles = 0;
     s->captured = s->slipped = 0;
     s->have_prev = false;
+    s->have_mark = false;
     s->min_dist = INFINITY;
 }
+
+#define SETSTR(dst, src) ((void)hx_copy((dst), sizeof(dst), (src), strlen(src)))
 
 static void wpt_init(kelp_bhv *b)
 {
@@ -24,7 +38,22 @@ static void wpt_init(kelp_bhv *b)
     s->capture_radius = 3;
     s->slip_radius = 15;
     s->lead = 0;
+    s->lead_damper = -1;
+    s->speed_alt = -1;
+    s->course_pct = 50;
     s->repeat = 0;
+    SETSTR(s->var_report, "WPT_STAT");
+    SETSTR(s->var_index, "WPT_INDEX");
+    SETSTR(s->var_cyindex, "CYCLE_INDEX");
+    SETSTR(s->hint_vertex_color, "dodger_blue");
+    SETSTR(s->hint_edge_color, "white");
+    SETSTR(s->hint_label_color, "white");
+    SETSTR(s->hint_nextpt_color, "yellow");
+    SETSTR(s->hint_nextpt_lcolor, "aqua");
+    s->hint_vertex_size = 3;
+    s->hint_edge_size = 1;
+    s->hint_nextpt_vertex_size = 5;
+    s->odo_virgin = true;
     wpt_reset(s);
     (void)kelp_bhv_add_info_vars(b, "NAV_X, NAV_Y");
 }
@@ -36,6 +65,67 @@ static int add_flag(kelp_bhv_flag *arr, unsigned *n, unsigned cap, const char *v
     arr[*n].kind = KELP_FLAG_RUN;
     (*n)++;
     return 0;
+}
+
+static int parse_bool(const char *v, bool *out)
+{
+    if (hx_ieq(v, "true"))
+        *out = true;
+    else if (hx_ieq(v, "false"))
+        *out = false;
+    else
+        return KELP_ERR_PARSE;
+    return 0;
+}
+
+/* a report variable name: no white space, not empty; "silent" (any case) turns it off */
+static int set_var(char *dst, size_t cap, const char *v, bool empty_ok)
+{
+    size_t n = strlen(v);
+    if ((!n && !empty_ok) || n >= cap)
+        return KELP_ERR_PARSE;
+    for (size_t i = 0; i < n; i++)
+        if (hx_is_space(v[i]))
+            return KELP_ERR_PARSE;
+    if (hx_ieq(v, "silent"))
+        v = empty_ok ? "" : "silent";
+    (void)hx_copy(dst, cap, v, strlen(v));
+    return 0;
+}
+
+/* visual_hints = vertex_size=3, edge_color=white, ... (unknown or bad hints are ignored, as
+ * MOOS-IvP does) */
+static int set_hints(kelp_bhv_wpt *s, const char *v)
+{
+    size_t pos = 0, kl, vl;
+    const char *k, *val;
+    int rc;
+    while ((rc = kelp_kv_next(v, ',', &pos, &k, &kl, &val, &vl)) == 1) {
+        char key[32], value[24];
+        if (!hx_copy(key, sizeof key, k, kl) || !hx_copy(value, sizeof value, val, vl) || !vl)
+            continue;
+        for (char *c = key; *c; c++)
+            *c = hx_lower(*c);
+        double d;
+        bool num = hx_number(value, vl, &d) && d >= 0;
+        if (!strcmp(key, "vertex_size") && num)
+            s->hint_vertex_size = d;
+        else if (!strcmp(key, "edge_size") && num)
+            s->hint_edge_size = d;
+        else if (!strcmp(key, "nextpt_vertex_size") && num)
+            s->hint_nextpt_vertex_size = d;
+        else if (!strcmp(key, "vertex_color"))
+            SETSTR(s->hint_vertex_color, value);
+        else if (!strcmp(key, "edge_color"))
+            SETSTR(s->hint_edge_color, value);
+        else if (!strcmp(key, "label_color"))
+            SETSTR(s->hint_label_color, value);
+        else if (!strcmp(key, "nextpt_color"))
+            SETSTR(s->hint_nextpt_color, value);
+        else if (!strcmp(key, "nextpt_lcolor"))
+            SETSTR(s->hint_nextpt_lcolor, value);
+    }
+    return rc < 0 ? KELP_ERR_PARSE : 0;
 }
 
 static int wpt_set_param(kelp_bhv *b, const char *p, const char *v)
@@ -55,12 +145,65 @@ static int wpt_set_param(kelp_bhv *b, const char *p, const char *v)
     }
     if (!strcmp(p, "speed"))
         return num && d >= 0 ? (s->speed = d, 0) : KELP_ERR_PARSE;
+    if (!strcmp(p, "speed_alt"))
+        return num && d >= 0 ? (s->speed_alt = d, 0) : KELP_ERR_PARSE;
+    if (!strcmp(p, "use_alt_speed"))
+        return parse_bool(v, &s->use_alt_speed);
     if (!strcmp(p, "capture_radius") || !strcmp(p, "radius"))
-        return num && d >= 0 ? (s->capture_radius = d, 0) : KELP_ERR_PARSE;
+        return num && d > 0 ? (s->capture_radius = d, 0) : KELP_ERR_PARSE;
     if (!strcmp(p, "slip_radius") || !strcmp(p, "nm_radius"))
         return num && d >= 0 ? (s->slip_radius = d, 0) : KELP_ERR_PARSE;
-    if (!strcmp(p, "lead"))
-        return num && d >= 0 ? (s->lead = d, 0) : KELP_ERR_PARSE;
+    if (!strcmp(p, "capture_line")) {
+        if (hx_ieq(v, "absolute")) {
+            s->capture_line = true;
+            s->capture_radius = s->slip_radius = 0;
+            return 0;
+        }
+        return parse_bool(v, &s->capture_line);
+    }
+    if (!strcmp(p, "lead")) /* zero or less: off */
+        return num ? (s->lead = d > 0 ? d : 0, 0) : KELP_ERR_PARSE;
+    if (!strcmp(p, "lead_damper"))
+        return num && d > 0 ? (s->lead_damper = d, 0) : KELP_ERR_PARSE;
+    if (!strcmp(p, "lead_to_start"))
+        return parse_bool(v, &s->lead_to_start);
+    if (!strcmp(p, "crs_spd_zaic_ratio"))
+        return num && d >= 1 && d <= 99 ? (s->course_pct = d, 0) : KELP_ERR_PARSE;
+    if (!strcmp(p, "efficiency_measure")) {
+        if (hx_ieq(v, "all") || hx_ieq(v, "off")) {
+            s->efficiency = hx_ieq(v, "all");
+            return 0;
+        }
+        return KELP_ERR_PARSE;
+    }
+    if (!strcmp(p, "visual_hints"))
+        return set_hints(s, v);
+    if (!strcmp(p, "wpt_status") || !strcmp(p, "wpt_status_var"))
+        return set_var(s->var_report, sizeof s->var_report, v, false);
+    if (!strcmp(p, "wpt_index") || !strcmp(p, "wpt_index_var"))
+        return set_var(s->var_index, sizeof s->var_index, v, false);
+    if (!strcmp(p, "cycle_index_var"))
+        return set_var(s->var_cyindex, sizeof s->var_cyindex, v, false);
+    if (!strcmp(p, "wpt_dist_to_prev"))
+        return set_var(s->var_dist_prev, sizeof s->var_dist_prev, v, true);
+    if (!strcmp(p, "wpt_dist_to_next"))
+        return set_var(s->var_dist_next, sizeof s->var_dist_next, v, true);
+    if (!strcmp(p, "post_suffix")) {
+        /* stored with its leading '_' (added when missing) */
+        if (set_var(s->suffix + 1, sizeof s->suffix - 1, v[0] == '_' ? v + 1 : v, true))
+            return KELP_ERR_PARSE;
+        if (s->suffix[1])
+            s->suffix[0] = '_';
+        else
+            s->suffix[0] = '\0';
+        return 0;
+    }
+    if (!strcmp(p, "currix")) {
+        if (!num || d < 0 || d != floor(d))
+            return KELP_ERR_PARSE;
+        s->index = s->npts && (unsigned)d < s->npts ? (unsigned)d : 0;
+        return 0;
+    }
     if (!strcmp(p, "repeat")) {
         if (hx_ieq(v, "forever")) {
             s->repeat = -1;
@@ -74,8 +217,10 @@ static int wpt_set_param(kelp_bhv *b, const char *p, const char *v)
     if (!strcmp(p, "order")) {
         if (hx_ieq(v, "normal"))
             s->reverse = false;
-        else if (hx_ieq(v, "reverse"))
+        else if (hx_ieq(v, "reverse") || hx_ieq(v, "reversed"))
             s->reverse = true;
+        else if (hx_ieq(v, "toggle"))
+            s->reverse = !s->reverse;
         else
             return KELP_ERR_PARSE;
         wpt_reset(s);
@@ -112,18 +257,40 @@ static void post_seglist(kelp_bhv *b, bool active)
         hx_fmt_double(y, sizeof y, p.y);
         n += hx_cat(buf + n, sizeof buf - n, i ? ":" : "", x, ",", y, HX_END);
     }
-    hx_cat(buf + n, sizeof buf - n, "},label=", b->name, ",active=", active ? "true" : "false", HX_END);
+    n += hx_cat(buf + n, sizeof buf - n, "},label=", b->name, ",active=", active ? "true" : "false", HX_END);
+    if (active) {
+        char vs[32], es[32];
+        hx_fmt_double(vs, sizeof vs, s->hint_vertex_size);
+        hx_fmt_double(es, sizeof es, s->hint_edge_size);
+        hx_cat(buf + n, sizeof buf - n, ",vertex_color=", s->hint_vertex_color, ",edge_color=", s->hint_edge_color,
+               ",label_color=", s->hint_label_color, ",vertex_size=", vs, ",edge_size=", es, HX_END);
+    }
     kelp_bhv_post_string(b, "VIEW_SEGLIST", buf, NULL);
 }
 
 static void post_point(kelp_bhv *b, kelp_bhv_pt p, bool active)
 {
-    char x[32], y[32], spec[KELP_MAX_NAME * 2 + 128];
+    const kelp_bhv_wpt *s = &b->u.wpt;
+    char x[32], y[32], vs[32], spec[KELP_MAX_NAME * 2 + 256];
     hx_fmt_double(x, sizeof x, p.x);
     hx_fmt_double(y, sizeof y, p.y);
-    hx_cat(spec, sizeof spec, "label=", b->us[0] ? b->us : "vehicle", "'s next waypoint,type=waypoint,source=", b->name,
-           ",x=", x, ",y=", y, ",active=", active ? "true" : "false", HX_END);
+    size_t n = hx_cat(spec, sizeof spec, "label=", b->us[0] ? b->us : "vehicle", "'s next waypoint,type=waypoint,source=",
+                      b->name, ",x=", x, ",y=", y, ",active=", active ? "true" : "false", HX_END);
+    if (active) {
+        hx_fmt_double(vs, sizeof vs, s->hint_nextpt_vertex_size);
+        hx_cat(spec + n, sizeof spec - n, ",vertex_color=", s->hint_nextpt_color, ",label_color=", s->hint_nextpt_lcolor,
+               ",vertex_size=", vs, HX_END);
+    }
     kelp_bhv_post_string(b, "VIEW_POINT", spec, NULL);
+}
+
+/* a report under its configured name plus post_suffix; "silent" posts nothing */
+static bool report_name(const kelp_bhv_wpt *s, const char *var, char *out, size_t cap)
+{
+    if (!var[0] || hx_ieq(var, "silent"))
+        return false;
+    hx_cat(out, cap, var, s->suffix, HX_END);
+    return true;
 }
 
 static void wpt_idle(kelp_bhv *b)
@@ -150,9 +317,13 @@ static void post_stat(kelp_bhv *b, double dist)
     hx_fmt_fixed(et, sizeof et, eta, 0);
     hx_cat(buf, sizeof buf, "vname=", b->us[0] ? b->us : "vehicle", ",behavior-name=", b->name, ",index=", ix, ",hits=", hc,
            "/", ht, ",cycles=", cy, ",dist=", ds, ",eta=", et, HX_END);
-    kelp_bhv_post_string(b, "WPT_STAT", buf, NULL);
-    kelp_bhv_post_double(b, "WPT_INDEX", (double)s->index, NULL);
-    kelp_bhv_post_double(b, "CYCLE_INDEX", (double)s->cycles, NULL);
+    char var[KELP_MAX_NAME + 24];
+    if (report_name(s, s->var_report, var, sizeof var))
+        kelp_bhv_post_string(b, var, buf, NULL);
+    if (report_name(s, s->var_index, var, sizeof var))
+        kelp_bhv_post_double(b, var, (double)s->index, NULL);
+    if (report_name(s, s->var_cyindex, var, sizeof var))
+        kelp_bhv_post_double(b, var, (double)s->cycles, NULL);
 }
 
 static void post_pairs(kelp_bhv *b, const kelp_bhv_flag *f, unsigned n)
@@ -163,6 +334,89 @@ static void post_pairs(kelp_bhv *b, const kelp_bhv_flag *f, unsigned n)
         else
             kelp_bhv_post_double(b, f[i].p.var, f[i].p.dval, "repeatable");
     }
+}
+
+/* odometry and, with efficiency_measure = all, the leg's efficiency (straight-line distance
+ * over distance travelled) when a leg ends */
+static void odo_update(kelp_bhv_wpt *s)
+{
+    if (!s->odo_virgin)
+        s->odo_leg += hypot(s->osx - s->odo_px, s->osy - s->odo_py);
+    s->odo_virgin = false;
+    s->odo_px = s->osx;
+    s->odo_py = s->osy;
+}
+
+static void odo_mark_leg(kelp_bhv *b, bool first)
+{
+    kelp_bhv_wpt *s = &b->u.wpt;
+    if (!s->efficiency)
+        return;
+    if (!first && s->odo_leg > 0) {
+        double linear = hypot(s->osx - s->odo_setx, s->osy - s->odo_sety);
+        s->eff_linear += linear;
+        s->eff_odo += s->odo_leg;
+        char buf[160];
+        snprintf(buf, sizeof buf, "linear_dist=%.1f,odo_dist=%.1f,efficiency=%.1f", linear, s->odo_leg,
+                 100.0 * linear / s->odo_leg);
+        kelp_bhv_post_string(b, "WPT_EFFICIENCY_LEG", buf, "repeatable");
+        double eff = s->eff_odo > 0 ? 100.0 * s->eff_linear / s->eff_odo : 0;
+        snprintf(buf, sizeof buf, "linear_dist=%.1f,odo_dist=%.1f,efficiency=%.1f", s->eff_linear, s->eff_odo, eff);
+        kelp_bhv_post_string(b, "WPT_EFFICIENCY_SUM", buf, NULL);
+        kelp_bhv_post_double(b, "WPT_EFFICIENCY_VAL", eff, NULL);
+    }
+    s->odo_setx = s->osx;
+    s->odo_sety = s->osy;
+    s->odo_leg = 0;
+}
+
+/* the start of the current leg for lead steering, or false on the first leg (unless
+ * lead_to_start) */
+static bool leg_anchor(kelp_bhv_wpt *s, kelp_bhv_pt *a)
+{
+    if (s->index > 0) {
+        *a = point(s, s->index - 1);
+        return true;
+    }
+    if (s->cycles > 0) {
+        *a = point(s, s->npts - 1);
+        return true;
+    }
+    if (!s->lead_to_start)
+        return false;
+    if (!s->have_mark) {
+        s->mark.x = s->osx;
+        s->mark.y = s->osy;
+        s->have_mark = true;
+    }
+    *a = s->mark;
+    return true;
+}
+
+/* the point to steer at: the waypoint, or with a lead distance a point on the leg ahead of the
+ * vehicle's perpendicular projection on it */
+static kelp_bhv_pt track_point(kelp_bhv_wpt *s, kelp_bhv_pt cur)
+{
+    kelp_bhv_pt a;
+    if (!(s->lead > 0) || !leg_anchor(s, &a))
+        return cur;
+    double lx = cur.x - a.x, ly = cur.y - a.y, l2 = lx * lx + ly * ly;
+    if (!(l2 > 0))
+        return cur;
+    double t = ((s->osx - a.x) * lx + (s->osy - a.y) * ly) / l2;
+    t = t < 0 ? 0 : t > 1 ? 1 : t;
+    double px = a.x + t * lx, py = a.y + t * ly;
+    double factor = 1.0;
+    if (s->lead_damper > 0) {
+        double off = hypot(px - s->osx, py - s->osy);
+        if (off < s->lead_damper)
+            factor += 2 * (1 - off / s->lead_damper);
+    }
+    double len = sqrt(l2), d = hypot(cur.x - px, cur.y - py);
+    if (d > s->lead * factor)
+        d = s->lead * factor;
+    kelp_bhv_pt tp = { px + d * lx / len, py + d * ly / len };
+    return tp;
 }
 
 static int wpt_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
@@ -177,25 +431,40 @@ static int wpt_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     if (s->npts == 0)
         return 0;
     if (!s->have_prev || s->restart || b->state == KELP_BHV_IDLE || b->state == KELP_BHV_NONE) {
-        /* the first trackline starts where the vehicle is when the behaviour (re)starts */
-        s->prev.x = s->osx;
-        s->prev.y = s->osy;
-        s->have_prev = true;
+        /* the capture line of the first leg is measured from where the vehicle is when the
+         * behaviour (re)starts; odometry picks up from here */
+        if (!s->have_prev) {
+            s->prev.x = s->osx;
+            s->prev.y = s->osy;
+            s->have_prev = true;
+            s->odo_virgin = true;
+            odo_update(s);
+            odo_mark_leg(b, true);
+        }
+        s->odo_virgin = true;
         s->restart = false;
         s->min_dist = INFINITY;
     }
+    odo_update(s);
     kelp_bhv_pt cur = point(s, s->index);
     double dist = hypot(cur.x - s->osx, cur.y - s->osy);
     bool captured = dist <= s->capture_radius;
     bool slipped = !captured && s->slip_radius > 0 && dist <= s->slip_radius && dist > s->min_dist;
+    if (!captured && !slipped && s->capture_line) {
+        /* past the line through the waypoint square to the leg from the previous point */
+        double lx = cur.x - s->prev.x, ly = cur.y - s->prev.y;
+        captured = (lx != 0 || ly != 0) && (s->osx - cur.x) * lx + (s->osy - cur.y) * ly >= 0;
+    }
     if (dist < s->min_dist)
         s->min_dist = dist;
+    char var[KELP_MAX_NAME + 24];
     if (captured || slipped) {
         if (captured)
             s->captured++;
         else
             s->slipped++;
         post_pairs(b, s->wptflag, s->nwptflag);
+        odo_mark_leg(b, false);
         s->prev = cur;
         s->min_dist = INFINITY;
         s->index++;
@@ -216,27 +485,19 @@ static int wpt_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
         cur = point(s, s->index);
         dist = hypot(cur.x - s->osx, cur.y - s->osy);
     }
-    /* track point: lead metres ahead of the projection on the current leg, capped at cur */
-    kelp_bhv_pt tp = cur;
-    if (s->lead > 0) {
-        double lx = cur.x - s->prev.x, ly = cur.y - s->prev.y, l2 = lx * lx + ly * ly;
-        if (l2 > 0) {
-            double t = ((s->osx - s->prev.x) * lx + (s->osy - s->prev.y) * ly) / l2;
-            double len = sqrt(l2);
-            t += s->lead / len;
-            if (t < 1) {
-                if (t < 0)
-                    t = 0;
-                tp.x = s->prev.x + t * lx;
-                tp.y = s->prev.y + t * ly;
-            }
-        }
-    }
+    kelp_bhv_pt tp = track_point(s, cur);
+    hx_cat(var, sizeof var, "WPT_ODO", s->suffix, HX_END);
+    kelp_bhv_post_double(b, var, s->odo_leg, NULL);
     post_stat(b, dist);
     post_point(b, cur, true);
     post_seglist(b, true);
+    if (s->var_dist_prev[0])
+        kelp_bhv_post_double(b, s->var_dist_prev, hypot(s->prev.x - s->osx, s->prev.y - s->osy), NULL);
+    if (s->var_dist_next[0])
+        kelp_bhv_post_double(b, s->var_dist_next, dist, NULL);
+    double speed = s->use_alt_speed && s->speed_alt >= 0 ? s->speed_alt : s->speed;
     double crs = kelp_helm_relang(s->osx, s->osy, tp.x, tp.y);
-    if (bhv_course_speed_zaic(b, w, crs, s->speed, 0.5, 1.0, 0.8, out) < 0) {
+    if (bhv_course_speed_zaic_ratio(b, w, crs, speed, 0.5, 1.0, 0.8, s->course_pct, out) < 0) {
         kelp_bhv_post_warning(b, "Problem Creating the IvP Function");
         return 0;
     }

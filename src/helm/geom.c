@@ -168,6 +168,12 @@ int bhv_zaic1(kelp_bhv *b, const kelp_helm_work *w, const char *var, double summ
 int bhv_course_speed_zaic(kelp_bhv *b, const kelp_helm_work *w, double course, double speed, double spw, double sbw,
                           double ssd, kelp_ivp_func *out)
 {
+    return bhv_course_speed_zaic_ratio(b, w, course, speed, spw, sbw, ssd, 50, out);
+}
+
+int bhv_course_speed_zaic_ratio(kelp_bhv *b, const kelp_helm_work *w, double course, double speed, double spw,
+                                double sbw, double ssd, double course_pct, kelp_ivp_func *out)
+{
     int is = kelp_ivp_domain_index(&b->dom, "speed");
     if (is < 0 || kelp_ivp_domain_index(&b->dom, "course") < 0)
         return KELP_ERR_NOTFOUND;
@@ -186,5 +192,5 @@ int bhv_course_speed_zaic(kelp_bhv *b, const kelp_helm_work *w, double course, d
     rc = bhv_zaic1(b, &wc, "course", course, 0, 180.0, 0, true, &crs);
     if (rc < 0)
         return rc;
-    return kelp_ivp_couple(&crs, 50, &spd, 50, true, 0, 100, w->out, w->out_cap, out);
+    return kelp_ivp_couple(&crs, course_pct, &spd, 100 - course_pct, true, 0, 100, w->out, w->out_cap, out);
 }

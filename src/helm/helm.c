@@ -176,6 +176,13 @@ int kelp_helm_load_bhv(kelp_helm *h, const kelp_mission *m)
                 return rc;
             continue;
         }
+        if (nd->kind == KELP_MN_BLOCK && nd->klen > 4 && kelp_strieq_n(nd->key, 3, "set") && hx_is_space(nd->key[3])) {
+            char why[96] = "";
+            int rc = helm_mode_load(h, m, i, why, sizeof why);
+            if (rc < 0)
+                return helm_fail(h, nd->line, rc, "mode declaration: ", why, NULL);
+            continue;
+        }
         if (nd->kind == KELP_MN_BLOCK && kelp_strieq_n(nd->key, nd->klen, "Behavior")) {
             char type[KELP_MAX_NAME];
             if (!hx_copy(type, sizeof type, nd->val, nd->vlen))
@@ -249,11 +256,48 @@ static void post_init(kelp_helm *h, const kelp_helm_pair *p)
     sink(h, p->var, p->is_str, p->sval, p->dval, AUX_INIT);
 }
 
+static void post_mode(kelp_helm *h, const char *var, const char *val)
+{
+    sink(h, var, true, val, 0, NULL);
+}
+
 void kelp_helm_start(kelp_helm *h, double now)
 {
     h->t0 = now;
     h->started = true;
     h->ib.curr_time = 0;
+    char buf[KELP_HELM_MAX_SVAL];
+    if (h->nmodes) {
+        helm_mode_describe(h, buf, sizeof buf);
+        sink(h, "IVPHELM_MODESET", true, buf, 0, NULL);
+    }
+    /* IVPHELM_DOMAIN: "course,0,359,360:speed,0,4,21" */
+    size_t n = 0;
+    buf[0] = '\0';
+    for (unsigned d = 0; d < h->cfg.domain.dim; d++) {
+        const kelp_ivp_var *v = &h->cfg.domain.var[d];
+        char lo[32], hi[32], pt[24];
+        hx_fmt_double(lo, sizeof lo, v->low);
+        hx_fmt_double(hi, sizeof hi, v->high);
+        hx_fmt_ulong(pt, sizeof pt, v->points);
+        n += hx_cat(buf + n, sizeof buf - n, d ? ":" : "", v->name, ",", lo, ",", hi, ",", pt, HX_END);
+    }
+    sink(h, "IVPHELM_DOMAIN", true, buf, 0, NULL);
+    /* one spawn event per behaviour of the files */
+    for (unsigned i = 0; i < h->nbhv; i++) {
+        hx_cat(buf, sizeof buf, "time=0.00, iter=0, bname=", h->bhv[i].name, ", btype=", h->bhv[i].type,
+               ", event=spawn, seed=helm startup", HX_END);
+        sink(h, "IVPHELM_LIFE_EVENT", true, buf, 0, NULL);
+    }
+    /* the variables behaviour updates and mode declarations listen to */
+    n = 0;
+    buf[0] = '\0';
+    for (unsigned i = 0; i < h->nbhv; i++)
+        if (h->bhv[i].updates[0])
+            n += hx_cat(buf + n, sizeof buf - n, n ? "," : "", h->bhv[i].updates, HX_END);
+    sink(h, "IVPHELM_UPDATEVARS", true, buf, 0, NULL);
+    helm_mode_vars(h, buf, sizeof buf);
+    sink(h, "IVPHELM_STATEVARS", true, buf, 0, NULL);
     for (unsigned i = 0; i < h->ninit; i++)
         if (!h->init_defer[i])
             post_init(h, &h->init[i]);
@@ -748,6 +792,28 @@ static void post_outputs(kelp_helm *h)
         case KELP_BHV_NONE: break;
         }
     }
+    /* behaviour counts, posted when they change (kelp has no disabled behaviours: always 0) */
+    static const char *const cvar[5] = {"IVPHELM_BHV_CNT", "IVPHELM_BHV_ACTIVE_CNT", "IVPHELM_BHV_RUNNING_CNT",
+                                        "IVPHELM_BHV_IDLE_CNT", "IVPHELM_BHV_DISABLED_CNT"};
+    const unsigned cnt[5] = {h->nbhv, r->nactive, r->nrunning, r->nidle, 0};
+    for (int k = 0; k < 5; k++)
+        if (h->last_cnt[k] != cnt[k] + 1) {
+            sink(h, cvar[k], false, NULL, (double)cnt[k], NULL);
+            if (k == 0)
+                sink(h, "IVPHELM_BHV_CNT_EVER", false, NULL, (double)h->nbhv, NULL);
+            h->last_cnt[k] = cnt[k] + 1;
+        }
+    if (r->create_time > r->max_create_time)
+        r->max_create_time = r->create_time;
+    if (r->solve_time > r->max_solve_time)
+        r->max_solve_time = r->solve_time;
+    if (r->loop_time > r->max_loop_time)
+        r->max_loop_time = r->loop_time;
+    r->total_pcs_formed += r->pcs_formed;
+    if (h->cfg.cpu_clock) {
+        sink(h, "IVPHELM_CREATE_CPU", false, NULL, r->create_time, NULL);
+        sink(h, "IVPHELM_LOOP_CPU", false, NULL, r->loop_time, NULL);
+    }
     static const char *const lvar[3] = {"IVPHELM_BHV_ACTIVE", "IVPHELM_BHV_RUNNING", "IVPHELM_BHV_IDLE"};
     for (int k = 0; k < 3; k++)
         if (h->iteration == 1 || strcmp(lists[k], h->last_lists[k]) != 0) {
@@ -778,6 +844,22 @@ static void post_outputs(kelp_helm *h)
                 *c = ':';
         n += hx_cat(buf + n, sizeof buf - n, ",", keys[k], "=", tmp[0] ? tmp : "none", HX_END);
     }
+    {
+        char ut[32], ct[32], st[32], lt[32], mct[32], mst[32], mlt[32], pf[24];
+        hx_fmt_fixed(ut, sizeof ut, h->t0 + r->time, 2);
+        hx_fmt_fixed(ct, sizeof ct, r->create_time, 4);
+        hx_fmt_fixed(st, sizeof st, r->solve_time, 4);
+        hx_fmt_fixed(lt, sizeof lt, r->loop_time, 4);
+        hx_fmt_fixed(mct, sizeof mct, r->max_create_time, 4);
+        hx_fmt_fixed(mst, sizeof mst, r->max_solve_time, 4);
+        hx_fmt_fixed(mlt, sizeof mlt, r->max_loop_time, 4);
+        hx_fmt_ulong(pf, sizeof pf, r->total_pcs_formed);
+        n += hx_cat(buf + n, sizeof buf - n, ",utc_time=", ut, ",create_time=", ct, ",solve_time=", st, ",loop_time=", lt,
+                    ",max_create_time=", mct, ",max_solve_time=", mst, ",max_loop_time=", mlt, ",total_pcs_formed=", pf,
+                    ",total_pcs_cached=0,disabled_bhvs=none", HX_END);
+    }
+    if (h->mode_summary[0])
+        hx_cat(buf + n, sizeof buf - n, ",modes=", h->mode_summary, HX_END);
     sink(h, "IVPHELM_SUMMARY", true, buf, 0, NULL);
     sink(h, "IVPHELM_IPF_CNT", false, NULL, (double)r->ofnum, NULL);
     sink(h, "IVPHELM_ITER", false, NULL, (double)h->iteration, NULL);
@@ -800,22 +882,44 @@ int kelp_helm_iterate(kelp_helm *h, double now)
         for (unsigned i = 0; i < h->ninit; i++)
             if (h->init_defer[i] && kelp_helm_ib_find(&h->ib, h->init[i].var) < 0)
                 post_init(h, &h->init[i]);
+    helm_mode_eval(h, post_mode);
     kelp_helm_report *r = &h->rep;
-    unsigned long w = r->warnings, e = r->errors;
+    kelp_helm_report prev = *r;
     memset(r, 0, sizeof *r);
-    r->warnings = w;
-    r->errors = e;
+    r->warnings = prev.warnings;
+    r->errors = prev.errors;
+    r->max_create_time = prev.max_create_time;
+    r->max_solve_time = prev.max_solve_time;
+    r->max_loop_time = prev.max_loop_time;
+    r->total_pcs_formed = prev.total_pcs_formed;
     r->iteration = h->iteration;
     r->time = h->ib.curr_time;
     sink(h, "IVPHELM_STATE", true, h->engaged ? "DRIVE" : "PARK", 0, NULL);
+    if (h->iteration == 1 || h->engaged != h->last_engaged || h->ib.curr_time - h->last_engaged_post >= 1.0) {
+        sink(h, "IVPHELM_ENGAGED", true, h->engaged ? "ENGAGED" : "DISENGAGED", 0, NULL);
+        h->last_engaged = h->engaged;
+        h->last_engaged_post = h->ib.curr_time;
+    }
+    double (*clk)(void *) = h->cfg.cpu_clock;
+    double t_start = clk ? clk(h->cfg.user) : 0;
     if (h->engaged) {
         bool has_fn[KELP_HELM_MAX_BHVS] = {false};
         size_t pool_used = 0;
-        for (unsigned i = 0; i < h->nbhv; i++)
+        for (unsigned i = 0; i < h->nbhv; i++) {
             has_fn[i] = produce(h, i, &pool_used, &r->halted);
+            if (has_fn[i])
+                r->pcs_formed += h->fn[i].n;
+        }
         flush_posts(h);
+        double t_built = clk ? clk(h->cfg.user) : 0;
         if (!r->halted)
             solve(h, has_fn);
+        if (clk) {
+            double t_end = clk(h->cfg.user);
+            r->create_time = t_built - t_start;
+            r->solve_time = t_end - t_built;
+            r->loop_time = t_end - t_start;
+        }
     } else {
         h->nq = 0;
         h->qpool_used = 0;

@@ -54,6 +54,15 @@ void bhv_defaults(kelp_bhv *b);
  * (peakwidth 0, basewidth 180, summitdelta 0, wrap), coupled 50/50 and normalised to [0,100]. */
 int bhv_course_speed_zaic(kelp_bhv *b, const kelp_helm_work *w, double course, double speed, double spw, double sbw,
                           double ssd, kelp_ivp_func *out);
+/* hierarchical modes (modes.c): load the "set VAR = VAL { ... } ELSE" block at node bi; evaluate
+ * all entries (post gets each changed value); IVPHELM_MODESET text */
+int helm_mode_load(kelp_helm *h, const kelp_mission *m, size_t bi, char *why, size_t cap);
+void helm_mode_eval(kelp_helm *h, void (*post)(kelp_helm *h, const char *var, const char *val));
+void helm_mode_describe(const kelp_helm *h, char *buf, size_t cap);
+void helm_mode_vars(const kelp_helm *h, char *buf, size_t cap);
+/* the same with the course function's share of the coupling (MOOS-IvP crs_spd_zaic_ratio) */
+int bhv_course_speed_zaic_ratio(kelp_bhv *b, const kelp_helm_work *w, double course, double speed, double spw,
+                                double sbw, double ssd, double course_pct, kelp_ivp_func *out);
 /** A one-variable ZAIC_PEAK over var into w->out. */
 int bhv_zaic1(kelp_bhv *b, const kelp_helm_work *w, const char *var, double summit, double pw, double bw, double sd,
               bool wrap, kelp_ivp_func *out);

@@ -3,8 +3,14 @@
  * ZAIC_PEAK values follow the seed's distance form (section 7.1.2, which MOOS-IvP's evalPoint
  * implements); pieces are cut from the sampled values with MOOS-IvP's rule (linear runs within
  * 0.001, a break where the slope changes sign) so piece counts and pointwise values agree with
- * MOOS-IvP. LEQ/HEQ follow the seed's forms, with MOOS-IvP's index snapping but measured from
- * the domain low (upstream forgets to subtract it). */
+ * MOOS-IvP. LEQ/HEQ are built as MOOS-IvP's ZAIC_LEQ/ZAIC_HEQ build them: the summit is kept
+ * where it is given (outside the domain only earns a warning); the summit and the ramp's far
+ * end snap to the nearest index, clipped to the domain; the ramp's slope comes from the whole
+ * base width, and its line passes through the summit's utility at the summit index, or, when
+ * the summit is at or below index 0 (LEQ) / its ramp start is (HEQ), through the other end's
+ * utility at the other end, so a ramp cut by the domain keeps its slope. One difference: indices
+ * are measured from the domain low (upstream divides the raw value by delta, which only agrees
+ * when low is 0). */
 #include <string.h>
 #include <math.h>
 #include "ivp_int.h"
@@ -561,13 +567,9 @@ int kelp_ivp_zaic_hleq_set_summit(kelp_ivp_zaic_hleq *z, double v)
         ivp_warn(z->warn, "setSummit: value not finite, ignored");
         return 0;
     }
-    if (v < z->dom.var[0].low) {
-        v = z->dom.var[0].low;
-        ivp_warn(z->warn, "setSummit: summit below the domain, clipped");
-    } else if (v > z->dom.var[0].high) {
-        v = z->dom.var[0].high;
-        ivp_warn(z->warn, "setSummit: summit above the domain, clipped");
-    }
+    /* kept as given: the function is defined beyond the domain and cut by it */
+    if (v < z->dom.var[0].low || v > z->dom.var[0].high)
+        ivp_warn(z->warn, "setSummit: summit out of the domain's range (suspicious)");
     z->summit = v;
     return 0;
 }
@@ -633,10 +635,11 @@ int kelp_ivp_zaic_hleq_extract(const kelp_ivp_zaic_hleq *z, kelp_ivp_piece *stor
         ibw = (int32_t)((z->basewidth + v->delta / 2) / v->delta);
     double run = ibw >= 1 ? (double)ibw : 1.0; /* upstream divides by 0 here for tiny widths */
     if (z->kind == KELP_IVP_ZAIC_LEQ) {
+        /* [0,i1] max (the summit index alone at max+delta when i1 > 1), ramp (i1,i2], (i2,hi] min */
         int32_t i1 = hleq_index(v, z->summit);
         int32_t i2 = hleq_index(v, z->summit + z->basewidth);
-        if (i2 < i1)
-            i2 = i1;
+        if (i1 > i2)
+            i1 = i2;
         if (sd > 0 && i1 > 1) {
             if ((rc = push1(out, 0, i1 - 1, 0.0, maxu)) || (rc = push1(out, i1, i1, 0.0, maxu + sd)))
                 return rc;
@@ -645,7 +648,7 @@ int kelp_ivp_zaic_hleq_extract(const kelp_ivp_zaic_hleq *z, kelp_ivp_piece *stor
         }
         if (i1 < i2) {
             double slope = -(maxu - minu) / run;
-            double cst = maxu + (-slope * (double)i1);
+            double cst = i1 > 0 ? maxu - slope * (double)i1 : minu - slope * (double)i2;
             if ((rc = push1(out, i1 + 1, i2, slope, cst)))
                 return rc;
         }
@@ -653,35 +656,28 @@ int kelp_ivp_zaic_hleq_extract(const kelp_ivp_zaic_hleq *z, kelp_ivp_piece *stor
             return rc;
         return 0;
     }
-    /* HEQ */
+    /* HEQ: [i2,hi] max (the summit index alone at max+delta when i2 < hi-1), ramp [i1,i2), [0,i1)
+     * min. A summit at or above the domain's last index leaves that index without a piece, as
+     * MOOS-IvP's ZAIC_HEQ does (the solver never picks it). */
     int32_t i2 = hleq_index(v, z->summit);
     int32_t i1 = hleq_index(v, z->summit - z->basewidth);
     if (i1 > i2)
         i1 = i2;
-    bool spike = sd > 0 && (hi - i2) > 1;
-    if (i1 < i2) {
-        if ((rc = push1(out, 0, i1, 0.0, minu)))
-            return rc;
-        double slope = (maxu - minu) / run;
-        double cst = minu + (-slope * (double)i1);
-        int32_t rhi = spike ? i2 - 1 : i2;
-        if (rhi >= i1 + 1 && (rc = push1(out, i1 + 1, rhi, slope, cst)))
-            return rc;
-        if (spike && (rc = push1(out, i2, i2, 0.0, maxu + sd)))
-            return rc;
-    } else {
-        if (i2 > 0 && (rc = push1(out, 0, i2 - 1, 0.0, minu)))
-            return rc;
-        if (spike) {
-            if ((rc = push1(out, i2, i2, 0.0, maxu + sd)))
+    if (i2 < hi) {
+        if (sd > 0 && i2 < hi - 1) {
+            if ((rc = push1(out, i2 + 1, hi, 0.0, maxu)) || (rc = push1(out, i2, i2, 0.0, maxu + sd)))
                 return rc;
-        } else {
-            if ((rc = push1(out, i2, hi, 0.0, maxu)))
-                return rc;
-            return 0;
+        } else if ((rc = push1(out, i2, hi, 0.0, maxu))) {
+            return rc;
         }
     }
-    if (i2 < hi && (rc = push1(out, i2 + 1, hi, 0.0, maxu)))
+    if (i1 < i2) {
+        double slope = (maxu - minu) / run;
+        double cst = i1 > 0 ? minu - slope * (double)i1 : maxu - slope * (double)i2;
+        if ((rc = push1(out, i1, i2 - 1, slope, cst)))
+            return rc;
+    }
+    if (i1 > 0 && (rc = push1(out, 0, i1 - 1, 0.0, minu)))
         return rc;
     return 0;
 }

@@ -6,6 +6,7 @@
 #include <time.h>
 
 #include <kelp/dccl_edge.h>
+#include "programs.h"
 #include <kelp/edge/cli.h>
 
 #define CLI_MAX_XML 64

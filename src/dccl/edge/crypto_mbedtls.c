@@ -8,6 +8,13 @@
 
 #include <kelp/dccl_edge.h>
 
+KELP_STATIC_ASSERT(sizeof(mbedtls_aes_context) <= KELP_DCCL_AES_CTX_SIZE, "KELP_DCCL_AES_CTX_SIZE too small");
+
+static mbedtls_aes_context *aes_of(kelp_dccl_mbedtls *c)
+{
+    return (mbedtls_aes_context *)(void *)c->aes.bytes;
+}
+
 static int iv_fn(void *user, const uint8_t *head, size_t n, uint8_t iv[16])
 {
     unsigned char digest[32];
@@ -23,7 +30,7 @@ static int ctr_fn(void *user, const uint8_t iv[16], uint8_t *buf, size_t n)
     unsigned char counter[16], stream[16];
     size_t off = 0;
     memcpy(counter, iv, 16);
-    if (mbedtls_aes_crypt_ctr(&c->aes, n, &off, counter, stream, buf, buf) != 0) return KELP_ERR_CRYPTO;
+    if (mbedtls_aes_crypt_ctr(aes_of(c), n, &off, counter, stream, buf, buf) != 0) return KELP_ERR_CRYPTO;
     return KELP_OK;
 }
 
@@ -31,9 +38,9 @@ int kelp_dccl_mbedtls_init(kelp_dccl_mbedtls *c, const char *passphrase)
 {
     const char *pw = passphrase ? passphrase : "";
     memset(c, 0, sizeof *c);
-    mbedtls_aes_init(&c->aes);
+    mbedtls_aes_init(aes_of(c));
     if (mbedtls_sha256_ret((const unsigned char *)pw, strlen(pw), c->key, 0) != 0) return KELP_ERR_CRYPTO;
-    if (mbedtls_aes_setkey_enc(&c->aes, c->key, 256) != 0) return KELP_ERR_CRYPTO;
+    if (mbedtls_aes_setkey_enc(aes_of(c), c->key, 256) != 0) return KELP_ERR_CRYPTO;
     c->ops.iv = iv_fn;
     c->ops.ctr = ctr_fn;
     c->ops.user = c;
@@ -42,6 +49,6 @@ int kelp_dccl_mbedtls_init(kelp_dccl_mbedtls *c, const char *passphrase)
 
 void kelp_dccl_mbedtls_free(kelp_dccl_mbedtls *c)
 {
-    mbedtls_aes_free(&c->aes);
+    mbedtls_aes_free(aes_of(c));
     memset(c->key, 0, sizeof c->key);
 }

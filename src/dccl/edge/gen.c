@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include <kelp/dccl_edge.h>
+#include "programs.h"
 #include <kelp/edge/cli.h>
 
 static void put_str(FILE *f, const char *s)

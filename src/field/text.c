@@ -4,7 +4,7 @@
 #include <string.h>
 #include <kelp/err.h>
 #include <kelp/mission.h>
-#include "sim_int.h"
+#include "field_int.h"
 
 static bool is_ws(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
 
@@ -14,7 +14,7 @@ static void trim(const char **p, size_t *n)
     while (*n && is_ws((*p)[*n - 1])) (*n)--;
 }
 
-int sim_next_item(const char *s, size_t len, size_t *pos, char sep, const char **item, size_t *ilen)
+int field_next_item(const char *s, size_t len, size_t *pos, char sep, const char **item, size_t *ilen)
 {
     for (;;) {
         if (*pos >= len) return 0;
@@ -69,13 +69,13 @@ static size_t find_eq(const char *v, size_t vl)
     return vl;
 }
 
-int sim_for_pairs(const char *s, size_t len, char sep, sim_pair_fn fn, void *ctx, const char **why)
+int field_for_pairs(const char *s, size_t len, char sep, field_pair_fn fn, void *ctx, const char **why)
 {
     size_t pos = 0;
     const char *it;
     size_t il;
     int rc;
-    while ((rc = sim_next_item(s, len, &pos, sep, &it, &il)) == 1) {
+    while ((rc = field_next_item(s, len, &pos, sep, &it, &il)) == 1) {
         for (;;) {
             size_t eq = find_eq(it, il);
             if (eq >= il) {
@@ -115,7 +115,7 @@ int sim_for_pairs(const char *s, size_t len, char sep, sim_pair_fn fn, void *ctx
     return rc < 0 ? KELP_ERR_PARSE : KELP_OK;
 }
 
-int sim_copy_text(char *dst, size_t cap, const char *v, size_t vl)
+int field_copy_text(char *dst, size_t cap, const char *v, size_t vl)
 {
     if (vl + 1 > cap) return KELP_ERR_RANGE;
     memcpy(dst, v, vl);
@@ -136,7 +136,7 @@ int sim_number(const char *v, size_t vl, double *out)
     return KELP_OK;
 }
 
-int sim_put_str(char *buf, size_t cap, size_t *n, const char *s)
+int field_put_str(char *buf, size_t cap, size_t *n, const char *s)
 {
     size_t l = strlen(s);
     if (*n + l + 1 > cap) return KELP_ERR_NOSPACE;
@@ -145,7 +145,7 @@ int sim_put_str(char *buf, size_t cap, size_t *n, const char *s)
     return KELP_OK;
 }
 
-int sim_put_fixed(char *buf, size_t cap, size_t *n, double v, int dec, bool strip)
+int field_put_fixed(char *buf, size_t cap, size_t *n, double v, int dec, bool strip)
 {
     static const double pow10[] = {1, 10, 100, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
     if (!isfinite(v)) return KELP_ERR_ARG;

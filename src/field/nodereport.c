@@ -3,7 +3,7 @@
 #include <string.h>
 #include <kelp/nodereport.h>
 #include <kelp/mission.h>
-#include "sim_int.h"
+#include "field_int.h"
 
 void kelp_nodereport_init(kelp_nodereport *r)
 {
@@ -53,11 +53,11 @@ int kelp_nodereport_format(const kelp_nodereport *r, char *buf, size_t cap, size
     int rc = KELP_OK;
     for (size_t i = 0; i < sizeof f / sizeof f[0] && rc == KELP_OK; i++) {
         if (!(r->fields & f[i].bit)) continue;
-        if (n > 0) rc = sim_put_str(buf, cap, &n, ",");
-        if (rc == KELP_OK) rc = sim_put_str(buf, cap, &n, f[i].key);
-        if (rc == KELP_OK) rc = sim_put_str(buf, cap, &n, "=");
-        if (rc == KELP_OK) rc = f[i].text ? sim_put_str(buf, cap, &n, f[i].text)
-                                          : sim_put_fixed(buf, cap, &n, f[i].num, f[i].dec, f[i].strip);
+        if (n > 0) rc = field_put_str(buf, cap, &n, ",");
+        if (rc == KELP_OK) rc = field_put_str(buf, cap, &n, f[i].key);
+        if (rc == KELP_OK) rc = field_put_str(buf, cap, &n, "=");
+        if (rc == KELP_OK) rc = f[i].text ? field_put_str(buf, cap, &n, f[i].text)
+                                          : field_put_fixed(buf, cap, &n, f[i].num, f[i].dec, f[i].strip);
     }
     if (rc < 0) {
         if (cap) buf[0] = 0;
@@ -121,7 +121,7 @@ static int on_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl
                 return KELP_ERR_PARSE;
             }
         }
-        if (sim_copy_text(text, KELP_NODEREPORT_MAX_FIELD, v, vl) < 0) {
+        if (field_copy_text(text, KELP_NODEREPORT_MAX_FIELD, v, vl) < 0) {
             p->why = "text field too long";
             return KELP_ERR_RANGE;
         }
@@ -149,7 +149,7 @@ int kelp_nodereport_parse(const char *s, size_t len, kelp_nodereport *out, const
     while (len && *s == ' ') s++, len--;
     if (len >= 2 && s[0] == '"' && s[len - 1] == '"') s++, len -= 2;
     nrparse p = {&r, NULL};
-    int rc = sim_for_pairs(s, len, ',', on_pair, &p, why);
+    int rc = field_for_pairs(s, len, ',', on_pair, &p, why);
     if (rc < 0) {
         if (p.why) *why = p.why;
         return rc;

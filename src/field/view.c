@@ -3,7 +3,7 @@
 #include <string.h>
 #include <kelp/nodereport.h>
 #include <kelp/mission.h>
-#include "sim_int.h"
+#include "field_int.h"
 
 static const char *const var_names[KELP_VIEW_NKINDS] = {
     "VIEW_POINT", "VIEW_CIRCLE", "VIEW_POLYGON", "VIEW_SEGLIST", "VIEW_MARKER", "VIEW_COMMS_PULSE", "VIEW_RANGE_PULSE",
@@ -43,7 +43,7 @@ static int add_vertex(vparse *p, const char *s, size_t n)
     const char *it;
     size_t il;
     int rc;
-    while ((rc = sim_next_item(s, n, &pos, ',', &it, &il)) == 1) {
+    while ((rc = field_next_item(s, n, &pos, ',', &it, &il)) == 1) {
         if (k >= 3 || sim_number(it, il, &c[k]) < 0) {
             p->why = "bad vertex";
             return KELP_ERR_PARSE;
@@ -72,7 +72,7 @@ static int add_pts(vparse *p, const char *s, size_t n)
     const char *it;
     size_t il;
     int rc;
-    while ((rc = sim_next_item(s, n, &pos, ':', &it, &il)) == 1) {
+    while ((rc = field_next_item(s, n, &pos, ':', &it, &il)) == 1) {
         int r2 = add_vertex(p, it, il);
         if (r2 < 0) return r2;
     }
@@ -85,7 +85,7 @@ static int add_pts(vparse *p, const char *s, size_t n)
 
 static int set_text(vparse *p, char *dst, const char *v, size_t vl)
 {
-    if (sim_copy_text(dst, KELP_VIEW_MAX_FIELD, v, vl) < 0) {
+    if (field_copy_text(dst, KELP_VIEW_MAX_FIELD, v, vl) < 0) {
         p->why = "text field too long";
         return KELP_ERR_RANGE;
     }
@@ -173,7 +173,7 @@ static int parse_colon(vparse *p, const char *s, size_t len)
     const char *it;
     size_t il;
     int rc;
-    while ((rc = sim_next_item(s, len, &pos, ':', &it, &il)) == 1) {
+    while ((rc = field_next_item(s, len, &pos, ':', &it, &il)) == 1) {
         if (is_alpha(it[0])) {
             const char *c = memchr(it, ',', il);
             if (!c) {
@@ -238,7 +238,7 @@ int kelp_view_parse(kelp_view_kind kind, const char *s, size_t len, kelp_view *o
     while (len && *s == ' ') s++, len--;
     if (len >= 2 && s[0] == '"' && s[len - 1] == '"') s++, len -= 2;
     vparse p = {v, NULL};
-    int rc = has_eq_outside_braces(s, len) ? sim_for_pairs(s, len, ',', on_pair, &p, why) : parse_colon(&p, s, len);
+    int rc = has_eq_outside_braces(s, len) ? field_for_pairs(s, len, ',', on_pair, &p, why) : parse_colon(&p, s, len);
     if (rc < 0) {
         if (p.why) *why = p.why;
         return rc;

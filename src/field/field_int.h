@@ -1,32 +1,32 @@
 /* Private helpers shared by the node report and VIEW_* code (not installed). */
-#ifndef KELP_SIM_INT_H
-#define KELP_SIM_INT_H
+#ifndef KELP_FIELD_INT_H
+#define KELP_FIELD_INT_H
 #include <stdbool.h>
 #include <stddef.h>
 
 /** Called per key=value pair (trimmed, outer double quotes of the value removed).
  *  Return 0 to go on or <0 to stop with that status. */
-typedef int (*sim_pair_fn)(void *ctx, const char *k, size_t kl, const char *v, size_t vl);
+typedef int (*field_pair_fn)(void *ctx, const char *k, size_t kl, const char *v, size_t vl);
 
 /** Walk the pairs of s[0..len): items are split at `sep` outside braces and quotes, each at
  *  its first '='; a value that holds " key=value" is split at that space (the seed's
  *  "type=waypoint source=transit"). Empty items are skipped.
  *  @return 0, the callback's status, or KELP_ERR_PARSE (unbalanced brace/quote, item
  *  without '=', empty key) with *why set. */
-int sim_for_pairs(const char *s, size_t len, char sep, sim_pair_fn fn, void *ctx, const char **why);
+int field_for_pairs(const char *s, size_t len, char sep, field_pair_fn fn, void *ctx, const char **why);
 
 /** Next item of s[0..len) split at `sep` outside braces/quotes: 1 with a trimmed item, 0 at
  *  the end, KELP_ERR_PARSE when a brace or quote is unbalanced. */
-int sim_next_item(const char *s, size_t len, size_t *pos, char sep, const char **item, size_t *ilen);
+int field_next_item(const char *s, size_t len, size_t *pos, char sep, const char **item, size_t *ilen);
 
 /** Copy a value into a text field; KELP_ERR_RANGE when it does not fit. */
-int sim_copy_text(char *dst, size_t cap, const char *v, size_t vl);
+int field_copy_text(char *dst, size_t cap, const char *v, size_t vl);
 
 /** Append v with `dec` decimals (strip: drop trailing zeros and a bare '.').
  *  @return 0, KELP_ERR_NOSPACE, KELP_ERR_RANGE (|v| too large), KELP_ERR_ARG (not finite). */
-int sim_put_fixed(char *buf, size_t cap, size_t *n, double v, int dec, bool strip);
+int field_put_fixed(char *buf, size_t cap, size_t *n, double v, int dec, bool strip);
 /** Append a C string. */
-int sim_put_str(char *buf, size_t cap, size_t *n, const char *s);
+int field_put_str(char *buf, size_t cap, size_t *n, const char *s);
 
 /** Strict finite number. */
 int sim_number(const char *v, size_t vl, double *out);

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# A user program links against the installed kelp through pkg-config: shared libraries from C
+# and from C++, and the static archives with `pkg-config --static`; each runs and exchanges a
+# message over an LCM community (this test's private network namespace).
+. "$(dirname "$0")/lib.sh"
+cd "$KELP_ROOT"
+version=$(sed -n 's/^VERSION *:= *//p' Makefile)
+P=$T/prefix
+PREFIX=$P VERSION=$version scripts/install.sh "$BUILD" >/dev/null
+export PKG_CONFIG_PATH=$P/lib/pkgconfig
+for f in libkelp.so.0 libkelp_core.so.0 libkelp.a libkelp_core.a pkgconfig/kelp.pc pkgconfig/kelp-core.pc; do
+  [ -e "$P/lib/$f" ] || fail "not installed: lib/$f"
+done
+[ "$(readelf -d "$P/lib/libkelp.so.0" | sed -n 's/.*SONAME.*\[\(.*\)\]/\1/p')" = libkelp.so.0 ] || fail "libkelp soname"
+pkg-config --exists kelp || fail "pkg-config does not find kelp"
+grep -q sqlite "$P/lib/pkgconfig/kelp.pc" && fail "kelp.pc lists sqlite3, which no code uses"
+# every public header compiles on its own as C11 and as C++17
+for h in "$P"/include/kelp/*.h "$P"/include/kelp/edge/*.h; do
+  rel=${h#$P/include/}
+  case "$rel" in kelp/kelp_*) continue ;; esac   # lcm-gen output
+  echo "#include <$rel>" > "$T/h.c"
+  gcc -std=c11 -Wall -Wextra -pedantic -Werror -fsyntax-only $(pkg-config --cflags kelp) "$T/h.c" || fail "$rel as C11"
+  g++ -std=c++17 -Wall -Wextra -pedantic -Werror -fsyntax-only $(pkg-config --cflags kelp) -x c++ "$T/h.c" || fail "$rel as C++17"
+done
+ok "every public header compiles as C11 and C++17"
+# shared, C and C++
+gcc -std=c11 -Wall -Werror test/link/user.c $(pkg-config --cflags --libs kelp) -o "$T/user_c" || fail "C link (shared)"
+g++ -std=c++17 -Wall -Werror -x c++ test/link/user.c -x none $(pkg-config --cflags --libs kelp) -o "$T/user_cpp" ||
+  fail "C++ link (shared)"
+readelf -d "$T/user_c" | grep -q 'NEEDED.*libkelp.so.0' || fail "C program does not use libkelp.so.0"
+readelf -d "$T/user_cpp" | grep -q 'NEEDED.*libkelp.so.0' || fail "C++ program does not use libkelp.so.0"
+LD_LIBRARY_PATH=$P/lib "$T/user_c" "$KELP_LCM_URL" || fail "C program (shared) did not receive"
+LD_LIBRARY_PATH=$P/lib "$T/user_cpp" "$KELP_LCM_URL" || fail "C++ program (shared) did not receive"
+# static: kelp's archives, their private dependencies from pkg-config --static
+static_libs=$(pkg-config --static --libs kelp | sed -e 's/-lkelp_core/-Wl,-Bstatic -lkelp_core -Wl,-Bdynamic/' \
+                                                     -e 's/-lkelp\( \|$\)/-Wl,-Bstatic -lkelp -Wl,-Bdynamic\1/')
+gcc -std=c11 test/link/user.c $(pkg-config --cflags kelp) $static_libs -o "$T/user_static" || fail "static link"
+readelf -d "$T/user_static" | grep -q 'libkelp' && fail "static program still needs a kelp shared library"
+"$T/user_static" "$KELP_LCM_URL" || fail "static program did not receive"
+ok "C and C++ programs link via pkg-config (shared: $(stat -c %s "$P/lib/libkelp.so.$version") + $(stat -c %s "$P/lib/libkelp_core.so.$version") bytes; static) and run"
