@@ -1,7 +1,8 @@
 # make bench: kelp's udpm transport beside raw liblcm, same run, same machine.
 #  1. bursts of 10,000 messages of 100 B, 2 KB, 8 KB, 60 KB between two processes
 #     (kelp socket -> kelp socket, liblcm -> liblcm): sent msg/s, delivered, received msg/s
-#  2. fan-out: one kelp publisher, 10 kelp subscriber processes, paced at 2k, 10k, 50k msg/s
+#  2. publish cost alone (no subscriber), kelp beside liblcm
+#  3. fan-out: one kelp publisher, 10 kelp subscriber processes, paced at 2k, 10k, 50k msg/s
 #     for 2 s each: deliveries/s, latency p50 (median of subscribers) and p99 (worst one)
 # Inside a private network namespace (loopback multicast, ttl=0); about a minute.
 set -uo pipefail
@@ -34,6 +35,15 @@ for size in 100 2000 8000 60000; do
     printf '  %-7s %-7s %12s %12s %12s\n' $size $impl "${sr:-?}" "${got:-0/10000}" "${rr:--}"
   done
 done
+echo "publish cost, 100,000 x 100 B, no subscriber (best of 3, alternating):"
+best_k=0; best_l=0
+for i in 1 2 3; do
+  k=$(P send kelp 100000 100 | grep -o '[0-9]* msg/s' | cut -d' ' -f1)
+  l=$(P send lcm 100000 100 | grep -o '[0-9]* msg/s' | cut -d' ' -f1)
+  [ "${k:-0}" -gt $best_k ] && best_k=$k
+  [ "${l:-0}" -gt $best_l ] && best_l=$l
+done
+printf '  kelp %s msg/s, liblcm %s msg/s: kelp at %s%% of liblcm\n' $best_k $best_l $((best_l ? best_k * 100 / best_l : 0))
 echo "fan-out: 1 kelp publisher -> 10 kelp subscriber processes, 100 B, 2 s per rate:"
 printf '  %-10s %12s %14s %10s %10s\n' "rate/s" delivered "deliveries/s" "p50 us" "p99 us"
 for rate in 2000 10000 50000; do

@@ -88,7 +88,7 @@ static int do_send(const char *url, const char *chan, int use_lcm, long n, size_
     char err[300];
     lcm_t *l = NULL;
     kelp_udpm_sock *s = NULL;
-    if (use_lcm ? !(l = lcm_create(url)) : !(s = kelp_udpm_sock_open(url, err, sizeof err))) {
+    if (use_lcm ? !(l = lcm_create(url)) : !(s = kelp_udpm_sock_open_tx(url, err, sizeof err))) {
         fprintf(stderr, "kelp-lcmprobe: cannot open %s: %s\n", url, use_lcm ? "lcm_create failed" : err);
         return 1;
     }

@@ -40,6 +40,9 @@ typedef struct kelp_udpm_sock_stats {
 
 /** Open and join. @return NULL on failure, with a reason in err. */
 kelp_udpm_sock *kelp_udpm_sock_open(const char *url, char *err, size_t errcap);
+/** Open for publishing only: no receive socket, thread or queue (a publisher would
+ *  otherwise receive and queue its own multicast echo). next() always returns 0. */
+kelp_udpm_sock *kelp_udpm_sock_open_tx(const char *url, char *err, size_t errcap);
 void kelp_udpm_sock_close(kelp_udpm_sock *s);
 /** Readable while complete messages wait. */
 int kelp_udpm_sock_fd(const kelp_udpm_sock *s);

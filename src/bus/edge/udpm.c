@@ -237,7 +237,24 @@ static kelp_udpm_sock *fail(kelp_udpm_sock *s, char *err, size_t errcap, const c
     return NULL;
 }
 
-kelp_udpm_sock *kelp_udpm_sock_open(const char *url, char *err, size_t errcap)
+static int open_tx(kelp_udpm_sock *s, const kelp_udpm_url *u, char *err, size_t errcap)
+{
+    s->sfd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+    if (s->sfd < 0) return fail(s, err, errcap, "socket", errno) ? 0 : -1;
+    unsigned char ttl = (unsigned char)u->ttl, loop = 1;
+    if (setsockopt(s->sfd, IPPROTO_IP, IP_MULTICAST_TTL, &ttl, sizeof ttl) < 0 ||
+        setsockopt(s->sfd, IPPROTO_IP, IP_MULTICAST_LOOP, &loop, sizeof loop) < 0)
+        return fail(s, err, errcap, "multicast ttl/loop", errno) ? 0 : -1;
+    if (connect(s->sfd, (struct sockaddr *)&s->dest, sizeof s->dest) < 0)
+        return fail(s, err, errcap, "no route to the multicast group (see README)", errno) ? 0 : -1;
+    /* sequence numbers start somewhere different per socket, as a restarted sender's
+     * reassembly slots at receivers must not match its new messages */
+    s->seqno = (uint32_t)getpid() << 16 ^ (uint32_t)(mono_now() * 1e6);
+
+    return 0;
+}
+
+static kelp_udpm_sock *open_sock(const char *url, int listen, char *err, size_t errcap)
 {
     kelp_udpm_url u;
     int rc = kelp_udpm_url_parse(url, &u);
@@ -254,6 +271,14 @@ kelp_udpm_sock *kelp_udpm_sock_open(const char *url, char *err, size_t errcap)
     s->qcap = (size_t)(u.queue_size ? u.queue_size : KELP_UDPM_DEFAULT_QUEUE);
     s->qcap = (s->qcap + REC_ALIGN - 1) & ~(size_t)(REC_ALIGN - 1);
     if (s->qcap < 2 * (KELP_UDPM_MAX_DATAGRAM + REC_HDR + REC_ALIGN)) s->qcap = 2 * (KELP_UDPM_MAX_DATAGRAM + REC_HDR + REC_ALIGN);
+    s->dest.sin_family = AF_INET;
+    s->dest.sin_addr.s_addr = htonl(u.group);
+    s->dest.sin_port = htons(u.port);
+    s->evfd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+    s->stopfd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+    if (s->evfd < 0 || s->stopfd < 0) return fail(s, err, errcap, "eventfd", errno);
+    if (open_tx(s, &u, err, errcap) < 0) return NULL; /* open_tx closed s */
+    if (!listen) return s; /* publish only: no socket, thread or queue for our own echo */
     s->q = malloc(s->qcap);
     s->slotmem = malloc((size_t)KELP_UDPM_REASM_SLOTS * KELP_UDPM_REASM_CAP);
     s->dg = malloc(KELP_UDPM_MAX_DATAGRAM + 1);
@@ -261,14 +286,6 @@ kelp_udpm_sock *kelp_udpm_sock_open(const char *url, char *err, size_t errcap)
     if (kelp_udpm_init(&s->rx, s->slots, KELP_UDPM_REASM_SLOTS, s->slotmem, KELP_UDPM_REASM_CAP,
                        KELP_UDPM_REASM_TIMEOUT) < 0)
         return fail(s, err, errcap, "reassembler init", 0);
-    s->evfd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
-    s->stopfd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
-    if (s->evfd < 0 || s->stopfd < 0) return fail(s, err, errcap, "eventfd", errno);
-
-    s->dest.sin_family = AF_INET;
-    s->dest.sin_addr.s_addr = htonl(u.group);
-    s->dest.sin_port = htons(u.port);
-
     s->rfd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
     if (s->rfd < 0) return fail(s, err, errcap, "socket", errno);
     int one = 1;
@@ -287,18 +304,6 @@ kelp_udpm_sock *kelp_udpm_sock_open(const char *url, char *err, size_t errcap)
     mr.imr_interface.s_addr = htonl(INADDR_ANY);
     if (setsockopt(s->rfd, IPPROTO_IP, IP_ADD_MEMBERSHIP, &mr, sizeof mr) < 0)
         return fail(s, err, errcap, "join the multicast group (is there a multicast route? see README)", errno);
-
-    s->sfd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-    if (s->sfd < 0) return fail(s, err, errcap, "socket", errno);
-    unsigned char ttl = (unsigned char)u.ttl, loop = 1;
-    if (setsockopt(s->sfd, IPPROTO_IP, IP_MULTICAST_TTL, &ttl, sizeof ttl) < 0 ||
-        setsockopt(s->sfd, IPPROTO_IP, IP_MULTICAST_LOOP, &loop, sizeof loop) < 0)
-        return fail(s, err, errcap, "multicast ttl/loop", errno);
-    if (connect(s->sfd, (struct sockaddr *)&s->dest, sizeof s->dest) < 0)
-        return fail(s, err, errcap, "no route to the multicast group (see README)", errno);
-    /* sequence numbers start somewhere different per socket, as a restarted sender's
-     * reassembly slots at receivers must not match its new messages */
-    s->seqno = (uint32_t)getpid() << 16 ^ (uint32_t)(mono_now() * 1e6);
 
     if (pthread_create(&s->th, NULL, recv_main, s) != 0) return fail(s, err, errcap, "receive thread", errno);
     s->th_started = 1;
@@ -323,4 +328,14 @@ void kelp_udpm_sock_close(kelp_udpm_sock *s)
     free(s->slotmem);
     free(s->dg);
     free(s);
+}
+
+kelp_udpm_sock *kelp_udpm_sock_open(const char *url, char *err, size_t errcap)
+{
+    return open_sock(url, 1, err, errcap);
+}
+
+kelp_udpm_sock *kelp_udpm_sock_open_tx(const char *url, char *err, size_t errcap)
+{
+    return open_sock(url, 0, err, errcap);
 }
