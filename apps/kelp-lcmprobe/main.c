@@ -234,7 +234,7 @@ int main(int argc, char **argv)
     int rest = argc - optind;
     char **a = argv + optind;
     if (rest >= 2 && strcmp(a[0], "attack") == 0) return do_attack(url, num(a[1]));
-    if (rest < 3 || (strcmp(a[1], "kelp") && strcmp(a[1], "lcm")))
+    if (rest < 3 || (strcmp(a[1], "kelp") != 0 && strcmp(a[1], "lcm") != 0))
         return kelp_cli_error(&cli, "expected send|recv kelp|lcm N ...");
     int use_lcm = strcmp(a[1], "lcm") == 0;
     if (strcmp(a[0], "send") == 0 && rest >= 4)

@@ -330,7 +330,7 @@ static void report(kelp_app *app, FILE *out)
             (unsigned long long)ts.rx.bad_magic, (unsigned long long)ts.rx.too_big,
             (unsigned long long)ts.rx.timeouts, (unsigned long long)ts.queue_dropped,
             (unsigned long long)st->foreign_community, (unsigned long long)st->time_rejected,
-            (unsigned long long)(st->sync_limited + st->sync_bad_reply));
+            (unsigned long long)st->sync_limited + (unsigned long long)st->sync_bad_reply);
     if (app->def->report) {
         fprintf(out, "------------------------------------------------------------------\n");
         app->def->report(app, app->state, out);

@@ -274,7 +274,7 @@ int kelp_udpm_datagram(const char *channel, const uint8_t *data, size_t len, uin
         *out_len = need;
         return KELP_OK;
     }
-    if (k >= n) return KELP_ERR_RANGE;
+    if (k >= n || !data) return KELP_ERR_RANGE; /* fragments carry payload: data is set */
     size_t fp = max_datagram - KELP_UDPM_FRAG_HDR;
     size_t first = fp - (cl + 1); /* fragment 0 carries the channel, then this much payload */
     size_t off = k == 0 ? 0 : first + (size_t)(k - 1) * fp;
@@ -284,7 +284,7 @@ int kelp_udpm_datagram(const char *channel, const uint8_t *data, size_t len, uin
     if (cap < need) return KELP_ERR_NOSPACE;
     kelp_udpm_put_frag_header(buf, seqno, (uint32_t)len, (uint32_t)off, k, n);
     if (pre) memcpy(buf + KELP_UDPM_FRAG_HDR, channel, pre);
-    memcpy(buf + KELP_UDPM_FRAG_HDR + pre, data + off, chunk);
+    if (chunk) memcpy(buf + KELP_UDPM_FRAG_HDR + pre, data + off, chunk);
     *out_len = need;
     return KELP_OK;
 }
@@ -371,8 +371,11 @@ int kelp_udpm_community_url(const char *lcm_url, const char *server_port, char *
     size_t pl = strlen(server_port);
     if (kelp_parse_long(server_port, pl, &port) < 0 || port < 1 || port > 65535) return KELP_ERR_RANGE;
     if (sizeof pre - 1 + pl + sizeof post > cap) return KELP_ERR_NOSPACE;
-    memcpy(buf, pre, sizeof pre - 1);
-    memcpy(buf + sizeof pre - 1, server_port, pl);
-    memcpy(buf + sizeof pre - 1 + pl, post, sizeof post);
+    size_t o = sizeof pre - 1;
+    memcpy(buf, pre, o);
+    memcpy(buf + o, server_port, pl);
+    o += pl;
+    memcpy(buf + o, post, sizeof post - 1);
+    buf[o + sizeof post - 1] = 0;
     return KELP_OK;
 }

@@ -112,7 +112,7 @@ static void *recv_main(void *arg)
             continue;
         }
         for (int i = 0; i < RECV_BATCH; i++) {
-            struct sockaddr_in from;
+            struct sockaddr_in from = { 0 };
             socklen_t fl = sizeof from;
             ssize_t n = recvfrom(s->rfd, s->dg, KELP_UDPM_MAX_DATAGRAM + 1, MSG_DONTWAIT, (struct sockaddr *)&from, &fl);
             if (n < 0) break;
@@ -185,9 +185,8 @@ int kelp_udpm_sock_publish(kelp_udpm_sock *s, const char *channel, const void *d
     uint32_t seq = s->seqno++;
     if (nfrags == 0) {
         kelp_udpm_put_short_header(hdr, seq);
-        iov[0] = (struct iovec){ hdr, KELP_UDPM_SHORT_HDR };
-        iov[1] = (struct iovec){ (void *)channel, cl + 1 };
-        iov[2] = (struct iovec){ (void *)data, len };
+        struct iovec one[3] = { { hdr, KELP_UDPM_SHORT_HDR }, { (void *)channel, cl + 1 }, { (void *)data, len } };
+        mh.msg_iov = one;
         mh.msg_iovlen = 3;
         ssize_t n = sendmsg(s->sfd, &mh, 0);
         rc = n == (ssize_t)(KELP_UDPM_SHORT_HDR + cl + 1 + len) ? KELP_OK : KELP_ERR_IO;
