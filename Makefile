@@ -43,7 +43,9 @@ EXT_LIBS := $(EDGE_LIBS) $(shell pkg-config --libs cairo 2>/dev/null)
 CHECK_LIBS := $(shell pkg-config --libs check 2>/dev/null)
 
 CORE_SRC := $(filter-out src/app/%,$(sort $(wildcard src/*/*.c)))
-EDGE_SRC := $(sort $(wildcard src/*/edge/*.c) $(wildcard src/app/*.c))
+# src/plot/edge (cairo rendering) is its own archive, so libkelp does not depend on cairo
+PLOT_SRC := $(sort $(wildcard src/plot/edge/*.c))
+EDGE_SRC := $(filter-out $(PLOT_SRC),$(sort $(wildcard src/*/edge/*.c) $(wildcard src/app/*.c)))
 LCM_DEFS := $(sort $(wildcard lcmtypes/*.lcm))
 GEN_DIR  := $(BUILD)/gen
 # lcm-gen names the C file <package>_<struct>.c; every type here is in package kelp.
@@ -52,6 +54,7 @@ LCM_H    := $(LCM_C:.c=.h)
 
 CORE_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(CORE_SRC))
 EDGE_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(EDGE_SRC)) $(patsubst %.c,$(BUILD)/obj/%.o,$(LCM_C))
+PLOT_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(PLOT_SRC))
 APPS     := $(notdir $(patsubst %/,%,$(sort $(dir $(wildcard apps/*/*.c)))))
 APP_BINS := $(addprefix $(BUILD)/bin/,$(APPS))
 SCRIPTS  := $(notdir $(wildcard tools/kelp-*))
@@ -64,6 +67,7 @@ BENCHES    := $(patsubst bench/%.c,$(BUILD)/bench/%,$(sort $(wildcard bench/benc
 
 LIBCORE := $(BUILD)/libkelp_core.a
 LIBEDGE := $(BUILD)/libkelp.a
+LIBPLOT := $(BUILD)/libkelp_plot.a
 SOMAJOR := $(firstword $(subst ., ,$(VERSION)))
 SOCORE  := $(BUILD)/libkelp_core.so.$(VERSION)
 SOEDGE  := $(BUILD)/libkelp.so.$(VERSION)
@@ -72,7 +76,7 @@ SOEDGE  := $(BUILD)/libkelp.so.$(VERSION)
         demo demo-xrelay spy-jar clean tests-bin
 .DEFAULT_GOAL := all
 
-all: $(LIBCORE) $(LIBEDGE) $(SOCORE) $(SOEDGE) $(APP_BINS) scripts
+all: $(LIBCORE) $(LIBEDGE) $(LIBPLOT) $(SOCORE) $(SOEDGE) $(APP_BINS) scripts
 
 deps:
 	@scripts/deps.sh build
@@ -102,6 +106,11 @@ $(LIBEDGE): $(EDGE_OBJ)
 	@mkdir -p $(dir $@)
 	rm -f $@ && $(AR) rcs $@ $^
 
+$(LIBPLOT): $(PLOT_OBJ)
+	@mkdir -p $(dir $@)
+	rm -f $@ && $(AR) rcs $@ $^
+$(PLOT_OBJ): CPPFLAGS += $(shell pkg-config --cflags cairo 2>/dev/null)
+
 # shared libraries with sonames (libkelp_core.so.0, libkelp.so.0) and the usual links
 $(SOCORE): $(CORE_OBJ)
 	$(CC) -shared -Wl,-soname,libkelp_core.so.$(SOMAJOR) -Wl,--no-undefined $(LDFLAGS) -o $@ $^ -lm
@@ -114,17 +123,17 @@ $(SOEDGE): $(EDGE_OBJ) $(SOCORE)
 
 # ---------------------------------------------------------------- apps
 define APP_RULE
-$(BUILD)/bin/$(1): $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard apps/$(1)/*.c)) $(LIBEDGE) $(LIBCORE)
+$(BUILD)/bin/$(1): $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard apps/$(1)/*.c)) $(LIBPLOT) $(LIBEDGE) $(LIBCORE)
 	@mkdir -p $$(dir $$@)
-	$$(CC) $$(CFLAGS) -o $$@ $$(filter %.o,$$^) $(LIBEDGE) $(LIBCORE) $$(EXT_LIBS)
+	$$(CC) $$(CFLAGS) -o $$@ $$(filter %.o,$$^) $(LIBPLOT) $(LIBEDGE) $(LIBCORE) $$(EXT_LIBS)
 endef
 $(foreach a,$(APPS),$(eval $(call APP_RULE,$(a))))
 $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard apps/*/*.c)): CPPFLAGS += $(LCM_CFLAGS)
 
 scripts: $(addprefix $(BUILD)/bin/,$(SCRIPTS))
-$(BUILD)/bin/kelp-%: tools/kelp-%
+$(BUILD)/bin/kelp-%: tools/kelp-% Makefile
 	@mkdir -p $(dir $@)
-	sed "s/@KELP_VERSION@/$(VERSION)/g" $< > $@ && chmod +x $@
+	sed 's/@KELP_VERSION@/$(VERSION)/g' $< > $@ && chmod +x $@
 
 # ---------------------------------------------------------------- unit tests
 # The list of suites is generated from the test sources, so adding a suite needs no edit here.
@@ -139,10 +148,10 @@ $(BUILD)/test/check_core: test/check_main.c $(CORE_TESTS) $(FAKES) $(BUILD)/gen/
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) -Itest $(CFLAGS) -Wno-missing-prototypes -DKELP_SUITES='"core_suites.h"' -DKELP_RUNNER_NAME='"core"' \
 	  -o $@ test/check_main.c $(CORE_TESTS) $(FAKES) $(LIBCORE) $(CHECK_LIBS) -lm
-$(BUILD)/test/check_edge: test/check_main.c $(EDGE_TESTS) $(FAKES) $(BUILD)/gen/edge_suites.h $(LIBEDGE) $(LIBCORE)
+$(BUILD)/test/check_edge: test/check_main.c $(EDGE_TESTS) $(FAKES) $(BUILD)/gen/edge_suites.h $(LIBPLOT) $(LIBEDGE) $(LIBCORE)
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(LCM_CFLAGS) -Itest $(CFLAGS) -Wno-missing-prototypes -DKELP_SUITES='"edge_suites.h"' -DKELP_RUNNER_NAME='"edge"' \
-	  -o $@ test/check_main.c $(EDGE_TESTS) $(FAKES) $(LIBEDGE) $(LIBCORE) $(EXT_LIBS) $(CHECK_LIBS)
+	  -o $@ test/check_main.c $(EDGE_TESTS) $(FAKES) $(LIBPLOT) $(LIBEDGE) $(LIBCORE) $(EXT_LIBS) $(CHECK_LIBS)
 
 tests-bin: $(BUILD)/test/check_core $(BUILD)/test/check_edge
 

@@ -8,7 +8,7 @@ P=${PREFIX:-/usr/local}; D=${DESTDIR:-}
 V=${VERSION:-0.1.0}; M=${V%%.*}
 L="$D$P/lib"
 install -d "$L/pkgconfig" "$D$P/include/kelp/edge" "$D$P/bin" "$D$P/share/kelp/lcmtypes"
-install -m 644 "$B/libkelp_core.a" "$B/libkelp.a" "$L/"
+install -m 644 "$B/libkelp_core.a" "$B/libkelp.a" "$B/libkelp_plot.a" "$L/"
 for lib in libkelp_core libkelp; do
   install -m 755 "$B/$lib.so.$V" "$L/"
   ln -sf "$lib.so.$V" "$L/$lib.so.$M"

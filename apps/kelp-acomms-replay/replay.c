@@ -1,5 +1,5 @@
 /* kelp-acomms-replay: what the Goby 1.1 queue and MAC do with a scripted timeline.
- * Deterministic: the only clock is the timeline's. See --help for the language. */
+ * Deterministic: the only clock is the timeline's. See usage() for the language. */
 #include <ctype.h>
 #include <math.h>
 #include <stdarg.h>
@@ -507,7 +507,8 @@ static void run_line(replay *r, char *line)
 
 /* ------------------------------------------------------------------ main */
 
-static const char replay_purpose[] =
+/* --help after the options: what it does, the timeline language, the output */
+static const char replay_more[] =
         "Replays a timeline against the Goby 1.1 priority queue and TDMA MAC (kelp's core, no modem,\n"
         "no clock: time comes only from the timeline) and prints what they do.  The queue and MAC\n"
         "configuration is the pAcommsHandler block of FILE.moos (modem_id, mac_cfg, queue_cfg with its\n"
@@ -551,16 +552,26 @@ static const char replay_purpose[] =
         "  receive queue= src= dest= hex= decoded=\"...\"          a received piece for us\n"
         "  ack-ignored / receive-ignored / mac_update / heard / status / echo   as named\n"
         "  error line=N reason                                   a bad command (the replay goes on;\n"
-        "                                                        the exit status is 1)";
+        "                                                        the exit status is 1)\n";
 
-static const char replay_options[] =
-    "  --moos FILE.moos   read the pAcommsHandler block of FILE.moos\n"
-    "  --block NAME       the block's name (default pAcommsHandler)\n"
-    "  --xml FILE         add a DCCL message file (repeatable)\n"
-    "  --modem-id N       our modem id, 1..31 (default 1 or the block's)\n"
-    "  --start UNIXTIME   the timeline's start (default 1262304000)\n"
-    "  --passphrase PW    DCCL crypto passphrase\n"
-    "  --plain            no DCCL crypto\n";
+enum { O_MOOS = 256, O_BLOCK, O_XML, O_MODEM_ID, O_START, O_PASS, O_PLAIN };
+
+static const kelp_cli cli = {
+    .name = "kelp-acomms-replay",
+    .purpose = "Replay a timeline against the Goby 1.1 priority queue and TDMA MAC and print what they do.",
+    .synopsis = "[--moos=FILE.moos [--block=NAME]] [--xml=FILE]... [--modem-id=N]\n"
+                " [--start=UNIXTIME] [--passphrase=PW | --plain] [TIMELINE]",
+    .opts = (const kelp_cli_opt[]){
+        { "moos", required_argument, O_MOOS, "FILE.moos", "queue and MAC configuration from this mission" },
+        { "block", required_argument, O_BLOCK, "NAME", "... its ProcessConfig = NAME (default pAcommsHandler)" },
+        { "xml", required_argument, O_XML, "FILE", "a DCCL message file (repeatable)" },
+        { "modem-id", required_argument, O_MODEM_ID, "N", "our modem id, 1..31 (default 1)" },
+        { "start", required_argument, O_START, "UNIXTIME", "time of the timeline's start (default 1262304000)" },
+        { "passphrase", required_argument, O_PASS, "PW", "DCCL encryption passphrase" },
+        { "plain", no_argument, O_PLAIN, NULL, "no DCCL encryption" },
+        { NULL, 0, 0, NULL, NULL } },
+    .more = replay_more,
+};
 
 static int load_config(replay *r, const char *moos, const char *block_name, char *err, size_t cap)
 {
@@ -593,22 +604,9 @@ int replay_main(int argc, char **argv)
     long modem_id = -1;
     double start = 1262304000.0;
     bool plain = false;
-    enum { O_MOOS = 0x100, O_BLOCK, O_XML, O_ID, O_START, O_PASS, O_PLAIN };
-    static const struct option opts[] = { { "moos", required_argument, NULL, O_MOOS },
-                                           { "block", required_argument, NULL, O_BLOCK },
-                                           { "xml", required_argument, NULL, O_XML },
-                                           { "modem-id", required_argument, NULL, O_ID },
-                                           { "start", required_argument, NULL, O_START },
-                                           { "passphrase", required_argument, NULL, O_PASS },
-                                           { "plain", no_argument, NULL, O_PLAIN },
-                                           { NULL, 0, NULL, 0 } };
-    static const kelp_cli cli = { "kelp-acomms-replay",
-                                  "[--moos FILE.moos [--block NAME]] [--xml FILE]... [--modem-id N]\n"
-                                  "[--start UNIXTIME] [--passphrase PW | --plain] [TIMELINE]",
-                                  replay_purpose, replay_options, opts, NULL };
-    int c, status;
-    while ((c = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
-        switch (c) {
+    int o, status;
+    while ((o = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
+        switch (o) {
         case KELP_CLI_EXIT: return status;
         case O_MOOS: moos = optarg; break;
         case O_BLOCK: block = optarg; break;
@@ -616,7 +614,7 @@ int replay_main(int argc, char **argv)
             if (nxml >= KELP_ACOMMS_MAX_FILES) return kelp_cli_error(&cli, "too many --xml files");
             xml[nxml++] = optarg;
             break;
-        case O_ID:
+        case O_MODEM_ID:
             if (!parse_int(optarg, &modem_id) || modem_id < 1 || modem_id > 31)
                 return kelp_cli_error(&cli, "--modem-id must be 1..31");
             break;
@@ -625,7 +623,6 @@ int replay_main(int argc, char **argv)
             break;
         case O_PASS: pass = optarg; break;
         case O_PLAIN: plain = true; break;
-        default: return kelp_cli_error(&cli, "unexpected option");
         }
     }
     if (optind < argc) timeline = argv[optind++];
@@ -727,8 +724,8 @@ int replay_main(int argc, char **argv)
         r->lineno++;
         if (!strchr(line, '\n') && !feof(in)) {
             error(r, "line too long");
-            int ch;
-            while ((ch = fgetc(in)) != EOF && ch != '\n') {
+            int c;
+            while ((c = fgetc(in)) != EOF && c != '\n') {
             }
             continue;
         }

@@ -221,11 +221,21 @@ static const kelp_app_def def = {
     .name = "kelp-bridge",
     .moos_name = "pMOOSBridge",
     .purpose = "Forward variables between communities over UDP, with renaming and optional HMAC authentication.",
-    .example = "ProcessConfig = pMOOSBridge\n{\n  UDPListen = 9200\n"
-               "  UDPSHARE  = [NODE_REPORT_LOCAL] -> shoreside @ 192.168.1.10:9200 [NODE_REPORT]\n"
-               "  KEY       = change-me   // optional shared secret\n}\n",
-    .interface = "Subscribes: PMB_REGISTER, every shared source variable\n"
-                 "Publishes:  PMB_UDP_LISTEN; on the receiving side, every bridged variable (under its alias)\n",
+    .params = (const kelp_app_param_info[]){
+        { "UDPListen", "9200", "UDP port other bridges send to (default: none, send only)", NULL },
+        { "UDPSHARE", "[NODE_REPORT_LOCAL] -> shoreside @ 192.168.1.10:9200 [NODE_REPORT]",
+          "repeatable: [vars] -> community @ host:port [aliases]", NULL },
+        { "SHARE", "[APPLES] -> shoreside @ 192.168.1.10:9200", "repeatable: same as UDPSHARE", NULL },
+        { "KEY", "change-me", "optional shared secret (HMAC), up to 255 characters", NULL },
+        { NULL, NULL, NULL, NULL } },
+    .subscribes = (const kelp_app_var_info[]){
+        { "PMB_REGISTER", "[NAV_X] -> shoreside @ 192.168.1.10:9200 [VEHICLE_X]", "a UDPSHARE line added at run time" },
+        { "<shared variable>", "any value", "every source variable of UDPSHARE" },
+        { NULL, NULL, NULL } },
+    .publishes = (const kelp_app_var_info[]){
+        { "PMB_UDP_LISTEN", "9200", NULL },
+        { "<alias>", "any value", "on the receiving side, every bridged variable under its alias" },
+        { NULL, NULL, NULL } },
     .startup = startup,
     .on_mail = on_mail,
     .iterate = iterate,

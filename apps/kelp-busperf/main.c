@@ -97,26 +97,27 @@ static void pct(ctr *c, const char *what)
 
 int main(int argc, char **argv)
 {
-    static const kelp_cli cli = { "kelp-busperf",
-                                  "pub|raw-pub N [SIZE]\nsub|raw-sub N [TIMEOUT_S]\nping|raw-ping N\n"
-                                  "pong|raw-pong [SECONDS]\njunk CHANNEL N",
-                                  "Bus throughput, latency and robustness probe (for tests and `make bench`).\n"
-                                  "  pub N [SIZE]       publish N string variables of SIZE bytes on BURST (kelp bus)\n"
-                                  "  sub N [TIMEOUT_S]  count BURST messages until N or the timeout: \"received R/N\"\n"
-                                  "  ping N | pong      kelp round trips (PING -> PONG): p50/p90/p99 in microseconds\n"
-                                  "  junk CHANNEL N     publish N malformed datagrams on CHANNEL\n"
-                                  "  raw-*              the same through raw liblcm (pre-encoded bytes)\n"
-                                  "The LCM URL is $KELP_LCM_URL or the default (recv_buf_size added for udpm).",
-                                  NULL, NULL, NULL };
+    static const kelp_cli cli = {
+        .name = "kelp-busperf",
+        .purpose = "Bus throughput, latency and robustness probe, for tests and `make bench`.",
+        .synopsis = "pub N [SIZE]          publish N string vars of SIZE bytes on BURST (kelp bus)\n"
+                    "sub N [TIMEOUT_S]     count BURST messages until N or timeout; prints \"received R/N\"\n"
+                    "raw-pub N [SIZE]      the same through raw liblcm (pre-encoded bytes)\n"
+                    "raw-sub N [TIMEOUT_S]\n"
+                    "ping N | pong         kelp round trips (PING -> PONG); prints p50/p90/p99 in us\n"
+                    "raw-ping N | raw-pong raw liblcm round trips\n"
+                    "junk CHANNEL N        publish N malformed datagrams on CHANNEL",
+        .more = "The URL is $KELP_LCM_URL or kelp's default (recv_buf_size added for udpm).\n",
+        .in_order = true,
+    };
     int opt, status;
     while ((opt = kelp_cli_next(&cli, argc, argv, &status)) != -1)
         if (opt == KELP_CLI_EXIT) return status;
-    /* the mode becomes argv[1] */
-    argc -= optind - 1;
+    argc -= optind - 1; /* from here argv[1] is the mode */
     argv += optind - 1;
     if (argc < 2) {
         kelp_cli_usage(&cli, stderr);
-        return 2;
+        return kelp_cli_error(&cli, "no mode given");
     }
     const char *mode = argv[1];
     long n = (argc > 2 && strcmp(mode, "junk") != 0) ? (long)num(argv[2]) : 10000;
@@ -254,6 +255,8 @@ int main(int argc, char **argv)
         printf("published %ld malformed datagrams on %s\n", k, chan);
         if (l != lcm) lcm_destroy(l);
     } else {
+        if (lb) kelp_lcmbus_close(lb);
+        if (lcm) lcm_destroy(lcm);
         return kelp_cli_error(&cli, "unknown mode '%s'", mode);
     }
     if (lb) kelp_lcmbus_close(lb);

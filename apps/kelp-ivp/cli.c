@@ -6,20 +6,25 @@
 #include <kelp/ivp.h>
 #include "cli.h"
 
-static const kelp_cli ivp_cli = {
-    "kelp-ivp",
-    "eval DOMAIN SPEC\ncouple DOMAIN2 CRS_SPEC SPD_SPEC WC WS\nsolve FILE [--repeat N]",
-    "Evaluates, couples and solves IvP functions.\n"
-    "DOMAIN: name:low:high:points[,name:low:high:points]...\n"
-    "SPEC:   peak(summit=S,peakwidth=P,basewidth=B,summitdelta=D,minutil=m,maxutil=M[,wrap][,insist][,sum])"
-    "[+peak(...)]...\n        | leq(summit=S,basewidth=B,minutil=m,maxutil=M[,summitdelta=D]) | heq(...)",
-    "  --repeat N       solve: solve N times (for timing)\n", NULL, NULL
+static const kelp_cli cli = {
+    .name = "kelp-ivp",
+    .purpose = "Build, inspect and solve IvP functions from the command line.",
+    .synopsis = "eval DOMAIN SPEC\n"
+                "couple DOMAIN2 CRS_SPEC SPD_SPEC WC WS\n"
+                "solve [--repeat=N] FILE",
+    .opts = (const kelp_cli_opt[]){
+        { "repeat", required_argument, 'r', "N", "solve: solve N times (timing)" },
+        { NULL, 0, 0, NULL, NULL } },
+    .more = "DOMAIN: name:low:high:points[,name:low:high:points]...\n"
+            "SPEC:   peak(summit=S,peakwidth=P,basewidth=B,summitdelta=D,minutil=m,maxutil=M[,wrap][,insist][,sum])\n"
+            "        [+peak(...)]... | leq(summit=S,basewidth=B,minutil=m,maxutil=M[,summitdelta=D]) | heq(...)\n"
+            "Put -- before arguments that begin with '-'.\n",
 };
 
 static int usage(void)
 {
-    kelp_cli_usage(&ivp_cli, stderr);
-    return 2;
+    kelp_cli_usage(&cli, stderr);
+    return kelp_cli_error(&cli, "wrong arguments");
 }
 
 static int fail(const char *where, const kelp_ivp_errbuf *e, int rc)
@@ -237,8 +242,15 @@ static char *next_line(char **cur, unsigned *lineno)
 
 static int cmd_solve(int argc, char **argv, long repeat)
 {
-    const char *path = argc > 2 ? argv[2] : NULL;
-    if (argc > 3) return kelp_cli_error(&ivp_cli, "unexpected argument '%s'", argv[3]);
+    const char *path = NULL;
+    for (int i = 2; i < argc; i++) {
+        if (!path) {
+            path = argv[i];
+        } else {
+            fprintf(stderr, "kelp-ivp: unexpected argument '%s'\n", argv[i]);
+            return 1;
+        }
+    }
     if (!path)
         return usage();
     char *text = read_file(path);
@@ -367,21 +379,17 @@ out:
 
 int kelp_ivp_cli(int argc, char **argv)
 {
-    static const struct option opts[] = { { "repeat", required_argument, NULL, 'r' }, { NULL, 0, NULL, 0 } };
-    kelp_cli cl = ivp_cli;
-    cl.longopts = opts;
     long repeat = 1;
-    int o, status;
-    while ((o = kelp_cli_next(&cl, argc, argv, &status)) != -1) {
-        if (o == KELP_CLI_EXIT) return status;
-        if (o == 'r') {
+    int opt, status;
+    while ((opt = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
+        if (opt == KELP_CLI_EXIT) return status;
+        if (opt == 'r') {
             char *end;
             repeat = strtol(optarg, &end, 10);
-            if (*end || end == optarg || repeat < 1) return kelp_cli_error(&cl, "bad --repeat count '%s'", optarg);
+            if (*end || end == optarg || repeat < 1) return kelp_cli_error(&cli, "bad --repeat count '%s'", optarg);
         }
     }
-    /* the command becomes argv[1] */
-    argc -= optind - 1;
+    argc -= optind - 1; /* from here argv[1] is the command */
     argv += optind - 1;
     if (argc < 2)
         return usage();
@@ -391,5 +399,5 @@ int kelp_ivp_cli(int argc, char **argv)
         return cmd_couple(argc, argv);
     if (strcmp(argv[1], "solve") == 0)
         return cmd_solve(argc, argv, repeat);
-    return kelp_cli_error(&cl, "unknown command '%s'", argv[1]);
+    return kelp_cli_error(&cli, "unknown command '%s'", argv[1]);
 }

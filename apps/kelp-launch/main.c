@@ -22,9 +22,9 @@
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
+#include <kelp/edge/cli.h>
 #include <kelp/lcmbus.h>
 #include <kelp/mission.h>
-#include <kelp/edge/cli.h>
 
 #define MAX_APPS 64
 #define MAX_VARS 512
@@ -101,38 +101,35 @@ int main(int argc, char **argv)
     double run_seconds = 0;
     const char *mission = NULL, *logdir = NULL;
     int want_report = 0;
-    static const struct option opts[] = { { "run-seconds", required_argument, NULL, 's' },
-                                           { "log-dir", required_argument, NULL, 'd' },
-                                           { "report", no_argument, NULL, 'r' },
-                                           { NULL, 0, NULL, 0 } };
-    static const kelp_cli cli = {
-        "kelp-launch", "[--run-seconds S] [--log-dir DIR] [--report] MISSION.moos",
-        "Starts every 'Run = prog @ config ~ name' of ProcessConfig = ANTLER (the pAntler role)\n"
-        "and stops them all on exit, on SIGINT/SIGTERM or after --run-seconds.",
-        "  --run-seconds S  stop the mission after S seconds\n"
-        "  --log-dir DIR    app output goes to DIR/<name>.log (default ./kelp-logs)\n"
-        "  --report         print, at the end, every variable written on the bus with its write\n"
-        "                   count, last value and source\n",
-        opts, NULL
+    const kelp_cli cli = {
+        .name = "kelp-launch",
+        .purpose = "Start every 'Run = prog @ config ~ name' of ProcessConfig = ANTLER (the pAntler role) and\n"
+                   "stop them all on exit, on SIGINT/SIGTERM or after --run-seconds.",
+        .synopsis = "[--run-seconds=S] [--log-dir=DIR] [--report] MISSION.moos",
+        .opts = (const kelp_cli_opt[]){
+            { "run-seconds", required_argument, 's', "S", "stop everything after S seconds (default: never)" },
+            { "log-dir", required_argument, 'd', "DIR", "app output goes to DIR/<name>.log (default ./kelp-logs)" },
+            { "report", no_argument, 'r', NULL,
+              "at the end, print every variable written on the bus: writes, last value, source" },
+            { NULL, 0, 0, NULL, NULL } },
     };
-    int o, status;
-    while ((o = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
-        switch (o) {
+    int opt, status;
+    while ((opt = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
+        switch (opt) {
         case KELP_CLI_EXIT: return status;
         case 's':
-            if (kelp_parse_double(optarg, strlen(optarg), &run_seconds) < 0 || !(run_seconds >= 0))
+            if (kelp_parse_double(optarg, strlen(optarg), &run_seconds) < 0)
                 return kelp_cli_error(&cli, "bad --run-seconds '%s'", optarg);
             break;
         case 'd': logdir = optarg; break;
         case 'r': want_report = 1; break;
-        default: return 2;
         }
     }
     if (optind < argc) mission = argv[optind++];
-    if (optind < argc) return kelp_cli_error(&cli, "unexpected argument '%s'", argv[optind]);
+    if (optind < argc) return kelp_cli_error(&cli, "one mission at a time ('%s')", argv[optind]);
     if (!mission) {
         kelp_cli_usage(&cli, stderr);
-        return 2;
+        return kelp_cli_error(&cli, "no mission file");
     }
     static kelp_mission_file mf;
     if (kelp_mission_load(&mf, mission) < 0) {

@@ -209,18 +209,21 @@ static int do_attack(const char *url, long n)
 
 int main(int argc, char **argv)
 {
-    static const struct option opts[] = { { "lcm-url", required_argument, NULL, 'u' },
-                                          { "channel", required_argument, NULL, 'c' },
-                                          { NULL, 0, NULL, 0 } };
-    static const kelp_cli cli = { "kelp-lcmprobe",
-                                  "[--lcm-url=URL] [-c CHANNEL] send kelp|lcm N SIZE [RATE]\n"
-                                  "[--lcm-url=URL] [-c CHANNEL] recv kelp|lcm N [TIMEOUT_S]\n"
-                                  "[--lcm-url=URL] attack N",
-                                  "Probes the udpm transport: kelp's socket or liblcm on either side.\n"
-                                  "URL defaults to $KELP_LCM_URL or kelp's default.",
-                                  "  --lcm-url=URL    the bus\n"
-                                  "  -c CHANNEL       channel (default PROBE)\n",
-                                  opts, "u:c:" };
+    static const kelp_cli_opt opts[] = {
+        { "lcm-url", required_argument, 'u', "URL", "the bus (default $KELP_LCM_URL or kelp's default)" },
+        { "channel", required_argument, 'c', "CHANNEL", "channel (default PROBE)" },
+        { NULL, 0, 0, NULL, NULL },
+    };
+    static const kelp_cli cli = {
+        .name = "kelp-lcmprobe",
+        .purpose = "Probes the udpm transport: kelp's own socket or liblcm on either side.",
+        .synopsis = "[OPTIONS] send kelp|lcm N SIZE [RATE]\n[OPTIONS] recv kelp|lcm N [TIMEOUT_S]\n[OPTIONS] attack N",
+        .opts = opts,
+        .more = "send: N messages of SIZE bytes at RATE msg/s (0 = burst); recv: until N arrive or the\n"
+                "timeout, checking every message (latency p50/p99, corrupt count); attack: the two\n"
+                "crafted datagrams of issue 12, then N random datagrams.\n",
+        .in_order = true,
+    };
     const char *url_in = NULL, *chan = "PROBE";
     int o, status;
     while ((o = kelp_cli_next(&cli, argc, argv, &status)) != -1) {

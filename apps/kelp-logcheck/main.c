@@ -1,6 +1,6 @@
 /* kelp-logcheck: decode every event of an LCM log with kelp's types.
  *
- *   kelp-logcheck LOGFILE [--print]
+ *   kelp-logcheck [--print] LOGFILE
  *
  * Every event must decode with kelp's validating decoder and, for kelp.var_t and
  * kelp.sync_req_t, with the lcm-gen decoder too, to the same fields. Prints a line per
@@ -9,8 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <lcm/eventlog.h>
-#include <kelp/bus.h>
 #include <kelp/edge/cli.h>
+#include <kelp/bus.h>
 #include "kelp_var_t.h"
 #include "kelp_sync_req_t.h"
 
@@ -18,25 +18,27 @@ typedef struct chan { char name[128]; long n, bad; char kind[16]; } chan;
 
 int main(int argc, char **argv)
 {
-    static const struct option opts[] = { { "print", no_argument, NULL, 'p' }, { NULL, 0, NULL, 0 } };
-    static const kelp_cli cli = { "kelp-logcheck", "[--print] LOGFILE",
-                                  "Decodes every event of an LCM log with kelp's types (and, for kelp.var_t and\n"
-                                  "kelp.sync_req_t, with the lcm-gen decoder too, to the same fields); prints a line\n"
-                                  "per channel and exits 1 if any event does not decode.",
-                                  "  --print          print every variable write\n", opts, NULL };
-    int o, status, print = 0;
-    while ((o = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
-        if (o == KELP_CLI_EXIT) return status;
-        if (o == 'p') print = 1;
+    const kelp_cli cli = {
+        .name = "kelp-logcheck",
+        .purpose = "Decode every event of an LCM log with kelp's types (and lcm-gen's for kelp.var_t and\n"
+                   "kelp.sync_req_t, to the same fields); a line per channel; exit 1 if any event does not decode.",
+        .synopsis = "[--print] LOGFILE",
+        .opts = (const kelp_cli_opt[]){ { "print", no_argument, 'p', NULL, "print every event" },
+                                        { NULL, 0, 0, NULL, NULL } },
+    };
+    int opt, status, print = 0;
+    while ((opt = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
+        if (opt == KELP_CLI_EXIT) return status;
+        if (opt == 'p') print = 1;
     }
-    if (optind != argc - 1) {
+    if (argc - optind != 1) {
         kelp_cli_usage(&cli, stderr);
-        return 2;
+        return kelp_cli_error(&cli, argc == optind ? "no log file given" : "one log file at a time");
     }
-    argv += optind - 1; /* the log becomes argv[1] */
-    lcm_eventlog_t *log = lcm_eventlog_create(argv[1], "r");
+    const char *path = argv[optind];
+    lcm_eventlog_t *log = lcm_eventlog_create(path, "r");
     if (!log) {
-        fprintf(stderr, "kelp-logcheck: cannot open %s\n", argv[1]);
+        fprintf(stderr, "kelp-logcheck: cannot open %s\n", path);
         return 1;
     }
     static chan chans[1024];

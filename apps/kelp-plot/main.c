@@ -15,12 +15,7 @@
 #include <string.h>
 #include <lcm/eventlog.h>
 #include <kelp/app.h>
-#include <kelp/edge/cli.h>
-#include "plot.h"
-
-#ifndef KELP_VERSION
-#define KELP_VERSION "dev"
-#endif
+#include <kelp/edge/plot.h>
 
 /* "WxH" with both in range; 0 or -1 */
 static int parse_size(const char *s, int *w, int *h)
@@ -37,63 +32,28 @@ static int parse_size(const char *s, int *w, int *h)
     return 0;
 }
 
-static const kelp_cli plot_cli = {
-    "kelp-plot",
-    "[-o OUT.png|OUT.svg]... [--title T] [--size WxH] [--no-pulses] [--quiet] LOG [LOG...]\n"
-    "MISSION.moos [NAME]      (live viewer app; see --example)",
-    "Renders lcm-logger logs of a mission: vehicle tracks (NODE_REPORT, NODE_REPORT_LOCAL or NAV_X/NAV_Y\n"
-    "per community) with names, VIEW_POINT/POLYGON/SEGLIST/CIRCLE/MARKER/COMMS_PULSE/RANGE_PULSE,\n"
-    "metre grid, legend. Without -o it writes LOG.png and LOG.svg next to the first log.\n"
-    "Prints a per-vehicle summary (fixes, distance, duration, start, end). Exit 1 when a log cannot be\n"
-    "read or holds nothing to draw.",
-    "  -o FILE          write FILE (.png or .svg; repeatable)\n"
-    "  --title T        the picture's title\n"
-    "  --size WxH       picture size in pixels (default 1600x1100)\n"
-    "  --no-pulses      do not draw COMMS_PULSE/RANGE_PULSE\n"
-    "  -q, --quiet      no summary\n",
-    NULL, NULL
+enum { OPT_TITLE = 256, OPT_SIZE, OPT_NO_PULSES };
+
+static const kelp_cli cli = {
+    .name = "kelp-plot",
+    .purpose = "Pictures of a mission: renders lcm-logger logs (vehicle tracks from NODE_REPORT, NODE_REPORT_LOCAL\n"
+               "or NAV_X/NAV_Y per community, with names; VIEW_POINT/POLYGON/SEGLIST/CIRCLE/MARKER/COMMS_PULSE/\n"
+               "RANGE_PULSE; metre grid, legend) to PNG and SVG, or runs live as a shoreside viewer app.",
+    .synopsis = "[OPTIONS] LOG [LOG...]\n"
+                "[--alias=NAME] MISSION.moos [NAME]    (live viewer app; see --example, --interface)",
+    .opts = (const kelp_cli_opt[]){
+        { "output", required_argument, 'o', "OUT.png|OUT.svg", "write this picture (repeatable, up to 8)" },
+        { "title", required_argument, OPT_TITLE, "T", "picture title" },
+        { "size", required_argument, OPT_SIZE, "WxH", "picture size, 400 <= W, 300 <= H, both <= 10000" },
+        { "no-pulses", no_argument, OPT_NO_PULSES, NULL, "do not draw comms and range pulses" },
+        { "quiet", no_argument, 'q', NULL, "print nothing but errors" },
+        { NULL, 0, 0, NULL, NULL } },
+    .more = "Without -o it writes LOG.png and LOG.svg next to the first log, and prints a per-vehicle summary\n"
+            "(fixes, distance, duration, start, end). Exit 1 when a log cannot be read or holds nothing to draw.\n"
+            "Live (a MISSION.moos argument, -e or -i): the MOOS options of every kelp app.\n",
 };
 
 /* ------------------------------------------------------------------ offline */
-
-static int read_log(plot_scene *s, const char *path, unsigned long *events, unsigned long *undecoded)
-{
-    FILE *probe = fopen(path, "rb");
-    if (!probe) {
-        fprintf(stderr, "kelp-plot: %s: %s\n", path, strerror(errno));
-        return -1;
-    }
-    fclose(probe);
-    lcm_eventlog_t *log = lcm_eventlog_create(path, "r");
-    if (!log) {
-        fprintf(stderr, "kelp-plot: %s: not readable as an LCM log\n", path);
-        return -1;
-    }
-    kelp_var *v = malloc(sizeof *v);
-    if (!v) {
-        lcm_eventlog_destroy(log);
-        return -1;
-    }
-    lcm_eventlog_event_t *e;
-    unsigned long n = 0;
-    while ((e = lcm_eventlog_read_next_event(log)) != NULL) {
-        n++;
-        if (e->datalen >= 0 && kelp_var_decode(e->data, (size_t)e->datalen, v) == 0) {
-            if (!(v->flags & KELP_VAR_FLAG_SYNC)) scene_add_var(s, v);
-        } else {
-            (*undecoded)++;
-        }
-        lcm_eventlog_free_event(e);
-    }
-    *events += n;
-    free(v);
-    lcm_eventlog_destroy(log);
-    if (n == 0) {
-        fprintf(stderr, "kelp-plot: %s: no events (empty or not an LCM log)\n", path);
-        return -1;
-    }
-    return 0;
-}
 
 static int offline(int argc, char **argv)
 {
@@ -101,48 +61,47 @@ static int offline(int argc, char **argv)
     int nouts = 0;
     const char *logs[64];
     int nlogs = 0;
-    plot_opts o = {1600, 1100, NULL, NULL, true};
+    kelp_plot_opts o = {1600, 1100, NULL, NULL, true};
     bool quiet = false;
-    enum { O_TITLE = 0x100, O_SIZE, O_NOPULSE };
-    static const struct option opts[] = { { "title", required_argument, NULL, O_TITLE },
-                                           { "size", required_argument, NULL, O_SIZE },
-                                           { "no-pulses", no_argument, NULL, O_NOPULSE },
-                                           { "quiet", no_argument, NULL, 'q' },
-                                           { NULL, 0, NULL, 0 } };
-    kelp_cli cli = plot_cli;
-    cli.longopts = opts;
-    cli.shortopts = "o:q";
-    int c, status, w, h;
+    int c, status;
     while ((c = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
         switch (c) {
-        case KELP_CLI_EXIT: return status;
+        case KELP_CLI_EXIT:
+            return status;
         case 'o':
             if (nouts < 8) outs[nouts++] = optarg;
             break;
-        case O_TITLE: o.title = optarg; break;
-        case O_SIZE:
+        case OPT_TITLE:
+            o.title = optarg;
+            break;
+        case OPT_SIZE: {
+            int w, h;
             if (parse_size(optarg, &w, &h) < 0)
                 return kelp_cli_error(&cli, "--size WxH with 400 <= W, 300 <= H, both <= 10000");
             o.width = w;
             o.height = h;
             break;
-        case O_NOPULSE: o.show_pulses = false; break;
-        case 'q': quiet = true; break;
-        default: return 2;
+        }
+        case OPT_NO_PULSES:
+            o.show_pulses = false;
+            break;
+        case 'q':
+            quiet = true;
+            break;
         }
     }
-    while (optind < argc && nlogs < 64) logs[nlogs++] = argv[optind++];
+    for (int i = optind; i < argc && nlogs < 64; i++) logs[nlogs++] = argv[i];
     if (!nlogs) {
-        kelp_cli_usage(&plot_cli, stderr);
-        return 2;
+        kelp_cli_usage(&cli, stderr);
+        return kelp_cli_error(&cli, "no log given");
     }
-    plot_scene s;
-    scene_init(&s);
+    kelp_plot_scene s;
+    kelp_plot_scene_init(&s);
     unsigned long events = 0, undecoded = 0;
     int rc = 0;
     for (int i = 0; i < nlogs; i++)
-        if (read_log(&s, logs[i], &events, &undecoded) < 0) rc = 1;
-    scene_finish(&s);
+        if (kelp_plot_scene_read_log(&s, logs[i], &events, &undecoded) < 0) rc = 1;
+    kelp_plot_scene_finish(&s);
     char sub[512];
     const char *base = strrchr(logs[0], '/') ? strrchr(logs[0], '/') + 1 : logs[0];
     double dur = isfinite(s.t0) && s.t1 > s.t0 ? s.t1 - s.t0 : 0;
@@ -157,26 +116,26 @@ static int offline(int argc, char **argv)
         outs[nouts++] = defsvg;
     }
     for (int i = 0; i < nouts; i++) {
-        if (plot_render(&s, &o, outs[i]) < 0) rc = 1;
+        if (kelp_plot_render(&s, &o, outs[i]) < 0) rc = 1;
         else if (!quiet) printf("kelp-plot: wrote %s\n", outs[i]);
     }
     if (!quiet) {
         printf("kelp-plot: %lu events, %lu not kelp variables (skipped)\n", events, undecoded);
-        plot_print_summary(&s, stdout);
+        kelp_plot_print_summary(&s, stdout);
     }
     if (!s.ntracks && !s.nviews) {
         fprintf(stderr, "kelp-plot: nothing to draw (no vehicle positions, no VIEW_* postings)\n");
         rc = 1;
     }
-    scene_free(&s);
-    plot_release();
+    kelp_plot_scene_free(&s);
+    kelp_plot_release();
     return rc;
 }
 
 /* ------------------------------------------------------------------ live */
 
 typedef struct live {
-    plot_scene s;
+    kelp_plot_scene s;
     char image[512], svg[512], title[128], table[512];
     double table_period, table_last;
     bool pulses;
@@ -186,7 +145,7 @@ typedef struct live {
 static int live_startup(kelp_app *app, void *st)
 {
     live *l = st;
-    scene_init(&l->s);
+    kelp_plot_scene_init(&l->s);
     l->pulses = true;
     if (kelp_app_param_str(app, "IMAGE", l->image, sizeof l->image) < 0) return -1;
     if (kelp_app_param_str(app, "SVG", l->svg, sizeof l->svg) < 0) return -1;
@@ -209,7 +168,7 @@ static void live_mail(kelp_app *app, void *st, const kelp_var *v)
     live *l = st;
     (void)app;
     l->mail++;
-    if (!(v->flags & KELP_VAR_FLAG_SYNC)) scene_add_var(&l->s, v);
+    if (!(v->flags & KELP_VAR_FLAG_SYNC)) kelp_plot_scene_add_var(&l->s, v);
 }
 
 static void vehicle_table(live *l, double now, FILE *out)
@@ -220,14 +179,14 @@ static void vehicle_table(live *l, double now, FILE *out)
             "----", "-------", "-------", "------");
     size_t shown = 0;
     for (size_t i = 0; i < l->s.ntracks; i++) {
-        const plot_track *t = &l->s.tracks[i];
+        const kelp_plot_track *t = &l->s.tracks[i];
         if (!t->n) continue;
-        if (t->src == PLOT_SRC_NAV && scene_track(&l->s, t->name) != t) continue; /* has reports */
-        const plot_pt *p = &t->pts[t->n - 1];
+        if (t->src == KELP_PLOT_SRC_NAV && kelp_plot_scene_track(&l->s, t->name) != t) continue; /* has reports */
+        const kelp_plot_pt *p = &t->pts[t->n - 1];
         double d = 0;
         for (size_t j = 1; j < t->n; j++) d += hypot(t->pts[j].x - t->pts[j - 1].x, t->pts[j].y - t->pts[j - 1].y);
         const kelp_nodereport *r = &t->last;
-        bool rep = t->src == PLOT_SRC_REPORT;
+        bool rep = t->src == KELP_PLOT_SRC_REPORT;
         fprintf(out, "%-10.10s %-6.6s %9.1f %9.1f %6.2f %7.1f %6.1f %-22.22s %7lu %8.0f %6.1f\n", t->name,
                 rep && (r->fields & KELP_NR_TYPE) ? r->type : "-", p->x, p->y, isfinite(p->spd) ? p->spd : 0,
                 isfinite(p->hdg) ? p->hdg : 0, rep && (r->fields & KELP_NR_DEPTH) ? r->depth : 0,
@@ -272,35 +231,40 @@ static int live_iterate(kelp_app *app, void *st, double now)
 static void live_shutdown(kelp_app *app, void *st)
 {
     live *l = st;
-    scene_finish(&l->s);
+    kelp_plot_scene_finish(&l->s);
     char sub[256];
     double dur = isfinite(l->s.t0) && l->s.t1 > l->s.t0 ? l->s.t1 - l->s.t0 : 0;
     snprintf(sub, sizeof sub, "community %s (live)  ·  %zu vehicle%s  ·  %.0f s of MOOS time  ·  %zu artifacts",
              kelp_app_community(app), l->s.ntracks, l->s.ntracks == 1 ? "" : "s", dur, l->s.nviews);
-    plot_opts o = {1600, 1100, l->title[0] ? l->title : NULL, sub, l->pulses};
+    kelp_plot_opts o = {1600, 1100, l->title[0] ? l->title : NULL, sub, l->pulses};
     const char *outs[2] = {l->image, l->svg};
     for (int i = 0; i < 2; i++)
         if (outs[i][0]) {
-            if (plot_render(&l->s, &o, outs[i]) == 0) kelp_app_event(app, "wrote %s", outs[i]);
+            if (kelp_plot_render(&l->s, &o, outs[i]) == 0) kelp_app_event(app, "wrote %s", outs[i]);
             else kelp_app_run_warning(app, "cannot write %s", outs[i]);
         }
     if (l->table[0]) write_table(app, l, kelp_app_time(app));
-    plot_print_summary(&l->s, stdout);
-    plot_release(); /* the scene stays: the runner prints a last report after this */
+    kelp_plot_print_summary(&l->s, stdout);
+    kelp_plot_release(); /* the scene stays: the runner prints a last report after this */
 }
 
 static const kelp_app_def live_def = {
     .name = "kelp-plot",
     .purpose = "Live shoreside viewer: a table of the vehicles (NODE_REPORT) and a picture of the mission on exit.",
-    .example = "ProcessConfig = kelp-plot\n{\n  AppTick = 2\n  CommsTick = 2\n"
-               "  IMAGE = mission.png        // written when the app stops (optional)\n"
-               "  SVG   = mission.svg        // likewise (optional)\n"
-               "  TITLE = Fleet demo         // picture title (optional)\n"
-               "  SHOW_PULSES = true         // draw comms/range pulses\n"
-               "  TABLE_FILE  = vehicles.txt // the vehicle table, rewritten every TABLE_PERIOD (optional)\n"
-               "  TABLE_PERIOD = 5           // seconds of MOOS time\n}\n",
-    .interface = "Subscribes: NODE_REPORT, NODE_REPORT_LOCAL, VIEW_*, NAV_X, NAV_Y, NAV_HEADING, NAV_SPEED\n"
-                 "Publishes:  nothing (the status report holds the vehicle table)\n",
+    .params = (const kelp_app_param_info[]){
+        { "IMAGE", "mission.png", "PNG written when the app stops (optional)", NULL },
+        { "SVG", "mission.svg", "SVG written when the app stops (optional)", NULL },
+        { "TITLE", "Fleet demo", "picture title (optional)", NULL },
+        { "SHOW_PULSES", "true", "draw comms and range pulses", NULL },
+        { "TABLE_FILE", "vehicles.txt", "the vehicle table, rewritten every TABLE_PERIOD (optional)", NULL },
+        { "TABLE_PERIOD", "5", "seconds of MOOS time", NULL },
+        { NULL, NULL, NULL, NULL } },
+    .subscribes = (const kelp_app_var_info[]){
+        { "NODE_REPORT", "NAME=alpha,TYPE=UUV,TIME=1252348077.59,X=51.71,Y=-35.50,SPD=2.0,HDG=118.8", NULL },
+        { "NODE_REPORT_LOCAL", "(as NODE_REPORT)", NULL },
+        { "VIEW_*", "x=10,y=20,label=alpha", "VIEW_POINT, VIEW_SEGLIST, VIEW_POLYGON, VIEW_RANGE_PULSE, ..." },
+        { "NAV_X", "112.3", "also NAV_Y, NAV_HEADING, NAV_SPEED" },
+        { NULL, NULL, NULL } },
     .startup = live_startup,
     .on_mail = live_mail,
     .iterate = live_iterate,

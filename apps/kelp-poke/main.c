@@ -9,9 +9,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <kelp/edge/cli.h>
 #include <kelp/lcmbus.h>
 #include <kelp/mission.h>
-#include <kelp/edge/cli.h>
 
 #define MAX_POKES 64
 #define SYNC_WAIT_S 0.6   /* wall seconds to collect current values before poking */
@@ -70,19 +70,21 @@ static void show(const kelp_var *v, int have, const char *name, double t0)
 
 int main(int argc, char **argv)
 {
-    static const kelp_cli cli = { "kelp-poke", "MISSION.moos VAR=value [VAR=value ...]",
-                                  "Writes variables to the mission's community (the uPokeDB role) and shows each before\n"
-                                  "and after. Numbers post as doubles, other values as strings; VAR:=value forces a string.",
-                                  NULL, NULL, NULL };
-    int o, status;
-    while ((o = kelp_cli_next(&cli, argc, argv, &status)) != -1)
-        if (o == KELP_CLI_EXIT) return status;
-    /* the mission becomes argv[1] */
-    argc -= optind - 1;
+    static const kelp_cli cli = {
+        .name = "kelp-poke",
+        .purpose = "Write variables to the mission's community (the uPokeDB role) and show each before and\n"
+                   "after. Numbers post as doubles, other values as strings; VAR:=value forces a string.",
+        .synopsis = "MISSION.moos VAR=value [VAR=value ...]",
+        .in_order = true,
+    };
+    int c, status;
+    while ((c = kelp_cli_next(&cli, argc, argv, &status)) != -1)
+        if (c == KELP_CLI_EXIT) return status;
+    argc -= optind - 1; /* from here argv[1] is the mission, argv[2..] the pokes */
     argv += optind - 1;
     if (argc < 3) {
         kelp_cli_usage(&cli, stderr);
-        return 2;
+        return kelp_cli_error(&cli, argc < 2 ? "no mission file" : "nothing to poke");
     }
     static kelp_mission_file mf;
     if (kelp_mission_load(&mf, argv[1]) < 0) {

@@ -16,8 +16,8 @@
 #include <string.h>
 #include <sys/time.h>
 #include <lcm/eventlog.h>
-#include <kelp/lcmbus.h>
 #include <kelp/edge/cli.h>
+#include <kelp/lcmbus.h>
 
 static volatile sig_atomic_t g_stop;
 static void on_signal(int s) { (void)s; g_stop = 1; }
@@ -46,18 +46,21 @@ int main(int argc, char **argv)
 {
     const char *url_in = NULL, *file = NULL, *chan = ".*";
     int quiet = 0;
-    static const struct option opts[] = { { "lcm-url", required_argument, NULL, 'u' }, { NULL, 0, NULL, 0 } };
-    static const kelp_cli cli = { "kelp-record", "[--lcm-url=URL] [-c CHANNEL_REGEX] [-f] [-q] FILE",
-                                  "Records every channel to an LCM event log with no loss (unbounded queue, 4 MiB socket\n"
-                                  "buffer); stops on SIGINT/SIGTERM. URL defaults to $KELP_LCM_URL or kelp's default.",
-                                  "  --lcm-url=URL    the bus to record\n"
-                                  "  -c REGEX         channels to record (default .*)\n"
-                                  "  -f               overwrite FILE (always done; accepted for lcm-logger users)\n"
-                                  "  -q               quiet\n",
-                                  opts, "c:fq" };
-    int o, status;
-    while ((o = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
-        switch (o) {
+    const kelp_cli cli = {
+        .name = "kelp-record",
+        .purpose = "Record every channel to an LCM event log with no loss (unbounded queue, 4 MiB socket\n"
+                   "buffer); stops on SIGINT/SIGTERM.",
+        .synopsis = "[--lcm-url=URL] [-c CHANNEL_REGEX] [-f] [-q] FILE",
+        .opts = (const kelp_cli_opt[]){
+            { "lcm-url", required_argument, 'u', "URL", "the bus (default: $KELP_LCM_URL or kelp's default)" },
+            { "channel", required_argument, 'c', "REGEX", "record only channels matching REGEX (default .*)" },
+            { "force", no_argument, 'f', NULL, "overwrite FILE (always done; accepted as lcm-logger's)" },
+            { "quiet", no_argument, 'q', NULL, "print nothing but errors" },
+            { NULL, 0, 0, NULL, NULL } },
+    };
+    int c, status;
+    while ((c = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
+        switch (c) {
         case KELP_CLI_EXIT: return status;
         case 'u': url_in = optarg; break;
         case 'c': chan = optarg; break;

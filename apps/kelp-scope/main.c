@@ -149,11 +149,18 @@ static const kelp_app_def def = {
     .name = "kelp-scope",
     .moos_name = "uXMS",
     .purpose = "Terminal scope of bus variables: value, source, time and community (the uXMS role).",
-    .example = "ProcessConfig = uXMS\n{\n  AppTick   = 4\n  CommsTick = 4\n\n  PAUSED            = false\n"
-               "  DISPLAY_ALL       = false   // true: every variable of the community\n  DISPLAY_SOURCE    = true\n  DISPLAY_TIME      = true\n  DISPLAY_COMMUNITY = true\n\n"
-               "  VAR = APPLES\n  VAR = PEARS\n  VAR = *_HZ\n}\n",
-    .interface = "Subscribes: every VAR named (or matching) in the configuration\n"
-                 "Publishes:  <NAME>_STATUS\n",
+    .params = (const kelp_app_param_info[]){
+        { "VAR", "APPLES", "repeatable: a variable (or pattern, *_HZ) to show", NULL },
+        { "PAUSED", "false", "start paused", NULL },
+        { "DISPLAY_SOURCE", "true", "show the source column", NULL },
+        { "DISPLAY_TIME", "true", "show the time column", NULL },
+        { "DISPLAY_COMMUNITY", "true", "show the community column", NULL },
+        { "DISPLAY_ALL", "false", "show every variable on the bus", NULL },
+        { NULL, NULL, NULL, NULL } },
+    .subscribes = (const kelp_app_var_info[]){
+        { "<VAR>", "any value", "every VAR named or matched" },
+        { NULL, NULL, NULL } },
+    .notes = "Environment: KELP_SCOPE_VARS, more variables to show (as VAR).\n",
     .startup = startup,
     .on_mail = on_mail,
     .iterate = iterate,

@@ -11,10 +11,7 @@ void handler_free(handler *h);
 extern const kelp_app_def pacomms_def;
 
 #define PACOMMS_EXAMPLE                                                                                     \
-    "ProcessConfig = pAcommsHandler\n"                                                                     \
-    "{\n"                                                                                                  \
-    "  AppTick = 10\n"                                                                                     \
-    "  CommsTick = 10\n"                                                                                   \
+    "Every field, in full (Goby 1.1 pAcommsHandler TextFormat):\n"                                      \
     "  common {  # (opt)\n"                                                                                \
     "    log: true  log_path: \"./\"  community: \"AUV23\"  lat_origin: 42.5  lon_origin: 10.9\n"         \
     "    app_tick: 10  comm_tick: 10\n"                                                                    \
@@ -56,30 +53,6 @@ extern const kelp_app_def pacomms_def;
     "    crypto_passphrase: \"twinkletoes%24\"  # (opt) the same on every node\n"                          \
     "  }\n"                                                                                                \
     "  modem_id_lookup_path: \"modemidlookup.txt\"  # \"id,name,type\" lines\n"                           \
-    "  tcp_share_enable: false  tcp_share_port: 11000  # experimental in Goby: not implemented\n"          \
-    "}\n"
-
-#define PACOMMS_INTERFACE                                                                                  \
-    "Subscribes:\n"                                                                                        \
-    "  every DCCL <src_var>/<moos_var> and <trigger_var> of the message files\n"                          \
-    "  IN_<NAME>_HEX_<size>B (or <incoming_hex_moos_var>): ModemDataTransmission from another process,\n" \
-    "      decoded and published\n"                                                                       \
-    "  queue.out_pubsub_var (CCL): ModemDataTransmission to queue, e.g. data: \"\\002\\002\\003\\004\"\n" \
-    "  ACOMMS_RANGE_COMMAND (ModemRangingRequest): ranging outside the MAC cycle\n"                        \
-    "  ACOMMS_MAC_CYCLE_UPDATE, ACOMMS_POLLER_UPDATE (MACUpdate): change the FIXED/POLLED cycle\n"         \
-    "Publishes (Goby protobuf TextFormat strings):\n"                                                      \
-    "  DCCL <publish_var>s on receipt\n"                                                                   \
-    "  ACOMMS_INCOMING_DATA, ACOMMS_OUTGOING_DATA (ModemDataTransmission)\n"                              \
-    "  OUT_<NAME>_HEX_<size>B on encode, IN_<NAME>_HEX_<size>B on receipt (ModemDataTransmission)\n"       \
-    "  queue.in_pubsub_var (CCL, ModemDataTransmission) on receipt\n"                                      \
-    "  ACOMMS_ACK (ModemDataAck), ACOMMS_EXPIRE (ModemDataExpire), ACOMMS_QSIZE (QueueSize)\n"            \
-    "  ACOMMS_RANGE_RESPONSE (ModemRangingReply)\n"                                                        \
-    "  ACOMMS_NMEA_IN, ACOMMS_NMEA_OUT (string): every modem sentence\n"                                   \
-    "  MODEM_ID, VEHICLE_ID (double) and the common.initializer variables at start-up\n"                   \
-    "LCM structures (lcm-spy; `make spy-jar`), on their own channels:\n"                                   \
-    "  ACOMMS_INCOMING_DATA_LCM, ACOMMS_OUTGOING_DATA_LCM (kelp.acomms_data_t),\n"                       \
-    "  ACOMMS_ACK_LCM (kelp.acomms_ack_t), ACOMMS_EXPIRE_LCM (kelp.acomms_expire_t),\n"                    \
-    "  ACOMMS_QSIZE_LCM (kelp.acomms_qsize_t), ACOMMS_RANGE_RESPONSE_LCM (kelp.acomms_range_t),\n"         \
-    "  ACOMMS_STATUS_LCM (kelp.acomms_status_t, once a second)\n"
+    "  tcp_share_enable: false  tcp_share_port: 11000  # experimental in Goby: not implemented\n"
 
 #endif

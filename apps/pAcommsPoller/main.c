@@ -273,26 +273,31 @@ static const kelp_app_def def = {
     .name = "pAcommsPoller",
     .purpose = "Centralized polling from the topside: owns the poll list and drives the topside pAcommsHandler "
                "(MAC_POLLED) through ACOMMS_MAC_CYCLE_UPDATE.",
-    .example = "ProcessConfig = pAcommsPoller\n"
-               "{\n"
-               "  AppTick   = 4\n"
-               "  modem_id  = 1                        // the topside modem (its pAcommsHandler runs MAC_POLLED)\n"
-               "  slot_seconds = 15                    // default slot length\n"
-               "  max_range = 2000                     // m: warn about slots too short for a packet + ack\n"
-               "  poll = src=2,dest=1,rate=0,type=data,slot_seconds=15   // vehicle 2 -> topside\n"
-               "  poll = src=1,dest=2,rate=0                             // topside -> vehicle 2\n"
-               "  slot { src: 3 dest: 1 rate: 0 type: SLOT_DATA slot_seconds: 15 }   // Goby style\n"
-               "  // update_var = ACOMMS_MAC_CYCLE_UPDATE\n"
-               "  // legacy_update = false             // also write ACOMMS_POLLER_UPDATE\n"
-               "  // republish_interval = 0            // s; re-send the full cycle periodically\n"
-               "  // command_var = POLLER_COMMAND\n"
-               "  // enabled = true                    // false: start paused (empty cycle)\n"
-               "}\n",
-    .interface = "Subscribes: POLLER_COMMAND (string): add SLOT | remove SLOT | replace SLOT;SLOT... | clear |\n"
-                 "            pause | resume | publish      (SLOT = src=2,dest=1,rate=0,type=data,slot_seconds=15)\n"
-                 "Publishes:  ACOMMS_MAC_CYCLE_UPDATE (MACUpdate TextFormat: dest: <modem_id> update_type: REPLACE\n"
-                 "            slot { ... } ...), ACOMMS_POLLER_UPDATE (legacy_update), POLLER_CYCLE (slot list),\n"
-                 "            POLLER_STATUS (state, slots, cycle_seconds, updates)\n",
+    .params = (const kelp_app_param_info[]){
+        { "modem_id", "1", "required: the topside modem (its pAcommsHandler runs MAC_POLLED), 1..31", NULL },
+        { "slot_seconds", "15", "default slot length, s, 1..86400", NULL },
+        { "max_range", "2000", "m: warn about slots too short for a packet and its ack", NULL },
+        { "poll", "src=2,dest=1,rate=0,type=data,slot_seconds=15", "repeatable: one slot, in cycle order", NULL },
+        { "pair", "src=1,dest=2,rate=0", "repeatable: same as poll", NULL },
+        { "slot", "{ src: 3 dest: 1 rate: 0 type: SLOT_DATA slot_seconds: 15 }", "repeatable: a slot, Goby style", NULL },
+        { "update_var", "ACOMMS_MAC_CYCLE_UPDATE", "where the cycle is posted", NULL },
+        { "legacy_update", "false", "true: also post ACOMMS_POLLER_UPDATE", NULL },
+        { "republish_interval", "0", "s; re-send the full cycle periodically (0 = only on change)", NULL },
+        { "command_var", "POLLER_COMMAND", "the variable commands arrive on", NULL },
+        { "enabled", "true", "false: start paused (an empty cycle)", NULL },
+        { NULL, NULL, NULL, NULL } },
+    .subscribes = (const kelp_app_var_info[]){
+        { "POLLER_COMMAND", "add src=2,dest=1,rate=0,type=data,slot_seconds=15",
+          "add SLOT | remove SLOT | replace SLOT;SLOT... | clear | pause | resume | publish (<command_var>)" },
+        { NULL, NULL, NULL } },
+    .publishes = (const kelp_app_var_info[]){
+        { "ACOMMS_MAC_CYCLE_UPDATE", "dest: 1 update_type: REPLACE slot { src: 2 dest: 1 rate: 0 type: SLOT_DATA "
+          "slot_seconds: 15 }", "MACUpdate TextFormat (<update_var>)" },
+        { "ACOMMS_POLLER_UPDATE", "(as ACOMMS_MAC_CYCLE_UPDATE)", "with legacy_update = true" },
+        { "POLLER_CYCLE", "src=2,dest=1,rate=0,type=data,slot_seconds=15;src=1,dest=2,rate=0,type=data,slot_seconds=15",
+          "the slot list" },
+        { "POLLER_STATUS", "state=running,slots=2,cycle_seconds=30,updates=1", NULL },
+        { NULL, NULL, NULL } },
     .startup = startup,
     .on_mail = on_mail,
     .iterate = iterate,

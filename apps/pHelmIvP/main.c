@@ -238,17 +238,51 @@ static void shutdown_app(kelp_app *app, void *st)
 static const kelp_app_def def = {
     .name = "pHelmIvP",
     .purpose = "The IvP helm: runs the behaviours of a .bhv file and posts DESIRED_HEADING/SPEED/DEPTH.",
-    .example = "ProcessConfig = pHelmIvP\n{\n  AppTick    = 4\n  CommsTick  = 4\n\n  Behaviors  = alder.bhv\n"
-               "  Domain     = course:0:359:360\n  Domain     = speed:0:4:21\n  //Domain   = depth:0:100:101:optional\n"
-               "  start_in_drive = true   // kelp default; false waits for MOOS_MANUAL_OVERIDE=false\n}\n",
-    .interface = "Subscribes: every variable the behaviours need (conditions, UPDATES, NOSTARVE, NAV_X, NAV_Y,\n"
-                 "            duration_reset, initialize variables), MOOS_MANUAL_OVERIDE, MOOS_MANUAL_OVERRIDE\n"
-                 "Publishes:  DESIRED_HEADING, DESIRED_SPEED, DESIRED_<VAR> (double; zeros on all-stop)\n"
-                 "            IVPHELM_STATE (DRIVE|PARK), IVPHELM_ALLSTOP (clear|NothingToDo|BehaviorError|\n"
-                 "            ManualOverride|MissingDecVars:x), IVPHELM_SUMMARY, IVPHELM_ITER, IVPHELM_IPF_CNT,\n"
-                 "            IVPHELM_BHV_ACTIVE/RUNNING/IDLE, BHV_WARNING, BHV_ERROR, UH_<behaviour>,\n"
-                 "            behaviour flags and postings (VIEW_POINT, VIEW_SEGLIST, VIEW_POLYGON, WPT_STAT,\n"
-                 "            WPT_INDEX, CYCLE_INDEX, LOITER_INDEX, LOITER_ACQUIRE, LOITER_REPORT, ...)\n",
+    .synopsis = "The IvP helm: runs the behaviours of the Behaviors files, solves their objective\n"
+                "functions over the Domain at each iteration and posts the decision as DESIRED_<var>.\n"
+                "It subscribes to whatever its behaviours name (conditions, UPDATES, NOSTARVE,\n"
+                "duration_reset, initialize variables, NAV_X/NAV_Y ...).",
+    .params = (const kelp_app_param_info[]){
+        { "Behaviors", "alder.bhv", "required, repeatable: a behaviour file (relative to the mission)", NULL },
+        { "Domain", "course:0:359:360", "required, repeatable: name:low:high:points[:optional]", NULL },
+        { "Domain", "speed:0:4:21", NULL, NULL },
+        { "start_in_drive", "true", "false: PARK until MOOS_MANUAL_OVERIDE=false", NULL },
+        { "Verbose", "false", "accepted for MOOS, ignored", NULL },
+        { "ok_skew", "any", "accepted for MOOS, ignored", NULL },
+        { "IVP_BEHAVIOR_DIR", "/path", "accepted for MOOS, ignored", NULL },
+        { "IVP_BEHAVIOR_DIRS", "/path", "accepted for MOOS, ignored", NULL },
+        { NULL, NULL, NULL, NULL } },
+    .subscribes = (const kelp_app_var_info[]){
+        { "MOOS_MANUAL_OVERIDE", "false", "true: all stop (PARK); false: DRIVE" },
+        { "MOOS_MANUAL_OVERRIDE", "false", "same, correctly spelt" },
+        { "NAV_X", "112.3", "and every variable the behaviours use" },
+        { "NAV_Y", "-99.1", NULL },
+        { NULL, NULL, NULL } },
+    .publishes = (const kelp_app_var_info[]){
+        { "DESIRED_HEADING", "118.8", "each decision variable of the Domain (DESIRED_<VAR>; zero on all-stop)" },
+        { "DESIRED_SPEED", "2.0", NULL },
+        { "IVPHELM_STATE", "DRIVE", "DRIVE or PARK" },
+        { "IVPHELM_ALLSTOP", "clear", "or NothingToDo, BehaviorError, ManualOverride, MissingDecVars:x" },
+        { "IVPHELM_SUMMARY", "iter=12,ofnum=1,var=course:195.0,var=speed:1.2,active_bhvs=loiter", NULL },
+        { "IVPHELM_ITER", "12", NULL },
+        { "IVPHELM_IPF_CNT", "1", NULL },
+        { "IVPHELM_BHV_ACTIVE", "loiter", "also IVPHELM_BHV_RUNNING and IVPHELM_BHV_IDLE" },
+        { "IVPHELM_BHV_CNT", "3", "on change; also IVPHELM_BHV_CNT_EVER, IVPHELM_BHV_ACTIVE_CNT,"
+          " IVPHELM_BHV_RUNNING_CNT, IVPHELM_BHV_IDLE_CNT, IVPHELM_BHV_DISABLED_CNT" },
+        { "IVPHELM_CREATE_CPU", "0.0012", "CPU seconds building the objective functions; also IVPHELM_LOOP_CPU" },
+        { "IVPHELM_DOMAIN", "course,0,359,360:speed,0,4,21", NULL },
+        { "IVPHELM_MODESET", "MODE#---,ACTIVE#---,INACTIVE#ACTIVE,SURVEYING#ACTIVE,RETURNING",
+          "at start, when the behaviour file declares modes" },
+        { "IVPHELM_LIFE_EVENT", "time=0.00, iter=0, bname=loiter, btype=BHV_Loiter, event=spawn, seed=helm startup",
+          NULL },
+        { "IVPHELM_UPDATEVARS", "UP_LOITER", "the variables behaviour updates and mode declarations listen to" },
+        { "IVPHELM_STATEVARS", "DEPLOY,RETURN", "the variables the conditions read" },
+        { "IVPHELM_ENGAGED", "ENGAGED", "heartbeat (DISENGAGED when parked)" },
+        { "BHV_WARNING", "loiter: no points", "also BHV_ERROR" },
+        { "UH_<behaviour>", "points=0,0:10,10", "the behaviour's update replies" },
+        { "VIEW_POINT", "x=10,y=20,label=alpha", "behaviour postings: VIEW_SEGLIST, VIEW_POLYGON, WPT_STAT,"
+          " WPT_INDEX, CYCLE_INDEX, LOITER_INDEX, LOITER_ACQUIRE, LOITER_REPORT, flags" },
+        { NULL, NULL, NULL } },
     .startup = startup,
     .on_mail = on_mail,
     .iterate = iterate,

@@ -62,12 +62,18 @@ static void report(kelp_app *app, void *st, FILE *out)
 static const kelp_app_def def = {
     .name = "pXRelay",
     .purpose = "Relay: one post of OUTGOING_VAR (a counter) per mail on INCOMING_VAR (the MOOS example app).",
-    .example = "ProcessConfig = pXRelay_APPLES\n{\n  AppTick      = 25\n  CommsTick    = 25\n\n"
-               "  OUTGOING_VAR = APPLES\n  INCOMING_VAR = PEARS\n}\n",
-    .interface = "Subscribes: <INCOMING_VAR>\n"
-                 "Publishes:  <OUTGOING_VAR> (double, the number of posts so far)\n"
-                 "            <OUTGOING_VAR>_ITER_HZ (double, Iterate frequency)\n"
-                 "            <OUTGOING_VAR>_POST_HZ (double, posting frequency)\n",
+    .params = (const kelp_app_param_info[]){
+        { "INCOMING_VAR", "PEARS", "required: the variable whose mail is counted", NULL },
+        { "OUTGOING_VAR", "APPLES", "required: the variable posted (a counter) once per mail", NULL },
+        { NULL, NULL, NULL, NULL } },
+    .subscribes = (const kelp_app_var_info[]){
+        { "<INCOMING_VAR>", "any value", "each mail asks for one post of OUTGOING_VAR" },
+        { NULL, NULL, NULL } },
+    .publishes = (const kelp_app_var_info[]){
+        { "<OUTGOING_VAR>", "17", "the number of posts so far" },
+        { "<OUTGOING_VAR>_ITER_HZ", "24.98", "Iterate frequency" },
+        { "<OUTGOING_VAR>_POST_HZ", "4.01", "posting frequency" },
+        { NULL, NULL, NULL } },
     .startup = startup,
     .on_mail = on_mail,
     .iterate = iterate,

@@ -175,23 +175,39 @@ static void report(kelp_app *app, void *st, FILE *out)
 static const kelp_app_def def = {
     .name = "uSimMarine",
     .purpose = "Simulate one marine vehicle following DESIRED_HEADING/SPEED/DEPTH; publish NAV_*.",
-    .example = "ProcessConfig = uSimMarine\n{\n  AppTick   = 10\n  CommsTick = 10\n\n"
-               "  START_POS = x=0, y=0, heading=180, speed=0, depth=0   // or: 0,0,180,0\n"
-               "  // START_X = 0, START_Y = 0, START_HEADING = 180, START_SPEED = 0, START_DEPTH = 0\n"
-               "  PREFIX    = NAV\n\n"
-               "  TURN_RATE            = 20    // deg/s (0 = turn at once)\n"
-               "  TURN_SPEED           = 0.5   // m/s: below it the turn rate scales with speed (0 = off)\n"
-               "  MAX_ACCELERATION     = 0.5   // m/s^2 (0 = no limit)\n"
-               "  MAX_DECELERATION     = 0.5   // m/s^2 (0 = no limit)\n"
-               "  MAX_DEPTH_RATE       = 0.5   // m/s (0 = no limit)\n"
-               "  MAX_DEPTH_RATE_SPEED = 0     // m/s: depth rate scaled by speed/this (0 = off)\n"
-               "  MAX_SPEED            = 0     // m/s, desired speed clip (0 = none)\n"
-               "  SIM_STEP             = 0.05  // s, integration sub-step\n}\n"
-               "Globals used: LatOrigin, LongOrigin (for NAV_LAT/NAV_LONG).\n",
-    .interface = "Subscribes: DESIRED_HEADING, DESIRED_SPEED, DESIRED_DEPTH (double)\n"
-                 "            USM_RESET (string, a START_POS value: jump to that pose)\n"
-                 "Publishes:  NAV_X, NAV_Y, NAV_HEADING, NAV_SPEED, NAV_DEPTH, NAV_LAT, NAV_LONG\n"
-                 "            (double; NAV = PREFIX), every iteration\n",
+    .params = (const kelp_app_param_info[]){
+        { "START_POS", "x=0, y=0, heading=0, speed=0, depth=0", "or x,y[,heading[,speed[,depth]]]", NULL },
+        { "START_X", "0", "meters; overrides START_POS", NULL },
+        { "START_Y", "0", "meters; overrides START_POS", NULL },
+        { "START_HEADING", "0", "degrees; overrides START_POS", NULL },
+        { "START_SPEED", "0", "m/s, >= 0; overrides START_POS", NULL },
+        { "START_DEPTH", "0", "meters, >= 0; overrides START_POS", NULL },
+        { "PREFIX", "NAV", "published variables are <PREFIX>_X, _Y, ...", NULL },
+        { "TURN_RATE", "20", "deg/s at full speed, >= 0 (0 = turn at once)", NULL },
+        { "TURN_SPEED", "0.5", "m/s: below it the turn rate scales with speed (0 = off)", NULL },
+        { "MAX_ACCELERATION", "0.5", "m/s^2 (0 = no limit)", NULL },
+        { "MAX_DECELERATION", "0.5", "m/s^2 (0 = no limit)", NULL },
+        { "MAX_DEPTH_RATE", "0.5", "m/s (0 = no limit)", NULL },
+        { "MAX_DEPTH_RATE_SPEED", "0", "m/s: depth rate scaled by speed/this (0 = off)", NULL },
+        { "MAX_SPEED", "0", "m/s, clip on the desired speed (0 = none)", NULL },
+        { "SIM_STEP", "0.05", "s, integration sub-step, >= 0.0001", NULL },
+        { NULL, NULL, NULL, NULL } },
+    .subscribes = (const kelp_app_var_info[]){
+        { "DESIRED_HEADING", "118.8", "degrees" },
+        { "DESIRED_SPEED", "2.0", "m/s" },
+        { "DESIRED_DEPTH", "4.6", "meters" },
+        { "USM_RESET", "x=10, y=-20, heading=90", "a START_POS value: jump to that pose" },
+        { NULL, NULL, NULL } },
+    .publishes = (const kelp_app_var_info[]){
+        { "NAV_X", "112.3", "every iteration (NAV = PREFIX)" },
+        { "NAV_Y", "-99.1", NULL },
+        { "NAV_HEADING", "118.8", NULL },
+        { "NAV_SPEED", "2.0", NULL },
+        { "NAV_DEPTH", "4.6", NULL },
+        { "NAV_LAT", "43.824981", "with LatOrigin/LongOrigin" },
+        { "NAV_LONG", "-70.329755", "with LatOrigin/LongOrigin" },
+        { NULL, NULL, NULL } },
+    .notes = "Globals used: LatOrigin, LongOrigin (for NAV_LAT/NAV_LONG).\n",
     .startup = startup,
     .on_mail = on_mail,
     .iterate = iterate,

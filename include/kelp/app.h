@@ -3,13 +3,14 @@
  * An app is a kelp_app_def: OnStartUp (read the ProcessConfig block, register), OnNewMail
  * (one call per message, just before Iterate, only when mail arrived) and Iterate (at up
  * to AppTick Hz of MOOS time, so MOOSTimeWarp speeds it up). kelp_app_run() handles the
- * MOOS command line:
+ * MOOS command line (through kelp_cli_next):
  *
  *   app [--alias=NAME] [--verbose] mission.moos [NAME]
- *   app --help | --example | --interface | --version
+ *   app --help | --example | --interface | --version    (-h, -e, -i, -v)
  *
- * and prints an AppCast-style status report (iteration, mail counts, configuration and
- * run warnings) to stdout, publishes <NAME>_STATUS, and exits cleanly on SIGINT/SIGTERM.
+ * (--example and --interface are generated from the def's parameter and variable tables),
+ * prints an AppCast-style status report (iteration, mail counts, configuration and run
+ * warnings) to stdout, publishes <NAME>_STATUS, and exits cleanly on SIGINT/SIGTERM.
  *
  * Time: MOOS time = epoch + (unix time - epoch) * MOOSTimeWarp, where epoch is
  * $KELP_WARP_EPOCH (optional, inherited by every app a launcher starts) or 0, so by default
@@ -21,21 +22,44 @@
 #include <stdio.h>
 #include <stdbool.h>
 #include <kelp/bus.h>
+#include <kelp/edge/cli.h>
 #include <kelp/mission.h>
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
+/* ---- the MOOS application model ---- */
 typedef struct kelp_app kelp_app;
 
+/** One parameter of the app's ProcessConfig block (names compare case-insensitively). The
+ *  table is what --example prints, and a parameter the app reads that is not in it is
+ *  reported as a configuration warning, so the two cannot drift apart. */
+typedef struct kelp_app_param_info {
+    const char *name;   /**< as written in the block, e.g. "PLATFORM_TYPE" */
+    const char *value;  /**< its default, or a sample value when it has none */
+    const char *help;   /**< one line: meaning, unit, range; say "required" or "optional" */
+    const char *alt;    /**< NULL, or the parameter this one stands in for (an older name, or a
+                             choice excluding it): --example shows it commented out */
+} kelp_app_param_info;
+
+/** One subscription or publication, for --interface. */
+typedef struct kelp_app_var_info {
+    const char *name;   /**< the MOOS variable; <PARAM> when a parameter names it */
+    const char *sample; /**< a sample value */
+    const char *help;   /**< one line, or NULL */
+} kelp_app_var_info;
+
 typedef struct kelp_app_def {
-    const char *name;        /**< the program's name (command line, --help, --version), e.g. "pXRelay" */
-    const char *moos_name;   /**< default MOOS name when it differs from the program's (e.g. kelp-scope
-                                  runs as "uXMS" so `ProcessConfig = uXMS` blocks work), or NULL */
-    const char *purpose;     /**< one line for --help */
-    const char *example;     /**< an example ProcessConfig block (--example) */
-    const char *interface;   /**< subscriptions and publications (--interface) */
+    const char *name;        /**< the program's name, e.g. "pXRelay"; also the default MOOS name */
+    const char *moos_name;   /**< a different default MOOS name (the role, e.g. "uXMS"), or NULL */
+    const char *purpose;     /**< one line for --help and the --interface synopsis */
+    const char *synopsis;    /**< a longer --interface synopsis, or NULL for purpose */
+    const kelp_app_param_info *params;    /**< every ProcessConfig parameter, NULL-name terminated */
+    const kelp_app_var_info *subscribes;  /**< every subscription, NULL-name terminated */
+    const kelp_app_var_info *publishes;   /**< every publication, NULL-name terminated */
+    const char *notes;       /**< extra --example lines (globals used, repeats), or NULL */
+    bool textformat;         /**< a Goby TextFormat block: --example prints "name: value" */
     /** OnStartUp: read parameters (kelp_app_param*), register. Return <0 to stop the app
      *  (after kelp_app_config_error). */
     int (*startup)(kelp_app *app, void *state);

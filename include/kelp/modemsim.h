@@ -188,6 +188,12 @@ typedef struct kelp_msim_event {
     int err;
 } kelp_msim_event;
 
+/** ACOMMS_SIM_EVENT text of a transmission, reception or loss, e.g.
+ *  "modem=1,event=rx,kind=data,src=2,dest=1,frame=1,range=750.0,travel=0.5000".
+ *  @return 1 when written, 0 for the other event kinds, KELP_ERR_NOSPACE. */
+struct kelp_msim;
+int kelp_msim_event_format(const struct kelp_msim *m, const kelp_msim_event *e, char *buf, size_t cap);
+
 typedef struct kelp_msim_ops {
     void (*write)(const char *bytes, size_t len, void *user);
     void (*transmit)(const kelp_msim_pkt *p, void *user);

@@ -7,10 +7,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <time.h>
 #include <unistd.h>
 #include <kelp/app.h>
-#include <kelp/edge/cli.h>
 #include <kelp/lcmbus.h>
 
 #define MAX_WARN 32
@@ -73,6 +73,16 @@ double kelp_app_time(const kelp_app *app)
     double w = wall_now();
     return app->epoch + (w - app->epoch) * app->warp;
 }
+
+/* the parameters every app accepts; only the first two are used, the rest are MOOS's and ignored */
+static const kelp_app_param_info common_params[] = {
+    { "AppTick", "4", "Iterate rate, Hz of MOOS time (0: as fast as mail allows)", NULL },
+    { "CommsTick", "4", "mail rate, Hz (accepted for MOOS; kelp handles mail as it comes)", NULL },
+    { "MaxAppTick", "0", "accepted for MOOS, ignored", NULL },
+    { "IterateMode", "0", "accepted for MOOS, ignored", NULL },
+    { "MaxIterate", "0", "accepted for MOOS, ignored", NULL },
+    { NULL, NULL, NULL, NULL },
+};
 
 /* ------------------------------------------------------------------ mail */
 static void on_var(const kelp_var *v, void *user)
@@ -180,8 +190,18 @@ void kelp_app_param_used(kelp_app *app, const kelp_mission_node *n)
     if (i < app->mf.m.nnodes) app->used[i] = 1;
 }
 
+static bool declared(const kelp_app_param_info *t, const char *key)
+{
+    for (; t && t->name; t++)
+        if (strcasecmp(t->name, key) == 0) return true;
+    return false;
+}
+
 const kelp_mission_node *kelp_app_param_next(kelp_app *app, const char *key, const kelp_mission_node *prev)
 {
+    /* a lookup of a parameter --example does not show is a bug in the app: say so */
+    if (!prev && !declared(common_params, key) && !declared(app->def->params, key))
+        kelp_app_config_warning(app, "parameter %s is read but missing from %s --example", key, app->def->name);
     if (app->block < 0) return NULL;
     int after = prev ? (int)(prev - app->mf.m.nodes) : -1;
     int i = kelp_mission_next(&app->mf.m, app->block, after, key);
@@ -366,22 +386,99 @@ static void publish_status(kelp_app *app)
 }
 
 /* ------------------------------------------------------------------ command line */
-static const char app_options[] =
-    "  --alias=NAME     run under the MOOS name NAME (reads ProcessConfig = NAME)\n"
-    "  -e, --example    print an example configuration block with every parameter\n"
-    "  -i, --interface  print the variables the app subscribes to and publishes\n"
-    "  --verbose        print events as they happen\n";
+enum { OPT_ALIAS = 256, OPT_VERBOSE };
 
-static const char app_purpose_tail[] =
-    "The LCM URL of the community comes from $KELP_LCM_URL, else the mission's global\n"
-    "LCM_URL, else udpm://239.255.76.67:<ServerPort>?ttl=0 (one port per community), else\n"
-    KELP_LCM_DEFAULT_URL ".";
+static const kelp_cli_opt moos_opts[] = {
+    { "alias", required_argument, OPT_ALIAS, "NAME", "run under the MOOS name NAME (reads ProcessConfig = NAME)" },
+    { "example", no_argument, 'e', NULL, "print an example ProcessConfig block with every parameter" },
+    { "interface", no_argument, 'i', NULL, "print the variables the app subscribes to and publishes" },
+    { "verbose", no_argument, OPT_VERBOSE, NULL, "print events as they happen" },
+    { NULL, 0, 0, NULL, NULL },
+};
 
-static bool is_common_param(const kelp_mission_node *n)
+static void banner(const char *name, const char *what)
 {
-    static const char *const common[] = { "AppTick", "CommsTick", "MaxAppTick", "IterateMode", "MaxIterate", NULL };
-    for (int i = 0; common[i]; i++)
-        if (kelp_mission_key_is(n, common[i])) return true;
+    printf("===============================================================\n"
+           "%s %s\n"
+           "===============================================================\n\n",
+           name, what);
+}
+
+static int param_width(const kelp_app_param_info *t, int w)
+{
+    for (; t && t->name; t++)
+        if ((int)strlen(t->name) > w) w = (int)strlen(t->name);
+    return w;
+}
+
+static void example_params(const kelp_app_param_info *t, int w, bool textformat)
+{
+    for (; t && t->name; t++) {
+        const char *v = t->value ? t->value : "";
+        /* a sub-block is "name { ... }" in both syntaxes */
+        const char *sep = v[0] == '{' ? " " : textformat ? ": " : " = ";
+        int len = printf("  %s%-*s%s%s", t->alt ? "// " : "", textformat ? 0 : w, t->name, sep, v);
+        if (t->help && t->help[0]) printf("%*s// %s", len < 40 ? 40 - len : 1, "", t->help);
+        if (t->alt) printf("%s(instead of %s)", t->help && t->help[0] ? " " : "// ", t->alt);
+        printf("\n");
+    }
+}
+
+static const char *moos_name(const kelp_app_def *def)
+{
+    return def->moos_name ? def->moos_name : def->name;
+}
+
+static void print_example(const kelp_app_def *def)
+{
+    banner(def->name, "Example MOOS Configuration");
+    int w = param_width(def->params, param_width(common_params, 0));
+    printf("ProcessConfig = %s\n{\n", moos_name(def));
+    example_params(common_params, w, false);
+    if (def->params && def->params->name) printf("\n");
+    example_params(def->params, w, def->textformat);
+    printf("}\n");
+    if (def->notes && def->notes[0]) printf("\n%s%s", def->notes, def->notes[strlen(def->notes) - 1] == '\n' ? "" : "\n");
+}
+
+static void interface_vars(const char *title, const kelp_app_var_info *t, bool more)
+{
+    printf("%s:\n------------------------------------\n", title);
+    if ((!t || !t->name) && !more) printf("  (none)\n");
+    int w = 0;
+    for (const kelp_app_var_info *v = t; v && v->name; v++)
+        if ((int)strlen(v->name) > w) w = (int)strlen(v->name);
+    for (; t && t->name; t++) {
+        printf("  %-*s = %s\n", w, t->name, t->sample ? t->sample : "");
+        if (t->help && t->help[0]) printf("  %*s   %s\n", w, "", t->help);
+    }
+}
+
+static void print_interface(const kelp_app_def *def)
+{
+    banner(def->name, "INTERFACE");
+    printf("SYNOPSIS:\n------------------------------------\n");
+    const char *s = def->synopsis ? def->synopsis : (def->purpose ? def->purpose : "");
+    /* indent every line by two */
+    while (*s) {
+        const char *nl = strchr(s, '\n');
+        int len = nl ? (int)(nl - s) : (int)strlen(s);
+        printf("  %.*s\n", len, s);
+        s += len + (nl ? 1 : 0);
+    }
+    printf("\n");
+    interface_vars("SUBSCRIPTIONS", def->subscribes, false);
+    printf("\n");
+    interface_vars("PUBLICATIONS", def->publishes, true); /* <NAME>_STATUS follows */
+    printf("  <NAME>_STATUS = AppErrorFlag=false,Uptime=12.0,iter=48,mail=10,published=52,bad=0,"
+           "cfg_warnings=0,run_warnings=0\n"
+           "  %*s   every app, every 2 s: its status (NAME: its MOOS name, upper case)\n", 13, "");
+}
+
+static bool in_table(const kelp_app_param_info *t, const kelp_mission_node *n)
+{
+    for (; t && t->name; t++)
+        if (kelp_mission_key_is(n, t->name)) return true;
     return false;
 }
 
@@ -389,25 +486,39 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
 {
     const char *mission = NULL, *alias = NULL;
     bool verbose = false;
-    enum { OPT_ALIAS = 0x100, OPT_VERBOSE };
-    static const struct option opts[] = { { "alias", required_argument, NULL, OPT_ALIAS },
-                                           { "example", no_argument, NULL, 'e' },
-                                           { "interface", no_argument, NULL, 'i' },
-                                           { "verbose", no_argument, NULL, OPT_VERBOSE },
-                                           { NULL, 0, NULL, 0 } };
-    char purpose[1024];
-    snprintf(purpose, sizeof purpose, "%s\n\n%s", def->purpose ? def->purpose : "", app_purpose_tail);
-    const kelp_cli cli = { def->name, "[OPTIONS] MISSION.moos [NAME]", purpose, app_options, opts, "ei" };
-    int c, status = 0;
-    optind = 1;
+    char more[512];
+    snprintf(more, sizeof more,
+             "MISSION.moos is the mission file; NAME (or --alias) the MOOS name to run under (default\n"
+             "%s: the app reads ProcessConfig = NAME). The LCM URL of the community comes from\n"
+             "$KELP_LCM_URL, else the mission's global LCM_URL, else udpm://239.255.76.67:<ServerPort>\n"
+             "?ttl=0 (one port per community), else " KELP_LCM_DEFAULT_URL ".\n",
+             moos_name(def));
+    const kelp_cli cli = {
+        .name = def->name,
+        .purpose = def->purpose,
+        .synopsis = "[OPTIONS] MISSION.moos [NAME]",
+        .opts = moos_opts,
+        .more = more,
+    };
+    int c, status;
     while ((c = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
         switch (c) {
-        case KELP_CLI_EXIT: return status;
-        case 'e': printf("%s", def->example ? def->example : "(no example)\n"); return 0;
-        case 'i': printf("%s", def->interface ? def->interface : "(no interface description)\n"); return 0;
-        case OPT_ALIAS: alias = optarg; break;
-        case OPT_VERBOSE: verbose = true; break;
-        default: return kelp_cli_error(&cli, "unexpected option");
+        case KELP_CLI_EXIT:
+            return status;
+        case 'e':
+            print_example(def);
+            return 0;
+        case 'i':
+            print_interface(def);
+            return 0;
+        case OPT_ALIAS:
+            alias = optarg;
+            break;
+        case OPT_VERBOSE:
+            verbose = true;
+            break;
+        default:
+            return kelp_cli_error(&cli, "unhandled option");
         }
     }
     if (optind < argc) mission = argv[optind++];
@@ -415,7 +526,7 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
     if (optind < argc) return kelp_cli_error(&cli, "unexpected argument '%s'", argv[optind]);
     if (!mission) {
         kelp_cli_usage(&cli, stderr);
-        return 2;
+        return kelp_cli_error(&cli, "no mission file");
     }
     kelp_app *app = calloc(1, sizeof *app);
     if (!app) return 1;
@@ -424,7 +535,7 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
     app->verbose = verbose;
     app->tty = isatty(STDOUT_FILENO);
     snprintf(app->mission_path, sizeof app->mission_path, "%s", mission);
-    snprintf(app->name, sizeof app->name, "%s", alias ? alias : def->moos_name ? def->moos_name : def->name);
+    snprintf(app->name, sizeof app->name, "%s", alias ? alias : moos_name(def));
     if (kelp_mission_load(&app->mf, mission) < 0) {
         fprintf(stderr, "%s\n", app->mf.error);
         free(app);
@@ -497,8 +608,12 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
     for (int i = app->block >= 0 ? kelp_mission_next(&app->mf.m, app->block, -1, NULL) : -1; i >= 0;
          i = kelp_mission_next(&app->mf.m, app->block, i, NULL)) {
         const kelp_mission_node *n = &app->mf.m.nodes[i];
-        if (!app->used[i] && !is_common_param(n))
+        if (in_table(common_params, n)) continue;
+        if (!app->used[i])
             kelp_app_config_warning(app, "line %d: unknown parameter %.*s", n->line, (int)n->klen, n->key);
+        else if (!in_table(def->params, n))
+            kelp_app_config_warning(app, "line %d: parameter %.*s is read but missing from %s --example", n->line,
+                                    (int)n->klen, n->key, def->name);
     }
     double real_hz = app->app_tick > 0 ? app->app_tick * app->warp : MAX_REAL_HZ;
     if (real_hz > MAX_REAL_HZ) real_hz = MAX_REAL_HZ;

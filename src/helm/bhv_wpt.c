@@ -271,12 +271,13 @@ static void post_seglist(kelp_bhv *b, bool active)
 static void post_point(kelp_bhv *b, kelp_bhv_pt p, bool active)
 {
     const kelp_bhv_wpt *s = &b->u.wpt;
-    char x[32], y[32], vs[32], spec[KELP_MAX_NAME * 2 + 256];
+    char x[32], y[32], spec[KELP_MAX_NAME * 2 + 256];
     hx_fmt_double(x, sizeof x, p.x);
     hx_fmt_double(y, sizeof y, p.y);
     size_t n = hx_cat(spec, sizeof spec, "label=", b->us[0] ? b->us : "vehicle", "'s next waypoint,type=waypoint,source=",
                       b->name, ",x=", x, ",y=", y, ",active=", active ? "true" : "false", HX_END);
     if (active) {
+        char vs[32];
         hx_fmt_double(vs, sizeof vs, s->hint_nextpt_vertex_size);
         hx_cat(spec + n, sizeof spec - n, ",vertex_color=", s->hint_nextpt_color, ",label_color=", s->hint_nextpt_lcolor,
                ",vertex_size=", vs, HX_END);

@@ -3,6 +3,7 @@
 #include <kelp/modemsim.h>
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #define US_PER_S 1000000LL
@@ -1179,4 +1180,56 @@ int64_t kelp_msim_next_due(const kelp_msim *m)
         if (r < t) t = r;
     }
     return t;
+}
+
+/* ------------------------------------------------------------------ event text */
+
+static const char *pkt_kind_name(kelp_msim_pkt_kind k)
+{
+    switch (k) {
+    case KELP_MSIM_PKT_CYCLE_INIT: return "cycle_init";
+    case KELP_MSIM_PKT_DATA: return "data";
+    case KELP_MSIM_PKT_ACK: return "ack";
+    case KELP_MSIM_PKT_PING: return "ping";
+    case KELP_MSIM_PKT_PING_REPLY: return "ping_reply";
+    case KELP_MSIM_PKT_MINI: return "mini";
+    default: return "?";
+    }
+}
+
+static const char *pkt_loss_name(kelp_msim_loss l)
+{
+    switch (l) {
+    case KELP_MSIM_LOSS_RANDOM: return "random";
+    case KELP_MSIM_LOSS_COLLISION: return "collision";
+    case KELP_MSIM_LOSS_HALF_DUPLEX: return "half_duplex";
+    case KELP_MSIM_LOSS_STALE: return "stale";
+    default: return "overflow";
+    }
+}
+
+int kelp_msim_event_format(const kelp_msim *m, const kelp_msim_event *e, char *buf, size_t cap)
+{
+    const kelp_msim_pkt *p = e->pkt;
+    int n;
+    switch (e->kind) {
+    case KELP_MSIM_EV_TX:
+        if (!p) return 0;
+        n = snprintf(buf, cap, "modem=%d,event=tx,kind=%s,src=%d,dest=%d,frames=%d,rate=%d", kelp_msim_src(m),
+                     pkt_kind_name(p->kind), p->src, p->dest, p->kind == KELP_MSIM_PKT_DATA ? p->nframes : 0, p->rate);
+        break;
+    case KELP_MSIM_EV_RX:
+        if (!p) return 0;
+        n = snprintf(buf, cap, "modem=%d,event=rx,kind=%s,src=%d,dest=%d,frame=%u,range=%.1f,travel=%.4f",
+                     kelp_msim_src(m), pkt_kind_name(p->kind), p->src, p->dest, e->frame, e->range_m, e->travel_s);
+        break;
+    case KELP_MSIM_EV_LOST:
+        n = snprintf(buf, cap, "modem=%d,event=lost,kind=%s,src=%d,dest=%d,frame=%u,reason=%s", kelp_msim_src(m),
+                     p ? pkt_kind_name(p->kind) : "?", p ? p->src : 0, p ? p->dest : 0, e->frame,
+                     pkt_loss_name(e->loss));
+        break;
+    default:
+        return 0;
+    }
+    return n > 0 && (size_t)n < cap ? 1 : KELP_ERR_NOSPACE;
 }

@@ -23,9 +23,12 @@ for h in "$P"/include/kelp/*.h "$P"/include/kelp/edge/*.h; do
   g++ -std=c++17 -Wall -Wextra -pedantic -Werror -fsyntax-only $(pkg-config --cflags kelp) -x c++ "$T/h.c" || fail "$rel as C++17"
 done
 ok "every public header compiles as C11 and C++17"
+# a sanitizer build of the libraries (make asan) needs the sanitizer runtime in the program too
+SAN=
+readelf -d "$P/lib/libkelp.so.0" | grep -q 'NEEDED.*libasan' && SAN="-fsanitize=address,undefined"
 # shared, C and C++
-gcc -std=c11 -Wall -Werror test/link/user.c $(pkg-config --cflags --libs kelp) -o "$T/user_c" || fail "C link (shared)"
-g++ -std=c++17 -Wall -Werror -x c++ test/link/user.c -x none $(pkg-config --cflags --libs kelp) -o "$T/user_cpp" ||
+gcc -std=c11 -Wall -Werror $SAN test/link/user.c $(pkg-config --cflags --libs kelp) -o "$T/user_c" || fail "C link (shared)"
+g++ -std=c++17 -Wall -Werror $SAN -x c++ test/link/user.c -x none $(pkg-config --cflags --libs kelp) -o "$T/user_cpp" ||
   fail "C++ link (shared)"
 readelf -d "$T/user_c" | grep -q 'NEEDED.*libkelp.so.0' || fail "C program does not use libkelp.so.0"
 readelf -d "$T/user_cpp" | grep -q 'NEEDED.*libkelp.so.0' || fail "C++ program does not use libkelp.so.0"
@@ -34,7 +37,7 @@ LD_LIBRARY_PATH=$P/lib "$T/user_cpp" "$KELP_LCM_URL" || fail "C++ program (share
 # static: kelp's archives, their private dependencies from pkg-config --static
 static_libs=$(pkg-config --static --libs kelp | sed -e 's/-lkelp_core/-Wl,-Bstatic -lkelp_core -Wl,-Bdynamic/' \
                                                      -e 's/-lkelp\( \|$\)/-Wl,-Bstatic -lkelp -Wl,-Bdynamic\1/')
-gcc -std=c11 test/link/user.c $(pkg-config --cflags kelp) $static_libs -o "$T/user_static" || fail "static link"
+gcc -std=c11 $SAN test/link/user.c $(pkg-config --cflags kelp) $static_libs -o "$T/user_static" || fail "static link"
 readelf -d "$T/user_static" | grep -q 'libkelp' && fail "static program still needs a kelp shared library"
 "$T/user_static" "$KELP_LCM_URL" || fail "static program did not receive"
 ok "C and C++ programs link via pkg-config (shared: $(stat -c %s "$P/lib/libkelp.so.$version") + $(stat -c %s "$P/lib/libkelp_core.so.$version") bytes; static) and run"

@@ -1,24 +1,33 @@
 /* kelp command lines (edge): one convention for every program.
  *
- * Every program parses its options with getopt_long through kelp_cli_next(), which adds
- * --help/-h and --version/-v (-V when the program uses -v itself) to its own options: both print to stdout and end the
- * program with status 0; an unknown option or a missing argument prints
- * "<name>: <reason> (try --help)" to stderr and ends it with status 2.
+ * Every program describes itself in a kelp_cli and reads its options with kelp_cli_next(),
+ * which adds --help/-h and --version/-v (the short forms only where the program does not
+ * use h or v itself): both print to stdout and end the program with status 0. A usage error
+ * prints "<name>: <what> (try --help)" to stderr and ends it with status 2.
  *
- *     static const struct option opts[] = { {"xml", required_argument, 0, 'x'}, {0, 0, 0, 0} };
- *     static const kelp_cli cli = { "kelp-tool", "[--xml FILE] INPUT", "What it is for.",
- *                                   "  --xml FILE   message definitions\n", opts, "x:" };
- *     int c, status;
- *     while ((c = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
- *         if (c == KELP_CLI_EXIT) return status;
- *         switch (c) { case 'x': ...; }
- *     }
- *     // positional arguments: argv[optind .. argc-1]
+ *   static const kelp_cli_opt opts[] = {
+ *       { "count", required_argument, 'c', "N", "stop after N messages" },
+ *       { "raw", no_argument, 1000, NULL, "print raw bytes" },     // long only: val >= 256
+ *       { NULL, 0, 0, NULL, NULL },
+ *   };
+ *   static const kelp_cli cli = { .name = "kelp-foo", .purpose = "What it is for.",
+ *                                 .synopsis = "[OPTIONS] FILE", .opts = opts };
+ *   int c, status;
+ *   while ((c = kelp_cli_next(&cli, argc, argv, &status)) != -1) switch (c) {
+ *   case KELP_CLI_EXIT: return status;
+ *   case 'c': ... optarg ...; break;
+ *   }
+ *   // argv[optind..argc-1] are the positional arguments
+ *
+ * --help is generated from the same table the options are parsed with, so the two cannot
+ * drift. MOOS-role apps do not call this directly: kelp_app_run() (kelp/app.h) does, adding
+ * --example/-e, --interface/-i, --alias=NAME and --verbose.
  */
 #ifndef KELP_EDGE_CLI_H
 #define KELP_EDGE_CLI_H
 
 #include <getopt.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <kelp/err.h>
 
@@ -26,29 +35,34 @@
 extern "C" {
 #endif
 
-/** kelp_cli_next() result: the program must return *status now. */
-#define KELP_CLI_EXIT (-2)
+typedef struct kelp_cli_opt {
+    const char *name;   /**< long name without "--" */
+    int has_arg;        /**< no_argument, required_argument or optional_argument */
+    int val;            /**< returned by kelp_cli_next; a letter also gives the short form -<val> */
+    const char *arg;    /**< name of the argument in --help ("URL"), NULL if none */
+    const char *help;   /**< one line for --help */
+} kelp_cli_opt;
 
 typedef struct kelp_cli {
-    const char *name;              /**< the program's own name, e.g. "kelp-logcheck" */
-    const char *synopsis;          /**< usage after the name; several lines are separated by '\n' */
-    const char *purpose;           /**< what the program is for (printed by --help) */
-    const char *options;           /**< help lines of the program's own options, or NULL */
-    const struct option *longopts; /**< the program's own long options ({0} terminated), or NULL */
-    const char *shortopts;         /**< the program's own short options (getopt syntax), or NULL */
+    const char *name;          /**< the program's own name, e.g. "kelp-scope" */
+    const char *purpose;       /**< one line: what the program is for */
+    const char *synopsis;      /**< what follows the name in "usage:"; one form per line ('\n'),
+                                    a line starting with ' ' continues the one before */
+    const kelp_cli_opt *opts;  /**< terminated by a NULL name; NULL for none */
+    const char *more;          /**< more text at the end of --help (arguments, environment), or NULL */
+    bool in_order;             /**< stop at the first positional argument (it starts a sub-command) */
 } kelp_cli;
 
-/** One getopt_long step over argv with the program's options plus --help and --version.
- *  @return the option's value, -1 when the options end (positionals start at optind), or
- *  KELP_CLI_EXIT with *status set (0 after --help/--version, 2 on a usage error). */
+#define KELP_CLI_EXIT (-2) /**< kelp_cli_next: help/version printed or a usage error; return *status */
+
+/** The next option (its val), -1 when only positional arguments remain (from argv[optind]),
+ *  or KELP_CLI_EXIT with *status set (0 after --help/--version, 2 after a usage error, whose
+ *  message is already on stderr). Uses getopt_long's global state: parse one argv at a time. */
 int kelp_cli_next(const kelp_cli *cli, int argc, char **argv, int *status);
-
-/** Print "usage: <name> <synopsis>" (every line) to out. */
-void kelp_cli_usage(const kelp_cli *cli, FILE *out);
-
-/** Print a usage error ("<name>: <message> (try --help)") to stderr; returns 2. */
+/** Print "<name>: <message> (try --help)" to stderr; returns 2, the usage-error exit status. */
 int kelp_cli_error(const kelp_cli *cli, const char *fmt, ...) KELP_PRINTF(2, 3);
-
+/** Print the usage lines ("usage: <name> <synopsis>") to out. */
+void kelp_cli_usage(const kelp_cli *cli, FILE *out);
 /** Print "<name> (kelp) <version>" to stdout. */
 void kelp_cli_version(const char *name);
 

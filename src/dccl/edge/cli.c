@@ -5,9 +5,9 @@
 #include <string.h>
 #include <time.h>
 
-#include <kelp/dccl_edge.h>
 #include "programs.h"
 #include <kelp/edge/cli.h>
+#include <kelp/dccl_edge.h>
 
 #define CLI_MAX_XML 64
 #define CLI_MAX_ALGS 64
@@ -30,29 +30,32 @@ typedef struct cli {
     int n_pos;
 } cli;
 
-static const char dccl_purpose[] =
-    "Encodes, decodes and publishes Goby 1.1 DCCL messages defined in message XML files, and\n"
-    "prints a message set's layout (info).";
+enum { O_XML = 256, O_MSG, O_PASS, O_LOOKUP, O_MODEM_ID, O_NOW, O_REPEAT, O_LAT, O_LON, O_PLAIN, O_NO_ALGS };
 
-static const char dccl_options[] =
-    "  --xml FILE            a DCCL message file (repeatable)\n"
-    "  --msg NAME            the message to encode\n"
-    "  --modem-id N          our modem id (the header's source)\n"
-    "  --now UNIXTIME        the time used for time fields (default: the clock)\n"
-    "  --passphrase PW       crypto passphrase (default: the files' or none)\n"
-    "  --plain               no crypto\n"
-    "  --repeat N            encode/decode N times (for timing)\n"
-    "  --lat-origin DEG, --lon-origin DEG, --modem-lookup FILE   for algorithms\n"
-    "  --no-algorithms       register none (algorithm names are then ignored, as in a bare Goby DCCLCodec)\n";
+static const kelp_cli_opt cli_opts[] = {
+    { "xml", required_argument, O_XML, "FILE", "a DCCL message file (repeatable)" },
+    { "msg", required_argument, O_MSG, "NAME", "the message to encode" },
+    { "modem-id", required_argument, O_MODEM_ID, "N", "this modem's id (source of encoded messages)" },
+    { "now", required_argument, O_NOW, "UNIXTIME", "the time used for time fields (default: now)" },
+    { "passphrase", required_argument, O_PASS, "PW", "encrypt/decrypt with this passphrase" },
+    { "plain", no_argument, O_PLAIN, NULL, "no encryption" },
+    { "repeat", required_argument, O_REPEAT, "N", "do it N times (timing)" },
+    { "lat-origin", required_argument, O_LAT, "DEG", "datum for the lat/lon algorithms" },
+    { "lon-origin", required_argument, O_LON, "DEG", "datum for the lat/lon algorithms" },
+    { "modem-lookup", required_argument, O_LOOKUP, "FILE", "\"id,name,type\" lines for the modem algorithms" },
+    { "no-algorithms", no_argument, O_NO_ALGS, NULL,
+      "register none (algorithm names are then ignored, as in a bare Goby DCCLCodec)" },
+    { NULL, 0, 0, NULL, NULL },
+};
 
-static const kelp_cli dccl_cli = {
-    "kelp-dccl",
-    "encode --xml FILE [--xml FILE]... --msg NAME [--modem-id N] [--now UNIXTIME]\n"
-    "       [--passphrase PW] [--plain] [--repeat N] FIELD=VALUE|FIELD#=NUMBER...\n"
-    "decode  --xml FILE... [--modem-id N] [--now UNIXTIME] [--passphrase PW] [--plain] [--repeat N] HEX\n"
-    "publish --xml FILE... [--modem-id N] [--now UNIXTIME] [--passphrase PW] [--plain] HEX\n"
-    "info    --xml FILE...",
-    dccl_purpose, dccl_options, NULL, NULL
+static const kelp_cli cli_def = {
+    .name = "kelp-dccl",
+    .purpose = "Encode, decode, publish and inspect Goby 1.1 DCCL messages.",
+    .synopsis = "encode  --xml FILE... --msg NAME [OPTIONS] FIELD=VALUE|FIELD#=NUMBER...\n"
+                "decode  --xml FILE... [OPTIONS] HEX\n"
+                "publish --xml FILE... [OPTIONS] HEX\n"
+                "info    --xml FILE...",
+    .opts = cli_opts,
 };
 
 static int die(const char *fmt, const char *a, const char *b) KELP_PRINTF(1, 0);
@@ -87,70 +90,59 @@ static bool parse_num(const char *s, double *out)
     return *end == '\0' && errno != ERANGE;
 }
 
-static int parse_args(cli *c, int argc, char **argv)
+/* 0, or KELP_CLI_EXIT with *status set (help, version, usage error) */
+static int parse_args(cli *c, int argc, char **argv, int *status)
 {
-    enum { O_XML = 0x100, O_MSG, O_PASS, O_LOOKUP, O_ID, O_NOW, O_REPEAT, O_LAT, O_LON, O_PLAIN, O_NOALG };
-    static const struct option opts[] = { { "xml", required_argument, NULL, O_XML },
-                                           { "msg", required_argument, NULL, O_MSG },
-                                           { "passphrase", required_argument, NULL, O_PASS },
-                                           { "modem-lookup", required_argument, NULL, O_LOOKUP },
-                                           { "modem-id", required_argument, NULL, O_ID },
-                                           { "now", required_argument, NULL, O_NOW },
-                                           { "repeat", required_argument, NULL, O_REPEAT },
-                                           { "lat-origin", required_argument, NULL, O_LAT },
-                                           { "lon-origin", required_argument, NULL, O_LON },
-                                           { "plain", no_argument, NULL, O_PLAIN },
-                                           { "no-algorithms", no_argument, NULL, O_NOALG },
-                                           { NULL, 0, NULL, 0 } };
-    kelp_cli cl = dccl_cli;
-    cl.longopts = opts;
+    int o;
+    double d;
     memset(c, 0, sizeof *c);
     c->repeat = 1;
-    int o, status;
-    double d;
-    /* options may come before or after the command (getopt_long permutes); the rest is positional */
-    while ((o = kelp_cli_next(&cl, argc, argv, &status)) != -1) {
+    *status = 2;
+    while ((o = kelp_cli_next(&cli_def, argc, argv, status)) != -1) {
         const char *val = optarg;
         switch (o) {
-        case KELP_CLI_EXIT: return status ? -2 : -3;
+        case KELP_CLI_EXIT: return KELP_CLI_EXIT;
         case O_PLAIN: c->plain = true; break;
-        case O_NOALG: c->no_algs = true; break;
+        case O_NO_ALGS: c->no_algs = true; break;
         case O_XML:
-            if (c->n_xml >= CLI_MAX_XML) return die("too many --xml files", NULL, NULL), -2;
+            if (c->n_xml >= CLI_MAX_XML) return die("too many --xml files", NULL, NULL), KELP_CLI_EXIT;
             c->xml[c->n_xml++] = val;
             break;
         case O_MSG: c->msg = val; break;
         case O_PASS: c->passphrase = val; break;
         case O_LOOKUP: c->lookup = val; break;
-        case O_ID:
+        case O_MODEM_ID:
             if (!parse_num(val, &d) || d < 0 || d > 4294967295.0 || d != (double)(unsigned long)d)
-                return die("bad --modem-id \"%s\"", val, NULL), -2;
+                return die("bad --modem-id \"%s\"", val, NULL), KELP_CLI_EXIT;
             c->modem_id = (unsigned)d;
             break;
         case O_NOW:
-            if (!parse_num(val, &c->now)) return die("bad --now \"%s\"", val, NULL), -2;
+            if (!parse_num(val, &c->now)) return die("bad --now \"%s\"", val, NULL), KELP_CLI_EXIT;
             c->have_now = true;
             break;
         case O_REPEAT:
-            if (!parse_num(val, &d) || d < 1 || d > 1e9) return die("bad --repeat \"%s\"", val, NULL), -2;
+            if (!parse_num(val, &d) || d < 1 || d > 1e9) return die("bad --repeat \"%s\"", val, NULL), KELP_CLI_EXIT;
             c->repeat = (unsigned long)d;
             break;
         case O_LAT:
-            if (!parse_num(val, &c->lat)) return die("bad --lat-origin \"%s\"", val, NULL), -2;
+            if (!parse_num(val, &c->lat)) return die("bad --lat-origin \"%s\"", val, NULL), KELP_CLI_EXIT;
             c->have_lat = true;
             break;
         case O_LON:
-            if (!parse_num(val, &c->lon)) return die("bad --lon-origin \"%s\"", val, NULL), -2;
+            if (!parse_num(val, &c->lon)) return die("bad --lon-origin \"%s\"", val, NULL), KELP_CLI_EXIT;
             c->have_lon = true;
             break;
-        default: return -2;
         }
     }
-    if (optind >= argc) return -1;
+    if (optind >= argc) {
+        kelp_cli_usage(&cli_def, stderr);
+        *status = kelp_cli_error(&cli_def, "no command (encode, decode, publish, info)");
+        return KELP_CLI_EXIT;
+    }
     c->cmd = argv[optind++];
-    c->pos = calloc((size_t)argc, sizeof *c->pos);
-    if (!c->pos) return -1;
-    while (optind < argc) c->pos[c->n_pos++] = argv[optind++];
+    c->pos = argv + optind;
+    c->n_pos = argc - optind;
+    *status = 0;
     return 0;
 }
 
@@ -231,63 +223,45 @@ int kelp_dccl_cli_main(int argc, char **argv)
     size_t i;
     int rc, status = 0;
     bool is_encode, is_decode, is_publish, is_info;
-    rc = parse_args(&c, argc, argv);
-    if (rc == -3) return 0; /* --help, --version */
-    if (rc == -1 || !c.cmd) {
-        kelp_cli_usage(&dccl_cli, stderr);
-        free(c.pos);
-        return 2;
-    }
-    if (rc) {
-        free(c.pos);
-        return 2;
-    }
+    if (parse_args(&c, argc, argv, &status) != 0) return status;
     is_encode = strcmp(c.cmd, "encode") == 0;
     is_decode = strcmp(c.cmd, "decode") == 0;
     is_publish = strcmp(c.cmd, "publish") == 0;
     is_info = strcmp(c.cmd, "info") == 0;
     if (!is_encode && !is_decode && !is_publish && !is_info) {
-        free(c.pos);
-        return die("unknown command \"%s\" (encode, decode, publish, info)", c.cmd, NULL);
+                return die("unknown command \"%s\" (encode, decode, publish, info)", c.cmd, NULL);
     }
     if (c.n_xml == 0) {
-        free(c.pos);
-        return die("no --xml file given", NULL, NULL);
+                return die("no --xml file given", NULL, NULL);
     }
     kelp_dccl_algs_init(&algs, alg_store, CLI_MAX_ALGS);
     kelp_dccl_builtin_init(&bi, modem_store, CLI_MAX_MODEMS);
     if (kelp_dccl_algs_add_builtin(&algs, &bi) != 0) {
-        free(c.pos);
-        return die("cannot register algorithms", NULL, NULL);
+                return die("cannot register algorithms", NULL, NULL);
     }
     if (c.have_lat != c.have_lon) {
-        free(c.pos);
-        return die("--lat-origin and --lon-origin go together", NULL, NULL);
+                return die("--lat-origin and --lon-origin go together", NULL, NULL);
     }
     if (c.have_lat) kelp_dccl_builtin_set_origin(&bi, c.lat, c.lon);
     if (c.lookup && kelp_dccl_builtin_load_modems(&bi, c.lookup, err, sizeof err) != 0) {
-        free(c.pos);
-        return die("%s", err, NULL);
+                return die("%s", err, NULL);
     }
     kelp_dccl_loaded_init(&ld);
     for (i = 0; i < c.n_xml; i++) {
         if (kelp_dccl_load_file(&ld, c.xml[i], c.no_algs ? NULL : &algs, err, sizeof err) != 0) {
             kelp_dccl_loaded_free(&ld);
-            free(c.pos);
-            return die("%s", err, NULL);
+                        return die("%s", err, NULL);
         }
     }
     if (is_info) {
         status = cmd_info(&ld.set);
         kelp_dccl_loaded_free(&ld);
-        free(c.pos);
-        return status;
+                return status;
     }
     if (!c.have_now) c.now = (double)time(NULL);
     if (kelp_dccl_mbedtls_init(&mb, c.passphrase) != 0) {
         kelp_dccl_loaded_free(&ld);
-        free(c.pos);
-        return die("crypto initialisation failed", NULL, NULL);
+                return die("crypto initialisation failed", NULL, NULL);
     }
     kelp_dccl_codec_init(&cx, c.modem_id, c.plain ? NULL : &mb.ops, c.no_algs ? NULL : &algs);
 
@@ -448,6 +422,5 @@ int kelp_dccl_cli_main(int argc, char **argv)
 done:
     kelp_dccl_mbedtls_free(&mb);
     kelp_dccl_loaded_free(&ld);
-    free(c.pos);
-    return status;
+        return status;
 }

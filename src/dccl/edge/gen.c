@@ -5,9 +5,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <kelp/dccl_edge.h>
 #include "programs.h"
 #include <kelp/edge/cli.h>
+#include <kelp/dccl_edge.h>
 
 static void put_str(FILE *f, const char *s)
 {
@@ -214,25 +214,27 @@ int kelp_dccl_gen_main(int argc, char **argv)
     char pbuf[200], cpath[1024], hpath[1024], hname[256], err[512];
     kelp_dccl_loaded ld;
     FILE *c, *h;
-    int rc;
-    static const struct option opts[] = { { "prefix", required_argument, NULL, 'p' }, { NULL, 0, NULL, 0 } };
-    static const kelp_cli cli = { "kelp-dccl-gen", "FILE.xml [-o DIR] [--prefix NAME]",
-                                  "Writes DIR/NAME.c and DIR/NAME.h (NAME defaults to <file>_dccl) holding the\n"
-                                  "messages of FILE.xml as const kelp_dccl_msgdef tables and NAME_set, for firmware.",
-                                  "  -o DIR           output directory (default .)\n"
-                                  "  --prefix NAME    name of the generated files and tables\n",
-                                  opts, "o:" };
-    int o, status;
-    while ((o = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
-        if (o == KELP_CLI_EXIT) return status;
-        if (o == 'o') dir = optarg;
-        else if (o == 'p') prefix = optarg;
+    int i, rc;
+    const kelp_cli cli = {
+        .name = "kelp-dccl-gen",
+        .purpose = "DCCL message XML -> C const tables for firmware: writes DIR/NAME.c and DIR/NAME.h (NAME\n"
+                   "defaults to <file>_dccl) holding the messages as const kelp_dccl_msgdef tables and NAME_set.",
+        .synopsis = "[-o DIR] [--prefix NAME] FILE.xml",
+        .opts = (const kelp_cli_opt[]){
+            { "output-dir", required_argument, 'o', "DIR", "where to write (default .)" },
+            { "prefix", required_argument, 'p', "NAME", "name of the files and tables" },
+            { NULL, 0, 0, NULL, NULL } },
+    };
+    while ((i = kelp_cli_next(&cli, argc, argv, &rc)) != -1) {
+        if (i == KELP_CLI_EXIT) return rc;
+        if (i == 'o') dir = optarg;
+        else if (i == 'p') prefix = optarg;
     }
     if (optind < argc) xml = argv[optind++];
     if (optind < argc) return kelp_cli_error(&cli, "one XML file at a time");
     if (!xml) {
         kelp_cli_usage(&cli, stderr);
-        return 2;
+        return kelp_cli_error(&cli, "no XML file given");
     }
     if (!prefix) {
         const char *b = strrchr(xml, '/');

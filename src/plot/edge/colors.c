@@ -2,7 +2,7 @@
  * '_' between words), plus hex forms. */
 #include <ctype.h>
 #include <string.h>
-#include "plot.h"
+#include <kelp/edge/plot.h>
 
 static const struct {
     const char *name;
@@ -38,7 +38,7 @@ static int hexval(char c)
     return -1;
 }
 
-int plot_color(const char *name, double rgb[3])
+int kelp_plot_color(const char *name, double rgb[3])
 {
     char n[64] = "";
     size_t k = 0;

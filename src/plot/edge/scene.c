@@ -4,16 +4,19 @@
 #include <string.h>
 #include <strings.h>
 #include <kelp/mission.h>
-#include "plot.h"
+#include <errno.h>
+#include <stdio.h>
+#include <lcm/eventlog.h>
+#include <kelp/edge/plot.h>
 
-void scene_init(plot_scene *s)
+void kelp_plot_scene_init(kelp_plot_scene *s)
 {
     memset(s, 0, sizeof *s);
     s->t0 = INFINITY;
     s->t1 = -INFINITY;
 }
 
-void scene_free(plot_scene *s)
+void kelp_plot_scene_free(kelp_plot_scene *s)
 {
     for (size_t i = 0; i < s->ntracks; i++) free(s->tracks[i].pts);
     free(s->tracks);
@@ -21,51 +24,51 @@ void scene_free(plot_scene *s)
     memset(s, 0, sizeof *s);
 }
 
-plot_track *scene_track(plot_scene *s, const char *name)
+kelp_plot_track *kelp_plot_scene_track(kelp_plot_scene *s, const char *name)
 {
     for (size_t i = 0; i < s->ntracks; i++)
         if (strcasecmp(s->tracks[i].name, name) == 0) return &s->tracks[i];
     return NULL;
 }
 
-static plot_track *track_get(plot_scene *s, const char *name, plot_src src)
+static kelp_plot_track *track_get(kelp_plot_scene *s, const char *name, kelp_plot_src src)
 {
     for (size_t i = 0; i < s->ntracks; i++)
         if (s->tracks[i].src == src && strcasecmp(s->tracks[i].name, name) == 0) return &s->tracks[i];
     if (s->ntracks == s->tcap) {
         size_t nc = s->tcap ? s->tcap * 2 : 8;
-        plot_track *t = realloc(s->tracks, nc * sizeof *t);
+        kelp_plot_track *t = realloc(s->tracks, nc * sizeof *t);
         if (!t) return NULL;
         s->tracks = t;
         s->tcap = nc;
     }
-    plot_track *t = &s->tracks[s->ntracks++];
+    kelp_plot_track *t = &s->tracks[s->ntracks++];
     memset(t, 0, sizeof *t);
     snprintf(t->name, sizeof t->name, "%s", name);
     t->src = src;
     return t;
 }
 
-static void track_add(plot_track *t, double time, double x, double y, double hdg, double spd)
+static void track_add(kelp_plot_track *t, double time, double x, double y, double hdg, double spd)
 {
     if (t->n == t->cap) {
         size_t nc = t->cap ? t->cap * 2 : 256;
-        plot_pt *p = realloc(t->pts, nc * sizeof *p);
+        kelp_plot_pt *p = realloc(t->pts, nc * sizeof *p);
         if (!p) return;
         t->pts = p;
         t->cap = nc;
     }
-    t->pts[t->n++] = (plot_pt){time, x, y, hdg, spd};
+    t->pts[t->n++] = (kelp_plot_pt){time, x, y, hdg, spd};
 }
 
-static void span(plot_scene *s, double t)
+static void span(kelp_plot_scene *s, double t)
 {
     if (!isfinite(t)) return;
     if (t < s->t0) s->t0 = t;
     if (t > s->t1) s->t1 = t;
 }
 
-static bool same_key(const plot_view *a, const kelp_view *b, const char *community)
+static bool same_key(const kelp_plot_view *a, const kelp_view *b, const char *community)
 {
     if (a->v.kind != b->kind || strcmp(a->v.label, b->label) != 0) return false;
     /* points of different behaviours may share a label ("alder's next waypoint") */
@@ -74,7 +77,7 @@ static bool same_key(const plot_view *a, const kelp_view *b, const char *communi
     return strcmp(a->community, community) == 0;
 }
 
-static void add_view(plot_scene *s, const kelp_var *var, kelp_view_kind kind)
+static void add_view(kelp_plot_scene *s, const kelp_var *var, kelp_view_kind kind)
 {
     kelp_view v;
     const char *why = NULL;
@@ -85,7 +88,7 @@ static void add_view(plot_scene *s, const kelp_var *var, kelp_view_kind kind)
     }
     /* an unlabelled point/marker is keyed by its position too (several may coexist) */
     for (size_t i = 0; i < s->nviews; i++) {
-        plot_view *pv = &s->views[i];
+        kelp_plot_view *pv = &s->views[i];
         if (!same_key(pv, &v, var->community)) continue;
         if (!v.label[0] && (kind == KELP_VIEW_POINT || kind == KELP_VIEW_MARKER || kind == KELP_VIEW_CIRCLE) &&
             (pv->v.x != v.x || pv->v.y != v.y))
@@ -103,12 +106,12 @@ static void add_view(plot_scene *s, const kelp_var *var, kelp_view_kind kind)
     if (!v.active && (kind == KELP_VIEW_POLYGON || kind == KELP_VIEW_SEGLIST) && v.npts == 0) return;
     if (s->nviews == s->vcap) {
         size_t nc = s->vcap ? s->vcap * 2 : 32;
-        plot_view *p = realloc(s->views, nc * sizeof *p);
+        kelp_plot_view *p = realloc(s->views, nc * sizeof *p);
         if (!p) return;
         s->views = p;
         s->vcap = nc;
     }
-    plot_view *pv = &s->views[s->nviews++];
+    kelp_plot_view *pv = &s->views[s->nviews++];
     memset(pv, 0, sizeof *pv);
     pv->v = v;
     snprintf(pv->community, sizeof pv->community, "%s", var->community);
@@ -124,7 +127,7 @@ static double num(const kelp_var *v)
     return d;
 }
 
-void scene_add_var(plot_scene *s, const kelp_var *v)
+void kelp_plot_scene_add_var(kelp_plot_scene *s, const kelp_var *v)
 {
     s->vars++;
     if (strncmp(v->name, "NODE_REPORT", 11) == 0 && v->kind == KELP_VAR_STRING &&
@@ -137,7 +140,7 @@ void scene_add_var(plot_scene *s, const kelp_var *v)
             snprintf(s->last_bad, sizeof s->last_bad, "%s: %s", v->name, why ? why : "no X,Y");
             return;
         }
-        plot_track *t = track_get(s, r.name, PLOT_SRC_REPORT);
+        kelp_plot_track *t = track_get(s, r.name, KELP_PLOT_SRC_REPORT);
         if (!t) return;
         double time = (r.fields & KELP_NR_TIME) ? r.time : v->time;
         track_add(t, time, r.x, r.y, (r.fields & KELP_NR_HDG) ? r.hdg : NAN, (r.fields & KELP_NR_SPD) ? r.spd : NAN);
@@ -155,7 +158,7 @@ void scene_add_var(plot_scene *s, const kelp_var *v)
         bool is_x = strcmp(v->name, "NAV_X") == 0, is_y = strcmp(v->name, "NAV_Y") == 0;
         bool is_h = strcmp(v->name, "NAV_HEADING") == 0, is_s = strcmp(v->name, "NAV_SPEED") == 0;
         if (!is_x && !is_y && !is_h && !is_s) return;
-        plot_track *t = track_get(s, v->community, PLOT_SRC_NAV);
+        kelp_plot_track *t = track_get(s, v->community, KELP_PLOT_SRC_NAV);
         if (!t) return;
         if (is_x) t->nav_x = d, t->have_x = true;
         else if (is_h) t->nav_hdg = d;
@@ -177,16 +180,16 @@ void scene_add_var(plot_scene *s, const kelp_var *v)
 
 static int cmp_pt(const void *a, const void *b)
 {
-    double ta = ((const plot_pt *)a)->t, tb = ((const plot_pt *)b)->t;
+    double ta = ((const kelp_plot_pt *)a)->t, tb = ((const kelp_plot_pt *)b)->t;
     return ta < tb ? -1 : ta > tb ? 1 : 0;
 }
 
 static int cmp_track(const void *a, const void *b)
 {
-    return strcasecmp(((const plot_track *)a)->name, ((const plot_track *)b)->name);
+    return strcasecmp(((const kelp_plot_track *)a)->name, ((const kelp_plot_track *)b)->name);
 }
 
-void scene_finish(plot_scene *s)
+void kelp_plot_scene_finish(kelp_plot_scene *s)
 {
     s->t0 = INFINITY;
     s->t1 = -INFINITY;
@@ -195,15 +198,15 @@ void scene_finish(plot_scene *s)
     bool *drop = calloc(s->ntracks ? s->ntracks : 1, sizeof *drop);
     if (!drop) return;
     for (size_t i = 0; i < s->ntracks; i++) {
-        const plot_track *t = &s->tracks[i];
+        const kelp_plot_track *t = &s->tracks[i];
         drop[i] = t->n == 0;
-        if (!drop[i] && t->src == PLOT_SRC_NAV)
+        if (!drop[i] && t->src == KELP_PLOT_SRC_NAV)
             for (size_t j = 0; j < s->ntracks; j++)
-                if (s->tracks[j].src == PLOT_SRC_REPORT && s->tracks[j].n > 0 &&
+                if (s->tracks[j].src == KELP_PLOT_SRC_REPORT && s->tracks[j].n > 0 &&
                     strcasecmp(s->tracks[j].name, t->name) == 0)
                     drop[i] = true;
     }
-    plot_track *kept = calloc(s->ntracks ? s->ntracks : 1, sizeof *kept);
+    kelp_plot_track *kept = calloc(s->ntracks ? s->ntracks : 1, sizeof *kept);
     if (!kept) {
         free(drop);
         return;
@@ -219,7 +222,7 @@ void scene_finish(plot_scene *s)
     s->tcap = s->ntracks ? s->ntracks : 1;
     s->ntracks = w;
     for (size_t i = 0; i < s->ntracks; i++) {
-        plot_track *t = &s->tracks[i];
+        kelp_plot_track *t = &s->tracks[i];
         qsort(t->pts, t->n, sizeof *t->pts, cmp_pt);
         size_t k = 0;
         for (size_t j = 0; j < t->n; j++) {
@@ -240,18 +243,18 @@ void scene_finish(plot_scene *s)
     qsort(s->tracks, s->ntracks, sizeof *s->tracks, cmp_track);
 }
 
-void plot_print_summary(const plot_scene *s, FILE *out)
+void kelp_plot_print_summary(const kelp_plot_scene *s, FILE *out)
 {
     fprintf(out, "%-12s %-7s %7s %10s %9s %19s %19s\n", "vehicle", "from", "fixes", "dist(m)", "time(s)", "start (x,y)",
             "end (x,y)");
     for (size_t i = 0; i < s->ntracks; i++) {
-        const plot_track *t = &s->tracks[i];
+        const kelp_plot_track *t = &s->tracks[i];
         if (!t->n) continue;
-        const plot_pt *a = &t->pts[0], *b = &t->pts[t->n - 1];
+        const kelp_plot_pt *a = &t->pts[0], *b = &t->pts[t->n - 1];
         char st[40], en[40];
         snprintf(st, sizeof st, "(%.1f,%.1f)", a->x, a->y);
         snprintf(en, sizeof en, "(%.1f,%.1f)", b->x, b->y);
-        fprintf(out, "%-12s %-7s %7zu %10.1f %9.1f %19s %19s\n", t->name, t->src == PLOT_SRC_REPORT ? "report" : "nav",
+        fprintf(out, "%-12s %-7s %7zu %10.1f %9.1f %19s %19s\n", t->name, t->src == KELP_PLOT_SRC_REPORT ? "report" : "nav",
                 t->n, t->dist, b->t - a->t, st, en);
     }
     unsigned long nk[KELP_VIEW_NKINDS] = {0};
@@ -264,4 +267,45 @@ void plot_print_summary(const plot_scene *s, FILE *out)
     if (s->bad_reports || s->bad_views)
         fprintf(out, "rejected: %lu node reports, %lu VIEW_* postings (last: %s)\n", s->bad_reports, s->bad_views,
                 s->last_bad);
+}
+
+/* ------------------------------------------------------------------ LCM logs */
+
+int kelp_plot_scene_read_log(kelp_plot_scene *s, const char *path, unsigned long *events, unsigned long *undecoded)
+{
+    FILE *probe = fopen(path, "rb");
+    if (!probe) {
+        fprintf(stderr, "kelp-plot: %s: %s\n", path, strerror(errno));
+        return -1;
+    }
+    fclose(probe);
+    lcm_eventlog_t *log = lcm_eventlog_create(path, "r");
+    if (!log) {
+        fprintf(stderr, "kelp-plot: %s: not readable as an LCM log\n", path);
+        return -1;
+    }
+    kelp_var *v = malloc(sizeof *v);
+    if (!v) {
+        lcm_eventlog_destroy(log);
+        return -1;
+    }
+    lcm_eventlog_event_t *e;
+    unsigned long n = 0;
+    while ((e = lcm_eventlog_read_next_event(log)) != NULL) {
+        n++;
+        if (e->datalen >= 0 && kelp_var_decode(e->data, (size_t)e->datalen, v) == 0) {
+            if (!(v->flags & KELP_VAR_FLAG_SYNC)) kelp_plot_scene_add_var(s, v);
+        } else {
+            (*undecoded)++;
+        }
+        lcm_eventlog_free_event(e);
+    }
+    *events += n;
+    free(v);
+    lcm_eventlog_destroy(log);
+    if (n == 0) {
+        fprintf(stderr, "kelp-plot: %s: no events (empty or not an LCM log)\n", path);
+        return -1;
+    }
+    return 0;
 }

@@ -7,7 +7,7 @@
 #include <strings.h>
 #include <cairo/cairo.h>
 #include <cairo/cairo-svg.h>
-#include "plot.h"
+#include <kelp/edge/plot.h>
 
 #define FONT "DejaVu Sans"
 #define LEGEND_W 310.0
@@ -43,7 +43,7 @@ static void hex_rgb(unsigned v, double c[3])
     c[2] = (v & 0xff) / 255.0;
 }
 
-static const double *track_color(const plot_scene *s, const char *name)
+static const double *track_color(const kelp_plot_scene *s, const char *name)
 {
     for (size_t i = 0; i < s->ntracks; i++)
         if (strcasecmp(s->tracks[i].name, name) == 0) return palette[i % NPAL];
@@ -53,10 +53,10 @@ static const double *track_color(const plot_scene *s, const char *name)
 /* The colour to draw an artifact with: its own unless missing or too pale for a light
  * background (MOOS viewers draw on dark water), then its vehicle's, else `def`.
  * Returns false when the artifact asks not to be drawn. */
-static bool art_color(const plot_scene *s, const plot_view *pv, const char *name, unsigned def, double out[3])
+static bool art_color(const kelp_plot_scene *s, const kelp_plot_view *pv, const char *name, unsigned def, double out[3])
 {
     double c[3];
-    int rc = name[0] ? plot_color(name, c) : -1;
+    int rc = name[0] ? kelp_plot_color(name, c) : -1;
     if (rc == 1) return false;
     const double *tc = track_color(s, pv->community);
     if (rc != 0) { /* no colour given (or unknown): the vehicle's, else the default */
@@ -174,7 +174,7 @@ static void bb_add(bbox *b, double x, double y)
     if (y > b->y1) b->y1 = y;
 }
 
-static bbox scene_bounds(const plot_scene *s, bool pulses)
+static bbox scene_bounds(const kelp_plot_scene *s, bool pulses)
 {
     bbox b = {0, 0, 0, 0, false};
     for (size_t i = 0; i < s->ntracks; i++)
@@ -277,11 +277,11 @@ static void vehicle(cairo_t *cr, double x, double y, double hdg, double len, con
 
 /* ------------------------------------------------------------------ artifacts */
 
-static void draw_views(cairo_t *cr, const plot_scene *s, const view_map *m, const plot_opts *o, int pass)
+static void draw_views(cairo_t *cr, const kelp_plot_scene *s, const view_map *m, const kelp_plot_opts *o, int pass)
 {
     static const double label_c[3] = {0.29, 0.35, 0.42};
     for (size_t i = 0; i < s->nviews; i++) {
-        const plot_view *pv = &s->views[i];
+        const kelp_plot_view *pv = &s->views[i];
         const kelp_view *v = &pv->v;
         double ec[3], fc[3];
         bool drawn_e, drawn_f;
@@ -447,7 +447,7 @@ static void draw_views(cairo_t *cr, const plot_scene *s, const view_map *m, cons
 }
 
 /* point labels: one per distinct (position, label), so repeated postings do not pile up */
-static void draw_point_labels(cairo_t *cr, const plot_scene *s, const view_map *m, placer *pl)
+static void draw_point_labels(cairo_t *cr, const kelp_plot_scene *s, const view_map *m, placer *pl)
 {
     static const double c[3] = {0.29, 0.35, 0.42};
     for (size_t i = 0; i < s->nviews; i++) {
@@ -480,13 +480,13 @@ static double tick_period(double dur)
     return 7200;
 }
 
-static void draw_tracks(cairo_t *cr, const plot_scene *s, const view_map *m, double tick)
+static void draw_tracks(cairo_t *cr, const kelp_plot_scene *s, const view_map *m, double tick)
 {
     cairo_set_line_join(cr, CAIRO_LINE_JOIN_ROUND);
     cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
     for (int layer = 0; layer < 2; layer++) {
         for (size_t i = 0; i < s->ntracks; i++) {
-            const plot_track *t = &s->tracks[i];
+            const kelp_plot_track *t = &s->tracks[i];
             const double *c = palette[i % NPAL];
             bool first = true;
             for (size_t j = 0; j < t->n; j++) {
@@ -507,13 +507,13 @@ static void draw_tracks(cairo_t *cr, const plot_scene *s, const view_map *m, dou
     }
     /* time ticks */
     for (size_t i = 0; i < s->ntracks; i++) {
-        const plot_track *t = &s->tracks[i];
+        const kelp_plot_track *t = &s->tracks[i];
         if (t->n < 2 || tick <= 0) continue;
         const double *c = palette[i % NPAL];
         double next = t->pts[0].t + tick;
         for (size_t j = 1; j < t->n; j++) {
             while (t->pts[j].t >= next) {
-                const plot_pt *a = &t->pts[j - 1], *b = &t->pts[j];
+                const kelp_plot_pt *a = &t->pts[j - 1], *b = &t->pts[j];
                 double f = b->t > a->t ? (next - a->t) / (b->t - a->t) : 1;
                 double x = a->x + f * (b->x - a->x), y = a->y + f * (b->y - a->y);
                 if (ok_coord(x) && ok_coord(y)) {
@@ -531,10 +531,10 @@ static void draw_tracks(cairo_t *cr, const plot_scene *s, const view_map *m, dou
     }
 }
 
-static void draw_track_starts(cairo_t *cr, const plot_scene *s, const view_map *m)
+static void draw_track_starts(cairo_t *cr, const kelp_plot_scene *s, const view_map *m)
 {
     for (size_t i = 0; i < s->ntracks; i++) {
-        const plot_track *t = &s->tracks[i];
+        const kelp_plot_track *t = &s->tracks[i];
         if (!t->n || !ok_coord(t->pts[0].x) || !ok_coord(t->pts[0].y)) continue;
         const double *c = palette[i % NPAL];
         cairo_new_sub_path(cr);
@@ -548,34 +548,34 @@ static void draw_track_starts(cairo_t *cr, const plot_scene *s, const view_map *
 }
 
 /* reserve the glyphs and rings, then the vehicle names (before any other label) */
-static void place_names(cairo_t *cr, const plot_scene *s, const view_map *m, placer *pl, double (*at)[2])
+static void place_names(cairo_t *cr, const kelp_plot_scene *s, const view_map *m, placer *pl, double (*at)[2])
 {
     for (size_t i = 0; i < s->ntracks; i++) {
-        const plot_track *t = &s->tracks[i];
+        const kelp_plot_track *t = &s->tracks[i];
         if (!t->n) continue;
-        const plot_pt *a = &t->pts[0], *b = &t->pts[t->n - 1];
+        const kelp_plot_pt *a = &t->pts[0], *b = &t->pts[t->n - 1];
         if (ok_coord(a->x) && ok_coord(a->y)) placer_add(pl, X(m, a->x) - 7, Y(m, a->y) - 7, X(m, a->x) + 7, Y(m, a->y) + 7);
         if (ok_coord(b->x) && ok_coord(b->y))
             placer_add(pl, X(m, b->x) - 11, Y(m, b->y) - 11, X(m, b->x) + 11, Y(m, b->y) + 11);
     }
     for (size_t i = 0; i < s->ntracks && i < 64; i++) {
-        const plot_track *t = &s->tracks[i];
+        const kelp_plot_track *t = &s->tracks[i];
         if (!t->n || !ok_coord(t->pts[t->n - 1].x) || !ok_coord(t->pts[t->n - 1].y)) continue;
         place(cr, pl, X(m, t->pts[t->n - 1].x), Y(m, t->pts[t->n - 1].y), t->name, 15, true, &at[i][0], &at[i][1]);
     }
 }
 
-static void draw_track_ends(cairo_t *cr, const plot_scene *s, const view_map *m, double (*at)[2])
+static void draw_track_ends(cairo_t *cr, const kelp_plot_scene *s, const view_map *m, double (*at)[2])
 {
     for (size_t i = 0; i < s->ntracks; i++) {
-        const plot_track *t = &s->tracks[i];
+        const kelp_plot_track *t = &s->tracks[i];
         if (!t->n) continue;
         const double *c = palette[i % NPAL];
-        const plot_pt *b = &t->pts[t->n - 1];
+        const kelp_plot_pt *b = &t->pts[t->n - 1];
         if (!ok_coord(b->x) || !ok_coord(b->y)) continue;
         double hdg = b->hdg;
         if (!isfinite(hdg) && t->n >= 2) {
-            const plot_pt *p = &t->pts[t->n - 2];
+            const kelp_plot_pt *p = &t->pts[t->n - 2];
             hdg = atan2(b->x - p->x, b->y - p->y) * 180 / M_PI;
         }
         vehicle(cr, X(m, b->x), Y(m, b->y), hdg, 22, c);
@@ -672,7 +672,7 @@ static void legend_symbol(cairo_t *cr, kelp_view_kind k, double x, double y)
     cairo_new_path(cr);
 }
 
-static void draw_legend(cairo_t *cr, const plot_scene *s, double x0, double y0, double w, double tick)
+static void draw_legend(cairo_t *cr, const kelp_plot_scene *s, double x0, double y0, double w, double tick)
 {
     static const double dark[3] = {0.13, 0.16, 0.20}, mid[3] = {0.38, 0.44, 0.51};
     unsigned long nk[KELP_VIEW_NKINDS] = {0};
@@ -695,7 +695,7 @@ static void draw_legend(cairo_t *cr, const plot_scene *s, double x0, double y0, 
         y += 14;
     }
     for (size_t i = 0; i < s->ntracks; i++) {
-        const plot_track *t = &s->tracks[i];
+        const kelp_plot_track *t = &s->tracks[i];
         const double *c = palette[i % NPAL];
         y += 22;
         cairo_move_to(cr, x0 + 16, y - 5);
@@ -708,7 +708,7 @@ static void draw_legend(cairo_t *cr, const plot_scene *s, double x0, double y0, 
         char buf[128];
         double dur = t->n ? t->pts[t->n - 1].t - t->pts[0].t : 0;
         snprintf(buf, sizeof buf, "%.0f m in %.0f s  ·  %zu fixes (%s)", t->dist, dur, t->n,
-                 t->src == PLOT_SRC_REPORT ? "node reports" : "NAV_X/Y");
+                 t->src == KELP_PLOT_SRC_REPORT ? "node reports" : "NAV_X/Y");
         y += 18;
         text(cr, x0 + 66, y, buf, 11, false, mid, A_LEFT, false);
         y += 4;
@@ -756,7 +756,7 @@ static void draw_legend(cairo_t *cr, const plot_scene *s, double x0, double y0, 
 
 /* ------------------------------------------------------------------ the page */
 
-static void draw(cairo_t *cr, const plot_scene *s, const plot_opts *o)
+static void draw(cairo_t *cr, const kelp_plot_scene *s, const kelp_plot_opts *o)
 {
     const double W = o->width, H = o->height;
     static const double dark[3] = {0.13, 0.16, 0.20}, mid[3] = {0.38, 0.44, 0.51}, axis[3] = {0.27, 0.33, 0.40};
@@ -927,7 +927,7 @@ static void draw(cairo_t *cr, const plot_scene *s, const plot_opts *o)
     draw_legend(cr, s, W - LEGEND_W - 16, m.py0, LEGEND_W, tick);
 }
 
-void plot_release(void)
+void kelp_plot_release(void)
 {
     /* cairo's and fontconfig's caches, so a leak checker sees only real leaks. FcFini is
      * looked up at run time: fontconfig comes in with libcairo, it is not linked directly. */
@@ -938,7 +938,7 @@ void plot_release(void)
     if (fc_fini) fc_fini();
 }
 
-int plot_render(const plot_scene *s, const plot_opts *o, const char *path)
+int kelp_plot_render(const kelp_plot_scene *s, const kelp_plot_opts *o, const char *path)
 {
     size_t n = strlen(path);
     bool png = n >= 4 && strcasecmp(path + n - 4, ".png") == 0;
