@@ -151,6 +151,7 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
 static int startup(kelp_app *app, void *st)
 {
     bridge *b = st;
+    kelp_bus_set_bridge(kelp_app_bus(app), true); /* sees every community's writes */
     b->rxv = malloc(sizeof *b->rxv);
     double port = 0;
     const kelp_mission_node *pn = kelp_app_param(app, "UDPListen");

@@ -165,7 +165,7 @@ int main(int argc, char **argv)
         for (long i = 0; i < n; i++) {
             if (raw) {
                 if (lcm_publish(lcm, "BURST", buf, (unsigned)len) != 0) perr = 1;
-            } else if (kelp_bus_notify_string(c.bus, "BURST", payload, (double)i) < 0) {
+            } else if (kelp_bus_notify_string(c.bus, "BURST", payload, 0.0) < 0) {
                 perr = 1;
             }
             if (perr) break;

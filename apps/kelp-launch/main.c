@@ -218,18 +218,16 @@ int main(int argc, char **argv)
         return 1;
     }
     if (plan.skipped_moosdb) printf("kelp-launch: %s: MOOSDB is not needed (no broker in kelp); skipped\n", mission);
-    char community[KELP_MAX_NAME] = "kelp", murl[400] = "", url[512];
+    char community[KELP_MAX_NAME] = "kelp", url[512];
     int ix = kelp_mission_next(m, -1, -1, "Community");
     if (ix >= 0 && kelp_mission_copy(&m->nodes[ix], community, sizeof community) < 0) {
         fprintf(stderr, "%s:%d: Community too long\n", mission, m->nodes[ix].line);
         return 1;
     }
-    ix = kelp_mission_next(m, -1, -1, "LCM_URL");
-    if (ix >= 0 && kelp_mission_copy(&m->nodes[ix], murl, sizeof murl) < 0) {
-        fprintf(stderr, "%s:%d: LCM_URL too long\n", mission, m->nodes[ix].line);
+    if (kelp_lcm_mission_url(m, url, sizeof url, &ix) < 0) {
+        fprintf(stderr, "%s:%d: bad LCM_URL or ServerPort\n", mission, ix);
         return 1;
     }
-    if (kelp_lcm_url(murl[0] ? murl : NULL, url, sizeof url) < 0) return 1;
     char ldir[PATH_MAX];
     snprintf(ldir, sizeof ldir, "%s", logdir ? logdir : "kelp-logs");
     mkdir(ldir, 0755);

@@ -120,18 +120,19 @@ int main(int argc, char **argv)
         if (!p->is_string && kelp_parse_double(p->value, strlen(p->value), &p->d) < 0) p->is_string = 1;
         n++;
     }
-    char community[KELP_MAX_NAME] = "kelp", url[512], murl[400] = "";
+    char community[KELP_MAX_NAME] = "kelp", url[512];
     int gi = kelp_mission_next(&mf.m, -1, -1, "Community");
     if (gi >= 0 && kelp_mission_copy(&mf.m.nodes[gi], community, sizeof community) < 0) return 1;
-    gi = kelp_mission_next(&mf.m, -1, -1, "LCM_URL");
-    if (gi >= 0 && kelp_mission_copy(&mf.m.nodes[gi], murl, sizeof murl) < 0) return 1;
     double warp = 1;
     gi = kelp_mission_next(&mf.m, -1, -1, "MOOSTimeWarp");
     if (gi >= 0 && kelp_mission_double(&mf.m.nodes[gi], &warp) < 0) warp = 1;
     const char *ep = getenv("KELP_WARP_EPOCH");
     double epoch = 0;
     if (ep && kelp_parse_double(ep, strlen(ep), &epoch) < 0) epoch = 0;
-    if (kelp_lcm_url(murl[0] ? murl : NULL, url, sizeof url) < 0) return 1;
+    if (kelp_lcm_mission_url(&mf.m, url, sizeof url, &gi) < 0) {
+        fprintf(stderr, "%s:%d: bad LCM_URL or ServerPort\n", argv[1], gi);
+        return 1;
+    }
     static seen s;
     s.n = n;
     s.pokes = pokes;

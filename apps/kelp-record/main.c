@@ -4,15 +4,17 @@
  *
  * Why not lcm-logger: Debian's 1.3.1 lcm-logger keeps LCM's default subscription queue
  * (30 messages) and the default socket buffer, so it drops part of any burst, and a test
- * that reads its log then fails at random on a loaded machine. kelp-record subscribes with an
- * unbounded queue and a 4 MiB receive buffer (kelp_lcm_url) and writes events in order.
+ * that reads its log then fails at random on a loaded machine. kelp-record receives through
+ * kelp's own udpm socket (a receive thread, a bounded queue, a 4 MiB receive buffer;
+ * liblcm only writes the log) and writes events in order.
  * The log is the standard LCM event log: lcm-logplayer, lcm-spy and kelp-logcheck read it. */
+#include <poll.h>
+#include <regex.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/time.h>
-#include <lcm/lcm.h>
 #include <lcm/eventlog.h>
 #include <kelp/edge/cli.h>
 #include <kelp/lcmbus.h>
@@ -25,16 +27,17 @@ typedef struct rec {
     long n, errors;
 } rec;
 
-static void on_msg(const lcm_recv_buf_t *rb, const char *channel, void *user)
+static void on_msg(rec *r, const kelp_udpm_msg *m)
 {
-    rec *r = user;
+    struct timeval tv;
+    gettimeofday(&tv, NULL);
     lcm_eventlog_event_t e;
     memset(&e, 0, sizeof e);
-    e.timestamp = rb->recv_utime;
-    e.channellen = (int32_t)strlen(channel);
-    e.datalen = (int32_t)rb->data_size;
-    e.channel = (char *)channel;
-    e.data = rb->data;
+    e.timestamp = (int64_t)tv.tv_sec * 1000000 + tv.tv_usec;
+    e.channellen = (int32_t)strlen(m->channel);
+    e.datalen = (int32_t)m->len;
+    e.channel = (char *)m->channel;
+    e.data = (void *)m->data;
     if (lcm_eventlog_write_event(r->log, &e) != 0) r->errors++;
     else r->n++;
 }
@@ -84,24 +87,36 @@ int main(int argc, char **argv)
         fprintf(stderr, "kelp-record: cannot write %s\n", file);
         return 1;
     }
-    lcm_t *lcm = lcm_create(url);
-    if (!lcm) {
-        fprintf(stderr, "kelp-record: cannot open LCM URL %s\n", url);
+    char err[300], re[600];
+    regex_t rx;
+    snprintf(re, sizeof re, "^(%s)$", chan); /* LCM anchors subscription regexes */
+    if (regcomp(&rx, re, REG_EXTENDED | REG_NOSUB) != 0) {
+        fprintf(stderr, "kelp-record: bad channel regex '%s'\n", chan);
         lcm_eventlog_destroy(r.log);
+        return 2;
+    }
+    kelp_udpm_sock *sock = kelp_udpm_sock_open(url, err, sizeof err);
+    if (!sock) {
+        fprintf(stderr, "kelp-record: cannot open LCM URL %s: %s\n", url, err);
+        lcm_eventlog_destroy(r.log);
+        regfree(&rx);
         return 1;
     }
-    lcm_subscription_t *s = lcm_subscribe(lcm, chan, on_msg, &r);
-    lcm_subscription_set_queue_capacity(s, 0);
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
-    while (!g_stop) lcm_handle_timeout(lcm, 100);
-    /* drain what is already queued */
-    while (lcm_handle_timeout(lcm, 0) > 0) {
+    kelp_udpm_msg m;
+    for (int last = 0; !last;) {
+        last = g_stop; /* one more pass after the signal drains what is already queued */
+        struct pollfd p = { kelp_udpm_sock_fd(sock), POLLIN, 0 };
+        if (!last) (void)poll(&p, 1, 100);
+        while (kelp_udpm_sock_next(sock, &m) == 1)
+            if (regexec(&rx, m.channel, 0, NULL, 0) == 0) on_msg(&r, &m);
     }
-    lcm_destroy(lcm);
+    kelp_udpm_sock_close(sock);
+    regfree(&rx);
     lcm_eventlog_destroy(r.log);
     if (!quiet) printf("kelp-record: %ld events written to %s (%ld write errors)\n", r.n, file, r.errors);
     return r.errors ? 1 : 0;

@@ -527,9 +527,9 @@ static int startup(kelp_app *app, void *state)
     if (add_queues(h, now_us) != KELP_OK) return -1;
 
     /* LCM structures on their own channels */
-    char url[512], murl[400] = "";
-    (void)kelp_app_global_str(app, "LCM_URL", murl, sizeof murl);
-    if (kelp_lcm_url(murl[0] ? murl : NULL, url, sizeof url) == KELP_OK) {
+    char url[512];
+    int uline;
+    if (kelp_lcm_mission_url(kelp_app_mission(app), url, sizeof url, &uline) == KELP_OK) {
         h->lcm = kelp_acomms_lcm_open(url, err, sizeof err);
         if (!h->lcm) kelp_app_config_warning(app, "no LCM structures: %s", err);
     }

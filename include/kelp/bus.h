@@ -46,6 +46,8 @@ typedef enum kelp_var_kind {
 #define KELP_BUS_SYNC_CHANNEL "KELP_SYNC_REQ"
 /** Reply channels start with this prefix (clients pick a unique rest, see kelp_bus_init). */
 #define KELP_BUS_SYNC_REPLY_PREFIX "KELP_SYNC_"
+/** Bytes of the app name a reply channel carries. */
+#define KELP_BUS_REPLY_APP_LEN 24
 
 /** One variable write. Strings are NUL-terminated in sval; slen excludes the NUL. */
 typedef struct kelp_var {
@@ -126,6 +128,10 @@ typedef struct kelp_bus_stats {
     uint64_t sync_stale;             /**< sync replies dropped as not newer than what we had */
     uint64_t rate_limited;           /**< writes withheld by a Register interval */
     uint64_t cache_full;             /**< variables we could not retain (cache full) */
+    uint64_t foreign_community;      /**< writes and sync requests of another community, dropped */
+    uint64_t time_rejected;          /**< writes stamped non-finite or too far in the future */
+    uint64_t sync_limited;           /**< retained values not sent: requester over its budget */
+    uint64_t sync_bad_reply;         /**< sync requests naming a reply channel not the requester's */
     int last_bad_err;                /**< status of the last rejected datagram */
 } kelp_bus_stats;
 
@@ -143,6 +149,27 @@ typedef struct kelp_bus_storage {
 /** Scratch bytes needed to encode the largest var or sync request. */
 size_t kelp_bus_scratch_size(void);
 
+/** Limits on what a client trusts and sends (kelp_bus_set_limits). */
+typedef struct kelp_bus_limits {
+    double time_margin;   /**< reject writes stamped more than this after `now` (s); 0 = no check
+                               (non-finite times are always rejected) */
+    double sync_burst;    /**< retained values one requester may draw at once */
+    double sync_rate;     /**< ... refilled at this many per second of `now` */
+    double sync_burst_all;/**< the same for all requesters together (spoofed names) */
+    double sync_rate_all;
+} kelp_bus_limits;
+
+#define KELP_BUS_TIME_MARGIN 30.0    /**< default future margin the LCM transport sets (s) */
+#define KELP_BUS_SYNC_BURST 1024.0   /**< default per-requester budget: two full caches */
+#define KELP_BUS_SYNC_RATE 128.0     /**< values per second */
+#define KELP_BUS_SYNC_BURST_ALL 4096.0
+#define KELP_BUS_SYNC_RATE_ALL 512.0
+
+typedef struct kelp_bus_sync_peer {
+    char reply[KELP_MAX_NAME];
+    double tokens, last;
+} kelp_bus_sync_peer;
+
 typedef struct kelp_bus {
     /* private */
     char app[KELP_MAX_NAME];
@@ -156,6 +183,10 @@ typedef struct kelp_bus {
     size_t ncache_used;
     int depth;
     kelp_bus_stats stats;
+    kelp_bus_limits lim;
+    bool bridge;
+    kelp_bus_sync_peer peers[KELP_BUS_SYNC_PEERS];
+    double all_tokens, all_last;
 } kelp_bus;
 
 /** @param app this client's MOOS name (source of its writes); @param reply_channel a channel
@@ -165,6 +196,21 @@ typedef struct kelp_bus {
 KELP_MUST_CHECK int kelp_bus_init(kelp_bus *b, const char *app, const char *community,
                                   const char *reply_channel, const kelp_bus_transport *tr,
                                   const kelp_bus_storage *st, kelp_bus_handler handler, void *user);
+
+/** Defaults: no future check (time_margin 0), sync budgets KELP_BUS_SYNC_*. */
+void kelp_bus_limits_default(kelp_bus_limits *l);
+/** Replace the limits (kelp_bus_init sets the defaults). @return 0 or KELP_ERR_ARG
+ *  (negative or non-finite values). */
+KELP_MUST_CHECK int kelp_bus_set_limits(kelp_bus *b, const kelp_bus_limits *l);
+/** A bridge receives every community's writes; any other client drops writes and sync
+ *  requests of another community (counted in foreign_community) unless they carry
+ *  KELP_VAR_FLAG_BRIDGED (a bridge of this community republished them). */
+void kelp_bus_set_bridge(kelp_bus *b, bool bridge);
+
+/** The reply channel of a client: "KELP_SYNC_<app, first 24 bytes>_<nonce, 8 hex>". Sync
+ *  replies only go to a channel of this form built from the requester's own name.
+ *  @return 0 or KELP_ERR_ARG. */
+KELP_MUST_CHECK int kelp_bus_reply_channel(const char *app, uint32_t nonce, char out[KELP_MAX_NAME]);
 
 /** Publish (MOOS Notify). The var is stamped with this client's app and community and time
  *  `now`, retained in the cache and sent. */

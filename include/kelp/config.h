@@ -40,6 +40,14 @@ extern "C" {
 #define KELP_BUS_MAX_DEPTH 8        /**< nested publish-from-handler depth on loopback */
 #endif
 
+#ifndef KELP_UDPM_MAX_FRAGS
+#define KELP_UDPM_MAX_FRAGS 1024    /**< fragments in one reassembled UDP multicast message */
+#endif
+
+#ifndef KELP_BUS_SYNC_PEERS
+#define KELP_BUS_SYNC_PEERS 16      /**< requesters whose sync-reply budget a client tracks */
+#endif
+
 /* ---- mission files ---- */
 #ifndef KELP_MAX_LINE
 #define KELP_MAX_LINE 1024          /**< bytes in one mission-file line */

@@ -340,6 +340,17 @@ static void report(kelp_app *app, FILE *out)
                  "%llu sent to late registrants\n",
             app->mail_total, (unsigned long long)st->published, (unsigned long long)st->bad,
             (unsigned long long)st->sync_delivered, (unsigned long long)st->sync_sent);
+    kelp_udpm_sock_stats ts;
+    kelp_lcmbus_get_stats(app->lb, &ts);
+    fprintf(out, "Transport: %llu datagrams, %llu rejected (%llu header, %llu channel, %llu fragment, %llu magic, "
+                 "%llu too big), %llu reassembly timeouts, %llu queue drops; dropped %llu of another community, "
+                 "%llu with a bad time; %llu sync replies withheld\n",
+            (unsigned long long)ts.rx.datagrams, (unsigned long long)ts.rx.bad, (unsigned long long)ts.rx.bad_header,
+            (unsigned long long)ts.rx.bad_channel, (unsigned long long)ts.rx.bad_fragment,
+            (unsigned long long)ts.rx.bad_magic, (unsigned long long)ts.rx.too_big,
+            (unsigned long long)ts.rx.timeouts, (unsigned long long)ts.queue_dropped,
+            (unsigned long long)st->foreign_community, (unsigned long long)st->time_rejected,
+            (unsigned long long)st->sync_limited + (unsigned long long)st->sync_bad_reply);
     if (app->def->report) {
         fprintf(out, "------------------------------------------------------------------\n");
         app->def->report(app, app->state, out);
@@ -475,11 +486,12 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
 {
     const char *mission = NULL, *alias = NULL;
     bool verbose = false;
-    char more[400];
+    char more[512];
     snprintf(more, sizeof more,
              "MISSION.moos is the mission file; NAME (or --alias) the MOOS name to run under (default\n"
              "%s: the app reads ProcessConfig = NAME). The LCM URL of the community comes from\n"
-             "$KELP_LCM_URL, else the mission's global LCM_URL, else " KELP_LCM_DEFAULT_URL ".\n",
+             "$KELP_LCM_URL, else the mission's global LCM_URL, else udpm://239.255.76.67:<ServerPort>\n"
+             "?ttl=0 (one port per community), else " KELP_LCM_DEFAULT_URL ".\n",
              moos_name(def));
     const kelp_cli cli = {
         .name = def->name,
@@ -548,10 +560,11 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
     app->comms_tick = 4;
     if (kelp_app_param_double(app, "AppTick", &app->app_tick) < 0 || app->app_tick < 0) app->app_tick = 4;
     if (kelp_app_param_double(app, "CommsTick", &app->comms_tick) < 0) app->comms_tick = 4;
-    char murl[400] = "";
-    (void)kelp_app_global_str(app, "LCM_URL", murl, sizeof murl);
-    if (kelp_lcm_url(murl[0] ? murl : NULL, app->url, sizeof app->url) < 0) {
-        fprintf(stderr, "%s: LCM URL too long\n", mission);
+    int uline = 0;
+    if (kelp_lcm_mission_url(&app->mf.m, app->url, sizeof app->url, &uline) < 0) {
+        fprintf(stderr, "%s:%d: bad LCM_URL or ServerPort (udpm://GROUP:PORT?..., port 1..65535)\n", mission, uline);
+        kelp_mission_free(&app->mf);
+        free(app);
         return 1;
     }
     char err[600];
@@ -561,6 +574,20 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
         kelp_mission_free(&app->mf);
         free(app);
         return 1;
+    }
+    /* optional global BusTimeMargin: seconds a write's time may lie ahead of ours */
+    double margin = KELP_BUS_TIME_MARGIN;
+    if (kelp_app_global_double(app, "BusTimeMargin", &margin) != 0) {
+        kelp_bus_limits lim;
+        kelp_bus_limits_default(&lim);
+        lim.time_margin = margin;
+        if (!(margin > 0) || kelp_bus_set_limits(kelp_lcmbus_bus(app->lb), &lim) < 0) {
+            fprintf(stderr, "%s: BusTimeMargin must be a positive number of seconds\n", mission);
+            kelp_lcmbus_close(app->lb);
+            kelp_mission_free(&app->mf);
+            free(app);
+            return 1;
+        }
     }
     app->start = kelp_app_time(app);
     struct sigaction sa;

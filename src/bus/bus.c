@@ -7,6 +7,7 @@
  * already delivered for that variable, so several answers (or a live write racing the
  * replay) deliver each value at most once.
  */
+#include <math.h>
 #include <string.h>
 #include <kelp/bus.h>
 #include "bus_int.h"
@@ -43,6 +44,8 @@ int kelp_bus_init(kelp_bus *b, const char *app, const char *community, const cha
     b->st = *st;
     b->handler = handler;
     b->user = user;
+    kelp_bus_limits_default(&b->lim);
+    b->all_tokens = b->lim.sync_burst_all;
     /* Sync requests and our replies: every client answers requests from others. */
     if ((rc = tr->subscribe(tr->ctx, KELP_BUS_SYNC_CHANNEL)) < 0) return rc;
     if ((rc = tr->subscribe(tr->ctx, b->reply_channel)) < 0) return rc;
@@ -240,13 +243,107 @@ static bool wanted(kelp_bus *b, const kelp_var *v, bool *rate_limited)
     return match;
 }
 
-static void answer_sync(kelp_bus *b, const kelp_sync_req *q)
+void kelp_bus_limits_default(kelp_bus_limits *l)
+{
+    l->time_margin = 0;
+    l->sync_burst = KELP_BUS_SYNC_BURST;
+    l->sync_rate = KELP_BUS_SYNC_RATE;
+    l->sync_burst_all = KELP_BUS_SYNC_BURST_ALL;
+    l->sync_rate_all = KELP_BUS_SYNC_RATE_ALL;
+}
+
+int kelp_bus_set_limits(kelp_bus *b, const kelp_bus_limits *l)
+{
+    if (!b || !l) return KELP_ERR_ARG;
+    const double v[5] = { l->time_margin, l->sync_burst, l->sync_rate, l->sync_burst_all, l->sync_rate_all };
+    for (int i = 0; i < 5; i++)
+        if (!isfinite(v[i]) || v[i] < 0) return KELP_ERR_ARG;
+    b->lim = *l;
+    if (b->all_tokens > l->sync_burst_all) b->all_tokens = l->sync_burst_all;
+    return KELP_OK;
+}
+
+void kelp_bus_set_bridge(kelp_bus *b, bool bridge)
+{
+    if (b) b->bridge = bridge;
+}
+
+int kelp_bus_reply_channel(const char *app, uint32_t nonce, char out[KELP_MAX_NAME])
+{
+    static const char hex[] = "0123456789abcdef";
+    static const char pre[] = KELP_BUS_SYNC_REPLY_PREFIX;
+    if (!app || !*app || !out) return KELP_ERR_ARG;
+    size_t al = strnlen(app, KELP_BUS_REPLY_APP_LEN), o = sizeof pre - 1;
+    _Static_assert(sizeof pre - 1 + KELP_BUS_REPLY_APP_LEN + 1 + 8 < KELP_MAX_NAME, "reply channel fits a name");
+    memcpy(out, pre, o);
+    memcpy(out + o, app, al);
+    o += al;
+    out[o++] = '_';
+    for (int i = 7; i >= 0; i--) out[o++] = hex[(nonce >> (4 * i)) & 0xf];
+    out[o] = 0;
+    return KELP_OK;
+}
+
+/* A reply channel the requester may use: its own, "KELP_SYNC_<name, first 24 bytes>" with
+ * an optional "_<1..8 hex digits>", so replies cannot be aimed at any other channel. */
+static bool reply_ok(const char *requester, const char *reply)
+{
+    static const char pre[] = KELP_BUS_SYNC_REPLY_PREFIX;
+    size_t pl = sizeof pre - 1, al = strnlen(requester, KELP_BUS_REPLY_APP_LEN);
+    if (al == 0 || strncmp(reply, pre, pl) != 0 || strncmp(reply + pl, requester, al) != 0) return false;
+    const char *t = reply + pl + al;
+    if (*t == 0) return true;
+    if (*t++ != '_') return false;
+    size_t h = 0;
+    for (; *t; t++, h++)
+        if (!((*t >= '0' && *t <= '9') || (*t >= 'a' && *t <= 'f') || (*t >= 'A' && *t <= 'F'))) return false;
+    return h >= 1 && h <= 8;
+}
+
+static void refill(double *tokens, double *last, double burst, double rate, double now)
+{
+    if (isfinite(now) && now > *last) {
+        *tokens += (now - *last) * rate;
+        if (*tokens > burst) *tokens = burst;
+    }
+    if (isfinite(now)) *last = now;
+}
+
+/* The requester's budget: its slot in the table, or the least recently used slot. */
+static kelp_bus_sync_peer *peer_for(kelp_bus *b, const char *reply, double now)
+{
+    kelp_bus_sync_peer *lru = &b->peers[0];
+    for (size_t i = 0; i < KELP_BUS_SYNC_PEERS; i++) {
+        kelp_bus_sync_peer *p = &b->peers[i];
+        if (p->reply[0] && strcmp(p->reply, reply) == 0) return p;
+        if (!p->reply[0] || (lru->reply[0] && p->last < lru->last)) lru = p;
+    }
+    memcpy(lru->reply, reply, strlen(reply) + 1);
+    lru->tokens = b->lim.sync_burst;
+    lru->last = isfinite(now) ? now : 0;
+    return lru;
+}
+
+static void answer_sync(kelp_bus *b, const kelp_sync_req *q, double now)
 {
     if (strcmp(q->reply_channel, b->reply_channel) == 0) return; /* our own request */
+    if (!reply_ok(q->requester, q->reply_channel)) {
+        b->stats.sync_bad_reply++;
+        return;
+    }
+    kelp_bus_sync_peer *p = peer_for(b, q->reply_channel, now);
+    refill(&p->tokens, &p->last, b->lim.sync_burst, b->lim.sync_rate, now);
+    refill(&b->all_tokens, &b->all_last, b->lim.sync_burst_all, b->lim.sync_rate_all, now);
     for (size_t i = 0; i < b->ncache_used; i++) {
         kelp_var *c = &b->st.cache[i];
         for (uint16_t k = 0; k < q->npatterns; k++) {
             if (kelp_bus_match(q->patterns[k], c->name)) {
+                if (p->tokens < 1 || b->all_tokens < 1) {
+                    b->stats.sync_limited++;
+                    break;
+                }
+                p->tokens -= 1;
+                b->all_tokens -= 1;
                 uint8_t keep = c->flags;
                 c->flags |= KELP_VAR_FLAG_SYNC;
                 if (send_var(b, c, q->reply_channel) == 0) b->stats.sync_sent++;
@@ -257,9 +354,14 @@ static void answer_sync(kelp_bus *b, const kelp_sync_req *q)
     }
 }
 
+/* Another community's traffic, unless a bridge of ours brought it or we are a bridge. */
+static bool foreign(const kelp_bus *b, const char *community, uint8_t flags)
+{
+    return !b->bridge && !(flags & KELP_VAR_FLAG_BRIDGED) && strcmp(community, b->community) != 0;
+}
+
 int kelp_bus_receive(kelp_bus *b, const char *channel, const uint8_t *data, size_t len, double now)
 {
-    (void)now;
     if (!b || !channel) return KELP_ERR_ARG;
     b->stats.received++;
     if (b->depth >= KELP_BUS_MAX_DEPTH) return KELP_ERR_STATE;
@@ -272,8 +374,12 @@ int kelp_bus_receive(kelp_bus *b, const char *channel, const uint8_t *data, size
             b->stats.last_bad_err = rc;
             return rc;
         }
+        if (foreign(b, q.community, 0)) {
+            b->stats.foreign_community++;
+            return KELP_OK;
+        }
         b->depth++;
-        answer_sync(b, &q);
+        answer_sync(b, &q, now);
         b->depth--;
         return KELP_OK;
     }
@@ -301,6 +407,15 @@ int kelp_bus_receive(kelp_bus *b, const char *channel, const uint8_t *data, size
         b->stats.bad++;
         b->stats.last_bad_err = KELP_ERR_PARSE;
         return KELP_ERR_PARSE;
+    }
+    if (foreign(b, v->community, v->flags)) {
+        b->stats.foreign_community++;
+        return KELP_OK;
+    }
+    /* a poisoned time would win every later "newer than" comparison in every cache */
+    if (!isfinite(v->time) || (b->lim.time_margin > 0 && v->time > now + b->lim.time_margin)) {
+        b->stats.time_rejected++;
+        return KELP_ERR_RANGE;
     }
     if (is_sync) {
         const kelp_var *have = cache_find(b, v->name);

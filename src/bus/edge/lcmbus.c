@@ -1,18 +1,23 @@
-/* kelp LCM transport: kelp_bus over liblcm (udpm multicast). */
+/* kelp LCM transport: kelp_bus over kelp's own udpm sockets (LCM wire format, no liblcm). */
 #include <errno.h>
 #include <poll.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <lcm/lcm.h>
+#include <kelp/edge/udpm.h>
 #include <kelp/lcmbus.h>
 
+/* the bus's registrations plus its two sync channels */
+#define KELP_LCMBUS_MAX_PATTERNS (KELP_MAX_SUBS + 2)
+/* messages handled per kelp_lcmbus_handle call, so a flood cannot starve the app's loop */
+#define KELP_LCMBUS_MAX_BATCH 4096
+
 struct kelp_lcmbus {
-    lcm_t *lcm;
+    kelp_udpm_sock *sock;
+    char (*pat)[KELP_MAX_NAME];
+    size_t npat;
     kelp_bus bus;
     kelp_bus_storage st;
-    double now;
-    int handled;
 };
 
 int kelp_lcm_url(const char *mission_url, char *buf, size_t cap)
@@ -28,50 +33,51 @@ int kelp_lcm_url(const char *mission_url, char *buf, size_t cap)
     return (n < 0 || (size_t)n >= cap) ? KELP_ERR_NOSPACE : KELP_OK;
 }
 
-static void on_lcm(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
+int kelp_lcm_mission_url(const kelp_mission *m, char *buf, size_t cap, int *line)
 {
-    kelp_lcmbus *lb = user;
-    lb->handled++;
-    (void)kelp_bus_receive(&lb->bus, channel, rbuf->data, rbuf->data_size, lb->now);
+    char murl[400] = "", port[16] = "", url[512];
+    static const char *const keys[2] = { "LCM_URL", "ServerPort" };
+    char *vals[2] = { murl, port };
+    size_t caps[2] = { sizeof murl, sizeof port };
+    *line = 0;
+    for (int k = 0; k < 2; k++) {
+        int i = kelp_mission_next(m, -1, -1, keys[k]);
+        if (i < 0) continue;
+        if (kelp_mission_copy(&m->nodes[i], vals[k], caps[k]) < 0) {
+            *line = m->nodes[i].line;
+            return KELP_ERR_RANGE;
+        }
+    }
+    int rc = kelp_udpm_community_url(murl, port, url, sizeof url);
+    if (rc < 0) {
+        int i = kelp_mission_next(m, -1, -1, murl[0] ? "LCM_URL" : "ServerPort");
+        *line = i >= 0 ? m->nodes[i].line : 0;
+        return rc;
+    }
+    return kelp_lcm_url(url[0] ? url : NULL, buf, cap);
 }
 
-/* glob -> anchored POSIX regex (LCM anchors it with ^...$) */
-static int glob_to_regex(const char *g, char *out, size_t cap)
+/* Only channels some registration (or the sync protocol) asked for reach the bus. */
+static bool subscribed(const kelp_lcmbus *lb, const char *channel)
 {
-    size_t o = 0;
-    for (; *g; g++) {
-        const char *add;
-        char one[3] = { 0 };
-        if (*g == '*') add = ".*";
-        else if (*g == '?') add = ".";
-        else if (strchr(".^$|()[]{}+\\", *g)) { one[0] = '\\'; one[1] = *g; add = one; }
-        else { one[0] = *g; add = one; }
-        size_t n = strlen(add);
-        if (o + n + 1 > cap) return KELP_ERR_NOSPACE;
-        memcpy(out + o, add, n);
-        o += n;
-    }
-    out[o] = 0;
-    return KELP_OK;
+    for (size_t i = 0; i < lb->npat; i++)
+        if (kelp_bus_match(lb->pat[i], channel)) return true;
+    return false;
 }
 
 static int tr_subscribe(void *ctx, const char *pattern)
 {
     kelp_lcmbus *lb = ctx;
-    char re[4 * KELP_MAX_NAME];
-    int rc = glob_to_regex(pattern, re, sizeof re);
-    if (rc < 0) return rc;
-    lcm_subscription_t *s = lcm_subscribe(lb->lcm, re, on_lcm, lb);
-    if (!s) return KELP_ERR_IO;
-    lcm_subscription_set_queue_capacity(s, 0); /* unbounded: never drop a burst */
-    return KELP_OK;
+    for (size_t i = 0; i < lb->npat; i++)
+        if (strcmp(lb->pat[i], pattern) == 0) return KELP_OK;
+    if (lb->npat >= KELP_LCMBUS_MAX_PATTERNS) return KELP_ERR_NOSPACE;
+    return kelp_name_set(lb->pat[lb->npat++], pattern);
 }
 
 static int tr_publish(void *ctx, const char *channel, const uint8_t *data, size_t len)
 {
     kelp_lcmbus *lb = ctx;
-    if (len > 0x7fffffff) return KELP_ERR_ARG;
-    return lcm_publish(lb->lcm, channel, data, (unsigned int)len) == 0 ? KELP_OK : KELP_ERR_IO;
+    return kelp_udpm_sock_publish(lb->sock, channel, data, len);
 }
 
 kelp_lcmbus *kelp_lcmbus_open(const char *url, const char *app, const char *community, kelp_bus_handler handler,
@@ -82,12 +88,14 @@ kelp_lcmbus *kelp_lcmbus_open(const char *url, const char *app, const char *comm
         snprintf(err, errcap, "out of memory");
         return NULL;
     }
-    lb->lcm = lcm_create(url);
-    if (!lb->lcm) {
-        snprintf(err, errcap, "cannot open LCM URL '%s' (is there a multicast route? see README)", url);
+    char why[256];
+    lb->sock = kelp_udpm_sock_open(url, why, sizeof why);
+    if (!lb->sock) {
+        snprintf(err, errcap, "cannot open LCM URL '%s': %s", url, why);
         free(lb);
         return NULL;
     }
+    lb->pat = calloc(KELP_LCMBUS_MAX_PATTERNS, sizeof *lb->pat);
     lb->st.nsubs = KELP_MAX_SUBS;
     lb->st.ncache = KELP_MAX_CACHE;
     lb->st.scratch_cap = kelp_bus_scratch_size();
@@ -95,7 +103,7 @@ kelp_lcmbus *kelp_lcmbus_open(const char *url, const char *app, const char *comm
     lb->st.cache = calloc(lb->st.ncache, sizeof *lb->st.cache);
     lb->st.scratch = malloc(lb->st.scratch_cap);
     lb->st.rx = malloc(sizeof *lb->st.rx);
-    if (!lb->st.subs || !lb->st.cache || !lb->st.scratch || !lb->st.rx) {
+    if (!lb->pat || !lb->st.subs || !lb->st.cache || !lb->st.scratch || !lb->st.rx) {
         snprintf(err, errcap, "out of memory");
         kelp_lcmbus_close(lb);
         return NULL;
@@ -108,7 +116,11 @@ kelp_lcmbus *kelp_lcmbus_open(const char *url, const char *app, const char *comm
         if (fread(&nonce, sizeof nonce, 1, r) != 1) nonce = 0;
         fclose(r);
     }
-    snprintf(reply, sizeof reply, "KELP_SYNC_%.24s_%08lx", app, nonce & 0xfffffffful);
+    if (kelp_bus_reply_channel(app, (uint32_t)nonce, reply) < 0) {
+        snprintf(err, errcap, "bad app name");
+        kelp_lcmbus_close(lb);
+        return NULL;
+    }
     kelp_bus_transport tr = { tr_publish, tr_subscribe, lb };
     int rc = kelp_bus_init(&lb->bus, app, community, reply, &tr, &lb->st, handler, user);
     if (rc < 0) {
@@ -116,13 +128,18 @@ kelp_lcmbus *kelp_lcmbus_open(const char *url, const char *app, const char *comm
         kelp_lcmbus_close(lb);
         return NULL;
     }
+    kelp_bus_limits lim;
+    kelp_bus_limits_default(&lim);
+    lim.time_margin = KELP_BUS_TIME_MARGIN; /* real clocks here: reject far-future stamps */
+    if (kelp_bus_set_limits(&lb->bus, &lim) < 0) { /* constant limits: cannot fail */ }
     return lb;
 }
 
 void kelp_lcmbus_close(kelp_lcmbus *lb)
 {
     if (!lb) return;
-    if (lb->lcm) lcm_destroy(lb->lcm);
+    kelp_udpm_sock_close(lb->sock);
+    free(lb->pat);
     free(lb->st.subs);
     free(lb->st.cache);
     free(lb->st.scratch);
@@ -137,26 +154,29 @@ kelp_bus *kelp_lcmbus_bus(kelp_lcmbus *lb)
 
 int kelp_lcmbus_fd(kelp_lcmbus *lb)
 {
-    return lcm_get_fileno(lb->lcm);
+    return kelp_udpm_sock_fd(lb->sock);
 }
 
 int kelp_lcmbus_handle(kelp_lcmbus *lb, int timeout_ms, double now)
 {
-    lb->now = now;
-    lb->handled = 0;
-    struct pollfd pfd = { lcm_get_fileno(lb->lcm), POLLIN, 0 };
-    int first = 1;
-    for (;;) {
-        int pr = poll(&pfd, 1, first ? timeout_ms : 0);
-        first = 0;
-        if (pr < 0) {
-            if (errno == EINTR) return lb->handled;
-            return KELP_ERR_IO;
-        }
-        if (pr == 0 || !(pfd.revents & POLLIN)) break;
-        if (lcm_handle(lb->lcm) != 0) return KELP_ERR_IO;
+    int handled = 0;
+    kelp_udpm_msg m;
+    if (kelp_udpm_sock_next(lb->sock, &m) == 0) {
+        struct pollfd pfd = { kelp_udpm_sock_fd(lb->sock), POLLIN, 0 };
+        int pr = poll(&pfd, 1, timeout_ms);
+        if (pr < 0) return errno == EINTR ? 0 : KELP_ERR_IO;
+        if (pr == 0 || kelp_udpm_sock_next(lb->sock, &m) == 0) return 0;
     }
-    return lb->handled;
+    do {
+        handled++;
+        if (subscribed(lb, m.channel)) (void)kelp_bus_receive(&lb->bus, m.channel, m.data, m.len, now);
+    } while (handled < KELP_LCMBUS_MAX_BATCH && kelp_udpm_sock_next(lb->sock, &m) == 1);
+    return handled;
+}
+
+void kelp_lcmbus_get_stats(kelp_lcmbus *lb, kelp_udpm_sock_stats *out)
+{
+    kelp_udpm_sock_get_stats(lb->sock, out);
 }
 
 int kelp_lcmbus_publish_raw(kelp_lcmbus *lb, const char *channel, const void *data, size_t len)

@@ -1,0 +1,340 @@
+/* kelp UDP multicast sockets: LCM's udpm wire format without liblcm (edge).
+ *
+ * The receive thread owns the socket and the reassembler; the owner thread only takes
+ * complete messages from the queue. The queue is one byte ring of records, so a message
+ * costs one copy in and none out (the record stays reserved until the next take).
+ */
+#include <errno.h>
+#include <poll.h>
+#include <pthread.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/eventfd.h>
+#include <sys/socket.h>
+#include <sys/uio.h>
+#include <kelp/edge/udpm.h>
+
+#define REC_HDR 12u           /* u32 record bytes (0 = wrap), u32 payload bytes, u32 channel bytes */
+#define REC_ALIGN 8u
+#define RECV_BATCH 64         /* datagrams drained before the queue lock is taken for stats */
+#define IDLE_POLL_MS 250      /* wake at least this often to time out reassembly slots */
+
+struct kelp_udpm_sock {
+    int rfd, sfd, evfd, stopfd;
+    pthread_t th;
+    int th_started;
+    struct sockaddr_in dest;
+    /* queue, under qlock */
+    pthread_mutex_t qlock;
+    uint8_t *q;
+    size_t qcap, head, tail, used, nrec, held;
+    kelp_udpm_sock_stats st;
+    /* receive thread only */
+    kelp_udpm_rx rx;
+    kelp_udpm_slot slots[KELP_UDPM_REASM_SLOTS];
+    uint8_t *slotmem;
+    uint8_t *dg;
+    /* publish, under slock */
+    pthread_mutex_t slock;
+    uint32_t seqno;
+    uint64_t sent, send_errors;
+};
+
+static double mono_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static void put32(uint8_t *p, uint32_t v) { memcpy(p, &v, 4); } /* host order: never on the wire */
+static uint32_t get32(const uint8_t *p)
+{
+    uint32_t v;
+    memcpy(&v, p, 4);
+    return v;
+}
+
+/* Queue one complete message; called with qlock held. */
+static void enqueue(kelp_udpm_sock *s, const kelp_udpm_msg *m)
+{
+    size_t cl = strlen(m->channel) + 1;
+    size_t rec = (REC_HDR + cl + m->len + REC_ALIGN - 1) & ~(size_t)(REC_ALIGN - 1);
+    size_t waste = s->tail + rec > s->qcap ? s->qcap - s->tail : 0;
+    if (rec > s->qcap || s->used + waste + rec > s->qcap) {
+        s->st.queue_dropped++;
+        return;
+    }
+    if (waste) {
+        put32(s->q + s->tail, 0); /* wrap marker: the consumer skips to the start */
+        s->used += waste;
+        s->tail = 0;
+    }
+    uint8_t *p = s->q + s->tail;
+    put32(p, (uint32_t)rec);
+    put32(p + 4, (uint32_t)m->len);
+    put32(p + 8, (uint32_t)cl);
+    memcpy(p + REC_HDR, m->channel, cl);
+    if (m->len) memcpy(p + REC_HDR + cl, m->data, m->len);
+    s->tail += rec;
+    if (s->tail == s->qcap) s->tail = 0;
+    s->used += rec;
+    if (s->nrec++ == 0) {
+        uint64_t one = 1;
+        if (write(s->evfd, &one, sizeof one) < 0) { /* counter saturated: already readable */ }
+    }
+    s->st.queued++;
+}
+
+static void *recv_main(void *arg)
+{
+    kelp_udpm_sock *s = arg;
+    sigset_t all;
+    sigfillset(&all);
+    pthread_sigmask(SIG_SETMASK, &all, NULL); /* signals belong to the owner thread */
+    for (;;) {
+        struct pollfd p[2] = { { s->rfd, POLLIN, 0 }, { s->stopfd, POLLIN, 0 } };
+        int pr = poll(p, 2, IDLE_POLL_MS);
+        if (pr < 0 && errno != EINTR) break;
+        if (p[1].revents) break;
+        double now = mono_now();
+        if (!(p[0].revents & POLLIN)) {
+            (void)kelp_udpm_expire(&s->rx, now);
+            pthread_mutex_lock(&s->qlock);
+            s->st.rx = s->rx.stats;
+            pthread_mutex_unlock(&s->qlock);
+            continue;
+        }
+        for (int i = 0; i < RECV_BATCH; i++) {
+            struct sockaddr_in from = { 0 };
+            socklen_t fl = sizeof from;
+            ssize_t n = recvfrom(s->rfd, s->dg, KELP_UDPM_MAX_DATAGRAM + 1, MSG_DONTWAIT, (struct sockaddr *)&from, &fl);
+            if (n < 0) break;
+            uint64_t sender = (uint64_t)ntohl(from.sin_addr.s_addr) << 16 | ntohs(from.sin_port);
+            kelp_udpm_msg m;
+            /* a datagram over the UDP maximum cannot come from LCM; feed() counts it */
+            if (kelp_udpm_feed(&s->rx, s->dg, (size_t)n, sender, now, &m) == 1) {
+                pthread_mutex_lock(&s->qlock);
+                enqueue(s, &m);
+                s->st.rx = s->rx.stats;
+                pthread_mutex_unlock(&s->qlock);
+            }
+        }
+        pthread_mutex_lock(&s->qlock);
+        s->st.rx = s->rx.stats;
+        pthread_mutex_unlock(&s->qlock);
+    }
+    return NULL;
+}
+
+int kelp_udpm_sock_next(kelp_udpm_sock *s, kelp_udpm_msg *out)
+{
+    pthread_mutex_lock(&s->qlock);
+    if (s->held) {
+        s->head += s->held;
+        if (s->head == s->qcap) s->head = 0;
+        s->used -= s->held;
+        s->held = 0;
+    }
+    if (s->nrec == 0) {
+        s->head = s->tail = s->used = 0; /* empty: start over, no wrap needed soon */
+        uint64_t c;
+        if (read(s->evfd, &c, sizeof c) < 0) { /* EAGAIN: already clear */ }
+        pthread_mutex_unlock(&s->qlock);
+        return 0;
+    }
+    uint32_t rec = get32(s->q + s->head);
+    if (rec == 0) {
+        s->used -= s->qcap - s->head;
+        s->head = 0;
+        rec = get32(s->q);
+    }
+    const uint8_t *p = s->q + s->head;
+    s->held = rec;
+    s->nrec--;
+    pthread_mutex_unlock(&s->qlock);
+    uint32_t cl = get32(p + 8);
+    out->channel = (const char *)(p + REC_HDR);
+    out->data = p + REC_HDR + cl;
+    out->len = get32(p + 4);
+    out->seqno = 0;
+    out->sender = 0;
+    out->fragmented = false;
+    return 1;
+}
+
+int kelp_udpm_sock_publish(kelp_udpm_sock *s, const char *channel, const void *data, size_t len)
+{
+    if (!s || !channel || (!data && len)) return KELP_ERR_ARG;
+    size_t cl = strlen(channel);
+    uint16_t nfrags = 0;
+    int rc = kelp_udpm_plan(cl, len, KELP_UDPM_MAX_DATAGRAM, &nfrags);
+    if (rc < 0) return rc;
+    uint8_t hdr[KELP_UDPM_FRAG_HDR];
+    struct iovec iov[3];
+    struct msghdr mh;
+    memset(&mh, 0, sizeof mh);
+    mh.msg_iov = iov;
+    pthread_mutex_lock(&s->slock);
+    uint32_t seq = s->seqno++;
+    if (nfrags == 0) {
+        kelp_udpm_put_short_header(hdr, seq);
+        struct iovec one[3] = { { hdr, KELP_UDPM_SHORT_HDR }, { (void *)channel, cl + 1 }, { (void *)data, len } };
+        mh.msg_iov = one;
+        mh.msg_iovlen = 3;
+        ssize_t n = sendmsg(s->sfd, &mh, 0);
+        rc = n == (ssize_t)(KELP_UDPM_SHORT_HDR + cl + 1 + len) ? KELP_OK : KELP_ERR_IO;
+    } else {
+        const size_t fp = KELP_UDPM_MAX_DATAGRAM - KELP_UDPM_FRAG_HDR;
+        size_t off = 0;
+        for (uint16_t k = 0; k < nfrags && rc == KELP_OK; k++) {
+            size_t pre = k == 0 ? cl + 1 : 0;
+            size_t chunk = fp - pre < len - off ? fp - pre : len - off;
+            kelp_udpm_put_frag_header(hdr, seq, (uint32_t)len, (uint32_t)off, k, nfrags);
+            int i = 0;
+            iov[i++] = (struct iovec){ hdr, KELP_UDPM_FRAG_HDR };
+            if (pre) iov[i++] = (struct iovec){ (void *)channel, pre };
+            iov[i++] = (struct iovec){ (uint8_t *)data + off, chunk };
+            mh.msg_iovlen = (size_t)i;
+            ssize_t n = sendmsg(s->sfd, &mh, 0);
+            if (n != (ssize_t)(KELP_UDPM_FRAG_HDR + pre + chunk)) rc = KELP_ERR_IO;
+            off += chunk;
+        }
+    }
+    if (rc == KELP_OK) s->sent++;
+    else s->send_errors++;
+    pthread_mutex_unlock(&s->slock);
+    return rc;
+}
+
+int kelp_udpm_sock_fd(const kelp_udpm_sock *s)
+{
+    return s->evfd;
+}
+
+void kelp_udpm_sock_get_stats(kelp_udpm_sock *s, kelp_udpm_sock_stats *out)
+{
+    pthread_mutex_lock(&s->qlock);
+    *out = s->st;
+    pthread_mutex_unlock(&s->qlock);
+    pthread_mutex_lock(&s->slock);
+    out->sent = s->sent;
+    out->send_errors = s->send_errors;
+    pthread_mutex_unlock(&s->slock);
+}
+
+static kelp_udpm_sock *fail(kelp_udpm_sock *s, char *err, size_t errcap, const char *what, int e)
+{
+    snprintf(err, errcap, "%s%s%s", what, e ? ": " : "", e ? strerror(e) : "");
+    kelp_udpm_sock_close(s);
+    return NULL;
+}
+
+static int open_tx(kelp_udpm_sock *s, const kelp_udpm_url *u, char *err, size_t errcap)
+{
+    s->sfd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+    if (s->sfd < 0) return fail(s, err, errcap, "socket", errno) ? 0 : -1;
+    unsigned char ttl = (unsigned char)u->ttl, loop = 1;
+    if (setsockopt(s->sfd, IPPROTO_IP, IP_MULTICAST_TTL, &ttl, sizeof ttl) < 0 ||
+        setsockopt(s->sfd, IPPROTO_IP, IP_MULTICAST_LOOP, &loop, sizeof loop) < 0)
+        return fail(s, err, errcap, "multicast ttl/loop", errno) ? 0 : -1;
+    if (connect(s->sfd, (struct sockaddr *)&s->dest, sizeof s->dest) < 0)
+        return fail(s, err, errcap, "no route to the multicast group (see README)", errno) ? 0 : -1;
+    /* sequence numbers start somewhere different per socket, as a restarted sender's
+     * reassembly slots at receivers must not match its new messages */
+    s->seqno = (uint32_t)getpid() << 16 ^ (uint32_t)(mono_now() * 1e6);
+
+    return 0;
+}
+
+static kelp_udpm_sock *open_sock(const char *url, int listen, char *err, size_t errcap)
+{
+    kelp_udpm_url u;
+    int rc = kelp_udpm_url_parse(url, &u);
+    if (rc < 0) {
+        snprintf(err, errcap, "bad URL '%s': %s (expected udpm://GROUP:PORT?ttl=N&recv_buf_size=B)", url,
+                 kelp_strerror(rc));
+        return NULL;
+    }
+    kelp_udpm_sock *s = calloc(1, sizeof *s);
+    if (!s) return fail(s, err, errcap, "out of memory", 0);
+    s->rfd = s->sfd = s->evfd = s->stopfd = -1;
+    pthread_mutex_init(&s->qlock, NULL);
+    pthread_mutex_init(&s->slock, NULL);
+    s->qcap = (size_t)(u.queue_size ? u.queue_size : KELP_UDPM_DEFAULT_QUEUE);
+    s->qcap = (s->qcap + REC_ALIGN - 1) & ~(size_t)(REC_ALIGN - 1);
+    if (s->qcap < 2 * (KELP_UDPM_MAX_DATAGRAM + REC_HDR + REC_ALIGN)) s->qcap = 2 * (KELP_UDPM_MAX_DATAGRAM + REC_HDR + REC_ALIGN);
+    s->dest.sin_family = AF_INET;
+    s->dest.sin_addr.s_addr = htonl(u.group);
+    s->dest.sin_port = htons(u.port);
+    s->evfd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+    s->stopfd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+    if (s->evfd < 0 || s->stopfd < 0) return fail(s, err, errcap, "eventfd", errno);
+    if (open_tx(s, &u, err, errcap) < 0) return NULL; /* open_tx closed s */
+    if (!listen) return s; /* publish only: no socket, thread or queue for our own echo */
+    s->q = malloc(s->qcap);
+    s->slotmem = malloc((size_t)KELP_UDPM_REASM_SLOTS * KELP_UDPM_REASM_CAP);
+    s->dg = malloc(KELP_UDPM_MAX_DATAGRAM + 1);
+    if (!s->q || !s->slotmem || !s->dg) return fail(s, err, errcap, "out of memory", 0);
+    if (kelp_udpm_init(&s->rx, s->slots, KELP_UDPM_REASM_SLOTS, s->slotmem, KELP_UDPM_REASM_CAP,
+                       KELP_UDPM_REASM_TIMEOUT) < 0)
+        return fail(s, err, errcap, "reassembler init", 0);
+    s->rfd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+    if (s->rfd < 0) return fail(s, err, errcap, "socket", errno);
+    int one = 1;
+    if (setsockopt(s->rfd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one) < 0)
+        return fail(s, err, errcap, "SO_REUSEADDR", errno);
+    int rb = (int)(u.recv_buf_size ? u.recv_buf_size : KELP_UDPM_DEFAULT_RECV_BUF);
+    /* beyond net.core.rmem_max only with CAP_NET_ADMIN; otherwise what the kernel allows */
+    if (setsockopt(s->rfd, SOL_SOCKET, SO_RCVBUFFORCE, &rb, sizeof rb) < 0)
+        (void)setsockopt(s->rfd, SOL_SOCKET, SO_RCVBUF, &rb, sizeof rb);
+    socklen_t rl = sizeof s->st.recv_buf;
+    (void)getsockopt(s->rfd, SOL_SOCKET, SO_RCVBUF, &s->st.recv_buf, &rl);
+    if (bind(s->rfd, (struct sockaddr *)&s->dest, sizeof s->dest) < 0)
+        return fail(s, err, errcap, "bind to the multicast group", errno);
+    struct ip_mreq mr;
+    mr.imr_multiaddr = s->dest.sin_addr;
+    mr.imr_interface.s_addr = htonl(INADDR_ANY);
+    if (setsockopt(s->rfd, IPPROTO_IP, IP_ADD_MEMBERSHIP, &mr, sizeof mr) < 0)
+        return fail(s, err, errcap, "join the multicast group (is there a multicast route? see README)", errno);
+
+    if (pthread_create(&s->th, NULL, recv_main, s) != 0) return fail(s, err, errcap, "receive thread", errno);
+    s->th_started = 1;
+    return s;
+}
+
+void kelp_udpm_sock_close(kelp_udpm_sock *s)
+{
+    if (!s) return;
+    if (s->th_started) {
+        uint64_t one = 1;
+        if (write(s->stopfd, &one, sizeof one) < 0) { /* cannot fail on a fresh eventfd */ }
+        pthread_join(s->th, NULL);
+    }
+    if (s->rfd >= 0) close(s->rfd);
+    if (s->sfd >= 0) close(s->sfd);
+    if (s->evfd >= 0) close(s->evfd);
+    if (s->stopfd >= 0) close(s->stopfd);
+    pthread_mutex_destroy(&s->qlock);
+    pthread_mutex_destroy(&s->slock);
+    free(s->q);
+    free(s->slotmem);
+    free(s->dg);
+    free(s);
+}
+
+kelp_udpm_sock *kelp_udpm_sock_open(const char *url, char *err, size_t errcap)
+{
+    return open_sock(url, 1, err, errcap);
+}
+
+kelp_udpm_sock *kelp_udpm_sock_open_tx(const char *url, char *err, size_t errcap)
+{
+    return open_sock(url, 0, err, errcap);
+}
