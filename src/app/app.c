@@ -42,6 +42,7 @@ struct kelp_app {
     int ncfg_warn;
     char run_warn[MAX_WARN][WARN_LEN];
     unsigned long run_warn_count[MAX_WARN];
+    unsigned long cfg_dropped, run_dropped; /* older distinct warnings that made room */
     int nrun_warn;
     char events[MAX_EVENTS][WARN_LEN];
     int nevents;
@@ -76,7 +77,7 @@ double kelp_app_time(const kelp_app *app)
 
 /* the parameters every app accepts; only the first two are used, the rest are MOOS's and ignored */
 static const kelp_app_param_info common_params[] = {
-    { "AppTick", "4", "Iterate rate, Hz of MOOS time (0: as fast as mail allows)", NULL },
+    { "AppTick", "4", "Iterate rate, Hz of MOOS time (> 0)", NULL },
     { "CommsTick", "4", "mail rate, Hz (accepted for MOOS; kelp handles mail as it comes)", NULL },
     { "MaxAppTick", "0", "accepted for MOOS, ignored", NULL },
     { "IterateMode", "0", "accepted for MOOS, ignored", NULL },
@@ -262,18 +263,41 @@ int kelp_app_global_double(kelp_app *app, const char *key, double *out)
     return kelp_mission_double(&app->mf.m.nodes[i], out) < 0 ? KELP_ERR_PARSE : 1;
 }
 
-static void vadd(char (*list)[WARN_LEN], int *n, unsigned long *counts, const char *fmt, va_list ap) KELP_PRINTF(4, 0);
-static void vadd(char (*list)[WARN_LEN], int *n, unsigned long *counts, const char *fmt, va_list ap)
+/* text from the bus or a serial line may hold control bytes: shown as \xNN, never raw */
+static void escape_controls(char *buf, size_t cap)
+{
+    char tmp[WARN_LEN];
+    size_t o = 0;
+    for (const unsigned char *c = (const unsigned char *)buf; *c && o + 5 < sizeof tmp; c++) {
+        if (*c < 0x20 || *c == 0x7f) o += (size_t)snprintf(tmp + o, sizeof tmp - o, "\\x%02x", *c);
+        else tmp[o++] = (char)*c;
+    }
+    tmp[o] = '\0';
+    snprintf(buf, cap, "%s", tmp);
+}
+
+/* Keep the newest distinct warnings: a repeat counts up its entry; when the table is full the
+ * oldest entry makes room and is counted as dropped. */
+static void vadd(char (*list)[WARN_LEN], int *n, unsigned long *counts, unsigned long *dropped, const char *fmt,
+                 va_list ap) KELP_PRINTF(5, 0);
+static void vadd(char (*list)[WARN_LEN], int *n, unsigned long *counts, unsigned long *dropped, const char *fmt,
+                 va_list ap)
 {
     char buf[WARN_LEN];
     vsnprintf(buf, sizeof buf, fmt, ap);
+    escape_controls(buf, sizeof buf);
     for (int i = 0; i < *n; i++) {
         if (strcmp(list[i], buf) == 0) {
             if (counts) counts[i]++;
             return;
         }
     }
-    if (*n >= MAX_WARN) return;
+    if (*n >= MAX_WARN) {
+        memmove(list[0], list[1], (size_t)(MAX_WARN - 1) * WARN_LEN);
+        if (counts) memmove(&counts[0], &counts[1], (size_t)(MAX_WARN - 1) * sizeof counts[0]);
+        (*n)--;
+        (*dropped)++;
+    }
     memcpy(list[*n], buf, WARN_LEN);
     if (counts) counts[*n] = 1;
     (*n)++;
@@ -283,7 +307,7 @@ void kelp_app_config_warning(kelp_app *app, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    vadd(app->cfg_warn, &app->ncfg_warn, NULL, fmt, ap);
+    vadd(app->cfg_warn, &app->ncfg_warn, NULL, &app->cfg_dropped, fmt, ap);
     va_end(ap);
 }
 
@@ -291,7 +315,7 @@ void kelp_app_run_warning(kelp_app *app, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    vadd(app->run_warn, &app->nrun_warn, app->run_warn_count, fmt, ap);
+    vadd(app->run_warn, &app->nrun_warn, app->run_warn_count, &app->run_dropped, fmt, ap);
     va_end(ap);
 }
 
@@ -302,6 +326,7 @@ void kelp_app_event(kelp_app *app, const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(buf, sizeof buf, fmt, ap);
     va_end(ap);
+    escape_controls(buf, sizeof buf);
     if (app->nevents == MAX_EVENTS) {
         memmove(app->events[0], app->events[1], (MAX_EVENTS - 1) * WARN_LEN);
         app->nevents--;
@@ -358,11 +383,13 @@ static void report(kelp_app *app, FILE *out)
     fprintf(out, "------------------------------------------------------------------\n");
     fprintf(out, "Configuration warnings: %d\n", app->ncfg_warn);
     for (int i = 0; i < app->ncfg_warn; i++) fprintf(out, "  [%d] %s\n", i + 1, app->cfg_warn[i]);
+    if (app->cfg_dropped) fprintf(out, "  (%lu older distinct warnings dropped)\n", app->cfg_dropped);
     fprintf(out, "Run warnings: %d\n", app->nrun_warn + (st->bad ? 1 : 0));
     if (st->bad)
         fprintf(out, "  [bad] %llu malformed datagrams rejected (last: %s)\n", (unsigned long long)st->bad,
                 kelp_strerror(st->last_bad_err));
     for (int i = 0; i < app->nrun_warn; i++) fprintf(out, "  [%lux] %s\n", app->run_warn_count[i], app->run_warn[i]);
+    if (app->run_dropped) fprintf(out, "  (%lu older distinct warnings dropped)\n", app->run_dropped);
     if (app->nevents) {
         fprintf(out, "Events:\n");
         for (int i = 0; i < app->nevents; i++) fprintf(out, "  %s\n", app->events[i]);
@@ -544,22 +571,39 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
     app->used = calloc(app->mf.m.nnodes + 1, 1);
     app->block = kelp_mission_block(&app->mf.m, "ProcessConfig", app->name);
     if (app->block < 0) kelp_app_config_warning(app, "no ProcessConfig = %s block in %s", app->name, mission);
-    if (kelp_app_global_str(app, "Community", app->community, sizeof app->community) <= 0)
-        snprintf(app->community, sizeof app->community, "%s", "kelp");
+    const char *bad = NULL;
+    int bad_line = 0, gi;
+    int crc = kelp_app_global_str(app, "Community", app->community, sizeof app->community);
+    if (crc == 0) snprintf(app->community, sizeof app->community, "%s", "kelp");
+    else if (crc < 0 || !app->community[0]) bad = "Community must be 1..63 characters";
+    if (bad) bad_line = app->mf.m.nodes[kelp_mission_next(&app->mf.m, -1, -1, "Community")].line;
     app->warp = 1;
-    if (kelp_app_global_double(app, "MOOSTimeWarp", &app->warp) < 0 || !(app->warp > 0) || app->warp > 1000) {
-        fprintf(stderr, "%s: MOOSTimeWarp must be a number in (0, 1000]\n", mission);
+    if (!bad && (kelp_app_global_double(app, "MOOSTimeWarp", &app->warp) < 0 || !(app->warp > 0) || app->warp > 1000)) {
+        bad = "MOOSTimeWarp must be a number in (0, 1000]";
+        gi = kelp_mission_next(&app->mf.m, -1, -1, "MOOSTimeWarp");
+        bad_line = gi >= 0 ? app->mf.m.nodes[gi].line : 0;
+    }
+    app->app_tick = 4;
+    app->comms_tick = 4;
+    const char *ticks[2] = { "AppTick", "CommsTick" };
+    double *tv[2] = { &app->app_tick, &app->comms_tick };
+    for (int k = 0; k < 2 && !bad; k++) {
+        const kelp_mission_node *tn = kelp_app_param(app, ticks[k]);
+        if (tn && (kelp_mission_double(tn, tv[k]) < 0 || !(*tv[k] > 0) || *tv[k] > 1e6)) {
+            bad = k ? "CommsTick must be a number in (0, 1e6] (Hz)" : "AppTick must be a number in (0, 1e6] (Hz)";
+            bad_line = tn->line;
+        }
+    }
+    if (bad) {
+        fprintf(stderr, "%s:%d: %s\n", mission, bad_line, bad);
         kelp_mission_free(&app->mf);
+        free(app->used);
         free(app);
         return 1;
     }
     const char *ep = getenv("KELP_WARP_EPOCH");
     app->epoch = 0.0;
     if (ep && kelp_parse_double(ep, strlen(ep), &app->epoch) < 0) app->epoch = 0.0;
-    app->app_tick = 4;
-    app->comms_tick = 4;
-    if (kelp_app_param_double(app, "AppTick", &app->app_tick) < 0 || app->app_tick < 0) app->app_tick = 4;
-    if (kelp_app_param_double(app, "CommsTick", &app->comms_tick) < 0) app->comms_tick = 4;
     int uline = 0;
     if (kelp_lcm_mission_url(&app->mf.m, app->url, sizeof app->url, &uline) < 0) {
         fprintf(stderr, "%s:%d: bad LCM_URL or ServerPort (udpm://GROUP:PORT?..., port 1..65535)\n", mission, uline);

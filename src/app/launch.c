@@ -70,18 +70,19 @@ int kelp_launch_plan_read(kelp_launch_plan *p, const kelp_mission *m, const char
             return -1;
         }
         kelp_launch_child *c = &p->kids[p->nkids];
-        if (strlen(line) >= sizeof c->prog || (alias && strlen(alias) >= sizeof c->alias) ||
+        if (strlen(line) >= sizeof c->prog || (alias && *alias ? strlen(alias) : strlen(line)) >= sizeof c->alias ||
             (alias && strpbrk(alias, " \t"))) {
             snprintf(err, errcap, "%s:%d: program or name too long, or a name with spaces", mission, line_no);
             return -1;
         }
         p->nkids++;
-        snprintf(c->prog, sizeof c->prog, "%s", line);
-        snprintf(c->alias, sizeof c->alias, "%s", alias && *alias ? alias : line);
+        /* lengths checked above */
+        snprintf(c->prog, sizeof c->prog, "%.127s", line);
+        snprintf(c->alias, sizeof c->alias, "%.63s", alias && *alias ? alias : line);
         const char *real = kelp_launch_map_prog(line);
         int pl = snprintf(c->path, sizeof c->path, "%s/%s", bindir ? bindir : ".", real);
         if (pl < 0 || (size_t)pl >= sizeof c->path || access(c->path, X_OK) != 0)
-            snprintf(c->path, sizeof c->path, "%s", real); /* on PATH */
+            snprintf(c->path, sizeof c->path, "%.127s", real); /* on PATH */
     }
     if (p->nkids == 0) {
         snprintf(err, errcap, "%s: no Run lines in ProcessConfig = ANTLER", mission);

@@ -273,7 +273,8 @@ int kelp_bus_reply_channel(const char *app, uint32_t nonce, char out[KELP_MAX_NA
     static const char hex[] = "0123456789abcdef";
     static const char pre[] = KELP_BUS_SYNC_REPLY_PREFIX;
     if (!app || !*app || !out) return KELP_ERR_ARG;
-    size_t al = strnlen(app, KELP_BUS_REPLY_APP_LEN), o = sizeof pre - 1;
+    size_t al = 0, o = sizeof pre - 1;
+    while (al < KELP_BUS_REPLY_APP_LEN && app[al]) al++;
     _Static_assert(sizeof pre - 1 + KELP_BUS_REPLY_APP_LEN + 1 + 8 < KELP_MAX_NAME, "reply channel fits a name");
     memcpy(out, pre, o);
     memcpy(out + o, app, al);
@@ -289,7 +290,8 @@ int kelp_bus_reply_channel(const char *app, uint32_t nonce, char out[KELP_MAX_NA
 static bool reply_ok(const char *requester, const char *reply)
 {
     static const char pre[] = KELP_BUS_SYNC_REPLY_PREFIX;
-    size_t pl = sizeof pre - 1, al = strnlen(requester, KELP_BUS_REPLY_APP_LEN);
+    size_t pl = sizeof pre - 1, al = 0;
+    while (al < KELP_BUS_REPLY_APP_LEN && requester[al]) al++;
     if (al == 0 || strncmp(reply, pre, pl) != 0 || strncmp(reply + pl, requester, al) != 0) return false;
     const char *t = reply + pl + al;
     if (*t == 0) return true;

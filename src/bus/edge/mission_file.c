@@ -1,5 +1,6 @@
 /* kelp mission files: loading from disk (edge). */
 #include <errno.h>
+#include <sys/stat.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -44,6 +45,12 @@ int kelp_mission_load_text(kelp_mission_file *f, const char *name, const char *t
 int kelp_mission_load(kelp_mission_file *f, const char *path)
 {
     memset(f, 0, sizeof *f);
+    /* a FIFO or a device would block or never end: only regular files (checked before open) */
+    struct stat st;
+    if (stat(path, &st) == 0 && !S_ISREG(st.st_mode)) {
+        snprintf(f->error, sizeof f->error, "%s: not a regular file", path);
+        return KELP_ERR_IO;
+    }
     FILE *fp = fopen(path, "rb");
     if (!fp) {
         snprintf(f->error, sizeof f->error, "%s: cannot open: %s", path, strerror(errno));
