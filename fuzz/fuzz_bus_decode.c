@@ -39,7 +39,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             abort();
     }
     (void)kelp_sync_req_decode(buf, n, &q);
-    (void)kelp_bridge_unframe(buf, n, (const uint8_t *)"k", sel & 1, fake_hmac, NULL, &v);
+    {
+        /* bridge frames through a receiver whose peer table persists across inputs */
+        static kelp_bridge_peer peers[3];
+        static kelp_bridge_rx brx;
+        static int binit;
+        if (!binit) kelp_bridge_rx_init(&brx, peers, 3), binit = 1;
+        (void)kelp_bridge_unframe(&brx, buf, n, (const uint8_t *)"k", sel & 1, fake_hmac, NULL, &v);
+        if (brx.n > 3) abort();
+        (void)kelp_bridge_allowed((sel & 2) ? "NAV_*, X" : "", v.name);
+    }
 
     static kelp_loopback net;
     static kelp_bus bus;

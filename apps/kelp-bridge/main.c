@@ -4,24 +4,26 @@
  *   UDPListen = 9200                                        UDP port this bridge listens on
  *   UDPSHARE  = [VAR1,VAR2] -> community @ host:port [A1,A2]   (repeatable; SHARE is a synonym)
  *   KEY       = shared-secret                               authenticate datagrams (HMAC-SHA256)
+ *   ALLOW     = NODE_REPORT, NODE_MESSAGE_*                 (repeatable) the only names this bridge
+ *               publishes into its community, whatever a far side's PMB_REGISTER asked for
  * Run time: PMB_REGISTER = "src_var=V,dest_community=C,dest_host=H,dest_port=P,dest_alias=A".
  * Publishes PMB_UDP_LISTEN (the port) at start-up. Variables that arrived through a bridge
- * are never forwarded again (no loops); a route is added once (no duplicates). */
+ * are never forwarded again (no loops); a route is added once (no duplicates); a replayed
+ * datagram is refused (sequence window per sending community, see kelp/bridge.h). */
 #include <errno.h>
-#include <netdb.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
 #include <mbedtls/md.h>
 #include <kelp/app.h>
 #include <kelp/bridge.h>
+#include <kelp/edge/udp.h>
 
 #define MAX_ROUTES 256
-#define DGRAM_MAX 16384
+#define MAX_PEERS 64
+#define DGRAM_MAX 65536 /* any UDP datagram whole; larger than KELP_BRIDGE_DGRAM_MAX */
 
 typedef struct route {
     kelp_bridge_route r;
@@ -36,7 +38,12 @@ typedef struct bridge {
     size_t keylen;
     route routes[MAX_ROUTES];
     int nroutes;
-    unsigned long rx, rx_auth_fail, rx_bad, tx, tx_err, reg_ok, reg_bad;
+    char allow[2048]; /* comma-separated ALLOW entries; "" allows every name */
+    kelp_bridge_tx btx;
+    kelp_bridge_rx brx;
+    kelp_bridge_peer peers[MAX_PEERS];
+    unsigned long rx, rx_auth_fail, rx_bad, rx_replay, rx_denied, rx_oversize, tx, tx_err, tx_oversize, reg_ok,
+        reg_bad;
     kelp_var *rxv;
     uint8_t buf[DGRAM_MAX];
 } bridge;
@@ -46,19 +53,6 @@ static int hmac_sha256(const uint8_t *key, size_t keylen, const uint8_t *data, s
     (void)user;
     const mbedtls_md_info_t *md = mbedtls_md_info_from_type(MBEDTLS_MD_SHA256);
     return mbedtls_md_hmac(md, key, keylen, data, len, out) == 0 ? 0 : KELP_ERR_CRYPTO;
-}
-
-static int resolve(const char *host, uint16_t port, struct sockaddr_in *out)
-{
-    struct addrinfo hints, *res = NULL;
-    memset(&hints, 0, sizeof hints);
-    hints.ai_family = AF_INET;
-    hints.ai_socktype = SOCK_DGRAM;
-    if (getaddrinfo(host, NULL, &hints, &res) != 0 || !res) return KELP_ERR_NOTFOUND;
-    memcpy(out, res->ai_addr, sizeof *out);
-    out->sin_port = htons(port);
-    freeaddrinfo(res);
-    return KELP_OK;
 }
 
 static int add_route(kelp_app *app, bridge *b, const kelp_bridge_route *r)
@@ -76,7 +70,7 @@ static int add_route(kelp_app *app, bridge *b, const kelp_bridge_route *r)
     route *rt = &b->routes[b->nroutes];
     memset(rt, 0, sizeof *rt);
     rt->r = *r;
-    if (resolve(r->host, r->port, &rt->addr) < 0) {
+    if (kelp_udp_resolve(r->host, r->port, &rt->addr) < 0) {
         kelp_app_run_warning(app, "cannot resolve host %s", r->host);
         return KELP_ERR_NOTFOUND;
     }
@@ -94,14 +88,30 @@ static int add_route(kelp_app *app, bridge *b, const kelp_bridge_route *r)
 static void on_udp(kelp_app *app, void *st, int fd)
 {
     bridge *b = st;
-    for (;;) {
-        ssize_t n = recv(fd, b->buf, sizeof b->buf, MSG_DONTWAIT);
-        if (n < 0) return;
+    size_t n = 0;
+    int got;
+    while ((got = kelp_udp_recv(fd, b->buf, sizeof b->buf, &n)) > 0) {
         b->rx++;
-        int rc = kelp_bridge_unframe(b->buf, (size_t)n, b->key, b->keylen, hmac_sha256, NULL, b->rxv);
+        if (n > sizeof b->buf || n > KELP_BRIDGE_DGRAM_MAX) {
+            b->rx_oversize++;
+            kelp_app_run_warning(app, "oversize datagram (%zu bytes): dropped", n);
+            continue;
+        }
+        int rc = kelp_bridge_unframe(&b->brx, b->buf, n, b->key, b->keylen, hmac_sha256, NULL, b->rxv);
         if (rc == KELP_ERR_AUTH) {
             b->rx_auth_fail++;
             kelp_app_run_warning(app, "datagram failed authentication: dropped");
+            continue;
+        }
+        if (rc == KELP_ERR_REPLAY) {
+            b->rx_replay++;
+            kelp_app_run_warning(app, "replayed or stale datagram from %s: dropped", b->rxv->community);
+            continue;
+        }
+        if (rc == KELP_ERR_RANGE) {
+            b->rx_oversize++;
+            kelp_app_run_warning(app, "oversize value (%zu-byte datagram, values up to %d bytes): dropped", n,
+                                 KELP_MAX_SVAL);
             continue;
         }
         if (rc < 0) {
@@ -109,8 +119,14 @@ static void on_udp(kelp_app *app, void *st, int fd)
             kelp_app_run_warning(app, "malformed bridge datagram: %s", kelp_strerror(rc));
             continue;
         }
+        if (!kelp_bridge_allowed(b->allow, b->rxv->name)) {
+            b->rx_denied++;
+            kelp_app_run_warning(app, "%s from %s is not on the ALLOW list: dropped", b->rxv->name, b->rxv->community);
+            continue;
+        }
         if (kelp_bus_forward(kelp_app_bus(app), b->rxv) < 0) kelp_app_run_warning(app, "republish failed");
     }
+    if (got < 0) kelp_app_run_warning(app, "UDP receive failed: %s", strerror(errno));
 }
 
 static void on_mail(kelp_app *app, void *st, const kelp_var *v)
@@ -134,11 +150,18 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
         route *rt = &b->routes[i];
         if (!kelp_bus_match(rt->r.src, v->name)) continue;
         size_t len = 0;
-        if (kelp_bridge_frame(v, rt->r.alias, b->key, b->keylen, hmac_sha256, NULL, b->buf, sizeof b->buf, &len) < 0) {
+        int rc = kelp_bridge_frame(&b->btx, v, rt->r.alias, b->key, b->keylen, hmac_sha256, NULL, b->buf,
+                                   KELP_BRIDGE_DGRAM_MAX, &len);
+        if (rc == KELP_ERR_NOSPACE) {
+            b->tx_oversize++;
+            kelp_app_run_warning(app, "%s is too large for one datagram: not sent", v->name);
+            continue;
+        }
+        if (rc < 0) {
             b->tx_err++;
             continue;
         }
-        if (sendto(b->sock, b->buf, len, 0, (struct sockaddr *)&rt->addr, sizeof rt->addr) < 0) {
+        if (kelp_udp_send(b->sock, &rt->addr, b->buf, len) < 0) {
             b->tx_err++;
             kelp_app_run_warning(app, "send to %s:%u failed: %s", rt->r.host, rt->r.port, strerror(errno));
         } else {
@@ -165,18 +188,23 @@ static int startup(kelp_app *app, void *st)
         b->keylen = strlen(key);
         memcpy(b->key, key, b->keylen);
     }
-    b->sock = socket(AF_INET, SOCK_DGRAM, 0);
-    if (b->sock < 0) return kelp_app_config_error(app, NULL, "socket: %s", strerror(errno));
+    for (const kelp_mission_node *n = kelp_app_param_next(app, "ALLOW", NULL); n;
+         n = kelp_app_param_next(app, "ALLOW", n)) {
+        size_t used = strlen(b->allow);
+        char one[1024];
+        if (kelp_mission_copy(n, one, sizeof one) < 0 || used + strlen(one) + 2 > sizeof b->allow)
+            return kelp_app_config_error(app, n, "ALLOW lists too long (max %zu characters)", sizeof b->allow - 1);
+        snprintf(b->allow + used, sizeof b->allow - used, "%s%s", used ? "," : "", one);
+    }
+    /* this run's identity for the receivers' replay windows: start time in microseconds */
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    kelp_bridge_tx_init(&b->btx, (uint64_t)ts.tv_sec * 1000000u + (uint64_t)ts.tv_nsec / 1000u);
+    kelp_bridge_rx_init(&b->brx, b->peers, MAX_PEERS);
+    char err[160];
+    b->sock = kelp_udp_open(b->port, 4 << 20, err, sizeof err);
+    if (b->sock < 0) return kelp_app_config_error(app, pn, "%s", err);
     if (b->port) {
-        struct sockaddr_in a;
-        memset(&a, 0, sizeof a);
-        a.sin_family = AF_INET;
-        a.sin_port = htons(b->port);
-        a.sin_addr.s_addr = htonl(INADDR_ANY);
-        if (bind(b->sock, (struct sockaddr *)&a, sizeof a) < 0)
-            return kelp_app_config_error(app, pn, "cannot listen on UDP port %u: %s", b->port, strerror(errno));
-        int rcvbuf = 4 << 20;
-        setsockopt(b->sock, SOL_SOCKET, SO_RCVBUF, &rcvbuf, sizeof rcvbuf);
         if (kelp_app_watch_fd(app, b->sock, on_udp) < 0) return KELP_ERR_NOSPACE;
         (void)kelp_app_notify_double(app, "PMB_UDP_LISTEN", b->port);
     }
@@ -207,10 +235,12 @@ static void report(kelp_app *app, void *st, FILE *out)
 {
     bridge *b = st;
     (void)app;
-    fprintf(out, "UDP port %u  key %s  routes %d  PMB_REGISTER ok %lu bad %lu\n", b->port, b->keylen ? "yes" : "no",
-            b->nroutes, b->reg_ok, b->reg_bad);
-    fprintf(out, "sent %lu (errors %lu)  received %lu  auth failures %lu  malformed %lu\n", b->tx, b->tx_err, b->rx,
-            b->rx_auth_fail, b->rx_bad);
+    fprintf(out, "UDP port %u  key %s  allow %s  routes %d  PMB_REGISTER ok %lu bad %lu\n", b->port,
+            b->keylen ? "yes" : "no", b->allow[0] ? b->allow : "(all)", b->nroutes, b->reg_ok, b->reg_bad);
+    fprintf(out, "sent %lu (errors %lu, oversize %lu)  received %lu  auth failures %lu  replays %lu  not allowed %lu  "
+                 "oversize %lu  malformed %lu  peers %zu (forgotten %lu)\n",
+            b->tx, b->tx_err, b->tx_oversize, b->rx, b->rx_auth_fail, b->rx_replay, b->rx_denied, b->rx_oversize,
+            b->rx_bad, b->brx.n, b->brx.evicted);
     for (int i = 0; i < b->nroutes; i++)
         fprintf(out, "  %-20s -> %-10s %s:%u as %-20s sent %lu\n", b->routes[i].r.src, b->routes[i].r.community,
                 b->routes[i].r.host, b->routes[i].r.port, b->routes[i].r.alias[0] ? b->routes[i].r.alias : b->routes[i].r.src,
@@ -227,6 +257,9 @@ static const kelp_app_def def = {
           "repeatable: [vars] -> community @ host:port [aliases]", NULL },
         { "SHARE", "[APPLES] -> shoreside @ 192.168.1.10:9200", "repeatable: same as UDPSHARE", NULL },
         { "KEY", "change-me", "optional shared secret (HMAC), up to 255 characters", NULL },
+        { "ALLOW", "NODE_REPORT, NODE_MESSAGE, DEPLOY_*",
+          "repeatable: the only names (globs) received datagrams may publish into this community (default: all)",
+          NULL },
         { NULL, NULL, NULL, NULL } },
     .subscribes = (const kelp_app_var_info[]){
         { "PMB_REGISTER", "[NAV_X] -> shoreside @ 192.168.1.10:9200 [VEHICLE_X]", "a UDPSHARE line added at run time" },

@@ -5,7 +5,14 @@
  * and from run-time requests on PMB_REGISTER (uField seed):
  *   src_var=DEPLOY_ALL,dest_community=henry,dest_host=10.0.0.5,dest_port=9200,dest_alias=DEPLOY
  *
- * Datagram: "KBR1" | u8 flags | kelp.var_t bytes | [32-byte HMAC-SHA256 over all before it]
+ * Datagram (big-endian):
+ *   "KBR2" | u8 flags | u64 epoch | u64 seq | kelp.var_t bytes | [32-byte HMAC-SHA256]
+ * The HMAC covers everything before it, so epoch and seq are authenticated. epoch names
+ * one run of the sending bridge (its start time in microseconds, chosen at the edge);
+ * seq counts that run's datagrams from 1. The receiver keeps, per sending community, the
+ * newest epoch and a 64-datagram window below the highest seq: a datagram from an older
+ * epoch, below the window, or already seen in it is a replay and is refused. A newer
+ * epoch (the peer restarted) starts a fresh window.
  * The HMAC is computed by a caller-supplied function (mbedTLS at the edge). With a key
  * configured, a datagram without a valid HMAC is dropped. The core parses and frames; it
  * does no I/O.
@@ -14,15 +21,44 @@
 #define KELP_BRIDGE_H
 #include <stdint.h>
 #include <stddef.h>
+#include <stdbool.h>
 #include <kelp/bus.h>
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-#define KELP_BRIDGE_MAGIC "KBR1"
-#define KELP_BRIDGE_HMAC_LEN 32
+#define KELP_BRIDGE_MAGIC "KBR2"
+#define KELP_BRIDGE_HDR_LEN 21u      /**< magic, flags, epoch, seq */
+#define KELP_BRIDGE_HMAC_LEN 32u
 #define KELP_BRIDGE_F_AUTH 0x01u
+#define KELP_BRIDGE_WINDOW 64u       /**< out-of-order datagrams accepted below the highest seq */
+#define KELP_BRIDGE_DGRAM_MAX 65507u /**< largest UDP/IPv4 payload */
+
+/** Sender state: one per bridge run. */
+typedef struct kelp_bridge_tx {
+    uint64_t epoch; /**< this run's identity (start time in microseconds, from the edge) */
+    uint64_t seq;   /**< last sequence number sent */
+} kelp_bridge_tx;
+
+/** What the receiver remembers of one sending community. */
+typedef struct kelp_bridge_peer {
+    char community[KELP_MAX_NAME];
+    uint64_t epoch, high, window; /**< window bit i: seq high-i already seen */
+    uint64_t used;                /**< receive counter at last use (least recently used is evicted) */
+} kelp_bridge_peer;
+
+/** Receiver state over caller-owned peer slots. */
+typedef struct kelp_bridge_rx {
+    kelp_bridge_peer *peers;
+    size_t cap, n;
+    uint64_t tick;
+    unsigned long replayed; /**< refused: seen, below the window, or an older epoch */
+    unsigned long evicted;  /**< peers forgotten to make room */
+} kelp_bridge_rx;
+
+void kelp_bridge_tx_init(kelp_bridge_tx *tx, uint64_t epoch);
+void kelp_bridge_rx_init(kelp_bridge_rx *rx, kelp_bridge_peer *peers, size_t cap);
 
 typedef struct kelp_bridge_route {
     char src[KELP_MAX_NAME];          /**< local variable (or glob) */
@@ -43,13 +79,20 @@ KELP_MUST_CHECK int kelp_bridge_parse_register(const char *s, kelp_bridge_route 
 typedef int (*kelp_hmac_fn)(const uint8_t *key, size_t keylen, const uint8_t *data, size_t len, uint8_t out[32],
                             void *user);
 
-/** Frame a var (renamed to `as` when non-empty; flagged BRIDGED) into buf. */
-KELP_MUST_CHECK int kelp_bridge_frame(const kelp_var *v, const char *as, const uint8_t *key, size_t keylen,
+/** Frame a var (renamed to `as` when non-empty; flagged BRIDGED) into buf, with the
+ *  next sequence number of tx. KELP_ERR_NOSPACE when it does not fit cap. */
+KELP_MUST_CHECK int kelp_bridge_frame(kelp_bridge_tx *tx, const kelp_var *v, const char *as, const uint8_t *key, size_t keylen,
                                       kelp_hmac_fn hmac, void *user, uint8_t *buf, size_t cap, size_t *len);
 /** Check and decode a datagram. With keylen > 0 the HMAC must be present and valid
- *  (KELP_ERR_AUTH otherwise). */
-KELP_MUST_CHECK int kelp_bridge_unframe(const uint8_t *buf, size_t len, const uint8_t *key, size_t keylen,
+ *  (KELP_ERR_AUTH otherwise). With rx, a replayed or stale datagram is KELP_ERR_REPLAY
+ *  (the window is only updated by datagrams that decode and authenticate). A value
+ *  longer than this build's KELP_MAX_SVAL is KELP_ERR_RANGE (oversize). */
+KELP_MUST_CHECK int kelp_bridge_unframe(kelp_bridge_rx *rx, const uint8_t *buf, size_t len, const uint8_t *key, size_t keylen,
                                         kelp_hmac_fn hmac, void *user, kelp_var *out);
+/** Allow-list: comma-separated names or globs ("NODE_*"), the names a bridge will
+ *  publish into its community. An empty list allows everything. */
+bool kelp_bridge_allowed(const char *allow, const char *name);
+
 #ifdef __cplusplus
 }
 #endif

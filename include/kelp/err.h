@@ -37,7 +37,9 @@ typedef enum kelp_err {
     KELP_ERR_CRYPTO = -15,      /**< crypto backend failure */
     KELP_ERR_AUTH = -16,        /**< authentication failed */
     KELP_ERR_EMPTY = -17,       /**< nothing to return */
-    KELP_ERR_INFEASIBLE = -18   /**< problem has no solution */
+    KELP_ERR_INFEASIBLE = -18,  /**< problem has no solution */
+    KELP_ERR_REPLAY = -19,      /**< replayed, duplicated or stale message */
+    KELP_ERR_DENIED = -20       /**< refused by configuration (not on an allow-list) */
 } kelp_err;
 
 /** Constant text for a status code; unknown codes give "unknown error". */

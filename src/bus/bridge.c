@@ -151,52 +151,155 @@ int kelp_bridge_parse_register(const char *s, kelp_bridge_route *r, const char *
     return KELP_OK;
 }
 
-int kelp_bridge_frame(const kelp_var *v, const char *as, const uint8_t *key, size_t keylen, kelp_hmac_fn hmac,
-                      void *user, uint8_t *buf, size_t cap, size_t *len)
+static void put_u64(uint8_t *p, uint64_t v)
 {
-    if (!v || !buf || !len || (keylen && !hmac)) return KELP_ERR_ARG;
-    if (cap < 5) return KELP_ERR_NOSPACE;
+    for (int i = 7; i >= 0; i--, v >>= 8) p[i] = (uint8_t)v;
+}
+
+static uint64_t get_u64(const uint8_t *p)
+{
+    uint64_t v = 0;
+    for (int i = 0; i < 8; i++) v = v << 8 | p[i];
+    return v;
+}
+
+void kelp_bridge_tx_init(kelp_bridge_tx *tx, uint64_t epoch)
+{
+    tx->epoch = epoch;
+    tx->seq = 0;
+}
+
+void kelp_bridge_rx_init(kelp_bridge_rx *rx, kelp_bridge_peer *peers, size_t cap)
+{
+    memset(rx, 0, sizeof *rx);
+    rx->peers = peers;
+    rx->cap = cap;
+}
+
+int kelp_bridge_frame(kelp_bridge_tx *tx, const kelp_var *v, const char *as, const uint8_t *key, size_t keylen,
+                      kelp_hmac_fn hmac, void *user, uint8_t *buf, size_t cap, size_t *len)
+{
+    if (!tx || !v || !buf || !len || (keylen && !hmac)) return KELP_ERR_ARG;
+    if (cap < KELP_BRIDGE_HDR_LEN) return KELP_ERR_NOSPACE;
     memcpy(buf, KELP_BRIDGE_MAGIC, 4);
     buf[4] = keylen ? KELP_BRIDGE_F_AUTH : 0;
+    put_u64(buf + 5, tx->epoch);
+    put_u64(buf + 13, tx->seq + 1);
     const char *name = (as && *as) ? as : v->name;
     size_t n = 0;
     /* encode with the alias name and the BRIDGED flag without copying the value */
     int rc = kelp_var_encode_parts(v->time, name, v->source, v->community, v->kind, v->dval,
                                    v->kind == KELP_VAR_DOUBLE ? NULL : v->sval, v->kind == KELP_VAR_DOUBLE ? 0 : v->slen,
-                                   (uint8_t)(v->flags | KELP_VAR_FLAG_BRIDGED), buf + 5, cap - 5, &n);
+                                   (uint8_t)(v->flags | KELP_VAR_FLAG_BRIDGED), buf + KELP_BRIDGE_HDR_LEN,
+                                   cap - KELP_BRIDGE_HDR_LEN, &n);
     if (rc < 0) return rc;
-    n += 5;
+    n += KELP_BRIDGE_HDR_LEN;
     if (keylen) {
         if (cap - n < KELP_BRIDGE_HMAC_LEN) return KELP_ERR_NOSPACE;
         if (hmac(key, keylen, buf, n, buf + n, user) < 0) return KELP_ERR_CRYPTO;
         n += KELP_BRIDGE_HMAC_LEN;
     }
+    tx->seq++;
     *len = n;
     return KELP_OK;
 }
 
-int kelp_bridge_unframe(const uint8_t *buf, size_t len, const uint8_t *key, size_t keylen, kelp_hmac_fn hmac,
-                        void *user, kelp_var *out)
+static kelp_bridge_peer *peer_slot(kelp_bridge_rx *rx, const char *community, bool *fresh)
+{
+    kelp_bridge_peer *lru = NULL;
+    *fresh = false;
+    for (size_t i = 0; i < rx->n; i++) {
+        if (strcmp(rx->peers[i].community, community) == 0) return &rx->peers[i];
+        if (!lru || rx->peers[i].used < lru->used) lru = &rx->peers[i];
+    }
+    if (rx->cap == 0) return NULL;
+    *fresh = true;
+    if (rx->n < rx->cap) return &rx->peers[rx->n++];
+    rx->evicted++;
+    return lru;
+}
+
+/* The replay rule; updates the peer only when the datagram is accepted. */
+static int replay_check(kelp_bridge_rx *rx, const char *community, uint64_t epoch, uint64_t seq)
+{
+    bool fresh;
+    kelp_bridge_peer *p = peer_slot(rx, community, &fresh);
+    if (!p) return KELP_OK;
+    if (seq == 0) goto replay;
+    if (!fresh && epoch < p->epoch) goto replay;
+    if (fresh || epoch > p->epoch) {
+        memset(p, 0, sizeof *p);
+        size_t cl = strlen(community);
+        memcpy(p->community, community, cl < sizeof p->community ? cl : sizeof p->community - 1);
+        p->epoch = epoch;
+        p->high = seq;
+        p->window = 1;
+    } else if (seq > p->high) {
+        uint64_t d = seq - p->high;
+        p->window = d >= KELP_BRIDGE_WINDOW ? 1 : (p->window << d) | 1;
+        p->high = seq;
+    } else {
+        uint64_t d = p->high - seq;
+        if (d >= KELP_BRIDGE_WINDOW || (p->window >> d) & 1u) goto replay;
+        p->window |= (uint64_t)1 << d;
+    }
+    p->used = ++rx->tick;
+    return KELP_OK;
+replay:
+    rx->replayed++;
+    return KELP_ERR_REPLAY;
+}
+
+int kelp_bridge_unframe(kelp_bridge_rx *rx, const uint8_t *buf, size_t len, const uint8_t *key, size_t keylen,
+                        kelp_hmac_fn hmac, void *user, kelp_var *out)
 {
     if (!buf || !out || (keylen && !hmac)) return KELP_ERR_ARG;
-    if (len < 5 || memcmp(buf, KELP_BRIDGE_MAGIC, 4) != 0) return KELP_ERR_PARSE;
+    if (len < 4 || memcmp(buf, KELP_BRIDGE_MAGIC, 4) != 0) return KELP_ERR_PARSE;
+    if (len < KELP_BRIDGE_HDR_LEN) return KELP_ERR_TRUNCATED;
     uint8_t flags = buf[4];
-    size_t body = len - 5;
+    if (flags & ~KELP_BRIDGE_F_AUTH) return KELP_ERR_PARSE;
+    size_t body = len - KELP_BRIDGE_HDR_LEN;
     if (flags & KELP_BRIDGE_F_AUTH) {
-        if (body < KELP_BRIDGE_HMAC_LEN) return KELP_ERR_TRUNCATED;
+        if (body < KELP_BRIDGE_HMAC_LEN) return keylen ? KELP_ERR_AUTH : KELP_ERR_TRUNCATED;
         body -= KELP_BRIDGE_HMAC_LEN;
     }
     if (keylen) {
         if (!(flags & KELP_BRIDGE_F_AUTH)) return KELP_ERR_AUTH;
         uint8_t mac[KELP_BRIDGE_HMAC_LEN];
-        if (hmac(key, keylen, buf, 5 + body, mac, user) < 0) return KELP_ERR_CRYPTO;
+        if (hmac(key, keylen, buf, KELP_BRIDGE_HDR_LEN + body, mac, user) < 0) return KELP_ERR_CRYPTO;
         /* constant-time compare */
         uint8_t d = 0;
-        for (size_t i = 0; i < KELP_BRIDGE_HMAC_LEN; i++) d |= (uint8_t)(mac[i] ^ buf[5 + body + i]);
+        for (size_t i = 0; i < KELP_BRIDGE_HMAC_LEN; i++) d |= (uint8_t)(mac[i] ^ buf[KELP_BRIDGE_HDR_LEN + body + i]);
         if (d) return KELP_ERR_AUTH;
     }
-    int rc = kelp_var_decode(buf + 5, body, out);
+    int rc = kelp_var_decode(buf + KELP_BRIDGE_HDR_LEN, body, out);
     if (rc < 0) return rc;
+    if (rx) {
+        rc = replay_check(rx, out->community, get_u64(buf + 5), get_u64(buf + 13));
+        if (rc < 0) return rc;
+    }
     out->flags |= KELP_VAR_FLAG_BRIDGED;
     return KELP_OK;
+}
+
+bool kelp_bridge_allowed(const char *allow, const char *name)
+{
+    if (!allow || !*allow) return true;
+    const char *a = allow;
+    while (*a) {
+        const char *c = strchr(a, ',');
+        size_t n = c ? (size_t)(c - a) : strlen(a);
+        const char *x = a, *y = a + n;
+        while (x < y && (*x == ' ' || *x == '\t')) x++;
+        while (y > x && (y[-1] == ' ' || y[-1] == '\t')) y--;
+        char pat[KELP_MAX_NAME];
+        if (y > x && (size_t)(y - x) < sizeof pat) {
+            memcpy(pat, x, (size_t)(y - x));
+            pat[y - x] = 0;
+            if (kelp_bus_match(pat, name)) return true;
+        }
+        if (!c) break;
+        a = c + 1;
+    }
+    return false;
 }

@@ -23,6 +23,8 @@ const char *kelp_strerror(int code)
     case KELP_ERR_AUTH: return "authentication failed";
     case KELP_ERR_EMPTY: return "empty";
     case KELP_ERR_INFEASIBLE: return "infeasible";
+    case KELP_ERR_REPLAY: return "replayed or stale";
+    case KELP_ERR_DENIED: return "not allowed";
     default: return "unknown error";
     }
 }
