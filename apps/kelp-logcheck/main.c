@@ -4,11 +4,13 @@
  *
  * Every event must decode with kelp's validating decoder and, for kelp.var_t and
  * kelp.sync_req_t, with the lcm-gen decoder too, to the same fields. Prints a line per
- * channel (events, kind) and exits 1 if any event does not decode. */
+ * channel (events, kind) and exits 1 if any event does not decode. The log is read with
+ * kelp's own reader: a damaged stretch is skipped to the next event and reported, and an
+ * event with an empty channel does not end the log. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <lcm/eventlog.h>
+#include <kelp/edge/lcmlog.h>
 #include <kelp/edge/cli.h>
 #include <kelp/bus.h>
 #include "kelp_var_t.h"
@@ -36,9 +38,10 @@ int main(int argc, char **argv)
         return kelp_cli_error(&cli, argc == optind ? "no log file given" : "one log file at a time");
     }
     const char *path = argv[optind];
-    lcm_eventlog_t *log = lcm_eventlog_create(path, "r");
+    char err[256];
+    kelp_lcmlog_reader *log = kelp_lcmlog_open(path, 0, err, sizeof err);
     if (!log) {
-        fprintf(stderr, "kelp-logcheck: cannot open %s\n", path);
+        fprintf(stderr, "kelp-logcheck: %s\n", err);
         return 1;
     }
     static chan chans[1024];
@@ -46,25 +49,26 @@ int main(int argc, char **argv)
     long total = 0, bad = 0;
     kelp_var *v = malloc(sizeof *v);
     kelp_sync_req q;
-    lcm_eventlog_event_t *e;
-    while ((e = lcm_eventlog_read_next_event(log)) != NULL) {
-        if (strcmp(e->channel, "LCM_SELF_TEST") == 0) { /* liblcm's own probe, not a kelp type */
-            lcm_eventlog_free_event(e);
-            continue;
-        }
+    kelp_lcmlog_event ev;
+    const char *channel;
+    int rr;
+    while ((rr = kelp_lcmlog_next(log, &ev, &channel)) > 0) {
+        if (strcmp(channel, "LCM_SELF_TEST") == 0) continue; /* liblcm's own probe, not a kelp type */
+        const uint8_t *data = ev.data;
+        int datalen = (int)ev.data_len;
         total++;
         chan *c = NULL;
         for (int i = 0; i < nch; i++)
-            if (strcmp(chans[i].name, e->channel) == 0) c = &chans[i];
+            if (strcmp(chans[i].name, channel) == 0) c = &chans[i];
         if (!c && nch < 1024) {
             c = &chans[nch++];
-            snprintf(c->name, sizeof c->name, "%s", e->channel);
+            snprintf(c->name, sizeof c->name, "%s", channel);
         }
         int ok = 0;
-        if (strcmp(e->channel, KELP_BUS_SYNC_CHANNEL) == 0) {
+        if (strcmp(channel, KELP_BUS_SYNC_CHANNEL) == 0) {
             kelp_sync_req_t g;
-            ok = kelp_sync_req_decode(e->data, (size_t)e->datalen, &q) == 0 &&
-                 kelp_sync_req_t_decode(e->data, 0, e->datalen, &g) == e->datalen;
+            ok = kelp_sync_req_decode(data, (size_t)datalen, &q) == 0 &&
+                 kelp_sync_req_t_decode(data, 0, datalen, &g) == datalen;
             if (ok) {
                 ok = strcmp(g.reply_channel, q.reply_channel) == 0 && g.npatterns == q.npatterns;
                 kelp_sync_req_t_decode_cleanup(&g);
@@ -72,8 +76,8 @@ int main(int argc, char **argv)
             if (c) snprintf(c->kind, sizeof c->kind, "sync_req_t");
         } else {
             kelp_var_t g;
-            ok = kelp_var_decode(e->data, (size_t)e->datalen, v) == 0 &&
-                 kelp_var_t_decode(e->data, 0, e->datalen, &g) == e->datalen;
+            ok = kelp_var_decode(data, (size_t)datalen, v) == 0 &&
+                 kelp_var_t_decode(data, 0, datalen, &g) == datalen;
             if (ok) {
                 ok = strcmp(g.name, v->name) == 0 && strcmp(g.source, v->source) == 0 &&
                      strcmp(g.community, v->community) == 0 && g.kind == (int8_t)v->kind &&
@@ -85,7 +89,7 @@ int main(int argc, char **argv)
             if (c) snprintf(c->kind, sizeof c->kind, "var_t");
             /* --print lists bus writes; sync replies (retained values replayed to a late
              * registrant on its own channel) are not new writes */
-            if (ok && print && strcmp(e->channel, v->name) == 0) {
+            if (ok && print && strcmp(channel, v->name) == 0) {
                 if (v->kind == KELP_VAR_DOUBLE) printf("%.3f %s %s %.17g\n", v->time, v->source, v->name, v->dval);
                 else if (v->kind == KELP_VAR_STRING) printf("%.3f %s %s %s\n", v->time, v->source, v->name, v->sval);
             }
@@ -95,15 +99,19 @@ int main(int argc, char **argv)
             bad++;
             if (c) c->bad++;
         }
-        lcm_eventlog_free_event(e);
     }
-    lcm_eventlog_destroy(log);
+    kelp_lcmlog_stats st = kelp_lcmlog_get_stats(log);
+    kelp_lcmlog_close(log);
     free(v);
+    if (rr < 0) fprintf(stderr, "kelp-logcheck: read error in %s\n", path);
+    if (st.damaged || st.truncated)
+        fprintf(stderr, "kelp-logcheck: %s: %zu damaged stretch(es), %zu bytes skipped%s\n", path, st.damaged,
+                st.skipped_bytes, st.truncated ? ", the file ends inside an event" : "");
     if (!print) {
         for (int i = 0; i < nch; i++)
-            printf("  %-32s %-11s %7ld events%s\n", chans[i].name, chans[i].kind, chans[i].n,
+            printf("  %-32s %-11s %7ld events%s\n", chans[i].name[0] ? chans[i].name : "(empty channel)", chans[i].kind, chans[i].n,
                    chans[i].bad ? "  <- UNDECODABLE" : "");
         printf("kelp-logcheck: %ld events on %d channels, %ld undecodable\n", total, nch, bad);
     }
-    return (bad || total == 0) ? 1 : 0;
+    return (bad || total == 0 || rr < 0 || st.damaged) ? 1 : 0; /* a cut last event is a logger stopped mid-write */
 }

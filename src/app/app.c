@@ -572,7 +572,7 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
     app->block = kelp_mission_block(&app->mf.m, "ProcessConfig", app->name);
     if (app->block < 0) kelp_app_config_warning(app, "no ProcessConfig = %s block in %s", app->name, mission);
     const char *bad = NULL;
-    int bad_line = 0, gi;
+    int bad_line = 0;
     int crc = kelp_app_global_str(app, "Community", app->community, sizeof app->community);
     if (crc == 0) snprintf(app->community, sizeof app->community, "%s", "kelp");
     else if (crc < 0 || !app->community[0]) bad = "Community must be 1..63 characters";
@@ -580,7 +580,7 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
     app->warp = 1;
     if (!bad && (kelp_app_global_double(app, "MOOSTimeWarp", &app->warp) < 0 || !(app->warp > 0) || app->warp > 1000)) {
         bad = "MOOSTimeWarp must be a number in (0, 1000]";
-        gi = kelp_mission_next(&app->mf.m, -1, -1, "MOOSTimeWarp");
+        int gi = kelp_mission_next(&app->mf.m, -1, -1, "MOOSTimeWarp");
         bad_line = gi >= 0 ? app->mf.m.nodes[gi].line : 0;
     }
     app->app_tick = 4;

@@ -6,7 +6,7 @@
 #include <kelp/mission.h>
 #include <errno.h>
 #include <stdio.h>
-#include <lcm/eventlog.h>
+#include <kelp/edge/lcmlog.h>
 #include <kelp/edge/plot.h>
 
 void kelp_plot_scene_init(kelp_plot_scene *s)
@@ -273,36 +273,35 @@ void kelp_plot_print_summary(const kelp_plot_scene *s, FILE *out)
 
 int kelp_plot_scene_read_log(kelp_plot_scene *s, const char *path, unsigned long *events, unsigned long *undecoded)
 {
-    FILE *probe = fopen(path, "rb");
-    if (!probe) {
-        fprintf(stderr, "kelp-plot: %s: %s\n", path, strerror(errno));
-        return -1;
-    }
-    fclose(probe);
-    lcm_eventlog_t *log = lcm_eventlog_create(path, "r");
+    char err[256];
+    kelp_lcmlog_reader *log = kelp_lcmlog_open(path, 0, err, sizeof err);
     if (!log) {
-        fprintf(stderr, "kelp-plot: %s: not readable as an LCM log\n", path);
+        fprintf(stderr, "kelp-plot: %s\n", err);
         return -1;
     }
     kelp_var *v = malloc(sizeof *v);
     if (!v) {
-        lcm_eventlog_destroy(log);
+        kelp_lcmlog_close(log);
         return -1;
     }
-    lcm_eventlog_event_t *e;
+    kelp_lcmlog_event ev;
+    const char *channel;
     unsigned long n = 0;
-    while ((e = lcm_eventlog_read_next_event(log)) != NULL) {
+    while (kelp_lcmlog_next(log, &ev, &channel) > 0) {
         n++;
-        if (e->datalen >= 0 && kelp_var_decode(e->data, (size_t)e->datalen, v) == 0) {
+        if (kelp_var_decode(ev.data, ev.data_len, v) == 0) {
             if (!(v->flags & KELP_VAR_FLAG_SYNC)) kelp_plot_scene_add_var(s, v);
         } else {
             (*undecoded)++;
         }
-        lcm_eventlog_free_event(e);
     }
+    kelp_lcmlog_stats st = kelp_lcmlog_get_stats(log);
+    if (st.damaged)
+        fprintf(stderr, "kelp-plot: %s: %zu damaged stretch(es) skipped (%zu bytes)\n", path, st.damaged,
+                st.skipped_bytes);
     *events += n;
     free(v);
-    lcm_eventlog_destroy(log);
+    kelp_lcmlog_close(log);
     if (n == 0) {
         fprintf(stderr, "kelp-plot: %s: no events (empty or not an LCM log)\n", path);
         return -1;
