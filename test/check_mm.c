@@ -246,6 +246,58 @@ START_TEST(data_cycle_local)
 }
 END_TEST
 
+START_TEST(caller_frames_fewer_than_requested)
+{
+    kelp_mm mm;
+    boot(&mm);
+    reset_capture();
+    /* rate 2 carries 3 frames of 64 bytes; the caller gives one (no data request is made) */
+    kelp_mm_frame f;
+    memset(&f, 0, sizeof f);
+    f.dest = 3;
+    f.ack_requested = false;
+    f.len = 2;
+    f.data[0] = 0xab, f.data[1] = 0xcd;
+    ck_assert_int_eq(kelp_mm_transmit_frames(&mm, 2, &f, 1, T + 10 * S), KELP_OK);
+    ck_assert_int_eq(n_requests, 0);
+    expect("", "$CCCYC,0,1,3,2,0,3");               /* the rate's frame count, not the caller's */
+    feed(&mm, "$CACYC,0,1,3,2,0,3", T + 10 * S + 200000);
+    ck_assert_int_eq(n_requests, 0);
+    feed(&mm, "$CADRQ,120010,1,3,0,64,1", T + 11 * S);
+    expect("", "$CCTXD,1,3,0,abcd");
+    feed(&mm, "$CATXD,1,3,0,abcd", T + 11 * S + 100000);
+    feed(&mm, "$CADRQ,120011,1,3,0,64,2", T + 12 * S);
+    expect("", "$CCTXD,1,3,0,");                      /* the remaining frames go empty */
+    feed(&mm, "$CATXD,1,3,0,", T + 12 * S + 100000);
+    feed(&mm, "$CADRQ,120012,1,3,0,64,3", T + 13 * S);
+    expect("", "$CCTXD,1,3,0,");
+    /* nothing given: nothing sent; more than the rate carries: refused */
+    ck_assert_int_eq(kelp_mm_transmit_frames(&mm, 2, &f, 0, T + 20 * S), KELP_OK);
+    kelp_mm_frame many[4];
+    memset(many, 0, sizeof many);
+    ck_assert_int_eq(kelp_mm_transmit_frames(&mm, 2, many, 4, T + 20 * S), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_mm_transmit_frames(&mm, 7, &f, 1, T + 20 * S), KELP_ERR_RANGE);
+}
+END_TEST
+
+START_TEST(clock_written_late_in_a_second)
+{
+    /* $CCCLK at hh:mm:ss.95 and the echo held through the 1 s pause: read the moment the
+     * pause ends (ss+1.95, within the 2 s skew), not at the caller's next tick (ss+2.05) */
+    kelp_mm mm;
+    make(&mm, 1, false, NULL, 0);
+    ck_assert_int_eq(kelp_mm_start(&mm, T + 950000), KELP_OK);
+    expect("", "$CCCLK,2024,1,2,12,0,0");
+    feed(&mm, "$CACLK,2024,1,2,12,0,0", T + 1300000);
+    tick(&mm, T + 1850000);
+    ck_assert(!kelp_mm_clock_ok(&mm));
+    tick(&mm, T + 2050000);
+    ck_assert(kelp_mm_clock_ok(&mm));
+    for (int k = 1; k <= 20; k++) tick(&mm, T + 2050000 + k * 100000);
+    for (int i = 0; i < nout; i++) ck_assert_msg(strstr(out[i] + 1, "CCCLK") == NULL || i == 0, "second $CCCLK: %s", out[i]);
+}
+END_TEST
+
 START_TEST(data_request_without_cache_real_vector)
 {
     kelp_mm mm;
@@ -535,6 +587,8 @@ Suite *kelp_mm_suite(void)
     TCase *tc = tcase_create("core");
     tcase_add_test(tc, startup_sequence);
     tcase_add_test(tc, data_cycle_local);
+    tcase_add_test(tc, caller_frames_fewer_than_requested);
+    tcase_add_test(tc, clock_written_late_in_a_second);
     tcase_add_test(tc, data_request_without_cache_real_vector);
     tcase_add_test(tc, remote_cycle_and_third_party_cycle);
     tcase_add_test(tc, receive_ranging_and_toa);

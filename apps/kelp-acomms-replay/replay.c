@@ -337,18 +337,32 @@ static void cmd_ack(replay *r, char **w, int n)
             error(r, "ack needs a frame number");
             return;
         }
-    static const char *const keys[] = { "src", NULL };
+    static const char *const keys[] = { "src", "dest", NULL };
     if (!known_opts(r, w + 1, n - 1, keys)) return;
-    const char *s = opt(w + 1, n - 1, "src");
-    if (s && !parse_int(s, &src)) {
-            error(r, "bad src \"%s\"", s);
-            return;
-        }
-    int k = kelp_acomms_node_ack(&r->node, (int)src, r->cfg.modem_id, (uint32_t)frame, r->now_us);
+    long dest = r->cfg.modem_id;
+    const char *s = opt(w + 1, n - 1, "src"), *d = opt(w + 1, n - 1, "dest");
+    if ((s && !parse_int(s, &src)) || (d && !parse_int(d, &dest))) {
+        error(r, "bad src or dest");
+        return;
+    }
+    int k = kelp_acomms_node_ack(&r->node, (int)src, (int)dest, (uint32_t)frame, r->now_us);
     if (k == 0) {
         stamp(r);
-        fprintf(r->out, "ack-ignored frame=%ld (no message waits for it)\n", frame);
+        if (dest != r->cfg.modem_id) fprintf(r->out, "ack-ignored frame=%ld (addressed to %ld, not us)\n", frame, dest);
+        else fprintf(r->out, "ack-ignored frame=%ld (no message waits for it)\n", frame);
     }
+}
+
+static void cmd_flush(replay *r, char **w, int n)
+{
+    for (size_t i = 0; i < r->nq && n == 1; i++) {
+        if (strcmp(r->qname[i], w[0]) != 0) continue;
+        stamp(r);
+        fprintf(r->out, "flush queue=%s\n", r->qname[i]);
+        if (kelp_queue_flush(&r->node.q, r->qkey[i]) != KELP_OK) error(r, "flush failed");
+        return;
+    }
+    error(r, "flush needs the name of a queue");
 }
 
 static void cmd_receive(replay *r, char **w, int n)
@@ -440,7 +454,9 @@ static void run_line(replay *r, char *line)
         }
         int rc = kelp_acomms_node_mac_update(&r->node, &u, r->now_us);
         stamp(r);
-        if (rc == KELP_ERR_NOTFOUND) fprintf(r->out, "mac_update ignored (dest %d is not us)\n", u.dest);
+        if (rc == KELP_ERR_NOTFOUND && u.dest != r->cfg.modem_id)
+            fprintf(r->out, "mac_update ignored (dest %d is not us)\n", u.dest);
+        else if (rc == KELP_ERR_NOTFOUND) fprintf(r->out, "mac_update remove: no such slot\n");
         else if (rc) fprintf(r->out, "mac_update refused (%s)\n", kelp_strerror(rc));
         else fprintf(r->out, "mac_update slots=%zu cycle=%u\n", r->node.mac.n, kelp_mac_cycle_length(&r->node.mac));
         return;
@@ -475,6 +491,8 @@ static void run_line(replay *r, char *line)
         cmd_data_request(r, w + 1, n - 1);
     } else if (!strcmp(w[0], "ack")) {
         cmd_ack(r, w + 1, n - 1);
+    } else if (!strcmp(w[0], "flush")) {
+        cmd_flush(r, w + 1, n - 1);
     } else if (!strcmp(w[0], "heard")) {
         if (n != 2 || !parse_int(w[1], &v) || v < 0 || v > 31) {
             error(r, "heard needs a modem id");
@@ -530,7 +548,9 @@ static const char replay_more[] =
         "  data_request [dest=D] [frame=F] [bytes=N | rate=R]   one modem data request (frame 0 starts\n"
         "                               a packet; dest -1 = ask the queue; default 32 bytes)\n"
         "  transmit [dest=D] [rate=R]   what a data slot of ours does, now\n"
-        "  ack FRAME [src=S]            the modem reports an ack of FRAME (Goby frame, from 0)\n"
+        "  ack FRAME [src=S] [dest=D]   the modem reports an ack of FRAME (Goby frame, from 0) sent to D\n"
+        "                               (default us; an ack addressed to another modem is ignored)\n"
+        "  flush QUEUE                  empty a queue (the queue manager's flush_queue)\n"
         "  receive SRC DEST HEX         a frame arrives from the modem (unstitched, filtered, decoded)\n"
         "  heard ID                     modem ID was heard (MAC_AUTO_DECENTRALIZED discovery)\n"
         "  mac_update TEXT              ACOMMS_MAC_CYCLE_UPDATE, e.g.\n"
@@ -550,6 +570,7 @@ static const char replay_more[] =
         "  ack queue= from= frame= hex=                          a message was acknowledged and removed\n"
         "  expire queue= dest= hex=                              a message outlived its ttl\n"
         "  receive queue= src= dest= hex= decoded=\"...\"          a received piece for us\n"
+        "  flush queue=                                          a queue was emptied (then qsize)\n"
         "  ack-ignored / receive-ignored / mac_update / heard / status / echo   as named\n"
         "  error line=N reason                                   a bad command (the replay goes on;\n"
         "                                                        the exit status is 1)\n";

@@ -169,6 +169,13 @@ KELP_MUST_CHECK int kelp_mm_feed(kelp_mm *mm, const uint8_t *bytes, size_t n, in
  *  $CCCYC only if there are data; another src starts a third-party cycle (ACK field 1). */
 KELP_MUST_CHECK int kelp_mm_initiate_transmission(kelp_mm *mm, int src, int dest, unsigned rate, int64_t now_us);
 
+/** A cycle of our own with frames the caller supplies (no data request is made): $CCCYC
+ *  with ADR2/ACK from frames[0] and the rate's frame count; each $CADRQ is answered from
+ *  frames (cut to the rate's size), and one beyond n with an empty $CCTXD. n == 0 sends
+ *  nothing; n larger than the rate carries is KELP_ERR_RANGE. */
+KELP_MUST_CHECK int kelp_mm_transmit_frames(kelp_mm *mm, unsigned rate, const kelp_mm_frame *frames, size_t n,
+                                            int64_t now_us);
+
 /** Ranging: TWO_WAY_PING -> $CCMPC,src,dest; REMUS_LBL -> $CCPDT (max_range m, beacon bits);
  *  ONE_WAY_SYNCHRONOUS cannot be requested (KELP_ERR_UNSUPPORTED). */
 KELP_MUST_CHECK int kelp_mm_initiate_ranging(kelp_mm *mm, int src, int dest, kelp_ranging_type type,

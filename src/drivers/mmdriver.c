@@ -340,17 +340,10 @@ static int cache_outgoing(kelp_mm *mm, int src, int dest, unsigned rate, unsigne
     return KELP_OK;
 }
 
-int kelp_mm_initiate_transmission(kelp_mm *mm, int src, int dest, unsigned rate, int64_t now_us)
+/* $CCCYC for a cycle whose frames are cached (local) or that another modem sends */
+static int write_cycle(kelp_mm *mm, int src, int dest, unsigned rate, int64_t now_us)
 {
-    if (!mm) return KELP_ERR_ARG;
-    if (!mm->started) return KELP_ERR_STATE;
-    if (rate > 5) { set_err(mm, "mmdriver: rate out of range (0..5)"); return KELP_ERR_RANGE; }
-    mm->local_cccyc = true; /* we initiated: don't fetch data again on the $CACYC echo */
-    unsigned nframes = kelp_mm_packet_frames[rate];
-    int rc = cache_outgoing(mm, src, dest, rate, nframes, now_us);
-    if (rc) return rc;
     bool local = (src == mm->modem_id);
-    if (local && mm->ncache == 0) return KELP_OK; /* no data: no cycle */
     char buf[96];
     kelp_nmea_writer w;
     kelp_nmea_writer_init(&w, buf, sizeof buf, "$CCCYC");
@@ -359,8 +352,42 @@ int kelp_mm_initiate_transmission(kelp_mm *mm, int src, int dest, unsigned rate,
     kelp_nmea_writer_long(&w, local ? mm->cache[0].dest : dest);      /* ADR2 */
     kelp_nmea_writer_long(&w, (long)rate);                            /* packet type */
     kelp_nmea_writer_long(&w, local ? (mm->cache[0].ack_requested ? 1 : 0) : 1); /* ACK */
-    kelp_nmea_writer_long(&w, (long)nframes);
+    kelp_nmea_writer_long(&w, (long)kelp_mm_packet_frames[rate]);
     return append(mm, &w, now_us);
+}
+
+int kelp_mm_initiate_transmission(kelp_mm *mm, int src, int dest, unsigned rate, int64_t now_us)
+{
+    if (!mm) return KELP_ERR_ARG;
+    if (!mm->started) return KELP_ERR_STATE;
+    if (rate > 5) { set_err(mm, "mmdriver: rate out of range (0..5)"); return KELP_ERR_RANGE; }
+    mm->local_cccyc = true; /* we initiated: don't fetch data again on the $CACYC echo */
+    int rc = cache_outgoing(mm, src, dest, rate, kelp_mm_packet_frames[rate], now_us);
+    if (rc) return rc;
+    if (src == mm->modem_id && mm->ncache == 0) return KELP_OK; /* no data: no cycle */
+    return write_cycle(mm, src, dest, rate, now_us);
+}
+
+int kelp_mm_transmit_frames(kelp_mm *mm, unsigned rate, const kelp_mm_frame *frames, size_t n, int64_t now_us)
+{
+    if (!mm || (n && !frames)) return KELP_ERR_ARG;
+    if (!mm->started) return KELP_ERR_STATE;
+    if (rate > 5) { set_err(mm, "mmdriver: rate out of range (0..5)"); return KELP_ERR_RANGE; }
+    if (n == 0) return KELP_OK; /* no data: no cycle, as a local slot with an empty queue */
+    if (n > kelp_mm_packet_frames[rate]) {
+        set_err(mm, "mmdriver: more frames than the rate carries");
+        return KELP_ERR_RANGE;
+    }
+    mm->local_cccyc = true;
+    mm->ncache = 0;
+    mm->ack_mask = 0;
+    for (size_t i = 0; i < n; i++) {
+        kelp_mm_frame *f = &mm->cache[mm->ncache++];
+        *f = frames[i];
+        f->src = mm->modem_id;
+        if (f->len > kelp_mm_packet_size[rate]) f->len = kelp_mm_packet_size[rate];
+    }
+    return write_cycle(mm, mm->modem_id, frames[0].dest, rate, now_us);
 }
 
 int kelp_mm_initiate_ranging(kelp_mm *mm, int src, int dest, kelp_ranging_type type, unsigned max_range,
@@ -676,8 +703,12 @@ static void feed_byte(kelp_mm *mm, uint8_t byte, int64_t now_us)
     process_line(mm, line, len, now_us);
 }
 
+/* Bytes held during a pause are read the moment the pause ends (as a driver that sleeps and
+ * then reads in the same step), so a reply's freshness is judged at that moment, whenever
+ * the caller's next feed or tick comes. */
 static void drain_backlog(kelp_mm *mm, int64_t now_us)
 {
+    if (mm->hold_until_us > 0 && mm->hold_until_us <= now_us) now_us = mm->hold_until_us;
     size_t i = 0;
     while (i < mm->backlog_len && !holding(mm, now_us)) feed_byte(mm, mm->backlog[i++], now_us);
     memmove(mm->backlog, mm->backlog + i, mm->backlog_len - i);

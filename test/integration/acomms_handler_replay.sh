@@ -62,6 +62,26 @@ grep -q 'ack queue=C from=3 frame=0 hex=20060000023002' o2.txt || fail "no ack o
 tail -1 o2.txt | grep -q 'hex=20060000023003$' || fail "m2 not sent after the ack"
 ok "FIFO + ack: m1 twice, ack, then m2"
 
+# 2b. an ack addressed to another modem is ignored (Goby's queue checks dest); flush empties a queue
+cat > t2b.txt <<'X'
+push C _dest_id=3 x=1
+data_request bytes=7
+ack 0 src=3 dest=4
+data_request bytes=7
+push A x=5
+flush C
+status
+X
+"$R" --plain --xml pq.xml t2b.txt > o2b.txt || { cat o2b.txt; fail "replay 2b exit status"; }
+grep -q 'ack-ignored frame=0 (addressed to 4, not us)' o2b.txt || { cat o2b.txt; fail "foreign ack not ignored"; }
+grep -q 'ack queue=C' o2b.txt && fail "an ack for modem 4 removed our message"
+[ "$(grep -c 'frame frame=0 .*hex=20060000023002$' o2b.txt)" = 2 ] || { cat o2b.txt; fail "m1 not re-sent after a foreign ack"; }
+grep -q 'flush queue=C' o2b.txt && grep -q 'qsize queue=C size=0' o2b.txt || { cat o2b.txt; fail "flush C"; }
+grep -q 'status queue=C size=0' o2b.txt && grep -q 'status queue=A size=1' o2b.txt || { cat o2b.txt; fail "flush emptied the wrong queue"; }
+printf 'flush Nope\n' | "$R" --plain --xml pq.xml > o2c.txt && fail "flush of an unknown queue exit 0"
+grep -q 'error line=1 flush needs the name of a queue' o2c.txt || { cat o2c.txt; fail "flush error"; }
+ok "foreign ack ignored, flush C (A kept)"
+
 # 3. the spec's SIMPLE_STATUS vector (3.8) at 12:00:00 UTC, blackout 10 s (9.45), broadcast flag
 printf 'push SIMPLE_STATUS Node=2 nav_x=123 nav_y=321 Speed=1.2 Heading=45 Depth=111\ndata_request\nadvance 10.1\ndata_request\n' |
   "$R" --plain --xml "$M/simple_status.xml" --modem-id 2 --start 1262347200 > o3.txt || { cat o3.txt; fail "replay 3"; }
