@@ -10,10 +10,12 @@
 #include <strings.h>
 #include <time.h>
 #include <unistd.h>
+#include <sys/resource.h>
 #include <kelp/app.h>
 #include <kelp/lcmbus.h>
 
 #define MAX_WARN 32
+#define MAX_PUBS 64
 #define WARN_LEN 200
 #define MAX_EVENTS 8
 #define MAX_REAL_HZ 1000.0          /* cap on Iterate rate in wall-clock Hz */
@@ -52,6 +54,10 @@ struct kelp_app {
     bool quit;
     bool tty;
     bool verbose;
+    /* what <NAME>_STATUS reports in MOOS's keys */
+    char pubs[MAX_PUBS][KELP_MAX_NAME];
+    int npubs;
+    double cpu_wall, cpu_proc, cpuload;
 };
 
 static volatile sig_atomic_t g_stop; /* set by SIGINT/SIGTERM; the edge may hold this one global */
@@ -110,14 +116,24 @@ static void on_var(const kelp_var *v, void *user)
     d->sval[v->slen] = 0;
 }
 
+/* the names this app has published (for Publishing= in <NAME>_STATUS) */
+static void note_pub(kelp_app *app, const char *name)
+{
+    for (int i = 0; i < app->npubs; i++)
+        if (strcmp(app->pubs[i], name) == 0) return;
+    if (app->npubs < MAX_PUBS && strlen(name) < KELP_MAX_NAME) snprintf(app->pubs[app->npubs++], KELP_MAX_NAME, "%s", name);
+}
+
 /* ------------------------------------------------------------------ API */
 int kelp_app_notify_double(kelp_app *app, const char *name, double value)
 {
+    note_pub(app, name);
     return kelp_bus_notify_double(kelp_lcmbus_bus(app->lb), name, value, kelp_app_time(app));
 }
 
 int kelp_app_notify_string(kelp_app *app, const char *name, const char *value)
 {
+    note_pub(app, name);
     return kelp_bus_notify_string(kelp_lcmbus_bus(app->lb), name, value, kelp_app_time(app));
 }
 
@@ -134,6 +150,7 @@ int kelp_app_notify_stringf(kelp_app *app, const char *name, const char *fmt, ..
 
 int kelp_app_notify_binary(kelp_app *app, const char *name, const void *data, size_t len)
 {
+    note_pub(app, name);
     return kelp_bus_notify_binary(kelp_lcmbus_bus(app->lb), name, data, len, kelp_app_time(app));
 }
 
@@ -397,19 +414,71 @@ static void report(kelp_app *app, FILE *out)
     fflush(out);
 }
 
+/* Resident and peak memory of this process, kB (Linux /proc; 0 when unknown). */
+static void memory_kb(long *now_kb, long *max_kb)
+{
+    struct rusage ru;
+    *now_kb = 0;
+    *max_kb = getrusage(RUSAGE_SELF, &ru) == 0 ? ru.ru_maxrss : 0;
+    FILE *f = fopen("/proc/self/statm", "r");
+    long size, resident;
+    if (f && fscanf(f, "%ld %ld", &size, &resident) == 2) *now_kb = resident * (sysconf(_SC_PAGESIZE) / 1024);
+    if (f) fclose(f);
+}
+
+/* CPU used by this process since the last status, percent of one core */
+static void update_cpuload(kelp_app *app)
+{
+    struct rusage ru;
+    struct timespec ts;
+    if (getrusage(RUSAGE_SELF, &ru) != 0 || clock_gettime(CLOCK_MONOTONIC, &ts) != 0) return;
+    double proc = (double)ru.ru_utime.tv_sec + ru.ru_utime.tv_usec * 1e-6 + (double)ru.ru_stime.tv_sec +
+                  ru.ru_stime.tv_usec * 1e-6;
+    double wall = (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+    if (app->cpu_wall > 0 && wall > app->cpu_wall) app->cpuload = 100.0 * (proc - app->cpu_proc) / (wall - app->cpu_wall);
+    app->cpu_wall = wall;
+    app->cpu_proc = proc;
+}
+
+/* "A,B,C" into buf, as many names as fit */
+static void name_list(char *buf, size_t cap, const char *names, size_t stride, size_t n)
+{
+    size_t o = 0;
+    buf[0] = 0;
+    for (size_t i = 0; i < n; i++) {
+        const char *nm = names + i * stride;
+        size_t l = strlen(nm);
+        if (o + l + 2 >= cap) break;
+        if (o) buf[o++] = ',';
+        memcpy(buf + o, nm, l + 1);
+        o += l;
+    }
+}
+
 static void publish_status(kelp_app *app)
 {
-    const kelp_bus_stats *st = kelp_bus_get_stats(kelp_lcmbus_bus(app->lb));
+    kelp_bus *bus = kelp_lcmbus_bus(app->lb);
+    const kelp_bus_stats *st = kelp_bus_get_stats(bus);
     char var[KELP_MAX_NAME + 8];
     snprintf(var, sizeof var, "%.*s_STATUS", KELP_MAX_NAME - 8, app->name);
     for (char *c = var; *c; c++)
         if (*c >= 'a' && *c <= 'z') *c = (char)(*c - 'a' + 'A');
+    note_pub(app, var);
+    update_cpuload(app);
+    long mem, mem_max;
+    memory_kb(&mem, &mem_max);
+    static char pubs[1400], subs[1400];
+    name_list(pubs, sizeof pubs, app->pubs[0], sizeof app->pubs[0], (size_t)app->npubs);
+    name_list(subs, sizeof subs, (const char *)bus->st.subs + offsetof(kelp_bus_sub, pattern), sizeof bus->st.subs[0],
+              bus->nsubs_used);
     (void)kelp_app_notify_stringf(app, var,
-                                  "AppErrorFlag=%s,Uptime=%.1f,iter=%lu,mail=%lu,published=%llu,bad=%llu,"
+                                  "AppErrorFlag=%s,Uptime=%.2f,cpuload=%.4f,memory_kb=%ld,memory_max_kb=%ld,MOOSName=%s,"
+                                  "Publishing=\"%s\",Subscribing=\"%s\",iter=%lu,mail=%lu,published=%llu,bad=%llu,"
                                   "cfg_warnings=%d,run_warnings=%d",
                                   (app->nrun_warn || st->bad) ? "true" : "false", kelp_app_time(app) - app->start,
-                                  app->iter, app->mail_total, (unsigned long long)st->published,
-                                  (unsigned long long)st->bad, app->ncfg_warn, app->nrun_warn);
+                                  app->cpuload, mem, mem_max, app->name, pubs, subs, app->iter, app->mail_total,
+                                  (unsigned long long)st->published, (unsigned long long)st->bad, app->ncfg_warn,
+                                  app->nrun_warn);
 }
 
 /* ------------------------------------------------------------------ command line */
@@ -497,7 +566,8 @@ static void print_interface(const kelp_app_def *def)
     interface_vars("SUBSCRIPTIONS", def->subscribes, false);
     printf("\n");
     interface_vars("PUBLICATIONS", def->publishes, true); /* <NAME>_STATUS follows */
-    printf("  <NAME>_STATUS = AppErrorFlag=false,Uptime=12.0,iter=48,mail=10,published=52,bad=0,"
+    printf("  <NAME>_STATUS = AppErrorFlag=false,Uptime=12.00,cpuload=0.3100,memory_kb=2412,memory_max_kb=2412,"
+           "MOOSName=<name>,Publishing=\"A,B\",Subscribing=\"X,Y\",iter=48,mail=10,published=52,bad=0,"
            "cfg_warnings=0,run_warnings=0\n"
            "  %*s   every app, every 2 s: its status (NAME: its MOOS name, upper case)\n", 13, "");
 }

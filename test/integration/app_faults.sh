@@ -45,3 +45,18 @@ grep -q "frob.x1b\[2J" poller.out || fail "the escaped command is not shown: $(g
 grep -q "bogus40" poller.out || fail "the newest warning is missing"
 grep -qE "\([0-9]+ older distinct warnings dropped\)" poller.out || fail "dropped warnings not counted"
 ok "control bytes shown as \\xNN; newest warnings kept, $(grep -oE '[0-9]+ older distinct warnings dropped' poller.out | tail -1)"
+
+# <NAME>_STATUS carries MOOS's keys (AppErrorFlag, Uptime, cpuload, memory_kb, memory_max_kb,
+# MOOSName, Publishing, Subscribing) before kelp's own
+bg lcm-logger --lcm-url="$KELP_LCM_URL" -f status.lcmlog
+sleep 0.5
+bg "$BIN/pAcommsPoller" p.moos > poller2.out 2>&1
+sleep 3
+kill -INT ${PIDS[2]}; wait ${PIDS[2]} 2>/dev/null || true
+kill -INT ${PIDS[1]}; wait ${PIDS[1]} 2>/dev/null || true
+"$BIN/kelp-logcheck" --print status.lcmlog > status.txt || fail "status log undecodable"
+line=$(grep ' PACOMMSPOLLER_STATUS ' status.txt | tail -1)
+[ -n "$line" ] || fail "no PACOMMSPOLLER_STATUS: $(head -5 status.txt)"
+echo "$line" | grep -qE 'PACOMMSPOLLER_STATUS AppErrorFlag=(true|false),Uptime=[0-9.]+,cpuload=[0-9.]+,memory_kb=[1-9][0-9]*,memory_max_kb=[1-9][0-9]*,MOOSName=pAcommsPoller,Publishing="[^"]*PACOMMSPOLLER_STATUS[^"]*",Subscribing="[^"]*POLLER_COMMAND[^"]*",iter=' ||
+  fail "status lacks MOOS's keys: $line"
+ok "status with MOOS keys: ${line:0:160}..."
