@@ -7,7 +7,8 @@
  *
  * kelp_nodereport_format writes the fields present in that order and those decimals (TIME,
  * X, Y, SPD, HDG, DEPTH: 2 fixed; LAT, LON: 6 fixed; LENGTH: up to 2, trailing zeros
- * stripped), then ALLSTOP and GROUP when set. kelp_nodereport_parse reads any order, keys
+ * stripped), with COLOR after TIME and YAW (radians, up to 7 decimals) after HDG when set,
+ * then ALLSTOP, GROUP, INDEX (when not 0) and any extra "K=V" pairs. kelp_nodereport_parse reads any order, keys
  * case-insensitively (synonyms: VNAME=NAME, LONG=LON, SPEED=SPD, HEADING=HDG, DEP=DEPTH),
  * ignores unknown keys, keeps the first of a repeated key, and requires NAME plus a position
  * (X and Y, or LAT and LON).
@@ -58,6 +59,9 @@ extern "C" {
 #define KELP_NR_MODE 0x0800u
 #define KELP_NR_ALLSTOP 0x1000u
 #define KELP_NR_GROUP 0x2000u
+#define KELP_NR_YAW 0x4000u
+#define KELP_NR_INDEX 0x8000u
+#define KELP_NR_COLOR 0x10000u
 
 typedef struct kelp_nodereport {
     char name[KELP_NODEREPORT_MAX_FIELD];
@@ -65,8 +69,13 @@ typedef struct kelp_nodereport {
     char mode[KELP_NODEREPORT_MAX_FIELD];
     char allstop[KELP_NODEREPORT_MAX_FIELD];
     char group[KELP_NODEREPORT_MAX_FIELD];
+    char color[KELP_NODEREPORT_MAX_FIELD];
     double time, x, y, lat, lon, spd, hdg, depth, length;
+    double yaw;                  /**< radians, counter-clockwise from east (written with 7 decimals) */
+    long index;                  /**< reports posted before this one (written when not 0) */
     uint32_t fields;             /**< KELP_NR_* bits of the fields present */
+    bool dep_key;                /**< format: write depth as DEP= (MOOS-IvP today) instead of DEPTH= */
+    const char *extra;           /**< format: "K=V,K=V" appended as they are (may be NULL) */
 } kelp_nodereport;
 
 /** Empty report (no fields). */

@@ -22,8 +22,8 @@ int kelp_nodereport_format(const kelp_nodereport *r, char *buf, size_t cap, size
     size_t n = 0;
     if (buf && cap) buf[0] = 0;
     if (!r || !buf || !(r->fields & KELP_NR_NAME) || !r->name[0]) return KELP_ERR_ARG;
-    const char *texts[] = {r->name, r->type, r->mode, r->allstop, r->group};
-    const uint32_t tbits[] = {KELP_NR_NAME, KELP_NR_TYPE, KELP_NR_MODE, KELP_NR_ALLSTOP, KELP_NR_GROUP};
+    const char *texts[] = {r->name, r->type, r->mode, r->allstop, r->group, r->color};
+    const uint32_t tbits[] = {KELP_NR_NAME, KELP_NR_TYPE, KELP_NR_MODE, KELP_NR_ALLSTOP, KELP_NR_GROUP, KELP_NR_COLOR};
     for (size_t i = 0; i < sizeof texts / sizeof texts[0]; i++)
         if ((r->fields & tbits[i]) && (!memchr(texts[i], 0, KELP_NODEREPORT_MAX_FIELD) || !text_ok(texts[i])))
             return KELP_ERR_ARG;
@@ -38,17 +38,20 @@ int kelp_nodereport_format(const kelp_nodereport *r, char *buf, size_t cap, size
         {"NAME", KELP_NR_NAME, r->name, 0, 0, false},
         {"TYPE", KELP_NR_TYPE, r->type, 0, 0, false},
         {"TIME", KELP_NR_TIME, NULL, r->time, 2, false},
+        {"COLOR", KELP_NR_COLOR, r->color, 0, 0, false},
         {"X", KELP_NR_X, NULL, r->x, 2, false},
         {"Y", KELP_NR_Y, NULL, r->y, 2, false},
         {"LAT", KELP_NR_LAT, NULL, r->lat, 6, false},
         {"LON", KELP_NR_LON, NULL, r->lon, 6, false},
         {"SPD", KELP_NR_SPD, NULL, r->spd, 2, false},
         {"HDG", KELP_NR_HDG, NULL, r->hdg, 2, false},
-        {"DEPTH", KELP_NR_DEPTH, NULL, r->depth, 2, false},
+        {"YAW", KELP_NR_YAW, NULL, r->yaw, 7, true},
+        {r->dep_key ? "DEP" : "DEPTH", KELP_NR_DEPTH, NULL, r->depth, 2, false},
         {"LENGTH", KELP_NR_LENGTH, NULL, r->length, 2, true},
         {"MODE", KELP_NR_MODE, r->mode, 0, 0, false},
         {"ALLSTOP", KELP_NR_ALLSTOP, r->allstop, 0, 0, false},
         {"GROUP", KELP_NR_GROUP, r->group, 0, 0, false},
+        {"INDEX", r->index ? KELP_NR_INDEX : 0, NULL, (double)r->index, 0, false},
     };
     int rc = KELP_OK;
     for (size_t i = 0; i < sizeof f / sizeof f[0] && rc == KELP_OK; i++) {
@@ -58,6 +61,10 @@ int kelp_nodereport_format(const kelp_nodereport *r, char *buf, size_t cap, size
         if (rc == KELP_OK) rc = field_put_str(buf, cap, &n, "=");
         if (rc == KELP_OK) rc = f[i].text ? field_put_str(buf, cap, &n, f[i].text)
                                           : field_put_fixed(buf, cap, &n, f[i].num, f[i].dec, f[i].strip);
+    }
+    if (rc == KELP_OK && r->extra && r->extra[0]) {
+        rc = field_put_str(buf, cap, &n, ",");
+        if (rc == KELP_OK) rc = field_put_str(buf, cap, &n, r->extra);
     }
     if (rc < 0) {
         if (cap) buf[0] = 0;
@@ -85,6 +92,7 @@ static int on_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl
         {"LONG", KELP_NR_LON},    {"SPD", KELP_NR_SPD},        {"SPEED", KELP_NR_SPD},   {"HDG", KELP_NR_HDG},
         {"HEADING", KELP_NR_HDG}, {"DEPTH", KELP_NR_DEPTH},    {"DEP", KELP_NR_DEPTH},   {"LENGTH", KELP_NR_LENGTH},
         {"MODE", KELP_NR_MODE},   {"ALLSTOP", KELP_NR_ALLSTOP}, {"GROUP", KELP_NR_GROUP},
+        {"YAW", KELP_NR_YAW},     {"INDEX", KELP_NR_INDEX},    {"COLOR", KELP_NR_COLOR},
     };
     uint32_t bit = 0;
     for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++)
@@ -94,13 +102,16 @@ static int on_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl
         }
     if (!bit || (r->fields & bit)) return KELP_OK; /* unknown key, or a repeat: first wins */
     char *text = NULL;
-    double *num = NULL;
+    double *num = NULL, idx = 0;
     switch (bit) {
     case KELP_NR_NAME: text = r->name; break;
     case KELP_NR_TYPE: text = r->type; break;
     case KELP_NR_MODE: text = r->mode; break;
     case KELP_NR_ALLSTOP: text = r->allstop; break;
     case KELP_NR_GROUP: text = r->group; break;
+    case KELP_NR_COLOR: text = r->color; break;
+    case KELP_NR_YAW: num = &r->yaw; break;
+    case KELP_NR_INDEX: num = &idx; break;
     case KELP_NR_TIME: num = &r->time; break;
     case KELP_NR_X: num = &r->x; break;
     case KELP_NR_Y: num = &r->y; break;
@@ -128,6 +139,13 @@ static int on_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl
     } else if (sim_number(v, vl, num) < 0) {
         p->why = "bad number";
         return KELP_ERR_PARSE;
+    }
+    if (bit == KELP_NR_INDEX) {
+        if (!(idx >= 0 && idx <= 2e9) || idx != (double)(long)idx) {
+            p->why = "INDEX is not a count";
+            return KELP_ERR_PARSE;
+        }
+        r->index = (long)idx;
     }
     r->fields |= bit;
     return KELP_OK;

@@ -7,8 +7,11 @@
 #include <kelp/kv.h>
 #include <kelp/mission.h>
 
-static const char *const nav_suffix[KELP_NREP_NAV] = { "_X", "_Y", "_LAT", "_LONG", "_SPEED", "_HEADING", "_DEPTH" };
-static const char *const helm_vars[] = { "IVPHELM_STATE", "IVPHELM_SUMMARY", "IVPHELM_ALLSTOP" };
+static const char *const nav_suffix[KELP_NREP_NAV] = { "_X",       "_Y",       "_LAT",   "_LONG",
+                                                       "_SPEED",   "_HEADING", "_DEPTH", "_YAW" };
+static const char *const helm_vars[] = { "IVPHELM_STATE", "IVPHELM_SUMMARY", "IVPHELM_ALLSTOP", "NODE_COLOR_CHANGE" };
+#define NHELM (sizeof helm_vars / sizeof helm_vars[0])
+#define NREP_PI 3.14159265358979323846
 
 static void set_text(char *dst, size_t cap, const char *src)
 {
@@ -24,7 +27,18 @@ void kelp_field_nrep_cfg_default(kelp_field_nrep_cfg *cfg, const char *community
     set_text(cfg->name, sizeof cfg->name, community ? community : "");
     set_text(cfg->type, sizeof cfg->type, "UUV");
     set_text(cfg->out_var, sizeof cfg->out_var, "NODE_REPORT_LOCAL");
+    set_text(cfg->plat_var, sizeof cfg->plat_var, "PLATFORM_REPORT_LOCAL");
     set_text(cfg->prefix, sizeof cfg->prefix, "NAV");
+    cfg->nohelm_threshold = 5;
+    cfg->nav_grace_period = -1;
+    cfg->extrap_pos = 0.25;
+    cfg->extrap_hdg = 1;
+    cfg->extrap_gap = 5;
+}
+
+static bool ieq(const char *a, const char *b)
+{
+    return kelp_strieq_n(a, strlen(a), b);
 }
 
 static bool usable(const char *s)
@@ -32,17 +46,149 @@ static bool usable(const char *s)
     return !strpbrk(s, ",=");
 }
 
-int kelp_field_nrep_init(kelp_field_nrep *r, const kelp_field_nrep_cfg *cfg)
+/* "K=V" item of a comma list, trimmed, into key/val (val "" when there is no '=') */
+typedef struct item {
+    char key[KELP_MAX_NAME], val[KELP_MAX_NAME];
+} item;
+
+static int items(const char *spec, item *out, int cap)
+{
+    int n = 0;
+    size_t pos = 0;
+    const char *k, *v;
+    size_t kl, vl;
+    int rc;
+    while ((rc = kelp_kv_next(spec, ',', &pos, &k, &kl, &v, &vl)) == 1) {
+        if (n >= cap || kl >= KELP_MAX_NAME || vl >= KELP_MAX_NAME) return KELP_ERR_RANGE;
+        memcpy(out[n].key, k, kl);
+        out[n].key[kl] = 0;
+        memcpy(out[n].val, v ? v : "", v ? vl : 0);
+        out[n].val[v ? vl : 0] = 0;
+        n++;
+    }
+    return rc < 0 ? rc : n;
+}
+
+static bool num_ok(const char *s, double *d)
+{
+    return kelp_parse_double(s, strlen(s), d) == KELP_OK && isfinite(*d);
+}
+
+int kelp_field_nrep_add_plat(kelp_field_nrep_cfg *cfg, const char *spec, const char **why)
+{
+    kelp_nrep_plat p;
+    memset(&p, 0, sizeof p);
+    *why = NULL;
+    /* "VAR" first (a bare name), then gap=, alias= pairs */
+    const char *comma = strchr(spec, ','), *end = comma ? comma : spec + strlen(spec);
+    while (*spec == ' ' || *spec == '\t') spec++;
+    while (end > spec && (end[-1] == ' ' || end[-1] == '\t')) end--;
+    if (end == spec || (size_t)(end - spec) >= sizeof p.var || memchr(spec, '=', (size_t)(end - spec)) ||
+        memchr(spec, ' ', (size_t)(end - spec))) {
+        *why = "expected VAR, gap=S, alias=A";
+        return KELP_ERR_PARSE;
+    }
+    memcpy(p.var, spec, (size_t)(end - spec));
+    item it[3];
+    int n = comma ? items(comma + 1, it, 3) : 0;
+    if (n < 0) {
+        *why = "expected VAR, gap=S, alias=A";
+        return KELP_ERR_PARSE;
+    }
+    for (int i = 0; i < n; i++) {
+        if (ieq(it[i].key, "gap") && num_ok(it[i].val, &p.gap)) {
+            if (p.gap < 0) p.gap = 0;
+        } else if (ieq(it[i].key, "alias") && it[i].val[0] && usable(it[i].val)) {
+            set_text(p.alias, sizeof p.alias, it[i].val);
+        } else {
+            *why = "unknown or bad item (gap=S, alias=A)";
+            return KELP_ERR_PARSE;
+        }
+    }
+    for (unsigned i = 0; i < cfg->nplat; i++)
+        if (!strcmp(cfg->plat[i].var, p.var)) {
+            *why = "variable given twice";
+            return KELP_ERR_EXISTS;
+        }
+    if (cfg->nplat >= KELP_NREP_MAX_PLAT) {
+        *why = "too many plat_report_input entries";
+        return KELP_ERR_NOSPACE;
+    }
+    cfg->plat[cfg->nplat++] = p;
+    return KELP_OK;
+}
+
+int kelp_field_nrep_add_rider(kelp_field_nrep_cfg *cfg, const char *spec, const char **why)
+{
+    item it[6];
+    int n = items(spec, it, 6);
+    kelp_nrep_rider r;
+    memset(&r, 0, sizeof r);
+    r.prec = -1;
+    *why = NULL;
+    for (int i = 0; i < n; i++) {
+        double d;
+        if (ieq(it[i].key, "var") && it[i].val[0]) {
+            set_text(r.var, sizeof r.var, it[i].val);
+        } else if (ieq(it[i].key, "rfld") && it[i].val[0] && usable(it[i].val)) {
+            set_text(r.field, sizeof r.field, it[i].val);
+        } else if (ieq(it[i].key, "policy") &&
+                   (ieq(it[i].val, "always") || ieq(it[i].val, "updated"))) {
+            r.updated_only = ieq(it[i].val, "updated");
+        } else if (ieq(it[i].key, "prec") && num_ok(it[i].val, &d) && d >= 0 && d <= 9 && d == (int)d) {
+            r.prec = (int)d;
+        } else {
+            *why = "expected var=V, policy=always|updated, rfld=F, prec=0..9";
+            return KELP_ERR_PARSE;
+        }
+    }
+    if (n <= 0 || !r.var[0]) {
+        *why = "a rider needs var=";
+        return KELP_ERR_PARSE;
+    }
+    if (!r.field[0]) set_text(r.field, sizeof r.field, r.var);
+    if (cfg->nriders >= KELP_NREP_MAX_RIDERS) {
+        *why = "too many riders";
+        return KELP_ERR_NOSPACE;
+    }
+    cfg->rider[cfg->nriders++] = r;
+    return KELP_OK;
+}
+
+int kelp_field_nrep_parse_fill(const char *s, kelp_nrep_fill *out)
+{
+    static const char *const names[] = { "literal", "fill-empty", "use-latest", "global", "local" };
+    char t[16];
+    size_t n = strlen(s);
+    if (n >= sizeof t) return KELP_ERR_PARSE;
+    for (size_t i = 0; i <= n; i++) t[i] = s[i] == '_' ? '-' : s[i];
+    for (int i = 0; i < 5; i++)
+        if (ieq(t, names[i])) {
+            *out = (kelp_nrep_fill)i;
+            return KELP_OK;
+        }
+    return KELP_ERR_PARSE;
+}
+
+int kelp_field_nrep_init(kelp_field_nrep *r, const kelp_field_nrep_cfg *cfg, double now)
 {
     memset(r, 0, sizeof *r);
-    if (!cfg->name[0] || !usable(cfg->name) || !usable(cfg->type) || !usable(cfg->group) || !cfg->out_var[0] ||
-        !cfg->prefix[0] || (cfg->have_length && !(cfg->length >= 0 && isfinite(cfg->length))))
+    if (!cfg->name[0] || !usable(cfg->name) || !usable(cfg->type) || !usable(cfg->group) || !usable(cfg->color) ||
+        !cfg->out_var[0] || !cfg->prefix[0] || (cfg->have_length && !(cfg->length >= 0 && isfinite(cfg->length))) ||
+        !(cfg->blackout_interval >= 0) || !(cfg->blackout_variance >= 0) || !(cfg->nohelm_threshold > 0))
         return KELP_ERR_ARG;
     r->cfg = *cfg;
     for (int i = 0; i < KELP_NREP_NAV; i++) {
         int n = snprintf(r->nav_var[i], sizeof r->nav_var[i], "%s%s", cfg->prefix, nav_suffix[i]);
         if (n < 0 || (size_t)n >= sizeof r->nav_var[i]) return KELP_ERR_RANGE;
     }
+    memcpy(r->color, cfg->color, sizeof r->color);
+    r->start = now;
+    r->helm_last = -1;
+    r->last_post = -1;
+    r->blackout = cfg->blackout_interval;
+    for (unsigned i = 0; i < KELP_NREP_MAX_PLAT; i++) r->plat_sent[i] = -1;
+    r->rng = cfg->seed ^ 0x6a09e667f3bcc909ull;
     return KELP_OK;
 }
 
@@ -50,18 +196,22 @@ const char *kelp_field_nrep_subscription(const kelp_field_nrep *r, unsigned i)
 {
     if (i < KELP_NREP_NAV) return r->nav_var[i];
     i -= KELP_NREP_NAV;
-    if (i < sizeof helm_vars / sizeof helm_vars[0]) return helm_vars[i];
-    i -= (unsigned)(sizeof helm_vars / sizeof helm_vars[0]);
+    if (i < NHELM) return helm_vars[i];
+    i -= (unsigned)NHELM;
+    if (i < r->cfg.nplat) return r->cfg.plat[i].var;
+    i -= r->cfg.nplat;
+    if (i < r->cfg.nriders) return r->cfg.rider[i].var;
+    i -= r->cfg.nriders;
     if (i == 0 && r->cfg.mode_var[0]) return r->cfg.mode_var;
     return NULL;
 }
 
-/* helm strings go into a report field: drop separators, bound the length */
+/* strings go into a report field: drop separators, bound the length */
 static void copy_field(char *dst, const char *src)
 {
     size_t j = 0;
     for (size_t i = 0; src[i] && j + 1 < KELP_NODEREPORT_MAX_FIELD; i++)
-        if (src[i] != ',' && src[i] != '=') dst[j++] = src[i];
+        if (src[i] != ',' && src[i] != '=' && (unsigned char)src[i] >= 0x20) dst[j++] = src[i];
     dst[j] = 0;
 }
 
@@ -70,88 +220,258 @@ static void warn(const kelp_field_sink *out, const char *msg)
     if (out && out->warn) out->warn(out->ctx, msg);
 }
 
+static void value_text(char *dst, bool is_string, const char *sval, double dval, int prec)
+{
+    if (is_string) {
+        copy_field(dst, sval ? sval : "");
+    } else {
+        char b[64];
+        if (prec >= 0) snprintf(b, sizeof b, "%.*f", prec, dval);
+        else snprintf(b, sizeof b, "%.6g", dval);
+        copy_field(dst, b);
+    }
+}
+
+static int nav_mail(kelp_field_nrep *r, int i, const char *var, bool is_string, const char *sval, double dval,
+                    const kelp_field_sink *out)
+{
+    double d = dval;
+    if (is_string && (!sval || kelp_parse_double(sval, strlen(sval), &d) < 0)) d = NAN;
+    if (!isfinite(d)) {
+        char msg[KELP_MAX_NAME + 48];
+        snprintf(msg, sizeof msg, "%s is not a finite number; ignored", var);
+        r->bad_mail++;
+        warn(out, msg);
+        return KELP_ERR_RANGE;
+    }
+    r->nav[i] = d;
+    r->have[i] = true;
+    r->nav_mail++;
+    if (i == KELP_NREP_X || i == KELP_NREP_Y) r->xy_seq = r->nav_mail;
+    if (i == KELP_NREP_LAT || i == KELP_NREP_LON) r->ll_seq = r->nav_mail;
+    return 1;
+}
+
 int kelp_field_nrep_mail(kelp_field_nrep *r, const char *var, bool is_string, const char *sval, double dval,
                          const kelp_field_sink *out)
 {
-    for (int i = 0; i < KELP_NREP_NAV; i++) {
-        if (strcmp(var, r->nav_var[i]) != 0) continue;
-        double d = dval;
-        if (is_string && (!sval || kelp_parse_double(sval, strlen(sval), &d) < 0)) d = NAN;
-        if (!isfinite(d)) {
-            char msg[KELP_MAX_NAME + 48];
-            snprintf(msg, sizeof msg, "%s is not a finite number; ignored", var);
-            r->bad_mail++;
-            warn(out, msg);
-            return KELP_ERR_RANGE;
+    int used = 0;
+    for (int i = 0; i < KELP_NREP_NAV; i++)
+        if (strcmp(var, r->nav_var[i]) == 0) return nav_mail(r, i, var, is_string, sval, dval, out);
+    for (unsigned i = 0; i < r->cfg.nplat; i++)
+        if (strcmp(var, r->cfg.plat[i].var) == 0) {
+            value_text(r->plat_val[i], is_string, sval, dval, -1);
+            r->plat_new[i] = true;
+            used = 1;
         }
-        r->nav[i] = d;
-        r->have[i] = true;
-        r->fresh = true;
-        r->nav_mail++;
-        return 1;
-    }
-    if (!is_string || !sval) return 0;
+    for (unsigned i = 0; i < r->cfg.nriders; i++)
+        if (strcmp(var, r->cfg.rider[i].var) == 0) {
+            value_text(r->rider_val[i], is_string, sval, dval, r->cfg.rider[i].prec);
+            r->rider_have[i] = r->rider_new[i] = true;
+            used = 1;
+        }
+    if (!is_string || !sval) return used;
     if (strcmp(var, "IVPHELM_STATE") == 0) {
         copy_field(r->helm_state, sval);
+        r->helm_mail = true;
     } else if (strcmp(var, "IVPHELM_ALLSTOP") == 0) {
         copy_field(r->allstop, sval);
     } else if (strcmp(var, "IVPHELM_SUMMARY") == 0) {
-        /* MOOS-IvP helm modes ("modes=MODE@ACTIVE:LOITERING") when present, else the active
-         * behaviours ("active_bhvs=survey") */
+        /* the helm's modes ("modes=MODE@ACTIVE:LOITERING"; "none" without modes) */
         char modes[KELP_NODEREPORT_MAX_FIELD * 2];
-        if (kelp_kv_get(sval, ',', "modes", modes, sizeof modes) == 1) {
-            copy_field(r->helm_modes, modes);
-        } else if (kelp_kv_get(sval, ',', "active_bhvs", modes, sizeof modes) == 1) {
-            if (!strcmp(modes, "none")) r->helm_active[0] = 0;
-            else copy_field(r->helm_active, modes);
-        }
+        if (kelp_kv_get(sval, ',', "modes", modes, sizeof modes) == 1) copy_field(r->helm_modes, modes);
+        r->helm_mail = true;
+    } else if (strcmp(var, "NODE_COLOR_CHANGE") == 0) {
+        if (r->cfg.allow_color_change && sval[0]) copy_field(r->color, sval);
     } else if (r->cfg.mode_var[0] && strcmp(var, r->cfg.mode_var) == 0) {
         copy_field(r->mode, sval);
     } else {
-        return 0;
+        return used;
     }
     return 1;
 }
 
+static double splitmix(uint64_t *s)
+{
+    uint64_t z = (*s += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return (double)((z ^ (z >> 31)) >> 11) / 9007199254740992.0;
+}
+
+static double wrap180(double a)
+{
+    a = fmod(a, 360.0);
+    if (a > 180) a -= 360;
+    if (a <= -180) a += 360;
+    return a;
+}
+
+/* Could a receiver have extrapolated this report from the last one? */
+static bool extrapolable(const kelp_field_nrep *r, const kelp_nodereport *n, double now)
+{
+    double dt = now - r->posted_at.time;
+    if (!r->cfg.extrap || r->posted == 0 || !(dt > 0) || dt >= r->cfg.extrap_gap) return false;
+    double a = (90.0 - r->posted_at.hdg) * NREP_PI / 180.0;
+    double ex = r->posted_at.x + cos(a) * r->posted_at.spd * dt, ey = r->posted_at.y + sin(a) * r->posted_at.spd * dt;
+    return hypot(n->x - ex, n->y - ey) < r->cfg.extrap_pos && fabs(wrap180(n->hdg - r->posted_at.hdg)) < r->cfg.extrap_hdg;
+}
+
+static void mode_of(const kelp_field_nrep *r, double now, char *mode, size_t cap)
+{
+    if (r->mode[0]) {
+        set_text(mode, cap, r->mode);
+    } else if (r->helm_last < 0) {
+        set_text(mode, cap, "NOHELM-EVER");
+    } else if (now - r->helm_last > r->cfg.nohelm_threshold) {
+        snprintf(mode, cap, "NOHELM-%.0f", now - r->helm_last);
+    } else if (!strncmp(r->helm_state, "DRIVE", 5) && r->helm_modes[0] && strcmp(r->helm_modes, "none") != 0) {
+        set_text(mode, cap, r->helm_modes);
+    } else {
+        set_text(mode, cap, r->helm_state);
+    }
+}
+
+/* extra "K=V" pairs: the platform aspect, then the riders due */
+static void extras(kelp_field_nrep *r, char *buf, size_t cap)
+{
+    size_t o = 0;
+    buf[0] = 0;
+    if (r->cfg.aspect[0]) o = (size_t)snprintf(buf, cap, "%s", r->cfg.aspect);
+    for (unsigned i = 0; i < r->cfg.nriders && o < cap; i++) {
+        if (!r->rider_have[i] || (r->cfg.rider[i].updated_only && !r->rider_new[i])) continue;
+        o += (size_t)snprintf(buf + o, cap - o, "%s%s=%s", o ? "," : "", r->cfg.rider[i].field, r->rider_val[i]);
+        r->rider_new[i] = false;
+    }
+    if (o >= cap) buf[0] = 0; /* would not fit: none rather than half a pair */
+}
+
+/* the report as JSON: {"NAME":"alpha","X":51.71,...}, numbers as the text report has them */
+static int to_json(const char *csp, char *buf, size_t cap)
+{
+    size_t o = 0, pos = 0;
+    const char *k, *v;
+    size_t kl, vl;
+    int rc;
+    if (cap < 3) return KELP_ERR_NOSPACE;
+    buf[o++] = '{';
+    while ((rc = kelp_kv_next(csp, ',', &pos, &k, &kl, &v, &vl)) == 1) {
+        double d;
+        bool num = v && kelp_parse_double(v, vl, &d) == KELP_OK && isfinite(d);
+        int w = snprintf(buf + o, cap - o, "%s\"%.*s\":%s%.*s%s", o > 1 ? "," : "", (int)kl, k, num ? "" : "\"",
+                         (int)(v ? vl : 0), v ? v : "", num ? "" : "\"");
+        if (w < 0 || (size_t)w >= cap - o) return KELP_ERR_NOSPACE;
+        o += (size_t)w;
+    }
+    if (rc < 0 || o + 2 > cap) return KELP_ERR_NOSPACE;
+    buf[o++] = '}';
+    buf[o] = 0;
+    return KELP_OK;
+}
+
+static void platform_report(kelp_field_nrep *r, double now, const kelp_field_sink *out)
+{
+    char buf[KELP_NODEREPORT_MAX_LEN];
+    int o = snprintf(buf, sizeof buf, "platform=%s,utc_time=%.2f", r->cfg.name, now);
+    bool any = false;
+    for (unsigned i = 0; i < r->cfg.nplat; i++) {
+        if (!r->plat_new[i] || (r->plat_sent[i] >= 0 && now - r->plat_sent[i] <= r->cfg.plat[i].gap)) continue;
+        const char *nm = r->cfg.plat[i].alias[0] ? r->cfg.plat[i].alias : r->cfg.plat[i].var;
+        int w = snprintf(buf + o, sizeof buf - (size_t)o, ",%s=%s", nm, r->plat_val[i]);
+        if (w < 0 || (size_t)w >= sizeof buf - (size_t)o) break;
+        o += w;
+        r->plat_new[i] = false;
+        r->plat_sent[i] = now;
+        any = true;
+    }
+    if (any) out->publish(out->ctx, r->cfg.plat_var, true, buf, 0);
+}
+
 int kelp_field_nrep_iterate(kelp_field_nrep *r, double now, const kelp_field_sink *out)
 {
-    bool xy = r->have[KELP_NREP_X] && r->have[KELP_NREP_Y];
-    bool ll = r->have[KELP_NREP_LAT] && r->have[KELP_NREP_LON];
-    if (!r->fresh || (!xy && !ll)) return 0;
+    if (r->helm_mail) r->helm_last = now, r->helm_mail = false;
+    if (r->cfg.paused) return 0;
     kelp_nodereport n;
     kelp_nodereport_init(&n);
+    n.x = r->nav[KELP_NREP_X], n.y = r->nav[KELP_NREP_Y], n.lat = r->nav[KELP_NREP_LAT], n.lon = r->nav[KELP_NREP_LON];
+    bool xy = r->have[KELP_NREP_X] && r->have[KELP_NREP_Y], ll = r->have[KELP_NREP_LAT] && r->have[KELP_NREP_LON];
+    if (xy) n.fields |= KELP_NR_X | KELP_NR_Y;
+    if (ll) n.fields |= KELP_NR_LAT | KELP_NR_LON;
+    if (r->cfg.have_geo && r->cfg.fill != KELP_NREP_FILL_LITERAL) {
+        kelp_nrep_fill f = r->cfg.fill;
+        /* drop the pair the policy recomputes; complete() then fills it from the other */
+        if (ll && (f == KELP_NREP_FILL_GLOBAL || (f == KELP_NREP_FILL_LATEST && r->ll_seq > r->xy_seq)))
+            n.fields &= ~(uint32_t)(KELP_NR_X | KELP_NR_Y);
+        else if (xy && (f == KELP_NREP_FILL_LOCAL || (f == KELP_NREP_FILL_LATEST && r->xy_seq >= r->ll_seq)))
+            n.fields &= ~(uint32_t)(KELP_NR_LAT | KELP_NR_LON);
+        if (kelp_nodereport_complete(&n, &r->cfg.geo) < 0) warn(out, "datum conversion failed");
+    }
+    bool pos = (n.fields & (KELP_NR_X | KELP_NR_Y)) == (KELP_NR_X | KELP_NR_Y) ||
+               (n.fields & (KELP_NR_LAT | KELP_NR_LON)) == (KELP_NR_LAT | KELP_NR_LON);
+    bool valid = pos && r->have[KELP_NREP_SPD] && r->have[KELP_NREP_HDG];
+    if (!valid && !(r->cfg.nav_grace_period > 0 && now - r->start > r->cfg.nav_grace_period)) return 0;
+    if (r->last_post >= 0 && r->blackout > 0 && !(now - r->last_post > r->blackout)) return 0;
     memcpy(n.name, r->cfg.name, sizeof n.name);
     memcpy(n.type, r->cfg.type, sizeof n.type);
-    n.fields = KELP_NR_NAME | KELP_NR_TYPE | KELP_NR_TIME;
+    n.fields |= KELP_NR_NAME | KELP_NR_TYPE | KELP_NR_TIME | KELP_NR_SPD | KELP_NR_HDG | KELP_NR_DEPTH | KELP_NR_MODE;
     n.time = now;
-    if (xy) n.x = r->nav[KELP_NREP_X], n.y = r->nav[KELP_NREP_Y], n.fields |= KELP_NR_X | KELP_NR_Y;
-    if (ll) n.lat = r->nav[KELP_NREP_LAT], n.lon = r->nav[KELP_NREP_LON], n.fields |= KELP_NR_LAT | KELP_NR_LON;
-    if (r->cfg.have_geo && kelp_nodereport_complete(&n, &r->cfg.geo) < 0) warn(out, "datum conversion failed");
     n.spd = r->nav[KELP_NREP_SPD];
     n.hdg = r->nav[KELP_NREP_HDG];
+    if (r->cfg.hdg_error != 0) n.hdg = fmod(fmod(n.hdg + r->cfg.hdg_error, 360.0) + 360.0, 360.0);
     n.depth = r->nav[KELP_NREP_DEP];
-    n.fields |= KELP_NR_SPD | KELP_NR_HDG | KELP_NR_DEPTH;
-    if (r->cfg.have_length) n.length = r->cfg.length, n.fields |= KELP_NR_LENGTH;
-    /* MODE: MODE_VAR if configured, else the helm summary's modes, else the helm state with its
-     * active behaviours ("DRIVE@survey") */
-    char hm[KELP_NODEREPORT_MAX_FIELD * 2 + 2];
-    snprintf(hm, sizeof hm, "%s%s%s", r->helm_state, r->helm_state[0] && r->helm_active[0] ? "@" : "",
-             r->helm_active);
-    const char *mode = r->mode[0] ? r->mode : r->helm_modes[0] ? r->helm_modes : hm;
-    if (mode[0]) {
-        set_text(n.mode, sizeof n.mode, mode); /* bounded: a long behaviour list is cut */
-        n.fields |= KELP_NR_MODE;
+    n.dep_key = r->cfg.dep_key;
+    if (r->have[KELP_NREP_YAW]) {
+        /* MOOS-IvP reports the heading as radians counter-clockwise from east in [-pi, pi] */
+        double a = (90.0 - n.hdg) * NREP_PI / 180.0;
+        n.yaw = atan2(sin(a), cos(a));
+        n.fields |= KELP_NR_YAW;
     }
+    if (extrapolable(r, &n, now)) {
+        r->extrap_skipped++;
+        return 0;
+    }
+    if (r->cfg.have_length) n.length = r->cfg.length, n.fields |= KELP_NR_LENGTH;
+    if (r->color[0]) memcpy(n.color, r->color, sizeof n.color), n.fields |= KELP_NR_COLOR;
+    mode_of(r, now, n.mode, sizeof n.mode);
+    if (!n.mode[0]) n.fields &= ~(uint32_t)KELP_NR_MODE;
     if (r->allstop[0]) memcpy(n.allstop, r->allstop, sizeof n.allstop), n.fields |= KELP_NR_ALLSTOP;
     if (r->cfg.group[0]) memcpy(n.group, r->cfg.group, sizeof n.group), n.fields |= KELP_NR_GROUP;
+    n.index = (long)r->posted;
+    if (r->posted) n.fields |= KELP_NR_INDEX;
+    double px = n.x, py = n.y;
+    if (r->cfg.coord_global && (n.fields & KELP_NR_LAT)) n.fields &= ~(uint32_t)(KELP_NR_X | KELP_NR_Y);
+    char extra[KELP_NODEREPORT_MAX_LEN / 2];
+    extras(r, extra, sizeof extra);
+    n.extra = extra;
     size_t len;
     int rc = kelp_nodereport_format(&n, r->last, sizeof r->last, &len);
     if (rc < 0) {
         warn(out, "cannot format the report");
         return rc;
     }
-    out->publish(out->ctx, r->cfg.out_var, true, r->last, 0);
+    char json[KELP_NODEREPORT_MAX_LEN + 128];
+    bool want_json = r->cfg.json_only || r->cfg.json_var[0];
+    if (want_json && to_json(r->last, json, sizeof json) < 0) {
+        warn(out, "cannot format the JSON report");
+        want_json = false;
+    }
+    const char *main_text = r->cfg.json_only && want_json ? json : r->last;
+    if (r->posted == 0) {
+        char first[KELP_MAX_NAME + 8];
+        snprintf(first, sizeof first, "%.*s_FIRST", KELP_MAX_NAME - 1, r->cfg.out_var);
+        out->publish(out->ctx, first, true, main_text, 0);
+    }
+    out->publish(out->ctx, r->cfg.out_var, true, main_text, 0);
+    if (want_json && r->cfg.json_var[0]) out->publish(out->ctx, r->cfg.json_var, true, json, 0);
+    out->publish(out->ctx, "PNR_POST_GAP", false, NULL, r->posted ? now - r->posted_at.time : 0);
+    r->posted_at.x = px, r->posted_at.y = py, r->posted_at.hdg = n.hdg, r->posted_at.spd = n.spd;
+    r->posted_at.time = now;
     r->posted++;
-    r->fresh = false;
+    r->last_post = now;
+    r->blackout = r->cfg.blackout_interval;
+    if (r->cfg.blackout_variance > 0)
+        r->blackout += r->cfg.blackout_variance * (2.0 * splitmix(&r->rng) - 1.0);
+    if (r->blackout < 0) r->blackout = 0;
+    platform_report(r, now, out);
     return 1;
 }
