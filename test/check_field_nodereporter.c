@@ -68,9 +68,10 @@ START_TEST(nrep_report_from_nav_and_helm)
     ck_assert_str_eq(kelp_field_nrep_subscription(&nr, 0), "NAV_X");
     ck_assert_str_eq(kelp_field_nrep_subscription(&nr, 3), "NAV_LONG");
     ck_assert_str_eq(kelp_field_nrep_subscription(&nr, 7), "NAV_YAW");
-    ck_assert_str_eq(kelp_field_nrep_subscription(&nr, 8), "IVPHELM_STATE");
-    ck_assert_str_eq(kelp_field_nrep_subscription(&nr, 11), "NODE_COLOR_CHANGE");
-    ck_assert_ptr_null(kelp_field_nrep_subscription(&nr, 12));
+    ck_assert_str_eq(kelp_field_nrep_subscription(&nr, 8), "NAV_HEADING_OVER_GROUND");
+    ck_assert_str_eq(kelp_field_nrep_subscription(&nr, 9), "IVPHELM_STATE");
+    ck_assert_str_eq(kelp_field_nrep_subscription(&nr, 12), "NODE_COLOR_CHANGE");
+    ck_assert_ptr_null(kelp_field_nrep_subscription(&nr, 13));
     /* nothing before a position, a speed and a heading */
     ck_assert_int_eq(kelp_field_nrep_iterate(&nr, 1252348071, &sink), 0);
     mail_d(&nr, "NAV_X", 51.71, &sink);
@@ -233,6 +234,33 @@ START_TEST(nrep_blackout_extrap_fill_json_platform)
     k = find_var(&r, "NODE_REPORT_LOCAL");
     ck_assert_ptr_nonnull(strstr(r.val[k], "X=100.00,Y=0.00,"));
     ck_assert_int_lt(find_var(&r, "PLATFORM_REPORT_LOCAL"), 0); /* gap 5 s */
+    /* an alternate solution (ground truth) reported under NAME_GT and its own group; COG */
+    memset(&r, 0, sizeof r);
+    kelp_field_nrep_cfg_default(&cfg, "fox");
+    snprintf(cfg.alt_prefix, sizeof cfg.alt_prefix, "NAV_GT");
+    snprintf(cfg.alt_group, sizeof cfg.alt_group, "blue");
+    cfg.report_cog = true;
+    ck_assert_int_eq(kelp_field_nrep_init(&nr, &cfg, 0), 0);
+    ck_assert_str_eq(kelp_field_nrep_subscription(&nr, 9), "NAV_GT_X");
+    nav(&nr, 1, 2, 1, 10);
+    mail_d(&nr, "NAV_HEADING_OVER_GROUND", 12.5, &g_sink);
+    ck_assert_int_eq(kelp_field_nrep_iterate(&nr, 1, &sink), 1);
+    ck_assert_int_eq(r.n, 3); /* _FIRST, report, gap: no ground truth yet */
+    ck_assert_ptr_nonnull(strstr(r.val[1], ",COG=12.50"));
+    mail_d(&nr, "NAV_GT_X", 1.5, &g_sink);
+    mail_d(&nr, "NAV_GT_Y", 2.5, &g_sink);
+    mail_d(&nr, "NAV_GT_SPEED", 1, &g_sink);
+    mail_d(&nr, "NAV_GT_HEADING", 11, &g_sink);
+    memset(&r, 0, sizeof r);
+    ck_assert_int_eq(kelp_field_nrep_iterate(&nr, 2, &sink), 1);
+    ck_assert_int_eq(r.n, 3);
+    ck_assert_ptr_nonnull(strstr(r.val[0], "NAME=fox,"));
+    ck_assert_str_eq(r.var[2], "NODE_REPORT_LOCAL");
+    ck_assert_ptr_nonnull(strstr(r.val[2], "NAME=fox_GT,TYPE=UUV,TIME=2.00,X=1.50,Y=2.50,"));
+    ck_assert_ptr_nonnull(strstr(r.val[2], "GROUP=blue"));
+    memset(&r, 0, sizeof r);
+    ck_assert_int_eq(kelp_field_nrep_iterate(&nr, 8, &sink), 1); /* ground truth silent for 6 s */
+    ck_assert_int_eq(r.n, 2);
     kelp_nrep_fill f;
     ck_assert_int_eq(kelp_field_nrep_parse_fill("fill_empty", &f), 0);
     ck_assert_int_eq(f, KELP_NREP_FILL_EMPTY);

@@ -59,10 +59,13 @@ kelp_helm *ht_helm(void)
     return &g_h;
 }
 
+static void (*g_tweak)(kelp_helm_config *cfg); /* one test's configuration changes */
+
 kelp_helm *ht_setup(const char *domain, const kelp_bhv_ops *const *types)
 {
     kelp_helm_config cfg;
     kelp_helm_config_default(&cfg);
+    if (g_tweak) g_tweak(&cfg), g_tweak = NULL;
     kelp_ivp_errbuf e = {""};
     ck_assert_int_eq(kelp_ivp_domain_parse(&cfg.domain, domain, &e), 0);
     snprintf(cfg.us, sizeof cfg.us, "alder");
@@ -890,6 +893,79 @@ START_TEST(manual_override_parks)
 }
 END_TEST
 
+static void tweak_park(kelp_helm_config *cfg)
+{
+    cfg->allow_park = false;
+    snprintf(cfg->other_override, sizeof cfg->other_override, "AUTONOMY_OVERRIDE");
+}
+
+static void tweak_allstop(kelp_helm_config *cfg)
+{
+    cfg->park_on_allstop = true;
+}
+
+START_TEST(park_policies_and_other_override)
+{
+    /* allow_park = false: an override cannot park an engaged helm */
+    g_tweak = tweak_park;
+    ht_setup(DOM2, NULL);
+    ht_load(ALDER);
+    nav(0, 0);
+    kelp_helm_mail_string(&g_h, "DEPLOY", "true");
+    ht_iter(0);
+    kelp_helm_mail_string(&g_h, "MOOS_MANUAL_OVERRIDE", "true");
+    kelp_helm_mail_string(&g_h, "AUTONOMY_OVERRIDE", "true");
+    ht_iter(1);
+    ck_assert_str_eq(g_h.rep.allstop, "clear");
+    ck_assert(ht_num("DESIRED_SPEED") == 2);
+    /* other_override_var engages like MOOS_MANUAL_OVERRIDE */
+    g_tweak = tweak_park;
+    ht_setup(DOM2, NULL);
+    ht_load(ALDER);
+    g_h.engaged = false;
+    nav(0, 0);
+    kelp_helm_mail_string(&g_h, "DEPLOY", "true");
+    ht_iter(0);
+    ck_assert_str_eq(g_h.rep.allstop, "ManualOverride");
+    kelp_helm_mail_string(&g_h, "AUTONOMY_OVERRIDE", "false");
+    ht_iter(1);
+    ck_assert(ht_num("DESIRED_SPEED") == 2);
+    /* park_on_allstop: nothing to do parks the helm, and it stays parked */
+    g_tweak = tweak_allstop;
+    ht_setup(DOM2, NULL);
+    ht_load(ALDER);
+    nav(0, 0);
+    ht_iter(0); /* DEPLOY never set: NothingToDo */
+    ck_assert_str_eq(g_h.rep.allstop, "NothingToDo");
+    ck_assert(!g_h.engaged);
+    kelp_helm_mail_string(&g_h, "DEPLOY", "true");
+    ht_iter(1);
+    ck_assert_str_eq(g_h.rep.allstop, "ManualOverride");
+    kelp_helm_mail_string(&g_h, "MOOS_MANUAL_OVERRIDE", "false");
+    ht_iter(2);
+    ck_assert(ht_num("DESIRED_SPEED") == 2);
+}
+END_TEST
+
+START_TEST(domain_lines)
+{
+    kelp_helm_config cfg;
+    kelp_helm_config_default(&cfg);
+    const char *why = NULL;
+    ck_assert_int_eq(kelp_helm_config_add_domain(&cfg, "course:0:359:360", &why), 0);
+    ck_assert_int_eq(kelp_helm_config_add_domain(&cfg, " speed : 0 : 2 : 21 ", &why), 0);
+    ck_assert_int_eq(kelp_helm_config_add_domain(&cfg, "depth:0:1000:1001:optional", &why), 0);
+    ck_assert_uint_eq(cfg.domain.dim, 3);
+    ck_assert_str_eq(cfg.domain.var[1].name, "speed");
+    ck_assert(cfg.optional[2] && !cfg.optional[1]);
+    ck_assert_int_lt(kelp_helm_config_add_domain(&cfg, "x:0:1", &why), 0);
+    ck_assert_int_lt(kelp_helm_config_add_domain(&cfg, "x:0:1:0", &why), 0);
+    ck_assert_int_lt(kelp_helm_config_add_domain(&cfg, "x:0:1:2:maybe", &why), 0);
+    ck_assert_int_lt(kelp_helm_config_add_domain(&cfg, "x:a:1:2", &why), 0);
+    ck_assert_ptr_nonnull(why);
+}
+END_TEST
+
 START_TEST(optional_domain_variable)
 {
     ht_setup(DOM2 ",depth:0:100:101", NULL);
@@ -996,6 +1072,8 @@ Suite *kelp_helm_suite(void)
     tcase_add_test(tc, nostarve_all_stop_and_recovery);
     tcase_add_test(tc, post_emessage_all_stop);
     tcase_add_test(tc, manual_override_parks);
+    tcase_add_test(tc, park_policies_and_other_override);
+    tcase_add_test(tc, domain_lines);
     tcase_add_test(tc, optional_domain_variable);
     tcase_add_test(tc, post_mapping_not_transitive);
     tcase_add_test(tc, duplicate_filter_and_post_int);

@@ -3,6 +3,7 @@
  * behaviours need, and each iteration runs the behaviours, solves with kelp's IvP solver and
  * posts DESIRED_HEADING / DESIRED_SPEED / DESIRED_DEPTH (zeros on all-stop) plus the helm
  * summary. The logic is in src/helm (core); this file wires it to the app runner. */
+#include <ctype.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,6 +13,7 @@
 #include <kelp/helm.h>
 
 #define MAX_BHV_FILES 8
+#define MAX_HOLDS 16
 #define POOL_PIECES 32768   /* pieces of all functions of one iteration */
 #define TMP_PIECES 8192     /* scratch pieces (one-variable ZAIC builds) */
 #define PQ_ENTRIES 8192     /* Reflector work */
@@ -24,6 +26,9 @@ typedef struct helm_app {
     unsigned nfiles;
     unsigned long posts, iterations;
     char last_summary[512];
+    char hold[MAX_HOLDS][KELP_MAX_NAME];
+    unsigned nhold, held;
+    bool started;
 } helm_app;
 
 static void sink(const kelp_helm_post *p, void *user)
@@ -38,46 +43,6 @@ static void sink(const kelp_helm_post *p, void *user)
         snprintf(a->last_summary, sizeof a->last_summary, "%s", p->sval);
     if (p->is_str && (!strcmp(p->var, "BHV_WARNING") || !strcmp(p->var, "BHV_ERROR")))
         kelp_app_run_warning(a->app, "%s: %s", p->var, p->sval);
-}
-
-/* Domain = name:low:high:points[:optional] */
-static int parse_domain(kelp_app *app, const kelp_mission_node *n, kelp_helm_config *cfg)
-{
-    char buf[256], *tok[6];
-    int nt = 0;
-    if (kelp_mission_copy(n, buf, sizeof buf) != 0)
-        return kelp_app_config_error(app, n, "Domain value too long");
-    for (char *s = buf, *c; nt < 6; s = c + 1) {
-        tok[nt++] = s;
-        c = strchr(s, ':');
-        if (!c)
-            break;
-        *c = '\0';
-    }
-    if (nt < 4 || nt > 5)
-        return kelp_app_config_error(app, n, "Domain is name:low:high:points[:optional], got '%.*s'", (int)n->vlen, n->val);
-    double lo, hi;
-    long pts;
-    for (int i = 0; i < nt; i++) {
-        char *t = tok[i];
-        while (*t == ' ' || *t == '\t')
-            t++;
-        size_t l = strlen(t);
-        while (l && (t[l - 1] == ' ' || t[l - 1] == '\t'))
-            t[--l] = '\0';
-        tok[i] = t;
-    }
-    if (kelp_parse_double(tok[1], strlen(tok[1]), &lo) || kelp_parse_double(tok[2], strlen(tok[2]), &hi) ||
-        kelp_parse_long(tok[3], strlen(tok[3]), &pts) || pts < 1 || pts > 100000)
-        return kelp_app_config_error(app, n, "Domain %s: bad low/high/points", tok[0]);
-    if (nt == 5 && strcmp(tok[4], "optional") != 0)
-        return kelp_app_config_error(app, n, "Domain %s: the fifth field may only be 'optional'", tok[0]);
-    unsigned d = cfg->domain.dim;
-    int rc = kelp_ivp_domain_add(&cfg->domain, tok[0], lo, hi, (uint32_t)pts);
-    if (rc < 0)
-        return kelp_app_config_error(app, n, "Domain %s: %s", tok[0], kelp_strerror(rc));
-    cfg->optional[d] = nt == 5;
-    return 0;
 }
 
 static void resolve(kelp_app *app, const char *file, char *out, size_t cap)
@@ -111,17 +76,30 @@ static int startup(kelp_app *app, void *st)
     cfg.sink = sink;
     cfg.user = a;
     cfg.cpu_clock = cpu_seconds;
+    const char *why = NULL;
+    char buf[256];
     for (const kelp_mission_node *n = NULL; (n = kelp_app_param_next(app, "Domain", n)) != NULL;)
-        if (parse_domain(app, n, &cfg) < 0)
-            return -1;
+        if (kelp_mission_copy(n, buf, sizeof buf) != 0 || kelp_helm_config_add_domain(&cfg, buf, &why) < 0)
+            return kelp_app_config_error(app, n, "Domain '%.*s': %s", (int)n->vlen, n->val, why ? why : "too long");
     if (cfg.domain.dim == 0)
         return kelp_app_config_error(app, NULL, "ProcessConfig = %s needs Domain = name:low:high:points lines",
                                      kelp_app_name(app));
-    bool drive = true;
-    if (kelp_app_param_bool(app, "start_in_drive", &drive) < 0)
+    /* start_engaged (MOOS-IvP today) and start_in_drive (the seed's): the later line wins */
+    const kelp_mission_node *se = kelp_app_param(app, "start_engaged"), *sd = kelp_app_param(app, "start_in_drive");
+    const char *sk = se && (!sd || se->line > sd->line) ? "start_engaged" : "start_in_drive";
+    if (kelp_app_param_bool(app, sk, &cfg.start_engaged) < 0 || kelp_app_param_bool(app, "allow_park", &cfg.allow_park) < 0 ||
+        kelp_app_param_bool(app, "park_on_allstop", &cfg.park_on_allstop) < 0 ||
+        kelp_app_param_str(app, "other_override_var", cfg.other_override, sizeof cfg.other_override) < 0)
         return -1;
-    cfg.start_engaged = drive;
-    static const char *const ignored[] = {"Verbose", "ok_skew", "IVP_BEHAVIOR_DIR", "IVP_BEHAVIOR_DIRS", NULL};
+    a->nhold = 0;
+    if (kelp_app_param_str(app, "hold_on_apps", buf, sizeof buf) > 0)
+        for (char *sv, *t = strtok_r(buf, ", \t", &sv); t && a->nhold < MAX_HOLDS; t = strtok_r(NULL, ", \t", &sv)) {
+            snprintf(a->hold[a->nhold], sizeof a->hold[0], "%.*s_STATUS", KELP_MAX_NAME - 8, t);
+            for (char *c = a->hold[a->nhold]; *c; c++) *c = (char)toupper((unsigned char)*c);
+            if (kelp_app_register(app, a->hold[a->nhold++], 0) < 0) return -1;
+        }
+    static const char *const ignored[] = {"Verbose", "ok_skew", "IVP_BEHAVIOR_DIR", "IVP_BEHAVIOR_DIRS", "node_skew",
+                                          "goals_mandatory", "bhv_dir_not_found_ok", "app_logging", NULL};
     for (int i = 0; ignored[i]; i++)
         for (const kelp_mission_node *n = NULL; (n = kelp_app_param_next(app, ignored[i], n)) != NULL;)
             kelp_app_event(app, "%s is accepted for MOOS compatibility and ignored", ignored[i]);
@@ -175,7 +153,7 @@ static int startup(kelp_app *app, void *st)
     printf("The IvP Helm (pHelmIvP) is starting...\nNumber of behavior files: %u\n", a->nfiles);
     for (unsigned i = 0; i < a->h->nbhv; i++)
         printf("  Behavior %s (%s)\n", a->h->bhv[i].name, a->h->bhv[i].type);
-    kelp_helm_start(a->h, kelp_app_time(app));
+    if (a->nhold == 0) kelp_helm_start(a->h, kelp_app_time(app)), a->started = true;
     for (const char *v; (v = kelp_helm_next_new_var(a->h)) != NULL;)
         if (kelp_app_register(app, v, 0) < 0)
             kelp_app_config_warning(app, "cannot register for %s", v);
@@ -185,7 +163,13 @@ static int startup(kelp_app *app, void *st)
 static void on_mail(kelp_app *app, void *st, const kelp_var *v)
 {
     helm_app *a = st;
-    (void)app;
+    for (unsigned i = 0; i < a->nhold; i++) /* hold_on_apps: start once each has reported */
+        if (!strcmp(v->name, a->hold[i])) a->held |= 1u << i;
+    if (!a->started && a->held == (1u << a->nhold) - 1) {
+        kelp_helm_start(a->h, kelp_app_time(app));
+        a->started = true;
+        kelp_app_event(app, "hold_on_apps: every app reported, the helm starts");
+    }
     if (v->kind == KELP_VAR_DOUBLE)
         kelp_helm_mail_double(a->h, v->name, v->dval);
     else if (v->kind == KELP_VAR_STRING)
@@ -195,6 +179,7 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
 static int iterate(kelp_app *app, void *st, double now)
 {
     helm_app *a = st;
+    if (!a->started) return 0; /* waiting for hold_on_apps */
     a->iterations++;
     if (kelp_helm_iterate(a->h, now) < 0)
         kelp_app_run_warning(app, "helm iteration failed");
@@ -247,6 +232,15 @@ static const kelp_app_def def = {
         { "Domain", "course:0:359:360", "required, repeatable: name:low:high:points[:optional]", NULL },
         { "Domain", "speed:0:4:21", NULL, NULL },
         { "start_in_drive", "true", "false: PARK until MOOS_MANUAL_OVERIDE=false", NULL },
+        { "start_engaged", "true", "MOOS-IvP's newer name of start_in_drive (the later line wins)", NULL },
+        { "allow_park", "true", "false: an override cannot park the helm once engaged", NULL },
+        { "park_on_allstop", "false", "true: park on an all-stop", NULL },
+        { "other_override_var", "AUTONOMY_OVERRIDE", "a variable read like MOOS_MANUAL_OVERRIDE", NULL },
+        { "hold_on_apps", "pContactMgrV20", "start only once these apps have posted <APP>_STATUS", NULL },
+        { "node_skew", "charlie,45", "accepted, ignored (kelp does not check skew)", NULL },
+        { "goals_mandatory", "true", "accepted: without a function the helm is in all-stop anyway", NULL },
+        { "bhv_dir_not_found_ok", "true", "accepted, ignored (behaviours are built in)", NULL },
+        { "app_logging", "false", "accepted, ignored (record the bus with lcm-logger)", NULL },
         { "Verbose", "false", "accepted for MOOS, ignored", NULL },
         { "ok_skew", "any", "accepted for MOOS, ignored", NULL },
         { "IVP_BEHAVIOR_DIR", "/path", "accepted for MOOS, ignored", NULL },

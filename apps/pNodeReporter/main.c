@@ -54,7 +54,7 @@ static int bool_param(kelp_app *app, const char *key, bool *out)
     return n ? 1 : 0;
 }
 
-/* the text parameters; of two names for one field the later (newer MOOS-IvP) one wins */
+/* the text parameters; of two names for one field the one written later in the block wins */
 static int text_params(kelp_app *app, kelp_field_nrep_cfg *c)
 {
     static const struct { const char *key; size_t off, cap; } t[] = {
@@ -69,9 +69,18 @@ static int text_params(kelp_app *app, kelp_field_nrep_cfg *c)
         { "NODE_REPORT_OUTPUT", offsetof(kelp_field_nrep_cfg, out_var), KELP_MAX_NAME },
         { "PLAT_REPORT_OUTPUT", offsetof(kelp_field_nrep_cfg, plat_var), KELP_MAX_NAME },
         { "MODE_VAR", offsetof(kelp_field_nrep_cfg, mode_var), KELP_MAX_NAME },
+        { "ALT_NAV_PREFIX", offsetof(kelp_field_nrep_cfg, alt_prefix), 24 },
+        { "ALT_NAV_NAME", offsetof(kelp_field_nrep_cfg, alt_name), KELP_NODEREPORT_MAX_FIELD },
+        { "ALT_NAV_GROUP", offsetof(kelp_field_nrep_cfg, alt_group), KELP_NODEREPORT_MAX_FIELD },
     };
+    int line[sizeof t / sizeof t[0]] = { 0 };
     for (size_t i = 0; i < sizeof t / sizeof t[0]; i++) {
-        int rc = text_param(app, t[i].key, (char *)c + t[i].off, t[i].cap);
+        const kelp_mission_node *n = kelp_app_param(app, t[i].key);
+        line[i] = n ? n->line : 0;
+        bool later = true;
+        for (size_t k = 0; k < i; k++)
+            if (t[k].off == t[i].off && line[k] > line[i]) later = false;
+        int rc = later ? text_param(app, t[i].key, (char *)c + t[i].off, t[i].cap) : 0;
         if (rc < 0) return rc;
     }
     return 0;
@@ -102,6 +111,7 @@ static int startup(kelp_app *app, void *st)
     const struct { const char *key; bool *v; } bools[] = {
         { "ALLOW_COLOR_CHANGE", &c.allow_color_change }, { "PAUSED", &c.paused },
         { "COORD_POLICY_GLOBAL", &c.coord_global },      { "EXTRAP_ENABLED", &c.extrap },
+        { "REPORT_COG", &c.report_cog },
         { "APP_LOGGING", &(bool){ false } }, /* logging is the logger's job on an LCM bus */
     };
     for (size_t i = 0; i < sizeof bools / sizeof bools[0]; i++)
@@ -218,6 +228,10 @@ static const kelp_app_def def = {
         { "RIDER", "var=DB_UPTIME, policy=always, rfld=upt, prec=3", "repeatable: a variable carried in the report", NULL },
         { "JSON_REPORT", "false", "true: the report as JSON; a NAME: JSON in NAME as well", NULL },
         { "PAUSED", "false", "true: no reports", NULL },
+        { "ALT_NAV_PREFIX", "NAV_GT", "a second navigation solution, reported too (e.g. ground truth)", NULL },
+        { "ALT_NAV_NAME", "_GT", "its NAME= (\"_GT\": appended to the vehicle's name)", NULL },
+        { "ALT_NAV_GROUP", "blue", "its GROUP= (default: the vehicle's)", NULL },
+        { "REPORT_COG", "false", "true: COG= from <PREFIX>_HEADING_OVER_GROUND", NULL },
         { "APP_LOGGING", "false", "accepted (record the bus with lcm-logger instead)", NULL },
         { NULL, NULL, NULL, NULL } },
     .subscribes = (const kelp_app_var_info[]){
@@ -233,6 +247,8 @@ static const kelp_app_def def = {
         { "IVPHELM_ALLSTOP", "clear", NULL },
         { "NAV_YAW", "118.8", "when it arrives, YAW= (the heading in radians, as MOOS-IvP writes it)" },
         { "NODE_COLOR_CHANGE", "yellow", "COLOR= when ALLOW_COLOR_CHANGE" },
+        { "NAV_HEADING_OVER_GROUND", "120.1", "COG= when REPORT_COG" },
+        { "<ALT_NAV_PREFIX>_X, ...", "112.3", "the alternate solution's NAV_* when ALT_NAV_PREFIX is set" },
         { "<PLAT_REPORT_INPUT / RIDER vars>", "any", NULL },
         { "<MODE_VAR>", "SURVEYING", "when MODE_VAR is set" },
         { NULL, NULL, NULL } },

@@ -32,7 +32,17 @@ typedef struct kelp_field_sink {
 
 /** Navigation inputs, in the order of kelp_field_nrep.nav_var. */
 enum { KELP_NREP_X, KELP_NREP_Y, KELP_NREP_LAT, KELP_NREP_LON, KELP_NREP_SPD, KELP_NREP_HDG, KELP_NREP_DEP,
-       KELP_NREP_YAW, KELP_NREP_NAV };
+       KELP_NREP_YAW, KELP_NREP_COG, KELP_NREP_NAV };
+
+/** One navigation solution: the main one (PREFIX) or the alternate (ALT_NAV_PREFIX). */
+typedef struct kelp_nrep_nav {
+    char var[KELP_NREP_NAV][KELP_MAX_NAME]; /**< <prefix>_X, _Y, _LAT, _LONG, _SPEED, _HEADING, ... */
+    double v[KELP_NREP_NAV];
+    bool have[KELP_NREP_NAV];
+    unsigned long xy_seq, ll_seq;           /**< order of the last X/Y and LAT/LON mail (use-latest) */
+    bool mail;                              /**< mail since the last iteration */
+    double last;                            /**< time of the last iteration with mail (-1 never) */
+} kelp_nrep_nav;
 
 #define KELP_NREP_MAX_PLAT 8   /**< plat_report_input entries */
 #define KELP_NREP_MAX_RIDERS 8 /**< rider entries */
@@ -72,6 +82,10 @@ typedef struct kelp_field_nrep_cfg {
     char plat_var[KELP_MAX_NAME];          /**< PLAT_REPORT_OUTPUT (default PLATFORM_REPORT_LOCAL) */
     char mode_var[KELP_MAX_NAME];          /**< MODE_VAR: MODE= from this variable ("" none) */
     char prefix[24];                       /**< PREFIX of the navigation variables (default NAV) */
+    char alt_prefix[24];                   /**< ALT_NAV_PREFIX: a second solution reported too ("" none) */
+    char alt_name[KELP_NODEREPORT_MAX_FIELD];  /**< ALT_NAV_NAME: "_GT" appends to NAME (default "_GT") */
+    char alt_group[KELP_NODEREPORT_MAX_FIELD]; /**< ALT_NAV_GROUP ("" the main group) */
+    bool report_cog;                       /**< REPORT_COG: COG= from <PREFIX>_HEADING_OVER_GROUND */
     double length;                         /**< PLATFORM_LENGTH (with have_length) */
     bool have_length;
     double beam;                           /**< PLATFORM_BEAM (kept for viewers; not in the report) */
@@ -97,10 +111,7 @@ typedef struct kelp_field_nrep_cfg {
 
 typedef struct kelp_field_nrep {
     kelp_field_nrep_cfg cfg;
-    char nav_var[KELP_NREP_NAV][KELP_MAX_NAME]; /**< NAV_X, NAV_Y, NAV_LAT, NAV_LONG, NAV_SPEED, ... */
-    double nav[KELP_NREP_NAV];
-    bool have[KELP_NREP_NAV];
-    unsigned long xy_seq, ll_seq;          /**< order of the last X/Y and LAT/LON mail (use-latest) */
+    kelp_nrep_nav nav[2];                  /**< [0] the main solution, [1] the alternate */
     char helm_state[KELP_NODEREPORT_MAX_FIELD], helm_modes[KELP_NODEREPORT_MAX_FIELD];
     char mode[KELP_NODEREPORT_MAX_FIELD], allstop[KELP_NODEREPORT_MAX_FIELD];
     char color[KELP_NODEREPORT_MAX_FIELD];
@@ -113,7 +124,7 @@ typedef struct kelp_field_nrep {
     char rider_val[KELP_NREP_MAX_RIDERS][KELP_NODEREPORT_MAX_FIELD];
     bool rider_have[KELP_NREP_MAX_RIDERS], rider_new[KELP_NREP_MAX_RIDERS];
     uint64_t rng;
-    unsigned long posted, nav_mail, bad_mail, extrap_skipped;
+    unsigned long posted, alt_posted, nav_mail, bad_mail, extrap_skipped;
     char last[KELP_NODEREPORT_MAX_LEN];    /**< the last report posted */
 } kelp_field_nrep;
 
@@ -137,7 +148,8 @@ int kelp_field_nrep_mail(kelp_field_nrep *r, const char *var, bool is_string, co
 /** Iterate at `now` (pNodeReporter's rule): a report when the navigation is valid (a
  *  position, speed and heading; or the grace period is over) and the blackout interval has
  *  passed, unless a receiver could extrapolate it. The first goes to <OUT>_FIRST too; each is
- *  followed by PNR_POST_GAP. MODE is NOHELM-EVER / NOHELM-<s> without helm mail for
+ *  followed by PNR_POST_GAP; with ALT_NAV_PREFIX, a report of the alternate solution (its own
+ *  name and group) follows while that solution had mail in the last 5 s. MODE is NOHELM-EVER / NOHELM-<s> without helm mail for
  *  nohelm_threshold s, else the helm state, or the helm's modes in DRIVE.
  *  Returns 1 when a report was published, 0 when none was due, <0 on a formatting error. */
 int kelp_field_nrep_iterate(kelp_field_nrep *r, double now, const kelp_field_sink *out);

@@ -373,6 +373,9 @@ typedef struct kelp_helm_config {
     bool optional[KELP_IVP_MAX_DIM];   /**< ":optional" domain variables (no all-stop if undecided) */
     char us[KELP_MAX_NAME];            /**< vehicle (community) name */
     bool start_engaged;                /**< start in DRIVE (MOOS start_in_drive); default true */
+    bool allow_park;                   /**< an override may park the helm (default true) */
+    bool park_on_allstop;              /**< park when the decision is an all-stop (default false) */
+    char other_override[KELP_MAX_NAME];/**< another variable read like MOOS_MANUAL_OVERRIDE ("" none) */
     kelp_helm_sink sink;
     void *user;
     const kelp_bhv_ops *const *types;  /**< NULL-terminated list; NULL = kelp_bhv_builtin_types */
@@ -382,6 +385,8 @@ typedef struct kelp_helm_config {
 } kelp_helm_config;
 
 void kelp_helm_config_default(kelp_helm_config *cfg);
+/** Add one "Domain = name:low:high:points[:optional]" line to cfg. @return 0, or <0 with *why. */
+KELP_MUST_CHECK int kelp_helm_config_add_domain(kelp_helm_config *cfg, const char *spec, const char **why);
 
 /** Storage of one helm: pieces of all functions of one iteration (pool), scratch pieces,
  *  doubles and priority-queue entries for builders, and the solver's work. A Reflector

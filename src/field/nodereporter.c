@@ -7,8 +7,8 @@
 #include <kelp/kv.h>
 #include <kelp/mission.h>
 
-static const char *const nav_suffix[KELP_NREP_NAV] = { "_X",       "_Y",       "_LAT",   "_LONG",
-                                                       "_SPEED",   "_HEADING", "_DEPTH", "_YAW" };
+static const char *const nav_suffix[KELP_NREP_NAV] = { "_X",     "_Y",       "_LAT",   "_LONG", "_SPEED",
+                                                       "_HEADING", "_DEPTH", "_YAW", "_HEADING_OVER_GROUND" };
 static const char *const helm_vars[] = { "IVPHELM_STATE", "IVPHELM_SUMMARY", "IVPHELM_ALLSTOP", "NODE_COLOR_CHANGE" };
 #define NHELM (sizeof helm_vars / sizeof helm_vars[0])
 #define NREP_PI 3.14159265358979323846
@@ -178,10 +178,15 @@ int kelp_field_nrep_init(kelp_field_nrep *r, const kelp_field_nrep_cfg *cfg, dou
         !(cfg->blackout_interval >= 0) || !(cfg->blackout_variance >= 0) || !(cfg->nohelm_threshold > 0))
         return KELP_ERR_ARG;
     r->cfg = *cfg;
-    for (int i = 0; i < KELP_NREP_NAV; i++) {
-        int n = snprintf(r->nav_var[i], sizeof r->nav_var[i], "%s%s", cfg->prefix, nav_suffix[i]);
-        if (n < 0 || (size_t)n >= sizeof r->nav_var[i]) return KELP_ERR_RANGE;
+    for (int k = 0; k < 2; k++) {
+        const char *pre = k ? cfg->alt_prefix : cfg->prefix;
+        r->nav[k].last = -1;
+        for (int i = 0; i < KELP_NREP_NAV && pre[0]; i++) {
+            int n = snprintf(r->nav[k].var[i], sizeof r->nav[k].var[i], "%s%s", pre, nav_suffix[i]);
+            if (n < 0 || (size_t)n >= sizeof r->nav[k].var[i]) return KELP_ERR_RANGE;
+        }
     }
+    if (!usable(cfg->alt_name) || !usable(cfg->alt_group)) return KELP_ERR_ARG;
     memcpy(r->color, cfg->color, sizeof r->color);
     r->start = now;
     r->helm_last = -1;
@@ -194,8 +199,12 @@ int kelp_field_nrep_init(kelp_field_nrep *r, const kelp_field_nrep_cfg *cfg, dou
 
 const char *kelp_field_nrep_subscription(const kelp_field_nrep *r, unsigned i)
 {
-    if (i < KELP_NREP_NAV) return r->nav_var[i];
+    if (i < KELP_NREP_NAV) return r->nav[0].var[i];
     i -= KELP_NREP_NAV;
+    if (r->cfg.alt_prefix[0]) {
+        if (i < KELP_NREP_NAV) return r->nav[1].var[i];
+        i -= KELP_NREP_NAV;
+    }
     if (i < NHELM) return helm_vars[i];
     i -= (unsigned)NHELM;
     if (i < r->cfg.nplat) return r->cfg.plat[i].var;
@@ -232,7 +241,7 @@ static void value_text(char *dst, bool is_string, const char *sval, double dval,
     }
 }
 
-static int nav_mail(kelp_field_nrep *r, int i, const char *var, bool is_string, const char *sval, double dval,
+static int nav_mail(kelp_field_nrep *r, kelp_nrep_nav *nv, int i, const char *var, bool is_string, const char *sval, double dval,
                     const kelp_field_sink *out)
 {
     double d = dval;
@@ -244,11 +253,12 @@ static int nav_mail(kelp_field_nrep *r, int i, const char *var, bool is_string, 
         warn(out, msg);
         return KELP_ERR_RANGE;
     }
-    r->nav[i] = d;
-    r->have[i] = true;
+    nv->v[i] = d;
+    nv->have[i] = true;
+    nv->mail = true;
     r->nav_mail++;
-    if (i == KELP_NREP_X || i == KELP_NREP_Y) r->xy_seq = r->nav_mail;
-    if (i == KELP_NREP_LAT || i == KELP_NREP_LON) r->ll_seq = r->nav_mail;
+    if (i == KELP_NREP_X || i == KELP_NREP_Y) nv->xy_seq = r->nav_mail;
+    if (i == KELP_NREP_LAT || i == KELP_NREP_LON) nv->ll_seq = r->nav_mail;
     return 1;
 }
 
@@ -256,8 +266,9 @@ int kelp_field_nrep_mail(kelp_field_nrep *r, const char *var, bool is_string, co
                          const kelp_field_sink *out)
 {
     int used = 0;
-    for (int i = 0; i < KELP_NREP_NAV; i++)
-        if (strcmp(var, r->nav_var[i]) == 0) return nav_mail(r, i, var, is_string, sval, dval, out);
+    for (int k = 0; k < (r->cfg.alt_prefix[0] ? 2 : 1); k++)
+        for (int i = 0; i < KELP_NREP_NAV; i++)
+            if (strcmp(var, r->nav[k].var[i]) == 0) return nav_mail(r, &r->nav[k], i, var, is_string, sval, dval, out);
     for (unsigned i = 0; i < r->cfg.nplat; i++)
         if (strcmp(var, r->cfg.plat[i].var) == 0) {
             value_text(r->plat_val[i], is_string, sval, dval, -1);
@@ -387,82 +398,110 @@ static void platform_report(kelp_field_nrep *r, double now, const kelp_field_sin
     if (any) out->publish(out->ctx, r->cfg.plat_var, true, buf, 0);
 }
 
-int kelp_field_nrep_iterate(kelp_field_nrep *r, double now, const kelp_field_sink *out)
+/* The report of one navigation solution; false when it is not valid (and no grace). */
+static bool build(kelp_field_nrep *r, const kelp_nrep_nav *nv, const char *name, const char *group, double now,
+                  const kelp_field_sink *out, kelp_nodereport *n)
 {
-    if (r->helm_mail) r->helm_last = now, r->helm_mail = false;
-    if (r->cfg.paused) return 0;
-    kelp_nodereport n;
-    kelp_nodereport_init(&n);
-    n.x = r->nav[KELP_NREP_X], n.y = r->nav[KELP_NREP_Y], n.lat = r->nav[KELP_NREP_LAT], n.lon = r->nav[KELP_NREP_LON];
-    bool xy = r->have[KELP_NREP_X] && r->have[KELP_NREP_Y], ll = r->have[KELP_NREP_LAT] && r->have[KELP_NREP_LON];
-    if (xy) n.fields |= KELP_NR_X | KELP_NR_Y;
-    if (ll) n.fields |= KELP_NR_LAT | KELP_NR_LON;
+    kelp_nodereport_init(n);
+    n->x = nv->v[KELP_NREP_X], n->y = nv->v[KELP_NREP_Y], n->lat = nv->v[KELP_NREP_LAT], n->lon = nv->v[KELP_NREP_LON];
+    bool xy = nv->have[KELP_NREP_X] && nv->have[KELP_NREP_Y], ll = nv->have[KELP_NREP_LAT] && nv->have[KELP_NREP_LON];
+    if (xy) n->fields |= KELP_NR_X | KELP_NR_Y;
+    if (ll) n->fields |= KELP_NR_LAT | KELP_NR_LON;
     if (r->cfg.have_geo && r->cfg.fill != KELP_NREP_FILL_LITERAL) {
         kelp_nrep_fill f = r->cfg.fill;
         /* drop the pair the policy recomputes; complete() then fills it from the other */
-        if (ll && (f == KELP_NREP_FILL_GLOBAL || (f == KELP_NREP_FILL_LATEST && r->ll_seq > r->xy_seq)))
-            n.fields &= ~(uint32_t)(KELP_NR_X | KELP_NR_Y);
-        else if (xy && (f == KELP_NREP_FILL_LOCAL || (f == KELP_NREP_FILL_LATEST && r->xy_seq >= r->ll_seq)))
-            n.fields &= ~(uint32_t)(KELP_NR_LAT | KELP_NR_LON);
-        if (kelp_nodereport_complete(&n, &r->cfg.geo) < 0) warn(out, "datum conversion failed");
+        if (ll && (f == KELP_NREP_FILL_GLOBAL || (f == KELP_NREP_FILL_LATEST && nv->ll_seq > nv->xy_seq)))
+            n->fields &= ~(uint32_t)(KELP_NR_X | KELP_NR_Y);
+        else if (xy && (f == KELP_NREP_FILL_LOCAL || (f == KELP_NREP_FILL_LATEST && nv->xy_seq >= nv->ll_seq)))
+            n->fields &= ~(uint32_t)(KELP_NR_LAT | KELP_NR_LON);
+        if (kelp_nodereport_complete(n, &r->cfg.geo) < 0) warn(out, "datum conversion failed");
     }
-    bool pos = (n.fields & (KELP_NR_X | KELP_NR_Y)) == (KELP_NR_X | KELP_NR_Y) ||
-               (n.fields & (KELP_NR_LAT | KELP_NR_LON)) == (KELP_NR_LAT | KELP_NR_LON);
-    bool valid = pos && r->have[KELP_NREP_SPD] && r->have[KELP_NREP_HDG];
-    if (!valid && !(r->cfg.nav_grace_period > 0 && now - r->start > r->cfg.nav_grace_period)) return 0;
-    if (r->last_post >= 0 && r->blackout > 0 && !(now - r->last_post > r->blackout)) return 0;
-    memcpy(n.name, r->cfg.name, sizeof n.name);
-    memcpy(n.type, r->cfg.type, sizeof n.type);
-    n.fields |= KELP_NR_NAME | KELP_NR_TYPE | KELP_NR_TIME | KELP_NR_SPD | KELP_NR_HDG | KELP_NR_DEPTH | KELP_NR_MODE;
-    n.time = now;
-    n.spd = r->nav[KELP_NREP_SPD];
-    n.hdg = r->nav[KELP_NREP_HDG];
-    if (r->cfg.hdg_error != 0) n.hdg = fmod(fmod(n.hdg + r->cfg.hdg_error, 360.0) + 360.0, 360.0);
-    n.depth = r->nav[KELP_NREP_DEP];
-    n.dep_key = r->cfg.dep_key;
-    if (r->have[KELP_NREP_YAW]) {
+    bool pos = (n->fields & (KELP_NR_X | KELP_NR_Y)) == (KELP_NR_X | KELP_NR_Y) ||
+               (n->fields & (KELP_NR_LAT | KELP_NR_LON)) == (KELP_NR_LAT | KELP_NR_LON);
+    bool valid = pos && nv->have[KELP_NREP_SPD] && nv->have[KELP_NREP_HDG];
+    if (!valid && !(r->cfg.nav_grace_period > 0 && now - r->start > r->cfg.nav_grace_period)) return false;
+    set_text(n->name, sizeof n->name, name);
+    memcpy(n->type, r->cfg.type, sizeof n->type);
+    n->fields |= KELP_NR_NAME | KELP_NR_TYPE | KELP_NR_TIME | KELP_NR_SPD | KELP_NR_HDG | KELP_NR_DEPTH | KELP_NR_MODE;
+    n->time = now;
+    n->spd = nv->v[KELP_NREP_SPD];
+    n->hdg = nv->v[KELP_NREP_HDG];
+    if (r->cfg.hdg_error != 0) n->hdg = fmod(fmod(n->hdg + r->cfg.hdg_error, 360.0) + 360.0, 360.0);
+    n->depth = nv->v[KELP_NREP_DEP];
+    n->dep_key = r->cfg.dep_key;
+    if (nv->have[KELP_NREP_YAW]) {
         /* MOOS-IvP reports the heading as radians counter-clockwise from east in [-pi, pi] */
-        double a = (90.0 - n.hdg) * NREP_PI / 180.0;
-        n.yaw = atan2(sin(a), cos(a));
-        n.fields |= KELP_NR_YAW;
+        double a = (90.0 - n->hdg) * NREP_PI / 180.0;
+        n->yaw = atan2(sin(a), cos(a));
+        n->fields |= KELP_NR_YAW;
     }
-    if (extrapolable(r, &n, now)) {
-        r->extrap_skipped++;
-        return 0;
-    }
-    if (r->cfg.have_length) n.length = r->cfg.length, n.fields |= KELP_NR_LENGTH;
-    if (r->color[0]) memcpy(n.color, r->color, sizeof n.color), n.fields |= KELP_NR_COLOR;
-    mode_of(r, now, n.mode, sizeof n.mode);
-    if (!n.mode[0]) n.fields &= ~(uint32_t)KELP_NR_MODE;
-    if (r->allstop[0]) memcpy(n.allstop, r->allstop, sizeof n.allstop), n.fields |= KELP_NR_ALLSTOP;
-    if (r->cfg.group[0]) memcpy(n.group, r->cfg.group, sizeof n.group), n.fields |= KELP_NR_GROUP;
-    n.index = (long)r->posted;
-    if (r->posted) n.fields |= KELP_NR_INDEX;
-    double px = n.x, py = n.y;
-    if (r->cfg.coord_global && (n.fields & KELP_NR_LAT)) n.fields &= ~(uint32_t)(KELP_NR_X | KELP_NR_Y);
-    char extra[KELP_NODEREPORT_MAX_LEN / 2];
-    extras(r, extra, sizeof extra);
-    n.extra = extra;
+    if (r->cfg.have_length) n->length = r->cfg.length, n->fields |= KELP_NR_LENGTH;
+    if (r->color[0]) memcpy(n->color, r->color, sizeof n->color), n->fields |= KELP_NR_COLOR;
+    mode_of(r, now, n->mode, sizeof n->mode);
+    if (!n->mode[0]) n->fields &= ~(uint32_t)KELP_NR_MODE;
+    if (r->allstop[0]) memcpy(n->allstop, r->allstop, sizeof n->allstop), n->fields |= KELP_NR_ALLSTOP;
+    if (group[0]) set_text(n->group, sizeof n->group, group), n->fields |= KELP_NR_GROUP;
+    return true;
+}
+
+/* extra pairs: the platform aspect, COG, then the riders due */
+static void extras_with_cog(kelp_field_nrep *r, const kelp_nrep_nav *nv, char *buf, size_t cap)
+{
+    extras(r, buf, cap);
+    if (!r->cfg.report_cog || !nv->have[KELP_NREP_COG]) return;
+    size_t o = strlen(buf);
+    int w = snprintf(buf + o, cap - o, "%sCOG=%.2f", o ? "," : "", nv->v[KELP_NREP_COG]);
+    if (w < 0 || (size_t)w >= cap - o) buf[o] = 0;
+}
+
+static int post(kelp_field_nrep *r, kelp_nodereport *n, const char *extra, bool first, const kelp_field_sink *out,
+                char *text, size_t cap)
+{
+    n->extra = extra;
     size_t len;
-    int rc = kelp_nodereport_format(&n, r->last, sizeof r->last, &len);
+    int rc = kelp_nodereport_format(n, text, cap, &len);
     if (rc < 0) {
         warn(out, "cannot format the report");
         return rc;
     }
     char json[KELP_NODEREPORT_MAX_LEN + 128];
     bool want_json = r->cfg.json_only || r->cfg.json_var[0];
-    if (want_json && to_json(r->last, json, sizeof json) < 0) {
+    if (want_json && to_json(text, json, sizeof json) < 0) {
         warn(out, "cannot format the JSON report");
         want_json = false;
     }
-    const char *main_text = r->cfg.json_only && want_json ? json : r->last;
-    if (r->posted == 0) {
-        char first[KELP_MAX_NAME + 8];
-        snprintf(first, sizeof first, "%.*s_FIRST", KELP_MAX_NAME - 1, r->cfg.out_var);
-        out->publish(out->ctx, first, true, main_text, 0);
+    const char *main_text = r->cfg.json_only && want_json ? json : text;
+    if (first) {
+        char v[KELP_MAX_NAME + 8];
+        snprintf(v, sizeof v, "%.*s_FIRST", KELP_MAX_NAME - 1, r->cfg.out_var);
+        out->publish(out->ctx, v, true, main_text, 0);
     }
     out->publish(out->ctx, r->cfg.out_var, true, main_text, 0);
     if (want_json && r->cfg.json_var[0]) out->publish(out->ctx, r->cfg.json_var, true, json, 0);
+    return KELP_OK;
+}
+
+int kelp_field_nrep_iterate(kelp_field_nrep *r, double now, const kelp_field_sink *out)
+{
+    if (r->helm_mail) r->helm_last = now, r->helm_mail = false;
+    for (int k = 0; k < 2; k++)
+        if (r->nav[k].mail) r->nav[k].last = now, r->nav[k].mail = false;
+    if (r->cfg.paused) return 0;
+    kelp_nodereport n;
+    if (!build(r, &r->nav[0], r->cfg.name, r->cfg.group, now, out, &n)) return 0;
+    if (r->last_post >= 0 && r->blackout > 0 && !(now - r->last_post > r->blackout)) return 0;
+    if (extrapolable(r, &n, now)) {
+        r->extrap_skipped++;
+        return 0;
+    }
+    n.index = (long)r->posted;
+    if (r->posted) n.fields |= KELP_NR_INDEX;
+    double px = n.x, py = n.y;
+    if (r->cfg.coord_global && (n.fields & KELP_NR_LAT)) n.fields &= ~(uint32_t)(KELP_NR_X | KELP_NR_Y);
+    char extra[KELP_NODEREPORT_MAX_LEN / 2];
+    extras_with_cog(r, &r->nav[0], extra, sizeof extra);
+    int rc = post(r, &n, extra, r->posted == 0, out, r->last, sizeof r->last);
+    if (rc < 0) return rc;
     out->publish(out->ctx, "PNR_POST_GAP", false, NULL, r->posted ? now - r->posted_at.time : 0);
     r->posted_at.x = px, r->posted_at.y = py, r->posted_at.hdg = n.hdg, r->posted_at.spd = n.spd;
     r->posted_at.time = now;
@@ -472,6 +511,21 @@ int kelp_field_nrep_iterate(kelp_field_nrep *r, double now, const kelp_field_sin
     if (r->cfg.blackout_variance > 0)
         r->blackout += r->cfg.blackout_variance * (2.0 * splitmix(&r->rng) - 1.0);
     if (r->blackout < 0) r->blackout = 0;
+    /* the alternate solution (e.g. ground truth), while it is being updated */
+    if (r->cfg.alt_prefix[0] && r->nav[1].last >= 0 && now - r->nav[1].last < 5) {
+        char name[KELP_NODEREPORT_MAX_FIELD * 2];
+        const char *an = r->cfg.alt_name[0] ? r->cfg.alt_name : "_GT";
+        snprintf(name, sizeof name, "%s%s", an[0] == '_' ? r->cfg.name : "", an);
+        kelp_nodereport g;
+        if (build(r, &r->nav[1], name, r->cfg.alt_group[0] ? r->cfg.alt_group : r->cfg.group, now, out, &g)) {
+            g.index = (long)r->posted;
+            g.fields |= KELP_NR_INDEX;
+            if (r->cfg.coord_global && (g.fields & KELP_NR_LAT)) g.fields &= ~(uint32_t)(KELP_NR_X | KELP_NR_Y);
+            char text[KELP_NODEREPORT_MAX_LEN];
+            extras_with_cog(r, &r->nav[1], extra, sizeof extra);
+            if (post(r, &g, extra, false, out, text, sizeof text) == KELP_OK) r->alt_posted++;
+        }
+    }
     platform_report(r, now, out);
     return 1;
 }

@@ -12,6 +12,52 @@ void kelp_helm_config_default(kelp_helm_config *cfg)
     memset(cfg, 0, sizeof *cfg);
     kelp_ivp_domain_init(&cfg->domain);
     cfg->start_engaged = true;
+    cfg->allow_park = true;
+}
+
+int kelp_helm_config_add_domain(kelp_helm_config *cfg, const char *spec, const char **why)
+{
+    const char *tok[6];
+    size_t len[6];
+    int nt = 0;
+    for (const char *s = spec;; s++) {
+        const char *c = strchr(s, ':');
+        const char *e = c ? c : s + strlen(s);
+        while (s < e && (*s == ' ' || *s == '\t')) s++;
+        const char *t = e;
+        while (t > s && (t[-1] == ' ' || t[-1] == '\t')) t--;
+        if (nt == 6) break;
+        tok[nt] = s, len[nt++] = (size_t)(t - s);
+        if (!c) break;
+        s = c;
+    }
+    double lo, hi;
+    long pts;
+    char name[KELP_MAX_NAME];
+    *why = NULL;
+    if (nt < 4 || nt > 5 || len[0] == 0 || len[0] >= sizeof name) {
+        *why = "expected name:low:high:points[:optional]";
+        return KELP_ERR_PARSE;
+    }
+    if (kelp_parse_double(tok[1], len[1], &lo) || kelp_parse_double(tok[2], len[2], &hi) ||
+        kelp_parse_long(tok[3], len[3], &pts) || pts < 1 || pts > 100000) {
+        *why = "bad low, high or points (1..100000)";
+        return KELP_ERR_PARSE;
+    }
+    if (nt == 5 && (len[4] != 8 || strncmp(tok[4], "optional", 8) != 0)) {
+        *why = "the fifth field may only be 'optional'";
+        return KELP_ERR_PARSE;
+    }
+    memcpy(name, tok[0], len[0]);
+    name[len[0]] = 0;
+    unsigned d = cfg->domain.dim;
+    int rc = kelp_ivp_domain_add(&cfg->domain, name, lo, hi, (uint32_t)pts);
+    if (rc < 0) {
+        *why = kelp_strerror(rc);
+        return rc;
+    }
+    cfg->optional[d] = nt == 5;
+    return KELP_OK;
 }
 
 /* First error wins: h->err = a b c (NULL parts skipped). */
@@ -62,6 +108,7 @@ int kelp_helm_init(kelp_helm *h, const kelp_helm_config *cfg, const kelp_helm_me
     h->engaged = cfg->start_engaged;
     (void)helm_need_var(h, "MOOS_MANUAL_OVERIDE", 19);
     (void)helm_need_var(h, "MOOS_MANUAL_OVERRIDE", 20);
+    if (cfg->other_override[0]) (void)helm_need_var(h, cfg->other_override, strlen(cfg->other_override));
     strcpy(h->rep.allstop, "clear");
     return 0;
 }
@@ -305,11 +352,12 @@ void kelp_helm_start(kelp_helm *h, double now)
 
 static bool override_mail(kelp_helm *h, const char *var, const char *v)
 {
-    if (strcmp(var, "MOOS_MANUAL_OVERIDE") != 0 && strcmp(var, "MOOS_MANUAL_OVERRIDE") != 0)
+    if (strcmp(var, "MOOS_MANUAL_OVERIDE") != 0 && strcmp(var, "MOOS_MANUAL_OVERRIDE") != 0 &&
+        (!h->cfg.other_override[0] || strcmp(var, h->cfg.other_override) != 0))
         return false;
     if (v && hx_ieq(v, "false"))
         h->engaged = true;
-    else if (v && hx_ieq(v, "true"))
+    else if (v && hx_ieq(v, "true") && h->cfg.allow_park)
         h->engaged = false;
     return true;
 }
@@ -768,6 +816,8 @@ static void post_outputs(kelp_helm *h)
         }
     }
     bool clear = !strcmp(r->allstop, "clear");
+    if (!clear && h->engaged && h->cfg.park_on_allstop && h->cfg.allow_park)
+        h->engaged = false; /* park until an override engages the helm again */
     for (unsigned d = 0; d < hd->dim; d++) {
         desired_name(hd->var[d].name, name, sizeof name);
         if (!clear)
