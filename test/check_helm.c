@@ -1037,6 +1037,7 @@ START_TEST(summary_and_lists)
     ck_assert_ptr_nonnull(strstr(p->sval, ",idle_bhvs=waypt_return,"));
     ck_assert(ht_has_str("IVPHELM_BHV_IDLE", "waypt_return"));
     ck_assert(ht_num("IVPHELM_ITER") == 1 && ht_num("IVPHELM_IPF_CNT") == 1);
+    ck_assert(ht_num("IVPHELM_TOTAL_PCS_FORMED") > 0 && ht_num("IVPHELM_TOTAL_PCS_CACHED") == 0);
     ht_iter(1);
     ck_assert_uint_eq(ht_count("IVPHELM_BHV_IDLE"), 0); /* lists only on change */
 }

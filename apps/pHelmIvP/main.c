@@ -260,6 +260,7 @@ static const kelp_app_def def = {
         { "IVPHELM_SUMMARY", "iter=12,ofnum=1,var=course:195.0,var=speed:1.2,active_bhvs=loiter", NULL },
         { "IVPHELM_ITER", "12", NULL },
         { "IVPHELM_IPF_CNT", "1", NULL },
+        { "IVPHELM_TOTAL_PCS_FORMED", "1240", "every iteration; also IVPHELM_TOTAL_PCS_CACHED (0: kelp caches none)" },
         { "IVPHELM_BHV_ACTIVE", "loiter", "also IVPHELM_BHV_RUNNING and IVPHELM_BHV_IDLE" },
         { "IVPHELM_BHV_CNT", "3", "on change; also IVPHELM_BHV_CNT_EVER, IVPHELM_BHV_ACTIVE_CNT,"
           " IVPHELM_BHV_RUNNING_CNT, IVPHELM_BHV_IDLE_CNT, IVPHELM_BHV_DISABLED_CNT" },

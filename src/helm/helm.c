@@ -912,6 +912,9 @@ static void post_outputs(kelp_helm *h)
         hx_cat(buf + n, sizeof buf - n, ",modes=", h->mode_summary, HX_END);
     sink(h, "IVPHELM_SUMMARY", true, buf, 0, NULL);
     sink(h, "IVPHELM_IPF_CNT", false, NULL, (double)r->ofnum, NULL);
+    /* every iteration, as MOOS-IvP's helm; kelp builds each function anew (nothing cached) */
+    sink(h, "IVPHELM_TOTAL_PCS_FORMED", false, NULL, (double)r->total_pcs_formed, NULL);
+    sink(h, "IVPHELM_TOTAL_PCS_CACHED", false, NULL, 0, NULL);
     sink(h, "IVPHELM_ITER", false, NULL, (double)h->iteration, NULL);
 }
 
