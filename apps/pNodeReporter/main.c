@@ -140,7 +140,8 @@ static int startup(kelp_app *app, void *st)
             used + strlen(buf) + 2 > sizeof c.aspect)
             return kelp_app_config_error(app, n, "PLATFORM_ASPECT must be one KEY=VALUE (all of them within %zu characters)",
                                          sizeof c.aspect - 1);
-        snprintf(c.aspect + used, sizeof c.aspect - used, "%s%s", used ? "," : "", buf);
+        if (used) c.aspect[used++] = ',';
+        memcpy(c.aspect + used, buf, strlen(buf) + 1); /* fits: checked above */
     }
     const char *pk[] = { "PLAT_REPORT_INPUT", "PLAT_REPORT_VAR", "PLATFORM_VARIABLE", "RIDER" };
     for (int k = 0; k < 4; k++)

@@ -311,6 +311,96 @@ START_TEST(arrays_all_and_typed_publish)
 }
 END_TEST
 
+static const char WIDE_INTS[] =
+    "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+    "<message_set><message><name>WIDE</name><id>40</id><size>64</size>\n"
+    "  <layout>\n"
+    "    <int><name>u32</name><max>4000000000</max><min>0</min></int>\n"
+    "    <int><name>s34</name><max>5000000000</max><min>-5000000000</min></int>\n"
+    "    <int><name>quirk</name><max>2147483646</max><min>0</min></int>\n"
+    "    <int><name>quirk29</name><max>536870910</max><min>0</min></int>\n"
+    "    <int><name>big</name><max>1e15</max><min>-1e15</min></int>\n"
+    "    <int><name>huge</name><max>9e18</max><min>0</min></int>\n"
+    "    <int><name>dl</name><max>4e9</max><min>-4e9</min><array_length>3</array_length><max_delta>3e9</max_delta></int>\n"
+    "  </layout>\n"
+    "  <queuing><blackout_time>0.5</blackout_time><max_queue>4000000000</max_queue></queuing>\n"
+    "</message></message_set>\n";
+
+static int64_t wide_field(const kelp_dccl_msgdef *d, const kelp_dccl_val *out, const char *name, unsigned el)
+{
+    int fi = kelp_dccl_field_find(d, name);
+    ck_assert_int_ge(fi, 0);
+    int64_t l = 0;
+    ck_assert_msg(kelp_dccl_val_to_long(&out[d->fields[fi].slot + el], &l), "%s not a number", name);
+    return l;
+}
+
+START_TEST(int_bounds_in_the_billions)
+{
+    kelp_dccl_loaded ld;
+    kelp_dccl_codec cx;
+    kelp_dccl_val v[32], out[32];
+    uint8_t buf[128];
+    char err[256];
+    size_t n;
+    kelp_dccl_loaded_init(&ld);
+    ck_assert_msg(kelp_dccl_load_buffer(&ld, "wide.xml", WIDE_INTS, sizeof WIDE_INTS - 1, NULL, err, sizeof err) == 0,
+                  "%s", err);
+    const kelp_dccl_msgdef *d = ld.set.msgs[0];
+    /* widths by Goby's double expression, its quirks included */
+    static const struct { const char *name; unsigned bits; } W[] = {
+        {"u32", 32}, {"s34", 34}, {"quirk", 32}, {"quirk29", 30}, {"big", 51}, {"huge", 63},
+    };
+    for (size_t i = 0; i < sizeof W / sizeof W[0]; i++)
+        ck_assert_msg(d->fields[kelp_dccl_field_find(d, W[i].name)].bits == W[i].bits, "%s: %u bits, expected %u",
+                      W[i].name, d->fields[kelp_dccl_field_find(d, W[i].name)].bits, W[i].bits);
+    const kelp_dccl_field *dl = &d->fields[kelp_dccl_field_find(d, "dl")];
+    ck_assert_uint_eq(dl->bits, 33);       /* 8e9 + 2 */
+    ck_assert_uint_eq(dl->delta_bits, 33); /* 2 * 3e9 + 2 */
+    ck_assert(d->queuing.blackout_time == 0.5 && d->queuing.max_queue == 4000000000u);
+    kelp_dccl_codec_init(&cx, 1, NULL, NULL);
+    static const int64_t vals[][3] = {
+        /* u32, s34, big */
+        {0, -5000000000LL, -1000000000000000LL},
+        {4000000000LL, 5000000000LL, 1000000000000000LL},
+        {2999999999LL, -1234567890123LL / 1000, 9007199254740LL},
+    };
+    for (size_t k = 0; k < 3; k++) {
+        clear_all(v, 32);
+        kelp_dccl_val_set_long(&v[d->fields[kelp_dccl_field_find(d, "u32")].slot], vals[k][0]);
+        kelp_dccl_val_set_long(&v[d->fields[kelp_dccl_field_find(d, "s34")].slot], vals[k][1]);
+        kelp_dccl_val_set_long(&v[d->fields[kelp_dccl_field_find(d, "big")].slot], vals[k][2]);
+        kelp_dccl_val_set_long(&v[d->fields[kelp_dccl_field_find(d, "huge")].slot], 4503599627370496LL); /* 2^52 */
+        kelp_dccl_val_set_long(&v[dl->slot], 3500000000LL);
+        kelp_dccl_val_set_long(&v[dl->slot + 1], 1000000000LL);
+        kelp_dccl_val_set_long(&v[dl->slot + 2], -3900000000LL); /* more than max_delta from the key: null */
+        ck_assert_int_eq(kelp_dccl_encode(&cx, d, v, 32, NOON, buf, sizeof buf, &n), 0);
+        ck_assert_int_eq(kelp_dccl_decode(&cx, d, buf, n, NOON, out, 32), 0);
+        ck_assert_int_eq(wide_field(d, out, "u32", 0), vals[k][0]);
+        ck_assert_int_eq(wide_field(d, out, "s34", 0), vals[k][1]);
+        ck_assert_int_eq(wide_field(d, out, "big", 0), vals[k][2]);
+        ck_assert_int_eq(wide_field(d, out, "huge", 0), 4503599627370496LL);
+        ck_assert_int_eq(wide_field(d, out, "dl", 0), 3500000000LL);
+        ck_assert_int_eq(wide_field(d, out, "dl", 1), 1000000000LL);
+        ck_assert(out[dl->slot + 2].kind == KELP_DCCL_V_EMPTY);
+    }
+    /* beyond the bounds: "not given" (0 on the wire), as Goby */
+    clear_all(v, 32);
+    kelp_dccl_val_set_long(&v[d->fields[kelp_dccl_field_find(d, "u32")].slot], 4000000001LL);
+    ck_assert_int_eq(kelp_dccl_encode(&cx, d, v, 32, NOON, buf, sizeof buf, &n), 0);
+    ck_assert_int_eq(kelp_dccl_decode(&cx, d, buf, n, NOON, out, 32), 0);
+    ck_assert(out[d->fields[kelp_dccl_field_find(d, "u32")].slot].kind == KELP_DCCL_V_EMPTY);
+    kelp_dccl_loaded_free(&ld);
+    /* what Goby refuses: a bound that is not a number */
+    static const char NAN_MAX[] = "<message_set><message><name>A</name><size>32</size><layout>"
+                                  "<int><name>i</name><max>lots</max><min>0</min></int></layout></message></message_set>";
+    kelp_dccl_loaded_init(&ld);
+    ck_assert_int_lt(kelp_dccl_load_buffer(&ld, "n.xml", NAN_MAX, sizeof NAN_MAX - 1, NULL, err, sizeof err), 0);
+    ck_assert_ptr_nonnull(strstr(err, "<max> must be a number"));
+    kelp_dccl_loaded_free(&ld);
+}
+END_TEST
+
 START_TEST(repeat_auto_count)
 {
     kelp_dccl_loaded ld;
@@ -408,6 +498,7 @@ Suite *kelp_dccl_xml_suite(void)
     tcase_add_test(tc, simple_status_vector_and_node_report);
     tcase_add_test(tc, arrays_all_and_typed_publish);
     tcase_add_test(tc, repeat_auto_count);
+    tcase_add_test(tc, int_bounds_in_the_billions);
     tcase_add_loop_test(tc, load_errors_have_file_line_reason, 0, (int)(sizeof BAD / sizeof BAD[0]));
     tcase_add_test(tc, missing_file_is_io_error);
     suite_add_tcase(s, tc);

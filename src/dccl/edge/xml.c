@@ -2,6 +2,7 @@
  * (schema validation as message_schema.xsd, DCCLMessage::preprocess, Publish::initialize,
  * algorithm name and reference checks). Allocates at load time only. */
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -204,7 +205,7 @@ static bool parse_integer(const char *s, size_t n, long *out)
     if (i == n) return false;
     for (; i < n; i++) {
         if (s[i] < '0' || s[i] > '9') return false;
-        if (v > 100000000L) return false; /* beyond anything a DCCL tag can use */
+        if (v > (LONG_MAX - 9) / 10) return false; /* no overflow */
         v = v * 10 + (s[i] - '0');
     }
     *out = neg ? -v : v;
@@ -596,6 +597,17 @@ static bool want_double(parser *p, const char *el, double *out)
     return true;
 }
 
+/* a number that is not inf or nan (Goby's arithmetic on it would be meaningless) */
+static bool want_finite(parser *p, const char *el, double *out)
+{
+    if (!want_double(p, el, out)) return false;
+    if (!isfinite(*out)) {
+        fail(p, KELP_ERR_RANGE, p->line[p->depth - 1], "<%s> must be a finite number", el);
+        return false;
+    }
+    return true;
+}
+
 static bool text_bool(parser *p)
 {
     const char *s;
@@ -634,29 +646,17 @@ static void end_field_leaf(parser *p, const char *el)
             f->enums[f->n_enum++] = text_dup(p);
         }
     } else if (strcmp(el, "max") == 0) {
-        if (f->f.type == KELP_DCCL_T_INT) {
-            /* xs:integer, but Goby reads it as a double */
-            if (want_int(p, el, &l, -100000000L, 100000000L)) f->f.max = (double)l;
-        } else if (want_double(p, el, &d)) {
-            f->f.max = d;
-        }
+        /* xs:integer for <int>, but Goby reads every bound as a double (4000000000, 1e12) */
+        if (want_finite(p, el, &d)) f->f.max = d;
         f->have_max = true;
     } else if (strcmp(el, "min") == 0) {
-        if (f->f.type == KELP_DCCL_T_INT) {
-            if (want_int(p, el, &l, -100000000L, 100000000L)) f->f.min = (double)l;
-        } else if (want_double(p, el, &d)) {
-            f->f.min = d;
-        }
+        if (want_finite(p, el, &d)) f->f.min = d;
         f->have_min = true;
     } else if (strcmp(el, "precision") == 0) {
         if (want_int(p, el, &l, -30, 30)) f->f.precision = (int)l;
         f->have_prec = true;
     } else if (strcmp(el, "max_delta") == 0) {
-        if (f->f.type == KELP_DCCL_T_INT) {
-            if (want_int(p, el, &l, -100000000L, 100000000L)) f->f.max_delta = (double)l;
-        } else if (want_double(p, el, &d)) {
-            f->f.max_delta = d;
-        }
+        if (want_finite(p, el, &d)) f->f.max_delta = d;
         f->f.has_delta = true;
     } else if (strcmp(el, "array_length") == 0) {
         if (want_int(p, el, &l, 1, 4096)) f->f.array_length = (uint16_t)l;
@@ -1065,7 +1065,10 @@ static void XMLCALL on_end(void *ud, const XML_Char *el)
                 else if (n == 4 && memcmp(s, "time", 4) == 0) m->def.trigger = KELP_DCCL_TRIG_TIME;
                 else fail(p, KELP_ERR_PARSE, line, "<trigger> must be \"publish\" or \"time\", not \"%.*s\"", (int)n, s);
             } else if (strcmp(el, "trigger_time") == 0) {
-                if (want_int(p, el, &l, 0, 100000000L)) m->def.trigger_time = (double)l;
+                if (want_finite(p, el, &d)) {
+                    if (d < 0) fail(p, KELP_ERR_RANGE, line, "<trigger_time> must be >= 0");
+                    else m->def.trigger_time = d;
+                }
             } else if (strcmp(el, "trigger_var") == 0 || strcmp(el, "trigger_moos_var") == 0) {
                 m->def.trigger_var = text_dup(p);
             }
@@ -1096,9 +1099,17 @@ static void XMLCALL on_end(void *ud, const XML_Char *el)
             if (strcmp(el, "ack") == 0) m->def.queuing.ack = text_bool(p);
             else if (strcmp(el, "newest_first") == 0) m->def.queuing.newest_first = text_bool(p);
             else if (strcmp(el, "blackout_time") == 0) {
-                if (want_int(p, el, &l, 0, 100000000L)) m->def.queuing.blackout_time = (double)l;
+                if (want_finite(p, el, &d)) {
+                    if (d < 0) fail(p, KELP_ERR_RANGE, line, "<blackout_time> must be >= 0");
+                    else m->def.queuing.blackout_time = d;
+                }
             } else if (strcmp(el, "max_queue") == 0) {
-                if (want_int(p, el, &l, 0, 100000000L)) m->def.queuing.max_queue = (uint32_t)l;
+                if (want_finite(p, el, &d)) {
+                    if (d < 0 || d > 4294967295.0 || d != floor(d))
+                        fail(p, KELP_ERR_RANGE, line, "<max_queue> must be a whole number 0..4294967295");
+                    else
+                        m->def.queuing.max_queue = (uint32_t)d;
+                }
             } else if (strcmp(el, "value_base") == 0 || strcmp(el, "priority_base") == 0) {
                 if (want_double(p, el, &d)) m->def.queuing.value_base = d;
             } else if (strcmp(el, "ttl") == 0 || strcmp(el, "priority_time_const") == 0) {
