@@ -335,6 +335,53 @@ static int64_t wide_field(const kelp_dccl_msgdef *d, const kelp_dccl_val *out, c
     return l;
 }
 
+static const char REPEAT_PUB[] =
+    "<message_set><message><name>REP</name><size>32</size><id>5</id><repeat>3</repeat>\n"
+    "<header><src_id><name>src</name></src_id></header>\n"
+    "<layout><int><name>a</name><max>100</max><min>0</min></int><bool><name>b</name></bool></layout>\n"
+    "<on_receipt><publish><publish_var>REP_IN</publish_var><all/></publish>\n"
+    "<publish><publish_var>REP_AB</publish_var><message_var>a</message_var><message_var>b</message_var></publish>\n"
+    "<publish><publish_var>REP_FMT</publish_var><format>a is %1% from %2%</format>"
+    "<message_var>a</message_var><message_var>src</message_var></publish></on_receipt>\n"
+    "</message></message_set>\n";
+
+START_TEST(repeat_publishes_once_per_index)
+{
+    kelp_dccl_loaded ld;
+    kelp_dccl_codec cx;
+    kelp_dccl_val v[32], out[32];
+    kelp_dccl_pub pubs[16];
+    uint8_t buf[64];
+    char err[256];
+    size_t n, np;
+    kelp_dccl_loaded_init(&ld);
+    ck_assert_msg(kelp_dccl_load_buffer(&ld, "rep.xml", REPEAT_PUB, sizeof REPEAT_PUB - 1, NULL, err, sizeof err) == 0,
+                  "%s", err);
+    const kelp_dccl_msgdef *d = ld.set.msgs[0];
+    /* a generated format has one placeholder per field, not per array element */
+    ck_assert_str_eq(d->publishes[0].format, "src=%1%,a=%2%,b=%3%");
+    ck_assert_str_eq(d->publishes[1].format, "a=%1%,b=%2%");
+    kelp_dccl_codec_init(&cx, 7, NULL, NULL);
+    clear_all(v, 32);
+    int fa = kelp_dccl_field_find(d, "a"), fb = kelp_dccl_field_find(d, "b");
+    for (unsigned k = 0; k < 3; k++) {
+        kelp_dccl_val_set_long(&v[d->fields[fa].slot + k], 10 * (k + 1));
+        kelp_dccl_val_set_bool(&v[d->fields[fb].slot + k], k != 1);
+    }
+    ck_assert_int_eq(kelp_dccl_encode(&cx, d, v, 32, NOON, buf, sizeof buf, &n), 0);
+    ck_assert_int_eq(kelp_dccl_decode(&cx, d, buf, n, NOON, out, 32), 0);
+    ck_assert_int_eq(kelp_dccl_publish_all(&cx, d, out, 32, pubs, 16, &np), 0);
+    ck_assert_uint_eq(np, 9); /* 3 publishes x 3 repeats */
+    static const char *const want[] = {
+        "src=7,a=10,b=true", "src=7,a=20,b=false", "src=7,a=30,b=true",
+        "a=10,b=true",       "a=20,b=false",       "a=30,b=true",
+        "a is 10 from 7",    "a is 20 from 7",     "a is 30 from 7",
+    };
+    for (size_t i = 0; i < np; i++) ck_assert_str_eq(pubs[i].s, want[i]);
+    kelp_dccl_loaded_free(&ld);
+}
+END_TEST
+
 START_TEST(int_bounds_in_the_billions)
 {
     kelp_dccl_loaded ld;
@@ -499,6 +546,7 @@ Suite *kelp_dccl_xml_suite(void)
     tcase_add_test(tc, arrays_all_and_typed_publish);
     tcase_add_test(tc, repeat_auto_count);
     tcase_add_test(tc, int_bounds_in_the_billions);
+    tcase_add_test(tc, repeat_publishes_once_per_index);
     tcase_add_loop_test(tc, load_errors_have_file_line_reason, 0, (int)(sizeof BAD / sizeof BAD[0]));
     tcase_add_test(tc, missing_file_is_io_error);
     suite_add_tcase(s, tc);
