@@ -107,6 +107,11 @@ int kelp_app_param_bool(kelp_app *app, const char *key, bool *out);
 /** Global (top-of-file) parameter. */
 int kelp_app_global_str(kelp_app *app, const char *key, char *buf, size_t cap);
 int kelp_app_global_double(kelp_app *app, const char *key, double *out);
+/** Call fn for each parameter of our block, in file order: fn returns 1 (taken: marked
+ *  used), 0 (not its key) or <0 with *why (a fatal "file:line: KEY = value: why").
+ *  @return 0 or the error. */
+typedef int (*kelp_app_param_fn)(void *ctx, const char *key, const char *val, const char **why);
+int kelp_app_param_foreach(kelp_app *app, kelp_app_param_fn fn, void *ctx);
 /** Mark a node as handled (for parameters read through kelp_mission_* directly). */
 void kelp_app_param_used(kelp_app *app, const kelp_mission_node *n);
 

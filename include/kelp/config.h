@@ -194,6 +194,9 @@ KELP_STATIC_ASSERT(KELP_HELM_MAX_SVAL >= 64, "KELP_HELM_MAX_SVAL too small");
 KELP_STATIC_ASSERT(KELP_HELM_MAX_BHVS >= 1 && KELP_HELM_MAX_BHVS <= 1024, "KELP_HELM_MAX_BHVS out of range");
 KELP_STATIC_ASSERT(KELP_HELM_MAX_PTS >= 4, "KELP_HELM_MAX_PTS too small");
 /* ---- sim: vehicle simulator, node reports, VIEW_* artifacts ---- */
+#ifndef KELP_SIM_MAX_MAP
+#define KELP_SIM_MAX_MAP 16             /**< thrust_map points of the simulator */
+#endif
 #ifndef KELP_SIM_MAX_SUBSTEPS
 #define KELP_SIM_MAX_SUBSTEPS 2000000L  /**< sub-steps one kelp_sim_step may take (a time jump bound) */
 #endif

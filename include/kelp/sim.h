@@ -11,6 +11,20 @@
  *            is scaled by min(1, speed / max_depth_rate_speed) (a vehicle needs way on to
  *            dive or climb); depth never goes above the surface (0)
  * A limit of 0 means "no limit" (the value jumps to the desired one).
+ * Actuated mode (the rudder/thrust model of MOOS-IvP's uSimMarine, used once DESIRED_RUDDER,
+ * DESIRED_THRUST or DESIRED_ELEVATOR arrive, or always with control = actuated): per
+ * sub-step h, in this order
+ *   speed    target = thrust_map(thrust) (or thrust / thrust_factor without a map; 0 for
+ *            thrust <= 0) * (1 - |rudder|/100 * turn_spd_loss), then the acceleration and
+ *            deceleration limits (0 = none)
+ *   heading  with speed > 0: += rudder * (turn_rate/100) * h * (1 + (thrust - 50)/50),
+ *            rudder clipped to +-100 and turn_rate to [0, 100] (a percent here)
+ *   drift    heading += rotate_speed * h; position += (drift_x, drift_y) * h
+ *   depth    speed <= 0: -= buoyancy_rate * h; else += (-buoyancy_rate + elevator/100 *
+ *            max_depth_rate * sqrt(min(1, speed / max_depth_rate_speed))) * h
+ * and the pitch is the angle of the last sub-step's climb (radians, nose up positive).
+ * Direct mode keeps the drift too. Over-ground speed and heading come from the position's
+ * change over the step.
  * Position integrates over each sub-step with the mean heading and mean speed of the
  * sub-step: x += v sin(h) dt, y += v cos(h) dt (compass heading: 0 = north = +y, 90 = east
  * = +x). Time is an argument: kelp_sim_step(sim, now) advances from the last time to `now`
@@ -24,6 +38,7 @@
 #include <stddef.h>
 #include <kelp/config.h>
 #include <kelp/err.h>
+#include <kelp/geo.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -38,7 +53,19 @@ typedef struct kelp_sim_params {
     double max_depth_rate_speed; /**< m/s (default 0 = depth rate does not depend on speed) */
     double max_speed;            /**< m/s, desired speeds above are clipped (default 0 = none) */
     double step;                 /**< integration sub-step, s (default 0.05) */
+    /* actuated mode (MOOS-IvP uSimMarine) */
+    int control;                 /**< KELP_SIM_AUTO (default), KELP_SIM_DIRECT, KELP_SIM_ACTUATED */
+    double act_turn_rate;        /**< percent [0, 100] (default 70) */
+    double thrust_factor;        /**< speed = thrust / thrust_factor without a map (default 20) */
+    double turn_spd_loss;        /**< [0, 1] (default 0.85) */
+    double buoyancy_rate;        /**< m/s, positive rises (default 0) */
+    double map_thrust[KELP_SIM_MAX_MAP], map_speed[KELP_SIM_MAX_MAP];
+    unsigned nmap;               /**< thrust_map points, thrust ascending */
+    double drift_x, drift_y;     /**< m/s */
+    double rotate_speed;         /**< deg/s */
 } kelp_sim_params;
+
+enum { KELP_SIM_AUTO = 0, KELP_SIM_DIRECT, KELP_SIM_ACTUATED };
 
 /** Vehicle state. heading in [0, 360). */
 typedef struct kelp_sim_state {
@@ -54,6 +81,10 @@ typedef struct kelp_sim {
     double time;                 /**< time of s */
     double des_heading, des_speed, des_depth;
     double odometer;             /**< metres travelled (horizontal) since init */
+    bool actuated;               /**< the actuated model is in use */
+    double rudder, thrust, elevator; /**< actuator inputs */
+    double pitch;                /**< radians, nose up positive */
+    double sog, hog;             /**< speed and heading over ground of the last step */
 } kelp_sim;
 
 /** Defaults as documented on kelp_sim_params. */
@@ -70,6 +101,25 @@ KELP_MUST_CHECK int kelp_sim_init(kelp_sim *sim, const kelp_sim_params *p, const
 KELP_MUST_CHECK int kelp_sim_set_heading(kelp_sim *sim, double deg);
 KELP_MUST_CHECK int kelp_sim_set_speed(kelp_sim *sim, double mps);
 KELP_MUST_CHECK int kelp_sim_set_depth(kelp_sim *sim, double m);
+
+/** Actuator inputs (rudder and elevator clipped to +-100, thrust to [-100, 100]); in AUTO
+ *  control they switch the model to actuated. @return 0, KELP_ERR_ARG if not finite. */
+KELP_MUST_CHECK int kelp_sim_set_rudder(kelp_sim *sim, double v);
+KELP_MUST_CHECK int kelp_sim_set_thrust(kelp_sim *sim, double v);
+KELP_MUST_CHECK int kelp_sim_set_elevator(kelp_sim *sim, double v);
+/** thrust_map "0:0, 20:1, 40:2" (thrust:speed pairs, thrust ascending, in [-100, 100]).
+ *  @return 0, KELP_ERR_PARSE, KELP_ERR_NOSPACE beyond KELP_SIM_MAX_MAP points. */
+KELP_MUST_CHECK int kelp_sim_parse_thrust_map(const char *s, kelp_sim_params *p);
+/** Speed for a thrust through the map (or thrust_factor). */
+double kelp_sim_thrust_speed(const kelp_sim_params *p, double thrust);
+
+/** One configuration key of the simulator (MOOS-IvP's uSimMarine names, any case):
+ *  START_POS, START_X/Y/HEADING/SPEED/DEPTH (into *st when st), TURN_RATE, TURN_SPEED,
+ *  MAX_ACCELERATION, MAX_DECELERATION, MAX_DEPTH_RATE, MAX_DEPTH_RATE_SPEED, MAX_SPEED,
+ *  SIM_STEP, THRUST_FACTOR, THRUST_MAP, TURN_SPD_LOSS, BUOYANCY_RATE, DRIFT_X, DRIFT_Y,
+ *  DRIFT_VECTOR, ROTATE_SPEED, CONTROL. @return 1 taken, 0 not a simulator key, <0 with *why. */
+KELP_MUST_CHECK int kelp_sim_config_set(kelp_sim_params *p, kelp_sim_state *st, const char *key, const char *val,
+                                        const char **why);
 
 /** Advance to `now`. @return 0; KELP_ERR_RANGE if `now` is before the last step (state
  *  unchanged) or more than KELP_SIM_MAX_SUBSTEPS sub-steps away; KELP_ERR_ARG if not
@@ -88,6 +138,45 @@ double kelp_sim_angle360(double deg);
 double kelp_sim_angle180(double deg);
 /** Compass bearing from (x0,y0) to (x1,y1) in [0, 360); 0 when the points coincide. */
 double kelp_sim_bearing(double x0, double y0, double x1, double y1);
+
+/* ------------------------------------------------------------------ the uSimMarine tool */
+
+/** Publication of the tool: a number or a string. */
+typedef void (*kelp_usim_sink)(void *ctx, const char *var, bool is_string, const char *sval, double dval);
+
+/** uSimMarine's logic around kelp_sim: configuration keys, mail, and each iteration's
+ *  navigation publications (<PREFIX>_X, _Y, _HEADING, _SPEED, _DEPTH, _Z, _YAW (radians,
+ *  -heading), _PITCH, _SPEED_OVER_GROUND, _HEADING_OVER_GROUND, _LAT, _LONG with a datum,
+ *  TRUE_X, TRUE_Y, USM_NAVPOS_SUMMARY when asked). With any YAW_PID_ key the embedded PID
+ *  (kelp_marine_pid) turns DESIRED_HEADING/SPEED/DEPTH into the actuators itself. */
+typedef struct kelp_usim {
+    kelp_sim sim;
+    kelp_sim_params p;
+    kelp_sim_state start;
+    struct kelp_marine_pid *pid;       /**< caller storage for the embedded PID (may be NULL) */
+    struct kelp_marine_pid_cfg *pid_cfg;
+    bool embedded_pid, paused, navpos_summary, have_geo;
+    kelp_geo geo;
+    char prefix[24];
+    char post_rudder[KELP_MAX_NAME], post_thrust[KELP_MAX_NAME];
+    unsigned long mail[6], bad_mail, resets;
+} kelp_usim;
+
+/** Defaults (prefix NAV); pid/pid_cfg may be NULL (no embedded PID possible). */
+void kelp_usim_defaults(kelp_usim *u, struct kelp_marine_pid *pid, struct kelp_marine_pid_cfg *pid_cfg);
+/** One block key (the simulator's, the embedded PID's, PREFIX, SIM_PAUSE,
+ *  POST_NAVPOS_SUMMARY, POST_DES_RUDDER, POST_DES_THRUST). START_POS should come before
+ *  START_X etc. @return 1 taken, 0 not ours, <0 with *why. */
+KELP_MUST_CHECK int kelp_usim_config(kelp_usim *u, const char *key, const char *val, const char **why);
+/** Start at `now` (geo may be NULL). @return 0 or KELP_ERR_ARG. */
+KELP_MUST_CHECK int kelp_usim_start(kelp_usim *u, const kelp_geo *geo, double now);
+/** The variables to register, one per call until NULL. */
+const char *kelp_usim_subscription(unsigned i);
+/** Mail: DESIRED_*, USM_RESET, USM_SIM_PAUSED, DRIFT_X/Y, ROTATE_SPEED, BUOYANCY_RATE.
+ *  @return 1 used, 0 not ours, <0 bad (a warning's worth). */
+int kelp_usim_mail(kelp_usim *u, const char *var, bool is_string, const char *sval, double dval, double now);
+/** Step to `now` and publish. @return 0, or <0 when the step failed (resumed from now). */
+int kelp_usim_iterate(kelp_usim *u, double now, kelp_usim_sink sink, void *ctx);
 
 #ifdef __cplusplus
 }

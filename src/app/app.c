@@ -208,6 +208,25 @@ void kelp_app_param_used(kelp_app *app, const kelp_mission_node *n)
     if (i < app->mf.m.nnodes) app->used[i] = 1;
 }
 
+int kelp_app_param_foreach(kelp_app *app, kelp_app_param_fn fn, void *ctx)
+{
+    if (app->block < 0) return 0;
+    const kelp_mission *m = &app->mf.m;
+    for (int i = kelp_mission_next(m, app->block, -1, NULL); i >= 0; i = kelp_mission_next(m, app->block, i, NULL)) {
+        const kelp_mission_node *n = &m->nodes[i];
+        char key[KELP_MAX_NAME], val[1024];
+        const char *why = NULL;
+        if (n->klen >= sizeof key) continue;
+        memcpy(key, n->key, n->klen);
+        key[n->klen] = 0;
+        if (kelp_mission_copy(n, val, sizeof val) < 0) return kelp_app_config_error(app, n, "%s: value too long", key);
+        int rc = fn(ctx, key, val, &why);
+        if (rc < 0) return kelp_app_config_error(app, n, "%s = %s: %s", key, val, why ? why : kelp_strerror(rc));
+        if (rc > 0) kelp_app_param_used(app, n);
+    }
+    return 0;
+}
+
 static bool declared(const kelp_app_param_info *t, const char *key)
 {
     for (; t && t->name; t++)

@@ -40,6 +40,13 @@ void kelp_sim_params_default(kelp_sim_params *p)
     p->max_depth_rate_speed = 0.0;
     p->max_speed = 0.0;
     p->step = 0.05;
+    p->control = KELP_SIM_AUTO;
+    p->act_turn_rate = 70.0;
+    p->thrust_factor = 20.0;
+    p->turn_spd_loss = 0.85;
+    p->buoyancy_rate = 0.0;
+    p->nmap = 0;
+    p->drift_x = p->drift_y = p->rotate_speed = 0.0;
 }
 
 static bool nonneg(double v) { return isfinite(v) && v >= 0.0; }
@@ -48,7 +55,10 @@ int kelp_sim_init(kelp_sim *sim, const kelp_sim_params *p, const kelp_sim_state 
 {
     if (!sim || !p || !start || !isfinite(now)) return KELP_ERR_ARG;
     if (!nonneg(p->turn_rate) || !nonneg(p->turn_speed) || !nonneg(p->max_accel) || !nonneg(p->max_decel) || !nonneg(p->max_depth_rate) ||
-        !nonneg(p->max_depth_rate_speed) || !nonneg(p->max_speed) || !isfinite(p->step) || p->step <= 0.0)
+        !nonneg(p->max_depth_rate_speed) || !nonneg(p->max_speed) || !isfinite(p->step) || p->step <= 0.0 ||
+        !nonneg(p->act_turn_rate) || !nonneg(p->thrust_factor) || !nonneg(p->turn_spd_loss) || p->turn_spd_loss > 1 ||
+        !isfinite(p->buoyancy_rate) || !isfinite(p->drift_x) || !isfinite(p->drift_y) || !isfinite(p->rotate_speed) ||
+        p->nmap > KELP_SIM_MAX_MAP || p->control < KELP_SIM_AUTO || p->control > KELP_SIM_ACTUATED)
         return KELP_ERR_ARG;
     if (!isfinite(start->x) || !isfinite(start->y) || !isfinite(start->heading) || !nonneg(start->speed) ||
         !nonneg(start->depth))
@@ -61,7 +71,57 @@ int kelp_sim_init(kelp_sim *sim, const kelp_sim_params *p, const kelp_sim_state 
     sim->des_heading = sim->s.heading;
     sim->des_speed = sim->s.speed;
     sim->des_depth = sim->s.depth;
+    sim->actuated = p->control == KELP_SIM_ACTUATED;
+    sim->sog = sim->s.speed;
+    sim->hog = sim->s.heading;
     return KELP_OK;
+}
+
+static int actuator(kelp_sim *sim, double *dst, double v, double lo)
+{
+    if (!isfinite(v)) return KELP_ERR_ARG;
+    *dst = v < lo ? lo : (v > 100.0 ? 100.0 : v);
+    if (sim->p.control == KELP_SIM_AUTO) sim->actuated = true;
+    return KELP_OK;
+}
+
+int kelp_sim_set_rudder(kelp_sim *sim, double v) { return actuator(sim, &sim->rudder, v, -100.0); }
+int kelp_sim_set_thrust(kelp_sim *sim, double v) { return actuator(sim, &sim->thrust, v, -100.0); }
+int kelp_sim_set_elevator(kelp_sim *sim, double v) { return actuator(sim, &sim->elevator, v, -100.0); }
+
+int kelp_sim_parse_thrust_map(const char *s, kelp_sim_params *p)
+{
+    unsigned n = 0;
+    const char *c = s;
+    while (*c) {
+        while (*c == ' ' || *c == '\t' || *c == ',') c++;
+        if (!*c) break;
+        const char *colon = strchr(c, ':'), *end = strchr(c, ',');
+        if (!end) end = c + strlen(c);
+        if (!colon || colon > end) return KELP_ERR_PARSE;
+        double t, v;
+        if (kelp_parse_double(c, (size_t)(colon - c), &t) < 0 || kelp_parse_double(colon + 1, (size_t)(end - colon - 1), &v) < 0 ||
+            !isfinite(t) || !isfinite(v) || t < -100 || t > 100 || (n && t <= p->map_thrust[n - 1]))
+            return KELP_ERR_PARSE;
+        if (n >= KELP_SIM_MAX_MAP) return KELP_ERR_NOSPACE;
+        p->map_thrust[n] = t, p->map_speed[n] = v, n++;
+        c = end;
+    }
+    if (n == 0) return KELP_ERR_PARSE;
+    p->nmap = n;
+    return KELP_OK;
+}
+
+double kelp_sim_thrust_speed(const kelp_sim_params *p, double thrust)
+{
+    if (p->nmap == 0) return (thrust <= 0 || p->thrust_factor <= 0) ? 0.0 : thrust / p->thrust_factor;
+    if (thrust <= p->map_thrust[0]) return p->map_speed[0];
+    for (unsigned i = 1; i < p->nmap; i++)
+        if (thrust <= p->map_thrust[i]) {
+            double f = (thrust - p->map_thrust[i - 1]) / (p->map_thrust[i] - p->map_thrust[i - 1]);
+            return p->map_speed[i - 1] + f * (p->map_speed[i] - p->map_speed[i - 1]);
+        }
+    return p->map_speed[p->nmap - 1];
 }
 
 int kelp_sim_set_heading(kelp_sim *sim, double deg)
@@ -93,6 +153,38 @@ static double approach(double v, double target, double lim)
     double d = target - v;
     if (lim > 0.0 && fabs(d) > lim) d = d > 0 ? lim : -lim;
     return v + d;
+}
+
+/* MOOS-IvP uSimMarine's rudder/thrust model, one sub-step (see sim.h) */
+static void substep_actuated(kelp_sim *sim, double h)
+{
+    const kelp_sim_params *p = &sim->p;
+    kelp_sim_state *s = &sim->s;
+    double v0 = s->speed;
+    double target = kelp_sim_thrust_speed(p, sim->thrust) * (1.0 - fabs(sim->rudder) / 100.0 * p->turn_spd_loss);
+    if (target < 0.0) target = 0.0;
+    if (p->max_speed > 0.0 && target > p->max_speed) target = p->max_speed;
+    double lim = target > v0 ? p->max_accel : p->max_decel;
+    s->speed = approach(v0, target, lim > 0.0 ? lim * h : 0.0);
+    double rate = p->act_turn_rate > 100.0 ? 100.0 : p->act_turn_rate;
+    double dh = s->speed > 0.0 ? sim->rudder * (rate / 100.0) * h * (1.0 + (sim->thrust - 50.0) / 50.0) : 0.0;
+    dh += p->rotate_speed * h;
+    s->heading = kelp_sim_angle360(s->heading + dh);
+    double r = s->heading * DEG2RAD;
+    s->x += s->speed * sin(r) * h;
+    s->y += s->speed * cos(r) * h;
+    sim->odometer += s->speed * h;
+    double rate_z = -p->buoyancy_rate;
+    if (s->speed > 0.0) {
+        double pct = 1.0;
+        if (p->max_depth_rate_speed > 0.0) pct = s->speed / p->max_depth_rate_speed < 1.0 ? s->speed / p->max_depth_rate_speed : 1.0;
+        rate_z += sim->elevator / 100.0 * p->max_depth_rate * sqrt(pct);
+        sim->pitch = -atan2(rate_z, s->speed);
+    } else {
+        sim->pitch = 0.0;
+    }
+    s->depth += rate_z * h;
+    if (s->depth < 0.0) s->depth = 0.0;
 }
 
 static void substep(kelp_sim *sim, double h)
@@ -150,7 +242,17 @@ int kelp_sim_step(kelp_sim *sim, double now)
     if (nd > (double)KELP_SIM_MAX_SUBSTEPS) return KELP_ERR_RANGE;
     long n = (long)nd;
     double h = dt / (double)n;
-    for (long i = 0; i < n; i++) substep(sim, h);
+    double x0 = sim->s.x, y0 = sim->s.y;
+    for (long i = 0; i < n; i++) {
+        if (sim->actuated) substep_actuated(sim, h);
+        else substep(sim, h);
+        if (!sim->actuated) sim->pitch = 0.0;
+        sim->s.heading = kelp_sim_angle360(sim->s.heading + (sim->actuated ? 0.0 : sim->p.rotate_speed * h));
+        sim->s.x += sim->p.drift_x * h;
+        sim->s.y += sim->p.drift_y * h;
+    }
+    sim->sog = hypot(sim->s.x - x0, sim->s.y - y0) / dt;
+    sim->hog = sim->sog > 0 ? kelp_sim_bearing(x0, y0, sim->s.x, sim->s.y) : sim->s.heading;
     sim->time = now;
     return KELP_OK;
 }

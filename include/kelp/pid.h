@@ -1,0 +1,106 @@
+/* kelp marine PID controller (the pMarinePID role): desired heading, speed and depth in,
+ * rudder, thrust and elevator out, through MOOS-IvP's scalar PID loops.
+ *
+ * One loop (kelp_pid) follows MOOS-IvP's ScalarPID: the first run has no derivative and
+ * no integral step; later runs take dt from the previous run (dt == 0 repeats the last
+ * output); the derivative is the mean of the last 9 error slopes; with ki > 0 the integral
+ * grows by ki * e * dt and is clipped to +-integral_limit (ki <= 0 clears it); the output
+ * kp*e + kd*de/dt + integral is clipped to +-output_limit, which sets `saturated`.
+ *
+ * The engine (kelp_marine_pid) runs pMarinePID's iteration: without control (before
+ * MOOS_MANUAL_OVERRIDE=false, unless active_start) it posts one all-stop (rudder, thrust
+ * and, with depth control, elevator 0); with helm or navigation mail older than the tardy
+ * thresholds it posts DESIRED_THRUST 0; otherwise
+ *   rudder   = -PID_yaw(angle180(heading - desired)), clipped to maxrudder
+ *   thrust   = desired speed * speed_factor, or (speed_factor 0) last thrust +
+ *              PID_speed(desired - speed); never below 0; clipped to maxthrust;
+ *              0 when the desired speed is within 0.001 of 0 (and then rudder 0 too)
+ *   elevator = degrees(PID_pitch(pitch - clip(PID_z(depth - desired), maxpitch))),
+ *              clipped to maxelevator (depth control only)
+ * Every loop's output limit is 100; maxrudder etc. clip after. Outputs go to
+ * DESIRED_RUDDER/THRUST/ELEVATOR + output_suffix, and PID_MAX_SAT_HDG/SPD/DEP on change.
+ * Core: no heap, no clock, no I/O.
+ */
+#ifndef KELP_PID_H
+#define KELP_PID_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <kelp/config.h>
+#include <kelp/err.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define KELP_PID_HISTORY 9 /**< error slopes averaged for the derivative */
+
+typedef struct kelp_pid {
+    double kp, kd, ki, integral_limit, output_limit;
+    /* state */
+    double e_old, t_old, out, sum, dt;
+    double hist[KELP_PID_HISTORY];
+    unsigned nhist, head;
+    unsigned long runs;
+    bool saturated;
+} kelp_pid;
+
+/** Gains and limits; clears the state. */
+void kelp_pid_init(kelp_pid *p, double kp, double kd, double ki, double integral_limit, double output_limit);
+/** One run with error e at time t. @return 0 and *out; KELP_ERR_RANGE when t goes back
+ *  (nothing changes). */
+KELP_MUST_CHECK int kelp_pid_run(kelp_pid *p, double e, double t, double *out);
+
+typedef struct kelp_marine_pid_cfg {
+    double yaw[4], speed[4], z_to_pitch[4], pitch[4]; /**< kp, kd, ki, integral limit */
+    double max_rudder, max_thrust, max_pitch_deg, max_elevator;
+    double speed_factor;           /**< 0: the speed PID sets thrust */
+    bool depth_control;
+    bool active_start;             /**< in control from the start */
+    double tardy_helm, tardy_nav;  /**< seconds (2, 2) */
+    double sim_instability;        /**< rudder bias amplitude, alternating every 10 s */
+    char suffix[16];               /**< output_suffix */
+    bool ignore_nav_yaw;
+} kelp_marine_pid_cfg;
+
+/** Publication: one variable, a number or (flags/debug) a string. */
+typedef void (*kelp_marine_pid_sink)(void *ctx, const char *var, bool is_string, const char *sval, double dval);
+
+typedef struct kelp_marine_pid {
+    kelp_marine_pid_cfg cfg;
+    kelp_pid yaw, speed, z_to_pitch, pitch;
+    bool has_control, allstop_posted, paused;
+    double des_heading, des_speed, des_depth;
+    double heading, speed_now, depth, pitch_now;
+    double last_helm, last_nav;    /**< -1: never */
+    double thrust;                 /**< last thrust posted (the speed PID's base) */
+    double bias_t0;
+    int bias_side;
+    int sat[3];                    /**< last PID_MAX_SAT_* posted: -1 none, 0, 1 */
+    double rudder_out, thrust_out, elevator_out;
+    unsigned long iterations, tardy_helm_n, tardy_nav_n;
+} kelp_marine_pid;
+
+/** pMarinePID's defaults: gains 0, limits 100, maxpitch 15 deg, maxelevator 13 deg,
+ *  speed_factor 0 (the speed PID), tardy thresholds 2 s, no depth control, not active. */
+void kelp_marine_pid_cfg_default(kelp_marine_pid_cfg *c);
+/** One configuration key (MOOS-IvP's names, any case): YAW_PID_, SPEED_PID_, Z_TO_PITCH_PID_,
+ *  PITCH_PID_ + KP/KD/KI/INTEGRAL_LIMIT/KI_LIMIT, MAXRUDDER, MAXTHRUST, MAXPITCH,
+ *  MAXELEVATOR, SPEED_FACTOR, TARDY_HELM_THRESHOLD, TARDY_NAV_THRESHOLD, SIM_INSTABILITY,
+ *  DEPTH_CONTROL, ACTIVE_START, IGNORE_NAV_YAW, OUTPUT_SUFFIX.
+ *  @return 1 taken, 0 not a PID key, <0 with *why. */
+KELP_MUST_CHECK int kelp_marine_pid_cfg_set(kelp_marine_pid_cfg *c, const char *key, const char *val, const char **why);
+/** @return 0, KELP_ERR_ARG for a negative or non-finite limit or threshold. */
+KELP_MUST_CHECK int kelp_marine_pid_init(kelp_marine_pid *m, const kelp_marine_pid_cfg *cfg, double now);
+/** Mail: DESIRED_HEADING/SPEED/DEPTH, NAV_HEADING/YAW/SPEED/DEPTH/PITCH, SPEED_FACTOR,
+ *  MOOS_MANUAL_OVERRIDE (and OVERIDE) "true"/"false". @return 1 used, 0 not ours, <0 bad. */
+int kelp_marine_pid_mail(kelp_marine_pid *m, const char *var, bool is_string, const char *sval, double dval,
+                         double now);
+/** One iteration at `now`, publishing through sink. */
+void kelp_marine_pid_iterate(kelp_marine_pid *m, double now, kelp_marine_pid_sink sink, void *ctx);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,218 @@
+/* kelp marine PID controller (see include/kelp/pid.h). */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <kelp/mission.h>
+#include <kelp/pid.h>
+#include <kelp/sim.h>
+
+#define RAD2DEG (180.0 / 3.14159265358979323846)
+#define BIAS_PERIOD 10.0 /* seconds each way of the sim_instability rudder bias */
+
+void kelp_pid_init(kelp_pid *p, double kp, double kd, double ki, double integral_limit, double output_limit)
+{
+    memset(p, 0, sizeof *p);
+    p->kp = kp, p->kd = kd, p->ki = ki;
+    p->integral_limit = integral_limit, p->output_limit = output_limit;
+}
+
+static double clip_abs(double v, double lim, bool *hit)
+{
+    lim = fabs(lim);
+    if (fabs(v) >= lim) {
+        if (hit) *hit = true;
+        return v < 0 ? -lim : (v > 0 ? lim : 0.0);
+    }
+    return v;
+}
+
+int kelp_pid_run(kelp_pid *p, double e, double t, double *out)
+{
+    p->saturated = false;
+    double diff = 0;
+    if (p->runs > 0) {
+        p->dt = t - p->t_old;
+        if (p->dt < 0) return KELP_ERR_RANGE;
+        if (p->dt == 0) {
+            *out = p->out;
+            return KELP_OK;
+        }
+        p->hist[p->head] = (e - p->e_old) / p->dt;
+        p->head = (p->head + 1) % KELP_PID_HISTORY;
+        if (p->nhist < KELP_PID_HISTORY) p->nhist++;
+        for (unsigned i = 0; i < p->nhist; i++) diff += p->hist[i];
+        diff /= p->nhist;
+    }
+    p->runs++;
+    if (p->ki > 0) {
+        p->sum += p->ki * e * p->dt;
+        if (fabs(p->sum) >= fabs(p->integral_limit)) p->sum = p->sum < 0 ? -fabs(p->integral_limit) : fabs(p->integral_limit);
+    } else {
+        p->sum = 0;
+    }
+    p->out = clip_abs(p->kp * e + p->kd * diff + p->sum, p->output_limit, &p->saturated);
+    p->e_old = e;
+    p->t_old = t;
+    *out = p->out;
+    return KELP_OK;
+}
+
+void kelp_marine_pid_cfg_default(kelp_marine_pid_cfg *c)
+{
+    memset(c, 0, sizeof *c);
+    c->max_rudder = c->max_thrust = 100;
+    c->max_pitch_deg = 15;
+    c->max_elevator = 13;
+    c->tardy_helm = c->tardy_nav = 2;
+}
+
+static bool lim_ok(double v)
+{
+    return isfinite(v) && v >= 0;
+}
+
+int kelp_marine_pid_init(kelp_marine_pid *m, const kelp_marine_pid_cfg *cfg, double now)
+{
+    if (!lim_ok(cfg->max_rudder) || !lim_ok(cfg->max_thrust) || !lim_ok(cfg->max_pitch_deg) ||
+        !lim_ok(cfg->max_elevator) || !lim_ok(cfg->speed_factor) || !lim_ok(cfg->tardy_helm) ||
+        !lim_ok(cfg->tardy_nav) || !lim_ok(cfg->sim_instability))
+        return KELP_ERR_ARG;
+    const double *g[4] = { cfg->yaw, cfg->speed, cfg->z_to_pitch, cfg->pitch };
+    for (int i = 0; i < 4; i++)
+        for (int k = 0; k < 4; k++)
+            if (!isfinite(g[i][k])) return KELP_ERR_ARG;
+    memset(m, 0, sizeof *m);
+    m->cfg = *cfg;
+    kelp_pid_init(&m->yaw, cfg->yaw[0], cfg->yaw[1], cfg->yaw[2], cfg->yaw[3], 100);
+    kelp_pid_init(&m->speed, cfg->speed[0], cfg->speed[1], cfg->speed[2], cfg->speed[3], 100);
+    kelp_pid_init(&m->z_to_pitch, cfg->z_to_pitch[0], cfg->z_to_pitch[1], cfg->z_to_pitch[2], cfg->z_to_pitch[3], 100);
+    kelp_pid_init(&m->pitch, cfg->pitch[0], cfg->pitch[1], cfg->pitch[2], cfg->pitch[3], 100);
+    m->has_control = cfg->active_start;
+    m->last_helm = m->last_nav = -1;
+    m->bias_t0 = now;
+    m->bias_side = 1;
+    m->sat[0] = m->sat[1] = m->sat[2] = -1;
+    return KELP_OK;
+}
+
+static bool num_of(bool is_string, const char *sval, double dval, double *out)
+{
+    if (is_string) return sval && kelp_parse_double(sval, strlen(sval), out) == KELP_OK && isfinite(*out);
+    *out = dval;
+    return isfinite(dval);
+}
+
+int kelp_marine_pid_mail(kelp_marine_pid *m, const char *var, bool is_string, const char *sval, double dval,
+                         double now)
+{
+    if (!strcmp(var, "MOOS_MANUAL_OVERRIDE") || !strcmp(var, "MOOS_MANUAL_OVERIDE")) {
+        if (!is_string || !sval) return KELP_ERR_PARSE;
+        if (kelp_strieq_n(sval, strlen(sval), "false")) m->has_control = true;
+        else if (kelp_strieq_n(sval, strlen(sval), "true")) m->has_control = false, m->allstop_posted = false;
+        else return KELP_ERR_PARSE;
+        return 1;
+    }
+    static const char *const names[] = { "DESIRED_HEADING", "DESIRED_SPEED", "DESIRED_DEPTH", "NAV_HEADING", "NAV_YAW",
+                                         "NAV_SPEED",       "NAV_DEPTH",     "NAV_PITCH",     "SPEED_FACTOR" };
+    int k = -1;
+    for (int i = 0; i < 9; i++)
+        if (!strcmp(var, names[i])) k = i;
+    if (k < 0) return 0;
+    double v;
+    if (!num_of(is_string, sval, dval, &v)) return KELP_ERR_PARSE;
+    switch (k) {
+    case 0: m->des_heading = v, m->last_helm = now; break;
+    case 1: m->des_speed = v, m->last_helm = now; break;
+    case 2: m->des_depth = v; break;
+    case 3: m->heading = kelp_sim_angle360(v); break;
+    case 4:
+        if (m->cfg.ignore_nav_yaw) return 1;
+        m->heading = kelp_sim_angle360(-v * RAD2DEG);
+        break;
+    case 5: m->speed_now = v; break;
+    case 6: m->depth = v; break;
+    case 7: m->pitch_now = v; break;
+    default:
+        if (v < 0) return KELP_ERR_RANGE;
+        m->cfg.speed_factor = v > 100 ? 100 : v;
+        return 1;
+    }
+    if (k >= 3) m->last_nav = now;
+    return 1;
+}
+
+static void out_num(const kelp_marine_pid *m, kelp_marine_pid_sink sink, void *ctx, const char *base, double v)
+{
+    char var[KELP_MAX_NAME];
+    snprintf(var, sizeof var, "%s%s", base, m->cfg.suffix);
+    sink(ctx, var, false, NULL, v);
+}
+
+static void post_sat(kelp_marine_pid *m, kelp_marine_pid_sink sink, void *ctx, int i, bool sat)
+{
+    static const char *const v[3] = { "PID_MAX_SAT_HDG", "PID_MAX_SAT_SPD", "PID_MAX_SAT_DEP" };
+    if (m->sat[i] == (int)sat) return;
+    m->sat[i] = sat;
+    sink(ctx, v[i], true, sat ? "true" : "false", 0);
+}
+
+void kelp_marine_pid_iterate(kelp_marine_pid *m, double now, kelp_marine_pid_sink sink, void *ctx)
+{
+    m->iterations++;
+    if (!m->has_control) {
+        if (m->allstop_posted) return;
+        out_num(m, sink, ctx, "DESIRED_RUDDER", 0);
+        out_num(m, sink, ctx, "DESIRED_THRUST", 0);
+        if (m->cfg.depth_control) out_num(m, sink, ctx, "DESIRED_ELEVATOR", 0);
+        m->allstop_posted = true;
+        return;
+    }
+    bool tardy_helm = m->last_helm < 0 || now - m->last_helm > m->cfg.tardy_helm;
+    bool tardy_nav = m->last_nav < 0 || now - m->last_nav > m->cfg.tardy_nav;
+    if (tardy_helm || tardy_nav) {
+        m->paused = true;
+        if (tardy_helm) m->tardy_helm_n++;
+        else m->tardy_nav_n++;
+        out_num(m, sink, ctx, "DESIRED_THRUST", 0);
+        m->thrust = 0;
+        return;
+    }
+    double e = kelp_sim_angle180(m->heading - kelp_sim_angle180(m->des_heading)), r = 0, t = 0, el = 0;
+    if (kelp_pid_run(&m->yaw, e, now, &r) < 0) return;
+    r = -r;
+    if (fabs(r) > m->cfg.max_rudder) r = r < 0 ? -m->cfg.max_rudder : m->cfg.max_rudder;
+    if (m->cfg.sim_instability > 0) {
+        double d = now - m->bias_t0;
+        if (d > BIAS_PERIOD) d = 0, m->bias_t0 = now, m->bias_side = -m->bias_side;
+        r += m->bias_side * (d / BIAS_PERIOD) * m->cfg.sim_instability;
+    }
+    if (m->cfg.speed_factor != 0) {
+        t = m->des_speed * m->cfg.speed_factor;
+    } else {
+        double dt = 0;
+        if (kelp_pid_run(&m->speed, m->des_speed - m->speed_now, now, &dt) < 0) return;
+        t = m->thrust + dt;
+    }
+    if (t < 0) t = 0;
+    if (t > m->cfg.max_thrust) t = m->cfg.max_thrust;
+    if (m->cfg.depth_control) {
+        double want_pitch = 0, max_pitch = m->cfg.max_pitch_deg / RAD2DEG;
+        if (kelp_pid_run(&m->z_to_pitch, m->depth - m->des_depth, now, &want_pitch) < 0) return;
+        if (fabs(want_pitch) > max_pitch) want_pitch = want_pitch < 0 ? -max_pitch : max_pitch;
+        if (kelp_pid_run(&m->pitch, m->pitch_now - want_pitch, now, &el) < 0) return;
+        el *= RAD2DEG;
+        if (fabs(el) > m->cfg.max_elevator) el = el < 0 ? -m->cfg.max_elevator : m->cfg.max_elevator;
+    }
+    if (fabs(m->des_speed) <= 0.001) t = 0;
+    if (t == 0) r = 0;
+    m->paused = false;
+    m->rudder_out = r, m->thrust_out = t, m->elevator_out = el;
+    out_num(m, sink, ctx, "DESIRED_RUDDER", r);
+    out_num(m, sink, ctx, "DESIRED_THRUST", t);
+    m->thrust = t;
+    if (m->cfg.depth_control) out_num(m, sink, ctx, "DESIRED_ELEVATOR", el);
+    m->allstop_posted = false;
+    post_sat(m, sink, ctx, 0, m->yaw.saturated);
+    if (m->cfg.speed_factor == 0) post_sat(m, sink, ctx, 1, m->speed.saturated);
+    if (m->cfg.depth_control) post_sat(m, sink, ctx, 2, m->z_to_pitch.saturated || m->pitch.saturated);
+}

@@ -1,0 +1,193 @@
+/* uSimMarine's logic around the simulator model (see include/kelp/sim.h, kelp_usim). */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <kelp/mission.h>
+#include <kelp/pid.h>
+#include <kelp/sim.h>
+
+#define PI 3.14159265358979323846
+
+void kelp_usim_defaults(kelp_usim *u, struct kelp_marine_pid *pid, struct kelp_marine_pid_cfg *pid_cfg)
+{
+    memset(u, 0, sizeof *u);
+    kelp_sim_params_default(&u->p);
+    u->pid = pid;
+    u->pid_cfg = pid_cfg;
+    if (pid_cfg) {
+        kelp_marine_pid_cfg_default(pid_cfg);
+        pid_cfg->active_start = true; /* embedded: no override handshake */
+    }
+    memcpy(u->prefix, "NAV", 4);
+}
+
+static bool ieq(const char *a, const char *b)
+{
+    return kelp_strieq_n(a, strlen(a), b);
+}
+
+int kelp_usim_config(kelp_usim *u, const char *key, const char *val, const char **why)
+{
+    int rc = kelp_sim_config_set(&u->p, &u->start, key, val, why);
+    if (rc != 0) return rc;
+    if (u->pid_cfg && (rc = kelp_marine_pid_cfg_set(u->pid_cfg, key, val, why)) != 0) {
+        if (rc > 0 && kelp_strieq_n(key, 7, "YAW_PID")) u->embedded_pid = true;
+        return rc;
+    }
+    if (ieq(key, "PREFIX")) {
+        size_t n = strlen(val);
+        while (n && val[n - 1] == '_') n--; /* MOOS-IvP 24.8 writes "NAV_" */
+        if (n == 0 || n >= sizeof u->prefix) {
+            *why = "must be 1..23 characters";
+            return KELP_ERR_RANGE;
+        }
+        memcpy(u->prefix, val, n);
+        u->prefix[n] = 0;
+        return 1;
+    }
+    if (ieq(key, "SIM_PAUSE") || ieq(key, "POST_NAVPOS_SUMMARY")) {
+        bool b = ieq(val, "true");
+        if (!b && !ieq(val, "false")) {
+            *why = "must be true or false";
+            return KELP_ERR_PARSE;
+        }
+        *(ieq(key, "SIM_PAUSE") ? &u->paused : &u->navpos_summary) = b;
+        return 1;
+    }
+    char *dst = ieq(key, "POST_DES_RUDDER") ? u->post_rudder : ieq(key, "POST_DES_THRUST") ? u->post_thrust : NULL;
+    if (dst) {
+        if (strlen(val) >= KELP_MAX_NAME || !strcmp(val, "DESIRED_RUDDER") || !strcmp(val, "DESIRED_THRUST")) {
+            *why = "a variable name other than DESIRED_RUDDER/DESIRED_THRUST";
+            return KELP_ERR_PARSE;
+        }
+        memcpy(dst, val, strlen(val) + 1);
+        return 1;
+    }
+    return 0;
+}
+
+int kelp_usim_start(kelp_usim *u, const kelp_geo *geo, double now)
+{
+    if (u->embedded_pid) u->p.control = KELP_SIM_ACTUATED;
+    if (kelp_sim_init(&u->sim, &u->p, &u->start, now) < 0) return KELP_ERR_ARG;
+    if (u->embedded_pid && (!u->pid || kelp_marine_pid_init(u->pid, u->pid_cfg, now) < 0)) return KELP_ERR_ARG;
+    u->have_geo = geo != NULL;
+    if (geo) u->geo = *geo;
+    return KELP_OK;
+}
+
+static const char *const subs[] = { "DESIRED_HEADING", "DESIRED_SPEED", "DESIRED_DEPTH", "DESIRED_RUDDER",
+                                    "DESIRED_THRUST",  "DESIRED_ELEVATOR", "DRIFT_X",     "DRIFT_Y",
+                                    "ROTATE_SPEED",    "BUOYANCY_RATE",    "USM_RESET",   "USM_SIM_PAUSED" };
+
+const char *kelp_usim_subscription(unsigned i)
+{
+    return i < sizeof subs / sizeof subs[0] ? subs[i] : NULL;
+}
+
+int kelp_usim_mail(kelp_usim *u, const char *var, bool is_string, const char *sval, double dval, double now)
+{
+    int k = -1;
+    for (int i = 0; i < (int)(sizeof subs / sizeof subs[0]); i++)
+        if (!strcmp(var, subs[i])) k = i;
+    if (k < 0) return 0;
+    if (k == 10) { /* USM_RESET: a START_POS value */
+        kelp_sim_state s = u->sim.s;
+        if (!is_string || !sval || kelp_sim_parse_start(sval, &s) < 0) return KELP_ERR_PARSE;
+        kelp_sim_params p = u->sim.p;
+        if (kelp_sim_init(&u->sim, &p, &s, u->sim.time) < 0) return KELP_ERR_RANGE;
+        u->resets++;
+        return 1;
+    }
+    if (k == 11) {
+        u->paused = is_string && sval && ieq(sval, "true");
+        return 1;
+    }
+    double d = dval;
+    if (is_string && (!sval || kelp_parse_double(sval, strlen(sval), &d) < 0)) d = NAN;
+    if (!isfinite(d)) {
+        u->bad_mail++;
+        return KELP_ERR_ARG;
+    }
+    int rc = KELP_OK;
+    if (k < 3 && u->embedded_pid) rc = kelp_marine_pid_mail(u->pid, var, false, NULL, d, now) < 0 ? KELP_ERR_ARG : KELP_OK;
+    else if (k == 0) rc = kelp_sim_set_heading(&u->sim, d);
+    else if (k == 1) rc = kelp_sim_set_speed(&u->sim, d);
+    else if (k == 2) rc = kelp_sim_set_depth(&u->sim, d);
+    else if (k == 3) rc = kelp_sim_set_rudder(&u->sim, d);
+    else if (k == 4) rc = kelp_sim_set_thrust(&u->sim, d);
+    else if (k == 5) rc = kelp_sim_set_elevator(&u->sim, d);
+    else {
+        double *f[4] = { &u->sim.p.drift_x, &u->sim.p.drift_y, &u->sim.p.rotate_speed, &u->sim.p.buoyancy_rate };
+        *f[k - 6] = d;
+    }
+    if (rc < 0) {
+        u->bad_mail++;
+        return rc;
+    }
+    if (k < 6) u->mail[k]++;
+    return 1;
+}
+
+typedef struct pid_ctx {
+    kelp_usim *u;
+    kelp_usim_sink sink;
+    void *ctx;
+} pid_ctx;
+
+/* the embedded PID's outputs drive the simulator (and are posted when asked) */
+static void pid_out(void *ctx, const char *var, bool is_string, const char *sval, double dval)
+{
+    pid_ctx *c = ctx;
+    (void)sval;
+    if (is_string) return;
+    int rc = 0;
+    const char *post = NULL;
+    if (!strncmp(var, "DESIRED_RUDDER", 14)) rc = kelp_sim_set_rudder(&c->u->sim, dval), post = c->u->post_rudder;
+    else if (!strncmp(var, "DESIRED_THRUST", 14)) rc = kelp_sim_set_thrust(&c->u->sim, dval), post = c->u->post_thrust;
+    else if (!strncmp(var, "DESIRED_ELEVATOR", 16)) rc = kelp_sim_set_elevator(&c->u->sim, dval);
+    if (rc == 0 && post && post[0]) c->sink(c->ctx, post, false, NULL, dval);
+}
+
+int kelp_usim_iterate(kelp_usim *u, double now, kelp_usim_sink sink, void *ctx)
+{
+    const kelp_sim_state *s = &u->sim.s;
+    if (u->embedded_pid) {
+        (void)kelp_marine_pid_mail(u->pid, "NAV_HEADING", false, NULL, s->heading, now);
+        (void)kelp_marine_pid_mail(u->pid, "NAV_SPEED", false, NULL, s->speed, now);
+        (void)kelp_marine_pid_mail(u->pid, "NAV_DEPTH", false, NULL, s->depth, now);
+        (void)kelp_marine_pid_mail(u->pid, "NAV_PITCH", false, NULL, u->sim.pitch, now);
+        pid_ctx c = { u, sink, ctx };
+        kelp_marine_pid_iterate(u->pid, now, pid_out, &c);
+    }
+    int rc = KELP_OK;
+    if (u->paused) u->sim.time = now;
+    else if ((rc = kelp_sim_step(&u->sim, now)) == KELP_ERR_RANGE && now > u->sim.time)
+        u->sim.time = now; /* a jump: resume from now */
+    static const char *const suffix[] = { "_X", "_Y", "_HEADING", "_SPEED", "_DEPTH", "_Z", "_YAW", "_PITCH",
+                                          "_SPEED_OVER_GROUND", "_HEADING_OVER_GROUND" };
+    double v[10] = { s->x, s->y, s->heading, s->speed, s->depth, -s->depth, -kelp_sim_angle180(s->heading) * PI / 180.0,
+                     u->sim.pitch, u->sim.sog, u->sim.hog };
+    char name[48];
+    for (int i = 0; i < 10; i++) {
+        snprintf(name, sizeof name, "%s%s", u->prefix, suffix[i]);
+        sink(ctx, name, false, NULL, v[i]);
+    }
+    sink(ctx, "TRUE_X", false, NULL, s->x);
+    sink(ctx, "TRUE_Y", false, NULL, s->y);
+    double lat = 0, lon = 0;
+    if (u->have_geo && kelp_geo_to_latlon(&u->geo, s->x, s->y, &lat, &lon) == 0) {
+        snprintf(name, sizeof name, "%s_LAT", u->prefix);
+        sink(ctx, name, false, NULL, lat);
+        snprintf(name, sizeof name, "%s_LONG", u->prefix);
+        sink(ctx, name, false, NULL, lon);
+    } else if (u->have_geo && rc == KELP_OK) {
+        rc = KELP_ERR_RANGE; /* too far from the datum */
+    }
+    if (u->navpos_summary) {
+        char buf[160];
+        snprintf(buf, sizeof buf, "x=%.3f,y=%.3f,lat=%.7f,lon=%.7f", s->x, s->y, lat, lon);
+        sink(ctx, "USM_NAVPOS_SUMMARY", true, buf, 0);
+    }
+    return rc;
+}
