@@ -443,6 +443,7 @@ static void memory_kb(long *now_kb, long *max_kb)
     long size, resident;
     if (f && fscanf(f, "%ld %ld", &size, &resident) == 2) *now_kb = resident * (sysconf(_SC_PAGESIZE) / 1024);
     if (f) fclose(f);
+    if (*max_kb < *now_kb) *max_kb = *now_kb; /* the two sources count slightly differently */
 }
 
 /* CPU used by this process since the last status, percent of one core */

@@ -7,9 +7,10 @@ cd "$T"
 D="$KELP_ROOT/test/data/moos-24.8"
 for f in "$D"/*.moos; do
   app=$(basename "$f" .moos)
-  [ -x "$BIN/$app" ] || fail "no kelp program $app for $f"
+  prog=${app%V22}   # pMarinePIDV22 and uSimMarineV22 are kelp's pMarinePID and uSimMarine
+  [ -x "$BIN/$prog" ] || fail "no kelp program $prog for $f"
   rc=0
-  timeout -s INT 2 "$BIN/$app" "$f" > "$app.out" 2>&1 || rc=$?
+  timeout -s INT 2 "$BIN/$prog" "$f" --alias "$app" > "$app.out" 2>&1 || rc=$?
   [ $rc -eq 0 ] || [ $rc -eq 124 ] || { cat "$app.out"; fail "$app exited $rc on its 24.8 block"; }
   grep -q "Configuration warnings: 0" "$app.out" || { grep -A8 "Configuration warnings" "$app.out"; fail "$app: configuration warnings on its 24.8 block"; }
   ok "$app loads MOOS-IvP 24.8's example block with no configuration warning"
