@@ -510,7 +510,8 @@ START_TEST(loiter_acquire_then_loiter)
     ck_assert(ht_num("LOITER_INDEX") == 0); /* nearest vertex (0,10) */
     ck_assert(ht_num("DESIRED_HEADING") == 180);
     ck_assert(fabs(ht_num("DESIRED_SPEED") - 1.6) < 1e-9 || fabs(ht_num("DESIRED_SPEED") - 1.4) < 1e-9);
-    ck_assert(ht_has_str("VIEW_POLYGON", "pts={0,10:10,0:0,-10:-10,0},label=loiter,active=true"));
+    ck_assert(ht_has_str("VIEW_POLYGON", "pts={0,10:10,0:0,-10:-10,0},label=loiter,active=true,edge_color=white,"
+                                         "vertex_color=dodger_blue,label_color=white,vertex_size=3,edge_size=1"));
     nav(0, 9);
     ht_iter(1); /* vertex captured (1 m), inside: loitering, next vertex (10,0) */
     ck_assert(ht_num("LOITER_ACQUIRE") == 0);
@@ -520,6 +521,43 @@ START_TEST(loiter_acquire_then_loiter)
     ht_iter(2);
     ck_assert(ht_num("LOITER_INDEX") == 2);
     ck_assert(ht_num("DESIRED_HEADING") == 222); /* relAng((9,0),(0,-10)) = 221.99 */
+}
+END_TEST
+
+START_TEST(loiter_suffix_hints_center_activate)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Loiter\n{\n name = lo\n speed = 1\n polygon = 0,10:10,0:0,-10:-10,0\n post_suffix = A\n"
+            " center_activate = true\n spiral_factor = -2\n visual_hints = edge_color=orange, vertex_size=2\n"
+            " visual_hints = nonsense=1\n}\n");
+    nav(100, 100);
+    ht_iter(0);
+    /* the reports carry the suffix; the polygon moved to the vehicle; the hints drew it */
+    ck_assert(ht_last("LOITER_INDEX_A") != NULL && ht_last("LOITER_INDEX") == NULL);
+    ck_assert(ht_has_str("VIEW_POLYGON", "pts={100,110:110,100:100,90:90,100},label=lo,active=true,edge_color=orange,"
+                                         "vertex_color=dodger_blue,label_color=white,vertex_size=2,edge_size=1"));
+    ck_assert_int_ne(ht_load_rc("Behavior = BHV_Loiter\n{\n name = bad\n polygon = 0,10:10,0:0,-10\n"
+                                " center_activate = maybe\n}\n"), 0);
+}
+END_TEST
+
+START_TEST(constant_mismatch_and_complete_thresh)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_ConstantHeading\n{\n name = ch\n heading = 350\n heading_mismatch_var = HDG_DIFF\n"
+            " complete_thresh = 5\n}\nBehavior = BHV_ConstantSpeed\n{\n name = cs\n speed = 1\n"
+            " speed_mismatch_var = SPD_DIFF\n}\n");
+    kelp_helm_mail_double(ht_helm(), "NAV_HEADING", 20);
+    kelp_helm_mail_double(ht_helm(), "NAV_SPEED", 1.5);
+    ht_iter(0);
+    ck_assert(fabs(ht_num("HDG_DIFF") - 30) < 1e-9); /* across north */
+    ck_assert(fabs(ht_num("SPD_DIFF") - 0.5) < 1e-9);
+    ck_assert(find("ch")->state != KELP_BHV_COMPLETED);
+    kelp_helm_mail_double(ht_helm(), "NAV_HEADING", 353);
+    ht_iter(1);
+    ck_assert(find("ch")->completed); /* within 5 degrees */
+    ht_iter(2);
+    ck_assert_int_eq(find("ch")->state, KELP_BHV_COMPLETED);
 }
 END_TEST
 
@@ -701,6 +739,8 @@ Suite *kelp_bhv_suite(void)
     tcase_add_test(tc, waypoint_updates_points);
     tcase_add_test(tc, loiter_acquire_then_loiter);
     tcase_add_test(tc, loiter_counter_clockwise);
+    tcase_add_test(tc, loiter_suffix_hints_center_activate);
+    tcase_add_test(tc, constant_mismatch_and_complete_thresh);
     tcase_add_test(tc, constant_depth_speed_heading);
     tcase_add_test(tc, constant_depth_needs_depth);
     tcase_add_test(tc, hierarchical_modes);

@@ -125,9 +125,9 @@ static int startup(kelp_app *app, void *st)
             return kelp_app_config_error(app, n, "JSON_REPORT must be true, false or a variable name");
     }
     if ((n = kelp_app_param(app, "DEPTH_KEY"))) {
-        if (kelp_mission_copy(n, buf, sizeof buf) < 0 || (strcmp(buf, "DEP") && strcmp(buf, "DEPTH")))
+        if (kelp_mission_copy(n, buf, sizeof buf) < 0 || (strcmp(buf, "DEP") != 0 && strcmp(buf, "DEPTH") != 0))
             return kelp_app_config_error(app, n, "DEPTH_KEY must be DEPTH (the seed's) or DEP (MOOS-IvP today)");
-        c.dep_key = !strcmp(buf, "DEP");
+        c.dep_key = strcmp(buf, "DEP") == 0;
     }
     const char *fk[] = { "CROSS_FILL_POLICY", "CROSSFILL_POLICY" };
     for (int i = 0; i < 2; i++)

@@ -189,6 +189,12 @@ typedef struct kelp_bhv_swpt {         /* BHV_SimpleWaypoint (seed ch. 5) */
     double osx, osy;
 } kelp_bhv_swpt;
 
+/** visual_hints of a behaviour's drawings (VIEW_SEGLIST, VIEW_POINT, VIEW_POLYGON). */
+typedef struct kelp_bhv_hints {
+    char vertex_color[24], edge_color[24], label_color[24], nextpt_color[24], nextpt_lcolor[24];
+    double vertex_size, edge_size, nextpt_vertex_size;
+} kelp_bhv_hints;
+
 typedef struct kelp_bhv_wpt {          /* BHV_Waypoint */
     kelp_bhv_pt pts[KELP_HELM_MAX_PTS];
     unsigned npts;
@@ -209,10 +215,7 @@ typedef struct kelp_bhv_wpt {          /* BHV_Waypoint */
     char var_dist_prev[KELP_MAX_NAME]; /* wpt_dist_to_prev, "" off */
     char var_dist_next[KELP_MAX_NAME]; /* wpt_dist_to_next, "" off */
     char suffix[24];                   /* post_suffix ("_" added) */
-    /* visual_hints */
-    char hint_vertex_color[24], hint_edge_color[24], hint_label_color[24], hint_nextpt_color[24],
-        hint_nextpt_lcolor[24];
-    double hint_vertex_size, hint_edge_size, hint_nextpt_vertex_size;
+    kelp_bhv_hints hints;              /* visual_hints */
     /* state */
     unsigned index;                    /* next point */
     unsigned long cycles;              /* completed passes */
@@ -243,11 +246,17 @@ typedef struct kelp_bhv_loiter {       /* BHV_Loiter */
     bool started;
     double min_dist;
     unsigned long laps_pts;            /* vertices reached */
+    kelp_bhv_hints hints;              /* visual_hints */
+    char suffix[24];                   /* post_suffix ("_" added) */
+    double spiral_factor;              /* accepted (MOOS-IvP's acquire spiral), not used */
+    bool center_activate;              /* re-centre the polygon on the vehicle at each activation */
 } kelp_bhv_loiter;
 
 typedef struct kelp_bhv_c1 {           /* BHV_ConstantDepth / ConstantSpeed / ConstantHeading */
     double value, peakwidth, basewidth, summitdelta;
     bool have_value;
+    char mismatch_var[KELP_MAX_NAME];  /* depth/speed/heading_mismatch_var: |desired - actual| */
+    double complete_thresh;            /* heading: complete within this many degrees (0 off) */
 } kelp_bhv_c1;
 
 /** One behaviour instance (IvPBehavior plus its subclass state). Members are public for

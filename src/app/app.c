@@ -440,8 +440,13 @@ static void memory_kb(long *now_kb, long *max_kb)
     *now_kb = 0;
     *max_kb = getrusage(RUSAGE_SELF, &ru) == 0 ? ru.ru_maxrss : 0;
     FILE *f = fopen("/proc/self/statm", "r");
-    long size, resident;
-    if (f && fscanf(f, "%ld %ld", &size, &resident) == 2) *now_kb = resident * (sysconf(_SC_PAGESIZE) / 1024);
+    char line[128];
+    if (f && fgets(line, sizeof line, f)) {
+        char *end;
+        (void)strtol(line, &end, 10); /* size */
+        long resident = strtol(end, NULL, 10);
+        *now_kb = resident * (sysconf(_SC_PAGESIZE) / 1024);
+    }
     if (f) fclose(f);
     if (*max_kb < *now_kb) *max_kb = *now_kb; /* the two sources count slightly differently */
 }

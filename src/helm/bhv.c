@@ -1,6 +1,7 @@
 /* kelp helm: the IvPBehavior superclass: general parameters (seed 4.2), utilities (4.5.1). */
 #include <math.h>
 #include <string.h>
+#include <kelp/kv.h>
 #include "helm_int.h"
 
 const char *kelp_bhv_state_name(kelp_bhv_state s)
@@ -381,4 +382,66 @@ void kelp_bhv_post_error(kelp_bhv *b, const char *msg)
 {
     post_msg(b, "BHV_ERROR", msg ? msg : "");
     b->state_ok = false;
+}
+
+#define HINT_SET(dst, src) ((void)hx_copy((dst), sizeof(dst), (src), strlen(src)))
+
+void bhv_hints_default(kelp_bhv_hints *h)
+{
+    HINT_SET(h->vertex_color, "dodger_blue");
+    HINT_SET(h->edge_color, "white");
+    HINT_SET(h->label_color, "white");
+    HINT_SET(h->nextpt_color, "yellow");
+    HINT_SET(h->nextpt_lcolor, "aqua");
+    h->vertex_size = 3;
+    h->edge_size = 1;
+    h->nextpt_vertex_size = 5;
+}
+
+int bhv_set_hints(kelp_bhv_hints *h, const char *v)
+{
+    size_t pos = 0, kl, vl;
+    const char *k, *val;
+    int rc;
+    while ((rc = kelp_kv_next(v, ',', &pos, &k, &kl, &val, &vl)) == 1) {
+        char key[32], value[24];
+        if (!hx_copy(key, sizeof key, k, kl) || !hx_copy(value, sizeof value, val, vl) || !vl)
+            continue;
+        for (char *c = key; *c; c++)
+            *c = hx_lower(*c);
+        double d;
+        bool num = hx_number(value, vl, &d) && d >= 0;
+        if (!strcmp(key, "vertex_size") && num)
+            h->vertex_size = d;
+        else if (!strcmp(key, "edge_size") && num)
+            h->edge_size = d;
+        else if (!strcmp(key, "nextpt_vertex_size") && num)
+            h->nextpt_vertex_size = d;
+        else if (!strcmp(key, "vertex_color"))
+            HINT_SET(h->vertex_color, value);
+        else if (!strcmp(key, "edge_color"))
+            HINT_SET(h->edge_color, value);
+        else if (!strcmp(key, "label_color"))
+            HINT_SET(h->label_color, value);
+        else if (!strcmp(key, "nextpt_color"))
+            HINT_SET(h->nextpt_color, value);
+        else if (!strcmp(key, "nextpt_lcolor"))
+            HINT_SET(h->nextpt_lcolor, value);
+    }
+    return rc < 0 ? KELP_ERR_PARSE : 0;
+}
+
+int bhv_set_suffix(char *suffix, size_t cap, const char *v)
+{
+    const char *t = v[0] == '_' ? v + 1 : v;
+    size_t n = strlen(t);
+    if (n + 2 > cap || strpbrk(t, " ,="))
+        return KELP_ERR_PARSE;
+    if (n == 0) {
+        suffix[0] = 0;
+        return 0;
+    }
+    suffix[0] = '_';
+    memcpy(suffix + 1, t, n + 1);
+    return 0;
 }

@@ -1,5 +1,6 @@
 /* kelp helm: BHV_ConstantDepth, BHV_ConstantSpeed, BHV_ConstantHeading: one ZAIC_PEAK over
  * one decision variable (depth: peakwidth 3, basewidth 100, summitdelta 50 by default). */
+#include <math.h>
 #include <string.h>
 #include "helm_int.h"
 
@@ -8,11 +9,13 @@ typedef struct c1_kind {
     const char *param;     /* the value parameter */
     double pw, bw, sd;     /* defaults */
     bool wrap;
+    const char *nav;       /* the navigation variable compared for the mismatch */
+    const char *mismatch;  /* its parameter */
 } c1_kind;
 
-static const c1_kind K_DEPTH = {"depth", "depth", 3, 100, 50, false};
-static const c1_kind K_SPEED = {"speed", "speed", 0, 1, 0, false};
-static const c1_kind K_HEADING = {"course", "heading", 0, 180, 0, true};
+static const c1_kind K_DEPTH = {"depth", "depth", 3, 100, 50, false, "NAV_DEPTH", "depth_mismatch_var"};
+static const c1_kind K_SPEED = {"speed", "speed", 0, 1, 0, false, "NAV_SPEED", "speed_mismatch_var"};
+static const c1_kind K_HEADING = {"course", "heading", 0, 180, 0, true, "NAV_HEADING", "heading_mismatch_var"};
 
 static const c1_kind *kind_of(const kelp_bhv *b)
 {
@@ -48,6 +51,17 @@ static int c1_set_param(kelp_bhv *b, const char *p, const char *v)
         s->have_value = true;
         return 0;
     }
+    if (!strcmp(p, k->mismatch)) {
+        if (!hx_copy(s->mismatch_var, sizeof s->mismatch_var, v, strlen(v)) || strpbrk(v, " ,="))
+            return KELP_ERR_PARSE;
+        return kelp_bhv_add_info_vars(b, k->nav) < 0 ? KELP_ERR_NOSPACE : 0;
+    }
+    if (k == &K_HEADING && !strcmp(p, "complete_thresh")) {
+        if (!num || d < 0)
+            return KELP_ERR_PARSE;
+        s->complete_thresh = d;
+        return kelp_bhv_add_info_vars(b, k->nav) < 0 ? KELP_ERR_NOSPACE : 0;
+    }
     double *dst = !strcmp(p, "peakwidth") ? &s->peakwidth
                   : !strcmp(p, "basewidth") ? &s->basewidth
                   : !strcmp(p, "summitdelta") ? &s->summitdelta
@@ -78,6 +92,21 @@ static int c1_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
             v += 360;
         while (v >= 360)
             v -= 360;
+    }
+    double now;
+    if ((s->mismatch_var[0] || s->complete_thresh > 0) && kelp_bhv_buf_double(b, k->nav, &now)) {
+        double diff = fabs(v - now);
+        if (k->wrap) {
+            diff = fmod(diff, 360.0);
+            if (diff > 180)
+                diff = 360 - diff;
+        }
+        if (s->mismatch_var[0])
+            kelp_bhv_post_double(b, s->mismatch_var, diff, NULL);
+        if (s->complete_thresh > 0 && diff <= s->complete_thresh) {
+            kelp_bhv_set_complete(b);
+            return 0;
+        }
     }
     if (bhv_zaic1(b, w, k->var, v, s->peakwidth, s->basewidth, s->summitdelta, k->wrap, out) < 0) {
         kelp_bhv_post_warning(b, "Problem Creating the IvP Function");

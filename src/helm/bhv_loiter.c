@@ -1,7 +1,9 @@
 /* kelp helm: BHV_Loiter, a polygon loiter: the vehicle visits the polygon's vertices in turn
  * (clockwise, counter-clockwise or in the given order), in "acquiring" mode while it is
  * outside the polygon by more than acquire_dist and in "loitering" mode otherwise. Posts
- * LOITER_INDEX, LOITER_ACQUIRE (1/0), LOITER_REPORT and VIEW_POLYGON. */
+ * LOITER_INDEX, LOITER_ACQUIRE (1/0), LOITER_REPORT (each + post_suffix) and VIEW_POLYGON
+ * drawn with its visual_hints. center_activate re-centres the polygon on the vehicle each
+ * time the behaviour becomes active. */
 #include <math.h>
 #include <string.h>
 #include "helm_int.h"
@@ -17,6 +19,7 @@ static void loiter_init(kelp_bhv *b)
     s->acquire_dist = 10;
     s->clockwise = 1;
     s->min_dist = INFINITY;
+    bhv_hints_default(&s->hints);
     (void)kelp_bhv_add_info_vars(b, "NAV_X, NAV_Y");
 }
 
@@ -78,6 +81,18 @@ static int loiter_set_param(kelp_bhv *b, const char *p, const char *v)
         return num && d >= 0 ? (s->slip_radius = d, 0) : KELP_ERR_PARSE;
     if (!strcmp(p, "acquire_dist"))
         return num && d >= 0 ? (s->acquire_dist = d, 0) : KELP_ERR_PARSE;
+    if (!strcmp(p, "visual_hints"))
+        return bhv_set_hints(&s->hints, v);
+    if (!strcmp(p, "post_suffix"))
+        return bhv_set_suffix(s->suffix, sizeof s->suffix, v);
+    if (!strcmp(p, "spiral_factor"))
+        return num ? (s->spiral_factor = d, 0) : KELP_ERR_PARSE;
+    if (!strcmp(p, "center_activate")) {
+        if (!hx_ieq(v, "true") && !hx_ieq(v, "false"))
+            return KELP_ERR_PARSE;
+        s->center_activate = hx_ieq(v, "true");
+        return 0;
+    }
     return KELP_ERR_NOTFOUND;
 }
 
@@ -116,7 +131,12 @@ static void post_polygon(kelp_bhv *b, bool active)
         hx_fmt_double(y, sizeof y, s->given[i].y);
         n += hx_cat(buf + n, sizeof buf - n, i ? ":" : "", x, ",", y, HX_END);
     }
-    hx_cat(buf + n, sizeof buf - n, "},label=", b->name, ",active=", active ? "true" : "false", HX_END);
+    char vs[32], es[32];
+    hx_fmt_double(vs, sizeof vs, s->hints.vertex_size);
+    hx_fmt_double(es, sizeof es, s->hints.edge_size);
+    hx_cat(buf + n, sizeof buf - n, "},label=", b->name, ",active=", active ? "true" : "false", ",edge_color=",
+           s->hints.edge_color, ",vertex_color=", s->hints.vertex_color, ",label_color=", s->hints.label_color,
+           ",vertex_size=", vs, ",edge_size=", es, HX_END);
     kelp_bhv_post_string(b, "VIEW_POLYGON", buf, NULL);
 }
 
@@ -139,6 +159,15 @@ static int loiter_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     }
     if (s->npts < 3)
         return 0;
+    if (!s->started && s->center_activate) {
+        /* the polygon moves so that its centre is where the vehicle is now */
+        double cx = 0, cy = 0;
+        for (unsigned i = 0; i < s->ngiven; i++)
+            cx += s->given[i].x / s->ngiven, cy += s->given[i].y / s->ngiven;
+        for (unsigned i = 0; i < s->ngiven; i++)
+            s->given[i].x += x - cx, s->given[i].y += y - cy;
+        order(s);
+    }
     if (!s->started) {
         /* start at the nearest vertex */
         double best = INFINITY;
@@ -172,9 +201,13 @@ static int loiter_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     hx_fmt_ulong(vr, sizeof vr, s->laps_pts);
     hx_cat(rep, sizeof rep, "mode=", s->acquiring ? "acquiring" : "loitering", ",index=", ix, ",vertices_reached=", vr,
            HX_END);
-    kelp_bhv_post_double(b, "LOITER_INDEX", (double)s->index, NULL);
-    kelp_bhv_post_double(b, "LOITER_ACQUIRE", s->acquiring ? 1.0 : 0.0, NULL);
-    kelp_bhv_post_string(b, "LOITER_REPORT", rep, NULL);
+    char vn[3][KELP_MAX_NAME];
+    hx_cat(vn[0], sizeof vn[0], "LOITER_INDEX", s->suffix, HX_END);
+    hx_cat(vn[1], sizeof vn[1], "LOITER_ACQUIRE", s->suffix, HX_END);
+    hx_cat(vn[2], sizeof vn[2], "LOITER_REPORT", s->suffix, HX_END);
+    kelp_bhv_post_double(b, vn[0], (double)s->index, NULL);
+    kelp_bhv_post_double(b, vn[1], s->acquiring ? 1.0 : 0.0, NULL);
+    kelp_bhv_post_string(b, vn[2], rep, NULL);
     post_polygon(b, true);
     double crs = kelp_helm_relang(x, y, cur.x, cur.y);
     if (bhv_course_speed_zaic(b, w, crs, s->speed, 0.5, 1.0, 0.8, out) < 0) {

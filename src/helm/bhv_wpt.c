@@ -45,14 +45,7 @@ static void wpt_init(kelp_bhv *b)
     SETSTR(s->var_report, "WPT_STAT");
     SETSTR(s->var_index, "WPT_INDEX");
     SETSTR(s->var_cyindex, "CYCLE_INDEX");
-    SETSTR(s->hint_vertex_color, "dodger_blue");
-    SETSTR(s->hint_edge_color, "white");
-    SETSTR(s->hint_label_color, "white");
-    SETSTR(s->hint_nextpt_color, "yellow");
-    SETSTR(s->hint_nextpt_lcolor, "aqua");
-    s->hint_vertex_size = 3;
-    s->hint_edge_size = 1;
-    s->hint_nextpt_vertex_size = 5;
+    bhv_hints_default(&s->hints);
     s->odo_virgin = true;
     wpt_reset(s);
     (void)kelp_bhv_add_info_vars(b, "NAV_X, NAV_Y");
@@ -91,41 +84,6 @@ static int set_var(char *dst, size_t cap, const char *v, bool empty_ok)
         v = empty_ok ? "" : "silent";
     (void)hx_copy(dst, cap, v, strlen(v));
     return 0;
-}
-
-/* visual_hints = vertex_size=3, edge_color=white, ... (unknown or bad hints are ignored, as
- * MOOS-IvP does) */
-static int set_hints(kelp_bhv_wpt *s, const char *v)
-{
-    size_t pos = 0, kl, vl;
-    const char *k, *val;
-    int rc;
-    while ((rc = kelp_kv_next(v, ',', &pos, &k, &kl, &val, &vl)) == 1) {
-        char key[32], value[24];
-        if (!hx_copy(key, sizeof key, k, kl) || !hx_copy(value, sizeof value, val, vl) || !vl)
-            continue;
-        for (char *c = key; *c; c++)
-            *c = hx_lower(*c);
-        double d;
-        bool num = hx_number(value, vl, &d) && d >= 0;
-        if (!strcmp(key, "vertex_size") && num)
-            s->hint_vertex_size = d;
-        else if (!strcmp(key, "edge_size") && num)
-            s->hint_edge_size = d;
-        else if (!strcmp(key, "nextpt_vertex_size") && num)
-            s->hint_nextpt_vertex_size = d;
-        else if (!strcmp(key, "vertex_color"))
-            SETSTR(s->hint_vertex_color, value);
-        else if (!strcmp(key, "edge_color"))
-            SETSTR(s->hint_edge_color, value);
-        else if (!strcmp(key, "label_color"))
-            SETSTR(s->hint_label_color, value);
-        else if (!strcmp(key, "nextpt_color"))
-            SETSTR(s->hint_nextpt_color, value);
-        else if (!strcmp(key, "nextpt_lcolor"))
-            SETSTR(s->hint_nextpt_lcolor, value);
-    }
-    return rc < 0 ? KELP_ERR_PARSE : 0;
 }
 
 static int wpt_set_param(kelp_bhv *b, const char *p, const char *v)
@@ -177,7 +135,7 @@ static int wpt_set_param(kelp_bhv *b, const char *p, const char *v)
         return KELP_ERR_PARSE;
     }
     if (!strcmp(p, "visual_hints"))
-        return set_hints(s, v);
+        return bhv_set_hints(&s->hints, v);
     if (!strcmp(p, "wpt_status") || !strcmp(p, "wpt_status_var"))
         return set_var(s->var_report, sizeof s->var_report, v, false);
     if (!strcmp(p, "wpt_index") || !strcmp(p, "wpt_index_var"))
@@ -260,10 +218,10 @@ static void post_seglist(kelp_bhv *b, bool active)
     n += hx_cat(buf + n, sizeof buf - n, "},label=", b->name, ",active=", active ? "true" : "false", HX_END);
     if (active) {
         char vs[32], es[32];
-        hx_fmt_double(vs, sizeof vs, s->hint_vertex_size);
-        hx_fmt_double(es, sizeof es, s->hint_edge_size);
-        hx_cat(buf + n, sizeof buf - n, ",vertex_color=", s->hint_vertex_color, ",edge_color=", s->hint_edge_color,
-               ",label_color=", s->hint_label_color, ",vertex_size=", vs, ",edge_size=", es, HX_END);
+        hx_fmt_double(vs, sizeof vs, s->hints.vertex_size);
+        hx_fmt_double(es, sizeof es, s->hints.edge_size);
+        hx_cat(buf + n, sizeof buf - n, ",vertex_color=", s->hints.vertex_color, ",edge_color=", s->hints.edge_color,
+               ",label_color=", s->hints.label_color, ",vertex_size=", vs, ",edge_size=", es, HX_END);
     }
     kelp_bhv_post_string(b, "VIEW_SEGLIST", buf, NULL);
 }
@@ -278,8 +236,8 @@ static void post_point(kelp_bhv *b, kelp_bhv_pt p, bool active)
                       b->name, ",x=", x, ",y=", y, ",active=", active ? "true" : "false", HX_END);
     if (active) {
         char vs[32];
-        hx_fmt_double(vs, sizeof vs, s->hint_nextpt_vertex_size);
-        hx_cat(spec + n, sizeof spec - n, ",vertex_color=", s->hint_nextpt_color, ",label_color=", s->hint_nextpt_lcolor,
+        hx_fmt_double(vs, sizeof vs, s->hints.nextpt_vertex_size);
+        hx_cat(spec + n, sizeof spec - n, ",vertex_color=", s->hints.nextpt_color, ",label_color=", s->hints.nextpt_lcolor,
                ",vertex_size=", vs, HX_END);
     }
     kelp_bhv_post_string(b, "VIEW_POINT", spec, NULL);

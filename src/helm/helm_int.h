@@ -70,5 +70,11 @@ int bhv_zaic1(kelp_bhv *b, const kelp_helm_work *w, const char *var, double summ
 /* Set a behaviour's domain to the helm domain's sub-domain over `vars` (e.g. "course,speed");
  * when the helm domain lacks them the domain is left empty, which configuration refuses. */
 void bhv_use_subdomain(kelp_bhv *b, const char *vars);
+/* visual_hints: MOOS-IvP's defaults; "key=value, ..." (unknown or bad hints are ignored, as
+ * MOOS-IvP does; a malformed list is KELP_ERR_PARSE) */
+void bhv_hints_default(kelp_bhv_hints *h);
+int bhv_set_hints(kelp_bhv_hints *h, const char *v);
+/* post_suffix into suffix[cap] with its leading '_' (added when missing); "" clears */
+int bhv_set_suffix(char *suffix, size_t cap, const char *v);
 
 #endif

@@ -160,10 +160,9 @@ int kelp_usim_iterate(kelp_usim *u, double now, kelp_usim_sink sink, void *ctx)
         pid_ctx c = { u, sink, ctx };
         kelp_marine_pid_iterate(u->pid, now, pid_out, &c);
     }
-    int rc = KELP_OK;
-    if (u->paused) u->sim.time = now;
-    else if ((rc = kelp_sim_step(&u->sim, now)) == KELP_ERR_RANGE && now > u->sim.time)
-        u->sim.time = now; /* a jump: resume from now */
+    int rc = u->paused ? KELP_OK : kelp_sim_step(&u->sim, now);
+    if (u->paused || (rc == KELP_ERR_RANGE && now > u->sim.time))
+        u->sim.time = now; /* paused, or a jump: resume from now */
     static const char *const suffix[] = { "_X", "_Y", "_HEADING", "_SPEED", "_DEPTH", "_Z", "_YAW", "_PITCH",
                                           "_SPEED_OVER_GROUND", "_HEADING_OVER_GROUND" };
     double v[10] = { s->x, s->y, s->heading, s->speed, s->depth, -s->depth, -kelp_sim_angle180(s->heading) * PI / 180.0,
