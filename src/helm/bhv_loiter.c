@@ -159,7 +159,7 @@ static int loiter_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     }
     if (s->npts < 3)
         return 0;
-    if (!s->started && s->center_activate) {
+    if (!s->started && s->center_activate && s->ngiven > 0) {
         /* the polygon moves so that its centre is where the vehicle is now */
         double cx = 0, cy = 0;
         for (unsigned i = 0; i < s->ngiven; i++)
