@@ -154,6 +154,55 @@ int kelp_field_nrep_mail(kelp_field_nrep *r, const char *var, bool is_string, co
  *  Returns 1 when a report was published, 0 when none was due, <0 on a formatting error. */
 int kelp_field_nrep_iterate(kelp_field_nrep *r, double now, const kelp_field_sink *out);
 
+/* ------------------------------------------------------------------ pHostInfo */
+
+#define KELP_HOSTINFO_MAX_ADDRS 16
+
+/** One address found on this host: its source label (LINUX_ETHERNET, LINUX_WIFI, or the
+ *  interface name upper-cased) and the dotted quad. */
+typedef struct kelp_hostinfo_addr {
+    char source[32];
+    char ip[16];
+    char ifname[16];
+} kelp_hostinfo_addr;
+
+typedef struct kelp_field_hostinfo_cfg {
+    char community[KELP_MAX_NAME];
+    double port_db;                /**< ServerPort (0: unknown) */
+    double warp;                   /**< MOOSTimeWarp */
+    char default_ip[64];           /**< DEFAULT_HOSTIP: when nothing is found (default "localhost") */
+    char force_ip[64];             /**< DEFAULT_HOSTIP_FORCE: always this ("" none) */
+    char prefer_if[16];            /**< PREFER_INTERFACE: its address wins ("" none) */
+} kelp_field_hostinfo_cfg;
+
+typedef struct kelp_field_hostinfo {
+    kelp_field_hostinfo_cfg cfg;
+    kelp_hostinfo_addr addr[KELP_HOSTINFO_MAX_ADDRS];
+    unsigned naddr;
+    double port_udp;               /**< from PMB_UDP_LISTEN (0: unknown) */
+    char iroutes[256];             /**< from PSHARE_INPUT_SUMMARY ("" unknown) */
+    bool redetect;                 /**< HOST_INFO_REQUEST arrived: the edge should look again */
+    bool post_due;
+    unsigned long posts, requests;
+    char best[64];                 /**< the last PHI_HOST_IP */
+} kelp_field_hostinfo;
+
+void kelp_field_hostinfo_cfg_default(kelp_field_hostinfo_cfg *c);
+void kelp_field_hostinfo_init(kelp_field_hostinfo *h, const kelp_field_hostinfo_cfg *cfg);
+/** The interfaces' addresses as the edge found them (name, dotted quad), in any order: the
+ *  loopback (127.*) and malformed quads are dropped; ethernet-like names (eth*, en*) are
+ *  LINUX_ETHERNET, wireless ones (wlan*, wl*) LINUX_WIFI, others their name upper-cased;
+ *  the list is ordered ethernet, wifi, others (stable), an address once. A post is due. */
+void kelp_field_hostinfo_set(kelp_field_hostinfo *h, const char *const *ifnames, const char *const *ips, unsigned n);
+/** HOST_INFO_REQUEST (any value: look again, post again), PMB_UDP_LISTEN (port),
+ *  PSHARE_INPUT_SUMMARY. @return 1 used, 0 not ours, <0 bad value. */
+int kelp_field_hostinfo_mail(kelp_field_hostinfo *h, const char *var, bool is_string, const char *sval, double dval);
+/** When a post is due: PHI_HOST_IP, PHI_HOST_IP_ALL, PHI_HOST_IP_VERBOSE, PHI_HOST_PORT_DB
+ *  and PHI_HOST_PORT (the seed's name), PHI_HOST_PORT_UDP when known, and PHI_HOST_INFO
+ *  "community=..,hostip=..,port_db=..[,port_udp=..],timewarp=..[,pshare_iroutes=..]".
+ *  @return 1 posted, 0 nothing due. */
+int kelp_field_hostinfo_iterate(kelp_field_hostinfo *h, const kelp_field_sink *out);
+
 #ifdef __cplusplus
 }
 #endif

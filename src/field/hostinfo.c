@@ -1,0 +1,150 @@
+/* pHostInfo's logic: the host's addresses (found by the edge) in, PHI_HOST_* out (see
+ * include/kelp/field.h). */
+#include <stdio.h>
+#include <string.h>
+#include <kelp/field.h>
+#include <kelp/mission.h>
+
+static void copy(char *dst, size_t cap, const char *src)
+{
+    size_t n = strlen(src);
+    if (n >= cap) n = cap - 1;
+    memcpy(dst, src, n);
+    dst[n] = 0;
+}
+
+void kelp_field_hostinfo_cfg_default(kelp_field_hostinfo_cfg *c)
+{
+    memset(c, 0, sizeof *c);
+    copy(c->community, sizeof c->community, "kelp");
+    c->warp = 1;
+    copy(c->default_ip, sizeof c->default_ip, "localhost");
+}
+
+void kelp_field_hostinfo_init(kelp_field_hostinfo *h, const kelp_field_hostinfo_cfg *cfg)
+{
+    memset(h, 0, sizeof *h);
+    h->cfg = *cfg;
+    h->post_due = true;
+}
+
+/* a dotted quad of four numbers 0..255 */
+static bool quad_ok(const char *s)
+{
+    int parts = 0;
+    while (parts < 4) {
+        if (*s < '0' || *s > '9') return false;
+        int v = 0, digits = 0;
+        while (*s >= '0' && *s <= '9' && digits < 4) v = v * 10 + (*s++ - '0'), digits++;
+        if (digits > 3 || v > 255) return false;
+        parts++;
+        if (parts < 4 && *s++ != '.') return false;
+    }
+    return *s == 0;
+}
+
+static int rank(const char *ifname, char *label, size_t cap)
+{
+    if (!strncmp(ifname, "eth", 3) || !strncmp(ifname, "en", 2)) {
+        copy(label, cap, "LINUX_ETHERNET");
+        return 0;
+    }
+    if (!strncmp(ifname, "wlan", 4) || !strncmp(ifname, "wl", 2)) {
+        copy(label, cap, "LINUX_WIFI");
+        return 1;
+    }
+    size_t i = 0;
+    for (; ifname[i] && i + 1 < cap; i++) {
+        char c = ifname[i];
+        label[i] = (char)(c >= 'a' && c <= 'z' ? c - 'a' + 'A' : c);
+    }
+    label[i] = 0;
+    return 2;
+}
+
+void kelp_field_hostinfo_set(kelp_field_hostinfo *h, const char *const *ifnames, const char *const *ips, unsigned n)
+{
+    h->naddr = 0;
+    for (int pass = 0; pass < 3; pass++)
+        for (unsigned i = 0; i < n && h->naddr < KELP_HOSTINFO_MAX_ADDRS; i++) {
+            char label[32];
+            if (!ifnames[i] || !ips[i] || !quad_ok(ips[i]) || !strncmp(ips[i], "127.", 4)) continue;
+            if (rank(ifnames[i], label, sizeof label) != pass) continue;
+            kelp_hostinfo_addr *a = &h->addr[h->naddr++];
+            copy(a->source, sizeof a->source, label);
+            copy(a->ip, sizeof a->ip, ips[i]);
+            copy(a->ifname, sizeof a->ifname, ifnames[i]);
+        }
+    h->post_due = true;
+    h->redetect = false;
+}
+
+int kelp_field_hostinfo_mail(kelp_field_hostinfo *h, const char *var, bool is_string, const char *sval, double dval)
+{
+    if (!strcmp(var, "HOST_INFO_REQUEST")) {
+        h->redetect = h->post_due = true;
+        h->requests++;
+        return 1;
+    }
+    if (!strcmp(var, "PMB_UDP_LISTEN")) {
+        double p = dval;
+        if (is_string && (!sval || kelp_parse_double(sval, strlen(sval), &p) < 0)) return KELP_ERR_PARSE;
+        if (!(p >= 1 && p <= 65535)) return KELP_ERR_RANGE;
+        if (p != h->port_udp) h->post_due = true;
+        h->port_udp = p;
+        return 1;
+    }
+    if (!strcmp(var, "PSHARE_INPUT_SUMMARY")) {
+        if (!is_string || !sval) return KELP_ERR_PARSE;
+        /* "localhost:9000:udp,1.2.3.4:2000:multicast_23" -> "localhost:9000&multicast_23"-like
+         * routes are carried as given, ',' made '&' so they fit one field */
+        char r[sizeof h->iroutes];
+        size_t j = 0;
+        for (size_t i = 0; sval[i] && j + 1 < sizeof r; i++) r[j++] = sval[i] == ',' ? '&' : sval[i];
+        r[j] = 0;
+        if (strcmp(r, h->iroutes) != 0) h->post_due = true;
+        memcpy(h->iroutes, r, j + 1);
+        return 1;
+    }
+    return 0;
+}
+
+int kelp_field_hostinfo_iterate(kelp_field_hostinfo *h, const kelp_field_sink *out)
+{
+    if (!h->post_due) return 0;
+    h->post_due = false;
+    const char *best = h->cfg.default_ip;
+    for (unsigned i = 0; i < h->naddr && best == h->cfg.default_ip; i++)
+        if (h->cfg.prefer_if[0] && !strcmp(h->addr[i].ifname, h->cfg.prefer_if)) best = h->addr[i].ip;
+    if (best == h->cfg.default_ip && h->naddr) best = h->addr[0].ip;
+    if (h->cfg.force_ip[0]) best = h->cfg.force_ip;
+    copy(h->best, sizeof h->best, best);
+    char all[KELP_HOSTINFO_MAX_ADDRS * 17 + 1] = "", verbose[KELP_HOSTINFO_MAX_ADDRS * 50 + 1] = "";
+    size_t na = 0, nv = 0;
+    for (unsigned i = 0; i < h->naddr; i++) {
+        bool seen = false;
+        for (unsigned k = 0; k < i; k++) seen = seen || !strcmp(h->addr[k].ip, h->addr[i].ip);
+        if (!seen) na += (size_t)snprintf(all + na, sizeof all - na, "%s%s", na ? "," : "", h->addr[i].ip);
+        nv += (size_t)snprintf(verbose + nv, sizeof verbose - nv, "%s%s=%s", nv ? "," : "", h->addr[i].source,
+                               h->addr[i].ip);
+    }
+    out->publish(out->ctx, "PHI_HOST_IP", true, h->best, 0);
+    out->publish(out->ctx, "PHI_HOST_IP_ALL", true, na ? all : h->best, 0);
+    out->publish(out->ctx, "PHI_HOST_IP_VERBOSE", true, verbose, 0);
+    char info[512];
+    int n = snprintf(info, sizeof info, "community=%s,hostip=%s", h->cfg.community, h->best);
+    if (h->cfg.port_db > 0) {
+        out->publish(out->ctx, "PHI_HOST_PORT_DB", false, NULL, h->cfg.port_db);
+        out->publish(out->ctx, "PHI_HOST_PORT", false, NULL, h->cfg.port_db);
+        n += snprintf(info + n, sizeof info - (size_t)n, ",port_db=%.0f", h->cfg.port_db);
+    }
+    if (h->port_udp > 0) {
+        out->publish(out->ctx, "PHI_HOST_PORT_UDP", false, NULL, h->port_udp);
+        n += snprintf(info + n, sizeof info - (size_t)n, ",port_udp=%.0f", h->port_udp);
+    }
+    n += snprintf(info + n, sizeof info - (size_t)n, ",timewarp=%g", h->cfg.warp);
+    if (h->iroutes[0] && (size_t)n < sizeof info) snprintf(info + n, sizeof info - (size_t)n, ",pshare_iroutes=%s", h->iroutes);
+    out->publish(out->ctx, "PHI_HOST_INFO", true, info, 0);
+    h->posts++;
+    return 1;
+}

@@ -1,0 +1,98 @@
+/* pHostInfo's state machine (src/field/hostinfo.c): ufield.md 4.6 and the rules around it. */
+#include <check.h>
+#include <stdio.h>
+#include <string.h>
+#include <kelp/field.h>
+
+typedef struct rec {
+    int n;
+    char var[16][32];
+    char val[16][512];
+} rec;
+
+static void pub(void *ctx, const char *var, bool is_string, const char *sval, double dval)
+{
+    rec *r = ctx;
+    if (r->n >= 16) return;
+    snprintf(r->var[r->n], sizeof r->var[0], "%s", var);
+    if (is_string) snprintf(r->val[r->n], sizeof r->val[0], "%s", sval);
+    else snprintf(r->val[r->n], sizeof r->val[0], "%g", dval);
+    r->n++;
+}
+
+static const char *get(const rec *r, const char *var)
+{
+    for (int i = r->n; i-- > 0;)
+        if (!strcmp(r->var[i], var)) return r->val[i];
+    return NULL;
+}
+
+START_TEST(hostinfo_addresses_and_info)
+{
+    rec r = { 0 };
+    kelp_field_sink sink = { &r, pub, NULL };
+    kelp_field_hostinfo_cfg c;
+    kelp_field_hostinfo_cfg_default(&c);
+    snprintf(c.community, sizeof c.community, "alpha");
+    c.port_db = 9000;
+    c.warp = 8;
+    kelp_field_hostinfo h;
+    kelp_field_hostinfo_init(&h, &c);
+    /* nothing found: localhost */
+    kelp_field_hostinfo_set(&h, NULL, NULL, 0);
+    ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 1);
+    ck_assert_str_eq(get(&r, "PHI_HOST_IP"), "localhost");
+    ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 0); /* posted once */
+    /* ethernet before wireless, loopback and bad quads dropped, an address listed once */
+    const char *names[] = { "lo", "wlan0", "eth0", "docker0", "eth1", "en5", "wlp2s0" };
+    const char *ips[] = { "127.0.0.1", "169.224.126.40", "118.10.24.23", "172.17.0.1", "118.10.24.23", "300.1.1.1",
+                          "10.0.0.9" };
+    kelp_field_hostinfo_set(&h, names, ips, 7);
+    r.n = 0;
+    ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 1);
+    ck_assert_str_eq(get(&r, "PHI_HOST_IP"), "118.10.24.23");
+    ck_assert_str_eq(get(&r, "PHI_HOST_IP_ALL"), "118.10.24.23,169.224.126.40,10.0.0.9,172.17.0.1");
+    ck_assert_str_eq(get(&r, "PHI_HOST_IP_VERBOSE"), "LINUX_ETHERNET=118.10.24.23,LINUX_ETHERNET=118.10.24.23,"
+                                                     "LINUX_WIFI=169.224.126.40,LINUX_WIFI=10.0.0.9,DOCKER0=172.17.0.1");
+    ck_assert_str_eq(get(&r, "PHI_HOST_PORT_DB"), "9000");
+    ck_assert_str_eq(get(&r, "PHI_HOST_PORT"), "9000");
+    ck_assert_ptr_null(get(&r, "PHI_HOST_PORT_UDP"));
+    ck_assert_str_eq(get(&r, "PHI_HOST_INFO"), "community=alpha,hostip=118.10.24.23,port_db=9000,timewarp=8");
+    /* the bridge's port arrives: posted again with port_udp */
+    ck_assert_int_eq(kelp_field_hostinfo_mail(&h, "PMB_UDP_LISTEN", false, NULL, 9200), 1);
+    ck_assert_int_lt(kelp_field_hostinfo_mail(&h, "PMB_UDP_LISTEN", true, "port", 0), 0);
+    r.n = 0;
+    ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 1);
+    ck_assert_str_eq(get(&r, "PHI_HOST_PORT_UDP"), "9200");
+    ck_assert_str_eq(get(&r, "PHI_HOST_INFO"), "community=alpha,hostip=118.10.24.23,port_db=9000,port_udp=9200,timewarp=8");
+    /* HOST_INFO_REQUEST: the edge looks again, everything is posted again */
+    ck_assert_int_eq(kelp_field_hostinfo_mail(&h, "HOST_INFO_REQUEST", true, "true", 0), 1);
+    ck_assert(h.redetect);
+    ck_assert_int_eq(kelp_field_hostinfo_mail(&h, "NAV_X", false, NULL, 1), 0);
+    /* a single wireless address (4.6 case 2); a preferred interface; a forced address */
+    const char *n1[] = { "wlan0" }, *i1[] = { "192.168.0.1" };
+    kelp_field_hostinfo_set(&h, n1, i1, 1);
+    r.n = 0;
+    ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 1);
+    ck_assert_str_eq(get(&r, "PHI_HOST_IP"), "192.168.0.1");
+    snprintf(h.cfg.prefer_if, sizeof h.cfg.prefer_if, "wlan0");
+    kelp_field_hostinfo_set(&h, names, ips, 7);
+    r.n = 0;
+    ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 1);
+    ck_assert_str_eq(get(&r, "PHI_HOST_IP"), "169.224.126.40");
+    snprintf(h.cfg.force_ip, sizeof h.cfg.force_ip, "192.168.0.55");
+    kelp_field_hostinfo_set(&h, names, ips, 7);
+    r.n = 0;
+    ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 1);
+    ck_assert_str_eq(get(&r, "PHI_HOST_IP"), "192.168.0.55");
+}
+END_TEST
+
+Suite *kelp_field_hostinfo_suite(void)
+{
+    Suite *s = suite_create("field_hostinfo");
+    TCase *tc = tcase_create("core");
+    tcase_add_test(tc, hostinfo_addresses_and_info);
+    suite_add_tcase(s, tc);
+    return s;
+}
