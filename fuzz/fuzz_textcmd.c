@@ -1,6 +1,8 @@
 /* Fuzz: the one-line text commands apps take from the bus and small config files --
  * POLLER_COMMAND, USM_RESET (a START_POS value), the modem-id lookup file, the bridge's
- * UDPSHARE and PMB_REGISTER lines and its ALLOW list. The first byte picks the parser;
+ * UDPSHARE and PMB_REGISTER lines and its ALLOW list, the simulator's and the marine PID's
+ * "KEY=value" configuration (THRUST_MAP, DRIFT_VECTOR ...), pNodeReporter's rider and
+ * plat_report_input, the helm's Domain lines, pHostInfo's mail. The first byte picks the parser;
  * the rest is the text (NUL-terminated copy of exact size). */
 #include <stdint.h>
 #include <stdlib.h>
@@ -8,7 +10,16 @@
 #include <kelp/bridge.h>
 #include <kelp/dccl.h>
 #include <kelp/modemsim.h>
+#include <kelp/field.h>
+#include <kelp/helm.h>
+#include <kelp/pid.h>
 #include <kelp/sim.h>
+
+static void nop_publish(void *ctx, const char *var, bool is_string, const char *sval, double dval)
+{
+    (void)ctx, (void)dval;
+    if (!var || (is_string && !sval)) abort();
+}
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
@@ -19,7 +30,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     memcpy(t, data + 1, n);
     t[n] = 0;
     const char *why = NULL;
-    switch (data[0] % 5) {
+    switch (data[0] % 9) {
     case 0: {
         /* a list with a slot in it, then a command: all-or-nothing, the list stays sane */
         static kelp_poller_list l;
@@ -51,6 +62,50 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         size_t nr = 0;
         if (kelp_bridge_parse_share(t, r, 16, &nr, &why) == 0 && nr > 16) abort();
         (void)kelp_bridge_parse_register(t, r, &why);
+        break;
+    }
+    case 5: {
+        /* "KEY=value" for the simulator, then the marine PID */
+        char *eq = strchr(t, '=');
+        if (eq) {
+            *eq = 0;
+            kelp_sim_params p;
+            kelp_sim_state st;
+            memset(&st, 0, sizeof st);
+            kelp_sim_params_default(&p);
+            if (kelp_sim_config_set(&p, &st, t, eq + 1, &why) > 0 && p.nmap > KELP_SIM_MAX_MAP) abort();
+            kelp_marine_pid_cfg c;
+            kelp_marine_pid_cfg_default(&c);
+            (void)kelp_marine_pid_cfg_set(&c, t, eq + 1, &why);
+        }
+        break;
+    }
+    case 6: {
+        kelp_field_nrep_cfg c;
+        kelp_field_nrep_cfg_default(&c, "alpha");
+        (void)kelp_field_nrep_add_rider(&c, t, &why);
+        (void)kelp_field_nrep_add_plat(&c, t, &why);
+        kelp_nrep_fill f;
+        (void)kelp_field_nrep_parse_fill(t, &f);
+        if (c.nriders > KELP_NREP_MAX_RIDERS || c.nplat > KELP_NREP_MAX_PLAT) abort();
+        break;
+    }
+    case 7: {
+        static kelp_helm_config hc;
+        kelp_helm_config_default(&hc);
+        (void)kelp_helm_config_add_domain(&hc, t, &why);
+        break;
+    }
+    case 8: {
+        static kelp_field_hostinfo h;
+        kelp_field_hostinfo_cfg c;
+        kelp_field_hostinfo_cfg_default(&c);
+        kelp_field_hostinfo_init(&h, &c);
+        (void)kelp_field_hostinfo_mail(&h, (data[0] & 16) ? "PMB_UDP_LISTEN" : "PSHARE_INPUT_SUMMARY", true, t, 0);
+        const char *names[1] = { "eth0" }, *ips[1] = { t };
+        kelp_field_hostinfo_set(&h, names, ips, 1);
+        kelp_field_sink sink = { NULL, nop_publish, NULL };
+        (void)kelp_field_hostinfo_iterate(&h, &sink);
         break;
     }
     default: {
