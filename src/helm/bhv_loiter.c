@@ -168,6 +168,8 @@ static int loiter_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
             s->given[i].x += x - cx, s->given[i].y += y - cy;
         order(s);
     }
+    if (s->npts < 3)
+        return 0;
     if (!s->started) {
         /* start at the nearest vertex */
         double best = INFINITY;
