@@ -3,7 +3,7 @@
 # communities (missions/fleet), each on its own LCM URL, joined by kelp-bridge; every vehicle
 # runs pHelmIvP, uSimMarine and pNodeReporter on an Alder-like mission (a survey over several
 # waypoints, a loiter, then home) under MOOSTimeWarp. The shoreside shows the vehicles in a
-# table while they run; every community is logged with lcm-logger; at the end a summary per
+# table while they run; every community is logged with kelp-record (lcm-logger drops bursts); at the end a summary per
 # vehicle is printed and a picture of the tracks is written (build/demo-fleet/fleet.png).
 # The acoustic link: each community also runs pAcommsHandler with a simulated WHOI Micro-Modem
 # (kelp-modemsim on a pseudo-terminal; the modems share a channel on their own LCM URL); every
@@ -92,11 +92,11 @@ cleanup() {
   wait 2>/dev/null || true
 }
 trap cleanup EXIT
-lcm-logger --lcm-url="udpm://239.255.76.67:$SHORE_LCM?ttl=0" -f -q shoreside.lcm > logger_shoreside.out 2>&1 &
+"$B/bin/kelp-record" --lcm-url="udpm://239.255.76.67:$SHORE_LCM?ttl=0" -f -q shoreside.lcm > logger_shoreside.out 2>&1 &
 LOGGERS=($!); PIDS+=($!)
 for v in "${NAMES[@]}"; do
   port=$(sed -n 's/^LCM_URL *= *udpm:\/\/239.255.76.67:\([0-9]*\).*/\1/p' "$v.moos")
-  lcm-logger --lcm-url="udpm://239.255.76.67:$port?ttl=0" -f -q "$v.lcm" > "logger_$v.out" 2>&1 &
+  "$B/bin/kelp-record" --lcm-url="udpm://239.255.76.67:$port?ttl=0" -f -q "$v.lcm" > "logger_$v.out" 2>&1 &
   LOGGERS+=($!); PIDS+=($!)
 done
 sleep 0.3

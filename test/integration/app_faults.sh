@@ -48,7 +48,7 @@ ok "control bytes shown as \\xNN; newest warnings kept, $(grep -oE '[0-9]+ older
 
 # <NAME>_STATUS carries MOOS's keys (AppErrorFlag, Uptime, cpuload, memory_kb, memory_max_kb,
 # MOOSName, Publishing, Subscribing) before kelp's own
-bg lcm-logger --lcm-url="$KELP_LCM_URL" -f status.lcmlog
+bg "$BIN/kelp-record" --lcm-url="$KELP_LCM_URL" -f status.lcmlog
 sleep 0.5
 bg "$BIN/pAcommsPoller" p.moos > poller2.out 2>&1
 sleep 3

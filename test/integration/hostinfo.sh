@@ -21,7 +21,7 @@ ProcessConfig = pHostInfo
   temp_file_dir = ./
 }
 M
-bg lcm-logger --lcm-url="$KELP_LCM_URL" -f h.lcmlog
+bg "$BIN/kelp-record" --lcm-url="$KELP_LCM_URL" -f h.lcmlog
 sleep 0.5
 bg "$BIN/pHostInfo" h.moos
 sleep 1

@@ -16,7 +16,7 @@ for f in "$D"/*.moos; do
   ok "$app loads MOOS-IvP 24.8's example block with no configuration warning"
 done
 # and pNodeReporter runs on it: JSON reports (json_report = true) with the block's fields
-bg lcm-logger --lcm-url="$KELP_LCM_URL" -f n.lcmlog
+bg "$BIN/kelp-record" --lcm-url="$KELP_LCM_URL" -f n.lcmlog
 sleep 0.5
 bg "$BIN/pNodeReporter" "$D/pNodeReporter.moos"
 sleep 0.5
@@ -35,7 +35,7 @@ ok "pNodeReporter on the 24.8 block: $line"
 
 # pHelmIvP on its block: hold_on_apps holds the helm until both apps have reported
 rm -f h.lcmlog
-bg lcm-logger --lcm-url="$KELP_LCM_URL" -f h.lcmlog
+bg "$BIN/kelp-record" --lcm-url="$KELP_LCM_URL" -f h.lcmlog
 sleep 0.5
 bg "$BIN/pHelmIvP" "$D/pHelmIvP.moos"
 sleep 1.5

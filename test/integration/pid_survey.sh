@@ -5,13 +5,13 @@
 # the vehicle slowed in its turns (NAV_SPEED well below the 2 m/s cruise while the rudder
 # was hard over) and cruised at 2 m/s on the legs.
 . "$(dirname "$0")/lib.sh"
-command -v lcm-logger >/dev/null || fail "lcm-logger missing (liblcm-bin)"
+[ -x "$BIN/kelp-record" ] || fail "kelp-record not built"
 cd $T
 cp $KELP_ROOT/missions/pid/pid.moos $KELP_ROOT/missions/pid/pid.bhv .
 WARP=10
 sed -i "s/^MOOSTimeWarp *= *1 *$/MOOSTimeWarp = $WARP/" pid.moos
 export KELP_WARP_EPOCH=$(date +%s.%N)
-lcm-logger --lcm-url="$KELP_LCM_URL" -f -q run.lcm > logger.out 2>&1 & LG=$!; PIDS+=($LG)
+"$BIN/kelp-record" --lcm-url="$KELP_LCM_URL" -f -q run.lcm > logger.out 2>&1 & LG=$!; PIDS+=($LG)
 sleep 1
 $BIN/kelp-launch --run-seconds 40 --log-dir logs pid.moos > launch.out 2>&1 & LP=$!; PIDS+=($LP)
 sleep 1.5
