@@ -2,7 +2,7 @@
  * "field=value,..." string encoded as message i, a bus variable written then its message
  * encoded from the variables, and raw bytes decoded into publications. Whatever encodes
  * must decode again. The message set is the project's own example
- * (missions/acomms/*.xml, found from the working directory or $KELP_ROOT), read once. */
+ * (the XML files in missions/acomms, found from the working directory or $KELP_ROOT), read once. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
