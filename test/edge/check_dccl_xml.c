@@ -335,15 +335,17 @@ static int64_t wide_field(const kelp_dccl_msgdef *d, const kelp_dccl_val *out, c
     return l;
 }
 
-static const char REPEAT_PUB[] =
-    "<message_set><message><name>REP</name><size>32</size><id>5</id><repeat>3</repeat>\n"
-    "<header><src_id><name>src</name></src_id></header>\n"
-    "<layout><int><name>a</name><max>100</max><min>0</min></int><bool><name>b</name></bool></layout>\n"
-    "<on_receipt><publish><publish_var>REP_IN</publish_var><all/></publish>\n"
-    "<publish><publish_var>REP_AB</publish_var><message_var>a</message_var><message_var>b</message_var></publish>\n"
-    "<publish><publish_var>REP_FMT</publish_var><format>a is %1% from %2%</format>"
-    "<message_var>a</message_var><message_var>src</message_var></publish></on_receipt>\n"
-    "</message></message_set>\n";
+/* a <repeat> message, the count given (3) or computed by <repeat/> (8*(10-6) bits / 9 bits a copy = 3) */
+#define REPEAT_PUB(size, repeat)                                                                                      \
+    "<message_set><message><name>REP</name><size>" size "</size><id>5</id>" repeat "\n"                             \
+    "<header><src_id><name>src</name></src_id></header>\n"                                                            \
+    "<layout><int><name>a</name><max>100</max><min>0</min></int><bool><name>b</name></bool></layout>\n"                \
+    "<on_receipt><publish><publish_var>REP_IN</publish_var><all/></publish>\n"                                        \
+    "<publish><publish_var>REP_AB</publish_var><message_var>a</message_var><message_var>b</message_var></publish>\n"  \
+    "<publish><publish_var>REP_FMT</publish_var><format>a is %1% from %2%</format>"                                   \
+    "<message_var>a</message_var><message_var>src</message_var></publish></on_receipt>\n"                             \
+    "</message></message_set>\n"
+static const char *const REPEAT_PUBS[] = {REPEAT_PUB("32", "<repeat>3</repeat>"), REPEAT_PUB("10", "<repeat/>")};
 
 START_TEST(repeat_publishes_once_per_index)
 {
@@ -355,9 +357,10 @@ START_TEST(repeat_publishes_once_per_index)
     char err[256];
     size_t n, np;
     kelp_dccl_loaded_init(&ld);
-    ck_assert_msg(kelp_dccl_load_buffer(&ld, "rep.xml", REPEAT_PUB, sizeof REPEAT_PUB - 1, NULL, err, sizeof err) == 0,
+    ck_assert_msg(kelp_dccl_load_buffer(&ld, "rep.xml", REPEAT_PUBS[_i], strlen(REPEAT_PUBS[_i]), NULL, err, sizeof err) == 0,
                   "%s", err);
     const kelp_dccl_msgdef *d = ld.set.msgs[0];
+    ck_assert_uint_eq(d->repeat, 3);
     /* a generated format has one placeholder per field, not per array element */
     ck_assert_str_eq(d->publishes[0].format, "src=%1%,a=%2%,b=%3%");
     ck_assert_str_eq(d->publishes[1].format, "a=%1%,b=%2%");
@@ -546,7 +549,7 @@ Suite *kelp_dccl_xml_suite(void)
     tcase_add_test(tc, arrays_all_and_typed_publish);
     tcase_add_test(tc, repeat_auto_count);
     tcase_add_test(tc, int_bounds_in_the_billions);
-    tcase_add_test(tc, repeat_publishes_once_per_index);
+    tcase_add_loop_test(tc, repeat_publishes_once_per_index, 0, 2);
     tcase_add_loop_test(tc, load_errors_have_file_line_reason, 0, (int)(sizeof BAD / sizeof BAD[0]));
     tcase_add_test(tc, missing_file_is_io_error);
     suite_add_tcase(s, tc);

@@ -968,8 +968,10 @@ static void end_message(parser *p)
              (unsigned)def->body_bits, (unsigned)def->size);
         return;
     }
-    /* publishes need the final array lengths (default formats) */
+    /* publishes need the final array lengths and repeat count (default formats: one
+     * placeholder per field in a <repeat> message, also for <repeat/>) */
     for (i = 0; i < m->n_fields; i++) m->fields[i].f = fields[i];
+    m->def.repeat = def->repeat;
     pubs = arena_alloc(&p->ld->arena, (m->n_pubs ? m->n_pubs : 1) * sizeof *pubs);
     if (!pubs) { fail(p, KELP_ERR_NOSPACE, line, "out of memory"); return; }
     for (i = 0; i < m->n_pubs; i++)
