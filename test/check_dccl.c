@@ -727,6 +727,231 @@ START_TEST(finalize_rejects)
 }
 END_TEST
 
+/* ------------------------------------------------------------------ integers as wide as Goby's (to 64 bits) */
+/* a message of the 8 header fields and one layout field */
+static kelp_dccl_field one_fields[9];
+static kelp_dccl_msgdef one_def;
+
+static void build_one(kelp_dccl_field f)
+{
+    memset(one_fields, 0, sizeof one_fields);
+    memset(&one_def, 0, sizeof one_def);
+    one_fields[8] = f;
+    one_def.name = "ONE";
+    one_def.id = 9;
+    one_def.size = 64;
+    one_def.n_fields = 9;
+    ck_assert_int_eq(kelp_dccl_def_finalize(&one_def, one_fields, NULL), 0);
+}
+
+/* plaintext encode then decode of `one` layout value; returns the decoded slot */
+static const kelp_dccl_val *round_trip(const kelp_dccl_val *in, uint8_t *buf, size_t *n)
+{
+    static kelp_dccl_val v[16], out[16];
+    kelp_dccl_codec cx;
+    kelp_dccl_codec_init(&cx, 1, NULL, NULL);
+    clear_all(v, 16);
+    v[one_fields[8].slot] = *in;
+    ck_assert_int_eq(kelp_dccl_encode(&cx, &one_def, v, 16, NOON, buf, 64, n), 0);
+    ck_assert_int_eq(kelp_dccl_decode(&cx, &one_def, buf, *n, NOON, out, 16), 0);
+    return &out[one_fields[8].slot];
+}
+
+START_TEST(width_quirks_past_32_bits)
+{
+    /* the double expression's extra bit where (max-min)+2 is exactly 2^31, 2^39, 2^47, 2^51 */
+    static const struct { double range; unsigned bits; } W[] = {
+        {2147483645.0, 31},     {2147483646.0, 32}, /* 2^31 */
+        {4294967294.0, 32},     {4000000000.0, 32},     {8000000000.0, 33},    {10000000000.0, 34},
+        {549755813885.0, 39},   {549755813886.0, 40},   /* 2^39 */
+        {140737488355325.0, 47}, {140737488355326.0, 48}, /* 2^47 */
+        {2e15, 51},             {2251799813685246.0, 52}, /* 2^51 */
+        {562949953421311.0, 49}, /* 2^49 + 1: one bit too few */
+        {9007199254740990.0, 53}, {9007199254740992.0, 53}, /* 2^53 + 2 rounds down too: one too few */
+        {9.2e18, 63},           {1.8e19, 64},           {1.8446744073709550e19, 64},
+    };
+    for (size_t i = 0; i < sizeof W / sizeof W[0]; i++)
+        ck_assert_msg(kelp_dccl_width(W[i].range, 0) == W[i].bits, "range %.17g: %u bits, expected %u", W[i].range,
+                      kelp_dccl_width(W[i].range, 0), W[i].bits);
+    /* float: the scaled range counts */
+    ck_assert_uint_eq(kelp_dccl_width(2e9, 3), 41);
+    ck_assert_uint_eq(kelp_dccl_width(2147483.646, 3), 32); /* 2^31 again, through pow10 */
+}
+END_TEST
+
+/* min, max, mid and the neighbours of the bounds round-trip exactly; beyond them: null */
+static const struct { double min, max; unsigned bits; } WIDE[] = {
+    {0, 4000000000.0, 32},
+    {-5e9, 5e9, 34},
+    {-4000000000.0, 0, 32},
+    {0, 2147483646.0, 32},        /* the 2^31 quirk: one spare bit */
+    {-274877906943.0, 274877906943.0, 40}, /* 2^39 */
+    {1e12, 1e15, 50},             /* a minimum far from zero */
+    {-4503599627370000.0, 4503599627370000.0, 53}, /* about +-2^52 */
+    {-9007199254740000.0, 0, 53}, /* about -2^53 .. 0 */
+    {-4.6e18, 4.6e18, 63},
+    {-9.2e18, 9.2e18, 64},        /* beyond 2^53 only min, max and mid are exact doubles apart */
+};
+
+START_TEST(wide_int_round_trips)
+{
+    uint8_t buf[64];
+    size_t n;
+    double mn = WIDE[_i].min, mx = WIDE[_i].max;
+    build_one((kelp_dccl_field){.name = "i", .type = KELP_DCCL_T_INT, .array_length = 1, .min = mn, .max = mx});
+    ck_assert_uint_eq(one_fields[8].bits, WIDE[_i].bits);
+    double vals[] = {mn, mx, mn + (mx - mn) / 2, mn + 1, mx - 1, floor(mn + (mx - mn) / 3)};
+    size_t nv = mx - mn <= 9007199254740992.0 ? sizeof vals / sizeof vals[0] : 3;
+    for (size_t k = 0; k < nv; k++) {
+        kelp_dccl_val in;
+        const kelp_dccl_val *o;
+        int64_t l = 0;
+        kelp_dccl_val_set_long(&in, (int64_t)vals[k]);
+        o = round_trip(&in, buf, &n);
+        ck_assert_msg(kelp_dccl_val_to_long(o, &l) && l == (int64_t)vals[k], "[%.17g, %.17g]: %.17g decoded as %lld", mn,
+                      mx, vals[k], (long long)l);
+    }
+    /* beyond the bounds: "not given", code 0, the body strips to nothing */
+    {
+        kelp_dccl_val in;
+        kelp_dccl_val_set_double(&in, mx + fmax(1.0, mx * 1e-15), 15);
+        ck_assert_int_eq(round_trip(&in, buf, &n)->kind, KELP_DCCL_V_EMPTY);
+        ck_assert_uint_eq(n, 6);
+        kelp_dccl_val_set_double(&in, mn - fmax(1.0, fabs(mn) * 1e-15), 15);
+        ck_assert_int_eq(round_trip(&in, buf, &n)->kind, KELP_DCCL_V_EMPTY);
+        ck_assert_uint_eq(n, 6);
+    }
+}
+END_TEST
+
+START_TEST(wide_int_wire_and_rounding)
+{
+    uint8_t buf[64];
+    char h[200], s[300];
+    size_t n;
+    kelp_dccl_val in;
+    build_one((kelp_dccl_field){.name = "i", .type = KELP_DCCL_T_INT, .array_length = 1, .min = -5e9, .max = 5e9});
+    /* 34 bits right-aligned in 5 bytes: 6 padding bits then (v - min) + 1 */
+    kelp_dccl_val_set_long(&in, 5000000000LL);
+    (void)round_trip(&in, buf, &n);
+    hex(buf + 6, n - 6, h);
+    ck_assert_str_eq(h, "02540be401"); /* 10000000001 */
+    kelp_dccl_val_set_long(&in, -5000000000LL);
+    (void)round_trip(&in, buf, &n);
+    hex(buf + 6, n - 6, h);
+    ck_assert_str_eq(h, "0000000001");
+    /* pre-encode rounds half to even on the floor, as Goby: x.5 goes to the even neighbour */
+    kelp_dccl_val_set_str(&in, "4000000000.5");
+    ck_assert_int_eq(kelp_dccl_val_to_str(round_trip(&in, buf, &n), s, sizeof s, NULL), true);
+    ck_assert_str_eq(s, "4000000000");
+    kelp_dccl_val_set_str(&in, "-3999999998.5");
+    (void)kelp_dccl_val_to_str(round_trip(&in, buf, &n), s, sizeof s, NULL);
+    ck_assert_str_eq(s, "-3999999998");
+    kelp_dccl_val_set_str(&in, "3e9");
+    (void)kelp_dccl_val_to_str(round_trip(&in, buf, &n), s, sizeof s, NULL);
+    ck_assert_str_eq(s, "3000000000");
+    /* 2^49 + 1 quirk: the field is one bit short, so its largest code (2^49) wraps to 0 = null */
+    build_one((kelp_dccl_field){.name = "i", .type = KELP_DCCL_T_INT, .array_length = 1, .min = 0, .max = 562949953421311.0});
+    ck_assert_uint_eq(one_fields[8].bits, 49);
+    kelp_dccl_val_set_long(&in, 562949953421311LL);
+    ck_assert_int_eq(round_trip(&in, buf, &n)->kind, KELP_DCCL_V_EMPTY);
+    kelp_dccl_val_set_long(&in, 562949953421310LL);
+    ck_assert_int_eq(kelp_dccl_val_to_str(round_trip(&in, buf, &n), s, sizeof s, NULL), true);
+    ck_assert_str_eq(s, "562949953421310");
+}
+END_TEST
+
+START_TEST(wide_float_and_delta)
+{
+    uint8_t buf[64];
+    char s[300];
+    size_t n;
+    kelp_dccl_val in;
+    /* float, precision 3, 41 bits: binary fractions survive the truncating scale */
+    build_one((kelp_dccl_field){.name = "f", .type = KELP_DCCL_T_FLOAT, .array_length = 1, .min = -1e9, .max = 1e9,
+                                .precision = 3});
+    ck_assert_uint_eq(one_fields[8].bits, 41);
+    static const char *const F[][2] = {
+        {"-1000000000", "-1000000000.000"}, {"1000000000", "1000000000.000"}, {"123456789.125", "123456789.125"},
+        {"-999999999.5", "-999999999.500"}, {"0.0625", "0.062"}, /* half to even */
+    };
+    for (size_t k = 0; k < sizeof F / sizeof F[0]; k++) {
+        kelp_dccl_val_set_str(&in, F[k][0]);
+        (void)kelp_dccl_val_to_str(round_trip(&in, buf, &n), s, sizeof s, NULL);
+        ck_assert_msg(strcmp(s, F[k][1]) == 0, "%s decoded as %s, expected %s", F[k][0], s, F[k][1]);
+    }
+    /* a delta array of wide ints: key 33 bits, elements 2*max_delta+2 -> 33 bits */
+    build_one((kelp_dccl_field){.name = "d", .type = KELP_DCCL_T_INT, .array_length = 3, .min = -4e9, .max = 4e9,
+                                .has_delta = true, .max_delta = -3e9});
+    ck_assert_uint_eq(one_fields[8].bits, 33);
+    ck_assert_uint_eq(one_fields[8].delta_bits, 33);
+    ck_assert_uint_eq(one_fields[8].total_bits, 99);
+    {
+        kelp_dccl_val v[16], out[16];
+        kelp_dccl_codec cx;
+        unsigned sl = one_fields[8].slot;
+        int64_t l;
+        kelp_dccl_codec_init(&cx, 1, NULL, NULL);
+        clear_all(v, 16);
+        kelp_dccl_val_set_long(&v[sl], -3999999999LL);
+        kelp_dccl_val_set_long(&v[sl + 1], -999999999LL); /* key + 3e9 exactly */
+        kelp_dccl_val_set_long(&v[sl + 2], -999999998LL); /* one beyond max_delta: null */
+        ck_assert_int_eq(kelp_dccl_encode(&cx, &one_def, v, 16, NOON, buf, 64, &n), 0);
+        ck_assert_int_eq(kelp_dccl_decode(&cx, &one_def, buf, n, NOON, out, 16), 0);
+        ck_assert(kelp_dccl_val_to_long(&out[sl], &l) && l == -3999999999LL);
+        ck_assert(kelp_dccl_val_to_long(&out[sl + 1], &l) && l == -999999999LL);
+        ck_assert_int_eq(out[sl + 2].kind, KELP_DCCL_V_EMPTY);
+    }
+}
+END_TEST
+
+/* A <repeat> message publishes once per index: each publication takes the element at
+ * that index, a single-valued (header) field repeats in every one. */
+START_TEST(repeat_publish_per_index)
+{
+    static kelp_dccl_field f[10];
+    static kelp_dccl_msgdef d;
+    static const kelp_dccl_pubarg args[] = {{KELP_DCCL_H_SRC, NULL, 0}, {8, NULL, 0}, {9, NULL, 0}};
+    static const kelp_dccl_publish pubs[] = {
+        {.var = "GEN", .format = "src=%1%,big=%2%,ok=%3%", .args = args, .n_args = 3},
+        {.var = "FMT", .format = "%2% (%3%) from %1%", .args = args, .n_args = 3},
+    };
+    kelp_dccl_val v[64], out[64];
+    kelp_dccl_pub p[16];
+    kelp_dccl_codec cx;
+    uint8_t buf[64];
+    size_t n, np;
+    memset(f, 0, sizeof f);
+    f[KELP_DCCL_H_SRC].name = "src";
+    f[8] = (kelp_dccl_field){.name = "big", .type = KELP_DCCL_T_INT, .array_length = 1, .min = -5e9, .max = 4e9};
+    f[9] = (kelp_dccl_field){.name = "ok", .type = KELP_DCCL_T_BOOL, .array_length = 1};
+    d = (kelp_dccl_msgdef){.name = "REP", .id = 6, .size = 32, .repeat = 3, .n_fields = 10, .publishes = pubs, .n_publishes = 2};
+    ck_assert_int_eq(kelp_dccl_def_finalize(&d, f, NULL), 0);
+    ck_assert_uint_eq(f[8].array_length, 3);
+    kelp_dccl_codec_init(&cx, 4, NULL, NULL);
+    clear_all(v, 64);
+    kelp_dccl_val_set_long(&v[f[8].slot], -5000000000LL);
+    kelp_dccl_val_set_long(&v[f[8].slot + 1], 4000000000LL);
+    kelp_dccl_val_set_long(&v[f[8].slot + 2], 17);
+    kelp_dccl_val_set_bool(&v[f[9].slot], true);
+    kelp_dccl_val_set_bool(&v[f[9].slot + 2], false);
+    ck_assert_int_eq(kelp_dccl_encode(&cx, &d, v, 64, NOON, buf, sizeof buf, &n), 0);
+    ck_assert_int_eq(kelp_dccl_decode(&cx, &d, buf, n, NOON, out, 64), 0);
+    ck_assert_int_eq(kelp_dccl_publish_all(&cx, &d, out, 64, p, 16, &np), 0);
+    ck_assert_uint_eq(np, 6);
+    static const char *const want[] = {
+        "src=4,big=-5000000000,ok=true", "src=4,big=4000000000,ok=", "src=4,big=17,ok=false",
+        "-5000000000 (true) from 4",     "4000000000 () from 4",     "17 (false) from 4",
+    };
+    for (size_t i = 0; i < np; i++) ck_assert_str_eq(p[i].s, want[i]);
+    /* a format with one placeholder per element is the wrong shape for a <repeat> message */
+    static const kelp_dccl_publish bad = {.var = "BAD", .format = "%1%,%2%,%3%,%4%,%5%,%6%,%7%", .args = args, .n_args = 3};
+    d.publishes = &bad;
+    d.n_publishes = 1;
+    ck_assert_int_eq(kelp_dccl_publish_all(&cx, &d, out, 64, p, 16, &np), KELP_ERR_PARSE);
+}
+END_TEST
+
 Suite *kelp_dccl_suite(void)
 {
     Suite *s = suite_create("dccl");
@@ -751,6 +976,11 @@ Suite *kelp_dccl_suite(void)
     tcase_add_test(tc, builtin_algorithms);
     tcase_add_test(tc, user_algorithm_on_encode);
     tcase_add_test(tc, finalize_rejects);
+    tcase_add_test(tc, width_quirks_past_32_bits);
+    tcase_add_loop_test(tc, wide_int_round_trips, 0, (int)(sizeof WIDE / sizeof WIDE[0]));
+    tcase_add_test(tc, wide_int_wire_and_rounding);
+    tcase_add_test(tc, wide_float_and_delta);
+    tcase_add_test(tc, repeat_publish_per_index);
     suite_add_tcase(s, tc);
     return s;
 }
