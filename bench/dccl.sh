@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# DCCL speed and size: instructions per encode and per decode of a 40-byte message
-# with every field type, 33- and 50-bit ints among them (valgrind callgrind, `--repeat N` minus `--repeat 1`), and
+# DCCL speed and size: instructions per encode and per decode of WIDE_ALL in test/data/dccl/wide.xml
+# (every field type, ints of 32 to 64 bits, a 41-bit float, a 33-bit delta array; 65 bytes on the wire)
+# (valgrind callgrind, `--repeat N` minus `--repeat 1`), and
 # the size of the core codec for Cortex-M4. Goby 1.1 reference: 134k instructions
 # to encode, 128k to decode (both encrypted).
 set -uo pipefail
@@ -11,41 +12,22 @@ T=$(mktemp -d /tmp/kelp-dccl-bench.XXXXXX)
 trap 'rm -rf "$T"' EXIT
 N=${DCCL_BENCH_N:-2001}
 NOW=1699963200
-cat > "$T/alltypes.xml" <<'EOF'
-<?xml version="1.0" encoding="UTF-8"?>
-<message_set>
-  <message>
-    <name>ALL_TYPES</name><size>40</size>
-    <header><id>30</id><time><name>when</name></time><dest_id><name>to</name></dest_id></header>
-    <layout>
-      <static><name>kind</name><value>all</value></static>
-      <int><name>count</name><max>1000</max><min>0</min></int>
-      <int><name>serial</name><max>4000000000</max><min>-4000000000</min></int>
-      <int><name>stamp</name><max>1e15</max><min>0</min></int>
-      <float><name>heading</name><max>360</max><min>0</min><precision>2</precision></float>
-      <bool><name>ok</name></bool>
-      <string><name>note</name><max_length>10</max_length></string>
-      <enum><name>mode</name><value>idle</value><value>survey</value><value>home</value></enum>
-      <hex><name>raw</name><num_bytes>4</num_bytes></hex>
-      <float><name>depth</name><max>6400</max><min>0</min><precision>1</precision><array_length>2</array_length><max_delta>100</max_delta></float>
-    </layout>
-  </message>
-</message_set>
-EOF
-ARGS=(to=4 count=999 serial=-3999999999 stamp=999999999999999 heading=270.25 ok=true note=hello_kelp mode=survey raw=deadbeef depth=100.5 depth=120.2)
-HEX=$("$K" encode --xml "$T/alltypes.xml" --msg ALL_TYPES --modem-id 1 --now $NOW "${ARGS[@]}") || { echo "encode failed"; exit 1; }
-echo "message ALL_TYPES: $(( ${#HEX} / 2 )) bytes on the wire (encrypted): $HEX"
+XML=$KELP_ROOT/test/data/dccl/wide.xml
+ARGS=(to=4 u32=4000000000 s34=-5000000000 q32=2147483646 stamp=999999999999999 s64=-9200000000000000000
+      pos=-123456789.125 ok=true note=hello_kelp mode=survey raw=deadbeef track=-3999999999 track=-999999999 track=1)
+HEX=$("$K" encode --xml "$XML" --msg WIDE_ALL --modem-id 1 --now $NOW "${ARGS[@]}") || { echo "encode failed"; exit 1; }
+echo "message WIDE_ALL: $(( ${#HEX} / 2 )) bytes on the wire (encrypted): $HEX"
 if ! command -v valgrind >/dev/null; then echo "valgrind missing: no instruction counts"; else
   ir() { # args...: total Ir of one run
     valgrind --tool=callgrind --callgrind-out-file="$T/cg.out" "$@" >/dev/null 2>&1 || return 1
     awk '/^(summary|totals):/ {print $2; exit}' "$T/cg.out"
   }
-  e1=$(ir "$K" encode --repeat 1 --xml "$T/alltypes.xml" --msg ALL_TYPES --modem-id 1 --now $NOW "${ARGS[@]}")
-  eN=$(ir "$K" encode --repeat $N --xml "$T/alltypes.xml" --msg ALL_TYPES --modem-id 1 --now $NOW "${ARGS[@]}")
-  d1=$(ir "$K" decode --repeat 1 --xml "$T/alltypes.xml" --now $NOW "$HEX")
-  dN=$(ir "$K" decode --repeat $N --xml "$T/alltypes.xml" --now $NOW "$HEX")
-  pe1=$(ir "$K" encode --plain --repeat 1 --xml "$T/alltypes.xml" --msg ALL_TYPES --modem-id 1 --now $NOW "${ARGS[@]}")
-  peN=$(ir "$K" encode --plain --repeat $N --xml "$T/alltypes.xml" --msg ALL_TYPES --modem-id 1 --now $NOW "${ARGS[@]}")
+  e1=$(ir "$K" encode --repeat 1 --xml "$XML" --msg WIDE_ALL --modem-id 1 --now $NOW "${ARGS[@]}")
+  eN=$(ir "$K" encode --repeat $N --xml "$XML" --msg WIDE_ALL --modem-id 1 --now $NOW "${ARGS[@]}")
+  d1=$(ir "$K" decode --repeat 1 --xml "$XML" --now $NOW "$HEX")
+  dN=$(ir "$K" decode --repeat $N --xml "$XML" --now $NOW "$HEX")
+  pe1=$(ir "$K" encode --plain --repeat 1 --xml "$XML" --msg WIDE_ALL --modem-id 1 --now $NOW "${ARGS[@]}")
+  peN=$(ir "$K" encode --plain --repeat $N --xml "$XML" --msg WIDE_ALL --modem-id 1 --now $NOW "${ARGS[@]}")
   enc=$(( (eN - e1) / (N - 1) )); dec=$(( (dN - d1) / (N - 1) )); penc=$(( (peN - pe1) / (N - 1) ))
   echo "kelp encode: $enc instructions/message (encrypted; $penc without crypto)   Goby 1.1: 134000"
   echo "kelp decode: $dec instructions/message (encrypted)   Goby 1.1: 128000"

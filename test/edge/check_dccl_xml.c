@@ -345,6 +345,13 @@ static int64_t wide_field(const kelp_dccl_msgdef *d, const kelp_dccl_val *out, c
     "<publish><publish_var>REP_FMT</publish_var><format>a is %1% from %2%</format>"                                   \
     "<message_var>a</message_var><message_var>src</message_var></publish></on_receipt>\n"                             \
     "</message></message_set>\n"
+static unsigned wide_field_bits(const kelp_dccl_msgdef *d, const char *name)
+{
+    int fi = kelp_dccl_field_find(d, name);
+    ck_assert_int_ge(fi, 0);
+    return d->fields[fi].bits;
+}
+
 static const char *const REPEAT_PUBS[] = {REPEAT_PUB("32", "<repeat>3</repeat>"), REPEAT_PUB("10", "<repeat/>")};
 
 START_TEST(repeat_publishes_once_per_index)
@@ -451,6 +458,75 @@ START_TEST(int_bounds_in_the_billions)
 }
 END_TEST
 
+/* test/data/dccl/wide.xml: every field type with bounds in the billions, encrypted
+ * round trip and publications; its <repeat/> message publishes once per index */
+#ifndef KELP_TEST_ROOT
+#define KELP_TEST_ROOT "."
+#endif
+START_TEST(wide_message_set_file)
+{
+    kelp_dccl_loaded ld;
+    kelp_dccl_mbedtls mb;
+    kelp_dccl_codec cx;
+    kelp_dccl_val v[64], out[64];
+    kelp_dccl_pub pubs[16];
+    uint8_t buf[KELP_DCCL_MAX_SIZE];
+    char err[256];
+    size_t n, np;
+    kelp_dccl_loaded_init(&ld);
+    ck_assert_msg(kelp_dccl_load_file(&ld, KELP_TEST_ROOT "/test/data/dccl/wide.xml", NULL, err, sizeof err) == 0, "%s", err);
+    const kelp_dccl_msgdef *d = kelp_dccl_set_find_name(&ld.set, "WIDE_ALL");
+    const kelp_dccl_msgdef *r = kelp_dccl_set_find_name(&ld.set, "WIDE_REP");
+    ck_assert(d && r);
+    ck_assert_uint_eq(d->body_bits, 468);
+    ck_assert_uint_eq(wide_field_bits(d, "s64"), 64);
+    ck_assert_uint_eq(wide_field_bits(d, "pos"), 41);
+    ck_assert(d->trigger_time == 0.5 && d->queuing.blackout_time == 0.25 && d->queuing.max_queue == 4000000000u);
+    ck_assert_uint_eq(r->repeat, 5); /* 8 * 26 bits / (34 + 2) */
+    ck_assert_int_eq(kelp_dccl_mbedtls_init(&mb, NULL), 0);
+    kelp_dccl_codec_init(&cx, 1, &mb.ops, NULL);
+    static const char *const IN[][2] = {
+        {"to", "4"}, {"u32", "4000000000"}, {"s34", "-5000000000"}, {"q32", "2147483646"}, {"stamp", "999999999999999"},
+        {"s64", "-9200000000000000000"}, {"pos", "-123456789.125"}, {"ok", "true"}, {"note", "hello_kelp"},
+        {"mode", "survey"}, {"raw", "deadbeef"},
+    };
+    clear_all(v, 64);
+    for (size_t i = 0; i < sizeof IN / sizeof IN[0]; i++) setv(d, v, IN[i][0], 0, IN[i][1]);
+    setv(d, v, "track", 0, "-3999999999");
+    setv(d, v, "track", 1, "-999999999");
+    setv(d, v, "track", 2, "1"); /* beyond max_delta of the key: null */
+    ck_assert_int_eq(kelp_dccl_encode(&cx, d, v, 64, NOON, buf, sizeof buf, &n), 0);
+    ck_assert_uint_eq(n, 65);
+    ck_assert_int_eq(kelp_dccl_decode(&cx, d, buf, n, NOON, out, 64), 0);
+    ck_assert_int_eq(kelp_dccl_publish_all(&cx, d, out, 64, pubs, 16, &np), 0);
+    ck_assert_uint_eq(np, 2);
+    ck_assert_str_eq(pubs[0].s, "when=1699963200,from=1,to=4,kind=wide,u32=4000000000,s34=-5000000000,q32=2147483646,"
+                                "stamp=999999999999999,s64=-9200000000000000000,pos=-123456789.125,ok=true,"
+                                "note=hello_kelp,mode=survey,raw=deadbeef,track={-3999999999,-999999999,}");
+    ck_assert_str_eq(pubs[1].s, "-5000000000 at 999999999999999");
+    /* <repeat/>: 5 copies, one publication per index and publish */
+    kelp_dccl_codec_init(&cx, 2, &mb.ops, NULL);
+    clear_all(v, 64);
+    setv(r, v, "big", 0, "-5000000000");
+    setv(r, v, "big", 1, "4000000000");
+    setv(r, v, "big", 4, "7");
+    setv(r, v, "ok", 0, "true");
+    setv(r, v, "ok", 4, "false");
+    ck_assert_int_eq(kelp_dccl_encode(&cx, r, v, 64, NOON, buf, sizeof buf, &n), 0);
+    ck_assert_int_eq(kelp_dccl_decode(&cx, r, buf, n, NOON, out, 64), 0);
+    ck_assert_int_eq(kelp_dccl_publish_all(&cx, r, out, 64, pubs, 16, &np), 0);
+    ck_assert_uint_eq(np, 15);
+    ck_assert_str_eq(pubs[0].s, "from=2,big=-5000000000,ok=true");
+    ck_assert_str_eq(pubs[2].s, "from=2,big=,ok=");
+    ck_assert_str_eq(pubs[4].s, "from=2,big=7,ok=false");
+    ck_assert_str_eq(pubs[6].s, "big=4000000000,ok=");
+    ck_assert_str_eq(pubs[10].s, "-5000000000 from 2");
+    ck_assert_str_eq(pubs[14].s, "7 from 2");
+    kelp_dccl_mbedtls_free(&mb);
+    kelp_dccl_loaded_free(&ld);
+}
+END_TEST
+
 START_TEST(repeat_auto_count)
 {
     kelp_dccl_loaded ld;
@@ -549,6 +625,7 @@ Suite *kelp_dccl_xml_suite(void)
     tcase_add_test(tc, arrays_all_and_typed_publish);
     tcase_add_test(tc, repeat_auto_count);
     tcase_add_test(tc, int_bounds_in_the_billions);
+    tcase_add_test(tc, wide_message_set_file);
     tcase_add_loop_test(tc, repeat_publishes_once_per_index, 0, 2);
     tcase_add_loop_test(tc, load_errors_have_file_line_reason, 0, (int)(sizeof BAD / sizeof BAD[0]));
     tcase_add_test(tc, missing_file_is_io_error);

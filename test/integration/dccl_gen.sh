@@ -141,6 +141,21 @@ check_gen() { # xml prefix msg fields...
 check_gen example1.xml example1_dccl GoToCommand Destination=3 goto_x=351 goto_y=294 lights_on=true new_instructions=make_toast goto_speed=2.3
 check_gen alltypes.xml alltypes_dccl ALL_TYPES to=4 count=999 heading=-90.5 ok=false note=hello mode=home raw=deadBEEF depth=100.5 depth=120.2
 check_gen alltypes.xml alltypes_dccl ALL_TYPES raw=00000000 depth=50
+# integer bounds in the billions (32- to 64-bit fields) and a <repeat/> message, as tables too
+cp "$KELP_ROOT/test/data/dccl/wide.xml" "$T/"
+WIDE=(to=4 u32=4000000000 s34=-5000000000 q32=2147483646 stamp=999999999999999 s64=-9200000000000000000
+      pos=-123456789.125 ok=true note=hello_kelp mode=survey raw=deadbeef track=-3999999999 track=-999999999 track=1)
+check_gen wide.xml wide_dccl WIDE_ALL "${WIDE[@]}"
+check_gen wide.xml wide_dccl WIDE_REP big=-5000000000 big=4000000000 big=7 ok=true ok=false
+h=$("$K" encode --xml "$T/wide.xml" --msg WIDE_ALL --modem-id 1 --now $NOW "${WIDE[@]}")
+"$K" publish --xml "$T/wide.xml" --now $NOW "$h" > "$T/pub.txt" || fail "publish WIDE_ALL"
+grep -q '^WIDE_IN=.*,s34=-5000000000,.*,s64=-9200000000000000000,pos=-123456789.125,.*track={-3999999999,-999999999,}$' \
+  "$T/pub.txt" || fail "publish WIDE_ALL: $(cat "$T/pub.txt")"
+# <repeat/> without <format>: one placeholder per field, one publication per index (5 x 3)
+h=$("$K" encode --xml "$T/wide.xml" --msg WIDE_REP --modem-id 2 --now $NOW big=-5000000000 big=4000000000 ok=true)
+"$K" publish --xml "$T/wide.xml" --now $NOW "$h" > "$T/pub.txt" || fail "publish WIDE_REP: $(cat "$T/pub.txt")"
+[ "$(grep -c '^REP_' "$T/pub.txt")" = 15 ] && grep -qx 'REP_PAIR=big=4000000000,ok=' "$T/pub.txt" &&
+  grep -qx 'REP_FMT=-5000000000 from 2' "$T/pub.txt" || fail "publish WIDE_REP: $(cat "$T/pub.txt")"
 
 # the encrypted vector of the seed's GoToCommand (key SHA-256(""), verified with openssl)
 h=$("$K" encode --xml "$T/example1.xml" --msg GoToCommand --modem-id 1 --now $NOW Destination=3 goto_x=351 goto_y=294 lights_on=true new_instructions=make_toast goto_speed=2.3)
