@@ -463,6 +463,18 @@ END_TEST
 #ifndef KELP_TEST_ROOT
 #define KELP_TEST_ROOT "."
 #endif
+typedef struct wide_in {
+    const char *name;
+    unsigned k;
+    const char *s;
+} wide_in;
+
+static void set_wide(const kelp_dccl_msgdef *d, kelp_dccl_val *v, const wide_in *in, size_t n)
+{
+    clear_all(v, 64);
+    for (size_t i = 0; i < n; i++) setv(d, v, in[i].name, in[i].k, in[i].s);
+}
+
 START_TEST(wide_message_set_file)
 {
     kelp_dccl_loaded ld;
@@ -485,16 +497,13 @@ START_TEST(wide_message_set_file)
     ck_assert_uint_eq(r->repeat, 5); /* 8 * 26 bits / (34 + 2) */
     ck_assert_int_eq(kelp_dccl_mbedtls_init(&mb, NULL), 0);
     kelp_dccl_codec_init(&cx, 1, &mb.ops, NULL);
-    static const char *const IN[][2] = {
-        {"to", "4"}, {"u32", "4000000000"}, {"s34", "-5000000000"}, {"q32", "2147483646"}, {"stamp", "999999999999999"},
-        {"s64", "-9200000000000000000"}, {"pos", "-123456789.125"}, {"ok", "true"}, {"note", "hello_kelp"},
-        {"mode", "survey"}, {"raw", "deadbeef"},
+    static const wide_in IN[] = {
+        {"to", 0, "4"}, {"u32", 0, "4000000000"}, {"s34", 0, "-5000000000"}, {"q32", 0, "2147483646"},
+        {"stamp", 0, "999999999999999"}, {"s64", 0, "-9200000000000000000"}, {"pos", 0, "-123456789.125"},
+        {"ok", 0, "true"}, {"note", 0, "hello_kelp"}, {"mode", 0, "survey"}, {"raw", 0, "deadbeef"},
+        {"track", 0, "-3999999999"}, {"track", 1, "-999999999"}, {"track", 2, "1"}, /* beyond max_delta: null */
     };
-    clear_all(v, 64);
-    for (size_t i = 0; i < sizeof IN / sizeof IN[0]; i++) setv(d, v, IN[i][0], 0, IN[i][1]);
-    setv(d, v, "track", 0, "-3999999999");
-    setv(d, v, "track", 1, "-999999999");
-    setv(d, v, "track", 2, "1"); /* beyond max_delta of the key: null */
+    set_wide(d, v, IN, sizeof IN / sizeof IN[0]);
     ck_assert_int_eq(kelp_dccl_encode(&cx, d, v, 64, NOON, buf, sizeof buf, &n), 0);
     ck_assert_uint_eq(n, 65);
     ck_assert_int_eq(kelp_dccl_decode(&cx, d, buf, n, NOON, out, 64), 0);
@@ -506,12 +515,10 @@ START_TEST(wide_message_set_file)
     ck_assert_str_eq(pubs[1].s, "-5000000000 at 999999999999999");
     /* <repeat/>: 5 copies, one publication per index and publish */
     kelp_dccl_codec_init(&cx, 2, &mb.ops, NULL);
-    clear_all(v, 64);
-    setv(r, v, "big", 0, "-5000000000");
-    setv(r, v, "big", 1, "4000000000");
-    setv(r, v, "big", 4, "7");
-    setv(r, v, "ok", 0, "true");
-    setv(r, v, "ok", 4, "false");
+    static const wide_in REP[] = {
+        {"big", 0, "-5000000000"}, {"big", 1, "4000000000"}, {"big", 4, "7"}, {"ok", 0, "true"}, {"ok", 4, "false"},
+    };
+    set_wide(r, v, REP, sizeof REP / sizeof REP[0]);
     ck_assert_int_eq(kelp_dccl_encode(&cx, r, v, 64, NOON, buf, sizeof buf, &n), 0);
     ck_assert_int_eq(kelp_dccl_decode(&cx, r, buf, n, NOON, out, 64), 0);
     ck_assert_int_eq(kelp_dccl_publish_all(&cx, r, out, 64, pubs, 16, &np), 0);
