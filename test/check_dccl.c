@@ -939,6 +939,7 @@ START_TEST(repeat_publish_per_index)
     ck_assert_int_eq(kelp_dccl_decode(&cx, &d, buf, n, NOON, out, 64), 0);
     ck_assert_int_eq(kelp_dccl_publish_all(&cx, &d, out, 64, p, 16, &np), 0);
     ck_assert_uint_eq(np, 6);
+    ck_assert_uint_eq(kelp_dccl_n_publications(&d), 6);
     static const char *const want[] = {
         "src=4,big=-5000000000,ok=true", "src=4,big=4000000000,ok=", "src=4,big=17,ok=false",
         "-5000000000 (true) from 4",     "4000000000 () from 4",     "17 (false) from 4",

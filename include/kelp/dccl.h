@@ -347,6 +347,10 @@ typedef struct kelp_dccl_pub {
 KELP_MUST_CHECK int kelp_dccl_publish_all(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, const kelp_dccl_val *vals,
                                           size_t n_vals, kelp_dccl_pub *out, size_t cap, size_t *n_out);
 
+/** How many publications kelp_dccl_publish_all writes for def: every <publish> once per
+ * repeat index (a <repeat/> message can need thousands). Size `out` with it. */
+size_t kelp_dccl_n_publications(const kelp_dccl_msgdef *def);
+
 /** boost::format subset used by <format>: %N%, %N$spec, %spec, %|spec|, %%. Every argument is a string. */
 KELP_MUST_CHECK int kelp_dccl_format(const char *fmt, const char *const *args, size_t n_args, char *out, size_t cap,
                                      size_t *len);

@@ -191,6 +191,11 @@ static const kelp_dccl_val *pub_ref(void *ctx, unsigned field, unsigned element)
 
 #define PUB_MAX_ARGS 64
 
+size_t kelp_dccl_n_publications(const kelp_dccl_msgdef *def)
+{
+    return def ? (size_t)def->n_publishes * (def->repeat ? def->repeat : 1u) : 0;
+}
+
 int kelp_dccl_publish_all(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, const kelp_dccl_val *vals, size_t n_vals,
                           kelp_dccl_pub *out, size_t cap, size_t *n_out)
 {

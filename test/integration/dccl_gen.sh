@@ -156,6 +156,10 @@ h=$("$K" encode --xml "$T/wide.xml" --msg WIDE_REP --modem-id 2 --now $NOW big=-
 "$K" publish --xml "$T/wide.xml" --now $NOW "$h" > "$T/pub.txt" || fail "publish WIDE_REP: $(cat "$T/pub.txt")"
 [ "$(grep -c '^REP_' "$T/pub.txt")" = 15 ] && grep -qx 'REP_PAIR=big=4000000000,ok=' "$T/pub.txt" &&
   grep -qx 'REP_FMT=-5000000000 from 2' "$T/pub.txt" || fail "publish WIDE_REP: $(cat "$T/pub.txt")"
+# 8 * 250 bits / 2 bits a copy = 1000 publications of one message
+h=$("$K" encode --xml "$T/wide.xml" --msg WIDE_MANY --now $NOW bit=true bit=false)
+"$K" publish --xml "$T/wide.xml" --now $NOW "$h" > "$T/pub.txt" || fail "publish WIDE_MANY: $(tail -3 "$T/pub.txt")"
+[ "$(grep -c '^MANY=' "$T/pub.txt")" = 1000 ] && [ "$(sed -n 2p "$T/pub.txt")" = MANY=false ] || fail "publish WIDE_MANY"
 
 # the encrypted vector of the seed's GoToCommand (key SHA-256(""), verified with openssl)
 h=$("$K" encode --xml "$T/example1.xml" --msg GoToCommand --modem-id 1 --now $NOW Destination=3 goto_x=351 goto_y=294 lights_on=true new_instructions=make_toast goto_speed=2.3)

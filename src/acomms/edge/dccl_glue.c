@@ -16,7 +16,6 @@
 
 #define GLUE_MAX_ALGS 64
 #define GLUE_MAX_MODEMS 256
-#define GLUE_MAX_PUBS 64
 
 typedef struct gvar {
     char *name;
@@ -48,6 +47,7 @@ struct kelp_acomms_dccl {
     kelp_dccl_var *src;     /* scratch for kelp_dccl_source */
     kelp_dccl_val *vals;    /* scratch, max n_slots */
     size_t max_slots;
+    size_t max_pubs;        /* publications of the message with the most (<repeat/> x <publish>) */
     kelp_dccl_pub *pubs;
 };
 
@@ -172,6 +172,7 @@ kelp_acomms_dccl *kelp_acomms_dccl_open(const kelp_acomms_dccl_cfg *cfg, char *e
     for (size_t m = 0; m < nm; m++) {
         const kelp_dccl_msgdef *def = d->ld.set.msgs[m];
         if (def->n_slots > d->max_slots) d->max_slots = def->n_slots;
+        if (kelp_dccl_n_publications(def) > d->max_pubs) d->max_pubs = kelp_dccl_n_publications(def);
         if (add_var(d, def->trigger_var, &vcap) != KELP_OK) goto oom;
         for (unsigned f = 0; f < def->n_fields; f++)
             if (add_var(d, def->fields[f].src_var, &vcap) != KELP_OK) goto oom;
@@ -182,7 +183,7 @@ kelp_acomms_dccl *kelp_acomms_dccl_open(const kelp_acomms_dccl_cfg *cfg, char *e
     }
     d->src = calloc(d->nvars + 1, sizeof *d->src);
     d->vals = calloc(d->max_slots + 1, sizeof *d->vals);
-    d->pubs = calloc(GLUE_MAX_PUBS, sizeof *d->pubs);
+    d->pubs = calloc(d->max_pubs + 1, sizeof *d->pubs);
     if (!d->src || !d->vals || !d->pubs) goto oom;
     if (!cfg->plaintext) {
         if (kelp_dccl_mbedtls_init(&d->mb, cfg->passphrase) != KELP_OK) {
@@ -463,7 +464,7 @@ int kelp_acomms_dccl_decode(kelp_acomms_dccl *d, const uint8_t *in, size_t n, do
     int rc = decode_into(d, in, n, now, &def, &i, why);
     if (rc) return rc;
     size_t np = 0;
-    rc = kelp_dccl_publish_all(&d->cx, def, d->vals, def->n_slots, d->pubs, GLUE_MAX_PUBS, &np);
+    rc = kelp_dccl_publish_all(&d->cx, def, d->vals, def->n_slots, d->pubs, d->max_pubs + 1, &np);
     if (rc) {
         *why = d->cx.errmsg ? d->cx.errmsg : "publish failed";
         return rc;

@@ -12,7 +12,6 @@
 #define CLI_MAX_XML 64
 #define CLI_MAX_ALGS 64
 #define CLI_MAX_MODEMS 256
-#define CLI_MAX_PUBS 256
 
 typedef struct cli {
     const char *cmd;
@@ -397,14 +396,15 @@ int kelp_dccl_cli_main(int argc, char **argv)
                 }
             }
         } else {
-            kelp_dccl_pub *pubs = calloc(CLI_MAX_PUBS, sizeof *pubs);
+            size_t cap = kelp_dccl_n_publications(def);
+            kelp_dccl_pub *pubs = calloc(cap ? cap : 1, sizeof *pubs);
             size_t np = 0, j;
             if (!pubs) {
                 free(vals);
                 status = die("out of memory", NULL, NULL);
                 goto done;
             }
-            rc = kelp_dccl_publish_all(&cx, def, vals, def->n_slots, pubs, CLI_MAX_PUBS, &np);
+            rc = kelp_dccl_publish_all(&cx, def, vals, def->n_slots, pubs, cap, &np);
             if (rc) {
                 fprintf(stderr, "kelp-dccl: publish %s failed: %s (%s)\n", def->name, cx.errmsg ? cx.errmsg : "",
                         kelp_strerror(rc));
