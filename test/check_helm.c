@@ -211,7 +211,7 @@ static int probe_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     return 1;
 }
 
-static const kelp_bhv_ops probe_ops = {"BHV_Probe", probe_init, probe_set, NULL, NULL, probe_run};
+static const kelp_bhv_ops probe_ops = {"BHV_Probe", probe_init, probe_set, NULL, NULL, probe_run, NULL};
 static const kelp_bhv_ops *const probe_types[] = {&probe_ops, &kelp_bhv_simple_waypoint_ops, NULL};
 
 static probe_state *probe(const char *name)
@@ -687,6 +687,125 @@ START_TEST(updates_bad_pairs_ignored_with_warning)
 }
 END_TEST
 
+/* IVPHELM_UPDATE_RESULT: one line per update read, MOOS-IvP's result words */
+START_TEST(update_results_posted)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = survey\n speed = 2\n points = 0,0:100,0\n updates = WPT_UPDATE\n}\n");
+    nav(0, -100);
+    ck_assert_uint_eq(ht_count("BHV_SETTINGS"), 1);
+    kelp_helm_mail_string(&g_h, "WPT_UPDATE", "speed = 1.5");
+    ht_iter(2);
+    ck_assert(ht_has_str("IVPHELM_UPDATE_RESULT", "bhv=survey,var=WPT_UPDATE,time=2.00,result=success,val=speed = 1.5"));
+    ck_assert(ht_has_str("BHV_STATUS", "name=survey,state=active,updates=1/1"));
+    ck_assert_uint_eq(ht_count("BHV_SETTINGS"), 1); /* re-posted after an applied update */
+    kelp_helm_mail_string(&g_h, "WPT_UPDATE", "speed = 1.5");
+    ht_iter(3);
+    ck_assert(ht_has_str("IVPHELM_UPDATE_RESULT", "bhv=survey,var=WPT_UPDATE,time=3.00,result=duplicate,val=speed = 1.5"));
+    ck_assert_uint_eq(ht_count("BHV_SETTINGS"), 0);
+    ck_assert_uint_eq(ht_count("BHV_STATUS"), 0); /* unchanged: not posted again */
+    kelp_helm_mail_string(&g_h, "WPT_UPDATE", "name=other # speed = 3");
+    ht_iter(4);
+    ck_assert(ht_has_str("IVPHELM_UPDATE_RESULT", "bhv=survey,var=WPT_UPDATE,time=4.00,result=name_mismatch,val=name=other # speed = 3"));
+    ck_assert(bhv("survey")->u.wpt.speed == 1.5);
+    kelp_helm_mail_string(&g_h, "WPT_UPDATE", "name=survey # speed = 3");
+    ht_iter(5);
+    ck_assert(ht_has_str("IVPHELM_UPDATE_RESULT", "bhv=survey,var=WPT_UPDATE,time=5.00,result=success,val=name=survey # speed = 3"));
+    ck_assert(bhv("survey")->u.wpt.speed == 3);
+    kelp_helm_mail_string(&g_h, "WPT_UPDATE", "speed = fast");
+    ht_iter(6);
+    ck_assert(ht_has_str("IVPHELM_UPDATE_RESULT", "bhv=survey,var=WPT_UPDATE,time=6.00,result=param_error,val=speed = fast"));
+    ck_assert(ht_has_str("BHV_CONFIG_WARNING", "Faulty update for behavior: survey. Bad parameter(s): speed."));
+    ck_assert(ht_has_str("BHV_STATUS", "name=survey,state=active,updates=2/3"));
+    /* a repeated update carrying "toggle", "engage" or "mod" is applied again */
+    kelp_helm_mail_string(&g_h, "WPT_UPDATE", "order = toggle");
+    ht_iter(7);
+    ck_assert(bhv("survey")->u.wpt.reverse);
+    kelp_helm_mail_string(&g_h, "WPT_UPDATE", "order = toggle");
+    ht_iter(8);
+    ck_assert(ht_has_str("IVPHELM_UPDATE_RESULT", "bhv=survey,var=WPT_UPDATE,time=8.00,result=success,val=order = toggle"));
+    ck_assert(!bhv("survey")->u.wpt.reverse);
+}
+END_TEST
+
+/* BHV_SETTINGS (waypoint, loiter) at start; BHV_STATUS per behaviour with "n/a" without updates */
+START_TEST(bhv_settings_and_status)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = survey\n speed = 2.5\n points = 0,0:100,-20.25\n lead = 8\n"
+            " capture_radius = 5\n slip_radius = 12\n repeat = forever\n}\n"
+            "Behavior = BHV_Loiter\n{\n name = loiter\n speed = 1.5\n condition = GO = true\n"
+            " polygon = 0,0:40,0:40,-30:0,-30\n clockwise = false\n}\n");
+    const ht_post *p = ht_last("BHV_SETTINGS");
+    ck_assert(p != NULL);
+    ck_assert_uint_eq(ht_count("BHV_SETTINGS"), 2);
+    ck_assert(ht_has_str("BHV_SETTINGS", "type=BHV_Waypoint,name=survey,points=pts={0,0:100,-20.25},speed=2.5,speed_alt=-1,"
+                         "currix=0,greedy_tour=false,use_alt_speed=false,wpt_status=WPT_STAT,wpt_dist_to_prev=,"
+                         "wpt_dist_to_next=,wpt_index=WPT_INDEX,cycle_index_var=CYCLE_INDEX,post_suffix=,ipf_type=zaic,"
+                         "lead=8,lead_damper=-1,lead_to_start=false,order=normal,repeats=forever,efficiency_measure=off,"
+                         "capture_radius=5,slip_radius=12,crs_spd_zaic_ratio=0.5"));
+    ck_assert(ht_has_str("BHV_SETTINGS", "type=BHV_Loiter,name=loiter,x=20.00,y=-15.00,clockwise=false,"
+                         "dynamic_clockwise=false,center_activate=false,desired_speed=1.5,polygon=\"pts={0,0:40,0:40,-30:0,-30}\""));
+    nav(0, -100);
+    ht_iter(1);
+    ck_assert(ht_has_str("BHV_STATUS", "name=survey,state=active,updates=n/a"));
+    ck_assert(ht_has_str("BHV_STATUS", "name=loiter,state=idle,updates=n/a"));
+    ht_iter(2);
+    ck_assert_uint_eq(ht_count("BHV_STATUS"), 0);
+    kelp_helm_mail_string(&g_h, "GO", "true");
+    ht_iter(3);
+    ck_assert(ht_has_str("BHV_STATUS", "name=loiter,state=active,updates=n/a"));
+    ck_assert_uint_eq(ht_count("BHV_STATUS"), 1);
+}
+END_TEST
+
+/* IVPHELM_SUMMARY: active_goal, ivpdomain and halt_msg as MOOS-IvP's HelmReport writes them */
+START_TEST(summary_goal_domain_halt)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = survey\n speed = 2\n points = 0,0:100,0\n condition = GO = true\n}\n"
+            "Behavior = BHV_ConstantSpeed\n{\n name = cs\n speed = 1\n condition = HALT = true\n nostarve = NAV_Q,1\n}\n");
+    nav(0, -100);
+    ht_iter(1);
+    const ht_post *s = ht_last("IVPHELM_SUMMARY");
+    ck_assert(s != NULL);
+    ck_assert_msg(strstr(s->sval, ",active_goal=false") != NULL, "%s", s->sval);
+    ck_assert_msg(strstr(s->sval, ",ivpdomain=\"course,0,359,360:speed,0,4,21\"") != NULL, "%s", s->sval);
+    ck_assert(strstr(s->sval, ",halt_msg=none") != NULL);
+    kelp_helm_mail_string(&g_h, "GO", "true");
+    ht_iter(2);
+    s = ht_last("IVPHELM_SUMMARY");
+    ck_assert_msg(strstr(s->sval, ",active_goal=true") != NULL, "%s", s->sval);
+    kelp_helm_mail_string(&g_h, "HALT", "true"); /* NAV_Q never arrives: a VarStarve error halts the helm */
+    ht_iter(3);
+    s = ht_last("IVPHELM_SUMMARY");
+    ck_assert_msg(strstr(s->sval, ",halt_msg=BHV_ERROR: cs: VarStarve: NAV_Q older than 1 s") != NULL, "%s", s->sval);
+}
+END_TEST
+
+/* runxflag every running iteration, configflag and spawnx_flag once; underscored aliases */
+START_TEST(flags_runx_config_spawnx)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = survey\n speed = 2\n points = 0,0:100,0\n"
+            " runx_flag = RUNX = $[CTR]\n config_flag = CONFIGURED = true\n spawnx_flag = SPAWNX = 1\n"
+            " run_flag = RUNNING = yes\n templating = disallowed\n build_info = uniform_piece=discrete@course:3\n}\n");
+    nav(0, -100);
+    ht_iter(1);
+    ck_assert_uint_eq(ht_count("RUNX"), 1);
+    ck_assert_uint_eq(ht_count("CONFIGURED"), 1);
+    ck_assert_uint_eq(ht_count("SPAWNX"), 1);
+    ck_assert_uint_eq(ht_count("RUNNING"), 1);
+    ht_iter(2);
+    ck_assert_uint_eq(ht_count("RUNX"), 1); /* repeatable: every iteration */
+    ck_assert_uint_eq(ht_count("CONFIGURED"), 0);
+    ck_assert_uint_eq(ht_count("SPAWNX"), 0);
+    ck_assert_uint_eq(ht_count("RUNNING"), 0);
+    ht_setup(DOM2, NULL);
+    ck_assert_int_lt(ht_load_rc("Behavior = BHV_Waypoint\n{\n name = s\n points = 0,0\n templating = sometimes\n}\n"), 0);
+}
+END_TEST
+
 /* ---------------------------------------------------------------- duration */
 
 START_TEST(duration_expiry)
@@ -1063,6 +1182,10 @@ Suite *kelp_helm_suite(void)
     tcase_add_test(tc, endflag_reaches_buffer_next_iteration);
     tcase_add_test(tc, updates_valid_same_iteration);
     tcase_add_test(tc, updates_bad_pairs_ignored_with_warning);
+    tcase_add_test(tc, update_results_posted);
+    tcase_add_test(tc, bhv_settings_and_status);
+    tcase_add_test(tc, summary_goal_domain_halt);
+    tcase_add_test(tc, flags_runx_config_spawnx);
     tcase_add_test(tc, duration_expiry);
     tcase_add_test(tc, duration_keeps_ticking_while_idle);
     tcase_add_test(tc, duration_idle_decay_false_pauses);

@@ -30,6 +30,7 @@ typedef struct replay {
     FILE *out;
     unsigned long lineno;
     unsigned long errors;
+    rmodem modem;           /* the Micro-Modem driver, after "modem start" */
 } replay;
 
 static const char *name_of(const replay *r, kelp_queue_key key)
@@ -153,6 +154,7 @@ static void advance_to(replay *r, int64_t t_us)
         } else if (kelp_acomms_node_tick(&r->node, r->now_us) != KELP_OK) {
             error(r, "tick failed: %s", r->node.errmsg);
         }
+        rmodem_tick(&r->modem, r->now_us);
     }
 }
 
@@ -409,6 +411,57 @@ static void cmd_transmit(replay *r, char **w, int n)
         error(r, "transmit failed: %s", r->node.errmsg);
 }
 
+/* modem start | modem $CA... : the driver, and a sentence from the modem */
+static void cmd_modem(replay *r, char **w, int n)
+{
+    if (n == 1 && !strcmp(w[0], "start")) {
+        if (rmodem_start(&r->modem, r->cfg.modem_id, r->out, r->start_us, r->now_us) != KELP_OK)
+            error(r, "the modem driver cannot start");
+    } else if (n == 1 && w[0][0] == '$') {
+        if (!r->modem.on) error(r, "modem: say \"modem start\" first");
+        else if (rmodem_feed(&r->modem, w[0], r->now_us) != KELP_OK) error(r, "modem: sentence not taken");
+    } else {
+        error(r, "modem start | modem $CA...");
+    }
+}
+
+/* cycle rate=R dest=D [ack=0|1] HEX|- ... : a cycle of ours with these frames */
+static void cmd_cycle(replay *r, char **w, int n)
+{
+    static kelp_mm_frame fr[KELP_MAX_MM_FRAMES];
+    long rate = -1, dest = -1, ack = 0;
+    size_t nf = 0;
+    for (int i = 0; i < n; i++) {
+        const char *eq = strchr(w[i], '=');
+        bool ok = true;
+        if (!eq) {
+            ok = nf < KELP_MAX_MM_FRAMES;
+            if (ok) {
+                memset(&fr[nf], 0, sizeof fr[nf]);
+                ok = !strcmp(w[i], "-") || hex_to_bytes(w[i], fr[nf].data, sizeof fr[nf].data, &fr[nf].len) == KELP_OK;
+                nf++;
+            }
+        } else if (!strncmp(w[i], "rate=", 5)) ok = parse_int(eq + 1, &rate) && rate >= 0 && rate <= 5;
+        else if (!strncmp(w[i], "dest=", 5)) ok = parse_int(eq + 1, &dest) && dest >= 0 && dest <= 31;
+        else if (!strncmp(w[i], "ack=", 4)) ok = parse_int(eq + 1, &ack) && (ack == 0 || ack == 1);
+        else ok = false;
+        if (!ok) {
+            error(r, "cycle: bad argument \"%s\"", w[i]);
+            return;
+        }
+    }
+    if (rate < 0 || dest < 0) {
+        error(r, "cycle needs rate=R and dest=D");
+        return;
+    }
+    for (size_t i = 0; i < nf; i++) fr[i].src = r->cfg.modem_id, fr[i].dest = (int)dest, fr[i].ack_requested = ack == 1;
+    stamp(r);
+    fprintf(r->out, "cycle rate=%ld dest=%ld ack=%ld frames=%zu\n", rate, dest, ack, nf);
+    int rc = rmodem_cycle(&r->modem, (unsigned)rate, fr, nf, r->now_us);
+    if (rc == KELP_ERR_STATE) error(r, "cycle: say \"modem start\" first");
+    else if (rc != KELP_OK) error(r, "cycle: rate %ld carries %u frames", rate, kelp_mm_packet_frames[rate]);
+}
+
 static void cmd_status(replay *r)
 {
     for (size_t i = 0; i < r->nq; i++) {
@@ -493,6 +546,10 @@ static void run_line(replay *r, char *line)
         cmd_ack(r, w + 1, n - 1);
     } else if (!strcmp(w[0], "flush")) {
         cmd_flush(r, w + 1, n - 1);
+    } else if (!strcmp(w[0], "modem")) {
+        cmd_modem(r, w + 1, n - 1);
+    } else if (!strcmp(w[0], "cycle")) {
+        cmd_cycle(r, w + 1, n - 1);
     } else if (!strcmp(w[0], "heard")) {
         if (n != 2 || !parse_int(w[1], &v) || v < 0 || v > 31) {
             error(r, "heard needs a modem id");
@@ -552,6 +609,10 @@ static const char replay_more[] =
         "                               (default us; an ack addressed to another modem is ignored)\n"
         "  flush QUEUE                  empty a queue (the queue manager's flush_queue)\n"
         "  receive SRC DEST HEX         a frame arrives from the modem (unstitched, filtered, decoded)\n"
+        "  modem start                  start the Micro-Modem driver (its sentences print as nmea-out)\n"
+        "  modem $CA...                 a sentence from the modem to the driver\n"
+        "  cycle rate=R dest=D [ack=0|1] HEX|- ...   a cycle of ours with these frames: $CCCYC, then\n"
+        "                               each $CADRQ answered from them, the rest empty (- = empty)\n"
         "  heard ID                     modem ID was heard (MAC_AUTO_DECENTRALIZED discovery)\n"
         "  mac_update TEXT              ACOMMS_MAC_CYCLE_UPDATE, e.g.\n"
         "                               mac_update dest: 1 update_type: ADD slot { src: 1 dest: 3 slot_seconds: 15 }\n"
@@ -571,6 +632,9 @@ static const char replay_more[] =
         "  expire queue= dest= hex=                              a message outlived its ttl\n"
         "  receive queue= src= dest= hex= decoded=\"...\"          a received piece for us\n"
         "  flush queue=                                          a queue was emptied (then qsize)\n"
+        "  nmea-out $CC...                                       the driver wrote a sentence\n"
+        "  cycle rate= dest= ack= frames=                        a cycle of caller frames was handed over\n"
+        "  modem-ack / modem-receive / modem-request / modem-bad-line / modem-retry   from the driver\n"
         "  ack-ignored / receive-ignored / mac_update / heard / status / echo   as named\n"
         "  error line=N reason                                   a bad command (the replay goes on;\n"
         "                                                        the exit status is 1)\n";

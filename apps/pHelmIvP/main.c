@@ -35,10 +35,8 @@ static void sink(const kelp_helm_post *p, void *user)
 {
     helm_app *a = user;
     int rc = p->is_str ? kelp_app_notify_string(a->app, p->var, p->sval) : kelp_app_notify_double(a->app, p->var, p->dval);
-    if (rc < 0)
-        kelp_app_run_warning(a->app, "publish of %s failed", p->var);
-    else
-        a->posts++;
+    if (rc < 0) kelp_app_run_warning(a->app, "publish of %s failed", p->var);
+    else a->posts++;
     if (p->is_str && !strcmp(p->var, "IVPHELM_SUMMARY"))
         snprintf(a->last_summary, sizeof a->last_summary, "%s", p->sval);
     if (p->is_str && (!strcmp(p->var, "BHV_WARNING") || !strcmp(p->var, "BHV_ERROR")))
@@ -48,12 +46,10 @@ static void sink(const kelp_helm_post *p, void *user)
 static void resolve(kelp_app *app, const char *file, char *out, size_t cap)
 {
     snprintf(out, cap, "%s", file);
-    if (file[0] == '/' || access(file, R_OK) == 0)
-        return;
+    if (file[0] == '/' || access(file, R_OK) == 0) return;
     const char *mp = kelp_app_mission_path(app);
     const char *slash = mp ? strrchr(mp, '/') : NULL;
-    if (slash)
-        snprintf(out, cap, "%.*s/%s", (int)(slash - mp), mp, file);
+    if (slash) snprintf(out, cap, "%.*s/%s", (int)(slash - mp), mp, file);
 }
 
 /* the process's CPU time, for IVPHELM_CREATE_CPU / IVPHELM_LOOP_CPU */
@@ -61,9 +57,18 @@ static double cpu_seconds(void *user)
 {
     (void)user;
     struct timespec ts;
-    if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts) != 0)
-        return 0;
+    if (clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts) != 0) return 0;
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+/* register for the variables the behaviours came to need, each announced in IVPHELM_REGISTER */
+static void register_new(kelp_app *app, helm_app *a, bool starting)
+{
+    for (const char *v; (v = kelp_helm_next_new_var(a->h)) != NULL;) {
+        if (kelp_app_register(app, v, 0) == 0) (void)kelp_app_notify_string(app, "IVPHELM_REGISTER", v);
+        else if (starting) kelp_app_config_warning(app, "cannot register for %s", v);
+        else kelp_app_run_warning(app, "cannot register for %s", v);
+    }
 }
 
 static int startup(kelp_app *app, void *st)
@@ -154,9 +159,7 @@ static int startup(kelp_app *app, void *st)
     for (unsigned i = 0; i < a->h->nbhv; i++)
         printf("  Behavior %s (%s)\n", a->h->bhv[i].name, a->h->bhv[i].type);
     if (a->nhold == 0) kelp_helm_start(a->h, kelp_app_time(app)), a->started = true;
-    for (const char *v; (v = kelp_helm_next_new_var(a->h)) != NULL;)
-        if (kelp_app_register(app, v, 0) < 0)
-            kelp_app_config_warning(app, "cannot register for %s", v);
+    register_new(app, a, true);
     return 0;
 }
 
@@ -183,9 +186,8 @@ static int iterate(kelp_app *app, void *st, double now)
     a->iterations++;
     if (kelp_helm_iterate(a->h, now) < 0)
         kelp_app_run_warning(app, "helm iteration failed");
-    for (const char *v; (v = kelp_helm_next_new_var(a->h)) != NULL;)
-        if (kelp_app_register(app, v, 0) < 0)
-            kelp_app_run_warning(app, "cannot register for %s", v);
+    register_new(app, a, false);
+    (void)kelp_app_notify_double(app, "IVPHELM_CPU", kelp_app_cpu_load(app));
     return 0;
 }
 
@@ -194,8 +196,7 @@ static void report(kelp_app *app, void *st, FILE *out)
     helm_app *a = st;
     const kelp_helm *h = a->h;
     (void)app;
-    if (!h)
-        return;
+    if (!h) return;
     fprintf(out, "Helm: %s   iteration %lu   functions %u   allstop %s\n", h->engaged ? "DRIVE" : "PARK",
             h->rep.iteration, h->rep.ofnum, h->rep.allstop);
     for (unsigned d = 0; d < h->cfg.domain.dim; d++)
@@ -273,7 +274,14 @@ static const kelp_app_def def = {
         { "IVPHELM_UPDATEVARS", "UP_LOITER", "the variables behaviour updates and mode declarations listen to" },
         { "IVPHELM_STATEVARS", "DEPLOY,RETURN", "the variables the conditions read" },
         { "IVPHELM_ENGAGED", "ENGAGED", "heartbeat (DISENGAGED when parked)" },
-        { "BHV_WARNING", "loiter: no points", "also BHV_ERROR" },
+        { "BHV_WARNING", "loiter: no points", "also BHV_ERROR, BHV_CONFIG_WARNING (a faulty update)" },
+        { "BHV_SETTINGS", "type=BHV_Waypoint,name=survey,points=pts={0,0:50,-20},speed=1.2,...", "after configuration"
+          " and each applied update (waypoint, loiter)" },
+        { "BHV_STATUS", "name=survey,state=active,updates=0/0", "per behaviour, when it changes" },
+        { "IVPHELM_UPDATE_RESULT", "bhv=survey,var=WPT_UPDATE,time=12.25,result=success,val=speed=2",
+          "each update read: success, param_error, duplicate or name_mismatch" },
+        { "IVPHELM_REGISTER", "NAV_X", "each variable the helm registers for" },
+        { "IVPHELM_CPU", "1.25", "the helm's CPU load (percent of one core)" },
         { "UH_<behaviour>", "points=0,0:10,10", "the behaviour's update replies" },
         { "VIEW_POINT", "x=10,y=20,label=alpha", "behaviour postings: VIEW_SEGLIST, VIEW_POLYGON, WPT_STAT,"
           " WPT_INDEX, CYCLE_INDEX, LOITER_INDEX, LOITER_ACQUIRE, LOITER_REPORT, flags" },

@@ -90,6 +90,8 @@ double kelp_app_time(const kelp_app *app);           /**< MOOS time now */
 double kelp_app_start_time(const kelp_app *app);
 double kelp_app_warp(const kelp_app *app);
 unsigned long kelp_app_iteration(const kelp_app *app);
+/** This process's CPU use, percent of one core, as of the last <APP>_STATUS (cpuload=). */
+double kelp_app_cpu_load(const kelp_app *app);
 kelp_bus *kelp_app_bus(kelp_app *app);
 const char *kelp_app_mission_path(const kelp_app *app);
 

@@ -155,6 +155,8 @@ typedef struct kelp_bhv_ops {
     void (*on_idle)(kelp_bhv *b);
     /** onRunState: 1 = *out holds a function built in w->out, 0 = no function. */
     int (*on_run)(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out);
+    /** postConfigStatus: post BHV_SETTINGS after configuration and each applied update. May be NULL. */
+    void (*post_config)(kelp_bhv *b);
 } kelp_bhv_ops;
 
 typedef enum kelp_bhv_flag_kind {
@@ -162,7 +164,11 @@ typedef enum kelp_bhv_flag_kind {
     KELP_FLAG_IDLE,
     KELP_FLAG_ACTIVE,
     KELP_FLAG_INACTIVE,
-    KELP_FLAG_END
+    KELP_FLAG_END,
+    KELP_FLAG_RUNX,                    /**< runxflag: every iteration in the running state */
+    KELP_FLAG_SPAWNX,                  /**< spawnx_flag: the behaviour's first helm iteration */
+    KELP_FLAG_CONFIG,                  /**< configflag: once, on the first iteration after configuration */
+    KELP_FLAG_SPAWN                    /**< spawnflag: when a template spawns the behaviour */
 } kelp_bhv_flag_kind;
 
 /** A variable-value pair (flags, initialize lines): a quoted or non-numeric value is a
@@ -274,9 +280,13 @@ struct kelp_bhv {
     unsigned ncond;
     kelp_bhv_flag flag[KELP_HELM_MAX_FLAGS];
     unsigned nflag;
+    unsigned long bhv_iter;            /**< helm iterations this behaviour has been through */
+    char templating[12];               /**< "disallowed" (default), "clone" or "spawn" */
+    char build_info[64];               /**< build_info / precision (accepted, recorded) */
     char updates[KELP_MAX_NAME];       /**< UPDATES variable, "" none */
     uint64_t prev_update_hash;         /**< last fully applied update string */
     unsigned long good_updates, bad_updates;
+    char update_summary[48];           /**< "good/attempted" for BHV_STATUS, "n/a" without UPDATES */
     double duration;                   /**< <0: no limit */
     char duration_status[KELP_MAX_NAME];
     char duration_reset_var[KELP_MAX_NAME];
@@ -441,6 +451,8 @@ typedef struct kelp_helm_report {
     double max_create_time, max_solve_time, max_loop_time;
     unsigned long pcs_formed;          /**< pieces of this iteration's functions */
     unsigned long total_pcs_formed;    /**< ... summed over all iterations */
+    bool active_goal;                  /**< a goal (non-constraint) behaviour produced a function */
+    char halt_msg[KELP_HELM_MAX_SVAL / 2]; /**< why the helm halted: "BHV_ERROR: ...", "DomainVar x not recognized" */
 } kelp_helm_report;
 
 /** One hierarchical mode declaration of a .bhv file:

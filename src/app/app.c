@@ -465,6 +465,11 @@ static void update_cpuload(kelp_app *app)
     app->cpu_proc = proc;
 }
 
+double kelp_app_cpu_load(const kelp_app *app)
+{
+    return app ? app->cpuload : 0;
+}
+
 /* "A,B,C" into buf, as many names as fit */
 static void name_list(char *buf, size_t cap, const char *names, size_t stride, size_t n)
 {

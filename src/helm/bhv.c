@@ -107,16 +107,27 @@ int bhv_general_param(kelp_bhv *b, const char *p, const char *v)
         memcpy(b->cond[b->ncond++], v, vn + 1);
         return 0;
     }
-    if (!strcmp(p, "runflag"))
-        return add_flag(b, KELP_FLAG_RUN, v);
-    if (!strcmp(p, "idleflag"))
-        return add_flag(b, KELP_FLAG_IDLE, v);
-    if (!strcmp(p, "activeflag"))
-        return add_flag(b, KELP_FLAG_ACTIVE, v);
-    if (!strcmp(p, "inactiveflag"))
-        return add_flag(b, KELP_FLAG_INACTIVE, v);
-    if (!strcmp(p, "endflag"))
-        return add_flag(b, KELP_FLAG_END, v);
+    /* flags, each with MOOS-IvP's underscored alias (run_flag, spawnx_flag, ...) */
+    static const struct { const char *name; kelp_bhv_flag_kind kind; } flags[] = {
+        {"runflag", KELP_FLAG_RUN},       {"idleflag", KELP_FLAG_IDLE},     {"activeflag", KELP_FLAG_ACTIVE},
+        {"inactiveflag", KELP_FLAG_INACTIVE}, {"endflag", KELP_FLAG_END}, {"runxflag", KELP_FLAG_RUNX},
+        {"spawnxflag", KELP_FLAG_SPAWNX}, {"configflag", KELP_FLAG_CONFIG}, {"spawnflag", KELP_FLAG_SPAWN}};
+    for (size_t i = 0; i < sizeof flags / sizeof flags[0]; i++) {
+        size_t fl = strlen(flags[i].name) - 4; /* the part before "flag" */
+        if (!strcmp(p, flags[i].name) ||
+            (!strncmp(p, flags[i].name, fl) && p[fl] == '_' && !strcmp(p + fl + 1, "flag")))
+            return add_flag(b, flags[i].kind, v);
+    }
+    if (!strcmp(p, "templating")) {
+        if (!hx_ieq(v, "disallowed") && !hx_ieq(v, "clone") && !hx_ieq(v, "spawn"))
+            return kelp_bhv_fail(b, "templating is disallowed, clone or spawn");
+        (void)hx_copy(b->templating, sizeof b->templating, v, vn);
+        return 0;
+    }
+    if (!strcmp(p, "build_info") || !strcmp(p, "precision")) {
+        (void)hx_copy(b->build_info, sizeof b->build_info, v, vn < sizeof b->build_info ? vn : sizeof b->build_info - 1);
+        return 0;
+    }
     if (!strcmp(p, "updates"))
         return copy_name(b, b->updates, v, true);
     if (!strcmp(p, "duration")) {

@@ -219,6 +219,33 @@ static int loiter_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     return 1;
 }
 
+/* BHV_SETTINGS after configuration and each applied update (MOOS-IvP's postConfigStatus) */
+static void loiter_post_config(kelp_bhv *b)
+{
+    const kelp_bhv_loiter *s = &b->u.loiter;
+    double x0 = s->given[0].x, x1 = x0, y0 = s->given[0].y, y1 = y0;
+    for (unsigned i = 1; i < s->ngiven; i++) {
+        x0 = fmin(x0, s->given[i].x), x1 = fmax(x1, s->given[i].x);
+        y0 = fmin(y0, s->given[i].y), y1 = fmax(y1, s->given[i].y);
+    }
+    char buf[KELP_HELM_MAX_SVAL], cx[32], cy[32], sp[32];
+    hx_fmt_fixed(cx, sizeof cx, (x0 + x1) / 2, 2);
+    hx_fmt_fixed(cy, sizeof cy, (y0 + y1) / 2, 2);
+    hx_fmt_fixed(sp, sizeof sp, s->speed, 1);
+    size_t n = hx_cat(buf, sizeof buf, "type=BHV_Loiter,name=", b->name, ",x=", cx, ",y=", cy, ",clockwise=",
+                      s->clockwise == 1 ? "true" : "false", ",dynamic_clockwise=", s->clockwise < 0 ? "true" : "false",
+                      ",center_activate=", s->center_activate ? "true" : "false", ",desired_speed=", sp,
+                      ",polygon=\"pts={", HX_END);
+    for (unsigned i = 0; i < s->ngiven; i++) {
+        char x[32], y[32];
+        hx_fmt_x(x, sizeof x, s->given[i].x, 2);
+        hx_fmt_x(y, sizeof y, s->given[i].y, 2);
+        n += hx_cat(buf + n, sizeof buf - n, i ? ":" : "", x, ",", y, HX_END);
+    }
+    hx_cat(buf + n, sizeof buf - n, "}\"", HX_END);
+    kelp_bhv_post_string(b, "BHV_SETTINGS", buf, "repeatable");
+}
+
 const kelp_bhv_ops kelp_bhv_loiter_ops = {
     .type = "BHV_Loiter",
     .init = loiter_init,
@@ -226,4 +253,5 @@ const kelp_bhv_ops kelp_bhv_loiter_ops = {
     .params_done = loiter_params_done,
     .on_idle = loiter_idle,
     .on_run = loiter_run,
+    .post_config = loiter_post_config,
 };

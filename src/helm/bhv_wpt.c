@@ -463,6 +463,41 @@ static int wpt_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     return 1;
 }
 
+/* BHV_SETTINGS after configuration and each applied update (MOOS-IvP's postConfigStatus) */
+static void wpt_post_config(kelp_bhv *b)
+{
+    const kelp_bhv_wpt *s = &b->u.wpt;
+    char buf[KELP_HELM_MAX_SVAL], sp[32], sa[32], ld[32], dm[32], cr[32], sr[32], rt[32], ix[24], rp[24];
+    size_t n = hx_cat(buf, sizeof buf, "type=BHV_Waypoint,name=", b->name, ",points=", HX_END);
+    for (unsigned i = 0; i < s->npts; i++) {
+        char x[32], y[32];
+        hx_fmt_x(x, sizeof x, s->pts[i].x, 2);
+        hx_fmt_x(y, sizeof y, s->pts[i].y, 2);
+        n += hx_cat(buf + n, sizeof buf - n, i ? ":" : "pts={", x, ",", y, i + 1 == s->npts ? "}" : "", HX_END);
+    }
+    struct { char *dst; double v; unsigned dec; } num[] = {
+        {sp, s->speed, 1},       {sa, s->speed_alt, 1},      {ld, s->lead, 1},
+        {dm, s->lead_damper, 1}, {cr, s->capture_radius, 1}, {sr, s->slip_radius, 1},
+        {rt, s->course_pct / 100.0, 2}};
+    for (size_t i = 0; i < sizeof num / sizeof num[0]; i++)
+        hx_fmt_x(num[i].dst, 32, num[i].v, num[i].dec);
+    hx_fmt_ulong(ix, sizeof ix, s->index);
+    hx_fmt_ulong(rp, sizeof rp, s->repeat < 0 ? 0 : (unsigned long)s->repeat);
+    n += hx_cat(buf + n, sizeof buf - n, ",speed=", sp, ",speed_alt=", sa, ",currix=", ix,
+                ",greedy_tour=false,use_alt_speed=", s->use_alt_speed ? "true" : "false", ",wpt_status=", s->var_report,
+                ",wpt_dist_to_prev=", s->var_dist_prev, ",wpt_dist_to_next=", s->var_dist_next, ",wpt_index=",
+                s->var_index, ",cycle_index_var=", s->var_cyindex, ",post_suffix=", s->suffix[0] ? s->suffix + 1 : "",
+                ",ipf_type=zaic,lead=", ld, ",lead_damper=", dm, ",lead_to_start=", s->lead_to_start ? "true" : "false",
+                ",order=", s->reverse ? "reverse" : "normal", ",repeats=", s->repeat < 0 ? "forever" : rp,
+                ",efficiency_measure=", s->efficiency ? "all" : "off", ",capture_radius=", cr, ",slip_radius=", sr,
+                HX_END);
+    if (s->capture_line)
+        n += hx_cat(buf + n, sizeof buf - n, ",capture_line=",
+                    s->capture_radius == 0 && s->slip_radius == 0 ? "absolute" : "true", HX_END);
+    hx_cat(buf + n, sizeof buf - n, ",crs_spd_zaic_ratio=", rt, HX_END);
+    kelp_bhv_post_string(b, "BHV_SETTINGS", buf, "repeatable");
+}
+
 const kelp_bhv_ops kelp_bhv_waypoint_ops = {
     .type = "BHV_Waypoint",
     .init = wpt_init,
@@ -470,4 +505,5 @@ const kelp_bhv_ops kelp_bhv_waypoint_ops = {
     .params_done = wpt_params_done,
     .on_idle = wpt_idle,
     .on_run = wpt_run,
+    .post_config = wpt_post_config,
 };

@@ -294,6 +294,23 @@ static void sink(kelp_helm *h, const char *var, bool is_str, const char *s, doub
     h->cfg.sink(&p, h->cfg.user);
 }
 
+/* "course,0,359,360:speed,0,4,21" (IVPHELM_DOMAIN, the summary's ivpdomain) */
+static void helm_domain_string(const kelp_ivp_domain *dom, char *buf, size_t cap)
+{
+    size_t n = 0;
+    buf[0] = '\0';
+    for (unsigned d = 0; d < dom->dim; d++) {
+        const kelp_ivp_var *v = &dom->var[d];
+        char lo[32], hi[32], pt[24];
+        hx_fmt_double(lo, sizeof lo, v->low);
+        hx_fmt_double(hi, sizeof hi, v->high);
+        hx_fmt_ulong(pt, sizeof pt, v->points);
+        n += hx_cat(buf + n, cap - n, d ? ":" : "", v->name, ",", lo, ",", hi, ",", pt, HX_END);
+    }
+}
+
+static void flush_posts(kelp_helm *h);
+
 static void post_init(kelp_helm *h, const kelp_helm_pair *p)
 {
     if (p->is_str)
@@ -318,17 +335,7 @@ void kelp_helm_start(kelp_helm *h, double now)
         helm_mode_describe(h, buf, sizeof buf);
         sink(h, "IVPHELM_MODESET", true, buf, 0, NULL);
     }
-    /* IVPHELM_DOMAIN: "course,0,359,360:speed,0,4,21" */
-    size_t n = 0;
-    buf[0] = '\0';
-    for (unsigned d = 0; d < h->cfg.domain.dim; d++) {
-        const kelp_ivp_var *v = &h->cfg.domain.var[d];
-        char lo[32], hi[32], pt[24];
-        hx_fmt_double(lo, sizeof lo, v->low);
-        hx_fmt_double(hi, sizeof hi, v->high);
-        hx_fmt_ulong(pt, sizeof pt, v->points);
-        n += hx_cat(buf + n, sizeof buf - n, d ? ":" : "", v->name, ",", lo, ",", hi, ",", pt, HX_END);
-    }
+    helm_domain_string(&h->cfg.domain, buf, sizeof buf);
     sink(h, "IVPHELM_DOMAIN", true, buf, 0, NULL);
     /* one spawn event per behaviour of the files */
     for (unsigned i = 0; i < h->nbhv; i++) {
@@ -336,8 +343,13 @@ void kelp_helm_start(kelp_helm *h, double now)
                ", event=spawn, seed=helm startup", HX_END);
         sink(h, "IVPHELM_LIFE_EVENT", true, buf, 0, NULL);
     }
+    /* each behaviour's BHV_SETTINGS (onSetParamComplete) */
+    for (unsigned i = 0; i < h->nbhv; i++)
+        if (h->bhv[i].ops->post_config)
+            h->bhv[i].ops->post_config(&h->bhv[i]);
+    flush_posts(h);
     /* the variables behaviour updates and mode declarations listen to */
-    n = 0;
+    size_t n = 0;
     buf[0] = '\0';
     for (unsigned i = 0; i < h->nbhv; i++)
         if (h->bhv[i].updates[0])
@@ -560,10 +572,90 @@ static void check_duration_reset(kelp_helm *h, kelp_bhv *b)
 
 /* ---------------------------------------------------------------- updates */
 
+/* MOOS-IvP lets an update repeat itself when it carries one of these words */
+static bool repeatable_update(const char *s)
+{
+    static const char *const words[] = {"toggle", "engage", "mod"};
+    for (const char *p = s; *p; p++)
+        for (int w = 0; w < 3; w++)
+            if (strlen(p) >= strlen(words[w]) && kelp_strieq_n(p, strlen(words[w]), words[w]))
+                return true;
+    return false;
+}
+
+/* one '#'-separated piece "param = value", trimmed; false without '=' or when too long */
+static bool update_piece(const char *piece, size_t pn, char *param, size_t pcap, char *val, size_t vcap)
+{
+    hx_trim(&piece, &pn);
+    const char *eq = memchr(piece, '=', pn);
+    if (!eq)
+        return false;
+    const char *pp = piece, *vp = eq + 1;
+    size_t ppn = (size_t)(eq - piece), vpn = pn - ppn - 1;
+    hx_trim(&pp, &ppn);
+    hx_trim(&vp, &vpn);
+    return hx_copy(param, pcap, pp, ppn) && hx_copy(val, vcap, vp, vpn);
+}
+
+/* Apply one update string; returns the result word of IVPHELM_UPDATE_RESULT. */
+static const char *apply_update(kelp_helm *h, kelp_bhv *b, const char *s)
+{
+    (void)h;
+    char param[KELP_MAX_NAME], val[KELP_HELM_MAX_SVAL], bad[KELP_HELM_MAX_SVAL - 128] = "";
+    /* a name=... piece must name this behaviour (neither a success nor a failure otherwise) */
+    for (const char *p = s;;) {
+        const char *e = strchr(p, '#');
+        size_t pn = e ? (size_t)(e - p) : strlen(p);
+        if (update_piece(p, pn, param, sizeof param, val, sizeof val) && !strcmp(param, "name") && strcmp(val, b->name) != 0)
+            return "name_mismatch";
+        if (!e)
+            break;
+        p = e + 1;
+    }
+    bool ok = true;
+    for (const char *p = s;;) {
+        const char *e = strchr(p, '#');
+        size_t pn = e ? (size_t)(e - p) : strlen(p);
+        b->fail = NULL;
+        bool parsed = update_piece(p, pn, param, sizeof param, val, sizeof val);
+        if (!parsed || (strcmp(param, "name") != 0 && kelp_bhv_set_param(b, param, val) < 0)) {
+            ok = false;
+            const char *pp = p;
+            size_t ppn = pn;
+            const char *eq = memchr(p, '=', pn);
+            if (eq)
+                ppn = (size_t)(eq - p);
+            hx_trim(&pp, &ppn);
+            size_t bl = strlen(bad);
+            if (bl + ppn + 2 < sizeof bad) {
+                if (bl)
+                    bad[bl++] = ',';
+                memcpy(bad + bl, pp, ppn);
+                bad[bl + ppn] = '\0';
+            }
+        }
+        if (!e)
+            break;
+        p = e + 1;
+    }
+    if (!ok) {
+        b->bad_updates++;
+        char msg[KELP_HELM_MAX_SVAL];
+        hx_cat(msg, sizeof msg, "Faulty update for behavior: ", b->name, ". Bad parameter(s): ", bad, ".", HX_END);
+        kelp_bhv_post_string(b, "BHV_WARNING", msg, NULL);
+        kelp_bhv_post_string(b, "BHV_CONFIG_WARNING", msg, NULL);
+        return "param_error";
+    }
+    b->good_updates++;
+    return "success";
+}
+
 static void check_updates(kelp_helm *h, kelp_bhv *b)
 {
-    if (!b->updates[0])
+    if (!b->updates[0]) {
+        hx_copy(b->update_summary, sizeof b->update_summary, "n/a", 3);
         return;
+    }
     bool made = false, any = false;
     unsigned n = kelp_helm_ib_ndeltas(&h->ib, b->updates);
     for (unsigned k = 0; k < n; k++) {
@@ -571,56 +663,31 @@ static void check_updates(kelp_helm *h, kelp_bhv *b)
         if (!kelp_helm_ib_delta(&h->ib, b->updates, k, NULL, &s) || !s || !*s)
             continue;
         uint64_t hs = hx_hash(HX_HASH_INIT, s, strlen(s));
-        if (b->prev_update_hash && hs == b->prev_update_hash)
-            continue;
-        any = true;
-        bool ok = true;
-        char bad[KELP_HELM_MAX_SVAL - 128] = "";
-        const char *p = s;
-        for (;;) {
-            const char *e = strchr(p, '#');
-            size_t pn = e ? (size_t)(e - p) : strlen(p);
-            const char *piece = p;
-            hx_trim(&piece, &pn);
-            const char *eq = memchr(piece, '=', pn);
-            char param[KELP_MAX_NAME], val[KELP_HELM_MAX_SVAL];
-            const char *pp = piece, *vp = eq ? eq + 1 : piece;
-            size_t ppn = eq ? (size_t)(eq - piece) : pn, vpn = eq ? pn - ppn - 1 : 0;
-            hx_trim(&pp, &ppn);
-            hx_trim(&vp, &vpn);
-            b->fail = NULL;
-            if (!eq || !hx_copy(param, sizeof param, pp, ppn) || !hx_copy(val, sizeof val, vp, vpn) ||
-                kelp_bhv_set_param(b, param, val) < 0) {
-                ok = false;
-                size_t bl = strlen(bad);
-                if (bl + ppn + 2 < sizeof bad) {
-                    if (bl)
-                        bad[bl++] = ',';
-                    memcpy(bad + bl, pp, ppn);
-                    bad[bl + ppn] = '\0';
-                }
+        const char *result = "duplicate";
+        if (!b->prev_update_hash || hs != b->prev_update_hash || repeatable_update(s)) {
+            any = true;
+            result = apply_update(h, b, s);
+            if (!strcmp(result, "success")) {
+                made = true;
+                b->prev_update_hash = hs;
             }
-            if (!e)
-                break;
-            p = e + 1;
         }
-        if (!ok) {
-            b->bad_updates++;
-            char msg[KELP_HELM_MAX_SVAL];
-            hx_cat(msg, sizeof msg, "Faulty update for behavior: ", b->name, ". Bad parameter(s): ", bad, ".", HX_END);
-            kelp_bhv_post_string(b, "BHV_WARNING", msg, NULL);
-        } else {
-            made = true;
-            b->good_updates++;
-            b->prev_update_hash = hs;
-        }
+        /* IVPHELM_UPDATE_RESULT: bhv=,var=,time= (since helm start),result=,val= */
+        char msg[KELP_HELM_MAX_SVAL], tm[32];
+        hx_fmt_fixed(tm, sizeof tm, h->ib.curr_time, 2);
+        hx_cat(msg, sizeof msg, "bhv=", b->name, ",var=", b->updates, ",time=", tm, ",result=", result, ",val=", s, HX_END);
+        sink(h, "IVPHELM_UPDATE_RESULT", true, msg, 0, NULL);
     }
     if (made && b->ops->params_done)
         (void)b->ops->params_done(b);
+    if (made && b->ops->post_config)
+        b->ops->post_config(b);
+    char g[24], t[24];
+    hx_fmt_ulong(g, sizeof g, b->good_updates);
+    hx_fmt_ulong(t, sizeof t, b->good_updates + b->bad_updates);
+    hx_cat(b->update_summary, sizeof b->update_summary, g, "/", t, HX_END);
     if (any || b->good_updates + b->bad_updates) {
-        char var[KELP_MAX_NAME + 4], msg[96];
-        char g[24], f[24];
-        hx_fmt_ulong(g, sizeof g, b->good_updates);
+        char var[KELP_MAX_NAME + 4], msg[96], f[24];
         hx_fmt_ulong(f, sizeof f, b->bad_updates);
         hx_cat(var, sizeof var, "UH_", b->name, HX_END);
         hx_cat(msg, sizeof msg, g, " update(s), and ", f, " failure(s)", HX_END);
@@ -684,6 +751,10 @@ static bool produce(kelp_helm *h, unsigned i, size_t *pool_used, bool *halted)
         return false;
     }
     b->state_ok = true;
+    if (++b->bhv_iter == 1) { /* the first iteration: configflag and spawnx_flag */
+        helm_post_flags(b, KELP_FLAG_CONFIG);
+        helm_post_flags(b, KELP_FLAG_SPAWNX);
+    }
     check_updates(h, b);
     check_duration_reset(h, b);
     kelp_bhv_state ns = runnable(h, b);
@@ -703,6 +774,7 @@ static bool produce(kelp_helm *h, unsigned i, size_t *pool_used, bool *halted)
                             h->mem.dwork, h->mem.dwork_cap, h->mem.pq, h->mem.pq_cap};
         kelp_ivp_func *f = &h->fn[i];
         int rc = b->ops->on_run ? b->ops->on_run(b, &w, f) : 0;
+        helm_post_flags(b, KELP_FLAG_RUNX);
         if (rc == 1 && f->n > 0 && !func_finite(f)) {
             kelp_bhv_post_error(b, "NaN detected in IvP Function");
             rc = 0;
@@ -724,6 +796,14 @@ static bool produce(kelp_helm *h, unsigned i, size_t *pool_used, bool *halted)
     if (ns != old)
         b->state_entered = now;
     b->state = ns;
+    if (made)
+        h->rep.active_goal = true; /* kelp's behaviours are all goal (not constraint) behaviours */
+    /* BHV_STATUS: posted when it changes, keyed by the behaviour (MOOS-IvP's statusInfoPost) */
+    static const char *const stname[] = {"idle", "idle", "running", "active", "completed"};
+    const char *st = b->completed ? "completed" : stname[ns <= KELP_BHV_COMPLETED ? ns : 0];
+    char msg[KELP_MAX_NAME + 96];
+    hx_cat(msg, sizeof msg, "name=", b->name, ",state=", st, ",updates=", b->update_summary, HX_END);
+    kelp_bhv_post_string(b, "BHV_STATUS", msg, b->name);
     return made;
 }
 
@@ -759,6 +839,7 @@ static void solve(kelp_helm *h, const bool *has_fn)
             int k = kelp_ivp_domain_index(hd, h->fn[i].dom.var[d].name);
             if (k < 0) {
                 r->halted = true;
+                hx_cat(r->halt_msg, sizeof r->halt_msg, "DomainVar ", h->fn[i].dom.var[d].name, " not recognized", HX_END);
                 sink(h, "BHV_ERROR", true, "pHelmIvP: HELM HALTING: Unrecognized domain var", 0, NULL);
                 return;
             }
@@ -783,6 +864,7 @@ static void solve(kelp_helm *h, const bool *has_fn)
         hx_cat(msg, sizeof msg, "pHelmIvP: IvP solve failed: ", kelp_strerror(rc), " (", h->prob.err.msg, ")", HX_END);
         sink(h, "BHV_ERROR", true, msg, 0, NULL);
         r->halted = true;
+        hx_copy(r->halt_msg, sizeof r->halt_msg, msg + 10, strlen(msg + 10));
         return;
     }
     for (unsigned j = 0; j < sub.dim; j++) {
@@ -906,7 +988,11 @@ static void post_outputs(kelp_helm *h)
         hx_fmt_ulong(pf, sizeof pf, r->total_pcs_formed);
         n += hx_cat(buf + n, sizeof buf - n, ",utc_time=", ut, ",create_time=", ct, ",solve_time=", st, ",loop_time=", lt,
                     ",max_create_time=", mct, ",max_solve_time=", mst, ",max_loop_time=", mlt, ",total_pcs_formed=", pf,
-                    ",total_pcs_cached=0,disabled_bhvs=none", HX_END);
+                    ",total_pcs_cached=0,disabled_bhvs=none,active_goal=", r->active_goal ? "true" : "false", HX_END);
+        char dom[KELP_HELM_MAX_SVAL / 2];
+        helm_domain_string(hd, dom, sizeof dom);
+        n += hx_cat(buf + n, sizeof buf - n, ",ivpdomain=\"", dom, "\",halt_msg=", r->halt_msg[0] ? r->halt_msg : "none",
+                    HX_END);
     }
     if (h->mode_summary[0])
         hx_cat(buf + n, sizeof buf - n, ",modes=", h->mode_summary, HX_END);
@@ -965,7 +1051,12 @@ int kelp_helm_iterate(kelp_helm *h, double now)
         }
         flush_posts(h);
         double t_built = clk ? clk(h->cfg.user) : 0;
-        if (!r->halted)
+        if (r->halted) { /* MOOS-IvP's halt message names the behaviour error */
+            char err[sizeof r->halt_msg - 12];
+            if (!kelp_helm_ib_string(&h->ib, "BHV_ERROR", err, sizeof err))
+                hx_copy(err, sizeof err, " - unknown - ", 13);
+            hx_cat(r->halt_msg, sizeof r->halt_msg, "BHV_ERROR: ", err, HX_END);
+        } else
             solve(h, has_fn);
         if (clk) {
             double t_end = clk(h->cfg.user);

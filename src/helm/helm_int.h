@@ -36,6 +36,8 @@ bool hx_varname(const char *s, size_t n);
  *  hx_fmt_fixed: exactly dec decimals (rounded half away from zero). */
 void hx_fmt_double(char *buf, size_t cap, double v);
 void hx_fmt_fixed(char *buf, size_t cap, double v, unsigned dec);
+/** At most dec decimals, trailing zeros and a bare '.' dropped ("2.50" -> "2.5", "3.0" -> "3"). */
+void hx_fmt_x(char *buf, size_t cap, double v, unsigned dec);
 void hx_fmt_ulong(char *buf, size_t cap, unsigned long v);
 /** Concatenate NULL-terminated string arguments into buf (truncating); returns the length. */
 size_t hx_cat(char *buf, size_t cap, ...);

@@ -178,6 +178,20 @@ void hx_fmt_fixed(char *buf, size_t cap, double v, unsigned dec)
     fmt_fixed(buf, cap, v, dec > 9 ? 9 : dec, false);
 }
 
+void hx_fmt_x(char *buf, size_t cap, double v, unsigned dec)
+{
+    hx_fmt_fixed(buf, cap, v, dec);
+    if (!strchr(buf, '.') || strchr(buf, 'e'))
+        return;
+    size_t n = strlen(buf);
+    while (n > 0 && buf[n - 1] == '0')
+        buf[--n] = '\0';
+    if (n > 0 && buf[n - 1] == '.')
+        buf[--n] = '\0';
+    if (!strcmp(buf, "-0"))
+        buf[0] = '0', buf[1] = '\0';
+}
+
 void hx_fmt_double(char *buf, size_t cap, double v)
 {
     if (isfinite(v) && fabs(v) >= 1e12) {

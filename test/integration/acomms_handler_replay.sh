@@ -129,3 +129,38 @@ printf 'push Nope x=1\nadvance -3\nfrobnicate\ndata_request bytes=9999\nstatus\n
 grep -q 'status queue=A' o5.txt || fail "replay stopped at the first error"
 "$R" --help > help.txt && grep -q 'data_request' help.txt || fail "--help lacks the language"
 ok "bad timeline lines reported (4), --help documents the language"
+
+# 6. a cycle of caller frames through the Micro-Modem driver (Goby's driver on demand): the
+#    rate's frame count in $CCCYC, each $CADRQ answered from the frames, the rest empty
+cat > t6.txt <<'X'
+cycle rate=2 dest=3 abcd
+modem start
+advance 1.5
+modem $CACLK,2010,1,1,0,0,1
+advance 1.2
+modem $CACFG,SRC,1
+advance 0.2
+modem $CACFG,ALL,0
+advance 0.3
+cycle rate=2 dest=3 ack=1 abcd
+advance 0.2
+modem $CACYC,0,1,3,2,1,3
+modem $CADRQ,000001,1,3,1,64,1
+advance 0.2
+modem $CATXD,1,3,1,abcd
+modem $CADRQ,000002,1,3,1,64,2
+advance 0.2
+modem $CATXD,1,3,1,
+modem $CADRQ,000003,1,3,1,64,3
+advance 0.2
+cycle rate=2 dest=3 a b c d
+cycle rate=0 dest=3 - -
+X
+"$R" --plain t6.txt > o6.txt && fail "caller-frames timeline with errors exit 0"
+grep -q 'error line=1 cycle: say "modem start" first' o6.txt || { cat o6.txt; fail "cycle before modem start"; }
+grep -q 'nmea-out \$CCCYC,0,1,3,2,1,3\*' o6.txt || { cat o6.txt; fail "CCCYC with the rate's 3 frames"; }
+[ "$(grep -c 'nmea-out \$CCTXD,1,3,1,abcd\*' o6.txt)" = 1 ] || { cat o6.txt; fail "frame 1 from the caller"; }
+[ "$(grep -c 'nmea-out \$CCTXD,1,3,1,\*' o6.txt)" = 2 ] || { cat o6.txt; fail "frames 2 and 3 empty"; }
+grep -q 'cycle: bad argument "a"' o6.txt || fail "bad frame hex accepted"
+grep -q 'cycle: rate 0 carries 1 frames' o6.txt || { cat o6.txt; fail "2 frames at rate 0 accepted"; }
+ok "caller frames: \$CCCYC with 3 frames, 1 given + 2 empty \$CCTXD, errors for bad input"
