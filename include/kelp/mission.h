@@ -24,6 +24,7 @@
 #include <stddef.h>
 #include <stdbool.h>
 #include <kelp/err.h>
+#include <kelp/util.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -83,13 +84,7 @@ KELP_MUST_CHECK int kelp_mission_copy(const kelp_mission_node *n, char *buf, siz
 KELP_MUST_CHECK int kelp_mission_double(const kelp_mission_node *n, double *out);
 KELP_MUST_CHECK int kelp_mission_bool(const kelp_mission_node *n, bool *out);
 
-/** Strict number parsing shared by the parsers (whole string, no trailing junk). */
-KELP_MUST_CHECK int kelp_parse_double(const char *s, size_t len, double *out);
-KELP_MUST_CHECK int kelp_parse_long(const char *s, size_t len, long *out);
-/** The same for long long (64-bit on every target, so uint32 values fit on 32-bit ARM). */
-KELP_MUST_CHECK int kelp_parse_llong(const char *s, size_t len, long long *out);
-/** Case-insensitive, length-bounded equality: s[0..len) == z. */
-bool kelp_strieq_n(const char *s, size_t len, const char *z);
+/* Number parsing and case-insensitive compares: include/kelp/util.h (included above). */
 
 
 

@@ -1,9 +1,9 @@
 /* kelp util: the small text, number and time helpers every module shares (core: no
- * allocation, no locale, no I/O). Number parsing and key=value walking are declared in
- * include/kelp/mission.h and include/kelp/kv.h. */
+ * allocation, no locale, no I/O). key=value walking is in include/kelp/kv.h. */
 #ifndef KELP_UTIL_H
 #define KELP_UTIL_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <kelp/err.h>
@@ -11,6 +11,31 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* ---- numbers: one parser and one formatter for every module ---- */
+
+/** Strict number parsing (the whole string, surrounding white space allowed, no trailing junk;
+ *  "inf", "infinity", "nan" in any case). Correctly rounded for up to 19 significant digits
+ *  and powers of ten to 22; no strtod (newlib's allocates), no locale. */
+KELP_MUST_CHECK int kelp_parse_double(const char *s, size_t len, double *out);
+/** The same, refusing inf, nan and overflow (KELP_ERR_PARSE). */
+KELP_MUST_CHECK int kelp_parse_finite(const char *s, size_t len, double *out);
+KELP_MUST_CHECK int kelp_parse_long(const char *s, size_t len, long *out);
+/** The same for long long (64-bit on every target, so uint32 values fit on 32-bit ARM). */
+KELP_MUST_CHECK int kelp_parse_llong(const char *s, size_t len, long long *out);
+
+/** v with dec decimals (0..9), rounded half away from zero, never "-0"; strip drops trailing
+ *  zeros of the fraction (and a bare '.'). Non-finite values print as nan, inf, -inf. Writes
+ *  at most cap-1 characters and a NUL; returns the length the whole text needs (as snprintf),
+ *  or KELP_ERR_RANGE when |v| x 10^dec reaches 9e18 (nothing written). */
+int kelp_fmt_fixed(char *buf, size_t cap, double v, unsigned dec, bool strip);
+
+/* ---- text ---- */
+
+/** Case-insensitive, length-bounded equality: s[0..len) == z. */
+bool kelp_strieq_n(const char *s, size_t len, const char *z);
+/** Case-insensitive equality of two NUL-terminated strings (ASCII). */
+bool kelp_strieq(const char *a, const char *b);
 
 /* ---- integers and civil time (proleptic Gregorian, UTC) ---- */
 

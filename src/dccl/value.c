@@ -2,6 +2,8 @@
 #include <math.h>
 #include <string.h>
 
+#include <kelp/util.h>
+
 #include "dccl_int.h"
 #if KELP_DCCL_LIBC_NUM
 #include <stdio.h>
@@ -23,15 +25,7 @@ double dccl_pow10(int p)
 
 bool dccl_ieq(const char *a, size_t an, const char *b)
 {
-    size_t i;
-    for (i = 0; i < an; i++) {
-        char x = a[i], y = b[i];
-        if (y == '\0') return false;
-        if (x >= 'A' && x <= 'Z') x = (char)(x - 'A' + 'a');
-        if (y >= 'A' && y <= 'Z') y = (char)(y - 'A' + 'a');
-        if (x != y) return false;
-    }
-    return b[i] == '\0';
+    return kelp_strieq_n(a, an, b);
 }
 
 /* ------------------------------------------------------------------ setters */
@@ -113,38 +107,6 @@ static bool ieq_prefix(const char *s, size_t n, const char *w)
     return n == k && dccl_ieq(s, n, w);
 }
 
-#if !KELP_DCCL_LIBC_NUM
-static double approx_strtod(const char *s, size_t n)
-{
-    size_t i = 0;
-    int neg = 0, exp10 = 0, esign = 1, e = 0, nd = 0;
-    uint64_t m = 0;
-    if (s[i] == '+' || s[i] == '-') neg = s[i++] == '-';
-    for (; i < n && s[i] >= '0' && s[i] <= '9'; i++) {
-        if (nd < 19) { m = m * 10u + (uint64_t)(s[i] - '0'); if (m) nd++; } else exp10++;
-    }
-    if (i < n && s[i] == '.') {
-        for (i++; i < n && s[i] >= '0' && s[i] <= '9'; i++) {
-            if (nd < 19) { m = m * 10u + (uint64_t)(s[i] - '0'); if (m) nd++; exp10--; }
-        }
-    }
-    if (i < n && (s[i] == 'e' || s[i] == 'E')) {
-        i++;
-        if (s[i] == '+' || s[i] == '-') esign = s[i++] == '-' ? -1 : 1;
-        for (; i < n && s[i] >= '0' && s[i] <= '9'; i++) if (e < 100000) e = e * 10 + (s[i] - '0');
-    }
-    exp10 += esign * e;
-    double v = (double)m;
-    if (exp10 < 0) {
-        while (exp10 < -22) { v /= 1e22; exp10 += 22; }
-        v /= POS10[-exp10];
-    } else {
-        while (exp10 > 22) { v *= 1e22; exp10 -= 22; }
-        v *= POS10[exp10];
-    }
-    return neg ? -v : v;
-}
-#endif
 
 bool kelp_dccl_parse_double(const char *s, size_t n, double *out)
 {
@@ -176,27 +138,6 @@ bool kelp_dccl_parse_double(const char *s, size_t n, double *out)
         if (!ed) return false;
     }
     if (i != n) return false;
-    {
-        /* Clinger's fast path: a mantissa below 2^53 and at most 22 decimals is
-         * one exact division, i.e. exactly what strtod returns. */
-        size_t j = (s[0] == '+' || s[0] == '-') ? 1u : 0u;
-        uint64_t m = 0;
-        int frac = -1;
-        bool fast = true;
-        for (; j < n; j++) {
-            char c = s[j];
-            if (c == '.') { frac = 0; continue; }
-            if (c < '0' || c > '9' || m > 900719925474099ULL) { fast = false; break; }
-            m = m * 10u + (uint64_t)(c - '0');
-            if (frac >= 0) frac++;
-        }
-        if (fast && m <= 9007199254740992ULL && frac <= 22) {
-            double v = (double)m;
-            if (frac > 0) v /= POS10[frac];
-            *out = neg ? -v : v;
-            return true;
-        }
-    }
 #if KELP_DCCL_LIBC_NUM
     {
         char buf[128];
@@ -212,8 +153,12 @@ bool kelp_dccl_parse_double(const char *s, size_t n, double *out)
         *out = v;
     }
 #else
-    *out = approx_strtod(s, n);
-    if (isinf(*out)) return false;
+    /* the util parser: exact for what DCCL values carry, no allocation */
+    {
+        double v;
+        if (kelp_parse_double(s, n, &v) != KELP_OK || isinf(v)) return false;
+        *out = v;
+    }
 #endif
     return true;
 }

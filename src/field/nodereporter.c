@@ -36,11 +36,6 @@ void kelp_field_nrep_cfg_default(kelp_field_nrep_cfg *cfg, const char *community
     cfg->extrap_gap = 5;
 }
 
-static bool ieq(const char *a, const char *b)
-{
-    return kelp_strieq_n(a, strlen(a), b);
-}
-
 static bool usable(const char *s)
 {
     return !strpbrk(s, ",=");
@@ -96,9 +91,9 @@ int kelp_field_nrep_add_plat(kelp_field_nrep_cfg *cfg, const char *spec, const c
         return KELP_ERR_PARSE;
     }
     for (int i = 0; i < n; i++) {
-        if (ieq(it[i].key, "gap") && num_ok(it[i].val, &p.gap)) {
+        if (kelp_strieq(it[i].key, "gap") && num_ok(it[i].val, &p.gap)) {
             if (p.gap < 0) p.gap = 0;
-        } else if (ieq(it[i].key, "alias") && it[i].val[0] && usable(it[i].val)) {
+        } else if (kelp_strieq(it[i].key, "alias") && it[i].val[0] && usable(it[i].val)) {
             set_text(p.alias, sizeof p.alias, it[i].val);
         } else {
             *why = "unknown or bad item (gap=S, alias=A)";
@@ -128,14 +123,14 @@ int kelp_field_nrep_add_rider(kelp_field_nrep_cfg *cfg, const char *spec, const 
     *why = NULL;
     for (int i = 0; i < n; i++) {
         double d;
-        if (ieq(it[i].key, "var") && it[i].val[0]) {
+        if (kelp_strieq(it[i].key, "var") && it[i].val[0]) {
             set_text(r.var, sizeof r.var, it[i].val);
-        } else if (ieq(it[i].key, "rfld") && it[i].val[0] && usable(it[i].val)) {
+        } else if (kelp_strieq(it[i].key, "rfld") && it[i].val[0] && usable(it[i].val)) {
             set_text(r.field, sizeof r.field, it[i].val);
-        } else if (ieq(it[i].key, "policy") &&
-                   (ieq(it[i].val, "always") || ieq(it[i].val, "updated"))) {
-            r.updated_only = ieq(it[i].val, "updated");
-        } else if (ieq(it[i].key, "prec") && num_ok(it[i].val, &d) && d >= 0 && d <= 9 && d == (int)d) {
+        } else if (kelp_strieq(it[i].key, "policy") &&
+                   (kelp_strieq(it[i].val, "always") || kelp_strieq(it[i].val, "updated"))) {
+            r.updated_only = kelp_strieq(it[i].val, "updated");
+        } else if (kelp_strieq(it[i].key, "prec") && num_ok(it[i].val, &d) && d >= 0 && d <= 9 && d == (int)d) {
             r.prec = (int)d;
         } else {
             *why = "expected var=V, policy=always|updated, rfld=F, prec=0..9";
@@ -163,7 +158,7 @@ int kelp_field_nrep_parse_fill(const char *s, kelp_nrep_fill *out)
     if (n >= sizeof t) return KELP_ERR_PARSE;
     for (size_t i = 0; i <= n; i++) t[i] = s[i] == '_' ? '-' : s[i];
     for (int i = 0; i < 5; i++)
-        if (ieq(t, names[i])) {
+        if (kelp_strieq(t, names[i])) {
             *out = (kelp_nrep_fill)i;
             return KELP_OK;
         }

@@ -4,6 +4,7 @@
 #include <string.h>
 #include <kelp/err.h>
 #include <kelp/mission.h>
+#include <kelp/util.h>
 #include "field_int.h"
 
 static bool is_ws(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
@@ -147,40 +148,13 @@ int field_put_str(char *buf, size_t cap, size_t *n, const char *s)
 
 int field_put_fixed(char *buf, size_t cap, size_t *n, double v, int dec, bool strip)
 {
-    static const double pow10[] = {1, 10, 100, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
     if (!isfinite(v)) return KELP_ERR_ARG;
-    if (dec < 0) dec = 0;
-    if (dec > 9) dec = 9;
-    bool neg = v < 0;
-    double a = neg ? -v : v;
-    double scaled = floor(a * pow10[dec] + 0.5);
-    if (scaled >= 9.0e18) return KELP_ERR_RANGE;
-    uint64_t u = (uint64_t)scaled;
-    char tmp[48];
-    int t = 0;
-    /* digits, least significant first */
-    for (int i = 0; i < dec; i++) {
-        tmp[t++] = (char)('0' + u % 10);
-        u /= 10;
+    int len = kelp_fmt_fixed(buf + *n, cap > *n ? cap - *n : 0, v, dec < 0 ? 0u : (unsigned)dec, strip);
+    if (len < 0) return len;
+    if (*n + (size_t)len + 1 > cap) {
+        if (cap > *n) buf[*n] = '\0';
+        return KELP_ERR_NOSPACE;
     }
-    if (dec > 0) tmp[t++] = '.';
-    do {
-        tmp[t++] = (char)('0' + u % 10);
-        u /= 10;
-    } while (u);
-    /* strip trailing zeros of the fraction (which sit at the start of tmp) */
-    int start = 0;
-    if (strip && dec > 0) {
-        while (start < dec && tmp[start] == '0') start++;
-        if (start == dec) start++; /* the '.' too */
-    }
-    bool allzero = true;
-    for (int i = start; i < t; i++)
-        if (tmp[i] >= '1' && tmp[i] <= '9') allzero = false;
-    if (neg && !allzero) tmp[t++] = '-';
-    size_t need = (size_t)(t - start);
-    if (*n + need + 1 > cap) return KELP_ERR_NOSPACE;
-    for (int i = t - 1; i >= start; i--) buf[(*n)++] = tmp[i];
-    buf[*n] = 0;
+    *n += (size_t)len;
     return KELP_OK;
 }

@@ -17,10 +17,7 @@ char hx_lower(char c)
 
 bool hx_ieq(const char *a, const char *b)
 {
-    for (; *a && *b; a++, b++)
-        if (hx_lower(*a) != hx_lower(*b))
-            return false;
-    return *a == *b;
+    return kelp_strieq(a, b);
 }
 
 void hx_trim(const char **s, size_t *n)
@@ -124,49 +121,12 @@ void hx_fmt_ulong(char *buf, size_t cap, unsigned long v)
         buf[i < cap ? i : cap - 1] = '\0';
 }
 
-/* v with exactly dec decimals (|v| < 1e12), or shortest up to 6 decimals when strip. */
+/* v with exactly dec decimals (|v| < 1e12), or shortest up to 6 decimals when strip: the
+ * util formatter, with fewer decimals where a large value leaves no room for them */
 static void fmt_fixed(char *buf, size_t cap, double v, unsigned dec, bool strip)
 {
-    if (cap == 0)
-        return;
-    if (!isfinite(v)) {
-        (void)hx_copy(buf, cap, isnan(v) ? "nan" : (v > 0 ? "inf" : "-inf"), isnan(v) ? 3 : (v > 0 ? 3 : 4));
-        return;
-    }
-    double scale = 1;
-    for (unsigned i = 0; i < dec; i++)
-        scale *= 10;
-    bool neg = v < 0;
-    double a = floor(fabs(v) * scale + 0.5);
-    if (a == 0)
-        neg = false;
-    unsigned long long ip = (unsigned long long)(a / scale);
-    unsigned long long fp = (unsigned long long)(a - (double)ip * scale);
-    char t[48];
-    size_t n = 0;
-    if (neg)
-        t[n++] = '-';
-    char d[24];
-    hx_fmt_ulong(d, sizeof d, (unsigned long)ip);
-    for (const char *c = d; *c; c++)
-        t[n++] = *c;
-    if (dec) {
-        char f[16];
-        for (unsigned i = dec; i-- > 0;) {
-            f[i] = (char)('0' + fp % 10);
-            fp /= 10;
-        }
-        unsigned keep = dec;
-        if (strip)
-            while (keep && f[keep - 1] == '0')
-                keep--;
-        if (keep) {
-            t[n++] = '.';
-            for (unsigned i = 0; i < keep; i++)
-                t[n++] = f[i];
-        }
-    }
-    (void)hx_copy(buf, cap, t, n < cap ? n : cap - 1);
+    while (kelp_fmt_fixed(buf, cap, v, dec, strip) < 0 && dec > 0)
+        dec--;
 }
 
 void hx_fmt_fixed(char *buf, size_t cap, double v, unsigned dec)

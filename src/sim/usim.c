@@ -21,11 +21,6 @@ void kelp_usim_defaults(kelp_usim *u, struct kelp_marine_pid *pid, struct kelp_m
     memcpy(u->prefix, "NAV", 4);
 }
 
-static bool ieq(const char *a, const char *b)
-{
-    return kelp_strieq_n(a, strlen(a), b);
-}
-
 int kelp_usim_config(kelp_usim *u, const char *key, const char *val, const char **why)
 {
     int rc = kelp_sim_config_set(&u->p, &u->start, key, val, why);
@@ -34,7 +29,7 @@ int kelp_usim_config(kelp_usim *u, const char *key, const char *val, const char 
         if (rc > 0 && kelp_strieq_n(key, 7, "YAW_PID")) u->embedded_pid = true;
         return rc;
     }
-    if (ieq(key, "PREFIX")) {
+    if (kelp_strieq(key, "PREFIX")) {
         size_t n = strlen(val);
         while (n && val[n - 1] == '_') n--; /* MOOS-IvP 24.8 writes "NAV_" */
         if (n == 0 || n >= sizeof u->prefix) {
@@ -45,16 +40,16 @@ int kelp_usim_config(kelp_usim *u, const char *key, const char *val, const char 
         u->prefix[n] = 0;
         return 1;
     }
-    if (ieq(key, "SIM_PAUSE") || ieq(key, "POST_NAVPOS_SUMMARY")) {
-        bool b = ieq(val, "true");
-        if (!b && !ieq(val, "false")) {
+    if (kelp_strieq(key, "SIM_PAUSE") || kelp_strieq(key, "POST_NAVPOS_SUMMARY")) {
+        bool b = kelp_strieq(val, "true");
+        if (!b && !kelp_strieq(val, "false")) {
             *why = "must be true or false";
             return KELP_ERR_PARSE;
         }
-        *(ieq(key, "SIM_PAUSE") ? &u->paused : &u->navpos_summary) = b;
+        *(kelp_strieq(key, "SIM_PAUSE") ? &u->paused : &u->navpos_summary) = b;
         return 1;
     }
-    char *dst = ieq(key, "POST_DES_RUDDER") ? u->post_rudder : ieq(key, "POST_DES_THRUST") ? u->post_thrust : NULL;
+    char *dst = kelp_strieq(key, "POST_DES_RUDDER") ? u->post_rudder : kelp_strieq(key, "POST_DES_THRUST") ? u->post_thrust : NULL;
     if (dst) {
         if (strlen(val) >= KELP_MAX_NAME || !strcmp(val, "DESIRED_RUDDER") || !strcmp(val, "DESIRED_THRUST")) {
             *why = "a variable name other than DESIRED_RUDDER/DESIRED_THRUST";
@@ -100,7 +95,7 @@ int kelp_usim_mail(kelp_usim *u, const char *var, bool is_string, const char *sv
         return 1;
     }
     if (k == 11) {
-        u->paused = is_string && sval && ieq(sval, "true");
+        u->paused = is_string && sval && kelp_strieq(sval, "true");
         return 1;
     }
     double d = dval;

@@ -8,7 +8,7 @@
 #include <math.h>
 #include <stdint.h>
 #include <limits.h>
-#include <kelp/mission.h>
+#include <kelp/util.h>
 
 static const double pow10_exact[] = { 1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
                                       1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
@@ -96,6 +96,23 @@ int kelp_parse_double(const char *s, size_t len, double *out)
     }
     *out = neg ? -v : v;
     return KELP_OK;
+}
+
+int kelp_parse_finite(const char *s, size_t len, double *out)
+{
+    double v;
+    int rc = kelp_parse_double(s, len, &v);
+    if (rc != KELP_OK) return rc;
+    if (!isfinite(v)) return KELP_ERR_PARSE;
+    *out = v;
+    return KELP_OK;
+}
+
+bool kelp_strieq(const char *a, const char *b)
+{
+    for (; *a && *b; a++, b++)
+        if (lower(*a) != lower(*b)) return false;
+    return *a == *b;
 }
 
 int kelp_parse_llong(const char *s, size_t len, long long *out)

@@ -1,0 +1,44 @@
+/* kelp util: the one fixed-point number formatter (no printf: newlib's allocates for
+ * doubles, and a locale could change the decimal point). */
+#include <math.h>
+#include <stdint.h>
+#include <kelp/util.h>
+
+int kelp_fmt_fixed(char *buf, size_t cap, double v, unsigned dec, bool strip)
+{
+    static const double pow10[] = {1, 10, 100, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
+    char t[48];
+    size_t n = 0;
+    if (dec > 9) dec = 9;
+    if (!isfinite(v)) {
+        const char *w = isnan(v) ? "nan" : v > 0 ? "inf" : "-inf";
+        while (*w) t[n++] = *w++;
+    } else {
+        double a = floor(fabs(v) * pow10[dec] + 0.5);
+        if (a >= 9.0e18) return KELP_ERR_RANGE;
+        uint64_t u = (uint64_t)a;
+        char r[48]; /* digits, least significant first */
+        size_t k = 0;
+        for (unsigned i = 0; i < dec; i++, u /= 10) r[k++] = (char)('0' + u % 10);
+        size_t skip = 0;
+        if (strip) {
+            while (skip < dec && r[skip] == '0') skip++;
+        }
+        bool any = a != 0;
+        if (v < 0 && any) t[n++] = '-';
+        char ip[24];
+        size_t m = 0;
+        do { ip[m++] = (char)('0' + u % 10); u /= 10; } while (u);
+        while (m) t[n++] = ip[--m];
+        if (skip < dec) {
+            t[n++] = '.';
+            for (size_t i = dec; i-- > skip;) t[n++] = r[i];
+        }
+    }
+    if (cap) {
+        size_t w = n < cap ? n : cap - 1;
+        for (size_t i = 0; i < w; i++) buf[i] = t[i];
+        buf[w] = '\0';
+    }
+    return (int)n;
+}
