@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include <kelp/acomms.h>
-#include <kelp/mission.h>
+#include <kelp/edge/mission.h>
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

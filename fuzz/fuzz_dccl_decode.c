@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <kelp/dccl_edge.h>
+#include <kelp/edge/dccl.h>
 
 static const char XML[] =
     "<message_set>"

@@ -3,7 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <kelp/dccl_edge.h>
+#include <kelp/edge/dccl.h>
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

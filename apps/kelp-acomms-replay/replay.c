@@ -9,7 +9,7 @@
 
 #include <kelp/acomms.h>
 #include <kelp/edge/cli.h>
-#include <kelp/mission.h>
+#include <kelp/edge/mission.h>
 
 #include "replay.h"
 

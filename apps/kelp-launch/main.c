@@ -25,7 +25,7 @@
 #include <kelp/edge/cli.h>
 #include <kelp/edge/launch.h>
 #include <kelp/lcmbus.h>
-#include <kelp/mission.h>
+#include <kelp/edge/mission.h>
 
 #define MAX_VARS 512
 #define STOP_GRACE_S 3.0

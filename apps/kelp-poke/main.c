@@ -11,7 +11,7 @@
 #include <time.h>
 #include <kelp/edge/cli.h>
 #include <kelp/lcmbus.h>
-#include <kelp/mission.h>
+#include <kelp/edge/mission.h>
 
 #define MAX_POKES 64
 #define SYNC_WAIT_S 0.6   /* wall seconds to collect current values before poking */

@@ -11,6 +11,7 @@
 #include <unistd.h>
 #include <kelp/app.h>
 #include <kelp/helm.h>
+#include <kelp/edge/mission.h>
 
 #define MAX_BHV_FILES 8
 #define MAX_HOLDS 16

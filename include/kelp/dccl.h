@@ -1,7 +1,7 @@
 /* kelp DCCL: the Goby 1.1 (DCCL v1) message codec, byte-compatible on the wire.
  *
  * Core API: allocation-free, no I/O, no clock. A compiled message definition
- * (kelp_dccl_msgdef, produced by the XML loader in <kelp/dccl_edge.h> or as
+ * (kelp_dccl_msgdef, produced by the XML loader in <kelp/edge/dccl.h> or as
  * const tables by kelp-dccl-gen) drives encode, decode, publish and value sourcing.
  *
  * Wire format (Goby 1.1's DCCL):

@@ -86,24 +86,7 @@ KELP_MUST_CHECK int kelp_mission_bool(const kelp_mission_node *n, bool *out);
 
 /* Number parsing and case-insensitive compares: include/kelp/util.h (included above). */
 
-
-
-/* ------------------------------------------------------------------ edge: files */
-#ifndef KELP_MISSION_NO_EDGE
-/** A mission loaded from a file (edge, libkelp.a): owns the text and the nodes. */
-typedef struct kelp_mission_file {
-    char path[512];
-    char *text;
-    kelp_mission m;
-    char error[768];     /**< "file:line: reason" on failure */
-} kelp_mission_file;
-
-/** Read and parse a file. @return 0, or <0 with f->error set to "path:line: reason". */
-KELP_MUST_CHECK int kelp_mission_load(kelp_mission_file *f, const char *path);
-/** Parse text held in memory (copied) with a name for messages. */
-KELP_MUST_CHECK int kelp_mission_load_text(kelp_mission_file *f, const char *name, const char *text, size_t len);
-void kelp_mission_free(kelp_mission_file *f);
-#endif
+/* Loading a mission from a file is edge code: include/kelp/edge/mission.h. */
 
 #ifdef __cplusplus
 }

@@ -13,6 +13,7 @@
 #include <sys/resource.h>
 #include <kelp/app.h>
 #include <kelp/lcmbus.h>
+#include <kelp/edge/mission.h>
 
 #define MAX_WARN 32
 #define MAX_PUBS 64

@@ -6,7 +6,7 @@
 #include <string.h>
 
 #include <kelp/acomms.h>
-#include <kelp/mission.h>
+#include <kelp/edge/mission.h>
 
 #ifndef KELP_TEST_ROOT
 #define KELP_TEST_ROOT "."

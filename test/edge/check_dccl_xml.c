@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <kelp/dccl_edge.h>
+#include <kelp/edge/dccl.h>
 
 #define DAY0 1699920000.0
 #define NOON (DAY0 + 43200.0)

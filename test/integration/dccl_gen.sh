@@ -62,7 +62,7 @@ EOF
 cat > "$T/gen_enc.c" <<'EOF'
 #include <stdio.h>
 #include <string.h>
-#include <kelp/dccl_edge.h>
+#include <kelp/edge/dccl.h>
 #include GEN_HEADER
 static int enc(const kelp_dccl_msgdef *d, kelp_dccl_codec *cx, int argc, char **argv, double now, char *hex)
 {

@@ -12,7 +12,7 @@
 #define KELP_ACOMMS_DCCL_ONLY 1
 #include <kelp/acomms.h>
 #include <kelp/dccl.h>
-#include <kelp/dccl_edge.h>
+#include <kelp/edge/dccl.h>
 
 #define GLUE_MAX_ALGS 64
 #define GLUE_MAX_MODEMS 256

@@ -4,7 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <kelp/mission.h>
+#include <kelp/edge/mission.h>
 
 int kelp_mission_load_text(kelp_mission_file *f, const char *name, const char *text, size_t len)
 {

@@ -7,7 +7,7 @@
 
 #include "programs.h"
 #include <kelp/edge/cli.h>
-#include <kelp/dccl_edge.h>
+#include <kelp/edge/dccl.h>
 
 #define CLI_MAX_XML 64
 #define CLI_MAX_ALGS 64

@@ -6,7 +6,7 @@
 #include <mbedtls/aes.h>
 #include <mbedtls/sha256.h>
 
-#include <kelp/dccl_edge.h>
+#include <kelp/edge/dccl.h>
 
 KELP_STATIC_ASSERT(sizeof(mbedtls_aes_context) <= KELP_DCCL_AES_CTX_SIZE, "KELP_DCCL_AES_CTX_SIZE too small");
 

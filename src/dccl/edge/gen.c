@@ -7,7 +7,7 @@
 
 #include "programs.h"
 #include <kelp/edge/cli.h>
-#include <kelp/dccl_edge.h>
+#include <kelp/edge/dccl.h>
 
 static void put_str(FILE *f, const char *s)
 {

@@ -11,7 +11,7 @@
 
 #include <expat.h>
 
-#include <kelp/dccl_edge.h>
+#include <kelp/edge/dccl.h>
 
 /* ------------------------------------------------------------------ arena */
 typedef struct arena_blk {
