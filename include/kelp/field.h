@@ -217,9 +217,9 @@ int kelp_field_hostinfo_iterate(kelp_field_hostinfo *h, const kelp_field_sink *o
  * range, max(CRITICAL_RANGE, COMMS_RANGE * stealth * largest earange). With no range limit
  * (COMMS_RANGE < 0), or a window wider than the fleet, it scans the fleet instead.
  *
- * Size: sizeof(kelp_field_ncomms) is about 3.3 MB with the defaults below (2048 vehicles
- * with a 512-byte report each, 64 pending messages of 2 KB, 65536 pair stamps); place it
- * statically or on the heap, not on a small stack. */
+ * Size: sizeof(kelp_field_ncomms) is 2,786,528 bytes (x86-64) with the defaults below: 2048
+ * vehicles with a 512-byte report each (1.5 MB), 65536 pair stamps (1 MB), 64 pending
+ * messages of 2 KB; place it statically or on the heap, not on a small stack. */
 
 #ifndef KELP_NCOMMS_MAX_NODES
 #define KELP_NCOMMS_MAX_NODES 2048       /**< vehicles known (reports or stealth/earange) */
