@@ -1057,14 +1057,15 @@ int kelp_field_ncomms_report(const kelp_field_ncomms *c, double now, char *buf, 
     if (cap == 0) return KELP_ERR_NOSPACE;
     buf[0] = 0;
     uint16_t idx[KELP_NCOMMS_MAX_NODES];
-    for (unsigned i = 0; i < c->nnodes; i++) idx[i] = (uint16_t)i;
-    sort_names(c, idx, c->nnodes);
+    const unsigned nn = c->nnodes < KELP_NCOMMS_MAX_NODES ? c->nnodes : KELP_NCOMMS_MAX_NODES;
+    for (unsigned i = 0; i < nn; i++) idx[i] = (uint16_t)i;
+    sort_names(c, idx, nn);
     put(&r, "****\nuFldNodeCommsSummary:\n****\n\nNode Report Summary\n=====\n");
     put_count(&r, "    ", "Total Received", c->rpts_rcvd);
-    per_vehicle(&r, c, idx, c->nnodes, 0, now);
+    per_vehicle(&r, c, idx, nn, 0, now);
     put(&r, "-----\n");
     put_count(&r, "    ", "Total Sent", c->rpts_sent);
-    per_vehicle(&r, c, idx, c->nnodes, 1, now);
+    per_vehicle(&r, c, idx, nn, 1, now);
     if (c->rpts_dropped || c->rpts_held || c->rpts_bad || c->rpts_full) {
         put_count(&r, "    ", "Dropped (drop_percentage)", c->rpts_dropped);
         put_count(&r, "    ", "Held (min_rpt_interval)", c->rpts_held);
@@ -1073,10 +1074,10 @@ int kelp_field_ncomms_report(const kelp_field_ncomms *c, double now, char *buf, 
     }
     put(&r, "\n\nNode Message Summary\n=====\n");
     put_count(&r, "    ", "Total Msgs Received", c->msgs_rcvd);
-    per_vehicle(&r, c, idx, c->nnodes, 2, now);
+    per_vehicle(&r, c, idx, nn, 2, now);
     put(&r, "-----\n");
     put_count(&r, "          ", "Total Sent", c->msgs_sent);
-    per_vehicle(&r, c, idx, c->nnodes, 3, now);
+    per_vehicle(&r, c, idx, nn, 3, now);
     put(&r, "  -----\n");
     unsigned long total = 0;
     for (int i = 0; i < KELP_NCOMMS_BLK_N; i++) total += c->blocked[i];
