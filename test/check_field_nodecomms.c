@@ -538,6 +538,19 @@ START_TEST(nc_248_report_format)
     ck_assert_int_eq(kelp_field_ncomms_find(C, "charlie"), -1);
     ck_assert_uint_eq(C->rpts_rcvd, 2);
     ck_assert_int_eq(kelp_field_ncomms_mail(C, "DB_UPTIME", false, NULL, 3, 1001, &S), 0);
+    /* LAT,LON only: rejected without a datum, placed with one */
+    ck_assert_int_lt(mail("NODE_REPORT", "NAME=delta,LAT=43.825,LON=-70.33", 1001), 0);
+    kelp_field_ncomms_cfg cfg;
+    kelp_field_ncomms_cfg_default(&cfg);
+    ck_assert_int_eq(kelp_geo_init(&cfg.geo, 43.825, -70.33), 0);
+    cfg.have_geo = true;
+    start(&cfg);
+    ck_assert_int_eq(mail("NODE_REPORT", "NAME=delta,LAT=43.825,LON=-70.33", 1001), 1);
+    ck_assert_int_eq(mail("NODE_REPORT", "NAME=echo,LAT=43.8254,LON=-70.33", 1001), 1); /* ~44 m north */
+    R->n = 0;
+    iter(1001);
+    ck_assert_int_eq(count("NODE_REPORT_ECHO"), 1);
+    ck_assert_double_eq_tol(C->hot[kelp_field_ncomms_find(C, "echo")].y, 44.5, 1.0);
 }
 END_TEST
 

@@ -52,6 +52,9 @@ static int startup(kelp_app *app, void *st)
     a->cfg.seed = (uint64_t)(kelp_app_time(app) * 1000.0) ^ 0xA0761D6478BD642Full;
     int rc = kelp_app_param_foreach(app, param, a);
     if (rc < 0) return rc;
+    double lat0, lon0; /* optional: reports with LAT,LON only get X,Y from the datum */
+    if (kelp_app_global_double(app, "LatOrigin", &lat0) == 1 && kelp_app_global_double(app, "LongOrigin", &lon0) == 1)
+        a->cfg.have_geo = kelp_geo_init(&a->cfg.geo, lat0, lon0) == 0;
     a->core = malloc(sizeof *a->core);
     a->text_cap = 64 * 1024 + (size_t)KELP_NCOMMS_MAX_NODES * 160;
     a->text = malloc(a->text_cap);
@@ -138,7 +141,8 @@ static const kelp_app_def def = {
         { "VIEW_COMMS_PULSE", "sx=4,sy=2,tx=44,ty=55,beam_width=7,duration=10,fill=0.35,label=ONE2TWO,edge_color=green,"
                               "fill_color=green,time=1252348077.5,edge_size=1", NULL },
         { NULL, NULL, NULL } },
-    .notes = "Globals used: MOOSTimeWarp (SHARED_NODE_REPORTS counts real time).\n",
+    .notes = "Globals used: MOOSTimeWarp (SHARED_NODE_REPORTS counts real time), LatOrigin and LongOrigin\n"
+             "(optional: X,Y for reports that carry only LAT,LON).\n",
     .startup = startup,
     .on_mail = on_mail,
     .iterate = iterate,

@@ -217,7 +217,7 @@ int kelp_field_hostinfo_iterate(kelp_field_hostinfo *h, const kelp_field_sink *o
  * range, max(CRITICAL_RANGE, COMMS_RANGE * stealth * largest earange). With no range limit
  * (COMMS_RANGE < 0), or a window wider than the fleet, it scans the fleet instead.
  *
- * Size: sizeof(kelp_field_ncomms) is 2,786,528 bytes (x86-64) with the defaults below: 2048
+ * Size: sizeof(kelp_field_ncomms) is 2,786,568 bytes (x86-64) with the defaults below: 2048
  * vehicles with a 512-byte report each (1.5 MB), 65536 pair stamps (1 MB), 64 pending
  * messages of 2 KB; place it statically or on the heap, not on a small stack. */
 
@@ -283,6 +283,9 @@ typedef struct kelp_field_ncomms_cfg {
     double share_interval;        /**< SHARED_NODE_REPORTS: NODE_REPORT_UNC every s of real
                                        time (true 0.1, false -1 off: the default) */
     double warp;                  /**< MOOSTimeWarp (for share_interval) */
+    kelp_geo geo;                 /**< LatOrigin/LongOrigin (with have_geo): X,Y of a report
+                                       that carries only LAT,LON */
+    bool have_geo;
     char msg_color[KELP_VIEW_MAX_FIELD];        /**< MSG_COLOR (white); off/invisible: none */
     char msg_repeat_color[KELP_VIEW_MAX_FIELD]; /**< MSG_REPEAT_COLOR (light_green) */
     kelp_ncomms_factor factor[KELP_NCOMMS_MAX_FACTORS]; /**< STEALTH / EARANGE lines */

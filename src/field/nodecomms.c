@@ -834,7 +834,9 @@ static int mail_report(kelp_field_ncomms *c, const char *s, double now, const ke
     size_t len = strlen(s);
     if (len + 1 > KELP_NODEREPORT_MAX_LEN) why = "longer than KELP_NODEREPORT_MAX_LEN";
     else if (kelp_nodereport_parse(s, len, &r, &why) < 0) why = why ? why : "malformed";
-    else if (!(r.fields & KELP_NR_X) || !(r.fields & KELP_NR_Y)) why = "no X,Y (LAT/LON only is not supported)";
+    else if ((!(r.fields & KELP_NR_X) || !(r.fields & KELP_NR_Y)) &&
+             (!c->cfg.have_geo || kelp_nodereport_complete(&r, &c->cfg.geo) < 0 || !(r.fields & KELP_NR_X)))
+        why = "no X,Y (and LAT,LON need the LatOrigin/LongOrigin datum)";
     if (why) {
         c->rpts_bad++;
         warn3(out, "NODE_REPORT: ", why, "");
