@@ -1059,7 +1059,7 @@ int kelp_field_ncomms_report(const kelp_field_ncomms *c, double now, char *buf, 
     if (cap == 0) return KELP_ERR_NOSPACE;
     buf[0] = 0;
     uint16_t idx[KELP_NCOMMS_MAX_NODES];
-    const unsigned nn = c->nnodes < KELP_NCOMMS_MAX_NODES ? c->nnodes : KELP_NCOMMS_MAX_NODES;
+    const unsigned nn = c->nnodes;
     for (unsigned i = 0; i < nn; i++) idx[i] = (uint16_t)i;
     sort_names(c, idx, nn);
     put(&r, "****\nuFldNodeCommsSummary:\n****\n\nNode Report Summary\n=====\n");
