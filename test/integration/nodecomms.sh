@@ -39,3 +39,12 @@ ok "reports relayed within range only"
 grep ' VIEW_COMMS_PULSE ' n.txt | grep -q 'label=ALPHA2BRAVO_MSG,edge_color=white' || fail "no white message pulse"
 grep ' VIEW_COMMS_PULSE ' n.txt | grep -q 'beam_width=7,duration=10,fill=0.35,label=ALPHA2BRAVO,' || fail "no report pulse"
 ok "message delivered with a white pulse"
+# VERBOSE = false: no summary in the status report (ufield.md 5.6.19); true: the summary
+sed 's/^{$/{\n  VERBOSE = false/' n.moos > q.moos
+rc=0; timeout -s INT 1.5 "$BIN/uFldNodeComms" q.moos > q.out 2>&1 || rc=$?
+[ $rc -eq 0 ] || [ $rc -eq 124 ] || fail "uFldNodeComms exited $rc with VERBOSE = false"
+grep -q 'Configuration warnings: 0' q.out || fail "configuration warnings: $(grep -A3 'Configuration warnings' q.out)"
+grep -q uFldNodeCommsSummary q.out && fail "VERBOSE = false printed the summary"
+rc=0; timeout -s INT 1.5 "$BIN/uFldNodeComms" n.moos > v.out 2>&1 || rc=$?
+grep -q 'Total Blocked Msgs: 0' v.out || fail "no summary with VERBOSE = true"
+ok "VERBOSE = false hides the summary"
