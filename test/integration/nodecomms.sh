@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# uFldNodeComms on a real bus: two vehicles' reports 50 m apart are relayed to each other
+# (NODE_REPORT_<V> verbatim, with a VIEW_COMMS_PULSE), a third 500 m away gets nothing, and a
+# node message reaches its addressee as NODE_MESSAGE_<V> with a white pulse.
+. "$(dirname "$0")/lib.sh"
+cd "$T"
+cat > n.moos <<'M'
+Community = shoreside
+ServerPort = 9000
+ProcessConfig = uFldNodeComms
+{
+  AppTick = 4
+  comms_range = 100
+  critical_range = 30
+  stale_time = 5
+  PULSE_DURATION = 10;
+}
+M
+bg "$BIN/kelp-record" --lcm-url="$KELP_LCM_URL" -f n.lcmlog
+sleep 0.5
+bg "$BIN/uFldNodeComms" n.moos
+sleep 1
+"$BIN/kelp-poke" n.moos "NODE_REPORT=NAME=alpha,TYPE=UUV,X=0,Y=0,SPD=1,HDG=90,DEP=0" \
+  "NODE_REPORT=NAME=bravo,TYPE=UUV,X=50,Y=0,SPD=1,HDG=90,DEP=0" \
+  "NODE_REPORT=NAME=charlie,TYPE=UUV,X=500,Y=0,SPD=1,HDG=90,DEP=0" > poke.out 2>&1 || fail "poke: $(cat poke.out)"
+sleep 0.6
+"$BIN/kelp-poke" n.moos "NODE_MESSAGE=src_node=alpha,dest_node=bravo,var_name=FOOBAR,string_val=hello" > /dev/null
+sleep 1
+for p in "${PIDS[@]}"; do kill -INT "$p" 2>/dev/null || true; done
+wait 2>/dev/null || true
+PIDS=()
+"$BIN/kelp-logcheck" --print n.lcmlog > n.txt || fail "log undecodable"
+val() { awk -v v="$1" '$3==v {sub(/^[^ ]+ [^ ]+ [^ ]+ /, ""); print; exit}' n.txt; }
+[ "$(val NODE_REPORT_BRAVO)" = "NAME=alpha,TYPE=UUV,X=0,Y=0,SPD=1,HDG=90,DEP=0" ] || fail "NODE_REPORT_BRAVO: $(val NODE_REPORT_BRAVO)"
+[ "$(val NODE_REPORT_ALPHA)" = "NAME=bravo,TYPE=UUV,X=50,Y=0,SPD=1,HDG=90,DEP=0" ] || fail "NODE_REPORT_ALPHA: $(val NODE_REPORT_ALPHA)"
+grep -q ' NODE_REPORT_CHARLIE ' n.txt && fail "charlie (500 m) got a report"
+ok "reports relayed within range only"
+[ "$(val NODE_MESSAGE_BRAVO)" = "src_node=alpha,dest_node=bravo,var_name=FOOBAR,string_val=hello" ] || fail "NODE_MESSAGE_BRAVO: $(val NODE_MESSAGE_BRAVO)"
+grep ' VIEW_COMMS_PULSE ' n.txt | grep -q 'label=ALPHA2BRAVO_MSG,edge_color=white' || fail "no white message pulse"
+grep ' VIEW_COMMS_PULSE ' n.txt | grep -q 'beam_width=7,duration=10,fill=0.35,label=ALPHA2BRAVO,' || fail "no report pulse"
+ok "message delivered with a white pulse"
+# VERBOSE = false: no summary in the status report (ufield.md 5.6.19); true: the summary
+sed 's/^{$/{\n  VERBOSE = false/' n.moos > q.moos
+rc=0; timeout -s INT 1.5 "$BIN/uFldNodeComms" q.moos > q.out 2>&1 || rc=$?
+[ $rc -eq 0 ] || [ $rc -eq 124 ] || fail "uFldNodeComms exited $rc with VERBOSE = false"
+grep -q 'Configuration warnings: 0' q.out || fail "configuration warnings: $(grep -A3 'Configuration warnings' q.out)"
+grep -q uFldNodeCommsSummary q.out && fail "VERBOSE = false printed the summary"
+rc=0; timeout -s INT 1.5 "$BIN/uFldNodeComms" n.moos > v.out 2>&1 || rc=$?
+grep -q 'Total Blocked Msgs: 0' v.out || fail "no summary with VERBOSE = true"
+ok "VERBOSE = false hides the summary"
