@@ -129,6 +129,8 @@ $(BUILD)/bin/$(1): $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard apps/$(1)/*.c)) $(
 endef
 $(foreach a,$(APPS),$(eval $(call APP_RULE,$(a))))
 $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard apps/*/*.c)): CPPFLAGS += $(LCM_CFLAGS)
+# per-app libraries (target-specific, so only that program links them)
+$(BUILD)/bin/uFldScope: EXT_LIBS += $(shell pkg-config --libs ncurses 2>/dev/null || echo -lncurses)
 
 scripts: $(addprefix $(BUILD)/bin/,$(SCRIPTS))
 $(BUILD)/bin/kelp-%: tools/kelp-% Makefile

@@ -394,6 +394,190 @@ KELP_MUST_CHECK int kelp_field_ncomms_report(const kelp_field_ncomms *c, double 
 /** Index of a vehicle by name (case-insensitive), or -1. */
 int kelp_field_ncomms_find(const kelp_field_ncomms *c, const char *name);
 
+/* ------------------------------------------------------------------ NODE_MESSAGE */
+
+/** A piece of the parsed string: p points into the text given to the parser (not
+ *  NUL-terminated); n is 0 when absent or empty. */
+typedef struct kelp_field_text {
+    const char *p;
+    size_t n;
+} kelp_field_text;
+
+/** One NODE_MESSAGE "src_node=alpha,dest_node=bravo,var_name=SPEED,double_val=2.5"
+ *  (ufield.md 1.2). Keys are case-insensitive; dest_name stands for dest_node and src_var
+ *  for var_name (var_name wins when both are given); "dest_node;bravo" (the seed's typo) is
+ *  read as dest_node=bravo. string_val may be double-quoted to carry commas (the quotes are
+ *  removed, with or without string_val_quoted=true). Unknown keys are ignored. */
+typedef struct kelp_node_message {
+    kelp_field_text src_node, src_app, src_bhv, dest_node, dest_group, var_name, string_val, color, ack_id;
+    double double_val;
+    bool has_string, has_double; /**< which value the message carries */
+    bool ack;                    /**< ack=true */
+} kelp_node_message;
+
+/** Parse and validate s[0..len): src_node, a destination (dest_node or dest_group) and a
+ *  var_name are required, exactly one of string_val / double_val, a double_val that is a
+ *  finite number, and a var_name that is a MOOS name (1..KELP_MAX_NAME-1 printable
+ *  characters, no space, ',', '=' or '"'; not NODE_MESSAGE, which would loop).
+ *  @param[out] m spans into s. @return 0, or KELP_ERR_PARSE with *why (a short reason). */
+KELP_MUST_CHECK int kelp_field_nodemsg_parse(const char *s, size_t len, kelp_node_message *m, const char **why);
+/** Is `me` (case-insensitive) one of the colon-separated names of the message's dest_node? */
+bool kelp_field_nodemsg_to(const kelp_node_message *m, const char *me);
+
+/* ------------------------------------------------------------------ uFldMessageHandler */
+
+#define KELP_UMH_MAX_FLAGS 8      /**< MSG_FLAG and BAD_MSG_FLAG entries, each */
+#define KELP_UMH_FLAG_LEN 128     /**< bytes of a flag's value, with NUL */
+#define KELP_UMH_MAX_SOURCES 32   /**< source nodes in the per-source table (least recent reused) */
+#define KELP_UMH_LAST 5           /**< messages kept in each "last few" list */
+#define KELP_UMH_MSG_LEN 256      /**< bytes kept of a listed message, with NUL */
+#define KELP_UMH_VAL_LEN 64       /**< bytes kept of a source's last value, with NUL */
+
+/** A MSG_FLAG / BAD_MSG_FLAG "VAR=value": a number is posted as a double, anything else as a
+ *  string after expanding $[CTR] (messages received), $[GOOD_CTR] (posted) and $[BAD_CTR]
+ *  (invalid + rejected). */
+typedef struct kelp_umh_flag {
+    char var[KELP_MAX_NAME];
+    char sval[KELP_UMH_FLAG_LEN];
+    double dval;
+    bool is_string;
+} kelp_umh_flag;
+
+typedef struct kelp_field_umh_cfg {
+    char community[KELP_MAX_NAME]; /**< this vehicle: dest_node must name it */
+    bool verbose;                  /**< VERBOSE: the full terminal report (true) */
+    bool strict;                   /**< STRICT_ADDRESSING: only dest_node naming us (false) */
+    bool aux_app;                  /**< AUX_INFO = node+app: aux source "node+src_app" (node) */
+    unsigned trunc;                /**< APPCAST_TRUNC_MSG: characters of a listed valid message (75; 0 all) */
+    double summary_gap;            /**< s of MOOS time between UMH_SUMMARY_MSGS posts, at least (1) */
+    kelp_umh_flag msg_flag[KELP_UMH_MAX_FLAGS], bad_flag[KELP_UMH_MAX_FLAGS];
+    unsigned nmsg_flag, nbad_flag;
+} kelp_field_umh_cfg;
+
+/** One sending node: messages posted, when the last arrived, its variable and value. */
+typedef struct kelp_umh_source {
+    char name[KELP_MAX_NAME];
+    unsigned long total;
+    double last;
+    char var[KELP_MAX_NAME];
+    char val[KELP_UMH_VAL_LEN];
+} kelp_umh_source;
+
+/** The last few messages of one kind, oldest first from `first`. */
+typedef struct kelp_umh_list {
+    char msg[KELP_UMH_LAST][KELP_UMH_MSG_LEN];
+    const char *why[KELP_UMH_LAST]; /**< reason (invalid and rejected lists) */
+    unsigned n, first;
+} kelp_umh_list;
+
+typedef struct kelp_field_umh {
+    kelp_field_umh_cfg cfg;
+    unsigned long total, valid, invalid, rejected, reports, summaries;
+    double last_msg;                         /**< MOOS time of the last NODE_MESSAGE (-1 none) */
+    kelp_umh_source src[KELP_UMH_MAX_SOURCES];
+    unsigned nsrc;
+    kelp_umh_list last_valid, last_invalid, last_rejected;
+    char aux[2 * KELP_MAX_NAME];             /**< aux source of the last post (node or node+app) */
+    /* private */
+    bool summary_due;
+    double last_summary;
+    char post[KELP_MAX_SVAL + 1];            /**< the string value being posted */
+} kelp_field_umh;
+
+/** Defaults: verbose, not strict, aux_info node, trunc 75, summary every 1 s at most. */
+void kelp_field_umh_cfg_default(kelp_field_umh_cfg *c, const char *community);
+/** One block parameter: VERBOSE, STRICT_ADDRESSING, AUX_INFO (node | node+app),
+ *  APPCAST_TRUNC_MSG (>= 0), MSG_FLAG, BAD_MSG_FLAG ("VAR=value").
+ *  @return 1 taken, 0 not ours, <0 with *why. */
+KELP_MUST_CHECK int kelp_field_umh_config(kelp_field_umh_cfg *c, const char *key, const char *val, const char **why);
+void kelp_field_umh_init(kelp_field_umh *h, const kelp_field_umh_cfg *cfg);
+/** NODE_MESSAGE (other variables: 0). Valid and addressed to us (ufield.md 6.4): the
+ *  variable is posted (a string or a double), then the MSG_FLAGs. Invalid or rejected: counted,
+ *  listed with the reason, then the BAD_MSG_FLAGs.
+ *  @return 1 posted, KELP_ERR_PARSE invalid, KELP_ERR_ARG rejected (addressing). */
+int kelp_field_umh_mail(kelp_field_umh *h, const char *var, bool is_string, const char *sval, double now,
+                        const kelp_field_sink *out);
+/** UMH_SUMMARY_MSGS "total=..,valid=..,invalid=..,rejected=.." on the first call and after a
+ *  change, at most every summary_gap s. @return 1 posted, 0 not due. */
+int kelp_field_umh_iterate(kelp_field_umh *h, double now, const kelp_field_sink *out);
+/** The terminal report (Listing 14: totals, per source, last few messages; totals only when
+ *  not verbose) into buf, NUL-terminated, truncated to fit. Counts a report.
+ *  @return the length written. */
+size_t kelp_field_umh_report(kelp_field_umh *h, double now, char *buf, size_t cap);
+
+/* ------------------------------------------------------------------ uFldScope */
+
+#define KELP_UFS_MAX_ELEMS 16     /**< SCOPE entries (columns) */
+#define KELP_UFS_MAX_LAYOUTS 8    /**< LAYOUT entries */
+#define KELP_UFS_MAX_ROWS 32      /**< vehicles shown (later ones are counted, not shown) */
+#define KELP_UFS_FIELD_LEN 32     /**< bytes of a key, field, alias, colour or vehicle name, with NUL */
+#define KELP_UFS_CELL_LEN 48      /**< bytes kept of a cell, with NUL (longer values are cut) */
+#define KELP_UFS_LAYOUT_LEN 256   /**< bytes of a LAYOUT line, with NUL */
+
+/** One SCOPE = var=<MOOSVAR>, key=<KEYNAME>, fld=<FIELD>, alias=<ALIAS> (and 24.8's color,
+ *  xcolor, xthresh, kept for a terminal that shows colours). */
+typedef struct kelp_ufs_elem {
+    char var[KELP_MAX_NAME];
+    char key[KELP_UFS_FIELD_LEN];   /**< "" until init: another element's key for the same var, else name */
+    char fld[KELP_UFS_FIELD_LEN];
+    char alias[KELP_UFS_FIELD_LEN]; /**< the column header ("" = fld) */
+    char color[KELP_UFS_FIELD_LEN], xcolor[KELP_UFS_FIELD_LEN];
+    double xthresh;
+} kelp_ufs_elem;
+
+typedef struct kelp_field_ufs_cfg {
+    kelp_ufs_elem elem[KELP_UFS_MAX_ELEMS];
+    unsigned nelem;
+    char layout[KELP_UFS_MAX_LAYOUTS][KELP_UFS_LAYOUT_LEN]; /**< in configuration order */
+    unsigned nlayout;
+} kelp_field_ufs_cfg;
+
+typedef enum kelp_ufs_mode { KELP_UFS_STREAMING = 0, KELP_UFS_PAUSED, KELP_UFS_HELP } kelp_ufs_mode;
+
+typedef struct kelp_ufs_row {
+    char name[KELP_UFS_FIELD_LEN];
+    char cell[KELP_UFS_MAX_ELEMS][KELP_UFS_CELL_LEN];
+} kelp_ufs_row;
+
+typedef struct kelp_field_ufs {
+    kelp_field_ufs_cfg cfg;
+    uint32_t layout_mask[KELP_UFS_MAX_LAYOUTS]; /**< [n-1]: the columns of layout (n); layout 1 is
+                                                     the last LAYOUT line (ufield.md 7.3, A29) */
+    unsigned unmatched;                         /**< LAYOUT names matching no alias or field */
+    char first_unmatched[KELP_UFS_FIELD_LEN];
+    kelp_ufs_row row[KELP_UFS_MAX_ROWS];        /**< sorted by name, case-insensitive */
+    unsigned nrow;
+    unsigned long mail, bad_mail, dropped_rows, reports;
+    kelp_ufs_mode mode;
+    unsigned layout;                            /**< 0: all (A); n: layout (n) */
+    unsigned last_layout;                       /**< the last user layout shown (1 when none yet) */
+    bool update;                                /**< a key asked for one refresh */
+} kelp_field_ufs;
+
+/** One block parameter: SCOPE (repeatable) or LAYOUT (repeatable, resolved at init).
+ *  @return 1 taken, 0 not ours, <0 with *why. */
+KELP_MUST_CHECK int kelp_field_ufs_config(kelp_field_ufs_cfg *c, const char *key, const char *val, const char **why);
+/** Resolve keys and layouts; start streaming the all-columns view (A). */
+void kelp_field_ufs_init(kelp_field_ufs *s, const kelp_field_ufs_cfg *cfg);
+/** The distinct SCOPE variables to subscribe to, one per call (i from 0) until NULL. */
+const char *kelp_field_ufs_subscription(const kelp_field_ufs *s, unsigned i);
+/** A report "k=v,k=v": for each element on this variable whose key is present (vname and
+ *  name stand for each other), the vehicle's cell becomes the element's field (empty when the
+ *  report lacks it). @return 1 used, 0 not for us, KELP_ERR_PARSE (a double, or malformed
+ *  pairs: what could be read is used). */
+int kelp_field_ufs_mail(kelp_field_ufs *s, const char *var, bool is_string, const char *sval);
+/** A key press: l/L cycle A, 1..k, A; a/A toggle A and the last layout; p/P/space pause (and
+ *  refresh once); r/R stream; h/H help (again: paused). @return 1 when the view changed or a
+ *  refresh is asked for, 0 for other keys. */
+int kelp_field_ufs_key(kelp_field_ufs *s, int c);
+/** Is a render due this iteration (streaming, or a key asked for one)? */
+bool kelp_field_ufs_due(const kelp_field_ufs *s);
+/** Render the table (or the help) into buf, NUL-terminated, truncated to fit:
+ *  "VName  <headers>  STREAMING(A)", "=====  ...  (<n>)", one row per vehicle, columns
+ *  padded to their widest entry and two spaces apart. Counts a report; clears the request.
+ *  @return the length written. */
+size_t kelp_field_ufs_render(kelp_field_ufs *s, char *buf, size_t cap);
+
 #ifdef __cplusplus
 }
 #endif

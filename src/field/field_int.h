@@ -3,6 +3,7 @@
 #define KELP_FIELD_INT_H
 #include <stdbool.h>
 #include <stddef.h>
+#include <kelp/err.h>
 
 /** Called per key=value pair (trimmed, outer double quotes of the value removed).
  *  Return 0 to go on or <0 to stop with that status. */
@@ -27,6 +28,9 @@ int field_copy_text(char *dst, size_t cap, const char *v, size_t vl);
 int field_put_fixed(char *buf, size_t cap, size_t *n, double v, int dec, bool strip);
 /** Append a C string. */
 int field_put_str(char *buf, size_t cap, size_t *n, const char *s);
+
+/** Append printf-style text; output that does not fit is cut (buf stays NUL-terminated). */
+void field_putf(char *buf, size_t cap, size_t *n, const char *fmt, ...) KELP_PRINTF(4, 5);
 
 /** Strict finite number. */
 int sim_number(const char *v, size_t vl, double *out);

@@ -1,5 +1,7 @@
 /* Text helpers for node reports and VIEW_* strings: pair walking and number printing. */
 #include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
 #include <stdint.h>
 #include <string.h>
 #include <kelp/err.h>
@@ -157,4 +159,16 @@ int field_put_fixed(char *buf, size_t cap, size_t *n, double v, int dec, bool st
     }
     *n += (size_t)len;
     return KELP_OK;
+}
+
+void field_putf(char *buf, size_t cap, size_t *n, const char *fmt, ...)
+{
+    if (!cap || *n + 1 >= cap) return;
+    va_list ap;
+    va_start(ap, fmt);
+    int k = vsnprintf(buf + *n, cap - *n, fmt, ap);
+    va_end(ap);
+    if (k < 0) return;
+    *n += (size_t)k;
+    if (*n >= cap) *n = cap - 1;
 }

@@ -1,0 +1,438 @@
+/* uFldMessageHandler's state machine (src/field/msghandler.c): ufield.md 6.6, 1.2 and the
+ * MOOS-IvP 24.8 parameters (aux_info, msg_flag, bad_msg_flag, appcast_trunc_msg). */
+#include <check.h>
+#include <stdio.h>
+#include <string.h>
+#include <kelp/field.h>
+
+#define REC_MAX 64
+/* both found, a first */
+#define BEFORE(a, b) ck_assert((a) != NULL && (b) != NULL && (a) < (b))
+
+typedef struct rec {
+    int n;
+    char var[REC_MAX][64];
+    char val[REC_MAX][512];
+    bool str[REC_MAX];
+    double d[REC_MAX];
+} rec;
+
+static void pub(void *ctx, const char *var, bool is_string, const char *sval, double dval)
+{
+    rec *r = ctx;
+    if (r->n >= REC_MAX) return;
+    snprintf(r->var[r->n], sizeof r->var[0], "%s", var);
+    if (is_string) snprintf(r->val[r->n], sizeof r->val[0], "%s", sval);
+    else snprintf(r->val[r->n], sizeof r->val[0], "%g", dval);
+    r->str[r->n] = is_string;
+    r->d[r->n] = dval;
+    r->n++;
+}
+
+/* the last publication of var, or -1 */
+static int find(const rec *r, const char *var)
+{
+    for (int i = r->n; i-- > 0;)
+        if (!strcmp(r->var[i], var)) return i;
+    return -1;
+}
+
+static kelp_field_umh h;
+static rec r;
+static kelp_field_sink sink = { &r, pub, NULL };
+
+static void start(const char *me, bool strict)
+{
+    kelp_field_umh_cfg c;
+    kelp_field_umh_cfg_default(&c, me);
+    c.strict = strict;
+    kelp_field_umh_init(&h, &c);
+    memset(&r, 0, sizeof r);
+}
+
+static int mail(const char *msg, double now)
+{
+    return kelp_field_umh_mail(&h, "NODE_MESSAGE", true, msg, now, &sink);
+}
+
+/* 6.6.1: a double posted as a double, aux source alpha */
+START_TEST(umh_double_posted)
+{
+    start("bravo", false);
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=SPEED,double_val=2.5", 10), 1);
+    int i = find(&r, "SPEED");
+    ck_assert_int_ge(i, 0);
+    ck_assert(!r.str[i]);
+    ck_assert_double_eq(r.d[i], 2.5);
+    ck_assert_str_eq(h.aux, "alpha");
+    ck_assert_uint_eq(h.valid, 1);
+    ck_assert_uint_eq(h.invalid + h.rejected, 0);
+}
+END_TEST
+
+/* 6.6.2: src_var accepted, string_val posted as a string; the seed's "dest_node;bravo" typo */
+START_TEST(umh_string_src_var)
+{
+    start("bravo", false);
+    ck_assert_int_eq(mail("src_node=alpha,dest_node;bravo,src_var=SPEED,string_val=fast", 1), 1);
+    int i = find(&r, "SPEED");
+    ck_assert_int_ge(i, 0);
+    ck_assert(r.str[i]);
+    ck_assert_str_eq(r.val[i], "fast");
+    /* var_name wins over src_var; dest_name stands for dest_node */
+    ck_assert_int_eq(mail("src_node=alpha,src_var=A,dest_name=BRAVO,var_name=B,string_val=x", 2), 1);
+    ck_assert_int_ge(find(&r, "B"), 0);
+    ck_assert_int_lt(find(&r, "A"), 0);
+}
+END_TEST
+
+/* a quoted string_val carries commas; the quotes are removed */
+START_TEST(umh_quoted_string)
+{
+    start("bravo", false);
+    ck_assert_int_eq(mail("src_node=abe,dest_node=bravo,var_name=SAY,string_val=\"hold,station\",string_val_quoted=true", 1), 1);
+    ck_assert_str_eq(r.val[find(&r, "SAY")], "hold,station");
+    ck_assert_int_eq(mail("src_node=abe,dest_node=bravo,var_name=POLY,string_val=\"pts={1,2:3,4}\"", 2), 1);
+    ck_assert_str_eq(r.val[find(&r, "POLY")], "pts={1,2:3,4}");
+}
+END_TEST
+
+/* 6.6.3: group-addressed, posted unless strict */
+START_TEST(umh_group_strict)
+{
+    const char *m = "src_node=alpha,dest_group=redteam,src_var=SPEED,double_val=2.2";
+    start("bravo", false);
+    ck_assert_int_eq(mail(m, 1), 1);
+    ck_assert_int_ge(find(&r, "SPEED"), 0);
+    start("bravo", true);
+    ck_assert_int_eq(mail(m, 1), KELP_ERR_ARG);
+    ck_assert_int_lt(find(&r, "SPEED"), 0);
+    ck_assert_uint_eq(h.rejected, 1);
+    ck_assert_uint_eq(h.valid, 0);
+    ck_assert_str_eq(h.last_rejected.why[0], "group address (strict addressing)");
+}
+END_TEST
+
+/* 6.6.4: another vehicle's message is rejected, nothing posted */
+START_TEST(umh_other_dest_rejected)
+{
+    start("bravo", false);
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=charlie,var_name=SPEED,double_val=1", 1), KELP_ERR_ARG);
+    ck_assert_int_lt(find(&r, "SPEED"), 0);
+    ck_assert_uint_eq(h.rejected, 1);
+    ck_assert_str_eq(h.last_rejected.why[0], "dest_node is not this node");
+}
+END_TEST
+
+/* 6.6.5: dest_node=all (any case) posted unless strict */
+START_TEST(umh_all)
+{
+    start("bravo", false);
+    ck_assert_int_eq(mail("src_node=henry,dest_node=all,var_name=FOOBAR,string_val=74", 1), 1);
+    ck_assert_int_eq(mail("src_node=henry,dest_node=ALL,var_name=FOOBAR,string_val=75", 1), 1);
+    ck_assert_str_eq(r.val[find(&r, "FOOBAR")], "75");
+    start("bravo", true);
+    ck_assert_int_eq(mail("src_node=henry,dest_node=all,var_name=FOOBAR,string_val=74", 1), KELP_ERR_ARG);
+    ck_assert_uint_eq(h.rejected, 1);
+    /* strict still takes its own name */
+    ck_assert_int_eq(mail("src_node=henry,dest_node=Bravo,var_name=FOOBAR,string_val=74", 1), 1);
+}
+END_TEST
+
+/* 6.6.6: a colon list naming us */
+START_TEST(umh_colon_list)
+{
+    start("bravo", true);
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=alpha:bravo,var_name=X,double_val=3", 1), 1);
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=alpha:bravox:charlie,var_name=X,double_val=3", 1), KELP_ERR_ARG);
+}
+END_TEST
+
+/* 6.6.7 and 1.2: invalid messages counted with a reason, nothing posted */
+static const struct {
+    const char *msg, *why;
+} invalid[] = {
+    { "src_node=alpha,dest_node=bravo,string_val=x", "no var_name" },
+    { "src_node=alpha,dest_node=bravo,var_name=X", "no string_val or double_val" },
+    { "dest_node=bravo,var_name=X,string_val=x", "no src_node" },
+    { "src_node=alpha,var_name=X,string_val=x", "no dest_node or dest_group" },
+    { "src_node=alpha,dest_node=bravo,var_name=X,string_val=x,double_val=2", "both string_val and double_val" },
+    { "src_node=alpha,dest_node=bravo,var_name=X,double_val=fast", "double_val is not a number" },
+    { "src_node=alpha,dest_node=bravo,var_name=X,double_val=nan", "double_val is not a number" },
+    { "src_node=alpha,dest_node=bravo,var_name=MY VAR,double_val=1", "var_name is not a variable name" },
+    { "src_node=alpha,dest_node=bravo,var_name=NODE_MESSAGE,string_val=a", "var_name NODE_MESSAGE would loop" },
+    { "src_node=alpha,dest_node=bravo,var_name=X,string_val=\"open", "unbalanced quote or brace" },
+    { "", "no src_node" },
+};
+
+START_TEST(umh_invalid)
+{
+    start("bravo", false);
+    ck_assert_int_eq(mail(invalid[_i].msg, 1), KELP_ERR_PARSE);
+    ck_assert_uint_eq(h.invalid, 1);
+    ck_assert_uint_eq(h.valid + h.rejected, 0);
+    ck_assert_str_eq(h.last_invalid.why[0], invalid[_i].why);
+    ck_assert_str_eq(h.last_invalid.msg[0], invalid[_i].msg);
+    ck_assert_int_lt(find(&r, "X"), 0);
+    ck_assert_int_eq(r.n, 0);
+}
+END_TEST
+
+/* a number on NODE_MESSAGE, and other variables */
+START_TEST(umh_not_a_string)
+{
+    start("bravo", false);
+    ck_assert_int_eq(kelp_field_umh_mail(&h, "NODE_MESSAGE", false, NULL, 1, &sink), KELP_ERR_PARSE);
+    ck_assert_uint_eq(h.invalid, 1);
+    ck_assert_int_eq(kelp_field_umh_mail(&h, "NODE_MESSAGE_LOCAL", true, "src_node=a", 1, &sink), 0);
+    ck_assert_uint_eq(h.total, 1);
+}
+END_TEST
+
+/* 6.6.8 and the per-source table: totals per source, last variable and value */
+START_TEST(umh_per_source_and_report)
+{
+    start("james", false);
+    for (int i = 0; i < 19; i++) ck_assert_int_eq(mail("src_node=gilda,dest_node=all,var_name=FOOBAR,string_val=35", 100 + i), 1);
+    for (int i = 0; i < 5; i++) ck_assert_int_eq(mail("src_node=henry,dest_node=all,var_name=FOOBAR,string_val=44", 100 + i), 1);
+    for (int i = 0; i < 4; i++) ck_assert_int_eq(mail("src_node=ike,dest_node=all,var_name=FOOBAR,double_val=20.25", 90), 1);
+    ck_assert_uint_eq(h.valid, 28);
+    ck_assert_uint_eq(h.nsrc, 3);
+    char buf[4096];
+    size_t n = kelp_field_umh_report(&h, 120.5, buf, sizeof buf);
+    ck_assert_uint_eq(n, strlen(buf));
+    ck_assert_ptr_nonnull(strstr(buf, "uFldMessageHandler Summary: (james)(1)\n"));
+    ck_assert_ptr_nonnull(strstr(buf, "    Total Received Valid: 28\n"));
+    ck_assert_ptr_nonnull(strstr(buf, "                 Invalid: 0\n"));
+    ck_assert_ptr_nonnull(strstr(buf, "     Time since last Msg: 30.5\n"));
+    ck_assert_ptr_nonnull(strstr(buf, "  Source  Total  Elapsed  Variable  Value\n"));
+    ck_assert_ptr_nonnull(strstr(buf, "  gilda      19      2.5  FOOBAR    35\n"));
+    ck_assert_ptr_nonnull(strstr(buf, "  henry       5     16.5  FOOBAR    44\n"));
+    ck_assert_ptr_nonnull(strstr(buf, "  ike         4     30.5  FOOBAR    20.25\n"));
+    /* sources in name order */
+    BEFORE(strstr(buf, "  gilda"), strstr(buf, "  henry"));
+    BEFORE(strstr(buf, "  henry"), strstr(buf, "  ike"));
+    ck_assert_ptr_nonnull(strstr(buf, "Invalid Mgs:\n  NONE\nRejected Mgs:\n  NONE\n"));
+    (void)kelp_field_umh_report(&h, 121, buf, sizeof buf);
+    ck_assert_ptr_nonnull(strstr(buf, "(james)(2)"));
+}
+END_TEST
+
+/* 6.6.9: the last five of seven, oldest first; appcast_trunc_msg cuts listed messages */
+START_TEST(umh_last_five)
+{
+    start("bravo", false);
+    char m[128];
+    for (int i = 1; i <= 7; i++) {
+        snprintf(m, sizeof m, "src_node=alpha,dest_node=bravo,var_name=N,double_val=%d", i);
+        ck_assert_int_eq(mail(m, i), 1);
+    }
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=zed,var_name=N,double_val=1", 8), KELP_ERR_ARG);
+    char buf[4096];
+    (void)kelp_field_umh_report(&h, 8, buf, sizeof buf);
+    const char *v = strstr(buf, "Valid Mgs:\n");
+    ck_assert_ptr_nonnull(v);
+    ck_assert_ptr_null(strstr(v, "double_val=2\n"));
+    const char *p3 = strstr(v, "double_val=3\n"), *p7 = strstr(v, "double_val=7\n");
+    ck_assert_ptr_nonnull(p3);
+    ck_assert_ptr_nonnull(p7);
+    BEFORE(p3, p7);
+    ck_assert_ptr_nonnull(strstr(buf, "Rejected Mgs:\n  src_node=alpha,dest_node=zed,var_name=N,double_val=1   (dest_node is not this node)\n"));
+    /* truncation at 20 characters with "..." */
+    h.cfg.trunc = 20;
+    (void)kelp_field_umh_report(&h, 8, buf, sizeof buf);
+    ck_assert_ptr_nonnull(strstr(buf, "Valid Mgs:\n  src_node=alpha,dest_...\n"));
+    /* not verbose: the totals only */
+    h.cfg.verbose = false;
+    (void)kelp_field_umh_report(&h, 8, buf, sizeof buf);
+    ck_assert_ptr_nonnull(strstr(buf, "Total Received Valid: 7"));
+    ck_assert_ptr_null(strstr(buf, "Valid Mgs:"));
+}
+END_TEST
+
+/* a report into a small buffer is cut and still a string */
+START_TEST(umh_report_small_buffer)
+{
+    start("bravo", false);
+    char buf[40];
+    size_t n = kelp_field_umh_report(&h, 1, buf, sizeof buf);
+    ck_assert_uint_eq(n, strlen(buf));
+    ck_assert_uint_lt(n, sizeof buf);
+    ck_assert_ptr_nonnull(strstr(buf, "****\nuFldMessageHandler"));
+}
+END_TEST
+
+/* UMH_SUMMARY_MSGS: first iteration, then after changes, at most once a second */
+START_TEST(umh_summary)
+{
+    start("bravo", false);
+    ck_assert_int_eq(kelp_field_umh_iterate(&h, 10, &sink), 1);
+    ck_assert_str_eq(r.val[find(&r, "UMH_SUMMARY_MSGS")], "total=0,valid=0,invalid=0,rejected=0");
+    ck_assert_int_eq(kelp_field_umh_iterate(&h, 12, &sink), 0); /* nothing new */
+    ck_assert_int_eq(mail("src_node=a,dest_node=bravo,var_name=X,double_val=1", 12), 1);
+    ck_assert_int_eq(mail("src_node=a,dest_node=c,var_name=X,double_val=1", 12), KELP_ERR_ARG);
+    ck_assert_int_eq(mail("src_node=a", 12), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_field_umh_iterate(&h, 12.2, &sink), 1);
+    ck_assert_str_eq(r.val[find(&r, "UMH_SUMMARY_MSGS")], "total=3,valid=1,invalid=1,rejected=1");
+    ck_assert_int_eq(mail("src_node=a,dest_node=bravo,var_name=X,double_val=1", 12.5), 1);
+    ck_assert_int_eq(kelp_field_umh_iterate(&h, 12.9, &sink), 0); /* < 1 s since the last */
+    ck_assert_int_eq(kelp_field_umh_iterate(&h, 13.2, &sink), 1);
+    ck_assert_str_eq(r.val[find(&r, "UMH_SUMMARY_MSGS")], "total=4,valid=2,invalid=1,rejected=1");
+}
+END_TEST
+
+/* 24.8's parameters: names, values and reasons */
+START_TEST(umh_config)
+{
+    kelp_field_umh_cfg c;
+    const char *why = NULL;
+    kelp_field_umh_cfg_default(&c, "bravo");
+    ck_assert(c.verbose && !c.strict && !c.aux_app);
+    ck_assert_uint_eq(c.trunc, 75);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "strict_addressing", "TRUE", &why), 1);
+    ck_assert(c.strict);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "VERBOSE", "false", &why), 1);
+    ck_assert(!c.verbose);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "aux_info", "node+app", &why), 1);
+    ck_assert(c.aux_app);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "aux_info", "app", &why), KELP_ERR_PARSE);
+    ck_assert_str_eq(why, "expected node or node+app");
+    ck_assert_int_eq(kelp_field_umh_config(&c, "appcast_trunc_msg", "40", &why), 1);
+    ck_assert_uint_eq(c.trunc, 40);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "appcast_trunc_msg", "-1", &why), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "strict_addressing", "maybe", &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "RETURN=true", &why), 1);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "GOT = 3", &why), 1);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "bad_msg_flag", "TOTAL_BAD=$[BAD_CTR]", &why), 1);
+    ck_assert_uint_eq(c.nmsg_flag, 2);
+    ck_assert(c.msg_flag[0].is_string);
+    ck_assert_str_eq(c.msg_flag[0].sval, "true");
+    ck_assert(!c.msg_flag[1].is_string);
+    ck_assert_str_eq(c.msg_flag[1].var, "GOT");
+    ck_assert_double_eq(c.msg_flag[1].dval, 3);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "novalue", &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "A B=1", &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "app_logging", "true", &why), 0);
+    for (int i = 0; i < 6; i++) ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "X=1", &why), 1);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "X=1", &why), KELP_ERR_NOSPACE);
+}
+END_TEST
+
+/* msg_flag after each posted message, bad_msg_flag after each invalid or rejected one, with
+ * $[CTR], $[GOOD_CTR] and $[BAD_CTR] expanded */
+START_TEST(umh_flags)
+{
+    kelp_field_umh_cfg c;
+    const char *why = NULL;
+    kelp_field_umh_cfg_default(&c, "bravo");
+    ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "GOT=n$[GOOD_CTR]_of_$[CTR]", &why), 1);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "RETURN=\"2\"", &why), 1);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "bad_msg_flag", "TOTAL_BAD=$[BAD_CTR]", &why), 1);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "bad_msg_flag", "BAD_NUM=7", &why), 1);
+    kelp_field_umh_init(&h, &c);
+    memset(&r, 0, sizeof r);
+    ck_assert_int_eq(mail("src_node=a,dest_node=bravo,var_name=X,double_val=1", 1), 1);
+    ck_assert_str_eq(r.val[find(&r, "GOT")], "n1_of_1");
+    ck_assert(r.str[find(&r, "RETURN")]);
+    ck_assert_str_eq(r.val[find(&r, "RETURN")], "2");
+    ck_assert_int_lt(find(&r, "TOTAL_BAD"), 0);
+    ck_assert_int_eq(mail("src_node=a,dest_node=zulu,var_name=X,double_val=1", 2), KELP_ERR_ARG);
+    ck_assert_int_eq(mail("garbage", 3), KELP_ERR_PARSE);
+    ck_assert_str_eq(r.val[find(&r, "TOTAL_BAD")], "2");
+    ck_assert(!r.str[find(&r, "BAD_NUM")]);
+    ck_assert_double_eq(r.d[find(&r, "BAD_NUM")], 7);
+    ck_assert_int_eq(mail("src_node=a,dest_node=bravo,var_name=X,double_val=1", 4), 1);
+    ck_assert_str_eq(r.val[find(&r, "GOT")], "n2_of_4");
+    /* order: the variable first, then its flags */
+    ck_assert_int_lt(find(&r, "X"), find(&r, "GOT"));
+}
+END_TEST
+
+/* aux_info = node+app: the aux source names the sending app too */
+START_TEST(umh_aux_node_app)
+{
+    kelp_field_umh_cfg c;
+    kelp_field_umh_cfg_default(&c, "bravo");
+    c.aux_app = true;
+    kelp_field_umh_init(&h, &c);
+    memset(&r, 0, sizeof r);
+    ck_assert_int_eq(mail("src_node=alpha,src_app=pHelmIvP,dest_node=bravo,var_name=X,double_val=1", 1), 1);
+    ck_assert_str_eq(h.aux, "alpha+pHelmIvP");
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=X,double_val=1", 1), 1);
+    ck_assert_str_eq(h.aux, "alpha");
+}
+END_TEST
+
+/* the parser on its own: fields, the colon list, ack and color */
+START_TEST(nodemsg_parse_fields)
+{
+    const char *s = " SRC_NODE = abe , dest_group=blue,var_name=SAY,string_val=\"hold,station\",color=green,ack=true,ack_id=42";
+    kelp_node_message m;
+    const char *why = NULL;
+    ck_assert_int_eq(kelp_field_nodemsg_parse(s, strlen(s), &m, &why), 0);
+    ck_assert_int_eq((int)m.src_node.n, 3);
+    ck_assert(!strncmp(m.src_node.p, "abe", 3));
+    ck_assert(!strncmp(m.dest_group.p, "blue", m.dest_group.n));
+    ck_assert(!strncmp(m.string_val.p, "hold,station", m.string_val.n));
+    ck_assert_int_eq((int)m.string_val.n, 12);
+    ck_assert(!strncmp(m.color.p, "green", m.color.n));
+    ck_assert(!strncmp(m.ack_id.p, "42", m.ack_id.n));
+    ck_assert(m.ack && m.has_string && !m.has_double);
+    s = "src_node=a,dest_node=bravo:Charlie:gilda,var_name=V,double_val=-1.5e2";
+    ck_assert_int_eq(kelp_field_nodemsg_parse(s, strlen(s), &m, &why), 0);
+    ck_assert_double_eq(m.double_val, -150);
+    ck_assert(kelp_field_nodemsg_to(&m, "charlie"));
+    ck_assert(kelp_field_nodemsg_to(&m, "gilda"));
+    ck_assert(!kelp_field_nodemsg_to(&m, "gild"));
+    /* a length shorter than the string: only that part is read */
+    ck_assert_int_eq(kelp_field_nodemsg_parse(s, 25, &m, &why), KELP_ERR_PARSE);
+    ck_assert_str_eq(why, "no var_name");
+}
+END_TEST
+
+/* more sources than the table holds: the least recent one is replaced */
+START_TEST(umh_many_sources)
+{
+    start("bravo", false);
+    char m[128];
+    for (int i = 0; i < KELP_UMH_MAX_SOURCES + 3; i++) {
+        snprintf(m, sizeof m, "src_node=n%02d,dest_node=bravo,var_name=X,double_val=%d", i, i);
+        ck_assert_int_eq(mail(m, i), 1);
+    }
+    ck_assert_uint_eq(h.nsrc, KELP_UMH_MAX_SOURCES);
+    ck_assert_uint_eq(h.valid, KELP_UMH_MAX_SOURCES + 3);
+    bool have_first = false, have_last = false;
+    for (unsigned i = 0; i < h.nsrc; i++) {
+        have_first = have_first || !strcmp(h.src[i].name, "n00");
+        have_last = have_last || !strcmp(h.src[i].name, "n34");
+    }
+    ck_assert(!have_first && have_last);
+}
+END_TEST
+
+Suite *kelp_field_msghandler_suite(void);
+Suite *kelp_field_msghandler_suite(void)
+{
+    Suite *s = suite_create("field_msghandler");
+    TCase *tc = tcase_create("umh");
+    tcase_add_test(tc, umh_double_posted);
+    tcase_add_test(tc, umh_string_src_var);
+    tcase_add_test(tc, umh_quoted_string);
+    tcase_add_test(tc, umh_group_strict);
+    tcase_add_test(tc, umh_other_dest_rejected);
+    tcase_add_test(tc, umh_all);
+    tcase_add_test(tc, umh_colon_list);
+    tcase_add_loop_test(tc, umh_invalid, 0, (int)(sizeof invalid / sizeof invalid[0]));
+    tcase_add_test(tc, umh_not_a_string);
+    tcase_add_test(tc, umh_per_source_and_report);
+    tcase_add_test(tc, umh_last_five);
+    tcase_add_test(tc, umh_report_small_buffer);
+    tcase_add_test(tc, umh_summary);
+    tcase_add_test(tc, umh_config);
+    tcase_add_test(tc, umh_flags);
+    tcase_add_test(tc, umh_aux_node_app);
+    tcase_add_test(tc, nodemsg_parse_fields);
+    tcase_add_test(tc, umh_many_sources);
+    suite_add_tcase(s, tc);
+    return s;
+}
