@@ -219,9 +219,9 @@ static int ping_mail(kelp_field_sbroker *s, const char *sval, double now, const 
         return KELP_ERR_PARSE;
     }
     nd->rec = h;
-    char w[2][24];
-    size_t n0 = 0, n1 = 0;
     if (!h.have_warp || h.warp != s->cfg.warp) {
+        char w[2][24];
+        size_t n0 = 0, n1 = 0;
         if (field_put_fixed(w[0], sizeof w[0], &n0, s->cfg.warp, 6, true) < 0) snprintf(w[0], sizeof w[0], "?");
         if (!h.have_warp || field_put_fixed(w[1], sizeof w[1], &n1, h.warp, 6, true) < 0) snprintf(w[1], sizeof w[1], "?");
         snprintf(nd->status, sizeof nd->status, "timewarp (%s!=%s)", w[0], w[1]);
