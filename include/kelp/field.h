@@ -578,6 +578,172 @@ bool kelp_field_ufs_due(const kelp_field_ufs *s);
  *  @return the length written. */
 size_t kelp_field_ufs_render(kelp_field_ufs *s, char *buf, size_t cap);
 
+/* ------------------------------------------------------------------ uFldNodeBroker / uFldShoreBroker */
+
+#define KELP_BROKER_MAX_TRY 16      /**< TRY_SHORE_HOST entries, valid and invalid (node) */
+#define KELP_BROKER_MAX_BRIDGES 32  /**< BRIDGE entries (node); BRIDGE + expanded QBRIDGE (shore) */
+#define KELP_BROKER_MAX_NODES 64    /**< vehicles one shore broker tracks */
+#define KELP_BROKER_MAX_VNODES 16   /**< try_vnode routes (shore) */
+#define KELP_BROKER_LINE 128        /**< an invalid TRY_SHORE_HOST line kept for the report */
+#define KELP_BROKER_MSG 512         /**< one PMB_REGISTER / ping / ack value */
+#define KELP_BROKER_STALE 10.0      /**< s without a ping before a vehicle is stale (shore) */
+
+/** A host record (ufield.md 1.3): PHI_HOST_INFO, NODE_BROKER_PING or NODE_BROKER_ACK. Keys
+ *  are read case-insensitively with the synonyms host/hostip/host_ip/ip, port/port_db,
+ *  time_warp/timewarp; without port_udp, the port of the first host:port of a 24.8
+ *  pshare_iroutes ("10.0.0.5:9200&multicast_8") is taken. Zero / "" means absent. */
+typedef struct kelp_broker_host {
+    char community[KELP_MAX_NAME];
+    char host[KELP_MAX_NAME];
+    unsigned port_db, port_udp;
+    double warp;                       /**< time_warp (have_warp) */
+    bool have_warp;
+    double time;                       /**< time= (have_time) */
+    bool have_time;
+    char keyword[KELP_MAX_NAME];
+    char status[KELP_MAX_NAME];        /**< an ack's status= ("" none) */
+} kelp_broker_host;
+
+/** Parse a host record. @return 0; KELP_ERR_PARSE (not key=value pairs, a bad number or
+ *  port) or KELP_ERR_RANGE (a value too long) with *why. Completeness is separate. */
+KELP_MUST_CHECK int kelp_broker_host_parse(const char *s, kelp_broker_host *h, const char **why);
+/** Complete: community, host and port_udp (seed 2.2). */
+bool kelp_broker_host_complete(const kelp_broker_host *h);
+
+/** A bridge to request: local src (macros $V $v $N on the shore) and the remote alias. */
+typedef struct kelp_broker_bridge {
+    char src[KELP_MAX_NAME], alias[KELP_MAX_NAME];
+} kelp_broker_bridge;
+
+/** A candidate shoreside: its bridge's UDP address and community ("" unknown). */
+typedef struct kelp_broker_try {
+    char host[KELP_MAX_NAME], community[KELP_MAX_NAME];
+    unsigned port;
+} kelp_broker_try;
+
+/** Parse one TRY_SHORE_HOST: "host_ip=H, port_udp=P[, community=C]" (hostip too) or 24.8's
+ *  "pshare_route=H:P". A multicast_N route is KELP_ERR_UNSUPPORTED (kelp-bridge is unicast);
+ *  anything else missing or malformed KELP_ERR_PARSE; *why says which. */
+KELP_MUST_CHECK int kelp_broker_try_parse(const char *s, kelp_broker_try *t, const char **why);
+/** Parse one BRIDGE: "src=V[, alias=A]" (alias defaults to src). */
+KELP_MUST_CHECK int kelp_broker_bridge_parse(const char *s, kelp_broker_bridge *b, const char **why);
+
+typedef struct kelp_field_nbroker_cfg {
+    char keyword[KELP_MAX_NAME];              /**< KEYWORD ("" none) */
+    kelp_broker_try tryh[KELP_BROKER_MAX_TRY];/**< valid TRY_SHORE_HOSTs, config order */
+    unsigned ntry;
+    char bad_try[KELP_BROKER_MAX_TRY][KELP_BROKER_LINE]; /**< invalid lines, as written */
+    const char *bad_why[KELP_BROKER_MAX_TRY];  /**< why each is invalid (static text) */
+    bool bad_multicast[KELP_BROKER_MAX_TRY];   /**< a 24.8 multicast route: valid there, not here */
+    unsigned nbad_try;
+    kelp_broker_bridge bridge[KELP_BROKER_MAX_BRIDGES]; /**< BRIDGE, config order */
+    unsigned nbridges;
+    double warp;                               /**< MOOSTimeWarp (1) */
+    double retry;                              /**< RETRY_INTERVAL: s without an ack before the ping
+                                                    registrations are posted again (10) */
+    bool auto_realmcast, auto_appcast, auto_pshare_vars; /**< 24.8 AUTO_BRIDGE_* (false) */
+} kelp_field_nbroker_cfg;
+
+typedef struct kelp_field_nbroker {
+    kelp_field_nbroker_cfg cfg;
+    kelp_broker_host node;                     /**< the last complete PHI_HOST_INFO */
+    bool have_node;
+    kelp_broker_host shore;                    /**< the shore of the last valid ack */
+    bool have_shore;
+    bool bridged;                              /**< BRIDGEs registered to `shore` */
+    bool routes_posted;                        /**< ping registrations posted at least once */
+    double routes_at, last_ack;                /**< times (-1 never) */
+    unsigned long iterations, ok_phi, bad_phi, phi_changes, registers, pings, ok_ack, bad_ack;
+    char last_register[KELP_BROKER_MSG];
+} kelp_field_nbroker;
+
+/** Defaults: no keyword, no try hosts, no bridges, warp 1, retry 10 s, auto bridges off. */
+void kelp_field_nbroker_cfg_default(kelp_field_nbroker_cfg *cfg);
+/** One block parameter: KEYWORD, TRY_SHORE_HOST (an invalid one is kept for the report and
+ *  is still taken), BRIDGE, RETRY_INTERVAL, AUTO_BRIDGE_REALMCAST, AUTO_BRIDGE_APPCAST,
+ *  AUTO_BRIDGE_PSHARE_VARS. @return 1 taken, 0 not its key, <0 with *why. */
+KELP_MUST_CHECK int kelp_field_nbroker_config(kelp_field_nbroker_cfg *cfg, const char *key, const char *val,
+                                              const char **why);
+/** Start: the AUTO_BRIDGE_* bridges are appended to the BRIDGE list. */
+void kelp_field_nbroker_init(kelp_field_nbroker *b, const kelp_field_nbroker_cfg *cfg);
+/** PHI_HOST_INFO, NODE_BROKER_ACK, TRY_SHORE_HOST, then NULL. */
+const char *kelp_field_nbroker_subscription(unsigned i);
+/** One mail at `now`. PHI_HOST_INFO (complete: stored, a change counted; else BAD);
+ *  NODE_BROKER_ACK (invalid when incomplete, of another time warp, with a keyword other than
+ *  ours when both are set, or a status other than ok; valid: the shore is stored and, for a
+ *  new shore or after RETRY_INTERVAL of silence, every BRIDGE is registered to it);
+ *  TRY_SHORE_HOST (24.8: a try host added at run time). @return 1 used, 0 not ours, <0 bad. */
+int kelp_field_nbroker_mail(kelp_field_nbroker *b, const char *var, bool is_string, const char *sval, double now,
+                            const kelp_field_sink *out);
+/** Iterate: once the host info is complete, the ping registrations (one PMB_REGISTER per
+ *  valid try host; again every RETRY_INTERVAL while no ack is heard), then one
+ *  NODE_BROKER_PING. @return the number of posts. */
+int kelp_field_nbroker_iterate(kelp_field_nbroker *b, double now, const kelp_field_sink *out);
+/** The terminal report (seed Listing 3) into buf. @return 0, or KELP_ERR_NOSPACE (truncated). */
+KELP_MUST_CHECK int kelp_field_nbroker_report(const kelp_field_nbroker *b, char *buf, size_t cap);
+
+typedef struct kelp_field_sbroker_cfg {
+    char keyword[KELP_MAX_NAME];                        /**< KEYWORD ("" none) */
+    kelp_broker_bridge bridge[KELP_BROKER_MAX_BRIDGES]; /**< BRIDGE and QBRIDGE, config order */
+    unsigned nbridges;
+    kelp_broker_try vnode[KELP_BROKER_MAX_VNODES];      /**< 24.8 try_vnode routes */
+    unsigned nvnodes;
+    double warp;                                        /**< MOOSTimeWarp (1) */
+    bool warn_stale;                                    /**< WARNING_ON_STALE (false) */
+    bool auto_realmcast, auto_appcast, auto_mhash;      /**< 24.8 AUTO_BRIDGE_* (false) */
+} kelp_field_sbroker_cfg;
+
+/** One vehicle as the shore knows it. */
+typedef struct kelp_broker_node {
+    kelp_broker_host rec;                 /**< its last ping */
+    char status[KELP_MAX_NAME];           /**< ok, timewarp (<shore>!=<node>), keyword, invalid */
+    double last_ping, skew;
+    unsigned index;                       /**< $N: 1-based order of first acceptance (0 never) */
+    bool bridged;                         /**< bridges registered to bridged_host:bridged_port */
+    char bridged_host[KELP_MAX_NAME];
+    unsigned bridged_port;
+    bool stale;
+    unsigned long pings, acks;
+} kelp_broker_node;
+
+typedef struct kelp_field_sbroker {
+    kelp_field_sbroker_cfg cfg;
+    kelp_broker_host shore;               /**< the last PHI_HOST_INFO */
+    bool have_shore;                      /**< complete */
+    kelp_broker_node node[KELP_BROKER_MAX_NODES];
+    unsigned nnodes, naccepted;
+    double vnode_reg_at, vnode_post_at, count_at; /**< -1 never */
+    unsigned count_posted;
+    unsigned long iterations, phi, pings, bad_pings, early_pings, full, acks, registers;
+    char last_register[KELP_BROKER_MSG];
+} kelp_field_sbroker;
+
+/** Defaults: no keyword, no bridges, warp 1, no stale warnings, auto bridges off. */
+void kelp_field_sbroker_cfg_default(kelp_field_sbroker_cfg *cfg);
+/** One block parameter: BRIDGE ("src=V[, alias=A]"), QBRIDGE ("X[, Y ...]": X_ALL->X and
+ *  X_$V->X each), KEYWORD, TRY_VNODE ("[route=]ip[:port]", port 9200), WARNING_ON_STALE,
+ *  AUTO_BRIDGE_REALMCAST (QBRIDGE REALMCAST_REQ), AUTO_BRIDGE_APPCAST (QBRIDGE APPCAST_REQ),
+ *  AUTO_BRIDGE_MHASH (BRIDGE src=MISSION_HASH). A bridge already listed is not added twice.
+ *  @return 1 taken, 0 not its key, <0 with *why. */
+KELP_MUST_CHECK int kelp_field_sbroker_config(kelp_field_sbroker_cfg *cfg, const char *key, const char *val,
+                                              const char **why);
+void kelp_field_sbroker_init(kelp_field_sbroker *s, const kelp_field_sbroker_cfg *cfg);
+/** PHI_HOST_INFO, NODE_BROKER_PING, then NULL. */
+const char *kelp_field_sbroker_subscription(unsigned i);
+/** One mail at `now`. NODE_BROKER_PING (seed 3.4): counted; ignored until our own host info
+ *  is complete; the vehicle (by community, case-insensitive) is recorded with its status and
+ *  skew; accepted: on first acceptance it gets the next $N, and whenever its bridges are not
+ *  registered to its current host:port_udp (first time, or it moved) the ack bridge
+ *  (NODE_BROKER_ACK_<V> -> NODE_BROKER_ACK) and every BRIDGE are registered; then the ack
+ *  NODE_BROKER_ACK_<V> and NODE_BROKER_VACK are posted. @return 1 used, 0 not ours, <0 bad. */
+int kelp_field_sbroker_mail(kelp_field_sbroker *s, const char *var, bool is_string, const char *sval, double now,
+                            const kelp_field_sink *out);
+/** Iterate: stale warnings, UFSB_NODE_COUNT (on change, else every 30 s), try_vnode
+ *  registrations (every 30 s) and TRY_SHORE_HOST (every 10 s). @return the number of posts. */
+int kelp_field_sbroker_iterate(kelp_field_sbroker *s, double now, const kelp_field_sink *out);
+/** The terminal report (seed Listing 6) at `now` into buf. @return 0 or KELP_ERR_NOSPACE. */
+KELP_MUST_CHECK int kelp_field_sbroker_report(const kelp_field_sbroker *s, double now, char *buf, size_t cap);
+
 #ifdef __cplusplus
 }
 #endif

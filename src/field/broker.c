@@ -1,0 +1,314 @@
+/* What the node and shore brokers share: host records (PHI_HOST_INFO, NODE_BROKER_PING,
+ * NODE_BROKER_ACK), TRY_SHORE_HOST and BRIDGE lines, and the PMB_REGISTER request kelp-bridge
+ * takes (see include/kelp/field.h and apps/kelp-bridge). */
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+#include <kelp/field.h>
+#include <kelp/mission.h>
+#include "field_int.h"
+
+#define PORT_MAX 65535
+
+int broker_port(const char *v, size_t vl, unsigned *out)
+{
+    long p;
+    if (kelp_parse_long(v, vl, &p) < 0 || p < 1 || p > PORT_MAX) return KELP_ERR_PARSE;
+    *out = (unsigned)p;
+    return KELP_OK;
+}
+
+bool broker_bool(const char *v, bool *out)
+{
+    /* "true" / "false", and 24.8's example form "true  (default)" */
+    size_t n = 0;
+    while (v[n] && v[n] != ' ' && v[n] != '\t') n++;
+    const char *rest = v + n;
+    while (*rest == ' ' || *rest == '\t') rest++;
+    if (*rest && !kelp_strieq_n(rest, strlen(rest), "(default)")) return false;
+    if (kelp_strieq_n(v, n, "true") || kelp_strieq_n(v, n, "yes")) *out = true;
+    else if (kelp_strieq_n(v, n, "false") || kelp_strieq_n(v, n, "no")) *out = false;
+    else return false;
+    return true;
+}
+
+typedef struct host_ctx {
+    kelp_broker_host *h;
+    const char **why;
+    unsigned iroute_port;
+} host_ctx;
+
+static int text_to(char *dst, size_t cap, const char *v, size_t vl, const char **why)
+{
+    if (field_copy_text(dst, cap, v, vl) < 0) {
+        *why = "value too long";
+        return KELP_ERR_RANGE;
+    }
+    return KELP_OK;
+}
+
+/* "H:P" -> port; 0 when it is not one */
+static unsigned route_port(const char *v, size_t vl)
+{
+    size_t c = vl;
+    while (c > 0 && v[c - 1] != ':') c--;
+    unsigned p = 0;
+    if (c == 0 || c == 1 || broker_port(v + c, vl - c, &p) < 0) return 0;
+    return p;
+}
+
+static int host_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl)
+{
+    host_ctx *c = ctx;
+    kelp_broker_host *h = c->h;
+    if (kelp_strieq_n(k, kl, "community")) return text_to(h->community, sizeof h->community, v, vl, c->why);
+    if (kelp_strieq_n(k, kl, "host") || kelp_strieq_n(k, kl, "hostip") || kelp_strieq_n(k, kl, "host_ip") ||
+        kelp_strieq_n(k, kl, "ip"))
+        return text_to(h->host, sizeof h->host, v, vl, c->why);
+    if (kelp_strieq_n(k, kl, "keyword")) return text_to(h->keyword, sizeof h->keyword, v, vl, c->why);
+    if (kelp_strieq_n(k, kl, "status")) return text_to(h->status, sizeof h->status, v, vl, c->why);
+    bool db = kelp_strieq_n(k, kl, "port") || kelp_strieq_n(k, kl, "port_db");
+    if (db || kelp_strieq_n(k, kl, "port_udp")) {
+        if (broker_port(v, vl, db ? &h->port_db : &h->port_udp) < 0) {
+            *c->why = "bad port";
+            return KELP_ERR_PARSE;
+        }
+        return KELP_OK;
+    }
+    bool warp = kelp_strieq_n(k, kl, "time_warp") || kelp_strieq_n(k, kl, "timewarp");
+    if (warp || kelp_strieq_n(k, kl, "time")) {
+        double d;
+        if (sim_number(v, vl, &d) < 0 || (warp && !(d > 0))) {
+            *c->why = warp ? "bad time_warp" : "bad time";
+            return KELP_ERR_PARSE;
+        }
+        if (warp) h->warp = d, h->have_warp = true;
+        else h->time = d, h->have_time = true;
+        return KELP_OK;
+    }
+    if (kelp_strieq_n(k, kl, "pshare_iroutes") && !c->iroute_port) {
+        /* "localhost:9200&multicast_8": the first unicast route's port */
+        size_t a = 0;
+        while (a < vl && !c->iroute_port) {
+            size_t e = a;
+            while (e < vl && v[e] != '&') e++;
+            c->iroute_port = route_port(v + a, e - a);
+            a = e + 1;
+        }
+    }
+    return KELP_OK; /* other keys (24.8's id, key, ...) are ignored */
+}
+
+int kelp_broker_host_parse(const char *s, kelp_broker_host *h, const char **why)
+{
+    const char *dummy;
+    if (!why) why = &dummy;
+    *why = NULL;
+    memset(h, 0, sizeof *h);
+    if (!s) {
+        *why = "no text";
+        return KELP_ERR_PARSE;
+    }
+    host_ctx c = { h, why, 0 };
+    int rc = field_for_pairs(s, strlen(s), ',', host_pair, &c, why);
+    if (rc < 0) return rc;
+    if (!h->port_udp) h->port_udp = c.iroute_port;
+    return KELP_OK;
+}
+
+bool kelp_broker_host_complete(const kelp_broker_host *h)
+{
+    return h->community[0] && h->host[0] && h->port_udp;
+}
+
+typedef struct try_ctx {
+    kelp_broker_try *t;
+    const char **why;
+    bool route, multicast;
+} try_ctx;
+
+static int try_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl)
+{
+    try_ctx *c = ctx;
+    kelp_broker_try *t = c->t;
+    if (kelp_strieq_n(k, kl, "host_ip") || kelp_strieq_n(k, kl, "hostip"))
+        return text_to(t->host, sizeof t->host, v, vl, c->why);
+    if (kelp_strieq_n(k, kl, "community")) return text_to(t->community, sizeof t->community, v, vl, c->why);
+    if (kelp_strieq_n(k, kl, "port_udp")) {
+        if (broker_port(v, vl, &t->port) < 0) {
+            *c->why = "bad port_udp";
+            return KELP_ERR_PARSE;
+        }
+        return KELP_OK;
+    }
+    if (kelp_strieq_n(k, kl, "pshare_route") || kelp_strieq_n(k, kl, "route")) {
+        c->route = true;
+        if (vl >= 9 && kelp_strieq_n(v, 9, "multicast")) {
+            c->multicast = true;
+            return KELP_OK;
+        }
+        size_t colon = vl;
+        while (colon > 0 && v[colon - 1] != ':') colon--;
+        if (colon < 2 || broker_port(v + colon, vl - colon, &t->port) < 0) {
+            *c->why = "pshare_route is not host:port";
+            return KELP_ERR_PARSE;
+        }
+        return text_to(t->host, sizeof t->host, v, colon - 1, c->why);
+    }
+    *c->why = "unknown key";
+    return KELP_ERR_PARSE;
+}
+
+int kelp_broker_try_parse(const char *s, kelp_broker_try *t, const char **why)
+{
+    const char *dummy;
+    if (!why) why = &dummy;
+    *why = NULL;
+    memset(t, 0, sizeof *t);
+    if (!s) {
+        *why = "no text";
+        return KELP_ERR_PARSE;
+    }
+    try_ctx c = { t, why, false, false };
+    int rc = field_for_pairs(s, strlen(s), ',', try_pair, &c, why);
+    if (rc < 0) return rc;
+    if (c.multicast) {
+        *why = "a multicast route (kelp-bridge sends unicast UDP only)";
+        return KELP_ERR_UNSUPPORTED;
+    }
+    if (!t->host[0] || !t->port) {
+        *why = !t->host[0] ? "no host_ip" : "no port_udp";
+        return KELP_ERR_PARSE;
+    }
+    if (strpbrk(t->host, " ,=") || strpbrk(t->community, " ,=")) {
+        *why = "host or community holds a space, ',' or '='";
+        return KELP_ERR_PARSE;
+    }
+    return KELP_OK;
+}
+
+/* a MOOS variable name: one word without ',' or '=' */
+static bool var_ok(const char *s)
+{
+    return s[0] && !strpbrk(s, " \t,=");
+}
+
+typedef struct bridge_ctx {
+    kelp_broker_bridge *b;
+    const char **why;
+} bridge_ctx;
+
+static int bridge_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl)
+{
+    bridge_ctx *c = ctx;
+    if (kelp_strieq_n(k, kl, "src")) return text_to(c->b->src, sizeof c->b->src, v, vl, c->why);
+    if (kelp_strieq_n(k, kl, "alias")) return text_to(c->b->alias, sizeof c->b->alias, v, vl, c->why);
+    *c->why = "unknown key (src=, alias=)";
+    return KELP_ERR_PARSE;
+}
+
+int kelp_broker_bridge_parse(const char *s, kelp_broker_bridge *b, const char **why)
+{
+    const char *dummy;
+    if (!why) why = &dummy;
+    *why = NULL;
+    memset(b, 0, sizeof *b);
+    if (!s) {
+        *why = "no text";
+        return KELP_ERR_PARSE;
+    }
+    bridge_ctx c = { b, why };
+    int rc = field_for_pairs(s, strlen(s), ',', bridge_pair, &c, why);
+    if (rc < 0) return rc;
+    if (!b->alias[0]) memcpy(b->alias, b->src, sizeof b->alias);
+    if (!var_ok(b->src) || !var_ok(b->alias)) {
+        *why = "src (and alias) must be one variable name";
+        return KELP_ERR_PARSE;
+    }
+    return KELP_OK;
+}
+
+int broker_add_bridge(kelp_broker_bridge *list, unsigned *n, const char *src, const char *alias, const char **why)
+{
+    for (unsigned i = 0; i < *n; i++)
+        if (strcmp(list[i].src, src) == 0 && strcmp(list[i].alias, alias) == 0) return 1; /* listed already */
+    if (*n >= KELP_BROKER_MAX_BRIDGES) {
+        *why = "too many bridges (KELP_BROKER_MAX_BRIDGES)";
+        return KELP_ERR_NOSPACE;
+    }
+    if (strlen(src) >= KELP_MAX_NAME || strlen(alias) >= KELP_MAX_NAME || !var_ok(src) || !var_ok(alias)) {
+        *why = "not a variable name";
+        return KELP_ERR_PARSE;
+    }
+    memcpy(list[*n].src, src, strlen(src) + 1);
+    memcpy(list[*n].alias, alias, strlen(alias) + 1);
+    (*n)++;
+    return 1;
+}
+
+int broker_register(const kelp_field_sink *out, const char *src, const char *community, const char *host,
+                    unsigned port, const char *alias, char *last, size_t cap)
+{
+    char msg[KELP_BROKER_MSG];
+    size_t n = 0;
+    int rc = field_put_str(msg, sizeof msg, &n, "src_var=");
+    if (rc == 0) rc = field_put_str(msg, sizeof msg, &n, src);
+    if (rc == 0 && community) rc = field_put_str(msg, sizeof msg, &n, ",dest_community=");
+    if (rc == 0 && community) rc = field_put_str(msg, sizeof msg, &n, community);
+    if (rc == 0) rc = field_put_str(msg, sizeof msg, &n, ",dest_host=");
+    if (rc == 0) rc = field_put_str(msg, sizeof msg, &n, host);
+    if (rc == 0) rc = field_put_str(msg, sizeof msg, &n, ",dest_port=");
+    if (rc == 0) rc = field_put_fixed(msg, sizeof msg, &n, port, 0, false);
+    if (rc == 0) rc = field_put_str(msg, sizeof msg, &n, ",dest_alias=");
+    if (rc == 0) rc = field_put_str(msg, sizeof msg, &n, alias);
+    if (rc < 0) return rc;
+    out->publish(out->ctx, "PMB_REGISTER", true, msg, 0);
+    if (last && cap > n) memcpy(last, msg, n + 1);
+    return 1;
+}
+
+int broker_host_format(const kelp_broker_host *h, const char *keyword, double warp, double now, const char *status,
+                       char *buf, size_t cap)
+{
+    size_t n = 0;
+    int rc = field_put_str(buf, cap, &n, "community=");
+    if (rc == 0) rc = field_put_str(buf, cap, &n, h->community);
+    if (rc == 0) rc = field_put_str(buf, cap, &n, ",host=");
+    if (rc == 0) rc = field_put_str(buf, cap, &n, h->host);
+    if (rc == 0 && h->port_db) rc = field_put_str(buf, cap, &n, ",port=");
+    if (rc == 0 && h->port_db) rc = field_put_fixed(buf, cap, &n, h->port_db, 0, false);
+    if (rc == 0) rc = field_put_str(buf, cap, &n, ",port_udp=");
+    if (rc == 0) rc = field_put_fixed(buf, cap, &n, h->port_udp, 0, false);
+    if (rc == 0 && keyword[0]) rc = field_put_str(buf, cap, &n, ",keyword=");
+    if (rc == 0 && keyword[0]) rc = field_put_str(buf, cap, &n, keyword);
+    if (rc == 0) rc = field_put_str(buf, cap, &n, ",time_warp=");
+    if (rc == 0) rc = field_put_fixed(buf, cap, &n, warp, 6, true);
+    if (rc == 0) rc = field_put_str(buf, cap, &n, ",time=");
+    if (rc == 0) rc = field_put_fixed(buf, cap, &n, now, 2, true);
+    if (rc == 0 && status) rc = field_put_str(buf, cap, &n, ",status=");
+    if (rc == 0 && status) rc = field_put_str(buf, cap, &n, status);
+    return rc;
+}
+
+bool broker_same_host(const kelp_broker_host *a, const kelp_broker_host *b)
+{
+    return strcmp(a->community, b->community) == 0 && strcmp(a->host, b->host) == 0 && a->port_db == b->port_db &&
+           a->port_udp == b->port_udp && a->have_warp == b->have_warp && (!a->have_warp || a->warp == b->warp);
+}
+
+void broker_put(char *buf, size_t cap, size_t *n, bool *full, const char *fmt, ...)
+{
+    if (*n >= cap) {
+        *full = true;
+        return;
+    }
+    va_list ap;
+    va_start(ap, fmt);
+    int w = vsnprintf(buf + *n, cap - *n, fmt, ap);
+    va_end(ap);
+    if (w < 0 || (size_t)w >= cap - *n) {
+        *full = true;
+        *n = cap;
+    } else
+        *n += (size_t)w;
+}

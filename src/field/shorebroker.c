@@ -1,0 +1,337 @@
+/* uFldShoreBroker's logic (seed chapter 3, ufield.md section 3): vehicles' pings in, acks
+ * and PMB_REGISTER requests for the shore's kelp-bridge out (see include/kelp/field.h). */
+#include <stdio.h>
+#include <string.h>
+#include <kelp/field.h>
+#include <kelp/mission.h>
+#include "field_int.h"
+
+#define SB_VNODE_PORT 9200        /* try_vnode port when none is given (24.8) */
+#define SB_VNODE_REG_EVERY 30.0   /* s between try_vnode PMB_REGISTERs (24.8) */
+#define SB_VNODE_POST_EVERY 10.0  /* s between TRY_SHORE_HOST posts (24.8) */
+#define SB_COUNT_EVERY 30.0       /* s between unchanged UFSB_NODE_COUNT posts (24.8) */
+
+void kelp_field_sbroker_cfg_default(kelp_field_sbroker_cfg *cfg)
+{
+    memset(cfg, 0, sizeof *cfg);
+    cfg->warp = 1;
+}
+
+static int qbridge(kelp_field_sbroker_cfg *cfg, const char *val, const char **why)
+{
+    size_t pos = 0, il, len = strlen(val);
+    const char *it;
+    int rc, any = 0;
+    while ((rc = field_next_item(val, len, &pos, ',', &it, &il)) == 1) {
+        char name[KELP_MAX_NAME - 4], all[KELP_MAX_NAME], each[KELP_MAX_NAME];
+        /* room for the "_ALL" / "_$V" suffix */
+        if (il + 1 > sizeof name || memchr(it, '=', il) || memchr(it, ' ', il)) {
+            *why = "QBRIDGE takes variable names (X: X_ALL->X and X_$V->X)";
+            return KELP_ERR_PARSE;
+        }
+        memcpy(name, it, il);
+        name[il] = 0;
+        snprintf(all, sizeof all, "%s_ALL", name);
+        snprintf(each, sizeof each, "%s_$V", name);
+        if (broker_add_bridge(cfg->bridge, &cfg->nbridges, all, name, why) < 0 ||
+            broker_add_bridge(cfg->bridge, &cfg->nbridges, each, name, why) < 0)
+            return KELP_ERR_NOSPACE;
+        any = 1;
+    }
+    if (rc < 0 || !any) {
+        *why = "QBRIDGE takes variable names (X: X_ALL->X and X_$V->X)";
+        return KELP_ERR_PARSE;
+    }
+    return 1;
+}
+
+static int vnode(kelp_field_sbroker_cfg *cfg, const char *val, const char **why)
+{
+    const char *v = val;
+    if (kelp_strieq_n(v, strlen(v) < 6 ? strlen(v) : 6, "route=")) v += 6;
+    while (*v == ' ') v++;
+    kelp_broker_try t;
+    memset(&t, 0, sizeof t);
+    const char *colon = strrchr(v, ':');
+    size_t hl = colon ? (size_t)(colon - v) : strlen(v);
+    t.port = SB_VNODE_PORT;
+    if ((colon && broker_port(colon + 1, strlen(colon + 1), &t.port) < 0) || hl == 0 || hl >= sizeof t.host ||
+        memchr(v, ',', hl) || memchr(v, ' ', hl) || memchr(v, '=', hl)) {
+        *why = "[route=]host[:port]";
+        return KELP_ERR_PARSE;
+    }
+    memcpy(t.host, v, hl);
+    for (unsigned i = 0; i < cfg->nvnodes; i++)
+        if (strcmp(cfg->vnode[i].host, t.host) == 0 && cfg->vnode[i].port == t.port) {
+            *why = "duplicate try_vnode";
+            return KELP_ERR_EXISTS;
+        }
+    if (cfg->nvnodes >= KELP_BROKER_MAX_VNODES) {
+        *why = "too many try_vnode routes (KELP_BROKER_MAX_VNODES)";
+        return KELP_ERR_NOSPACE;
+    }
+    cfg->vnode[cfg->nvnodes++] = t;
+    return 1;
+}
+
+int kelp_field_sbroker_config(kelp_field_sbroker_cfg *cfg, const char *key, const char *val, const char **why)
+{
+    size_t kl = strlen(key);
+    *why = NULL;
+    if (kelp_strieq_n(key, kl, "BRIDGE")) {
+        kelp_broker_bridge b;
+        if (kelp_broker_bridge_parse(val, &b, why) < 0) return KELP_ERR_PARSE;
+        return broker_add_bridge(cfg->bridge, &cfg->nbridges, b.src, b.alias, why);
+    }
+    if (kelp_strieq_n(key, kl, "QBRIDGE")) return qbridge(cfg, val, why);
+    if (kelp_strieq_n(key, kl, "KEYWORD")) {
+        if (strlen(val) >= sizeof cfg->keyword || strpbrk(val, " ,=")) {
+            *why = "one word without ',' or '=', up to 63 characters";
+            return KELP_ERR_PARSE;
+        }
+        memcpy(cfg->keyword, val, strlen(val) + 1);
+        return 1;
+    }
+    if (kelp_strieq_n(key, kl, "TRY_VNODE")) return vnode(cfg, val, why);
+    bool *flag = kelp_strieq_n(key, kl, "WARNING_ON_STALE") ? &cfg->warn_stale
+                 : kelp_strieq_n(key, kl, "AUTO_BRIDGE_REALMCAST") ? &cfg->auto_realmcast
+                 : kelp_strieq_n(key, kl, "AUTO_BRIDGE_APPCAST") ? &cfg->auto_appcast
+                 : kelp_strieq_n(key, kl, "AUTO_BRIDGE_MHASH") ? &cfg->auto_mhash
+                                                                : NULL;
+    if (flag) {
+        if (!broker_bool(val, flag)) {
+            *why = "true or false";
+            return KELP_ERR_PARSE;
+        }
+        return 1;
+    }
+    return 0;
+}
+
+void kelp_field_sbroker_init(kelp_field_sbroker *s, const kelp_field_sbroker_cfg *cfg)
+{
+    memset(s, 0, sizeof *s);
+    s->cfg = *cfg;
+    s->vnode_reg_at = s->vnode_post_at = s->count_at = -1;
+    const char *why;
+    if (s->cfg.auto_realmcast) (void)qbridge(&s->cfg, "REALMCAST_REQ", &why);
+    if (s->cfg.auto_appcast) (void)qbridge(&s->cfg, "APPCAST_REQ", &why);
+    if (s->cfg.auto_mhash) (void)broker_add_bridge(s->cfg.bridge, &s->cfg.nbridges, "MISSION_HASH", "MISSION_HASH", &why);
+}
+
+const char *kelp_field_sbroker_subscription(unsigned i)
+{
+    static const char *const subs[] = { "PHI_HOST_INFO", "NODE_BROKER_PING" };
+    return i < 2 ? subs[i] : NULL;
+}
+
+/* a run warning "<a><name><b>" */
+static void warn(const kelp_field_sink *out, const char *a, const char *name, const char *b)
+{
+    if (!out->warn) return;
+    char msg[160];
+    size_t n = 0;
+    if (field_put_str(msg, sizeof msg, &n, a) < 0 || field_put_str(msg, sizeof msg, &n, name) < 0 ||
+        field_put_str(msg, sizeof msg, &n, b) < 0)
+        return;
+    out->warn(out->ctx, msg);
+}
+
+/* src with $V (upper case), $v (as received) and $N (index) expanded; KELP_ERR_NOSPACE when
+ * the name does not fit */
+static int expand(const char *src, const char *community, unsigned index, char *dst, size_t cap)
+{
+    size_t n = 0;
+    for (const char *p = src; *p; p++) {
+        char num[12];
+        const char *put = NULL;
+        char one[2] = { *p, 0 };
+        bool upper = false;
+        if (p[0] == '$' && (p[1] == 'V' || p[1] == 'v')) {
+            put = community, upper = p[1] == 'V', p++;
+        } else if (p[0] == '$' && p[1] == 'N') {
+            snprintf(num, sizeof num, "%u", index);
+            put = num, p++;
+        } else
+            put = one;
+        for (; *put; put++) {
+            if (n + 1 >= cap) return KELP_ERR_NOSPACE;
+            char c = *put;
+            dst[n++] = (char)(upper && c >= 'a' && c <= 'z' ? c - 'a' + 'A' : c);
+        }
+    }
+    dst[n] = 0;
+    return KELP_OK;
+}
+
+static int reg(kelp_field_sbroker *s, const kelp_broker_node *nd, const char *src, const char *alias,
+               const kelp_field_sink *out)
+{
+    char var[KELP_MAX_NAME];
+    if (expand(src, nd->rec.community, nd->index, var, sizeof var) < 0) {
+        warn(out, "bridge source too long for ", nd->rec.community, ": not registered");
+        return 0;
+    }
+    if (broker_register(out, var, nd->rec.community, nd->rec.host, nd->rec.port_udp, alias, s->last_register,
+                        sizeof s->last_register) < 0)
+        return 0;
+    s->registers++;
+    return 1;
+}
+
+static kelp_broker_node *find(kelp_field_sbroker *s, const char *community, const kelp_field_sink *out)
+{
+    for (unsigned i = 0; i < s->nnodes; i++)
+        if (kelp_strieq_n(s->node[i].rec.community, strlen(s->node[i].rec.community), community)) return &s->node[i];
+    if (s->nnodes >= KELP_BROKER_MAX_NODES) {
+        s->full++;
+        warn(out, "too many vehicles (KELP_BROKER_MAX_NODES): ", community, " ignored");
+        return NULL;
+    }
+    kelp_broker_node *nd = &s->node[s->nnodes++];
+    memset(nd, 0, sizeof *nd);
+    return nd;
+}
+
+static int ping_mail(kelp_field_sbroker *s, const char *sval, double now, const kelp_field_sink *out)
+{
+    kelp_broker_host h;
+    const char *why = NULL;
+    s->pings++;
+    if (kelp_broker_host_parse(sval, &h, &why) < 0 || !h.community[0] || strpbrk(h.community, " ")) {
+        s->bad_pings++;
+        return KELP_ERR_PARSE;
+    }
+    if (!s->have_shore) {
+        s->early_pings++; /* nothing to ack with until our own host info is complete */
+        return 1;
+    }
+    kelp_broker_node *nd = find(s, h.community, out);
+    if (!nd) return KELP_ERR_NOSPACE;
+    nd->pings++;
+    nd->last_ping = now;
+    nd->stale = false;
+    nd->skew = h.have_time ? now - h.time : 0;
+    if (!kelp_broker_host_complete(&h)) {
+        if (!nd->rec.community[0]) memcpy(nd->rec.community, h.community, sizeof h.community);
+        snprintf(nd->status, sizeof nd->status, "invalid");
+        s->bad_pings++;
+        return KELP_ERR_PARSE;
+    }
+    nd->rec = h;
+    if (!h.have_warp || h.warp != s->cfg.warp) {
+        char w[2][24];
+        size_t n0 = 0, n1 = 0;
+        if (field_put_fixed(w[0], sizeof w[0], &n0, s->cfg.warp, 6, true) < 0) snprintf(w[0], sizeof w[0], "?");
+        if (!h.have_warp || field_put_fixed(w[1], sizeof w[1], &n1, h.warp, 6, true) < 0) snprintf(w[1], sizeof w[1], "?");
+        snprintf(nd->status, sizeof nd->status, "timewarp (%s!=%s)", w[0], w[1]);
+        return 1;
+    }
+    if (s->cfg.keyword[0] && strcmp(s->cfg.keyword, h.keyword) != 0) {
+        snprintf(nd->status, sizeof nd->status, "keyword");
+        return 1;
+    }
+    snprintf(nd->status, sizeof nd->status, "ok");
+    if (!nd->index) nd->index = ++s->naccepted;
+    bool moved = nd->bridged && (strcmp(nd->bridged_host, h.host) != 0 || nd->bridged_port != h.port_udp);
+    if (!nd->bridged || moved) {
+        (void)reg(s, nd, "NODE_BROKER_ACK_$V", "NODE_BROKER_ACK", out);
+        for (unsigned i = 0; i < s->cfg.nbridges; i++) (void)reg(s, nd, s->cfg.bridge[i].src, s->cfg.bridge[i].alias, out);
+        nd->bridged = true;
+        memcpy(nd->bridged_host, h.host, sizeof h.host);
+        nd->bridged_port = h.port_udp;
+    }
+    char var[KELP_MAX_NAME], ack[KELP_BROKER_MSG];
+    if (expand("NODE_BROKER_ACK_$V", h.community, nd->index, var, sizeof var) < 0 ||
+        broker_host_format(&s->shore, s->cfg.keyword, s->cfg.warp, now, "ok", ack, sizeof ack) < 0)
+        return KELP_ERR_RANGE;
+    out->publish(out->ctx, var, true, ack, 0);
+    out->publish(out->ctx, "NODE_BROKER_VACK", true, h.community, 0);
+    nd->acks++;
+    s->acks++;
+    return 1;
+}
+
+int kelp_field_sbroker_mail(kelp_field_sbroker *s, const char *var, bool is_string, const char *sval, double now,
+                            const kelp_field_sink *out)
+{
+    if (strcmp(var, "PHI_HOST_INFO") == 0) {
+        kelp_broker_host h;
+        const char *why = NULL;
+        s->phi++;
+        if (!is_string || kelp_broker_host_parse(sval, &h, &why) < 0 || !kelp_broker_host_complete(&h))
+            return KELP_ERR_PARSE;
+        s->shore = h;
+        s->have_shore = true;
+        return 1;
+    }
+    if (strcmp(var, "NODE_BROKER_PING") == 0) {
+        if (!is_string || !sval) {
+            s->pings++, s->bad_pings++;
+            return KELP_ERR_PARSE;
+        }
+        return ping_mail(s, sval, now, out);
+    }
+    return 0;
+}
+
+int kelp_field_sbroker_iterate(kelp_field_sbroker *s, double now, const kelp_field_sink *out)
+{
+    int posts = 0;
+    s->iterations++;
+    for (unsigned i = 0; i < s->nnodes; i++) {
+        kelp_broker_node *nd = &s->node[i];
+        bool stale = now - nd->last_ping > KELP_BROKER_STALE;
+        if (stale && !nd->stale && s->cfg.warn_stale) warn(out, "Node ", nd->rec.community, " is stale.");
+        nd->stale = stale;
+    }
+    if (s->nnodes != s->count_posted || s->count_at < 0 || now - s->count_at > SB_COUNT_EVERY) {
+        out->publish(out->ctx, "UFSB_NODE_COUNT", false, NULL, s->nnodes);
+        s->count_posted = s->nnodes;
+        s->count_at = now;
+        posts++;
+    }
+    if (s->cfg.nvnodes && (s->vnode_reg_at < 0 || now - s->vnode_reg_at > SB_VNODE_REG_EVERY)) {
+        for (unsigned i = 0; i < s->cfg.nvnodes; i++)
+            if (broker_register(out, "TRY_SHORE_HOST", NULL, s->cfg.vnode[i].host, s->cfg.vnode[i].port,
+                                "TRY_SHORE_HOST", s->last_register, sizeof s->last_register) > 0)
+                s->registers++, posts++;
+        s->vnode_reg_at = now;
+    }
+    if (s->cfg.nvnodes && s->have_shore && (s->vnode_post_at < 0 || now - s->vnode_post_at > SB_VNODE_POST_EVERY)) {
+        char v[KELP_BROKER_MSG];
+        snprintf(v, sizeof v, "pshare_route=%s:%u", s->shore.host, s->shore.port_udp);
+        out->publish(out->ctx, "TRY_SHORE_HOST", true, v, 0);
+        s->vnode_post_at = now;
+        posts++;
+    }
+    return posts;
+}
+
+int kelp_field_sbroker_report(const kelp_field_sbroker *s, double now, char *buf, size_t cap)
+{
+    size_t n = 0, wn = 0;
+    bool full = false;
+    char warp[24];
+    if (!buf || cap == 0) return KELP_ERR_NOSPACE;
+    buf[0] = 0;
+    if (field_put_fixed(warp, sizeof warp, &wn, s->cfg.warp, 6, true) < 0) snprintf(warp, sizeof warp, "?");
+    broker_put(buf, cap, &n, &full,
+               "ShoreBroker Status ----- (%lu)\n"
+               "MOOS Time Warp:          %s\n"
+               "Total PHI_HOST_INFO    received: %lu\n"
+               "Total NODE_BROKER_PING received: %lu\n"
+               "Total NODE_BROKER_ACK    posted: %lu\n"
+               "Total PMB_REGISTER      posted: %lu\n\n"
+               "%-13s %-12s %-10s %-8s %s\n-----\n",
+               s->iterations, warp, s->phi, s->pings, s->acks, s->registers, "Node", "IPAddress", "Status", "Elapsed",
+               "Skew");
+    for (unsigned i = 0; i < s->nnodes; i++) {
+        const kelp_broker_node *nd = &s->node[i];
+        broker_put(buf, cap, &n, &full, "%-13s %-12s %-10s %-8.1f %.4f\n", nd->rec.community, nd->rec.host, nd->status,
+                   now - nd->last_ping, nd->skew);
+    }
+    if (!s->have_shore) broker_put(buf, cap, &n, &full, "(waiting for a complete PHI_HOST_INFO: %lu pings ignored)\n",
+                                   s->early_pings);
+    return full ? KELP_ERR_NOSPACE : KELP_OK;
+}

@@ -1,0 +1,877 @@
+/* uFldNodeBroker's and uFldShoreBroker's state machines (src/field/nodebroker.c,
+ * shorebroker.c, broker.c): ufield.md 2.6 and 3.6, the handshake between them, restarts. */
+#include <check.h>
+#include <stdio.h>
+#include <string.h>
+#include <kelp/field.h>
+
+#define REC_MAX 512
+
+typedef struct rec {
+    int n, warns;
+    char var[REC_MAX][64];
+    char val[REC_MAX][KELP_BROKER_MSG];
+} rec;
+
+static rec R; /* one recorder per test; the tests run one after another */
+
+static void pub(void *ctx, const char *var, bool is_string, const char *sval, double dval)
+{
+    rec *r = ctx;
+    if (r->n >= REC_MAX) return;
+    snprintf(r->var[r->n], sizeof r->var[0], "%s", var);
+    if (is_string) snprintf(r->val[r->n], sizeof r->val[0], "%s", sval);
+    else snprintf(r->val[r->n], sizeof r->val[0], "%g", dval);
+    r->n++;
+}
+
+static void warned(void *ctx, const char *msg)
+{
+    (void)msg;
+    ((rec *)ctx)->warns++;
+}
+
+static kelp_field_sink sink(void)
+{
+    memset(&R, 0, sizeof R);
+    return (kelp_field_sink){ &R, pub, warned };
+}
+
+static int count(const char *var)
+{
+    int c = 0;
+    for (int i = 0; i < R.n; i++) c += strcmp(R.var[i], var) == 0;
+    return c;
+}
+
+/* the k-th (0-based) value posted to var, or NULL */
+static const char *nth(const char *var, int k)
+{
+    for (int i = 0; i < R.n; i++)
+        if (strcmp(R.var[i], var) == 0 && k-- == 0) return R.val[i];
+    return NULL;
+}
+
+static const char *last(const char *var)
+{
+    for (int i = R.n; i-- > 0;)
+        if (strcmp(R.var[i], var) == 0) return R.val[i];
+    return NULL;
+}
+
+static void cfg_node(kelp_field_nbroker_cfg *c, const char *const *lines)
+{
+    kelp_field_nbroker_cfg_default(c);
+    for (; *lines; lines += 2) {
+        const char *why = NULL;
+        ck_assert_int_eq(kelp_field_nbroker_config(c, lines[0], lines[1], &why), 1);
+    }
+}
+
+#define JAMES_PHI "community=james,hostip=10.0.0.8,port_db=9204,port_udp=9304,timewarp=1"
+#define SHORE_ACK "community=shoreside,host=10.0.0.8,port=9000,port_udp=9200,time_warp=1"
+
+/* ---------------------------------------------------------------- parsers */
+
+START_TEST(host_record_synonyms)
+{
+    kelp_broker_host h;
+    const char *why;
+    ck_assert_int_eq(kelp_broker_host_parse(JAMES_PHI, &h, &why), 0);
+    ck_assert_str_eq(h.community, "james");
+    ck_assert_str_eq(h.host, "10.0.0.8");
+    ck_assert_uint_eq(h.port_db, 9204);
+    ck_assert_uint_eq(h.port_udp, 9304);
+    ck_assert(h.have_warp && h.warp == 1);
+    ck_assert(kelp_broker_host_complete(&h));
+    /* the seed's ping, broken over two lines with spaces */
+    ck_assert_int_eq(kelp_broker_host_parse("community=henry,host=192.168.1.22,port=9000,port_udp=9200,  \n"
+                                            "keyword=lemon,time_warp=10,time=1325178800.81",
+                                            &h, &why),
+                     0);
+    ck_assert_str_eq(h.keyword, "lemon");
+    ck_assert(h.warp == 10 && h.have_time && h.time > 1325178800.80 && h.time < 1325178800.82);
+    ck_assert_uint_eq(h.port_db, 9000);
+    /* 24.8: host_ip / port_db / pshare_iroutes */
+    ck_assert_int_eq(kelp_broker_host_parse("community=abe,host_ip=192.168.7.6,port_db=9000,"
+                                            "pshare_iroutes=multicast_8&192.168.7.6:9201,time_warp=5,key=1",
+                                            &h, &why),
+                     0);
+    ck_assert_uint_eq(h.port_udp, 9201);
+    ck_assert_str_eq(h.host, "192.168.7.6");
+    /* incomplete and malformed */
+    ck_assert_int_eq(kelp_broker_host_parse("community=james,hostip=10.0.0.8,port_db=9204", &h, &why), 0);
+    ck_assert(!kelp_broker_host_complete(&h));
+    ck_assert_int_eq(kelp_broker_host_parse("community=james,port_udp=99999", &h, &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_broker_host_parse("community=james,time_warp=0", &h, &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_broker_host_parse("community", &h, &why), KELP_ERR_PARSE);
+}
+END_TEST
+
+START_TEST(try_and_bridge_lines)
+{
+    kelp_broker_try t;
+    kelp_broker_bridge b;
+    const char *why;
+    ck_assert_int_eq(kelp_broker_try_parse("host_ip=localhost, port_udp=9200, community=topside", &t, &why), 0);
+    ck_assert_str_eq(t.host, "localhost");
+    ck_assert_str_eq(t.community, "topside");
+    ck_assert_uint_eq(t.port, 9200);
+    ck_assert_int_eq(kelp_broker_try_parse("hostip=128.30.24.232, port_udp=9200", &t, &why), 0);
+    ck_assert_str_eq(t.community, "");
+    ck_assert_int_eq(kelp_broker_try_parse("pshare_route=192.168.0.122:9301", &t, &why), 0);
+    ck_assert_str_eq(t.host, "192.168.0.122");
+    ck_assert_uint_eq(t.port, 9301);
+    ck_assert_int_eq(kelp_broker_try_parse("pshare_route=multicast_8", &t, &why), KELP_ERR_UNSUPPORTED);
+    ck_assert_int_eq(kelp_broker_try_parse("pshare_route=localhost", &t, &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_broker_try_parse("port_udp=9200", &t, &why), KELP_ERR_PARSE);
+    ck_assert_str_eq(why, "no host_ip");
+    ck_assert_int_eq(kelp_broker_try_parse("host_ip=localhost", &t, &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_broker_try_parse("host_ip=localhost, port_udp=x", &t, &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_broker_bridge_parse("src=VIEW_POINT", &b, &why), 0);
+    ck_assert_str_eq(b.alias, "VIEW_POINT");
+    ck_assert_int_eq(kelp_broker_bridge_parse("src=NODE_REPORT_LOCAL, alias=NODE_REPORT", &b, &why), 0);
+    ck_assert_str_eq(b.src, "NODE_REPORT_LOCAL");
+    ck_assert_str_eq(b.alias, "NODE_REPORT");
+    ck_assert_int_eq(kelp_broker_bridge_parse("alias=NODE_REPORT", &b, &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_broker_bridge_parse("src=A, dest=B", &b, &why), KELP_ERR_PARSE);
+}
+END_TEST
+
+/* ---------------------------------------------------------------- uFldNodeBroker (2.6) */
+
+static const char *const try1[] = { "TRY_SHORE_HOST", "host_ip=localhost, port_udp=9200, community=topside", NULL };
+
+START_TEST(nb_valid_try_host_listed) /* 2.6.1 */
+{
+    static kelp_field_nbroker b;
+    kelp_field_nbroker_cfg c;
+    cfg_node(&c, try1);
+    ck_assert_uint_eq(c.ntry, 1);
+    kelp_field_nbroker_init(&b, &c);
+    char rep[4096];
+    ck_assert_int_eq(kelp_field_nbroker_report(&b, rep, sizeof rep), 0);
+    ck_assert_ptr_nonnull(strstr(rep, "  Total Valid TryHosts:   1\n  [1]: hostip=localhost,port_udp=9200\n"
+                                      "  Total InValid TryHosts: 0\n"));
+}
+END_TEST
+
+START_TEST(nb_invalid_try_host) /* 2.6.2 */
+{
+    static kelp_field_nbroker b;
+    kelp_field_nbroker_cfg c;
+    const char *const lines[] = { "TRY_SHORE_HOST", "port_udp=9200", NULL };
+    cfg_node(&c, lines);
+    ck_assert_uint_eq(c.ntry, 0);
+    ck_assert_uint_eq(c.nbad_try, 1);
+    kelp_field_nbroker_init(&b, &c);
+    kelp_field_sink s = sink();
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "PHI_HOST_INFO", true, JAMES_PHI, 1, &s), 1);
+    ck_assert_int_eq(kelp_field_nbroker_iterate(&b, 1, &s), 1); /* a ping, no registration */
+    ck_assert_int_eq(count("PMB_REGISTER"), 0);
+    char rep[4096];
+    ck_assert_int_eq(kelp_field_nbroker_report(&b, rep, sizeof rep), 0);
+    ck_assert_ptr_nonnull(strstr(rep, "  Total InValid TryHosts: 1\n  port_udp=9200\n"));
+}
+END_TEST
+
+START_TEST(nb_silent_without_host_info) /* 2.6.3 */
+{
+    static kelp_field_nbroker b;
+    kelp_field_nbroker_cfg c;
+    cfg_node(&c, try1);
+    kelp_field_nbroker_init(&b, &c);
+    kelp_field_sink s = sink();
+    for (int i = 0; i < 50; i++) ck_assert_int_eq(kelp_field_nbroker_iterate(&b, i, &s), 0);
+    ck_assert_int_eq(R.n, 0);
+}
+END_TEST
+
+START_TEST(nb_ping_registration_and_format) /* 2.6.4 */
+{
+    static kelp_field_nbroker b;
+    kelp_field_nbroker_cfg c;
+    const char *const lines[] = { "TRY_SHORE_HOST", "host_ip=localhost, port_udp=9200, community=topside",
+                                  "TRY_SHORE_HOST", "pshare_route=198.51.100.1:9300", NULL };
+    cfg_node(&c, lines);
+    kelp_field_nbroker_init(&b, &c);
+    kelp_field_sink s = sink();
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "PHI_HOST_INFO", true, JAMES_PHI, 1000, &s), 1);
+    ck_assert_int_eq(kelp_field_nbroker_iterate(&b, 1000.25, &s), 3);
+    ck_assert_int_eq(count("PMB_REGISTER"), 2);
+    ck_assert_str_eq(nth("PMB_REGISTER", 0), "src_var=NODE_BROKER_PING,dest_community=topside,dest_host=localhost,"
+                                             "dest_port=9200,dest_alias=NODE_BROKER_PING");
+    /* no community given: the shore is called shoreside (A25) */
+    ck_assert_str_eq(nth("PMB_REGISTER", 1), "src_var=NODE_BROKER_PING,dest_community=shoreside,dest_host=198.51.100.1,"
+                                             "dest_port=9300,dest_alias=NODE_BROKER_PING");
+    ck_assert_str_eq(last("NODE_BROKER_PING"), "community=james,host=10.0.0.8,port=9204,port_udp=9304,time_warp=1,time=1000.25");
+    /* later iterations: a ping each, no more registrations while acks come */
+    for (int i = 1; i <= 5; i++) {
+        ck_assert_int_eq(kelp_field_nbroker_mail(&b, "NODE_BROKER_ACK", true, SHORE_ACK, 1000 + i, &s), 1);
+        ck_assert_int_eq(kelp_field_nbroker_iterate(&b, 1000.25 + i, &s), 1);
+    }
+    ck_assert_int_eq(count("PMB_REGISTER"), 2);
+    ck_assert_int_eq(count("NODE_BROKER_PING"), 6);
+    ck_assert_str_eq(last("NODE_BROKER_PING"), "community=james,host=10.0.0.8,port=9204,port_udp=9304,time_warp=1,time=1005.25");
+}
+END_TEST
+
+START_TEST(nb_keyword_in_ping) /* 2.6.5 */
+{
+    static kelp_field_nbroker b;
+    kelp_field_nbroker_cfg c;
+    const char *const lines[] = { "KEYWORD", "lemon", "TRY_SHORE_HOST", "host_ip=localhost, port_udp=9200", NULL };
+    cfg_node(&c, lines);
+    kelp_field_nbroker_init(&b, &c);
+    kelp_field_sink s = sink();
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "PHI_HOST_INFO", true, JAMES_PHI, 5, &s), 1);
+    for (int i = 0; i < 3; i++) (void)kelp_field_nbroker_iterate(&b, 5 + i, &s);
+    ck_assert_int_eq(count("NODE_BROKER_PING"), 3);
+    for (int i = 0; i < 3; i++) ck_assert_ptr_nonnull(strstr(nth("NODE_BROKER_PING", i), ",keyword=lemon,time_warp=1,"));
+}
+END_TEST
+
+START_TEST(nb_bad_host_info) /* 2.6.6 */
+{
+    static kelp_field_nbroker b;
+    kelp_field_nbroker_cfg c;
+    cfg_node(&c, try1);
+    kelp_field_nbroker_init(&b, &c);
+    kelp_field_sink s = sink();
+    ck_assert_int_lt(kelp_field_nbroker_mail(&b, "PHI_HOST_INFO", true, "community=james,hostip=10.0.0.8,port_db=9204", 1, &s), 0);
+    ck_assert_int_lt(kelp_field_nbroker_mail(&b, "PHI_HOST_INFO", false, NULL, 1, &s), 0);
+    ck_assert_uint_eq(b.bad_phi, 2);
+    ck_assert_uint_eq(b.ok_phi, 0);
+    ck_assert_int_eq(kelp_field_nbroker_iterate(&b, 2, &s), 0);
+    ck_assert_int_eq(count("NODE_BROKER_PING"), 0);
+}
+END_TEST
+
+START_TEST(nb_host_info_changes) /* 2.6.7 */
+{
+    static kelp_field_nbroker b;
+    kelp_field_nbroker_cfg c;
+    cfg_node(&c, try1);
+    kelp_field_nbroker_init(&b, &c);
+    kelp_field_sink s = sink();
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "PHI_HOST_INFO", true, JAMES_PHI, 1, &s), 1);
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "PHI_HOST_INFO", true, JAMES_PHI, 2, &s), 1);
+    ck_assert_uint_eq(b.phi_changes, 0);
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "PHI_HOST_INFO", true,
+                                             "community=james,hostip=10.0.0.9,port_db=9204,port_udp=9304,timewarp=1", 3, &s),
+                     1);
+    ck_assert_uint_eq(b.phi_changes, 1);
+    ck_assert_uint_eq(b.ok_phi, 3);
+    ck_assert_str_eq(b.node.host, "10.0.0.9");
+}
+END_TEST
+
+static const char *const listing2[] = { "KEYWORD", "lemon",
+                                        "TRY_SHORE_HOST", "host_ip=localhost, port_udp=9200, community=topside",
+                                        "BRIDGE", "src=VIEW_POLYGON",
+                                        "BRIDGE", "src=VIEW_POINT",
+                                        "BRIDGE", "src=VIEW_SEGLIST",
+                                        "BRIDGE", "src=NODE_REPORT_LOCAL, alias=NODE_REPORT",
+                                        NULL };
+
+START_TEST(nb_bridges_after_ack) /* 2.6.8 and 2.6.9 */
+{
+    static kelp_field_nbroker b;
+    kelp_field_nbroker_cfg c;
+    cfg_node(&c, listing2);
+    kelp_field_nbroker_init(&b, &c);
+    kelp_field_sink s = sink();
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "PHI_HOST_INFO", true, JAMES_PHI, 1, &s), 1);
+    (void)kelp_field_nbroker_iterate(&b, 1, &s);
+    ck_assert_int_eq(count("PMB_REGISTER"), 1);
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "NODE_BROKER_ACK", true, SHORE_ACK, 1.5, &s), 1);
+    ck_assert_int_eq(count("PMB_REGISTER"), 5);
+    ck_assert_str_eq(nth("PMB_REGISTER", 1), "src_var=VIEW_POLYGON,dest_community=shoreside,dest_host=10.0.0.8,"
+                                             "dest_port=9200,dest_alias=VIEW_POLYGON");
+    ck_assert_str_eq(nth("PMB_REGISTER", 2), "src_var=VIEW_POINT,dest_community=shoreside,dest_host=10.0.0.8,"
+                                             "dest_port=9200,dest_alias=VIEW_POINT");
+    ck_assert_str_eq(nth("PMB_REGISTER", 3), "src_var=VIEW_SEGLIST,dest_community=shoreside,dest_host=10.0.0.8,"
+                                             "dest_port=9200,dest_alias=VIEW_SEGLIST");
+    ck_assert_str_eq(last("PMB_REGISTER"), "src_var=NODE_REPORT_LOCAL,dest_community=shoreside,dest_host=10.0.0.8,"
+                                           "dest_port=9200,dest_alias=NODE_REPORT");
+    /* 25 more acks from the same shore (no silence): nothing more registered */
+    for (int i = 0; i < 25; i++) {
+        (void)kelp_field_nbroker_iterate(&b, 2 + i * 0.25, &s);
+        ck_assert_int_eq(kelp_field_nbroker_mail(&b, "NODE_BROKER_ACK", true, SHORE_ACK, 2.1 + i * 0.25, &s), 1);
+    }
+    ck_assert_int_eq(count("PMB_REGISTER"), 5);
+    ck_assert_uint_eq(b.registers, 5);
+    ck_assert_uint_eq(b.ok_ack, 26);
+    ck_assert_uint_eq(b.pings, 26);
+}
+END_TEST
+
+START_TEST(nb_bad_ack_warp) /* 2.6.10 */
+{
+    static kelp_field_nbroker b;
+    kelp_field_nbroker_cfg c;
+    cfg_node(&c, listing2);
+    kelp_field_nbroker_init(&b, &c);
+    kelp_field_sink s = sink();
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "PHI_HOST_INFO", true, JAMES_PHI, 1, &s), 1);
+    (void)kelp_field_nbroker_iterate(&b, 1, &s);
+    ck_assert_int_lt(kelp_field_nbroker_mail(&b, "NODE_BROKER_ACK", true,
+                                             "community=shoreside,host=10.0.0.8,port=9000,port_udp=9200,time_warp=10", 2, &s),
+                     0);
+    ck_assert_uint_eq(b.bad_ack, 1);
+    ck_assert_uint_eq(b.ok_ack, 0);
+    ck_assert_int_eq(count("PMB_REGISTER"), 1);
+    ck_assert(!b.have_shore);
+    ck_assert_int_eq(R.warns, 1);
+    char rep[4096];
+    ck_assert_int_eq(kelp_field_nbroker_report(&b, rep, sizeof rep), 0);
+    ck_assert_ptr_nonnull(strstr(rep, "Shoreside Information: \n    HostIP: \n    Port (DB): \n"));
+}
+END_TEST
+
+START_TEST(nb_ack_keyword_and_status)
+{
+    static kelp_field_nbroker b;
+    kelp_field_nbroker_cfg c;
+    cfg_node(&c, listing2); /* KEYWORD = lemon */
+    kelp_field_nbroker_init(&b, &c);
+    kelp_field_sink s = sink();
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "PHI_HOST_INFO", true, JAMES_PHI, 1, &s), 1);
+    ck_assert_int_lt(kelp_field_nbroker_mail(&b, "NODE_BROKER_ACK", true, SHORE_ACK ",keyword=apple", 2, &s), 0);
+    ck_assert_int_lt(kelp_field_nbroker_mail(&b, "NODE_BROKER_ACK", true, SHORE_ACK ",status=keyword_mismatch", 2, &s), 0);
+    ck_assert_int_lt(kelp_field_nbroker_mail(&b, "NODE_BROKER_ACK", true, "community=shoreside,host=10.0.0.8", 2, &s), 0);
+    ck_assert_int_lt(kelp_field_nbroker_mail(&b, "NODE_BROKER_ACK", true, "garbage", 2, &s), 0);
+    ck_assert_uint_eq(b.bad_ack, 4);
+    ck_assert_int_eq(count("PMB_REGISTER"), 0);
+    /* a matching keyword, or none on the shore side, is fine */
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "NODE_BROKER_ACK", true, SHORE_ACK ",keyword=lemon,status=ok", 3, &s), 1);
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "NODE_BROKER_ACK", true, SHORE_ACK, 3.5, &s), 1);
+    ck_assert_uint_eq(b.ok_ack, 2);
+    ck_assert_int_eq(count("PMB_REGISTER"), 4);
+}
+END_TEST
+
+START_TEST(nb_retries_until_ack)
+{
+    static kelp_field_nbroker b;
+    kelp_field_nbroker_cfg c;
+    cfg_node(&c, listing2); /* RETRY_INTERVAL 10 (default) */
+    kelp_field_nbroker_init(&b, &c);
+    kelp_field_sink s = sink();
+    const char *ping_reg = "src_var=NODE_BROKER_PING,dest_community=topside,dest_host=localhost,dest_port=9200,"
+                           "dest_alias=NODE_BROKER_PING";
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "PHI_HOST_INFO", true, JAMES_PHI, 0, &s), 1);
+    for (double t = 0; t < 25; t += 0.25) (void)kelp_field_nbroker_iterate(&b, t, &s);
+    /* nobody answers: registered at 0, again at 10 and 20 */
+    ck_assert_int_eq(count("PMB_REGISTER"), 3);
+    for (int i = 0; i < 3; i++) ck_assert_str_eq(nth("PMB_REGISTER", i), ping_reg);
+    ck_assert_uint_eq(b.pings, 100);
+    /* the shore answers: bridges; pings go on, registrations stop */
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "NODE_BROKER_ACK", true, SHORE_ACK, 25, &s), 1);
+    ck_assert_int_eq(count("PMB_REGISTER"), 7);
+    for (double t = 25; t < 35; t += 0.25) {
+        (void)kelp_field_nbroker_iterate(&b, t, &s);
+        ck_assert_int_eq(kelp_field_nbroker_mail(&b, "NODE_BROKER_ACK", true, SHORE_ACK, t + 0.1, &s), 1);
+    }
+    ck_assert_int_eq(count("PMB_REGISTER"), 7);
+    /* the shore goes away (restart): after RETRY_INTERVAL of silence the ping route is
+     * registered again, and when it answers again the bridges are registered again */
+    for (double t = 35; t < 50; t += 0.25) (void)kelp_field_nbroker_iterate(&b, t, &s);
+    ck_assert_int_eq(count("PMB_REGISTER"), 8);
+    ck_assert_str_eq(last("PMB_REGISTER"), ping_reg);
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "NODE_BROKER_ACK", true, SHORE_ACK, 50, &s), 1);
+    ck_assert_int_eq(count("PMB_REGISTER"), 12);
+    for (int i = 0; i < 4; i++) ck_assert_str_eq(nth("PMB_REGISTER", 8 + i), nth("PMB_REGISTER", 3 + i));
+}
+END_TEST
+
+START_TEST(nb_new_shore_and_try_host_mail)
+{
+    static kelp_field_nbroker b;
+    kelp_field_nbroker_cfg c;
+    const char *const lines[] = { "BRIDGE", "src=NODE_REPORT_LOCAL, alias=NODE_REPORT", NULL };
+    cfg_node(&c, lines);
+    kelp_field_nbroker_init(&b, &c);
+    kelp_field_sink s = sink();
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "PHI_HOST_INFO", true, JAMES_PHI, 0, &s), 1);
+    (void)kelp_field_nbroker_iterate(&b, 0, &s);
+    ck_assert_int_eq(count("PMB_REGISTER"), 0); /* no try host yet */
+    /* 24.8: the shore's try_vnode sends one */
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "TRY_SHORE_HOST", true, "pshare_route=198.51.100.1:9300", 1, &s), 1);
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "TRY_SHORE_HOST", true, "pshare_route=198.51.100.1:9300", 2, &s), 1);
+    ck_assert_int_lt(kelp_field_nbroker_mail(&b, "TRY_SHORE_HOST", true, "pshare_route=nowhere", 2, &s), 0);
+    ck_assert_int_eq(count("PMB_REGISTER"), 1);
+    ck_assert_str_eq(last("PMB_REGISTER"), "src_var=NODE_BROKER_PING,dest_community=shoreside,dest_host=198.51.100.1,"
+                                           "dest_port=9300,dest_alias=NODE_BROKER_PING");
+    /* two shores: each gets the bridges once */
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "NODE_BROKER_ACK", true, SHORE_ACK, 3, &s), 1);
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "NODE_BROKER_ACK", true,
+                                             "community=topside,host=10.0.0.9,port_udp=9300,time_warp=1", 3.1, &s),
+                     1);
+    ck_assert_int_eq(count("PMB_REGISTER"), 3);
+    ck_assert_str_eq(last("PMB_REGISTER"), "src_var=NODE_REPORT_LOCAL,dest_community=topside,dest_host=10.0.0.9,"
+                                           "dest_port=9300,dest_alias=NODE_REPORT");
+}
+END_TEST
+
+START_TEST(nb_report_listing3)
+{
+    static kelp_field_nbroker b;
+    kelp_field_nbroker_cfg c;
+    const char *const lines[] = { "TRY_SHORE_HOST", "host_ip=localhost, port_udp=9200, community=topside",
+                                  "BRIDGE", "src=VIEW_POLYGON", "BRIDGE", "src=VIEW_POINT", "BRIDGE", "src=VIEW_SEGLIST",
+                                  "BRIDGE", "src=NODE_REPORT_LOCAL, alias=NODE_REPORT", NULL };
+    cfg_node(&c, lines);
+    kelp_field_nbroker_init(&b, &c);
+    kelp_field_sink s = sink();
+    (void)kelp_field_nbroker_iterate(&b, 0, &s);
+    for (int i = 0; i < 4; i++) ck_assert_int_eq(kelp_field_nbroker_mail(&b, "PHI_HOST_INFO", true, JAMES_PHI, 0, &s), 1);
+    for (int i = 1; i < 32; i++) {
+        (void)kelp_field_nbroker_iterate(&b, i * 0.25, &s);
+        if (i > 5)
+            ck_assert_int_eq(kelp_field_nbroker_mail(&b, "NODE_BROKER_ACK", true, SHORE_ACK, i * 0.25 + 0.1, &s), 1);
+    }
+    char rep[4096];
+    ck_assert_int_eq(kelp_field_nbroker_report(&b, rep, sizeof rep), 0);
+    ck_assert_str_eq(rep, "NodeBroker Status ----- (32)\n"
+                          "Total OK PHI_HOST_INFO    received: 4\n"
+                          "Total BAD PHI_HOST_INFO   received: 0\n"
+                          "Total HOST_INFO changes  received: 0\n"
+                          "Total PMB_REGISTER        posted: 5\n"
+                          "Total NODE_BROKER_PING   posted: 31\n"
+                          "Total OK NODE_BROKER_ACK received: 26\n"
+                          "Total BAD NODE_BROKER_ACK received: 0\n"
+                          "\n"
+                          "Configuration Info:\n"
+                          "  Total Valid TryHosts:   1\n"
+                          "  [1]: hostip=localhost,port_udp=9200\n"
+                          "  Total InValid TryHosts: 0\n"
+                          "\n"
+                          "Node Information: james\n"
+                          "    HostIP: 10.0.0.8\n"
+                          "    Port (DB): 9204\n"
+                          "    Port (UDP): 9304\n"
+                          "    Time Warp: 1\n"
+                          "\n"
+                          "Shoreside Information: shoreside\n"
+                          "    HostIP: 10.0.0.8\n"
+                          "    Port (DB): 9000\n"
+                          "    Port (UDP): 9200\n"
+                          "    Time Warp: 1\n");
+    char small[64];
+    ck_assert_int_eq(kelp_field_nbroker_report(&b, small, sizeof small), KELP_ERR_NOSPACE);
+    ck_assert_uint_eq(strlen(small), sizeof small - 1);
+}
+END_TEST
+
+START_TEST(nb_auto_bridges_and_bools)
+{
+    kelp_field_nbroker_cfg c;
+    kelp_field_nbroker_cfg_default(&c);
+    const char *why;
+    ck_assert_int_eq(kelp_field_nbroker_config(&c, "auto_bridge_realmcast", "true  (default)", &why), 1);
+    ck_assert_int_eq(kelp_field_nbroker_config(&c, "AUTO_BRIDGE_APPCAST", "false", &why), 1);
+    ck_assert_int_lt(kelp_field_nbroker_config(&c, "AUTO_BRIDGE_APPCAST", "maybe", &why), 0);
+    ck_assert_int_lt(kelp_field_nbroker_config(&c, "BRIDGE", "alias=X", &why), 0);
+    ck_assert_int_lt(kelp_field_nbroker_config(&c, "KEYWORD", "two words", &why), 0);
+    ck_assert_int_eq(kelp_field_nbroker_config(&c, "TEMP_FILE_DIR", "./", &why), 0);
+    static kelp_field_nbroker b;
+    kelp_field_nbroker_init(&b, &c);
+    ck_assert_uint_eq(b.cfg.nbridges, 3);
+    ck_assert_str_eq(b.cfg.bridge[0].src, "REALMCAST");
+    ck_assert_str_eq(b.cfg.bridge[2].src, "REALMCAST_CHANNELS");
+}
+END_TEST
+
+/* ---------------------------------------------------------------- uFldShoreBroker (3.6) */
+
+#define SHORE_PHI "community=shoreside,hostip=10.0.0.8,port_db=9000,port_udp=9200,timewarp=1"
+
+static void shore(kelp_field_sbroker *sb, double warp, const char *const *lines, const kelp_field_sink *s)
+{
+    kelp_field_sbroker_cfg c;
+    kelp_field_sbroker_cfg_default(&c);
+    c.warp = warp;
+    for (; lines && *lines; lines += 2) {
+        const char *why = NULL;
+        ck_assert_int_eq(kelp_field_sbroker_config(&c, lines[0], lines[1], &why), 1);
+    }
+    kelp_field_sbroker_init(sb, &c);
+    char phi[128];
+    snprintf(phi, sizeof phi, "community=shoreside,hostip=10.0.0.8,port_db=9000,port_udp=9200,timewarp=%g", warp);
+    ck_assert_int_eq(kelp_field_sbroker_mail(sb, "PHI_HOST_INFO", true, phi, 0, s), 1);
+}
+
+static int ping(kelp_field_sbroker *sb, const char *name, const char *ip, const char *extra, double warp, double now,
+                const kelp_field_sink *s)
+{
+    char p[256];
+    snprintf(p, sizeof p, "community=%s,host=%s,port=9000,port_udp=9200%s,time_warp=%g,time=%.2f", name, ip, extra,
+             warp, now - 0.5);
+    return kelp_field_sbroker_mail(sb, "NODE_BROKER_PING", true, p, now, s);
+}
+
+/* the PMB_REGISTER posts whose src_var starts with prefix, in order, joined by '\n' */
+static const char *regs(const char *prefix, char *buf, size_t cap)
+{
+    size_t n = 0;
+    buf[0] = 0;
+    for (int i = 0; i < R.n; i++) {
+        if (strcmp(R.var[i], "PMB_REGISTER") != 0) continue;
+        if (strncmp(R.val[i] + 8, prefix, strlen(prefix)) != 0) continue;
+        n += (size_t)snprintf(buf + n, cap - n, "%s\n", R.val[i]);
+    }
+    return buf;
+}
+
+START_TEST(sb_qbridge_list) /* 3.6.1 */
+{
+    kelp_field_sbroker_cfg c;
+    kelp_field_sbroker_cfg_default(&c);
+    const char *why;
+    ck_assert_int_eq(kelp_field_sbroker_config(&c, "QBRIDGE", "DEPLOY, RETURN", &why), 1);
+    ck_assert_uint_eq(c.nbridges, 4);
+    const char *want[4][2] = { { "DEPLOY_ALL", "DEPLOY" }, { "DEPLOY_$V", "DEPLOY" }, { "RETURN_ALL", "RETURN" },
+                               { "RETURN_$V", "RETURN" } };
+    for (int i = 0; i < 4; i++) {
+        ck_assert_str_eq(c.bridge[i].src, want[i][0]);
+        ck_assert_str_eq(c.bridge[i].alias, want[i][1]);
+    }
+    /* the same bridge again is not listed twice; a name with '=' is refused */
+    ck_assert_int_eq(kelp_field_sbroker_config(&c, "BRIDGE", "src=DEPLOY_ALL, alias=DEPLOY", &why), 1);
+    ck_assert_uint_eq(c.nbridges, 4);
+    ck_assert_int_lt(kelp_field_sbroker_config(&c, "QBRIDGE", "src=FOO", &why), 0);
+    ck_assert_int_lt(kelp_field_sbroker_config(&c, "QBRIDGE", "", &why), 0);
+}
+END_TEST
+
+START_TEST(sb_bridge_each_vehicle) /* 3.6.2 */
+{
+    static kelp_field_sbroker sb;
+    kelp_field_sink s = sink();
+    const char *const lines[] = { "BRIDGE", "src=DEPLOY_ALL, alias=DEPLOY", NULL };
+    shore(&sb, 1, lines, &s);
+    ck_assert_int_eq(ping(&sb, "henry", "2.56.111.1", "", 1, 10, &s), 1);
+    ck_assert_int_eq(ping(&sb, "james", "2.56.111.3", "", 1, 10, &s), 1);
+    ck_assert_int_eq(ping(&sb, "ike", "2.56.111.4", "", 1, 10, &s), 1);
+    char buf[2048];
+    ck_assert_str_eq(regs("DEPLOY", buf, sizeof buf),
+                     "src_var=DEPLOY_ALL,dest_community=henry,dest_host=2.56.111.1,dest_port=9200,dest_alias=DEPLOY\n"
+                     "src_var=DEPLOY_ALL,dest_community=james,dest_host=2.56.111.3,dest_port=9200,dest_alias=DEPLOY\n"
+                     "src_var=DEPLOY_ALL,dest_community=ike,dest_host=2.56.111.4,dest_port=9200,dest_alias=DEPLOY\n");
+}
+END_TEST
+
+START_TEST(sb_macros) /* 3.6.3, 3.6.5, 3.6.6 */
+{
+    static kelp_field_sbroker sb;
+    kelp_field_sink s = sink();
+    const char *const lines[] = { "BRIDGE", "src=DEPLOY_$V, alias=DEPLOY", "BRIDGE", "src=X, alias=DEPLOY_$V",
+                                  "BRIDGE", "src=GO_$v, alias=GO", NULL };
+    shore(&sb, 1, lines, &s);
+    ck_assert_int_eq(ping(&sb, "gilda", "2.56.111.9", "", 1, 10, &s), 1);
+    char buf[2048];
+    ck_assert_str_eq(regs("DEPLOY", buf, sizeof buf),
+                     "src_var=DEPLOY_GILDA,dest_community=gilda,dest_host=2.56.111.9,dest_port=9200,dest_alias=DEPLOY\n");
+    ck_assert_str_eq(regs("X,", buf, sizeof buf),
+                     "src_var=X,dest_community=gilda,dest_host=2.56.111.9,dest_port=9200,dest_alias=DEPLOY_$V\n");
+    ck_assert_str_eq(regs("GO", buf, sizeof buf),
+                     "src_var=GO_gilda,dest_community=gilda,dest_host=2.56.111.9,dest_port=9200,dest_alias=GO\n");
+}
+END_TEST
+
+START_TEST(sb_macro_n) /* 3.6.4 */
+{
+    static kelp_field_sbroker sb;
+    kelp_field_sink s = sink();
+    const char *const lines[] = { "BRIDGE", "src=LOITER_$N, alias=LOITER", NULL };
+    shore(&sb, 1, lines, &s);
+    ck_assert_int_eq(ping(&sb, "henry", "2.56.111.1", "", 1, 10, &s), 1);
+    ck_assert_int_eq(ping(&sb, "james", "2.56.111.3", "", 1, 11, &s), 1);
+    ck_assert_int_eq(ping(&sb, "henry", "2.56.111.1", "", 1, 12, &s), 1);
+    ck_assert_int_eq(ping(&sb, "ike", "2.56.111.4", "", 1, 13, &s), 1);
+    char buf[2048];
+    ck_assert_str_eq(regs("LOITER", buf, sizeof buf),
+                     "src_var=LOITER_1,dest_community=henry,dest_host=2.56.111.1,dest_port=9200,dest_alias=LOITER\n"
+                     "src_var=LOITER_2,dest_community=james,dest_host=2.56.111.3,dest_port=9200,dest_alias=LOITER\n"
+                     "src_var=LOITER_3,dest_community=ike,dest_host=2.56.111.4,dest_port=9200,dest_alias=LOITER\n");
+}
+END_TEST
+
+START_TEST(sb_repeat_pings_once) /* 3.6.7 */
+{
+    static kelp_field_sbroker sb;
+    kelp_field_sink s = sink();
+    const char *const lines[] = { "QBRIDGE", "DEPLOY", NULL };
+    shore(&sb, 1, lines, &s);
+    for (int i = 0; i < 6; i++) ck_assert_int_eq(ping(&sb, "henry", "2.56.111.1", "", 1, 10 + i, &s), 1);
+    ck_assert_int_eq(count("PMB_REGISTER"), 3);
+    ck_assert_str_eq(nth("PMB_REGISTER", 0), "src_var=NODE_BROKER_ACK_HENRY,dest_community=henry,dest_host=2.56.111.1,"
+                                             "dest_port=9200,dest_alias=NODE_BROKER_ACK");
+    ck_assert_str_eq(nth("PMB_REGISTER", 2), "src_var=DEPLOY_HENRY,dest_community=henry,dest_host=2.56.111.1,"
+                                             "dest_port=9200,dest_alias=DEPLOY");
+    ck_assert_int_eq(count("NODE_BROKER_ACK_HENRY"), 6);
+    ck_assert_int_eq(count("NODE_BROKER_VACK"), 6);
+    ck_assert_str_eq(last("NODE_BROKER_ACK_HENRY"),
+                     "community=shoreside,host=10.0.0.8,port=9000,port_udp=9200,time_warp=1,time=15,status=ok");
+    ck_assert_uint_eq(sb.acks, 6);
+    ck_assert_uint_eq(sb.pings, 6);
+}
+END_TEST
+
+START_TEST(sb_timewarp_rejected) /* 3.6.8 */
+{
+    static kelp_field_sbroker sb;
+    kelp_field_sink s = sink();
+    const char *const lines[] = { "BRIDGE", "src=LOITER_$N, alias=LOITER", NULL };
+    shore(&sb, 10, lines, &s);
+    ck_assert_int_eq(ping(&sb, "gilda", "18.3.224.246", "", 1, 10, &s), 1);
+    ck_assert_str_eq(sb.node[0].status, "timewarp (10!=1)");
+    ck_assert_int_eq(R.n, 0); /* no ack, no registration */
+    ck_assert_int_eq(ping(&sb, "henry", "18.12.14.26", "", 10, 11, &s), 1);
+    char buf[1024];
+    ck_assert_str_eq(regs("LOITER", buf, sizeof buf),
+                     "src_var=LOITER_1,dest_community=henry,dest_host=18.12.14.26,dest_port=9200,dest_alias=LOITER\n");
+    ck_assert_uint_eq(sb.node[0].index, 0);
+}
+END_TEST
+
+START_TEST(sb_keyword) /* 3.6.9, 3.6.10 */
+{
+    static kelp_field_sbroker sb;
+    kelp_field_sink s = sink();
+    const char *const lines[] = { "KEYWORD", "lemon", NULL };
+    shore(&sb, 1, lines, &s);
+    ck_assert_int_eq(ping(&sb, "henry", "2.56.111.1", "", 1, 10, &s), 1);
+    ck_assert_str_eq(sb.node[0].status, "keyword");
+    ck_assert_int_eq(ping(&sb, "henry", "2.56.111.1", ",keyword=apple", 1, 11, &s), 1);
+    ck_assert_str_eq(sb.node[0].status, "keyword");
+    ck_assert_int_eq(R.n, 0);
+    ck_assert_int_eq(ping(&sb, "henry", "2.56.111.1", ",keyword=lemon", 1, 12, &s), 1);
+    ck_assert_str_eq(sb.node[0].status, "ok");
+    ck_assert_int_eq(count("NODE_BROKER_ACK_HENRY"), 1);
+    ck_assert_ptr_nonnull(strstr(last("NODE_BROKER_ACK_HENRY"), ",keyword=lemon,"));
+    /* no shore keyword: a vehicle's keyword is fine */
+    static kelp_field_sbroker sb2;
+    s = sink();
+    shore(&sb2, 1, NULL, &s);
+    ck_assert_int_eq(ping(&sb2, "henry", "2.56.111.1", ",keyword=lemon", 1, 12, &s), 1);
+    ck_assert_str_eq(sb2.node[0].status, "ok");
+    ck_assert_int_eq(count("NODE_BROKER_ACK_HENRY"), 1);
+}
+END_TEST
+
+START_TEST(sb_skew_and_report) /* 3.6.11, Listing 6 */
+{
+    static kelp_field_sbroker sb;
+    kelp_field_sink s = sink();
+    shore(&sb, 10, NULL, &s);
+    ck_assert_int_eq(kelp_field_sbroker_mail(&sb, "NODE_BROKER_PING", true,
+                                             "community=henry,host=18.12.14.26,port=9000,port_udp=9200,time_warp=10,time=1000.0",
+                                             1000.6673, &s),
+                     1);
+    ck_assert_int_eq(kelp_field_sbroker_mail(&sb, "NODE_BROKER_PING", true,
+                                             "community=gilda,host=18.3.224.246,port=9000,port_udp=9200,time_warp=1,time=990",
+                                             994.7, &s),
+                     1);
+    (void)kelp_field_sbroker_iterate(&sb, 1001.6673, &s);
+    char rep[4096];
+    ck_assert_int_eq(kelp_field_sbroker_report(&sb, 1001.6673, rep, sizeof rep), 0);
+    ck_assert_ptr_nonnull(strstr(rep, "ShoreBroker Status ----- (1)\nMOOS Time Warp:          10\n"
+                                      "Total PHI_HOST_INFO    received: 1\nTotal NODE_BROKER_PING received: 2\n"
+                                      "Total NODE_BROKER_ACK    posted: 1\nTotal PMB_REGISTER      posted: 1\n"));
+    ck_assert_ptr_nonnull(strstr(rep, "henry         18.12.14.26  ok         1.0      0.6673\n"));
+    ck_assert_ptr_nonnull(strstr(rep, "gilda         18.3.224.246 timewarp (10!=1) 7.0      4.7000\n"));
+}
+END_TEST
+
+START_TEST(sb_waits_for_own_host_info)
+{
+    static kelp_field_sbroker sb;
+    kelp_field_sink s = sink();
+    kelp_field_sbroker_cfg c;
+    kelp_field_sbroker_cfg_default(&c);
+    kelp_field_sbroker_init(&sb, &c);
+    ck_assert_int_eq(ping(&sb, "henry", "2.56.111.1", "", 1, 10, &s), 1);
+    ck_assert_int_lt(kelp_field_sbroker_mail(&sb, "PHI_HOST_INFO", true, "community=shoreside,hostip=10.0.0.8", 10, &s), 0);
+    ck_assert_int_eq(ping(&sb, "henry", "2.56.111.1", "", 1, 10, &s), 1);
+    ck_assert_uint_eq(sb.early_pings, 2);
+    ck_assert_uint_eq(sb.nnodes, 0);
+    ck_assert_int_eq(count("PMB_REGISTER") + count("NODE_BROKER_ACK_HENRY"), 0);
+    ck_assert_int_eq(kelp_field_sbroker_mail(&sb, "PHI_HOST_INFO", true, SHORE_PHI, 11, &s), 1);
+    ck_assert_int_eq(ping(&sb, "henry", "2.56.111.1", "", 1, 12, &s), 1);
+    ck_assert_int_eq(count("NODE_BROKER_ACK_HENRY"), 1);
+    /* a malformed or incomplete ping is counted, never acked */
+    ck_assert_int_lt(kelp_field_sbroker_mail(&sb, "NODE_BROKER_PING", true, "community=x,host=1.2.3.4", 13, &s), 0);
+    ck_assert_int_lt(kelp_field_sbroker_mail(&sb, "NODE_BROKER_PING", true, "host=1.2.3.4,port_udp=9", 13, &s), 0);
+    ck_assert_int_lt(kelp_field_sbroker_mail(&sb, "NODE_BROKER_PING", false, NULL, 13, &s), 0);
+    ck_assert_uint_eq(sb.bad_pings, 3);
+    ck_assert_int_eq(count("NODE_BROKER_ACK_X"), 0);
+    ck_assert_str_eq(sb.node[1].status, "invalid");
+}
+END_TEST
+
+/* a shore restart: a fresh broker seeing the same vehicles registers exactly the same
+ * bridges, once each; a vehicle that moves gets them again at its new address */
+START_TEST(sb_restart_idempotent)
+{
+    static kelp_field_sbroker a, b;
+    const char *const lines[] = { "QBRIDGE", "DEPLOY, RETURN", "BRIDGE", "src=LOITER_$N, alias=LOITER", NULL };
+    kelp_field_sink s = sink();
+    shore(&a, 1, lines, &s);
+    for (int i = 0; i < 5; i++) {
+        ck_assert_int_eq(ping(&a, "alpha", "198.51.100.2", "", 1, 10 + i, &s), 1);
+        ck_assert_int_eq(ping(&a, "bravo", "198.51.100.3", "", 1, 10 + i, &s), 1);
+    }
+    static char first[8192], second[8192];
+    (void)regs("", first, sizeof first);
+    ck_assert_int_eq(count("PMB_REGISTER"), 12); /* (ack + 5 bridges) x 2 */
+    s = sink();
+    shore(&b, 1, lines, &s);
+    for (int i = 0; i < 7; i++) {
+        ck_assert_int_eq(ping(&b, "alpha", "198.51.100.2", "", 1, 100 + i, &s), 1);
+        ck_assert_int_eq(ping(&b, "bravo", "198.51.100.3", "", 1, 100 + i, &s), 1);
+    }
+    (void)regs("", second, sizeof second);
+    ck_assert_str_eq(first, second);
+    for (int i = 0; i < R.n; i++)
+        for (int j = i + 1; j < R.n; j++)
+            if (!strcmp(R.var[i], "PMB_REGISTER") && !strcmp(R.var[j], "PMB_REGISTER"))
+                ck_assert_str_ne(R.val[i], R.val[j]);
+    /* alpha comes back from another address: registered again there, same $N */
+    ck_assert_int_eq(ping(&b, "alpha", "198.51.100.9", "", 1, 120, &s), 1);
+    ck_assert_int_eq(count("PMB_REGISTER"), 18);
+    ck_assert_str_eq(last("PMB_REGISTER"), "src_var=LOITER_1,dest_community=alpha,dest_host=198.51.100.9,"
+                                           "dest_port=9200,dest_alias=LOITER");
+}
+END_TEST
+
+START_TEST(sb_many_vehicles)
+{
+    static kelp_field_sbroker sb;
+    kelp_field_sink s = sink();
+    const char *const lines[] = { "BRIDGE", "src=LOITER_$N, alias=LOITER", NULL };
+    shore(&sb, 1, lines, &s);
+    for (int i = 0; i < KELP_BROKER_MAX_NODES; i++) {
+        char name[16], ip[32];
+        snprintf(name, sizeof name, "v%02d", i);
+        snprintf(ip, sizeof ip, "10.1.0.%d", i + 1);
+        ck_assert_int_eq(ping(&sb, name, ip, "", 1, 10, &s), 1);
+    }
+    ck_assert_uint_eq(sb.nnodes, KELP_BROKER_MAX_NODES);
+    ck_assert_uint_eq(sb.naccepted, KELP_BROKER_MAX_NODES);
+    ck_assert_uint_eq(sb.node[63].index, 64);
+    ck_assert_str_eq(last("PMB_REGISTER"), "src_var=LOITER_64,dest_community=v63,dest_host=10.1.0.64,dest_port=9200,"
+                                           "dest_alias=LOITER");
+    ck_assert_str_eq(nth("NODE_BROKER_VACK", 17), "v17");
+    ck_assert_int_lt(ping(&sb, "one_too_many", "10.1.1.1", "", 1, 10, &s), 0);
+    ck_assert_uint_eq(sb.full, 1);
+    ck_assert_int_eq(R.warns, 1);
+    /* names compare case-insensitively: V05 is v05 */
+    ck_assert_int_eq(ping(&sb, "V05", "10.1.0.6", "", 1, 11, &s), 1);
+    ck_assert_uint_eq(sb.nnodes, KELP_BROKER_MAX_NODES);
+    ck_assert_str_eq(last("NODE_BROKER_VACK"), "V05");
+    /* UFSB_NODE_COUNT on change */
+    ck_assert_int_eq(kelp_field_sbroker_iterate(&sb, 12, &s), 1);
+    ck_assert_str_eq(last("UFSB_NODE_COUNT"), "64");
+    ck_assert_int_eq(kelp_field_sbroker_iterate(&sb, 13, &s), 0);
+}
+END_TEST
+
+START_TEST(sb_try_vnode_and_stale)
+{
+    static kelp_field_sbroker sb;
+    kelp_field_sink s = sink();
+    const char *const lines[] = { "TRY_VNODE", "192.168.4.24:9201", "TRY_VNODE", "route=192.168.4.25",
+                                  "WARNING_ON_STALE", "true", NULL };
+    shore(&sb, 1, lines, &s);
+    const char *why;
+    ck_assert_int_lt(kelp_field_sbroker_config(&sb.cfg, "TRY_VNODE", "192.168.4.24:9201", &why), 0);
+    ck_assert_int_eq(ping(&sb, "henry", "2.56.111.1", "", 1, 10, &s), 1);
+    R.n = 0;
+    ck_assert_int_eq(kelp_field_sbroker_iterate(&sb, 10, &s), 4);
+    ck_assert_str_eq(nth("PMB_REGISTER", 0), "src_var=TRY_SHORE_HOST,dest_host=192.168.4.24,dest_port=9201,"
+                                             "dest_alias=TRY_SHORE_HOST");
+    ck_assert_str_eq(nth("PMB_REGISTER", 1), "src_var=TRY_SHORE_HOST,dest_host=192.168.4.25,dest_port=9200,"
+                                             "dest_alias=TRY_SHORE_HOST");
+    ck_assert_str_eq(last("TRY_SHORE_HOST"), "pshare_route=10.0.0.8:9200");
+    ck_assert_int_eq(kelp_field_sbroker_iterate(&sb, 15, &s), 0);
+    ck_assert_int_eq(R.warns, 0);
+    ck_assert_int_eq(kelp_field_sbroker_iterate(&sb, 20.5, &s), 1); /* TRY_SHORE_HOST again; henry stale */
+    ck_assert_int_eq(R.warns, 1);
+    ck_assert_int_eq(kelp_field_sbroker_iterate(&sb, 21, &s), 0);
+    ck_assert_int_eq(R.warns, 1);
+}
+END_TEST
+
+/* the whole handshake, node and shore cores joined by a fake pair of bridges */
+START_TEST(handshake_node_and_shore)
+{
+    static kelp_field_nbroker nb;
+    static kelp_field_sbroker sb;
+    kelp_field_nbroker_cfg c;
+    cfg_node(&c, listing2);
+    c.warp = 4;
+    kelp_field_nbroker_init(&nb, &c);
+    kelp_field_sink s = sink();
+    const char *const lines[] = { "KEYWORD", "lemon", "QBRIDGE", "DEPLOY", NULL };
+    shore(&sb, 4, lines, &s);
+    ck_assert_int_eq(kelp_field_nbroker_mail(&nb, "PHI_HOST_INFO", true,
+                                             "community=james,hostip=10.0.0.7,port_db=9204,port_udp=9304,timewarp=4", 0, &s),
+                     1);
+    for (double t = 0; t < 3; t += 0.25) {
+        R.n = 0;
+        (void)kelp_field_nbroker_iterate(&nb, t, &s);
+        ck_assert_int_eq(kelp_field_sbroker_mail(&sb, "NODE_BROKER_PING", true, last("NODE_BROKER_PING"), t + 0.05, &s),
+                         1);
+        ck_assert_int_eq(kelp_field_nbroker_mail(&nb, "NODE_BROKER_ACK", true, last("NODE_BROKER_ACK_JAMES"), t + 0.1, &s),
+                         1);
+    }
+    ck_assert_uint_eq(nb.ok_ack, 12);
+    ck_assert_uint_eq(nb.bad_ack, 0);
+    ck_assert_uint_eq(nb.registers, 5);
+    ck_assert_str_eq(nb.shore.host, "10.0.0.8");
+    ck_assert_uint_eq(sb.registers, 3);
+    ck_assert_str_eq(sb.last_register, "src_var=DEPLOY_JAMES,dest_community=james,dest_host=10.0.0.7,dest_port=9304,"
+                                       "dest_alias=DEPLOY");
+    ck_assert_str_eq(nb.last_register, "src_var=NODE_REPORT_LOCAL,dest_community=shoreside,dest_host=10.0.0.8,"
+                                       "dest_port=9200,dest_alias=NODE_REPORT");
+}
+END_TEST
+
+Suite *kelp_field_brokers_suite(void)
+{
+    Suite *s = suite_create("field_brokers");
+    TCase *tc = tcase_create("core");
+    tcase_add_test(tc, host_record_synonyms);
+    tcase_add_test(tc, try_and_bridge_lines);
+    tcase_add_test(tc, nb_valid_try_host_listed);
+    tcase_add_test(tc, nb_invalid_try_host);
+    tcase_add_test(tc, nb_silent_without_host_info);
+    tcase_add_test(tc, nb_ping_registration_and_format);
+    tcase_add_test(tc, nb_keyword_in_ping);
+    tcase_add_test(tc, nb_bad_host_info);
+    tcase_add_test(tc, nb_host_info_changes);
+    tcase_add_test(tc, nb_bridges_after_ack);
+    tcase_add_test(tc, nb_bad_ack_warp);
+    tcase_add_test(tc, nb_ack_keyword_and_status);
+    tcase_add_test(tc, nb_retries_until_ack);
+    tcase_add_test(tc, nb_new_shore_and_try_host_mail);
+    tcase_add_test(tc, nb_report_listing3);
+    tcase_add_test(tc, nb_auto_bridges_and_bools);
+    tcase_add_test(tc, sb_qbridge_list);
+    tcase_add_test(tc, sb_bridge_each_vehicle);
+    tcase_add_test(tc, sb_macros);
+    tcase_add_test(tc, sb_macro_n);
+    tcase_add_test(tc, sb_repeat_pings_once);
+    tcase_add_test(tc, sb_timewarp_rejected);
+    tcase_add_test(tc, sb_keyword);
+    tcase_add_test(tc, sb_skew_and_report);
+    tcase_add_test(tc, sb_waits_for_own_host_info);
+    tcase_add_test(tc, sb_restart_idempotent);
+    tcase_add_test(tc, sb_many_vehicles);
+    tcase_add_test(tc, sb_try_vnode_and_stale);
+    tcase_add_test(tc, handshake_node_and_shore);
+    suite_add_tcase(s, tc);
+    return s;
+}
