@@ -580,6 +580,9 @@ size_t kelp_field_ufs_render(kelp_field_ufs *s, char *buf, size_t cap);
 
 /* ------------------------------------------------------------------ uFldNodeBroker / uFldShoreBroker */
 
+/** Without PHI_HOST_INFO, a broker posts HOST_INFO_REQUEST this often (s): pHostInfo posts
+ *  once, perhaps before the broker listened. */
+#define KELP_BROKER_HOST_REQ_PERIOD 2.0
 #define KELP_BROKER_MAX_TRY 16      /**< TRY_SHORE_HOST entries, valid and invalid (node) */
 #define KELP_BROKER_MAX_BRIDGES 32  /**< BRIDGE entries (node); BRIDGE + expanded QBRIDGE (shore) */
 #define KELP_BROKER_MAX_NODES 64    /**< vehicles one shore broker tracks */
@@ -648,6 +651,7 @@ typedef struct kelp_field_nbroker {
     kelp_field_nbroker_cfg cfg;
     kelp_broker_host node;                     /**< the last complete PHI_HOST_INFO */
     bool have_node;
+    double host_req_at;                        /**< last HOST_INFO_REQUEST (-1 never) */
     kelp_broker_host shore;                    /**< the shore of the last valid ack */
     bool have_shore;
     bool bridged;                              /**< BRIDGEs registered to `shore` */
@@ -710,6 +714,7 @@ typedef struct kelp_field_sbroker {
     kelp_field_sbroker_cfg cfg;
     kelp_broker_host shore;               /**< the last PHI_HOST_INFO */
     bool have_shore;                      /**< complete */
+    double host_req_at;                   /**< last HOST_INFO_REQUEST (-1 never) */
     kelp_broker_node node[KELP_BROKER_MAX_NODES];
     unsigned nnodes, naccepted;
     double vnode_reg_at, vnode_post_at, count_at; /**< -1 never */

@@ -96,7 +96,7 @@ void kelp_field_nbroker_init(kelp_field_nbroker *b, const kelp_field_nbroker_cfg
 {
     memset(b, 0, sizeof *b);
     b->cfg = *cfg;
-    b->routes_at = b->last_ack = -1;
+    b->routes_at = b->last_ack = b->host_req_at = -1;
     /* 24.8's automatic bridges, after the user's (a full list keeps the user's) */
     static const char *const realm[] = { "REALMCAST", "WATCHCAST", "REALMCAST_CHANNELS" };
     const char *why;
@@ -208,7 +208,14 @@ int kelp_field_nbroker_mail(kelp_field_nbroker *b, const char *var, bool is_stri
 int kelp_field_nbroker_iterate(kelp_field_nbroker *b, double now, const kelp_field_sink *out)
 {
     b->iterations++;
-    if (!b->have_node) return 0; /* nothing to say about ourselves yet */
+    if (!b->have_node) { /* nothing to say about ourselves yet: ask pHostInfo */
+        if (b->host_req_at < 0 || now - b->host_req_at >= KELP_BROKER_HOST_REQ_PERIOD) {
+            out->publish(out->ctx, "HOST_INFO_REQUEST", true, "true", 0);
+            b->host_req_at = now;
+            return 1;
+        }
+        return 0;
+    }
     int posts = 0;
     bool heard = b->last_ack >= 0 && now - b->last_ack <= b->cfg.retry;
     if (!b->routes_posted || (!heard && now - b->routes_at >= b->cfg.retry)) {

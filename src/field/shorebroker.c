@@ -112,7 +112,7 @@ void kelp_field_sbroker_init(kelp_field_sbroker *s, const kelp_field_sbroker_cfg
 {
     memset(s, 0, sizeof *s);
     s->cfg = *cfg;
-    s->vnode_reg_at = s->vnode_post_at = s->count_at = -1;
+    s->vnode_reg_at = s->vnode_post_at = s->count_at = s->host_req_at = -1;
     const char *why;
     if (s->cfg.auto_realmcast) (void)qbridge(&s->cfg, "REALMCAST_REQ", &why);
     if (s->cfg.auto_appcast) (void)qbridge(&s->cfg, "APPCAST_REQ", &why);
@@ -279,6 +279,11 @@ int kelp_field_sbroker_iterate(kelp_field_sbroker *s, double now, const kelp_fie
 {
     int posts = 0;
     s->iterations++;
+    if (!s->have_shore && (s->host_req_at < 0 || now - s->host_req_at >= KELP_BROKER_HOST_REQ_PERIOD)) {
+        out->publish(out->ctx, "HOST_INFO_REQUEST", true, "true", 0); /* pHostInfo may have posted before we listened */
+        s->host_req_at = now;
+        posts++;
+    }
     for (unsigned i = 0; i < s->nnodes; i++) {
         kelp_broker_node *nd = &s->node[i];
         bool stale = now - nd->last_ping > KELP_BROKER_STALE;
