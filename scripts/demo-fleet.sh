@@ -1,6 +1,9 @@
 #!/usr/bin/env bash
 # make demo: a multi-vehicle mission on one host. A shoreside community and three vehicle
-# communities (missions/fleet), each on its own LCM URL, joined by kelp-bridge; every vehicle
+# communities (missions/fleet), each on its own LCM URL, joined by kelp-bridge through the
+# uField brokers (each vehicle's uFldNodeBroker finds the shoreside from TRY_SHORE_HOST and
+# uFldShoreBroker registers the bridges; uFldNodeComms relays node reports by range and the
+# picture draws each relay as a comms pulse); every vehicle
 # runs pHelmIvP, uSimMarine and pNodeReporter on an Alder-like mission (a survey over several
 # waypoints, a loiter, then home) under MOOSTimeWarp. The shoreside shows the vehicles in a
 # table while they run; every community is logged with kelp-record (lcm-logger drops bursts); at the end a summary per
@@ -54,7 +57,7 @@ fill() {
 }
 
 # ---- generate the missions (nsplug style)
-NAMES=(); SHARES=""; SLOTS=""
+NAMES=(); SLOTS=""
 n=0
 while IFS='|' read -r name _; do
   name=$(trim "$name"); [ -z "$name" ] || [ "${name:0:1}" = "#" ] && continue
@@ -76,10 +79,9 @@ while IFS='|' read -r name lport bport start speed points loiter cw ltime; do
        START_X="$sx" START_Y="$sy" MODEM_ID=$((i + 1)) PTY="$W/tty_$name" "${ACOMMS[@]}" > "$name.moos"
   fill "$M/meta_vehicle.bhv" VNAME="$name" SPEED="$speed" POINTS="${points//:/ : }" LOITER_TIME="$ltime" CLOCKWISE="$cw" \
        LOITER_X="$lx" LOITER_Y="$ly" LOITER_R="$lr" START_X="$sx" START_Y="$sy" > "$name.bhv"
-  SHARES+="  UDPSHARE  = [DEPLOY, RETURN, MOOS_MANUAL_OVERIDE] -> $name @ 127.0.0.1:$bport"$'\n'
 done < "$M/fleet.conf"
 [ ${#NAMES[@]} -gt 0 ] || { echo "demo-fleet: no vehicles in $M/fleet.conf"; exit 1; }
-fill "$M/meta_shoreside.moos" WARP="$WARP" SHORE_LCM="$SHORE_LCM" SHORE_BRIDGE="$SHORE_BRIDGE" SHARES="${SHARES%$'\n'}" \
+fill "$M/meta_shoreside.moos" WARP="$WARP" SHORE_LCM="$SHORE_LCM" SHORE_BRIDGE="$SHORE_BRIDGE" \
      PTY="$W/tty_shoreside" "${ACOMMS[@]}" > shoreside.moos
 
 echo "== kelp fleet demo: shoreside + ${#NAMES[@]} vehicles (${NAMES[*]}), MOOSTimeWarp $WARP, acoustic modems 1 (shoreside) to $(( ${#NAMES[@]} + 1 ))"
@@ -115,9 +117,19 @@ if command -v ss >/dev/null; then
     [ "$n" -ge $(( ${#NAMES[@]} + 1 )) ] && break; sleep 0.1
   done
 fi
-sleep 1.5
-echo "== DEPLOY: kelp-poke shoreside.moos DEPLOY:=true MOOS_MANUAL_OVERIDE:=false (bridged to every vehicle)"
-"$B/bin/kelp-poke" shoreside.moos DEPLOY:=true MOOS_MANUAL_OVERIDE:=false > poke_deploy.out
+# the uField handshake: each vehicle's uFldNodeBroker pings the shoreside (TRY_SHORE_HOST),
+# uFldShoreBroker acknowledges and registers the bridges both ways
+t_hs=$(date +%s.%N)
+for i in $(seq 300); do
+  n=0
+  for v in "${NAMES[@]}"; do grep -qE "^$v +127\.0\.0\.1 +ok " logs_shoreside/uFldShoreBroker.log 2>/dev/null && n=$((n + 1)); done
+  [ $n -ge ${#NAMES[@]} ] && break; sleep 0.1
+done
+echo "== uField handshake: $n of ${#NAMES[@]} vehicles found the shoreside in $(awk -v a="$t_hs" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b - a}') s (wall); bridges registered by the brokers"
+[ $n -ge ${#NAMES[@]} ] || { tail -30 logs_shoreside/uFldShoreBroker.log; echo "demo-fleet: not every vehicle found the shoreside"; exit 1; }
+sleep 1
+echo "== DEPLOY: kelp-poke shoreside.moos DEPLOY_ALL:=true MOOS_MANUAL_OVERIDE_ALL:=false (QBRIDGEd to every vehicle)"
+"$B/bin/kelp-poke" shoreside.moos DEPLOY_ALL:=true MOOS_MANUAL_OVERIDE_ALL:=false > poke_deploy.out
 t0=$(date +%s)
 done_all=0
 while :; do
@@ -191,6 +203,17 @@ done
 awk '$3=="ACOMMS_SIM_EVENT" && $4 ~ /^modem=1,event=lost,kind=data,/ {r = $4; sub(/.*reason=/, "", r); n[r]++; t++}
      END {printf "   the shoreside modem lost %d data frames", t; s = " ("; for (r in n) {printf "%s%s %d", s, r, n[r]; s = ", "}
           print (t ? ")" : "")}' shoreside.txt
+# ---- uField comms: node reports relayed by uFldNodeComms (by range) to each vehicle
+echo "== uField comms: node reports relayed by uFldNodeComms (comms range 150 m, one per pair per 20 s)"
+printf '%-9s %8s %14s\n' vehicle relayed "from (count)"
+for v in "${NAMES[@]}"; do
+  uc=$(echo "$v" | tr a-z A-Z)
+  rel=$(awk -v var="NODE_REPORT_$uc" '$2=="uFldNodeComms" && $3==var' shoreside.txt | grep -c . || true)
+  from=$(awk -v var="NODE_REPORT_$uc" '$2=="uFldNodeComms" && $3==var {if (match($4, /NAME=[^,]*/)) n[substr($4, RSTART + 5, RLENGTH - 5)]++}
+              END {s = ""; for (k in n) {s = s (s ? ", " : "") k " " n[k]}; print (s ? s : "-")}' shoreside.txt)
+  printf '%-9s %8s %14s\n' "$v" "$rel" "$from"
+done
+echo "   comms pulses drawn: $(awk '$2=="uFldNodeComms" && $3=="VIEW_COMMS_PULSE"' shoreside.txt | grep -c . || true)"
 echo "== picture: $W/fleet.png (and fleet.svg); logs: $W/*.lcm"
 grep -E "^(vehicle|alpha|bravo|charlie|[a-z]+ +report)" plot.out | head -8
 [ $rc_launch -eq 0 ] || echo "demo-fleet: a launcher did not end cleanly (see $W/launch_*.out)"

@@ -72,5 +72,22 @@ npulse=$(awk '$2=="pAcommsHandler" && $3=="VIEW_COMMS_PULSE"' $D/shoreside.txt |
 ! grep -q "reason=random" $D/shoreside.txt || fail "random losses on a loss-free channel"
 grep -q "ACOMMS_SIM_EVENT modem=1,event=tx,kind=ack" $D/shoreside.txt || fail "the shoreside modem never acknowledged"
 
+# ---- the uField brokers and comms: the vehicles found the shoreside themselves (no static
+# bridge in any mission), and uFldNodeComms relayed every vehicle's reports to the others
+grep -qE "^== uField handshake: 3 of 3 vehicles found the shoreside" demo.out || fail "uField handshake line missing"
+! grep -q "UDPSHARE" $D/*.moos || fail "a generated mission still has a static UDPSHARE"
+for v in alpha bravo charlie; do
+  uc=$(echo $v | tr a-z A-Z)
+  grep -q "uFldShoreBroker PMB_REGISTER src_var=NODE_REPORT_$uc,dest_community=$v," $D/shoreside.txt || fail "no NODE_REPORT_$uc bridge registered"
+  line=$(awk -v v="$v" '/^== /{s=0} /^== uField comms/{s=1} s && $1==v' demo.out)
+  for o in alpha bravo charlie; do
+    [ $o = $v ] && continue
+    echo "$line" | grep -qE "(^| )$o [1-9]" || fail "$v: no relayed report from $o ($line)"
+  done
+done
+nrel=$(awk '$2=="uFldNodeComms" && $3=="VIEW_COMMS_PULSE"' $D/shoreside.txt | grep -c . || true)
+[ "$nrel" -gt 0 ] || fail "no relay pulses"
+grep -qE "VIEW_COMMS_PULSE=$((nrel + npulse))( |$)" $D/plot.out || fail "picture does not draw every pulse ($(grep -o 'VIEW_COMMS_PULSE=[0-9]*' $D/plot.out), want $((nrel + npulse)))"
+
 if [ -n "${FLEET_PNG:-}" ]; then cp $T/demo/fleet.png "$FLEET_PNG"; fi
-ok "fleet demo in ${el}s: three missions complete, picture written; $total FleetStatus received at the shoreside"
+ok "fleet demo in ${el}s: three missions complete, picture written; $total FleetStatus received at the shoreside; brokers found the shoreside; $nrel relays drawn"

@@ -71,6 +71,9 @@ static void span(kelp_plot_scene *s, double t)
 static bool same_key(const kelp_plot_view *a, const kelp_view *b, const char *community)
 {
     if (a->v.kind != b->kind || strcmp(a->v.label, b->label) != 0) return false;
+    /* a pulse is an event, not a shape that moves: every one is drawn (a picture of a whole
+     * run shows all the relays and acoustic messages, not only the last of each label) */
+    if (b->kind == KELP_VIEW_COMMS_PULSE || b->kind == KELP_VIEW_RANGE_PULSE) return false;
     /* points of different behaviours may share a label ("alder's next waypoint") */
     if (b->kind == KELP_VIEW_POINT && strcmp(a->v.source, b->source) != 0) return false;
     /* the same label from two communities: two vehicles' behaviours of the same name */
