@@ -1,0 +1,86 @@
+/* The uFldNodeComms app benchmark's feeder (bench/nodecomms_app.sh):
+ *   bench_ncomms_feed N SECONDS
+ * N vehicles on a square grid 60 m apart post NODE_REPORT on the bus at 4 Hz each (the
+ * reports of one quarter second spread over it), for SECONDS; the feeder also listens to
+ * NODE_REPORT_* and counts the relays uFldNodeComms makes. A relay is counted against the
+ * round its report was sent in (the report's TIME field), and the relays owed for a round
+ * are the pairs within the comms range (100 m) counted by brute force; the first round is
+ * left out (uFldNodeComms does not know the receivers yet) and so is the last (its relays
+ * may still be on the way when the feeder stops listening, 1.5 s later).
+ * Prints: "feed N <n> rounds <r> relayed <k> owed <o> sent <s>". */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <kelp/bus.h>
+#include <kelp/lcmbus.h>
+
+typedef struct feed {
+    double t0;         /* time of round 0 */
+    int rounds;
+    unsigned long relayed, other;
+} feed;
+
+static double wall(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static void on_var(const kelp_var *v, void *user)
+{
+    feed *f = user;
+    if (strncmp(v->name, "NODE_REPORT_", 12) != 0 || v->kind != KELP_VAR_STRING) return;
+    const char *t = strstr(v->sval, "TIME=");
+    if (!t) { f->other++; return; }
+    int round = (int)lround((atof(t + 5) - f->t0) / 0.25);
+    if (round >= 1 && round < f->rounds - 1) f->relayed++;
+    else f->other++;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 3) { fprintf(stderr, "usage: bench_ncomms_feed N SECONDS\n"); return 2; }
+    int n = atoi(argv[1]);
+    double secs = atof(argv[2]);
+    if (n < 2 || n > 5000 || !(secs > 0)) return 2;
+    char url[512], err[600];
+    if (kelp_lcm_url(NULL, url, sizeof url) < 0) return 1;
+    static feed f;
+    kelp_lcmbus *lb = kelp_lcmbus_open(url, "bench_ncomms_feed", "shoreside", on_var, &f, err, sizeof err);
+    if (!lb) { fprintf(stderr, "%s\n", err); return 1; }
+    kelp_bus *bus = kelp_lcmbus_bus(lb);
+    if (kelp_bus_register(bus, "NODE_REPORT_*", 0, 0) < 0) return 1;
+    int side = (int)ceil(sqrt((double)n));
+    f.rounds = (int)(secs * 4 + 0.5);
+    /* owed per round: ordered pairs closer than 100 m (the grid does not move) */
+    unsigned long pairs = 0;
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++) {
+            if (i == j) continue;
+            double dx = 60.0 * (i % side - j % side), dy = 60.0 * (i / side - j / side);
+            if (hypot(dx, dy) < 100) pairs++;
+        }
+    f.t0 = floor(wall()) + 1;
+    unsigned long sent = 0;
+    char rpt[256];
+    for (int k = 0; k < f.rounds; k++) {
+        double round_t = f.t0 + k * 0.25;
+        for (int i = 0; i < n; i++) {
+            double due = round_t + 0.25 * i / n;
+            for (double now; (now = wall()) < due;)
+                (void)kelp_lcmbus_handle(lb, (int)((due - now) * 1000) > 0 ? 1 : 0, now);
+            snprintf(rpt, sizeof rpt, "NAME=v%d,TYPE=UUV,TIME=%.3f,X=%.1f,Y=%.1f,SPD=1,HDG=90,DEP=0,LENGTH=4", i, round_t,
+                     60.0 * (i % side), 60.0 * (i / side));
+            if (kelp_bus_notify_string(bus, "NODE_REPORT", rpt, round_t) == 0) sent++;
+        }
+    }
+    for (double until = wall() + 1.5; wall() < until;) (void)kelp_lcmbus_handle(lb, 20, wall());
+    unsigned long owed = pairs * (unsigned long)(f.rounds > 2 ? f.rounds - 2 : 0);
+    printf("feed N %d rounds %d relayed %lu owed %lu sent %lu\n", n, f.rounds, f.relayed, owed, sent);
+    kelp_lcmbus_close(lb);
+    return 0;
+}

@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# uFldNodeComms as an app (make bench): the uFldNodeComms program on the LCM bus, fed by
+# bench_ncomms_feed with N vehicles 60 m apart reporting at 4 Hz (comms range 100 m, critical
+# 30 m, report pulses on) for 10 s, in a private network namespace. Figures: the app's CPU
+# (utime + stime from /proc over the feeding window) as % of one core, relays made / relays
+# owed (pairs within range, brute force), reports sent. Goal: 500 vehicles under 25% of one
+# core with every owed relay made.
+set -uo pipefail
+if [ -z "${KELP_IN_NETNS:-}" ] && [ "$(id -u)" -eq 0 ]; then export KELP_IN_NETNS=1; exec unshare -n bash "$0" "$@"; fi
+if [ -n "${KELP_IN_NETNS:-}" ]; then ip link set lo up; ip link set lo multicast on; ip route add 224.0.0.0/4 dev lo 2>/dev/null || true; fi
+ROOT=${KELP_ROOT:-$(cd "$(dirname "$0")/.." && pwd)}
+B=${BUILD:-$ROOT/build}
+cd "$ROOT"
+mkdir -p "$B/bench"
+gcc -std=c11 -O2 -D_DEFAULT_SOURCE -D_GNU_SOURCE -Iinclude $(pkg-config --cflags lcm) -o "$B/bench/bench_ncomms_feed" \
+  bench/bench_ncomms_feed.c "$B/libkelp.a" "$B/libkelp_core.a" $(pkg-config --libs lcm) -lexpat -lmbedtls -lmbedx509 \
+  -lmbedcrypto -lserialport -lm -lpthread -lutil || exit 1
+export KELP_LCM_URL="udpm://239.255.76.67:7799?ttl=0"
+W=$(mktemp -d /tmp/kelp-ncbench.XXXXXX)
+trap 'rm -rf "$W"' EXIT
+cat > "$W/nc.moos" <<M
+Community = shoreside
+ProcessConfig = uFldNodeComms
+{
+  AppTick              = 4
+  CommsTick            = 4
+  COMMS_RANGE          = 100
+  CRITICAL_RANGE       = 30
+  STALE_TIME           = 5
+  VIEW_NODE_RPT_PULSES = true
+  VERBOSE              = false
+}
+M
+tick=$(getconf CLK_TCK)
+cpu_of() { awk '{print $14 + $15}' "/proc/$1/stat"; }
+printf "%6s %10s %10s %10s %10s\n" N "cpu %core" relayed owed sent
+for n in ${NCOMMS_BENCH_N:-10 100 500 2000}; do
+  "$B/bin/uFldNodeComms" "$W/nc.moos" > "$W/app_$n.log" 2>&1 & app=$!
+  sleep 1
+  c0=$(cpu_of $app); t0=$(date +%s.%N)
+  out=$("$B/bench/bench_ncomms_feed" "$n" 10)
+  c1=$(cpu_of $app); t1=$(date +%s.%N)
+  kill -INT $app; wait $app 2>/dev/null
+  read -r _ _ N _ _ _ rel _ owed _ sent <<<"$out"
+  pct=$(awk -v a="$c0" -v b="$c1" -v s="$t0" -v e="$t1" -v hz="$tick" 'BEGIN{printf "%.1f", 100 * (b - a) / hz / (e - s)}')
+  mark=""; [ "${rel:-0}" = "${owed:-x}" ] || mark="  (relayed != owed)"
+  printf "%6s %10s %10s %10s %10s%s\n" "$N" "$pct" "$rel" "$owed" "$sent" "$mark"
+done
