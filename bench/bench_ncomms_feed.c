@@ -16,6 +16,7 @@
 #include <time.h>
 #include <kelp/bus.h>
 #include <kelp/lcmbus.h>
+#include <kelp/util.h>
 
 typedef struct feed {
     double t0;         /* time of round 0 */
@@ -36,7 +37,10 @@ static void on_var(const kelp_var *v, void *user)
     if (strncmp(v->name, "NODE_REPORT_", 12) != 0 || v->kind != KELP_VAR_STRING) return;
     const char *t = strstr(v->sval, "TIME=");
     if (!t) { f->other++; return; }
-    int round = (int)lround((atof(t + 5) - f->t0) / 0.25);
+    const char *e = strchr(t, ',');
+    double tv = 0;
+    if (kelp_parse_double(t + 5, e ? (size_t)(e - t - 5) : strlen(t + 5), &tv) != 0) { f->other++; return; }
+    int round = (int)lround((tv - f->t0) / 0.25);
     if (round >= 1 && round < f->rounds - 1) f->relayed++;
     else f->other++;
 }
@@ -44,9 +48,11 @@ static void on_var(const kelp_var *v, void *user)
 int main(int argc, char **argv)
 {
     if (argc < 3) { fprintf(stderr, "usage: bench_ncomms_feed N SECONDS\n"); return 2; }
-    int n = atoi(argv[1]);
-    double secs = atof(argv[2]);
-    if (n < 2 || n > 5000 || !(secs > 0)) return 2;
+    long n = 0;
+    double secs = 0;
+    if (kelp_parse_long(argv[1], strlen(argv[1]), &n) != 0 || kelp_parse_double(argv[2], strlen(argv[2]), &secs) != 0 ||
+        n < 2 || n > 5000 || !(secs > 0))
+        return 2;
     char url[512], err[600];
     if (kelp_lcm_url(NULL, url, sizeof url) < 0) return 1;
     static feed f;
@@ -55,13 +61,15 @@ int main(int argc, char **argv)
     kelp_bus *bus = kelp_lcmbus_bus(lb);
     if (kelp_bus_register(bus, "NODE_REPORT_*", 0, 0) < 0) return 1;
     int side = (int)ceil(sqrt((double)n));
+    int nv = (int)n;
     f.rounds = (int)(secs * 4 + 0.5);
     /* owed per round: ordered pairs closer than 100 m (the grid does not move) */
     unsigned long pairs = 0;
-    for (int i = 0; i < n; i++)
-        for (int j = 0; j < n; j++) {
+    for (int i = 0; i < nv; i++)
+        for (int j = 0; j < nv; j++) {
             if (i == j) continue;
-            double dx = 60.0 * (i % side - j % side), dy = 60.0 * (i / side - j / side);
+            int gx = i % side - j % side, gy = i / side - j / side; /* grid cells apart */
+            double dx = 60.0 * gx, dy = 60.0 * gy;
             if (hypot(dx, dy) < 100) pairs++;
         }
     f.t0 = floor(wall()) + 1;
@@ -69,18 +77,19 @@ int main(int argc, char **argv)
     char rpt[256];
     for (int k = 0; k < f.rounds; k++) {
         double round_t = f.t0 + k * 0.25;
-        for (int i = 0; i < n; i++) {
+        for (int i = 0; i < nv; i++) {
             double due = round_t + 0.25 * i / n;
             for (double now; (now = wall()) < due;)
                 (void)kelp_lcmbus_handle(lb, (int)((due - now) * 1000) > 0 ? 1 : 0, now);
+            int gx = i % side, gy = i / side;
             snprintf(rpt, sizeof rpt, "NAME=v%d,TYPE=UUV,TIME=%.3f,X=%.1f,Y=%.1f,SPD=1,HDG=90,DEP=0,LENGTH=4", i, round_t,
-                     60.0 * (i % side), 60.0 * (i / side));
+                     60.0 * gx, 60.0 * gy);
             if (kelp_bus_notify_string(bus, "NODE_REPORT", rpt, round_t) == 0) sent++;
         }
     }
     for (double until = wall() + 1.5; wall() < until;) (void)kelp_lcmbus_handle(lb, 20, wall());
     unsigned long owed = pairs * (unsigned long)(f.rounds > 2 ? f.rounds - 2 : 0);
-    printf("feed N %d rounds %d relayed %lu owed %lu sent %lu\n", n, f.rounds, f.relayed, owed, sent);
+    printf("feed N %ld rounds %d relayed %lu owed %lu sent %lu\n", n, f.rounds, f.relayed, owed, sent);
     kelp_lcmbus_close(lb);
     return 0;
 }
