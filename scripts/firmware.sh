@@ -1,16 +1,18 @@
 #!/usr/bin/env bash
-# Build the allocation-free core for Cortex-M4 (hard float, newlib nano) and print its size.
+# Build the allocation-free core for Cortex-M4 (hard float, newlib nano) and print its size and
+# the worst-case stack of each public entry point (GCC's call graph with frame sizes,
+# -fcallgraph-info=su, summed by scripts/stack_report.py).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 CC=arm-none-eabi-gcc
 O=build-fw
 rm -rf "$O"; mkdir -p "$O/obj"
 FLAGS="-std=c11 -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 -Os -ffunction-sections -fdata-sections
- -Wall -Wextra -Werror -Wno-double-promotion -Iinclude --specs=nano.specs"
+ -Wall -Wextra -Werror -Wno-double-promotion -Iinclude --specs=nano.specs -DKELP_OWN_PRINTF"
 objs=()
 for f in $(ls src/*/*.c | grep -v "^src/app/"); do
   o="$O/obj/$(echo "${f%.c}" | tr / _).o"
-  $CC $FLAGS -c "$f" -o "$o"
+  $CC $FLAGS -fcallgraph-info=su -c "$f" -o "$o"
   objs+=("$o")
 done
 arm-none-eabi-ar rcs "$O/libkelp_core_m4.a" "${objs[@]}"
@@ -23,7 +25,12 @@ echo "== arm-none-eabi-size (core archive, per object, Cortex-M4 -Os)"
 arm-none-eabi-size -t "$O/libkelp_core_m4.a" | tail -n 1 | sed 's/(TOTALS)/libkelp_core_m4.a (total)/'
 echo "== arm-none-eabi-size (whole core linked into an image with newlib nano)"
 arm-none-eabi-size "$O/kelp_fw.elf"
-if arm-none-eabi-nm "$O/kelp_fw.elf" | grep -qwE '_malloc_r|malloc'; then
-  echo "firmware: malloc was pulled in"; exit 1
+# (nm's output is read whole first: `nm | grep -q` under pipefail turned a match into "ok"
+# whenever grep's early exit gave nm a SIGPIPE)
+syms_img=$(arm-none-eabi-nm "$O/kelp_fw.elf")
+if grep -wE '_malloc_r|malloc|_free_r|_realloc_r' <<<"$syms_img"; then
+  echo "firmware: malloc was pulled in (who calls it: arm-none-eabi-objdump -d $O/kelp_fw.elf)"; exit 1
 fi
 echo "firmware: ok, no malloc in image"
+echo "== worst-case stack of the public core entry points (Cortex-M4 -Os; calls through function pointers not followed)"
+python3 scripts/stack_report.py --limit 1024 --top ${FW_STACK_TOP:-15} "$O"/obj/*.ci

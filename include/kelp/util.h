@@ -3,6 +3,7 @@
 #ifndef KELP_UTIL_H
 #define KELP_UTIL_H
 
+#include <stdarg.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -29,6 +30,15 @@ KELP_MUST_CHECK int kelp_parse_llong(const char *s, size_t len, long long *out);
  *  at most cap-1 characters and a NUL; returns the length the whole text needs (as snprintf),
  *  or KELP_ERR_RANGE when |v| x 10^dec reaches 9e18 (nothing written). */
 int kelp_fmt_fixed(char *buf, size_t cap, double v, unsigned dec, bool strip);
+
+/** snprintf for the core: the C library's on a hosted system; on newlib (firmware) kelp's own
+ *  (newlib's links malloc, and its nano variant prints no floating point). Flags - 0 + space #,
+ *  width and precision (also *), lengths hh h l ll z j t, conversions d i u x X o c s p % f F e
+ *  E g G. Same return as snprintf. */
+int kelp_snprintf(char *buf, size_t cap, const char *fmt, ...) KELP_PRINTF(3, 4);
+int kelp_vsnprintf(char *buf, size_t cap, const char *fmt, va_list ap);
+/** kelp's own formatter, on every target (kelp_vsnprintf on newlib; tested on the host). */
+int kelp_vsnprintf_own(char *buf, size_t cap, const char *fmt, va_list ap);
 
 /* ---- text ---- */
 

@@ -16,6 +16,7 @@
 
 #include <kelp/acomms.h>
 #include <kelp/mission.h>
+#include <kelp/util.h>
 
 /* ------------------------------------------------------------------ writer */
 
@@ -65,7 +66,7 @@ static void tw_field(tw *w, const char *name)
 static void tw_long(tw *w, long v)
 {
     char tmp[24];
-    snprintf(tmp, sizeof tmp, "%ld", v);
+    kelp_snprintf(tmp, sizeof tmp, "%ld", v);
     tw_puts(w, tmp);
 }
 
@@ -80,9 +81,9 @@ static void tw_double(tw *w, double v)
         tw_puts(w, v < 0 ? "-inf" : "inf");
         return;
     }
-    snprintf(tmp, sizeof tmp, "%.15g", v);
+    kelp_snprintf(tmp, sizeof tmp, "%.15g", v);
     double back = 0;
-    if (kelp_parse_double(tmp, strlen(tmp), &back) != KELP_OK || back != v) snprintf(tmp, sizeof tmp, "%.17g", v);
+    if (kelp_parse_double(tmp, strlen(tmp), &back) != KELP_OK || back != v) kelp_snprintf(tmp, sizeof tmp, "%.17g", v);
     tw_puts(w, tmp);
 }
 
@@ -144,9 +145,9 @@ int kelp_acomms_time_text(int64_t unix_us, char *buf, size_t cap)
     if (frac < 0) frac += 1000000;
     int n;
     if (frac)
-        n = snprintf(buf, cap, "%04d-%s-%02d %02d:%02d:%02d.%06ld", y, MONTHS[(mo - 1) % 12], d, h, mi, s, (long)frac);
+        n = kelp_snprintf(buf, cap, "%04d-%s-%02d %02d:%02d:%02d.%06ld", y, MONTHS[(mo - 1) % 12], d, h, mi, s, (long)frac);
     else
-        n = snprintf(buf, cap, "%04d-%s-%02d %02d:%02d:%02d", y, MONTHS[(mo - 1) % 12], d, h, mi, s);
+        n = kelp_snprintf(buf, cap, "%04d-%s-%02d %02d:%02d:%02d", y, MONTHS[(mo - 1) % 12], d, h, mi, s);
     return (n < 0 || (size_t)n >= cap) ? KELP_ERR_NOSPACE : KELP_OK;
 }
 

@@ -258,7 +258,7 @@ size_t dccl_fmt_long(int64_t l, char *out, size_t cap)
 size_t dccl_fmt_fixed(double d, int prec, char *out, size_t cap)
 {
     char buf[DCCL_NUMBUF];
-    int n = snprintf(buf, sizeof buf, "%.*f", prec < 0 ? 6 : prec, d);
+    int n = kelp_snprintf(buf, sizeof buf, "%.*f", prec < 0 ? 6 : prec, d);
     if (n < 0) n = 0;
     if ((size_t)n >= sizeof buf) n = (int)sizeof buf - 1;
     return put(out, cap, buf, (size_t)n);
@@ -267,7 +267,7 @@ size_t dccl_fmt_fixed(double d, int prec, char *out, size_t cap)
 size_t dccl_fmt_g(double d, int prec, char *out, size_t cap)
 {
     char buf[DCCL_NUMBUF];
-    int n = snprintf(buf, sizeof buf, "%.*g", prec < 0 ? 6 : prec, d);
+    int n = kelp_snprintf(buf, sizeof buf, "%.*g", prec < 0 ? 6 : prec, d);
     if (n < 0) n = 0;
     if ((size_t)n >= sizeof buf) n = (int)sizeof buf - 1;
     return put(out, cap, buf, (size_t)n);

@@ -7,6 +7,7 @@
 #include <kelp/field.h>
 #include <kelp/mission.h>
 #include "field_int.h"
+#include <kelp/util.h>
 
 #define PORT_MAX 65535
 
@@ -304,7 +305,7 @@ void broker_put(char *buf, size_t cap, size_t *n, bool *full, const char *fmt, .
     }
     va_list ap;
     va_start(ap, fmt);
-    int w = vsnprintf(buf + *n, cap - *n, fmt, ap);
+    int w = kelp_vsnprintf(buf + *n, cap - *n, fmt, ap);
     va_end(ap);
     if (w < 0 || (size_t)w >= cap - *n) {
         *full = true;

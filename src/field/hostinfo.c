@@ -4,6 +4,7 @@
 #include <string.h>
 #include <kelp/field.h>
 #include <kelp/mission.h>
+#include <kelp/util.h>
 
 static void copy(char *dst, size_t cap, const char *src)
 {
@@ -124,26 +125,26 @@ int kelp_field_hostinfo_iterate(kelp_field_hostinfo *h, const kelp_field_sink *o
     for (unsigned i = 0; i < h->naddr; i++) {
         bool seen = false;
         for (unsigned k = 0; k < i; k++) seen = seen || !strcmp(h->addr[k].ip, h->addr[i].ip);
-        if (!seen) na += (size_t)snprintf(all + na, sizeof all - na, "%s%s", na ? "," : "", h->addr[i].ip);
-        nv += (size_t)snprintf(verbose + nv, sizeof verbose - nv, "%s%s=%s", nv ? "," : "", h->addr[i].source,
+        if (!seen) na += (size_t)kelp_snprintf(all + na, sizeof all - na, "%s%s", na ? "," : "", h->addr[i].ip);
+        nv += (size_t)kelp_snprintf(verbose + nv, sizeof verbose - nv, "%s%s=%s", nv ? "," : "", h->addr[i].source,
                                h->addr[i].ip);
     }
     out->publish(out->ctx, "PHI_HOST_IP", true, h->best, 0);
     out->publish(out->ctx, "PHI_HOST_IP_ALL", true, na ? all : h->best, 0);
     out->publish(out->ctx, "PHI_HOST_IP_VERBOSE", true, verbose, 0);
     char info[512];
-    int n = snprintf(info, sizeof info, "community=%s,hostip=%s", h->cfg.community, h->best);
+    int n = kelp_snprintf(info, sizeof info, "community=%s,hostip=%s", h->cfg.community, h->best);
     if (h->cfg.port_db > 0) {
         out->publish(out->ctx, "PHI_HOST_PORT_DB", false, NULL, h->cfg.port_db);
         out->publish(out->ctx, "PHI_HOST_PORT", false, NULL, h->cfg.port_db);
-        n += snprintf(info + n, sizeof info - (size_t)n, ",port_db=%.0f", h->cfg.port_db);
+        n += kelp_snprintf(info + n, sizeof info - (size_t)n, ",port_db=%.0f", h->cfg.port_db);
     }
     if (h->port_udp > 0) {
         out->publish(out->ctx, "PHI_HOST_PORT_UDP", false, NULL, h->port_udp);
-        n += snprintf(info + n, sizeof info - (size_t)n, ",port_udp=%.0f", h->port_udp);
+        n += kelp_snprintf(info + n, sizeof info - (size_t)n, ",port_udp=%.0f", h->port_udp);
     }
-    n += snprintf(info + n, sizeof info - (size_t)n, ",timewarp=%g", h->cfg.warp);
-    if (h->iroutes[0] && (size_t)n < sizeof info) snprintf(info + n, sizeof info - (size_t)n, ",pshare_iroutes=%s", h->iroutes);
+    n += kelp_snprintf(info + n, sizeof info - (size_t)n, ",timewarp=%g", h->cfg.warp);
+    if (h->iroutes[0] && (size_t)n < sizeof info) kelp_snprintf(info + n, sizeof info - (size_t)n, ",pshare_iroutes=%s", h->iroutes);
     out->publish(out->ctx, "PHI_HOST_INFO", true, info, 0);
     h->posts++;
     return 1;

@@ -6,6 +6,7 @@
 #include <kelp/field.h>
 #include <kelp/mission.h>
 #include "field_int.h"
+#include <kelp/util.h>
 
 #define UMH_DEFAULT_TRUNC 75
 #define UMH_SUMMARY_GAP_S 1.0
@@ -255,7 +256,7 @@ static void expand(const kelp_field_umh *h, const char *in, char *out, size_t ca
             size_t ml = strlen(names[i]);
             if (strncmp(in, names[i], ml) != 0) continue;
             char num[24];
-            int k = snprintf(num, sizeof num, "%lu", vals[i]);
+            int k = kelp_snprintf(num, sizeof num, "%lu", vals[i]);
             if (k > 0 && n + (size_t)k < cap) {
                 memcpy(out + n, num, (size_t)k);
                 n += (size_t)k;
@@ -358,7 +359,7 @@ int kelp_field_umh_iterate(kelp_field_umh *h, double now, const kelp_field_sink 
 {
     if (!h->summary_due || (h->summaries && now - h->last_summary < h->cfg.summary_gap)) return 0;
     char buf[128];
-    snprintf(buf, sizeof buf, "total=%lu,valid=%lu,invalid=%lu,rejected=%lu", h->total, h->valid, h->invalid,
+    kelp_snprintf(buf, sizeof buf, "total=%lu,valid=%lu,invalid=%lu,rejected=%lu", h->total, h->valid, h->invalid,
              h->rejected);
     out->publish(out->ctx, "UMH_SUMMARY_MSGS", true, buf, 0);
     h->summary_due = false;

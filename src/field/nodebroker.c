@@ -5,6 +5,7 @@
 #include <kelp/field.h>
 #include <kelp/mission.h>
 #include "field_int.h"
+#include <kelp/util.h>
 
 #define NB_DEFAULT_RETRY 10.0         /* s: ping registrations re-posted while no ack is heard */
 #define NB_DEFAULT_SHORE "shoreside"  /* dest_community of a try host without one (A25) */
@@ -152,7 +153,7 @@ static int ack_mail(kelp_field_nbroker *b, const char *sval, double now, const k
     if (rc < 0) {
         b->bad_ack++;
         char msg[128];
-        snprintf(msg, sizeof msg, "bad NODE_BROKER_ACK: %s", why ? why : "malformed");
+        kelp_snprintf(msg, sizeof msg, "bad NODE_BROKER_ACK: %s", why ? why : "malformed");
         warn(out, msg);
         return rc;
     }
@@ -236,8 +237,8 @@ static void host_block(char *buf, size_t cap, size_t *n, bool *full, const char 
 {
     char db[12] = "", udp[12] = "", warp[24] = "";
     size_t wn = 0;
-    if (have && h->port_db) snprintf(db, sizeof db, "%u", h->port_db);
-    if (have && h->port_udp) snprintf(udp, sizeof udp, "%u", h->port_udp);
+    if (have && h->port_db) kelp_snprintf(db, sizeof db, "%u", h->port_db);
+    if (have && h->port_udp) kelp_snprintf(udp, sizeof udp, "%u", h->port_udp);
     if (have && h->have_warp && field_put_fixed(warp, sizeof warp, &wn, h->warp, 6, true) < 0) warp[0] = 0;
     broker_put(buf, cap, n, full,
         "%s: %s\n    HostIP: %s\n    Port (DB): %s\n    Port (UDP): %s\n    Time Warp: %s\n", title,

@@ -9,6 +9,7 @@
 #include <kelp/kv.h>
 #include <kelp/mission.h>
 #include "field_int.h"
+#include <kelp/util.h>
 
 #define NC_MIN_STEALTH 0.1   /* 24.8's floor: a stealth of 0 would hide a vehicle entirely */
 #define NC_MAX_EARANGE 10.0  /* the seed's table range [1,10] */
@@ -1016,7 +1017,7 @@ static void put(rbuf *r, const char *s)
 static void put_count(rbuf *r, const char *indent, const char *label, unsigned long v)
 {
     char line[160];
-    snprintf(line, sizeof line, "%s%s: %lu\n", indent, label, v);
+    kelp_snprintf(line, sizeof line, "%s%s: %lu\n", indent, label, v);
     put(r, line);
 }
 
@@ -1039,14 +1040,14 @@ static void per_vehicle(rbuf *r, const kelp_field_ncomms *c, const uint16_t *idx
         unsigned long v = what == 0 ? nd->rpts_rcvd : what == 1 ? nd->rpts_sent : what == 2 ? nd->msgs_rcvd : nd->msgs_sent;
         if (v == 0) continue;
         char line[160];
-        snprintf(line, sizeof line, "            %s: %lu", nd->name, v);
+        kelp_snprintf(line, sizeof line, "            %s: %lu", nd->name, v);
         put(r, line);
         if (what == 0 || what == 2) {
             double t = what == 0 ? c->hot[idx[k]].t_recv : nd->last_msg_rcvd;
             char e[48];
             size_t en = 0;
-            if (field_put_fixed(e, sizeof e, &en, now - t, 1, false) < 0) snprintf(e, sizeof e, "?");
-            snprintf(line, sizeof line, "      (%s)", e);
+            if (field_put_fixed(e, sizeof e, &en, now - t, 1, false) < 0) kelp_snprintf(e, sizeof e, "?");
+            kelp_snprintf(line, sizeof line, "      (%s)", e);
             put(r, line);
         }
         put(r, "\n");

@@ -6,6 +6,7 @@
 #include <kelp/field.h>
 #include <kelp/kv.h>
 #include <kelp/mission.h>
+#include <kelp/util.h>
 
 static const char *const nav_suffix[KELP_NREP_NAV] = { "_X",     "_Y",       "_LAT",   "_LONG", "_SPEED",
                                                        "_HEADING", "_DEPTH", "_YAW", "_HEADING_OVER_GROUND" };
@@ -177,7 +178,7 @@ int kelp_field_nrep_init(kelp_field_nrep *r, const kelp_field_nrep_cfg *cfg, dou
         const char *pre = k ? cfg->alt_prefix : cfg->prefix;
         r->nav[k].last = -1;
         for (int i = 0; i < KELP_NREP_NAV && pre[0]; i++) {
-            int n = snprintf(r->nav[k].var[i], sizeof r->nav[k].var[i], "%s%s", pre, nav_suffix[i]);
+            int n = kelp_snprintf(r->nav[k].var[i], sizeof r->nav[k].var[i], "%s%s", pre, nav_suffix[i]);
             if (n < 0 || (size_t)n >= sizeof r->nav[k].var[i]) return KELP_ERR_RANGE;
         }
     }
@@ -230,8 +231,8 @@ static void value_text(char *dst, bool is_string, const char *sval, double dval,
         copy_field(dst, sval ? sval : "");
     } else {
         char b[64];
-        if (prec >= 0) snprintf(b, sizeof b, "%.*f", prec, dval);
-        else snprintf(b, sizeof b, "%.6g", dval);
+        if (prec >= 0) kelp_snprintf(b, sizeof b, "%.*f", prec, dval);
+        else kelp_snprintf(b, sizeof b, "%.6g", dval);
         copy_field(dst, b);
     }
 }
@@ -243,7 +244,7 @@ static int nav_mail(kelp_field_nrep *r, kelp_nrep_nav *nv, int i, const char *va
     if (is_string && (!sval || kelp_parse_double(sval, strlen(sval), &d) < 0)) d = NAN;
     if (!isfinite(d)) {
         char msg[KELP_MAX_NAME + 48];
-        snprintf(msg, sizeof msg, "%s is not a finite number; ignored", var);
+        kelp_snprintf(msg, sizeof msg, "%s is not a finite number; ignored", var);
         r->bad_mail++;
         warn(out, msg);
         return KELP_ERR_RANGE;
@@ -330,7 +331,7 @@ static void mode_of(const kelp_field_nrep *r, double now, char *mode, size_t cap
     } else if (r->helm_last < 0) {
         set_text(mode, cap, "NOHELM-EVER");
     } else if (now - r->helm_last > r->cfg.nohelm_threshold) {
-        snprintf(mode, cap, "NOHELM-%.0f", now - r->helm_last);
+        kelp_snprintf(mode, cap, "NOHELM-%.0f", now - r->helm_last);
     } else if (!strncmp(r->helm_state, "DRIVE", 5) && r->helm_modes[0] && strcmp(r->helm_modes, "none") != 0) {
         set_text(mode, cap, r->helm_modes);
     } else {
@@ -343,10 +344,10 @@ static void extras(kelp_field_nrep *r, char *buf, size_t cap)
 {
     size_t o = 0;
     buf[0] = 0;
-    if (r->cfg.aspect[0]) o = (size_t)snprintf(buf, cap, "%s", r->cfg.aspect);
+    if (r->cfg.aspect[0]) o = (size_t)kelp_snprintf(buf, cap, "%s", r->cfg.aspect);
     for (unsigned i = 0; i < r->cfg.nriders && o < cap; i++) {
         if (!r->rider_have[i] || (r->cfg.rider[i].updated_only && !r->rider_new[i])) continue;
-        o += (size_t)snprintf(buf + o, cap - o, "%s%s=%s", o ? "," : "", r->cfg.rider[i].field, r->rider_val[i]);
+        o += (size_t)kelp_snprintf(buf + o, cap - o, "%s%s=%s", o ? "," : "", r->cfg.rider[i].field, r->rider_val[i]);
         r->rider_new[i] = false;
     }
     if (o >= cap) buf[0] = 0; /* would not fit: none rather than half a pair */
@@ -364,7 +365,7 @@ static int to_json(const char *csp, char *buf, size_t cap)
     while ((rc = kelp_kv_next(csp, ',', &pos, &k, &kl, &v, &vl)) == 1) {
         double d;
         bool num = v && kelp_parse_double(v, vl, &d) == KELP_OK && isfinite(d);
-        int w = snprintf(buf + o, cap - o, "%s\"%.*s\":%s%.*s%s", o > 1 ? "," : "", (int)kl, k, num ? "" : "\"",
+        int w = kelp_snprintf(buf + o, cap - o, "%s\"%.*s\":%s%.*s%s", o > 1 ? "," : "", (int)kl, k, num ? "" : "\"",
                          (int)(v ? vl : 0), v ? v : "", num ? "" : "\"");
         if (w < 0 || (size_t)w >= cap - o) return KELP_ERR_NOSPACE;
         o += (size_t)w;
@@ -378,12 +379,12 @@ static int to_json(const char *csp, char *buf, size_t cap)
 static void platform_report(kelp_field_nrep *r, double now, const kelp_field_sink *out)
 {
     char buf[KELP_NODEREPORT_MAX_LEN];
-    int o = snprintf(buf, sizeof buf, "platform=%s,utc_time=%.2f", r->cfg.name, now);
+    int o = kelp_snprintf(buf, sizeof buf, "platform=%s,utc_time=%.2f", r->cfg.name, now);
     bool any = false;
     for (unsigned i = 0; i < r->cfg.nplat; i++) {
         if (!r->plat_new[i] || (r->plat_sent[i] >= 0 && now - r->plat_sent[i] <= r->cfg.plat[i].gap)) continue;
         const char *nm = r->cfg.plat[i].alias[0] ? r->cfg.plat[i].alias : r->cfg.plat[i].var;
-        int w = snprintf(buf + o, sizeof buf - (size_t)o, ",%s=%s", nm, r->plat_val[i]);
+        int w = kelp_snprintf(buf + o, sizeof buf - (size_t)o, ",%s=%s", nm, r->plat_val[i]);
         if (w < 0 || (size_t)w >= sizeof buf - (size_t)o) break;
         o += w;
         r->plat_new[i] = false;
@@ -445,7 +446,7 @@ static void extras_with_cog(kelp_field_nrep *r, const kelp_nrep_nav *nv, char *b
     extras(r, buf, cap);
     if (!r->cfg.report_cog || !nv->have[KELP_NREP_COG]) return;
     size_t o = strlen(buf);
-    int w = snprintf(buf + o, cap - o, "%sCOG=%.2f", o ? "," : "", nv->v[KELP_NREP_COG]);
+    int w = kelp_snprintf(buf + o, cap - o, "%sCOG=%.2f", o ? "," : "", nv->v[KELP_NREP_COG]);
     if (w < 0 || (size_t)w >= cap - o) buf[o] = 0;
 }
 
@@ -468,7 +469,7 @@ static int post(kelp_field_nrep *r, kelp_nodereport *n, const char *extra, bool 
     const char *main_text = r->cfg.json_only && want_json ? json : text;
     if (first) {
         char v[KELP_MAX_NAME + 8];
-        snprintf(v, sizeof v, "%.*s_FIRST", KELP_MAX_NAME - 1, r->cfg.out_var);
+        kelp_snprintf(v, sizeof v, "%.*s_FIRST", KELP_MAX_NAME - 1, r->cfg.out_var);
         out->publish(out->ctx, v, true, main_text, 0);
     }
     out->publish(out->ctx, r->cfg.out_var, true, main_text, 0);
@@ -510,7 +511,7 @@ int kelp_field_nrep_iterate(kelp_field_nrep *r, double now, const kelp_field_sin
     if (r->cfg.alt_prefix[0] && r->nav[1].last >= 0 && now - r->nav[1].last < 5) {
         char name[KELP_NODEREPORT_MAX_FIELD * 2];
         const char *an = r->cfg.alt_name[0] ? r->cfg.alt_name : "_GT";
-        snprintf(name, sizeof name, "%s%s", an[0] == '_' ? r->cfg.name : "", an);
+        kelp_snprintf(name, sizeof name, "%s%s", an[0] == '_' ? r->cfg.name : "", an);
         kelp_nodereport g;
         if (build(r, &r->nav[1], name, r->cfg.alt_group[0] ? r->cfg.alt_group : r->cfg.group, now, out, &g)) {
             g.index = (long)r->posted;

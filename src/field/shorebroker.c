@@ -5,6 +5,7 @@
 #include <kelp/field.h>
 #include <kelp/mission.h>
 #include "field_int.h"
+#include <kelp/util.h>
 
 #define SB_VNODE_PORT 9200        /* try_vnode port when none is given (24.8) */
 #define SB_VNODE_REG_EVERY 30.0   /* s between try_vnode PMB_REGISTERs (24.8) */
@@ -31,8 +32,8 @@ static int qbridge(kelp_field_sbroker_cfg *cfg, const char *val, const char **wh
         }
         memcpy(name, it, il);
         name[il] = 0;
-        snprintf(all, sizeof all, "%s_ALL", name);
-        snprintf(each, sizeof each, "%s_$V", name);
+        kelp_snprintf(all, sizeof all, "%s_ALL", name);
+        kelp_snprintf(each, sizeof each, "%s_$V", name);
         if (broker_add_bridge(cfg->bridge, &cfg->nbridges, all, name, why) < 0 ||
             broker_add_bridge(cfg->bridge, &cfg->nbridges, each, name, why) < 0)
             return KELP_ERR_NOSPACE;
@@ -150,7 +151,7 @@ static int expand(const char *src, const char *community, unsigned index, char *
         if (p[0] == '$' && (p[1] == 'V' || p[1] == 'v')) {
             put = community, upper = p[1] == 'V', p++;
         } else if (p[0] == '$' && p[1] == 'N') {
-            snprintf(num, sizeof num, "%u", index);
+            kelp_snprintf(num, sizeof num, "%u", index);
             put = num, p++;
         } else
             put = one;
@@ -214,7 +215,7 @@ static int ping_mail(kelp_field_sbroker *s, const char *sval, double now, const 
     nd->skew = h.have_time ? now - h.time : 0;
     if (!kelp_broker_host_complete(&h)) {
         if (!nd->rec.community[0]) memcpy(nd->rec.community, h.community, sizeof h.community);
-        snprintf(nd->status, sizeof nd->status, "invalid");
+        kelp_snprintf(nd->status, sizeof nd->status, "invalid");
         s->bad_pings++;
         return KELP_ERR_PARSE;
     }
@@ -222,16 +223,16 @@ static int ping_mail(kelp_field_sbroker *s, const char *sval, double now, const 
     if (!h.have_warp || h.warp != s->cfg.warp) {
         char w[2][24];
         size_t n0 = 0, n1 = 0;
-        if (field_put_fixed(w[0], sizeof w[0], &n0, s->cfg.warp, 6, true) < 0) snprintf(w[0], sizeof w[0], "?");
-        if (!h.have_warp || field_put_fixed(w[1], sizeof w[1], &n1, h.warp, 6, true) < 0) snprintf(w[1], sizeof w[1], "?");
-        snprintf(nd->status, sizeof nd->status, "timewarp (%s!=%s)", w[0], w[1]);
+        if (field_put_fixed(w[0], sizeof w[0], &n0, s->cfg.warp, 6, true) < 0) kelp_snprintf(w[0], sizeof w[0], "?");
+        if (!h.have_warp || field_put_fixed(w[1], sizeof w[1], &n1, h.warp, 6, true) < 0) kelp_snprintf(w[1], sizeof w[1], "?");
+        kelp_snprintf(nd->status, sizeof nd->status, "timewarp (%s!=%s)", w[0], w[1]);
         return 1;
     }
     if (s->cfg.keyword[0] && strcmp(s->cfg.keyword, h.keyword) != 0) {
-        snprintf(nd->status, sizeof nd->status, "keyword");
+        kelp_snprintf(nd->status, sizeof nd->status, "keyword");
         return 1;
     }
-    snprintf(nd->status, sizeof nd->status, "ok");
+    kelp_snprintf(nd->status, sizeof nd->status, "ok");
     if (!nd->index) nd->index = ++s->naccepted;
     bool moved = nd->bridged && (strcmp(nd->bridged_host, h.host) != 0 || nd->bridged_port != h.port_udp);
     if (!nd->bridged || moved) {
@@ -305,7 +306,7 @@ int kelp_field_sbroker_iterate(kelp_field_sbroker *s, double now, const kelp_fie
     }
     if (s->cfg.nvnodes && s->have_shore && (s->vnode_post_at < 0 || now - s->vnode_post_at > SB_VNODE_POST_EVERY)) {
         char v[KELP_BROKER_MSG];
-        snprintf(v, sizeof v, "pshare_route=%s:%u", s->shore.host, s->shore.port_udp);
+        kelp_snprintf(v, sizeof v, "pshare_route=%s:%u", s->shore.host, s->shore.port_udp);
         out->publish(out->ctx, "TRY_SHORE_HOST", true, v, 0);
         s->vnode_post_at = now;
         posts++;
@@ -320,7 +321,7 @@ int kelp_field_sbroker_report(const kelp_field_sbroker *s, double now, char *buf
     char warp[24];
     if (!buf || cap == 0) return KELP_ERR_NOSPACE;
     buf[0] = 0;
-    if (field_put_fixed(warp, sizeof warp, &wn, s->cfg.warp, 6, true) < 0) snprintf(warp, sizeof warp, "?");
+    if (field_put_fixed(warp, sizeof warp, &wn, s->cfg.warp, 6, true) < 0) kelp_snprintf(warp, sizeof warp, "?");
     broker_put(buf, cap, &n, &full,
                "ShoreBroker Status ----- (%lu)\n"
                "MOOS Time Warp:          %s\n"

@@ -166,7 +166,7 @@ void field_putf(char *buf, size_t cap, size_t *n, const char *fmt, ...)
     if (!cap || *n + 1 >= cap) return;
     va_list ap;
     va_start(ap, fmt);
-    int k = vsnprintf(buf + *n, cap - *n, fmt, ap);
+    int k = kelp_vsnprintf(buf + *n, cap - *n, fmt, ap);
     va_end(ap);
     if (k < 0) return;
     *n += (size_t)k;

@@ -16,6 +16,7 @@
 #include <string.h>
 #include <kelp/kv.h>
 #include "helm_int.h"
+#include <kelp/util.h>
 
 static void wpt_reset(kelp_bhv_wpt *s)
 {
@@ -316,11 +317,11 @@ static void odo_mark_leg(kelp_bhv *b, bool first)
         s->eff_linear += linear;
         s->eff_odo += s->odo_leg;
         char buf[160];
-        snprintf(buf, sizeof buf, "linear_dist=%.1f,odo_dist=%.1f,efficiency=%.1f", linear, s->odo_leg,
+        kelp_snprintf(buf, sizeof buf, "linear_dist=%.1f,odo_dist=%.1f,efficiency=%.1f", linear, s->odo_leg,
                  100.0 * linear / s->odo_leg);
         kelp_bhv_post_string(b, "WPT_EFFICIENCY_LEG", buf, "repeatable");
         double eff = s->eff_odo > 0 ? 100.0 * s->eff_linear / s->eff_odo : 0;
-        snprintf(buf, sizeof buf, "linear_dist=%.1f,odo_dist=%.1f,efficiency=%.1f", s->eff_linear, s->eff_odo, eff);
+        kelp_snprintf(buf, sizeof buf, "linear_dist=%.1f,odo_dist=%.1f,efficiency=%.1f", s->eff_linear, s->eff_odo, eff);
         kelp_bhv_post_string(b, "WPT_EFFICIENCY_SUM", buf, NULL);
         kelp_bhv_post_double(b, "WPT_EFFICIENCY_VAL", eff, NULL);
     }

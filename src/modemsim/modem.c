@@ -1177,16 +1177,16 @@ int kelp_msim_event_format(const kelp_msim *m, const kelp_msim_event *e, char *b
     switch (e->kind) {
     case KELP_MSIM_EV_TX:
         if (!p) return 0;
-        n = snprintf(buf, cap, "modem=%d,event=tx,kind=%s,src=%d,dest=%d,frames=%d,rate=%d", kelp_msim_src(m),
+        n = kelp_snprintf(buf, cap, "modem=%d,event=tx,kind=%s,src=%d,dest=%d,frames=%d,rate=%d", kelp_msim_src(m),
                      pkt_kind_name(p->kind), p->src, p->dest, p->kind == KELP_MSIM_PKT_DATA ? p->nframes : 0, p->rate);
         break;
     case KELP_MSIM_EV_RX:
         if (!p) return 0;
-        n = snprintf(buf, cap, "modem=%d,event=rx,kind=%s,src=%d,dest=%d,frame=%u,range=%.1f,travel=%.4f",
+        n = kelp_snprintf(buf, cap, "modem=%d,event=rx,kind=%s,src=%d,dest=%d,frame=%u,range=%.1f,travel=%.4f",
                      kelp_msim_src(m), pkt_kind_name(p->kind), p->src, p->dest, e->frame, e->range_m, e->travel_s);
         break;
     case KELP_MSIM_EV_LOST:
-        n = snprintf(buf, cap, "modem=%d,event=lost,kind=%s,src=%d,dest=%d,frame=%u,reason=%s", kelp_msim_src(m),
+        n = kelp_snprintf(buf, cap, "modem=%d,event=lost,kind=%s,src=%d,dest=%d,frame=%u,reason=%s", kelp_msim_src(m),
                      p ? pkt_kind_name(p->kind) : "?", p ? p->src : 0, p ? p->dest : 0, e->frame,
                      pkt_loss_name(e->loss));
         break;

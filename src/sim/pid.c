@@ -5,6 +5,7 @@
 #include <kelp/mission.h>
 #include <kelp/pid.h>
 #include <kelp/sim.h>
+#include <kelp/util.h>
 
 #define RAD2DEG (180.0 / 3.14159265358979323846)
 #define BIAS_PERIOD 10.0 /* seconds each way of the sim_instability rudder bias */
@@ -144,7 +145,7 @@ int kelp_marine_pid_mail(kelp_marine_pid *m, const char *var, bool is_string, co
 static void out_num(const kelp_marine_pid *m, kelp_marine_pid_sink sink, void *ctx, const char *base, double v)
 {
     char var[KELP_MAX_NAME];
-    snprintf(var, sizeof var, "%s%s", base, m->cfg.suffix);
+    kelp_snprintf(var, sizeof var, "%s%s", base, m->cfg.suffix);
     sink(ctx, var, false, NULL, v);
 }
 

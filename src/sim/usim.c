@@ -5,6 +5,7 @@
 #include <kelp/mission.h>
 #include <kelp/pid.h>
 #include <kelp/sim.h>
+#include <kelp/util.h>
 
 #define PI 3.14159265358979323846
 
@@ -164,23 +165,23 @@ int kelp_usim_iterate(kelp_usim *u, double now, kelp_usim_sink sink, void *ctx)
                      u->sim.pitch, u->sim.sog, u->sim.hog };
     char name[48];
     for (int i = 0; i < 10; i++) {
-        snprintf(name, sizeof name, "%s%s", u->prefix, suffix[i]);
+        kelp_snprintf(name, sizeof name, "%s%s", u->prefix, suffix[i]);
         sink(ctx, name, false, NULL, v[i]);
     }
     sink(ctx, "TRUE_X", false, NULL, s->x);
     sink(ctx, "TRUE_Y", false, NULL, s->y);
     double lat = 0, lon = 0;
     if (u->have_geo && kelp_geo_to_latlon(&u->geo, s->x, s->y, &lat, &lon) == 0) {
-        snprintf(name, sizeof name, "%s_LAT", u->prefix);
+        kelp_snprintf(name, sizeof name, "%s_LAT", u->prefix);
         sink(ctx, name, false, NULL, lat);
-        snprintf(name, sizeof name, "%s_LONG", u->prefix);
+        kelp_snprintf(name, sizeof name, "%s_LONG", u->prefix);
         sink(ctx, name, false, NULL, lon);
     } else if (u->have_geo && rc == KELP_OK) {
         rc = KELP_ERR_RANGE; /* too far from the datum */
     }
     if (u->navpos_summary) {
         char buf[160];
-        snprintf(buf, sizeof buf, "x=%.3f,y=%.3f,lat=%.7f,lon=%.7f", s->x, s->y, lat, lon);
+        kelp_snprintf(buf, sizeof buf, "x=%.3f,y=%.3f,lat=%.7f,lon=%.7f", s->x, s->y, lat, lon);
         sink(ctx, "USM_NAVPOS_SUMMARY", true, buf, 0);
     }
     return rc;

@@ -30,7 +30,8 @@ cleanup() {
 trap cleanup EXIT
 fail() {
   echo "FAIL: $*"
-  for f in $T/*/logs/*.log; do echo "--- $f"; tail -25 "$f"; done 2>/dev/null
+  for f in $T/*/logs*/*.log; do echo "--- $f"; tail -25 "$f"; done 2>/dev/null
+  echo "FAIL: $*"   # again, last: the runner shows the end of the output
   exit 1
 }
 wait_for() { # FILE PATTERN SECONDS
@@ -236,7 +237,7 @@ run_once() {
   [ "$(val $T/deb/ev.txt NODE_REPORT | wc -l)" -eq 0 ] || fail "run $run: deb (400 m away) heard reports"
   # the shore got every vehicle's report
   for v in ben cal deb; do
-    val $T/sh/ev.txt NODE_REPORT | grep -q "NAME=$v" || fail "run $run: no report of $v on the shore"
+    grep -q "NAME=$v" <<<"$(val $T/sh/ev.txt NODE_REPORT)" || fail "run $run: no report of $v on the shore"
   done
   # messages: delivered to the addressee only
   [ "$(val $T/cal/ev.txt HELLO)" = "from_ben_$run" ] || fail "run $run: cal HELLO = '$(val $T/cal/ev.txt HELLO)'"
@@ -248,7 +249,7 @@ run_once() {
   grep -qE 'Range.*: *[1-9]|range.*[1-9]' $T/sh/logs/uFldNodeComms.log || true
   # after the restart: exactly once, and the relays came back
   [ "$(val $T/cal/ev.txt HELLO2)" = "after_restart_$run" ] || fail "run $run: after the restart cal HELLO2 = '$(val $T/cal/ev.txt HELLO2 | tr '\n' ' ')'"
-  val $T/sh/ev2.txt NODE_REPORT | grep -q 'NAME=deb' || fail "run $run: no report of deb after the restart"
+  grep -q "NAME=deb" <<<"$(val $T/sh/ev2.txt NODE_REPORT)" || fail "run $run: no report of deb after the restart"
   local relays
   relays=$(val $T/sh/ev2.txt NODE_REPORT_BEN | wc -l)
   [ "$relays" -gt 0 ] || fail "run $run: no relays to ben after the restart"
