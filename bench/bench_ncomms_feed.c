@@ -22,6 +22,7 @@ typedef struct feed {
     double t0;         /* time of round 0 */
     int rounds;
     unsigned long relayed, other;
+    unsigned long per_round[4096];
 } feed;
 
 static double wall(void)
@@ -41,6 +42,7 @@ static void on_var(const kelp_var *v, void *user)
     double tv = 0;
     if (kelp_parse_double(t + 5, e ? (size_t)(e - t - 5) : strlen(t + 5), &tv) != 0) { f->other++; return; }
     int round = (int)lround((tv - f->t0) / 0.25);
+    if (round >= 0 && round < 4096) f->per_round[round]++;
     if (round >= 1 && round < f->rounds - 1) f->relayed++;
     else f->other++;
 }
@@ -89,6 +91,8 @@ int main(int argc, char **argv)
     }
     for (double until = wall() + 1.5; wall() < until;) (void)kelp_lcmbus_handle(lb, 20, wall());
     unsigned long owed = pairs * (unsigned long)(f.rounds > 2 ? f.rounds - 2 : 0);
+    if (getenv("FEED_ROUNDS"))
+        for (int k = 0; k < f.rounds && k < 4096; k++) fprintf(stderr, "round %d: %lu of %lu\n", k, f.per_round[k], pairs);
     printf("feed N %ld rounds %d relayed %lu owed %lu sent %lu\n", n, f.rounds, f.relayed, owed, sent);
     kelp_lcmbus_close(lb);
     return 0;

@@ -22,8 +22,8 @@ cat > "$W/nc.moos" <<M
 Community = shoreside
 ProcessConfig = uFldNodeComms
 {
-  AppTick              = 4
-  CommsTick            = 4
+  AppTick              = 10   // relays are made per iteration for each vehicle's newest report
+  CommsTick            = 10   // (as MOOS-IvP's): iterate faster than the 4 Hz reports
   COMMS_RANGE          = 100
   CRITICAL_RANGE       = 30
   STALE_TIME           = 5

@@ -97,6 +97,7 @@ static void report(kelp_app *app, void *st, FILE *out)
 static const kelp_app_def def = {
     .name = "uFldNodeComms",
     .purpose = "Relay node reports and node messages between vehicles by range, stealth, earange, groups and rate.",
+    .ignore_own_posts = true, /* it reads NODE_REPORT/NODE_MESSAGE and posts NODE_REPORT_<V>, VIEW_COMMS_PULSE... */
     .params = (const kelp_app_param_info[]){
         { "COMMS_RANGE", "100", "m (default 100) within which reports and messages pass; nolimit or < 0: no limit", NULL },
         { "CRITICAL_RANGE", "30", "m (default 30) within which reports always pass (not messages)", NULL },

@@ -60,6 +60,8 @@ typedef struct kelp_app_def {
     const kelp_app_var_info *publishes;   /**< every publication, NULL-name terminated */
     const char *notes;       /**< extra --example lines (globals used, repeats), or NULL */
     bool textformat;         /**< a Goby TextFormat block: --example prints "name: value" */
+    bool ignore_own_posts;   /**< the app never registers for what it posts: its own datagrams are
+                                  dropped in the kernel (a relay app then does not read back its posts) */
     /** OnStartUp: read parameters (kelp_app_param*), register. Return <0 to stop the app
      *  (after kelp_app_config_error). */
     int (*startup)(kelp_app *app, void *state);

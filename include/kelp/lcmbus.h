@@ -40,6 +40,9 @@ kelp_lcmbus *kelp_lcmbus_open(const char *url, const char *app, const char *comm
 void kelp_lcmbus_close(kelp_lcmbus *lb);
 kelp_bus *kelp_lcmbus_bus(kelp_lcmbus *lb);
 int kelp_lcmbus_fd(kelp_lcmbus *lb);
+/** Do not receive this client's own publications (see kelp_udpm_sock_ignore_own): for a
+ *  program that never registers for what it posts. */
+void kelp_lcmbus_ignore_own(kelp_lcmbus *lb, bool on);
 /** Handle every datagram already received (non-blocking), then wait up to timeout_ms for
  *  more. `now` is the MOOS time handed to the bus. @return datagrams handled, or <0. */
 int kelp_lcmbus_handle(kelp_lcmbus *lb, int timeout_ms, double now);

@@ -18,7 +18,7 @@ ProcessConfig = uFldNodeComms
 M
 bg "$BIN/kelp-record" --lcm-url="$KELP_LCM_URL" -f n.lcmlog
 sleep 0.5
-bg "$BIN/uFldNodeComms" n.moos
+bg "$BIN/uFldNodeComms" n.moos > app.out 2>&1
 sleep 1
 "$BIN/kelp-poke" n.moos "NODE_REPORT=NAME=alpha,TYPE=UUV,X=0,Y=0,SPD=1,HDG=90,DEP=0" \
   "NODE_REPORT=NAME=bravo,TYPE=UUV,X=50,Y=0,SPD=1,HDG=90,DEP=0" \
@@ -39,6 +39,15 @@ ok "reports relayed within range only"
 grep ' VIEW_COMMS_PULSE ' n.txt | grep -q 'label=ALPHA2BRAVO_MSG,edge_color=white' || fail "no white message pulse"
 grep ' VIEW_COMMS_PULSE ' n.txt | grep -q 'beam_width=7,duration=10,fill=0.35,label=ALPHA2BRAVO,' || fail "no report pulse"
 ok "message delivered with a white pulse"
+# the app never reads back its own posts (ignore_own_posts: a kernel filter on its socket):
+# it reads fewer datagrams than the others and it wrote together (reading its own posts back
+# would make it at least their sum)
+own=$(awk '$2=="uFldNodeComms"' n.txt | grep -c . || true)
+others=$(awk '$2!="uFldNodeComms"' n.txt | grep -c . || true)
+read_dg=$(sed -n 's/^Transport: \([0-9]*\) datagrams.*/\1/p' app.out | tail -1)
+[ -n "$read_dg" ] && [ "$own" -ge 6 ] && [ "$read_dg" -lt $((own + others)) ] ||
+  fail "uFldNodeComms read $read_dg datagrams; the others wrote $others, it wrote $own"
+ok "its own $own posts were not read back ($read_dg datagrams read, $others from the others)"
 # VERBOSE = false: no summary in the status report (ufield.md 5.6.19); true: the summary
 sed 's/^{$/{\n  VERBOSE = false/' n.moos > q.moos
 rc=0; timeout -s INT 1.5 "$BIN/uFldNodeComms" q.moos > q.out 2>&1 || rc=$?

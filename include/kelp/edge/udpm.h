@@ -17,6 +17,7 @@
 #ifndef KELP_EDGE_UDPM_H
 #define KELP_EDGE_UDPM_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <kelp/udpm.h>
@@ -44,6 +45,10 @@ kelp_udpm_sock *kelp_udpm_sock_open(const char *url, char *err, size_t errcap);
  *  otherwise receive and queue its own multicast echo). next() always returns 0. */
 kelp_udpm_sock *kelp_udpm_sock_open_tx(const char *url, char *err, size_t errcap);
 void kelp_udpm_sock_close(kelp_udpm_sock *s);
+/** Do not receive what this socket itself sends (on: a kernel socket filter drops datagrams
+ *  from our own address and send port, found from the first one that comes back). For
+ *  programs that never read their own posts: they then neither wake nor copy for them. */
+void kelp_udpm_sock_ignore_own(kelp_udpm_sock *s, bool on);
 /** Readable while complete messages wait. */
 int kelp_udpm_sock_fd(const kelp_udpm_sock *s);
 /** Take the next message. Its channel and data stay valid until the next call.

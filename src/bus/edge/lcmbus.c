@@ -152,6 +152,11 @@ kelp_bus *kelp_lcmbus_bus(kelp_lcmbus *lb)
     return &lb->bus;
 }
 
+void kelp_lcmbus_ignore_own(kelp_lcmbus *lb, bool on)
+{
+    kelp_udpm_sock_ignore_own(lb->sock, on);
+}
+
 int kelp_lcmbus_fd(kelp_lcmbus *lb)
 {
     return kelp_udpm_sock_fd(lb->sock);

@@ -6,6 +6,7 @@
  */
 #include <errno.h>
 #include <poll.h>
+#include <linux/filter.h>
 #include <pthread.h>
 #include <signal.h>
 #include <stdio.h>
@@ -44,6 +45,12 @@ struct kelp_udpm_sock {
     pthread_mutex_t slock;
     uint32_t seqno;
     uint64_t sent, send_errors;
+    /* ignore our own datagrams (kelp_udpm_sock_ignore_own): set by the owner, read by the
+     * receive thread, which attaches the kernel filter on the first own datagram it sees */
+    volatile int ignore_own;
+    int own_filtered;
+    uint32_t own_ip;   /* network order, with own_port: our send socket as seen by receivers */
+    uint16_t own_port;
 };
 
 static double mono_now(void)
@@ -92,6 +99,42 @@ static void enqueue(kelp_udpm_sock *s, const kelp_udpm_msg *m)
     s->st.queued++;
 }
 
+/* a datagram sent by our own send socket (its address and port) */
+static bool own_datagram(const kelp_udpm_sock *s, const struct sockaddr_in *from)
+{
+    struct sockaddr_in me = { 0 };
+    socklen_t ml = sizeof me;
+    return getsockname(s->sfd, (struct sockaddr *)&me, &ml) == 0 && me.sin_port == from->sin_port;
+}
+
+/* A socket filter that drops, in the kernel, the datagrams from our own address and send
+ * port: an app that never reads its own posts then neither wakes nor copies for them. */
+static void attach_own_filter(kelp_udpm_sock *s, const struct sockaddr_in *from)
+{
+    uint32_t ip = ntohl(from->sin_addr.s_addr), port = ntohs(from->sin_port);
+    struct sock_filter code[] = {
+        BPF_STMT(BPF_LD | BPF_W | BPF_ABS, (uint32_t)SKF_NET_OFF + 12), /* IPv4 source address */
+        BPF_JUMP(BPF_JMP | BPF_JEQ | BPF_K, ip, 0, 3),
+        BPF_STMT(BPF_LD | BPF_H | BPF_ABS, 0),                          /* UDP source port */
+        BPF_JUMP(BPF_JMP | BPF_JEQ | BPF_K, port, 0, 1),
+        BPF_STMT(BPF_RET | BPF_K, 0),                                   /* ours: drop */
+        BPF_STMT(BPF_RET | BPF_K, 0xFFFFFFFFu),                         /* anyone else's */
+    };
+    struct sock_fprog prog = { (unsigned short)(sizeof code / sizeof code[0]), code };
+    s->own_filtered = setsockopt(s->rfd, SOL_SOCKET, SO_ATTACH_FILTER, &prog, sizeof prog) == 0 ? 1 : -1;
+}
+
+void kelp_udpm_sock_ignore_own(kelp_udpm_sock *s, bool on)
+{
+    if (!s) return;
+    s->ignore_own = on;
+    if (!on && s->own_filtered == 1) {
+        int dummy = 0;
+        (void)setsockopt(s->rfd, SOL_SOCKET, SO_DETACH_FILTER, &dummy, sizeof dummy);
+        s->own_filtered = 0;
+    }
+}
+
 static void *recv_main(void *arg)
 {
     kelp_udpm_sock *s = arg;
@@ -117,6 +160,14 @@ static void *recv_main(void *arg)
             ssize_t n = recvfrom(s->rfd, s->dg, KELP_UDPM_MAX_DATAGRAM + 1, MSG_DONTWAIT, (struct sockaddr *)&from, &fl);
             if (n < 0) break;
             uint64_t sender = (uint64_t)ntohl(from.sin_addr.s_addr) << 16 | ntohs(from.sin_port);
+            if (s->ignore_own) {
+                if (!s->own_port && own_datagram(s, &from)) {
+                    s->own_ip = from.sin_addr.s_addr, s->own_port = from.sin_port;
+                    attach_own_filter(s, &from);
+                }
+                /* (datagrams queued before the filter came are dropped here) */
+                if (s->own_port && from.sin_port == s->own_port && from.sin_addr.s_addr == s->own_ip) continue;
+            }
             kelp_udpm_msg m;
             /* a datagram over the UDP maximum cannot come from LCM; feed() counts it */
             if (kelp_udpm_feed(&s->rx, s->dg, (size_t)n, sender, now, &m) == 1) {
