@@ -36,9 +36,9 @@ int kelp_fmt_fixed(char *buf, size_t cap, double v, unsigned dec, bool strip);
  *  width and precision (also *), lengths hh h l ll z j t, conversions d i u x X o c s p % f F e
  *  E g G. Same return as snprintf. */
 int kelp_snprintf(char *buf, size_t cap, const char *fmt, ...) KELP_PRINTF(3, 4);
-int kelp_vsnprintf(char *buf, size_t cap, const char *fmt, va_list ap);
+int kelp_vsnprintf(char *buf, size_t cap, const char *fmt, va_list ap) KELP_PRINTF(3, 0);
 /** kelp's own formatter, on every target (kelp_vsnprintf on newlib; tested on the host). */
-int kelp_vsnprintf_own(char *buf, size_t cap, const char *fmt, va_list ap);
+int kelp_vsnprintf_own(char *buf, size_t cap, const char *fmt, va_list ap) KELP_PRINTF(3, 0);
 
 /* ---- text ---- */
 
