@@ -213,11 +213,7 @@ static void shutdown_app(kelp_app *app, void *st)
 {
     helm_app *a = st;
     (void)app;
-    free(a->mem.pool);
-    free(a->mem.tmp);
-    free(a->mem.dwork);
-    free(a->mem.pq);
-    free(a->mem.solve_work);
+    free(a->mem.pool), free(a->mem.tmp), free(a->mem.dwork), free(a->mem.pq), free(a->mem.solve_work);
     free(a->h);
     a->h = NULL;
 }

@@ -22,6 +22,8 @@ KELP_MUST_CHECK int kelp_parse_double(const char *s, size_t len, double *out);
 /** The same, refusing inf, nan and overflow (KELP_ERR_PARSE). */
 KELP_MUST_CHECK int kelp_parse_finite(const char *s, size_t len, double *out);
 KELP_MUST_CHECK int kelp_parse_long(const char *s, size_t len, long *out);
+/** true/yes/1 or false/no/0, any case, surrounding white space allowed. */
+KELP_MUST_CHECK int kelp_parse_bool(const char *s, size_t len, bool *out);
 /** The same for long long (64-bit on every target, so uint32 values fit on 32-bit ARM). */
 KELP_MUST_CHECK int kelp_parse_llong(const char *s, size_t len, long long *out);
 

@@ -27,9 +27,7 @@ bool broker_bool(const char *v, bool *out)
     const char *rest = v + n;
     while (*rest == ' ' || *rest == '\t') rest++;
     if (*rest && !kelp_strieq_n(rest, strlen(rest), "(default)")) return false;
-    if (kelp_strieq_n(v, n, "true") || kelp_strieq_n(v, n, "yes")) *out = true;
-    else if (kelp_strieq_n(v, n, "false") || kelp_strieq_n(v, n, "no")) *out = false;
-    else return false;
+    if (kelp_parse_bool(v, n, out) != KELP_OK) return false;
     return true;
 }
 

@@ -139,10 +139,7 @@ void kelp_field_umh_cfg_default(kelp_field_umh_cfg *c, const char *community)
 
 static int parse_bool(const char *val, bool *out, const char **why)
 {
-    size_t n = strlen(val);
-    if (kelp_strieq_n(val, n, "true")) *out = true;
-    else if (kelp_strieq_n(val, n, "false")) *out = false;
-    else {
+    if (kelp_parse_bool(val, strlen(val), out) != KELP_OK) {
         *why = "expected true or false";
         return KELP_ERR_PARSE;
     }

@@ -43,15 +43,6 @@ static int upcopy(char *dst, size_t cap, const char *src, size_t n)
     return KELP_OK;
 }
 
-static bool ieq(const char *s, const char *z) { return kelp_strieq_n(s, strlen(s), z); }
-
-static int parse_bool(const char *v, size_t n, bool *out)
-{
-    if (kelp_strieq_n(v, n, "true")) *out = true;
-    else if (kelp_strieq_n(v, n, "false")) *out = false;
-    else return KELP_ERR_PARSE;
-    return KELP_OK;
-}
 
 static int parse_num(const char *v, double *out)
 {
@@ -143,9 +134,9 @@ static int parse_factor(const char *val, bool stealth, char *vname, size_t cap, 
 /* SHARED_NODE_REPORTS / UNC_SHARED_NODE_REPORTS: true, false or seconds */
 static int parse_share(const char *v, double *out)
 {
-    bool b;
     double d;
-    if (parse_bool(v, strlen(v), &b) == 0) *out = b ? NC_SHARE_TRUE : -1;
+    if (kelp_strieq(v, "true")) *out = NC_SHARE_TRUE; /* a number is seconds, not a bool ("1" = 1 s) */
+    else if (kelp_strieq(v, "false")) *out = -1;
     else if (parse_num(v, &d) == 0 && d >= 0) *out = d;
     else return KELP_ERR_PARSE;
     return KELP_OK;
@@ -214,7 +205,7 @@ int kelp_field_ncomms_config(kelp_field_ncomms_cfg *cfg, const char *key, const 
     };
     for (size_t i = 0; i < sizeof bools / sizeof bools[0]; i++)
         if (kelp_strieq_n(key, kl, bools[i].k)) {
-            if (parse_bool(v, n, &b) < 0) {
+            if (kelp_parse_bool(v, n, &b) < 0) {
                 *why = "must be true or false";
                 return KELP_ERR_PARSE;
             }
@@ -551,7 +542,7 @@ static void publish_to(const kelp_field_sink *out, const char *prefix, const cha
 static void pulse(kelp_field_ncomms *c, int s, int d, const char *color, double fill, bool msg, double now,
                   const kelp_field_sink *out)
 {
-    if (!(c->cfg.pulse_duration > 0) || ieq(color, "off") || ieq(color, "invisible")) return;
+    if (!(c->cfg.pulse_duration > 0) || kelp_strieq(color, "off") || kelp_strieq(color, "invisible")) return;
     char b[384];
     size_t n = 0;
     int rc = 0;
@@ -926,7 +917,7 @@ int kelp_field_ncomms_mail(kelp_field_ncomms *c, const char *var, bool is_string
     if (!strcmp(var, "UNC_STEALTH")) return mail_factor(c, var, sval, true, out);
     if (!strcmp(var, "UNC_EARANGE")) return mail_factor(c, var, sval, false, out);
     if (!strcmp(var, "UNC_VIEW_NODE_RPT_PULSES")) {
-        if (parse_bool(sval, strlen(sval), &c->view_rpt_pulses) < 0) {
+        if (kelp_parse_bool(sval, strlen(sval), &c->view_rpt_pulses) < 0) {
             warn3(out, var, ": must be true or false", "");
             return KELP_ERR_PARSE;
         }

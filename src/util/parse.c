@@ -108,6 +108,16 @@ int kelp_parse_finite(const char *s, size_t len, double *out)
     return KELP_OK;
 }
 
+int kelp_parse_bool(const char *s, size_t len, bool *out)
+{
+    while (len && is_space(*s)) s++, len--;
+    while (len && is_space(s[len - 1])) len--;
+    if (kelp_strieq_n(s, len, "true") || kelp_strieq_n(s, len, "yes") || kelp_strieq_n(s, len, "1")) *out = true;
+    else if (kelp_strieq_n(s, len, "false") || kelp_strieq_n(s, len, "no") || kelp_strieq_n(s, len, "0")) *out = false;
+    else return KELP_ERR_PARSE;
+    return KELP_OK;
+}
+
 bool kelp_strieq(const char *a, const char *b)
 {
     for (; *a && *b; a++, b++)
