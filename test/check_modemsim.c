@@ -170,18 +170,18 @@ END_TEST
 
 START_TEST(rng_is_splitmix64_and_seeded)
 {
-    kelp_msim_rng r, q;
-    kelp_msim_rng_seed(&r, 0);
+    kelp_rng r, q;
+    kelp_rng_seed(&r, 0);
     /* splitmix64's first output for state 0 */
-    ck_assert_uint_eq(kelp_msim_rng_next(&r), UINT64_C(0xE220A8397B1DCDAF));
-    ck_assert_uint_eq(kelp_msim_rng_next(&r), UINT64_C(0x6E789E6AA1B965F4));
-    kelp_msim_rng_seed(&r, 42);
-    kelp_msim_rng_seed(&q, 42);
+    ck_assert_uint_eq(kelp_rng_next(&r), UINT64_C(0xE220A8397B1DCDAF));
+    ck_assert_uint_eq(kelp_rng_next(&r), UINT64_C(0x6E789E6AA1B965F4));
+    kelp_rng_seed(&r, 42);
+    kelp_rng_seed(&q, 42);
     double sum = 0;
     for (int i = 0; i < 20000; i++) {
-        double u = kelp_msim_rng_uniform(&r);
+        double u = kelp_rng_uniform(&r);
         ck_assert(u >= 0 && u < 1);
-        ck_assert(u == kelp_msim_rng_uniform(&q));
+        ck_assert(u == kelp_rng_uniform(&q));
         sum += u;
     }
     ck_assert_double_eq_tol(sum / 20000, 0.5, 0.01);

@@ -15,6 +15,7 @@
 #include <kelp/err.h>
 #include <kelp/geo.h>
 #include <kelp/nodereport.h>
+#include <kelp/rng.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -123,7 +124,7 @@ typedef struct kelp_field_nrep {
     bool plat_new[KELP_NREP_MAX_PLAT];
     char rider_val[KELP_NREP_MAX_RIDERS][KELP_NODEREPORT_MAX_FIELD];
     bool rider_have[KELP_NREP_MAX_RIDERS], rider_new[KELP_NREP_MAX_RIDERS];
-    uint64_t rng;
+    kelp_rng rng;
     unsigned long posted, alt_posted, nav_mail, bad_mail, extrap_skipped;
     char last[KELP_NODEREPORT_MAX_LEN];    /**< the last report posted */
 } kelp_field_nrep;
@@ -351,7 +352,7 @@ typedef struct kelp_field_ncomms {
     char recent_id[KELP_NCOMMS_RECENT_IDS][KELP_NODEREPORT_MAX_FIELD];
     unsigned nrecent, recent_head;
     unsigned long mark;
-    uint64_t rng;
+    kelp_rng rng;
     double now;                             /**< time of the last iteration */
     /* counters */
     unsigned long rpts_rcvd, rpts_sent, rpts_bad, rpts_dropped, rpts_held, rpts_full;

@@ -46,6 +46,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <kelp/rng.h>
 
 #include <kelp/config.h>
 #include <kelp/err.h>
@@ -78,15 +79,6 @@ double kelp_msim_travel_time(double x1, double y1, double z1, double x2, double 
  *  ci + packet + mini + 2 turnaround + 3 r_max/c. */
 double kelp_msim_min_slot_seconds(unsigned rate, double max_range, double ci_seconds, double mini_seconds,
                                   double turnaround_seconds, double sound_speed);
-
-/** The caller-seeded random generator (splitmix64): deterministic for a seed. */
-typedef struct kelp_msim_rng {
-    uint64_t s;
-} kelp_msim_rng;
-void kelp_msim_rng_seed(kelp_msim_rng *r, uint64_t seed);
-uint64_t kelp_msim_rng_next(kelp_msim_rng *r);
-/** Uniform in [0, 1). */
-double kelp_msim_rng_uniform(kelp_msim_rng *r);
 
 /* ------------------------------------------------------------------ packets on the channel */
 
@@ -242,7 +234,7 @@ typedef struct kelp_msim {
     double x, y, depth;
     int64_t clock_offset_us;    /**< modem clock = now + offset */
     int64_t last_host_us, last_rev_us;
-    kelp_msim_rng rng;
+    kelp_rng rng;
     uint32_t seq;
     kelp_nmea_reader rd;
     kelp_nmea_sentence s;

@@ -52,17 +52,6 @@ static int parse_num(const char *v, double *out)
     return KELP_OK;
 }
 
-/* xorshift64*: the caller seeds it through cfg.seed */
-static double rng_unit(uint64_t *s)
-{
-    uint64_t x = *s;
-    x ^= x >> 12;
-    x ^= x << 25;
-    x ^= x >> 27;
-    *s = x;
-    return (double)((x * 0x2545F4914F6CDD1Dull) >> 11) * (1.0 / 9007199254740992.0);
-}
-
 /* a run warning made of three pieces (no format strings from data) */
 static void warn3(const kelp_field_sink *out, const char *a, const char *b, const char *c)
 {
@@ -368,7 +357,7 @@ int kelp_field_ncomms_init(kelp_field_ncomms *c, const kelp_field_ncomms_cfg *cf
     c->drop_pct = cfg->drop_pct;
     c->view_rpt_pulses = cfg->view_node_rpt_pulses;
     c->share_interval = cfg->share_interval;
-    c->rng = cfg->seed ? cfg->seed : 0x9E3779B97F4A7C15ull;
+    kelp_rng_seed(&c->rng, cfg->seed); /* the caller seeds it through cfg.seed */
     c->max_earange = 1;
     grid_rebuild(c);
     for (unsigned i = 0; i < cfg->nfactor; i++) {
@@ -578,7 +567,7 @@ static void pulse(kelp_field_ncomms *c, int s, int d, const char *color, double 
 
 static bool drop(kelp_field_ncomms *c)
 {
-    return c->drop_pct > 0 && rng_unit(&c->rng) * 100.0 < c->drop_pct;
+    return c->drop_pct > 0 && kelp_rng_uniform(&c->rng) * 100.0 < c->drop_pct;
 }
 
 static uint32_t pair_key(int s, int d) { return ((uint32_t)(s + 1) << 16) | (uint32_t)(d + 1); }

@@ -189,7 +189,7 @@ int kelp_field_nrep_init(kelp_field_nrep *r, const kelp_field_nrep_cfg *cfg, dou
     r->last_post = -1;
     r->blackout = cfg->blackout_interval;
     for (unsigned i = 0; i < KELP_NREP_MAX_PLAT; i++) r->plat_sent[i] = -1;
-    r->rng = cfg->seed ^ 0x6a09e667f3bcc909ull;
+    kelp_rng_seed(&r->rng, cfg->seed ^ 0x6a09e667f3bcc909ull);
     return KELP_OK;
 }
 
@@ -296,14 +296,6 @@ int kelp_field_nrep_mail(kelp_field_nrep *r, const char *var, bool is_string, co
         return used;
     }
     return 1;
-}
-
-static double splitmix(uint64_t *s)
-{
-    uint64_t z = (*s += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return (double)((z ^ (z >> 31)) >> 11) / 9007199254740992.0;
 }
 
 static double wrap180(double a)
@@ -505,7 +497,7 @@ int kelp_field_nrep_iterate(kelp_field_nrep *r, double now, const kelp_field_sin
     r->last_post = now;
     r->blackout = r->cfg.blackout_interval;
     if (r->cfg.blackout_variance > 0)
-        r->blackout += r->cfg.blackout_variance * (2.0 * splitmix(&r->rng) - 1.0);
+        r->blackout += r->cfg.blackout_variance * kelp_rng_range(&r->rng, -1.0, 1.0);
     if (r->blackout < 0) r->blackout = 0;
     /* the alternate solution (e.g. ground truth), while it is being updated */
     if (r->cfg.alt_prefix[0] && r->nav[1].last >= 0 && now - r->nav[1].last < 5) {

@@ -30,26 +30,6 @@ double kelp_msim_min_slot_seconds(unsigned rate, double max_range, double ci_sec
            2.0 * turnaround_seconds + 3.0 * tt;
 }
 
-/* ------------------------------------------------------------------ splitmix64 */
-
-void kelp_msim_rng_seed(kelp_msim_rng *r, uint64_t seed)
-{
-    r->s = seed;
-}
-
-uint64_t kelp_msim_rng_next(kelp_msim_rng *r)
-{
-    uint64_t z = (r->s += UINT64_C(0x9E3779B97F4A7C15));
-    z = (z ^ (z >> 30)) * UINT64_C(0xBF58476D1CE4E5B9);
-    z = (z ^ (z >> 27)) * UINT64_C(0x94D049BB133111EB);
-    return z ^ (z >> 31);
-}
-
-double kelp_msim_rng_uniform(kelp_msim_rng *r)
-{
-    return (double)(kelp_msim_rng_next(r) >> 11) * (1.0 / 9007199254740992.0);
-}
-
 /* ------------------------------------------------------------------ packet codec
  *
  * "KMS1" | kind u8 | src dest cmd adr1 adr2 rate ack nframes u8 | instance seq ack_mask u32 |

@@ -284,7 +284,7 @@ int kelp_msim_init(kelp_msim *m, const kelp_msim_cfg *cfg, const kelp_msim_ops *
     m->clock_offset_us = cfg->clock_set_at_boot ? 0 : EPOCH_2000_US - now_us;
     m->last_host_us = INT64_MIN;
     m->last_rev_us = now_us;
-    kelp_msim_rng_seed(&m->rng, cfg->seed);
+    kelp_rng_seed(&m->rng, cfg->seed);
     kelp_nmea_reader_init(&m->rd, '\r');
     nv_reset(m);
     m->busy_until_us = INT64_MIN;
@@ -880,7 +880,7 @@ static void count_loss(kelp_msim *m, kelp_msim_loss l)
 static bool dropped(kelp_msim *m)
 {
     if (!(m->cfg.loss_probability > 0)) return false;
-    return kelp_msim_rng_uniform(&m->rng) < m->cfg.loss_probability;
+    return kelp_rng_uniform(&m->rng) < m->cfg.loss_probability;
 }
 
 /* the physical outcome of an arrival, before the random loss */

@@ -14,17 +14,24 @@ int kelp_fmt_fixed(char *buf, size_t cap, double v, unsigned dec, bool strip)
         const char *w = isnan(v) ? "nan" : v > 0 ? "inf" : "-inf";
         while (*w) t[n++] = *w++;
     } else {
-        double a = floor(fabs(v) * pow10[dec] + 0.5);
-        if (a >= 9.0e18) return KELP_ERR_RANGE;
-        uint64_t u = (uint64_t)a;
+        /* whole and fraction apart: |v| * 10^dec overflows the 53-bit mantissa long
+         * before |v| does, and the digits printed must read back as the same double */
+        double w = floor(fabs(v));
+        if (w >= 9.0e18) return KELP_ERR_RANGE;
+        uint64_t ipart = (uint64_t)w;
+        uint64_t scale = (uint64_t)pow10[dec];
+        uint64_t f = (uint64_t)floor((fabs(v) - w) * pow10[dec] + 0.5);
+        if (f >= scale) { f -= scale; ipart++; }
+        bool any = ipart != 0 || f != 0;
+        uint64_t u = f;
         char r[48]; /* digits, least significant first */
         size_t k = 0;
         for (unsigned i = 0; i < dec; i++, u /= 10) r[k++] = (char)('0' + u % 10);
+        u = ipart;
         size_t skip = 0;
         if (strip) {
             while (skip < dec && r[skip] == '0') skip++;
         }
-        bool any = a != 0;
         if (v < 0 && any) t[n++] = '-';
         char ip[24];
         size_t m = 0;

@@ -1,9 +1,10 @@
 /* kelp util: strict number parsing without libc's strtod.
  *
  * Why not strtod: newlib's strtod allocates (Balloc), and the core must not. This parser is
- * exact (correctly rounded) whenever the decimal significand has at most 19 digits, fits
- * 2^53 and the power of ten is at most 22 -- every number in a mission file or a MOOS
- * string in practice -- and within a few ulp otherwise.
+ * correctly rounded (as strtod) for up to 40 significant digits: short numbers take one
+ * exact division or product; longer ones or large exponents are estimated and then
+ * settled by comparing exact big integers with the halfway points around the estimate
+ * (under 500 bytes of stack). Beyond 40 digits the rest only breaks ties.
  */
 #include <math.h>
 #include <stdint.h>
@@ -33,6 +34,116 @@ bool kelp_strieq_n(const char *s, size_t len, const char *z)
     return z[i] == 0;
 }
 
+/* ---- exact decimal -> double: the slow path's big integers ------------------------------
+ * A candidate double z is checked against the decimal D * 10^e10 by comparing the decimal
+ * with the halfway points between z and its neighbours, all as exact integers. The sizes
+ * are bounded by the exponent limits below: 48 words of 32 bits hold 1536 bits. */
+enum { BIG_WORDS = 48, DEC_MAX = 40 };
+typedef struct { uint32_t w[BIG_WORDS]; int n; } big;
+
+static bool big_mul_add(big *b, uint32_t m, uint32_t a)
+{
+    uint64_t carry = a;
+    for (int i = 0; i < b->n; i++) {
+        uint64_t t = (uint64_t)b->w[i] * m + carry;
+        b->w[i] = (uint32_t)t;
+        carry = t >> 32;
+    }
+    if (carry) {
+        if (b->n == BIG_WORDS) return false;
+        b->w[b->n++] = (uint32_t)carry;
+    }
+    return true;
+}
+
+static bool big_mul_pow10(big *b, int e)
+{
+    for (; e >= 9; e -= 9)
+        if (!big_mul_add(b, 1000000000u, 0)) return false;
+    static const uint32_t p10[] = {1, 10, 100, 1000, 10000, 100000, 1000000, 10000000, 100000000};
+    return big_mul_add(b, p10[e], 0);
+}
+
+static bool big_shl(big *b, int bits)
+{
+    int words = bits / 32, r = bits % 32;
+    if (b->n == 0) return true;
+    if (b->n + words + 1 > BIG_WORDS) return false;
+    b->w[b->n] = 0;
+    for (int i = b->n; i >= 0; i--) {
+        uint32_t hi = b->w[i] << r;
+        uint32_t lo = (r && i > 0) ? b->w[i - 1] >> (32 - r) : 0;
+        b->w[i + words] = hi | lo;
+    }
+    for (int i = 0; i < words; i++) b->w[i] = 0;
+    b->n += words + 1;
+    while (b->n && b->w[b->n - 1] == 0) b->n--;
+    return true;
+}
+
+static int big_cmp(const big *a, const big *b)
+{
+    if (a->n != b->n) return a->n < b->n ? -1 : 1;
+    for (int i = a->n; i-- > 0;)
+        if (a->w[i] != b->w[i]) return a->w[i] < b->w[i] ? -1 : 1;
+    return 0;
+}
+
+/* Significand and exponent of a finite z >= 0: z = m * 2^k, m < 2^53, k >= -1074. */
+static void split_double(double z, uint64_t *m, int *k)
+{
+    int e;
+    (void)frexp(z, &e);
+    *k = e - 53;
+    if (z == 0.0 || *k < -1074) *k = -1074;
+    *m = (uint64_t)ldexp(z, -*k);
+}
+
+/* Sign of D * 10^e10 - (the point halfway above z); 2 when the integers would not fit. */
+static int cmp_halfway(const char *dig, int nd, int e10, double z)
+{
+    uint64_t m;
+    int k;
+    split_double(z, &m, &k);
+    big a = {{0}, 0}, h = {{0}, 0};
+    for (int i = 0; i < nd; i++)
+        if (!big_mul_add(&a, 10, (uint32_t)(dig[i] - '0'))) return 2;
+    uint64_t hv = 2 * m + 1; /* halfway = hv * 2^(k-1) */
+    h.w[0] = (uint32_t)hv;
+    h.w[1] = (uint32_t)(hv >> 32);
+    h.n = h.w[1] ? 2 : 1;
+    bool ok = e10 >= 0 ? big_mul_pow10(&a, e10) : big_mul_pow10(&h, -e10);
+    ok = ok && (k - 1 >= 0 ? big_shl(&h, k - 1) : big_shl(&a, 1 - k));
+    return ok ? big_cmp(&a, &h) : 2;
+}
+
+/* Round the estimate z to the double nearest D * 10^e10 (ties to even; sticky: nonzero
+ * digits were dropped past the kept ones, so the decimal is a little above D * 10^e10). */
+static double refine(const char *dig, int nd, int e10, bool sticky, double z)
+{
+    for (int step = 0; step < 64 && isfinite(z); step++) {
+        uint64_t m;
+        int k;
+        split_double(z, &m, &k);
+        int up = cmp_halfway(dig, nd, e10, z);
+        if (up == 2) break;
+        if (up > 0 || (up == 0 && (sticky || (m & 1)))) {
+            z = nextafter(z, INFINITY);
+            continue;
+        }
+        if (z == 0.0) break;
+        double zl = nextafter(z, 0.0);
+        int dn = cmp_halfway(dig, nd, e10, zl);
+        if (dn == 2) break;
+        if (dn < 0 || (dn == 0 && !sticky && (m & 1))) {
+            z = zl;
+            continue;
+        }
+        break;
+    }
+    return z;
+}
+
 int kelp_parse_double(const char *s, size_t len, double *out)
 {
     size_t i = 0;
@@ -50,26 +161,23 @@ int kelp_parse_double(const char *s, size_t len, double *out)
         *out = NAN;
         return KELP_OK;
     }
-    uint64_t mant = 0;
-    int ndig = 0, dropped = 0, e10 = 0;
-    bool any = false;
+    /* significant digits (leading zeros skipped), at most DEC_MAX kept, the rest sticky */
+    char dig[DEC_MAX];
+    int nd = 0, e10 = 0;
+    bool any = false, sticky = false;
     for (; i < len && s[i] >= '0' && s[i] <= '9'; i++) {
         any = true;
-        if (ndig < 19) {
-            if (mant || s[i] != '0') { mant = mant * 10 + (uint64_t)(s[i] - '0'); ndig += mant ? 1 : 0; }
-        } else {
-            dropped++;
-        }
+        if (nd == 0 && s[i] == '0') continue;
+        if (nd < DEC_MAX) dig[nd++] = s[i];
+        else { e10++; sticky |= s[i] != '0'; }
     }
     if (i < len && s[i] == '.') {
         i++;
         for (; i < len && s[i] >= '0' && s[i] <= '9'; i++) {
             any = true;
-            if (ndig < 19) {
-                mant = mant * 10 + (uint64_t)(s[i] - '0');
-                if (mant) ndig++;
-                e10--;
-            }
+            if (nd == 0 && s[i] == '0') { e10--; continue; }
+            if (nd < DEC_MAX) { dig[nd++] = s[i]; e10--; }
+            else sticky |= s[i] != '0';
         }
     }
     if (!any) return KELP_ERR_PARSE;
@@ -84,15 +192,26 @@ int kelp_parse_double(const char *s, size_t len, double *out)
         e10 += (int)(eneg ? -ex : ex);
     }
     if (i != len) return KELP_ERR_PARSE;
-    e10 += dropped;
+    while (nd > 0 && dig[nd - 1] == '0' && !sticky) { nd--; e10++; } /* 1.500 is 15e-1 */
+    uint64_t mant = 0;
+    for (int j = 0; j < nd && j < 19; j++) mant = mant * 10 + (uint64_t)(dig[j] - '0');
     double v;
-    if (mant == 0) {
+    if (nd == 0) {
         v = 0.0;
-    } else if (mant < (UINT64_C(1) << 53) && e10 >= -22 && e10 <= 22) {
+    } else if (nd + e10 > 310) {
+        v = INFINITY; /* above DBL_MAX (1.8e308) */
+    } else if (nd + e10 < -325) {
+        v = 0.0; /* below half the least subnormal (4.9e-324) */
+    } else if (nd <= 15 && e10 >= -22 && e10 <= 22) {
+        /* both operands exact, one rounding: correctly rounded */
         v = (double)mant;
         v = e10 < 0 ? v / pow10_exact[-e10] : v * pow10_exact[e10];
     } else {
-        v = (double)mant * pow(10.0, (double)e10);
+        int shown = nd < 19 ? nd : 19;
+        int e = e10 + nd - shown, eh = e / 2; /* two factors: 10^e alone may be subnormal */
+        v = (double)mant * pow(10.0, (double)eh) * pow(10.0, (double)(e - eh));
+        if (v > 1.7976931348623157e308) v = 1.7976931348623157e308;
+        v = refine(dig, nd, e10, sticky, v);
     }
     *out = neg ? -v : v;
     return KELP_OK;
