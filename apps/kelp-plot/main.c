@@ -32,7 +32,7 @@ static int parse_size(const char *s, int *w, int *h)
     return 0;
 }
 
-enum { OPT_TITLE = 256, OPT_SIZE, OPT_NO_PULSES };
+enum { OPT_TITLE = 256, OPT_SIZE, OPT_NO_PULSES, OPT_CLOSEST };
 
 static const kelp_cli cli = {
     .name = "kelp-plot",
@@ -46,6 +46,7 @@ static const kelp_cli cli = {
         { "title", required_argument, OPT_TITLE, "T", "picture title" },
         { "size", required_argument, OPT_SIZE, "WxH", "picture size, 400 <= W, 300 <= H, both <= 10000" },
         { "no-pulses", no_argument, OPT_NO_PULSES, NULL, "do not draw comms and range pulses" },
+        { "closest", no_argument, OPT_CLOSEST, NULL, "mark and print each pair of vehicles' closest approach" },
         { "quiet", no_argument, 'q', NULL, "print nothing but errors" },
         { NULL, 0, 0, NULL, NULL } },
     .more = "Without -o it writes LOG.png and LOG.svg next to the first log, and prints a per-vehicle summary\n"
@@ -61,7 +62,7 @@ static int offline(int argc, char **argv)
     int nouts = 0;
     const char *logs[64];
     int nlogs = 0;
-    kelp_plot_opts o = {1600, 1100, NULL, NULL, true};
+    kelp_plot_opts o = {1600, 1100, NULL, NULL, true, false};
     bool quiet = false;
     int c, status;
     while ((c = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
@@ -84,6 +85,9 @@ static int offline(int argc, char **argv)
         }
         case OPT_NO_PULSES:
             o.show_pulses = false;
+            break;
+        case OPT_CLOSEST:
+            o.show_closest = true;
             break;
         case 'q':
             quiet = true;
@@ -122,6 +126,7 @@ static int offline(int argc, char **argv)
     if (!quiet) {
         printf("kelp-plot: %lu events, %lu not kelp variables (skipped)\n", events, undecoded);
         kelp_plot_print_summary(&s, stdout);
+        if (o.show_closest) kelp_plot_print_closest(&s, stdout);
     }
     if (!s.ntracks && !s.nviews) {
         fprintf(stderr, "kelp-plot: nothing to draw (no vehicle positions, no VIEW_* postings)\n");
@@ -236,7 +241,7 @@ static void live_shutdown(kelp_app *app, void *st)
     double dur = isfinite(l->s.t0) && l->s.t1 > l->s.t0 ? l->s.t1 - l->s.t0 : 0;
     snprintf(sub, sizeof sub, "community %s (live)  ·  %zu vehicle%s  ·  %.0f s of MOOS time  ·  %zu artifacts",
              kelp_app_community(app), l->s.ntracks, l->s.ntracks == 1 ? "" : "s", dur, l->s.nviews);
-    kelp_plot_opts o = {1600, 1100, l->title[0] ? l->title : NULL, sub, l->pulses};
+    kelp_plot_opts o = {1600, 1100, l->title[0] ? l->title : NULL, sub, l->pulses, false};
     const char *outs[2] = {l->image, l->svg};
     for (int i = 0; i < 2; i++)
         if (outs[i][0]) {

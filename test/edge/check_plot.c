@@ -44,7 +44,7 @@ START_TEST(plot_scene_and_svg)
     close(fd);
     char svg[64];
     snprintf(svg, sizeof svg, "%s.svg", path);
-    kelp_plot_opts o = { 800, 600, "test", NULL, true };
+    kelp_plot_opts o = { 800, 600, "test", NULL, true, true };
     ck_assert_int_eq(kelp_plot_render(&s, &o, svg), 0);
     FILE *f = fopen(svg, "r");
     ck_assert_ptr_nonnull(f);
@@ -66,11 +66,51 @@ START_TEST(plot_scene_and_svg)
 }
 END_TEST
 
+/* closest approach between fixes: A (10t, 0) with fixes at t=0 and 10 only, B (50, 10t-45)
+ * with fixes at 0, 3, 7, 10: least at t = 4.75, 2.5 * sqrt(2) m apart */
+START_TEST(plot_closest_between_fixes)
+{
+    kelp_plot_scene s;
+    kelp_plot_scene_init(&s);
+    char rep[200];
+    for (int t = 0; t <= 10; t += 10) {
+        snprintf(rep, sizeof rep, "NAME=a,TYPE=UUV,TIME=%d,X=%d,Y=0,SPD=10,HDG=90", t, 10 * t);
+        add_str(&s, "NODE_REPORT", rep, t);
+    }
+    const int tb[] = {0, 3, 7, 10};
+    for (int k = 0; k < 4; k++) {
+        snprintf(rep, sizeof rep, "NAME=b,TYPE=UUV,TIME=%d,X=50,Y=%d,SPD=10,HDG=0", tb[k], 10 * tb[k] - 45);
+        add_str(&s, "NODE_REPORT", rep, tb[k]);
+    }
+    /* c is seen only after a and b are done: no overlap */
+    add_str(&s, "NODE_REPORT", "NAME=c,TYPE=UUV,TIME=20,X=0,Y=0", 20);
+    add_str(&s, "NODE_REPORT", "NAME=c,TYPE=UUV,TIME=21,X=1,Y=0", 21);
+    kelp_plot_scene_finish(&s);
+    kelp_plot_cpa c;
+    ck_assert_int_eq(kelp_plot_closest(kelp_plot_scene_track(&s, "a"), kelp_plot_scene_track(&s, "b"), &c), 0);
+    ck_assert(fabs(c.d - 2.5 * sqrt(2.0)) < 1e-9);
+    ck_assert(fabs(c.t - 4.75) < 1e-9);
+    ck_assert(fabs(c.ax - 47.5) < 1e-9 && fabs(c.ay) < 1e-9);
+    ck_assert(fabs(c.bx - 50) < 1e-9 && fabs(c.by - 2.5) < 1e-9);
+    ck_assert_int_eq(kelp_plot_closest(kelp_plot_scene_track(&s, "a"), kelp_plot_scene_track(&s, "c"), &c), -1);
+    char *out = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&out, &len);
+    kelp_plot_print_closest(&s, f);
+    fclose(f);
+    ck_assert_ptr_nonnull(strstr(out, "closest a b 3.54 m at 4.8 s (47.5,0.0) (50.0,2.5)"));
+    ck_assert_ptr_null(strstr(out, "closest a c"));
+    free(out);
+    kelp_plot_scene_free(&s);
+}
+END_TEST
+
 Suite *kelp_plot_suite(void)
 {
     Suite *s = suite_create("plot");
     TCase *tc = tcase_create("edge");
     tcase_add_test(tc, plot_scene_and_svg);
+    tcase_add_test(tc, plot_closest_between_fixes);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -60,11 +60,23 @@ int kelp_plot_scene_read_log(kelp_plot_scene *s, const char *path, unsigned long
 /** The track of vehicle `name` (case-insensitive), or NULL. */
 kelp_plot_track *kelp_plot_scene_track(kelp_plot_scene *s, const char *name);
 
+/** The closest approach of two tracks: when (MOOS time), how close, and where each was. */
+typedef struct kelp_plot_cpa {
+    double t, d;
+    double ax, ay, bx, by;
+} kelp_plot_cpa;
+
+/** The closest approach of tracks a and b over the time both are known, positions linear
+ *  between fixes (exact on each stretch where both move linearly). 0, or -1 when the two
+ *  tracks do not overlap in time. */
+int kelp_plot_closest(const kelp_plot_track *a, const kelp_plot_track *b, kelp_plot_cpa *out);
+
 typedef struct kelp_plot_opts {
     int width, height;
     const char *title;
     const char *subtitle;
     bool show_pulses;
+    bool show_closest;   /**< mark every pair's closest approach (line, distance, time) */
 } kelp_plot_opts;
 
 /** Render to a PNG (path ends .png) or SVG (any other path): 0 or -1 with a message on
@@ -80,5 +92,7 @@ int kelp_plot_color(const char *name, double rgb[3]);
 
 /** The summary table (per vehicle: distance, duration, points, start/end). */
 void kelp_plot_print_summary(const kelp_plot_scene *s, FILE *out);
+/** One line per pair of tracks: "closest NAME NAME D m at T s (x,y) (x,y)". */
+void kelp_plot_print_closest(const kelp_plot_scene *s, FILE *out);
 
 #endif

@@ -756,6 +756,36 @@ static void draw_legend(cairo_t *cr, const kelp_plot_scene *s, double x0, double
 
 /* ------------------------------------------------------------------ the page */
 
+/* every pair's closest approach: a red dashed line between the two positions, a ring on
+ * each, and the distance and time (MOOS seconds from the start) beside it */
+static void draw_closest(cairo_t *cr, const kelp_plot_scene *s, const view_map *m, placer *pl)
+{
+    static const double red[3] = {0.80, 0.10, 0.12};
+    for (size_t i = 0; i < s->ntracks; i++)
+        for (size_t j = i + 1; j < s->ntracks; j++) {
+            kelp_plot_cpa c;
+            if (kelp_plot_closest(&s->tracks[i], &s->tracks[j], &c) < 0 || !ok_coord(c.ax) || !ok_coord(c.bx)) continue;
+            double x0 = X(m, c.ax), y0 = Y(m, c.ay), x1 = X(m, c.bx), y1 = Y(m, c.by);
+            static const double dash[] = {4, 3};
+            cairo_set_dash(cr, dash, 2, 0);
+            cairo_move_to(cr, x0, y0);
+            cairo_line_to(cr, x1, y1);
+            set_rgb(cr, red, 0.9);
+            cairo_set_line_width(cr, 1.6);
+            cairo_stroke(cr);
+            cairo_set_dash(cr, NULL, 0, 0);
+            cairo_arc(cr, x0, y0, 4.5, 0, 2 * M_PI);
+            cairo_new_sub_path(cr);
+            cairo_arc(cr, x1, y1, 4.5, 0, 2 * M_PI);
+            cairo_stroke(cr);
+            char buf[800];
+            snprintf(buf, sizeof buf, "%s-%s %.1f m @ %.0f s", s->tracks[i].name, s->tracks[j].name, c.d, c.t - s->t0);
+            double tx, ty;
+            place(cr, pl, (x0 + x1) / 2, (y0 + y1) / 2, buf, 11, true, &tx, &ty);
+            text(cr, tx, ty, buf, 11, true, red, A_LEFT, true);
+        }
+}
+
 static void draw(cairo_t *cr, const kelp_plot_scene *s, const kelp_plot_opts *o)
 {
     const double W = o->width, H = o->height;
@@ -856,6 +886,7 @@ static void draw(cairo_t *cr, const kelp_plot_scene *s, const kelp_plot_opts *o)
     place_names(cr, s, &m, &pl, name_at);
     draw_point_labels(cr, s, &m, &pl);
     draw_track_ends(cr, s, &m, name_at);
+    if (o->show_closest) draw_closest(cr, s, &m, &pl);
     if (!s->ntracks && !s->nviews)
         text(cr, m.ox, m.oy, "nothing to draw: no vehicle positions or VIEW_* postings", 16, false, mid, A_CENTER, true);
 

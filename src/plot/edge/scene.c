@@ -272,6 +272,81 @@ void kelp_plot_print_summary(const kelp_plot_scene *s, FILE *out)
                 s->last_bad);
 }
 
+/* ------------------------------------------------------------------ closest approach */
+
+/* the position of track t at time x (t->pts sorted; x within the track's span); *k is a
+ * cursor that only moves forward */
+static void at_time(const kelp_plot_track *t, size_t *k, double x, double *px, double *py)
+{
+    while (*k + 1 < t->n && t->pts[*k + 1].t <= x) (*k)++;
+    const kelp_plot_pt *p = &t->pts[*k];
+    if (*k + 1 >= t->n || t->pts[*k + 1].t <= p->t) {
+        *px = p->x;
+        *py = p->y;
+        return;
+    }
+    const kelp_plot_pt *q = &t->pts[*k + 1];
+    double f = (x - p->t) / (q->t - p->t);
+    *px = p->x + f * (q->x - p->x);
+    *py = p->y + f * (q->y - p->y);
+}
+
+int kelp_plot_closest(const kelp_plot_track *a, const kelp_plot_track *b, kelp_plot_cpa *out)
+{
+    if (!a->n || !b->n) return -1;
+    double lo = fmax(a->pts[0].t, b->pts[0].t), hi = fmin(a->pts[a->n - 1].t, b->pts[b->n - 1].t);
+    if (!(lo <= hi)) return -1;
+    size_t ia = 0, ib = 0, ka = 0, kb = 0;
+    out->d = INFINITY;
+    double t0 = lo;
+    /* walk the merged fix times: between two consecutive ones both move linearly, so the
+     * separation is |d0 + w s| on [0, dt], least at s = -d0.w / w.w (clamped) */
+    while (t0 <= hi) {
+        while (ia < a->n && a->pts[ia].t <= t0) ia++;
+        while (ib < b->n && b->pts[ib].t <= t0) ib++;
+        double t1 = hi;
+        if (ia < a->n && a->pts[ia].t < t1) t1 = a->pts[ia].t;
+        if (ib < b->n && b->pts[ib].t < t1) t1 = b->pts[ib].t;
+        double ax0, ay0, bx0, by0, ax1, ay1, bx1, by1;
+        at_time(a, &ka, t0, &ax0, &ay0);
+        at_time(b, &kb, t0, &bx0, &by0);
+        size_t ka1 = ka, kb1 = kb;
+        at_time(a, &ka1, t1, &ax1, &ay1);
+        at_time(b, &kb1, t1, &bx1, &by1);
+        double dt = t1 - t0, s = 0;
+        double dx = bx0 - ax0, dy = by0 - ay0;
+        double wx = (bx1 - ax1) - dx, wy = (by1 - ay1) - dy; /* change over the stretch */
+        double ww = wx * wx + wy * wy;
+        if (dt > 0 && ww > 0) {
+            s = -(dx * wx + dy * wy) / ww;
+            s = s < 0 ? 0 : s > 1 ? 1 : s;
+        }
+        double d = hypot(dx + wx * s, dy + wy * s);
+        if (d < out->d) {
+            out->d = d;
+            out->t = t0 + s * dt;
+            out->ax = ax0 + s * (ax1 - ax0);
+            out->ay = ay0 + s * (ay1 - ay0);
+            out->bx = bx0 + s * (bx1 - bx0);
+            out->by = by0 + s * (by1 - by0);
+        }
+        if (t1 >= hi) break;
+        t0 = t1;
+    }
+    return 0;
+}
+
+void kelp_plot_print_closest(const kelp_plot_scene *s, FILE *out)
+{
+    for (size_t i = 0; i < s->ntracks; i++)
+        for (size_t j = i + 1; j < s->ntracks; j++) {
+            kelp_plot_cpa c;
+            if (kelp_plot_closest(&s->tracks[i], &s->tracks[j], &c) < 0) continue;
+            fprintf(out, "closest %s %s %.2f m at %.1f s (%.1f,%.1f) (%.1f,%.1f)\n", s->tracks[i].name,
+                    s->tracks[j].name, c.d, c.t - s->t0, c.ax, c.ay, c.bx, c.by);
+        }
+}
+
 /* ------------------------------------------------------------------ LCM logs */
 
 int kelp_plot_scene_read_log(kelp_plot_scene *s, const char *path, unsigned long *events, unsigned long *undecoded)
