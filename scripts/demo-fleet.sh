@@ -23,13 +23,8 @@ ROOT=$(cd "$(dirname "$0")/.." && pwd)
 B=$(cd "${1:-$ROOT/build}" && pwd)
 WARP=${DEMO_WARP:-10}
 TIMEOUT=${DEMO_TIMEOUT:-75}
-if [ -z "${KELP_IN_NETNS:-}" ] && [ "$(id -u)" -eq 0 ] && command -v unshare >/dev/null; then
-  export KELP_IN_NETNS=1
-  exec unshare -n "$0" "$@"
-fi
-if [ -n "${KELP_IN_NETNS:-}" ]; then
-  ip link set lo up; ip link set lo multicast on; ip route add 224.0.0.0/4 dev lo 2>/dev/null || true
-fi
+. "$ROOT/scripts/fleet-lib.sh"
+fleet_private_netns "$0" "$@"
 for p in kelp-launch kelp-poke kelp-bridge kelp-plot kelp-logcheck uSimMarine pNodeReporter pAcommsHandler kelp-modemsim; do
   [ -x "$B/bin/$p" ] || { echo "demo-fleet: $B/bin/$p not built (run make)"; exit 1; }
 done
@@ -47,14 +42,6 @@ SHORE_LCM=7680 SHORE_BRIDGE=9200
 ACOMMS_CHAN="udpm://239.255.76.67:7690?ttl=0"
 ACOMMS_SLOT=8
 ACOMMS_LOSS=${DEMO_ACOMMS_LOSS:-0}
-
-trim() { local s=$1; s=${s#"${s%%[![:space:]]*}"}; s=${s%"${s##*[![:space:]]}"}; printf '%s' "$s"; }
-# fill $(NAME) macros of a template from the variables named in the rest of the arguments
-fill() {
-  local text; text=$(<"$1"); shift
-  for kv in "$@"; do text=${text//"\$(${kv%%=*})"/${kv#*=}}; done
-  printf '%s\n' "$text"
-}
 
 # ---- generate the missions (nsplug style)
 NAMES=(); SLOTS=""
@@ -88,45 +75,11 @@ echo "== kelp fleet demo: shoreside + ${#NAMES[@]} vehicles (${NAMES[*]}), MOOST
 echo "   missions in $W (generated from missions/fleet)"
 # one warped clock for every community and the pokes
 export KELP_WARP_EPOCH=$(date +%s.%N)
-PIDS=()
-cleanup() {
-  for p in "${PIDS[@]:-}"; do [ -n "$p" ] && kill "$p" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-}
-trap cleanup EXIT
-"$B/bin/kelp-record" --lcm-url="udpm://239.255.76.67:$SHORE_LCM?ttl=0" -f -q shoreside.lcm > logger_shoreside.out 2>&1 &
-LOGGERS=($!); PIDS+=($!)
-for v in "${NAMES[@]}"; do
-  port=$(sed -n 's/^LCM_URL *= *udpm:\/\/239.255.76.67:\([0-9]*\).*/\1/p' "$v.moos")
-  "$B/bin/kelp-record" --lcm-url="udpm://239.255.76.67:$port?ttl=0" -f -q "$v.lcm" > "logger_$v.out" 2>&1 &
-  LOGGERS+=($!); PIDS+=($!)
-done
-sleep 0.3
-LAUNCH=()
-"$B/bin/kelp-launch" --run-seconds $((TIMEOUT + 10)) --log-dir logs_shoreside shoreside.moos > launch_shoreside.out 2>&1 &
-LAUNCH+=($!); PIDS+=($!)
-for v in "${NAMES[@]}"; do
-  "$B/bin/kelp-launch" --run-seconds $((TIMEOUT + 10)) --log-dir "logs_$v" "$v.moos" > "launch_$v.out" 2>&1 &
-  LAUNCH+=($!); PIDS+=($!)
-done
-# wait until every bridge listens (a bridge subscribes before it binds), then a little more
-ports=$(printf '%s|' "$SHORE_BRIDGE" $(sed -n 's/^ *UDPListen *= *//p' "${NAMES[@]/%/.moos}")); ports=${ports%|}
-if command -v ss >/dev/null; then
-  for i in $(seq 100); do
-    n=$(ss -Huln 2>/dev/null | grep -cE ":($ports) " || true)
-    [ "$n" -ge $(( ${#NAMES[@]} + 1 )) ] && break; sleep 0.1
-  done
-fi
+trap fleet_cleanup EXIT
+fleet_start $((TIMEOUT + 10)) "${NAMES[@]}"
 # the uField handshake: each vehicle's uFldNodeBroker pings the shoreside (TRY_SHORE_HOST),
 # uFldShoreBroker acknowledges and registers the bridges both ways
-t_hs=$(date +%s.%N)
-for i in $(seq 300); do
-  n=0
-  for v in "${NAMES[@]}"; do grep -qE "^$v +127\.0\.0\.1 +ok " logs_shoreside/uFldShoreBroker.log 2>/dev/null && n=$((n + 1)); done
-  [ $n -ge ${#NAMES[@]} ] && break; sleep 0.1
-done
-echo "== uField handshake: $n of ${#NAMES[@]} vehicles found the shoreside in $(awk -v a="$t_hs" -v b="$(date +%s.%N)" 'BEGIN{printf "%.1f", b - a}') s (wall); bridges registered by the brokers"
-[ $n -ge ${#NAMES[@]} ] || { tail -30 logs_shoreside/uFldShoreBroker.log; echo "demo-fleet: not every vehicle found the shoreside"; exit 1; }
+fleet_wait_handshake "$SHORE_BRIDGE" "${NAMES[@]}" || { echo "demo-fleet: not every vehicle found the shoreside"; exit 1; }
 sleep 1
 echo "== DEPLOY: kelp-poke shoreside.moos DEPLOY_ALL:=true MOOS_MANUAL_OVERIDE_ALL:=false (QBRIDGEd to every vehicle)"
 "$B/bin/kelp-poke" shoreside.moos DEPLOY_ALL:=true MOOS_MANUAL_OVERIDE_ALL:=false > poke_deploy.out
@@ -147,11 +100,7 @@ while :; do
   [ $el -ge "$TIMEOUT" ] && break
 done
 sleep 1
-for p in "${LAUNCH[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
-rc_launch=0
-for p in "${LAUNCH[@]}"; do wait "$p" || rc_launch=1; done
-for p in "${LOGGERS[@]}"; do kill -INT "$p" 2>/dev/null || true; wait "$p" 2>/dev/null || true; done
-PIDS=()
+fleet_stop
 echo "== final vehicle table (shoreside viewer)"
 cat vehicles.txt 2>/dev/null || true
 

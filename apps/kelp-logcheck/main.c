@@ -100,6 +100,7 @@ int main(int argc, char **argv)
             if (c) c->bad++;
         }
     }
+    fflush(stdout); /* the listing first: a warning below must not land inside a buffered line */
     kelp_lcmlog_stats st = kelp_lcmlog_get_stats(log);
     kelp_lcmlog_close(log);
     free(v);

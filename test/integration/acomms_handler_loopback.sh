@@ -23,7 +23,7 @@ sleep 0.3
 sleep 14.5
 kill $H; wait $H 2>/dev/null || true
 sleep 0.3
-"$BIN/kelp-logcheck" bus.lcmlog --print > bus.txt 2>&1 || true
+"$BIN/kelp-logcheck" bus.lcmlog --print > bus.txt 2> logcheck.err || true
 val() { grep -E "^[0-9.]+ +pAcommsHandler +$1 " bus.txt | head -1 | sed -E "s/^[0-9.]+ +pAcommsHandler +$1 +//"; }
 ic=$(val INCOMING_COMMAND)
 [ "$ic" = 'Destination=3,type=goto,goto_x=351,goto_y=294,lights_on=true,new_instructions=make_toast,goto_speed=2.29' ] ||

@@ -129,7 +129,7 @@ ok "device removed and recreated: reconnected, message kept and sent ($hex3)"
 
 kill $H; wait $H 2>/dev/null || true
 sleep 0.3
-"$BIN/kelp-logcheck" bus.lcmlog --print > bus.txt 2>&1 || true
+"$BIN/kelp-logcheck" bus.lcmlog --print > bus.txt 2> logcheck.err || true
 grep -q 'STATUS_SUMMARY .*nav_x=100.0,nav_y=300.0,health=low_battery' bus.txt || { grep STATUS bus.txt; fail "received VehicleStatus not published"; }
 grep -q 'ACOMMS_ACK .*orig_msg' bus.txt || fail "no ACOMMS_ACK on the bus"
 grep -q 'ACOMMS_NMEA_OUT .*\$CCCYC' bus.txt || fail "no ACOMMS_NMEA_OUT"
