@@ -12,6 +12,7 @@
 #include <unistd.h>
 #include <sys/resource.h>
 #include <kelp/app.h>
+#include <kelp/appcast.h>
 #include <kelp/lcmbus.h>
 #include <kelp/edge/mission.h>
 
@@ -59,6 +60,13 @@ struct kelp_app {
     char pubs[MAX_PUBS][KELP_MAX_NAME];
     int npubs;
     double cpu_wall, cpu_proc, cpuload;
+    /* AppCasting: the clients' APPCAST_REQs (by key) and when the last cast went out */
+    struct { kelp_appcast_req r; double t0; } cast_req[8];
+    int ncast_req;
+    bool new_cfg_warn, new_run_warn;
+    double last_cast;
+    kelp_appcast *cast;
+    char cast_buf[KELP_MAX_SVAL + 1];
 };
 
 static volatile sig_atomic_t g_stop; /* set by SIGINT/SIGTERM; the edge may hold this one global */
@@ -344,6 +352,7 @@ void kelp_app_config_warning(kelp_app *app, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
+    app->new_cfg_warn = true;
     vadd(app->cfg_warn, &app->ncfg_warn, NULL, &app->cfg_dropped, fmt, ap);
     va_end(ap);
 }
@@ -352,6 +361,7 @@ void kelp_app_run_warning(kelp_app *app, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
+    app->new_run_warn = true;
     vadd(app->run_warn, &app->nrun_warn, app->run_warn_count, &app->run_dropped, fmt, ap);
     va_end(ap);
 }
@@ -432,6 +442,80 @@ static void report(kelp_app *app, FILE *out)
         for (int i = 0; i < app->nevents; i++) fprintf(out, "  %s\n", app->events[i]);
     }
     fflush(out);
+}
+
+/* ------------------------------------------------------------------ AppCasting */
+
+/* an APPCAST_REQ for this app: remember the client (by key) with its duration and threshold */
+static void appcast_request(kelp_app *app, const kelp_var *v)
+{
+    kelp_appcast_req r;
+    if (v->kind != KELP_VAR_STRING || kelp_appcast_req_parse(v->sval, v->slen, &r) != KELP_OK) return;
+    if (!kelp_appcast_req_matches(&r, app->community, app->name)) return;
+    int i = 0;
+    while (i < app->ncast_req && strcmp(app->cast_req[i].r.key, r.key) != 0) i++;
+    if (i == app->ncast_req) {
+        if (app->ncast_req == (int)(sizeof app->cast_req / sizeof app->cast_req[0])) i = 0; /* the oldest goes */
+        else app->ncast_req++;
+    }
+    app->cast_req[i].r = r;
+    app->cast_req[i].t0 = kelp_app_time(app);
+}
+
+static bool appcast_wanted(const kelp_app *app)
+{
+    double now = kelp_app_time(app);
+    for (int i = 0; i < app->ncast_req; i++) {
+        const kelp_appcast_req *r = &app->cast_req[i].r;
+        if (now - app->cast_req[i].t0 >= r->duration) continue;
+        if (strcmp(r->thresh, "any") == 0 || (strcmp(r->thresh, "run_warning") == 0 && app->new_run_warn)) return true;
+    }
+    return app->new_cfg_warn || app->iter < 2;
+}
+
+/* Post APPCAST (MOOS-IvP's AppCast string) when a client asked, a configuration warning is
+ * new, or in the first iterations; at most every 0.5 s of wall time. */
+static void appcast(kelp_app *app, double wall)
+{
+    if (!appcast_wanted(app) || wall - app->last_cast < 0.5) return;
+    kelp_appcast *ac = app->cast;
+    memset(ac, 0, sizeof *ac);
+    snprintf(ac->proc, sizeof ac->proc, "%s", app->name);
+    snprintf(ac->node, sizeof ac->node, "%s", app->community);
+    ac->iter = app->iter;
+    FILE *f = fmemopen(ac->messages, sizeof ac->messages - 1, "w");
+    if (f) {
+        if (app->def->report) app->def->report(app, app->state, f);
+        else fprintf(f, "Mail: %lu received\n", app->mail_total);
+        fclose(f);
+    }
+    for (int i = 0; i < app->ncfg_warn && ac->ncfg < KELP_APPCAST_ITEMS; i++)
+        snprintf(ac->cfg[ac->ncfg++], KELP_APPCAST_ITEM, "%s", app->cfg_warn[i]);
+    for (int i = 0; i < app->nevents && ac->nevents < KELP_APPCAST_ITEMS; i++)
+        snprintf(ac->events[ac->nevents++], KELP_APPCAST_ITEM, "%s", app->events[i]);
+    const kelp_bus_stats *st = kelp_bus_get_stats(kelp_lcmbus_bus(app->lb));
+    if (st->bad) {
+        snprintf(ac->run[0], KELP_APPCAST_ITEM, "malformed datagrams rejected (last: %s)", kelp_strerror(st->last_bad_err));
+        ac->run_count[0] = (unsigned long)st->bad;
+        ac->run_total = ac->run_count[0];
+        ac->nrun = 1;
+    }
+    for (int i = 0; i < app->nrun_warn && ac->nrun < KELP_APPCAST_ITEMS; i++) {
+        snprintf(ac->run[ac->nrun], KELP_APPCAST_ITEM, "%s", app->run_warn[i]);
+        ac->run_count[ac->nrun] = app->run_warn_count[i];
+        ac->run_total += app->run_warn_count[i];
+        ac->nrun++;
+    }
+    /* a bus string holds KELP_MAX_SVAL bytes: a long report is cut until the cast fits */
+    size_t len, keep = strlen(ac->messages);
+    while (kelp_appcast_format(ac, app->cast_buf, sizeof app->cast_buf, &len) != KELP_OK && keep > 0) {
+        keep = keep > 256 ? keep - 256 : 0;
+        ac->messages[keep] = '\0';
+    }
+    if (kelp_app_notify_string(app, "APPCAST", app->cast_buf) == 0) {
+        app->last_cast = wall;
+        app->new_cfg_warn = app->new_run_warn = false;
+    }
 }
 
 /* Resident and peak memory of this process, kB (Linux /proc; 0 when unknown). */
@@ -594,13 +678,17 @@ static void print_interface(const kelp_app_def *def)
         s += len + (nl ? 1 : 0);
     }
     printf("\n");
-    interface_vars("SUBSCRIPTIONS", def->subscribes, false);
-    printf("\n");
+    interface_vars("SUBSCRIPTIONS", def->subscribes, true);
+    printf("  APPCAST_REQ = node=alpha,app=%s,duration=3,key=kelp-mac_1234,thresh=any\n"
+           "  %*s   every app: a client asks for APPCAST for duration seconds\n\n", moos_name(def), 11, "");
     interface_vars("PUBLICATIONS", def->publishes, true); /* <NAME>_STATUS follows */
     printf("  <NAME>_STATUS = AppErrorFlag=false,Uptime=12.00,cpuload=0.3100,memory_kb=2412,memory_max_kb=2412,"
            "MOOSName=<name>,Publishing=\"A,B\",Subscribing=\"X,Y\",iter=48,mail=10,published=52,bad=0,"
            "cfg_warnings=0,run_warnings=0\n"
            "  %*s   every app, every 2 s: its status (NAME: its MOOS name, upper case)\n", 13, "");
+    printf("  APPCAST = proc=%s!@#iter=48!@#node=alpha!@#iter=48!@#messages=...!@#events_total=0!@#run_warning_total=0!@#\n"
+           "  %*s   every app: its AppCast, while a client's APPCAST_REQ holds and when a configuration\n"
+           "  %*s   warning is new\n", moos_name(def), 7, "", 7, "");
 }
 
 static bool in_table(const kelp_app_param_info *t, const kelp_mission_node *n)
@@ -743,7 +831,18 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
     signal(SIGPIPE, SIG_IGN);
 
     if (def->ignore_own_posts) kelp_lcmbus_ignore_own(app->lb, true);
+    app->cast = calloc(1, sizeof *app->cast);
+    if (!app->cast || kelp_app_register(app, "APPCAST_REQ", 0) < 0) {
+        fprintf(stderr, "%s: cannot set up AppCasting\n", app->name);
+        kelp_lcmbus_close(app->lb);
+        kelp_mission_free(&app->mf);
+        free(app->cast);
+        free(app->used);
+        free(app);
+        return 1;
+    }
     if (def->startup && def->startup(app, state) < 0) {
+        free(app->cast);
         kelp_lcmbus_close(app->lb);
         kelp_mission_free(&app->mf);
         free(app->used);
@@ -790,8 +889,9 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
         next_iter += period;
         if (next_iter < w) next_iter = w + period; /* overran: do not try to catch up */
         /* OnNewMail (only when mail arrived), then Iterate */
-        if (app->nmail && def->on_mail) {
-            for (size_t i = 0; i < app->nmail; i++) def->on_mail(app, state, &app->mail[i]);
+        for (size_t i = 0; i < app->nmail; i++) {
+            if (strcmp(app->mail[i].name, "APPCAST_REQ") == 0) appcast_request(app, &app->mail[i]);
+            else if (def->on_mail) def->on_mail(app, state, &app->mail[i]);
         }
         app->mail_in += app->nmail;
         app->nmail = 0;
@@ -800,6 +900,7 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
             rc_exit = 1;
             break;
         }
+        appcast(app, w);
         if (w >= next_status) {
             report(app, stdout);
             next_status = w + status_period;
@@ -816,6 +917,7 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
     kelp_mission_free(&app->mf);
     free(app->used);
     free(app->mail);
+    free(app->cast);
     free(app);
     return rc_exit;
 }
