@@ -74,12 +74,12 @@ int main(void)
     printf("nmea: parse+verify %zu-char $CACST: %.3f us/line (%.1f MB/s)\n", ll, (t1 - t0) / (N * 5) * 1e6,
            ll * (double)N * 5 / (t1 - t0) / 1e6);
 
-    static kelp_mm mm;
-    kelp_mm_cfg c;
+    static kelp_mmdriver mm;
+    kelp_mmdriver_cfg c;
     memset(&c, 0, sizeof c);
     c.modem_id = 1;
-    kelp_mm_ops ops = { nop_w, NULL, NULL };
-    if (kelp_mm_init(&mm, &c, &ops, NULL) || kelp_mm_start(&mm, T)) return 1;
+    kelp_mmdriver_ops ops = { nop_w, NULL, NULL };
+    if (kelp_mmdriver_init(&mm, &c, &ops, NULL) || kelp_mmdriver_start(&mm, T)) return 1;
     char rx[600];
     strcpy(rx, "$CARXD,2,1,0,1,");
     for (int i = 0; i < 256; i++) strcat(rx, "a5");
@@ -93,11 +93,11 @@ int main(void)
     int M = 50000;
     t0 = now_s();
     for (int i = 0; i < M; i++)
-        if (kelp_mm_feed(&mm, (const uint8_t *)full, fl, T + 2000000)) return 1;
+        if (kelp_mmdriver_feed(&mm, (const uint8_t *)full, fl, T + 2000000)) return 1;
     t1 = now_s();
     printf("mmdriver: feed a 256-byte $CARXD (%zu bytes): %.2f us/line (%.1f MB/s; a 19200-baud link is 0.002 MB/s)\n",
            fl, (t1 - t0) / M * 1e6, fl * (double)M / (t1 - t0) / 1e6);
-    printf("sizes: kelp_mm %zu B, kelp_mac %zu B, kelp_queue_entry %zu B, kelp_queue_mgr %zu B\n", sizeof(kelp_mm),
+    printf("sizes: kelp_mmdriver %zu B, kelp_mac %zu B, kelp_queue_entry %zu B, kelp_queue_mgr %zu B\n", sizeof(kelp_mmdriver),
            sizeof(kelp_mac), sizeof(kelp_queue_entry), sizeof(kelp_queue_mgr));
     return 0;
 }

@@ -12,9 +12,9 @@
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-static kelp_msim mods[2];
+static kelp_modemsim mods[2];
 static int64_t now;
-static uint8_t enc[KELP_MSIM_PKT_MAX_ENCODED];
+static uint8_t enc[KELP_MODEMSIM_PKT_MAX_ENCODED];
 
 static void w(const char *b, size_t n, void *u)
 {
@@ -25,18 +25,18 @@ static void w(const char *b, size_t n, void *u)
     if (n < 2 || b[n - 2] != '\r' || b[n - 1] != '\n') abort(); /* every line ends in CRLF */
 }
 
-static void tx(const kelp_msim_pkt *p, void *u)
+static void tx(const kelp_modemsim_pkt *p, void *u)
 {
     (void)u;
     size_t len;
-    kelp_msim_pkt q;
+    kelp_modemsim_pkt q;
     /* what a modem transmits always encodes and decodes */
-    if (kelp_msim_pkt_encode(p, enc, sizeof enc, &len) != KELP_OK) abort();
-    if (kelp_msim_pkt_decode(enc, len, &q) != KELP_OK) abort();
-    for (int i = 0; i < 2; i++) (void)kelp_msim_hear(&mods[i], &q, now);
+    if (kelp_modemsim_pkt_encode(p, enc, sizeof enc, &len) != KELP_OK) abort();
+    if (kelp_modemsim_pkt_decode(enc, len, &q) != KELP_OK) abort();
+    for (int i = 0; i < 2; i++) (void)kelp_modemsim_hear(&mods[i], &q, now);
 }
 
-static void ev(const kelp_msim_event *e, void *u)
+static void ev(const kelp_modemsim_event *e, void *u)
 {
     (void)u;
     volatile size_t sum = strlen(e->text);
@@ -44,34 +44,34 @@ static void ev(const kelp_msim_event *e, void *u)
     (void)sum;
 }
 
-static const kelp_msim_ops OPS = { w, tx, ev };
+static const kelp_modemsim_ops OPS = { w, tx, ev };
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     if (size < 1) return 0;
     now = 1297857600LL * 1000000LL;
     for (int i = 0; i < 2; i++) {
-        kelp_msim_cfg c;
-        kelp_msim_cfg_default(&c);
+        kelp_modemsim_cfg c;
+        kelp_modemsim_cfg_default(&c);
         c.modem_id = i + 1;
         c.instance = (uint32_t)i + 1;
         c.x = i * 300.0;
         c.loss_probability = (data[0] & 2) ? 0.5 : 0.0;
         c.n_lbl = 1;
         c.lbl_x[0] = 500;
-        if (kelp_msim_init(&mods[i], &c, &OPS, NULL, now) != KELP_OK) abort();
+        if (kelp_modemsim_init(&mods[i], &c, &OPS, NULL, now) != KELP_OK) abort();
     }
     if (data[0] & 1) {
-        kelp_msim_pkt p;
-        if (kelp_msim_pkt_decode(data + 1, size - 1, &p) == KELP_OK) {
+        kelp_modemsim_pkt p;
+        if (kelp_modemsim_pkt_decode(data + 1, size - 1, &p) == KELP_OK) {
             size_t len;
-            if (kelp_msim_pkt_encode(&p, enc, sizeof enc, &len) != KELP_OK) abort();
+            if (kelp_modemsim_pkt_encode(&p, enc, sizeof enc, &len) != KELP_OK) abort();
             if (len != size - 1 || memcmp(enc, data + 1, len) != 0) abort(); /* canonical encoding */
             p.start_us = now;
-            (void)kelp_msim_hear(&mods[0], &p, now);
+            (void)kelp_modemsim_hear(&mods[0], &p, now);
             for (int k = 0; k < 40; k++) {
                 now += 250000;
-                kelp_msim_tick(&mods[0], now);
+                kelp_modemsim_tick(&mods[0], now);
             }
         }
         return 0;
@@ -80,16 +80,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     size_t off = 1;
     while (off < size) {
         size_t n = size - off < 64 ? size - off : 64;
-        if (kelp_msim_feed(&mods[0], data + off, n, now) != KELP_OK) abort();
+        if (kelp_modemsim_feed(&mods[0], data + off, n, now) != KELP_OK) abort();
         off += n;
         for (int k = 0; k < 4; k++) {
             now += 100000;
-            for (int i = 0; i < 2; i++) kelp_msim_tick(&mods[i], now);
+            for (int i = 0; i < 2; i++) kelp_modemsim_tick(&mods[i], now);
         }
     }
     for (int k = 0; k < 100; k++) {
         now += 200000;
-        for (int i = 0; i < 2; i++) kelp_msim_tick(&mods[i], now);
+        for (int i = 0; i < 2; i++) kelp_modemsim_tick(&mods[i], now);
     }
     return 0;
 }

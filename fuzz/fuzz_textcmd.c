@@ -7,6 +7,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <kelp/poller.h>
 #include <kelp/bridge.h>
 #include <kelp/dccl.h>
 #include <kelp/modemsim.h>

@@ -282,7 +282,7 @@ static void startup_answers(kelp_acomms_node *n, int64_t t)
     ck_assert_str_eq(wl[nw - 1], expect);
     feed(n, "CACFG,SRC,1", t + 13 * S / 10);
     ck_assert_int_eq(kelp_acomms_node_tick(n, t + 135 * S / 100), 0);
-    ck_assert_uint_eq(kelp_mm_pending(kelp_acomms_node_driver(n)), 0);
+    ck_assert_uint_eq(kelp_mmdriver_pending(kelp_acomms_node_driver(n)), 0);
 }
 
 START_TEST(test_node_whoi_cycle)

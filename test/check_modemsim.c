@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <kelp/poller.h>
 #include <kelp/modemsim.h>
 
 #define S 1000000LL
@@ -20,14 +21,14 @@ typedef struct hostline {
     char s[KELP_MAX_NMEA_LINE + 8];
 } hostline;
 
-static kelp_msim mod[NM];
+static kelp_modemsim mod[NM];
 static int nmod;
 static hostline lines[NM][MAXL];
 static int nlines[NM];
 static int64_t now;
 static int n_lost[NM][8];
 static int n_tx;
-static uint8_t air[KELP_MSIM_PKT_MAX_ENCODED];
+static uint8_t air[KELP_MODEMSIM_PKT_MAX_ENCODED];
 
 static void w_cb(const char *b, size_t n, void *u)
 {
@@ -42,24 +43,24 @@ static void w_cb(const char *b, size_t n, void *u)
     l->s[n - 2] = '\0';
 }
 
-static void tx_cb(const kelp_msim_pkt *p, void *u)
+static void tx_cb(const kelp_modemsim_pkt *p, void *u)
 {
     (void)u;
     size_t len;
     n_tx++;
-    ck_assert_int_eq(kelp_msim_pkt_encode(p, air, sizeof air, &len), KELP_OK);
-    static kelp_msim_pkt q;
-    ck_assert_int_eq(kelp_msim_pkt_decode(air, len, &q), KELP_OK);
-    for (int i = 0; i < nmod; i++) ck_assert_int_eq(kelp_msim_hear(&mod[i], &q, now), KELP_OK);
+    ck_assert_int_eq(kelp_modemsim_pkt_encode(p, air, sizeof air, &len), KELP_OK);
+    static kelp_modemsim_pkt q;
+    ck_assert_int_eq(kelp_modemsim_pkt_decode(air, len, &q), KELP_OK);
+    for (int i = 0; i < nmod; i++) ck_assert_int_eq(kelp_modemsim_hear(&mod[i], &q, now), KELP_OK);
 }
 
-static void ev_cb(const kelp_msim_event *e, void *u)
+static void ev_cb(const kelp_modemsim_event *e, void *u)
 {
     int k = (int)(intptr_t)u;
-    if (e->kind == KELP_MSIM_EV_LOST && e->loss < 8) n_lost[k][e->loss]++;
+    if (e->kind == KELP_MODEMSIM_EV_LOST && e->loss < 8) n_lost[k][e->loss]++;
 }
 
-static const kelp_msim_ops OPS = { w_cb, tx_cb, ev_cb };
+static const kelp_modemsim_ops OPS = { w_cb, tx_cb, ev_cb };
 
 static void world(int n)
 {
@@ -71,10 +72,10 @@ static void world(int n)
     now = T0;
 }
 
-static kelp_msim_cfg cfg_for(int id, double x, double y)
+static kelp_modemsim_cfg cfg_for(int id, double x, double y)
 {
-    kelp_msim_cfg c;
-    kelp_msim_cfg_default(&c);
+    kelp_modemsim_cfg c;
+    kelp_modemsim_cfg_default(&c);
     c.modem_id = id;
     c.instance = (uint32_t)(100 + id);
     c.x = x;
@@ -83,23 +84,23 @@ static kelp_msim_cfg cfg_for(int id, double x, double y)
     return c;
 }
 
-static void add(int k, const kelp_msim_cfg *c)
+static void add(int k, const kelp_modemsim_cfg *c)
 {
-    ck_assert_int_eq(kelp_msim_init(&mod[k], c, &OPS, (void *)(intptr_t)k, now), KELP_OK);
+    ck_assert_int_eq(kelp_modemsim_init(&mod[k], c, &OPS, (void *)(intptr_t)k, now), KELP_OK);
 }
 
 static void run_until(int64_t t)
 {
     while (now < t) {
         now += 5000;
-        for (int i = 0; i < nmod; i++) kelp_msim_tick(&mod[i], now);
+        for (int i = 0; i < nmod; i++) kelp_modemsim_tick(&mod[i], now);
     }
 }
 
 static void host(int k, const char *s)
 {
-    ck_assert_int_eq(kelp_msim_feed(&mod[k], (const uint8_t *)s, strlen(s), now), KELP_OK);
-    ck_assert_int_eq(kelp_msim_feed(&mod[k], (const uint8_t *)"\r\n", 2, now), KELP_OK);
+    ck_assert_int_eq(kelp_modemsim_feed(&mod[k], (const uint8_t *)s, strlen(s), now), KELP_OK);
+    ck_assert_int_eq(kelp_modemsim_feed(&mod[k], (const uint8_t *)"\r\n", 2, now), KELP_OK);
 }
 
 /* body + "*HH" */
@@ -141,30 +142,30 @@ START_TEST(rate_table_and_durations)
 {
     /* acomms.md 1.5: "0 is a single 32 byte packet (FSK), 2 is three frames of 64 bytes (PSK),
      * 3 is two frames of 256 bytes (PSK), and 5 is eight frames of 256 bytes (PSK)" */
-    ck_assert_uint_eq(kelp_msim_rate_frames[0], 1);
-    ck_assert_uint_eq(kelp_msim_rate_bytes[0], 32);
-    ck_assert_uint_eq(kelp_msim_rate_frames[2], 3);
-    ck_assert_uint_eq(kelp_msim_rate_bytes[2], 64);
-    ck_assert_uint_eq(kelp_msim_rate_frames[3], 2);
-    ck_assert_uint_eq(kelp_msim_rate_bytes[3], 256);
-    ck_assert_uint_eq(kelp_msim_rate_frames[5], 8);
-    ck_assert_uint_eq(kelp_msim_rate_bytes[5], 256);
-    ck_assert_uint_eq(kelp_msim_rate_frames[1], 3);
-    ck_assert_uint_eq(kelp_msim_rate_bytes[4], 256);
+    ck_assert_uint_eq(kelp_modemsim_rate_frames[0], 1);
+    ck_assert_uint_eq(kelp_modemsim_rate_bytes[0], 32);
+    ck_assert_uint_eq(kelp_modemsim_rate_frames[2], 3);
+    ck_assert_uint_eq(kelp_modemsim_rate_bytes[2], 64);
+    ck_assert_uint_eq(kelp_modemsim_rate_frames[3], 2);
+    ck_assert_uint_eq(kelp_modemsim_rate_bytes[3], 256);
+    ck_assert_uint_eq(kelp_modemsim_rate_frames[5], 8);
+    ck_assert_uint_eq(kelp_modemsim_rate_bytes[5], 256);
+    ck_assert_uint_eq(kelp_modemsim_rate_frames[1], 3);
+    ck_assert_uint_eq(kelp_modemsim_rate_bytes[4], 256);
     /* 32 B at 80 bit/s = 3.2 s; 8 x 256 B at 5300 bit/s = 3.0913 s */
-    ck_assert_double_eq_tol(kelp_msim_packet_seconds(0, 1), 3.2, 1e-12);
-    ck_assert_double_eq_tol(kelp_msim_packet_seconds(5, 8), 16384.0 / 5300.0, 1e-12);
-    ck_assert_double_eq_tol(kelp_msim_packet_seconds(2, 3), 3.072, 1e-12);
-    ck_assert_double_eq(kelp_msim_packet_seconds(6, 1), 0.0);
+    ck_assert_double_eq_tol(kelp_modemsim_packet_seconds(0, 1), 3.2, 1e-12);
+    ck_assert_double_eq_tol(kelp_modemsim_packet_seconds(5, 8), 16384.0 / 5300.0, 1e-12);
+    ck_assert_double_eq_tol(kelp_modemsim_packet_seconds(2, 3), 3.072, 1e-12);
+    ck_assert_double_eq(kelp_modemsim_packet_seconds(6, 1), 0.0);
     /* travel time: 1500 m at 1500 m/s is 1 s; a 300-400 (500 m) offset with 0 depth is 1/3 s */
-    ck_assert_double_eq_tol(kelp_msim_travel_time(0, 0, 0, 1500, 0, 0, 1500), 1.0, 1e-12);
-    ck_assert_double_eq_tol(kelp_msim_travel_time(10, 20, 5, 310, 420, 5, 1500), 1.0 / 3.0, 1e-12);
-    ck_assert_double_eq_tol(kelp_msim_travel_time(0, 0, 0, 0, 0, 1480, 1480), 1.0, 1e-12);
+    ck_assert_double_eq_tol(kelp_modemsim_travel_time(0, 0, 0, 1500, 0, 0, 1500), 1.0, 1e-12);
+    ck_assert_double_eq_tol(kelp_modemsim_travel_time(10, 20, 5, 310, 420, 5, 1500), 1.0 / 3.0, 1e-12);
+    ck_assert_double_eq_tol(kelp_modemsim_travel_time(0, 0, 0, 0, 0, 1480, 1480), 1.0, 1e-12);
     /* Eq. 2.1 (acomms.md 9 item 60): tau_ci 1 s + 3000 m / 1500 m/s = 3 s of overhead per slot */
-    ck_assert_double_eq_tol(kelp_msim_min_slot_seconds(0, 3000, 1.0, 0, 0, 1500) - kelp_msim_packet_seconds(0, 1) -
+    ck_assert_double_eq_tol(kelp_modemsim_min_slot_seconds(0, 3000, 1.0, 0, 0, 1500) - kelp_modemsim_packet_seconds(0, 1) -
                                 2 * 3000 / 1500.0,
                             3.0, 1e-12);
-    ck_assert_double_eq_tol(kelp_msim_min_slot_seconds(0, 3000, 1.0, 0.5, 0.25, 1500), 11.2, 1e-12);
+    ck_assert_double_eq_tol(kelp_modemsim_min_slot_seconds(0, 3000, 1.0, 0.5, 0.25, 1500), 11.2, 1e-12);
 }
 END_TEST
 
@@ -192,9 +193,9 @@ END_TEST
 
 START_TEST(packet_codec_round_trip_and_rejects)
 {
-    static kelp_msim_pkt p, q;
+    static kelp_modemsim_pkt p, q;
     memset(&p, 0, sizeof p);
-    p.kind = KELP_MSIM_PKT_DATA;
+    p.kind = KELP_MODEMSIM_PKT_DATA;
     p.instance = 0xdeadbeef;
     p.seq = 7;
     p.src = 3;
@@ -215,12 +216,12 @@ START_TEST(packet_codec_round_trip_and_rejects)
     p.frame[1].dest = 0;
     p.frame[1].len = 3;
     memcpy(p.frame[1].data, "\x20\x01\x02", 3);
-    uint8_t buf[KELP_MSIM_PKT_MAX_ENCODED];
+    uint8_t buf[KELP_MODEMSIM_PKT_MAX_ENCODED];
     size_t len;
-    ck_assert_int_eq(kelp_msim_pkt_encode(&p, buf, sizeof buf, &len), KELP_OK);
+    ck_assert_int_eq(kelp_modemsim_pkt_encode(&p, buf, sizeof buf, &len), KELP_OK);
     ck_assert_uint_eq(len, 4 + 9 + 14 + 24 + 24 + (5 + 64) + (5 + 3));
-    ck_assert_int_eq(kelp_msim_pkt_decode(buf, len, &q), KELP_OK);
-    ck_assert_int_eq(q.kind, KELP_MSIM_PKT_DATA);
+    ck_assert_int_eq(kelp_modemsim_pkt_decode(buf, len, &q), KELP_OK);
+    ck_assert_int_eq(q.kind, KELP_MODEMSIM_PKT_DATA);
     ck_assert_uint_eq(q.instance, 0xdeadbeef);
     ck_assert_uint_eq(q.seq, 7);
     ck_assert_int_eq(q.start_us, T0);
@@ -231,27 +232,27 @@ START_TEST(packet_codec_round_trip_and_rejects)
     ck_assert_mem_eq(q.frame[0].data, p.frame[0].data, 64);
     ck_assert_mem_eq(q.frame[1].data, "\x20\x01\x02", 3);
     /* every truncation is caught */
-    for (size_t n = 0; n < len; n++) ck_assert_int_ne(kelp_msim_pkt_decode(buf, n, &q), KELP_OK);
+    for (size_t n = 0; n < len; n++) ck_assert_int_ne(kelp_modemsim_pkt_decode(buf, n, &q), KELP_OK);
     /* trailing garbage, bad magic, bad kind, frame longer than the rate allows */
-    uint8_t big[KELP_MSIM_PKT_MAX_ENCODED + 1];
+    uint8_t big[KELP_MODEMSIM_PKT_MAX_ENCODED + 1];
     memcpy(big, buf, len);
     big[len] = 0;
-    ck_assert_int_eq(kelp_msim_pkt_decode(big, len + 1, &q), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_modemsim_pkt_decode(big, len + 1, &q), KELP_ERR_PARSE);
     memcpy(big, buf, len);
     big[0] = 'X';
-    ck_assert_int_eq(kelp_msim_pkt_decode(big, len, &q), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_modemsim_pkt_decode(big, len, &q), KELP_ERR_PARSE);
     memcpy(big, buf, len);
     big[4] = 9;
-    ck_assert_int_eq(kelp_msim_pkt_decode(big, len, &q), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_modemsim_pkt_decode(big, len, &q), KELP_ERR_PARSE);
     p.rate = 0; /* 64-byte frame in a rate-0 (32-byte) packet */
     p.nframes = 1;
-    ck_assert_int_eq(kelp_msim_pkt_encode(&p, buf, sizeof buf, &len), KELP_OK);
-    ck_assert_int_eq(kelp_msim_pkt_decode(buf, len, &q), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_modemsim_pkt_encode(&p, buf, sizeof buf, &len), KELP_OK);
+    ck_assert_int_eq(kelp_modemsim_pkt_decode(buf, len, &q), KELP_ERR_RANGE);
     /* encoder refuses what cannot be sent */
     p.nframes = KELP_MAX_MM_FRAMES + 1;
-    ck_assert_int_eq(kelp_msim_pkt_encode(&p, buf, sizeof buf, &len), KELP_ERR_ARG);
+    ck_assert_int_eq(kelp_modemsim_pkt_encode(&p, buf, sizeof buf, &len), KELP_ERR_ARG);
     p.nframes = 1;
-    ck_assert_int_eq(kelp_msim_pkt_encode(&p, buf, 20, &len), KELP_ERR_NOSPACE);
+    ck_assert_int_eq(kelp_modemsim_pkt_encode(&p, buf, 20, &len), KELP_ERR_NOSPACE);
 }
 END_TEST
 
@@ -260,14 +261,14 @@ END_TEST
 START_TEST(clock_cfg_and_queries)
 {
     world(1);
-    kelp_msim_cfg c = cfg_for(1, 0, 0);
+    kelp_modemsim_cfg c = cfg_for(1, 0, 0);
     c.clock_set_at_boot = false;
     add(0, &c);
     /* before $CCCLK the clock counts from 2000-01-01 */
-    ck_assert_int_eq(kelp_msim_clock(&mod[0], now), 946684800LL * S);
+    ck_assert_int_eq(kelp_modemsim_clock(&mod[0], now), 946684800LL * S);
     host(0, "$CCCLK,2011,2,16,12,0,0");
     ck_assert_str_eq(lines[0][0].s, cs("$CACLK,2011,02,16,12,00,00"));
-    ck_assert_int_eq(kelp_msim_clock(&mod[0], now), T0);
+    ck_assert_int_eq(kelp_modemsim_clock(&mod[0], now), T0);
     /* real example 3: the reply to $CCCFQ,SRC after $CCCFG,SRC,1 is $CACFG,SRC,1*33 */
     host(0, "$CCCFG,SRC,1");
     ck_assert_str_eq(lines[0][1].s, cs("$CACFG,SRC,1"));
@@ -276,10 +277,10 @@ START_TEST(clock_cfg_and_queries)
     /* the host changes SRC (Goby sends $CCCFG,SRC,<modem_id>) and sets an nvram value */
     host(0, cs("$CCCFG,SRC,3"));
     ck_assert_str_eq(lines[0][3].s, cs("$CACFG,SRC,3"));
-    ck_assert_int_eq(kelp_msim_src(&mod[0]), 3);
+    ck_assert_int_eq(kelp_modemsim_src(&mod[0]), 3);
     host(0, "$CCCFG,CST,1");
     long v;
-    ck_assert_int_eq(kelp_msim_nvram(&mod[0], "cst", &v), KELP_OK);
+    ck_assert_int_eq(kelp_modemsim_nvram(&mod[0], "cst", &v), KELP_OK);
     ck_assert_int_eq(v, 1);
     /* ALL: every parameter once, each a $CACFG */
     int before = nlines[0];
@@ -292,22 +293,22 @@ START_TEST(clock_cfg_and_queries)
     /* $CCCFG,ALL,0 resets: SRC back to the configured modem id */
     host(0, "$CCCFG,ALL,0");
     ck_assert_str_eq(lines[0][nlines[0] - 1].s, cs("$CACFG,ALL,0"));
-    ck_assert_int_eq(kelp_msim_src(&mod[0]), 1);
-    ck_assert_int_eq(kelp_msim_nvram(&mod[0], "CST", &v), KELP_OK);
+    ck_assert_int_eq(kelp_modemsim_src(&mod[0]), 1);
+    ck_assert_int_eq(kelp_modemsim_nvram(&mod[0], "CST", &v), KELP_OK);
     ck_assert_int_eq(v, 0);
-    ck_assert_int_eq(kelp_msim_nvram(&mod[0], "XYZ", &v), KELP_ERR_NOTFOUND);
+    ck_assert_int_eq(kelp_modemsim_nvram(&mod[0], "XYZ", &v), KELP_ERR_NOTFOUND);
 }
 END_TEST
 
 START_TEST(revision_at_boot_and_heartbeat)
 {
     world(1);
-    kelp_msim_cfg c = cfg_for(1, 0, 0);
+    kelp_modemsim_cfg c = cfg_for(1, 0, 0);
     c.clock_set_at_boot = false;
     c.revision = "0.93.0.09";
     c.rev_interval_seconds = 52;
     add(0, &c);
-    kelp_msim_boot(&mod[0], now);
+    kelp_modemsim_boot(&mod[0], now);
     ck_assert_str_eq(lines[0][0].s, cs("$CAREV,000000,INIT,0.93.0.09"));
     /* no host yet: no heartbeat */
     run_until(T0 + 60 * S);
@@ -325,7 +326,7 @@ END_TEST
 START_TEST(bad_host_input_gets_caerr)
 {
     world(1);
-    kelp_msim_cfg c = cfg_for(1, 0, 0);
+    kelp_modemsim_cfg c = cfg_for(1, 0, 0);
     add(0, &c);
     host(0, "$CCCFG,SRC,1*00"); /* wrong checksum */
     ck_assert_int_ge(find(0, "$CAERR,120000,NMEA,2,BAD_CHECKSUM*", 0), 0);
@@ -349,7 +350,7 @@ START_TEST(bad_host_input_gets_caerr)
     host(0, big);
     host(0, "$CCCFQ,SRC");
     ck_assert_str_eq(lines[0][nlines[0] - 1].s, "$CACFG,SRC,1*33");
-    ck_assert_uint_eq(kelp_msim_get_counters(&mod[0])->host_errors, 9);
+    ck_assert_uint_eq(kelp_modemsim_get_counters(&mod[0])->host_errors, 9);
 }
 END_TEST
 
@@ -360,7 +361,7 @@ START_TEST(two_way_ping_real_sentences)
     /* real examples 5-7: $CCMPC,1,2 -> $CAMPA,1,2*5D at node 2, $CAMPR,2,1,0.0101*7C at node 1:
      * one-way travel time 0.0101 s = 15.15 m at 1500 m/s */
     world(2);
-    kelp_msim_cfg a = cfg_for(1, 0, 0), b = cfg_for(2, 15.15, 0);
+    kelp_modemsim_cfg a = cfg_for(1, 0, 0), b = cfg_for(2, 15.15, 0);
     add(0, &a);
     add(1, &b);
     host(0, "$CCMPC,1,2");
@@ -382,7 +383,7 @@ END_TEST
 START_TEST(ping_range_is_distance_over_sound_speed)
 {
     world(3);
-    kelp_msim_cfg a = cfg_for(1, 0, 0), b = cfg_for(2, 3000, 4000), c = cfg_for(3, -100, 0);
+    kelp_modemsim_cfg a = cfg_for(1, 0, 0), b = cfg_for(2, 3000, 4000), c = cfg_for(3, -100, 0);
     a.depth = 10;
     b.depth = 10;
     add(0, &a);
@@ -403,7 +404,7 @@ START_TEST(ping_range_is_distance_over_sound_speed)
     host(0, "$CCMPC,1,2");
     run_until(T0 + 12 * S);
     ck_assert_int_eq(find(0, "$CAMPR", 0), -1);
-    ck_assert_uint_eq(kelp_msim_get_counters(&mod[1])->out_of_range, 1);
+    ck_assert_uint_eq(kelp_modemsim_get_counters(&mod[1])->out_of_range, 1);
 }
 END_TEST
 
@@ -411,7 +412,7 @@ START_TEST(mini_packet_real_sentence)
 {
     /* real examples 8-9: $CCMUC,1,2,1FAB -> $CAMUA,1,2,1fab*20 at node 2 */
     world(2);
-    kelp_msim_cfg a = cfg_for(1, 0, 0), b = cfg_for(2, 300, 0);
+    kelp_modemsim_cfg a = cfg_for(1, 0, 0), b = cfg_for(2, 300, 0);
     add(0, &a);
     add(1, &b);
     host(0, "$CCMUC,1,2,1FAB");
@@ -428,7 +429,7 @@ END_TEST
 START_TEST(remus_lbl_travel_times)
 {
     world(1);
-    kelp_msim_cfg c = cfg_for(1, 0, 0);
+    kelp_modemsim_cfg c = cfg_for(1, 0, 0);
     c.n_lbl = 3;
     c.lbl_x[0] = 1000;
     c.lbl_y[1] = 2000;
@@ -453,7 +454,7 @@ START_TEST(local_cycle_with_ack_timeline)
 {
     /* modem 1 sends one rate-0 frame with ack to modem 2, 1500 m away (1 s of travel) */
     world(2);
-    kelp_msim_cfg a = cfg_for(1, 0, 0), b = cfg_for(2, 1500, 0);
+    kelp_modemsim_cfg a = cfg_for(1, 0, 0), b = cfg_for(2, 1500, 0);
     add(0, &a);
     add(1, &b);
     host(0, "$CCCYC,0,1,2,0,1,1");
@@ -483,8 +484,8 @@ START_TEST(local_cycle_with_ack_timeline)
     ck_assert_int_ge(find(0, "$CATXF,16*", 0), 0);
     ck_assert_double_eq_tol(t_of(0, find(0, "$CATXF,16*", 0)), 4.2, 0.006);
     ck_assert_int_eq(count(1, "$CATXF,2*"), 1); /* the ack */
-    ck_assert_uint_eq(kelp_msim_get_counters(&mod[0])->tx[KELP_MSIM_PKT_DATA], 1);
-    ck_assert_uint_eq(kelp_msim_get_counters(&mod[1])->frames_rx, 1);
+    ck_assert_uint_eq(kelp_modemsim_get_counters(&mod[0])->tx[KELP_MODEMSIM_PKT_DATA], 1);
+    ck_assert_uint_eq(kelp_modemsim_get_counters(&mod[1])->frames_rx, 1);
 }
 END_TEST
 
@@ -492,7 +493,7 @@ START_TEST(multi_frame_rates_and_early_stop)
 {
     /* rate 2: three 64-byte frames requested one DRQ at a time */
     world(2);
-    kelp_msim_cfg a = cfg_for(1, 0, 0), b = cfg_for(2, 150, 0);
+    kelp_modemsim_cfg a = cfg_for(1, 0, 0), b = cfg_for(2, 150, 0);
     add(0, &a);
     add(1, &b);
     host(0, "$CCCYC,0,1,2,2,0,3");
@@ -543,7 +544,7 @@ END_TEST
 START_TEST(drq_timeout_and_no_data)
 {
     world(2);
-    kelp_msim_cfg a = cfg_for(1, 0, 0), b = cfg_for(2, 150, 0);
+    kelp_modemsim_cfg a = cfg_for(1, 0, 0), b = cfg_for(2, 150, 0);
     add(0, &a);
     add(1, &b);
     host(0, "$CCCYC,0,1,2,0,1,1");
@@ -568,7 +569,7 @@ START_TEST(polled_cycle)
 {
     /* topside 1 polls vehicle 2 to send to 1 (MAC_POLLED third-party cycle, ACK 1) */
     world(2);
-    kelp_msim_cfg a = cfg_for(1, 0, 0), b = cfg_for(2, 750, 0);
+    kelp_modemsim_cfg a = cfg_for(1, 0, 0), b = cfg_for(2, 750, 0);
     add(0, &a);
     add(1, &b);
     host(0, "$CCCYC,0,2,1,0,1,1");
@@ -595,7 +596,7 @@ END_TEST
 
 START_TEST(loss_is_seeded_and_total_loss_loses_all)
 {
-    kelp_msim_cfg a = cfg_for(1, 0, 0), b = cfg_for(2, 150, 0);
+    kelp_modemsim_cfg a = cfg_for(1, 0, 0), b = cfg_for(2, 150, 0);
     b.loss_probability = 1.0;
     world(2);
     add(0, &a);
@@ -606,7 +607,7 @@ START_TEST(loss_is_seeded_and_total_loss_loses_all)
     ck_assert_int_eq(find(1, "$CACYC", 0), -1);
     ck_assert_int_eq(find(1, "$CARXD", 0), -1);
     ck_assert_int_eq(find(0, "$CAACK", 0), -1);
-    ck_assert_int_eq(n_lost[1][KELP_MSIM_LOSS_RANDOM], 2); /* cycle init and the frame */
+    ck_assert_int_eq(n_lost[1][KELP_MODEMSIM_LOSS_RANDOM], 2); /* cycle init and the frame */
     /* p = 0.5: the same seed loses the same frames, a different seed others */
     int got[3];
     uint64_t seeds[3] = { 7, 7, 8 };
@@ -643,7 +644,7 @@ START_TEST(half_duplex_and_collisions)
 {
     /* 2 is pinging 3 while the data of 1 reaches it: the data is lost at 2 (half duplex) */
     world(3);
-    kelp_msim_cfg a = cfg_for(1, 0, 0), b = cfg_for(2, 1500, 0), c = cfg_for(3, 1500, 1500);
+    kelp_modemsim_cfg a = cfg_for(1, 0, 0), b = cfg_for(2, 1500, 0), c = cfg_for(3, 1500, 1500);
     add(0, &a);
     add(1, &b);
     add(2, &c);
@@ -653,7 +654,7 @@ START_TEST(half_duplex_and_collisions)
     host(1, "$CCMPC,2,3");
     run_until(T0 + 10 * S);
     ck_assert_int_eq(find(1, "$CARXD", 0), -1);
-    ck_assert_int_eq(n_lost[1][KELP_MSIM_LOSS_HALF_DUPLEX], 1);
+    ck_assert_int_eq(n_lost[1][KELP_MODEMSIM_LOSS_HALF_DUPLEX], 1);
     /* 1 and 3 both send data to 2 at once: both lost there (collision) */
     world(3);
     add(0, &a);
@@ -666,7 +667,7 @@ START_TEST(half_duplex_and_collisions)
     run_until(T0 + 10 * S);
     ck_assert_int_eq(find(1, "$CARXD", 0), -1);
     ck_assert_int_eq(find(1, "$CACYC", 0), -1);
-    ck_assert_int_eq(n_lost[1][KELP_MSIM_LOSS_COLLISION], 4); /* two cycle inits, two data packets */
+    ck_assert_int_eq(n_lost[1][KELP_MODEMSIM_LOSS_COLLISION], 4); /* two cycle inits, two data packets */
     /* the same two transmissions 6 s apart (no overlap): both received */
     world(3);
     add(0, &a);
@@ -680,66 +681,66 @@ START_TEST(half_duplex_and_collisions)
     run_until(T0 + 14 * S);
     ck_assert_int_ge(find(1, "$CARXD,1,2,0,1,01", 0), 0);
     ck_assert_int_ge(find(1, "$CARXD,3,2,0,1,03", 0), 0);
-    ck_assert_int_eq(n_lost[1][KELP_MSIM_LOSS_COLLISION], 0);
+    ck_assert_int_eq(n_lost[1][KELP_MODEMSIM_LOSS_COLLISION], 0);
 }
 END_TEST
 
 START_TEST(stale_and_overflow_are_counted)
 {
     world(2);
-    kelp_msim_cfg a = cfg_for(1, 0, 0);
+    kelp_modemsim_cfg a = cfg_for(1, 0, 0);
     add(0, &a);
-    static kelp_msim_pkt p;
+    static kelp_modemsim_pkt p;
     memset(&p, 0, sizeof p);
-    p.kind = KELP_MSIM_PKT_MINI;
+    p.kind = KELP_MODEMSIM_PKT_MINI;
     p.instance = 999;
     p.src = 5;
     p.dest = 1;
     p.start_us = now - 10 * S;
     p.duration_us = 500000;
-    ck_assert_int_eq(kelp_msim_hear(&mod[0], &p, now), KELP_OK);
-    ck_assert_uint_eq(kelp_msim_get_counters(&mod[0])->lost_stale, 1);
+    ck_assert_int_eq(kelp_modemsim_hear(&mod[0], &p, now), KELP_OK);
+    ck_assert_uint_eq(kelp_modemsim_get_counters(&mod[0])->lost_stale, 1);
     /* own packets are ignored */
     p.instance = a.instance;
     p.start_us = now;
-    ck_assert_int_eq(kelp_msim_hear(&mod[0], &p, now), KELP_OK);
+    ck_assert_int_eq(kelp_modemsim_hear(&mod[0], &p, now), KELP_OK);
     p.instance = 999;
     int rc = KELP_OK;
     for (int i = 0; i < KELP_MAX_MSIM_ARRIVALS + 1; i++) {
         p.seq = (uint32_t)i;
         p.start_us = now + i * 10 * S;
-        rc = kelp_msim_hear(&mod[0], &p, now);
+        rc = kelp_modemsim_hear(&mod[0], &p, now);
     }
     ck_assert_int_eq(rc, KELP_ERR_NOSPACE);
-    ck_assert_uint_eq(kelp_msim_get_counters(&mod[0])->overflow, 1);
+    ck_assert_uint_eq(kelp_modemsim_get_counters(&mod[0])->overflow, 1);
 }
 END_TEST
 
 START_TEST(init_rejects_bad_configuration)
 {
-    kelp_msim m;
-    kelp_msim_cfg c;
-    kelp_msim_cfg_default(&c);
+    kelp_modemsim m;
+    kelp_modemsim_cfg c;
+    kelp_modemsim_cfg_default(&c);
     c.modem_id = 0;
-    ck_assert_int_eq(kelp_msim_init(&m, &c, &OPS, NULL, T0), KELP_ERR_ARG);
-    kelp_msim_cfg_default(&c);
+    ck_assert_int_eq(kelp_modemsim_init(&m, &c, &OPS, NULL, T0), KELP_ERR_ARG);
+    kelp_modemsim_cfg_default(&c);
     c.loss_probability = 1.5;
-    ck_assert_int_eq(kelp_msim_init(&m, &c, &OPS, NULL, T0), KELP_ERR_ARG);
-    kelp_msim_cfg_default(&c);
+    ck_assert_int_eq(kelp_modemsim_init(&m, &c, &OPS, NULL, T0), KELP_ERR_ARG);
+    kelp_modemsim_cfg_default(&c);
     c.sound_speed = 0;
-    ck_assert_int_eq(kelp_msim_init(&m, &c, &OPS, NULL, T0), KELP_ERR_ARG);
-    kelp_msim_cfg_default(&c);
+    ck_assert_int_eq(kelp_modemsim_init(&m, &c, &OPS, NULL, T0), KELP_ERR_ARG);
+    kelp_modemsim_cfg_default(&c);
     c.ci_seconds = -1;
-    ck_assert_int_eq(kelp_msim_init(&m, &c, &OPS, NULL, T0), KELP_ERR_ARG);
-    kelp_msim_cfg_default(&c);
+    ck_assert_int_eq(kelp_modemsim_init(&m, &c, &OPS, NULL, T0), KELP_ERR_ARG);
+    kelp_modemsim_cfg_default(&c);
     c.revision = "a,b";
-    ck_assert_int_eq(kelp_msim_init(&m, &c, &OPS, NULL, T0), KELP_ERR_ARG);
-    kelp_msim_cfg_default(&c);
+    ck_assert_int_eq(kelp_modemsim_init(&m, &c, &OPS, NULL, T0), KELP_ERR_ARG);
+    kelp_modemsim_cfg_default(&c);
     c.x = NAN;
-    ck_assert_int_eq(kelp_msim_init(&m, &c, &OPS, NULL, T0), KELP_ERR_ARG);
-    kelp_msim_cfg_default(&c);
-    ck_assert_int_eq(kelp_msim_init(&m, &c, &OPS, NULL, T0), KELP_OK);
-    ck_assert_int_eq(kelp_msim_next_due(&m), INT64_MAX);
+    ck_assert_int_eq(kelp_modemsim_init(&m, &c, &OPS, NULL, T0), KELP_ERR_ARG);
+    kelp_modemsim_cfg_default(&c);
+    ck_assert_int_eq(kelp_modemsim_init(&m, &c, &OPS, NULL, T0), KELP_OK);
+    ck_assert_int_eq(kelp_modemsim_next_due(&m), INT64_MAX);
 }
 END_TEST
 

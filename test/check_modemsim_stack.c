@@ -1,6 +1,6 @@
-/* The simulated modems under the real host stack: main's Micro-Modem driver core (kelp_mm), the
+/* The simulated modems under the real host stack: main's Micro-Modem driver core (kelp_mmdriver), the
  * Goby priority queue (kelp_queue) and the TDMA MAC (kelp_mac) on each of two nodes, each node
- * talking NMEA to its own kelp_msim over a simulated serial line (byte FIFOs), the two modems
+ * talking NMEA to its own kelp_modemsim over a simulated serial line (byte FIFOs), the two modems
  * sharing one simulated channel.  The seed's example DCCL messages (GoToCommand, VehicleStatus:
  * the [DERIVED] frames of acomms.md 3.8) are exchanged under a FIXED TDMA cycle with acks. */
 #include <check.h>
@@ -27,8 +27,8 @@ typedef struct fifo {
 
 typedef struct node {
     int id;
-    kelp_mm mm;
-    kelp_msim sim;
+    kelp_mmdriver mm;
+    kelp_modemsim sim;
     kelp_mac mac;
     kelp_queue_mgr qm;
     kelp_queue queues[4];
@@ -43,7 +43,7 @@ typedef struct node {
 
 static node nodes[NN];
 static int64_t now;
-static uint8_t air[KELP_MSIM_PKT_MAX_ENCODED];
+static uint8_t air[KELP_MODEMSIM_PKT_MAX_ENCODED];
 
 static void fifo_put(fifo *f, const void *b, size_t n)
 {
@@ -66,17 +66,17 @@ static void sim_write(const char *b, size_t n, void *u)
     fifo_put(&((node *)u)->to_host, b, n);
 }
 
-static void sim_tx(const kelp_msim_pkt *p, void *u)
+static void sim_tx(const kelp_modemsim_pkt *p, void *u)
 {
     (void)u;
     size_t len;
-    static kelp_msim_pkt q;
-    ck_assert_int_eq(kelp_msim_pkt_encode(p, air, sizeof air, &len), KELP_OK);
-    ck_assert_int_eq(kelp_msim_pkt_decode(air, len, &q), KELP_OK);
-    for (int i = 0; i < NN; i++) ck_assert_int_eq(kelp_msim_hear(&nodes[i].sim, &q, now), KELP_OK);
+    static kelp_modemsim_pkt q;
+    ck_assert_int_eq(kelp_modemsim_pkt_encode(p, air, sizeof air, &len), KELP_OK);
+    ck_assert_int_eq(kelp_modemsim_pkt_decode(air, len, &q), KELP_OK);
+    for (int i = 0; i < NN; i++) ck_assert_int_eq(kelp_modemsim_hear(&nodes[i].sim, &q, now), KELP_OK);
 }
 
-static const kelp_msim_ops SIM_OPS = { sim_write, sim_tx, NULL };
+static const kelp_modemsim_ops SIM_OPS = { sim_write, sim_tx, NULL };
 
 /* ---- host side */
 static void mm_write(const char *b, size_t n, void *u)
@@ -84,13 +84,13 @@ static void mm_write(const char *b, size_t n, void *u)
     fifo_put(&((node *)u)->to_modem, b, n);
 }
 
-static void mm_event(const kelp_mm_event *e, void *u)
+static void mm_event(const kelp_mmdriver_event *e, void *u)
 {
     node *nd = u;
-    if (getenv("TRACE") && (e->kind == KELP_MM_EV_NMEA_IN || e->kind == KELP_MM_EV_NMEA_OUT || e->kind == KELP_MM_EV_RETRY))
-        printf("%.3f node%d %s %s\n", (double)(now - T0) / 1e6, nd->id, e->kind == KELP_MM_EV_NMEA_IN ? "IN " : e->kind == KELP_MM_EV_RETRY ? "RETRY" : "OUT", e->raw);
-    if (e->kind == KELP_MM_EV_NMEA_IN && e->has_src) kelp_mac_heard(&nd->mac, e->src, now);
-    if (e->kind == KELP_MM_EV_RECEIVE) {
+    if (getenv("TRACE") && (e->kind == KELP_MMDRIVER_EV_NMEA_IN || e->kind == KELP_MMDRIVER_EV_NMEA_OUT || e->kind == KELP_MMDRIVER_EV_RETRY))
+        printf("%.3f node%d %s %s\n", (double)(now - T0) / 1e6, nd->id, e->kind == KELP_MMDRIVER_EV_NMEA_IN ? "IN " : e->kind == KELP_MMDRIVER_EV_RETRY ? "RETRY" : "OUT", e->raw);
+    if (e->kind == KELP_MMDRIVER_EV_NMEA_IN && e->has_src) kelp_mac_heard(&nd->mac, e->src, now);
+    if (e->kind == KELP_MMDRIVER_EV_RECEIVE) {
         static kelp_acomms_msg f;
         memset(&f, 0, sizeof f);
         f.src = e->src;
@@ -100,19 +100,19 @@ static void mm_event(const kelp_mm_event *e, void *u)
         f.len = e->data_len;
         memcpy(f.data, e->data, e->data_len);
         (void)kelp_queue_receive(&nd->qm, &f);
-    } else if (e->kind == KELP_MM_EV_ACK) {
+    } else if (e->kind == KELP_MMDRIVER_EV_ACK) {
         (void)kelp_queue_ack(&nd->qm, e->src, e->dest, e->frame);
-    } else if (e->kind == KELP_MM_EV_RANGE) {
+    } else if (e->kind == KELP_MMDRIVER_EV_RANGE) {
         nd->ranges++;
         nd->last_tt = e->tt[0];
-    } else if (e->kind == KELP_MM_EV_CLOCK) {
+    } else if (e->kind == KELP_MMDRIVER_EV_CLOCK) {
         nd->clock_events++;
-    } else if (e->kind == KELP_MM_EV_DEAD) {
+    } else if (e->kind == KELP_MMDRIVER_EV_DEAD) {
         nd->dead = true;
     }
 }
 
-static void mm_data_request(const kelp_mm_data_request *req, kelp_mm_frame *out, void *u)
+static void mm_data_request(const kelp_mmdriver_data_request *req, kelp_mmdriver_frame *out, void *u)
 {
     node *nd = u;
     kelp_queue_request r = { req->dest, req->frame, req->max_bytes };
@@ -126,7 +126,7 @@ static void mm_data_request(const kelp_mm_data_request *req, kelp_mm_frame *out,
     memcpy(out->data, m.data, m.len);
 }
 
-static const kelp_mm_ops MM_OPS = { mm_write, mm_event, mm_data_request };
+static const kelp_mmdriver_ops MM_OPS = { mm_write, mm_event, mm_data_request };
 
 static void q_event(const kelp_queue_event *e, void *u)
 {
@@ -181,22 +181,22 @@ static void setup(double loss, uint32_t ttl_status, double separation)
     for (int i = 0; i < NN; i++) {
         node *nd = &nodes[i];
         nd->id = i + 1;
-        kelp_msim_cfg sc;
-        kelp_msim_cfg_default(&sc);
+        kelp_modemsim_cfg sc;
+        kelp_modemsim_cfg_default(&sc);
         sc.modem_id = nd->id;
         sc.instance = (uint32_t)(7 + i);
         sc.x = i * separation;
         sc.depth = 10;
         sc.loss_probability = loss;
         sc.seed = (uint64_t)(1234 + i);
-        ck_assert_int_eq(kelp_msim_init(&nd->sim, &sc, &SIM_OPS, nd, now), KELP_OK);
-        kelp_msim_boot(&nd->sim, now - 60 * S); /* powered on a minute before the host opens the line */
+        ck_assert_int_eq(kelp_modemsim_init(&nd->sim, &sc, &SIM_OPS, nd, now), KELP_OK);
+        kelp_modemsim_boot(&nd->sim, now - 60 * S); /* powered on a minute before the host opens the line */
         nd->to_host.n = 0;                       /* ... so the host never reads the $CAREV,INIT */
-        kelp_mm_cfg mc;
+        kelp_mmdriver_cfg mc;
         memset(&mc, 0, sizeof mc);
         mc.modem_id = nd->id;
-        ck_assert_int_eq(kelp_mm_init(&nd->mm, &mc, &MM_OPS, nd), KELP_OK);
-        ck_assert_int_eq(kelp_mm_start(&nd->mm, now), KELP_OK);
+        ck_assert_int_eq(kelp_mmdriver_init(&nd->mm, &mc, &MM_OPS, nd), KELP_OK);
+        ck_assert_int_eq(kelp_mmdriver_start(&nd->mm, now), KELP_OK);
         ck_assert_int_eq(kelp_queue_init(&nd->qm, nd->id, nd->queues, 4, nd->pool, 64, q_event, NULL, nd), KELP_OK);
         kelp_queue_cfg qc;
         kelp_queue_cfg_default(&qc, KELP_QUEUE_DCCL, 1); /* GoToCommand: ack, newest first, ttl 1800 */
@@ -222,28 +222,28 @@ static void step(void)
     now += 10000;
     for (int i = 0; i < NN; i++) {
         node *nd = &nodes[i];
-        if (kelp_mm_tick(&nd->mm, now) != KELP_OK) nd->dead = true;
+        if (kelp_mmdriver_tick(&nd->mm, now) != KELP_OK) nd->dead = true;
         /* the serial line, both ways */
         if (nd->to_modem.n) {
             size_t n = nd->to_modem.n;
             static uint8_t tmp[FIFO];
             memcpy(tmp, nd->to_modem.b, n);
             nd->to_modem.n = 0;
-            ck_assert_int_eq(kelp_msim_feed(&nd->sim, tmp, n, now), KELP_OK);
+            ck_assert_int_eq(kelp_modemsim_feed(&nd->sim, tmp, n, now), KELP_OK);
         }
-        kelp_msim_tick(&nd->sim, now);
+        kelp_modemsim_tick(&nd->sim, now);
         if (nd->to_host.n) {
             size_t n = nd->to_host.n;
             static uint8_t tmp2[FIFO];
             memcpy(tmp2, nd->to_host.b, n);
             nd->to_host.n = 0;
-            ck_assert_int_eq(kelp_mm_feed(&nd->mm, tmp2, n, now), KELP_OK);
+            ck_assert_int_eq(kelp_mmdriver_feed(&nd->mm, tmp2, n, now), KELP_OK);
         }
         kelp_mac_action act;
         while (kelp_mac_tick(&nd->mac, now, &act) == KELP_OK) {
             if (act.kind == KELP_MAC_ACT_TRANSMIT) {
                 n_cycles_started++;
-                ck_assert_int_eq(kelp_mm_initiate_transmission(&nd->mm, act.src, act.dest, act.rate, now), KELP_OK);
+                ck_assert_int_eq(kelp_mmdriver_initiate_transmission(&nd->mm, act.src, act.dest, act.rate, now), KELP_OK);
             }
         }
         kelp_queue_do_work(&nd->qm, now);
@@ -260,18 +260,18 @@ START_TEST(driver_startup_against_the_simulator)
     setup(0, 1800, 1000);
     run_until(T0 - 20 * S);
     for (int i = 0; i < NN; i++) {
-        ck_assert(kelp_mm_clock_ok(&nodes[i].mm));
-        ck_assert_uint_eq(kelp_mm_pending(&nodes[i].mm), 0);
+        ck_assert(kelp_mmdriver_clock_ok(&nodes[i].mm));
+        ck_assert_uint_eq(kelp_mmdriver_pending(&nodes[i].mm), 0);
         ck_assert_uint_eq(nodes[i].mm.count.retries, 0);
         ck_assert_uint_eq(nodes[i].mm.count.bad_lines, 0);
-        ck_assert_int_eq(kelp_msim_src(&nodes[i].sim), i + 1);
+        ck_assert_int_eq(kelp_modemsim_src(&nodes[i].sim), i + 1);
         /* the modem clock now follows the host's UTC (set from $CCCLK, within a second) */
-        int64_t skew = kelp_msim_clock(&nodes[i].sim, now) - now;
+        int64_t skew = kelp_modemsim_clock(&nodes[i].sim, now) - now;
         ck_assert(skew <= 0 && skew > -1100000);
-        ck_assert_uint_eq(kelp_msim_get_counters(&nodes[i].sim)->host_errors, 0);
+        ck_assert_uint_eq(kelp_modemsim_get_counters(&nodes[i].sim)->host_errors, 0);
     }
     /* ranging through the driver: 1000 m apart -> 0.6667 s one way */
-    ck_assert_int_eq(kelp_mm_initiate_ranging(&nodes[0].mm, 1, 2, KELP_RANGING_TWO_WAY_PING, 0, 0, now), KELP_OK);
+    ck_assert_int_eq(kelp_mmdriver_initiate_ranging(&nodes[0].mm, 1, 2, KELP_RANGING_TWO_WAY_PING, 0, 0, now), KELP_OK);
     run_until(now + 5 * S);
     ck_assert_int_eq(nodes[0].ranges, 1);
     ck_assert_double_eq_tol(nodes[0].last_tt, 1000.0 / 1500.0, 0.0001);
@@ -303,13 +303,13 @@ START_TEST(tdma_exchange_with_acks_every_message_once)
         ck_assert_int_eq(kelp_queue_size(&nodes[i].qm, k1), 0);
         ck_assert_int_eq(kelp_queue_size(&nodes[i].qm, k2), 0);
         ck_assert_uint_eq(nodes[i].mm.count.retries, 0);
-        ck_assert_uint_eq(kelp_msim_get_counters(&nodes[i].sim)->host_errors, 0);
-        ck_assert_uint_eq(kelp_msim_get_counters(&nodes[i].sim)->lost_collision, 0);
-        ck_assert_uint_eq(kelp_msim_get_counters(&nodes[i].sim)->lost_half_duplex, 0);
+        ck_assert_uint_eq(kelp_modemsim_get_counters(&nodes[i].sim)->host_errors, 0);
+        ck_assert_uint_eq(kelp_modemsim_get_counters(&nodes[i].sim)->lost_collision, 0);
+        ck_assert_uint_eq(kelp_modemsim_get_counters(&nodes[i].sim)->lost_half_duplex, 0);
     }
     /* VehicleStatus (10 B) messages are stitched: node 2 needed fewer slots than messages */
-    ck_assert_uint_le(kelp_msim_get_counters(&nodes[1].sim)->tx[KELP_MSIM_PKT_DATA], 2);
-    ck_assert_uint_eq(kelp_msim_get_counters(&nodes[0].sim)->tx[KELP_MSIM_PKT_DATA], 3);
+    ck_assert_uint_le(kelp_modemsim_get_counters(&nodes[1].sim)->tx[KELP_MODEMSIM_PKT_DATA], 2);
+    ck_assert_uint_eq(kelp_modemsim_get_counters(&nodes[0].sim)->tx[KELP_MODEMSIM_PKT_DATA], 3);
 }
 END_TEST
 
@@ -335,9 +335,9 @@ START_TEST(lossy_channel_resends_and_expires_nothing_else_lost)
         expired += nodes[1].expired[t];
     }
     /* more GoToCommand frames than messages (21 B: one per frame): unacknowledged ones went again */
-    ck_assert_uint_gt(kelp_msim_get_counters(&nodes[0].sim)->frames_tx, 4);
-    ck_assert_uint_gt(kelp_msim_get_counters(&nodes[0].sim)->lost_random +
-                          kelp_msim_get_counters(&nodes[1].sim)->lost_random,
+    ck_assert_uint_gt(kelp_modemsim_get_counters(&nodes[0].sim)->frames_tx, 4);
+    ck_assert_uint_gt(kelp_modemsim_get_counters(&nodes[0].sim)->lost_random +
+                          kelp_modemsim_get_counters(&nodes[1].sim)->lost_random,
                       0);
     ck_assert_int_gt(expired, 0); /* 50 s of ttl under 30 % loss: some VehicleStatus expire */
     for (int i = 0; i < NN; i++) ck_assert(!nodes[i].dead);

@@ -1,6 +1,7 @@
 /* pAcommsPoller's poll list (src/modemsim/poller.c): POLLER_COMMAND applied to the cycle. */
 #include <check.h>
 #include <string.h>
+#include <kelp/poller.h>
 #include <kelp/modemsim.h>
 
 START_TEST(poller_commands)

@@ -1,6 +1,6 @@
 /* kelp-acomms-replay: the Micro-Modem driver core on the timeline (no serial line). What the
  * driver writes is printed as "nmea-out"; modem sentences come from "modem $CA..." lines; a
- * "cycle" hands the driver the frames of a cycle of our own (kelp_mm_transmit_frames). */
+ * "cycle" hands the driver the frames of a cycle of our own (kelp_mmdriver_transmit_frames). */
 #include <stdio.h>
 #include <string.h>
 
@@ -16,33 +16,33 @@ static void on_write(const char *bytes, size_t len, void *user)
     (void)bytes, (void)len, (void)user; /* shown by the NMEA_OUT event, without the CRLF */
 }
 
-static void on_event(const kelp_mm_event *ev, void *user)
+static void on_event(const kelp_mmdriver_event *ev, void *user)
 {
     rmodem *m = user;
     switch (ev->kind) {
-    case KELP_MM_EV_NMEA_OUT:
+    case KELP_MMDRIVER_EV_NMEA_OUT:
         stamp(m, ev->time_us);
         fprintf(m->out, "nmea-out %s\n", ev->raw);
         break;
-    case KELP_MM_EV_ACK:
+    case KELP_MMDRIVER_EV_ACK:
         stamp(m, ev->time_us);
         fprintf(m->out, "modem-ack src=%d dest=%d frame=%u\n", ev->src, ev->dest, (unsigned)ev->frame);
         break;
-    case KELP_MM_EV_RECEIVE:
+    case KELP_MMDRIVER_EV_RECEIVE:
         stamp(m, ev->time_us);
         fprintf(m->out, "modem-receive src=%d dest=%d frame=%u hex=", ev->src, ev->dest, (unsigned)ev->frame);
         for (size_t i = 0; i < ev->data_len; i++) fprintf(m->out, "%02x", ev->data[i]);
         fputc('\n', m->out);
         break;
-    case KELP_MM_EV_BAD_LINE:
+    case KELP_MMDRIVER_EV_BAD_LINE:
         stamp(m, ev->time_us);
         fprintf(m->out, "modem-bad-line %s\n", ev->raw ? ev->raw : "");
         break;
-    case KELP_MM_EV_RETRY:
-    case KELP_MM_EV_GIVE_UP:
-    case KELP_MM_EV_DEAD:
+    case KELP_MMDRIVER_EV_RETRY:
+    case KELP_MMDRIVER_EV_GIVE_UP:
+    case KELP_MMDRIVER_EV_DEAD:
         stamp(m, ev->time_us);
-        fprintf(m->out, "modem-%s\n", ev->kind == KELP_MM_EV_RETRY ? "retry" : ev->kind == KELP_MM_EV_DEAD ? "dead" : "give-up");
+        fprintf(m->out, "modem-%s\n", ev->kind == KELP_MMDRIVER_EV_RETRY ? "retry" : ev->kind == KELP_MMDRIVER_EV_DEAD ? "dead" : "give-up");
         break;
     default:
         break;
@@ -51,7 +51,7 @@ static void on_event(const kelp_mm_event *ev, void *user)
 
 /* a cycle the modem started asks us for data: kelp-acomms-replay answers blank (use
  * data_request to see what the queue would give) */
-static void on_request(const kelp_mm_data_request *req, kelp_mm_frame *out, void *user)
+static void on_request(const kelp_mmdriver_data_request *req, kelp_mmdriver_frame *out, void *user)
 {
     rmodem *m = user;
     out->len = 0;
@@ -61,21 +61,21 @@ static void on_request(const kelp_mm_data_request *req, kelp_mm_frame *out, void
 
 int rmodem_start(rmodem *m, int modem_id, FILE *out, int64_t start_us, int64_t now_us)
 {
-    static const kelp_mm_ops ops = { on_write, on_event, on_request };
-    kelp_mm_cfg cfg;
+    static const kelp_mmdriver_ops ops = { on_write, on_event, on_request };
+    kelp_mmdriver_cfg cfg;
     memset(&cfg, 0, sizeof cfg);
     cfg.modem_id = modem_id;
     m->out = out;
     m->start_us = start_us;
-    int rc = kelp_mm_init(&m->mm, &cfg, &ops, m);
-    if (rc == KELP_OK) rc = kelp_mm_start(&m->mm, now_us);
+    int rc = kelp_mmdriver_init(&m->mm, &cfg, &ops, m);
+    if (rc == KELP_OK) rc = kelp_mmdriver_start(&m->mm, now_us);
     m->on = rc == KELP_OK;
     return rc;
 }
 
 void rmodem_tick(rmodem *m, int64_t now_us)
 {
-    if (m->on && kelp_mm_tick(&m->mm, now_us) == KELP_ERR_TIMEOUT) {
+    if (m->on && kelp_mmdriver_tick(&m->mm, now_us) == KELP_ERR_TIMEOUT) {
         fprintf(m->out, "%10.3f modem-dead (say \"modem start\" to start again)\n", (double)(now_us - m->start_us) / 1e6);
         m->on = false;
     }
@@ -87,11 +87,11 @@ int rmodem_feed(rmodem *m, const char *line, int64_t now_us)
     char buf[KELP_MAX_NMEA_LINE + 2];
     int n = snprintf(buf, sizeof buf, "%s\r", line);
     if (n < 0 || (size_t)n >= sizeof buf) return KELP_ERR_RANGE;
-    return kelp_mm_feed(&m->mm, (const uint8_t *)buf, (size_t)n, now_us);
+    return kelp_mmdriver_feed(&m->mm, (const uint8_t *)buf, (size_t)n, now_us);
 }
 
-int rmodem_cycle(rmodem *m, unsigned rate, const kelp_mm_frame *frames, size_t n, int64_t now_us)
+int rmodem_cycle(rmodem *m, unsigned rate, const kelp_mmdriver_frame *frames, size_t n, int64_t now_us)
 {
     if (!m->on) return KELP_ERR_STATE;
-    return kelp_mm_transmit_frames(&m->mm, rate, frames, n, now_us);
+    return kelp_mmdriver_transmit_frames(&m->mm, rate, frames, n, now_us);
 }

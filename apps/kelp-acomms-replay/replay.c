@@ -304,7 +304,7 @@ static void cmd_data_request(replay *r, char **w, int n)
             error(r, "rate must be 0..5");
             return;
         }
-        req.max_bytes = kelp_mm_packet_size[v];
+        req.max_bytes = kelp_mmdriver_packet_size[v];
     }
     if ((s = opt(w, n, "dest"))) {
         if (!parse_int(s, &v) || v < -1 || v > 31) {
@@ -428,7 +428,7 @@ static void cmd_modem(replay *r, char **w, int n)
 /* cycle rate=R dest=D [ack=0|1] HEX|- ... : a cycle of ours with these frames */
 static void cmd_cycle(replay *r, char **w, int n)
 {
-    static kelp_mm_frame fr[KELP_MAX_MM_FRAMES];
+    static kelp_mmdriver_frame fr[KELP_MAX_MM_FRAMES];
     long rate = -1, dest = -1, ack = 0;
     size_t nf = 0;
     for (int i = 0; i < n; i++) {
@@ -459,7 +459,7 @@ static void cmd_cycle(replay *r, char **w, int n)
     fprintf(r->out, "cycle rate=%ld dest=%ld ack=%ld frames=%zu\n", rate, dest, ack, nf);
     int rc = rmodem_cycle(&r->modem, (unsigned)rate, fr, nf, r->now_us);
     if (rc == KELP_ERR_STATE) error(r, "cycle: say \"modem start\" first");
-    else if (rc != KELP_OK) error(r, "cycle: rate %ld carries %u frames", rate, kelp_mm_packet_frames[rate]);
+    else if (rc != KELP_OK) error(r, "cycle: rate %ld carries %u frames", rate, kelp_mmdriver_packet_frames[rate]);
 }
 
 static void cmd_status(replay *r)

@@ -10,7 +10,7 @@ int replay_main(int argc, char **argv);
 
 /* the Micro-Modem driver on the timeline (modem.c) */
 typedef struct rmodem {
-    kelp_mm mm;
+    kelp_mmdriver mm;
     bool on;
     FILE *out;
     int64_t start_us;
@@ -19,5 +19,5 @@ typedef struct rmodem {
 int rmodem_start(rmodem *m, int modem_id, FILE *out, int64_t start_us, int64_t now_us);
 void rmodem_tick(rmodem *m, int64_t now_us);
 int rmodem_feed(rmodem *m, const char *line, int64_t now_us);
-int rmodem_cycle(rmodem *m, unsigned rate, const kelp_mm_frame *frames, size_t n, int64_t now_us);
+int rmodem_cycle(rmodem *m, unsigned rate, const kelp_mmdriver_frame *frames, size_t n, int64_t now_us);
 #endif

@@ -57,12 +57,12 @@ uint32_t msim_instance(void)
     return v ^ (uint32_t)getpid() ^ (uint32_t)ts.tv_nsec;
 }
 
-int msim_config(kelp_app *app, msim_app *s, kelp_msim_cfg *c)
+int msim_config(kelp_app *app, msim_app *s, kelp_modemsim_cfg *c)
 {
     double d = 0;
-    if (kelp_app_param_double(app, "modem_id", &d) <= 0 || d != floor(d) || d < 1 || d > KELP_MSIM_MAX_ID)
+    if (kelp_app_param_double(app, "modem_id", &d) <= 0 || d != floor(d) || d < 1 || d > KELP_MODEMSIM_MAX_ID)
         return kelp_app_config_error(app, kelp_app_param(app, "modem_id"), "modem_id (1..%d) is required",
-                                     KELP_MSIM_MAX_ID);
+                                     KELP_MODEMSIM_MAX_ID);
     c->modem_id = s->modem_id = (int)d;
     /* host side: a pseudo-terminal (pty_link, or iModemSim's Port) or a TCP server port */
     if (kelp_app_param_str(app, "pty_link", s->pty_link, sizeof s->pty_link) <= 0)

@@ -1,5 +1,5 @@
 /* kelp-modemsim: a simulated WHOI Micro-Modem (iModemSim). The protocol and the channel are the
- * core kelp_msim (include/kelp/modemsim.h), the host port is kelp_hostport; this is wiring. */
+ * core kelp_modemsim (include/kelp/modemsim.h), the host port is kelp_hostport; this is wiring. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -24,8 +24,8 @@ static void feed_host(void *ctx, const uint8_t *b, size_t n)
 {
     msim_app *s = ctx;
     int64_t now = us_of(kelp_app_time(s->app));
-    if (kelp_msim_feed(&s->m, b, n, now) < 0) kelp_app_run_warning(s->app, "modem feed failed");
-    kelp_msim_tick(&s->m, now);
+    if (kelp_modemsim_feed(&s->m, b, n, now) < 0) kelp_app_run_warning(s->app, "modem feed failed");
+    kelp_modemsim_tick(&s->m, now);
 }
 
 static void on_host(kelp_app *app, void *st, int fd)
@@ -39,11 +39,11 @@ static void on_host(kelp_app *app, void *st, int fd)
 
 /* ------------------------------------------------------------------ the channel */
 
-static void channel_tx(const kelp_msim_pkt *p, void *u)
+static void channel_tx(const kelp_modemsim_pkt *p, void *u)
 {
     msim_app *s = u;
     size_t len;
-    if (kelp_msim_pkt_encode(p, s->enc, sizeof s->enc, &len) != KELP_OK) {
+    if (kelp_modemsim_pkt_encode(p, s->enc, sizeof s->enc, &len) != KELP_OK) {
         kelp_app_run_warning(s->app, "cannot encode a channel packet");
         return;
     }
@@ -61,15 +61,15 @@ static void channel_rx(msim_app *s, const kelp_var *v)
         return;
     }
     if (v->kind != KELP_VAR_BINARY ||
-        kelp_msim_pkt_decode((const uint8_t *)v->sval, v->slen, &s->rxpkt) != KELP_OK) {
+        kelp_modemsim_pkt_decode((const uint8_t *)v->sval, v->slen, &s->rxpkt) != KELP_OK) {
         s->pkts_bad++;
         kelp_app_run_warning(s->app, "malformed %s from %s: ignored", s->channel_var, v->source);
         return;
     }
     int64_t now = us_of(kelp_app_time(s->app));
     if (s->rxpkt.instance != s->m.cfg.instance) s->pkts_in++;
-    if (kelp_msim_hear(&s->m, &s->rxpkt, now) < 0) kelp_app_run_warning(s->app, "too many packets in flight");
-    kelp_msim_tick(&s->m, now);
+    if (kelp_modemsim_hear(&s->m, &s->rxpkt, now) < 0) kelp_app_run_warning(s->app, "too many packets in flight");
+    kelp_modemsim_tick(&s->m, now);
 }
 
 static void on_chan_var(const kelp_var *v, void *user)
@@ -87,15 +87,15 @@ static void on_chan_fd(kelp_app *app, void *st, int fd)
 
 /* ------------------------------------------------------------------ events */
 
-static void on_event(const kelp_msim_event *e, void *u)
+static void on_event(const kelp_modemsim_event *e, void *u)
 {
     msim_app *s = u;
     char text[256];
-    if (e->kind == KELP_MSIM_EV_HOST_ERROR) {
+    if (e->kind == KELP_MODEMSIM_EV_HOST_ERROR) {
         kelp_app_run_warning(s->app, "bad host line ($CAERR sent): %.120s", e->text);
-    } else if (e->kind == KELP_MSIM_EV_INFO) {
+    } else if (e->kind == KELP_MODEMSIM_EV_INFO) {
         kelp_app_event(s->app, "%s", e->text);
-    } else if (kelp_msim_event_format(&s->m, e, text, sizeof text) > 0) { /* tx, rx, lost */
+    } else if (kelp_modemsim_event_format(&s->m, e, text, sizeof text) > 0) { /* tx, rx, lost */
         kelp_app_event(s->app, "%s", text);
         if (s->publish_events) (void)kelp_app_notify_string(s->app, "ACOMMS_SIM_EVENT", text);
     }
@@ -105,14 +105,14 @@ static int startup(kelp_app *app, void *st)
 {
     msim_app *s = st;
     s->app = app;
-    kelp_msim_cfg c;
-    kelp_msim_cfg_default(&c);
+    kelp_modemsim_cfg c;
+    kelp_modemsim_cfg_default(&c);
     int rc;
     if (msim_config(app, s, &c) < 0) return -1;
     c.instance = msim_instance();
-    kelp_msim_ops ops = { host_write, channel_tx, on_event };
+    kelp_modemsim_ops ops = { host_write, channel_tx, on_event };
     int64_t now = us_of(kelp_app_time(app));
-    if ((rc = kelp_msim_init(&s->m, &c, &ops, s, now)) < 0)
+    if ((rc = kelp_modemsim_init(&s->m, &c, &ops, s, now)) < 0)
         return kelp_app_config_error(app, NULL, "bad modem configuration: %s", kelp_strerror(rc));
     /* the host link */
     char err[400];
@@ -148,7 +148,7 @@ static int startup(kelp_app *app, void *st)
     if (s->nav_vars && (kelp_app_register(app, "NAV_X", 0) < 0 || kelp_app_register(app, "NAV_Y", 0) < 0 ||
                         kelp_app_register(app, "NAV_DEPTH", 0) < 0))
         return -1;
-    kelp_msim_boot(&s->m, now);
+    kelp_modemsim_boot(&s->m, now);
     kelp_app_event(app, "modem %d at x=%.1f y=%.1f depth=%.1f, loss %.2f, channel %s%s%s", s->modem_id, c.x, c.y,
                    c.depth, c.loss_probability, s->channel_var, s->channel_url[0] ? " on " : "", s->channel_url);
     return 0;
@@ -167,7 +167,7 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
             s->nav_x = nr.x;
             s->nav_y = nr.y;
             if (nr.fields & KELP_NR_DEPTH) s->nav_depth = nr.depth;
-            kelp_msim_set_position(&s->m, s->nav_x, s->nav_y, s->nav_depth);
+            kelp_modemsim_set_position(&s->m, s->nav_x, s->nav_y, s->nav_depth);
         } else {
             kelp_app_run_warning(app, "%s without X= and Y=: position unchanged", v->name);
         }
@@ -175,21 +175,21 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
         if (!strcmp(v->name, "NAV_X")) s->nav_x = v->dval;
         else if (!strcmp(v->name, "NAV_Y")) s->nav_y = v->dval;
         else if (!strcmp(v->name, "NAV_DEPTH")) s->nav_depth = v->dval;
-        kelp_msim_set_position(&s->m, s->nav_x, s->nav_y, s->nav_depth);
+        kelp_modemsim_set_position(&s->m, s->nav_x, s->nav_y, s->nav_depth);
     }
 }
 
 static int iterate(kelp_app *app, void *st, double now)
 {
     msim_app *s = st;
-    kelp_msim_tick(&s->m, us_of(now));
+    kelp_modemsim_tick(&s->m, us_of(now));
     if (now - s->last_status >= 2.0) {
-        const kelp_msim_counters *c = kelp_msim_get_counters(&s->m);
+        const kelp_modemsim_counters *c = kelp_modemsim_get_counters(&s->m);
         (void)kelp_app_notify_stringf(app, "MODEMSIM_STATUS",
                                       "modem=%d,port=%s,host_lines=%u,host_errors=%u,tx_data=%u,rx_frames=%u,"
                                       "acks=%u,lost_random=%u,lost_collision=%u,lost_half_duplex=%u",
-                                      kelp_msim_src(&s->m), s->tcp_port ? "tcp" : s->host.pty_name, c->host_lines,
-                                      c->host_errors, c->tx[KELP_MSIM_PKT_DATA], c->frames_rx, c->acks_out,
+                                      kelp_modemsim_src(&s->m), s->tcp_port ? "tcp" : s->host.pty_name, c->host_lines,
+                                      c->host_errors, c->tx[KELP_MODEMSIM_PKT_DATA], c->frames_rx, c->acks_out,
                                       c->lost_random, c->lost_collision, c->lost_half_duplex);
         s->last_status = now;
     }
@@ -200,12 +200,12 @@ static void report(kelp_app *app, void *st, FILE *out)
 {
     msim_app *s = st;
     (void)app;
-    const kelp_msim_counters *c = kelp_msim_get_counters(&s->m);
+    const kelp_modemsim_counters *c = kelp_modemsim_get_counters(&s->m);
     if (s->tcp_port)
-        fprintf(out, "modem %d (SRC %d) on TCP port %u, host %s\n", s->modem_id, kelp_msim_src(&s->m), s->tcp_port,
+        fprintf(out, "modem %d (SRC %d) on TCP port %u, host %s\n", s->modem_id, kelp_modemsim_src(&s->m), s->tcp_port,
                 s->host.cfd >= 0 ? "connected" : "not connected");
     else
-        fprintf(out, "modem %d (SRC %d) on %s%s%s\n", s->modem_id, kelp_msim_src(&s->m), s->host.pty_name,
+        fprintf(out, "modem %d (SRC %d) on %s%s%s\n", s->modem_id, kelp_modemsim_src(&s->m), s->host.pty_name,
                 s->pty_link[0] ? " <- " : "", s->pty_link);
     fprintf(out, "position x=%.1f y=%.1f depth=%.1f\n", s->m.x, s->m.y, s->m.depth);
     fprintf(out, "host: %u lines in, %u out, %u errors; bytes in %lu out %lu dropped %lu\n", c->host_lines,

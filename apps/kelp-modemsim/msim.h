@@ -11,7 +11,7 @@
 
 typedef struct msim_app {
     kelp_app *app;
-    kelp_msim m;
+    kelp_modemsim m;
     int modem_id;
     /* host side */
     kelp_hostport host;            /* pty or TCP server */
@@ -28,12 +28,12 @@ typedef struct msim_app {
     double nav_x, nav_y, nav_depth;
     bool publish_events;
     double last_status;
-    uint8_t enc[KELP_MSIM_PKT_MAX_ENCODED];
-    kelp_msim_pkt rxpkt;
+    uint8_t enc[KELP_MODEMSIM_PKT_MAX_ENCODED];
+    kelp_modemsim_pkt rxpkt;
 } msim_app;
 
 /** Read the ProcessConfig block into s and c (0, or <0 after a configuration error). */
-int msim_config(kelp_app *app, msim_app *s, kelp_msim_cfg *c);
+int msim_config(kelp_app *app, msim_app *s, kelp_modemsim_cfg *c);
 /** A number that tells this process's transmissions apart on the channel. */
 uint32_t msim_instance(void);
 

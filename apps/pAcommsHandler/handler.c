@@ -174,24 +174,24 @@ static void on_queue_event(handler *h, const kelp_queue_event *q)
     }
 }
 
-static void on_driver_event(handler *h, const kelp_mm_event *e)
+static void on_driver_event(handler *h, const kelp_mmdriver_event *e)
 {
     switch (e->kind) {
-    case KELP_MM_EV_NMEA_IN:
+    case KELP_MMDRIVER_EV_NMEA_IN:
         h->nmea_in++;
         if (e->raw && e->raw_len < MAX_RAW_PUBLISH) {
             (void)kelp_app_notify_string(h->app, "ACOMMS_NMEA_IN", e->raw);
             keep_line(h->last_in, &h->n_in, e->raw);
         }
         break;
-    case KELP_MM_EV_NMEA_OUT:
+    case KELP_MMDRIVER_EV_NMEA_OUT:
         h->nmea_out++;
         if (e->raw && e->raw_len < MAX_RAW_PUBLISH) {
             (void)kelp_app_notify_string(h->app, "ACOMMS_NMEA_OUT", e->raw);
             keep_line(h->last_out, &h->n_out, e->raw);
         }
         break;
-    case KELP_MM_EV_RANGE:
+    case KELP_MMDRIVER_EV_RANGE:
         h->ranges++;
         if (kelp_acomms_print_range(e->src, e->dest, e->time_us, e->ranging, e->tt, e->n_tt, h->text, sizeof h->text,
                                     NULL) == KELP_OK)
@@ -201,29 +201,29 @@ static void on_driver_event(handler *h, const kelp_mm_event *e)
                                                e->tt, e->n_tt),
                       "ACOMMS_RANGE_RESPONSE_LCM");
         break;
-    case KELP_MM_EV_MODEM_ERROR:
+    case KELP_MMDRIVER_EV_MODEM_ERROR:
         h->modem_errors++;
         kelp_app_run_warning(h->app, "modem error: %s", e->raw ? e->raw : "$CAERR");
         break;
-    case KELP_MM_EV_BAD_LINE:
+    case KELP_MMDRIVER_EV_BAD_LINE:
         h->bad_lines++;
         kelp_app_run_warning(h->app, "bad line from the modem ignored (%s)", kelp_strerror(e->err));
         break;
-    case KELP_MM_EV_RETRY:
+    case KELP_MMDRIVER_EV_RETRY:
         h->retries++;
         kelp_app_event(h->app, "no answer from the modem: resending %.60s", e->raw ? e->raw : "");
         break;
-    case KELP_MM_EV_GIVE_UP:
+    case KELP_MMDRIVER_EV_GIVE_UP:
         h->give_ups++;
         kelp_app_run_warning(h->app, "modem did not answer %.40s after 3 tries: command queue cleared",
                              e->raw ? e->raw : "");
         break;
-    case KELP_MM_EV_DEAD:
+    case KELP_MMDRIVER_EV_DEAD:
         h->deaths++;
         kelp_app_run_warning(h->app, "modem not responding: reconnecting the link");
         kelp_app_event(h->app, "modem not responding: reconnecting the link");
         break;
-    case KELP_MM_EV_CLOCK:
+    case KELP_MMDRIVER_EV_CLOCK:
         kelp_app_event(h->app, "modem clock %s", e->clock_ok ? "set" : "needs setting");
         break;
     default: break;
@@ -674,8 +674,8 @@ static void publish_status(handler *h)
     s.driver = h->cfg.driver_type == KELP_ACOMMS_DRIVER_NONE ? "DRIVER_NONE" : "DRIVER_WHOI_MICROMODEM";
     s.link = h->link ? kelp_link_describe(h->link) : "";
     s.link_up = h->link ? h->link_up : false;
-    kelp_mm *mm = kelp_acomms_node_driver(&h->node);
-    s.clock_ok = mm ? kelp_mm_clock_ok(mm) : false;
+    kelp_mmdriver *mm = kelp_acomms_node_driver(&h->node);
+    s.clock_ok = mm ? kelp_mmdriver_clock_ok(mm) : false;
     static const char *const MACN[] = { "?", "MAC_NONE", "MAC_FIXED_DECENTRALIZED", "MAC_AUTO_DECENTRALIZED",
                                         "MAC_POLLED" };
     s.mac = MACN[h->cfg.mac_type <= 4 ? h->cfg.mac_type : 0];
@@ -757,7 +757,7 @@ static void report(kelp_app *app, void *state, FILE *out)
     handler *h = state;
     (void)app;
     if (!h->started) return;
-    kelp_mm *mm = kelp_acomms_node_driver(&h->node);
+    kelp_mmdriver *mm = kelp_acomms_node_driver(&h->node);
     fprintf(out, "modem_id %d   driver %s\n", h->cfg.modem_id,
             h->cfg.driver_type == KELP_ACOMMS_DRIVER_NONE ? "DRIVER_NONE (in-process channel)" : "DRIVER_WHOI_MICROMODEM");
     if (h->link) {
@@ -773,7 +773,7 @@ static void report(kelp_app *app, void *state, FILE *out)
         fprintf(out,
                 "modem: clock %s, %zu command(s) pending, lines in %u out %u, bad %u, retries %u, give-ups %u, "
                 "$CAERR %u, dead %lu\n",
-                kelp_mm_clock_ok(mm) ? "ok" : "not set", kelp_mm_pending(mm), mm->count.lines_in, mm->count.lines_out,
+                kelp_mmdriver_clock_ok(mm) ? "ok" : "not set", kelp_mmdriver_pending(mm), mm->count.lines_in, mm->count.lines_out,
                 mm->count.bad_lines, mm->count.retries, mm->count.give_ups, mm->count.modem_errors, h->deaths);
     int64_t next = kelp_mac_next_slot_time(&h->node.mac);
     static const char *const MACN[] = { "?", "MAC_NONE", "MAC_FIXED_DECENTRALIZED", "MAC_AUTO_DECENTRALIZED",

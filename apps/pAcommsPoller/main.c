@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <kelp/poller.h>
 #include <kelp/app.h>
 #include <kelp/mac.h>
 #include <kelp/modemsim.h>
@@ -26,7 +27,7 @@ typedef struct poller {
 static void check_slot(kelp_app *app, const poller *p, const kelp_mac_slot *s)
 {
     if (s->type != KELP_SLOT_DATA || p->max_range <= 0) return;
-    double need = kelp_msim_min_slot_seconds(s->rate, p->max_range, 1.0, 0.5, 0.25, KELP_MSIM_SOUND_SPEED);
+    double need = kelp_modemsim_min_slot_seconds(s->rate, p->max_range, 1.0, 0.5, 0.25, KELP_MODEMSIM_SOUND_SPEED);
     if ((double)s->slot_seconds < need)
         kelp_app_run_warning(app, "slot src=%d dest=%d rate %u: %u s is short for %.0f m (a full packet with its "
                                   "ack needs %.1f s)",

@@ -190,7 +190,7 @@ typedef struct kelp_acomms_event {
     kelp_acomms_ev_kind kind;
     int64_t time_us;
     const kelp_queue_event *q;
-    const kelp_mm_event *mm;
+    const kelp_mmdriver_event *mm;
     const kelp_mac_action *slot;
     const kelp_queue_request *req;
     const kelp_acomms_msg *frame;
@@ -207,7 +207,7 @@ typedef struct kelp_acomms_node_ops {
 typedef struct kelp_acomms_node_cfg {
     int modem_id;                 /**< 1..31 */
     kelp_acomms_driver_type driver;
-    kelp_mm_cfg mm;               /**< WHOI driver configuration (modem_id is forced) */
+    kelp_mmdriver_cfg mm;               /**< WHOI driver configuration (modem_id is forced) */
     kelp_mac_cfg mac;             /**< modem_id is forced */
     /** DRIVER_NONE only: an ideal in-process channel.  At our MAC data slots the frames the
      *  queue hands out are delivered back to our receive path (which keeps the broadcast pieces),
@@ -229,7 +229,7 @@ typedef struct kelp_acomms_node {
     bool link_up;                 /**< WHOI: false while the link is down (no cycles, no driver ticks) */
     kelp_queue_mgr q;
     kelp_mac mac;
-    kelp_mm mm;
+    kelp_mmdriver mm;
     kelp_acomms_node_ops ops;
     void *user;
     int64_t now_us;               /**< time of the call in progress (for callbacks) */
@@ -285,7 +285,7 @@ void kelp_acomms_node_heard(kelp_acomms_node *n, int src, int64_t now_us);
 
 kelp_queue_mgr *kelp_acomms_node_queue(kelp_acomms_node *n);
 kelp_mac *kelp_acomms_node_mac(kelp_acomms_node *n);
-kelp_mm *kelp_acomms_node_driver(kelp_acomms_node *n);
+kelp_mmdriver *kelp_acomms_node_driver(kelp_acomms_node *n);
 const kelp_acomms_node_counters *kelp_acomms_node_get_counters(const kelp_acomms_node *n);
 
 /* ================================================================== 4. configuration (edge) */

@@ -1,13 +1,13 @@
 /* kelp: WHOI Micro-Modem driver core -- the protocol state machine of Goby 1.1's MMDriver
  * with no file descriptor, no clock, no allocation.
  *
- *   bytes in   kelp_mm_feed(mm, bytes, n, now)      (serial/TCP reader at the edge)
+ *   bytes in   kelp_mmdriver_feed(mm, bytes, n, now)      (serial/TCP reader at the edge)
  *   lines out  ops.write(bytes, n, user)             ("#M1" Hydroid prefix + "$CC...*hh\r\n")
  *   events     ops.event(&ev, user)                  (received frames, acks, ranges, raw NMEA ...)
  *   data       ops.data_request(&req, &frame, user)  (the queue fills a frame; len 0 = none)
  *   time       every call takes now (UNIX UTC microseconds)
  *
- * Call kelp_mm_tick(mm, now) often (Goby's do_work runs at app_tick, 10 Hz by default), then
+ * Call kelp_mmdriver_tick(mm, now) often (Goby's do_work runs at app_tick, 10 Hz by default), then
  * feed what the link read: the same order as do_work (send, then read).
  *
  * Behaviour reproduced from Goby 1.1 (see the issue note for the list):
@@ -16,8 +16,8 @@
  *  - one outstanding command: the next queued $CC... is written only after a modem sentence with
  *    the same 3-letter id (the first $CACFG also completes $CCCFQ); no reply for 3 s -> written
  *    again; the third timeout clears the whole command queue; 5 timeouts without any sentence
- *    received in between -> KELP_MM_EV_DEAD and kelp_mm_tick() returns KELP_ERR_TIMEOUT until
- *    kelp_mm_start() is called again (the edge reconnects).  $CAERR,...,NMEA,... counts as one
+ *    received in between -> KELP_MMDRIVER_EV_DEAD and kelp_mmdriver_tick() returns KELP_ERR_TIMEOUT until
+ *    kelp_mmdriver_start() is called again (the edge reconnects).  $CAERR,...,NMEA,... counts as one
  *    timeout of the pending command and re-sends it at once.
  *  - Goby's sleep(1) after $CCCLK and sleep(2) after $CAREV,...,INIT are a "hold": bytes fed
  *    during the hold are kept and processed, and nothing is written, until `now` passes it.
@@ -38,46 +38,46 @@
 extern "C" {
 #endif
 
-#define KELP_MM_MODEM_WAIT_US 3000000LL   /**< MODEM_WAIT: resend after 3 s */
-#define KELP_MM_RETRIES 3                 /**< RETRIES: clear the command queue */
-#define KELP_MM_MAX_FAILS_BEFORE_DEAD 5
-#define KELP_MM_ALLOWED_SKEW_US 2000000LL
-#define KELP_MM_HYDROID_GPS_INTERVAL_US 30000000LL
+#define KELP_MMDRIVER_MODEM_WAIT_US 3000000LL   /**< MODEM_WAIT: resend after 3 s */
+#define KELP_MMDRIVER_RETRIES 3                 /**< RETRIES: clear the command queue */
+#define KELP_MMDRIVER_MAX_FAILS_BEFORE_DEAD 5
+#define KELP_MMDRIVER_ALLOWED_SKEW_US 2000000LL
+#define KELP_MMDRIVER_HYDROID_GPS_INTERVAL_US 30000000LL
 
 /** Frames per packet and bytes per frame for rates 0..5 (PACKET_FRAME_COUNT, PACKET_SIZE). */
-extern const unsigned kelp_mm_packet_frames[6];
-extern const unsigned kelp_mm_packet_size[6];
+extern const unsigned kelp_mmdriver_packet_frames[6];
+extern const unsigned kelp_mmdriver_packet_size[6];
 
-typedef struct kelp_mm_frame {
+typedef struct kelp_mmdriver_frame {
     int src, dest;
     bool ack_requested;
     size_t len;
     uint8_t data[KELP_MAX_ACOMMS_FRAME];
-} kelp_mm_frame;
+} kelp_mmdriver_frame;
 
-typedef struct kelp_mm_data_request {
+typedef struct kelp_mmdriver_data_request {
     int src, dest;          /**< dest -1: ask the queue */
     uint32_t frame;         /**< Goby frame (0-based) */
     uint32_t max_bytes;
-} kelp_mm_data_request;
+} kelp_mmdriver_data_request;
 
-typedef enum kelp_mm_event_kind {
-    KELP_MM_EV_NMEA_OUT = 1, /**< a sentence was written (raw, without prefix and CRLF) */
-    KELP_MM_EV_NMEA_IN,      /**< a sentence was processed (raw re-rendered with "*HH"; src if it has one) */
-    KELP_MM_EV_RECEIVE,      /**< $CARXD: src, dest, ack_requested, frame (0-based), data */
-    KELP_MM_EV_ACK,          /**< $CAACK for a frame sent with ack this cycle: src, dest, frame */
-    KELP_MM_EV_RANGE,        /**< $CAMPR / $SNTTA / $CATOA: src, dest, ranging, tt[n_tt] */
-    KELP_MM_EV_CYCLE,        /**< $CACYC: src = ADR1, dest = ADR2, rate, frame = number of frames */
-    KELP_MM_EV_MODEM_ERROR,  /**< $CAERR: raw */
-    KELP_MM_EV_BAD_LINE,     /**< a line was rejected: err, raw = the line */
-    KELP_MM_EV_RETRY,        /**< the pending command is written again: raw */
-    KELP_MM_EV_GIVE_UP,      /**< no answer after the retries: the command queue was cleared */
-    KELP_MM_EV_DEAD,         /**< the modem does not answer: reconnect and kelp_mm_start() */
-    KELP_MM_EV_CLOCK         /**< clock state changed: clock_ok */
-} kelp_mm_event_kind;
+typedef enum kelp_mmdriver_event_kind {
+    KELP_MMDRIVER_EV_NMEA_OUT = 1, /**< a sentence was written (raw, without prefix and CRLF) */
+    KELP_MMDRIVER_EV_NMEA_IN,      /**< a sentence was processed (raw re-rendered with "*HH"; src if it has one) */
+    KELP_MMDRIVER_EV_RECEIVE,      /**< $CARXD: src, dest, ack_requested, frame (0-based), data */
+    KELP_MMDRIVER_EV_ACK,          /**< $CAACK for a frame sent with ack this cycle: src, dest, frame */
+    KELP_MMDRIVER_EV_RANGE,        /**< $CAMPR / $SNTTA / $CATOA: src, dest, ranging, tt[n_tt] */
+    KELP_MMDRIVER_EV_CYCLE,        /**< $CACYC: src = ADR1, dest = ADR2, rate, frame = number of frames */
+    KELP_MMDRIVER_EV_MODEM_ERROR,  /**< $CAERR: raw */
+    KELP_MMDRIVER_EV_BAD_LINE,     /**< a line was rejected: err, raw = the line */
+    KELP_MMDRIVER_EV_RETRY,        /**< the pending command is written again: raw */
+    KELP_MMDRIVER_EV_GIVE_UP,      /**< no answer after the retries: the command queue was cleared */
+    KELP_MMDRIVER_EV_DEAD,         /**< the modem does not answer: reconnect and kelp_mmdriver_start() */
+    KELP_MMDRIVER_EV_CLOCK         /**< clock state changed: clock_ok */
+} kelp_mmdriver_event_kind;
 
-typedef struct kelp_mm_event {
-    kelp_mm_event_kind kind;
+typedef struct kelp_mmdriver_event {
+    kelp_mmdriver_event_kind kind;
     int64_t time_us;
     const char *raw;        /**< NUL-terminated, valid during the callback */
     size_t raw_len;
@@ -93,45 +93,45 @@ typedef struct kelp_mm_event {
     double tt[7];           /**< one-way travel times (s); NaN where the modem gave none */
     int err;
     bool clock_ok;
-} kelp_mm_event;
+} kelp_mmdriver_event;
 
-typedef struct kelp_mm_ops {
+typedef struct kelp_mmdriver_ops {
     void (*write)(const char *bytes, size_t len, void *user);
-    void (*event)(const kelp_mm_event *ev, void *user);
-    void (*data_request)(const kelp_mm_data_request *req, kelp_mm_frame *out, void *user);
-} kelp_mm_ops;
+    void (*event)(const kelp_mmdriver_event *ev, void *user);
+    void (*data_request)(const kelp_mmdriver_data_request *req, kelp_mmdriver_frame *out, void *user);
+} kelp_mmdriver_ops;
 
-typedef struct kelp_mm_cfg {
+typedef struct kelp_mmdriver_cfg {
     int modem_id;                       /**< SRC, 1..31 */
     bool reset_nvram;                   /**< $CCCFG,ALL,0 at start-up (not with a Hydroid gateway) */
     const char *nvram_cfg[KELP_MAX_MM_NVRAM]; /**< e.g. "cst,1" (copied, upper-cased when sent) */
     size_t n_nvram;
     int hydroid_gateway_id;             /**< 0 = none; else "#M<id>" out, 3 chars stripped in */
     char line_delimiter;                /**< read delimiter; 0 = '\r' (Goby's MM default) */
-} kelp_mm_cfg;
+} kelp_mmdriver_cfg;
 
-typedef struct kelp_mm_cmd {
+typedef struct kelp_mmdriver_cmd {
     char line[KELP_MAX_NMEA_LINE + 1];
     size_t len;
     char id[4];
-} kelp_mm_cmd;
+} kelp_mmdriver_cmd;
 
-typedef struct kelp_mm_counters {
+typedef struct kelp_mmdriver_counters {
     uint32_t lines_in, lines_out, bad_lines, retries, give_ups, modem_errors, backlog_dropped, deaths;
-} kelp_mm_counters;
+} kelp_mmdriver_counters;
 
-typedef struct kelp_mm {
+typedef struct kelp_mmdriver {
     int modem_id;
     bool reset_nvram;
     char nvram[KELP_MAX_MM_NVRAM][KELP_MAX_MM_NVRAM_LEN];
     size_t n_nvram;
     int hydroid_id;
     char prefix[12];
-    kelp_mm_ops ops;
+    kelp_mmdriver_ops ops;
     void *user;
     kelp_nmea_reader rd;
     kelp_nmea_sentence s;               /**< scratch for the sentence being processed */
-    kelp_mm_cmd outq[KELP_MAX_MM_OUTQ]; /**< commands waiting (ring) */
+    kelp_mmdriver_cmd outq[KELP_MAX_MM_OUTQ]; /**< commands waiting (ring) */
     size_t out_head, out_n;
     bool waiting;                       /**< the front command was written, no reply yet */
     int64_t last_write_us;
@@ -141,54 +141,54 @@ typedef struct kelp_mm {
     uint8_t backlog[KELP_MAX_MM_BACKLOG];
     size_t backlog_len;
     int64_t last_gps_us;
-    kelp_mm_frame cache[KELP_MAX_MM_FRAMES];
+    kelp_mmdriver_frame cache[KELP_MAX_MM_FRAMES];
     unsigned ncache;
     uint32_t ack_mask;                  /**< frames sent with ack=1 in the current cycle */
     bool toa_pending;
     double toa_frac;
-    kelp_mm_counters count;
+    kelp_mmdriver_counters count;
     const char *errmsg;
-} kelp_mm;
+} kelp_mmdriver;
 
 /** Configure (copies cfg).  KELP_ERR_ARG for modem_id outside 1..31 (0 is broadcast) or a bad
  *  nvram entry, KELP_ERR_NOSPACE for too many / too long nvram entries. */
-KELP_MUST_CHECK int kelp_mm_init(kelp_mm *mm, const kelp_mm_cfg *cfg, const kelp_mm_ops *ops, void *user);
+KELP_MUST_CHECK int kelp_mmdriver_init(kelp_mmdriver *mm, const kelp_mmdriver_cfg *cfg, const kelp_mmdriver_ops *ops, void *user);
 
 /** (Re)start: forget queued commands and partial input, then the start-up sequence. */
-KELP_MUST_CHECK int kelp_mm_start(kelp_mm *mm, int64_t now_us);
+KELP_MUST_CHECK int kelp_mmdriver_start(kelp_mmdriver *mm, int64_t now_us);
 
 /** Periodic work (do_work without the read): clock re-set, resend on timeout, Hydroid GPS
  *  query, lines held during a pause.  KELP_ERR_TIMEOUT once the modem is declared dead. */
-KELP_MUST_CHECK int kelp_mm_tick(kelp_mm *mm, int64_t now_us);
+KELP_MUST_CHECK int kelp_mmdriver_tick(kelp_mmdriver *mm, int64_t now_us);
 
-/** Bytes read from the modem.  Bad lines are reported (KELP_MM_EV_BAD_LINE) and skipped.
- *  @return 0, or KELP_ERR_STATE before kelp_mm_start(). */
-KELP_MUST_CHECK int kelp_mm_feed(kelp_mm *mm, const uint8_t *bytes, size_t n, int64_t now_us);
+/** Bytes read from the modem.  Bad lines are reported (KELP_MMDRIVER_EV_BAD_LINE) and skipped.
+ *  @return 0, or KELP_ERR_STATE before kelp_mmdriver_start(). */
+KELP_MUST_CHECK int kelp_mmdriver_feed(kelp_mmdriver *mm, const uint8_t *bytes, size_t n, int64_t now_us);
 
 /** MAC slot (signal_initiate_transmission): src == own id requests the frames now and sends
  *  $CCCYC only if there are data; another src starts a third-party cycle (ACK field 1). */
-KELP_MUST_CHECK int kelp_mm_initiate_transmission(kelp_mm *mm, int src, int dest, unsigned rate, int64_t now_us);
+KELP_MUST_CHECK int kelp_mmdriver_initiate_transmission(kelp_mmdriver *mm, int src, int dest, unsigned rate, int64_t now_us);
 
 /** A cycle of our own with frames the caller supplies (no data request is made): $CCCYC
  *  with ADR2/ACK from frames[0] and the rate's frame count; each $CADRQ is answered from
  *  frames (cut to the rate's size), and one beyond n with an empty $CCTXD. n == 0 sends
  *  nothing; n larger than the rate carries is KELP_ERR_RANGE. */
-KELP_MUST_CHECK int kelp_mm_transmit_frames(kelp_mm *mm, unsigned rate, const kelp_mm_frame *frames, size_t n,
+KELP_MUST_CHECK int kelp_mmdriver_transmit_frames(kelp_mmdriver *mm, unsigned rate, const kelp_mmdriver_frame *frames, size_t n,
                                             int64_t now_us);
 
 /** Ranging: TWO_WAY_PING -> $CCMPC,src,dest; REMUS_LBL -> $CCPDT (max_range m, beacon bits);
  *  ONE_WAY_SYNCHRONOUS cannot be requested (KELP_ERR_UNSUPPORTED). */
-KELP_MUST_CHECK int kelp_mm_initiate_ranging(kelp_mm *mm, int src, int dest, kelp_ranging_type type,
+KELP_MUST_CHECK int kelp_mmdriver_initiate_ranging(kelp_mmdriver *mm, int src, int dest, kelp_ranging_type type,
                                              unsigned max_range, unsigned enable_beacons, int64_t now_us);
 
 /** The driver is pausing until this time (Goby's sleep); 0 if not. */
-int64_t kelp_mm_busy_until(const kelp_mm *mm);
-bool kelp_mm_clock_ok(const kelp_mm *mm);
+int64_t kelp_mmdriver_busy_until(const kelp_mmdriver *mm);
+bool kelp_mmdriver_clock_ok(const kelp_mmdriver *mm);
 /** Commands queued (the first may be awaiting its reply). */
-size_t kelp_mm_pending(const kelp_mm *mm);
+size_t kelp_mmdriver_pending(const kelp_mmdriver *mm);
 
 /** UTC civil date of a UNIX time (helper, exposed for tests and the simulator). */
-void kelp_mm_civil(int64_t unix_us, int *year, int *month, int *day, int *hour, int *minute, int *second);
+void kelp_mmdriver_civil(int64_t unix_us, int *year, int *month, int *day, int *hour, int *minute, int *second);
 
 #ifdef __cplusplus
 }

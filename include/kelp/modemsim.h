@@ -1,15 +1,15 @@
 /* kelp: WHOI Micro-Modem simulator core -- the MODEM side of the Micro-Modem NMEA protocol and
  * a simulated acoustic channel (core; no allocation, no I/O, no clock).
  *
- * One kelp_msim is one simulated modem.  The host (pAcommsHandler with DRIVER_WHOI_MICROMODEM,
+ * One kelp_modemsim is one simulated modem.  The host (pAcommsHandler with DRIVER_WHOI_MICROMODEM,
  * or anything that speaks $CC... sentences) talks to it through bytes; the modems hear each other
  * through packets that the edge carries over the bus (kelp-modemsim: ACOMMS_SIM_CHANNEL).
  *
- *   host bytes in   kelp_msim_feed(m, bytes, n, now)        ("$CCCYC,0,1,2,0,1,1*hh\r\n")
+ *   host bytes in   kelp_modemsim_feed(m, bytes, n, now)        ("$CCCYC,0,1,2,0,1,1*hh\r\n")
  *   host bytes out  ops.write(bytes, n, user)               ("$CACYC,...*hh\r\n")
  *   packets out     ops.transmit(&pkt, user)                (publish on the channel)
- *   packets in      kelp_msim_hear(m, &pkt, now)            (every packet on the channel)
- *   timers          kelp_msim_tick(m, now)                  (often: every 10-50 ms)
+ *   packets in      kelp_modemsim_hear(m, &pkt, now)            (every packet on the channel)
+ *   timers          kelp_modemsim_tick(m, now)                  (often: every 10-50 ms)
  *   time            every call takes now = UNIX UTC microseconds of the shared simulation clock
  *
  * Host protocol (sentence forms of the WHOI Micro-Modem):
@@ -32,7 +32,7 @@
  *
  * Channel model:
  *  - travel time = 3-D distance between the transmitter (position carried in the packet) and
- *    this modem (kelp_msim_set_position) / sound speed (default 1500 m/s);
+ *    this modem (kelp_modemsim_set_position) / sound speed (default 1500 m/s);
  *  - rate-dependent packets: frames x bytes = {1x32, 3x32, 3x64, 2x256, 2x256, 8x256} for
  *    rates 0..5, lasting frames*bytes*8 / {80, 250, 500, 1200, 1300, 5300} bit/s;
  *  - a packet is received when it arrives whole, no other arrival overlaps it (collision),
@@ -57,49 +57,49 @@
 extern "C" {
 #endif
 
-#define KELP_MSIM_SOUND_SPEED 1500.0       /**< m/s, default */
-#define KELP_MSIM_MAX_ID 127               /**< highest acoustic address */
+#define KELP_MODEMSIM_SOUND_SPEED 1500.0       /**< m/s, default */
+#define KELP_MODEMSIM_MAX_ID 127               /**< highest acoustic address */
 
 /* ------------------------------------------------------------------ channel arithmetic */
 
 /** Frames per packet and bytes per frame for rates 0..5 (the Micro-Modem packet types). */
-extern const unsigned kelp_msim_rate_frames[6];
-extern const unsigned kelp_msim_rate_bytes[6];
+extern const unsigned kelp_modemsim_rate_frames[6];
+extern const unsigned kelp_modemsim_rate_bytes[6];
 /** Nominal bit rates (bit/s) for rates 0..5: FH-FSK 80, PSK 250, 500, 1200, 1300, 5300. */
-extern const unsigned kelp_msim_rate_bps[6];
+extern const unsigned kelp_modemsim_rate_bps[6];
 
 /** Seconds on the water of a data packet of `frames` full frames at `rate` (0 for a bad rate). */
-double kelp_msim_packet_seconds(unsigned rate, unsigned frames);
+double kelp_modemsim_packet_seconds(unsigned rate, unsigned frames);
 
 /** Travel time (s) between two points (x, y, depth in metres) at sound speed c (m/s). */
-double kelp_msim_travel_time(double x1, double y1, double z1, double x2, double y2, double z2, double c);
+double kelp_modemsim_travel_time(double x1, double y1, double z1, double x2, double y2, double z2, double c);
 
 /** Minimal slot length (s) for one polled data slot at `rate` with all its frames: the Eq. 2.1
  *  overhead tau_ci + r_max/c, then the data packet and its travel, then an acknowledgement:
  *  ci + packet + mini + 2 turnaround + 3 r_max/c. */
-double kelp_msim_min_slot_seconds(unsigned rate, double max_range, double ci_seconds, double mini_seconds,
+double kelp_modemsim_min_slot_seconds(unsigned rate, double max_range, double ci_seconds, double mini_seconds,
                                   double turnaround_seconds, double sound_speed);
 
 /* ------------------------------------------------------------------ packets on the channel */
 
-typedef enum kelp_msim_pkt_kind {
-    KELP_MSIM_PKT_CYCLE_INIT = 1, /**< $CCCYC: adr1 adr2 rate ack nframes cmd */
-    KELP_MSIM_PKT_DATA = 2,       /**< frames (each with its own src/dest/ack) */
-    KELP_MSIM_PKT_ACK = 3,        /**< ack_mask of frames of the data packet from `dest` */
-    KELP_MSIM_PKT_PING = 4,       /**< two-way ping src -> dest */
-    KELP_MSIM_PKT_PING_REPLY = 5, /**< reply dest <- src; turnaround_us as measured by the replier */
-    KELP_MSIM_PKT_MINI = 6        /**< $CCMUC 13-bit mini-packet */
-} kelp_msim_pkt_kind;
+typedef enum kelp_modemsim_pkt_kind {
+    KELP_MODEMSIM_PKT_CYCLE_INIT = 1, /**< $CCCYC: adr1 adr2 rate ack nframes cmd */
+    KELP_MODEMSIM_PKT_DATA = 2,       /**< frames (each with its own src/dest/ack) */
+    KELP_MODEMSIM_PKT_ACK = 3,        /**< ack_mask of frames of the data packet from `dest` */
+    KELP_MODEMSIM_PKT_PING = 4,       /**< two-way ping src -> dest */
+    KELP_MODEMSIM_PKT_PING_REPLY = 5, /**< reply dest <- src; turnaround_us as measured by the replier */
+    KELP_MODEMSIM_PKT_MINI = 6        /**< $CCMUC 13-bit mini-packet */
+} kelp_modemsim_pkt_kind;
 
-typedef struct kelp_msim_frame {
+typedef struct kelp_modemsim_frame {
     uint8_t src, dest;
     bool ack;
     uint16_t len;
     uint8_t data[KELP_MAX_ACOMMS_FRAME];
-} kelp_msim_frame;
+} kelp_modemsim_frame;
 
-typedef struct kelp_msim_pkt {
-    kelp_msim_pkt_kind kind;
+typedef struct kelp_modemsim_pkt {
+    kelp_modemsim_pkt_kind kind;
     uint32_t instance;       /**< transmitting simulator instance (a modem ignores its own) */
     uint32_t seq;            /**< per-instance transmission counter */
     uint8_t src;             /**< acoustic address (SRC) of the transmitter */
@@ -114,22 +114,22 @@ typedef struct kelp_msim_pkt {
     int64_t duration_us;
     int64_t turnaround_us;   /**< ping reply: time between the ping's end and the reply's start */
     double x, y, depth;      /**< transmitter position at start */
-    kelp_msim_frame frame[KELP_MAX_MM_FRAMES];
-} kelp_msim_pkt;
+    kelp_modemsim_frame frame[KELP_MAX_MM_FRAMES];
+} kelp_modemsim_pkt;
 
 /** Bytes of the largest encoded packet. */
-#define KELP_MSIM_PKT_MAX_ENCODED (80 + KELP_MAX_MM_FRAMES * (5 + KELP_MAX_ACOMMS_FRAME))
+#define KELP_MODEMSIM_PKT_MAX_ENCODED (80 + KELP_MAX_MM_FRAMES * (5 + KELP_MAX_ACOMMS_FRAME))
 
 /** Encode for the bus ("KMS1", little-endian, only the frames carried).
  *  @return 0 or KELP_ERR_NOSPACE / KELP_ERR_ARG (bad kind, too many frames, frame too long). */
-KELP_MUST_CHECK int kelp_msim_pkt_encode(const kelp_msim_pkt *p, uint8_t *buf, size_t cap, size_t *len);
+KELP_MUST_CHECK int kelp_modemsim_pkt_encode(const kelp_modemsim_pkt *p, uint8_t *buf, size_t cap, size_t *len);
 /** Decode and validate (every length and enum checked; safe on arbitrary bytes).
  *  @return 0, KELP_ERR_PARSE (magic, kind, rate, ids, counts), KELP_ERR_TRUNCATED, KELP_ERR_RANGE. */
-KELP_MUST_CHECK int kelp_msim_pkt_decode(const uint8_t *buf, size_t len, kelp_msim_pkt *p);
+KELP_MUST_CHECK int kelp_modemsim_pkt_decode(const uint8_t *buf, size_t len, kelp_modemsim_pkt *p);
 
 /* ------------------------------------------------------------------ one simulated modem */
 
-typedef struct kelp_msim_cfg {
+typedef struct kelp_modemsim_cfg {
     int modem_id;              /**< initial NVRAM SRC, 1..127 (the host may change it: $CCCFG,SRC) */
     uint32_t instance;         /**< unique per simulator process (0 is allowed) */
     double x, y, depth;        /**< initial position (m) */
@@ -149,86 +149,86 @@ typedef struct kelp_msim_cfg {
     unsigned n_lbl;            /**< REMUS LBL transponders (A..D) */
     double lbl_x[4], lbl_y[4], lbl_depth[4];
     double lbl_turnaround_seconds; /**< default 0.05 */
-} kelp_msim_cfg;
+} kelp_modemsim_cfg;
 
-typedef enum kelp_msim_event_kind {
-    KELP_MSIM_EV_TX = 1,     /**< a transmission started: pkt */
-    KELP_MSIM_EV_RX,         /**< a packet (or data frame) was received: pkt, frame (1-based, 0 = all) */
-    KELP_MSIM_EV_LOST,       /**< a packet / frame was lost: pkt, reason */
-    KELP_MSIM_EV_HOST_IN,    /**< a host line was accepted: text */
-    KELP_MSIM_EV_HOST_OUT,   /**< a sentence was written to the host: text (without CRLF) */
-    KELP_MSIM_EV_HOST_ERROR, /**< a host line was rejected ($CAERR sent): text, err */
-    KELP_MSIM_EV_INFO        /**< a notable state change: text */
-} kelp_msim_event_kind;
+typedef enum kelp_modemsim_event_kind {
+    KELP_MODEMSIM_EV_TX = 1,     /**< a transmission started: pkt */
+    KELP_MODEMSIM_EV_RX,         /**< a packet (or data frame) was received: pkt, frame (1-based, 0 = all) */
+    KELP_MODEMSIM_EV_LOST,       /**< a packet / frame was lost: pkt, reason */
+    KELP_MODEMSIM_EV_HOST_IN,    /**< a host line was accepted: text */
+    KELP_MODEMSIM_EV_HOST_OUT,   /**< a sentence was written to the host: text (without CRLF) */
+    KELP_MODEMSIM_EV_HOST_ERROR, /**< a host line was rejected ($CAERR sent): text, err */
+    KELP_MODEMSIM_EV_INFO        /**< a notable state change: text */
+} kelp_modemsim_event_kind;
 
-typedef enum kelp_msim_loss {
-    KELP_MSIM_LOSS_NONE = 0,
-    KELP_MSIM_LOSS_RANDOM,      /**< the RNG dropped it */
-    KELP_MSIM_LOSS_COLLISION,   /**< another arrival overlapped it */
-    KELP_MSIM_LOSS_HALF_DUPLEX, /**< this modem was transmitting */
-    KELP_MSIM_LOSS_STALE        /**< it had already ended when it was heard */
-} kelp_msim_loss;
+typedef enum kelp_modemsim_loss {
+    KELP_MODEMSIM_LOSS_NONE = 0,
+    KELP_MODEMSIM_LOSS_RANDOM,      /**< the RNG dropped it */
+    KELP_MODEMSIM_LOSS_COLLISION,   /**< another arrival overlapped it */
+    KELP_MODEMSIM_LOSS_HALF_DUPLEX, /**< this modem was transmitting */
+    KELP_MODEMSIM_LOSS_STALE        /**< it had already ended when it was heard */
+} kelp_modemsim_loss;
 
-typedef struct kelp_msim_event {
-    kelp_msim_event_kind kind;
+typedef struct kelp_modemsim_event {
+    kelp_modemsim_event_kind kind;
     int64_t time_us;
-    const kelp_msim_pkt *pkt;   /**< valid during the callback */
+    const kelp_modemsim_pkt *pkt;   /**< valid during the callback */
     unsigned frame;             /**< 1-based frame of a data packet, 0 = the whole packet */
-    kelp_msim_loss loss;
+    kelp_modemsim_loss loss;
     double range_m, travel_s;
     const char *text;           /**< NUL-terminated, valid during the callback ("" if none) */
     int err;
-} kelp_msim_event;
+} kelp_modemsim_event;
 
 /** ACOMMS_SIM_EVENT text of a transmission, reception or loss, e.g.
  *  "modem=1,event=rx,kind=data,src=2,dest=1,frame=1,range=750.0,travel=0.5000".
  *  @return 1 when written, 0 for the other event kinds, KELP_ERR_NOSPACE. */
-struct kelp_msim;
-int kelp_msim_event_format(const struct kelp_msim *m, const kelp_msim_event *e, char *buf, size_t cap);
+struct kelp_modemsim;
+int kelp_modemsim_event_format(const struct kelp_modemsim *m, const kelp_modemsim_event *e, char *buf, size_t cap);
 
-typedef struct kelp_msim_ops {
+typedef struct kelp_modemsim_ops {
     void (*write)(const char *bytes, size_t len, void *user);
-    void (*transmit)(const kelp_msim_pkt *p, void *user);
-    void (*event)(const kelp_msim_event *ev, void *user);  /**< optional */
-} kelp_msim_ops;
+    void (*transmit)(const kelp_modemsim_pkt *p, void *user);
+    void (*event)(const kelp_modemsim_event *ev, void *user);  /**< optional */
+} kelp_modemsim_ops;
 
-typedef struct kelp_msim_counters {
+typedef struct kelp_modemsim_counters {
     uint32_t host_lines, host_errors, host_out;
-    uint32_t tx[7], rx[7];      /**< by kelp_msim_pkt_kind */
+    uint32_t tx[7], rx[7];      /**< by kelp_modemsim_pkt_kind */
     uint32_t frames_tx, frames_rx, acks_out;
     uint32_t lost_random, lost_collision, lost_half_duplex, lost_stale, out_of_range, overflow;
-} kelp_msim_counters;
+} kelp_modemsim_counters;
 
-typedef struct kelp_msim_nv {
+typedef struct kelp_modemsim_nv {
     char name[4];
     long value, deflt;
-} kelp_msim_nv;
+} kelp_modemsim_nv;
 
-typedef struct kelp_msim_arrival {
+typedef struct kelp_modemsim_arrival {
     bool used, decided;
-    kelp_msim_loss loss;        /**< decided before its end (half duplex, collision) */
+    kelp_modemsim_loss loss;        /**< decided before its end (half duplex, collision) */
     int64_t start_us, end_us;
     double range_m, travel_s;
-    kelp_msim_pkt pkt;
-} kelp_msim_arrival;
+    kelp_modemsim_pkt pkt;
+} kelp_modemsim_arrival;
 
-typedef struct kelp_msim_txslot {
+typedef struct kelp_modemsim_txslot {
     int64_t due_us;
-    kelp_msim_pkt pkt;
-} kelp_msim_txslot;
+    kelp_modemsim_pkt pkt;
+} kelp_modemsim_txslot;
 
-typedef struct kelp_msim_txlog {
+typedef struct kelp_modemsim_txlog {
     int64_t start_us, end_us;
-    kelp_msim_pkt_kind kind;
+    kelp_modemsim_pkt_kind kind;
     unsigned bytes;
     bool txf_pending;           /**< $CATXF not yet written */
-} kelp_msim_txlog;
+} kelp_modemsim_txlog;
 
-typedef struct kelp_msim {
+typedef struct kelp_modemsim {
     /* configuration */
-    kelp_msim_cfg cfg;
+    kelp_modemsim_cfg cfg;
     char revision[24];
-    kelp_msim_ops ops;
+    kelp_modemsim_ops ops;
     void *user;
     /* state */
     double x, y, depth;
@@ -238,7 +238,7 @@ typedef struct kelp_msim {
     uint32_t seq;
     kelp_nmea_reader rd;
     kelp_nmea_sentence s;
-    kelp_msim_nv nv[KELP_MAX_MSIM_NVRAM];
+    kelp_modemsim_nv nv[KELP_MAX_MSIM_NVRAM];
     size_t n_nv;
     /* data cycle being assembled (this modem is ADR1) */
     struct {
@@ -248,9 +248,9 @@ typedef struct kelp_msim {
         int64_t drq_deadline_us;
         int64_t not_before_us;      /**< the data packet starts after the cycle init */
     } cyc;
-    kelp_msim_frame txbuf[KELP_MAX_MM_FRAMES]; /**< $CCTXD given without a $CADRQ */
+    kelp_modemsim_frame txbuf[KELP_MAX_MM_FRAMES]; /**< $CCTXD given without a $CADRQ */
     unsigned n_txbuf;
-    kelp_msim_frame gathered[KELP_MAX_MM_FRAMES];
+    kelp_modemsim_frame gathered[KELP_MAX_MM_FRAMES];
     /* ping in flight */
     bool ping_active;
     uint8_t ping_dest;
@@ -259,85 +259,48 @@ typedef struct kelp_msim {
     bool lbl_active;
     int64_t lbl_start_us, lbl_timeout_us;
     bool lbl_enable[4];
-    kelp_msim_txslot txq[KELP_MAX_MSIM_TXQ];
+    kelp_modemsim_txslot txq[KELP_MAX_MSIM_TXQ];
     size_t n_txq;
     int64_t busy_until_us;
-    kelp_msim_txlog txlog[KELP_MAX_MSIM_TXLOG];
+    kelp_modemsim_txlog txlog[KELP_MAX_MSIM_TXLOG];
     size_t txlog_next;
-    kelp_msim_arrival arr[KELP_MAX_MSIM_ARRIVALS];
-    kelp_msim_counters count;
-    kelp_msim_pkt scratch;      /**< packet being built */
+    kelp_modemsim_arrival arr[KELP_MAX_MSIM_ARRIVALS];
+    kelp_modemsim_counters count;
+    kelp_modemsim_pkt scratch;      /**< packet being built */
     const char *errmsg;
-} kelp_msim;
+} kelp_modemsim;
 
-void kelp_msim_cfg_default(kelp_msim_cfg *cfg);
+void kelp_modemsim_cfg_default(kelp_modemsim_cfg *cfg);
 
 /** Configure (copies cfg).  KELP_ERR_ARG for a modem id outside 1..127, a negative or non-finite
  *  duration, loss outside [0,1], a sound speed <= 0, more than 4 LBL transponders. */
-KELP_MUST_CHECK int kelp_msim_init(kelp_msim *m, const kelp_msim_cfg *cfg, const kelp_msim_ops *ops, void *user,
+KELP_MUST_CHECK int kelp_modemsim_init(kelp_modemsim *m, const kelp_modemsim_cfg *cfg, const kelp_modemsim_ops *ops, void *user,
                                    int64_t now_us);
 
 /** Power-on message: $CAREV,hhmmss,INIT,<revision>. */
-void kelp_msim_boot(kelp_msim *m, int64_t now_us);
+void kelp_modemsim_boot(kelp_modemsim *m, int64_t now_us);
 
 /** Bytes from the host (lines end with CR, LF or both).  @return 0 or KELP_ERR_ARG. */
-KELP_MUST_CHECK int kelp_msim_feed(kelp_msim *m, const uint8_t *bytes, size_t n, int64_t now_us);
+KELP_MUST_CHECK int kelp_modemsim_feed(kelp_modemsim *m, const uint8_t *bytes, size_t n, int64_t now_us);
 
 /** A packet heard on the channel (own packets are ignored).  @return 0, or KELP_ERR_NOSPACE when
  *  too many packets are in flight (counted in overflow; the packet is not received). */
-KELP_MUST_CHECK int kelp_msim_hear(kelp_msim *m, const kelp_msim_pkt *p, int64_t now_us);
+KELP_MUST_CHECK int kelp_modemsim_hear(kelp_modemsim *m, const kelp_modemsim_pkt *p, int64_t now_us);
 
 /** Timers: scheduled transmissions, arrivals that ended, DRQ / ping / LBL timeouts, heartbeat. */
-void kelp_msim_tick(kelp_msim *m, int64_t now_us);
+void kelp_modemsim_tick(kelp_modemsim *m, int64_t now_us);
 
-/** Earliest time at which kelp_msim_tick has something to do (INT64_MAX if nothing). */
-int64_t kelp_msim_next_due(const kelp_msim *m);
+/** Earliest time at which kelp_modemsim_tick has something to do (INT64_MAX if nothing). */
+int64_t kelp_modemsim_next_due(const kelp_modemsim *m);
 
-void kelp_msim_set_position(kelp_msim *m, double x, double y, double depth);
+void kelp_modemsim_set_position(kelp_modemsim *m, double x, double y, double depth);
 /** The acoustic address now in use (NVRAM SRC). */
-int kelp_msim_src(const kelp_msim *m);
+int kelp_modemsim_src(const kelp_modemsim *m);
 /** The NVRAM value of a parameter (3 letters). @return 0 or KELP_ERR_NOTFOUND. */
-KELP_MUST_CHECK int kelp_msim_nvram(const kelp_msim *m, const char *name, long *value);
+KELP_MUST_CHECK int kelp_modemsim_nvram(const kelp_modemsim *m, const char *name, long *value);
 /** The modem clock (UNIX us) at `now`. */
-int64_t kelp_msim_clock(const kelp_msim *m, int64_t now_us);
-const kelp_msim_counters *kelp_msim_get_counters(const kelp_msim *m);
-
-/* ------------------------------------------------------------------ pAcommsPoller core */
-
-/** Parse one poll slot: "src=2,dest=1,rate=0,type=data,slot_seconds=10" (keys case-insensitive;
- *  type data|ping|remus_lbl or SLOT_DATA|SLOT_PING|SLOT_REMUS_LBL; dest default -1, rate 0,
- *  type data, slot_seconds default_seconds).  src 1..31, dest -1..31, rate 0..5, slot_seconds > 0.
- *  @return 0 or KELP_ERR_PARSE / KELP_ERR_RANGE (*bad names the offending key). */
-KELP_MUST_CHECK int kelp_poller_parse_slot(const char *spec, unsigned default_seconds, kelp_mac_slot *out,
-                                           const char **bad);
-
-/** Goby's single-line TextFormat of a MACUpdate (ACOMMS_MAC_CYCLE_UPDATE), e.g.
- *  "dest: 1 update_type: REPLACE slot { src: 2 dest: 1 rate: 0 type: SLOT_DATA slot_seconds: 10 }".
- *  @return 0 or KELP_ERR_NOSPACE (never truncated silently). */
-KELP_MUST_CHECK int kelp_poller_format_update(int dest, kelp_mac_update_type type, const kelp_mac_slot *slots,
-                                              size_t n, char *buf, size_t cap, size_t *len);
-
-/** One slot in the "src=2,dest=1,rate=0,type=data,slot_seconds=10" form (buf NUL-terminated). */
-KELP_MUST_CHECK int kelp_poller_format_slot(const kelp_mac_slot *s, char *buf, size_t cap, size_t *len);
-
-/** The poll list pAcommsPoller owns: the cycle in order, and whether it is paused. */
-typedef struct kelp_poller_list {
-    kelp_mac_slot slot[KELP_MAX_MSIM_POLL_SLOTS];
-    size_t n;
-    bool paused;
-    unsigned default_seconds;          /**< slot_seconds of a slot that does not say */
-} kelp_poller_list;
-
-/** Append one slot spec. 0, or <0 with *why (the bad key, or "list full"). */
-KELP_MUST_CHECK int kelp_poller_add(kelp_poller_list *l, const char *spec, const char **why);
-
-/** Apply one POLLER_COMMAND: "add SLOT", "remove SLOT", "replace SLOT;SLOT;..." (all or
- *  nothing), "clear", "pause", "resume", "publish". @return 1 (the cycle is to be published
- *  again), or <0 with *why; the list is unchanged on an error. */
-KELP_MUST_CHECK int kelp_poller_command(kelp_poller_list *l, const char *cmd, const char **why);
-
-/** Sum of the slots' lengths (s). */
-unsigned kelp_poller_cycle_seconds(const kelp_poller_list *l);
+int64_t kelp_modemsim_clock(const kelp_modemsim *m, int64_t now_us);
+const kelp_modemsim_counters *kelp_modemsim_get_counters(const kelp_modemsim *m);
 
 #ifdef __cplusplus
 }

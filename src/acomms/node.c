@@ -80,7 +80,7 @@ static int request_frame(kelp_acomms_node *n, const kelp_queue_request *req, kel
     return KELP_OK;
 }
 
-static void mm_data_request(const kelp_mm_data_request *r, kelp_mm_frame *f, void *user)
+static void mm_data_request(const kelp_mmdriver_data_request *r, kelp_mmdriver_frame *f, void *user)
 {
     kelp_acomms_node *n = user;
     kelp_queue_request req;
@@ -98,7 +98,7 @@ static void mm_data_request(const kelp_mm_data_request *r, kelp_mm_frame *f, voi
     memcpy(f->data, m->data, f->len);
 }
 
-static void mm_event(const kelp_mm_event *me, void *user)
+static void mm_event(const kelp_mmdriver_event *me, void *user)
 {
     kelp_acomms_node *n = user;
     kelp_acomms_event ev;
@@ -106,10 +106,10 @@ static void mm_event(const kelp_mm_event *me, void *user)
     ev.mm = me;
     emit(n, &ev);
     switch (me->kind) {
-    case KELP_MM_EV_NMEA_IN:
+    case KELP_MMDRIVER_EV_NMEA_IN:
         if (me->has_src) kelp_mac_heard(&n->mac, me->src, n->now_us);
         break;
-    case KELP_MM_EV_RECEIVE: {
+    case KELP_MMDRIVER_EV_RECEIVE: {
         kelp_acomms_msg *m = &n->scratch;
         memset(m, 0, sizeof *m);
         m->src = me->src;
@@ -125,7 +125,7 @@ static void mm_event(const kelp_mm_event *me, void *user)
         (void)kelp_queue_receive(&n->q, m);
         break;
     }
-    case KELP_MM_EV_ACK:
+    case KELP_MMDRIVER_EV_ACK:
         n->count.acks++;
         (void)kelp_queue_ack(&n->q, me->src, me->dest, me->frame);
         break;
@@ -170,10 +170,10 @@ int kelp_acomms_node_init(kelp_acomms_node *n, const kelp_acomms_node_cfg *cfg, 
         return rc;
     }
     if (n->driver == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
-        kelp_mm_cfg mc = cfg->mm;
+        kelp_mmdriver_cfg mc = cfg->mm;
         mc.modem_id = cfg->modem_id;
-        kelp_mm_ops mo = { mm_write, mm_event, mm_data_request };
-        rc = kelp_mm_init(&n->mm, &mc, &mo, n);
+        kelp_mmdriver_ops mo = { mm_write, mm_event, mm_data_request };
+        rc = kelp_mmdriver_init(&n->mm, &mc, &mo, n);
         if (rc) {
             n->errmsg = "acomms: bad Micro-Modem driver configuration";
             return rc;
@@ -225,7 +225,7 @@ int kelp_acomms_node_start(kelp_acomms_node *n, int64_t now_us)
         return rc;
     }
     if (n->driver == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
-        rc = kelp_mm_start(&n->mm, now_us);
+        rc = kelp_mmdriver_start(&n->mm, now_us);
         if (rc) {
             n->errmsg = n->mm.errmsg ? n->mm.errmsg : "acomms: driver start failed";
             return rc;
@@ -241,7 +241,7 @@ int kelp_acomms_node_restart_driver(kelp_acomms_node *n, int64_t now_us)
     if (n->driver != KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) return KELP_OK;
     n->now_us = now_us;
     n->count.driver_restarts++;
-    int rc = kelp_mm_start(&n->mm, now_us);
+    int rc = kelp_mmdriver_start(&n->mm, now_us);
     if (rc) n->errmsg = n->mm.errmsg ? n->mm.errmsg : "acomms: driver restart failed";
     return rc;
 }
@@ -250,14 +250,14 @@ int kelp_acomms_node_restart_driver(kelp_acomms_node *n, int64_t now_us)
 static int transmit_internal(kelp_acomms_node *n, int src, int dest, unsigned rate, int64_t now_us)
 {
     if (src != n->modem_id) return KELP_OK; /* third-party cycles need a modem */
-    unsigned nframes = kelp_mm_packet_frames[rate];
+    unsigned nframes = kelp_mmdriver_packet_frames[rate];
     kelp_acomms_msg frames[KELP_MAX_MM_FRAMES];
     unsigned got = 0;
     for (unsigned i = 0; i < nframes && i < KELP_MAX_MM_FRAMES; i++) {
         kelp_queue_request req;
         req.dest = dest;
         req.frame = i;
-        req.max_bytes = kelp_mm_packet_size[rate];
+        req.max_bytes = kelp_mmdriver_packet_size[rate];
         kelp_acomms_msg *m = &frames[got];
         memset(m, 0, sizeof *m);
         int rc = request_frame(n, &req, m);
@@ -296,7 +296,7 @@ int kelp_acomms_node_transmit(kelp_acomms_node *n, int src, int dest, unsigned r
     n->now_us = now_us;
     n->count.transmissions++;
     if (n->driver == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
-        int rc = kelp_mm_initiate_transmission(&n->mm, src, dest, rate, now_us);
+        int rc = kelp_mmdriver_initiate_transmission(&n->mm, src, dest, rate, now_us);
         if (rc) n->errmsg = n->mm.errmsg ? n->mm.errmsg : "acomms: cannot initiate transmission";
         return rc;
     }
@@ -312,7 +312,7 @@ int kelp_acomms_node_range(kelp_acomms_node *n, const kelp_acomms_range_req *r, 
         return KELP_ERR_STATE;
     }
     n->count.ranging++;
-    int rc = kelp_mm_initiate_ranging(&n->mm, r->src, r->dest, r->type, r->max_range, r->enable_beacons, now_us);
+    int rc = kelp_mmdriver_initiate_ranging(&n->mm, r->src, r->dest, r->type, r->max_range, r->enable_beacons, now_us);
     if (rc) n->errmsg = n->mm.errmsg ? n->mm.errmsg : "acomms: cannot start ranging";
     return rc;
 }
@@ -377,7 +377,7 @@ int kelp_acomms_node_tick(kelp_acomms_node *n, int64_t now_us)
         }
     }
     if (n->driver == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM && n->link_up) {
-        int rc = kelp_mm_tick(&n->mm, now_us);
+        int rc = kelp_mmdriver_tick(&n->mm, now_us);
         if (rc) {
             n->errmsg = n->mm.errmsg ? n->mm.errmsg : "acomms: modem not responding";
             return rc;
@@ -391,7 +391,7 @@ int kelp_acomms_node_feed(kelp_acomms_node *n, const uint8_t *bytes, size_t len,
     if (!n) return KELP_ERR_ARG;
     if (n->driver != KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) return KELP_OK;
     n->now_us = now_us;
-    return kelp_mm_feed(&n->mm, bytes, len, now_us);
+    return kelp_mmdriver_feed(&n->mm, bytes, len, now_us);
 }
 
 int kelp_acomms_node_push(kelp_acomms_node *n, const kelp_acomms_msg *msg, int64_t now_us)
@@ -446,7 +446,7 @@ kelp_mac *kelp_acomms_node_mac(kelp_acomms_node *n)
     return n ? &n->mac : NULL;
 }
 
-kelp_mm *kelp_acomms_node_driver(kelp_acomms_node *n)
+kelp_mmdriver *kelp_acomms_node_driver(kelp_acomms_node *n)
 {
     return n && n->driver == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM ? &n->mm : NULL;
 }

@@ -140,7 +140,7 @@ static const char MONTHS[12][4] = { "Jan", "Feb", "Mar", "Apr", "May", "Jun",
 int kelp_acomms_time_text(int64_t unix_us, char *buf, size_t cap)
 {
     int y, mo, d, h, mi, s;
-    kelp_mm_civil(unix_us, &y, &mo, &d, &h, &mi, &s);
+    kelp_mmdriver_civil(unix_us, &y, &mo, &d, &h, &mi, &s);
     int64_t frac = unix_us % 1000000;
     if (frac < 0) frac += 1000000;
     int n;

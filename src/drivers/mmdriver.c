@@ -12,14 +12,14 @@
 #define TOA_MAX_RANGE 10000
 #define HYDROID_PREFIX_LEN 3
 
-const unsigned kelp_mm_packet_frames[6] = { 1, 3, 3, 2, 2, 8 };
-const unsigned kelp_mm_packet_size[6] = { 32, 32, 64, 256, 256, 256 };
+const unsigned kelp_mmdriver_packet_frames[6] = { 1, 3, 3, 2, 2, 8 };
+const unsigned kelp_mmdriver_packet_size[6] = { 32, 32, 64, 256, 256, 256 };
 
 static const char HEXL[] = "0123456789abcdef";
 
 /* ------------------------------------------------------------------ time helpers */
 
-void kelp_mm_civil(int64_t unix_us, int *year, int *month, int *day, int *hour, int *minute, int *second)
+void kelp_mmdriver_civil(int64_t unix_us, int *year, int *month, int *day, int *hour, int *minute, int *second)
 {
     int64_t days = kelp_floor_div(unix_us, US_PER_DAY);
     int64_t tod = (unix_us - days * US_PER_DAY) / US_PER_S;
@@ -63,12 +63,12 @@ static bool nmea_time(const char *t, int64_t now_us, int64_t *out)
 
 /* ------------------------------------------------------------------ events and writing */
 
-static void set_err(kelp_mm *mm, const char *msg)
+static void set_err(kelp_mmdriver *mm, const char *msg)
 {
     if (!mm->errmsg) mm->errmsg = msg;
 }
 
-static void ev_init(kelp_mm_event *ev, kelp_mm_event_kind kind, int64_t now_us)
+static void ev_init(kelp_mmdriver_event *ev, kelp_mmdriver_event_kind kind, int64_t now_us)
 {
     memset(ev, 0, sizeof *ev);
     ev->kind = kind;
@@ -76,14 +76,14 @@ static void ev_init(kelp_mm_event *ev, kelp_mm_event_kind kind, int64_t now_us)
     ev->raw = "";
 }
 
-static void emit(kelp_mm *mm, const kelp_mm_event *ev)
+static void emit(kelp_mmdriver *mm, const kelp_mmdriver_event *ev)
 {
     if (mm->ops.event) mm->ops.event(ev, mm->user);
 }
 
-static void emit_simple(kelp_mm *mm, kelp_mm_event_kind kind, const char *raw, size_t len, int err, int64_t now_us)
+static void emit_simple(kelp_mmdriver *mm, kelp_mmdriver_event_kind kind, const char *raw, size_t len, int err, int64_t now_us)
 {
-    kelp_mm_event ev;
+    kelp_mmdriver_event ev;
     ev_init(&ev, kind, now_us);
     ev.raw = raw ? raw : "";
     ev.raw_len = raw ? len : 0;
@@ -92,14 +92,14 @@ static void emit_simple(kelp_mm *mm, kelp_mm_event_kind kind, const char *raw, s
     emit(mm, &ev);
 }
 
-static void set_clock_state(kelp_mm *mm, bool ok, int64_t now_us)
+static void set_clock_state(kelp_mmdriver *mm, bool ok, int64_t now_us)
 {
     if (mm->clock_set == ok) return;
     mm->clock_set = ok;
-    emit_simple(mm, KELP_MM_EV_CLOCK, NULL, 0, 0, now_us);
+    emit_simple(mm, KELP_MMDRIVER_EV_CLOCK, NULL, 0, 0, now_us);
 }
 
-static void mm_write(kelp_mm *mm, const kelp_mm_cmd *c, int64_t now_us)
+static void mm_write(kelp_mmdriver *mm, const kelp_mmdriver_cmd *c, int64_t now_us)
 {
     char buf[sizeof mm->prefix + KELP_MAX_NMEA_LINE + 3];
     size_t pl = strlen(mm->prefix);
@@ -109,16 +109,16 @@ static void mm_write(kelp_mm *mm, const kelp_mm_cmd *c, int64_t now_us)
     buf[pl + c->len + 1] = '\n';
     buf[pl + c->len + 2] = '\0';
     mm->count.lines_out++;
-    emit_simple(mm, KELP_MM_EV_NMEA_OUT, c->line, c->len, 0, now_us);
+    emit_simple(mm, KELP_MMDRIVER_EV_NMEA_OUT, c->line, c->len, 0, now_us);
     if (mm->ops.write) mm->ops.write(buf, pl + c->len + 2, mm->user);
 }
 
-static kelp_mm_cmd *front(kelp_mm *mm)
+static kelp_mmdriver_cmd *front(kelp_mmdriver *mm)
 {
     return mm->out_n ? &mm->outq[mm->out_head] : NULL;
 }
 
-static void pop_out(kelp_mm *mm)
+static void pop_out(kelp_mmdriver *mm)
 {
     mm->waiting = false;
     if (mm->out_n) {
@@ -128,47 +128,47 @@ static void pop_out(kelp_mm *mm)
     mm->present_fail = 0;
 }
 
-static void clear_out(kelp_mm *mm)
+static void clear_out(kelp_mmdriver *mm)
 {
     mm->out_head = 0;
     mm->out_n = 0;
 }
 
-static bool holding(const kelp_mm *mm, int64_t now_us)
+static bool holding(const kelp_mmdriver *mm, int64_t now_us)
 {
     return now_us < mm->hold_until_us;
 }
 
 /* count one failure of the pending command; false when the command queue was given up or the
  * modem declared dead (nothing to write) */
-static bool count_failure(kelp_mm *mm, int64_t now_us)
+static bool count_failure(kelp_mmdriver *mm, int64_t now_us)
 {
     mm->global_fail++;
     mm->present_fail++;
     mm->count.retries++;
-    if (mm->global_fail == KELP_MM_MAX_FAILS_BEFORE_DEAD) {
+    if (mm->global_fail == KELP_MMDRIVER_MAX_FAILS_BEFORE_DEAD) {
         mm->dead = true;
         mm->count.deaths++;
         set_err(mm, "mmdriver: modem appears to not be responding");
-        emit_simple(mm, KELP_MM_EV_DEAD, NULL, 0, KELP_ERR_TIMEOUT, now_us);
+        emit_simple(mm, KELP_MMDRIVER_EV_DEAD, NULL, 0, KELP_ERR_TIMEOUT, now_us);
         return false;
     }
-    if (mm->present_fail == KELP_MM_RETRIES) {
+    if (mm->present_fail == KELP_MMDRIVER_RETRIES) {
         mm->count.give_ups++;
-        kelp_mm_cmd *f = front(mm);
-        emit_simple(mm, KELP_MM_EV_GIVE_UP, f ? f->line : NULL, f ? f->len : 0, KELP_ERR_TIMEOUT, now_us);
+        kelp_mmdriver_cmd *f = front(mm);
+        emit_simple(mm, KELP_MMDRIVER_EV_GIVE_UP, f ? f->line : NULL, f ? f->len : 0, KELP_ERR_TIMEOUT, now_us);
         clear_out(mm);
         return false;
     }
-    kelp_mm_cmd *f = front(mm);
-    emit_simple(mm, KELP_MM_EV_RETRY, f ? f->line : NULL, f ? f->len : 0, 0, now_us);
+    kelp_mmdriver_cmd *f = front(mm);
+    emit_simple(mm, KELP_MMDRIVER_EV_RETRY, f ? f->line : NULL, f ? f->len : 0, 0, now_us);
     return true;
 }
 
-static void try_send(kelp_mm *mm, int64_t now_us)
+static void try_send(kelp_mmdriver *mm, int64_t now_us)
 {
     if (mm->dead || !mm->out_n || holding(mm, now_us)) return;
-    bool resend = mm->waiting && mm->last_write_us <= now_us - KELP_MM_MODEM_WAIT_US;
+    bool resend = mm->waiting && mm->last_write_us <= now_us - KELP_MMDRIVER_MODEM_WAIT_US;
     if (mm->waiting && !resend) return;
     if (resend && !count_failure(mm, now_us)) return;
     mm_write(mm, front(mm), now_us);
@@ -176,13 +176,13 @@ static void try_send(kelp_mm *mm, int64_t now_us)
     mm->last_write_us = now_us;
 }
 
-static int append(kelp_mm *mm, kelp_nmea_writer *w, int64_t now_us)
+static int append(kelp_mmdriver *mm, kelp_nmea_writer *w, int64_t now_us)
 {
     size_t len;
     int rc = kelp_nmea_writer_finish(w, &len);
     if (rc) { set_err(mm, "mmdriver: sentence too long"); return rc; }
     if (mm->out_n >= KELP_MAX_MM_OUTQ) { set_err(mm, "mmdriver: command queue full"); return KELP_ERR_NOSPACE; }
-    kelp_mm_cmd *c = &mm->outq[(mm->out_head + mm->out_n) % KELP_MAX_MM_OUTQ];
+    kelp_mmdriver_cmd *c = &mm->outq[(mm->out_head + mm->out_n) % KELP_MAX_MM_OUTQ];
     memcpy(c->line, w->buf, len + 1);
     c->len = len;
     memcpy(c->id, c->line + 3, 3);
@@ -192,12 +192,12 @@ static int append(kelp_mm *mm, kelp_nmea_writer *w, int64_t now_us)
     return KELP_OK;
 }
 
-static int set_clock(kelp_mm *mm, int64_t now_us)
+static int set_clock(kelp_mmdriver *mm, int64_t now_us)
 {
     char buf[64];
     kelp_nmea_writer w;
     int y, mo, d, h, mi, s;
-    kelp_mm_civil(now_us, &y, &mo, &d, &h, &mi, &s);
+    kelp_mmdriver_civil(now_us, &y, &mo, &d, &h, &mi, &s);
     kelp_nmea_writer_init(&w, buf, sizeof buf, "$CCCLK");
     kelp_nmea_writer_long(&w, y);
     kelp_nmea_writer_long(&w, mo);
@@ -210,7 +210,7 @@ static int set_clock(kelp_mm *mm, int64_t now_us)
     return rc;
 }
 
-static int write_single_cfg(kelp_mm *mm, const char *s, int64_t now_us)
+static int write_single_cfg(kelp_mmdriver *mm, const char *s, int64_t now_us)
 {
     char buf[KELP_MAX_MM_NVRAM_LEN + 16];
     char up[KELP_MAX_MM_NVRAM_LEN];
@@ -225,7 +225,7 @@ static int write_single_cfg(kelp_mm *mm, const char *s, int64_t now_us)
 
 /* ------------------------------------------------------------------ configuration */
 
-int kelp_mm_init(kelp_mm *mm, const kelp_mm_cfg *cfg, const kelp_mm_ops *ops, void *user)
+int kelp_mmdriver_init(kelp_mmdriver *mm, const kelp_mmdriver_cfg *cfg, const kelp_mmdriver_ops *ops, void *user)
 {
     if (!mm || !cfg) return KELP_ERR_ARG;
     memset(mm, 0, sizeof *mm);
@@ -261,7 +261,7 @@ int kelp_mm_init(kelp_mm *mm, const kelp_mm_cfg *cfg, const kelp_mm_ops *ops, vo
     return KELP_OK;
 }
 
-int kelp_mm_start(kelp_mm *mm, int64_t now_us)
+int kelp_mmdriver_start(kelp_mmdriver *mm, int64_t now_us)
 {
     if (!mm || mm->modem_id < 1) return KELP_ERR_ARG;
     clear_out(mm);
@@ -299,24 +299,24 @@ int kelp_mm_start(kelp_mm *mm, int64_t now_us)
     return rc;
 }
 
-int64_t kelp_mm_busy_until(const kelp_mm *mm)
+int64_t kelp_mmdriver_busy_until(const kelp_mmdriver *mm)
 {
     return mm->hold_until_us;
 }
 
-bool kelp_mm_clock_ok(const kelp_mm *mm)
+bool kelp_mmdriver_clock_ok(const kelp_mmdriver *mm)
 {
     return mm->clock_set;
 }
 
-size_t kelp_mm_pending(const kelp_mm *mm)
+size_t kelp_mmdriver_pending(const kelp_mmdriver *mm)
 {
     return mm->out_n;
 }
 
 /* ------------------------------------------------------------------ outgoing cycles */
 
-static int cache_outgoing(kelp_mm *mm, int src, int dest, unsigned rate, unsigned nframes, int64_t now_us)
+static int cache_outgoing(kelp_mmdriver *mm, int src, int dest, unsigned rate, unsigned nframes, int64_t now_us)
 {
     (void)now_us;
     if (src != mm->modem_id) return KELP_OK;
@@ -325,12 +325,12 @@ static int cache_outgoing(kelp_mm *mm, int src, int dest, unsigned rate, unsigne
     mm->ack_mask = 0;
     if (nframes > KELP_MAX_MM_FRAMES) nframes = KELP_MAX_MM_FRAMES;
     for (unsigned i = 0; i < nframes; i++) {
-        kelp_mm_data_request req;
+        kelp_mmdriver_data_request req;
         req.src = src;
         req.dest = dest;
         req.frame = i;
-        req.max_bytes = kelp_mm_packet_size[rate];
-        kelp_mm_frame *f = &mm->cache[mm->ncache];
+        req.max_bytes = kelp_mmdriver_packet_size[rate];
+        kelp_mmdriver_frame *f = &mm->cache[mm->ncache];
         memset(f, 0, sizeof *f);
         if (mm->ops.data_request) mm->ops.data_request(&req, f, mm->user);
         if (f->len == 0) break; /* no more data */
@@ -341,7 +341,7 @@ static int cache_outgoing(kelp_mm *mm, int src, int dest, unsigned rate, unsigne
 }
 
 /* $CCCYC for a cycle whose frames are cached (local) or that another modem sends */
-static int write_cycle(kelp_mm *mm, int src, int dest, unsigned rate, int64_t now_us)
+static int write_cycle(kelp_mmdriver *mm, int src, int dest, unsigned rate, int64_t now_us)
 {
     bool local = (src == mm->modem_id);
     char buf[96];
@@ -352,29 +352,29 @@ static int write_cycle(kelp_mm *mm, int src, int dest, unsigned rate, int64_t no
     kelp_nmea_writer_long(&w, local ? mm->cache[0].dest : dest);      /* ADR2 */
     kelp_nmea_writer_long(&w, (long)rate);                            /* packet type */
     kelp_nmea_writer_long(&w, local ? (mm->cache[0].ack_requested ? 1 : 0) : 1); /* ACK */
-    kelp_nmea_writer_long(&w, (long)kelp_mm_packet_frames[rate]);
+    kelp_nmea_writer_long(&w, (long)kelp_mmdriver_packet_frames[rate]);
     return append(mm, &w, now_us);
 }
 
-int kelp_mm_initiate_transmission(kelp_mm *mm, int src, int dest, unsigned rate, int64_t now_us)
+int kelp_mmdriver_initiate_transmission(kelp_mmdriver *mm, int src, int dest, unsigned rate, int64_t now_us)
 {
     if (!mm) return KELP_ERR_ARG;
     if (!mm->started) return KELP_ERR_STATE;
     if (rate > 5) { set_err(mm, "mmdriver: rate out of range (0..5)"); return KELP_ERR_RANGE; }
     mm->local_cccyc = true; /* we initiated: don't fetch data again on the $CACYC echo */
-    int rc = cache_outgoing(mm, src, dest, rate, kelp_mm_packet_frames[rate], now_us);
+    int rc = cache_outgoing(mm, src, dest, rate, kelp_mmdriver_packet_frames[rate], now_us);
     if (rc) return rc;
     if (src == mm->modem_id && mm->ncache == 0) return KELP_OK; /* no data: no cycle */
     return write_cycle(mm, src, dest, rate, now_us);
 }
 
-int kelp_mm_transmit_frames(kelp_mm *mm, unsigned rate, const kelp_mm_frame *frames, size_t n, int64_t now_us)
+int kelp_mmdriver_transmit_frames(kelp_mmdriver *mm, unsigned rate, const kelp_mmdriver_frame *frames, size_t n, int64_t now_us)
 {
     if (!mm || (n && !frames)) return KELP_ERR_ARG;
     if (!mm->started) return KELP_ERR_STATE;
     if (rate > 5) { set_err(mm, "mmdriver: rate out of range (0..5)"); return KELP_ERR_RANGE; }
     if (n == 0) return KELP_OK; /* no data: no cycle, as a local slot with an empty queue */
-    if (n > kelp_mm_packet_frames[rate]) {
+    if (n > kelp_mmdriver_packet_frames[rate]) {
         set_err(mm, "mmdriver: more frames than the rate carries");
         return KELP_ERR_RANGE;
     }
@@ -382,15 +382,15 @@ int kelp_mm_transmit_frames(kelp_mm *mm, unsigned rate, const kelp_mm_frame *fra
     mm->ncache = 0;
     mm->ack_mask = 0;
     for (size_t i = 0; i < n; i++) {
-        kelp_mm_frame *f = &mm->cache[mm->ncache++];
+        kelp_mmdriver_frame *f = &mm->cache[mm->ncache++];
         *f = frames[i];
         f->src = mm->modem_id;
-        if (f->len > kelp_mm_packet_size[rate]) f->len = kelp_mm_packet_size[rate];
+        if (f->len > kelp_mmdriver_packet_size[rate]) f->len = kelp_mmdriver_packet_size[rate];
     }
     return write_cycle(mm, mm->modem_id, frames[0].dest, rate, now_us);
 }
 
-int kelp_mm_initiate_ranging(kelp_mm *mm, int src, int dest, kelp_ranging_type type, unsigned max_range,
+int kelp_mmdriver_initiate_ranging(kelp_mmdriver *mm, int src, int dest, kelp_ranging_type type, unsigned max_range,
                              unsigned enable_beacons, int64_t now_us)
 {
     if (!mm) return KELP_ERR_ARG;
@@ -426,11 +426,11 @@ static int field_u(const kelp_nmea_sentence *s, unsigned i, long *v)
     return kelp_nmea_field_long(s, i, v);
 }
 
-static void flush_toa(kelp_mm *mm, int src, int64_t now_us)
+static void flush_toa(kelp_mmdriver *mm, int src, int64_t now_us)
 {
     if (!mm->toa_pending) return;
-    kelp_mm_event ev;
-    ev_init(&ev, KELP_MM_EV_RANGE, now_us);
+    kelp_mmdriver_event ev;
+    ev_init(&ev, KELP_MMDRIVER_EV_RANGE, now_us);
     ev.ranging = KELP_RANGING_ONE_WAY_SYNCHRONOUS;
     ev.has_src = true;
     ev.src = src;
@@ -442,7 +442,7 @@ static void flush_toa(kelp_mm *mm, int src, int64_t now_us)
     emit(mm, &ev);
 }
 
-static int drq(kelp_mm *mm, const kelp_nmea_sentence *s, int64_t now_us)
+static int drq(kelp_mmdriver *mm, const kelp_nmea_sentence *s, int64_t now_us)
 {
     if (s->nfields < 5) return KELP_ERR_PARSE;
     long f = 0;
@@ -451,7 +451,7 @@ static int drq(kelp_mm *mm, const kelp_nmea_sentence *s, int64_t now_us)
     kelp_nmea_writer w;
     kelp_nmea_writer_init(&w, buf, sizeof buf, "$CCTXD");
     if (cached) {
-        const kelp_mm_frame *fr = &mm->cache[f - 1];
+        const kelp_mmdriver_frame *fr = &mm->cache[f - 1];
         kelp_nmea_writer_long(&w, fr->src);
         kelp_nmea_writer_long(&w, fr->dest);
         kelp_nmea_writer_long(&w, fr->ack_requested ? 1 : 0);
@@ -473,9 +473,9 @@ static int drq(kelp_mm *mm, const kelp_nmea_sentence *s, int64_t now_us)
     return append(mm, &w, now_us);
 }
 
-static int clk(kelp_mm *mm, const kelp_nmea_sentence *s, int64_t now_us)
+static int clk(kelp_mmdriver *mm, const kelp_nmea_sentence *s, int64_t now_us)
 {
-    kelp_mm_cmd *f = front(mm);
+    kelp_mmdriver_cmd *f = front(mm);
     if (!f || strcmp(f->id, "CLK") != 0) return KELP_OK;
     long v[6];
     for (unsigned i = 0; i < 6; i++)
@@ -483,11 +483,11 @@ static int clk(kelp_mm *mm, const kelp_nmea_sentence *s, int64_t now_us)
     if (v[1] < 1 || v[1] > 12 || v[2] < 1 || v[2] > 31 || v[0] < 1400 || v[0] > 9999) return KELP_ERR_RANGE;
     int64_t reported = (kelp_days_from_civil(v[0], (unsigned)v[1], (unsigned)v[2]) * 86400 + v[3] * 3600 + v[4] * 60 + v[5]) *
                        US_PER_S;
-    if (reported >= now_us - KELP_MM_ALLOWED_SKEW_US) set_clock_state(mm, true, now_us);
+    if (reported >= now_us - KELP_MMDRIVER_ALLOWED_SKEW_US) set_clock_state(mm, true, now_us);
     return KELP_OK;
 }
 
-static void rev(kelp_mm *mm, const kelp_nmea_sentence *s, int64_t now_us)
+static void rev(kelp_mmdriver *mm, const kelp_nmea_sentence *s, int64_t now_us)
 {
     const char *what = kelp_nmea_field(s, 2);
     if (strcmp(what, "INIT") == 0) {
@@ -495,15 +495,15 @@ static void rev(kelp_mm *mm, const kelp_nmea_sentence *s, int64_t now_us)
         set_clock_state(mm, false, now_us);
     } else if (strcmp(what, "AUV") == 0) {
         int64_t reported;
-        if (nmea_time(kelp_nmea_field(s, 1), now_us, &reported) && reported < now_us - KELP_MM_ALLOWED_SKEW_US)
+        if (nmea_time(kelp_nmea_field(s, 1), now_us, &reported) && reported < now_us - KELP_MMDRIVER_ALLOWED_SKEW_US)
             set_clock_state(mm, false, now_us);
     }
 }
 
-static void err_sentence(kelp_mm *mm, const kelp_nmea_sentence *s, const char *raw, size_t rawlen, int64_t now_us)
+static void err_sentence(kelp_mmdriver *mm, const kelp_nmea_sentence *s, const char *raw, size_t rawlen, int64_t now_us)
 {
     mm->count.modem_errors++;
-    emit_simple(mm, KELP_MM_EV_MODEM_ERROR, raw, rawlen, 0, now_us);
+    emit_simple(mm, KELP_MMDRIVER_EV_MODEM_ERROR, raw, rawlen, 0, now_us);
     /* the modem did not understand the pending command: one failure, re-send it now */
     if (strcmp(kelp_nmea_field(s, 2), "NMEA") == 0 && mm->out_n && mm->waiting) {
         if (count_failure(mm, now_us)) {
@@ -514,25 +514,25 @@ static void err_sentence(kelp_mm *mm, const kelp_nmea_sentence *s, const char *r
     }
 }
 
-static void process_sentence(kelp_mm *mm, const char *line, size_t len, int64_t now_us)
+static void process_sentence(kelp_mmdriver *mm, const char *line, size_t len, int64_t now_us)
 {
     kelp_nmea_sentence *s = &mm->s;
     int rc = kelp_nmea_parse(line, len, s);
     if (rc) {
         mm->count.bad_lines++;
-        emit_simple(mm, KELP_MM_EV_BAD_LINE, line, len, rc, now_us);
+        emit_simple(mm, KELP_MMDRIVER_EV_BAD_LINE, line, len, rc, now_us);
         return;
     }
     char raw[KELP_MAX_NMEA_LINE + 4];
     size_t rawlen = 0;
     if (kelp_nmea_render(s, raw, sizeof raw, &rawlen) != KELP_OK) {
         mm->count.bad_lines++;
-        emit_simple(mm, KELP_MM_EV_BAD_LINE, line, len, KELP_ERR_NOSPACE, now_us);
+        emit_simple(mm, KELP_MMDRIVER_EV_BAD_LINE, line, len, KELP_ERR_NOSPACE, now_us);
         return;
     }
     mm->global_fail = 0; /* the modem is alive */
-    kelp_mm_event ev;
-    ev_init(&ev, KELP_MM_EV_NMEA_IN, now_us);
+    kelp_mmdriver_event ev;
+    ev_init(&ev, KELP_MMDRIVER_EV_NMEA_IN, now_us);
     const char *id = s->id;
     long a = 0, b = 0, c = 0, d = 0;
     rc = KELP_OK;
@@ -543,7 +543,7 @@ static void process_sentence(kelp_mm *mm, const char *line, size_t len, int64_t 
     } else if (!strcmp(id, "DRQ")) {
         rc = drq(mm, s, now_us);
     } else if (!strcmp(id, "CFG")) {
-        kelp_mm_cmd *f = front(mm);
+        kelp_mmdriver_cmd *f = front(mm);
         if (f && !strcmp(f->id, "CFQ")) pop_out(mm); /* the first $CACFG also completes $CCCFQ */
     } else if (!strcmp(id, "CLK")) {
         rc = clk(mm, s, now_us);
@@ -555,8 +555,8 @@ static void process_sentence(kelp_mm *mm, const char *line, size_t len, int64_t 
         } else if (c < 0 || c > 5 || d < 0) {
             rc = KELP_ERR_RANGE;
         } else {
-            kelp_mm_event cy;
-            ev_init(&cy, KELP_MM_EV_CYCLE, now_us);
+            kelp_mmdriver_event cy;
+            ev_init(&cy, KELP_MMDRIVER_EV_CYCLE, now_us);
             cy.has_src = true;
             cy.src = (int)a;
             cy.dest = (int)b;
@@ -570,8 +570,8 @@ static void process_sentence(kelp_mm *mm, const char *line, size_t len, int64_t 
         }
     } else if (!strcmp(id, "RXD")) {
         /* $CARXD,SRC,DEST,ACK,FRAME,HEX */
-        kelp_mm_event rx;
-        ev_init(&rx, KELP_MM_EV_RECEIVE, now_us);
+        kelp_mmdriver_event rx;
+        ev_init(&rx, KELP_MMDRIVER_EV_RECEIVE, now_us);
         uint8_t data[KELP_MAX_ACOMMS_FRAME];
         size_t dl = 0;
         const char *ackf = kelp_nmea_field(s, 3);
@@ -600,8 +600,8 @@ static void process_sentence(kelp_mm *mm, const char *line, size_t len, int64_t 
         } else {
             uint32_t fr = (uint32_t)(c - 1);
             if (fr < 32 && (mm->ack_mask & (1u << fr))) {
-                kelp_mm_event ak;
-                ev_init(&ak, KELP_MM_EV_ACK, now_us);
+                kelp_mmdriver_event ak;
+                ev_init(&ak, KELP_MMDRIVER_EV_ACK, now_us);
                 ak.has_src = true;
                 ak.src = (int)a;
                 ak.dest = (int)b;
@@ -620,8 +620,8 @@ static void process_sentence(kelp_mm *mm, const char *line, size_t len, int64_t 
         if (field_u(s, 1, &a) != KELP_OK || field_u(s, 2, &b) != KELP_OK) {
             rc = KELP_ERR_PARSE;
         } else {
-            kelp_mm_event rg;
-            ev_init(&rg, KELP_MM_EV_RANGE, now_us);
+            kelp_mmdriver_event rg;
+            ev_init(&rg, KELP_MMDRIVER_EV_RANGE, now_us);
             rg.ranging = KELP_RANGING_TWO_WAY_PING;
             rg.has_src = true;
             rg.src = (int)b;
@@ -639,8 +639,8 @@ static void process_sentence(kelp_mm *mm, const char *line, size_t len, int64_t 
     } else if (!strcmp(id, "TTA")) {
         /* $SNTTA,T1,T2,T3,T4,HHMMSS.SS */
         mm->toa_pending = false;
-        kelp_mm_event rg;
-        ev_init(&rg, KELP_MM_EV_RANGE, now_us);
+        kelp_mmdriver_event rg;
+        ev_init(&rg, KELP_MMDRIVER_EV_RANGE, now_us);
         rg.ranging = KELP_RANGING_REMUS_LBL;
         rg.has_src = true;
         rg.src = mm->modem_id;
@@ -668,18 +668,18 @@ static void process_sentence(kelp_mm *mm, const char *line, size_t len, int64_t 
     if (rc) {
         /* Goby throws out of the handler: the line is logged and dropped */
         mm->count.bad_lines++;
-        emit_simple(mm, KELP_MM_EV_BAD_LINE, raw, rawlen, rc, now_us);
+        emit_simple(mm, KELP_MMDRIVER_EV_BAD_LINE, raw, rawlen, rc, now_us);
         return;
     }
     mm->count.lines_in++;
     ev.raw = raw;
     ev.raw_len = rawlen;
     emit(mm, &ev);
-    kelp_mm_cmd *f = front(mm);
+    kelp_mmdriver_cmd *f = front(mm);
     if (f && !strcmp(f->id, id)) pop_out(mm); /* the modem answered the pending command */
 }
 
-static void process_line(kelp_mm *mm, const char *line, size_t len, int64_t now_us)
+static void process_line(kelp_mmdriver *mm, const char *line, size_t len, int64_t now_us)
 {
     if (mm->hydroid_id) {
         size_t k = len < HYDROID_PREFIX_LEN ? len : HYDROID_PREFIX_LEN;
@@ -689,7 +689,7 @@ static void process_line(kelp_mm *mm, const char *line, size_t len, int64_t now_
     process_sentence(mm, line, len, now_us);
 }
 
-static void feed_byte(kelp_mm *mm, uint8_t byte, int64_t now_us)
+static void feed_byte(kelp_mmdriver *mm, uint8_t byte, int64_t now_us)
 {
     const char *line;
     size_t len;
@@ -697,7 +697,7 @@ static void feed_byte(kelp_mm *mm, uint8_t byte, int64_t now_us)
     if (rc == KELP_ERR_PARTIAL) return;
     if (rc != KELP_OK) {
         mm->count.bad_lines++;
-        emit_simple(mm, KELP_MM_EV_BAD_LINE, NULL, 0, rc, now_us);
+        emit_simple(mm, KELP_MMDRIVER_EV_BAD_LINE, NULL, 0, rc, now_us);
         return;
     }
     process_line(mm, line, len, now_us);
@@ -706,7 +706,7 @@ static void feed_byte(kelp_mm *mm, uint8_t byte, int64_t now_us)
 /* Bytes held during a pause are read the moment the pause ends (as a driver that sleeps and
  * then reads in the same step), so a reply's freshness is judged at that moment, whenever
  * the caller's next feed or tick comes. */
-static void drain_backlog(kelp_mm *mm, int64_t now_us)
+static void drain_backlog(kelp_mmdriver *mm, int64_t now_us)
 {
     if (mm->hold_until_us > 0 && mm->hold_until_us <= now_us) now_us = mm->hold_until_us;
     size_t i = 0;
@@ -715,7 +715,7 @@ static void drain_backlog(kelp_mm *mm, int64_t now_us)
     mm->backlog_len -= i;
 }
 
-int kelp_mm_feed(kelp_mm *mm, const uint8_t *bytes, size_t n, int64_t now_us)
+int kelp_mmdriver_feed(kelp_mmdriver *mm, const uint8_t *bytes, size_t n, int64_t now_us)
 {
     if (!mm || (n && !bytes)) return KELP_ERR_ARG;
     if (!mm->started) return KELP_ERR_STATE;
@@ -731,7 +731,7 @@ int kelp_mm_feed(kelp_mm *mm, const uint8_t *bytes, size_t n, int64_t now_us)
     return KELP_OK;
 }
 
-int kelp_mm_tick(kelp_mm *mm, int64_t now_us)
+int kelp_mmdriver_tick(kelp_mmdriver *mm, int64_t now_us)
 {
     if (!mm) return KELP_ERR_ARG;
     if (!mm->started) return KELP_ERR_STATE;
@@ -746,7 +746,7 @@ int kelp_mm_tick(kelp_mm *mm, int64_t now_us)
     try_send(mm, now_us);
     if (mm->dead) return KELP_ERR_TIMEOUT;
     if (mm->backlog_len) drain_backlog(mm, now_us);
-    if (mm->hydroid_id && mm->last_gps_us + KELP_MM_HYDROID_GPS_INTERVAL_US < now_us) {
+    if (mm->hydroid_id && mm->last_gps_us + KELP_MMDRIVER_HYDROID_GPS_INTERVAL_US < now_us) {
         char q[16];
         kelp_nmea_writer w;
         kelp_nmea_writer_init(&w, q, sizeof q, "");

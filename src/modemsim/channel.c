@@ -4,29 +4,29 @@
 #include <math.h>
 #include <string.h>
 
-const unsigned kelp_msim_rate_frames[6] = { 1, 3, 3, 2, 2, 8 };
-const unsigned kelp_msim_rate_bytes[6] = { 32, 32, 64, 256, 256, 256 };
-const unsigned kelp_msim_rate_bps[6] = { 80, 250, 500, 1200, 1300, 5300 };
+const unsigned kelp_modemsim_rate_frames[6] = { 1, 3, 3, 2, 2, 8 };
+const unsigned kelp_modemsim_rate_bytes[6] = { 32, 32, 64, 256, 256, 256 };
+const unsigned kelp_modemsim_rate_bps[6] = { 80, 250, 500, 1200, 1300, 5300 };
 
-double kelp_msim_packet_seconds(unsigned rate, unsigned frames)
+double kelp_modemsim_packet_seconds(unsigned rate, unsigned frames)
 {
     if (rate > 5) return 0.0;
-    return (double)frames * (double)kelp_msim_rate_bytes[rate] * 8.0 / (double)kelp_msim_rate_bps[rate];
+    return (double)frames * (double)kelp_modemsim_rate_bytes[rate] * 8.0 / (double)kelp_modemsim_rate_bps[rate];
 }
 
-double kelp_msim_travel_time(double x1, double y1, double z1, double x2, double y2, double z2, double c)
+double kelp_modemsim_travel_time(double x1, double y1, double z1, double x2, double y2, double z2, double c)
 {
     double dx = x2 - x1, dy = y2 - y1, dz = z2 - z1;
     if (!(c > 0)) return 0.0;
     return sqrt(dx * dx + dy * dy + dz * dz) / c;
 }
 
-double kelp_msim_min_slot_seconds(unsigned rate, double max_range, double ci_seconds, double mini_seconds,
+double kelp_modemsim_min_slot_seconds(unsigned rate, double max_range, double ci_seconds, double mini_seconds,
                                   double turnaround_seconds, double sound_speed)
 {
     if (rate > 5 || !(sound_speed > 0)) return 0.0;
     double tt = max_range / sound_speed;
-    return ci_seconds + kelp_msim_packet_seconds(rate, kelp_msim_rate_frames[rate]) + mini_seconds +
+    return ci_seconds + kelp_modemsim_packet_seconds(rate, kelp_modemsim_rate_frames[rate]) + mini_seconds +
            2.0 * turnaround_seconds + 3.0 * tt;
 }
 
@@ -71,14 +71,14 @@ static void put_bytes(wbuf *w, const uint8_t *b, size_t n)
 
 static bool kind_ok(int k)
 {
-    return k >= KELP_MSIM_PKT_CYCLE_INIT && k <= KELP_MSIM_PKT_MINI;
+    return k >= KELP_MODEMSIM_PKT_CYCLE_INIT && k <= KELP_MODEMSIM_PKT_MINI;
 }
 
-int kelp_msim_pkt_encode(const kelp_msim_pkt *p, uint8_t *buf, size_t cap, size_t *len)
+int kelp_modemsim_pkt_encode(const kelp_modemsim_pkt *p, uint8_t *buf, size_t cap, size_t *len)
 {
     if (!p || !buf || !len) return KELP_ERR_ARG;
     if (!kind_ok((int)p->kind) || p->rate > 5) return KELP_ERR_ARG;
-    unsigned nf = p->kind == KELP_MSIM_PKT_DATA ? p->nframes : 0;
+    unsigned nf = p->kind == KELP_MODEMSIM_PKT_DATA ? p->nframes : 0;
     if (nf > KELP_MAX_MM_FRAMES) return KELP_ERR_ARG;
     wbuf w = { buf, cap, 0, false };
     put_bytes(&w, (const uint8_t *)"KMS1", 4);
@@ -102,7 +102,7 @@ int kelp_msim_pkt_encode(const kelp_msim_pkt *p, uint8_t *buf, size_t cap, size_
     put_f64(&w, p->y);
     put_f64(&w, p->depth);
     for (unsigned i = 0; i < nf; i++) {
-        const kelp_msim_frame *f = &p->frame[i];
+        const kelp_modemsim_frame *f = &p->frame[i];
         if (f->len > KELP_MAX_ACOMMS_FRAME) return KELP_ERR_ARG;
         put(&w, f->src, 1);
         put(&w, f->dest, 1);
@@ -140,7 +140,7 @@ static double get_f64(rbuf *r)
     return d;
 }
 
-int kelp_msim_pkt_decode(const uint8_t *buf, size_t len, kelp_msim_pkt *p)
+int kelp_modemsim_pkt_decode(const uint8_t *buf, size_t len, kelp_modemsim_pkt *p)
 {
     if (!buf || !p) return KELP_ERR_ARG;
     if (len < 4) return KELP_ERR_TRUNCATED;
@@ -168,29 +168,29 @@ int kelp_msim_pkt_decode(const uint8_t *buf, size_t len, kelp_msim_pkt *p)
     p->depth = get_f64(&r);
     if (r.short_) return KELP_ERR_TRUNCATED;
     if (!kind_ok((int)kind)) return KELP_ERR_PARSE;
-    p->kind = (kelp_msim_pkt_kind)kind;
+    p->kind = (kelp_modemsim_pkt_kind)kind;
     if (p->rate > 5 || p->ack > 1) return KELP_ERR_PARSE;
-    if (p->src > KELP_MSIM_MAX_ID || p->dest > KELP_MSIM_MAX_ID || p->adr1 > KELP_MSIM_MAX_ID ||
-        p->adr2 > KELP_MSIM_MAX_ID)
+    if (p->src > KELP_MODEMSIM_MAX_ID || p->dest > KELP_MODEMSIM_MAX_ID || p->adr1 > KELP_MODEMSIM_MAX_ID ||
+        p->adr2 > KELP_MODEMSIM_MAX_ID)
         return KELP_ERR_PARSE;
-    if (p->nframes > kelp_msim_rate_frames[p->rate] || p->nframes > KELP_MAX_MM_FRAMES) return KELP_ERR_RANGE;
-    if (p->kind == KELP_MSIM_PKT_DATA && p->nframes == 0) return KELP_ERR_PARSE;
+    if (p->nframes > kelp_modemsim_rate_frames[p->rate] || p->nframes > KELP_MAX_MM_FRAMES) return KELP_ERR_RANGE;
+    if (p->kind == KELP_MODEMSIM_PKT_DATA && p->nframes == 0) return KELP_ERR_PARSE;
     if (p->mini > 0x1fff) return KELP_ERR_RANGE;
     if (p->duration_us < 0 || p->duration_us > INT64_C(3600000000) || p->turnaround_us < 0 ||
         p->turnaround_us > INT64_C(3600000000))
         return KELP_ERR_RANGE;
     if (!isfinite(p->x) || !isfinite(p->y) || !isfinite(p->depth)) return KELP_ERR_RANGE;
     if (fabs(p->x) > 1e9 || fabs(p->y) > 1e9 || fabs(p->depth) > 1e6) return KELP_ERR_RANGE;
-    unsigned nf = p->kind == KELP_MSIM_PKT_DATA ? p->nframes : 0;
+    unsigned nf = p->kind == KELP_MODEMSIM_PKT_DATA ? p->nframes : 0;
     for (unsigned i = 0; i < nf; i++) {
-        kelp_msim_frame *f = &p->frame[i];
+        kelp_modemsim_frame *f = &p->frame[i];
         f->src = (uint8_t)get(&r, 1);
         f->dest = (uint8_t)get(&r, 1);
         uint64_t a = get(&r, 1);
         uint64_t fl = get(&r, 2);
         if (r.short_) return KELP_ERR_TRUNCATED;
-        if (a > 1 || f->src > KELP_MSIM_MAX_ID || f->dest > KELP_MSIM_MAX_ID) return KELP_ERR_PARSE;
-        if (fl > kelp_msim_rate_bytes[p->rate] || fl > KELP_MAX_ACOMMS_FRAME) return KELP_ERR_RANGE;
+        if (a > 1 || f->src > KELP_MODEMSIM_MAX_ID || f->dest > KELP_MODEMSIM_MAX_ID) return KELP_ERR_PARSE;
+        if (fl > kelp_modemsim_rate_bytes[p->rate] || fl > KELP_MAX_ACOMMS_FRAME) return KELP_ERR_RANGE;
         f->ack = a == 1;
         f->len = (uint16_t)fl;
         if (r.len - r.n < fl) return KELP_ERR_TRUNCATED;

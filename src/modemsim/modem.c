@@ -46,7 +46,7 @@ static unsigned days_in_month(long y, long mo)
     return dm[mo - 1];
 }
 
-static void set_err(kelp_msim *m, const char *msg)
+static void set_err(kelp_modemsim *m, const char *msg)
 {
     if (!m->errmsg) m->errmsg = msg;
 }
@@ -98,11 +98,11 @@ static void fixed(double v, unsigned dec, char *out, size_t cap)
     out[n] = '\0';
 }
 
-static void emit(kelp_msim *m, kelp_msim_event_kind kind, const kelp_msim_pkt *p, unsigned frame, kelp_msim_loss loss,
+static void emit(kelp_modemsim *m, kelp_modemsim_event_kind kind, const kelp_modemsim_pkt *p, unsigned frame, kelp_modemsim_loss loss,
                  const char *text, int err, int64_t now_us)
 {
     if (!m->ops.event) return;
-    kelp_msim_event ev;
+    kelp_modemsim_event ev;
     memset(&ev, 0, sizeof ev);
     ev.kind = kind;
     ev.time_us = now_us;
@@ -114,33 +114,33 @@ static void emit(kelp_msim *m, kelp_msim_event_kind kind, const kelp_msim_pkt *p
     m->ops.event(&ev, m->user);
 }
 
-static int src_id(const kelp_msim *m)
+static int src_id(const kelp_modemsim *m)
 {
     for (size_t i = 0; i < m->n_nv; i++)
         if (!strcmp(m->nv[i].name, "SRC")) return (int)m->nv[i].value;
     return m->cfg.modem_id;
 }
 
-int kelp_msim_src(const kelp_msim *m)
+int kelp_modemsim_src(const kelp_modemsim *m)
 {
     return src_id(m);
 }
 
-int64_t kelp_msim_clock(const kelp_msim *m, int64_t now_us)
+int64_t kelp_modemsim_clock(const kelp_modemsim *m, int64_t now_us)
 {
     return now_us + m->clock_offset_us;
 }
 
 /* ------------------------------------------------------------------ writing to the host */
 
-static void send_sentence(kelp_msim *m, kelp_nmea_writer *w, int64_t now_us)
+static void send_sentence(kelp_modemsim *m, kelp_nmea_writer *w, int64_t now_us)
 {
     size_t len;
     if (kelp_nmea_writer_finish(w, &len) != KELP_OK || len + 3 > w->cap) {
         set_err(m, "modemsim: sentence too long");
         return;
     }
-    emit(m, KELP_MSIM_EV_HOST_OUT, NULL, 0, KELP_MSIM_LOSS_NONE, w->buf, 0, now_us);
+    emit(m, KELP_MODEMSIM_EV_HOST_OUT, NULL, 0, KELP_MODEMSIM_LOSS_NONE, w->buf, 0, now_us);
     w->buf[len] = '\r';
     w->buf[len + 1] = '\n';
     w->buf[len + 2] = '\0';
@@ -148,14 +148,14 @@ static void send_sentence(kelp_msim *m, kelp_nmea_writer *w, int64_t now_us)
     if (m->ops.write) m->ops.write(w->buf, len + 2, m->user);
 }
 
-static void host_error(kelp_msim *m, int num, const char *text, const char *line, int err, int64_t now_us)
+static void host_error(kelp_modemsim *m, int num, const char *text, const char *line, int err, int64_t now_us)
 {
     char buf[96];
     char t[7];
     kelp_nmea_writer w;
     m->count.host_errors++;
-    emit(m, KELP_MSIM_EV_HOST_ERROR, NULL, 0, KELP_MSIM_LOSS_NONE, line, err, now_us);
-    hhmmss(kelp_msim_clock(m, now_us), t);
+    emit(m, KELP_MODEMSIM_EV_HOST_ERROR, NULL, 0, KELP_MODEMSIM_LOSS_NONE, line, err, now_us);
+    hhmmss(kelp_modemsim_clock(m, now_us), t);
     kelp_nmea_writer_init(&w, buf, sizeof buf, "$CAERR");
     kelp_nmea_writer_str(&w, t);
     kelp_nmea_writer_str(&w, "NMEA");
@@ -164,12 +164,12 @@ static void host_error(kelp_msim *m, int num, const char *text, const char *line
     send_sentence(m, &w, now_us);
 }
 
-static void write_rev(kelp_msim *m, const char *ident, int64_t now_us)
+static void write_rev(kelp_modemsim *m, const char *ident, int64_t now_us)
 {
     char buf[80];
     char t[7];
     kelp_nmea_writer w;
-    hhmmss(kelp_msim_clock(m, now_us), t);
+    hhmmss(kelp_modemsim_clock(m, now_us), t);
     kelp_nmea_writer_init(&w, buf, sizeof buf, "$CAREV");
     kelp_nmea_writer_str(&w, t);
     kelp_nmea_writer_str(&w, ident);
@@ -192,11 +192,11 @@ static void write_hex(kelp_nmea_writer *w, const uint8_t *d, size_t n)
 
 /* ------------------------------------------------------------------ configuration */
 
-void kelp_msim_cfg_default(kelp_msim_cfg *c)
+void kelp_modemsim_cfg_default(kelp_modemsim_cfg *c)
 {
     memset(c, 0, sizeof *c);
     c->modem_id = 1;
-    c->sound_speed = KELP_MSIM_SOUND_SPEED;
+    c->sound_speed = KELP_MODEMSIM_SOUND_SPEED;
     c->seed = 1;
     c->ci_seconds = 1.0;
     c->mini_seconds = 0.5;
@@ -213,7 +213,7 @@ static bool dur_ok(double d)
     return isfinite(d) && d >= 0 && d < 3600;
 }
 
-static void nv_reset(kelp_msim *m)
+static void nv_reset(kelp_modemsim *m)
 {
     m->n_nv = N_NV_DEFAULTS;
     for (size_t i = 0; i < N_NV_DEFAULTS; i++) {
@@ -224,7 +224,7 @@ static void nv_reset(kelp_msim *m)
 }
 
 /* index of an NVRAM parameter (3 letters, any case), or SIZE_MAX */
-static size_t nv_index(const kelp_msim *m, const char *name)
+static size_t nv_index(const kelp_modemsim *m, const char *name)
 {
     if (!name || strlen(name) != 3) return SIZE_MAX;
     for (size_t i = 0; i < m->n_nv; i++) {
@@ -239,13 +239,13 @@ static size_t nv_index(const kelp_msim *m, const char *name)
     return SIZE_MAX;
 }
 
-static kelp_msim_nv *nv_find(kelp_msim *m, const char *name)
+static kelp_modemsim_nv *nv_find(kelp_modemsim *m, const char *name)
 {
     size_t i = nv_index(m, name);
     return i == SIZE_MAX ? NULL : &m->nv[i];
 }
 
-int kelp_msim_nvram(const kelp_msim *m, const char *name, long *value)
+int kelp_modemsim_nvram(const kelp_modemsim *m, const char *name, long *value)
 {
     size_t i = nv_index(m, name);
     if (i == SIZE_MAX) return KELP_ERR_NOTFOUND;
@@ -253,11 +253,11 @@ int kelp_msim_nvram(const kelp_msim *m, const char *name, long *value)
     return KELP_OK;
 }
 
-int kelp_msim_init(kelp_msim *m, const kelp_msim_cfg *cfg, const kelp_msim_ops *ops, void *user, int64_t now_us)
+int kelp_modemsim_init(kelp_modemsim *m, const kelp_modemsim_cfg *cfg, const kelp_modemsim_ops *ops, void *user, int64_t now_us)
 {
     if (!m || !cfg) return KELP_ERR_ARG;
     memset(m, 0, sizeof *m);
-    if (cfg->modem_id < 1 || cfg->modem_id > KELP_MSIM_MAX_ID) return KELP_ERR_ARG;
+    if (cfg->modem_id < 1 || cfg->modem_id > KELP_MODEMSIM_MAX_ID) return KELP_ERR_ARG;
     if (!(cfg->sound_speed > 0) || !isfinite(cfg->sound_speed)) return KELP_ERR_ARG;
     if (!(cfg->loss_probability >= 0 && cfg->loss_probability <= 1)) return KELP_ERR_ARG;
     if (!dur_ok(cfg->ci_seconds) || !dur_ok(cfg->mini_seconds) || !dur_ok(cfg->turnaround_seconds) ||
@@ -291,12 +291,12 @@ int kelp_msim_init(kelp_msim *m, const kelp_msim_cfg *cfg, const kelp_msim_ops *
     return KELP_OK;
 }
 
-void kelp_msim_boot(kelp_msim *m, int64_t now_us)
+void kelp_modemsim_boot(kelp_modemsim *m, int64_t now_us)
 {
     write_rev(m, "INIT", now_us);
 }
 
-void kelp_msim_set_position(kelp_msim *m, double x, double y, double depth)
+void kelp_modemsim_set_position(kelp_modemsim *m, double x, double y, double depth)
 {
     if (!isfinite(x) || !isfinite(y) || !isfinite(depth)) return;
     m->x = x;
@@ -304,7 +304,7 @@ void kelp_msim_set_position(kelp_msim *m, double x, double y, double depth)
     m->depth = depth;
 }
 
-const kelp_msim_counters *kelp_msim_get_counters(const kelp_msim *m)
+const kelp_modemsim_counters *kelp_modemsim_get_counters(const kelp_modemsim *m)
 {
     return &m->count;
 }
@@ -317,7 +317,7 @@ static int64_t us_of(double s)
     return (int64_t)(u >= 0 ? u + 0.5 : u - 0.5);
 }
 
-static void new_pkt(kelp_msim *m, kelp_msim_pkt_kind kind)
+static void new_pkt(kelp_modemsim *m, kelp_modemsim_pkt_kind kind)
 {
     memset(&m->scratch, 0, sizeof m->scratch);
     m->scratch.kind = kind;
@@ -325,39 +325,39 @@ static void new_pkt(kelp_msim *m, kelp_msim_pkt_kind kind)
 }
 
 /* queue m->scratch for transmission at due_us; ref_us = reference for a ping reply's turnaround */
-static void schedule(kelp_msim *m, int64_t due_us, int64_t ref_us)
+static void schedule(kelp_modemsim *m, int64_t due_us, int64_t ref_us)
 {
     if (m->n_txq >= KELP_MAX_MSIM_TXQ) {
         set_err(m, "modemsim: transmit queue full");
         m->count.overflow++;
-        emit(m, KELP_MSIM_EV_INFO, &m->scratch, 0, KELP_MSIM_LOSS_NONE, "transmit queue full: dropped", KELP_ERR_NOSPACE,
+        emit(m, KELP_MODEMSIM_EV_INFO, &m->scratch, 0, KELP_MODEMSIM_LOSS_NONE, "transmit queue full: dropped", KELP_ERR_NOSPACE,
              due_us);
         return;
     }
-    kelp_msim_txslot *t = &m->txq[m->n_txq++];
+    kelp_modemsim_txslot *t = &m->txq[m->n_txq++];
     t->due_us = due_us;
     t->pkt = m->scratch;
     t->pkt.turnaround_us = ref_us; /* replaced by the real turnaround when it starts */
 }
 
-static int64_t pkt_duration(const kelp_msim *m, const kelp_msim_pkt *p)
+static int64_t pkt_duration(const kelp_modemsim *m, const kelp_modemsim_pkt *p)
 {
     switch (p->kind) {
-    case KELP_MSIM_PKT_CYCLE_INIT: return us_of(m->cfg.ci_seconds);
-    case KELP_MSIM_PKT_DATA: return us_of(kelp_msim_packet_seconds(p->rate, p->nframes));
+    case KELP_MODEMSIM_PKT_CYCLE_INIT: return us_of(m->cfg.ci_seconds);
+    case KELP_MODEMSIM_PKT_DATA: return us_of(kelp_modemsim_packet_seconds(p->rate, p->nframes));
     default: return us_of(m->cfg.mini_seconds);
     }
 }
 
-static unsigned pkt_bytes(const kelp_msim_pkt *p)
+static unsigned pkt_bytes(const kelp_modemsim_pkt *p)
 {
-    if (p->kind != KELP_MSIM_PKT_DATA) return MINI_BYTES;
+    if (p->kind != KELP_MODEMSIM_PKT_DATA) return MINI_BYTES;
     unsigned b = 0;
     for (unsigned i = 0; i < p->nframes; i++) b += p->frame[i].len;
     return b;
 }
 
-static void write_txpf(kelp_msim *m, const char *head, unsigned bytes, int64_t now_us)
+static void write_txpf(kelp_modemsim *m, const char *head, unsigned bytes, int64_t now_us)
 {
     char buf[40];
     kelp_nmea_writer w;
@@ -366,14 +366,14 @@ static void write_txpf(kelp_msim *m, const char *head, unsigned bytes, int64_t n
     send_sentence(m, &w, now_us);
 }
 
-static void start_tx(kelp_msim *m, kelp_msim_txslot *t, int64_t now_us)
+static void start_tx(kelp_modemsim *m, kelp_modemsim_txslot *t, int64_t now_us)
 {
-    kelp_msim_pkt *p = &t->pkt;
+    kelp_modemsim_pkt *p = &t->pkt;
     int64_t start = t->due_us > m->busy_until_us ? t->due_us : m->busy_until_us;
     if (start < now_us - LATE_START_US) start = now_us - LATE_START_US;
     p->start_us = start;
     p->duration_us = pkt_duration(m, p);
-    if (p->kind == KELP_MSIM_PKT_PING_REPLY) {
+    if (p->kind == KELP_MODEMSIM_PKT_PING_REPLY) {
         int64_t ta = start - p->turnaround_us;
         p->turnaround_us = ta > 0 ? ta : 0;
     } else {
@@ -385,38 +385,38 @@ static void start_tx(kelp_msim *m, kelp_msim_txslot *t, int64_t now_us)
     p->y = m->y;
     p->depth = m->depth;
     m->busy_until_us = start + p->duration_us;
-    kelp_msim_txlog *l = &m->txlog[m->txlog_next];
+    kelp_modemsim_txlog *l = &m->txlog[m->txlog_next];
     m->txlog_next = (m->txlog_next + 1) % KELP_MAX_MSIM_TXLOG;
     l->start_us = start;
     l->end_us = start + p->duration_us;
     l->kind = p->kind;
     l->bytes = pkt_bytes(p);
     l->txf_pending = true;
-    if (p->kind == KELP_MSIM_PKT_PING) {
+    if (p->kind == KELP_MODEMSIM_PKT_PING) {
         m->ping_active = true;
         m->ping_dest = p->dest;
         m->ping_start_us = start;
         m->ping_duration_us = p->duration_us;
     }
     m->count.tx[p->kind]++;
-    if (p->kind == KELP_MSIM_PKT_DATA) m->count.frames_tx += p->nframes;
+    if (p->kind == KELP_MODEMSIM_PKT_DATA) m->count.frames_tx += p->nframes;
     write_txpf(m, "$CATXP", l->bytes, now_us);
-    emit(m, KELP_MSIM_EV_TX, p, 0, KELP_MSIM_LOSS_NONE, NULL, 0, now_us);
+    emit(m, KELP_MODEMSIM_EV_TX, p, 0, KELP_MODEMSIM_LOSS_NONE, NULL, 0, now_us);
     if (m->ops.transmit) m->ops.transmit(p, m->user);
 }
 
 /* start every queued transmission whose time has come, one after the other (half duplex) */
-static void run_txq(kelp_msim *m, int64_t now_us)
+static void run_txq(kelp_modemsim *m, int64_t now_us)
 {
     for (;;) {
         size_t best = SIZE_MAX;
         for (size_t i = 0; i < m->n_txq; i++)
             if (best == SIZE_MAX || m->txq[i].due_us < m->txq[best].due_us) best = i;
         if (best == SIZE_MAX) return;
-        kelp_msim_txslot *t = &m->txq[best];
+        kelp_modemsim_txslot *t = &m->txq[best];
         int64_t start = t->due_us > m->busy_until_us ? t->due_us : m->busy_until_us;
         if (start > now_us) return;
-        kelp_msim_txslot tmp = *t;
+        kelp_modemsim_txslot tmp = *t;
         memmove(&m->txq[best], &m->txq[best + 1], (m->n_txq - best - 1) * sizeof m->txq[0]);
         m->n_txq--;
         start_tx(m, &tmp, now_us);
@@ -425,15 +425,15 @@ static void run_txq(kelp_msim *m, int64_t now_us)
 
 /* ------------------------------------------------------------------ data cycles */
 
-static void finish_cycle(kelp_msim *m, int64_t now_us)
+static void finish_cycle(kelp_modemsim *m, int64_t now_us)
 {
     m->cyc.active = false;
     m->cyc.drq_pending = false;
     if (m->cyc.next == 0) {
-        emit(m, KELP_MSIM_EV_INFO, NULL, 0, KELP_MSIM_LOSS_NONE, "cycle without data: nothing sent", 0, now_us);
+        emit(m, KELP_MODEMSIM_EV_INFO, NULL, 0, KELP_MODEMSIM_LOSS_NONE, "cycle without data: nothing sent", 0, now_us);
         return;
     }
-    new_pkt(m, KELP_MSIM_PKT_DATA);
+    new_pkt(m, KELP_MODEMSIM_PKT_DATA);
     m->scratch.rate = m->cyc.rate;
     m->scratch.ack = m->cyc.ack;
     m->scratch.adr1 = m->cyc.adr1;
@@ -445,11 +445,11 @@ static void finish_cycle(kelp_msim *m, int64_t now_us)
     schedule(m, due, 0);
 }
 
-static void gather_next(kelp_msim *m, int64_t now_us)
+static void gather_next(kelp_modemsim *m, int64_t now_us)
 {
     while (m->cyc.next < m->cyc.nframes && m->n_txbuf > 0) {
-        kelp_msim_frame *f = &m->txbuf[0];
-        if (f->len <= kelp_msim_rate_bytes[m->cyc.rate]) m->gathered[m->cyc.next++] = *f;
+        kelp_modemsim_frame *f = &m->txbuf[0];
+        if (f->len <= kelp_modemsim_rate_bytes[m->cyc.rate]) m->gathered[m->cyc.next++] = *f;
         memmove(&m->txbuf[0], &m->txbuf[1], (m->n_txbuf - 1) * sizeof m->txbuf[0]);
         m->n_txbuf--;
     }
@@ -460,24 +460,24 @@ static void gather_next(kelp_msim *m, int64_t now_us)
     char buf[80];
     char t[7];
     kelp_nmea_writer w;
-    hhmmss(kelp_msim_clock(m, now_us), t);
+    hhmmss(kelp_modemsim_clock(m, now_us), t);
     kelp_nmea_writer_init(&w, buf, sizeof buf, "$CADRQ");
     kelp_nmea_writer_str(&w, t);
     kelp_nmea_writer_long(&w, m->cyc.adr1);
     kelp_nmea_writer_long(&w, m->cyc.adr2);
     kelp_nmea_writer_long(&w, m->cyc.ack);
-    kelp_nmea_writer_long(&w, (long)kelp_msim_rate_bytes[m->cyc.rate]);
+    kelp_nmea_writer_long(&w, (long)kelp_modemsim_rate_bytes[m->cyc.rate]);
     kelp_nmea_writer_long(&w, (long)m->cyc.next + 1);
     send_sentence(m, &w, now_us);
     m->cyc.drq_pending = true;
     m->cyc.drq_deadline_us = now_us + us_of(m->cfg.drq_timeout_seconds);
 }
 
-static void start_gathering(kelp_msim *m, uint8_t cmd, uint8_t adr1, uint8_t adr2, uint8_t rate, uint8_t ack,
+static void start_gathering(kelp_modemsim *m, uint8_t cmd, uint8_t adr1, uint8_t adr2, uint8_t rate, uint8_t ack,
                             uint8_t nframes, int64_t not_before_us, int64_t now_us)
 {
     if (m->cyc.active)
-        emit(m, KELP_MSIM_EV_INFO, NULL, 0, KELP_MSIM_LOSS_NONE, "new cycle replaces the one being assembled", 0,
+        emit(m, KELP_MODEMSIM_EV_INFO, NULL, 0, KELP_MODEMSIM_LOSS_NONE, "new cycle replaces the one being assembled", 0,
              now_us);
     m->cyc.active = true;
     m->cyc.drq_pending = false;
@@ -499,7 +499,7 @@ static bool field_range(const kelp_nmea_sentence *s, unsigned i, long lo, long h
     return kelp_nmea_field_long(s, i, v) == KELP_OK && *v >= lo && *v <= hi;
 }
 
-static void cmd_clk(kelp_msim *m, const kelp_nmea_sentence *s, const char *line, int64_t now_us)
+static void cmd_clk(kelp_modemsim *m, const kelp_nmea_sentence *s, const char *line, int64_t now_us)
 {
     long v[6];
     static const long lo[6] = { 1970, 1, 1, 0, 0, 0 }, hi[6] = { 9999, 12, 31, 23, 59, 59 };
@@ -516,9 +516,9 @@ static void cmd_clk(kelp_msim *m, const kelp_nmea_sentence *s, const char *line,
     int64_t t = (kelp_days_from_civil(v[0], (unsigned)v[1], (unsigned)v[2]) * 86400 + v[3] * 3600 + v[4] * 60 + v[5]) *
                 US_PER_S;
     m->clock_offset_us = t - now_us;
-    emit(m, KELP_MSIM_EV_INFO, NULL, 0, KELP_MSIM_LOSS_NONE, "clock set", 0, now_us);
+    emit(m, KELP_MODEMSIM_EV_INFO, NULL, 0, KELP_MODEMSIM_LOSS_NONE, "clock set", 0, now_us);
     int y, mo, d, h, mi, sec;
-    kelp_mm_civil(kelp_msim_clock(m, now_us), &y, &mo, &d, &h, &mi, &sec);
+    kelp_mmdriver_civil(kelp_modemsim_clock(m, now_us), &y, &mo, &d, &h, &mi, &sec);
     char buf[64];
     char f[8];
     kelp_nmea_writer w;
@@ -537,7 +537,7 @@ static void cmd_clk(kelp_msim *m, const kelp_nmea_sentence *s, const char *line,
     send_sentence(m, &w, now_us);
 }
 
-static void write_cfg(kelp_msim *m, const char *name, long value, int64_t now_us)
+static void write_cfg(kelp_modemsim *m, const char *name, long value, int64_t now_us)
 {
     char buf[48];
     kelp_nmea_writer w;
@@ -547,7 +547,7 @@ static void write_cfg(kelp_msim *m, const char *name, long value, int64_t now_us
     send_sentence(m, &w, now_us);
 }
 
-static void cmd_cfg(kelp_msim *m, const kelp_nmea_sentence *s, const char *line, int64_t now_us)
+static void cmd_cfg(kelp_modemsim *m, const kelp_nmea_sentence *s, const char *line, int64_t now_us)
 {
     const char *name = kelp_nmea_field(s, 1);
     long v;
@@ -559,26 +559,26 @@ static void cmd_cfg(kelp_msim *m, const kelp_nmea_sentence *s, const char *line,
         int before = src_id(m);
         nv_reset(m);
         if (src_id(m) != before)
-            emit(m, KELP_MSIM_EV_INFO, NULL, 0, KELP_MSIM_LOSS_NONE, "NVRAM reset: SRC back to default", 0, now_us);
+            emit(m, KELP_MODEMSIM_EV_INFO, NULL, 0, KELP_MODEMSIM_LOSS_NONE, "NVRAM reset: SRC back to default", 0, now_us);
         write_cfg(m, "ALL", 0, now_us);
         return;
     }
-    kelp_msim_nv *n = nv_find(m, name);
+    kelp_modemsim_nv *n = nv_find(m, name);
     if (!n) {
         host_error(m, ERR_FIELD, "UNKNOWN_CFG_PARAM", line, KELP_ERR_NOTFOUND, now_us);
         return;
     }
-    if (!strcmp(n->name, "SRC") && (v < 1 || v > KELP_MSIM_MAX_ID)) {
+    if (!strcmp(n->name, "SRC") && (v < 1 || v > KELP_MODEMSIM_MAX_ID)) {
         host_error(m, ERR_FIELD, "BAD_CFG_VALUE", line, KELP_ERR_RANGE, now_us);
         return;
     }
     if (!strcmp(n->name, "SRC") && v != n->value)
-        emit(m, KELP_MSIM_EV_INFO, NULL, 0, KELP_MSIM_LOSS_NONE, "SRC changed by the host", 0, now_us);
+        emit(m, KELP_MODEMSIM_EV_INFO, NULL, 0, KELP_MODEMSIM_LOSS_NONE, "SRC changed by the host", 0, now_us);
     n->value = v;
     write_cfg(m, n->name, v, now_us);
 }
 
-static void cmd_cfq(kelp_msim *m, const kelp_nmea_sentence *s, const char *line, int64_t now_us)
+static void cmd_cfq(kelp_modemsim *m, const kelp_nmea_sentence *s, const char *line, int64_t now_us)
 {
     const char *name = kelp_nmea_field(s, 1);
     if (s->nfields != 2) {
@@ -589,7 +589,7 @@ static void cmd_cfq(kelp_msim *m, const kelp_nmea_sentence *s, const char *line,
         for (size_t i = 0; i < m->n_nv; i++) write_cfg(m, m->nv[i].name, m->nv[i].value, now_us);
         return;
     }
-    kelp_msim_nv *n = nv_find(m, name);
+    kelp_modemsim_nv *n = nv_find(m, name);
     if (!n) {
         host_error(m, ERR_FIELD, "UNKNOWN_CFG_PARAM", line, KELP_ERR_NOTFOUND, now_us);
         return;
@@ -597,7 +597,7 @@ static void cmd_cfq(kelp_msim *m, const kelp_nmea_sentence *s, const char *line,
     write_cfg(m, n->name, n->value, now_us);
 }
 
-static void write_cyc(kelp_msim *m, const char *head, long cmd, long a1, long a2, long rate, long ack, long nf,
+static void write_cyc(kelp_modemsim *m, const char *head, long cmd, long a1, long a2, long rate, long ack, long nf,
                       int64_t now_us)
 {
     char buf[64];
@@ -612,17 +612,17 @@ static void write_cyc(kelp_msim *m, const char *head, long cmd, long a1, long a2
     send_sentence(m, &w, now_us);
 }
 
-static void cmd_cyc(kelp_msim *m, const kelp_nmea_sentence *s, const char *line, int64_t now_us)
+static void cmd_cyc(kelp_modemsim *m, const kelp_nmea_sentence *s, const char *line, int64_t now_us)
 {
     long cmd, a1, a2, rate, ack, nf;
-    if (s->nfields != 7 || !field_range(s, 1, 0, 255, &cmd) || !field_range(s, 2, 0, KELP_MSIM_MAX_ID, &a1) ||
-        !field_range(s, 3, 0, KELP_MSIM_MAX_ID, &a2) || !field_range(s, 4, 0, 5, &rate) ||
-        !field_range(s, 5, 0, 1, &ack) || !field_range(s, 6, 1, (long)kelp_msim_rate_frames[rate > 5 || rate < 0 ? 0 : rate], &nf)) {
+    if (s->nfields != 7 || !field_range(s, 1, 0, 255, &cmd) || !field_range(s, 2, 0, KELP_MODEMSIM_MAX_ID, &a1) ||
+        !field_range(s, 3, 0, KELP_MODEMSIM_MAX_ID, &a2) || !field_range(s, 4, 0, 5, &rate) ||
+        !field_range(s, 5, 0, 1, &ack) || !field_range(s, 6, 1, (long)kelp_modemsim_rate_frames[rate > 5 || rate < 0 ? 0 : rate], &nf)) {
         host_error(m, ERR_FIELD, "BAD_CYC_FIELD", line, KELP_ERR_PARSE, now_us);
         return;
     }
     write_cyc(m, "$CACYC", cmd, a1, a2, rate, ack, nf, now_us);
-    new_pkt(m, KELP_MSIM_PKT_CYCLE_INIT);
+    new_pkt(m, KELP_MODEMSIM_PKT_CYCLE_INIT);
     m->scratch.cmd = (uint8_t)cmd;
     m->scratch.adr1 = (uint8_t)a1;
     m->scratch.adr2 = (uint8_t)a2;
@@ -638,18 +638,18 @@ static void cmd_cyc(kelp_msim *m, const kelp_nmea_sentence *s, const char *line,
                         ci_start + us_of(m->cfg.ci_seconds), now_us);
 }
 
-static void cmd_txd(kelp_msim *m, const kelp_nmea_sentence *s, const char *line, int64_t now_us)
+static void cmd_txd(kelp_modemsim *m, const kelp_nmea_sentence *s, const char *line, int64_t now_us)
 {
     long src, dest, ack;
-    if (s->nfields < 4 || s->nfields > 5 || !field_range(s, 1, 0, KELP_MSIM_MAX_ID, &src) ||
-        !field_range(s, 2, 0, KELP_MSIM_MAX_ID, &dest) || !field_range(s, 3, 0, 1, &ack)) {
+    if (s->nfields < 4 || s->nfields > 5 || !field_range(s, 1, 0, KELP_MODEMSIM_MAX_ID, &src) ||
+        !field_range(s, 2, 0, KELP_MODEMSIM_MAX_ID, &dest) || !field_range(s, 3, 0, 1, &ack)) {
         host_error(m, ERR_FIELD, "BAD_TXD_FIELD", line, KELP_ERR_PARSE, now_us);
         return;
     }
-    kelp_msim_frame f;
+    kelp_modemsim_frame f;
     memset(&f, 0, sizeof f);
     size_t n = 0;
-    size_t cap = m->cyc.active ? kelp_msim_rate_bytes[m->cyc.rate] : KELP_MAX_ACOMMS_FRAME;
+    size_t cap = m->cyc.active ? kelp_modemsim_rate_bytes[m->cyc.rate] : KELP_MAX_ACOMMS_FRAME;
     int rc = kelp_hex_decode(kelp_nmea_field(s, 4), strlen(kelp_nmea_field(s, 4)), f.data, cap, &n);
     if (rc) {
         host_error(m, ERR_FIELD, rc == KELP_ERR_RANGE ? "TXD_TOO_LONG" : "BAD_TXD_HEX", line, rc, now_us);
@@ -677,15 +677,15 @@ static void cmd_txd(kelp_msim *m, const kelp_nmea_sentence *s, const char *line,
         }
     } else if (n > 0) {
         if (m->n_txbuf < KELP_MAX_MM_FRAMES) m->txbuf[m->n_txbuf++] = f;
-        else emit(m, KELP_MSIM_EV_INFO, NULL, 0, KELP_MSIM_LOSS_NONE, "transmit buffer full: frame dropped", 0, now_us);
+        else emit(m, KELP_MODEMSIM_EV_INFO, NULL, 0, KELP_MODEMSIM_LOSS_NONE, "transmit buffer full: frame dropped", 0, now_us);
     }
 }
 
-static void cmd_mpc(kelp_msim *m, const kelp_nmea_sentence *s, const char *line, int64_t now_us)
+static void cmd_mpc(kelp_modemsim *m, const kelp_nmea_sentence *s, const char *line, int64_t now_us)
 {
     long src, dest;
-    if (s->nfields != 3 || !field_range(s, 1, 0, KELP_MSIM_MAX_ID, &src) ||
-        !field_range(s, 2, 0, KELP_MSIM_MAX_ID, &dest)) {
+    if (s->nfields != 3 || !field_range(s, 1, 0, KELP_MODEMSIM_MAX_ID, &src) ||
+        !field_range(s, 2, 0, KELP_MODEMSIM_MAX_ID, &dest)) {
         host_error(m, ERR_FIELD, "BAD_MPC_FIELD", line, KELP_ERR_PARSE, now_us);
         return;
     }
@@ -695,20 +695,20 @@ static void cmd_mpc(kelp_msim *m, const kelp_nmea_sentence *s, const char *line,
     kelp_nmea_writer_long(&w, src);
     kelp_nmea_writer_long(&w, dest);
     send_sentence(m, &w, now_us);
-    new_pkt(m, KELP_MSIM_PKT_PING);
+    new_pkt(m, KELP_MODEMSIM_PKT_PING);
     m->scratch.dest = (uint8_t)dest;
     schedule(m, now_us, 0);
     run_txq(m, now_us);
 }
 
-static void cmd_muc(kelp_msim *m, const kelp_nmea_sentence *s, const char *line, int64_t now_us)
+static void cmd_muc(kelp_modemsim *m, const kelp_nmea_sentence *s, const char *line, int64_t now_us)
 {
     long src, dest;
     const char *h = kelp_nmea_field(s, 3);
     size_t hl = strlen(h);
     long v = 0;
-    bool ok = s->nfields == 4 && field_range(s, 1, 0, KELP_MSIM_MAX_ID, &src) &&
-              field_range(s, 2, 0, KELP_MSIM_MAX_ID, &dest) && hl >= 1 && hl <= 4;
+    bool ok = s->nfields == 4 && field_range(s, 1, 0, KELP_MODEMSIM_MAX_ID, &src) &&
+              field_range(s, 2, 0, KELP_MODEMSIM_MAX_ID, &dest) && hl >= 1 && hl <= 4;
     for (size_t i = 0; ok && i < hl; i++) {
         int d = kelp_hex_digit(h[i]);
         if (d < 0) ok = false;
@@ -725,14 +725,14 @@ static void cmd_muc(kelp_msim *m, const kelp_nmea_sentence *s, const char *line,
     kelp_nmea_writer_long(&w, dest);
     kelp_nmea_writer_str(&w, h);
     send_sentence(m, &w, now_us);
-    new_pkt(m, KELP_MSIM_PKT_MINI);
+    new_pkt(m, KELP_MODEMSIM_PKT_MINI);
     m->scratch.dest = (uint8_t)dest;
     m->scratch.mini = (uint16_t)v;
     schedule(m, now_us, 0);
     run_txq(m, now_us);
 }
 
-static void cmd_pdt(kelp_msim *m, const kelp_nmea_sentence *s, const char *line, int64_t now_us)
+static void cmd_pdt(kelp_modemsim *m, const kelp_nmea_sentence *s, const char *line, int64_t now_us)
 {
     long v[9];
     static const long hi[9] = { 255, 4, 1, 100000, 100000, 1, 1, 1, 1 };
@@ -753,7 +753,7 @@ static void cmd_pdt(kelp_msim *m, const kelp_nmea_sentence *s, const char *line,
     for (unsigned i = 0; i < 4; i++) m->lbl_enable[i] = v[5 + i] == 1;
 }
 
-static void handle_line(kelp_msim *m, const char *line, size_t len, int64_t now_us)
+static void handle_line(kelp_modemsim *m, const char *line, size_t len, int64_t now_us)
 {
     kelp_nmea_sentence *s = &m->s;
     int rc = kelp_nmea_parse(line, len, s);
@@ -775,7 +775,7 @@ static void handle_line(kelp_msim *m, const char *line, size_t len, int64_t now_
     }
     m->count.host_lines++;
     m->last_host_us = now_us;
-    emit(m, KELP_MSIM_EV_HOST_IN, NULL, 0, KELP_MSIM_LOSS_NONE, copy, 0, now_us);
+    emit(m, KELP_MODEMSIM_EV_HOST_IN, NULL, 0, KELP_MODEMSIM_LOSS_NONE, copy, 0, now_us);
     const char *id = s->id;
     if (!strcmp(id, "CLK")) cmd_clk(m, s, copy, now_us);
     else if (!strcmp(id, "CFG")) cmd_cfg(m, s, copy, now_us);
@@ -788,7 +788,7 @@ static void handle_line(kelp_msim *m, const char *line, size_t len, int64_t now_
     else host_error(m, ERR_UNKNOWN, "UNSUPPORTED_COMMAND", copy, KELP_ERR_UNSUPPORTED, now_us);
 }
 
-int kelp_msim_feed(kelp_msim *m, const uint8_t *bytes, size_t n, int64_t now_us)
+int kelp_modemsim_feed(kelp_modemsim *m, const uint8_t *bytes, size_t n, int64_t now_us)
 {
     if (!m || (n && !bytes)) return KELP_ERR_ARG;
     for (size_t i = 0; i < n; i++) {
@@ -808,7 +808,7 @@ int kelp_msim_feed(kelp_msim *m, const uint8_t *bytes, size_t n, int64_t now_us)
 
 /* ------------------------------------------------------------------ the channel: hearing */
 
-int kelp_msim_hear(kelp_msim *m, const kelp_msim_pkt *p, int64_t now_us)
+int kelp_modemsim_hear(kelp_modemsim *m, const kelp_modemsim_pkt *p, int64_t now_us)
 {
     if (!m || !p) return KELP_ERR_ARG;
     if (p->instance == m->cfg.instance) return KELP_OK; /* our own transmission */
@@ -823,7 +823,7 @@ int kelp_msim_hear(kelp_msim *m, const kelp_msim_pkt *p, int64_t now_us)
     int64_t end = start + p->duration_us;
     if (end < now_us - STALE_US) {
         m->count.lost_stale++;
-        emit(m, KELP_MSIM_EV_LOST, p, 0, KELP_MSIM_LOSS_STALE, "heard too late", 0, now_us);
+        emit(m, KELP_MODEMSIM_EV_LOST, p, 0, KELP_MODEMSIM_LOSS_STALE, "heard too late", 0, now_us);
         return KELP_OK;
     }
     size_t slot = SIZE_MAX, oldest = SIZE_MAX;
@@ -838,13 +838,13 @@ int kelp_msim_hear(kelp_msim *m, const kelp_msim_pkt *p, int64_t now_us)
     if (slot == SIZE_MAX) {
         m->count.overflow++;
         set_err(m, "modemsim: too many packets in flight");
-        emit(m, KELP_MSIM_EV_LOST, p, 0, KELP_MSIM_LOSS_NONE, "too many packets in flight", KELP_ERR_NOSPACE, now_us);
+        emit(m, KELP_MODEMSIM_EV_LOST, p, 0, KELP_MODEMSIM_LOSS_NONE, "too many packets in flight", KELP_ERR_NOSPACE, now_us);
         return KELP_ERR_NOSPACE;
     }
-    kelp_msim_arrival *a = &m->arr[slot];
+    kelp_modemsim_arrival *a = &m->arr[slot];
     a->used = true;
     a->decided = false;
-    a->loss = KELP_MSIM_LOSS_NONE;
+    a->loss = KELP_MODEMSIM_LOSS_NONE;
     a->start_us = start;
     a->end_us = end;
     a->range_m = range;
@@ -853,11 +853,11 @@ int kelp_msim_hear(kelp_msim *m, const kelp_msim_pkt *p, int64_t now_us)
     return KELP_OK;
 }
 
-static void emit_arrival(kelp_msim *m, kelp_msim_event_kind kind, const kelp_msim_arrival *a, unsigned frame,
-                         kelp_msim_loss loss, int64_t now_us)
+static void emit_arrival(kelp_modemsim *m, kelp_modemsim_event_kind kind, const kelp_modemsim_arrival *a, unsigned frame,
+                         kelp_modemsim_loss loss, int64_t now_us)
 {
     if (!m->ops.event) return;
-    kelp_msim_event ev;
+    kelp_modemsim_event ev;
     memset(&ev, 0, sizeof ev);
     ev.kind = kind;
     ev.time_us = now_us;
@@ -870,42 +870,42 @@ static void emit_arrival(kelp_msim *m, kelp_msim_event_kind kind, const kelp_msi
     m->ops.event(&ev, m->user);
 }
 
-static void count_loss(kelp_msim *m, kelp_msim_loss l)
+static void count_loss(kelp_modemsim *m, kelp_modemsim_loss l)
 {
-    if (l == KELP_MSIM_LOSS_RANDOM) m->count.lost_random++;
-    else if (l == KELP_MSIM_LOSS_COLLISION) m->count.lost_collision++;
-    else if (l == KELP_MSIM_LOSS_HALF_DUPLEX) m->count.lost_half_duplex++;
+    if (l == KELP_MODEMSIM_LOSS_RANDOM) m->count.lost_random++;
+    else if (l == KELP_MODEMSIM_LOSS_COLLISION) m->count.lost_collision++;
+    else if (l == KELP_MODEMSIM_LOSS_HALF_DUPLEX) m->count.lost_half_duplex++;
 }
 
-static bool dropped(kelp_msim *m)
+static bool dropped(kelp_modemsim *m)
 {
     if (!(m->cfg.loss_probability > 0)) return false;
     return kelp_rng_uniform(&m->rng) < m->cfg.loss_probability;
 }
 
 /* the physical outcome of an arrival, before the random loss */
-static kelp_msim_loss physical(const kelp_msim *m, const kelp_msim_arrival *a)
+static kelp_modemsim_loss physical(const kelp_modemsim *m, const kelp_modemsim_arrival *a)
 {
     for (size_t i = 0; i < KELP_MAX_MSIM_TXLOG; i++) {
-        const kelp_msim_txlog *l = &m->txlog[i];
+        const kelp_modemsim_txlog *l = &m->txlog[i];
         if (l->end_us > l->start_us && l->start_us < a->end_us && l->end_us > a->start_us)
-            return KELP_MSIM_LOSS_HALF_DUPLEX;
+            return KELP_MODEMSIM_LOSS_HALF_DUPLEX;
     }
     for (size_t i = 0; i < KELP_MAX_MSIM_ARRIVALS; i++) {
-        const kelp_msim_arrival *b = &m->arr[i];
+        const kelp_modemsim_arrival *b = &m->arr[i];
         if (!b->used || b == a) continue;
         /* one transmitter sends its packets one after another: two of them never collide
          * with each other, even when the sender's motion makes the second arrive a few
          * milliseconds "early" (it would otherwise look like an overlap) */
         if (b->pkt.instance == a->pkt.instance) continue;
-        if (b->start_us < a->end_us && b->end_us > a->start_us) return KELP_MSIM_LOSS_COLLISION;
+        if (b->start_us < a->end_us && b->end_us > a->start_us) return KELP_MODEMSIM_LOSS_COLLISION;
     }
-    return KELP_MSIM_LOSS_NONE;
+    return KELP_MODEMSIM_LOSS_NONE;
 }
 
-static void receive_ci(kelp_msim *m, const kelp_msim_arrival *a, int64_t now_us)
+static void receive_ci(kelp_modemsim *m, const kelp_modemsim_arrival *a, int64_t now_us)
 {
-    const kelp_msim_pkt *p = &a->pkt;
+    const kelp_modemsim_pkt *p = &a->pkt;
     write_cyc(m, "$CACYC", p->cmd, p->adr1, p->adr2, p->rate, p->ack, p->nframes, now_us);
     int me = src_id(m);
     if (p->adr1 == me && p->src != me) /* we are polled: gather our data and send it */
@@ -913,16 +913,16 @@ static void receive_ci(kelp_msim *m, const kelp_msim_arrival *a, int64_t now_us)
                         now_us + us_of(m->cfg.turnaround_seconds), now_us);
 }
 
-static void receive_data(kelp_msim *m, kelp_msim_arrival *a, int64_t now_us)
+static void receive_data(kelp_modemsim *m, kelp_modemsim_arrival *a, int64_t now_us)
 {
-    const kelp_msim_pkt *p = &a->pkt;
+    const kelp_modemsim_pkt *p = &a->pkt;
     int me = src_id(m);
     uint32_t mask = 0;
     for (unsigned i = 0; i < p->nframes; i++) {
-        const kelp_msim_frame *f = &p->frame[i];
+        const kelp_modemsim_frame *f = &p->frame[i];
         if (dropped(m)) {
             m->count.lost_random++;
-            emit_arrival(m, KELP_MSIM_EV_LOST, a, i + 1, KELP_MSIM_LOSS_RANDOM, now_us);
+            emit_arrival(m, KELP_MODEMSIM_EV_LOST, a, i + 1, KELP_MODEMSIM_LOSS_RANDOM, now_us);
             continue;
         }
         char buf[KELP_MAX_NMEA_LINE + 4];
@@ -935,11 +935,11 @@ static void receive_data(kelp_msim *m, kelp_msim_arrival *a, int64_t now_us)
         write_hex(&w, f->data, f->len);
         send_sentence(m, &w, now_us);
         m->count.frames_rx++;
-        emit_arrival(m, KELP_MSIM_EV_RX, a, i + 1, KELP_MSIM_LOSS_NONE, now_us);
+        emit_arrival(m, KELP_MODEMSIM_EV_RX, a, i + 1, KELP_MODEMSIM_LOSS_NONE, now_us);
         if (f->ack && f->dest == me && f->dest != 0) mask |= 1u << i;
     }
     if (mask) {
-        new_pkt(m, KELP_MSIM_PKT_ACK);
+        new_pkt(m, KELP_MODEMSIM_PKT_ACK);
         m->scratch.dest = p->src;
         m->scratch.rate = p->rate;
         m->scratch.ack_mask = mask;
@@ -947,34 +947,34 @@ static void receive_data(kelp_msim *m, kelp_msim_arrival *a, int64_t now_us)
     }
 }
 
-static void decide(kelp_msim *m, kelp_msim_arrival *a, int64_t now_us)
+static void decide(kelp_modemsim *m, kelp_modemsim_arrival *a, int64_t now_us)
 {
     a->decided = true;
-    const kelp_msim_pkt *p = &a->pkt;
+    const kelp_modemsim_pkt *p = &a->pkt;
     int me = src_id(m);
-    kelp_msim_loss l = physical(m, a);
-    if (l != KELP_MSIM_LOSS_NONE) {
+    kelp_modemsim_loss l = physical(m, a);
+    if (l != KELP_MODEMSIM_LOSS_NONE) {
         a->loss = l;
         count_loss(m, l);
-        emit_arrival(m, KELP_MSIM_EV_LOST, a, 0, l, now_us);
+        emit_arrival(m, KELP_MODEMSIM_EV_LOST, a, 0, l, now_us);
         return;
     }
     switch (p->kind) {
-    case KELP_MSIM_PKT_CYCLE_INIT:
+    case KELP_MODEMSIM_PKT_CYCLE_INIT:
         if (dropped(m)) break;
         m->count.rx[p->kind]++;
-        emit_arrival(m, KELP_MSIM_EV_RX, a, 0, KELP_MSIM_LOSS_NONE, now_us);
+        emit_arrival(m, KELP_MODEMSIM_EV_RX, a, 0, KELP_MODEMSIM_LOSS_NONE, now_us);
         receive_ci(m, a, now_us);
         return;
-    case KELP_MSIM_PKT_DATA:
+    case KELP_MODEMSIM_PKT_DATA:
         m->count.rx[p->kind]++;
         receive_data(m, a, now_us);
         return;
-    case KELP_MSIM_PKT_ACK:
+    case KELP_MODEMSIM_PKT_ACK:
         if (p->dest != me) return;
         if (dropped(m)) break;
         m->count.rx[p->kind]++;
-        emit_arrival(m, KELP_MSIM_EV_RX, a, 0, KELP_MSIM_LOSS_NONE, now_us);
+        emit_arrival(m, KELP_MODEMSIM_EV_RX, a, 0, KELP_MODEMSIM_LOSS_NONE, now_us);
         for (unsigned f = 0; f < 32; f++) {
             if (!(p->ack_mask & (1u << f))) continue;
             char buf[64];
@@ -988,11 +988,11 @@ static void decide(kelp_msim *m, kelp_msim_arrival *a, int64_t now_us)
             m->count.acks_out++;
         }
         return;
-    case KELP_MSIM_PKT_PING:
+    case KELP_MODEMSIM_PKT_PING:
         if (p->dest != me) return;
         if (dropped(m)) break;
         m->count.rx[p->kind]++;
-        emit_arrival(m, KELP_MSIM_EV_RX, a, 0, KELP_MSIM_LOSS_NONE, now_us);
+        emit_arrival(m, KELP_MODEMSIM_EV_RX, a, 0, KELP_MODEMSIM_LOSS_NONE, now_us);
         {
             char buf[48];
             kelp_nmea_writer w;
@@ -1001,16 +1001,16 @@ static void decide(kelp_msim *m, kelp_msim_arrival *a, int64_t now_us)
             kelp_nmea_writer_long(&w, me);
             send_sentence(m, &w, now_us);
         }
-        new_pkt(m, KELP_MSIM_PKT_PING_REPLY);
+        new_pkt(m, KELP_MODEMSIM_PKT_PING_REPLY);
         m->scratch.dest = p->src;
         schedule(m, a->end_us + us_of(m->cfg.turnaround_seconds), a->end_us);
         return;
-    case KELP_MSIM_PKT_PING_REPLY:
+    case KELP_MODEMSIM_PKT_PING_REPLY:
         if (p->dest != me || !m->ping_active || p->src != m->ping_dest) return;
         if (dropped(m)) break;
         m->count.rx[p->kind]++;
         m->ping_active = false;
-        emit_arrival(m, KELP_MSIM_EV_RX, a, 0, KELP_MSIM_LOSS_NONE, now_us);
+        emit_arrival(m, KELP_MODEMSIM_EV_RX, a, 0, KELP_MODEMSIM_LOSS_NONE, now_us);
         {
             double owtt =
                 (double)(a->start_us - m->ping_start_us - m->ping_duration_us - p->turnaround_us) / 2.0 / 1e6;
@@ -1025,11 +1025,11 @@ static void decide(kelp_msim *m, kelp_msim_arrival *a, int64_t now_us)
             send_sentence(m, &w, now_us);
         }
         return;
-    case KELP_MSIM_PKT_MINI:
+    case KELP_MODEMSIM_PKT_MINI:
         if (p->dest != me && p->dest != 0) return;
         if (dropped(m)) break;
         m->count.rx[p->kind]++;
-        emit_arrival(m, KELP_MSIM_EV_RX, a, 0, KELP_MSIM_LOSS_NONE, now_us);
+        emit_arrival(m, KELP_MODEMSIM_EV_RX, a, 0, KELP_MODEMSIM_LOSS_NONE, now_us);
         {
             char hx[5] = { HEXL[(p->mini >> 12) & 15], HEXL[(p->mini >> 8) & 15], HEXL[(p->mini >> 4) & 15],
                            HEXL[p->mini & 15], '\0' };
@@ -1046,14 +1046,14 @@ static void decide(kelp_msim *m, kelp_msim_arrival *a, int64_t now_us)
         return;
     }
     /* random loss of a packet addressed to us (or of a cycle init) */
-    a->loss = KELP_MSIM_LOSS_RANDOM;
-    count_loss(m, KELP_MSIM_LOSS_RANDOM);
-    emit_arrival(m, KELP_MSIM_EV_LOST, a, 0, KELP_MSIM_LOSS_RANDOM, now_us);
+    a->loss = KELP_MODEMSIM_LOSS_RANDOM;
+    count_loss(m, KELP_MODEMSIM_LOSS_RANDOM);
+    emit_arrival(m, KELP_MODEMSIM_EV_LOST, a, 0, KELP_MODEMSIM_LOSS_RANDOM, now_us);
 }
 
 /* ------------------------------------------------------------------ timers */
 
-static void lbl_reply(kelp_msim *m, int64_t now_us)
+static void lbl_reply(kelp_modemsim *m, int64_t now_us)
 {
     m->lbl_active = false;
     char buf[96];
@@ -1062,7 +1062,7 @@ static void lbl_reply(kelp_msim *m, int64_t now_us)
     for (unsigned i = 0; i < 4; i++) {
         char tt[24] = "";
         if (i < m->cfg.n_lbl && m->lbl_enable[i]) {
-            double ow = kelp_msim_travel_time(m->x, m->y, m->depth, m->cfg.lbl_x[i], m->cfg.lbl_y[i],
+            double ow = kelp_modemsim_travel_time(m->x, m->y, m->depth, m->cfg.lbl_x[i], m->cfg.lbl_y[i],
                                               m->cfg.lbl_depth[i], m->cfg.sound_speed);
             double two_way = 2 * ow + m->cfg.lbl_turnaround_seconds;
             if (two_way * 1e6 <= (double)m->lbl_timeout_us) fixed(ow, 4, tt, sizeof tt);
@@ -1070,7 +1070,7 @@ static void lbl_reply(kelp_msim *m, int64_t now_us)
         kelp_nmea_writer_str(&w, tt);
     }
     /* hhmmss.ss of the modem clock */
-    int64_t c = kelp_msim_clock(m, now_us);
+    int64_t c = kelp_modemsim_clock(m, now_us);
     char t[16];
     hhmmss(c, t);
     int64_t cs = (c - kelp_floor_div(c, US_PER_S) * US_PER_S) / 10000;
@@ -1080,37 +1080,37 @@ static void lbl_reply(kelp_msim *m, int64_t now_us)
     send_sentence(m, &w, now_us);
 }
 
-void kelp_msim_tick(kelp_msim *m, int64_t now_us)
+void kelp_modemsim_tick(kelp_modemsim *m, int64_t now_us)
 {
     if (!m) return;
     run_txq(m, now_us);
     for (size_t i = 0; i < KELP_MAX_MSIM_TXLOG; i++) {
-        kelp_msim_txlog *l = &m->txlog[i];
+        kelp_modemsim_txlog *l = &m->txlog[i];
         if (l->txf_pending && l->end_us <= now_us) {
             l->txf_pending = false;
             write_txpf(m, "$CATXF", l->bytes, now_us);
         }
     }
     for (;;) {
-        kelp_msim_arrival *next = NULL;
+        kelp_modemsim_arrival *next = NULL;
         for (size_t i = 0; i < KELP_MAX_MSIM_ARRIVALS; i++) {
-            kelp_msim_arrival *a = &m->arr[i];
+            kelp_modemsim_arrival *a = &m->arr[i];
             if (a->used && !a->decided && a->end_us <= now_us && (!next || a->end_us < next->end_us)) next = a;
         }
         if (!next) break;
         decide(m, next, now_us);
     }
     for (size_t i = 0; i < KELP_MAX_MSIM_ARRIVALS; i++) {
-        kelp_msim_arrival *a = &m->arr[i];
+        kelp_modemsim_arrival *a = &m->arr[i];
         if (a->used && a->decided && a->end_us + KEEP_DECIDED_US < now_us) a->used = false;
     }
     if (m->cyc.active && m->cyc.drq_pending && now_us >= m->cyc.drq_deadline_us) {
-        emit(m, KELP_MSIM_EV_INFO, NULL, 0, KELP_MSIM_LOSS_NONE, "no $CCTXD before the DRQ timeout", 0, now_us);
+        emit(m, KELP_MODEMSIM_EV_INFO, NULL, 0, KELP_MODEMSIM_LOSS_NONE, "no $CCTXD before the DRQ timeout", 0, now_us);
         finish_cycle(m, now_us);
     }
     if (m->ping_active && now_us >= m->ping_start_us + us_of(m->cfg.ping_timeout_seconds)) {
         m->ping_active = false;
-        emit(m, KELP_MSIM_EV_INFO, NULL, 0, KELP_MSIM_LOSS_NONE, "ping not answered", 0, now_us);
+        emit(m, KELP_MODEMSIM_EV_INFO, NULL, 0, KELP_MODEMSIM_LOSS_NONE, "ping not answered", 0, now_us);
     }
     if (m->lbl_active && now_us >= m->lbl_start_us + m->lbl_timeout_us) lbl_reply(m, now_us);
     if (m->cfg.rev_interval_seconds > 0 && m->last_host_us != INT64_MIN) {
@@ -1120,7 +1120,7 @@ void kelp_msim_tick(kelp_msim *m, int64_t now_us)
     run_txq(m, now_us); /* acks and replies decided above */
 }
 
-int64_t kelp_msim_next_due(const kelp_msim *m)
+int64_t kelp_modemsim_next_due(const kelp_modemsim *m)
 {
     int64_t t = INT64_MAX;
     for (size_t i = 0; i < m->n_txq; i++) {
@@ -1146,47 +1146,47 @@ int64_t kelp_msim_next_due(const kelp_msim *m)
 
 /* ------------------------------------------------------------------ event text */
 
-static const char *pkt_kind_name(kelp_msim_pkt_kind k)
+static const char *pkt_kind_name(kelp_modemsim_pkt_kind k)
 {
     switch (k) {
-    case KELP_MSIM_PKT_CYCLE_INIT: return "cycle_init";
-    case KELP_MSIM_PKT_DATA: return "data";
-    case KELP_MSIM_PKT_ACK: return "ack";
-    case KELP_MSIM_PKT_PING: return "ping";
-    case KELP_MSIM_PKT_PING_REPLY: return "ping_reply";
-    case KELP_MSIM_PKT_MINI: return "mini";
+    case KELP_MODEMSIM_PKT_CYCLE_INIT: return "cycle_init";
+    case KELP_MODEMSIM_PKT_DATA: return "data";
+    case KELP_MODEMSIM_PKT_ACK: return "ack";
+    case KELP_MODEMSIM_PKT_PING: return "ping";
+    case KELP_MODEMSIM_PKT_PING_REPLY: return "ping_reply";
+    case KELP_MODEMSIM_PKT_MINI: return "mini";
     default: return "?";
     }
 }
 
-static const char *pkt_loss_name(kelp_msim_loss l)
+static const char *pkt_loss_name(kelp_modemsim_loss l)
 {
     switch (l) {
-    case KELP_MSIM_LOSS_RANDOM: return "random";
-    case KELP_MSIM_LOSS_COLLISION: return "collision";
-    case KELP_MSIM_LOSS_HALF_DUPLEX: return "half_duplex";
-    case KELP_MSIM_LOSS_STALE: return "stale";
+    case KELP_MODEMSIM_LOSS_RANDOM: return "random";
+    case KELP_MODEMSIM_LOSS_COLLISION: return "collision";
+    case KELP_MODEMSIM_LOSS_HALF_DUPLEX: return "half_duplex";
+    case KELP_MODEMSIM_LOSS_STALE: return "stale";
     default: return "overflow";
     }
 }
 
-int kelp_msim_event_format(const kelp_msim *m, const kelp_msim_event *e, char *buf, size_t cap)
+int kelp_modemsim_event_format(const kelp_modemsim *m, const kelp_modemsim_event *e, char *buf, size_t cap)
 {
-    const kelp_msim_pkt *p = e->pkt;
+    const kelp_modemsim_pkt *p = e->pkt;
     int n;
     switch (e->kind) {
-    case KELP_MSIM_EV_TX:
+    case KELP_MODEMSIM_EV_TX:
         if (!p) return 0;
-        n = kelp_snprintf(buf, cap, "modem=%d,event=tx,kind=%s,src=%d,dest=%d,frames=%d,rate=%d", kelp_msim_src(m),
-                     pkt_kind_name(p->kind), p->src, p->dest, p->kind == KELP_MSIM_PKT_DATA ? p->nframes : 0, p->rate);
+        n = kelp_snprintf(buf, cap, "modem=%d,event=tx,kind=%s,src=%d,dest=%d,frames=%d,rate=%d", kelp_modemsim_src(m),
+                     pkt_kind_name(p->kind), p->src, p->dest, p->kind == KELP_MODEMSIM_PKT_DATA ? p->nframes : 0, p->rate);
         break;
-    case KELP_MSIM_EV_RX:
+    case KELP_MODEMSIM_EV_RX:
         if (!p) return 0;
         n = kelp_snprintf(buf, cap, "modem=%d,event=rx,kind=%s,src=%d,dest=%d,frame=%u,range=%.1f,travel=%.4f",
-                     kelp_msim_src(m), pkt_kind_name(p->kind), p->src, p->dest, e->frame, e->range_m, e->travel_s);
+                     kelp_modemsim_src(m), pkt_kind_name(p->kind), p->src, p->dest, e->frame, e->range_m, e->travel_s);
         break;
-    case KELP_MSIM_EV_LOST:
-        n = kelp_snprintf(buf, cap, "modem=%d,event=lost,kind=%s,src=%d,dest=%d,frame=%u,reason=%s", kelp_msim_src(m),
+    case KELP_MODEMSIM_EV_LOST:
+        n = kelp_snprintf(buf, cap, "modem=%d,event=lost,kind=%s,src=%d,dest=%d,frame=%u,reason=%s", kelp_modemsim_src(m),
                      p ? pkt_kind_name(p->kind) : "?", p ? p->src : 0, p ? p->dest : 0, e->frame,
                      pkt_loss_name(e->loss));
         break;

@@ -1,4 +1,5 @@
 /* kelp modemsim: pAcommsPoller core -- poll-slot parsing and the MACUpdate TextFormat. */
+#include <kelp/poller.h>
 #include <kelp/kv.h>
 #include <kelp/mission.h>
 #include <kelp/modemsim.h>
