@@ -89,11 +89,12 @@ static void report(kelp_app *app, void *st, FILE *out)
 
 static const kelp_app_def def = {
     .name = "pContactMgrV20",
-    .purpose = "Manage contacts from NODE_REPORTs: alerts by range and CPA range, summaries, range reports.",
-    .synopsis = "The contact manager deals with other known vehicles in its vicinity. It handles incoming reports "
-                "perhaps received via a sensor application or over a communications link. Minimally it posts "
-                "summary reports, but may also be configured to post alerts with user-configured content about "
-                "one or more of the contacts.",
+    .purpose = "The contact manager: alerts by range and CPA range about contacts, summaries, range reports.",
+    .synopsis = "The contact manager deals with other known vehicles in its\n"
+                "vicinity. It handles incoming reports perhaps received via a\n"
+                "sensor application or over a communications link. Minimally\n"
+                "it posts summary reports, but may also be configured to post\n"
+                "alerts with user-configured content about the contacts.",
     .params = (const kelp_app_param_info[]){
         { "alert", "id=avd, on_flag=CONTACT_INFO=name=avd_$[VNAME] # contact=$[VNAME], alert_range=80, cpa_range=95",
           "an alert (repeat; lines with one id accumulate): id, alert_range, cpa_range, on_flag, off_flag, filters", NULL },
