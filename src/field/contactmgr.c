@@ -376,8 +376,7 @@ static int split_comps(const char *spec, comp *cp, unsigned *ncp)
         p->k = it, p->kl = (size_t)(eq - it);
         trim(&p->k, &p->kl);
         const char *v = eq + 1;
-        size_t vl = il - p->kl - 1 - (size_t)(p->k - it);
-        vl = il - (size_t)(v - it);
+        size_t vl = il - (size_t)(v - it);
         trim(&v, &vl);
         if (vl + 1 > sizeof p->v) return KELP_ERR_RANGE;
         memcpy(p->v, v, vl);
@@ -883,7 +882,7 @@ static void expand(const kelp_cmgr_contact *k, double now, const char *s, char *
         const char *m = s + 2;
         size_t ml = (size_t)(end - m);
         char num[48];
-        const char *val = num;
+        const char *val;
         if (kelp_strieq_n(m, ml, "VNAME")) val = k->name;
         else if (kelp_strieq_n(m, ml, "VTYPE")) val = k->type;
         else if (kelp_strieq_n(m, ml, "GROUP")) val = k->group;
@@ -1099,9 +1098,10 @@ static void custom_reports(kelp_cmgr *c, double now, const kelp_field_sink *out)
     /* ascending var name: a selection over at most KELP_CMGR_MAX_REPORTS */
     bool done[KELP_CMGR_MAX_REPORTS] = { false };
     for (unsigned round = 0; round < c->nreports; round++) {
-        int r = -1;
+        unsigned r = KELP_CMGR_MAX_REPORTS;
         for (unsigned i = 0; i < c->nreports; i++)
-            if (!done[i] && (r < 0 || strcmp(c->report[i].var, c->report[r].var) < 0)) r = (int)i;
+            if (!done[i] && (r == KELP_CMGR_MAX_REPORTS || strcmp(c->report[i].var, c->report[r].var) < 0)) r = i;
+        if (r == KELP_CMGR_MAX_REPORTS) break;
         done[r] = true;
         kelp_cmgr_report *rp = &c->report[r];
         sbuf sb;
@@ -1277,7 +1277,8 @@ int kelp_cmgr_report_text(const kelp_cmgr *c, double now, char *buf, size_t cap)
                c->prev_list, c->prev_alerted, c->prev_retired, c->prev_recap);
     field_putf(buf, cap, &n, "Contact Status Summary:\n-----------------------\n");
     /* column widths: widest cell */
-    unsigned rows = c->ncontacts < 7 ? c->ncontacts : 7;
+    unsigned rows = c->ncontacts;
+    if (rows > 7) rows = 7;
     size_t w0 = 7, w1 = 6;
     char rng[7][32];
     for (unsigned i = 0; i < rows; i++) {
