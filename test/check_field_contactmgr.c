@@ -1030,6 +1030,34 @@ START_TEST(cm_bad_config_values)
 }
 END_TEST
 
+START_TEST(cm_hold_relbng_maxsize)
+{
+    cfg("hold_alerts_for_helm = true");
+    cfg("post_closest_relbng = true");
+    cfg("range_report_maxsize = 2");
+    fixture_f();
+    nav(0, 0, 90, 0);
+    rpt("gus", 0, 15); /* due north of an east-heading ownship: relative bearing 270 */
+    it();
+    ck_assert_int_eq(count("CONTACT_INFO"), 0);
+    ck_assert_str_eq(last("CONTACT_CLOSEST_RELBNG"), "270");
+    ck_assert_int_eq(mail_s("IVPHELM_STATE", "DRIVE"), 1);
+    it();
+    ck_assert_str_eq(last("CONTACT_INFO"), "name=avd_gus # contact=gus");
+    /* three report variables with room for two: the least recently requested goes */
+    ck_assert_int_eq(mail_s("BCM_REPORT_REQUEST", "var=R1, range=50"), 1);
+    NOW += 1;
+    ck_assert_int_eq(mail_s("BCM_REPORT_REQUEST", "var=R2, range=50"), 1);
+    ck_assert_int_eq(mail_s("BCM_REPORT_REQUEST", "var=R3, range=50"), 1);
+    clear();
+    it();
+    ck_assert_int_eq(count("R1"), 0);
+    ck_assert_str_eq(last("R2"), "gus");
+    ck_assert_str_eq(last("R3"), "gus");
+    ck_assert_int_lt(index_of("R2", NULL), index_of("R3", NULL)); /* ascending var name */
+}
+END_TEST
+
 Suite *kelp_field_contactmgr_suite(void)
 {
     Suite *s = suite_create("field_contactmgr");
@@ -1069,6 +1097,7 @@ Suite *kelp_field_contactmgr_suite(void)
     tcase_add_test(tc, cm_verbose_89_report_91);
     tcase_add_test(tc, cm_many_contacts_cut);
     tcase_add_test(tc, cm_bad_config_values);
+    tcase_add_test(tc, cm_hold_relbng_maxsize);
     suite_add_tcase(s, tc);
     return s;
 }

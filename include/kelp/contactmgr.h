@@ -48,6 +48,9 @@ extern "C" {
  *  0: the same test as turning on (MOOS-IvP's). */
 #define KELP_CMGR_HYSTERESIS 1
 
+KELP_STATIC_ASSERT(KELP_CMGR_MAX_ALERTS <= 32, "alert cells are bits of a uint32_t");
+KELP_STATIC_ASSERT(KELP_CMGR_MAX_CONTACTS <= 65535, "contact slots are uint16_t");
+
 enum { KELP_CMGR_VERBATIM = 0, KELP_CMGR_LAZY_LATLON, KELP_CMGR_FORCE_LATLON };
 
 typedef struct kelp_cmgr_poly {
