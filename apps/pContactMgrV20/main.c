@@ -1,0 +1,191 @@
+/* pContactMgrV20: the contact manager (seed 003; shared/spec/contactmgr.md): contacts from
+ * NODE_REPORT, alerts by range and CPA range with flag macros, filters, retirement, summaries,
+ * custom range reports, range rings. The logic is kelp_cmgr in the core; this file reads the
+ * block and wires the core to the bus. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+#include <kelp/app.h>
+#include <kelp/contactmgr.h>
+
+typedef struct cmgr_app {
+    kelp_app *app;
+    kelp_cmgr *core;           /* about 1.3 MB: on the heap (reachable until exit) */
+    kelp_field_sink sink, cfg_sink;
+    char text[32768];          /* the terminal report */
+} cmgr_app;
+
+static void publish(void *ctx, const char *var, bool is_string, const char *sval, double dval)
+{
+    cmgr_app *a = ctx;
+    int rc = is_string ? kelp_app_notify_string(a->app, var, sval) : kelp_app_notify_double(a->app, var, dval);
+    if (rc < 0) kelp_app_run_warning(a->app, "cannot publish %s", var);
+}
+
+static void warn(void *ctx, const char *msg)
+{
+    kelp_app_run_warning(((cmgr_app *)ctx)->app, "%s", msg);
+}
+
+static void cfg_warn(void *ctx, const char *msg)
+{
+    kelp_app_config_warning(((cmgr_app *)ctx)->app, "%s", msg);
+}
+
+static int param(void *ctx, const char *key, const char *val, const char **why)
+{
+    cmgr_app *a = ctx;
+    (void)why;
+    return kelp_cmgr_config(a->core, key, val, &a->cfg_sink);
+}
+
+static int startup(kelp_app *app, void *st)
+{
+    cmgr_app *a = st;
+    a->app = app;
+    a->sink = (kelp_field_sink){ a, publish, warn };
+    a->cfg_sink = (kelp_field_sink){ a, publish, cfg_warn };
+    a->core = malloc(sizeof *a->core);
+    if (!a->core) return kelp_app_config_error(app, NULL, "out of memory");
+    kelp_cmgr_init(a->core, kelp_app_community(app));
+    int rc = kelp_app_param_foreach(app, param, a);
+    if (rc < 0) return rc;
+    double lat0 = 0, lon0 = 0;
+    bool hl = kelp_app_global_double(app, "LatOrigin", &lat0) == 1;
+    bool hn = kelp_app_global_double(app, "LongOrigin", &lon0) == 1;
+    kelp_cmgr_config_done(a->core, hl, lat0, hn, lon0, &a->cfg_sink);
+    const char *v;
+    for (unsigned i = 0; (v = kelp_cmgr_subscription(i)) != NULL; i++)
+        if (kelp_app_register(app, v, 0) < 0) return kelp_app_config_error(app, NULL, "cannot register %s", v);
+    (void)kelp_app_notify_double(app, "PCONTACTMGR_PID", (double)getpid());
+    (void)kelp_app_notify_double(app, "PCONTACTMGRV20_PID", (double)getpid());
+    return 0;
+}
+
+static void on_mail(kelp_app *app, void *st, const kelp_var *v)
+{
+    cmgr_app *a = st;
+    if (v->kind == KELP_VAR_BINARY) return;
+    (void)kelp_cmgr_mail(a->core, v->name, v->kind == KELP_VAR_STRING, v->sval, v->dval, kelp_app_time(app), v->source,
+                         &a->sink);
+}
+
+static int iterate(kelp_app *app, void *st, double now)
+{
+    cmgr_app *a = st;
+    (void)app;
+    kelp_cmgr_iterate(a->core, now, &a->sink);
+    return 0;
+}
+
+static void report(kelp_app *app, void *st, FILE *out)
+{
+    cmgr_app *a = st;
+    if (!a->core) return;
+    if (kelp_cmgr_report_text(a->core, kelp_app_time(app), a->text, sizeof a->text) < 0) fputs("(report cut)\n", out);
+    fputs(a->text, out);
+}
+
+static const kelp_app_def def = {
+    .name = "pContactMgrV20",
+    .purpose = "The contact manager: alerts by range and CPA range about contacts, summaries, range reports.",
+    .synopsis = "The contact manager deals with other known vehicles in its\n"
+                "vicinity. It handles incoming reports perhaps received via a\n"
+                "sensor application or over a communications link. Minimally\n"
+                "it posts summary reports, but may also be configured to post\n"
+                "alerts with user-configured content about the contacts.",
+    .params = (const kelp_app_param_info[]){
+        { "alert", "id=avd, on_flag=CONTACT_INFO=name=avd_$[VNAME] # contact=$[VNAME], alert_range=80, cpa_range=95",
+          "an alert (repeat; lines with one id accumulate): id, alert_range, cpa_range, on_flag, off_flag, filters", NULL },
+        { "ignore_name", "henry,gilda", "contacts not managed (also match_name, ignore_/match_type, _group)", NULL },
+        { "match_name", "abe,cal", "only these contacts are managed", NULL },
+        { "ignore_type", "usv,uuv", "types not managed", NULL },
+        { "match_type", "ship", "only these types", NULL },
+        { "ignore_group", "alpha", "groups not managed", NULL },
+        { "match_group", "bravo,gamma", "only these groups", NULL },
+        { "ignore_region", "pts={60,-40:60,-160:150,-160:150,-40}", "convex polygon whose contacts are ignored", NULL },
+        { "match_region", "pts={60,70:60,160:150,160:150,70}", "convex polygon: only contacts inside one", NULL },
+        { "strict_ignore", "true", "a contact without TYPE/GROUP fails ignore_type/_group (default true)", NULL },
+        { "contact_max_age", "600", "s after its last report a contact is retired (default 600)", NULL },
+        { "max_contact_age", "600", "the seed's other name", "contact_max_age" },
+        { "max_retired_history", "5", "retired names kept, 1..50 (default 5)", NULL },
+        { "max_retired_hist", "5", "the seed's other name", "max_retired_history" },
+        { "max_contacts", "500", "contacts held; the farthest are retired beyond (default 500)", NULL },
+        { "display_radii", "false", "VIEW_CIRCLE rings of one alert around ownship (default false)", NULL },
+        { "display_radii_id", "avd", "the alert drawn (default the first)", NULL },
+        { "alert_verbose", "false", "ALERT_VERBOSE postings (default false)", NULL },
+        { "alert_range_color", "gray70", "ring colour of alert_range (default gray70)", NULL },
+        { "cpa_range_color", "gray30", "ring colour of cpa_range (default gray30)", NULL },
+        { "decay", "15,30", "s: extrapolate at full speed to a, slowing to 0 at b (default 15,30)", NULL },
+        { "recap_interval", "1", "s between CONTACTS_RECAP, or off (default 1)", NULL },
+        { "contacts_recap_interval", "1", "the seed's other name", "recap_interval" },
+        { "range_report_timeout", "10", "s a BCM_REPORT_REQUEST lives (default 10)", NULL },
+        { "range_report_maxsize", "20", "custom reports kept (default and most 20)", NULL },
+        { "contact_local_coords", "verbatim", "verbatim, lazy_lat_lon or force_lat_lon (default verbatim)", NULL },
+        { "post_closest_range", "false", "CONTACT_CLOSEST_RANGE (default false)", NULL },
+        { "post_closest_relbng", "false", "CONTACT_CLOSEST_RELBNG (default false)", NULL },
+        { "post_all_ranges", "false", "CONTACT_RANGES (default false)", NULL },
+        { "reject_range", "2000", "m beyond which contacts are dropped, or off (default 2000)", NULL },
+        { "ownship_group", "blue_team", "informational", NULL },
+        { "ownship_type", "kayak", "informational", NULL },
+        { "hold_alerts_for_helm", "false", "no alerts until IVPHELM_STATE=DRIVE (default false)", NULL },
+        { "disable_var", "DISABLE_TARGET", "24.8.x: accepted, not implemented", NULL },
+        { "enable_var", "REENABLE_TARGET", "24.8.x: accepted, not implemented", NULL },
+        { "able_flag", "MOOS_VAR = val", "24.8.x: accepted, not implemented", NULL },
+        { "disable_flag", "MOOS_VAR = val", "24.8.x: accepted, not implemented", NULL },
+        { "enable_flag", "MOOS_VAR = val", "24.8.x: accepted, not implemented", NULL },
+        { "early_warning_time", "30", "24.8.x: accepted, not implemented", NULL },
+        { "early_warning_radii", "true", "24.8.x: accepted, not implemented", NULL },
+        { "ewarn_radii_color", "yellow", "24.8.x: accepted, not implemented", NULL },
+        { "early_warning_flag", "MOOS_VAR = val", "24.8.x: accepted, not implemented", NULL },
+        { "cease_warning_flag", "MOOS_VAR = val", "24.8.x: accepted, not implemented", NULL },
+        { "retire_flag", "MOOS_VAR = val", "24.8.x: accepted, not implemented", NULL },
+        { "app_logging", "false", "accepted (record the bus with kelp-record)", NULL },
+        { "default_alert_range_color", "gray70", "older name", "alert_range_color" },
+        { "default_cpa_range_color", "gray30", "older name", "cpa_range_color" },
+        { NULL, NULL, NULL, NULL } },
+    .subscribes = (const kelp_app_var_info[]){
+        { "NODE_REPORT", "NAME=alpha,TYPE=UUV,TIME=1252348077.59,X=51.71,Y=-35.50,SPD=2.0,HDG=118.8", "a contact" },
+        { "NAV_X", "112.3", "ownship (also NAV_Y, NAV_HEADING, NAV_SPEED)" },
+        { "NAV_Y", "-99.1", NULL },
+        { "NAV_HEADING", "118.8", NULL },
+        { "NAV_SPEED", "2.0", NULL },
+        { "BCM_ALERT_REQUEST", "id=avd, on_flag=CONTACT_INFO=name=$[VNAME], alert_range=80, cpa_range=84",
+          "an alert, as an alert line; id=avd, action=disable|enable" },
+        { "BCM_REPORT_REQUEST", "var=CONTACTS_50, range=50", "names within range go to var (group=, type=, refresh=)" },
+        { "BCM_DISPLAY_RADII", "true", "true, false, toggle or an alert id" },
+        { "IVPHELM_STATE", "DRIVE", "with hold_alerts_for_helm" },
+        { NULL, NULL, NULL } },
+    .publishes = (const kelp_app_var_info[]){
+        { "<alert flags>", "CONTACT_INFO=name=avd_alpha # contact=alpha", "on_flag / off_flag postings" },
+        { "CONTACTS_LIST", "delta,gus,henry", NULL },
+        { "CONTACTS_ALERTED", "(delta,avd)(gus,avd)", NULL },
+        { "CONTACTS_UNALERTED", "(henry,avd)", NULL },
+        { "CONTACTS_COUNT", "2", "alerted pairs" },
+        { "CONTACTS_RETIRED", "bravo,foxtrot", "newest first" },
+        { "CONTACTS_RECAP", "vname=delta,range=193.10,age=11.30 # vname=gus,range=48.20,age=0.70", NULL },
+        { "CONTACT_CLOSEST", "gus", NULL },
+        { "CONTACT_CLOSEST_TIME", "17514261063.3", NULL },
+        { "CONTACT_CLOSEST_RANGE", "48", "if post_closest_range" },
+        { "CONTACT_CLOSEST_RELBNG", "344", "if post_closest_relbng" },
+        { "CONTACT_RANGES", "18.2,48.2,193.1", "if post_all_ranges" },
+        { "<report var>", "vid_0027,vid_0197", "BCM_REPORT_REQUEST's var" },
+        { "ALERT_VERBOSE", "new_contact=gus", "if alert_verbose" },
+        { "CONTACT_MGR_WARNING", "Bad Node Report Received", NULL },
+        { "VIEW_CIRCLE", "x=-150.3,y=-117.5,radius=10,duration=3,label=avd_in,edge_color=gray70", "if display_radii" },
+        { "PCONTACTMGR_PID", "3988", "also PCONTACTMGRV20_PID" },
+        { "PCONTACTMGRV20_PID", "3988", NULL },
+        { NULL, NULL, NULL } },
+    .notes = "Globals used: Community (ownship), LatOrigin, LongOrigin.\n",
+    .startup = startup,
+    .on_mail = on_mail,
+    .iterate = iterate,
+    .report = report,
+};
+
+int main(int argc, char **argv)
+{
+    static cmgr_app a;
+    return kelp_app_run(argc, argv, &def, &a);
+}

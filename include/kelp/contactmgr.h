@@ -1,0 +1,190 @@
+/* kelp pContactMgrV20: the contact manager's state machine (seed 003; checklist
+ * shared/spec/contactmgr.md, whose section 7 settles the seed's contradictions).
+ *
+ * Contacts come from NODE_REPORT mail; ownship from NAV_X/Y/HEADING/SPEED. Alerts (mission
+ * "alert = ..." lines and BCM_ALERT_REQUEST mail, "id=..,alert_range=..,cpa_range=..,
+ * on_flag=VAR=val,off_flag=..,<filters>") post their flags on the off->on and on->off
+ * transitions of each (contact, alert) pair, with $[VNAME] $[VTYPE] $[GROUP] $[RANGE] $[LAT]
+ * $[LON] $[X] $[Y] $[HDG] $[SPD] $[DEP] $[TIME] $[UTIME] (and %[..] lower-case forms)
+ * expanded. Summaries CONTACTS_LIST/ALERTED/UNALERTED/COUNT/RETIRED/RECAP, CONTACT_CLOSEST*,
+ * CONTACT_RANGES, custom BCM_REPORT_REQUEST reports, VIEW_CIRCLE range rings.
+ *
+ * Core: allocation-free, no I/O, no clock: `now` comes in; posts and warnings go out through
+ * a kelp_field_sink. The state is large (about 1.2 MB with the capacities below): keep it
+ * static or on the heap. Contacts are kept in ascending byte-wise name order (an index array,
+ * binary search), so one report costs O(log N) to find and an iteration O(N x alerts).
+ * Text values are cut at the last whole entry within KELP_MAX_SVAL bytes (the bus limit).
+ */
+#ifndef KELP_CONTACTMGR_H
+#define KELP_CONTACTMGR_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <kelp/config.h>
+#include <kelp/err.h>
+#include <kelp/field.h>
+#include <kelp/geo.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define KELP_CMGR_MAX_CONTACTS 2048  /**< contacts held at once (max_contacts is clamped to it) */
+#define KELP_CMGR_MAX_ALERTS 16      /**< alert ids */
+#define KELP_CMGR_MAX_FLAGS 8        /**< on_flags, and off_flags, per alert */
+#define KELP_CMGR_MAX_FLAG 192       /**< bytes of one "VAR=value" flag, with NUL */
+#define KELP_CMGR_MAX_ID 64          /**< bytes of an alert id, report var, source, colour */
+#define KELP_CMGR_NAME KELP_NODEREPORT_MAX_FIELD /**< bytes of a contact name, type, group */
+#define KELP_CMGR_MAX_FILTER 16      /**< entries of one match_/ignore_ name/type/group list */
+#define KELP_CMGR_MAX_REGIONS 4      /**< match (or ignore) polygons of one filter set */
+#define KELP_CMGR_MAX_REGION_PTS 16  /**< vertices of one region polygon */
+#define KELP_CMGR_MAX_REPORTS 20     /**< custom range reports (range_report_maxsize is clamped) */
+#define KELP_CMGR_MAX_RETIRED (KELP_CMGR_MAX_CONTACTS + 50) /**< retired names before pruning */
+#define KELP_CMGR_MAX_EVENTS 8       /**< events kept for the report */
+#define KELP_CMGR_MAX_TEXT (KELP_MAX_SVAL + 1) /**< bytes of one summary value, with NUL */
+#define KELP_CMGR_CPA_HORIZON 36000.0 /**< s: CPA is sought within 10 hours (contactmgr.md 4.4) */
+/** 1: an alerted pair stays on while range <= cpa_range (Schmitt trigger, contactmgr.md A-1);
+ *  0: the same test as turning on (MOOS-IvP's). */
+#define KELP_CMGR_HYSTERESIS 1
+
+KELP_STATIC_ASSERT(KELP_CMGR_MAX_ALERTS <= 32, "alert cells are bits of a uint32_t");
+KELP_STATIC_ASSERT(KELP_CMGR_MAX_CONTACTS <= 65535, "contact slots are uint16_t");
+
+enum { KELP_CMGR_VERBATIM = 0, KELP_CMGR_LAZY_LATLON, KELP_CMGR_FORCE_LATLON };
+
+typedef struct kelp_cmgr_poly {
+    unsigned n;
+    double pts[KELP_CMGR_MAX_REGION_PTS][2];
+} kelp_cmgr_poly;
+
+/** One filter set (global or per alert). Lists: [kind: 0 name, 1 type, 2 group][0 match, 1 ignore]. */
+typedef struct kelp_cmgr_filter {
+    char list[3][2][KELP_CMGR_MAX_FILTER][KELP_CMGR_NAME];
+    unsigned nlist[3][2];
+    kelp_cmgr_poly region[2][KELP_CMGR_MAX_REGIONS];
+    unsigned nregion[2];
+    bool strict_ignore;
+} kelp_cmgr_filter;
+
+typedef struct kelp_cmgr_alert {
+    char id[KELP_CMGR_MAX_ID];
+    char source[KELP_CMGR_MAX_ID];       /**< "" for the mission file */
+    char range_color[KELP_CMGR_MAX_ID], cpa_color[KELP_CMGR_MAX_ID]; /**< "" = the global ones */
+    double alert_range, cpa_range;       /**< cpa_range as given (effective: kelp_cmgr_cpa_range) */
+    bool have_range, have_cpa, disabled;
+    char on[KELP_CMGR_MAX_FLAGS][KELP_CMGR_MAX_FLAG], off[KELP_CMGR_MAX_FLAGS][KELP_CMGR_MAX_FLAG];
+    unsigned non, noff;
+    kelp_cmgr_filter filter;
+} kelp_cmgr_alert;
+
+typedef struct kelp_cmgr_contact {
+    char name[KELP_CMGR_NAME], type[KELP_CMGR_NAME], group[KELP_CMGR_NAME];
+    double x, y, lat, lon, hdg, spd, dep, time;  /**< the last report */
+    double range, range_extrap, range_cpa;       /**< this iteration's */
+    uint32_t alerted;                            /**< bit a: the pair (this, alert a) is on */
+    uint32_t total, active;                      /**< alerts posted ever / now */
+    bool used, has_ll, retire, filtered;
+} kelp_cmgr_contact;
+
+typedef struct kelp_cmgr_report {
+    char var[KELP_CMGR_MAX_ID], group[KELP_CMGR_NAME], type[KELP_CMGR_NAME];
+    double range, req_time;
+    bool force;
+    unsigned count;                  /**< names in the last list posted */
+    char last[KELP_CMGR_MAX_TEXT];
+} kelp_cmgr_report;
+
+typedef struct kelp_cmgr_sortkey {
+    double v;
+    unsigned pos;
+} kelp_cmgr_sortkey;
+
+typedef struct kelp_cmgr {
+    /* configuration */
+    char ownship[KELP_CMGR_MAX_ID], ownship_group[KELP_CMGR_MAX_ID], ownship_type[KELP_CMGR_MAX_ID];
+    double contact_max_age, reject_range;   /**< reject_range < 0: off */
+    double decay[2], recap_interval;        /**< recap_interval < 0: off */
+    double range_report_timeout;
+    unsigned max_contacts, max_retired, range_report_maxsize;
+    bool alert_verbose, display_radii, post_all_ranges, post_closest_range, post_closest_relbng;
+    bool hold_alerts_for_helm, helm_drive;
+    char alert_color[KELP_CMGR_MAX_ID], cpa_color[KELP_CMGR_MAX_ID], display_id[KELP_CMGR_MAX_ID];
+    int coords;                             /**< KELP_CMGR_VERBATIM ... */
+    kelp_geo geo;
+    bool have_geo;                          /**< geodesy usable (a non-verbatim mode and a datum) */
+    kelp_cmgr_filter filter;
+    kelp_cmgr_alert alert[KELP_CMGR_MAX_ALERTS];
+    unsigned nalerts;
+    /* ownship */
+    double osx, osy, osh, osv;
+    /* contacts: slots, and their indices in ascending name order */
+    kelp_cmgr_contact contact[KELP_CMGR_MAX_CONTACTS];
+    uint16_t order[KELP_CMGR_MAX_CONTACTS], spare[KELP_CMGR_MAX_CONTACTS];
+    unsigned ncontacts, nspare;
+    kelp_cmgr_sortkey sortbuf[KELP_CMGR_MAX_CONTACTS]; /**< scratch */
+    /* retired names, oldest first */
+    char retired[KELP_CMGR_MAX_RETIRED][KELP_CMGR_NAME];
+    unsigned nretired;
+    kelp_cmgr_report report[KELP_CMGR_MAX_REPORTS];
+    unsigned nreports;
+    /* what was last posted */
+    char prev_list[KELP_CMGR_MAX_TEXT], prev_alerted[KELP_CMGR_MAX_TEXT], prev_unalerted[KELP_CMGR_MAX_TEXT];
+    char prev_retired[KELP_CMGR_MAX_TEXT], prev_recap[KELP_CMGR_MAX_TEXT], prev_ranges[KELP_CMGR_MAX_TEXT];
+    char prev_closest[KELP_CMGR_NAME];
+    double prev_closest_range, prev_count, prev_relbng, last_recap;
+    /* counters and events */
+    unsigned long alert_requests, iterations, truncations, reports_in, reports_bad;
+    double t_start;
+    char event[KELP_CMGR_MAX_EVENTS][KELP_CMGR_MAX_FLAG + 64];
+    double event_time[KELP_CMGR_MAX_EVENTS];
+    unsigned nevents, event_head;
+    char text[KELP_CMGR_MAX_TEXT];          /**< scratch */
+} kelp_cmgr;
+
+/** Defaults (contactmgr.md 2.1) for ownship `ownship` (the community; its reports are dropped). */
+void kelp_cmgr_init(kelp_cmgr *c, const char *ownship);
+
+/** One mission parameter (name case-insensitive). An illegal value warns through out->warn and
+ *  keeps the default. @return 1 taken (also when warned), 0 not a parameter of ours. */
+KELP_MUST_CHECK int kelp_cmgr_config(kelp_cmgr *c, const char *key, const char *val, const kelp_field_sink *out);
+
+/** After the block: the datum (have_* false when LatOrigin/LongOrigin are missing), then alert
+ *  validity ("Invalid alert config:<id>") and the geodesy warnings. */
+void kelp_cmgr_config_done(kelp_cmgr *c, bool have_lat, double lat0, bool have_lon, double lon0,
+                           const kelp_field_sink *out);
+
+/** The variables to subscribe to: i = 0, 1, ... until NULL. */
+const char *kelp_cmgr_subscription(unsigned i);
+
+/** One mail at `now` from app `src` (may be NULL). @return 1 handled, 0 not ours,
+ *  <0 bad mail (already warned through out). */
+int kelp_cmgr_mail(kelp_cmgr *c, const char *var, bool is_string, const char *sval, double dval, double now,
+                   const char *src, const kelp_field_sink *out);
+
+/** Apply an alert spec (as an "alert" line when from_mail is false, else BCM_ALERT_REQUEST).
+ *  @return 1 applied, <0 rejected (warned). */
+KELP_MUST_CHECK int kelp_cmgr_alert_spec(kelp_cmgr *c, const char *spec, bool from_mail, const char *src, double now,
+                                         const kelp_field_sink *out);
+
+/** One iteration at `now` (contactmgr.md 4.8). */
+void kelp_cmgr_iterate(kelp_cmgr *c, double now, const kelp_field_sink *out);
+
+/** The terminal report (contactmgr.md 5, from "X/Y from Lat/Lon:" on). @return the length,
+ *  or KELP_ERR_NOSPACE when cut. */
+int kelp_cmgr_report_text(const kelp_cmgr *c, double now, char *buf, size_t cap);
+
+/** The effective CPA range of an alert: max(cpa_range, alert_range). */
+double kelp_cmgr_cpa_range(const kelp_cmgr_alert *a);
+
+/** Contact index by name (binary search), or -1. */
+int kelp_cmgr_find(const kelp_cmgr *c, const char *name);
+
+/** Distance a contact at speed v has run dt s after its report, with decay (d1, d2). */
+double kelp_cmgr_extrap_dist(double v, double dt, double d1, double d2);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

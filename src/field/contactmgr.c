@@ -1,0 +1,1315 @@
+/* pContactMgrV20's state machine: contacts, alerts, filters, retirement, summaries
+ * (include/kelp/contactmgr.h; shared/spec/contactmgr.md). */
+#include <math.h>
+#include <string.h>
+#include <kelp/contactmgr.h>
+#include <kelp/cpa.h>
+#include <kelp/kv.h>
+#include <kelp/nodereport.h>
+#include <kelp/util.h>
+#include "field_int.h"
+
+#define PI 3.14159265358979323846
+
+static void warnf(const kelp_field_sink *out, const char *fmt, ...) KELP_PRINTF(2, 3);
+static void warnf(const kelp_field_sink *out, const char *fmt, ...)
+{
+    if (!out || !out->warn) return;
+    char msg[KELP_CMGR_MAX_FLAG + 128];
+    va_list ap;
+    va_start(ap, fmt);
+    (void)kelp_vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    out->warn(out->ctx, msg);
+}
+
+static void post_s(const kelp_field_sink *out, const char *var, const char *s)
+{
+    if (out && out->publish) out->publish(out->ctx, var, true, s, 0);
+}
+
+static void post_d(const kelp_field_sink *out, const char *var, double d)
+{
+    if (out && out->publish) out->publish(out->ctx, var, false, NULL, d);
+}
+
+static void event(kelp_cmgr *c, double now, const char *fmt, ...) KELP_PRINTF(3, 4);
+static void event(kelp_cmgr *c, double now, const char *fmt, ...)
+{
+    unsigned i = c->event_head;
+    va_list ap;
+    va_start(ap, fmt);
+    (void)kelp_vsnprintf(c->event[i], sizeof c->event[i], fmt, ap);
+    va_end(ap);
+    c->event_time[i] = now - (c->t_start < 0 ? now : c->t_start);
+    c->event_head = (i + 1) % KELP_CMGR_MAX_EVENTS;
+    if (c->nevents < KELP_CMGR_MAX_EVENTS) c->nevents++;
+}
+
+static void copyz(char *dst, size_t cap, const char *s, size_t n)
+{
+    if (n >= cap) n = cap - 1;
+    memcpy(dst, s, n);
+    dst[n] = 0;
+}
+
+static void trim(const char **p, size_t *n)
+{
+    while (*n && (**p == ' ' || **p == '\t')) (*p)++, (*n)--;
+    while (*n && ((*p)[*n - 1] == ' ' || (*p)[*n - 1] == '\t' || (*p)[*n - 1] == '\r')) (*n)--;
+}
+
+static void unquote(const char **p, size_t *n)
+{
+    if (*n >= 2 && (*p)[0] == '"' && (*p)[*n - 1] == '"') (*p)++, *n -= 2;
+}
+
+static bool keyis(const char *k, size_t kl, const char *a, const char *b)
+{
+    return kelp_strieq_n(k, kl, a) || (b && kelp_strieq_n(k, kl, b));
+}
+
+/* ------------------------------------------------------------------ text lists */
+
+typedef struct sbuf {
+    char *b;
+    size_t cap, n;
+    bool cut;
+} sbuf;
+
+static void sb_init(sbuf *s, char *b, size_t cap)
+{
+    s->b = b, s->cap = cap, s->n = 0, s->cut = false;
+    b[0] = 0;
+}
+
+/* append sep (when not first) + item, whole or not at all */
+static bool sb_item(sbuf *s, const char *sep, const char *item)
+{
+    if (s->cut) return false;
+    size_t sl = s->n ? strlen(sep) : 0, il = strlen(item);
+    if (s->n + sl + il + 1 > s->cap) {
+        s->cut = true;
+        return false;
+    }
+    memcpy(s->b + s->n, sep, sl);
+    memcpy(s->b + s->n + sl, item, il + 1);
+    s->n += sl + il;
+    return true;
+}
+
+static void fmtx(char *buf, size_t cap, double v, unsigned dec)
+{
+    if (kelp_fmt_fixed(buf, cap, v, dec, true) < 0) copyz(buf, cap, "nan", 3);
+}
+
+static void fmtf(char *buf, size_t cap, double v, unsigned dec)
+{
+    if (kelp_fmt_fixed(buf, cap, v, dec, false) < 0) copyz(buf, cap, "nan", 3);
+}
+
+/* ------------------------------------------------------------------ init */
+
+static void filter_init(kelp_cmgr_filter *f)
+{
+    memset(f, 0, sizeof *f);
+    f->strict_ignore = true;
+}
+
+void kelp_cmgr_init(kelp_cmgr *c, const char *ownship)
+{
+    memset(c, 0, sizeof *c);
+    copyz(c->ownship, sizeof c->ownship, ownship ? ownship : "", ownship ? strlen(ownship) : 0);
+    c->contact_max_age = 600;
+    c->reject_range = 2000;
+    c->decay[0] = 15, c->decay[1] = 30;
+    c->recap_interval = 1;
+    c->range_report_timeout = 10;
+    c->max_contacts = 500;
+    c->max_retired = 5;
+    c->range_report_maxsize = KELP_CMGR_MAX_REPORTS;
+    memcpy(c->alert_color, "gray70", 7);
+    memcpy(c->cpa_color, "gray30", 7);
+    filter_init(&c->filter);
+    c->prev_closest_range = NAN;
+    c->prev_relbng = NAN;
+    c->last_recap = -INFINITY;
+    c->t_start = -1;
+    for (unsigned i = 0; i < KELP_CMGR_MAX_CONTACTS; i++) c->spare[i] = (uint16_t)(KELP_CMGR_MAX_CONTACTS - 1 - i);
+    c->nspare = KELP_CMGR_MAX_CONTACTS;
+}
+
+double kelp_cmgr_cpa_range(const kelp_cmgr_alert *a)
+{
+    return a->have_cpa && a->cpa_range > a->alert_range ? a->cpa_range : a->alert_range;
+}
+
+/* ------------------------------------------------------------------ filters */
+
+/* "a,b, c" or "{a,b}" into a list (case kept; compared case-insensitively) */
+static int filter_add_list(kelp_cmgr_filter *f, int kind, int ign, const char *v, size_t vl,
+                           const kelp_field_sink *out, bool quiet)
+{
+    trim(&v, &vl);
+    if (vl >= 2 && v[0] == '{' && v[vl - 1] == '}') v++, vl -= 2;
+    size_t pos = 0;
+    const char *it;
+    size_t il;
+    int rc;
+    while ((rc = field_next_item(v, vl, &pos, ',', &it, &il)) == 1) {
+        unquote(&it, &il);
+        if (il == 0) continue;
+        if (il >= KELP_CMGR_NAME) {
+            warnf(out, "filter entry too long: %.*s", (int)il, it);
+            return KELP_ERR_RANGE;
+        }
+        bool dup = false;
+        for (unsigned i = 0; i < f->nlist[kind][ign]; i++)
+            if (kelp_strieq_n(it, il, f->list[kind][ign][i]) && strlen(f->list[kind][ign][i]) == il) dup = true;
+        if (dup) continue;
+        for (unsigned i = 0; i < f->nlist[kind][!ign]; i++)
+            if (!quiet && kelp_strieq_n(it, il, f->list[kind][!ign][i]) && strlen(f->list[kind][!ign][i]) == il)
+                warnf(out, "%.*s is both matched and ignored: ignored", (int)il, it);
+        if (f->nlist[kind][ign] >= KELP_CMGR_MAX_FILTER) {
+            warnf(out, "more than %d filter entries", KELP_CMGR_MAX_FILTER);
+            return KELP_ERR_NOSPACE;
+        }
+        copyz(f->list[kind][ign][f->nlist[kind][ign]++], KELP_CMGR_NAME, it, il);
+    }
+    return rc < 0 ? KELP_ERR_PARSE : 1;
+}
+
+static double cross(const double *o, const double *a, const double *b)
+{
+    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+}
+
+static int parse_poly(const char *v, size_t vl, kelp_cmgr_poly *p)
+{
+    kelp_view view;
+    const char *why = NULL;
+    if (kelp_view_parse(KELP_VIEW_POLYGON, v, vl, &view, &why) < 0 || view.npts < 3 ||
+        view.npts > KELP_CMGR_MAX_REGION_PTS)
+        return KELP_ERR_PARSE;
+    p->n = (unsigned)view.npts;
+    memcpy(p->pts, view.pts, sizeof(double) * 2 * view.npts);
+    int sign = 0;
+    for (unsigned i = 0; i < p->n; i++) {
+        double z = cross(p->pts[i], p->pts[(i + 1) % p->n], p->pts[(i + 2) % p->n]);
+        int s = z > 1e-9 ? 1 : z < -1e-9 ? -1 : 0;
+        if (s && sign && s != sign) return KELP_ERR_ARG; /* not convex */
+        if (s) sign = s;
+    }
+    return sign ? KELP_OK : KELP_ERR_ARG;
+}
+
+static bool in_poly(const kelp_cmgr_poly *p, double x, double y)
+{
+    int sign = 0;
+    double pt[2] = { x, y };
+    for (unsigned i = 0; i < p->n; i++) {
+        double z = cross(p->pts[i], p->pts[(i + 1) % p->n], pt);
+        int s = z > 0 ? 1 : z < 0 ? -1 : 0;
+        if (s && sign && s != sign) return false;
+        if (s) sign = s;
+    }
+    return true;
+}
+
+static int filter_add_region(kelp_cmgr_filter *f, int ign, const char *v, size_t vl, const kelp_field_sink *out)
+{
+    if (f->nregion[ign] >= KELP_CMGR_MAX_REGIONS) {
+        warnf(out, "more than %d regions", KELP_CMGR_MAX_REGIONS);
+        return KELP_ERR_NOSPACE;
+    }
+    int rc = parse_poly(v, vl, &f->region[ign][f->nregion[ign]]);
+    if (rc < 0) {
+        warnf(out, "%s: %.*s", rc == KELP_ERR_ARG ? "non-convex region" : "bad region", (int)vl, v);
+        return rc;
+    }
+    f->nregion[ign]++;
+    return 1;
+}
+
+static bool listed(const kelp_cmgr_filter *f, int kind, int ign, const char *s)
+{
+    for (unsigned i = 0; i < f->nlist[kind][ign]; i++)
+        if (kelp_strieq(f->list[kind][ign][i], s)) return true;
+    return false;
+}
+
+/* contactmgr.md 4.9: every kind must pass; any ignore hit rejects */
+static bool filter_ok(const kelp_cmgr_filter *f, const char *name, const char *type, const char *group, double x,
+                      double y)
+{
+    const char *val[3] = { name, type, group };
+    for (int k = 0; k < 3; k++) {
+        if (f->nlist[k][0] && !listed(f, k, 0, val[k])) return false;
+        if (f->nlist[k][1]) {
+            if (k > 0 && f->strict_ignore && !val[k][0]) return false;
+            if (listed(f, k, 1, val[k])) return false;
+        }
+    }
+    if (f->nregion[0]) {
+        bool in = false;
+        for (unsigned i = 0; i < f->nregion[0] && !in; i++) in = in_poly(&f->region[0][i], x, y);
+        if (!in) return false;
+    }
+    for (unsigned i = 0; i < f->nregion[1]; i++)
+        if (in_poly(&f->region[1][i], x, y)) return false;
+    return true;
+}
+
+/* a filter key of either level: 1 taken, 0 not a filter key, <0 bad value */
+static int filter_param(kelp_cmgr_filter *f, const char *k, size_t kl, const char *v, size_t vl,
+                        const kelp_field_sink *out, bool *is_strict)
+{
+    static const char *const kinds[3] = { "name", "type", "group" };
+    *is_strict = false;
+    for (int ign = 0; ign < 2; ign++) {
+        const char *pre = ign ? "ignore_" : "match_";
+        size_t pl = strlen(pre);
+        if (kl <= pl || !kelp_strieq_n(k, pl, pre)) continue;
+        for (int kind = 0; kind < 3; kind++)
+            if (kelp_strieq_n(k + pl, kl - pl, kinds[kind])) return filter_add_list(f, kind, ign, v, vl, out, false);
+        if (kelp_strieq_n(k + pl, kl - pl, "region")) return filter_add_region(f, ign, v, vl, out);
+    }
+    if (kelp_strieq_n(k, kl, "strict_ignore")) {
+        *is_strict = true;
+        bool b;
+        if (kelp_parse_bool(v, vl, &b) < 0) {
+            warnf(out, "strict_ignore must be true or false: %.*s", (int)vl, v);
+            return KELP_ERR_PARSE;
+        }
+        f->strict_ignore = b;
+        return 1;
+    }
+    return 0;
+}
+
+/* ------------------------------------------------------------------ alerts */
+
+static int alert_find(const kelp_cmgr *c, const char *id, size_t il)
+{
+    for (unsigned i = 0; i < c->nalerts; i++)
+        if (strlen(c->alert[i].id) == il && memcmp(c->alert[i].id, id, il) == 0) return (int)i;
+    return -1;
+}
+
+static bool alert_valid(const kelp_cmgr_alert *a)
+{
+    return a->id[0] && a->have_range && (a->non + a->noff) > 0;
+}
+
+/* "VAR=value" (value quotes stripped) into a flag list, unless there already */
+static int add_flag(char (*list)[KELP_CMGR_MAX_FLAG], unsigned *n, const char *v, size_t vl)
+{
+    trim(&v, &vl);
+    unquote(&v, &vl);
+    const char *eq = memchr(v, '=', vl);
+    if (!eq) return KELP_ERR_PARSE;
+    const char *var = v, *val = eq + 1;
+    size_t varl = (size_t)(eq - v), vall = vl - varl - 1;
+    trim(&var, &varl);
+    trim(&val, &vall);
+    unquote(&val, &vall);
+    if (varl == 0 || varl + vall + 2 > KELP_CMGR_MAX_FLAG) return KELP_ERR_PARSE;
+    char f[KELP_CMGR_MAX_FLAG];
+    memcpy(f, var, varl);
+    f[varl] = '=';
+    memcpy(f + varl + 1, val, vall);
+    f[varl + 1 + vall] = 0;
+    for (unsigned i = 0; i < *n; i++)
+        if (strcmp(list[i], f) == 0) return 1;
+    if (*n >= KELP_CMGR_MAX_FLAGS) return KELP_ERR_NOSPACE;
+    memcpy(list[(*n)++], f, varl + vall + 2);
+    return 1;
+}
+
+#define MAX_COMPS 24
+
+typedef struct comp {
+    const char *k;
+    size_t kl;
+    char v[KELP_CMGR_MAX_FLAG];
+    size_t vl;
+} comp;
+
+static bool alert_key_known(const char *k, size_t kl)
+{
+    static const char *const keys[] = { "id", "alert_range", "range", "cpa_range", "on_flag", "onflag", "off_flag",
+                                        "offflag", "match_name", "ignore_name", "match_type", "ignore_type",
+                                        "match_group", "ignore_group", "match_region", "ignore_region",
+                                        "strict_ignore", "alert_range_color", "cpa_range_color", "var", "val",
+                                        "pattern", "action" };
+    for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++)
+        if (kelp_strieq_n(k, kl, keys[i])) return true;
+    return false;
+}
+
+static int num_ge0(const char *v, size_t vl, double *out)
+{
+    return kelp_parse_finite(v, vl, out) < 0 || *out < 0 ? KELP_ERR_PARSE : KELP_OK;
+}
+
+static int split_comps(const char *spec, comp *cp, unsigned *ncp)
+{
+    size_t len = strlen(spec), pos = 0;
+    const char *it;
+    size_t il;
+    int rc;
+    *ncp = 0;
+    while ((rc = field_next_item(spec, len, &pos, ',', &it, &il)) == 1) {
+        const char *eq = memchr(it, '=', il);
+        if (!eq) { /* continuation of the previous value: "match_group=usv,ship" */
+            if (*ncp == 0) return KELP_ERR_PARSE;
+            comp *p = &cp[*ncp - 1];
+            if (p->vl + il + 2 > sizeof p->v) return KELP_ERR_RANGE;
+            p->v[p->vl++] = ',';
+            memcpy(p->v + p->vl, it, il);
+            p->vl += il;
+            p->v[p->vl] = 0;
+            continue;
+        }
+        if (*ncp >= MAX_COMPS) return KELP_ERR_NOSPACE;
+        comp *p = &cp[(*ncp)++];
+        p->k = it, p->kl = (size_t)(eq - it);
+        trim(&p->k, &p->kl);
+        const char *v = eq + 1;
+        size_t vl = il - (size_t)(v - it);
+        trim(&v, &vl);
+        if (vl + 1 > sizeof p->v) return KELP_ERR_RANGE;
+        memcpy(p->v, v, vl);
+        p->v[vl] = 0;
+        p->vl = vl;
+    }
+    return rc < 0 ? KELP_ERR_PARSE : KELP_OK;
+}
+
+static int spec_reject(const kelp_field_sink *out, bool from_mail, const char *spec, const char *why, const char *k,
+                       size_t kl)
+{
+    if (from_mail) warnf(out, "Unhandled Alert Request: %s (%s%s%.*s)", spec, why, k ? ": " : "", (int)kl, k ? k : "");
+    else if (k) warnf(out, "%s: %.*s", why, (int)kl, k);
+    else warnf(out, "%s: %s", why, spec);
+    return KELP_ERR_PARSE;
+}
+
+int kelp_cmgr_alert_spec(kelp_cmgr *c, const char *spec, bool from_mail, const char *src, double now,
+                         const kelp_field_sink *out)
+{
+    comp cp[MAX_COMPS];
+    unsigned n;
+    if (split_comps(spec, cp, &n) < 0) return spec_reject(out, from_mail, spec, "malformed alert", NULL, 0);
+    const comp *id = NULL, *action = NULL;
+    for (unsigned i = 0; i < n; i++) {
+        if (!alert_key_known(cp[i].k, cp[i].kl))
+            return spec_reject(out, from_mail, spec, "unhandled alert config component", cp[i].k, cp[i].kl);
+        if (kelp_strieq_n(cp[i].k, cp[i].kl, "id")) id = &cp[i];
+        if (kelp_strieq_n(cp[i].k, cp[i].kl, "action")) action = &cp[i];
+    }
+    if (!id || id->vl == 0 || id->vl >= KELP_CMGR_MAX_ID)
+        return spec_reject(out, from_mail, spec, "alert without an id", NULL, 0);
+    int ai = alert_find(c, id->v, id->vl);
+    if (action) {
+        bool dis = kelp_strieq(action->v, "disable");
+        if (!dis && !kelp_strieq(action->v, "enable"))
+            return spec_reject(out, from_mail, spec, "action must be enable or disable", NULL, 0);
+        if (ai < 0) {
+            if (!dis) return 1;
+            if (c->nalerts >= KELP_CMGR_MAX_ALERTS) return spec_reject(out, from_mail, spec, "too many alerts", NULL, 0);
+            ai = (int)c->nalerts++;
+            memset(&c->alert[ai], 0, sizeof c->alert[ai]);
+            filter_init(&c->alert[ai].filter);
+            copyz(c->alert[ai].id, KELP_CMGR_MAX_ID, id->v, id->vl);
+        }
+        c->alert[ai].disabled = dis;
+        event(c, now, "alert %s %s", c->alert[ai].id, dis ? "disabled" : "enabled");
+        return 1;
+    }
+    /* apply to a copy, so a bad component leaves the alert as it was */
+    kelp_cmgr_alert a;
+    if (ai >= 0) a = c->alert[ai];
+    else {
+        if (c->nalerts >= KELP_CMGR_MAX_ALERTS) return spec_reject(out, from_mail, spec, "too many alerts", NULL, 0);
+        memset(&a, 0, sizeof a);
+        filter_init(&a.filter);
+        copyz(a.id, sizeof a.id, id->v, id->vl);
+    }
+    const char *legacy_var = NULL, *legacy_val = NULL;
+    for (unsigned i = 0; i < n; i++) {
+        const char *k = cp[i].k, *v = cp[i].v;
+        size_t kl = cp[i].kl, vl = cp[i].vl;
+        double d;
+        bool strict;
+        int rc = 1;
+        if (keyis(k, kl, "id", "action")) continue;
+        if (keyis(k, kl, "alert_range", "range")) {
+            if (num_ge0(v, vl, &d) < 0) return spec_reject(out, from_mail, spec, "bad alert_range", v, vl);
+            a.alert_range = d, a.have_range = true;
+        } else if (keyis(k, kl, "cpa_range", NULL)) {
+            if (num_ge0(v, vl, &d) < 0) return spec_reject(out, from_mail, spec, "bad cpa_range", v, vl);
+            a.cpa_range = d, a.have_cpa = true;
+        } else if (keyis(k, kl, "on_flag", "onflag"))
+            rc = add_flag(a.on, &a.non, v, vl);
+        else if (keyis(k, kl, "off_flag", "offflag"))
+            rc = add_flag(a.off, &a.noff, v, vl);
+        else if (keyis(k, kl, "var", NULL))
+            legacy_var = v;
+        else if (keyis(k, kl, "val", "pattern"))
+            legacy_val = v;
+        else if (keyis(k, kl, "alert_range_color", NULL))
+            copyz(a.range_color, sizeof a.range_color, v, vl);
+        else if (keyis(k, kl, "cpa_range_color", NULL))
+            copyz(a.cpa_color, sizeof a.cpa_color, v, vl);
+        else
+            rc = filter_param(&a.filter, k, kl, v, vl, out, &strict);
+        if (rc < 0) return spec_reject(out, from_mail, spec, "bad alert component", k, kl);
+    }
+    if (legacy_var) {
+        char f[KELP_CMGR_MAX_FLAG];
+        int fl = kelp_snprintf(f, sizeof f, "%s=%s", legacy_var, legacy_val ? legacy_val : "");
+        if (fl < 0 || (size_t)fl >= sizeof f || add_flag(a.on, &a.non, f, (size_t)fl) < 0)
+            return spec_reject(out, from_mail, spec, "bad var/val flag", NULL, 0);
+    }
+    if (a.have_cpa && a.have_range && a.cpa_range < a.alert_range)
+        warnf(out, "alert %s: cpa_range %g below alert_range %g: raised to it", a.id, a.cpa_range, a.alert_range);
+    if (src && src[0]) copyz(a.source, sizeof a.source, src, strlen(src));
+    if (ai < 0) {
+        ai = (int)c->nalerts++;
+        for (unsigned k = 0; k < KELP_CMGR_MAX_CONTACTS; k++) c->contact[k].alerted &= ~(1u << ai);
+    }
+    c->alert[ai] = a;
+    if (from_mail && !alert_valid(&a)) warnf(out, "Invalid alert request (needs id, alert_range, a flag): %s", spec);
+    return 1;
+}
+
+/* ------------------------------------------------------------------ configuration */
+
+static int cfg_bad(const kelp_field_sink *out, const char *key, const char *val, const char *why)
+{
+    warnf(out, "%s = %s: %s; default kept", key, val, why);
+    return 1;
+}
+
+int kelp_cmgr_config(kelp_cmgr *c, const char *key, const char *val, const kelp_field_sink *out)
+{
+    size_t kl = strlen(key), vl = strlen(val);
+    const char *v = val;
+    trim(&v, &vl);
+    double d;
+    bool b, strict;
+    if (keyis(key, kl, "alert", NULL)) {
+        if (kelp_cmgr_alert_spec(c, val, false, NULL, 0, out) < 0) return 1; /* warned; the line is dropped */
+        return 1;
+    }
+    if (keyis(key, kl, "contact_max_age", "max_contact_age")) {
+        if (num_ge0(v, vl, &d) < 0) return cfg_bad(out, key, val, "must be a number >= 0");
+        c->contact_max_age = d;
+        return 1;
+    }
+    if (keyis(key, kl, "reject_range", NULL)) {
+        if (kelp_strieq_n(v, vl, "off")) c->reject_range = -1;
+        else if (kelp_parse_finite(v, vl, &d) < 0 || d <= 0) return cfg_bad(out, key, val, "must be > 0 or off");
+        else c->reject_range = d;
+        return 1;
+    }
+    if (keyis(key, kl, "recap_interval", "contacts_recap_interval")) {
+        if (kelp_strieq_n(v, vl, "off")) c->recap_interval = -1;
+        else if (num_ge0(v, vl, &d) < 0) return cfg_bad(out, key, val, "must be >= 0 or off");
+        else c->recap_interval = d;
+        return 1;
+    }
+    if (keyis(key, kl, "range_report_timeout", NULL)) {
+        if (num_ge0(v, vl, &d) < 0) return cfg_bad(out, key, val, "must be a number >= 0");
+        c->range_report_timeout = d;
+        return 1;
+    }
+    if (keyis(key, kl, "decay", NULL)) {
+        const char *comma = memchr(v, ',', vl);
+        double d2;
+        if (!comma || num_ge0(v, (size_t)(comma - v), &d) < 0 ||
+            num_ge0(comma + 1, vl - (size_t)(comma - v) - 1, &d2) < 0 || d2 < d)
+            return cfg_bad(out, key, val, "must be a,b with 0 <= a <= b");
+        c->decay[0] = d, c->decay[1] = d2;
+        return 1;
+    }
+    long l;
+    if (keyis(key, kl, "max_contacts", NULL)) {
+        if (kelp_parse_long(v, vl, &l) < 0 || l < 1) return cfg_bad(out, key, val, "must be an integer >= 1");
+        if (l > KELP_CMGR_MAX_CONTACTS) {
+            warnf(out, "max_contacts %ld above this build's %d: clamped", l, KELP_CMGR_MAX_CONTACTS);
+            l = KELP_CMGR_MAX_CONTACTS;
+        }
+        c->max_contacts = (unsigned)l;
+        return 1;
+    }
+    if (keyis(key, kl, "max_retired_history", "max_retired_hist")) {
+        if (kelp_parse_long(v, vl, &l) < 0) return cfg_bad(out, key, val, "must be an integer in [1,50]");
+        if (l < 1 || l > 50) {
+            warnf(out, "%s = %s: outside [1,50]: clamped", key, val);
+            l = l < 1 ? 1 : 50;
+        }
+        c->max_retired = (unsigned)l;
+        return 1;
+    }
+    if (keyis(key, kl, "range_report_maxsize", NULL)) {
+        if (kelp_parse_long(v, vl, &l) < 0 || l < 1) return cfg_bad(out, key, val, "must be an integer >= 1");
+        c->range_report_maxsize = l > KELP_CMGR_MAX_REPORTS ? KELP_CMGR_MAX_REPORTS : (unsigned)l;
+        return 1;
+    }
+    struct { const char *k, *alias; bool *dst; } bools[] = {
+        { "alert_verbose", NULL, &c->alert_verbose },       { "display_radii", NULL, &c->display_radii },
+        { "post_all_ranges", NULL, &c->post_all_ranges },   { "post_closest_range", NULL, &c->post_closest_range },
+        { "post_closest_relbng", NULL, &c->post_closest_relbng },
+        { "hold_alerts_for_helm", NULL, &c->hold_alerts_for_helm },
+    };
+    for (size_t i = 0; i < sizeof bools / sizeof bools[0]; i++)
+        if (keyis(key, kl, bools[i].k, bools[i].alias)) {
+            if (kelp_parse_bool(v, vl, &b) < 0) return cfg_bad(out, key, val, "must be true or false");
+            *bools[i].dst = b;
+            return 1;
+        }
+    struct { const char *k, *alias; char *dst; } strs[] = {
+        { "alert_range_color", "default_alert_range_color", c->alert_color },
+        { "cpa_range_color", "default_cpa_range_color", c->cpa_color },
+        { "display_radii_id", NULL, c->display_id },
+        { "ownship_group", NULL, c->ownship_group },
+        { "ownship_type", NULL, c->ownship_type },
+    };
+    for (size_t i = 0; i < sizeof strs / sizeof strs[0]; i++)
+        if (keyis(key, kl, strs[i].k, strs[i].alias)) {
+            copyz(strs[i].dst, KELP_CMGR_MAX_ID, v, vl);
+            return 1;
+        }
+    if (keyis(key, kl, "contact_local_coords", NULL)) {
+        if (kelp_strieq_n(v, vl, "verbatim")) c->coords = KELP_CMGR_VERBATIM;
+        else if (kelp_strieq_n(v, vl, "lazy_lat_lon")) c->coords = KELP_CMGR_LAZY_LATLON;
+        else if (kelp_strieq_n(v, vl, "force_lat_lon")) c->coords = KELP_CMGR_FORCE_LATLON;
+        else return cfg_bad(out, key, val, "must be verbatim, lazy_lat_lon or force_lat_lon");
+        return 1;
+    }
+    if (keyis(key, kl, "alert_range", "alert_cpa_range")) {
+        warnf(out, "%s is deprecated (give it in an alert): ignored", key);
+        return 1;
+    }
+    /* 24.8.x features kelp does not implement: accepted so a 24.8 block loads */
+    static const char *const later[] = { "disable_var", "enable_var", "able_flag", "disable_flag", "enable_flag",
+                                         "early_warning_time", "early_warning_radii", "ewarn_radii_color",
+                                         "early_warning_flag", "cease_warning_flag", "retire_flag", "app_logging" };
+    for (size_t i = 0; i < sizeof later / sizeof later[0]; i++)
+        if (keyis(key, kl, later[i], NULL)) return 1;
+    int rc = filter_param(&c->filter, key, kl, v, vl, out, &strict);
+    return rc < 0 ? 1 : rc;
+}
+
+void kelp_cmgr_config_done(kelp_cmgr *c, bool have_lat, double lat0, bool have_lon, double lon0,
+                           const kelp_field_sink *out)
+{
+    for (unsigned i = 0; i < c->nalerts; i++)
+        if (!alert_valid(&c->alert[i]) && !c->alert[i].disabled) warnf(out, "Invalid alert config:%s", c->alert[i].id);
+    c->have_geo = false;
+    if (c->coords == KELP_CMGR_VERBATIM) return;
+    if (!have_lat) warnf(out, "No LatOrigin in *.moos file");
+    if (!have_lon) warnf(out, "No LongOrigin set in *.moos file");
+    if (have_lat && have_lon && kelp_geo_init(&c->geo, lat0, lon0) == 0) {
+        c->have_geo = true;
+        event(c, 0, "Geodesy init ok: Will derive x/y from lat/lon in node reports.");
+    } else
+        warnf(out, "Wont derive x/y from lat/lon in node reports.");
+}
+
+const char *kelp_cmgr_subscription(unsigned i)
+{
+    static const char *const subs[] = { "NODE_REPORT", "NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED",
+                                        "BCM_ALERT_REQUEST", "BCM_REPORT_REQUEST", "BCM_DISPLAY_RADII",
+                                        "IVPHELM_STATE" };
+    return i < sizeof subs / sizeof subs[0] ? subs[i] : NULL;
+}
+
+/* ------------------------------------------------------------------ contacts */
+
+int kelp_cmgr_find(const kelp_cmgr *c, const char *name)
+{
+    unsigned lo = 0, hi = c->ncontacts;
+    while (lo < hi) {
+        unsigned mid = (lo + hi) / 2;
+        int r = strcmp(c->contact[c->order[mid]].name, name);
+        if (r == 0) return c->order[mid];
+        if (r < 0) lo = mid + 1;
+        else hi = mid;
+    }
+    return -1;
+}
+
+static unsigned order_pos(const kelp_cmgr *c, const char *name)
+{
+    unsigned lo = 0, hi = c->ncontacts;
+    while (lo < hi) {
+        unsigned mid = (lo + hi) / 2;
+        if (strcmp(c->contact[c->order[mid]].name, name) < 0) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo;
+}
+
+static void retired_remove(kelp_cmgr *c, const char *name)
+{
+    for (unsigned i = 0; i < c->nretired; i++)
+        if (strcmp(c->retired[i], name) == 0) {
+            memmove(c->retired[i], c->retired[i + 1], (size_t)(c->nretired - i - 1) * KELP_CMGR_NAME);
+            c->nretired--;
+            return;
+        }
+}
+
+static int bad_report(kelp_cmgr *c, const kelp_field_sink *out, const char *why)
+{
+    c->reports_bad++;
+    warnf(out, "Bad Mail: NODE_REPORT: %s", why);
+    post_s(out, "CONTACT_MGR_WARNING", "Bad Node Report Received");
+    return KELP_ERR_PARSE;
+}
+
+static int node_report(kelp_cmgr *c, const char *s, double now, const kelp_field_sink *out)
+{
+    kelp_nodereport r;
+    const char *why = NULL;
+    c->reports_in++;
+    if (kelp_nodereport_parse(s, strlen(s), &r, &why) < 0) return bad_report(c, out, why ? why : "unreadable");
+    if (kelp_strieq(r.name, c->ownship)) return 1;
+    bool have_xy = (r.fields & (KELP_NR_X | KELP_NR_Y)) == (KELP_NR_X | KELP_NR_Y);
+    bool have_ll = (r.fields & (KELP_NR_LAT | KELP_NR_LON)) == (KELP_NR_LAT | KELP_NR_LON);
+    if (c->have_geo && have_ll && (c->coords == KELP_CMGR_FORCE_LATLON || !have_xy)) {
+        if (kelp_geo_to_local(&c->geo, r.lat, r.lon, &r.x, &r.y) < 0) return bad_report(c, out, "bad LAT/LON");
+        have_xy = true;
+    }
+    if (!have_xy) return bad_report(c, out, "no X/Y (LAT/LON are not used with contact_local_coords = verbatim)");
+    if (!have_ll && c->have_geo && kelp_geo_to_latlon(&c->geo, r.x, r.y, &r.lat, &r.lon) == 0) have_ll = true;
+    int ci = kelp_cmgr_find(c, r.name);
+    if (!filter_ok(&c->filter, r.name, r.type, r.group, r.x, r.y)) {
+        if (ci >= 0) c->contact[ci].filtered = true;
+        return 1;
+    }
+    if (ci < 0) {
+        if (c->reject_range > 0 && hypot(c->osx - r.x, c->osy - r.y) > c->reject_range) return 1;
+        if (c->ncontacts >= KELP_CMGR_MAX_CONTACTS) {
+            warnf(out, "more than %d contacts: %s dropped", KELP_CMGR_MAX_CONTACTS, r.name);
+            return KELP_ERR_NOSPACE;
+        }
+        ci = c->spare[--c->nspare];
+        unsigned pos = order_pos(c, r.name);
+        memmove(&c->order[pos + 1], &c->order[pos], (c->ncontacts - pos) * sizeof c->order[0]);
+        c->order[pos] = (uint16_t)ci;
+        c->ncontacts++;
+        kelp_cmgr_contact *k = &c->contact[ci];
+        memset(k, 0, sizeof *k);
+        k->used = true;
+        memcpy(k->name, r.name, sizeof k->name);
+        k->range = k->range_extrap = k->range_cpa = hypot(c->osx - r.x, c->osy - r.y);
+        if (c->alert_verbose) {
+            char m[KELP_CMGR_NAME + 16];
+            (void)kelp_snprintf(m, sizeof m, "new_contact=%s", r.name);
+            post_s(out, "ALERT_VERBOSE", m);
+        }
+        retired_remove(c, r.name);
+    }
+    kelp_cmgr_contact *k = &c->contact[ci];
+    memcpy(k->type, r.type, sizeof k->type);
+    memcpy(k->group, r.group, sizeof k->group);
+    k->x = r.x, k->y = r.y;
+    k->has_ll = have_ll;
+    k->lat = have_ll ? r.lat : 0, k->lon = have_ll ? r.lon : 0;
+    k->hdg = r.fields & KELP_NR_HDG ? r.hdg : 0;
+    k->spd = r.fields & KELP_NR_SPD ? r.spd : 0;
+    k->dep = r.fields & KELP_NR_DEPTH ? r.depth : 0;
+    k->time = r.fields & KELP_NR_TIME ? r.time : now;
+    k->filtered = false;
+    return 1;
+}
+
+/* ------------------------------------------------------------------ requests */
+
+static int report_request(kelp_cmgr *c, const char *s, double now, const char *src, const kelp_field_sink *out)
+{
+    size_t len = strlen(s), pos = 0, kl, vl;
+    const char *p = s, *k, *v;
+    trim(&p, &len);
+    unquote(&p, &len);
+    char str[KELP_CMGR_MAX_TEXT];
+    copyz(str, sizeof str, p, len);
+    char var[KELP_CMGR_MAX_ID] = "", group[KELP_CMGR_NAME] = "", type[KELP_CMGR_NAME] = "";
+    double range = -1;
+    bool refresh = false, bad = false;
+    int rc;
+    while (!bad && (rc = kelp_kv_next(str, ',', &pos, &k, &kl, &v, &vl)) == 1) {
+        unquote(&v, &vl);
+        if (keyis(k, kl, "var", NULL)) {
+            bad = vl == 0 || vl >= sizeof var;
+            for (size_t i = 0; i < vl && !bad; i++) bad = v[i] == ' ' || v[i] == '\t';
+            if (!bad) copyz(var, sizeof var, v, vl);
+        } else if (keyis(k, kl, "range", NULL))
+            bad = num_ge0(v, vl, &range) < 0;
+        else if (keyis(k, kl, "group", NULL))
+            copyz(group, sizeof group, v, vl);
+        else if (keyis(k, kl, "type", NULL))
+            copyz(type, sizeof type, v, vl);
+        else if (keyis(k, kl, "refresh", NULL))
+            bad = kelp_parse_bool(v, vl, &refresh) < 0;
+        else if (!keyis(k, kl, "reason", NULL))
+            bad = true;
+    }
+    if (bad || rc < 0 || !var[0] || range < 0) {
+        warnf(out, "Failed REPORT_REQUEST: %s", str);
+        event(c, now, "Failed REPORT_REQUEST: %.*s", KELP_CMGR_MAX_FLAG, str);
+        return KELP_ERR_PARSE;
+    }
+    event(c, now, "New BCM_REPORT_REQUEST (src=%s): %.*s", src ? src : "", KELP_CMGR_MAX_FLAG, str);
+    kelp_cmgr_report *r = NULL;
+    for (unsigned i = 0; i < c->nreports; i++)
+        if (strcmp(c->report[i].var, var) == 0) r = &c->report[i];
+    if (!r) {
+        if (c->nreports >= c->range_report_maxsize) { /* full: the least recently requested goes */
+            unsigned old = 0;
+            for (unsigned i = 1; i < c->nreports; i++)
+                if (c->report[i].req_time < c->report[old].req_time) old = i;
+            c->report[old] = c->report[--c->nreports];
+        }
+        r = &c->report[c->nreports++];
+        memset(r, 0, sizeof *r);
+        memcpy(r->var, var, sizeof var);
+        r->range = -1;
+    }
+    if (r->range != range) {
+        r->range = range;
+        r->last[0] = 0;
+        r->count = 0;
+        r->force = true;
+    }
+    memcpy(r->group, group, sizeof group);
+    memcpy(r->type, type, sizeof type);
+    r->req_time = now;
+    r->force |= refresh;
+    return 1;
+}
+
+static int display_radii(kelp_cmgr *c, const char *s, double now, const kelp_field_sink *out)
+{
+    const char *p = s;
+    size_t n = strlen(s);
+    trim(&p, &n);
+    if (kelp_strieq_n(p, n, "true") || kelp_strieq_n(p, n, "on")) c->display_radii = true;
+    else if (kelp_strieq_n(p, n, "false") || kelp_strieq_n(p, n, "off")) c->display_radii = false;
+    else if (kelp_strieq_n(p, n, "toggle")) c->display_radii = !c->display_radii;
+    else if (alert_find(c, p, n) >= 0) {
+        c->display_radii = true;
+        copyz(c->display_id, sizeof c->display_id, p, n);
+        event(c, now, "Display_radii turn on and set to: %s", c->display_id);
+    } else {
+        warnf(out, "Failed attempt to set Display_radii set to: %s", s);
+        return KELP_ERR_ARG;
+    }
+    return 1;
+}
+
+int kelp_cmgr_mail(kelp_cmgr *c, const char *var, bool is_string, const char *sval, double dval, double now,
+                   const char *src, const kelp_field_sink *out)
+{
+    if (c->t_start < 0) c->t_start = now;
+    double *nav[4] = { &c->osx, &c->osy, &c->osh, &c->osv };
+    static const char *const navn[4] = { "NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED" };
+    for (int i = 0; i < 4; i++)
+        if (strcmp(var, navn[i]) == 0) {
+            if (is_string || !isfinite(dval)) {
+                warnf(out, "%s must be a finite number", var);
+                return KELP_ERR_ARG;
+            }
+            *nav[i] = dval;
+            return 1;
+        }
+    if (strcmp(var, "IVPHELM_STATE") == 0) {
+        if (is_string) c->helm_drive = kelp_strieq(sval, "DRIVE");
+        return 1;
+    }
+    bool ours = strcmp(var, "NODE_REPORT") == 0 || strcmp(var, "BCM_ALERT_REQUEST") == 0 ||
+                strcmp(var, "BCM_REPORT_REQUEST") == 0 || strcmp(var, "BCM_DISPLAY_RADII") == 0;
+    if (!ours) return 0;
+    if (!is_string || !sval) {
+        warnf(out, "%s must be a string", var);
+        return KELP_ERR_ARG;
+    }
+    if (var[0] == 'N') return node_report(c, sval, now, out);
+    if (strcmp(var, "BCM_ALERT_REQUEST") == 0) {
+        c->alert_requests++;
+        event(c, now, "New BCM_ALERT_REQUEST (src=%s): %.*s", src ? src : "", KELP_CMGR_MAX_FLAG, sval);
+        return kelp_cmgr_alert_spec(c, sval, true, src, now, out);
+    }
+    if (strcmp(var, "BCM_REPORT_REQUEST") == 0) return report_request(c, sval, now, src, out);
+    return display_radii(c, sval, now, out);
+}
+
+/* ------------------------------------------------------------------ iterate */
+
+double kelp_cmgr_extrap_dist(double v, double dt, double d1, double d2)
+{
+    if (!(dt > 0)) return 0;
+    if (dt <= d1) return v * dt;
+    if (d2 > d1 && dt <= d2) return v * d1 + ((v + v * (1 - (dt - d1) / (d2 - d1))) / 2) * (dt - d1);
+    return v * d1 + (d2 > d1 ? (v / 2) * (d2 - d1) : 0);
+}
+
+static void ranges(kelp_cmgr *c, kelp_cmgr_contact *k, double now)
+{
+    k->range = hypot(c->osx - k->x, c->osy - k->y);
+    double dist = kelp_cmgr_extrap_dist(k->spd, now - k->time, c->decay[0], c->decay[1]);
+    double h = k->hdg * PI / 180;
+    double ex = k->x + dist * sin(h), ey = k->y + dist * cos(h);
+    k->range_extrap = hypot(c->osx - ex, c->osy - ey);
+    k->range_cpa = kelp_cpa_range(ex, ey, k->hdg, k->spd, c->osx, c->osy, c->osh, c->osv, KELP_CMGR_CPA_HORIZON, NULL);
+}
+
+/* expand the macros of s into out for contact k */
+static void expand(const kelp_cmgr_contact *k, double now, const char *s, char *out, size_t cap)
+{
+    size_t n = 0;
+    while (*s && n + 1 < cap) {
+        const char *end = (s[0] == '$' || s[0] == '%') && s[1] == '[' ? strchr(s + 2, ']') : NULL;
+        if (!end) {
+            out[n++] = *s++;
+            continue;
+        }
+        bool lower = s[0] == '%';
+        const char *m = s + 2;
+        size_t ml = (size_t)(end - m);
+        char num[48];
+        const char *val;
+        if (kelp_strieq_n(m, ml, "VNAME")) val = k->name;
+        else if (kelp_strieq_n(m, ml, "VTYPE")) val = k->type;
+        else if (kelp_strieq_n(m, ml, "GROUP")) val = k->group;
+        else {
+            static const char *const nm[] = { "X", "Y", "LAT", "LON", "HDG", "SPD", "DEP", "UTIME", "UTC", "TIME",
+                                              "RANGE" };
+            const double v[] = { k->x, k->y, k->lat, k->lon, k->hdg, k->spd, k->dep, k->time, k->time, now, k->range };
+            const unsigned dec[] = { 2, 2, 8, 8, 2, 2, 2, 2, 2, 2, 2 };
+            val = NULL;
+            for (size_t i = 0; i < sizeof nm / sizeof nm[0] && !val; i++)
+                if (ml == strlen(nm[i]) && memcmp(m, nm[i], ml) == 0) {
+                    fmtx(num, sizeof num, v[i], dec[i]);
+                    val = num;
+                }
+        }
+        if (!val || (ml && m[0] >= 'a' && m[0] <= 'z')) { /* unknown: verbatim */
+            out[n++] = *s++;
+            continue;
+        }
+        for (; *val && n + 1 < cap; val++)
+            out[n++] = lower && *val >= 'A' && *val <= 'Z' ? (char)(*val - 'A' + 'a') : *val;
+        s = end + 1;
+    }
+    out[n] = 0;
+}
+
+static void post_flags(kelp_cmgr *c, const kelp_cmgr_contact *k, char (*flags)[KELP_CMGR_MAX_FLAG], unsigned n,
+                       double now, const kelp_field_sink *out)
+{
+    for (unsigned i = 0; i < n; i++) {
+        const char *eq = strchr(flags[i], '=');
+        if (!eq) continue;
+        char var[KELP_CMGR_MAX_FLAG], raw[KELP_CMGR_MAX_FLAG], val[KELP_CMGR_MAX_TEXT];
+        copyz(raw, sizeof raw, flags[i], (size_t)(eq - flags[i]));
+        expand(k, now, raw, var, sizeof var);
+        double d;
+        if (!var[0]) continue;
+        if (kelp_parse_finite(eq + 1, strlen(eq + 1), &d) == 0) {
+            post_d(out, var, d);
+            event(c, now, "%s=%s", var, eq + 1);
+            continue;
+        }
+        expand(k, now, eq + 1, val, sizeof val);
+        if (!val[0]) continue;
+        post_s(out, var, val);
+        event(c, now, "%s=%.*s", var, KELP_CMGR_MAX_FLAG, val);
+    }
+}
+
+static void verbose(const kelp_cmgr_alert *a, const kelp_cmgr_contact *k, bool on, const kelp_field_sink *out)
+{
+    char r[32], cr[32], ra[32], rc[32], m[KELP_CMGR_NAME + KELP_CMGR_MAX_ID + 200];
+    fmtx(r, sizeof r, a->alert_range, 1);
+    fmtx(cr, sizeof cr, kelp_cmgr_cpa_range(a), 1);
+    fmtf(ra, sizeof ra, k->range, 1);
+    fmtf(rc, sizeof rc, k->range_cpa, 1);
+    if (on)
+        (void)kelp_snprintf(m, sizeof m, "contact=%s,alert_id=%s,off-->alerted,alert_range=%s,alert_range_cpa=%s,"
+                            "range_actual=%s,range_cpa=%s", k->name, a->id, r, cr, ra, rc);
+    else
+        (void)kelp_snprintf(m, sizeof m, "contact=%s,alert_id=%s,alerted-->off,alert_range=%s,alert_range_cpa=%s,"
+                            "range_actual=%s", k->name, a->id, r, cr, ra);
+    post_s(out, "ALERT_VERBOSE", m);
+}
+
+static void check_alerts(kelp_cmgr *c, kelp_cmgr_contact *k, double now, const kelp_field_sink *out)
+{
+    for (unsigned ai = 0; ai < c->nalerts; ai++) {
+        kelp_cmgr_alert *a = &c->alert[ai];
+        if (a->disabled) continue;
+        double cpa = kelp_cmgr_cpa_range(a);
+        bool was = (k->alerted >> ai) & 1u;
+        bool base = alert_valid(a) && now - k->time <= c->contact_max_age &&
+                    filter_ok(&a->filter, k->name, k->type, k->group, k->x, k->y);
+        bool on_test = k->range <= a->alert_range || (k->range <= cpa && k->range_cpa <= a->alert_range);
+        bool now_on = base && ((was && KELP_CMGR_HYSTERESIS) ? k->range <= cpa : on_test);
+        if (now_on == was) continue;
+        if (now_on) {
+            k->alerted |= 1u << ai;
+            k->total++, k->active++;
+            post_flags(c, k, a->on, a->non, now, out);
+        } else {
+            k->alerted &= ~(1u << ai);
+            k->active--;
+            post_flags(c, k, a->off, a->noff, now, out);
+        }
+        if (c->alert_verbose) verbose(a, k, now_on, out);
+    }
+}
+
+static void circle(const kelp_cmgr *c, double r, const char *label, const char *suffix, const char *color,
+                   double now, const kelp_field_sink *out)
+{
+    char x[32], y[32], rad[32], t[32], m[3 * KELP_CMGR_MAX_ID + 160];
+    fmtx(x, sizeof x, c->osx, 2);
+    fmtx(y, sizeof y, c->osy, 2);
+    fmtx(rad, sizeof rad, r, 2);
+    fmtx(t, sizeof t, now, 2);
+    bool off = !color[0] || kelp_strieq(color, "invisible") || kelp_strieq(color, "empty") || r <= 0;
+    (void)kelp_snprintf(m, sizeof m, "x=%s,y=%s,radius=%s,duration=3%s,label=%s%s,edge_color=%s,time=%s,"
+                        "vertex_size=0,edge_size=1", x, y, rad, off ? ",active=false" : "", label, suffix, color, t);
+    post_s(out, "VIEW_CIRCLE", m);
+}
+
+static void visuals(kelp_cmgr *c, double now, const kelp_field_sink *out)
+{
+    if (!c->display_radii || c->nalerts == 0) return;
+    if (!c->display_id[0]) memcpy(c->display_id, c->alert[0].id, sizeof c->display_id);
+    int ai = alert_find(c, c->display_id, strlen(c->display_id));
+    if (ai < 0) return;
+    const kelp_cmgr_alert *a = &c->alert[ai];
+    circle(c, a->alert_range, a->id, "_in", a->range_color[0] ? a->range_color : c->alert_color, now, out);
+    double cpa = kelp_cmgr_cpa_range(a);
+    if (cpa > a->alert_range)
+        circle(c, cpa, a->id, "_out", a->cpa_color[0] ? a->cpa_color : c->cpa_color, now, out);
+}
+
+/* heap sort of idx[0..n) by key (descending when desc), ties by position in idx (stable
+ * enough: the key is made unique by the index's list position) */
+
+
+static bool before(kelp_cmgr_sortkey a, kelp_cmgr_sortkey b)
+{
+    return a.v < b.v || (a.v == b.v && a.pos < b.pos);
+}
+
+static void sift(kelp_cmgr_sortkey *a, unsigned i, unsigned n)
+{
+    for (;;) {
+        unsigned l = 2 * i + 1, big = i;
+        if (l < n && before(a[big], a[l])) big = l;
+        if (l + 1 < n && before(a[big], a[l + 1])) big = l + 1;
+        if (big == i) return;
+        kelp_cmgr_sortkey t = a[i];
+        a[i] = a[big], a[big] = t;
+        i = big;
+    }
+}
+
+static void heapsort(kelp_cmgr_sortkey *a, unsigned n)
+{
+    for (unsigned i = n / 2; i-- > 0;) sift(a, i, n);
+    for (unsigned end = n; end-- > 1;) {
+        kelp_cmgr_sortkey t = a[0];
+        a[0] = a[end], a[end] = t;
+        sift(a, 0, end);
+    }
+}
+
+static void retire(kelp_cmgr *c, double now)
+{
+    unsigned nr = 0;
+    for (unsigned i = 0; i < c->ncontacts; i++) {
+        kelp_cmgr_contact *k = &c->contact[c->order[i]];
+        k->retire = k->filtered || now - k->time > c->contact_max_age ||
+                    (c->reject_range > 0 && k->range > c->reject_range);
+        nr += k->retire;
+    }
+    if (c->ncontacts - nr > c->max_contacts)
+        for (unsigned i = 0; i < c->ncontacts; i++) {
+            kelp_cmgr_contact *k = &c->contact[c->order[i]];
+            if (!k->retire && now - k->time > c->contact_max_age / 2) k->retire = true, nr++;
+        }
+    if (c->ncontacts - nr > c->max_contacts) {
+        /* keep the max_contacts closest: sort the rest by range (farthest, then later, last) */
+        kelp_cmgr_sortkey *sk = c->sortbuf;
+        unsigned m = 0;
+        for (unsigned i = 0; i < c->ncontacts; i++)
+            if (!c->contact[c->order[i]].retire) sk[m++] = (kelp_cmgr_sortkey){ c->contact[c->order[i]].range, i };
+        heapsort(sk, m);
+        for (unsigned j = m; j-- > 0 && c->ncontacts - nr > c->max_contacts;)
+            c->contact[c->order[sk[j].pos]].retire = true, nr++;
+    }
+    if (!nr) return;
+    unsigned w = 0;
+    for (unsigned i = 0; i < c->ncontacts; i++) {
+        uint16_t ci = c->order[i];
+        kelp_cmgr_contact *k = &c->contact[ci];
+        if (!k->retire) {
+            c->order[w++] = ci;
+            continue;
+        }
+        retired_remove(c, k->name);
+        if (c->nretired >= KELP_CMGR_MAX_RETIRED) { /* cannot happen: pruned each iteration */
+            memmove(c->retired[0], c->retired[1], (size_t)(c->nretired - 1) * KELP_CMGR_NAME);
+            c->nretired--;
+        }
+        memcpy(c->retired[c->nretired++], k->name, KELP_CMGR_NAME);
+        k->used = false;
+        c->spare[c->nspare++] = ci;
+    }
+    c->ncontacts = w;
+}
+
+static bool changed(char *prev, const char *now_s)
+{
+    if (strcmp(prev, now_s) == 0) return false;
+    copyz(prev, KELP_CMGR_MAX_TEXT, now_s, strlen(now_s));
+    return true;
+}
+
+static void post_text(kelp_cmgr *c, const char *var, sbuf *sb, char *prev, bool always, const kelp_field_sink *out)
+{
+    if (sb->cut) c->truncations++;
+    if (changed(prev, sb->b) || always) post_s(out, var, sb->b);
+}
+
+static void custom_reports(kelp_cmgr *c, double now, const kelp_field_sink *out)
+{
+    for (unsigned i = 0; i < c->nreports;)
+        if (now - c->report[i].req_time > c->range_report_timeout) c->report[i] = c->report[--c->nreports];
+        else i++;
+    /* ascending var name: a selection over at most KELP_CMGR_MAX_REPORTS */
+    bool done[KELP_CMGR_MAX_REPORTS] = { false };
+    for (unsigned round = 0; round < c->nreports; round++) {
+        unsigned r = KELP_CMGR_MAX_REPORTS;
+        for (unsigned i = 0; i < c->nreports; i++)
+            if (!done[i] && (r == KELP_CMGR_MAX_REPORTS || strcmp(c->report[i].var, c->report[r].var) < 0)) r = i;
+        if (r == KELP_CMGR_MAX_REPORTS) break;
+        done[r] = true;
+        kelp_cmgr_report *rp = &c->report[r];
+        sbuf sb;
+        sb_init(&sb, c->text, sizeof c->text);
+        unsigned count = 0;
+        for (unsigned j = 0; j < c->ncontacts; j++) {
+            const kelp_cmgr_contact *k = &c->contact[c->order[j]];
+            if (!(k->range_extrap < rp->range)) continue;
+            if (rp->group[0] && !kelp_strieq(rp->group, k->group)) continue;
+            if (rp->type[0] && !kelp_strieq(rp->type, k->type)) continue;
+            count += sb_item(&sb, ",", k->name);
+        }
+        if (sb.cut) c->truncations++;
+        if (rp->force || strcmp(rp->last, sb.b) != 0) {
+            post_s(out, rp->var, sb.b);
+            memcpy(rp->last, sb.b, sb.n + 1);
+            rp->force = false;
+        }
+        rp->count = count;
+    }
+}
+
+static void summaries(kelp_cmgr *c, double now, const kelp_field_sink *out)
+{
+    sbuf sb;
+    /* CONTACTS_RETIRED, newest first, then prune */
+    sb_init(&sb, c->text, sizeof c->text);
+    for (unsigned i = c->nretired; i-- > 0;) (void)sb_item(&sb, ",", c->retired[i]);
+    post_text(c, "CONTACTS_RETIRED", &sb, c->prev_retired, false, out);
+    if (c->nretired > c->max_retired) {
+        unsigned drop = c->nretired - c->max_retired;
+        memmove(c->retired[0], c->retired[drop], (size_t)c->max_retired * KELP_CMGR_NAME);
+        c->nretired = c->max_retired;
+    }
+    /* CONTACTS_LIST; the closest */
+    sb_init(&sb, c->text, sizeof c->text);
+    const kelp_cmgr_contact *close = NULL;
+    for (unsigned i = 0; i < c->ncontacts; i++) {
+        const kelp_cmgr_contact *k = &c->contact[c->order[i]];
+        (void)sb_item(&sb, ",", k->name);
+        if (!close || k->range < close->range) close = k;
+    }
+    post_text(c, "CONTACTS_LIST", &sb, c->prev_list, false, out);
+    if (close) {
+        if (strcmp(close->name, c->prev_closest) != 0) {
+            memcpy(c->prev_closest, close->name, sizeof c->prev_closest);
+            post_s(out, "CONTACT_CLOSEST", close->name);
+            post_d(out, "CONTACT_CLOSEST_TIME", now);
+        }
+        double r = round(close->range);
+        if (c->post_closest_range && r != c->prev_closest_range) {
+            c->prev_closest_range = r;
+            post_d(out, "CONTACT_CLOSEST_RANGE", r);
+        }
+        if (c->post_closest_relbng) {
+            double b = atan2(close->x - c->osx, close->y - c->osy) * 180 / PI - c->osh;
+            b = fmod(fmod(b, 360) + 360, 360);
+            b = floor(b);
+            if (b != c->prev_relbng) {
+                c->prev_relbng = b;
+                post_d(out, "CONTACT_CLOSEST_RELBNG", b);
+            }
+        }
+    }
+    /* CONTACTS_COUNT, ALERTED, UNALERTED */
+    double count = 0;
+    for (unsigned i = 0; i < c->ncontacts; i++) {
+        uint32_t m = c->contact[c->order[i]].alerted;
+        for (unsigned ai = 0; ai < c->nalerts; ai++) count += (m >> ai) & 1u;
+    }
+    if (count != c->prev_count) {
+        c->prev_count = count;
+        post_d(out, "CONTACTS_COUNT", count);
+    }
+    for (int want = 1; want >= 0; want--) {
+        sb_init(&sb, c->text, sizeof c->text);
+        char pair[KELP_CMGR_NAME + KELP_CMGR_MAX_ID + 4];
+        for (unsigned i = 0; i < c->ncontacts && !sb.cut; i++) {
+            const kelp_cmgr_contact *k = &c->contact[c->order[i]];
+            for (unsigned ai = 0; ai < c->nalerts; ai++)
+                if ((int)((k->alerted >> ai) & 1u) == want) {
+                    (void)kelp_snprintf(pair, sizeof pair, "(%s,%s)", k->name, c->alert[ai].id);
+                    (void)sb_item(&sb, "", pair);
+                }
+        }
+        post_text(c, want ? "CONTACTS_ALERTED" : "CONTACTS_UNALERTED", &sb,
+                  want ? c->prev_alerted : c->prev_unalerted, false, out);
+    }
+    /* CONTACTS_RECAP */
+    if (c->recap_interval >= 0 && now - c->last_recap >= c->recap_interval) {
+        c->last_recap = now;
+        sb_init(&sb, c->text, sizeof c->text);
+        for (unsigned i = 0; i < c->ncontacts && !sb.cut; i++) {
+            const kelp_cmgr_contact *k = &c->contact[c->order[i]];
+            char r[32], a[32], e[KELP_CMGR_NAME + 80];
+            fmtf(r, sizeof r, k->range, 2);
+            fmtf(a, sizeof a, now - k->time, 2);
+            (void)kelp_snprintf(e, sizeof e, "vname=%s,range=%s,age=%s", k->name, r, a);
+            (void)sb_item(&sb, " # ", e);
+        }
+        post_text(c, "CONTACTS_RECAP", &sb, c->prev_recap, true, out);
+    }
+    /* CONTACT_RANGES */
+    if (c->post_all_ranges && c->ncontacts) {
+        kelp_cmgr_sortkey *sk = c->sortbuf;
+        for (unsigned i = 0; i < c->ncontacts; i++) sk[i] = (kelp_cmgr_sortkey){ c->contact[c->order[i]].range, i };
+        heapsort(sk, c->ncontacts);
+        sb_init(&sb, c->text, sizeof c->text);
+        for (unsigned i = 0; i < c->ncontacts && !sb.cut; i++) {
+            char r[32];
+            fmtx(r, sizeof r, sk[i].v, 2);
+            (void)sb_item(&sb, ",", r);
+        }
+        post_text(c, "CONTACT_RANGES", &sb, c->prev_ranges, false, out);
+    }
+}
+
+void kelp_cmgr_iterate(kelp_cmgr *c, double now, const kelp_field_sink *out)
+{
+    if (c->t_start < 0) c->t_start = now;
+    c->iterations++;
+    for (unsigned i = 0; i < c->ncontacts; i++) ranges(c, &c->contact[c->order[i]], now);
+    if (!c->hold_alerts_for_helm || c->helm_drive)
+        for (unsigned i = 0; i < c->ncontacts; i++) check_alerts(c, &c->contact[c->order[i]], now, out);
+    visuals(c, now, out);
+    retire(c, now);
+    custom_reports(c, now, out);
+    summaries(c, now, out);
+}
+
+/* ------------------------------------------------------------------ report */
+
+int kelp_cmgr_report_text(const kelp_cmgr *c, double now, char *buf, size_t cap)
+{
+    size_t n = 0;
+    char a[32], b[32];
+    (void)now;
+    buf[0] = 0;
+    field_putf(buf, cap, &n, "X/Y from Lat/Lon:   %s\n", c->have_geo ? "true" : "false");
+    fmtx(a, sizeof a, c->contact_max_age, 2);
+    field_putf(buf, cap, &n, "Contact Max Age:    %s\n", a);
+    fmtx(a, sizeof a, c->reject_range, 2);
+    field_putf(buf, cap, &n, "Reject Range:       %s\n", c->reject_range > 0 ? a : "off");
+    field_putf(buf, cap, &n, "BCM_ALERT_REQUESTs: %lu\n", c->alert_requests);
+    field_putf(buf, cap, &n, "DisplayRadii:       %s\n\n", c->display_radii ? "true" : "false");
+    field_putf(buf, cap, &n, "Alert Configurations (%u):\n---------------------\n", c->nalerts);
+    static const char *const kinds[3] = { "name", "type", "group" };
+    for (unsigned i = 0; i < c->nalerts; i++) {
+        const kelp_cmgr_alert *al = &c->alert[i];
+        field_putf(buf, cap, &n, "%u ID: %s%s\n", i + 1, al->id, al->disabled ? " (disabled)" : "");
+        fmtx(a, sizeof a, al->alert_range, 2);
+        fmtx(b, sizeof b, kelp_cmgr_cpa_range(al), 2);
+        if (al->have_range) field_putf(buf, cap, &n, "  Alert Ranges: %s/%s\n", a, b);
+        else field_putf(buf, cap, &n, "  Alert Ranges: unspecified\n");
+        field_putf(buf, cap, &n, "  Source: %s\n", al->source[0] ? al->source : "--");
+        for (unsigned f = 0; f < al->non; f++) field_putf(buf, cap, &n, "  OnFlag: %s\n", al->on[f]);
+        for (unsigned f = 0; f < al->noff; f++) field_putf(buf, cap, &n, "  OffFlag: %s\n", al->off[f]);
+        bool strict = false;
+        for (int k = 0; k < 3; k++)
+            for (int ign = 0; ign < 2; ign++) {
+                for (unsigned e = 0; e < al->filter.nlist[k][ign]; e++)
+                    field_putf(buf, cap, &n, "  %s_%s=%s\n", ign ? "ignore" : "match", kinds[k], al->filter.list[k][ign][e]);
+                if (ign && k && al->filter.nlist[k][ign]) strict = al->filter.strict_ignore;
+            }
+        for (int ign = 0; ign < 2; ign++)
+            for (unsigned r = 0; r < al->filter.nregion[ign]; r++)
+                field_putf(buf, cap, &n, "  %s_region=(%u vertices)\n", ign ? "ignore" : "match",
+                           al->filter.region[ign][r].n);
+        if (strict) field_putf(buf, cap, &n, "  strict_ignore=true\n");
+    }
+    field_putf(buf, cap, &n, "\nAlert Status Summary: \n----------------------\n");
+    field_putf(buf, cap, &n, "       List: %.300s\n    Alerted: %.300s\n    Retired: %.300s\n      Recap: %.300s\n\n",
+               c->prev_list, c->prev_alerted, c->prev_retired, c->prev_recap);
+    field_putf(buf, cap, &n, "Contact Status Summary:\n-----------------------\n");
+    /* column widths: widest cell */
+    unsigned rows = c->ncontacts;
+    if (rows > 7) rows = 7;
+    size_t w0 = 7, w1 = 6;
+    char rng[7][32];
+    for (unsigned i = 0; i < rows; i++) {
+        const kelp_cmgr_contact *k = &c->contact[c->order[i]];
+        fmtf(rng[i], sizeof rng[i], k->range, 1);
+        if (strlen(k->name) > w0) w0 = strlen(k->name);
+        if (strlen(rng[i]) > w1) w1 = strlen(rng[i]);
+    }
+    int W0 = (int)w0, W1 = (int)w1;
+    field_putf(buf, cap, &n, "%-*s    %*s    %-6s    %-6s\n", W0, "Contact", W1, "Range", "Alerts", "Alerts");
+    field_putf(buf, cap, &n, "%-*s    %*s    %-6s    %-6s\n", W0, "", W1, "Actual", "Total", "Active");
+    field_putf(buf, cap, &n, "%.*s    %.*s    ------    ------\n", W0, "----------------------------------------------",
+               W1, "------------------------------");
+    for (unsigned i = 0; i < rows; i++) {
+        const kelp_cmgr_contact *k = &c->contact[c->order[i]];
+        field_putf(buf, cap, &n, "%-*s    %*s    %-6u    %-6u\n", W0, k->name, W1, rng[i], (unsigned)k->total,
+                   (unsigned)k->active);
+    }
+    field_putf(buf, cap, &n, "\nCustom Contact Reports:\n-----------------------\n");
+    field_putf(buf, cap, &n, "VarName     Range     Group     VType     Contacts\n"
+                             "-------     -----     -----     -----     --------\n");
+    for (unsigned i = 0; i < c->nreports; i++) {
+        const kelp_cmgr_report *r = &c->report[i];
+        fmtx(a, sizeof a, r->range, 2);
+        field_putf(buf, cap, &n, "%-7s     %5s     %-5s     %-5s     %u\n", r->var, a, r->group, r->type, r->count);
+    }
+    field_putf(buf, cap, &n, "\nMost Recent Events (%u):\n", c->nevents);
+    for (unsigned i = 0; i < c->nevents; i++) {
+        unsigned e = (c->event_head + KELP_CMGR_MAX_EVENTS - 1 - i) % KELP_CMGR_MAX_EVENTS;
+        fmtf(a, sizeof a, c->event_time[e], 2);
+        field_putf(buf, cap, &n, "[%s]: %s\n", a, c->event[e]);
+    }
+    return n + 1 >= cap ? KELP_ERR_NOSPACE : (int)n;
+}
