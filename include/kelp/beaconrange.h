@@ -92,6 +92,26 @@ typedef struct kelp_rsense_node {
 /** Verbose console lines (may be NULL): the seed's event output. */
 typedef void (*kelp_rsense_log_fn)(void *ctx, const char *line);
 
+/** The parameters both sensors take. */
+typedef struct kelp_rsense_common {
+    kelp_rsense_vmap ping_wait;  /**< PING_WAIT 30 s */
+    kelp_rsense_vars report_vars;/**< REPORT_VARS (short) */
+    kelp_rsense_noise noise;     /**< RN_ALGORITHM, RN_UNIFORM_PCT, RN_GAUSSIAN_SIGMA (none) */
+    bool ground_truth;           /**< GROUND_TRUTH (false, A60, A69) */
+    bool verbose;                /**< VERBOSE (false) */
+    bool glibc;                  /**< RAND_MODE = glibc (default kelp) */
+    uint64_t seed;               /**< SEED_RANDOM (1) */
+    kelp_geo geo;                /**< datum for reports with only LAT,LON */
+    bool have_geo;
+    kelp_rsense_log_fn log;      /**< verbose lines (NULL: none) */
+    void *log_ctx;
+} kelp_rsense_common;
+
+void kelp_rsense_common_default(kelp_rsense_common *c);
+/** PING_WAIT, REPORT_VARS, RN_ALGORITHM, RN_UNIFORM_PCT, RN_GAUSSIAN_SIGMA, GROUND_TRUTH,
+ *  VERBOSE, RAND_MODE, SEED_RANDOM (v already trimmed). @return 1, 0 not one, <0 with *why. */
+KELP_MUST_CHECK int kelp_rsense_common_config(kelp_rsense_common *c, const char *key, const char *v, const char **why);
+
 /** Value of name in m (default when not listed). */
 double kelp_rsense_vmap_get(const kelp_rsense_vmap *m, const char *name);
 /** Apply "default = v", "<vname> = v" or "v" (v a number, or nolimit/unlimited = -1 when
@@ -142,20 +162,10 @@ typedef struct kelp_field_brs_cfg {
     unsigned nspec;
     kelp_rsense_vmap reach;      /**< REACH_DISTANCE (node_push_dist) 100 */
     kelp_rsense_vmap node_pull;  /**< 24.8 node_pull_dist (0) */
-    kelp_rsense_vmap ping_wait;  /**< PING_WAIT 30 s */
+    kelp_rsense_common com;
     kelp_brs_payments payments;
-    kelp_rsense_vars report_vars;
-    kelp_rsense_noise noise;
-    bool ground_truth;           /**< GROUND_TRUTH (false) */
-    bool verbose;                /**< VERBOSE (false) */
     bool report_xy;              /**< REPORT_XY (false): x=,y= of the beacon in each report */
     bool config_order;           /**< BEACON_ORDER = config (24.8); default reverse (the seed's listings) */
-    bool glibc;                  /**< RAND_MODE = glibc */
-    uint64_t seed;               /**< SEED_RANDOM */
-    kelp_geo geo;                /**< datum for reports with only LAT,LON */
-    bool have_geo;
-    kelp_rsense_log_fn log;      /**< verbose lines (NULL: none) */
-    void *log_ctx;
 } kelp_field_brs_cfg;
 
 typedef struct kelp_field_brs {

@@ -27,10 +27,8 @@ void kelp_field_brs_cfg_default(kelp_field_brs_cfg *cfg)
     d->next = -1;
     cfg->reach.dflt = 100;        /* A61 */
     cfg->node_pull.dflt = 0;
-    cfg->ping_wait.dflt = 30;     /* A63 */
+    kelp_rsense_common_default(&cfg->com);
     cfg->payments = KELP_BRS_UPON_ACCEPT; /* A51 */
-    cfg->report_vars = KELP_RSENSE_SHORT;
-    cfg->seed = 1;
 }
 
 /* "never", "<s>" or "<a>:<b>"; a period <= 0 is never (A84) */
@@ -148,12 +146,6 @@ static int parse_beacon(kelp_brs_beacon *b, const char *s, const char **why)
     return res;
 }
 
-static int set_bool(bool *dst, const char *v, size_t n, const char **why)
-{
-    if (kelp_parse_bool(v, n, dst) < 0) return *why = "must be true or false", KELP_ERR_PARSE;
-    return 1;
-}
-
 int kelp_field_brs_config(kelp_field_brs_cfg *cfg, const char *key, const char *val, const char **why)
 {
     char v[KELP_BRS_SPEC_LEN];
@@ -184,7 +176,6 @@ int kelp_field_brs_config(kelp_field_brs_cfg *cfg, const char *key, const char *
     if (kelp_strieq_n(key, kl, "REACH_DISTANCE") || kelp_strieq_n(key, kl, "NODE_PUSH_DIST"))
         return kelp_rsense_vmap_set(&cfg->reach, v, true, why);
     if (kelp_strieq_n(key, kl, "NODE_PULL_DIST")) return kelp_rsense_vmap_set(&cfg->node_pull, v, true, why);
-    if (kelp_strieq_n(key, kl, "PING_WAIT")) return kelp_rsense_vmap_set(&cfg->ping_wait, v, false, why);
     if (kelp_strieq_n(key, kl, "PING_PAYMENTS")) {
         if (kelp_strieq_n(v, n, "upon_accept") || kelp_strieq_n(v, n, "upon_receipt")) cfg->payments = KELP_BRS_UPON_ACCEPT;
         else if (kelp_strieq_n(v, n, "upon_request")) cfg->payments = KELP_BRS_UPON_REQUEST;
@@ -192,42 +183,17 @@ int kelp_field_brs_config(kelp_field_brs_cfg *cfg, const char *key, const char *
         else return *why = "must be upon_accept, upon_request or upon_response", KELP_ERR_PARSE;
         return 1;
     }
-    if (kelp_strieq_n(key, kl, "REPORT_VARS")) {
-        if (kelp_strieq_n(v, n, "short")) cfg->report_vars = KELP_RSENSE_SHORT;
-        else if (kelp_strieq_n(v, n, "long")) cfg->report_vars = KELP_RSENSE_LONG;
-        else if (kelp_strieq_n(v, n, "both")) cfg->report_vars = KELP_RSENSE_BOTH;
-        else return *why = "must be short, long or both", KELP_ERR_PARSE;
+    if (kelp_strieq_n(key, kl, "REPORT_XY")) {
+        if (kelp_parse_bool(v, n, &cfg->report_xy) < 0) return *why = "must be true or false", KELP_ERR_PARSE;
         return 1;
     }
-    if (kelp_strieq_n(key, kl, "RN_ALGORITHM")) return kelp_rsense_noise_set(&cfg->noise, v, why);
-    if (kelp_strieq_n(key, kl, "RN_UNIFORM_PCT") || kelp_strieq_n(key, kl, "RN_GAUSSIAN_SIGMA")) {
-        char spec[KELP_BRS_SPEC_LEN + 32];
-        bool uni = kelp_strieq_n(key, kl, "RN_UNIFORM_PCT");
-        kelp_snprintf(spec, sizeof spec, "%s,%s=%s", uni ? "uniform" : "gaussian", uni ? "pct" : "sigma", v);
-        return kelp_rsense_noise_set(&cfg->noise, spec, why);
-    }
-    if (kelp_strieq_n(key, kl, "GROUND_TRUTH")) return set_bool(&cfg->ground_truth, v, n, why);
-    if (kelp_strieq_n(key, kl, "VERBOSE")) return set_bool(&cfg->verbose, v, n, why);
-    if (kelp_strieq_n(key, kl, "REPORT_XY")) return set_bool(&cfg->report_xy, v, n, why);
     if (kelp_strieq_n(key, kl, "BEACON_ORDER")) {
         if (kelp_strieq_n(v, n, "config")) cfg->config_order = true;
         else if (kelp_strieq_n(v, n, "reverse")) cfg->config_order = false;
         else return *why = "must be reverse or config", KELP_ERR_PARSE;
         return 1;
     }
-    if (kelp_strieq_n(key, kl, "RAND_MODE")) {
-        if (kelp_strieq_n(v, n, "glibc")) cfg->glibc = true;
-        else if (kelp_strieq_n(v, n, "kelp")) cfg->glibc = false;
-        else return *why = "must be kelp or glibc", KELP_ERR_PARSE;
-        return 1;
-    }
-    if (kelp_strieq_n(key, kl, "SEED_RANDOM")) {
-        long long s;
-        if (kelp_parse_llong(v, n, &s) < 0) return *why = "must be an integer", KELP_ERR_PARSE;
-        cfg->seed = (uint64_t)s;
-        return 1;
-    }
-    return 0;
+    return kelp_rsense_common_config(&cfg->com, key, v, why);
 }
 
 int kelp_field_brs_find(const kelp_field_brs *b, const char *label)
@@ -242,7 +208,7 @@ int kelp_field_brs_init(kelp_field_brs *b, const kelp_field_brs_cfg *cfg, double
     memset(b, 0, sizeof *b);
     b->cfg = *cfg;
     b->start = now;
-    kelp_rsense_rand_init(&b->rand, cfg->glibc, cfg->seed);
+    kelp_rsense_rand_init(&b->rand, cfg->com.glibc, cfg->com.seed);
     /* 24.8 draws an interval when a freq is configured: the default's line, then each beacon's */
     if (cfg->dflt.freq_set && cfg->dflt.freq_lo >= 0) (void)kelp_rsense_interval(&b->rand, 0, 1);
     for (unsigned i = 0; i < cfg->nspec; i++) {
@@ -276,7 +242,7 @@ const char *kelp_field_brs_subscription(unsigned i)
 
 static void log_line(const kelp_field_brs *b, const char *a, const char *c, const char *d, const char *e)
 {
-    if (b->cfg.verbose) rs_log(b->cfg.log, b->cfg.log_ctx, a, c, d, e, NULL);
+    if (b->cfg.com.verbose) rs_log(b->cfg.com.log, b->cfg.com.log_ctx, a, c, d, e, NULL);
 }
 
 /* every vehicle within B's report range gets a report. @return reports to `to` (or all) */
@@ -288,15 +254,15 @@ static unsigned long broadcast(kelp_field_brs *b, kelp_brs_beacon *bc, double no
         kelp_rsense_node *v = &b->node[u];
         double r = hypot(v->x - bc->x, v->y - bc->y);
         if (!rs_trans(bc->push, kelp_rsense_vmap_get(&b->cfg.node_pull, v->name), r)) continue;
-        double noisy = kelp_rsense_noisy(&b->rand, &b->cfg.noise, r);
+        double noisy = kelp_rsense_noisy(&b->rand, &b->cfg.com.noise, r);
         double xy[2] = { bc->x, bc->y };
         const double *pxy = b->cfg.report_xy ? xy : NULL;
-        rs_post_report(out, "BRS", false, b->cfg.report_vars, v->name, noisy, "id", bc->label, pxy, now);
-        if (b->cfg.ground_truth) rs_post_report(out, "BRS", true, b->cfg.report_vars, v->name, r, "id", bc->label, pxy, now);
+        rs_post_report(out, "BRS", false, b->cfg.com.report_vars, v->name, noisy, "id", bc->label, pxy, now);
+        if (b->cfg.com.ground_truth) rs_post_report(out, "BRS", true, b->cfg.com.report_vars, v->name, r, "id", bc->label, pxy, now);
         v->heard++;
         b->reports++;
-        if (b->cfg.verbose)
-            rs_log(b->cfg.log, b->cfg.log_ctx, indent, "Range report sent from beacon[", bc->label, "] to vehicle[",
+        if (b->cfg.com.verbose)
+            rs_log(b->cfg.com.log, b->cfg.com.log_ctx, indent, "Range report sent from beacon[", bc->label, "] to vehicle[",
                    v->name, "]", NULL);
         if (to < 0 || (unsigned)to == u) got++;
     }
@@ -330,13 +296,13 @@ static int request(kelp_field_brs *b, const char *s, double now, const kelp_fiel
     kelp_rsense_node *v = &b->node[i];
     v->pings++;
     double elapsed = now - v->clock;
-    if (b->cfg.verbose) {
+    if (b->cfg.com.verbose) {
         char e[64];
         size_t n = 0;
         (void)field_put_fixed(e, sizeof e, &n, elapsed, 5, false);
         log_line(b, "  Elapsed time: ", e, NULL, NULL);
     }
-    if (elapsed < kelp_rsense_vmap_get(&b->cfg.ping_wait, v->name)) {
+    if (elapsed < kelp_rsense_vmap_get(&b->cfg.com.ping_wait, v->name)) {
         if (b->cfg.payments == KELP_BRS_UPON_REQUEST) v->clock = now;
         v->denied++;
         b->denied++;
@@ -382,7 +348,7 @@ int kelp_field_brs_mail(kelp_field_brs *b, const char *var, bool is_string, cons
     int idx;
     bool first;
     const char *why = "bad node report";
-    int rc = rs_node_report(b->node, &b->nnodes, sval, &b->cfg.geo, b->cfg.have_geo, NULL, b->start, &idx, &first, &why);
+    int rc = rs_node_report(b->node, &b->nnodes, sval, &b->cfg.com.geo, b->cfg.com.have_geo, NULL, b->start, &idx, &first, &why);
     if (rc < 0) {
         b->bad_mail++;
         rs_warn(out, "bad ", var, ": ", why, NULL);

@@ -105,6 +105,56 @@ int kelp_rsense_vmap_set(kelp_rsense_vmap *m, const char *val, bool allow_nolimi
     return 1;
 }
 
+/* ------------------------------------------------------------------ common parameters */
+
+void kelp_rsense_common_default(kelp_rsense_common *c)
+{
+    memset(c, 0, sizeof *c);
+    c->ping_wait.dflt = 30; /* A63 */
+    c->report_vars = KELP_RSENSE_SHORT;
+    c->seed = 1;
+}
+
+int kelp_rsense_common_config(kelp_rsense_common *c, const char *key, const char *v, const char **why)
+{
+    size_t kl = strlen(key), n = strlen(v);
+    if (kelp_strieq_n(key, kl, "PING_WAIT")) return kelp_rsense_vmap_set(&c->ping_wait, v, false, why);
+    if (kelp_strieq_n(key, kl, "REPORT_VARS")) {
+        if (kelp_strieq_n(v, n, "short")) c->report_vars = KELP_RSENSE_SHORT;
+        else if (kelp_strieq_n(v, n, "long")) c->report_vars = KELP_RSENSE_LONG;
+        else if (kelp_strieq_n(v, n, "both")) c->report_vars = KELP_RSENSE_BOTH;
+        else return *why = "must be short, long or both", KELP_ERR_PARSE;
+        return 1;
+    }
+    if (kelp_strieq_n(key, kl, "RN_ALGORITHM")) return kelp_rsense_noise_set(&c->noise, v, why);
+    if (kelp_strieq_n(key, kl, "RN_UNIFORM_PCT") || kelp_strieq_n(key, kl, "RN_GAUSSIAN_SIGMA")) {
+        char spec[300];
+        bool uni = kelp_strieq_n(key, kl, "RN_UNIFORM_PCT");
+        kelp_snprintf(spec, sizeof spec, "%s,%s=%s", uni ? "uniform" : "gaussian", uni ? "pct" : "sigma", v);
+        return kelp_rsense_noise_set(&c->noise, spec, why);
+    }
+    bool *flag = kelp_strieq_n(key, kl, "GROUND_TRUTH") ? &c->ground_truth
+                 : kelp_strieq_n(key, kl, "VERBOSE")    ? &c->verbose
+                                                        : NULL;
+    if (flag) {
+        if (kelp_parse_bool(v, n, flag) < 0) return *why = "must be true or false", KELP_ERR_PARSE;
+        return 1;
+    }
+    if (kelp_strieq_n(key, kl, "RAND_MODE")) {
+        if (kelp_strieq_n(v, n, "glibc")) c->glibc = true;
+        else if (kelp_strieq_n(v, n, "kelp")) c->glibc = false;
+        else return *why = "must be kelp or glibc", KELP_ERR_PARSE;
+        return 1;
+    }
+    if (kelp_strieq_n(key, kl, "SEED_RANDOM")) {
+        long long s;
+        if (kelp_parse_llong(v, n, &s) < 0) return *why = "must be an integer", KELP_ERR_PARSE;
+        c->seed = (uint64_t)s;
+        return 1;
+    }
+    return 0;
+}
+
 /* ------------------------------------------------------------------ noise */
 
 int kelp_rsense_noise_set(kelp_rsense_noise *n, const char *val, const char **why)
