@@ -242,7 +242,7 @@ const char *kelp_field_brs_subscription(unsigned i)
 
 static void log_line(const kelp_field_brs *b, const char *a, const char *c, const char *d, const char *e)
 {
-    if (b->cfg.com.verbose) rs_log(b->cfg.com.log, b->cfg.com.log_ctx, a, c, d, e, NULL);
+    if (b->cfg.com.verbose) rs_log(b->cfg.com.log, b->cfg.com.log_ctx, a, c, d, e, RS_END);
 }
 
 /* every vehicle within B's report range gets a report. @return reports to `to` (or all) */
@@ -263,7 +263,7 @@ static unsigned long broadcast(kelp_field_brs *b, kelp_brs_beacon *bc, double no
         b->reports++;
         if (b->cfg.com.verbose)
             rs_log(b->cfg.com.log, b->cfg.com.log_ctx, indent, "Range report sent from beacon[", bc->label, "] to vehicle[",
-                   v->name, "]", NULL);
+                   v->name, "]", RS_END);
         if (to < 0 || (unsigned)to == u) got++;
     }
     return got;
@@ -281,7 +281,7 @@ static int request(kelp_field_brs *b, const char *s, double now, const kelp_fiel
     b->requests++;
     if (rs_request_name(s, name, sizeof name) < 0) {
         b->bad_mail++;
-        rs_warn(out, "BRS_RANGE_REQUEST without name=: ", s, NULL);
+        rs_warn(out, "BRS_RANGE_REQUEST without name=: ", s, RS_END);
         return KELP_ERR_PARSE;
     }
     log_line(b, "Range request received from: ", name, NULL, NULL);
@@ -290,7 +290,7 @@ static int request(kelp_field_brs *b, const char *s, double now, const kelp_fiel
         b->unknown++;
         b->denied++;
         log_line(b, "  Denied: no node report from ", name, NULL, NULL);
-        rs_warn(out, "range request from a vehicle with no node report: ", name, NULL);
+        rs_warn(out, "range request from a vehicle with no node report: ", name, RS_END);
         return 1;
     }
     kelp_rsense_node *v = &b->node[i];
@@ -341,7 +341,7 @@ int kelp_field_brs_mail(kelp_field_brs *b, const char *var, bool is_string, cons
     if (!nr && !rq) return 0;
     if (!is_string || !sval) {
         b->bad_mail++;
-        rs_warn(out, var, " must be a string", NULL);
+        rs_warn(out, var, " must be a string", RS_END);
         return KELP_ERR_PARSE;
     }
     if (rq) return request(b, sval, now, out);
@@ -351,7 +351,7 @@ int kelp_field_brs_mail(kelp_field_brs *b, const char *var, bool is_string, cons
     int rc = rs_node_report(b->node, &b->nnodes, sval, &b->cfg.com.geo, b->cfg.com.have_geo, NULL, b->start, &idx, &first, &why);
     if (rc < 0) {
         b->bad_mail++;
-        rs_warn(out, "bad ", var, ": ", why, NULL);
+        rs_warn(out, "bad ", var, ": ", why, RS_END);
         return rc;
     }
     if (first) log_line(b, "Received first NODE_REPORT for: ", b->node[idx].name, NULL, NULL);

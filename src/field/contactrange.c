@@ -92,11 +92,11 @@ int kelp_field_crs_config(kelp_field_crs_cfg *cfg, const char *key, const char *
     if (kelp_strieq_n(key, kl, "IGNORE_GROUP")) return put_word(cfg->ignore_group, sizeof cfg->ignore_group, v, n, why);
     if (kelp_strieq_n(key, kl, "ALLOW_ECHO_TYPES")) return set_types(cfg, v, n, why);
     if (kelp_strieq_n(key, kl, "SENSOR_ARC")) return set_arcs(cfg, v, n, why);
-    bool *flag = kelp_strieq_n(key, kl, "DISPLAY_PULSES") ? &cfg->display_pulses
-                 : kelp_strieq_n(key, kl, "ECHO_FALLOFF") ? &cfg->echo_falloff
-                                                          : NULL;
-    if (flag) {
-        if (kelp_parse_bool(v, n, flag) < 0) return *why = "must be true or false", KELP_ERR_PARSE;
+    if (kelp_strieq_n(key, kl, "DISPLAY_PULSES") || kelp_strieq_n(key, kl, "ECHO_FALLOFF")) {
+        bool f;
+        if (kelp_parse_bool(v, n, &f) < 0) return *why = "must be true or false", KELP_ERR_PARSE;
+        if (kelp_strieq_n(key, kl, "ECHO_FALLOFF")) cfg->echo_falloff = f;
+        else cfg->display_pulses = f;
         return 1;
     }
     return kelp_rsense_common_config(&cfg->com, key, v, why);
@@ -141,7 +141,7 @@ static bool in_arc(const kelp_field_crs *c, const kelp_rsense_node *r, const kel
 
 static void say(const kelp_field_crs *c, const char *a, const char *b, const char *d, const char *e)
 {
-    if (c->cfg.com.verbose) rs_log(c->cfg.com.log, c->cfg.com.log_ctx, a, b, d, e, NULL);
+    if (c->cfg.com.verbose) rs_log(c->cfg.com.log, c->cfg.com.log_ctx, a, b, d, e, RS_END);
 }
 
 static int request(kelp_field_crs *c, const char *s, double now, const kelp_field_sink *out)
@@ -150,7 +150,7 @@ static int request(kelp_field_crs *c, const char *s, double now, const kelp_fiel
     c->requests++;
     if (rs_request_name(s, name, sizeof name) < 0) {
         c->bad_mail++;
-        rs_warn(out, "CRS_RANGE_REQUEST without name=: ", s, NULL);
+        rs_warn(out, "CRS_RANGE_REQUEST without name=: ", s, RS_END);
         return KELP_ERR_PARSE;
     }
     say(c, "Range request received from: ", name, NULL, NULL);
@@ -159,7 +159,7 @@ static int request(kelp_field_crs *c, const char *s, double now, const kelp_fiel
         c->unknown++;
         c->denied++;
         say(c, "  Denied: no node report from ", name, NULL, NULL);
-        rs_warn(out, "range request from a vehicle with no node report: ", name, NULL);
+        rs_warn(out, "range request from a vehicle with no node report: ", name, RS_END);
         return 1;
     }
     kelp_rsense_node *r = &c->node[ri];
@@ -203,7 +203,7 @@ static int request(kelp_field_crs *c, const char *s, double now, const kelp_fiel
         double noisy = kelp_rsense_noisy(&c->rand, &c->cfg.com.noise, d);
         if (c->cfg.com.verbose)
             rs_log(c->cfg.com.log, c->cfg.com.log_ctx, "  Range Report sent from targ vehicle[", t->name,
-                   "] to receiver vehicle[", r->name, "]", NULL);
+                   "] to receiver vehicle[", r->name, "]", RS_END);
         rs_post_report(out, "CRS", false, c->cfg.com.report_vars, r->name, noisy, "target", t->name, NULL, now);
         if (c->cfg.com.ground_truth)
             rs_post_report(out, "CRS", true, c->cfg.com.report_vars, r->name, d, "target", t->name, NULL, now);
@@ -225,7 +225,7 @@ int kelp_field_crs_mail(kelp_field_crs *c, const char *var, bool is_string, cons
     if (!nr && !rq) return 0;
     if (!is_string || !sval) {
         c->bad_mail++;
-        rs_warn(out, var, " must be a string", NULL);
+        rs_warn(out, var, " must be a string", RS_END);
         return KELP_ERR_PARSE;
     }
     if (rq) return request(c, sval, now, out);
@@ -236,7 +236,7 @@ int kelp_field_crs_mail(kelp_field_crs *c, const char *var, bool is_string, cons
                             c->start, &idx, &first, &why);
     if (rc < 0) {
         c->bad_mail++;
-        rs_warn(out, "bad ", var, ": ", why, NULL);
+        rs_warn(out, "bad ", var, ": ", why, RS_END);
         return rc;
     }
     if (rc > 0 && first) say(c, "Received first NODE_REPORT for: ", c->node[idx].name, NULL, NULL);

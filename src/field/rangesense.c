@@ -133,11 +133,11 @@ int kelp_rsense_common_config(kelp_rsense_common *c, const char *key, const char
         kelp_snprintf(spec, sizeof spec, "%s,%s=%s", uni ? "uniform" : "gaussian", uni ? "pct" : "sigma", v);
         return kelp_rsense_noise_set(&c->noise, spec, why);
     }
-    bool *flag = kelp_strieq_n(key, kl, "GROUND_TRUTH") ? &c->ground_truth
-                 : kelp_strieq_n(key, kl, "VERBOSE")    ? &c->verbose
-                                                        : NULL;
-    if (flag) {
-        if (kelp_parse_bool(v, n, flag) < 0) return *why = "must be true or false", KELP_ERR_PARSE;
+    if (kelp_strieq_n(key, kl, "GROUND_TRUTH") || kelp_strieq_n(key, kl, "VERBOSE")) {
+        bool f;
+        if (kelp_parse_bool(v, n, &f) < 0) return *why = "must be true or false", KELP_ERR_PARSE;
+        if (kelp_strieq_n(key, kl, "VERBOSE")) c->verbose = f;
+        else c->ground_truth = f;
         return 1;
     }
     if (kelp_strieq_n(key, kl, "RAND_MODE")) {
@@ -362,7 +362,7 @@ void rs_post_report(const kelp_field_sink *out, const char *pfx, bool gt, kelp_r
     if (rc == 0) rc = field_put_str(body, sizeof body, &n, ",time=");
     if (rc == 0) rc = field_put_fixed(body, sizeof body, &n, now, 3, true);
     if (rc < 0) {
-        rs_warn(out, "cannot format a range report for ", vname, NULL);
+        rs_warn(out, "cannot format a range report for ", vname, RS_END);
         return;
     }
     if (vars != KELP_RSENSE_LONG) {
@@ -398,7 +398,7 @@ void rs_pulse(const kelp_field_sink *out, double x, double y, double radius, dou
     }
     if (rc == 0 && edge_size) rc = field_put_str(buf, sizeof buf, &n, ",edge_size=1");
     if (rc < 0) {
-        rs_warn(out, "cannot format a range pulse ", label, NULL);
+        rs_warn(out, "cannot format a range pulse ", label, RS_END);
         return;
     }
     out->publish(out->ctx, "VIEW_RANGE_PULSE", true, buf, 0);

@@ -23,6 +23,8 @@ void rs_post_report(const kelp_field_sink *out, const char *pfx, bool gt, kelp_r
 /** VIEW_RANGE_PULSE "x=..,y=..,radius=..,duration=..,label=..,edge_color=C,fill_color=C,time=..[,edge_size=1]". */
 void rs_pulse(const kelp_field_sink *out, double x, double y, double radius, double duration, const char *label,
               const char *color, double now, bool edge_size);
+/** Ends the piece lists of rs_log and rs_warn. */
+#define RS_END ((const char *)0)
 /** A verbose line made of pieces (no format strings from data); NULL ends the list. */
 void rs_log(kelp_rsense_log_fn fn, void *ctx, const char *a, ...);
 /** Warn through the sink with pieces; NULL ends the list. */
