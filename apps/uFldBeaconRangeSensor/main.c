@@ -1,0 +1,155 @@
+/* uFldBeaconRangeSensor: range-only sensing to fixed beacons, solicited (BRS_RANGE_REQUEST)
+ * or on each beacon's own schedule, with optional noise (uField seed chapter 10, with
+ * MOOS-IvP 24.8's names). The logic is kelp_field_brs in the core (kelp/beaconrange.h); this
+ * file reads the block and wires the core to the bus. */
+#include <stdio.h>
+#include <string.h>
+#include <kelp/app.h>
+#include <kelp/beaconrange.h>
+#include <kelp/util.h>
+
+typedef struct brs_app {
+    kelp_app *app;
+    kelp_field_brs core;
+    kelp_field_brs_cfg cfg;
+    kelp_field_sink sink;
+    char text[8192];
+} brs_app;
+
+static void publish(void *ctx, const char *var, bool is_string, const char *sval, double dval)
+{
+    brs_app *a = ctx;
+    int rc = is_string ? kelp_app_notify_string(a->app, var, sval) : kelp_app_notify_double(a->app, var, dval);
+    if (rc < 0) kelp_app_run_warning(a->app, "cannot publish %s", var);
+}
+
+static void warn(void *ctx, const char *msg) { kelp_app_run_warning(((brs_app *)ctx)->app, "%s", msg); }
+
+static void log_line(void *ctx, const char *line)
+{
+    brs_app *a = ctx;
+    printf("%s\n", line); /* VERBOSE = true: the seed's event output */
+    kelp_app_event(a->app, "%s", line);
+}
+
+static int param(void *ctx, const char *key, const char *val, const char **why)
+{
+    brs_app *a = ctx;
+    int rc = kelp_field_brs_config(&a->cfg, key, val, why);
+    if (rc == 2) {
+        kelp_app_config_warning(a->app, "%s = %s: %s", key, val, *why);
+        return 1;
+    }
+    if (rc != 0) return rc;
+    if (kelp_strieq(key, "APP_LOGGING")) return 1; /* 24.8: record the bus with kelp-record instead */
+    return 0;
+}
+
+static int startup(kelp_app *app, void *st)
+{
+    brs_app *a = st;
+    a->app = app;
+    a->sink = (kelp_field_sink){ a, publish, warn };
+    kelp_field_brs_cfg_default(&a->cfg);
+    int rc = kelp_app_param_foreach(app, param, a);
+    if (rc < 0) return rc;
+    double lat0, lon0;
+    if (kelp_app_global_double(app, "LatOrigin", &lat0) == 1 && kelp_app_global_double(app, "LongOrigin", &lon0) == 1)
+        a->cfg.com.have_geo = kelp_geo_init(&a->cfg.com.geo, lat0, lon0) == 0;
+    a->cfg.com.log = log_line;
+    a->cfg.com.log_ctx = a;
+    const char *why = NULL;
+    if (kelp_field_brs_init(&a->core, &a->cfg, kelp_app_time(app), &why) < 0)
+        return kelp_app_config_error(app, NULL, "BEACON: %s", why ? why : "bad");
+    const char *v;
+    for (unsigned i = 0; (v = kelp_field_brs_subscription(i)) != NULL; i++)
+        if (kelp_app_register(app, v, 0) < 0) return kelp_app_config_error(app, NULL, "cannot register %s", v);
+    printf("Simulated Range Sensor starting...\n");
+    if (kelp_field_brs_summary(&a->core, a->text, sizeof a->text) < 0) fputs("(summary truncated)\n", stdout);
+    fputs(a->text, stdout);
+    printf("Simulated Range Sensor started.\n");
+    fflush(stdout);
+    return 0;
+}
+
+static void on_mail(kelp_app *app, void *st, const kelp_var *v)
+{
+    brs_app *a = st;
+    if (v->kind == KELP_VAR_BINARY) return;
+    (void)kelp_field_brs_mail(&a->core, v->name, v->kind == KELP_VAR_STRING, v->sval, kelp_app_time(app), &a->sink);
+}
+
+static int iterate(kelp_app *app, void *st, double now)
+{
+    brs_app *a = st;
+    (void)app;
+    (void)kelp_field_brs_iterate(&a->core, now, &a->sink);
+    return 0;
+}
+
+static void report(kelp_app *app, void *st, FILE *out)
+{
+    brs_app *a = st;
+    (void)app;
+    if (kelp_field_brs_summary(&a->core, a->text, sizeof a->text) < 0) fputs("(summary truncated)\n", out);
+    fputs(a->text, out);
+}
+
+static const kelp_app_def def = {
+    .name = "uFldBeaconRangeSensor",
+    .purpose = "Simulate range-only sensing from vehicles to fixed beacons, on request or on a schedule.",
+    .ignore_own_posts = true,
+    .params = (const kelp_app_param_info[]){
+        { "BEACON", "x=200, y=435, label=01, report_range=45", "x, y (required), label, freq, shape, width, color, "
+          "report_range (push_dist), pull_dist; repeat; a label given again replaces that beacon", NULL },
+        { "DEFAULT_BEACON_FREQ", "never", "unsolicited period: never (default), <secs> or <a>:<b> (uniform)", NULL },
+        { "DEFAULT_BEACON_REPORT_RANGE", "100", "m (default 100) within which a vehicle hears a beacon; nolimit", NULL },
+        { "DEFAULT_BEACON_PUSH_DIST", "100", "24.8 name of DEFAULT_BEACON_REPORT_RANGE", "DEFAULT_BEACON_REPORT_RANGE" },
+        { "DEFAULT_BEACON_PULL_DIST", "0", "m added to a vehicle's reach (24.8; default 0)", NULL },
+        { "DEFAULT_BEACON_WIDTH", "4", "m (default 4) when rendered", NULL },
+        { "DEFAULT_BEACON_COLOR", "orange", "default orange", NULL },
+        { "DEFAULT BEACON_COLOR", "orange", "24.8's --example spelling", "DEFAULT_BEACON_COLOR" },
+        { "DEFAULT_BEACON_SHAPE", "circle", "circle (default), square, diamond, triangle, ...", NULL },
+        { "REACH_DISTANCE", "default = 100", "[<vname>|default =] m or nolimit a vehicle's request carries (100)", NULL },
+        { "NODE_PUSH_DIST", "default = 100", "24.8 name of REACH_DISTANCE", "REACH_DISTANCE" },
+        { "NODE_PULL_DIST", "default = 0", "[<vname>|default =] m added to the beacons' report range (0)", NULL },
+        { "PING_WAIT", "default = 30", "[<vname>|default =] s between honoured requests (30)", NULL },
+        { "PING_PAYMENTS", "upon_accept", "upon_accept (default, alias upon_receipt), upon_request, upon_response", NULL },
+        { "REPORT_VARS", "short", "short (BRS_RANGE_REPORT), long (BRS_RANGE_REPORT_<V>) or both", NULL },
+        { "GROUND_TRUTH", "false", "also post BRS_RANGE_REPORT_GT, the noiseless range (default false)", NULL },
+        { "RN_ALGORITHM", "uniform,pct=0", "noise: uniform,pct=<[0,1]> or gaussian,sigma=<m> (default none)", NULL },
+        { "RN_UNIFORM_PCT", "0", "uniform noise of this fraction of the range", "RN_ALGORITHM" },
+        { "RN_GAUSSIAN_SIGMA", "0", "gaussian noise of this sigma in m", "RN_ALGORITHM" },
+        { "REPORT_XY", "false", "x=,y= of the beacon in each report (default false)", NULL },
+        { "BEACON_ORDER", "reverse", "reverse (the seed's listings, default) or config (24.8's order)", NULL },
+        { "RAND_MODE", "kelp", "kelp (seeded by SEED_RANDOM) or glibc (rand() unseeded, as MOOS-IvP)", NULL },
+        { "SEED_RANDOM", "1", "seed of the kelp generator (default 1)", NULL },
+        { "VERBOSE", "false", "print events (default false; --verbose also)", NULL },
+        { "APP_LOGGING", "true", "accepted (record the bus with kelp-record)", NULL },
+        { NULL, NULL, NULL, NULL } },
+    .subscribes = (const kelp_app_var_info[]){
+        { "NODE_REPORT", "NAME=alpha,TYPE=UUV,TIME=1252348077.59,X=51.71,Y=-35.50,SPD=2.0,HDG=118.8", NULL },
+        { "NODE_REPORT_LOCAL", "NAME=alpha,TYPE=UUV,TIME=1252348077.59,X=51.71,Y=-35.50", NULL },
+        { "BRS_RANGE_REQUEST", "name=archie", NULL },
+        { NULL, NULL, NULL } },
+    .publishes = (const kelp_app_var_info[]){
+        { "BRS_RANGE_REPORT", "vname=indigo,range=166.7446,id=03,time=23371445385.6", "REPORT_VARS short/both" },
+        { "BRS_RANGE_REPORT_<VNAME>", "range=166.7446,id=03,time=23371445385.6", "REPORT_VARS long/both" },
+        { "BRS_RANGE_REPORT_GT", "vname=indigo,range=166.7446,id=03,time=23371445385.6", "GROUND_TRUTH" },
+        { "BRS_RANGE_REPORT_GT_<VNAME>", "range=166.7446,id=03,time=23371445385.6", "GROUND_TRUTH, long/both" },
+        { "VIEW_MARKER", "x=0,y=-200,label=03,color=orange,type=circle,width=4", "once per beacon" },
+        { "VIEW_RANGE_PULSE", "x=-97.65,y=-64.84,radius=50,duration=6,label=indigo_ping,edge_color=white,"
+                              "fill_color=white,time=3892830128.5,edge_size=1", "request white, reply pink, unsolicited green" },
+        { NULL, NULL, NULL } },
+    .notes = "Globals used: LatOrigin and LongOrigin (optional: X,Y for reports with only LAT,LON).\n",
+    .startup = startup,
+    .on_mail = on_mail,
+    .iterate = iterate,
+    .report = report,
+};
+
+int main(int argc, char **argv)
+{
+    static brs_app a;
+    return kelp_app_run(argc, argv, &def, &a);
+}

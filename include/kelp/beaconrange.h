@@ -1,0 +1,211 @@
+/* kelp range sensors, part 1: what the beacon and contact range sensors share (kelp_rsense_*),
+ * and uFldBeaconRangeSensor's logic (kelp_field_brs_*), uField seed chapter 10 and
+ * ufield.md section 10, with MOOS-IvP 24.8's names accepted as aliases.
+ *
+ * Range model. A request from vehicle V reaches beacon B when
+ *     reach(V) + pull(B) >= |VB|    (REACH_DISTANCE, alias 24.8's node_push_dist; beacon pull_dist, 0)
+ * and B's report reaches vehicle U when
+ *     report_range(B) + pull(U) >= |UB|   (report_range, alias 24.8's push_dist; node_pull_dist, 0)
+ * where a negative distance ("nolimit") always passes. With the seed's parameters only (pulls
+ * 0) this is the seed's rule; a 24.8 block that sets the push/pull distances gets 24.8's sums.
+ * A solicited reply goes to every vehicle in report range (the seed), not only the requester.
+ *
+ * Randomness: RAND_MODE = kelp (the default; kelp_rng seeded by SEED_RANDOM) or glibc
+ * (kelp_glibc_rand seeded 1, i.e. the rand() sequence of a program that never calls srand).
+ * In glibc mode the values are drawn where and as MOOS-IvP 24.8 draws them, with its
+ * arithmetic: uniform noise (rand() % 10000) / 5000 - 1, an unsolicited interval
+ * lo + (rand() % 1000) / 1000 * (hi - lo) (drawn when a beacon's freq is configured, on its
+ * first iteration, after each unsolicited post and after each solicited reply, also for a
+ * fixed freq), gaussian noise MOOSWhiteNoise's polar method with its cached second value.
+ * Set BEACON_ORDER = config as well to iterate beacons in 24.8's order.
+ */
+#ifndef KELP_BEACONRANGE_H
+#define KELP_BEACONRANGE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <kelp/config.h>
+#include <kelp/err.h>
+#include <kelp/field.h>
+#include <kelp/geo.h>
+#include <kelp/rng.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------------------ shared */
+
+#ifndef KELP_RSENSE_MAX_NODES
+#define KELP_RSENSE_MAX_NODES 128   /**< vehicles known from node reports */
+#endif
+#ifndef KELP_RSENSE_MAX_VCFG
+#define KELP_RSENSE_MAX_VCFG 32     /**< per-vehicle entries of one parameter (REACH_DISTANCE = henry = 40) */
+#endif
+#define KELP_RSENSE_NAME KELP_NODEREPORT_MAX_FIELD
+
+typedef enum kelp_rsense_noise_alg {
+    KELP_RSENSE_NOISE_NONE = 0,
+    KELP_RSENSE_NOISE_UNIFORM,   /**< r + U(-pct r, +pct r) */
+    KELP_RSENSE_NOISE_GAUSSIAN   /**< r + N(0, sigma) */
+} kelp_rsense_noise_alg;
+
+typedef enum kelp_rsense_vars {
+    KELP_RSENSE_SHORT = 0,       /**< <PFX>_RANGE_REPORT with vname= */
+    KELP_RSENSE_LONG,            /**< <PFX>_RANGE_REPORT_<VNAME> */
+    KELP_RSENSE_BOTH
+} kelp_rsense_vars;
+
+/** One parameter given per vehicle: `default = v`, `<vname> = v`, or a bare `v`. A negative
+ *  value is "nolimit". */
+typedef struct kelp_rsense_vmap {
+    double dflt;
+    char name[KELP_RSENSE_MAX_VCFG][KELP_RSENSE_NAME];
+    double v[KELP_RSENSE_MAX_VCFG];
+    unsigned n;
+} kelp_rsense_vmap;
+
+/** The random source (in the tool's struct; no global state). */
+typedef struct kelp_rsense_rand {
+    bool glibc;                  /**< RAND_MODE = glibc */
+    kelp_rng rng;
+    kelp_glibc_rand g;
+    bool have_gset;              /**< MOOSWhiteNoise's cached second deviate */
+    double gset;
+    unsigned long draws;         /**< values drawn so far */
+} kelp_rsense_rand;
+
+typedef struct kelp_rsense_noise {
+    kelp_rsense_noise_alg alg;
+    double pct;                  /**< uniform: fraction of the range in [0,1] */
+    double sigma;                /**< gaussian: metres */
+} kelp_rsense_noise;
+
+typedef struct kelp_rsense_node {
+    char name[KELP_RSENSE_NAME]; /**< as it arrived (compared case-insensitively) */
+    char type[KELP_RSENSE_NAME];
+    double x, y, hdg;
+    double clock;                /**< ping-wait clock (starts at the tool's start) */
+    unsigned long reports, pings, denied, accepted, heard;
+} kelp_rsense_node;
+
+/** Verbose console lines (may be NULL): the seed's event output. */
+typedef void (*kelp_rsense_log_fn)(void *ctx, const char *line);
+
+/** The parameters both sensors take. */
+typedef struct kelp_rsense_common {
+    kelp_rsense_vmap ping_wait;  /**< PING_WAIT 30 s */
+    kelp_rsense_vars report_vars;/**< REPORT_VARS (short) */
+    kelp_rsense_noise noise;     /**< RN_ALGORITHM, RN_UNIFORM_PCT, RN_GAUSSIAN_SIGMA (none) */
+    bool ground_truth;           /**< GROUND_TRUTH (false, A60, A69) */
+    bool verbose;                /**< VERBOSE (false) */
+    bool glibc;                  /**< RAND_MODE = glibc (default kelp) */
+    uint64_t seed;               /**< SEED_RANDOM (1) */
+    kelp_geo geo;                /**< datum for reports with only LAT,LON */
+    bool have_geo;
+    kelp_rsense_log_fn log;      /**< verbose lines (NULL: none) */
+    void *log_ctx;
+} kelp_rsense_common;
+
+void kelp_rsense_common_default(kelp_rsense_common *c);
+/** PING_WAIT, REPORT_VARS, RN_ALGORITHM, RN_UNIFORM_PCT, RN_GAUSSIAN_SIGMA, GROUND_TRUTH,
+ *  VERBOSE, RAND_MODE, SEED_RANDOM (v already trimmed). @return 1, 0 not one, <0 with *why. */
+KELP_MUST_CHECK int kelp_rsense_common_config(kelp_rsense_common *c, const char *key, const char *v, const char **why);
+
+/** Value of name in m (default when not listed). */
+double kelp_rsense_vmap_get(const kelp_rsense_vmap *m, const char *name);
+/** Apply "default = v", "<vname> = v" or "v" (v a number, or nolimit/unlimited = -1 when
+ *  allow_nolimit). @return 1, or <0 with *why. */
+KELP_MUST_CHECK int kelp_rsense_vmap_set(kelp_rsense_vmap *m, const char *val, bool allow_nolimit, const char **why);
+/** RN_ALGORITHM: "uniform,pct=0.12", "gaussian,sigma=1.5" (also "gauss"), "none".
+ *  @return 1 or <0 with *why. */
+KELP_MUST_CHECK int kelp_rsense_noise_set(kelp_rsense_noise *n, const char *val, const char **why);
+void kelp_rsense_rand_init(kelp_rsense_rand *r, bool glibc, uint64_t seed);
+/** The noisy range (draws one value for uniform, MOOSWhiteNoise's pattern for gaussian,
+ *  nothing for none). */
+double kelp_rsense_noisy(kelp_rsense_rand *r, const kelp_rsense_noise *n, double range);
+/** Uniform in [lo, hi] as the mode draws it (glibc: lo + (rand()%1000)/1000*(hi-lo)). */
+double kelp_rsense_interval(kelp_rsense_rand *r, double lo, double hi);
+/** Uniform in [0,1) (glibc: (rand()%10000)/10000). */
+double kelp_rsense_unit(kelp_rsense_rand *r);
+
+/* ------------------------------------------------------------------ uFldBeaconRangeSensor */
+
+#ifndef KELP_BRS_MAX_BEACONS
+#define KELP_BRS_MAX_BEACONS 64
+#endif
+#define KELP_BRS_SPEC_LEN 256    /**< bytes of one BEACON line, with NUL */
+#define KELP_BRS_LABEL 32
+
+typedef enum kelp_brs_payments {
+    KELP_BRS_UPON_ACCEPT = 0,    /**< the clock restarts when a request is honoured (default) */
+    KELP_BRS_UPON_REQUEST,       /**< ... at every request, honoured or not */
+    KELP_BRS_UPON_RESPONSE       /**< ... only when the requester got a report */
+} kelp_brs_payments;
+
+typedef struct kelp_brs_beacon {
+    char label[KELP_BRS_LABEL];
+    char shape[KELP_BRS_LABEL];
+    char color[KELP_BRS_LABEL];
+    double x, y, width;
+    double freq_lo, freq_hi;     /**< unsolicited period s, fixed (lo == hi) or uniform; < 0 never */
+    double push;                 /**< report_range m (< 0 nolimit) */
+    double pull;                 /**< 24.8 pull_dist m, added to reach (0) */
+    double next;                 /**< time of the next unsolicited report (-1 none yet) */
+    bool freq_set;               /**< freq given on its own line (24.8 draws then) */
+    unsigned long heard, replies, unsol;
+} kelp_brs_beacon;
+
+typedef struct kelp_field_brs_cfg {
+    kelp_brs_beacon dflt;        /**< DEFAULT_BEACON_* (orange circle 4 m, report range 100, never) */
+    char spec[KELP_BRS_MAX_BEACONS][KELP_BRS_SPEC_LEN]; /**< BEACON lines, applied after the defaults */
+    unsigned nspec;
+    kelp_rsense_vmap reach;      /**< REACH_DISTANCE (node_push_dist) 100 */
+    kelp_rsense_vmap node_pull;  /**< 24.8 node_pull_dist (0) */
+    kelp_rsense_common com;
+    kelp_brs_payments payments;
+    bool report_xy;              /**< REPORT_XY (false): x=,y= of the beacon in each report */
+    bool config_order;           /**< BEACON_ORDER = config (24.8); default reverse (the seed's listings) */
+} kelp_field_brs_cfg;
+
+typedef struct kelp_field_brs {
+    kelp_field_brs_cfg cfg;
+    kelp_brs_beacon beacon[KELP_BRS_MAX_BEACONS]; /**< in iteration order */
+    unsigned nbeacons;
+    kelp_rsense_node node[KELP_RSENSE_MAX_NODES]; /**< sorted by name (strcmp), as 24.8's map */
+    unsigned nnodes;
+    kelp_rsense_rand rand;
+    double start;
+    bool started;                /**< markers posted, timers drawn (first iterate) */
+    unsigned long requests, denied, accepted, reports, bad_mail, unknown;
+} kelp_field_brs;
+
+/** The seed's defaults (ufield.md 10.1). */
+void kelp_field_brs_cfg_default(kelp_field_brs_cfg *cfg);
+/** One block parameter (case-insensitive, a trailing ';' ignored): BEACON,
+ *  DEFAULT_BEACON_FREQ/_REPORT_RANGE/_WIDTH/_COLOR/_SHAPE (24.8: _PUSH_DIST, _PULL_DIST,
+ *  and its example's "default beacon_color"), REACH_DISTANCE (node_push_dist),
+ *  NODE_PULL_DIST, PING_WAIT, PING_PAYMENTS, REPORT_VARS, GROUND_TRUTH, RN_ALGORITHM,
+ *  RN_UNIFORM_PCT, RN_GAUSSIAN_SIGMA, VERBOSE, REPORT_XY, BEACON_ORDER, RAND_MODE,
+ *  SEED_RANDOM. @return 1 taken, 2 taken with a warning in *why, 0 not its key, <0 with *why. */
+KELP_MUST_CHECK int kelp_field_brs_config(kelp_field_brs_cfg *cfg, const char *key, const char *val, const char **why);
+/** Build the beacons and start at `now`. @return 0, or <0 with *why (a bad BEACON). */
+KELP_MUST_CHECK int kelp_field_brs_init(kelp_field_brs *b, const kelp_field_brs_cfg *cfg, double now, const char **why);
+const char *kelp_field_brs_subscription(unsigned i);
+/** NODE_REPORT, NODE_REPORT_LOCAL, BRS_RANGE_REQUEST. @return 1 used, 0 not ours, <0 bad
+ *  (a warning through out->warn). */
+int kelp_field_brs_mail(kelp_field_brs *b, const char *var, bool is_string, const char *sval, double now,
+                        const kelp_field_sink *out);
+/** First call: VIEW_MARKER per beacon, unsolicited timers drawn. Then unsolicited reports.
+ *  @return the range reports posted. */
+unsigned long kelp_field_brs_iterate(kelp_field_brs *b, double now, const kelp_field_sink *out);
+/** The startup block of Listing 25 ("SRS Model - # Beacons: ..."). @return 0 or KELP_ERR_NOSPACE. */
+KELP_MUST_CHECK int kelp_field_brs_summary(const kelp_field_brs *b, char *buf, size_t cap);
+/** Index of a beacon by label, or -1. */
+int kelp_field_brs_find(const kelp_field_brs *b, const char *label);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,68 @@
+/* kelp range sensors, part 2: uFldContactRangeSensor's logic (kelp_field_crs_*), uField seed
+ * chapter 11 and ufield.md section 11, with MOOS-IvP 24.8's names accepted as aliases
+ * (push_dist = REACH_DISTANCE, pull_dist = REPLY_DISTANCE, echo_color = REPLY_COLOR).
+ *
+ * A ping from R (CRS_RANGE_REQUEST = name=R), honoured at most every PING_WAIT(R) seconds
+ * (the clock restarts only when a ping is honoured), reports the range to every other known
+ * vehicle T with |RT| <= reach(R) + reply(T), or either nolimit; only R gets the reports.
+ * 24.8's additions: allow_echo_types (target types), ignore_group, sensor_arc (relative
+ * bearings R hears in, from R's HDG), display_pulses, and ECHO_FALLOFF = true (its
+ * probabilistic detection beyond reach + reply, exp(3 (max - r) / max); off by default as the
+ * seed has none). Randomness as in kelp/beaconrange.h (RAND_MODE, SEED_RANDOM).
+ */
+#ifndef KELP_CONTACTRANGE_H
+#define KELP_CONTACTRANGE_H
+
+#include <kelp/beaconrange.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define KELP_CRS_MAX_TYPES 8     /**< allow_echo_types entries */
+#define KELP_CRS_MAX_ARCS 8      /**< sensor_arc intervals */
+
+typedef struct kelp_field_crs_cfg {
+    kelp_rsense_vmap reach;      /**< REACH_DISTANCE (push_dist) 100 */
+    kelp_rsense_vmap reply;      /**< REPLY_DISTANCE (pull_dist) 100 */
+    kelp_rsense_common com;
+    bool display_pulses;         /**< DISPLAY_PULSES (true) */
+    bool echo_falloff;           /**< ECHO_FALLOFF (false) */
+    char ping_color[KELP_VIEW_MAX_FIELD];   /**< PING_COLOR (white) */
+    char reply_color[KELP_VIEW_MAX_FIELD];  /**< REPLY_COLOR / ECHO_COLOR (chartreuse) */
+    char ignore_group[KELP_RSENSE_NAME];    /**< IGNORE_GROUP ("" none) */
+    char types[KELP_CRS_MAX_TYPES][KELP_RSENSE_NAME]; /**< ALLOW_ECHO_TYPES (none: all) */
+    unsigned ntypes;
+    double arc[KELP_CRS_MAX_ARCS][2];       /**< SENSOR_ARC "a:b" relative bearings (none: all) */
+    unsigned narcs;
+} kelp_field_crs_cfg;
+
+typedef struct kelp_field_crs {
+    kelp_field_crs_cfg cfg;
+    kelp_rsense_node node[KELP_RSENSE_MAX_NODES]; /**< sorted by name (strcmp) */
+    unsigned nnodes;
+    kelp_rsense_rand rand;
+    double start;
+    unsigned long requests, denied, accepted, reports, bad_mail, unknown, too_far;
+} kelp_field_crs;
+
+void kelp_field_crs_cfg_default(kelp_field_crs_cfg *cfg);
+/** One block parameter: REACH_DISTANCE (push_dist, push_distance), REPLY_DISTANCE (pull_dist,
+ *  pull_distance), PING_WAIT, REPORT_VARS, GROUND_TRUTH, VERBOSE, DISPLAY_PULSES, PING_COLOR,
+ *  REPLY_COLOR (echo_color), RN_ALGORITHM, RN_UNIFORM_PCT, RN_GAUSSIAN_SIGMA,
+ *  ALLOW_ECHO_TYPES, IGNORE_GROUP, SENSOR_ARC, ECHO_FALLOFF, RAND_MODE, SEED_RANDOM.
+ *  @return 1 taken, 0 not its key, <0 with *why. */
+KELP_MUST_CHECK int kelp_field_crs_config(kelp_field_crs_cfg *cfg, const char *key, const char *val, const char **why);
+void kelp_field_crs_init(kelp_field_crs *c, const kelp_field_crs_cfg *cfg, double now);
+const char *kelp_field_crs_subscription(unsigned i);
+/** NODE_REPORT, NODE_REPORT_LOCAL, CRS_RANGE_REQUEST. @return 1 used, 0 not ours, <0 bad. */
+int kelp_field_crs_mail(kelp_field_crs *c, const char *var, bool is_string, const char *sval, double now,
+                        const kelp_field_sink *out);
+/** The startup block of Listing 29 ("Default Reach Distance: ..."). @return 0 or KELP_ERR_NOSPACE. */
+KELP_MUST_CHECK int kelp_field_crs_summary(const kelp_field_crs *c, char *buf, size_t cap);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

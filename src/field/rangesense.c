@@ -1,0 +1,435 @@
+/* What the beacon and contact range sensors share (include/kelp/beaconrange.h): per-vehicle
+ * parameters, the noise models and their random draws, the vehicle table, and the report
+ * and pulse strings (ufield.md 1.6, 1.9). */
+#include <math.h>
+#include <stdarg.h>
+#include <string.h>
+#include <kelp/beaconrange.h>
+#include <kelp/kv.h>
+#include <kelp/nodereport.h>
+#include <kelp/util.h>
+#include "field_int.h"
+#include "rangesense_int.h"
+
+void rs_copy(char *dst, size_t cap, const char *src, size_t n)
+{
+    if (!cap) return;
+    if (n >= cap) n = cap - 1;
+    memcpy(dst, src, n);
+    dst[n] = 0;
+}
+
+static bool blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
+
+int rs_value(const char *val, char *v, size_t cap, const char **why)
+{
+    while (*val && blank(*val)) val++;
+    size_t n = strlen(val);
+    if (n >= cap) {
+        *why = "value too long";
+        return KELP_ERR_RANGE;
+    }
+    memcpy(v, val, n + 1);
+    while (n && (v[n - 1] == ';' || blank(v[n - 1]))) v[--n] = 0; /* "ping_wait = 30;" (A3) */
+    return (int)n;
+}
+
+bool rs_trans(double push, double pull, double d)
+{
+    if (push < 0 || pull < 0) return true;
+    return d <= push + pull;
+}
+
+/* ------------------------------------------------------------------ per-vehicle values */
+
+double kelp_rsense_vmap_get(const kelp_rsense_vmap *m, const char *name)
+{
+    for (unsigned i = 0; i < m->n; i++)
+        if (kelp_strieq(m->name[i], name)) return m->v[i];
+    return m->dflt;
+}
+
+static int parse_dist(const char *s, size_t n, bool allow_nolimit, double *out)
+{
+    if (allow_nolimit && (kelp_strieq_n(s, n, "nolimit") || kelp_strieq_n(s, n, "unlimited"))) {
+        *out = -1;
+        return KELP_OK;
+    }
+    double d;
+    if (kelp_parse_double(s, n, &d) < 0 || !isfinite(d)) return KELP_ERR_PARSE;
+    *out = d;
+    return KELP_OK;
+}
+
+int kelp_rsense_vmap_set(kelp_rsense_vmap *m, const char *val, bool allow_nolimit, const char **why)
+{
+    const char *eq = strchr(val, '=');
+    const char *name = NULL;
+    size_t nl = 0;
+    const char *num = val;
+    if (eq) {
+        name = val;
+        nl = (size_t)(eq - val);
+        while (nl && blank(name[nl - 1])) nl--;
+        while (nl && blank(*name)) name++, nl--;
+        num = eq + 1;
+    }
+    while (*num && blank(*num)) num++;
+    size_t vl = strlen(num);
+    while (vl && blank(num[vl - 1])) vl--;
+    double d;
+    if (parse_dist(num, vl, allow_nolimit, &d) < 0) {
+        *why = allow_nolimit ? "must be [<vname>|default =] <number or nolimit>" : "must be [<vname>|default =] <number>";
+        return KELP_ERR_PARSE;
+    }
+    if (!allow_nolimit && d < 0) d = 0; /* a negative ping wait: no wait */
+    if (!name || kelp_strieq_n(name, nl, "default")) {
+        m->dflt = d;
+        return 1;
+    }
+    if (nl == 0 || nl >= KELP_RSENSE_NAME || memchr(name, ',', nl)) {
+        *why = "bad vehicle name";
+        return KELP_ERR_PARSE;
+    }
+    for (unsigned i = 0; i < m->n; i++)
+        if (kelp_strieq_n(name, nl, m->name[i])) {
+            m->v[i] = d;
+            return 1;
+        }
+    if (m->n >= KELP_RSENSE_MAX_VCFG) {
+        *why = "too many vehicles named for this parameter";
+        return KELP_ERR_NOSPACE;
+    }
+    rs_copy(m->name[m->n], KELP_RSENSE_NAME, name, nl);
+    m->v[m->n++] = d;
+    return 1;
+}
+
+/* ------------------------------------------------------------------ common parameters */
+
+void kelp_rsense_common_default(kelp_rsense_common *c)
+{
+    memset(c, 0, sizeof *c);
+    c->ping_wait.dflt = 30; /* A63 */
+    c->report_vars = KELP_RSENSE_SHORT;
+    c->seed = 1;
+}
+
+int kelp_rsense_common_config(kelp_rsense_common *c, const char *key, const char *v, const char **why)
+{
+    size_t kl = strlen(key), n = strlen(v);
+    if (kelp_strieq_n(key, kl, "PING_WAIT")) return kelp_rsense_vmap_set(&c->ping_wait, v, false, why);
+    if (kelp_strieq_n(key, kl, "REPORT_VARS")) {
+        if (kelp_strieq_n(v, n, "short")) c->report_vars = KELP_RSENSE_SHORT;
+        else if (kelp_strieq_n(v, n, "long")) c->report_vars = KELP_RSENSE_LONG;
+        else if (kelp_strieq_n(v, n, "both")) c->report_vars = KELP_RSENSE_BOTH;
+        else return *why = "must be short, long or both", KELP_ERR_PARSE;
+        return 1;
+    }
+    if (kelp_strieq_n(key, kl, "RN_ALGORITHM")) return kelp_rsense_noise_set(&c->noise, v, why);
+    if (kelp_strieq_n(key, kl, "RN_UNIFORM_PCT") || kelp_strieq_n(key, kl, "RN_GAUSSIAN_SIGMA")) {
+        char spec[300];
+        bool uni = kelp_strieq_n(key, kl, "RN_UNIFORM_PCT");
+        kelp_snprintf(spec, sizeof spec, "%s,%s=%s", uni ? "uniform" : "gaussian", uni ? "pct" : "sigma", v);
+        return kelp_rsense_noise_set(&c->noise, spec, why);
+    }
+    if (kelp_strieq_n(key, kl, "GROUND_TRUTH") || kelp_strieq_n(key, kl, "VERBOSE")) {
+        bool f;
+        if (kelp_parse_bool(v, n, &f) < 0) return *why = "must be true or false", KELP_ERR_PARSE;
+        if (kelp_strieq_n(key, kl, "VERBOSE")) c->verbose = f;
+        else c->ground_truth = f;
+        return 1;
+    }
+    if (kelp_strieq_n(key, kl, "RAND_MODE")) {
+        if (kelp_strieq_n(v, n, "glibc")) c->glibc = true;
+        else if (kelp_strieq_n(v, n, "kelp")) c->glibc = false;
+        else return *why = "must be kelp or glibc", KELP_ERR_PARSE;
+        return 1;
+    }
+    if (kelp_strieq_n(key, kl, "SEED_RANDOM")) {
+        long long s;
+        if (kelp_parse_llong(v, n, &s) < 0) return *why = "must be an integer", KELP_ERR_PARSE;
+        c->seed = (uint64_t)s;
+        return 1;
+    }
+    return 0;
+}
+
+/* ------------------------------------------------------------------ noise */
+
+int kelp_rsense_noise_set(kelp_rsense_noise *n, const char *val, const char **why)
+{
+    const char *c = strchr(val, ',');
+    size_t al = c ? (size_t)(c - val) : strlen(val);
+    while (al && blank(val[al - 1])) al--;
+    while (al && blank(*val)) val++, al--;
+    kelp_rsense_noise t = *n;
+    if (kelp_strieq_n(val, al, "uniform")) {
+        t.alg = KELP_RSENSE_NOISE_UNIFORM;
+    } else if (kelp_strieq_n(val, al, "gaussian") || kelp_strieq_n(val, al, "gauss")) {
+        t.alg = KELP_RSENSE_NOISE_GAUSSIAN;
+    } else if (kelp_strieq_n(val, al, "none") && !c) {
+        n->alg = KELP_RSENSE_NOISE_NONE;
+        return 1;
+    } else {
+        *why = "algorithm must be uniform (pct=) or gaussian (sigma=)";
+        return KELP_ERR_PARSE;
+    }
+    if (c) {
+        size_t pos = 0;
+        const char *k, *v;
+        size_t kl, vl;
+        int rc;
+        while ((rc = kelp_kv_next(c + 1, ',', &pos, &k, &kl, &v, &vl)) == 1) {
+            double d;
+            if (kelp_parse_double(v, vl, &d) < 0 || !isfinite(d)) {
+                *why = "bad number";
+                return KELP_ERR_PARSE;
+            }
+            if (kelp_strieq_n(k, kl, "pct"))
+                t.pct = d < 0 ? 0 : d > 1 ? 1 : d; /* clipped to [0,1] as 24.8 does */
+            else if (kelp_strieq_n(k, kl, "sigma"))
+                t.sigma = d < 0 ? 0 : d;
+            else {
+                *why = "unknown noise parameter (pct or sigma)";
+                return KELP_ERR_PARSE;
+            }
+        }
+        if (rc < 0) {
+            *why = "expected key=value after the algorithm";
+            return KELP_ERR_PARSE;
+        }
+    }
+    *n = t;
+    return 1;
+}
+
+void kelp_rsense_rand_init(kelp_rsense_rand *r, bool glibc, uint64_t seed)
+{
+    memset(r, 0, sizeof *r);
+    r->glibc = glibc;
+    kelp_rng_seed(&r->rng, seed);
+    kelp_glibc_rand_seed(&r->g, 1); /* a program that never calls srand */
+}
+
+static int32_t grand(kelp_rsense_rand *r)
+{
+    r->draws++;
+    return kelp_glibc_rand_next(&r->g);
+}
+
+static double kuni(kelp_rsense_rand *r)
+{
+    r->draws++;
+    return kelp_rng_uniform(&r->rng);
+}
+
+/* MOOSWhiteNoise: Marsaglia's polar method on rand()/RAND_MAX, the second deviate kept for
+ * the next call */
+static double white_noise(kelp_rsense_rand *r, double sigma)
+{
+    if (r->have_gset) {
+        r->have_gset = false;
+        return r->gset * sigma;
+    }
+    double v1, v2, s;
+    do {
+        v1 = 2.0 * ((double)grand(r) / KELP_GLIBC_RAND_MAX) - 1.0;
+        v2 = 2.0 * ((double)grand(r) / KELP_GLIBC_RAND_MAX) - 1.0;
+        s = v1 * v1 + v2 * v2;
+    } while (s > 1.0 || s == 0.0);
+    double fac = sqrt(-2.0 * log(s) / s);
+    r->gset = v1 * fac;
+    r->have_gset = true;
+    return v2 * fac * sigma;
+}
+
+double kelp_rsense_noisy(kelp_rsense_rand *r, const kelp_rsense_noise *n, double range)
+{
+    switch (n->alg) {
+    case KELP_RSENSE_NOISE_UNIFORM: {
+        double u = r->glibc ? (double)(grand(r) % 10000) / 5000.0 - 1.0 : 2.0 * kuni(r) - 1.0;
+        return range + u * n->pct * range;
+    }
+    case KELP_RSENSE_NOISE_GAUSSIAN:
+        if (r->glibc) return range + white_noise(r, n->sigma);
+        r->draws += 2;
+        return range + kelp_rng_gauss(&r->rng, 0.0, n->sigma);
+    case KELP_RSENSE_NOISE_NONE:
+    default:
+        return range;
+    }
+}
+
+double kelp_rsense_interval(kelp_rsense_rand *r, double lo, double hi)
+{
+    double u = r->glibc ? (double)(grand(r) % 1000) / 1000.0 : kuni(r);
+    return lo + u * (hi - lo);
+}
+
+double kelp_rsense_unit(kelp_rsense_rand *r)
+{
+    return r->glibc ? (double)(grand(r) % 10000) / 10000.0 : kuni(r);
+}
+
+/* ------------------------------------------------------------------ vehicles */
+
+int rs_find(const kelp_rsense_node *nodes, unsigned n, const char *name)
+{
+    for (unsigned i = 0; i < n; i++)
+        if (kelp_strieq(nodes[i].name, name)) return (int)i;
+    return -1;
+}
+
+int rs_node_report(kelp_rsense_node *nodes, unsigned *n, const char *s, const kelp_geo *geo, bool have_geo,
+                   const char *ignore_group, double start, int *idx, bool *first, const char **why)
+{
+    kelp_nodereport r;
+    *first = false;
+    int rc = kelp_nodereport_parse(s, strlen(s), &r, why);
+    if (rc < 0) return rc;
+    if (!(r.fields & KELP_NR_X) || !(r.fields & KELP_NR_Y)) {
+        if (!have_geo || kelp_nodereport_complete(&r, geo) < 0 || !(r.fields & KELP_NR_X)) {
+            *why = "no X,Y (and no datum for LAT,LON)";
+            return KELP_ERR_PARSE;
+        }
+    }
+    int i = rs_find(nodes, *n, r.name);
+    if (ignore_group && *ignore_group && (r.fields & KELP_NR_GROUP) && kelp_strieq(r.group, ignore_group)) {
+        if (i >= 0) { /* 24.8 ignore_group: the vehicle is forgotten */
+            memmove(&nodes[i], &nodes[i + 1], (*n - (unsigned)i - 1) * sizeof nodes[0]);
+            (*n)--;
+        }
+        return 0;
+    }
+    if (i < 0) {
+        if (*n >= KELP_RSENSE_MAX_NODES) {
+            *why = "too many vehicles";
+            return KELP_ERR_NOSPACE;
+        }
+        unsigned at = 0;
+        while (at < *n && strcmp(nodes[at].name, r.name) < 0) at++;
+        memmove(&nodes[at + 1], &nodes[at], (*n - at) * sizeof nodes[0]);
+        memset(&nodes[at], 0, sizeof nodes[at]);
+        rs_copy(nodes[at].name, sizeof nodes[at].name, r.name, strlen(r.name));
+        nodes[at].clock = start;
+        (*n)++;
+        i = (int)at;
+        *first = true;
+    }
+    kelp_rsense_node *v = &nodes[i];
+    v->x = r.x;
+    v->y = r.y;
+    if (r.fields & KELP_NR_HDG) v->hdg = r.hdg;
+    if (r.fields & KELP_NR_TYPE) rs_copy(v->type, sizeof v->type, r.type, strlen(r.type));
+    v->reports++;
+    *idx = i;
+    return 1;
+}
+
+int rs_request_name(const char *s, char *name, size_t cap)
+{
+    int rc = kelp_kv_get(s, ',', "name", name, cap);
+    if (rc == 0) rc = kelp_kv_get(s, ',', "vname", name, cap);
+    if (rc <= 0 || !*name) return KELP_ERR_PARSE;
+    return KELP_OK;
+}
+
+/* ------------------------------------------------------------------ posts */
+
+static void upper(char *s)
+{
+    for (; *s; s++)
+        if (*s >= 'a' && *s <= 'z') *s = (char)(*s - 'a' + 'A');
+}
+
+void rs_post_report(const kelp_field_sink *out, const char *pfx, bool gt, kelp_rsense_vars vars, const char *vname,
+                    double range, const char *key, const char *id, const double *xy, double now)
+{
+    char body[256], var[KELP_MAX_NAME + KELP_RSENSE_NAME];
+    size_t n = 0;
+    int rc = field_put_str(body, sizeof body, &n, "range=");
+    if (rc == 0) rc = field_put_fixed(body, sizeof body, &n, range, 4, true);
+    if (rc == 0 && key) {
+        field_putf(body, sizeof body, &n, ",%s=%s", key, id);
+        if (xy) {
+            rc = field_put_str(body, sizeof body, &n, ",x=");
+            if (rc == 0) rc = field_put_fixed(body, sizeof body, &n, xy[0], 2, true);
+            if (rc == 0) rc = field_put_str(body, sizeof body, &n, ",y=");
+            if (rc == 0) rc = field_put_fixed(body, sizeof body, &n, xy[1], 2, true);
+        }
+    }
+    if (rc == 0) rc = field_put_str(body, sizeof body, &n, ",time=");
+    if (rc == 0) rc = field_put_fixed(body, sizeof body, &n, now, 3, true);
+    if (rc < 0) {
+        rs_warn(out, "cannot format a range report for ", vname, RS_END);
+        return;
+    }
+    if (vars != KELP_RSENSE_LONG) {
+        char full[320];
+        size_t m = 0;
+        field_putf(full, sizeof full, &m, "vname=%s,%s", vname, body);
+        kelp_snprintf(var, sizeof var, "%s_RANGE_REPORT%s", pfx, gt ? "_GT" : "");
+        out->publish(out->ctx, var, true, full, 0);
+    }
+    if (vars != KELP_RSENSE_SHORT) {
+        kelp_snprintf(var, sizeof var, "%s_RANGE_REPORT%s_%s", pfx, gt ? "_GT" : "", vname);
+        upper(var);
+        out->publish(out->ctx, var, true, body, 0);
+    }
+}
+
+void rs_pulse(const kelp_field_sink *out, double x, double y, double radius, double duration, const char *label,
+              const char *color, double now, bool edge_size)
+{
+    char buf[320];
+    size_t n = 0;
+    int rc = field_put_str(buf, sizeof buf, &n, "x=");
+    if (rc == 0) rc = field_put_fixed(buf, sizeof buf, &n, x, 2, true);
+    if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",y=");
+    if (rc == 0) rc = field_put_fixed(buf, sizeof buf, &n, y, 2, true);
+    if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",radius=");
+    if (rc == 0) rc = field_put_fixed(buf, sizeof buf, &n, radius, 2, true);
+    if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",duration=");
+    if (rc == 0) rc = field_put_fixed(buf, sizeof buf, &n, duration, 2, true);
+    if (rc == 0) {
+        field_putf(buf, sizeof buf, &n, ",label=%s,edge_color=%s,fill_color=%s,time=", label, color, color);
+        rc = field_put_fixed(buf, sizeof buf, &n, now, 2, true);
+    }
+    if (rc == 0 && edge_size) rc = field_put_str(buf, sizeof buf, &n, ",edge_size=1");
+    if (rc < 0) {
+        rs_warn(out, "cannot format a range pulse ", label, RS_END);
+        return;
+    }
+    out->publish(out->ctx, "VIEW_RANGE_PULSE", true, buf, 0);
+}
+
+static void join(char *buf, size_t cap, const char *a, va_list ap)
+{
+    size_t n = 0;
+    buf[0] = 0;
+    for (const char *p = a; p; p = va_arg(ap, const char *))
+        if (field_put_str(buf, cap, &n, p) < 0) break;
+}
+
+void rs_log(kelp_rsense_log_fn fn, void *ctx, const char *a, ...)
+{
+    if (!fn) return;
+    char buf[256];
+    va_list ap;
+    va_start(ap, a);
+    join(buf, sizeof buf, a, ap);
+    va_end(ap);
+    fn(ctx, buf);
+}
+
+void rs_warn(const kelp_field_sink *out, const char *a, ...)
+{
+    if (!out || !out->warn) return;
+    char buf[256];
+    va_list ap;
+    va_start(ap, a);
+    join(buf, sizeof buf, a, ap);
+    va_end(ap);
+    out->warn(out->ctx, buf);
+}

@@ -1,0 +1,641 @@
+/* The beacon and contact range sensors (src/field/beaconrange.c, contactrange.c,
+ * rangesense.c): ufield.md 10.5 and 11.5, the noise models' statistics, and the glibc draws. */
+#include <check.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <kelp/beaconrange.h>
+#include <kelp/contactrange.h>
+#include <kelp/kv.h>
+
+#define REC_MAX 256
+typedef struct rec {
+    int n, warns;
+    char var[REC_MAX][48];
+    char val[REC_MAX][320];
+} rec;
+
+static void pub(void *ctx, const char *var, bool is_string, const char *sval, double dval)
+{
+    rec *r = ctx;
+    (void)dval;
+    if (r->n >= REC_MAX) return;
+    snprintf(r->var[r->n], sizeof r->var[0], "%s", var);
+    snprintf(r->val[r->n], sizeof r->val[0], "%s", is_string ? sval : "");
+    r->n++;
+}
+
+static void wrn(void *ctx, const char *msg)
+{
+    (void)msg;
+    ((rec *)ctx)->warns++;
+}
+
+static int count(const rec *r, const char *var)
+{
+    int k = 0;
+    for (int i = 0; i < r->n; i++) k += strcmp(r->var[i], var) == 0;
+    return k;
+}
+
+/* the k-th value posted on var, or NULL */
+static const char *nth(const rec *r, const char *var, int k)
+{
+    for (int i = 0; i < r->n; i++)
+        if (strcmp(r->var[i], var) == 0 && k-- == 0) return r->val[i];
+    return NULL;
+}
+
+static double num(const char *s, const char *key)
+{
+    char v[64];
+    ck_assert_ptr_nonnull(s);
+    ck_assert_int_eq(kelp_kv_get(s, ',', key, v, sizeof v), 1);
+    return atof(v);
+}
+
+static void brs_cfg(kelp_field_brs_cfg *c, const char *const *lines)
+{
+    kelp_field_brs_cfg_default(c);
+    for (; *lines; lines += 2) {
+        const char *why = NULL;
+        int rc = kelp_field_brs_config(c, lines[0], lines[1], &why);
+        ck_assert_msg(rc >= 1, "%s = %s: %s", lines[0], lines[1], why ? why : "not taken");
+    }
+}
+
+static void brs_start(kelp_field_brs *b, const char *const *lines, double start)
+{
+    kelp_field_brs_cfg c;
+    brs_cfg(&c, lines);
+    const char *why = NULL;
+    ck_assert_int_eq(kelp_field_brs_init(b, &c, start, &why), 0);
+}
+
+static void nrep(kelp_field_brs *b, kelp_field_crs *c, const char *name, double x, double y, double now, rec *r)
+{
+    char s[200];
+    kelp_field_sink sink = { r, pub, wrn };
+    snprintf(s, sizeof s, "NAME=%s,TYPE=UUV,TIME=%.2f,X=%.2f,Y=%.2f,SPD=1,HDG=90,DEPTH=0", name, now, x, y);
+    if (b) ck_assert_int_eq(kelp_field_brs_mail(b, "NODE_REPORT", true, s, now, &sink), 1);
+    if (c) ck_assert_int_eq(kelp_field_crs_mail(c, "NODE_REPORT_LOCAL", true, s, now, &sink), 1);
+}
+
+static void breq(kelp_field_brs *b, const char *name, double now, rec *r)
+{
+    char s[64];
+    kelp_field_sink sink = { r, pub, wrn };
+    snprintf(s, sizeof s, "name=%s", name);
+    ck_assert_int_eq(kelp_field_brs_mail(b, "BRS_RANGE_REQUEST", true, s, now, &sink), 1);
+}
+
+static const char *const listing24[] = {
+    "reach_distance", "default = nolimit", "ping_wait", "30", "ping_payments", "upon_accept",
+    "default_beacon_report_range", "nolimit", "beacon", "label=01, x=200, y=0", "beacon", "label=02, x=400, y=-200",
+    "beacon", "label=03, x=0,   y=-200", NULL,
+};
+
+/* 10.5.1, 10.5.2: the Indigo log's ranges, order 03 02 01, the pulses */
+static kelp_field_brs B; /* large: not on the stack */
+static kelp_field_crs C;
+
+START_TEST(brs_indigo_ranges)
+{
+    rec r = { 0 };
+    kelp_field_sink sink = { &r, pub, wrn };
+    brs_start(&B, listing24, 0);
+    (void)kelp_field_brs_iterate(&B, 0, &sink);
+    r.n = 0;
+    nrep(&B, NULL, "indigo", -97.65, -64.84, 100, &r);
+    breq(&B, "indigo", 100.846, &r);
+    ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT"), 3);
+    ck_assert_str_eq(nth(&r, "BRS_RANGE_REPORT", 0), "vname=indigo,range=166.7446,id=03,time=100.846");
+    ck_assert_str_eq(nth(&r, "BRS_RANGE_REPORT", 1), "vname=indigo,range=515.6779,id=02,time=100.846");
+    ck_assert_str_eq(nth(&r, "BRS_RANGE_REPORT", 2), "vname=indigo,range=304.6305,id=01,time=100.846");
+    ck_assert_int_eq(count(&r, "VIEW_RANGE_PULSE"), 4);
+    ck_assert_str_eq(nth(&r, "VIEW_RANGE_PULSE", 0), "x=-97.65,y=-64.84,radius=50,duration=6,label=indigo_ping,"
+                                                     "edge_color=white,fill_color=white,time=100.85,edge_size=1");
+    ck_assert_str_eq(nth(&r, "VIEW_RANGE_PULSE", 1), "x=0,y=-200,radius=40,duration=15,label=03_reply,"
+                                                     "edge_color=pink,fill_color=pink,time=100.85,edge_size=1");
+    ck_assert_str_eq(r.var[1], "BRS_RANGE_REPORT"); /* report, then its beacon's pulse */
+    ck_assert_str_eq(r.var[2], "VIEW_RANGE_PULSE");
+    ck_assert(strncmp(nth(&r, "VIEW_RANGE_PULSE", 3), "x=200,y=0,radius=40,duration=15,", 32) == 0);
+    ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT_GT"), 0);
+    r.n = 0;
+    nrep(&B, NULL, "indigo", -197.96, -129.16, 160, &r);
+    breq(&B, "indigo", 160.597, &r);
+    ck_assert_double_eq_tol(num(nth(&r, "BRS_RANGE_REPORT", 0), "range"), 210.2533, 1e-9);
+    ck_assert_double_eq_tol(num(nth(&r, "BRS_RANGE_REPORT", 1), "range"), 602.1416, 1e-9);
+    ck_assert_double_eq_tol(num(nth(&r, "BRS_RANGE_REPORT", 2), "range"), 418.3951, 1e-9);
+}
+END_TEST
+
+static const char *const waits[][12] = {
+    { "ping_wait", "60", "ping_payments", "upon_accept", "beacon", "x=0,y=0,label=01", NULL },
+    { "ping_wait", "default = 60", "ping_payments", "upon_request", "beacon", "x=0,y=0,label=01", NULL },
+    { "ping_wait", "60", "ping_payments", "upon_response", "beacon", "x=0,y=0,label=01", NULL },
+    { "ping_wait", "60", "ping_payments", "upon_receipt", "beacon", "x=0,y=0,label=01", NULL },
+};
+
+/* accepted requests among those at the times given (ping pulses count the accepted ones) */
+static int accepted(const char *const *cfg, double vx, const double *t, int n, unsigned *mask)
+{
+    rec r = { 0 };
+    brs_start(&B, cfg, -1000);
+    nrep(&B, NULL, "v", vx, 0, -1000, &r);
+    int k = 0;
+    *mask = 0;
+    for (int i = 0; i < n; i++) {
+        int before = count(&r, "VIEW_RANGE_PULSE");
+        unsigned long acc = B.accepted;
+        breq(&B, "v", t[i], &r);
+        if (B.accepted > acc) {
+            k++;
+            *mask |= 1u << i;
+            ck_assert_int_gt(count(&r, "VIEW_RANGE_PULSE"), before);
+        }
+    }
+    return k;
+}
+
+/* 10.5.3 to 10.5.5: ping payments */
+START_TEST(brs_ping_payments)
+{
+    unsigned m;
+    const double t3[] = { 0, 40, 61 };
+    ck_assert_int_eq(accepted(waits[0], 10, t3, 3, &m), 2);
+    ck_assert_uint_eq(m, 0x5u); /* 0 yes, 40 no, 61 yes */
+    ck_assert_int_eq(accepted(waits[3], 10, t3, 3, &m), 2); /* upon_receipt = upon_accept */
+    const double t4[] = { 0, 40, 61, 101, 161 };
+    ck_assert_int_eq(accepted(waits[1], 10, t4, 5, &m), 2);
+    ck_assert_uint_eq(m, 0x11u); /* 0 and 161 */
+    /* upon_response: out of every beacon's report range (100 m), the clock never restarts */
+    const double t5[] = { 100, 110 };
+    ck_assert_int_eq(accepted(waits[2], 500, t5, 2, &m), 2);
+    ck_assert_int_eq(accepted(waits[0], 500, t5, 2, &m), 1);
+    /* upon_response with a report: the clock restarts */
+    ck_assert_int_eq(accepted(waits[2], 10, t5, 2, &m), 1);
+    /* 10.5.15 / A83: the clock starts at the start: a request sooner than ping_wait is denied */
+    rec r = { 0 };
+    brs_start(&B, waits[0], 0);
+    nrep(&B, NULL, "v", 10, 0, 0, &r);
+    breq(&B, "v", 30, &r);
+    ck_assert_uint_eq(B.accepted, 0);
+}
+END_TEST
+
+/* 10.5.6, 10.5.7: reach per vehicle, report range, bystanders hear too */
+START_TEST(brs_reach_and_report_range)
+{
+    static const char *const cfg[] = { "reach_distance", "henry = 40", "reach_distance", "default = 1000",
+                                       "ping_wait", "0", "beacon", "x=0,y=0,label=01",
+                                       "beacon", "x=80,y=0,label=02,report_range=nolimit", NULL };
+    rec r = { 0 };
+    brs_start(&B, cfg, 0);
+    nrep(&B, NULL, "henry", 50, 0, 0, &r); /* 50 m from 01, 30 m from 02 */
+    breq(&B, "henry", 1, &r);
+    ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT"), 1);
+    ck_assert_str_eq(nth(&r, "BRS_RANGE_REPORT", 0), "vname=henry,range=30,id=02,time=1");
+    static const char *const cfg7[] = { "reach_distance", "default = nolimit", "ping_wait", "0",
+                                        "beacon", "x=0,y=0,label=03,report_range=80", NULL };
+    brs_start(&B, cfg7, 0);
+    r.n = 0;
+    nrep(&B, NULL, "henry", 50, 0, 0, &r);
+    nrep(&B, NULL, "gilda", 0, 90, 0, &r);
+    nrep(&B, NULL, "ike", 0, -60, 0, &r);
+    breq(&B, "henry", 1, &r);
+    ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT"), 2);
+    ck_assert_str_eq(nth(&r, "BRS_RANGE_REPORT", 0), "vname=henry,range=50,id=03,time=1");
+    ck_assert_str_eq(nth(&r, "BRS_RANGE_REPORT", 1), "vname=ike,range=60,id=03,time=1");
+    /* 24.8's pulls: a node pull lets gilda hear, a beacon pull extends henry's reach */
+    static const char *const cfg8[] = { "reach_distance", "default = 10", "node_pull_dist", "gilda = 15",
+                                        "ping_wait", "0", "beacon", "x=0,y=0,label=03,report_range=80,pull_dist=45",
+                                        NULL };
+    brs_start(&B, cfg8, 0);
+    r.n = 0;
+    nrep(&B, NULL, "henry", 50, 0, 0, &r);
+    nrep(&B, NULL, "gilda", 0, 90, 0, &r);
+    breq(&B, "henry", 1, &r);
+    ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT"), 2);
+}
+END_TEST
+
+/* 10.5.8, 10.5.9: report variables and ground truth */
+START_TEST(brs_report_vars_ground_truth)
+{
+    const char *modes[] = { "short", "long", "both" };
+    int want_s[] = { 1, 0, 1 }, want_l[] = { 0, 1, 1 };
+    for (int m = 0; m < 3; m++) {
+        const char *cfg[] = { "report_vars", modes[m], "ground_truth", "true", "rn_algorithm", "uniform,pct=0.12",
+                              "ping_wait", "0", "reach_distance", "nolimit", "beacon", "x=0,y=0,label=01,report_range=nolimit", NULL };
+        rec r = { 0 };
+        brs_start(&B, cfg, 0);
+        nrep(&B, NULL, "indigo", 300, 400, 0, &r);
+        breq(&B, "indigo", 1, &r);
+        ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT"), want_s[m]);
+        ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT_INDIGO"), want_l[m]);
+        ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT_GT"), want_s[m]);
+        ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT_GT_INDIGO"), want_l[m]);
+        const char *gt = want_s[m] ? nth(&r, "BRS_RANGE_REPORT_GT", 0) : nth(&r, "BRS_RANGE_REPORT_GT_INDIGO", 0);
+        const char *rp = want_s[m] ? nth(&r, "BRS_RANGE_REPORT", 0) : nth(&r, "BRS_RANGE_REPORT_INDIGO", 0);
+        ck_assert_double_eq_tol(num(gt, "range"), 500, 1e-9);
+        ck_assert(fabs(num(rp, "range") - 500) <= 0.12 * 500 + 1e-9);
+        ck_assert(fabs(num(rp, "range") - 500) > 1e-6); /* noisy */
+        if (want_l[m]) ck_assert_str_eq(nth(&r, "BRS_RANGE_REPORT_GT_INDIGO", 0), "range=500,id=01,time=1");
+    }
+}
+END_TEST
+
+/* 10.5.10 to 10.5.12: unsolicited reports */
+START_TEST(brs_unsolicited)
+{
+    rec r = { 0 };
+    kelp_field_sink sink = { &r, pub, wrn };
+    brs_start(&B, listing24, 0);
+    nrep(&B, NULL, "indigo", 10, 10, 0, &r);
+    for (double t = 0; t < 1000; t += 0.25) (void)kelp_field_brs_iterate(&B, t, &sink);
+    ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT"), 0); /* never */
+    static const char *const cfg[] = { "ping_wait", "0", "reach_distance", "default = nolimit",
+                                       "beacon", "x=0,y=0,label=01", "beacon", "x=0,y=0,label=02,freq=90", NULL };
+    brs_start(&B, cfg, 0);
+    r.n = 0;
+    nrep(&B, NULL, "indigo", 10, 10, 0, &r);
+    nrep(&B, NULL, "ike", 20, 10, 0, &r);
+    (void)kelp_field_brs_iterate(&B, 0, &sink);
+    ck_assert_int_eq(count(&r, "VIEW_MARKER"), 2);
+    (void)kelp_field_brs_iterate(&B, 89.9, &sink);
+    ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT"), 0);
+    ck_assert_uint_eq(kelp_field_brs_iterate(&B, 90, &sink), 2); /* both vehicles */
+    ck_assert_str_eq(nth(&r, "BRS_RANGE_REPORT", 0), "vname=ike,range=22.3607,id=02,time=90");
+    ck_assert(strstr(nth(&r, "VIEW_RANGE_PULSE", 0), "label=02_reply,edge_color=green") != NULL);
+    breq(&B, "indigo", 100, &r); /* solicited at 100: the next unsolicited is at 190 */
+    ck_assert_uint_eq(kelp_field_brs_iterate(&B, 189.9, &sink), 0);
+    ck_assert_uint_eq(kelp_field_brs_iterate(&B, 190, &sink), 2);
+    /* 60:120: every interval in [60,120], and not all the same */
+    static const char *const cfg2[] = { "default_beacon_freq", "60:120", "beacon", "x=0,y=0,label=01", NULL };
+    brs_start(&B, cfg2, 0);
+    r.n = 0;
+    nrep(&B, NULL, "indigo", 10, 10, 0, &r);
+    double last = 0, lo = 1e9, hi = 0;
+    int posts = 0;
+    for (double t = 0; t < 20000; t += 0.5)
+        if (kelp_field_brs_iterate(&B, t, &sink) > 0) {
+            double d = t - last;
+            lo = d < lo ? d : lo;
+            hi = d > hi ? d : hi;
+            last = t;
+            posts++;
+        }
+    ck_assert_int_gt(posts, 150);
+    ck_assert(lo >= 60 && hi <= 120.5 && hi - lo > 30);
+    /* freq <= 0 is never (A84) */
+    static const char *const cfg3[] = { "default_beacon_freq", "0", "beacon", "x=0,y=0,label=01", NULL };
+    brs_start(&B, cfg3, 0);
+    r.n = 0;
+    nrep(&B, NULL, "indigo", 10, 10, 0, &r);
+    for (double t = 0; t < 100; t += 0.25) (void)kelp_field_brs_iterate(&B, t, &sink);
+    ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT"), 0);
+}
+END_TEST
+
+/* 10.5.13 to 10.5.15: labels, markers, unknown requester; bad config and mail */
+START_TEST(brs_beacons_markers)
+{
+    static const char *const cfg[] = { "default_beacon_color", "orange", "default_beacon_shape", "circle",
+                                       "default_beacon_width", "4", "beacon", "label=01, x=200, y=0",
+                                       "beacon", "label=02, x=400, y=-200", "beacon", "label=03, x=0, y=-200",
+                                       "beacon", "label=02, x=401, y=-200", "beacon", "x=5, y=5", NULL };
+    rec r = { 0 };
+    kelp_field_sink sink = { &r, pub, wrn };
+    brs_start(&B, cfg, 0);
+    ck_assert_uint_eq(B.nbeacons, 4);
+    (void)kelp_field_brs_iterate(&B, 0, &sink);
+    ck_assert_int_eq(count(&r, "VIEW_MARKER"), 4);
+    ck_assert_str_eq(nth(&r, "VIEW_MARKER", 0), "x=5,y=5,label=3,color=orange,type=circle,width=4");
+    ck_assert_str_eq(nth(&r, "VIEW_MARKER", 1), "x=0,y=-200,label=03,color=orange,type=circle,width=4");
+    ck_assert_str_eq(nth(&r, "VIEW_MARKER", 2), "x=401,y=-200,label=02,color=orange,type=circle,width=4");
+    ck_assert_str_eq(nth(&r, "VIEW_MARKER", 3), "x=200,y=0,label=01,color=orange,type=circle,width=4");
+    (void)kelp_field_brs_iterate(&B, 1, &sink);
+    ck_assert_int_eq(count(&r, "VIEW_MARKER"), 4); /* once */
+    char buf[2048];
+    ck_assert_int_eq(kelp_field_brs_summary(&B, buf, sizeof buf), 0);
+    ck_assert(strstr(buf, "SRS Model - # Beacons: 4\n  [0]:x=5,y=5,label=3,") != NULL);
+    ck_assert(strstr(buf, "Default Beacon Color: orange\nDefault Beacon Shape: circle\nDefault Beacon Width: 4\n"));
+    /* beacon_order = config */
+    static const char *const cfgc[] = { "beacon_order", "config", "beacon", "label=01, x=200, y=0",
+                                        "beacon", "label=02, x=400, y=-200", NULL };
+    brs_start(&B, cfgc, 0);
+    ck_assert_str_eq(B.beacon[0].label, "01");
+    /* unknown requester: nothing posted, a warning */
+    brs_start(&B, listing24, 0);
+    r.n = r.warns = 0;
+    breq(&B, "nobody", 100, &r);
+    ck_assert_int_eq(r.n, 0);
+    ck_assert_int_eq(r.warns, 1);
+    /* bad mail: a warning, no crash, state kept */
+    ck_assert_int_lt(kelp_field_brs_mail(&B, "BRS_RANGE_REQUEST", true, "garbage", 1, &sink), 0);
+    ck_assert_int_lt(kelp_field_brs_mail(&B, "NODE_REPORT", true, "NAME=x", 1, &sink), 0);
+    ck_assert_int_lt(kelp_field_brs_mail(&B, "NODE_REPORT", false, NULL, 1, &sink), 0);
+    ck_assert_int_eq(kelp_field_brs_mail(&B, "OTHER", true, "x", 1, &sink), 0);
+    ck_assert_uint_eq(B.nbeacons, 3);
+    /* config errors and warnings */
+    kelp_field_brs_cfg c;
+    kelp_field_brs_cfg_default(&c);
+    const char *why = NULL;
+    ck_assert_int_lt(kelp_field_brs_config(&c, "beacon", "y=3, label=01", &why), 0); /* no x */
+    ck_assert_int_lt(kelp_field_brs_config(&c, "beacon", "x=1,y=3,freq=9:3", &why), 0);
+    ck_assert_int_lt(kelp_field_brs_config(&c, "ping_payments", "sometimes", &why), 0);
+    ck_assert_int_lt(kelp_field_brs_config(&c, "rn_algorithm", "pink", &why), 0);
+    ck_assert_int_eq(kelp_field_brs_config(&c, "beacon", "x=1,y=3,query_range=40", &why), 2); /* A52 */
+    ck_assert_int_eq(kelp_field_brs_config(&c, "ping_wait", "henry = 120;", &why), 1);
+    ck_assert_double_eq(kelp_rsense_vmap_get(&c.com.ping_wait, "HENRY"), 120);
+    ck_assert_double_eq(kelp_rsense_vmap_get(&c.com.ping_wait, "ike"), 30);
+    ck_assert_int_eq(kelp_field_brs_config(&c, "default beacon_color", "blue", &why), 1);
+    ck_assert_str_eq(c.dflt.color, "blue");
+    ck_assert_int_eq(kelp_field_brs_config(&c, "nonsense", "1", &why), 0);
+}
+END_TEST
+
+/* ------------------------------------------------------------------ contact */
+
+static void crs_start(const char *const *lines, double start)
+{
+    kelp_field_crs_cfg c;
+    kelp_field_crs_cfg_default(&c);
+    for (; *lines; lines += 2) {
+        const char *why = NULL;
+        int rc = kelp_field_crs_config(&c, lines[0], lines[1], &why);
+        ck_assert_msg(rc == 1, "%s = %s: %s", lines[0], lines[1], why ? why : "not taken");
+    }
+    kelp_field_crs_init(&C, &c, start);
+}
+
+static void creq(const char *name, double now, rec *r)
+{
+    char s[64];
+    kelp_field_sink sink = { r, pub, wrn };
+    snprintf(s, sizeof s, "name=%s", name);
+    ck_assert_int_eq(kelp_field_crs_mail(&C, "CRS_RANGE_REQUEST", true, s, now, &sink), 1);
+}
+
+static const char *const none[] = { "ping_wait", "0", NULL };
+
+/* 11.5.1 to 11.5.5: reach + reply */
+START_TEST(crs_reach_reply)
+{
+    rec r = { 0 };
+    crs_start(none, 0);
+    nrep(NULL, &C, "archie", 0, 0, 0, &r);
+    nrep(NULL, &C, "jackal", 150, 0, 0, &r);
+    creq("archie", 1, &r);
+    ck_assert_int_eq(count(&r, "CRS_RANGE_REPORT"), 1);
+    ck_assert_str_eq(nth(&r, "CRS_RANGE_REPORT", 0), "vname=archie,range=150,target=jackal,time=1");
+    nrep(NULL, &C, "jackal", 250, 0, 2, &r);
+    r.n = 0;
+    creq("archie", 3, &r);
+    ck_assert_int_eq(count(&r, "CRS_RANGE_REPORT"), 0);
+    ck_assert_int_eq(count(&r, "VIEW_RANGE_PULSE"), 1); /* accepted: the ping pulse */
+    static const char *const c3[] = { "ping_wait", "0", "reach_distance", "default = 120", "reply_distance",
+                                      "default = 80", NULL };
+    crs_start(c3, 0);
+    r.n = 0;
+    nrep(NULL, &C, "archie", 0, 0, 0, &r);
+    nrep(NULL, &C, "jackal", 200, 0, 0, &r);
+    creq("archie", 1, &r);
+    ck_assert_int_eq(count(&r, "CRS_RANGE_REPORT"), 1);
+    static const char *const c4[] = { "ping_wait", "0", "push_dist", "victor = 250", "pull_dist", "victor = 20", NULL };
+    crs_start(c4, 0);
+    r.n = 0;
+    nrep(NULL, &C, "victor", 0, 0, 0, &r);
+    nrep(NULL, &C, "jackal", 340, 0, 0, &r);
+    creq("victor", 1, &r);
+    ck_assert_int_eq(count(&r, "CRS_RANGE_REPORT"), 1);
+    nrep(NULL, &C, "jackal", 130, 0, 2, &r);
+    r.n = 0;
+    creq("jackal", 3, &r);
+    ck_assert_int_eq(count(&r, "CRS_RANGE_REPORT"), 0);
+    static const char *const c5[] = { "ping_wait", "0", "reach_distance", "default = nolimit", NULL };
+    crs_start(c5, 0);
+    r.n = 0;
+    nrep(NULL, &C, "a", 0, 0, 0, &r);
+    nrep(NULL, &C, "b", 1e5, 0, 0, &r);
+    nrep(NULL, &C, "c", -1e5, 0, 0, &r);
+    creq("a", 1, &r);
+    ck_assert_int_eq(count(&r, "CRS_RANGE_REPORT"), 2);
+}
+END_TEST
+
+/* 11.5.6, 11.5.11: the Hugo log's accept/deny pattern; per-vehicle ping wait */
+START_TEST(crs_ping_wait)
+{
+    rec r = { 0 };
+    crs_start((const char *const[]){ NULL }, 0);
+    nrep(NULL, &C, "archie", 0, 0, 0, &r);
+    const double t[] = { 76.758, 104.761, 130.417, 163.599, 190.192, 216.311, 245.493, 273.729 };
+    const char *want = "ADAADADA";
+    for (int i = 0; i < 8; i++) {
+        unsigned long a = C.accepted;
+        creq("archie", t[i], &r);
+        ck_assert_msg((C.accepted > a) == (want[i] == 'A'), "request %d at %g", i, t[i]);
+    }
+    static const char *const c11[] = { "ping_wait", "henry = 90", NULL };
+    crs_start(c11, 0);
+    nrep(NULL, &C, "henry", 0, 0, 0, &r);
+    nrep(NULL, &C, "ike", 0, 0, 0, &r);
+    creq("henry", 100, &r);
+    creq("henry", 160, &r);
+    creq("ike", 100, &r);
+    creq("ike", 131, &r);
+    ck_assert_uint_eq(C.accepted, 3);
+    ck_assert_uint_eq(C.denied, 1);
+}
+END_TEST
+
+/* 11.5.7 to 11.5.10, 11.5.12: the report, GT, pulses, long names, unknown requester */
+START_TEST(crs_reports_pulses)
+{
+    static const char *const c7[] = { "ping_wait", "0", "ground_truth", "true", "rn_algorithm", "uniform,pct=0.04",
+                                      "reach_distance", "default = nolimit", NULL };
+    rec r = { 0 };
+    crs_start(c7, 0);
+    nrep(NULL, &C, "archie", -49.31, -38.86, 0, &r);
+    nrep(NULL, &C, "jackal", -187.67, -144.6, 0, &r);
+    creq("archie", 23588509131.764, &r);
+    ck_assert_str_eq(nth(&r, "CRS_RANGE_REPORT_GT", 0), "vname=archie,range=174.1391,target=jackal,time=23588509131.764");
+    double v = num(nth(&r, "CRS_RANGE_REPORT", 0), "range");
+    ck_assert(v >= 167.1735 && v <= 181.1047);
+    ck_assert_str_eq(nth(&r, "VIEW_RANGE_PULSE", 0), "x=-49.31,y=-38.86,radius=50,duration=6,label=archie_ping,"
+                                                     "edge_color=white,fill_color=white,time=23588509131.76,edge_size=1");
+    ck_assert_str_eq(nth(&r, "VIEW_RANGE_PULSE", 1), "x=-187.67,y=-144.6,radius=40,duration=15,label=jackal_reply,"
+                                                     "edge_color=chartreuse,fill_color=chartreuse,time=23588509131.76");
+    ck_assert_int_eq(count(&r, "CRS_RANGE_REPORT_JACKAL"), 0); /* only the requester */
+    const double pairs[][5] = { { -141.97, -94.55, -191.18, -215.82, 130.8741 },
+                                { -197.98, -128.86, -161.42, -250.59, 127.1016 },
+                                { -168.48, -226, -112.19, -306.23, 98.0072 },
+                                { -125.38, -332.68, -39.7, -325.58, 85.9737 } };
+    for (int i = 0; i < 4; i++) {
+        r.n = 0;
+        nrep(NULL, &C, "archie", pairs[i][0], pairs[i][1], i + 1, &r);
+        nrep(NULL, &C, "jackal", pairs[i][2], pairs[i][3], i + 1, &r);
+        creq("archie", 23588509131.764 + i + 1, &r);
+        ck_assert_double_eq_tol(num(nth(&r, "CRS_RANGE_REPORT_GT", 0), "range"), pairs[i][4], 1e-9);
+    }
+    static const char *const c9[] = { "ping_wait", "0", "ground_truth", "true", "rn_algorithm", "uniform,pct=0",
+                                      "report_vars", "long", NULL };
+    crs_start(c9, 0);
+    r.n = 0;
+    nrep(NULL, &C, "archie", 0, 0, 0, &r);
+    nrep(NULL, &C, "jackal", 30, 40, 0, &r);
+    creq("archie", 1, &r);
+    ck_assert_int_eq(count(&r, "CRS_RANGE_REPORT"), 0);
+    ck_assert_str_eq(nth(&r, "CRS_RANGE_REPORT_ARCHIE", 0), "range=50,target=jackal,time=1");
+    ck_assert_str_eq(nth(&r, "CRS_RANGE_REPORT_GT_ARCHIE", 0), "range=50,target=jackal,time=1");
+    r.n = r.warns = 0;
+    creq("ghost", 2, &r);
+    ck_assert_int_eq(r.n, 0);
+    ck_assert_int_eq(r.warns, 1);
+    /* 24.8: allowed echo types, ignored group, sensor arcs, no pulses */
+    static const char *const c24[] = { "ping_wait", "0", "allow_echo_types", "kayak", "display_pulses", "false", NULL };
+    crs_start(c24, 0);
+    r.n = 0;
+    nrep(NULL, &C, "archie", 0, 0, 0, &r);
+    nrep(NULL, &C, "jackal", 30, 40, 0, &r); /* a UUV */
+    creq("archie", 1, &r);
+    ck_assert_int_eq(r.n, 0);
+    static const char *const carc[] = { "ping_wait", "0", "sensor_arc", "45:135", NULL };
+    crs_start(carc, 0);
+    r.n = 0;
+    nrep(NULL, &C, "archie", 0, 0, 0, &r);  /* heading 90 */
+    nrep(NULL, &C, "jackal", 0, 50, 0, &r); /* bearing 0: relative 270 */
+    nrep(NULL, &C, "kilo", 50, 0, 0, &r);   /* bearing 90: relative 0 */
+    nrep(NULL, &C, "lima", 0, -50, 0, &r);  /* bearing 180: relative 90 */
+    creq("archie", 1, &r);
+    ck_assert_int_eq(count(&r, "CRS_RANGE_REPORT"), 1);
+    ck_assert(strstr(nth(&r, "CRS_RANGE_REPORT", 0), "target=lima") != NULL);
+    kelp_field_crs_cfg cc;
+    kelp_field_crs_cfg_default(&cc);
+    const char *why;
+    ck_assert_int_eq(kelp_field_crs_config(&cc, "ignore_group", "red", &why), 1);
+    kelp_field_crs_init(&C, &cc, 0);
+    kelp_field_sink sink = { &r, pub, wrn };
+    ck_assert_int_eq(kelp_field_crs_mail(&C, "NODE_REPORT", true, "NAME=a,X=1,Y=2,GROUP=red", 0, &sink), 1);
+    ck_assert_uint_eq(C.nnodes, 0);
+    ck_assert_int_lt(kelp_field_crs_config(&cc, "sensor_arc", "45", &why), 0);
+    ck_assert_int_lt(kelp_field_crs_config(&cc, "reach_distance", "far", &why), 0);
+    char buf[2048];
+    ck_assert_int_eq(kelp_field_crs_summary(&C, buf, sizeof buf), 0);
+    ck_assert(strstr(buf, "Default Reach Distance: 100\nDefault Reply Distance: 100\nDefault Ping Wait: 30\n"));
+}
+END_TEST
+
+/* ------------------------------------------------------------------ noise and draws */
+
+static void stats(bool glibc, kelp_rsense_noise_alg alg, double par, double *mean, double *sd, double *lo, double *hi)
+{
+    kelp_rsense_rand rr;
+    kelp_rsense_rand_init(&rr, glibc, 12345);
+    kelp_rsense_noise n = { alg, par, par };
+    double s = 0, s2 = 0;
+    *lo = 1e300;
+    *hi = -1e300;
+    for (int i = 0; i < 10000; i++) {
+        double v = kelp_rsense_noisy(&rr, &n, 100.0);
+        s += v;
+        s2 += v * v;
+        *lo = v < *lo ? v : *lo;
+        *hi = v > *hi ? v : *hi;
+    }
+    *mean = s / 10000;
+    *sd = sqrt(s2 / 10000 - *mean * *mean);
+}
+
+START_TEST(noise_statistics)
+{
+    for (int g = 0; g < 2; g++) {
+        double m, sd, lo, hi;
+        stats(g, KELP_RSENSE_NOISE_UNIFORM, 0.1, &m, &sd, &lo, &hi); /* U(90, 110): sd 10/sqrt(3) */
+        ck_assert(lo >= 90 && hi <= 110);
+        ck_assert(lo < 90.2 && hi > 109.8);
+        ck_assert_double_eq_tol(m, 100, 0.25);
+        ck_assert_double_eq_tol(sd, 10 / sqrt(3.0), 0.15);
+        stats(g, KELP_RSENSE_NOISE_GAUSSIAN, 2.0, &m, &sd, &lo, &hi);
+        ck_assert_double_eq_tol(m, 100, 0.08);
+        ck_assert_double_eq_tol(sd, 2.0, 0.08);
+    }
+}
+END_TEST
+
+/* glibc mode: rand()'s values after srand(1), MOOS-IvP's arithmetic, one draw per value */
+START_TEST(glibc_draws_match_rand)
+{
+    kelp_rsense_rand rr;
+    kelp_rsense_rand_init(&rr, true, 99);
+    kelp_rsense_noise n = { KELP_RSENSE_NOISE_UNIFORM, 0.12, 0 };
+    srand(1);
+    for (int i = 0; i < 1000; i++) {
+        double want = 250.0 + (((double)(rand() % 10000) / 5000) - 1) * 0.12 * 250.0;
+        ck_assert_double_eq(kelp_rsense_noisy(&rr, &n, 250.0), want);
+        double iv = 60 + ((double)(rand() % 1000) / 1000) * 60;
+        ck_assert_double_eq(kelp_rsense_interval(&rr, 60, 120), iv);
+    }
+    ck_assert_uint_eq(rr.draws, 2000);
+    /* gaussian: the polar method on rand()/RAND_MAX, second deviate cached */
+    kelp_rsense_rand_init(&rr, true, 0);
+    kelp_rsense_noise gn = { KELP_RSENSE_NOISE_GAUSSIAN, 0, 1.5 };
+    srand(1);
+    for (int i = 0; i < 200; i++) {
+        double v1, v2, s;
+        do {
+            v1 = 2.0 * ((double)rand() / RAND_MAX) - 1;
+            v2 = 2.0 * ((double)rand() / RAND_MAX) - 1;
+            s = v1 * v1 + v2 * v2;
+        } while (s > 1 || s == 0);
+        double fac = sqrt(-2 * log(s) / s);
+        ck_assert_double_eq_tol(kelp_rsense_noisy(&rr, &gn, 10), 10 + v2 * fac * 1.5, 1e-12);
+        ck_assert_double_eq_tol(kelp_rsense_noisy(&rr, &gn, 10), 10 + v1 * fac * 1.5, 1e-12);
+    }
+    /* the beacon sensor in glibc mode: a freq'd beacon draws at config, at the first
+     * iteration, and on each reply; each report one noise value */
+    static const char *const cfg[] = { "rand_mode", "glibc", "beacon_order", "config", "rn_algorithm",
+                                       "uniform,pct=0.1", "ping_wait", "0", "reach_distance", "default = nolimit",
+                                       "default_beacon_report_range", "nolimit", "beacon", "x=0,y=0,label=01,freq=50",
+                                       "beacon", "x=100,y=0,label=02", NULL };
+    rec r = { 0 };
+    kelp_field_sink sink = { &r, pub, wrn };
+    brs_start(&B, cfg, 0);
+    ck_assert_uint_eq(B.rand.draws, 1);
+    (void)kelp_field_brs_iterate(&B, 0, &sink);
+    ck_assert_uint_eq(B.rand.draws, 2);
+    nrep(&B, NULL, "v", 0, 50, 0, &r);
+    breq(&B, "v", 1, &r);
+    ck_assert_uint_eq(B.rand.draws, 5); /* 01: noise, timer; 02: noise */
+    srand(1);
+    for (int i = 0; i < 2; i++) (void)rand();
+    double w1 = 50 + (((double)(rand() % 10000) / 5000) - 1) * 0.1 * 50;
+    (void)rand();
+    double w2 = hypot(100, 50);
+    w2 += (((double)(rand() % 10000) / 5000) - 1) * 0.1 * w2;
+    ck_assert_double_eq_tol(num(nth(&r, "BRS_RANGE_REPORT", 0), "range"), w1, 1e-4);
+    ck_assert_double_eq_tol(num(nth(&r, "BRS_RANGE_REPORT", 1), "range"), w2, 1e-4);
+}
+END_TEST
+
+Suite *kelp_field_rangesensors_suite(void)
+{
+    Suite *s = suite_create("field_rangesensors");
+    TCase *tc = tcase_create("core");
+    tcase_add_test(tc, brs_indigo_ranges);
+    tcase_add_test(tc, brs_ping_payments);
+    tcase_add_test(tc, brs_reach_and_report_range);
+    tcase_add_test(tc, brs_report_vars_ground_truth);
+    tcase_add_test(tc, brs_unsolicited);
+    tcase_add_test(tc, brs_beacons_markers);
+    tcase_add_test(tc, crs_reach_reply);
+    tcase_add_test(tc, crs_ping_wait);
+    tcase_add_test(tc, crs_reports_pulses);
+    tcase_add_test(tc, noise_statistics);
+    tcase_add_test(tc, glibc_draws_match_rand);
+    suite_add_tcase(s, tc);
+    return s;
+}
