@@ -71,10 +71,13 @@ const char *kelp_can_dict_name(const kelp_can_dict *d, unsigned id)
 
 uint16_t kelp_can_crc16(const uint8_t *p, size_t n)
 {
+    /* a nibble at a time: a 32-byte table, small enough for firmware */
+    static const uint16_t t[16] = { 0x0000, 0x1021, 0x2042, 0x3063, 0x4084, 0x50A5, 0x60C6, 0x70E7,
+                                    0x8108, 0x9129, 0xA14A, 0xB16B, 0xC18C, 0xD1AD, 0xE1CE, 0xF1EF };
     uint16_t c = 0xFFFFu;
     for (size_t i = 0; i < n; i++) {
-        c ^= (uint16_t)(p[i] << 8);
-        for (int b = 0; b < 8; b++) c = (uint16_t)((c & 0x8000u) ? ((unsigned)c << 1) ^ 0x1021u : (unsigned)c << 1);
+        c = (uint16_t)((unsigned)(c << 4) ^ t[(c >> 12) ^ (p[i] >> 4)]);
+        c = (uint16_t)((unsigned)(c << 4) ^ t[(c >> 12) ^ (p[i] & 0x0Fu)]);
     }
     return c;
 }
