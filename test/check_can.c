@@ -116,9 +116,30 @@ START_TEST(t_wire_exact_single)
     ck_assert_double_eq(out.dval, 1500);
     ck_assert_uint_eq(out.node, 5);
     ck_assert_ptr_null(out.source);
+    /* DEPTH 12.25 as f32, and docs/CAN.md's named string in classic and FD */
+    R.n = 0;
+    kelp_can_msg dm = num("DEPTH", 12.25);
+    ck_assert_int_eq(kelp_can_send(&TX, &D, &dm, rec_emit, &R), 1);
+    const uint8_t wd[6] = { 0x05, 0x01, 0x41, 0x44, 0x00, 0x00 };
+    ck_assert_mem_eq(R.f[0].data, wd, 6);
+    R.n = 0;
+    kelp_can_msg sm = str("FW_STATUS", "thrust=42.5,commands=1");
+    ck_assert_int_eq(kelp_can_send(&TX, &D, &sm, rec_emit, &R), 6);
+    const uint8_t wf[8] = { 0x40, 0x00, 0x21, 0, 0, 0x13, 0x09, 'F' };
+    ck_assert_mem_eq(R.f[0].data, wf, 3);
+    ck_assert_mem_eq(R.f[0].data + 5, wf + 5, 3);
+    ck_assert_uint_eq(R.f[5].data[0], 0x85);
+    ck_assert_uint_eq(R.f[5].len, 3);
+    R.n = 0;
+    TX.fd = true;
+    ck_assert_int_eq(kelp_can_send(&TX, &D, &sm, rec_emit, &R), 1);
+    ck_assert_uint_eq(R.f[0].len, 48);
+    ck_assert_mem_eq(R.f[0].data, "\x21\x13\x09" "F", 4);
+    TX.fd = false;
+    R.n = 1;
     /* the next message has the next transfer id */
     ck_assert_int_eq(kelp_can_send(&TX, &D, &m, rec_emit, &R), 1);
-    ck_assert_uint_eq(KELP_CAN_ID_TID(R.f[1].id), 1);
+    ck_assert_uint_eq(KELP_CAN_ID_TID(R.f[1].id), 4);
 }
 END_TEST
 

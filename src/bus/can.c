@@ -153,8 +153,7 @@ static int put_str(uint8_t *b, size_t *n, const char *s)
     size_t len = strlen(s);
     if (len >= KELP_CAN_NAME || *n + 1 + len > KELP_CAN_MAX_BODY) return KELP_ERR_RANGE;
     b[(*n)++] = (uint8_t)len;
-    memcpy(b + *n, s, len);
-    *n += len;
+    for (size_t i = 0; i < len; i++) b[(*n)++] = (uint8_t)s[i]; /* length-prefixed, no NUL */
     return KELP_OK;
 }
 
