@@ -2,8 +2,9 @@
 # Run a static test program inside a qemu TCG microVM whose kernel has SocketCAN and vcan0
 # (Debian's stock kernel and its modules; this host's kernel has no CAN at all).
 #   scripts/vcan_vm.sh --deps          install what it needs (qemu-system-x86 busybox-static cpio)
-#   scripts/vcan_vm.sh STATIC_BIN      boot, insmod can/can-raw/can-dev/vcan, bring vcan0 up, run
-#                                      STATIC_BIN, exit with its status (console in $VCAN_VM_LOG)
+#   scripts/vcan_vm.sh STATIC_BIN [DIR] boot, insmod can/can-raw/can-dev/vcan, bring vcan0 up, run
+#                                      STATIC_BIN, exit with its status (console in $VCAN_VM_LOG);
+#                                      DIR's files join the VM's root, and its app_test.sh runs next
 # The kernel package is downloaded once (apt-get download) and unpacked under
 # ${KELP_VCAN_CACHE:-build/vcanvm}; reruns reuse it.
 set -eu
@@ -36,7 +37,7 @@ if [ "${1:-}" = "--deps" ]; then
   vcan_vm_deps
   exit $?
 fi
-[ $# -ge 1 ] || { echo "usage: $0 --deps | STATIC_TEST_BIN"; exit 2; }
+[ $# -ge 1 ] || { echo "usage: $0 --deps | STATIC_TEST_BIN [EXTRA_DIR]"; exit 2; }
 TEST=$(readlink -f "$1")
 vcan_vm_deps
 vcan_vm_kernel
@@ -48,6 +49,8 @@ cp /bin/busybox "$W/ir/bin/"
 cp "$M/net/can/can.ko" "$M/net/can/can-raw.ko" "$M/drivers/net/can/dev/can-dev.ko" "$M/drivers/net/can/vcan.ko" \
   "$W/ir/lib/modules/"
 cp "$TEST" "$W/ir/bin/cantest"
+# EXTRA_DIR: more files for the VM's root; its app_test.sh (if any) runs after the test program
+[ -n "${2:-}" ] && cp -a "$2"/. "$W/ir/"
 cat > "$W/ir/init" <<'EOS'
 #!/bin/busybox sh
 /bin/busybox --install -s /bin
@@ -57,12 +60,16 @@ ip link set lo up
 ip link add dev vcan0 type vcan && ip link set vcan0 up
 ip link show vcan0
 /bin/cantest; echo "CANTEST_EXIT=$?"
+if [ -f /app_test.sh ]; then
+  ip link show vcan0 >/dev/null 2>&1 || { ip link add dev vcan0 type vcan; ip link set vcan0 up; }
+  sh /app_test.sh; echo "APPTEST_EXIT=$?"
+fi
 poweroff -f
 EOS
 chmod +x "$W/ir/init"
 (cd "$W/ir" && find . | cpio -o -H newc 2>/dev/null | gzip -1) > "$W/initrd.gz"
 LOG=${VCAN_VM_LOG:-$W/console.log}
-timeout "${VCAN_VM_TIMEOUT:-110}" qemu-system-x86_64 -accel tcg -cpu max -m 256 -nographic -no-reboot \
+timeout "${VCAN_VM_TIMEOUT:-170}" qemu-system-x86_64 -accel tcg -cpu max -m 256 -nographic -no-reboot \
   -kernel "$CACHE/kroot/boot/vmlinuz-$KVER" -initrd "$W/initrd.gz" -append "console=ttyS0 panic=-1 quiet" 2>&1 \
   | tr -d '\r' > "$LOG" || true
 cat "$LOG"

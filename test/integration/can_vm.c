@@ -340,9 +340,86 @@ static int run(bool fd)
     return 0;
 }
 
-int main(void)
+static void inj_open(void)
+{
+    int on = 1;
+    struct sockaddr_can a = { .can_family = AF_CAN, .can_ifindex = (int)if_nametoindex("vcan0") };
+    inj = socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK, CAN_RAW);
+    (void)setsockopt(inj, SOL_CAN_RAW, CAN_RAW_FD_FRAMES, &on, sizeof on);
+    CHECK(bind(inj, (struct sockaddr *)&a, sizeof a) == 0, "injector bind: %s", strerror(errno));
+}
+
+static void inject_message(int drop, bool reverse)
+{
+    static kelp_can_tx itx;
+    static rec r;
+    if (itx.node == 0) CHECK(kelp_can_tx_init(&itx, 3, false) == 0, "tx init");
+    kelp_can_msg m;
+    memset(&m, 0, sizeof m);
+    m.name = "INJ_TEXT";
+    m.kind = KELP_CAN_KIND_STRING;
+    m.sval = (const uint8_t *)TEXT;
+    m.slen = strlen(TEXT);
+    r.n = 0;
+    CHECK(kelp_can_send(&itx, NULL, &m, rec_emit, &r) > 2, "encode");
+    for (int k = 0; k < r.n; k++) {
+        int i = reverse ? r.n - 1 - k : k;
+        if (i != drop) inj_write(&r.f[i], CAN_EFF_FLAG);
+    }
+}
+
+/* The firmware node alone, next to the real kelp-canbridge (can_vm.sh's app test): obeys
+ * THRUST_CMD, publishes DEPTH and FW_STATUS; the injector sends INJ_TEXT reversed, then with a
+ * dropped frame, then junk, then once more whole. */
+static int fwnode(double secs)
+{
+    memset(&BP, 0, sizeof BP);
+    BP.fd = -1;
+    CHECK(fw_node_init(&F, 2, false) == 0, "fw init");
+    const uint16_t fwvars[] = { FW_VAR_THRUST_CMD };
+    kelp_can_filter ff[2];
+    size_t nff = kelp_can_filters(fwvars, 1, ff, 2);
+    if (kelp_can_port_open(&FP, &kelp_can_socketcan_ops, "vcan0", ff, nff, false) < 0) {
+        printf("FWNODE FAIL open: %s\n", FP.err);
+        return 1;
+    }
+    inj_open();
+    double t0 = mono(), done = 0;
+    int step = 0;
+    /* until the third command has been answered (or secs) */
+    while (mono() - t0 < secs && !(done > 0 && mono() > done)) {
+        if (done == 0 && F.commands >= 3) done = mono() + 1.0;
+        pump(50);
+        double t = mono() - t0;
+        if (step == 0 && t > 3.0) inject_message(-1, true), step++;
+        else if (step == 1 && t > 3.5) inject_message(2, false), step++;
+        else if (step == 2 && t > 4.0) {
+            kelp_can_frame j;
+            unsigned seed = 777;
+            for (int i = 0; i < 100; i++) {
+                memset(&j, 0, sizeof j);
+                seed = seed * 1103515245u + 12345u;
+                j.id = KELP_CAN_ID(4, 3, seed >> 27, KELP_CAN_VAR_NAMED);
+                j.len = (uint8_t)((seed >> 12) % 9);
+                for (int k = 0; k < 8; k++) j.data[k] = (uint8_t)(seed >> (k + 8));
+                j.data[0] = (uint8_t)(0xC0u | (seed >> 20)); /* reserved PCI: certainly bad */
+                if (j.len == 0) j.len = 1;
+                inj_write(&j, CAN_EFF_FLAG);
+            }
+            step++;
+        } else if (step == 3 && t > 5.5) {
+            inject_message(-1, false);
+            step++;
+        }
+    }
+    printf("FWNODE commands=%lu thrust=%g\n", F.commands, F.thrust);
+    return failures ? 1 : 0;
+}
+
+int main(int argc, char **argv)
 {
     setvbuf(stdout, NULL, _IONBF, 0);
+    if (argc > 2 && strcmp(argv[1], "fwnode") == 0) return fwnode(atof(argv[2]));
     if (run(false) != 0 || run(true) != 0) failures++;
     printf("CAN_VM %s (%d failures)\n", failures ? "FAILED" : "PASSED", failures);
     return failures ? 1 : 0;
