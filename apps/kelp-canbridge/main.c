@@ -105,8 +105,10 @@ static int startup(kelp_app *app, void *st)
     if (add_lists(app, c, "TO_CAN", true) < 0 || add_lists(app, c, "FROM_CAN", false) < 0) return KELP_ERR_PARSE;
     kelp_can_filter f[KELP_CAN_MAX_FILTERS];
     size_t nf = kelp_canbridge_filters(&c->b, f, KELP_CAN_MAX_FILTERS);
-    if (kelp_can_port_open(&c->port, &kelp_can_socketcan_ops, ifname, f, nf, fd) < 0)
-        return kelp_app_config_error(app, kelp_app_param(app, "CAN_INTERFACE"), "%s", c->port.err);
+    if (kelp_can_port_open(&c->port, &kelp_can_socketcan_ops, ifname, f, nf, fd) < 0) {
+        if (c->port.fd < 0) return kelp_app_config_error(app, NULL, "%s", c->port.err);
+        kelp_app_run_warning(app, "%s: will open it when %s is up", c->port.err, ifname);
+    }
     if (kelp_app_watch_fd(app, c->port.fd, on_can) < 0) return KELP_ERR_NOSPACE;
     for (size_t i = 0; i < c->b.nto; i++) {
         bool seen = false;
@@ -123,7 +125,8 @@ static int iterate(kelp_app *app, void *st, double now)
 {
     canbr *c = st;
     int rc = kelp_can_port_maintain(&c->port);
-    if (rc == 1) kelp_app_event(app, "%s is up again: reopened", c->port.ifname);
+    if (rc == 1) kelp_app_event(app, "%s is up: opened", c->port.ifname);
+    if (rc < 0) kelp_app_run_warning(app, "%s", c->port.err);
     kelp_can_rx_expire(&c->b.rx, now);
     if (now - c->last_status >= 1.0) {
         const kelp_can_stats *s = &c->b.rx.st;

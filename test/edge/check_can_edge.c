@@ -204,7 +204,11 @@ START_TEST(t_socketcan_fails_cleanly_without_can)
     size_t nf = kelp_can_filters(vars, 1, f, 2);
     int rc = kelp_can_port_open(&P, &kelp_can_socketcan_ops, "kelpnosuch0", f, nf, true);
     ck_assert_int_eq(rc, KELP_ERR_IO);
-    ck_assert_int_lt(P.fd, 0);
+    ck_assert(P.down); /* left down on a quiet placeholder, to be opened when the interface is up */
+    ck_assert_int_ge(P.fd, 0);
+    kelp_can_frame fr;
+    ck_assert_int_eq(kelp_can_port_read(&P, &fr), 0);
+    ck_assert_int_eq(kelp_can_port_maintain(&P), 0); /* no such interface: nothing tried */
     /* no CAN in the kernel, or no such interface: either way the reason is given */
     ck_assert(strstr(P.err, "CAN_RAW") || strstr(P.err, "no such interface"));
     ck_assert_int_eq(kelp_can_socketcan_ops.is_up(NULL, "kelpnosuch0"), 0);

@@ -47,7 +47,9 @@ typedef struct kelp_can_port {
     char err[160];
 } kelp_can_port;
 
-/** Open the port. @return 0, or KELP_ERR_IO with p->err set. */
+/** Open the port. @return 0, or KELP_ERR_IO with p->err set: the port is then left down on
+ *  a placeholder fd (p->down), and kelp_can_port_maintain() opens it once the interface is
+ *  up (an interface that appears later, a USB adapter plugged in). */
 KELP_MUST_CHECK int kelp_can_port_open(kelp_can_port *p, const kelp_can_ops *ops, const char *ifname,
                                        const kelp_can_filter *f, size_t nf, bool fd_frames);
 /** Read one frame without blocking. Error and remote-request frames and frames the

@@ -91,8 +91,15 @@ int kelp_can_port_open(kelp_can_port *p, const kelp_can_ops *ops, const char *if
     if (nf) memcpy(p->filters, f, nf * sizeof *f);
     p->nf = nf;
     p->fd_frames = fd_frames;
-    p->fd = ops->open(ops->ctx, ifname, f, nf, fd_frames, p->err, sizeof p->err);
-    return p->fd < 0 ? KELP_ERR_IO : KELP_OK;
+    int s = ops->open(ops->ctx, ifname, f, nf, fd_frames, p->err, sizeof p->err);
+    if (s >= 0) {
+        p->fd = s;
+        return KELP_OK;
+    }
+    /* left down on a placeholder: kelp_can_port_maintain() opens it when the interface is up */
+    p->fd = socket(AF_UNIX, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+    p->down = p->fd >= 0;
+    return KELP_ERR_IO;
 }
 
 int kelp_can_port_read(kelp_can_port *p, kelp_can_frame *f)
