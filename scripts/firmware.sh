@@ -34,3 +34,18 @@ fi
 echo "firmware: ok, no malloc in image"
 echo "== worst-case stack of the public core entry points (Cortex-M4 -Os; calls through function pointers not followed)"
 python3 scripts/stack_report.py --limit 1024 --top ${FW_STACK_TOP:-15} "$O"/obj/*.ci
+# The CAN node example (firmware/can_node.c): kelp's CAN framing with the firmware's own
+# capacities (2 reassembly slots, 128-byte messages, 8 dictionary entries), linked with only
+# what it uses, as a vehicle's microcontroller image would be.
+FWDEF="-DKELP_CAN_SLOTS=2 -DKELP_CAN_MAX_BODY=128 -DKELP_CAN_DICT_MAX=8"
+$CC $FLAGS $FWDEF -c src/bus/can.c -o "$O/can_fw.o"
+$CC $FLAGS $FWDEF --specs=nosys.specs -Wl,--gc-sections -Wl,-Map="$O/can_node.map" firmware/can_node.c "$O/can_fw.o" \
+  "$O/libkelp_core_m4.a" -lm -o "$O/can_node.elf"
+echo "== arm-none-eabi-size (firmware/can_node.c: CAN node publishing DEPTH, subscribing THRUST_CMD)"
+arm-none-eabi-size "$O/can_node.elf"
+syms_can=$(arm-none-eabi-nm "$O/can_node.elf")
+if grep -wE '_malloc_r|malloc|_free_r|_realloc_r' <<<"$syms_can"; then
+  echo "firmware: malloc was pulled into can_node.elf"; exit 1
+fi
+grep -qw kelp_can_send <<<"$syms_can" && grep -qw kelp_can_rx_frame <<<"$syms_can" || { echo "firmware: CAN framing missing from can_node.elf"; exit 1; }
+echo "firmware: can_node ok, no malloc in image"

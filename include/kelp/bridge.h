@@ -93,6 +93,12 @@ KELP_MUST_CHECK int kelp_bridge_unframe(kelp_bridge_rx *rx, const uint8_t *buf, 
  *  publish into its community. An empty list allows everything. */
 bool kelp_bridge_allowed(const char *allow, const char *name);
 
+/** A renaming list (kelp-canbridge's TO_CAN / FROM_CAN): "VAR", "VAR -> ALIAS",
+ *  "[V1,V2]" or "[V1,V2] -> [A1,A2]". Fills src and alias of up to cap routes (the other
+ *  fields zero). A glob (* or ?) may not be renamed. KELP_ERR_PARSE with *why set. */
+KELP_MUST_CHECK int kelp_bridge_parse_rename(const char *line, kelp_bridge_route *routes, size_t cap, size_t *n,
+                                             const char **why);
+
 #ifdef __cplusplus
 }
 #endif

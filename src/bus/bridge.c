@@ -303,3 +303,70 @@ bool kelp_bridge_allowed(const char *allow, const char *name)
     }
     return false;
 }
+
+/* ------------------------------------------------------------------ renaming lists (kelp-canbridge) */
+
+int kelp_bridge_parse_rename(const char *line, kelp_bridge_route *routes, size_t cap, size_t *n, const char **why)
+{
+    char src[16][KELP_MAX_NAME], alias[16][KELP_MAX_NAME];
+    const char *s = skip_ws(line);
+    int ns, na = 0;
+    *why = NULL;
+    if (*s == '[') {
+        ns = bracket_list(&s, src, 16);
+    } else { /* one bare name */
+        const char *e = s;
+        while (*e && *e != ' ' && *e != '\t' && *e != '-') e++;
+        ns = e > s && (size_t)(e - s) < KELP_MAX_NAME ? 1 : KELP_ERR_PARSE;
+        if (ns == 1) {
+            memcpy(src[0], s, (size_t)(e - s));
+            src[0][e - s] = 0;
+        }
+        s = e;
+    }
+    if (ns <= 0) {
+        *why = "expected VAR or [VAR,...]";
+        return KELP_ERR_PARSE;
+    }
+    s = skip_ws(s);
+    if (*s == '-') {
+        while (*s == '-') s++;
+        if (*s != '>') {
+            *why = "expected '->'";
+            return KELP_ERR_PARSE;
+        }
+        s = skip_ws(s + 1);
+        if (*s == '[') {
+            na = bracket_list(&s, alias, 16);
+        } else {
+            const char *e = s;
+            while (*e && *e != ' ' && *e != '\t') e++;
+            na = e > s && (size_t)(e - s) < KELP_MAX_NAME ? 1 : KELP_ERR_PARSE;
+            if (na == 1) {
+                memcpy(alias[0], s, (size_t)(e - s));
+                alias[0][e - s] = 0;
+            }
+            s = e;
+        }
+        if (na != ns) {
+            *why = "alias list length differs from variable list";
+            return KELP_ERR_PARSE;
+        }
+    }
+    if (*skip_ws(s)) {
+        *why = "unexpected text at the end";
+        return KELP_ERR_PARSE;
+    }
+    if ((size_t)ns > cap) return KELP_ERR_NOSPACE;
+    for (int i = 0; i < ns; i++) {
+        memset(&routes[i], 0, sizeof routes[i]);
+        memcpy(routes[i].src, src[i], sizeof routes[i].src);
+        if (na) memcpy(routes[i].alias, alias[i], sizeof routes[i].alias);
+        if (na && strpbrk(src[i], "*?")) {
+            *why = "a glob cannot be renamed";
+            return KELP_ERR_PARSE;
+        }
+    }
+    *n = (size_t)ns;
+    return KELP_OK;
+}
