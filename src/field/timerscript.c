@@ -413,14 +413,14 @@ static void draw_randvars(kelp_ts *r, int key)
     }
 }
 
+/* does an event value hold $[name] or $(name)? */
 static bool uses(const kelp_ts_cfg *c, const char *name)
 {
-    char a[24], b[24];
     size_t n = strlen(name);
-    memcpy(a, "$[", 2), memcpy(a + 2, name, n), memcpy(a + 2 + n, "]", 2);
-    memcpy(b, "$(", 2), memcpy(b + 2, name, n), memcpy(b + 2 + n, ")", 2);
     for (unsigned i = 0; i < c->nev; i++)
-        if (strstr(c->ev[i].val, a) || strstr(c->ev[i].val, b)) return true;
+        for (const char *p = strchr(c->ev[i].val, '$'); p; p = strchr(p + 1, '$'))
+            if ((p[1] == '[' || p[1] == '(') && strncmp(p + 2, name, n) == 0 && p[2 + n] == (p[1] == '[' ? ']' : ')'))
+                return true;
     return false;
 }
 
@@ -755,6 +755,16 @@ static void post_event(kelp_ts *r, unsigned i, double now, const kelp_field_sink
     field_putf(l->text, sizeof l->text, &n, "%s = %s", e->var, text);
 }
 
+#define TS_STATUS_MAX 400 /* the fixed text, a script name and four numbers */
+
+static void post_status(kelp_ts *r, double now, const kelp_field_sink *out)
+{
+    char st[TS_STATUS_MAX];
+    if (kelp_ts_status(r, st, sizeof st) > 0) out->publish(out->ctx, r->cfg.var_status, true, st, 0);
+    r->status_ever = true;
+    r->status_time = now;
+}
+
 int kelp_ts_iterate(kelp_ts *r, double now, const kelp_field_sink *out)
 {
     const kelp_ts_cfg *c = &r->cfg;
@@ -794,12 +804,7 @@ int kelp_ts_iterate(kelp_ts *r, double now, const kelp_field_sink *out)
         if (all && c->reset_time == 0) reset(r);
     }
     if (c->reset_time > 0 && r->elapsed >= c->reset_time) reset(r);
-    if (r->status_due && c->var_status[0] && !kelp_strieq(c->var_status, "silent")) {
-        char st[512];
-        if (kelp_ts_status(r, st, sizeof st) > 0) out->publish(out->ctx, c->var_status, true, st, 0);
-        r->status_ever = true;
-        r->status_time = now;
-    }
+    if (r->status_due && c->var_status[0] && !kelp_strieq(c->var_status, "silent")) post_status(r, now, out);
     r->status_due = false;
     return posted;
 }
