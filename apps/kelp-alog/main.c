@@ -2,7 +2,7 @@
  * users' alog tools (aloggrep, alogview, their own scripts) read kelp runs, and .alog files
  * replay on kelp's bus (lcm-logplayer, kelp-plot).
  *
- *   kelp-alog to-alog [--precision=N | --exact] [--mark-types] RUN.lcmlog OUT.alog
+ *   kelp-alog to-alog [--precision=N | --exact] [--mark-types] RUN.lcmlog OUT.alog   (OUT "-": stdout)
  *   kelp-alog to-lcm  [--community=NAME] IN.alog OUT.lcmlog
  *
  * to-alog writes pLogger's layout (kelp/alog.h): the banner with LOGSTART = the first
@@ -38,7 +38,8 @@ static int to_alog(const char *in, const char *outp, const opts *o)
         kelp_postlog_close(p);
         return fprintf(stderr, "kelp-alog: %s is already an .alog\n", in), 1;
     }
-    FILE *f = fopen(outp, "w");
+    bool std_out = strcmp(outp, "-") == 0;
+    FILE *f = std_out ? stdout : fopen(outp, "w");
     if (!f) {
         kelp_postlog_close(p);
         return fprintf(stderr, "kelp-alog: cannot write %s\n", outp), 1;
@@ -71,8 +72,8 @@ static int to_alog(const char *in, const char *outp, const opts *o)
     }
     kelp_postlog_stats st = kelp_postlog_get_stats(p);
     kelp_postlog_close(p);
-    if (fclose(f) != 0 || rc < 0) return fprintf(stderr, "kelp-alog: read or write error\n"), 1;
-    printf("kelp-alog: %ld postings written to %s; skipped %zu (sync, binary, other types) and %ld (not "
+    if ((std_out ? fflush(f) : fclose(f)) != 0 || rc < 0) return fprintf(stderr, "kelp-alog: read or write error\n"), 1;
+    fprintf(std_out ? stderr : stdout, "kelp-alog: %ld postings written to %s; skipped %zu (sync, binary, other types) and %ld (not "
            "representable on a line)%s\n", n, outp, st.skipped, bad, st.damaged ? "; the log has damaged stretches" : "");
     return n ? 0 : 1;
 }
@@ -133,7 +134,7 @@ int main(int argc, char **argv)
     const kelp_cli cli = {
         .name = "kelp-alog",
         .purpose = "Convert an LCM log of a kelp run to MOOS-IvP's .alog text, and an .alog to an LCM log.",
-        .synopsis = "to-alog [--precision=N | --exact] [--mark-types] RUN.lcmlog OUT.alog\n"
+        .synopsis = "to-alog [--precision=N | --exact] [--mark-types] RUN.lcmlog OUT.alog|-\n"
                     "to-lcm [--community=NAME] IN.alog OUT.lcmlog",
         .opts = (const kelp_cli_opt[]){
             { "precision", required_argument, 'p', "N", "decimals of double values, 0..9 (default 5, as pLogger)" },
