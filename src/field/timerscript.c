@@ -669,6 +669,7 @@ int kelp_ts_expand(kelp_ts *r, const char *val, double now, char *out, size_t ca
     if (!cap) return KELP_ERR_NOSPACE;
     obuf o = { out, cap, 0, false };
     out[0] = 0;
+    draw_randvars(r, KELP_TS_RV_AT_POST); /* a posting draws them, whatever its value */
     /* a lone time or count macro is a number */
     size_t vl = strlen(val);
     if (vl > 3 && val[0] == '$' && ((val[1] == '[' && val[vl - 1] == ']') || (val[1] == '(' && val[vl - 1] == ')'))) {
@@ -681,7 +682,6 @@ int kelp_ts_expand(kelp_ts *r, const char *val, double now, char *out, size_t ca
             return kelp_parse_finite(out, o.n, dval) == 0 ? 1 : 0;
         }
     }
-    draw_randvars(r, KELP_TS_RV_AT_POST);
     for (size_t i = 0; i < vl && !o.full;) {
         if (val[i] == '$' && i + 1 < vl && (val[i + 1] == '[' || val[i + 1] == '(')) {
             char cl = val[i + 1] == '[' ? ']' : ')';
