@@ -553,6 +553,34 @@ START_TEST(uhz_seed_repeatable)
 }
 END_TEST
 
+START_TEST(uhz_gen_points)
+{
+    static const double sq[4][2] = { { 0, 0 }, { 50, 0 }, { 50, 50 }, { 0, 50 } };
+    static const double tri[3][2] = { { 0, 0 }, { 0, 40 }, { 40, 0 } }; /* clockwise */
+    static const double line[3][2] = { { 0, 0 }, { 1, 1 }, { 2, 2 } };
+    kelp_rng g;
+    kelp_rng_seed(&g, 7);
+    double sx = 0, sy = 0, x, y;
+    int n = 10000, upper = 0;
+    for (int i = 0; i < n; i++) {
+        ck_assert_int_eq(kelp_field_uhz_random_point(sq, 4, &g, &x, &y), 0);
+        ck_assert(x >= 0 && x <= 50 && y >= 0 && y <= 50);
+        sx += x, sy += y;
+        ck_assert_int_eq(kelp_field_uhz_random_point(tri, 3, &g, &x, &y), 0);
+        ck_assert(kelp_field_uhz_in_convex(tri, 3, x, y));
+        ck_assert(x + y <= 40 + 1e-9);
+        upper += y > 20;
+    }
+    ck_assert_double_eq_tol(sx / n, 25, 0.5); /* uniform: the centre on average */
+    ck_assert_double_eq_tol(sy / n, 25, 0.5);
+    ck_assert_double_eq_tol((double)upper / n, 0.25, 0.02); /* area above y=20 is a quarter */
+    ck_assert(!kelp_field_uhz_in_convex(tri, 3, 30, 30));
+    ck_assert(kelp_field_uhz_in_convex(sq, 4, 50, 25)); /* on an edge */
+    ck_assert_int_eq(kelp_field_uhz_random_point(line, 3, &g, &x, &y), KELP_ERR_ARG);
+    ck_assert_int_eq(kelp_field_uhz_random_point(sq, 2, &g, &x, &y), KELP_ERR_ARG);
+}
+END_TEST
+
 Suite *kelp_field_hazard_suite(void);
 Suite *kelp_field_hazard_suite(void)
 {
@@ -577,6 +605,7 @@ Suite *kelp_field_hazard_suite(void)
     tcase_add_test(tc, uhz_stat_detection_pd);
     tcase_add_test(tc, uhz_stat_false_alarm_pfa);
     tcase_add_test(tc, uhz_seed_repeatable);
+    tcase_add_test(tc, uhz_gen_points);
     suite_add_tcase(s, tc);
     return s;
 }

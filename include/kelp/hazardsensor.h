@@ -187,6 +187,13 @@ int kelp_field_uhz_default_setting(const kelp_field_uhz_cfg *cfg);
 int kelp_field_uhz_find(const kelp_field_uhz *h, const char *name);
 /** Whether (ox, oy) lies in the swath of a vehicle at (vx, vy) heading hdg degrees. */
 bool kelp_field_uhz_in_swath(double vx, double vy, double hdg, double width, double length, double ox, double oy);
+/** gen_hazards: whether (x, y) lies in the convex polygon pts[0..n) (either winding; on an
+ *  edge counts as inside). */
+bool kelp_field_uhz_in_convex(const double (*pts)[2], size_t n, double x, double y);
+/** gen_hazards: a point uniformly at random in the convex polygon pts[0..n) (rejection in
+ *  its bounding box, at most 100,000 tries). @return 0, KELP_ERR_ARG (fewer than 3 vertices,
+ *  or no area), KELP_ERR_INFEASIBLE (no point found). */
+KELP_MUST_CHECK int kelp_field_uhz_random_point(const double (*pts)[2], size_t n, kelp_rng *rng, double *x, double *y);
 /** The terminal report at `now`: Listing 21 when verbose, else the one-character trace since
  *  the last call (which it clears). @return 0 or KELP_ERR_NOSPACE (truncated). */
 KELP_MUST_CHECK int kelp_field_uhz_report(kelp_field_uhz *h, double now, char *buf, size_t cap);

@@ -790,3 +790,43 @@ int kelp_field_uhz_report(kelp_field_uhz *h, double now, char *buf, size_t cap)
         field_putf(buf, cap, &k, "(%lu) %s\n", h->memo[i].count, h->memo[i].text);
     return k + 1 >= cap ? KELP_ERR_NOSPACE : KELP_OK;
 }
+
+/* ---- gen_hazards ---- */
+
+bool kelp_field_uhz_in_convex(const double (*pts)[2], size_t n, double x, double y)
+{
+    int sign = 0;
+    for (size_t i = 0; i < n; i++) {
+        const double *a = pts[i], *b = pts[(i + 1) % n];
+        double cr = (b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0]);
+        int s = cr > 0 ? 1 : cr < 0 ? -1 : 0;
+        if (s == 0) continue;
+        if (sign == 0) sign = s;
+        else if (s != sign) return false;
+    }
+    return true;
+}
+
+#define GEN_MAX_TRIES 100000
+
+int kelp_field_uhz_random_point(const double (*pts)[2], size_t n, kelp_rng *rng, double *x, double *y)
+{
+    if (n < 3) return KELP_ERR_ARG;
+    double x0 = pts[0][0], x1 = x0, y0 = pts[0][1], y1 = y0, area = 0;
+    for (size_t i = 0; i < n; i++) {
+        const double *a = pts[i], *b = pts[(i + 1) % n];
+        if (!isfinite(a[0]) || !isfinite(a[1])) return KELP_ERR_ARG;
+        x0 = fmin(x0, a[0]), x1 = fmax(x1, a[0]), y0 = fmin(y0, a[1]), y1 = fmax(y1, a[1]);
+        area += a[0] * b[1] - b[0] * a[1];
+    }
+    if (!(fabs(area) > 0)) return KELP_ERR_ARG;
+    for (int t = 0; t < GEN_MAX_TRIES; t++) {
+        double px = kelp_rng_range(rng, x0, x1), py = kelp_rng_range(rng, y0, y1);
+        if (kelp_field_uhz_in_convex(pts, n, px, py)) {
+            *x = px;
+            *y = py;
+            return KELP_OK;
+        }
+    }
+    return KELP_ERR_INFEASIBLE;
+}
