@@ -45,12 +45,14 @@ static FILE *open_hazards(uhz_app *a, const char *name)
     return f;
 }
 
-static int read_hazard_file(uhz_app *a, const char *name, const char **why)
+/* A file that cannot be read is a configuration warning (as in MOOS-IvP), not fatal. */
+static int read_hazard_file(uhz_app *a, const char *name)
 {
     FILE *f = open_hazards(a, name);
     if (!f) {
-        *why = "cannot open the hazard file";
-        return KELP_ERR_IO;
+        kelp_app_config_warning(a->app, "HAZARD_FILE %s: cannot open it", name);
+        kelp_snprintf(a->file, sizeof a->file, "error reading %s", name);
+        return 1;
     }
     char line[1024];
     unsigned lineno = 0, added = 0;
@@ -70,7 +72,7 @@ static int read_hazard_file(uhz_app *a, const char *name, const char **why)
 static int param(void *ctx, const char *key, const char *val, const char **why)
 {
     uhz_app *a = ctx;
-    if (kelp_strieq(key, "HAZARD_FILE")) return read_hazard_file(a, val, why);
+    if (kelp_strieq(key, "HAZARD_FILE")) return read_hazard_file(a, val);
     /* 24.8's AppCasting settings: kelp's status report has its own */
     if (kelp_strieq(key, "TERM_REPORT_INTERVAL") || kelp_strieq(key, "MAX_APPCAST_EVENTS") ||
         kelp_strieq(key, "MAX_APPCAST_RUN_WARNINGS"))

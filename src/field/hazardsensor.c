@@ -289,7 +289,8 @@ int kelp_field_uhz_find(const kelp_field_uhz *h, const char *name)
 int kelp_field_uhz_default_setting(const kelp_field_uhz_cfg *cfg)
 {
     if (cfg->nsettings == 0) return -1;
-    double lo = cfg->setting[0].width, hi = cfg->setting[0].width;
+    double lo = cfg->setting[0].width;
+    double hi = lo;
     for (unsigned i = 1; i < cfg->nsettings; i++) {
         if (cfg->setting[i].width < lo) lo = cfg->setting[i].width;
         if (cfg->setting[i].width > hi) hi = cfg->setting[i].width;
