@@ -581,6 +581,60 @@ START_TEST(uhz_gen_points)
 }
 END_TEST
 
+START_TEST(uhz_visual_options)
+{
+    rec r = { 0 };
+    kelp_field_sink s = { &r, pub, wrn };
+    const char *why = NULL;
+    sure("x=0,y=0,type=hazard,label=h,color=red,shape=square,width=3", "x=40,y=0,type=benign");
+    ck_assert_int_eq(kelp_field_uhz_config(&C, "default_benign_shape", "circle // default", &why), 1);
+    ck_assert_int_eq(kelp_field_uhz_config(&C, "default_benign_width", "5", &why), 1);
+    ck_assert_int_eq(kelp_field_uhz_config(&C, "show_pfa", "false", &why), 1);
+    ck_assert_int_eq(kelp_field_uhz_config(&C, "swath_transparency", "0.6", &why), 1);
+    start();
+    kelp_field_uhz_iterate(&H, 0, &s);
+    ck_assert_str_eq(r.val[0], "x=0,y=0,label=h,color=red,type=square,width=3");
+    ck_assert_str_eq(r.val[1], "x=40,y=0,label=1,color=light_blue,type=circle,width=5");
+    nr("archie", 0, 0, 0, &s);
+    req("archie", 1, &s); /* the default setting, acknowledged */
+    ck_assert_str_eq(get(&r, "UHZ_CONFIG_ACK_ARCHIE"), "width=25,pd=0.9,pfa=0.66,pclass=1");
+    ck_assert_ptr_nonnull(strstr(get(&r, "VIEW_POLYGON"), ",fill=0.6,msg=0.90"));
+    ck_assert_ptr_null(strstr(get(&r, "VIEW_POLYGON"), "/"));
+    /* show_swath = false: no polygon */
+    r.n = 0;
+    ck_assert_int_eq(kelp_field_uhz_config(&C, "show_swath", "false", &why), 1);
+    start();
+    nr("archie", 0, 0, 0, &s);
+    req("archie", 1, &s);
+    ck_assert_int_eq(count(&r, "VIEW_POLYGON"), 0);
+    ck_assert_int_eq(count(&r, "UHZ_HAZARD_REPORT"), 1); /* the hazard; the benign at 40 m is abeam outside */
+}
+END_TEST
+
+START_TEST(uhz_verbose_report)
+{
+    rec r = { 0 };
+    kelp_field_sink s = { &r, pub, wrn };
+    sure("x=0,y=0,type=hazard", NULL);
+    H.cfg.verbose = true;
+    kelp_field_uhz_iterate(&H, 0, &s);
+    nr("archie", 0, 0, 0, &s);
+    config("vname=archie,width=25,pd=0.9", 10, 1, &s);
+    for (int i = 0; i < 3; i++) req("archie", 11 + i, &s);
+    kelp_field_uhz_iterate(&H, 177, &s);
+    char buf[4096];
+    ck_assert_int_eq(kelp_field_uhz_report(&H, 177, buf, sizeof buf), 0);
+    ck_assert_ptr_nonnull(strstr(buf, "uFldHazardSensor Summary:(2)"));
+    ck_assert_ptr_nonnull(strstr(buf, "    25.0    4.0   1.000"));
+    ck_assert_ptr_nonnull(strstr(buf, "1(167)"));
+    ck_assert_ptr_nonnull(strstr(buf, "(3) Sensor request received from: archie"));
+    ck_assert_ptr_nonnull(strstr(buf, "(1) Setting sensor settings for:archie"));
+    ck_assert_ptr_nonnull(strstr(buf, "(1) Total hazards: 1"));
+    ck_assert_int_eq(kelp_field_uhz_report(&H, 177, buf, 40), KELP_ERR_NOSPACE);
+    ck_assert_uint_eq(strlen(buf), 39);
+}
+END_TEST
+
 Suite *kelp_field_hazard_suite(void);
 Suite *kelp_field_hazard_suite(void)
 {
@@ -606,6 +660,8 @@ Suite *kelp_field_hazard_suite(void)
     tcase_add_test(tc, uhz_stat_false_alarm_pfa);
     tcase_add_test(tc, uhz_seed_repeatable);
     tcase_add_test(tc, uhz_gen_points);
+    tcase_add_test(tc, uhz_visual_options);
+    tcase_add_test(tc, uhz_verbose_report);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -461,8 +461,8 @@ static int config_request(kelp_field_uhz *h, const char *s, double now, const ke
         return KELP_ERR_DENIED;
     }
     bool had = n->have_setting;
-    (void)ensure_setting(h, n, NULL);
-    unsigned pick = n->setting;
+    int d = kelp_field_uhz_default_setting(&h->cfg); /* >= 0: there are settings */
+    unsigned pick = had ? n->setting : (unsigned)(d < 0 ? 0 : d);
     if (!isnan(width)) {
         int below = -1, lowest = -1;
         for (unsigned i = 0; i < h->cfg.nsettings; i++) {
@@ -472,7 +472,6 @@ static int config_request(kelp_field_uhz *h, const char *s, double now, const ke
             if (st->width <= width && (below < 0 || st->width >= h->cfg.setting[below].width)) below = (int)i;
         }
         if (lowest < 0) {
-            if (!had) n->have_setting = false;
             trace(h, '!');
             memo(h, "Config request failed, every setting at its max: ", n->name);
             return KELP_ERR_DENIED;
