@@ -43,7 +43,7 @@ sleep 0.3 # (the acks are checked at the end)
 "$BIN/kelp-poke" archie.moos DEPLOY:=true > /dev/null &
 "$BIN/kelp-poke" betty.moos DEPLOY:=true > /dev/null &
 # the sensor on: a request from each vehicle about every 0.2 s (2 s of MOOS time, 4 m at 2 m/s)
-end=$((SECONDS + 17))
+end=$((SECONDS + 18))
 while [ $SECONDS -lt $end ]; do
   "$BIN/kelp-poke" archie.moos "UHZ_SENSOR_REQUEST:=vname=archie" > /dev/null 2>&1 &
   "$BIN/kelp-poke" betty.moos "UHZ_SENSOR_REQUEST:=vname=betty" > /dev/null 2>&1 &
