@@ -1,0 +1,125 @@
+#!/usr/bin/env bash
+# missions/hazards: two vehicles (archie, betty) run lawnmower surveys over a field from
+# gen_hazards; the shoreside uFldHazardSensor answers their sensor requests (bridged by
+# kelp-bridge), uFldPathCheck checks their paths. MOOSTimeWarp 10. The requests are poked in a
+# loop here (uTimerScript's job in MOOS-IvP missions). From the logs: every detection is of an
+# object that was inside the requester's swath (recomputed from the node reports), most of
+# the hazards swept were detected, reports reach the vehicle, and the odometry agrees with the
+# vehicle's own track.
+. "$(dirname "$0")/lib.sh"
+cd "$T"
+M=$KELP_ROOT/missions/hazards
+cp "$M"/*.moos "$M"/*.bhv .
+# the field: gen_hazards, seeded (and its format: 14 lines, grouped, 1 decimal at most)
+POLY="0,-20:120,-20:120,-80:0,-80"
+"$BIN/gen_hazards" --objects=8,hazard --objects=6,benign --polygon="$POLY" --seed=7 > hazards.txt
+[ "$(wc -l < hazards.txt)" -eq 14 ] || fail "gen_hazards: $(wc -l < hazards.txt) lines, expected 14"
+[ "$(head -8 hazards.txt | grep -c ',type=hazard$')" -eq 8 ] && [ "$(tail -6 hazards.txt | grep -c ',type=benign$')" -eq 6 ] ||
+  fail "gen_hazards: not 8 hazards then 6 benign: $(cat hazards.txt)"
+grep -vqE '^x=-?[0-9]+(\.[0-9])?,y=-?[0-9]+(\.[0-9])?,type=(hazard|benign)$' hazards.txt && fail "gen_hazards: format $(cat hazards.txt)"
+awk -F'[=,]' '{ if ($2 < 0 || $2 > 120 || $4 < -80 || $4 > -20) bad++ } END { exit bad > 0 }' hazards.txt ||
+  fail "gen_hazards: a point outside the polygon"
+"$BIN/gen_hazards" --objects=8,hazard --objects=6,benign --polygon="$POLY" --seed=7 | cmp -s - hazards.txt ||
+  fail "gen_hazards --seed is not repeatable"
+ok "gen_hazards: 8 hazards then 6 benign inside the polygon, 1 decimal, repeatable with --seed"
+cmp -s hazards.txt "$M/hazards.txt" || fail "missions/hazards/hazards.txt is not gen_hazards' seed-7 field"
+
+unset KELP_LCM_URL # each community on its mission's LCM_URL
+export KELP_WARP_EPOCH=$(date +%s.%N)
+bg "$BIN/kelp-record" --lcm-url="udpm://239.255.76.67:7681?ttl=0" -f -q shore.lcm
+bg "$BIN/kelp-record" --lcm-url="udpm://239.255.76.67:7682?ttl=0" -f -q archie.lcm
+bg "$BIN/kelp-record" --lcm-url="udpm://239.255.76.67:7683?ttl=0" -f -q betty.lcm
+sleep 0.5
+for c in shoreside archie betty; do
+  mkdir -p logs_$c
+  "$BIN/kelp-launch" --run-seconds 40 --log-dir logs_$c $c.moos > launch_$c.out 2>&1 & PIDS+=($!)
+  eval "L_$c=$!"
+done
+sleep 2
+"$BIN/kelp-poke" archie.moos "UHZ_CONFIG_REQUEST:=vname=archie,width=25,pd=0.9" > /dev/null & P1=$!
+"$BIN/kelp-poke" betty.moos "UHZ_CONFIG_REQUEST:=vname=betty,width=25,pd=0.9" > /dev/null & P2=$!
+wait $P1 $P2 || fail "config poke failed"
+sleep 0.3 # (the acks are checked at the end)
+"$BIN/kelp-poke" archie.moos DEPLOY:=true > /dev/null &
+"$BIN/kelp-poke" betty.moos DEPLOY:=true > /dev/null &
+# the sensor on: a request from each vehicle about every 0.2 s (2 s of MOOS time, 4 m at 2 m/s)
+end=$((SECONDS + 18))
+while [ $SECONDS -lt $end ]; do
+  "$BIN/kelp-poke" archie.moos "UHZ_SENSOR_REQUEST:=vname=archie" > /dev/null 2>&1 &
+  "$BIN/kelp-poke" betty.moos "UHZ_SENSOR_REQUEST:=vname=betty" > /dev/null 2>&1 &
+  sleep 0.2
+done
+sleep 1
+for c in shoreside archie betty; do
+  eval "p=\$L_$c"
+  kill -TERM "$p"; wait "$p" || { tail -20 launch_$c.out; fail "$c: launcher did not end cleanly"; }
+done
+for p in "${PIDS[@]}"; do kill -INT "$p" 2>/dev/null || true; done
+wait 2>/dev/null || true
+PIDS=()
+for c in shore archie betty; do "$BIN/kelp-logcheck" --print $c.lcm > $c.txt || fail "$c log does not decode"; done
+grep -q ' MISSION complete$' archie.txt && grep -q ' MISSION complete$' betty.txt ||
+  echo "note: a survey did not complete in the time given (the checks below use what was swept)"
+# (KELP_HAZARDS_OUT=dir keeps the logs and the picture)
+[ -n "${KELP_HAZARDS_OUT:-}" ] && mkdir -p "$KELP_HAZARDS_OUT" && cp shore.lcm archie.lcm betty.lcm hazards.txt "$KELP_HAZARDS_OUT"/
+
+# swept objects: for each UHZ_SENSOR_REQUEST the shoreside handled, the objects inside the
+# requester's swath (width 25, length 8) at its last node report. "loose": a 3 m margin (the
+# order of arrival can differ slightly between the sensor and the recorder); "sure": 3 m inside.
+awk -v W=25 -v L=8 '
+  FNR == NR { split($0, f, /[=,]/); ox[n] = f[2]; oy[n] = f[4]; oh[n] = (f[6] == "hazard"); n++; next }
+  $3 == "NODE_REPORT" { nm = ""; split($4, kv, ","); for (i in kv) { split(kv[i], p, "=")
+      if (p[1] == "NAME") nm = p[2]; else if (p[1] == "X") x = p[2]; else if (p[1] == "Y") y = p[2]; else if (p[1] == "HDG") h = p[2] }
+    if (nm != "") { VX[nm] = x; VY[nm] = y; VH[nm] = h } next }
+  $3 == "UHZ_SENSOR_REQUEST" { split($4, p, "="); v = p[2]; if (!(v in VX)) next
+    r = VH[v] * 3.14159265358979 / 180
+    for (i = 0; i < n; i++) { dx = ox[i] - VX[v]; dy = oy[i] - VY[v]
+      a = dx * sin(r) + dy * cos(r); c = dx * cos(r) - dy * sin(r); a = a < 0 ? -a : a; c = c < 0 ? -c : c
+      if (a <= L / 2 + 3 && c <= W / 2 + 3) loose[v "," i] = 1
+      if (a <= L / 2 - 1.5 && c <= W / 2 - 3) sure[v "," i] = 1 } next }
+  $3 == "UHZ_DETECTION_REPORT" { split($4, kv, ","); v = ""; lb = ""
+    for (i in kv) { split(kv[i], p, "="); if (p[1] == "vname") v = p[2]; if (p[1] == "label") lb = p[2] }
+    ndet++; det[v "," lb] = 1; if (!((v "," lb) in loose)) { bad++; print "outside the swath: " $4 > "/dev/stderr" } next }
+  $3 == "UHZ_HAZARD_REPORT" { nhaz++; next }
+  END { for (k in sure) { split(k, q, ","); if (oh[q[2]]) { sh++; if (k in det) dh++ } else { sb++; if (k in det) db++ } }
+    printf "%d %d %d %d %d %d %d\n", ndet, nhaz, bad + 0, sh + 0, dh + 0, sb + 0, db + 0 }' hazards.txt shore.txt > swept.txt
+read NDET NHAZ BAD SH DH SB DB < swept.txt
+[ "$NDET" -gt 0 ] || { tail -40 logs_shoreside/uFldHazardSensor.log; fail "no detection report"; }
+[ "$BAD" -eq 0 ] || fail "$BAD detections of objects outside the requester's swath"
+[ "$NHAZ" -eq "$NDET" ] || fail "$NHAZ hazard reports for $NDET detections (one each expected)"
+[ "$SH" -ge 4 ] || fail "only $SH hazards surely swept: the surveys did not cover the field"
+# P_D = 0.9: at least 60% of the surely-swept hazards detected (binomial: fails with p < 0.01 for >= 4)
+awk -v d="$DH" -v s="$SH" 'BEGIN { exit !(d >= 0.6 * s) }' || fail "$DH of $SH swept hazards detected (P_D 0.9)"
+ok "detections: $NDET, all of objects inside the swath; hazards swept $SH, detected $DH; benign swept $SB, detected $DB (P_FA 0.66)"
+
+# reports reach the vehicles (bridged UHZ_HAZARD_REPORT_<V> -> UHZ_HAZARD_REPORT), with the ack
+for v in archie betty; do
+  V=$(echo $v | tr a-z A-Z)
+  ns=$(grep -c " UHZ_HAZARD_REPORT_$V " shore.txt || true)
+  nv=$(grep -c " UHZ_HAZARD_REPORT x=" $v.txt || true)
+  [ "$nv" -eq "$ns" ] || fail "$v received $nv of its $ns hazard reports"
+  grep -q " UHZ_CONFIG_ACK width=25,pd=0.9,pfa=0.66,pclass=0.85$" $v.txt || fail "$v: no UHZ_CONFIG_ACK"
+done
+ok "hazard reports and config acks reach both vehicles"
+
+# path check: the last odometry of each vehicle against its own NAV_X/NAV_Y track, and speeds
+for v in archie betty; do
+  odo=$(grep " UPC_ODOMETRY_REPORT vname=$v," shore.txt | tail -1 | sed 's/.*total_dist=\([0-9.]*\).*/\1/')
+  nav=$(awk '$3 == "NAV_X" { x = $4; hx = 1 } $3 == "NAV_Y" && hx { if (n++) d += sqrt((x - px)^2 + ($4 - py)^2); px = x; py = $4 }
+             END { printf "%.1f", d }' $v.txt)
+  # the median avg_speed while cruising (above 1 m/s): TIME stamps jitter, single reports spike
+  spd=$(grep " UPC_SPEED_REPORT vname=$v," shore.txt | sed 's/.*avg_speed=//' | awk '$1 > 1' | sort -g |
+        awk '{ a[NR] = $1 } END { if (NR) print a[int((NR + 1) / 2)] }')
+  [ -n "$odo" ] && [ -n "$spd" ] || fail "$v: no UPC reports"
+  awk -v o="$odo" -v n="$nav" 'BEGIN { d = o - n; if (d < 0) d = -d; exit !(n > 100 && d <= 0.05 * n + 5) }' ||
+    fail "$v: odometry $odo m, its track $nav m"
+  awk -v s="$spd" 'BEGIN { exit !(s >= 1.8 && s <= 2.2) }' || fail "$v: cruising avg_speed $spd (median), cruise is 2 m/s"
+  ok "$v: odometry $odo m against its track $nav m; cruising avg_speed $spd m/s (median)"
+done
+if "$BIN/kelp-plot" -q -o field.png shore.lcm 2> plot.err; then
+  [ -s field.png ] || fail "kelp-plot wrote no picture"
+  ok "kelp-plot drew the field, swaths and detections (field.png)"
+  [ -n "${KELP_HAZARDS_OUT:-}" ] && cp field.png "$KELP_HAZARDS_OUT"/ || true
+else
+  cat plot.err; fail "kelp-plot failed on the shoreside log"
+fi
