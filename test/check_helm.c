@@ -53,6 +53,7 @@ const ht_post *ht_last(const char *var);
 unsigned ht_count(const char *var);
 bool ht_has_str(const char *var, const char *val);
 double ht_num(const char *var);
+bool ht_has_sub(const char *var, const char *sub);
 
 kelp_helm *ht_helm(void)
 {
@@ -127,6 +128,15 @@ bool ht_has_str(const char *var, const char *val)
 {
     for (unsigned i = 0; i < g_nposts; i++)
         if (!strcmp(g_posts[i].var, var) && g_posts[i].is_str && !strcmp(g_posts[i].sval, val))
+            return true;
+    return false;
+}
+
+/* a string post of var this iteration containing sub */
+bool ht_has_sub(const char *var, const char *sub)
+{
+    for (unsigned i = 0; i < g_nposts; i++)
+        if (!strcmp(g_posts[i].var, var) && g_posts[i].is_str && strstr(g_posts[i].sval, sub))
             return true;
     return false;
 }
