@@ -152,8 +152,8 @@ int kelp_cpa_eval(const kelp_cpa_vessel *cn, const kelp_cpa_vessel *os, double t
         out->rel_bearing = norm360(out->abs_bearing - os->hdg);
         out->cn_rel_bearing = norm360(bearing(-dx, -dy) - cn->hdg);
     }
-    if (out->roc == 0) out->roc = 0; /* no -0 */
-    if (out->bearing_rate == 0) out->bearing_rate = 0;
+    out->roc += 0.0; /* -0 + 0 is +0: no "-0" printed */
+    out->bearing_rate += 0.0;
     sides(dx, dy, os->hdg, &out->cn_fore_of_os, &out->cn_aft_of_os, &out->cn_port_of_os, &out->cn_star_of_os);
     sides(-dx, -dy, cn->hdg, &out->os_fore_of_cn, &out->os_aft_of_cn, &out->os_port_of_cn, &out->os_star_of_cn);
     encounter e;
