@@ -142,6 +142,7 @@ int kelp_helm_add(kelp_helm *h, const char *type, kelp_bhv **out)
     memcpy(b->us, h->cfg.us, sizeof b->us);
     b->dom = h->cfg.domain;
     b->uid = ++h->next_uid;
+    h->bhv_cnt_ever++;
     bhv_defaults(b);
     if (ops->init)
         ops->init(b);
@@ -287,7 +288,6 @@ int kelp_helm_configured(kelp_helm *h)
     int rc = helm_templates_extract(h);
     if (rc < 0)
         return helm_fail(h, 0, rc, "too many spawn templates (KELP_HELM_MAX_TEMPLATES)", NULL, NULL);
-    h->bhv_cnt_ever = h->nbhv;
     return 0;
 }
 

@@ -37,6 +37,7 @@ int helm_templates_extract(kelp_helm *h)
             if (h->ntmpl >= KELP_HELM_MAX_TEMPLATES)
                 return KELP_ERR_NOSPACE;
             h->tmpl[h->ntmpl++] = *b;
+            h->bhv_cnt_ever--; /* a template is not a behaviour */
             continue;
         }
         if (k != i)
