@@ -292,8 +292,10 @@ static double extrap_dist(double v, double dt, double d1, double d2)
 static bool update_info(kelp_bhv *b)
 {
     kelp_bhv_avoid *a = &b->u.avoid;
-    bool ok = kelp_bhv_buf_double(b, "NAV_X", &a->osx) & kelp_bhv_buf_double(b, "NAV_Y", &a->osy) &
-              kelp_bhv_buf_double(b, "NAV_HEADING", &a->osh) & kelp_bhv_buf_double(b, "NAV_SPEED", &a->osv);
+    bool ok = kelp_bhv_buf_double(b, "NAV_X", &a->osx);
+    ok = kelp_bhv_buf_double(b, "NAV_Y", &a->osy) && ok;
+    ok = kelp_bhv_buf_double(b, "NAV_HEADING", &a->osh) && ok;
+    ok = kelp_bhv_buf_double(b, "NAV_SPEED", &a->osv) && ok;
     if (!ok) {
         kelp_bhv_post_warning(b, "No ownship NAV_X/NAV_Y/NAV_HEADING/NAV_SPEED info in info_buffer.");
         return false;
