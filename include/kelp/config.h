@@ -143,7 +143,7 @@ KELP_STATIC_ASSERT(KELP_DCCL_MAX_ALG_REFS >= 2, "KELP_DCCL_MAX_ALG_REFS too smal
 #define KELP_HELM_MAX_BHVS 32       /**< behaviours in one helm */
 #endif
 #ifndef KELP_HELM_MAX_TEMPLATES
-#define KELP_HELM_MAX_TEMPLATES 8   /**< behaviours with templating = spawn in one helm */
+#define KELP_HELM_MAX_TEMPLATES 4   /**< behaviours with templating = spawn in one helm */
 #endif
 #ifndef KELP_HELM_MAX_SPAWNED
 #define KELP_HELM_MAX_SPAWNED 24    /**< spawned behaviour instances alive at once (all templates); a spawn
