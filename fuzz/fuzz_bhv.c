@@ -1,6 +1,6 @@
 /* Fuzz: behaviour files (.bhv through the mission parser and kelp_helm_load_bhv), run
  * conditions, point lists, and helm iterations fed with the input as mail (UPDATES strings,
- * condition variables, NAV_X/NAV_Y). Nothing may crash, hang or read out of bounds. */
+ * condition variables, NAV_X/NAV_Y, spawn requests to templates, NODE_REPORT). Nothing may crash, hang or read out of bounds. */
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -69,6 +69,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 for (unsigned k = 0; k < g_h.bhv[b].nstarve; k++)
                     kelp_helm_mail_double(&g_h, g_h.bhv[b].starve[k], 1);
             }
+            for (unsigned t = 0; t < g_h.ntmpl; t++) /* spawn requests and contact reports */
+                if (g_h.tmpl[t].updates[0])
+                    kelp_helm_mail_string(&g_h, g_h.tmpl[t].updates, z);
+            kelp_helm_mail_string(&g_h, "NODE_REPORT", z);
+            kelp_helm_mail_double(&g_h, "NAV_HEADING", 45);
+            kelp_helm_mail_double(&g_h, "NAV_SPEED", 1);
             kelp_helm_mail_string(&g_h, "DEPLOY", "true");
             if (kelp_helm_iterate(&g_h, 100 + i) != 0)
                 abort();

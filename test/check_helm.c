@@ -53,6 +53,7 @@ const ht_post *ht_last(const char *var);
 unsigned ht_count(const char *var);
 bool ht_has_str(const char *var, const char *val);
 double ht_num(const char *var);
+bool ht_has_sub(const char *var, const char *sub);
 
 kelp_helm *ht_helm(void)
 {
@@ -127,6 +128,15 @@ bool ht_has_str(const char *var, const char *val)
 {
     for (unsigned i = 0; i < g_nposts; i++)
         if (!strcmp(g_posts[i].var, var) && g_posts[i].is_str && !strcmp(g_posts[i].sval, val))
+            return true;
+    return false;
+}
+
+/* a string post of var this iteration containing sub */
+bool ht_has_sub(const char *var, const char *sub)
+{
+    for (unsigned i = 0; i < g_nposts; i++)
+        if (!strcmp(g_posts[i].var, var) && g_posts[i].is_str && strstr(g_posts[i].sval, sub))
             return true;
     return false;
 }
@@ -211,7 +221,7 @@ static int probe_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     return 1;
 }
 
-static const kelp_bhv_ops probe_ops = {"BHV_Probe", probe_init, probe_set, NULL, NULL, probe_run, NULL};
+static const kelp_bhv_ops probe_ops = {"BHV_Probe", probe_init, probe_set, NULL, NULL, probe_run, NULL, NULL};
 static const kelp_bhv_ops *const probe_types[] = {&probe_ops, &kelp_bhv_simple_waypoint_ops, NULL};
 
 static probe_state *probe(const char *name)

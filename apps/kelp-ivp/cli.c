@@ -11,13 +11,16 @@ static const kelp_cli cli = {
     .purpose = "Build, inspect and solve IvP functions from the command line.",
     .synopsis = "eval DOMAIN SPEC\n"
                 "couple DOMAIN2 CRS_SPEC SPD_SPEC WC WS\n"
-                "solve [--repeat=N] FILE",
+                "solve [--repeat=N] FILE\n"
+                "cpa CNX CNY CNH CNV OSX OSY OSH OSV [TOL]",
     .opts = (const kelp_cli_opt[]){
         { "repeat", required_argument, 'r', "N", "solve: solve N times (timing)" },
         { NULL, 0, 0, NULL, NULL } },
     .more = "DOMAIN: name:low:high:points[,name:low:high:points]...\n"
             "SPEC:   peak(summit=S,peakwidth=P,basewidth=B,summitdelta=D,minutil=m,maxutil=M[,wrap][,insist][,sum])\n"
             "        [+peak(...)]... | leq(summit=S,basewidth=B,minutil=m,maxutil=M[,summitdelta=D]) | heq(...)\n"
+            "CPA:    contact and ownship x, y (m), heading (deg), speed (m/s); TOL horizon s (default 120,\n"
+            "        <= 0 none); prints name=value lines (cpa, tcpa, roc, range, bearing_rate, ...)\n"
             "Put -- before arguments that begin with '-'.\n",
 };
 
@@ -205,5 +208,7 @@ int kelp_ivp_cli(int argc, char **argv)
         return cmd_couple(argc, argv);
     if (strcmp(argv[1], "solve") == 0)
         return kivp_cmd_solve(argc, argv, repeat);
+    if (strcmp(argv[1], "cpa") == 0)
+        return kivp_cmd_cpa(argc, argv);
     return kelp_cli_error(&cli, "unknown command '%s'", argv[1]);
 }

@@ -12,4 +12,5 @@ int kivp_print_points(const kelp_ivp_func *f);
 int kivp_build_couple(const kelp_ivp_domain *dom, const kelp_ivp_spec *a, const kelp_ivp_spec *b, double wc, double ws,
                      kelp_ivp_func *out, kelp_ivp_errbuf *err);
 int kivp_cmd_solve(int argc, char **argv, long repeat);
+int kivp_cmd_cpa(int argc, char **argv);
 #endif

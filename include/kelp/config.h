@@ -142,6 +142,16 @@ KELP_STATIC_ASSERT(KELP_DCCL_MAX_ALG_REFS >= 2, "KELP_DCCL_MAX_ALG_REFS too smal
 #ifndef KELP_HELM_MAX_BHVS
 #define KELP_HELM_MAX_BHVS 32       /**< behaviours in one helm */
 #endif
+#ifndef KELP_HELM_MAX_TEMPLATES
+#define KELP_HELM_MAX_TEMPLATES 4   /**< behaviours with templating = spawn in one helm */
+#endif
+#ifndef KELP_HELM_MAX_SPAWNED
+#define KELP_HELM_MAX_SPAWNED 24    /**< spawned behaviour instances alive at once (all templates); a spawn
+                                         past it is refused with a BHV_WARNING (a run warning in pHelmIvP) */
+#endif
+#ifndef KELP_HELM_MAX_CONTACTS
+#define KELP_HELM_MAX_CONTACTS 64   /**< contacts the helm's ledger keeps from NODE_REPORT (oldest replaced) */
+#endif
 #ifndef KELP_HELM_MAX_VARS
 #define KELP_HELM_MAX_VARS 128      /**< variables held in the information buffer */
 #endif

@@ -1,8 +1,40 @@
 /* kelp CPA: the closest point of approach of two vessels on straight legs (core: pure
  * arithmetic, no allocation). Positions in local metres, headings in degrees true (0 north,
- * clockwise), speeds in m/s; both vessels hold course and speed from the moment given. */
+ * clockwise), speeds in m/s; both vessels hold course and speed from the moment given.
+ *
+ * Conventions of the evaluation below (kelp_cpa_eval), for every degenerate family:
+ *  - Headings outside [0,360) are taken modulo 360 (-90 is 270, 450 is 90).
+ *  - A negative speed is taken as 0 (a vessel is not driven astern by a report).
+ *  - Non-finite input: KELP_ERR_ARG and a zeroed result.
+ *  - No relative motion (both still, or identical velocities): cpa = range, tcpa = 0, roc = 0,
+ *    bearing_rate = 0, nobody crosses or passes anybody.
+ *  - Opening: cpa = range, tcpa = 0 (the closest point is now).
+ *  - Horizon tol > 0: the CPA is sought in [0, tol]; tol <= 0 means no limit. Crossings and
+ *    passings are not limited by the horizon (they describe the two legs as drawn).
+ *  - Contact on ownship (range 0): cpa = 0, tcpa = 0, roc = 0, bearing_rate = 0, bearings 0,
+ *    fore/aft/port/starboard all false, no crossing and no passing.
+ *  - Fore/aft and port/starboard come from the other vessel's relative bearing: abeam (90 or
+ *    270) is both fore and aft, on the bow-stern line (0 or 180) is both port and starboard.
+ *  - "os crosses cn's bow/stern": ownship's track relative to the contact meets the line of
+ *    the contact's heading at a time t >= 0 (ownship may be on it now and moving across),
+ *    ahead of the contact (bow) or behind it (stern); the distance is how far ahead/behind.
+ *    A track that meets the contact itself (head-on, collision course) crosses the bow at
+ *    distance 0. A track parallel to the contact's heading line never crosses.
+ *  - "os passes cn port/starboard": ownship's relative track comes abeam of the contact (the
+ *    line square to the contact's heading through it) at t >= 0 on its port or starboard
+ *    side; the distance is the lateral offset then. Meeting the contact itself (offset 0)
+ *    passes neither side. A track parallel to the beam line never passes.
+ *  - The cn_* versions are the same with the roles of the two vessels swapped.
+ *  - roc (rate of closure) = -d(range)/dt now, positive when closing (m/s).
+ *  - bearing_rate = d(abs_bearing)/dt now, degrees per second, positive clockwise.
+ *  - rel_bearing: bearing of the contact from ownship relative to ownship's heading;
+ *    abs_bearing: true bearing of the contact from ownship; cn_rel_bearing: bearing of ownship
+ *    from the contact relative to the contact's heading. All in [0,360). */
 #ifndef KELP_CPA_H
 #define KELP_CPA_H
+
+#include <stdbool.h>
+#include <kelp/err.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -14,6 +46,52 @@ extern "C" {
  *  receives the time of the CPA, in [0, tol]. */
 double kelp_cpa_range(double cnx, double cny, double cnh, double cnv, double osx, double osy, double osh,
                       double osv, double tol, double *tcpa);
+
+/** One vessel on a straight leg. */
+typedef struct kelp_cpa_vessel {
+    double x, y, hdg, spd;
+} kelp_cpa_vessel;
+
+/** Everything kelp_cpa_eval knows about a contact/ownship pair (see the conventions above). */
+typedef struct kelp_cpa_result {
+    double cpa, tcpa;                  /**< closest range within the horizon, and when (s) */
+    double roc;                        /**< rate of closure, m/s, > 0 closing */
+    double range;                      /**< present range */
+    double bearing_rate;               /**< deg/s, > 0 clockwise */
+    double rel_bearing, abs_bearing;   /**< of the contact from ownship */
+    double cn_rel_bearing;             /**< of ownship from the contact, relative to its heading */
+    bool cn_fore_of_os, cn_aft_of_os, cn_port_of_os, cn_star_of_os;
+    bool os_fore_of_cn, os_aft_of_cn, os_port_of_cn, os_star_of_cn;
+    bool os_crosses_cn_bow, os_crosses_cn_stern;
+    double os_crosses_cn_bow_dist, os_crosses_cn_stern_dist;   /**< 0 when not crossing */
+    bool os_passes_cn_port, os_passes_cn_star;
+    double os_passes_cn_port_dist, os_passes_cn_star_dist;     /**< 0 when not passing */
+    bool cn_crosses_os_bow, cn_crosses_os_stern;
+    double cn_crosses_os_bow_dist, cn_crosses_os_stern_dist;
+    bool cn_passes_os_port, cn_passes_os_star;
+    double cn_passes_os_port_dist, cn_passes_os_star_dist;
+} kelp_cpa_result;
+
+/** Evaluate the pair within horizon tol (<= 0: none). KELP_OK, or KELP_ERR_ARG (non-finite
+ *  input or NULL; *out zeroed). */
+KELP_MUST_CHECK int kelp_cpa_eval(const kelp_cpa_vessel *cn, const kelp_cpa_vessel *os, double tol,
+                                  kelp_cpa_result *out);
+
+/** A contact and ownship's position prepared for many candidate (course, speed) pairs of
+ *  ownship, as an objective function over the helm's decision space asks. */
+typedef struct kelp_cpa_fast {
+    double dx, dy;                     /**< contact minus ownship */
+    double cvx, cvy;                   /**< contact velocity */
+    double tol;
+} kelp_cpa_fast;
+
+/** Prepare (same conventions: headings modulo 360, negative speed 0). KELP_ERR_ARG for
+ *  non-finite input. */
+KELP_MUST_CHECK int kelp_cpa_fast_init(kelp_cpa_fast *f, const kelp_cpa_vessel *cn, double osx, double osy,
+                                       double tol);
+/** CPA range if ownship takes course osh at speed osv now (negative osv taken as 0);
+ *  *tcpa (if not NULL) gets its time. Equal to kelp_cpa_eval's cpa for the same pair. */
+double kelp_cpa_fast_eval(const kelp_cpa_fast *f, double osh, double osv, double *tcpa);
 
 #ifdef __cplusplus
 }

@@ -29,6 +29,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <kelp/config.h>
+#include <kelp/cpa.h>
 #include <kelp/err.h>
 #include <kelp/ivp.h>
 #include <kelp/mission.h>
@@ -157,6 +158,9 @@ typedef struct kelp_bhv_ops {
     int (*on_run)(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out);
     /** postConfigStatus: post BHV_SETTINGS after configuration and each applied update. May be NULL. */
     void (*post_config)(kelp_bhv *b);
+    /** onHelmStart: once at kelp_helm_start, for every behaviour and every spawn template (a
+     *  template posts its BCM_ALERT_REQUEST here). May be NULL. */
+    void (*on_helm_start)(kelp_bhv *b);
 } kelp_bhv_ops;
 
 typedef enum kelp_bhv_flag_kind {
@@ -258,6 +262,54 @@ typedef struct kelp_bhv_loiter {       /* BHV_Loiter */
     bool center_activate;              /* re-centre the polygon on the vehicle at each activation */
 } kelp_bhv_loiter;
 
+#define KELP_BHV_AVD_MAX_FILTER 4      /* match_/ignore_ name, type, group entries of each kind */
+#define KELP_BHV_AVD_MAX_REGION 2      /* match_/ignore_region polygons */
+#define KELP_BHV_AVD_MAX_LINES 4       /* bearing_lines colour:threshold entries */
+#define KELP_BHV_AVD_MAX_CNFLAGS 4     /* cnflag lines */
+
+/** Contact state a contact behaviour works with (from the helm's ledger). */
+typedef struct kelp_helm_contact {
+    char name[KELP_MAX_NAME];
+    char type[KELP_MAX_NAME];
+    char group[KELP_MAX_NAME];
+    double x, y, hdg, spd;
+    double utc;                        /**< the report's TIME (MOOS time); -1 when absent */
+    double seen;                       /**< buffer time it arrived */
+} kelp_helm_contact;
+
+typedef struct kelp_bhv_avoid {        /* BHV_AvoidCollision (MOOS-IvP's parameters and defaults) */
+    char contact[KELP_MAX_NAME];
+    double pwt_outer_dist, pwt_inner_dist, completed_dist;
+    double min_util_cpa_dist, max_util_cpa_dist;
+    int pwt_grade;                     /* 0 linear, 1 quadratic, 2 quasi (power 1.5) */
+    double roc_max_dampen, roc_max_heighten;   /* accepted; kelp does not use them */
+    double time_on_leg;                /* CPA horizon of the objective function, s */
+    double decay_start, decay_end;     /* extrapolation decay */
+    double collision_depth, pcheck_thresh;
+    bool extrapolate, on_no_contact_ok, post_per_contact_info, no_alert_request;
+    bool bearing_line_show, bearing_line_label_show, bearing_info_range;
+    bool use_refinery, check_plateaus, check_validity, verbose, can_disable, use_plat_model;
+    bool exit_on_filter_vtype, exit_on_filter_group, exit_on_filter_region;
+    int strict_ignore;                 /* -1 unset, 0, 1 */
+    char match_name[KELP_BHV_AVD_MAX_FILTER][KELP_MAX_NAME], ignore_name[KELP_BHV_AVD_MAX_FILTER][KELP_MAX_NAME];
+    char match_type[KELP_BHV_AVD_MAX_FILTER][KELP_MAX_NAME], ignore_type[KELP_BHV_AVD_MAX_FILTER][KELP_MAX_NAME];
+    char match_group[KELP_BHV_AVD_MAX_FILTER][KELP_MAX_NAME], ignore_group[KELP_BHV_AVD_MAX_FILTER][KELP_MAX_NAME];
+    unsigned nmatch_name, nignore_name, nmatch_type, nignore_type, nmatch_group, nignore_group;
+    char match_region[KELP_BHV_AVD_MAX_REGION][KELP_HELM_MAX_FLAG_VAL];
+    char ignore_region[KELP_BHV_AVD_MAX_REGION][KELP_HELM_MAX_FLAG_VAL];
+    unsigned nmatch_region, nignore_region;
+    char line_color[KELP_BHV_AVD_MAX_LINES][24];
+    double line_thresh[KELP_BHV_AVD_MAX_LINES];
+    unsigned nlines;
+    char cnflag[KELP_BHV_AVD_MAX_CNFLAGS][KELP_HELM_MAX_FLAG_VAL];
+    unsigned ncnflag;
+    /* state of the last update */
+    kelp_helm_contact cn;              /* the contact, position extrapolated */
+    double osx, osy, osh, osv;
+    double range, relevance, roc;
+    bool nav_warned;
+} kelp_bhv_avoid;
+
 typedef struct kelp_bhv_c1 {           /* BHV_ConstantDepth / ConstantSpeed / ConstantHeading */
     double value, peakwidth, basewidth, summitdelta;
     bool have_value;
@@ -275,6 +327,7 @@ struct kelp_bhv {
     char name[KELP_MAX_NAME];
     char us[KELP_MAX_NAME];            /**< vehicle name (MOOS "us", default: helm's) */
     double pwt;                        /**< priority weight, default 100 */
+    double pwt_factor;                 /**< set by on_run to scale pwt for this function (reset to 1) */
     kelp_ivp_domain dom;               /**< behaviour's (sub)domain; dim 0 = null */
     char cond[KELP_HELM_MAX_CONDS][KELP_HELM_MAX_COND_LEN];
     unsigned ncond;
@@ -282,6 +335,11 @@ struct kelp_bhv {
     unsigned nflag;
     unsigned long bhv_iter;            /**< helm iterations this behaviour has been through */
     char templating[12];               /**< "disallowed" (default), "clone" or "spawn" */
+    unsigned long max_spawnings;       /**< a template's limit on spawns made (0: none) */
+    unsigned long spawns_made, spawns_tried;   /**< a template's counts */
+    bool spawned;                      /**< made from a template at run time */
+    char spawn_base[KELP_MAX_NAME];    /**< the template's name ("avd_") when spawned */
+    uint32_t uid;                      /**< helm-unique instance number (duplicate filter owner) */
     char build_info[64];               /**< build_info / precision (accepted, recorded) */
     char updates[KELP_MAX_NAME];       /**< UPDATES variable, "" none */
     uint64_t prev_update_hash;         /**< last fully applied update string */
@@ -315,6 +373,7 @@ struct kelp_bhv {
         kelp_bhv_wpt wpt;
         kelp_bhv_loiter loiter;
         kelp_bhv_c1 c1;
+        kelp_bhv_avoid avoid;
         double raw[64];                /**< for behaviour types outside kelp (cast it) */
     } u;
 };
@@ -357,7 +416,8 @@ double kelp_helm_relang(double xa, double ya, double xb, double yb);
 KELP_MUST_CHECK int kelp_helm_parse_points(const char *s, kelp_bhv_pt *pts, size_t cap, unsigned *n);
 
 /** The built-in behaviour types (BHV_SimpleWaypoint, BHV_Waypoint, BHV_Loiter,
- *  BHV_ConstantDepth, BHV_ConstantSpeed, BHV_ConstantHeading), NULL-terminated. */
+ *  BHV_ConstantDepth, BHV_ConstantSpeed, BHV_ConstantHeading, BHV_AvoidCollision),
+ *  NULL-terminated. */
 extern const kelp_bhv_ops *const kelp_bhv_builtin_types[];
 extern const kelp_bhv_ops kelp_bhv_simple_waypoint_ops;
 extern const kelp_bhv_ops kelp_bhv_waypoint_ops;
@@ -365,6 +425,18 @@ extern const kelp_bhv_ops kelp_bhv_loiter_ops;
 extern const kelp_bhv_ops kelp_bhv_constant_depth_ops;
 extern const kelp_bhv_ops kelp_bhv_constant_speed_ops;
 extern const kelp_bhv_ops kelp_bhv_constant_heading_ops;
+extern const kelp_bhv_ops kelp_bhv_avoid_collision_ops;
+/** BHV_AvoidCollision's objective at (course, speed): CPA range within the horizon mapped to
+ *  utility 0 at or inside min_util_cpa_dist, 100 at or beyond max_util_cpa_dist, linear between. */
+typedef struct kelp_bhv_avoid_aof {
+    kelp_cpa_fast cpa;
+    double min_util, max_util;
+    int icrs, ispd;
+} kelp_bhv_avoid_aof;
+double kelp_bhv_avoid_aof_eval(const double *pt, void *user);
+/** Priority factor (0..1) at range: 0 at or beyond outer, 1 at or inside inner, graded between
+ *  (grade 0 linear, 1 quadratic, 2 quasi = power 1.5). */
+double kelp_bhv_avoid_relevance(double range, double inner, double outer, int grade);
 
 /** The AOF_SimpleWaypoint objective (0..100) at (course, speed) for the reflector build. */
 typedef struct kelp_bhv_swpt_aof {
@@ -426,6 +498,7 @@ typedef struct kelp_helm_mem {
 
 typedef struct kelp_helm_filter_entry {
     uint64_t key, val;
+    uint32_t owner;                    /* uid of the posting behaviour (0: the helm) */
 } kelp_helm_filter_entry;
 
 typedef struct kelp_helm_qpost {
@@ -482,6 +555,17 @@ struct kelp_helm {
     kelp_helm_ib ib;
     kelp_bhv bhv[KELP_HELM_MAX_BHVS];
     unsigned nbhv;
+    /* templates (templating = spawn): configured, never run; instances are copies of them */
+    kelp_bhv tmpl[KELP_HELM_MAX_TEMPLATES];
+    unsigned ntmpl;
+    unsigned nspawned;                 /**< spawned instances alive */
+    unsigned long bhv_cnt_ever;        /**< behaviours instantiated ever (IVPHELM_BHV_CNT_EVER) */
+    unsigned long spawn_refused;       /**< spawns refused by KELP_HELM_MAX_SPAWNED / _BHVS */
+    unsigned long completed_removed;   /**< spawned behaviours removed after completing */
+    uint32_t next_uid;
+    /* contact ledger from NODE_REPORT mail */
+    kelp_helm_contact ledger[KELP_HELM_MAX_CONTACTS];
+    unsigned ncontacts;
     kelp_helm_pair init[KELP_HELM_MAX_INIT];
     bool init_defer[KELP_HELM_MAX_INIT];
     unsigned ninit;
@@ -543,8 +627,33 @@ KELP_MUST_CHECK int kelp_helm_iterate(kelp_helm *h, double now);
 /** Variables to register for that were not yet returned (conditions, updates, nostarve,
  *  info vars, duration_reset): call after configuration and after each iteration. */
 const char *kelp_helm_next_new_var(kelp_helm *h);
-/** Find a behaviour by name, or NULL. */
+/** Find a behaviour by name, or NULL (templates are not behaviours: see kelp_helm_find_template). */
 kelp_bhv *kelp_helm_find(kelp_helm *h, const char *name);
+kelp_bhv *kelp_helm_find_template(kelp_helm *h, const char *name);
+
+/* ---- templates and spawning (seed 003 section 4; MOOS-IvP's BehaviorSet spawning) ----
+ * A behaviour configured with "templating = spawn" is moved out of the behaviour set by
+ * kelp_helm_configured() and never runs; its on_helm_start runs at kelp_helm_start (an
+ * avoidance template posts BCM_ALERT_REQUEST). Each iteration, before the behaviours run,
+ * every string received on a template's UPDATES variable that holds a "name=N" piece is a
+ * spawn request: the instance name is N when N begins with the template's name, else the
+ * template's name followed by N ("avd_" + "vessel_023"). If no behaviour has that name (nor
+ * N itself) a copy of the template is made, the request's other "param=value" pieces are set on
+ * it, and it joins the behaviour set (IVPHELM_LIFE_EVENT event=spawn, its spawnflags, its
+ * BHV_SETTINGS); a bad piece aborts it (event=abort, BHV_WARNING). A template's own
+ * max_spawnings (0: none) caps its spawns made; KELP_HELM_MAX_SPAWNED caps the instances alive
+ * (refused with a BHV_WARNING naming the limit). Later updates naming the instance (by N or by
+ * its full name) reach it through the ordinary updates mechanism; updates naming another
+ * instance are a name_mismatch for it. A spawned behaviour that completes is removed at the end
+ * of that iteration (IVPHELM_LIFE_EVENT event=death); behaviours of the .bhv file stay listed
+ * as completed, as before.
+ *
+ * The ledger: every NODE_REPORT received (parsed with kelp_nodereport_parse) updates the
+ * record of its NAME; reports naming ownship (the helm's us) are ignored. */
+const kelp_helm_contact *kelp_helm_contact_get(const kelp_helm *h, const char *name);
+/** The ledger update the helm does at each iteration start, exposed for tests and apps that
+ *  feed reports directly. Returns 0 or KELP_ERR_PARSE / KELP_ERR_NOSPACE (never crashes). */
+KELP_MUST_CHECK int kelp_helm_ledger_report(kelp_helm *h, const char *report);
 
 #ifdef __cplusplus
 }

@@ -124,6 +124,12 @@ int bhv_general_param(kelp_bhv *b, const char *p, const char *v)
         (void)hx_copy(b->templating, sizeof b->templating, v, vn);
         return 0;
     }
+    if (!strcmp(p, "max_spawnings")) {
+        if (!hx_number(v, vn, &d) || d < 0 || d != floor(d))
+            return kelp_bhv_fail(b, "max_spawnings is a whole number >= 0");
+        b->max_spawnings = (unsigned long)d;
+        return 0;
+    }
     if (!strcmp(p, "build_info") || !strcmp(p, "precision")) {
         (void)hx_copy(b->build_info, sizeof b->build_info, v, vn < sizeof b->build_info ? vn : sizeof b->build_info - 1);
         return 0;

@@ -141,6 +141,8 @@ int kelp_helm_add(kelp_helm *h, const char *type, kelp_bhv **out)
     (void)hx_copy(b->name, sizeof b->name, ops->type, strlen(ops->type));
     memcpy(b->us, h->cfg.us, sizeof b->us);
     b->dom = h->cfg.domain;
+    b->uid = ++h->next_uid;
+    h->bhv_cnt_ever++;
     bhv_defaults(b);
     if (ops->init)
         ops->init(b);
@@ -283,6 +285,9 @@ int kelp_helm_configured(kelp_helm *h)
         if (!kelp_ivp_domain_is_sub(&b->dom, &h->cfg.domain))
             return helm_fail(h, b->line, KELP_ERR_STATE, "behaviour ", b->name, ": domain is not a sub-domain of the helm domain");
     }
+    int rc = helm_templates_extract(h);
+    if (rc < 0)
+        return helm_fail(h, 0, rc, "too many spawn templates (KELP_HELM_MAX_TEMPLATES)", NULL, NULL);
     return 0;
 }
 
@@ -292,6 +297,11 @@ static void sink(kelp_helm *h, const char *var, bool is_str, const char *s, doub
         return;
     kelp_helm_post p = {var, is_str, is_str ? s : NULL, is_str ? 0 : d, aux};
     h->cfg.sink(&p, h->cfg.user);
+}
+
+void helm_sink(kelp_helm *h, const char *var, bool is_str, const char *s, double d, const char *aux)
+{
+    sink(h, var, is_str, s, d, aux);
 }
 
 /* "course,0,359,360:speed,0,4,21" (IVPHELM_DOMAIN, the summary's ivpdomain) */
@@ -347,13 +357,22 @@ void kelp_helm_start(kelp_helm *h, double now)
     for (unsigned i = 0; i < h->nbhv; i++)
         if (h->bhv[i].ops->post_config)
             h->bhv[i].ops->post_config(&h->bhv[i]);
+    /* onHelmStart: behaviours, then templates (their alert requests) */
+    for (unsigned i = 0; i < h->nbhv; i++)
+        if (h->bhv[i].ops->on_helm_start)
+            h->bhv[i].ops->on_helm_start(&h->bhv[i]);
+    for (unsigned i = 0; i < h->ntmpl; i++)
+        if (h->tmpl[i].ops->on_helm_start)
+            h->tmpl[i].ops->on_helm_start(&h->tmpl[i]);
     flush_posts(h);
     /* the variables behaviour updates and mode declarations listen to */
     size_t n = 0;
     buf[0] = '\0';
-    for (unsigned i = 0; i < h->nbhv; i++)
-        if (h->bhv[i].updates[0])
-            n += hx_cat(buf + n, sizeof buf - n, n ? "," : "", h->bhv[i].updates, HX_END);
+    for (unsigned i = 0; i < h->nbhv + h->ntmpl; i++) {
+        const kelp_bhv *b = i < h->nbhv ? &h->bhv[i] : &h->tmpl[i - h->nbhv];
+        if (b->updates[0])
+            n += hx_cat(buf + n, sizeof buf - n, n ? "," : "", b->updates, HX_END);
+    }
     sink(h, "IVPHELM_UPDATEVARS", true, buf, 0, NULL);
     helm_mode_vars(h, buf, sizeof buf);
     sink(h, "IVPHELM_STATEVARS", true, buf, 0, NULL);
@@ -415,7 +434,8 @@ void helm_queue_post(kelp_helm *h, const kelp_bhv *b, const char *var, bool is_s
     kelp_helm_qpost *q = &h->q[h->nq];
     bool ok = true;
     size_t mark = h->qpool_used;
-    q->bhv = (uint16_t)(b - h->bhv);
+    q->bhv = (uint16_t)(b >= h->bhv && b < h->bhv + KELP_HELM_MAX_BHVS ? (size_t)(b - h->bhv)
+                                                                        : KELP_HELM_MAX_BHVS + (size_t)(b - h->tmpl));
     q->is_str = is_str;
     q->dval = dval;
     q->repeatable = key && !strcmp(key, "repeatable");
@@ -447,7 +467,7 @@ void helm_post_flags(kelp_bhv *b, kelp_bhv_flag_kind kind)
 }
 
 /* Duplicate filter: true when this (key, value) differs from the last one posted. */
-static bool filter_pass(kelp_helm *h, uint64_t key, uint64_t val)
+static bool filter_pass(kelp_helm *h, uint64_t key, uint64_t val, uint32_t owner)
 {
     for (unsigned i = 0; i < h->nfilter; i++)
         if (h->filter[i].key == key) {
@@ -459,6 +479,7 @@ static bool filter_pass(kelp_helm *h, uint64_t key, uint64_t val)
     if (h->nfilter < KELP_HELM_MAX_FILTER) {
         h->filter[h->nfilter].key = key;
         h->filter[h->nfilter].val = val;
+        h->filter[h->nfilter].owner = owner;
         h->nfilter++;
     }
     return true;
@@ -469,7 +490,7 @@ static void flush_posts(kelp_helm *h)
     char aux[KELP_MAX_NAME + 24];
     for (unsigned i = 0; i < h->nq; i++) {
         const kelp_helm_qpost *q = &h->q[i];
-        const kelp_bhv *b = &h->bhv[q->bhv];
+        const kelp_bhv *b = q->bhv < KELP_HELM_MAX_BHVS ? &h->bhv[q->bhv] : &h->tmpl[q->bhv - KELP_HELM_MAX_BHVS];
         const char *var = h->qpool + q->var, *sv = h->qpool + q->sval, *key = h->qpool + q->key;
         if (q->is_str)
             hx_ignore(kelp_helm_ib_set_string(&h->ib, var, sv, h->ib.curr_time, false));
@@ -477,11 +498,12 @@ static void flush_posts(kelp_helm *h)
             hx_ignore(kelp_helm_ib_set_double(&h->ib, var, q->dval, h->ib.curr_time, false));
         if (!q->repeatable) {
             uint64_t k = hx_hash(HX_HASH_INIT, b->name, strlen(b->name) + 1);
+            k = hx_hash(k, &b->uid, sizeof b->uid);
             k = hx_hash(k, var, strlen(var) + 1);
             k = hx_hash(k, key, strlen(key));
             uint64_t v = hx_hash(HX_HASH_INIT, q->is_str ? "s" : "d", 1);
             v = q->is_str ? hx_hash(v, sv, strlen(sv)) : hx_hash(v, &q->dval, sizeof q->dval);
-            if (!filter_pass(h, k, v))
+            if (!filter_pass(h, k, v, b->uid))
                 continue;
         }
         if (!strcmp(var, "BHV_WARNING"))
@@ -584,7 +606,7 @@ static bool repeatable_update(const char *s)
 }
 
 /* one '#'-separated piece "param = value", trimmed; false without '=' or when too long */
-static bool update_piece(const char *piece, size_t pn, char *param, size_t pcap, char *val, size_t vcap)
+bool helm_update_piece(const char *piece, size_t pn, char *param, size_t pcap, char *val, size_t vcap)
 {
     hx_trim(&piece, &pn);
     const char *eq = memchr(piece, '=', pn);
@@ -606,7 +628,8 @@ static const char *apply_update(kelp_helm *h, kelp_bhv *b, const char *s)
     for (const char *p = s;;) {
         const char *e = strchr(p, '#');
         size_t pn = e ? (size_t)(e - p) : strlen(p);
-        if (update_piece(p, pn, param, sizeof param, val, sizeof val) && !strcmp(param, "name") && strcmp(val, b->name) != 0)
+        if (helm_update_piece(p, pn, param, sizeof param, val, sizeof val) && !strcmp(param, "name") &&
+            !helm_name_matches(b, val))
             return "name_mismatch";
         if (!e)
             break;
@@ -617,7 +640,7 @@ static const char *apply_update(kelp_helm *h, kelp_bhv *b, const char *s)
         const char *e = strchr(p, '#');
         size_t pn = e ? (size_t)(e - p) : strlen(p);
         b->fail = NULL;
-        bool parsed = update_piece(p, pn, param, sizeof param, val, sizeof val);
+        bool parsed = helm_update_piece(p, pn, param, sizeof param, val, sizeof val);
         if (!parsed || (strcmp(param, "name") != 0 && kelp_bhv_set_param(b, param, val) < 0)) {
             ok = false;
             const char *pp = p;
@@ -773,14 +796,16 @@ static bool produce(kelp_helm *h, unsigned i, size_t *pool_used, bool *halted)
         kelp_helm_work w = {h->mem.pool + *pool_used, h->mem.pool_cap - *pool_used, h->mem.tmp, h->mem.tmp_cap,
                             h->mem.dwork, h->mem.dwork_cap, h->mem.pq, h->mem.pq_cap};
         kelp_ivp_func *f = &h->fn[i];
+        b->pwt_factor = 1.0;
         int rc = b->ops->on_run ? b->ops->on_run(b, &w, f) : 0;
         helm_post_flags(b, KELP_FLAG_RUNX);
         if (rc == 1 && f->n > 0 && !func_finite(f)) {
             kelp_bhv_post_error(b, "NaN detected in IvP Function");
             rc = 0;
         }
-        if (rc == 1 && f->n > 0 && b->pwt > 0) {
-            f->pwt = b->pwt;
+        double pwt = b->pwt * (b->pwt_factor >= 0 ? b->pwt_factor : 0);
+        if (rc == 1 && f->n > 0 && pwt > 0) {
+            f->pwt = pwt;
             made = true;
             *pool_used += f->n;
             if (old != KELP_BHV_ACTIVE)
@@ -932,7 +957,7 @@ static void post_outputs(kelp_helm *h)
         if (h->last_cnt[k] != cnt[k] + 1) {
             sink(h, cvar[k], false, NULL, (double)cnt[k], NULL);
             if (k == 0)
-                sink(h, "IVPHELM_BHV_CNT_EVER", false, NULL, (double)h->nbhv, NULL);
+                sink(h, "IVPHELM_BHV_CNT_EVER", false, NULL, (double)h->bhv_cnt_ever, NULL);
             h->last_cnt[k] = cnt[k] + 1;
         }
     if (r->create_time > r->max_create_time)
@@ -1021,7 +1046,9 @@ int kelp_helm_iterate(kelp_helm *h, double now)
         for (unsigned i = 0; i < h->ninit; i++)
             if (h->init_defer[i] && kelp_helm_ib_find(&h->ib, h->init[i].var) < 0)
                 post_init(h, &h->init[i]);
+    helm_ledger_update(h);
     helm_mode_eval(h, post_mode);
+    helm_spawn(h);
     kelp_helm_report *r = &h->rep;
     kelp_helm_report prev = *r;
     memset(r, 0, sizeof *r);
@@ -1069,6 +1096,7 @@ int kelp_helm_iterate(kelp_helm *h, double now)
         h->qpool_used = 0;
     }
     post_outputs(h);
+    helm_reap(h);
     kelp_helm_ib_clear_deltas(&h->ib);
     return 0;
 }

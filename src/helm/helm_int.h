@@ -49,6 +49,16 @@ void helm_queue_post(kelp_helm *h, const kelp_bhv *b, const char *var, bool is_s
 int helm_need_var(kelp_helm *h, const char *name, size_t n);
 void helm_post_flags(kelp_bhv *b, kelp_bhv_flag_kind kind);
 int bhv_general_param(kelp_bhv *b, const char *param, const char *value);
+void helm_sink(kelp_helm *h, const char *var, bool is_str, const char *s, double d, const char *aux);
+/* one '#'-separated update piece "param = value" of s[0..pn), trimmed */
+bool helm_update_piece(const char *piece, size_t pn, char *param, size_t pcap, char *val, size_t vcap);
+/* templates and spawning (spawn.c) */
+int helm_templates_extract(kelp_helm *h);
+void helm_spawn(kelp_helm *h);
+void helm_reap(kelp_helm *h);
+void helm_ledger_update(kelp_helm *h);
+/* does an update's name=val piece name b (exactly, or base + val for a spawned behaviour)? */
+bool helm_name_matches(const kelp_bhv *b, const char *val);
 void bhv_defaults(kelp_bhv *b);
 
 /* shared by the waypoint-like behaviours: coupled course x speed ZAIC function (seed Listing 13):

@@ -1,0 +1,514 @@
+/* kelp helm: BHV_AvoidCollision, a contact behaviour built the IvP way. Parameters, defaults
+ * and the utility/priority model are MOOS-IvP's (BHV_AvoidCollision, IvPContactBehavior,
+ * AOF_AvoidCollision); the code is kelp's. The objective over (course, speed) is the CPA
+ * range within time_on_leg from the CPA engine (include/kelp/cpa.h) through the Reflector:
+ * utility 0 below min_util_cpa_dist, 100 above max_util_cpa_dist, linear from 25 to 100
+ * between (MOOS-IvP's metric). The function is normalised to [0,100] and weighted by
+ * pwt x relevance, relevance 0 beyond pwt_outer_dist rising to 1 at pwt_inner_dist (linear,
+ * quadratic or quasi = power 1.5). The behaviour completes when the contact is at or beyond
+ * 1.1 x completed_dist (MOOS-IvP's margin, so a contact manager re-alert is not missed) or
+ * fails an exit_on_filter_* check. Contact state comes from the helm's NODE_REPORT ledger. */
+#include <math.h>
+#include <string.h>
+#include "helm_int.h"
+
+#define AVD_PIECE "discrete @ course:3,speed:3"   /* MOOS-IvP's uniform_piece for this behaviour */
+
+static void avd_init(kelp_bhv *b)
+{
+    kelp_bhv_avoid *a = &b->u.avoid;
+    (void)hx_copy(b->name, sizeof b->name, "avoid_collision", 15);
+    bhv_use_subdomain(b, "course,speed");
+    a->completed_dist = 500;
+    a->pwt_outer_dist = 200;
+    a->pwt_inner_dist = 50;
+    a->min_util_cpa_dist = 10;
+    a->max_util_cpa_dist = 75;
+    a->pwt_grade = 2;
+    a->roc_max_dampen = -2;
+    a->roc_max_heighten = 2;
+    a->time_on_leg = 120;
+    a->extrapolate = true;
+    a->decay_start = 15;
+    a->decay_end = 30;
+    a->on_no_contact_ok = true;
+    a->strict_ignore = -1;
+    (void)kelp_bhv_add_info_vars(b, "NAV_X, NAV_Y, NAV_SPEED, NAV_HEADING, NODE_REPORT");
+}
+
+static int set_bool(const char *v, bool *out)
+{
+    bool t;
+    if (kelp_parse_bool(v, strlen(v), &t) != 0)
+        return KELP_ERR_PARSE;
+    *out = t;
+    return 0;
+}
+
+static int nonneg(const char *v, double *out)
+{
+    double d;
+    if (!hx_number(v, strlen(v), &d) || d < 0)
+        return KELP_ERR_PARSE;
+    *out = d;
+    return 0;
+}
+
+/* the low or high member of a pair kept ordered (the other follows when crossed) */
+static int pair_low(const char *v, double *lo, double *hi)
+{
+    if (nonneg(v, lo) < 0) return KELP_ERR_PARSE;
+    if (*hi < *lo) *hi = *lo;
+    return 0;
+}
+
+static int pair_high(const char *v, double *lo, double *hi)
+{
+    if (nonneg(v, hi) < 0) return KELP_ERR_PARSE;
+    if (*lo > *hi) *lo = *hi;
+    return 0;
+}
+
+static int add_name(char list[][KELP_MAX_NAME], unsigned *n, const char *v)
+{
+    size_t vn = strlen(v);
+    if (vn == 0 || *n >= KELP_BHV_AVD_MAX_FILTER || !hx_copy(list[*n], KELP_MAX_NAME, v, vn))
+        return KELP_ERR_PARSE;
+    for (unsigned i = 0; i < *n; i++)
+        if (hx_ieq(list[i], v)) return 0; /* duplicates are harmless (repeated updates) */
+    (*n)++;
+    return 0;
+}
+
+static int add_region(char list[][KELP_HELM_MAX_FLAG_VAL], unsigned *n, const char *v)
+{
+    kelp_bhv_pt pts[KELP_HELM_MAX_PTS];
+    unsigned np;
+    if (*n >= KELP_BHV_AVD_MAX_REGION || kelp_helm_parse_points(v, pts, KELP_HELM_MAX_PTS, &np) < 0 || np < 3 ||
+        !hx_copy(list[*n], KELP_HELM_MAX_FLAG_VAL, v, strlen(v)))
+        return KELP_ERR_PARSE;
+    (*n)++;
+    return 0;
+}
+
+/* bearing_lines = white:0, green:0.65, yellow:0.8, red:1.0 [, info:range|relevance] */
+static int set_lines(kelp_bhv_avoid *a, const char *v)
+{
+    a->nlines = 0;
+    a->bearing_line_show = false;
+    for (const char *item = v;;) {
+        const char *e = strchr(item, ',');
+        size_t in = e ? (size_t)(e - item) : strlen(item);
+        const char *c = memchr(item, ':', in);
+        if (!c) return KELP_ERR_PARSE;
+        const char *l = item, *r = c + 1;
+        size_t ln = (size_t)(c - item), rn = in - ln - 1;
+        hx_trim(&l, &ln);
+        hx_trim(&r, &rn);
+        double d;
+        if (ln == 4 && kelp_strieq_n(l, ln, "info")) {
+            if (rn == 5 && kelp_strieq_n(r, rn, "range")) a->bearing_info_range = true;
+            else if (rn == 9 && kelp_strieq_n(r, rn, "relevance")) a->bearing_info_range = false;
+            else return KELP_ERR_PARSE;
+        } else if (ln > 0 && hx_number(r, rn, &d) && a->nlines < KELP_BHV_AVD_MAX_LINES &&
+                   hx_copy(a->line_color[a->nlines], sizeof a->line_color[0], l, ln)) {
+            a->line_thresh[a->nlines++] = d;
+            a->bearing_line_show = true;
+        } else {
+            return KELP_ERR_PARSE;
+        }
+        if (!e) return 0;
+        item = e + 1;
+    }
+}
+
+static int avd_set_param(kelp_bhv *b, const char *p, const char *v)
+{
+    kelp_bhv_avoid *a = &b->u.avoid;
+    size_t vn = strlen(v);
+    double d;
+    /* IvPContactBehavior's parameters */
+    if (!strcmp(p, "contact")) {
+        if (vn == 0 || !hx_copy(a->contact, sizeof a->contact, v, vn)) return KELP_ERR_PARSE;
+        return 0;
+    }
+    if (!strcmp(p, "extrapolate")) return set_bool(v, &a->extrapolate);
+    if (!strcmp(p, "post_per_contact_info")) return set_bool(v, &a->post_per_contact_info);
+    if (!strcmp(p, "match_name")) return add_name(a->match_name, &a->nmatch_name, v);
+    if (!strcmp(p, "ignore_name")) return add_name(a->ignore_name, &a->nignore_name, v);
+    if (!strcmp(p, "match_group")) return add_name(a->match_group, &a->nmatch_group, v);
+    if (!strcmp(p, "ignore_group")) return add_name(a->ignore_group, &a->nignore_group, v);
+    if (!strcmp(p, "match_type") || !strcmp(p, "contact_type_required"))
+        return add_name(a->match_type, &a->nmatch_type, v);
+    if (!strcmp(p, "ignore_type")) return add_name(a->ignore_type, &a->nignore_type, v);
+    if (!strcmp(p, "match_region")) return add_region(a->match_region, &a->nmatch_region, v);
+    if (!strcmp(p, "ignore_region")) return add_region(a->ignore_region, &a->nignore_region, v);
+    if (!strcmp(p, "strict_ignore")) {
+        bool t;
+        if (set_bool(v, &t) < 0) return KELP_ERR_PARSE;
+        a->strict_ignore = t;
+        return 0;
+    }
+    if (!strcmp(p, "exit_on_filter_vtype")) return set_bool(v, &a->exit_on_filter_vtype);
+    if (!strcmp(p, "exit_on_filter_group")) return set_bool(v, &a->exit_on_filter_group);
+    if (!strcmp(p, "exit_on_filter_region")) return set_bool(v, &a->exit_on_filter_region);
+    if (!strcmp(p, "cnflag")) {
+        if (vn == 0 || a->ncnflag >= KELP_BHV_AVD_MAX_CNFLAGS ||
+            !hx_copy(a->cnflag[a->ncnflag], sizeof a->cnflag[0], v, vn))
+            return KELP_ERR_PARSE;
+        a->ncnflag++;
+        return 0;
+    }
+    if (!strcmp(p, "decay")) {
+        const char *c = strchr(v, ',');
+        double s, e;
+        if (!c || !hx_number(v, (size_t)(c - v), &s) || !hx_number(c + 1, strlen(c + 1), &e) || s < 0 || s > e)
+            return KELP_ERR_PARSE;
+        a->decay_start = s, a->decay_end = e;
+        return 0;
+    }
+    if (!strcmp(p, "decay_end")) {
+        if (!hx_number(v, vn, &d)) return KELP_ERR_PARSE;
+        a->decay_end = d;
+        return 0;
+    }
+    if (!strcmp(p, "on_no_contact_ok")) return set_bool(v, &a->on_no_contact_ok);
+    if (!strcmp(p, "time_on_leg")) return nonneg(v, &a->time_on_leg);
+    if (!strcmp(p, "bearing_line_label_show")) return set_bool(v, &a->bearing_line_label_show);
+    if (!strcmp(p, "bearing_line_show")) return set_bool(v, &a->bearing_line_show);
+    if (!strcmp(p, "bearing_lines") || !strcmp(p, "bearing_line_config")) return set_lines(a, v);
+    if (!strcmp(p, "use_plat_model")) return set_bool(v, &a->use_plat_model);
+    /* BHV_AvoidCollision's own */
+    if (!strcmp(p, "pwt_inner_dist")) return pair_low(v, &a->pwt_inner_dist, &a->pwt_outer_dist);
+    if (!strcmp(p, "pwt_outer_dist")) return pair_high(v, &a->pwt_inner_dist, &a->pwt_outer_dist);
+    if (!strcmp(p, "min_util_cpa_dist")) return pair_low(v, &a->min_util_cpa_dist, &a->max_util_cpa_dist);
+    if (!strcmp(p, "max_util_cpa_dist")) return pair_high(v, &a->min_util_cpa_dist, &a->max_util_cpa_dist);
+    if (!strcmp(p, "completed_dist")) return nonneg(v, &a->completed_dist);
+    if (!strcmp(p, "collision_depth")) {
+        if (!hx_number(v, vn, &d) || d <= 0) return KELP_ERR_PARSE;
+        a->collision_depth = d; /* accepted; kelp builds the course x speed function only */
+        return 0;
+    }
+    if (!strcmp(p, "pwt_grade")) {
+        static const char *const g[3] = {"linear", "quadratic", "quasi"};
+        for (int i = 0; i < 3; i++)
+            if (hx_ieq(v, g[i])) {
+                a->pwt_grade = i;
+                return 0;
+            }
+        return KELP_ERR_PARSE;
+    }
+    if (!strcmp(p, "roc_max_heighten")) {
+        if (nonneg(v, &a->roc_max_heighten) < 0) return KELP_ERR_PARSE;
+        if (a->roc_max_dampen > a->roc_max_heighten) a->roc_max_dampen = a->roc_max_heighten;
+        return 0;
+    }
+    if (!strcmp(p, "roc_max_dampen")) return nonneg(v, &a->roc_max_dampen);
+    if (!strcmp(p, "no_alert_request")) return set_bool(v, &a->no_alert_request);
+    if (!strcmp(p, "verbose")) return set_bool(v, &a->verbose);
+    if (!strcmp(p, "use_refinery")) return set_bool(v, &a->use_refinery);
+    if (!strcmp(p, "check_plateaus")) return set_bool(v, &a->check_plateaus);
+    if (!strcmp(p, "check_validity")) return set_bool(v, &a->check_validity);
+    if (!strcmp(p, "pcheck_thresh")) return nonneg(v, &a->pcheck_thresh);
+    if (!strcmp(p, "can_disable")) return set_bool(v, &a->can_disable);
+    return KELP_ERR_NOTFOUND;
+}
+
+static int avd_params_done(kelp_bhv *b)
+{
+    kelp_bhv_avoid *a = &b->u.avoid;
+    if (a->completed_dist < a->pwt_outer_dist) /* as MOOS-IvP: never complete inside the outer ring */
+        a->completed_dist = a->pwt_outer_dist;
+    return 0;
+}
+
+/* ", key=value" for every filter entry (the contact manager applies them to the alert) */
+static size_t filter_summary(const kelp_bhv_avoid *a, char *buf, size_t cap)
+{
+    size_t n = 0;
+    const struct { const char *key; const char (*list)[KELP_MAX_NAME]; unsigned cnt; } kinds[6] = {
+        {"ignore_group", a->ignore_group, a->nignore_group}, {"match_group", a->match_group, a->nmatch_group},
+        {"ignore_name", a->ignore_name, a->nignore_name},    {"match_name", a->match_name, a->nmatch_name},
+        {"ignore_type", a->ignore_type, a->nignore_type},    {"match_type", a->match_type, a->nmatch_type}};
+    buf[0] = '\0';
+    for (int k = 0; k < 6; k++)
+        for (unsigned i = 0; i < kinds[k].cnt; i++)
+            n += hx_cat(buf + n, cap - n, ", ", kinds[k].key, "=", kinds[k].list[i], HX_END);
+    for (unsigned i = 0; i < a->nignore_region; i++)
+        n += hx_cat(buf + n, cap - n, ", ignore_region=", a->ignore_region[i], HX_END);
+    for (unsigned i = 0; i < a->nmatch_region; i++)
+        n += hx_cat(buf + n, cap - n, ", match_region=", a->match_region[i], HX_END);
+    if (a->strict_ignore >= 0)
+        n += hx_cat(buf + n, cap - n, ", strict_ignore=", a->strict_ignore ? "true" : "false", HX_END);
+    return n;
+}
+
+/* onHelmStart: a spawn template with an UPDATES variable asks the contact manager for alerts */
+static void avd_helm_start(kelp_bhv *b)
+{
+    const kelp_bhv_avoid *a = &b->u.avoid;
+    if (a->no_alert_request || !b->updates[0] || !hx_ieq(b->templating, "spawn"))
+        return;
+    char req[KELP_HELM_MAX_SVAL], ar[32], cr[32], filt[KELP_HELM_MAX_SVAL / 2];
+    hx_fmt_x(ar, sizeof ar, a->pwt_outer_dist, 1);
+    hx_fmt_x(cr, sizeof cr, a->completed_dist, 1);
+    (void)filter_summary(a, filt, sizeof filt);
+    hx_cat(req, sizeof req, "id=", b->name, ", on_flag=", b->updates, "=name=$[VNAME] # contact=$[VNAME]",
+           ", alert_range=", ar, ", cpa_range=", cr, filt, HX_END);
+    kelp_bhv_post_string(b, "BCM_ALERT_REQUEST", req, NULL);
+}
+
+double kelp_bhv_avoid_relevance(double range, double inner, double outer, int grade)
+{
+    if (range >= outer) return 0;
+    if (range <= inner || outer <= inner) return 1; /* kelp caps at 1 inside the inner ring */
+    double p = (outer - range) / (outer - inner);
+    if (grade == 1) return p * p;
+    if (grade == 2) return pow(p, 1.5);
+    return p;
+}
+
+double kelp_bhv_avoid_aof_eval(const double *pt, void *user)
+{
+    const kelp_bhv_avoid_aof *f = user;
+    double cpa = kelp_cpa_fast_eval(&f->cpa, pt[f->icrs], pt[f->ispd], NULL);
+    if (cpa < f->min_util) return 0;
+    if (cpa > f->max_util) return 100;
+    if (f->max_util <= f->min_util) return 100;
+    return 25.0 + 75.0 * (cpa - f->min_util) / (f->max_util - f->min_util);
+}
+
+/* distance a contact travelled dt seconds after its report, speed decaying from d1 to d2 */
+static double extrap_dist(double v, double dt, double d1, double d2)
+{
+    if (dt <= 0) return 0;
+    if (dt <= d1) return v * dt;
+    if (d2 <= d1) return v * d1;
+    if (dt <= d2) return v * d1 + (v + v * (1 - (dt - d1) / (d2 - d1))) / 2 * (dt - d1);
+    return v * d1 + v / 2 * (d2 - d1);
+}
+
+/* updatePlatformInfo: ownship from NAV_*, the contact from the ledger. false: none this time */
+static bool update_info(kelp_bhv *b)
+{
+    kelp_bhv_avoid *a = &b->u.avoid;
+    bool ok = kelp_bhv_buf_double(b, "NAV_X", &a->osx);
+    ok = kelp_bhv_buf_double(b, "NAV_Y", &a->osy) && ok;
+    ok = kelp_bhv_buf_double(b, "NAV_HEADING", &a->osh) && ok;
+    ok = kelp_bhv_buf_double(b, "NAV_SPEED", &a->osv) && ok;
+    if (!ok) {
+        kelp_bhv_post_warning(b, "No ownship NAV_X/NAV_Y/NAV_HEADING/NAV_SPEED info in info_buffer.");
+        return false;
+    }
+    if (!a->contact[0]) {
+        if (!a->on_no_contact_ok) kelp_bhv_post_error(b, "contact IDX not set.");
+        return false;
+    }
+    const kelp_helm_contact *c = kelp_helm_contact_get(b->helm, a->contact);
+    if (!c) {
+        char msg[KELP_MAX_NAME + 48];
+        hx_cat(msg, sizeof msg, a->contact, " x/y/heading/speed info not found", HX_END);
+        if (a->on_no_contact_ok) kelp_bhv_post_warning(b, msg);
+        else kelp_bhv_post_error(b, msg);
+        return false;
+    }
+    a->cn = *c;
+    if (a->extrapolate && c->utc >= 0) {
+        double now = b->helm->t0 + kelp_bhv_buf_now(b);
+        double d = extrap_dist(c->spd > 0 ? c->spd : 0, now - c->utc, a->decay_start, a->decay_end);
+        double h = c->hdg * 0.017453292519943295;
+        a->cn.x += d * sin(h);
+        a->cn.y += d * cos(h);
+    }
+    kelp_cpa_vessel cn = {a->cn.x, a->cn.y, a->cn.hdg, a->cn.spd}, os = {a->osx, a->osy, a->osh, a->osv};
+    kelp_cpa_result r;
+    if (kelp_cpa_eval(&cn, &os, a->time_on_leg, &r) != KELP_OK) {
+        kelp_bhv_post_warning(b, "non-finite contact or ownship state");
+        return false;
+    }
+    a->range = r.range;
+    a->roc = r.roc;
+    return true;
+}
+
+static bool in_list(const char list[][KELP_MAX_NAME], unsigned n, const char *v)
+{
+    for (unsigned i = 0; i < n; i++)
+        if (hx_ieq(list[i], v)) return true;
+    return false;
+}
+
+static bool kind_ok(const char mt[][KELP_MAX_NAME], unsigned nm, const char ig[][KELP_MAX_NAME], unsigned ni,
+                    const char *v, bool strict)
+{
+    if (nm && (!v[0] || !in_list(mt, nm, v))) return false;
+    if (ni && ((strict && !v[0]) || in_list(ig, ni, v))) return false;
+    return true;
+}
+
+static bool in_polygon(const char *spec, double x, double y)
+{
+    kelp_bhv_pt p[KELP_HELM_MAX_PTS];
+    unsigned n;
+    if (kelp_helm_parse_points(spec, p, KELP_HELM_MAX_PTS, &n) < 0 || n < 3) return false;
+    bool in = false;
+    for (unsigned i = 0, j = n - 1; i < n; j = i++)
+        if ((p[i].y > y) != (p[j].y > y) && x < (p[j].x - p[i].x) * (y - p[i].y) / (p[j].y - p[i].y) + p[i].x)
+            in = !in;
+    return in;
+}
+
+/* filterCheckHolds: only the exit_on_filter_* checks end the behaviour */
+static bool filter_holds(const kelp_bhv_avoid *a)
+{
+    bool strict = a->strict_ignore != 0; /* MOOS-IvP's filter sets default to strict */
+    if (a->exit_on_filter_vtype &&
+        !kind_ok(a->match_type, a->nmatch_type, a->ignore_type, a->nignore_type, a->cn.type, strict))
+        return false;
+    if (a->exit_on_filter_group &&
+        !kind_ok(a->match_group, a->nmatch_group, a->ignore_group, a->nignore_group, a->cn.group, strict))
+        return false;
+    if (a->exit_on_filter_region) {
+        bool any = a->nmatch_region == 0;
+        for (unsigned i = 0; i < a->nmatch_region; i++) any = any || in_polygon(a->match_region[i], a->cn.x, a->cn.y);
+        for (unsigned i = 0; i < a->nignore_region; i++)
+            if (in_polygon(a->ignore_region[i], a->cn.x, a->cn.y)) any = false;
+        if (!any) return false;
+    }
+    return true;
+}
+
+static void post_range(kelp_bhv *b)
+{
+    const kelp_bhv_avoid *a = &b->u.avoid;
+    if (!a->post_per_contact_info) return;
+    char var[KELP_MAX_NAME + 16];
+    hx_cat(var, sizeof var, "CLSG_SPD_AVD_", a->contact, HX_END);
+    kelp_bhv_post_double(b, var, floor(a->roc * 10 + 0.5) / 10, NULL);
+    hx_cat(var, sizeof var, "RANGE_AVD_", a->contact, HX_END);
+    if (a->range <= 10) kelp_bhv_post_double(b, var, a->range, NULL);
+    else kelp_bhv_post_int(b, var, a->range, NULL);
+}
+
+static void post_bearing_line(kelp_bhv *b, bool active)
+{
+    const kelp_bhv_avoid *a = &b->u.avoid;
+    if (!a->bearing_line_show) return;
+    double index = a->bearing_info_range ? a->range : a->relevance;
+    const char *color = "invisible";
+    for (unsigned i = 0; i < a->nlines; i++)
+        if (index <= a->line_thresh[i]) {
+            color = a->line_color[i];
+            break;
+        }
+    char x1[32], y1[32], x2[32], y2[32], spec[KELP_HELM_MAX_SVAL];
+    hx_fmt_x(x1, sizeof x1, a->osx, 1);
+    hx_fmt_x(y1, sizeof y1, a->osy, 1);
+    hx_fmt_x(x2, sizeof x2, a->cn.x, 1);
+    hx_fmt_x(y2, sizeof y2, a->cn.y, 1);
+    hx_cat(spec, sizeof spec, "pts={", x1, ",", y1, ":", x2, ",", y2, "},label=", b->us, "_", b->name,
+           ",edge_color=", color, ",label_color=", a->bearing_line_label_show ? "white" : "off",
+           ",duration=100,active=", active ? "true" : "false", HX_END);
+    kelp_bhv_post_string(b, "VIEW_SEGLIST", spec, NULL);
+}
+
+/* cnflag "<R VAR=val" / ">R VAR=val": posted while the contact is within / beyond R */
+static void contact_flags(kelp_bhv *b)
+{
+    const kelp_bhv_avoid *a = &b->u.avoid;
+    for (unsigned i = 0; i < a->ncnflag; i++) {
+        const char *f = a->cnflag[i];
+        if (f[0] != '<' && f[0] != '>') continue;
+        const char *sp = strchr(f, ' ');
+        double r;
+        kelp_helm_pair p;
+        if (!sp || !hx_number(f + 1, (size_t)(sp - f - 1), &r) || !hx_pair(sp + 1, &p)) continue;
+        if ((f[0] == '<' && a->range <= r) || (f[0] == '>' && a->range >= r)) {
+            if (p.is_str) kelp_bhv_post_string(b, p.var, p.sval, "repeatable");
+            else kelp_bhv_post_double(b, p.var, p.dval, "repeatable");
+        }
+    }
+}
+
+static void avd_idle(kelp_bhv *b)
+{
+    kelp_bhv_avoid *a = &b->u.avoid;
+    if (!update_info(b)) return;
+    post_range(b);
+    if (!filter_holds(a) || a->range >= a->completed_dist * 1.1) kelp_bhv_set_complete(b);
+}
+
+static int build(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
+{
+    kelp_bhv_avoid *a = &b->u.avoid;
+    kelp_bhv_avoid_aof f;
+    f.icrs = kelp_ivp_domain_index(&b->dom, "course");
+    f.ispd = kelp_ivp_domain_index(&b->dom, "speed");
+    if (f.icrs < 0 || f.ispd < 0) return KELP_ERR_NOTFOUND;
+    f.min_util = a->range <= a->min_util_cpa_dist ? a->range / 2 : a->min_util_cpa_dist;
+    f.max_util = a->max_util_cpa_dist;
+    kelp_cpa_vessel cn = {a->cn.x, a->cn.y, a->cn.hdg, a->cn.spd};
+    if (kelp_cpa_fast_init(&f.cpa, &cn, a->osx, a->osy, a->time_on_leg) != KELP_OK) return KELP_ERR_ARG;
+    size_t cap = w->out_cap < w->pq_cap ? w->out_cap : w->pq_cap;
+    kelp_ivp_reflector r;
+    (void)kelp_ivp_reflector_init(&r, &b->dom, kelp_bhv_avoid_aof_eval, &f);
+    int amount = -1;
+    if (kelp_ivp_reflector_set_param(&r, "uniform_piece", AVD_PIECE) != 0 ||
+        kelp_ivp_reflector_max_pieces(&r, -1, -1) > cap) { /* a small pool: as many pieces as fit */
+        (void)kelp_ivp_reflector_init(&r, &b->dom, kelp_bhv_avoid_aof_eval, &f);
+        amount = (int)(cap > 2 ? cap / 2 : 1);
+    }
+    int rc = kelp_ivp_reflector_create(&r, amount, -1, 0, w->out, cap, w->pq, kelp_ivp_reflector_work_len(cap), out);
+    if (rc < 0) return rc;
+    return kelp_ivp_func_normalize(out, 0, 100);
+}
+
+static int avd_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
+{
+    kelp_bhv_avoid *a = &b->u.avoid;
+    if (!update_info(b)) return 0;
+    post_range(b);
+    contact_flags(b);
+    if (!filter_holds(a) || a->range >= a->completed_dist * 1.1) {
+        post_bearing_line(b, false);
+        kelp_bhv_set_complete(b);
+        return 0;
+    }
+    a->relevance = kelp_bhv_avoid_relevance(a->range, a->pwt_inner_dist, a->pwt_outer_dist, a->pwt_grade);
+    if (a->relevance <= 0) {
+        post_bearing_line(b, false);
+        return 0;
+    }
+    if (build(b, w, out) < 0) {
+        kelp_bhv_post_warning(b, "Unable to build the AvoidCollision objective function.");
+        return 0;
+    }
+    b->pwt_factor = a->relevance;
+    post_bearing_line(b, true);
+    return 1;
+}
+
+static void avd_post_config(kelp_bhv *b)
+{
+    const kelp_bhv_avoid *a = &b->u.avoid;
+    char msg[KELP_HELM_MAX_SVAL], v[6][32];
+    const double d[6] = {a->pwt_outer_dist, a->pwt_inner_dist, a->completed_dist,
+                         a->min_util_cpa_dist, a->max_util_cpa_dist, a->time_on_leg};
+    for (int i = 0; i < 6; i++) hx_fmt_x(v[i], sizeof v[i], d[i], 2);
+    static const char *const g[3] = {"linear", "quadratic", "quasi"};
+    hx_cat(msg, sizeof msg, "name=", b->name, ",contact=", a->contact, ",pwt_outer_dist=", v[0], ",pwt_inner_dist=",
+           v[1], ",completed_dist=", v[2], ",min_util_cpa_dist=", v[3], ",max_util_cpa_dist=", v[4], ",time_on_leg=",
+           v[5], ",pwt_grade=", g[a->pwt_grade], HX_END);
+    kelp_bhv_post_string(b, "BHV_SETTINGS", msg, b->name);
+}
+
+const kelp_bhv_ops kelp_bhv_avoid_collision_ops = {
+    .type = "BHV_AvoidCollision",
+    .init = avd_init,
+    .set_param = avd_set_param,
+    .params_done = avd_params_done,
+    .on_idle = avd_idle,
+    .on_run = avd_run,
+    .post_config = avd_post_config,
+    .on_helm_start = avd_helm_start,
+};
