@@ -20,7 +20,7 @@ typedef struct cast {
 } cast;
 
 typedef struct mac {
-    cast *apps;                  /* MAX_APPS, in (node, proc) order */
+    cast apps[MAX_APPS];         /* in (node, proc) order (the state is static: no heap) */
     int napps;
     int shown;                   /* -1: the list */
     char want_node[KELP_APPCAST_NAME], want_app[KELP_APPCAST_NAME];
@@ -76,8 +76,6 @@ static void on_key(kelp_app *app, void *st, int fd)
 static int startup(kelp_app *app, void *st)
 {
     mac *m = st;
-    m->apps = calloc(MAX_APPS, sizeof *m->apps);
-    if (!m->apps) return kelp_app_config_error(app, NULL, "out of memory");
     m->shown = -1;
     snprintf(m->want_node, sizeof m->want_node, "all");
     snprintf(m->want_app, sizeof m->want_app, "all");
@@ -157,7 +155,6 @@ static void shutdown_mac(kelp_app *app, void *st)
     mac *m = st;
     (void)app;
     if (m->raw) tcsetattr(0, TCSANOW, &m->saved);
-    free(m->apps);
 }
 
 static const kelp_app_def def = {
