@@ -72,8 +72,8 @@ grep '^closest ' plot.out | sed 's/^closest /   /'
 echo "== avoidance behaviours per vehicle (spawned / removed), mission"
 for v in "${NAMES[@]}"; do
   "$B/bin/kelp-logcheck" "$v.lcm" --print > "$v.txt" 2>/dev/null || true
-  sp=$(awk '$2=="pHelmIvP" && $3=="IVPHELM_SPAWN"' "$v.txt" | grep -c . || true)
-  rm=$(awk '$2=="pHelmIvP" && $3=="IVPHELM_REMOVE"' "$v.txt" | grep -c . || true)
+  sp=$(awk '$2=="pHelmIvP" && $3=="IVPHELM_LIFE_EVENT" && /btype=BHV_AvoidCollision/ && /event=spawn/' "$v.txt" | grep -c . || true)
+  rm=$(awk '$2=="pHelmIvP" && $3=="IVPHELM_LIFE_EVENT" && /btype=BHV_AvoidCollision/ && /event=death/' "$v.txt" | grep -c . || true)
   ms=$(awk '$2=="pHelmIvP" && $3=="MISSION" {m=$4} END{print m ? m : "-"}' "$v.txt")
   al=$(awk '$2=="pContactMgrV20" && $3=="CONTACT_INFO"' "$v.txt" | grep -c . || true)
   printf '   %-9s alerts %3s  spawned %3s  removed %3s  mission %s\n' "$v" "$al" "$sp" "$rm" "$ms"
