@@ -80,13 +80,16 @@ fi
 # whole) but not the one with a dropped frame (timed out), the 100 junk frames were counted
 grep -q '^APPTEST_EXIT=0' "$T/out.log" || { echo "can_vm: the app test did not finish"; exit 1; }
 app_status=$(grep '^APP last: .*CANBRIDGE_STATUS' "$T/out.log" | tail -1)
-for want in 'APP fw: FWNODE commands=3 thrust=7.5' 'APP count FW_STATUS 3' 'APP count INJ_TEXT 2' \
+for want in 'APP fw: FWNODE commands=3 thrust=7.5' 'FW_STATUS thrust=7.5,commands=3' 'APP count INJ_TEXT 2' \
             'out of order: 38 frames reversed' 'dropped frame: not delivered, timed_out=1' 'after re-create: THRUST_CMD 99'; do
   grep -q "$want" "$T/out.log" || { echo "can_vm: missing '$want'"; exit 1; }
 done
 for want in up=true tx_msgs=3 bad_frame=100 out_of_order=37 timed_out=1 reopened=1; do
   [[ "$app_status" == *"$want"* ]] || { echo "can_vm: kelp-canbridge status lacks $want: $app_status"; exit 1; }
 done
+# one status per command at least (a loaded VM may carry a status twice: the count is a floor)
+n=$(awk '$1=="APP" && $2=="count" && $3=="FW_STATUS" {print $4}' "$T/out.log")
+[ "${n:-0}" -ge 3 ] || { echo "can_vm: ${n:-0} FW_STATUS, want one per command (3)"; exit 1; }
 n=$(awk '$1=="APP" && $2=="count" && $3=="NAV_DEPTH_FW" {print $4}' "$T/out.log")
 [ "${n:-0}" -ge 50 ] || { echo "can_vm: only ${n:-0} NAV_DEPTH_FW from the firmware's 10 Hz DEPTH"; exit 1; }
 echo "can_vm: ok"
