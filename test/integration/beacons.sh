@@ -31,6 +31,7 @@ sleep 0.5
 "$BIN/kelp-logcheck" --print run.lcmlog > log.txt || fail "log undecodable"
 grep -q "Configuration warnings: 0" logs/uFldBeaconRangeSensor.log 2>/dev/null ||
   { tail -20 logs/uFldBeaconRangeSensor.log 2>/dev/null; echo "(no config-warning line in the sensor's log)"; }
+grep -q "Configuration warnings: 0" logs/uTimerScript.log || { tail -20 logs/uTimerScript.log; fail "uTimerScript's block"; }
 [ "$(grep -c ' uFldBeaconRangeSensor VIEW_MARKER ' log.txt)" -eq 3 ] || fail "not 3 VIEW_MARKERs"
 grep -q ' uFldBeaconRangeSensor VIEW_MARKER x=0,y=-200,label=03,color=red,type=triangle,width=5$' log.txt ||
   fail "beacon 03's marker: $(grep VIEW_MARKER log.txt | head -1)"

@@ -65,6 +65,9 @@ grep -q ' MISSION complete$' archie.txt && grep -q ' MISSION complete$' betty.tx
 # one config request and a sensor request every 2 s of MOOS time (never sooner; the median is
 # checked loosely, a loaded machine stalls the apps); the shore gets them
 for v in archie betty; do
+  for a in uTimerScript uTimerScript_config; do
+    grep -q "Configuration warnings: 0" logs_$v/$a.log || { tail -20 logs_$v/$a.log; fail "$v: $a's block"; }
+  done
   awk -v V=$v '
     $3 == "DEPLOY" && $4 == "true" && dep == "" { dep = $1 }
     $3 == "UHZ_CONFIG_REQUEST" { nc++
