@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # missions/hazards: two vehicles (archie, betty) run lawnmower surveys over a field from
 # gen_hazards; the shoreside uFldHazardSensor answers their sensor requests (bridged by
-# kelp-bridge), uFldPathCheck checks their paths. MOOSTimeWarp 10. The requests are poked in a
-# loop here (uTimerScript's job in MOOS-IvP missions). From the logs: every detection is of an
-# object that was inside the requester's swath (recomputed from the node reports), most of
-# the hazards swept were detected, reports reach the vehicle, and the odometry agrees with the
-# vehicle's own track.
+# kelp-bridge), uFldPathCheck checks their paths. MOOSTimeWarp 10. Each vehicle makes its own
+# requests with uTimerScript: one config request on deployment, then a sensor request every
+# 2 s of MOOS time. From the logs: the requests come from uTimerScript at that pace and reach
+# the shore, every detection is of an object that was inside the requester's swath
+# (recomputed from the node reports), most of the hazards swept were detected, reports reach
+# the vehicle, and the odometry agrees with the vehicle's own track.
 . "$(dirname "$0")/lib.sh"
 cd "$T"
 M=$KELP_ROOT/missions/hazards
@@ -36,19 +37,16 @@ for c in shoreside archie betty; do
   eval "L_$c=$!"
 done
 sleep 2
-"$BIN/kelp-poke" archie.moos "UHZ_CONFIG_REQUEST:=vname=archie,width=25,pd=0.9" > /dev/null & P1=$!
-"$BIN/kelp-poke" betty.moos "UHZ_CONFIG_REQUEST:=vname=betty,width=25,pd=0.9" > /dev/null & P2=$!
-wait $P1 $P2 || fail "config poke failed"
-sleep 0.3 # (the acks are checked at the end)
-"$BIN/kelp-poke" archie.moos DEPLOY:=true > /dev/null &
-"$BIN/kelp-poke" betty.moos DEPLOY:=true > /dev/null &
-# the sensor on: a request from each vehicle about every 0.2 s (2 s of MOOS time, 4 m at 2 m/s)
-end=$((SECONDS + 18))
-while [ $SECONDS -lt $end ]; do
-  "$BIN/kelp-poke" archie.moos "UHZ_SENSOR_REQUEST:=vname=archie" > /dev/null 2>&1 &
-  "$BIN/kelp-poke" betty.moos "UHZ_SENSOR_REQUEST:=vname=betty" > /dev/null 2>&1 &
-  sleep 0.2
-done
+# deployed: each vehicle's uTimerScript_config asks for its sensor setting, its uTimerScript
+# keeps the sensor on (a request every 2 s of MOOS time, 4 m at 2 m/s)
+"$BIN/kelp-poke" archie.moos DEPLOY:=true > /dev/null & P1=$!
+"$BIN/kelp-poke" betty.moos DEPLOY:=true > /dev/null & P2=$!
+wait $P1 $P2 || fail "DEPLOY poke failed"
+sleep 18
+# the sensors off a second before the end, so every report made reaches its vehicle
+"$BIN/kelp-poke" archie.moos UTS_PAUSE:=true > /dev/null & P1=$!
+"$BIN/kelp-poke" betty.moos UTS_PAUSE:=true > /dev/null & P2=$!
+wait $P1 $P2 || fail "UTS_PAUSE poke failed"
 sleep 1
 for c in shoreside archie betty; do
   eval "p=\$L_$c"
@@ -62,6 +60,38 @@ grep -q ' MISSION complete$' archie.txt && grep -q ' MISSION complete$' betty.tx
   echo "note: a survey did not complete in the time given (the checks below use what was swept)"
 # (KELP_HAZARDS_OUT=dir keeps the logs and the picture)
 [ -n "${KELP_HAZARDS_OUT:-}" ] && mkdir -p "$KELP_HAZARDS_OUT" && cp shore.lcm archie.lcm betty.lcm hazards.txt "$KELP_HAZARDS_OUT"/
+
+# the requests: made in each vehicle community by its own uTimerScripts, from deployment on,
+# one config request and a sensor request every 2 s of MOOS time (never sooner; the median is
+# checked loosely, a loaded machine stalls the apps); the shore gets them
+for v in archie betty; do
+  for a in uTimerScript uTimerScript_config; do
+    grep -q "Configuration warnings: 0" logs_$v/$a.log || { tail -20 logs_$v/$a.log; fail "$v: $a's block"; }
+  done
+  awk -v V=$v '
+    $3 == "DEPLOY" && $4 == "true" && dep == "" { dep = $1 }
+    $3 == "UHZ_CONFIG_REQUEST" { nc++
+      if ($2 != "uTimerScript_config" || $4 != "vname=" V ",width=25,pd=0.9") { print "config request " $4 " from " $2; bad++ }
+      if (dep == "" || $1 < dep) { print "config request at " $1 " before deployment (" dep ")"; bad++ } }
+    $3 == "UHZ_SENSOR_REQUEST" {
+      if ($2 != "uTimerScript" || $4 != "vname=" V) { print "sensor request " $4 " from " $2; bad++ }
+      if (dep == "" || $1 < dep) { print "sensor request at " $1 " before deployment (" dep ")"; bad++ }
+      if (ns) { g[ns] = $1 - lt; if (g[ns] < 2 - 0.1) { print "sensor requests " g[ns] " s apart"; bad++ } }
+      ns++; lt = $1 }
+    END { if (nc != 1) { print nc + 0 " config requests"; bad++ }
+      if (ns < 15) { print "only " ns + 0 " sensor requests"; bad++ }
+      m = ns - 1; for (i = 1; i <= m; i++) for (j = i + 1; j <= m; j++) if (g[j] < g[i]) { t = g[i]; g[i] = g[j]; g[j] = t }
+      med = m > 0 ? g[int((m + 1) / 2)] : 0
+      if (med < 1.9 || med > 4) { print "median interval " med " s"; bad++ }
+      printf "%d %.2f\n", ns, med > "/dev/stderr"; exit bad > 0 }' $v.txt 2> req_$v.sum > req_$v.out ||
+    { cat req_$v.out; fail "$v: its requests"; }
+  read NS MED < req_$v.sum
+  nshore=$(awk -v V=$v '$3 == "UHZ_SENSOR_REQUEST" && $4 == "vname=" V' shore.txt | wc -l)
+  cshore=$(awk -v V=$v '$3 == "UHZ_CONFIG_REQUEST" && $4 == "vname=" V ",width=25,pd=0.9"' shore.txt | wc -l)
+  [ "$nshore" -ge $((NS * 9 / 10)) ] && [ "$nshore" -le "$NS" ] || fail "$v: the shore got $nshore of its $NS sensor requests"
+  [ "$cshore" -eq 1 ] || fail "$v: the shore got $cshore config requests"
+  ok "$v: uTimerScript made $NS sensor requests (median $MED s apart, the shore got $nshore) and one config request"
+done
 
 # swept objects: for each UHZ_SENSOR_REQUEST the shoreside handled, the objects inside the
 # requester's swath (width 25, length 8) at its last node report. "loose": a 3 m margin (the
@@ -95,8 +125,8 @@ ok "detections: $NDET, all of objects inside the swath; hazards swept $SH, detec
 # reports reach the vehicles (bridged UHZ_HAZARD_REPORT_<V> -> UHZ_HAZARD_REPORT), with the ack
 for v in archie betty; do
   V=$(echo $v | tr a-z A-Z)
-  ns=$(grep -c " UHZ_HAZARD_REPORT_$V " shore.txt || true)
-  nv=$(grep -c " UHZ_HAZARD_REPORT x=" $v.txt || true)
+  ns=$(awk -v N=UHZ_HAZARD_REPORT_$V '$3 == N' shore.txt | wc -l)
+  nv=$(awk '$3 == "UHZ_HAZARD_REPORT" && $4 ~ /^x=/' $v.txt | wc -l)
   [ "$nv" -eq "$ns" ] || fail "$v received $nv of its $ns hazard reports"
   grep -q " UHZ_CONFIG_ACK width=25,pd=0.9,pfa=0.66,pclass=0.85$" $v.txt || fail "$v: no UHZ_CONFIG_ACK"
 done
