@@ -107,6 +107,7 @@ int kelp_appcast_format(const kelp_appcast *ac, char *buf, size_t cap, size_t *l
             int best = -1;
             for (unsigned i = 0; i < ac->nrun && i < KELP_APPCAST_ITEMS; i++)
                 if (!done[i] && (best < 0 || strcmp(ac->run[i], ac->run[best]) < 0)) best = (int)i;
+            if (best < 0) break;
             done[best] = true;
             if (k) puts_(&o, ISEP);
             put_ul(&o, ac->run_count[best]);

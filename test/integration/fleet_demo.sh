@@ -89,5 +89,19 @@ nrel=$(awk '$2=="uFldNodeComms" && $3=="VIEW_COMMS_PULSE"' $D/shoreside.txt | gr
 [ "$nrel" -gt 0 ] || fail "no relay pulses"
 grep -qE "VIEW_COMMS_PULSE=$((nrel + npulse))( |$)" $D/plot.out || fail "picture does not draw every pulse ($(grep -o 'VIEW_COMMS_PULSE=[0-9]*' $D/plot.out), want $((nrel + npulse)))"
 
+# the demo's shoreside log in MOOS's .alog (kelp-alog --exact) and back to an LCM log: the same
+# postings, in the same order, with the same sources and values (times as printed, to the
+# millisecond: the .alog holds them relative to LOGSTART)
+"$BIN/kelp-logcheck" $D/shoreside.lcm --print > sh.txt 2>/dev/null || true
+"$BIN/kelp-alog" to-alog --exact --mark-types $D/shoreside.lcm sh.alog > alog.out || fail "kelp-alog to-alog"
+"$BIN/kelp-alog" to-lcm sh.alog sh2.lcm > /dev/null || fail "kelp-alog to-lcm"
+"$BIN/kelp-logcheck" sh2.lcm --print > sh2.txt 2>/dev/null || true
+na=$(wc -l < sh.txt)
+[ "$na" -gt 1000 ] && [ "$na" -eq "$(wc -l < sh2.txt)" ] || fail "alog round trip: $na postings, $(wc -l < sh2.txt) after"
+diff <(cut -d' ' -f2- sh.txt) <(cut -d' ' -f2- sh2.txt) > alog.diff || { head -4 alog.diff; fail "alog round trip changed postings"; }
+paste -d' ' <(cut -d' ' -f1 sh.txt) <(cut -d' ' -f1 sh2.txt) | awk '{d = $1 - $2; if (d < 0) d = -d; if (d > 0.0011) bad++} END {exit bad > 0}' ||
+  fail "alog round trip moved times"
+ok "the demo's shoreside log as .alog and back: $na postings, the same events"
+
 if [ -n "${FLEET_PNG:-}" ]; then cp $T/demo/fleet.png "$FLEET_PNG"; fi
 ok "fleet demo in ${el}s: three missions complete, picture written; $total FleetStatus received at the shoreside; brokers found the shoreside; $nrel relays drawn"
