@@ -196,12 +196,10 @@ int kelp_parse_double(const char *s, size_t len, double *out)
     uint64_t mant = 0;
     for (int j = 0; j < nd && j < 19; j++) mant = mant * 10 + (uint64_t)(dig[j] - '0');
     double v;
-    if (nd == 0) {
-        v = 0.0;
+    if (nd == 0 || nd + e10 < -325) {
+        v = 0.0; /* zero, or below half the least subnormal (4.9e-324) */
     } else if (nd + e10 > 310) {
         v = INFINITY; /* above DBL_MAX (1.8e308) */
-    } else if (nd + e10 < -325) {
-        v = 0.0; /* below half the least subnormal (4.9e-324) */
     } else if (nd <= 15 && e10 >= -22 && e10 <= 22) {
         /* both operands exact, one rounding: correctly rounded */
         v = (double)mant;

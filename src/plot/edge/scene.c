@@ -297,7 +297,7 @@ int kelp_plot_closest(const kelp_plot_track *a, const kelp_plot_track *b, kelp_p
     double lo = fmax(a->pts[0].t, b->pts[0].t), hi = fmin(a->pts[a->n - 1].t, b->pts[b->n - 1].t);
     if (!(lo <= hi)) return -1;
     size_t ia = 0, ib = 0, ka = 0, kb = 0;
-    out->d = INFINITY;
+    *out = (kelp_plot_cpa){ .t = lo, .d = INFINITY, .ax = a->pts[0].x, .ay = a->pts[0].y, .bx = b->pts[0].x, .by = b->pts[0].y };
     double t0 = lo;
     /* walk the merged fix times: between two consecutive ones both move linearly, so the
      * separation is |d0 + w s| on [0, dt], least at s = -d0.w / w.w (clamped) */
