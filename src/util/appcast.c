@@ -28,9 +28,14 @@ static void puts_(out *o, const char *s)
     put(o, s, strlen(s));
 }
 
-/* field text: a separator inside it would split the cast, so "!@" goes out as "!_" */
+/* field text: a separator inside it would split the cast, so "!@" goes out as "!_"; and text
+ * that starts with '#' right after an inner "!@" would read as the outer "!@#": a space goes
+ * first (list items are trimmed when read) */
 static void put_text(out *o, const char *s, size_t n)
 {
+    if (n && s[0] == '#' && o->n >= 2 && o->cap > o->n && o->n < o->cap && o->buf[o->n - 1] == '@' &&
+        o->buf[o->n - 2] == '!')
+        put(o, " ", 1);
     for (size_t i = 0; i < n; i++) {
         if (s[i] == '!' && i + 1 < n && s[i + 1] == '@') {
             put(o, "!_", 2);
@@ -134,11 +139,19 @@ static void trim(const char **s, size_t *n)
     while (*n && ((*s)[*n - 1] == ' ' || (*s)[*n - 1] == '\t')) (*n)--;
 }
 
+/* a field's text as kelp_appcast_format would write it: up to a NUL, "!@" as "!_" */
 static void copy(char *dst, size_t cap, const char *s, size_t n)
 {
-    if (n >= cap) n = cap - 1;
-    memcpy(dst, s, n);
-    dst[n] = '\0';
+    size_t o = 0;
+    for (size_t i = 0; i < n && s[i] && o + 1 < cap; i++) {
+        dst[o++] = s[i];
+        if (s[i] == '!' && i + 1 < n && s[i + 1] == '@' && o + 1 < cap) {
+            dst[o++] = '_';
+            i++;
+        }
+    }
+    while (o && (dst[o - 1] == ' ' || dst[o - 1] == '\t')) o--; /* a NUL cut the text short of its trim */
+    dst[o] = '\0';
 }
 
 static unsigned long to_ul(const char *s, size_t n)
@@ -167,7 +180,7 @@ static void split_list(const char *v, size_t vl, char (*list)[KELP_APPCAST_ITEM]
                 trim(&item, &il);
             }
             copy(list[*count], KELP_APPCAST_ITEM, item, il);
-            (*count)++;
+            if (list[*count][0]) (*count)++; /* a NUL may have emptied it */
         }
         if (!e) break;
         v = e + 2;
@@ -195,7 +208,7 @@ int kelp_appcast_parse(const char *s, size_t len, kelp_appcast *out_, const char
             /* empty part */
         } else if (kelp_strieq_n(k, kl, "proc")) {
             copy(out_->proc, sizeof out_->proc, v, vl);
-            have_proc = vl > 0;
+            have_proc = out_->proc[0] != '\0';
         } else if (kelp_strieq_n(k, kl, "node")) {
             copy(out_->node, sizeof out_->node, v, vl);
         } else if (kelp_strieq_n(k, kl, "iter")) {
@@ -205,7 +218,13 @@ int kelp_appcast_parse(const char *s, size_t len, kelp_appcast *out_, const char
             while (vl) {
                 const char *ie = find(v, vl, ISEP);
                 size_t il = ie ? (size_t)(ie - v) : vl;
-                for (size_t i = 0; i < il && o + 2 < sizeof out_->messages; i++) out_->messages[o++] = v[i];
+                for (size_t i = 0; i < il && v[i] && o + 2 < sizeof out_->messages; i++) {
+                    out_->messages[o++] = v[i];
+                    if (v[i] == '!' && i + 1 < il && v[i + 1] == '@' && o + 2 < sizeof out_->messages) {
+                        out_->messages[o++] = '_';
+                        i++;
+                    }
+                }
                 if (o + 2 < sizeof out_->messages) out_->messages[o++] = '\n';
                 if (!ie) break;
                 v = ie + 2;
