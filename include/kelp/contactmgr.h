@@ -1,5 +1,5 @@
-/* kelp pContactMgrV20: the contact manager's state machine (seed 003; checklist
- * shared/spec/contactmgr.md, whose section 7 settles the seed's contradictions).
+/* kelp pContactMgrV20: the contact manager's state machine (MOOS-IvP's pContactMgrV20:
+ * parameters, alert requests, reports and macros as that app documents them).
  *
  * Contacts come from NODE_REPORT mail; ownship from NAV_X/Y/HEADING/SPEED. Alerts (mission
  * "alert = ..." lines and BCM_ALERT_REQUEST mail, "id=..,alert_range=..,cpa_range=..,

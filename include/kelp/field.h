@@ -611,7 +611,7 @@ typedef struct kelp_broker_host {
 /** Parse a host record. @return 0; KELP_ERR_PARSE (not key=value pairs, a bad number or
  *  port) or KELP_ERR_RANGE (a value too long) with *why. Completeness is separate. */
 KELP_MUST_CHECK int kelp_broker_host_parse(const char *s, kelp_broker_host *h, const char **why);
-/** Complete: community, host and port_udp (seed 2.2). */
+/** Complete: community, host and port_udp (what a node broker needs to reach the shore). */
 bool kelp_broker_host_complete(const kelp_broker_host *h);
 
 /** A bridge to request: local src (macros $V $v $N on the shore) and the remote alias. */
@@ -736,7 +736,7 @@ KELP_MUST_CHECK int kelp_field_sbroker_config(kelp_field_sbroker_cfg *cfg, const
 void kelp_field_sbroker_init(kelp_field_sbroker *s, const kelp_field_sbroker_cfg *cfg);
 /** PHI_HOST_INFO, NODE_BROKER_PING, then NULL. */
 const char *kelp_field_sbroker_subscription(unsigned i);
-/** One mail at `now`. NODE_BROKER_PING (seed 3.4): counted; ignored until our own host info
+/** One mail at `now`. NODE_BROKER_PING: counted; ignored until our own host info
  *  is complete; the vehicle (by community, case-insensitive) is recorded with its status and
  *  skew; accepted: on first acceptance it gets the next $N, and whenever its bridges are not
  *  registered to its current host:port_udp (first time, or it moved) the ack bridge

@@ -631,7 +631,7 @@ const char *kelp_helm_next_new_var(kelp_helm *h);
 kelp_bhv *kelp_helm_find(kelp_helm *h, const char *name);
 kelp_bhv *kelp_helm_find_template(kelp_helm *h, const char *name);
 
-/* ---- templates and spawning (seed 003 section 4; MOOS-IvP's BehaviorSet spawning) ----
+/* ---- templates and spawning (as MOOS-IvP's helm spawns behaviours from templates) ----
  * A behaviour configured with "templating = spawn" is moved out of the behaviour set by
  * kelp_helm_configured() and never runs; its on_helm_start runs at kelp_helm_start (an
  * avoidance template posts BCM_ALERT_REQUEST). Each iteration, before the behaviours run,

@@ -33,7 +33,7 @@ static void puts_(out *o, const char *s)
  * first (list items are trimmed when read) */
 static void put_text(out *o, const char *s, size_t n)
 {
-    if (n && s[0] == '#' && o->n >= 2 && o->cap > o->n && o->n < o->cap && o->buf[o->n - 1] == '@' &&
+    if (n && s[0] == '#' && o->n >= 2 && o->n < o->cap && o->buf[o->n - 1] == '@' &&
         o->buf[o->n - 2] == '!')
         put(o, " ", 1);
     for (size_t i = 0; i < n; i++) {

@@ -384,13 +384,16 @@ static int fwnode(double secs)
         return 1;
     }
     inj_open();
-    double t0 = mono(), done = 0;
+    double t0 = mono(), done = 0, t_cmd = 0;
     int step = 0;
-    /* until the third command has been answered (or secs) */
+    /* until the third command has been answered (or secs). The injections are timed from the
+     * first command: it proves kelp-canbridge is up and reading vcan0 (under TCG on a loaded
+     * host the bridge can take seconds to start, and frames sent before it opens are lost). */
     while (mono() - t0 < secs && !(done > 0 && mono() > done)) {
         if (done == 0 && F.commands >= 3) done = mono() + 1.0;
         pump(50);
-        double t = mono() - t0;
+        if (t_cmd == 0 && F.commands >= 1) t_cmd = mono();
+        double t = t_cmd > 0 ? mono() - t_cmd + 1.5 : 0;
         if (step == 0 && t > 3.0) inject_message(-1, true), step++;
         else if (step == 1 && t > 3.5) inject_message(2, false), step++;
         else if (step == 2 && t > 4.0) {

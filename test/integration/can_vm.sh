@@ -53,7 +53,7 @@ sleep 1.5
 kelp-poke can.moos DESIRED_THRUST=42.5 > /dev/null
 sleep 0.7
 kelp-poke can.moos DESIRED_THRUST=-13.75 > /dev/null
-sleep 4
+sleep 5
 ip link set vcan0 down; sleep 1; ip link set vcan0 up; sleep 1.5
 kelp-poke can.moos DESIRED_THRUST=7.5 > /dev/null
 wait $F
