@@ -318,7 +318,7 @@ START_TEST(umh_config)
 }
 END_TEST
 
-/* msg_flag after each posted message, bad_msg_flag after each invalid or rejected one, with
+/* msg_flag after each posted message, bad_msg_flag after each rejected one, with
  * $[CTR], $[GOOD_CTR] and $[BAD_CTR] expanded */
 START_TEST(umh_flags)
 {
@@ -338,13 +338,37 @@ START_TEST(umh_flags)
     ck_assert_int_lt(find(&r, "TOTAL_BAD"), 0);
     ck_assert_int_eq(mail("src_node=a,dest_node=zulu,var_name=X,double_val=1", 2), KELP_ERR_ARG);
     ck_assert_int_eq(mail("garbage", 3), KELP_ERR_PARSE);
-    ck_assert_str_eq(r.val[find(&r, "TOTAL_BAD")], "2");
+    ck_assert_str_eq(r.val[find(&r, "TOTAL_BAD")], "1");
     ck_assert(!r.str[find(&r, "BAD_NUM")]);
     ck_assert_double_eq(r.d[find(&r, "BAD_NUM")], 7);
     ck_assert_int_eq(mail("src_node=a,dest_node=bravo,var_name=X,double_val=1", 4), 1);
     ck_assert_str_eq(r.val[find(&r, "GOT")], "n2_of_4");
     /* order: the variable first, then its flags */
     ck_assert_int_lt(find(&r, "X"), find(&r, "GOT"));
+}
+END_TEST
+
+/* MOOS-IvP 24.8 (MessageHandler.cpp handleMailNodeMessage, postFlags): the BAD_MSG_FLAGs
+ * follow a message rejected for its address only (an invalid one posts no flag), and
+ * $[BAD_CTR] counts the rejected messages */
+START_TEST(umh_bad_flags_on_rejected_only)
+{
+    kelp_field_umh_cfg c;
+    const char *why = NULL;
+    kelp_field_umh_cfg_default(&c, "bravo");
+    ck_assert_int_eq(kelp_field_umh_config(&c, "bad_msg_flag", "TOTAL_BAD=$[BAD_CTR]", &why), 1);
+    kelp_field_umh_init(&h, &c);
+    memset(&r, 0, sizeof r);
+    ck_assert_int_eq(mail("src_node=a,dest_node=bravo,double_val=1", 1), KELP_ERR_PARSE);
+    ck_assert_int_lt(find(&r, "TOTAL_BAD"), 0);
+    ck_assert_int_eq(mail("src_node=a,dest_node=zulu,var_name=X,double_val=1", 2), KELP_ERR_ARG);
+    ck_assert_str_eq(r.val[find(&r, "TOTAL_BAD")], "1");
+    ck_assert_int_eq(mail("garbage", 3), KELP_ERR_PARSE);
+    ck_assert_int_eq(mail("src_node=a,dest_node=yankee,var_name=X,double_val=1", 4), KELP_ERR_ARG);
+    ck_assert_str_eq(r.val[find(&r, "TOTAL_BAD")], "2");
+    int n = 0;
+    for (int i = 0; i < r.n; i++) n += !strcmp(r.var[i], "TOTAL_BAD");
+    ck_assert_int_eq(n, 2);
 }
 END_TEST
 
@@ -430,6 +454,7 @@ Suite *kelp_field_msghandler_suite(void)
     tcase_add_test(tc, umh_summary);
     tcase_add_test(tc, umh_config);
     tcase_add_test(tc, umh_flags);
+    tcase_add_test(tc, umh_bad_flags_on_rejected_only);
     tcase_add_test(tc, umh_aux_node_app);
     tcase_add_test(tc, nodemsg_parse_fields);
     tcase_add_test(tc, umh_many_sources);

@@ -436,7 +436,7 @@ bool kelp_field_nodemsg_to(const kelp_node_message *m, const char *me);
 
 /** A MSG_FLAG / BAD_MSG_FLAG "VAR=value": a number is posted as a double, anything else as a
  *  string after expanding $[CTR] (messages received), $[GOOD_CTR] (posted) and $[BAD_CTR]
- *  (invalid + rejected). */
+ *  (rejected, as MOOS-IvP 24.8 counts it). */
 typedef struct kelp_umh_flag {
     char var[KELP_MAX_NAME];
     char sval[KELP_UMH_FLAG_LEN];
@@ -493,8 +493,9 @@ void kelp_field_umh_cfg_default(kelp_field_umh_cfg *c, const char *community);
 KELP_MUST_CHECK int kelp_field_umh_config(kelp_field_umh_cfg *c, const char *key, const char *val, const char **why);
 void kelp_field_umh_init(kelp_field_umh *h, const kelp_field_umh_cfg *cfg);
 /** NODE_MESSAGE (other variables: 0). Valid and addressed to us (ufield.md 6.4): the
- *  variable is posted (a string or a double), then the MSG_FLAGs. Invalid or rejected: counted,
- *  listed with the reason, then the BAD_MSG_FLAGs.
+ *  variable is posted (a string or a double), then the MSG_FLAGs. Invalid or rejected: counted
+ *  and listed with the reason; a rejected one (addressed elsewhere) is followed by the
+ *  BAD_MSG_FLAGs (MOOS-IvP 24.8: an invalid message posts no flag).
  *  @return 1 posted, KELP_ERR_PARSE invalid, KELP_ERR_ARG rejected (addressing). */
 int kelp_field_umh_mail(kelp_field_umh *h, const char *var, bool is_string, const char *sval, double now,
                         const kelp_field_sink *out);
