@@ -697,6 +697,10 @@ typedef struct kelp_field_sbroker_cfg {
     double warp;                                        /**< MOOSTimeWarp (1) */
     bool warn_stale;                                    /**< WARNING_ON_STALE (false) */
     bool auto_realmcast, auto_appcast, auto_mhash;      /**< 24.8 AUTO_BRIDGE_* (false) */
+    bool raw[KELP_BROKER_MAX_BRIDGES];                  /**< named by a BRIDGE line (its src as written
+                                                             is in UFSB_BRIDGE_VARS) */
+    char qbridge[KELP_BROKER_MAX_BRIDGES / 2][KELP_MAX_NAME]; /**< QBRIDGE names (UFSB_QBRIDGE_VARS) */
+    unsigned nqbridge;
 } kelp_field_sbroker_cfg;
 
 /** One vehicle as the shore knows it. */
@@ -721,6 +725,7 @@ typedef struct kelp_field_sbroker {
     unsigned nnodes, naccepted;
     double vnode_reg_at, vnode_post_at, count_at; /**< -1 never */
     unsigned count_posted;
+    bool qvars_posted;                    /**< UFSB_QBRIDGE_VARS posted (once, at the first iteration) */
     unsigned long iterations, phi, pings, bad_pings, early_pings, full, acks, registers;
     char last_register[KELP_BROKER_MSG];
 } kelp_field_sbroker;
@@ -741,12 +746,16 @@ const char *kelp_field_sbroker_subscription(unsigned i);
  *  is complete; the vehicle (by community, case-insensitive) is recorded with its status and
  *  skew; accepted: on first acceptance it gets the next $N, and whenever its bridges are not
  *  registered to its current host:port_udp (first time, or it moved) the ack bridge
- *  (NODE_BROKER_ACK_<V> -> NODE_BROKER_ACK) and every BRIDGE are registered; then the ack
- *  NODE_BROKER_ACK_<V> and NODE_BROKER_VACK are posted. @return 1 used, 0 not ours, <0 bad. */
+ *  (NODE_BROKER_ACK_<V> -> NODE_BROKER_ACK) and every BRIDGE are registered (the first time,
+ *  UFSB_BRIDGE_VARS follows: the sorted set of the BRIDGE lines' src as written,
+ *  NODE_BROKER_ACK_$V and every source expanded for a vehicle, as MOOS-IvP 24.8 posts it);
+ *  then the ack NODE_BROKER_ACK_<V> and NODE_BROKER_VACK are posted. @return 1 used, 0 not
+ *  ours, <0 bad. */
 int kelp_field_sbroker_mail(kelp_field_sbroker *s, const char *var, bool is_string, const char *sval, double now,
                             const kelp_field_sink *out);
-/** Iterate: stale warnings, UFSB_NODE_COUNT (on change, else every 30 s), try_vnode
- *  registrations (every 30 s) and TRY_SHORE_HOST (every 10 s). @return the number of posts. */
+/** Iterate: UFSB_QBRIDGE_VARS (the QBRIDGE names, sorted; once), stale warnings,
+ *  UFSB_NODE_COUNT (on change, else every 30 s), try_vnode registrations (every 30 s) and
+ *  TRY_SHORE_HOST (every 10 s). @return the number of posts. */
 int kelp_field_sbroker_iterate(kelp_field_sbroker *s, double now, const kelp_field_sink *out);
 /** The terminal report (seed Listing 6) at `now` into buf. @return 0 or KELP_ERR_NOSPACE. */
 KELP_MUST_CHECK int kelp_field_sbroker_report(const kelp_field_sbroker *s, double now, char *buf, size_t cap);
