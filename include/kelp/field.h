@@ -196,12 +196,15 @@ void kelp_field_hostinfo_init(kelp_field_hostinfo *h, const kelp_field_hostinfo_
  *  the list is ordered ethernet, wifi, others (stable), an address once. A post is due. */
 void kelp_field_hostinfo_set(kelp_field_hostinfo *h, const char *const *ifnames, const char *const *ips, unsigned n);
 /** HOST_INFO_REQUEST (any value: look again, post again), PMB_UDP_LISTEN (port),
- *  PSHARE_INPUT_SUMMARY. @return 1 used, 0 not ours, <0 bad value. */
+ *  PSHARE_INPUT_SUMMARY ("localhost:9200:udp,1.2.3.4:2000:multicast_23" is kept as 24.8 keeps
+ *  it: "localhost:9200&multicast_23"). @return 1 used, 0 not ours, <0 bad value. */
 int kelp_field_hostinfo_mail(kelp_field_hostinfo *h, const char *var, bool is_string, const char *sval, double dval);
-/** When a post is due: PHI_HOST_IP, PHI_HOST_IP_ALL, PHI_HOST_IP_VERBOSE, PHI_HOST_PORT_DB
- *  and PHI_HOST_PORT (the seed's name), PHI_HOST_PORT_UDP when known, and PHI_HOST_INFO
- *  "community=..,hostip=..,port_db=..[,port_udp=..],timewarp=..[,pshare_iroutes=..]".
- *  @return 1 posted, 0 nothing due. */
+/** When a post is due: PHI_HOST_IP ("localhost", or DEFAULT_HOSTIP, when nothing was found),
+ *  PHI_HOST_IP_ALL and PHI_HOST_IP_VERBOSE (both "" when nothing was found), PHI_HOST_PORT_DB
+ *  and PHI_HOST_PORT (the seed's name), PHI_HOST_PORT_UDP when known (the ports as strings),
+ *  and PHI_HOST_INFO "community=..,hostip=..,port_db=..[,port_udp=..],timewarp=..
+ *  [,pshare_iroutes=..]" (a localhost route as this host's address). @return 1 posted, 0
+ *  nothing due. */
 int kelp_field_hostinfo_iterate(kelp_field_hostinfo *h, const kelp_field_sink *out);
 
 /* ------------------------------------------------------------------ uFldNodeComms */
