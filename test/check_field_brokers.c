@@ -310,6 +310,28 @@ START_TEST(nb_bridges_after_ack) /* 2.6.8 and 2.6.9 */
 }
 END_TEST
 
+/* MOOS-IvP 24.8 NodeBroker.cpp (handleMailAck): every valid ack is followed by
+ * NODE_PSHARE_VARS, the bridges' aliases in configuration order, comma-joined; a bad ack posts
+ * none */
+START_TEST(nb_pshare_vars)
+{
+    static kelp_field_nbroker b;
+    kelp_field_nbroker_cfg c;
+    cfg_node(&c, listing2);
+    kelp_field_nbroker_init(&b, &c);
+    kelp_field_sink s = sink();
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "PHI_HOST_INFO", true, JAMES_PHI, 1, &s), 1);
+    (void)kelp_field_nbroker_iterate(&b, 1, &s);
+    ck_assert_int_lt(kelp_field_nbroker_mail(&b, "NODE_BROKER_ACK", true, SHORE_ACK ",keyword=apple", 1.2, &s), 0);
+    ck_assert_int_eq(count("NODE_PSHARE_VARS"), 0);
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "NODE_BROKER_ACK", true, SHORE_ACK, 1.5, &s), 1);
+    ck_assert_int_eq(count("NODE_PSHARE_VARS"), 1);
+    ck_assert_str_eq(last("NODE_PSHARE_VARS"), "VIEW_POLYGON,VIEW_POINT,VIEW_SEGLIST,NODE_REPORT");
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "NODE_BROKER_ACK", true, SHORE_ACK, 1.75, &s), 1);
+    ck_assert_int_eq(count("NODE_PSHARE_VARS"), 2);
+}
+END_TEST
+
 START_TEST(nb_bad_ack_warp) /* 2.6.10 */
 {
     static kelp_field_nbroker b;
@@ -892,6 +914,7 @@ Suite *kelp_field_brokers_suite(void)
     tcase_add_test(tc, nb_bad_host_info);
     tcase_add_test(tc, nb_host_info_changes);
     tcase_add_test(tc, nb_bridges_after_ack);
+    tcase_add_test(tc, nb_pshare_vars);
     tcase_add_test(tc, nb_bad_ack_warp);
     tcase_add_test(tc, nb_ack_keyword_and_status);
     tcase_add_test(tc, nb_retries_until_ack);

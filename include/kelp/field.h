@@ -680,7 +680,8 @@ const char *kelp_field_nbroker_subscription(unsigned i);
 /** One mail at `now`. PHI_HOST_INFO (complete: stored, a change counted; else BAD);
  *  NODE_BROKER_ACK (invalid when incomplete, of another time warp, with a keyword other than
  *  ours when both are set, or a status other than ok; valid: the shore is stored and, for a
- *  new shore or after RETRY_INTERVAL of silence, every BRIDGE is registered to it);
+ *  new shore or after RETRY_INTERVAL of silence, every BRIDGE is registered to it; then
+ *  NODE_PSHARE_VARS, the bridges' aliases comma-joined, as 24.8 posts it);
  *  TRY_SHORE_HOST (24.8: a try host added at run time). @return 1 used, 0 not ours, <0 bad. */
 int kelp_field_nbroker_mail(kelp_field_nbroker *b, const char *var, bool is_string, const char *sval, double now,
                             const kelp_field_sink *out);
