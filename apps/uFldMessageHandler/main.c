@@ -100,7 +100,7 @@ static const kelp_app_def def = {
         { NULL, NULL, NULL } },
     .publishes = (const kelp_app_var_info[]){
         { "<var_name>", "BAR", "the message's variable: a string, or a double for double_val" },
-        { "UMH_SUMMARY_MSGS", "total=23,valid=18,invalid=2,rejected=3", "on change, at most once a second" },
+        { "UMH_SUMMARY_MSGS", "total=23,valid=18,rejected=3", "on change, at most once a second" },
         { "<MSG_FLAG>", "RETURN=true", NULL },
         { "<BAD_MSG_FLAG>", "TOTAL_BAD=5", NULL },
         { NULL, NULL, NULL } },

@@ -502,7 +502,8 @@ void kelp_field_umh_init(kelp_field_umh *h, const kelp_field_umh_cfg *cfg);
  *  @return 1 posted, KELP_ERR_PARSE invalid, KELP_ERR_ARG rejected (addressing). */
 int kelp_field_umh_mail(kelp_field_umh *h, const char *var, bool is_string, const char *sval, double now,
                         const kelp_field_sink *out);
-/** UMH_SUMMARY_MSGS "total=..,valid=..,invalid=..,rejected=.." on the first call and after a
+/** UMH_SUMMARY_MSGS "total=..,valid=..,rejected=.." (seed 6.1.2's three totals, in MOOS-IvP
+ *  24.8's form; the invalid are total - valid - rejected) on the first call and after a
  *  change, at most every summary_gap s. @return 1 posted, 0 not due. */
 int kelp_field_umh_iterate(kelp_field_umh *h, double now, const kelp_field_sink *out);
 /** The terminal report (Listing 14: totals, per source, last few messages; totals only when

@@ -357,8 +357,8 @@ int kelp_field_umh_iterate(kelp_field_umh *h, double now, const kelp_field_sink 
 {
     if (!h->summary_due || (h->summaries && now - h->last_summary < h->cfg.summary_gap)) return 0;
     char buf[128];
-    kelp_snprintf(buf, sizeof buf, "total=%lu,valid=%lu,invalid=%lu,rejected=%lu", h->total, h->valid, h->invalid,
-             h->rejected);
+    /* seed 6.1.2: total, valid and rejected; written as 24.8 writes it */
+    kelp_snprintf(buf, sizeof buf, "total=%lu,valid=%lu,rejected=%lu", h->total, h->valid, h->rejected);
     out->publish(out->ctx, "UMH_SUMMARY_MSGS", true, buf, 0);
     h->summary_due = false;
     h->last_summary = now;
