@@ -109,6 +109,26 @@ START_TEST(hostinfo_nothing_found)
 }
 END_TEST
 
+/* DEFAULT_HOSTIP_FORCE (MOOS-IvP 24.8 HostInfo.cpp postIPInfo): the forced address is the only
+ * one posted, its source USER_HARD_CONFIGURED */
+START_TEST(hostinfo_forced)
+{
+    rec r = { 0 };
+    kelp_field_sink sink = { &r, pub, NULL };
+    kelp_field_hostinfo_cfg c;
+    kelp_field_hostinfo_cfg_default(&c);
+    snprintf(c.force_ip, sizeof c.force_ip, "192.168.0.55");
+    kelp_field_hostinfo h;
+    kelp_field_hostinfo_init(&h, &c);
+    const char *n2[] = { "eth0", "wlan0" }, *i2[] = { "10.0.0.5", "10.0.0.6" };
+    kelp_field_hostinfo_set(&h, n2, i2, 2);
+    ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 1);
+    ck_assert_str_eq(get(&r, "PHI_HOST_IP"), "192.168.0.55");
+    ck_assert_str_eq(get(&r, "PHI_HOST_IP_ALL"), "192.168.0.55");
+    ck_assert_str_eq(get(&r, "PHI_HOST_IP_VERBOSE"), "USER_HARD_CONFIGURED=192.168.0.55");
+}
+END_TEST
+
 /* MOOS-IvP 24.8 pHostInfo posts the ports as strings (HostInfo.cpp: m_host_port_db) */
 START_TEST(hostinfo_ports_are_strings)
 {
@@ -170,6 +190,7 @@ Suite *kelp_field_hostinfo_suite(void)
     tcase_add_test(tc, hostinfo_nothing_found);
     tcase_add_test(tc, hostinfo_pshare_iroutes);
     tcase_add_test(tc, hostinfo_ports_are_strings);
+    tcase_add_test(tc, hostinfo_forced);
     suite_add_tcase(s, tc);
     return s;
 }

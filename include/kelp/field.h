@@ -172,7 +172,8 @@ typedef struct kelp_field_hostinfo_cfg {
     double port_db;                /**< ServerPort (0: unknown) */
     double warp;                   /**< MOOSTimeWarp */
     char default_ip[64];           /**< DEFAULT_HOSTIP: when nothing is found (default "localhost") */
-    char force_ip[64];             /**< DEFAULT_HOSTIP_FORCE: always this ("" none) */
+    char force_ip[64];             /**< DEFAULT_HOSTIP_FORCE: always this, and the only address
+                                        posted (USER_HARD_CONFIGURED=ip) ("" none) */
     char prefer_if[16];            /**< PREFER_INTERFACE: its address wins ("" none) */
 } kelp_field_hostinfo_cfg;
 

@@ -153,7 +153,11 @@ int kelp_field_hostinfo_iterate(kelp_field_hostinfo *h, const kelp_field_sink *o
     copy(h->best, sizeof h->best, best);
     char all[KELP_HOSTINFO_MAX_ADDRS * 17 + 1] = "", verbose[KELP_HOSTINFO_MAX_ADDRS * 50 + 1] = "";
     size_t na = 0, nv = 0;
-    for (unsigned i = 0; i < h->naddr; i++) {
+    if (h->cfg.force_ip[0]) { /* 24.8: the forced address alone */
+        kelp_snprintf(all, sizeof all, "%s", h->cfg.force_ip);
+        kelp_snprintf(verbose, sizeof verbose, "USER_HARD_CONFIGURED=%s", h->cfg.force_ip);
+    }
+    for (unsigned i = 0; i < h->naddr && !h->cfg.force_ip[0]; i++) {
         bool seen = false;
         for (unsigned k = 0; k < i; k++) seen = seen || !strcmp(h->addr[k].ip, h->addr[i].ip);
         if (!seen) na += (size_t)kelp_snprintf(all + na, sizeof all - na, "%s%s", na ? "," : "", h->addr[i].ip);
