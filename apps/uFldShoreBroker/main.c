@@ -130,6 +130,7 @@ static const kelp_app_def def = {
         { "UFSB_BRIDGE_VARS", "DEPLOY_$V,DEPLOY_HENRY,NODE_BROKER_ACK_$V,NODE_BROKER_ACK_HENRY,RETURN_ALL,RETURN_HENRY",
           "24.8: the bridged sources, sorted; when a vehicle is first bridged" },
         { "TRY_SHORE_HOST", "pshare_route=10.0.0.8:9200", "24.8: to each TRY_VNODE every 10 s" },
+        { "HOST_INFO_REQUEST", "true", "every 2 s until PHI_HOST_INFO is complete" },
         { NULL, NULL, NULL } },
     .notes = "Globals used: MOOSTimeWarp (a vehicle's must be equal).\n"
              "The shore's kelp-bridge needs UDPListen and ALLOW = NODE_BROKER_PING, <vehicle aliases>.\n",
