@@ -129,6 +129,33 @@ START_TEST(hostinfo_forced)
 }
 END_TEST
 
+/* PREFER_INTERFACE (MOOS-IvP 24.8 HostInfo.cpp handleConfigPreferInterface, postIPInfo): the
+ * name is read case-insensitively, and "wifi" names the wireless interface */
+START_TEST(hostinfo_prefer_wifi)
+{
+    rec r = { 0 };
+    kelp_field_sink sink = { &r, pub, NULL };
+    kelp_field_hostinfo_cfg c;
+    kelp_field_hostinfo_cfg_default(&c);
+    snprintf(c.prefer_if, sizeof c.prefer_if, "wifi");
+    kelp_field_hostinfo h;
+    kelp_field_hostinfo_init(&h, &c);
+    const char *n2[] = { "eth0", "wlp2s0" }, *i2[] = { "10.0.0.5", "10.0.0.6" };
+    kelp_field_hostinfo_set(&h, n2, i2, 2);
+    ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 1);
+    ck_assert_str_eq(get(&r, "PHI_HOST_IP"), "10.0.0.6");
+    snprintf(h.cfg.prefer_if, sizeof h.cfg.prefer_if, "ETH0");
+    const char *n3[] = { "wlan0", "eth0" }, *i3[] = { "10.0.0.6", "10.0.0.5" };
+    kelp_field_hostinfo_set(&h, n3, i3, 2);
+    ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 1);
+    ck_assert_str_eq(get(&r, "PHI_HOST_IP"), "10.0.0.5");
+    snprintf(h.cfg.prefer_if, sizeof h.cfg.prefer_if, "WLAN0");
+    kelp_field_hostinfo_set(&h, n3, i3, 2);
+    ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 1);
+    ck_assert_str_eq(get(&r, "PHI_HOST_IP"), "10.0.0.6");
+}
+END_TEST
+
 /* MOOS-IvP 24.8 pHostInfo posts the ports as strings (HostInfo.cpp: m_host_port_db) */
 START_TEST(hostinfo_ports_are_strings)
 {
@@ -191,6 +218,7 @@ Suite *kelp_field_hostinfo_suite(void)
     tcase_add_test(tc, hostinfo_pshare_iroutes);
     tcase_add_test(tc, hostinfo_ports_are_strings);
     tcase_add_test(tc, hostinfo_forced);
+    tcase_add_test(tc, hostinfo_prefer_wifi);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -125,7 +125,7 @@ static const kelp_app_def def = {
         { "DEFAULT_HOSTIP_FORCE", "192.168.0.55", "PHI_HOST_IP whatever is found", NULL },
         { "DEFAULT_HOST_IP", "192.168.0.55", "same as DEFAULT_HOSTIP (24.8 takes both)", NULL },
         { "DEFAULT_HOST_IP_FORCE", "192.168.0.55", "same as DEFAULT_HOSTIP_FORCE (24.8 takes both)", NULL },
-        { "PREFER_INTERFACE", "wlan0", "this interface's address wins", NULL },
+        { "PREFER_INTERFACE", "wlan0", "this interface's address wins (any case; wifi: the wireless one)", NULL },
         { "TEMP_FILE_DIR", "./", "accepted (kelp reads the interfaces with getifaddrs, no files)", NULL },
         { "APP_LOGGING", "false", "accepted", NULL },
         { NULL, NULL, NULL, NULL } },

@@ -174,7 +174,8 @@ typedef struct kelp_field_hostinfo_cfg {
     char default_ip[64];           /**< DEFAULT_HOSTIP: when nothing is found (default "localhost") */
     char force_ip[64];             /**< DEFAULT_HOSTIP_FORCE: always this, and the only address
                                         posted (USER_HARD_CONFIGURED=ip) ("" none) */
-    char prefer_if[16];            /**< PREFER_INTERFACE: its address wins ("" none) */
+    char prefer_if[16];            /**< PREFER_INTERFACE: its address wins, the name in any case;
+                                        "wifi": the wireless interface's ("" none) */
 } kelp_field_hostinfo_cfg;
 
 typedef struct kelp_field_hostinfo {

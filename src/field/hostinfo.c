@@ -146,8 +146,12 @@ int kelp_field_hostinfo_iterate(kelp_field_hostinfo *h, const kelp_field_sink *o
     if (!h->post_due) return 0;
     h->post_due = false;
     const char *best = h->cfg.default_ip;
+    /* PREFER_INTERFACE: an interface name (any case), or 24.8's "wifi" for the wireless one */
+    bool wifi = kelp_strieq(h->cfg.prefer_if, "wifi");
     for (unsigned i = 0; i < h->naddr && best == h->cfg.default_ip; i++)
-        if (h->cfg.prefer_if[0] && !strcmp(h->addr[i].ifname, h->cfg.prefer_if)) best = h->addr[i].ip;
+        if (h->cfg.prefer_if[0] &&
+            (kelp_strieq(h->addr[i].ifname, h->cfg.prefer_if) || (wifi && !strcmp(h->addr[i].source, "LINUX_WIFI"))))
+            best = h->addr[i].ip;
     if (best == h->cfg.default_ip && h->naddr) best = h->addr[0].ip;
     if (h->cfg.force_ip[0]) best = h->cfg.force_ip;
     copy(h->best, sizeof h->best, best);
