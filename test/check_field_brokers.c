@@ -310,6 +310,28 @@ START_TEST(nb_bridges_after_ack) /* 2.6.8 and 2.6.9 */
 }
 END_TEST
 
+/* MOOS-IvP 24.8 NodeBroker.cpp (handleMailAck): every valid ack is followed by
+ * NODE_PSHARE_VARS, the bridges' aliases in configuration order, comma-joined; a bad ack posts
+ * none */
+START_TEST(nb_pshare_vars)
+{
+    static kelp_field_nbroker b;
+    kelp_field_nbroker_cfg c;
+    cfg_node(&c, listing2);
+    kelp_field_nbroker_init(&b, &c);
+    kelp_field_sink s = sink();
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "PHI_HOST_INFO", true, JAMES_PHI, 1, &s), 1);
+    (void)kelp_field_nbroker_iterate(&b, 1, &s);
+    ck_assert_int_lt(kelp_field_nbroker_mail(&b, "NODE_BROKER_ACK", true, SHORE_ACK ",keyword=apple", 1.2, &s), 0);
+    ck_assert_int_eq(count("NODE_PSHARE_VARS"), 0);
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "NODE_BROKER_ACK", true, SHORE_ACK, 1.5, &s), 1);
+    ck_assert_int_eq(count("NODE_PSHARE_VARS"), 1);
+    ck_assert_str_eq(last("NODE_PSHARE_VARS"), "VIEW_POLYGON,VIEW_POINT,VIEW_SEGLIST,NODE_REPORT");
+    ck_assert_int_eq(kelp_field_nbroker_mail(&b, "NODE_BROKER_ACK", true, SHORE_ACK, 1.75, &s), 1);
+    ck_assert_int_eq(count("NODE_PSHARE_VARS"), 2);
+}
+END_TEST
+
 START_TEST(nb_bad_ack_warp) /* 2.6.10 */
 {
     static kelp_field_nbroker b;
@@ -602,6 +624,41 @@ START_TEST(sb_macro_n) /* 3.6.4 */
 }
 END_TEST
 
+/* MOOS-IvP 24.8 ShoreBroker.cpp (postQBridgeSet, postBridgeSet): UFSB_QBRIDGE_VARS, the
+ * QBRIDGE names sorted, once at start; UFSB_BRIDGE_VARS, the sorted set of bridged sources (the
+ * BRIDGE lines' src as written, NODE_BROKER_ACK_$V, and every name expanded for a vehicle),
+ * whenever it grows */
+START_TEST(sb_bridge_var_sets)
+{
+    static kelp_field_sbroker sb;
+    kelp_field_sink s = sink();
+    const char *const lines[] = { "QBRIDGE", "RETURN",   "BRIDGE", "src=DEPLOY_$V, alias=DEPLOY",
+                                  "QBRIDGE", "NODE_REPORT, STATION_KEEP", "BRIDGE", "src=UP_LOITER_$N, alias=UP_LOITER",
+                                  NULL };
+    shore(&sb, 1, lines, &s);
+    (void)kelp_field_sbroker_iterate(&sb, 1, &s);
+    ck_assert_int_eq(count("UFSB_QBRIDGE_VARS"), 1);
+    ck_assert_str_eq(last("UFSB_QBRIDGE_VARS"), "NODE_REPORT,RETURN,STATION_KEEP");
+    (void)kelp_field_sbroker_iterate(&sb, 2, &s);
+    ck_assert_int_eq(count("UFSB_QBRIDGE_VARS"), 1);
+    ck_assert_int_eq(count("UFSB_BRIDGE_VARS"), 0);
+    ck_assert_int_eq(ping(&sb, "henry", "2.56.111.1", "", 1, 10, &s), 1);
+    ck_assert_str_eq(last("UFSB_BRIDGE_VARS"),
+                     "DEPLOY_$V,DEPLOY_HENRY,NODE_BROKER_ACK_$V,NODE_BROKER_ACK_HENRY,NODE_REPORT_ALL,"
+                     "NODE_REPORT_HENRY,RETURN_ALL,RETURN_HENRY,STATION_KEEP_ALL,STATION_KEEP_HENRY,UP_LOITER_$N,"
+                     "UP_LOITER_1");
+    int n = count("UFSB_BRIDGE_VARS");
+    ck_assert_int_eq(ping(&sb, "henry", "2.56.111.1", "", 1, 11, &s), 1);
+    ck_assert_int_eq(count("UFSB_BRIDGE_VARS"), n);
+    ck_assert_int_eq(ping(&sb, "abe", "2.56.111.2", "", 1, 12, &s), 1);
+    ck_assert_int_eq(count("UFSB_BRIDGE_VARS"), n + 1);
+    ck_assert_str_eq(last("UFSB_BRIDGE_VARS"),
+                     "DEPLOY_$V,DEPLOY_ABE,DEPLOY_HENRY,NODE_BROKER_ACK_$V,NODE_BROKER_ACK_ABE,NODE_BROKER_ACK_HENRY,"
+                     "NODE_REPORT_ABE,NODE_REPORT_ALL,NODE_REPORT_HENRY,RETURN_ABE,RETURN_ALL,RETURN_HENRY,"
+                     "STATION_KEEP_ABE,STATION_KEEP_ALL,STATION_KEEP_HENRY,UP_LOITER_$N,UP_LOITER_1,UP_LOITER_2");
+}
+END_TEST
+
 START_TEST(sb_repeat_pings_once) /* 3.6.7 */
 {
     static kelp_field_sbroker sb;
@@ -775,8 +832,8 @@ START_TEST(sb_many_vehicles)
     ck_assert_int_eq(ping(&sb, "V05", "10.1.0.6", "", 1, 11, &s), 1);
     ck_assert_uint_eq(sb.nnodes, KELP_BROKER_MAX_NODES);
     ck_assert_str_eq(last("NODE_BROKER_VACK"), "V05");
-    /* UFSB_NODE_COUNT on change */
-    ck_assert_int_eq(kelp_field_sbroker_iterate(&sb, 12, &s), 1);
+    /* UFSB_NODE_COUNT on change (and UFSB_QBRIDGE_VARS at the first iteration) */
+    ck_assert_int_eq(kelp_field_sbroker_iterate(&sb, 12, &s), 2);
     ck_assert_str_eq(last("UFSB_NODE_COUNT"), "64");
     ck_assert_int_eq(kelp_field_sbroker_iterate(&sb, 13, &s), 0);
 }
@@ -793,7 +850,7 @@ START_TEST(sb_try_vnode_and_stale)
     ck_assert_int_lt(kelp_field_sbroker_config(&sb.cfg, "TRY_VNODE", "192.168.4.24:9201", &why), 0);
     ck_assert_int_eq(ping(&sb, "henry", "2.56.111.1", "", 1, 10, &s), 1);
     R.n = 0;
-    ck_assert_int_eq(kelp_field_sbroker_iterate(&sb, 10, &s), 4);
+    ck_assert_int_eq(kelp_field_sbroker_iterate(&sb, 10, &s), 5); /* with UFSB_QBRIDGE_VARS */
     ck_assert_str_eq(nth("PMB_REGISTER", 0), "src_var=TRY_SHORE_HOST,dest_host=192.168.4.24,dest_port=9201,"
                                              "dest_alias=TRY_SHORE_HOST");
     ck_assert_str_eq(nth("PMB_REGISTER", 1), "src_var=TRY_SHORE_HOST,dest_host=192.168.4.25,dest_port=9200,"
@@ -857,6 +914,7 @@ Suite *kelp_field_brokers_suite(void)
     tcase_add_test(tc, nb_bad_host_info);
     tcase_add_test(tc, nb_host_info_changes);
     tcase_add_test(tc, nb_bridges_after_ack);
+    tcase_add_test(tc, nb_pshare_vars);
     tcase_add_test(tc, nb_bad_ack_warp);
     tcase_add_test(tc, nb_ack_keyword_and_status);
     tcase_add_test(tc, nb_retries_until_ack);
@@ -867,6 +925,7 @@ Suite *kelp_field_brokers_suite(void)
     tcase_add_test(tc, sb_bridge_each_vehicle);
     tcase_add_test(tc, sb_macros);
     tcase_add_test(tc, sb_macro_n);
+    tcase_add_test(tc, sb_bridge_var_sets);
     tcase_add_test(tc, sb_repeat_pings_once);
     tcase_add_test(tc, sb_timewarp_rejected);
     tcase_add_test(tc, sb_keyword);

@@ -8,6 +8,7 @@ typedef struct rec {
     int n;
     char var[16][32];
     char val[16][512];
+    bool str[16];
 } rec;
 
 static void pub(void *ctx, const char *var, bool is_string, const char *sval, double dval)
@@ -17,6 +18,7 @@ static void pub(void *ctx, const char *var, bool is_string, const char *sval, do
     snprintf(r->var[r->n], sizeof r->var[0], "%s", var);
     if (is_string) snprintf(r->val[r->n], sizeof r->val[0], "%s", sval);
     else snprintf(r->val[r->n], sizeof r->val[0], "%g", dval);
+    r->str[r->n] = is_string;
     r->n++;
 }
 
@@ -88,11 +90,135 @@ START_TEST(hostinfo_addresses_and_info)
 }
 END_TEST
 
+/* ufield.md 4.4 and A17: nothing found -> PHI_HOST_IP=localhost with an empty _ALL and
+ * _VERBOSE (the default address is not a detected one) */
+START_TEST(hostinfo_nothing_found)
+{
+    rec r = { 0 };
+    kelp_field_sink sink = { &r, pub, NULL };
+    kelp_field_hostinfo_cfg c;
+    kelp_field_hostinfo_cfg_default(&c);
+    kelp_field_hostinfo h;
+    kelp_field_hostinfo_init(&h, &c);
+    const char *n1[] = { "lo" }, *i1[] = { "127.0.0.1" };
+    kelp_field_hostinfo_set(&h, n1, i1, 1);
+    ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 1);
+    ck_assert_str_eq(get(&r, "PHI_HOST_IP"), "localhost");
+    ck_assert_str_eq(get(&r, "PHI_HOST_IP_ALL"), "");
+    ck_assert_str_eq(get(&r, "PHI_HOST_IP_VERBOSE"), "");
+}
+END_TEST
+
+/* DEFAULT_HOSTIP_FORCE (MOOS-IvP 24.8 HostInfo.cpp postIPInfo): the forced address is the only
+ * one posted, its source USER_HARD_CONFIGURED */
+START_TEST(hostinfo_forced)
+{
+    rec r = { 0 };
+    kelp_field_sink sink = { &r, pub, NULL };
+    kelp_field_hostinfo_cfg c;
+    kelp_field_hostinfo_cfg_default(&c);
+    snprintf(c.force_ip, sizeof c.force_ip, "192.168.0.55");
+    kelp_field_hostinfo h;
+    kelp_field_hostinfo_init(&h, &c);
+    const char *n2[] = { "eth0", "wlan0" }, *i2[] = { "10.0.0.5", "10.0.0.6" };
+    kelp_field_hostinfo_set(&h, n2, i2, 2);
+    ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 1);
+    ck_assert_str_eq(get(&r, "PHI_HOST_IP"), "192.168.0.55");
+    ck_assert_str_eq(get(&r, "PHI_HOST_IP_ALL"), "192.168.0.55");
+    ck_assert_str_eq(get(&r, "PHI_HOST_IP_VERBOSE"), "USER_HARD_CONFIGURED=192.168.0.55");
+}
+END_TEST
+
+/* PREFER_INTERFACE (MOOS-IvP 24.8 HostInfo.cpp handleConfigPreferInterface, postIPInfo): the
+ * name is read case-insensitively, and "wifi" names the wireless interface */
+START_TEST(hostinfo_prefer_wifi)
+{
+    rec r = { 0 };
+    kelp_field_sink sink = { &r, pub, NULL };
+    kelp_field_hostinfo_cfg c;
+    kelp_field_hostinfo_cfg_default(&c);
+    snprintf(c.prefer_if, sizeof c.prefer_if, "wifi");
+    kelp_field_hostinfo h;
+    kelp_field_hostinfo_init(&h, &c);
+    const char *n2[] = { "eth0", "wlp2s0" }, *i2[] = { "10.0.0.5", "10.0.0.6" };
+    kelp_field_hostinfo_set(&h, n2, i2, 2);
+    ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 1);
+    ck_assert_str_eq(get(&r, "PHI_HOST_IP"), "10.0.0.6");
+    snprintf(h.cfg.prefer_if, sizeof h.cfg.prefer_if, "ETH0");
+    const char *n3[] = { "wlan0", "eth0" }, *i3[] = { "10.0.0.6", "10.0.0.5" };
+    kelp_field_hostinfo_set(&h, n3, i3, 2);
+    ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 1);
+    ck_assert_str_eq(get(&r, "PHI_HOST_IP"), "10.0.0.5");
+    snprintf(h.cfg.prefer_if, sizeof h.cfg.prefer_if, "WLAN0");
+    kelp_field_hostinfo_set(&h, n3, i3, 2);
+    ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 1);
+    ck_assert_str_eq(get(&r, "PHI_HOST_IP"), "10.0.0.6");
+}
+END_TEST
+
+/* MOOS-IvP 24.8 pHostInfo posts the ports as strings (HostInfo.cpp: m_host_port_db) */
+START_TEST(hostinfo_ports_are_strings)
+{
+    rec r = { 0 };
+    kelp_field_sink sink = { &r, pub, NULL };
+    kelp_field_hostinfo_cfg c;
+    kelp_field_hostinfo_cfg_default(&c);
+    c.port_db = 9000;
+    kelp_field_hostinfo h;
+    kelp_field_hostinfo_init(&h, &c);
+    ck_assert_int_eq(kelp_field_hostinfo_mail(&h, "PMB_UDP_LISTEN", false, NULL, 9200), 1);
+    ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 1);
+    const char *vars[] = { "PHI_HOST_PORT_DB", "PHI_HOST_PORT", "PHI_HOST_PORT_UDP" };
+    for (int k = 0; k < 3; k++) {
+        int i = r.n;
+        while (i-- > 0 && strcmp(r.var[i], vars[k]) != 0) {}
+        ck_assert_int_ge(i, 0);
+        ck_assert_msg(r.str[i], "%s is not a string", vars[k]);
+        ck_assert_str_eq(r.val[i], k == 2 ? "9200" : "9000");
+    }
+}
+END_TEST
+
+/* PSHARE_INPUT_SUMMARY (MOOS-IvP 24.8 pHostInfo handleMailPShareInput): each "host:port[:udp]"
+ * input route is carried as host:port, a "host:port:multicast_N" one as multicast_N, anything
+ * else is dropped; the routes are joined with '&' and "localhost" reads as the host's address
+ * (postIPInfo). The brokers take port_udp from the first unicast route. */
+START_TEST(hostinfo_pshare_iroutes)
+{
+    rec r = { 0 };
+    kelp_field_sink sink = { &r, pub, NULL };
+    kelp_field_hostinfo_cfg c;
+    kelp_field_hostinfo_cfg_default(&c);
+    snprintf(c.community, sizeof c.community, "alpha");
+    c.port_db = 9000;
+    kelp_field_hostinfo h;
+    kelp_field_hostinfo_init(&h, &c);
+    const char *n1[] = { "eth0" }, *i1[] = { "10.0.0.5" };
+    kelp_field_hostinfo_set(&h, n1, i1, 1);
+    ck_assert_int_eq(kelp_field_hostinfo_mail(&h, "PSHARE_INPUT_SUMMARY", true,
+                                              "localhost:9200:udp,1.2.3.4:2000:multicast_23,bogus,5.6.7.8:9300", 0),
+                     1);
+    ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 1);
+    ck_assert_str_eq(get(&r, "PHI_HOST_INFO"),
+                     "community=alpha,hostip=10.0.0.5,port_db=9000,timewarp=1,"
+                     "pshare_iroutes=10.0.0.5:9200&multicast_23&5.6.7.8:9300");
+    kelp_broker_host bh;
+    const char *why = NULL;
+    ck_assert_int_eq(kelp_broker_host_parse(get(&r, "PHI_HOST_INFO"), &bh, &why), 0);
+    ck_assert_uint_eq(bh.port_udp, 9200);
+}
+END_TEST
+
 Suite *kelp_field_hostinfo_suite(void)
 {
     Suite *s = suite_create("field_hostinfo");
     TCase *tc = tcase_create("core");
     tcase_add_test(tc, hostinfo_addresses_and_info);
+    tcase_add_test(tc, hostinfo_nothing_found);
+    tcase_add_test(tc, hostinfo_pshare_iroutes);
+    tcase_add_test(tc, hostinfo_ports_are_strings);
+    tcase_add_test(tc, hostinfo_forced);
+    tcase_add_test(tc, hostinfo_prefer_wifi);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -262,22 +262,24 @@ START_TEST(umh_report_small_buffer)
 }
 END_TEST
 
-/* UMH_SUMMARY_MSGS: first iteration, then after changes, at most once a second */
+/* UMH_SUMMARY_MSGS: first iteration, then after changes, at most once a second; "a summary of
+ * total messages, valid messages and rejected messages" (seed 6.1.2), written as MOOS-IvP
+ * 24.8 writes it (MessageHandler.cpp postMsgSummary: total=..,valid=..,rejected=..) */
 START_TEST(umh_summary)
 {
     start("bravo", false);
     ck_assert_int_eq(kelp_field_umh_iterate(&h, 10, &sink), 1);
-    ck_assert_str_eq(r.val[find(&r, "UMH_SUMMARY_MSGS")], "total=0,valid=0,invalid=0,rejected=0");
+    ck_assert_str_eq(r.val[find(&r, "UMH_SUMMARY_MSGS")], "total=0,valid=0,rejected=0");
     ck_assert_int_eq(kelp_field_umh_iterate(&h, 12, &sink), 0); /* nothing new */
     ck_assert_int_eq(mail("src_node=a,dest_node=bravo,var_name=X,double_val=1", 12), 1);
     ck_assert_int_eq(mail("src_node=a,dest_node=c,var_name=X,double_val=1", 12), KELP_ERR_ARG);
     ck_assert_int_eq(mail("src_node=a", 12), KELP_ERR_PARSE);
     ck_assert_int_eq(kelp_field_umh_iterate(&h, 12.2, &sink), 1);
-    ck_assert_str_eq(r.val[find(&r, "UMH_SUMMARY_MSGS")], "total=3,valid=1,invalid=1,rejected=1");
+    ck_assert_str_eq(r.val[find(&r, "UMH_SUMMARY_MSGS")], "total=3,valid=1,rejected=1");
     ck_assert_int_eq(mail("src_node=a,dest_node=bravo,var_name=X,double_val=1", 12.5), 1);
     ck_assert_int_eq(kelp_field_umh_iterate(&h, 12.9, &sink), 0); /* < 1 s since the last */
     ck_assert_int_eq(kelp_field_umh_iterate(&h, 13.2, &sink), 1);
-    ck_assert_str_eq(r.val[find(&r, "UMH_SUMMARY_MSGS")], "total=4,valid=2,invalid=1,rejected=1");
+    ck_assert_str_eq(r.val[find(&r, "UMH_SUMMARY_MSGS")], "total=4,valid=2,rejected=1");
 }
 END_TEST
 
@@ -318,7 +320,7 @@ START_TEST(umh_config)
 }
 END_TEST
 
-/* msg_flag after each posted message, bad_msg_flag after each invalid or rejected one, with
+/* msg_flag after each posted message, bad_msg_flag after each rejected one, with
  * $[CTR], $[GOOD_CTR] and $[BAD_CTR] expanded */
 START_TEST(umh_flags)
 {
@@ -338,13 +340,37 @@ START_TEST(umh_flags)
     ck_assert_int_lt(find(&r, "TOTAL_BAD"), 0);
     ck_assert_int_eq(mail("src_node=a,dest_node=zulu,var_name=X,double_val=1", 2), KELP_ERR_ARG);
     ck_assert_int_eq(mail("garbage", 3), KELP_ERR_PARSE);
-    ck_assert_str_eq(r.val[find(&r, "TOTAL_BAD")], "2");
+    ck_assert_str_eq(r.val[find(&r, "TOTAL_BAD")], "1");
     ck_assert(!r.str[find(&r, "BAD_NUM")]);
     ck_assert_double_eq(r.d[find(&r, "BAD_NUM")], 7);
     ck_assert_int_eq(mail("src_node=a,dest_node=bravo,var_name=X,double_val=1", 4), 1);
     ck_assert_str_eq(r.val[find(&r, "GOT")], "n2_of_4");
     /* order: the variable first, then its flags */
     ck_assert_int_lt(find(&r, "X"), find(&r, "GOT"));
+}
+END_TEST
+
+/* MOOS-IvP 24.8 (MessageHandler.cpp handleMailNodeMessage, postFlags): the BAD_MSG_FLAGs
+ * follow a message rejected for its address only (an invalid one posts no flag), and
+ * $[BAD_CTR] counts the rejected messages */
+START_TEST(umh_bad_flags_on_rejected_only)
+{
+    kelp_field_umh_cfg c;
+    const char *why = NULL;
+    kelp_field_umh_cfg_default(&c, "bravo");
+    ck_assert_int_eq(kelp_field_umh_config(&c, "bad_msg_flag", "TOTAL_BAD=$[BAD_CTR]", &why), 1);
+    kelp_field_umh_init(&h, &c);
+    memset(&r, 0, sizeof r);
+    ck_assert_int_eq(mail("src_node=a,dest_node=bravo,double_val=1", 1), KELP_ERR_PARSE);
+    ck_assert_int_lt(find(&r, "TOTAL_BAD"), 0);
+    ck_assert_int_eq(mail("src_node=a,dest_node=zulu,var_name=X,double_val=1", 2), KELP_ERR_ARG);
+    ck_assert_str_eq(r.val[find(&r, "TOTAL_BAD")], "1");
+    ck_assert_int_eq(mail("garbage", 3), KELP_ERR_PARSE);
+    ck_assert_int_eq(mail("src_node=a,dest_node=yankee,var_name=X,double_val=1", 4), KELP_ERR_ARG);
+    ck_assert_str_eq(r.val[find(&r, "TOTAL_BAD")], "2");
+    int n = 0;
+    for (int i = 0; i < r.n; i++) n += !strcmp(r.var[i], "TOTAL_BAD");
+    ck_assert_int_eq(n, 2);
 }
 END_TEST
 
@@ -430,6 +456,7 @@ Suite *kelp_field_msghandler_suite(void)
     tcase_add_test(tc, umh_summary);
     tcase_add_test(tc, umh_config);
     tcase_add_test(tc, umh_flags);
+    tcase_add_test(tc, umh_bad_flags_on_rejected_only);
     tcase_add_test(tc, umh_aux_node_app);
     tcase_add_test(tc, nodemsg_parse_fields);
     tcase_add_test(tc, umh_many_sources);

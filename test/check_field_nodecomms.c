@@ -697,6 +697,28 @@ START_TEST(nc_mediated_and_ack)
 }
 END_TEST
 
+/* MOOS-IvP 24.8 names a message's id ack_id (lib_mbutil NodeMessage: string2NodeMessage and
+ * getSpec, as pMediator writes it): a repeated ack_id is drawn in msg_repeat_color */
+START_TEST(nc_ack_id_repeat_color)
+{
+    kelp_field_ncomms_cfg cfg;
+    kelp_field_ncomms_cfg_default(&cfg);
+    cfgset(&cfg, "min_msg_interval", "0");
+    start(&cfg);
+    two(50, NULL, NULL);
+    const char *m = "ack_id=alpha_12,ack=true,src_node=alpha,dest_node=bravo,var_name=X,string_val=go";
+    mail("MEDIATED_MESSAGE", m, 1000);
+    R->n = 0;
+    iter(1000);
+    ck_assert_str_eq(last("MEDIATED_MESSAGE_BRAVO"), m);
+    ck_assert_ptr_nonnull(strstr(last("VIEW_COMMS_PULSE"), "fill_color=white"));
+    mail("MEDIATED_MESSAGE", m, 1000.25);
+    R->n = 0;
+    iter(1000.25);
+    ck_assert_ptr_nonnull(strstr(last("VIEW_COMMS_PULSE"), "fill_color=light_green"));
+}
+END_TEST
+
 /* shared_node_reports: NODE_REPORT_UNC at most every interval of real time */
 START_TEST(nc_shared_reports)
 {
@@ -809,6 +831,7 @@ Suite *kelp_field_nodecomms_suite(void)
     tcase_add_test(t, nc_blocked_and_report);
     tcase_add_test(t, nc_comms_range_mail);
     tcase_add_test(t, nc_mediated_and_ack);
+    tcase_add_test(t, nc_ack_id_repeat_color);
     tcase_add_test(t, nc_shared_reports);
     tcase_add_test(t, nc_full_report_req);
     tcase_add_test(t, nc_grid_matches_brute_force);

@@ -54,9 +54,11 @@ static void detect(hostinfo *h)
     kelp_app_event(h->app, "%u address(es) found", h->core.naddr);
 }
 
-static int text(kelp_app *app, const char *key, char *dst, size_t cap)
+/* key, or its MOOS-IvP 24.8 spelling alt (default_host_ip, default_host_ip_force) */
+static int text(kelp_app *app, const char *key, const char *alt, char *dst, size_t cap)
 {
     const kelp_mission_node *n = kelp_app_param(app, key);
+    if (!n && alt) n = kelp_app_param(app, alt);
     if (n && (kelp_mission_copy(n, dst, cap) < 0 || strpbrk(dst, " ,=")))
         return kelp_app_config_error(app, n, "%s must be one word of at most %zu characters", key, cap - 1);
     return 0;
@@ -72,9 +74,9 @@ static int startup(kelp_app *app, void *st)
     snprintf(c.community, sizeof c.community, "%s", kelp_app_community(app));
     c.warp = kelp_app_warp(app);
     if (kelp_app_global_double(app, "ServerPort", &c.port_db) < 0) return -1;
-    if (text(app, "DEFAULT_HOSTIP", c.default_ip, sizeof c.default_ip) < 0 ||
-        text(app, "DEFAULT_HOSTIP_FORCE", c.force_ip, sizeof c.force_ip) < 0 ||
-        text(app, "PREFER_INTERFACE", c.prefer_if, sizeof c.prefer_if) < 0)
+    if (text(app, "DEFAULT_HOSTIP", "DEFAULT_HOST_IP", c.default_ip, sizeof c.default_ip) < 0 ||
+        text(app, "DEFAULT_HOSTIP_FORCE", "DEFAULT_HOST_IP_FORCE", c.force_ip, sizeof c.force_ip) < 0 ||
+        text(app, "PREFER_INTERFACE", NULL, c.prefer_if, sizeof c.prefer_if) < 0)
         return -1;
     static const char *const accepted[] = { "TEMP_FILE_DIR", "APP_LOGGING" };
     for (int i = 0; i < 2; i++)
@@ -121,7 +123,9 @@ static const kelp_app_def def = {
     .params = (const kelp_app_param_info[]){
         { "DEFAULT_HOSTIP", "192.168.0.55", "PHI_HOST_IP when no address is found (default localhost)", NULL },
         { "DEFAULT_HOSTIP_FORCE", "192.168.0.55", "PHI_HOST_IP whatever is found", NULL },
-        { "PREFER_INTERFACE", "wlan0", "this interface's address wins", NULL },
+        { "DEFAULT_HOST_IP", "192.168.0.55", "same as DEFAULT_HOSTIP (24.8 takes both)", NULL },
+        { "DEFAULT_HOST_IP_FORCE", "192.168.0.55", "same as DEFAULT_HOSTIP_FORCE (24.8 takes both)", NULL },
+        { "PREFER_INTERFACE", "wlan0", "this interface's address wins (any case; wifi: the wireless one)", NULL },
         { "TEMP_FILE_DIR", "./", "accepted (kelp reads the interfaces with getifaddrs, no files)", NULL },
         { "APP_LOGGING", "false", "accepted", NULL },
         { NULL, NULL, NULL, NULL } },

@@ -91,7 +91,7 @@ static const kelp_app_def def = {
         { "AUX_INFO", "node", "node or node+app: the sender as aux source (kelp shows it in the report)", NULL },
         { "APPCAST_TRUNC_MSG", "75", "characters of a listed valid message (0: whole)", NULL },
         { "MSG_FLAG", "RETURN=true", "posted after each message posted; $[CTR] $[GOOD_CTR] $[BAD_CTR] expand (repeatable)", NULL },
-        { "BAD_MSG_FLAG", "TOTAL_BAD=$[BAD_CTR]", "posted after each invalid or rejected message (repeatable)", NULL },
+        { "BAD_MSG_FLAG", "TOTAL_BAD=$[BAD_CTR]", "posted after each message rejected for its address (repeatable); $[BAD_CTR]: rejected", NULL },
         { "APP_LOGGING", "false", "accepted (record the bus with kelp-record)", NULL },
         { NULL, NULL, NULL, NULL } },
     .subscribes = (const kelp_app_var_info[]){
@@ -100,7 +100,7 @@ static const kelp_app_def def = {
         { NULL, NULL, NULL } },
     .publishes = (const kelp_app_var_info[]){
         { "<var_name>", "BAR", "the message's variable: a string, or a double for double_val" },
-        { "UMH_SUMMARY_MSGS", "total=23,valid=18,invalid=2,rejected=3", "on change, at most once a second" },
+        { "UMH_SUMMARY_MSGS", "total=23,valid=18,rejected=3", "on change, at most once a second" },
         { "<MSG_FLAG>", "RETURN=true", NULL },
         { "<BAD_MSG_FLAG>", "TOTAL_BAD=5", NULL },
         { NULL, NULL, NULL } },

@@ -129,6 +129,8 @@ static const kelp_app_def def = {
         { "NODE_BROKER_PING",
           "community=henry,host=192.168.1.22,port=9000,port_udp=9200,keyword=lemon,time_warp=10,time=1325178800.81",
           "every iteration once PHI_HOST_INFO is complete" },
+        { "NODE_PSHARE_VARS", "VIEW_POLYGON,VIEW_POINT,VIEW_SEGLIST,NODE_REPORT", "the bridges' aliases, after each valid ack" },
+        { "HOST_INFO_REQUEST", "true", "every 2 s until PHI_HOST_INFO is complete" },
         { NULL, NULL, NULL } },
     .notes = "Globals used: MOOSTimeWarp (must equal the shore's).\n"
              "The vehicle's kelp-bridge needs UDPListen and ALLOW = NODE_BROKER_ACK, TRY_SHORE_HOST, <shore aliases>.\n",

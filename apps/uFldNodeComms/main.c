@@ -123,7 +123,7 @@ static const kelp_app_def def = {
         { "NODE_REPORT", "NAME=alpha,TYPE=UUV,TIME=1252348077.59,X=51.71,Y=-35.50,SPD=2.0,HDG=118.8,DEP=4.6", NULL },
         { "NODE_REPORT_LOCAL", "NAME=alpha,TYPE=UUV,TIME=1252348077.59,X=51.71,Y=-35.50,DEPTH=4.6", NULL },
         { "NODE_MESSAGE", "src_node=henry,dest_node=ike,var_name=FOO,string_val=bar", "dest_node a:b list, all; dest_group" },
-        { "MEDIATED_MESSAGE", "src_node=henry,dest_node=ike,var_name=FOO,string_val=bar,ack=true,msg_id=henry_3", NULL },
+        { "MEDIATED_MESSAGE", "src_node=henry,dest_node=ike,var_name=FOO,string_val=bar,ack=true,ack_id=henry_3", NULL },
         { "ACK_MESSAGE", "src=ike,dest=henry,id=henry_3", NULL },
         { "UNC_STEALTH", "vname=alpha,stealth=0.4", NULL },
         { "UNC_EARANGE", "vname=alpha,earange=0.5", NULL },

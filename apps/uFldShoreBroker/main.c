@@ -126,7 +126,11 @@ static const kelp_app_def def = {
           "per accepted ping; bridged to the vehicle as NODE_BROKER_ACK" },
         { "NODE_BROKER_VACK", "henry", "24.8: the vehicle just acked" },
         { "UFSB_NODE_COUNT", "3", "24.8: vehicles known" },
+        { "UFSB_QBRIDGE_VARS", "NODE_REPORT,RETURN", "24.8: the QBRIDGE names, sorted; at start" },
+        { "UFSB_BRIDGE_VARS", "DEPLOY_$V,DEPLOY_HENRY,NODE_BROKER_ACK_$V,NODE_BROKER_ACK_HENRY,RETURN_ALL,RETURN_HENRY",
+          "24.8: the bridged sources, sorted; when a vehicle is first bridged" },
         { "TRY_SHORE_HOST", "pshare_route=10.0.0.8:9200", "24.8: to each TRY_VNODE every 10 s" },
+        { "HOST_INFO_REQUEST", "true", "every 2 s until PHI_HOST_INFO is complete" },
         { NULL, NULL, NULL } },
     .notes = "Globals used: MOOSTimeWarp (a vehicle's must be equal).\n"
              "The shore's kelp-bridge needs UDPListen and ALLOW = NODE_BROKER_PING, <vehicle aliases>.\n",

@@ -172,8 +172,10 @@ typedef struct kelp_field_hostinfo_cfg {
     double port_db;                /**< ServerPort (0: unknown) */
     double warp;                   /**< MOOSTimeWarp */
     char default_ip[64];           /**< DEFAULT_HOSTIP: when nothing is found (default "localhost") */
-    char force_ip[64];             /**< DEFAULT_HOSTIP_FORCE: always this ("" none) */
-    char prefer_if[16];            /**< PREFER_INTERFACE: its address wins ("" none) */
+    char force_ip[64];             /**< DEFAULT_HOSTIP_FORCE: always this, and the only address
+                                        posted (USER_HARD_CONFIGURED=ip) ("" none) */
+    char prefer_if[16];            /**< PREFER_INTERFACE: its address wins, the name in any case;
+                                        "wifi": the wireless interface's ("" none) */
 } kelp_field_hostinfo_cfg;
 
 typedef struct kelp_field_hostinfo {
@@ -196,12 +198,15 @@ void kelp_field_hostinfo_init(kelp_field_hostinfo *h, const kelp_field_hostinfo_
  *  the list is ordered ethernet, wifi, others (stable), an address once. A post is due. */
 void kelp_field_hostinfo_set(kelp_field_hostinfo *h, const char *const *ifnames, const char *const *ips, unsigned n);
 /** HOST_INFO_REQUEST (any value: look again, post again), PMB_UDP_LISTEN (port),
- *  PSHARE_INPUT_SUMMARY. @return 1 used, 0 not ours, <0 bad value. */
+ *  PSHARE_INPUT_SUMMARY ("localhost:9200:udp,1.2.3.4:2000:multicast_23" is kept as 24.8 keeps
+ *  it: "localhost:9200&multicast_23"). @return 1 used, 0 not ours, <0 bad value. */
 int kelp_field_hostinfo_mail(kelp_field_hostinfo *h, const char *var, bool is_string, const char *sval, double dval);
-/** When a post is due: PHI_HOST_IP, PHI_HOST_IP_ALL, PHI_HOST_IP_VERBOSE, PHI_HOST_PORT_DB
- *  and PHI_HOST_PORT (the seed's name), PHI_HOST_PORT_UDP when known, and PHI_HOST_INFO
- *  "community=..,hostip=..,port_db=..[,port_udp=..],timewarp=..[,pshare_iroutes=..]".
- *  @return 1 posted, 0 nothing due. */
+/** When a post is due: PHI_HOST_IP ("localhost", or DEFAULT_HOSTIP, when nothing was found),
+ *  PHI_HOST_IP_ALL and PHI_HOST_IP_VERBOSE (both "" when nothing was found), PHI_HOST_PORT_DB
+ *  and PHI_HOST_PORT (the seed's name), PHI_HOST_PORT_UDP when known (the ports as strings),
+ *  and PHI_HOST_INFO "community=..,hostip=..,port_db=..[,port_udp=..],timewarp=..
+ *  [,pshare_iroutes=..]" (a localhost route as this host's address). @return 1 posted, 0
+ *  nothing due. */
 int kelp_field_hostinfo_iterate(kelp_field_hostinfo *h, const kelp_field_sink *out);
 
 /* ------------------------------------------------------------------ uFldNodeComms */
@@ -436,7 +441,7 @@ bool kelp_field_nodemsg_to(const kelp_node_message *m, const char *me);
 
 /** A MSG_FLAG / BAD_MSG_FLAG "VAR=value": a number is posted as a double, anything else as a
  *  string after expanding $[CTR] (messages received), $[GOOD_CTR] (posted) and $[BAD_CTR]
- *  (invalid + rejected). */
+ *  (rejected, as MOOS-IvP 24.8 counts it). */
 typedef struct kelp_umh_flag {
     char var[KELP_MAX_NAME];
     char sval[KELP_UMH_FLAG_LEN];
@@ -493,12 +498,14 @@ void kelp_field_umh_cfg_default(kelp_field_umh_cfg *c, const char *community);
 KELP_MUST_CHECK int kelp_field_umh_config(kelp_field_umh_cfg *c, const char *key, const char *val, const char **why);
 void kelp_field_umh_init(kelp_field_umh *h, const kelp_field_umh_cfg *cfg);
 /** NODE_MESSAGE (other variables: 0). Valid and addressed to us (ufield.md 6.4): the
- *  variable is posted (a string or a double), then the MSG_FLAGs. Invalid or rejected: counted,
- *  listed with the reason, then the BAD_MSG_FLAGs.
+ *  variable is posted (a string or a double), then the MSG_FLAGs. Invalid or rejected: counted
+ *  and listed with the reason; a rejected one (addressed elsewhere) is followed by the
+ *  BAD_MSG_FLAGs (MOOS-IvP 24.8: an invalid message posts no flag).
  *  @return 1 posted, KELP_ERR_PARSE invalid, KELP_ERR_ARG rejected (addressing). */
 int kelp_field_umh_mail(kelp_field_umh *h, const char *var, bool is_string, const char *sval, double now,
                         const kelp_field_sink *out);
-/** UMH_SUMMARY_MSGS "total=..,valid=..,invalid=..,rejected=.." on the first call and after a
+/** UMH_SUMMARY_MSGS "total=..,valid=..,rejected=.." (seed 6.1.2's three totals, in MOOS-IvP
+ *  24.8's form; the invalid are total - valid - rejected) on the first call and after a
  *  change, at most every summary_gap s. @return 1 posted, 0 not due. */
 int kelp_field_umh_iterate(kelp_field_umh *h, double now, const kelp_field_sink *out);
 /** The terminal report (Listing 14: totals, per source, last few messages; totals only when
@@ -676,7 +683,8 @@ const char *kelp_field_nbroker_subscription(unsigned i);
 /** One mail at `now`. PHI_HOST_INFO (complete: stored, a change counted; else BAD);
  *  NODE_BROKER_ACK (invalid when incomplete, of another time warp, with a keyword other than
  *  ours when both are set, or a status other than ok; valid: the shore is stored and, for a
- *  new shore or after RETRY_INTERVAL of silence, every BRIDGE is registered to it);
+ *  new shore or after RETRY_INTERVAL of silence, every BRIDGE is registered to it; then
+ *  NODE_PSHARE_VARS, the bridges' aliases comma-joined, as 24.8 posts it);
  *  TRY_SHORE_HOST (24.8: a try host added at run time). @return 1 used, 0 not ours, <0 bad. */
 int kelp_field_nbroker_mail(kelp_field_nbroker *b, const char *var, bool is_string, const char *sval, double now,
                             const kelp_field_sink *out);
@@ -696,6 +704,10 @@ typedef struct kelp_field_sbroker_cfg {
     double warp;                                        /**< MOOSTimeWarp (1) */
     bool warn_stale;                                    /**< WARNING_ON_STALE (false) */
     bool auto_realmcast, auto_appcast, auto_mhash;      /**< 24.8 AUTO_BRIDGE_* (false) */
+    bool raw[KELP_BROKER_MAX_BRIDGES];                  /**< named by a BRIDGE line (its src as written
+                                                             is in UFSB_BRIDGE_VARS) */
+    char qbridge[KELP_BROKER_MAX_BRIDGES / 2][KELP_MAX_NAME]; /**< QBRIDGE names (UFSB_QBRIDGE_VARS) */
+    unsigned nqbridge;
 } kelp_field_sbroker_cfg;
 
 /** One vehicle as the shore knows it. */
@@ -720,6 +732,7 @@ typedef struct kelp_field_sbroker {
     unsigned nnodes, naccepted;
     double vnode_reg_at, vnode_post_at, count_at; /**< -1 never */
     unsigned count_posted;
+    bool qvars_posted;                    /**< UFSB_QBRIDGE_VARS posted (once, at the first iteration) */
     unsigned long iterations, phi, pings, bad_pings, early_pings, full, acks, registers;
     char last_register[KELP_BROKER_MSG];
 } kelp_field_sbroker;
@@ -740,12 +753,16 @@ const char *kelp_field_sbroker_subscription(unsigned i);
  *  is complete; the vehicle (by community, case-insensitive) is recorded with its status and
  *  skew; accepted: on first acceptance it gets the next $N, and whenever its bridges are not
  *  registered to its current host:port_udp (first time, or it moved) the ack bridge
- *  (NODE_BROKER_ACK_<V> -> NODE_BROKER_ACK) and every BRIDGE are registered; then the ack
- *  NODE_BROKER_ACK_<V> and NODE_BROKER_VACK are posted. @return 1 used, 0 not ours, <0 bad. */
+ *  (NODE_BROKER_ACK_<V> -> NODE_BROKER_ACK) and every BRIDGE are registered (the first time,
+ *  UFSB_BRIDGE_VARS follows: the sorted set of the BRIDGE lines' src as written,
+ *  NODE_BROKER_ACK_$V and every source expanded for a vehicle, as MOOS-IvP 24.8 posts it);
+ *  then the ack NODE_BROKER_ACK_<V> and NODE_BROKER_VACK are posted. @return 1 used, 0 not
+ *  ours, <0 bad. */
 int kelp_field_sbroker_mail(kelp_field_sbroker *s, const char *var, bool is_string, const char *sval, double now,
                             const kelp_field_sink *out);
-/** Iterate: stale warnings, UFSB_NODE_COUNT (on change, else every 30 s), try_vnode
- *  registrations (every 30 s) and TRY_SHORE_HOST (every 10 s). @return the number of posts. */
+/** Iterate: UFSB_QBRIDGE_VARS (the QBRIDGE names, sorted; once), stale warnings,
+ *  UFSB_NODE_COUNT (on change, else every 30 s), try_vnode registrations (every 30 s) and
+ *  TRY_SHORE_HOST (every 10 s). @return the number of posts. */
 int kelp_field_sbroker_iterate(kelp_field_sbroker *s, double now, const kelp_field_sink *out);
 /** The terminal report (seed Listing 6) at `now` into buf. @return 0 or KELP_ERR_NOSPACE. */
 KELP_MUST_CHECK int kelp_field_sbroker_report(const kelp_field_sbroker *s, double now, char *buf, size_t cap);

@@ -5,6 +5,7 @@
 #include <kelp/field.h>
 #include <kelp/mission.h>
 #include <kelp/util.h>
+#include "field_int.h"
 
 static void copy(char *dst, size_t cap, const char *src)
 {
@@ -80,6 +81,40 @@ void kelp_field_hostinfo_set(kelp_field_hostinfo *h, const char *const *ifnames,
     h->redetect = false;
 }
 
+/* PSHARE_INPUT_SUMMARY "localhost:9000:udp,1.2.3.4:2000:multicast_23" as MOOS-IvP 24.8's
+ * pHostInfo carries it in pshare_iroutes: a "host:port[:udp]" route is host:port, a
+ * "host:port:<other>" route is <other> (multicast_23), anything else is dropped; '&' joins them */
+static void iroutes(const char *s, char *out, size_t cap)
+{
+    size_t n = 0, pos = 0, len = strlen(s), il;
+    const char *it;
+    out[0] = 0;
+    while (field_next_item(s, len, &pos, ',', &it, &il) == 1) {
+        const char *c1 = memchr(it, ':', il);
+        if (!c1) continue;
+        const char *c2 = memchr(c1 + 1, ':', il - (size_t)(c1 + 1 - it));
+        size_t hl = (size_t)(c1 - it), pl = (size_t)((c2 ? c2 : it + il) - c1 - 1);
+        const char *proto = c2 ? c2 + 1 : "udp";
+        size_t prl = c2 ? il - (size_t)(c2 + 1 - it) : 3;
+        char host[16];
+        long port;
+        bool host_ok = kelp_strieq_n(it, hl, "localhost");
+        if (!host_ok && hl < sizeof host) {
+            memcpy(host, it, hl);
+            host[hl] = 0;
+            host_ok = quad_ok(host);
+        }
+        if (!host_ok || prl == 0 || memchr(proto, ':', prl) || kelp_parse_long(c1 + 1, pl, &port) < 0) continue;
+        size_t keep = kelp_strieq_n(proto, prl, "udp") ? hl + 1 + pl : prl;
+        const char *from = kelp_strieq_n(proto, prl, "udp") ? it : proto;
+        if (n + (n ? 1 : 0) + keep + 1 > cap) break;
+        if (n) out[n++] = '&';
+        memcpy(out + n, from, keep);
+        n += keep;
+        out[n] = 0;
+    }
+}
+
 int kelp_field_hostinfo_mail(kelp_field_hostinfo *h, const char *var, bool is_string, const char *sval, double dval)
 {
     if (!strcmp(var, "HOST_INFO_REQUEST")) {
@@ -97,14 +132,10 @@ int kelp_field_hostinfo_mail(kelp_field_hostinfo *h, const char *var, bool is_st
     }
     if (!strcmp(var, "PSHARE_INPUT_SUMMARY")) {
         if (!is_string || !sval) return KELP_ERR_PARSE;
-        /* "localhost:9000:udp,1.2.3.4:2000:multicast_23" -> "localhost:9000&multicast_23"-like
-         * routes are carried as given, ',' made '&' so they fit one field */
         char r[sizeof h->iroutes];
-        size_t j = 0;
-        for (size_t i = 0; sval[i] && j + 1 < sizeof r; i++) r[j++] = sval[i] == ',' ? '&' : sval[i];
-        r[j] = 0;
+        iroutes(sval, r, sizeof r);
         if (strcmp(r, h->iroutes) != 0) h->post_due = true;
-        memcpy(h->iroutes, r, j + 1);
+        memcpy(h->iroutes, r, strlen(r) + 1);
         return 1;
     }
     return 0;
@@ -115,14 +146,22 @@ int kelp_field_hostinfo_iterate(kelp_field_hostinfo *h, const kelp_field_sink *o
     if (!h->post_due) return 0;
     h->post_due = false;
     const char *best = h->cfg.default_ip;
+    /* PREFER_INTERFACE: an interface name (any case), or 24.8's "wifi" for the wireless one */
+    bool wifi = kelp_strieq(h->cfg.prefer_if, "wifi");
     for (unsigned i = 0; i < h->naddr && best == h->cfg.default_ip; i++)
-        if (h->cfg.prefer_if[0] && !strcmp(h->addr[i].ifname, h->cfg.prefer_if)) best = h->addr[i].ip;
+        if (h->cfg.prefer_if[0] &&
+            (kelp_strieq(h->addr[i].ifname, h->cfg.prefer_if) || (wifi && !strcmp(h->addr[i].source, "LINUX_WIFI"))))
+            best = h->addr[i].ip;
     if (best == h->cfg.default_ip && h->naddr) best = h->addr[0].ip;
     if (h->cfg.force_ip[0]) best = h->cfg.force_ip;
     copy(h->best, sizeof h->best, best);
     char all[KELP_HOSTINFO_MAX_ADDRS * 17 + 1] = "", verbose[KELP_HOSTINFO_MAX_ADDRS * 50 + 1] = "";
     size_t na = 0, nv = 0;
-    for (unsigned i = 0; i < h->naddr; i++) {
+    if (h->cfg.force_ip[0]) { /* 24.8: the forced address alone */
+        kelp_snprintf(all, sizeof all, "%s", h->cfg.force_ip);
+        kelp_snprintf(verbose, sizeof verbose, "USER_HARD_CONFIGURED=%s", h->cfg.force_ip);
+    }
+    for (unsigned i = 0; i < h->naddr && !h->cfg.force_ip[0]; i++) {
         bool seen = false;
         for (unsigned k = 0; k < i; k++) seen = seen || !strcmp(h->addr[k].ip, h->addr[i].ip);
         if (!seen) na += (size_t)kelp_snprintf(all + na, sizeof all - na, "%s%s", na ? "," : "", h->addr[i].ip);
@@ -130,21 +169,35 @@ int kelp_field_hostinfo_iterate(kelp_field_hostinfo *h, const kelp_field_sink *o
                                h->addr[i].ip);
     }
     out->publish(out->ctx, "PHI_HOST_IP", true, h->best, 0);
-    out->publish(out->ctx, "PHI_HOST_IP_ALL", true, na ? all : h->best, 0);
+    out->publish(out->ctx, "PHI_HOST_IP_ALL", true, all, 0); /* "" when nothing was found (A17) */
     out->publish(out->ctx, "PHI_HOST_IP_VERBOSE", true, verbose, 0);
     char info[512];
     int n = kelp_snprintf(info, sizeof info, "community=%s,hostip=%s", h->cfg.community, h->best);
+    char port[24]; /* the ports are posted as strings, as 24.8's pHostInfo posts them */
     if (h->cfg.port_db > 0) {
-        out->publish(out->ctx, "PHI_HOST_PORT_DB", false, NULL, h->cfg.port_db);
-        out->publish(out->ctx, "PHI_HOST_PORT", false, NULL, h->cfg.port_db);
-        n += kelp_snprintf(info + n, sizeof info - (size_t)n, ",port_db=%.0f", h->cfg.port_db);
+        kelp_snprintf(port, sizeof port, "%.0f", h->cfg.port_db);
+        out->publish(out->ctx, "PHI_HOST_PORT_DB", true, port, 0);
+        out->publish(out->ctx, "PHI_HOST_PORT", true, port, 0);
+        n += kelp_snprintf(info + n, sizeof info - (size_t)n, ",port_db=%s", port);
     }
     if (h->port_udp > 0) {
-        out->publish(out->ctx, "PHI_HOST_PORT_UDP", false, NULL, h->port_udp);
-        n += kelp_snprintf(info + n, sizeof info - (size_t)n, ",port_udp=%.0f", h->port_udp);
+        kelp_snprintf(port, sizeof port, "%.0f", h->port_udp);
+        out->publish(out->ctx, "PHI_HOST_PORT_UDP", true, port, 0);
+        n += kelp_snprintf(info + n, sizeof info - (size_t)n, ",port_udp=%s", port);
     }
     n += kelp_snprintf(info + n, sizeof info - (size_t)n, ",timewarp=%g", h->cfg.warp);
-    if (h->iroutes[0] && (size_t)n < sizeof info) kelp_snprintf(info + n, sizeof info - (size_t)n, ",pshare_iroutes=%s", h->iroutes);
+    if (h->iroutes[0] && (size_t)n < sizeof info) {
+        /* "localhost" routes read as this host's address (24.8's postIPInfo) */
+        size_t m = (size_t)n;
+        field_putf(info, sizeof info, &m, ",pshare_iroutes=");
+        for (const char *p = h->iroutes; *p;) {
+            if (kelp_strieq_n(p, strlen(p) < 9 ? strlen(p) : 9, "localhost")) {
+                field_putf(info, sizeof info, &m, "%s", h->best);
+                p += 9;
+            } else
+                field_putf(info, sizeof info, &m, "%c", *p++);
+        }
+    }
     out->publish(out->ctx, "PHI_HOST_INFO", true, info, 0);
     h->posts++;
     return 1;

@@ -244,7 +244,7 @@ static void list_add(kelp_umh_list *l, const char *msg, const char *why)
 static void expand(const kelp_field_umh *h, const char *in, char *out, size_t cap)
 {
     static const char *const names[] = { "$[CTR]", "$[GOOD_CTR]", "$[BAD_CTR]" };
-    unsigned long vals[] = { h->total, h->valid, h->invalid + h->rejected };
+    unsigned long vals[] = { h->total, h->valid, h->rejected }; /* 24.8: BAD_CTR counts the rejected */
     size_t n = 0;
     out[0] = 0;
     while (*in && n + 1 < cap) {
@@ -299,8 +299,9 @@ static int bad(kelp_field_umh *h, kelp_umh_list *l, unsigned long *ctr, const ch
     (*ctr)++;
     list_add(l, msg, why);
     h->summary_due = true;
-    post_flags(h, h->cfg.bad_flag, h->cfg.nbad_flag, out);
-    return l == &h->last_invalid ? KELP_ERR_PARSE : KELP_ERR_ARG;
+    if (l == &h->last_invalid) return KELP_ERR_PARSE;
+    post_flags(h, h->cfg.bad_flag, h->cfg.nbad_flag, out); /* 24.8: after a rejected message only */
+    return KELP_ERR_ARG;
 }
 
 int kelp_field_umh_mail(kelp_field_umh *h, const char *var, bool is_string, const char *sval, double now,
@@ -356,8 +357,8 @@ int kelp_field_umh_iterate(kelp_field_umh *h, double now, const kelp_field_sink 
 {
     if (!h->summary_due || (h->summaries && now - h->last_summary < h->cfg.summary_gap)) return 0;
     char buf[128];
-    kelp_snprintf(buf, sizeof buf, "total=%lu,valid=%lu,invalid=%lu,rejected=%lu", h->total, h->valid, h->invalid,
-             h->rejected);
+    /* seed 6.1.2: total, valid and rejected; written as 24.8 writes it */
+    kelp_snprintf(buf, sizeof buf, "total=%lu,valid=%lu,rejected=%lu", h->total, h->valid, h->rejected);
     out->publish(out->ctx, "UMH_SUMMARY_MSGS", true, buf, 0);
     h->summary_due = false;
     h->last_summary = now;

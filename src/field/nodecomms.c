@@ -400,8 +400,8 @@ static void take(const char **p, size_t *pl, const char *v, size_t vl, bool *see
 }
 
 /* src_node, dest_node (dest_name; the seed's "dest_node;bravo" typo too), dest_group,
- * var_name (src_var), string_val, double_val, ack, msg_id (id), color. Unknown keys and
- * items without '=' are ignored. */
+ * var_name (src_var), string_val, double_val, ack, ack_id (24.8's key; msg_id and id too),
+ * color. Unknown keys and items without '=' are ignored. */
 static void msg_fields(const char *s, size_t len, mfields *f)
 {
     memset(f, 0, sizeof *f);
@@ -439,7 +439,8 @@ static void msg_fields(const char *s, size_t len, mfields *f)
         else if (kelp_strieq_n(k, kl, "string_val")) take(&f->sval, &f->svall, v, vl, &seen[4]);
         else if (kelp_strieq_n(k, kl, "double_val")) take(&f->dval, &f->dvall, v, vl, &seen[5]);
         else if (kelp_strieq_n(k, kl, "color")) take(&f->color, &f->colorl, v, vl, &seen[6]);
-        else if (kelp_strieq_n(k, kl, "msg_id") || kelp_strieq_n(k, kl, "id")) take(&f->id, &f->idl, v, vl, &seen[7]);
+        else if (kelp_strieq_n(k, kl, "ack_id") || kelp_strieq_n(k, kl, "msg_id") || kelp_strieq_n(k, kl, "id"))
+            take(&f->id, &f->idl, v, vl, &seen[7]);
         else if (kelp_strieq_n(k, kl, "ack") && !seen[8]) {
             seen[8] = true;
             f->ack = kelp_strieq_n(v, vl, "true");

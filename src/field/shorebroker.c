@@ -32,6 +32,9 @@ static int qbridge(kelp_field_sbroker_cfg *cfg, const char *val, const char **wh
         }
         memcpy(name, it, il);
         name[il] = 0;
+        bool known = false;
+        for (unsigned i = 0; i < cfg->nqbridge && !known; i++) known = strcmp(cfg->qbridge[i], name) == 0;
+        if (!known && cfg->nqbridge < KELP_BROKER_MAX_BRIDGES / 2) memcpy(cfg->qbridge[cfg->nqbridge++], name, il + 1);
         kelp_snprintf(all, sizeof all, "%s_ALL", name);
         kelp_snprintf(each, sizeof each, "%s_$V", name);
         if (broker_add_bridge(cfg->bridge, &cfg->nbridges, all, name, why) < 0 ||
@@ -44,6 +47,16 @@ static int qbridge(kelp_field_sbroker_cfg *cfg, const char *val, const char **wh
         return KELP_ERR_PARSE;
     }
     return 1;
+}
+
+/* a BRIDGE line's bridge: listed (once) and marked as named by a BRIDGE line */
+static int raw_bridge(kelp_field_sbroker_cfg *cfg, const char *src, const char *alias, const char **why)
+{
+    int rc = broker_add_bridge(cfg->bridge, &cfg->nbridges, src, alias, why);
+    if (rc < 0) return rc;
+    for (unsigned i = 0; i < cfg->nbridges; i++)
+        if (strcmp(cfg->bridge[i].src, src) == 0 && strcmp(cfg->bridge[i].alias, alias) == 0) cfg->raw[i] = true;
+    return rc;
 }
 
 static int vnode(kelp_field_sbroker_cfg *cfg, const char *val, const char **why)
@@ -82,7 +95,7 @@ int kelp_field_sbroker_config(kelp_field_sbroker_cfg *cfg, const char *key, cons
     if (kelp_strieq_n(key, kl, "BRIDGE")) {
         kelp_broker_bridge b;
         if (kelp_broker_bridge_parse(val, &b, why) < 0) return KELP_ERR_PARSE;
-        return broker_add_bridge(cfg->bridge, &cfg->nbridges, b.src, b.alias, why);
+        return raw_bridge(cfg, b.src, b.alias, why);
     }
     if (kelp_strieq_n(key, kl, "QBRIDGE")) return qbridge(cfg, val, why);
     if (kelp_strieq_n(key, kl, "KEYWORD")) {
@@ -117,7 +130,7 @@ void kelp_field_sbroker_init(kelp_field_sbroker *s, const kelp_field_sbroker_cfg
     const char *why;
     if (s->cfg.auto_realmcast) (void)qbridge(&s->cfg, "REALMCAST_REQ", &why);
     if (s->cfg.auto_appcast) (void)qbridge(&s->cfg, "APPCAST_REQ", &why);
-    if (s->cfg.auto_mhash) (void)broker_add_bridge(s->cfg.bridge, &s->cfg.nbridges, "MISSION_HASH", "MISSION_HASH", &why);
+    if (s->cfg.auto_mhash) (void)raw_bridge(&s->cfg, "MISSION_HASH", "MISSION_HASH", &why);
 }
 
 const char *kelp_field_sbroker_subscription(unsigned i)
@@ -180,6 +193,72 @@ static int reg(kelp_field_sbroker *s, const kelp_broker_node *nd, const char *sr
     return 1;
 }
 
+/* ---- UFSB_BRIDGE_VARS: a sorted set of names, each candidate made on demand ---- */
+
+#define SB_ACK_SRC "NODE_BROKER_ACK_$V"
+#define SB_PER_NODE (KELP_BROKER_MAX_BRIDGES + 1) /* the bridges, then the ack bridge */
+#define SB_MAX_CANDS (SB_PER_NODE * (KELP_BROKER_MAX_NODES + 1))
+
+/* candidate v: a BRIDGE line's src (v < MAX_BRIDGES), NODE_BROKER_ACK_$V (MAX_BRIDGES), or
+ * bridge b expanded for node j (SB_PER_NODE * (j + 1) + b); "" when it does not fit */
+static void cand(const kelp_field_sbroker *s, unsigned v, char *buf, size_t cap)
+{
+    buf[0] = 0;
+    if (v < KELP_BROKER_MAX_BRIDGES) { /* as written, macros and all */
+        size_t l = strlen(s->cfg.bridge[v].src);
+        if (l < cap) memcpy(buf, s->cfg.bridge[v].src, l + 1);
+        return;
+    }
+    if (v == KELP_BROKER_MAX_BRIDGES) {
+        memcpy(buf, SB_ACK_SRC, sizeof SB_ACK_SRC);
+        return;
+    }
+    const kelp_broker_node *nd = &s->node[v / SB_PER_NODE - 1];
+    unsigned b = v % SB_PER_NODE;
+    if (expand(b < s->cfg.nbridges ? s->cfg.bridge[b].src : SB_ACK_SRC, nd->rec.community, nd->index, buf, cap) < 0)
+        buf[0] = 0;
+}
+
+static void post_bridge_vars(const kelp_field_sbroker *s, const kelp_field_sink *out)
+{
+    uint16_t idx[SB_MAX_CANDS];
+    unsigned n = 0;
+    for (unsigned i = 0; i < s->cfg.nbridges; i++)
+        if (s->cfg.raw[i]) idx[n++] = (uint16_t)i;
+    idx[n++] = KELP_BROKER_MAX_BRIDGES;
+    for (unsigned j = 0; j < s->nnodes; j++)
+        for (unsigned b = 0; b <= s->cfg.nbridges && s->node[j].bridged; b++)
+            idx[n++] = (uint16_t)(SB_PER_NODE * (j + 1) + (b < s->cfg.nbridges ? b : KELP_BROKER_MAX_BRIDGES));
+    char a[KELP_MAX_NAME], c[KELP_MAX_NAME];
+    for (unsigned gap = n / 2; gap > 0; gap /= 2) /* shell sort, by name (strcmp: std::set's order) */
+        for (unsigned i = gap; i < n; i++) {
+            uint16_t t = idx[i];
+            cand(s, t, a, sizeof a);
+            unsigned j = i;
+            for (; j >= gap; j -= gap) {
+                cand(s, idx[j - gap], c, sizeof c);
+                if (strcmp(c, a) <= 0) break;
+                idx[j] = idx[j - gap];
+            }
+            idx[j] = t;
+        }
+    char list[KELP_MAX_SVAL];
+    size_t len = 0;
+    c[0] = 0;
+    list[0] = 0;
+    for (unsigned i = 0; i < n; i++) {
+        cand(s, idx[i], a, sizeof a);
+        if (!a[0] || strcmp(a, c) == 0) continue;
+        size_t l = strlen(a);
+        if (len + (len ? 1 : 0) + l + 1 > sizeof list) break; /* the longest string a variable holds */
+        if (len) list[len++] = ',';
+        memcpy(list + len, a, l + 1);
+        len += l;
+        memcpy(c, a, l + 1);
+    }
+    out->publish(out->ctx, "UFSB_BRIDGE_VARS", true, list, 0);
+}
+
 static kelp_broker_node *find(kelp_field_sbroker *s, const char *community, const kelp_field_sink *out)
 {
     for (unsigned i = 0; i < s->nnodes; i++)
@@ -236,11 +315,14 @@ static int ping_mail(kelp_field_sbroker *s, const char *sval, double now, const 
     if (!nd->index) nd->index = ++s->naccepted;
     bool moved = nd->bridged && (strcmp(nd->bridged_host, h.host) != 0 || nd->bridged_port != h.port_udp);
     if (!nd->bridged || moved) {
-        (void)reg(s, nd, "NODE_BROKER_ACK_$V", "NODE_BROKER_ACK", out);
+        (void)reg(s, nd, SB_ACK_SRC, "NODE_BROKER_ACK", out);
         for (unsigned i = 0; i < s->cfg.nbridges; i++) (void)reg(s, nd, s->cfg.bridge[i].src, s->cfg.bridge[i].alias, out);
-        nd->bridged = true;
         memcpy(nd->bridged_host, h.host, sizeof h.host);
         nd->bridged_port = h.port_udp;
+        if (!nd->bridged) {
+            nd->bridged = true;
+            post_bridge_vars(s, out); /* new names: this vehicle's (a move adds none) */
+        }
     }
     char var[KELP_MAX_NAME], ack[KELP_BROKER_MSG];
     if (expand("NODE_BROKER_ACK_$V", h.community, nd->index, var, sizeof var) < 0 ||
@@ -280,6 +362,24 @@ int kelp_field_sbroker_iterate(kelp_field_sbroker *s, double now, const kelp_fie
 {
     int posts = 0;
     s->iterations++;
+    if (!s->qvars_posted) { /* the QBRIDGE names, sorted (24.8 posts them at start-up) */
+        char list[KELP_MAX_SVAL];
+        size_t len = 0;
+        const char *prev = "";
+        list[0] = 0;
+        for (;;) {
+            const char *next = NULL;
+            for (unsigned i = 0; i < s->cfg.nqbridge; i++)
+                if (strcmp(s->cfg.qbridge[i], prev) > 0 && (!next || strcmp(s->cfg.qbridge[i], next) < 0))
+                    next = s->cfg.qbridge[i];
+            if (!next) break;
+            field_putf(list, sizeof list, &len, "%s%s", len ? "," : "", next);
+            prev = next;
+        }
+        out->publish(out->ctx, "UFSB_QBRIDGE_VARS", true, list, 0);
+        s->qvars_posted = true;
+        posts++;
+    }
     if (!s->have_shore && (s->host_req_at < 0 || now - s->host_req_at >= KELP_BROKER_HOST_REQ_PERIOD)) {
         out->publish(out->ctx, "HOST_INFO_REQUEST", true, "true", 0); /* pHostInfo may have posted before we listened */
         s->host_req_at = now;

@@ -44,3 +44,26 @@ last() { awk -v v="$1" '$3==v {sub(/^[^ ]+ [^ ]+ [^ ]+ /, ""); x=$0} END{print x
 last PHI_HOST_INFO | grep -q "port_udp=9200" || fail "port_udp missing: $(last PHI_HOST_INFO)"
 [ "$(last PHI_HOST_IP_ALL)" = "10.88.0.7,10.99.0.8,10.77.0.5" ] || fail "after HOST_INFO_REQUEST: $(last PHI_HOST_IP_ALL)"
 ok "PHI_HOST_IP $(first PHI_HOST_IP); after the request $(last PHI_HOST_IP_ALL); $(last PHI_HOST_INFO)"
+
+# MOOS-IvP 24.8 spells the defaults default_host_ip / default_host_ip_force too
+cat > f.moos <<'M'
+ServerPort = 9124
+Community = bravo
+ProcessConfig = pHostInfo
+{
+  AppTick = 4
+  default_host_ip_force = 10.1.2.3
+}
+M
+bg "$BIN/kelp-record" --lcm-url="$KELP_LCM_URL" -f f.lcmlog
+sleep 0.5
+rc=0
+timeout -s INT 2 "$BIN/pHostInfo" f.moos > f.out 2>&1 || rc=$?
+[ $rc -eq 0 ] || [ $rc -eq 124 ] || { cat f.out; fail "pHostInfo exited $rc"; }
+grep -q "Configuration warnings: 0" f.out || { cat f.out; fail "default_host_ip_force not accepted"; }
+for p in "${PIDS[@]}"; do kill -INT "$p" 2>/dev/null || true; done
+wait 2>/dev/null || true
+PIDS=()
+"$BIN/kelp-logcheck" --print f.lcmlog > f.txt || fail "log f undecodable"
+[ "$(awk '$3=="PHI_HOST_IP" {print $4; exit}' f.txt)" = 10.1.2.3 ] || fail "default_host_ip_force: $(grep PHI_HOST_IP f.txt)"
+ok "default_host_ip_force = 10.1.2.3 gives PHI_HOST_IP 10.1.2.3"
