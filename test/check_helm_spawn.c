@@ -73,8 +73,9 @@ START_TEST(template_posts_alert_request_and_does_not_run)
     ck_assert_uint_eq(h->nbhv, 0);
     ck_assert_uint_eq(h->ntmpl, 1);
     ck_assert_ptr_nonnull(kelp_helm_find_template(h, "avd_"));
-    ck_assert(ht_has_str("BCM_ALERT_REQUEST", "id=avd_, on_flag=CONTACT_INFO=name=$[VNAME] # contact=$[VNAME], "
-                                              "alert_range=50, cpa_range=75, match_type=kayak"));
+    /* MOOS-IvP's exact string: no space before alert_range, the filter summary joined by "," */
+    ck_assert(ht_has_str("BCM_ALERT_REQUEST", "id=avd_, on_flag=CONTACT_INFO=name=$[VNAME] # contact=$[VNAME],"
+                                              "alert_range=50, cpa_range=75,match_type=kayak"));
     ck_assert(ht_has_str("IVPHELM_UPDATEVARS", "CONTACT_INFO"));
     own(0, 0, 90, 2);
     ht_iter(1);
@@ -103,14 +104,14 @@ START_TEST(spawn_route_and_remove)
     kelp_bhv *b = kelp_helm_find(h, "avd_henry");
     ck_assert_ptr_nonnull(b);
     ck_assert(b->spawned);
-    ck_assert_str_eq(b->u.avoid.contact, "henry");
+    ck_assert_str_eq(b->u.avoid.contact, "HENRY"); /* MOOS-IvP keeps the contact upper-case */
     ck_assert_double_eq(b->u.avoid.completed_dist, 75);   /* the template's configuration */
     ck_assert_uint_eq(h->nspawned, 1);
     ck_assert(ht_has_sub("IVPHELM_LIFE_EVENT", "bname=avd_henry, btype=BHV_AvoidCollision, event=spawn, "
                                                "seed=name=henry # contact=henry"));
     ck_assert_double_eq(ht_num("IVPHELM_BHV_CNT"), 1);
     ck_assert_double_eq(ht_num("IVPHELM_BHV_CNT_EVER"), 1);
-    ck_assert(ht_has_sub("BHV_SETTINGS", "name=avd_henry,contact=henry"));
+    ck_assert_uint_eq(ht_count("BHV_SETTINGS"), 0); /* MOOS-IvP's BHV_AvoidCollision posts none */
     ck_assert_uint_eq(h->rep.ofnum, 1);   /* 40 m away: inside pwt_outer_dist */
     ck_assert(ht_has_sub("VIEW_SEGLIST", "label=alder_avd_henry"));
     /* the full name is accepted too, and a second contact spawns a second instance */
@@ -343,7 +344,7 @@ START_TEST(completion_and_extrapolation)
     ht_load("Behavior = BHV_AvoidCollision\n{\n  name = avd\n  contact = ghost\n  on_no_contact_ok = false\n}\n");
     own(0, 0, 90, 2);
     ht_iter(1);
-    ck_assert(ht_has_sub("BHV_ERROR", "ghost x/y/heading/speed info not found"));
+    ck_assert(ht_has_sub("BHV_ERROR", "GHOST x/y/heading/speed info not found"));
 }
 END_TEST
 
@@ -381,6 +382,38 @@ START_TEST(avoid_params)
 }
 END_TEST
 
+/* IvPContactBehavior's filter lists (ExFilterSet): lower-cased, comma lists split, braces
+ * stripped, kept sorted; the alert request carries them in that order, ignore before match,
+ * name/group/type kinds as MOOS-IvP's getSummary, strict_ignore only with ignore_type/_group */
+START_TEST(avoid_filter_lists_and_request)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_AvoidCollision\n{\n  name = avd_\n  updates = CONTACT_INFO\n"
+            "  templating = spawn\n  contact = to-be-set\n  pwt_outer_dist = 50\n  completed_dist = 75\n"
+            "  match_name = {Zed,abe}\n  ignore_type = Tug, cargo\n  match_type = kayak\n}\n");
+    ck_assert(ht_has_str("BCM_ALERT_REQUEST", "id=avd_, on_flag=CONTACT_INFO=name=$[VNAME] # contact=$[VNAME],"
+                                              "alert_range=50, cpa_range=75,match_name=abe, match_name=zed, "
+                                              "ignore_type=cargo, ignore_type=tug, match_type=kayak, "
+                                              "strict_ignore=true"));
+    /* a comma list of types in a running behaviour: each one matches */
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_AvoidCollision\n{\n  name = a\n  contact = Henry\n  match_type = kayak, Cargo\n"
+            "  exit_on_filter_vtype = true\n  post_per_contact_info = true\n}\n");
+    kelp_bhv *b = kelp_helm_find(ht_helm(), "a");
+    ck_assert_uint_eq(b->u.avoid.nmatch_type, 2);
+    ck_assert_str_eq(b->u.avoid.match_type[0], "cargo");
+    own(0, 0, 90, 2);
+    kelp_helm_mail_string(ht_helm(), "NODE_REPORT", "NAME=henry,TYPE=cargo,TIME=1001,X=40,Y=0,SPD=1,HDG=270");
+    ht_iter(1);
+    ck_assert_uint_eq(ht_helm()->rep.ofnum, 1);  /* the filter holds: the behaviour runs */
+    ck_assert(ht_last("RANGE_AVD_HENRY") != NULL); /* MOOS-IvP posts with the upper-case contact */
+    /* the same entry matched and ignored is a bad parameter */
+    ht_setup(DOM2, NULL);
+    ck_assert_int_lt(ht_load_rc("Behavior = BHV_AvoidCollision\n{\n  match_type = kayak\n  ignore_type = Kayak\n}\n"),
+                     0);
+}
+END_TEST
+
 Suite *kelp_helm_spawn_suite(void)
 {
     Suite *s = suite_create("helm_spawn");
@@ -395,6 +428,7 @@ Suite *kelp_helm_spawn_suite(void)
     tcase_add_test(tc, priority_by_range);
     tcase_add_test(tc, completion_and_extrapolation);
     tcase_add_test(tc, avoid_params);
+    tcase_add_test(tc, avoid_filter_lists_and_request);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -69,15 +69,44 @@ static int pair_high(const char *v, double *lo, double *hi)
     return 0;
 }
 
-static int add_name(char list[][KELP_MAX_NAME], unsigned *n, const char *v)
+/* ExFilterSet's list entry: "a", "a,b" or "{a,b}", lower-cased, kept sorted and unique. An
+ * entry already in the opposite list (other) is refused, the rest are taken (MOOS-IvP's rule). */
+static int add_name(char list[][KELP_MAX_NAME], unsigned *n, const char other[][KELP_MAX_NAME], unsigned nother,
+                    const char *v)
 {
-    size_t vn = strlen(v);
-    if (vn == 0 || *n >= KELP_BHV_AVD_MAX_FILTER || !hx_copy(list[*n], KELP_MAX_NAME, v, vn))
-        return KELP_ERR_PARSE;
-    for (unsigned i = 0; i < *n; i++)
-        if (hx_ieq(list[i], v)) return 0; /* duplicates are harmless (repeated updates) */
-    (*n)++;
-    return 0;
+    const char *s = v;
+    size_t sn = strlen(v);
+    hx_trim(&s, &sn);
+    if (sn >= 2 && s[0] == '{' && s[sn - 1] == '}') s++, sn -= 2;
+    bool ok = sn > 0;
+    while (sn > 0) {
+        const char *e = memchr(s, ',', sn);
+        size_t in = e ? (size_t)(e - s) : sn;
+        const char *it = s;
+        size_t il = in;
+        hx_trim(&it, &il);
+        s += e ? in + 1 : in;
+        sn -= e ? in + 1 : in;
+        if (il == 0) continue;
+        char low[KELP_MAX_NAME];
+        if (il >= sizeof low) return KELP_ERR_PARSE;
+        for (size_t i = 0; i < il; i++) low[i] = hx_lower(it[i]);
+        low[il] = '\0';
+        bool skip = false;
+        for (unsigned i = 0; i < nother && !skip; i++) skip = strcmp(other[i], low) == 0;
+        if (skip) {
+            ok = false;
+            continue;
+        }
+        unsigned pos = 0;
+        while (pos < *n && strcmp(list[pos], low) < 0) pos++;
+        if (pos < *n && strcmp(list[pos], low) == 0) continue; /* repeated updates are harmless */
+        if (*n >= KELP_BHV_AVD_MAX_FILTER) return KELP_ERR_PARSE;
+        memmove(list[pos + 1], list[pos], (size_t)(*n - pos) * KELP_MAX_NAME);
+        memcpy(list[pos], low, il + 1);
+        (*n)++;
+    }
+    return ok ? 0 : KELP_ERR_PARSE;
 }
 
 static int add_region(char list[][KELP_HELM_MAX_FLAG_VAL], unsigned *n, const char *v)
@@ -128,19 +157,23 @@ static int avd_set_param(kelp_bhv *b, const char *p, const char *v)
     size_t vn = strlen(v);
     double d;
     /* IvPContactBehavior's parameters */
-    if (!strcmp(p, "contact")) {
+    if (!strcmp(p, "contact")) { /* kept upper-case, as MOOS-IvP (RANGE_AVD_<CONTACT>); looked up by name */
         if (vn == 0 || !hx_copy(a->contact, sizeof a->contact, v, vn)) return KELP_ERR_PARSE;
+        for (char *c = a->contact; *c; c++)
+            if (*c >= 'a' && *c <= 'z') *c = (char)(*c - 'a' + 'A');
         return 0;
     }
     if (!strcmp(p, "extrapolate")) return set_bool(v, &a->extrapolate);
     if (!strcmp(p, "post_per_contact_info")) return set_bool(v, &a->post_per_contact_info);
-    if (!strcmp(p, "match_name")) return add_name(a->match_name, &a->nmatch_name, v);
-    if (!strcmp(p, "ignore_name")) return add_name(a->ignore_name, &a->nignore_name, v);
-    if (!strcmp(p, "match_group")) return add_name(a->match_group, &a->nmatch_group, v);
-    if (!strcmp(p, "ignore_group")) return add_name(a->ignore_group, &a->nignore_group, v);
+    if (!strcmp(p, "match_name")) return add_name(a->match_name, &a->nmatch_name, a->ignore_name, a->nignore_name, v);
+    if (!strcmp(p, "ignore_name")) return add_name(a->ignore_name, &a->nignore_name, a->match_name, a->nmatch_name, v);
+    if (!strcmp(p, "match_group"))
+        return add_name(a->match_group, &a->nmatch_group, a->ignore_group, a->nignore_group, v);
+    if (!strcmp(p, "ignore_group"))
+        return add_name(a->ignore_group, &a->nignore_group, a->match_group, a->nmatch_group, v);
     if (!strcmp(p, "match_type") || !strcmp(p, "contact_type_required"))
-        return add_name(a->match_type, &a->nmatch_type, v);
-    if (!strcmp(p, "ignore_type")) return add_name(a->ignore_type, &a->nignore_type, v);
+        return add_name(a->match_type, &a->nmatch_type, a->ignore_type, a->nignore_type, v);
+    if (!strcmp(p, "ignore_type")) return add_name(a->ignore_type, &a->nignore_type, a->match_type, a->nmatch_type, v);
     if (!strcmp(p, "match_region")) return add_region(a->match_region, &a->nmatch_region, v);
     if (!strcmp(p, "ignore_region")) return add_region(a->ignore_region, &a->nignore_region, v);
     if (!strcmp(p, "strict_ignore")) {
@@ -222,7 +255,9 @@ static int avd_params_done(kelp_bhv *b)
     return 0;
 }
 
-/* ", key=value" for every filter entry (the contact manager applies them to the alert) */
+/* MOOS-IvP's filter summary (ExFilterSet::getSummary): "key=value" entries joined by ", ",
+ * ignore before match for groups, names, types, then regions; strict_ignore only when there
+ * is an ignore_type or ignore_group */
 static size_t filter_summary(const kelp_bhv_avoid *a, char *buf, size_t cap)
 {
     size_t n = 0;
@@ -233,13 +268,14 @@ static size_t filter_summary(const kelp_bhv_avoid *a, char *buf, size_t cap)
     buf[0] = '\0';
     for (int k = 0; k < 6; k++)
         for (unsigned i = 0; i < kinds[k].cnt; i++)
-            n += hx_cat(buf + n, cap - n, ", ", kinds[k].key, "=", kinds[k].list[i], HX_END);
+            n += hx_cat(buf + n, cap - n, n ? ", " : "", kinds[k].key, "=", kinds[k].list[i], HX_END);
     for (unsigned i = 0; i < a->nignore_region; i++)
-        n += hx_cat(buf + n, cap - n, ", ignore_region=", a->ignore_region[i], HX_END);
+        n += hx_cat(buf + n, cap - n, n ? ", " : "", "ignore_region=", a->ignore_region[i], HX_END);
     for (unsigned i = 0; i < a->nmatch_region; i++)
-        n += hx_cat(buf + n, cap - n, ", match_region=", a->match_region[i], HX_END);
-    if (a->strict_ignore >= 0)
-        n += hx_cat(buf + n, cap - n, ", strict_ignore=", a->strict_ignore ? "true" : "false", HX_END);
+        n += hx_cat(buf + n, cap - n, n ? ", " : "", "match_region=", a->match_region[i], HX_END);
+    if (a->nignore_type || a->nignore_group)
+        n += hx_cat(buf + n, cap - n, n ? ", " : "", "strict_ignore=", a->strict_ignore != 0 ? "true" : "false",
+                    HX_END);
     return n;
 }
 
@@ -253,8 +289,9 @@ static void avd_helm_start(kelp_bhv *b)
     hx_fmt_x(ar, sizeof ar, a->pwt_outer_dist, 1);
     hx_fmt_x(cr, sizeof cr, a->completed_dist, 1);
     (void)filter_summary(a, filt, sizeof filt);
+    /* MOOS-IvP's exact string, separators included (augmentSpec joins the summary with ",") */
     hx_cat(req, sizeof req, "id=", b->name, ", on_flag=", b->updates, "=name=$[VNAME] # contact=$[VNAME]",
-           ", alert_range=", ar, ", cpa_range=", cr, filt, HX_END);
+           ",alert_range=", ar, ", cpa_range=", cr, filt[0] ? "," : "", filt, HX_END);
     kelp_bhv_post_string(b, "BCM_ALERT_REQUEST", req, NULL);
 }
 
@@ -488,20 +525,6 @@ static int avd_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     return 1;
 }
 
-static void avd_post_config(kelp_bhv *b)
-{
-    const kelp_bhv_avoid *a = &b->u.avoid;
-    char msg[KELP_HELM_MAX_SVAL], v[6][32];
-    const double d[6] = {a->pwt_outer_dist, a->pwt_inner_dist, a->completed_dist,
-                         a->min_util_cpa_dist, a->max_util_cpa_dist, a->time_on_leg};
-    for (int i = 0; i < 6; i++) hx_fmt_x(v[i], sizeof v[i], d[i], 2);
-    static const char *const g[3] = {"linear", "quadratic", "quasi"};
-    hx_cat(msg, sizeof msg, "name=", b->name, ",contact=", a->contact, ",pwt_outer_dist=", v[0], ",pwt_inner_dist=",
-           v[1], ",completed_dist=", v[2], ",min_util_cpa_dist=", v[3], ",max_util_cpa_dist=", v[4], ",time_on_leg=",
-           v[5], ",pwt_grade=", g[a->pwt_grade], HX_END);
-    kelp_bhv_post_string(b, "BHV_SETTINGS", msg, b->name);
-}
-
 const kelp_bhv_ops kelp_bhv_avoid_collision_ops = {
     .type = "BHV_AvoidCollision",
     .init = avd_init,
@@ -509,6 +532,5 @@ const kelp_bhv_ops kelp_bhv_avoid_collision_ops = {
     .params_done = avd_params_done,
     .on_idle = avd_idle,
     .on_run = avd_run,
-    .post_config = avd_post_config,
     .on_helm_start = avd_helm_start,
 };
