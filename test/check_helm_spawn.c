@@ -281,7 +281,10 @@ START_TEST(of_values_and_relevance)
     ck_assert_double_eq_tol(kelp_bhv_avoid_relevance(125, 50, 200, 1), 0.25, 1e-12);
     ck_assert_double_eq_tol(kelp_bhv_avoid_relevance(125, 50, 200, 2), pow(0.5, 1.5), 1e-12);
     ck_assert_double_eq(kelp_bhv_avoid_relevance(50, 50, 200, 2), 1);
-    ck_assert_double_eq(kelp_bhv_avoid_relevance(5, 50, 200, 1), 1);
+    /* inside the inner ring MOOS-IvP's getRelevance keeps grading past 1 (it does not cap) */
+    ck_assert_double_eq_tol(kelp_bhv_avoid_relevance(5, 50, 200, 1), 1.3 * 1.3, 1e-12);
+    ck_assert_double_eq_tol(kelp_bhv_avoid_relevance(20, 50, 200, 0), 1.2, 1e-12);
+    ck_assert_double_eq(kelp_bhv_avoid_relevance(5, 50, 50, 0), 1); /* degenerate rings: 1 */
 }
 END_TEST
 
@@ -307,7 +310,7 @@ START_TEST(priority_by_range)
     ck_assert_double_eq_tol(pwt_at(125, "quadratic"), 25, 1e-9);
     ck_assert_double_eq_tol(pwt_at(125, "quasi"), 100 * pow(0.5, 1.5), 1e-9);
     ck_assert_double_eq_tol(pwt_at(50, "quasi"), 100, 1e-9);
-    ck_assert_double_eq_tol(pwt_at(20, "linear"), 100, 1e-9);
+    ck_assert_double_eq_tol(pwt_at(20, "linear"), 120, 1e-9); /* MOOS-IvP: no cap inside the inner ring */
 }
 END_TEST
 

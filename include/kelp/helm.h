@@ -434,8 +434,9 @@ typedef struct kelp_bhv_avoid_aof {
     int icrs, ispd;
 } kelp_bhv_avoid_aof;
 double kelp_bhv_avoid_aof_eval(const double *pt, void *user);
-/** Priority factor (0..1) at range: 0 at or beyond outer, 1 at or inside inner, graded between
- *  (grade 0 linear, 1 quadratic, 2 quasi = power 1.5). */
+/** Priority factor at range: 0 at or beyond outer, 1 at inner, graded by (outer - range) /
+ *  (outer - inner) (grade 0 linear, 1 quadratic, 2 quasi = power 1.5), that fraction going on
+ *  past 1 inside inner as MOOS-IvP's getRelevance; 1 when outer <= inner. */
 double kelp_bhv_avoid_relevance(double range, double inner, double outer, int grade);
 
 /** The AOF_SimpleWaypoint objective (0..100) at (course, speed) for the reflector build. */

@@ -5,7 +5,8 @@
  * utility 0 below min_util_cpa_dist, 100 above max_util_cpa_dist, linear from 25 to 100
  * between (MOOS-IvP's metric). The function is normalised to [0,100] and weighted by
  * pwt x relevance, relevance 0 beyond pwt_outer_dist rising to 1 at pwt_inner_dist (linear,
- * quadratic or quasi = power 1.5). The behaviour completes when the contact is at or beyond
+ * quadratic or quasi = power 1.5), and past 1 inside pwt_inner_dist as MOOS-IvP's (it does not
+ * cap). The behaviour completes when the contact is at or beyond
  * 1.1 x completed_dist (MOOS-IvP's margin, so a contact manager re-alert is not missed) or
  * fails an exit_on_filter_* check. Contact state comes from the helm's NODE_REPORT ledger. */
 #include <math.h>
@@ -298,7 +299,8 @@ static void avd_helm_start(kelp_bhv *b)
 double kelp_bhv_avoid_relevance(double range, double inner, double outer, int grade)
 {
     if (range >= outer) return 0;
-    if (range <= inner || outer <= inner) return 1; /* kelp caps at 1 inside the inner ring */
+    if (outer <= inner) return 1; /* degenerate rings (MOOS-IvP would divide by zero) */
+    /* no cap inside the inner ring: MOOS-IvP's getRelevance overwrites its cap and grades on */
     double p = (outer - range) / (outer - inner);
     if (grade == 1) return p * p;
     if (grade == 2) return pow(p, 1.5);
