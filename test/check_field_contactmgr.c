@@ -269,6 +269,19 @@ START_TEST(cm_helm_request_12)
     mail_s("NODE_REPORT", "NAME=vessel_023,TYPE=tug,TIME=1000,X=0,Y=10");
     it();
     ck_assert_str_eq(last("CONTACT_INFO"), "name=avd_vessel_023 # contact=vessel_023");
+    /* BHV_AvoidCollision's own request string, filter summary and all */
+    ck_assert_int_eq(mail_s("BCM_ALERT_REQUEST", "id=avd_, on_flag=CONTACT_INFO=name=$[VNAME] # contact=$[VNAME],"
+                                                 "alert_range=50, cpa_range=75,match_name=abe, match_name=zed, "
+                                                 "ignore_type=cargo, ignore_type=tug, match_type=kayak, "
+                                                 "strict_ignore=true"),
+                     1);
+    ck_assert_int_eq(R->nwarn, 0);
+    ck_assert_uint_eq(C->nalerts, 2);
+    ck_assert_double_eq(C->alert[1].alert_range, 50);
+    ck_assert_double_eq(kelp_cmgr_cpa_range(&C->alert[1]), 75);
+    ck_assert_uint_eq(C->alert[1].filter.nlist[0][0], 2);
+    ck_assert_uint_eq(C->alert[1].filter.nlist[1][1], 2);
+    ck_assert_str_eq(C->alert[1].on[0], "CONTACT_INFO=name=$[VNAME] # contact=$[VNAME]");
 }
 END_TEST
 
