@@ -417,6 +417,39 @@ START_TEST(avoid_filter_lists_and_request)
 }
 END_TEST
 
+/* cnflag tags as IvPContactBehavior: "<R" / ">R" posted while within / beyond R, "@<R" / "@>R"
+ * once when the range crosses R inward / outward; $[CN_NAME], $[RANGE] expanded, a value of
+ * just $[RANGE] posted as a number; an unknown tag is a bad parameter */
+START_TEST(avoid_cnflag_transitions)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_AvoidCollision\n{\n  name = a\n  contact = henry\n  extrapolate = false\n"
+            "  cnflag = @<30 NEAR=$[CN_NAME] at $[RANGE]\n  cnflag = @>30 FAR=$[RANGE]\n"
+            "  cnflag = <30 IN=$[CN_NAME]\n}\n");
+    own(0, 0, 90, 0);
+    report("henry", 1, 40, 0, 270, 1);
+    ht_iter(1);
+    ck_assert_uint_eq(ht_count("NEAR"), 0);
+    ck_assert_uint_eq(ht_count("FAR"), 0);   /* no crossing on the first update */
+    report("henry", 2, 25, 0, 270, 1);
+    ht_iter(2);
+    ck_assert_uint_eq(ht_count("NEAR"), 1);
+    ck_assert_str_eq(ht_last("NEAR")->sval, "HENRY at 25");
+    ck_assert_str_eq(ht_last("IN")->sval, "HENRY");
+    report("henry", 3, 24, 0, 270, 1);
+    ht_iter(3);
+    ck_assert_uint_eq(ht_count("NEAR"), 0);  /* still inside: no new crossing (posts are per iteration) */
+    ck_assert_uint_eq(ht_count("IN"), 1);    /* "<" posts every time */
+    report("henry", 4, 35.5, 0, 270, 1);
+    ht_iter(4);
+    ck_assert_uint_eq(ht_count("FAR"), 1);
+    ck_assert(!ht_last("FAR")->is_str);
+    ck_assert_double_eq_tol(ht_last("FAR")->dval, 35.5, 1e-9);
+    ht_setup(DOM2, NULL);
+    ck_assert_int_lt(ht_load_rc("Behavior = BHV_AvoidCollision\n{\n  cnflag = @near X=1\n}\n"), 0);
+}
+END_TEST
+
 Suite *kelp_helm_spawn_suite(void)
 {
     Suite *s = suite_create("helm_spawn");
@@ -432,6 +465,7 @@ Suite *kelp_helm_spawn_suite(void)
     tcase_add_test(tc, completion_and_extrapolation);
     tcase_add_test(tc, avoid_params);
     tcase_add_test(tc, avoid_filter_lists_and_request);
+    tcase_add_test(tc, avoid_cnflag_transitions);
     suite_add_tcase(s, tc);
     return s;
 }

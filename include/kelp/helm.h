@@ -307,6 +307,8 @@ typedef struct kelp_bhv_avoid {        /* BHV_AvoidCollision (MOOS-IvP's paramet
     kelp_helm_contact cn;              /* the contact, position extrapolated */
     double osx, osy, osh, osv;
     double range, relevance, roc;
+    double prev_range;                 /* the range at the update before (cnflag @< / @>) */
+    bool have_range;
     bool nav_warned;
 } kelp_bhv_avoid;
 

@@ -152,6 +152,21 @@ static int set_lines(kelp_bhv_avoid *a, const char *v)
     }
 }
 
+/* IvPContactBehavior::addContactFlag's tags: "<R", ">R", "@<R", "@>R" (R >= 0) or an event tag */
+static bool cnflag_tag_ok(const char *v)
+{
+    while (*v == ' ' || *v == '\t') v++;
+    size_t tl = strcspn(v, " \t");
+    if (tl == 0 || v[tl] == '\0') return false;
+    size_t skip = v[0] == '@' && (v[1] == '<' || v[1] == '>') ? 2 : (v[0] == '<' || v[0] == '>') ? 1 : 0;
+    double r;
+    if (skip) return hx_number(v + skip, tl - skip, &r) && r >= 0;
+    static const char *const ev[] = {"@cpa", "@os_passed_cn", "@cn_passed_os", "@os_crossed_cn", "@cn_crossed_os"};
+    for (size_t i = 0; i < sizeof ev / sizeof ev[0]; i++)
+        if (!strncmp(v, ev[i], strlen(ev[i]))) return true;
+    return false;
+}
+
 static int avd_set_param(kelp_bhv *b, const char *p, const char *v)
 {
     kelp_bhv_avoid *a = &b->u.avoid;
@@ -187,7 +202,7 @@ static int avd_set_param(kelp_bhv *b, const char *p, const char *v)
     if (!strcmp(p, "exit_on_filter_group")) return set_bool(v, &a->exit_on_filter_group);
     if (!strcmp(p, "exit_on_filter_region")) return set_bool(v, &a->exit_on_filter_region);
     if (!strcmp(p, "cnflag")) {
-        if (vn == 0 || a->ncnflag >= KELP_BHV_AVD_MAX_CNFLAGS ||
+        if (!cnflag_tag_ok(v) || a->ncnflag >= KELP_BHV_AVD_MAX_CNFLAGS ||
             !hx_copy(a->cnflag[a->ncnflag], sizeof a->cnflag[0], v, vn))
             return KELP_ERR_PARSE;
         a->ncnflag++;
@@ -365,6 +380,8 @@ static bool update_info(kelp_bhv *b)
         kelp_bhv_post_warning(b, "non-finite contact or ownship state");
         return false;
     }
+    a->prev_range = a->have_range ? a->range : r.range;
+    a->have_range = true;
     a->range = r.range;
     a->roc = r.roc;
     return true;
@@ -451,21 +468,74 @@ static void post_bearing_line(kelp_bhv *b, bool active)
     kelp_bhv_post_string(b, "VIEW_SEGLIST", spec, NULL);
 }
 
-/* cnflag "<R VAR=val" / ">R VAR=val": posted while the contact is within / beyond R */
+/* IvPContactBehavior's contact macros ($[..] or $(..)) in a cnflag's text */
+static void cn_expand(const kelp_bhv_avoid *a, const char *in, char *out, size_t cap)
+{
+    char num[5][32];
+    hx_fmt_x(num[0], sizeof num[0], a->cn.x, 3);
+    hx_fmt_x(num[1], sizeof num[1], a->cn.y, 3);
+    hx_fmt_x(num[2], sizeof num[2], a->cn.hdg, 3);
+    hx_fmt_x(num[3], sizeof num[3], a->cn.spd, 3);
+    hx_fmt_x(num[4], sizeof num[4], a->range, 1);
+    const struct { const char *m, *v; } mac[] = {
+        {"CNX", num[0]},           {"CNY", num[1]},           {"CNH", num[2]},      {"CNV", num[3]},
+        {"CN_NAME", a->contact},   {"CN_VTYPE", a->cn.type},  {"CN_GROUP", a->cn.group},
+        {"CN_RANGE", num[4]},      {"RANGE", num[4]}};
+    size_t n = 0;
+    while (*in && n + 1 < cap) {
+        const char *rep = NULL;
+        size_t ml = 0;
+        if (in[0] == '$' && (in[1] == '[' || in[1] == '(')) {
+            char close = in[1] == '[' ? ']' : ')';
+            for (size_t i = 0; i < sizeof mac / sizeof mac[0] && !rep; i++) {
+                size_t l = strlen(mac[i].m);
+                if (!strncmp(in + 2, mac[i].m, l) && in[2 + l] == close) rep = mac[i].v, ml = l + 3;
+            }
+        }
+        if (!rep) {
+            out[n++] = *in++;
+            continue;
+        }
+        for (; *rep && n + 1 < cap; rep++) out[n++] = *rep;
+        in += ml;
+    }
+    out[n] = '\0';
+}
+
+/* cnflag "<R VAR=val" / ">R VAR=val": posted while the contact is within / beyond R;
+ * "@<R" / "@>R": posted once when the range crosses R inward / outward since the last update.
+ * Event tags (@cpa, @os_passed_cn, ...) are accepted and not posted. */
 static void contact_flags(kelp_bhv *b)
 {
     const kelp_bhv_avoid *a = &b->u.avoid;
     for (unsigned i = 0; i < a->ncnflag; i++) {
         const char *f = a->cnflag[i];
-        if (f[0] != '<' && f[0] != '>') continue;
-        const char *sp = strchr(f, ' ');
+        while (*f == ' ' || *f == '\t') f++;
+        bool once = f[0] == '@';
+        const char *t = once ? f + 1 : f;
+        if (t[0] != '<' && t[0] != '>') continue;
+        const char *sp = strpbrk(t, " \t");
         double r;
         kelp_helm_pair p;
-        if (!sp || !hx_number(f + 1, (size_t)(sp - f - 1), &r) || !hx_pair(sp + 1, &p)) continue;
-        if ((f[0] == '<' && a->range <= r) || (f[0] == '>' && a->range >= r)) {
-            if (p.is_str) kelp_bhv_post_string(b, p.var, p.sval, "repeatable");
-            else kelp_bhv_post_double(b, p.var, p.dval, "repeatable");
+        if (!sp || !hx_number(t + 1, (size_t)(sp - t - 1), &r) || !hx_pair(sp + 1, &p)) continue;
+        bool post;
+        if (once && t[0] == '<') post = a->range <= r && a->prev_range > r;
+        else if (once) post = a->range >= r && a->prev_range < r;
+        else post = t[0] == '<' ? a->range <= r : a->range >= r;
+        if (!post) continue;
+        if (!p.is_str) {
+            kelp_bhv_post_double(b, p.var, p.dval, "repeatable");
+            continue;
         }
+        char val[KELP_HELM_MAX_FLAG_VAL];
+        cn_expand(a, p.sval, val, sizeof val);
+        /* a value of just $[RANGE] (or $[CPA]-like numbers) goes out as a number, as MOOS-IvP */
+        if (!strcmp(p.sval, "$[RANGE]")) {
+            double d = 0;
+            (void)hx_number(val, strlen(val), &d);
+            kelp_bhv_post_double(b, p.var, d, "repeatable");
+        } else
+            kelp_bhv_post_string(b, p.var, val, "repeatable");
     }
 }
 
