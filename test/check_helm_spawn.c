@@ -113,7 +113,9 @@ START_TEST(spawn_route_and_remove)
     ck_assert_double_eq(ht_num("IVPHELM_BHV_CNT_EVER"), 1);
     ck_assert_uint_eq(ht_count("BHV_SETTINGS"), 0); /* MOOS-IvP's BHV_AvoidCollision posts none */
     ck_assert_uint_eq(h->rep.ofnum, 1);   /* 40 m away: inside pwt_outer_dist */
-    ck_assert(ht_has_sub("VIEW_SEGLIST", "label=alder_avd_henry"));
+    /* MOOS-IvP's XYSegList spec for the bearing line (relevance 1/3: green) */
+    ck_assert(ht_has_str("VIEW_SEGLIST", "pts={0,0:40,0},label=alder_avd_henry,label_color=pink,edge_color=green,"
+                                         "time=1001,duration=100"));
     /* the full name is accepted too, and a second contact spawns a second instance */
     kelp_helm_mail_string(h, "CONTACT_INFO", "name=avd_henry # pwt_outer_dist=60");
     kelp_helm_mail_string(h, "CONTACT_INFO", "name=ike # contact=ike");

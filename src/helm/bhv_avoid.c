@@ -446,25 +446,33 @@ static void post_range(kelp_bhv *b)
     else kelp_bhv_post_int(b, var, a->range, NULL);
 }
 
+/* IvPContactBehavior::postViewableBearingLine: XYSegList's spec, points to 1 decimal, label
+ * <us>_<name>, label colour white (shown) or pink, the first colour whose threshold the index
+ * does not exceed (none: MOOS-IvP's "blank", not a colour, so no edge_color), time, duration
+ * 100; inactive: XYSegList's get_spec_inactive */
 static void post_bearing_line(kelp_bhv *b, bool active)
 {
     const kelp_bhv_avoid *a = &b->u.avoid;
     if (!a->bearing_line_show) return;
+    char spec[KELP_HELM_MAX_SVAL];
+    if (!active) {
+        hx_cat(spec, sizeof spec, "pts={0,0:9,0:0,9},active=false,label=", b->us, "_", b->name, HX_END);
+        kelp_bhv_post_string(b, "VIEW_SEGLIST", spec, NULL);
+        return;
+    }
     double index = a->bearing_info_range ? a->range : a->relevance;
-    const char *color = "invisible";
-    for (unsigned i = 0; i < a->nlines; i++)
-        if (index <= a->line_thresh[i]) {
-            color = a->line_color[i];
-            break;
-        }
-    char x1[32], y1[32], x2[32], y2[32], spec[KELP_HELM_MAX_SVAL];
+    const char *color = NULL;
+    for (unsigned i = 0; i < a->nlines && !color; i++)
+        if (index <= a->line_thresh[i]) color = a->line_color[i];
+    char x1[32], y1[32], x2[32], y2[32], t[32];
     hx_fmt_x(x1, sizeof x1, a->osx, 1);
     hx_fmt_x(y1, sizeof y1, a->osy, 1);
     hx_fmt_x(x2, sizeof x2, a->cn.x, 1);
     hx_fmt_x(y2, sizeof y2, a->cn.y, 1);
+    hx_fmt_x(t, sizeof t, b->helm->t0 + kelp_bhv_buf_now(b), 2);
     hx_cat(spec, sizeof spec, "pts={", x1, ",", y1, ":", x2, ",", y2, "},label=", b->us, "_", b->name,
-           ",edge_color=", color, ",label_color=", a->bearing_line_label_show ? "white" : "off",
-           ",duration=100,active=", active ? "true" : "false", HX_END);
+           ",label_color=", a->bearing_line_label_show ? "white" : "pink", color ? ",edge_color=" : "",
+           color ? color : "", ",time=", t, ",duration=100", HX_END);
     kelp_bhv_post_string(b, "VIEW_SEGLIST", spec, NULL);
 }
 
