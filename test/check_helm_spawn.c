@@ -350,6 +350,14 @@ START_TEST(completion_and_extrapolation)
     own(0, 0, 90, 2);
     ht_iter(1);
     ck_assert(ht_has_sub("BHV_ERROR", "GHOST x/y/heading/speed info not found"));
+    /* with on_no_contact_ok (the default) MOOS-IvP says nothing and builds no function */
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_AvoidCollision\n{\n  name = avd\n  contact = ghost\n}\n");
+    own(0, 0, 90, 2);
+    ht_iter(1);
+    ck_assert(!ht_has_sub("BHV_WARNING", "info not found"));
+    ck_assert(!ht_has_sub("BHV_ERROR", "info not found"));
+    ck_assert_uint_eq(ht_helm()->rep.ofnum, 0);
 }
 END_TEST
 

@@ -359,11 +359,10 @@ static bool update_info(kelp_bhv *b)
         return false;
     }
     const kelp_helm_contact *c = kelp_helm_contact_get(b->helm, a->contact);
-    if (!c) {
+    if (!c) { /* MOOS-IvP: an error, or nothing at all with on_no_contact_ok */
         char msg[KELP_MAX_NAME + 48];
         hx_cat(msg, sizeof msg, a->contact, " x/y/heading/speed info not found", HX_END);
-        if (a->on_no_contact_ok) kelp_bhv_post_warning(b, msg);
-        else kelp_bhv_post_error(b, msg);
+        if (!a->on_no_contact_ok) kelp_bhv_post_error(b, msg);
         return false;
     }
     a->cn = *c;
