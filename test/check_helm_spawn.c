@@ -460,6 +460,34 @@ START_TEST(avoid_cnflag_transitions)
 }
 END_TEST
 
+/* flag macros as IvPBehavior::expandMacros (and IvPContactBehavior's): $[CONTACT] (upper-case),
+ * $[BHVNAME], $[OWNSHIP], $[BHVTYPE], $[PWT]; a flag whose value is one macro expanding to a
+ * number is posted as a number; unknown macros stay as written */
+START_TEST(avoid_flag_macros)
+{
+    kelp_helm *h = ht_setup(DOM2, NULL);
+    char text[2048];
+    snprintf(text, sizeof text, "%s", TEMPLATE);
+    char *brace = strrchr(text, '}');
+    snprintf(brace, sizeof text - (size_t)(brace - text),
+             "  endflag = CONTACT_RESOLVED = $[CONTACT]\n  spawnflag = SPAWNED = $[BHVNAME] of $[OWNSHIP] "
+             "($[BHVTYPE]) $[NOPE]\n  spawnflag = SPWT = $[PWT]\n}\n");
+    ht_load(text);
+    own(0, 0, 90, 2);
+    report("henry", 1, 40, 0, 270, 1);
+    kelp_helm_mail_string(h, "CONTACT_INFO", "name=henry # contact=henry");
+    ht_iter(1);
+    ck_assert_ptr_nonnull(kelp_helm_find(h, "avd_henry"));
+    ck_assert_str_eq(ht_last("SPAWNED")->sval, "avd_henry of alder (BHV_AvoidCollision) $[NOPE]");
+    ck_assert(!ht_last("SPWT")->is_str);
+    ck_assert_double_eq(ht_last("SPWT")->dval, 200);
+    report("henry", 2, 90, 0, 90, 1);
+    ht_iter(2);
+    ck_assert_ptr_null(kelp_helm_find(h, "avd_henry"));
+    ck_assert_str_eq(ht_last("CONTACT_RESOLVED")->sval, "HENRY");
+}
+END_TEST
+
 Suite *kelp_helm_spawn_suite(void)
 {
     Suite *s = suite_create("helm_spawn");
@@ -476,6 +504,7 @@ Suite *kelp_helm_spawn_suite(void)
     tcase_add_test(tc, avoid_params);
     tcase_add_test(tc, avoid_filter_lists_and_request);
     tcase_add_test(tc, avoid_cnflag_transitions);
+    tcase_add_test(tc, avoid_flag_macros);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -475,38 +475,22 @@ static void post_bearing_line(kelp_bhv *b, bool active)
     kelp_bhv_post_string(b, "VIEW_SEGLIST", spec, NULL);
 }
 
-/* IvPContactBehavior's contact macros ($[..] or $(..)) in a cnflag's text */
-static void cn_expand(const kelp_bhv_avoid *a, const char *in, char *out, size_t cap)
+bool helm_avoid_macro(const kelp_bhv *b, const char *m, size_t ml, char *val, size_t cap)
 {
-    char num[5][32];
-    hx_fmt_x(num[0], sizeof num[0], a->cn.x, 3);
-    hx_fmt_x(num[1], sizeof num[1], a->cn.y, 3);
-    hx_fmt_x(num[2], sizeof num[2], a->cn.hdg, 3);
-    hx_fmt_x(num[3], sizeof num[3], a->cn.spd, 3);
-    hx_fmt_x(num[4], sizeof num[4], a->range, 1);
-    const struct { const char *m, *v; } mac[] = {
-        {"CNX", num[0]},           {"CNY", num[1]},           {"CNH", num[2]},      {"CNV", num[3]},
-        {"CN_NAME", a->contact},   {"CN_VTYPE", a->cn.type},  {"CN_GROUP", a->cn.group},
-        {"CN_RANGE", num[4]},      {"RANGE", num[4]}};
-    size_t n = 0;
-    while (*in && n + 1 < cap) {
-        const char *rep = NULL;
-        size_t ml = 0;
-        if (in[0] == '$' && (in[1] == '[' || in[1] == '(')) {
-            char close = in[1] == '[' ? ']' : ')';
-            for (size_t i = 0; i < sizeof mac / sizeof mac[0] && !rep; i++) {
-                size_t l = strlen(mac[i].m);
-                if (!strncmp(in + 2, mac[i].m, l) && in[2 + l] == close) rep = mac[i].v, ml = l + 3;
-            }
-        }
-        if (!rep) {
-            out[n++] = *in++;
-            continue;
-        }
-        for (; *rep && n + 1 < cap; rep++) out[n++] = *rep;
-        in += ml;
+    const kelp_bhv_avoid *a = &b->u.avoid;
+    const struct { const char *m; const char *s; double d; unsigned dec; } mac[] = {
+        {"CONTACT", a->contact, 0, 0},   {"CN_NAME", a->contact, 0, 0}, {"CN_VTYPE", a->cn.type, 0, 0},
+        {"CN_GROUP", a->cn.group, 0, 0}, {"CN_RANGE", NULL, a->range, 1}, {"RANGE", NULL, a->range, 1},
+        {"CNX", NULL, a->cn.x, 3},        {"CNY", NULL, a->cn.y, 3},      {"CNH", NULL, a->cn.hdg, 3},
+        {"CNV", NULL, a->cn.spd, 3},      {"OSX", NULL, a->osx, 3},       {"OSY", NULL, a->osy, 3},
+        {"OSH", NULL, a->osh, 3},         {"OSV", NULL, a->osv, 3}};
+    for (size_t i = 0; i < sizeof mac / sizeof mac[0]; i++) {
+        if (strlen(mac[i].m) != ml || strncmp(m, mac[i].m, ml) != 0) continue;
+        if (mac[i].s) return hx_copy(val, cap, mac[i].s, strlen(mac[i].s));
+        hx_fmt_x(val, cap, mac[i].d, mac[i].dec);
+        return true;
     }
-    out[n] = '\0';
+    return false;
 }
 
 /* cnflag "<R VAR=val" / ">R VAR=val": posted while the contact is within / beyond R;
@@ -534,15 +518,7 @@ static void contact_flags(kelp_bhv *b)
             kelp_bhv_post_double(b, p.var, p.dval, "repeatable");
             continue;
         }
-        char val[KELP_HELM_MAX_FLAG_VAL];
-        cn_expand(a, p.sval, val, sizeof val);
-        /* a value of just $[RANGE] (or $[CPA]-like numbers) goes out as a number, as MOOS-IvP */
-        if (!strcmp(p.sval, "$[RANGE]")) {
-            double d = 0;
-            (void)hx_number(val, strlen(val), &d);
-            kelp_bhv_post_double(b, p.var, d, "repeatable");
-        } else
-            kelp_bhv_post_string(b, p.var, val, "repeatable");
+        helm_post_flag_string(b, p.var, p.sval, "repeatable");
     }
 }
 
