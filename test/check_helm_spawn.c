@@ -388,8 +388,18 @@ START_TEST(avoid_params)
     ck_assert_int_lt(ht_load_rc("Behavior = BHV_AvoidCollision\n{\n  pwt_grade = steep\n}\n"), 0);
     ht_setup(DOM2, NULL);
     ck_assert_int_lt(ht_load_rc("Behavior = BHV_AvoidCollision\n{\n  completed_dist = -1\n}\n"), 0);
+    /* bearing_lines never fails (MOOS-IvP): a bad component stops further colours */
     ht_setup(DOM2, NULL);
-    ck_assert_int_lt(ht_load_rc("Behavior = BHV_AvoidCollision\n{\n  bearing_lines = white\n}\n"), 0);
+    ck_assert_int_eq(ht_load_rc("Behavior = BHV_AvoidCollision\n{\n  name = bl\n  bearing_lines = white\n}\n"), 0);
+    b = kelp_helm_find(ht_helm(), "bl");
+    ck_assert(!b->u.avoid.bearing_line_show);
+    ht_setup(DOM2, NULL);
+    ck_assert_int_eq(ht_load_rc("Behavior = BHV_AvoidCollision\n{\n  name = bl\n"
+                                "  bearing_lines = White:0, junk, red:1, info:range\n}\n"), 0);
+    b = kelp_helm_find(ht_helm(), "bl");
+    ck_assert_uint_eq(b->u.avoid.nlines, 1);
+    ck_assert_str_eq(b->u.avoid.line_color[0], "white");
+    ck_assert(b->u.avoid.bearing_info_range);
     ht_setup("depth:0:100:101", NULL); /* no course/speed: refused */
     ck_assert_int_lt(ht_load_rc("Behavior = BHV_AvoidCollision\n{\n  contact = v\n}\n"), 0);
 }

@@ -121,32 +121,33 @@ static int add_region(char list[][KELP_HELM_MAX_FLAG_VAL], unsigned *n, const ch
     return 0;
 }
 
-/* bearing_lines = white:0, green:0.65, yellow:0.8, red:1.0 [, info:range|relevance] */
+/* bearing_lines = white:0, green:0.65, yellow:0.8, red:1.0 [, info:range|relevance], as
+ * IvPContactBehavior: colours lower-cased and added to those already given; the first bad
+ * component stops further colours (info still read); the parameter itself never fails */
 static int set_lines(kelp_bhv_avoid *a, const char *v)
 {
-    a->nlines = 0;
     a->bearing_line_show = false;
+    bool valid = true;
     for (const char *item = v;;) {
         const char *e = strchr(item, ',');
         size_t in = e ? (size_t)(e - item) : strlen(item);
         const char *c = memchr(item, ':', in);
-        if (!c) return KELP_ERR_PARSE;
-        const char *l = item, *r = c + 1;
-        size_t ln = (size_t)(c - item), rn = in - ln - 1;
+        const char *l = item, *r = c ? c + 1 : item + in;
+        size_t ln = c ? (size_t)(c - item) : in, rn = c ? in - ln - 1 : 0;
         hx_trim(&l, &ln);
         hx_trim(&r, &rn);
         double d;
-        if (ln == 4 && kelp_strieq_n(l, ln, "info")) {
-            if (rn == 5 && kelp_strieq_n(r, rn, "range")) a->bearing_info_range = true;
-            else if (rn == 9 && kelp_strieq_n(r, rn, "relevance")) a->bearing_info_range = false;
-            else return KELP_ERR_PARSE;
-        } else if (ln > 0 && hx_number(r, rn, &d) && a->nlines < KELP_BHV_AVD_MAX_LINES &&
-                   hx_copy(a->line_color[a->nlines], sizeof a->line_color[0], l, ln)) {
+        if (ln == 4 && kelp_strieq_n(l, ln, "info") && rn == 5 && !strncmp(r, "range", 5))
+            a->bearing_info_range = true;
+        else if (ln == 4 && kelp_strieq_n(l, ln, "info") && rn == 9 && !strncmp(r, "relevance", 9))
+            a->bearing_info_range = false;
+        else if (valid && ln > 0 && hx_number(r, rn, &d) && a->nlines < KELP_BHV_AVD_MAX_LINES &&
+                 hx_copy(a->line_color[a->nlines], sizeof a->line_color[0], l, ln)) {
+            for (char *q = a->line_color[a->nlines]; *q; q++) *q = hx_lower(*q);
             a->line_thresh[a->nlines++] = d;
             a->bearing_line_show = true;
-        } else {
-            return KELP_ERR_PARSE;
-        }
+        } else
+            valid = false;
         if (!e) return 0;
         item = e + 1;
     }
