@@ -264,14 +264,6 @@ static int avd_set_param(kelp_bhv *b, const char *p, const char *v)
     return KELP_ERR_NOTFOUND;
 }
 
-static int avd_params_done(kelp_bhv *b)
-{
-    kelp_bhv_avoid *a = &b->u.avoid;
-    if (a->completed_dist < a->pwt_outer_dist) /* as MOOS-IvP: never complete inside the outer ring */
-        a->completed_dist = a->pwt_outer_dist;
-    return 0;
-}
-
 /* MOOS-IvP's filter summary (ExFilterSet::getSummary): "key=value" entries joined by ", ",
  * ignore before match for groups, names, types, then regions; strict_ignore only when there
  * is an ignore_type or ignore_group */
@@ -585,7 +577,6 @@ const kelp_bhv_ops kelp_bhv_avoid_collision_ops = {
     .type = "BHV_AvoidCollision",
     .init = avd_init,
     .set_param = avd_set_param,
-    .params_done = avd_params_done,
     .on_idle = avd_idle,
     .on_run = avd_run,
     .on_helm_start = avd_helm_start,
