@@ -269,6 +269,19 @@ START_TEST(cm_helm_request_12)
     mail_s("NODE_REPORT", "NAME=vessel_023,TYPE=tug,TIME=1000,X=0,Y=10");
     it();
     ck_assert_str_eq(last("CONTACT_INFO"), "name=avd_vessel_023 # contact=vessel_023");
+    /* BHV_AvoidCollision's own request string, filter summary and all */
+    ck_assert_int_eq(mail_s("BCM_ALERT_REQUEST", "id=avd_, on_flag=CONTACT_INFO=name=$[VNAME] # contact=$[VNAME],"
+                                                 "alert_range=50, cpa_range=75,match_name=abe, match_name=zed, "
+                                                 "ignore_type=cargo, ignore_type=tug, match_type=kayak, "
+                                                 "strict_ignore=true"),
+                     1);
+    ck_assert_int_eq(R->nwarn, 0);
+    ck_assert_uint_eq(C->nalerts, 2);
+    ck_assert_double_eq(C->alert[1].alert_range, 50);
+    ck_assert_double_eq(kelp_cmgr_cpa_range(&C->alert[1]), 75);
+    ck_assert_uint_eq(C->alert[1].filter.nlist[0][0], 2);
+    ck_assert_uint_eq(C->alert[1].filter.nlist[1][1], 2);
+    ck_assert_str_eq(C->alert[1].on[0], "CONTACT_INFO=name=$[VNAME] # contact=$[VNAME]");
 }
 END_TEST
 
@@ -1058,6 +1071,40 @@ START_TEST(cm_hold_relbng_maxsize)
 }
 END_TEST
 
+/* hold_alerts_for_helm waits until IVPHELM_STATE=DRIVE has been seen once (MOOS-IvP
+ * ContactMgrV20::handleMailHelmState latches it): a later PARK does not stop the alerts */
+START_TEST(cm_hold_latches_drive)
+{
+    cfg("hold_alerts_for_helm = true");
+    fixture_f();
+    ck_assert_int_eq(mail_s("IVPHELM_STATE", "DRIVE"), 1);
+    ck_assert_int_eq(mail_s("IVPHELM_STATE", "PARK"), 1);
+    rpt("gus", 0, 15);
+    it();
+    ck_assert_str_eq(last("CONTACT_INFO"), "name=avd_gus # contact=gus");
+}
+END_TEST
+
+/* an alert with alert_range 0 has its range criterion off: it alerts on its filters alone
+ * (MOOS-IvP ContactMgrV20::checkAlertApplies, "alert_range > 0") */
+START_TEST(cm_alert_range_zero_filters_only)
+{
+    cfg("alert = id=reg, on_flag=IN_REG=$[VNAME], off_flag=OUT_REG=$[VNAME], alert_range=0, "
+        "match_region=pts={0,100:100,100:100,200:0,200}");
+    done();
+    ck_assert_ptr_nonnull(strstr(report(), "Alert Ranges: 0/0\n"));
+    rpt("far", 50, 150);  /* range 158, inside the region */
+    rpt("out", 50, 250);  /* outside the region */
+    it();
+    ck_assert_str_eq(last("IN_REG"), "far");
+    ck_assert_int_eq(count("IN_REG"), 1);
+    ck_assert_str_eq(last("CONTACTS_ALERTED"), "(far,reg)");
+    rpt("far", 50, 300);  /* leaves the region: off */
+    it();
+    ck_assert_str_eq(last("OUT_REG"), "far");
+}
+END_TEST
+
 Suite *kelp_field_contactmgr_suite(void)
 {
     Suite *s = suite_create("field_contactmgr");
@@ -1098,6 +1145,8 @@ Suite *kelp_field_contactmgr_suite(void)
     tcase_add_test(tc, cm_many_contacts_cut);
     tcase_add_test(tc, cm_bad_config_values);
     tcase_add_test(tc, cm_hold_relbng_maxsize);
+    tcase_add_test(tc, cm_hold_latches_drive);
+    tcase_add_test(tc, cm_alert_range_zero_filters_only);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -73,8 +73,9 @@ START_TEST(template_posts_alert_request_and_does_not_run)
     ck_assert_uint_eq(h->nbhv, 0);
     ck_assert_uint_eq(h->ntmpl, 1);
     ck_assert_ptr_nonnull(kelp_helm_find_template(h, "avd_"));
-    ck_assert(ht_has_str("BCM_ALERT_REQUEST", "id=avd_, on_flag=CONTACT_INFO=name=$[VNAME] # contact=$[VNAME], "
-                                              "alert_range=50, cpa_range=75, match_type=kayak"));
+    /* MOOS-IvP's exact string: no space before alert_range, the filter summary joined by "," */
+    ck_assert(ht_has_str("BCM_ALERT_REQUEST", "id=avd_, on_flag=CONTACT_INFO=name=$[VNAME] # contact=$[VNAME],"
+                                              "alert_range=50, cpa_range=75,match_type=kayak"));
     ck_assert(ht_has_str("IVPHELM_UPDATEVARS", "CONTACT_INFO"));
     own(0, 0, 90, 2);
     ht_iter(1);
@@ -103,16 +104,18 @@ START_TEST(spawn_route_and_remove)
     kelp_bhv *b = kelp_helm_find(h, "avd_henry");
     ck_assert_ptr_nonnull(b);
     ck_assert(b->spawned);
-    ck_assert_str_eq(b->u.avoid.contact, "henry");
+    ck_assert_str_eq(b->u.avoid.contact, "HENRY"); /* MOOS-IvP keeps the contact upper-case */
     ck_assert_double_eq(b->u.avoid.completed_dist, 75);   /* the template's configuration */
     ck_assert_uint_eq(h->nspawned, 1);
     ck_assert(ht_has_sub("IVPHELM_LIFE_EVENT", "bname=avd_henry, btype=BHV_AvoidCollision, event=spawn, "
                                                "seed=name=henry # contact=henry"));
     ck_assert_double_eq(ht_num("IVPHELM_BHV_CNT"), 1);
     ck_assert_double_eq(ht_num("IVPHELM_BHV_CNT_EVER"), 1);
-    ck_assert(ht_has_sub("BHV_SETTINGS", "name=avd_henry,contact=henry"));
+    ck_assert_uint_eq(ht_count("BHV_SETTINGS"), 0); /* MOOS-IvP's BHV_AvoidCollision posts none */
     ck_assert_uint_eq(h->rep.ofnum, 1);   /* 40 m away: inside pwt_outer_dist */
-    ck_assert(ht_has_sub("VIEW_SEGLIST", "label=alder_avd_henry"));
+    /* MOOS-IvP's XYSegList spec for the bearing line (relevance 1/3: green) */
+    ck_assert(ht_has_str("VIEW_SEGLIST", "pts={0,0:40,0},label=alder_avd_henry,label_color=pink,edge_color=green,"
+                                         "time=1001,duration=100"));
     /* the full name is accepted too, and a second contact spawns a second instance */
     kelp_helm_mail_string(h, "CONTACT_INFO", "name=avd_henry # pwt_outer_dist=60");
     kelp_helm_mail_string(h, "CONTACT_INFO", "name=ike # contact=ike");
@@ -280,7 +283,10 @@ START_TEST(of_values_and_relevance)
     ck_assert_double_eq_tol(kelp_bhv_avoid_relevance(125, 50, 200, 1), 0.25, 1e-12);
     ck_assert_double_eq_tol(kelp_bhv_avoid_relevance(125, 50, 200, 2), pow(0.5, 1.5), 1e-12);
     ck_assert_double_eq(kelp_bhv_avoid_relevance(50, 50, 200, 2), 1);
-    ck_assert_double_eq(kelp_bhv_avoid_relevance(5, 50, 200, 1), 1);
+    /* inside the inner ring MOOS-IvP's getRelevance keeps grading past 1 (it does not cap) */
+    ck_assert_double_eq_tol(kelp_bhv_avoid_relevance(5, 50, 200, 1), 1.3 * 1.3, 1e-12);
+    ck_assert_double_eq_tol(kelp_bhv_avoid_relevance(20, 50, 200, 0), 1.2, 1e-12);
+    ck_assert_double_eq(kelp_bhv_avoid_relevance(5, 50, 50, 0), 1); /* degenerate rings: 1 */
 }
 END_TEST
 
@@ -306,7 +312,7 @@ START_TEST(priority_by_range)
     ck_assert_double_eq_tol(pwt_at(125, "quadratic"), 25, 1e-9);
     ck_assert_double_eq_tol(pwt_at(125, "quasi"), 100 * pow(0.5, 1.5), 1e-9);
     ck_assert_double_eq_tol(pwt_at(50, "quasi"), 100, 1e-9);
-    ck_assert_double_eq_tol(pwt_at(20, "linear"), 100, 1e-9);
+    ck_assert_double_eq_tol(pwt_at(20, "linear"), 120, 1e-9); /* MOOS-IvP: no cap inside the inner ring */
 }
 END_TEST
 
@@ -343,7 +349,15 @@ START_TEST(completion_and_extrapolation)
     ht_load("Behavior = BHV_AvoidCollision\n{\n  name = avd\n  contact = ghost\n  on_no_contact_ok = false\n}\n");
     own(0, 0, 90, 2);
     ht_iter(1);
-    ck_assert(ht_has_sub("BHV_ERROR", "ghost x/y/heading/speed info not found"));
+    ck_assert(ht_has_sub("BHV_ERROR", "GHOST x/y/heading/speed info not found"));
+    /* with on_no_contact_ok (the default) MOOS-IvP says nothing and builds no function */
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_AvoidCollision\n{\n  name = avd\n  contact = ghost\n}\n");
+    own(0, 0, 90, 2);
+    ht_iter(1);
+    ck_assert(!ht_has_sub("BHV_WARNING", "info not found"));
+    ck_assert(!ht_has_sub("BHV_ERROR", "info not found"));
+    ck_assert_uint_eq(ht_helm()->rep.ofnum, 0);
 }
 END_TEST
 
@@ -366,7 +380,9 @@ START_TEST(avoid_params)
     kelp_bhv *b = kelp_helm_find(ht_helm(), "a");
     ck_assert_double_eq(b->u.avoid.pwt_inner_dist, 400);
     ck_assert_double_eq(b->u.avoid.pwt_outer_dist, 400); /* raised with the inner one */
-    ck_assert_double_eq(b->u.avoid.completed_dist, 400); /* never inside the outer ring */
+    /* kept as given: MOOS-IvP's "completed_dist >= pwt_outer_dist" safety check sits after
+     * every handled parameter has returned, so a valid configuration never reaches it */
+    ck_assert_double_eq(b->u.avoid.completed_dist, 100);
     ck_assert_uint_eq(b->u.avoid.nlines, 2);
     ck_assert(b->u.avoid.bearing_info_range);
     ck_assert_str_eq(b->u.avoid.match_type[0], "kayak");
@@ -374,10 +390,113 @@ START_TEST(avoid_params)
     ck_assert_int_lt(ht_load_rc("Behavior = BHV_AvoidCollision\n{\n  pwt_grade = steep\n}\n"), 0);
     ht_setup(DOM2, NULL);
     ck_assert_int_lt(ht_load_rc("Behavior = BHV_AvoidCollision\n{\n  completed_dist = -1\n}\n"), 0);
+    /* bearing_lines never fails (MOOS-IvP): a bad component stops further colours */
     ht_setup(DOM2, NULL);
-    ck_assert_int_lt(ht_load_rc("Behavior = BHV_AvoidCollision\n{\n  bearing_lines = white\n}\n"), 0);
+    ck_assert_int_eq(ht_load_rc("Behavior = BHV_AvoidCollision\n{\n  name = bl\n  bearing_lines = white\n}\n"), 0);
+    b = kelp_helm_find(ht_helm(), "bl");
+    ck_assert(!b->u.avoid.bearing_line_show);
+    ht_setup(DOM2, NULL);
+    ck_assert_int_eq(ht_load_rc("Behavior = BHV_AvoidCollision\n{\n  name = bl\n"
+                                "  bearing_lines = White:0, junk, red:1, info:range\n}\n"), 0);
+    b = kelp_helm_find(ht_helm(), "bl");
+    ck_assert_uint_eq(b->u.avoid.nlines, 1);
+    ck_assert_str_eq(b->u.avoid.line_color[0], "white");
+    ck_assert(b->u.avoid.bearing_info_range);
     ht_setup("depth:0:100:101", NULL); /* no course/speed: refused */
     ck_assert_int_lt(ht_load_rc("Behavior = BHV_AvoidCollision\n{\n  contact = v\n}\n"), 0);
+}
+END_TEST
+
+/* IvPContactBehavior's filter lists (ExFilterSet): lower-cased, comma lists split, braces
+ * stripped, kept sorted; the alert request carries them in that order, ignore before match,
+ * name/group/type kinds as MOOS-IvP's getSummary, strict_ignore only with ignore_type/_group */
+START_TEST(avoid_filter_lists_and_request)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_AvoidCollision\n{\n  name = avd_\n  updates = CONTACT_INFO\n"
+            "  templating = spawn\n  contact = to-be-set\n  pwt_outer_dist = 50\n  completed_dist = 75\n"
+            "  match_name = {Zed,abe}\n  ignore_type = Tug, cargo\n  match_type = kayak\n}\n");
+    ck_assert(ht_has_str("BCM_ALERT_REQUEST", "id=avd_, on_flag=CONTACT_INFO=name=$[VNAME] # contact=$[VNAME],"
+                                              "alert_range=50, cpa_range=75,match_name=abe, match_name=zed, "
+                                              "ignore_type=cargo, ignore_type=tug, match_type=kayak, "
+                                              "strict_ignore=true"));
+    /* a comma list of types in a running behaviour: each one matches */
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_AvoidCollision\n{\n  name = a\n  contact = Henry\n  match_type = kayak, Cargo\n"
+            "  exit_on_filter_vtype = true\n  post_per_contact_info = true\n}\n");
+    kelp_bhv *b = kelp_helm_find(ht_helm(), "a");
+    ck_assert_uint_eq(b->u.avoid.nmatch_type, 2);
+    ck_assert_str_eq(b->u.avoid.match_type[0], "cargo");
+    own(0, 0, 90, 2);
+    kelp_helm_mail_string(ht_helm(), "NODE_REPORT", "NAME=henry,TYPE=cargo,TIME=1001,X=40,Y=0,SPD=1,HDG=270");
+    ht_iter(1);
+    ck_assert_uint_eq(ht_helm()->rep.ofnum, 1);  /* the filter holds: the behaviour runs */
+    ck_assert(ht_last("RANGE_AVD_HENRY") != NULL); /* MOOS-IvP posts with the upper-case contact */
+    /* the same entry matched and ignored is a bad parameter */
+    ht_setup(DOM2, NULL);
+    ck_assert_int_lt(ht_load_rc("Behavior = BHV_AvoidCollision\n{\n  match_type = kayak\n  ignore_type = Kayak\n}\n"),
+                     0);
+}
+END_TEST
+
+/* cnflag tags as IvPContactBehavior: "<R" / ">R" posted while within / beyond R, "@<R" / "@>R"
+ * once when the range crosses R inward / outward; $[CN_NAME], $[RANGE] expanded, a value of
+ * just $[RANGE] posted as a number; an unknown tag is a bad parameter */
+START_TEST(avoid_cnflag_transitions)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_AvoidCollision\n{\n  name = a\n  contact = henry\n  extrapolate = false\n"
+            "  cnflag = @<30 NEAR=$[CN_NAME] at $[RANGE]\n  cnflag = @>30 FAR=$[RANGE]\n"
+            "  cnflag = <30 IN=$[CN_NAME]\n}\n");
+    own(0, 0, 90, 0);
+    report("henry", 1, 40, 0, 270, 1);
+    ht_iter(1);
+    ck_assert_uint_eq(ht_count("NEAR"), 0);
+    ck_assert_uint_eq(ht_count("FAR"), 0);   /* no crossing on the first update */
+    report("henry", 2, 25, 0, 270, 1);
+    ht_iter(2);
+    ck_assert_uint_eq(ht_count("NEAR"), 1);
+    ck_assert_str_eq(ht_last("NEAR")->sval, "HENRY at 25");
+    ck_assert_str_eq(ht_last("IN")->sval, "HENRY");
+    report("henry", 3, 24, 0, 270, 1);
+    ht_iter(3);
+    ck_assert_uint_eq(ht_count("NEAR"), 0);  /* still inside: no new crossing (posts are per iteration) */
+    ck_assert_uint_eq(ht_count("IN"), 1);    /* "<" posts every time */
+    report("henry", 4, 35.5, 0, 270, 1);
+    ht_iter(4);
+    ck_assert_uint_eq(ht_count("FAR"), 1);
+    ck_assert(!ht_last("FAR")->is_str);
+    ck_assert_double_eq_tol(ht_last("FAR")->dval, 35.5, 1e-9);
+    ht_setup(DOM2, NULL);
+    ck_assert_int_lt(ht_load_rc("Behavior = BHV_AvoidCollision\n{\n  cnflag = @near X=1\n}\n"), 0);
+}
+END_TEST
+
+/* flag macros as IvPBehavior::expandMacros (and IvPContactBehavior's): $[CONTACT] (upper-case),
+ * $[BHVNAME], $[OWNSHIP], $[BHVTYPE], $[PWT]; a flag whose value is one macro expanding to a
+ * number is posted as a number; unknown macros stay as written */
+START_TEST(avoid_flag_macros)
+{
+    kelp_helm *h = ht_setup(DOM2, NULL);
+    char text[2048];
+    snprintf(text, sizeof text, "%s", TEMPLATE);
+    char *brace = strrchr(text, '}');
+    snprintf(brace, sizeof text - (size_t)(brace - text),
+             "  endflag = CONTACT_RESOLVED = $[CONTACT]\n  spawnflag = SPAWNED = $[BHVNAME] of $[OWNSHIP] "
+             "($[BHVTYPE]) $[NOPE]\n  spawnflag = SPWT = $[PWT]\n}\n");
+    ht_load(text);
+    own(0, 0, 90, 2);
+    report("henry", 1, 40, 0, 270, 1);
+    kelp_helm_mail_string(h, "CONTACT_INFO", "name=henry # contact=henry");
+    ht_iter(1);
+    ck_assert_ptr_nonnull(kelp_helm_find(h, "avd_henry"));
+    ck_assert_str_eq(ht_last("SPAWNED")->sval, "avd_henry of alder (BHV_AvoidCollision) $[NOPE]");
+    ck_assert(!ht_last("SPWT")->is_str);
+    ck_assert_double_eq(ht_last("SPWT")->dval, 200);
+    report("henry", 2, 90, 0, 90, 1);
+    ht_iter(2);
+    ck_assert_ptr_null(kelp_helm_find(h, "avd_henry"));
+    ck_assert_str_eq(ht_last("CONTACT_RESOLVED")->sval, "HENRY");
 }
 END_TEST
 
@@ -395,6 +514,9 @@ Suite *kelp_helm_spawn_suite(void)
     tcase_add_test(tc, priority_by_range);
     tcase_add_test(tc, completion_and_extrapolation);
     tcase_add_test(tc, avoid_params);
+    tcase_add_test(tc, avoid_filter_lists_and_request);
+    tcase_add_test(tc, avoid_cnflag_transitions);
+    tcase_add_test(tc, avoid_flag_macros);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -268,7 +268,7 @@ static const kelp_app_def def = {
           "at start, when the behaviour file declares modes" },
         { "IVPHELM_LIFE_EVENT", "time=0.00, iter=0, bname=loiter, btype=BHV_Loiter, event=spawn, seed=helm startup",
           "also event=spawn/abort/death of template instances; IVPHELM_COMPLETED_COUNT" },
-        { "BCM_ALERT_REQUEST", "id=avd_, on_flag=CONTACT_INFO=name=$[VNAME] # contact=$[VNAME], alert_range=200, "
+        { "BCM_ALERT_REQUEST", "id=avd_, on_flag=CONTACT_INFO=name=$[VNAME] # contact=$[VNAME],alert_range=200, "
           "cpa_range=500", "at start, from BHV_AvoidCollision templates (templating = spawn)" },
         { "IVPHELM_UPDATEVARS", "UP_LOITER", "the variables behaviour updates and mode declarations listen to" },
         { "IVPHELM_STATEVARS", "DEPLOY,RETURN", "the variables the conditions read" },

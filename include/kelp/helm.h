@@ -307,6 +307,8 @@ typedef struct kelp_bhv_avoid {        /* BHV_AvoidCollision (MOOS-IvP's paramet
     kelp_helm_contact cn;              /* the contact, position extrapolated */
     double osx, osy, osh, osv;
     double range, relevance, roc;
+    double prev_range;                 /* the range at the update before (cnflag @< / @>) */
+    bool have_range;
     bool nav_warned;
 } kelp_bhv_avoid;
 
@@ -434,8 +436,9 @@ typedef struct kelp_bhv_avoid_aof {
     int icrs, ispd;
 } kelp_bhv_avoid_aof;
 double kelp_bhv_avoid_aof_eval(const double *pt, void *user);
-/** Priority factor (0..1) at range: 0 at or beyond outer, 1 at or inside inner, graded between
- *  (grade 0 linear, 1 quadratic, 2 quasi = power 1.5). */
+/** Priority factor at range: 0 at or beyond outer, 1 at inner, graded by (outer - range) /
+ *  (outer - inner) (grade 0 linear, 1 quadratic, 2 quasi = power 1.5), that fraction going on
+ *  past 1 inside inner as MOOS-IvP's getRelevance; 1 when outer <= inner. */
 double kelp_bhv_avoid_relevance(double range, double inner, double outer, int grade);
 
 /** The AOF_SimpleWaypoint objective (0..100) at (course, speed) for the reflector build. */

@@ -828,7 +828,7 @@ int kelp_cmgr_mail(kelp_cmgr *c, const char *var, bool is_string, const char *sv
             return 1;
         }
     if (strcmp(var, "IVPHELM_STATE") == 0) {
-        if (is_string) c->helm_drive = kelp_strieq(sval, "DRIVE");
+        if (is_string && kelp_strieq(sval, "DRIVE")) c->helm_drive = true; /* latched, as MOOS-IvP */
         return 1;
     }
     bool ours = strcmp(var, "NODE_REPORT") == 0 || strcmp(var, "BCM_ALERT_REQUEST") == 0 ||
@@ -957,8 +957,10 @@ static void check_alerts(kelp_cmgr *c, kelp_cmgr_contact *k, double now, const k
         bool was = (k->alerted >> ai) & 1u;
         bool base = alert_valid(a) && now - k->time <= c->contact_max_age &&
                     filter_ok(&a->filter, k->name, k->type, k->group, k->x, k->y);
-        bool on_test = k->range <= a->alert_range || (k->range <= cpa && k->range_cpa <= a->alert_range);
-        bool now_on = base && ((was && KELP_CMGR_HYSTERESIS) ? k->range <= cpa : on_test);
+        /* alert_range 0: the range criterion is off, the alert applies on its filters (MOOS-IvP) */
+        bool ranged = a->alert_range > 0;
+        bool on_test = !ranged || k->range <= a->alert_range || (k->range <= cpa && k->range_cpa <= a->alert_range);
+        bool now_on = base && ((was && KELP_CMGR_HYSTERESIS) ? (!ranged || k->range <= cpa) : on_test);
         if (now_on == was) continue;
         if (now_on) {
             k->alerted |= 1u << ai;

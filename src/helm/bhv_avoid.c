@@ -5,7 +5,8 @@
  * utility 0 below min_util_cpa_dist, 100 above max_util_cpa_dist, linear from 25 to 100
  * between (MOOS-IvP's metric). The function is normalised to [0,100] and weighted by
  * pwt x relevance, relevance 0 beyond pwt_outer_dist rising to 1 at pwt_inner_dist (linear,
- * quadratic or quasi = power 1.5). The behaviour completes when the contact is at or beyond
+ * quadratic or quasi = power 1.5), and past 1 inside pwt_inner_dist as MOOS-IvP's (it does not
+ * cap). The behaviour completes when the contact is at or beyond
  * 1.1 x completed_dist (MOOS-IvP's margin, so a contact manager re-alert is not missed) or
  * fails an exit_on_filter_* check. Contact state comes from the helm's NODE_REPORT ledger. */
 #include <math.h>
@@ -69,15 +70,44 @@ static int pair_high(const char *v, double *lo, double *hi)
     return 0;
 }
 
-static int add_name(char list[][KELP_MAX_NAME], unsigned *n, const char *v)
+/* ExFilterSet's list entry: "a", "a,b" or "{a,b}", lower-cased, kept sorted and unique. An
+ * entry already in the opposite list (other) is refused, the rest are taken (MOOS-IvP's rule). */
+static int add_name(char list[][KELP_MAX_NAME], unsigned *n, const char other[][KELP_MAX_NAME], unsigned nother,
+                    const char *v)
 {
-    size_t vn = strlen(v);
-    if (vn == 0 || *n >= KELP_BHV_AVD_MAX_FILTER || !hx_copy(list[*n], KELP_MAX_NAME, v, vn))
-        return KELP_ERR_PARSE;
-    for (unsigned i = 0; i < *n; i++)
-        if (hx_ieq(list[i], v)) return 0; /* duplicates are harmless (repeated updates) */
-    (*n)++;
-    return 0;
+    const char *s = v;
+    size_t sn = strlen(v);
+    hx_trim(&s, &sn);
+    if (sn >= 2 && s[0] == '{' && s[sn - 1] == '}') s++, sn -= 2;
+    bool ok = sn > 0;
+    while (sn > 0) {
+        const char *e = memchr(s, ',', sn);
+        size_t in = e ? (size_t)(e - s) : sn;
+        const char *it = s;
+        size_t il = in;
+        hx_trim(&it, &il);
+        s += e ? in + 1 : in;
+        sn -= e ? in + 1 : in;
+        if (il == 0) continue;
+        char low[KELP_MAX_NAME];
+        if (il >= sizeof low) return KELP_ERR_PARSE;
+        for (size_t i = 0; i < il; i++) low[i] = hx_lower(it[i]);
+        low[il] = '\0';
+        bool skip = false;
+        for (unsigned i = 0; i < nother && !skip; i++) skip = strcmp(other[i], low) == 0;
+        if (skip) {
+            ok = false;
+            continue;
+        }
+        unsigned pos = 0;
+        while (pos < *n && strcmp(list[pos], low) < 0) pos++;
+        if (pos < *n && strcmp(list[pos], low) == 0) continue; /* repeated updates are harmless */
+        if (*n >= KELP_BHV_AVD_MAX_FILTER) return KELP_ERR_PARSE;
+        memmove(list[pos + 1], list[pos], (size_t)(*n - pos) * KELP_MAX_NAME);
+        memcpy(list[pos], low, il + 1);
+        (*n)++;
+    }
+    return ok ? 0 : KELP_ERR_PARSE;
 }
 
 static int add_region(char list[][KELP_HELM_MAX_FLAG_VAL], unsigned *n, const char *v)
@@ -91,35 +121,51 @@ static int add_region(char list[][KELP_HELM_MAX_FLAG_VAL], unsigned *n, const ch
     return 0;
 }
 
-/* bearing_lines = white:0, green:0.65, yellow:0.8, red:1.0 [, info:range|relevance] */
+/* bearing_lines = white:0, green:0.65, yellow:0.8, red:1.0 [, info:range|relevance], as
+ * IvPContactBehavior: colours lower-cased and added to those already given; the first bad
+ * component stops further colours (info still read); the parameter itself never fails */
 static int set_lines(kelp_bhv_avoid *a, const char *v)
 {
-    a->nlines = 0;
     a->bearing_line_show = false;
+    bool valid = true;
     for (const char *item = v;;) {
         const char *e = strchr(item, ',');
         size_t in = e ? (size_t)(e - item) : strlen(item);
         const char *c = memchr(item, ':', in);
-        if (!c) return KELP_ERR_PARSE;
-        const char *l = item, *r = c + 1;
-        size_t ln = (size_t)(c - item), rn = in - ln - 1;
+        const char *l = item, *r = c ? c + 1 : item + in;
+        size_t ln = c ? (size_t)(c - item) : in, rn = c ? in - ln - 1 : 0;
         hx_trim(&l, &ln);
         hx_trim(&r, &rn);
         double d;
-        if (ln == 4 && kelp_strieq_n(l, ln, "info")) {
-            if (rn == 5 && kelp_strieq_n(r, rn, "range")) a->bearing_info_range = true;
-            else if (rn == 9 && kelp_strieq_n(r, rn, "relevance")) a->bearing_info_range = false;
-            else return KELP_ERR_PARSE;
-        } else if (ln > 0 && hx_number(r, rn, &d) && a->nlines < KELP_BHV_AVD_MAX_LINES &&
-                   hx_copy(a->line_color[a->nlines], sizeof a->line_color[0], l, ln)) {
+        if (ln == 4 && kelp_strieq_n(l, ln, "info") && rn == 5 && !strncmp(r, "range", 5))
+            a->bearing_info_range = true;
+        else if (ln == 4 && kelp_strieq_n(l, ln, "info") && rn == 9 && !strncmp(r, "relevance", 9))
+            a->bearing_info_range = false;
+        else if (valid && ln > 0 && hx_number(r, rn, &d) && a->nlines < KELP_BHV_AVD_MAX_LINES &&
+                 hx_copy(a->line_color[a->nlines], sizeof a->line_color[0], l, ln)) {
+            for (char *q = a->line_color[a->nlines]; *q; q++) *q = hx_lower(*q);
             a->line_thresh[a->nlines++] = d;
             a->bearing_line_show = true;
-        } else {
-            return KELP_ERR_PARSE;
-        }
+        } else
+            valid = false;
         if (!e) return 0;
         item = e + 1;
     }
+}
+
+/* IvPContactBehavior::addContactFlag's tags: "<R", ">R", "@<R", "@>R" (R >= 0) or an event tag */
+static bool cnflag_tag_ok(const char *v)
+{
+    while (*v == ' ' || *v == '\t') v++;
+    size_t tl = strcspn(v, " \t");
+    if (tl == 0 || v[tl] == '\0') return false;
+    size_t skip = v[0] == '@' && (v[1] == '<' || v[1] == '>') ? 2 : (v[0] == '<' || v[0] == '>') ? 1 : 0;
+    double r;
+    if (skip) return hx_number(v + skip, tl - skip, &r) && r >= 0;
+    static const char *const ev[] = {"@cpa", "@os_passed_cn", "@cn_passed_os", "@os_crossed_cn", "@cn_crossed_os"};
+    for (size_t i = 0; i < sizeof ev / sizeof ev[0]; i++)
+        if (!strncmp(v, ev[i], strlen(ev[i]))) return true;
+    return false;
 }
 
 static int avd_set_param(kelp_bhv *b, const char *p, const char *v)
@@ -128,19 +174,23 @@ static int avd_set_param(kelp_bhv *b, const char *p, const char *v)
     size_t vn = strlen(v);
     double d;
     /* IvPContactBehavior's parameters */
-    if (!strcmp(p, "contact")) {
+    if (!strcmp(p, "contact")) { /* kept upper-case, as MOOS-IvP (RANGE_AVD_<CONTACT>); looked up by name */
         if (vn == 0 || !hx_copy(a->contact, sizeof a->contact, v, vn)) return KELP_ERR_PARSE;
+        for (char *c = a->contact; *c; c++)
+            if (*c >= 'a' && *c <= 'z') *c = (char)(*c - 'a' + 'A');
         return 0;
     }
     if (!strcmp(p, "extrapolate")) return set_bool(v, &a->extrapolate);
     if (!strcmp(p, "post_per_contact_info")) return set_bool(v, &a->post_per_contact_info);
-    if (!strcmp(p, "match_name")) return add_name(a->match_name, &a->nmatch_name, v);
-    if (!strcmp(p, "ignore_name")) return add_name(a->ignore_name, &a->nignore_name, v);
-    if (!strcmp(p, "match_group")) return add_name(a->match_group, &a->nmatch_group, v);
-    if (!strcmp(p, "ignore_group")) return add_name(a->ignore_group, &a->nignore_group, v);
+    if (!strcmp(p, "match_name")) return add_name(a->match_name, &a->nmatch_name, a->ignore_name, a->nignore_name, v);
+    if (!strcmp(p, "ignore_name")) return add_name(a->ignore_name, &a->nignore_name, a->match_name, a->nmatch_name, v);
+    if (!strcmp(p, "match_group"))
+        return add_name(a->match_group, &a->nmatch_group, a->ignore_group, a->nignore_group, v);
+    if (!strcmp(p, "ignore_group"))
+        return add_name(a->ignore_group, &a->nignore_group, a->match_group, a->nmatch_group, v);
     if (!strcmp(p, "match_type") || !strcmp(p, "contact_type_required"))
-        return add_name(a->match_type, &a->nmatch_type, v);
-    if (!strcmp(p, "ignore_type")) return add_name(a->ignore_type, &a->nignore_type, v);
+        return add_name(a->match_type, &a->nmatch_type, a->ignore_type, a->nignore_type, v);
+    if (!strcmp(p, "ignore_type")) return add_name(a->ignore_type, &a->nignore_type, a->match_type, a->nmatch_type, v);
     if (!strcmp(p, "match_region")) return add_region(a->match_region, &a->nmatch_region, v);
     if (!strcmp(p, "ignore_region")) return add_region(a->ignore_region, &a->nignore_region, v);
     if (!strcmp(p, "strict_ignore")) {
@@ -153,7 +203,7 @@ static int avd_set_param(kelp_bhv *b, const char *p, const char *v)
     if (!strcmp(p, "exit_on_filter_group")) return set_bool(v, &a->exit_on_filter_group);
     if (!strcmp(p, "exit_on_filter_region")) return set_bool(v, &a->exit_on_filter_region);
     if (!strcmp(p, "cnflag")) {
-        if (vn == 0 || a->ncnflag >= KELP_BHV_AVD_MAX_CNFLAGS ||
+        if (!cnflag_tag_ok(v) || a->ncnflag >= KELP_BHV_AVD_MAX_CNFLAGS ||
             !hx_copy(a->cnflag[a->ncnflag], sizeof a->cnflag[0], v, vn))
             return KELP_ERR_PARSE;
         a->ncnflag++;
@@ -214,15 +264,9 @@ static int avd_set_param(kelp_bhv *b, const char *p, const char *v)
     return KELP_ERR_NOTFOUND;
 }
 
-static int avd_params_done(kelp_bhv *b)
-{
-    kelp_bhv_avoid *a = &b->u.avoid;
-    if (a->completed_dist < a->pwt_outer_dist) /* as MOOS-IvP: never complete inside the outer ring */
-        a->completed_dist = a->pwt_outer_dist;
-    return 0;
-}
-
-/* ", key=value" for every filter entry (the contact manager applies them to the alert) */
+/* MOOS-IvP's filter summary (ExFilterSet::getSummary): "key=value" entries joined by ", ",
+ * ignore before match for groups, names, types, then regions; strict_ignore only when there
+ * is an ignore_type or ignore_group */
 static size_t filter_summary(const kelp_bhv_avoid *a, char *buf, size_t cap)
 {
     size_t n = 0;
@@ -233,13 +277,14 @@ static size_t filter_summary(const kelp_bhv_avoid *a, char *buf, size_t cap)
     buf[0] = '\0';
     for (int k = 0; k < 6; k++)
         for (unsigned i = 0; i < kinds[k].cnt; i++)
-            n += hx_cat(buf + n, cap - n, ", ", kinds[k].key, "=", kinds[k].list[i], HX_END);
+            n += hx_cat(buf + n, cap - n, n ? ", " : "", kinds[k].key, "=", kinds[k].list[i], HX_END);
     for (unsigned i = 0; i < a->nignore_region; i++)
-        n += hx_cat(buf + n, cap - n, ", ignore_region=", a->ignore_region[i], HX_END);
+        n += hx_cat(buf + n, cap - n, n ? ", " : "", "ignore_region=", a->ignore_region[i], HX_END);
     for (unsigned i = 0; i < a->nmatch_region; i++)
-        n += hx_cat(buf + n, cap - n, ", match_region=", a->match_region[i], HX_END);
-    if (a->strict_ignore >= 0)
-        n += hx_cat(buf + n, cap - n, ", strict_ignore=", a->strict_ignore ? "true" : "false", HX_END);
+        n += hx_cat(buf + n, cap - n, n ? ", " : "", "match_region=", a->match_region[i], HX_END);
+    if (a->nignore_type || a->nignore_group)
+        n += hx_cat(buf + n, cap - n, n ? ", " : "", "strict_ignore=", a->strict_ignore != 0 ? "true" : "false",
+                    HX_END);
     return n;
 }
 
@@ -253,15 +298,17 @@ static void avd_helm_start(kelp_bhv *b)
     hx_fmt_x(ar, sizeof ar, a->pwt_outer_dist, 1);
     hx_fmt_x(cr, sizeof cr, a->completed_dist, 1);
     (void)filter_summary(a, filt, sizeof filt);
+    /* MOOS-IvP's exact string, separators included (augmentSpec joins the summary with ",") */
     hx_cat(req, sizeof req, "id=", b->name, ", on_flag=", b->updates, "=name=$[VNAME] # contact=$[VNAME]",
-           ", alert_range=", ar, ", cpa_range=", cr, filt, HX_END);
+           ",alert_range=", ar, ", cpa_range=", cr, filt[0] ? "," : "", filt, HX_END);
     kelp_bhv_post_string(b, "BCM_ALERT_REQUEST", req, NULL);
 }
 
 double kelp_bhv_avoid_relevance(double range, double inner, double outer, int grade)
 {
     if (range >= outer) return 0;
-    if (range <= inner || outer <= inner) return 1; /* kelp caps at 1 inside the inner ring */
+    if (outer <= inner) return 1; /* degenerate rings (MOOS-IvP would divide by zero) */
+    /* no cap inside the inner ring: MOOS-IvP's getRelevance overwrites its cap and grades on */
     double p = (outer - range) / (outer - inner);
     if (grade == 1) return p * p;
     if (grade == 2) return pow(p, 1.5);
@@ -305,11 +352,10 @@ static bool update_info(kelp_bhv *b)
         return false;
     }
     const kelp_helm_contact *c = kelp_helm_contact_get(b->helm, a->contact);
-    if (!c) {
+    if (!c) { /* MOOS-IvP: an error, or nothing at all with on_no_contact_ok */
         char msg[KELP_MAX_NAME + 48];
         hx_cat(msg, sizeof msg, a->contact, " x/y/heading/speed info not found", HX_END);
-        if (a->on_no_contact_ok) kelp_bhv_post_warning(b, msg);
-        else kelp_bhv_post_error(b, msg);
+        if (!a->on_no_contact_ok) kelp_bhv_post_error(b, msg);
         return false;
     }
     a->cn = *c;
@@ -326,6 +372,8 @@ static bool update_info(kelp_bhv *b)
         kelp_bhv_post_warning(b, "non-finite contact or ownship state");
         return false;
     }
+    a->prev_range = a->have_range ? a->range : r.range;
+    a->have_range = true;
     a->range = r.range;
     a->roc = r.roc;
     return true;
@@ -390,43 +438,80 @@ static void post_range(kelp_bhv *b)
     else kelp_bhv_post_int(b, var, a->range, NULL);
 }
 
+/* IvPContactBehavior::postViewableBearingLine: XYSegList's spec, points to 1 decimal, label
+ * <us>_<name>, label colour white (shown) or pink, the first colour whose threshold the index
+ * does not exceed (none: MOOS-IvP's "blank", not a colour, so no edge_color), time, duration
+ * 100; inactive: XYSegList's get_spec_inactive */
 static void post_bearing_line(kelp_bhv *b, bool active)
 {
     const kelp_bhv_avoid *a = &b->u.avoid;
     if (!a->bearing_line_show) return;
+    char spec[KELP_HELM_MAX_SVAL];
+    if (!active) {
+        hx_cat(spec, sizeof spec, "pts={0,0:9,0:0,9},active=false,label=", b->us, "_", b->name, HX_END);
+        kelp_bhv_post_string(b, "VIEW_SEGLIST", spec, NULL);
+        return;
+    }
     double index = a->bearing_info_range ? a->range : a->relevance;
-    const char *color = "invisible";
-    for (unsigned i = 0; i < a->nlines; i++)
-        if (index <= a->line_thresh[i]) {
-            color = a->line_color[i];
-            break;
-        }
-    char x1[32], y1[32], x2[32], y2[32], spec[KELP_HELM_MAX_SVAL];
+    const char *color = NULL;
+    for (unsigned i = 0; i < a->nlines && !color; i++)
+        if (index <= a->line_thresh[i]) color = a->line_color[i];
+    char x1[32], y1[32], x2[32], y2[32], t[32];
     hx_fmt_x(x1, sizeof x1, a->osx, 1);
     hx_fmt_x(y1, sizeof y1, a->osy, 1);
     hx_fmt_x(x2, sizeof x2, a->cn.x, 1);
     hx_fmt_x(y2, sizeof y2, a->cn.y, 1);
+    hx_fmt_x(t, sizeof t, b->helm->t0 + kelp_bhv_buf_now(b), 2);
     hx_cat(spec, sizeof spec, "pts={", x1, ",", y1, ":", x2, ",", y2, "},label=", b->us, "_", b->name,
-           ",edge_color=", color, ",label_color=", a->bearing_line_label_show ? "white" : "off",
-           ",duration=100,active=", active ? "true" : "false", HX_END);
+           ",label_color=", a->bearing_line_label_show ? "white" : "pink", color ? ",edge_color=" : "",
+           color ? color : "", ",time=", t, ",duration=100", HX_END);
     kelp_bhv_post_string(b, "VIEW_SEGLIST", spec, NULL);
 }
 
-/* cnflag "<R VAR=val" / ">R VAR=val": posted while the contact is within / beyond R */
+bool helm_avoid_macro(const kelp_bhv *b, const char *m, size_t ml, char *val, size_t cap)
+{
+    const kelp_bhv_avoid *a = &b->u.avoid;
+    const struct { const char *m; const char *s; double d; unsigned dec; } mac[] = {
+        {"CONTACT", a->contact, 0, 0},   {"CN_NAME", a->contact, 0, 0}, {"CN_VTYPE", a->cn.type, 0, 0},
+        {"CN_GROUP", a->cn.group, 0, 0}, {"CN_RANGE", NULL, a->range, 1}, {"RANGE", NULL, a->range, 1},
+        {"CNX", NULL, a->cn.x, 3},        {"CNY", NULL, a->cn.y, 3},      {"CNH", NULL, a->cn.hdg, 3},
+        {"CNV", NULL, a->cn.spd, 3},      {"OSX", NULL, a->osx, 3},       {"OSY", NULL, a->osy, 3},
+        {"OSH", NULL, a->osh, 3},         {"OSV", NULL, a->osv, 3}};
+    for (size_t i = 0; i < sizeof mac / sizeof mac[0]; i++) {
+        if (strlen(mac[i].m) != ml || strncmp(m, mac[i].m, ml) != 0) continue;
+        if (mac[i].s) return hx_copy(val, cap, mac[i].s, strlen(mac[i].s));
+        hx_fmt_x(val, cap, mac[i].d, mac[i].dec);
+        return true;
+    }
+    return false;
+}
+
+/* cnflag "<R VAR=val" / ">R VAR=val": posted while the contact is within / beyond R;
+ * "@<R" / "@>R": posted once when the range crosses R inward / outward since the last update.
+ * Event tags (@cpa, @os_passed_cn, ...) are accepted and not posted. */
 static void contact_flags(kelp_bhv *b)
 {
     const kelp_bhv_avoid *a = &b->u.avoid;
     for (unsigned i = 0; i < a->ncnflag; i++) {
         const char *f = a->cnflag[i];
-        if (f[0] != '<' && f[0] != '>') continue;
-        const char *sp = strchr(f, ' ');
+        while (*f == ' ' || *f == '\t') f++;
+        bool once = f[0] == '@';
+        const char *t = once ? f + 1 : f;
+        if (t[0] != '<' && t[0] != '>') continue;
+        const char *sp = strpbrk(t, " \t");
         double r;
         kelp_helm_pair p;
-        if (!sp || !hx_number(f + 1, (size_t)(sp - f - 1), &r) || !hx_pair(sp + 1, &p)) continue;
-        if ((f[0] == '<' && a->range <= r) || (f[0] == '>' && a->range >= r)) {
-            if (p.is_str) kelp_bhv_post_string(b, p.var, p.sval, "repeatable");
-            else kelp_bhv_post_double(b, p.var, p.dval, "repeatable");
+        if (!sp || !hx_number(t + 1, (size_t)(sp - t - 1), &r) || !hx_pair(sp + 1, &p)) continue;
+        bool post;
+        if (once && t[0] == '<') post = a->range <= r && a->prev_range > r;
+        else if (once) post = a->range >= r && a->prev_range < r;
+        else post = t[0] == '<' ? a->range <= r : a->range >= r;
+        if (!post) continue;
+        if (!p.is_str) {
+            kelp_bhv_post_double(b, p.var, p.dval, "repeatable");
+            continue;
         }
+        helm_post_flag_string(b, p.var, p.sval, "repeatable");
     }
 }
 
@@ -488,27 +573,11 @@ static int avd_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     return 1;
 }
 
-static void avd_post_config(kelp_bhv *b)
-{
-    const kelp_bhv_avoid *a = &b->u.avoid;
-    char msg[KELP_HELM_MAX_SVAL], v[6][32];
-    const double d[6] = {a->pwt_outer_dist, a->pwt_inner_dist, a->completed_dist,
-                         a->min_util_cpa_dist, a->max_util_cpa_dist, a->time_on_leg};
-    for (int i = 0; i < 6; i++) hx_fmt_x(v[i], sizeof v[i], d[i], 2);
-    static const char *const g[3] = {"linear", "quadratic", "quasi"};
-    hx_cat(msg, sizeof msg, "name=", b->name, ",contact=", a->contact, ",pwt_outer_dist=", v[0], ",pwt_inner_dist=",
-           v[1], ",completed_dist=", v[2], ",min_util_cpa_dist=", v[3], ",max_util_cpa_dist=", v[4], ",time_on_leg=",
-           v[5], ",pwt_grade=", g[a->pwt_grade], HX_END);
-    kelp_bhv_post_string(b, "BHV_SETTINGS", msg, b->name);
-}
-
 const kelp_bhv_ops kelp_bhv_avoid_collision_ops = {
     .type = "BHV_AvoidCollision",
     .init = avd_init,
     .set_param = avd_set_param,
-    .params_done = avd_params_done,
     .on_idle = avd_idle,
     .on_run = avd_run,
-    .post_config = avd_post_config,
     .on_helm_start = avd_helm_start,
 };

@@ -450,6 +450,62 @@ void helm_queue_post(kelp_helm *h, const kelp_bhv *b, const char *var, bool is_s
     h->nq++;
 }
 
+void helm_expand_macros(const kelp_bhv *b, const char *in, char *out, size_t cap, bool *solo)
+{
+    size_t n = 0;
+    unsigned found = 0;
+    bool other = false;
+    while (*in && n + 1 < cap) {
+        char val[KELP_HELM_MAX_FLAG_VAL];
+        const char *end = NULL;
+        bool have = false;
+        if (in[0] == '$' && (in[1] == '[' || in[1] == '(')) {
+            end = strchr(in + 2, in[1] == '[' ? ']' : ')');
+            if (end) {
+                const char *m = in + 2;
+                size_t ml = (size_t)(end - m);
+                const char *g = NULL;
+                char num[48];
+                if (ml == 7 && !strncmp(m, "OWNSHIP", ml)) g = b->us;
+                else if (ml == 7 && !strncmp(m, "BHVNAME", ml)) g = b->name;
+                else if (ml == 7 && !strncmp(m, "BHVTYPE", ml)) g = b->type;
+                else if (ml == 3 && !strncmp(m, "PWT", ml)) {
+                    hx_fmt_x(num, sizeof num, b->pwt, 3);
+                    g = num;
+                } else if (ml == 3 && !strncmp(m, "UTC", ml) && b->helm) {
+                    hx_fmt_x(num, sizeof num, b->helm->t0 + kelp_bhv_buf_now(b), 3);
+                    g = num;
+                }
+                if (g) have = hx_copy(val, sizeof val, g, strlen(g));
+                else if (b->ops == &kelp_bhv_avoid_collision_ops) have = helm_avoid_macro(b, m, ml, val, sizeof val);
+                else if (ml == 7 && !strncmp(m, "CONTACT", ml)) have = hx_copy(val, sizeof val, "", 0);
+            }
+        }
+        if (!have) {
+            other = true;
+            out[n++] = *in++;
+            continue;
+        }
+        found++;
+        for (const char *v = val; *v && n + 1 < cap; v++) out[n++] = *v;
+        in = end + 1;
+    }
+    out[n] = '\0';
+    if (solo) *solo = found == 1 && !other;
+}
+
+void helm_post_flag_string(kelp_bhv *b, const char *var, const char *sval, const char *key)
+{
+    char val[KELP_HELM_MAX_SVAL];
+    bool solo;
+    double d;
+    helm_expand_macros(b, sval, val, sizeof val, &solo);
+    if (solo && hx_number(val, strlen(val), &d))
+        kelp_bhv_post_double(b, var, d, key);
+    else
+        kelp_bhv_post_string(b, var, val, key);
+}
+
 void helm_post_flags(kelp_bhv *b, kelp_bhv_flag_kind kind)
 {
     /* Flags are posted on state transitions only, so each posting is made (repeatable):
@@ -460,7 +516,7 @@ void helm_post_flags(kelp_bhv *b, kelp_bhv_flag_kind kind)
         if (f->kind != kind)
             continue;
         if (f->p.is_str)
-            kelp_bhv_post_string(b, f->p.var, f->p.sval, key);
+            helm_post_flag_string(b, f->p.var, f->p.sval, key);
         else
             kelp_bhv_post_double(b, f->p.var, f->p.dval, key);
     }

@@ -48,6 +48,16 @@ void helm_queue_post(kelp_helm *h, const kelp_bhv *b, const char *var, bool is_s
                      const char *key);
 int helm_need_var(kelp_helm *h, const char *name, size_t n);
 void helm_post_flags(kelp_bhv *b, kelp_bhv_flag_kind kind);
+/* IvPBehavior::expandMacros over a flag's text: $[..] and $(..) forms of OWNSHIP, BHVNAME,
+ * BHVTYPE, PWT, UTC, CONTACT, and a contact behaviour's own (helm_avoid_macro); unknown
+ * macros stay as written. *solo: the text was one macro only. */
+void helm_expand_macros(const kelp_bhv *b, const char *in, char *out, size_t cap, bool *solo);
+/* BHV_AvoidCollision's macros (CONTACT, OSX..OSV, CNX..CNV, CN_NAME, CN_VTYPE, CN_GROUP,
+ * CN_RANGE, RANGE): the value of macro m (ml bytes) into val; false when not one of them */
+bool helm_avoid_macro(const kelp_bhv *b, const char *m, size_t ml, char *val, size_t cap);
+/* a flag's string value posted as IvPBehavior::postFlag: macros expanded, a lone macro that
+ * expands to a number posted as a number */
+void helm_post_flag_string(kelp_bhv *b, const char *var, const char *sval, const char *key);
 int bhv_general_param(kelp_bhv *b, const char *param, const char *value);
 void helm_sink(kelp_helm *h, const char *var, bool is_str, const char *s, double d, const char *aux);
 /* one '#'-separated update piece "param = value" of s[0..pn), trimmed */

@@ -59,7 +59,7 @@ $BIN/kelp-poke alder.moos "NODE_REPORT:=NAME=bob,TYPE=kayak,X=250,Y=0,SPD=2,HDG=
 sleep 1.0
 kill -INT $LG; wait $LG 2>/dev/null || true
 $BIN/kelp-logcheck run.lcmlog --print > log.txt || { tail helm.out; fail "log does not decode"; }
-grep -q "BCM_ALERT_REQUEST id=avd_, on_flag=CONTACT_INFO=name=\$\[VNAME\] # contact=\$\[VNAME\], alert_range=150, cpa_range=160" log.txt \
+grep -q "BCM_ALERT_REQUEST id=avd_, on_flag=CONTACT_INFO=name=\$\[VNAME\] # contact=\$\[VNAME\],alert_range=150, cpa_range=160" log.txt \
   || { grep BCM log.txt; fail "no alert request from the template"; }
 grep -q "IVPHELM_LIFE_EVENT .*bname=avd_bob, btype=BHV_AvoidCollision, event=spawn" log.txt \
   || { grep LIFE log.txt; tail helm.out; fail "avd_bob not spawned"; }
