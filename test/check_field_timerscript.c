@@ -237,6 +237,15 @@ START_TEST(ts_macros)
     ck_assert_str_eq(last(&R, "M3"), "8"); /* quoted: stays a string */
     ck_assert(R.str[nth(&R, "M3", 0)]);
     ck_assert_str_eq(last(&R, "UNK"), "$[NOPE] {a+b}");
+    /* a lone time macro posts the time itself (MOOS-IvP Notify(var, db_uptime)), not its 2-decimal text */
+    char buf[64];
+    double d = 0;
+    ck_assert_int_eq(kelp_ts_expand(&ts, "$[DBTIME]", 1001.123456, buf, sizeof buf, &d), 1);
+    ck_assert_msg(fabs(d - 1.123456) < 1e-9, "DBTIME %.9f", d);
+    ck_assert_int_eq(kelp_ts_expand(&ts, "$(UTC)", 1001.123456, buf, sizeof buf, &d), 1);
+    ck_assert_msg(d == 1001.123456, "UTC %.9f", d);
+    ck_assert_int_eq(kelp_ts_expand(&ts, "t=$[UTCTIME]", 1001.123456, buf, sizeof buf, &d), 0);
+    ck_assert_str_eq(buf, "t=1001.12"); /* inside text: 2 decimals */
 }
 END_TEST
 

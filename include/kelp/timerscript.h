@@ -10,7 +10,8 @@
  * (reset_time = N), or on <reset_var> = reset|true, the script starts over, at most
  * reset_max times.
  *
- * Values: "$[DBTIME]", "$[UTCTIME]" (or $[UTC]), "$[COUNT]", "$[TCOUNT]" alone post a number;
+ * Values: "$[DBTIME]", "$[UTCTIME]" (or $[UTC]), "$[COUNT]", "$[TCOUNT]" alone post a number
+ * (the time itself, full precision);
  * inside text they expand (times with 2 decimals), as do $[VNAME], $[NAV_X], $[NAV_Y],
  * $[<rand_var>] and $(1)..$(20) (that many random digits); every macro may also be written
  * $(NAME). $[IDX] (the event's index, 3 digits) expands when the event is configured.

@@ -679,7 +679,11 @@ int kelp_ts_expand(kelp_ts *r, const char *val, double now, char *out, size_t ca
             kelp_strieq_n(nm, nl, "COUNT") || kelp_strieq_n(nm, nl, "TCOUNT")) {
             (void)macro(r, nm, nl, now, &o);
             if (o.full) return KELP_ERR_NOSPACE;
-            return kelp_parse_finite(out, o.n, dval) == 0 ? 1 : 0;
+            /* the number posted is the time or count itself; the text (2 decimals) is for the log */
+            if (kelp_strieq_n(nm, nl, "DBTIME")) *dval = now - r->db_start;
+            else if (kelp_strieq_n(nm, nl, "UTCTIME") || kelp_strieq_n(nm, nl, "UTC")) *dval = now;
+            else if (kelp_parse_finite(out, o.n, dval) < 0) return 0;
+            return 1;
         }
     }
     for (size_t i = 0; i < vl && !o.full;) {
