@@ -340,10 +340,16 @@ START_TEST(ts_status_format)
                                               "conditions_ok=true, time_warp=1, delay_start=0, delay_reset=0, "
                                               "shuffle=false, upon_awake=reset, resets=0/4");
     int n = count(&R, "UTS_STATUS");
-    run(1002.25, 1004); /* nothing changed: no status within 5 s */
+    /* a command by mail (here a pause) brings no status of its own: MOOS-IvP's Iterate starts by
+     * clearing the need, so only a posting, a change of conditions, a reset made by the iteration
+     * or 5 s without a status make one */
+    ck_assert_int_eq(kelp_ts_mail(&ts, "UTS_PAUSE", true, "true", 0, 1002.1, &sink), 1);
+    ck_assert_int_eq(kelp_ts_mail(&ts, "UTS_FORWARD", false, "", 0.5, 1002.1, &sink), 1);
+    run(1002.25, 1004); /* nothing else changed: no status within 5 s */
     ck_assert_int_eq(count(&R, "UTS_STATUS"), n);
     run(1004.25, 1008);
     ck_assert_int_eq(count(&R, "UTS_STATUS"), n + 1);
+    ck_assert(strstr(last(&R, "UTS_STATUS"), "paused=true"));
     setup_cfg((const char *const[]){ "event", "var=A, val=1, time=1", "status_var", "silent", NULL });
     run(1000, 1010);
     ck_assert_int_eq(count(&R, "UTS_STATUS"), 0);

@@ -18,7 +18,9 @@
  * Then "{a op b}" (op one of * / + -, innermost first) is replaced by its value. A value
  * that is a number and was not written in double quotes posts as a double.
  *
- * Status (<status_var>, default UTS_STATUS; "silent" for none), on a change and every 5 s:
+ * Status (<status_var>, default UTS_STATUS; "silent" for none), on an iteration that posts an
+ * event, sees the conditions change or makes a reset, and after 5 s without one (a command by
+ * mail alone does not bring one, as in MOOS-IvP):
  *   name=unnamed, elapsed_time=2.00, posted=1, pending=4, paused=false, conditions_ok=true,
  *   time_warp=1, delay_start=0, delay_reset=0, shuffle=true, upon_awake=n/a, resets=0/any
  *
