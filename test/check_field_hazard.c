@@ -608,6 +608,21 @@ START_TEST(uhz_visual_options)
     req("archie", 1, &s);
     ck_assert_int_eq(count(&r, "VIEW_POLYGON"), 0);
     ck_assert_int_eq(count(&r, "UHZ_HAZARD_REPORT"), 1); /* the hazard; the benign at 40 m is abeam outside */
+    /* show_reports = 0: circles shown for no time are not posted at all (MOOS-IvP posts a
+     * VIEW_CIRCLE only when the duration is unlimited or > 0); the reports still go out */
+    r.n = 0;
+    ck_assert_int_eq(kelp_field_uhz_config(&C, "show_reports", "0", &why), 1);
+    start();
+    nr("archie", 0, 0, 0, &s);
+    req("archie", 1, &s);
+    ck_assert_int_eq(count(&r, "UHZ_HAZARD_REPORT"), 1);
+    ck_assert_int_eq(count(&r, "VIEW_CIRCLE"), 0);
+    r.n = 0;
+    ck_assert_int_eq(kelp_field_uhz_config(&C, "show_reports", "60", &why), 1);
+    start();
+    nr("archie", 0, 0, 0, &s);
+    req("archie", 1, &s);
+    ck_assert_ptr_nonnull(strstr(get(&r, "VIEW_CIRCLE"), ",duration=60"));
 }
 END_TEST
 

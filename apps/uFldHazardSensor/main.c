@@ -166,7 +166,7 @@ static const kelp_app_def def = {
         { "VERBOSE", "false", "the summary report (default false: a one-character trace)", NULL },
         { "SHOW_HAZARDS", "true", "VIEW_MARKER per object (default true)", NULL },
         { "SHOW_SWATH", "true", "VIEW_POLYGON swath (default true)", NULL },
-        { "SHOW_REPORTS", "60", "s a report circle stays drawn (default unlimited)", NULL },
+        { "SHOW_REPORTS", "60", "s a report circle stays drawn (default unlimited; 0: no circles)", NULL },
         { "SHOW_DETECTIONS", "60", "24.8's name of SHOW_REPORTS", "SHOW_REPORTS" },
         { "SHOW_PD", "true", "the swath's msg shows pd (default true)", NULL },
         { "SHOW_PFA", "true", "the swath's msg shows pfa (default true)", NULL },

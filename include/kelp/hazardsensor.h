@@ -98,7 +98,7 @@ typedef struct kelp_field_uhz_cfg {
     double swath_transparency;          /**< 0.25 */
     double swath_length;                /**< 5 m (at least 1) */
     double options_summary_interval;    /**< 10 s */
-    double show_reports;                /**< s of a VIEW_CIRCLE; < 0 unlimited (the default) */
+    double show_reports;                /**< s of a VIEW_CIRCLE; < 0 unlimited (the default); 0 none posted */
     double min_reset_interval;          /**< s between accepted config requests of a vehicle (0) */
     double min_classify_interval;       /**< s between classify answers to a vehicle (30) */
     bool show_hazards, show_swath;      /**< true, true */

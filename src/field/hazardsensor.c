@@ -488,6 +488,7 @@ static int config_request(kelp_field_uhz *h, const char *s, double now, const ke
 static void post_circle(kelp_field_uhz *h, const kelp_uhz_node *n, const kelp_uhz_object *o, bool said_hazard,
                         double now, const kelp_field_sink *out)
 {
+    if (h->cfg.show_reports == 0) return; /* shown for no time: not posted (MOOS-IvP: unlimited or > 0 only) */
     const char *c = said_hazard ? "yellow" : "white";
     char b[320];
     size_t k = 0;
