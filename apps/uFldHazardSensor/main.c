@@ -196,7 +196,7 @@ static const kelp_app_def def = {
         { "UHZ_OPTIONS_SUMMARY", "width=10,exp=6,pclass=0.9:width=25,exp=4,pclass=0.85", NULL },
         { "VIEW_CIRCLE", "x=51,y=11.3,radius=10,label=archie_12,edge_color=yellow,fill_color=yellow,fill=0.3", NULL },
         { "VIEW_MARKER", "x=217.3,y=-16.7,label=6,color=green,type=triangle,width=8", NULL },
-        { "VIEW_POLYGON", "pts={-156.7,-314.6:-160.2,-305.2:-113.3,-287.7:-109.8,-297.1},label=archie_swath", NULL },
+        { "VIEW_POLYGON", "pts={-156.7,-314.6:-160.2,-305.2:-113.3,-287.7:-109.8,-297.1},label=sensor_swath_archie", NULL },
         { NULL, NULL, NULL } },
     .startup = startup,
     .on_mail = on_mail,

@@ -30,7 +30,7 @@
  *   UHZ_HAZARD_REPORT_<V>    = x=51,y=11.3,hazard=true,label=12   (the classification)
  *   UHZ_HAZARD_REPORT        = vname=archie,x=51,y=11.3,hazard=true,label=12
  *   VIEW_CIRCLE (yellow: classified hazard, white: benign; duration = SHOW_REPORTS)
- * and the swath as VIEW_POLYGON (SHOW_SWATH). Each detection also earns the vehicle one 24.8
+ * and the swath as VIEW_POLYGON label=sensor_swath_<v> (SHOW_SWATH). Each detection also earns the vehicle one 24.8
  * UHZ_CLASSIFY_REQUEST "vname=archie,label=12[,priority=50][,action=top|clear]": queued, and one
  * answered per vehicle every MIN_CLASSIFY_INTERVAL s with a fresh classification in 24.8's form
  * UHZ_HAZARD_REPORT_<V> = x=51,y=11.3,type=hazard,label=12 (and UHZ_HAZARD_REPORT with vname).
