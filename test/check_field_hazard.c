@@ -270,8 +270,9 @@ START_TEST(uhz_detection_in_swath)
     nr("archie", 0, 0, 0, &s);
     req("archie", 21, &s);
     ck_assert_int_eq(count(&r, "UHZ_HAZARD_REPORT"), 2);
-    /* the swath polygon: corners at +-2.5 along, +-12.5 across */
-    ck_assert_str_eq(get(&r, "VIEW_POLYGON"), "pts={12.5,2.5:-12.5,2.5:-12.5,-2.5:12.5,-2.5},label=archie_swath,"
+    /* the swath polygon: corners at +-2.5 along, +-12.5 across; labelled as MOOS-IvP 24.8's
+     * (--interface: label=sensor_swath_archie) */
+    ck_assert_str_eq(get(&r, "VIEW_POLYGON"), "pts={12.5,2.5:-12.5,2.5:-12.5,-2.5:12.5,-2.5},label=sensor_swath_archie,"
                                               "edge_color=white,fill_color=white,edge_size=0,vertex_size=0,fill=0.25,"
                                               "msg=1.00/1.00");
 }
@@ -600,6 +601,15 @@ START_TEST(uhz_visual_options)
     ck_assert_str_eq(get(&r, "UHZ_CONFIG_ACK_ARCHIE"), "width=25,pd=0.9,pfa=0.66,pclass=1");
     ck_assert_ptr_nonnull(strstr(get(&r, "VIEW_POLYGON"), ",fill=0.6,msg=0.90"));
     ck_assert_ptr_null(strstr(get(&r, "VIEW_POLYGON"), "/"));
+    /* pfa alone is written "pfa=0.66" (24.8's msg), as pd alone is the bare number */
+    r.n = 0;
+    ck_assert_int_eq(kelp_field_uhz_config(&C, "show_pd", "false", &why), 1);
+    ck_assert_int_eq(kelp_field_uhz_config(&C, "show_pfa", "true", &why), 1);
+    start();
+    nr("archie", 0, 0, 0, &s);
+    req("archie", 1, &s);
+    ck_assert_ptr_nonnull(strstr(get(&r, "VIEW_POLYGON"), ",msg=pfa=0.66"));
+    ck_assert_int_eq(kelp_field_uhz_config(&C, "show_pfa", "false", &why), 1);
     /* show_swath = false: no polygon */
     r.n = 0;
     ck_assert_int_eq(kelp_field_uhz_config(&C, "show_swath", "false", &why), 1);
@@ -608,6 +618,21 @@ START_TEST(uhz_visual_options)
     req("archie", 1, &s);
     ck_assert_int_eq(count(&r, "VIEW_POLYGON"), 0);
     ck_assert_int_eq(count(&r, "UHZ_HAZARD_REPORT"), 1); /* the hazard; the benign at 40 m is abeam outside */
+    /* show_reports = 0: circles shown for no time are not posted at all (MOOS-IvP posts a
+     * VIEW_CIRCLE only when the duration is unlimited or > 0); the reports still go out */
+    r.n = 0;
+    ck_assert_int_eq(kelp_field_uhz_config(&C, "show_reports", "0", &why), 1);
+    start();
+    nr("archie", 0, 0, 0, &s);
+    req("archie", 1, &s);
+    ck_assert_int_eq(count(&r, "UHZ_HAZARD_REPORT"), 1);
+    ck_assert_int_eq(count(&r, "VIEW_CIRCLE"), 0);
+    r.n = 0;
+    ck_assert_int_eq(kelp_field_uhz_config(&C, "show_reports", "60", &why), 1);
+    start();
+    nr("archie", 0, 0, 0, &s);
+    req("archie", 1, &s);
+    ck_assert_ptr_nonnull(strstr(get(&r, "VIEW_CIRCLE"), ",duration=60"));
 }
 END_TEST
 

@@ -237,6 +237,15 @@ START_TEST(ts_macros)
     ck_assert_str_eq(last(&R, "M3"), "8"); /* quoted: stays a string */
     ck_assert(R.str[nth(&R, "M3", 0)]);
     ck_assert_str_eq(last(&R, "UNK"), "$[NOPE] {a+b}");
+    /* a lone time macro posts the time itself (MOOS-IvP Notify(var, db_uptime)), not its 2-decimal text */
+    char buf[64];
+    double d = 0;
+    ck_assert_int_eq(kelp_ts_expand(&ts, "$[DBTIME]", 1001.123456, buf, sizeof buf, &d), 1);
+    ck_assert_msg(fabs(d - 1.123456) < 1e-9, "DBTIME %.9f", d);
+    ck_assert_int_eq(kelp_ts_expand(&ts, "$(UTC)", 1001.123456, buf, sizeof buf, &d), 1);
+    ck_assert_msg(d == 1001.123456, "UTC %.9f", d);
+    ck_assert_int_eq(kelp_ts_expand(&ts, "t=$[UTCTIME]", 1001.123456, buf, sizeof buf, &d), 0);
+    ck_assert_str_eq(buf, "t=1001.12"); /* inside text: 2 decimals */
 }
 END_TEST
 
@@ -331,10 +340,16 @@ START_TEST(ts_status_format)
                                               "conditions_ok=true, time_warp=1, delay_start=0, delay_reset=0, "
                                               "shuffle=false, upon_awake=reset, resets=0/4");
     int n = count(&R, "UTS_STATUS");
-    run(1002.25, 1004); /* nothing changed: no status within 5 s */
+    /* a command by mail (here a pause) brings no status of its own: MOOS-IvP's Iterate starts by
+     * clearing the need, so only a posting, a change of conditions, a reset made by the iteration
+     * or 5 s without a status make one */
+    ck_assert_int_eq(kelp_ts_mail(&ts, "UTS_PAUSE", true, "true", 0, 1002.1, &sink), 1);
+    ck_assert_int_eq(kelp_ts_mail(&ts, "UTS_FORWARD", false, "", 0.5, 1002.1, &sink), 1);
+    run(1002.25, 1004); /* nothing else changed: no status within 5 s */
     ck_assert_int_eq(count(&R, "UTS_STATUS"), n);
     run(1004.25, 1008);
     ck_assert_int_eq(count(&R, "UTS_STATUS"), n + 1);
+    ck_assert(strstr(last(&R, "UTS_STATUS"), "paused=true"));
     setup_cfg((const char *const[]){ "event", "var=A, val=1, time=1", "status_var", "silent", NULL });
     run(1000, 1010);
     ck_assert_int_eq(count(&R, "UTS_STATUS"), 0);

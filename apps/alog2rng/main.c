@@ -1,9 +1,13 @@
 /* alog2rng (the Alog Toolbox's, seed 000 section 12.2): a table of range reports for Matlab
  * from a log -- a MOOS .alog or an LCM log of a kelp run.
  *
- *   alog2rng [--nav=false] [--var=NAME] [--vname=NAME] LOGFILE
+ *   alog2rng [--nav=false] [--nohdr] [--delim=tab|space|padded] [--report=table|flat]
+ *            [--var=NAME] [--vname=NAME] [--verbose] LOGFILE
  *
- * Header "Time <id...> NAV_X NAV_Y NAV_HDG", columns tab-separated. A row per burst of range
+ * Header "Time <id...> NAV_X NAV_Y NAV_HDG", columns tab-separated (--delim=space: one space;
+ * --delim=padded: MOOS-IvP alog2rng's layout, a blank line, then the time padded to its
+ * longest + 4, each range to the longest range + 4 and each NAV value to 11; --nohdr: no
+ * header). --report=flat (MOOS-IvP's other report): "Time ID Range", a row per report. A row per burst of range
  * reports: the reports that share their time= field (a new burst also starts when an id comes
  * round again); the row's time (3 decimals, seconds since the log's start) is its first
  * report's, then the range of each id as the report wrote it (columns in first-seen order;
@@ -23,8 +27,13 @@
 #define MAX_IDS 64
 #define ID_LEN 32
 
+enum { DELIM_TAB, DELIM_SPACE, DELIM_PADDED };
+
 typedef struct table {
     const char *var, *vname;
+    int delim;
+    bool header, flat;
+    size_t wtime, wrange, wid;   /* longest time, range and id texts (--delim=padded) */
     char id[MAX_IDS][ID_LEN];
     int nid;
     /* the burst being collected */
@@ -52,17 +61,28 @@ static int id_index(table *tb, const char *id, bool add)
         if (strcmp(tb->id[i], id) == 0) return i;
     if (!add || tb->nid >= MAX_IDS) return -1;
     snprintf(tb->id[tb->nid], ID_LEN, "%s", id);
+    if (strlen(tb->id[tb->nid]) > tb->wid) tb->wid = strlen(tb->id[tb->nid]);
     return tb->nid++;
+}
+
+/* one cell: the first without a separator before it; padded cells are left-aligned in width */
+static void cell(const table *tb, bool first, const char *text, size_t width)
+{
+    if (tb->delim == DELIM_PADDED) printf("%-*s", (int)width, text);
+    else printf("%s%s", first ? "" : tb->delim == DELIM_TAB ? "\t" : " ", text);
 }
 
 static void emit(table *tb)
 {
     if (!tb->open) return;
-    printf("%.3f", tb->t);
-    for (int i = 0; i < tb->nid; i++) printf("\t%s", tb->have[i] ? tb->val[i] : "NaN");
+    char t[64];
+    snprintf(t, sizeof t, "%.3f", tb->t);
+    cell(tb, true, t, tb->wtime + 4);
+    for (int i = 0; i < tb->nid; i++) cell(tb, false, tb->have[i] ? tb->val[i] : "NaN", tb->wrange + 4);
     for (int k = 0; tb->with_nav && k < 3; k++) {
-        if (tb->row_nav_ok[k]) printf("\t%.3f", tb->row_nav[k]);
-        else printf("\tNaN");
+        if (tb->row_nav_ok[k]) snprintf(t, sizeof t, "%.3f", tb->row_nav[k]);
+        else snprintf(t, sizeof t, "NaN");
+        cell(tb, false, t, 11);
     }
     printf("\n");
     tb->open = false;
@@ -98,7 +118,24 @@ static int pass(const char *path, table *tb, bool print)
             if (!e.is_string && strcmp(e.var, navs[k]) == 0) tb->nav[k < 3 ? k : 2] = e.dval, tb->nav_ok[k < 3 ? k : 2] = true;
         if (!report(tb, &e, id, range, key)) continue;
         int i = id_index(tb, id, !print);
-        if (!print || i < 0) continue;
+        if (!print) {
+            char t[64];
+            size_t tl = (size_t)snprintf(t, sizeof t, "%.3f", e.time - kelp_postlog_start(p));
+            if (tl > tb->wtime) tb->wtime = tl;
+            if (strlen(range) > tb->wrange) tb->wrange = strlen(range);
+            continue;
+        }
+        if (tb->flat) {
+            char t[64];
+            snprintf(t, sizeof t, "%.3f", e.time - kelp_postlog_start(p));
+            cell(tb, true, t, tb->wtime + 1);
+            cell(tb, false, id, tb->wid + 1);
+            cell(tb, false, range, tb->wrange);
+            printf("\n");
+            tb->rows++;
+            continue;
+        }
+        if (i < 0) continue;
         if (tb->open && (tb->have[i] || strcmp(key, tb->key) != 0 || (!key[0] && fabs(e.time - kelp_postlog_start(p) - tb->t) > 0.5)))
             emit(tb);
         if (!tb->open) {
@@ -128,10 +165,16 @@ int main(int argc, char **argv)
             { "nav", required_argument, 'n', "BOOL", "false: no NAV_X NAV_Y NAV_HDG columns (default true)" },
             { "var", required_argument, 'r', "NAME", "the report variable (default BRS_/CRS_RANGE_REPORT[_<V>])" },
             { "vname", required_argument, 'V', "NAME", "only reports with vname=NAME" },
+            { "nohdr", no_argument, 'H', NULL, "no header line" },
+            { "delim", required_argument, 'd', "D", "tab (default), space, or padded (MOOS-IvP's aligned columns)" },
+            { "report", required_argument, 'R', "R", "table (default), or flat: Time ID Range, a row per report" },
+            { "verbose", no_argument, 1000, NULL, "the counts on stderr" },
             { NULL, 0, 0, NULL, NULL } },
     };
     static table tb;
     tb.with_nav = true;
+    tb.header = true;
+    bool verbose = false;
     int c, status;
     while ((c = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
         switch (c) {
@@ -141,17 +184,43 @@ int main(int argc, char **argv)
             break;
         case 'r': tb.var = optarg; break;
         case 'V': tb.vname = optarg; break;
+        case 'H': tb.header = false; break;
+        case 'd':
+            if (kelp_strieq(optarg, "tab")) tb.delim = DELIM_TAB;
+            else if (kelp_strieq(optarg, "space")) tb.delim = DELIM_SPACE;
+            else if (kelp_strieq(optarg, "padded")) tb.delim = DELIM_PADDED;
+            else return kelp_cli_error(&cli, "--delim takes tab, space or padded");
+            break;
+        case 'R':
+            if (kelp_strieq(optarg, "table")) tb.flat = false;
+            else if (kelp_strieq(optarg, "flat") || kelp_strieq(optarg, "default")) tb.flat = true;
+            else return kelp_cli_error(&cli, "--report takes table or flat");
+            break;
+        case 1000: verbose = true; break;
         default: break;
         }
     }
     if (argc - optind != 1) return kelp_cli_error(&cli, "one log file expected");
     if (pass(argv[optind], &tb, false) < 0) return 1;
-    printf("Time");
-    for (int i = 0; i < tb.nid; i++) printf("\t%s", tb.id[i]);
-    if (tb.with_nav) printf("\tNAV_X\tNAV_Y\tNAV_HDG");
-    printf("\n");
+    if (tb.header && tb.delim == DELIM_PADDED) printf("\n");
+    if (tb.header && tb.flat) {
+        cell(&tb, true, "Time", tb.wtime + 1);
+        cell(&tb, false, "ID", tb.wid + 1);
+        cell(&tb, false, "Range", tb.wrange);
+        printf("\n");
+    } else if (tb.header) {
+        cell(&tb, true, "Time", tb.wtime + 4);
+        for (int i = 0; i < tb.nid; i++) cell(&tb, false, tb.id[i], tb.wrange + 4);
+        if (tb.with_nav) {
+            cell(&tb, false, "NAV_X", 11);
+            cell(&tb, false, "NAV_Y", 11);
+            cell(&tb, false, "NAV_HDG", 0);
+        }
+        printf("\n");
+    }
     memset(tb.nav_ok, 0, sizeof tb.nav_ok);
     if (pass(argv[optind], &tb, true) < 0) return 1;
     if (tb.nid == MAX_IDS) fprintf(stderr, "alog2rng: more than %d ids: the rest are left out\n", MAX_IDS);
+    if (verbose) fprintf(stderr, "alog2rng: %s: %d ids, %ld rows\n", argv[optind], tb.nid, tb.rows);
     return tb.rows ? 0 : 1;
 }

@@ -30,7 +30,7 @@
  *   UHZ_HAZARD_REPORT_<V>    = x=51,y=11.3,hazard=true,label=12   (the classification)
  *   UHZ_HAZARD_REPORT        = vname=archie,x=51,y=11.3,hazard=true,label=12
  *   VIEW_CIRCLE (yellow: classified hazard, white: benign; duration = SHOW_REPORTS)
- * and the swath as VIEW_POLYGON (SHOW_SWATH). Each detection also earns the vehicle one 24.8
+ * and the swath as VIEW_POLYGON label=sensor_swath_<v> (SHOW_SWATH). Each detection also earns the vehicle one 24.8
  * UHZ_CLASSIFY_REQUEST "vname=archie,label=12[,priority=50][,action=top|clear]": queued, and one
  * answered per vehicle every MIN_CLASSIFY_INTERVAL s with a fresh classification in 24.8's form
  * UHZ_HAZARD_REPORT_<V> = x=51,y=11.3,type=hazard,label=12 (and UHZ_HAZARD_REPORT with vname).
@@ -98,7 +98,7 @@ typedef struct kelp_field_uhz_cfg {
     double swath_transparency;          /**< 0.25 */
     double swath_length;                /**< 5 m (at least 1) */
     double options_summary_interval;    /**< 10 s */
-    double show_reports;                /**< s of a VIEW_CIRCLE; < 0 unlimited (the default) */
+    double show_reports;                /**< s of a VIEW_CIRCLE; < 0 unlimited (the default); 0 none posted */
     double min_reset_interval;          /**< s between accepted config requests of a vehicle (0) */
     double min_classify_interval;       /**< s between classify answers to a vehicle (30) */
     bool show_hazards, show_swath;      /**< true, true */

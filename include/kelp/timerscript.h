@@ -10,14 +10,17 @@
  * (reset_time = N), or on <reset_var> = reset|true, the script starts over, at most
  * reset_max times.
  *
- * Values: "$[DBTIME]", "$[UTCTIME]" (or $[UTC]), "$[COUNT]", "$[TCOUNT]" alone post a number;
+ * Values: "$[DBTIME]", "$[UTCTIME]" (or $[UTC]), "$[COUNT]", "$[TCOUNT]" alone post a number
+ * (the time itself, full precision);
  * inside text they expand (times with 2 decimals), as do $[VNAME], $[NAV_X], $[NAV_Y],
  * $[<rand_var>] and $(1)..$(20) (that many random digits); every macro may also be written
  * $(NAME). $[IDX] (the event's index, 3 digits) expands when the event is configured.
  * Then "{a op b}" (op one of * / + -, innermost first) is replaced by its value. A value
  * that is a number and was not written in double quotes posts as a double.
  *
- * Status (<status_var>, default UTS_STATUS; "silent" for none), on a change and every 5 s:
+ * Status (<status_var>, default UTS_STATUS; "silent" for none), on an iteration that posts an
+ * event, sees the conditions change or makes a reset, and after 5 s without one (a command by
+ * mail alone does not bring one, as in MOOS-IvP):
  *   name=unnamed, elapsed_time=2.00, posted=1, pending=4, paused=false, conditions_ok=true,
  *   time_warp=1, delay_start=0, delay_reset=0, shuffle=true, upon_awake=n/a, resets=0/any
  *

@@ -488,6 +488,7 @@ static int config_request(kelp_field_uhz *h, const char *s, double now, const ke
 static void post_circle(kelp_field_uhz *h, const kelp_uhz_node *n, const kelp_uhz_object *o, bool said_hazard,
                         double now, const kelp_field_sink *out)
 {
+    if (h->cfg.show_reports == 0) return; /* shown for no time: not posted (MOOS-IvP: unlimited or > 0 only) */
     const char *c = said_hazard ? "yellow" : "white";
     char b[320];
     size_t k = 0;
@@ -550,13 +551,14 @@ static void post_swath(kelp_field_uhz *h, const kelp_uhz_node *n, const kelp_fie
         field_putf(b, sizeof b, &k, ",");
         put_num(b, sizeof b, &k, n->y + a * cos(hr) - c * sin(hr), 2, true);
     }
-    field_putf(b, sizeof b, &k, "},label=%s_swath,edge_color=white,fill_color=white,edge_size=0,vertex_size=0,fill=",
-               n->name);
+    field_putf(b, sizeof b, &k,
+               "},label=sensor_swath_%s,edge_color=white,fill_color=white,edge_size=0,vertex_size=0,fill=", n->name);
     put_num(b, sizeof b, &k, h->cfg.swath_transparency, 3, true);
     if (h->cfg.show_pd || h->cfg.show_pfa) {
         field_putf(b, sizeof b, &k, ",msg=");
         if (h->cfg.show_pd) put_num(b, sizeof b, &k, n->pd, 2, false);
         if (h->cfg.show_pd && h->cfg.show_pfa) field_putf(b, sizeof b, &k, "/");
+        else if (h->cfg.show_pfa) field_putf(b, sizeof b, &k, "pfa="); /* 24.8: pfa alone is named */
         if (h->cfg.show_pfa) put_num(b, sizeof b, &k, n->pfa, 2, false);
     }
     post(out, "VIEW_POLYGON", b);

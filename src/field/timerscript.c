@@ -513,13 +513,11 @@ int kelp_ts_mail(kelp_ts *r, const char *var, bool is_string, const char *sval, 
         } else {
             r->skip += d;
         }
-        r->status_due = true;
         return 1;
     }
     if (strcmp(var, c->var_next) == 0) {
         double nt = next_time(r);
         if (nt > r->elapsed && r->warp > 0) r->skip += (nt - r->elapsed) / r->warp;
-        r->status_due = true;
         return 1;
     }
     if (strcmp(var, c->var_reset) == 0) {
@@ -533,7 +531,6 @@ int kelp_ts_mail(kelp_ts *r, const char *var, bool is_string, const char *sval, 
             return KELP_ERR_PARSE;
         }
         r->paused = kelp_strieq(sval, "toggle") ? !r->paused : kelp_strieq(sval, "true");
-        r->status_due = true;
         if (kelp_helm_ib_set_string(&r->ib, var, sval, now, false) < 0) r->bad_mail++;
         return 1;
     }
@@ -679,7 +676,11 @@ int kelp_ts_expand(kelp_ts *r, const char *val, double now, char *out, size_t ca
             kelp_strieq_n(nm, nl, "COUNT") || kelp_strieq_n(nm, nl, "TCOUNT")) {
             (void)macro(r, nm, nl, now, &o);
             if (o.full) return KELP_ERR_NOSPACE;
-            return kelp_parse_finite(out, o.n, dval) == 0 ? 1 : 0;
+            /* the number posted is the time or count itself; the text (2 decimals) is for the log */
+            if (kelp_strieq_n(nm, nl, "DBTIME")) *dval = now - r->db_start;
+            else if (kelp_strieq_n(nm, nl, "UTCTIME") || kelp_strieq_n(nm, nl, "UTC")) *dval = now;
+            else if (kelp_parse_finite(out, o.n, dval) < 0) return 0;
+            return 1;
         }
     }
     for (size_t i = 0; i < vl && !o.full;) {
@@ -769,6 +770,9 @@ int kelp_ts_iterate(kelp_ts *r, double now, const kelp_field_sink *out)
 {
     const kelp_ts_cfg *c = &r->cfg;
     if (!r->db_set) kelp_ts_set_db_start(r, now);
+    /* as MOOS-IvP's uTimerScript: the status is owed to what this iteration does (a posting, a
+     * change of conditions, a reset it makes, 5 s of silence), not to the mail before it */
+    r->status_due = false;
     bool ok = r->conds_ok;
     if (!c->atomic || r->posted_local == 0 || r->posted_local == c->nev) ok = conditions(r);
     if (ok && !r->conds_ok) { /* awakening */

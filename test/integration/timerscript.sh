@@ -28,7 +28,7 @@ sleep 2
 "$BIN/kelp-poke" t.moos GO:=true > /dev/null || fail "poke GO"
 sleep 1.5
 "$BIN/kelp-poke" t.moos UTS_PAUSE:=true UTS_FORWARD=0 > /dev/null || fail "poke pause"
-sleep 1.5
+sleep 5.5 # a pause brings no status of its own (as in MOOS-IvP): the 5 s one shows it
 "$BIN/kelp-poke" t.moos UTS_PAUSE:=false > /dev/null || fail "poke unpause"
 sleep 1.5
 "$BIN/kelp-poke" t.moos UTS_RESET:=reset > /dev/null || fail "poke reset"
