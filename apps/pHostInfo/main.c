@@ -57,8 +57,10 @@ static void detect(hostinfo *h)
 /* key, or its MOOS-IvP 24.8 spelling alt (default_host_ip, default_host_ip_force) */
 static int text(kelp_app *app, const char *key, const char *alt, char *dst, size_t cap)
 {
+    /* both spellings are read (so neither is reported unknown); the later line wins */
     const kelp_mission_node *n = kelp_app_param(app, key);
-    if (!n && alt) n = kelp_app_param(app, alt);
+    const kelp_mission_node *m = alt ? kelp_app_param(app, alt) : NULL;
+    if (m && (!n || m->line > n->line)) n = m;
     if (n && (kelp_mission_copy(n, dst, cap) < 0 || strpbrk(dst, " ,=")))
         return kelp_app_config_error(app, n, "%s must be one word of at most %zu characters", key, cap - 1);
     return 0;
