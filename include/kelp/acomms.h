@@ -562,7 +562,8 @@ void kelp_acomms_handler_mail(kelp_acomms_handler *h, const kelp_var *v, bool ow
 void kelp_acomms_handler_tick(kelp_acomms_handler *h, double now);
 /** Bytes from the modem link (events use the time of the last mail or tick). */
 void kelp_acomms_handler_feed(kelp_acomms_handler *h, const uint8_t *bytes, size_t len, double now);
-/** The modem link came up (first time, or again after a loss): restart the driver if needed. */
+/** The modem link came up (first time, or again after a loss) at `now`: restart the driver if
+ *  needed (not the first time when start() was told the link was up). */
 void kelp_acomms_handler_link_up(kelp_acomms_handler *h, double now);
 /** The modem link was lost (why: the link's reason). */
 void kelp_acomms_handler_link_lost(kelp_acomms_handler *h, const char *why);

@@ -600,6 +600,7 @@ void kelp_acomms_handler_mail(kelp_acomms_handler *h, const kelp_var *v, bool ow
 
 void kelp_acomms_handler_link_up(kelp_acomms_handler *h, double now)
 {
+    h->now = now;
     bool first = !h->seen_link;
     h->seen_link = true;
     h->link_up = true;
