@@ -7,10 +7,10 @@
  * so an outgoing DCCL message is described (decoded once more) only for them. */
 #include <math.h>
 #include <stdarg.h>
-#include <stdio.h>
 #include <string.h>
 
 #include <kelp/acomms.h>
+#include <kelp/util.h>
 
 #define MAX_RAW_PUBLISH 35000 /* Goby publishes raw NMEA only below this length */
 #define MAX_IDX 16
@@ -65,7 +65,7 @@ static void say(kelp_acomms_handler *h, bool warning, const char *fmt, ...)
     if (!fn) return;
     va_list ap;
     va_start(ap, fmt);
-    (void)vsnprintf(h->line, sizeof h->line, fmt, ap); /* NOLINT(clang-analyzer-valist.Uninitialized) */
+    (void)kelp_vsnprintf(h->line, sizeof h->line, fmt, ap); /* NOLINT(clang-analyzer-valist.Uninitialized) */
     va_end(ap);
     fn(h->sink.ctx, h->line);
 }
@@ -119,7 +119,7 @@ static const char *describe(kelp_acomms_handler *h, const kelp_acomms_msg *m)
 
 static void keep_line(char (*ring)[KELP_ACOMMS_NMEA_KEEP_LEN], unsigned *n, const char *raw)
 {
-    snprintf(ring[*n % KELP_ACOMMS_NMEA_KEEP], KELP_ACOMMS_NMEA_KEEP_LEN, "%s", raw);
+    (void)kelp_snprintf(ring[*n % KELP_ACOMMS_NMEA_KEEP], KELP_ACOMMS_NMEA_KEEP_LEN, "%s", raw);
     (*n)++;
 }
 
