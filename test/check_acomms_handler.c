@@ -545,6 +545,40 @@ START_TEST(test_handler_whoi_link)
 }
 END_TEST
 
+/* WHOI: a modem that never answers -> retries, give-up, the driver dead: the link is closed
+ * once (the caller reopens it), the link is down until link_up, which restarts the driver */
+START_TEST(test_handler_whoi_driver_dead)
+{
+    start_handler(KELP_ACOMMS_DRIVER_WHOI_MICROMODEM, 0, false);
+    clear();
+    kelp_acomms_handler_link_up(&h, T0); /* the link was down at start: the start-up goes out now */
+    ck_assert(h.link_up);
+    ck_assert_int_gt(nwrite, 0);
+    ck_assert_ptr_nonnull(find_pub("ACOMMS_NMEA_OUT"));
+    double t = T0;
+    for (int i = 0; i < 40 && nclose == 0; i++) {
+        t += 1;
+        kelp_acomms_handler_tick(&h, t);
+    }
+    ck_assert_int_eq(nclose, 1);
+    ck_assert(!h.link_up);
+    ck_assert_uint_ge(h.count.retries, 1);
+    ck_assert_uint_eq(h.count.deaths, 1);
+    bool said = false;
+    for (int i = 0; i < nwarn; i++) said = said || strcmp(warns[i], "modem not responding: reconnecting the link") == 0;
+    ck_assert(said);
+    /* no second close while it stays dead */
+    kelp_acomms_handler_tick(&h, t + 1);
+    kelp_acomms_handler_tick(&h, t + 2);
+    ck_assert_int_eq(nclose, 1);
+    int w = nwrite;
+    kelp_acomms_handler_link_up(&h, t + 3);
+    ck_assert(h.link_up);
+    ck_assert_uint_eq(h.count.reconnects, 1);
+    ck_assert_int_gt(nwrite, w); /* the start-up sequence again */
+}
+END_TEST
+
 Suite *kelp_acomms_handler_suite(void)
 {
     Suite *s = suite_create("acomms_handler");
@@ -556,6 +590,7 @@ Suite *kelp_acomms_handler_suite(void)
     tcase_add_test(t, test_handler_ccl_and_commands);
     tcase_add_test(t, test_handler_loopback_and_status);
     tcase_add_test(t, test_handler_whoi_link);
+    tcase_add_test(t, test_handler_whoi_driver_dead);
     suite_add_tcase(s, t);
     return s;
 }
