@@ -1,14 +1,33 @@
-/* pAcommsHandler (private): the app definition and its state. */
+/* pAcommsHandler (private): the app's state and callbacks. */
 #ifndef PACOMMS_HANDLER_H
 #define PACOMMS_HANDLER_H
 
-#include <kelp/app.h>
+#include <stdio.h>
 
-typedef struct handler handler;
+#include <kelp/acomms.h>
+#include <kelp/app.h>
+#include <kelp/link.h>
+
+/* the core handler (kelp_acomms_handler) and what it is wired to */
+typedef struct handler {
+    kelp_acomms_config cfg;
+    kelp_acomms_dccl *dccl;   /* the DCCL glue (message files loaded at start-up) */
+    kelp_acomms_codec codec;  /* ... as the core handler sees it */
+    kelp_acomms_handler core;
+    kelp_queue_entry *pool;
+    kelp_link *link;          /* DRIVER_WHOI_MICROMODEM: serial port or TCP */
+    kelp_acomms_lcm *lcm;     /* the LCM structures (ACOMMS_*_LCM) */
+    kelp_app *app;
+    unsigned long write_errors;
+} handler;
 
 handler *handler_new(void);
 void handler_free(handler *h);
-extern const kelp_app_def pacomms_def;
+int handler_startup(kelp_app *app, void *state);
+void handler_mail(kelp_app *app, void *state, const kelp_var *v);
+int handler_iterate(kelp_app *app, void *state, double now);
+void handler_report(kelp_app *app, void *state, FILE *out);
+void handler_shutdown(kelp_app *app, void *state);
 
 #define PACOMMS_EXAMPLE                                                                                     \
     "Every field, in full (Goby 1.1 pAcommsHandler TextFormat):\n"                                      \

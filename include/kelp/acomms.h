@@ -9,6 +9,9 @@
  *     (Goby's pAcommsHandler signal connections), time as an argument, every event reported
  *     through one callback.
  *  4. Configuration (edge): the pAcommsHandler ProcessConfig block (the keys of Goby 1.1's pAcommsHandler).
+ *  4b. The handler (core): pAcommsHandler itself (mail, DCCL encode/decode, queue and driver
+ *     publications, link state, status) over the node, publications out through a sink.
+ *  5. LCM structures (edge): the kelp.acomms_*_t copies of the handler's records.
  *
  * A translation unit that needs part 1 only may define KELP_ACOMMS_DCCL_ONLY before
  * including this header.
@@ -118,6 +121,7 @@ KELP_MUST_CHECK int kelp_acomms_dccl_describe(kelp_acomms_dccl *d, const uint8_t
 
 #ifndef KELP_ACOMMS_DCCL_ONLY
 
+#include <kelp/bus.h>
 #include <kelp/mac.h>
 #include <kelp/mmdriver.h>
 #include <kelp/queue.h>
@@ -390,11 +394,32 @@ KELP_MUST_CHECK int kelp_acomms_config_read(const struct kelp_mission *m, int bl
 /** Node configuration from a block (driver, MAC, modem id); nvram strings point into cfg. */
 void kelp_acomms_config_node(const kelp_acomms_config *cfg, kelp_acomms_node_cfg *out);
 
-/* ================================================================== 5. LCM structures (edge) */
+/* ================================================================== 4b. the handler (core) */
 
-/** A second LCM handle that publishes the lcm-gen'd kelp.acomms_*_t structures on
- *  <VARIABLE>_LCM channels (lcm-spy decodes them with `make spy-jar`). */
-typedef struct kelp_acomms_lcm kelp_acomms_lcm;
+/* pAcommsHandler's logic as a core state machine: bus mail and `now` in; the ACOMMS_* strings,
+ * the DCCL <publish> variables, the modem link bytes and the structured (LCM) copies out
+ * through a kelp_acomms_sink.  It allocates nothing and reads no clock: the caller passes the
+ * queue pool, the DCCL codec (as a kelp_acomms_codec: the edge fills one from a
+ * kelp_acomms_dccl handle, a test passes a fake, firmware its own tables) and the time. */
+
+/** The DCCL codec as the handler uses it (see the kelp_acomms_dccl_* functions of part 1 for
+ *  the meaning of each call).  Every member is required when the codec is given at all. */
+typedef struct kelp_acomms_codec {
+    void *ctx;
+    size_t (*count)(void *ctx);
+    int (*info)(void *ctx, size_t i, kelp_acomms_dccl_info *out);
+    long (*find_id)(void *ctx, unsigned id);
+    size_t (*nvars)(void *ctx);
+    const char *(*var_name)(void *ctx, size_t i);
+    void (*set_var)(void *ctx, const char *name, bool is_double, double dval, const char *sval);
+    size_t (*triggered)(void *ctx, const char *name, size_t *idx, size_t cap);
+    void (*start)(void *ctx, double now);
+    size_t (*due)(void *ctx, double now, size_t *idx, size_t cap);
+    int (*encode)(void *ctx, size_t i, double now, uint8_t *out, size_t cap, size_t *len, const char **why);
+    int (*decode)(void *ctx, const uint8_t *in, size_t n, double now, kelp_acomms_pub_fn fn, void *user,
+                  const char **why);
+    int (*describe)(void *ctx, const uint8_t *in, size_t n, double now, char *buf, size_t cap);
+} kelp_acomms_codec;
 
 /** Counters for kelp.acomms_status_t. */
 typedef struct kelp_acomms_status {
@@ -410,7 +435,152 @@ typedef struct kelp_acomms_status {
     const int32_t *queue_size;
 } kelp_acomms_status;
 
-kelp_acomms_lcm *kelp_acomms_lcm_open(const char *url, char *err, size_t errcap);
+typedef enum kelp_acomms_rec_kind {
+    KELP_ACOMMS_REC_DATA = 1, /**< msg, name, decoded */
+    KELP_ACOMMS_REC_ACK,      /**< src, dest, frame, msg (the acknowledged message), name */
+    KELP_ACOMMS_REC_EXPIRE,   /**< msg, name */
+    KELP_ACOMMS_REC_QSIZE,    /**< key, name, size */
+    KELP_ACOMMS_REC_RANGE,    /**< src, dest, type, tt, n_tt */
+    KELP_ACOMMS_REC_STATUS    /**< status */
+} kelp_acomms_rec_kind;
+
+/** A structured copy of a publication (the LCM kelp.acomms_*_t structures).  Pointers are
+ *  valid during the callback only. */
+typedef struct kelp_acomms_record {
+    kelp_acomms_rec_kind kind;
+    const char *channel;          /**< ACOMMS_INCOMING_DATA_LCM, ACOMMS_ACK_LCM, ... */
+    double time;
+    const kelp_acomms_msg *msg;
+    const char *name;             /**< DCCL message / CCL queue name, may be NULL */
+    const char *decoded;          /**< "Name: field=value,..." , may be NULL */
+    int src, dest;
+    uint32_t frame;
+    kelp_queue_key key;
+    uint32_t size;
+    kelp_ranging_type type;
+    const double *tt;
+    unsigned n_tt;
+    const kelp_acomms_status *status;
+} kelp_acomms_record;
+
+/** Where the handler's output goes.  publish is required, every other member may be NULL. */
+typedef struct kelp_acomms_sink {
+    void *ctx;
+    /** A bus variable.  @return <0 if it could not be published (the handler warns where
+     *  pAcommsHandler does). */
+    int (*publish)(void *ctx, const char *var, bool is_string, const char *sval, double dval);
+    /** A run warning / an event for the app's status report. */
+    void (*warn)(void *ctx, const char *msg);
+    void (*event)(void *ctx, const char *msg);
+    /** Bytes for the modem link (WHOI driver). */
+    void (*write)(void *ctx, const char *bytes, size_t len);
+    /** The modem stopped answering: close the link (the caller reopens it and then calls
+     *  kelp_acomms_handler_link_up). */
+    void (*close_link)(void *ctx);
+    /** Structured copies; NULL = none wanted (and no DCCL message is described for them). */
+    void (*record)(void *ctx, const kelp_acomms_record *rec);
+    /** Every node event, after the handler has handled it (for tools that print them). */
+    void (*node_event)(void *ctx, const kelp_acomms_event *ev);
+} kelp_acomms_sink;
+
+/** One queue of the handler, with the bus variables of its messages. */
+typedef struct kelp_acomms_qname {
+    kelp_queue_key key;
+    const char *name;
+    const char *in_var;           /**< DCCL: IN_ hex var; CCL: in_pubsub_var */
+    const char *out_var;          /**< DCCL: OUT_ hex var; CCL: out_pubsub_var */
+    long dccl_index;              /**< codec index, -1 for CCL */
+} kelp_acomms_qname;
+
+typedef struct kelp_acomms_handler_counters {
+    unsigned long encoded, encode_errors, decoded, decode_errors, pushed, push_errors, in_data, out_data, acks, expires,
+        ranges, nmea_in, nmea_out, bad_lines, retries, give_ups, modem_errors, reconnects, deaths, ccl_in, ccl_out,
+        bad_mail;
+} kelp_acomms_handler_counters;
+
+#define KELP_ACOMMS_NMEA_KEEP 6       /**< sentences kept each way for the report */
+#define KELP_ACOMMS_NMEA_KEEP_LEN 96  /**< bytes kept of each */
+
+typedef struct kelp_acomms_handler {
+    /* read-only for the caller (the app's report) */
+    const kelp_acomms_config *cfg;
+    kelp_acomms_node node;
+    kelp_acomms_qname names[KELP_ACOMMS_MAX_QUEUES];
+    size_t nnames;
+    kelp_acomms_handler_counters count;
+    bool started, link_up;
+    double now;                   /**< time of the last mail or tick */
+    const char *link_desc;        /**< set by the caller: how the modem link is described ("" none) */
+    char last_in[KELP_ACOMMS_NMEA_KEEP][KELP_ACOMMS_NMEA_KEEP_LEN];
+    char last_out[KELP_ACOMMS_NMEA_KEEP][KELP_ACOMMS_NMEA_KEEP_LEN];
+    unsigned n_in, n_out;
+    /** After a failed init/start: the node's reason, and for a refused queue its name, id and kind. */
+    const char *errmsg;
+    const char *err_queue;
+    unsigned err_id;
+    bool err_ccl;
+    /* private */
+    kelp_acomms_codec codec;
+    bool has_codec;
+    kelp_acomms_sink sink;
+    kelp_queue queues[KELP_ACOMMS_MAX_QUEUES];
+    bool driver_dead, started_on_link, seen_link;
+    double next_status;
+    char text[KELP_ACOMMS_MAX_PRINT];
+    char decoded_text[1024];
+    char line[512];
+} kelp_acomms_handler;
+
+/** A DCCL message encoded into m->data (len bytes) made ready for its queue: src, dest (from
+ *  the DCCL header), time, queue key (QUEUE_DCCL, id).  @return 0, KELP_ERR_TRUNCATED (shorter
+ *  than the header) or KELP_ERR_ARG. */
+KELP_MUST_CHECK int kelp_acomms_msg_from_dccl(kelp_acomms_msg *m, size_t len, int src, unsigned id, int64_t time_us);
+
+/** "MAC_NONE", "MAC_FIXED_DECENTRALIZED", ... ("?" if unknown). */
+const char *kelp_acomms_mac_name(kelp_mac_type t);
+
+/** Set up the node (nc, over the caller's pool), add a queue for every DCCL message of the
+ *  codec (NULL = none) and every CCL queue of cfg (until KELP_ACOMMS_MAX_QUEUES), then publish
+ *  MODEM_ID and VEHICLE_ID.  cfg, the codec's strings and the pool must outlive the handler.
+ *  @return 0, or <0 with errmsg (and err_queue/err_id when a queue was refused). */
+KELP_MUST_CHECK int kelp_acomms_handler_init(kelp_acomms_handler *h, const kelp_acomms_config *cfg,
+                                             const kelp_acomms_node_cfg *nc, const kelp_acomms_codec *codec,
+                                             kelp_queue_entry *pool, size_t cap_pool, const kelp_acomms_sink *sink,
+                                             double now);
+/** The bus variables to subscribe to, i = 0, 1, ... until NULL: the codec's source and trigger
+ *  variables, the DCCL IN_ and CCL out variables, ACOMMS_RANGE_COMMAND, ACOMMS_MAC_CYCLE_UPDATE
+ *  and ACOMMS_POLLER_UPDATE. */
+const char *kelp_acomms_handler_subscription(kelp_acomms_handler *h, size_t i);
+/** Remember a value for the DCCL sources without triggering anything (initializers). */
+void kelp_acomms_handler_set_var(kelp_acomms_handler *h, const char *name, bool is_double, double dval,
+                                 const char *sval);
+/** Start: DCCL time triggers and the node (WHOI: its start-up sequence goes out when link_up). */
+KELP_MUST_CHECK int kelp_acomms_handler_start(kelp_acomms_handler *h, bool link_up, double now);
+/** Mail.  own: our own publication coming back (an IN_ variable is then not decoded again). */
+void kelp_acomms_handler_mail(kelp_acomms_handler *h, const kelp_var *v, bool own, double now);
+/** Periodic work: node tick, driver death (close_link), time-triggered DCCL, status once a second. */
+void kelp_acomms_handler_tick(kelp_acomms_handler *h, double now);
+/** Bytes from the modem link (events use the time of the last mail or tick). */
+void kelp_acomms_handler_feed(kelp_acomms_handler *h, const uint8_t *bytes, size_t len, double now);
+/** The modem link came up (first time, or again after a loss) at `now`: restart the driver if
+ *  needed (not the first time when start() was told the link was up). */
+void kelp_acomms_handler_link_up(kelp_acomms_handler *h, double now);
+/** The modem link was lost (why: the link's reason). */
+void kelp_acomms_handler_link_lost(kelp_acomms_handler *h, const char *why);
+/** The handler's queue of a key, or NULL. */
+const kelp_acomms_qname *kelp_acomms_handler_queue(const kelp_acomms_handler *h, kelp_queue_key key);
+
+/* ================================================================== 5. LCM structures (edge) */
+
+/** The lcm-gen'd kelp.acomms_*_t structures of the handler's records, encoded for the
+ *  <VARIABLE>_LCM channels (lcm-spy decodes them with `make spy-jar`) and handed to a send
+ *  callback (pAcommsHandler: its own LCM socket). */
+typedef struct kelp_acomms_lcm kelp_acomms_lcm;
+/** Send one encoded LCM message on channel.  @return 0 on success. */
+typedef int (*kelp_acomms_lcm_send_fn)(void *ctx, const char *channel, const void *data, size_t len);
+
+/** NULL if out of memory or send is NULL. */
+kelp_acomms_lcm *kelp_acomms_lcm_new(kelp_acomms_lcm_send_fn send, void *ctx);
 void kelp_acomms_lcm_close(kelp_acomms_lcm *l);
 /** name: DCCL message / CCL queue name (may be NULL); decoded: "Name: f=v,..." (may be NULL). */
 KELP_MUST_CHECK int kelp_acomms_lcm_data(kelp_acomms_lcm *l, const char *channel, double time, const kelp_acomms_msg *m,
@@ -424,6 +594,11 @@ KELP_MUST_CHECK int kelp_acomms_lcm_qsize(kelp_acomms_lcm *l, const char *channe
 KELP_MUST_CHECK int kelp_acomms_lcm_range(kelp_acomms_lcm *l, const char *channel, double time, int src, int dest,
                                           kelp_ranging_type type, const double *tt, unsigned n_tt);
 KELP_MUST_CHECK int kelp_acomms_lcm_status(kelp_acomms_lcm *l, const char *channel, const kelp_acomms_status *s);
+/** Publish a handler record (the matching kelp_acomms_lcm_* call). */
+KELP_MUST_CHECK int kelp_acomms_lcm_record(kelp_acomms_lcm *l, const kelp_acomms_record *rec);
+
+/** The handler's view of a DCCL glue handle (part 1): out->ctx = d, the calls forward to it. */
+void kelp_acomms_dccl_codec(kelp_acomms_dccl *d, kelp_acomms_codec *out);
 
 #endif /* KELP_ACOMMS_DCCL_ONLY */
 #ifdef __cplusplus

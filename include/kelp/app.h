@@ -84,6 +84,9 @@ int kelp_app_notify_string(kelp_app *app, const char *name, const char *value);
 int kelp_app_notify_stringf(kelp_app *app, const char *name, const char *fmt, ...) KELP_PRINTF(3, 4);
 int kelp_app_notify_binary(kelp_app *app, const char *name, const void *data, size_t len);
 int kelp_app_register(kelp_app *app, const char *pattern, double min_interval);
+/** A raw LCM message (e.g. an lcm-gen'd structure, fingerprint first) on its own channel,
+ *  through the app's LCM socket; not a bus variable.  @return 0 or <0. */
+int kelp_app_publish_raw(kelp_app *app, const char *channel, const void *data, size_t len);
 
 /* ---- identity and time ---- */
 const char *kelp_app_name(const kelp_app *app);      /**< MOOS name (alias) */

@@ -168,6 +168,11 @@ int kelp_app_register(kelp_app *app, const char *pattern, double min_interval)
     return kelp_bus_register(kelp_lcmbus_bus(app->lb), pattern, min_interval, kelp_app_time(app));
 }
 
+int kelp_app_publish_raw(kelp_app *app, const char *channel, const void *data, size_t len)
+{
+    return kelp_lcmbus_publish_raw(app->lb, channel, data, len);
+}
+
 const char *kelp_app_name(const kelp_app *app) { return app->name; }
 const char *kelp_app_community(const kelp_app *app) { return app->community; }
 double kelp_app_start_time(const kelp_app *app) { return app->start; }

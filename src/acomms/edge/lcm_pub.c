@@ -1,10 +1,10 @@
-/* kelp acomms: publishing the kelp.acomms_*_t LCM structures (edge). */
+/* kelp acomms: the kelp.acomms_*_t LCM structures (edge).  They are encoded here with the
+ * lcm-gen'd encoders and handed to a send callback: pAcommsHandler sends them through its own
+ * LCM socket (kelp_app_publish_raw), so no second LCM handle is opened. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-#include <lcm/lcm.h>
 
 #include <kelp/acomms.h>
 
@@ -16,33 +16,54 @@
 #include "kelp_acomms_status_t.h"
 
 struct kelp_acomms_lcm {
-    lcm_t *lcm;
+    kelp_acomms_lcm_send_fn send;
+    void *ctx;
+    uint8_t *buf;
+    size_t cap;
     char time_text[48];
     char hex[2 * KELP_MAX_ACOMMS_FRAME + 1];
 };
 
-kelp_acomms_lcm *kelp_acomms_lcm_open(const char *url, char *err, size_t errcap)
+kelp_acomms_lcm *kelp_acomms_lcm_new(kelp_acomms_lcm_send_fn send, void *ctx)
 {
+    if (!send) return NULL;
     kelp_acomms_lcm *l = calloc(1, sizeof *l);
-    if (!l) {
-        if (err) snprintf(err, errcap, "out of memory");
-        return NULL;
-    }
-    l->lcm = lcm_create(url);
-    if (!l->lcm) {
-        if (err) snprintf(err, errcap, "cannot open LCM URL '%s'", url ? url : "(default)");
-        free(l);
-        return NULL;
-    }
+    if (!l) return NULL;
+    l->send = send;
+    l->ctx = ctx;
     return l;
 }
 
 void kelp_acomms_lcm_close(kelp_acomms_lcm *l)
 {
     if (!l) return;
-    if (l->lcm) lcm_destroy(l->lcm);
+    free(l->buf);
     free(l);
 }
+
+/* room for n encoded bytes in l->buf */
+static int reserve(kelp_acomms_lcm *l, int n)
+{
+    if (n < 0) return KELP_ERR_ARG;
+    if ((size_t)n <= l->cap) return KELP_OK;
+    uint8_t *b = realloc(l->buf, (size_t)n);
+    if (!b) return KELP_ERR_NOSPACE;
+    l->buf = b;
+    l->cap = (size_t)n;
+    return KELP_OK;
+}
+
+/* n encoded bytes (or an encoder's error) in l->buf: send them */
+static int send_encoded(kelp_acomms_lcm *l, const char *channel, int n)
+{
+    if (n < 0) return KELP_ERR_IO;
+    return l->send(l->ctx, channel, l->buf, (size_t)n) == 0 ? KELP_OK : KELP_ERR_IO;
+}
+
+/* encode a structure of lcm type T into l->buf and send it on channel */
+#define SEND(l, T, channel, p)                                                                                    \
+    (reserve((l), T##_encoded_size(p)) != KELP_OK ? KELP_ERR_NOSPACE                                           \
+                                                   : send_encoded((l), (channel), T##_encode((l)->buf, 0, (int)(l)->cap, (p))))
 
 /* fill a data_t; strings point into l (valid until the next fill) */
 static void fill_data(kelp_acomms_lcm *l, kelp_acomms_data_t *d, double time, const kelp_acomms_msg *m, const char *name,
@@ -79,7 +100,7 @@ int kelp_acomms_lcm_data(kelp_acomms_lcm *l, const char *channel, double time, c
     if (!l || !channel || !m) return KELP_ERR_ARG;
     kelp_acomms_data_t d;
     fill_data(l, &d, time, m, name, decoded, l->time_text, l->hex);
-    return kelp_acomms_data_t_publish(l->lcm, channel, &d) == 0 ? KELP_OK : KELP_ERR_IO;
+    return SEND(l, kelp_acomms_data_t, channel, &d);
 }
 
 int kelp_acomms_lcm_ack(kelp_acomms_lcm *l, const char *channel, double time, int src, int dest, uint32_t frame,
@@ -93,7 +114,7 @@ int kelp_acomms_lcm_ack(kelp_acomms_lcm *l, const char *channel, double time, in
     a.dest = dest;
     a.frame = (int32_t)frame;
     fill_data(l, &a.orig_msg, time, orig, name, NULL, l->time_text, l->hex);
-    return kelp_acomms_ack_t_publish(l->lcm, channel, &a) == 0 ? KELP_OK : KELP_ERR_IO;
+    return SEND(l, kelp_acomms_ack_t, channel, &a);
 }
 
 int kelp_acomms_lcm_expire(kelp_acomms_lcm *l, const char *channel, double time, const kelp_acomms_msg *orig,
@@ -104,7 +125,7 @@ int kelp_acomms_lcm_expire(kelp_acomms_lcm *l, const char *channel, double time,
     memset(&e, 0, sizeof e);
     e.time = time;
     fill_data(l, &e.orig_msg, time, orig, name, NULL, l->time_text, l->hex);
-    return kelp_acomms_expire_t_publish(l->lcm, channel, &e) == 0 ? KELP_OK : KELP_ERR_IO;
+    return SEND(l, kelp_acomms_expire_t, channel, &e);
 }
 
 int kelp_acomms_lcm_qsize(kelp_acomms_lcm *l, const char *channel, double time, kelp_queue_key key, const char *name,
@@ -118,7 +139,7 @@ int kelp_acomms_lcm_qsize(kelp_acomms_lcm *l, const char *channel, double time, 
     q.queue_id = (int32_t)key.id;
     q.queue_name = (char *)(name ? name : "");
     q.size = (int32_t)size;
-    return kelp_acomms_qsize_t_publish(l->lcm, channel, &q) == 0 ? KELP_OK : KELP_ERR_IO;
+    return SEND(l, kelp_acomms_qsize_t, channel, &q);
 }
 
 int kelp_acomms_lcm_range(kelp_acomms_lcm *l, const char *channel, double time, int src, int dest, kelp_ranging_type type,
@@ -138,7 +159,7 @@ int kelp_acomms_lcm_range(kelp_acomms_lcm *l, const char *channel, double time, 
     for (unsigned i = 0; i < n_tt; i++) copy[i] = tt[i];
     r.ntt = (int32_t)n_tt;
     r.one_way_travel_time = copy;
-    return kelp_acomms_range_t_publish(l->lcm, channel, &r) == 0 ? KELP_OK : KELP_ERR_IO;
+    return SEND(l, kelp_acomms_range_t, channel, &r);
 }
 
 int kelp_acomms_lcm_status(kelp_acomms_lcm *l, const char *channel, const kelp_acomms_status *s)
@@ -169,5 +190,21 @@ int kelp_acomms_lcm_status(kelp_acomms_lcm *l, const char *channel, const kelp_a
     t.nqueues = (int32_t)s->nqueues;
     t.queue_name = (char **)s->queue_name;
     t.queue_size = (int32_t *)s->queue_size;
-    return kelp_acomms_status_t_publish(l->lcm, channel, &t) == 0 ? KELP_OK : KELP_ERR_IO;
+    return SEND(l, kelp_acomms_status_t, channel, &t);
+}
+
+int kelp_acomms_lcm_record(kelp_acomms_lcm *l, const kelp_acomms_record *r)
+{
+    if (!l || !r) return KELP_ERR_ARG;
+    switch (r->kind) {
+    case KELP_ACOMMS_REC_DATA: return kelp_acomms_lcm_data(l, r->channel, r->time, r->msg, r->name, r->decoded);
+    case KELP_ACOMMS_REC_ACK:
+        return kelp_acomms_lcm_ack(l, r->channel, r->time, r->src, r->dest, r->frame, r->msg, r->name);
+    case KELP_ACOMMS_REC_EXPIRE: return kelp_acomms_lcm_expire(l, r->channel, r->time, r->msg, r->name);
+    case KELP_ACOMMS_REC_QSIZE: return kelp_acomms_lcm_qsize(l, r->channel, r->time, r->key, r->name, r->size);
+    case KELP_ACOMMS_REC_RANGE:
+        return kelp_acomms_lcm_range(l, r->channel, r->time, r->src, r->dest, r->type, r->tt, r->n_tt);
+    case KELP_ACOMMS_REC_STATUS: return kelp_acomms_lcm_status(l, r->channel, r->status);
+    default: return KELP_ERR_ARG;
+    }
 }
