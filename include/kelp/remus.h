@@ -1,0 +1,183 @@
+/* kelp: REMUS CCL messages for pREMUSCodec (core, allocation-free, no clock).
+ *
+ * FACTS and where they came from (Goby 1.x public source, GobySoft/goby history; read for facts,
+ * no code copied):
+ *  - src/moos/pREMUSCodec/pREMUSCodec.h (Goby 1.x, 2011): the CCL frame ids REDIRECT 7,
+ *    POSITION 8, STATE 14, RANGER 16, OASIS 31.
+ *  - src/moos/pREMUSCodec/pREMUSCodec.cpp (Goby 1.x): the MODEM_MSG_DATA_STATE byte layout (below),
+ *    the Ranger byte positions (BCD lat/lon 1-5 and 6-10, speed 18, heading 19-20, depth 28+23),
+ *    what create_status fills in (lat, lon, time/date, heading, depth, est_velocity; the rest 0),
+ *    and that multi-byte fields sit little-endian on the wire.
+ *  - src/moos/pREMUSCodec/WhoiUtil.cpp (Goby 1.x, WHOI helpers): every field encoding below.
+ *  - src/acomms/protobuf/ccl.proto (Goby 2.0, 2012): mission mode in the top 3 bits of the
+ *    depth word (13-bit depth), the MissionMode names, and fix_age at 4 s per unit saturating
+ *    at 255 (src/acomms/dccl/dccl_ccl_compatibility.h).
+ *
+ * State message (32 bytes, byte 0 = 14):
+ *   0 id | 1-3 lat | 4-6 lon | 7 fix_age | 8-10 time_date | 11 heading | 12-13 mode:3|depth:13 |
+ *   14-17 faults | 18 faults_2 | 19 mission_leg | 20 est_velocity | 21 objective_index |
+ *   22 watts | 23-25 lat_goal | 26-28 lon_goal | 29 battery_percent | 30-31 gfi_pitch_oil
+ *
+ * Field encodings (codes are what is on the wire; the decode helpers give physical values):
+ *  - lat/lon: signed 24-bit two's complement, code = round-half-away(deg * 8388607/180); the
+ *    hemisphere is the sign. A code outside 24 bits wraps (as Goby's truncation does), so a
+ *    longitude past 180 lands on the other side of the antimeridian.
+ *  - heading: code = trunc(h * 255/360 + 0.5), h in degrees taken modulo 360 (kelp: Goby leaves
+ *    h outside [0,360) undefined); value = code * 360/255 (about 1.41 degrees per unit).
+ *  - depth (13 bits): 0-100 m at 0.1 m (codes 0-1000), 100-200 m at 0.2 m (1000-1500),
+ *    200-1000 m at 0.5 m (1500-3100), 1000-6000 m at 1 m (3100-8100); each band rounds by adding
+ *    half its step then truncating; negative -> 0; 6000 m and beyond (and NaN) -> 8100.
+ *  - est_velocity: signed byte, code = trunc(v * 25) (0.04 m/s, Goby 1.x truncates), clamped to
+ *    [-128,127] (kelp: Goby's overflow is undefined).
+ *  - speed (Redirect, m/s mode): signed byte, code = trunc(v * 30) clamped to [-127,127].
+ *  - watts: code = trunc(W / 4) clamped to [0,255]; value = code * 4.
+ *  - gfi_pitch_oil (16 bits): gfi bits 0-4 = trunc(gfi% * 31/100), oil bits 5-9 =
+ *    trunc(oil% * 31/100) (both clamped to 0..100 %), pitch bits 10-15 = signed
+ *    round-half-away(pitch * 63/180) with pitch clamped to +-90. kelp saturates the pitch code at
+ *    +31: Goby lets +90 round to +32, which wraps to -32 (-90) in 6 bits. Decode: gfi is truncated
+ *    to whole percent (Goby), oil = code * 100/31, pitch = code * 180/63.
+ *  - time_date (24 bits, UTC, no year): bits 0-3 seconds/4, 4-9 minute, 10-14 hour, 15-19 day of
+ *    month, 20-23 month (1-12).
+ *  - fix_age: seconds / 4, saturating at 255.
+ * Values the decoders return are rounded to float where Goby's helpers return float (depth,
+ * velocity, speed, watts, gfi/pitch/oil), so printed values agree digit for digit.
+ */
+#ifndef KELP_REMUS_H
+#define KELP_REMUS_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include <kelp/err.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define KELP_REMUS_FRAME_LEN 32 /**< every REMUS CCL message is one 32-byte modem frame */
+
+/** CCL frame ids (first byte). */
+enum {
+    KELP_REMUS_ID_REDIRECT = 7,
+    KELP_REMUS_ID_POSITION = 8,
+    KELP_REMUS_ID_STATE = 14,
+    KELP_REMUS_ID_RANGER = 16,
+    KELP_REMUS_ID_OASIS = 31 /**< OASIS array data: the Alert and Alert2 reports */
+};
+
+typedef enum kelp_remus_kind {
+    KELP_REMUS_UNKNOWN = 0,
+    KELP_REMUS_REDIRECT,
+    KELP_REMUS_POSITION,
+    KELP_REMUS_STATE,
+    KELP_REMUS_RANGER,
+    KELP_REMUS_OASIS /**< Alert / Alert2: same id; Goby tells them apart by MOOS variable */
+} kelp_remus_kind;
+
+/** Which message a frame holds, by its first byte; UNKNOWN for an empty frame or another id. */
+kelp_remus_kind kelp_remus_identify(const uint8_t *frame, size_t len);
+
+/** State mission modes (top 3 bits of the depth word). */
+typedef enum kelp_remus_mission_mode {
+    KELP_REMUS_MODE_COMPLETED = 0,
+    KELP_REMUS_MODE_MANUAL = 1,
+    KELP_REMUS_MODE_TEST = 2,
+    KELP_REMUS_MODE_FAULT = 3,
+    KELP_REMUS_MODE_REDIRECT = 5,
+    KELP_REMUS_MODE_NORMAL = 6
+} kelp_remus_mission_mode;
+
+/** The State message as wire codes (exact: decode then encode gives the same bytes). */
+typedef struct kelp_remus_state {
+    int32_t lat, lon;          /**< LATLON_COMPRESSED codes, -8388608..8388607 */
+    uint8_t fix_age;           /**< 4 s per unit */
+    uint32_t time_date;        /**< 24-bit TIME_DATE */
+    uint8_t heading;           /**< heading code */
+    uint8_t mission_mode;      /**< 0..7 */
+    uint16_t depth;            /**< 13-bit depth code */
+    uint32_t faults;           /**< bytes 14-17, little-endian */
+    uint8_t faults_2;
+    uint8_t mission_leg;
+    int8_t est_velocity;       /**< velocity code */
+    uint8_t objective_index;
+    uint8_t watts;             /**< watts code */
+    int32_t lat_goal, lon_goal;
+    uint8_t battery_percent;
+    uint16_t gfi_pitch_oil;
+} kelp_remus_state;
+
+/** Pack a State. @return 0; KELP_ERR_ARG (NULL); KELP_ERR_RANGE (a code wider than its field:
+ *  lat/lon outside 24 bits, time_date > 0xFFFFFF, mission_mode > 7, depth > 0x1FFF);
+ *  KELP_ERR_NOSPACE (cap < 32). *len = 32 on success. */
+KELP_MUST_CHECK int kelp_remus_state_encode(const kelp_remus_state *s, uint8_t *out, size_t cap,
+                                            size_t *len);
+/** Unpack a State. @return 0; KELP_ERR_ARG (NULL); KELP_ERR_TRUNCATED (len < 32);
+ *  KELP_ERR_RANGE (len > 32); KELP_ERR_PARSE (first byte not 14). */
+KELP_MUST_CHECK int kelp_remus_state_decode(const uint8_t *in, size_t len, kelp_remus_state *out);
+
+/** What Goby's create_status fills in (every other field 0): position, time (UNIX seconds),
+ *  heading (deg), depth (m), est_velocity (m/s). */
+void kelp_remus_state_from_nav(kelp_remus_state *s, double lat, double lon, int64_t unix_s,
+                               double heading, double depth, double speed);
+
+/* ---- field helpers ---- */
+
+int32_t kelp_remus_latlon_encode(double deg);
+/** Correct two's complement decode (Goby >= 2012). */
+double kelp_remus_latlon_decode(int32_t code);
+/** Goby 1.x pREMUSCodec's decode: the 24 bits unsigned, minus 360 when past 180 (its sign
+ *  extension never fires), which puts every negative value 2 codes (about 4.3e-5 deg) high. */
+double kelp_remus_latlon_decode_goby1(int32_t code);
+
+uint8_t kelp_remus_heading_encode(double deg);
+double kelp_remus_heading_decode(uint8_t code);
+
+uint16_t kelp_remus_depth_encode(double m);
+/** Only the low 13 bits are read. Codes past 8100 give 6000. */
+double kelp_remus_depth_decode(uint16_t code);
+
+int8_t kelp_remus_velocity_encode(double mps);
+double kelp_remus_velocity_decode(int8_t code);
+
+int8_t kelp_remus_speed_encode(double mps);
+double kelp_remus_speed_decode(int8_t code);
+
+uint8_t kelp_remus_watts_encode(double watts);
+double kelp_remus_watts_decode(uint8_t code);
+
+uint8_t kelp_remus_fix_age_encode(double seconds);
+unsigned kelp_remus_fix_age_decode(uint8_t code);
+
+uint16_t kelp_remus_gfi_pitch_oil_encode(double gfi, double pitch, double oil);
+void kelp_remus_gfi_pitch_oil_decode(uint16_t code, double *gfi, double *pitch, double *oil);
+
+typedef struct kelp_remus_time {
+    unsigned month, day, hour, minute, second; /**< as on the wire; second is a multiple of 4 */
+} kelp_remus_time;
+
+/** The TIME_DATE code of a UNIX time (UTC; seconds floored to a multiple of 4). */
+uint32_t kelp_remus_time_date_encode(int64_t unix_s);
+/** Split a TIME_DATE code (only the low 24 bits are read). */
+void kelp_remus_time_date_decode(uint32_t code, kelp_remus_time *out);
+/** UNIX seconds of a TIME_DATE in a given year. @return 0; KELP_ERR_RANGE (month 0 or > 12, day 0
+ *  or past the month's end, hour > 23, minute > 59, seconds code 15 = 60 s). */
+KELP_MUST_CHECK int kelp_remus_time_date_to_unix(uint32_t code, int64_t year, int64_t *unix_s);
+
+/* ---- Ranger (id 16), decode only, as Goby 1.x does ---- */
+
+typedef struct kelp_remus_ranger {
+    double lat, lon;  /**< degrees (BCD degrees, hemisphere nibble C/D = negative, BCD minutes) */
+    double speed;     /**< byte 18, BCD, 0.1 units */
+    double heading;   /**< bytes 19-20, BCD, 0.1 deg */
+    double depth;     /**< BCD digits of bytes 28 (high) and 23 (low) */
+} kelp_remus_ranger;
+
+/** @return 0; KELP_ERR_ARG; KELP_ERR_TRUNCATED (len < 32); KELP_ERR_RANGE (len > 32);
+ *  KELP_ERR_PARSE (first byte not 16). */
+KELP_MUST_CHECK int kelp_remus_ranger_decode(const uint8_t *in, size_t len, kelp_remus_ranger *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

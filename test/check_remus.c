@@ -1,0 +1,483 @@
+/* REMUS CCL codec (pREMUSCodec core): hand-computed vectors for every field encoding, the State
+ * layout, round trips and rejections. Expected codes are worked out from the WHOI helper
+ * formulas documented in include/kelp/remus.h (e.g. lat code = round-half-away(deg*8388607/180)). */
+#include <check.h>
+#include <math.h>
+#include <string.h>
+
+#include <kelp/remus.h>
+
+#define ULP_LL (180.0 / 8388607.0) /* one lat/lon code in degrees */
+
+/* ------------------------------------------------------------------ lat/lon */
+
+START_TEST(test_latlon_vectors)
+{
+    /* 0 -> 0 (the -0.5 branch truncates to 0) */
+    ck_assert_int_eq(kelp_remus_latlon_encode(0.0), 0);
+    ck_assert_int_eq(kelp_remus_latlon_encode(-0.0), 0);
+    /* +-90: 4194303.5 +- 0.5 -> +-4194304 (0x400000 / 0xC00000) */
+    ck_assert_int_eq(kelp_remus_latlon_encode(90.0), 4194304);
+    ck_assert_int_eq(kelp_remus_latlon_encode(-90.0), -4194304);
+    /* +-180: +-8388607 (0x7FFFFF / 0x800001), the extremes of the code */
+    ck_assert_int_eq(kelp_remus_latlon_encode(180.0), 8388607);
+    ck_assert_int_eq(kelp_remus_latlon_encode(-180.0), -8388607);
+    /* 42.35 * 8388607/180 = 1973652.81 -> 1973653; -70.95 -> -3306509.26 -> -3306509 */
+    ck_assert_int_eq(kelp_remus_latlon_encode(42.35), 1973653);
+    ck_assert_int_eq(kelp_remus_latlon_encode(-70.95), -3306509);
+    /* rounding edge: 1e-5 deg = 0.466 code -> 0; 1.1e-5 = 0.513 -> 1; same on the south/west side */
+    ck_assert_int_eq(kelp_remus_latlon_encode(1e-5), 0);
+    ck_assert_int_eq(kelp_remus_latlon_encode(1.1e-5), 1);
+    ck_assert_int_eq(kelp_remus_latlon_encode(-1e-5), 0);
+    ck_assert_int_eq(kelp_remus_latlon_encode(-1.1e-5), -1);
+    /* just below a half code: (n + 0.5 - 1e-6) codes rounds down, (n + 0.5 + 1e-6) up */
+    ck_assert_int_eq(kelp_remus_latlon_encode((1000.5 - 1e-6) * ULP_LL), 1000);
+    ck_assert_int_eq(kelp_remus_latlon_encode((1000.5 + 1e-6) * ULP_LL), 1001);
+    ck_assert_int_eq(kelp_remus_latlon_encode(-(1000.5 - 1e-6) * ULP_LL), -1000);
+    ck_assert_int_eq(kelp_remus_latlon_encode(-(1000.5 + 1e-6) * ULP_LL), -1001);
+    /* 181 deg: 8435210.87 -> 8435210 wraps in 24 bits to -8342006: 2^24 codes are 360.00004 deg,
+     * so it decodes 2.37 codes west of -179 */
+    ck_assert_int_eq(kelp_remus_latlon_encode(181.0), -8342006);
+    ck_assert(fabs(kelp_remus_latlon_decode(-8342006) - (-179.0 - 2.37 * ULP_LL)) < 0.01 * ULP_LL);
+    ck_assert_int_eq(kelp_remus_latlon_encode(NAN), 0);
+    ck_assert_int_eq(kelp_remus_latlon_encode(INFINITY), 0);
+}
+END_TEST
+
+START_TEST(test_latlon_decode)
+{
+    ck_assert(kelp_remus_latlon_decode(0) == 0.0);
+    ck_assert(fabs(kelp_remus_latlon_decode(8388607) - 180.0) < 1e-12);
+    ck_assert(fabs(kelp_remus_latlon_decode(-8388607) + 180.0) < 1e-12);
+    ck_assert(fabs(kelp_remus_latlon_decode(4194304) - 4194304.0 * 180.0 / 8388607.0) < 1e-12);
+    ck_assert(fabs(kelp_remus_latlon_decode(-4194304) + 4194304.0 * 180.0 / 8388607.0) < 1e-12);
+    /* within half a code of the input */
+    ck_assert(fabs(kelp_remus_latlon_decode(1973653) - 42.35) <= ULP_LL / 2);
+    ck_assert(fabs(kelp_remus_latlon_decode(-3306509) - -70.95) <= ULP_LL / 2);
+    /* only the low 24 bits count: 0x00800000 as an unsigned pattern is -8388608 */
+    ck_assert(fabs(kelp_remus_latlon_decode(0x800000) + 8388608.0 * ULP_LL) < 1e-9);
+    /* Goby 1.x: the same for positive codes, two codes high for negative ones */
+    ck_assert(kelp_remus_latlon_decode_goby1(1973653) == kelp_remus_latlon_decode(1973653));
+    ck_assert(fabs(kelp_remus_latlon_decode_goby1(-3306509) - kelp_remus_latlon_decode(-3306507)) <
+              1e-9);
+    ck_assert(kelp_remus_latlon_decode_goby1(-3306509) > kelp_remus_latlon_decode(-3306509));
+}
+END_TEST
+
+/* ------------------------------------------------------------------ heading */
+
+START_TEST(test_heading)
+{
+    ck_assert_uint_eq(kelp_remus_heading_encode(0), 0);
+    /* 45 * 255/360 = 31.875 (+0.5 -> 32) */
+    ck_assert_uint_eq(kelp_remus_heading_encode(45), 32);
+    /* code 1 starts at 0.70588 deg */
+    ck_assert_uint_eq(kelp_remus_heading_encode(0.705), 0);
+    ck_assert_uint_eq(kelp_remus_heading_encode(0.706), 1);
+    /* 359.9 -> 254.93 + 0.5 -> 255; 360 wraps to 0; -90 is 270 -> 191.25 + .5 -> 191 */
+    ck_assert_uint_eq(kelp_remus_heading_encode(359.9), 255);
+    ck_assert_uint_eq(kelp_remus_heading_encode(360), 0);
+    ck_assert_uint_eq(kelp_remus_heading_encode(-90), 191);
+    ck_assert_uint_eq(kelp_remus_heading_encode(-1e-20), 0);
+    ck_assert_uint_eq(kelp_remus_heading_encode(NAN), 0);
+    ck_assert(fabs(kelp_remus_heading_decode(32) - 45.176470588235) < 1e-9);
+    ck_assert(kelp_remus_heading_decode(255) == 360.0);
+    ck_assert(kelp_remus_heading_decode(0) == 0.0);
+}
+END_TEST
+
+/* ------------------------------------------------------------------ depth */
+
+START_TEST(test_depth)
+{
+    ck_assert_uint_eq(kelp_remus_depth_encode(-1), 0);
+    ck_assert_uint_eq(kelp_remus_depth_encode(0), 0);          /* 0.05/0.1 = 0.5 -> 0 */
+    ck_assert_uint_eq(kelp_remus_depth_encode(0.04), 0);       /* 0.9 */
+    ck_assert_uint_eq(kelp_remus_depth_encode(0.06), 1);       /* 1.1 */
+    ck_assert_uint_eq(kelp_remus_depth_encode(12.3), 123);     /* 123.5 -> 123 */
+    ck_assert_uint_eq(kelp_remus_depth_encode(99.99), 1000);   /* 1000.4 */
+    ck_assert_uint_eq(kelp_remus_depth_encode(100), 1000);     /* (0+0.1)/0.2 + 1000 = 1000.5 */
+    ck_assert_uint_eq(kelp_remus_depth_encode(111), 1055);     /* 11.1/0.2 = 55.5 */
+    ck_assert_uint_eq(kelp_remus_depth_encode(150), 1250);
+    ck_assert_uint_eq(kelp_remus_depth_encode(200), 1500);
+    ck_assert_uint_eq(kelp_remus_depth_encode(200.3), 1501);   /* 0.55/0.5 = 1.1 */
+    ck_assert_uint_eq(kelp_remus_depth_encode(999.9), 3100);
+    ck_assert_uint_eq(kelp_remus_depth_encode(1000), 3100);    /* 0.5 + 3100 */
+    ck_assert_uint_eq(kelp_remus_depth_encode(1000.6), 3101);
+    ck_assert_uint_eq(kelp_remus_depth_encode(5999.4), 8099);
+    ck_assert_uint_eq(kelp_remus_depth_encode(6000), 8100);
+    ck_assert_uint_eq(kelp_remus_depth_encode(1e9), 8100);
+    ck_assert_uint_eq(kelp_remus_depth_encode(NAN), 8100);
+
+    ck_assert(kelp_remus_depth_decode(0) == 0.0);
+    ck_assert(kelp_remus_depth_decode(123) == (double)12.3f); /* float, as Goby returns */
+    ck_assert(kelp_remus_depth_decode(1000) == 100.0);
+    ck_assert(kelp_remus_depth_decode(1055) == 111.0);
+    ck_assert(kelp_remus_depth_decode(1500) == 200.0);
+    ck_assert(kelp_remus_depth_decode(1501) == 200.5);
+    ck_assert(kelp_remus_depth_decode(3100) == 1000.0);
+    ck_assert(kelp_remus_depth_decode(8100) == 6000.0);
+    ck_assert(kelp_remus_depth_decode(8101) == 6000.0);
+    ck_assert(kelp_remus_depth_decode(8191) == 6000.0);
+    /* the mission-mode bits above bit 12 are ignored */
+    ck_assert(kelp_remus_depth_decode((uint16_t)(0xC000 | 1055)) == 111.0);
+}
+END_TEST
+
+/* ------------------------------------------------------------------ velocity, speed, watts, fix age */
+
+START_TEST(test_velocity_speed_watts_fixage)
+{
+    ck_assert_int_eq(kelp_remus_velocity_encode(1.2), 30);    /* 1.2f*25 = 30.0000012 */
+    ck_assert_int_eq(kelp_remus_velocity_encode(1.19), 29);   /* 29.75 truncates */
+    ck_assert_int_eq(kelp_remus_velocity_encode(-1.19), -29); /* toward zero */
+    ck_assert_int_eq(kelp_remus_velocity_encode(0), 0);
+    ck_assert_int_eq(kelp_remus_velocity_encode(6), 127);     /* 150 clamps */
+    ck_assert_int_eq(kelp_remus_velocity_encode(-6), -128);
+    ck_assert_int_eq(kelp_remus_velocity_encode(NAN), 0);
+    ck_assert(kelp_remus_velocity_decode(30) == (double)1.2f);
+    ck_assert(kelp_remus_velocity_decode(-128) == (double)-5.12f);
+    ck_assert(kelp_remus_velocity_decode(127) == (double)5.08f);
+
+    ck_assert_int_eq(kelp_remus_speed_encode(1.0), 30);
+    ck_assert_int_eq(kelp_remus_speed_encode(1.05), 31);      /* 31.5 */
+    ck_assert_int_eq(kelp_remus_speed_encode(5), 127);
+    ck_assert_int_eq(kelp_remus_speed_encode(-5), -127);
+    ck_assert(kelp_remus_speed_decode(30) == 1.0);
+    ck_assert(kelp_remus_speed_decode(-127) == (double)(float)(-127 / 30.0));
+
+    ck_assert_uint_eq(kelp_remus_watts_encode(100), 25);
+    ck_assert_uint_eq(kelp_remus_watts_encode(3), 0);         /* 0.75 */
+    ck_assert_uint_eq(kelp_remus_watts_encode(7.99), 1);
+    ck_assert_uint_eq(kelp_remus_watts_encode(1020), 255);
+    ck_assert_uint_eq(kelp_remus_watts_encode(1100), 255);
+    ck_assert_uint_eq(kelp_remus_watts_encode(-5), 0);
+    ck_assert_uint_eq(kelp_remus_watts_encode(NAN), 0);
+    ck_assert(kelp_remus_watts_decode(25) == 100.0);
+    ck_assert(kelp_remus_watts_decode(255) == 1020.0);
+
+    ck_assert_uint_eq(kelp_remus_fix_age_encode(0), 0);
+    ck_assert_uint_eq(kelp_remus_fix_age_encode(7), 1);
+    ck_assert_uint_eq(kelp_remus_fix_age_encode(8), 2);
+    ck_assert_uint_eq(kelp_remus_fix_age_encode(1019), 254);
+    ck_assert_uint_eq(kelp_remus_fix_age_encode(2000), 255);
+    ck_assert_uint_eq(kelp_remus_fix_age_encode(-3), 0);
+    ck_assert_uint_eq(kelp_remus_fix_age_decode(2), 8);
+}
+END_TEST
+
+/* ------------------------------------------------------------------ gfi / pitch / oil */
+
+START_TEST(test_gfi_pitch_oil)
+{
+    /* gfi 100 -> 31 (bits 0-4), oil 100 -> 31 (bits 5-9), pitch 0 */
+    ck_assert_uint_eq(kelp_remus_gfi_pitch_oil_encode(100, 0, 100), 0x03FF);
+    /* 50 % -> 15.5 -> 15 each; pitch 10 * 63/180 = 3.5 (+0.5) -> 4 -> 0x1000 */
+    ck_assert_uint_eq(kelp_remus_gfi_pitch_oil_encode(50, 10, 50), 0x11EF);
+    /* pitch -10 -> -4 -> 6-bit 0x3C << 10 = 0xF000 */
+    ck_assert_uint_eq(kelp_remus_gfi_pitch_oil_encode(50, -10, 50), 0xF1EF);
+    /* clamps: gfi/oil to 0..100, pitch to +-90; +90 saturates at +31, -90 is -32 */
+    ck_assert_uint_eq(kelp_remus_gfi_pitch_oil_encode(-5, 90, 150), 0x7C00 | (31u << 5));
+    ck_assert_uint_eq(kelp_remus_gfi_pitch_oil_encode(0, 100, 0), 0x7C00);
+    ck_assert_uint_eq(kelp_remus_gfi_pitch_oil_encode(0, -90, 0), 0x8000);
+    /* pitch rounding edge: 1.428 deg = 0.4998 code -> +0.5 -> 0; 1.43 -> 1 */
+    ck_assert_uint_eq(kelp_remus_gfi_pitch_oil_encode(0, 1.428, 0), 0);
+    ck_assert_uint_eq(kelp_remus_gfi_pitch_oil_encode(0, 1.43, 0), 0x0400);
+    ck_assert_uint_eq(kelp_remus_gfi_pitch_oil_encode(0, -1.43, 0), 0xFC00);
+    ck_assert_uint_eq(kelp_remus_gfi_pitch_oil_encode(NAN, NAN, NAN), 0);
+
+    double g, p, o;
+    kelp_remus_gfi_pitch_oil_decode(0x11EF, &g, &p, &o);
+    ck_assert(g == 48.0); /* 48.39 truncated to whole percent */
+    ck_assert(o == (double)(float)(15 * 100.0 / 31.0));
+    ck_assert(p == (double)(float)(4 * 180.0 / 63.0));
+    kelp_remus_gfi_pitch_oil_decode(0x8000, &g, &p, &o);
+    ck_assert(g == 0.0 && o == 0.0);
+    ck_assert(p == (double)(float)(-32 * 180.0 / 63.0));
+    kelp_remus_gfi_pitch_oil_decode(0xFC00, &g, &p, &o);
+    ck_assert(p == (double)(float)(-180.0 / 63.0));
+    kelp_remus_gfi_pitch_oil_decode(0x03FF, &g, &p, &o);
+    ck_assert(g == 100.0 && o == 100.0 && p == 0.0);
+}
+END_TEST
+
+/* ------------------------------------------------------------------ time / date */
+
+START_TEST(test_time_date)
+{
+    /* 2024-01-02 12:00:00 UTC: hour 12 << 10 | day 2 << 15 | month 1 << 20 */
+    ck_assert_uint_eq(kelp_remus_time_date_encode(1704196800), 0x113000);
+    /* 2011-03-03 22:38:13: 13 s -> 3, 38 << 4, 22 << 10, 3 << 15, 3 << 20 */
+    ck_assert_uint_eq(kelp_remus_time_date_encode(1299191893), 0x31DA63);
+    /* 2023-12-31 23:59:59: 14 | 59 << 4 | 23 << 10 | 31 << 15 | 12 << 20 */
+    ck_assert_uint_eq(kelp_remus_time_date_encode(1704067199), 0xCFDFBE);
+    /* 1969-12-31 23:59:59 (negative UNIX time) */
+    ck_assert_uint_eq(kelp_remus_time_date_encode(-1), 0xCFDFBE);
+
+    kelp_remus_time t;
+    kelp_remus_time_date_decode(0x31DA63, &t);
+    ck_assert_uint_eq(t.month, 3);
+    ck_assert_uint_eq(t.day, 3);
+    ck_assert_uint_eq(t.hour, 22);
+    ck_assert_uint_eq(t.minute, 38);
+    ck_assert_uint_eq(t.second, 12);
+
+    int64_t u = 0;
+    ck_assert_int_eq(kelp_remus_time_date_to_unix(0x31DA63, 2011, &u), 0);
+    ck_assert_int_eq(u, 1299191892); /* seconds floored to a multiple of 4 */
+    ck_assert_int_eq(kelp_remus_time_date_to_unix(0x113000, 2024, &u), 0);
+    ck_assert_int_eq(u, 1704196800);
+    /* month 0, month 13, day 0, Feb 30, hour 24, minute 60, second 60 are refused */
+    ck_assert_int_eq(kelp_remus_time_date_to_unix(0x013000, 2024, &u), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_remus_time_date_to_unix((13u << 20) | (1u << 15), 2024, &u), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_remus_time_date_to_unix(1u << 20, 2024, &u), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_remus_time_date_to_unix((2u << 20) | (30u << 15), 2024, &u), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_remus_time_date_to_unix((1u << 20) | (1u << 15) | (24u << 10), 2024, &u),
+                     KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_remus_time_date_to_unix((1u << 20) | (1u << 15) | (60u << 4), 2024, &u),
+                     KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_remus_time_date_to_unix((1u << 20) | (1u << 15) | 15u, 2024, &u), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_remus_time_date_to_unix((1u << 20) | (1u << 15) | 14u, 2024, &u), 0);
+    ck_assert_int_eq(u, 1704067200 + 56);
+    /* Feb 29 exists in 2024, not in 2023 */
+    ck_assert_int_eq(kelp_remus_time_date_to_unix((2u << 20) | (29u << 15), 2024, &u), 0);
+    ck_assert_int_eq(kelp_remus_time_date_to_unix((2u << 20) | (29u << 15), 2023, &u), KELP_ERR_RANGE);
+}
+END_TEST
+
+/* ------------------------------------------------------------------ State message */
+
+static const uint8_t STATE_VEC[32] = {
+    0x0E,             /* id 14 */
+    0x95, 0x1D, 0x1E, /* lat 1973653 (42.35) */
+    0xF3, 0x8B, 0xCD, /* lon -3306509 (-70.95) */
+    0x02,             /* fix age 2 (8 s) */
+    0x63, 0xDA, 0x31, /* 2011-03-03 22:38:12 */
+    0x20,             /* heading 32 */
+    0x1F, 0xC4,       /* mode 6 (NORMAL) << 13 | depth 1055 = 0xC41F */
+    0x04, 0x03, 0x02, 0x01, /* faults 0x01020304 */
+    0xA5,             /* faults_2 */
+    0x07,             /* mission leg */
+    0xE2,             /* est_velocity -30 */
+    0x09,             /* objective index */
+    0x19,             /* watts 25 (100 W) */
+    0x00, 0x00, 0x40, /* lat goal 4194304 */
+    0x01, 0x00, 0x80, /* lon goal -8388607 */
+    0x55,             /* battery 85 % */
+    0xEF, 0x11,       /* gfi/pitch/oil 0x11EF */
+};
+
+static kelp_remus_state state_vec_struct(void)
+{
+    kelp_remus_state s;
+    memset(&s, 0, sizeof s);
+    s.lat = 1973653;
+    s.lon = -3306509;
+    s.fix_age = 2;
+    s.time_date = 0x31DA63;
+    s.heading = 32;
+    s.mission_mode = KELP_REMUS_MODE_NORMAL;
+    s.depth = 1055;
+    s.faults = 0x01020304u;
+    s.faults_2 = 0xA5;
+    s.mission_leg = 7;
+    s.est_velocity = -30;
+    s.objective_index = 9;
+    s.watts = 25;
+    s.lat_goal = 4194304;
+    s.lon_goal = -8388607;
+    s.battery_percent = 85;
+    s.gfi_pitch_oil = 0x11EF;
+    return s;
+}
+
+START_TEST(test_state_encode_vector)
+{
+    kelp_remus_state s = state_vec_struct();
+    uint8_t buf[40];
+    size_t len = 0;
+    memset(buf, 0xAA, sizeof buf);
+    ck_assert_int_eq(kelp_remus_state_encode(&s, buf, sizeof buf, &len), 0);
+    ck_assert_uint_eq(len, 32);
+    for (int i = 0; i < 32; i++) ck_assert_msg(buf[i] == STATE_VEC[i], "byte %d: %02x", i, buf[i]);
+    ck_assert_uint_eq(buf[32], 0xAA); /* nothing past the frame */
+}
+END_TEST
+
+START_TEST(test_state_decode_vector)
+{
+    kelp_remus_state s, want = state_vec_struct();
+    memset(&s, 0x5A, sizeof s);
+    ck_assert_int_eq(kelp_remus_state_decode(STATE_VEC, sizeof STATE_VEC, &s), 0);
+    ck_assert_int_eq(s.lat, want.lat);
+    ck_assert_int_eq(s.lon, want.lon);
+    ck_assert_uint_eq(s.fix_age, want.fix_age);
+    ck_assert_uint_eq(s.time_date, want.time_date);
+    ck_assert_uint_eq(s.heading, want.heading);
+    ck_assert_uint_eq(s.mission_mode, want.mission_mode);
+    ck_assert_uint_eq(s.depth, want.depth);
+    ck_assert_uint_eq(s.faults, want.faults);
+    ck_assert_uint_eq(s.faults_2, want.faults_2);
+    ck_assert_uint_eq(s.mission_leg, want.mission_leg);
+    ck_assert_int_eq(s.est_velocity, want.est_velocity);
+    ck_assert_uint_eq(s.objective_index, want.objective_index);
+    ck_assert_uint_eq(s.watts, want.watts);
+    ck_assert_int_eq(s.lat_goal, want.lat_goal);
+    ck_assert_int_eq(s.lon_goal, want.lon_goal);
+    ck_assert_uint_eq(s.battery_percent, want.battery_percent);
+    ck_assert_uint_eq(s.gfi_pitch_oil, want.gfi_pitch_oil);
+    /* and the physical values of the vector */
+    ck_assert(fabs(kelp_remus_latlon_decode(s.lat) - 42.35) <= ULP_LL / 2);
+    ck_assert(fabs(kelp_remus_latlon_decode(s.lon) + 70.95) <= ULP_LL / 2);
+    ck_assert(kelp_remus_depth_decode(s.depth) == 111.0);
+    ck_assert(kelp_remus_velocity_decode(s.est_velocity) == (double)-1.2f);
+}
+END_TEST
+
+START_TEST(test_state_round_trip_all_bytes)
+{
+    /* every byte pattern after the id decodes and re-encodes to itself */
+    uint8_t in[32], out[32];
+    for (int v = 0; v < 256; v++) {
+        in[0] = 14;
+        for (int i = 1; i < 32; i++) in[i] = (uint8_t)(v * 31 + i * 17);
+        kelp_remus_state s;
+        size_t len = 0;
+        ck_assert_int_eq(kelp_remus_state_decode(in, 32, &s), 0);
+        ck_assert_int_eq(kelp_remus_state_encode(&s, out, sizeof out, &len), 0);
+        ck_assert_int_eq(memcmp(in, out, 32), 0);
+    }
+}
+END_TEST
+
+START_TEST(test_state_from_nav)
+{
+    /* the ccl_and_dccl mm2 values: heading 45, speed 1.2, depth 111 (+ a position and a time) */
+    kelp_remus_state s;
+    memset(&s, 0x77, sizeof s);
+    kelp_remus_state_from_nav(&s, 42.35, -70.95, 1299191893, 45, 111, 1.2);
+    uint8_t buf[32];
+    size_t len;
+    ck_assert_int_eq(kelp_remus_state_encode(&s, buf, sizeof buf, &len), 0);
+    static const uint8_t want[32] = {0x0E, 0x95, 0x1D, 0x1E, 0xF3, 0x8B, 0xCD, 0x00, 0x63, 0xDA, 0x31,
+                                     0x20, 0x1F, 0x04, 0,    0,    0,    0,    0,    0,    0x1E, 0,
+                                     0,    0,    0,    0,    0,    0,    0,    0,    0,    0};
+    for (int i = 0; i < 32; i++) ck_assert_msg(buf[i] == want[i], "byte %d: %02x", i, buf[i]);
+}
+END_TEST
+
+START_TEST(test_state_rejections)
+{
+    kelp_remus_state s;
+    uint8_t frame[33];
+    memcpy(frame, STATE_VEC, 32);
+    frame[32] = 0;
+    ck_assert_int_eq(kelp_remus_state_decode(frame, 31, &s), KELP_ERR_TRUNCATED);
+    ck_assert_int_eq(kelp_remus_state_decode(frame, 0, &s), KELP_ERR_TRUNCATED);
+    ck_assert_int_eq(kelp_remus_state_decode(frame, 33, &s), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_remus_state_decode(NULL, 32, &s), KELP_ERR_ARG);
+    ck_assert_int_eq(kelp_remus_state_decode(frame, 32, NULL), KELP_ERR_ARG);
+    frame[0] = KELP_REMUS_ID_RANGER;
+    ck_assert_int_eq(kelp_remus_state_decode(frame, 32, &s), KELP_ERR_PARSE);
+    frame[0] = 0x20; /* a DCCL frame */
+    ck_assert_int_eq(kelp_remus_state_decode(frame, 32, &s), KELP_ERR_PARSE);
+
+    uint8_t out[32];
+    size_t len = 99;
+    kelp_remus_state ok = state_vec_struct(), bad;
+    ck_assert_int_eq(kelp_remus_state_encode(&ok, out, 31, &len), KELP_ERR_NOSPACE);
+    ck_assert_uint_eq(len, 99);
+    ck_assert_int_eq(kelp_remus_state_encode(NULL, out, 32, &len), KELP_ERR_ARG);
+    ck_assert_int_eq(kelp_remus_state_encode(&ok, NULL, 32, &len), KELP_ERR_ARG);
+    bad = ok, bad.lat = 0x800000;
+    ck_assert_int_eq(kelp_remus_state_encode(&bad, out, 32, &len), KELP_ERR_RANGE);
+    bad = ok, bad.lon_goal = -0x800001;
+    ck_assert_int_eq(kelp_remus_state_encode(&bad, out, 32, &len), KELP_ERR_RANGE);
+    bad = ok, bad.lat_goal = -0x800000; /* the most negative code fits */
+    ck_assert_int_eq(kelp_remus_state_encode(&bad, out, 32, &len), 0);
+    bad = ok, bad.depth = 0x2000;
+    ck_assert_int_eq(kelp_remus_state_encode(&bad, out, 32, &len), KELP_ERR_RANGE);
+    bad = ok, bad.mission_mode = 8;
+    ck_assert_int_eq(kelp_remus_state_encode(&bad, out, 32, &len), KELP_ERR_RANGE);
+    bad = ok, bad.time_date = 0x1000000;
+    ck_assert_int_eq(kelp_remus_state_encode(&bad, out, 32, &len), KELP_ERR_RANGE);
+}
+END_TEST
+
+/* ------------------------------------------------------------------ identification, Ranger */
+
+START_TEST(test_identify)
+{
+    uint8_t f[32] = {0};
+    ck_assert_int_eq(kelp_remus_identify(f, 0), KELP_REMUS_UNKNOWN);
+    ck_assert_int_eq(kelp_remus_identify(NULL, 32), KELP_REMUS_UNKNOWN);
+    f[0] = 14;
+    ck_assert_int_eq(kelp_remus_identify(f, 32), KELP_REMUS_STATE);
+    f[0] = 16;
+    ck_assert_int_eq(kelp_remus_identify(f, 32), KELP_REMUS_RANGER);
+    f[0] = 7;
+    ck_assert_int_eq(kelp_remus_identify(f, 1), KELP_REMUS_REDIRECT);
+    f[0] = 8;
+    ck_assert_int_eq(kelp_remus_identify(f, 32), KELP_REMUS_POSITION);
+    f[0] = 31;
+    ck_assert_int_eq(kelp_remus_identify(f, 32), KELP_REMUS_OASIS);
+    f[0] = 0x20;
+    ck_assert_int_eq(kelp_remus_identify(f, 32), KELP_REMUS_UNKNOWN);
+    f[0] = 15;
+    ck_assert_int_eq(kelp_remus_identify(f, 32), KELP_REMUS_UNKNOWN);
+}
+END_TEST
+
+START_TEST(test_ranger)
+{
+    uint8_t f[32] = {0};
+    f[0] = 16;
+    /* 42 deg 21.0000 min N: digits 0 4 | 2, sign nibble 0 | 2 1 | 0 0 | 0 0 */
+    f[1] = 0x04, f[2] = 0x20, f[3] = 0x21;
+    /* 070 deg 57.0000 min W: sign nibble D */
+    f[6] = 0x07, f[7] = 0x0D, f[8] = 0x57;
+    f[18] = 0x12;             /* speed 12 * 0.1 */
+    f[19] = 0x04, f[20] = 0x50; /* heading 0450 * 0.1 */
+    f[28] = 0x01, f[23] = 0x11; /* depth 0111 */
+    kelp_remus_ranger r;
+    ck_assert_int_eq(kelp_remus_ranger_decode(f, 32, &r), 0);
+    ck_assert(fabs(r.lat - 42.35) < 1e-12);
+    ck_assert(fabs(r.lon + 70.95) < 1e-12);
+    ck_assert(fabs(r.speed - 1.2) < 1e-12);
+    ck_assert(fabs(r.heading - 45.0) < 1e-12);
+    ck_assert(r.depth == 111.0);
+    /* sign nibble C is negative too; minutes to 1e-4 */
+    f[2] = 0x2C, f[4] = 0x12, f[5] = 0x34; /* 42 deg 21.1234 min S */
+    ck_assert_int_eq(kelp_remus_ranger_decode(f, 32, &r), 0);
+    ck_assert(fabs(r.lat + (42.0 + 21.1234 / 60.0)) < 1e-12);
+    ck_assert_int_eq(kelp_remus_ranger_decode(f, 31, &r), KELP_ERR_TRUNCATED);
+    ck_assert_int_eq(kelp_remus_ranger_decode(f, 33, &r), KELP_ERR_RANGE);
+    f[0] = 14;
+    ck_assert_int_eq(kelp_remus_ranger_decode(f, 32, &r), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_remus_ranger_decode(f, 32, NULL), KELP_ERR_ARG);
+}
+END_TEST
+
+Suite *kelp_remus_suite(void)
+{
+    Suite *s = suite_create("remus");
+    TCase *t = tcase_create("fields");
+    tcase_add_test(t, test_latlon_vectors);
+    tcase_add_test(t, test_latlon_decode);
+    tcase_add_test(t, test_heading);
+    tcase_add_test(t, test_depth);
+    tcase_add_test(t, test_velocity_speed_watts_fixage);
+    tcase_add_test(t, test_gfi_pitch_oil);
+    tcase_add_test(t, test_time_date);
+    suite_add_tcase(s, t);
+    t = tcase_create("messages");
+    tcase_add_test(t, test_state_encode_vector);
+    tcase_add_test(t, test_state_decode_vector);
+    tcase_add_test(t, test_state_round_trip_all_bytes);
+    tcase_add_test(t, test_state_from_nav);
+    tcase_add_test(t, test_state_rejections);
+    tcase_add_test(t, test_identify);
+    tcase_add_test(t, test_ranger);
+    suite_add_tcase(s, t);
+    return s;
+}
