@@ -41,6 +41,11 @@ START_TEST(test_latlon_vectors)
     ck_assert(fabs(kelp_remus_latlon_decode(-8342006) - (-179.0 - 2.37 * ULP_LL)) < 0.01 * ULP_LL);
     ck_assert_int_eq(kelp_remus_latlon_encode(NAN), 0);
     ck_assert_int_eq(kelp_remus_latlon_encode(INFINITY), 0);
+    ck_assert_int_eq(kelp_remus_latlon_encode(-1e308), 0); /* overflows to -inf when scaled */
+    /* 1e9 deg: trunc(46603372222222.2 + 0.5) mod 2^24, as a 24-bit signed code */
+    ck_assert_int_eq(kelp_remus_latlon_encode(1e9), (int32_t)((46603372222222LL & 0xFFFFFF) >= 0x800000
+                                                                ? (46603372222222LL & 0xFFFFFF) - 0x1000000
+                                                                : (46603372222222LL & 0xFFFFFF)));
 }
 END_TEST
 

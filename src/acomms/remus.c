@@ -66,6 +66,7 @@ int32_t kelp_remus_latlon_encode(double deg)
 {
     if (!isfinite(deg)) return 0;
     double e = deg * (LATLON_FULL / 180.0);
+    if (!isfinite(e)) return 0; /* |deg| near DBL_MAX overflows */
     e += (e > 0.0) ? 0.5 : -0.5;
     /* truncate toward zero, then keep the low 24 bits as a 24-bit signed code (Goby's long ->
      * 3-byte copy); |e| beyond 2^52 has no fraction left, so reduce it modulo 2^24 first */
