@@ -3,7 +3,10 @@
  * formulas documented in include/kelp/remus.h (e.g. lat code = round-half-away(deg*8388607/180)). */
 #include <check.h>
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
+
+#include <kelp/nodereport.h>
 
 #include <kelp/remus.h>
 
@@ -463,6 +466,173 @@ START_TEST(test_ranger)
 }
 END_TEST
 
+/* ------------------------------------------------------------------ the pREMUSCodec tool */
+
+typedef struct rec {
+    int n;
+    char var[64][64];
+    char sval[64][1024];
+    double dval[64];
+    bool is_string[64];
+    int warns;
+} rec;
+
+static void rec_pub(void *ctx, const char *var, bool is_string, const char *sval, double dval)
+{
+    rec *r = ctx;
+    if (r->n >= 64) return;
+    snprintf(r->var[r->n], sizeof r->var[0], "%s", var);
+    snprintf(r->sval[r->n], sizeof r->sval[0], "%s", is_string && sval ? sval : "");
+    r->dval[r->n] = dval;
+    r->is_string[r->n] = is_string;
+    r->n++;
+}
+
+static void rec_warn(void *ctx, const char *msg)
+{
+    (void)msg;
+    ((rec *)ctx)->warns++;
+}
+
+static int find(const rec *r, const char *var)
+{
+    for (int i = 0; i < r->n; i++)
+        if (strcmp(r->var[i], var) == 0) return i;
+    return -1;
+}
+
+static kelp_dccl_modem_entry modems[8];
+static kelp_dccl_builtin geo;
+
+static void tool_setup(kelp_remus_codec *t, bool create)
+{
+    kelp_dccl_builtin_init(&geo, modems, 8);
+    static const char lk[] = "1,mm1,topside\n2,mm2,auv\n";
+    ck_assert_int_eq(kelp_dccl_builtin_parse_modems(&geo, lk, sizeof lk - 1), 0);
+    kelp_dccl_builtin_set_origin(&geo, 42.35, -70.95);
+    kelp_remus_codec_cfg c;
+    kelp_remus_codec_cfg_default(&c);
+    ck_assert_str_eq(c.in_var[KELP_REMUS_STATE_VAR], "IN_REMUS_STATUS_HEX_30B");
+    ck_assert_str_eq(c.out_var[KELP_REMUS_STATE_VAR], "OUT_REMUS_STATUS_HEX_30B");
+    ck_assert_str_eq(c.in_var[KELP_REMUS_ALERT2_VAR], "IN_REMUS_ALERT2_HEX_30B");
+    ck_assert_str_eq(c.out_var[KELP_REMUS_REDIRECT_VAR], "OUT_REMUS_REDIRECT_HEX_30B");
+    ck_assert(!c.create_status);
+    snprintf(c.in_var[KELP_REMUS_STATE_VAR], KELP_MAX_NAME, "IN_REMUS_STATUS");
+    snprintf(c.out_var[KELP_REMUS_STATE_VAR], KELP_MAX_NAME, "OUT_REMUS_STATUS");
+    c.create_status = create;
+    c.geo = &geo;
+    ck_assert_int_eq(kelp_remus_codec_init(t, &c), 0);
+}
+
+START_TEST(test_tool_create_status)
+{
+    kelp_remus_codec t;
+    tool_setup(&t, true);
+    rec r = {0};
+    kelp_field_sink sink = {&r, rec_pub, rec_warn};
+    const double now = 1299191893.5; /* 2011-03-03 22:38:13.5 */
+    ck_assert_int_eq(kelp_remus_codec_mail(&t, "MODEM_ID", false, NULL, 2, now, &sink), 1);
+    const char *nav[] = {"NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"};
+    const double val[] = {0, 0, 45, 1.2};
+    for (int i = 0; i < 4; i++) ck_assert_int_eq(kelp_remus_codec_mail(&t, nav[i], false, NULL, val[i], now, &sink), 1);
+    /* no State before every NAV_* has arrived */
+    ck_assert_int_eq(kelp_remus_codec_iterate(&t, now, &sink), 0);
+    ck_assert_int_eq(kelp_remus_codec_mail(&t, "nav_depth", false, NULL, 111, now, &sink), 1);
+    ck_assert_int_eq(kelp_remus_codec_iterate(&t, now, &sink), 1);
+    ck_assert_int_eq(r.n, 1);
+    ck_assert_str_eq(r.var[0], "OUT_REMUS_STATUS");
+    /* at the datum: lat 42.35 (95 1D 1E), lon -70.95 (F3 8B CD); time 22:38:12 (63 DA 31);
+     * heading 32 (040), depth 1055 (037 004), velocity 30 (036) */
+    ck_assert_str_eq(r.sval[0], "base { src: 2 dest: 0 } ack_requested: true data: "
+                                "\"\\016\\225\\035\\036\\363\\213\\315\\000c\\3321 \\037\\004\\000\\000\\000\\000\\000"
+                                "\\000\\036\\000\\000\\000\\000\\000\\000\\000\\000\\000\\000\\000\" frame: 0");
+    /* every status_interval (10 s) */
+    ck_assert_int_eq(kelp_remus_codec_iterate(&t, now + 9.9, &sink), 0);
+    ck_assert_int_eq(kelp_remus_codec_iterate(&t, now + 10, &sink), 1);
+    ck_assert_int_eq(r.n, 2);
+}
+END_TEST
+
+START_TEST(test_tool_no_create_status)
+{
+    kelp_remus_codec t;
+    tool_setup(&t, false);
+    rec r = {0};
+    kelp_field_sink sink = {&r, rec_pub, rec_warn};
+    const char *nav[] = {"NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED", "NAV_DEPTH"};
+    for (int i = 0; i < 5; i++) ck_assert_int_eq(kelp_remus_codec_mail(&t, nav[i], false, NULL, 1, 0, &sink), 1);
+    ck_assert_int_eq(kelp_remus_codec_iterate(&t, 100, &sink), 0);
+    ck_assert_int_eq(r.n, 0);
+}
+END_TEST
+
+START_TEST(test_tool_incoming_state)
+{
+    kelp_remus_codec t;
+    tool_setup(&t, false);
+    rec r = {0};
+    kelp_field_sink sink = {&r, rec_pub, rec_warn};
+    /* the State of test_tool_create_status, from modem 2 (mm2, auv) */
+    const char *in = "base { src: 2 dest: 0 } data: \"\\016\\225\\035\\036\\363\\213\\315\\000c\\3321 \\037\\004"
+                     "\\000\\000\\000\\000\\000\\000\\036\"";
+    ck_assert_int_eq(kelp_remus_codec_mail(&t, "IN_REMUS_STATUS", true, in, 0, 1000, &sink), 1);
+    int i = find(&r, "NODE_REPORT");
+    ck_assert_int_ge(i, 0);
+    kelp_nodereport nr;
+    const char *why = NULL;
+    ck_assert_int_eq(kelp_nodereport_parse(r.sval[i], strlen(r.sval[i]), &nr, &why), 0);
+    ck_assert_str_eq(nr.name, "mm2");
+    ck_assert_str_eq(nr.type, "auv");
+    ck_assert_str_eq(nr.mode, "NOMOOS");
+    ck_assert(fabs(nr.lat - 42.35) < 1e-4);
+    ck_assert(fabs(nr.lon + 70.95) < 1e-4);
+    ck_assert(fabs(nr.x) < 2 && fabs(nr.y) < 2); /* at the datum, within a code */
+    ck_assert(fabs(nr.spd - 1.2) < 0.01);
+    ck_assert(fabs(nr.hdg - 45.18) < 0.01);
+    ck_assert(fabs(nr.depth - 111) < 0.01);
+    ck_assert_int_ge(find(&r, "STATUS_REPORT_IN"), 0);
+    ck_assert(strncmp(r.sval[find(&r, "STATUS_REPORT_IN")], "MessageType=CCL_STATUS,Node=2,Timestamp=1000,", 45) == 0);
+    i = find(&r, "MM2_NAV_DEPTH");
+    ck_assert_int_ge(i, 0);
+    ck_assert(r.dval[i] == 111.0);
+    /* unknown sender: the id as the name */
+    r.n = 0;
+    const char *in7 = "base { src: 7 dest: 0 } data: \"\\016\"";
+    ck_assert_int_eq(kelp_remus_codec_mail(&t, "IN_REMUS_STATUS", true, in7, 0, 1000, &sink), 1);
+    i = find(&r, "NODE_REPORT");
+    ck_assert_int_ge(i, 0);
+    ck_assert(strncmp(r.sval[i], "NAME=7,TYPE=unknown_type,", 25) == 0);
+    ck_assert_int_ge(find(&r, "7_NAV_X"), 0);
+    /* a Ranger on the State variable, and garbage, are refused with a warning */
+    r.n = 0;
+    ck_assert_int_lt(kelp_remus_codec_mail(&t, "IN_REMUS_STATUS", true, "data: \"\\020\"", 0, 1000, &sink), 0);
+    ck_assert_int_lt(kelp_remus_codec_mail(&t, "IN_REMUS_STATUS", true, "nonsense {", 0, 1000, &sink), 0);
+    ck_assert_int_eq(r.n, 0);
+    ck_assert_int_eq(r.warns, 2);
+}
+END_TEST
+
+START_TEST(test_tool_init_and_subscriptions)
+{
+    kelp_remus_codec t;
+    tool_setup(&t, false);
+    ck_assert_str_eq(kelp_remus_codec_subscription(&t, 0), "IN_REMUS_STATUS");
+    ck_assert_str_eq(kelp_remus_codec_subscription(&t, 5), "OUT_REMUS_STATUS");
+    ck_assert_str_eq(kelp_remus_codec_subscription(&t, 10), "MODEM_ID");
+    ck_assert_str_eq(kelp_remus_codec_subscription(&t, 15), "NAV_DEPTH");
+    ck_assert_ptr_null(kelp_remus_codec_subscription(&t, 16));
+    kelp_remus_codec_cfg c;
+    kelp_remus_codec_cfg_default(&c);
+    ck_assert_int_eq(kelp_remus_codec_init(&t, &c), KELP_ERR_ARG); /* no geo */
+    c.geo = &geo;
+    c.status_interval = 0;
+    ck_assert_int_eq(kelp_remus_codec_init(&t, &c), KELP_ERR_ARG);
+    c.status_interval = 10;
+    c.in_var[2][0] = '\0';
+    ck_assert_int_eq(kelp_remus_codec_init(&t, &c), KELP_ERR_ARG);
+}
+END_TEST
+
 Suite *kelp_remus_suite(void)
 {
     Suite *s = suite_create("remus");
@@ -483,6 +653,12 @@ Suite *kelp_remus_suite(void)
     tcase_add_test(t, test_state_rejections);
     tcase_add_test(t, test_identify);
     tcase_add_test(t, test_ranger);
+    suite_add_tcase(s, t);
+    t = tcase_create("tool");
+    tcase_add_test(t, test_tool_create_status);
+    tcase_add_test(t, test_tool_no_create_status);
+    tcase_add_test(t, test_tool_incoming_state);
+    tcase_add_test(t, test_tool_init_and_subscriptions);
     suite_add_tcase(s, t);
     return s;
 }

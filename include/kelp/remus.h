@@ -176,6 +176,65 @@ typedef struct kelp_remus_ranger {
  *  KELP_ERR_PARSE (first byte not 16). */
 KELP_MUST_CHECK int kelp_remus_ranger_decode(const uint8_t *in, size_t len, kelp_remus_ranger *out);
 
+/* ---- pREMUSCodec's logic as a core state machine (mail and now in, publications out) ----
+ *
+ * From Goby 1.x src/moos/pREMUSCodec/pREMUSCodec.cpp (facts):
+ *  - create_status: once NAV_X, NAV_Y, NAV_HEADING, NAV_SPEED and NAV_DEPTH have all arrived, a
+ *    State is made every status_interval seconds (Goby: 10 s, fixed; the first at once), the
+ *    position through the MOOS UTM geodesy at LatOrigin/LongOrigin, the time the UTC time of
+ *    now, and published on mdat_state_out as a ModemDataTransmission (src = MODEM_ID, dest 0).
+ *  - an incoming ModemDataTransmission on mdat_state_var / mdat_ranger_var (data zero-padded or
+ *    cut to 32 bytes) becomes a NODE_REPORT of the sender (name and type from the modem-id
+ *    lookup: the id itself / "unknown_type" when absent), X/Y from the geodesy, MODE=NOMOOS,
+ *    ALLSTOP=NotUsingIvP, LENGTH=4; plus STATUS_REPORT_IN (MessageType=CCL_STATUS,...) and the
+ *    <NAME>_NAV_{UTC,X,Y,LAT,LONG,SPEED,DEPTH,HEADING} contact variables.
+ * kelp differences: NODE_REPORT is written in the uField format (include/kelp/nodereport.h) with
+ * TIME = now; MODEM_ID is read as a number or text (Goby reads only the text form); a frame whose
+ * first byte is not the variable's message id is refused with a warning (Goby decodes it anyway);
+ * Redirect/Alert/Alert2 frames are identified and counted, not turned into CCL_*_IN text. */
+
+#include <stdbool.h>
+#include <kelp/config.h>
+#include <kelp/dccl.h>
+#include <kelp/field.h>
+
+enum { KELP_REMUS_STATE_VAR, KELP_REMUS_RANGER_VAR, KELP_REMUS_REDIRECT_VAR, KELP_REMUS_ALERT_VAR,
+       KELP_REMUS_ALERT2_VAR, KELP_REMUS_NVARS };
+
+typedef struct kelp_remus_codec_cfg {
+    bool create_status;                      /**< default false */
+    double status_interval;                  /**< seconds between States (default 10) */
+    char in_var[KELP_REMUS_NVARS][KELP_MAX_NAME];  /**< mdat_*_var (IN_REMUS_*_HEX_30B) */
+    char out_var[KELP_REMUS_NVARS][KELP_MAX_NAME]; /**< mdat_*_out (OUT_REMUS_*_HEX_30B) */
+    kelp_dccl_builtin *geo;                  /**< modem-id table and LatOrigin/LongOrigin (caller's) */
+} kelp_remus_codec_cfg;
+
+/** Defaults of seed 002 section 2.5 (acomms.md 7.2); geo NULL. */
+void kelp_remus_codec_cfg_default(kelp_remus_codec_cfg *c);
+
+enum { KELP_REMUS_NAV_X, KELP_REMUS_NAV_Y, KELP_REMUS_NAV_HEADING, KELP_REMUS_NAV_SPEED, KELP_REMUS_NAV_DEPTH,
+       KELP_REMUS_NNAV };
+
+typedef struct kelp_remus_codec {
+    kelp_remus_codec_cfg cfg;
+    /* private */
+    int my_id;
+    double nav[KELP_REMUS_NNAV];
+    bool have[KELP_REMUS_NNAV];
+    double last_status; /**< -1: none yet */
+    unsigned long sent, received[KELP_REMUS_NVARS], refused;
+} kelp_remus_codec;
+
+/** @return 0; KELP_ERR_ARG (NULL geo, an empty variable name, status_interval not > 0). */
+KELP_MUST_CHECK int kelp_remus_codec_init(kelp_remus_codec *t, const kelp_remus_codec_cfg *cfg);
+/** The variables to register for, i = 0, 1, ... until NULL. */
+const char *kelp_remus_codec_subscription(const kelp_remus_codec *t, unsigned i);
+/** One piece of mail. @return 1 if it was used, 0 if not ours, <0 if refused (warned). */
+int kelp_remus_codec_mail(kelp_remus_codec *t, const char *var, bool is_string, const char *sval, double dval,
+                          double now, const kelp_field_sink *sink);
+/** Make the State when due. @return 1 if one was published, 0 otherwise. */
+int kelp_remus_codec_iterate(kelp_remus_codec *t, double now, const kelp_field_sink *sink);
+
 #ifdef __cplusplus
 }
 #endif
