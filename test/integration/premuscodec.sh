@@ -22,17 +22,22 @@ ProcessConfig = pREMUSCodec
   modem_id_lookup_path: "modemidlookup.txt"
 }
 M
-bg "$BIN/kelp-record" --lcm-url="$KELP_LCM_URL" -f m.lcmlog
+"$BIN/kelp-record" --lcm-url="$KELP_LCM_URL" -f m1.lcmlog > rec1.out 2>&1 &
+rec1=$!
 sleep 0.5
 bg "$BIN/pREMUSCodec" m.moos
 sleep 1
 "$BIN/kelp-poke" m.moos MODEM_ID=2 NAV_X=123 NAV_Y=321 NAV_HEADING=45 NAV_SPEED=1.2 NAV_DEPTH=111 > poke1.out 2>&1 ||
   fail "poke: $(cat poke1.out)"
 sleep 1.5
-"$BIN/kelp-logcheck" --print m.lcmlog > m1.txt || fail "log undecodable"
+# the first log, closed (flushed) before it is read
+kill -INT $rec1; wait $rec1 2>/dev/null || true
+"$BIN/kelp-logcheck" --print m1.lcmlog > m1.txt || fail "log undecodable"
 out=$(awk '$3=="OUT_REMUS_STATUS" {sub(/^[^ ]+ [^ ]+ [^ ]+ /, ""); print; exit}' m1.txt)
 [ -n "$out" ] || { cat m1.txt | tail; fail "no OUT_REMUS_STATUS"; }
 echo "$out" | grep -q '^base { src: 2 dest: 0 } ack_requested: true data: "\\016' || fail "State text: $out"
+bg "$BIN/kelp-record" --lcm-url="$KELP_LCM_URL" -f m.lcmlog
+sleep 0.5
 "$BIN/kelp-poke" m.moos "IN_REMUS_STATUS:=$out" > poke2.out 2>&1 || fail "poke: $(cat poke2.out)"
 sleep 1
 for p in "${PIDS[@]}"; do kill -INT "$p" 2>/dev/null || true; done
