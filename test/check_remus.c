@@ -543,9 +543,9 @@ START_TEST(test_tool_create_status)
     ck_assert_str_eq(r.var[0], "OUT_REMUS_STATUS");
     /* at the datum: lat 42.35 (95 1D 1E), lon -70.95 (F3 8B CD); time 22:38:12 (63 DA 31);
      * heading 32 (040), depth 1055 (037 004), velocity 30 (036) */
-    ck_assert_str_eq(r.sval[0], "base { src: 2 dest: 0 } ack_requested: true data: "
+    ck_assert_str_eq(r.sval[0], "base { src: 2 dest: 0 } data: "
                                 "\"\\016\\225\\035\\036\\363\\213\\315\\000c\\3321 \\037\\004\\000\\000\\000\\000\\000"
-                                "\\000\\036\\000\\000\\000\\000\\000\\000\\000\\000\\000\\000\\000\" frame: 0");
+                                "\\000\\036\\000\\000\\000\\000\\000\\000\\000\\000\\000\\000\\000\"");
     /* every status_interval (10 s) */
     ck_assert_int_eq(kelp_remus_codec_iterate(&t, now + 9.9, &sink), 0);
     ck_assert_int_eq(kelp_remus_codec_iterate(&t, now + 10, &sink), 1);

@@ -144,7 +144,7 @@ static const kelp_app_def def = {
         {"NAV_DEPTH", "111", "meters"},
         {NULL, NULL, NULL}},
     .publishes = (const kelp_app_var_info[]){
-        {"OUT_REMUS_STATUS_HEX_30B", "base { src: 2 dest: 0 } ack_requested: true data: \"\\016...\" frame: 0",
+        {"OUT_REMUS_STATUS_HEX_30B", "base { src: 2 dest: 0 } data: \"\\016...\"",
          "mdat_state_out: a State every status_interval when create_status"},
         {"NODE_REPORT", "NAME=mm2,TYPE=auv,TIME=...,X=123,Y=321,...,MODE=NOMOOS,ALLSTOP=NotUsingIvP",
          "for each State or Ranger received"},

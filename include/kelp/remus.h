@@ -182,7 +182,8 @@ KELP_MUST_CHECK int kelp_remus_ranger_decode(const uint8_t *in, size_t len, kelp
  *  - create_status: once NAV_X, NAV_Y, NAV_HEADING, NAV_SPEED and NAV_DEPTH have all arrived, a
  *    State is made every status_interval seconds (Goby: 10 s, fixed; the first at once), the
  *    position through the MOOS UTM geodesy at LatOrigin/LongOrigin, the time the UTC time of
- *    now, and published on mdat_state_out as a ModemDataTransmission (src = MODEM_ID, dest 0).
+ *    now, and published on mdat_state_out as a ModemDataTransmission with only base.src (MODEM_ID),
+ *    base.dest (0) and data set: `base { src: 2 dest: 0 } data: "\016..."`.
  *  - an incoming ModemDataTransmission on mdat_state_var / mdat_ranger_var (data zero-padded or
  *    cut to 32 bytes) becomes a NODE_REPORT of the sender (name and type from the modem-id
  *    lookup: the id itself / "unknown_type" when absent), X/Y from the geodesy, MODE=NOMOOS,

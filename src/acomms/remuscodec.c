@@ -228,11 +228,10 @@ int kelp_remus_codec_iterate(kelp_remus_codec *t, double now, const kelp_field_s
     memset(&m, 0, sizeof m);
     m.src = t->my_id;
     m.dest = 0;
-    m.ack_requested = true;
     m.len = KELP_REMUS_FRAME_LEN;
     if (kelp_remus_state_encode(&s, m.data, sizeof m.data, NULL) < 0) return 0; /* cannot happen */
     char buf[KELP_ACOMMS_MAX_PRINT];
-    if (kelp_acomms_print_data(&m, buf, sizeof buf, NULL) < 0) return 0;
+    if (kelp_acomms_print_data_bare(&m, buf, sizeof buf, NULL) < 0) return 0;
     sink->publish(sink->ctx, t->cfg.out_var[KELP_REMUS_STATE_VAR], true, buf, 0);
     t->last_status = now;
     t->sent++;

@@ -35,7 +35,7 @@ kill -INT $rec1; wait $rec1 2>/dev/null || true
 "$BIN/kelp-logcheck" --print m1.lcmlog > m1.txt || fail "log undecodable"
 out=$(awk '$3=="OUT_REMUS_STATUS" {sub(/^[^ ]+ [^ ]+ [^ ]+ /, ""); print; exit}' m1.txt)
 [ -n "$out" ] || { cat m1.txt | tail; fail "no OUT_REMUS_STATUS"; }
-echo "$out" | grep -q '^base { src: 2 dest: 0 } ack_requested: true data: "\\016' || fail "State text: $out"
+echo "$out" | grep -q '^base { src: 2 dest: 0 } data: "\\016' || fail "State text: $out"
 bg "$BIN/kelp-record" --lcm-url="$KELP_LCM_URL" -f m.lcmlog
 sleep 0.5
 "$BIN/kelp-poke" m.moos "IN_REMUS_STATUS:=$out" > poke2.out 2>&1 || fail "poke: $(cat poke2.out)"
