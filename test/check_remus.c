@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <kelp/acomms.h>
 #include <kelp/nodereport.h>
 
 #include <kelp/remus.h>
@@ -633,6 +634,96 @@ START_TEST(test_tool_init_and_subscriptions)
 }
 END_TEST
 
+START_TEST(test_tool_redirect_alerts)
+{
+    kelp_remus_codec t;
+    tool_setup(&t, false);
+    rec r = {0};
+    kelp_field_sink sink = {&r, rec_pub, rec_warn};
+    kelp_acomms_msg m;
+    char text[1024], want[1536];
+    double la = kelp_remus_latlon_decode(1973653), lo = kelp_remus_latlon_decode(-3306509);
+
+    /* Redirect from modem 3 */
+    memset(&m, 0, sizeof m);
+    m.src = 3;
+    m.len = 32;
+    uint8_t *f = m.data;
+    f[0] = 7;
+    f[2] = 0x95, f[3] = 0x1D, f[4] = 0x1E;  /* lat 42.35 */
+    f[5] = 0xF3, f[6] = 0x8B, f[7] = 0xCD;  /* lon -70.95 */
+    f[8] = 0xA5;                            /* speed/depth flags */
+    f[9] = 0x1F, f[10] = 0x04;              /* transit depth 1055 -> 111 m */
+    f[11] = 30;                             /* transit speed 1 m/s */
+    f[12] = 3;
+    f[13] = 123, f[14] = 0;                 /* survey depth 12.3 m */
+    f[15] = 0xE2;                           /* survey speed -30 -> -1 m/s */
+    f[16] = 4, f[17] = 5;
+    f[18] = 0x00, f[19] = 0x01;             /* row length 256 */
+    f[20] = 20, f[21] = 30, f[22] = 64;     /* spacings, row heading 64 -> 90.35 deg */
+    f[23] = 0x95, f[24] = 0x1D, f[25] = 0x1E;
+    f[26] = 0xF3, f[27] = 0x8B, f[28] = 0xCD;
+    ck_assert_int_eq(kelp_acomms_print_data_bare(&m, text, sizeof text, NULL), 0);
+    ck_assert_int_eq(kelp_remus_codec_mail(&t, "IN_REMUS_REDIRECT_HEX_30B", true, text, 0, 1000, &sink), 1);
+    ck_assert_int_eq(r.n, 1);
+    ck_assert_str_eq(r.var[0], "CCL_REDIRECT_IN");
+    snprintf(want, sizeof want,
+             "MessageType=CCL_REDIRECT,DestinationPlatformId=3,Timestamp=1000,Latitude=%.17g,Longitude=%.17g,"
+             "SpeedDepthFlags=A5,TransitSpeed=1,TransitDepth=111,TransitCommand=3,SurveySpeed=-1,"
+             "SurveyDepth=12.300000190734863,SurveyCommand=4,NumberOfRows=5,RowLength=256,RowSpacing0=20,"
+             "RowSpacing1=30,RowHeading=90.352941176470594,StartLatitude=%.17g,StartLongitude=%.17g",
+             la, lo, la, lo);
+    ck_assert_str_eq(r.sval[0], want);
+    ck_assert_str_eq("42.350003999472143", (snprintf(want, sizeof want, "%.17g", la), want));
+    /* a State on the Redirect variable is refused */
+    f[0] = 14;
+    ck_assert_int_eq(kelp_acomms_print_data_bare(&m, text, sizeof text, NULL), 0);
+    ck_assert_int_lt(kelp_remus_codec_mail(&t, "IN_REMUS_REDIRECT_HEX_30B", true, text, 0, 1000, &sink), 0);
+    ck_assert_int_eq(r.n, 1);
+
+    /* Alert2 from modem 2 (any first byte) */
+    memset(&m, 0, sizeof m);
+    m.src = 2;
+    m.len = 32;
+    f[0] = 31;
+    f[1] = 0x10, f[2] = 0x32, f[3] = 0x54, f[4] = 0x76; /* OASIS time 0x76543210 */
+    f[5] = 0x95, f[6] = 0x1D, f[7] = 0x1E;
+    f[8] = 0xF3, f[9] = 0x8B, f[10] = 0xCD;
+    f[11] = 0x34, f[12] = 0x12, f[13] = 0x85, f[14] = 90, f[15] = 32, f[16] = 1, f[17] = 2; /* contact 1 */
+    f[18] = 0x01, f[19] = 0x00, f[20] = 0x05, f[21] = 200, f[22] = 0, f[23] = 255, f[24] = 128; /* contact 2 */
+    ck_assert_int_eq(kelp_acomms_print_data_bare(&m, text, sizeof text, NULL), 0);
+    ck_assert_int_eq(kelp_remus_codec_mail(&t, "IN_REMUS_ALERT2_HEX_30B", true, text, 0, 1000, &sink), 1);
+    ck_assert_str_eq(r.var[1], "CCL_ALERT2_IN");
+    snprintf(want, sizeof want,
+             "MessageType=CCL_ALERT2,Node=2,Timestamp=1985229328,Latitude=%.17g,Longitude=%.17g,"
+             "Contact1Id=4660,Contact1Age=133,Contact1Bearing=90,Contact1HeadingType=Absolute,"
+             "Contact1Heading=45.176470588235297,Contact1Signature1=1,Contact1Signature2=2,"
+             "Contact2Id=1,Contact2Age=5,Contact2Bearing=200,Contact2HeadingType=Vehicle,Contact2Heading=0,"
+             "Contact2Signature1=255,Contact2Signature2=128,"
+             "Contact3Id=0,Contact3Age=0,Contact3Bearing=0,Contact3HeadingType=Vehicle,Contact3Heading=0,"
+             "Contact3Signature1=0,Contact3Signature2=0",
+             la, lo);
+    ck_assert_str_eq(r.sval[1], want);
+
+    /* Alert: heading at byte 11, contacts of 6 bytes from byte 12 */
+    f[11] = 32;
+    f[12] = 0x34, f[13] = 0x12, f[14] = 7, f[15] = 90, f[16] = 1, f[17] = 2;
+    f[18] = 0, f[19] = 0, f[20] = 0, f[21] = 0, f[22] = 0, f[23] = 0, f[24] = 0;
+    f[29] = 9;
+    ck_assert_int_eq(kelp_acomms_print_data_bare(&m, text, sizeof text, NULL), 0);
+    ck_assert_int_eq(kelp_remus_codec_mail(&t, "IN_REMUS_ALERT_HEX_30B", true, text, 0, 1000, &sink), 1);
+    ck_assert_str_eq(r.var[2], "CCL_ALERT_IN");
+    snprintf(want, sizeof want,
+             "MessageType=CCL_ALERT,Node=2,Timestamp=1985229328,Latitude=%.17g,Longitude=%.17g,"
+             "Heading=45.176470588235297,"
+             "Contact1Id=4660,Contact1Age=7,Contact1Bearing=90,Contact1Signature1=1,Contact1Signature2=2,"
+             "Contact2Id=0,Contact2Age=0,Contact2Bearing=0,Contact2Signature1=0,Contact2Signature2=0,"
+             "Contact3Id=0,Contact3Age=0,Contact3Bearing=0,Contact3Signature1=0,Contact3Signature2=9",
+             la, lo);
+    ck_assert_str_eq(r.sval[2], want);
+}
+END_TEST
+
 Suite *kelp_remus_suite(void)
 {
     Suite *s = suite_create("remus");
@@ -659,6 +750,7 @@ Suite *kelp_remus_suite(void)
     tcase_add_test(t, test_tool_no_create_status);
     tcase_add_test(t, test_tool_incoming_state);
     tcase_add_test(t, test_tool_init_and_subscriptions);
+    tcase_add_test(t, test_tool_redirect_alerts);
     suite_add_tcase(s, t);
     return s;
 }

@@ -116,7 +116,7 @@ static void report(kelp_app *app, void *st, FILE *out)
 
 static const kelp_app_def def = {
     .name = "pREMUSCodec",
-    .purpose = "REMUS CCL State/Ranger codec: State from NAV_* (create_status), NODE_REPORT from received State/Ranger.",
+    .purpose = "REMUS CCL codec: State from NAV_* (create_status); NODE_REPORT from State/Ranger; Redirect/Alert texts.",
     .textformat = true,
     .params = (const kelp_app_param_info[]){
         {"common", "{ verbosity: VERBOSITY_VERBOSE }", "optional: Goby's common block (accepted)", NULL},
@@ -150,6 +150,9 @@ static const kelp_app_def def = {
          "for each State or Ranger received"},
         {"STATUS_REPORT_IN", "MessageType=CCL_STATUS,Node=2,Timestamp=...,Latitude=...", "with it"},
         {"<NAME>_NAV_X", "123", "and _NAV_UTC, _Y, _LAT, _LONG, _SPEED, _DEPTH, _HEADING of the sender"},
+        {"CCL_REDIRECT_IN", "MessageType=CCL_REDIRECT,DestinationPlatformId=3,...", "for each Redirect received"},
+        {"CCL_ALERT_IN", "MessageType=CCL_ALERT,Node=2,...", "for each Alert received"},
+        {"CCL_ALERT2_IN", "MessageType=CCL_ALERT2,Node=2,...", "for each Alert2 received"},
         {NULL, NULL, NULL}},
     .notes = "Globals used: LatOrigin, LongOrigin, modem_id_lookup_path (when not in the block).\n",
     .startup = startup,

@@ -189,10 +189,16 @@ KELP_MUST_CHECK int kelp_remus_ranger_decode(const uint8_t *in, size_t len, kelp
  *    lookup: the id itself / "unknown_type" when absent), X/Y from the geodesy, MODE=NOMOOS,
  *    ALLSTOP=NotUsingIvP, LENGTH=4; plus STATUS_REPORT_IN (MessageType=CCL_STATUS,...) and the
  *    <NAME>_NAV_{UTC,X,Y,LAT,LONG,SPEED,DEPTH,HEADING} contact variables.
+ *  - Redirect -> CCL_REDIRECT_IN, Alert -> CCL_ALERT_IN, Alert2 -> CCL_ALERT2_IN: key=value text
+ *    in Goby's key order (byte positions in remuscodec.c), numbers as boost::lexical_cast writes
+ *    them (%.17g).
  * kelp differences: NODE_REPORT is written in the uField format (include/kelp/nodereport.h) with
- * TIME = now; MODEM_ID is read as a number or text (Goby reads only the text form); a frame whose
- * first byte is not the variable's message id is refused with a warning (Goby decodes it anyway);
- * Redirect/Alert/Alert2 frames are identified and counted, not turned into CCL_*_IN text. */
+ * TIME = now; MODEM_ID is read as a number or text (Goby reads only the text form); a State,
+ * Ranger or Redirect frame whose first byte is not its id is refused with a warning (Goby decodes
+ * it anyway; Alert frames are taken whatever their id, which no source gives); bytes >= 0x80 are
+ * read as bytes (Goby sign-extends them through char, corrupting depth, gfi/pitch/oil, battery and
+ * the alert fields); lat/lon decode with the sign (Goby 1.x: kelp_remus_latlon_decode_goby1);
+ * SpeedDepthFlags is the byte's two hex digits (Goby appends them to the previous message's). */
 
 #include <stdbool.h>
 #include <kelp/config.h>

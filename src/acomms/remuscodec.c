@@ -138,6 +138,74 @@ static const kelp_dccl_modem_entry *lookup(const kelp_dccl_builtin *g, int id)
     return NULL;
 }
 
+/* ---- the CCL_*_IN texts (Goby's key order; numbers as boost::lexical_cast writes them) ---- */
+
+typedef struct sb {
+    char *buf;
+    size_t cap, off;
+    bool bad;
+} sb;
+
+KELP_PRINTF(2, 3) static void sb_add(sb *b, const char *fmt, ...)
+{
+    if (b->bad) return;
+    va_list ap;
+    va_start(ap, fmt);
+    int n = vsnprintf(b->buf + b->off, b->cap - b->off, fmt, ap);
+    va_end(ap);
+    if (n < 0 || (size_t)n >= b->cap - b->off) b->bad = true;
+    else b->off += (size_t)n;
+}
+
+static double ll_at(const uint8_t *f, size_t i)
+{
+    /* the decoder reads the low 24 bits as a signed code */
+    return kelp_remus_latlon_decode((int32_t)((uint32_t)f[i] | ((uint32_t)f[i + 1] << 8) | ((uint32_t)f[i + 2] << 16)));
+}
+
+static unsigned u16_at(const uint8_t *f, size_t i)
+{
+    return (unsigned)f[i] | ((unsigned)f[i + 1] << 8);
+}
+
+static void alert_text(const uint8_t *f, int node, bool two, sb *b)
+{
+    double oasis = (double)((uint32_t)f[1] | ((uint32_t)f[2] << 8) | ((uint32_t)f[3] << 16) | ((uint32_t)f[4] << 24));
+    sb_add(b, "MessageType=%s,Node=%d,Timestamp=%.17g,Latitude=%.17g,Longitude=%.17g", two ? "CCL_ALERT2" : "CCL_ALERT",
+           node, oasis, ll_at(f, 5), ll_at(f, 8));
+    if (!two) {
+        sb_add(b, ",Heading=%.17g", kelp_remus_heading_decode(f[11]));
+        for (int k = 0; k < 3; k++) {
+            const uint8_t *c = f + 12 + 6 * k;
+            sb_add(b, ",Contact%dId=%u,Contact%dAge=%u,Contact%dBearing=%u,Contact%dSignature1=%u,Contact%dSignature2=%u",
+                   k + 1, u16_at(c, 0), k + 1, c[2], k + 1, c[3], k + 1, c[4], k + 1, c[5]);
+        }
+    } else {
+        for (int k = 0; k < 3; k++) {
+            const uint8_t *c = f + 11 + 7 * k;
+            sb_add(b,
+                   ",Contact%dId=%u,Contact%dAge=%u,Contact%dBearing=%u,Contact%dHeadingType=%s,Contact%dHeading=%.17g"
+                   ",Contact%dSignature1=%u,Contact%dSignature2=%u",
+                   k + 1, u16_at(c, 0), k + 1, c[2], k + 1, c[3], k + 1, (c[2] & 0x80) ? "Absolute" : "Vehicle", k + 1,
+                   kelp_remus_heading_decode(c[4]), k + 1, c[5], k + 1, c[6]);
+        }
+    }
+}
+
+static void redirect_text(const uint8_t *f, int node, double now, sb *b)
+{
+    sb_add(b, "MessageType=CCL_REDIRECT,DestinationPlatformId=%d,Timestamp=%.17g,Latitude=%.17g,Longitude=%.17g"
+              ",SpeedDepthFlags=%02X",
+           node, now, ll_at(f, 2), ll_at(f, 5), f[8]);
+    sb_add(b, ",TransitSpeed=%.17g,TransitDepth=%.17g,TransitCommand=%u", kelp_remus_speed_decode((int8_t)f[11]),
+           kelp_remus_depth_decode((uint16_t)u16_at(f, 9)), f[12]);
+    sb_add(b, ",SurveySpeed=%.17g,SurveyDepth=%.17g,SurveyCommand=%u", kelp_remus_speed_decode((int8_t)f[15]),
+           kelp_remus_depth_decode((uint16_t)u16_at(f, 13)), f[16]);
+    sb_add(b, ",NumberOfRows=%u,RowLength=%u,RowSpacing0=%u,RowSpacing1=%u,RowHeading=%.17g", f[17],
+           u16_at(f, 18) & 0x1FFFu, f[20], f[21], kelp_remus_heading_decode(f[22]));
+    sb_add(b, ",StartLatitude=%.17g,StartLongitude=%.17g", ll_at(f, 23), ll_at(f, 26));
+}
+
 static int incoming(kelp_remus_codec *t, int kind, const char *text, double now, const kelp_field_sink *sink)
 {
     kelp_acomms_msg m;
@@ -152,7 +220,9 @@ static int incoming(kelp_remus_codec *t, int kind, const char *text, double now,
     memcpy(f, m.data, m.len < sizeof f ? m.len : sizeof f);
     static const kelp_remus_kind want[KELP_REMUS_NVARS] = {KELP_REMUS_STATE, KELP_REMUS_RANGER, KELP_REMUS_REDIRECT,
                                                          KELP_REMUS_OASIS, KELP_REMUS_OASIS};
-    if (m.len == 0 || kelp_remus_identify(f, sizeof f) != want[kind]) {
+    /* the Alert ids are in no source read: those frames are taken as they come, as Goby does */
+    bool alert = kind == KELP_REMUS_ALERT_VAR || kind == KELP_REMUS_ALERT2_VAR;
+    if (m.len == 0 || (!alert && kelp_remus_identify(f, sizeof f) != want[kind])) {
         t->refused++;
         warnf(sink, "%s: the frame is not a REMUS %s message", t->cfg.in_var[kind], KIND_NAME[kind]);
         return KELP_ERR_PARSE;
@@ -183,6 +253,13 @@ static int incoming(kelp_remus_codec *t, int kind, const char *text, double now,
         if (kelp_remus_ranger_decode(f, sizeof f, &r) < 0) return KELP_ERR_PARSE; /* cannot happen */
         c.lat = r.lat, c.lon = r.lon, c.spd = r.speed, c.hdg = r.heading, c.depth = r.depth;
         publish_contact(t, &c, NULL, now, sink);
+    } else {
+        static const char *const out[KELP_REMUS_NVARS] = {NULL, NULL, "CCL_REDIRECT_IN", "CCL_ALERT_IN", "CCL_ALERT2_IN"};
+        char txt[1536];
+        sb b = {txt, sizeof txt, 0, false};
+        if (kind == KELP_REMUS_REDIRECT_VAR) redirect_text(f, m.src, now, &b);
+        else alert_text(f, m.src, kind == KELP_REMUS_ALERT2_VAR, &b);
+        if (!b.bad) sink->publish(sink->ctx, out[kind], true, txt, 0);
     }
     return 1;
 }
