@@ -2,12 +2,21 @@
  * (the State struct holds wire codes, so there is no canonical rewrite); every other length or id
  * is refused with a status. The field helpers are driven with doubles taken from the input: their
  * codes stay in range and their decoded values re-encode to the same code (except gfi/oil, which
- * Goby's decoder truncates, velocity, which its encoder truncates, and depth codes past 8100). */
+ * Goby's decoder truncates, velocity, which its encoder truncates, and depth codes past 8100).
+ * The input as text on each of pREMUSCodec's incoming variables exercises the tool. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <kelp/remus.h>
+#include <stdbool.h>
+
+static void sink_pub(void *ctx, const char *var, bool is_string, const char *sval, double dval)
+{
+    (void)ctx;
+    (void)dval;
+    if (!var || !var[0] || (is_string && !sval)) abort();
+}
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
@@ -69,6 +78,30 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         (void)kelp_remus_gfi_pitch_oil_encode(d, d, d);
         if (isfinite(d) && fabs(d) < 1e15) (void)kelp_remus_time_date_encode((int64_t)d);
     }
+    /* the pREMUSCodec tool: the input as the text of each incoming variable */
+    static kelp_dccl_modem_entry modems[4];
+    static kelp_dccl_builtin geo;
+    static kelp_remus_codec tool;
+    static bool ready;
+    if (!ready) {
+        kelp_dccl_builtin_init(&geo, modems, 4);
+        static const char lk[] = "1,mm1,topside\n2,mm2,auv\n";
+        if (kelp_dccl_builtin_parse_modems(&geo, lk, sizeof lk - 1) != 0) abort();
+        kelp_dccl_builtin_set_origin(&geo, 42.35, -70.95);
+        kelp_remus_codec_cfg c;
+        kelp_remus_codec_cfg_default(&c);
+        c.create_status = true;
+        c.geo = &geo;
+        if (kelp_remus_codec_init(&tool, &c) != 0) abort();
+        ready = true;
+    }
+    char *text = malloc(size + 1);
+    memcpy(text, data, size);
+    text[size] = '\0';
+    kelp_field_sink sink = {NULL, sink_pub, NULL};
+    for (int k = 0; k < KELP_REMUS_NVARS; k++)
+        (void)kelp_remus_codec_mail(&tool, tool.cfg.in_var[k], true, text, 0, 1000, &sink);
+    free(text);
     free(in);
     return 0;
 }
