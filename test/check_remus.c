@@ -621,7 +621,8 @@ START_TEST(test_tool_init_and_subscriptions)
     ck_assert_str_eq(kelp_remus_codec_subscription(&t, 5), "OUT_REMUS_STATUS");
     ck_assert_str_eq(kelp_remus_codec_subscription(&t, 10), "MODEM_ID");
     ck_assert_str_eq(kelp_remus_codec_subscription(&t, 15), "NAV_DEPTH");
-    ck_assert_ptr_null(kelp_remus_codec_subscription(&t, 16));
+    ck_assert_str_eq(kelp_remus_codec_subscription(&t, 16), "OUTGOING_COMMAND");
+    ck_assert_ptr_null(kelp_remus_codec_subscription(&t, 17));
     kelp_remus_codec_cfg c;
     kelp_remus_codec_cfg_default(&c);
     ck_assert_int_eq(kelp_remus_codec_init(&t, &c), KELP_ERR_ARG); /* no geo */
@@ -724,6 +725,52 @@ START_TEST(test_tool_redirect_alerts)
 }
 END_TEST
 
+START_TEST(test_tool_outgoing_redirect)
+{
+    kelp_remus_codec t;
+    tool_setup(&t, false);
+    rec r = {0};
+    kelp_field_sink sink = {&r, rec_pub, rec_warn};
+    ck_assert_int_eq(kelp_remus_codec_mail(&t, "MODEM_ID", true, "2", 0, 1000, &sink), 1);
+    /* not a CCL_REDIRECT: ignored */
+    ck_assert_int_eq(kelp_remus_codec_mail(&t, "OUTGOING_COMMAND", true, "MessageType=GOTO,x=1", 0, 1000, &sink), 0);
+    ck_assert_int_eq(r.n, 0);
+    const char *cmd = "MessageType=CCL_REDIRECT,DestinationPlatformId=3,Timestamp=1,Latitude=42.35,Longitude=-70.95,"
+                      "SpeedDepthFlags=A5,TransitSpeed=1,TransitDepth=111,TransitCommand=3,SurveySpeed=-1,"
+                      "SurveyDepth=12.3,SurveyCommand=4,NumberOfRows=5,RowLength=256,RowSpacing0=20,"
+                      "RowSpacing1=30,RowHeading=90.35,StartLatitude=42.35,StartLongitude=-70.95";
+    ck_assert_int_eq(kelp_remus_codec_mail(&t, "OUTGOING_COMMAND", true, cmd, 0, 1000, &sink), 1);
+    ck_assert_int_eq(r.n, 1);
+    ck_assert_str_eq(r.var[0], "OUT_REMUS_REDIRECT_HEX_30B");
+    /* 07 00 | 95 1D 1E | F3 8B CD | A5 | 1F 04 (1055) | 1E (30) | 03 | 7B 00 (123) | E2 (-30) | 04 | 05 |
+     * 00 01 (256) | 14 | 1E | 40 (heading 64) | 95 1D 1E | F3 8B CD | 00 00 00 */
+    ck_assert_str_eq(r.sval[0], "base { src: 2 dest: 3 } data: \"\\007\\000\\225\\035\\036\\363\\213\\315\\245\\037\\004"
+                                "\\036\\003{\\000\\342\\004\\005\\000\\001\\024\\036@\\225\\035\\036\\363\\213\\315"
+                                "\\000\\000\\000\"");
+    /* the same frame through the incoming side */
+    ck_assert_int_eq(kelp_remus_codec_mail(&t, "IN_REMUS_REDIRECT_HEX_30B", true, r.sval[0], 0, 1000, &sink), 1);
+    ck_assert_str_eq(r.var[1], "CCL_REDIRECT_IN");
+    ck_assert(strstr(r.sval[1], ",SpeedDepthFlags=A5,TransitSpeed=1,TransitDepth=111,TransitCommand=3,SurveySpeed=-1,"
+                                "SurveyDepth=12.300000190734863,SurveyCommand=4,NumberOfRows=5,RowLength=256,"
+                                "RowSpacing0=20,RowSpacing1=30,RowHeading=90.352941176470594,") != NULL);
+    /* the encoder alone: clamps */
+    kelp_remus_redirect rd;
+    memset(&rd, 0, sizeof rd);
+    rd.row_length = 70000, rd.row_spacing_0 = 300, rd.row_spacing_1 = -4;
+    uint8_t f[32];
+    size_t len = 0;
+    ck_assert_int_eq(kelp_remus_redirect_encode(&rd, f, sizeof f, &len), 0);
+    ck_assert_uint_eq(len, 32);
+    ck_assert_uint_eq(f[0], 7);
+    ck_assert_uint_eq(f[18], 0xFF);
+    ck_assert_uint_eq(f[19], 0xFF);
+    ck_assert_uint_eq(f[20], 255);
+    ck_assert_uint_eq(f[21], 0);
+    ck_assert_int_eq(kelp_remus_redirect_encode(&rd, f, 31, &len), KELP_ERR_NOSPACE);
+    ck_assert_int_eq(kelp_remus_redirect_encode(NULL, f, 32, &len), KELP_ERR_ARG);
+}
+END_TEST
+
 Suite *kelp_remus_suite(void)
 {
     Suite *s = suite_create("remus");
@@ -751,6 +798,7 @@ Suite *kelp_remus_suite(void)
     tcase_add_test(t, test_tool_incoming_state);
     tcase_add_test(t, test_tool_init_and_subscriptions);
     tcase_add_test(t, test_tool_redirect_alerts);
+    tcase_add_test(t, test_tool_outgoing_redirect);
     suite_add_tcase(s, t);
     return s;
 }

@@ -163,6 +163,28 @@ void kelp_remus_time_date_decode(uint32_t code, kelp_remus_time *out);
  *  or past the month's end, hour > 23, minute > 59, seconds code 15 = 60 s). */
 KELP_MUST_CHECK int kelp_remus_time_date_to_unix(uint32_t code, int64_t year, int64_t *unix_s);
 
+/* ---- Redirect (id 7), encode as Goby 1.x's pREMUSCodec fills it from OUTGOING_COMMAND ----
+ * 0 id | 1 (0) | 2-4 lat | 5-7 lon | 8 speed/depth flags | 9-10 transit depth | 11 transit speed
+ * (m/s code) | 12 transit command | 13-14 survey depth | 15 survey speed | 16 survey command |
+ * 17 rows | 18-19 row length (LE) | 20 spacing 0 | 21 spacing 1 | 22 row heading code |
+ * 23-25 start lat | 26-28 start lon | 29-31 (0). */
+typedef struct kelp_remus_redirect {
+    double lat, lon;
+    uint8_t speed_depth_flags;
+    double transit_depth, transit_speed;
+    uint8_t transit_command;
+    double survey_depth, survey_speed;
+    uint8_t survey_command;
+    uint8_t rows;
+    double row_length;              /**< clamped to 0..65535, truncated */
+    double row_spacing_0, row_spacing_1; /**< clamped to 0..255, truncated */
+    double row_heading;
+    double start_lat, start_lon;
+} kelp_remus_redirect;
+
+/** @return 0; KELP_ERR_ARG; KELP_ERR_NOSPACE (cap < 32). */
+KELP_MUST_CHECK int kelp_remus_redirect_encode(const kelp_remus_redirect *r, uint8_t *out, size_t cap, size_t *len);
+
 /* ---- Ranger (id 16), decode only, as Goby 1.x does ---- */
 
 typedef struct kelp_remus_ranger {
@@ -189,6 +211,11 @@ KELP_MUST_CHECK int kelp_remus_ranger_decode(const uint8_t *in, size_t len, kelp
  *    lookup: the id itself / "unknown_type" when absent), X/Y from the geodesy, MODE=NOMOOS,
  *    ALLSTOP=NotUsingIvP, LENGTH=4; plus STATUS_REPORT_IN (MessageType=CCL_STATUS,...) and the
  *    <NAME>_NAV_{UTC,X,Y,LAT,LONG,SPEED,DEPTH,HEADING} contact variables.
+ *  - OUTGOING_COMMAND holding MessageType=CCL_REDIRECT (keys DestinationPlatformId, Latitude,
+ *    Longitude, SpeedDepthFlags (hex), TransitDepth, TransitSpeed, TransitCommand, SurveyDepth,
+ *    SurveySpeed, SurveyCommand, NumberOfRows, RowLength, RowSpacing0, RowSpacing1, RowHeading,
+ *    StartLatitude, StartLongitude) -> a Redirect on mdat_redirect_out, src MODEM_ID, dest the
+ *    DestinationPlatformId (kelp: an absent key is 0; Goby keeps the previous message's value).
  *  - Redirect -> CCL_REDIRECT_IN, Alert -> CCL_ALERT_IN, Alert2 -> CCL_ALERT2_IN: key=value text
  *    in Goby's key order (byte positions in remuscodec.c), numbers as boost::lexical_cast writes
  *    them (%.17g).

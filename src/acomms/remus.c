@@ -331,6 +331,40 @@ void kelp_remus_state_from_nav(kelp_remus_state *s, double lat, double lon, int6
     s->est_velocity = kelp_remus_velocity_encode(speed);
 }
 
+/* ---------------------------------------------------------------- Redirect */
+
+static unsigned clamp_trunc(double v, double hi)
+{
+    if (!(v > 0)) return 0;
+    return v >= hi ? (unsigned)hi : (unsigned)v;
+}
+
+int kelp_remus_redirect_encode(const kelp_remus_redirect *r, uint8_t *out, size_t cap, size_t *len)
+{
+    if (!r || !out) return KELP_ERR_ARG;
+    if (cap < KELP_REMUS_FRAME_LEN) return KELP_ERR_NOSPACE;
+    for (size_t i = 0; i < KELP_REMUS_FRAME_LEN; i++) out[i] = 0;
+    out[0] = KELP_REMUS_ID_REDIRECT;
+    put24(out + 2, (uint32_t)kelp_remus_latlon_encode(r->lat));
+    put24(out + 5, (uint32_t)kelp_remus_latlon_encode(r->lon));
+    out[8] = r->speed_depth_flags;
+    put16(out + 9, kelp_remus_depth_encode(r->transit_depth));
+    out[11] = (uint8_t)kelp_remus_speed_encode(r->transit_speed);
+    out[12] = r->transit_command;
+    put16(out + 13, kelp_remus_depth_encode(r->survey_depth));
+    out[15] = (uint8_t)kelp_remus_speed_encode(r->survey_speed);
+    out[16] = r->survey_command;
+    out[17] = r->rows;
+    put16(out + 18, (uint16_t)clamp_trunc(r->row_length, 65535));
+    out[20] = (uint8_t)clamp_trunc(r->row_spacing_0, 255);
+    out[21] = (uint8_t)clamp_trunc(r->row_spacing_1, 255);
+    out[22] = kelp_remus_heading_encode(r->row_heading);
+    put24(out + 23, (uint32_t)kelp_remus_latlon_encode(r->start_lat));
+    put24(out + 26, (uint32_t)kelp_remus_latlon_encode(r->start_lon));
+    if (len) *len = KELP_REMUS_FRAME_LEN;
+    return KELP_OK;
+}
+
 /* ---------------------------------------------------------------- Ranger */
 
 static double bcd_ll(const uint8_t *c)

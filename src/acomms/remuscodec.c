@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include <kelp/acomms.h>
+#include <kelp/kv.h>
 #include <kelp/nodereport.h>
 #include <kelp/util.h>
 
@@ -45,7 +46,8 @@ const char *kelp_remus_codec_subscription(const kelp_remus_codec *t, unsigned i)
     i -= KELP_REMUS_NVARS;
     if (i == 0) return "MODEM_ID";
     i--;
-    return i < KELP_REMUS_NNAV ? NAV_VAR[i] : NULL;
+    if (i < KELP_REMUS_NNAV) return NAV_VAR[i];
+    return i == KELP_REMUS_NNAV ? "OUTGOING_COMMAND" : NULL;
 }
 
 KELP_PRINTF(2, 3) static void warnf(const kelp_field_sink *sink, const char *fmt, ...)
@@ -264,9 +266,65 @@ static int incoming(kelp_remus_codec *t, int kind, const char *text, double now,
     return 1;
 }
 
+/* a number from key=value text (MOOSValFromString); absent or not a number -> 0 */
+static double kv_num(const char *s, const char *key)
+{
+    char v[64];
+    double d = 0;
+    if (kelp_kv_get(s, ',', key, v, sizeof v) != 1 || kelp_parse_double(v, strlen(v), &d) != KELP_OK || !isfinite(d))
+        return 0;
+    return d;
+}
+
+static uint8_t byte_of(double v)
+{
+    return (uint8_t)((v > 0 && v < 256) ? (unsigned)v : 0);
+}
+
+/* OUTGOING_COMMAND: MessageType=CCL_REDIRECT,... -> a Redirect on mdat_redirect_out */
+static int outgoing_command(kelp_remus_codec *t, const char *s, const kelp_field_sink *sink)
+{
+    char v[64];
+    if (!s || kelp_kv_get(s, ',', "MessageType", v, sizeof v) != 1 || !kelp_strieq(v, "CCL_REDIRECT")) return 0;
+    kelp_remus_redirect r;
+    memset(&r, 0, sizeof r);
+    r.lat = kv_num(s, "Latitude");
+    r.lon = kv_num(s, "Longitude");
+    if (kelp_kv_get(s, ',', "SpeedDepthFlags", v, sizeof v) == 1) {
+        const char *h = (v[0] == '0' && (v[1] == 'x' || v[1] == 'X')) ? v + 2 : v;
+        unsigned x = 0;
+        for (size_t i = 0; h[i] && kelp_hex_digit(h[i]) >= 0; i++) x = (x << 4 | (unsigned)kelp_hex_digit(h[i])) & 0xFFu;
+        r.speed_depth_flags = (uint8_t)x;
+    }
+    r.transit_depth = kv_num(s, "TransitDepth");
+    r.transit_speed = kv_num(s, "TransitSpeed");
+    r.transit_command = byte_of(kv_num(s, "TransitCommand"));
+    r.survey_depth = kv_num(s, "SurveyDepth");
+    r.survey_speed = kv_num(s, "SurveySpeed");
+    r.survey_command = byte_of(kv_num(s, "SurveyCommand"));
+    r.rows = byte_of(kv_num(s, "NumberOfRows"));
+    r.row_length = kv_num(s, "RowLength");
+    r.row_spacing_0 = kv_num(s, "RowSpacing0");
+    r.row_spacing_1 = kv_num(s, "RowSpacing1");
+    r.row_heading = kv_num(s, "RowHeading");
+    r.start_lat = kv_num(s, "StartLatitude");
+    r.start_lon = kv_num(s, "StartLongitude");
+    double dest = kv_num(s, "DestinationPlatformId");
+    kelp_acomms_msg m;
+    memset(&m, 0, sizeof m);
+    m.src = t->my_id;
+    m.dest = (dest >= 0 && dest <= 31) ? (int)dest : 0;
+    if (kelp_remus_redirect_encode(&r, m.data, sizeof m.data, &m.len) < 0) return 0; /* cannot happen */
+    char buf[KELP_ACOMMS_MAX_PRINT];
+    if (kelp_acomms_print_data_bare(&m, buf, sizeof buf, NULL) < 0) return 0;
+    sink->publish(sink->ctx, t->cfg.out_var[KELP_REMUS_REDIRECT_VAR], true, buf, 0);
+    return 1;
+}
+
 int kelp_remus_codec_mail(kelp_remus_codec *t, const char *var, bool is_string, const char *sval, double dval,
                           double now, const kelp_field_sink *sink)
 {
+    if (kelp_strieq(var, "OUTGOING_COMMAND")) return is_string ? outgoing_command(t, sval, sink) : 0;
     for (int k = 0; k < KELP_REMUS_NVARS; k++)
         if (kelp_strieq(var, t->cfg.in_var[k])) return is_string ? incoming(t, k, sval, now, sink) : 0;
     if (kelp_strieq(var, "MODEM_ID")) {
