@@ -76,6 +76,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         (void)kelp_remus_watts_encode(d);
         (void)kelp_remus_fix_age_encode(d);
         (void)kelp_remus_gfi_pitch_oil_encode(d, d, d);
+        kelp_remus_redirect rd = {d, d, 1, d, d, 2, d, d, 3, 4, d, d, d, d, d, d};
+        uint8_t rf[KELP_REMUS_FRAME_LEN];
+        size_t rl;
+        if (kelp_remus_redirect_encode(&rd, rf, sizeof rf, &rl) != 0 || rl != sizeof rf || rf[0] != 7) abort();
         if (isfinite(d) && fabs(d) < 1e15) (void)kelp_remus_time_date_encode((int64_t)d);
     }
     /* the pREMUSCodec tool: the input as the text of each incoming variable */
@@ -101,6 +105,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     kelp_field_sink sink = {NULL, sink_pub, NULL};
     for (int k = 0; k < KELP_REMUS_NVARS; k++)
         (void)kelp_remus_codec_mail(&tool, tool.cfg.in_var[k], true, text, 0, 1000, &sink);
+    (void)kelp_remus_codec_mail(&tool, "OUTGOING_COMMAND", true, text, 0, 1000, &sink);
+    (void)kelp_remus_codec_mail(&tool, "MODEM_ID", true, text, 0, 1000, &sink);
     free(text);
     free(in);
     return 0;
