@@ -5,7 +5,6 @@
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include <kelp/acomms.h>
@@ -329,11 +328,7 @@ int kelp_remus_codec_mail(kelp_remus_codec *t, const char *var, bool is_string, 
         if (kelp_strieq(var, t->cfg.in_var[k])) return is_string ? incoming(t, k, sval, now, sink) : 0;
     if (kelp_strieq(var, "MODEM_ID")) {
         double v = dval;
-        if (is_string) {
-            char *end = NULL;
-            v = sval ? strtod(sval, &end) : NAN;
-            if (!sval || end == sval) v = NAN;
-        }
+        if (is_string && (!sval || kelp_parse_double(sval, strlen(sval), &v) != KELP_OK)) v = NAN;
         if (!isfinite(v) || v < 0 || v > 31) return 0;
         t->my_id = (int)v;
         return 1;
