@@ -137,6 +137,9 @@ KELP_MUST_CHECK int kelp_acomms_time_text(int64_t unix_us, char *buf, size_t cap
  *   queue_key { type: QUEUE_CCL id: 2 }` (queue_key only when key.type != 0).
  *  @return 0 or KELP_ERR_NOSPACE (output cut, NUL-terminated). */
 KELP_MUST_CHECK int kelp_acomms_print_data(const kelp_acomms_msg *m, char *buf, size_t cap, size_t *len);
+/** A ModemDataTransmission with only base (src, dest, time when has_time) and data set, as
+ *  pREMUSCodec fills it: `base { src: 2 dest: 0 } data: "\016..."`. Same returns. */
+KELP_MUST_CHECK int kelp_acomms_print_data_bare(const kelp_acomms_msg *m, char *buf, size_t cap, size_t *len);
 /** ModemDataAck: `base { src: S dest: D time: ".." } frame: F orig_msg { ... }`. */
 KELP_MUST_CHECK int kelp_acomms_print_ack(int src, int dest, uint32_t frame, int64_t time_us, const kelp_acomms_msg *orig,
                                           char *buf, size_t cap, size_t *len);

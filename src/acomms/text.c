@@ -204,6 +204,17 @@ int kelp_acomms_print_data(const kelp_acomms_msg *m, char *buf, size_t cap, size
     return tw_finish(&w, len);
 }
 
+int kelp_acomms_print_data_bare(const kelp_acomms_msg *m, char *buf, size_t cap, size_t *len)
+{
+    tw w;
+    if (!m || !buf || !cap) return KELP_ERR_ARG;
+    tw_init(&w, buf, cap);
+    tw_base(&w, m->src, m->dest, m->has_time, m->time_us);
+    tw_field(&w, "data");
+    tw_bytes(&w, m->data, m->len);
+    return tw_finish(&w, len);
+}
+
 int kelp_acomms_print_ack(int src, int dest, uint32_t frame, int64_t time_us, const kelp_acomms_msg *orig, char *buf,
                           size_t cap, size_t *len)
 {
