@@ -106,6 +106,7 @@ START_TEST(uhz_default_setting_listing20)
     ck_assert_double_eq(H.cfg.setting[d].width, 25);
     kelp_field_uhz_cfg_default(&C);
     ck_assert_int_eq(kelp_field_uhz_default_setting(&C), -1);
+    ck_assert_double_eq(C.min_reset_interval, 300); /* MOOS-IvP's default (2012 and 24.8) */
 }
 END_TEST
 
@@ -119,6 +120,7 @@ START_TEST(uhz_config_request_widths)
     rec r = { 0 };
     kelp_field_sink s = { &r, pub, wrn };
     cfg(FIVE);
+    C.min_reset_interval = 0; /* back-to-back requests (MOOS-IvP's default 300 s would refuse them) */
     start();
     nr("archie", 0, 0, 0, &s);
     config("vname=archie, width=32, pd=0.9", 1, 1, &s);
@@ -142,7 +144,7 @@ START_TEST(uhz_pfa_values)
     kelp_field_sink s = { &r, pub, wrn };
     static const char *const L[] = { "sensor_config", "width=25, exp=4, pclass=0.85", "sensor_config",
                                      "width=20, exp=6, pclass=0.91", "sensor_config", "width=10, exp=6, pclass=0.93",
-                                     "verbose", "true", NULL };
+                                     "verbose", "true", "min_reset_interval", "0", NULL };
     cfg(L);
     start();
     nr("archie", 0, 0, 0, &s);

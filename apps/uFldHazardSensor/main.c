@@ -170,7 +170,7 @@ static const kelp_app_def def = {
         { "SHOW_DETECTIONS", "60", "24.8's name of SHOW_REPORTS", "SHOW_REPORTS" },
         { "SHOW_PD", "true", "the swath's msg shows pd (default true)", NULL },
         { "SHOW_PFA", "true", "the swath's msg shows pfa (default true)", NULL },
-        { "MIN_RESET_INTERVAL", "0", "s between accepted config requests of a vehicle (default 0; 24.8: 300)", NULL },
+        { "MIN_RESET_INTERVAL", "300", "s between accepted config requests of a vehicle (default 300, as MOOS-IvP)", NULL },
         { "MIN_CLASSIFY_INTERVAL", "30", "s between classify answers to a vehicle (default 30)", NULL },
         { "OPTIONS_SUMMARY_INTERVAL", "10", "s between UHZ_OPTIONS_SUMMARY posts (default 10)", NULL },
         { "TERM_REPORT_INTERVAL", "0.4", "accepted (24.8 AppCasting)", NULL },

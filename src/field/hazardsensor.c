@@ -28,7 +28,7 @@ void kelp_field_uhz_cfg_default(kelp_field_uhz_cfg *c)
     c->swath_length = 5;
     c->options_summary_interval = 10;
     c->show_reports = -1;
-    c->min_reset_interval = 0;
+    c->min_reset_interval = 300; /* MOOS-IvP's default, 2012 and 24.8 alike */
     c->min_classify_interval = 30;
     c->show_hazards = c->show_swath = c->show_pd = c->show_pfa = true;
     c->seed = 1;
