@@ -139,8 +139,8 @@ static const kelp_app_def live_def = {
     .subscribes = (const kelp_app_var_info[]){
         { "NODE_REPORT", "NAME=alpha,TYPE=UUV,TIME=1252348077.59,X=51.71,Y=-35.50,LAT=43.824981,LON=-70.329755",
           "also NODE_REPORT_LOCAL and each STATUS_VAR: status rows" },
-        { "CONTACTS_LIST", "delta,gus", "also CONTACTS_ALERTED, CONTACTS_UNALERTED, CONTACTS_RETIRED, CONTACTS_RECAP,\n"
-                                        "      CONTACTS_COUNT, CONTACT_CLOSEST, CONTACT_CLOSEST_RANGE, CONTACT_RANGES, CONTACT_VAR: contact rows" },
+        { "CONTACTS_LIST", "delta,gus", "also CONTACTS_ALERTED, _UNALERTED, _RETIRED, _RECAP, _COUNT, CONTACT_CLOSEST,\n"
+                                        "                  CONTACT_CLOSEST_RANGE, CONTACT_RANGES and each CONTACT_VAR: contact rows" },
         { "STATUS_REPORT", "name=alder,nav_x=12.5,nav_y=-40,heading=90,speed=1.5",
           "also STATUS_SUMMARY, STATUS_REPORT_IN and each TRACK_VAR: track rows" },
         { NULL, NULL, NULL } },
@@ -209,10 +209,11 @@ static int from_log(int argc, char **argv)
     kelp_var *v = malloc(sizeof *v);
     kelp_lcmlog_event ev;
     const char *channel;
-    int rr, rc = 0;
+    int rr = 1, rc = 0;
     while (v && rc == 0 && (rr = kelp_lcmlog_next(r, &ev, &channel)) > 0)
         /* bus writes only: a sync reply (a retained value replayed on a late registrant's channel) is not one */
         if (kelp_var_decode(ev.data, ev.data_len, v) == 0 && strcmp(channel, v->name) == 0) rc = take(&s, v, err, sizeof err);
+    if (rc == 0 && rr < 0) rc = -1, snprintf(err, sizeof err, "read error in %s", log);
     if (!v) rc = -1, snprintf(err, sizeof err, "out of memory");
     free(v);
     kelp_lcmlog_close(r);

@@ -174,8 +174,10 @@ unsigned m2s_store_version(const m2s_store *s)
 void m2s_store_close(m2s_store *s)
 {
     if (!s) return;
-    char err[256];
-    if (s->db) (void)m2s_store_tick(s, 1, err, sizeof err);
+    if (s->db) {
+        char err[256];
+        (void)m2s_store_tick(s, 1, err, sizeof err);
+    }
     for (int k = 0; k < 3; k++) sqlite3_finalize(s->ins[k]);
     sqlite3_close(s->db);
     free(s);
