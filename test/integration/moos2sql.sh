@@ -9,7 +9,7 @@
 #     sqlite3 reader querying all the while (WAL: never fails), then kill -9 mid-stream: the
 #     database passes its integrity check, every row is a posting that was made, and the rows
 #     reach to shortly before the kill; the program reopens it and appends;
-#  3. a database of a newer schema version is refused.
+#  3. a version-1 database migrates to version 2; a database of a newer schema is refused.
 . "$(dirname "$0")/lib.sh"
 for t in sqlite3 xmllint; do command -v $t > /dev/null || fail "$t missing (scripts/deps.sh test)"; done
 cd "$T"
@@ -130,7 +130,15 @@ ok "kill -9 mid-stream: $s status, $c contact, $t track rows intact (integrity o
 [ "$(rows live.db status)" -gt "$s" ] || fail "nothing appended after reopening"
 ok "the killed database reopens and takes more rows"
 
-# ---- 3. a newer schema is refused
+# ---- 3. migrations: a version-1 database (no time indexes) is brought to version 2, its rows
+# kept; a database of a newer schema is refused
+cp demo.db old.db
+sqlite3 old.db "DROP INDEX status_time; DROP INDEX contact_time; DROP INDEX track_time; PRAGMA user_version = 1"
+"$M2S" --log=live.lcmlog --db=old.db --kml= > old.out || { cat old.out; fail "migrating a version-1 database"; }
+[ "$(sqlite3 old.db 'PRAGMA user_version')" = 2 ] || fail "version-1 database left at $(sqlite3 old.db 'PRAGMA user_version')"
+[ "$(sqlite3 old.db "SELECT count(*) FROM sqlite_master WHERE type = 'index'")" = 6 ] || fail "migration 2 did not add the indexes"
+[ "$(rows old.db status)" -gt "$ns" ] || fail "rows lost or none added in the migrated database"
+ok "a version-1 database migrates to version 2 with its rows"
 sqlite3 new.db "PRAGMA user_version = 99"
 rc=0; "$M2S" --log=live.lcmlog --db=new.db --kml= > new.out 2> new.err || rc=$?
 [ $rc -eq 1 ] && grep -q "newer" new.err || fail "a version-99 database: exit $rc, $(cat new.err)"
