@@ -21,6 +21,8 @@ typedef struct m2s {
     m2s_store *store;
     double kml_last;
     unsigned long bad, ignored;
+    unsigned long rows[3];      /* committed rows per kind, kept after the store closes */
+    unsigned version;
     char last_bad[160];
 } m2s;
 
@@ -30,7 +32,7 @@ static int take(m2s *s, const kelp_var *v, char *err, size_t cap)
     kelp_m2s_record r;
     const char *why;
     bool str = v->kind == KELP_VAR_STRING;
-    if (v->kind == KELP_VAR_BINARY) return 0;
+    if (v->kind == KELP_VAR_BINARY || !s->store) return 0;
     int rc = kelp_m2s_classify(&s->cfg, v->name, v->community, v->time, str, v->sval, str ? v->slen : 0, v->dval, &r, &why);
     if (rc == 0) {
         s->ignored++;
@@ -45,11 +47,19 @@ static int take(m2s *s, const kelp_var *v, char *err, size_t cap)
     return m2s_store_put(s->store, &r, err, cap);
 }
 
-static void summary(const m2s *s, FILE *out)
+/* the store's counts, kept for the last report after it closes */
+static void counts(m2s *s)
 {
-    fprintf(out, "database schema version %u; rows: status %lu, contact %lu, track %lu; %lu unreadable",
-            s->store ? m2s_store_version(s->store) : 0, s->store ? m2s_store_rows(s->store, 1) : 0,
-            s->store ? m2s_store_rows(s->store, 2) : 0, s->store ? m2s_store_rows(s->store, 3) : 0, s->bad);
+    if (!s->store) return;
+    for (int k = 0; k < 3; k++) s->rows[k] = m2s_store_rows(s->store, k + 1);
+    s->version = m2s_store_version(s->store);
+}
+
+static void summary(m2s *s, FILE *out)
+{
+    counts(s);
+    fprintf(out, "database schema version %u; rows: status %lu, contact %lu, track %lu; %lu unreadable", s->version,
+            s->rows[0], s->rows[1], s->rows[2], s->bad);
     if (s->last_bad[0]) fprintf(out, " (last: %s)", s->last_bad);
     fprintf(out, "; %u vehicles in the KML\n", s->fleet.n);
 }
@@ -92,7 +102,7 @@ static int iterate(kelp_app *app, void *st, double now)
 {
     m2s *s = st;
     char err[512];
-    if (m2s_store_tick(s->store, 1, err, sizeof err) < 0) kelp_app_run_warning(app, "%s", err);
+    if (s->store && m2s_store_tick(s->store, 1, err, sizeof err) < 0) kelp_app_run_warning(app, "%s", err);
     if (s->cfg.kml[0] && now - s->kml_last >= s->cfg.kml_period) {
         if (m2s_write_kml(&s->fleet, s->cfg.kml, s->cfg.kml_link, s->cfg.kml_period, err, sizeof err) < 0)
             kelp_app_run_warning(app, "%s", err);
@@ -113,7 +123,12 @@ static void shutdown_(kelp_app *app, void *st)
     char err[512];
     if (s->cfg.kml[0] && m2s_write_kml(&s->fleet, s->cfg.kml, s->cfg.kml_link, s->cfg.kml_period, err, sizeof err) < 0)
         kelp_app_run_warning(app, "%s", err);
-    if (s->store) (void)m2s_store_tick(s->store, 1, err, sizeof err);
+    if (s->store) {
+        if (m2s_store_tick(s->store, 1, err, sizeof err) < 0) kelp_app_run_warning(app, "%s", err);
+        counts(s);
+        m2s_store_close(s->store);
+        s->store = NULL;
+    }
 }
 
 static const kelp_app_def live_def = {
