@@ -22,8 +22,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     cfg.have_datum = true;
     kelp_m2s_fleet_init(&fleet);
     const char *var = vars[data[0] % (sizeof vars / sizeof vars[0])];
-    const char *val = (const char *)data + 1;
-    size_t n = size - 1;
+    static char val[KELP_MAX_SVAL + 1]; /* the text as a kelp_var holds it: terminated at its length */
+    size_t n = size - 1 < KELP_MAX_SVAL ? size - 1 : KELP_MAX_SVAL;
+    memcpy(val, data + 1, n);
+    val[n] = 0;
     const char *why = NULL;
     int rc = kelp_m2s_classify(&cfg, var, "shoreside", 100, (data[0] & 0x80) == 0, val, n, 3.5, &r, &why);
     if (rc < 0 && !why) abort();

@@ -33,6 +33,8 @@ START_TEST(m2s_status_from_node_report)
     ck_assert_ptr_nonnull(why);
     ck_assert_int_lt(kelp_m2s_classify(&c, "NODE_REPORT", "s", 1, false, NULL, 0, 3, &r, &why), 0);
     ck_assert_int_eq(classify(&c, "NAV_X", "3", &r, &why), 0);
+    /* the text must end at its length (as a kelp_var's does) */
+    ck_assert_int_lt(kelp_m2s_classify(&c, "NODE_REPORT", "s", 1, true, "NAME=a,X=1,Y=2", 6, 0, &r, &why), 0);
 }
 END_TEST
 

@@ -90,8 +90,8 @@ typedef struct kelp_m2s_record {
     long count;                    /**< contact: items listed */
 } kelp_m2s_record;
 
-/** Classify one posting. sval/slen is the text of a string posting (need not be terminated),
- *  dval the value of a number posting (is_string false).
+/** Classify one posting. sval/slen is the text of a string posting (a NUL at sval[slen] and
+ *  none before, as in kelp_var), dval the value of a number posting (is_string false).
  *  @return 1 (out filled), 0 (not a recorded variable), KELP_ERR_PARSE / KELP_ERR_RANGE
  *  (a recorded variable whose value cannot be read: *why says why; not recorded). */
 KELP_MUST_CHECK int kelp_m2s_classify(const kelp_m2s_cfg *c, const char *var, const char *community, double time,

@@ -226,8 +226,8 @@ int kelp_m2s_classify(const kelp_m2s_cfg *c, const char *var, const char *commun
     out->dval = is_string ? 0 : dval;
     out->value = is_string ? sval : "";
     out->value_len = is_string ? slen : 0;
-    if (is_string && memchr(sval, 0, slen)) {
-        *why = "a NUL byte in the text";
+    if (is_string && (memchr(sval, 0, slen) || sval[slen] != 0)) {
+        *why = "a NUL byte in the text, or the text not terminated at its length";
         return KELP_ERR_PARSE;
     }
     if (kind == KELP_M2S_CONTACT) {
@@ -245,13 +245,7 @@ int kelp_m2s_classify(const kelp_m2s_cfg *c, const char *var, const char *commun
         copyz(out->name, sizeof out->name, out->nr.name, strlen(out->nr.name));
         return 1;
     }
-    char text[KELP_MAX_SVAL + 1];
-    if (slen >= sizeof text) {
-        *why = "status message too long";
-        return KELP_ERR_RANGE;
-    }
-    copyz(text, sizeof text, sval, slen);
-    int rc = read_track(text, out, why);
+    int rc = read_track(sval, out, why);
     return rc < 0 ? rc : 1;
 }
 
