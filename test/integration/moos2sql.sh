@@ -117,15 +117,22 @@ s=$(rows live.db status); c=$(rows live.db contact); t=$(rows live.db track)
 awk '$3 == "NODE_REPORT" { $1 = $2 = $3 = ""; print substr($0, 4) }' live.txt | sort > posted.txt
 sqlite3 live.db "SELECT report FROM status" | sort > stored.txt
 [ -z "$(comm -13 posted.txt stored.txt)" ] || fail "rows that were never posted: $(comm -13 posted.txt stored.txt | head -2)"
-# nothing committed is lost: every node report posted up to 0.75 s before the kill is there
-early=$(awk -v k="$kill_time" '$3 == "NODE_REPORT" && $1 < k - 0.75' live.txt | wc -l)
-[ "$s" -ge "$early" ] || fail "$s status rows, but $early node reports were posted 0.75 s before the kill"
+# nothing committed is lost: every node report posted up to 1 s before the kill is there (commits every 0.25 s; slack for a loaded machine)
+early=$(awk -v k="$kill_time" '$3 == "NODE_REPORT" && $1 < k - 1.0' live.txt | wc -l)
+[ "$s" -ge "$early" ] || fail "$s status rows, but $early node reports were posted 1 s before the kill"
 last=$(sqlite3 live.db "SELECT max(time) FROM status")
-awk -v l="$last" -v k="$kill_time" 'BEGIN { exit !(l > k - 0.75) }' || fail "the last row ($last) is long before the kill ($kill_time)"
+awk -v l="$last" -v k="$kill_time" 'BEGIN { exit !(l > k - 1.0) }' || fail "the last row ($last) is long before the kill ($kill_time)"
 xmllint --noout --schema "$XSD" live.kml 2> /dev/null || fail "live.kml (x/y reports, datum) does not validate"
 pm=$(xmllint --xpath "//*[local-name()='Placemark']/*[local-name()='name']/text()" live.kml | tr '\n' ' ')
 [ "$pm" = "alpha bravo charlie " ] || fail "live placemarks: '$pm'"
 ok "kill -9 mid-stream: $s status, $c contact, $t track rows intact (integrity ok), the last $(awk -v l="$last" -v k="$kill_time" 'BEGIN{printf "%.2f", k - l}') s before the kill; reader never failed"
+# the live run's log (with contact reports, which the demo has none of): rows = postings, all kinds
+"$M2S" --log=live.lcmlog --db=fresh.db --kml= > fresh.out || { cat fresh.out; fail "kelp-moos2sql --log=live.lcmlog"; }
+for k in status:$STATUS_RE contact:$CONTACT_RE track:$TRACK_RE; do
+  n=$(count live.txt "${k#*:}")
+  [ "$n" -gt 20 ] && [ "$(rows fresh.db ${k%%:*})" = "$n" ] || fail "${k%%:*}: $(rows fresh.db ${k%%:*}) rows, $n postings in the live log"
+done
+ok "the live run's log: status, contact and track rows equal its postings"
 "$M2S" --log=live.lcmlog --db=live.db --kml= > again.out || { cat again.out; fail "reopening the killed database"; }
 [ "$(rows live.db status)" -gt "$s" ] || fail "nothing appended after reopening"
 ok "the killed database reopens and takes more rows"
