@@ -131,6 +131,7 @@ $(foreach a,$(APPS),$(eval $(call APP_RULE,$(a))))
 $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard apps/*/*.c)): CPPFLAGS += $(LCM_CFLAGS)
 # per-app libraries (target-specific, so only that program links them)
 $(BUILD)/bin/uFldScope: EXT_LIBS += $(shell pkg-config --libs ncurses 2>/dev/null || echo -lncurses)
+$(BUILD)/bin/kelp-commander: EXT_LIBS += $(shell pkg-config --libs ncurses 2>/dev/null || echo -lncurses)
 
 scripts: $(addprefix $(BUILD)/bin/,$(SCRIPTS))
 $(BUILD)/bin/kelp-%: tools/kelp-% Makefile
