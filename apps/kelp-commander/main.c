@@ -100,8 +100,9 @@ static int startup(kelp_app *app, void *st)
     if (s->send_name) {
         if (script_fields(s) < 0) return -1;
     } else if (!isatty(STDOUT_FILENO) || !cmdr_console_start(s)) {
-        return kelp_app_config_error(app, NULL, "the console needs a terminal (or use --send NAME field=value ...)");
+        kelp_app_config_warning(app, "no terminal: no console; acks and expiries are printed as lines");
     }
+    if (!s->send_name && !s->console) return 0; /* headless: the runner's report stays on stdout */
     fflush(stdout);
     int null = open("/dev/null", O_WRONLY);
     if (null >= 0) {
@@ -118,6 +119,7 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
     if (v->kind == KELP_VAR_STRING && (ack || strcmp(v->name, "ACOMMS_EXPIRE") == 0)) {
         if (kelp_cmdr_ack_note(&s->core, ack, v->sval, kelp_app_time(app), s->note, sizeof s->note) < 0) return;
         if (s->console) cmdr_console_note(s);
+        if (!s->console && !s->send_name) fprintf(s->out, "%s\n", s->note), fflush(s->out);
         if (s->send_name && s->sent && strstr(s->note, s->send_name)) {
             fprintf(s->out, "%s\n", s->note);
             s->exit_code = ack ? 0 : 1;
@@ -174,10 +176,10 @@ static const kelp_app_def def = {
     .textformat = true,
     .params = (const kelp_app_param_info[]){
         {"common", "{ verbosity: VERBOSITY_VERBOSE }", "optional: Goby's common block (community, lat_origin, lon_origin)", NULL},
-        {"dccl_cfg", "{ modem_id: 1 message_file { path: \"goto.xml\" } }",
-         "the DCCL XML files pAcommsHandler loads (crypto_passphrase is not used)", NULL},
-        {"modem_id_lookup_path", "\"modemidlookup.txt\"", "optional: \"id,name,type\" lines for the modem id special", NULL},
-        {"load", "\"saved.txt\"", "optional, repeatable: a save file to load at start", NULL},
+        {"dccl_cfg", "{ modem_id: 1 }",
+         "modem_id and the message_file { path: \"x.xml\" } blocks pAcommsHandler loads (crypto_passphrase unused)", NULL},
+        {"modem_id_lookup_path", "\"\"", "optional: \"id,name,type\" lines for the modem id special", NULL},
+        {"load", "\"\"", "optional, repeatable: a save file to load at start", NULL},
         {"show_variable", "\"DEPLOY\"", "optional, repeatable: a variable shown on the console", NULL},
         {"force_xy_only", "false", "true: latitude/longitude fields take only the x/y special", NULL},
         {NULL, NULL, NULL, NULL}},
