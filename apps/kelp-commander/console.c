@@ -90,13 +90,19 @@ static void menu_action(cmdr_app *s, console *c)
         break;
     case 2: {
         kelp_cmdr_pub p[KELP_CMDR_MAX_PUBS];
-        size_t n, at = 0;
+        size_t n;
         const char *why;
-        if (kelp_cmdr_send(&s->core, (unsigned)c->msg, kelp_app_time(s->app), p, KELP_CMDR_MAX_PUBS, &n, &why) < 0)
+        if (kelp_cmdr_send(&s->core, (unsigned)c->msg, kelp_app_time(s->app), p, KELP_CMDR_MAX_PUBS, &n, &why) < 0) {
             (void)snprintf(c->text, sizeof c->text, "cannot be sent: %s\n", why ? why : "too long");
-        else
-            for (size_t i = 0; i < n && at < sizeof c->text; i++)
-                at += (size_t)snprintf(c->text + at, sizeof c->text - at, "%s: %s\n", p[i].var, p[i].val);
+        } else {
+            size_t at = 0;
+            c->text[0] = 0;
+            for (size_t i = 0; i < n; i++) {
+                int k = snprintf(c->text + at, sizeof c->text - at, "%s: %s\n", p[i].var, p[i].val);
+                if (k < 0 || (size_t)k >= sizeof c->text - at) break;
+                at += (size_t)k;
+            }
+        }
         c->screen_id = SCR_TEXT;
         break;
     }

@@ -108,7 +108,7 @@ void cmdr_draw(cmdr_app *s, console *c)
         break;
     case SCR_QUICK:
         y = line(y, "Quick switch to another open message:");
-        for (n = 0; n < (int)s->core.n_open && n < 64; n++) items[n] = s->core.open[n].def->name;
+        for (n = 0; n < (int)s->core.n_open && n < KELP_CMDR_MAX_OPEN; n++) items[n] = s->core.open[n].def->name;
         (void)list(y, items, n, c->sel);
         break;
     case SCR_MODEM:
