@@ -7,7 +7,10 @@
 
 #include <kelp/commander.h>
 #include <kelp/edge/dccl.h>
+#include <kelp/acomms.h>
 #include <kelp/edge/launch.h>
+#include <kelp/edge/mission.h>
+#include <kelp/mission.h>
 
 static const char XML[] =
     "<?xml version=\"1.0\" encoding=\"ASCII\" standalone=\"yes\"?>\n"
@@ -231,6 +234,37 @@ START_TEST(cmdr_ack_note)
 }
 END_TEST
 
+static int extra(void *ctx, const kelp_mission_node *n, const char **why)
+{
+    int *seen = ctx;
+    if (!kelp_mission_key_is(n, "load")) return 0;
+    if (n->vlen == 0) return *why = "empty", KELP_ERR_PARSE;
+    (*seen)++;
+    return 1;
+}
+
+/* the iCommander block: pAcommsHandler's reader with load (and the others) handed over, and
+ * dccl_cfg's modem_id as the only one */
+START_TEST(cmdr_block)
+{
+    static kelp_mission_file mf;
+    static kelp_acomms_config cfg;
+    char err[256], warn[256];
+    int seen = 0;
+    const char *text = "ProcessConfig = iCommander\n{\n  dccl_cfg { modem_id: 3 }\n  load: \"a.txt\"\n  load: \"b.txt\"\n}\n";
+    memset(&mf, 0, sizeof mf);
+    ck_assert_int_eq(kelp_mission_load_text(&mf, "t.moos", text, strlen(text)), 0);
+    int b = kelp_mission_block(&mf.m, "ProcessConfig", "iCommander");
+    ck_assert_int_eq(kelp_acomms_config_read_extra(&mf.m, b, NULL, &cfg, err, sizeof err, warn, sizeof warn, extra, &seen), 0);
+    ck_assert_int_eq(seen, 2);
+    ck_assert_int_eq(cfg.modem_id, 3);
+    /* without the hook: unknown field, and no top-level modem_id */
+    ck_assert_int_ne(kelp_acomms_config_read(&mf.m, b, NULL, &cfg, err, sizeof err, warn, sizeof warn), 0);
+    ck_assert_ptr_nonnull(strstr(err, "unknown field"));
+    kelp_mission_free(&mf);
+}
+END_TEST
+
 START_TEST(cmdr_launch_name)
 {
     ck_assert_str_eq(kelp_launch_map_prog("iCommander"), "kelp-commander");
@@ -249,6 +283,7 @@ Suite *kelp_commander_suite(void)
     tcase_add_test(tc, cmdr_save_load);
     tcase_add_test(tc, cmdr_ack_note);
     tcase_add_test(tc, cmdr_launch_name);
+    tcase_add_test(tc, cmdr_block);
     suite_add_tcase(s, tc);
     return s;
 }
