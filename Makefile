@@ -132,6 +132,7 @@ $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard apps/*/*.c)): CPPFLAGS += $(LCM_CFLAG
 # per-app libraries (target-specific, so only that program links them)
 $(BUILD)/bin/uFldScope: EXT_LIBS += $(shell pkg-config --libs ncurses 2>/dev/null || echo -lncurses)
 $(BUILD)/bin/kelp-moos2sql: EXT_LIBS += $(shell pkg-config --libs sqlite3 2>/dev/null || echo -lsqlite3)
+$(BUILD)/bin/kelp-commander: EXT_LIBS += $(shell pkg-config --libs ncurses 2>/dev/null || echo -lncurses)
 
 scripts: $(addprefix $(BUILD)/bin/,$(SCRIPTS))
 $(BUILD)/bin/kelp-%: tools/kelp-% Makefile

@@ -299,6 +299,7 @@ const kelp_acomms_node_counters *kelp_acomms_node_get_counters(const kelp_acomms
 
 #ifndef KELP_MISSION_H
 struct kelp_mission;
+struct kelp_mission_node;
 #endif
 
 typedef enum kelp_acomms_connection {
@@ -393,6 +394,15 @@ void kelp_acomms_config_default(kelp_acomms_config *cfg);
 KELP_MUST_CHECK int kelp_acomms_config_read(const struct kelp_mission *m, int block, const char *base_dir,
                                             kelp_acomms_config *cfg, char *err, size_t errcap, char *warn,
                                             size_t warncap);
+
+/** A field of the block the pAcommsHandler reader does not know, offered to another tool
+ *  reading a block of the same family (kelp-commander's load, show_variable, ...).
+ *  @return 1 taken, 0 unknown ("unknown field"), <0 bad value (*why says why). */
+typedef int (*kelp_acomms_config_extra_fn)(void *ctx, const struct kelp_mission_node *n, const char **why);
+/** kelp_acomms_config_read with extra top-level fields handed to `extra` (may be NULL). */
+KELP_MUST_CHECK int kelp_acomms_config_read_extra(const struct kelp_mission *m, int block, const char *base_dir,
+                                                  kelp_acomms_config *cfg, char *err, size_t errcap, char *warn,
+                                                  size_t warncap, kelp_acomms_config_extra_fn extra, void *extra_ctx);
 
 /** Node configuration from a block (driver, MAC, modem id); nvram strings point into cfg. */
 void kelp_acomms_config_node(const kelp_acomms_config *cfg, kelp_acomms_node_cfg *out);

@@ -22,6 +22,9 @@ typedef struct rd {
     char *warn;
     size_t warncap;
     const char *base;
+    kelp_acomms_config_extra_fn extra;
+    void *extra_ctx;
+    int dccl_modem_id; /* dccl_cfg's modem_id: iCommander's only one (with `extra`) */
 } rd;
 
 static void note_fail(rd *r, const kelp_mission_node *n, const char *fmt, ...) KELP_PRINTF(3, 4);
@@ -222,6 +225,7 @@ static int read_modem_id(rd *r, const kelp_mission_node *n)
     if (rc) return rc;
     if (r->c->modem_id && v != r->c->modem_id)
         warn(r, n, "modem_id %lld differs from the top-level modem_id %d (the top level wins)", v, r->c->modem_id);
+    if (!r->c->modem_id) r->dccl_modem_id = (int)v;
     return KELP_OK;
 }
 
@@ -561,7 +565,14 @@ static const kelp_mission_node *global(const kelp_mission *m, const char *key)
 int kelp_acomms_config_read(const struct kelp_mission *m, int block, const char *base_dir, kelp_acomms_config *c,
                             char *err, size_t errcap, char *warnbuf, size_t warncap)
 {
-    rd r = { m, c, err, errcap, warnbuf, warncap, base_dir };
+    return kelp_acomms_config_read_extra(m, block, base_dir, c, err, errcap, warnbuf, warncap, NULL, NULL);
+}
+
+int kelp_acomms_config_read_extra(const struct kelp_mission *m, int block, const char *base_dir, kelp_acomms_config *c,
+                                  char *err, size_t errcap, char *warnbuf, size_t warncap,
+                                  kelp_acomms_config_extra_fn extra, void *extra_ctx)
+{
+    rd r = { m, c, err, errcap, warnbuf, warncap, base_dir, extra, extra_ctx, 0 };
     if (err && errcap) err[0] = '\0';
     if (warnbuf && warncap) warnbuf[0] = '\0';
     if (!m || !c) return KELP_ERR_ARG;
@@ -624,7 +635,9 @@ int kelp_acomms_config_read(const struct kelp_mission *m, int block, const char 
             if ((rc = get_str(&r, n, c->tcp_share_to_ip[c->n_tcp_share], sizeof c->tcp_share_to_ip[0]))) return rc;
             c->n_tcp_share++;
         } else {
-            return fail(&r, n, "unknown field");
+            const char *why = "unknown field";
+            int x = r.extra ? r.extra(r.extra_ctx, n, &why) : 0;
+            if (x <= 0) return fail(&r, n, "%s", why);
         }
     }
     /* global fallbacks */
@@ -654,7 +667,9 @@ int kelp_acomms_config_read(const struct kelp_mission *m, int block, const char 
         int w = snprintf(full, sizeof full, "%s/%s", base_dir, c->modem_id_lookup_path);
         if (w > 0 && (size_t)w < sizeof full) snprintf(c->modem_id_lookup_path, sizeof c->modem_id_lookup_path, "%s", full);
     }
-    if (!modem_id_node) {
+    if (!modem_id_node && r.extra && r.dccl_modem_id > 0) {
+        c->modem_id = r.dccl_modem_id;
+    } else if (!modem_id_node) {
         long long gv;
         if ((g = global(m, "modem_id")) && kelp_parse_llong(g->val, g->vlen, &gv) == KELP_OK && gv >= 1 && gv <= 31) {
             c->modem_id = (int)gv;

@@ -1,0 +1,220 @@
+/* kelp commander: send (publications for pAcommsHandler), save files, ack/expiry notes
+ * (see include/kelp/commander.h). */
+#include <math.h>
+#include <stdarg.h>
+#include <string.h>
+
+#include <kelp/acomms.h>
+#include <kelp/commander.h>
+#include <kelp/kv.h>
+#include <kelp/util.h>
+
+/* the value of "x(lon)N:" or "y(lat)N:" in m, in metres */
+static bool find_xy(const kelp_cmdr_msg *m, char axis, const char *pair, size_t plen, double *metres)
+{
+    for (unsigned r = 0; r < m->n_rows; r++) {
+        const char *v = m->val[r];
+        if (v[0] == axis && strncmp(v + 1, axis == 'x' ? "(lon)" : "(lat)", 5) == 0 && strncmp(v + 6, pair, plen) == 0 &&
+            v[6 + plen] == ':')
+            return kelp_parse_finite(v + 7 + plen, strlen(v + 7 + plen), metres) == KELP_OK;
+    }
+    return false;
+}
+
+/* the value to send for a row, specials replaced */
+static int resolve(const kelp_cmdr *c, const kelp_cmdr_msg *m, const char *v, double now, char *out, size_t cap,
+                   const char **why)
+{
+    if (strcmp(v, "_time") == 0) {
+        (void)kelp_snprintf(out, cap, "%.0f", floor(now));
+        return KELP_OK;
+    }
+    if ((v[0] == 'x' && strncmp(v, "x(lon)", 6) == 0) || (v[0] == 'y' && strncmp(v, "y(lat)", 6) == 0)) {
+        const char *colon = strchr(v, ':');
+        double x, y, lat, lon;
+        if (!colon) goto bad;
+        size_t plen = (size_t)(colon - v) - 6;
+        if (!find_xy(m, 'x', v + 6, plen, &x) || !find_xy(m, 'y', v + 6, plen, &y)) goto bad;
+        if (!c->geo || !c->geo->have_origin) {
+            *why = "x/y special without LatOrigin/LongOrigin";
+            return KELP_ERR_PARSE;
+        }
+        kelp_dccl_geo_local2latlon(c->geo, x, y, &lat, &lon);
+        (void)kelp_fmt_fixed(out, cap, v[0] == 'x' ? lon : lat, 7, true);
+        return KELP_OK;
+    bad:
+        *why = "an x(lon)N:/y(lat)N: special without its pair";
+        return KELP_ERR_PARSE;
+    }
+    (void)kelp_snprintf(out, cap, "%s", v);
+    return KELP_OK;
+}
+
+static int pub_of(kelp_cmdr_pub *out, size_t cap, size_t *n, const char *var)
+{
+    for (size_t i = 0; i < *n; i++)
+        if (strcmp(out[i].var, var) == 0) return (int)i;
+    if (*n >= cap) return KELP_ERR_NOSPACE;
+    (void)kelp_snprintf(out[*n].var, sizeof out[*n].var, "%s", var);
+    out[*n].val[0] = 0;
+    return (int)(*n)++;
+}
+
+static int append(kelp_cmdr_pub *p, const char *key, const char *val)
+{
+    size_t used = strlen(p->val);
+    bool wrap = strchr(val, ',') != NULL;
+    int k = kelp_snprintf(p->val + used, sizeof p->val - used, "%s%s=%s%s%s", used ? "," : "", key, wrap ? "{" : "",
+                          val, wrap ? "}" : "");
+    return (k < 0 || (size_t)k >= sizeof p->val - used) ? KELP_ERR_NOSPACE : KELP_OK;
+}
+
+int kelp_cmdr_send(const kelp_cmdr *c, unsigned msg, double now, kelp_cmdr_pub *out, size_t cap, size_t *n,
+                   const char **why)
+{
+    *n = 0;
+    *why = NULL;
+    if (msg >= c->n_open) return KELP_ERR_ARG;
+    const kelp_cmdr_msg *m = &c->open[msg];
+    const kelp_dccl_msgdef *def = m->def;
+    const char *trig = def->trigger == KELP_DCCL_TRIG_PUBLISH && def->trigger_var && def->trigger_var[0]
+                           ? def->trigger_var : NULL;
+    /* the other source variables first, in the order their first field comes; the trigger last */
+    for (int pass = 0; pass < 2; pass++) {
+        if (pass == 1 && trig && pub_of(out, cap, n, trig) < 0) return KELP_ERR_NOSPACE;
+        for (unsigned r = 0; r < m->n_rows; r++) {
+            const kelp_dccl_field *f = kelp_cmdr_row_field(m, r);
+            const char *var = f->src_var ? f->src_var : def->trigger_var;
+            char v[KELP_CMDR_VAL];
+            if (f->type == KELP_DCCL_T_STATIC || !m->val[r][0] || !var) continue;
+            if ((pass == 0) == (trig && strcmp(var, trig) == 0)) continue;
+            int rc = resolve(c, m, m->val[r], now, v, sizeof v, why);
+            if (rc < 0) return rc;
+            int i = pub_of(out, cap, n, var);
+            if (i < 0 || append(&out[i], f->src_key ? f->src_key : f->name, v) < 0) return KELP_ERR_NOSPACE;
+        }
+    }
+    if (trig && def->trigger_mandatory && def->trigger_mandatory[0]) {
+        kelp_cmdr_pub *p = &out[*n - 1];
+        if (!strstr(p->val, def->trigger_mandatory)) {
+            char tmp[KELP_CMDR_PUBLEN];
+            int k = kelp_snprintf(tmp, sizeof tmp, "%s%s%s", def->trigger_mandatory, p->val[0] ? "," : "", p->val);
+            if (k < 0 || (size_t)k >= sizeof tmp) return KELP_ERR_NOSPACE;
+            memcpy(p->val, tmp, (size_t)k + 1);
+        }
+    }
+    return KELP_OK;
+}
+
+/* ------------------------------------------------------------------ save files */
+static bool put(char *out, size_t cap, size_t *at, const char *fmt, ...) KELP_PRINTF(4, 5);
+static bool put(char *out, size_t cap, size_t *at, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    int k = *at < cap ? kelp_vsnprintf(out + *at, cap - *at, fmt, ap) : -1;
+    va_end(ap);
+    if (k < 0 || (size_t)k >= cap - *at) return false;
+    *at += (size_t)k;
+    return true;
+}
+
+int kelp_cmdr_save(const kelp_cmdr *c, char *out, size_t cap, size_t *len)
+{
+    size_t at = 0;
+    bool ok = put(out, cap, &at, "# kelp-commander saved messages\n");
+    for (unsigned i = 0; ok && i < c->n_open; i++) {
+        const kelp_cmdr_msg *m = &c->open[i];
+        ok = put(out, cap, &at, "message = %s\n", m->def->name);
+        for (unsigned r = 0; ok && r < m->n_rows; r++) {
+            const kelp_dccl_field *f = kelp_cmdr_row_field(m, r);
+            if (f->type != KELP_DCCL_T_STATIC && m->val[r][0]) ok = put(out, cap, &at, "%s = %s\n", f->name, m->val[r]);
+        }
+    }
+    if (!ok) return KELP_ERR_NOSPACE;
+    if (len) *len = at;
+    return KELP_OK;
+}
+
+int kelp_cmdr_load(kelp_cmdr *c, const char *text, unsigned *line, const char **why)
+{
+    int msg = -1;
+    const char *p = text;
+    *line = 0;
+    *why = NULL;
+    while (*p) {
+        const char *e = strchr(p, '\n');
+        size_t n = e ? (size_t)(e - p) : strlen(p);
+        char buf[KELP_CMDR_VAL + 2 * KELP_DCCL_MAX_NAME];
+        const char *k, *v;
+        size_t kl, vl, pos = 0, s = 0;
+        (*line)++;
+        while (s < n && (p[s] == ' ' || p[s] == '\t' || p[s] == '\r')) s++;
+        if (s == n || p[s] == '#') goto next;
+        if (n >= sizeof buf) {
+            *why = "line too long";
+            return KELP_ERR_RANGE;
+        }
+        memcpy(buf, p, n);
+        buf[n] = 0;
+        if (kelp_kv_next(buf, '\n', &pos, &k, &kl, &v, &vl) != 1) {
+            *why = "not \"key = value\"";
+            return KELP_ERR_PARSE;
+        }
+        ((char *)k)[kl] = 0; /* both point into buf */
+        ((char *)v)[vl] = 0;
+        if (strcmp(k, "message") == 0) {
+            msg = kelp_cmdr_open(c, v);
+            if (msg < 0) {
+                *why = msg == KELP_ERR_NOSPACE ? "too many open messages" : "no such message in the loaded XML";
+                return msg;
+            }
+        } else {
+            int row = msg < 0 ? -1 : kelp_cmdr_row(&c->open[msg], k);
+            if (msg < 0) {
+                *why = "a field before any \"message = NAME\" line";
+                return KELP_ERR_PARSE;
+            }
+            if (row < 0) {
+                *why = "no such field in this message";
+                return KELP_ERR_NOTFOUND;
+            }
+            int rc = kelp_cmdr_set(c, (unsigned)msg, (unsigned)row, v, why);
+            if (rc < 0) return rc;
+        }
+    next:
+        p += n;
+        if (*p) p++;
+    }
+    return KELP_OK;
+}
+
+/* ------------------------------------------------------------------ acks and expiries */
+int kelp_cmdr_ack_note(const kelp_cmdr *c, bool ack, const char *text, double now, char *out, size_t cap)
+{
+    static const char *const MON[12] = {"Jan", "Feb", "Mar", "Apr", "May", "Jun",
+                                        "Jul", "Aug", "Sep", "Oct", "Nov", "Dec"};
+    const char *o = strstr(text, "orig_msg {");
+    const char *z = strrchr(text, '}');
+    const char *why;
+    kelp_acomms_msg msg;
+    if (!o || !z || z < o + 10) return KELP_ERR_PARSE;
+    o += 10;
+    if (kelp_acomms_parse_data(o, (size_t)(z - o), &msg, &why) < 0) return KELP_ERR_PARSE;
+    unsigned id;
+    const kelp_dccl_msgdef *def = NULL;
+    if (kelp_dccl_peek_id(msg.data, msg.len, &id) == KELP_OK && c->set) def = kelp_dccl_set_find_id(c->set, id);
+    char name[KELP_DCCL_MAX_NAME];
+    if (def)
+        (void)kelp_snprintf(name, sizeof name, "%s", def->name);
+    else
+        (void)kelp_snprintf(name, sizeof name, "%s", msg.len && msg.data[0] == KELP_DCCL_CCL_ID ? "(unknown DCCL)" : "CCL");
+    int64_t secs = (int64_t)floor(now), days = kelp_floor_div(secs, 86400), year;
+    int64_t tod = secs - days * 86400;
+    unsigned mon, day;
+    kelp_civil_from_days(days, &year, &mon, &day);
+    int k = kelp_snprintf(out, cap, "Message %s from queue: %s\n for destination: %d\n at time: %04lld-%s-%02u %02d:%02d:%02d",
+                          ack ? "acknowledged" : "expired", name, msg.dest, (long long)year, MON[(mon - 1) % 12], day,
+                          (int)(tod / 3600), (int)(tod / 60 % 60), (int)(tod % 60));
+    return (k < 0 || (size_t)k >= cap) ? KELP_ERR_NOSPACE : KELP_OK;
+}
