@@ -709,13 +709,22 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
              "$KELP_LCM_URL, else the mission's global LCM_URL, else udpm://239.255.76.67:<ServerPort>\n"
              "?ttl=0 (one port per community), else " KELP_LCM_DEFAULT_URL ".\n",
              moos_name(def));
+    kelp_cli_opt opts[40];
+    size_t nopt = 0;
+    for (const kelp_cli_opt *o = moos_opts; o->name; o++) opts[nopt++] = *o;
+    for (const kelp_cli_opt *o = def->opts; o && o->name && nopt + 1 < sizeof opts / sizeof opts[0]; o++)
+        opts[nopt++] = *o;
+    memset(&opts[nopt], 0, sizeof opts[0]);
+    char synopsis[128];
+    snprintf(synopsis, sizeof synopsis, "[OPTIONS] MISSION.moos %s", def->args ? def->args : "[NAME]");
     const kelp_cli cli = {
         .name = def->name,
         .purpose = def->purpose,
-        .synopsis = "[OPTIONS] MISSION.moos [NAME]",
-        .opts = moos_opts,
+        .synopsis = synopsis,
+        .opts = opts,
         .more = more,
     };
+    const char *why = NULL;
     int c, status;
     while ((c = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
         switch (c) {
@@ -734,10 +743,19 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
             verbose = true;
             break;
         default:
-            return kelp_cli_error(&cli, "unhandled option");
+            if (!def->on_arg) return kelp_cli_error(&cli, "unhandled option");
+            if (def->on_arg(state, c, optarg, &why) < 0)
+                return kelp_cli_error(&cli, "%s", why ? why : "bad option value");
+            break;
         }
     }
     if (optind < argc) mission = argv[optind++];
+    for (; def->args && def->on_arg && optind < argc; optind++) {
+        const char *a = argv[optind];
+        if (!alias && strncmp(a, moos_name(def), strlen(moos_name(def))) == 0) alias = a;
+        else if (def->on_arg(state, 0, a, &why) < 0)
+            return kelp_cli_error(&cli, "'%s': %s", a, why ? why : "not accepted");
+    }
     if (optind < argc && !alias) alias = argv[optind++];
     if (optind < argc) return kelp_cli_error(&cli, "unexpected argument '%s'", argv[optind]);
     if (!mission) {
