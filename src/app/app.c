@@ -750,12 +750,8 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
         }
     }
     if (optind < argc) mission = argv[optind++];
-    for (; def->args && def->on_arg && optind < argc; optind++) {
-        const char *a = argv[optind];
-        if (!alias && strncmp(a, moos_name(def), strlen(moos_name(def))) == 0) alias = a;
-        else if (def->on_arg(state, 0, a, &why) < 0)
-            return kelp_cli_error(&cli, "'%s': %s", a, why ? why : "not accepted");
-    }
+    int first_arg = optind; /* the app's own arguments (def->args) are read once the mission is */
+    if (def->args && def->on_arg) optind = argc;
     if (optind < argc && !alias) alias = argv[optind++];
     if (optind < argc) return kelp_cli_error(&cli, "unexpected argument '%s'", argv[optind]);
     if (!mission) {
@@ -769,12 +765,26 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
     app->verbose = verbose;
     app->tty = isatty(STDOUT_FILENO);
     snprintf(app->mission_path, sizeof app->mission_path, "%s", mission);
-    snprintf(app->name, sizeof app->name, "%s", alias ? alias : moos_name(def));
     if (kelp_mission_load(&app->mf, mission) < 0) {
         fprintf(stderr, "%s\n", app->mf.error);
         free(app);
         return 1;
     }
+    /* an app taking arguments (uXMS's variables): the first is still the MOOS name when it
+     * starts with the default one (as uXMS under pAntler) or names a ProcessConfig block */
+    for (int i = first_arg; def->args && def->on_arg && i < argc; i++) {
+        const char *a = argv[i];
+        if (!alias && i == first_arg &&
+            (strncmp(a, moos_name(def), strlen(moos_name(def))) == 0 ||
+             kelp_mission_block(&app->mf.m, "ProcessConfig", a) >= 0))
+            alias = a;
+        else if (def->on_arg(state, 0, a, &why) < 0) {
+            kelp_mission_free(&app->mf);
+            free(app);
+            return kelp_cli_error(&cli, "'%s': %s", a, why ? why : "not accepted");
+        }
+    }
+    snprintf(app->name, sizeof app->name, "%s", alias ? alias : moos_name(def));
     app->used = calloc(app->mf.m.nnodes + 1, 1);
     app->block = kelp_mission_block(&app->mf.m, "ProcessConfig", app->name);
     if (app->block < 0) kelp_app_config_warning(app, "no ProcessConfig = %s block in %s", app->name, mission);
