@@ -19,6 +19,7 @@
 typedef struct scope {
     kelp_xms core;
     kelp_term term;
+    const char *history; /* --history, added after the command line's variables */
     char frame[FRAME_CAP];
 } scope;
 
@@ -45,7 +46,8 @@ static const kelp_cli_opt opts[] = {
 
 static int on_arg(void *st, int val, const char *arg, const char **why)
 {
-    kelp_xms *x = &((scope *)st)->core;
+    scope *s = st;
+    kelp_xms *x = &s->core;
     double d;
     switch (val) {
     case 0:
@@ -62,7 +64,8 @@ static int on_arg(void *st, int val, const char *arg, const char **why)
     case OPT_FILTER: kelp_xms_set_filter(x, arg); return 0;
     case OPT_COLOR: return 0;
     case OPT_HISTORY:
-        if (kelp_xms_add_var(x, arg, true) <= 0) return (*why = "--history: not a variable name"), -1;
+        if (!arg[0] || strchr(arg, ' ') || strstr(arg, "uXMS")) return (*why = "--history: not a variable name"), -1;
+        s->history = arg;
         return 0;
     case OPT_MODE:
         if (kelp_xms_set_refresh(x, arg) < 0) return (*why = "--mode: events, paused or streaming"), -1;
@@ -114,6 +117,7 @@ static void on_key(kelp_app *app, void *st, int fd)
 static int startup(kelp_app *app, void *st)
 {
     scope *s = st;
+    if (s->history) (void)kelp_xms_add_var(&s->core, s->history, true); /* history mode if alone */
     int rc = kelp_app_param_foreach(app, param, s);
     if (rc < 0) return rc;
     const char *extra = getenv("KELP_SCOPE_VARS");

@@ -36,7 +36,7 @@ wait_pane() {
 }
 
 $TM -f /dev/null new-session -d -s xms -x 120 -y 30 \
-  "KELP_LCM_URL='$KELP_LCM_URL' $BIN/kelp-scope $T/alder.moos NAV_X NAV_Y 2> $T/xms.err; sleep 30" ||
+  "KELP_LCM_URL='$KELP_LCM_URL' $BIN/kelp-scope $T/alder.moos NAV_X NAV_Y --history=NAV_X 2> $T/xms.err; sleep 30" ||
   fail "tmux would not start"
 wait_pane xms p1.txt '^VarName' || { cat p1.txt xms.err; fail "kelp-scope drew no table"; }
 grep -qx 'VarName  (S)  (T)  (C)  VarValue (SCOPING:EVENTS)' p1.txt || { cat p1.txt; fail "header"; }
@@ -71,6 +71,17 @@ grep -qE '^NAV_X +kelp-poke +-3\.25$' p8.txt || { cat p8.txt; fail "paused, yet 
 $TM send-keys -t xms u
 wait_pane xms p9.txt '^NAV_X +kelp-poke +7$' || { cat p9.txt; fail "'u' did not refresh"; }
 ok "keys: 's' shows the source column (kelp-poke), 'h' help and back, space pauses, 'u' refreshes"
+
+$TM send-keys -t xms z
+wait_pane xms h1.txt '^\(J\)VarName +\(S\)ource +\(T\) +VarValue \(HISTORY:PAUSED\)$' ||
+  { cat h1.txt; fail "'z' did not show the history of NAV_X"; }
+grep -qE '^NAV_X +kelp-poke +\(1\) 12\.5$' h1.txt || { cat h1.txt; fail "history: 12.5"; }
+grep -qE '^NAV_X +kelp-poke +\(1\) -3\.25$' h1.txt || { cat h1.txt; fail "history: -3.25"; }
+grep -qE '^NAV_X +kelp-poke +\(1\) 7$' h1.txt || { cat h1.txt; fail "history: 7"; }
+[ "$(grep -n '12\.5' h1.txt | cut -d: -f1)" -lt "$(grep -n -- '-3\.25' h1.txt | cut -d: -f1)" ] || fail "history: not oldest first"
+$TM send-keys -t xms z
+wait_pane xms h2.txt '^VarName' || { cat h2.txt; fail "'z' again did not go back to scoping"; }
+ok "--history=NAV_X: 'z' shows its history oldest first ((1) 12.5, (1) -3.25, (1) 7), 'z' again goes back"
 
 $TM -f /dev/null new-session -d -s all -x 120 -y 30 \
   "KELP_LCM_URL='$KELP_LCM_URL' $BIN/kelp-scope $T/alder.moos --all 2> $T/all.err; sleep 30" ||
