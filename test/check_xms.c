@@ -143,7 +143,8 @@ START_TEST(xms_filter_and_virgins)
 {
     ck_assert_int_eq(kelp_xms_add_vars(&x, "NAV_X,NAV_Y,DEPLOY"), 0);
     (void)kelp_xms_mail(&x, "NAV_X", false, "", 1, "p", "c", 1);
-    ck_assert_int_eq(kelp_xms_key(&x, '/'), 0);
+    ck_assert_int_eq(kelp_xms_key(&x, '/'), 1); /* the filter line shows what is typed */
+    ck_assert_ptr_nonnull(strstr(render(), "  -- filter: _ -- \n"));
     const char *keys = "nav\n";
     int drawn = 0;
     for (const char *k = keys; *k; k++) drawn = kelp_xms_key(&x, *k);
@@ -216,6 +217,44 @@ START_TEST(xms_source_publishing)
 }
 END_TEST
 
+/* 'p': the processes seen, IDs 0 MOOSDB, 1 pHelmIvP, then a, b in order; '-' then IDs and
+ * Enter hides their variables, '-' '?' Enter shows them again; '+' adds a source */
+START_TEST(xms_procs_and_masks)
+{
+    ck_assert_int_eq(kelp_xms_add_vars(&x, "A,B,C,D"), 0);
+    (void)kelp_xms_mail(&x, "A", false, "", 1, "uSimMarine", "c", 10);
+    (void)kelp_xms_mail(&x, "B", false, "", 2, "pHelmIvP", "c", 20);
+    (void)kelp_xms_mail(&x, "C", false, "", 3, "kelp-poke", "c", 30);
+    (void)kelp_xms_mail(&x, "D", false, "", 4, "MOOSDB_alder", "c", 40);
+    ck_assert_int_eq(kelp_xms_key(&x, 'p'), 1);
+    ck_assert_str_eq(render(), "                                                            (PROCESSES:EVENTS)\n"
+                               "uProcessWatch(0): not running\n"
+                               "ID  Process Name  Mail   Client\n"
+                               "--  ------------  -----  ------\n"
+                               "0   MOOSDB_alder  60.00  -\n"
+                               "1   pHelmIvP      80.00  -\n"
+                               "a   uSimMarine    90.00  -\n"
+                               "b   kelp-poke     70.00  -\n");
+    const char *keys = "-ab\n";
+    for (const char *k = keys; *k; k++) ck_assert_int_eq(kelp_xms_key(&x, *k), 1);
+    ck_assert_int_eq(x.content, KELP_XMS_SCOPING);
+    ck_assert_int_eq(x.refresh, KELP_XMS_PAUSED);
+    const char *r = render();
+    ck_assert_ptr_null(strstr(r, "\nA "));
+    ck_assert_ptr_null(strstr(r, "\nC "));
+    ck_assert_ptr_nonnull(strstr(r, "\nB "));
+    ck_assert_int_eq(kelp_xms_key(&x, 'p'), 1);
+    ck_assert_ptr_nonnull(strstr(render(), "\n-a  uSimMarine"));
+    keys = "-?\n";
+    for (const char *k = keys; *k; k++) (void)kelp_xms_key(&x, *k);
+    ck_assert_ptr_nonnull(strstr(render(), "\nA "));
+    keys = "+1\n";
+    for (const char *k = keys; *k; k++) (void)kelp_xms_key(&x, *k);
+    ck_assert_uint_eq(x.nsources, 1);
+    ck_assert_str_eq(x.sources[0], "PHELMIVP_STATUS");
+}
+END_TEST
+
 Suite *kelp_xms_suite(void);
 Suite *kelp_xms_suite(void)
 {
@@ -232,6 +271,7 @@ Suite *kelp_xms_suite(void)
     tcase_add_test(t, xms_trunc);
     tcase_add_test(t, xms_config);
     tcase_add_test(t, xms_source_publishing);
+    tcase_add_test(t, xms_procs_and_masks);
     suite_add_tcase(s, t);
     return s;
 }

@@ -20,6 +20,7 @@ typedef struct scope {
     kelp_xms core;
     kelp_term term;
     const char *history; /* --history, added after the command line's variables */
+    unsigned nsources_registered;
     char frame[FRAME_CAP];
 } scope;
 
@@ -108,10 +109,13 @@ static void on_key(kelp_app *app, void *st, int fd)
     int keys[64];
     int n = kelp_term_keys(&s->term, fd, keys, 64);
     for (int i = 0; i < n; i++) {
-        if (keys[i] == 'q' && !s->core.entering_filter) kelp_app_quit(app);
+        if (keys[i] == 'q' && s->core.entry_mode == KELP_XMS_KEYS) kelp_app_quit(app);
         else if (keys[i] == KELP_TERM_RESIZE || kelp_xms_key(&s->core, keys[i]) > 0) draw(app, s);
     }
     subscribe(app, s); /* 'A' subscribes to everything */
+    for (; s->nsources_registered < s->core.nsources; s->nsources_registered++) /* '+' added sources */
+        if (kelp_app_register(app, s->core.sources[s->nsources_registered], 0) < 0)
+            kelp_app_run_warning(app, "cannot register %s", s->core.sources[s->nsources_registered]);
 }
 
 static int startup(kelp_app *app, void *st)
@@ -122,8 +126,9 @@ static int startup(kelp_app *app, void *st)
     if (rc < 0) return rc;
     const char *extra = getenv("KELP_SCOPE_VARS");
     if (extra && kelp_xms_add_vars(&s->core, extra) < 0) kelp_app_config_warning(app, "KELP_SCOPE_VARS: a name refused");
-    for (unsigned i = 0; i < s->core.nsources; i++)
-        if (kelp_app_register(app, s->core.sources[i], 0) < 0) kelp_app_config_warning(app, "cannot register %s", s->core.sources[i]);
+    for (; s->nsources_registered < s->core.nsources; s->nsources_registered++)
+        if (kelp_app_register(app, s->core.sources[s->nsources_registered], 0) < 0)
+            kelp_app_config_warning(app, "cannot register %s", s->core.sources[s->nsources_registered]);
     subscribe(app, s);
     (void)kelp_term_start(&s->term);
     if (kelp_app_watch_fd(app, STDIN_FILENO, on_key) < 0) kelp_app_run_warning(app, "keys cannot be read");
@@ -166,7 +171,8 @@ static const kelp_app_def def = {
     .synopsis = "Shows bus variables named on the command line, in the block (VAR), published by a\n"
                 "SOURCE, or all of them (--all, DISPLAY_ALL), refreshed in place on a terminal. Keys as\n"
                 "uXMS: s/t/c source, time, community columns; v virgins; z history of HISTORY_VAR;\n"
-                "j its name; h help; d scoping; SPC/u refresh and pause; r streaming; e events;\n"
+                "j its name; p processes; - hide a process's variables, + add it as a source (type\n"
+                "its ID, Enter); h help; d scoping; SPC/u refresh and pause; r streaming; e events;\n"
                 "/ filter (Enter ends), ? clear it; A all variables, a back; < > history length;\n"
                 "{ } ` value truncation; w wrap; q quits.",
     .opts = opts,
@@ -177,7 +183,7 @@ static const kelp_app_def def = {
         { "HISTORY_VAR", "NAV_X", "the variable whose history key z shows", NULL },
         { "SOURCE", "pHelmIvP", "show what these processes publish (their <PROC>_STATUS Publishing)", NULL },
         { "REFRESH_MODE", "events", "events, paused or streaming", NULL },
-        { "CONTENT_MODE", "scoping", "scoping, history or help", NULL },
+        { "CONTENT_MODE", "scoping", "scoping, history, procs or help", NULL },
         { "PAUSED", "false", "deprecated: REFRESH_MODE = paused", "REFRESH_MODE" },
         { "DISPLAY_SOURCE", "false", "show the source column", NULL },
         { "DISPLAY_AUX_SOURCE", "false", "as DISPLAY_SOURCE (kelp has no auxiliary source)", NULL },

@@ -6,7 +6,8 @@
  * No allocation, no I/O, no clock: the app passes mail, keys and `now` (seconds).
  *
  * Frames (content modes): scoping (one row per variable, sorted by name), history (the
- * history variable's recent values, oldest first, repeats counted), help (the key list).
+ * history variable's recent values, oldest first, repeats counted), procs (the processes
+ * seen as sources, with their IDs for '-' hide and '+' add), help (the key list).
  * Refresh modes: events (a frame when a shown value changes or a key asks), paused (only on
  * request: space/u), streaming (every term interval). */
 #ifndef KELP_XMS_H
@@ -24,9 +25,21 @@ extern "C" {
 #define KELP_XMS_HIST_CAP 100
 #define KELP_XMS_NAME 64
 #define KELP_XMS_VAL 512 /* value text kept per variable (longer values are cut) */
+#define KELP_XMS_MAX_PROCS 36 /* sources given an ID: 0 (MOOSDB), 1 (pHelmIvP), a..z */
 
 typedef enum kelp_xms_refresh { KELP_XMS_EVENTS = 0, KELP_XMS_PAUSED, KELP_XMS_STREAMING } kelp_xms_refresh;
-typedef enum kelp_xms_content { KELP_XMS_SCOPING = 0, KELP_XMS_HISTORY, KELP_XMS_HELP } kelp_xms_content;
+typedef enum kelp_xms_content { KELP_XMS_SCOPING = 0, KELP_XMS_HISTORY, KELP_XMS_HELP, KELP_XMS_PROCS } kelp_xms_content;
+/** What typed characters are going to: keys, the filter ('/'), the IDs of processes to hide
+ *  ('-') or to add as sources ('+'); Enter ends. */
+typedef enum kelp_xms_entry_mode { KELP_XMS_KEYS = 0, KELP_XMS_FILTER, KELP_XMS_EXCLUDE, KELP_XMS_INCLUDE } kelp_xms_entry_mode;
+
+/** A process seen as the source of a scoped variable, with its one-character ID. */
+typedef struct kelp_xms_proc {
+    char name[KELP_XMS_NAME];
+    char id;
+    signed char mask; /**< -1 hidden ('-'), +1 added as a source ('+'), 0 */
+    double last_mail; /**< seconds since start */
+} kelp_xms_proc;
 
 typedef struct kelp_xms_entry {
     char name[KELP_XMS_NAME];
@@ -68,7 +81,11 @@ typedef struct kelp_xms {
     char orig_names[KELP_XMS_MAX_VARS][KELP_XMS_NAME];
     bool saved_orig;
     /* frame scheduling */
-    bool update_requested, history_event, entering_filter;
+    kelp_xms_proc proc[KELP_XMS_MAX_PROCS]; /**< sorted by ID */
+    unsigned nproc, var_ids;
+    kelp_xms_entry_mode entry_mode;
+    char typed[KELP_XMS_NAME];      /**< IDs typed after '-' or '+' */
+    bool update_requested, history_event;
     bool star_subscribed;           /**< "*" handed out (display-all) */
     double last_frame;
     unsigned long frames, dropped;  /**< frames drawn; variables not added (table full) */
@@ -103,7 +120,9 @@ const char *kelp_xms_next_subscription(kelp_xms *x);
 /** One message; time is seconds since the scope's start. Returns 1 if it changed what is shown. */
 int kelp_xms_mail(kelp_xms *x, const char *name, bool is_string, const char *sval, double dval,
                   const char *source, const char *community, double time);
-/** One key (uXMS's commands; 'q' is the app's). Returns 1 if a frame should be drawn now. */
+/** One key (uXMS's commands; 'q' is the app's, unless x->entry_mode). Returns 1 if a frame
+ *  should be drawn now. After '+' and Enter, new sources' <SRC>_STATUS may need registering:
+ *  the app registers x->sources[] it has not yet. */
 int kelp_xms_key(kelp_xms *x, int c);
 /** Is a frame due at now (refresh and content mode, pending changes, term interval)? */
 bool kelp_xms_due(const kelp_xms *x, double now);

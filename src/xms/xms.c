@@ -64,7 +64,8 @@ static int find_var(const kelp_xms *x, const char *name, unsigned *at)
 int kelp_xms_set_content(kelp_xms *x, const char *mode, bool toggle)
 {
     kelp_xms_content c;
-    if (kelp_strieq(mode, "scoping")) c = KELP_XMS_SCOPING;
+    if (kelp_strieq(mode, "procs")) c = KELP_XMS_PROCS;
+    else if (kelp_strieq(mode, "scoping")) c = KELP_XMS_SCOPING;
     else if (kelp_strieq(mode, "history")) c = KELP_XMS_HISTORY;
     else if (kelp_strieq(mode, "help")) c = KELP_XMS_HELP;
     else return -1;
@@ -222,7 +223,7 @@ int kelp_xms_config(kelp_xms *x, const char *key, const char *val, const char **
         return 1;
     }
     if (kelp_strieq(key, "CONTENT_MODE")) {
-        if (kelp_xms_set_content(x, val, false) < 0) return (*why = "expected scoping, history or help"), -1;
+        if (kelp_xms_set_content(x, val, false) < 0) return (*why = "expected scoping, history, procs or help"), -1;
         return 1;
     }
     if (kelp_strieq(key, "PAUSED")) { /* deprecated: REFRESH_MODE */
@@ -296,6 +297,35 @@ static void add_published(kelp_xms *x, const char *status_var, const char *repor
     }
 }
 
+/* a process seen as a source: IDs 0 (MOOSDB...), 1 (pHelmIvP), then a, b, ... in order seen */
+static kelp_xms_proc *proc_seen(kelp_xms *x, const char *src)
+{
+    for (unsigned i = 0; i < x->nproc; i++)
+        if (strcmp(x->proc[i].name, src) == 0) return &x->proc[i];
+    char id;
+    if (strncmp(src, "MOOSDB", 6) == 0) id = '0';
+    else if (strcmp(src, "pHelmIvP") == 0) id = '1';
+    else if (x->var_ids < 26) id = (char)('a' + x->var_ids++);
+    else return NULL;
+    if (x->nproc >= KELP_XMS_MAX_PROCS) return NULL;
+    unsigned at = 0;
+    while (at < x->nproc && x->proc[at].id < id) at++;
+    memmove(&x->proc[at + 1], &x->proc[at], (x->nproc - at) * sizeof x->proc[0]);
+    x->nproc++;
+    kelp_xms_proc *p = &x->proc[at];
+    memset(p, 0, sizeof *p);
+    copy(p->name, sizeof p->name, src);
+    p->id = id;
+    return p;
+}
+
+static bool proc_hidden(const kelp_xms *x, const char *src)
+{
+    for (unsigned i = 0; i < x->nproc; i++)
+        if (x->proc[i].mask < 0 && strcmp(x->proc[i].name, src) == 0) return true;
+    return false;
+}
+
 static void history_add(kelp_xms *x, const char *value, const char *source, double time)
 {
     if (x->nhist) {
@@ -326,6 +356,8 @@ int kelp_xms_mail(kelp_xms *x, const char *name, bool is_string, const char *sva
         (void)kelp_xms_add_var(x, name, false);
     unsigned at;
     if (!find_var(x, name, &at)) return 0;
+    kelp_xms_proc *pr = proc_seen(x, source);
+    if (pr) pr->last_mail = time;
     kelp_xms_entry n = x->var[at];
     char num[40];
     if (!is_string && kelp_fmt_fixed(num, sizeof num, dval, 6, true) < 0)
@@ -359,21 +391,47 @@ static void restore_orig(kelp_xms *x)
     x->nvar = w;
 }
 
+/* Enter after '-' (hide) or '+' (add as a source) and process IDs; '?' clears that mask */
+static void apply_masks(kelp_xms *x, int sign)
+{
+    if (!x->typed[0]) return;
+    if (strchr(x->typed, '?'))
+        for (unsigned i = 0; i < x->nproc; i++)
+            if (x->proc[i].mask == sign) x->proc[i].mask = 0;
+    for (const char *t = x->typed; *t; t++)
+        for (unsigned i = 0; i < x->nproc; i++) {
+            if (x->proc[i].id != *t) continue;
+            x->proc[i].mask = (signed char)sign;
+            if (sign > 0) (void)add_source(x, x->proc[i].name);
+        }
+}
+
+static int typed_key(kelp_xms *x, int c)
+{
+    bool filter = x->entry_mode == KELP_XMS_FILTER;
+    char *buf = filter ? x->filter : x->typed;
+    size_t n = strlen(buf);
+    if (c == '\n' || c == '\r' || (filter && c == ' ' && n)) {
+        if (x->entry_mode == KELP_XMS_EXCLUDE) {
+            apply_masks(x, -1);
+            x->content = KELP_XMS_SCOPING;
+        } else if (x->entry_mode == KELP_XMS_INCLUDE) {
+            apply_masks(x, 1);
+        }
+        x->entry_mode = KELP_XMS_KEYS;
+    } else if ((c == 127 || c == 8) && n) {
+        buf[n - 1] = 0;
+    } else if (c > ' ' && c < 127 && n + 1 < KELP_XMS_NAME) {
+        buf[n] = (char)c;
+        buf[n + 1] = 0;
+    }
+    x->update_requested = true;
+    return 1;
+}
+
 int kelp_xms_key(kelp_xms *x, int c)
 {
-    if (x->entering_filter) {
-        size_t n = strlen(x->filter);
-        if (c == '\n' || c == '\r' || (c == ' ' && n)) {
-            x->entering_filter = false;
-            x->update_requested = true;
-        } else if ((c == 127 || c == 8) && n) {
-            x->filter[n - 1] = 0;
-        } else if (c > ' ' && c < 127 && n + 1 < sizeof x->filter) {
-            x->filter[n] = (char)c;
-            x->filter[n + 1] = 0;
-        }
-        return x->update_requested;
-    }
+    if (x->entry_mode != KELP_XMS_KEYS) return typed_key(x, c);
     switch (c) {
     case 's': case 'S': case 'x': case 'X': x->disp_source = !x->disp_source; break;
     case 't': case 'T': x->disp_time = !x->disp_time; break;
@@ -412,11 +470,18 @@ int kelp_xms_key(kelp_xms *x, int c)
             x->trunc = 0;
         }
         break;
+    case 'p': case 'P': (void)kelp_xms_set_content(x, "procs", true); break;
+    case '-':
+    case '+':
+        if (c == '-') x->refresh = KELP_XMS_PAUSED;
+        x->entry_mode = c == '-' ? KELP_XMS_EXCLUDE : KELP_XMS_INCLUDE;
+        x->typed[0] = 0;
+        break;
     case '/':
         x->refresh = KELP_XMS_PAUSED;
-        x->entering_filter = true;
+        x->entry_mode = KELP_XMS_FILTER;
         x->filter[0] = 0;
-        return 0;
+        break;
     case '?': x->filter[0] = 0; break;
     case 'A':
         if (!x->disp_all) {
@@ -443,7 +508,7 @@ bool kelp_xms_due(const kelp_xms *x, double now)
     if (x->content == KELP_XMS_HISTORY)
         want = x->refresh == KELP_XMS_STREAMING || x->update_requested ||
                (x->refresh == KELP_XMS_EVENTS && x->history_event);
-    else want = x->update_requested || (x->refresh == KELP_XMS_STREAMING && x->content == KELP_XMS_SCOPING);
+    else want = x->update_requested || (x->refresh == KELP_XMS_STREAMING && x->content != KELP_XMS_HELP);
     if (!want) return false;
     return x->update_requested || now - x->last_frame >= x->term_interval;
 }
@@ -452,6 +517,7 @@ bool kelp_xms_due(const kelp_xms *x, double now)
  * dropped; the last column of the scoping table is not padded) ---- */
 typedef struct tab {
     unsigned ncol, width[XMS_COLS];
+    unsigned dash_max; /* dashes under a header at most (0: the column's width) */
     bool pad_last, measure;
     char *buf;
     size_t cap, len;
@@ -495,10 +561,11 @@ static void dashes(tab *t)
             if (t->width[j] < 2) t->width[j] = 2; /* ACTable counts the separator cell "{}" */
         return;
     }
-    char d[XMS_COLS][XMS_HEADER_MAX + 1];
+    char d[XMS_COLS][KELP_XMS_NAME + 1];
     const char *cell[XMS_COLS];
     for (unsigned j = 0; j < t->ncol; j++) {
-        unsigned w = t->width[j] > XMS_HEADER_MAX ? XMS_HEADER_MAX : t->width[j];
+        unsigned w = t->dash_max && t->width[j] > t->dash_max ? t->dash_max : t->width[j];
+        if (w > KELP_XMS_NAME) w = KELP_XMS_NAME;
         memset(d[j], '-', w);
         d[j][w] = 0;
         cell[j] = d[j];
@@ -532,6 +599,7 @@ static const char *mode_name(kelp_xms_refresh r)
 static bool shown(const kelp_xms *x, const kelp_xms_entry *e)
 {
     if (!x->disp_virgins && strcmp(e->value, "n/a") == 0) return false;
+    if (proc_hidden(x, e->source)) return false;
     size_t fl = strlen(x->filter);
     return !fl || (strlen(e->name) >= fl && kelp_strieq_n(e->name, fl, x->filter));
 }
@@ -597,6 +665,23 @@ static void history_rows(const kelp_xms *x, tab *t)
     }
 }
 
+/* the processes report: the mode right-justified in 78 columns, the process-watch line (kelp
+ * has no uProcessWatch summary), then ID, name, age of its last mail, client age */
+static void procs_rows(const kelp_xms *x, tab *t, double now)
+{
+    const char *hdr[4] = { "ID", "Process Name", "Mail", "Client" };
+    row(t, hdr);
+    dashes(t);
+    for (unsigned i = 0; i < x->nproc; i++) {
+        const kelp_xms_proc *p = &x->proc[i];
+        char id[4] = { p->mask < 0 ? '-' : p->mask > 0 ? '+' : p->id, p->mask ? p->id : 0, 0, 0 };
+        char age[24] = "-";
+        if (p->last_mail > 0 && kelp_fmt_fixed(age, sizeof age, now - p->last_mail, 2, false) < 0) copy(age, sizeof age, "-");
+        const char *c[4] = { id, p->name, age, "-" };
+        row(t, c);
+    }
+}
+
 static const char *const help_lines[] = {
     "KeyStroke    Function         (HELP)",
     "---------    ---------------------------",
@@ -607,6 +692,9 @@ static const char *const help_lines[] = {
     "    d        Content: scoping (the variable table)",
     "    h        Content: this help; h again goes back",
     "    z        Content: history of the history variable",
+    "    p        Content: processes seen, with their IDs",
+    "    -        Hide variables from processes (type IDs, Enter)",
+    "    +        Add processes as sources (type IDs, Enter)",
     "    j        Show or hide the history variable's name",
     "  > or <     Longer or shorter history",
     "  } or {     Longer or shorter cut of long values",
@@ -623,12 +711,29 @@ static const char *const help_lines[] = {
 
 size_t kelp_xms_render(kelp_xms *x, double now, char *buf, size_t cap)
 {
-    tab t = { .buf = buf, .cap = cap };
+    tab t = { .buf = buf, .cap = cap, .dash_max = XMS_HEADER_MAX };
     if (cap) buf[0] = 0;
     if (x->content == KELP_XMS_HELP) {
         for (size_t i = 0; i < sizeof help_lines / sizeof help_lines[0]; i++) {
             put(&t, help_lines[i], strlen(help_lines[i]));
             put(&t, "\n", 1);
+        }
+    } else if (x->content == KELP_XMS_PROCS || x->entry_mode == KELP_XMS_EXCLUDE || x->entry_mode == KELP_XMS_INCLUDE) {
+        char mode[40], line[160];
+        (void)kelp_snprintf(mode, sizeof mode, "(PROCESSES:%s)", mode_name(x->refresh));
+        int n = kelp_snprintf(line, sizeof line, "%78s\nuProcessWatch(0): not running\n", mode);
+        put(&t, line, (size_t)n);
+        t.ncol = 4;
+        t.pad_last = true;
+        t.dash_max = 0;
+        for (int pass = 0; pass < 2; pass++) {
+            t.measure = pass == 0;
+            procs_rows(x, &t, now);
+        }
+        if (x->entry_mode == KELP_XMS_EXCLUDE || x->entry_mode == KELP_XMS_INCLUDE) {
+            n = kelp_snprintf(line, sizeof line, "\n%s process > %s\n",
+                              x->entry_mode == KELP_XMS_EXCLUDE ? "Exclude a" : "Include a", x->typed);
+            put(&t, line, (size_t)n);
         }
     } else {
         t.ncol = x->content == KELP_XMS_HISTORY ? 4 : 5;
@@ -639,10 +744,11 @@ size_t kelp_xms_render(kelp_xms *x, double now, char *buf, size_t cap)
             else scoping_rows(x, &t);
         }
         if (x->content == KELP_XMS_SCOPING) {
-            if (x->filter[0] || x->entering_filter) {
+            bool typing = x->entry_mode == KELP_XMS_FILTER;
+            if (x->filter[0] || typing) {
                 put(&t, "  -- filter: ", 13);
                 put(&t, x->filter, strlen(x->filter));
-                put(&t, x->entering_filter ? "_ -- \n" : " -- \n", x->entering_filter ? 6 : 5);
+                put(&t, typing ? "_ -- \n" : " -- \n", typing ? 6 : 5);
             }
             if (x->disp_all) put(&t, "  -- displaying all variables --\n", 33);
         }

@@ -83,6 +83,15 @@ $TM send-keys -t xms z
 wait_pane xms h2.txt '^VarName' || { cat h2.txt; fail "'z' again did not go back to scoping"; }
 ok "--history=NAV_X: 'z' shows its history oldest first ((1) 12.5, (1) -3.25, (1) 7), 'z' again goes back"
 
+$TM send-keys -t xms p
+wait_pane xms s1.txt '^a +kelp-poke +[0-9.]+ +-$' || { cat s1.txt; fail "'p' did not list kelp-poke as process a"; }
+$TM send-keys -t xms - a Enter
+wait_pane xms s2.txt '^NAV_Y ' || { cat s2.txt; fail "'-' a Enter did not go back to the table"; }
+grep -qE '^(NAV_X|DEPLOY) ' s2.txt && { cat s2.txt; fail "'-' a: kelp-poke's variables are still shown"; }
+$TM send-keys -t xms - '?' Enter
+wait_pane xms s3.txt '^NAV_X +kelp-poke' || { cat s3.txt; fail "'-' ? did not show them again"; }
+ok "filter by source: 'p' lists kelp-poke as a, '-' a hides its variables, '-' ? shows them again"
+
 $TM -f /dev/null new-session -d -s all -x 120 -y 30 \
   "KELP_LCM_URL='$KELP_LCM_URL' $BIN/kelp-scope $T/alder.moos --all 2> $T/all.err; sleep 30" ||
   fail "tmux would not start (--all)"
