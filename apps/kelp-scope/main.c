@@ -22,6 +22,7 @@ typedef struct scope {
     const char *history; /* --history, added after the command line's variables */
     unsigned nsources_registered;
     char frame[FRAME_CAP];
+    char cast[FRAME_CAP]; /* the report's copy */
 } scope;
 
 enum { OPT_ALL = 300, OPT_ALLL, OPT_HISTORY, OPT_MODE, OPT_SHOW, OPT_FILTER, OPT_SRC, OPT_TRUNC, OPT_TERMINT, OPT_COLOR };
@@ -151,11 +152,13 @@ static int iterate(kelp_app *app, void *st, double now)
     return 0;
 }
 
+/* the status report and AppCast body: the current frame, as uXMS casts its table */
 static void report(kelp_app *app, void *st, FILE *out)
 {
-    const kelp_xms *x = &((scope *)st)->core;
-    (void)app;
-    fprintf(out, "%u variables scoped (%lu refused: table full), %lu frames drawn\n", x->nvar, x->dropped, x->frames);
+    scope *s = st;
+    (void)kelp_xms_format(&s->core, kelp_app_time(app) - kelp_app_start_time(app), s->cast, sizeof s->cast);
+    fputs(s->cast, out);
+    if (s->core.dropped) fprintf(out, "(%lu variables not shown: table full)\n", s->core.dropped);
 }
 
 static void shutdown_(kelp_app *app, void *st)
@@ -196,7 +199,7 @@ static const kelp_app_def def = {
         { "TRUNC_DATA", "false", "cut long string values (at 20 characters, more for hidden columns)", NULL },
         { "WRAP_DATA", "false", "wrap long values", NULL },
         { "WRAP_DATA_LEN", "45", "wrap width, 10..120", NULL },
-        { "TERM_REPORT_INTERVAL", "0.4", "seconds between frames (0..10)", NULL },
+        { "TERM_REPORT_INTERVAL", "0.5", "seconds between frames at most (0..10)", NULL },
         { "COLOR_MAP", "NAV_X,red", "accepted (kelp draws no colours)", NULL },
         { NULL, NULL, NULL, NULL } },
     .subscribes = (const kelp_app_var_info[]){

@@ -92,7 +92,7 @@ typedef struct kelp_xms {
 } kelp_xms;
 
 /** Defaults as uXMS: no source/time/community columns, virgins shown, events refresh,
- *  scoping content, history length 40, no truncation, term interval 0.4 s. */
+ *  scoping content, history length 40, no truncation, term interval 0.5 s. */
 void kelp_xms_init(kelp_xms *x);
 /** One ProcessConfig parameter (VAR, HISTORY_VAR, SOURCE, DISPLAY_*, PAUSED, REFRESH_MODE,
  *  CONTENT_MODE, TRUNC_DATA, WRAP_DATA, WRAP_DATA_LEN, COLOR_MAP, TERM_REPORT_INTERVAL):
@@ -124,11 +124,14 @@ int kelp_xms_mail(kelp_xms *x, const char *name, bool is_string, const char *sva
  *  should be drawn now. After '+' and Enter, new sources' <SRC>_STATUS may need registering:
  *  the app registers x->sources[] it has not yet. */
 int kelp_xms_key(kelp_xms *x, int c);
-/** Is a frame due at now (refresh and content mode, pending changes, term interval)? */
+/** Is a frame due at now: one is wanted (refresh and content mode, pending changes) and the
+ *  term interval has passed since the last (AppCasting limits every terminal report so)? */
 bool kelp_xms_due(const kelp_xms *x, double now);
-/** Write the current frame (NUL-terminated, lines end in '\n'); clears the pending request.
- *  @return its length (cut at cap-1). */
+/** Write the current frame (NUL-terminated, lines end in '\n') and note it drawn (clears the
+ *  pending request). @return its length (cut at cap-1). */
 size_t kelp_xms_render(kelp_xms *x, double now, char *buf, size_t cap);
+/** The same text, changing nothing (the app's AppCast report body). */
+size_t kelp_xms_format(const kelp_xms *x, double now, char *buf, size_t cap);
 
 #ifdef __cplusplus
 }

@@ -36,7 +36,7 @@ void kelp_xms_init(kelp_xms *x)
     x->wrap_len = 45;
     x->trunc_start = 20;
     x->history_len = 40;
-    x->term_interval = 0.4;
+    x->term_interval = 0.5; /* AppCasting's default terminal report interval */
     x->refresh = KELP_XMS_EVENTS;
     x->content = x->content_prev = KELP_XMS_SCOPING;
     x->update_requested = true;
@@ -509,8 +509,7 @@ bool kelp_xms_due(const kelp_xms *x, double now)
         want = x->refresh == KELP_XMS_STREAMING || x->update_requested ||
                (x->refresh == KELP_XMS_EVENTS && x->history_event);
     else want = x->update_requested || (x->refresh == KELP_XMS_STREAMING && x->content != KELP_XMS_HELP);
-    if (!want) return false;
-    return x->update_requested || now - x->last_frame >= x->term_interval;
+    return want && now - x->last_frame >= x->term_interval;
 }
 
 /* ---- the table (ACTable: left-justified, two spaces between columns, trailing blanks
@@ -709,7 +708,7 @@ static const char *const help_lines[] = {
     "    w        Wrap long values",
 };
 
-size_t kelp_xms_render(kelp_xms *x, double now, char *buf, size_t cap)
+size_t kelp_xms_format(const kelp_xms *x, double now, char *buf, size_t cap)
 {
     tab t = { .buf = buf, .cap = cap, .dash_max = XMS_HEADER_MAX };
     if (cap) buf[0] = 0;
@@ -754,9 +753,15 @@ size_t kelp_xms_render(kelp_xms *x, double now, char *buf, size_t cap)
         }
     }
     if (cap) buf[t.len < cap ? t.len : cap - 1] = 0;
+    return t.len < cap ? t.len : (cap ? cap - 1 : 0);
+}
+
+size_t kelp_xms_render(kelp_xms *x, double now, char *buf, size_t cap)
+{
+    size_t n = kelp_xms_format(x, now, buf, cap);
     x->update_requested = false;
     x->history_event = false;
     x->last_frame = now;
     x->frames++;
-    return t.len < cap ? t.len : (cap ? cap - 1 : 0);
+    return n;
 }
