@@ -100,7 +100,8 @@ static void subscribe(kelp_app *app, scope *s)
 static void draw(kelp_app *app, scope *s)
 {
     double now = kelp_app_time(app) - kelp_app_start_time(app);
-    (void)kelp_xms_render(&s->core, now, s->frame, sizeof s->frame);
+    size_t n = kelp_app_cast_banner(app, s->frame, sizeof s->frame); /* as AppCasting prints it */
+    (void)kelp_xms_render(&s->core, now, s->frame + n, sizeof s->frame - n);
     kelp_term_draw(&s->term, s->frame, "keys: s/t/c columns  v virgins  z history  h help  SPC pause  r stream  e events");
 }
 

@@ -134,6 +134,10 @@ void kelp_app_config_warning(kelp_app *app, const char *fmt, ...) KELP_PRINTF(2,
 int kelp_app_config_error(kelp_app *app, const kelp_mission_node *at, const char *fmt, ...) KELP_PRINTF(3, 4);
 void kelp_app_run_warning(kelp_app *app, const char *fmt, ...) KELP_PRINTF(2, 3);
 void kelp_app_event(kelp_app *app, const char *fmt, ...) KELP_PRINTF(2, 3);
+/** The AppCast header as a terminal shows it (MOOS-IvP's AppCasting: a rule, "NAME COMMUNITY"
+ *  and "cfg/run(iter)", a rule, then any configuration and run warnings), for an app that
+ *  draws its own report under it (kelp-scope). @return its length (cut at cap-1). */
+size_t kelp_app_cast_banner(kelp_app *app, char *buf, size_t cap);
 /** Watch an extra file descriptor: cb runs (between iterations) when it is readable.
  *  At most 8 per app. */
 typedef void (*kelp_app_fd_cb)(kelp_app *app, void *state, int fd);

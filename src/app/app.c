@@ -475,20 +475,12 @@ static bool appcast_wanted(const kelp_app *app)
 
 /* Post APPCAST (MOOS-IvP's AppCast string) when a client asked, a configuration warning is
  * new, or in the first iterations; at most every 0.5 s of wall time. */
-static void appcast(kelp_app *app, double wall)
+static void cast_fill(kelp_app *app, kelp_appcast *ac)
 {
-    if (!appcast_wanted(app) || wall - app->last_cast < 0.5) return;
-    kelp_appcast *ac = app->cast;
     memset(ac, 0, sizeof *ac);
     snprintf(ac->proc, sizeof ac->proc, "%s", app->name);
     snprintf(ac->node, sizeof ac->node, "%s", app->community);
     ac->iter = app->iter;
-    FILE *f = fmemopen(ac->messages, sizeof ac->messages - 1, "w");
-    if (f) {
-        if (app->def->report) app->def->report(app, app->state, f);
-        else fprintf(f, "Mail: %lu received\n", app->mail_total);
-        fclose(f);
-    }
     for (int i = 0; i < app->ncfg_warn && ac->ncfg < KELP_APPCAST_ITEMS; i++)
         snprintf(ac->cfg[ac->ncfg++], KELP_APPCAST_ITEM, "%s", app->cfg_warn[i]);
     for (int i = 0; i < app->nevents && ac->nevents < KELP_APPCAST_ITEMS; i++)
@@ -505,6 +497,30 @@ static void appcast(kelp_app *app, double wall)
         ac->run_count[ac->nrun] = app->run_warn_count[i];
         ac->run_total += app->run_warn_count[i];
         ac->nrun++;
+    }
+}
+
+size_t kelp_app_cast_banner(kelp_app *app, char *buf, size_t cap)
+{
+    kelp_appcast *ac = app->cast;
+    cast_fill(app, ac);
+    ac->nevents = 0;
+    size_t len = 0;
+    if (kelp_appcast_render(ac, buf, cap, &len) != KELP_OK) len = cap ? strlen(buf) : 0;
+    if (len && buf[len - 1] == '\n') buf[--len] = '\0'; /* the report body goes here */
+    return len;
+}
+
+static void appcast(kelp_app *app, double wall)
+{
+    if (!appcast_wanted(app) || wall - app->last_cast < 0.5) return;
+    kelp_appcast *ac = app->cast;
+    cast_fill(app, ac);
+    FILE *f = fmemopen(ac->messages, sizeof ac->messages - 1, "w");
+    if (f) {
+        if (app->def->report) app->def->report(app, app->state, f);
+        else fprintf(f, "Mail: %lu received\n", app->mail_total);
+        fclose(f);
     }
     /* a bus string holds KELP_MAX_SVAL bytes: a long report is cut until the cast fits */
     size_t len, keep = strlen(ac->messages);
