@@ -36,9 +36,10 @@ CPPFLAGS += -Iinclude -I$(BUILD)/gen -DKELP_VERSION='"$(VERSION)"'
 # shared libraries (firmware and cross builds use their own flags)
 CFLAGS   += $(CSTD) $(OPT) $(WARN) -fno-common -fPIC
 LCM_CFLAGS := $(shell pkg-config --cflags lcm 2>/dev/null)
-# what libkelp (the edge) links against; apps add cairo (kelp-plot)
+# what libkelp (the edge) links against (ncurses: the scope apps' terminal tables, src/app/term.c);
+# apps add cairo (kelp-plot)
 EDGE_LIBS := $(shell pkg-config --libs lcm 2>/dev/null) -lexpat -lmbedtls -lmbedx509 -lmbedcrypto \
-            -lserialport -lm -lpthread -lutil
+            -lserialport -lm -lpthread -lutil $(shell pkg-config --libs ncurses 2>/dev/null || echo -lncurses)
 EXT_LIBS := $(EDGE_LIBS) $(shell pkg-config --libs cairo 2>/dev/null)
 CHECK_LIBS := $(shell pkg-config --libs check 2>/dev/null)
 
@@ -129,10 +130,8 @@ $(BUILD)/bin/$(1): $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard apps/$(1)/*.c)) $(
 endef
 $(foreach a,$(APPS),$(eval $(call APP_RULE,$(a))))
 $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard apps/*/*.c)): CPPFLAGS += $(LCM_CFLAGS)
-# per-app libraries (target-specific, so only that program links them)
-$(BUILD)/bin/uFldScope: EXT_LIBS += $(shell pkg-config --libs ncurses 2>/dev/null || echo -lncurses)
+# per-app libraries (target-specific, so only that program links them; ncurses is in libkelp's terminal helper)
 $(BUILD)/bin/kelp-moos2sql: EXT_LIBS += $(shell pkg-config --libs sqlite3 2>/dev/null || echo -lsqlite3)
-$(BUILD)/bin/kelp-commander: EXT_LIBS += $(shell pkg-config --libs ncurses 2>/dev/null || echo -lncurses)
 
 scripts: $(addprefix $(BUILD)/bin/,$(SCRIPTS))
 $(BUILD)/bin/kelp-%: tools/kelp-% Makefile

@@ -26,7 +26,7 @@ echo "== seeding the relay: kelp-poke xrelay.moos APPLES=1"
 wait $LP; rc=$?
 cat launch.out
 echo "== uXMS (kelp-scope) at the end of the run:"
-awk '/^==========/{blk=""} {blk=blk $0 "\n"} END{}; /VarName/{show=1} show{print} /^-----.*$/ && show && seen++>1 {show=0}' logs/uXMS.log | tail -9
+awk '/^VarName/{last=""; show=1} /^(=+)?$/{show=0} show{last=last $0 "\n"} END{printf "%s", last}' logs/uXMS.log
 apples=$(grep -E '^  APPLES +' launch.out | awk '{print $2}')
 pears=$(grep -E '^  PEARS +' launch.out | awk '{print $2}')
 echo "== report: APPLES written ${apples:-0} times, PEARS ${pears:-0} times; launcher exit $rc"

@@ -1,174 +1,223 @@
-/* kelp-scope (the uXMS role): a terminal table of variables with source, time and
- * community. Configuration (ProcessConfig = uXMS, or the alias it runs under):
- *   VAR = NAME[,NAME...]   (repeatable; wildcards * and ? allowed)
- *   PAUSED, DISPLAY_SOURCE, DISPLAY_TIME, DISPLAY_COMMUNITY = true/false
- *   DISPLAY_ALL = true     (scope every variable)
- * Extra variable names may follow the mission file on the command line as VAR=NAME. */
+/* kelp-scope (the uXMS role): a live table of bus variables with source, time and community,
+ * one variable's history, and uXMS's key commands. The logic is the core kelp_xms
+ * (include/kelp/xms.h); this file reads the command line and the block, feeds it mail and
+ * keys, and draws its frames (ncurses on a terminal, plain lines otherwise: kelp/edge/term.h).
+ *
+ *   kelp-scope mission.moos [VAR ...] [--all] [--history=VAR] [--mode=events|paused|streaming]
+ */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include <kelp/app.h>
+#include <kelp/edge/term.h>
+#include <kelp/util.h>
+#include <kelp/xms.h>
 
-#define MAX_ROWS 256
-
-typedef struct row {
-    char name[KELP_MAX_NAME];
-    int seen;
-    kelp_var v;
-    unsigned long writes;
-} row;
+#define FRAME_CAP 65536
 
 typedef struct scope {
-    row rows[MAX_ROWS];
-    int nrows;
-    char patterns[64][KELP_MAX_NAME];
-    int npat;
-    bool paused, src, tim, com, all;
-    unsigned long updates;
+    kelp_xms core;
+    kelp_term term;
+    const char *history; /* --history, added after the command line's variables */
+    unsigned nsources_registered;
+    char frame[FRAME_CAP];
+    char cast[FRAME_CAP]; /* the report's copy */
 } scope;
 
-static row *find_row(scope *s, const char *name, bool create)
+enum { OPT_ALL = 300, OPT_ALLL, OPT_HISTORY, OPT_MODE, OPT_SHOW, OPT_FILTER, OPT_SRC, OPT_TRUNC, OPT_TERMINT, OPT_COLOR };
+
+static const kelp_cli_opt opts[] = {
+    { "all", no_argument, 'a', NULL, "show every variable on the bus (but *_STATUS, APPCAST)" },
+    { "alll", no_argument, OPT_ALLL, NULL, "show every variable on the bus, *_STATUS and APPCAST too" },
+    { "novirgins", no_argument, 'g', NULL, "hide variables never written" },
+    { "clean", no_argument, 'c', NULL, "ignore the mission block's VAR and DISPLAY_ALL" },
+    { "history", required_argument, OPT_HISTORY, "VAR", "the history variable (key z shows its history)" },
+    { "mode", required_argument, OPT_MODE, "MODE", "refresh mode: events, paused or streaming" },
+    { "show", required_argument, OPT_SHOW, "COLS", "columns to show: source,time,community" },
+    { "filter", required_argument, OPT_FILTER, "PREFIX", "show only variables starting with PREFIX (and all of them)" },
+    { "src", required_argument, OPT_SRC, "PROC", "also show what process PROC publishes" },
+    { "trunc", required_argument, OPT_TRUNC, "N", "cut string values at N characters (10..1000)" },
+    { "termint", required_argument, OPT_TERMINT, "SECS", "seconds between frames when streaming (0..10)" },
+    { "colormap", required_argument, OPT_COLOR, "PAIRS", "accepted for uXMS compatibility (no colours)" },
+    { "paused", no_argument, 'p', NULL, "start paused (as --mode=paused)" },
+    { "source", no_argument, 's', NULL, "show the source column (as --show=source)" },
+    { "truncate", no_argument, 't', NULL, "cut string values at 25 characters" },
+    { NULL, 0, 0, NULL, NULL },
+};
+
+static int on_arg(void *st, int val, const char *arg, const char **why)
 {
-    for (int i = 0; i < s->nrows; i++)
-        if (strcmp(s->rows[i].name, name) == 0) return &s->rows[i];
-    if (!create || s->nrows >= MAX_ROWS) return NULL;
-    row *r = &s->rows[s->nrows++];
-    memset(r, 0, sizeof *r);
-    snprintf(r->name, sizeof r->name, "%s", name);
-    return r;
+    scope *s = st;
+    kelp_xms *x = &s->core;
+    double d;
+    switch (val) {
+    case 0:
+        if (kelp_xms_add_var(x, arg, false) <= 0) return (*why = "not a variable name"), -1;
+        return 0;
+    case 'a': x->disp_all = true; return 0;
+    case OPT_ALLL: x->disp_all = x->disp_all_really = true; return 0;
+    case 'g': x->disp_virgins = false; return 0;
+    case 'c': x->ignore_file_vars = true; return 0;
+    case 'p': x->refresh = KELP_XMS_PAUSED; return 0;
+    case 's': x->disp_source = true; return 0;
+    case 't': kelp_xms_set_trunc(x, 25); return 0;
+    case OPT_SHOW: kelp_xms_set_columns(x, arg); return 0;
+    case OPT_FILTER: kelp_xms_set_filter(x, arg); return 0;
+    case OPT_COLOR: return 0;
+    case OPT_HISTORY:
+        if (!arg[0] || strchr(arg, ' ') || strstr(arg, "uXMS")) return (*why = "--history: not a variable name"), -1;
+        s->history = arg;
+        return 0;
+    case OPT_MODE:
+        if (kelp_xms_set_refresh(x, arg) < 0) return (*why = "--mode: events, paused or streaming"), -1;
+        return 0;
+    case OPT_SRC:
+        if (kelp_xms_add_sources(x, arg) < 0) return (*why = "--src: a process name"), -1;
+        return 0;
+    case OPT_TRUNC:
+    case OPT_TERMINT:
+        if (kelp_parse_finite(arg, strlen(arg), &d) < 0 || d < 0) return (*why = "expected a number >= 0"), -1;
+        if (val == OPT_TRUNC) kelp_xms_set_trunc(x, d > 1000 ? 1000 : (unsigned)d);
+        else x->term_interval = d > 10 ? 10 : d;
+        return 0;
+    default: return (*why = "unknown option"), -1;
+    }
 }
 
-static int add_vars(kelp_app *app, scope *s, const char *list)
+static int param(void *ctx, const char *key, const char *val, const char **why)
 {
-    char buf[1024];
-    snprintf(buf, sizeof buf, "%s", list);
-    for (char *save = NULL, *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
-        while (*t == ' ') t++;
-        char *e = t + strlen(t);
-        while (e > t && e[-1] == ' ') *--e = 0;
-        if (!*t) continue;
-        if (strchr(t, '*') || strchr(t, '?')) {
-            if (s->npat < 64) snprintf(s->patterns[s->npat++], KELP_MAX_NAME, "%s", t);
-        } else {
-            find_row(s, t, true);
-        }
-        if (kelp_app_register(app, t, 0) < 0) kelp_app_config_warning(app, "cannot register %s", t);
+    return kelp_xms_config(&((scope *)ctx)->core, key, val, why);
+}
+
+static void subscribe(kelp_app *app, scope *s)
+{
+    const char *v;
+    while ((v = kelp_xms_next_subscription(&s->core)) != NULL)
+        if (kelp_app_register(app, v, 0) < 0) kelp_app_run_warning(app, "cannot register %s", v);
+}
+
+static void draw(kelp_app *app, scope *s)
+{
+    double now = kelp_app_time(app) - kelp_app_start_time(app);
+    size_t n = kelp_app_cast_banner(app, s->frame, sizeof s->frame); /* as AppCasting prints it */
+    (void)kelp_xms_render(&s->core, now, s->frame + n, sizeof s->frame - n);
+    kelp_term_draw(&s->term, s->frame, "keys: s/t/c columns  v virgins  z history  h help  SPC pause  r stream  e events");
+}
+
+static void on_key(kelp_app *app, void *st, int fd)
+{
+    scope *s = st;
+    int keys[64];
+    int n = kelp_term_keys(&s->term, fd, keys, 64);
+    for (int i = 0; i < n; i++) {
+        if (keys[i] == 'q' && s->core.entry_mode == KELP_XMS_KEYS) kelp_app_quit(app);
+        else if (keys[i] == KELP_TERM_RESIZE || kelp_xms_key(&s->core, keys[i]) > 0) draw(app, s);
     }
-    return 0;
+    subscribe(app, s); /* 'A' subscribes to everything */
+    for (; s->nsources_registered < s->core.nsources; s->nsources_registered++) /* '+' added sources */
+        if (kelp_app_register(app, s->core.sources[s->nsources_registered], 0) < 0)
+            kelp_app_run_warning(app, "cannot register %s", s->core.sources[s->nsources_registered]);
 }
 
 static int startup(kelp_app *app, void *st)
 {
     scope *s = st;
-    s->src = s->tim = s->com = true;
-    (void)kelp_app_param_bool(app, "PAUSED", &s->paused);
-    (void)kelp_app_param_bool(app, "DISPLAY_SOURCE", &s->src);
-    (void)kelp_app_param_bool(app, "DISPLAY_TIME", &s->tim);
-    (void)kelp_app_param_bool(app, "DISPLAY_COMMUNITY", &s->com);
-    (void)kelp_app_param_bool(app, "DISPLAY_ALL", &s->all);
-    char buf[1024];
-    for (const kelp_mission_node *n = kelp_app_param_next(app, "VAR", NULL); n; n = kelp_app_param_next(app, "VAR", n)) {
-        if (kelp_mission_copy(n, buf, sizeof buf) == 0) add_vars(app, s, buf);
-    }
+    if (s->history) (void)kelp_xms_add_var(&s->core, s->history, true); /* history mode if alone */
+    int rc = kelp_app_param_foreach(app, param, s);
+    if (rc < 0) return rc;
     const char *extra = getenv("KELP_SCOPE_VARS");
-    if (extra) add_vars(app, s, extra);
-    if (s->all) add_vars(app, s, "*");
+    if (extra && kelp_xms_add_vars(&s->core, extra) < 0) kelp_app_config_warning(app, "KELP_SCOPE_VARS: a name refused");
+    for (; s->nsources_registered < s->core.nsources; s->nsources_registered++)
+        if (kelp_app_register(app, s->core.sources[s->nsources_registered], 0) < 0)
+            kelp_app_config_warning(app, "cannot register %s", s->core.sources[s->nsources_registered]);
+    subscribe(app, s);
+    (void)kelp_term_start(&s->term);
+    if (kelp_app_watch_fd(app, STDIN_FILENO, on_key) < 0) kelp_app_run_warning(app, "keys cannot be read");
     return 0;
 }
 
 static void on_mail(kelp_app *app, void *st, const kelp_var *v)
 {
     scope *s = st;
-    (void)app;
-    row *r = find_row(s, v->name, false);
-    if (!r) {
-        for (int i = 0; i < s->npat && !r; i++)
-            if (kelp_bus_match(s->patterns[i], v->name)) r = find_row(s, v->name, true);
-    }
-    if (!r) return;
-    r->seen = 1;
-    r->writes++;
-    memcpy(&r->v, v, offsetof(kelp_var, sval));
-    memcpy(r->v.sval, v->sval, v->slen + 1);
+    if (v->kind == KELP_VAR_BINARY) return;
+    (void)kelp_xms_mail(&s->core, v->name, v->kind == KELP_VAR_STRING, v->sval, v->dval, v->source, v->community,
+                        v->time - kelp_app_start_time(app));
 }
 
 static int iterate(kelp_app *app, void *st, double now)
 {
-    (void)app;
-    (void)now;
     scope *s = st;
-    if (!s->paused) s->updates++;
+    subscribe(app, s); /* variables a SOURCE publishes, or display-all */
+    if (kelp_xms_due(&s->core, now - kelp_app_start_time(app))) draw(app, s);
     return 0;
 }
 
-static void fmt_value(const kelp_var *v, char *buf, size_t cap)
-{
-    if (v->kind == KELP_VAR_DOUBLE) {
-        if (v->dval == (double)(long long)v->dval && v->dval < 1e15 && v->dval > -1e15)
-            snprintf(buf, cap, "%lld", (long long)v->dval);
-        else
-            snprintf(buf, cap, "%.5f", v->dval);
-    } else if (v->kind == KELP_VAR_STRING) {
-        snprintf(buf, cap, "\"%s\"", v->sval);
-    } else {
-        snprintf(buf, cap, "<binary %zu bytes>", v->slen);
-    }
-}
-
+/* the status report and AppCast body: the current frame, as uXMS casts its table */
 static void report(kelp_app *app, void *st, FILE *out)
 {
     scope *s = st;
-    double t0 = kelp_app_start_time(app);
-    fprintf(out, "  %-22s", "VarName");
-    if (s->src) fprintf(out, " %-16s", "(S)ource");
-    if (s->tim) fprintf(out, " %-9s", "(T)ime");
-    if (s->com) fprintf(out, " %-12s", "(C)ommunity");
-    fprintf(out, " VarValue\n");
-    fprintf(out, "  %-22s", "-------");
-    if (s->src) fprintf(out, " %-16s", "-------");
-    if (s->tim) fprintf(out, " %-9s", "-------");
-    if (s->com) fprintf(out, " %-12s", "-------");
-    fprintf(out, " -------- (%lu)\n", s->updates);
-    for (int i = 0; i < s->nrows; i++) {
-        const row *r = &s->rows[i];
-        char val[KELP_MAX_SVAL + 32];
-        char tbuf[32];
-        if (r->seen) {
-            fmt_value(&r->v, val, sizeof val);
-            snprintf(tbuf, sizeof tbuf, "%.2f", r->v.time - t0);
-        }
-        fprintf(out, "  %-22s", r->name);
-        if (s->src) fprintf(out, " %-16s", r->seen ? r->v.source : "n/a");
-        if (s->tim) fprintf(out, " %-9s", r->seen ? tbuf : "n/a");
-        if (s->com) fprintf(out, " %-12s", r->seen ? r->v.community : "n/a");
-        fprintf(out, " %s\n", r->seen ? val : "n/a");
-    }
+    (void)kelp_xms_format(&s->core, kelp_app_time(app) - kelp_app_start_time(app), s->cast, sizeof s->cast);
+    fputs(s->cast, out);
+    if (s->core.dropped) fprintf(out, "(%lu variables not shown: table full)\n", s->core.dropped);
+}
+
+static void shutdown_(kelp_app *app, void *st)
+{
+    (void)app;
+    kelp_term_stop(&((scope *)st)->term);
 }
 
 static const kelp_app_def def = {
     .name = "kelp-scope",
     .moos_name = "uXMS",
-    .purpose = "Terminal scope of bus variables: value, source, time and community (the uXMS role).",
+    .purpose = "Terminal scope of bus variables: value, source, time, community and history (the uXMS role).",
+    .synopsis = "Shows bus variables named on the command line, in the block (VAR), published by a\n"
+                "SOURCE, or all of them (--all, DISPLAY_ALL), refreshed in place on a terminal. Keys as\n"
+                "uXMS: s/t/c source, time, community columns; v virgins; z history of HISTORY_VAR;\n"
+                "j its name; p processes; - hide a process's variables, + add it as a source (type\n"
+                "its ID, Enter); h help; d scoping; SPC/u refresh and pause; r streaming; e events;\n"
+                "/ filter (Enter ends), ? clear it; A all variables, a back; < > history length;\n"
+                "{ } ` value truncation; w wrap; q quits.",
+    .opts = opts,
+    .args = "[VAR ...]",
+    .on_arg = on_arg,
     .params = (const kelp_app_param_info[]){
-        { "VAR", "APPLES", "repeatable: a variable (or pattern, *_HZ) to show", NULL },
-        { "PAUSED", "false", "start paused", NULL },
-        { "DISPLAY_SOURCE", "true", "show the source column", NULL },
-        { "DISPLAY_TIME", "true", "show the time column", NULL },
-        { "DISPLAY_COMMUNITY", "true", "show the community column", NULL },
+        { "VAR", "NAV_X, NAV_Y", "repeatable: variables to show, comma-separated", NULL },
+        { "HISTORY_VAR", "NAV_X", "the variable whose history key z shows", NULL },
+        { "SOURCE", "pHelmIvP", "show what these processes publish (their <PROC>_STATUS Publishing)", NULL },
+        { "REFRESH_MODE", "events", "events, paused or streaming", NULL },
+        { "CONTENT_MODE", "scoping", "scoping, history, procs or help", NULL },
+        { "PAUSED", "false", "deprecated: REFRESH_MODE = paused", "REFRESH_MODE" },
+        { "DISPLAY_SOURCE", "false", "show the source column", NULL },
+        { "DISPLAY_AUX_SOURCE", "false", "as DISPLAY_SOURCE (kelp has no auxiliary source)", NULL },
+        { "DISPLAY_TIME", "false", "show the time column", NULL },
+        { "DISPLAY_COMMUNITY", "false", "show the community column", NULL },
+        { "DISPLAY_VIRGINS", "true", "show variables never written", NULL },
+        { "DISPLAY_HISTORY_VAR", "true", "show the variable's name in history mode", NULL },
         { "DISPLAY_ALL", "false", "show every variable on the bus", NULL },
+        { "DISPLAY_ALLL", "false", "show every variable, *_STATUS and APPCAST too", NULL },
+        { "TRUNC_DATA", "false", "cut long string values (at 20 characters, more for hidden columns)", NULL },
+        { "WRAP_DATA", "false", "wrap long values", NULL },
+        { "WRAP_DATA_LEN", "45", "wrap width, 10..120", NULL },
+        { "TERM_REPORT_INTERVAL", "0.5", "seconds between frames at most (0..10)", NULL },
+        { "COLOR_MAP", "NAV_X,red", "accepted (kelp draws no colours)", NULL },
         { NULL, NULL, NULL, NULL } },
     .subscribes = (const kelp_app_var_info[]){
-        { "<VAR>", "any value", "every VAR named or matched" },
+        { "<VAR>", "any value", "every variable shown" },
+        { "<SOURCE>_STATUS", "Publishing=\"A,B\"", "what a SOURCE publishes" },
         { NULL, NULL, NULL } },
     .notes = "Environment: KELP_SCOPE_VARS, more variables to show (as VAR).\n",
     .startup = startup,
     .on_mail = on_mail,
     .iterate = iterate,
     .report = report,
+    .shutdown = shutdown_,
 };
 
 int main(int argc, char **argv)
 {
     static scope s;
+    kelp_xms_init(&s.core);
     return kelp_app_run(argc, argv, &def, &s);
 }

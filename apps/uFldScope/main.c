@@ -6,12 +6,10 @@
  * runner's status report is held back until exit, where it is printed as usual). Otherwise
  * each table is printed as plain lines, and keys may still be written to stdin (a pipe or
  * FIFO), one character each. */
-#include <curses.h>
-#include <fcntl.h>
 #include <stdio.h>
-#include <string.h>
 #include <unistd.h>
 #include <kelp/app.h>
+#include <kelp/edge/term.h>
 #include <kelp/field.h>
 
 #define SCOPE_TEXT_CAP 16384 /* bytes of one rendered table */
@@ -20,10 +18,7 @@ typedef struct scope {
     kelp_app *app;
     kelp_field_ufs_cfg cfg;
     kelp_field_ufs core;
-    bool curses;      /* drawing with ncurses on the terminal */
-    int term_fd;      /* the terminal, while stdout points at /dev/null */
-    FILE *term;
-    SCREEN *screen;
+    kelp_term term;
     char text[SCOPE_TEXT_CAP];
 } scope;
 
@@ -32,81 +27,20 @@ static int param(void *ctx, const char *key, const char *val, const char **why)
     return kelp_field_ufs_config(&((scope *)ctx)->cfg, key, val, why);
 }
 
-/* stdin reached its end: put a pipe nobody writes in its place so poll stays quiet */
-static void quiet_stdin(void)
-{
-    int p[2];
-    if (pipe(p) == 0) {
-        (void)dup2(p[0], STDIN_FILENO);
-        close(p[0]); /* p[1] stays open (never written) */
-    }
-}
-
 static void draw(scope *s)
 {
-    size_t n = kelp_field_ufs_render(&s->core, s->text, sizeof s->text);
-    if (!s->curses) {
-        fputc('\n', stdout);
-        fwrite(s->text, 1, n, stdout);
-        fflush(stdout);
-        return;
-    }
-    erase();
-    int y = 0;
-    for (const char *p = s->text; *p && y < LINES - 1; y++) {
-        size_t len = strcspn(p, "\n");
-        if (y == 0) attron(A_BOLD);
-        mvaddnstr(y, 0, p, (int)(len < (size_t)COLS ? len : (size_t)COLS));
-        if (y == 0) attroff(A_BOLD);
-        p += len + (p[len] == '\n');
-    }
-    mvaddstr(LINES - 1, 0, "keys: l layouts  a all/last  p pause  r resume  h help  (Ctrl-C quits)");
-    refresh();
+    (void)kelp_field_ufs_render(&s->core, s->text, sizeof s->text);
+    kelp_term_draw(&s->term, s->text, "keys: l layouts  a all/last  p pause  r resume  h help  (Ctrl-C quits)");
 }
 
 static void on_key(kelp_app *app, void *st, int fd)
 {
     scope *s = st;
+    int keys[64];
     (void)app;
-    if (s->curses && isatty(fd)) {
-        int c;
-        while ((c = getch()) != ERR)
-            if (c == KEY_RESIZE || kelp_field_ufs_key(&s->core, c) > 0) draw(s);
-        return;
-    }
-    char buf[64];
-    ssize_t n = read(fd, buf, sizeof buf);
-    if (n <= 0) {
-        quiet_stdin();
-        return;
-    }
-    for (ssize_t i = 0; i < n; i++)
-        if (kelp_field_ufs_key(&s->core, (unsigned char)buf[i]) > 0) draw(s);
-}
-
-/* draw on the terminal with ncurses; stdout (the runner's status report) goes quiet */
-static bool start_curses(scope *s)
-{
-    s->term_fd = dup(STDOUT_FILENO);
-    s->term = s->term_fd >= 0 ? fdopen(s->term_fd, "w") : NULL;
-    s->screen = s->term ? newterm(NULL, s->term, stdin) : NULL;
-    if (!s->screen) {
-        if (s->term) fclose(s->term);
-        return false;
-    }
-    set_term(s->screen);
-    cbreak();
-    noecho();
-    nodelay(stdscr, TRUE);
-    keypad(stdscr, TRUE);
-    curs_set(0);
-    fflush(stdout);
-    int null = open("/dev/null", O_WRONLY);
-    if (null >= 0) {
-        (void)dup2(null, STDOUT_FILENO);
-        close(null);
-    }
-    return true;
+    int n = kelp_term_keys(&s->term, fd, keys, 64);
+    for (int i = 0; i < n; i++)
+        if (keys[i] == KELP_TERM_RESIZE || kelp_field_ufs_key(&s->core, keys[i]) > 0) draw(s);
 }
 
 static int startup(kelp_app *app, void *st)
@@ -123,7 +57,7 @@ static int startup(kelp_app *app, void *st)
     const char *v;
     for (unsigned i = 0; (v = kelp_field_ufs_subscription(&s->core, i)) != NULL; i++)
         if (kelp_app_register(app, v, 0) < 0) return kelp_app_config_error(app, NULL, "cannot register %s", v);
-    s->curses = isatty(STDOUT_FILENO) && start_curses(s);
+    (void)kelp_term_start(&s->term);
     if (kelp_app_watch_fd(app, STDIN_FILENO, on_key) < 0) kelp_app_run_warning(app, "keys cannot be read");
     return 0;
 }
@@ -153,15 +87,8 @@ static void report(kelp_app *app, void *st, FILE *out)
 
 static void shutdown_(kelp_app *app, void *st)
 {
-    scope *s = st;
     (void)app;
-    if (!s->curses) return;
-    endwin();
-    delscreen(s->screen);
-    fflush(s->term);
-    (void)dup2(s->term_fd, STDOUT_FILENO); /* the runner's last status report goes to the terminal */
-    fclose(s->term);
-    s->curses = false;
+    kelp_term_stop(&((scope *)st)->term);
 }
 
 static const kelp_app_def def = {

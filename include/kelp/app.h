@@ -62,6 +62,15 @@ typedef struct kelp_app_def {
     bool textformat;         /**< a Goby TextFormat block: --example prints "name: value" */
     bool ignore_own_posts;   /**< the app never registers for what it posts: its own datagrams are
                                   dropped in the kernel (a relay app then does not read back its posts) */
+    /** The app's own command-line options (added to the MOOS ones), NULL-name terminated, or NULL. */
+    const kelp_cli_opt *opts;
+    /** What may follow the mission file on the command line ("[VAR ...]"), or NULL for the MOOS
+     *  NAME. When set, each such argument goes to on_arg with val 0 (except one starting with the
+     *  MOOS name, which is taken as NAME, as uXMS does under pAntler). */
+    const char *args;
+    /** Called, before startup, for each of the app's options (val, optarg) and arguments (0, arg).
+     *  Return <0 with *why for a usage error. */
+    int (*on_arg)(void *state, int val, const char *arg, const char **why);
     /** OnStartUp: read parameters (kelp_app_param*), register. Return <0 to stop the app
      *  (after kelp_app_config_error). */
     int (*startup)(kelp_app *app, void *state);
@@ -128,6 +137,10 @@ void kelp_app_config_warning(kelp_app *app, const char *fmt, ...) KELP_PRINTF(2,
 int kelp_app_config_error(kelp_app *app, const kelp_mission_node *at, const char *fmt, ...) KELP_PRINTF(3, 4);
 void kelp_app_run_warning(kelp_app *app, const char *fmt, ...) KELP_PRINTF(2, 3);
 void kelp_app_event(kelp_app *app, const char *fmt, ...) KELP_PRINTF(2, 3);
+/** The AppCast header as a terminal shows it (MOOS-IvP's AppCasting: a rule, "NAME COMMUNITY"
+ *  and "cfg/run(iter)", a rule, then any configuration and run warnings), for an app that
+ *  draws its own report under it (kelp-scope). @return its length (cut at cap-1). */
+size_t kelp_app_cast_banner(kelp_app *app, char *buf, size_t cap);
 /** Watch an extra file descriptor: cb runs (between iterations) when it is readable.
  *  At most 8 per app. */
 typedef void (*kelp_app_fd_cb)(kelp_app *app, void *state, int fd);

@@ -480,20 +480,12 @@ static bool appcast_wanted(const kelp_app *app)
 
 /* Post APPCAST (MOOS-IvP's AppCast string) when a client asked, a configuration warning is
  * new, or in the first iterations; at most every 0.5 s of wall time. */
-static void appcast(kelp_app *app, double wall)
+static void cast_fill(kelp_app *app, kelp_appcast *ac)
 {
-    if (!appcast_wanted(app) || wall - app->last_cast < 0.5) return;
-    kelp_appcast *ac = app->cast;
     memset(ac, 0, sizeof *ac);
     snprintf(ac->proc, sizeof ac->proc, "%s", app->name);
     snprintf(ac->node, sizeof ac->node, "%s", app->community);
     ac->iter = app->iter;
-    FILE *f = fmemopen(ac->messages, sizeof ac->messages - 1, "w");
-    if (f) {
-        if (app->def->report) app->def->report(app, app->state, f);
-        else fprintf(f, "Mail: %lu received\n", app->mail_total);
-        fclose(f);
-    }
     for (int i = 0; i < app->ncfg_warn && ac->ncfg < KELP_APPCAST_ITEMS; i++)
         snprintf(ac->cfg[ac->ncfg++], KELP_APPCAST_ITEM, "%s", app->cfg_warn[i]);
     for (int i = 0; i < app->nevents && ac->nevents < KELP_APPCAST_ITEMS; i++)
@@ -510,6 +502,30 @@ static void appcast(kelp_app *app, double wall)
         ac->run_count[ac->nrun] = app->run_warn_count[i];
         ac->run_total += app->run_warn_count[i];
         ac->nrun++;
+    }
+}
+
+size_t kelp_app_cast_banner(kelp_app *app, char *buf, size_t cap)
+{
+    kelp_appcast *ac = app->cast;
+    cast_fill(app, ac);
+    ac->nevents = 0;
+    size_t len = 0;
+    if (kelp_appcast_render(ac, buf, cap, &len) != KELP_OK) len = cap ? strlen(buf) : 0;
+    if (len && buf[len - 1] == '\n') buf[--len] = '\0'; /* the report body goes here */
+    return len;
+}
+
+static void appcast(kelp_app *app, double wall)
+{
+    if (!appcast_wanted(app) || wall - app->last_cast < 0.5) return;
+    kelp_appcast *ac = app->cast;
+    cast_fill(app, ac);
+    FILE *f = fmemopen(ac->messages, sizeof ac->messages - 1, "w");
+    if (f) {
+        if (app->def->report) app->def->report(app, app->state, f);
+        else fprintf(f, "Mail: %lu received\n", app->mail_total);
+        fclose(f);
     }
     /* a bus string holds KELP_MAX_SVAL bytes: a long report is cut until the cast fits */
     size_t len, keep = strlen(ac->messages);
@@ -714,13 +730,22 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
              "$KELP_LCM_URL, else the mission's global LCM_URL, else udpm://239.255.76.67:<ServerPort>\n"
              "?ttl=0 (one port per community), else " KELP_LCM_DEFAULT_URL ".\n",
              moos_name(def));
+    kelp_cli_opt opts[40];
+    size_t nopt = 0;
+    for (const kelp_cli_opt *o = moos_opts; o->name; o++) opts[nopt++] = *o;
+    for (const kelp_cli_opt *o = def->opts; o && o->name && nopt + 1 < sizeof opts / sizeof opts[0]; o++)
+        opts[nopt++] = *o;
+    memset(&opts[nopt], 0, sizeof opts[0]);
+    char synopsis[128];
+    snprintf(synopsis, sizeof synopsis, "[OPTIONS] MISSION.moos %s", def->args ? def->args : "[NAME]");
     const kelp_cli cli = {
         .name = def->name,
         .purpose = def->purpose,
-        .synopsis = "[OPTIONS] MISSION.moos [NAME]",
-        .opts = moos_opts,
+        .synopsis = synopsis,
+        .opts = opts,
         .more = more,
     };
+    const char *why = NULL;
     int c, status;
     while ((c = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
         switch (c) {
@@ -739,10 +764,15 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
             verbose = true;
             break;
         default:
-            return kelp_cli_error(&cli, "unhandled option");
+            if (!def->on_arg) return kelp_cli_error(&cli, "unhandled option");
+            if (def->on_arg(state, c, optarg, &why) < 0)
+                return kelp_cli_error(&cli, "%s", why ? why : "bad option value");
+            break;
         }
     }
     if (optind < argc) mission = argv[optind++];
+    int first_arg = optind; /* the app's own arguments (def->args) are read once the mission is */
+    if (def->args && def->on_arg) optind = argc;
     if (optind < argc && !alias) alias = argv[optind++];
     if (optind < argc) return kelp_cli_error(&cli, "unexpected argument '%s'", argv[optind]);
     if (!mission) {
@@ -756,12 +786,26 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
     app->verbose = verbose;
     app->tty = isatty(STDOUT_FILENO);
     snprintf(app->mission_path, sizeof app->mission_path, "%s", mission);
-    snprintf(app->name, sizeof app->name, "%s", alias ? alias : moos_name(def));
     if (kelp_mission_load(&app->mf, mission) < 0) {
         fprintf(stderr, "%s\n", app->mf.error);
         free(app);
         return 1;
     }
+    /* an app taking arguments (uXMS's variables): the first is still the MOOS name when it
+     * starts with the default one (as uXMS under pAntler) or names a ProcessConfig block */
+    for (int i = first_arg; def->args && def->on_arg && i < argc; i++) {
+        const char *a = argv[i];
+        if (!alias && i == first_arg &&
+            (strncmp(a, moos_name(def), strlen(moos_name(def))) == 0 ||
+             kelp_mission_block(&app->mf.m, "ProcessConfig", a) >= 0))
+            alias = a;
+        else if (def->on_arg(state, 0, a, &why) < 0) {
+            kelp_mission_free(&app->mf);
+            free(app);
+            return kelp_cli_error(&cli, "'%s': %s", a, why ? why : "not accepted");
+        }
+    }
+    snprintf(app->name, sizeof app->name, "%s", alias ? alias : moos_name(def));
     app->used = calloc(app->mf.m.nnodes + 1, 1);
     app->block = kelp_mission_block(&app->mf.m, "ProcessConfig", app->name);
     if (app->block < 0) kelp_app_config_warning(app, "no ProcessConfig = %s block in %s", app->name, mission);

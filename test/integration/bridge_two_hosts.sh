@@ -51,6 +51,9 @@ ProcessConfig = pMOOSBridge
 ProcessConfig = scope
 {
   VAR = NAV_X_ALPHA, STATE, NAV_Y, EVIL
+  DISPLAY_SOURCE = true
+  DISPLAY_TIME = true
+  DISPLAY_COMMUNITY = true
 }
 M
 cat > $T/alpha.moos <<M
@@ -74,6 +77,9 @@ ProcessConfig = rogue
 ProcessConfig = scope
 {
   VAR = DEPLOY, STATE
+  DISPLAY_SOURCE = true
+  DISPLAY_TIME = true
+  DISPLAY_COMMUNITY = true
 }
 M
 cat > $T/tap.py <<'PY'
@@ -140,15 +146,15 @@ timeout 2 ip netns exec ${P}h2 $BIN/kelp-scope alpha.moos scope > alpha_scope.ou
 for p in "${PIDS[@]}"; do kill -INT $p 2>/dev/null || true; done
 wait 2>/dev/null || true
 PIDS=()
-grep -E '^  NAV_X_ALPHA +kelp-poke .* alpha +13.50000' shore_scope.out | tail -1 | grep -q . || fail "NAV_X did not reach the shore as NAV_X_ALPHA"
-grep -E '^  DEPLOY +kelp-poke .* shoreside +"true"' alpha_scope.out | tail -1 | grep -q . || fail "PMB_REGISTER bridge DEPLOY_ALL -> DEPLOY failed"
-grep -E '^  NAV_Y +n/a' shore_scope.out | tail -1 | grep -q . || fail "NAV_Y from the wrong key was accepted"
+grep -E '^NAV_X_ALPHA +kelp-poke .* alpha +13.5$' shore_scope.out | tail -1 | grep -q . || fail "NAV_X did not reach the shore as NAV_X_ALPHA"
+grep -E '^DEPLOY +kelp-poke .* shoreside +"true"$' alpha_scope.out | tail -1 | grep -q . || fail "PMB_REGISTER bridge DEPLOY_ALL -> DEPLOY failed"
+grep -E '^NAV_Y +n/a +n/a +n/a$' shore_scope.out | tail -1 | grep -q . || fail "NAV_Y from the wrong key was accepted"
 grep -qE "auth failures [1-9]" shore_bridge.log || fail "shore did not count the auth failure"
 grep -qE "replays 999 " shore_bridge.log || fail "shore did not refuse the 999 replays: $(grep -E 'replays' shore_bridge.log | tail -1)"
 grep -qE "not allowed [1-9]" shore_bridge.log || fail "shore did not refuse EVIL"
 grep -qE "received [0-9]+ .* oversize 1 " shore_bridge.log || fail "60 KB datagram not counted as oversize"
 grep -qE "sent 60[0-9]{3}" tap.out || fail "tap did not send the big datagram: $(cat tap.out)"
-grep -E '^  EVIL +n/a' shore_scope.out | tail -1 | grep -q . || fail "a name off the ALLOW list reached the shore"
+grep -E '^EVIL +n/a +n/a +n/a$' shore_scope.out | tail -1 | grep -q . || fail "a name off the ALLOW list reached the shore"
 $BIN/kelp-logcheck shore.lcmlog --print > shore_events.txt || fail "shore log undecodable"
 $BIN/kelp-logcheck alpha.lcmlog --print > alpha_events.txt || fail "alpha log undecodable"
 n_state_alpha=$(awk '$3=="STATE"' alpha_events.txt | wc -l)

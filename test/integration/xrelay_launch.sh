@@ -17,5 +17,5 @@ a=$(awk '$1=="APPLES"{print $2}' launch.out); p=$(awk '$1=="PEARS"{print $2}' la
 grep -q "APPLES_ITER_HZ" launch.out || fail "no ITER_HZ"
 grep -q "APPLES_POST_HZ" launch.out || fail "no POST_HZ"
 # uXMS (kelp-scope) saw the relay with source and community columns
-grep -E "^  APPLES +pXRelay_APPLES +[0-9.]+ +xrelay +[0-9]+" logs/uXMS.log | tail -1 | grep -q . || { tail -20 logs/uXMS.log; fail "scope did not show APPLES"; }
+grep -E "^APPLES +pXRelay_APPLES +[0-9.]+ +xrelay +[0-9]+$" logs/uXMS.log | tail -1 | grep -q . || { tail -20 logs/uXMS.log; fail "scope did not show APPLES"; }
 ok "APPLES=$a PEARS=$p in ${el}s"
