@@ -5,7 +5,7 @@
 # 1 -> 2 over the simulated modems; node 2 publishes IN_TEST_32B and ACOMMS_INCOMING_DATA
 # with those bytes, and the acoustic ack (the queue's default ack: true) reaches node 1 as
 # ACOMMS_ACK.
-. "$(dirname "$0")/ccl_lib.sh"
+. "$(dirname "$0")/lib_ccl.sh"
 . "$(dirname "$0")/lib.sh"
 cd $T
 run_pair $KELP_ROOT/missions/basic_ccl 34

@@ -6,7 +6,7 @@
 # array, each sample within its field's precision (one unit of the last decimal kept: Goby's
 # encoder truncates, e.g. 14.18 may arrive as 14.17),
 # and acknowledges both messages (ACOMMS_ACK on mm2).
-. "$(dirname "$0")/ccl_lib.sh"
+. "$(dirname "$0")/lib_ccl.sh"
 . "$(dirname "$0")/lib.sh"
 cd $T
 run_pair $KELP_ROOT/missions/btr_ctd 30

@@ -5,7 +5,7 @@
 # (NO_ENCODE) into STATUS_REPORT_IN and NODE_REPORT.  mm2's pREMUSCodec (create_status) makes
 # a REMUS CCL State (first byte 14) from its NAV_* on OUT_REMUS_STATUS, sent up on CCL queue
 # 14; mm1 publishes IN_REMUS_STATUS and its pREMUSCodec turns the State into a NODE_REPORT.
-. "$(dirname "$0")/ccl_lib.sh"
+. "$(dirname "$0")/lib_ccl.sh"
 . "$(dirname "$0")/lib.sh"
 cd $T
 run_pair $KELP_ROOT/missions/ccl_and_dccl 46

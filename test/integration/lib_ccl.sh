@@ -1,4 +1,4 @@
-# Helpers of test/integration/basic_ccl.sh and ccl_and_dccl.sh: the seed's two example
+# Helpers of test/integration/basic_ccl.sh, ccl_and_dccl.sh and btr_ctd.sh: the seed's two example
 # deployments (Goby 1.1 section 2.3.15, missions/basic_ccl, missions/ccl_and_dccl) run from
 # their unchanged mission files.  Those name the fixed paths /tmp/ttyLOOP{A,B}{1,2} and the
 # fixed bus ports 9101, 9102 (ServerPort) and 49234 (iModemSim's IPPort): the test runs in its
@@ -9,7 +9,7 @@ if [ -z "${KELP_PRIVATE_TMP:-}" ]; then
   export KELP_PRIVATE_TMP=1
   if [ "$(id -u)" -eq 0 ]; then exec unshare -m bash "$0" "$@"; else exec unshare -rm bash "$0" "$@"; fi
 fi
-mount -t tmpfs tmpfs /tmp
+mount -t tmpfs tmpfs /tmp || { echo "FAIL: cannot make a private /tmp"; exit 1; }
 
 # run_pair MISSION_DIR SECONDS: copy the mission, make the loopbacks, record both communities'
 # buses, launch mm1 and mm2 for SECONDS; printed bus logs in $T/mm1.txt, $T/mm2.txt
