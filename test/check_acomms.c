@@ -87,8 +87,22 @@ START_TEST(test_parse_data_forms)
     ck_assert_uint_eq(m.len, 2);
     ck_assert_int_eq(m.data[0], 'A');
     ck_assert_int_eq(m.data[1], 'B');
+    /* the input ends inside a literal: protobuf's TextFormat parser reports it but keeps the
+     * field (to the end, escapes applied), and Goby's parse_for_moos uses the message: the
+     * seed's uTimerScript value of example 1 (section 2.3.15), val="data: "\002\002\003\004\"",
+     * posted without its outer quotes, is the bytes 02 02 03 04 22 */
+    const char *ts = "data: \"\\002\\002\\003\\004\\\"";
+    ck_assert_int_eq(kelp_acomms_parse_data(ts, strlen(ts), &m, &why), 0);
+    ck_assert_uint_eq(m.len, 5);
+    ck_assert_int_eq(m.data[0], 2);
+    ck_assert_int_eq(m.data[3], 4);
+    ck_assert_int_eq(m.data[4], '"');
+    const char *open = "data: \"abc";
+    ck_assert_int_eq(kelp_acomms_parse_data(open, strlen(open), &m, &why), 0);
+    ck_assert_uint_eq(m.len, 3);
+    ck_assert_int_eq(m.data[2], 'c');
     /* errors, each with a reason */
-    static const char *const bad[] = { "data: \"abc", "bogus: 1", "base { src: x }", "frame: -1",
+    static const char *const bad[] = { "data: \"abc\n\" frame: 1", "bogus: 1", "base { src: x }", "frame: -1",
                                        "queue_key { type: QUEUE_FOO id: 1 }", "base { src: 1", "}", "data 1",
                                        "data: \"\\q\"", "ack_requested: maybe" };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {

@@ -7,7 +7,8 @@
  * DIR/<MOOSName>.log. MOOS program names map to kelp's: MOOSDB is not needed (kelp has no
  * broker: the launcher itself retains the latest value of every variable for late
  * registrants), uXMS -> kelp-scope, uPokeDB -> kelp-poke, pMOOSBridge -> kelp-bridge,
- * iMarineSim -> uSimMarine, pMarineViewer -> kelp-plot, iCommander -> kelp-commander.
+ * iMarineSim -> uSimMarine, pMarineViewer -> kelp-plot, iCommander -> kelp-commander,
+ * iModemSim -> kelp-modemsim, pGeneralCodec -> pAcommsHandler (encode/decode only).
  * Waits for all apps to exit, or stops them (SIGTERM, then SIGKILL after 3 s) on SIGINT,
  * SIGTERM or when --run-seconds have passed. Exit status 0 when every app ended cleanly. */
 #include <errno.h>

@@ -59,9 +59,12 @@ uint32_t msim_instance(void)
 
 int msim_config(kelp_app *app, msim_app *s, kelp_modemsim_cfg *c)
 {
-    double d = 0;
-    if (kelp_app_param_double(app, "modem_id", &d) <= 0 || d != floor(d) || d < 1 || d > KELP_MODEMSIM_MAX_ID)
-        return kelp_app_config_error(app, kelp_app_param(app, "modem_id"), "modem_id (1..%d) is required",
+    /* modem_id: the initial NVRAM SRC; iModemSim's blocks have none, and the host sets SRC at
+     * start-up anyway ($CCCFG,SRC,<its modem_id>), so 1 until then */
+    double d = 1;
+    int have_id = kelp_app_param_double(app, "modem_id", &d);
+    if (have_id < 0 || d != floor(d) || d < 1 || d > KELP_MODEMSIM_MAX_ID)
+        return kelp_app_config_error(app, kelp_app_param(app, "modem_id"), "modem_id must be in 1..%d",
                                      KELP_MODEMSIM_MAX_ID);
     c->modem_id = s->modem_id = (int)d;
     /* host side: a pseudo-terminal (pty_link, or iModemSim's Port) or a TCP server port */
@@ -119,6 +122,16 @@ int msim_config(kelp_app *app, msim_app *s, kelp_modemsim_cfg *c)
     snprintf(s->channel_var, sizeof s->channel_var, "%s", DEFAULT_CHANNEL);
     (void)kelp_app_param_str(app, "channel_var", s->channel_var, sizeof s->channel_var);
     (void)kelp_app_param_str(app, "channel_url", s->channel_url, sizeof s->channel_url);
+    /* iModemSim's channel: UDP broadcasts to BroadcastAddr:IPPort; here an LCM channel on that
+     * port, kept on this host when BroadcastAddr is a loopback address */
+    char bcast[64] = "127.0.0.1";
+    (void)kelp_app_param_str(app, "BroadcastAddr", bcast, sizeof bcast);
+    if (kelp_app_param(app, "IPPort")) {
+        if (param_d(app, "IPPort", &d, 1, 65535) < 0) return -1;
+        if (!s->channel_url[0])
+            snprintf(s->channel_url, sizeof s->channel_url, "udpm://239.255.76.67:%u?ttl=%d", (unsigned)d,
+                     strncmp(bcast, "127.", 4) == 0 ? 0 : 1);
+    }
     s->publish_events = true;
     if (kelp_app_param_bool(app, "publish_events", &s->publish_events) < 0) return -1;
     return 0;

@@ -233,7 +233,7 @@ static const kelp_app_def def = {
     .purpose = "Simulated WHOI Micro-Modem (iModemSim): the modem side of the Micro-Modem NMEA protocol on a "
                "pseudo-terminal or TCP port; modems share a simulated acoustic channel over the bus.",
     .params = (const kelp_app_param_info[]){
-        { "modem_id", "1", "required: initial NVRAM SRC, 1..31 (the host sets it with $CCCFG,SRC)", NULL },
+        { "modem_id", "1", "initial NVRAM SRC, 1..31 (the host sets it with $CCCFG,SRC); default 1", NULL },
         { "pty_link", "/tmp/ttyMM1", "symlink to the pseudo-terminal the host opens", NULL },
         { "Port", "/tmp/ttyMM1", "iModemSim's name for pty_link", "pty_link" },
         { "Speed", "19200", "iModemSim's baud: accepted, ignored (a pty has none)", NULL },
@@ -264,6 +264,10 @@ static const kelp_app_def def = {
         { "lbl_beacon", "x=1000,y=0,depth=50", "repeatable (up to 4): REMUS LBL transponders A..D for $CCPDT", NULL },
         { "channel_var", "ACOMMS_SIM_CHANNEL", "where transmissions travel", NULL },
         { "channel_url", "udpm://239.255.76.67:7690?ttl=0", "a channel bus shared by communities (optional)", NULL },
+        { "IPPort", "49234", "iModemSim's channel port: channel_url udpm://239.255.76.67:<IPPort> (unless channel_url)",
+          "channel_url" },
+        { "BroadcastAddr", "127.0.0.1", "iModemSim's: a 127.x address keeps the IPPort channel on this host (ttl=0)",
+          NULL },
         { "publish_events", "true", "ACOMMS_SIM_EVENT per transmission, reception and loss", NULL },
         { NULL, NULL, NULL, NULL } },
     .subscribes = (const kelp_app_var_info[]){

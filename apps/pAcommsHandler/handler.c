@@ -151,6 +151,19 @@ static int read_config(handler *h)
         if (nl) *nl = '\0';
         kelp_app_config_warning(app, "%s", w);
     }
+    /* pGeneralCodec is deprecated for "pAcommsHandler with no driver, no MAC and no queuing"
+     * (seed 002 section 2.10): run under that name, the block is a DCCL codec only; its
+     * messages are encoded to OUT_<NAME>_HEX_<size>B and decoded from IN_<NAME>_HEX_<size>B */
+    if (strcmp(kelp_app_name(app), "pGeneralCodec") == 0) {
+        h->codec_only = true;
+        if (h->cfg.driver_type != KELP_ACOMMS_DRIVER_NONE || h->cfg.mac_type != KELP_MAC_NONE || h->cfg.nccl)
+            kelp_app_config_warning(app, "pGeneralCodec: encode/decode only: the driver, MAC and CCL queues are ignored");
+        h->cfg.driver_type = KELP_ACOMMS_DRIVER_NONE;
+        h->cfg.mac_type = KELP_MAC_NONE;
+        h->cfg.nslots = 0;
+        h->cfg.nccl = 0;
+        for (size_t i = 0; i < h->cfg.nfiles; i++) h->cfg.files[i].manip |= KELP_ACOMMS_MANIP_NO_QUEUE;
+    }
     return KELP_OK;
 }
 
@@ -186,6 +199,7 @@ static int init_core(handler *h, double now)
 {
     kelp_acomms_node_cfg nc;
     kelp_acomms_config_node(&h->cfg, &nc);
+    if (h->codec_only) nc.loopback_channel = false; /* nothing is queued or sent */
     h->pool = calloc(KELP_ACOMMS_MAX_POOL, sizeof *h->pool);
     if (!h->pool) return kelp_app_config_error(h->app, NULL, "out of memory");
     const kelp_acomms_sink sink = { h, sink_publish, sink_warn, sink_event, sink_write, sink_close_link, sink_record,

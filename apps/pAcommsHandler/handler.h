@@ -19,6 +19,7 @@ typedef struct handler {
     kelp_acomms_lcm *lcm;     /* the LCM structures (ACOMMS_*_LCM) */
     kelp_app *app;
     unsigned long write_errors;
+    bool codec_only;          /* run as pGeneralCodec: DCCL encode/decode, no driver, MAC or queue */
 } handler;
 
 handler *handler_new(void);

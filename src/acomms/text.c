@@ -286,7 +286,7 @@ typedef struct tk {
     tk_kind kind;
     const char *s;
     size_t n;
-    char close; /* '}' or '>' for TK_OPEN */
+    char close; /* '}' or '>' for TK_OPEN; for TK_STRING its quote, or 0 if the input ended inside it */
 } tk;
 
 typedef struct lexer {
@@ -340,12 +340,24 @@ static tk lex(lexer *lx)
             if (*q == '\n') break;
             q++;
         }
-        if (q >= lx->end || *q != c) {
+        if (q >= lx->end) {
+            /* the input ends inside the literal: protobuf's tokenizer reports the error but
+             * keeps the literal (to the end) and its TextFormat parser still sets the field,
+             * which Goby's parse_for_moos uses (e.g. the seed's uTimerScript value
+             * data: "\002\002\003\004\" of example 1 gives 02 02 03 04 22) */
+            t.kind = TK_STRING;
+            t.close = 0;
+            lx->p = lx->end;
+            t.n = (size_t)(lx->p - s);
+            return t;
+        }
+        if (*q != c) {
             t.kind = TK_BAD;
             lx->p = lx->end;
             return t;
         }
         t.kind = TK_STRING;
+        t.close = c;
         lx->p = q + 1;
     } else if (is_ident_start(c)) {
         const char *q = s;
@@ -374,11 +386,12 @@ static int hexval(char c)
     return -1;
 }
 
-/* unescape one quoted literal (with its quotes) and append to out; KELP_ERR_NOSPACE if full */
-static int unescape(const char *s, size_t n, uint8_t *out, size_t cap, size_t *len)
+/* unescape one quoted literal (with its quotes; without the closing one if !closed) and append
+ * to out; KELP_ERR_NOSPACE if full */
+static int unescape(const char *s, size_t n, bool closed, uint8_t *out, size_t cap, size_t *len)
 {
     size_t i = 1, o = *len;
-    n--; /* closing quote */
+    if (closed) n--; /* closing quote */
     while (i < n) {
         uint8_t c = (uint8_t)s[i++];
         if (c == '\\' && i < n) {
@@ -511,7 +524,7 @@ static int walk(tf_walk *wk, const char *text, size_t len, uint8_t *sbuf, size_t
             v.bytes = sbuf;
             v.blen = 0;
             while (t.kind == TK_STRING) {
-                int rc = unescape(t.s, t.n, sbuf, scap, &v.blen);
+                int rc = unescape(t.s, t.n, t.close != 0, sbuf, scap, &v.blen);
                 if (rc) {
                     wk->why = rc == KELP_ERR_NOSPACE ? "string too long" : "bad escape in string";
                     return rc;

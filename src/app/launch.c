@@ -15,7 +15,8 @@ const char *kelp_launch_map_prog(const char *p)
                                           { "pMOOSBridge", "kelp-bridge" }, { "pAntler", "kelp-launch" },
                                           { "iMarineSim", "uSimMarine" },   { "pMarineViewer", "kelp-plot" },
                                           { "uSimMarineV22", "uSimMarine" }, { "pMarinePIDV22", "pMarinePID" },
-                                          { "iCommander", "kelp-commander" } };
+                                          { "iCommander", "kelp-commander" },
+                                          { "iModemSim", "kelp-modemsim" }, { "pGeneralCodec", "pAcommsHandler" } };
     for (size_t i = 0; i < sizeof map / sizeof map[0]; i++)
         if (strcmp(p, map[i][0]) == 0) return map[i][1];
     return p;
