@@ -9,7 +9,7 @@
 typedef struct tclient {
     kelp_bus bus;
     kelp_bus_sub subs[16];
-    kelp_var cache[32];
+    kelp_var cache[600]; /* more than KELP_BUS_CACHE_HASH / 2: the linear walk is tested too */
     kelp_var rx;
     uint8_t scratch[16384];
     kelp_loopback_port port;
@@ -369,6 +369,43 @@ START_TEST(cache_full_still_publishes)
 }
 END_TEST
 
+/* the retained values are found by name through the index (KELP_BUS_CACHE_HASH) and, for a
+ * caller cache larger than half the index, by the linear walk: the same answers either way */
+static void many_names(size_t ncache, size_t nnames)
+{
+    static kelp_loopback net;
+    kelp_loopback_init(&net);
+    tclient *a = tc_new(&net, "pA", ncache);
+    char name[KELP_MAX_NAME];
+    for (int round = 0; round < 2; round++)
+        for (size_t i = 0; i < nnames; i++) {
+            snprintf(name, sizeof name, "NODE_REPORT_V%zu", i);
+            ck_assert_int_eq(kelp_bus_notify_double(&a->bus, name, (double)(i + 1000 * round), 1 + round), 0);
+        }
+    for (size_t i = 0; i < nnames; i++) {
+        snprintf(name, sizeof name, "NODE_REPORT_V%zu", i);
+        const kelp_var *v = kelp_bus_cached(&a->bus, name);
+        if (i < ncache) {
+            ck_assert_ptr_nonnull(v);
+            ck_assert_str_eq(v->name, name);
+            ck_assert_double_eq(v->dval, (double)(i + 1000));
+        } else {
+            ck_assert_ptr_null(v);
+        }
+    }
+    ck_assert_ptr_null(kelp_bus_cached(&a->bus, "NODE_REPORT_V"));
+    ck_assert_uint_eq(kelp_bus_get_stats(&a->bus)->cache_full, nnames > ncache ? 2 * (nnames - ncache) : 0);
+    free(a);
+}
+
+START_TEST(cache_many_names_indexed_and_linear)
+{
+    size_t cap = sizeof ((tclient *)0)->cache / sizeof ((tclient *)0)->cache[0];
+    many_names(cap < 200 ? cap : 200, 150);
+    many_names(cap, cap + 40);
+}
+END_TEST
+
 START_TEST(init_rejects_small_scratch)
 {
     static kelp_loopback net;
@@ -403,6 +440,7 @@ Suite *kelp_bus_suite(void)
     tcase_add_test(c, handlers_may_publish);
     tcase_add_test(c, bad_datagram_counted_and_client_goes_on);
     tcase_add_test(c, cache_full_still_publishes);
+    tcase_add_test(c, cache_many_names_indexed_and_linear);
     tcase_add_test(c, foreign_type_through_wildcard_is_not_bad);
     tcase_add_test(c, init_rejects_small_scratch);
     suite_add_tcase(s, c);

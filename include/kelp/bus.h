@@ -181,6 +181,9 @@ typedef struct kelp_bus {
     kelp_bus_storage st;
     size_t nsubs_used;
     size_t ncache_used;
+#if KELP_BUS_CACHE_HASH > 0
+    uint16_t cache_hash[KELP_BUS_CACHE_HASH]; /* 0 empty, else cache index + 1 (names never leave) */
+#endif
     int depth;
     kelp_bus_stats stats;
     kelp_bus_limits lim;

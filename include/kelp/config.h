@@ -26,6 +26,11 @@ extern "C" {
 #ifndef KELP_MAX_CACHE
 #define KELP_MAX_CACHE 512          /**< variables whose latest value a client retains */
 #endif
+#ifndef KELP_BUS_CACHE_HASH
+#define KELP_BUS_CACHE_HASH 1024    /**< name index over the retained values (2 bytes each, in
+                                         kelp_bus; a power of two, 0 = none): used when the
+                                         cache holds at most half as many variables */
+#endif
 
 #ifndef KELP_MAX_SYNC_PATTERNS
 #define KELP_MAX_SYNC_PATTERNS 16   /**< patterns in one sync request */
@@ -54,6 +59,8 @@ extern "C" {
 #endif
 
 KELP_STATIC_ASSERT(KELP_MAX_NAME >= 16, "KELP_MAX_NAME too small");
+KELP_STATIC_ASSERT((KELP_BUS_CACHE_HASH & (KELP_BUS_CACHE_HASH - 1)) == 0 && KELP_BUS_CACHE_HASH <= 32768,
+                   "KELP_BUS_CACHE_HASH must be 0 or a power of two up to 32768");
 KELP_STATIC_ASSERT(KELP_MAX_SVAL >= 256, "KELP_MAX_SVAL too small");
 
 

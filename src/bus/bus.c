@@ -52,13 +52,52 @@ int kelp_bus_init(kelp_bus *b, const char *app, const char *community, const cha
     return KELP_OK;
 }
 
+#if KELP_BUS_CACHE_HASH > 0
+static size_t name_hash(const char *s)
+{
+    uint32_t h = 2166136261u; /* FNV-1a */
+    while (*s) h = (h ^ (uint8_t)*s++) * 16777619u;
+    return (size_t)h & (KELP_BUS_CACHE_HASH - 1);
+}
+
+/* the index covers the cache when it holds at most half as many variables as it has slots
+ * (so a probe always ends at an empty slot); a larger caller cache is searched linearly */
+static bool cache_hashed(const kelp_bus *b)
+{
+    return b->st.ncache <= KELP_BUS_CACHE_HASH / 2;
+}
+#endif
+
 static kelp_var *cache_find(const kelp_bus *b, const char *name)
 {
-    /* O(n) over retained variables; n is small (hundreds) and this is not the hot path
-     * of a 10 Hz app. */
+#if KELP_BUS_CACHE_HASH > 0
+    if (cache_hashed(b)) {
+        for (size_t p = name_hash(name);; p = (p + 1) & (KELP_BUS_CACHE_HASH - 1)) {
+            uint16_t k = b->cache_hash[p];
+            if (k == 0) return NULL;
+            if (strcmp(b->st.cache[k - 1].name, name) == 0) return &b->st.cache[k - 1];
+        }
+    }
+#endif
     for (size_t i = 0; i < b->ncache_used; i++)
         if (strcmp(b->st.cache[i].name, name) == 0) return &b->st.cache[i];
     return NULL;
+}
+
+/* a new cache slot for `name` (not in the cache), or NULL when the cache is full */
+static kelp_var *cache_add(kelp_bus *b, const char *name)
+{
+    if (b->ncache_used >= b->st.ncache) return NULL;
+#if KELP_BUS_CACHE_HASH > 0
+    if (cache_hashed(b)) {
+        size_t p = name_hash(name);
+        while (b->cache_hash[p]) p = (p + 1) & (KELP_BUS_CACHE_HASH - 1);
+        b->cache_hash[p] = (uint16_t)(b->ncache_used + 1);
+    }
+#else
+    (void)name;
+#endif
+    return &b->st.cache[b->ncache_used++];
 }
 
 const kelp_var *kelp_bus_cached(const kelp_bus *b, const char *name)
@@ -70,11 +109,10 @@ static void cache_put(kelp_bus *b, const kelp_var *v)
 {
     kelp_var *slot = cache_find(b, v->name);
     if (!slot) {
-        if (b->ncache_used >= b->st.ncache) {
+        if (!(slot = cache_add(b, v->name))) {
             b->stats.cache_full++;
             return;
         }
-        slot = &b->st.cache[b->ncache_used++];
     } else if (slot->time > v->time) {
         return; /* keep the newer one */
     }
@@ -115,7 +153,7 @@ static int notify(kelp_bus *b, const char *name, kelp_var_kind kind, double d, c
     if (rc < 0) return rc;
     /* retain it: we answer late registrants for what we wrote */
     kelp_var *slot = cache_find(b, name);
-    if (!slot && b->ncache_used < b->st.ncache) slot = &b->st.cache[b->ncache_used++];
+    if (!slot) slot = cache_add(b, name);
     if (slot) {
         memset(slot, 0, offsetof(kelp_var, sval));
         memcpy(slot->name, name, strlen(name) + 1);
