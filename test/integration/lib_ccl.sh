@@ -9,7 +9,22 @@ if [ -z "${KELP_PRIVATE_TMP:-}" ]; then
   export KELP_PRIVATE_TMP=1
   if [ "$(id -u)" -eq 0 ]; then exec unshare -m bash "$0" "$@"; else exec unshare -rm bash "$0" "$@"; fi
 fi
+# the checkout or the build may themselves live under /tmp (a CI clone there): the old /tmp is
+# bound on /mnt (in this namespace only) and those directories bound back into the new /tmp
+if [ "$KELP_PRIVATE_TMP" = 1 ]; then # once: lib.sh's network namespace re-runs the script
+export KELP_PRIVATE_TMP=done
+ccl_keep=()
+for d in "$(cd "$(dirname "$0")/../.." && pwd)" "${KELP_ROOT:-}" "${BUILD:-}"; do
+  case "$d" in /tmp/*) ccl_keep+=("$d") ;; esac
+done
+if [ ${#ccl_keep[@]} -gt 0 ]; then
+  mount --bind /tmp /mnt || { echo "FAIL: cannot keep the old /tmp on /mnt"; exit 1; }
+fi
 mount -t tmpfs tmpfs /tmp || { echo "FAIL: cannot make a private /tmp"; exit 1; }
+for d in "${ccl_keep[@]}"; do
+  mkdir -p "$d" && mount --bind "/mnt${d#/tmp}" "$d" || { echo "FAIL: cannot keep $d"; exit 1; }
+done
+fi
 
 # run_pair MISSION_DIR SECONDS: copy the mission, make the loopbacks, record both communities'
 # buses, launch mm1 and mm2 for SECONDS; printed bus logs in $T/mm1.txt, $T/mm2.txt
