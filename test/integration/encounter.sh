@@ -13,9 +13,11 @@
 cd "$T"
 MIN=$(sed -n 's/^ *min_util_cpa_dist *= *\([0-9.]*\).*/\1/p' "$KELP_ROOT/missions/encounter/meta_vehicle.bhv")
 [ -n "$MIN" ] || fail "no min_util_cpa_dist in the template"
+# MOOSTimeWarp 10: at 20 a loaded host (three tests at once, or ASan) lets the helms fall behind
+# the simulated time and a pair can pass inside min_util_cpa_dist for that reason alone
 run() { # DIR [--no-avoid]
   local d=$1; shift
-  ENC_WARP=20 ENC_TIMEOUT=45 ENC_DIR="$T/$d" "$KELP_ROOT/scripts/encounter.sh" "$@" "$KELP_ROOT/missions/encounter/five.conf" \
+  ENC_WARP=10 ENC_TIMEOUT=80 ENC_DIR="$T/$d" "$KELP_ROOT/scripts/encounter.sh" "$@" "$KELP_ROOT/missions/encounter/five.conf" \
     "$BUILD" > "$d.out" 2>&1 || { cat "$d.out"; tail -20 "$T/$d"/logs_*/pHelmIvP.log 2>/dev/null; fail "$d: not every vehicle reached its goal"; }
 }
 run avoid
