@@ -10,7 +10,6 @@
 static int64_t us_of(double t) { return (int64_t)llround(t * 1e6); }
 
 /* ------------------------------------------------------------------ host I/O */
-
 static void host_write(const char *b, size_t n, void *u)
 {
     msim_app *s = u;
@@ -38,7 +37,6 @@ static void on_host(kelp_app *app, void *st, int fd)
 }
 
 /* ------------------------------------------------------------------ the channel */
-
 static void channel_tx(const kelp_modemsim_pkt *p, void *u)
 {
     msim_app *s = u;
@@ -86,7 +84,6 @@ static void on_chan_fd(kelp_app *app, void *st, int fd)
 }
 
 /* ------------------------------------------------------------------ events */
-
 static void on_event(const kelp_modemsim_event *e, void *u)
 {
     msim_app *s = u;
