@@ -20,8 +20,8 @@ void kelp_remus_codec_cfg_default(kelp_remus_codec_cfg *c)
     memset(c, 0, sizeof *c);
     c->status_interval = 10;
     for (int k = 0; k < KELP_REMUS_NVARS; k++) {
-        (void)snprintf(c->in_var[k], sizeof c->in_var[k], "IN_REMUS_%s_HEX_30B", KIND_NAME[k]);
-        (void)snprintf(c->out_var[k], sizeof c->out_var[k], "OUT_REMUS_%s_HEX_30B", KIND_NAME[k]);
+        (void)kelp_snprintf(c->in_var[k], sizeof c->in_var[k], "IN_REMUS_%s_HEX_30B", KIND_NAME[k]);
+        (void)kelp_snprintf(c->out_var[k], sizeof c->out_var[k], "OUT_REMUS_%s_HEX_30B", KIND_NAME[k]);
     }
 }
 
@@ -55,7 +55,7 @@ KELP_PRINTF(2, 3) static void warnf(const kelp_field_sink *sink, const char *fmt
     if (!sink->warn) return;
     va_list ap;
     va_start(ap, fmt);
-    (void)vsnprintf(msg, sizeof msg, fmt, ap);
+    (void)kelp_vsnprintf(msg, sizeof msg, fmt, ap);
     va_end(ap);
     sink->warn(sink->ctx, msg);
 }
@@ -68,7 +68,7 @@ static void pub_d(const kelp_field_sink *sink, const char *var, double v)
 /* Goby's as<string>(double): boost::lexical_cast, 17 significant digits */
 static int append_kv(char *buf, size_t cap, size_t *off, const char *key, double v)
 {
-    int n = snprintf(buf + *off, cap - *off, ",%s=%.17g", key, v);
+    int n = kelp_snprintf(buf + *off, cap - *off, ",%s=%.17g", key, v);
     if (n < 0 || (size_t)n >= cap - *off) return KELP_ERR_NOSPACE;
     *off += (size_t)n;
     return KELP_OK;
@@ -87,7 +87,7 @@ static void publish_contact(kelp_remus_codec *t, const contact *c, const char *k
     kelp_dccl_geo_latlon2local(t->cfg.geo, c->lat, c->lon, &y, &x);
 
     char status[1024];
-    int n = snprintf(status, sizeof status, "MessageType=CCL_STATUS,Node=%d", c->node);
+    int n = kelp_snprintf(status, sizeof status, "MessageType=CCL_STATUS,Node=%d", c->node);
     size_t off = n > 0 ? (size_t)n : 0;
     int rc = append_kv(status, sizeof status, &off, "Timestamp", now);
     if (!rc) rc = append_kv(status, sizeof status, &off, "Latitude", c->lat);
@@ -96,7 +96,7 @@ static void publish_contact(kelp_remus_codec *t, const contact *c, const char *k
     if (!rc) rc = append_kv(status, sizeof status, &off, "Heading", c->hdg);
     if (!rc) rc = append_kv(status, sizeof status, &off, "Depth", c->depth);
     if (!rc && kind_extra) {
-        n = snprintf(status + off, sizeof status - off, "%s", kind_extra);
+        n = kelp_snprintf(status + off, sizeof status - off, "%s", kind_extra);
         if (n < 0 || (size_t)n >= sizeof status - off) rc = KELP_ERR_NOSPACE;
     }
     if (!rc) sink->publish(sink->ctx, "STATUS_REPORT_IN", true, status, 0);
@@ -111,16 +111,16 @@ static void publish_contact(kelp_remus_codec *t, const contact *c, const char *k
     const double val[] = {now, x, y, c->lat, c->lon, c->spd, c->depth, c->hdg};
     for (size_t k = 0; k < sizeof suffix / sizeof suffix[0]; k++) {
         char var[KELP_MAX_NAME];
-        n = snprintf(var, sizeof var, "%s_NAV_%s", up, suffix[k]);
+        n = kelp_snprintf(var, sizeof var, "%s_NAV_%s", up, suffix[k]);
         if (n > 0 && (size_t)n < sizeof var) pub_d(sink, var, val[k]);
     }
 
     kelp_nodereport r;
     kelp_nodereport_init(&r);
-    (void)snprintf(r.name, sizeof r.name, "%s", c->name);
-    (void)snprintf(r.type, sizeof r.type, "%s", c->type);
-    (void)snprintf(r.mode, sizeof r.mode, "NOMOOS");
-    (void)snprintf(r.allstop, sizeof r.allstop, "NotUsingIvP");
+    (void)kelp_snprintf(r.name, sizeof r.name, "%s", c->name);
+    (void)kelp_snprintf(r.type, sizeof r.type, "%s", c->type);
+    (void)kelp_snprintf(r.mode, sizeof r.mode, "NOMOOS");
+    (void)kelp_snprintf(r.allstop, sizeof r.allstop, "NotUsingIvP");
     r.time = now, r.x = x, r.y = y, r.lat = c->lat, r.lon = c->lon;
     r.spd = c->spd, r.hdg = c->hdg, r.depth = c->depth, r.length = 4.0;
     r.fields = KELP_NR_NAME | KELP_NR_TYPE | KELP_NR_TIME | KELP_NR_X | KELP_NR_Y | KELP_NR_LAT | KELP_NR_LON |
@@ -152,7 +152,7 @@ KELP_PRINTF(2, 3) static void sb_add(sb *b, const char *fmt, ...)
     if (b->bad) return;
     va_list ap;
     va_start(ap, fmt);
-    int n = vsnprintf(b->buf + b->off, b->cap - b->off, fmt, ap);
+    int n = kelp_vsnprintf(b->buf + b->off, b->cap - b->off, fmt, ap);
     va_end(ap);
     if (n < 0 || (size_t)n >= b->cap - b->off) b->bad = true;
     else b->off += (size_t)n;
@@ -231,7 +231,7 @@ static int incoming(kelp_remus_codec *t, int kind, const char *text, double now,
     t->received[kind]++;
     const kelp_dccl_modem_entry *e = lookup(t->cfg.geo, m.src);
     char idname[16];
-    (void)snprintf(idname, sizeof idname, "%d", m.src);
+    (void)kelp_snprintf(idname, sizeof idname, "%d", m.src);
     contact c = {m.src, e ? e->name : idname, e ? e->type : "unknown_type", 0, 0, 0, 0, 0};
     if (kind == KELP_REMUS_STATE_VAR) {
         kelp_remus_state s;
@@ -244,7 +244,7 @@ static int incoming(kelp_remus_codec *t, int kind, const char *text, double now,
         double g, p, o;
         kelp_remus_gfi_pitch_oil_decode(s.gfi_pitch_oil, &g, &p, &o);
         char extra[256];
-        int n = snprintf(extra, sizeof extra,
+        int n = kelp_snprintf(extra, sizeof extra,
                          ",GoalLatitude=%.17g,GoalLongitude=%.17g,Batterypercent=%u,GFI=%.17g,Pitch=%.17g,Oil=%.17g",
                          kelp_remus_latlon_decode(s.lat_goal), kelp_remus_latlon_decode(s.lon_goal),
                          (unsigned)s.battery_percent, g, p, o);
