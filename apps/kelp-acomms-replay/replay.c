@@ -118,25 +118,7 @@ static int no_publish(void *ctx, const char *var, bool is_string, const char *sv
 
 static int open_dccl(replay *r, bool plain, char *err, size_t cap)
 {
-    const char *files[KELP_ACOMMS_MAX_FILES];
-    unsigned manips[KELP_ACOMMS_MAX_FILES];
-    for (size_t i = 0; i < r->cfg.nfiles; i++) {
-        files[i] = r->cfg.files[i].path;
-        manips[i] = r->cfg.files[i].manip;
-    }
-    kelp_acomms_dccl_cfg dc;
-    memset(&dc, 0, sizeof dc);
-    dc.modem_id = (unsigned)r->cfg.modem_id;
-    dc.passphrase = r->cfg.has_passphrase ? r->cfg.crypto_passphrase : NULL;
-    dc.plaintext = plain;
-    dc.lookup_path = r->cfg.modem_id_lookup_path;
-    dc.have_origin = r->cfg.has_lat_origin && r->cfg.has_lon_origin;
-    dc.lat_origin = r->cfg.lat_origin;
-    dc.lon_origin = r->cfg.lon_origin;
-    dc.files = files;
-    dc.manips = manips;
-    dc.nfiles = r->cfg.nfiles;
-    r->dccl = kelp_acomms_dccl_open(&dc, err, cap);
+    r->dccl = kelp_acomms_dccl_open_config(&r->cfg, plain, err, cap);
     if (!r->dccl) return KELP_ERR_PARSE;
     kelp_acomms_dccl_codec(r->dccl, &r->codec);
     return KELP_OK;

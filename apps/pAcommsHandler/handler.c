@@ -170,24 +170,7 @@ static int read_config(handler *h)
 static int open_dccl(handler *h)
 {
     char err[512];
-    const char *files[KELP_ACOMMS_MAX_FILES];
-    unsigned manips[KELP_ACOMMS_MAX_FILES];
-    for (size_t i = 0; i < h->cfg.nfiles; i++) {
-        files[i] = h->cfg.files[i].path;
-        manips[i] = h->cfg.files[i].manip;
-    }
-    kelp_acomms_dccl_cfg dc;
-    memset(&dc, 0, sizeof dc);
-    dc.modem_id = (unsigned)h->cfg.modem_id;
-    dc.passphrase = h->cfg.has_passphrase ? h->cfg.crypto_passphrase : NULL;
-    dc.lookup_path = h->cfg.modem_id_lookup_path;
-    dc.have_origin = h->cfg.has_lat_origin && h->cfg.has_lon_origin;
-    dc.lat_origin = h->cfg.lat_origin;
-    dc.lon_origin = h->cfg.lon_origin;
-    dc.files = files;
-    dc.manips = manips;
-    dc.nfiles = h->cfg.nfiles;
-    h->dccl = kelp_acomms_dccl_open(&dc, err, sizeof err);
+    h->dccl = kelp_acomms_dccl_open_config(&h->cfg, false, err, sizeof err);
     if (!h->dccl) return kelp_app_config_error(h->app, NULL, "DCCL: %s", err);
     if (kelp_acomms_dccl_count(h->dccl) + h->cfg.nccl > KELP_ACOMMS_MAX_QUEUES)
         return kelp_app_config_error(h->app, NULL, "too many queues (max %d)", KELP_ACOMMS_MAX_QUEUES);

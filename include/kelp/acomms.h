@@ -384,6 +384,10 @@ typedef struct kelp_acomms_config {
     size_t n_tcp_share;
 } kelp_acomms_config;
 
+/** kelp_acomms_dccl_open over a pAcommsHandler block: its message files and manipulators, modem
+ *  id, passphrase, lookup file and LatOrigin/LongOrigin. `plaintext` as in kelp_acomms_dccl_cfg. */
+kelp_acomms_dccl *kelp_acomms_dccl_open_config(const kelp_acomms_config *cfg, bool plaintext, char *err, size_t errcap);
+
 void kelp_acomms_config_default(kelp_acomms_config *cfg);
 
 /** Read the pAcommsHandler block (node index `block` of m; globals of m fill the fallbacks).

@@ -718,3 +718,26 @@ void kelp_acomms_config_node(const kelp_acomms_config *c, kelp_acomms_node_cfg *
     out->mac.nslots = c->nslots;
     out->loopback_channel = c->driver_type == KELP_ACOMMS_DRIVER_NONE;
 }
+
+kelp_acomms_dccl *kelp_acomms_dccl_open_config(const kelp_acomms_config *cfg, bool plaintext, char *err, size_t errcap)
+{
+    const char *files[KELP_ACOMMS_MAX_FILES];
+    unsigned manips[KELP_ACOMMS_MAX_FILES];
+    for (size_t i = 0; i < cfg->nfiles; i++) {
+        files[i] = cfg->files[i].path;
+        manips[i] = cfg->files[i].manip;
+    }
+    kelp_acomms_dccl_cfg dc;
+    memset(&dc, 0, sizeof dc);
+    dc.modem_id = (unsigned)cfg->modem_id;
+    dc.passphrase = cfg->has_passphrase ? cfg->crypto_passphrase : NULL;
+    dc.plaintext = plaintext;
+    dc.lookup_path = cfg->modem_id_lookup_path;
+    dc.have_origin = cfg->has_lat_origin && cfg->has_lon_origin;
+    dc.lat_origin = cfg->lat_origin;
+    dc.lon_origin = cfg->lon_origin;
+    dc.files = files;
+    dc.manips = manips;
+    dc.nfiles = cfg->nfiles;
+    return kelp_acomms_dccl_open(&dc, err, errcap);
+}
