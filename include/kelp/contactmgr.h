@@ -25,6 +25,7 @@
 #include <kelp/err.h>
 #include <kelp/field.h>
 #include <kelp/geo.h>
+#include <kelp/nodereport.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -100,6 +101,15 @@ typedef struct kelp_cmgr_sortkey {
     unsigned pos;
 } kelp_cmgr_sortkey;
 
+/** One key=value component of an alert request (a workspace entry). */
+typedef struct kelp_cmgr_comp {
+    const char *k;
+    size_t kl;
+    char v[KELP_CMGR_MAX_FLAG];
+    size_t vl;
+} kelp_cmgr_comp;
+#define KELP_CMGR_MAX_COMPS 24          /**< components of one alert request */
+
 typedef struct kelp_cmgr {
     /* configuration */
     char ownship[KELP_CMGR_MAX_ID], ownship_group[KELP_CMGR_MAX_ID], ownship_type[KELP_CMGR_MAX_ID];
@@ -140,6 +150,12 @@ typedef struct kelp_cmgr {
     double event_time[KELP_CMGR_MAX_EVENTS];
     unsigned nevents, event_head;
     char text[KELP_CMGR_MAX_TEXT];          /**< scratch */
+    struct {                                /* workspace of one call (keeps the stack under 1 KB) */
+        kelp_cmgr_alert alert;              /**< an alert request applied to a copy first */
+        kelp_cmgr_comp comp[KELP_CMGR_MAX_COMPS]; /**< its components */
+        kelp_view view;                     /**< a region parsed as a polygon */
+        char str[KELP_CMGR_MAX_TEXT];       /**< a report request's text, a flag's expanded value */
+    } ws;
 } kelp_cmgr;
 
 /** Defaults (contactmgr.md 2.1) for ownship `ownship` (the community; its reports are dropped). */

@@ -127,6 +127,11 @@ typedef struct kelp_field_nrep {
     kelp_rng rng;
     unsigned long posted, alt_posted, nav_mail, bad_mail, extrap_skipped;
     char last[KELP_NODEREPORT_MAX_LEN];    /**< the last report posted */
+    struct {                               /* workspace of one call (keeps the stack under 1 KB) */
+        kelp_nodereport alt;               /**< the alternate solution's report */
+        char extra[KELP_NODEREPORT_MAX_LEN / 2], text[KELP_NODEREPORT_MAX_LEN];
+        char json[KELP_NODEREPORT_MAX_LEN + 128];
+    } ws;
 } kelp_field_nrep;
 
 /** Defaults: name = community, type UUV, output NODE_REPORT_LOCAL, prefix NAV, nohelm 5 s,
@@ -188,6 +193,8 @@ typedef struct kelp_field_hostinfo {
     bool post_due;
     unsigned long posts, requests;
     char best[64];                 /**< the last PHI_HOST_IP */
+    /* workspace of one call (keeps the stack under 1 KB) */
+    char ws_all[KELP_HOSTINFO_MAX_ADDRS * 17 + 1], ws_verbose[KELP_HOSTINFO_MAX_ADDRS * 50 + 1], ws_info[512];
 } kelp_field_hostinfo;
 
 void kelp_field_hostinfo_cfg_default(kelp_field_hostinfo_cfg *c);
@@ -365,6 +372,7 @@ typedef struct kelp_field_ncomms {
     unsigned long blocked[KELP_NCOMMS_BLK_N];
     unsigned long scanned;                  /**< candidate receivers examined (bench) */
     unsigned long pulses;
+    uint16_t ws_idx[KELP_NCOMMS_MAX_NODES]; /**< workspace of the report (the names in order) */
 } kelp_field_ncomms;
 
 /** Defaults of the seed and 24.8 (comms 100, critical 30, stale 5, message interval 30,
@@ -396,7 +404,7 @@ int kelp_field_ncomms_mail(kelp_field_ncomms *c, const char *var, bool is_string
 unsigned long kelp_field_ncomms_iterate(kelp_field_ncomms *c, double now, const kelp_field_sink *out);
 /** The terminal summary of Listing 11 at `now` into buf (always terminated when cap > 0).
  *  @return 0 or KELP_ERR_NOSPACE (truncated). */
-KELP_MUST_CHECK int kelp_field_ncomms_report(const kelp_field_ncomms *c, double now, char *buf, size_t cap);
+KELP_MUST_CHECK int kelp_field_ncomms_report(kelp_field_ncomms *c, double now, char *buf, size_t cap);
 /** Index of a vehicle by name (case-insensitive), or -1. */
 int kelp_field_ncomms_find(const kelp_field_ncomms *c, const char *name);
 
@@ -667,6 +675,7 @@ typedef struct kelp_field_nbroker {
     double routes_at, last_ack;                /**< times (-1 never) */
     unsigned long iterations, ok_phi, bad_phi, phi_changes, registers, pings, ok_ack, bad_ack;
     char last_register[KELP_BROKER_MSG];
+    char ws[KELP_MAX_SVAL];                    /**< workspace of one call (keeps the stack under 1 KB) */
 } kelp_field_nbroker;
 
 /** Defaults: no keyword, no try hosts, no bridges, warp 1, retry 10 s, auto bridges off. */
@@ -735,6 +744,9 @@ typedef struct kelp_field_sbroker {
     bool qvars_posted;                    /**< UFSB_QBRIDGE_VARS posted (once, at the first iteration) */
     unsigned long iterations, phi, pings, bad_pings, early_pings, full, acks, registers;
     char last_register[KELP_BROKER_MSG];
+    /* workspace of one call (keeps the stack under 1 KB): the bridge-name candidates, a list */
+    uint16_t ws_idx[(KELP_BROKER_MAX_BRIDGES + 1) * (KELP_BROKER_MAX_NODES + 1)];
+    char ws[KELP_MAX_SVAL];
 } kelp_field_sbroker;
 
 /** Defaults: no keyword, no bridges, warp 1, no stale warnings, auto bridges off. */

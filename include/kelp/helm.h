@@ -601,6 +601,11 @@ struct kelp_helm {
     bool last_engaged;
     char err[192];                     /**< configuration error text (first wins) */
     int err_line;
+    struct {                        /* workspace of one iteration's postings (keeps the stack small) */
+        char buf[KELP_HELM_MAX_SVAL], dom[KELP_HELM_MAX_SVAL / 2];
+        char lists[4][256], tmp[256];
+        char mode_value[KELP_HELM_MAX_MODES][128]; /**< this iteration's value of each mode variable */
+    } ws_out;
 };
 
 /** Initialise an empty helm. The storage in mem must outlive the helm. */

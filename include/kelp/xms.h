@@ -89,6 +89,9 @@ typedef struct kelp_xms {
     bool star_subscribed;           /**< "*" handed out (display-all) */
     double last_frame;
     unsigned long frames, dropped;  /**< frames drawn; variables not added (table full) */
+    /* workspace of one call (keeps the stack under 1 KB) */
+    kelp_xms_entry ws_entry;        /**< mail: the entry as it becomes */
+    char ws_val[KELP_XMS_VAL], ws_cell[KELP_XMS_VAL + 8], ws_piece[KELP_XMS_VAL];
 } kelp_xms;
 
 /** Defaults as uXMS: no source/time/community columns, virgins shown, events refresh,
@@ -131,7 +134,7 @@ bool kelp_xms_due(const kelp_xms *x, double now);
  *  pending request). @return its length (cut at cap-1). */
 size_t kelp_xms_render(kelp_xms *x, double now, char *buf, size_t cap);
 /** The same text, changing nothing (the app's AppCast report body). */
-size_t kelp_xms_format(const kelp_xms *x, double now, char *buf, size_t cap);
+size_t kelp_xms_format(kelp_xms *x, double now, char *buf, size_t cap);
 
 #ifdef __cplusplus
 }

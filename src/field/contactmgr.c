@@ -184,15 +184,14 @@ static double cross(const double *o, const double *a, const double *b)
     return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
 }
 
-static int parse_poly(const char *v, size_t vl, kelp_cmgr_poly *p)
+static int parse_poly(const char *v, size_t vl, kelp_cmgr_poly *p, kelp_view *view)
 {
-    kelp_view view;
     const char *why = NULL;
-    if (kelp_view_parse(KELP_VIEW_POLYGON, v, vl, &view, &why) < 0 || view.npts < 3 ||
-        view.npts > KELP_CMGR_MAX_REGION_PTS)
+    if (kelp_view_parse(KELP_VIEW_POLYGON, v, vl, view, &why) < 0 || view->npts < 3 ||
+        view->npts > KELP_CMGR_MAX_REGION_PTS)
         return KELP_ERR_PARSE;
-    p->n = (unsigned)view.npts;
-    memcpy(p->pts, view.pts, sizeof(double) * 2 * view.npts);
+    p->n = (unsigned)view->npts;
+    memcpy(p->pts, view->pts, sizeof(double) * 2 * view->npts);
     int sign = 0;
     for (unsigned i = 0; i < p->n; i++) {
         double z = cross(p->pts[i], p->pts[(i + 1) % p->n], p->pts[(i + 2) % p->n]);
@@ -216,13 +215,14 @@ static bool in_poly(const kelp_cmgr_poly *p, double x, double y)
     return true;
 }
 
-static int filter_add_region(kelp_cmgr_filter *f, int ign, const char *v, size_t vl, const kelp_field_sink *out)
+static int filter_add_region(kelp_cmgr_filter *f, int ign, const char *v, size_t vl, kelp_view *ws,
+                             const kelp_field_sink *out)
 {
     if (f->nregion[ign] >= KELP_CMGR_MAX_REGIONS) {
         warnf(out, "more than %d regions", KELP_CMGR_MAX_REGIONS);
         return KELP_ERR_NOSPACE;
     }
-    int rc = parse_poly(v, vl, &f->region[ign][f->nregion[ign]]);
+    int rc = parse_poly(v, vl, &f->region[ign][f->nregion[ign]], ws);
     if (rc < 0) {
         warnf(out, "%s: %.*s", rc == KELP_ERR_ARG ? "non-convex region" : "bad region", (int)vl, v);
         return rc;
@@ -261,7 +261,7 @@ static bool filter_ok(const kelp_cmgr_filter *f, const char *name, const char *t
 }
 
 /* a filter key of either level: 1 taken, 0 not a filter key, <0 bad value */
-static int filter_param(kelp_cmgr_filter *f, const char *k, size_t kl, const char *v, size_t vl,
+static int filter_param(kelp_cmgr_filter *f, const char *k, size_t kl, const char *v, size_t vl, kelp_view *ws,
                         const kelp_field_sink *out, bool *is_strict)
 {
     static const char *const kinds[3] = { "name", "type", "group" };
@@ -272,7 +272,7 @@ static int filter_param(kelp_cmgr_filter *f, const char *k, size_t kl, const cha
         if (kl <= pl || !kelp_strieq_n(k, pl, pre)) continue;
         for (int kind = 0; kind < 3; kind++)
             if (kelp_strieq_n(k + pl, kl - pl, kinds[kind])) return filter_add_list(f, kind, ign, v, vl, out, false);
-        if (kelp_strieq_n(k + pl, kl - pl, "region")) return filter_add_region(f, ign, v, vl, out);
+        if (kelp_strieq_n(k + pl, kl - pl, "region")) return filter_add_region(f, ign, v, vl, ws, out);
     }
     if (kelp_strieq_n(k, kl, "strict_ignore")) {
         *is_strict = true;
@@ -326,14 +326,8 @@ static int add_flag(char (*list)[KELP_CMGR_MAX_FLAG], unsigned *n, const char *v
     return 1;
 }
 
-#define MAX_COMPS 24
-
-typedef struct comp {
-    const char *k;
-    size_t kl;
-    char v[KELP_CMGR_MAX_FLAG];
-    size_t vl;
-} comp;
+#define MAX_COMPS KELP_CMGR_MAX_COMPS
+typedef kelp_cmgr_comp comp;
 
 static bool alert_key_known(const char *k, size_t kl)
 {
@@ -398,7 +392,7 @@ static int spec_reject(const kelp_field_sink *out, bool from_mail, const char *s
 int kelp_cmgr_alert_spec(kelp_cmgr *c, const char *spec, bool from_mail, const char *src, double now,
                          const kelp_field_sink *out)
 {
-    comp cp[MAX_COMPS];
+    comp *cp = c->ws.comp;
     unsigned n;
     if (split_comps(spec, cp, &n) < 0) return spec_reject(out, from_mail, spec, "malformed alert", NULL, 0);
     const comp *id = NULL, *action = NULL;
@@ -428,13 +422,13 @@ int kelp_cmgr_alert_spec(kelp_cmgr *c, const char *spec, bool from_mail, const c
         return 1;
     }
     /* apply to a copy, so a bad component leaves the alert as it was */
-    kelp_cmgr_alert a;
-    if (ai >= 0) a = c->alert[ai];
+    kelp_cmgr_alert *a = &c->ws.alert; /* (a workspace: ~15 KB) */
+    if (ai >= 0) *a = c->alert[ai];
     else {
         if (c->nalerts >= KELP_CMGR_MAX_ALERTS) return spec_reject(out, from_mail, spec, "too many alerts", NULL, 0);
-        memset(&a, 0, sizeof a);
-        filter_init(&a.filter);
-        copyz(a.id, sizeof a.id, id->v, id->vl);
+        memset(a, 0, sizeof *a);
+        filter_init(&a->filter);
+        copyz(a->id, sizeof a->id, id->v, id->vl);
     }
     const char *legacy_var = NULL, *legacy_val = NULL;
     for (unsigned i = 0; i < n; i++) {
@@ -446,41 +440,41 @@ int kelp_cmgr_alert_spec(kelp_cmgr *c, const char *spec, bool from_mail, const c
         if (keyis(k, kl, "id", "action")) continue;
         if (keyis(k, kl, "alert_range", "range")) {
             if (num_ge0(v, vl, &d) < 0) return spec_reject(out, from_mail, spec, "bad alert_range", v, vl);
-            a.alert_range = d, a.have_range = true;
+            a->alert_range = d, a->have_range = true;
         } else if (keyis(k, kl, "cpa_range", NULL)) {
             if (num_ge0(v, vl, &d) < 0) return spec_reject(out, from_mail, spec, "bad cpa_range", v, vl);
-            a.cpa_range = d, a.have_cpa = true;
+            a->cpa_range = d, a->have_cpa = true;
         } else if (keyis(k, kl, "on_flag", "onflag"))
-            rc = add_flag(a.on, &a.non, v, vl);
+            rc = add_flag(a->on, &a->non, v, vl);
         else if (keyis(k, kl, "off_flag", "offflag"))
-            rc = add_flag(a.off, &a.noff, v, vl);
+            rc = add_flag(a->off, &a->noff, v, vl);
         else if (keyis(k, kl, "var", NULL))
             legacy_var = v;
         else if (keyis(k, kl, "val", "pattern"))
             legacy_val = v;
         else if (keyis(k, kl, "alert_range_color", NULL))
-            copyz(a.range_color, sizeof a.range_color, v, vl);
+            copyz(a->range_color, sizeof a->range_color, v, vl);
         else if (keyis(k, kl, "cpa_range_color", NULL))
-            copyz(a.cpa_color, sizeof a.cpa_color, v, vl);
+            copyz(a->cpa_color, sizeof a->cpa_color, v, vl);
         else
-            rc = filter_param(&a.filter, k, kl, v, vl, out, &strict);
+            rc = filter_param(&a->filter, k, kl, v, vl, &c->ws.view, out, &strict);
         if (rc < 0) return spec_reject(out, from_mail, spec, "bad alert component", k, kl);
     }
     if (legacy_var) {
         char f[KELP_CMGR_MAX_FLAG];
         int fl = kelp_snprintf(f, sizeof f, "%s=%s", legacy_var, legacy_val ? legacy_val : "");
-        if (fl < 0 || (size_t)fl >= sizeof f || add_flag(a.on, &a.non, f, (size_t)fl) < 0)
+        if (fl < 0 || (size_t)fl >= sizeof f || add_flag(a->on, &a->non, f, (size_t)fl) < 0)
             return spec_reject(out, from_mail, spec, "bad var/val flag", NULL, 0);
     }
-    if (a.have_cpa && a.have_range && a.cpa_range < a.alert_range)
-        warnf(out, "alert %s: cpa_range %g below alert_range %g: raised to it", a.id, a.cpa_range, a.alert_range);
-    if (src && src[0]) copyz(a.source, sizeof a.source, src, strlen(src));
+    if (a->have_cpa && a->have_range && a->cpa_range < a->alert_range)
+        warnf(out, "alert %s: cpa_range %g below alert_range %g: raised to it", a->id, a->cpa_range, a->alert_range);
+    if (src && src[0]) copyz(a->source, sizeof a->source, src, strlen(src));
     if (ai < 0) {
         ai = (int)c->nalerts++;
         for (unsigned k = 0; k < KELP_CMGR_MAX_CONTACTS; k++) c->contact[k].alerted &= ~(1u << ai);
     }
-    c->alert[ai] = a;
-    if (from_mail && !alert_valid(&a)) warnf(out, "Invalid alert request (needs id, alert_range, a flag): %s", spec);
+    c->alert[ai] = *a;
+    if (from_mail && !alert_valid(a)) warnf(out, "Invalid alert request (needs id, alert_range, a flag): %s", spec);
     return 1;
 }
 
@@ -599,7 +593,7 @@ int kelp_cmgr_config(kelp_cmgr *c, const char *key, const char *val, const kelp_
                                          "early_warning_flag", "cease_warning_flag", "retire_flag", "app_logging" };
     for (size_t i = 0; i < sizeof later / sizeof later[0]; i++)
         if (keyis(key, kl, later[i], NULL)) return 1;
-    int rc = filter_param(&c->filter, key, kl, v, vl, out, &strict);
+    int rc = filter_param(&c->filter, key, kl, v, vl, &c->ws.view, out, &strict);
     return rc < 0 ? 1 : rc;
 }
 
@@ -736,8 +730,8 @@ static int report_request(kelp_cmgr *c, const char *s, double now, const char *s
     const char *p = s, *k, *v;
     trim(&p, &len);
     unquote(&p, &len);
-    char str[KELP_CMGR_MAX_TEXT];
-    copyz(str, sizeof str, p, len);
+    char *str = c->ws.str; /* (a workspace) */
+    copyz(str, sizeof c->ws.str, p, len);
     char var[KELP_CMGR_MAX_ID] = "", group[KELP_CMGR_NAME] = "", type[KELP_CMGR_NAME] = "";
     double range = -1;
     bool refresh = false, bad = false;
@@ -915,7 +909,7 @@ static void post_flags(kelp_cmgr *c, const kelp_cmgr_contact *k, char (*flags)[K
     for (unsigned i = 0; i < n; i++) {
         const char *eq = strchr(flags[i], '=');
         if (!eq) continue;
-        char var[KELP_CMGR_MAX_FLAG], raw[KELP_CMGR_MAX_FLAG], val[KELP_CMGR_MAX_TEXT];
+        char var[KELP_CMGR_MAX_FLAG], raw[KELP_CMGR_MAX_FLAG], *val = c->ws.str; /* (a workspace) */
         copyz(raw, sizeof raw, flags[i], (size_t)(eq - flags[i]));
         expand(k, now, raw, var, sizeof var);
         double d;
@@ -925,7 +919,7 @@ static void post_flags(kelp_cmgr *c, const kelp_cmgr_contact *k, char (*flags)[K
             event(c, now, "%s=%s", var, eq + 1);
             continue;
         }
-        expand(k, now, eq + 1, val, sizeof val);
+        expand(k, now, eq + 1, val, sizeof c->ws.str);
         if (!val[0]) continue;
         post_s(out, var, val);
         event(c, now, "%s=%.*s", var, KELP_CMGR_MAX_FLAG, val);

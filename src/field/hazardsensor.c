@@ -703,20 +703,20 @@ static void post_markers(kelp_field_uhz *h, const kelp_field_sink *out)
     }
 }
 
-static void post_summary(const kelp_field_uhz *h, const kelp_field_sink *out)
+static void post_summary(kelp_field_uhz *h, const kelp_field_sink *out)
 {
-    char b[KELP_UHZ_MAX_SETTINGS * 64];
+    char *b = h->ws;
     size_t k = 0;
     b[0] = 0;
     for (unsigned i = 0; i < h->cfg.nsettings; i++) {
         const kelp_uhz_setting *s = &h->cfg.setting[i];
-        field_putf(b, sizeof b, &k, "%swidth=", i ? ":" : "");
-        put_num(b, sizeof b, &k, s->width, 2, true);
-        field_putf(b, sizeof b, &k, ",exp=");
-        put_num(b, sizeof b, &k, s->exp, 2, true);
-        field_putf(b, sizeof b, &k, ",pclass=");
-        put_num(b, sizeof b, &k, s->pclass, 2, true);
-        if (s->max) field_putf(b, sizeof b, &k, ",max=%u", s->max);
+        field_putf(b, sizeof h->ws, &k, "%swidth=", i ? ":" : "");
+        put_num(b, sizeof h->ws, &k, s->width, 2, true);
+        field_putf(b, sizeof h->ws, &k, ",exp=");
+        put_num(b, sizeof h->ws, &k, s->exp, 2, true);
+        field_putf(b, sizeof h->ws, &k, ",pclass=");
+        put_num(b, sizeof h->ws, &k, s->pclass, 2, true);
+        if (s->max) field_putf(b, sizeof h->ws, &k, ",max=%u", s->max);
     }
     post(out, "UHZ_OPTIONS_SUMMARY", b);
 }

@@ -155,47 +155,50 @@ int kelp_field_hostinfo_iterate(kelp_field_hostinfo *h, const kelp_field_sink *o
     if (best == h->cfg.default_ip && h->naddr) best = h->addr[0].ip;
     if (h->cfg.force_ip[0]) best = h->cfg.force_ip;
     copy(h->best, sizeof h->best, best);
-    char all[KELP_HOSTINFO_MAX_ADDRS * 17 + 1] = "", verbose[KELP_HOSTINFO_MAX_ADDRS * 50 + 1] = "";
+    char *all = h->ws_all, *verbose = h->ws_verbose;
+    const size_t all_cap = sizeof h->ws_all, verbose_cap = sizeof h->ws_verbose;
+    all[0] = verbose[0] = 0;
     size_t na = 0, nv = 0;
     if (h->cfg.force_ip[0]) { /* 24.8: the forced address alone */
-        kelp_snprintf(all, sizeof all, "%s", h->cfg.force_ip);
-        kelp_snprintf(verbose, sizeof verbose, "USER_HARD_CONFIGURED=%s", h->cfg.force_ip);
+        kelp_snprintf(all, all_cap, "%s", h->cfg.force_ip);
+        kelp_snprintf(verbose, verbose_cap, "USER_HARD_CONFIGURED=%s", h->cfg.force_ip);
     }
     for (unsigned i = 0; i < h->naddr && !h->cfg.force_ip[0]; i++) {
         bool seen = false;
         for (unsigned k = 0; k < i; k++) seen = seen || !strcmp(h->addr[k].ip, h->addr[i].ip);
-        if (!seen) na += (size_t)kelp_snprintf(all + na, sizeof all - na, "%s%s", na ? "," : "", h->addr[i].ip);
-        nv += (size_t)kelp_snprintf(verbose + nv, sizeof verbose - nv, "%s%s=%s", nv ? "," : "", h->addr[i].source,
+        if (!seen) na += (size_t)kelp_snprintf(all + na, all_cap - na, "%s%s", na ? "," : "", h->addr[i].ip);
+        nv += (size_t)kelp_snprintf(verbose + nv, verbose_cap - nv, "%s%s=%s", nv ? "," : "", h->addr[i].source,
                                h->addr[i].ip);
     }
     out->publish(out->ctx, "PHI_HOST_IP", true, h->best, 0);
     out->publish(out->ctx, "PHI_HOST_IP_ALL", true, all, 0); /* "" when nothing was found (A17) */
     out->publish(out->ctx, "PHI_HOST_IP_VERBOSE", true, verbose, 0);
-    char info[512];
-    int n = kelp_snprintf(info, sizeof info, "community=%s,hostip=%s", h->cfg.community, h->best);
+    char *info = h->ws_info;
+    const size_t info_cap = sizeof h->ws_info;
+    int n = kelp_snprintf(info, info_cap, "community=%s,hostip=%s", h->cfg.community, h->best);
     char port[24]; /* the ports are posted as strings, as 24.8's pHostInfo posts them */
     if (h->cfg.port_db > 0) {
         kelp_snprintf(port, sizeof port, "%.0f", h->cfg.port_db);
         out->publish(out->ctx, "PHI_HOST_PORT_DB", true, port, 0);
         out->publish(out->ctx, "PHI_HOST_PORT", true, port, 0);
-        n += kelp_snprintf(info + n, sizeof info - (size_t)n, ",port_db=%s", port);
+        n += kelp_snprintf(info + n, info_cap - (size_t)n, ",port_db=%s", port);
     }
     if (h->port_udp > 0) {
         kelp_snprintf(port, sizeof port, "%.0f", h->port_udp);
         out->publish(out->ctx, "PHI_HOST_PORT_UDP", true, port, 0);
-        n += kelp_snprintf(info + n, sizeof info - (size_t)n, ",port_udp=%s", port);
+        n += kelp_snprintf(info + n, info_cap - (size_t)n, ",port_udp=%s", port);
     }
-    n += kelp_snprintf(info + n, sizeof info - (size_t)n, ",timewarp=%g", h->cfg.warp);
-    if (h->iroutes[0] && (size_t)n < sizeof info) {
+    n += kelp_snprintf(info + n, info_cap - (size_t)n, ",timewarp=%g", h->cfg.warp);
+    if (h->iroutes[0] && (size_t)n < info_cap) {
         /* "localhost" routes read as this host's address (24.8's postIPInfo) */
         size_t m = (size_t)n;
-        field_putf(info, sizeof info, &m, ",pshare_iroutes=");
+        field_putf(info, info_cap, &m, ",pshare_iroutes=");
         for (const char *p = h->iroutes; *p;) {
             if (kelp_strieq_n(p, strlen(p) < 9 ? strlen(p) : 9, "localhost")) {
-                field_putf(info, sizeof info, &m, "%s", h->best);
+                field_putf(info, info_cap, &m, "%s", h->best);
                 p += 9;
             } else
-                field_putf(info, sizeof info, &m, "%c", *p++);
+                field_putf(info, info_cap, &m, "%c", *p++);
         }
     }
     out->publish(out->ctx, "PHI_HOST_INFO", true, info, 0);

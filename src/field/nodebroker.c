@@ -168,11 +168,11 @@ static int ack_mail(kelp_field_nbroker *b, const char *sval, double now, const k
      * register the user's bridges; kelp-bridge ignores a route it has already */
     if (!same || silence || !b->bridged) (void)user_bridges(b, out);
     /* 24.8 (for uFldDelve): the bridges' aliases, after every valid ack */
-    char aliases[KELP_MAX_SVAL];
+    char *aliases = b->ws;
     size_t n = 0;
     aliases[0] = 0;
     for (unsigned i = 0; i < b->cfg.nbridges; i++)
-        field_putf(aliases, sizeof aliases, &n, "%s%s", i ? "," : "", b->cfg.bridge[i].alias);
+        field_putf(aliases, sizeof b->ws, &n, "%s%s", i ? "," : "", b->cfg.bridge[i].alias);
     out->publish(out->ctx, "NODE_PSHARE_VARS", true, aliases, 0);
     return 1;
 }

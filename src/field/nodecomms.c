@@ -1035,12 +1035,12 @@ static void per_vehicle(rbuf *r, const kelp_field_ncomms *c, const uint16_t *idx
     }
 }
 
-int kelp_field_ncomms_report(const kelp_field_ncomms *c, double now, char *buf, size_t cap)
+int kelp_field_ncomms_report(kelp_field_ncomms *c, double now, char *buf, size_t cap)
 {
     rbuf r = { buf, cap, 0, false };
     if (cap == 0) return KELP_ERR_NOSPACE;
     buf[0] = 0;
-    uint16_t idx[KELP_NCOMMS_MAX_NODES];
+    uint16_t *idx = c->ws_idx;
     const unsigned nn = c->nnodes;
     for (unsigned i = 0; i < nn; i++) idx[i] = (uint16_t)i;
     sort_names(c, idx, nn);

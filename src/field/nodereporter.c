@@ -370,14 +370,15 @@ static int to_json(const char *csp, char *buf, size_t cap)
 
 static void platform_report(kelp_field_nrep *r, double now, const kelp_field_sink *out)
 {
-    char buf[KELP_NODEREPORT_MAX_LEN];
-    int o = kelp_snprintf(buf, sizeof buf, "platform=%s,utc_time=%.2f", r->cfg.name, now);
+    char *buf = r->ws.text;
+    const size_t cap = sizeof r->ws.text;
+    int o = kelp_snprintf(buf, cap, "platform=%s,utc_time=%.2f", r->cfg.name, now);
     bool any = false;
     for (unsigned i = 0; i < r->cfg.nplat; i++) {
         if (!r->plat_new[i] || (r->plat_sent[i] >= 0 && now - r->plat_sent[i] <= r->cfg.plat[i].gap)) continue;
         const char *nm = r->cfg.plat[i].alias[0] ? r->cfg.plat[i].alias : r->cfg.plat[i].var;
-        int w = kelp_snprintf(buf + o, sizeof buf - (size_t)o, ",%s=%s", nm, r->plat_val[i]);
-        if (w < 0 || (size_t)w >= sizeof buf - (size_t)o) break;
+        int w = kelp_snprintf(buf + o, cap - (size_t)o, ",%s=%s", nm, r->plat_val[i]);
+        if (w < 0 || (size_t)w >= cap - (size_t)o) break;
         o += w;
         r->plat_new[i] = false;
         r->plat_sent[i] = now;
@@ -452,9 +453,9 @@ static int post(kelp_field_nrep *r, kelp_nodereport *n, const char *extra, bool 
         warn(out, "cannot format the report");
         return rc;
     }
-    char json[KELP_NODEREPORT_MAX_LEN + 128];
+    char *json = r->ws.json;
     bool want_json = r->cfg.json_only || r->cfg.json_var[0];
-    if (want_json && to_json(text, json, sizeof json) < 0) {
+    if (want_json && to_json(text, json, sizeof r->ws.json) < 0) {
         warn(out, "cannot format the JSON report");
         want_json = false;
     }
@@ -486,8 +487,8 @@ int kelp_field_nrep_iterate(kelp_field_nrep *r, double now, const kelp_field_sin
     if (r->posted) n.fields |= KELP_NR_INDEX;
     double px = n.x, py = n.y;
     if (r->cfg.coord_global && (n.fields & KELP_NR_LAT)) n.fields &= ~(uint32_t)(KELP_NR_X | KELP_NR_Y);
-    char extra[KELP_NODEREPORT_MAX_LEN / 2];
-    extras_with_cog(r, &r->nav[0], extra, sizeof extra);
+    char *extra = r->ws.extra;
+    extras_with_cog(r, &r->nav[0], extra, sizeof r->ws.extra);
     int rc = post(r, &n, extra, r->posted == 0, out, r->last, sizeof r->last);
     if (rc < 0) return rc;
     out->publish(out->ctx, "PNR_POST_GAP", false, NULL, r->posted ? now - r->posted_at.time : 0);
@@ -504,14 +505,13 @@ int kelp_field_nrep_iterate(kelp_field_nrep *r, double now, const kelp_field_sin
         char name[KELP_NODEREPORT_MAX_FIELD * 2];
         const char *an = r->cfg.alt_name[0] ? r->cfg.alt_name : "_GT";
         kelp_snprintf(name, sizeof name, "%s%s", an[0] == '_' ? r->cfg.name : "", an);
-        kelp_nodereport g;
-        if (build(r, &r->nav[1], name, r->cfg.alt_group[0] ? r->cfg.alt_group : r->cfg.group, now, out, &g)) {
-            g.index = (long)r->posted;
-            g.fields |= KELP_NR_INDEX;
-            if (r->cfg.coord_global && (g.fields & KELP_NR_LAT)) g.fields &= ~(uint32_t)(KELP_NR_X | KELP_NR_Y);
-            char text[KELP_NODEREPORT_MAX_LEN];
-            extras_with_cog(r, &r->nav[1], extra, sizeof extra);
-            if (post(r, &g, extra, false, out, text, sizeof text) == KELP_OK) r->alt_posted++;
+        kelp_nodereport *g = &r->ws.alt;
+        if (build(r, &r->nav[1], name, r->cfg.alt_group[0] ? r->cfg.alt_group : r->cfg.group, now, out, g)) {
+            g->index = (long)r->posted;
+            g->fields |= KELP_NR_INDEX;
+            if (r->cfg.coord_global && (g->fields & KELP_NR_LAT)) g->fields &= ~(uint32_t)(KELP_NR_X | KELP_NR_Y);
+            extras_with_cog(r, &r->nav[1], extra, sizeof r->ws.extra);
+            if (post(r, g, extra, false, out, r->ws.text, sizeof r->ws.text) == KELP_OK) r->alt_posted++;
         }
     }
     platform_report(r, now, out);

@@ -219,9 +219,10 @@ static void cand(const kelp_field_sbroker *s, unsigned v, char *buf, size_t cap)
         buf[0] = 0;
 }
 
-static void post_bridge_vars(const kelp_field_sbroker *s, const kelp_field_sink *out)
+static void post_bridge_vars(kelp_field_sbroker *s, const kelp_field_sink *out)
 {
-    uint16_t idx[SB_MAX_CANDS];
+    KELP_STATIC_ASSERT(sizeof s->ws_idx / sizeof s->ws_idx[0] >= SB_MAX_CANDS, "ws_idx too small");
+    uint16_t *idx = s->ws_idx;
     unsigned n = 0;
     for (unsigned i = 0; i < s->cfg.nbridges; i++)
         if (s->cfg.raw[i]) idx[n++] = (uint16_t)i;
@@ -242,7 +243,7 @@ static void post_bridge_vars(const kelp_field_sbroker *s, const kelp_field_sink 
             }
             idx[j] = t;
         }
-    char list[KELP_MAX_SVAL];
+    char *list = s->ws;
     size_t len = 0;
     c[0] = 0;
     list[0] = 0;
@@ -250,7 +251,7 @@ static void post_bridge_vars(const kelp_field_sbroker *s, const kelp_field_sink 
         cand(s, idx[i], a, sizeof a);
         if (!a[0] || strcmp(a, c) == 0) continue;
         size_t l = strlen(a);
-        if (len + (len ? 1 : 0) + l + 1 > sizeof list) break; /* the longest string a variable holds */
+        if (len + (len ? 1 : 0) + l + 1 > sizeof s->ws) break; /* the longest string a variable holds */
         if (len) list[len++] = ',';
         memcpy(list + len, a, l + 1);
         len += l;
@@ -363,7 +364,7 @@ int kelp_field_sbroker_iterate(kelp_field_sbroker *s, double now, const kelp_fie
     int posts = 0;
     s->iterations++;
     if (!s->qvars_posted) { /* the QBRIDGE names, sorted (24.8 posts them at start-up) */
-        char list[KELP_MAX_SVAL];
+        char *list = s->ws;
         size_t len = 0;
         const char *prev = "";
         list[0] = 0;
@@ -373,7 +374,7 @@ int kelp_field_sbroker_iterate(kelp_field_sbroker *s, double now, const kelp_fie
                 if (strcmp(s->cfg.qbridge[i], prev) > 0 && (!next || strcmp(s->cfg.qbridge[i], next) < 0))
                     next = s->cfg.qbridge[i];
             if (!next) break;
-            field_putf(list, sizeof list, &len, "%s%s", len ? "," : "", next);
+            field_putf(list, sizeof s->ws, &len, "%s%s", len ? "," : "", next);
             prev = next;
         }
         out->publish(out->ctx, "UFSB_QBRIDGE_VARS", true, list, 0);

@@ -959,7 +959,8 @@ static void post_outputs(kelp_helm *h)
 {
     kelp_helm_report *r = &h->rep;
     const kelp_ivp_domain *hd = &h->cfg.domain;
-    char buf[KELP_HELM_MAX_SVAL], name[KELP_MAX_NAME + 16];
+    char *buf = h->ws_out.buf, name[KELP_MAX_NAME + 16];
+    const size_t bufcap = sizeof h->ws_out.buf;
     /* all-stop reason (MOOS-IvP's strings) */
     if (!h->engaged)
         strcpy(r->allstop, "ManualOverride");
@@ -993,7 +994,8 @@ static void post_outputs(kelp_helm *h)
         memcpy(h->last_allstop, r->allstop, sizeof h->last_allstop);
     }
     /* behaviour lists */
-    char lists[3][256] = {"", "", ""}, cmpl[256] = "";
+    char (*lists)[256] = h->ws_out.lists, *cmpl = h->ws_out.lists[3];
+    lists[0][0] = lists[1][0] = lists[2][0] = cmpl[0] = 0;
     r->nactive = r->nrunning = r->nidle = r->ncompleted = 0;
     for (unsigned i = 0; i < h->nbhv; i++) {
         const kelp_bhv *b = &h->bhv[i];
@@ -1001,7 +1003,7 @@ static void post_outputs(kelp_helm *h)
         case KELP_BHV_ACTIVE: list_append(lists[0], sizeof lists[0], b->name, ','); r->nactive++; break;
         case KELP_BHV_RUNNING: list_append(lists[1], sizeof lists[1], b->name, ','); r->nrunning++; break;
         case KELP_BHV_IDLE: list_append(lists[2], sizeof lists[2], b->name, ','); r->nidle++; break;
-        case KELP_BHV_COMPLETED: list_append(cmpl, sizeof cmpl, b->name, ','); r->ncompleted++; break;
+        case KELP_BHV_COMPLETED: list_append(cmpl, sizeof h->ws_out.lists[3], b->name, ','); r->ncompleted++; break;
         case KELP_BHV_NONE: break;
         }
     }
@@ -1039,23 +1041,23 @@ static void post_outputs(kelp_helm *h)
     hx_fmt_fixed(tm, sizeof tm, r->time, 2);
     hx_fmt_ulong(of, sizeof of, r->ofnum);
     hx_fmt_ulong(wn, sizeof wn, r->warnings);
-    size_t n = hx_cat(buf, sizeof buf, "iter=", it, ",time=", tm, ",ofnum=", of, ",warnings=", wn, ",halted=",
+    size_t n = hx_cat(buf, bufcap, "iter=", it, ",time=", tm, ",ofnum=", of, ",warnings=", wn, ",halted=",
                       r->halted ? "true" : "false", ",allstop=", r->allstop, HX_END);
     for (unsigned d = 0; d < hd->dim; d++)
         if (r->decided[d] && clear) {
             char dv[32];
             hx_fmt_fixed(dv, sizeof dv, r->decision[d], 2);
-            n += hx_cat(buf + n, sizeof buf - n, ",var=", hd->var[d].name, ":", dv, HX_END);
+            n += hx_cat(buf + n, bufcap - n, ",var=", hd->var[d].name, ":", dv, HX_END);
         }
     const char *keys[4] = {"active_bhvs", "running_bhvs", "idle_bhvs", "completed_bhvs"};
     const char *vals[4] = {lists[0], lists[1], lists[2], cmpl};
     for (int k = 0; k < 4; k++) {
-        char tmp[256];
-        memcpy(tmp, vals[k], sizeof tmp);
+        char *tmp = h->ws_out.tmp;
+        memcpy(tmp, vals[k], sizeof h->ws_out.tmp);
         for (char *c = tmp; *c; c++)
             if (*c == ',')
                 *c = ':';
-        n += hx_cat(buf + n, sizeof buf - n, ",", keys[k], "=", tmp[0] ? tmp : "none", HX_END);
+        n += hx_cat(buf + n, bufcap - n, ",", keys[k], "=", tmp[0] ? tmp : "none", HX_END);
     }
     {
         char ut[32], ct[32], st[32], lt[32], mct[32], mst[32], mlt[32], pf[24];
@@ -1067,16 +1069,16 @@ static void post_outputs(kelp_helm *h)
         hx_fmt_fixed(mst, sizeof mst, r->max_solve_time, 4);
         hx_fmt_fixed(mlt, sizeof mlt, r->max_loop_time, 4);
         hx_fmt_ulong(pf, sizeof pf, r->total_pcs_formed);
-        n += hx_cat(buf + n, sizeof buf - n, ",utc_time=", ut, ",create_time=", ct, ",solve_time=", st, ",loop_time=", lt,
+        n += hx_cat(buf + n, bufcap - n, ",utc_time=", ut, ",create_time=", ct, ",solve_time=", st, ",loop_time=", lt,
                     ",max_create_time=", mct, ",max_solve_time=", mst, ",max_loop_time=", mlt, ",total_pcs_formed=", pf,
                     ",total_pcs_cached=0,disabled_bhvs=none,active_goal=", r->active_goal ? "true" : "false", HX_END);
-        char dom[KELP_HELM_MAX_SVAL / 2];
-        helm_domain_string(hd, dom, sizeof dom);
-        n += hx_cat(buf + n, sizeof buf - n, ",ivpdomain=\"", dom, "\",halt_msg=", r->halt_msg[0] ? r->halt_msg : "none",
+        char *dom = h->ws_out.dom;
+        helm_domain_string(hd, dom, sizeof h->ws_out.dom);
+        n += hx_cat(buf + n, bufcap - n, ",ivpdomain=\"", dom, "\",halt_msg=", r->halt_msg[0] ? r->halt_msg : "none",
                     HX_END);
     }
     if (h->mode_summary[0])
-        hx_cat(buf + n, sizeof buf - n, ",modes=", h->mode_summary, HX_END);
+        hx_cat(buf + n, bufcap - n, ",modes=", h->mode_summary, HX_END);
     sink(h, "IVPHELM_SUMMARY", true, buf, 0, NULL);
     sink(h, "IVPHELM_IPF_CNT", false, NULL, (double)r->ofnum, NULL);
     /* every iteration, as MOOS-IvP's helm; kelp builds each function anew (nothing cached) */

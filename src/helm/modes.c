@@ -97,7 +97,7 @@ int helm_mode_load(kelp_helm *h, const kelp_mission *m, size_t bi, char *why, si
 void helm_mode_eval(kelp_helm *h, void (*post)(kelp_helm *h, const char *var, const char *val))
 {
     bool produced[KELP_HELM_MAX_MODES] = { false };
-    char value[KELP_HELM_MAX_MODES][128];
+    char (*value)[128] = h->ws_out.mode_value;
     for (unsigned i = 0; i < h->nmodes; i++) {
         const kelp_helm_mode *e = &h->modes[i];
         bool all = true, modevar = true;

@@ -358,24 +358,25 @@ int kelp_xms_mail(kelp_xms *x, const char *name, bool is_string, const char *sva
     if (!find_var(x, name, &at)) return 0;
     kelp_xms_proc *pr = proc_seen(x, source);
     if (pr) pr->last_mail = time;
-    kelp_xms_entry n = x->var[at];
+    kelp_xms_entry *n = &x->ws_entry;
+    *n = x->var[at];
     char num[40];
     if (!is_string && kelp_fmt_fixed(num, sizeof num, dval, 6, true) < 0)
         (void)kelp_snprintf(num, sizeof num, "%g", dval);
-    copy(n.value, sizeof n.value, is_string ? sval : num);
-    n.is_string = is_string;
-    copy(n.source, sizeof n.source, source);
-    copy(n.community, sizeof n.community, community);
-    if (kelp_fmt_fixed(n.time, sizeof n.time, time, 2, false) < 0) copy(n.time, sizeof n.time, "n/a");
+    copy(n->value, sizeof n->value, is_string ? sval : num);
+    n->is_string = is_string;
+    copy(n->source, sizeof n->source, source);
+    copy(n->community, sizeof n->community, community);
+    if (kelp_fmt_fixed(n->time, sizeof n->time, time, 2, false) < 0) copy(n->time, sizeof n->time, "n/a");
     if (strcmp(name, x->history_var) == 0) {
-        char hv[KELP_XMS_VAL];
-        if (is_string) (void)kelp_snprintf(hv, sizeof hv, "\"%s\"", sval);
-        else copy(hv, sizeof hv, num);
+        char *hv = x->ws_val;
+        if (is_string) (void)kelp_snprintf(hv, sizeof x->ws_val, "\"%s\"", sval);
+        else copy(hv, sizeof x->ws_val, num);
         history_add(x, hv, source, time);
         x->history_event = true;
     }
-    bool changed = memcmp(&n, &x->var[at], sizeof n) != 0;
-    x->var[at] = n;
+    bool changed = memcmp(n, &x->var[at], sizeof *n) != 0;
+    x->var[at] = *n;
     if (changed && x->refresh == KELP_XMS_EVENTS) x->update_requested = true;
     return changed;
 }
@@ -520,6 +521,7 @@ typedef struct tab {
     bool pad_last, measure;
     char *buf;
     size_t cap, len;
+    kelp_xms *ws;      /* the workspace's owner */
 } tab;
 
 static void put(tab *t, const char *s, size_t n)
@@ -616,13 +618,14 @@ static void scoping_rows(const kelp_xms *x, tab *t)
     for (unsigned i = 0; i < x->nvar; i++) {
         const kelp_xms_entry *e = &x->var[i];
         if (!shown(x, e)) continue;
-        char val[KELP_XMS_VAL], cell[KELP_XMS_VAL + 8], src[20], com[20];
-        copy(val, sizeof val, e->value);
+        char *val = t->ws->ws_val, *cell = t->ws->ws_cell, src[20], com[20];
+        const size_t val_cap = sizeof t->ws->ws_val, cell_cap = sizeof t->ws->ws_cell;
+        copy(val, val_cap, e->value);
         if (strcmp(e->name, "APPCAST") == 0) val[strcspn(val, "!")] = 0;
-        if (!e->is_string || strcmp(val, "n/a") == 0) copy(cell, sizeof cell, val);
+        if (!e->is_string || strcmp(val, "n/a") == 0) copy(cell, cell_cap, val);
         else if (trunc && strlen(val) > trunc)
-            (void)kelp_snprintf(cell, sizeof cell, "\"%.*s...\"", (int)trunc, val);
-        else (void)kelp_snprintf(cell, sizeof cell, "\"%s\"", val);
+            (void)kelp_snprintf(cell, cell_cap, "\"%.*s...\"", (int)trunc, val);
+        else (void)kelp_snprintf(cell, cell_cap, "\"%s\"", val);
         const char *c[XMS_COLS] = { e->name, x->disp_source ? trunc_middle(e->source, 16, src, sizeof src) : "",
                                     x->disp_time ? e->time : "",
                                     x->disp_community ? trunc_middle(e->community, 14, com, sizeof com) : "", cell };
@@ -632,7 +635,7 @@ static void scoping_rows(const kelp_xms *x, tab *t)
             continue;
         }
         for (size_t off = 0; off < vlen; off += x->wrap_len) { /* wrapped: the raw value in pieces */
-            char piece[KELP_XMS_VAL];
+            char *piece = t->ws->ws_piece;
             size_t n = vlen - off < x->wrap_len ? vlen - off : x->wrap_len;
             memcpy(piece, val + off, n);
             piece[n] = 0;
@@ -708,9 +711,9 @@ static const char *const help_lines[] = {
     "    w        Wrap long values",
 };
 
-size_t kelp_xms_format(const kelp_xms *x, double now, char *buf, size_t cap)
+size_t kelp_xms_format(kelp_xms *x, double now, char *buf, size_t cap)
 {
-    tab t = { .buf = buf, .cap = cap, .dash_max = XMS_HEADER_MAX };
+    tab t = { .buf = buf, .cap = cap, .dash_max = XMS_HEADER_MAX, .ws = x };
     if (cap) buf[0] = 0;
     if (x->content == KELP_XMS_HELP) {
         for (size_t i = 0; i < sizeof help_lines / sizeof help_lines[0]; i++) {
