@@ -161,11 +161,11 @@ tests-bin: $(BUILD)/test/check_core $(BUILD)/test/check_edge
 unit: tests-bin
 	@$(BUILD)/test/check_core && $(BUILD)/test/check_edge
 
-integration: all
+integration: all spy-jar
 	@BUILD=$(abspath $(BUILD)) scripts/run-integration.sh
 
 test: deps-test
-	@$(MAKE) --no-print-directory all tests-bin
+	@$(MAKE) --no-print-directory all tests-bin spy-jar
 	@scripts/run-tests.sh $(BUILD)
 
 deps-test:
@@ -223,7 +223,8 @@ $(BUILD)/kelp_types.jar: $(LCM_DEFS)
 	javac -nowarn -cp /usr/share/java/lcm.jar -d $(BUILD)/java/classes $$(find $(BUILD)/java/src -name '*.java')
 	jar cf $@ -C $(BUILD)/java/classes .
 
-install: all
+# kelp_types.jar (for kelp-spy) too when a JDK is there; scripts/install.sh says so when not
+install: all $(if $(shell command -v javac 2>/dev/null),spy-jar)
 	@PREFIX=$(PREFIX) DESTDIR=$(DESTDIR) VERSION=$(VERSION) scripts/install.sh $(BUILD)
 
 clean:
