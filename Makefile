@@ -186,8 +186,10 @@ cross:
 # programs another test already runs under ASan: acomms_e2e_loss and acomms_e2e_polled
 # (acomms_e2e, poller), basic_ccl and btr_ctd (ccl_and_dccl), encounter (contactmgr,
 # helm_spawn, ufield_fleet), fleet_demo (the same apps in their own tests), commander_console
-# (commander). Override with KELP_ASAN_IT_SKIP.
-KELP_ASAN_IT_SKIP ?= can_vm acomms_e2e_loss acomms_e2e_polled basic_ccl btr_ctd encounter fleet_demo commander_console
+# (commander); spy_xvfb, whose subject is lcm-spy (Java) and the kelp-spy script (the
+# mission's apps run under ASan in alder_mission). Override with KELP_ASAN_IT_SKIP.
+KELP_ASAN_IT_SKIP ?= can_vm acomms_e2e_loss acomms_e2e_polled basic_ccl btr_ctd encounter fleet_demo commander_console \
+                     spy_xvfb
 asan:
 	@$(MAKE) --no-print-directory BUILD=build-asan CC=gcc \
 	  OPT="-O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" \

@@ -19,6 +19,27 @@ cd "$T"
 P=$T/prefix
 out=$(PREFIX=$P "$KELP_ROOT/scripts/install.sh" "$BUILD" 2>&1) || fail "install: $out"
 [ -f "$P/share/java/kelp_types.jar" ] || fail "kelp_types.jar not installed"
+
+# which bus: --lcm-url, else $KELP_LCM_URL, else the mission's global LCM_URL, else its
+# ServerPort, else the default (the apps' order); checked without a display, where kelp-spy
+# says which bus and jar it would use and stops
+bus() { env -u DISPLAY KELP_TYPES_JAR=$T/types.jar "$P/bin/kelp-spy" "$@" 2>&1 | sed -n 's/^kelp-spy: \(.*\); types from .*/\1/p'; }
+touch types.jar
+printf '%s\n' 'ServerHost = localhost' '  serverport = 9123  // a comment' 'ProcessConfig = uXMS' '{' '  LCM_URL = udpm://239.255.76.67:1?ttl=0' '}' > port.moos
+printf '%s\n' '// LCM_URL = udpm://239.255.76.67:2?ttl=0' 'LCM_URL = udpm://239.255.76.67:3?ttl=0' 'ServerPort = 9123' > url.moos
+[ "$(KELP_LCM_URL= bus port.moos)" = "udpm://239.255.76.67:9123?ttl=0" ] || fail "ServerPort: $(KELP_LCM_URL= bus port.moos)"
+[ "$(KELP_LCM_URL= bus url.moos)" = "udpm://239.255.76.67:3?ttl=0" ] || fail "LCM_URL: $(KELP_LCM_URL= bus url.moos)"
+[ "$(KELP_LCM_URL= bus)" = "udpm://239.255.76.67:7667?ttl=0" ] || fail "default: $(KELP_LCM_URL= bus)"
+[ "$(KELP_LCM_URL=udpm://239.255.76.67:4?ttl=0 bus url.moos)" = "udpm://239.255.76.67:4?ttl=0" ] || fail "KELP_LCM_URL does not win"
+[ "$(bus --lcm-url=udpm://239.255.76.67:5?ttl=0 url.moos)" = "udpm://239.255.76.67:5?ttl=0" ] || fail "--lcm-url does not win"
+[ "$(bus -l udpm://239.255.76.67:6?ttl=0)" = "udpm://239.255.76.67:6?ttl=0" ] || fail "-l URL"
+env -u DISPLAY "$P/bin/kelp-spy" url.moos > nodisplay.out 2>&1 && fail "kelp-spy ran without a display"
+grep -q "no X display" nodisplay.out || fail "no display: $(cat nodisplay.out)"
+grep -qF "types from $P/share/java/kelp_types.jar" nodisplay.out || fail "installed kelp-spy did not take the installed jar: $(cat nodisplay.out)"
+rc=0; KELP_TYPES_JAR=$T/none.jar "$P/bin/kelp-spy" > missing.out 2>&1 || rc=$?
+[ $rc -eq 1 ] && grep -q "KELP_TYPES_JAR=$T/none.jar: no such file" missing.out || fail "missing jar: exit $rc, $(cat missing.out)"
+ok "kelp-spy's bus: --lcm-url, \$KELP_LCM_URL, the mission's LCM_URL, its ServerPort, the default"
+
 cp "$KELP_ROOT"/missions/alder/alder.{moos,bhv} .
 sed -i "s|^ServerPort *=.*|LCM_URL = $KELP_LCM_URL|" alder.moos
 grep -q "^LCM_URL = " alder.moos || fail "could not set LCM_URL in the mission"
@@ -106,7 +127,7 @@ for _ in $(seq 40); do
 done
 import -window "$cw" detail-probe.png || fail "no picture of 0_PROBE's view"
 cink=$(ink detail-probe.png)
-echo "detail views' ink: $kname (var_t) $kink, 0_PROBE (unknown type) $cink"
+echo "detail views' ink: $kname $kink, 0_PROBE (unknown type) $cink"
 awk -v k="$kink" -v c="$cink" 'BEGIN { exit !(k > 0.03 && k > 5 * c) }' ||
   fail "$kname's detail view does not show decoded fields (ink $kink, against $cink for a type lcm-spy cannot decode)"
 ok "$kname decoded field by field; 0_PROBE, of no known type, not"
