@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # kelp-spy (lcm-spy with kelp's types), installed by scripts/install.sh, watches the Alder
 # mission under a virtual X server. kelp-spy takes the bus from the mission file's LCM_URL;
-# lcm-spy loads the 8 kelp types; its table fills with the mission's channels; a channel of
+# lcm-spy loads every kelp type (lcmtypes/); its table fills with the mission's channels; a channel of
 # unknown type (0_PROBE, kelp-lcmprobe's payload, first in the sorted table) opens an empty
 # detail view while the next row, a kelp var_t, opens one with its decoded fields (measured as
 # ink: no OCR here); clicking the dval field opens its plot (jchart2d). Screenshots go to
@@ -27,12 +27,12 @@ bus() { env -u DISPLAY KELP_TYPES_JAR=$T/types.jar "$P/bin/kelp-spy" "$@" 2>&1 |
 touch types.jar
 printf '%s\n' 'ServerHost = localhost' '  serverport = 9123  // a comment' 'ProcessConfig = uXMS' '{' '  LCM_URL = udpm://239.255.76.67:1?ttl=0' '}' > port.moos
 printf '%s\n' '// LCM_URL = udpm://239.255.76.67:2?ttl=0' 'LCM_URL = udpm://239.255.76.67:3?ttl=0' 'ServerPort = 9123' > url.moos
-[ "$(KELP_LCM_URL= bus port.moos)" = "udpm://239.255.76.67:9123?ttl=0" ] || fail "ServerPort: $(KELP_LCM_URL= bus port.moos)"
-[ "$(KELP_LCM_URL= bus url.moos)" = "udpm://239.255.76.67:3?ttl=0" ] || fail "LCM_URL: $(KELP_LCM_URL= bus url.moos)"
-[ "$(KELP_LCM_URL= bus)" = "udpm://239.255.76.67:7667?ttl=0" ] || fail "default: $(KELP_LCM_URL= bus)"
-[ "$(KELP_LCM_URL=udpm://239.255.76.67:4?ttl=0 bus url.moos)" = "udpm://239.255.76.67:4?ttl=0" ] || fail "KELP_LCM_URL does not win"
-[ "$(bus --lcm-url=udpm://239.255.76.67:5?ttl=0 url.moos)" = "udpm://239.255.76.67:5?ttl=0" ] || fail "--lcm-url does not win"
-[ "$(bus -l udpm://239.255.76.67:6?ttl=0)" = "udpm://239.255.76.67:6?ttl=0" ] || fail "-l URL"
+[ "$(KELP_LCM_URL="" bus port.moos)" = "udpm://239.255.76.67:9123?ttl=0" ] || fail "ServerPort: $(KELP_LCM_URL="" bus port.moos)"
+[ "$(KELP_LCM_URL="" bus url.moos)" = "udpm://239.255.76.67:3?ttl=0" ] || fail "LCM_URL: $(KELP_LCM_URL="" bus url.moos)"
+[ "$(KELP_LCM_URL="" bus)" = "udpm://239.255.76.67:7667?ttl=0" ] || fail "default: $(KELP_LCM_URL="" bus)"
+[ "$(KELP_LCM_URL="udpm://239.255.76.67:4?ttl=0" bus url.moos)" = "udpm://239.255.76.67:4?ttl=0" ] || fail "KELP_LCM_URL does not win"
+[ "$(bus --lcm-url="udpm://239.255.76.67:5?ttl=0" url.moos)" = "udpm://239.255.76.67:5?ttl=0" ] || fail "--lcm-url does not win"
+[ "$(bus -l "udpm://239.255.76.67:6?ttl=0")" = "udpm://239.255.76.67:6?ttl=0" ] || fail "-l URL"
 env -u DISPLAY "$P/bin/kelp-spy" url.moos > nodisplay.out 2>&1 && fail "kelp-spy ran without a display"
 grep -q "no X display" nodisplay.out || fail "no display: $(cat nodisplay.out)"
 grep -qF "types from $P/share/java/kelp_types.jar" nodisplay.out || fail "installed kelp-spy did not take the installed jar: $(cat nodisplay.out)"
@@ -117,7 +117,7 @@ open_row() { # ROW X Y: prints the new window's id and name
 read -r cw cname < <(open_row 0 910 0) || fail "double-click on row 0 opened no detail view"
 [ "$cname" = 0_PROBE ] || fail "row 0 is $cname, not 0_PROBE"
 read -r kw kname < <(open_row 1 910 420) || fail "double-click on row 1 opened no detail view"
-# a detail view fills when the next message arrives
+# a detail view opens on the channel's last message; wait until it is painted
 kink=0
 for _ in $(seq 40); do
   sleep 0.5
