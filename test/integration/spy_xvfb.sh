@@ -60,7 +60,12 @@ wait_for spy.out "^Found [0-9]+ LCM types" 10 || { cat spy.out; fail "lcm-spy di
 found=$(sed -n 's/^Found \([0-9]*\) LCM types.*/\1/p' spy.out)
 [ "$found" -eq "$ntypes" ] || { cat spy.out; fail "lcm-spy found $found LCM types, lcmtypes/ has $ntypes"; }
 ok "kelp-spy from the install prefix: the mission's bus, $found kelp types loaded"
-xdotool windowsize "$main" 900 1290
+# taller, for more rows in the screenshot (Java may size its frame again just after mapping it)
+for _ in $(seq 20); do
+  xdotool windowsize "$main" 900 1290 2> /dev/null || true
+  sleep 0.3
+  xdotool getwindowgeometry "$main" 2> /dev/null | grep -q "Geometry: 900x1290" && break
+done
 
 # the mission, and a channel no kelp type decodes
 "$BIN/kelp-launch" --run-seconds 45 --log-dir logs alder.moos > launch.out 2>&1 & PIDS+=($!)
