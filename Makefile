@@ -161,11 +161,11 @@ tests-bin: $(BUILD)/test/check_core $(BUILD)/test/check_edge
 unit: tests-bin
 	@$(BUILD)/test/check_core && $(BUILD)/test/check_edge
 
-integration: all
+integration: all spy-jar
 	@BUILD=$(abspath $(BUILD)) scripts/run-integration.sh
 
 test: deps-test
-	@$(MAKE) --no-print-directory all tests-bin
+	@$(MAKE) --no-print-directory all tests-bin spy-jar
 	@scripts/run-tests.sh $(BUILD)
 
 deps-test:
@@ -186,8 +186,10 @@ cross:
 # programs another test already runs under ASan: acomms_e2e_loss and acomms_e2e_polled
 # (acomms_e2e, poller), basic_ccl and btr_ctd (ccl_and_dccl), encounter (contactmgr,
 # helm_spawn, ufield_fleet), fleet_demo (the same apps in their own tests), commander_console
-# (commander). Override with KELP_ASAN_IT_SKIP.
-KELP_ASAN_IT_SKIP ?= can_vm acomms_e2e_loss acomms_e2e_polled basic_ccl btr_ctd encounter fleet_demo commander_console
+# (commander); spy_xvfb, whose subject is lcm-spy (Java) and the kelp-spy script (the
+# mission's apps run under ASan in alder_mission). Override with KELP_ASAN_IT_SKIP.
+KELP_ASAN_IT_SKIP ?= can_vm acomms_e2e_loss acomms_e2e_polled basic_ccl btr_ctd encounter fleet_demo commander_console \
+                     spy_xvfb
 asan:
 	@$(MAKE) --no-print-directory BUILD=build-asan CC=gcc \
 	  OPT="-O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" \
@@ -223,7 +225,8 @@ $(BUILD)/kelp_types.jar: $(LCM_DEFS)
 	javac -nowarn -cp /usr/share/java/lcm.jar -d $(BUILD)/java/classes $$(find $(BUILD)/java/src -name '*.java')
 	jar cf $@ -C $(BUILD)/java/classes .
 
-install: all
+# kelp_types.jar (for kelp-spy) too when a JDK is there; scripts/install.sh says so when not
+install: all $(if $(shell command -v javac 2>/dev/null),spy-jar)
 	@PREFIX=$(PREFIX) DESTDIR=$(DESTDIR) VERSION=$(VERSION) scripts/install.sh $(BUILD)
 
 clean:

@@ -5,10 +5,14 @@ set -euo pipefail
 what=${1:-build}
 BUILD_PKGS="build-essential pkg-config liblcm-dev liblcm-bin liblcm-java libglib2.0-dev libserialport-dev
  check libexpat1-dev libmbedtls-dev libncurses-dev libcairo2-dev libsqlite3-dev socat iproute2 procps"
-TEST_PKGS="$BUILD_PKGS bc valgrind python3 tmux qemu-system-x86 busybox-static cpio sqlite3 libxml2-utils"
+# lcm-spy (kelp-spy, test spy_xvfb): a JDK (make spy-jar compiles kelp_types.jar), the full JRE
+# (lcm-spy is a Swing program: the headless one lacks AWT's X11 library) and jchart2d (the detail
+# view's plots); the test runs it under Xvfb, drives it with xdotool, screenshots with ImageMagick
+SPY_PKGS="default-jdk-headless default-jre libjchart2d-java xvfb xauth imagemagick xdotool"
+TEST_PKGS="$BUILD_PKGS $SPY_PKGS bc valgrind python3 tmux qemu-system-x86 busybox-static cpio sqlite3 libxml2-utils"
 CI_PKGS="$TEST_PKGS clang libclang-rt-14-dev cppcheck clang-tidy
  gcc-arm-none-eabi libnewlib-arm-none-eabi gcc-aarch64-linux-gnu libc6-dev-arm64-cross
- gcc-arm-linux-gnueabihf libc6-dev-armhf-cross qemu-user default-jdk-headless"
+ gcc-arm-linux-gnueabihf libc6-dev-armhf-cross qemu-user"
 case "$what" in
   build) pkgs=$BUILD_PKGS ;;
   test) pkgs=$TEST_PKGS ;;
@@ -25,11 +29,11 @@ SUDO=; [ "$(id -u)" -ne 0 ] && SUDO=sudo
 echo "deps.sh: installing ${missing[*]}"
 # a mirror caught mid-sync makes "update" fail on one index; retry, then go on with what we have
 for try in 1 2 3; do
-  $SUDO apt-get update -q >/dev/null 2>&1 && break
+  $SUDO apt-get -o DPkg::Lock::Timeout=300 update -q >/dev/null 2>&1 && break
   echo "deps.sh: apt-get update failed (try $try), retrying"; sleep 5
 done
 for try in 1 2; do
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}" >/dev/null && exit 0
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get -o DPkg::Lock::Timeout=300 install -y -q --no-install-recommends "${missing[@]}" >/dev/null && exit 0
   echo "deps.sh: apt-get install failed (try $try)"; sleep 5; $SUDO apt-get update -q >/dev/null 2>&1 || true
 done
 echo "deps.sh: could not install: ${missing[*]}" >&2

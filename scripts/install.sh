@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
-# make install: libraries (static and shared, with sonames), headers, apps, lcmtypes, and the
-# pkg-config files kelp-core.pc (the allocation-free core alone) and kelp.pc (core + edge).
+# make install: libraries (static and shared, with sonames), headers, apps, lcmtypes, the
+# pkg-config files kelp-core.pc (the allocation-free core alone) and kelp.pc (core + edge), and
+# kelp_types.jar (lcm-spy's view of kelp's types, for bin/kelp-spy) when the build has it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 B=${1:-build}
 P=${PREFIX:-/usr/local}; D=${DESTDIR:-}
 V=${VERSION:-0.1.0}; M=${V%%.*}
 L="$D$P/lib"
-install -d "$L/pkgconfig" "$D$P/include/kelp/edge" "$D$P/bin" "$D$P/share/kelp/lcmtypes"
+install -d "$L/pkgconfig" "$D$P/include/kelp/edge" "$D$P/bin" "$D$P/share/kelp/lcmtypes" "$D$P/share/java"
 install -m 644 "$B/libkelp_core.a" "$B/libkelp.a" "$B/libkelp_plot.a" "$L/"
 for lib in libkelp_core libkelp; do
   install -m 755 "$B/$lib.so.$V" "$L/"
@@ -19,7 +20,12 @@ install -m 644 include/kelp/edge/*.h "$D$P/include/kelp/edge/"
 for h in "$B"/gen/kelp_*.h; do [ -e "$h" ] && install -m 644 "$h" "$D$P/include/kelp/"; done
 install -m 644 lcmtypes/*.lcm "$D$P/share/kelp/lcmtypes/"
 for b in "$B"/bin/*; do install -m 755 "$b" "$D$P/bin/"; done
-[ -f "$B/kelp_types.jar" ] && install -m 644 "$B/kelp_types.jar" "$D$P/share/kelp/"
+# bin/kelp-spy looks for it in ../share/java
+if [ -f "$B/kelp_types.jar" ]; then
+  install -m 644 "$B/kelp_types.jar" "$D$P/share/java/"
+else
+  echo "install.sh: $B/kelp_types.jar not built (make spy-jar: needs javac and liblcm-java): kelp-spy will not find kelp's types" >&2
+fi
 cat > "$L/pkgconfig/kelp-core.pc" <<PC
 prefix=$P
 exec_prefix=\${prefix}

@@ -13,6 +13,20 @@ for f in libkelp.so.0 libkelp_core.so.0 libkelp.a libkelp_core.a pkgconfig/kelp.
 done
 [ "$(readelf -d "$P/lib/libkelp.so.0" | sed -n 's/.*SONAME.*\[\(.*\)\]/\1/p')" = libkelp.so.0 ] || fail "libkelp soname"
 pkg-config --exists kelp || fail "pkg-config does not find kelp"
+# kelp-spy and the types it shows lcm-spy (share/java, where kelp-spy looks first)
+[ -x "$P/bin/kelp-spy" ] || fail "not installed: bin/kelp-spy"
+[ "$("$P/bin/kelp-spy" --version)" = "kelp-spy (kelp) $version" ] || fail "installed kelp-spy --version"
+if [ -f "$BUILD/kelp_types.jar" ]; then   # make spy-jar (make test builds it; make asan does not)
+  cmp -s "$BUILD/kelp_types.jar" "$P/share/java/kelp_types.jar" || fail "not installed: share/java/kelp_types.jar"
+  classes=$(jar tf "$P/share/java/kelp_types.jar")
+  for t in "$KELP_ROOT"/lcmtypes/*.lcm; do
+    c=kelp/$(basename "$t" .lcm).class
+    grep -qx "$c" <<< "$classes" || fail "kelp_types.jar lacks $c"
+  done
+  out=$(env -u DISPLAY "$P/bin/kelp-spy" 2>&1) && fail "kelp-spy ran without a display"
+  grep -qF "types from $P/share/java/kelp_types.jar" <<< "$out" || fail "installed kelp-spy does not find the installed jar: $out"
+  ok "kelp-spy and kelp_types.jar ($(ls "$KELP_ROOT"/lcmtypes/*.lcm | wc -l) types) installed"
+fi
 grep -q sqlite "$P/lib/pkgconfig/kelp.pc" && fail "kelp.pc lists sqlite3, which no code uses"
 # every public header compiles on its own as C11 and as C++17
 for h in "$P"/include/kelp/*.h "$P"/include/kelp/edge/*.h; do
