@@ -64,10 +64,9 @@ static void int_field(out *o, const char *pre, const char *dig, size_t n, int pr
 static size_t utoa(uintmax_t v, unsigned base, bool upper, char *tmp)
 {
     const char *dig = upper ? "0123456789ABCDEF" : "0123456789abcdef";
-    char r[72];
     size_t n = 0;
-    do { r[n++] = dig[v % base]; v /= base; } while (v);
-    for (size_t i = 0; i < n; i++) tmp[i] = r[n - 1 - i];
+    do { tmp[n++] = dig[v % base]; v /= base; } while (v);
+    for (size_t i = 0; i < n / 2; i++) { char c = tmp[i]; tmp[i] = tmp[n - 1 - i]; tmp[n - 1 - i] = c; }
     return n;
 }
 
@@ -86,10 +85,51 @@ static int digits(double a, int prec, char *d)
     return e;
 }
 
+/* the digits of a finite v >= 0 in %e or %f (c is 'e' or 'f') into body (96 bytes); returns the length */
+static size_t fmt_ef(char *body, size_t cap, double v, char c, bool upper, int prec, bool alt)
+{
+    size_t n = 0;
+    if (c == 'f' && v >= 1e40) c = 'e'; /* %f of a value past 1e40 prints as %e (firmware stacks are small) */
+    char d[24];
+    if (c == 'e') {
+        int sig = prec + 1 > 17 ? 17 : prec + 1;
+        int e = 0;
+        if (v == 0) memset(d, '0', (size_t)sig);
+        else e = digits(v, sig, d);
+        body[n++] = d[0];
+        if (prec > 0 || alt) body[n++] = '.';
+        for (int i = 1; i <= prec && n < cap - 8; i++) body[n++] = i < sig ? d[i] : '0';
+        body[n++] = upper ? 'E' : 'e';
+        body[n++] = e < 0 ? '-' : '+';
+        unsigned ae = (unsigned)(e < 0 ? -e : e);
+        if (ae < 10) body[n++] = '0';
+        n += utoa(ae, 10, false, body + n);
+    } else if (prec > 9 || v >= 9e18 / pow(10.0, prec)) { /* beyond kelp_fmt_fixed: digit by digit */
+        int e0 = v == 0 ? 0 : (int)floor(log10(v));
+        int sig = e0 + 1 + prec, e = 0;
+        if (sig > 17) sig = 17;
+        if (v == 0 || sig < 1) sig = 0; /* below the last decimal: zeros */
+        else e = digits(v, sig, d);
+        for (int i = e < 0 ? 0 : e; i >= 0 && n < cap - 2; i--) body[n++] = (e - i >= 0 && e - i < sig) ? d[e - i] : '0';
+        if (prec > 0 || alt) body[n++] = '.';
+        for (int i = 1; i <= prec && n < cap - 1; i++) body[n++] = (e + i >= 0 && e + i < sig) ? d[e + i] : '0';
+    } else { /* rounded as printf does: from the value, an exact tie to even */
+        /* the product's rounding error (fma) tells a true tie from a value just off it */
+        double p10 = pow(10.0, prec), sc = v * p10, err = fma(v, p10, -sc), r = floor(sc), fr = sc - r;
+        if (fr > 0.5 || (fr == 0.5 && (err > 0 || (err == 0 && fmod(r, 2.0) != 0)))) r += 1;
+        size_t nd = utoa((uintmax_t)r, 10, false, d);
+        size_t ip = nd > (size_t)prec ? nd - (size_t)prec : 0;
+        if (ip == 0) body[n++] = '0';
+        for (size_t i = 0; i < ip; i++) body[n++] = d[i];
+        if (prec > 0 || alt) body[n++] = '.';
+        for (int i = prec; i > 0; i--) body[n++] = (size_t)i > nd ? '0' : d[nd - (size_t)i];
+    }
+    return n;
+}
+
 static void fmt_float(out *o, double v, char conv, int prec, int width, bool left, bool zero, bool alt, const char *sign)
 {
-    char body[96]; /* %f of a value past 1e40 prints as %e (firmware stacks are small) */
-    size_t n = 0;
+    char body[96];
     bool upper = conv == 'F' || conv == 'E' || conv == 'G';
     char pre[2] = "";
     if (signbit(v) && !isnan(v)) pre[0] = '-', v = -v;
@@ -101,68 +141,26 @@ static void fmt_float(out *o, double v, char conv, int prec, int width, bool lef
     }
     if (prec < 0) prec = 6;
     char c = (char)(conv | 0x20);
+    bool trim = false;
     if (c == 'g') {
         if (prec == 0) prec = 1;
         int e = v == 0 ? 0 : (int)floor(log10(v));
         if (v != 0) { char d[20]; e = digits(v, prec > 17 ? 17 : prec, d); }
         if (e < -4 || e >= prec) { c = 'e'; prec -= 1; }
         else { c = 'f'; prec = prec - 1 - e; }
-        if (!alt) { /* %g drops trailing zeros: format, then trim */
-            char tmp[96];
-            out t = { tmp, sizeof tmp, 0 };
-            fmt_float(&t, v, c == 'e' ? (upper ? 'E' : 'e') : 'f', prec, 0, false, false, false, "");
-            size_t tl = t.n < sizeof tmp ? t.n : sizeof tmp - 1;
-            tmp[tl] = 0;
-            char *ep = strpbrk(tmp, "eE");
-            size_t mant = ep ? (size_t)(ep - tmp) : tl;
-            if (memchr(tmp, '.', mant)) {
-                size_t k = mant;
-                while (k > 0 && tmp[k - 1] == '0') k--;
-                if (k > 0 && tmp[k - 1] == '.') k--;
-                memmove(tmp + k, tmp + mant, tl - mant + 1);
-                tl -= mant - k;
-            }
-            field(o, pre, tmp, tl, width, left, zero);
-            return;
-        }
+        trim = !alt; /* %g drops trailing zeros: format, then trim */
     }
-    if (c == 'f' && v >= 1e40) c = 'e';
-    if (c == 'e') {
-        char d[20];
-        int sig = prec + 1 > 17 ? 17 : prec + 1;
-        int e = 0;
-        if (v == 0) memset(d, '0', (size_t)sig);
-        else e = digits(v, sig, d);
-        body[n++] = d[0];
-        if (prec > 0 || alt) body[n++] = '.';
-        for (int i = 1; i <= prec && n < sizeof body - 8; i++) body[n++] = i < sig ? d[i] : '0';
-        body[n++] = upper ? 'E' : 'e';
-        body[n++] = e < 0 ? '-' : '+';
-        unsigned ae = (unsigned)(e < 0 ? -e : e);
-        if (ae < 10) body[n++] = '0';
-        n += utoa(ae, 10, false, body + n);
-    } else { /* f */
-        if (prec > 9 || v >= 9e18 / pow(10.0, prec)) { /* beyond kelp_fmt_fixed: digit by digit */
-            char d[20];
-            int e0 = v == 0 ? 0 : (int)floor(log10(v));
-            int sig = e0 + 1 + prec, e = 0;
-            if (sig > 17) sig = 17;
-            if (v == 0 || sig < 1) sig = 0; /* below the last decimal: zeros */
-            else e = digits(v, sig, d);
-            for (int i = e < 0 ? 0 : e; i >= 0 && n < sizeof body - 2; i--) body[n++] = (e - i >= 0 && e - i < sig) ? d[e - i] : '0';
-            if (prec > 0 || alt) body[n++] = '.';
-            for (int i = 1; i <= prec && n < sizeof body - 1; i++) body[n++] = (e + i >= 0 && e + i < sig) ? d[e + i] : '0';
-        } else { /* rounded as printf does: from the value, an exact tie to even */
-            /* the product's rounding error (fma) tells a true tie from a value just off it */
-            double p10 = pow(10.0, prec), sc = v * p10, err = fma(v, p10, -sc), r = floor(sc), fr = sc - r;
-            if (fr > 0.5 || (fr == 0.5 && (err > 0 || (err == 0 && fmod(r, 2.0) != 0)))) r += 1;
-            char dg[24];
-            size_t nd = utoa((uintmax_t)r, 10, false, dg);
-            size_t ip = nd > (size_t)prec ? nd - (size_t)prec : 0;
-            if (ip == 0) body[n++] = '0';
-            for (size_t i = 0; i < ip; i++) body[n++] = dg[i];
-            if (prec > 0 || alt) body[n++] = '.';
-            for (int i = prec; i > 0; i--) body[n++] = (size_t)i > nd ? '0' : dg[nd - (size_t)i];
+    size_t n = fmt_ef(body, sizeof body, v, c, upper, prec, alt);
+    if (trim) {
+        body[n < sizeof body ? n : sizeof body - 1] = 0;
+        char *ep = strpbrk(body, "eE");
+        size_t mant = ep ? (size_t)(ep - body) : n;
+        if (memchr(body, '.', mant)) {
+            size_t k = mant;
+            while (k > 0 && body[k - 1] == '0') k--;
+            if (k > 0 && body[k - 1] == '.') k--;
+            memmove(body + k, body + mant, n - mant + 1);
+            n -= mant - k;
         }
     }
     field(o, pre, body, n, width, left, zero);
