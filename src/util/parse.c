@@ -4,7 +4,7 @@
  * correctly rounded (as strtod) for up to 40 significant digits: short numbers take one
  * exact division or product; longer ones or large exponents are estimated and then
  * settled by comparing exact big integers with the halfway points around the estimate
- * (under 500 bytes of stack). Beyond 40 digits the rest only breaks ties.
+ * (one big integer of 196 bytes on the stack). Beyond 40 digits the rest only breaks ties.
  */
 #include <math.h>
 #include <stdint.h>
@@ -81,11 +81,23 @@ static bool big_shl(big *b, int bits)
     return true;
 }
 
-static int big_cmp(const big *a, const big *b)
+/* word i of the small number s[0..ns) shifted left by bits */
+static uint32_t shl_word(const uint32_t *s, int ns, int bits, int i)
 {
-    if (a->n != b->n) return a->n < b->n ? -1 : 1;
-    for (int i = a->n; i-- > 0;)
-        if (a->w[i] != b->w[i]) return a->w[i] < b->w[i] ? -1 : 1;
+    int j = i - bits / 32, r = bits % 32;
+    uint32_t hi = (j >= 0 && j < ns) ? s[j] << r : 0;
+    uint32_t lo = (r && j >= 1 && j - 1 < ns) ? s[j - 1] >> (32 - r) : 0;
+    return hi | lo;
+}
+
+/* sign of a - (s << bits), without building the shifted number */
+static int big_cmp_shl(const big *a, const uint32_t *s, int ns, int bits)
+{
+    int n = ns + bits / 32 + 1;
+    for (int i = a->n > n ? a->n : n; i-- > 0;) {
+        uint32_t x = i < a->n ? a->w[i] : 0, y = shl_word(s, ns, bits, i);
+        if (x != y) return x < y ? -1 : 1;
+    }
     return 0;
 }
 
@@ -99,22 +111,44 @@ static void split_double(double z, uint64_t *m, int *k)
     *m = (uint64_t)ldexp(z, -*k);
 }
 
-/* Sign of D * 10^e10 - (the point halfway above z); 2 when the integers would not fit. */
+/* Sign of D * 10^e10 - (the point halfway above z); 2 when the integers would not fit.
+ * One side is always a small number shifted left (the digits D, or 2m+1): only the other
+ * side is built as a big integer (the stack holds one, not two). */
 static int cmp_halfway(const char *dig, int nd, int e10, double z)
 {
     uint64_t m;
     int k;
     split_double(z, &m, &k);
-    big a = {{0}, 0}, h = {{0}, 0};
-    for (int i = 0; i < nd; i++)
-        if (!big_mul_add(&a, 10, (uint32_t)(dig[i] - '0'))) return 2;
+    uint32_t d[6] = {0}; /* D: at most DEC_MAX (40) digits, 133 bits */
+    int dn = 1;
+    for (int i = 0; i < nd; i++) {
+        uint64_t carry = (uint32_t)(dig[i] - '0');
+        for (int j = 0; j < dn; j++) {
+            uint64_t t = (uint64_t)d[j] * 10 + carry;
+            d[j] = (uint32_t)t;
+            carry = t >> 32;
+        }
+        if (carry) d[dn++] = (uint32_t)carry;
+    }
     uint64_t hv = 2 * m + 1; /* halfway = hv * 2^(k-1) */
-    h.w[0] = (uint32_t)hv;
-    h.w[1] = (uint32_t)(hv >> 32);
-    h.n = h.w[1] ? 2 : 1;
-    bool ok = e10 >= 0 ? big_mul_pow10(&a, e10) : big_mul_pow10(&h, -e10);
-    ok = ok && (k - 1 >= 0 ? big_shl(&h, k - 1) : big_shl(&a, 1 - k));
-    return ok ? big_cmp(&a, &h) : 2;
+    uint32_t hs[2] = { (uint32_t)hv, (uint32_t)(hv >> 32) };
+    int hn = hs[1] ? 2 : 1;
+    big b = {{0}, 0};
+    if (e10 >= 0) { /* b = D * 10^e10 against hv * 2^(k-1) */
+        for (int j = 0; j < dn; j++) b.w[j] = d[j];
+        b.n = dn;
+        while (b.n && b.w[b.n - 1] == 0) b.n--;
+        if (!big_mul_pow10(&b, e10)) return 2;
+        if (k - 1 >= 0) return big_cmp_shl(&b, hs, hn, k - 1);
+        if (!big_shl(&b, 1 - k)) return 2;
+        return big_cmp_shl(&b, hs, hn, 0);
+    }
+    /* b = hv * 10^-e10 against D * 2^(1-k) */
+    b.w[0] = hs[0], b.w[1] = hs[1], b.n = hn;
+    if (!big_mul_pow10(&b, -e10)) return 2;
+    if (1 - k >= 0) return -big_cmp_shl(&b, d, dn, 1 - k);
+    if (!big_shl(&b, k - 1)) return 2;
+    return -big_cmp_shl(&b, d, dn, 0);
 }
 
 /* Round the estimate z to the double nearest D * 10^e10 (ties to even; sticky: nonzero
