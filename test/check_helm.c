@@ -366,6 +366,23 @@ static void collect(const char *v, size_t n, void *user)
     strcat(out, ";");
 }
 
+/* nesting is bounded (KELP_HELM_COND_MAX_DEPTH): the recursive parser's stack stays bounded */
+START_TEST(condition_nesting_bounded)
+{
+    char c[512];
+    for (unsigned depth = 1; depth <= KELP_HELM_COND_MAX_DEPTH + 4; depth++) {
+        size_t n = 0;
+        for (unsigned i = 0; i < depth; i++) c[n++] = '(';
+        n += (size_t)snprintf(c + n, sizeof c - n, "A = 1");
+        for (unsigned i = 0; i < depth; i++) c[n++] = ')';
+        c[n] = 0;
+        int want = depth <= KELP_HELM_COND_MAX_DEPTH ? 0 : KELP_ERR_PARSE;
+        ck_assert_msg(kelp_helm_cond_check(c, NULL, NULL) == want, "depth %u", depth);
+    }
+    ck_assert_int_eq(kelp_helm_cond_check("not not (not (A = 1))", NULL, NULL), 0);
+}
+END_TEST
+
 START_TEST(condition_variables_registered)
 {
     char vars[128] = "";
@@ -1181,6 +1198,7 @@ Suite *kelp_helm_suite(void)
     tcase_add_test(tc, ib_same_snapshot_and_mail_time);
     tcase_add_loop_test(tc, condition_grammar, 0, (int)(sizeof g_conds / sizeof g_conds[0]));
     tcase_add_test(tc, condition_variables_registered);
+    tcase_add_test(tc, condition_nesting_bounded);
     tcase_add_loop_test(tc, general_parameters, 0, (int)(sizeof g_params / sizeof g_params[0]));
     tcase_add_test(tc, parameter_values_stored);
     tcase_add_test(tc, load_alder_and_initialize);

@@ -223,6 +223,17 @@ KELP_STATIC_ASSERT(KELP_HELM_MAX_PTS >= 4, "KELP_HELM_MAX_PTS too small");
 #ifndef KELP_NODEREPORT_MAX_LEN
 #define KELP_NODEREPORT_MAX_LEN 512     /**< bytes of a formatted node report, with NUL */
 #endif
+/* a function kept out of its callers (a recursive caller's frame stays small) */
+#if defined(__GNUC__)
+#define KELP_NOINLINE __attribute__((noinline))
+#else
+#define KELP_NOINLINE
+#endif
+
+#ifndef KELP_HELM_COND_MAX_DEPTH
+#define KELP_HELM_COND_MAX_DEPTH 16     /**< nesting of parentheses / not in a condition (bounds the stack) */
+#endif
+
 #ifndef KELP_VIEW_MAX_PTS
 #define KELP_VIEW_MAX_PTS 64            /**< vertices of one VIEW_POLYGON / VIEW_SEGLIST */
 #endif

@@ -20,6 +20,7 @@ typedef struct cparse {
     const kelp_helm_ib *ib;  /* NULL: syntax check only */
     void (*on_var)(const char *var, size_t len, void *user);
     void *user;
+    unsigned depth; /* nesting of ( and not: at most KELP_HELM_COND_MAX_DEPTH */
     bool err;
 } cparse;
 
@@ -210,7 +211,7 @@ static bool operand(enum tok_kind k)
 
 static bool expr(cparse *p);
 
-static bool relation(cparse *p)
+KELP_NOINLINE static bool relation(cparse *p)
 {
     tok a = p->cur;
     if (!operand(a.k)) {
@@ -255,19 +256,26 @@ static bool relation(cparse *p)
 
 static bool factor(cparse *p)
 {
-    if (p->cur.k == T_NOT) {
-        next(p);
-        return !factor(p);
-    }
-    if (p->cur.k == T_LP) {
-        next(p);
-        bool v = expr(p);
-        if (p->cur.k != T_RP) {
+    if (p->cur.k == T_NOT || p->cur.k == T_LP) {
+        if (p->depth >= KELP_HELM_COND_MAX_DEPTH) { /* deeper would only grow the stack */
             p->err = true;
             return false;
         }
-        next(p);
-        return v;
+        p->depth++;
+        bool v;
+        if (p->cur.k == T_NOT) {
+            next(p);
+            v = !factor(p);
+        } else {
+            next(p);
+            v = expr(p);
+            if (p->cur.k != T_RP)
+                p->err = true;
+            else
+                next(p);
+        }
+        p->depth--;
+        return p->err ? false : v;
     }
     return relation(p);
 }
@@ -298,7 +306,7 @@ static int run(const char *cond, const kelp_helm_ib *ib, void (*on_var)(const ch
 {
     if (!cond)
         return KELP_ERR_ARG;
-    cparse p = {cond, 0, {T_END, cond, 0, OP_EQ}, ib, on_var, user, false};
+    cparse p = {cond, 0, {T_END, cond, 0, OP_EQ}, ib, on_var, user, 0, false};
     next(&p);
     if (p.cur.k == T_END)
         return KELP_ERR_PARSE;
