@@ -199,27 +199,30 @@ int bhv_general_param(kelp_bhv *b, const char *p, const char *v)
             return kelp_bhv_fail(b, "nostarve is VAR, ..., VAR, seconds");
         if (!hx_number(last + 1, strlen(last + 1), &d) || d <= 0)
             return kelp_bhv_fail(b, "nostarve time must be a positive number");
-        char names[KELP_HELM_MAX_INFOVARS][KELP_MAX_NAME];
+        /* two passes over the list: check every name, then copy (no copy of the table on the stack) */
         unsigned n = 0;
-        const char *s = v;
-        while (s < last) {
-            const char *c = memchr(s, ',', (size_t)(last - s) + 1);
-            const char *w = s;
-            size_t wn = (size_t)(c - s);
-            hx_trim(&w, &wn);
-            if (!hx_varname(w, wn) || n >= KELP_HELM_MAX_INFOVARS)
-                return kelp_bhv_fail(b, "nostarve is VAR, ..., VAR, seconds");
-            (void)hx_copy(names[n++], KELP_MAX_NAME, w, wn);
-            s = c + 1;
+        for (int pass = 0; pass < 2; pass++) {
+            n = 0;
+            for (const char *s = v; s < last;) {
+                const char *c = memchr(s, ',', (size_t)(last - s) + 1);
+                const char *w = s;
+                size_t wn = (size_t)(c - s);
+                hx_trim(&w, &wn);
+                if (!hx_varname(w, wn) || n >= KELP_HELM_MAX_INFOVARS)
+                    return kelp_bhv_fail(b, "nostarve is VAR, ..., VAR, seconds");
+                if (pass)
+                    (void)hx_copy(b->starve[n], KELP_MAX_NAME, w, wn);
+                n++;
+                s = c + 1;
+            }
+            if (n == 0)
+                return kelp_bhv_fail(b, "nostarve names no variable");
         }
-        if (n == 0)
-            return kelp_bhv_fail(b, "nostarve names no variable");
-        memcpy(b->starve, names, sizeof names);
         b->nstarve = n;
         b->starve_time = d;
         for (unsigned i = 0; i < n; i++)
             if (b->helm)
-                (void)helm_need_var(b->helm, names[i], strlen(names[i]));
+                (void)helm_need_var(b->helm, b->starve[i], strlen(b->starve[i]));
         return 0;
     }
     return KELP_ERR_NOTFOUND;
