@@ -46,7 +46,9 @@ CHECK_LIBS := $(shell pkg-config --libs check 2>/dev/null)
 CORE_SRC := $(filter-out src/app/%,$(sort $(wildcard src/*/*.c)))
 # src/plot/edge (cairo rendering) is its own archive, so libkelp does not depend on cairo
 PLOT_SRC := $(sort $(wildcard src/plot/edge/*.c))
-EDGE_SRC := $(filter-out $(PLOT_SRC),$(sort $(wildcard src/*/edge/*.c) $(wildcard src/app/*.c)))
+# src/viewer/edge (libmicrohttpd web server, replay) likewise: libkelp_viewer.a, linked only into kelp-viewer
+VIEWER_SRC := $(sort $(wildcard src/viewer/edge/*.c))
+EDGE_SRC := $(filter-out $(PLOT_SRC) $(VIEWER_SRC),$(sort $(wildcard src/*/edge/*.c) $(wildcard src/app/*.c)))
 LCM_DEFS := $(sort $(wildcard lcmtypes/*.lcm))
 GEN_DIR  := $(BUILD)/gen
 # lcm-gen names the C file <package>_<struct>.c; every type here is in package kelp.
@@ -56,6 +58,7 @@ LCM_H    := $(LCM_C:.c=.h)
 CORE_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(CORE_SRC))
 EDGE_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(EDGE_SRC)) $(patsubst %.c,$(BUILD)/obj/%.o,$(LCM_C))
 PLOT_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(PLOT_SRC))
+VIEWER_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(VIEWER_SRC))
 APPS     := $(notdir $(patsubst %/,%,$(sort $(dir $(wildcard apps/*/*.c)))))
 APP_BINS := $(addprefix $(BUILD)/bin/,$(APPS))
 SCRIPTS  := $(notdir $(wildcard tools/kelp-*))
@@ -69,6 +72,7 @@ BENCHES    := $(patsubst bench/%.c,$(BUILD)/bench/%,$(sort $(wildcard bench/benc
 LIBCORE := $(BUILD)/libkelp_core.a
 LIBEDGE := $(BUILD)/libkelp.a
 LIBPLOT := $(BUILD)/libkelp_plot.a
+LIBVIEWER := $(BUILD)/libkelp_viewer.a
 SOMAJOR := $(firstword $(subst ., ,$(VERSION)))
 SOCORE  := $(BUILD)/libkelp_core.so.$(VERSION)
 SOEDGE  := $(BUILD)/libkelp.so.$(VERSION)
@@ -77,7 +81,7 @@ SOEDGE  := $(BUILD)/libkelp.so.$(VERSION)
         demo demo-xrelay spy-jar clean tests-bin
 .DEFAULT_GOAL := all
 
-all: $(LIBCORE) $(LIBEDGE) $(LIBPLOT) $(SOCORE) $(SOEDGE) $(APP_BINS) scripts
+all: $(LIBCORE) $(LIBEDGE) $(LIBPLOT) $(LIBVIEWER) $(SOCORE) $(SOEDGE) $(APP_BINS) scripts
 
 deps:
 	@scripts/deps.sh build
@@ -112,6 +116,11 @@ $(LIBPLOT): $(PLOT_OBJ)
 	rm -f $@ && $(AR) rcs $@ $^
 $(PLOT_OBJ): CPPFLAGS += $(shell pkg-config --cflags cairo 2>/dev/null)
 
+$(LIBVIEWER): $(VIEWER_OBJ)
+	@mkdir -p $(dir $@)
+	rm -f $@ && $(AR) rcs $@ $^
+$(VIEWER_OBJ): CPPFLAGS += $(shell pkg-config --cflags libmicrohttpd 2>/dev/null)
+
 # shared libraries with sonames (libkelp_core.so.0, libkelp.so.0) and the usual links
 $(SOCORE): $(CORE_OBJ)
 	$(CC) -shared -Wl,-soname,libkelp_core.so.$(SOMAJOR) -Wl,--no-undefined $(LDFLAGS) -o $@ $^ -lm
@@ -124,14 +133,15 @@ $(SOEDGE): $(EDGE_OBJ) $(SOCORE)
 
 # ---------------------------------------------------------------- apps
 define APP_RULE
-$(BUILD)/bin/$(1): $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard apps/$(1)/*.c)) $(LIBPLOT) $(LIBEDGE) $(LIBCORE)
+$(BUILD)/bin/$(1): $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard apps/$(1)/*.c)) $(if $(filter kelp-viewer,$(1)),$(LIBVIEWER)) $(LIBPLOT) $(LIBEDGE) $(LIBCORE)
 	@mkdir -p $$(dir $$@)
-	$$(CC) $$(CFLAGS) -o $$@ $$(filter %.o,$$^) $(LIBPLOT) $(LIBEDGE) $(LIBCORE) $$(EXT_LIBS)
+	$$(CC) $$(CFLAGS) -o $$@ $$(filter %.o,$$^) $(if $(filter kelp-viewer,$(1)),$(LIBVIEWER)) $(LIBPLOT) $(LIBEDGE) $(LIBCORE) $$(EXT_LIBS)
 endef
 $(foreach a,$(APPS),$(eval $(call APP_RULE,$(a))))
 $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard apps/*/*.c)): CPPFLAGS += $(LCM_CFLAGS)
 # per-app libraries (target-specific, so only that program links them; ncurses is in libkelp's terminal helper)
 $(BUILD)/bin/kelp-moos2sql: EXT_LIBS += $(shell pkg-config --libs sqlite3 2>/dev/null || echo -lsqlite3)
+$(BUILD)/bin/kelp-viewer: EXT_LIBS += $(shell pkg-config --libs libmicrohttpd 2>/dev/null || echo -lmicrohttpd)
 
 scripts: $(addprefix $(BUILD)/bin/,$(SCRIPTS))
 $(BUILD)/bin/kelp-%: tools/kelp-% Makefile

@@ -4,8 +4,9 @@
 set -euo pipefail
 what=${1:-build}
 BUILD_PKGS="build-essential pkg-config liblcm-dev liblcm-bin liblcm-java libglib2.0-dev libserialport-dev
- check libexpat1-dev libmbedtls-dev libncurses-dev libcairo2-dev libsqlite3-dev socat iproute2 procps"
-TEST_PKGS="$BUILD_PKGS bc valgrind python3 tmux qemu-system-x86 busybox-static cpio sqlite3 libxml2-utils"
+ check libexpat1-dev libmbedtls-dev libncurses-dev libcairo2-dev libsqlite3-dev libmicrohttpd-dev socat iproute2 procps"
+TEST_PKGS="$BUILD_PKGS bc valgrind python3 tmux qemu-system-x86 busybox-static cpio sqlite3 libxml2-utils
+ chromium chromium-driver python3-selenium"
 CI_PKGS="$TEST_PKGS clang libclang-rt-14-dev cppcheck clang-tidy
  gcc-arm-none-eabi libnewlib-arm-none-eabi gcc-aarch64-linux-gnu libc6-dev-arm64-cross
  gcc-arm-linux-gnueabihf libc6-dev-armhf-cross qemu-user default-jdk-headless"
