@@ -79,15 +79,21 @@ void kelp_viewer_http_stop(kelp_viewer_http *h);
 int kelp_viewer_read_info(const char *path, double *lat_n, double *lat_s, double *lon_e, double *lon_w, char *err,
                           size_t errcap);
 
-/** Replay a log (kelp-record's LCM log or an .alog) into the page: blocks until *stop becomes
- *  true. v holds the configuration (datum, commands are not used). @return 0 or <0 with err. */
-typedef struct kelp_viewer_replay_cfg {
-    const char *log_path;
-    double speed;            /**< initial speed, 1..20 */
-    bool start_paused;
-} kelp_viewer_replay_cfg;
-int kelp_viewer_replay_run(kelp_viewer *v, kelp_viewer_http *h, const kelp_viewer_replay_cfg *cfg,
-                           volatile int *stop, char *err, size_t errcap);
+/** The page's files: share/viewer beside the program in the build tree (<bin>/../../share/viewer),
+ *  installed (<bin>/../share/kelp/viewer), or $KELP_VIEWER_DOCROOT. @return 0 or KELP_ERR_NOTFOUND. */
+int kelp_viewer_docroot(char *buf, size_t cap);
+
+/** pMarineViewer's tiff_file (relative to the mission file's directory when not absolute): the
+ *  image to serve (a .png, .jpg or .jpeg of the same name if one exists, else the file itself)
+ *  and its .info file. @return 0 or KELP_ERR_NOTFOUND. */
+int kelp_viewer_image_files(const char *tiff, const char *mission_path, char *image, size_t icap, char *info,
+                            size_t infocap);
+
+/** kelp-viewer --log RUN.lcm [--port N] [--bind A --token T] [--docroot D] [--speed S] [--paused]
+ *  [mission.moos [NAME]]: replays a recorded mission (kelp-record's LCM log or an .alog) into the
+ *  page, with a time slider, play/pause and speed; no bus. The mission, when given, supplies the
+ *  datum and the viewer block (tiff_file, trails...). Runs until SIGINT/SIGTERM. @return exit status. */
+int kelp_viewer_replay_main(int argc, char **argv);
 
 #ifdef __cplusplus
 }
