@@ -169,6 +169,7 @@ static void report(kelp_app *app, void *st, FILE *out)
     viewer *s = st;
     size_t snap, frame;
     unsigned long frames;
+    if (!s->http) return; /* stopped */
     kelp_viewer_http_sizes(s->http, &snap, &frame, &frames);
     const kelp_viewer_stats *x = &s->model.stats;
     unsigned nv = 0;
@@ -184,8 +185,10 @@ static void report(kelp_app *app, void *st, FILE *out)
 
 static void shutdown_(kelp_app *app, void *st)
 {
+    viewer *s = st;
     (void)app;
-    kelp_viewer_http_stop(((viewer *)st)->http);
+    kelp_viewer_http_stop(s->http);
+    s->http = NULL;
 }
 
 #define BTN(w, n) { "BUTTON_" w, "LABEL # VAR=value", "a button: label, then pokes separated by #", NULL }, \

@@ -280,7 +280,7 @@
   // vehicle outlines in units of the vehicle's length, bow at +y (rotated by heading)
   const SHAPES = {
     kayak: [[0, 0.5], [0.08, 0.3], [0.1, 0], [0.08, -0.3], [0, -0.5], [-0.08, -0.3], [-0.1, 0], [-0.08, 0.3]],
-    auv: [[0, 0.5], [0.06, 0.42], [0.07, -0.35], [0.16, -0.5], [-0.16, -0.5], [-0.07, -0.35], [-0.06, 0.42]],
+    auv: [[0, 0.5], [0.1, 0.4], [0.1, -0.35], [0.2, -0.5], [-0.2, -0.5], [-0.1, -0.35], [-0.1, 0.4]],
     ship: [[0, 0.5], [0.15, 0.25], [0.15, -0.5], [-0.15, -0.5], [-0.15, 0.25]],
     glider: [[0, 0.5], [0.05, 0.1], [0.45, -0.05], [0.45, -0.12], [0.05, -0.1], [0.04, -0.5], [-0.04, -0.5], [-0.05, -0.1], [-0.45, -0.12], [-0.45, -0.05], [-0.05, 0.1]],
     heron: [[0, 0.5], [0.22, 0.2], [0.22, -0.5], [-0.22, -0.5], [-0.22, 0.2]],
@@ -310,7 +310,7 @@
     ctx.font = '11px sans-serif';
     for (const v of vs) {
       const [name, dlen] = shapeOf(v.type), pts = SHAPES[name];
-      const len = Math.max(v.len || dlen, 16 / S.view.scale); // at least 16 px long
+      const len = Math.max(v.len || dlen, 26 / S.view.scale); // at least 26 px long
       const [sx, sy] = toScreen(v.x, v.y);
       if (sx < -50 || sy < -50 || sx > canvas.width + 50 || sy > canvas.height + 50) continue;
       const a = (v.hdg || 0) * D2R, ca = Math.cos(a), sa = Math.sin(a), k = len * S.view.scale;
