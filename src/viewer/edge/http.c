@@ -82,13 +82,15 @@ static void drain(kelp_viewer_http *h)
 /* "event: E\ndata: JSON\n\n" on the heap */
 static char *sse(const char *event, const char *json, size_t jlen, size_t *len)
 {
-    size_t el = event ? strlen(event) + 8 : 0;
-    char *t = malloc(el + jlen + 9);
+    size_t el = event ? strlen(event) + 8 : 0, sz = el + jlen + 9;
+    char *t = malloc(sz);
     if (!t) return NULL;
-    size_t k = 0;
-    if (event) k += (size_t)sprintf(t, "event: %s\n", event);
-    memcpy(t + k, "data: ", 6);
-    k += 6;
+    int h = snprintf(t, sz, "%s%s%sdata: ", event ? "event: " : "", event ? event : "", event ? "\n" : "");
+    if (h < 0) {
+        free(t);
+        return NULL;
+    }
+    size_t k = (size_t)h;
     memcpy(t + k, json, jlen);
     k += jlen;
     memcpy(t + k, "\n\n", 3);
@@ -409,7 +411,7 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *c, const cha
     cookie[0] = '\0';
     if (from_query) snprintf(cookie, sizeof cookie, "kelp_token=%s; Path=/; HttpOnly; SameSite=Strict", h->token);
     if (!strcmp(method, "POST")) return handle_post(h, c, url);
-    if (strcmp(method, "GET") && strcmp(method, "HEAD")) return reply_text(c, MHD_HTTP_METHOD_NOT_ALLOWED, "GET or POST\n");
+    if (strcmp(method, "GET") != 0 && strcmp(method, "HEAD") != 0) return reply_text(c, MHD_HTTP_METHOD_NOT_ALLOWED, "GET or POST\n");
     if (!strcmp(url, "/events")) {
         stream *s = calloc(1, sizeof *s);
         if (!s) return MHD_NO;

@@ -48,6 +48,15 @@ static bool wanted(const char *var)
     return strncmp(var, "NODE_REPORT", 11) == 0 || kelp_view_kind_of(var, &k) == 0;
 }
 
+static void free_posts(post *posts, size_t n)
+{
+    for (size_t i = 0; i < n; i++) {
+        free(posts[i].var);
+        free(posts[i].val);
+    }
+    free(posts);
+}
+
 static int load(const char *path, post **out, size_t *n, char *err, size_t errcap)
 {
     kelp_postlog *pl = kelp_postlog_open(path, "shoreside", err, errcap);
@@ -69,12 +78,19 @@ static int load(const char *path, post **out, size_t *n, char *err, size_t errca
         q->t = p.time;
         q->var = strdup(p.var);
         q->val = strdup(p.sval);
-        if (!q->var || !q->val) break;
+        if (!q->var || !q->val) { /* out of memory: replay what was read so far */
+            free(q->var);
+            free(q->val);
+            break;
+        }
         (*n)++;
     }
     kelp_postlog_close(pl);
     if (rc < 0) {
         snprintf(err, errcap, "%s: read error", path);
+        free_posts(*out, *n);
+        *out = NULL;
+        *n = 0;
         return -1;
     }
     return 0;
@@ -200,6 +216,7 @@ int kelp_viewer_replay_main(int argc, char **argv)
     kelp_viewer_http *h = kelp_viewer_http_start(&hc, err, sizeof err);
     if (!h) {
         fprintf(stderr, "kelp-viewer: %s\n", err);
+        free_posts(posts, np);
         free(v);
         return 1;
     }
@@ -263,11 +280,7 @@ int kelp_viewer_replay_main(int argc, char **argv)
         changed = false;
     }
     kelp_viewer_http_stop(h);
-    for (size_t i = 0; i < np; i++) {
-        free(posts[i].var);
-        free(posts[i].val);
-    }
-    free(posts);
+    free_posts(posts, np);
     free(v);
     return 0;
 }
