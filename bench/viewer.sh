@@ -29,7 +29,7 @@ cat > "$W/v.moos" <<M
 Community  = shoreside
 LatOrigin  = 43.825300
 LongOrigin = -70.330400
-ProcessConfig = pMarineViewer
+ProcessConfig = kelp-viewer
 {
   AppTick       = 10
   port          = 0

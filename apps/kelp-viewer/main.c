@@ -55,10 +55,15 @@ static int param(void *ctx, const char *key, const char *val, const char **why)
     viewer *s = ctx;
     int rc = kelp_viewer_config(&s->model, key, val, why);
     if (rc != 0) return rc;
-    if (kelp_strieq(key, "port")) return snprintf(s->port_s, sizeof s->port_s, "%s", val) > 0 ? 1 : -1;
-    if (kelp_strieq(key, "token")) return snprintf(s->token, sizeof s->token, "%s", val) > 0 ? 1 : -1;
-    if (kelp_strieq(key, "bind")) return snprintf(s->bind, sizeof s->bind, "%s", val) > 0 ? 1 : -1;
-    if (kelp_strieq(key, "tiff_file")) return snprintf(s->image, sizeof s->image, "%s", val) > 0 ? 1 : -1;
+    struct { const char *key; char *dst; size_t cap; } own[] = {
+        {"port", s->port_s, sizeof s->port_s}, {"token", s->token, sizeof s->token},
+        {"bind", s->bind, sizeof s->bind}, {"tiff_file", s->image, sizeof s->image}};
+    for (size_t i = 0; i < sizeof own / sizeof own[0]; i++) {
+        if (!kelp_strieq(key, own[i].key)) continue;
+        if (strlen(val) >= own[i].cap) return (*why = "too long"), -1;
+        memcpy(own[i].dst, val, strlen(val) + 1);
+        return 1;
+    }
     return 0;
 }
 
@@ -196,7 +201,6 @@ static void shutdown_(kelp_app *app, void *st)
 
 static const kelp_app_def def = {
     .name = "kelp-viewer",
-    .moos_name = "pMarineViewer",
     .purpose = "The pMarineViewer role in a browser: vehicles, trails and VIEW_* artifacts live, with action buttons.",
     .synopsis = "Serves a web page (HTTP and Server-Sent Events, on 127.0.0.1 unless --bind with a token) showing\n"
                 "every vehicle of NODE_REPORT/NODE_REPORT_LOCAL (icon by type and heading, name, trail, stale\n"
@@ -209,8 +213,8 @@ static const kelp_app_def def = {
     .params = (const kelp_app_param_info[]){
         { "PORT", "8080", "HTTP port (--port wins); 0: any free port", NULL },
         { "BIND", "127.0.0.1", "IPv4 address to serve on (--bind wins); not loopback needs TOKEN", NULL },
-        { "TOKEN", "secret", "optional: every request must carry ?token= (or the cookie it sets)", NULL },
-        { "TIFF_FILE", "MIT_SP.tif", "optional background image with its .info (a .png/.jpg of the same name is used first)", NULL },
+        { "TOKEN", "", "optional: every request must carry ?token=TOKEN (or the cookie it sets)", NULL },
+        { "TIFF_FILE", "", "optional background image, e.g. MIT_SP.tif with MIT_SP.info (MIT_SP.png/.jpg served first)", NULL },
         { "STALE_REPORT_THRESH", "5", "seconds without a report before a vehicle is drawn stale (at least 2)", NULL },
         { "STALE_REMOVE_THRESH", "0", "seconds without a report before a vehicle is removed; 0 never", NULL },
         { "TRAILS_LENGTH", "100", "trail points per vehicle (1..256)", NULL },

@@ -1,4 +1,4 @@
-# kelp-viewer's server without a browser: the page's files and nothing else (no path leaves the
+# kelp-viewer's server without a browser (its own block, ProcessConfig = kelp-viewer): the page's files and nothing else (no path leaves the
 # document root), the token (refused without it; ?token= sets a cookie that then suffices), a
 # bind address other than loopback refused without a token, POST /cmd needing the X-Kelp header
 # and a configured index, a button's pokes on the bus (numbers as doubles, quoted values as
@@ -19,7 +19,7 @@ cat > v.moos <<M
 Community  = shoreside
 LatOrigin  = 43.825300
 LongOrigin = -70.330400
-ProcessConfig = pMarineViewer
+ProcessConfig = kelp-viewer
 {
   AppTick    = 10
   port       = 0
@@ -62,11 +62,11 @@ ok "image and buttons in the snapshot"
 sleep 1.5
 kill -INT "${PIDS[0]}"; wait "${PIDS[0]}" 2>/dev/null || true
 "$BIN/kelp-logcheck" bus.lcm --print > bus.txt 2>/dev/null || true
-grep -qE ' pMarineViewer DEPLOY_ALL true$' bus.txt || fail "DEPLOY_ALL: $(grep -v _STATUS bus.txt | tail -5)"
-grep -qE ' pMarineViewer DEPTH 12.5$' bus.txt || fail "DEPTH"
-grep -qE ' pMarineViewer NAME 3$' bus.txt || fail "NAME"
-grep -qE ' pMarineViewer RETURN_ALL true$' bus.txt || fail "RETURN_ALL"
-[ "$(grep -cE ' pMarineViewer (DEPLOY_ALL|DEPTH|NAME|RETURN_ALL) ' bus.txt)" = 4 ] || fail "more pokes than pressed"
+grep -qE ' kelp-viewer DEPLOY_ALL true$' bus.txt || fail "DEPLOY_ALL: $(grep -v _STATUS bus.txt | tail -5)"
+grep -qE ' kelp-viewer DEPTH 12.5$' bus.txt || fail "DEPTH"
+grep -qE ' kelp-viewer NAME 3$' bus.txt || fail "NAME"
+grep -qE ' kelp-viewer RETURN_ALL true$' bus.txt || fail "RETURN_ALL"
+[ "$(grep -cE ' kelp-viewer (DEPLOY_ALL|DEPTH|NAME|RETURN_ALL) ' bus.txt)" = 4 ] || fail "more pokes than pressed"
 wait_for app.out 'command 7, which is not configured' 15 || fail "index 7 not reported"
 ok "button and action pokes on the bus; an unconfigured index posts nothing"
 # another address without a token

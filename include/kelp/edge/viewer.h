@@ -92,7 +92,7 @@ int kelp_viewer_image_files(const char *tiff, const char *mission_path, char *im
 /** kelp-viewer --log RUN.lcm [--port N] [--bind A --token T] [--docroot D] [--speed S] [--paused]
  *  [mission.moos [NAME]]: replays a recorded mission (kelp-record's LCM log or an .alog) into the
  *  page, with a time slider, play/pause and speed; no bus. The mission, when given, supplies the
- *  datum and the viewer block (tiff_file, trails...). Runs until SIGINT/SIGTERM. @return exit status. */
+ *  datum and the viewer block (NAME, else kelp-viewer, else pMarineViewer: tiff_file, trails...). Runs until SIGINT/SIGTERM. @return exit status. */
 int kelp_viewer_replay_main(int argc, char **argv);
 
 #ifdef __cplusplus

@@ -104,7 +104,7 @@ static void copy(char *dst, size_t cap, const char *src)
     dst[n] = '\0';
 }
 
-/* the mission's datum and viewer block (pMarineViewer, else kelp-viewer, else NAME) */
+/* the mission's datum and viewer block (NAME, else kelp-viewer, else pMarineViewer) */
 static void mission_config(kelp_viewer *v, const char *path, const char *name, char *port, char *token, char *image,
                            size_t cap)
 {
@@ -120,8 +120,8 @@ static void mission_config(kelp_viewer *v, const char *path, const char *name, c
     if (a >= 0 && b >= 0 && kelp_mission_double(&m->nodes[a], &lat) == 0 &&
         kelp_mission_double(&m->nodes[b], &lon) == 0 && kelp_viewer_set_datum(v, lat, lon) < 0)
         fprintf(stderr, "kelp-viewer: %s: LatOrigin/LongOrigin out of range\n", path);
-    int blk = kelp_mission_block(m, "ProcessConfig", name ? name : "pMarineViewer");
-    if (blk < 0 && !name) blk = kelp_mission_block(m, "ProcessConfig", "kelp-viewer");
+    int blk = kelp_mission_block(m, "ProcessConfig", name ? name : "kelp-viewer");
+    if (blk < 0 && !name) blk = kelp_mission_block(m, "ProcessConfig", "pMarineViewer");
     for (int i = blk >= 0 ? kelp_mission_next(m, blk, -1, NULL) : -1; i >= 0; i = kelp_mission_next(m, blk, i, NULL)) {
         const kelp_mission_node *nd = &m->nodes[i];
         char key[64], val[1024];
