@@ -58,6 +58,7 @@ START_TEST(test_report_xy_and_latlon)
     ck_assert_int_lt(mail("NODE_REPORT", "garbage", 101), 0);
     ck_assert_uint_eq(V->stats.reports_bad, 2);
     ck_assert_int_eq(mail("DEPLOY", "true", 101), 0);
+    ck_assert_int_eq(mail("NODE_REPORT_BRAVO", "NAME=zulu,X=1,Y=2", 101), 0); /* a relayed copy */
 }
 END_TEST
 

@@ -134,7 +134,7 @@ KELP_MUST_CHECK int kelp_viewer_config(kelp_viewer *v, const char *key, const ch
  *  stays a string without its quotes). @return 0 or KELP_ERR_PARSE / KELP_ERR_RANGE. */
 KELP_MUST_CHECK int kelp_viewer_poke_parse(const char *s, size_t len, kelp_viewer_poke *out);
 
-/** Mail: NODE_REPORT, NODE_REPORT_LOCAL (and any name starting NODE_REPORT), VIEW_*.
+/** Mail: NODE_REPORT, NODE_REPORT_LOCAL, VIEW_* (other variables are not the viewer's: 0).
  *  @return 1 the model changed, 0 not a viewer variable, <0 the value was refused (counted). */
 int kelp_viewer_mail(kelp_viewer *v, const char *var, const char *sval, size_t len, double now);
 

@@ -488,7 +488,8 @@ static int mail_view(kelp_viewer *v, kelp_view_kind kind, const char *s, size_t 
 int kelp_viewer_mail(kelp_viewer *v, const char *var, const char *sval, size_t len, double now)
 {
     if (!v || !var || !sval) return 0;
-    if (starts_with_ci(var, "NODE_REPORT")) return mail_report(v, sval, len, now);
+    /* (not NODE_REPORT_<VEHICLE>: uFldNodeComms's relayed copies, older than the originals) */
+    if (kelp_strieq(var, "NODE_REPORT") || kelp_strieq(var, "NODE_REPORT_LOCAL")) return mail_report(v, sval, len, now);
     kelp_view_kind kind;
     if (kelp_view_kind_of(var, &kind) == 0) return mail_view(v, kind, sval, len, now);
     return 0;

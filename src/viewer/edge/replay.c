@@ -45,7 +45,7 @@ static double wall(void)
 static bool wanted(const char *var)
 {
     kelp_view_kind k;
-    return strncmp(var, "NODE_REPORT", 11) == 0 || kelp_view_kind_of(var, &k) == 0;
+    return !strcmp(var, "NODE_REPORT") || !strcmp(var, "NODE_REPORT_LOCAL") || kelp_view_kind_of(var, &k) == 0;
 }
 
 static void free_posts(post *posts, size_t n)
