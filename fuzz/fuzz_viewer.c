@@ -1,4 +1,4 @@
-/* Fuzz: kelp-viewer's mail path (NODE_REPORT and every VIEW_* kind into the model, time
+/* Fuzz: kelp-viewer's mail path (NODE_REPORT, every VIEW_* kind and APPCAST into the model, time
  * moving, the JSON out after each) and its button / action configuration lines. */
 #include <stdint.h>
 #include <stdlib.h>
@@ -10,7 +10,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     static const char *const vars[] = {"NODE_REPORT", "NODE_REPORT_LOCAL", "VIEW_POINT", "VIEW_CIRCLE",
                                        "VIEW_POLYGON", "VIEW_SEGLIST", "VIEW_MARKER", "VIEW_COMMS_PULSE",
-                                       "VIEW_RANGE_PULSE", "button_one", "action", "action+"};
+                                       "VIEW_RANGE_PULSE", "button_one", "action", "action+", "APPCAST"};
     static kelp_viewer *v;
     static char out[1 << 18];
     if (!v) {
@@ -28,7 +28,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     s[size - 1] = '\0';
     static double now;
     now += (data[0] >> 4) * 0.5;
-    if (which >= 9) {
+    if (which >= 9 && which <= 11) {
         const char *why = NULL;
         int rc = kelp_viewer_config(v, vars[which], s, &why);
         if (rc < 0 && !why) abort();

@@ -339,6 +339,31 @@ START_TEST(test_many_vehicles)
 }
 END_TEST
 
+START_TEST(test_appcasts)
+{
+    const char *c1 = "proc=pHelmIvP!@#iter=12!@#node=alpha!@#messages=line 1!@line 2!@#run_warning_total=0";
+    ck_assert_int_eq(mail("APPCAST", c1, 10), 1);
+    ck_assert_int_eq(mail("APPCAST", "proc=pNodeReporter!@#node=alpha!@#iter=3", 10), 1);
+    uint32_t s = kelp_viewer_seq(V);
+    ck_assert_int_eq(mail("APPCAST", "proc=pHelmIvP!@#iter=13!@#node=alpha", 11), 1); /* replaces */
+    ck_assert_int_lt(mail("APPCAST", "iter=1!@#node=alpha", 11), 0);               /* no proc */
+    ck_assert_uint_eq(V->stats.casts_bad, 1);
+    changes(s, 12);
+    ck_assert_ptr_nonnull(strstr(J, "\"cast\":[{\"node\":\"alpha\",\"proc\":\"pHelmIvP\",\"t\":11,\"text\":\"proc=pHelmIvP!@#iter=13!@#node=alpha\"}]"));
+    snap(12);
+    ck_assert_ptr_nonnull(strstr(J, "\"proc\":\"pNodeReporter\""));
+    /* a full table: the oldest goes */
+    char c[128];
+    for (int i = 0; i < KELP_VIEWER_MAX_CASTS; i++) {
+        snprintf(c, sizeof c, "proc=p%d!@#node=n", i);
+        ck_assert_int_eq(mail("APPCAST", c, 20), 1);
+    }
+    snap(21);
+    ck_assert_ptr_null(strstr(J, "\"proc\":\"pHelmIvP\""));
+    ck_assert_ptr_nonnull(strstr(J, "\"proc\":\"p63\""));
+}
+END_TEST
+
 Suite *kelp_viewer_suite(void);
 Suite *kelp_viewer_suite(void)
 {
@@ -359,6 +384,7 @@ Suite *kelp_viewer_suite(void)
     tcase_add_test(tc, test_json_escaping_and_room);
     tcase_add_test(tc, test_image_and_clear);
     tcase_add_test(tc, test_many_vehicles);
+    tcase_add_test(tc, test_appcasts);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -20,7 +20,10 @@ typedef struct viewer {
     long opt_port;
     char port_s[16], token[128], bind[64], image[512], docroot[512];
     unsigned long pressed, refused;
+    double next_castreq;
 } viewer;
+
+#define CASTREQ_PERIOD 2.0 /* s (MOOS time) between AppCast requests; each asks for 5 s of casts */
 
 enum { OPT_PORT = 300, OPT_BIND, OPT_TOKEN, OPT_DOCROOT, OPT_LOG, OPT_SPEED, OPT_PAUSED };
 
@@ -142,7 +145,7 @@ static int startup(kelp_app *app, void *st)
     if (!s->http) return kelp_app_config_error(app, NULL, "%s", err);
     static const char *const vars[] = {"NODE_REPORT", "NODE_REPORT_LOCAL", "VIEW_POINT", "VIEW_CIRCLE", "VIEW_POLYGON",
                                        "VIEW_SEGLIST", "VIEW_MARKER", "VIEW_COMMS_PULSE", "VIEW_COMM_PULSE",
-                                       "VIEW_RANGE_PULSE"};
+                                       "VIEW_RANGE_PULSE", "APPCAST"};
     for (size_t i = 0; i < sizeof vars / sizeof vars[0]; i++)
         if (kelp_app_register(app, vars[i], 0) < 0) kelp_app_config_warning(app, "cannot register %s", vars[i]);
     if (kelp_app_watch_fd(app, kelp_viewer_http_fd(s->http), on_wake) < 0)
@@ -165,6 +168,14 @@ static int iterate(kelp_app *app, void *st, double now)
 {
     viewer *s = st;
     (void)kelp_viewer_tick(&s->model, now);
+    if (now >= s->next_castreq) {
+        /* AppCasting: every app of this community (and, through uFldShoreBroker's QBRIDGE of
+         * APPCAST_REQ, every vehicle's) casts for the page's AppCast pane */
+        static const char req[] = "node=all,app=all,duration=5,key=kelp-viewer,thresh=any";
+        (void)kelp_app_notify_string(app, "APPCAST_REQ", req);
+        (void)kelp_app_notify_string(app, "APPCAST_REQ_ALL", req);
+        s->next_castreq = now + CASTREQ_PERIOD;
+    }
     serve(app, s, false);
     return 0;
 }
@@ -181,8 +192,8 @@ static void report(kelp_app *app, void *st, FILE *out)
     for (unsigned i = 0; i < s->model.nveh; i++) nv += s->model.veh[i].used && !s->model.veh[i].gone;
     fprintf(out, "page: http://%s:%u/  (%u streams)\n", s->hc.bind ? s->hc.bind : "127.0.0.1",
             kelp_viewer_http_port(s->http), kelp_viewer_http_clients(s->http));
-    fprintf(out, "vehicles %u  reports %lu (refused %lu)  artifacts %lu (refused %lu, evicted %lu)\n", nv, x->reports,
-            x->reports_bad, x->views, x->views_bad, x->evicted);
+    fprintf(out, "vehicles %u  reports %lu (refused %lu)  artifacts %lu (refused %lu, evicted %lu)  appcasts %lu\n", nv,
+            x->reports, x->reports_bad, x->views, x->views_bad, x->evicted, x->casts);
     fprintf(out, "frames %lu (last %zu B, snapshot %zu B)  commands %u, pressed %lu, refused %lu\n", frames, frame,
             snap, s->model.ncmds, s->pressed, s->refused);
     (void)app;
@@ -228,9 +239,12 @@ static const kelp_app_def def = {
     .subscribes = (const kelp_app_var_info[]){
         { "NODE_REPORT", "NAME=alpha,TYPE=UUV,X=51.7,Y=-35.5,HDG=118.8,SPD=2", "a vehicle (also NODE_REPORT_LOCAL)" },
         { "VIEW_POLYGON", "pts={0,0:10,0:10,10},label=ops", "artifacts: VIEW_POINT, _CIRCLE, _POLYGON, _SEGLIST, _MARKER, _COMMS_PULSE, _RANGE_PULSE" },
+        { "APPCAST", "proc=pHelmIvP!@#node=alpha!@#iter=12", "apps' AppCasts, shown in the page's AppCast pane" },
         { NULL, NULL, NULL } },
     .publishes = (const kelp_app_var_info[]){
         { "<VAR>", "true", "the pokes of a button or action pressed in the page" },
+        { "APPCAST_REQ", "node=all,app=all,duration=5,key=kelp-viewer,thresh=any", "every 2 s: casts for the AppCast pane" },
+        { "APPCAST_REQ_ALL", "node=all,app=all,duration=5,key=kelp-viewer,thresh=any", "the same for every vehicle (uFldShoreBroker's QBRIDGE)" },
         { NULL, NULL, NULL } },
     .notes = "Globals used: LatOrigin, LongOrigin (the datum).\n",
     .startup = startup,

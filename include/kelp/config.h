@@ -252,6 +252,9 @@ KELP_STATIC_ASSERT(KELP_VIEW_MAX_FIELD >= 16, "KELP_VIEW_MAX_FIELD too small");
 #ifndef KELP_VIEWER_MAX_POKE_VAL
 #define KELP_VIEWER_MAX_POKE_VAL 160    /**< bytes of one poke's string value, with NUL */
 #endif
+#ifndef KELP_VIEWER_MAX_CASTS
+#define KELP_VIEWER_MAX_CASTS 64        /**< AppCasts (APPCAST strings) held at once, keyed by (node, proc) */
+#endif
 KELP_STATIC_ASSERT(KELP_VIEWER_MAX_VEHICLES >= 1 && KELP_VIEWER_MAX_TRAIL >= 2, "viewer tables too small");
 KELP_STATIC_ASSERT(KELP_VIEWER_MAX_ARTIFACTS >= 8 && KELP_VIEWER_MAX_CMDS >= 20, "viewer tables too small");
 

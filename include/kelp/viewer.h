@@ -13,6 +13,8 @@
  *  - artifacts: keyed by (kind, label); a posting with active=false erases; a pulse
  *    (VIEW_COMMS_PULSE, VIEW_RANGE_PULSE) is dropped `duration` seconds after it arrived.
  *    When the table is full the oldest pulse, else the oldest artifact, makes room.
+ *  - AppCasts: the last APPCAST string of each (node, proc) (MOOS-IvP's AppCasting, see
+ *    kelp/appcast.h), for the page's AppCast pane; the oldest makes room when the table is full.
  *  - commands: pMarineViewer's button_one..button_twenty (also button_1..button_20) and
  *    action / action+ lines. A button is "LABEL # VAR=value # VAR=value ..."; an action is
  *    "VAR=value # VAR=value ..." where a "menu_key=KEY" part makes one menu entry KEY that
@@ -27,7 +29,8 @@
  *            "mode":..,"len":..,"group":..,"color":..,"allstop":..,"rtime":..,"t":T_RECEIVED,
  *            "stale":0|1,"trail":[[x,y],...]}  or {"name":..,"gone":1}, ...],
  *    "art":[{"kind":"polygon","label":..,"t":T_RECEIVED, the kind's fields} or
- *           {"kind":..,"label":..,"gone":1}, ...]}
+ *           {"kind":..,"label":..,"gone":1}, ...],
+ *    "cast":[{"node":..,"proc":..,"t":T_RECEIVED,"text":THE_APPCAST_STRING}, ...]}
  *   A change list holds the trail points added since the sequence number asked for; when the
  *   model has forgotten something the page needs (a slot reused), it answers a snapshot.
  *
@@ -72,6 +75,15 @@ typedef struct kelp_viewer_artifact {
     bool used, gone;
 } kelp_viewer_artifact;
 
+typedef struct kelp_viewer_cast {
+    char node[KELP_NODEREPORT_MAX_FIELD];
+    char proc[KELP_NODEREPORT_MAX_FIELD];
+    char text[KELP_MAX_SVAL];     /**< the APPCAST string as posted */
+    double t_rx;
+    uint32_t seq;
+    bool used;
+} kelp_viewer_cast;
+
 typedef struct kelp_viewer_poke {
     char var[KELP_MAX_NAME];
     bool is_string;
@@ -91,7 +103,7 @@ typedef struct kelp_viewer_cmd {
 } kelp_viewer_cmd;
 
 typedef struct kelp_viewer_stats {
-    unsigned long reports, reports_bad, views, views_bad, evicted, vehicles_full;
+    unsigned long reports, reports_bad, views, views_bad, evicted, vehicles_full, casts, casts_bad;
 } kelp_viewer_stats;
 
 typedef struct kelp_viewer {
@@ -112,6 +124,7 @@ typedef struct kelp_viewer {
     unsigned nveh;                /**< slots in use or tombstoned (high-water mark) */
     kelp_viewer_vehicle veh[KELP_VIEWER_MAX_VEHICLES];
     kelp_viewer_artifact art[KELP_VIEWER_MAX_ARTIFACTS];
+    kelp_viewer_cast casts[KELP_VIEWER_MAX_CASTS];
 } kelp_viewer;
 
 /** Empty model with pMarineViewer's defaults. */
@@ -134,7 +147,7 @@ KELP_MUST_CHECK int kelp_viewer_config(kelp_viewer *v, const char *key, const ch
  *  stays a string without its quotes). @return 0 or KELP_ERR_PARSE / KELP_ERR_RANGE. */
 KELP_MUST_CHECK int kelp_viewer_poke_parse(const char *s, size_t len, kelp_viewer_poke *out);
 
-/** Mail: NODE_REPORT, NODE_REPORT_LOCAL, VIEW_* (other variables are not the viewer's: 0).
+/** Mail: NODE_REPORT, NODE_REPORT_LOCAL, VIEW_*, APPCAST (other variables are not the viewer's: 0).
  *  @return 1 the model changed, 0 not a viewer variable, <0 the value was refused (counted). */
 int kelp_viewer_mail(kelp_viewer *v, const char *var, const char *sval, size_t len, double now);
 

@@ -5,7 +5,7 @@
 'use strict';
 (function () {
   const S = window.kelpViewer = {
-    cfg: null, seq: 0, now: 0, rate: 1, nowAt: 0, vehicles: {}, artifacts: {}, selected: '',
+    cfg: null, seq: 0, now: 0, rate: 1, nowAt: 0, vehicles: {}, artifacts: {}, casts: {}, selected: '',
     frames: 0, messages: 0, fps: 0, drawMs: 0, replay: null, connected: false, pressed: [],
     view: { cx: 0, cy: 0, scale: 2, fitted: false } // scale: pixels per metre
   };
@@ -58,7 +58,7 @@
   function apply(m) {
     S.messages++;
     if (m.full) {
-      S.vehicles = {}; S.artifacts = {};
+      S.vehicles = {}; S.artifacts = {}; S.casts = {};
       if (m.cfg) setConfig(m.cfg);
     }
     S.seq = m.seq; S.now = m.now; S.rate = m.rate; S.nowAt = performance.now();
@@ -76,6 +76,8 @@
       const key = a.kind + ':' + a.label;
       if (a.gone) delete S.artifacts[key]; else S.artifacts[key] = a;
     }
+    for (const c of (m.cast || [])) S.casts[c.node + '/' + c.proc] = c;
+    if (m.cast && m.cast.length) castsDirty = true;
     if (!S.view.fitted && Object.keys(S.vehicles).length) { fit(); S.view.fitted = true; }
     updateList();
     updatePanel();
@@ -163,8 +165,47 @@
   function select(name) {
     S.selected = name;
     $('vehicle-list').value = name;
+    if (Object.values(S.casts).some((c) => c.node === name)) { $('cast-node').value = name; castsDirty = true; }
     updatePanel();
   }
+
+  // ---------------------------------------------------------------- AppCasts (the APPCAST strings, kelp/appcast.h)
+  let castsDirty = false, castNodesKey = '';
+  function parseCast(text) {
+    const out = {};
+    for (const pair of text.split('!@#')) {
+      const i = pair.indexOf('=');
+      if (i > 0 && !(pair.slice(0, i) in out)) out[pair.slice(0, i)] = pair.slice(i + 1);
+    }
+    return out;
+  }
+  function updateCasts() {
+    castsDirty = false;
+    const sel = $('cast-node'), nodes = [...new Set(Object.values(S.casts).map((c) => c.node))].sort();
+    if (nodes.join(',') !== castNodesKey) {
+      castNodesKey = nodes.join(',');
+      const keep = sel.value;
+      sel.length = 0;
+      for (const n of nodes) { const o = document.createElement('option'); o.value = n; o.textContent = n || '(no node)'; sel.appendChild(o); }
+      sel.value = nodes.includes(keep) ? keep : (nodes.includes(S.selected) ? S.selected : (nodes[0] || ''));
+    }
+    const box = $('casts'), open = new Set([...box.querySelectorAll('details[open]')].map((d) => d.dataset.proc));
+    box.textContent = '';
+    const casts = Object.values(S.casts).filter((c) => c.node === sel.value).sort((a, b) => a.proc.localeCompare(b.proc));
+    for (const c of casts) {
+      const f = parseCast(c.text), cfg = f.config_warnings ? f.config_warnings.split('!@').filter(Boolean) : [];
+      const run = f.run_warnings ? f.run_warnings.split('!@').filter(Boolean) : [];
+      const d = document.createElement('details'), sm = document.createElement('summary'), pre = document.createElement('pre');
+      d.dataset.proc = c.proc; d.open = open.has(c.proc);
+      sm.textContent = c.proc + '  iter ' + (f.iter || '?') + (cfg.length ? '  cfg ' + cfg.length : '') +
+        (f.run_warning_total && f.run_warning_total !== '0' ? '  run ' + f.run_warning_total : '');
+      if (cfg.length || run.length) sm.className = 'warn';
+      pre.textContent = [...cfg.map((w) => 'config warning: ' + w), ...run.map((w) => 'run warning: ' + w),
+        (f.messages || '').split('!@').join('\n'), ...(f.events ? f.events.split('!@').map((e) => 'event ' + e) : [])].join('\n');
+      d.appendChild(sm); d.appendChild(pre); box.appendChild(d);
+    }
+  }
+  $('cast-node').addEventListener('change', () => { castsDirty = true; });
 
   let drag = null, sliderHeld = false;
   canvas.addEventListener('mousedown', (e) => { drag = { x: e.offsetX, y: e.offsetY, moved: false }; });
@@ -415,6 +456,7 @@
     while (frameTimes.length && frameTimes[0] < t1 - 1000) frameTimes.shift();
     S.fps = frameTimes.length;
     if (S.frames % 15 === 0) updatePanel();
+    if (castsDirty && S.frames % 10 === 0) updateCasts();
     requestAnimationFrame(draw);
   }
 

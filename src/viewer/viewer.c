@@ -344,6 +344,7 @@ void kelp_viewer_clear(kelp_viewer *v)
 {
     memset(v->veh, 0, sizeof v->veh);
     memset(v->art, 0, sizeof v->art);
+    memset(v->casts, 0, sizeof v->casts);
     v->nveh = 0;
     v->seq++;
     v->floor = v->seq + 1; /* every page needs a snapshot */
@@ -485,6 +486,61 @@ static int mail_view(kelp_viewer *v, kelp_view_kind kind, const char *s, size_t 
     return 1;
 }
 
+/* the value of "key=" among the "!@#"-separated pairs of an APPCAST string; 1 found */
+static int cast_field(const char *s, size_t len, const char *key, char *out, size_t cap)
+{
+    size_t kl = strlen(key), i = 0;
+    while (i < len) {
+        const char *p = s + i;
+        size_t n = len - i, k = 0;
+        while (k + 3 <= n && memcmp(p + k, "!@#", 3) != 0) k++;
+        if (k + 3 > n) k = n;
+        if (k > kl && p[kl] == '=' && kelp_strieq_n(p, kl, key)) {
+            size_t vl = k - kl - 1;
+            if (vl >= cap) vl = cap - 1;
+            memcpy(out, p + kl + 1, vl);
+            out[vl] = '\0';
+            return 1;
+        }
+        i += k + 3;
+    }
+    return 0;
+}
+
+static int mail_cast(kelp_viewer *v, const char *s, size_t len, double now)
+{
+    char node[KELP_NODEREPORT_MAX_FIELD] = "", proc[KELP_NODEREPORT_MAX_FIELD];
+    if (len >= KELP_MAX_SVAL || memchr(s, '\0', len) || !cast_field(s, len, "proc", proc, sizeof proc) || !proc[0]) {
+        v->stats.casts_bad++;
+        return KELP_ERR_PARSE;
+    }
+    (void)cast_field(s, len, "node", node, sizeof node);
+    kelp_viewer_cast *c = NULL, *freeslot = NULL, *oldest = NULL;
+    for (unsigned i = 0; i < KELP_VIEWER_MAX_CASTS && !c; i++) {
+        kelp_viewer_cast *e = &v->casts[i];
+        if (!e->used) {
+            if (!freeslot) freeslot = e;
+        } else if (strcmp(e->node, node) == 0 && strcmp(e->proc, proc) == 0) {
+            c = e;
+        } else if (!oldest || e->seq < oldest->seq) {
+            oldest = e;
+        }
+    }
+    if (!c && !(c = freeslot)) {
+        c = oldest; /* dropped without a tombstone: pages that had it get a snapshot */
+        v->floor = v->seq + 2;
+    }
+    v->stats.casts++;
+    memcpy(c->node, node, sizeof node);
+    memcpy(c->proc, proc, sizeof proc);
+    memcpy(c->text, s, len);
+    c->text[len] = '\0';
+    c->t_rx = now;
+    c->used = true;
+    c->seq = bump(v);
+    return 1;
+}
+
 int kelp_viewer_mail(kelp_viewer *v, const char *var, const char *sval, size_t len, double now)
 {
     if (!v || !var || !sval) return 0;
@@ -492,6 +548,7 @@ int kelp_viewer_mail(kelp_viewer *v, const char *var, const char *sval, size_t l
     if (kelp_strieq(var, "NODE_REPORT") || kelp_strieq(var, "NODE_REPORT_LOCAL")) return mail_report(v, sval, len, now);
     kelp_view_kind kind;
     if (kelp_view_kind_of(var, &kind) == 0) return mail_view(v, kind, sval, len, now);
+    if (kelp_strieq(var, "APPCAST")) return mail_cast(v, sval, len, now);
     return 0;
 }
 
@@ -710,6 +767,20 @@ static int json_out(const kelp_viewer *v, uint32_t since, bool full, double now,
         if (!first) jw_lit(&w, ",");
         first = false;
         json_artifact(a, &w);
+    }
+    jw_lit(&w, "],\"cast\":[");
+    first = true;
+    for (unsigned i = 0; i < KELP_VIEWER_MAX_CASTS; i++) {
+        const kelp_viewer_cast *c = &v->casts[i];
+        if (!c->used || c->seq <= since) continue;
+        bool f = true;
+        jw_lit(&w, first ? "{" : ",{");
+        first = false;
+        jw_kstr(&w, &f, "node", c->node);
+        jw_kstr(&w, &f, "proc", c->proc);
+        jw_knum(&w, &f, "t", c->t_rx, 2);
+        jw_kstr(&w, &f, "text", c->text);
+        jw_lit(&w, "}");
     }
     jw_lit(&w, "]}");
     if (len) *len = w.len;

@@ -5,7 +5,8 @@
 #                                            VIEW_POLYGON poked meanwhile, a real click on DEPLOY,
 #                                            the state with vehicles moving, a screenshot
 #   check OUT.json LOG.txt WARP              the page's positions against the shoreside log
-#   replay URL OUT.json                      replay mode: pause, seek with the slider, play
+#   replay URL OUT.json LIVE.json            replay mode: pause, seek with the slider (to the live
+#                                            check's time: the same reports; near the start), play
 # Prints "FAIL: ..." and exits 1 on a failed check.
 import json
 import os
@@ -86,6 +87,10 @@ def live(url, out, shot, poke):
         st["now"] = d.execute_script("return window.kelpViewer.now")
         res["state"] = st
         res["pressed"] = d.execute_script("return window.kelpViewer.pressed")
+        # the shoreside apps' AppCasts (kelp-viewer asks with APPCAST_REQ), shown in the pane
+        res["casts"] = wait(d, "const c = Object.values(window.kelpViewer.casts).filter(c => c.node === 'shoreside');"
+                               "return c.length >= 3 && document.querySelectorAll('#casts details').length >= 1 && c.map(c => c.proc)",
+                            15, "the shoreside's AppCasts")
         res["colours"] = d.execute_script(COLOURS_JS)
         res["fps"] = d.execute_script("return window.kelpViewer.fps")
         # (d) the screenshot
@@ -93,8 +98,8 @@ def live(url, out, shot, poke):
     finally:
         d.quit()
     json.dump(res, open(out, "w"), indent=1)
-    print("page: %d vehicles, polygon shown, DEPLOY clicked, %d colours, %s fps" % (len(res["state"]["veh"]),
-                                                                                   res["colours"], res["fps"]))
+    print("page: %d vehicles, polygon shown, DEPLOY clicked, %d colours, %s fps, AppCasts of %s" % (
+        len(res["state"]["veh"]), res["colours"], res["fps"], ",".join(sorted(res["casts"]))))
 
 
 def check(out, logtxt, warp):
@@ -128,7 +133,8 @@ def check(out, logtxt, warp):
                                                                                                   want, x, y, err))
 
 
-def replay(url, out):
+def replay(url, out, live_json):
+    live = json.load(open(live_json))["state"]
     d = browser()
     res = {}
     try:
@@ -138,35 +144,47 @@ def replay(url, out):
         if d.find_element("id", "replay").get_attribute("hidden"):
             fail("replay controls hidden")
         span = r["t1"] - r["t0"]
-        if span < 5:
-            fail("replay spans only %.1f s" % span)
+        if span < 5 or not (r["t0"] < live["now"] < r["t1"]):
+            fail("replay spans %.1f s, %.1f..%.1f; the live check was at %.1f" % (span, r["t0"], r["t1"], live["now"]))
         if r["playing"]:
             d.find_element("id", "play").click()  # pause
             wait(d, "return window.kelpViewer.replay && !window.kelpViewer.replay.playing", 5, "pause")
-        res["slider_before"] = d.find_element("id", "slider").get_attribute("value")
-        for frac in (0.6, 0.15):
+
+        def seek(frac, what):
             d.execute_script("const s = document.getElementById('slider'); s.value = arguments[0];"
-                             "s.dispatchEvent(new Event('input')); s.dispatchEvent(new Event('change'));", int(frac * 1000))
-            want = r["t0"] + frac * span
-            wait(d, "const R = window.kelpViewer.replay; return R && Math.abs(R.t - %f) < 0.5" % want, 8,
-                 "the replay at %.0f%%" % (frac * 100))
+                             "s.dispatchEvent(new Event('input')); s.dispatchEvent(new Event('change'));", int(round(frac * 1000)))
+            want = r["t0"] + round(frac * 1000) / 1000 * span
+            wait(d, "const R = window.kelpViewer.replay; return R && Math.abs(R.t - %f) < 0.5" % want, 8, what)
             time.sleep(0.6)
-            res["at_%d" % int(frac * 100)] = d.execute_script(STATE_JS)
-            res["slider_%d" % int(frac * 100)] = d.find_element("id", "slider").get_attribute("value")
-        a, b = res["at_60"]["veh"], res["at_15"]["veh"]
-        moved = [n for n in a if n in b and abs(a[n]["x"] - b[n]["x"]) + abs(a[n]["y"] - b[n]["y"]) > 1]
-        if not moved:
-            fail("seeking from 60%% to 15%% moved no vehicle: %s / %s" % (a, b))
-        if abs(int(res["slider_15"]) - 150) > 20:
-            fail("slider at %s after seeking to 15%%" % res["slider_15"])
+            return d.execute_script(STATE_JS), want, d.find_element("id", "slider").get_attribute("value")
+
+        # the moment the live page was checked (vehicles under way): the same reports again
+        at_live, t_live, _ = seek((live["now"] - r["t0"]) / span, "the replay at the live check's time")
+        for n, v in live["veh"].items():
+            w = at_live["veh"].get(n)
+            if not w:
+                fail("%s missing in the replay at %.1f" % (n, t_live))
+            if not (t_live - 30 <= w["rtime"] <= t_live + 1):
+                fail("%s: the replay at %.2f shows the report of %.2f" % (n, t_live, w["rtime"]))
+            if abs(w["x"] - v["x"]) + abs(w["y"] - v["y"]) > 80:
+                fail("%s: replay (%.1f, %.1f), live (%.1f, %.1f)" % (n, w["x"], w["y"], v["x"], v["y"]))
+        # near the start (before DEPLOY): the vehicles at their start points, the slider there
+        at_start, _, slider = seek(0.05, "the replay at 5%")
+        moved = [n for n in live["veh"] if n in at_start["veh"] and
+                 abs(at_start["veh"][n]["x"] - at_live["veh"][n]["x"]) + abs(at_start["veh"][n]["y"] - at_live["veh"][n]["y"]) > 1]
+        if len(moved) < len(live["veh"]):
+            fail("seeking back moved only %s: %s / %s" % (moved, at_start, at_live))
+        if abs(int(slider) - 50) > 10:
+            fail("slider at %s after seeking to 5%%" % slider)
         d.find_element("id", "play").click()
         t = d.execute_script("return window.kelpViewer.replay.t")
         wait(d, "const R = window.kelpViewer.replay; return R.playing && R.t > %f" % (t + 0.5), 8, "play to advance")
+        res = {"at_live": at_live, "at_start": at_start, "slider": slider}
     finally:
         d.quit()
     json.dump(res, open(out, "w"), indent=1)
-    print("replay: paused, seeked to 60%% and 15%% (slider %s -> %s), %d vehicles moved, playing again" % (
-        res["slider_60"], res["slider_15"], len(moved)))
+    print("replay: paused, seeked to the live check's time (same reports) and back to 5%% (slider %s, %d vehicles back at"
+          " their starts), playing again" % (slider, len(moved)))
 
 
 if __name__ == "__main__":
@@ -176,6 +194,6 @@ if __name__ == "__main__":
     elif m == "check":
         check(sys.argv[2], sys.argv[3], float(sys.argv[4]))
     elif m == "replay":
-        replay(sys.argv[2], sys.argv[3])
+        replay(sys.argv[2], sys.argv[3], sys.argv[4])
     else:
         fail("mode?")

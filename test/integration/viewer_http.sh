@@ -3,7 +3,7 @@
 # bind address other than loopback refused without a token, POST /cmd needing the X-Kelp header
 # and a configured index, a button's pokes on the bus (numbers as doubles, quoted values as
 # strings), the event stream's snapshot with the background image's georeference and /image
-# serving the .png beside the tiff_file.
+# serving the .png beside the tiff_file; an APPCAST in the snapshot, APPCAST_REQ on the bus.
 . "$(dirname "$0")/lib.sh"
 command -v curl >/dev/null || { echo "SKIP: curl missing"; exit 0; }
 cd $T
@@ -48,7 +48,10 @@ done
 ok "token, cookie and the fixed list of files"
 # the background image: the .png beside map.tif, and its box in the snapshot
 curl -s "${C[@]}" "$U/image" | head -c 8 | od -An -tx1 | grep -q "89 50 4e 47 0d 0a 1a 0a" || fail "/image is not the png"
+"$BIN/kelp-poke" v.moos 'APPCAST=proc=pFake!@#node=alpha!@#iter=7!@#messages=hello!@#run_warning_total=0' > /dev/null
 timeout 3 curl -s -N "${C[@]}" "$U/events" > ev.txt || true
+grep -q '"cast":\[.*{"node":"alpha","proc":"pFake","t":[0-9.]*,"text":"proc=pFake!@#node=alpha!@#iter=7!@#messages=hello!@#run_warning_total=0"}' ev.txt ||
+  fail "the AppCast is not in the snapshot"
 grep -q '"image":{"url":"/image","n":43.8269,"s":43.823,"e":-70.327,"w":-70.334}' ev.txt || fail "image box: $(head -c 600 ev.txt)"
 grep -q '"label":"DEPLOY","pokes":\["DEPLOY_ALL=true","DEPTH=12.5","NAME=3"\]' ev.txt || fail "button in the snapshot"
 ok "image and buttons in the snapshot"
@@ -68,6 +71,7 @@ grep -qE ' kelp-viewer NAME 3$' bus.txt || fail "NAME"
 grep -qE ' kelp-viewer RETURN_ALL true$' bus.txt || fail "RETURN_ALL"
 [ "$(grep -cE ' kelp-viewer (DEPLOY_ALL|DEPTH|NAME|RETURN_ALL) ' bus.txt)" = 4 ] || fail "more pokes than pressed"
 wait_for app.out 'command 7, which is not configured' 15 || fail "index 7 not reported"
+grep -qE ' kelp-viewer APPCAST_REQ node=all,app=all,duration=5,key=kelp-viewer,thresh=any$' bus.txt || fail "no APPCAST_REQ"
 ok "button and action pokes on the bus; an unconfigured index posts nothing"
 # another address without a token
 sed '/token/d' v.moos > notoken.moos
