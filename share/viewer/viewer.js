@@ -7,7 +7,7 @@
   const S = window.kelpViewer = {
     cfg: null, seq: 0, now: 0, rate: 1, nowAt: 0, vehicles: {}, artifacts: {}, casts: {}, selected: '',
     frames: 0, messages: 0, fps: 0, drawMs: 0, replay: null, connected: false, pressed: [],
-    view: { cx: 0, cy: 0, scale: 2, fitted: false } // scale: pixels per metre
+    view: { cx: 0, cy: 0, scale: 2, fitted: false, auto: true } // scale: pixels per metre; auto: keep every vehicle in view
   };
   const qs = new URLSearchParams(location.search);
   const tokenQ = qs.get('token') ? 'token=' + encodeURIComponent(qs.get('token')) : '';
@@ -156,7 +156,7 @@
     for (const v of vs) { x0 = Math.min(x0, v.x); x1 = Math.max(x1, v.x); y0 = Math.min(y0, v.y); y1 = Math.max(y1, v.y); }
     const w = Math.max(100, x1 - x0), h = Math.max(100, y1 - y0);
     S.view.cx = (x0 + x1) / 2; S.view.cy = (y0 + y1) / 2;
-    S.view.scale = Math.min(canvas.width / (w * 1.3), canvas.height / (h * 1.3));
+    S.view.scale = Math.min(canvas.width / (w * 1.6), canvas.height / (h * 1.6));
   }
   function centre() {
     const v = S.vehicles[S.selected];
@@ -223,10 +223,12 @@
     if (Math.abs(dx) + Math.abs(dy) > 2) drag.moved = true;
     S.view.cx -= dx / S.view.scale; S.view.cy += dy / S.view.scale;
     drag.x = e.offsetX; drag.y = e.offsetY;
+    if (drag.moved) S.view.auto = false;
     $('follow').checked = false;
   });
   canvas.addEventListener('wheel', (e) => {
     e.preventDefault();
+    S.view.auto = false;
     const [wx, wy] = toWorld(e.offsetX, e.offsetY);
     const f = Math.exp(-e.deltaY * 0.0015);
     S.view.scale = Math.min(500, Math.max(0.001, S.view.scale * f));
@@ -241,9 +243,9 @@
     }
     if (best) select(best);
   }
-  $('centre').addEventListener('click', centre);
-  $('fit').addEventListener('click', fit);
-  $('vehicle-list').addEventListener('change', (e) => { select(e.target.value); centre(); });
+  $('centre').addEventListener('click', () => { S.view.auto = false; centre(); });
+  $('fit').addEventListener('click', () => { S.view.auto = true; fit(); });
+  $('vehicle-list').addEventListener('change', (e) => { select(e.target.value); S.view.auto = false; centre(); });
   $('actions').addEventListener('change', (e) => {
     const i = e.target.value;
     if (i !== '') press(Number(i), e.target.selectedOptions[0].textContent);
@@ -252,7 +254,7 @@
   window.addEventListener('keydown', (e) => {
     if (e.target.tagName === 'INPUT' || e.target.tagName === 'SELECT') return;
     if (e.key === 'c') centre();
-    else if (e.key === 'f') fit();
+    else if (e.key === 'f') { S.view.auto = true; fit(); }
   });
   $('play').addEventListener('click', () => replayOp(S.replay && S.replay.playing ? 'pause' : 'play'));
   $('speed').addEventListener('change', (e) => replayOp('speed', e.target.value));
@@ -440,6 +442,7 @@
     const w = canvas.clientWidth, h = canvas.clientHeight;
     if (canvas.width !== w || canvas.height !== h) { canvas.width = w; canvas.height = h; }
     if ($('follow').checked) centre();
+    else if (S.view.auto && S.frames % 30 === 0) fit(); // until the user pans or zooms (Fit: again)
     ctx.fillStyle = '#1d3b57';
     ctx.fillRect(0, 0, canvas.width, canvas.height);
     drawImage();
