@@ -2,6 +2,7 @@
 # bench/viewer.sh's page side: headless Chromium on kelp-viewer's page; waits until N vehicles
 # are shown, then counts the frames the page draws (window.kelpViewer.frames) and the stream
 # messages it applies over SECONDS. Prints "page fps <f> messages/s <m> draw_ms <d> vehicles <v> trail <t>".
+import shutil
 import sys
 import tempfile
 import time
@@ -11,8 +12,9 @@ from selenium.webdriver.chrome.service import Service
 url, n, secs = sys.argv[1], int(sys.argv[2]), float(sys.argv[3])
 o = webdriver.ChromeOptions()
 o.binary_location = "/usr/bin/chromium"
+profile = tempfile.mkdtemp(prefix="kelp-chromium-")
 for a in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--window-size=1280,800",
-          "--user-data-dir=" + tempfile.mkdtemp(prefix="kelp-chromium-")):
+          "--user-data-dir=" + profile):
     o.add_argument(a)
 d = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=o)
 try:
@@ -28,3 +30,4 @@ try:
     print("page fps %.1f messages/s %.1f draw_ms %.1f vehicles %d trail %d" % ((f1 - f0) / dt, (m1 - m0) / dt, dm, nv, tr))
 finally:
     d.quit()
+    shutil.rmtree(profile, ignore_errors=True)

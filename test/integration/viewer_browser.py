@@ -8,9 +8,9 @@
 #   replay URL OUT.json LIVE.json            replay mode: pause, seek with the slider (to the live
 #                                            check's time: the same reports; near the start), play
 # Prints "FAIL: ..." and exits 1 on a failed check.
+import atexit
 import json
-import os
-import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -22,13 +22,18 @@ def fail(msg):
     sys.exit(1)
 
 
+PROFILES = []
+atexit.register(lambda: [shutil.rmtree(p, ignore_errors=True) for p in PROFILES])
+
+
 def browser():
     from selenium import webdriver
     from selenium.webdriver.chrome.service import Service
     o = webdriver.ChromeOptions()
     o.binary_location = "/usr/bin/chromium"
+    PROFILES.append(tempfile.mkdtemp(prefix="kelp-chromium-"))
     for a in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--window-size=1280,800",
-              "--user-data-dir=" + tempfile.mkdtemp(prefix="kelp-chromium-"), "--no-first-run"):
+              "--user-data-dir=" + PROFILES[-1], "--no-first-run"):
         o.add_argument(a)
     d = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=o)
     d.set_page_load_timeout(20)

@@ -48,6 +48,7 @@ done
 ok "token, cookie and the fixed list of files"
 # the background image: the .png beside map.tif, and its box in the snapshot
 curl -s "${C[@]}" "$U/image" | head -c 8 | od -An -tx1 | grep -q "89 50 4e 47 0d 0a 1a 0a" || fail "/image is not the png"
+"$BIN/kelp-poke" v.moos 'NODE_REPORT=NAME=zed,TYPE=ship,X=12.5,Y=-7,HDG=45,SPD=1' > /dev/null
 "$BIN/kelp-poke" v.moos 'APPCAST=proc=pFake!@#node=alpha!@#iter=7!@#messages=hello!@#run_warning_total=0' > /dev/null
 timeout 3 curl -s -N "${C[@]}" "$U/events" > ev.txt || true
 grep -q '"cast":\[.*{"node":"alpha","proc":"pFake","t":[0-9.]*,"text":"proc=pFake!@#node=alpha!@#iter=7!@#messages=hello!@#run_warning_total=0"}' ev.txt ||
@@ -78,3 +79,14 @@ sed '/token/d' v.moos > notoken.moos
 "$BIN/kelp-viewer" --bind 0.0.0.0 --port 0 notoken.moos > nobind.out 2>&1 && fail "0.0.0.0 without a token started"
 grep -q 'needs a token' nobind.out || fail "no reason: $(cat nobind.out)"
 ok "a non-loopback bind needs a token"
+# replay of the recorded bus as an .alog (kelp-alog), without a browser: the vehicle, the replay state
+"$BIN/kelp-alog" to-alog bus.lcm bus.alog > /dev/null || fail "kelp-alog to-alog"
+bg "$BIN/kelp-viewer" --log bus.alog --port 0 --paused > replay.out 2>&1
+wait_for replay.out '^kelp-viewer: replaying bus.alog \([0-9]+ postings' 10 || { cat replay.out; fail "replay of the .alog"; }
+R=$(grep -o 'http://127.0.0.1:[0-9]*' replay.out | head -1)
+curl -s -X POST -H 'X-Kelp: 1' "$R/replay?op=seek&v=1000" > /dev/null   # past the end: the whole log
+timeout 3 curl -s -N "$R/events" > rev.txt || true
+grep -q '"name":"zed","type":"ship","x":12.5,"y":-7,"hdg":45' rev.txt || fail "replayed vehicle: $(head -c 400 rev.txt)"
+grep -q '^event: replay' rev.txt && grep -q '"playing":0,"speed":1' rev.txt || fail "replay state: $(grep -A1 'event: replay' rev.txt | head -2)"
+grep -q '"proc":"pFake"' rev.txt || fail "replayed AppCast"
+ok "the .alog replayed: vehicle, AppCast and the replay state in the stream"

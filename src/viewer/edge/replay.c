@@ -1,5 +1,5 @@
 /* kelp-viewer --log: a recorded mission replayed into the page (see include/kelp/edge/viewer.h).
- * The postings the viewer draws (NODE_REPORT*, VIEW_*) are read once into memory; the replay
+ * The postings the viewer shows (NODE_REPORT, NODE_REPORT_LOCAL, VIEW_*, APPCAST) are read once into memory; the replay
  * clock runs at `speed` times the wall clock; a seek back clears the model and feeds it again
  * from the start (each posting with its own time), so the page sees the state at the new time. */
 #include <limits.h>
@@ -45,7 +45,8 @@ static double wall(void)
 static bool wanted(const char *var)
 {
     kelp_view_kind k;
-    return !strcmp(var, "NODE_REPORT") || !strcmp(var, "NODE_REPORT_LOCAL") || kelp_view_kind_of(var, &k) == 0;
+    return !strcmp(var, "NODE_REPORT") || !strcmp(var, "NODE_REPORT_LOCAL") || !strcmp(var, "APPCAST") ||
+           kelp_view_kind_of(var, &k) == 0;
 }
 
 static void free_posts(post *posts, size_t n)
