@@ -161,10 +161,11 @@ $(BUILD)/test/check_core: test/check_main.c $(CORE_TESTS) $(FAKES) $(BUILD)/gen/
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) -Itest $(CFLAGS) -Wno-missing-prototypes -DKELP_SUITES='"core_suites.h"' -DKELP_RUNNER_NAME='"core"' \
 	  -o $@ test/check_main.c $(CORE_TESTS) $(FAKES) $(LIBCORE) $(CHECK_LIBS) -lm
-$(BUILD)/test/check_edge: test/check_main.c $(EDGE_TESTS) $(FAKES) $(BUILD)/gen/edge_suites.h $(LIBPLOT) $(LIBEDGE) $(LIBCORE)
+# (libkelp_viewer.a: its files.o only, which needs no microhttpd)
+$(BUILD)/test/check_edge: test/check_main.c $(EDGE_TESTS) $(FAKES) $(BUILD)/gen/edge_suites.h $(LIBVIEWER) $(LIBPLOT) $(LIBEDGE) $(LIBCORE)
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(LCM_CFLAGS) -Itest $(CFLAGS) -Wno-missing-prototypes -DKELP_SUITES='"edge_suites.h"' -DKELP_RUNNER_NAME='"edge"' \
-	  -o $@ test/check_main.c $(EDGE_TESTS) $(FAKES) $(LIBPLOT) $(LIBEDGE) $(LIBCORE) $(EXT_LIBS) $(CHECK_LIBS)
+	  -o $@ test/check_main.c $(EDGE_TESTS) $(FAKES) $(LIBVIEWER) $(LIBPLOT) $(LIBEDGE) $(LIBCORE) $(EXT_LIBS) $(CHECK_LIBS)
 
 tests-bin: $(BUILD)/test/check_core $(BUILD)/test/check_edge
 

@@ -2,14 +2,12 @@
  * The postings the viewer shows (NODE_REPORT, NODE_REPORT_LOCAL, VIEW_*, APPCAST) are read once into memory; the replay
  * clock runs at `speed` times the wall clock; a seek back clears the model and feeds it again
  * from the start (each posting with its own time), so the page sees the state at the new time. */
-#include <limits.h>
 #include <math.h>
 #include <poll.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 #include <kelp/edge/alog.h>
@@ -284,67 +282,4 @@ int kelp_viewer_replay_main(int argc, char **argv)
     free_posts(posts, np);
     free(v);
     return 0;
-}
-
-/* ------------------------------------------------------------------ files */
-
-static bool is_file(const char *p)
-{
-    struct stat st;
-    return stat(p, &st) == 0 && S_ISREG(st.st_mode);
-}
-
-int kelp_viewer_docroot(char *buf, size_t cap)
-{
-    const char *env = getenv("KELP_VIEWER_DOCROOT");
-    char probe[PATH_MAX + 64];
-    if (env && env[0]) {
-        snprintf(probe, sizeof probe, "%s/index.html", env);
-        if (!is_file(probe)) return KELP_ERR_NOTFOUND;
-        snprintf(buf, cap, "%s", env);
-        return 0;
-    }
-    char exe[PATH_MAX];
-    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
-    if (n <= 0) return KELP_ERR_NOTFOUND;
-    exe[n] = '\0';
-    char *slash = strrchr(exe, '/');
-    if (!slash) return KELP_ERR_NOTFOUND;
-    *slash = '\0';
-    static const char *const rel[] = {"/../../share/viewer", "/../share/kelp/viewer"};
-    for (size_t i = 0; i < sizeof rel / sizeof rel[0]; i++) {
-        snprintf(probe, sizeof probe, "%s%s/index.html", exe, rel[i]);
-        if (!is_file(probe)) continue;
-        char *real = realpath(probe, NULL);
-        if (!real) continue;
-        *strrchr(real, '/') = '\0';
-        snprintf(buf, cap, "%s", real);
-        free(real);
-        return 0;
-    }
-    return KELP_ERR_NOTFOUND;
-}
-
-int kelp_viewer_image_files(const char *tiff, const char *mission_path, char *image, size_t icap, char *info,
-                            size_t infocap)
-{
-    char base[PATH_MAX];
-    if (tiff[0] != '/' && mission_path && strchr(mission_path, '/')) {
-        const char *s = strrchr(mission_path, '/');
-        snprintf(base, sizeof base, "%.*s/%s", (int)(s - mission_path), mission_path, tiff);
-    } else {
-        snprintf(base, sizeof base, "%s", tiff);
-    }
-    char stem[PATH_MAX];
-    snprintf(stem, sizeof stem, "%s", base);
-    char *dot = strrchr(stem, '.');
-    if (dot && !strchr(dot, '/')) *dot = '\0';
-    snprintf(info, infocap, "%s.info", stem);
-    static const char *const ext[] = {".png", ".jpg", ".jpeg"};
-    for (size_t i = 0; i < sizeof ext / sizeof ext[0]; i++) {
-        snprintf(image, icap, "%s%s", stem, ext[i]);
-        if (is_file(image)) return 0;
-    }
-    snprintf(image, icap, "%s", base);
-    return is_file(image) ? 0 : KELP_ERR_NOTFOUND;
 }
