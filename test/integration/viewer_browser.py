@@ -10,6 +10,7 @@
 # Prints "FAIL: ..." and exits 1 on a failed check.
 import atexit
 import json
+import re
 import shutil
 import subprocess
 import sys
@@ -61,6 +62,35 @@ const seen = new Set(); for (let i = 0; i < g.length; i += 4 * 7) seen.add((g[i]
 return seen.size;"""
 
 
+def interact(d):
+    """The pointer readout, selecting a vehicle (its report in the panel), wheel zoom, drag pan."""
+    from selenium.webdriver.common.action_chains import ActionChains
+    from selenium.webdriver.common.actions.wheel_input import ScrollOrigin
+    from selenium.webdriver.support.ui import Select
+    canvas = d.find_element("id", "map")
+    ActionChains(d).move_to_element_with_offset(canvas, 40, 30).perform()
+    ro = d.find_element("id", "readout").text
+    m = re.match(r"x=(-?[0-9.]+) y=(-?[0-9.]+)\s+lat=(-?[0-9.]+) lon=(-?[0-9.]+)", ro)
+    if not m:
+        fail("pointer readout %r" % ro)
+    lat, lon = float(m.group(3)), float(m.group(4))
+    if abs(lat - 43.8253) > 0.02 or abs(lon + 70.3304) > 0.03:
+        fail("readout lat/lon %s far from the datum" % ro)
+    Select(d.find_element("id", "vehicle-list")).select_by_value("alpha")
+    wait(d, "return document.getElementById('sel-name').textContent === 'alpha' &&"
+            " document.getElementById('sel-fields').textContent.includes('X (m)')", 5, "alpha's report in the panel")
+    panel = d.find_element("id", "sel-fields").text
+    scale0 = d.execute_script("return window.kelpViewer.view.scale")
+    ActionChains(d).scroll_from_origin(ScrollOrigin.from_element(canvas), 0, -400).perform()
+    wait(d, "return window.kelpViewer.view.scale > %f" % (scale0 * 1.2), 5, "the wheel to zoom in")
+    v = d.execute_script("return [window.kelpViewer.view.cx, window.kelpViewer.view.scale]")
+    ActionChains(d).move_to_element(canvas).click_and_hold().move_by_offset(120, 0).release().perform()
+    cx = d.execute_script("return window.kelpViewer.view.cx")
+    if abs((v[0] - cx) - 120 / v[1]) > 5 / v[1]:
+        fail("dragging 120 px moved the view %.2f m, want %.2f" % (v[0] - cx, 120 / v[1]))
+    return {"readout": ro, "panel": panel, "zoom": [scale0, v[1]]}
+
+
 def live(url, out, shot, poke):
     d = browser()
     res = {}
@@ -87,7 +117,7 @@ def live(url, out, shot, poke):
         btn.click()
         wait(d, "return Object.values(window.kelpViewer.vehicles).filter(v => (v.spd || 0) > 0.5).length >= 2", 25,
              "both vehicles under way after DEPLOY")
-        time.sleep(2.0)
+        time.sleep(1.0)
         st = d.execute_script(STATE_JS)
         st["now"] = d.execute_script("return window.kelpViewer.now")
         res["state"] = st
@@ -98,6 +128,9 @@ def live(url, out, shot, poke):
                             15, "the shoreside's AppCasts")
         res["colours"] = d.execute_script(COLOURS_JS)
         res["fps"] = d.execute_script("return window.kelpViewer.fps")
+        res["ui"] = interact(d)
+        d.find_element("id", "fit").click()  # the whole fleet again, alpha still selected
+        time.sleep(0.5)
         # (d) the screenshot
         d.save_screenshot(shot)
     finally:
@@ -105,6 +138,8 @@ def live(url, out, shot, poke):
     json.dump(res, open(out, "w"), indent=1)
     print("page: %d vehicles, polygon shown, DEPLOY clicked, %d colours, %s fps, AppCasts of %s" % (
         len(res["state"]["veh"]), res["colours"], res["fps"], ",".join(sorted(res["casts"]))))
+    print("page: readout %r, alpha selected (%d panel rows), wheel zoom %.2f -> %.2f px/m, drag pans" % (
+        res["ui"]["readout"], res["ui"]["panel"].count("\n") + 1, res["ui"]["zoom"][0], res["ui"]["zoom"][1]))
 
 
 def check(out, logtxt, warp):
@@ -160,7 +195,7 @@ def replay(url, out, live_json):
                              "s.dispatchEvent(new Event('input')); s.dispatchEvent(new Event('change'));", int(round(frac * 1000)))
             want = r["t0"] + round(frac * 1000) / 1000 * span
             wait(d, "const R = window.kelpViewer.replay; return R && Math.abs(R.t - %f) < 0.5" % want, 8, what)
-            time.sleep(0.6)
+            time.sleep(0.4)
             return d.execute_script(STATE_JS), want, d.find_element("id", "slider").get_attribute("value")
 
         # the moment the live page was checked (vehicles under way): the same reports again

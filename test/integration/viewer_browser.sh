@@ -25,6 +25,7 @@ DEMO_DIR=$T/demo DEMO_FLEET=$T/fleet.conf DEMO_WARP=20 DEMO_TIMEOUT=45 DEMO_NO_D
   KELP_DEMO_HEADLESS=1 "$KELP_ROOT/scripts/demo-fleet.sh" "$BUILD" > demo.out 2>&1 &
 DEMO=$!; PIDS+=($DEMO)
 wait_for demo.out "^== DEPLOY: waiting for the page" 30 || { cat demo.out; fail "the fleet did not come up"; }
+echo "fleet up after $(( $(date +%s) - start )) s"
 grep -q "^== kelp-viewer (pMarineViewer role): http://127.0.0.1:$PORT/" demo.out || fail "demo did not print the viewer URL"
 export KELP_WARP_EPOCH=$(cat demo/warp_epoch)   # the demo's warped clock, for kelp-poke
 shot=$BUILD/viewer-shot.png
@@ -33,9 +34,13 @@ $PY "$KELP_ROOT/test/integration/viewer_browser.py" live "http://127.0.0.1:$PORT
   "$BIN/kelp-poke" "$T/demo/shoreside.moos" "VIEW_POLYGON=pts={-50,-50:50,-50:50,50:-50,50},label=viewer_test,edge_color=light_green,fill=0.2" \
   > live.out 2>&1 || { cat live.out; tail -20 demo.out; fail "the live page"; }
 cat live.out
+echo "live page checked after $(( $(date +%s) - start )) s"
 # the rest needs only the logs: stop the mission (its trap stops the launchers and the recorders)
 kill -TERM $DEMO 2>/dev/null || true
 wait $DEMO || true
+echo "mission stopped after $(( $(date +%s) - start )) s"
+# the replay starts now (it reads the log once) while the live state is checked against the log
+bg "$BIN/kelp-viewer" --log demo/shoreside.lcm --port 0 demo/shoreside.moos > replay.out 2>&1
 "$BIN/kelp-logcheck" demo/shoreside.lcm --print > shore.txt 2>/dev/null || true
 $PY "$KELP_ROOT/test/integration/viewer_browser.py" check live.json shore.txt 20 || fail "page positions against the log"
 # (c) on the bus: the button's pokes left the viewer, crossed the bridge and reached the helms
@@ -55,7 +60,6 @@ ncol=$($PY -c 'import json,sys; print(json.load(open(sys.argv[1]))["colours"])' 
 [ "$ncol" -ge 8 ] || fail "the map has only $ncol colours"
 ok "screenshot $shot ($sz bytes, $ncol colours in the map)"
 # ---- replay of the recorded shoreside log in the same page
-bg "$BIN/kelp-viewer" --log demo/shoreside.lcm --port 0 demo/shoreside.moos > replay.out 2>&1
 wait_for replay.out "^kelp-viewer: replaying .*http://127.0.0.1:[0-9]+/" 10 || { cat replay.out; fail "replay did not start"; }
 url=$(grep -o 'http://127.0.0.1:[0-9]*/' replay.out | head -1)
 $PY "$KELP_ROOT/test/integration/viewer_browser.py" replay "$url" replay.json live.json > rp.out 2>&1 || { cat rp.out; fail "replay page"; }
