@@ -122,6 +122,10 @@ START_TEST(test_stale_and_remove)
     ck_assert_ptr_nonnull(strstr(J, "{\"name\":\"a\",\"gone\":1}"));
     snap(115);
     ck_assert_ptr_nonnull(strstr(J, "\"veh\":[]"));
+    /* back again: a new trail */
+    ck_assert_int_eq(mail("NODE_REPORT", "NAME=a,X=7,Y=7", 116), 1);
+    snap(116);
+    ck_assert_ptr_nonnull(strstr(J, "\"trail\":[[7,7]]"));
 }
 END_TEST
 
@@ -195,6 +199,9 @@ START_TEST(test_artifact_table_full_evicts_pulse_first)
     /* an eviction cannot be told as a change: older pages get a snapshot */
     changes(5, 3);
     ck_assert_ptr_nonnull(strstr(J, "\"full\":1"));
+    /* a page that has that snapshot gets changes again */
+    changes(kelp_viewer_seq(V), 3);
+    ck_assert_ptr_nonnull(strstr(J, "\"full\":0"));
 }
 END_TEST
 
@@ -312,6 +319,8 @@ START_TEST(test_image_and_clear)
     changes(s, 2);
     ck_assert_ptr_nonnull(strstr(J, "\"full\":1"));
     ck_assert_ptr_nonnull(strstr(J, "\"veh\":[]"));
+    changes(kelp_viewer_seq(V), 2);
+    ck_assert_ptr_nonnull(strstr(J, "\"full\":0"));
 }
 END_TEST
 

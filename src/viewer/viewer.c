@@ -347,7 +347,7 @@ void kelp_viewer_clear(kelp_viewer *v)
     memset(v->casts, 0, sizeof v->casts);
     v->nveh = 0;
     v->seq++;
-    v->floor = v->seq + 1; /* every page needs a snapshot */
+    v->floor = v->seq; /* every page that saw less needs a snapshot */
 }
 
 /* ------------------------------------------------------------------ mail */
@@ -401,6 +401,7 @@ static int mail_report(kelp_viewer *v, const char *s, size_t len, double now)
     }
     v->stats.reports++;
     r.extra = NULL;
+    if (e->gone) e->head = e->count = 0; /* back after a removal: a new trail */
     e->rep = r;
     e->used = true;
     e->gone = false;
@@ -456,7 +457,7 @@ static kelp_viewer_artifact *artifact_room(kelp_viewer *v)
     kelp_viewer_artifact *a = oldest_pulse ? oldest_pulse : oldest;
     /* a live artifact goes without a tombstone: every page needs a snapshot */
     v->stats.evicted++;
-    v->floor = v->seq + 2; /* the posting about to be stored takes seq + 1 */
+    v->floor = v->seq + 1; /* the posting about to be stored takes seq + 1: a page needs to have seen it */
     return a;
 }
 
@@ -528,7 +529,7 @@ static int mail_cast(kelp_viewer *v, const char *s, size_t len, double now)
     }
     if (!c && !(c = freeslot)) {
         c = oldest; /* dropped without a tombstone: pages that had it get a snapshot */
-        v->floor = v->seq + 2;
+        v->floor = v->seq + 1;
     }
     v->stats.casts++;
     memcpy(c->node, node, sizeof node);
