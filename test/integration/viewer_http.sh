@@ -78,6 +78,8 @@ ok "button and action pokes on the bus; an unconfigured index posts nothing"
 sed '/token/d' v.moos > notoken.moos
 "$BIN/kelp-viewer" --bind 0.0.0.0 --port 0 notoken.moos > nobind.out 2>&1 && fail "0.0.0.0 without a token started"
 grep -q 'needs a token' nobind.out || fail "no reason: $(cat nobind.out)"
+"$BIN/kelp-viewer" --bind 127.0.0.2 --port 0 notoken.moos > nobind2.out 2>&1 && fail "127.0.0.2 without a token started"
+grep -q 'needs a token' nobind2.out || fail "no reason: $(cat nobind2.out)"
 ok "a non-loopback bind needs a token"
 # replay of the recorded bus as an .alog (kelp-alog), without a browser: the vehicle, the replay state
 "$BIN/kelp-alog" to-alog bus.lcm bus.alog > /dev/null || fail "kelp-alog to-alog"

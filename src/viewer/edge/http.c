@@ -458,8 +458,8 @@ kelp_viewer_http *kelp_viewer_http_start(const kelp_viewer_http_cfg *cfg, char *
         snprintf(err, errcap, "--bind %s: not an IPv4 address", bind);
         return NULL;
     }
-    bool loopback = (ntohl(sa.sin_addr.s_addr) >> 24) == 127;
-    if (!loopback && !(cfg->token && cfg->token[0])) {
+    bool local = ntohl(sa.sin_addr.s_addr) == 0x7f000001u; /* 127.0.0.1 alone goes without a token */
+    if (!local && !(cfg->token && cfg->token[0])) {
         snprintf(err, errcap, "binding %s (not 127.0.0.1) needs a token (--token or token =)", bind);
         return NULL;
     }
