@@ -210,7 +210,7 @@ START_TEST(test_buttons)
     const char *why = NULL;
     ck_assert_int_eq(kelp_viewer_config(V, "button_one", "DEPLOY # DEPLOY_ALL=true # MOOS_MANUAL_OVERRIDE_ALL=false", &why), 1);
     ck_assert_int_eq(kelp_viewer_config(V, "BUTTON_2", "RETURN # RETURN_ALL = true # SPEED=1.5 # NAME=\"3\"", &why), 1);
-    ck_assert_int_eq(kelp_viewer_config(V, "button_twenty", "X # A=b", &why), 1);
+    ck_assert_int_eq(kelp_viewer_config(V, "button_twenty", "A=b # X # color=light_green", &why), 1); /* label anywhere */
     ck_assert_uint_eq(V->ncmds, 3);
     const kelp_viewer_cmd *c = kelp_viewer_cmd_get(V, 0);
     ck_assert_str_eq(c->label, "DEPLOY");
@@ -227,23 +227,37 @@ START_TEST(test_buttons)
     ck_assert(!c->pokes[1].is_string && c->pokes[1].dval == 1.5);
     ck_assert(c->pokes[2].is_string);
     ck_assert_str_eq(c->pokes[2].sval, "3"); /* quoted: a string */
-    ck_assert_uint_eq(kelp_viewer_cmd_get(V, 2)->slot, 20);
-    /* the same button again replaces it */
+    c = kelp_viewer_cmd_get(V, 2);
+    ck_assert_uint_eq(c->slot, 20);
+    ck_assert_str_eq(c->label, "X");
+    ck_assert_str_eq(c->color, "light_green");
+    ck_assert_uint_eq(c->npokes, 1);
+    /* another line for the same button adds its pokes and relabels it (pMarineViewer) */
     ck_assert_int_eq(kelp_viewer_config(V, "button_one", "GO # DEPLOY=true", &why), 1);
     ck_assert_uint_eq(V->ncmds, 3);
-    ck_assert_str_eq(kelp_viewer_cmd_get(V, 0)->label, "GO");
+    c = kelp_viewer_cmd_get(V, 0);
+    ck_assert_str_eq(c->label, "GO");
+    ck_assert_uint_eq(c->npokes, 3);
+    ck_assert_str_eq(c->pokes[2].var, "DEPLOY");
     ck_assert_ptr_null(kelp_viewer_cmd_get(V, 3));
+    const kelp_viewer_poke *pk[16];
+    ck_assert_uint_eq(kelp_viewer_press(V, 0, pk, 16), 3);
+    ck_assert_ptr_eq(pk[2], &c->pokes[2]);
+    ck_assert_uint_eq(kelp_viewer_press(V, 3, pk, 16), 0);
     /* refused */
-    ck_assert_int_lt(kelp_viewer_config(V, "button_three", "ONLYLABEL", &why), 0);
+    ck_assert_int_lt(kelp_viewer_config(V, "button_three", "A=1 # B=2", &why), 0); /* no label */
     ck_assert_ptr_nonnull(why);
-    ck_assert_int_lt(kelp_viewer_config(V, "button_three", "A=1 # B=2", &why), 0);
     ck_assert_int_lt(kelp_viewer_config(V, "button_three", "L # =2", &why), 0);
     ck_assert_int_lt(kelp_viewer_config(V, "button_three", "L # A B=2", &why), 0);
+    ck_assert_int_eq(kelp_viewer_config(V, "button_three", "ONLYLABEL", &why), 1); /* a label alone: posts nothing */
+    ck_assert_uint_eq(kelp_viewer_press(V, 3, pk, 16), 0);
     ck_assert_int_eq(kelp_viewer_config(V, "button_21", "L # A=2", &why), 0); /* not a key */
     ck_assert_int_eq(kelp_viewer_config(V, "tiff_file", "x.tif", &why), 0);
     snap(0);
-    ck_assert_ptr_nonnull(strstr(J, "{\"i\":0,\"kind\":\"button\",\"slot\":1,\"sep\":0,\"label\":\"GO\",\"pokes\":[\"DEPLOY=true\"]}"));
+    ck_assert_ptr_nonnull(strstr(J, "{\"i\":0,\"kind\":\"button\",\"slot\":1,\"sep\":0,\"label\":\"GO\",\"pokes\":"
+                                    "[\"DEPLOY_ALL=true\",\"MOOS_MANUAL_OVERRIDE_ALL=false\",\"DEPLOY=true\"]}"));
     ck_assert_ptr_nonnull(strstr(J, "\"pokes\":[\"RETURN_ALL=true\",\"SPEED=1.5\",\"NAME=3\"]"));
+    ck_assert_ptr_nonnull(strstr(J, "\"label\":\"X\",\"color\":\"light_green\""));
 }
 END_TEST
 
@@ -253,21 +267,36 @@ START_TEST(test_actions)
     ck_assert_int_eq(kelp_viewer_config(V, "action", "menu_key=deploy # DEPLOY = true # RETURN = false", &why), 1);
     ck_assert_int_eq(kelp_viewer_config(V, "action+", "menu_key=return # RETURN=true", &why), 1);
     ck_assert_int_eq(kelp_viewer_config(V, "action", "STATION_KEEP=true # LOITER=false", &why), 1);
-    ck_assert_uint_eq(V->ncmds, 4);
+    ck_assert_int_eq(kelp_viewer_config(V, "action", "SPEED=2 # menu_key=deploy", &why), 1);
+    ck_assert_uint_eq(V->ncmds, 6); /* one entry per pair */
     const kelp_viewer_cmd *c = kelp_viewer_cmd_get(V, 0);
     ck_assert_int_eq(c->kind, KELP_VIEWER_ACTION);
-    ck_assert_str_eq(c->label, "deploy");
-    ck_assert_uint_eq(c->npokes, 2);
-    ck_assert_str_eq(c->pokes[1].var, "RETURN");
+    ck_assert_str_eq(c->label, "DEPLOY=true");
+    ck_assert_str_eq(c->key, "deploy");
+    ck_assert_str_eq(kelp_viewer_cmd_get(V, 1)->label, "RETURN=false");
     ck_assert(!c->separator);
-    ck_assert(kelp_viewer_cmd_get(V, 1)->separator);
-    /* without a menu_key each pair is an entry of its own */
-    ck_assert_str_eq(kelp_viewer_cmd_get(V, 2)->label, "STATION_KEEP=true");
-    ck_assert_uint_eq(kelp_viewer_cmd_get(V, 2)->npokes, 1);
-    ck_assert_str_eq(kelp_viewer_cmd_get(V, 3)->label, "LOITER=false");
+    ck_assert(kelp_viewer_cmd_get(V, 2)->separator);
+    ck_assert_str_eq(kelp_viewer_cmd_get(V, 3)->label, "STATION_KEEP=true");
+    ck_assert_str_eq(kelp_viewer_cmd_get(V, 3)->key, "");
+    ck_assert_str_eq(kelp_viewer_cmd_get(V, 5)->label, "SPEED=2");
+    /* choosing an entry with a key posts every pair with that key, from every line */
+    const kelp_viewer_poke *pk[16];
+    ck_assert_uint_eq(kelp_viewer_press(V, 1, pk, 16), 3);
+    ck_assert_str_eq(pk[0]->var, "DEPLOY");
+    ck_assert_str_eq(pk[1]->var, "RETURN");
+    ck_assert_str_eq(pk[2]->var, "SPEED");
+    ck_assert(!pk[2]->is_string && pk[2]->dval == 2);
+    ck_assert_uint_eq(kelp_viewer_press(V, 2, pk, 16), 1);
+    ck_assert_str_eq(pk[0]->var, "RETURN");
+    /* without a key, only its own pair */
+    ck_assert_uint_eq(kelp_viewer_press(V, 4, pk, 16), 1);
+    ck_assert_str_eq(pk[0]->var, "LOITER");
+    ck_assert_uint_eq(kelp_viewer_press(V, 1, pk, 2), 2); /* bounded by the caller's room */
     ck_assert_int_lt(kelp_viewer_config(V, "action", "menu_key=x", &why), 0);
     ck_assert_int_lt(kelp_viewer_config(V, "action", "nonsense", &why), 0);
-    ck_assert_uint_eq(V->ncmds, 4);
+    ck_assert_uint_eq(V->ncmds, 6);
+    snap(0);
+    ck_assert_ptr_nonnull(strstr(J, "{\"i\":2,\"kind\":\"action\",\"slot\":0,\"sep\":1,\"label\":\"RETURN=true\",\"key\":\"return\",\"pokes\":[\"RETURN=true\"]}"));
     /* the table is bounded */
     int rc = 1;
     for (int i = 0; i < KELP_VIEWER_MAX_CMDS + 2 && rc > 0; i++) rc = kelp_viewer_config(V, "action", "A=1", &why);

@@ -80,13 +80,14 @@ static void press(kelp_app *app, viewer *s, unsigned i)
         return;
     }
     s->pressed++;
-    for (unsigned k = 0; k < c->npokes; k++) {
-        const kelp_viewer_poke *p = &c->pokes[k];
-        if (p->is_string) (void)kelp_app_notify_string(app, p->var, p->sval);
-        else (void)kelp_app_notify_double(app, p->var, p->dval);
+    const kelp_viewer_poke *pk[KELP_VIEWER_MAX_CMDS * KELP_VIEWER_MAX_POKES];
+    unsigned n = kelp_viewer_press(&s->model, i, pk, sizeof pk / sizeof pk[0]);
+    for (unsigned k = 0; k < n; k++) {
+        if (pk[k]->is_string) (void)kelp_app_notify_string(app, pk[k]->var, pk[k]->sval);
+        else (void)kelp_app_notify_double(app, pk[k]->var, pk[k]->dval);
     }
     kelp_app_event(app, "%s \"%s\" pressed in the page (%u pokes)", c->kind == KELP_VIEWER_BUTTON ? "button" : "action",
-                   c->label, c->npokes);
+                   c->label, n);
 }
 
 static void serve(kelp_app *app, viewer *s, bool force)
@@ -207,7 +208,7 @@ static void shutdown_(kelp_app *app, void *st)
     s->http = NULL;
 }
 
-#define BTN(w, n) { "BUTTON_" w, "LABEL # VAR=value", "a button: label, then pokes separated by #", NULL }, \
+#define BTN(w, n) { "BUTTON_" w, "LABEL # VAR=value", "a button: its label, pokes and color= separated by #", NULL }, \
                   { "BUTTON_" n, "LABEL # VAR=value", "the same as BUTTON_" w, "BUTTON_" w }
 
 static const kelp_app_def def = {
@@ -229,8 +230,8 @@ static const kelp_app_def def = {
         { "STALE_REPORT_THRESH", "5", "seconds without a report before a vehicle is drawn stale (at least 2)", NULL },
         { "STALE_REMOVE_THRESH", "0", "seconds without a report before a vehicle is removed; 0 never", NULL },
         { "TRAILS_LENGTH", "100", "trail points per vehicle (1..256)", NULL },
-        { "ACTION", "menu_key=deploy # DEPLOY=true # RETURN=false", "repeatable: an Action menu entry (menu_key) or one per pair", NULL },
-        { "ACTION+", "RETURN=true", "as ACTION, with a separator after it", NULL },
+        { "ACTION", "menu_key=deploy # DEPLOY=true # RETURN=false", "repeatable: Action menu entries, one per pair; a menu_key posts all its pairs", NULL },
+        { "ACTION+", "RETURN=true", "as ACTION, with separators after its entries", NULL },
         BTN("ONE", "1"), BTN("TWO", "2"), BTN("THREE", "3"), BTN("FOUR", "4"), BTN("FIVE", "5"),
         BTN("SIX", "6"), BTN("SEVEN", "7"), BTN("EIGHT", "8"), BTN("NINE", "9"), BTN("TEN", "10"),
         BTN("ELEVEN", "11"), BTN("TWELVE", "12"), BTN("THIRTEEN", "13"), BTN("FOURTEEN", "14"), BTN("FIFTEEN", "15"),

@@ -16,12 +16,14 @@
  *  - AppCasts: the last APPCAST string of each (node, proc) (MOOS-IvP's AppCasting, see
  *    kelp/appcast.h), for the page's AppCast pane; the oldest makes room when the table is full.
  *  - commands: pMarineViewer's button_one..button_twenty (also button_1..button_20) and
- *    action / action+ lines. A button is "LABEL # VAR=value # VAR=value ..."; an action is
- *    "VAR=value # VAR=value ..." where a "menu_key=KEY" part makes one menu entry KEY that
- *    posts every pair, and without one each pair is an entry of its own; action+ puts a
- *    separator after its entries. A value is a number if the whole of it parses as one,
- *    else a string; a double-quoted value is a string without its quotes ("3" posts "3").
- *    The page names a command only by its index, so it can post nothing else.
+ *    action / action+ lines, with pMarineViewer's rules. A button is "LABEL # VAR=value # ...":
+ *    the part without '=' is its label, color=C its colour, the rest its pokes; another line
+ *    for the same button adds pokes. An action line "VAR=value # VAR=value ..." makes one menu
+ *    entry per pair, labelled "VAR=value"; with a "menu_key=KEY" part the entries share KEY,
+ *    and choosing one posts every pair with that KEY (from any action line); action+ puts a
+ *    separator after its entries. A value is a number if the whole of it parses as one, else
+ *    a string; a double-quoted value is a string without its quotes ("3" posts "3"). The page
+ *    names a command only by its index, so it can post nothing else.
  *
  * JSON (numbers with fixed decimals, strings escaped):
  *   {"seq":N,"now":T,"full":1|0,"cfg":{...},            (cfg only in a snapshot)
@@ -98,6 +100,8 @@ typedef struct kelp_viewer_cmd {
     unsigned slot;            /**< buttons: 1..20 (button_one = 1); actions: 0 */
     bool separator;           /**< actions: a separator follows (action+) */
     char label[KELP_VIEWER_LABEL_LEN];
+    char key[KELP_VIEWER_LABEL_LEN];   /**< actions: menu_key, "" for none */
+    char color[KELP_VIEWER_LABEL_LEN]; /**< buttons: color=, "" for none */
     unsigned npokes;
     kelp_viewer_poke pokes[KELP_VIEWER_MAX_POKES];
 } kelp_viewer_cmd;
@@ -174,6 +178,10 @@ KELP_MUST_CHECK int kelp_viewer_json_vehicle(const kelp_viewer *v, const char *n
 
 /** Command i (0..ncmds-1), or NULL. */
 const kelp_viewer_cmd *kelp_viewer_cmd_get(const kelp_viewer *v, unsigned i);
+
+/** What pressing command i posts, in order, into out[0..max): its pokes, or for an action with
+ *  a menu_key every action poke with that key. @return how many (0 for no such command). */
+unsigned kelp_viewer_press(const kelp_viewer *v, unsigned i, const kelp_viewer_poke **out, unsigned max);
 
 /** Forget every vehicle and artifact (replay seeks); keeps configuration and commands. */
 void kelp_viewer_clear(kelp_viewer *v);

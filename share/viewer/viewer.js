@@ -92,11 +92,13 @@
       if (cmd.kind === 'button') {
         const b = document.createElement('button');
         b.id = 'cmd-' + cmd.i; b.textContent = cmd.label; b.title = cmd.pokes.join('  ');
+        if (cmd.color) b.style.background = colour(cmd.color, '');
         b.addEventListener('click', () => press(cmd.i, cmd.label));
         bar.appendChild(b);
       } else {
         const o = document.createElement('option');
-        o.value = String(cmd.i); o.textContent = cmd.label; o.title = cmd.pokes.join('  ');
+        o.value = String(cmd.i); o.textContent = cmd.label + (cmd.key ? '  <' + cmd.key + '>' : '');
+        o.title = cmd.key ? 'posts every action with menu_key ' + cmd.key : cmd.pokes.join('  ');
         menu.appendChild(o);
         if (cmd.sep) { const s = document.createElement('option'); s.disabled = true; s.textContent = '──────'; menu.appendChild(s); }
       }

@@ -219,92 +219,105 @@ static kelp_viewer_cmd *cmd_new(kelp_viewer *v)
     return c;
 }
 
+/* button_N: a part without '=' is the label (the last one wins), color=C the button's colour,
+ * every other part a poke; a later line for the same button adds its pokes (and relabels it),
+ * as pMarineViewer does */
 static int config_button(kelp_viewer *v, unsigned slot, const char *val, const char **why)
 {
     size_t n = strlen(val), pos = 0, pl;
     const char *p;
-    kelp_viewer_cmd c;
-    memset(&c, 0, sizeof c);
-    c.kind = KELP_VIEWER_BUTTON;
-    c.slot = slot;
-    if (!next_part(val, n, &pos, &p, &pl) || pl == 0 || memchr(p, '=', pl))
-        return (*why = "a button starts with its label: LABEL # VAR=value # ..."), KELP_ERR_PARSE;
-    if (copy_text(c.label, sizeof c.label, p, pl) < 0) return (*why = "label too long"), KELP_ERR_RANGE;
+    kelp_viewer_cmd *c = NULL;
+    for (unsigned i = 0; i < v->ncmds && !c; i++)
+        if (v->cmds[i].kind == KELP_VIEWER_BUTTON && v->cmds[i].slot == slot) c = &v->cmds[i];
+    kelp_viewer_cmd nc = c ? *c : (kelp_viewer_cmd){.kind = KELP_VIEWER_BUTTON, .slot = slot};
     while (next_part(val, n, &pos, &p, &pl)) {
         if (pl == 0) continue;
-        if (c.npokes >= KELP_VIEWER_MAX_POKES) return (*why = "too many pokes"), KELP_ERR_NOSPACE;
-        int rc = kelp_viewer_poke_parse(p, pl, &c.pokes[c.npokes]);
-        if (rc < 0) return (*why = "a poke is VAR=value"), rc;
-        c.npokes++;
-    }
-    if (c.npokes == 0) return (*why = "a button needs at least one VAR=value"), KELP_ERR_PARSE;
-    for (unsigned i = 0; i < v->ncmds; i++) /* a later line for the same button replaces it */
-        if (v->cmds[i].kind == KELP_VIEWER_BUTTON && v->cmds[i].slot == slot) {
-            v->cmds[i] = c;
-            return 1;
+        if (!memchr(p, '=', pl)) {
+            if (copy_text(nc.label, sizeof nc.label, p, pl) < 0) return (*why = "label too long"), KELP_ERR_RANGE;
+            continue;
         }
-    kelp_viewer_cmd *d = cmd_new(v);
-    if (!d) return (*why = "too many buttons and actions"), KELP_ERR_NOSPACE;
-    *d = c;
-    v->ncmds++;
+        kelp_viewer_poke pk;
+        int rc = kelp_viewer_poke_parse(p, pl, &pk);
+        if (rc < 0) return (*why = "a poke is VAR=value"), rc;
+        if (kelp_strieq(pk.var, "color")) {
+            const char *cv = pk.is_string ? pk.sval : "";
+            if (copy_text(nc.color, sizeof nc.color, cv, strlen(cv)) < 0) return (*why = "colour too long"), KELP_ERR_RANGE;
+            continue;
+        }
+        if (nc.npokes >= KELP_VIEWER_MAX_POKES) return (*why = "too many pokes"), KELP_ERR_NOSPACE;
+        nc.pokes[nc.npokes++] = pk;
+    }
+    if (!nc.label[0]) return (*why = "a button needs a label: LABEL # VAR=value # ..."), KELP_ERR_PARSE;
+    if (!c) {
+        c = cmd_new(v);
+        if (!c) return (*why = "too many buttons and actions"), KELP_ERR_NOSPACE;
+        v->ncmds++;
+    }
+    *c = nc;
     return 1;
 }
 
+/* action / action+: every VAR=value pair is a menu entry of its own, labelled "VAR=value"; a
+ * menu_key=KEY part gives them a key, and choosing any entry with a key posts every pair of
+ * every action line with that key (pMarineViewer's rule); action+ puts a separator after each
+ * entry of its line */
 static int config_action(kelp_viewer *v, const char *val, bool separator, const char **why)
 {
     size_t n = strlen(val), pos = 0, pl;
     const char *p;
     kelp_viewer_poke pk;
-    /* a menu_key groups every pair under one entry */
     char key[KELP_VIEWER_LABEL_LEN] = "";
+    unsigned pairs = 0;
     while (next_part(val, n, &pos, &p, &pl)) {
         if (pl == 0) continue;
         int rc = kelp_viewer_poke_parse(p, pl, &pk);
         if (rc < 0) return (*why = "an action is VAR=value # VAR=value ..."), rc;
-        if (kelp_strieq(pk.var, "menu_key")) {
-            const char *kv = pk.is_string ? pk.sval : NULL;
-            char num[32];
-            if (!kv) {
-                (void)kelp_fmt_fixed(num, sizeof num, pk.dval, 6, true);
-                kv = num;
-            }
-            if (copy_text(key, sizeof key, kv, strlen(kv)) < 0 || !key[0])
-                return (*why = "bad menu_key"), KELP_ERR_PARSE;
+        if (!kelp_strieq(pk.var, "menu_key")) {
+            pairs++;
+            continue;
         }
+        char num[32];
+        const char *kv = pk.sval;
+        if (!pk.is_string) {
+            (void)kelp_fmt_fixed(num, sizeof num, pk.dval, 6, true);
+            kv = num;
+        }
+        if (copy_text(key, sizeof key, kv, strlen(kv)) < 0 || !key[0]) return (*why = "bad menu_key"), KELP_ERR_PARSE;
     }
-    unsigned first = v->ncmds;
-    kelp_viewer_cmd *grp = NULL;
+    if (pairs == 0) return (*why = "an action needs at least one VAR=value"), KELP_ERR_PARSE;
+    if (v->ncmds + pairs > KELP_VIEWER_MAX_CMDS) return (*why = "too many buttons and actions"), KELP_ERR_NOSPACE;
     pos = 0;
     while (next_part(val, n, &pos, &p, &pl)) {
-        if (pl == 0) continue;
-        if (kelp_viewer_poke_parse(p, pl, &pk) < 0) return (*why = "bad poke"), KELP_ERR_PARSE;
-        if (kelp_strieq(pk.var, "menu_key")) continue;
-        kelp_viewer_cmd *c = grp;
-        if (!c) {
-            c = cmd_new(v);
-            if (!c) {
-                v->ncmds = first;
-                return (*why = "too many buttons and actions"), KELP_ERR_NOSPACE;
-            }
-            c->kind = KELP_VIEWER_ACTION;
-            if (key[0]) {
-                memcpy(c->label, key, sizeof c->label);
-                grp = c;
-            } else if (copy_text(c->label, sizeof c->label, p, pl) < 0) {
-                v->ncmds = first;
-                return (*why = "action too long"), KELP_ERR_RANGE;
-            }
-            v->ncmds++;
-        }
-        if (c->npokes >= KELP_VIEWER_MAX_POKES) {
-            v->ncmds = first;
-            return (*why = "too many pokes"), KELP_ERR_NOSPACE;
-        }
-        c->pokes[c->npokes++] = pk;
+        if (pl == 0 || kelp_viewer_poke_parse(p, pl, &pk) < 0 || kelp_strieq(pk.var, "menu_key")) continue;
+        kelp_viewer_cmd *c = cmd_new(v);
+        c->kind = KELP_VIEWER_ACTION;
+        c->separator = separator;
+        memcpy(c->key, key, sizeof c->key);
+        char num[40];
+        if (!pk.is_string) (void)kelp_fmt_fixed(num, sizeof num, pk.dval, 9, true);
+        (void)kelp_snprintf(c->label, sizeof c->label, "%s=%s", pk.var, pk.is_string ? pk.sval : num); /* cut if long */
+        c->pokes[0] = pk;
+        c->npokes = 1;
+        v->ncmds++;
     }
-    if (v->ncmds == first) return (*why = "an action needs at least one VAR=value"), KELP_ERR_PARSE;
-    if (separator) v->cmds[v->ncmds - 1].separator = true;
     return 1;
+}
+
+unsigned kelp_viewer_press(const kelp_viewer *v, unsigned i, const kelp_viewer_poke **out, unsigned max)
+{
+    const kelp_viewer_cmd *c = kelp_viewer_cmd_get(v, i);
+    unsigned k = 0;
+    if (!c) return 0;
+    if (c->kind == KELP_VIEWER_BUTTON || !c->key[0]) {
+        for (unsigned j = 0; j < c->npokes && k < max; j++) out[k++] = &c->pokes[j];
+        return k;
+    }
+    for (unsigned m = 0; m < v->ncmds; m++) {
+        const kelp_viewer_cmd *e = &v->cmds[m];
+        if (e->kind != KELP_VIEWER_ACTION || strcmp(e->key, c->key) != 0) continue;
+        for (unsigned j = 0; j < e->npokes && k < max; j++) out[k++] = &e->pokes[j];
+    }
+    return k;
 }
 
 int kelp_viewer_config(kelp_viewer *v, const char *key, const char *val, const char **why)
@@ -621,6 +634,8 @@ static void json_cfg(const kelp_viewer *v, jw *w)
         jw_knum(w, &g, "slot", c->slot, 0);
         jw_knum(w, &g, "sep", c->separator ? 1 : 0, 0);
         jw_kstr(w, &g, "label", c->label);
+        if (c->key[0]) jw_kstr(w, &g, "key", c->key);
+        if (c->color[0]) jw_kstr(w, &g, "color", c->color);
         jw_key(w, &g, "pokes");
         jw_lit(w, "[");
         for (unsigned k = 0; k < c->npokes; k++) {
