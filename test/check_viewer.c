@@ -129,13 +129,22 @@ START_TEST(test_stale_and_remove)
 }
 END_TEST
 
-START_TEST(test_default_stale_is_5s)
+START_TEST(test_default_stale_60s_removed_180s)
 {
-    ck_assert(V->stale_report_thresh == 5.0);
+    ck_assert(V->stale_report_thresh == 60.0 && V->stale_remove_thresh == 180.0);
     ck_assert_uint_eq(V->trails_length, KELP_VIEWER_TRAIL_DEFAULT);
     ck_assert_int_eq(mail("NODE_REPORT", "NAME=a,X=1,Y=1", 0), 1);
-    ck_assert_int_eq(kelp_viewer_tick(V, 4.9), 0);
-    ck_assert_int_eq(kelp_viewer_tick(V, 5.1), 1);
+    ck_assert_int_eq(kelp_viewer_tick(V, 59.9), 0);
+    ck_assert_int_eq(kelp_viewer_tick(V, 60.1), 1);
+    ck_assert(V->veh[0].stale && !V->veh[0].gone);
+    ck_assert_int_eq(kelp_viewer_tick(V, 179.9), 0);
+    ck_assert_int_eq(kelp_viewer_tick(V, 180.1), 1);
+    ck_assert(V->veh[0].gone);
+    /* 0: never removed */
+    ck_assert_int_eq(kelp_viewer_config(V, "stale_remove_thresh", "0", NULL), 1);
+    ck_assert_int_eq(mail("NODE_REPORT", "NAME=b,X=1,Y=1", 200), 1);
+    ck_assert_int_eq(kelp_viewer_tick(V, 1e6), 1);
+    ck_assert(V->veh[1].stale && !V->veh[1].gone);
 }
 END_TEST
 
@@ -412,7 +421,7 @@ Suite *kelp_viewer_suite(void)
     tcase_add_test(tc, test_no_datum_latlon_refused);
     tcase_add_test(tc, test_trail_ring_and_changes);
     tcase_add_test(tc, test_stale_and_remove);
-    tcase_add_test(tc, test_default_stale_is_5s);
+    tcase_add_test(tc, test_default_stale_60s_removed_180s);
     tcase_add_test(tc, test_artifacts_keyed_and_erased);
     tcase_add_test(tc, test_pulses_expire);
     tcase_add_test(tc, test_artifact_table_full_evicts_pulse_first);

@@ -8,8 +8,9 @@
  *
  *  - vehicles: keyed by NAME; X/Y from LAT/LON with the datum when the report has no X/Y
  *    (kelp_nodereport_complete); a bounded trail ring per vehicle (trails_length points, one
- *    per report); stale after stale_report_thresh seconds without a report (pMarineViewer's
- *    parameter, default 5 s, at least 2), removed after stale_remove_thresh (0: never).
+ *    per report); stale after stale_report_thresh seconds without a report, removed after
+ *    stale_remove_thresh (pMarineViewer's parameters and defaults as MOOS-IvP's current
+ *    VPlug_VehiSettings has them: 60 s, at least 2; 180 s; here 0 means never).
  *  - artifacts: keyed by (kind, label); a posting with active=false erases; a pulse
  *    (VIEW_COMMS_PULSE, VIEW_RANGE_PULSE) is dropped `duration` seconds after it arrived.
  *    When the table is full the oldest pulse, else the oldest artifact, makes room.
@@ -53,7 +54,8 @@
 extern "C" {
 #endif
 
-#define KELP_VIEWER_STALE_DEFAULT 5.0   /**< s: pMarineViewer's stale_report_thresh default */
+#define KELP_VIEWER_STALE_DEFAULT 60.0  /**< s: pMarineViewer's stale_report_thresh default (older releases: 5) */
+#define KELP_VIEWER_REMOVE_DEFAULT 180.0 /**< s: pMarineViewer's stale_remove_thresh default */
 #define KELP_VIEWER_STALE_MIN 2.0       /**< s: pMarineViewer clips stale_report_thresh to at least 2 */
 #define KELP_VIEWER_TRAIL_DEFAULT 100u  /**< trail points per vehicle unless trails_length says */
 #define KELP_VIEWER_LABEL_LEN 64        /**< bytes of a command label, with NUL */

@@ -130,6 +130,7 @@ void kelp_viewer_init(kelp_viewer *v)
 {
     memset(v, 0, sizeof *v);
     v->stale_report_thresh = KELP_VIEWER_STALE_DEFAULT;
+    v->stale_remove_thresh = KELP_VIEWER_REMOVE_DEFAULT;
     v->trails_length = KELP_VIEWER_TRAIL_DEFAULT;
 }
 
