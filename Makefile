@@ -46,7 +46,9 @@ CHECK_LIBS := $(shell pkg-config --libs check 2>/dev/null)
 CORE_SRC := $(filter-out src/app/%,$(sort $(wildcard src/*/*.c)))
 # src/plot/edge (cairo rendering) is its own archive, so libkelp does not depend on cairo
 PLOT_SRC := $(sort $(wildcard src/plot/edge/*.c))
-EDGE_SRC := $(filter-out $(PLOT_SRC),$(sort $(wildcard src/*/edge/*.c) $(wildcard src/app/*.c)))
+# src/viewer/edge (libmicrohttpd web server, replay) likewise: libkelp_viewer.a, linked only into kelp-viewer
+VIEWER_SRC := $(sort $(wildcard src/viewer/edge/*.c))
+EDGE_SRC := $(filter-out $(PLOT_SRC) $(VIEWER_SRC),$(sort $(wildcard src/*/edge/*.c) $(wildcard src/app/*.c)))
 LCM_DEFS := $(sort $(wildcard lcmtypes/*.lcm))
 GEN_DIR  := $(BUILD)/gen
 # lcm-gen names the C file <package>_<struct>.c; every type here is in package kelp.
@@ -56,6 +58,7 @@ LCM_H    := $(LCM_C:.c=.h)
 CORE_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(CORE_SRC))
 EDGE_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(EDGE_SRC)) $(patsubst %.c,$(BUILD)/obj/%.o,$(LCM_C))
 PLOT_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(PLOT_SRC))
+VIEWER_OBJ := $(patsubst %.c,$(BUILD)/obj/%.o,$(VIEWER_SRC))
 APPS     := $(notdir $(patsubst %/,%,$(sort $(dir $(wildcard apps/*/*.c)))))
 APP_BINS := $(addprefix $(BUILD)/bin/,$(APPS))
 SCRIPTS  := $(notdir $(wildcard tools/kelp-*))
@@ -69,6 +72,7 @@ BENCHES    := $(patsubst bench/%.c,$(BUILD)/bench/%,$(sort $(wildcard bench/benc
 LIBCORE := $(BUILD)/libkelp_core.a
 LIBEDGE := $(BUILD)/libkelp.a
 LIBPLOT := $(BUILD)/libkelp_plot.a
+LIBVIEWER := $(BUILD)/libkelp_viewer.a
 SOMAJOR := $(firstword $(subst ., ,$(VERSION)))
 SOCORE  := $(BUILD)/libkelp_core.so.$(VERSION)
 SOEDGE  := $(BUILD)/libkelp.so.$(VERSION)
@@ -77,7 +81,7 @@ SOEDGE  := $(BUILD)/libkelp.so.$(VERSION)
         demo demo-xrelay spy-jar clean tests-bin
 .DEFAULT_GOAL := all
 
-all: $(LIBCORE) $(LIBEDGE) $(LIBPLOT) $(SOCORE) $(SOEDGE) $(APP_BINS) scripts
+all: $(LIBCORE) $(LIBEDGE) $(LIBPLOT) $(LIBVIEWER) $(SOCORE) $(SOEDGE) $(APP_BINS) scripts
 
 deps:
 	@scripts/deps.sh build
@@ -112,6 +116,11 @@ $(LIBPLOT): $(PLOT_OBJ)
 	rm -f $@ && $(AR) rcs $@ $^
 $(PLOT_OBJ): CPPFLAGS += $(shell pkg-config --cflags cairo 2>/dev/null)
 
+$(LIBVIEWER): $(VIEWER_OBJ)
+	@mkdir -p $(dir $@)
+	rm -f $@ && $(AR) rcs $@ $^
+$(VIEWER_OBJ): CPPFLAGS += $(shell pkg-config --cflags libmicrohttpd 2>/dev/null)
+
 # shared libraries with sonames (libkelp_core.so.0, libkelp.so.0) and the usual links
 $(SOCORE): $(CORE_OBJ)
 	$(CC) -shared -Wl,-soname,libkelp_core.so.$(SOMAJOR) -Wl,--no-undefined $(LDFLAGS) -o $@ $^ -lm
@@ -124,14 +133,15 @@ $(SOEDGE): $(EDGE_OBJ) $(SOCORE)
 
 # ---------------------------------------------------------------- apps
 define APP_RULE
-$(BUILD)/bin/$(1): $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard apps/$(1)/*.c)) $(LIBPLOT) $(LIBEDGE) $(LIBCORE)
+$(BUILD)/bin/$(1): $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard apps/$(1)/*.c)) $(if $(filter kelp-viewer,$(1)),$(LIBVIEWER)) $(LIBPLOT) $(LIBEDGE) $(LIBCORE)
 	@mkdir -p $$(dir $$@)
-	$$(CC) $$(CFLAGS) -o $$@ $$(filter %.o,$$^) $(LIBPLOT) $(LIBEDGE) $(LIBCORE) $$(EXT_LIBS)
+	$$(CC) $$(CFLAGS) -o $$@ $$(filter %.o,$$^) $(if $(filter kelp-viewer,$(1)),$(LIBVIEWER)) $(LIBPLOT) $(LIBEDGE) $(LIBCORE) $$(EXT_LIBS)
 endef
 $(foreach a,$(APPS),$(eval $(call APP_RULE,$(a))))
 $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard apps/*/*.c)): CPPFLAGS += $(LCM_CFLAGS)
 # per-app libraries (target-specific, so only that program links them; ncurses is in libkelp's terminal helper)
 $(BUILD)/bin/kelp-moos2sql: EXT_LIBS += $(shell pkg-config --libs sqlite3 2>/dev/null || echo -lsqlite3)
+$(BUILD)/bin/kelp-viewer: EXT_LIBS += $(shell pkg-config --libs libmicrohttpd 2>/dev/null || echo -lmicrohttpd)
 
 scripts: $(addprefix $(BUILD)/bin/,$(SCRIPTS))
 $(BUILD)/bin/kelp-%: tools/kelp-% Makefile
@@ -151,10 +161,11 @@ $(BUILD)/test/check_core: test/check_main.c $(CORE_TESTS) $(FAKES) $(BUILD)/gen/
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) -Itest $(CFLAGS) -Wno-missing-prototypes -DKELP_SUITES='"core_suites.h"' -DKELP_RUNNER_NAME='"core"' \
 	  -o $@ test/check_main.c $(CORE_TESTS) $(FAKES) $(LIBCORE) $(CHECK_LIBS) -lm
-$(BUILD)/test/check_edge: test/check_main.c $(EDGE_TESTS) $(FAKES) $(BUILD)/gen/edge_suites.h $(LIBPLOT) $(LIBEDGE) $(LIBCORE)
+# (libkelp_viewer.a: its files.o only, which needs no microhttpd)
+$(BUILD)/test/check_edge: test/check_main.c $(EDGE_TESTS) $(FAKES) $(BUILD)/gen/edge_suites.h $(LIBVIEWER) $(LIBPLOT) $(LIBEDGE) $(LIBCORE)
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(LCM_CFLAGS) -Itest $(CFLAGS) -Wno-missing-prototypes -DKELP_SUITES='"edge_suites.h"' -DKELP_RUNNER_NAME='"edge"' \
-	  -o $@ test/check_main.c $(EDGE_TESTS) $(FAKES) $(LIBPLOT) $(LIBEDGE) $(LIBCORE) $(EXT_LIBS) $(CHECK_LIBS)
+	  -o $@ test/check_main.c $(EDGE_TESTS) $(FAKES) $(LIBVIEWER) $(LIBPLOT) $(LIBEDGE) $(LIBCORE) $(EXT_LIBS) $(CHECK_LIBS)
 
 tests-bin: $(BUILD)/test/check_core $(BUILD)/test/check_edge
 
@@ -187,9 +198,10 @@ cross:
 # (acomms_e2e, poller), basic_ccl and btr_ctd (ccl_and_dccl), encounter (contactmgr,
 # helm_spawn, ufield_fleet), fleet_demo (the same apps in their own tests), commander_console
 # (commander); spy_xvfb, whose subject is lcm-spy (Java) and the kelp-spy script (the
-# mission's apps run under ASan in alder_mission). Override with KELP_ASAN_IT_SKIP.
+# mission's apps run under ASan in alder_mission); viewer_browser (the fleet demo again, with
+# Chromium; kelp-viewer's server runs under ASan in viewer_http). Override with KELP_ASAN_IT_SKIP.
 KELP_ASAN_IT_SKIP ?= can_vm acomms_e2e_loss acomms_e2e_polled basic_ccl btr_ctd encounter fleet_demo commander_console \
-                     spy_xvfb
+                     spy_xvfb viewer_browser
 asan:
 	@$(MAKE) --no-print-directory BUILD=build-asan CC=gcc \
 	  OPT="-O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" \

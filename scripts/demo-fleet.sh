@@ -17,15 +17,20 @@
 # on the host with ttl=0.
 #   usage: scripts/demo-fleet.sh [BUILD_DIR]
 #   env: DEMO_WARP (10), DEMO_TIMEOUT (75 s wall), DEMO_DIR (build/demo-fleet: missions, logs, picture),
-#        DEMO_ACOMMS_LOSS (0: probability that the simulated channel loses a packet / data frame)
+#        DEMO_ACOMMS_LOSS (0: probability that the simulated channel loses a packet / data frame),
+#        DEMO_FLEET (missions/fleet/fleet.conf: the vehicles), DEMO_VIEWER_PORT (8080: kelp-viewer's page),
+#        DEMO_NO_DEPLOY=1 (do not poke DEPLOY: press the page's DEPLOY button instead),
+#        DEMO_NETNS=0 (run on the host, so a browser there can open the page; root only),
+#        KELP_DEMO_HEADLESS=1 (CI: the URL is printed and nothing waits for a browser; the default too)
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 B=$(cd "${1:-$ROOT/build}" && pwd)
 WARP=${DEMO_WARP:-10}
 TIMEOUT=${DEMO_TIMEOUT:-75}
 . "$ROOT/scripts/fleet-lib.sh"
-fleet_private_netns "$0" "$@"
-for p in kelp-launch kelp-poke kelp-bridge kelp-plot kelp-logcheck uSimMarine pNodeReporter pAcommsHandler kelp-modemsim; do
+[ "${DEMO_NETNS:-1}" = 0 ] && export KELP_IN_NETNS=
+[ "${DEMO_NETNS:-1}" = 0 ] || fleet_private_netns "$0" "$@"
+for p in kelp-launch kelp-poke kelp-bridge kelp-plot kelp-viewer kelp-logcheck uSimMarine pNodeReporter pAcommsHandler kelp-modemsim; do
   [ -x "$B/bin/$p" ] || { echo "demo-fleet: $B/bin/$p not built (run make)"; exit 1; }
 done
 [ -x "$B/bin/pHelmIvP" ] || { echo "demo-fleet: pHelmIvP not built (the helm is not in this tree yet)"; exit 1; }
@@ -34,6 +39,8 @@ unset KELP_LCM_URL   # each community's own LCM_URL must win
 W=${DEMO_DIR:-$ROOT/build/demo-fleet}
 rm -rf "$W"; mkdir -p "$W"; cd "$W"
 M=$ROOT/missions/fleet
+FLEET=${DEMO_FLEET:-$M/fleet.conf}
+VIEWER_PORT=${DEMO_VIEWER_PORT:-8080}
 SHORE_LCM=7680 SHORE_BRIDGE=9200
 # the acoustic link: every community runs pAcommsHandler + kelp-modemsim; the simulated modems
 # share the acoustic channel on their own LCM URL. Modem 1 is the shoreside gateway, vehicle i
@@ -50,7 +57,7 @@ while IFS='|' read -r name _; do
   name=$(trim "$name"); [ -z "$name" ] || [ "${name:0:1}" = "#" ] && continue
   n=$((n + 1))
   SLOTS+="    slot { src: $((n + 1)) dest: -1 rate: 0 type: SLOT_DATA slot_seconds: $ACOMMS_SLOT }   // $name"$'\n'
-done < "$M/fleet.conf"
+done < "$FLEET"
 SLOTS=${SLOTS%$'\n'}
 ACOMMS=(ACOMMS_CHAN="$ACOMMS_CHAN" ACOMMS_LOSS="$ACOMMS_LOSS" STATUS_XML="$M/fleet_status.xml" MAC_SLOTS="$SLOTS")
 i=0
@@ -66,23 +73,32 @@ while IFS='|' read -r name lport bport start speed points loiter cw ltime; do
        START_X="$sx" START_Y="$sy" MODEM_ID=$((i + 1)) PTY="$W/tty_$name" "${ACOMMS[@]}" > "$name.moos"
   fill "$M/meta_vehicle.bhv" VNAME="$name" SPEED="$speed" POINTS="${points//:/ : }" LOITER_TIME="$ltime" CLOCKWISE="$cw" \
        LOITER_X="$lx" LOITER_Y="$ly" LOITER_R="$lr" START_X="$sx" START_Y="$sy" > "$name.bhv"
-done < "$M/fleet.conf"
-[ ${#NAMES[@]} -gt 0 ] || { echo "demo-fleet: no vehicles in $M/fleet.conf"; exit 1; }
-fill "$M/meta_shoreside.moos" WARP="$WARP" SHORE_LCM="$SHORE_LCM" SHORE_BRIDGE="$SHORE_BRIDGE" \
+done < "$FLEET"
+[ ${#NAMES[@]} -gt 0 ] || { echo "demo-fleet: no vehicles in $FLEET"; exit 1; }
+fill "$M/meta_shoreside.moos" WARP="$WARP" SHORE_LCM="$SHORE_LCM" SHORE_BRIDGE="$SHORE_BRIDGE" VIEWER_PORT="$VIEWER_PORT" \
      PTY="$W/tty_shoreside" "${ACOMMS[@]}" > shoreside.moos
 
 echo "== kelp fleet demo: shoreside + ${#NAMES[@]} vehicles (${NAMES[*]}), MOOSTimeWarp $WARP, acoustic modems 1 (shoreside) to $(( ${#NAMES[@]} + 1 ))"
 echo "   missions in $W (generated from missions/fleet)"
 # one warped clock for every community and the pokes
 export KELP_WARP_EPOCH=$(date +%s.%N)
+echo "$KELP_WARP_EPOCH" > warp_epoch   # for pokes from outside: KELP_WARP_EPOCH=$(cat warp_epoch) kelp-poke ...
 trap fleet_cleanup EXIT
 fleet_start $((TIMEOUT + 10)) "${NAMES[@]}"
 # the uField handshake: each vehicle's uFldNodeBroker pings the shoreside (TRY_SHORE_HOST),
 # uFldShoreBroker acknowledges and registers the bridges both ways
 fleet_wait_handshake "$SHORE_BRIDGE" "${NAMES[@]}" || { echo "demo-fleet: not every vehicle found the shoreside"; exit 1; }
+where=" (inside the demo's network namespace; DEMO_NETNS=0 serves it on this host)"
+[ -n "${KELP_IN_NETNS:-}" ] || where=""
+echo "== kelp-viewer (pMarineViewer role): http://127.0.0.1:$VIEWER_PORT/$where"
+[ "${KELP_DEMO_HEADLESS:-1}" = 1 ] || echo "   open it in a browser; the demo goes on without waiting"
 sleep 1
-echo "== DEPLOY: kelp-poke shoreside.moos DEPLOY_ALL:=true MOOS_MANUAL_OVERIDE_ALL:=false (QBRIDGEd to every vehicle)"
-"$B/bin/kelp-poke" shoreside.moos DEPLOY_ALL:=true MOOS_MANUAL_OVERIDE_ALL:=false > poke_deploy.out
+if [ "${DEMO_NO_DEPLOY:-0}" = 1 ]; then
+  echo "== DEPLOY: waiting for the page's DEPLOY button (DEMO_NO_DEPLOY=1)"
+else
+  echo "== DEPLOY: kelp-poke shoreside.moos DEPLOY_ALL:=true MOOS_MANUAL_OVERIDE_ALL:=false (QBRIDGEd to every vehicle)"
+  "$B/bin/kelp-poke" shoreside.moos DEPLOY_ALL:=true MOOS_MANUAL_OVERIDE_ALL:=false > poke_deploy.out
+fi
 t0=$(date +%s)
 done_all=0
 while :; do

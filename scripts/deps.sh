@@ -4,12 +4,13 @@
 set -euo pipefail
 what=${1:-build}
 BUILD_PKGS="build-essential pkg-config liblcm-dev liblcm-bin liblcm-java libglib2.0-dev libserialport-dev
- check libexpat1-dev libmbedtls-dev libncurses-dev libcairo2-dev libsqlite3-dev socat iproute2 procps"
+ check libexpat1-dev libmbedtls-dev libncurses-dev libcairo2-dev libsqlite3-dev libmicrohttpd-dev socat iproute2 procps"
 # lcm-spy (kelp-spy, test spy_xvfb): a JDK (make spy-jar compiles kelp_types.jar), the full JRE
 # (lcm-spy is a Swing program: the headless one lacks AWT's X11 library) and jchart2d (the detail
 # view's plots); the test runs it under Xvfb, drives it with xdotool, screenshots with ImageMagick
 SPY_PKGS="default-jdk-headless default-jre libjchart2d-java xvfb xauth imagemagick xdotool"
-TEST_PKGS="$BUILD_PKGS $SPY_PKGS bc valgrind python3 tmux qemu-system-x86 busybox-static cpio sqlite3 libxml2-utils"
+TEST_PKGS="$BUILD_PKGS $SPY_PKGS bc valgrind python3 tmux qemu-system-x86 busybox-static cpio sqlite3 libxml2-utils
+ chromium chromium-driver python3-selenium"
 CI_PKGS="$TEST_PKGS clang libclang-rt-14-dev cppcheck clang-tidy
  gcc-arm-none-eabi libnewlib-arm-none-eabi gcc-aarch64-linux-gnu libc6-dev-arm64-cross
  gcc-arm-linux-gnueabihf libc6-dev-armhf-cross qemu-user"

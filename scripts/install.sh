@@ -8,8 +8,10 @@ B=${1:-build}
 P=${PREFIX:-/usr/local}; D=${DESTDIR:-}
 V=${VERSION:-0.1.0}; M=${V%%.*}
 L="$D$P/lib"
-install -d "$L/pkgconfig" "$D$P/include/kelp/edge" "$D$P/bin" "$D$P/share/kelp/lcmtypes" "$D$P/share/java"
-install -m 644 "$B/libkelp_core.a" "$B/libkelp.a" "$B/libkelp_plot.a" "$L/"
+install -d "$L/pkgconfig" "$D$P/include/kelp/edge" "$D$P/bin" "$D$P/share/kelp/lcmtypes" "$D$P/share/java" "$D$P/share/kelp/viewer"
+install -m 644 "$B/libkelp_core.a" "$B/libkelp.a" "$B/libkelp_plot.a" "$B/libkelp_viewer.a" "$L/"
+# kelp-viewer's page (found as <bin>/../share/kelp/viewer)
+install -m 644 share/viewer/index.html share/viewer/viewer.js share/viewer/viewer.css "$D$P/share/kelp/viewer/"
 for lib in libkelp_core libkelp; do
   install -m 755 "$B/$lib.so.$V" "$L/"
   ln -sf "$lib.so.$V" "$L/$lib.so.$M"

@@ -244,6 +244,30 @@ KELP_STATIC_ASSERT(KELP_NODEREPORT_MAX_FIELD >= 16, "KELP_NODEREPORT_MAX_FIELD t
 KELP_STATIC_ASSERT(KELP_NODEREPORT_MAX_LEN >= 256, "KELP_NODEREPORT_MAX_LEN too small for a full report");
 KELP_STATIC_ASSERT(KELP_VIEW_MAX_PTS >= 4, "KELP_VIEW_MAX_PTS too small");
 KELP_STATIC_ASSERT(KELP_VIEW_MAX_FIELD >= 16, "KELP_VIEW_MAX_FIELD too small");
+/* ---- viewer (kelp-viewer, the pMarineViewer role: include/kelp/viewer.h) ---- */
+#ifndef KELP_VIEWER_MAX_VEHICLES
+#define KELP_VIEWER_MAX_VEHICLES 512    /**< vehicles one viewer tracks (the bench runs 500) */
+#endif
+#ifndef KELP_VIEWER_MAX_TRAIL
+#define KELP_VIEWER_MAX_TRAIL 256       /**< trail points kept per vehicle (trails_length is clipped to it) */
+#endif
+#ifndef KELP_VIEWER_MAX_ARTIFACTS
+#define KELP_VIEWER_MAX_ARTIFACTS 256   /**< VIEW_* artifacts held at once, keyed by (kind, label) */
+#endif
+#ifndef KELP_VIEWER_MAX_CMDS
+#define KELP_VIEWER_MAX_CMDS 48         /**< buttons (button_one..button_twenty) plus action menu entries */
+#endif
+#ifndef KELP_VIEWER_MAX_POKES
+#define KELP_VIEWER_MAX_POKES 8         /**< var=value pokes of one button or action */
+#endif
+#ifndef KELP_VIEWER_MAX_POKE_VAL
+#define KELP_VIEWER_MAX_POKE_VAL 160    /**< bytes of one poke's string value, with NUL */
+#endif
+#ifndef KELP_VIEWER_MAX_CASTS
+#define KELP_VIEWER_MAX_CASTS 64        /**< AppCasts (APPCAST strings) held at once, keyed by (node, proc) */
+#endif
+KELP_STATIC_ASSERT(KELP_VIEWER_MAX_VEHICLES >= 1 && KELP_VIEWER_MAX_TRAIL >= 2, "viewer tables too small");
+KELP_STATIC_ASSERT(KELP_VIEWER_MAX_ARTIFACTS >= 8 && KELP_VIEWER_MAX_CMDS >= 20, "viewer tables too small");
 
 /* ---- modemsim (WHOI Micro-Modem simulator: modem-side protocol, acoustic channel) ---- */
 #ifndef KELP_MAX_MSIM_ARRIVALS
