@@ -364,6 +364,22 @@ static size_t dbl_to_str(double d, int p, char *out, size_t cap)
     return dccl_fmt_g(d, p, out, cap);
 }
 
+void dccl_val_set_double_str(kelp_dccl_val *v, double d, int p)
+{
+    size_t n = dbl_to_str(d, p, v->s, sizeof v->s);
+#if KELP_DCCL_LIBC_NUM
+    if (n > DCCL_NUMBUF - 1) n = DCCL_NUMBUF - 1; /* what a DCCL_NUMBUF buffer kept */
+#endif
+    v->kind = KELP_DCCL_V_STRING;
+    v->precision = KELP_DCCL_MAX_DBL_PRECISION;
+    v->d = 0;
+    v->l = 0;
+    v->b = false;
+    v->len = (uint16_t)(n > KELP_DCCL_MAX_STRLEN ? KELP_DCCL_MAX_STRLEN : n);
+    v->cut = v->len < n;
+    v->s[v->len] = '\0';
+}
+
 bool kelp_dccl_val_to_str(const kelp_dccl_val *v, char *out, size_t cap, size_t *len)
 {
     size_t n;
