@@ -97,10 +97,12 @@ int kelp_cmdr_send(const kelp_cmdr *c, unsigned msg, double now, kelp_cmdr_pub *
     if (trig && def->trigger_mandatory && def->trigger_mandatory[0]) {
         kelp_cmdr_pub *p = &out[*n - 1];
         if (!strstr(p->val, def->trigger_mandatory)) {
-            char tmp[KELP_CMDR_PUBLEN];
-            int k = kelp_snprintf(tmp, sizeof tmp, "%s%s%s", def->trigger_mandatory, p->val[0] ? "," : "", p->val);
-            if (k < 0 || (size_t)k >= sizeof tmp) return KELP_ERR_NOSPACE;
-            memcpy(p->val, tmp, (size_t)k + 1);
+            /* "<mandatory>,<val>" built in place */
+            size_t ml = strlen(def->trigger_mandatory), vl = strlen(p->val), sep = vl ? 1u : 0u;
+            if (ml + sep + vl >= sizeof p->val) return KELP_ERR_NOSPACE;
+            memmove(p->val + ml + sep, p->val, vl + 1);
+            memcpy(p->val, def->trigger_mandatory, ml);
+            if (sep) p->val[ml] = ',';
         }
     }
     return KELP_OK;
