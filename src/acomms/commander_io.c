@@ -147,13 +147,13 @@ int kelp_cmdr_load(kelp_cmdr *c, const char *text, unsigned *line, const char **
     while (*p) {
         const char *e = strchr(p, '\n');
         size_t n = e ? (size_t)(e - p) : strlen(p);
-        char buf[KELP_CMDR_VAL + 2 * KELP_DCCL_MAX_NAME];
+        char *buf = c->line;
         const char *k, *v;
         size_t kl, vl, pos = 0, s = 0;
         (*line)++;
         while (s < n && (p[s] == ' ' || p[s] == '\t' || p[s] == '\r')) s++;
         if (s == n || p[s] == '#') goto next;
-        if (n >= sizeof buf) {
+        if (n >= sizeof c->line) {
             *why = "line too long";
             return KELP_ERR_RANGE;
         }
