@@ -21,6 +21,12 @@ static bool find_xy(const kelp_cmdr_msg *m, char axis, const char *pair, size_t 
     return false;
 }
 
+static bool is_special(const char *v)
+{
+    return strcmp(v, "_time") == 0 || (v[0] == 'x' && strncmp(v, "x(lon)", 6) == 0) ||
+           (v[0] == 'y' && strncmp(v, "y(lat)", 6) == 0);
+}
+
 /* the value to send for a row, specials replaced */
 static int resolve(const kelp_cmdr *c, const kelp_cmdr_msg *m, const char *v, double now, char *out, size_t cap,
                    const char **why)
@@ -85,11 +91,17 @@ int kelp_cmdr_send(const kelp_cmdr *c, unsigned msg, double now, kelp_cmdr_pub *
         for (unsigned r = 0; r < m->n_rows; r++) {
             const kelp_dccl_field *f = kelp_cmdr_row_field(m, r);
             const char *var = f->src_var ? f->src_var : def->trigger_var;
-            char v[KELP_CMDR_VAL];
+            /* a special (_time, x(lon)N:, y(lat)N:) becomes a number: a UNIX time or a
+             * latitude/longitude with 7 decimals fits in num; any other value is sent as it is */
+            char num[64] = "";
+            const char *v = m->val[r];
             if (f->type == KELP_DCCL_T_STATIC || !m->val[r][0] || !var) continue;
             if ((pass == 0) == (trig && strcmp(var, trig) == 0)) continue;
-            int rc = resolve(c, m, m->val[r], now, v, sizeof v, why);
-            if (rc < 0) return rc;
+            if (is_special(m->val[r])) {
+                int rc = resolve(c, m, m->val[r], now, num, sizeof num, why);
+                if (rc < 0) return rc;
+                v = num;
+            }
             int i = pub_of(out, cap, n, var);
             if (i < 0 || append(&out[i], f->src_key ? f->src_key : f->name, v) < 0) return KELP_ERR_NOSPACE;
         }
