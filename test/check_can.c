@@ -3,6 +3,7 @@
  * routes with renaming. */
 #include <check.h>
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 #include <kelp/bridge.h>
 #include <kelp/can.h>
@@ -448,6 +449,42 @@ START_TEST(t_parse_rename)
     ck_assert_int_eq(kelp_bridge_parse_rename("A - X", r, 16, &n, &why), KELP_ERR_PARSE);
     ck_assert_int_eq(kelp_bridge_parse_rename("A -> X junk", r, 16, &n, &why), KELP_ERR_PARSE);
     ck_assert_int_eq(kelp_bridge_parse_rename("", r, 16, &n, &why), KELP_ERR_PARSE);
+    /* the line is checked before the routes are written: too few routes leaves them alone */
+    memset(r, 0x5a, sizeof r);
+    ck_assert_int_eq(kelp_bridge_parse_rename("[A, B, C] -> [X, Y, Z]", r, 2, &n, &why), KELP_ERR_NOSPACE);
+    ck_assert_uint_eq((unsigned char)r[0].src[0], 0x5a);
+    ck_assert_int_eq(kelp_bridge_parse_rename("[A, B, C] -> [X, Y, Z]", r, 3, &n, &why), 0);
+    ck_assert_uint_eq(n, 3);
+    ck_assert_str_eq(r[2].src, "C");
+    ck_assert_str_eq(r[2].alias, "Z");
+    ck_assert_uint_eq((unsigned char)r[3].src[0], 0x5a);
+    /* a route table that fills up; names read straight into it */
+    static kelp_canbridge cb;
+    ck_assert_int_eq(kelp_canbridge_init(&cb, 3, false, 1.0), 0);
+    char line[64 * 17];
+    size_t at = 0;
+    line[at++] = '[';
+    for (int i = 0; i < 16; i++) at += (size_t)snprintf(line + at, sizeof line - at, "%sV%d", i ? "," : "", i);
+    line[at++] = ']';
+    line[at] = 0;
+    size_t added = 0;
+    while (added + 16 <= KELP_CANBRIDGE_MAX_ROUTES) {
+        ck_assert_int_eq(kelp_canbridge_add(&cb, true, line, &why), 0);
+        added += 16;
+    }
+    ck_assert_uint_eq(cb.nto, added);
+    while (cb.nto < KELP_CANBRIDGE_MAX_ROUTES) ck_assert_int_eq(kelp_canbridge_add(&cb, true, "S", &why), 0);
+    ck_assert_int_eq(kelp_canbridge_add(&cb, true, "S", &why), KELP_ERR_NOSPACE);
+    ck_assert_str_eq(why, "too many routes");
+    ck_assert_int_eq(kelp_canbridge_add(&cb, true, "[NAV_*, B] -> [X, Y]", &why), KELP_ERR_PARSE);
+    ck_assert_str_eq(why, "a glob cannot be renamed");
+    ck_assert_int_eq(kelp_canbridge_init(&cb, 3, false, 1.0), 0);
+    ck_assert_int_eq(kelp_canbridge_add(&cb, false, "[OK, B] -> [SHORT, LONGER_NAME]", &why), 0);
+    ck_assert_uint_eq(cb.nfrom, 2);
+    ck_assert_str_eq(cb.from_src[1], "B");
+    ck_assert_str_eq(cb.from_alias[1], "LONGER_NAME");
+    ck_assert_int_eq(kelp_canbridge_add(&cb, false, "PLAIN", &why), 0);
+    ck_assert_str_eq(cb.from_alias[2], "");
 }
 END_TEST
 

@@ -907,6 +907,91 @@ END_TEST
 
 /* A <repeat> message publishes once per index: each publication takes the element at
  * that index, a single-valued (header) field repeats in every one. */
+/* A stateful algorithm: appends how many times it has run ("#1", "#2", ...). */
+static void counter(kelp_dccl_val *v, const kelp_dccl_val *const *r, size_t nr, void *u)
+{
+    unsigned *calls = u;
+    char t[32];
+    (void)r; (void)nr;
+    ++*calls;
+    t[0] = '#';
+    t[1] = (char)('0' + (int)(*calls % 10u));
+    t[2] = '\0';
+    kelp_dccl_val_set_str(v, t);
+}
+
+/* The codec's workspace replaced the stack buffers: the message is built in the caller's
+ * buffer (only cap bytes of it), arguments with algorithms run once each and in order however
+ * often the format uses them, and the argument limits fail cleanly. */
+START_TEST(workspace_in_caller_buffers)
+{
+    kelp_dccl_alg_entry store[1];
+    kelp_dccl_algs algs;
+    unsigned calls = 0;
+    static const kelp_dccl_algcall cnt = {"count", 0, {0}};
+    kelp_dccl_val v[32], out[32];
+    kelp_dccl_codec cx;
+    kelp_dccl_pub p[4];
+    uint8_t full[64], tight[21];
+    size_t n, n2, np, i;
+    build_goto();
+    kelp_dccl_codec_init(&cx, 1, NULL, NULL);
+    clear_all(v, 32);
+    set(&goto_def, v, "goto_x", "351");
+    set(&goto_def, v, "goto_y", "294"); /* goto_speed (last) unset: trailing zero bytes */
+    memset(full, 0xaa, sizeof full);
+    ck_assert_int_eq(kelp_dccl_encode(&cx, &goto_def, v, 32, NOON, full, sizeof full, &n), 0);
+    ck_assert_uint_lt(n, kelp_dccl_max_len(&goto_def));
+    /* exactly the stripped length is enough, though the unstripped message is longer */
+    memset(tight, 0x55, sizeof tight);
+    ck_assert_int_eq(kelp_dccl_encode(&cx, &goto_def, v, 32, NOON, tight, n, &n2), 0);
+    ck_assert_uint_eq(n2, n);
+    ck_assert_int_eq(memcmp(tight, full, n), 0);
+    ck_assert_uint_eq(tight[n], 0x55); /* nothing past cap */
+    ck_assert_int_eq(kelp_dccl_encode(&cx, &goto_def, v, 32, NOON, tight, n - 1, &n2), KELP_ERR_NOSPACE);
+    ck_assert_uint_eq(n2, n);
+    ck_assert_int_eq(kelp_dccl_decode(&cx, &goto_def, full, n, NOON, out, 32), 0);
+
+    /* publish: %2% (algorithm) used twice, %3% (algorithm) once, %1% plain */
+    kelp_dccl_algs_init(&algs, store, 1);
+    ck_assert_int_eq(kelp_dccl_algs_add(&algs, "count", counter, &calls), 0);
+    kelp_dccl_codec_init(&cx, 1, NULL, &algs);
+    {
+        const kelp_dccl_pubarg args[] = {{9, NULL, 0}, {10, &cnt, 1}, {9, &cnt, 1}};
+        const kelp_dccl_publish pub = {.var = "P", .format = "%2%,%1%,%2%,%3%,%2%", .args = args, .n_args = 3};
+        goto_def.publishes = &pub;
+        goto_def.n_publishes = 1;
+        ck_assert_int_eq(kelp_dccl_publish_all(&cx, &goto_def, out, 32, p, 4, &np), 0);
+        ck_assert_uint_eq(np, 1);
+        ck_assert_str_eq(p[0].s, "#1,351,#1,#2,#1");
+        ck_assert_uint_eq(calls, 2);
+        ck_assert(!p[0].is_double);
+        /* no room for the publication: the algorithms still ran (as before), NOSPACE */
+        ck_assert_int_eq(kelp_dccl_publish_all(&cx, &goto_def, out, 32, p, 0, &np), KELP_ERR_NOSPACE);
+        ck_assert_uint_eq(calls, 4);
+    }
+    {
+        /* no room and a bad format: the format error wins, as it did */
+        const kelp_dccl_pubarg args[] = {{9, NULL, 0}};
+        const kelp_dccl_publish pub = {.var = "P", .format = "%1%,%2%", .args = args, .n_args = 1};
+        goto_def.publishes = &pub;
+        ck_assert_int_eq(kelp_dccl_publish_all(&cx, &goto_def, out, 32, p, 0, &np), KELP_ERR_PARSE);
+        ck_assert_int_eq(kelp_dccl_publish_all(&cx, &goto_def, out, 32, p, 4, &np), KELP_ERR_PARSE);
+    }
+    {
+        /* more arguments than KELP_DCCL_MAX_PUB_ARGS */
+        static kelp_dccl_pubarg many[KELP_DCCL_MAX_PUB_ARGS + 1];
+        const kelp_dccl_publish pub = {.var = "P", .format = "%1%", .args = many, .n_args = KELP_DCCL_MAX_PUB_ARGS + 1};
+        for (i = 0; i < KELP_DCCL_MAX_PUB_ARGS + 1; i++) many[i] = (kelp_dccl_pubarg){9, NULL, 0};
+        goto_def.publishes = &pub;
+        ck_assert_int_eq(kelp_dccl_publish_all(&cx, &goto_def, out, 32, p, 4, &np), KELP_ERR_NOSPACE);
+        ck_assert_ptr_nonnull(cx.errmsg);
+    }
+    goto_def.publishes = NULL;
+    goto_def.n_publishes = 0;
+}
+END_TEST
+
 START_TEST(repeat_publish_per_index)
 {
     static kelp_dccl_field f[10];
@@ -982,6 +1067,7 @@ Suite *kelp_dccl_suite(void)
     tcase_add_test(tc, wide_int_wire_and_rounding);
     tcase_add_test(tc, wide_float_and_delta);
     tcase_add_test(tc, repeat_publish_per_index);
+    tcase_add_test(tc, workspace_in_caller_buffers);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -240,7 +240,12 @@ typedef struct kelp_acomms_node {
     kelp_acomms_node_ops ops;
     void *user;
     int64_t now_us;               /**< time of the call in progress (for callbacks) */
-    kelp_acomms_msg scratch;
+    kelp_acomms_msg scratch;      /**< driver callbacks: the frame asked for / received */
+    union {
+        kelp_acomms_msg frames[KELP_MAX_MM_FRAMES]; /**< DRIVER_NONE transmission: the packet's frames */
+        kelp_mac_slot slots[KELP_MAX_MAC_SLOTS];     /**< kelp_acomms_node_start: the cycle kept */
+    } work;                       /**< scratch of one call (never held across an event callback
+                                       that could start another transmission or a start) */
     kelp_acomms_node_counters count;
     const char *errmsg;
 } kelp_acomms_node;
@@ -546,6 +551,10 @@ typedef struct kelp_acomms_handler {
     char text[KELP_ACOMMS_MAX_PRINT];
     char decoded_text[1024];
     char line[512];
+    union {
+        kelp_acomms_msg msg;                 /**< a message being sent or decoded (mail, tick) */
+        kelp_acomms_mac_update mac_update;   /**< ACOMMS_MAC_CYCLE_UPDATE being applied */
+    } work; /**< scratch of one mail or tick (the sink must not call back into the handler) */
 } kelp_acomms_handler;
 
 /** A DCCL message encoded into m->data (len bytes) made ready for its queue: src, dest (from

@@ -190,6 +190,7 @@ typedef struct kelp_bus {
     bool bridge;
     kelp_bus_sync_peer peers[KELP_BUS_SYNC_PEERS];
     double all_tokens, all_last;
+    kelp_sync_req sync_rx; /* scratch: the sync request being answered */
 } kelp_bus;
 
 /** @param app this client's MOOS name (source of its writes); @param reply_channel a channel

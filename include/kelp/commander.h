@@ -48,6 +48,7 @@ typedef struct kelp_cmdr {
     kelp_cmdr_msg open[KELP_CMDR_MAX_OPEN];
     unsigned n_open;
     int active;               /**< open message edited last, or -1 */
+    char line[KELP_CMDR_VAL + 2 * KELP_DCCL_MAX_NAME]; /**< scratch: the line kelp_cmdr_load reads */
 } kelp_cmdr;
 
 /** One publication of a send. */

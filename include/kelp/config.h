@@ -141,8 +141,18 @@ KELP_STATIC_ASSERT(KELP_MAX_MM_FRAMES >= 8 && KELP_MAX_MM_FRAMES <= 32, "KELP_MA
 #ifndef KELP_DCCL_MAX_PUBLEN
 #define KELP_DCCL_MAX_PUBLEN 1024   /**< bytes of one published string value, with NUL */
 #endif
+#ifndef KELP_DCCL_MAX_PUB_ARGS
+#define KELP_DCCL_MAX_PUB_ARGS 64   /**< argument strings of one <publish> (message_var x elements) */
+#endif
+#ifndef KELP_DCCL_PUB_ALG_WORK
+#define KELP_DCCL_PUB_ALG_WORK 1024 /**< bytes (codec workspace) for the strings of the <publish>
+                                         arguments that run algorithms, one publication at a time */
+#endif
 KELP_STATIC_ASSERT(KELP_DCCL_MAX_STRLEN >= 32 && KELP_DCCL_MAX_STRLEN <= 65535, "KELP_DCCL_MAX_STRLEN out of range");
 KELP_STATIC_ASSERT(KELP_DCCL_MAX_SIZE > 6 && KELP_DCCL_MAX_SIZE <= 8192, "KELP_DCCL_MAX_SIZE out of range");
+KELP_STATIC_ASSERT(KELP_DCCL_MAX_PUB_ARGS >= 1 && KELP_DCCL_MAX_PUB_ARGS <= 1024, "KELP_DCCL_MAX_PUB_ARGS out of range");
+KELP_STATIC_ASSERT(KELP_DCCL_PUB_ALG_WORK >= KELP_DCCL_MAX_STRLEN + 1 && KELP_DCCL_PUB_ALG_WORK <= 65535,
+                   "KELP_DCCL_PUB_ALG_WORK must hold one string value");
 KELP_STATIC_ASSERT(KELP_DCCL_MAX_ALG_REFS >= 2, "KELP_DCCL_MAX_ALG_REFS too small (TSD_to_soundspeed needs 2)");
 
 /* ---- helm (IvP helm, behaviour framework, behaviours) ---- */

@@ -284,13 +284,36 @@ typedef struct kelp_dccl_crypto {
 } kelp_dccl_crypto;
 
 /* ------------------------------------------------------------------ codec */
+/** Workspace of a codec (private): the large temporaries of encode, decode and publish live
+ *  here, not on the stack (firmware stacks are small). One call uses it at a time; nothing
+ *  in it outlives a call. Sized by KELP_DCCL_MAX_STRLEN, _MAX_ALG_REFS, _MAX_SIZE,
+ *  _MAX_PUB_ARGS and _PUB_ALG_WORK. */
+typedef union kelp_dccl_work {
+    struct {
+        kelp_dccl_val ref[KELP_DCCL_MAX_ALG_REFS]; /**< referenced values handed to an algorithm */
+        kelp_dccl_val key, elem;                   /**< element 0 (array key) and element k; header */
+        char str[KELP_DCCL_MAX_STRLEN + 1];        /**< string form of a non-string value */
+    } enc;
+    struct {
+        uint8_t body[KELP_DCCL_MAX_SIZE];          /**< the (decrypted) body */
+    } dec;
+    struct {
+        kelp_dccl_val val;                         /**< argument being run through algorithms; typed value */
+        char arg[KELP_DCCL_MAX_STRLEN + 1];        /**< string of an argument without algorithms */
+        uint16_t off[KELP_DCCL_MAX_PUB_ARGS];      /**< offset in alg of an argument with algorithms */
+        char alg[KELP_DCCL_PUB_ALG_WORK];          /**< strings of the arguments with algorithms */
+    } pub;
+} kelp_dccl_work;
+
 /** Codec context: modem id, crypto (NULL = plaintext, i.e. NOT Goby-compatible
- *  on the wire), algorithm registry (NULL = algorithms are no-ops). */
+ *  on the wire), algorithm registry (NULL = algorithms are no-ops), and the workspace of
+ *  the calls (a few KB: place a codec statically or in the caller's state on firmware). */
 typedef struct kelp_dccl_codec {
     unsigned modem_id;
     const kelp_dccl_crypto *crypto;
     const kelp_dccl_algs *algs;
     const char *errmsg; /**< first error of the last call, or NULL */
+    kelp_dccl_work work; /**< private */
 } kelp_dccl_codec;
 
 void kelp_dccl_codec_init(kelp_dccl_codec *cx, unsigned modem_id, const kelp_dccl_crypto *crypto,
@@ -300,7 +323,9 @@ void kelp_dccl_codec_init(kelp_dccl_codec *cx, unsigned modem_id, const kelp_dcc
  * @param in   n_in >= def->n_slots values (header defaults apply to EMPTY header slots;
  *             the caller's values are not modified)
  * @param now  UNIX seconds used when _time is not given
- * @param out  NULL to measure only; else cap >= kelp_dccl_max_len(def) is always enough
+ * @param out  NULL to measure only; else cap >= kelp_dccl_max_len(def) is always enough.
+ *             The message is built in out itself (bytes past cap are only measured); on an
+ *             error return out[0..cap) holds no meaningful bytes.
  * @return 0, KELP_ERR_NOSPACE, KELP_ERR_PARSE (hex field of the wrong length),
  *         KELP_ERR_CRYPTO. cx->errmsg says why. */
 KELP_MUST_CHECK int kelp_dccl_encode(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, const kelp_dccl_val *in,
@@ -343,7 +368,12 @@ typedef struct kelp_dccl_pub {
 
 /** Fill every <publish> of def (times repeat) from decoded values.
  * @param vals as written by kelp_dccl_decode (not modified)
- * @return 0, KELP_ERR_NOSPACE (more publications than cap), KELP_ERR_PARSE (bad format). */
+ * Each value is formatted straight into out[i].s. The argument strings of arguments that run
+ * algorithms are kept in the codec's workspace (KELP_DCCL_PUB_ALG_WORK bytes a publication);
+ * the others are formatted when the format string reaches them.
+ * @return 0, KELP_ERR_NOSPACE (more publications than cap, more than KELP_DCCL_MAX_PUB_ARGS
+ *         arguments, or algorithm results longer than KELP_DCCL_PUB_ALG_WORK),
+ *         KELP_ERR_PARSE (bad format). */
 KELP_MUST_CHECK int kelp_dccl_publish_all(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, const kelp_dccl_val *vals,
                                           size_t n_vals, kelp_dccl_pub *out, size_t cap, size_t *n_out);
 

@@ -131,6 +131,9 @@ typedef struct kelp_mmdriver {
     void *user;
     kelp_nmea_reader rd;
     kelp_nmea_sentence s;               /**< scratch for the sentence being processed */
+    char raw[KELP_MAX_NMEA_LINE + 4];   /**< scratch: the sentence re-rendered (event raw text) */
+    uint8_t rxdata[KELP_MAX_ACOMMS_FRAME]; /**< scratch: a $CARXD frame's bytes */
+    char wbuf[12 + KELP_MAX_NMEA_LINE + 3]; /**< scratch: prefix + command + CRLF being written */
     kelp_mmdriver_cmd outq[KELP_MAX_MM_OUTQ]; /**< commands waiting (ring) */
     size_t out_head, out_n;
     bool waiting;                       /**< the front command was written, no reply yet */

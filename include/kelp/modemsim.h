@@ -267,6 +267,12 @@ typedef struct kelp_modemsim {
     kelp_modemsim_arrival arr[KELP_MAX_MSIM_ARRIVALS];
     kelp_modemsim_counters count;
     kelp_modemsim_pkt scratch;      /**< packet being built */
+    /* scratch of one call (large for a firmware stack); callbacks must not feed or tick this
+     * modem again while they run (as for m->s and the line reader) */
+    kelp_modemsim_txslot txwork;    /**< the transmission being started (out of txq) */
+    char line[KELP_MAX_NMEA_LINE + 1]; /**< the host line being handled, NUL-terminated */
+    char rxd[KELP_MAX_NMEA_LINE + 4];  /**< a $CARXD being written */
+    kelp_modemsim_frame txd;        /**< the frame of a $CCTXD being handled */
     const char *errmsg;
 } kelp_modemsim;
 

@@ -101,6 +101,8 @@ typedef struct kelp_nmea_writer {
 void kelp_nmea_writer_init(kelp_nmea_writer *w, char *buf, size_t cap, const char *head);
 void kelp_nmea_writer_str(kelp_nmea_writer *w, const char *field);
 void kelp_nmea_writer_long(kelp_nmea_writer *w, long v);
+/** A field of the bytes in lower-case hex (two digits a byte), as $CCTXD carries a frame. */
+void kelp_nmea_writer_hex(kelp_nmea_writer *w, const uint8_t *data, size_t n);
 /** Append "*HH" and NUL-terminate.  @return 0 or the first error; *len = sentence length. */
 KELP_MUST_CHECK int kelp_nmea_writer_finish(kelp_nmea_writer *w, size_t *len);
 

@@ -155,6 +155,12 @@ typedef struct kelp_queue_mgr {
     void *user;
     kelp_queue_counters count;
     const char *errmsg;     /**< first error, NULL if none */
+    /* scratch (not on the stack, which is small on firmware); all three can be in use at once:
+     * a data request stitches `next` while an ON_DEMAND queue fills `fresh`, whose loopback
+     * push receives it through `rx` */
+    kelp_acomms_msg next;   /**< stitch: the message being packed into the frame */
+    kelp_acomms_msg fresh;  /**< ON_DEMAND: the message asked of the application */
+    kelp_acomms_msg rx;     /**< receive: the piece being handed to the application */
 } kelp_queue_mgr;
 
 /** Defaults of QueueConfig: ack true, blackout 0, max_queue 0, newest_first true,

@@ -231,6 +231,8 @@ KELP_MUST_CHECK int kelp_remus_ranger_decode(const uint8_t *in, size_t len, kelp
 #include <kelp/config.h>
 #include <kelp/dccl.h>
 #include <kelp/field.h>
+#include <kelp/nodereport.h>
+#include <kelp/queue.h>
 
 enum { KELP_REMUS_STATE_VAR, KELP_REMUS_RANGER_VAR, KELP_REMUS_REDIRECT_VAR, KELP_REMUS_ALERT_VAR,
        KELP_REMUS_ALERT2_VAR, KELP_REMUS_NVARS };
@@ -249,6 +251,23 @@ void kelp_remus_codec_cfg_default(kelp_remus_codec_cfg *c);
 enum { KELP_REMUS_NAV_X, KELP_REMUS_NAV_Y, KELP_REMUS_NAV_HEADING, KELP_REMUS_NAV_SPEED, KELP_REMUS_NAV_DEPTH,
        KELP_REMUS_NNAV };
 
+/** Scratch of one call (private): too large for a firmware stack. */
+typedef union kelp_remus_codec_work {
+    struct {
+        kelp_acomms_msg msg;               /**< the frame being sent */
+        kelp_remus_redirect redirect;      /**< OUTGOING_COMMAND's Redirect */
+        char text[KELP_ACOMMS_MAX_PRINT];  /**< its ModemDataTransmission text */
+    } out;
+    struct {
+        kelp_acomms_msg msg;               /**< the frame received */
+        kelp_nodereport report;            /**< the contact's NODE_REPORT */
+        char extra[256];                   /**< State: the STATUS_REPORT_IN fields after Depth */
+        char up[KELP_DCCL_MAX_MODEM_NAME + 1]; /**< the contact's name upper-cased */
+        char var[KELP_MAX_NAME];           /**< a <NAME>_NAV_* variable */
+        char text[1536];                   /**< STATUS_REPORT_IN, then NODE_REPORT; CCL_*_IN */
+    } in;
+} kelp_remus_codec_work;
+
 typedef struct kelp_remus_codec {
     kelp_remus_codec_cfg cfg;
     /* private */
@@ -257,6 +276,7 @@ typedef struct kelp_remus_codec {
     bool have[KELP_REMUS_NNAV];
     double last_status; /**< -1: none yet */
     unsigned long sent, received[KELP_REMUS_NVARS], refused;
+    kelp_remus_codec_work work;
 } kelp_remus_codec;
 
 /** @return 0; KELP_ERR_ARG (NULL geo, an empty variable name, status_interval not > 0). */

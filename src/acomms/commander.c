@@ -169,16 +169,14 @@ static int check_one(const kelp_cmdr *c, const kelp_dccl_field *f, const char *s
             return KELP_ERR_PARSE;
         }
         return KELP_OK;
-    case KELP_DCCL_T_BOOL: {
-        kelp_dccl_val v;
-        bool b;
-        kelp_dccl_val_set_strn(&v, s, n);
-        if (!kelp_dccl_val_to_bool(&v, &b)) {
+    case KELP_DCCL_T_BOOL:
+        /* what kelp_dccl_val_to_bool takes from a string: true/1/false/0, any case */
+        if (!kelp_strieq_n(s, n, "true") && !kelp_strieq_n(s, n, "1") && !kelp_strieq_n(s, n, "false") &&
+            !kelp_strieq_n(s, n, "0")) {
             *why = "not true or false";
             return KELP_ERR_PARSE;
         }
         return KELP_OK;
-    }
     case KELP_DCCL_T_ENUM:
         for (unsigned i = 0; i < f->n_enum; i++)
             if (strlen(f->enum_values[i]) == n && memcmp(f->enum_values[i], s, n) == 0) return KELP_OK;

@@ -21,6 +21,12 @@ static bool find_xy(const kelp_cmdr_msg *m, char axis, const char *pair, size_t 
     return false;
 }
 
+static bool is_special(const char *v)
+{
+    return strcmp(v, "_time") == 0 || (v[0] == 'x' && strncmp(v, "x(lon)", 6) == 0) ||
+           (v[0] == 'y' && strncmp(v, "y(lat)", 6) == 0);
+}
+
 /* the value to send for a row, specials replaced */
 static int resolve(const kelp_cmdr *c, const kelp_cmdr_msg *m, const char *v, double now, char *out, size_t cap,
                    const char **why)
@@ -85,11 +91,17 @@ int kelp_cmdr_send(const kelp_cmdr *c, unsigned msg, double now, kelp_cmdr_pub *
         for (unsigned r = 0; r < m->n_rows; r++) {
             const kelp_dccl_field *f = kelp_cmdr_row_field(m, r);
             const char *var = f->src_var ? f->src_var : def->trigger_var;
-            char v[KELP_CMDR_VAL];
+            /* a special (_time, x(lon)N:, y(lat)N:) becomes a number: a UNIX time or a
+             * latitude/longitude with 7 decimals fits in num; any other value is sent as it is */
+            char num[64] = "";
+            const char *v = m->val[r];
             if (f->type == KELP_DCCL_T_STATIC || !m->val[r][0] || !var) continue;
             if ((pass == 0) == (trig && strcmp(var, trig) == 0)) continue;
-            int rc = resolve(c, m, m->val[r], now, v, sizeof v, why);
-            if (rc < 0) return rc;
+            if (is_special(m->val[r])) {
+                int rc = resolve(c, m, m->val[r], now, num, sizeof num, why);
+                if (rc < 0) return rc;
+                v = num;
+            }
             int i = pub_of(out, cap, n, var);
             if (i < 0 || append(&out[i], f->src_key ? f->src_key : f->name, v) < 0) return KELP_ERR_NOSPACE;
         }
@@ -97,10 +109,12 @@ int kelp_cmdr_send(const kelp_cmdr *c, unsigned msg, double now, kelp_cmdr_pub *
     if (trig && def->trigger_mandatory && def->trigger_mandatory[0]) {
         kelp_cmdr_pub *p = &out[*n - 1];
         if (!strstr(p->val, def->trigger_mandatory)) {
-            char tmp[KELP_CMDR_PUBLEN];
-            int k = kelp_snprintf(tmp, sizeof tmp, "%s%s%s", def->trigger_mandatory, p->val[0] ? "," : "", p->val);
-            if (k < 0 || (size_t)k >= sizeof tmp) return KELP_ERR_NOSPACE;
-            memcpy(p->val, tmp, (size_t)k + 1);
+            /* "<mandatory>,<val>" built in place */
+            size_t ml = strlen(def->trigger_mandatory), vl = strlen(p->val), sep = vl ? 1u : 0u;
+            if (ml + sep + vl >= sizeof p->val) return KELP_ERR_NOSPACE;
+            memmove(p->val + ml + sep, p->val, vl + 1);
+            memcpy(p->val, def->trigger_mandatory, ml);
+            if (sep) p->val[ml] = ',';
         }
     }
     return KELP_OK;
@@ -145,13 +159,13 @@ int kelp_cmdr_load(kelp_cmdr *c, const char *text, unsigned *line, const char **
     while (*p) {
         const char *e = strchr(p, '\n');
         size_t n = e ? (size_t)(e - p) : strlen(p);
-        char buf[KELP_CMDR_VAL + 2 * KELP_DCCL_MAX_NAME];
+        char *buf = c->line;
         const char *k, *v;
         size_t kl, vl, pos = 0, s = 0;
         (*line)++;
         while (s < n && (p[s] == ' ' || p[s] == '\t' || p[s] == '\r')) s++;
         if (s == n || p[s] == '#') goto next;
-        if (n >= sizeof buf) {
+        if (n >= sizeof c->line) {
             *why = "line too long";
             return KELP_ERR_RANGE;
         }

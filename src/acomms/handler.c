@@ -309,11 +309,11 @@ static int build_msg(kelp_acomms_handler *h, size_t idx, kelp_acomms_msg *m, con
 static void outgoing_dccl(kelp_acomms_handler *h, size_t idx)
 {
     kelp_acomms_dccl_info info;
-    kelp_acomms_msg m;
+    kelp_acomms_msg *m = &h->work.msg;
     const char *why = NULL;
     if (h->codec.info(h->codec.ctx, idx, &info) != KELP_OK) return;
     if (info.manip & KELP_ACOMMS_MANIP_ON_DEMAND) return; /* encoded at the data request */
-    int rc = build_msg(h, idx, &m, &why);
+    int rc = build_msg(h, idx, m, &why);
     if (rc == KELP_ERR_PARTIAL) return; /* <repeat>: still collecting */
     if (rc) {
         h->count.encode_errors++;
@@ -322,13 +322,13 @@ static void outgoing_dccl(kelp_acomms_handler *h, size_t idx)
     }
     h->count.encoded++;
     h->count.out_data++;
-    const char *decoded = describe(h, &m);
-    if (kelp_acomms_print_data(&m, h->text, sizeof h->text, NULL) == KELP_OK) {
+    const char *decoded = describe(h, m);
+    if (kelp_acomms_print_data(m, h->text, sizeof h->text, NULL) == KELP_OK) {
         pub_text(h, "ACOMMS_OUTGOING_DATA");
         if (info.out_var) pub_text(h, info.out_var);
     }
-    record_data(h, "ACOMMS_OUTGOING_DATA_LCM", &m, info.name, decoded);
-    rc = kelp_acomms_node_push(&h->node, &m, us_of(h->now));
+    record_data(h, "ACOMMS_OUTGOING_DATA_LCM", m, info.name, decoded);
+    rc = kelp_acomms_node_push(&h->node, m, us_of(h->now));
     if (rc) {
         h->count.push_errors++;
         WARN(h, "cannot queue %s: %s", info.name, kelp_strerror(rc));
@@ -337,9 +337,9 @@ static void outgoing_dccl(kelp_acomms_handler *h, size_t idx)
     }
     /* LOOPBACK: "decode this message internally immediately following encode" (a message to
      * ourselves was already looped back by the queue) */
-    if ((info.manip & KELP_ACOMMS_MANIP_LOOPBACK) && m.dest != h->cfg->modem_id) {
+    if ((info.manip & KELP_ACOMMS_MANIP_LOOPBACK) && m->dest != h->cfg->modem_id) {
         const char *w2 = NULL;
-        rc = h->codec.decode(h->codec.ctx, m.data, m.len, h->now, on_publication, h, &w2);
+        rc = h->codec.decode(h->codec.ctx, m->data, m->len, h->now, on_publication, h, &w2);
         if (rc == KELP_OK) h->count.decoded++;
         else if (rc != KELP_ERR_STATE) WARN(h, "LOOPBACK decode of %s failed: %s", info.name, w2 ? w2 : "?");
     }
@@ -502,22 +502,22 @@ static bool bad_mail(kelp_acomms_handler *h, const char *what, const char *why)
 static void mail_ccl(kelp_acomms_handler *h, const kelp_acomms_qname *n, const kelp_var *v, int64_t now_us)
 {
     /* CCL: a ModemDataTransmission to queue */
-    kelp_acomms_msg m;
+    kelp_acomms_msg *m = &h->work.msg;
     const char *why = NULL;
-    if (v->kind != KELP_VAR_STRING || kelp_acomms_parse_data(v->sval, v->slen, &m, &why) != KELP_OK) {
+    if (v->kind != KELP_VAR_STRING || kelp_acomms_parse_data(v->sval, v->slen, m, &why) != KELP_OK) {
         (void)bad_mail(h, v->name, why);
         return;
     }
-    m.key = n->key;
-    if (!m.has_time) {
-        m.has_time = true;
-        m.time_us = now_us;
+    m->key = n->key;
+    if (!m->has_time) {
+        m->has_time = true;
+        m->time_us = now_us;
     }
     h->count.ccl_out++;
     h->count.out_data++;
-    if (kelp_acomms_print_data(&m, h->text, sizeof h->text, NULL) == KELP_OK) pub_text(h, "ACOMMS_OUTGOING_DATA");
-    record_data(h, "ACOMMS_OUTGOING_DATA_LCM", &m, n->name, NULL);
-    int rc = kelp_acomms_node_push(&h->node, &m, now_us);
+    if (kelp_acomms_print_data(m, h->text, sizeof h->text, NULL) == KELP_OK) pub_text(h, "ACOMMS_OUTGOING_DATA");
+    record_data(h, "ACOMMS_OUTGOING_DATA_LCM", m, n->name, NULL);
+    int rc = kelp_acomms_node_push(&h->node, m, now_us);
     if (rc) {
         h->count.push_errors++;
         WARN(h, "cannot queue %s: %s", v->name, h->node.errmsg ? h->node.errmsg : kelp_strerror(rc));
@@ -529,14 +529,14 @@ static void mail_ccl(kelp_acomms_handler *h, const kelp_acomms_qname *n, const k
 static void mail_in_var(kelp_acomms_handler *h, const kelp_var *v)
 {
     /* a DCCL message from another process: decode it */
-    kelp_acomms_msg m;
+    kelp_acomms_msg *m = &h->work.msg;
     const char *why = NULL;
-    if (v->kind != KELP_VAR_STRING || kelp_acomms_parse_data(v->sval, v->slen, &m, &why) != KELP_OK) {
+    if (v->kind != KELP_VAR_STRING || kelp_acomms_parse_data(v->sval, v->slen, m, &why) != KELP_OK) {
         (void)bad_mail(h, v->name, why);
         return;
     }
     const char *w2 = NULL;
-    int rc = h->codec.decode(h->codec.ctx, m.data, m.len, h->now, on_publication, h, &w2);
+    int rc = h->codec.decode(h->codec.ctx, m->data, m->len, h->now, on_publication, h, &w2);
     if (rc && rc != KELP_ERR_STATE) WARN(h, "cannot decode %s: %s", v->name, w2 ? w2 : "?");
     else if (!rc) h->count.decoded++;
 }
@@ -556,15 +556,15 @@ static void mail_command(kelp_acomms_handler *h, const kelp_var *v, int64_t now_
             WARN(h, "ranging refused: %s", h->node.errmsg ? h->node.errmsg : "?");
         return;
     }
-    kelp_acomms_mac_update u;
-    if (!is_str || kelp_acomms_parse_mac_update(v->sval, v->slen, &u, &why) != KELP_OK) {
+    kelp_acomms_mac_update *u = &h->work.mac_update;
+    if (!is_str || kelp_acomms_parse_mac_update(v->sval, v->slen, u, &why) != KELP_OK) {
         (void)bad_mail(h, v->name, why);
         return;
     }
-    int rc = kelp_acomms_node_mac_update(&h->node, &u, now_us);
+    int rc = kelp_acomms_node_mac_update(&h->node, u, now_us);
     if (rc == KELP_ERR_NOTFOUND) return; /* for another modem */
     if (rc) WARN(h, "MAC update refused: %s", h->node.errmsg ? h->node.errmsg : kelp_strerror(rc));
-    else EVENT(h, "MAC cycle updated: %zu slot(s), cycle %u s", u.nslots, kelp_mac_cycle_length(&h->node.mac));
+    else EVENT(h, "MAC cycle updated: %zu slot(s), cycle %u s", u->nslots, kelp_mac_cycle_length(&h->node.mac));
 }
 
 void kelp_acomms_handler_mail(kelp_acomms_handler *h, const kelp_var *v, bool own, double now)

@@ -205,7 +205,7 @@ int kelp_acomms_node_start(kelp_acomms_node *n, int64_t now_us)
     if (!n) return KELP_ERR_ARG;
     n->now_us = now_us;
     /* re-align the cycle to the start time (kelp_mac_init at 0 aligned it to 1970) */
-    kelp_mac_slot slots[KELP_MAX_MAC_SLOTS];
+    kelp_mac_slot *slots = n->work.slots;
     kelp_mac_cfg mc;
     kelp_mac_cfg_default(&mc);
     mc.type = n->mac.type;
@@ -251,7 +251,7 @@ static int transmit_internal(kelp_acomms_node *n, int src, int dest, unsigned ra
 {
     if (src != n->modem_id) return KELP_OK; /* third-party cycles need a modem */
     unsigned nframes = kelp_mmdriver_packet_frames[rate];
-    kelp_acomms_msg frames[KELP_MAX_MM_FRAMES];
+    kelp_acomms_msg *frames = n->work.frames;
     unsigned got = 0;
     for (unsigned i = 0; i < nframes && i < KELP_MAX_MM_FRAMES; i++) {
         kelp_queue_request req;
@@ -274,10 +274,10 @@ static int transmit_internal(kelp_acomms_node *n, int src, int dest, unsigned ra
         emit(n, &ev);
         /* everyone hears a frame: the queue keeps the pieces for us (broadcast pieces, also
          * those stitched into a frame addressed to another modem) */
-        kelp_acomms_msg rx = *m;
-        rx.has_time = true;
-        rx.time_us = now_us;
-        if (kelp_queue_receive(&n->q, &rx) > 0) n->count.loopback_delivered++;
+        /* received as sent, stamped with the time (the frame is not used again after) */
+        m->has_time = true;
+        m->time_us = now_us;
+        if (kelp_queue_receive(&n->q, m) > 0) n->count.loopback_delivered++;
         if (m->ack_requested && m->dest != KELP_ACOMMS_BROADCAST) {
             n->count.loopback_acked++;
             (void)kelp_queue_ack(&n->q, m->dest, n->modem_id, m->frame);

@@ -86,47 +86,48 @@ static void publish_contact(kelp_remus_codec *t, const contact *c, const char *k
     double x = 0, y = 0;
     kelp_dccl_geo_latlon2local(t->cfg.geo, c->lat, c->lon, &y, &x);
 
-    char status[1024];
-    int n = kelp_snprintf(status, sizeof status, "MessageType=CCL_STATUS,Node=%d", c->node);
+    enum { STATUS_CAP = 1024 }; /* bytes of a STATUS_REPORT_IN, with NUL */
+    char *status = t->work.in.text;
+    int n = kelp_snprintf(status, STATUS_CAP, "MessageType=CCL_STATUS,Node=%d", c->node);
     size_t off = n > 0 ? (size_t)n : 0;
-    int rc = append_kv(status, sizeof status, &off, "Timestamp", now);
-    if (!rc) rc = append_kv(status, sizeof status, &off, "Latitude", c->lat);
-    if (!rc) rc = append_kv(status, sizeof status, &off, "Longitude", c->lon);
-    if (!rc) rc = append_kv(status, sizeof status, &off, "Speed", c->spd);
-    if (!rc) rc = append_kv(status, sizeof status, &off, "Heading", c->hdg);
-    if (!rc) rc = append_kv(status, sizeof status, &off, "Depth", c->depth);
+    int rc = append_kv(status, STATUS_CAP, &off, "Timestamp", now);
+    if (!rc) rc = append_kv(status, STATUS_CAP, &off, "Latitude", c->lat);
+    if (!rc) rc = append_kv(status, STATUS_CAP, &off, "Longitude", c->lon);
+    if (!rc) rc = append_kv(status, STATUS_CAP, &off, "Speed", c->spd);
+    if (!rc) rc = append_kv(status, STATUS_CAP, &off, "Heading", c->hdg);
+    if (!rc) rc = append_kv(status, STATUS_CAP, &off, "Depth", c->depth);
     if (!rc && kind_extra) {
-        n = kelp_snprintf(status + off, sizeof status - off, "%s", kind_extra);
-        if (n < 0 || (size_t)n >= sizeof status - off) rc = KELP_ERR_NOSPACE;
+        n = kelp_snprintf(status + off, STATUS_CAP - off, "%s", kind_extra);
+        if (n < 0 || (size_t)n >= STATUS_CAP - off) rc = KELP_ERR_NOSPACE;
     }
     if (!rc) sink->publish(sink->ctx, "STATUS_REPORT_IN", true, status, 0);
 
     /* <NAME>_NAV_* contact variables (the name upper-cased) */
-    char up[KELP_DCCL_MAX_MODEM_NAME + 1];
+    char *up = t->work.in.up;
     size_t i;
-    for (i = 0; i < sizeof up - 1 && c->name[i]; i++)
+    for (i = 0; i < sizeof t->work.in.up - 1 && c->name[i]; i++)
         up[i] = (char)((c->name[i] >= 'a' && c->name[i] <= 'z') ? c->name[i] - 'a' + 'A' : c->name[i]);
     up[i] = '\0';
     static const char *const suffix[] = {"UTC", "X", "Y", "LAT", "LONG", "SPEED", "DEPTH", "HEADING"};
     const double val[] = {now, x, y, c->lat, c->lon, c->spd, c->depth, c->hdg};
     for (size_t k = 0; k < sizeof suffix / sizeof suffix[0]; k++) {
-        char var[KELP_MAX_NAME];
-        n = kelp_snprintf(var, sizeof var, "%s_NAV_%s", up, suffix[k]);
-        if (n > 0 && (size_t)n < sizeof var) pub_d(sink, var, val[k]);
+        char *var = t->work.in.var;
+        n = kelp_snprintf(var, sizeof t->work.in.var, "%s_NAV_%s", up, suffix[k]);
+        if (n > 0 && (size_t)n < sizeof t->work.in.var) pub_d(sink, var, val[k]);
     }
 
-    kelp_nodereport r;
-    kelp_nodereport_init(&r);
-    (void)kelp_snprintf(r.name, sizeof r.name, "%s", c->name);
-    (void)kelp_snprintf(r.type, sizeof r.type, "%s", c->type);
-    (void)kelp_snprintf(r.mode, sizeof r.mode, "NOMOOS");
-    (void)kelp_snprintf(r.allstop, sizeof r.allstop, "NotUsingIvP");
-    r.time = now, r.x = x, r.y = y, r.lat = c->lat, r.lon = c->lon;
-    r.spd = c->spd, r.hdg = c->hdg, r.depth = c->depth, r.length = 4.0;
-    r.fields = KELP_NR_NAME | KELP_NR_TYPE | KELP_NR_TIME | KELP_NR_X | KELP_NR_Y | KELP_NR_LAT | KELP_NR_LON |
+    kelp_nodereport *r = &t->work.in.report;
+    kelp_nodereport_init(r);
+    (void)kelp_snprintf(r->name, sizeof r->name, "%s", c->name);
+    (void)kelp_snprintf(r->type, sizeof r->type, "%s", c->type);
+    (void)kelp_snprintf(r->mode, sizeof r->mode, "NOMOOS");
+    (void)kelp_snprintf(r->allstop, sizeof r->allstop, "NotUsingIvP");
+    r->time = now, r->x = x, r->y = y, r->lat = c->lat, r->lon = c->lon;
+    r->spd = c->spd, r->hdg = c->hdg, r->depth = c->depth, r->length = 4.0;
+    r->fields = KELP_NR_NAME | KELP_NR_TYPE | KELP_NR_TIME | KELP_NR_X | KELP_NR_Y | KELP_NR_LAT | KELP_NR_LON |
                KELP_NR_SPD | KELP_NR_HDG | KELP_NR_DEPTH | KELP_NR_LENGTH | KELP_NR_MODE | KELP_NR_ALLSTOP;
-    char buf[KELP_NODEREPORT_MAX_LEN];
-    if (kelp_nodereport_format(&r, buf, sizeof buf, NULL) == 0)
+    char *buf = t->work.in.text; /* STATUS_REPORT_IN is out */
+    if (kelp_nodereport_format(r, buf, KELP_NODEREPORT_MAX_LEN, NULL) == 0)
         sink->publish(sink->ctx, "NODE_REPORT", true, buf, 0);
     else
         warnf(sink, "cannot write a NODE_REPORT for %s", c->name);
@@ -209,30 +210,30 @@ static void redirect_text(const uint8_t *f, int node, double now, sb *b)
 
 static int incoming(kelp_remus_codec *t, int kind, const char *text, double now, const kelp_field_sink *sink)
 {
-    kelp_acomms_msg m;
+    kelp_acomms_msg *m = &t->work.in.msg;
     const char *why = NULL;
-    if (!text || kelp_acomms_parse_data(text, strlen(text), &m, &why) < 0) {
+    if (!text || kelp_acomms_parse_data(text, strlen(text), m, &why) < 0) {
         t->refused++;
         warnf(sink, "%s: not a ModemDataTransmission (%s)", t->cfg.in_var[kind], why ? why : "?");
         return KELP_ERR_PARSE;
     }
     /* zero-padded or cut to one 32-byte frame, as Goby does */
     uint8_t f[KELP_REMUS_FRAME_LEN] = {0};
-    memcpy(f, m.data, m.len < sizeof f ? m.len : sizeof f);
+    memcpy(f, m->data, m->len < sizeof f ? m->len : sizeof f);
     static const kelp_remus_kind want[KELP_REMUS_NVARS] = {KELP_REMUS_STATE, KELP_REMUS_RANGER, KELP_REMUS_REDIRECT,
                                                          KELP_REMUS_OASIS, KELP_REMUS_OASIS};
     /* the Alert ids are in no source read: those frames are taken as they come, as Goby does */
     bool alert = kind == KELP_REMUS_ALERT_VAR || kind == KELP_REMUS_ALERT2_VAR;
-    if (m.len == 0 || (!alert && kelp_remus_identify(f, sizeof f) != want[kind])) {
+    if (m->len == 0 || (!alert && kelp_remus_identify(f, sizeof f) != want[kind])) {
         t->refused++;
         warnf(sink, "%s: the frame is not a REMUS %s message", t->cfg.in_var[kind], KIND_NAME[kind]);
         return KELP_ERR_PARSE;
     }
     t->received[kind]++;
-    const kelp_dccl_modem_entry *e = lookup(t->cfg.geo, m.src);
+    const kelp_dccl_modem_entry *e = lookup(t->cfg.geo, m->src);
     char idname[16];
-    (void)kelp_snprintf(idname, sizeof idname, "%d", m.src);
-    contact c = {m.src, e ? e->name : idname, e ? e->type : "unknown_type", 0, 0, 0, 0, 0};
+    (void)kelp_snprintf(idname, sizeof idname, "%d", m->src);
+    contact c = {m->src, e ? e->name : idname, e ? e->type : "unknown_type", 0, 0, 0, 0, 0};
     if (kind == KELP_REMUS_STATE_VAR) {
         kelp_remus_state s;
         if (kelp_remus_state_decode(f, sizeof f, &s) < 0) return KELP_ERR_PARSE; /* cannot happen */
@@ -243,12 +244,12 @@ static int incoming(kelp_remus_codec *t, int kind, const char *text, double now,
         c.spd = kelp_remus_velocity_decode(s.est_velocity);
         double g, p, o;
         kelp_remus_gfi_pitch_oil_decode(s.gfi_pitch_oil, &g, &p, &o);
-        char extra[256];
-        int n = kelp_snprintf(extra, sizeof extra,
+        char *extra = t->work.in.extra;
+        int n = kelp_snprintf(extra, sizeof t->work.in.extra,
                          ",GoalLatitude=%.17g,GoalLongitude=%.17g,Batterypercent=%u,GFI=%.17g,Pitch=%.17g,Oil=%.17g",
                          kelp_remus_latlon_decode(s.lat_goal), kelp_remus_latlon_decode(s.lon_goal),
                          (unsigned)s.battery_percent, g, p, o);
-        publish_contact(t, &c, (n > 0 && (size_t)n < sizeof extra) ? extra : NULL, now, sink);
+        publish_contact(t, &c, (n > 0 && (size_t)n < sizeof t->work.in.extra) ? extra : NULL, now, sink);
     } else if (kind == KELP_REMUS_RANGER_VAR) {
         kelp_remus_ranger r;
         if (kelp_remus_ranger_decode(f, sizeof f, &r) < 0) return KELP_ERR_PARSE; /* cannot happen */
@@ -256,10 +257,10 @@ static int incoming(kelp_remus_codec *t, int kind, const char *text, double now,
         publish_contact(t, &c, NULL, now, sink);
     } else {
         static const char *const out[KELP_REMUS_NVARS] = {NULL, NULL, "CCL_REDIRECT_IN", "CCL_ALERT_IN", "CCL_ALERT2_IN"};
-        char txt[1536];
-        sb b = {txt, sizeof txt, 0, false};
-        if (kind == KELP_REMUS_REDIRECT_VAR) redirect_text(f, m.src, now, &b);
-        else alert_text(f, m.src, kind == KELP_REMUS_ALERT2_VAR, &b);
+        char *txt = t->work.in.text;
+        sb b = {txt, sizeof t->work.in.text, 0, false};
+        if (kind == KELP_REMUS_REDIRECT_VAR) redirect_text(f, m->src, now, &b);
+        else alert_text(f, m->src, kind == KELP_REMUS_ALERT2_VAR, &b);
         if (!b.bad) sink->publish(sink->ctx, out[kind], true, txt, 0);
     }
     return 1;
@@ -285,37 +286,37 @@ static int outgoing_command(kelp_remus_codec *t, const char *s, const kelp_field
 {
     char v[64];
     if (!s || kelp_kv_get(s, ',', "MessageType", v, sizeof v) != 1 || !kelp_strieq(v, "CCL_REDIRECT")) return 0;
-    kelp_remus_redirect r;
-    memset(&r, 0, sizeof r);
-    r.lat = kv_num(s, "Latitude");
-    r.lon = kv_num(s, "Longitude");
+    kelp_remus_redirect *r = &t->work.out.redirect;
+    memset(r, 0, sizeof *r);
+    r->lat = kv_num(s, "Latitude");
+    r->lon = kv_num(s, "Longitude");
     if (kelp_kv_get(s, ',', "SpeedDepthFlags", v, sizeof v) == 1) {
         const char *h = (v[0] == '0' && (v[1] == 'x' || v[1] == 'X')) ? v + 2 : v;
         unsigned x = 0;
         for (size_t i = 0; h[i] && kelp_hex_digit(h[i]) >= 0; i++) x = (x << 4 | (unsigned)kelp_hex_digit(h[i])) & 0xFFu;
-        r.speed_depth_flags = (uint8_t)x;
+        r->speed_depth_flags = (uint8_t)x;
     }
-    r.transit_depth = kv_num(s, "TransitDepth");
-    r.transit_speed = kv_num(s, "TransitSpeed");
-    r.transit_command = byte_of(kv_num(s, "TransitCommand"));
-    r.survey_depth = kv_num(s, "SurveyDepth");
-    r.survey_speed = kv_num(s, "SurveySpeed");
-    r.survey_command = byte_of(kv_num(s, "SurveyCommand"));
-    r.rows = byte_of(kv_num(s, "NumberOfRows"));
-    r.row_length = kv_num(s, "RowLength");
-    r.row_spacing_0 = kv_num(s, "RowSpacing0");
-    r.row_spacing_1 = kv_num(s, "RowSpacing1");
-    r.row_heading = kv_num(s, "RowHeading");
-    r.start_lat = kv_num(s, "StartLatitude");
-    r.start_lon = kv_num(s, "StartLongitude");
+    r->transit_depth = kv_num(s, "TransitDepth");
+    r->transit_speed = kv_num(s, "TransitSpeed");
+    r->transit_command = byte_of(kv_num(s, "TransitCommand"));
+    r->survey_depth = kv_num(s, "SurveyDepth");
+    r->survey_speed = kv_num(s, "SurveySpeed");
+    r->survey_command = byte_of(kv_num(s, "SurveyCommand"));
+    r->rows = byte_of(kv_num(s, "NumberOfRows"));
+    r->row_length = kv_num(s, "RowLength");
+    r->row_spacing_0 = kv_num(s, "RowSpacing0");
+    r->row_spacing_1 = kv_num(s, "RowSpacing1");
+    r->row_heading = kv_num(s, "RowHeading");
+    r->start_lat = kv_num(s, "StartLatitude");
+    r->start_lon = kv_num(s, "StartLongitude");
     double dest = kv_num(s, "DestinationPlatformId");
-    kelp_acomms_msg m;
-    memset(&m, 0, sizeof m);
-    m.src = t->my_id;
-    m.dest = (dest >= 0 && dest <= 31) ? (int)dest : 0;
-    if (kelp_remus_redirect_encode(&r, m.data, sizeof m.data, &m.len) < 0) return 0; /* cannot happen */
-    char buf[KELP_ACOMMS_MAX_PRINT];
-    if (kelp_acomms_print_data_bare(&m, buf, sizeof buf, NULL) < 0) return 0;
+    kelp_acomms_msg *m = &t->work.out.msg;
+    memset(m, 0, sizeof *m);
+    m->src = t->my_id;
+    m->dest = (dest >= 0 && dest <= 31) ? (int)dest : 0;
+    if (kelp_remus_redirect_encode(r, m->data, sizeof m->data, &m->len) < 0) return 0; /* cannot happen */
+    char *buf = t->work.out.text;
+    if (kelp_acomms_print_data_bare(m, buf, sizeof t->work.out.text, NULL) < 0) return 0;
     sink->publish(sink->ctx, t->cfg.out_var[KELP_REMUS_REDIRECT_VAR], true, buf, 0);
     return 1;
 }
@@ -354,14 +355,14 @@ int kelp_remus_codec_iterate(kelp_remus_codec *t, double now, const kelp_field_s
     kelp_remus_state s;
     kelp_remus_state_from_nav(&s, lat, lon, (int64_t)floor(now), t->nav[KELP_REMUS_NAV_HEADING],
                               t->nav[KELP_REMUS_NAV_DEPTH], t->nav[KELP_REMUS_NAV_SPEED]);
-    kelp_acomms_msg m;
-    memset(&m, 0, sizeof m);
-    m.src = t->my_id;
-    m.dest = 0;
-    m.len = KELP_REMUS_FRAME_LEN;
-    if (kelp_remus_state_encode(&s, m.data, sizeof m.data, NULL) < 0) return 0; /* cannot happen */
-    char buf[KELP_ACOMMS_MAX_PRINT];
-    if (kelp_acomms_print_data_bare(&m, buf, sizeof buf, NULL) < 0) return 0;
+    kelp_acomms_msg *m = &t->work.out.msg;
+    memset(m, 0, sizeof *m);
+    m->src = t->my_id;
+    m->dest = 0;
+    m->len = KELP_REMUS_FRAME_LEN;
+    if (kelp_remus_state_encode(&s, m->data, sizeof m->data, NULL) < 0) return 0; /* cannot happen */
+    char *buf = t->work.out.text;
+    if (kelp_acomms_print_data_bare(m, buf, sizeof t->work.out.text, NULL) < 0) return 0;
     sink->publish(sink->ctx, t->cfg.out_var[KELP_REMUS_STATE_VAR], true, buf, 0);
     t->last_status = now;
     t->sent++;

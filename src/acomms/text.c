@@ -387,7 +387,7 @@ static int hexval(char c)
 }
 
 /* unescape one quoted literal (with its quotes; without the closing one if !closed) and append
- * to out; KELP_ERR_NOSPACE if full */
+ * to out; KELP_ERR_NOSPACE if full. out NULL: only check and count (the value is not used). */
 static int unescape(const char *s, size_t n, bool closed, uint8_t *out, size_t cap, size_t *len)
 {
     size_t i = 1, o = *len;
@@ -428,7 +428,8 @@ static int unescape(const char *s, size_t n, bool closed, uint8_t *out, size_t c
             }
         }
         if (o >= cap) return KELP_ERR_NOSPACE;
-        out[o++] = c;
+        if (out) out[o] = c;
+        o++;
     }
     *len = o;
     return KELP_OK;
@@ -786,7 +787,6 @@ static int range_field(void *c, const char *const *path, unsigned depth, const c
 int kelp_acomms_parse_range_req(const char *text, size_t len, kelp_acomms_range_req *out, const char **why)
 {
     const char *dummy;
-    uint8_t sbuf[KELP_MAX_NMEA_LINE];
     if (!why) why = &dummy;
     *why = NULL;
     if (!text || !out) return KELP_ERR_ARG;
@@ -796,7 +796,8 @@ int kelp_acomms_parse_range_req(const char *text, size_t len, kelp_acomms_range_
     out->enable_beacons = 15;
     range_ctx x = { out, why, false };
     tf_walk wk = { range_field, range_open, range_close, &x, NULL };
-    int rc = walk(&wk, text, len, sbuf, sizeof sbuf);
+    /* no string field's value is kept: strings are checked and counted, not stored */
+    int rc = walk(&wk, text, len, NULL, KELP_MAX_NMEA_LINE);
     if (rc && !*why) *why = wk.why ? wk.why : "malformed ModemRangingRequest";
     return rc;
 }
@@ -930,7 +931,6 @@ static int mac_field(void *c, const char *const *path, unsigned depth, const cha
 int kelp_acomms_parse_mac_update(const char *text, size_t len, kelp_acomms_mac_update *out, const char **why)
 {
     const char *dummy;
-    uint8_t sbuf[128];
     if (!why) why = &dummy;
     *why = NULL;
     if (!text || !out) return KELP_ERR_ARG;
@@ -938,7 +938,7 @@ int kelp_acomms_parse_mac_update(const char *text, size_t len, kelp_acomms_mac_u
     out->type = KELP_MAC_UPDATE_REPLACE;
     mac_ctx x = { out, why, false, false };
     tf_walk wk = { mac_field, mac_open, mac_close, &x, NULL };
-    int rc = walk(&wk, text, len, sbuf, sizeof sbuf);
+    int rc = walk(&wk, text, len, NULL, 128); /* strings checked and counted, not stored */
     if (rc && !*why) *why = wk.why ? wk.why : "malformed MACUpdate";
     if (!rc && !out->has_dest) {
         *why = "MACUpdate without dest (required)";

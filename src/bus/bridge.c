@@ -11,8 +11,10 @@ static const char *skip_ws(const char *s)
     return s;
 }
 
-/* Copy a comma-separated list inside [...] into names; returns count or <0. */
-static int bracket_list(const char **ps, char (*names)[KELP_MAX_NAME], int cap)
+/* Copy a comma-separated list inside [...] into names (the n-th at base + n * stride; base
+ * NULL: check and count only); returns count or <0. *glob (optional) is set when a name has
+ * a '*' or '?'. */
+static int bracket_list(const char **ps, char *base, size_t stride, int cap, bool *glob)
 {
     const char *s = skip_ws(*ps);
     if (*s != '[') return KELP_ERR_PARSE;
@@ -28,8 +30,12 @@ static int bracket_list(const char **ps, char (*names)[KELP_MAX_NAME], int cap)
         while (y > x && (y[-1] == ' ' || y[-1] == '\t')) y--;
         if (y > x) {
             if (n >= cap || (size_t)(y - x) >= KELP_MAX_NAME) return KELP_ERR_RANGE;
-            memcpy(names[n], x, (size_t)(y - x));
-            names[n][y - x] = 0;
+            if (glob && (memchr(x, '*', (size_t)(y - x)) || memchr(x, '?', (size_t)(y - x)))) *glob = true;
+            if (base) {
+                char *name = base + (size_t)n * stride;
+                memcpy(name, x, (size_t)(y - x));
+                name[y - x] = 0;
+            }
             n++;
         }
         a = c + 1;
@@ -48,10 +54,10 @@ static int parse_port(const char *s, size_t len, uint16_t *port)
 
 int kelp_bridge_parse_share(const char *line, kelp_bridge_route *routes, size_t cap, size_t *n, const char **why)
 {
-    char src[16][KELP_MAX_NAME], alias[16][KELP_MAX_NAME];
+    /* checked first, then (when the routes fit) the two lists are read again into them */
     const char *s = line;
     *why = NULL;
-    int ns = bracket_list(&s, src, 16);
+    int ns = bracket_list(&s, NULL, 0, 16, NULL);
     if (ns <= 0) {
         *why = "expected [VAR,...] at the start";
         return KELP_ERR_PARSE;
@@ -95,8 +101,9 @@ int kelp_bridge_parse_share(const char *line, kelp_bridge_route *routes, size_t 
     }
     s = skip_ws(p1);
     int na = 0;
+    const char *alias_list = s;
     if (*s == '[') {
-        na = bracket_list(&s, alias, 16);
+        na = bracket_list(&s, NULL, 0, 16, NULL);
         if (na < 0) {
             *why = "bad [ALIAS,...] list";
             return KELP_ERR_PARSE;
@@ -111,11 +118,15 @@ int kelp_bridge_parse_share(const char *line, kelp_bridge_route *routes, size_t 
         return KELP_ERR_PARSE;
     }
     if ((size_t)ns > cap) return KELP_ERR_NOSPACE;
+    memset(routes, 0, (size_t)ns * sizeof routes[0]);
+    s = line;
+    (void)bracket_list(&s, routes[0].src, sizeof routes[0], 16, NULL);
+    if (na) {
+        s = alias_list;
+        (void)bracket_list(&s, routes[0].alias, sizeof routes[0], 16, NULL);
+    }
     for (int i = 0; i < ns; i++) {
         kelp_bridge_route *r = &routes[i];
-        memset(r, 0, sizeof *r);
-        memcpy(r->src, src[i], sizeof r->src);
-        if (na) memcpy(r->alias, alias[i], sizeof r->alias);
         memcpy(r->community, c0, (size_t)(c1 - c0));
         size_t hl = (size_t)(h1 - (skip_ws(at + 1)));
         memcpy(r->host, skip_ws(at + 1), hl);
@@ -306,24 +317,32 @@ bool kelp_bridge_allowed(const char *allow, const char *name)
 
 /* ------------------------------------------------------------------ renaming lists (kelp-canbridge) */
 
-int kelp_bridge_parse_rename(const char *line, kelp_bridge_route *routes, size_t cap, size_t *n, const char **why)
+/* One name or a [list] starting at *ps, up to a stop character; names into base + n * stride
+ * (NULL: check and count only). Returns the count or <0. */
+static int name_or_list(const char **ps, const char *stops, char *base, size_t stride, bool *glob)
 {
-    char src[16][KELP_MAX_NAME], alias[16][KELP_MAX_NAME];
+    const char *s = *ps;
+    if (*s == '[') return bracket_list(ps, base, stride, 16, glob);
+    const char *e = s;
+    while (*e && !strchr(stops, *e)) e++;
+    *ps = e;
+    if (!(e > s && (size_t)(e - s) < KELP_MAX_NAME)) return KELP_ERR_PARSE;
+    if (glob && (memchr(s, '*', (size_t)(e - s)) || memchr(s, '?', (size_t)(e - s)))) *glob = true;
+    if (base) {
+        memcpy(base, s, (size_t)(e - s));
+        base[e - s] = 0;
+    }
+    return 1;
+}
+
+int kelp_bridge_rename_list(const char *line, char *src, char *alias, size_t stride, int *ns_out, int *na_out,
+                            bool *glob, const char **why)
+{
     const char *s = skip_ws(line);
     int ns, na = 0;
     *why = NULL;
-    if (*s == '[') {
-        ns = bracket_list(&s, src, 16);
-    } else { /* one bare name */
-        const char *e = s;
-        while (*e && *e != ' ' && *e != '\t' && *e != '-') e++;
-        ns = e > s && (size_t)(e - s) < KELP_MAX_NAME ? 1 : KELP_ERR_PARSE;
-        if (ns == 1) {
-            memcpy(src[0], s, (size_t)(e - s));
-            src[0][e - s] = 0;
-        }
-        s = e;
-    }
+    *glob = false;
+    ns = name_or_list(&s, " \t-", src, stride, glob);
     if (ns <= 0) {
         *why = "expected VAR or [VAR,...]";
         return KELP_ERR_PARSE;
@@ -336,18 +355,7 @@ int kelp_bridge_parse_rename(const char *line, kelp_bridge_route *routes, size_t
             return KELP_ERR_PARSE;
         }
         s = skip_ws(s + 1);
-        if (*s == '[') {
-            na = bracket_list(&s, alias, 16);
-        } else {
-            const char *e = s;
-            while (*e && *e != ' ' && *e != '\t') e++;
-            na = e > s && (size_t)(e - s) < KELP_MAX_NAME ? 1 : KELP_ERR_PARSE;
-            if (na == 1) {
-                memcpy(alias[0], s, (size_t)(e - s));
-                alias[0][e - s] = 0;
-            }
-            s = e;
-        }
+        na = name_or_list(&s, " \t", alias, stride, NULL);
         if (na != ns) {
             *why = "alias list length differs from variable list";
             return KELP_ERR_PARSE;
@@ -357,16 +365,25 @@ int kelp_bridge_parse_rename(const char *line, kelp_bridge_route *routes, size_t
         *why = "unexpected text at the end";
         return KELP_ERR_PARSE;
     }
+    *ns_out = ns;
+    *na_out = na;
+    return KELP_OK;
+}
+
+int kelp_bridge_parse_rename(const char *line, kelp_bridge_route *routes, size_t cap, size_t *n, const char **why)
+{
+    int ns, na;
+    bool glob;
+    /* checked first, then (when the routes fit) read again into them */
+    int rc = kelp_bridge_rename_list(line, NULL, NULL, 0, &ns, &na, &glob, why);
+    if (rc) return rc;
     if ((size_t)ns > cap) return KELP_ERR_NOSPACE;
-    for (int i = 0; i < ns; i++) {
-        memset(&routes[i], 0, sizeof routes[i]);
-        memcpy(routes[i].src, src[i], sizeof routes[i].src);
-        if (na) memcpy(routes[i].alias, alias[i], sizeof routes[i].alias);
-        if (na && strpbrk(src[i], "*?")) {
-            *why = "a glob cannot be renamed";
-            return KELP_ERR_PARSE;
-        }
+    memset(routes, 0, (size_t)ns * sizeof routes[0]);
+    if (na && glob) {
+        *why = "a glob cannot be renamed";
+        return KELP_ERR_PARSE;
     }
+    (void)kelp_bridge_rename_list(line, routes[0].src, routes[0].alias, sizeof routes[0], &ns, &na, &glob, why);
     *n = (size_t)ns;
     return KELP_OK;
 }

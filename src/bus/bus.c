@@ -193,16 +193,9 @@ int kelp_bus_notify_binary(kelp_bus *b, const char *name, const void *data, size
 
 static int send_sync_request(kelp_bus *b, const char *pattern, double now)
 {
-    kelp_sync_req q;
-    memset(&q, 0, sizeof q);
-    q.time = now;
-    memcpy(q.requester, b->app, sizeof q.requester);
-    memcpy(q.community, b->community, sizeof q.community);
-    memcpy(q.reply_channel, b->reply_channel, sizeof q.reply_channel);
-    q.npatterns = 1;
-    memcpy(q.patterns[0], pattern, strlen(pattern) + 1);
     size_t n = 0;
-    int rc = kelp_sync_req_encode(&q, b->st.scratch, b->st.scratch_cap, &n);
+    int rc = kelp_sync_req_encode_one(now, b->app, b->community, b->reply_channel, pattern, b->st.scratch,
+                                      b->st.scratch_cap, &n);
     if (rc < 0) return rc;
     return b->tr.publish(b->tr.ctx, KELP_BUS_SYNC_CHANNEL, b->st.scratch, n);
 }
@@ -407,19 +400,19 @@ int kelp_bus_receive(kelp_bus *b, const char *channel, const uint8_t *data, size
     if (b->depth >= KELP_BUS_MAX_DEPTH) return KELP_ERR_STATE;
     int rc;
     if (strcmp(channel, KELP_BUS_SYNC_CHANNEL) == 0) {
-        kelp_sync_req q;
-        rc = kelp_sync_req_decode(data, len, &q);
+        kelp_sync_req *q = &b->sync_rx;
+        rc = kelp_sync_req_decode(data, len, q);
         if (rc < 0) {
             b->stats.bad++;
             b->stats.last_bad_err = rc;
             return rc;
         }
-        if (foreign(b, q.community, 0)) {
+        if (foreign(b, q->community, 0)) {
             b->stats.foreign_community++;
             return KELP_OK;
         }
         b->depth++;
-        answer_sync(b, &q, now);
+        answer_sync(b, q, now);
         b->depth--;
         return KELP_OK;
     }

@@ -2,6 +2,7 @@
 #include <string.h>
 #include <kelp/bridge.h>
 #include <kelp/can.h>
+#include "bus_int.h"
 
 int kelp_canbridge_init(kelp_canbridge *b, unsigned node, bool fd, double timeout)
 {
@@ -13,25 +14,32 @@ int kelp_canbridge_init(kelp_canbridge *b, unsigned node, bool fd, double timeou
 
 int kelp_canbridge_add(kelp_canbridge *b, bool to_can, const char *line, const char **why)
 {
-    kelp_bridge_route r[16];
-    size_t n = 0;
-    int rc = kelp_bridge_parse_rename(line, r, 16, &n, why);
+    int ns, na;
+    bool glob;
+    /* checked first, then read straight into the route table */
+    int rc = kelp_bridge_rename_list(line, NULL, NULL, 0, &ns, &na, &glob, why);
     if (rc < 0) return rc;
+    if (na && glob) {
+        *why = "a glob cannot be renamed";
+        return KELP_ERR_PARSE;
+    }
     size_t *cnt = to_can ? &b->nto : &b->nfrom;
     char(*src)[KELP_MAX_NAME] = to_can ? b->to_src : b->from_src;
     char(*alias)[KELP_MAX_NAME] = to_can ? b->to_alias : b->from_alias;
+    size_t n = (size_t)ns;
     if (*cnt + n > KELP_CANBRIDGE_MAX_ROUTES) {
         *why = "too many routes";
         return KELP_ERR_NOSPACE;
     }
+    memset(src[*cnt], 0, n * KELP_MAX_NAME);
+    memset(alias[*cnt], 0, n * KELP_MAX_NAME);
+    (void)kelp_bridge_rename_list(line, src[*cnt], alias[*cnt], KELP_MAX_NAME, &ns, &na, &glob, why);
     for (size_t i = 0; i < n; i++) {
-        const char *can_name = to_can ? (r[i].alias[0] ? r[i].alias : r[i].src) : r[i].src;
+        const char *can_name = to_can ? (alias[*cnt][0] ? alias[*cnt] : src[*cnt]) : src[*cnt];
         if (strlen(can_name) >= KELP_CAN_NAME) {
             *why = "a CAN name is longer than 63";
             return KELP_ERR_RANGE;
         }
-        memcpy(src[*cnt], r[i].src, KELP_MAX_NAME);
-        memcpy(alias[*cnt], r[i].alias, KELP_MAX_NAME);
         (*cnt)++;
     }
     return KELP_OK;

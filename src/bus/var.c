@@ -200,19 +200,36 @@ int kelp_var_decode(const uint8_t *buf, size_t len, kelp_var *out)
     return KELP_OK;
 }
 
+static void sync_req_head(wr *w, double time, const char *requester, const char *community, const char *reply_channel,
+                          uint16_t npatterns)
+{
+    put_u64(w, KELP_SYNC_REQ_FINGERPRINT);
+    put_f64(w, time);
+    put_str(w, requester, str_len_bounded(requester, KELP_MAX_NAME - 1));
+    put_str(w, community, str_len_bounded(community, KELP_MAX_NAME - 1));
+    put_str(w, reply_channel, str_len_bounded(reply_channel, KELP_MAX_NAME - 1));
+    put_u8(w, (uint8_t)(npatterns >> 8));
+    put_u8(w, (uint8_t)npatterns);
+}
+
 int kelp_sync_req_encode(const kelp_sync_req *q, uint8_t *buf, size_t cap, size_t *len)
 {
     if (!q || !len || q->npatterns > KELP_MAX_SYNC_PATTERNS) return KELP_ERR_ARG;
     wr w = { buf, cap, 0, 0 };
-    put_u64(&w, KELP_SYNC_REQ_FINGERPRINT);
-    put_f64(&w, q->time);
-    put_str(&w, q->requester, str_len_bounded(q->requester, KELP_MAX_NAME - 1));
-    put_str(&w, q->community, str_len_bounded(q->community, KELP_MAX_NAME - 1));
-    put_str(&w, q->reply_channel, str_len_bounded(q->reply_channel, KELP_MAX_NAME - 1));
-    put_u8(&w, (uint8_t)(q->npatterns >> 8));
-    put_u8(&w, (uint8_t)q->npatterns);
+    sync_req_head(&w, q->time, q->requester, q->community, q->reply_channel, q->npatterns);
     for (uint16_t i = 0; i < q->npatterns; i++)
         put_str(&w, q->patterns[i], str_len_bounded(q->patterns[i], KELP_MAX_NAME - 1));
+    if (w.err) return w.err;
+    *len = w.n;
+    return KELP_OK;
+}
+
+int kelp_sync_req_encode_one(double time, const char *requester, const char *community, const char *reply_channel,
+                             const char *pattern, uint8_t *buf, size_t cap, size_t *len)
+{
+    wr w = { buf, cap, 0, 0 };
+    sync_req_head(&w, time, requester, community, reply_channel, 1);
+    put_str(&w, pattern, str_len_bounded(pattern, KELP_MAX_NAME - 1));
     if (w.err) return w.err;
     *len = w.n;
     return KELP_OK;

@@ -62,12 +62,12 @@ static long x86_int(double d)
     return (long)(int)d;
 }
 
+/* s may point into v->s (kelp_dccl_val_set_strn moves with memmove); longer text is cut
+ * without the cut flag */
 static void set_str_from(kelp_dccl_val *v, const char *s, size_t n)
 {
-    char tmp[KELP_DCCL_MAX_STRLEN + 1];
     if (n > KELP_DCCL_MAX_STRLEN) n = KELP_DCCL_MAX_STRLEN;
-    memcpy(tmp, s, n);
-    kelp_dccl_val_set_strn(v, tmp, n);
+    kelp_dccl_val_set_strn(v, s, n);
 }
 
 /* ------------------------------------------------------------------ simple algorithms */
@@ -123,10 +123,8 @@ static void alg_abs(kelp_dccl_val *v, const kelp_dccl_val *const *r, size_t nr, 
 
 static void change_case(kelp_dccl_val *v, bool upper)
 {
-    char buf[KELP_DCCL_MAX_STRLEN + 1];
     size_t n, i;
-    (void)kelp_dccl_val_to_str(v, buf, sizeof buf, &n);
-    if (n > KELP_DCCL_MAX_STRLEN) n = KELP_DCCL_MAX_STRLEN;
+    char *buf = dccl_val_str_inplace(v, &n); /* v is replaced below */
     for (i = 0; i < n; i++) {
         char c = buf[i];
         if (upper && c >= 'a' && c <= 'z') buf[i] = (char)(c - 'a' + 'A');
@@ -350,10 +348,19 @@ static const kelp_dccl_modem_entry *modem_by_id(const kelp_dccl_builtin *ctx, lo
 /* true and the id if every character is a digit (and it fits lexical_cast<unsigned>) */
 static bool digits_id(const kelp_dccl_val *v, long *id)
 {
-    char buf[KELP_DCCL_MAX_STRLEN + 1];
+    /* a string is read where it is; another value's text (no leading zeros) has at most 10
+     * digits when it is an id, so a short buffer decides it */
+    char num[24];
+    const char *buf = num;
     size_t n, i;
     unsigned long x = 0;
-    (void)kelp_dccl_val_to_str(v, buf, sizeof buf, &n);
+    if (v->kind == KELP_DCCL_V_STRING) {
+        buf = v->s;
+        n = v->len;
+    } else {
+        (void)kelp_dccl_val_to_str(v, num, sizeof num, &n);
+        if (n >= sizeof num) return false;
+    }
     if (n == 0 || n > KELP_DCCL_MAX_STRLEN) return false;
     for (i = 0; i < n; i++) {
         if (buf[i] < '0' || buf[i] > '9') return false;
@@ -395,13 +402,12 @@ static void alg_id2type(kelp_dccl_val *v, const kelp_dccl_val *const *r, size_t 
 static void alg_name2id(kelp_dccl_val *v, const kelp_dccl_val *const *r, size_t nr, void *u)
 {
     const kelp_dccl_builtin *ctx = u;
-    char buf[KELP_DCCL_MAX_STRLEN + 1], out[24];
+    char out[24];
     size_t n, i, k;
     long id;
     double d;
     (void)r; (void)nr;
-    (void)kelp_dccl_val_to_str(v, buf, sizeof buf, &n);
-    if (n > KELP_DCCL_MAX_STRLEN) n = KELP_DCCL_MAX_STRLEN;
+    const char *buf = dccl_val_str_inplace(v, &n); /* v is replaced below */
     for (i = 0; i < ctx->n_modems; i++)
         if (dccl_ieq(buf, n, ctx->modems[i].name)) break;
     if (i < ctx->n_modems) {

@@ -25,7 +25,23 @@ void kelp_dccl_codec_init(kelp_dccl_codec *cx, unsigned modem_id, const kelp_dcc
 /* ------------------------------------------------------------------ bits */
 static const uint8_t LOWMASK[9] = {0x00, 0x01, 0x03, 0x07, 0x0f, 0x1f, 0x3f, 0x7f, 0xff};
 
-static void put_bits(uint8_t *buf, uint32_t *pos, uint64_t v, unsigned n)
+/* The encoder writes into the caller's buffer: bytes at or past cap are dropped, but
+ * `end` still records one past the last byte that received a set bit, which is all the
+ * length (trailing zero bytes stripped) needs. */
+typedef struct bitbuf {
+    uint8_t *buf;
+    size_t cap;
+    size_t end;
+} bitbuf;
+
+static void or_byte(bitbuf *b, size_t i, uint8_t v)
+{
+    if (!v) return;
+    if (i < b->cap) b->buf[i] |= v;
+    if (i + 1u > b->end) b->end = i + 1u;
+}
+
+static void put_bits(bitbuf *buf, uint32_t *pos, uint64_t v, unsigned n)
 {
     /* MSB-first; n <= 64 */
     uint32_t p = *pos;
@@ -37,7 +53,7 @@ static void put_bits(uint8_t *buf, uint32_t *pos, uint64_t v, unsigned n)
         if (take > 8u) take = 8u; /* never: room <= 8 */
         shift = n - take;
         uint8_t chunk = (uint8_t)((v >> shift) & LOWMASK[take]);
-        buf[p >> 3] |= (uint8_t)(chunk << (room - take));
+        or_byte(buf, p >> 3, (uint8_t)(chunk << (room - take)));
         p += take;
         n -= take;
     }
@@ -62,7 +78,7 @@ static uint64_t get_bits(const uint8_t *buf, uint32_t pos, unsigned n)
 
 /* A field wider than 64 bits: zero high part then the 64-bit value (Goby builds
  * the bitset from an unsigned long). */
-static void put_wide(uint8_t *buf, uint32_t *pos, uint64_t v, unsigned n)
+static void put_wide(bitbuf *buf, uint32_t *pos, uint64_t v, unsigned n)
 {
     if (n > 64) {
         *pos += n - 64; /* zeros: the buffer starts zeroed */
@@ -111,7 +127,7 @@ static bool is_numeric_type(kelp_dccl_type t)
 static void pre_encode(const kelp_dccl_field *f, const kelp_dccl_val *src, kelp_dccl_val *dst)
 {
     double d;
-    val_copy(dst, src);
+    if (dst != src) val_copy(dst, src);
     if (is_numeric_type(f->type) && src->kind != KELP_DCCL_V_EMPTY && kelp_dccl_val_to_double(src, &d))
         kelp_dccl_val_set_double(dst, kelp_dccl_unbiased_round(d, f->precision), f->precision);
 }
@@ -120,32 +136,37 @@ typedef struct enc_ctx {
     kelp_dccl_codec *cx;
     const kelp_dccl_msgdef *def;
     const kelp_dccl_val *in;
-    kelp_dccl_val *head;   /* header values with defaults */
+    double now;
     unsigned cur;          /* field being encoded */
-    unsigned nref;         /* temps handed out for the current algorithm call */
-    kelp_dccl_val tmp[KELP_DCCL_MAX_ALG_REFS];
+    unsigned nref;         /* temps (cx->work.enc.ref) handed out for the current algorithm call */
 } enc_ctx;
 
+static void head_default(const kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, unsigned h, const kelp_dccl_val *given,
+                         double now, kelp_dccl_val *out);
+
+/* A layout field's value as the caller gave it (header fields: see enc_ref). */
 static const kelp_dccl_val *field_raw(const enc_ctx *e, unsigned field, unsigned element)
 {
     const kelp_dccl_field *f = &e->def->fields[field];
-    if (field < KELP_DCCL_N_HEAD) return &e->head[field];
     if (element >= f->array_length) element = 0;
     return &e->in[f->slot + element];
 }
 
 /* A referenced field encoded before (or being encoded) is seen after its
- * pre-encode rounding; a later one exactly as the caller gave it. */
+ * pre-encode rounding; a later one exactly as the caller gave it (a header field
+ * with its default filled in). */
 static const kelp_dccl_val *enc_ref(void *ctx, unsigned field, unsigned element)
 {
     enc_ctx *e = ctx;
-    const kelp_dccl_val *raw;
     kelp_dccl_val *t;
     if (field >= e->def->n_fields) return &EMPTY_VAL;
-    raw = field_raw(e, field, element);
-    if (field > e->cur) return raw;
-    t = &e->tmp[e->nref++ % KELP_DCCL_MAX_ALG_REFS];
-    pre_encode(&e->def->fields[field], raw, t);
+    if (field > e->cur && field >= KELP_DCCL_N_HEAD) return field_raw(e, field, element);
+    t = &e->cx->work.enc.ref[e->nref++ % KELP_DCCL_MAX_ALG_REFS];
+    if (field < KELP_DCCL_N_HEAD)
+        head_default(e->cx, e->def, field, &e->in[e->def->fields[field].slot], e->now, t);
+    else
+        val_copy(t, field_raw(e, field, element));
+    if (field <= e->cur) pre_encode(&e->def->fields[field], t, t);
     return t;
 }
 
@@ -212,9 +233,8 @@ static uint64_t bool_code(const kelp_dccl_val *v)
     return b ? 2u : 1u;
 }
 
-static uint64_t enum_code(const kelp_dccl_field *f, const kelp_dccl_val *v)
+static uint64_t enum_code(const kelp_dccl_field *f, const kelp_dccl_val *v, char buf[KELP_DCCL_MAX_STRLEN + 1])
 {
-    char buf[KELP_DCCL_MAX_STRLEN + 1];
     const char *s;
     size_t n;
     unsigned i;
@@ -223,8 +243,8 @@ static uint64_t enum_code(const kelp_dccl_field *f, const kelp_dccl_val *v)
         s = v->s;
         n = v->len;
     } else {
-        (void)kelp_dccl_val_to_str(v, buf, sizeof buf, &n);
-        if (n >= sizeof buf) return 0;
+        (void)kelp_dccl_val_to_str(v, buf, KELP_DCCL_MAX_STRLEN + 1, &n);
+        if (n > KELP_DCCL_MAX_STRLEN) return 0;
         s = buf;
     }
     for (i = 0; i < f->n_enum; i++)
@@ -232,48 +252,42 @@ static uint64_t enum_code(const kelp_dccl_field *f, const kelp_dccl_val *v)
     return 0;
 }
 
-static int put_string(enc_ctx *e, const kelp_dccl_field *f, const kelp_dccl_val *v, uint8_t *buf, uint32_t *pos)
+static int put_string(enc_ctx *e, const kelp_dccl_field *f, const kelp_dccl_val *v, bitbuf *buf, uint32_t *pos)
 {
-    uint8_t bytes[KELP_DCCL_MAX_STRLEN + 1];
-    char sbuf[KELP_DCCL_MAX_STRLEN + 1];
+    char *sbuf = e->cx->work.enc.str;
     const char *s = "";
-    size_t n = 0, i, m = f->type == KELP_DCCL_T_HEX ? f->num_bytes : f->max_length;
+    size_t n = 0, i, m = f->type == KELP_DCCL_T_HEX ? f->num_bytes : f->max_length, high = 0;
+    bool hex = f->type == KELP_DCCL_T_HEX;
     if (v->kind == KELP_DCCL_V_STRING) {
         s = v->s;
         n = v->len;
     } else if (v->kind != KELP_DCCL_V_EMPTY) {
-        (void)kelp_dccl_val_to_str(v, sbuf, sizeof sbuf, &n);
-        if (n >= sizeof sbuf) n = sizeof sbuf - 1;
+        (void)kelp_dccl_val_to_str(v, sbuf, KELP_DCCL_MAX_STRLEN + 1, &n);
+        if (n > KELP_DCCL_MAX_STRLEN) n = KELP_DCCL_MAX_STRLEN;
         s = sbuf;
     }
-    if (f->type == KELP_DCCL_T_HEX) {
+    if (hex) {
         if (n < 2 * m || (n == 2 * m && v->cut)) return DCCL_FAIL(e->cx, KELP_ERR_PARSE, "hex value too short");
         if (n > 2 * m || v->cut) return DCCL_FAIL(e->cx, KELP_ERR_PARSE, "hex value too long");
-        for (i = 0; i < m; i++) {
-            int hi = kelp_hex_digit(s[2 * i]), lo = kelp_hex_digit(s[2 * i + 1]);
-            if (hi < 0 || lo < 0) return DCCL_FAIL(e->cx, KELP_ERR_PARSE, "hex value has a non-hex character");
-            bytes[i] = (uint8_t)(hi << 4 | lo);
-        }
+        for (i = 0; i < 2 * m; i++)
+            if (kelp_hex_digit(s[i]) < 0) return DCCL_FAIL(e->cx, KELP_ERR_PARSE, "hex value has a non-hex character");
     } else {
-        size_t j;
-        for (i = 0; i < m; i++) bytes[i] = i < n ? (uint8_t)s[i] : 0;
         /* Goby ORs each char sign-extended into the field: a byte >= 0x80 sets
          * every higher bit of the field, i.e. all earlier bytes become 0xff. */
-        for (i = 0; i < m; i++)
-            if (bytes[i] & 0x80u)
-                for (j = 0; j < i; j++) bytes[j] = 0xff;
+        for (i = 0; i < m && i < n; i++)
+            if ((uint8_t)s[i] & 0x80u) high = i;
     }
     {
         uint32_t p = *pos;
         unsigned sh = p & 7u;
-        uint8_t *b = buf + (p >> 3);
-        if (sh == 0) {
-            memcpy(b, bytes, m); /* the buffer is zeroed: a store is an OR */
-        } else {
-            for (i = 0; i < m; i++) {
-                b[i] |= (uint8_t)(bytes[i] >> sh);
-                b[i + 1] |= (uint8_t)(bytes[i] << (8u - sh));
-            }
+        size_t b = p >> 3;
+        for (i = 0; i < m; i++) {
+            uint8_t byte;
+            if (hex) byte = (uint8_t)(kelp_hex_digit(s[2 * i]) << 4 | kelp_hex_digit(s[2 * i + 1]));
+            else if (i < high) byte = 0xff;
+            else byte = i < n ? (uint8_t)s[i] : 0;
+            or_byte(buf, b + i, (uint8_t)(byte >> sh));
+            if (sh) or_byte(buf, b + i + 1, (uint8_t)(byte << (8u - sh)));
         }
         *pos = p + 8u * (uint32_t)m;
     }
@@ -282,7 +296,7 @@ static int put_string(enc_ctx *e, const kelp_dccl_field *f, const kelp_dccl_val 
 
 /* Encode one element of a layout field at *pos. */
 static int put_element(enc_ctx *e, unsigned fi, const kelp_dccl_val *v, bool rounded, bool delta, double key,
-                       bool key_ok, uint8_t *buf, uint32_t *pos)
+                       bool key_ok, bitbuf *buf, uint32_t *pos)
 {
     const kelp_dccl_field *f = &e->def->fields[fi];
     switch (f->type) {
@@ -291,17 +305,16 @@ static int put_element(enc_ctx *e, unsigned fi, const kelp_dccl_val *v, bool rou
         put_wide(buf, pos, float_code(f, v, rounded, delta, key, key_ok), delta ? f->delta_bits : f->bits);
         return KELP_OK;
     case KELP_DCCL_T_BOOL: put_bits(buf, pos, bool_code(v), 2); return KELP_OK;
-    case KELP_DCCL_T_ENUM: put_bits(buf, pos, enum_code(f, v), f->bits); return KELP_OK;
+    case KELP_DCCL_T_ENUM: put_bits(buf, pos, enum_code(f, v, e->cx->work.enc.str), f->bits); return KELP_OK;
     case KELP_DCCL_T_STRING:
     case KELP_DCCL_T_HEX: return put_string(e, f, v, buf, pos);
     default: return KELP_OK; /* static: no bits */
     }
 }
 
-static int encode_field(enc_ctx *e, unsigned fi, uint8_t *buf, uint32_t *pos)
+static int encode_field(enc_ctx *e, unsigned fi, bitbuf *buf, uint32_t *pos)
 {
     const kelp_dccl_field *f = &e->def->fields[fi];
-    kelp_dccl_val kw, ew;
     const kelp_dccl_val *kv;
     double key = 0;
     bool key_ok = false, rounded = f->n_algs > 0;
@@ -309,7 +322,7 @@ static int encode_field(enc_ctx *e, unsigned fi, uint8_t *buf, uint32_t *pos)
     uint32_t key_pos;
     if (f->type == KELP_DCCL_T_STATIC) return KELP_OK;
     e->cur = fi;
-    kv = element_value(e, fi, 0, &kw);
+    kv = element_value(e, fi, 0, &e->cx->work.enc.key);
     if (f->has_delta) {
         key_ok = kv->kind != KELP_DCCL_V_EMPTY && kelp_dccl_val_to_double(kv, &key);
         if (key_ok && !rounded) key = kelp_dccl_unbiased_round(key, f->precision);
@@ -317,7 +330,7 @@ static int encode_field(enc_ctx *e, unsigned fi, uint8_t *buf, uint32_t *pos)
     }
     key_pos = *pos + (uint32_t)(f->array_length - 1u) * f->delta_bits;
     for (k = 1; k < f->array_length; k++) {
-        const kelp_dccl_val *v = element_value(e, fi, k, &ew);
+        const kelp_dccl_val *v = element_value(e, fi, k, &e->cx->work.enc.elem);
         int rc = put_element(e, fi, v, rounded, f->has_delta, key, key_ok, buf, pos);
         if (rc) return rc;
     }
@@ -388,74 +401,69 @@ int kelp_dccl_encode(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, const kel
                      uint8_t *out, size_t cap, size_t *len)
 {
     enc_ctx e;
-    kelp_dccl_val head[KELP_DCCL_N_HEAD];
-    uint8_t msg[KELP_DCCL_MAX_SIZE];
+    bitbuf msg;
     uint32_t pos = 0, nbody, pad;
     size_t blen, total;
     unsigned h, fi;
     cx->errmsg = NULL;
     if (!def || !in || !len || n_in < def->n_slots) return DCCL_FAIL(cx, KELP_ERR_ARG, "values array too short");
     nbody = (def->body_bits + 7u) / 8u;
-    if (KELP_DCCL_HEAD_BYTES + nbody > sizeof msg) return DCCL_FAIL(cx, KELP_ERR_RANGE, "message larger than KELP_DCCL_MAX_SIZE");
+    if (KELP_DCCL_HEAD_BYTES + nbody > KELP_DCCL_MAX_SIZE)
+        return DCCL_FAIL(cx, KELP_ERR_RANGE, "message larger than KELP_DCCL_MAX_SIZE");
     e.cx = cx;
     e.def = def;
     e.in = in;
-    e.head = head;
+    e.now = now;
     e.nref = 0;
+    /* the message is built in out: bytes past cap (or all, measuring) are counted, not kept */
+    msg.buf = out;
+    msg.cap = out ? cap : 0;
+    if (msg.cap > KELP_DCCL_HEAD_BYTES + nbody) msg.cap = KELP_DCCL_HEAD_BYTES + nbody;
+    msg.end = 0;
+    if (msg.cap) memset(out, 0, msg.cap);
+    /* header: defaults, pre-encode (precision 0), header algorithms on a copy, wrap to width */
     for (h = 0; h < KELP_DCCL_N_HEAD; h++) {
         const kelp_dccl_field *f = &def->fields[h];
-        head_default(cx, def, h, &in[f->slot], now, &head[h]);
-    }
-    memset(msg, 0, KELP_DCCL_HEAD_BYTES + nbody);
-    /* header: pre-encode (precision 0), header algorithms on a copy, wrap to width */
-    for (h = 0; h < KELP_DCCL_N_HEAD; h++) {
-        const kelp_dccl_field *f = &def->fields[h];
-        kelp_dccl_val w;
-        const kelp_dccl_val *v = &head[h];
+        kelp_dccl_val *w = &cx->work.enc.elem;
         uint64_t code;
         e.cur = h;
+        head_default(cx, def, h, &in[f->slot], now, w);
         if (f->n_algs || h == KELP_DCCL_H_TIME) {
-            pre_encode(f, &head[h], &w);
+            pre_encode(f, w, w);
             e.nref = 0;
-            dccl_apply_algs(cx->algs, f->algs, f->n_algs, &w, 0, enc_ref, &e);
-            v = &w;
-            code = head_code(h, v);
+            dccl_apply_algs(cx->algs, f->algs, f->n_algs, w, 0, enc_ref, &e);
         } else {
             double d;
             /* pre-encode rounding then long(): same as unbiased_round + sci_round */
             bool flag = h == KELP_DCCL_H_MULTIMESSAGE || h == KELP_DCCL_H_BROADCAST;
             kelp_dccl_kind exact = flag ? KELP_DCCL_V_BOOL : KELP_DCCL_V_LONG; /* nothing to round */
-            if (v->kind != exact && kelp_dccl_val_to_double(v, &d)) {
-                kelp_dccl_val_set_double(&w, kelp_dccl_unbiased_round(d, 0), 0);
-                v = &w;
-            }
-            code = head_code(h, v);
+            if (w->kind != exact && kelp_dccl_val_to_double(w, &d))
+                kelp_dccl_val_set_double(w, kelp_dccl_unbiased_round(d, 0), 0);
         }
-        put_bits(msg, &pos, code & ((1u << f->bits) - 1u), f->bits);
+        code = head_code(h, w);
+        put_bits(&msg, &pos, code & ((1u << f->bits) - 1u), f->bits);
     }
     /* body, right-aligned */
     pad = 8u * nbody - def->body_bits;
     pos = 8u * KELP_DCCL_HEAD_BYTES + pad;
     for (fi = KELP_DCCL_N_HEAD; fi < def->n_fields; fi++) {
         uint32_t start = pos;
-        int rc = encode_field(&e, fi, msg, &pos);
+        int rc = encode_field(&e, fi, &msg, &pos);
         if (rc) return rc;
         pos = start + def->fields[fi].total_bits;
     }
     /* strip trailing zero bytes of the body */
-    blen = nbody;
-    while (blen > 0 && msg[KELP_DCCL_HEAD_BYTES + blen - 1] == 0) blen--;
+    blen = msg.end > KELP_DCCL_HEAD_BYTES ? msg.end - KELP_DCCL_HEAD_BYTES : 0;
     total = KELP_DCCL_HEAD_BYTES + blen;
     *len = total;
     if (!out) return KELP_OK;
     if (cap < total) return DCCL_FAIL(cx, KELP_ERR_NOSPACE, "output buffer too small");
     if (cx->crypto && blen) {
         uint8_t iv[16];
-        if (cx->crypto->iv(cx->crypto->user, msg, KELP_DCCL_HEAD_BYTES, iv) ||
-            cx->crypto->ctr(cx->crypto->user, iv, msg + KELP_DCCL_HEAD_BYTES, blen))
+        if (cx->crypto->iv(cx->crypto->user, out, KELP_DCCL_HEAD_BYTES, iv) ||
+            cx->crypto->ctr(cx->crypto->user, iv, out + KELP_DCCL_HEAD_BYTES, blen))
             return DCCL_FAIL(cx, KELP_ERR_CRYPTO, "encryption failed");
     }
-    memcpy(out, msg, total);
     return KELP_OK;
 }
 
@@ -585,7 +593,7 @@ static int decode_element(kelp_dccl_codec *cx, const kelp_dccl_field *f, const u
 int kelp_dccl_decode(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, const uint8_t *in, size_t n, double now,
                      kelp_dccl_val *out, size_t n_out)
 {
-    uint8_t body[KELP_DCCL_MAX_SIZE];
+    uint8_t *body = cx->work.dec.body;
     kelp_dccl_header h;
     size_t m, nhead, nbody, blen;
     uint32_t pos;
@@ -594,7 +602,7 @@ int kelp_dccl_decode(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, const uin
     if (!def || !out || n_out < def->n_slots) return DCCL_FAIL(cx, KELP_ERR_ARG, "values array too short");
     if (!in || n == 0) return DCCL_FAIL(cx, KELP_ERR_TRUNCATED, "empty message");
     nbody = (def->body_bits + 7u) / 8u;
-    if (nbody > sizeof body) return DCCL_FAIL(cx, KELP_ERR_RANGE, "message larger than KELP_DCCL_MAX_SIZE");
+    if (nbody > sizeof cx->work.dec.body) return DCCL_FAIL(cx, KELP_ERR_RANGE, "message larger than KELP_DCCL_MAX_SIZE");
     /* Goby strips every trailing zero byte of the received message (header included) */
     m = n;
     while (m > 0 && in[m - 1] == 0) m--;

@@ -31,6 +31,13 @@ double dccl_pow10(int p);
 size_t dccl_fmt_fixed(double d, int prec, char *out, size_t cap);
 size_t dccl_fmt_g(double d, int prec, char *out, size_t cap);
 size_t dccl_fmt_long(int64_t l, char *out, size_t cap);
+/** v becomes the string form of the double d shown with precision p (as kelp_dccl_val_to_str
+ *  of that double, then kelp_dccl_val_set_strn), formatted in place in v->s. */
+void dccl_val_set_double_str(kelp_dccl_val *v, double d, int p);
+/** The string form of v (kelp_dccl_val_to_str, cut to KELP_DCCL_MAX_STRLEN) in v->s itself,
+ *  *n its length: for an algorithm that replaces v with a string made from it (v is not a
+ *  valid value of its kind until it is replaced). */
+char *dccl_val_str_inplace(kelp_dccl_val *v, size_t *n);
 /** Case-insensitive equality of (a, an) and NUL-terminated b. */
 bool dccl_ieq(const char *a, size_t an, const char *b);
 /** Apply a list of algorithm calls to v. `vals` gives the referenced values (a

@@ -3,6 +3,7 @@
  * conversions in a spec (%3$.01f) do not reformat it; %s/%S precision truncates,
  * %c keeps one character, width pads. */
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 #include "dccl_int.h"
@@ -99,7 +100,10 @@ static size_t emit_arg(char *out, size_t cap, size_t n, const fmt_item *it, cons
     return n;
 }
 
-int kelp_dccl_format(const char *fmt, const char *const *args, size_t n_args, char *out, size_t cap, size_t *len)
+/* The string of argument i, fetched when the format reaches it (valid until the next call). */
+typedef const char *(*fmt_arg_fn)(void *ctx, size_t i);
+
+static int format_with(const char *fmt, fmt_arg_fn arg, void *ctx, size_t n_args, char *out, size_t cap, size_t *len)
 {
     size_t n = 0, pass;
     int positional = -1; /* -1 unknown, 0 sequential, 1 positional */
@@ -161,7 +165,7 @@ int kelp_dccl_format(const char *fmt, const char *const *args, size_t n_args, ch
             if (!pass) {
                 if ((size_t)it.arg + 1 > max_arg) max_arg = (size_t)it.arg + 1;
             } else {
-                n = emit_arg(out, cap, n, &it, args[it.arg]);
+                n = emit_arg(out, cap, n, &it, arg(ctx, (size_t)it.arg));
             }
         }
         /* boost::format: more arguments than the format uses -> too_many_args,
@@ -173,10 +177,29 @@ int kelp_dccl_format(const char *fmt, const char *const *args, size_t n_args, ch
     return n < cap ? KELP_OK : KELP_ERR_NOSPACE;
 }
 
+static const char *argv_arg(void *ctx, size_t i)
+{
+    return ((const char *const *)ctx)[i];
+}
+
+int kelp_dccl_format(const char *fmt, const char *const *args, size_t n_args, char *out, size_t cap, size_t *len)
+{
+    /* the cast drops only the const of the array itself, which argv_arg keeps */
+    return format_with(fmt, argv_arg, (void *)(uintptr_t)args, n_args, out, cap, len);
+}
+
 /* ------------------------------------------------------------------ publish */
+/* The arguments of one publication: every element of every <message_var> in order (one
+ * element per publication for <repeat> messages). An argument with algorithms is run once,
+ * in argument order, before formatting (algorithms may keep state), and its string kept
+ * in the workspace; an argument without is a pure function of the values and is
+ * formatted into the workspace when the format string reaches it. */
 typedef struct pub_ctx {
+    kelp_dccl_codec *cx;
     const kelp_dccl_msgdef *def;
     const kelp_dccl_val *vals;
+    const kelp_dccl_publish *p;
+    unsigned r;
 } pub_ctx;
 
 static const kelp_dccl_val *pub_ref(void *ctx, unsigned field, unsigned element)
@@ -189,7 +212,67 @@ static const kelp_dccl_val *pub_ref(void *ctx, unsigned field, unsigned element)
     return &p->vals[f->slot + element];
 }
 
-#define PUB_MAX_ARGS 64
+/* Elements [*i0, *i1) of argument a's field for publication r. */
+static const kelp_dccl_field *arg_field(const pub_ctx *pc, unsigned a, unsigned *i0, unsigned *i1)
+{
+    const kelp_dccl_field *f = &pc->def->fields[pc->p->args[a].field];
+    *i0 = 0;
+    *i1 = f->array_length;
+    if (pc->def->repeat > 1) {
+        /* one element per publication; single-entry fields (header) repeat */
+        *i0 = f->array_length == 1 ? 0 : pc->r;
+        *i1 = *i0 + 1;
+    }
+    return f;
+}
+
+static const char *pub_arg(void *ctx, size_t want)
+{
+    const pub_ctx *pc = ctx;
+    kelp_dccl_work *w = &pc->cx->work;
+    size_t na = 0;
+    unsigned a, i0, i1;
+    for (a = 0; a < pc->p->n_args; a++) {
+        const kelp_dccl_field *f = arg_field(pc, a, &i0, &i1);
+        if (want >= na + (i1 - i0)) {
+            na += i1 - i0;
+            continue;
+        }
+        if (pc->p->args[a].n_algs && pc->cx->algs) return w->pub.alg + w->pub.off[want];
+        (void)kelp_dccl_val_to_str(&pc->vals[f->slot + i0 + (want - na)], w->pub.arg, sizeof w->pub.arg, NULL);
+        return w->pub.arg;
+    }
+    return ""; /* never: the format checked the count */
+}
+
+/* Run the arguments with algorithms (in order) into the workspace; count all of them. */
+static int pub_run_algs(pub_ctx *pc, size_t *n_args)
+{
+    kelp_dccl_codec *cx = pc->cx;
+    kelp_dccl_work *w = &cx->work;
+    size_t na = 0, used = 0;
+    unsigned a, i0, i1, i;
+    for (a = 0; a < pc->p->n_args; a++) {
+        const kelp_dccl_pubarg *pa = &pc->p->args[a];
+        const kelp_dccl_field *f = arg_field(pc, a, &i0, &i1);
+        for (i = i0; i < i1; i++, na++) {
+            size_t n, room;
+            if (na >= KELP_DCCL_MAX_PUB_ARGS) return DCCL_FAIL(cx, KELP_ERR_NOSPACE, "too many publish arguments");
+            if (!pa->n_algs || !cx->algs) continue;
+            w->pub.val = pc->vals[f->slot + i];
+            dccl_apply_algs(cx->algs, pa->algs, pa->n_algs, &w->pub.val, i, pub_ref, pc);
+            room = sizeof w->pub.alg - used;
+            if (room > KELP_DCCL_MAX_STRLEN + 1) room = KELP_DCCL_MAX_STRLEN + 1;
+            (void)kelp_dccl_val_to_str(&w->pub.val, w->pub.alg + used, room, &n);
+            if (n > KELP_DCCL_MAX_STRLEN) n = KELP_DCCL_MAX_STRLEN; /* cut as a value's string is */
+            if (n >= room) return DCCL_FAIL(cx, KELP_ERR_NOSPACE, "publish algorithm results longer than KELP_DCCL_PUB_ALG_WORK");
+            w->pub.off[na] = (uint16_t)used;
+            used += n + 1u;
+        }
+    }
+    *n_args = na;
+    return KELP_OK;
+}
 
 size_t kelp_dccl_n_publications(const kelp_dccl_msgdef *def)
 {
@@ -199,54 +282,45 @@ size_t kelp_dccl_n_publications(const kelp_dccl_msgdef *def)
 int kelp_dccl_publish_all(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, const kelp_dccl_val *vals, size_t n_vals,
                           kelp_dccl_pub *out, size_t cap, size_t *n_out)
 {
-    /* argument strings for one publication */
-    static const size_t ARGLEN = KELP_DCCL_MAX_STRLEN + 1;
-    char argbuf[PUB_MAX_ARGS][KELP_DCCL_MAX_STRLEN + 1];
-    const char *argv[PUB_MAX_ARGS];
     pub_ctx pc;
     unsigned pi, r;
     size_t count = 0;
     cx->errmsg = NULL;
     if (!def || !vals || !n_out || n_vals < def->n_slots) return DCCL_FAIL(cx, KELP_ERR_ARG, "values array too short");
+    pc.cx = cx;
     pc.def = def;
     pc.vals = vals;
     for (pi = 0; pi < def->n_publishes; pi++) {
         const kelp_dccl_publish *p = &def->publishes[pi];
+        pc.p = p;
         for (r = 0; r < def->repeat; r++) {
             size_t na = 0, flen;
-            unsigned a;
-            char text[KELP_DCCL_MAX_PUBLEN];
             kelp_dccl_pub *o;
+            const char *fmt = p->format ? p->format : "";
             int rc;
-            for (a = 0; a < p->n_args; a++) {
-                const kelp_dccl_field *f = &def->fields[p->args[a].field];
-                unsigned i0 = 0, i1 = f->array_length, i;
-                if (def->repeat > 1) {
-                    /* one element per publication; single-entry fields (header) repeat */
-                    i0 = f->array_length == 1 ? 0 : r;
-                    i1 = i0 + 1;
-                }
-                for (i = i0; i < i1; i++) {
-                    kelp_dccl_val w = vals[f->slot + i];
-                    if (na >= PUB_MAX_ARGS) return DCCL_FAIL(cx, KELP_ERR_NOSPACE, "too many publish arguments");
-                    dccl_apply_algs(cx->algs, p->args[a].algs, p->args[a].n_algs, &w, i, pub_ref, &pc);
-                    (void)kelp_dccl_val_to_str(&w, argbuf[na], ARGLEN, NULL);
-                    argv[na] = argbuf[na];
-                    na++;
-                }
+            pc.r = r;
+            rc = pub_run_algs(&pc, &na);
+            if (rc) return rc;
+            if (count >= cap) {
+                /* no room: report what the format would have (bad format, too long) first */
+                rc = format_with(fmt, pub_arg, &pc, na, NULL, 0, &flen);
+                if (rc == KELP_ERR_NOSPACE && flen >= KELP_DCCL_MAX_PUBLEN)
+                    return DCCL_FAIL(cx, KELP_ERR_NOSPACE, "published value longer than KELP_DCCL_MAX_PUBLEN");
+                if (rc && rc != KELP_ERR_NOSPACE)
+                    return DCCL_FAIL(cx, KELP_ERR_PARSE, "decode failed. check format string for this <publish />");
+                return DCCL_FAIL(cx, KELP_ERR_NOSPACE, "more publications than storage");
             }
-            rc = kelp_dccl_format(p->format ? p->format : "", argv, na, text, sizeof text, &flen);
+            o = &out[count];
+            rc = format_with(fmt, pub_arg, &pc, na, o->s, sizeof o->s, &flen);
             if (rc == KELP_ERR_NOSPACE) return DCCL_FAIL(cx, KELP_ERR_NOSPACE, "published value longer than KELP_DCCL_MAX_PUBLEN");
             if (rc) return DCCL_FAIL(cx, KELP_ERR_PARSE, "decode failed. check format string for this <publish />");
-            if (count >= cap) return DCCL_FAIL(cx, KELP_ERR_NOSPACE, "more publications than storage");
-            o = &out[count++];
+            count++;
             {
                 size_t vn = strlen(p->var);
                 if (vn >= sizeof o->var) vn = sizeof o->var - 1;
                 memcpy(o->var, p->var, vn);
                 o->var[vn] = '\0';
             }
-            memcpy(o->s, text, flen + 1);
             o->is_double = false;
             o->d = 0;
             switch (p->type) {
@@ -254,18 +328,18 @@ int kelp_dccl_publish_all(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, cons
             case KELP_DCCL_PUB_DOUBLE:
             case KELP_DCCL_PUB_LONG:
             case KELP_DCCL_PUB_BOOL: {
-                kelp_dccl_val t;
+                kelp_dccl_val *t = &cx->work.pub.val;
                 double d = NAN;
                 int64_t l = 0;
                 bool b = false;
-                kelp_dccl_val_set_strn(&t, text, flen);
+                kelp_dccl_val_set_strn(t, o->s, flen);
                 if (p->type == KELP_DCCL_PUB_DOUBLE) {
-                    if (!kelp_dccl_val_to_double(&t, &d)) d = NAN;
+                    if (!kelp_dccl_val_to_double(t, &d)) d = NAN;
                 } else if (p->type == KELP_DCCL_PUB_LONG) {
-                    if (!kelp_dccl_val_to_long(&t, &l)) l = 0;
+                    if (!kelp_dccl_val_to_long(t, &l)) l = 0;
                     d = (double)l;
                 } else {
-                    if (!kelp_dccl_val_to_bool(&t, &b)) b = false;
+                    if (!kelp_dccl_val_to_bool(t, &b)) b = false;
                     d = b ? 1 : 0;
                 }
                 o->is_double = true;
@@ -274,7 +348,7 @@ int kelp_dccl_publish_all(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, cons
             }
             default: {
                 double d;
-                if (kelp_dccl_parse_double(text, flen, &d)) {
+                if (kelp_dccl_parse_double(o->s, flen, &d)) {
                     o->is_double = true;
                     o->d = d;
                 }

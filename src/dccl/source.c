@@ -89,14 +89,7 @@ int kelp_dccl_source(const kelp_dccl_msgdef *def, const kelp_dccl_var *vars, siz
                 continue;
             }
             /* explode() works on the string form */
-            {
-                kelp_dccl_val t;
-                char buf[DCCL_NUMBUF];
-                size_t n;
-                kelp_dccl_val_set_double(&t, v->d, KELP_DCCL_MAX_DBL_PRECISION);
-                (void)kelp_dccl_val_to_str(&t, buf, sizeof buf, &n);
-                kelp_dccl_val_set_strn(&out[f->slot], buf, n < sizeof buf ? n : sizeof buf - 1);
-            }
+            dccl_val_set_double_str(&out[f->slot], v->d, KELP_DCCL_MAX_DBL_PRECISION);
             continue;
         }
         s = v->s ? v->s : "";

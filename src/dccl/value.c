@@ -364,6 +364,36 @@ static size_t dbl_to_str(double d, int p, char *out, size_t cap)
     return dccl_fmt_g(d, p, out, cap);
 }
 
+void dccl_val_set_double_str(kelp_dccl_val *v, double d, int p)
+{
+    size_t n = dbl_to_str(d, p, v->s, sizeof v->s);
+#if KELP_DCCL_LIBC_NUM
+    if (n > DCCL_NUMBUF - 1) n = DCCL_NUMBUF - 1; /* what a DCCL_NUMBUF buffer kept */
+#endif
+    v->kind = KELP_DCCL_V_STRING;
+    v->precision = KELP_DCCL_MAX_DBL_PRECISION;
+    v->d = 0;
+    v->l = 0;
+    v->b = false;
+    v->len = (uint16_t)(n > KELP_DCCL_MAX_STRLEN ? KELP_DCCL_MAX_STRLEN : n);
+    v->cut = v->len < n;
+    v->s[v->len] = '\0';
+}
+
+char *dccl_val_str_inplace(kelp_dccl_val *v, size_t *n)
+{
+    size_t k = 0;
+    switch (v->kind) {
+    case KELP_DCCL_V_STRING: k = v->len; break;
+    case KELP_DCCL_V_DOUBLE: k = dbl_to_str(v->d, v->precision, v->s, sizeof v->s); break;
+    case KELP_DCCL_V_LONG: k = dccl_fmt_long(v->l, v->s, sizeof v->s); break;
+    case KELP_DCCL_V_BOOL: k = put(v->s, sizeof v->s, v->b ? "true" : "false", v->b ? 4 : 5); break;
+    default: v->s[0] = '\0'; break;
+    }
+    *n = k > KELP_DCCL_MAX_STRLEN ? KELP_DCCL_MAX_STRLEN : k;
+    return v->s;
+}
+
 bool kelp_dccl_val_to_str(const kelp_dccl_val *v, char *out, size_t cap, size_t *len)
 {
     size_t n;

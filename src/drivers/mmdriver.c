@@ -15,7 +15,6 @@
 const unsigned kelp_mmdriver_packet_frames[6] = { 1, 3, 3, 2, 2, 8 };
 const unsigned kelp_mmdriver_packet_size[6] = { 32, 32, 64, 256, 256, 256 };
 
-static const char HEXL[] = "0123456789abcdef";
 
 /* ------------------------------------------------------------------ time helpers */
 
@@ -101,15 +100,17 @@ static void set_clock_state(kelp_mmdriver *mm, bool ok, int64_t now_us)
 
 static void mm_write(kelp_mmdriver *mm, const kelp_mmdriver_cmd *c, int64_t now_us)
 {
-    char buf[sizeof mm->prefix + KELP_MAX_NMEA_LINE + 3];
+    /* mm->wbuf is filled after the event, right before the write: an event handler that
+     * writes again does not clobber it */
+    char *buf = mm->wbuf;
     size_t pl = strlen(mm->prefix);
+    mm->count.lines_out++;
+    emit_simple(mm, KELP_MMDRIVER_EV_NMEA_OUT, c->line, c->len, 0, now_us);
     memcpy(buf, mm->prefix, pl);
     memcpy(buf + pl, c->line, c->len);
     buf[pl + c->len] = '\r';
     buf[pl + c->len + 1] = '\n';
     buf[pl + c->len + 2] = '\0';
-    mm->count.lines_out++;
-    emit_simple(mm, KELP_MMDRIVER_EV_NMEA_OUT, c->line, c->len, 0, now_us);
     if (mm->ops.write) mm->ops.write(buf, pl + c->len + 2, mm->user);
 }
 
@@ -447,21 +448,15 @@ static int drq(kelp_mmdriver *mm, const kelp_nmea_sentence *s, int64_t now_us)
     if (s->nfields < 5) return KELP_ERR_PARSE;
     long f = 0;
     bool cached = field_u(s, 6, &f) == KELP_OK && f >= 1 && (unsigned long)(f - 1) < mm->ncache;
-    char buf[KELP_MAX_NMEA_LINE + 1];
     kelp_nmea_writer w;
-    kelp_nmea_writer_init(&w, buf, sizeof buf, "$CCTXD");
+    /* built in mm->wbuf: append() copies it into the command queue before anything writes */
+    kelp_nmea_writer_init(&w, mm->wbuf, KELP_MAX_NMEA_LINE + 1, "$CCTXD");
     if (cached) {
         const kelp_mmdriver_frame *fr = &mm->cache[f - 1];
         kelp_nmea_writer_long(&w, fr->src);
         kelp_nmea_writer_long(&w, fr->dest);
         kelp_nmea_writer_long(&w, fr->ack_requested ? 1 : 0);
-        char hex[2 * KELP_MAX_ACOMMS_FRAME + 1];
-        for (size_t i = 0; i < fr->len; i++) {
-            hex[2 * i] = HEXL[fr->data[i] >> 4];
-            hex[2 * i + 1] = HEXL[fr->data[i] & 15];
-        }
-        hex[2 * fr->len] = '\0';
-        kelp_nmea_writer_str(&w, hex);
+        kelp_nmea_writer_hex(&w, fr->data, fr->len);
         if (fr->ack_requested && f - 1 < 32) mm->ack_mask |= 1u << (f - 1);
     } else {
         /* nothing cached: a blank to stop further requests, echoing SRC, DEST, ACK */
@@ -523,16 +518,19 @@ static void process_sentence(kelp_mmdriver *mm, const char *line, size_t len, in
         emit_simple(mm, KELP_MMDRIVER_EV_BAD_LINE, line, len, rc, now_us);
         return;
     }
-    char raw[KELP_MAX_NMEA_LINE + 4];
+    char *raw = mm->raw;
     size_t rawlen = 0;
-    if (kelp_nmea_render(s, raw, sizeof raw, &rawlen) != KELP_OK) {
+    if (kelp_nmea_render(s, raw, sizeof mm->raw, &rawlen) != KELP_OK) {
         mm->count.bad_lines++;
         emit_simple(mm, KELP_MMDRIVER_EV_BAD_LINE, line, len, KELP_ERR_NOSPACE, now_us);
         return;
     }
     mm->global_fail = 0; /* the modem is alive */
-    kelp_mmdriver_event ev;
-    ev_init(&ev, KELP_MMDRIVER_EV_NMEA_IN, now_us);
+    /* sub: the event a sentence gives (cycle, receive, ...), then the NMEA_IN event, whose
+     * source is kept in ev_src until then */
+    kelp_mmdriver_event sub;
+    bool ev_has_src = false;
+    int ev_src = 0;
     const char *id = s->id;
     long a = 0, b = 0, c = 0, d = 0;
     rc = KELP_OK;
@@ -555,42 +553,42 @@ static void process_sentence(kelp_mmdriver *mm, const char *line, size_t len, in
         } else if (c < 0 || c > 5 || d < 0) {
             rc = KELP_ERR_RANGE;
         } else {
-            kelp_mmdriver_event cy;
-            ev_init(&cy, KELP_MMDRIVER_EV_CYCLE, now_us);
-            cy.has_src = true;
-            cy.src = (int)a;
-            cy.dest = (int)b;
-            cy.rate = (unsigned)c;
-            cy.frame = (uint32_t)d;
-            emit(mm, &cy);
-            ev.has_src = true;
-            ev.src = (int)a;
+            kelp_mmdriver_event *cy = &sub;
+            ev_init(cy, KELP_MMDRIVER_EV_CYCLE, now_us);
+            cy->has_src = true;
+            cy->src = (int)a;
+            cy->dest = (int)b;
+            cy->rate = (unsigned)c;
+            cy->frame = (uint32_t)d;
+            emit(mm, cy);
+            ev_has_src = true;
+            ev_src = (int)a;
             if (!mm->local_cccyc) rc = cache_outgoing(mm, (int)a, (int)b, (unsigned)c, (unsigned)d, now_us);
             else mm->local_cccyc = false;
         }
     } else if (!strcmp(id, "RXD")) {
         /* $CARXD,SRC,DEST,ACK,FRAME,HEX */
-        kelp_mmdriver_event rx;
-        ev_init(&rx, KELP_MMDRIVER_EV_RECEIVE, now_us);
-        uint8_t data[KELP_MAX_ACOMMS_FRAME];
+        kelp_mmdriver_event *rx = &sub;
+        ev_init(rx, KELP_MMDRIVER_EV_RECEIVE, now_us);
+        uint8_t *data = mm->rxdata;
         size_t dl = 0;
         const char *ackf = kelp_nmea_field(s, 3);
         if (field_u(s, 1, &a) != KELP_OK || field_u(s, 2, &b) != KELP_OK || field_u(s, 4, &d) != KELP_OK ||
             (strcmp(ackf, "0") != 0 && strcmp(ackf, "1") != 0) || s->nfields < 6) {
             rc = KELP_ERR_PARSE;
-        } else if ((rc = kelp_hex_decode(kelp_nmea_field(s, 5), strlen(kelp_nmea_field(s, 5)), data, sizeof data, &dl)) == KELP_OK) {
-            rx.has_src = true;
-            rx.src = (int)a;
-            rx.dest = (int)b;
-            rx.ack_requested = ackf[0] == '1';
-            rx.frame = (uint32_t)(d - 1); /* WHOI counts from 1 */
-            rx.data = data;
-            rx.data_len = dl;
-            rx.raw = raw;
-            rx.raw_len = rawlen;
-            emit(mm, &rx);
-            ev.has_src = true;
-            ev.src = (int)a;
+        } else if ((rc = kelp_hex_decode(kelp_nmea_field(s, 5), strlen(kelp_nmea_field(s, 5)), data, sizeof mm->rxdata, &dl)) == KELP_OK) {
+            rx->has_src = true;
+            rx->src = (int)a;
+            rx->dest = (int)b;
+            rx->ack_requested = ackf[0] == '1';
+            rx->frame = (uint32_t)(d - 1); /* WHOI counts from 1 */
+            rx->data = data;
+            rx->data_len = dl;
+            rx->raw = raw;
+            rx->raw_len = rawlen;
+            emit(mm, rx);
+            ev_has_src = true;
+            ev_src = (int)a;
             flush_toa(mm, (int)a, now_us);
         }
     } else if (!strcmp(id, "ACK")) {
@@ -600,18 +598,18 @@ static void process_sentence(kelp_mmdriver *mm, const char *line, size_t len, in
         } else {
             uint32_t fr = (uint32_t)(c - 1);
             if (fr < 32 && (mm->ack_mask & (1u << fr))) {
-                kelp_mmdriver_event ak;
-                ev_init(&ak, KELP_MMDRIVER_EV_ACK, now_us);
-                ak.has_src = true;
-                ak.src = (int)a;
-                ak.dest = (int)b;
-                ak.frame = fr;
-                ak.raw = raw;
-                ak.raw_len = rawlen;
-                emit(mm, &ak);
+                kelp_mmdriver_event *ak = &sub;
+                ev_init(ak, KELP_MMDRIVER_EV_ACK, now_us);
+                ak->has_src = true;
+                ak->src = (int)a;
+                ak->dest = (int)b;
+                ak->frame = fr;
+                ak->raw = raw;
+                ak->raw_len = rawlen;
+                emit(mm, ak);
             }
-            ev.has_src = true;
-            ev.src = (int)a;
+            ev_has_src = true;
+            ev_src = (int)a;
             flush_toa(mm, (int)a, now_us);
         }
     } else if (!strcmp(id, "MPR")) {
@@ -620,39 +618,39 @@ static void process_sentence(kelp_mmdriver *mm, const char *line, size_t len, in
         if (field_u(s, 1, &a) != KELP_OK || field_u(s, 2, &b) != KELP_OK) {
             rc = KELP_ERR_PARSE;
         } else {
-            kelp_mmdriver_event rg;
-            ev_init(&rg, KELP_MMDRIVER_EV_RANGE, now_us);
-            rg.ranging = KELP_RANGING_TWO_WAY_PING;
-            rg.has_src = true;
-            rg.src = (int)b;
-            rg.dest = (int)a;
+            kelp_mmdriver_event *rg = &sub;
+            ev_init(rg, KELP_MMDRIVER_EV_RANGE, now_us);
+            rg->ranging = KELP_RANGING_TWO_WAY_PING;
+            rg->has_src = true;
+            rg->src = (int)b;
+            rg->dest = (int)a;
             if (s->nfields > 3) {
                 double t;
-                rg.tt[rg.n_tt++] = kelp_nmea_field_double(s, 3, &t) == KELP_OK ? t : (double)NAN;
+                rg->tt[rg->n_tt++] = kelp_nmea_field_double(s, 3, &t) == KELP_OK ? t : (double)NAN;
             }
-            rg.raw = raw;
-            rg.raw_len = rawlen;
-            emit(mm, &rg);
-            ev.has_src = true;
-            ev.src = (int)b;
+            rg->raw = raw;
+            rg->raw_len = rawlen;
+            emit(mm, rg);
+            ev_has_src = true;
+            ev_src = (int)b;
         }
     } else if (!strcmp(id, "TTA")) {
         /* $SNTTA,T1,T2,T3,T4,HHMMSS.SS */
         mm->toa_pending = false;
-        kelp_mmdriver_event rg;
-        ev_init(&rg, KELP_MMDRIVER_EV_RANGE, now_us);
-        rg.ranging = KELP_RANGING_REMUS_LBL;
-        rg.has_src = true;
-        rg.src = mm->modem_id;
+        kelp_mmdriver_event *rg = &sub;
+        ev_init(rg, KELP_MMDRIVER_EV_RANGE, now_us);
+        rg->ranging = KELP_RANGING_REMUS_LBL;
+        rg->has_src = true;
+        rg->src = mm->modem_id;
         for (unsigned i = 1; i <= 4; i++) {
             double t;
-            rg.tt[rg.n_tt++] = kelp_nmea_field_double(s, i, &t) == KELP_OK ? t : (double)NAN;
+            rg->tt[rg->n_tt++] = kelp_nmea_field_double(s, i, &t) == KELP_OK ? t : (double)NAN;
         }
-        rg.raw = raw;
-        rg.raw_len = rawlen;
-        emit(mm, &rg);
-        ev.has_src = true;
-        ev.src = mm->modem_id;
+        rg->raw = raw;
+        rg->raw_len = rawlen;
+        emit(mm, rg);
+        ev_has_src = true;
+        ev_src = mm->modem_id;
     } else if (!strcmp(id, "TOA")) {
         /* $CATOA,HHMMSS.ssss,MODE: only mode 3 (PPS and $CCCLK good) is used */
         mm->toa_pending = false;
@@ -672,9 +670,12 @@ static void process_sentence(kelp_mmdriver *mm, const char *line, size_t len, in
         return;
     }
     mm->count.lines_in++;
-    ev.raw = raw;
-    ev.raw_len = rawlen;
-    emit(mm, &ev);
+    ev_init(&sub, KELP_MMDRIVER_EV_NMEA_IN, now_us);
+    sub.has_src = ev_has_src;
+    sub.src = ev_src;
+    sub.raw = raw;
+    sub.raw_len = rawlen;
+    emit(mm, &sub);
     kelp_mmdriver_cmd *f = front(mm);
     if (f && !strcmp(f->id, id)) pop_out(mm); /* the modem answered the pending command */
 }

@@ -213,6 +213,16 @@ void kelp_nmea_writer_str(kelp_nmea_writer *w, const char *field)
     for (const char *p = field; p && *p; p++) wput(w, *p);
 }
 
+void kelp_nmea_writer_hex(kelp_nmea_writer *w, const uint8_t *data, size_t n)
+{
+    static const char HEXL[] = "0123456789abcdef";
+    wput(w, ',');
+    for (size_t i = 0; i < n; i++) {
+        wput(w, HEXL[data[i] >> 4]);
+        wput(w, HEXL[data[i] & 15]);
+    }
+}
+
 void kelp_nmea_writer_long(kelp_nmea_writer *w, long v)
 {
     char tmp[24];

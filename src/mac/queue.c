@@ -2,6 +2,7 @@
  * goby-wire.md section 8 (queue.cpp / queue_manager.cpp).  Core: no allocation, no I/O. */
 #include <kelp/queue.h>
 
+#include <stddef.h>
 #include <string.h>
 
 #define US_PER_S 1000000LL
@@ -241,12 +242,12 @@ static kelp_queue *find_next_sender(kelp_queue_mgr *m, const kelp_queue_request 
             if (!stale && m->pool[q->tail].msg.has_time)
                 stale = m->pool[q->tail].msg.time_us + ON_DEMAND_SKEW_US < now_us;
             if (stale) {
-                kelp_acomms_msg fresh;
-                memset(&fresh, 0, sizeof fresh);
-                fresh.key = q->cfg.key;
-                m->on_demand(q->cfg.key, req, &fresh, m->user);
-                fresh.key = q->cfg.key;
-                if (kelp_queue_push(m, &fresh, now_us) != KELP_OK) set_err(m, "queue: ON_DEMAND message rejected");
+                kelp_acomms_msg *fresh = &m->fresh;
+                memset(fresh, 0, sizeof *fresh);
+                fresh->key = q->cfg.key;
+                m->on_demand(q->cfg.key, req, fresh, m->user);
+                fresh->key = q->cfg.key;
+                if (kelp_queue_push(m, fresh, now_us) != KELP_OK) set_err(m, "queue: ON_DEMAND message rejected");
                 q = &m->q[i];
             }
         }
@@ -305,8 +306,9 @@ static int stitch(kelp_queue_mgr *m, const kelp_queue_request *req, kelp_acomms_
 {
     for (;;) {
         int32_t gi = give_data(m, win, req->frame, now_us);
-        kelp_acomms_msg next = m->pool[gi].msg;
-        if (next.ack_requested) {
+        kelp_acomms_msg *next = &m->next;
+        *next = m->pool[gi].msg;
+        if (next->ack_requested) {
             if (m->nwait < KELP_MAX_QUEUE_ACK_WAIT) {
                 m->wait[m->nwait].frame = req->frame;
                 m->wait[m->nwait].q = (uint16_t)(win - m->q);
@@ -318,9 +320,9 @@ static int stitch(kelp_queue_mgr *m, const kelp_queue_request *req, kelp_acomms_
             (void)pop_message(m, win);
             qsize(m, win); /* Goby notifies after pop_message whatever it returned */
         }
-        if (!m->packet_ack) m->packet_ack = next.ack_requested;
+        if (!m->packet_ack) m->packet_ack = next->ack_requested;
         if (req->frame == 0) {
-            if (out->dest == KELP_ACOMMS_QUERY_DEST) out->dest = next.dest;
+            if (out->dest == KELP_ACOMMS_QUERY_DEST) out->dest = next->dest;
             if (m->packet_dest == KELP_ACOMMS_BROADCAST) m->packet_dest = out->dest;
         } else {
             out->dest = m->packet_dest;
@@ -328,17 +330,17 @@ static int stitch(kelp_queue_mgr *m, const kelp_queue_request *req, kelp_acomms_
         if (win->cfg.key.type != KELP_QUEUE_DCCL) {
             /* CCL: the frame is the message itself */
             uint32_t frame = out->frame;
-            *out = next;
+            *out = *next;
             out->frame = frame;
             return KELP_OK;
         }
         /* DCCL piece: header bytes 1..5, body length byte, body (the CCL id byte is added once) */
         size_t start = out->len;
-        if (start + next.len > KELP_MAX_ACOMMS_FRAME) return KELP_ERR_NOSPACE;
-        memcpy(out->data + start, next.data + 1, KELP_DCCL_HEADER_BYTES - 1);
-        out->data[start + 5] = (uint8_t)(next.len - KELP_DCCL_HEADER_BYTES);
-        memcpy(out->data + start + 6, next.data + KELP_DCCL_HEADER_BYTES, next.len - KELP_DCCL_HEADER_BYTES);
-        out->len = start + next.len;
+        if (start + next->len > KELP_MAX_ACOMMS_FRAME) return KELP_ERR_NOSPACE;
+        memcpy(out->data + start, next->data + 1, KELP_DCCL_HEADER_BYTES - 1);
+        out->data[start + 5] = (uint8_t)(next->len - KELP_DCCL_HEADER_BYTES);
+        memcpy(out->data + start + 6, next->data + KELP_DCCL_HEADER_BYTES, next->len - KELP_DCCL_HEADER_BYTES);
+        out->len = start + next->len;
 
         kelp_queue *more = NULL;
         if ((size_t)req->max_bytes - out->len > KELP_DCCL_HEADER_BYTES)
@@ -347,7 +349,7 @@ static int stitch(kelp_queue_mgr *m, const kelp_queue_request *req, kelp_acomms_
         uint8_t *b5 = &out->data[start + 4];
         *b5 = (uint8_t)(*b5 & ~(KELP_DCCL_MULTIMESSAGE_MASK | KELP_DCCL_BROADCAST_MASK));
         if (more) *b5 |= KELP_DCCL_MULTIMESSAGE_MASK;
-        if (next.dest == KELP_ACOMMS_BROADCAST) *b5 |= KELP_DCCL_BROADCAST_MASK;
+        if (next->dest == KELP_ACOMMS_BROADCAST) *b5 |= KELP_DCCL_BROADCAST_MASK;
         if (more) { win = more; continue; }
         /* last piece: prepend 0x20, drop this piece's length byte */
         size_t szpos = start + 5;
@@ -451,6 +453,8 @@ long kelp_queue_size(const kelp_queue_mgr *m, kelp_queue_key key)
 
 /* ------------------------------------------------------------------ receive */
 
+static int unstitch_into(const uint8_t *d, size_t n, kelp_unstitch_fn fn, void *user, uint8_t *piece);
+
 struct rx_ctx {
     kelp_queue_mgr *m;
     const kelp_acomms_msg *frame;
@@ -465,14 +469,15 @@ static void publish_piece(const uint8_t *piece, size_t len, unsigned id, bool br
     if (dest != KELP_ACOMMS_BROADCAST && dest != m->modem_id) { m->count.rx_not_for_us++; return; }
     kelp_queue_key key = { KELP_QUEUE_DCCL, id };
     if (!find_q(m, key)) { m->count.rx_no_queue++; return; }
-    kelp_acomms_msg msg = *c->frame;
-    msg.dest = dest;
-    msg.key = key;
-    memcpy(msg.data, piece, len);
-    msg.len = len;
+    kelp_acomms_msg *msg = &m->rx; /* the piece is already in msg->data (unstitch_into) */
+    memcpy(msg, c->frame, offsetof(kelp_acomms_msg, data));
+    msg->dest = dest;
+    msg->key = key;
+    if (piece != msg->data) memcpy(msg->data, piece, len);
+    msg->len = len;
     m->count.rx_pieces++;
     c->n++;
-    emit(m, KELP_QUEUE_EV_RECEIVE, key, &msg, 0, msg.frame);
+    emit(m, KELP_QUEUE_EV_RECEIVE, key, msg, 0, msg->frame);
 }
 
 int kelp_queue_receive(kelp_queue_mgr *m, const kelp_acomms_msg *frame)
@@ -485,16 +490,17 @@ int kelp_queue_receive(kelp_queue_mgr *m, const kelp_acomms_msg *frame)
         /* the 6-byte header rule applies to DCCL only; a CCL frame may be shorter */
         if (n < KELP_DCCL_HEADER_BYTES) { m->count.rx_malformed++; return 0; }
         struct rx_ctx c = { m, frame, 0 };
-        if (kelp_queue_unstitch(frame->data, n, publish_piece, &c) < 0) m->count.rx_malformed++;
+        if (unstitch_into(frame->data, n, publish_piece, &c, m->rx.data) < 0) m->count.rx_malformed++;
         return c.n;
     }
     kelp_queue_key key = { KELP_QUEUE_CCL, frame->data[0] };
     if (!find_q(m, key)) { m->count.rx_no_queue++; return 0; }
-    kelp_acomms_msg msg = *frame;
-    msg.key = key;
-    msg.len = n;
+    kelp_acomms_msg *msg = &m->rx;
+    if (msg != frame) *msg = *frame;
+    msg->key = key;
+    msg->len = n;
     m->count.rx_pieces++;
-    emit(m, KELP_QUEUE_EV_RECEIVE_CCL, key, &msg, 0, msg.frame);
+    emit(m, KELP_QUEUE_EV_RECEIVE_CCL, key, msg, 0, msg->frame);
     return 1;
 }
 
@@ -541,10 +547,10 @@ void kelp_queue_header_write(const kelp_queue_header *h, uint8_t out[KELP_DCCL_H
     for (int i = 5; i >= 0; i--) { out[i] = (uint8_t)(v & 0xff); v >>= 8; }
 }
 
-int kelp_queue_unstitch(const uint8_t *d, size_t n, kelp_unstitch_fn fn, void *user)
+/* piece: KELP_MAX_ACOMMS_FRAME + 1 bytes of caller storage */
+static int unstitch_into(const uint8_t *d, size_t n, kelp_unstitch_fn fn, void *user, uint8_t *piece)
 {
     if (!d || n < KELP_DCCL_HEADER_BYTES || d[0] != KELP_DCCL_CCL_ID) return KELP_ERR_PARSE;
-    uint8_t piece[KELP_MAX_ACOMMS_FRAME + 1];
     if (n > KELP_MAX_ACOMMS_FRAME) n = KELP_MAX_ACOMMS_FRAME;
     size_t p = 1; /* start of the current header (without its 0x20) */
     int count = 0;
@@ -575,4 +581,10 @@ int kelp_queue_unstitch(const uint8_t *d, size_t n, kelp_unstitch_fn fn, void *u
         if (!mm) return count;
         p = next;
     }
+}
+
+int kelp_queue_unstitch(const uint8_t *d, size_t n, kelp_unstitch_fn fn, void *user)
+{
+    uint8_t piece[KELP_MAX_ACOMMS_FRAME + 1];
+    return unstitch_into(d, n, fn, user, piece);
 }

@@ -180,14 +180,8 @@ static void write_rev(kelp_modemsim *m, const char *ident, int64_t now_us)
 
 static void write_hex(kelp_nmea_writer *w, const uint8_t *d, size_t n)
 {
-    char hex[2 * KELP_MAX_ACOMMS_FRAME + 1];
     if (n > KELP_MAX_ACOMMS_FRAME) n = KELP_MAX_ACOMMS_FRAME;
-    for (size_t i = 0; i < n; i++) {
-        hex[2 * i] = HEXL[d[i] >> 4];
-        hex[2 * i + 1] = HEXL[d[i] & 15];
-    }
-    hex[2 * n] = '\0';
-    kelp_nmea_writer_str(w, hex);
+    kelp_nmea_writer_hex(w, d, n);
 }
 
 /* ------------------------------------------------------------------ configuration */
@@ -416,10 +410,11 @@ static void run_txq(kelp_modemsim *m, int64_t now_us)
         kelp_modemsim_txslot *t = &m->txq[best];
         int64_t start = t->due_us > m->busy_until_us ? t->due_us : m->busy_until_us;
         if (start > now_us) return;
-        kelp_modemsim_txslot tmp = *t;
+        kelp_modemsim_txslot *tmp = &m->txwork;
+        *tmp = *t;
         memmove(&m->txq[best], &m->txq[best + 1], (m->n_txq - best - 1) * sizeof m->txq[0]);
         m->n_txq--;
-        start_tx(m, &tmp, now_us);
+        start_tx(m, tmp, now_us);
     }
 }
 
@@ -646,19 +641,19 @@ static void cmd_txd(kelp_modemsim *m, const kelp_nmea_sentence *s, const char *l
         host_error(m, ERR_FIELD, "BAD_TXD_FIELD", line, KELP_ERR_PARSE, now_us);
         return;
     }
-    kelp_modemsim_frame f;
-    memset(&f, 0, sizeof f);
+    kelp_modemsim_frame *f = &m->txd;
+    memset(f, 0, sizeof *f);
     size_t n = 0;
     size_t cap = m->cyc.active ? kelp_modemsim_rate_bytes[m->cyc.rate] : KELP_MAX_ACOMMS_FRAME;
-    int rc = kelp_hex_decode(kelp_nmea_field(s, 4), strlen(kelp_nmea_field(s, 4)), f.data, cap, &n);
+    int rc = kelp_hex_decode(kelp_nmea_field(s, 4), strlen(kelp_nmea_field(s, 4)), f->data, cap, &n);
     if (rc) {
         host_error(m, ERR_FIELD, rc == KELP_ERR_RANGE ? "TXD_TOO_LONG" : "BAD_TXD_HEX", line, rc, now_us);
         return;
     }
-    f.src = (uint8_t)src;
-    f.dest = (uint8_t)dest;
-    f.ack = ack == 1;
-    f.len = (uint16_t)n;
+    f->src = (uint8_t)src;
+    f->dest = (uint8_t)dest;
+    f->ack = ack == 1;
+    f->len = (uint16_t)n;
     char buf[64];
     kelp_nmea_writer w;
     kelp_nmea_writer_init(&w, buf, sizeof buf, "$CATXD");
@@ -672,11 +667,11 @@ static void cmd_txd(kelp_modemsim *m, const kelp_nmea_sentence *s, const char *l
         if (n == 0) {
             finish_cycle(m, now_us);
         } else {
-            m->gathered[m->cyc.next++] = f;
+            m->gathered[m->cyc.next++] = *f;
             gather_next(m, now_us);
         }
     } else if (n > 0) {
-        if (m->n_txbuf < KELP_MAX_MM_FRAMES) m->txbuf[m->n_txbuf++] = f;
+        if (m->n_txbuf < KELP_MAX_MM_FRAMES) m->txbuf[m->n_txbuf++] = *f;
         else emit(m, KELP_MODEMSIM_EV_INFO, NULL, 0, KELP_MODEMSIM_LOSS_NONE, "transmit buffer full: frame dropped", 0, now_us);
     }
 }
@@ -757,7 +752,7 @@ static void handle_line(kelp_modemsim *m, const char *line, size_t len, int64_t 
 {
     kelp_nmea_sentence *s = &m->s;
     int rc = kelp_nmea_parse(line, len, s);
-    char copy[KELP_MAX_NMEA_LINE + 1];
+    char *copy = m->line;
     size_t cl = len < KELP_MAX_NMEA_LINE ? len : KELP_MAX_NMEA_LINE;
     memcpy(copy, line, cl);
     copy[cl] = '\0';
@@ -925,9 +920,8 @@ static void receive_data(kelp_modemsim *m, kelp_modemsim_arrival *a, int64_t now
             emit_arrival(m, KELP_MODEMSIM_EV_LOST, a, i + 1, KELP_MODEMSIM_LOSS_RANDOM, now_us);
             continue;
         }
-        char buf[KELP_MAX_NMEA_LINE + 4];
         kelp_nmea_writer w;
-        kelp_nmea_writer_init(&w, buf, sizeof buf, "$CARXD");
+        kelp_nmea_writer_init(&w, m->rxd, sizeof m->rxd, "$CARXD");
         kelp_nmea_writer_long(&w, f->src);
         kelp_nmea_writer_long(&w, f->dest);
         kelp_nmea_writer_long(&w, f->ack ? 1 : 0);

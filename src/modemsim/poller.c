@@ -261,24 +261,36 @@ int kelp_poller_command(kelp_poller_list *l, const char *cmd, const char **why)
         return KELP_ERR_NOTFOUND;
     }
     if (VERB("replace")) {
-        /* replace src=..;src=..;... (empty = no slots): all or nothing */
-        kelp_poller_list n = *l;
-        n.n = 0;
-        const char *p = arg ? arg : "";
-        while (*p) {
-            const char *e = strchr(p, ';');
-            size_t len = e ? (size_t)(e - p) : strlen(p);
-            char one[256];
-            if (len >= sizeof one) {
-                *why = "slot too long";
-                return KELP_ERR_RANGE;
+        /* replace src=..;src=..;... (empty = no slots): all or nothing, so every slot is
+         * checked (as kelp_poller_add would) before the list is touched */
+        const char *p0 = arg ? arg : "";
+        for (int pass = 0; pass < 2; pass++) {
+            size_t count = 0;
+            if (pass) l->n = 0;
+            for (const char *p = p0; *p;) {
+                const char *e = strchr(p, ';');
+                size_t len = e ? (size_t)(e - p) : strlen(p);
+                char one[256];
+                if (len >= sizeof one) {
+                    *why = "slot too long";
+                    return KELP_ERR_RANGE;
+                }
+                memcpy(one, p, len);
+                one[len] = '\0';
+                if (len) {
+                    kelp_mac_slot s;
+                    if (kelp_poller_parse_slot(one, l->default_seconds, &s, why) < 0) return KELP_ERR_PARSE;
+                    if (count >= KELP_MAX_MSIM_POLL_SLOTS) {
+                        *why = "list full (KELP_MAX_MSIM_POLL_SLOTS)";
+                        return KELP_ERR_PARSE;
+                    }
+                    if (pass) l->slot[count] = s;
+                    count++;
+                }
+                p += len + (e ? 1 : 0);
             }
-            memcpy(one, p, len);
-            one[len] = '\0';
-            if (len && kelp_poller_add(&n, one, why) < 0) return KELP_ERR_PARSE;
-            p += len + (e ? 1 : 0);
+            if (pass) l->n = count;
         }
-        *l = n;
         return 1;
     }
     if (VERB("clear")) l->n = 0;
