@@ -131,6 +131,10 @@ typedef struct kelp_viewer {
     kelp_viewer_vehicle veh[KELP_VIEWER_MAX_VEHICLES];
     kelp_viewer_artifact art[KELP_VIEWER_MAX_ARTIFACTS];
     kelp_viewer_cast casts[KELP_VIEWER_MAX_CASTS];
+    /* workspace of one call (keeps the stack under 1 KB) */
+    kelp_viewer_cmd ws_cmd;       /**< a button line applied to a copy first */
+    kelp_view ws_view;            /**< a VIEW_* posting as parsed */
+    kelp_nodereport ws_report;    /**< a NODE_REPORT as parsed */
 } kelp_viewer;
 
 /** Empty model with pMarineViewer's defaults. */

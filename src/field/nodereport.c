@@ -1,5 +1,6 @@
 /* NODE_REPORT formatting and parsing (see include/kelp/nodereport.h). */
 #include <math.h>
+#include <stddef.h>
 #include <string.h>
 #include <kelp/nodereport.h>
 #include <kelp/mission.h>
@@ -27,40 +28,48 @@ int kelp_nodereport_format(const kelp_nodereport *r, char *buf, size_t cap, size
     for (size_t i = 0; i < sizeof texts / sizeof texts[0]; i++)
         if ((r->fields & tbits[i]) && (!memchr(texts[i], 0, KELP_NODEREPORT_MAX_FIELD) || !text_ok(texts[i])))
             return KELP_ERR_ARG;
-    const struct {
+    /* the fields in the order written: a constant table of offsets (no table on the stack) */
+    static const struct {
         const char *key;
         uint32_t bit;
-        const char *text;  /* NULL: a number */
-        double num;
-        int dec;
+        size_t off;   /* of the text (char[]) or the number (double) in kelp_nodereport */
+        bool text;
+        unsigned char dec;
         bool strip;
     } f[] = {
-        {"NAME", KELP_NR_NAME, r->name, 0, 0, false},
-        {"TYPE", KELP_NR_TYPE, r->type, 0, 0, false},
-        {"TIME", KELP_NR_TIME, NULL, r->time, 2, false},
-        {"COLOR", KELP_NR_COLOR, r->color, 0, 0, false},
-        {"X", KELP_NR_X, NULL, r->x, 2, false},
-        {"Y", KELP_NR_Y, NULL, r->y, 2, false},
-        {"LAT", KELP_NR_LAT, NULL, r->lat, 6, false},
-        {"LON", KELP_NR_LON, NULL, r->lon, 6, false},
-        {"SPD", KELP_NR_SPD, NULL, r->spd, 2, false},
-        {"HDG", KELP_NR_HDG, NULL, r->hdg, 2, false},
-        {"YAW", KELP_NR_YAW, NULL, r->yaw, 7, true},
-        {r->dep_key ? "DEP" : "DEPTH", KELP_NR_DEPTH, NULL, r->depth, 2, false},
-        {"LENGTH", KELP_NR_LENGTH, NULL, r->length, 2, true},
-        {"MODE", KELP_NR_MODE, r->mode, 0, 0, false},
-        {"ALLSTOP", KELP_NR_ALLSTOP, r->allstop, 0, 0, false},
-        {"GROUP", KELP_NR_GROUP, r->group, 0, 0, false},
-        {"INDEX", r->index ? KELP_NR_INDEX : 0, NULL, (double)r->index, 0, false},
+        {"NAME", KELP_NR_NAME, offsetof(kelp_nodereport, name), true, 0, false},
+        {"TYPE", KELP_NR_TYPE, offsetof(kelp_nodereport, type), true, 0, false},
+        {"TIME", KELP_NR_TIME, offsetof(kelp_nodereport, time), false, 2, false},
+        {"COLOR", KELP_NR_COLOR, offsetof(kelp_nodereport, color), true, 0, false},
+        {"X", KELP_NR_X, offsetof(kelp_nodereport, x), false, 2, false},
+        {"Y", KELP_NR_Y, offsetof(kelp_nodereport, y), false, 2, false},
+        {"LAT", KELP_NR_LAT, offsetof(kelp_nodereport, lat), false, 6, false},
+        {"LON", KELP_NR_LON, offsetof(kelp_nodereport, lon), false, 6, false},
+        {"SPD", KELP_NR_SPD, offsetof(kelp_nodereport, spd), false, 2, false},
+        {"HDG", KELP_NR_HDG, offsetof(kelp_nodereport, hdg), false, 2, false},
+        {"YAW", KELP_NR_YAW, offsetof(kelp_nodereport, yaw), false, 7, true},
+        {"DEPTH", KELP_NR_DEPTH, offsetof(kelp_nodereport, depth), false, 2, false},
+        {"LENGTH", KELP_NR_LENGTH, offsetof(kelp_nodereport, length), false, 2, true},
+        {"MODE", KELP_NR_MODE, offsetof(kelp_nodereport, mode), true, 0, false},
+        {"ALLSTOP", KELP_NR_ALLSTOP, offsetof(kelp_nodereport, allstop), true, 0, false},
+        {"GROUP", KELP_NR_GROUP, offsetof(kelp_nodereport, group), true, 0, false},
+        {"INDEX", KELP_NR_INDEX, 0, false, 0, false},
     };
     int rc = KELP_OK;
+    const char *base = (const char *)r;
     for (size_t i = 0; i < sizeof f / sizeof f[0] && rc == KELP_OK; i++) {
         if (!(r->fields & f[i].bit)) continue;
+        bool index = f[i].bit == KELP_NR_INDEX;
+        if (index && !r->index) continue;
+        const char *key = f[i].bit == KELP_NR_DEPTH && r->dep_key ? "DEP" : f[i].key;
+        double num = 0;
+        if (index) num = (double)r->index;
+        else if (!f[i].text) memcpy(&num, base + f[i].off, sizeof num);
         if (n > 0) rc = field_put_str(buf, cap, &n, ",");
-        if (rc == KELP_OK) rc = field_put_str(buf, cap, &n, f[i].key);
+        if (rc == KELP_OK) rc = field_put_str(buf, cap, &n, key);
         if (rc == KELP_OK) rc = field_put_str(buf, cap, &n, "=");
-        if (rc == KELP_OK) rc = f[i].text ? field_put_str(buf, cap, &n, f[i].text)
-                                          : field_put_fixed(buf, cap, &n, f[i].num, f[i].dec, f[i].strip);
+        if (rc == KELP_OK) rc = f[i].text ? field_put_str(buf, cap, &n, base + f[i].off)
+                                          : field_put_fixed(buf, cap, &n, num, f[i].dec, f[i].strip);
     }
     if (rc == KELP_OK && r->extra && r->extra[0]) {
         rc = field_put_str(buf, cap, &n, ",");

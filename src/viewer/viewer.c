@@ -230,11 +230,17 @@ static int config_button(kelp_viewer *v, unsigned slot, const char *val, const c
     kelp_viewer_cmd *c = NULL;
     for (unsigned i = 0; i < v->ncmds && !c; i++)
         if (v->cmds[i].kind == KELP_VIEWER_BUTTON && v->cmds[i].slot == slot) c = &v->cmds[i];
-    kelp_viewer_cmd nc = c ? *c : (kelp_viewer_cmd){.kind = KELP_VIEWER_BUTTON, .slot = slot};
+    kelp_viewer_cmd *nc = &v->ws_cmd;
+    if (c) *nc = *c;
+    else {
+        memset(nc, 0, sizeof *nc);
+        nc->kind = KELP_VIEWER_BUTTON;
+        nc->slot = slot;
+    }
     while (next_part(val, n, &pos, &p, &pl)) {
         if (pl == 0) continue;
         if (!memchr(p, '=', pl)) {
-            if (copy_text(nc.label, sizeof nc.label, p, pl) < 0) return (*why = "label too long"), KELP_ERR_RANGE;
+            if (copy_text(nc->label, sizeof nc->label, p, pl) < 0) return (*why = "label too long"), KELP_ERR_RANGE;
             continue;
         }
         kelp_viewer_poke pk;
@@ -242,19 +248,19 @@ static int config_button(kelp_viewer *v, unsigned slot, const char *val, const c
         if (rc < 0) return (*why = "a poke is VAR=value"), rc;
         if (kelp_strieq(pk.var, "color")) {
             const char *cv = pk.is_string ? pk.sval : "";
-            if (copy_text(nc.color, sizeof nc.color, cv, strlen(cv)) < 0) return (*why = "colour too long"), KELP_ERR_RANGE;
+            if (copy_text(nc->color, sizeof nc->color, cv, strlen(cv)) < 0) return (*why = "colour too long"), KELP_ERR_RANGE;
             continue;
         }
-        if (nc.npokes >= KELP_VIEWER_MAX_POKES) return (*why = "too many pokes"), KELP_ERR_NOSPACE;
-        nc.pokes[nc.npokes++] = pk;
+        if (nc->npokes >= KELP_VIEWER_MAX_POKES) return (*why = "too many pokes"), KELP_ERR_NOSPACE;
+        nc->pokes[nc->npokes++] = pk;
     }
-    if (!nc.label[0]) return (*why = "a button needs a label: LABEL # VAR=value # ..."), KELP_ERR_PARSE;
+    if (!nc->label[0]) return (*why = "a button needs a label: LABEL # VAR=value # ..."), KELP_ERR_PARSE;
     if (!c) {
         c = cmd_new(v);
         if (!c) return (*why = "too many buttons and actions"), KELP_ERR_NOSPACE;
         v->ncmds++;
     }
-    *c = nc;
+    *c = *nc;
     return 1;
 }
 
@@ -393,30 +399,30 @@ static kelp_viewer_vehicle *vehicle_slot(kelp_viewer *v, const char *name)
 
 static int mail_report(kelp_viewer *v, const char *s, size_t len, double now)
 {
-    kelp_nodereport r;
+    kelp_nodereport *r = &v->ws_report;
     const char *why;
-    if (kelp_nodereport_parse(s, len, &r, &why) < 0) {
+    if (kelp_nodereport_parse(s, len, r, &why) < 0) {
         v->stats.reports_bad++;
         return KELP_ERR_PARSE;
     }
-    if (v->have_datum && kelp_nodereport_complete(&r, &v->geo) < 0) {
+    if (v->have_datum && kelp_nodereport_complete(r, &v->geo) < 0) {
         v->stats.reports_bad++;
         return KELP_ERR_RANGE;
     }
-    if (!(r.fields & KELP_NR_X) || !(r.fields & KELP_NR_Y) || !isfinite(r.x) || !isfinite(r.y) ||
-        fabs(r.x) > 1e8 || fabs(r.y) > 1e8) {
+    if (!(r->fields & KELP_NR_X) || !(r->fields & KELP_NR_Y) || !isfinite(r->x) || !isfinite(r->y) ||
+        fabs(r->x) > 1e8 || fabs(r->y) > 1e8) {
         v->stats.reports_bad++; /* LAT/LON only and no datum: nowhere to draw it */
         return KELP_ERR_RANGE;
     }
-    kelp_viewer_vehicle *e = vehicle_slot(v, r.name);
+    kelp_viewer_vehicle *e = vehicle_slot(v, r->name);
     if (!e) {
         v->stats.vehicles_full++;
         return KELP_ERR_NOSPACE;
     }
     v->stats.reports++;
-    r.extra = NULL;
+    r->extra = NULL;
     if (e->gone) e->head = e->count = 0; /* back after a removal: a new trail */
-    e->rep = r;
+    e->rep = *r;
     e->used = true;
     e->gone = false;
     e->stale = false;
@@ -430,8 +436,8 @@ static int mail_report(kelp_viewer *v, const char *s, size_t len, double now)
     unsigned idx = (e->head + e->count) % KELP_VIEWER_MAX_TRAIL;
     if (e->count == cap) e->head = (uint16_t)((e->head + 1) % KELP_VIEWER_MAX_TRAIL);
     else e->count++;
-    e->trail[idx][0] = (float)r.x;
-    e->trail[idx][1] = (float)r.y;
+    e->trail[idx][0] = (float)r->x;
+    e->trail[idx][1] = (float)r->y;
     e->trail_seq[idx] = e->seq;
     return 1;
 }
@@ -477,23 +483,23 @@ static kelp_viewer_artifact *artifact_room(kelp_viewer *v)
 
 static int mail_view(kelp_viewer *v, kelp_view_kind kind, const char *s, size_t len, double now)
 {
-    kelp_viewer_artifact tmp;
+    kelp_view *pv = &v->ws_view;
     const char *why;
-    memset(&tmp, 0, sizeof tmp);
-    if (kelp_view_parse(kind, s, len, &tmp.view, &why) < 0) {
+    memset(pv, 0, sizeof *pv);
+    if (kelp_view_parse(kind, s, len, pv, &why) < 0) {
         v->stats.views_bad++;
         return KELP_ERR_PARSE;
     }
     v->stats.views++;
-    kelp_viewer_artifact *a = artifact_find(v, kind, tmp.view.label);
-    if (!tmp.view.active) {
+    kelp_viewer_artifact *a = artifact_find(v, kind, pv->label);
+    if (!pv->active) {
         if (!a || a->gone) return 0;
         a->gone = true;
         a->seq = bump(v);
         return 1;
     }
     if (!a) a = artifact_room(v);
-    a->view = tmp.view;
+    a->view = *pv;
     a->used = true;
     a->gone = false;
     a->t_rx = now;
