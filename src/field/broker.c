@@ -248,21 +248,26 @@ int broker_add_bridge(kelp_broker_bridge *list, unsigned *n, const char *src, co
 int broker_register(const kelp_field_sink *out, const char *src, const char *community, const char *host,
                     unsigned port, const char *alias, char *last, size_t cap)
 {
-    char msg[KELP_BROKER_MSG];
+    /* built where the caller keeps the last registration (no second 512-byte buffer on the
+     * stack); a registration too long for it is not posted and leaves that text empty */
+    char lbuf[1], *msg = last && cap >= KELP_BROKER_MSG ? last : lbuf;
+    const size_t mcap = msg == last ? cap : sizeof lbuf;
     size_t n = 0;
-    int rc = field_put_str(msg, sizeof msg, &n, "src_var=");
-    if (rc == 0) rc = field_put_str(msg, sizeof msg, &n, src);
-    if (rc == 0 && community) rc = field_put_str(msg, sizeof msg, &n, ",dest_community=");
-    if (rc == 0 && community) rc = field_put_str(msg, sizeof msg, &n, community);
-    if (rc == 0) rc = field_put_str(msg, sizeof msg, &n, ",dest_host=");
-    if (rc == 0) rc = field_put_str(msg, sizeof msg, &n, host);
-    if (rc == 0) rc = field_put_str(msg, sizeof msg, &n, ",dest_port=");
-    if (rc == 0) rc = field_put_fixed(msg, sizeof msg, &n, port, 0, false);
-    if (rc == 0) rc = field_put_str(msg, sizeof msg, &n, ",dest_alias=");
-    if (rc == 0) rc = field_put_str(msg, sizeof msg, &n, alias);
-    if (rc < 0) return rc;
+    int rc = field_put_str(msg, mcap, &n, "src_var=");
+    if (rc == 0) rc = field_put_str(msg, mcap, &n, src);
+    if (rc == 0 && community) rc = field_put_str(msg, mcap, &n, ",dest_community=");
+    if (rc == 0 && community) rc = field_put_str(msg, mcap, &n, community);
+    if (rc == 0) rc = field_put_str(msg, mcap, &n, ",dest_host=");
+    if (rc == 0) rc = field_put_str(msg, mcap, &n, host);
+    if (rc == 0) rc = field_put_str(msg, mcap, &n, ",dest_port=");
+    if (rc == 0) rc = field_put_fixed(msg, mcap, &n, port, 0, false);
+    if (rc == 0) rc = field_put_str(msg, mcap, &n, ",dest_alias=");
+    if (rc == 0) rc = field_put_str(msg, mcap, &n, alias);
+    if (rc < 0) {
+        if (msg == last) last[0] = 0;
+        return rc;
+    }
     out->publish(out->ctx, "PMB_REGISTER", true, msg, 0);
-    if (last && cap > n) memcpy(last, msg, n + 1);
     return 1;
 }
 

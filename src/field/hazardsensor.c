@@ -347,15 +347,16 @@ static void post(const kelp_field_sink *out, const char *var, const char *val)
 }
 
 /* post var and var_<NAME> (upper case): "vname=<v>,<body>" and "<body>" */
-static void post_pair(const kelp_field_sink *out, const char *var, const char *vname, const char *body)
+static void post_pair(kelp_field_uhz *h, const kelp_field_sink *out, const char *var, const char *vname,
+                      const char *body)
 {
-    char v[KELP_MAX_NAME + KELP_NODEREPORT_MAX_FIELD], s[512];
+    char v[KELP_MAX_NAME + KELP_NODEREPORT_MAX_FIELD], *s = h->ws; /* (body is never h->ws) */
     size_t k = 0;
     field_putf(v, sizeof v, &k, "%s_", var);
     for (const char *p = vname; *p && k + 1 < sizeof v; p++) v[k++] = (*p >= 'a' && *p <= 'z') ? (char)(*p - 32) : *p;
     v[k] = 0;
     post(out, v, body);
-    kelp_snprintf(s, sizeof s, "vname=%s,%s", vname, body);
+    kelp_snprintf(s, sizeof h->ws, "vname=%s,%s", vname, body);
     post(out, var, s);
 }
 
@@ -391,7 +392,7 @@ static unsigned holders(const kelp_field_uhz *h, unsigned s, const kelp_uhz_node
     return c;
 }
 
-static void post_ack(const kelp_field_uhz *h, const kelp_uhz_node *n, const kelp_field_sink *out)
+static void post_ack(kelp_field_uhz *h, const kelp_uhz_node *n, const kelp_field_sink *out)
 {
     const kelp_uhz_setting *s = &h->cfg.setting[n->setting];
     char b[200];
@@ -404,7 +405,7 @@ static void post_ack(const kelp_field_uhz *h, const kelp_uhz_node *n, const kelp
     put_num(b, sizeof b, &k, n->pfa, 2, false);
     field_putf(b, sizeof b, &k, ",pclass=");
     put_num(b, sizeof b, &k, s->pclass, 3, true);
-    post_pair(out, "UHZ_CONFIG_ACK", n->name, b);
+    post_pair(h, out, "UHZ_CONFIG_ACK", n->name, b);
 }
 
 static void apply(kelp_field_uhz *h, kelp_uhz_node *n, unsigned s, double pd)
@@ -526,11 +527,11 @@ static void detect(kelp_field_uhz *h, kelp_uhz_node *n, unsigned oi, double now,
     size_t k = 0;
     put_xy_label(b, sizeof b, &k, o);
     field_putf(b, sizeof b, &k, ",label=%s", o->label);
-    post_pair(out, "UHZ_DETECTION_REPORT", n->name, b);
+    post_pair(h, out, "UHZ_DETECTION_REPORT", n->name, b);
     k = 0;
     put_xy_label(b, sizeof b, &k, o);
     field_putf(b, sizeof b, &k, ",hazard=%s,label=%s", said ? "true" : "false", o->label);
-    post_pair(out, "UHZ_HAZARD_REPORT", n->name, b);
+    post_pair(h, out, "UHZ_HAZARD_REPORT", n->name, b);
     post_circle(h, n, o, said, now, out);
     n->detects++;
     n->passes++;
@@ -752,7 +753,7 @@ void kelp_field_uhz_iterate(kelp_field_uhz *h, double now, const kelp_field_sink
         size_t k = 0;
         put_xy_label(b, sizeof b, &k, o);
         field_putf(b, sizeof b, &k, ",type=%s,label=%s", e.said_hazard ? "hazard" : "benign", o->label);
-        post_pair(out, "UHZ_HAZARD_REPORT", n->name, b);
+        post_pair(h, out, "UHZ_HAZARD_REPORT", n->name, b);
         post_circle(h, n, o, e.said_hazard, now, out);
         n->classify_answ++;
         memo(h, "Classify report sent to vehicle: ", n->name);

@@ -325,9 +325,9 @@ static int ping_mail(kelp_field_sbroker *s, const char *sval, double now, const 
             post_bridge_vars(s, out); /* new names: this vehicle's (a move adds none) */
         }
     }
-    char var[KELP_MAX_NAME], ack[KELP_BROKER_MSG];
+    char var[KELP_MAX_NAME], *ack = s->ws; /* (the workspace: not in use here) */
     if (expand("NODE_BROKER_ACK_$V", h.community, nd->index, var, sizeof var) < 0 ||
-        broker_host_format(&s->shore, s->cfg.keyword, s->cfg.warp, now, "ok", ack, sizeof ack) < 0)
+        broker_host_format(&s->shore, s->cfg.keyword, s->cfg.warp, now, "ok", ack, sizeof s->ws) < 0)
         return KELP_ERR_RANGE;
     out->publish(out->ctx, var, true, ack, 0);
     out->publish(out->ctx, "NODE_BROKER_VACK", true, h.community, 0);
