@@ -606,6 +606,9 @@ struct kelp_helm {
         char lists[4][256], tmp[256];
         char mode_value[KELP_HELM_MAX_MODES][128]; /**< this iteration's value of each mode variable */
     } ws_out;
+    struct {                        /* workspace of a behaviour's updates (keeps the stack small) */
+        char val[KELP_HELM_MAX_SVAL], bad[KELP_HELM_MAX_SVAL - 128], msg[KELP_HELM_MAX_SVAL];
+    } ws_upd;
 };
 
 /** Initialise an empty helm. The storage in mem must outlive the helm. */

@@ -181,8 +181,8 @@ static int load_init(kelp_helm *h, const kelp_mission_node *nd)
         kn--;
     }
     hx_trim(&k, &kn);
-    char var[KELP_MAX_NAME], val[KELP_HELM_MAX_SVAL];
-    if (!hx_varname(k, kn) || !hx_copy(var, sizeof var, k, kn) || !hx_copy(val, sizeof val, nd->val, nd->vlen))
+    char var[KELP_MAX_NAME], *val = h->ws_upd.val; /* (the update workspace: idle while loading) */
+    if (!hx_varname(k, kn) || !hx_copy(var, sizeof var, k, kn) || !hx_copy(val, sizeof h->ws_upd.val, nd->val, nd->vlen))
         return helm_fail(h, nd->line, KELP_ERR_PARSE, "bad initialize line", NULL, NULL);
     /* split further pairs: a comma followed by a piece holding '=' starts a new pair */
     char *s = val;
@@ -247,10 +247,10 @@ int kelp_helm_load_bhv(kelp_helm *h, const kelp_mission *m)
                 const kelp_mission_node *c = &m->nodes[j];
                 if (c->parent != (int)i)
                     continue;
-                char key[KELP_MAX_NAME], val[KELP_HELM_MAX_SVAL];
+                char key[KELP_MAX_NAME], *val = h->ws_upd.val; /* (idle while loading) */
                 if (c->kind != KELP_MN_PARAM)
                     return helm_fail(h, c->line, KELP_ERR_PARSE, "expected parameter = value", NULL, NULL);
-                if (!hx_copy(key, sizeof key, c->key, c->klen) || !hx_copy(val, sizeof val, c->val, c->vlen))
+                if (!hx_copy(key, sizeof key, c->key, c->klen) || !hx_copy(val, sizeof h->ws_upd.val, c->val, c->vlen))
                     return helm_fail(h, c->line, KELP_ERR_PARSE, "parameter or value too long", NULL, NULL);
                 b->fail = NULL;
                 if (kelp_bhv_set_param(b, key, val) < 0) {
@@ -678,13 +678,14 @@ bool helm_update_piece(const char *piece, size_t pn, char *param, size_t pcap, c
 /* Apply one update string; returns the result word of IVPHELM_UPDATE_RESULT. */
 static const char *apply_update(kelp_helm *h, kelp_bhv *b, const char *s)
 {
-    (void)h;
-    char param[KELP_MAX_NAME], val[KELP_HELM_MAX_SVAL], bad[KELP_HELM_MAX_SVAL - 128] = "";
+    char param[KELP_MAX_NAME], *val = h->ws_upd.val, *bad = h->ws_upd.bad;
+    const size_t valcap = sizeof h->ws_upd.val, badcap = sizeof h->ws_upd.bad;
+    bad[0] = '\0';
     /* a name=... piece must name this behaviour (neither a success nor a failure otherwise) */
     for (const char *p = s;;) {
         const char *e = strchr(p, '#');
         size_t pn = e ? (size_t)(e - p) : strlen(p);
-        if (helm_update_piece(p, pn, param, sizeof param, val, sizeof val) && !strcmp(param, "name") &&
+        if (helm_update_piece(p, pn, param, sizeof param, val, valcap) && !strcmp(param, "name") &&
             !helm_name_matches(b, val))
             return "name_mismatch";
         if (!e)
@@ -696,7 +697,7 @@ static const char *apply_update(kelp_helm *h, kelp_bhv *b, const char *s)
         const char *e = strchr(p, '#');
         size_t pn = e ? (size_t)(e - p) : strlen(p);
         b->fail = NULL;
-        bool parsed = helm_update_piece(p, pn, param, sizeof param, val, sizeof val);
+        bool parsed = helm_update_piece(p, pn, param, sizeof param, val, valcap);
         if (!parsed || (strcmp(param, "name") != 0 && kelp_bhv_set_param(b, param, val) < 0)) {
             ok = false;
             const char *pp = p;
@@ -706,7 +707,7 @@ static const char *apply_update(kelp_helm *h, kelp_bhv *b, const char *s)
                 ppn = (size_t)(eq - p);
             hx_trim(&pp, &ppn);
             size_t bl = strlen(bad);
-            if (bl + ppn + 2 < sizeof bad) {
+            if (bl + ppn + 2 < badcap) {
                 if (bl)
                     bad[bl++] = ',';
                 memcpy(bad + bl, pp, ppn);
@@ -719,8 +720,8 @@ static const char *apply_update(kelp_helm *h, kelp_bhv *b, const char *s)
     }
     if (!ok) {
         b->bad_updates++;
-        char msg[KELP_HELM_MAX_SVAL];
-        hx_cat(msg, sizeof msg, "Faulty update for behavior: ", b->name, ". Bad parameter(s): ", bad, ".", HX_END);
+        char *msg = h->ws_upd.msg;
+        hx_cat(msg, sizeof h->ws_upd.msg, "Faulty update for behavior: ", b->name, ". Bad parameter(s): ", bad, ".", HX_END);
         kelp_bhv_post_string(b, "BHV_WARNING", msg, NULL);
         kelp_bhv_post_string(b, "BHV_CONFIG_WARNING", msg, NULL);
         return "param_error";
@@ -752,9 +753,9 @@ static void check_updates(kelp_helm *h, kelp_bhv *b)
             }
         }
         /* IVPHELM_UPDATE_RESULT: bhv=,var=,time= (since helm start),result=,val= */
-        char msg[KELP_HELM_MAX_SVAL], tm[32];
+        char *msg = h->ws_upd.msg, tm[32];
         hx_fmt_fixed(tm, sizeof tm, h->ib.curr_time, 2);
-        hx_cat(msg, sizeof msg, "bhv=", b->name, ",var=", b->updates, ",time=", tm, ",result=", result, ",val=", s, HX_END);
+        hx_cat(msg, sizeof h->ws_upd.msg, "bhv=", b->name, ",var=", b->updates, ",time=", tm, ",result=", result, ",val=", s, HX_END);
         sink(h, "IVPHELM_UPDATE_RESULT", true, msg, 0, NULL);
     }
     if (made && b->ops->params_done)
