@@ -33,14 +33,17 @@ grep -qE 'pAcommsHandler +SPECIAL_INSTRUCTIONS +special_instructions=make_toast,
 grep -qE 'pAcommsHandler +ACOMMS_ACK +base \{ src: 3 dest: 1 time: "[^"]+" \} frame: 0 orig_msg \{ base \{ src: 1 dest: 3 ' bus.txt || { grep ACOMMS_ACK bus.txt; fail "ACOMMS_ACK"; }
 # Goby 1.1 strips trailing zero bytes of the received (encrypted) message, so when the
 # ciphertext ends in 0x00 the last field decodes wrong (about 1 in 256, goby-wire.md 6): kelp
-# does the same. A status whose received data ends in \000 may then carry another Depth.
+# does the same. A status whose received data ends in \000 may then carry another Depth (in
+# STATUS_REPORT_IN and in the NODE_REPORT made from the same message).
+depth='111\.0'
 if ! grep -qE 'pAcommsHandler +STATUS_REPORT_IN +Timestamp=[0-9]+,Node=1,MessageType=LAMSS_STATUS,nav_x=123,nav_y=321,Speed=1.2,Heading=45.00,Depth=111.0$' bus.txt; then
   grep -qE 'pAcommsHandler +STATUS_REPORT_IN +Timestamp=[0-9]+,Node=1,MessageType=LAMSS_STATUS,nav_x=123,nav_y=321,Speed=1.2,Heading=45.00,Depth=[0-9.]+$' bus.txt &&
     grep -m1 -E 'pAcommsHandler +IN_SIMPLE_STATUS_HEX_32B ' bus.txt | grep -q '\\000" frame: ' ||
     { grep -E 'STATUS|QSIZE' bus.txt | tail; fail "STATUS_REPORT_IN"; }
   echo "note: the status ciphertext ended in 0x00: Depth decoded as Goby 1.1 would (trailing zeros stripped)"
+  depth='[0-9.]+'
 fi
-grep -qE 'pAcommsHandler +NODE_REPORT +NAME=mm1,TYPE=topside,UTC_TIME=[0-9]+,X=123,Y=321,LAT=42.35[0-9]*,LON=-70.94[0-9]*,SPD=1.2,HDG=45.00,DEPTH=111.0$' bus.txt || { grep NODE_REPORT bus.txt; fail "NODE_REPORT"; }
+grep -qE 'pAcommsHandler +NODE_REPORT +NAME=mm1,TYPE=topside,UTC_TIME=[0-9]+,X=123,Y=321,LAT=42.35[0-9]*,LON=-70.94[0-9]*,SPD=1.2,HDG=45.00,DEPTH='"$depth"'$' bus.txt || { grep NODE_REPORT bus.txt; fail "NODE_REPORT"; }
 grep -qE 'pAcommsHandler +ACOMMS_QSIZE +key \{ type: QUEUE_DCCL id: 1 \} size: 1$' bus.txt || fail "ACOMMS_QSIZE"
 grep -qE 'pAcommsHandler +OUT_GOTOCOMMAND_HEX_32B +base \{ src: 1 dest: 3' bus.txt || fail "OUT_<NAME>_HEX_32B"
 grep -qE 'pAcommsHandler +MODEM_ID +1' bus.txt || fail "MODEM_ID"
