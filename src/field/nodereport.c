@@ -31,29 +31,29 @@ int kelp_nodereport_format(const kelp_nodereport *r, char *buf, size_t cap, size
     /* the fields in the order written: a constant table of offsets (no table on the stack) */
     static const struct {
         const char *key;
-        uint32_t bit;
         size_t off;   /* of the text (char[]) or the number (double) in kelp_nodereport */
+        uint32_t bit;
         bool text;
         unsigned char dec;
         bool strip;
     } f[] = {
-        {"NAME", KELP_NR_NAME, offsetof(kelp_nodereport, name), true, 0, false},
-        {"TYPE", KELP_NR_TYPE, offsetof(kelp_nodereport, type), true, 0, false},
-        {"TIME", KELP_NR_TIME, offsetof(kelp_nodereport, time), false, 2, false},
-        {"COLOR", KELP_NR_COLOR, offsetof(kelp_nodereport, color), true, 0, false},
-        {"X", KELP_NR_X, offsetof(kelp_nodereport, x), false, 2, false},
-        {"Y", KELP_NR_Y, offsetof(kelp_nodereport, y), false, 2, false},
-        {"LAT", KELP_NR_LAT, offsetof(kelp_nodereport, lat), false, 6, false},
-        {"LON", KELP_NR_LON, offsetof(kelp_nodereport, lon), false, 6, false},
-        {"SPD", KELP_NR_SPD, offsetof(kelp_nodereport, spd), false, 2, false},
-        {"HDG", KELP_NR_HDG, offsetof(kelp_nodereport, hdg), false, 2, false},
-        {"YAW", KELP_NR_YAW, offsetof(kelp_nodereport, yaw), false, 7, true},
-        {"DEPTH", KELP_NR_DEPTH, offsetof(kelp_nodereport, depth), false, 2, false},
-        {"LENGTH", KELP_NR_LENGTH, offsetof(kelp_nodereport, length), false, 2, true},
-        {"MODE", KELP_NR_MODE, offsetof(kelp_nodereport, mode), true, 0, false},
-        {"ALLSTOP", KELP_NR_ALLSTOP, offsetof(kelp_nodereport, allstop), true, 0, false},
-        {"GROUP", KELP_NR_GROUP, offsetof(kelp_nodereport, group), true, 0, false},
-        {"INDEX", KELP_NR_INDEX, 0, false, 0, false},
+        {"NAME", offsetof(kelp_nodereport, name), KELP_NR_NAME, true, 0, false},
+        {"TYPE", offsetof(kelp_nodereport, type), KELP_NR_TYPE, true, 0, false},
+        {"TIME", offsetof(kelp_nodereport, time), KELP_NR_TIME, false, 2, false},
+        {"COLOR", offsetof(kelp_nodereport, color), KELP_NR_COLOR, true, 0, false},
+        {"X", offsetof(kelp_nodereport, x), KELP_NR_X, false, 2, false},
+        {"Y", offsetof(kelp_nodereport, y), KELP_NR_Y, false, 2, false},
+        {"LAT", offsetof(kelp_nodereport, lat), KELP_NR_LAT, false, 6, false},
+        {"LON", offsetof(kelp_nodereport, lon), KELP_NR_LON, false, 6, false},
+        {"SPD", offsetof(kelp_nodereport, spd), KELP_NR_SPD, false, 2, false},
+        {"HDG", offsetof(kelp_nodereport, hdg), KELP_NR_HDG, false, 2, false},
+        {"YAW", offsetof(kelp_nodereport, yaw), KELP_NR_YAW, false, 7, true},
+        {"DEPTH", offsetof(kelp_nodereport, depth), KELP_NR_DEPTH, false, 2, false},
+        {"LENGTH", offsetof(kelp_nodereport, length), KELP_NR_LENGTH, false, 2, true},
+        {"MODE", offsetof(kelp_nodereport, mode), KELP_NR_MODE, true, 0, false},
+        {"ALLSTOP", offsetof(kelp_nodereport, allstop), KELP_NR_ALLSTOP, true, 0, false},
+        {"GROUP", offsetof(kelp_nodereport, group), KELP_NR_GROUP, true, 0, false},
+        {"INDEX", 0, KELP_NR_INDEX, false, 0, false},
     };
     int rc = KELP_OK;
     const char *base = (const char *)r;

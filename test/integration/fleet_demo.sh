@@ -103,5 +103,23 @@ paste -d' ' <(cut -d' ' -f1 sh.txt) <(cut -d' ' -f1 sh2.txt) | awk '{d = $1 - $2
   fail "alog round trip moved times"
 ok "the demo's shoreside log as .alog and back: $na postings, the same events"
 
+# ---- AppCasting: every app of every community (the Antler lists of the demo's missions) cast
+# an APPCAST in MOOS-IvP's format on its community's bus (at start-up; the shoreside's also on
+# kelp-viewer's APPCAST_REQ), with its community as the node
+ncast=0
+for c in shoreside alpha bravo charlie; do
+  apps=$(sed -n 's/^ *Run *= *\([A-Za-z0-9_-]*\)[^~]*\(~ *\([A-Za-z0-9_-]*\)\)\{0,1\}.*/\1 \3/p' $D/$c.moos |
+         awk '$1 != "MOOSDB" {print ($2 != "" ? $2 : $1)}')
+  [ -n "$apps" ] || fail "$c: no apps in its Antler block"
+  for a in $apps; do
+    line=$(grep -E "^[0-9.]+ +$a +APPCAST " $D/$c.txt | tail -1)
+    [ -n "$line" ] || fail "$c: no APPCAST from $a"
+    echo "$line" | grep -qE " APPCAST proc=$a!@#iter=[0-9]+!@#node=$c!@#iter=[0-9]+!@#messages=.*!@#events_total=[0-9]+!@#.*run_warning_total=[0-9]+!@#" ||
+      fail "$c: APPCAST of $a does not parse: ${line:0:200}"
+    ncast=$((ncast + 1))
+  done
+done
+echo "AppCasts: $ncast apps of 4 communities cast a well-formed APPCAST"
+
 if [ -n "${FLEET_PNG:-}" ]; then cp $T/demo/fleet.png "$FLEET_PNG"; fi
-ok "fleet demo in ${el}s: three missions complete, picture written; $total FleetStatus received at the shoreside; brokers found the shoreside; $nrel relays drawn"
+ok "fleet demo in ${el}s: three missions complete, picture written; $ncast apps cast APPCAST; $total FleetStatus received at the shoreside; brokers found the shoreside; $nrel relays drawn"
