@@ -108,6 +108,23 @@ START_TEST(request)
 }
 END_TEST
 
+/* one field without parsing the rest: the same reading as kelp_appcast_parse */
+START_TEST(field_lookup)
+{
+    const char *c = "proc=pHelmIvP!@#iter=12!@# Node = alpha !@#messages=a!@#b!@#events_total=0!@#";
+    char v[16];
+    ck_assert_int_eq(kelp_appcast_field(c, strlen(c), "proc", v, sizeof v), 1);
+    ck_assert_str_eq(v, "pHelmIvP");
+    ck_assert_int_eq(kelp_appcast_field(c, strlen(c), "node", v, sizeof v), 1);
+    ck_assert_str_eq(v, "alpha");
+    ck_assert_int_eq(kelp_appcast_field(c, strlen(c), "iter", v, 3), 1);
+    ck_assert_str_eq(v, "12");
+    ck_assert_int_eq(kelp_appcast_field(c, strlen(c), "nod", v, sizeof v), 0);
+    ck_assert_int_eq(kelp_appcast_field(c, strlen(c), "warnings", v, sizeof v), 0);
+    ck_assert_int_eq(kelp_appcast_field("", 0, "proc", v, sizeof v), 0);
+}
+END_TEST
+
 Suite *kelp_appcast_suite(void);
 Suite *kelp_appcast_suite(void)
 {
@@ -116,6 +133,7 @@ Suite *kelp_appcast_suite(void)
     tcase_add_test(tc, format_as_moos);
     tcase_add_test(tc, parse_round_trip_and_separators);
     tcase_add_test(tc, render_like_umac);
+    tcase_add_test(tc, field_lookup);
     tcase_add_test(tc, request);
     suite_add_tcase(s, tc);
     return s;

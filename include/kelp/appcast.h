@@ -47,6 +47,9 @@ KELP_MUST_CHECK int kelp_appcast_format(const kelp_appcast *ac, char *buf, size_
  *  (and *why) when proc= is missing or a pair has no '='. Lists past KELP_APPCAST_ITEMS and
  *  text past the field sizes are cut. */
 KELP_MUST_CHECK int kelp_appcast_parse(const char *s, size_t len, kelp_appcast *out, const char **why);
+/** One field of an APPCAST string (key case-insensitive, e.g. "proc", "node") into out, read
+ *  as kelp_appcast_parse reads it, without parsing the rest. @return 1 found, 0 not there. */
+int kelp_appcast_field(const char *s, size_t len, const char *key, char *out, size_t cap);
 /** The terminal form (uMAC's view of one app): header with proc, node, warnings and
  *  iteration, then configuration warnings, run warnings, the report and recent events. */
 KELP_MUST_CHECK int kelp_appcast_render(const kelp_appcast *ac, char *buf, size_t cap, size_t *len);

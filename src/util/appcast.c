@@ -188,22 +188,50 @@ static void split_list(const char *v, size_t vl, char (*list)[KELP_APPCAST_ITEM]
     }
 }
 
+/* the next "key=value" part of an APPCAST string (both trimmed; *has_eq false for a part
+ * without '='), advancing *s / *len past it and its separator; false at the end */
+static bool next_part(const char **s, size_t *len, const char **k, size_t *kl, const char **v, size_t *vl,
+                      bool *has_eq)
+{
+    if (*len == 0) return false;
+    const char *e = find(*s, *len, OSEP);
+    size_t n = e ? (size_t)(e - *s) : *len;
+    const char *eq = memchr(*s, '=', n);
+    *k = *s, *v = eq ? eq + 1 : NULL;
+    *kl = eq ? (size_t)(eq - *s) : n, *vl = eq ? n - *kl - 1 : 0;
+    *has_eq = eq != NULL;
+    trim(k, kl);
+    if (eq) trim(v, vl);
+    *len = e ? *len - n - 3 : 0;
+    *s = e ? e + 3 : *s + n;
+    return true;
+}
+
+int kelp_appcast_field(const char *s, size_t len, const char *key, char *dst, size_t cap)
+{
+    const char *k, *v;
+    size_t kl, vl;
+    bool eq;
+    while (next_part(&s, &len, &k, &kl, &v, &vl, &eq))
+        if (eq && kl == strlen(key) && kelp_strieq_n(k, kl, key)) {
+            if (cap) copy(dst, cap, v, vl);
+            return 1;
+        }
+    return 0;
+}
+
 int kelp_appcast_parse(const char *s, size_t len, kelp_appcast *out_, const char **why)
 {
     memset(out_, 0, sizeof *out_);
     bool have_proc = false;
-    while (len) {
-        const char *e = find(s, len, OSEP);
-        size_t n = e ? (size_t)(e - s) : len;
-        const char *eq = memchr(s, '=', n);
-        const char *k = s, *v = eq ? eq + 1 : NULL;
-        size_t kl = eq ? (size_t)(eq - s) : n, vl = eq ? n - kl - 1 : 0;
-        trim(&k, &kl);
+    const char *k, *v;
+    size_t kl, vl;
+    bool eq;
+    while (next_part(&s, &len, &k, &kl, &v, &vl, &eq)) {
         if (kl && !eq) {
             if (why) *why = "a part without '='";
             return KELP_ERR_PARSE;
         }
-        if (eq) trim(&v, &vl);
         if (kl == 0) {
             /* empty part */
         } else if (kelp_strieq_n(k, kl, "proc")) {
@@ -240,9 +268,6 @@ int kelp_appcast_parse(const char *s, size_t len, kelp_appcast *out_, const char
         } else if (kelp_strieq_n(k, kl, "run_warning_total")) {
             out_->run_total = to_ul(v, vl);
         }
-        if (!e) break;
-        s = e + 3;
-        len -= n + 3;
     }
     if (!have_proc) {
         if (why) *why = "no proc=";

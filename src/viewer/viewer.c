@@ -2,6 +2,7 @@
 #include <math.h>
 #include <string.h>
 #include <kelp/util.h>
+#include <kelp/appcast.h>
 #include <kelp/viewer.h>
 
 /* ------------------------------------------------------------------ JSON writer */
@@ -507,35 +508,14 @@ static int mail_view(kelp_viewer *v, kelp_view_kind kind, const char *s, size_t 
     return 1;
 }
 
-/* the value of "key=" among the "!@#"-separated pairs of an APPCAST string; 1 found */
-static int cast_field(const char *s, size_t len, const char *key, char *out, size_t cap)
-{
-    size_t kl = strlen(key), i = 0;
-    while (i < len) {
-        const char *p = s + i;
-        size_t n = len - i, k = 0;
-        while (k + 3 <= n && memcmp(p + k, "!@#", 3) != 0) k++;
-        if (k + 3 > n) k = n;
-        if (k > kl && p[kl] == '=' && kelp_strieq_n(p, kl, key)) {
-            size_t vl = k - kl - 1;
-            if (vl >= cap) vl = cap - 1;
-            memcpy(out, p + kl + 1, vl);
-            out[vl] = '\0';
-            return 1;
-        }
-        i += k + 3;
-    }
-    return 0;
-}
-
 static int mail_cast(kelp_viewer *v, const char *s, size_t len, double now)
 {
     char node[KELP_NODEREPORT_MAX_FIELD] = "", proc[KELP_NODEREPORT_MAX_FIELD];
-    if (len >= KELP_MAX_SVAL || memchr(s, '\0', len) || !cast_field(s, len, "proc", proc, sizeof proc) || !proc[0]) {
+    if (len >= KELP_MAX_SVAL || memchr(s, '\0', len) || !kelp_appcast_field(s, len, "proc", proc, sizeof proc) || !proc[0]) {
         v->stats.casts_bad++;
         return KELP_ERR_PARSE;
     }
-    (void)cast_field(s, len, "node", node, sizeof node);
+    (void)kelp_appcast_field(s, len, "node", node, sizeof node);
     kelp_viewer_cast *c = NULL, *freeslot = NULL, *oldest = NULL;
     for (unsigned i = 0; i < KELP_VIEWER_MAX_CASTS && !c; i++) {
         kelp_viewer_cast *e = &v->casts[i];
