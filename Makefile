@@ -31,7 +31,7 @@ WARN     := -Wall -Wextra -Werror -Wshadow -Wstrict-prototypes -Wmissing-prototy
             -Wpointer-arith -Wformat=2 -Wvla -Wundef
 OPT      ?= -O2 -g
 CSTD     := -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE
-CPPFLAGS += -Iinclude -I$(BUILD)/gen -DKELP_VERSION='"$(VERSION)"'
+CPPFLAGS += -Iinclude -I$(BUILD)/gen -DKELP_VERSION='"$(VERSION)"' $(CPPFLAGS_EXTRA)
 # position-independent everywhere on the host, so the same objects make the static and the
 # shared libraries (firmware and cross builds use their own flags)
 CFLAGS   += $(CSTD) $(OPT) $(WARN) -fno-common -fPIC
@@ -78,7 +78,7 @@ SOCORE  := $(BUILD)/libkelp_core.so.$(VERSION)
 SOEDGE  := $(BUILD)/libkelp.so.$(VERSION)
 
 .PHONY: all deps test unit integration check-alloc firmware cross asan lint fuzz bench install \
-        demo demo-xrelay spy-jar clean tests-bin
+        demo demo-xrelay spy-jar clean tests-bin unit-noerrmsg
 .DEFAULT_GOAL := all
 
 all: $(LIBCORE) $(LIBEDGE) $(LIBPLOT) $(LIBVIEWER) $(SOCORE) $(SOEDGE) $(APP_BINS) scripts
@@ -171,6 +171,13 @@ tests-bin: $(BUILD)/test/check_core $(BUILD)/test/check_edge
 
 unit: tests-bin
 	@$(BUILD)/test/check_core && $(BUILD)/test/check_edge
+
+# the unit tests again with the messages of kelp_diag compiled out (-DKELP_NO_ERRMSG): codes,
+# lines and columns must be the same; tests read a message only through kelp_diag_text()
+# and compare it under #ifndef KELP_NO_ERRMSG
+unit-noerrmsg:
+	@$(MAKE) --no-print-directory BUILD=$(BUILD)-noerrmsg CPPFLAGS_EXTRA=-DKELP_NO_ERRMSG tests-bin
+	@$(BUILD)-noerrmsg/test/check_core && $(BUILD)-noerrmsg/test/check_edge
 
 integration: all spy-jar
 	@BUILD=$(abspath $(BUILD)) scripts/run-integration.sh

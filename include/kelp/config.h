@@ -13,6 +13,11 @@ extern "C" {
 #define KELP_STATIC_ASSERT(cond, msg) _Static_assert(cond, msg)
 #endif
 
+/** Time in every core interface: MOOS time, seconds since 1970-01-01 UTC (times MOOSTimeWarp
+ *  when warped), as a double: a core function never reads a clock, the caller passes `now` in.
+ *  A double holds today's epoch seconds to better than half a microsecond. */
+typedef double kelp_time;
+
 /* ---- bus ---- */
 #ifndef KELP_MAX_NAME
 #define KELP_MAX_NAME 64            /**< bytes in a variable / app / community name, with NUL */

@@ -1,5 +1,8 @@
 /* kelp: status code text. */
+#include <stdarg.h>
+#include <stddef.h>
 #include <kelp/err.h>
+#include <kelp/util.h>
 
 const char *kelp_strerror(int code)
 {
@@ -27,4 +30,62 @@ const char *kelp_strerror(int code)
     case KELP_ERR_DENIED: return "not allowed";
     default: return "unknown error";
     }
+}
+
+void kelp_diag_clear(kelp_diag *d)
+{
+    if (!d) return;
+    d->code = KELP_OK;
+    d->line = 0;
+    d->col = 0;
+#ifndef KELP_NO_ERRMSG
+    d->msg[0] = '\0';
+#endif
+}
+
+int kelp_diag_set(kelp_diag *d, int code, const char *msg)
+{
+    if (!d || d->code != KELP_OK || code == KELP_OK) return code;
+    d->code = code;
+#ifndef KELP_NO_ERRMSG
+    size_t i = 0;
+    if (msg)
+        for (; msg[i] && i + 1 < sizeof d->msg; i++) d->msg[i] = msg[i];
+    d->msg[i] = '\0';
+#else
+    (void)msg;
+#endif
+    return code;
+}
+
+int kelp_diag_setf(kelp_diag *d, int code, const char *fmt, ...)
+{
+    if (!d || d->code != KELP_OK || code == KELP_OK) return code;
+    d->code = code;
+#ifndef KELP_NO_ERRMSG
+    va_list ap;
+    va_start(ap, fmt);
+    (void)kelp_vsnprintf(d->msg, sizeof d->msg, fmt, ap);
+    va_end(ap);
+#else
+    (void)fmt;
+#endif
+    return code;
+}
+
+int kelp_diag_where(kelp_diag *d, int line, int col)
+{
+    if (!d || d->code == KELP_OK) return KELP_OK;
+    if (d->line == 0) d->line = line;
+    if (d->col == 0) d->col = col;
+    return d->code;
+}
+
+const char *kelp_diag_text(const kelp_diag *d)
+{
+    if (!d || d->code == KELP_OK) return "";
+#ifndef KELP_NO_ERRMSG
+    if (d->msg[0]) return d->msg;
+#endif
+    return kelp_strerror(d->code);
 }
