@@ -66,9 +66,11 @@ static void summary(m2s *s, FILE *out)
 
 /* ------------------------------------------------------------------ live */
 
-static int param(void *ctx, const char *key, const char *val, const char **why)
+static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
-    return kelp_m2s_config(&((m2s *)ctx)->cfg, key, val, why);
+    const char *w = NULL;
+    int rc = kelp_m2s_config(&((m2s *)ctx)->cfg, key, val, &w);
+    return rc < 0 ? kelp_fail(d, rc, w) : rc;
 }
 
 static int startup(kelp_app *app, void *st)

@@ -46,14 +46,14 @@ static const kelp_cli_opt opts[] = {
     { NULL, 0, 0, NULL, NULL },
 };
 
-static int on_arg(void *st, int val, const char *arg, const char **why)
+static int on_arg(void *st, int val, const char *arg, kelp_diag *dg)
 {
     scope *s = st;
     kelp_xms *x = &s->core;
     double d;
     switch (val) {
     case 0:
-        if (kelp_xms_add_var(x, arg, false) <= 0) return (*why = "not a variable name"), -1;
+        if (kelp_xms_add_var(x, arg, false) <= 0) return kelp_fail(dg, KELP_ERR_ARG, "not a variable name");
         return 0;
     case 'a': x->disp_all = true; return 0;
     case OPT_ALLL: x->disp_all = x->disp_all_really = true; return 0;
@@ -66,28 +66,30 @@ static int on_arg(void *st, int val, const char *arg, const char **why)
     case OPT_FILTER: kelp_xms_set_filter(x, arg); return 0;
     case OPT_COLOR: return 0;
     case OPT_HISTORY:
-        if (!arg[0] || strchr(arg, ' ') || strstr(arg, "uXMS")) return (*why = "--history: not a variable name"), -1;
+        if (!arg[0] || strchr(arg, ' ') || strstr(arg, "uXMS")) return kelp_fail(dg, KELP_ERR_ARG, "--history: not a variable name");
         s->history = arg;
         return 0;
     case OPT_MODE:
-        if (kelp_xms_set_refresh(x, arg) < 0) return (*why = "--mode: events, paused or streaming"), -1;
+        if (kelp_xms_set_refresh(x, arg) < 0) return kelp_fail(dg, KELP_ERR_ARG, "--mode: events, paused or streaming");
         return 0;
     case OPT_SRC:
-        if (kelp_xms_add_sources(x, arg) < 0) return (*why = "--src: a process name"), -1;
+        if (kelp_xms_add_sources(x, arg) < 0) return kelp_fail(dg, KELP_ERR_ARG, "--src: a process name");
         return 0;
     case OPT_TRUNC:
     case OPT_TERMINT:
-        if (kelp_parse_finite(arg, strlen(arg), &d) < 0 || d < 0) return (*why = "expected a number >= 0"), -1;
+        if (kelp_parse_finite(arg, strlen(arg), &d) < 0 || d < 0) return kelp_fail(dg, KELP_ERR_ARG, "expected a number >= 0");
         if (val == OPT_TRUNC) kelp_xms_set_trunc(x, d > 1000 ? 1000 : (unsigned)d);
         else x->term_interval = d > 10 ? 10 : d;
         return 0;
-    default: return (*why = "unknown option"), -1;
+    default: return kelp_fail(dg, KELP_ERR_ARG, "unknown option");
     }
 }
 
-static int param(void *ctx, const char *key, const char *val, const char **why)
+static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
-    return kelp_xms_config(&((scope *)ctx)->core, key, val, why);
+    const char *w = NULL;
+    int rc = kelp_xms_config(&((scope *)ctx)->core, key, val, &w);
+    return rc < 0 ? kelp_fail(d, rc, w) : rc;
 }
 
 static void subscribe(kelp_app *app, scope *s)

@@ -38,32 +38,34 @@ static const kelp_cli_opt opts[] = {
     { NULL, 0, 0, NULL, NULL },
 };
 
-static int on_arg(void *st, int val, const char *arg, const char **why)
+static int on_arg(void *st, int val, const char *arg, kelp_diag *d)
 {
     viewer *s = st;
     switch (val) {
     case OPT_PORT:
         if (kelp_parse_long(arg, strlen(arg), &s->opt_port) < 0 || s->opt_port < 0 || s->opt_port > 65535)
-            return (*why = "--port: 0..65535"), -1;
+            return kelp_fail(d, KELP_ERR_ARG, "--port: 0..65535");
         return 0;
     case OPT_BIND: s->opt_bind = arg; return 0;
     case OPT_TOKEN: s->opt_token = arg; return 0;
     case OPT_DOCROOT: s->opt_docroot = arg; return 0;
-    default: return (*why = "only with --log"), -1;
+    default: return kelp_fail(d, KELP_ERR_ARG, "only with --log");
     }
 }
 
-static int param(void *ctx, const char *key, const char *val, const char **why)
+static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     viewer *s = ctx;
-    int rc = kelp_viewer_config(&s->model, key, val, why);
+    const char *w = NULL;
+    int rc = kelp_viewer_config(&s->model, key, val, &w);
+    if (rc < 0) (void)kelp_fail(d, rc, w);
     if (rc != 0) return rc;
     struct { const char *key; char *dst; size_t cap; } own[] = {
         {"port", s->port_s, sizeof s->port_s}, {"token", s->token, sizeof s->token},
         {"bind", s->bind, sizeof s->bind}, {"tiff_file", s->image, sizeof s->image}};
     for (size_t i = 0; i < sizeof own / sizeof own[0]; i++) {
         if (!kelp_strieq(key, own[i].key)) continue;
-        if (strlen(val) >= own[i].cap) return (*why = "too long"), -1;
+        if (strlen(val) >= own[i].cap) return kelp_fail(d, KELP_ERR_ARG, "too long");
         memcpy(own[i].dst, val, strlen(val) + 1);
         return 1;
     }

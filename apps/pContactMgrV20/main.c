@@ -33,10 +33,10 @@ static void cfg_warn(void *ctx, const char *msg)
     kelp_app_config_warning(((cmgr_app *)ctx)->app, "%s", msg);
 }
 
-static int param(void *ctx, const char *key, const char *val, const char **why)
+static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     cmgr_app *a = ctx;
-    (void)why;
+    (void)d;
     return kelp_cmgr_config(a->core, key, val, &a->cfg_sink);
 }
 

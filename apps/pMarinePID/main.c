@@ -22,10 +22,12 @@ static void sink(void *ctx, const char *var, bool is_string, const char *sval, d
 }
 
 /* every key of the block: the engine's, or one accepted for MOOS-IvP compatibility */
-static int param(void *ctx, const char *key, const char *val, const char **why)
+static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     mpid *p = ctx;
-    int rc = kelp_marine_pid_cfg_set(&p->cfg, key, val, why);
+    const char *w = NULL;
+    int rc = kelp_marine_pid_cfg_set(&p->cfg, key, val, &w);
+    if (rc < 0) (void)kelp_fail(d, rc, w);
     if (rc != 0) return rc;
     static const char *const accepted[] = { "VERBOSE", "MAX_SAT_HDG_DEBUG", "MAX_SAT_SPD_DEBUG", "MAX_SAT_DEP_DEBUG",
                                             "AppTick", "CommsTick" };

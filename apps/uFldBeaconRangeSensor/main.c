@@ -32,12 +32,14 @@ static void log_line(void *ctx, const char *line)
     kelp_app_event(a->app, "%s", line);
 }
 
-static int param(void *ctx, const char *key, const char *val, const char **why)
+static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     brs_app *a = ctx;
-    int rc = kelp_field_brs_config(&a->cfg, key, val, why);
+    const char *w = NULL;
+    int rc = kelp_field_brs_config(&a->cfg, key, val, &w);
+    if (rc < 0) (void)kelp_fail(d, rc, w);
     if (rc == 2) {
-        kelp_app_config_warning(a->app, "%s = %s: %s", key, val, *why);
+        kelp_app_config_warning(a->app, "%s = %s: %s", key, val, w ? w : "");
         return 1;
     }
     if (rc != 0) return rc;

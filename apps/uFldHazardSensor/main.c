@@ -69,7 +69,7 @@ static int read_hazard_file(uhz_app *a, const char *name)
     return 1;
 }
 
-static int param(void *ctx, const char *key, const char *val, const char **why)
+static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     uhz_app *a = ctx;
     if (kelp_strieq(key, "HAZARD_FILE")) return read_hazard_file(a, val);
@@ -77,7 +77,9 @@ static int param(void *ctx, const char *key, const char *val, const char **why)
     if (kelp_strieq(key, "TERM_REPORT_INTERVAL") || kelp_strieq(key, "MAX_APPCAST_EVENTS") ||
         kelp_strieq(key, "MAX_APPCAST_RUN_WARNINGS"))
         return 1;
-    return kelp_field_uhz_config(a->cfg, key, val, why);
+    const char *w = NULL;
+    int rc = kelp_field_uhz_config(a->cfg, key, val, &w);
+    return rc < 0 ? kelp_fail(d, rc, w) : rc;
 }
 
 static int startup(kelp_app *app, void *st)

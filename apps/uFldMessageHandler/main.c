@@ -24,10 +24,12 @@ static void publish(void *ctx, const char *var, bool is_string, const char *sval
     if (rc < 0) kelp_app_run_warning(u->app, "cannot publish %s", var);
 }
 
-static int param(void *ctx, const char *key, const char *val, const char **why)
+static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     umh *u = ctx;
-    int rc = kelp_field_umh_config(&u->cfg, key, val, why);
+    const char *w = NULL;
+    int rc = kelp_field_umh_config(&u->cfg, key, val, &w);
+    if (rc < 0) (void)kelp_fail(d, rc, w);
     if (rc != 0) return rc;
     if (kelp_strieq_n(key, strlen(key), "APP_LOGGING")) {
         kelp_app_event(u->app, "APP_LOGGING accepted (record the bus with kelp-record)");

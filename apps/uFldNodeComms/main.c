@@ -29,10 +29,12 @@ static void warn(void *ctx, const char *msg)
     kelp_app_run_warning(((ncomms *)ctx)->app, "%s", msg);
 }
 
-static int param(void *ctx, const char *key, const char *val, const char **why)
+static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     ncomms *a = ctx;
-    int rc = kelp_field_ncomms_config(&a->cfg, key, val, why);
+    const char *w = NULL;
+    int rc = kelp_field_ncomms_config(&a->cfg, key, val, &w);
+    if (rc < 0) (void)kelp_fail(d, rc, w);
     if (rc != 0) return rc;
     if (kelp_strieq_n(key, strlen(key), "APP_LOGGING")) {
         kelp_app_event(a->app, "APP_LOGGING accepted (record the bus with kelp-record)");

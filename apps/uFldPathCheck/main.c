@@ -27,10 +27,12 @@ static void warn(void *ctx, const char *msg)
     kelp_app_run_warning(((upc_app *)ctx)->app, "%s", msg);
 }
 
-static int param(void *ctx, const char *key, const char *val, const char **why)
+static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     upc_app *a = ctx;
-    return kelp_field_upc_config(&a->cfg, key, val, why);
+    const char *w = NULL;
+    int rc = kelp_field_upc_config(&a->cfg, key, val, &w);
+    return rc < 0 ? kelp_fail(d, rc, w) : rc;
 }
 
 static int startup(kelp_app *app, void *st)

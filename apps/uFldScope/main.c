@@ -22,9 +22,11 @@ typedef struct scope {
     char text[SCOPE_TEXT_CAP];
 } scope;
 
-static int param(void *ctx, const char *key, const char *val, const char **why)
+static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
-    return kelp_field_ufs_config(&((scope *)ctx)->cfg, key, val, why);
+    const char *w = NULL;
+    int rc = kelp_field_ufs_config(&((scope *)ctx)->cfg, key, val, &w);
+    return rc < 0 ? kelp_fail(d, rc, w) : rc;
 }
 
 static void draw(scope *s)

@@ -27,15 +27,16 @@ static void publish(void *ctx, const char *var, bool is_string, const char *sval
 
 static void warn(void *ctx, const char *msg) { kelp_app_run_warning(((uts *)ctx)->app, "%s", msg); }
 
-static int param(void *ctx, const char *key, const char *val, const char **why)
+static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     uts *u = ctx;
-    int rc = kelp_ts_cfg_set(&u->cfg, key, val, why);
+    const char *w = NULL;
+    int rc = kelp_ts_cfg_set(&u->cfg, key, val, &w);
+    if (rc < 0) (void)kelp_fail(d, rc, w);
     if (rc != 0) return rc;
     if (kelp_strieq(key, "seed")) {
         if (kelp_parse_finite(val, strlen(val), &u->seed) < 0 || u->seed < 0) {
-            *why = "seed must be a whole number >= 0";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "seed must be a whole number >= 0");
         }
         u->seeded = true;
         return 1;
@@ -44,8 +45,7 @@ static int param(void *ctx, const char *key, const char *val, const char **why)
     for (size_t i = 0; i < sizeof accepted / sizeof accepted[0]; i++)
         if (kelp_strieq(key, accepted[i])) return 1;
     if (kelp_strieq(key, "rand_pair") || kelp_strieq(key, "randpair")) {
-        *why = "rand_pair is not supported by kelp's uTimerScript (use two rand_var lines)";
-        return KELP_ERR_UNSUPPORTED;
+        return kelp_fail(d, KELP_ERR_UNSUPPORTED, "rand_pair is not supported by kelp's uTimerScript (use two rand_var lines)");
     }
     return 0;
 }

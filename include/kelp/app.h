@@ -70,7 +70,7 @@ typedef struct kelp_app_def {
     const char *args;
     /** Called, before startup, for each of the app's options (val, optarg) and arguments (0, arg).
      *  Return <0 with *why for a usage error. */
-    int (*on_arg)(void *state, int val, const char *arg, const char **why);
+    int (*on_arg)(void *state, int val, const char *arg, kelp_diag *d);
     /** OnStartUp: read parameters (kelp_app_param*), register. Return <0 to stop the app
      *  (after kelp_app_config_error). */
     int (*startup)(kelp_app *app, void *state);
@@ -126,7 +126,7 @@ int kelp_app_global_double(kelp_app *app, const char *key, double *out);
 /** Call fn for each parameter of our block, in file order: fn returns 1 (taken: marked
  *  used), 0 (not its key) or <0 with *why (a fatal "file:line: KEY = value: why").
  *  @return 0 or the error. */
-typedef int (*kelp_app_param_fn)(void *ctx, const char *key, const char *val, const char **why);
+typedef int (*kelp_app_param_fn)(void *ctx, const char *key, const char *val, kelp_diag *d);
 int kelp_app_param_foreach(kelp_app *app, kelp_app_param_fn fn, void *ctx);
 /** Mark a node as handled (for parameters read through kelp_mission_* directly). */
 void kelp_app_param_used(kelp_app *app, const kelp_mission_node *n);

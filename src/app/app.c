@@ -229,13 +229,14 @@ int kelp_app_param_foreach(kelp_app *app, kelp_app_param_fn fn, void *ctx)
     for (int i = kelp_mission_next(m, app->block, -1, NULL); i >= 0; i = kelp_mission_next(m, app->block, i, NULL)) {
         const kelp_mission_node *n = &m->nodes[i];
         char key[KELP_MAX_NAME], val[1024];
-        const char *why = NULL;
+        kelp_diag d;
+        kelp_diag_clear(&d);
         if (n->klen >= sizeof key) continue;
         memcpy(key, n->key, n->klen);
         key[n->klen] = 0;
         if (kelp_mission_copy(n, val, sizeof val) < 0) return kelp_app_config_error(app, n, "%s: value too long", key);
-        int rc = fn(ctx, key, val, &why);
-        if (rc < 0) return kelp_app_config_error(app, n, "%s = %s: %s", key, val, why ? why : kelp_strerror(rc));
+        int rc = fn(ctx, key, val, &d);
+        if (rc < 0) return kelp_app_config_error(app, n, "%s = %s: %s", key, val, d.code ? kelp_diag_text(&d) : kelp_strerror(rc));
         if (rc > 0) kelp_app_param_used(app, n);
     }
     return 0;
@@ -745,7 +746,8 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
         .opts = opts,
         .more = more,
     };
-    const char *why = NULL;
+    kelp_diag why;
+    kelp_diag_clear(&why);
     int c, status;
     while ((c = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
         switch (c) {
@@ -766,7 +768,7 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
         default:
             if (!def->on_arg) return kelp_cli_error(&cli, "unhandled option");
             if (def->on_arg(state, c, optarg, &why) < 0)
-                return kelp_cli_error(&cli, "%s", why ? why : "bad option value");
+                return kelp_cli_error(&cli, "%s", why.code ? kelp_diag_text(&why) : "bad option value");
             break;
         }
     }
@@ -802,7 +804,7 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
         else if (def->on_arg(state, 0, a, &why) < 0) {
             kelp_mission_free(&app->mf);
             free(app);
-            return kelp_cli_error(&cli, "'%s': %s", a, why ? why : "not accepted");
+            return kelp_cli_error(&cli, "'%s': %s", a, why.code ? kelp_diag_text(&why) : "not accepted");
         }
     }
     snprintf(app->name, sizeof app->name, "%s", alias ? alias : moos_name(def));
