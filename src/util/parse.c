@@ -36,9 +36,10 @@ bool kelp_strieq_n(const char *s, size_t len, const char *z)
 
 /* ---- exact decimal -> double: the slow path's big integers ------------------------------
  * A candidate double z is checked against the decimal D * 10^e10 by comparing the decimal
- * with the halfway points between z and its neighbours, all as exact integers. The sizes
- * are bounded by the exponent limits below: 48 words of 32 bits hold 1536 bits. */
-enum { BIG_WORDS = 48, DEC_MAX = 40 };
+ * with the halfway points between z and its neighbours, all as exact integers. 10^n is
+ * 5^n * 2^n and the 2^n goes into the shift, so the big side is at most 5^365 * 2^54 (902 bits)
+ * or D * 5^e (760 bits) within the exponent limits below: 32 words of 32 bits. */
+enum { BIG_WORDS = 32, DEC_MAX = 40 };
 typedef struct { uint32_t w[BIG_WORDS]; int n; } big;
 
 static bool big_mul_add(big *b, uint32_t m, uint32_t a)
@@ -56,12 +57,12 @@ static bool big_mul_add(big *b, uint32_t m, uint32_t a)
     return true;
 }
 
-static bool big_mul_pow10(big *b, int e)
+static bool big_mul_pow5(big *b, int e)
 {
-    for (; e >= 9; e -= 9)
-        if (!big_mul_add(b, 1000000000u, 0)) return false;
-    static const uint32_t p10[] = {1, 10, 100, 1000, 10000, 100000, 1000000, 10000000, 100000000};
-    return big_mul_add(b, p10[e], 0);
+    for (; e >= 13; e -= 13)
+        if (!big_mul_add(b, 1220703125u, 0)) return false; /* 5^13 */
+    static const uint32_t p5[] = {1, 5, 25, 125, 625, 3125, 15625, 78125, 390625, 1953125, 9765625, 48828125, 244140625};
+    return big_mul_add(b, p5[e], 0);
 }
 
 static bool big_shl(big *b, int bits)
@@ -134,20 +135,22 @@ static int cmp_halfway(const char *dig, int nd, int e10, double z)
     uint32_t hs[2] = { (uint32_t)hv, (uint32_t)(hv >> 32) };
     int hn = hs[1] ? 2 : 1;
     big b = {{0}, 0};
-    if (e10 >= 0) { /* b = D * 10^e10 against hv * 2^(k-1) */
+    if (e10 >= 0) { /* D * 5^e10 against hv * 2^(k-1-e10) */
         for (int j = 0; j < dn; j++) b.w[j] = d[j];
         b.n = dn;
         while (b.n && b.w[b.n - 1] == 0) b.n--;
-        if (!big_mul_pow10(&b, e10)) return 2;
-        if (k - 1 >= 0) return big_cmp_shl(&b, hs, hn, k - 1);
-        if (!big_shl(&b, 1 - k)) return 2;
+        if (!big_mul_pow5(&b, e10)) return 2;
+        int sh = k - 1 - e10;
+        if (sh >= 0) return big_cmp_shl(&b, hs, hn, sh);
+        if (!big_shl(&b, -sh)) return 2;
         return big_cmp_shl(&b, hs, hn, 0);
     }
-    /* b = hv * 10^-e10 against D * 2^(1-k) */
+    /* times 10^-e10: D against hv * 5^-e10 * 2^(k-1-e10) */
     b.w[0] = hs[0], b.w[1] = hs[1], b.n = hn;
-    if (!big_mul_pow10(&b, -e10)) return 2;
-    if (1 - k >= 0) return -big_cmp_shl(&b, d, dn, 1 - k);
-    if (!big_shl(&b, k - 1)) return 2;
+    if (!big_mul_pow5(&b, -e10)) return 2;
+    int sh = k - 1 - e10;
+    if (sh < 0) return -big_cmp_shl(&b, d, dn, -sh);
+    if (!big_shl(&b, sh)) return 2;
     return -big_cmp_shl(&b, d, dn, 0);
 }
 

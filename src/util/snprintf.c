@@ -16,6 +16,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
+#include <kelp/config.h>
 #include <kelp/util.h>
 
 typedef struct out {
@@ -39,26 +40,32 @@ static void pad(out *o, char c, int n)
     for (; n > 0; n--) put(o, c);
 }
 
-/* a converted field: sign/prefix, zero padding, digits, right or left justified */
-static void field(out *o, const char *pre, const char *body, size_t blen, int width, bool left, bool zero)
+/* a converted field: sign/prefix, zero padding, `zeros` leading zeros (an integer's precision),
+ * the body, right or left justified */
+static void field_z(out *o, const char *pre, int zeros, const char *body, size_t blen, int width, bool left, bool zero)
 {
     size_t plen = pre[0] ? (pre[1] ? 2 : 1) : 0; /* a sign, "0", "0x" */
-    int fill = width > (int)(plen + blen) ? width - (int)(plen + blen) : 0;
+    int len = (int)(plen + blen) + zeros;
+    int fill = width > len ? width - len : 0;
     if (!left && !zero) pad(o, ' ', fill);
     puts_n(o, pre, plen);
     if (!left && zero) pad(o, '0', fill);
+    pad(o, '0', zeros);
     puts_n(o, body, blen);
     if (left) pad(o, ' ', fill);
+}
+
+static void field(out *o, const char *pre, const char *body, size_t blen, int width, bool left, bool zero)
+{
+    field_z(o, pre, 0, body, blen, width, left, zero);
 }
 
 /* an integer's digits with the precision's leading zeros (the 0 flag is off with a precision) */
 static void int_field(out *o, const char *pre, const char *dig, size_t n, int prec, int width, bool left, bool zero)
 {
-    char body[80] = "";
-    size_t k = 0;
-    for (int z = prec - (int)n; z > 0 && k < 40; z--) body[k++] = '0';
-    memcpy(body + k, dig, n);
-    field(o, pre, body, k + n, width, left, zero && prec < 0);
+    int z = prec - (int)n;
+    if (z > 40) z = 40;
+    field_z(o, pre, z > 0 ? z : 0, dig, n, width, left, zero && prec < 0);
 }
 
 static size_t utoa(uintmax_t v, unsigned base, bool upper, char *tmp)
@@ -127,7 +134,7 @@ static size_t fmt_ef(char *body, size_t cap, double v, char c, bool upper, int p
     return n;
 }
 
-static void fmt_float(out *o, double v, char conv, int prec, int width, bool left, bool zero, bool alt, const char *sign)
+KELP_NOINLINE static void fmt_float(out *o, double v, char conv, int prec, int width, bool left, bool zero, bool alt, const char *sign)
 {
     char body[96];
     bool upper = conv == 'F' || conv == 'E' || conv == 'G';
@@ -202,7 +209,7 @@ int kelp_vsnprintf_own(char *buf, size_t cap, const char *fmt, va_list ap)
         else if (*p == 'j') { len = 6; p++; }
         else if (*p == 't') { len = 7; p++; }
         else if (*p == 'L') p++;
-        char conv = *p, tmp[72];
+        char conv = *p, tmp[24]; /* 64 bits in octal: 22 digits */
         if (!conv) break;
         switch (conv) {
         case 'd': case 'i': {
