@@ -52,7 +52,8 @@ static double lat[LAT];
 int main(void)
 {
     kelp_can_dict d;
-    const char *why = NULL;
+    kelp_diag why;
+    kelp_diag_clear(&why);
     kelp_can_dict_init(&d);
     if (kelp_can_dict_parse(&d, "3=THRUST_CMD,7=DEPTH", &why) < 0) return 1;
     char text[201];

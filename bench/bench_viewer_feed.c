@@ -33,10 +33,11 @@ int main(int argc, char **argv)
     if (kelp_parse_long(argv[1], strlen(argv[1]), &n) != 0 || kelp_parse_double(argv[2], strlen(argv[2]), &secs) != 0 ||
         n < 1 || n > 5000 || !(secs > 0))
         return 2;
-    char url[512], err[600];
+    char url[512];
+    kelp_diag err = {0};
     if (kelp_lcm_url(NULL, url, sizeof url) < 0) return 1;
-    kelp_lcmbus *lb = kelp_lcmbus_open(url, "bench_viewer_feed", "shoreside", on_var, NULL, err, sizeof err);
-    if (!lb) { fprintf(stderr, "%s\n", err); return 1; }
+    kelp_lcmbus *lb = kelp_lcmbus_open(url, "bench_viewer_feed", "shoreside", on_var, NULL, &err);
+    if (!lb) { fprintf(stderr, "%s\n", kelp_diag_text(&err)); return 1; }
     kelp_bus *bus = kelp_lcmbus_bus(lb);
     int side = (int)ceil(sqrt((double)n)), rounds = (int)(secs * 4 + 0.5);
     double t0 = floor(wall()) + 1;

@@ -11,7 +11,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     static char buf[3 * KELP_APPCAST_MSG + 16 * 3 * KELP_APPCAST_ITEM], buf2[sizeof buf];
     char *s = malloc(size ? size : 1);
     memcpy(s, data, size);
-    const char *why = NULL;
+    kelp_diag why;
+    kelp_diag_clear(&why);
     if (kelp_appcast_parse(s, size, &a, &why) == KELP_OK) {
         size_t n, n2;
         if (kelp_appcast_format(&a, buf, sizeof buf, &n) == KELP_OK) {
@@ -21,7 +22,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if (strcmp(a.proc, b.proc) != 0 || a.iter != b.iter || a.ncfg != b.ncfg || a.nrun != b.nrun) abort();
         }
         if (kelp_appcast_render(&a, buf, sizeof buf, &n) == KELP_OK && strlen(buf) != n) abort();
-    } else if (!why) {
+    } else if (why.code == KELP_OK) { /* a refusal always says why */
         abort();
     }
     kelp_appcast_req r;

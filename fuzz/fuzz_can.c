@@ -128,7 +128,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         size_t n = size < sizeof text - 1 ? size : sizeof text - 1;
         memcpy(text, data, n);
         text[n] = 0;
-        const char *why = NULL;
+        kelp_diag why;
+        kelp_diag_clear(&why);
         (void)kelp_can_dict_parse(&dict, text, &why);
         kelp_bridge_route r[16];
         size_t nr = 0;

@@ -14,7 +14,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     memcpy(text, data, size);
     kelp_mission m;
     static kelp_mission_node nodes[512];
-    if (kelp_mission_parse(&m, text, size, NULL, 0) == 0) {
+    int rc0 = kelp_mission_parse(&m, text, size, NULL, 0);
+    if (rc0 == 0) {
         size_t need = m.nnodes;
         int rc = kelp_mission_parse(&m, text, size, nodes, need < 512 ? need : 512);
         if (need <= 512 && rc != 0) abort(); /* measuring and storing must agree */
@@ -32,9 +33,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             for (int i = kelp_mission_next(&m, -1, -1, NULL); i >= 0; i = kelp_mission_next(&m, -1, i, NULL)) {
             }
         }
-    } else if (!m.err_reason || m.err_line < 1) {
-        /* every parse error has a reason and a line */
-        if (m.err_reason == NULL) abort();
+    } else if (rc0 == KELP_ERR_PARSE && (m.diag.code != KELP_ERR_PARSE || m.diag.line < 1 || !kelp_diag_text(&m.diag)[0])) {
+        abort(); /* every parse error has a line and a reason */
     }
     /* NUL-terminated copies for the string APIs */
     char *z = malloc(size + 1);
@@ -44,7 +44,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     (void)kelp_kv_get(z, ',', "src_var", out, sizeof out);
     kelp_bridge_route r[16];
     size_t nr;
-    const char *why;
+    kelp_diag why;
+    kelp_diag_clear(&why);
     (void)kelp_bridge_parse_share(z, r, 16, &nr, &why);
     (void)kelp_bridge_parse_register(z, r, &why);
     free(z);

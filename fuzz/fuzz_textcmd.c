@@ -61,8 +61,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     case 3: {
         kelp_bridge_route r[16];
         size_t nr = 0;
-        if (kelp_bridge_parse_share(t, r, 16, &nr, &why) == 0 && nr > 16) abort();
-        (void)kelp_bridge_parse_register(t, r, &why);
+        kelp_diag dg;
+        kelp_diag_clear(&dg);
+        if (kelp_bridge_parse_share(t, r, 16, &nr, &dg) == 0 && nr > 16) abort();
+        (void)kelp_bridge_parse_register(t, r, &dg);
         break;
     }
     case 5: {

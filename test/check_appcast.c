@@ -53,7 +53,8 @@ START_TEST(parse_round_trip_and_separators)
     strcpy(ac.messages, "a!@b\nline two");  /* a separator inside the text */
     size_t len;
     ck_assert_int_eq(kelp_appcast_format(&ac, buf, sizeof buf, &len), KELP_OK);
-    const char *why = NULL;
+    kelp_diag why;
+    kelp_diag_clear(&why);
     ck_assert_int_eq(kelp_appcast_parse(buf, len, &back, &why), KELP_OK);
     ck_assert_str_eq(back.proc, "pHostInfo");
     ck_assert_str_eq(back.node, "alpha");
@@ -71,7 +72,15 @@ START_TEST(parse_round_trip_and_separators)
     ck_assert_int_eq(kelp_appcast_parse("proc=a!@#colour=red", 19, &back, &why), KELP_OK);
     ck_assert_int_eq(kelp_appcast_parse("proc=a!@#junk", 13, &back, &why), KELP_ERR_PARSE);
     ck_assert_int_eq(kelp_appcast_parse("iter=3", 6, &back, &why), KELP_ERR_PARSE);
-    ck_assert_str_eq(why, "no proc=");
+    ck_assert_int_eq(why.code, KELP_ERR_PARSE);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(kelp_diag_text(&why), "a part without '='"); /* the first failure is kept */
+#endif
+    kelp_diag_clear(&why);
+    ck_assert_int_eq(kelp_appcast_parse("iter=3", 6, &back, &why), KELP_ERR_PARSE);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(kelp_diag_text(&why), "no proc=");
+#endif
 }
 END_TEST
 

@@ -171,8 +171,11 @@ START_TEST(bad_text_gives_line_and_reason)
 {
     kelp_mission m;
     ck_assert_int_eq(parse(&m, bad[_i].text), KELP_ERR_PARSE);
-    ck_assert_int_eq(m.err_line, bad[_i].line);
-    ck_assert_str_eq(m.err_reason, bad[_i].why);
+    ck_assert_int_eq(m.diag.code, KELP_ERR_PARSE);
+    ck_assert_int_eq(m.diag.line, bad[_i].line);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(kelp_diag_text(&m.diag), bad[_i].why);
+#endif
 }
 END_TEST
 

@@ -106,9 +106,9 @@ static bool report(const table *tb, const kelp_post *e, char *id, char *range, c
 /* pass 1 (print == false): the ids in first-seen order; pass 2: the rows */
 static int pass(const char *path, table *tb, bool print)
 {
-    char err[300];
-    kelp_postlog *p = kelp_postlog_open(path, NULL, err, sizeof err);
-    if (!p) return fprintf(stderr, "alog2rng: %s\n", err), -1;
+    kelp_diag err = {0};
+    kelp_postlog *p = kelp_postlog_open(path, NULL, &err);
+    if (!p) return fprintf(stderr, "alog2rng: %s\n", kelp_diag_text(&err)), -1;
     kelp_post e;
     int rc;
     char id[ID_LEN], range[ID_LEN], key[64];

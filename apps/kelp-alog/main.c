@@ -31,9 +31,9 @@ typedef struct opts {
 
 static int to_alog(const char *in, const char *outp, const opts *o)
 {
-    char err[300];
-    kelp_postlog *p = kelp_postlog_open(in, NULL, err, sizeof err);
-    if (!p) return fprintf(stderr, "kelp-alog: %s\n", err), 1;
+    kelp_diag err = {0};
+    kelp_postlog *p = kelp_postlog_open(in, NULL, &err);
+    if (!p) return fprintf(stderr, "kelp-alog: %s\n", kelp_diag_text(&err)), 1;
     if (kelp_postlog_is_alog(p)) {
         kelp_postlog_close(p);
         return fprintf(stderr, "kelp-alog: %s is already an .alog\n", in), 1;
@@ -80,9 +80,9 @@ static int to_alog(const char *in, const char *outp, const opts *o)
 
 static int to_lcm(const char *in, const char *outp, const opts *o)
 {
-    char err[300];
-    kelp_postlog *p = kelp_postlog_open(in, o->community, err, sizeof err);
-    if (!p) return fprintf(stderr, "kelp-alog: %s\n", err), 1;
+    kelp_diag err = {0};
+    kelp_postlog *p = kelp_postlog_open(in, o->community, &err);
+    if (!p) return fprintf(stderr, "kelp-alog: %s\n", kelp_diag_text(&err)), 1;
     if (!kelp_postlog_is_alog(p)) {
         kelp_postlog_close(p);
         return fprintf(stderr, "kelp-alog: %s is an LCM log already\n", in), 1;

@@ -134,10 +134,11 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
     bridge *b = st;
     if (strcmp(v->name, "PMB_REGISTER") == 0) {
         kelp_bridge_route r;
-        const char *why = NULL;
+        kelp_diag why;
+        kelp_diag_clear(&why);
         if (v->kind != KELP_VAR_STRING || kelp_bridge_parse_register(v->sval, &r, &why) < 0) {
             b->reg_bad++;
-            kelp_app_run_warning(app, "bad PMB_REGISTER (%s)", why ? why : "not a string");
+            kelp_app_run_warning(app, "bad PMB_REGISTER (%s)", why.code ? kelp_diag_text(&why) : "not a string");
             return;
         }
         b->reg_ok++;
@@ -201,12 +202,12 @@ static int startup(kelp_app *app, void *st)
     clock_gettime(CLOCK_REALTIME, &ts);
     kelp_bridge_tx_init(&b->btx, (uint64_t)ts.tv_sec * 1000000u + (uint64_t)ts.tv_nsec / 1000u);
     kelp_bridge_rx_init(&b->brx, b->peers, MAX_PEERS);
-    char err[160];
-    b->sock = kelp_udp_open(b->port, 4 << 20, err, sizeof err);
-    if (b->sock < 0) return kelp_app_config_error(app, pn, "%s", err);
+    kelp_diag err = {0};
+    b->sock = kelp_udp_open(b->port, 4 << 20, &err);
+    if (b->sock < 0) return kelp_app_config_error(app, pn, "%s", kelp_diag_text(&err));
     if (b->port) {
         if (kelp_app_watch_fd(app, b->sock, on_udp) < 0) return KELP_ERR_NOSPACE;
-        (void)kelp_app_notify_double(app, "PMB_UDP_LISTEN", b->port);
+        KELP_IGNORE(kelp_app_notify_double(app, "PMB_UDP_LISTEN", b->port));
     }
     const char *names[] = { "UDPSHARE", "SHARE" };
     for (int k = 0; k < 2; k++) {
@@ -215,9 +216,11 @@ static int startup(kelp_app *app, void *st)
             char line[1024];
             kelp_bridge_route rs[16];
             size_t nr = 0;
-            const char *why = "too long";
-            if (kelp_mission_copy(n, line, sizeof line) < 0 || kelp_bridge_parse_share(line, rs, 16, &nr, &why) < 0)
-                return kelp_app_config_error(app, n, "bad %s: %s", names[k], why ? why : "too many variables");
+            kelp_diag why;
+            kelp_diag_clear(&why);
+            if (kelp_mission_copy(n, line, sizeof line) < 0) (void)kelp_fail(&why, KELP_ERR_NOSPACE, "too long");
+            int rc = why.code ? why.code : kelp_bridge_parse_share(line, rs, 16, &nr, &why);
+            if (rc < 0) return kelp_app_config_error(app, n, "bad %s: %s", names[k], rc == KELP_ERR_NOSPACE && !why.code ? "too many variables" : kelp_diag_text(&why));
             for (size_t i = 0; i < nr; i++)
                 if (add_route(app, b, &rs[i]) < 0) return kelp_app_config_error(app, n, "cannot add route");
         }

@@ -134,9 +134,9 @@ int main(int argc, char **argv)
         if (!lcm) { fprintf(stderr, "lcm_create failed\n"); return 1; }
         c.lcm = lcm;
     } else {
-        char err[600];
-        lb = kelp_lcmbus_open(url, "kelp-busperf", "bench", on_kelp, &c, err, sizeof err);
-        if (!lb) { fprintf(stderr, "%s\n", err); return 1; }
+        kelp_diag err = {0};
+        lb = kelp_lcmbus_open(url, "kelp-busperf", "bench", on_kelp, &c, &err);
+        if (!lb) { fprintf(stderr, "%s\n", kelp_diag_text(&err)); return 1; }
         c.bus = kelp_lcmbus_bus(lb);
     }
     if (strcmp(m, "pub") == 0) {
@@ -194,7 +194,7 @@ int main(int argc, char **argv)
         double until = wall() + timeout;
         while (c.n < n && wall() < until) {
             if (raw) lcm_handle_timeout(lcm, 50);
-            else (void)kelp_lcmbus_handle(lb, 50, 0);
+            else KELP_IGNORE(kelp_lcmbus_handle(lb, 50, 0));
         }
         double dt = c.last - c.first;
         printf("%s received %ld/%ld", raw ? "raw liblcm" : "kelp bus", c.n, n);
@@ -211,7 +211,7 @@ int main(int argc, char **argv)
         double until = wall() + (argc > 2 ? num(argv[2]) : 30);
         while (wall() < until) {
             if (raw) lcm_handle_timeout(lcm, 50);
-            else (void)kelp_lcmbus_handle(lb, 50, 0);
+            else KELP_IGNORE(kelp_lcmbus_handle(lb, 50, 0));
         }
     } else if (strcmp(m, "ping") == 0) {
         c.rtt = calloc((size_t)n, sizeof(double));
@@ -233,7 +233,7 @@ int main(int argc, char **argv)
             double until = wall() + 1.0;
             while (c.n == before && wall() < until) {
                 if (raw) lcm_handle_timeout(lcm, 100);
-                else (void)kelp_lcmbus_handle(lb, 100, 0);
+                else KELP_IGNORE(kelp_lcmbus_handle(lb, 100, 0));
             }
         }
         pct(&c, raw ? "raw liblcm" : "kelp bus");

@@ -49,7 +49,7 @@ static void on_can(kelp_app *app, void *st, int fd)
             c->published++;
         }
     }
-    if (rc < 0) kelp_app_run_warning(app, "%s (will reopen when it is up)", c->port.err);
+    if (rc < 0) kelp_app_run_warning(app, "%s (will reopen when it is up)", kelp_diag_text(&c->port.diag));
 }
 
 static void on_mail(kelp_app *app, void *st, const kelp_var *v)
@@ -60,7 +60,7 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
     if (rc < 0) {
         c->send_err++;
         if (rc == KELP_ERR_RANGE) kelp_app_run_warning(app, "%s is too large for CAN: not sent", v->name);
-        else if (rc == KELP_ERR_IO) kelp_app_run_warning(app, "%s", c->port.err);
+        else if (rc == KELP_ERR_IO) kelp_app_run_warning(app, "%s", kelp_diag_text(&c->port.diag));
     }
 }
 
@@ -68,9 +68,11 @@ static int add_lists(kelp_app *app, canbr *c, const char *key, bool to_can)
 {
     for (const kelp_mission_node *n = kelp_app_param_next(app, key, NULL); n; n = kelp_app_param_next(app, key, n)) {
         char line[1024];
-        const char *why = "too long";
-        if (kelp_mission_copy(n, line, sizeof line) < 0 || kelp_canbridge_add(&c->b, to_can, line, &why) < 0)
-            return kelp_app_config_error(app, n, "bad %s: %s", key, why ? why : "too many variables");
+        kelp_diag why;
+        kelp_diag_clear(&why);
+        if (kelp_mission_copy(n, line, sizeof line) < 0) (void)kelp_fail(&why, KELP_ERR_NOSPACE, "too long");
+        if (why.code || kelp_canbridge_add(&c->b, to_can, line, &why) < 0)
+            return kelp_app_config_error(app, n, "bad %s: %s", key, kelp_diag_text(&why));
     }
     return 0;
 }
@@ -98,16 +100,18 @@ static int startup(kelp_app *app, void *st)
     for (const kelp_mission_node *n = kelp_app_param_next(app, "DICTIONARY", NULL); n;
          n = kelp_app_param_next(app, "DICTIONARY", n)) {
         char line[1024];
-        const char *why = "too long";
-        if (kelp_mission_copy(n, line, sizeof line) < 0 || kelp_can_dict_parse(&c->b.dict, line, &why) < 0)
-            return kelp_app_config_error(app, n, "bad DICTIONARY: %s", why);
+        kelp_diag why;
+        kelp_diag_clear(&why);
+        if (kelp_mission_copy(n, line, sizeof line) < 0) (void)kelp_fail(&why, KELP_ERR_NOSPACE, "too long");
+        if (why.code || kelp_can_dict_parse(&c->b.dict, line, &why) < 0)
+            return kelp_app_config_error(app, n, "bad DICTIONARY: %s", kelp_diag_text(&why));
     }
     if (add_lists(app, c, "TO_CAN", true) < 0 || add_lists(app, c, "FROM_CAN", false) < 0) return KELP_ERR_PARSE;
     kelp_can_filter f[KELP_CAN_MAX_FILTERS];
     size_t nf = kelp_canbridge_filters(&c->b, f, KELP_CAN_MAX_FILTERS);
     if (kelp_can_port_open(&c->port, &kelp_can_socketcan_ops, ifname, f, nf, fd) < 0) {
-        if (c->port.fd < 0) return kelp_app_config_error(app, NULL, "%s", c->port.err);
-        kelp_app_run_warning(app, "%s: will open it when %s is up", c->port.err, ifname);
+        if (c->port.fd < 0) return kelp_app_config_error(app, NULL, "%s", kelp_diag_text(&c->port.diag));
+        kelp_app_run_warning(app, "%s: will open it when %s is up", kelp_diag_text(&c->port.diag), ifname);
     }
     if (kelp_app_watch_fd(app, c->port.fd, on_can) < 0) return KELP_ERR_NOSPACE;
     for (size_t i = 0; i < c->b.nto; i++) {
@@ -126,7 +130,7 @@ static int iterate(kelp_app *app, void *st, double now)
     canbr *c = st;
     int rc = kelp_can_port_maintain(&c->port);
     if (rc == 1) kelp_app_event(app, "%s is up: opened", c->port.ifname);
-    if (rc < 0) kelp_app_run_warning(app, "%s", c->port.err);
+    if (rc < 0) kelp_app_run_warning(app, "%s", kelp_diag_text(&c->port.diag));
     kelp_can_rx_expire(&c->b.rx, now);
     if (now - c->last_status >= 1.0) {
         const kelp_can_stats *s = &c->b.rx.st;
@@ -140,7 +144,7 @@ static int iterate(kelp_app *app, void *st, double now)
                        s->bad_body, s->unknown_var, s->duplicate, c->port.reopened);
         if (strcmp(buf, c->status) != 0) {
             memcpy(c->status, buf, sizeof buf);
-            (void)kelp_app_notify_string(app, "CANBRIDGE_STATUS", buf);
+            KELP_IGNORE(kelp_app_notify_string(app, "CANBRIDGE_STATUS", buf));
         }
         c->last_status = now;
     }

@@ -101,7 +101,7 @@ static void start_all(launcher *L, const char *mission, const char *ldir)
         fflush(stdout);
         double until = wall() + L->plan->ms_between / 1000.0;
         do {
-            (void)kelp_lcmbus_handle(L->lb, 20, moos_now(L));
+            KELP_IGNORE(kelp_lcmbus_handle(L->lb, 20, moos_now(L)));
         } while (wall() < until && !stop_due(L));
     }
 }
@@ -119,7 +119,7 @@ static void on_own_exit(const kelp_launch_child *c, void *ctx)
 static void supervise(launcher *L)
 {
     while (kelp_launch_reap(L->plan, wall(), on_own_exit, NULL) > 0) {
-        (void)kelp_lcmbus_handle(L->lb, 50, moos_now(L));
+        KELP_IGNORE(kelp_lcmbus_handle(L->lb, 50, moos_now(L)));
         if (!L->stop_at && stop_due(L)) {
             L->stop_at = wall();
             kelp_launch_signal_all(L->plan, SIGTERM);
@@ -206,7 +206,8 @@ int main(int argc, char **argv)
     }
     const kelp_mission *m = &mf.m;
     /* where our sibling programs live */
-    char selfdir[PATH_MAX] = ".", err[600];
+    char selfdir[PATH_MAX] = ".";
+    kelp_diag err = {0};
     ssize_t sl = readlink("/proc/self/exe", selfdir, sizeof selfdir - 1);
     if (sl > 0) {
         selfdir[sl] = 0;
@@ -214,8 +215,8 @@ int main(int argc, char **argv)
         memmove(selfdir, d, strlen(d) + 1);
     }
     static kelp_launch_plan plan;
-    if (kelp_launch_plan_read(&plan, m, mission, selfdir, err, sizeof err) < 0) {
-        fprintf(stderr, "%s\n", err);
+    if (kelp_launch_plan_read(&plan, m, mission, selfdir, &err) < 0) {
+        fprintf(stderr, "%s\n", kelp_diag_text(&err));
         return 1;
     }
     if (plan.skipped_moosdb) printf("kelp-launch: %s: MOOSDB is not needed (no broker in kelp); skipped\n", mission);
@@ -244,9 +245,9 @@ int main(int argc, char **argv)
 
     /* the retainer: answers late registrants, counts writes for the report */
     static retain rt;
-    kelp_lcmbus *lb = kelp_lcmbus_open(url, "kelp-launch", community, on_var, &rt, err, sizeof err);
+    kelp_lcmbus *lb = kelp_lcmbus_open(url, "kelp-launch", community, on_var, &rt, &err);
     if (!lb) {
-        fprintf(stderr, "kelp-launch: %s\n", err);
+        fprintf(stderr, "kelp-launch: %s\n", kelp_diag_text(&err));
         return 1;
     }
     if (kelp_bus_retain_all(kelp_lcmbus_bus(lb), 0) < 0) return 1;

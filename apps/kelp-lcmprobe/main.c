@@ -85,11 +85,11 @@ static int dcmp(const void *a, const void *b)
 
 static int do_send(const char *url, const char *chan, int use_lcm, long n, size_t size, double rate)
 {
-    char err[300];
+    kelp_diag err = {0};
     lcm_t *l = NULL;
     kelp_udpm_sock *s = NULL;
-    if (use_lcm ? !(l = lcm_create(url)) : !(s = kelp_udpm_sock_open_tx(url, err, sizeof err))) {
-        fprintf(stderr, "kelp-lcmprobe: cannot open %s: %s\n", url, use_lcm ? "lcm_create failed" : err);
+    if (use_lcm ? !(l = lcm_create(url)) : !(s = kelp_udpm_sock_open_tx(url, &err))) {
+        fprintf(stderr, "kelp-lcmprobe: cannot open %s: %s\n", url, use_lcm ? "lcm_create failed" : kelp_diag_text(&err));
         return 1;
     }
     if (size < PROBE_HDR) size = PROBE_HDR;
@@ -123,15 +123,15 @@ static int do_send(const char *url, const char *chan, int use_lcm, long n, size_
 
 static int do_recv(const char *url, const char *chan, int use_lcm, long n, double timeout)
 {
-    char err[300];
+    kelp_diag err = {0};
     static probe p;
     p.chan = chan;
     p.want = n;
     p.lat = calloc((size_t)n + 1, sizeof(double));
     lcm_t *l = NULL;
     kelp_udpm_sock *s = NULL;
-    if (use_lcm ? !(l = lcm_create(url)) : !(s = kelp_udpm_sock_open(url, err, sizeof err))) {
-        fprintf(stderr, "kelp-lcmprobe: cannot open %s: %s\n", url, use_lcm ? "lcm_create failed" : err);
+    if (use_lcm ? !(l = lcm_create(url)) : !(s = kelp_udpm_sock_open(url, &err))) {
+        fprintf(stderr, "kelp-lcmprobe: cannot open %s: %s\n", url, use_lcm ? "lcm_create failed" : kelp_diag_text(&err));
         return 1;
     }
     if (l) lcm_subscription_set_queue_capacity(lcm_subscribe(l, chan, on_lcm, &p), 0);

@@ -38,10 +38,10 @@ int main(int argc, char **argv)
         return kelp_cli_error(&cli, argc == optind ? "no log file given" : "one log file at a time");
     }
     const char *path = argv[optind];
-    char err[256];
-    kelp_lcmlog_reader *log = kelp_lcmlog_open(path, 0, err, sizeof err);
+    kelp_diag err = {0};
+    kelp_lcmlog_reader *log = kelp_lcmlog_open(path, 0, &err);
     if (!log) {
-        fprintf(stderr, "kelp-logcheck: %s\n", err);
+        fprintf(stderr, "kelp-logcheck: %s\n", kelp_diag_text(&err));
         return 1;
     }
     static chan chans[1024];

@@ -100,11 +100,12 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
 {
     mac *m = st;
     static kelp_appcast ac;
-    const char *why = NULL;
+    kelp_diag why;
+    kelp_diag_clear(&why);
     if (v->kind != KELP_VAR_STRING) return;
     if (kelp_appcast_parse(v->sval, v->slen, &ac, &why) != KELP_OK) {
         m->bad++;
-        kelp_app_run_warning(app, "an APPCAST from %s does not parse: %s", v->source, why ? why : "?");
+        kelp_app_run_warning(app, "an APPCAST from %s does not parse: %s", v->source, kelp_diag_text(&why));
         return;
     }
     if (!ac.node[0]) snprintf(ac.node, sizeof ac.node, "%s", v->community);

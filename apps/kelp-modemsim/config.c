@@ -69,7 +69,7 @@ int msim_config(kelp_app *app, msim_app *s, kelp_modemsim_cfg *c)
     c->modem_id = s->modem_id = (int)d;
     /* host side: a pseudo-terminal (pty_link, or iModemSim's Port) or a TCP server port */
     if (kelp_app_param_str(app, "pty_link", s->pty_link, sizeof s->pty_link) <= 0)
-        (void)kelp_app_param_str(app, "Port", s->pty_link, sizeof s->pty_link);
+        KELP_IGNORE(kelp_app_param_str(app, "Port", s->pty_link, sizeof s->pty_link));
     (void)kelp_app_param(app, "Speed"); /* iModemSim's baud: a pty has none */
     if (kelp_app_param(app, "tcp_port")) {
         if (param_d(app, "tcp_port", &d, 1, 65535) < 0) return -1;
@@ -90,7 +90,7 @@ int msim_config(kelp_app *app, msim_app *s, kelp_modemsim_cfg *c)
     if (kelp_app_param_str(app, "position", buf, sizeof buf) > 0 && parse_xyz(buf, &c->x, &c->y, &c->depth) < 0)
         return kelp_app_config_error(app, kelp_app_param(app, "position"), "position must be x=..,y=..[,depth=..]");
     (void)kelp_app_param(app, "InputLocType");
-    (void)kelp_app_param_str(app, "node_report_var", s->node_report_var, sizeof s->node_report_var);
+    KELP_IGNORE(kelp_app_param_str(app, "node_report_var", s->node_report_var, sizeof s->node_report_var));
     if (kelp_app_param_bool(app, "nav_vars", &s->nav_vars) < 0) return -1;
     s->nav_x = c->x;
     s->nav_y = c->y;
@@ -120,12 +120,12 @@ int msim_config(kelp_app *app, msim_app *s, kelp_modemsim_cfg *c)
         c->n_lbl++;
     }
     snprintf(s->channel_var, sizeof s->channel_var, "%s", DEFAULT_CHANNEL);
-    (void)kelp_app_param_str(app, "channel_var", s->channel_var, sizeof s->channel_var);
-    (void)kelp_app_param_str(app, "channel_url", s->channel_url, sizeof s->channel_url);
+    KELP_IGNORE(kelp_app_param_str(app, "channel_var", s->channel_var, sizeof s->channel_var));
+    KELP_IGNORE(kelp_app_param_str(app, "channel_url", s->channel_url, sizeof s->channel_url));
     /* iModemSim's channel: UDP broadcasts to BroadcastAddr:IPPort; here an LCM channel on that
      * port, kept on this host when BroadcastAddr is a loopback address */
     char bcast[64] = "127.0.0.1";
-    (void)kelp_app_param_str(app, "BroadcastAddr", bcast, sizeof bcast);
+    KELP_IGNORE(kelp_app_param_str(app, "BroadcastAddr", bcast, sizeof bcast));
     if (kelp_app_param(app, "IPPort")) {
         if (param_d(app, "IPPort", &d, 1, 65535) < 0) return -1;
         if (!s->channel_url[0])

@@ -94,7 +94,7 @@ static void on_event(const kelp_modemsim_event *e, void *u)
         kelp_app_event(s->app, "%s", e->text);
     } else if (kelp_modemsim_event_format(&s->m, e, text, sizeof text) > 0) { /* tx, rx, lost */
         kelp_app_event(s->app, "%s", text);
-        if (s->publish_events) (void)kelp_app_notify_string(s->app, "ACOMMS_SIM_EVENT", text);
+        if (s->publish_events) KELP_IGNORE(kelp_app_notify_string(s->app, "ACOMMS_SIM_EVENT", text));
     }
 }
 
@@ -112,14 +112,14 @@ static int startup(kelp_app *app, void *st)
     if ((rc = kelp_modemsim_init(&s->m, &c, &ops, s, now)) < 0)
         return kelp_app_config_error(app, NULL, "bad modem configuration: %s", kelp_strerror(rc));
     /* the host link */
-    char err[400];
+    kelp_diag err = {0};
     if (s->tcp_port) {
-        if (kelp_hostport_open_tcp(&s->host, s->tcp_port, err, sizeof err) < 0)
-            return kelp_app_config_error(app, NULL, "cannot listen on TCP port %u: %s", s->tcp_port, err);
+        if (kelp_hostport_open_tcp(&s->host, s->tcp_port, &err) < 0)
+            return kelp_app_config_error(app, NULL, "cannot listen on TCP port %u: %s", s->tcp_port, kelp_diag_text(&err));
         printf("%s: modem %d listening on TCP port %u\n", kelp_app_name(app), s->modem_id, s->tcp_port);
     } else {
-        if (kelp_hostport_open_pty(&s->host, s->pty_link, err, sizeof err) < 0)
-            return kelp_app_config_error(app, NULL, "cannot create the pseudo-terminal: %s", err);
+        if (kelp_hostport_open_pty(&s->host, s->pty_link, &err) < 0)
+            return kelp_app_config_error(app, NULL, "cannot create the pseudo-terminal: %s", kelp_diag_text(&err));
         printf("%s: modem %d on %s%s%s\n", kelp_app_name(app), s->modem_id, s->host.pty_name, s->pty_link[0] ? " link " : "",
                s->pty_link);
     }
@@ -134,8 +134,8 @@ static int startup(kelp_app *app, void *st)
                      KELP_LCM_RECV_BUF);
         else
             snprintf(url, sizeof url, "%s", s->channel_url);
-        s->chan = kelp_lcmbus_open(url, kelp_app_name(app), "acomms_channel", on_chan_var, s, err, sizeof err);
-        if (!s->chan) return kelp_app_config_error(app, kelp_app_param(app, "channel_url"), "channel: %s", err);
+        s->chan = kelp_lcmbus_open(url, kelp_app_name(app), "acomms_channel", on_chan_var, s, &err);
+        if (!s->chan) return kelp_app_config_error(app, kelp_app_param(app, "channel_url"), "channel: %s", kelp_diag_text(&err));
         if (kelp_bus_register(kelp_lcmbus_bus(s->chan), s->channel_var, 0, kelp_app_time(app)) < 0) return -1;
         if (kelp_app_watch_fd(app, kelp_lcmbus_fd(s->chan), on_chan_fd) < 0) return -1;
     } else if (kelp_app_register(app, s->channel_var, 0) < 0) {
@@ -182,12 +182,12 @@ static int iterate(kelp_app *app, void *st, double now)
     kelp_modemsim_tick(&s->m, us_of(now));
     if (now - s->last_status >= 2.0) {
         const kelp_modemsim_counters *c = kelp_modemsim_get_counters(&s->m);
-        (void)kelp_app_notify_stringf(app, "MODEMSIM_STATUS",
+        KELP_IGNORE(kelp_app_notify_stringf(app, "MODEMSIM_STATUS",
                                       "modem=%d,port=%s,host_lines=%u,host_errors=%u,tx_data=%u,rx_frames=%u,"
                                       "acks=%u,lost_random=%u,lost_collision=%u,lost_half_duplex=%u",
                                       kelp_modemsim_src(&s->m), s->tcp_port ? "tcp" : s->host.pty_name, c->host_lines,
                                       c->host_errors, c->tx[KELP_MODEMSIM_PKT_DATA], c->frames_rx, c->acks_out,
-                                      c->lost_random, c->lost_collision, c->lost_half_duplex);
+                                      c->lost_random, c->lost_collision, c->lost_half_duplex));
         s->last_status = now;
     }
     return 0;

@@ -216,8 +216,9 @@ static int from_log(int argc, char **argv)
         return kelp_cli_error(&cli, "no log given (--log=LOG), and no mission file");
     }
     char err[512];
-    kelp_lcmlog_reader *r = kelp_lcmlog_open(log, 0, err, sizeof err);
-    if (!r) return fprintf(stderr, "kelp-moos2sql: %s\n", err), 1;
+    kelp_diag lerr = {0};
+    kelp_lcmlog_reader *r = kelp_lcmlog_open(log, 0, &lerr);
+    if (!r) return fprintf(stderr, "kelp-moos2sql: %s\n", kelp_diag_text(&lerr)), 1;
     s.store = m2s_store_open(s.cfg.database, 0.5, err, sizeof err);
     if (!s.store) {
         kelp_lcmlog_close(r);

@@ -137,10 +137,10 @@ int main(int argc, char **argv)
     s.n = n;
     s.pokes = pokes;
     snprintf(s.app, sizeof s.app, "kelp-poke");
-    char err[600];
-    kelp_lcmbus *lb = kelp_lcmbus_open(url, "kelp-poke", community, on_var, &s, err, sizeof err);
+    kelp_diag err = {0};
+    kelp_lcmbus *lb = kelp_lcmbus_open(url, "kelp-poke", community, on_var, &s, &err);
     if (!lb) {
-        fprintf(stderr, "kelp-poke: %s\n", err);
+        fprintf(stderr, "kelp-poke: %s\n", kelp_diag_text(&err));
         return 1;
     }
     kelp_bus *bus = kelp_lcmbus_bus(lb);
@@ -153,7 +153,7 @@ int main(int argc, char **argv)
         }
     }
     double until = wall() + SYNC_WAIT_S;
-    while (wall() < until) (void)kelp_lcmbus_handle(lb, 50, MOOSNOW());
+    while (wall() < until) KELP_IGNORE(kelp_lcmbus_handle(lb, 50, MOOSNOW()));
     printf("PRIOR to Poking the community %s\n", community);
     printf("  %-16s %-14s %-10s %s\n  %-16s %-14s %-10s %s\n", "VarName", "(S)ource", "(T)ime", "VarValue", "-------",
            "-------", "------", "--------");
@@ -173,7 +173,7 @@ int main(int argc, char **argv)
         int all = 1;
         for (int i = 0; i < n; i++) all &= s.have_after[i];
         if (all || wall() > until) break;
-        (void)kelp_lcmbus_handle(lb, 50, MOOSNOW());
+        KELP_IGNORE(kelp_lcmbus_handle(lb, 50, MOOSNOW()));
     }
     printf("\nAFTER Poking the community %s\n", community);
     printf("  %-16s %-14s %-10s %s\n  %-16s %-14s %-10s %s\n", "VarName", "(S)ource", "(T)ime", "VarValue", "-------",

@@ -87,7 +87,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "kelp-record: cannot write %s\n", file);
         return 1;
     }
-    char err[300], re[600];
+    kelp_diag err = {0};
+    char re[600];
     regex_t rx;
     snprintf(re, sizeof re, "^(%s)$", chan); /* LCM anchors subscription regexes */
     if (regcomp(&rx, re, REG_EXTENDED | REG_NOSUB) != 0) {
@@ -95,9 +96,9 @@ int main(int argc, char **argv)
         lcm_eventlog_destroy(r.log);
         return 2;
     }
-    kelp_udpm_sock *sock = kelp_udpm_sock_open(url, err, sizeof err);
+    kelp_udpm_sock *sock = kelp_udpm_sock_open(url, &err);
     if (!sock) {
-        fprintf(stderr, "kelp-record: cannot open LCM URL %s: %s\n", url, err);
+        fprintf(stderr, "kelp-record: cannot open LCM URL %s: %s\n", url, kelp_diag_text(&err));
         lcm_eventlog_destroy(r.log);
         regfree(&rx);
         return 1;

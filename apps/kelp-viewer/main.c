@@ -85,8 +85,8 @@ static void press(kelp_app *app, viewer *s, unsigned i)
     const kelp_viewer_poke *pk[KELP_VIEWER_MAX_CMDS * KELP_VIEWER_MAX_POKES];
     unsigned n = kelp_viewer_press(&s->model, i, pk, sizeof pk / sizeof pk[0]);
     for (unsigned k = 0; k < n; k++) {
-        if (pk[k]->is_string) (void)kelp_app_notify_string(app, pk[k]->var, pk[k]->sval);
-        else (void)kelp_app_notify_double(app, pk[k]->var, pk[k]->dval);
+        if (pk[k]->is_string) KELP_IGNORE(kelp_app_notify_string(app, pk[k]->var, pk[k]->sval));
+        else KELP_IGNORE(kelp_app_notify_double(app, pk[k]->var, pk[k]->dval));
     }
     kelp_app_event(app, "%s \"%s\" pressed in the page (%u pokes)", c->kind == KELP_VIEWER_BUTTON ? "button" : "action",
                    c->label, n);
@@ -116,7 +116,7 @@ static int startup(kelp_app *app, void *st)
         kelp_app_config_warning(app, "LatOrigin/LongOrigin out of range");
     int rc = kelp_app_param_foreach(app, param, s);
     if (rc < 0) return rc;
-    char err[600];
+    kelp_diag err = {0};
     s->hc.port = 8080;
     if (s->port_s[0]) {
         long p;
@@ -136,16 +136,17 @@ static int startup(kelp_app *app, void *st)
         double n, so, e, w;
         if (kelp_viewer_image_files(s->image, kelp_app_mission_path(app), shown, sizeof shown, info, sizeof info) < 0)
             kelp_app_config_warning(app, "tiff_file %s: no such image", s->image);
-        else if (kelp_viewer_read_info(info, &n, &so, &e, &w, err, sizeof err) < 0)
-            kelp_app_config_warning(app, "tiff_file: %s", err);
+        else if (kelp_viewer_read_info(info, &n, &so, &e, &w, &err) < 0)
+            kelp_app_config_warning(app, "tiff_file: %s", kelp_diag_text(&err));
         else if (kelp_viewer_set_image(&s->model, "/image", n, so, e, w) < 0)
             kelp_app_config_warning(app, "%s: an empty or inverted box", info);
         else
             snprintf(s->image, sizeof s->image, "%s", shown);
     }
     s->hc.image_path = s->model.image_url[0] ? s->image : NULL;
-    s->http = kelp_viewer_http_start(&s->hc, err, sizeof err);
-    if (!s->http) return kelp_app_config_error(app, NULL, "%s", err);
+    kelp_diag_clear(&err);
+    s->http = kelp_viewer_http_start(&s->hc, &err);
+    if (!s->http) return kelp_app_config_error(app, NULL, "%s", kelp_diag_text(&err));
     static const char *const vars[] = {"NODE_REPORT", "NODE_REPORT_LOCAL", "VIEW_POINT", "VIEW_CIRCLE", "VIEW_POLYGON",
                                        "VIEW_SEGLIST", "VIEW_MARKER", "VIEW_COMMS_PULSE", "VIEW_COMM_PULSE",
                                        "VIEW_RANGE_PULSE", "APPCAST"};
@@ -175,8 +176,8 @@ static int iterate(kelp_app *app, void *st, double now)
         /* AppCasting: every app of this community (and, through uFldShoreBroker's QBRIDGE of
          * APPCAST_REQ, every vehicle's) casts for the page's AppCast pane */
         static const char req[] = "node=all,app=all,duration=5,key=kelp-viewer,thresh=any";
-        (void)kelp_app_notify_string(app, "APPCAST_REQ", req);
-        (void)kelp_app_notify_string(app, "APPCAST_REQ_ALL", req);
+        KELP_IGNORE(kelp_app_notify_string(app, "APPCAST_REQ", req));
+        KELP_IGNORE(kelp_app_notify_string(app, "APPCAST_REQ_ALL", req));
         s->next_castreq = now + CASTREQ_PERIOD;
     }
     serve(app, s, false);

@@ -126,8 +126,8 @@ static void publish_initializers(handler *h)
                                     in->is_double ? "dval" : "sval");
             continue;
         }
-        if (in->is_double) (void)kelp_app_notify_double(h->app, in->moos_var, d);
-        else (void)kelp_app_notify_string(h->app, in->moos_var, sval);
+        if (in->is_double) KELP_IGNORE(kelp_app_notify_double(h->app, in->moos_var, d));
+        else KELP_IGNORE(kelp_app_notify_string(h->app, in->moos_var, sval));
         /* feed the DCCL sources directly too (our own write may arrive after the first trigger) */
         kelp_acomms_handler_set_var(&h->core, in->moos_var, in->is_double, d, sval);
     }
@@ -211,7 +211,7 @@ int handler_startup(kelp_app *app, void *state)
     publish_initializers(h);
     const char *var;
     for (size_t i = 0; (var = kelp_acomms_handler_subscription(&h->core, i)) != NULL; i++)
-        (void)kelp_app_register(app, var, 0);
+        KELP_IGNORE(kelp_app_register(app, var, 0));
     bool link_up = false;
     if (h->cfg.driver_type == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
         if (open_link(h) != KELP_OK) return -1;

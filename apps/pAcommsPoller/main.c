@@ -44,7 +44,7 @@ static int publish(kelp_app *app, poller *p)
         return rc;
     }
     if (kelp_app_notify_string(app, p->update_var, p->last_update) < 0) return KELP_ERR_IO;
-    if (p->legacy_var[0]) (void)kelp_app_notify_string(app, p->legacy_var, p->last_update);
+    if (p->legacy_var[0]) KELP_IGNORE(kelp_app_notify_string(app, p->legacy_var, p->last_update));
     char list[2048] = "";
     size_t off = 0;
     for (size_t i = 0; i < p->list.n; i++) {
@@ -55,9 +55,9 @@ static int publish(kelp_app *app, poller *p)
         memcpy(list + off, one, l + 1);
         off += l;
     }
-    (void)kelp_app_notify_string(app, "POLLER_CYCLE", list);
-    (void)kelp_app_notify_stringf(app, "POLLER_STATUS", "state=%s,slots=%zu,cycle_seconds=%u,updates=%lu",
-                                  p->list.paused ? "paused" : "active", p->list.n, kelp_poller_cycle_seconds(&p->list), p->updates + 1);
+    KELP_IGNORE(kelp_app_notify_string(app, "POLLER_CYCLE", list));
+    KELP_IGNORE(kelp_app_notify_stringf(app, "POLLER_STATUS", "state=%s,slots=%zu,cycle_seconds=%u,updates=%lu",
+                                  p->list.paused ? "paused" : "active", p->list.n, kelp_poller_cycle_seconds(&p->list), p->updates + 1));
     p->updates++;
     p->dirty = false;
     p->last_publish = kelp_app_time(app);
@@ -109,12 +109,12 @@ static int startup(kelp_app *app, void *st)
     if (kelp_app_param_double(app, "max_range", &p->max_range) < 0 || p->max_range < 0)
         return kelp_app_config_error(app, kelp_app_param(app, "max_range"), "max_range must be >= 0 (m)");
     snprintf(p->update_var, sizeof p->update_var, "ACOMMS_MAC_CYCLE_UPDATE");
-    (void)kelp_app_param_str(app, "update_var", p->update_var, sizeof p->update_var);
+    KELP_IGNORE(kelp_app_param_str(app, "update_var", p->update_var, sizeof p->update_var));
     bool legacy = false;
     if (kelp_app_param_bool(app, "legacy_update", &legacy) < 0) return -1;
     if (legacy) snprintf(p->legacy_var, sizeof p->legacy_var, "ACOMMS_POLLER_UPDATE");
     snprintf(p->command_var, sizeof p->command_var, "POLLER_COMMAND");
-    (void)kelp_app_param_str(app, "command_var", p->command_var, sizeof p->command_var);
+    KELP_IGNORE(kelp_app_param_str(app, "command_var", p->command_var, sizeof p->command_var));
     if (kelp_app_param_double(app, "republish_interval", &p->republish) < 0 || p->republish < 0)
         return kelp_app_config_error(app, kelp_app_param(app, "republish_interval"), "republish_interval >= 0");
     bool enabled = true;

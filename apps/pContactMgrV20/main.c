@@ -58,8 +58,8 @@ static int startup(kelp_app *app, void *st)
     const char *v;
     for (unsigned i = 0; (v = kelp_cmgr_subscription(i)) != NULL; i++)
         if (kelp_app_register(app, v, 0) < 0) return kelp_app_config_error(app, NULL, "cannot register %s", v);
-    (void)kelp_app_notify_double(app, "PCONTACTMGR_PID", (double)getpid());
-    (void)kelp_app_notify_double(app, "PCONTACTMGRV20_PID", (double)getpid());
+    KELP_IGNORE(kelp_app_notify_double(app, "PCONTACTMGR_PID", (double)getpid()));
+    KELP_IGNORE(kelp_app_notify_double(app, "PCONTACTMGRV20_PID", (double)getpid()));
     return 0;
 }
 

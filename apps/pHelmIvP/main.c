@@ -66,7 +66,7 @@ static double cpu_seconds(void *user)
 static void register_new(kelp_app *app, helm_app *a, bool starting)
 {
     for (const char *v; (v = kelp_helm_next_new_var(a->h)) != NULL;) {
-        if (kelp_app_register(app, v, 0) == 0) (void)kelp_app_notify_string(app, "IVPHELM_REGISTER", v);
+        if (kelp_app_register(app, v, 0) == 0) KELP_IGNORE(kelp_app_notify_string(app, "IVPHELM_REGISTER", v));
         else if (starting) kelp_app_config_warning(app, "cannot register for %s", v);
         else kelp_app_run_warning(app, "cannot register for %s", v);
     }
@@ -143,7 +143,7 @@ static int startup(kelp_app *app, void *st)
         rc = kelp_helm_load_bhv(a->h, &mf.m);
         if (rc < 0) {
             fprintf(stderr, "%s:%d: %s\n", a->files[a->nfiles], a->h->err_line, a->h->err);
-            kelp_app_config_error(app, n, "%s:%d: %s", a->files[a->nfiles], a->h->err_line, a->h->err);
+            KELP_IGNORE(kelp_app_config_error(app, n, "%s:%d: %s", a->files[a->nfiles], a->h->err_line, a->h->err));
             kelp_mission_free(&mf);
             return -1;
         }
@@ -188,7 +188,7 @@ static int iterate(kelp_app *app, void *st, double now)
     if (kelp_helm_iterate(a->h, now) < 0)
         kelp_app_run_warning(app, "helm iteration failed");
     register_new(app, a, false);
-    (void)kelp_app_notify_double(app, "IVPHELM_CPU", kelp_app_cpu_load(app));
+    KELP_IGNORE(kelp_app_notify_double(app, "IVPHELM_CPU", kelp_app_cpu_load(app)));
     return 0;
 }
 

@@ -38,7 +38,7 @@ static int iterate(kelp_app *app, void *st, double now)
     xrelay *x = st;
     x->iterations++;
     if (x->iterations == 1) x->first_iter = now;
-    else if (now > x->first_iter) (void)kelp_app_notify_double(app, x->iter_hz, (x->iterations - 1) / (now - x->first_iter));
+    else if (now > x->first_iter) KELP_IGNORE(kelp_app_notify_double(app, x->iter_hz, (x->iterations - 1) / (now - x->first_iter)));
     if (x->unanswered) {
         x->posting_passes++;
         if (x->posting_passes == 1) x->first_post = now;
@@ -47,7 +47,7 @@ static int iterate(kelp_app *app, void *st, double now)
             if (kelp_app_notify_double(app, x->out, (double)x->sent) < 0) kelp_app_run_warning(app, "publish failed");
         }
         if (x->posting_passes > 1 && now > x->first_post)
-            (void)kelp_app_notify_double(app, x->post_hz, (x->sent - 1) / (now - x->first_post));
+            KELP_IGNORE(kelp_app_notify_double(app, x->post_hz, (x->sent - 1) / (now - x->first_post)));
     }
     return 0;
 }

@@ -85,17 +85,17 @@ typedef struct kelp_app_def {
 } kelp_app_def;
 
 /** Run the app; returns the process exit status. */
-int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state);
+KELP_MUST_CHECK int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state);
 
 /* ---- publish / subscribe (MOOS Notify / Register) ---- */
-int kelp_app_notify_double(kelp_app *app, const char *name, double value);
-int kelp_app_notify_string(kelp_app *app, const char *name, const char *value);
-int kelp_app_notify_stringf(kelp_app *app, const char *name, const char *fmt, ...) KELP_PRINTF(3, 4);
-int kelp_app_notify_binary(kelp_app *app, const char *name, const void *data, size_t len);
-int kelp_app_register(kelp_app *app, const char *pattern, double min_interval);
+KELP_MUST_CHECK int kelp_app_notify_double(kelp_app *app, const char *name, double value);
+KELP_MUST_CHECK int kelp_app_notify_string(kelp_app *app, const char *name, const char *value);
+KELP_MUST_CHECK int kelp_app_notify_stringf(kelp_app *app, const char *name, const char *fmt, ...) KELP_PRINTF(3, 4);
+KELP_MUST_CHECK int kelp_app_notify_binary(kelp_app *app, const char *name, const void *data, size_t len);
+KELP_MUST_CHECK int kelp_app_register(kelp_app *app, const char *pattern, double min_interval);
 /** A raw LCM message (e.g. an lcm-gen'd structure, fingerprint first) on its own channel,
  *  through the app's LCM socket; not a bus variable.  @return 0 or <0. */
-int kelp_app_publish_raw(kelp_app *app, const char *channel, const void *data, size_t len);
+KELP_MUST_CHECK int kelp_app_publish_raw(kelp_app *app, const char *channel, const void *data, size_t len);
 
 /* ---- identity and time ---- */
 const char *kelp_app_name(const kelp_app *app);      /**< MOOS name (alias) */
@@ -117,24 +117,24 @@ const kelp_mission_node *kelp_app_param(kelp_app *app, const char *key);
 /** Iterate repeated parameters: pass the previous node (or NULL); marks them used. */
 const kelp_mission_node *kelp_app_param_next(kelp_app *app, const char *key, const kelp_mission_node *prev);
 /** Typed getters: 1 if found and converted, 0 if absent, <0 (and a config warning) if malformed. */
-int kelp_app_param_str(kelp_app *app, const char *key, char *buf, size_t cap);
-int kelp_app_param_double(kelp_app *app, const char *key, double *out);
-int kelp_app_param_bool(kelp_app *app, const char *key, bool *out);
+KELP_MUST_CHECK int kelp_app_param_str(kelp_app *app, const char *key, char *buf, size_t cap);
+KELP_MUST_CHECK int kelp_app_param_double(kelp_app *app, const char *key, double *out);
+KELP_MUST_CHECK int kelp_app_param_bool(kelp_app *app, const char *key, bool *out);
 /** Global (top-of-file) parameter. */
-int kelp_app_global_str(kelp_app *app, const char *key, char *buf, size_t cap);
-int kelp_app_global_double(kelp_app *app, const char *key, double *out);
+KELP_MUST_CHECK int kelp_app_global_str(kelp_app *app, const char *key, char *buf, size_t cap);
+KELP_MUST_CHECK int kelp_app_global_double(kelp_app *app, const char *key, double *out);
 /** Call fn for each parameter of our block, in file order: fn returns 1 (taken: marked
  *  used), 0 (not its key) or <0 with *why (a fatal "file:line: KEY = value: why").
  *  @return 0 or the error. */
 typedef int (*kelp_app_param_fn)(void *ctx, const char *key, const char *val, kelp_diag *d);
-int kelp_app_param_foreach(kelp_app *app, kelp_app_param_fn fn, void *ctx);
+KELP_MUST_CHECK int kelp_app_param_foreach(kelp_app *app, kelp_app_param_fn fn, void *ctx);
 /** Mark a node as handled (for parameters read through kelp_mission_* directly). */
 void kelp_app_param_used(kelp_app *app, const kelp_mission_node *n);
 
 /* ---- warnings and events, shown in the status report ---- */
 void kelp_app_config_warning(kelp_app *app, const char *fmt, ...) KELP_PRINTF(2, 3);
 /** A fatal configuration error: printed as "file:line: reason"; the app exits non-zero. */
-int kelp_app_config_error(kelp_app *app, const kelp_mission_node *at, const char *fmt, ...) KELP_PRINTF(3, 4);
+KELP_MUST_CHECK int kelp_app_config_error(kelp_app *app, const kelp_mission_node *at, const char *fmt, ...) KELP_PRINTF(3, 4);
 void kelp_app_run_warning(kelp_app *app, const char *fmt, ...) KELP_PRINTF(2, 3);
 void kelp_app_event(kelp_app *app, const char *fmt, ...) KELP_PRINTF(2, 3);
 /** The AppCast header as a terminal shows it (MOOS-IvP's AppCasting: a rule, "NAME COMMUNITY"
@@ -144,7 +144,7 @@ size_t kelp_app_cast_banner(kelp_app *app, char *buf, size_t cap);
 /** Watch an extra file descriptor: cb runs (between iterations) when it is readable.
  *  At most 8 per app. */
 typedef void (*kelp_app_fd_cb)(kelp_app *app, void *state, int fd);
-int kelp_app_watch_fd(kelp_app *app, int fd, kelp_app_fd_cb cb);
+KELP_MUST_CHECK int kelp_app_watch_fd(kelp_app *app, int fd, kelp_app_fd_cb cb);
 
 /** Ask the loop to end after this iteration. */
 void kelp_app_quit(kelp_app *app);

@@ -44,9 +44,9 @@ typedef struct kelp_appcast {
  *  in the text is written as "!_". */
 KELP_MUST_CHECK int kelp_appcast_format(const kelp_appcast *ac, char *buf, size_t cap, size_t *len);
 /** Parse an APPCAST string (unknown parameters ignored, as MOOS-IvP does). KELP_ERR_PARSE
- *  (and *why) when proc= is missing or a pair has no '='. Lists past KELP_APPCAST_ITEMS and
+ *  (reason in d) when proc= is missing or a pair has no '='. Lists past KELP_APPCAST_ITEMS and
  *  text past the field sizes are cut. */
-KELP_MUST_CHECK int kelp_appcast_parse(const char *s, size_t len, kelp_appcast *out, const char **why);
+KELP_MUST_CHECK int kelp_appcast_parse(const char *s, size_t len, kelp_appcast *out, kelp_diag *d);
 /** One field of an APPCAST string (key case-insensitive, e.g. "proc", "node") into out, read
  *  as kelp_appcast_parse reads it, without parsing the rest. @return 1 found, 0 not there. */
 int kelp_appcast_field(const char *s, size_t len, const char *key, char *out, size_t cap);

@@ -69,11 +69,11 @@ typedef struct kelp_bridge_route {
 } kelp_bridge_route;
 
 /** Parse one UDPSHARE/SHARE value into up to cap routes. @return 0 and *n, or
- *  KELP_ERR_PARSE with *why set. */
+ *  KELP_ERR_PARSE, the reason in d. */
 KELP_MUST_CHECK int kelp_bridge_parse_share(const char *line, kelp_bridge_route *routes, size_t cap, size_t *n,
-                                            const char **why);
+                                            kelp_diag *d);
 /** Parse a PMB_REGISTER request. */
-KELP_MUST_CHECK int kelp_bridge_parse_register(const char *s, kelp_bridge_route *r, const char **why);
+KELP_MUST_CHECK int kelp_bridge_parse_register(const char *s, kelp_bridge_route *r, kelp_diag *d);
 
 /** HMAC-SHA256(key, data) -> out[32]; returns 0 or <0. */
 typedef int (*kelp_hmac_fn)(const uint8_t *key, size_t keylen, const uint8_t *data, size_t len, uint8_t out[32],
@@ -95,9 +95,9 @@ bool kelp_bridge_allowed(const char *allow, const char *name);
 
 /** A renaming list (kelp-canbridge's TO_CAN / FROM_CAN): "VAR", "VAR -> ALIAS",
  *  "[V1,V2]" or "[V1,V2] -> [A1,A2]". Fills src and alias of up to cap routes (the other
- *  fields zero). A glob (* or ?) may not be renamed. KELP_ERR_PARSE with *why set. */
+ *  fields zero). A glob (* or ?) may not be renamed. KELP_ERR_PARSE, the reason in d. */
 KELP_MUST_CHECK int kelp_bridge_parse_rename(const char *line, kelp_bridge_route *routes, size_t cap, size_t *n,
-                                             const char **why);
+                                             kelp_diag *d);
 
 #ifdef __cplusplus
 }

@@ -232,7 +232,7 @@ KELP_MUST_CHECK int kelp_bus_register(kelp_bus *b, const char *pattern, double m
 /** Feed one received datagram (from the transport) with its channel.
  *  @return 0 when handled (delivered or not of interest), or the validation error (counted
  *  in stats.bad; the client goes on). */
-int kelp_bus_receive(kelp_bus *b, const char *channel, const uint8_t *data, size_t len, double now);
+KELP_MUST_CHECK int kelp_bus_receive(kelp_bus *b, const char *channel, const uint8_t *data, size_t len, double now);
 
 /** Latest retained value of a variable, or NULL. */
 const kelp_var *kelp_bus_cached(const kelp_bus *b, const char *name);

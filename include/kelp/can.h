@@ -120,8 +120,8 @@ void kelp_can_dict_init(kelp_can_dict *d);
 /** Add id <-> name. KELP_ERR_RANGE (id > 510 or name too long), KELP_ERR_EXISTS (id or name
  *  already there), KELP_ERR_NOSPACE. */
 KELP_MUST_CHECK int kelp_can_dict_add(kelp_can_dict *d, unsigned id, const char *name);
-/** Add the pairs of "1=NAV_X, 2=NAV_Y" (kv list). KELP_ERR_PARSE with *why on a bad pair. */
-KELP_MUST_CHECK int kelp_can_dict_parse(kelp_can_dict *d, const char *spec, const char **why);
+/** Add the pairs of "1=NAV_X, 2=NAV_Y" (kv list). KELP_ERR_PARSE (reason in d) on a bad pair. */
+KELP_MUST_CHECK int kelp_can_dict_parse(kelp_can_dict *dict, const char *spec, kelp_diag *d);
 /** The id of a name, or -1. */
 int kelp_can_dict_id(const kelp_can_dict *d, const char *name);
 /** The name of an id, or NULL. */
@@ -207,7 +207,7 @@ void kelp_can_rx_init(kelp_can_rx *rx, double timeout);
 void kelp_can_rx_expire(kelp_can_rx *rx, double now);
 /** Feed one frame. @return 1 when *out holds a complete message, 0 when the frame was used
  *  (or ignored as foreign), < 0 when it was refused (counted; never fatal). */
-int kelp_can_rx_frame(kelp_can_rx *rx, const kelp_can_dict *d, const kelp_can_frame *f, double now,
+KELP_MUST_CHECK int kelp_can_rx_frame(kelp_can_rx *rx, const kelp_can_dict *d, const kelp_can_frame *f, double now,
                       kelp_can_msg *out);
 
 /** Fill a kelp_var from a decoded message: name as given (or `as` when non-empty), source
@@ -258,7 +258,7 @@ typedef struct kelp_canbridge {
 
 KELP_MUST_CHECK int kelp_canbridge_init(kelp_canbridge *b, unsigned node, bool fd, double timeout);
 /** Add a renaming list (kelp_bridge_parse_rename syntax): to_can = community -> CAN. */
-KELP_MUST_CHECK int kelp_canbridge_add(kelp_canbridge *b, bool to_can, const char *line, const char **why);
+KELP_MUST_CHECK int kelp_canbridge_add(kelp_canbridge *b, bool to_can, const char *line, kelp_diag *d);
 /** Kernel filters for what FROM_CAN wants (ids of dictionary names; the named id when a
  *  route is a glob or not in the dictionary). */
 size_t kelp_canbridge_filters(const kelp_canbridge *b, kelp_can_filter *out, size_t cap);
@@ -267,7 +267,7 @@ size_t kelp_canbridge_filters(const kelp_canbridge *b, kelp_can_filter *out, siz
 KELP_MUST_CHECK int kelp_canbridge_from_bus(kelp_canbridge *b, const kelp_var *v, kelp_can_emit_fn emit, void *user);
 /** A frame from CAN: 1 when *out holds a variable to publish (renamed, flagged BRIDGED),
  *  0 nothing yet / not routed, < 0 refused (counted in b->rx.st). */
-int kelp_canbridge_from_can(kelp_canbridge *b, const kelp_can_frame *f, double now, kelp_var *out);
+KELP_MUST_CHECK int kelp_canbridge_from_can(kelp_canbridge *b, const kelp_can_frame *f, double now, kelp_var *out);
 
 #ifdef __cplusplus
 }

@@ -18,6 +18,10 @@ extern "C" {
 #define KELP_PRINTF(f, a)
 #endif
 
+/** Discard a status on purpose, where failing changes nothing for the caller (GCC's
+ *  warn_unused_result is not silenced by a plain (void) cast; this is). */
+#define KELP_IGNORE(expr) ((void)!(expr))
+
 typedef enum kelp_err {
     KELP_OK = 0,
     KELP_ERR_ARG = -1,          /**< invalid argument */
@@ -57,7 +61,7 @@ const char *kelp_strerror(int code);
  * kelp_diag_text() answers kelp_strerror(code). A program and the kelp library it links must
  * agree on KELP_NO_ERRMSG, as on the other KELP_* build limits. */
 #ifndef KELP_DIAG_MSG_MAX
-#define KELP_DIAG_MSG_MAX 128 /**< message bytes, terminator included */
+#define KELP_DIAG_MSG_MAX 160 /**< message bytes, terminator included */
 #endif
 
 typedef struct kelp_diag {

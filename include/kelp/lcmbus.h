@@ -34,9 +34,9 @@ KELP_MUST_CHECK int kelp_lcm_url(const char *mission_url, char *buf, size_t cap)
 KELP_MUST_CHECK int kelp_lcm_mission_url(const kelp_mission *m, char *buf, size_t cap, int *line);
 
 /** Open a client. @param url LCM URL (see kelp_lcm_url); @return NULL on failure with a
- *  reason in err (cap errcap). */
+ *  reason in d. */
 kelp_lcmbus *kelp_lcmbus_open(const char *url, const char *app, const char *community, kelp_bus_handler handler,
-                              void *user, char *err, size_t errcap);
+                              void *user, kelp_diag *d);
 void kelp_lcmbus_close(kelp_lcmbus *lb);
 kelp_bus *kelp_lcmbus_bus(kelp_lcmbus *lb);
 int kelp_lcmbus_fd(kelp_lcmbus *lb);
@@ -45,7 +45,7 @@ int kelp_lcmbus_fd(kelp_lcmbus *lb);
 void kelp_lcmbus_ignore_own(kelp_lcmbus *lb, bool on);
 /** Handle every datagram already received (non-blocking), then wait up to timeout_ms for
  *  more. `now` is the MOOS time handed to the bus. @return datagrams handled, or <0. */
-int kelp_lcmbus_handle(kelp_lcmbus *lb, int timeout_ms, double now);
+KELP_MUST_CHECK int kelp_lcmbus_handle(kelp_lcmbus *lb, int timeout_ms, double now);
 /** Transport counters (bad datagrams, reassembly timeouts, queue drops...). */
 void kelp_lcmbus_get_stats(kelp_lcmbus *lb, kelp_udpm_sock_stats *out);
 /** Publish raw bytes on a channel (bridges, tools). */

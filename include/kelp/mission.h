@@ -54,13 +54,11 @@ typedef struct kelp_mission {
     kelp_mission_node *nodes;
     size_t nnodes;
     size_t cap;
-    /* error (first wins) */
-    int err_line;
-    const char *err_reason;
+    kelp_diag diag; /**< why a parse failed: line and reason (first error wins) */
 } kelp_mission;
 
 /** Parse text. @param nodes storage for cap nodes, or NULL to count (m->nnodes).
- *  @return 0; KELP_ERR_PARSE with m->err_line / m->err_reason; KELP_ERR_NOSPACE. */
+ *  @return 0; KELP_ERR_PARSE with the line and reason in m->diag; KELP_ERR_NOSPACE. */
 KELP_MUST_CHECK int kelp_mission_parse(kelp_mission *m, const char *text, size_t len,
                                        kelp_mission_node *nodes, size_t cap);
 

@@ -608,14 +608,14 @@ static void publish_status(kelp_app *app)
     name_list(pubs, sizeof pubs, app->pubs[0], sizeof app->pubs[0], (size_t)app->npubs);
     name_list(subs, sizeof subs, (const char *)bus->st.subs + offsetof(kelp_bus_sub, pattern), sizeof bus->st.subs[0],
               bus->nsubs_used);
-    (void)kelp_app_notify_stringf(app, var,
+    KELP_IGNORE(kelp_app_notify_stringf(app, var,
                                   "AppErrorFlag=%s,Uptime=%.2f,cpuload=%.4f,memory_kb=%ld,memory_max_kb=%ld,MOOSName=%s,"
                                   "Publishing=\"%s\",Subscribing=\"%s\",iter=%lu,mail=%lu,published=%llu,bad=%llu,"
                                   "cfg_warnings=%d,run_warnings=%d",
                                   (app->nrun_warn || st->bad) ? "true" : "false", kelp_app_time(app) - app->start,
                                   app->cpuload, mem, mem_max, app->name, pubs, subs, app->iter, app->mail_total,
                                   (unsigned long long)st->published, (unsigned long long)st->bad, app->ncfg_warn,
-                                  app->nrun_warn);
+                                  app->nrun_warn));
 }
 
 /* ------------------------------------------------------------------ command line */
@@ -851,10 +851,10 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
         free(app);
         return 1;
     }
-    char err[600];
-    app->lb = kelp_lcmbus_open(app->url, app->name, app->community, on_var, app, err, sizeof err);
+    kelp_diag err = {0};
+    app->lb = kelp_lcmbus_open(app->url, app->name, app->community, on_var, app, &err);
     if (!app->lb) {
-        fprintf(stderr, "%s: %s\n", app->name, err);
+        fprintf(stderr, "%s: %s\n", app->name, kelp_diag_text(&err));
         kelp_mission_free(&app->mf);
         free(app);
         return 1;

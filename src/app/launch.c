@@ -32,18 +32,18 @@ static void trim(char *s)
 }
 
 int kelp_launch_plan_read(kelp_launch_plan *p, const kelp_mission *m, const char *mission, const char *bindir,
-                          char *err, size_t errcap)
+                          kelp_diag *d)
 {
     memset(p, 0, sizeof *p);
     int ant = kelp_mission_block(m, "ProcessConfig", "ANTLER");
     if (ant < 0) {
-        snprintf(err, errcap, "%s: no ProcessConfig = ANTLER block", mission);
+        (void)kelp_failf(d, KELP_ERR_PARSE, "%s: no ProcessConfig = ANTLER block", mission);
         return -1;
     }
     int ix = kelp_mission_next(m, ant, -1, "MSBetweenLaunches");
     if (ix >= 0 && (kelp_mission_double(&m->nodes[ix], &p->ms_between) < 0 || !(p->ms_between >= 0) ||
                     p->ms_between > 3.6e6)) {
-        snprintf(err, errcap, "%s:%d: MSBetweenLaunches must be a number of milliseconds in [0, 3600000]", mission,
+        (void)kelp_failf(d, KELP_ERR_PARSE, "%s:%d: MSBetweenLaunches must be a number of milliseconds in [0, 3600000]", mission,
                  m->nodes[ix].line);
         return -1;
     }
@@ -51,7 +51,7 @@ int kelp_launch_plan_read(kelp_launch_plan *p, const kelp_mission *m, const char
         int line_no = m->nodes[i].line;
         char line[1024];
         if (kelp_mission_copy(&m->nodes[i], line, sizeof line) < 0) {
-            snprintf(err, errcap, "%s:%d: Run line too long", mission, line_no);
+            (void)kelp_failf(d, KELP_ERR_PARSE, "%s:%d: Run line too long", mission, line_no);
             return -1;
         }
         char *alias = strchr(line, '~');
@@ -60,7 +60,7 @@ int kelp_launch_plan_read(kelp_launch_plan *p, const kelp_mission *m, const char
         if (cfg) *cfg = 0;
         trim(line);
         if (!line[0] || strchr(line, ' ')) {
-            snprintf(err, errcap, "%s:%d: Run = prog [@ config] [~ name]: bad program '%.100s'", mission, line_no, line);
+            (void)kelp_failf(d, KELP_ERR_PARSE, "%s:%d: Run = prog [@ config] [~ name]: bad program '%.100s'", mission, line_no, line);
             return -1;
         }
         if (alias) trim(alias);
@@ -69,13 +69,13 @@ int kelp_launch_plan_read(kelp_launch_plan *p, const kelp_mission *m, const char
             continue;
         }
         if (p->nkids >= KELP_LAUNCH_MAX_APPS) {
-            snprintf(err, errcap, "%s:%d: more than %d Run lines", mission, line_no, KELP_LAUNCH_MAX_APPS);
+            (void)kelp_failf(d, KELP_ERR_PARSE, "%s:%d: more than %d Run lines", mission, line_no, KELP_LAUNCH_MAX_APPS);
             return -1;
         }
         kelp_launch_child *c = &p->kids[p->nkids];
         if (strlen(line) >= sizeof c->prog || (alias && *alias ? strlen(alias) : strlen(line)) >= sizeof c->alias ||
             (alias && strpbrk(alias, " \t"))) {
-            snprintf(err, errcap, "%s:%d: program or name too long, or a name with spaces", mission, line_no);
+            (void)kelp_failf(d, KELP_ERR_PARSE, "%s:%d: program or name too long, or a name with spaces", mission, line_no);
             return -1;
         }
         p->nkids++;
@@ -88,7 +88,7 @@ int kelp_launch_plan_read(kelp_launch_plan *p, const kelp_mission *m, const char
             snprintf(c->path, sizeof c->path, "%.127s", real); /* on PATH */
     }
     if (p->nkids == 0) {
-        snprintf(err, errcap, "%s: no Run lines in ProcessConfig = ANTLER", mission);
+        (void)kelp_failf(d, KELP_ERR_PARSE, "%s: no Run lines in ProcessConfig = ANTLER", mission);
         return -1;
     }
     return 0;

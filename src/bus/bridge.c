@@ -52,71 +52,40 @@ static int parse_port(const char *s, size_t len, uint16_t *port)
     return KELP_OK;
 }
 
-int kelp_bridge_parse_share(const char *line, kelp_bridge_route *routes, size_t cap, size_t *n, const char **why)
+int kelp_bridge_parse_share(const char *line, kelp_bridge_route *routes, size_t cap, size_t *n, kelp_diag *d)
 {
     /* checked first, then (when the routes fit) the two lists are read again into them */
     const char *s = line;
-    *why = NULL;
     int ns = bracket_list(&s, NULL, 0, 16, NULL);
-    if (ns <= 0) {
-        *why = "expected [VAR,...] at the start";
-        return KELP_ERR_PARSE;
-    }
+    if (ns <= 0) return kelp_fail(d, KELP_ERR_PARSE, "expected [VAR,...] at the start");
     s = skip_ws(s);
     while (*s == '-') s++;
-    if (*s != '>') {
-        *why = "expected '->' after the variable list";
-        return KELP_ERR_PARSE;
-    }
+    if (*s != '>') return kelp_fail(d, KELP_ERR_PARSE, "expected '->' after the variable list");
     s = skip_ws(s + 1);
     const char *at = strchr(s, '@');
-    if (!at) {
-        *why = "expected 'community @ host:port'";
-        return KELP_ERR_PARSE;
-    }
+    if (!at) return kelp_fail(d, KELP_ERR_PARSE, "expected 'community @ host:port'");
     const char *c0 = s, *c1 = at;
     while (c1 > c0 && (c1[-1] == ' ' || c1[-1] == '\t')) c1--;
-    if (c1 == c0 || (size_t)(c1 - c0) >= KELP_MAX_NAME) {
-        *why = "bad community name";
-        return KELP_ERR_PARSE;
-    }
+    if (c1 == c0 || (size_t)(c1 - c0) >= KELP_MAX_NAME) return kelp_fail(d, KELP_ERR_PARSE, "bad community name");
     s = skip_ws(at + 1);
     const char *colon = strchr(s, ':');
-    if (!colon) {
-        *why = "expected host:port";
-        return KELP_ERR_PARSE;
-    }
+    if (!colon) return kelp_fail(d, KELP_ERR_PARSE, "expected host:port");
     const char *h1 = colon;
     while (h1 > s && (h1[-1] == ' ' || h1[-1] == '\t')) h1--;
-    if (h1 == s || (size_t)(h1 - s) >= KELP_MAX_NAME) {
-        *why = "bad host";
-        return KELP_ERR_PARSE;
-    }
+    if (h1 == s || (size_t)(h1 - s) >= KELP_MAX_NAME) return kelp_fail(d, KELP_ERR_PARSE, "bad host");
     const char *p0 = skip_ws(colon + 1), *p1 = p0;
     while (*p1 >= '0' && *p1 <= '9') p1++;
     uint16_t port;
-    if (parse_port(p0, (size_t)(p1 - p0), &port) < 0) {
-        *why = "bad port (1-65535)";
-        return KELP_ERR_PARSE;
-    }
+    if (parse_port(p0, (size_t)(p1 - p0), &port) < 0) return kelp_fail(d, KELP_ERR_PARSE, "bad port (1-65535)");
     s = skip_ws(p1);
     int na = 0;
     const char *alias_list = s;
     if (*s == '[') {
         na = bracket_list(&s, NULL, 0, 16, NULL);
-        if (na < 0) {
-            *why = "bad [ALIAS,...] list";
-            return KELP_ERR_PARSE;
-        }
-        if (na != ns) {
-            *why = "alias list length differs from variable list";
-            return KELP_ERR_PARSE;
-        }
+        if (na < 0) return kelp_fail(d, KELP_ERR_PARSE, "bad [ALIAS,...] list");
+        if (na != ns) return kelp_fail(d, KELP_ERR_PARSE, "alias list length differs from variable list");
     }
-    if (*skip_ws(s)) {
-        *why = "unexpected text at the end";
-        return KELP_ERR_PARSE;
-    }
+    if (*skip_ws(s)) return kelp_fail(d, KELP_ERR_PARSE, "unexpected text at the end");
     if ((size_t)ns > cap) return KELP_ERR_NOSPACE;
     memset(routes, 0, (size_t)ns * sizeof routes[0]);
     s = line;
@@ -137,28 +106,15 @@ int kelp_bridge_parse_share(const char *line, kelp_bridge_route *routes, size_t 
     return KELP_OK;
 }
 
-int kelp_bridge_parse_register(const char *s, kelp_bridge_route *r, const char **why)
+int kelp_bridge_parse_register(const char *s, kelp_bridge_route *r, kelp_diag *d)
 {
     memset(r, 0, sizeof *r);
     char port[16];
-    *why = NULL;
-    if (kelp_kv_get(s, ',', "src_var", r->src, sizeof r->src) != 1 || !r->src[0]) {
-        *why = "missing src_var";
-        return KELP_ERR_PARSE;
-    }
-    if (kelp_kv_get(s, ',', "dest_host", r->host, sizeof r->host) != 1 || !r->host[0]) {
-        *why = "missing dest_host";
-        return KELP_ERR_PARSE;
-    }
-    if (kelp_kv_get(s, ',', "dest_port", port, sizeof port) != 1 || parse_port(port, strlen(port), &r->port) < 0) {
-        *why = "missing or bad dest_port";
-        return KELP_ERR_PARSE;
-    }
+    if (kelp_kv_get(s, ',', "src_var", r->src, sizeof r->src) != 1 || !r->src[0]) return kelp_fail(d, KELP_ERR_PARSE, "missing src_var");
+    if (kelp_kv_get(s, ',', "dest_host", r->host, sizeof r->host) != 1 || !r->host[0]) return kelp_fail(d, KELP_ERR_PARSE, "missing dest_host");
+    if (kelp_kv_get(s, ',', "dest_port", port, sizeof port) != 1 || parse_port(port, strlen(port), &r->port) < 0) return kelp_fail(d, KELP_ERR_PARSE, "missing or bad dest_port");
     if (kelp_kv_get(s, ',', "dest_community", r->community, sizeof r->community) < 0 ||
-        kelp_kv_get(s, ',', "dest_alias", r->alias, sizeof r->alias) < 0) {
-        *why = "value too long";
-        return KELP_ERR_PARSE;
-    }
+        kelp_kv_get(s, ',', "dest_alias", r->alias, sizeof r->alias) < 0) return kelp_fail(d, KELP_ERR_PARSE, "value too long");
     return KELP_OK;
 }
 
@@ -336,54 +292,38 @@ static int name_or_list(const char **ps, const char *stops, char *base, size_t s
 }
 
 int kelp_bridge_rename_list(const char *line, char *src, char *alias, size_t stride, int *ns_out, int *na_out,
-                            bool *glob, const char **why)
+                            bool *glob, kelp_diag *d)
 {
     const char *s = skip_ws(line);
     int ns, na = 0;
-    *why = NULL;
     *glob = false;
     ns = name_or_list(&s, " \t-", src, stride, glob);
-    if (ns <= 0) {
-        *why = "expected VAR or [VAR,...]";
-        return KELP_ERR_PARSE;
-    }
+    if (ns <= 0) return kelp_fail(d, KELP_ERR_PARSE, "expected VAR or [VAR,...]");
     s = skip_ws(s);
     if (*s == '-') {
         while (*s == '-') s++;
-        if (*s != '>') {
-            *why = "expected '->'";
-            return KELP_ERR_PARSE;
-        }
+        if (*s != '>') return kelp_fail(d, KELP_ERR_PARSE, "expected '->'");
         s = skip_ws(s + 1);
         na = name_or_list(&s, " \t", alias, stride, NULL);
-        if (na != ns) {
-            *why = "alias list length differs from variable list";
-            return KELP_ERR_PARSE;
-        }
+        if (na != ns) return kelp_fail(d, KELP_ERR_PARSE, "alias list length differs from variable list");
     }
-    if (*skip_ws(s)) {
-        *why = "unexpected text at the end";
-        return KELP_ERR_PARSE;
-    }
+    if (*skip_ws(s)) return kelp_fail(d, KELP_ERR_PARSE, "unexpected text at the end");
     *ns_out = ns;
     *na_out = na;
     return KELP_OK;
 }
 
-int kelp_bridge_parse_rename(const char *line, kelp_bridge_route *routes, size_t cap, size_t *n, const char **why)
+int kelp_bridge_parse_rename(const char *line, kelp_bridge_route *routes, size_t cap, size_t *n, kelp_diag *d)
 {
     int ns, na;
     bool glob;
     /* checked first, then (when the routes fit) read again into them */
-    int rc = kelp_bridge_rename_list(line, NULL, NULL, 0, &ns, &na, &glob, why);
+    int rc = kelp_bridge_rename_list(line, NULL, NULL, 0, &ns, &na, &glob, d);
     if (rc) return rc;
     if ((size_t)ns > cap) return KELP_ERR_NOSPACE;
     memset(routes, 0, (size_t)ns * sizeof routes[0]);
-    if (na && glob) {
-        *why = "a glob cannot be renamed";
-        return KELP_ERR_PARSE;
-    }
-    (void)kelp_bridge_rename_list(line, routes[0].src, routes[0].alias, sizeof routes[0], &ns, &na, &glob, why);
+    if (na && glob) return kelp_fail(d, KELP_ERR_PARSE, "a glob cannot be renamed");
+    (void)kelp_bridge_rename_list(line, routes[0].src, routes[0].alias, sizeof routes[0], &ns, &na, &glob, d);
     *n = (size_t)ns;
     return KELP_OK;
 }

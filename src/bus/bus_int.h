@@ -17,7 +17,7 @@ int kelp_sync_req_encode_one(double time, const char *requester, const char *com
 /** A renaming list (kelp_bridge_parse_rename syntax) read into caller storage: the i-th
  *  variable name at src + i * stride, its alias at alias + i * stride (written only when the
  *  line has aliases); src and alias NULL: check and count only. *ns names, *na aliases (0 or
- *  *ns), *glob set when a name is a glob. @return 0, or KELP_ERR_PARSE with *why. */
+ *  *ns), *glob set when a name is a glob. @return 0, or KELP_ERR_PARSE with the reason in d. */
 int kelp_bridge_rename_list(const char *line, char *src, char *alias, size_t stride, int *ns, int *na, bool *glob,
-                            const char **why);
+                            kelp_diag *d);
 #endif

@@ -24,33 +24,22 @@ int kelp_can_dict_add(kelp_can_dict *d, unsigned id, const char *name)
     return KELP_OK;
 }
 
-int kelp_can_dict_parse(kelp_can_dict *d, const char *spec, const char **why)
+int kelp_can_dict_parse(kelp_can_dict *d, const char *spec, kelp_diag *dg)
 {
     size_t pos = 0, klen, vlen;
     const char *k, *v;
     int rc;
-    *why = NULL;
     while ((rc = kelp_kv_next(spec, ',', &pos, &k, &klen, &v, &vlen)) == 1) {
         long id;
         char name[KELP_CAN_NAME];
-        if (kelp_parse_long(k, klen, &id) < 0 || id < 0 || id >= (long)KELP_CAN_VAR_NAMED) {
-            *why = "variable id must be 0-510";
-            return KELP_ERR_PARSE;
-        }
-        if (vlen == 0 || vlen >= sizeof name) {
-            *why = "name empty or longer than 63";
-            return KELP_ERR_PARSE;
-        }
+        if (kelp_parse_long(k, klen, &id) < 0 || id < 0 || id >= (long)KELP_CAN_VAR_NAMED) return kelp_fail(dg, KELP_ERR_PARSE, "variable id must be 0-510");
+        if (vlen == 0 || vlen >= sizeof name) return kelp_fail(dg, KELP_ERR_PARSE, "name empty or longer than 63");
         memcpy(name, v, vlen);
         name[vlen] = 0;
         rc = kelp_can_dict_add(d, (unsigned)id, name);
-        if (rc < 0) {
-            *why = rc == KELP_ERR_EXISTS ? "id or name given twice" : "dictionary full";
-            return KELP_ERR_PARSE;
-        }
+        if (rc < 0) return kelp_fail(dg, KELP_ERR_PARSE, rc == KELP_ERR_EXISTS ? "id or name given twice" : "dictionary full");
     }
-    if (rc < 0) *why = "expected id=NAME pairs";
-    return rc < 0 ? KELP_ERR_PARSE : KELP_OK;
+    return rc < 0 ? kelp_fail(dg, KELP_ERR_PARSE, "expected id=NAME pairs") : KELP_OK;
 }
 
 int kelp_can_dict_id(const kelp_can_dict *d, const char *name)

@@ -12,34 +12,25 @@ int kelp_canbridge_init(kelp_canbridge *b, unsigned node, bool fd, double timeou
     return kelp_can_tx_init(&b->tx, node, fd);
 }
 
-int kelp_canbridge_add(kelp_canbridge *b, bool to_can, const char *line, const char **why)
+int kelp_canbridge_add(kelp_canbridge *b, bool to_can, const char *line, kelp_diag *d)
 {
     int ns, na;
     bool glob;
     /* checked first, then read straight into the route table */
-    int rc = kelp_bridge_rename_list(line, NULL, NULL, 0, &ns, &na, &glob, why);
+    int rc = kelp_bridge_rename_list(line, NULL, NULL, 0, &ns, &na, &glob, d);
     if (rc < 0) return rc;
-    if (na && glob) {
-        *why = "a glob cannot be renamed";
-        return KELP_ERR_PARSE;
-    }
+    if (na && glob) return kelp_fail(d, KELP_ERR_PARSE, "a glob cannot be renamed");
     size_t *cnt = to_can ? &b->nto : &b->nfrom;
     char(*src)[KELP_MAX_NAME] = to_can ? b->to_src : b->from_src;
     char(*alias)[KELP_MAX_NAME] = to_can ? b->to_alias : b->from_alias;
     size_t n = (size_t)ns;
-    if (*cnt + n > KELP_CANBRIDGE_MAX_ROUTES) {
-        *why = "too many routes";
-        return KELP_ERR_NOSPACE;
-    }
+    if (*cnt + n > KELP_CANBRIDGE_MAX_ROUTES) return kelp_fail(d, KELP_ERR_NOSPACE, "too many routes");
     memset(src[*cnt], 0, n * KELP_MAX_NAME);
     memset(alias[*cnt], 0, n * KELP_MAX_NAME);
-    (void)kelp_bridge_rename_list(line, src[*cnt], alias[*cnt], KELP_MAX_NAME, &ns, &na, &glob, why);
+    (void)kelp_bridge_rename_list(line, src[*cnt], alias[*cnt], KELP_MAX_NAME, &ns, &na, &glob, d);
     for (size_t i = 0; i < n; i++) {
         const char *can_name = to_can ? (alias[*cnt][0] ? alias[*cnt] : src[*cnt]) : src[*cnt];
-        if (strlen(can_name) >= KELP_CAN_NAME) {
-            *why = "a CAN name is longer than 63";
-            return KELP_ERR_RANGE;
-        }
+        if (strlen(can_name) >= KELP_CAN_NAME) return kelp_fail(d, KELP_ERR_RANGE, "a CAN name is longer than 63");
         (*cnt)++;
     }
     return KELP_OK;

@@ -59,7 +59,7 @@ void kelp_loopback_pump(kelp_loopback *net)
         size_t len = ((size_t)q[0] << 24) | ((size_t)q[1] << 16) | ((size_t)q[2] << 8) | q[3];
         net->head += 2 + clen + 1 + 4 + len;
         for (size_t i = 0; i < net->nclients; i++)
-            (void)kelp_bus_receive(net->clients[i], chan, q + 4, len, net->now);
+            KELP_IGNORE(kelp_bus_receive(net->clients[i], chan, q + 4, len, net->now));
     }
     net->head = net->tail = 0;
     net->pumping = false;

@@ -29,13 +29,12 @@ static bool sp(char c)
     return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v';
 }
 
-static int fail(ps *p, int line, const char *why)
+#define fail(p, line, why) fail_at((p), (line), kelp_fail(&(p)->m->diag, KELP_ERR_PARSE, why))
+
+static int fail_at(ps *p, int line, int rc)
 {
-    if (!p->m->err_reason) {
-        p->m->err_line = line;
-        p->m->err_reason = why;
-    }
-    return KELP_ERR_PARSE;
+    (void)kelp_diag_where(&p->m->diag, line, 0);
+    return rc;
 }
 
 static int add(ps *p, kelp_mission_kind kind, const char *k, size_t kl, const char *v, size_t vl, bool quoted,

@@ -220,7 +220,7 @@ int kelp_appcast_field(const char *s, size_t len, const char *key, char *dst, si
     return 0;
 }
 
-int kelp_appcast_parse(const char *s, size_t len, kelp_appcast *out_, const char **why)
+int kelp_appcast_parse(const char *s, size_t len, kelp_appcast *out_, kelp_diag *d)
 {
     memset(out_, 0, sizeof *out_);
     bool have_proc = false;
@@ -228,10 +228,7 @@ int kelp_appcast_parse(const char *s, size_t len, kelp_appcast *out_, const char
     size_t kl, vl;
     bool eq;
     while (next_part(&s, &len, &k, &kl, &v, &vl, &eq)) {
-        if (kl && !eq) {
-            if (why) *why = "a part without '='";
-            return KELP_ERR_PARSE;
-        }
+        if (kl && !eq) return kelp_fail(d, KELP_ERR_PARSE, "a part without '='");
         if (kl == 0) {
             /* empty part */
         } else if (kelp_strieq_n(k, kl, "proc")) {
@@ -269,10 +266,7 @@ int kelp_appcast_parse(const char *s, size_t len, kelp_appcast *out_, const char
             out_->run_total = to_ul(v, vl);
         }
     }
-    if (!have_proc) {
-        if (why) *why = "no proc=";
-        return KELP_ERR_PARSE;
-    }
+    if (!have_proc) return kelp_fail(d, KELP_ERR_PARSE, "no proc=");
     return KELP_OK;
 }
 

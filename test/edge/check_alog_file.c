@@ -33,8 +33,8 @@ START_TEST(alog_postings_with_banner_marks_and_communities)
     n += (size_t)snprintf(text + n, sizeof text - n, " \n3.00000   LAST    src   S:two  words \n");
     char path[] = "/tmp/kelp-alog-XXXXXX";
     temp(path, text, n);
-    char err[200];
-    kelp_postlog *p = kelp_postlog_open(path, "dflt", err, sizeof err);
+    kelp_diag err = {0};
+    kelp_postlog *p = kelp_postlog_open(path, "dflt", &err);
     ck_assert_ptr_nonnull(p);
     ck_assert(kelp_postlog_is_alog(p));
     kelp_post e;
@@ -89,8 +89,8 @@ START_TEST(lcm_postings_skip_sync_and_binary)
     }
     char path[] = "/tmp/kelp-alog-lcm-XXXXXX";
     temp(path, (const char *)file, n);
-    char err[200];
-    kelp_postlog *p = kelp_postlog_open(path, NULL, err, sizeof err);
+    kelp_diag err = {0};
+    kelp_postlog *p = kelp_postlog_open(path, NULL, &err);
     ck_assert_ptr_nonnull(p);
     ck_assert(!kelp_postlog_is_alog(p));
     ck_assert(isnan(kelp_postlog_start(p)));

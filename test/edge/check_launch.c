@@ -8,22 +8,22 @@
 
 static kelp_mission_node g_nodes[128];
 
-static int plan_of(const char *text, kelp_launch_plan *p, char *err, size_t cap)
+static int plan_of(const char *text, kelp_launch_plan *p, kelp_diag *err)
 {
     static char buf[4096];
     snprintf(buf, sizeof buf, "%s", text);
     kelp_mission m;
     ck_assert_int_eq(kelp_mission_parse(&m, buf, strlen(buf), g_nodes, 128), 0);
-    return kelp_launch_plan_read(p, &m, "t.moos", "/nonexistent", err, cap);
+    return kelp_launch_plan_read(p, &m, "t.moos", "/nonexistent", err);
 }
 
 START_TEST(launch_plan)
 {
     static kelp_launch_plan p;
-    char err[256] = "";
+    kelp_diag err = {0};
     ck_assert_int_eq(plan_of("ProcessConfig = ANTLER\n{\n MSBetweenLaunches = 200\n Run = MOOSDB @ NewConsole = true\n"
                              " Run = pXRelay @ NewConsole = true ~ pXRelay_PEARS\n Run = uXMS\n}\n",
-                             &p, err, sizeof err),
+                             &p, &err),
                      0);
     ck_assert_int_eq(p.nkids, 2);
     ck_assert_int_eq(p.skipped_moosdb, 1);
@@ -35,14 +35,26 @@ START_TEST(launch_plan)
     ck_assert_str_eq(kelp_launch_map_prog("pMarineViewer"), "kelp-plot");
     ck_assert_str_eq(kelp_launch_map_prog("pHelmIvP"), "pHelmIvP");
     /* errors say where */
-    ck_assert_int_lt(plan_of("ProcessConfig = X\n{\n a = 1\n}\n", &p, err, sizeof err), 0);
-    ck_assert_ptr_nonnull(strstr(err, "no ProcessConfig = ANTLER"));
-    ck_assert_int_lt(plan_of("ProcessConfig = ANTLER\n{\n MSBetweenLaunches = nan\n Run = a\n}\n", &p, err, sizeof err), 0);
-    ck_assert_ptr_nonnull(strstr(err, "t.moos:3: MSBetweenLaunches"));
-    ck_assert_int_lt(plan_of("ProcessConfig = ANTLER\n{\n Run = two words\n}\n", &p, err, sizeof err), 0);
-    ck_assert_ptr_nonnull(strstr(err, "t.moos:3:"));
-    ck_assert_int_lt(plan_of("ProcessConfig = ANTLER\n{\n Run = MOOSDB\n}\n", &p, err, sizeof err), 0);
-    ck_assert_ptr_nonnull(strstr(err, "no Run lines"));
+    ck_assert_int_lt(plan_of("ProcessConfig = X\n{\n a = 1\n}\n", &p, &err), 0);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_ptr_nonnull(strstr(kelp_diag_text(&err), "no ProcessConfig = ANTLER"));
+#endif
+    kelp_diag_clear(&err);
+    ck_assert_int_lt(plan_of("ProcessConfig = ANTLER\n{\n MSBetweenLaunches = nan\n Run = a\n}\n", &p, &err), 0);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_ptr_nonnull(strstr(kelp_diag_text(&err), "t.moos:3: MSBetweenLaunches"));
+#endif
+    kelp_diag_clear(&err);
+    ck_assert_int_lt(plan_of("ProcessConfig = ANTLER\n{\n Run = two words\n}\n", &p, &err), 0);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_ptr_nonnull(strstr(kelp_diag_text(&err), "t.moos:3:"));
+#endif
+    kelp_diag_clear(&err);
+    ck_assert_int_lt(plan_of("ProcessConfig = ANTLER\n{\n Run = MOOSDB\n}\n", &p, &err), 0);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_ptr_nonnull(strstr(kelp_diag_text(&err), "no Run lines"));
+#endif
+    kelp_diag_clear(&err);
 }
 END_TEST
 

@@ -30,8 +30,8 @@ START_TEST(reads_past_empty_channel_and_damage)
     kelp_lcmlog_header(5, 5, 1, 100, h);
     fwrite(h, 1, sizeof h, f);
     fclose(f);
-    char err[128];
-    kelp_lcmlog_reader *r = kelp_lcmlog_open(path, 0, err, sizeof err);
+    kelp_diag err = {0};
+    kelp_lcmlog_reader *r = kelp_lcmlog_open(path, 0, &err);
     ck_assert_ptr_nonnull(r);
     kelp_lcmlog_event ev;
     const char *ch;
@@ -52,8 +52,12 @@ START_TEST(reads_past_empty_channel_and_damage)
     ck_assert_uint_eq(st.skipped_bytes, 16 + KELP_LCMLOG_HDR_LEN);
     kelp_lcmlog_close(r);
     unlink(path);
-    ck_assert_ptr_null(kelp_lcmlog_open("/nonexistent/x.lcmlog", 0, err, sizeof err));
-    ck_assert_ptr_nonnull(strstr(err, "cannot open"));
+    kelp_diag_clear(&err);
+    ck_assert_ptr_null(kelp_lcmlog_open("/nonexistent/x.lcmlog", 0, &err));
+    ck_assert_int_eq(err.code, KELP_ERR_IO);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_ptr_nonnull(strstr(kelp_diag_text(&err), "cannot open"));
+#endif
 }
 END_TEST
 

@@ -37,21 +37,30 @@ START_TEST(info_file)
 {
     put("a.info", "// MIT sailing pavilion\n  lat_north = 42.360264 \nlat_south=42.35415\nlon_east = -71.080058 // e\n"
                   "LON_WEST = -71.094214\ndatum_lat = 42.358456\n");
-    char p[256], err[300];
+    char p[256];
+    kelp_diag err = {0};
     double n = 0, s = 0, e = 0, w = 0;
     snprintf(p, sizeof p, "%s/a.info", dir);
-    ck_assert_int_eq(kelp_viewer_read_info(p, &n, &s, &e, &w, err, sizeof err), 0);
+    ck_assert_int_eq(kelp_viewer_read_info(p, &n, &s, &e, &w, &err), 0);
     ck_assert(n == 42.360264 && s == 42.35415 && e == -71.080058 && w == -71.094214);
     put("b.info", "lat_north = 42.36\nlat_south = 42.35\nlon_east = -71.08\n");
     snprintf(p, sizeof p, "%s/b.info", dir);
-    ck_assert_int_lt(kelp_viewer_read_info(p, &n, &s, &e, &w, err, sizeof err), 0);
-    ck_assert_ptr_nonnull(strstr(err, "lon_west"));
+    ck_assert_int_lt(kelp_viewer_read_info(p, &n, &s, &e, &w, &err), 0);
+    ck_assert_int_ne(err.code, KELP_OK);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_ptr_nonnull(strstr(kelp_diag_text(&err), "lon_west"));
+#endif
+    kelp_diag_clear(&err);
     put("c.info", "lat_north = 42.36x\nlat_south = 42.35\nlon_east = -71.08\nlon_west = -71.09\n");
     snprintf(p, sizeof p, "%s/c.info", dir);
-    ck_assert_int_lt(kelp_viewer_read_info(p, &n, &s, &e, &w, err, sizeof err), 0);
-    ck_assert_ptr_nonnull(strstr(err, ":1: lat_north"));
+    ck_assert_int_lt(kelp_viewer_read_info(p, &n, &s, &e, &w, &err), 0);
+    ck_assert_int_ne(err.code, KELP_OK);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_ptr_nonnull(strstr(kelp_diag_text(&err), ":1: lat_north"));
+#endif
+    kelp_diag_clear(&err);
     snprintf(p, sizeof p, "%s/none.info", dir);
-    ck_assert_int_lt(kelp_viewer_read_info(p, &n, &s, &e, &w, err, sizeof err), 0);
+    ck_assert_int_lt(kelp_viewer_read_info(p, &n, &s, &e, &w, &err), 0);
 }
 END_TEST
 

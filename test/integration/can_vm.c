@@ -278,7 +278,8 @@ static void sh(const char *cmd)
 static int run(bool fd)
 {
     const char *mode = fd ? "FD" : "classic";
-    const char *why = NULL;
+    kelp_diag why;
+    kelp_diag_clear(&why);
     memset(pubs, 0, sizeof pubs);
     CHECK(kelp_canbridge_init(&B, 1, fd, 1.0) == 0, "init");
     CHECK(kelp_can_dict_parse(&B.dict, "3=THRUST_CMD, 7=DEPTH", &why) == 0, "dict");

@@ -31,11 +31,12 @@ int main(int argc, char **argv)
         fprintf(stderr, "core call failed\n");
         return 1;
     }
-    char err[256];
-    kelp_lcmbus *rx = kelp_lcmbus_open(url, "rx", "link", on_var, NULL, err, sizeof err);
-    kelp_lcmbus *tx = kelp_lcmbus_open(url, "tx", "link", NULL, NULL, err, sizeof err);
+    kelp_diag err;
+    kelp_diag_clear(&err);
+    kelp_lcmbus *rx = kelp_lcmbus_open(url, "rx", "link", on_var, NULL, &err);
+    kelp_lcmbus *tx = kelp_lcmbus_open(url, "tx", "link", NULL, NULL, &err);
     if (!rx || !tx) {
-        fprintf(stderr, "open: %s\n", err);
+        fprintf(stderr, "open: %s\n", kelp_diag_text(&err));
         return 1;
     }
     if (kelp_bus_register(kelp_lcmbus_bus(rx), "HELLO", 0, 0) < 0) return 1;

@@ -7,6 +7,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <kelp/err.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -32,13 +33,13 @@ typedef struct kelp_postlog_stats {
 /** Open path; the kind is told from its first bytes (an LCM sync word, else text).
  *  default_community: the community of .alog postings whose source has no "@community"
  *  (a "%% COMMUNITY <name>" banner line overrides it). */
-kelp_postlog *kelp_postlog_open(const char *path, const char *default_community, char *err, size_t errcap);
+kelp_postlog *kelp_postlog_open(const char *path, const char *default_community, kelp_diag *d);
 bool kelp_postlog_is_alog(const kelp_postlog *p);
 /** The log's time origin: the .alog's LOGSTART, or an LCM log's first posting time (NAN before
  *  the first kelp_postlog_next). */
 double kelp_postlog_start(const kelp_postlog *p);
 /** Next posting (valid until the next call). @return 1, 0 at the end, <0 on a read error. */
-int kelp_postlog_next(kelp_postlog *p, kelp_post *out);
+KELP_MUST_CHECK int kelp_postlog_next(kelp_postlog *p, kelp_post *out);
 kelp_postlog_stats kelp_postlog_get_stats(const kelp_postlog *p);
 void kelp_postlog_close(kelp_postlog *p);
 

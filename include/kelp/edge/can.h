@@ -16,6 +16,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <kelp/can.h>
+#include <kelp/err.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -23,9 +24,8 @@ extern "C" {
 
 typedef struct kelp_can_ops {
     /** A non-blocking socket for ifname with filters (nf == 0: everything) and, when
-     *  fd_frames, CAN FD frames enabled. @return fd, or < 0 with err filled. */
-    int (*open)(void *ctx, const char *ifname, const kelp_can_filter *f, size_t nf, bool fd_frames, char *err,
-                size_t errcap);
+     *  fd_frames, CAN FD frames enabled. @return fd, or < 0 with the reason in d. */
+    int (*open)(void *ctx, const char *ifname, const kelp_can_filter *f, size_t nf, bool fd_frames, kelp_diag *d);
     /** 1 when ifname exists and is up (worth reopening), 0 otherwise. */
     int (*is_up)(void *ctx, const char *ifname);
     bool kernel_filters; /**< open() installed the filters; otherwise the port applies them */
@@ -44,10 +44,10 @@ typedef struct kelp_can_port {
     int fd;
     bool down;
     unsigned long rx, tx, rx_filtered, rx_other, tx_full, tx_err, went_down, reopened;
-    char err[160];
+    kelp_diag diag; /**< the latest failure (replaced by each new one) */
 } kelp_can_port;
 
-/** Open the port. @return 0, or KELP_ERR_IO with p->err set: the port is then left down on
+/** Open the port. @return 0, or KELP_ERR_IO with p->diag set: the port is then left down on
  *  a placeholder fd (p->down), and kelp_can_port_maintain() opens it once the interface is
  *  up (an interface that appears later, a USB adapter plugged in). */
 KELP_MUST_CHECK int kelp_can_port_open(kelp_can_port *p, const kelp_can_ops *ops, const char *ifname,
@@ -60,7 +60,7 @@ KELP_MUST_CHECK int kelp_can_port_read(kelp_can_port *p, kelp_can_frame *f);
  *  KELP_ERR_STATE (down), KELP_ERR_IO (went down now, or another error). */
 KELP_MUST_CHECK int kelp_can_port_write(kelp_can_port *p, const kelp_can_frame *f);
 /** When down and the interface is up again, reopen. @return 1 reopened, 0 nothing to do,
- *  KELP_ERR_IO when the reopen failed (p->err). */
+ *  KELP_ERR_IO when the reopen failed (p->diag). */
 KELP_MUST_CHECK int kelp_can_port_maintain(kelp_can_port *p);
 void kelp_can_port_close(kelp_can_port *p);
 

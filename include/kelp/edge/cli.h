@@ -58,9 +58,9 @@ typedef struct kelp_cli {
 /** The next option (its val), -1 when only positional arguments remain (from argv[optind]),
  *  or KELP_CLI_EXIT with *status set (0 after --help/--version, 2 after a usage error, whose
  *  message is already on stderr). Uses getopt_long's global state: parse one argv at a time. */
-int kelp_cli_next(const kelp_cli *cli, int argc, char **argv, int *status);
+KELP_MUST_CHECK int kelp_cli_next(const kelp_cli *cli, int argc, char **argv, int *status);
 /** Print "<name>: <message> (try --help)" to stderr; returns 2, the usage-error exit status. */
-int kelp_cli_error(const kelp_cli *cli, const char *fmt, ...) KELP_PRINTF(2, 3);
+KELP_MUST_CHECK int kelp_cli_error(const kelp_cli *cli, const char *fmt, ...) KELP_PRINTF(2, 3);
 /** Print the usage lines ("usage: <name> <synopsis>") to out. */
 void kelp_cli_usage(const kelp_cli *cli, FILE *out);
 /** Print "<name> (kelp) <version>" to stdout. */

@@ -8,6 +8,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <kelp/err.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -27,10 +28,10 @@ typedef struct kelp_hostport {
 
 /** A pseudo-terminal in raw mode (19200 baud set for hosts that check); link, when not NULL
  *  or empty, becomes a symbolic link to the slave (an existing non-link file is not
- *  replaced). 0, or <0 with a reason in err. */
-int kelp_hostport_open_pty(kelp_hostport *h, const char *link, char *err, size_t errcap);
-/** A TCP server on port (0: any free port, see h->port). 0, or <0 with a reason in err. */
-int kelp_hostport_open_tcp(kelp_hostport *h, unsigned port, char *err, size_t errcap);
+ *  replaced). 0, or <0 with the reason in d. */
+KELP_MUST_CHECK int kelp_hostport_open_pty(kelp_hostport *h, const char *link, kelp_diag *d);
+/** A TCP server on port (0: any free port, see h->port). 0, or <0 with the reason in d. */
+KELP_MUST_CHECK int kelp_hostport_open_tcp(kelp_hostport *h, unsigned port, kelp_diag *d);
 /** The descriptor to wait on for input. */
 int kelp_hostport_fd(const kelp_hostport *h);
 /** Read everything available, passing the bytes to on_bytes; accept or drop TCP clients.

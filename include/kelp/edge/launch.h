@@ -40,19 +40,19 @@ typedef struct kelp_launch_plan {
 const char *kelp_launch_map_prog(const char *prog);
 
 /** Read the ANTLER block of m. Programs are looked up in bindir first, then on PATH.
- *  0, or <0 with "path:line: reason" in err. */
-int kelp_launch_plan_read(kelp_launch_plan *p, const kelp_mission *m, const char *mission_path, const char *bindir,
-                          char *err, size_t errcap);
+ *  0, or <0 with the reason in d (d->line: the line; the message names the file). */
+KELP_MUST_CHECK int kelp_launch_plan_read(kelp_launch_plan *p, const kelp_mission *m, const char *mission_path, const char *bindir,
+                          kelp_diag *d);
 
 /** Start one child (fork + exec) with stdout/stderr to logpath. 0, or <0 (errno set). */
-int kelp_launch_start(kelp_launch_child *c, const char *mission_path, const char *logpath, double now);
+KELP_MUST_CHECK int kelp_launch_start(kelp_launch_child *c, const char *mission_path, const char *logpath, double now);
 
 /** Signal every started child that has not exited (marking them stopped by us). */
 void kelp_launch_signal_all(kelp_launch_plan *p, int sig);
 
 /** Reap children that exited (never blocks); calls on_exit for each one that ended on its
  *  own. Returns how many started children are still running. */
-int kelp_launch_reap(kelp_launch_plan *p, double now, void (*on_exit)(const kelp_launch_child *c, void *ctx),
+KELP_MUST_CHECK int kelp_launch_reap(kelp_launch_plan *p, double now, void (*on_exit)(const kelp_launch_child *c, void *ctx),
                      void *ctx);
 
 /** True when a child ended cleanly: exit 0, or killed by the SIGTERM we sent. */

@@ -6,6 +6,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <kelp/lcmlog.h>
+#include <kelp/err.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -21,10 +22,10 @@ typedef struct kelp_lcmlog_stats {
 } kelp_lcmlog_stats;
 
 /** Open path; events with more than max_data bytes of data count as damage (0: 64 MiB). */
-kelp_lcmlog_reader *kelp_lcmlog_open(const char *path, size_t max_data, char *err, size_t errcap);
+kelp_lcmlog_reader *kelp_lcmlog_open(const char *path, size_t max_data, kelp_diag *d);
 /** Next event; *channel is a NUL-terminated copy of its channel, valid until the next call.
  *  @return 1 with an event, 0 at the end of the file, <0 on a read error. */
-int kelp_lcmlog_next(kelp_lcmlog_reader *r, kelp_lcmlog_event *ev, const char **channel);
+KELP_MUST_CHECK int kelp_lcmlog_next(kelp_lcmlog_reader *r, kelp_lcmlog_event *ev, const char **channel);
 kelp_lcmlog_stats kelp_lcmlog_get_stats(const kelp_lcmlog_reader *r);
 void kelp_lcmlog_close(kelp_lcmlog_reader *r);
 

@@ -56,7 +56,7 @@ void kelp_plot_scene_finish(kelp_plot_scene *s);
 /** Add every kelp.var_t event of an LCM log (lcm-logger's format) to the scene; events that
  *  do not decode are counted in *undecoded. 0, or -1 with a message on stderr (unreadable,
  *  not a log, no events). */
-int kelp_plot_scene_read_log(kelp_plot_scene *s, const char *path, unsigned long *events, unsigned long *undecoded);
+KELP_MUST_CHECK int kelp_plot_scene_read_log(kelp_plot_scene *s, const char *path, unsigned long *events, unsigned long *undecoded);
 /** The track of vehicle `name` (case-insensitive), or NULL. */
 kelp_plot_track *kelp_plot_scene_track(kelp_plot_scene *s, const char *name);
 
@@ -69,7 +69,7 @@ typedef struct kelp_plot_cpa {
 /** The closest approach of tracks a and b over the time both are known, positions linear
  *  between fixes (exact on each stretch where both move linearly). 0, or -1 when the two
  *  tracks do not overlap in time. */
-int kelp_plot_closest(const kelp_plot_track *a, const kelp_plot_track *b, kelp_plot_cpa *out);
+KELP_MUST_CHECK int kelp_plot_closest(const kelp_plot_track *a, const kelp_plot_track *b, kelp_plot_cpa *out);
 
 typedef struct kelp_plot_opts {
     int width, height;
@@ -81,14 +81,14 @@ typedef struct kelp_plot_opts {
 
 /** Render to a PNG (path ends .png) or SVG (any other path): 0 or -1 with a message on
  *  stderr. */
-int kelp_plot_render(const kelp_plot_scene *s, const kelp_plot_opts *o, const char *path);
+KELP_MUST_CHECK int kelp_plot_render(const kelp_plot_scene *s, const kelp_plot_opts *o, const char *path);
 
 /** Free the drawing libraries' caches (call once, at exit). */
 void kelp_plot_release(void);
 
 /** MOOS colour names ("dark_green", "DodgerBlue", "hex:ff8800", "#ff8800"): 0 and rgb in
  *  [0,1], or -1 when unknown. "invisible"/"off"/"none" give 1 (do not draw). */
-int kelp_plot_color(const char *name, double rgb[3]);
+KELP_MUST_CHECK int kelp_plot_color(const char *name, double rgb[3]);
 
 /** The summary table (per vehicle: distance, duration, points, start/end). */
 void kelp_plot_print_summary(const kelp_plot_scene *s, FILE *out);

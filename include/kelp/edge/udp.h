@@ -5,25 +5,26 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <netinet/in.h>
+#include <kelp/err.h>
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
 /** A non-blocking UDP socket, bound to `port` on every interface when port > 0 (send-only
- *  otherwise), with a receive buffer of rcvbuf bytes when > 0. @return fd, or <0 with err. */
-int kelp_udp_open(uint16_t port, int rcvbuf, char *err, size_t errcap);
+ *  otherwise), with a receive buffer of rcvbuf bytes when > 0. @return fd, or <0 with the reason in d. */
+KELP_MUST_CHECK int kelp_udp_open(uint16_t port, int rcvbuf, kelp_diag *d);
 
 /** Resolve an IPv4 host name or dotted address. @return 0 or KELP_ERR_NOTFOUND. */
-int kelp_udp_resolve(const char *host, uint16_t port, struct sockaddr_in *out);
+KELP_MUST_CHECK int kelp_udp_resolve(const char *host, uint16_t port, struct sockaddr_in *out);
 
 /** Receive one datagram without blocking. *full is the datagram's real length, larger than
  *  cap when it was cut (then it must be treated as oversize).
  *  @return 1 with a datagram, 0 when none is waiting, <0 on error. */
-int kelp_udp_recv(int fd, uint8_t *buf, size_t cap, size_t *full);
+KELP_MUST_CHECK int kelp_udp_recv(int fd, uint8_t *buf, size_t cap, size_t *full);
 
 /** Send one datagram. @return 0 or KELP_ERR_IO (errno set). */
-int kelp_udp_send(int fd, const struct sockaddr_in *to, const uint8_t *buf, size_t len);
+KELP_MUST_CHECK int kelp_udp_send(int fd, const struct sockaddr_in *to, const uint8_t *buf, size_t len);
 
 #ifdef __cplusplus
 }

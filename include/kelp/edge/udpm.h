@@ -21,6 +21,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <kelp/udpm.h>
+#include <kelp/err.h>
 
 #define KELP_UDPM_DEFAULT_RECV_BUF 4194304L   /**< SO_RCVBUF when the URL gives none (bytes) */
 #define KELP_UDPM_DEFAULT_QUEUE 16777216L     /**< receive queue when the URL gives none (bytes) */
@@ -39,11 +40,11 @@ typedef struct kelp_udpm_sock_stats {
     int recv_buf;             /**< SO_RCVBUF the kernel granted (bytes) */
 } kelp_udpm_sock_stats;
 
-/** Open and join. @return NULL on failure, with a reason in err. */
-kelp_udpm_sock *kelp_udpm_sock_open(const char *url, char *err, size_t errcap);
+/** Open and join. @return NULL on failure, with the reason in d. */
+kelp_udpm_sock *kelp_udpm_sock_open(const char *url, kelp_diag *d);
 /** Open for publishing only: no receive socket, thread or queue (a publisher would
  *  otherwise receive and queue its own multicast echo). next() always returns 0. */
-kelp_udpm_sock *kelp_udpm_sock_open_tx(const char *url, char *err, size_t errcap);
+kelp_udpm_sock *kelp_udpm_sock_open_tx(const char *url, kelp_diag *d);
 void kelp_udpm_sock_close(kelp_udpm_sock *s);
 /** Do not receive what this socket itself sends (on: a kernel socket filter drops datagrams
  *  from our own address and send port, found from the first one that comes back). For
@@ -53,7 +54,7 @@ void kelp_udpm_sock_ignore_own(kelp_udpm_sock *s, bool on);
 int kelp_udpm_sock_fd(const kelp_udpm_sock *s);
 /** Take the next message. Its channel and data stay valid until the next call.
  *  @return 1 with *out filled, 0 when none waits. */
-int kelp_udpm_sock_next(kelp_udpm_sock *s, kelp_udpm_msg *out);
+KELP_MUST_CHECK int kelp_udpm_sock_next(kelp_udpm_sock *s, kelp_udpm_msg *out);
 /** Publish one message (short form or fragments). @return 0, KELP_ERR_RANGE (channel or
  *  size), KELP_ERR_IO. */
 KELP_MUST_CHECK int kelp_udpm_sock_publish(kelp_udpm_sock *s, const char *channel, const void *data, size_t len);

@@ -25,6 +25,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <kelp/viewer.h>
+#include <kelp/err.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -55,19 +56,19 @@ typedef struct kelp_viewer_req {
     double value;
 } kelp_viewer_req;
 
-/** Start serving. @return NULL with a reason in err on failure. */
-kelp_viewer_http *kelp_viewer_http_start(const kelp_viewer_http_cfg *cfg, char *err, size_t errcap);
+/** Start serving. @return NULL with the reason in d on failure. */
+kelp_viewer_http *kelp_viewer_http_start(const kelp_viewer_http_cfg *cfg, kelp_diag *d);
 /** The port bound. */
 unsigned kelp_viewer_http_port(const kelp_viewer_http *h);
 /** Readable when a request or a snapshot request waits (drained by pump / next). */
 int kelp_viewer_http_fd(const kelp_viewer_http *h);
 /** Model thread: send the changes when push_period has passed (or force), answer snapshot
  *  requests. now/rate: as kelp_viewer_json_*. @return frames pushed (0 or 1), <0 on error. */
-int kelp_viewer_http_pump(kelp_viewer_http *h, const kelp_viewer *v, double now, double rate, bool force);
+KELP_MUST_CHECK int kelp_viewer_http_pump(kelp_viewer_http *h, const kelp_viewer *v, double now, double rate, bool force);
 /** Model thread: push a replay state message ({"t0":..,"t1":..,"t":..,"playing":..,"speed":..}). */
-int kelp_viewer_http_push_event(kelp_viewer_http *h, const char *event, const char *json);
+KELP_MUST_CHECK int kelp_viewer_http_push_event(kelp_viewer_http *h, const char *event, const char *json);
 /** Model thread: the next request from the page. @return 1 with one, 0 none. */
-int kelp_viewer_http_next(kelp_viewer_http *h, kelp_viewer_req *out);
+KELP_MUST_CHECK int kelp_viewer_http_next(kelp_viewer_http *h, kelp_viewer_req *out);
 /** Connections streaming events now. */
 unsigned kelp_viewer_http_clients(const kelp_viewer_http *h);
 /** Bytes of the last snapshot and change frame (for the status report). */
@@ -75,25 +76,24 @@ void kelp_viewer_http_sizes(const kelp_viewer_http *h, size_t *snapshot, size_t 
 void kelp_viewer_http_stop(kelp_viewer_http *h);
 
 /** Read a pMarineViewer .info file (lat_north, lat_south, lon_east, lon_west; "//" comments).
- *  @return 0, <0 with err. */
-int kelp_viewer_read_info(const char *path, double *lat_n, double *lat_s, double *lon_e, double *lon_w, char *err,
-                          size_t errcap);
+ *  @return 0, <0 with the reason in d. */
+KELP_MUST_CHECK int kelp_viewer_read_info(const char *path, double *lat_n, double *lat_s, double *lon_e, double *lon_w, kelp_diag *d);
 
 /** The page's files: share/viewer beside the program in the build tree (<bin>/../../share/viewer),
  *  installed (<bin>/../share/kelp/viewer), or $KELP_VIEWER_DOCROOT. @return 0 or KELP_ERR_NOTFOUND. */
-int kelp_viewer_docroot(char *buf, size_t cap);
+KELP_MUST_CHECK int kelp_viewer_docroot(char *buf, size_t cap);
 
 /** pMarineViewer's tiff_file (relative to the mission file's directory when not absolute): the
  *  image to serve (a .png, .jpg or .jpeg of the same name if one exists, else the file itself)
  *  and its .info file. @return 0 or KELP_ERR_NOTFOUND. */
-int kelp_viewer_image_files(const char *tiff, const char *mission_path, char *image, size_t icap, char *info,
+KELP_MUST_CHECK int kelp_viewer_image_files(const char *tiff, const char *mission_path, char *image, size_t icap, char *info,
                             size_t infocap);
 
 /** kelp-viewer --log RUN.lcm [--port N] [--bind A --token T] [--docroot D] [--speed S] [--paused]
  *  [mission.moos [NAME]]: replays a recorded mission (kelp-record's LCM log or an .alog) into the
  *  page, with a time slider, play/pause and speed; no bus. The mission, when given, supplies the
  *  datum and the viewer block (NAME, else kelp-viewer, else pMarineViewer: tiff_file, trails...). Runs until SIGINT/SIGTERM. @return exit status. */
-int kelp_viewer_replay_main(int argc, char **argv);
+KELP_MUST_CHECK int kelp_viewer_replay_main(int argc, char **argv);
 
 #ifdef __cplusplus
 }

@@ -24,18 +24,18 @@ struct kelp_postlog {
     kelp_postlog_stats st;
 };
 
-kelp_postlog *kelp_postlog_open(const char *path, const char *default_community, char *err, size_t errcap)
+kelp_postlog *kelp_postlog_open(const char *path, const char *default_community, kelp_diag *d)
 {
     kelp_postlog *p = calloc(1, sizeof *p);
     if (!p) {
-        snprintf(err, errcap, "out of memory");
+        (void)kelp_fail(d, KELP_ERR_IO, "out of memory");
         return NULL;
     }
     p->start = NAN;
     snprintf(p->def_comm, sizeof p->def_comm, "%s", default_community ? default_community : "");
     FILE *f = fopen(path, "rb");
     if (!f) {
-        snprintf(err, errcap, "cannot open %s: %s", path, strerror(errno));
+        (void)kelp_failf(d, KELP_ERR_IO, "cannot open %s: %s", path, strerror(errno));
         free(p);
         return NULL;
     }
@@ -44,7 +44,7 @@ kelp_postlog *kelp_postlog_open(const char *path, const char *default_community,
     uint32_t sync = ((uint32_t)b[0] << 24) | ((uint32_t)b[1] << 16) | ((uint32_t)b[2] << 8) | b[3];
     if (n == 4 && sync == KELP_LCMLOG_SYNC) {
         fclose(f);
-        p->lcm = kelp_lcmlog_open(path, 0, err, errcap);
+        p->lcm = kelp_lcmlog_open(path, 0, d);
         if (!p->lcm) {
             free(p);
             return NULL;

@@ -81,17 +81,17 @@ static int tr_publish(void *ctx, const char *channel, const uint8_t *data, size_
 }
 
 kelp_lcmbus *kelp_lcmbus_open(const char *url, const char *app, const char *community, kelp_bus_handler handler,
-                              void *user, char *err, size_t errcap)
+                              void *user, kelp_diag *d)
 {
     kelp_lcmbus *lb = calloc(1, sizeof *lb);
     if (!lb) {
-        snprintf(err, errcap, "out of memory");
+        (void)kelp_fail(d, KELP_ERR_NOSPACE, "out of memory");
         return NULL;
     }
-    char why[256];
-    lb->sock = kelp_udpm_sock_open(url, why, sizeof why);
+    kelp_diag why = {0};
+    lb->sock = kelp_udpm_sock_open(url, &why);
     if (!lb->sock) {
-        snprintf(err, errcap, "cannot open LCM URL '%s': %s", url, why);
+        (void)kelp_failf(d, KELP_ERR_IO, "cannot open LCM URL '%s': %s", url, kelp_diag_text(&why));
         free(lb);
         return NULL;
     }
@@ -104,7 +104,7 @@ kelp_lcmbus *kelp_lcmbus_open(const char *url, const char *app, const char *comm
     lb->st.scratch = malloc(lb->st.scratch_cap);
     lb->st.rx = malloc(sizeof *lb->st.rx);
     if (!lb->pat || !lb->st.subs || !lb->st.cache || !lb->st.scratch || !lb->st.rx) {
-        snprintf(err, errcap, "out of memory");
+        (void)kelp_fail(d, KELP_ERR_NOSPACE, "out of memory");
         kelp_lcmbus_close(lb);
         return NULL;
     }
@@ -117,14 +117,14 @@ kelp_lcmbus *kelp_lcmbus_open(const char *url, const char *app, const char *comm
         fclose(r);
     }
     if (kelp_bus_reply_channel(app, (uint32_t)nonce, reply) < 0) {
-        snprintf(err, errcap, "bad app name");
+        (void)kelp_fail(d, KELP_ERR_ARG, "bad app name");
         kelp_lcmbus_close(lb);
         return NULL;
     }
     kelp_bus_transport tr = { tr_publish, tr_subscribe, lb };
     int rc = kelp_bus_init(&lb->bus, app, community, reply, &tr, &lb->st, handler, user);
     if (rc < 0) {
-        snprintf(err, errcap, "bus init: %s", kelp_strerror(rc));
+        (void)kelp_failf(d, KELP_ERR_IO, "bus init: %s", kelp_strerror(rc));
         kelp_lcmbus_close(lb);
         return NULL;
     }
@@ -174,7 +174,7 @@ int kelp_lcmbus_handle(kelp_lcmbus *lb, int timeout_ms, double now)
     }
     do {
         handled++;
-        if (subscribed(lb, m.channel)) (void)kelp_bus_receive(&lb->bus, m.channel, m.data, m.len, now);
+        if (subscribed(lb, m.channel)) KELP_IGNORE(kelp_bus_receive(&lb->bus, m.channel, m.data, m.len, now));
     } while (handled < KELP_LCMBUS_MAX_BATCH && kelp_udpm_sock_next(lb->sock, &m) == 1);
     return handled;
 }

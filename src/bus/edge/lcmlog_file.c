@@ -14,11 +14,11 @@ struct kelp_lcmlog_reader {
     kelp_lcmlog_stats st;
 };
 
-kelp_lcmlog_reader *kelp_lcmlog_open(const char *path, size_t max_data, char *err, size_t errcap)
+kelp_lcmlog_reader *kelp_lcmlog_open(const char *path, size_t max_data, kelp_diag *d)
 {
     kelp_lcmlog_reader *r = calloc(1, sizeof *r);
     if (!r) {
-        snprintf(err, errcap, "out of memory");
+        (void)kelp_fail(d, KELP_ERR_IO, "out of memory");
         return NULL;
     }
     r->max_data = max_data ? max_data : (size_t)64 << 20;
@@ -26,7 +26,7 @@ kelp_lcmlog_reader *kelp_lcmlog_open(const char *path, size_t max_data, char *er
     r->buf = malloc(r->cap);
     r->f = fopen(path, "rb");
     if (!r->buf || !r->f) {
-        snprintf(err, errcap, "cannot open %s: %s", path, r->buf ? strerror(errno) : "out of memory");
+        (void)kelp_failf(d, KELP_ERR_IO, "cannot open %s: %s", path, r->buf ? strerror(errno) : "out of memory");
         kelp_lcmlog_close(r);
         return NULL;
     }

@@ -31,7 +31,7 @@ int kelp_mission_load_text(kelp_mission_file *f, const char *name, const char *t
     }
     if (rc < 0) {
         if (rc == KELP_ERR_PARSE)
-            snprintf(f->error, sizeof f->error, "%s:%d: %s", name, f->m.err_line, f->m.err_reason);
+            snprintf(f->error, sizeof f->error, "%s:%d: %s", name, f->m.diag.line, kelp_diag_text(&f->m.diag));
         else
             snprintf(f->error, sizeof f->error, "%s: %s", name, kelp_strerror(rc));
         free(f->text);

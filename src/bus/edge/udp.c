@@ -10,11 +10,11 @@
 #include <kelp/err.h>
 #include <kelp/edge/udp.h>
 
-int kelp_udp_open(uint16_t port, int rcvbuf, char *err, size_t errcap)
+int kelp_udp_open(uint16_t port, int rcvbuf, kelp_diag *d)
 {
     int fd = socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
     if (fd < 0) {
-        snprintf(err, errcap, "socket: %s", strerror(errno));
+        (void)kelp_failf(d, KELP_ERR_IO, "socket: %s", strerror(errno));
         return KELP_ERR_IO;
     }
     if (port) {
@@ -24,7 +24,7 @@ int kelp_udp_open(uint16_t port, int rcvbuf, char *err, size_t errcap)
         a.sin_port = htons(port);
         a.sin_addr.s_addr = htonl(INADDR_ANY);
         if (bind(fd, (struct sockaddr *)&a, sizeof a) < 0) {
-            snprintf(err, errcap, "cannot listen on UDP port %u: %s", port, strerror(errno));
+            (void)kelp_failf(d, KELP_ERR_IO, "cannot listen on UDP port %u: %s", port, strerror(errno));
             close(fd);
             return KELP_ERR_IO;
         }

@@ -280,23 +280,23 @@ void kelp_udpm_sock_get_stats(kelp_udpm_sock *s, kelp_udpm_sock_stats *out)
     pthread_mutex_unlock(&s->slock);
 }
 
-static kelp_udpm_sock *fail(kelp_udpm_sock *s, char *err, size_t errcap, const char *what, int e)
+static kelp_udpm_sock *fail(kelp_udpm_sock *s, kelp_diag *d, const char *what, int e)
 {
-    snprintf(err, errcap, "%s%s%s", what, e ? ": " : "", e ? strerror(e) : "");
+    (void)kelp_failf(d, KELP_ERR_IO, "%s%s%s", what, e ? ": " : "", e ? strerror(e) : "");
     kelp_udpm_sock_close(s);
     return NULL;
 }
 
-static int open_tx(kelp_udpm_sock *s, const kelp_udpm_url *u, char *err, size_t errcap)
+static int open_tx(kelp_udpm_sock *s, const kelp_udpm_url *u, kelp_diag *d)
 {
     s->sfd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-    if (s->sfd < 0) return fail(s, err, errcap, "socket", errno) ? 0 : -1;
+    if (s->sfd < 0) return fail(s, d, "socket", errno) ? 0 : -1;
     unsigned char ttl = (unsigned char)u->ttl, loop = 1;
     if (setsockopt(s->sfd, IPPROTO_IP, IP_MULTICAST_TTL, &ttl, sizeof ttl) < 0 ||
         setsockopt(s->sfd, IPPROTO_IP, IP_MULTICAST_LOOP, &loop, sizeof loop) < 0)
-        return fail(s, err, errcap, "multicast ttl/loop", errno) ? 0 : -1;
+        return fail(s, d, "multicast ttl/loop", errno) ? 0 : -1;
     if (connect(s->sfd, (struct sockaddr *)&s->dest, sizeof s->dest) < 0)
-        return fail(s, err, errcap, "no route to the multicast group (see README)", errno) ? 0 : -1;
+        return fail(s, d, "no route to the multicast group (see README)", errno) ? 0 : -1;
     /* sequence numbers start somewhere different per socket, as a restarted sender's
      * reassembly slots at receivers must not match its new messages */
     s->seqno = (uint32_t)getpid() << 16 ^ (uint32_t)(mono_now() * 1e6);
@@ -304,17 +304,17 @@ static int open_tx(kelp_udpm_sock *s, const kelp_udpm_url *u, char *err, size_t 
     return 0;
 }
 
-static kelp_udpm_sock *open_sock(const char *url, int listen, char *err, size_t errcap)
+static kelp_udpm_sock *open_sock(const char *url, int listen, kelp_diag *d)
 {
     kelp_udpm_url u;
     int rc = kelp_udpm_url_parse(url, &u);
     if (rc < 0) {
-        snprintf(err, errcap, "bad URL '%s': %s (expected udpm://GROUP:PORT?ttl=N&recv_buf_size=B)", url,
+        (void)kelp_failf(d, KELP_ERR_IO, "bad URL '%s': %s (expected udpm://GROUP:PORT?ttl=N&recv_buf_size=B)", url,
                  kelp_strerror(rc));
         return NULL;
     }
     kelp_udpm_sock *s = calloc(1, sizeof *s);
-    if (!s) return fail(s, err, errcap, "out of memory", 0);
+    if (!s) return fail(s, d, "out of memory", 0);
     s->rfd = s->sfd = s->evfd = s->stopfd = -1;
     pthread_mutex_init(&s->qlock, NULL);
     pthread_mutex_init(&s->slock, NULL);
@@ -326,21 +326,21 @@ static kelp_udpm_sock *open_sock(const char *url, int listen, char *err, size_t 
     s->dest.sin_port = htons(u.port);
     s->evfd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
     s->stopfd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
-    if (s->evfd < 0 || s->stopfd < 0) return fail(s, err, errcap, "eventfd", errno);
-    if (open_tx(s, &u, err, errcap) < 0) return NULL; /* open_tx closed s */
+    if (s->evfd < 0 || s->stopfd < 0) return fail(s, d, "eventfd", errno);
+    if (open_tx(s, &u, d) < 0) return NULL; /* open_tx closed s */
     if (!listen) return s; /* publish only: no socket, thread or queue for our own echo */
     s->q = malloc(s->qcap);
     s->slotmem = malloc((size_t)KELP_UDPM_REASM_SLOTS * KELP_UDPM_REASM_CAP);
     s->dg = malloc(KELP_UDPM_MAX_DATAGRAM + 1);
-    if (!s->q || !s->slotmem || !s->dg) return fail(s, err, errcap, "out of memory", 0);
+    if (!s->q || !s->slotmem || !s->dg) return fail(s, d, "out of memory", 0);
     if (kelp_udpm_init(&s->rx, s->slots, KELP_UDPM_REASM_SLOTS, s->slotmem, KELP_UDPM_REASM_CAP,
                        KELP_UDPM_REASM_TIMEOUT) < 0)
-        return fail(s, err, errcap, "reassembler init", 0);
+        return fail(s, d, "reassembler init", 0);
     s->rfd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-    if (s->rfd < 0) return fail(s, err, errcap, "socket", errno);
+    if (s->rfd < 0) return fail(s, d, "socket", errno);
     int one = 1;
     if (setsockopt(s->rfd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one) < 0)
-        return fail(s, err, errcap, "SO_REUSEADDR", errno);
+        return fail(s, d, "SO_REUSEADDR", errno);
     int rb = (int)(u.recv_buf_size ? u.recv_buf_size : KELP_UDPM_DEFAULT_RECV_BUF);
     /* beyond net.core.rmem_max only with CAP_NET_ADMIN; otherwise what the kernel allows */
     if (setsockopt(s->rfd, SOL_SOCKET, SO_RCVBUFFORCE, &rb, sizeof rb) < 0)
@@ -348,14 +348,14 @@ static kelp_udpm_sock *open_sock(const char *url, int listen, char *err, size_t 
     socklen_t rl = sizeof s->st.recv_buf;
     (void)getsockopt(s->rfd, SOL_SOCKET, SO_RCVBUF, &s->st.recv_buf, &rl);
     if (bind(s->rfd, (struct sockaddr *)&s->dest, sizeof s->dest) < 0)
-        return fail(s, err, errcap, "bind to the multicast group", errno);
+        return fail(s, d, "bind to the multicast group", errno);
     struct ip_mreq mr;
     mr.imr_multiaddr = s->dest.sin_addr;
     mr.imr_interface.s_addr = htonl(INADDR_ANY);
     if (setsockopt(s->rfd, IPPROTO_IP, IP_ADD_MEMBERSHIP, &mr, sizeof mr) < 0)
-        return fail(s, err, errcap, "join the multicast group (is there a multicast route? see README)", errno);
+        return fail(s, d, "join the multicast group (is there a multicast route? see README)", errno);
 
-    if (pthread_create(&s->th, NULL, recv_main, s) != 0) return fail(s, err, errcap, "receive thread", errno);
+    if (pthread_create(&s->th, NULL, recv_main, s) != 0) return fail(s, d, "receive thread", errno);
     s->th_started = 1;
     return s;
 }
@@ -380,12 +380,12 @@ void kelp_udpm_sock_close(kelp_udpm_sock *s)
     free(s);
 }
 
-kelp_udpm_sock *kelp_udpm_sock_open(const char *url, char *err, size_t errcap)
+kelp_udpm_sock *kelp_udpm_sock_open(const char *url, kelp_diag *d)
 {
-    return open_sock(url, 1, err, errcap);
+    return open_sock(url, 1, d);
 }
 
-kelp_udpm_sock *kelp_udpm_sock_open_tx(const char *url, char *err, size_t errcap)
+kelp_udpm_sock *kelp_udpm_sock_open_tx(const char *url, kelp_diag *d)
 {
-    return open_sock(url, 0, err, errcap);
+    return open_sock(url, 0, d);
 }

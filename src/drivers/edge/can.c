@@ -13,13 +13,12 @@
 
 KELP_STATIC_ASSERT(KELP_CAN_FILTER_EFF == CAN_EFF_FLAG, "filter flag bit is SocketCAN's");
 
-static int sc_open(void *ctx, const char *ifname, const kelp_can_filter *f, size_t nf, bool fd_frames, char *err,
-                   size_t errcap)
+static int sc_open(void *ctx, const char *ifname, const kelp_can_filter *f, size_t nf, bool fd_frames, kelp_diag *d)
 {
     (void)ctx;
     int s = socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK | SOCK_CLOEXEC, CAN_RAW);
     if (s < 0) {
-        snprintf(err, errcap, "CAN_RAW socket: %s", strerror(errno));
+        (void)kelp_failf(d, KELP_ERR_IO, "CAN_RAW socket: %s", strerror(errno));
         return KELP_ERR_IO;
     }
     struct can_filter cf[KELP_CAN_MAX_FILTERS];
@@ -42,7 +41,7 @@ static int sc_open(void *ctx, const char *ifname, const kelp_can_filter *f, size
     else if (bind(s, (struct sockaddr *)&a, sizeof a) < 0)
         what = "bind";
     if (what) {
-        snprintf(err, errcap, "%s %s: %s", ifname, what, a.can_ifindex == 0 ? "no such interface" : strerror(errno));
+        (void)kelp_failf(d, KELP_ERR_IO, "%s %s: %s", ifname, what, a.can_ifindex == 0 ? "no such interface" : strerror(errno));
         close(s);
         return KELP_ERR_IO;
     }
@@ -74,7 +73,8 @@ static void go_down(kelp_can_port *p, int err)
     }
     p->down = true;
     p->went_down++;
-    snprintf(p->err, sizeof p->err, "%s went down: %s", p->ifname, err ? strerror(err) : "peer closed");
+    kelp_diag_clear(&p->diag);
+    (void)kelp_failf(&p->diag, KELP_ERR_IO, "%s went down: %s", p->ifname, err ? strerror(err) : "peer closed");
 }
 
 int kelp_can_port_open(kelp_can_port *p, const kelp_can_ops *ops, const char *ifname, const kelp_can_filter *f,
@@ -84,14 +84,15 @@ int kelp_can_port_open(kelp_can_port *p, const kelp_can_ops *ops, const char *if
     p->fd = -1;
     p->ops = *ops;
     if (strlen(ifname) >= sizeof p->ifname || nf > KELP_CAN_MAX_FILTERS) {
-        snprintf(p->err, sizeof p->err, "bad interface name or too many filters");
+        kelp_diag_clear(&p->diag);
+    (void)kelp_failf(&p->diag, KELP_ERR_IO, "bad interface name or too many filters");
         return KELP_ERR_ARG;
     }
     memcpy(p->ifname, ifname, strlen(ifname) + 1);
     if (nf) memcpy(p->filters, f, nf * sizeof *f);
     p->nf = nf;
     p->fd_frames = fd_frames;
-    int s = ops->open(ops->ctx, ifname, f, nf, fd_frames, p->err, sizeof p->err);
+    int s = ops->open(ops->ctx, ifname, f, nf, fd_frames, &p->diag);
     if (s >= 0) {
         p->fd = s;
         return KELP_OK;
@@ -170,10 +171,11 @@ int kelp_can_port_maintain(kelp_can_port *p)
 {
     if (!p->down || p->fd < 0) return 0;
     if (!p->ops.is_up(p->ops.ctx, p->ifname)) return 0;
-    int s = p->ops.open(p->ops.ctx, p->ifname, p->filters, p->nf, p->fd_frames, p->err, sizeof p->err);
+    int s = p->ops.open(p->ops.ctx, p->ifname, p->filters, p->nf, p->fd_frames, &p->diag);
     if (s < 0) return KELP_ERR_IO;
     if (dup3(s, p->fd, O_CLOEXEC) < 0) {
-        snprintf(p->err, sizeof p->err, "dup2: %s", strerror(errno));
+        kelp_diag_clear(&p->diag);
+    (void)kelp_failf(&p->diag, KELP_ERR_IO, "dup2: %s", strerror(errno));
         close(s);
         return KELP_ERR_IO;
     }

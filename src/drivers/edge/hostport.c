@@ -20,11 +20,11 @@ static void reset(kelp_hostport *h)
     h->master = h->slave = h->lfd = h->cfd = h->ep = -1;
 }
 
-int kelp_hostport_open_pty(kelp_hostport *h, const char *link, char *err, size_t errcap)
+int kelp_hostport_open_pty(kelp_hostport *h, const char *link, kelp_diag *d)
 {
     reset(h);
     if (openpty(&h->master, &h->slave, h->pty_name, NULL, NULL) < 0) {
-        snprintf(err, errcap, "openpty: %s", strerror(errno));
+        (void)kelp_failf(d, KELP_ERR_IO, "openpty: %s", strerror(errno));
         return -1;
     }
     /* raw: no echo, no CR/LF translation (the host reads lines ending in CR) */
@@ -44,14 +44,14 @@ int kelp_hostport_open_pty(kelp_hostport *h, const char *link, char *err, size_t
         struct stat st;
         if (lstat(link, &st) == 0) {
             if (!S_ISLNK(st.st_mode)) {
-                snprintf(err, errcap, "%s exists and is not a symbolic link: not replaced", link);
+                (void)kelp_failf(d, KELP_ERR_IO, "%s exists and is not a symbolic link: not replaced", link);
                 kelp_hostport_close(h);
                 return -1;
             }
             unlink(link);
         }
         if (symlink(h->pty_name, link) < 0) {
-            snprintf(err, errcap, "symlink %s -> %s: %s", link, h->pty_name, strerror(errno));
+            (void)kelp_failf(d, KELP_ERR_IO, "symlink %s -> %s: %s", link, h->pty_name, strerror(errno));
             kelp_hostport_close(h);
             return -1;
         }
@@ -60,12 +60,12 @@ int kelp_hostport_open_pty(kelp_hostport *h, const char *link, char *err, size_t
     return 0;
 }
 
-int kelp_hostport_open_tcp(kelp_hostport *h, unsigned port, char *err, size_t errcap)
+int kelp_hostport_open_tcp(kelp_hostport *h, unsigned port, kelp_diag *d)
 {
     reset(h);
     h->lfd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC | SOCK_NONBLOCK, 0);
     if (h->lfd < 0) {
-        snprintf(err, errcap, "socket: %s", strerror(errno));
+        (void)kelp_failf(d, KELP_ERR_IO, "socket: %s", strerror(errno));
         return -1;
     }
     int one = 1;
@@ -78,7 +78,7 @@ int kelp_hostport_open_tcp(kelp_hostport *h, unsigned port, char *err, size_t er
     socklen_t al = sizeof a;
     if (bind(h->lfd, (struct sockaddr *)&a, sizeof a) < 0 || listen(h->lfd, 2) < 0 ||
         getsockname(h->lfd, (struct sockaddr *)&a, &al) < 0) {
-        snprintf(err, errcap, "TCP port %u: %s", port, strerror(errno));
+        (void)kelp_failf(d, KELP_ERR_IO, "TCP port %u: %s", port, strerror(errno));
         kelp_hostport_close(h);
         return -1;
     }
@@ -86,7 +86,7 @@ int kelp_hostport_open_tcp(kelp_hostport *h, unsigned port, char *err, size_t er
     h->ep = epoll_create1(EPOLL_CLOEXEC);
     struct epoll_event e = { .events = EPOLLIN, .data.fd = h->lfd };
     if (h->ep < 0 || epoll_ctl(h->ep, EPOLL_CTL_ADD, h->lfd, &e) < 0) {
-        snprintf(err, errcap, "epoll: %s", strerror(errno));
+        (void)kelp_failf(d, KELP_ERR_IO, "epoll: %s", strerror(errno));
         kelp_hostport_close(h);
         return -1;
     }

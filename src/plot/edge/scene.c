@@ -351,10 +351,10 @@ void kelp_plot_print_closest(const kelp_plot_scene *s, FILE *out)
 
 int kelp_plot_scene_read_log(kelp_plot_scene *s, const char *path, unsigned long *events, unsigned long *undecoded)
 {
-    char err[256];
-    kelp_lcmlog_reader *log = kelp_lcmlog_open(path, 0, err, sizeof err);
+    kelp_diag err = {0};
+    kelp_lcmlog_reader *log = kelp_lcmlog_open(path, 0, &err);
     if (!log) {
-        fprintf(stderr, "kelp-plot: %s\n", err);
+        fprintf(stderr, "kelp-plot: %s\n", kelp_diag_text(&err));
         return -1;
     }
     kelp_var *v = malloc(sizeof *v);

@@ -72,12 +72,11 @@ int kelp_viewer_image_files(const char *tiff, const char *mission_path, char *im
     return is_file(image) ? 0 : KELP_ERR_NOTFOUND;
 }
 
-int kelp_viewer_read_info(const char *path, double *lat_n, double *lat_s, double *lon_e, double *lon_w, char *err,
-                          size_t errcap)
+int kelp_viewer_read_info(const char *path, double *lat_n, double *lat_s, double *lon_e, double *lon_w, kelp_diag *d)
 {
     FILE *f = fopen(path, "r");
     if (!f) {
-        snprintf(err, errcap, "%s: %s", path, strerror(errno));
+        (void)kelp_failf(d, KELP_ERR_IO, "%s: %s", path, strerror(errno));
         return KELP_ERR_IO;
     }
     char line[256];
@@ -98,7 +97,7 @@ int kelp_viewer_read_info(const char *path, double *lat_n, double *lat_s, double
         for (unsigned i = 0; i < 4; i++) {
             if (!kelp_strieq(k, keys[i])) continue;
             if (kelp_parse_finite(v, strlen(v), dst[i]) < 0) {
-                snprintf(err, errcap, "%s:%u: %s: not a number", path, lineno, keys[i]);
+                (void)kelp_failf(d, KELP_ERR_IO, "%s:%u: %s: not a number", path, lineno, keys[i]);
                 fclose(f);
                 return KELP_ERR_PARSE;
             }
@@ -107,7 +106,7 @@ int kelp_viewer_read_info(const char *path, double *lat_n, double *lat_s, double
     }
     fclose(f);
     if (have != 15u) {
-        snprintf(err, errcap, "%s: needs lat_north, lat_south, lon_east and lon_west", path);
+        (void)kelp_failf(d, KELP_ERR_IO, "%s: needs lat_north, lat_south, lon_east and lon_west", path);
         return KELP_ERR_PARSE;
     }
     return 0;

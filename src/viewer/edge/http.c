@@ -447,7 +447,7 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *c, const cha
 
 /* ------------------------------------------------------------------ start / stop */
 
-kelp_viewer_http *kelp_viewer_http_start(const kelp_viewer_http_cfg *cfg, char *err, size_t errcap)
+kelp_viewer_http *kelp_viewer_http_start(const kelp_viewer_http_cfg *cfg, kelp_diag *d)
 {
     const char *bind = cfg->bind && cfg->bind[0] ? cfg->bind : "127.0.0.1";
     struct sockaddr_in sa;
@@ -455,42 +455,42 @@ kelp_viewer_http *kelp_viewer_http_start(const kelp_viewer_http_cfg *cfg, char *
     sa.sin_family = AF_INET;
     sa.sin_port = htons((uint16_t)cfg->port);
     if (inet_pton(AF_INET, bind, &sa.sin_addr) != 1) {
-        snprintf(err, errcap, "--bind %s: not an IPv4 address", bind);
+        (void)kelp_failf(d, KELP_ERR_IO, "--bind %s: not an IPv4 address", bind);
         return NULL;
     }
     bool local = ntohl(sa.sin_addr.s_addr) == 0x7f000001u; /* 127.0.0.1 alone goes without a token */
     if (!local && !(cfg->token && cfg->token[0])) {
-        snprintf(err, errcap, "binding %s (not 127.0.0.1) needs a token (--token or token =)", bind);
+        (void)kelp_failf(d, KELP_ERR_IO, "binding %s (not 127.0.0.1) needs a token (--token or token =)", bind);
         return NULL;
     }
     if (cfg->port > 65535) {
-        snprintf(err, errcap, "port %u out of range", cfg->port);
+        (void)kelp_failf(d, KELP_ERR_IO, "port %u out of range", cfg->port);
         return NULL;
     }
     kelp_viewer_http *h = calloc(1, sizeof *h);
     if (!h) {
-        snprintf(err, errcap, "out of memory");
+        (void)kelp_fail(d, KELP_ERR_IO, "out of memory");
         return NULL;
     }
     h->cfg = *cfg;
     snprintf(h->docroot, sizeof h->docroot, "%s", cfg->docroot ? cfg->docroot : ".");
     snprintf(h->image, sizeof h->image, "%s", cfg->image_path ? cfg->image_path : "");
     if (cfg->token && strlen(cfg->token) >= sizeof h->token) {
-        snprintf(err, errcap, "token longer than %zu characters", sizeof h->token - 1);
+        (void)kelp_failf(d, KELP_ERR_IO, "token longer than %zu characters", sizeof h->token - 1);
         free(h);
         return NULL;
     }
     snprintf(h->token, sizeof h->token, "%s", cfg->token ? cfg->token : "");
     for (const char *p = h->token; *p; p++)
         if (*p <= ' ' || *p == ';' || *p == ',' || *p == '"' || *p == '\\' || (unsigned char)*p >= 0x7f) {
-            snprintf(err, errcap, "token: printable characters without ; , \" \\ or spaces");
+            (void)kelp_failf(d, KELP_ERR_IO, "token: printable characters without ; , \" \\ or spaces");
             free(h);
             return NULL;
         }
     h->push_period = cfg->push_period > 0 ? cfg->push_period : 0.2;
     h->json = malloc(JSON_CAP);
     if (!h->json || pipe2(h->wake, O_NONBLOCK | O_CLOEXEC) < 0) {
-        snprintf(err, errcap, "out of memory or descriptors");
+        (void)kelp_fail(d, KELP_ERR_IO, "out of memory or descriptors");
         free(h->json);
         free(h);
         return NULL;
@@ -506,7 +506,7 @@ kelp_viewer_http *kelp_viewer_http_start(const kelp_viewer_http_cfg *cfg, char *
                             MHD_OPTION_CONNECTION_LIMIT, (unsigned)64, MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)0,
                             MHD_OPTION_END);
     if (!h->d) {
-        snprintf(err, errcap, "cannot serve on %s:%u (%s)", bind, cfg->port, strerror(errno));
+        (void)kelp_failf(d, KELP_ERR_IO, "cannot serve on %s:%u (%s)", bind, cfg->port, strerror(errno));
         close(h->wake[0]);
         close(h->wake[1]);
         free(h->json);

@@ -56,9 +56,9 @@ static void free_posts(post *posts, size_t n)
     free(posts);
 }
 
-static int load(const char *path, post **out, size_t *n, char *err, size_t errcap)
+static int load(const char *path, post **out, size_t *n, kelp_diag *d)
 {
-    kelp_postlog *pl = kelp_postlog_open(path, "shoreside", err, errcap);
+    kelp_postlog *pl = kelp_postlog_open(path, "shoreside", d);
     if (!pl) return -1;
     size_t cap = 0;
     kelp_post p;
@@ -86,7 +86,7 @@ static int load(const char *path, post **out, size_t *n, char *err, size_t errca
     }
     kelp_postlog_close(pl);
     if (rc < 0) {
-        snprintf(err, errcap, "%s: read error", path);
+        (void)kelp_failf(d, KELP_ERR_IO, "%s: read error", path);
         free_posts(*out, *n);
         *out = NULL;
         *n = 0;
@@ -185,7 +185,8 @@ int kelp_viewer_replay_main(int argc, char **argv)
     kelp_viewer *v = malloc(sizeof *v);
     if (!v) return 1;
     kelp_viewer_init(v);
-    char port_s[16] = "", token[128] = "", image[512] = "", droot[512], shown[512], info[512], err[600];
+    char port_s[16] = "", token[128] = "", image[512] = "", droot[512], shown[512], info[512];
+    kelp_diag err = {0};
     const char *mission = optind < argc ? argv[optind] : NULL;
     if (mission) mission_config(v, mission, optind + 1 < argc ? argv[optind + 1] : NULL, port_s, token, image, sizeof image);
     kelp_viewer_http_cfg hc = {bind, 8080, tok ? tok : token, docroot, NULL, 0};
@@ -200,21 +201,22 @@ int kelp_viewer_replay_main(int argc, char **argv)
     if (!docroot) hc.docroot = droot;
     double n, s, e, w;
     if (image[0] && kelp_viewer_image_files(image, mission, shown, sizeof shown, info, sizeof info) == 0 &&
-        kelp_viewer_read_info(info, &n, &s, &e, &w, err, sizeof err) == 0 &&
+        kelp_viewer_read_info(info, &n, &s, &e, &w, &err) == 0 &&
         kelp_viewer_set_image(v, "/image", n, s, e, w) == 0)
         hc.image_path = shown;
     post *posts;
     size_t np;
-    if (load(log, &posts, &np, err, sizeof err) < 0) {
-        fprintf(stderr, "kelp-viewer: %s\n", err);
+    if (load(log, &posts, &np, &err) < 0) {
+        fprintf(stderr, "kelp-viewer: %s\n", kelp_diag_text(&err));
         free(v);
         return 1;
     }
     if (np == 0) fprintf(stderr, "kelp-viewer: %s: no NODE_REPORT or VIEW_* postings\n", log);
     double t0 = np ? posts[0].t : 0, t1 = np ? posts[np - 1].t : 0;
-    kelp_viewer_http *h = kelp_viewer_http_start(&hc, err, sizeof err);
+    kelp_diag_clear(&err);
+    kelp_viewer_http *h = kelp_viewer_http_start(&hc, &err);
     if (!h) {
-        fprintf(stderr, "kelp-viewer: %s\n", err);
+        fprintf(stderr, "kelp-viewer: %s\n", kelp_diag_text(&err));
         free_posts(posts, np);
         free(v);
         return 1;
@@ -271,7 +273,7 @@ int kelp_viewer_replay_main(int argc, char **argv)
             char js[256];
             snprintf(js, sizeof js, "{\"t0\":%.3f,\"t1\":%.3f,\"t\":%.3f,\"playing\":%d,\"speed\":%g}", t0, t1, t,
                      playing ? 1 : 0, speed);
-            (void)kelp_viewer_http_push_event(h, "replay", js);
+            KELP_IGNORE(kelp_viewer_http_push_event(h, "replay", js));
             next_state = wn + STATE_PERIOD;
         }
         if (kelp_viewer_http_pump(h, v, t, playing ? speed : 0, changed) < 0)
