@@ -143,6 +143,25 @@ START_TEST(parse_format_parse_is_stable)
 }
 END_TEST
 
+START_TEST(big_endian_bytes)
+{
+    uint8_t b[8];
+    kelp_be_put64(b, 0x0102030405060708ull);
+    ck_assert_uint_eq(b[0], 1);
+    ck_assert_uint_eq(b[7], 8);
+    ck_assert(kelp_be_get64(b) == 0x0102030405060708ull);
+    kelp_be_put32(b, 0xdeadbeefu);
+    ck_assert_uint_eq(b[0], 0xde);
+    ck_assert_uint_eq(b[3], 0xef);
+    ck_assert_uint_eq(kelp_be_get32(b), 0xdeadbeefu);
+    long l;
+    ck_assert_int_eq(kelp_parse_long(" -42 ", 5, &l), KELP_OK);
+    ck_assert_int_eq(l, -42);
+    ck_assert_int_eq(kelp_parse_long("99999999999999999999", 20, &l), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_parse_long("4x", 2, &l), KELP_ERR_PARSE);
+}
+END_TEST
+
 Suite *kelp_util_num_suite(void);
 Suite *kelp_util_num_suite(void)
 {
@@ -153,6 +172,7 @@ Suite *kelp_util_num_suite(void)
     tcase_add_test(tc, parse_finite_and_strieq);
     tcase_add_test(tc, parse_double_agrees_with_strtod);
     tcase_add_test(tc, parse_format_parse_is_stable);
+    tcase_add_test(tc, big_endian_bytes);
     suite_add_tcase(s, tc);
     return s;
 }

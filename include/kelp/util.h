@@ -58,6 +58,13 @@ int64_t kelp_days_from_civil(int64_t year, unsigned month, unsigned day);
 /** The date of a day number (days since 1970-01-01). */
 void kelp_civil_from_days(int64_t days, int64_t *year, unsigned *month, unsigned *day);
 
+/* ---- big-endian integers in byte buffers (wire headers) ---- */
+
+void kelp_be_put32(uint8_t *p, uint32_t v);
+void kelp_be_put64(uint8_t *p, uint64_t v);
+uint32_t kelp_be_get32(const uint8_t *p);
+uint64_t kelp_be_get64(const uint8_t *p);
+
 /* ---- hexadecimal ---- */
 
 /** The value of a hex digit (either case), or -1. */

@@ -118,18 +118,6 @@ int kelp_bridge_parse_register(const char *s, kelp_bridge_route *r, kelp_diag *d
     return KELP_OK;
 }
 
-static void put_u64(uint8_t *p, uint64_t v)
-{
-    for (int i = 7; i >= 0; i--, v >>= 8) p[i] = (uint8_t)v;
-}
-
-static uint64_t get_u64(const uint8_t *p)
-{
-    uint64_t v = 0;
-    for (int i = 0; i < 8; i++) v = v << 8 | p[i];
-    return v;
-}
-
 void kelp_bridge_tx_init(kelp_bridge_tx *tx, uint64_t epoch)
 {
     tx->epoch = epoch;
@@ -150,8 +138,8 @@ int kelp_bridge_frame(kelp_bridge_tx *tx, const kelp_var *v, const char *as, con
     if (cap < KELP_BRIDGE_HDR_LEN) return KELP_ERR_NOSPACE;
     memcpy(buf, KELP_BRIDGE_MAGIC, 4);
     buf[4] = keylen ? KELP_BRIDGE_F_AUTH : 0;
-    put_u64(buf + 5, tx->epoch);
-    put_u64(buf + 13, tx->seq + 1);
+    kelp_be_put64(buf + 5, tx->epoch);
+    kelp_be_put64(buf + 13, tx->seq + 1);
     const char *name = (as && *as) ? as : v->name;
     size_t n = 0;
     /* encode with the alias name and the BRIDGED flag without copying the value */
@@ -242,7 +230,7 @@ int kelp_bridge_unframe(kelp_bridge_rx *rx, const uint8_t *buf, size_t len, cons
     int rc = kelp_var_decode(buf + KELP_BRIDGE_HDR_LEN, body, out);
     if (rc < 0) return rc;
     if (rx) {
-        rc = replay_check(rx, out->community, get_u64(buf + 5), get_u64(buf + 13));
+        rc = replay_check(rx, out->community, kelp_be_get64(buf + 5), kelp_be_get64(buf + 13));
         if (rc < 0) return rc;
     }
     out->flags |= KELP_VAR_FLAG_BRIDGED;

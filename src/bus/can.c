@@ -80,38 +80,16 @@ uint8_t kelp_can_fd_len(size_t len)
     return 0;
 }
 
-static void put_u64(uint8_t *p, uint64_t v)
-{
-    for (int i = 7; i >= 0; i--, v >>= 8) p[i] = (uint8_t)v;
-}
-
-static uint64_t get_u64(const uint8_t *p)
-{
-    uint64_t v = 0;
-    for (int i = 0; i < 8; i++) v = v << 8 | p[i];
-    return v;
-}
-
-static void put_u32(uint8_t *p, uint32_t v)
-{
-    for (int i = 3; i >= 0; i--, v >>= 8) p[i] = (uint8_t)v;
-}
-
-static uint32_t get_u32(const uint8_t *p)
-{
-    return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3];
-}
-
 static void put_f64(uint8_t *p, double d)
 {
     uint64_t u;
     memcpy(&u, &d, sizeof u);
-    put_u64(p, u);
+    kelp_be_put64(p, u);
 }
 
 static double get_f64(const uint8_t *p)
 {
-    uint64_t u = get_u64(p);
+    uint64_t u = kelp_be_get64(p);
     double d;
     memcpy(&d, &u, sizeof d);
     return d;
@@ -173,13 +151,13 @@ static int encode_body(kelp_can_tx *tx, const kelp_can_msg *m, bool named, size_
         uint32_t u;
         memcpy(&u, &f, sizeof u);
         if (n + 4 > KELP_CAN_MAX_BODY) return KELP_ERR_RANGE;
-        put_u32(b + n, u);
+        kelp_be_put32(b + n, u);
         n += 4;
         break;
     }
     case KELP_CAN_KIND_I32:
         if (n + 4 > KELP_CAN_MAX_BODY || !(m->dval >= -2147483648.0 && m->dval <= 2147483647.0)) return KELP_ERR_RANGE;
-        put_u32(b + n, (uint32_t)(int32_t)m->dval);
+        kelp_be_put32(b + n, (uint32_t)(int32_t)m->dval);
         n += 4;
         break;
     default:
@@ -306,7 +284,7 @@ static int decode_body(kelp_can_rx *rx, const kelp_can_dict *d, uint32_t id, con
         break;
     case KELP_CAN_KIND_F32: {
         if (rest != 4) return KELP_ERR_PARSE;
-        uint32_t u = get_u32(b + n);
+        uint32_t u = kelp_be_get32(b + n);
         float f;
         memcpy(&f, &u, sizeof f);
         out->dval = f;
@@ -315,7 +293,7 @@ static int decode_body(kelp_can_rx *rx, const kelp_can_dict *d, uint32_t id, con
     }
     case KELP_CAN_KIND_I32:
         if (rest != 4) return KELP_ERR_PARSE;
-        out->dval = (double)(int32_t)get_u32(b + n);
+        out->dval = (double)(int32_t)kelp_be_get32(b + n);
         out->kind = KELP_CAN_KIND_F64;
         break;
     default:

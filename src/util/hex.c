@@ -1,4 +1,4 @@
-/* Hexadecimal digits and byte strings. */
+/* Hexadecimal digits, byte strings and big-endian integers. */
 #include <kelp/util.h>
 
 int kelp_hex_digit(char c)
@@ -20,4 +20,28 @@ int kelp_hex_decode(const char *hex, size_t n, uint8_t *out, size_t cap, size_t 
     }
     *len = n / 2;
     return KELP_OK;
+}
+
+void kelp_be_put32(uint8_t *p, uint32_t v)
+{
+    for (int i = 3; i >= 0; i--, v >>= 8) p[i] = (uint8_t)v;
+}
+
+void kelp_be_put64(uint8_t *p, uint64_t v)
+{
+    for (int i = 7; i >= 0; i--, v >>= 8) p[i] = (uint8_t)v;
+}
+
+uint32_t kelp_be_get32(const uint8_t *p)
+{
+    uint32_t v = 0;
+    for (int i = 0; i < 4; i++) v = v << 8 | p[i];
+    return v;
+}
+
+uint64_t kelp_be_get64(const uint8_t *p)
+{
+    uint64_t v = 0;
+    for (int i = 0; i < 8; i++) v = v << 8 | p[i];
+    return v;
 }

@@ -300,19 +300,10 @@ int kelp_parse_llong(const char *s, size_t len, long long *out)
 
 int kelp_parse_long(const char *s, size_t len, long *out)
 {
-    size_t i = 0;
-    while (i < len && is_space(s[i])) i++;
-    while (len > i && is_space(s[len - 1])) len--;
-    if (i >= len) return KELP_ERR_PARSE;
-    bool neg = false;
-    if (s[i] == '+' || s[i] == '-') neg = s[i++] == '-';
-    if (i >= len) return KELP_ERR_PARSE;
-    long v = 0;
-    for (; i < len; i++) {
-        if (s[i] < '0' || s[i] > '9') return KELP_ERR_PARSE;
-        if (v > (LONG_MAX - (s[i] - '0')) / 10) return KELP_ERR_RANGE;
-        v = v * 10 + (s[i] - '0');
-    }
-    *out = neg ? -v : v;
+    long long v;
+    int rc = kelp_parse_llong(s, len, &v);
+    if (rc != KELP_OK) return rc;
+    if (v < LONG_MIN || v > LONG_MAX) return KELP_ERR_RANGE;
+    *out = (long)v;
     return KELP_OK;
 }
