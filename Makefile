@@ -185,6 +185,7 @@ integration: all spy-jar
 test: deps-test
 	@$(MAKE) --no-print-directory all tests-bin spy-jar
 	@scripts/run-tests.sh $(BUILD)
+	@$(MAKE) --no-print-directory unit-noerrmsg
 
 deps-test:
 	@scripts/deps.sh test

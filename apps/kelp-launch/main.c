@@ -252,11 +252,7 @@ int main(int argc, char **argv)
     }
     if (kelp_bus_retain_all(kelp_lcmbus_bus(lb), 0) < 0) return 1;
 
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
+    kelp_cli_on_stop(on_signal);
     double t_start = wall();
     launcher L = { &plan, lb, ep, warp, t_start, run_seconds, 0 };
     start_all(&L, mission, ldir);

@@ -103,11 +103,7 @@ int main(int argc, char **argv)
         regfree(&rx);
         return 1;
     }
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
+    kelp_cli_on_stop(on_signal);
     kelp_udpm_msg m;
     for (int last = 0; !last;) {
         last = g_stop; /* one more pass after the signal drains what is already queued */

@@ -874,12 +874,7 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
         }
     }
     app->start = kelp_app_time(app);
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
-    signal(SIGPIPE, SIG_IGN);
+    kelp_cli_on_stop(on_signal);
 
     if (def->ignore_own_posts) kelp_lcmbus_ignore_own(app->lb, true);
     app->cast = calloc(1, sizeof *app->cast);

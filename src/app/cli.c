@@ -1,5 +1,6 @@
 /* One command-line convention for every kelp program: getopt_long, plus --help and --version
  * answered the same way everywhere, and one form for usage errors. */
+#include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -136,4 +137,14 @@ int kelp_cli_next(const kelp_cli *cli, int argc, char **argv, int *status)
     default:
         return c;
     }
+}
+
+void kelp_cli_on_stop(void (*handler)(int))
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = handler;
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    signal(SIGPIPE, SIG_IGN);
 }

@@ -65,6 +65,9 @@ KELP_MUST_CHECK int kelp_cli_error(const kelp_cli *cli, const char *fmt, ...) KE
 void kelp_cli_usage(const kelp_cli *cli, FILE *out);
 /** Print "<name> (kelp) <version>" to stdout. */
 void kelp_cli_version(const char *name);
+/** A program that runs until stopped: handler is called on SIGINT and SIGTERM (it should only
+ *  set a flag), and SIGPIPE is ignored (a closed pipe or socket is an error return instead). */
+void kelp_cli_on_stop(void (*handler)(int));
 
 #ifdef __cplusplus
 }

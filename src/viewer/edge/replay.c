@@ -225,12 +225,7 @@ int kelp_viewer_replay_main(int argc, char **argv)
            bind ? bind : "127.0.0.1", kelp_viewer_http_port(h), hc.token && hc.token[0] ? "?token=" : "",
            hc.token ? hc.token : "");
     fflush(stdout);
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    sigaction(SIGINT, &sa, NULL);
-    sigaction(SIGTERM, &sa, NULL);
-    signal(SIGPIPE, SIG_IGN);
+    kelp_cli_on_stop(on_signal);
 
     double t = t0, wprev = wall(), next_state = 0;
     size_t next = 0;
