@@ -115,7 +115,17 @@ static void split_double(double z, uint64_t *m, int *k)
 /* Sign of D * 10^e10 - (the point halfway above z); 2 when the integers would not fit.
  * One side is always a small number shifted left (the digits D, or 2m+1): only the other
  * side is built as a big integer (the stack holds one, not two). */
-static int cmp_halfway(const char *dig, int nd, int e10, double z)
+/* The significant digits in the text: from the first nonzero digit, skipping the '.' (no copy). */
+typedef struct { const char *p, *dot; } digs;
+
+static int dig_at(const digs *g, int k)
+{
+    const char *c = g->p + k;
+    if (g->dot && c >= g->dot) c++;
+    return *c - '0';
+}
+
+static int cmp_halfway(const digs *dig, int nd, int e10, double z)
 {
     uint64_t m;
     int k;
@@ -123,7 +133,7 @@ static int cmp_halfway(const char *dig, int nd, int e10, double z)
     uint32_t d[6] = {0}; /* D: at most DEC_MAX (40) digits, 133 bits */
     int dn = 1;
     for (int i = 0; i < nd; i++) {
-        uint64_t carry = (uint32_t)(dig[i] - '0');
+        uint64_t carry = (uint32_t)dig_at(dig, i);
         for (int j = 0; j < dn; j++) {
             uint64_t t = (uint64_t)d[j] * 10 + carry;
             d[j] = (uint32_t)t;
@@ -156,7 +166,7 @@ static int cmp_halfway(const char *dig, int nd, int e10, double z)
 
 /* Round the estimate z to the double nearest D * 10^e10 (ties to even; sticky: nonzero
  * digits were dropped past the kept ones, so the decimal is a little above D * 10^e10). */
-static double refine(const char *dig, int nd, int e10, bool sticky, double z)
+static double refine(const digs *dig, int nd, int e10, bool sticky, double z)
 {
     for (int step = 0; step < 64 && isfinite(z); step++) {
         uint64_t m;
@@ -199,21 +209,27 @@ int kelp_parse_double(const char *s, size_t len, double *out)
         return KELP_OK;
     }
     /* significant digits (leading zeros skipped), at most DEC_MAX kept, the rest sticky */
-    char dig[DEC_MAX];
+    digs dig = { NULL, NULL };
+    uint64_t mant = 0; /* the first 19 of them */
     int nd = 0, e10 = 0;
     bool any = false, sticky = false;
     for (; i < len && s[i] >= '0' && s[i] <= '9'; i++) {
         any = true;
         if (nd == 0 && s[i] == '0') continue;
-        if (nd < DEC_MAX) dig[nd++] = s[i];
+        if (nd == 0) dig.p = s + i;
+        if (nd < 19) mant = mant * 10 + (uint64_t)(s[i] - '0');
+        if (nd < DEC_MAX) nd++;
         else { e10++; sticky |= s[i] != '0'; }
     }
     if (i < len && s[i] == '.') {
+        if (nd > 0) dig.dot = s + i;
         i++;
         for (; i < len && s[i] >= '0' && s[i] <= '9'; i++) {
             any = true;
             if (nd == 0 && s[i] == '0') { e10--; continue; }
-            if (nd < DEC_MAX) { dig[nd++] = s[i]; e10--; }
+            if (nd == 0) dig.p = s + i;
+            if (nd < 19) mant = mant * 10 + (uint64_t)(s[i] - '0');
+            if (nd < DEC_MAX) { nd++; e10--; }
             else sticky |= s[i] != '0';
         }
     }
@@ -229,9 +245,11 @@ int kelp_parse_double(const char *s, size_t len, double *out)
         e10 += (int)(eneg ? -ex : ex);
     }
     if (i != len) return KELP_ERR_PARSE;
-    while (nd > 0 && dig[nd - 1] == '0' && !sticky) { nd--; e10++; } /* 1.500 is 15e-1 */
-    uint64_t mant = 0;
-    for (int j = 0; j < nd && j < 19; j++) mant = mant * 10 + (uint64_t)(dig[j] - '0');
+    while (nd > 0 && dig_at(&dig, nd - 1) == 0 && !sticky) { /* 1.500 is 15e-1 */
+        if (nd <= 19) mant /= 10;
+        nd--;
+        e10++;
+    }
     double v;
     if (nd == 0 || nd + e10 < -325) {
         v = 0.0; /* zero, or below half the least subnormal (4.9e-324) */
@@ -246,7 +264,7 @@ int kelp_parse_double(const char *s, size_t len, double *out)
         int e = e10 + nd - shown, eh = e / 2; /* two factors: 10^e alone may be subnormal */
         v = (double)mant * pow(10.0, (double)eh) * pow(10.0, (double)(e - eh));
         if (v > 1.7976931348623157e308) v = 1.7976931348623157e308;
-        v = refine(dig, nd, e10, sticky, v);
+        v = refine(&dig, nd, e10, sticky, v);
     }
     *out = neg ? -v : v;
     return KELP_OK;
