@@ -46,7 +46,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     /* the input as a behaviour file */
     kelp_helm_config cfg;
     kelp_helm_config_default(&cfg);
-    kelp_ivp_errbuf e = {""};
+    kelp_diag e = {0};
     if (kelp_ivp_domain_parse(&cfg.domain, "course:0:359:36,speed:0:4:9,depth:0:100:11", &e) != 0)
         abort();
     cfg.optional[2] = true;
@@ -79,7 +79,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if (kelp_helm_iterate(&g_h, 100 + i) != 0)
                 abort();
         }
-    } else if (g_h.err[0] == '\0' && kelp_mission_parse(&m, text, size, g_nodes, 256) == 0) {
+    } else if (g_h.diag.code == KELP_OK && kelp_mission_parse(&m, text, size, g_nodes, 256) == 0) {
         abort(); /* a refused file always says why */
     }
     free(text);

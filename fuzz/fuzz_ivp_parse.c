@@ -21,7 +21,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     memcpy(buf, data, size);
     buf[size] = '\0';
     kelp_ivp_domain dom;
-    kelp_ivp_errbuf err = {""};
+    kelp_diag err = {0};
     char *save = buf;
     char *line = strsep(&save, "\n");
     if (kelp_ivp_file_domain(line, &dom, &err) != 0 && kelp_ivp_domain_parse(&dom, line, &err) != 0) {
@@ -30,7 +30,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         (void)kelp_ivp_domain_add(&dom, "speed", 0, 5, 41);
     }
     while ((line = strsep(&save, "\n")) != NULL) {
-        err.msg[0] = '\0';
+        kelp_diag_clear(&err);
         kelp_ivp_spec sp;
         if (kelp_ivp_spec_parse(&sp, line, &err) == 0 && dom.dim > 0 && dom.var[0].points <= 4096) {
             kelp_ivp_func f;
@@ -46,8 +46,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         (void)kelp_ivp_parse_shape(&dom, line, ix, &err);
         (void)kelp_ivp_parse_point(&dom, line, ix, &err);
         (void)kelp_ivp_parse_region(&dom, line, lo, hi, &err);
+#ifndef KELP_NO_ERRMSG
         if (strlen(err.msg) >= sizeof err.msg)
             abort();
+#endif
     }
     free(buf);
     return 0;

@@ -96,7 +96,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     case 7: {
         static kelp_helm_config hc;
         kelp_helm_config_default(&hc);
-        (void)kelp_helm_config_add_domain(&hc, t, &why);
+        kelp_diag hd = {0};
+        (void)kelp_helm_config_add_domain(&hc, t, &hd);
         break;
     }
     case 8: {

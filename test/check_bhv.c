@@ -637,8 +637,12 @@ START_TEST(hierarchical_modes)
 
     /* errors name the line */
     ht_setup(DOM2, NULL);
-    ck_assert_int_lt(ht_load_rc("set MODE = TWO WORDS {\n  A = 1\n}\n"), 0);
-    ck_assert_ptr_nonnull(strstr(ht_helm()->err, "mode"));
+    ck_assert_int_eq(ht_load_rc("\nset MODE = TWO WORDS {\n  A = 1\n}\n"), KELP_ERR_PARSE);
+    ck_assert_int_eq(ht_helm()->diag.code, KELP_ERR_PARSE);
+    ck_assert_int_eq(ht_helm()->diag.line, 2);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(ht_helm()->diag.msg, "mode declaration: mode value must be one word");
+#endif
 }
 END_TEST
 
@@ -688,7 +692,10 @@ START_TEST(constant_depth_needs_depth)
 {
     ht_setup(DOM2 ",depth:0:100:101", NULL);
     ck_assert_int_lt(ht_load_rc("Behavior = BHV_ConstantDepth\n{\n name = cd\n}\n"), 0);
-    ck_assert_ptr_nonnull(strstr(ht_helm()->err, "depth not set"));
+#ifndef KELP_NO_ERRMSG
+    ck_assert_ptr_nonnull(strstr(ht_helm()->diag.msg, "depth not set"));
+#endif
+    ck_assert_int_eq(ht_helm()->diag.code, KELP_ERR_PARSE);
     ht_setup(DOM2, NULL); /* no depth variable: null domain */
     ck_assert_int_lt(ht_load_rc("Behavior = BHV_ConstantDepth\n{\n depth = 5\n}\n"), 0);
 }

@@ -67,7 +67,7 @@ kelp_helm *ht_setup(const char *domain, const kelp_bhv_ops *const *types)
     kelp_helm_config cfg;
     kelp_helm_config_default(&cfg);
     if (g_tweak) g_tweak(&cfg), g_tweak = NULL;
-    kelp_ivp_errbuf e = {""};
+    kelp_diag e = {0};
     ck_assert_int_eq(kelp_ivp_domain_parse(&cfg.domain, domain, &e), 0);
     snprintf(cfg.us, sizeof cfg.us, "alder");
     cfg.sink = ht_sink;
@@ -96,7 +96,7 @@ int ht_load_rc(const char *bhv)
 void ht_load(const char *bhv)
 {
     int rc = ht_load_rc(bhv);
-    ck_assert_msg(rc == 0, "load failed: line %d: %s", g_h.err_line, g_h.err);
+    ck_assert_msg(rc == 0, "load failed: line %d: %s", g_h.diag.line, kelp_diag_text(&g_h.diag));
     kelp_helm_start(&g_h, 1000.0);
 }
 
@@ -179,7 +179,7 @@ static void probe_init(kelp_bhv *b)
     kelp_ivp_domain d;
     if (kelp_ivp_domain_sub(&b->helm->cfg.domain, "speed", &d) == 0)
         b->dom = d;
-    (void)kelp_bhv_add_info_vars(b, "PROBE_FN, PROBE_ERR, PROBE_DONE, PROBE_VEC, PROBE_INT");
+    ck_assert_int_eq(kelp_bhv_add_info_vars(b, "PROBE_FN, PROBE_ERR, PROBE_DONE, PROBE_VEC, PROBE_INT"), 0);
 }
 
 static int probe_set(kelp_bhv *b, const char *p, const char *v)
@@ -216,7 +216,7 @@ static int probe_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
         return 0;
     kelp_ivp_zaic_peak z;
     ck_assert_int_eq(kelp_ivp_zaic_peak_init(&z, &b->dom, "speed"), 0);
-    (void)kelp_ivp_zaic_peak_set_params(&z, 1.0, 0, 1, 0, 0, 100, 0);
+    ck_assert_int_eq(kelp_ivp_zaic_peak_set_params(&z, 1.0, 0, 1, 0, 0, 100, 0), 0);
     ck_assert_int_eq(kelp_ivp_zaic_peak_extract(&z, true, w->dwork, w->dwork_cap, w->out, w->out_cap, out), 0);
     return 1;
 }
@@ -550,8 +550,11 @@ START_TEST(load_errors_name_the_line)
     ht_setup(DOM2, NULL);
     int rc = ht_load_rc(g_bad[_i].text);
     ck_assert_int_lt(rc, 0);
-    ck_assert_int_eq(g_h.err_line, g_bad[_i].line);
-    ck_assert_msg(strstr(g_h.err, g_bad[_i].msg) != NULL, "error '%s' lacks '%s'", g_h.err, g_bad[_i].msg);
+    ck_assert_int_eq(g_h.diag.code, rc);
+    ck_assert_int_eq(g_h.diag.line, g_bad[_i].line);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_msg(strstr(g_h.diag.msg, g_bad[_i].msg) != NULL, "error '%s' lacks '%s'", g_h.diag.msg, g_bad[_i].msg);
+#endif
 }
 END_TEST
 
@@ -560,7 +563,10 @@ START_TEST(null_domain_refused_at_launch)
     ht_setup("course:0:359:360", NULL); /* no speed: subDomain("course,speed") is null */
     int rc = ht_load_rc("Behavior = BHV_SimpleWaypoint\n{\n name = s\n}\n");
     ck_assert_int_lt(rc, 0);
-    ck_assert_ptr_nonnull(strstr(g_h.err, "null IvP domain"));
+    ck_assert_int_eq(g_h.diag.code, KELP_ERR_STATE);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_ptr_nonnull(strstr(g_h.diag.msg, "null IvP domain"));
+#endif
 }
 END_TEST
 
@@ -1097,18 +1103,30 @@ START_TEST(domain_lines)
 {
     kelp_helm_config cfg;
     kelp_helm_config_default(&cfg);
-    const char *why = NULL;
+    kelp_diag why = {0};
     ck_assert_int_eq(kelp_helm_config_add_domain(&cfg, "course:0:359:360", &why), 0);
     ck_assert_int_eq(kelp_helm_config_add_domain(&cfg, " speed : 0 : 2 : 21 ", &why), 0);
     ck_assert_int_eq(kelp_helm_config_add_domain(&cfg, "depth:0:1000:1001:optional", &why), 0);
     ck_assert_uint_eq(cfg.domain.dim, 3);
     ck_assert_str_eq(cfg.domain.var[1].name, "speed");
     ck_assert(cfg.optional[2] && !cfg.optional[1]);
-    ck_assert_int_lt(kelp_helm_config_add_domain(&cfg, "x:0:1", &why), 0);
+    ck_assert_int_eq(why.code, KELP_OK);
+    ck_assert_int_eq(kelp_helm_config_add_domain(&cfg, "x:0:1", &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(why.code, KELP_ERR_PARSE);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(why.msg, "expected name:low:high:points[:optional]");
+#endif
+    kelp_diag_clear(&why);
+    ck_assert_int_eq(kelp_helm_config_add_domain(&cfg, "course:0:1:2", &why), KELP_ERR_EXISTS);
+    ck_assert_str_eq(kelp_diag_text(&why), kelp_strerror(KELP_ERR_EXISTS));
+    kelp_diag_clear(&why);
     ck_assert_int_lt(kelp_helm_config_add_domain(&cfg, "x:0:1:0", &why), 0);
     ck_assert_int_lt(kelp_helm_config_add_domain(&cfg, "x:0:1:2:maybe", &why), 0);
     ck_assert_int_lt(kelp_helm_config_add_domain(&cfg, "x:a:1:2", &why), 0);
-    ck_assert_ptr_nonnull(why);
+    ck_assert_int_eq(why.code, KELP_ERR_PARSE); /* first error wins: x:0:1:0's */
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(why.msg, "bad low, high or points (1..100000)");
+#endif
 }
 END_TEST
 

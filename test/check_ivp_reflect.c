@@ -9,7 +9,7 @@
 static kelp_ivp_domain mkdom(const char *s)
 {
     kelp_ivp_domain d;
-    kelp_ivp_errbuf e = {""};
+    kelp_diag e = {0};
     ck_assert_int_eq(kelp_ivp_domain_parse(&d, s, &e), 0);
     return d;
 }
@@ -457,8 +457,8 @@ START_TEST(solver_plateau_weights_normalise)
     kelp_ivp_zaic_hleq z;
     kelp_ivp_func f, g;
     ck_assert_int_eq(kelp_ivp_zaic_hleq_init(&z, KELP_IVP_ZAIC_LEQ, &d, "depth"), 0);
-    (void)kelp_ivp_zaic_hleq_set_summit(&z, 150);
-    (void)kelp_ivp_zaic_hleq_set_basewidth(&z, 60);
+    ck_assert_int_eq(kelp_ivp_zaic_hleq_set_summit(&z, 150), 0);
+    ck_assert_int_eq(kelp_ivp_zaic_hleq_set_basewidth(&z, 60), 0);
     ck_assert_int_eq(kelp_ivp_zaic_hleq_extract(&z, st, 4, &f), 0);
     kelp_ivp_problem p;
     kelp_ivp_result r;
@@ -472,7 +472,7 @@ START_TEST(solver_plateau_weights_normalise)
     }
     /* a function with pwt <= 0 does not count */
     ck_assert_int_eq(kelp_ivp_zaic_hleq_init(&z, KELP_IVP_ZAIC_HEQ, &d, "depth"), 0);
-    (void)kelp_ivp_zaic_hleq_set_summit(&z, 400);
+    ck_assert_int_eq(kelp_ivp_zaic_hleq_set_summit(&z, 400), 0);
     ck_assert_int_eq(kelp_ivp_zaic_hleq_extract(&z, st + 4, 4, &g), 0);
     g.pwt = 0;
     ck_assert_int_eq(kelp_ivp_problem_add(&p, &g), 0);
@@ -481,8 +481,8 @@ START_TEST(solver_plateau_weights_normalise)
     ck_assert_uint_eq(r.ix[0], 150);
     /* range > 100 is normalised to [0,100] before the weight: LEQ 20..500 */
     ck_assert_int_eq(kelp_ivp_zaic_hleq_init(&z, KELP_IVP_ZAIC_LEQ, &d, "depth"), 0);
-    (void)kelp_ivp_zaic_hleq_set_summit(&z, 150);
-    (void)kelp_ivp_zaic_hleq_set_minmaxutil(&z, 20, 500);
+    ck_assert_int_eq(kelp_ivp_zaic_hleq_set_summit(&z, 150), 0);
+    ck_assert_int_eq(kelp_ivp_zaic_hleq_set_minmaxutil(&z, 20, 500), 0);
     ck_assert_int_eq(kelp_ivp_zaic_hleq_extract(&z, st + 8, 4, &g), 0);
     g.pwt = 50;
     kelp_ivp_problem_init(&p, &d);
@@ -494,7 +494,7 @@ START_TEST(solver_plateau_weights_normalise)
     kelp_ivp_domain other = mkdom("depth:0:500:101");
     kelp_ivp_problem_init(&p, &other);
     ck_assert_int_eq(kelp_ivp_problem_add(&p, &f), KELP_ERR_RANGE);
-    ck_assert(p.err.msg[0] != '\0');
+    ck_assert_int_ne(p.diag.code, KELP_OK);
 }
 END_TEST
 
@@ -502,7 +502,7 @@ END_TEST
 START_TEST(file_lines)
 {
     kelp_ivp_domain d;
-    kelp_ivp_errbuf e = {""};
+    kelp_diag e = {0};
     kelp_ivp_fileline fl;
     ck_assert_int_eq(kelp_ivp_file_domain("domain course:0:359:360,speed:0:5:41", &d, &e), 0);
     ck_assert_int_eq(kelp_ivp_file_line("pwt 100 couple 50 50 peak(summit=90,basewidth=180,wrap) peak(summit=2, basewidth=1)", &d, &fl, &e), 0);
@@ -527,13 +527,34 @@ START_TEST(file_lines)
                          "pwt 5 couple 0 50 peak(summit=1) peak(summit=1)", "pwt 5 raw speed,speed 1",
                          "pwt 5 raw speed 0", "pwt 5 speed leq(summit=1) extra", "pwt 5 couple 50 50 peak(summit=1)"};
     for (unsigned i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        e.msg[0] = '\0';
+        kelp_diag_clear(&e);
         ck_assert_int_lt(kelp_ivp_file_line(bad[i], &d, &fl, &e), 0);
-        ck_assert(e.msg[0] != '\0');
+        ck_assert_int_ne(e.code, KELP_OK);
     }
-    e.msg[0] = '\0';
+    kelp_diag_clear(&e);
     ck_assert_int_lt(kelp_ivp_file_line("pwt 5 depth leq(summit=1)", &d, &fl, &e), 0);
+#ifndef KELP_NO_ERRMSG
     ck_assert(strstr(e.msg, "'depth'") != NULL);
+#endif
+    /* the diagnostic: code, the place a caller adds, and the token-naming message (first wins) */
+    kelp_diag_clear(&e);
+    ck_assert_int_eq(kelp_ivp_file_line("pwt x speed leq(summit=1)", &d, &fl, &e), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_ivp_file_line("pwt 5 depth leq(summit=1)", &d, &fl, &e), KELP_ERR_NOTFOUND);
+    ck_assert_int_eq(kelp_diag_where(&e, 3, 0), KELP_ERR_PARSE);
+    ck_assert_int_eq(e.code, KELP_ERR_PARSE);
+    ck_assert_int_eq(e.line, 3);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(kelp_diag_text(&e), "file: bad pwt 'x'");
+#else
+    ck_assert_str_eq(kelp_diag_text(&e), kelp_strerror(KELP_ERR_PARSE));
+#endif
+    kelp_diag_clear(&e);
+    ck_assert_int_eq(kelp_ivp_spec_parse(&fl.a, "peak(summit=1,summit=2)", &e), KELP_ERR_PARSE);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(e.msg, "spec: repeated parameter 'summit'");
+#endif
+    ck_assert_int_eq(kelp_ivp_spec_parse(&fl.a, "peak(summit=1)", NULL), 0);
+    ck_assert_int_eq(kelp_ivp_spec_parse(&fl.a, "peak(", NULL), KELP_ERR_PARSE);
     const char *badp[] = {"0 40 0", "0 41 0 1 0 0 0", "5 4 0 1 0 0 0", "0 40 0 1 a 0 0", "0 40 0 1 0 0 0 9"};
     ck_assert_int_eq(kelp_ivp_func_init(&f, &sub, st, 4), 0);
     for (unsigned i = 0; i < sizeof badp / sizeof badp[0]; i++)

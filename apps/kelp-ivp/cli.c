@@ -30,10 +30,10 @@ int kivp_usage(void)
     return kelp_cli_error(&cli, "wrong arguments");
 }
 
-int kivp_fail(const char *where, const kelp_ivp_errbuf *e, int rc)
+int kivp_fail(const char *where, const kelp_diag *d, int rc)
 {
     fprintf(stderr, "kelp-ivp: %s%s%s\n", where ? where : "", where ? ": " : "",
-            e && e->msg[0] ? e->msg : kelp_strerror(rc));
+            d && d->code != KELP_OK ? kelp_diag_text(d) : kelp_strerror(rc));
     return 1;
 }
 
@@ -49,14 +49,14 @@ void *kivp_xcalloc(size_t n, size_t sz)
 
 /* Build one spec over var of dom into freshly allocated storage. */
 int kivp_build_spec(const kelp_ivp_spec *sp, const kelp_ivp_domain *dom, const char *var, kelp_ivp_func *f,
-                      kelp_ivp_errbuf *err)
+                      kelp_diag *d)
 {
     size_t cap = kelp_ivp_spec_max_pieces(sp, dom, var);
     int ix = kelp_ivp_domain_index(dom, var);
     size_t wl = ix >= 0 ? dom->var[ix].points : 1;
     kelp_ivp_piece *st = kivp_xcalloc(cap, sizeof *st);
     double *work = kivp_xcalloc(wl, sizeof *work);
-    int rc = kelp_ivp_spec_build(sp, dom, var, work, wl, st, cap, f, err);
+    int rc = kelp_ivp_spec_build(sp, dom, var, work, wl, st, cap, f, d);
     free(work);
     if (rc)
         free(st);
@@ -93,7 +93,7 @@ static int cmd_eval(int argc, char **argv)
 {
     if (argc != 4)
         return kivp_usage();
-    kelp_ivp_errbuf err = {""};
+    kelp_diag err = {0};
     kelp_ivp_domain dom;
     kelp_ivp_spec sp;
     int rc = kelp_ivp_domain_parse(&dom, argv[2], &err);
@@ -126,18 +126,18 @@ static int parse_weight(const char *s, double *w, const char *what)
 
 /* Couple crs (over var vc) and spd (over vs) with weights, normalised to [0,100]. */
 int kivp_build_couple(const kelp_ivp_domain *dom, const kelp_ivp_spec *a, const kelp_ivp_spec *b, double wc, double ws,
-                        kelp_ivp_func *out, kelp_ivp_errbuf *err)
+                        kelp_ivp_func *out, kelp_diag *d)
 {
     int vc, vs;
     if (kelp_ivp_couple_vars(dom, &vc, &vs)) {
-        snprintf(err->msg, sizeof err->msg, "couple needs a domain with two variables");
+        (void)kelp_fail(d, KELP_ERR_RANGE, "couple needs a domain with two variables");
         return KELP_ERR_RANGE;
     }
     kelp_ivp_func fc, fs;
-    int rc = kivp_build_spec(a, dom, dom->var[vc].name, &fc, err);
+    int rc = kivp_build_spec(a, dom, dom->var[vc].name, &fc, d);
     if (rc)
         return rc;
-    if ((rc = kivp_build_spec(b, dom, dom->var[vs].name, &fs, err))) {
+    if ((rc = kivp_build_spec(b, dom, dom->var[vs].name, &fs, d))) {
         free(fc.pcs);
         return rc;
     }
@@ -148,7 +148,7 @@ int kivp_build_couple(const kelp_ivp_domain *dom, const kelp_ivp_spec *a, const 
     free(fs.pcs);
     if (rc) {
         free(st);
-        snprintf(err->msg, sizeof err->msg, "couple failed: %s", kelp_strerror(rc));
+        (void)kelp_failf(d, rc, "couple failed: %s", kelp_strerror(rc));
     }
     return rc;
 }
@@ -157,7 +157,7 @@ static int cmd_couple(int argc, char **argv)
 {
     if (argc != 7)
         return kivp_usage();
-    kelp_ivp_errbuf err = {""};
+    kelp_diag err = {0};
     kelp_ivp_domain dom;
     kelp_ivp_spec a, b;
     double wc, ws;

@@ -82,7 +82,7 @@ int kivp_cmd_solve(int argc, char **argv, long repeat)
     char *cur = text;
     unsigned lineno = 0;
     char where[512];
-    kelp_ivp_errbuf err = {""};
+    kelp_diag err = {0};
     kelp_ivp_domain dom;
     int rc, status = 1;
     size_t nf = 0;
@@ -163,7 +163,7 @@ int kivp_cmd_solve(int argc, char **argv, long repeat)
             kelp_ivp_problem_init(prob, &dom);
             for (size_t i = 0; i < nf; i++) {
                 if ((rc = kelp_ivp_problem_add(prob, &fs[i]))) {
-                    kivp_fail(path, &prob->err, rc);
+                    kivp_fail(path, &prob->diag, rc);
                     free(prob);
                     free(work);
                     goto out;
@@ -174,7 +174,7 @@ int kivp_cmd_solve(int argc, char **argv, long repeat)
                 work = kivp_xcalloc(wsz, 1);
             }
             if ((rc = kelp_ivp_solve(prob, work, wsz, &res))) {
-                kivp_fail(path, &prob->err, rc);
+                kivp_fail(path, &prob->diag, rc);
                 free(prob);
                 free(work);
                 goto out;

@@ -82,11 +82,12 @@ static int startup(kelp_app *app, void *st)
     cfg.sink = sink;
     cfg.user = a;
     cfg.cpu_clock = cpu_seconds;
-    const char *why = NULL;
+    kelp_diag dd = {0};
     char buf[256];
     for (const kelp_mission_node *n = NULL; (n = kelp_app_param_next(app, "Domain", n)) != NULL;)
-        if (kelp_mission_copy(n, buf, sizeof buf) != 0 || kelp_helm_config_add_domain(&cfg, buf, &why) < 0)
-            return kelp_app_config_error(app, n, "Domain '%.*s': %s", (int)n->vlen, n->val, why ? why : "too long");
+        if (kelp_mission_copy(n, buf, sizeof buf) != 0 || kelp_helm_config_add_domain(&cfg, buf, &dd) < 0)
+            return kelp_app_config_error(app, n, "Domain '%.*s': %s", (int)n->vlen, n->val,
+                                         dd.code != KELP_OK ? kelp_diag_text(&dd) : "too long");
     if (cfg.domain.dim == 0)
         return kelp_app_config_error(app, NULL, "ProcessConfig = %s needs Domain = name:low:high:points lines",
                                      kelp_app_name(app));
@@ -142,8 +143,8 @@ static int startup(kelp_app *app, void *st)
             return kelp_app_config_error(app, n, "behaviour file: %s", mf.error);
         rc = kelp_helm_load_bhv(a->h, &mf.m);
         if (rc < 0) {
-            fprintf(stderr, "%s:%d: %s\n", a->files[a->nfiles], a->h->err_line, a->h->err);
-            KELP_IGNORE(kelp_app_config_error(app, n, "%s:%d: %s", a->files[a->nfiles], a->h->err_line, a->h->err));
+            fprintf(stderr, "%s:%d: %s\n", a->files[a->nfiles], a->h->diag.line, kelp_diag_text(&a->h->diag));
+            KELP_IGNORE(kelp_app_config_error(app, n, "%s:%d: %s", a->files[a->nfiles], a->h->diag.line, kelp_diag_text(&a->h->diag)));
             kelp_mission_free(&mf);
             return -1;
         }
@@ -154,7 +155,7 @@ static int startup(kelp_app *app, void *st)
         return kelp_app_config_error(app, NULL, "ProcessConfig = %s needs a Behaviors = file.bhv line", kelp_app_name(app));
     if (kelp_helm_configured(a->h) < 0) {
         const char *f = a->files[0];
-        return kelp_app_config_error(app, NULL, "%s:%d: %s", f, a->h->err_line, a->h->err);
+        return kelp_app_config_error(app, NULL, "%s:%d: %s", f, a->h->diag.line, kelp_diag_text(&a->h->diag));
     }
     printf("The IvP Helm (pHelmIvP) is starting...\nNumber of behavior files: %u\n", a->nfiles);
     for (unsigned i = 0; i < a->h->nbhv; i++)

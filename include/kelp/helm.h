@@ -385,7 +385,7 @@ struct kelp_bhv {
 /** Post end flags (and inactive flags); completed from the next iteration unless perpetual. */
 void kelp_bhv_set_complete(kelp_bhv *b);
 /** addInfoVars("NAV_X, NAV_Y"): one or comma-separated; duplicates ignored. <0 when full. */
-int kelp_bhv_add_info_vars(kelp_bhv *b, const char *names);
+KELP_MUST_CHECK int kelp_bhv_add_info_vars(kelp_bhv *b, const char *names);
 bool kelp_bhv_buf_double(const kelp_bhv *b, const char *var, double *out);
 bool kelp_bhv_buf_string(const kelp_bhv *b, const char *var, char *buf, size_t cap);
 double kelp_bhv_buf_time(const kelp_bhv *b, const char *var);
@@ -404,7 +404,7 @@ void kelp_bhv_post_warning(kelp_bhv *b, const char *msg);
 /** postEMessage: BHV_ERROR = "<name>: <msg>" (repeatable); state_ok=false -> helm all-stop. */
 void kelp_bhv_post_error(kelp_bhv *b, const char *msg);
 /** Record why a parameter was refused (first wins) and return KELP_ERR_PARSE. */
-int kelp_bhv_fail(kelp_bhv *b, const char *why);
+KELP_MUST_CHECK int kelp_bhv_fail(kelp_bhv *b, const char *why);
 
 /** setParam as the helm applies it: general parameters (section 4.2) first, then the type's.
  *  param is matched case-insensitively. 0 or <0 (b->fail says why). */
@@ -479,8 +479,9 @@ typedef struct kelp_helm_config {
 } kelp_helm_config;
 
 void kelp_helm_config_default(kelp_helm_config *cfg);
-/** Add one "Domain = name:low:high:points[:optional]" line to cfg. @return 0, or <0 with *why. */
-KELP_MUST_CHECK int kelp_helm_config_add_domain(kelp_helm_config *cfg, const char *spec, const char **why);
+/** Add one "Domain = name:low:high:points[:optional]" line to cfg. @return 0, or <0 with the
+ *  reason in d (NULL allowed). */
+KELP_MUST_CHECK int kelp_helm_config_add_domain(kelp_helm_config *cfg, const char *spec, kelp_diag *d);
 
 /** Storage of one helm: pieces of all functions of one iteration (pool), scratch pieces,
  *  doubles and priority-queue entries for builders, and the solver's work. A Reflector
@@ -599,8 +600,7 @@ struct kelp_helm {
     unsigned last_cnt[5];              /* last IVPHELM_BHV_{,ACTIVE_,RUNNING_,IDLE_,DISABLED_}CNT posted + 1 */
     double last_engaged_post;          /* buffer time of the last IVPHELM_ENGAGED */
     bool last_engaged;
-    char err[192];                     /**< configuration error text (first wins) */
-    int err_line;
+    kelp_diag diag;                    /**< configuration failure (first wins): code, .bhv line, reason */
     struct {                        /* workspace of one iteration's postings (keeps the stack small) */
         char buf[KELP_HELM_MAX_SVAL], dom[KELP_HELM_MAX_SVAL / 2];
         char lists[4][256], tmp[256];
@@ -622,9 +622,9 @@ KELP_MUST_CHECK int kelp_helm_add(kelp_helm *h, const char *type, kelp_bhv **out
 KELP_MUST_CHECK int kelp_helm_add_init(kelp_helm *h, const char *var, const char *value, bool defer);
 /** Load a parsed .bhv file: "initialize VAR = value" lines and "Behavior = BHV_X { ... }"
  *  blocks. Any bad line (unknown type, unknown or malformed parameter, other top-level
- *  lines) refuses the file: KELP_ERR_PARSE with h->err / h->err_line. */
+ *  lines) refuses the file: KELP_ERR_PARSE with the reason and .bhv line in h->diag. */
 KELP_MUST_CHECK int kelp_helm_load_bhv(kelp_helm *h, const kelp_mission *m);
-/** Finish configuration: params_done of every behaviour, domain checks. <0 with h->err. */
+/** Finish configuration: params_done of every behaviour, domain checks. <0 with h->diag. */
 KELP_MUST_CHECK int kelp_helm_configured(kelp_helm *h);
 /** Start: buffer time 0 = now; publish the (non-deferred) initialize values to the sink and
  *  the buffer. */

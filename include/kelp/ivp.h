@@ -9,6 +9,8 @@
  * re-entrant on distinct objects. Builders (ZAIC, Reflector) follow the seed's error model:
  * a fatal configuration error sets ok=false for good and extraction then fails with
  * KELP_ERR_STATE; warnings accumulate in warn[] (fatal or not, joined with " # ").
+ * The text parsers and the solver say why they failed through a kelp_diag (err.h; NULL
+ * allowed, first error wins): the message names the bad token, "what 'token'".
  *
  * Representation (as in MOOS-IvP's PDMap/IvPBox): a piece is a box of inclusive domain INDEX
  * bounds, one [lo,hi] per variable of the function's domain, with the linear interior
@@ -27,13 +29,6 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/* ------------------------------------------------------------------ errors */
-
-/** First-error-wins message holder used by the parsers and the solver. */
-typedef struct kelp_ivp_errbuf {
-    char msg[160];  /**< "" when no error; else text naming the bad token */
-} kelp_ivp_errbuf;
 
 /* ------------------------------------------------------------------ domain */
 
@@ -75,7 +70,7 @@ KELP_MUST_CHECK int kelp_ivp_domain_sub(const kelp_ivp_domain *d, const char *na
 /** True when every variable of sub is in d with exactly equal low/high/points (proper sub-domain). */
 bool kelp_ivp_domain_is_sub(const kelp_ivp_domain *sub, const kelp_ivp_domain *d);
 /** Parse "name:low:high:points[,name:low:high:points]..." (blanks around tokens allowed). */
-KELP_MUST_CHECK int kelp_ivp_domain_parse(kelp_ivp_domain *d, const char *s, kelp_ivp_errbuf *err);
+KELP_MUST_CHECK int kelp_ivp_domain_parse(kelp_ivp_domain *d, const char *s, kelp_diag *diag);
 
 /* ------------------------------------------------------------------ functions */
 
@@ -136,20 +131,20 @@ typedef struct kelp_ivp_zaic_peak {
 
 /** ZAIC_PEAK(domain, var). Component 0: summit=0, widths 0, summitdelta 0, min/max 0/100.
  * A missing variable is fatal (ok=false, returns KELP_ERR_NOTFOUND). */
-int kelp_ivp_zaic_peak_init(kelp_ivp_zaic_peak *z, const kelp_ivp_domain *dom, const char *var);
+KELP_MUST_CHECK int kelp_ivp_zaic_peak_init(kelp_ivp_zaic_peak *z, const kelp_ivp_domain *dom, const char *var);
 /** addComponent(): returns the new index (1 on the first call) or KELP_ERR_NOSPACE (fatal).
  * New component: summit=0, peakwidth=0, basewidth=0, summitdelta=50, minutil=0, maxutil=100. */
 int kelp_ivp_zaic_peak_add_component(kelp_ivp_zaic_peak *z);
 /* Setters return 0 or a negative code; a bad index is fatal (KELP_ERR_RANGE). A summit outside the
  * domain is kept as given (so summitinsist can act) with a warning. Negative widths are clipped to 0
  * with a warning. summitdelta < 0 and min >= max are fatal; summitdelta > max-min is clipped. */
-int kelp_ivp_zaic_peak_set_summit(kelp_ivp_zaic_peak *z, double v, unsigned idx);
-int kelp_ivp_zaic_peak_set_peakwidth(kelp_ivp_zaic_peak *z, double v, unsigned idx);
-int kelp_ivp_zaic_peak_set_basewidth(kelp_ivp_zaic_peak *z, double v, unsigned idx);
-int kelp_ivp_zaic_peak_set_summitdelta(kelp_ivp_zaic_peak *z, double v, unsigned idx);
-int kelp_ivp_zaic_peak_set_minmaxutil(kelp_ivp_zaic_peak *z, double min, double max, unsigned idx);
+KELP_MUST_CHECK int kelp_ivp_zaic_peak_set_summit(kelp_ivp_zaic_peak *z, double v, unsigned idx);
+KELP_MUST_CHECK int kelp_ivp_zaic_peak_set_peakwidth(kelp_ivp_zaic_peak *z, double v, unsigned idx);
+KELP_MUST_CHECK int kelp_ivp_zaic_peak_set_basewidth(kelp_ivp_zaic_peak *z, double v, unsigned idx);
+KELP_MUST_CHECK int kelp_ivp_zaic_peak_set_summitdelta(kelp_ivp_zaic_peak *z, double v, unsigned idx);
+KELP_MUST_CHECK int kelp_ivp_zaic_peak_set_minmaxutil(kelp_ivp_zaic_peak *z, double min, double max, unsigned idx);
 /** setParams(): summit, widths, then min/max, then summitdelta (clipped to the new range). */
-int kelp_ivp_zaic_peak_set_params(kelp_ivp_zaic_peak *z, double summit, double pwidth, double bwidth,
+KELP_MUST_CHECK int kelp_ivp_zaic_peak_set_params(kelp_ivp_zaic_peak *z, double summit, double pwidth, double bwidth,
                                   double sdelta, double minutil, double maxutil, unsigned idx);
 /** Raw (unpieced) value of index ix: components combined by max (use_max) or sum. No insist. */
 double kelp_ivp_zaic_peak_value(const kelp_ivp_zaic_peak *z, uint32_t ix, bool use_max);
@@ -177,15 +172,15 @@ typedef struct kelp_ivp_zaic_hleq {
 
 #define KELP_IVP_ZAIC_HLEQ_MAX_PIECES 4
 
-int kelp_ivp_zaic_hleq_init(kelp_ivp_zaic_hleq *z, kelp_ivp_zaic_kind kind, const kelp_ivp_domain *dom, const char *var);
+KELP_MUST_CHECK int kelp_ivp_zaic_hleq_init(kelp_ivp_zaic_hleq *z, kelp_ivp_zaic_kind kind, const kelp_ivp_domain *dom, const char *var);
 /** Always succeeds; a summit outside the domain is clipped to it with a warning. */
-int kelp_ivp_zaic_hleq_set_summit(kelp_ivp_zaic_hleq *z, double v);
+KELP_MUST_CHECK int kelp_ivp_zaic_hleq_set_summit(kelp_ivp_zaic_hleq *z, double v);
 /** basewidth < 0 is fatal. */
-int kelp_ivp_zaic_hleq_set_basewidth(kelp_ivp_zaic_hleq *z, double v);
+KELP_MUST_CHECK int kelp_ivp_zaic_hleq_set_basewidth(kelp_ivp_zaic_hleq *z, double v);
 /** min >= max is fatal. */
-int kelp_ivp_zaic_hleq_set_minmaxutil(kelp_ivp_zaic_hleq *z, double min, double max);
+KELP_MUST_CHECK int kelp_ivp_zaic_hleq_set_minmaxutil(kelp_ivp_zaic_hleq *z, double min, double max);
 /** summitdelta < 0 is clipped to 0 with a warning. */
-int kelp_ivp_zaic_hleq_set_summitdelta(kelp_ivp_zaic_hleq *z, double v);
+KELP_MUST_CHECK int kelp_ivp_zaic_hleq_set_summitdelta(kelp_ivp_zaic_hleq *z, double v);
 /** 2 pieces when basewidth rounds to 0 index steps, else 3 (fewer at the domain edges), +1 with summitdelta. */
 KELP_MUST_CHECK int kelp_ivp_zaic_hleq_extract(const kelp_ivp_zaic_hleq *z, kelp_ivp_piece *store, size_t cap, kelp_ivp_func *out);
 
@@ -204,12 +199,12 @@ KELP_MUST_CHECK int kelp_ivp_couple(const kelp_ivp_func *a, double wa, const kel
 /** Parse a seed ch.9 string "discrete @ x:5,y:5" / "native @ x:5,y:25" as a piece SHAPE (edge
  * lengths in points per variable; native lengths are divided by delta and rounded, .5 up).
  * Every domain variable must be given exactly once. Result: edge[d] >= 1 points. */
-KELP_MUST_CHECK int kelp_ivp_parse_shape(const kelp_ivp_domain *d, const char *s, uint32_t *edge, kelp_ivp_errbuf *err);
+KELP_MUST_CHECK int kelp_ivp_parse_shape(const kelp_ivp_domain *d, const char *s, uint32_t *edge, kelp_diag *diag);
 /** Parse a POINT ("discrete @ x:22,y:12" index, "native @ x:22,y:10" nearest point). */
-KELP_MUST_CHECK int kelp_ivp_parse_point(const kelp_ivp_domain *d, const char *s, uint32_t *ix, kelp_ivp_errbuf *err);
+KELP_MUST_CHECK int kelp_ivp_parse_point(const kelp_ivp_domain *d, const char *s, uint32_t *ix, kelp_diag *diag);
 /** Parse a REGION ("native @ x:10:24,y:-25:20", native bounds are strict: lo -> first point >= lo,
  * hi -> last point <= hi; extents beyond the domain are clipped). KELP_ERR_RANGE for an empty region. */
-KELP_MUST_CHECK int kelp_ivp_parse_region(const kelp_ivp_domain *d, const char *s, int32_t *lo, int32_t *hi, kelp_ivp_errbuf *err);
+KELP_MUST_CHECK int kelp_ivp_parse_region(const kelp_ivp_domain *d, const char *s, int32_t *lo, int32_t *hi, kelp_diag *diag);
 
 /* ------------------------------------------------------------------ Reflector */
 
@@ -241,14 +236,14 @@ typedef struct kelp_ivp_reflector {
 /** Priority-queue entry used in the Reflector's work storage. */
 typedef struct kelp_ivp_pq_entry { double key; uint32_t piece; } kelp_ivp_pq_entry;
 
-int kelp_ivp_reflector_init(kelp_ivp_reflector *r, const kelp_ivp_domain *dom, kelp_ivp_aof_fn aof, void *user);
+KELP_MUST_CHECK int kelp_ivp_reflector_init(kelp_ivp_reflector *r, const kelp_ivp_domain *dom, kelp_ivp_aof_fn aof, void *user);
 /** setParam(name, value) with the seed's names: uniform_amount, uniform_piece, strict_range,
  * refine_region, refine_piece, refine_point (accepted and validated; it does not change the build),
  * smart_amount, smart_percent, smart_thresh, auto_peak, auto_peak_max_pcs. Names and values are
  * case-insensitive and trimmed. A bad name or value is fatal (ok=false) and returns
  * KELP_ERR_NOTFOUND / KELP_ERR_PARSE / KELP_ERR_RANGE / KELP_ERR_STATE (pairing). */
-int kelp_ivp_reflector_set_param(kelp_ivp_reflector *r, const char *name, const char *value);
-int kelp_ivp_reflector_set_paramf(kelp_ivp_reflector *r, const char *name, double value);
+KELP_MUST_CHECK int kelp_ivp_reflector_set_param(kelp_ivp_reflector *r, const char *name, const char *value);
+KELP_MUST_CHECK int kelp_ivp_reflector_set_paramf(kelp_ivp_reflector *r, const char *name, double value);
 /** The uniform piece the piece-count heuristic (Listing 26, integer ratio) picks for `amount`. */
 void kelp_ivp_uniform_piece(const kelp_ivp_domain *d, int amount, uint32_t *edge);
 /** Upper bound on the pieces create() makes with these arguments (see create); when auto-peak
@@ -270,7 +265,7 @@ typedef struct kelp_ivp_problem {
     kelp_ivp_domain dom;
     const kelp_ivp_func *f[KELP_IVP_MAX_FUNCS];
     unsigned nf;
-    kelp_ivp_errbuf err;
+    kelp_diag diag;                  /**< why problem_add / solve failed (cleared by problem_init) */
 } kelp_ivp_problem;
 
 typedef struct kelp_ivp_result {
@@ -310,12 +305,12 @@ typedef struct kelp_ivp_spec {
  * component and trailing text are errors naming the token. Omitted keys take the builder
  * defaults (summitdelta 50 on added peak components, as the seed's addComponent). The flags
  * insist/wrap/sum default to off in the text form. */
-KELP_MUST_CHECK int kelp_ivp_spec_parse(kelp_ivp_spec *sp, const char *s, kelp_ivp_errbuf *err);
+KELP_MUST_CHECK int kelp_ivp_spec_parse(kelp_ivp_spec *sp, const char *s, kelp_diag *diag);
 /** Build the spec's function over variable var of dom. work: kelp_ivp_spec_work_len doubles. */
 size_t kelp_ivp_spec_max_pieces(const kelp_ivp_spec *sp, const kelp_ivp_domain *dom, const char *var);
 KELP_MUST_CHECK int kelp_ivp_spec_build(const kelp_ivp_spec *sp, const kelp_ivp_domain *dom, const char *var, double *work,
                                         size_t work_len, kelp_ivp_piece *store, size_t cap, kelp_ivp_func *out,
-                                        kelp_ivp_errbuf *err);
+                                        kelp_diag *diag);
 
 /** One function line of a solve FILE. */
 typedef struct kelp_ivp_fileline {
@@ -330,13 +325,13 @@ typedef struct kelp_ivp_fileline {
 } kelp_ivp_fileline;
 
 /** Parse "domain DOMAIN" (the first non-blank, non-# line of a FILE). */
-KELP_MUST_CHECK int kelp_ivp_file_domain(const char *line, kelp_ivp_domain *dom, kelp_ivp_errbuf *err);
+KELP_MUST_CHECK int kelp_ivp_file_domain(const char *line, kelp_ivp_domain *dom, kelp_diag *diag);
 /** Parse one function line "pwt W couple WC WS CRS SPD" | "pwt W VAR SPEC" | "pwt W raw VARS N". */
 KELP_MUST_CHECK int kelp_ivp_file_line(const char *line, const kelp_ivp_domain *dom, kelp_ivp_fileline *fl,
-                                       kelp_ivp_errbuf *err);
+                                       kelp_diag *diag);
 /** Parse one raw piece line "lo hi [lo hi ...] slope [slope ...] constant" for nvars variables
  * and append it (translated to the function's variables, which are fl->vars) to f. */
-KELP_MUST_CHECK int kelp_ivp_file_piece(const char *line, unsigned nvars, kelp_ivp_func *f, kelp_ivp_errbuf *err);
+KELP_MUST_CHECK int kelp_ivp_file_piece(const char *line, unsigned nvars, kelp_ivp_func *f, kelp_diag *diag);
 /** The two variables a couple line applies to: "course" and "speed" when the domain has both,
  * else variables 0 and 1. KELP_ERR_RANGE when the domain has fewer than two variables. */
 KELP_MUST_CHECK int kelp_ivp_couple_vars(const kelp_ivp_domain *dom, int *vc, int *vs);

@@ -34,7 +34,7 @@ static void avd_init(kelp_bhv *b)
     a->decay_end = 30;
     a->on_no_contact_ok = true;
     a->strict_ignore = -1;
-    (void)kelp_bhv_add_info_vars(b, "NAV_X, NAV_Y, NAV_SPEED, NAV_HEADING, NODE_REPORT");
+    hx_ignore(kelp_bhv_add_info_vars(b, "NAV_X, NAV_Y, NAV_SPEED, NAV_HEADING, NODE_REPORT")); /* a constructor cannot fail: a full list only skips the registration */
 }
 
 static int set_bool(const char *v, bool *out)
@@ -536,11 +536,12 @@ static int build(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     if (kelp_cpa_fast_init(&f.cpa, &cn, a->osx, a->osy, a->time_on_leg) != KELP_OK) return KELP_ERR_ARG;
     size_t cap = w->out_cap < w->pq_cap ? w->out_cap : w->pq_cap;
     kelp_ivp_reflector r;
-    (void)kelp_ivp_reflector_init(&r, &b->dom, kelp_bhv_avoid_aof_eval, &f);
+    /* a failed init leaves r.ok false: kelp_ivp_reflector_create then fails with KELP_ERR_STATE */
+    hx_ignore(kelp_ivp_reflector_init(&r, &b->dom, kelp_bhv_avoid_aof_eval, &f));
     int amount = -1;
     if (kelp_ivp_reflector_set_param(&r, "uniform_piece", AVD_PIECE) != 0 ||
         kelp_ivp_reflector_max_pieces(&r, -1, -1) > cap) { /* a small pool: as many pieces as fit */
-        (void)kelp_ivp_reflector_init(&r, &b->dom, kelp_bhv_avoid_aof_eval, &f);
+        hx_ignore(kelp_ivp_reflector_init(&r, &b->dom, kelp_bhv_avoid_aof_eval, &f));
         amount = (int)(cap > 2 ? cap / 2 : 1);
     }
     int rc = kelp_ivp_reflector_create(&r, amount, -1, 0, w->out, cap, w->pq, kelp_ivp_reflector_work_len(cap), out);

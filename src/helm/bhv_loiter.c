@@ -20,7 +20,7 @@ static void loiter_init(kelp_bhv *b)
     s->clockwise = 1;
     s->min_dist = INFINITY;
     bhv_hints_default(&s->hints);
-    (void)kelp_bhv_add_info_vars(b, "NAV_X, NAV_Y");
+    hx_ignore(kelp_bhv_add_info_vars(b, "NAV_X, NAV_Y")); /* a constructor cannot fail: a full list only skips the registration */
 }
 
 static double signed_area(const kelp_bhv_pt *p, unsigned n)

@@ -17,7 +17,7 @@ static void swpt_init(kelp_bhv *b)
     s->reflector = false;
     s->osx = s->osy = 0;
     s->nextpt.x = s->nextpt.y = 0;
-    (void)kelp_bhv_add_info_vars(b, "NAV_X, NAV_Y");
+    hx_ignore(kelp_bhv_add_info_vars(b, "NAV_X, NAV_Y")); /* a constructor cannot fail: a full list only skips the registration */
 }
 
 /* Listing 10 */
@@ -128,7 +128,7 @@ static int build_reflector(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *
     if (a.max_speed <= 0)
         return KELP_ERR_RANGE; /* initialize() fails */
     kelp_ivp_reflector r;
-    (void)kelp_ivp_reflector_init(&r, &b->dom, kelp_bhv_swpt_aof_eval, &a);
+    hx_ignore(kelp_ivp_reflector_init(&r, &b->dom, kelp_bhv_swpt_aof_eval, &a));
     /* the Reflector wants as many work entries as piece capacity */
     size_t cap = w->out_cap < w->pq_cap ? w->out_cap : w->pq_cap;
     int rc = kelp_ivp_reflector_create(&r, SWPT_REFLECTOR_PIECES, -1, 0, w->out, cap, w->pq, kelp_ivp_reflector_work_len(cap), out);

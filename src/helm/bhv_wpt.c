@@ -49,7 +49,7 @@ static void wpt_init(kelp_bhv *b)
     bhv_hints_default(&s->hints);
     s->odo_virgin = true;
     wpt_reset(s);
-    (void)kelp_bhv_add_info_vars(b, "NAV_X, NAV_Y");
+    hx_ignore(kelp_bhv_add_info_vars(b, "NAV_X, NAV_Y")); /* a constructor cannot fail: a full list only skips the registration */
 }
 
 static int add_flag(kelp_bhv_flag *arr, unsigned *n, unsigned cap, const char *v)

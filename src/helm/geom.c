@@ -148,11 +148,11 @@ int bhv_zaic1(kelp_bhv *b, const kelp_helm_work *w, const char *var, double summ
               bool wrap, kelp_ivp_func *out)
 {
     kelp_ivp_zaic_peak z;
-    (void)kelp_ivp_zaic_peak_init(&z, &b->dom, var);
-    (void)kelp_ivp_zaic_peak_set_summit(&z, summit, 0);
-    (void)kelp_ivp_zaic_peak_set_peakwidth(&z, pw, 0);
-    (void)kelp_ivp_zaic_peak_set_basewidth(&z, bw, 0);
-    (void)kelp_ivp_zaic_peak_set_summitdelta(&z, sd, 0);
+    hx_ignore(kelp_ivp_zaic_peak_init(&z, &b->dom, var));
+    hx_ignore(kelp_ivp_zaic_peak_set_summit(&z, summit, 0));
+    hx_ignore(kelp_ivp_zaic_peak_set_peakwidth(&z, pw, 0));
+    hx_ignore(kelp_ivp_zaic_peak_set_basewidth(&z, bw, 0));
+    hx_ignore(kelp_ivp_zaic_peak_set_summitdelta(&z, sd, 0));
     z.wrap = wrap;
     if (!z.ok) {
         char msg[KELP_IVP_MAX_WARN + 48];

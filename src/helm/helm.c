@@ -2,6 +2,7 @@
  * behaviour set, .bhv loading, the per-iteration call sequence, the duplicate filter and the
  * decision. */
 #include <math.h>
+#include <stdarg.h>
 #include <string.h>
 #include "helm_int.h"
 
@@ -15,7 +16,7 @@ void kelp_helm_config_default(kelp_helm_config *cfg)
     cfg->allow_park = true;
 }
 
-int kelp_helm_config_add_domain(kelp_helm_config *cfg, const char *spec, const char **why)
+int kelp_helm_config_add_domain(kelp_helm_config *cfg, const char *spec, kelp_diag *d)
 {
     const char *tok[6];
     size_t len[6];
@@ -34,44 +35,39 @@ int kelp_helm_config_add_domain(kelp_helm_config *cfg, const char *spec, const c
     double lo, hi;
     long pts;
     char name[KELP_MAX_NAME];
-    *why = NULL;
-    if (nt < 4 || nt > 5 || len[0] == 0 || len[0] >= sizeof name) {
-        *why = "expected name:low:high:points[:optional]";
-        return KELP_ERR_PARSE;
-    }
+    if (nt < 4 || nt > 5 || len[0] == 0 || len[0] >= sizeof name)
+        return kelp_fail(d, KELP_ERR_PARSE, "expected name:low:high:points[:optional]");
     if (kelp_parse_double(tok[1], len[1], &lo) || kelp_parse_double(tok[2], len[2], &hi) ||
-        kelp_parse_long(tok[3], len[3], &pts) || pts < 1 || pts > 100000) {
-        *why = "bad low, high or points (1..100000)";
-        return KELP_ERR_PARSE;
-    }
-    if (nt == 5 && (len[4] != 8 || strncmp(tok[4], "optional", 8) != 0)) {
-        *why = "the fifth field may only be 'optional'";
-        return KELP_ERR_PARSE;
-    }
+        kelp_parse_long(tok[3], len[3], &pts) || pts < 1 || pts > 100000)
+        return kelp_fail(d, KELP_ERR_PARSE, "bad low, high or points (1..100000)");
+    if (nt == 5 && (len[4] != 8 || strncmp(tok[4], "optional", 8) != 0))
+        return kelp_fail(d, KELP_ERR_PARSE, "the fifth field may only be 'optional'");
     memcpy(name, tok[0], len[0]);
     name[len[0]] = 0;
-    unsigned d = cfg->domain.dim;
+    unsigned v = cfg->domain.dim;
     int rc = kelp_ivp_domain_add(&cfg->domain, name, lo, hi, (uint32_t)pts);
-    if (rc < 0) {
-        *why = kelp_strerror(rc);
-        return rc;
-    }
-    cfg->optional[d] = nt == 5;
+    if (rc < 0)
+        return kelp_diag_set(d, rc, NULL); /* the text: kelp_strerror(rc) */
+    cfg->optional[v] = nt == 5;
     return KELP_OK;
 }
 
-/* First error wins: h->err = a b c (NULL parts skipped). */
-static int helm_fail(kelp_helm *h, int line, int code, const char *a, const char *b, const char *c)
+int helm_fail(kelp_helm *h, int line, int code, ...)
 {
-    if (!h->err[0]) {
-        const char *part[3] = {a, b, c};
-        size_t n = 0;
-        for (int i = 0; i < 3; i++)
-            for (const char *p = part[i]; p && *p && n + 1 < sizeof h->err; p++)
-                h->err[n++] = *p;
-        h->err[n] = '\0';
-        h->err_line = line;
-    }
+    if (h->diag.code != KELP_OK)
+        return code;
+    (void)kelp_diag_set(&h->diag, code, NULL);
+    (void)kelp_diag_where(&h->diag, line, 0);
+#ifndef KELP_NO_ERRMSG
+    va_list ap;
+    size_t n = 0;
+    va_start(ap, code);
+    for (const char *s = va_arg(ap, const char *); s; s = va_arg(ap, const char *))
+        for (; *s && n + 1 < sizeof h->diag.msg; s++)
+            h->diag.msg[n++] = *s;
+    va_end(ap);
+    h->diag.msg[n] = '\0';
+#endif
     return code;
 }
 
@@ -183,7 +179,7 @@ static int load_init(kelp_helm *h, const kelp_mission_node *nd)
     hx_trim(&k, &kn);
     char var[KELP_MAX_NAME], *val = h->ws_upd.val; /* (the update workspace: idle while loading) */
     if (!hx_varname(k, kn) || !hx_copy(var, sizeof var, k, kn) || !hx_copy(val, sizeof h->ws_upd.val, nd->val, nd->vlen))
-        return helm_fail(h, nd->line, KELP_ERR_PARSE, "bad initialize line", NULL, NULL);
+        return helm_fail(h, nd->line, KELP_ERR_PARSE, "bad initialize line", HX_END);
     /* split further pairs: a comma followed by a piece holding '=' starts a new pair */
     char *s = val;
     for (;;) {
@@ -199,12 +195,12 @@ static int load_init(kelp_helm *h, const kelp_mission_node *nd)
         if (cut)
             *cut = '\0';
         if (kelp_helm_add_init(h, var, s, defer) < 0)
-            return helm_fail(h, nd->line, KELP_ERR_PARSE, "bad initialize value for ", var, NULL);
+            return helm_fail(h, nd->line, KELP_ERR_PARSE, "bad initialize value for ", var, HX_END);
         if (!cut)
             break;
         kelp_helm_pair pr;
         if (!hx_pair(cut + 1, &pr))
-            return helm_fail(h, nd->line, KELP_ERR_PARSE, "bad initialize pair", NULL, NULL);
+            return helm_fail(h, nd->line, KELP_ERR_PARSE, "bad initialize pair", HX_END);
         char *eq = strchr(cut + 1, '=');
         memcpy(var, pr.var, sizeof var);
         s = eq + 1;
@@ -226,22 +222,21 @@ int kelp_helm_load_bhv(kelp_helm *h, const kelp_mission *m)
             continue;
         }
         if (nd->kind == KELP_MN_BLOCK && nd->klen > 4 && kelp_strieq_n(nd->key, 3, "set") && hx_is_space(nd->key[3])) {
-            char why[96] = "";
-            int rc = helm_mode_load(h, m, i, why, sizeof why);
+            int rc = helm_mode_load(h, m, i);
             if (rc < 0)
-                return helm_fail(h, nd->line, rc, "mode declaration: ", why, NULL);
+                return rc;
             continue;
         }
         if (nd->kind == KELP_MN_BLOCK && kelp_strieq_n(nd->key, nd->klen, "Behavior")) {
             char type[KELP_MAX_NAME];
             if (!hx_copy(type, sizeof type, nd->val, nd->vlen))
-                return helm_fail(h, nd->line, KELP_ERR_PARSE, "behaviour type too long", NULL, NULL);
+                return helm_fail(h, nd->line, KELP_ERR_PARSE, "behaviour type too long", HX_END);
             kelp_bhv *b;
             int rc = kelp_helm_add(h, type, &b);
             if (rc == KELP_ERR_NOTFOUND)
-                return helm_fail(h, nd->line, KELP_ERR_PARSE, "unknown behaviour type ", type, NULL);
+                return helm_fail(h, nd->line, KELP_ERR_PARSE, "unknown behaviour type ", type, HX_END);
             if (rc < 0)
-                return helm_fail(h, nd->line, rc, "too many behaviours (KELP_HELM_MAX_BHVS)", NULL, NULL);
+                return helm_fail(h, nd->line, rc, "too many behaviours (KELP_HELM_MAX_BHVS)", HX_END);
             b->line = nd->line;
             for (size_t j = i + 1; j < m->nnodes; j++) {
                 const kelp_mission_node *c = &m->nodes[j];
@@ -249,14 +244,13 @@ int kelp_helm_load_bhv(kelp_helm *h, const kelp_mission *m)
                     continue;
                 char key[KELP_MAX_NAME], *val = h->ws_upd.val; /* (idle while loading) */
                 if (c->kind != KELP_MN_PARAM)
-                    return helm_fail(h, c->line, KELP_ERR_PARSE, "expected parameter = value", NULL, NULL);
+                    return helm_fail(h, c->line, KELP_ERR_PARSE, "expected parameter = value", HX_END);
                 if (!hx_copy(key, sizeof key, c->key, c->klen) || !hx_copy(val, sizeof h->ws_upd.val, c->val, c->vlen))
-                    return helm_fail(h, c->line, KELP_ERR_PARSE, "parameter or value too long", NULL, NULL);
+                    return helm_fail(h, c->line, KELP_ERR_PARSE, "parameter or value too long", HX_END);
                 b->fail = NULL;
                 if (kelp_bhv_set_param(b, key, val) < 0) {
-                    char what[KELP_MAX_NAME + 96];
-                    hx_cat(what, sizeof what, ": bad parameter ", key, " (", b->fail ? b->fail : "rejected", ")", HX_END);
-                    return helm_fail(h, c->line, KELP_ERR_PARSE, "behaviour ", b->name, what);
+                    return helm_fail(h, c->line, KELP_ERR_PARSE, "behaviour ", b->name, ": bad parameter ", key, " (",
+                                     b->fail ? b->fail : "rejected", ")", HX_END);
                 }
             }
             continue;
@@ -264,7 +258,7 @@ int kelp_helm_load_bhv(kelp_helm *h, const kelp_mission *m)
         char key[KELP_MAX_NAME];
         if (!hx_copy(key, sizeof key, nd->key, nd->klen))
             key[0] = '\0';
-        return helm_fail(h, nd->line, KELP_ERR_PARSE, "unexpected line in a behaviour file: ", key, NULL);
+        return helm_fail(h, nd->line, KELP_ERR_PARSE, "unexpected line in a behaviour file: ", key, HX_END);
     }
     return 0;
 }
@@ -275,19 +269,18 @@ int kelp_helm_configured(kelp_helm *h)
         kelp_bhv *b = &h->bhv[i];
         b->fail = NULL;
         if (b->ops->params_done && b->ops->params_done(b) < 0) {
-            char what[KELP_MAX_NAME + 64];
-            hx_cat(what, sizeof what, ": ", b->fail ? b->fail : "bad configuration", HX_END);
-            return helm_fail(h, b->line, KELP_ERR_PARSE, "behaviour ", b->name, what);
+            return helm_fail(h, b->line, KELP_ERR_PARSE, "behaviour ", b->name, ": ", b->fail ? b->fail : "bad configuration",
+                             HX_END);
         }
         if (b->dom.dim == 0)
             return helm_fail(h, b->line, KELP_ERR_STATE, "behaviour ", b->name,
-                             ": null IvP domain (the helm Domain lacks a variable it decides)");
+                             ": null IvP domain (the helm Domain lacks a variable it decides)", HX_END);
         if (!kelp_ivp_domain_is_sub(&b->dom, &h->cfg.domain))
-            return helm_fail(h, b->line, KELP_ERR_STATE, "behaviour ", b->name, ": domain is not a sub-domain of the helm domain");
+            return helm_fail(h, b->line, KELP_ERR_STATE, "behaviour ", b->name, ": domain is not a sub-domain of the helm domain", HX_END);
     }
     int rc = helm_templates_extract(h);
     if (rc < 0)
-        return helm_fail(h, 0, rc, "too many spawn templates (KELP_HELM_MAX_TEMPLATES)", NULL, NULL);
+        return helm_fail(h, 0, rc, "too many spawn templates (KELP_HELM_MAX_TEMPLATES)", HX_END);
     return 0;
 }
 
@@ -943,7 +936,7 @@ static void solve(kelp_helm *h, const bool *has_fn)
     int rc = kelp_ivp_solve(&h->prob, h->mem.solve_work, h->mem.solve_work_size, &res);
     if (rc < 0) {
         char msg[220];
-        hx_cat(msg, sizeof msg, "pHelmIvP: IvP solve failed: ", kelp_strerror(rc), " (", h->prob.err.msg, ")", HX_END);
+        hx_cat(msg, sizeof msg, "pHelmIvP: IvP solve failed: ", kelp_strerror(rc), " (", kelp_diag_text(&h->prob.diag), ")", HX_END);
         sink(h, "BHV_ERROR", true, msg, 0, NULL);
         r->halted = true;
         hx_copy(r->halt_msg, sizeof r->halt_msg, msg + 10, strlen(msg + 10));

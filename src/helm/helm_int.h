@@ -43,6 +43,10 @@ void hx_fmt_ulong(char *buf, size_t cap, unsigned long v);
 size_t hx_cat(char *buf, size_t cap, ...);
 #define HX_END ((const char *)0)
 
+/* Record a configuration failure in h->diag (first wins): the code, the .bhv line and the
+ * message made of the string arguments up to HX_END. Returns code. */
+int helm_fail(kelp_helm *h, int line, int code, ...);
+
 /* helm internals used by bhv.c */
 void helm_queue_post(kelp_helm *h, const kelp_bhv *b, const char *var, bool is_str, const char *sval, double dval,
                      const char *key);
@@ -78,7 +82,7 @@ int bhv_course_speed_zaic(kelp_bhv *b, const kelp_helm_work *w, double course, d
                           double ssd, kelp_ivp_func *out);
 /* hierarchical modes (modes.c): load the "set VAR = VAL { ... } ELSE" block at node bi; evaluate
  * all entries (post gets each changed value); IVPHELM_MODESET text */
-int helm_mode_load(kelp_helm *h, const kelp_mission *m, size_t bi, char *why, size_t cap);
+int helm_mode_load(kelp_helm *h, const kelp_mission *m, size_t bi);
 void helm_mode_eval(kelp_helm *h, void (*post)(kelp_helm *h, const char *var, const char *val));
 void helm_mode_describe(const kelp_helm *h, char *buf, size_t cap);
 void helm_mode_vars(const kelp_helm *h, char *buf, size_t cap);

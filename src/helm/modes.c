@@ -21,69 +21,51 @@ static bool mode_var_of(const kelp_mission_node *nd, char *out, size_t cap)
     return hx_copy(out, cap, k, n);
 }
 
-int helm_mode_load(kelp_helm *h, const kelp_mission *m, size_t bi, char *why, size_t cap)
+int helm_mode_load(kelp_helm *h, const kelp_mission *m, size_t bi)
 {
     const kelp_mission_node *nd = &m->nodes[bi];
-    if (h->nmodes >= KELP_HELM_MAX_MODES) {
-        hx_cat(why, cap, "too many mode declarations (KELP_HELM_MAX_MODES)", HX_END);
-        return KELP_ERR_NOSPACE;
-    }
+    if (h->nmodes >= KELP_HELM_MAX_MODES)
+        return helm_fail(h, nd->line, KELP_ERR_NOSPACE, "mode declaration: too many mode declarations (KELP_HELM_MAX_MODES)", HX_END);
     kelp_helm_mode *e = &h->modes[h->nmodes];
     memset(e, 0, sizeof *e);
-    if (!mode_var_of(nd, e->var, sizeof e->var)) {
-        hx_cat(why, cap, "bad mode variable name", HX_END);
-        return KELP_ERR_PARSE;
-    }
+    if (!mode_var_of(nd, e->var, sizeof e->var))
+        return helm_fail(h, nd->line, KELP_ERR_PARSE, "mode declaration: bad mode variable name", HX_END);
     const char *v = nd->val;
     size_t vl = nd->vlen;
     hx_trim(&v, &vl);
-    if (!vl || !hx_copy(e->val, sizeof e->val, v, vl) || strpbrk(e->val, " \t,=")) {
-        hx_cat(why, cap, "mode value must be one word", HX_END);
-        return KELP_ERR_PARSE;
-    }
+    if (!vl || !hx_copy(e->val, sizeof e->val, v, vl) || strpbrk(e->val, " \t,="))
+        return helm_fail(h, nd->line, KELP_ERR_PARSE, "mode declaration: mode value must be one word", HX_END);
     for (size_t j = bi + 1; j < m->nnodes; j++) {
         const kelp_mission_node *c = &m->nodes[j];
         if (c->parent != (int)bi)
             continue;
-        if (c->kind != KELP_MN_PARAM) {
-            hx_cat(why, cap, "expected a condition in a mode declaration", HX_END);
-            return KELP_ERR_PARSE;
-        }
+        if (c->kind != KELP_MN_PARAM)
+            return helm_fail(h, nd->line, KELP_ERR_PARSE, "mode declaration: expected a condition in a mode declaration", HX_END);
         if (c->klen == 5 && !memcmp(c->key, "}else", 5)) {
-            if (!hx_copy(e->elseval, sizeof e->elseval, c->val, c->vlen)) {
-                hx_cat(why, cap, "else value too long", HX_END);
-                return KELP_ERR_PARSE;
-            }
+            if (!hx_copy(e->elseval, sizeof e->elseval, c->val, c->vlen))
+                return helm_fail(h, nd->line, KELP_ERR_PARSE, "mode declaration: else value too long", HX_END);
             continue;
         }
-        if (e->ncond >= KELP_HELM_MAX_CONDS) {
-            hx_cat(why, cap, "too many conditions in a mode declaration", HX_END);
-            return KELP_ERR_NOSPACE;
-        }
+        if (e->ncond >= KELP_HELM_MAX_CONDS)
+            return helm_fail(h, nd->line, KELP_ERR_NOSPACE, "mode declaration: too many conditions in a mode declaration", HX_END);
         /* the parser split "A != b" at its '=': put it back together */
         const char *k = c->key, *cv = c->val;
         size_t kl = c->klen, cvl = c->vlen;
         hx_trim(&k, &kl);
         hx_trim(&cv, &cvl);
         char *dst = e->cond[e->ncond];
-        if (kl + cvl + 2 > KELP_HELM_MAX_COND_LEN) {
-            hx_cat(why, cap, "condition too long", HX_END);
-            return KELP_ERR_PARSE;
-        }
+        if (kl + cvl + 2 > KELP_HELM_MAX_COND_LEN)
+            return helm_fail(h, nd->line, KELP_ERR_PARSE, "mode declaration: condition too long", HX_END);
         memcpy(dst, k, kl);
         dst[kl] = '=';
         memcpy(dst + kl + 1, cv, cvl);
         dst[kl + 1 + cvl] = '\0';
-        if (kelp_helm_cond_check(dst, mode_need, h) != 0) {
-            hx_cat(why, cap, "bad condition '", dst, "'", HX_END);
-            return KELP_ERR_PARSE;
-        }
+        if (kelp_helm_cond_check(dst, mode_need, h) != 0)
+            return helm_fail(h, nd->line, KELP_ERR_PARSE, "mode declaration: bad condition '", dst, "'", HX_END);
         /* "MODE = ACTIVE" (single '='): the prefix condition */
         if (!e->prefix[0] && kl == strlen(e->var) && !memcmp(k, e->var, kl) && cvl && cv[0] != '=') {
-            if (!hx_copy(e->prefix, sizeof e->prefix, cv, cvl)) {
-                hx_cat(why, cap, "mode prefix too long", HX_END);
-                return KELP_ERR_PARSE;
-            }
+            if (!hx_copy(e->prefix, sizeof e->prefix, cv, cvl))
+                return helm_fail(h, nd->line, KELP_ERR_PARSE, "mode declaration: mode prefix too long", HX_END);
             e->modevar_conds |= 1u << e->ncond;
         }
         e->ncond++;

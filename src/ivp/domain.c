@@ -121,11 +121,11 @@ bool kelp_ivp_domain_is_sub(const kelp_ivp_domain *sub, const kelp_ivp_domain *d
     return true;
 }
 
-int kelp_ivp_domain_parse(kelp_ivp_domain *d, const char *s, kelp_ivp_errbuf *err)
+int kelp_ivp_domain_parse(kelp_ivp_domain *d, const char *s, kelp_diag *diag)
 {
     kelp_ivp_domain_init(d);
     if (!s)
-        return ivp_fail(err, KELP_ERR_ARG, "domain: no text", NULL, 0);
+        return ivp_fail(diag, KELP_ERR_ARG, "domain: no text", NULL, 0);
     const char *p = s;
     for (;;) {
         const char *c = strchr(p, ',');
@@ -133,7 +133,7 @@ int kelp_ivp_domain_parse(kelp_ivp_domain *d, const char *s, kelp_ivp_errbuf *er
         const char *t = p;
         ivp_trim(&t, &n);
         if (n == 0)
-            return ivp_fail(err, KELP_ERR_PARSE, "domain: empty variable in", s, strlen(s));
+            return ivp_fail(diag, KELP_ERR_PARSE, "domain: empty variable in", s, strlen(s));
         /* name:low:high:points */
         const char *f[4];
         size_t fl[4];
@@ -151,32 +151,32 @@ int kelp_ivp_domain_parse(kelp_ivp_domain *d, const char *s, kelp_ivp_errbuf *er
             }
         }
         if (nf != 4)
-            return ivp_fail(err, KELP_ERR_PARSE, "domain: expected name:low:high:points, got", t, n);
+            return ivp_fail(diag, KELP_ERR_PARSE, "domain: expected name:low:high:points, got", t, n);
         if (fl[0] == 0 || fl[0] >= KELP_IVP_MAX_VARNAME)
-            return ivp_fail(err, KELP_ERR_PARSE, "domain: bad variable name in", t, n);
+            return ivp_fail(diag, KELP_ERR_PARSE, "domain: bad variable name in", t, n);
         for (size_t i = 0; i < fl[0]; i++) {
             char ch = f[0][i];
             if (ch == ' ' || ch == '@' || ch == '=' || ch == '(' || ch == ')')
-                return ivp_fail(err, KELP_ERR_PARSE, "domain: bad variable name", f[0], fl[0]);
+                return ivp_fail(diag, KELP_ERR_PARSE, "domain: bad variable name", f[0], fl[0]);
         }
         double lo, hi;
         long pts;
         if (ivp_parse_double(f[1], fl[1], &lo))
-            return ivp_fail(err, KELP_ERR_PARSE, "domain: bad low", f[1], fl[1]);
+            return ivp_fail(diag, KELP_ERR_PARSE, "domain: bad low", f[1], fl[1]);
         if (ivp_parse_double(f[2], fl[2], &hi))
-            return ivp_fail(err, KELP_ERR_PARSE, "domain: bad high", f[2], fl[2]);
+            return ivp_fail(diag, KELP_ERR_PARSE, "domain: bad high", f[2], fl[2]);
         if (ivp_parse_long(f[3], fl[3], &pts) || pts < 1 || pts > 100000000L)
-            return ivp_fail(err, KELP_ERR_PARSE, "domain: bad points", f[3], fl[3]);
+            return ivp_fail(diag, KELP_ERR_PARSE, "domain: bad points", f[3], fl[3]);
         char nm[KELP_IVP_MAX_VARNAME];
         memcpy(nm, f[0], fl[0]);
         nm[fl[0]] = '\0';
         int rc = kelp_ivp_domain_add(d, nm, lo, hi, (uint32_t)pts);
         if (rc == KELP_ERR_EXISTS)
-            return ivp_fail(err, rc, "domain: duplicate variable", f[0], fl[0]);
+            return ivp_fail(diag, rc, "domain: duplicate variable", f[0], fl[0]);
         if (rc == KELP_ERR_NOSPACE)
-            return ivp_fail(err, rc, "domain: too many variables at", t, n);
+            return ivp_fail(diag, rc, "domain: too many variables at", t, n);
         if (rc)
-            return ivp_fail(err, rc, "domain: bad extents (need low<=high, points>=1, points=1 only if low=high) in", t, n);
+            return ivp_fail(diag, rc, "domain: bad extents (need low<=high, points>=1, points=1 only if low=high) in", t, n);
         if (!c)
             break;
         p = c + 1;

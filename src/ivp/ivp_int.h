@@ -12,8 +12,22 @@ void ivp_strcat(char *dst, size_t cap, const char *src);
 void ivp_strncat(char *dst, size_t cap, const char *src, size_t n);
 /* Append a warning to a builder's warn[] joined with " # ". */
 void ivp_warn(char *warn, const char *text);
-/* Record "what 'token'" in err if it holds no error yet (first error wins); returns code. */
-int ivp_fail(kelp_ivp_errbuf *err, int code, const char *what, const char *tok, size_t toklen);
+/* Record code with the message "what 'token'" (token cut to 60 bytes; no quotes when tok is
+ * NULL) in d unless it holds a failure already (first error wins); returns code. With
+ * KELP_NO_ERRMSG the texts are not linked in (the macro drops `what`). */
+int ivp_fail_(kelp_diag *d, int code, const char *what, const char *tok, size_t toklen);
+#ifdef KELP_NO_ERRMSG
+#define ivp_fail(d, code, what, tok, toklen) ((void)(what), ivp_fail_((d), (code), (const char *)0, (tok), (toklen)))
+#else
+#define ivp_fail(d, code, what, tok, toklen) ivp_fail_((d), (code), (what), (tok), (toklen))
+#endif
+
+/* Drop a status on purpose: a ZAIC / Reflector setter's fatal error stays in the builder's ok
+ * flag and warn[], which the caller reads after the setters. */
+static inline void ivp_ignore(int rc)
+{
+    (void)rc;
+}
 
 /* Parse a decimal number occupying exactly s[0..n). Finite values only. 0 or KELP_ERR_PARSE. */
 int ivp_parse_double(const char *s, size_t n, double *out);

@@ -86,8 +86,8 @@ int kelp_ivp_reflector_set_param(kelp_ivp_reflector *r, const char *name, const 
     const char *s = name, *v = value;
     ivp_trim(&s, &n);
     ivp_trim(&v, &vn);
-    kelp_ivp_errbuf err;
-    err.msg[0] = '\0';
+    kelp_diag diag;
+    kelp_diag_clear(&diag);
     int rc;
     if (ivp_word_eq(s, n, "uniform_amount") || ivp_word_eq(s, n, "smart_amount") || ivp_word_eq(s, n, "smart_percent") ||
         ivp_word_eq(s, n, "smart_thresh") || ivp_word_eq(s, n, "auto_peak_max_pcs")) {
@@ -111,9 +111,9 @@ int kelp_ivp_reflector_set_param(kelp_ivp_reflector *r, const char *name, const 
         return 0;
     }
     if (ivp_word_eq(s, n, "uniform_piece")) {
-        rc = kelp_ivp_parse_shape(&r->dom, value, r->uniform_piece, &err);
+        rc = kelp_ivp_parse_shape(&r->dom, value, r->uniform_piece, &diag);
         if (rc)
-            return fatal(r, rc, "uniform_piece", err.msg);
+            return fatal(r, rc, "uniform_piece", kelp_diag_text(&diag));
         r->have_uniform_piece = true;
         return 0;
     }
@@ -122,27 +122,27 @@ int kelp_ivp_reflector_set_param(kelp_ivp_reflector *r, const char *name, const 
             return fatal(r, KELP_ERR_STATE, "refine_region", "refine_region and refine_piece must be added in pairs");
         if (r->nrefine >= KELP_IVP_MAX_REFINE)
             return fatal(r, KELP_ERR_NOSPACE, "refine_region", "too many refine regions");
-        rc = kelp_ivp_parse_region(&r->dom, value, r->refine_lo[r->nrefine], r->refine_hi[r->nrefine], &err);
+        rc = kelp_ivp_parse_region(&r->dom, value, r->refine_lo[r->nrefine], r->refine_hi[r->nrefine], &diag);
         if (rc)
-            return fatal(r, rc, "refine_region", err.msg);
+            return fatal(r, rc, "refine_region", kelp_diag_text(&diag));
         r->refine_pending = true;
         return 0;
     }
     if (ivp_word_eq(s, n, "refine_piece")) {
         if (!r->refine_pending)
             return fatal(r, KELP_ERR_STATE, "refine_piece", "refine_region and refine_piece must be added in pairs");
-        rc = kelp_ivp_parse_shape(&r->dom, value, r->refine_piece[r->nrefine], &err);
+        rc = kelp_ivp_parse_shape(&r->dom, value, r->refine_piece[r->nrefine], &diag);
         if (rc)
-            return fatal(r, rc, "refine_piece", err.msg);
+            return fatal(r, rc, "refine_piece", kelp_diag_text(&diag));
         r->refine_pending = false;
         r->nrefine++;
         return 0;
     }
     if (ivp_word_eq(s, n, "refine_point")) {
         uint32_t ix[D];
-        rc = kelp_ivp_parse_point(&r->dom, value, ix, &err);
+        rc = kelp_ivp_parse_point(&r->dom, value, ix, &diag);
         if (rc)
-            return fatal(r, rc, "refine_point", err.msg);
+            return fatal(r, rc, "refine_point", kelp_diag_text(&diag));
         return 0;
     }
     return fatal(r, KELP_ERR_NOTFOUND, name, "unhandled parameter");

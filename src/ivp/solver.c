@@ -63,15 +63,15 @@ int kelp_ivp_problem_add(kelp_ivp_problem *p, const kelp_ivp_func *f)
     for (unsigned d = 0; d < f->dom.dim; d++) {
         int j = kelp_ivp_domain_index(&p->dom, f->dom.var[d].name);
         if (j < 0)
-            return ivp_fail(&p->err, KELP_ERR_NOTFOUND, "solver: function variable not in problem domain:",
+            return ivp_fail(&p->diag, KELP_ERR_NOTFOUND, "solver: function variable not in problem domain:",
                             f->dom.var[d].name, strlen(f->dom.var[d].name));
         const kelp_ivp_var *a = &p->dom.var[j], *b = &f->dom.var[d];
         if (a->low != b->low || a->high != b->high || a->points != b->points)
-            return ivp_fail(&p->err, KELP_ERR_RANGE, "solver: variable extents differ from the problem domain:",
+            return ivp_fail(&p->diag, KELP_ERR_RANGE, "solver: variable extents differ from the problem domain:",
                             b->name, strlen(b->name));
     }
     if (p->nf >= KELP_IVP_MAX_FUNCS)
-        return ivp_fail(&p->err, KELP_ERR_NOSPACE, "solver: too many functions", NULL, 0);
+        return ivp_fail(&p->diag, KELP_ERR_NOSPACE, "solver: too many functions", NULL, 0);
     p->f[p->nf++] = f;
     return 0;
 }
@@ -300,12 +300,12 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
     memset(res, 0, sizeof *res);
     unsigned k = p->nf, dim = p->dom.dim;
     if (k == 0)
-        return ivp_fail(&p->err, KELP_ERR_EMPTY, "solver: no functions with positive weight", NULL, 0);
+        return ivp_fail(&p->diag, KELP_ERR_EMPTY, "solver: no functions with positive weight", NULL, 0);
     if (dim == 0)
-        return ivp_fail(&p->err, KELP_ERR_ARG, "solver: null domain", NULL, 0);
+        return ivp_fail(&p->diag, KELP_ERR_ARG, "solver: null domain", NULL, 0);
     size_t need = kelp_ivp_solve_work_size(p);
     if (!work || work_size < need)
-        return ivp_fail(&p->err, KELP_ERR_NOSPACE, "solver: work storage too small", NULL, 0);
+        return ivp_fail(&p->diag, KELP_ERR_NOSPACE, "solver: work storage too small", NULL, 0);
 
     unsigned char *w = (unsigned char *)work;
     sfunc *sf = (sfunc *)(void *)w;
@@ -503,7 +503,7 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
     }
     res->leaves = leaves;
     if (!found)
-        return ivp_fail(&p->err, KELP_ERR_INFEASIBLE, "solver: no point is covered by every function", NULL, 0);
+        return ivp_fail(&p->diag, KELP_ERR_INFEASIBLE, "solver: no point is covered by every function", NULL, 0);
     for (unsigned e = 0; e < dim; e++) {
         uint32_t ix = (uint32_t)(bs[e] < 0 ? blo[e] : bhi[e]);
         res->ix[e] = ix;

@@ -29,16 +29,21 @@ void ivp_warn(char *warn, const char *text)
     ivp_strcat(warn, KELP_IVP_MAX_WARN, text);
 }
 
-int ivp_fail(kelp_ivp_errbuf *err, int code, const char *what, const char *tok, size_t toklen)
+int ivp_fail_(kelp_diag *d, int code, const char *what, const char *tok, size_t toklen)
 {
-    if (err && err->msg[0] == '\0') {
-        ivp_strcat(err->msg, sizeof err->msg, what);
-        if (tok) {
-            ivp_strcat(err->msg, sizeof err->msg, " '");
-            ivp_strncat(err->msg, sizeof err->msg, tok, toklen > 60 ? 60 : toklen);
-            ivp_strcat(err->msg, sizeof err->msg, "'");
-        }
+    if (!d || d->code != KELP_OK)
+        return code;
+    (void)kelp_diag_set(d, code, what);
+#ifndef KELP_NO_ERRMSG
+    if (what && tok) {
+        ivp_strcat(d->msg, sizeof d->msg, " '");
+        ivp_strncat(d->msg, sizeof d->msg, tok, toklen > 60 ? 60 : toklen);
+        ivp_strcat(d->msg, sizeof d->msg, "'");
     }
+#else
+    (void)tok;
+    (void)toklen;
+#endif
     return code;
 }
 

@@ -25,7 +25,7 @@ int main(int argc, char **argv)
 {
     const char *url = argc > 1 ? argv[1] : "udpm://239.255.76.67:7791?ttl=0";
     kelp_ivp_domain dom;
-    kelp_ivp_errbuf e;
+    kelp_diag e;
     memset(&e, 0, sizeof e);
     if (kelp_ivp_domain_parse(&dom, "course:0:359:360", &e) != 0 || dom.dim != 1) {
         fprintf(stderr, "core call failed\n");
