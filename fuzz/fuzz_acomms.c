@@ -79,10 +79,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     case 3: {
         static kelp_mission_file mf;
         static kelp_acomms_config cfg;
-        char err[256], warn[256];
+        char warn[256];
         if (kelp_mission_load_text(&mf, "fuzz.moos", t, n) == KELP_OK) {
             int b = kelp_mission_block(&mf.m, "ProcessConfig", "pAcommsHandler");
-            (void)kelp_acomms_config_read(&mf.m, b, NULL, &cfg, err, sizeof err, warn, sizeof warn);
+            (void)kelp_acomms_config_read(&mf.m, b, NULL, &cfg, NULL, warn, sizeof warn);
         }
         kelp_mission_free(&mf);
         break;

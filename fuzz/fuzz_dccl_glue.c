@@ -29,10 +29,11 @@ static kelp_acomms_dccl *open_set(void)
         c.modem_id = 1;
         c.files = files;
         c.nfiles = 2;
-        char err[256];
-        kelp_acomms_dccl *d = kelp_acomms_dccl_open(&c, err, sizeof err);
+        kelp_diag err;
+        kelp_diag_clear(&err);
+        kelp_acomms_dccl *d = kelp_acomms_dccl_open(&c, &err);
         if (!d) {
-            fprintf(stderr, "fuzz_dccl_glue: %s\n", err);
+            fprintf(stderr, "fuzz_dccl_glue: %s\n", kelp_diag_text(&err));
             abort();
         }
         return d;

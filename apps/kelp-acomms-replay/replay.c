@@ -102,9 +102,10 @@ static int load_config(replay *r, const char *moos, const char *block_name, char
     char *slash = strrchr(dir, '/');
     if (slash) *slash = '\0';
     else snprintf(dir, sizeof dir, ".");
-    char e2[512];
-    int rc = kelp_acomms_config_read(&mf.m, block, dir, &r->cfg, e2, sizeof e2, NULL, 0);
-    if (rc) snprintf(err, cap, "%s: %s", moos, block < 0 ? "no ProcessConfig = pAcommsHandler block" : e2);
+    kelp_diag e2;
+    kelp_diag_clear(&e2);
+    int rc = kelp_acomms_config_read(&mf.m, block, dir, &r->cfg, &e2, NULL, 0);
+    if (rc) snprintf(err, cap, "%s: %s", moos, block < 0 ? "no ProcessConfig = pAcommsHandler block" : kelp_diag_text(&e2));
     kelp_mission_free(&mf);
     return rc;
 }
@@ -118,8 +119,13 @@ static int no_publish(void *ctx, const char *var, bool is_string, const char *sv
 
 static int open_dccl(replay *r, bool plain, char *err, size_t cap)
 {
-    r->dccl = kelp_acomms_dccl_open_config(&r->cfg, plain, err, cap);
-    if (!r->dccl) return KELP_ERR_PARSE;
+    kelp_diag d;
+    kelp_diag_clear(&d);
+    r->dccl = kelp_acomms_dccl_open_config(&r->cfg, plain, &d);
+    if (!r->dccl) {
+        snprintf(err, cap, "%s", kelp_diag_text(&d));
+        return KELP_ERR_PARSE;
+    }
     kelp_acomms_dccl_codec(r->dccl, &r->codec);
     return KELP_OK;
 }

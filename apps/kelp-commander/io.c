@@ -16,7 +16,11 @@ int cmdr_import(cmdr_app *s, const char *path, char *err, size_t errcap)
 {
     char p[1024];
     full_path(s, path, p, sizeof p);
-    return kelp_dccl_load_file(&s->ld, p, NULL, err, errcap);
+    kelp_diag d;
+    kelp_diag_clear(&d);
+    int rc = kelp_dccl_load_file(&s->ld, p, NULL, &d);
+    if (rc < 0) (void)snprintf(err, errcap, "%s", kelp_diag_text(&d));
+    return rc;
 }
 
 int cmdr_load_file(cmdr_app *s, const char *path, char *err, size_t errcap)

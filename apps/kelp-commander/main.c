@@ -20,23 +20,23 @@
 
 #include "cmdr.h"
 
-static int extra_field(void *ctx, const kelp_mission_node *n, const char **why)
+static int extra_field(void *ctx, const kelp_mission_node *n, kelp_diag *d)
 {
     cmdr_app *s = ctx;
     if (kelp_mission_key_is(n, "load")) {
-        if (s->n_load >= CMDR_MAX_LOAD) return *why = "too many load (max 8)", KELP_ERR_RANGE;
-        if (kelp_mission_copy(n, s->load[s->n_load], sizeof s->load[0]) < 0) return *why = "path too long", KELP_ERR_RANGE;
+        if (s->n_load >= CMDR_MAX_LOAD) return kelp_fail(d, KELP_ERR_RANGE, "too many load (max 8)");
+        if (kelp_mission_copy(n, s->load[s->n_load], sizeof s->load[0]) < 0) return kelp_fail(d, KELP_ERR_RANGE, "path too long");
         if (s->load[s->n_load][0]) s->n_load++;
         return 1;
     }
     if (kelp_mission_key_is(n, "show_variable")) {
-        if (s->n_show >= CMDR_MAX_SHOW) return *why = "too many show_variable (max 8)", KELP_ERR_RANGE;
-        if (kelp_mission_copy(n, s->show[s->n_show], sizeof s->show[0]) < 0) return *why = "name too long", KELP_ERR_RANGE;
+        if (s->n_show >= CMDR_MAX_SHOW) return kelp_fail(d, KELP_ERR_RANGE, "too many show_variable (max 8)");
+        if (kelp_mission_copy(n, s->show[s->n_show], sizeof s->show[0]) < 0) return kelp_fail(d, KELP_ERR_RANGE, "name too long");
         if (s->show[s->n_show][0]) s->n_show++;
         return 1;
     }
     if (kelp_mission_key_is(n, "force_xy_only")) {
-        if (kelp_mission_bool(n, &s->core.force_xy_only) < 0) return *why = "force_xy_only must be true or false", KELP_ERR_PARSE;
+        if (kelp_mission_bool(n, &s->core.force_xy_only) < 0) return kelp_fail(d, KELP_ERR_PARSE, "force_xy_only must be true or false");
         return 1;
     }
     return 0;
@@ -67,23 +67,25 @@ static int startup(kelp_app *app, void *st)
 {
     cmdr_app *s = st;
     char err[512], warn[2048];
+    kelp_diag d;
+    kelp_diag_clear(&d);
     s->app = app;
     (void)snprintf(s->base_dir, sizeof s->base_dir, "%s", kelp_app_mission_path(app));
     (void)snprintf(s->base_dir, sizeof s->base_dir, "%s", dirname(s->base_dir));
     const kelp_mission *m = kelp_app_mission(app);
     int block = kelp_app_block(app);
-    if (kelp_acomms_config_read_extra(m, block, s->base_dir, &s->cfg, err, sizeof err, warn, sizeof warn, extra_field, s) < 0)
-        return kelp_app_config_error(app, NULL, "%s", err);
+    if (kelp_acomms_config_read_extra(m, block, s->base_dir, &s->cfg, &d, warn, sizeof warn, extra_field, s) < 0)
+        return kelp_app_config_error(app, NULL, "%s", kelp_diag_text(&d));
     for (int i = kelp_mission_next(m, block, -1, NULL); i >= 0; i = kelp_mission_next(m, block, i, NULL))
         if (m->nodes[i].kind == KELP_MN_FIELD || m->nodes[i].kind == KELP_MN_MSG) kelp_app_param_used(app, &m->nodes[i]);
     kelp_dccl_loaded_init(&s->ld);
     kelp_dccl_builtin_init(&s->geo, s->modems, sizeof s->modems / sizeof s->modems[0]);
     if (s->cfg.has_lat_origin && s->cfg.has_lon_origin) kelp_dccl_builtin_set_origin(&s->geo, s->cfg.lat_origin, s->cfg.lon_origin);
-    if (s->cfg.modem_id_lookup_path[0] && kelp_dccl_builtin_load_modems(&s->geo, s->cfg.modem_id_lookup_path, err, sizeof err) < 0)
-        return kelp_app_config_error(app, NULL, "%s", err);
+    if (s->cfg.modem_id_lookup_path[0] && kelp_dccl_builtin_load_modems(&s->geo, s->cfg.modem_id_lookup_path, &d) < 0)
+        return kelp_app_config_error(app, NULL, "%s", kelp_diag_text(&d));
     for (size_t i = 0; i < s->cfg.nfiles; i++)
-        if (kelp_dccl_load_file(&s->ld, s->cfg.files[i].path, NULL, err, sizeof err) < 0)
-            return kelp_app_config_error(app, NULL, "%s", err);
+        if (kelp_dccl_load_file(&s->ld, s->cfg.files[i].path, NULL, &d) < 0)
+            return kelp_app_config_error(app, NULL, "%s", kelp_diag_text(&d));
     if (!s->cfg.nfiles) kelp_app_config_warning(app, "no dccl_cfg message_file: import one from the main menu");
     bool xy = s->core.force_xy_only;
     kelp_cmdr_init(&s->core, &s->ld.set, &s->geo);

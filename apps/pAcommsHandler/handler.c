@@ -137,12 +137,14 @@ static void publish_initializers(handler *h)
 static int read_config(handler *h)
 {
     kelp_app *app = h->app;
-    char err[512], warn[2048], dirbuf[512];
+    char warn[2048], dirbuf[512];
+    kelp_diag err;
+    kelp_diag_clear(&err);
     snprintf(dirbuf, sizeof dirbuf, "%s", kelp_app_mission_path(app));
     const kelp_mission *m = kelp_app_mission(app);
     int block = kelp_app_block(app);
-    if (kelp_acomms_config_read(m, block, dirname(dirbuf), &h->cfg, err, sizeof err, warn, sizeof warn) != KELP_OK)
-        return kelp_app_config_error(app, NULL, "%s", err);
+    if (kelp_acomms_config_read(m, block, dirname(dirbuf), &h->cfg, &err, warn, sizeof warn) != KELP_OK)
+        return kelp_app_config_error(app, NULL, "%s", kelp_diag_text(&err));
     /* every protobuf field of the block was understood (unknown ones are errors above) */
     for (int i = kelp_mission_next(m, block, -1, NULL); i >= 0; i = kelp_mission_next(m, block, i, NULL))
         if (m->nodes[i].kind == KELP_MN_FIELD || m->nodes[i].kind == KELP_MN_MSG) kelp_app_param_used(app, &m->nodes[i]);
@@ -169,9 +171,10 @@ static int read_config(handler *h)
 
 static int open_dccl(handler *h)
 {
-    char err[512];
-    h->dccl = kelp_acomms_dccl_open_config(&h->cfg, false, err, sizeof err);
-    if (!h->dccl) return kelp_app_config_error(h->app, NULL, "DCCL: %s", err);
+    kelp_diag err;
+    kelp_diag_clear(&err);
+    h->dccl = kelp_acomms_dccl_open_config(&h->cfg, false, &err);
+    if (!h->dccl) return kelp_app_config_error(h->app, NULL, "DCCL: %s", kelp_diag_text(&err));
     if (kelp_acomms_dccl_count(h->dccl) + h->cfg.nccl > KELP_ACOMMS_MAX_QUEUES)
         return kelp_app_config_error(h->app, NULL, "too many queues (max %d)", KELP_ACOMMS_MAX_QUEUES);
     kelp_acomms_dccl_codec(h->dccl, &h->codec);

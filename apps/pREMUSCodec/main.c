@@ -68,15 +68,17 @@ static int startup(kelp_app *app, void *st)
         rc = kelp_app_global_str(app, "modem_id_lookup_path", p->lookup, sizeof p->lookup);
     if (rc < 0) return kelp_app_config_error(app, kelp_app_param(app, "modem_id_lookup_path"), "modem_id_lookup_path too long");
     if (p->lookup[0]) {
-        char path[1024], err[256];
+        char path[1024];
         const char *mp = kelp_app_mission_path(app);
         const char *slash = mp ? strrchr(mp, '/') : NULL;
         if (p->lookup[0] != '/' && slash)
             (void)snprintf(path, sizeof path, "%.*s/%s", (int)(slash - mp), mp, p->lookup);
         else
             (void)snprintf(path, sizeof path, "%s", p->lookup);
-        if (kelp_dccl_builtin_load_modems(&p->geo, path, err, sizeof err) < 0)
-            return kelp_app_config_error(app, kelp_app_param(app, "modem_id_lookup_path"), "%s", err);
+        kelp_diag why;
+        kelp_diag_clear(&why);
+        if (kelp_dccl_builtin_load_modems(&p->geo, path, &why) < 0)
+            return kelp_app_config_error(app, kelp_app_param(app, "modem_id_lookup_path"), "%s", kelp_diag_text(&why));
     } else {
         kelp_app_config_warning(app, "no modem_id_lookup_path: senders are named by their modem id");
     }

@@ -77,8 +77,9 @@ typedef struct kelp_acomms_dccl_info {
 } kelp_acomms_dccl_info;
 
 /** Load the message files (every file once, manipulators of repeated paths merged), set up
- *  algorithms (lat/lon origin, lookup file) and crypto.  NULL with err on failure. */
-kelp_acomms_dccl *kelp_acomms_dccl_open(const kelp_acomms_dccl_cfg *cfg, char *err, size_t errcap);
+ *  algorithms (lat/lon origin, lookup file) and crypto.  NULL on failure, d says why (the
+ *  XML loader's "file:line: reason", line in d->line). d may be NULL. */
+kelp_acomms_dccl *kelp_acomms_dccl_open(const kelp_acomms_dccl_cfg *cfg, kelp_diag *d);
 void kelp_acomms_dccl_close(kelp_acomms_dccl *d);
 
 size_t kelp_acomms_dccl_count(const kelp_acomms_dccl *d);
@@ -391,27 +392,27 @@ typedef struct kelp_acomms_config {
 
 /** kelp_acomms_dccl_open over a pAcommsHandler block: its message files and manipulators, modem
  *  id, passphrase, lookup file and LatOrigin/LongOrigin. `plaintext` as in kelp_acomms_dccl_cfg. */
-kelp_acomms_dccl *kelp_acomms_dccl_open_config(const kelp_acomms_config *cfg, bool plaintext, char *err, size_t errcap);
+kelp_acomms_dccl *kelp_acomms_dccl_open_config(const kelp_acomms_config *cfg, bool plaintext, kelp_diag *d);
 
 void kelp_acomms_config_default(kelp_acomms_config *cfg);
 
 /** Read the pAcommsHandler block (node index `block` of m; globals of m fill the fallbacks).
  *  Relative message-file and lookup paths are taken relative to `base_dir` (the mission's
  *  directory; NULL = as written).  Unknown fields, bad enums and out-of-range numbers are
- *  errors: "line N: reason" in err.  Values the seed defines as warnings (e.g. tcp sharing
- *  is experimental) go to warn (may be NULL).  @return 0 or KELP_ERR_PARSE / KELP_ERR_RANGE. */
+ *  errors: "line N: key: reason" in d (and N in d->line; d may be NULL).  Values the seed
+ *  defines as warnings (e.g. tcp sharing is experimental) go to warn (may be NULL).
+ *  @return 0 or KELP_ERR_PARSE / KELP_ERR_ARG. */
 KELP_MUST_CHECK int kelp_acomms_config_read(const struct kelp_mission *m, int block, const char *base_dir,
-                                            kelp_acomms_config *cfg, char *err, size_t errcap, char *warn,
-                                            size_t warncap);
+                                            kelp_acomms_config *cfg, kelp_diag *d, char *warn, size_t warncap);
 
 /** A field of the block the pAcommsHandler reader does not know, offered to another tool
  *  reading a block of the same family (kelp-commander's load, show_variable, ...).
- *  @return 1 taken, 0 unknown ("unknown field"), <0 bad value (*why says why). */
-typedef int (*kelp_acomms_config_extra_fn)(void *ctx, const struct kelp_mission_node *n, const char **why);
+ *  @return 1 taken, 0 unknown ("unknown field"), <0 bad value (d says why). */
+typedef int (*kelp_acomms_config_extra_fn)(void *ctx, const struct kelp_mission_node *n, kelp_diag *d);
 /** kelp_acomms_config_read with extra top-level fields handed to `extra` (may be NULL). */
 KELP_MUST_CHECK int kelp_acomms_config_read_extra(const struct kelp_mission *m, int block, const char *base_dir,
-                                                  kelp_acomms_config *cfg, char *err, size_t errcap, char *warn,
-                                                  size_t warncap, kelp_acomms_config_extra_fn extra, void *extra_ctx);
+                                                  kelp_acomms_config *cfg, kelp_diag *d, char *warn, size_t warncap,
+                                                  kelp_acomms_config_extra_fn extra, void *extra_ctx);
 
 /** Node configuration from a block (driver, MAC, modem id); nvram strings point into cfg. */
 void kelp_acomms_config_node(const kelp_acomms_config *cfg, kelp_acomms_node_cfg *out);

@@ -15,7 +15,7 @@
  * given" (null code 0 on the wire). Header fields occupy fields[0..7].
  *
  * Thread-safety: all functions are re-entrant; a kelp_dccl_codec must not be
- * shared between threads while a call runs (it holds errmsg and, through the
+ * shared between threads while a call runs (it holds the diag of the last call and, through the
  * algorithm context, the MOOS geodesy state).
  */
 #ifndef KELP_DCCL_H
@@ -210,8 +210,8 @@ typedef struct kelp_dccl_set {
 /** Goby's width expression ceil(log(range*10^p + 2)/log(2)) (one bit off at 2^29 etc., on purpose). */
 unsigned kelp_dccl_width(double range, int precision);
 /** Compute slots, widths, body_bits and hash of a definition being built (loader, tests).
- *  Fails with KELP_ERR_RANGE and *why if Goby would reject it at load. */
-KELP_MUST_CHECK int kelp_dccl_def_finalize(kelp_dccl_msgdef *def, kelp_dccl_field *fields, const char **why);
+ *  Fails with KELP_ERR_RANGE (d says why) if Goby would reject it at load. d may be NULL. */
+KELP_MUST_CHECK int kelp_dccl_def_finalize(kelp_dccl_msgdef *def, kelp_dccl_field *fields, kelp_diag *d);
 /** Field index by name (header renames and default names, then layout), or -1. */
 int kelp_dccl_field_find(const kelp_dccl_msgdef *def, const char *name);
 const kelp_dccl_msgdef *kelp_dccl_set_find_id(const kelp_dccl_set *set, unsigned id);
@@ -312,7 +312,7 @@ typedef struct kelp_dccl_codec {
     unsigned modem_id;
     const kelp_dccl_crypto *crypto;
     const kelp_dccl_algs *algs;
-    const char *errmsg; /**< first error of the last call, or NULL */
+    kelp_diag diag;      /**< first error of the last call (code KELP_OK when none) */
     kelp_dccl_work work; /**< private */
 } kelp_dccl_codec;
 
@@ -327,7 +327,7 @@ void kelp_dccl_codec_init(kelp_dccl_codec *cx, unsigned modem_id, const kelp_dcc
  *             The message is built in out itself (bytes past cap are only measured); on an
  *             error return out[0..cap) holds no meaningful bytes.
  * @return 0, KELP_ERR_NOSPACE, KELP_ERR_PARSE (hex field of the wrong length),
- *         KELP_ERR_CRYPTO. cx->errmsg says why. */
+ *         KELP_ERR_CRYPTO. cx->diag says why (kelp_diag_text). */
 KELP_MUST_CHECK int kelp_dccl_encode(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, const kelp_dccl_val *in,
                                      size_t n_in, double now, uint8_t *out, size_t cap, size_t *len);
 

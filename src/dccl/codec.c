@@ -19,7 +19,7 @@ void kelp_dccl_codec_init(kelp_dccl_codec *cx, unsigned modem_id, const kelp_dcc
     cx->modem_id = modem_id;
     cx->crypto = crypto;
     cx->algs = algs;
-    cx->errmsg = NULL;
+    kelp_diag_clear(&cx->diag);
 }
 
 /* ------------------------------------------------------------------ bits */
@@ -267,10 +267,10 @@ static int put_string(enc_ctx *e, const kelp_dccl_field *f, const kelp_dccl_val 
         s = sbuf;
     }
     if (hex) {
-        if (n < 2 * m || (n == 2 * m && v->cut)) return DCCL_FAIL(e->cx, KELP_ERR_PARSE, "hex value too short");
-        if (n > 2 * m || v->cut) return DCCL_FAIL(e->cx, KELP_ERR_PARSE, "hex value too long");
+        if (n < 2 * m || (n == 2 * m && v->cut)) return kelp_fail(&e->cx->diag, KELP_ERR_PARSE, "hex value too short");
+        if (n > 2 * m || v->cut) return kelp_fail(&e->cx->diag, KELP_ERR_PARSE, "hex value too long");
         for (i = 0; i < 2 * m; i++)
-            if (kelp_hex_digit(s[i]) < 0) return DCCL_FAIL(e->cx, KELP_ERR_PARSE, "hex value has a non-hex character");
+            if (kelp_hex_digit(s[i]) < 0) return kelp_fail(&e->cx->diag, KELP_ERR_PARSE, "hex value has a non-hex character");
     } else {
         /* Goby ORs each char sign-extended into the field: a byte >= 0x80 sets
          * every higher bit of the field, i.e. all earlier bytes become 0xff. */
@@ -405,11 +405,11 @@ int kelp_dccl_encode(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, const kel
     uint32_t pos = 0, nbody, pad;
     size_t blen, total;
     unsigned h, fi;
-    cx->errmsg = NULL;
-    if (!def || !in || !len || n_in < def->n_slots) return DCCL_FAIL(cx, KELP_ERR_ARG, "values array too short");
+    kelp_diag_clear(&cx->diag);
+    if (!def || !in || !len || n_in < def->n_slots) return kelp_fail(&cx->diag, KELP_ERR_ARG, "values array too short");
     nbody = (def->body_bits + 7u) / 8u;
     if (KELP_DCCL_HEAD_BYTES + nbody > KELP_DCCL_MAX_SIZE)
-        return DCCL_FAIL(cx, KELP_ERR_RANGE, "message larger than KELP_DCCL_MAX_SIZE");
+        return kelp_fail(&cx->diag, KELP_ERR_RANGE, "message larger than KELP_DCCL_MAX_SIZE");
     e.cx = cx;
     e.def = def;
     e.in = in;
@@ -457,12 +457,12 @@ int kelp_dccl_encode(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, const kel
     total = KELP_DCCL_HEAD_BYTES + blen;
     *len = total;
     if (!out) return KELP_OK;
-    if (cap < total) return DCCL_FAIL(cx, KELP_ERR_NOSPACE, "output buffer too small");
+    if (cap < total) return kelp_fail(&cx->diag, KELP_ERR_NOSPACE, "output buffer too small");
     if (cx->crypto && blen) {
         uint8_t iv[16];
         if (cx->crypto->iv(cx->crypto->user, out, KELP_DCCL_HEAD_BYTES, iv) ||
             cx->crypto->ctr(cx->crypto->user, iv, out + KELP_DCCL_HEAD_BYTES, blen))
-            return DCCL_FAIL(cx, KELP_ERR_CRYPTO, "encryption failed");
+            return kelp_fail(&cx->diag, KELP_ERR_CRYPTO, "encryption failed");
     }
     return KELP_OK;
 }
@@ -526,7 +526,7 @@ static int decode_element(kelp_dccl_codec *cx, const kelp_dccl_field *f, const u
     case KELP_DCCL_T_INT:
     case KELP_DCCL_T_FLOAT: {
         double d;
-        if (!get_wide(buf, pos, n, &t)) return DCCL_FAIL(cx, KELP_ERR_RANGE, "field value overflows 64 bits");
+        if (!get_wide(buf, pos, n, &t)) return kelp_fail(&cx->diag, KELP_ERR_RANGE, "field value overflows 64 bits");
         if (t == 0) { kelp_dccl_val_clear(out); return KELP_OK; }
         d = (double)(t - 1u) / dccl_pow10(f->precision);
         if (delta) {
@@ -553,7 +553,7 @@ static int decode_element(kelp_dccl_codec *cx, const kelp_dccl_field *f, const u
     case KELP_DCCL_T_ENUM:
         t = get_bits(buf, pos, n);
         if (t == 0) { kelp_dccl_val_clear(out); return KELP_OK; }
-        if (t - 1u >= f->n_enum) return DCCL_FAIL(cx, KELP_ERR_RANGE, "enum value out of range");
+        if (t - 1u >= f->n_enum) return kelp_fail(&cx->diag, KELP_ERR_RANGE, "enum value out of range");
         kelp_dccl_val_set_str(out, f->enum_values[t - 1u]);
         return KELP_OK;
     case KELP_DCCL_T_STRING: {
@@ -598,11 +598,11 @@ int kelp_dccl_decode(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, const uin
     size_t m, nhead, nbody, blen;
     uint32_t pos;
     unsigned fi;
-    cx->errmsg = NULL;
-    if (!def || !out || n_out < def->n_slots) return DCCL_FAIL(cx, KELP_ERR_ARG, "values array too short");
-    if (!in || n == 0) return DCCL_FAIL(cx, KELP_ERR_TRUNCATED, "empty message");
+    kelp_diag_clear(&cx->diag);
+    if (!def || !out || n_out < def->n_slots) return kelp_fail(&cx->diag, KELP_ERR_ARG, "values array too short");
+    if (!in || n == 0) return kelp_fail(&cx->diag, KELP_ERR_TRUNCATED, "empty message");
     nbody = (def->body_bits + 7u) / 8u;
-    if (nbody > sizeof cx->work.dec.body) return DCCL_FAIL(cx, KELP_ERR_RANGE, "message larger than KELP_DCCL_MAX_SIZE");
+    if (nbody > sizeof cx->work.dec.body) return kelp_fail(&cx->diag, KELP_ERR_RANGE, "message larger than KELP_DCCL_MAX_SIZE");
     /* Goby strips every trailing zero byte of the received message (header included) */
     m = n;
     while (m > 0 && in[m - 1] == 0) m--;
@@ -615,7 +615,7 @@ int kelp_dccl_decode(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, const uin
         if (cx->crypto) {
             uint8_t iv[16];
             if (cx->crypto->iv(cx->crypto->user, in, nhead, iv) || cx->crypto->ctr(cx->crypto->user, iv, body, blen))
-                return DCCL_FAIL(cx, KELP_ERR_CRYPTO, "decryption failed");
+                return kelp_fail(&cx->diag, KELP_ERR_CRYPTO, "decryption failed");
         }
     }
     /* header: 48-bit integer from the (maybe short) header bytes, right-aligned */

@@ -16,12 +16,6 @@
 #endif
 #endif
 
-#ifdef KELP_NO_ERRMSG
-#define DCCL_FAIL(cx, code, msg) (code)
-#else
-#define DCCL_FAIL(cx, code, msg) ((cx)->errmsg ? (code) : ((cx)->errmsg = (msg), (code)))
-#endif
-
 /** Buffer that holds any double's string form. */
 #define DCCL_NUMBUF 400
 

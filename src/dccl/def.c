@@ -65,25 +65,20 @@ static uint32_t fnv_dbl(uint32_t h, double d)
     return fnv_u32(h, (uint32_t)u);
 }
 
-int kelp_dccl_def_finalize(kelp_dccl_msgdef *def, kelp_dccl_field *fields, const char **why)
+int kelp_dccl_def_finalize(kelp_dccl_msgdef *def, kelp_dccl_field *fields, kelp_diag *d)
 {
     uint32_t body = 0, hash = 2166136261u;
     uint16_t slot = 0;
     unsigned i, j;
-    const char *dummy;
-    if (!why) why = &dummy;
-    *why = NULL;
     if (!def || !fields || def->n_fields < KELP_DCCL_N_HEAD) {
-        *why = "definition without the 8 header fields";
-        return KELP_ERR_ARG;
+        return kelp_fail(d, KELP_ERR_ARG, "definition without the 8 header fields");
     }
     def->fields = fields;
     if (def->repeat == 0) def->repeat = 1;
     if (def->repeat > 1) {
         for (i = KELP_DCCL_N_HEAD; i < def->n_fields; i++) {
             if (fields[i].array_length != 1 && fields[i].array_length != def->repeat) {
-                *why = "<repeat> is not allowed on messages with arrays (<array_length> not 1)";
-                return KELP_ERR_RANGE;
+                return kelp_fail(d, KELP_ERR_RANGE, "<repeat> is not allowed on messages with arrays (<array_length> not 1)");
             }
         }
     }
@@ -99,8 +94,7 @@ int kelp_dccl_def_finalize(kelp_dccl_msgdef *def, kelp_dccl_field *fields, const
             f->has_delta = false;
         } else {
             if (f->type > KELP_DCCL_T_HEX) {
-                *why = "layout field with a header type";
-                return KELP_ERR_ARG;
+                return kelp_fail(d, KELP_ERR_ARG, "layout field with a header type");
             }
             if (def->repeat > 1) f->array_length = def->repeat;
             if (f->array_length == 0) f->array_length = 1;
@@ -122,15 +116,13 @@ int kelp_dccl_def_finalize(kelp_dccl_msgdef *def, kelp_dccl_field *fields, const
             case KELP_DCCL_T_BOOL: f->bits = f->delta_bits = 2; break;
             case KELP_DCCL_T_STRING:
                 if (f->max_length > KELP_DCCL_MAX_STRLEN) {
-                    *why = "<max_length> exceeds KELP_DCCL_MAX_STRLEN";
-                    return KELP_ERR_RANGE;
+                    return kelp_fail(d, KELP_ERR_RANGE, "<max_length> exceeds KELP_DCCL_MAX_STRLEN");
                 }
                 f->bits = f->delta_bits = (uint16_t)(8u * f->max_length);
                 break;
             case KELP_DCCL_T_HEX:
                 if (2u * f->num_bytes > KELP_DCCL_MAX_STRLEN) {
-                    *why = "<num_bytes> exceeds KELP_DCCL_MAX_STRLEN/2";
-                    return KELP_ERR_RANGE;
+                    return kelp_fail(d, KELP_ERR_RANGE, "<num_bytes> exceeds KELP_DCCL_MAX_STRLEN/2");
                 }
                 f->bits = f->delta_bits = (uint16_t)(8u * f->num_bytes);
                 break;
@@ -141,8 +133,7 @@ int kelp_dccl_def_finalize(kelp_dccl_msgdef *def, kelp_dccl_field *fields, const
             body += f->total_bits;
         }
         if ((uint32_t)slot + f->array_length > 65535u) {
-            *why = "too many value slots";
-            return KELP_ERR_RANGE;
+            return kelp_fail(d, KELP_ERR_RANGE, "too many value slots");
         }
         f->slot = slot;
         slot = (uint16_t)(slot + f->array_length);
@@ -150,8 +141,7 @@ int kelp_dccl_def_finalize(kelp_dccl_msgdef *def, kelp_dccl_field *fields, const
             unsigned r;
             for (r = 0; r < f->algs[j].n_refs; r++) {
                 if (f->algs[j].refs[r] < 0 || f->algs[j].refs[r] >= (int)def->n_fields) {
-                    *why = "algorithm reference out of range";
-                    return KELP_ERR_ARG;
+                    return kelp_fail(d, KELP_ERR_ARG, "algorithm reference out of range");
                 }
             }
         }
@@ -159,23 +149,19 @@ int kelp_dccl_def_finalize(kelp_dccl_msgdef *def, kelp_dccl_field *fields, const
     def->n_slots = slot;
     def->body_bits = body;
     if (def->size <= KELP_DCCL_HEAD_BYTES) {
-        *why = "<size> must be larger than the 6-byte header";
-        return KELP_ERR_RANGE;
+        return kelp_fail(d, KELP_ERR_RANGE, "<size> must be larger than the 6-byte header");
     }
     if (def->size > KELP_DCCL_MAX_SIZE) {
-        *why = "<size> exceeds KELP_DCCL_MAX_SIZE";
-        return KELP_ERR_RANGE;
+        return kelp_fail(d, KELP_ERR_RANGE, "<size> exceeds KELP_DCCL_MAX_SIZE");
     }
     if (body > 8u * (uint32_t)(def->size - KELP_DCCL_HEAD_BYTES)) {
-        *why = "the message will not fit within specified size. remove parameters, tighten bounds, or increase "
-               "allowed size";
-        return KELP_ERR_RANGE;
+        return kelp_fail(d, KELP_ERR_RANGE, "the message will not fit within specified size. remove parameters, tighten bounds, or increase "
+               "allowed size");
     }
     for (i = 0; i < def->n_publishes; i++) {
         for (j = 0; j < def->publishes[i].n_args; j++) {
             if (def->publishes[i].args[j].field >= def->n_fields) {
-                *why = "publish argument out of range";
-                return KELP_ERR_ARG;
+                return kelp_fail(d, KELP_ERR_ARG, "publish argument out of range");
             }
         }
     }

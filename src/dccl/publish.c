@@ -257,7 +257,7 @@ static int pub_run_algs(pub_ctx *pc, size_t *n_args)
         const kelp_dccl_field *f = arg_field(pc, a, &i0, &i1);
         for (i = i0; i < i1; i++, na++) {
             size_t n, room;
-            if (na >= KELP_DCCL_MAX_PUB_ARGS) return DCCL_FAIL(cx, KELP_ERR_NOSPACE, "too many publish arguments");
+            if (na >= KELP_DCCL_MAX_PUB_ARGS) return kelp_fail(&cx->diag, KELP_ERR_NOSPACE, "too many publish arguments");
             if (!pa->n_algs || !cx->algs) continue;
             w->pub.val = pc->vals[f->slot + i];
             dccl_apply_algs(cx->algs, pa->algs, pa->n_algs, &w->pub.val, i, pub_ref, pc);
@@ -265,7 +265,7 @@ static int pub_run_algs(pub_ctx *pc, size_t *n_args)
             if (room > KELP_DCCL_MAX_STRLEN + 1) room = KELP_DCCL_MAX_STRLEN + 1;
             (void)kelp_dccl_val_to_str(&w->pub.val, w->pub.alg + used, room, &n);
             if (n > KELP_DCCL_MAX_STRLEN) n = KELP_DCCL_MAX_STRLEN; /* cut as a value's string is */
-            if (n >= room) return DCCL_FAIL(cx, KELP_ERR_NOSPACE, "publish algorithm results longer than KELP_DCCL_PUB_ALG_WORK");
+            if (n >= room) return kelp_fail(&cx->diag, KELP_ERR_NOSPACE, "publish algorithm results longer than KELP_DCCL_PUB_ALG_WORK");
             w->pub.off[na] = (uint16_t)used;
             used += n + 1u;
         }
@@ -285,8 +285,8 @@ int kelp_dccl_publish_all(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, cons
     pub_ctx pc;
     unsigned pi, r;
     size_t count = 0;
-    cx->errmsg = NULL;
-    if (!def || !vals || !n_out || n_vals < def->n_slots) return DCCL_FAIL(cx, KELP_ERR_ARG, "values array too short");
+    kelp_diag_clear(&cx->diag);
+    if (!def || !vals || !n_out || n_vals < def->n_slots) return kelp_fail(&cx->diag, KELP_ERR_ARG, "values array too short");
     pc.cx = cx;
     pc.def = def;
     pc.vals = vals;
@@ -305,15 +305,15 @@ int kelp_dccl_publish_all(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, cons
                 /* no room: report what the format would have (bad format, too long) first */
                 rc = format_with(fmt, pub_arg, &pc, na, NULL, 0, &flen);
                 if (rc == KELP_ERR_NOSPACE && flen >= KELP_DCCL_MAX_PUBLEN)
-                    return DCCL_FAIL(cx, KELP_ERR_NOSPACE, "published value longer than KELP_DCCL_MAX_PUBLEN");
+                    return kelp_fail(&cx->diag, KELP_ERR_NOSPACE, "published value longer than KELP_DCCL_MAX_PUBLEN");
                 if (rc && rc != KELP_ERR_NOSPACE)
-                    return DCCL_FAIL(cx, KELP_ERR_PARSE, "decode failed. check format string for this <publish />");
-                return DCCL_FAIL(cx, KELP_ERR_NOSPACE, "more publications than storage");
+                    return kelp_fail(&cx->diag, KELP_ERR_PARSE, "decode failed. check format string for this <publish />");
+                return kelp_fail(&cx->diag, KELP_ERR_NOSPACE, "more publications than storage");
             }
             o = &out[count];
             rc = format_with(fmt, pub_arg, &pc, na, o->s, sizeof o->s, &flen);
-            if (rc == KELP_ERR_NOSPACE) return DCCL_FAIL(cx, KELP_ERR_NOSPACE, "published value longer than KELP_DCCL_MAX_PUBLEN");
-            if (rc) return DCCL_FAIL(cx, KELP_ERR_PARSE, "decode failed. check format string for this <publish />");
+            if (rc == KELP_ERR_NOSPACE) return kelp_fail(&cx->diag, KELP_ERR_NOSPACE, "published value longer than KELP_DCCL_MAX_PUBLEN");
+            if (rc) return kelp_fail(&cx->diag, KELP_ERR_PARSE, "decode failed. check format string for this <publish />");
             count++;
             {
                 size_t vn = strlen(p->var);

@@ -49,9 +49,9 @@ static kelp_acomms_dccl *start(int modem_id)
     c.plaintext = true;
     c.files = files;
     c.nfiles = 1;
-    char err[256];
-    kelp_acomms_dccl *d = kelp_acomms_dccl_open(&c, err, sizeof err);
-    ck_assert_msg(d != NULL, "%s", err);
+    kelp_diag err = {0};
+    kelp_acomms_dccl *d = kelp_acomms_dccl_open(&c, &err);
+    ck_assert_msg(d != NULL, "%s", kelp_diag_text(&err));
     kelp_acomms_codec codec;
     kelp_acomms_dccl_codec(d, &codec);
     kelp_acomms_config_default(&cfg);

@@ -48,9 +48,8 @@ static kelp_cmdr c;
 
 static void setup(void)
 {
-    char err[256];
     kelp_dccl_loaded_init(&ld);
-    ck_assert_int_eq(kelp_dccl_load_buffer(&ld, "t.xml", XML, sizeof XML - 1, NULL, err, sizeof err), 0);
+    ck_assert_int_eq(kelp_dccl_load_buffer(&ld, "t.xml", XML, sizeof XML - 1, NULL, NULL), 0);
     kelp_dccl_builtin_init(&geo, modems, 4);
     kelp_dccl_builtin_set_origin(&geo, 42.35, -70.95);
     kelp_cmdr_init(&c, &ld.set, &geo);
@@ -234,11 +233,11 @@ START_TEST(cmdr_ack_note)
 }
 END_TEST
 
-static int extra(void *ctx, const kelp_mission_node *n, const char **why)
+static int extra(void *ctx, const kelp_mission_node *n, kelp_diag *d)
 {
     int *seen = ctx;
     if (!kelp_mission_key_is(n, "load")) return 0;
-    if (n->vlen == 0) return *why = "empty", KELP_ERR_PARSE;
+    if (n->vlen == 0) return kelp_fail(d, KELP_ERR_PARSE, "empty");
     (*seen)++;
     return 1;
 }
@@ -249,18 +248,23 @@ START_TEST(cmdr_block)
 {
     static kelp_mission_file mf;
     static kelp_acomms_config cfg;
-    char err[256], warn[256];
+    char warn[256];
+    kelp_diag err = {0};
     int seen = 0;
     const char *text = "ProcessConfig = iCommander\n{\n  dccl_cfg { modem_id: 3 }\n  load: \"a.txt\"\n  load: \"b.txt\"\n}\n";
     memset(&mf, 0, sizeof mf);
     ck_assert_int_eq(kelp_mission_load_text(&mf, "t.moos", text, strlen(text)), 0);
     int b = kelp_mission_block(&mf.m, "ProcessConfig", "iCommander");
-    ck_assert_int_eq(kelp_acomms_config_read_extra(&mf.m, b, NULL, &cfg, err, sizeof err, warn, sizeof warn, extra, &seen), 0);
+    ck_assert_int_eq(kelp_acomms_config_read_extra(&mf.m, b, NULL, &cfg, &err, warn, sizeof warn, extra, &seen), 0);
     ck_assert_int_eq(seen, 2);
     ck_assert_int_eq(cfg.modem_id, 3);
     /* without the hook: unknown field, and no top-level modem_id */
-    ck_assert_int_ne(kelp_acomms_config_read(&mf.m, b, NULL, &cfg, err, sizeof err, warn, sizeof warn), 0);
-    ck_assert_ptr_nonnull(strstr(err, "unknown field"));
+    ck_assert_int_eq(kelp_acomms_config_read(&mf.m, b, NULL, &cfg, &err, warn, sizeof warn), KELP_ERR_PARSE);
+    ck_assert_int_eq(err.code, KELP_ERR_PARSE);
+    ck_assert_int_eq(err.line, 4);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_ptr_nonnull(strstr(err.msg, "unknown field"));
+#endif
     kelp_mission_free(&mf);
 }
 END_TEST

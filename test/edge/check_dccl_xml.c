@@ -157,12 +157,13 @@ START_TEST(example1_loads_encrypts_publishes)
     const kelp_dccl_msgdef *d;
     const kelp_dccl_pub *p;
     uint8_t buf[64];
-    char err[256], h[128];
+    kelp_diag err = {0};
+    char h[128];
     size_t n, np;
     setup_algs();
     kelp_dccl_loaded_init(&ld);
-    ck_assert_msg(kelp_dccl_load_buffer(&ld, "example1.xml", EXAMPLE1, sizeof EXAMPLE1 - 1, &algs, err, sizeof err) == 0,
-                  "%s", err);
+    ck_assert_msg(kelp_dccl_load_buffer(&ld, "example1.xml", EXAMPLE1, sizeof EXAMPLE1 - 1, &algs, &err) == 0,
+                  "%s", kelp_diag_text(&err));
     ck_assert_uint_eq(ld.set.n, 2);
     d = kelp_dccl_set_find_name(&ld.set, "GoToCommand");
     ck_assert_ptr_nonnull(d);
@@ -221,12 +222,13 @@ START_TEST(simple_status_vector_and_node_report)
                             {"NAV_Y", true, 321, NULL},        {"NAV_SPEED", true, 1.2, NULL},
                             {"NAV_HEADING", true, 45, NULL},   {"NAV_DEPTH", true, 111, NULL}};
     uint8_t buf[64];
-    char err[256], h[128];
+    kelp_diag err = {0};
+    char h[128];
     size_t n, np;
     setup_algs();
     kelp_dccl_loaded_init(&ld);
-    ck_assert_msg(kelp_dccl_load_buffer(&ld, "simple_status.xml", SIMPLE_STATUS, sizeof SIMPLE_STATUS - 1, &algs, err,
-                                        sizeof err) == 0, "%s", err);
+    ck_assert_msg(kelp_dccl_load_buffer(&ld, "simple_status.xml", SIMPLE_STATUS, sizeof SIMPLE_STATUS - 1, &algs,
+                                        &err) == 0, "%s", kelp_diag_text(&err));
     d = ld.set.msgs[0];
     ck_assert_uint_eq(d->id, 20);
     ck_assert_uint_eq(d->body_bits, 76);
@@ -281,12 +283,12 @@ START_TEST(arrays_all_and_typed_publish)
     const kelp_dccl_msgdef *d;
     const kelp_dccl_pub *p;
     uint8_t buf[300];
-    char err[256];
+    kelp_diag err = {0};
     size_t n, np;
     kelp_dccl_var trig = {"SMALL_TEST_OUT", false, 0, "destination=4,int={1,2,3},float=5.5,string=hello,enum=enum2,bool=false"};
     kelp_dccl_loaded_init(&ld);
-    ck_assert_msg(kelp_dccl_load_buffer(&ld, "small.xml", SMALL_TEST, sizeof SMALL_TEST - 1, NULL, err, sizeof err) == 0,
-                  "%s", err);
+    ck_assert_msg(kelp_dccl_load_buffer(&ld, "small.xml", SMALL_TEST, sizeof SMALL_TEST - 1, NULL, &err) == 0,
+                  "%s", kelp_diag_text(&err));
     d = ld.set.msgs[0];
     ck_assert_str_eq(d->publishes[0].format, "destination=%1%,static=%2%,int={%3%,%4%,%5%},float=%6%,string=%7%,"
                                              "enum=%8%,bool=%9%");
@@ -361,11 +363,11 @@ START_TEST(repeat_publishes_once_per_index)
     kelp_dccl_val v[32], out[32];
     kelp_dccl_pub pubs[16];
     uint8_t buf[64];
-    char err[256];
+    kelp_diag err = {0};
     size_t n, np;
     kelp_dccl_loaded_init(&ld);
-    ck_assert_msg(kelp_dccl_load_buffer(&ld, "rep.xml", REPEAT_PUBS[_i], strlen(REPEAT_PUBS[_i]), NULL, err, sizeof err) == 0,
-                  "%s", err);
+    ck_assert_msg(kelp_dccl_load_buffer(&ld, "rep.xml", REPEAT_PUBS[_i], strlen(REPEAT_PUBS[_i]), NULL, &err) == 0,
+                  "%s", kelp_diag_text(&err));
     const kelp_dccl_msgdef *d = ld.set.msgs[0];
     ck_assert_uint_eq(d->repeat, 3);
     /* a generated format has one placeholder per field, not per array element */
@@ -398,11 +400,11 @@ START_TEST(int_bounds_in_the_billions)
     kelp_dccl_codec cx;
     kelp_dccl_val v[32], out[32];
     uint8_t buf[128];
-    char err[256];
+    kelp_diag err = {0};
     size_t n;
     kelp_dccl_loaded_init(&ld);
-    ck_assert_msg(kelp_dccl_load_buffer(&ld, "wide.xml", WIDE_INTS, sizeof WIDE_INTS - 1, NULL, err, sizeof err) == 0,
-                  "%s", err);
+    ck_assert_msg(kelp_dccl_load_buffer(&ld, "wide.xml", WIDE_INTS, sizeof WIDE_INTS - 1, NULL, &err) == 0,
+                  "%s", kelp_diag_text(&err));
     const kelp_dccl_msgdef *d = ld.set.msgs[0];
     /* widths by Goby's double expression, its quirks included */
     static const struct { const char *name; unsigned bits; } W[] = {
@@ -452,8 +454,10 @@ START_TEST(int_bounds_in_the_billions)
     static const char NAN_MAX[] = "<message_set><message><name>A</name><size>32</size><layout>"
                                   "<int><name>i</name><max>lots</max><min>0</min></int></layout></message></message_set>";
     kelp_dccl_loaded_init(&ld);
-    ck_assert_int_lt(kelp_dccl_load_buffer(&ld, "n.xml", NAN_MAX, sizeof NAN_MAX - 1, NULL, err, sizeof err), 0);
-    ck_assert_ptr_nonnull(strstr(err, "<max> must be a number"));
+    ck_assert_int_lt(kelp_dccl_load_buffer(&ld, "n.xml", NAN_MAX, sizeof NAN_MAX - 1, NULL, &err), 0);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_ptr_nonnull(strstr(err.msg, "<max> must be a number"));
+#endif
     kelp_dccl_loaded_free(&ld);
 }
 END_TEST
@@ -483,10 +487,10 @@ START_TEST(wide_message_set_file)
     kelp_dccl_val v[64], out[64];
     kelp_dccl_pub pubs[16];
     uint8_t buf[KELP_DCCL_MAX_SIZE];
-    char err[256];
+    kelp_diag err = {0};
     size_t n, np;
     kelp_dccl_loaded_init(&ld);
-    ck_assert_msg(kelp_dccl_load_file(&ld, KELP_TEST_ROOT "/test/data/dccl/wide.xml", NULL, err, sizeof err) == 0, "%s", err);
+    ck_assert_msg(kelp_dccl_load_file(&ld, KELP_TEST_ROOT "/test/data/dccl/wide.xml", NULL, &err) == 0, "%s", kelp_diag_text(&err));
     const kelp_dccl_msgdef *d = kelp_dccl_set_find_name(&ld.set, "WIDE_ALL");
     const kelp_dccl_msgdef *r = kelp_dccl_set_find_name(&ld.set, "WIDE_REP");
     ck_assert(d && r);
@@ -537,12 +541,12 @@ END_TEST
 START_TEST(repeat_auto_count)
 {
     kelp_dccl_loaded ld;
-    char err[256];
+    kelp_diag err = {0};
     const kelp_dccl_msgdef *d;
     kelp_dccl_loaded_init(&ld);
     /* the Goby test algorithms are not registered: with no registry, unknown names load */
-    ck_assert_msg(kelp_dccl_load_buffer(&ld, "test.xml", REPEAT_TEST, sizeof REPEAT_TEST - 1, NULL, err, sizeof err) == 0,
-                  "%s", err);
+    ck_assert_msg(kelp_dccl_load_buffer(&ld, "test.xml", REPEAT_TEST, sizeof REPEAT_TEST - 1, NULL, &err) == 0,
+                  "%s", kelp_diag_text(&err));
     d = ld.set.msgs[0];
     /* one copy: SUM 15 bits + I 8 bits = 23; 8*(128-6) = 976 -> 42 copies */
     ck_assert_uint_eq(d->repeat, 42);
@@ -552,9 +556,13 @@ START_TEST(repeat_auto_count)
     /* with a registry, an unknown algorithm is an error */
     setup_algs();
     kelp_dccl_loaded_init(&ld);
-    ck_assert_int_eq(kelp_dccl_load_buffer(&ld, "test.xml", REPEAT_TEST, sizeof REPEAT_TEST - 1, &algs, err, sizeof err),
+    ck_assert_int_eq(kelp_dccl_load_buffer(&ld, "test.xml", REPEAT_TEST, sizeof REPEAT_TEST - 1, &algs, &err),
                      KELP_ERR_NOTFOUND);
-    ck_assert_msg(strstr(err, "test.xml:3: unknown algorithm \"sum\"") != NULL, "%s", err);
+    ck_assert_int_eq(err.code, KELP_ERR_NOTFOUND);
+    ck_assert_int_eq(err.line, 3);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_msg(strstr(err.msg, "test.xml:3: unknown algorithm \"sum\"") != NULL, "%s", err.msg);
+#endif
     kelp_dccl_loaded_free(&ld);
 }
 END_TEST
@@ -600,13 +608,18 @@ static const struct {
 START_TEST(load_errors_have_file_line_reason)
 {
     kelp_dccl_loaded ld;
-    char err[512];
+    kelp_diag err = {0};
     int rc;
     setup_algs();
     kelp_dccl_loaded_init(&ld);
-    rc = kelp_dccl_load_buffer(&ld, "bad.xml", BAD[_i].xml, strlen(BAD[_i].xml), &algs, err, sizeof err);
-    ck_assert_msg(rc == BAD[_i].rc, "case %d: rc %d (%s)", _i, rc, err);
-    ck_assert_msg(strstr(err, BAD[_i].msg) != NULL, "case %d: \"%s\" lacks \"%s\"", _i, err, BAD[_i].msg);
+    rc = kelp_dccl_load_buffer(&ld, "bad.xml", BAD[_i].xml, strlen(BAD[_i].xml), &algs, &err);
+    ck_assert_msg(rc == BAD[_i].rc, "case %d: rc %d (%s)", _i, rc, kelp_diag_text(&err));
+    ck_assert_int_eq(err.code, rc);
+    if (strncmp(BAD[_i].msg, "bad.xml:", 8) == 0) /* the line of the message is the diag's line */
+        ck_assert_msg(err.line == (int)strtol(BAD[_i].msg + 8, NULL, 10), "case %d: line %d", _i, err.line);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_msg(strstr(err.msg, BAD[_i].msg) != NULL, "case %d: \"%s\" lacks \"%s\"", _i, err.msg, BAD[_i].msg);
+#endif
     ck_assert_uint_eq(ld.set.n, 0);
     kelp_dccl_loaded_free(&ld);
 }
@@ -615,10 +628,13 @@ END_TEST
 START_TEST(missing_file_is_io_error)
 {
     kelp_dccl_loaded ld;
-    char err[256];
+    kelp_diag err = {0};
     kelp_dccl_loaded_init(&ld);
-    ck_assert_int_eq(kelp_dccl_load_file(&ld, "/nonexistent/x.xml", NULL, err, sizeof err), KELP_ERR_IO);
-    ck_assert_ptr_nonnull(strstr(err, "/nonexistent/x.xml:0: cannot open"));
+    ck_assert_int_eq(kelp_dccl_load_file(&ld, "/nonexistent/x.xml", NULL, &err), KELP_ERR_IO);
+    ck_assert_int_eq(err.code, KELP_ERR_IO);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_ptr_nonnull(strstr(err.msg, "/nonexistent/x.xml:0: cannot open"));
+#endif
     kelp_dccl_loaded_free(&ld);
 }
 END_TEST

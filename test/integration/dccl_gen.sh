@@ -96,14 +96,15 @@ int main(int argc, char **argv)
     kelp_dccl_modem_entry me[4];
     kelp_dccl_algs algs;
     kelp_dccl_builtin bi;
-    char err[256], h1[2 * KELP_DCCL_MAX_SIZE + 1], h2[2 * KELP_DCCL_MAX_SIZE + 1];
+    char h1[2 * KELP_DCCL_MAX_SIZE + 1], h2[2 * KELP_DCCL_MAX_SIZE + 1];
+    kelp_diag err = {0};
     const kelp_dccl_msgdef *g, *l;
     if (argc < 4) return 2;
     kelp_dccl_algs_init(&algs, st, 40);
     kelp_dccl_builtin_init(&bi, me, 4);
     if (kelp_dccl_algs_add_builtin(&algs, &bi)) return 2;
     kelp_dccl_loaded_init(&ld);
-    if (kelp_dccl_load_file(&ld, argv[1], &algs, err, sizeof err)) { fprintf(stderr, "%s\n", err); return 2; }
+    if (kelp_dccl_load_file(&ld, argv[1], &algs, &err)) { fprintf(stderr, "%s\n", kelp_diag_text(&err)); return 2; }
     g = kelp_dccl_set_find_name(&GEN_SET, argv[2]);
     l = kelp_dccl_set_find_name(&ld.set, argv[2]);
     if (!g || !l) return 3;

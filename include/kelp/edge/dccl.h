@@ -31,15 +31,15 @@ void kelp_dccl_loaded_free(kelp_dccl_loaded *ld);
  *  the body fits, <repeat> without arrays, references to unknown fields in
  *  algorithms and <message_var>, unknown algorithm names when `algs` holds at least
  *  one algorithm; plus duplicate ids/names in the set.
- * @param err receives "file:line: reason" on failure (may be NULL)
+ * @param d   receives "file:line: reason" and the line on failure (may be NULL)
  * @return 0, KELP_ERR_IO (cannot read), KELP_ERR_PARSE (XML or schema), KELP_ERR_RANGE
  *         (a message does not fit), KELP_ERR_NOTFOUND (unknown reference), KELP_ERR_EXISTS.
  *         On failure nothing of this file is added. */
-KELP_MUST_CHECK int kelp_dccl_load_file(kelp_dccl_loaded *ld, const char *path, const kelp_dccl_algs *algs, char *err,
-                                        size_t errcap);
+KELP_MUST_CHECK int kelp_dccl_load_file(kelp_dccl_loaded *ld, const char *path, const kelp_dccl_algs *algs,
+                                        kelp_diag *d);
 /** Same from memory; `name` is used in error messages. */
 KELP_MUST_CHECK int kelp_dccl_load_buffer(kelp_dccl_loaded *ld, const char *name, const char *xml, size_t len,
-                                          const kelp_dccl_algs *algs, char *err, size_t errcap);
+                                          const kelp_dccl_algs *algs, kelp_diag *d);
 
 /* ------------------------------------------------------------------ mbedTLS crypto */
 /** Goby 1.1 crypto: key = SHA-256(passphrase) (also for the empty passphrase),
@@ -62,8 +62,8 @@ KELP_MUST_CHECK int kelp_dccl_mbedtls_init(kelp_dccl_mbedtls *c, const char *pas
 void kelp_dccl_mbedtls_free(kelp_dccl_mbedtls *c);
 
 /* ------------------------------------------------------------------ modem-id lookup file */
-/** Read a modem_id_lookup_path file into ctx (see kelp_dccl_builtin_parse_modems). */
-KELP_MUST_CHECK int kelp_dccl_builtin_load_modems(kelp_dccl_builtin *ctx, const char *path, char *err, size_t errcap);
+/** Read a modem_id_lookup_path file into ctx (see kelp_dccl_builtin_parse_modems); d says why not. */
+KELP_MUST_CHECK int kelp_dccl_builtin_load_modems(kelp_dccl_builtin *ctx, const char *path, kelp_diag *d);
 
 /* ------------------------------------------------------------------ generator */
 /** Write C source and header holding `set` as const tables.

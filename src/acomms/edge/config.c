@@ -17,8 +17,7 @@
 typedef struct rd {
     const kelp_mission *m;
     kelp_acomms_config *c;
-    char *err;
-    size_t errcap;
+    kelp_diag *d;
     char *warn;
     size_t warncap;
     const char *base;
@@ -35,9 +34,11 @@ static void note_fail(rd *r, const kelp_mission_node *n, const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(msg, sizeof msg, fmt, ap); /* NOLINT(clang-analyzer-valist.Uninitialized): va_start above */
     va_end(ap);
-    if (r->err && r->errcap) {
-        if (n) snprintf(r->err, r->errcap, "line %d: %.*s: %s", n->line, (int)n->klen, n->key, msg);
-        else snprintf(r->err, r->errcap, "%s", msg);
+    if (n) {
+        (void)kelp_failf(r->d, KELP_ERR_PARSE, "line %d: %.*s: %s", n->line, (int)n->klen, n->key, msg);
+        (void)kelp_diag_where(r->d, n->line, 0);
+    } else {
+        (void)kelp_failf(r->d, KELP_ERR_PARSE, "%s", msg);
     }
 }
 
@@ -563,19 +564,18 @@ static const kelp_mission_node *global(const kelp_mission *m, const char *key)
 }
 
 int kelp_acomms_config_read(const struct kelp_mission *m, int block, const char *base_dir, kelp_acomms_config *c,
-                            char *err, size_t errcap, char *warnbuf, size_t warncap)
+                            kelp_diag *d, char *warnbuf, size_t warncap)
 {
-    return kelp_acomms_config_read_extra(m, block, base_dir, c, err, errcap, warnbuf, warncap, NULL, NULL);
+    return kelp_acomms_config_read_extra(m, block, base_dir, c, d, warnbuf, warncap, NULL, NULL);
 }
 
 int kelp_acomms_config_read_extra(const struct kelp_mission *m, int block, const char *base_dir, kelp_acomms_config *c,
-                                  char *err, size_t errcap, char *warnbuf, size_t warncap,
+                                  kelp_diag *d, char *warnbuf, size_t warncap,
                                   kelp_acomms_config_extra_fn extra, void *extra_ctx)
 {
-    rd r = { m, c, err, errcap, warnbuf, warncap, base_dir, extra, extra_ctx, 0 };
-    if (err && errcap) err[0] = '\0';
+    rd r = { m, c, d, warnbuf, warncap, base_dir, extra, extra_ctx, 0 };
     if (warnbuf && warncap) warnbuf[0] = '\0';
-    if (!m || !c) return KELP_ERR_ARG;
+    if (!m || !c) return kelp_fail(d, KELP_ERR_ARG, "no mission or no configuration");
     kelp_acomms_config_default(c);
     if (block < 0) return fail(&r, NULL, "no pAcommsHandler configuration block");
     bool has_log = false, has_log_path = false, has_lookup = false;
@@ -635,9 +635,10 @@ int kelp_acomms_config_read_extra(const struct kelp_mission *m, int block, const
             if ((rc = get_str(&r, n, c->tcp_share_to_ip[c->n_tcp_share], sizeof c->tcp_share_to_ip[0]))) return rc;
             c->n_tcp_share++;
         } else {
-            const char *why = "unknown field";
-            int x = r.extra ? r.extra(r.extra_ctx, n, &why) : 0;
-            if (x <= 0) return fail(&r, n, "%s", why);
+            kelp_diag xd; /* the extra reader's reason, put into this line's message */
+            kelp_diag_clear(&xd);
+            int x = r.extra ? r.extra(r.extra_ctx, n, &xd) : 0;
+            if (x <= 0) return fail(&r, n, "%s", x < 0 ? kelp_diag_text(&xd) : "unknown field");
         }
     }
     /* global fallbacks */
@@ -719,7 +720,7 @@ void kelp_acomms_config_node(const kelp_acomms_config *c, kelp_acomms_node_cfg *
     out->loopback_channel = c->driver_type == KELP_ACOMMS_DRIVER_NONE;
 }
 
-kelp_acomms_dccl *kelp_acomms_dccl_open_config(const kelp_acomms_config *cfg, bool plaintext, char *err, size_t errcap)
+kelp_acomms_dccl *kelp_acomms_dccl_open_config(const kelp_acomms_config *cfg, bool plaintext, kelp_diag *d)
 {
     const char *files[KELP_ACOMMS_MAX_FILES];
     unsigned manips[KELP_ACOMMS_MAX_FILES];
@@ -739,5 +740,5 @@ kelp_acomms_dccl *kelp_acomms_dccl_open_config(const kelp_acomms_config *cfg, bo
     dc.files = files;
     dc.manips = manips;
     dc.nfiles = cfg->nfiles;
-    return kelp_acomms_dccl_open(&dc, err, errcap);
+    return kelp_acomms_dccl_open(&dc, d);
 }

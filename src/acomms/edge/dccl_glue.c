@@ -117,26 +117,30 @@ void kelp_acomms_dccl_close(kelp_acomms_dccl *d)
     free(d);
 }
 
-kelp_acomms_dccl *kelp_acomms_dccl_open(const kelp_acomms_dccl_cfg *cfg, char *err, size_t errcap)
+kelp_acomms_dccl *kelp_acomms_dccl_open(const kelp_acomms_dccl_cfg *cfg, kelp_diag *diag)
 {
-    char e[512];
-    if (!cfg) return NULL;
+    kelp_diag e; /* the lookup file's reason, put after "modem_id_lookup_path: " */
+    kelp_diag_clear(&e);
+    if (!cfg) {
+        (void)kelp_fail(diag, KELP_ERR_ARG, "no configuration");
+        return NULL;
+    }
     kelp_acomms_dccl *d = calloc(1, sizeof *d);
     if (!d) {
-        if (err) snprintf(err, errcap, "out of memory");
+        (void)kelp_fail(diag, KELP_ERR_NOSPACE, "out of memory");
         return NULL;
     }
     kelp_dccl_loaded_init(&d->ld);
     kelp_dccl_algs_init(&d->algs, d->alg_store, GLUE_MAX_ALGS);
     kelp_dccl_builtin_init(&d->bi, d->modems, GLUE_MAX_MODEMS);
     if (kelp_dccl_algs_add_builtin(&d->algs, &d->bi) != KELP_OK) {
-        if (err) snprintf(err, errcap, "cannot register the DCCL algorithms");
+        (void)kelp_fail(diag, KELP_ERR_NOSPACE, "cannot register the DCCL algorithms");
         goto fail;
     }
     if (cfg->have_origin) kelp_dccl_builtin_set_origin(&d->bi, cfg->lat_origin, cfg->lon_origin);
     if (cfg->lookup_path && cfg->lookup_path[0] &&
-        kelp_dccl_builtin_load_modems(&d->bi, cfg->lookup_path, e, sizeof e) != KELP_OK) {
-        if (err) snprintf(err, errcap, "modem_id_lookup_path: %s", e);
+        kelp_dccl_builtin_load_modems(&d->bi, cfg->lookup_path, &e) != KELP_OK) {
+        (void)kelp_failf(diag, e.code, "modem_id_lookup_path: %s", kelp_diag_text(&e));
         goto fail;
     }
     /* every file once; manipulators of the same path merged (queue_cfg + dccl_cfg) */
@@ -154,8 +158,7 @@ kelp_acomms_dccl *kelp_acomms_dccl_open(const kelp_acomms_dccl_cfg *cfg, char *e
         fm[first[i]] |= cfg->manips ? cfg->manips[i] : 0;
         if (first[i] != i) continue;
         m0[i] = d->ld.set.n;
-        if (kelp_dccl_load_file(&d->ld, cfg->files[i], &d->algs, e, sizeof e) != KELP_OK) {
-            if (err) snprintf(err, errcap, "%s", e);
+        if (kelp_dccl_load_file(&d->ld, cfg->files[i], &d->algs, diag) != KELP_OK) {
             free(first), free(m0), free(m1), free(fm);
             goto fail;
         }
@@ -187,7 +190,7 @@ kelp_acomms_dccl *kelp_acomms_dccl_open(const kelp_acomms_dccl_cfg *cfg, char *e
     if (!d->src || !d->vals || !d->pubs) goto oom;
     if (!cfg->plaintext) {
         if (kelp_dccl_mbedtls_init(&d->mb, cfg->passphrase) != KELP_OK) {
-            if (err) snprintf(err, errcap, "crypto initialisation failed");
+            (void)kelp_fail(diag, KELP_ERR_CRYPTO, "crypto initialisation failed");
             goto fail;
         }
         d->mb_ok = true;
@@ -197,7 +200,7 @@ kelp_acomms_dccl *kelp_acomms_dccl_open(const kelp_acomms_dccl_cfg *cfg, char *e
 oom_files:
     free(first), free(m0), free(m1), free(fm);
 oom:
-    if (err) snprintf(err, errcap, "out of memory");
+    (void)kelp_fail(diag, KELP_ERR_NOSPACE, "out of memory");
 fail:
     kelp_acomms_dccl_close(d);
     return NULL;
@@ -303,7 +306,7 @@ static int encode_vals(kelp_acomms_dccl *d, const kelp_dccl_msgdef *def, const k
                        uint8_t *out, size_t cap, size_t *len, const char **why)
 {
     int rc = kelp_dccl_encode(&d->cx, def, vals, def->n_slots, now, out, cap, len);
-    if (rc) *why = d->cx.errmsg ? d->cx.errmsg : kelp_strerror(rc);
+    if (rc) *why = kelp_diag_text(&d->cx.diag)[0] ? kelp_diag_text(&d->cx.diag) : kelp_strerror(rc);
     return rc;
 }
 
@@ -436,7 +439,7 @@ static int decode_into(kelp_acomms_dccl *d, const uint8_t *in, size_t n, double 
     const kelp_dccl_msgdef *def = d->ld.set.msgs[i];
     int rc = kelp_dccl_decode(&d->cx, def, in, n, now, d->vals, def->n_slots);
     if (rc) {
-        *why = d->cx.errmsg ? d->cx.errmsg : kelp_strerror(rc);
+        *why = kelp_diag_text(&d->cx.diag)[0] ? kelp_diag_text(&d->cx.diag) : kelp_strerror(rc);
         return rc;
     }
     *defp = def;
@@ -466,7 +469,7 @@ int kelp_acomms_dccl_decode(kelp_acomms_dccl *d, const uint8_t *in, size_t n, do
     size_t np = 0;
     rc = kelp_dccl_publish_all(&d->cx, def, d->vals, def->n_slots, d->pubs, d->max_pubs + 1, &np);
     if (rc) {
-        *why = d->cx.errmsg ? d->cx.errmsg : "publish failed";
+        *why = d->cx.diag.code ? kelp_diag_text(&d->cx.diag) : "publish failed";
         return rc;
     }
     for (size_t k = 0; k < np && fn; k++) fn(d->pubs[k].var, d->pubs[k].is_double, d->pubs[k].d, d->pubs[k].s, user);

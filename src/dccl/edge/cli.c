@@ -218,7 +218,7 @@ int kelp_dccl_cli_main(int argc, char **argv)
     kelp_dccl_builtin bi;
     kelp_dccl_mbedtls mb;
     kelp_dccl_codec cx;
-    char err[512];
+    kelp_diag err;
     size_t i;
     int rc, status = 0;
     bool is_encode, is_decode, is_publish, is_info;
@@ -242,14 +242,15 @@ int kelp_dccl_cli_main(int argc, char **argv)
                 return die("--lat-origin and --lon-origin go together", NULL, NULL);
     }
     if (c.have_lat) kelp_dccl_builtin_set_origin(&bi, c.lat, c.lon);
-    if (c.lookup && kelp_dccl_builtin_load_modems(&bi, c.lookup, err, sizeof err) != 0) {
-                return die("%s", err, NULL);
+    kelp_diag_clear(&err);
+    if (c.lookup && kelp_dccl_builtin_load_modems(&bi, c.lookup, &err) != 0) {
+                return die("%s", kelp_diag_text(&err), NULL);
     }
     kelp_dccl_loaded_init(&ld);
     for (i = 0; i < c.n_xml; i++) {
-        if (kelp_dccl_load_file(&ld, c.xml[i], c.no_algs ? NULL : &algs, err, sizeof err) != 0) {
+        if (kelp_dccl_load_file(&ld, c.xml[i], c.no_algs ? NULL : &algs, &err) != 0) {
             kelp_dccl_loaded_free(&ld);
-                        return die("%s", err, NULL);
+                        return die("%s", kelp_diag_text(&err), NULL);
         }
     }
     if (is_info) {
@@ -344,7 +345,7 @@ int kelp_dccl_cli_main(int argc, char **argv)
         free(vals);
         free(count);
         if (rc) {
-            fprintf(stderr, "kelp-dccl: encode %s failed: %s (%s)\n", def->name, cx.errmsg ? cx.errmsg : "",
+            fprintf(stderr, "kelp-dccl: encode %s failed: %s (%s)\n", def->name, cx.diag.code ? kelp_diag_text(&cx.diag) : "",
                     kelp_strerror(rc));
             status = 1;
             goto done;
@@ -378,7 +379,7 @@ int kelp_dccl_cli_main(int argc, char **argv)
             rc = kelp_dccl_decode(&cx, def, bytes, n, c.now, vals, def->n_slots);
         }
         if (rc) {
-            fprintf(stderr, "kelp-dccl: decode %s failed: %s (%s)\n", def->name, cx.errmsg ? cx.errmsg : "",
+            fprintf(stderr, "kelp-dccl: decode %s failed: %s (%s)\n", def->name, cx.diag.code ? kelp_diag_text(&cx.diag) : "",
                     kelp_strerror(rc));
             free(vals);
             status = 1;
@@ -406,7 +407,7 @@ int kelp_dccl_cli_main(int argc, char **argv)
             }
             rc = kelp_dccl_publish_all(&cx, def, vals, def->n_slots, pubs, cap, &np);
             if (rc) {
-                fprintf(stderr, "kelp-dccl: publish %s failed: %s (%s)\n", def->name, cx.errmsg ? cx.errmsg : "",
+                fprintf(stderr, "kelp-dccl: publish %s failed: %s (%s)\n", def->name, cx.diag.code ? kelp_diag_text(&cx.diag) : "",
                         kelp_strerror(rc));
                 status = 1;
             } else {

@@ -211,7 +211,8 @@ int kelp_dccl_gen_write(const kelp_dccl_set *set, const char *prefix, const char
 int kelp_dccl_gen_main(int argc, char **argv)
 {
     const char *xml = NULL, *dir = ".", *prefix = NULL;
-    char pbuf[200], cpath[1024], hpath[1024], hname[256], err[512];
+    char pbuf[200], cpath[1024], hpath[1024], hname[256];
+    kelp_diag err;
     kelp_dccl_loaded ld;
     FILE *c, *h;
     int i, rc;
@@ -257,9 +258,10 @@ int kelp_dccl_gen_main(int argc, char **argv)
         prefix = pbuf;
     }
     kelp_dccl_loaded_init(&ld);
-    rc = kelp_dccl_load_file(&ld, xml, NULL, err, sizeof err);
+    kelp_diag_clear(&err);
+    rc = kelp_dccl_load_file(&ld, xml, NULL, &err);
     if (rc) {
-        fprintf(stderr, "kelp-dccl-gen: %s\n", err);
+        fprintf(stderr, "kelp-dccl-gen: %s\n", kelp_diag_text(&err));
         kelp_dccl_loaded_free(&ld);
         return 1;
     }

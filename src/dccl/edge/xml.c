@@ -119,8 +119,7 @@ typedef struct parser {
     const kelp_dccl_algs *algs;
     const char *file;
     XML_Parser xp;
-    char *err;
-    size_t errcap;
+    kelp_diag *d; /* the caller's record (may be NULL) */
     int rc;
     int depth;
     enum ctx_kind kind[MAX_DEPTH];
@@ -147,7 +146,8 @@ static void fail(parser *p, int rc, int line, const char *fmt, ...)
     if (p->rc) return;
     p->rc = rc;
     if (p->xp) XML_StopParser(p->xp, XML_FALSE);
-    if (p->err && p->errcap) snprintf(p->err, p->errcap, "%s:%d: %s", p->file, line, why);
+    (void)kelp_failf(p->d, rc, "%s:%d: %s", p->file, line, why);
+    (void)kelp_diag_where(p->d, line, 0);
 }
 
 static int cur_line(parser *p)
@@ -901,7 +901,7 @@ static void end_message(parser *p)
     kelp_dccl_field *fields;
     kelp_dccl_publish *pubs;
     kelp_dccl_msgdef *def;
-    const char *why = NULL;
+    kelp_diag why; /* the definition check's reason, put into this file's message */
     int line = p->line[p->depth - 1];
     size_t i;
     int rc;
@@ -951,6 +951,7 @@ static void end_message(parser *p)
     def->publishes = NULL;
     def->n_publishes = 0;
     if (m->repeat_auto) def->repeat = 1;
+    kelp_diag_clear(&why);
     rc = kelp_dccl_def_finalize(def, fields, &why);
     if (rc == 0 && m->repeat_auto) {
         /* <repeat/>: the largest k with k copies fitting in 8*(size-6) bits */
@@ -964,7 +965,7 @@ static void end_message(parser *p)
         rc = kelp_dccl_def_finalize(def, fields, &why);
     }
     if (rc) {
-        fail(p, rc, line, "DCCL: the message [%s]: %s (body %u bits, size %u bytes)", def->name, why,
+        fail(p, rc, line, "DCCL: the message [%s]: %s (body %u bits, size %u bytes)", def->name, kelp_diag_text(&why),
              (unsigned)def->body_bits, (unsigned)def->size);
         return;
     }
@@ -979,7 +980,7 @@ static void end_message(parser *p)
     def->publishes = pubs;
     def->n_publishes = (uint16_t)m->n_pubs;
     rc = kelp_dccl_def_finalize(def, fields, &why); /* re-check publish references */
-    if (rc) { fail(p, rc, line, "message %s: %s", def->name, why); return; }
+    if (rc) { fail(p, rc, line, "message %s: %s", def->name, kelp_diag_text(&why)); return; }
     {
         char up[256], buf[300];
         upper_into(up, def->name, sizeof up);
@@ -1162,7 +1163,7 @@ static int XMLCALL on_unknown_encoding(void *ud, const XML_Char *name, XML_Encod
 }
 
 static int load(kelp_dccl_loaded *ld, const char *name, const char *xml, size_t len, const kelp_dccl_algs *algs,
-                char *err, size_t errcap)
+                kelp_diag *d)
 {
     parser p;
     size_t before = ld->set.n;
@@ -1170,11 +1171,9 @@ static int load(kelp_dccl_loaded *ld, const char *name, const char *xml, size_t 
     p.ld = ld;
     p.algs = algs;
     p.file = name;
-    p.err = err;
-    p.errcap = errcap;
-    if (err && errcap) err[0] = '\0';
+    p.d = d;
     p.xp = XML_ParserCreate(NULL);
-    if (!p.xp) return KELP_ERR_NOSPACE;
+    if (!p.xp) return kelp_failf(d, KELP_ERR_NOSPACE, "%s:0: out of memory", name);
     XML_SetUserData(p.xp, &p);
     XML_SetElementHandler(p.xp, on_start, on_end);
     XML_SetCharacterDataHandler(p.xp, on_text);
@@ -1196,24 +1195,21 @@ static int load(kelp_dccl_loaded *ld, const char *name, const char *xml, size_t 
 }
 
 int kelp_dccl_load_buffer(kelp_dccl_loaded *ld, const char *name, const char *xml, size_t len,
-                          const kelp_dccl_algs *algs, char *err, size_t errcap)
+                          const kelp_dccl_algs *algs, kelp_diag *d)
 {
-    if (!ld || !xml) return KELP_ERR_ARG;
-    return load(ld, name ? name : "(buffer)", xml, len, algs, err, errcap);
+    if (!ld || !xml) return kelp_fail(d, KELP_ERR_ARG, "no loader or no text");
+    return load(ld, name ? name : "(buffer)", xml, len, algs, d);
 }
 
-int kelp_dccl_load_file(kelp_dccl_loaded *ld, const char *path, const kelp_dccl_algs *algs, char *err, size_t errcap)
+int kelp_dccl_load_file(kelp_dccl_loaded *ld, const char *path, const kelp_dccl_algs *algs, kelp_diag *d)
 {
     FILE *f;
     char *buf = NULL;
     size_t n = 0, cap = 0;
     int rc;
-    if (!ld || !path) return KELP_ERR_ARG;
+    if (!ld || !path) return kelp_fail(d, KELP_ERR_ARG, "no loader or no path");
     f = fopen(path, "rb");
-    if (!f) {
-        if (err && errcap) snprintf(err, errcap, "%s:0: cannot open: %s", path, strerror(errno));
-        return KELP_ERR_IO;
-    }
+    if (!f) return kelp_failf(d, KELP_ERR_IO, "%s:0: cannot open: %s", path, strerror(errno));
     for (;;) {
         size_t got;
         if (n + 4096 > cap) {
@@ -1222,14 +1218,13 @@ int kelp_dccl_load_file(kelp_dccl_loaded *ld, const char *path, const kelp_dccl_
             if (cap > (64u << 20)) {
                 free(buf);
                 fclose(f);
-                if (err && errcap) snprintf(err, errcap, "%s:0: file too large", path);
-                return KELP_ERR_RANGE;
+                return kelp_failf(d, KELP_ERR_RANGE, "%s:0: file too large", path);
             }
             nb = realloc(buf, cap);
             if (!nb) {
                 free(buf);
                 fclose(f);
-                return KELP_ERR_NOSPACE;
+                return kelp_failf(d, KELP_ERR_NOSPACE, "%s:0: out of memory", path);
             }
             buf = nb;
         }
@@ -1240,28 +1235,23 @@ int kelp_dccl_load_file(kelp_dccl_loaded *ld, const char *path, const kelp_dccl_
     if (ferror(f)) {
         free(buf);
         fclose(f);
-        if (err && errcap) snprintf(err, errcap, "%s:0: read error", path);
-        return KELP_ERR_IO;
+        return kelp_failf(d, KELP_ERR_IO, "%s:0: read error", path);
     }
     fclose(f);
-    rc = load(ld, path, buf ? buf : "", n, algs, err, errcap);
+    rc = load(ld, path, buf ? buf : "", n, algs, d);
     free(buf);
     return rc;
 }
 
-int kelp_dccl_builtin_load_modems(kelp_dccl_builtin *ctx, const char *path, char *err, size_t errcap)
+int kelp_dccl_builtin_load_modems(kelp_dccl_builtin *ctx, const char *path, kelp_diag *d)
 {
     FILE *f = fopen(path, "rb");
     char buf[65536];
     size_t n;
     int rc;
-    if (!f) {
-        if (err && errcap) snprintf(err, errcap, "%s: cannot open: %s", path, strerror(errno));
-        return KELP_ERR_IO;
-    }
+    if (!f) return kelp_failf(d, KELP_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
     n = fread(buf, 1, sizeof buf, f);
     fclose(f);
     rc = kelp_dccl_builtin_parse_modems(ctx, buf, n);
-    if (rc && err && errcap) snprintf(err, errcap, "%s: too many entries", path);
-    return rc;
+    return rc ? kelp_failf(d, rc, "%s: too many entries", path) : KELP_OK;
 }
