@@ -42,7 +42,8 @@ typedef struct node {
 } node;
 
 static node nodes[NN];
-static int64_t now;
+static int64_t now; /* the simulation clock, whole microseconds */
+#define SEC(us) ((kelp_time)(us) / 1e6)
 static uint8_t air[KELP_MODEMSIM_PKT_MAX_ENCODED];
 
 static void fifo_put(fifo *f, const void *b, size_t n)
@@ -89,7 +90,7 @@ static void mm_event(const kelp_mmdriver_event *e, void *u)
     node *nd = u;
     if (getenv("TRACE") && (e->kind == KELP_MMDRIVER_EV_NMEA_IN || e->kind == KELP_MMDRIVER_EV_NMEA_OUT || e->kind == KELP_MMDRIVER_EV_RETRY))
         printf("%.3f node%d %s %s\n", (double)(now - T0) / 1e6, nd->id, e->kind == KELP_MMDRIVER_EV_NMEA_IN ? "IN " : e->kind == KELP_MMDRIVER_EV_RETRY ? "RETRY" : "OUT", e->raw);
-    if (e->kind == KELP_MMDRIVER_EV_NMEA_IN && e->has_src) kelp_mac_heard(&nd->mac, e->src, now);
+    if (e->kind == KELP_MMDRIVER_EV_NMEA_IN && e->has_src) kelp_mac_heard(&nd->mac, e->src, SEC(now));
     if (e->kind == KELP_MMDRIVER_EV_RECEIVE) {
         static kelp_acomms_msg f;
         memset(&f, 0, sizeof f);
@@ -211,7 +212,7 @@ static void setup(double loss, uint32_t ttl_status, double separation)
         cfg.modem_id = nd->id;
         cfg.slots = slots;
         cfg.nslots = 2;
-        ck_assert_int_eq(kelp_mac_init(&nd->mac, &cfg, now), KELP_OK);
+        ck_assert_int_eq(kelp_mac_init(&nd->mac, &cfg, SEC(now)), KELP_OK);
     }
 }
 
@@ -240,7 +241,7 @@ static void step(void)
             ck_assert_int_eq(kelp_mmdriver_feed(&nd->mm, tmp2, n, now), KELP_OK);
         }
         kelp_mac_action act;
-        while (kelp_mac_tick(&nd->mac, now, &act) == KELP_OK) {
+        while (kelp_mac_tick(&nd->mac, SEC(now), &act) == KELP_OK) {
             if (act.kind == KELP_MAC_ACT_TRANSMIT) {
                 n_cycles_started++;
                 ck_assert_int_eq(kelp_mmdriver_initiate_transmission(&nd->mm, act.src, act.dest, act.rate, now), KELP_OK);

@@ -254,8 +254,8 @@ void cmd_status(replay *r)
         fprintf(r->out, "status queue=%s size=%ld priority=%.6g\n", r->h.names[i].name, kelp_queue_size(&r->h.node.q, r->h.names[i].key),
                 p);
     }
-    int64_t next = kelp_mac_next_slot_time(&r->h.node.mac);
+    kelp_time next = kelp_mac_next_slot_time(&r->h.node.mac);
     replay_stamp(r);
     fprintf(r->out, "status mac slots=%zu cycle=%u next_slot=%.3f\n", r->h.node.mac.n, kelp_mac_cycle_length(&r->h.node.mac),
-            next < 0 ? -1.0 : (double)(next - r->start_us) / 1e6);
+            next < 0 ? -1.0 : (double)(replay_us(next) - r->start_us) / 1e6);
 }

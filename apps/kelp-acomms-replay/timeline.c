@@ -118,7 +118,7 @@ static void advance_to(replay *r, int64_t t_us)
             /* report slots without requesting data: step the MAC ourselves */
             kelp_queue_do_work(&r->h.node.q, r->now_us);
             kelp_mac_action act;
-            while (kelp_mac_tick(&r->h.node.mac, r->now_us, &act) == KELP_OK) {
+            while (kelp_mac_tick(&r->h.node.mac, replay_sec(r->now_us), &act) == KELP_OK) {
                 if (act.kind == KELP_MAC_ACT_NONE) continue;
                 kelp_acomms_event ev;
                 memset(&ev, 0, sizeof ev);

@@ -449,7 +449,7 @@ typedef struct kelp_acomms_status {
     int modem_id;
     const char *driver, *link, *mac;
     bool link_up, clock_ok;
-    int64_t next_slot_us;
+    kelp_time next_slot;      /**< next MAC slot start, -1 when idle */
     uint32_t lines_in, lines_out, bad_lines, retries, modem_errors, reconnects, frames_out, frames_in, acks, expired,
         encoded, decoded;
     size_t nqueues;

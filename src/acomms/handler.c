@@ -641,7 +641,7 @@ static void publish_status(kelp_acomms_handler *h)
     kelp_mmdriver *mm = kelp_acomms_node_driver(&h->node);
     s.clock_ok = mm ? kelp_mmdriver_clock_ok(mm) : false;
     s.mac = kelp_acomms_mac_name(h->cfg->mac_type);
-    s.next_slot_us = kelp_mac_next_slot_time(&h->node.mac);
+    s.next_slot = kelp_mac_next_slot_time(&h->node.mac);
     if (mm) {
         s.lines_in = mm->count.lines_in;
         s.lines_out = mm->count.lines_out;

@@ -31,6 +31,11 @@ static void emit(kelp_acomms_node *n, const kelp_acomms_event *ev)
     if (n->ops.event) n->ops.event(ev, n->user);
 }
 
+static kelp_time sec_of(int64_t us)
+{
+    return (kelp_time)us / 1e6;
+}
+
 static void ev_init(kelp_acomms_event *ev, kelp_acomms_ev_kind kind, int64_t now_us)
 {
     memset(ev, 0, sizeof *ev);
@@ -107,7 +112,7 @@ static void mm_event(const kelp_mmdriver_event *me, void *user)
     emit(n, &ev);
     switch (me->kind) {
     case KELP_MMDRIVER_EV_NMEA_IN:
-        if (me->has_src) kelp_mac_heard(&n->mac, me->src, n->now_us);
+        if (me->has_src) kelp_mac_heard(&n->mac, me->src, sec_of(n->now_us));
         break;
     case KELP_MMDRIVER_EV_RECEIVE: {
         kelp_acomms_msg *m = &n->scratch;
@@ -185,7 +190,7 @@ int kelp_acomms_node_init(kelp_acomms_node *n, const kelp_acomms_node_cfg *cfg, 
     mac.modem_id = cfg->modem_id;
     rc = kelp_mac_init(&n->mac, &mac, 0);
     if (rc) {
-        n->errmsg = n->mac.errmsg ? n->mac.errmsg : "acomms: bad MAC configuration";
+        n->errmsg = n->mac.diag.code ? kelp_diag_text(&n->mac.diag) : "acomms: bad MAC configuration";
         return rc;
     }
     return KELP_OK;
@@ -219,9 +224,9 @@ int kelp_acomms_node_start(kelp_acomms_node *n, int64_t now_us)
         mc.slots = slots;
         mc.nslots = ns;
     }
-    int rc = kelp_mac_init(&n->mac, &mc, now_us);
+    int rc = kelp_mac_init(&n->mac, &mc, sec_of(now_us));
     if (rc) {
-        n->errmsg = n->mac.errmsg ? n->mac.errmsg : "acomms: MAC start failed";
+        n->errmsg = n->mac.diag.code ? kelp_diag_text(&n->mac.diag) : "acomms: MAC start failed";
         return rc;
     }
     if (n->driver == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
@@ -321,8 +326,8 @@ int kelp_acomms_node_mac_update(kelp_acomms_node *n, const kelp_acomms_mac_updat
 {
     if (!n || !u) return KELP_ERR_ARG;
     n->now_us = now_us;
-    int rc = kelp_mac_update(&n->mac, u->dest, u->type, u->slot, u->nslots, now_us);
-    if (rc && rc != KELP_ERR_NOTFOUND) n->errmsg = n->mac.errmsg ? n->mac.errmsg : "acomms: MAC update refused";
+    int rc = kelp_mac_update(&n->mac, u->dest, u->type, u->slot, u->nslots, sec_of(now_us));
+    if (rc && rc != KELP_ERR_NOTFOUND) n->errmsg = n->mac.diag.code ? kelp_diag_text(&n->mac.diag) : "acomms: MAC update refused";
     return rc;
 }
 
@@ -347,7 +352,7 @@ int kelp_acomms_node_tick(kelp_acomms_node *n, int64_t now_us)
     /* every slot that has come (one per call of kelp_mac_tick) */
     for (int guard = 0; guard < 4 * KELP_MAX_MAC_SLOTS; guard++) {
         kelp_mac_action act;
-        int rc = kelp_mac_tick(&n->mac, now_us, &act);
+        int rc = kelp_mac_tick(&n->mac, sec_of(now_us), &act);
         if (rc == KELP_ERR_EMPTY) break;
         if (rc) break;
         if (act.kind == KELP_MAC_ACT_NONE) continue;
@@ -425,7 +430,7 @@ int kelp_acomms_node_receive(kelp_acomms_node *n, const kelp_acomms_msg *frame, 
     if (!n || !frame) return KELP_ERR_ARG;
     n->now_us = now_us;
     n->count.frames_in++;
-    kelp_mac_heard(&n->mac, frame->src, now_us);
+    kelp_mac_heard(&n->mac, frame->src, sec_of(now_us));
     return kelp_queue_receive(&n->q, frame);
 }
 
@@ -433,7 +438,7 @@ void kelp_acomms_node_heard(kelp_acomms_node *n, int src, int64_t now_us)
 {
     if (!n) return;
     n->now_us = now_us;
-    kelp_mac_heard(&n->mac, src, now_us);
+    kelp_mac_heard(&n->mac, src, sec_of(now_us));
 }
 
 kelp_queue_mgr *kelp_acomms_node_queue(kelp_acomms_node *n)

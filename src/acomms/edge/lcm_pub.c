@@ -174,7 +174,7 @@ int kelp_acomms_lcm_status(kelp_acomms_lcm *l, const char *channel, const kelp_a
     t.link_up = s->link_up;
     t.clock_ok = s->clock_ok;
     t.mac = (char *)(s->mac ? s->mac : "");
-    t.next_slot_us = s->next_slot_us;
+    t.next_slot_us = s->next_slot < 0 ? -1 : (int64_t)llround(s->next_slot * 1e6); /* wire: UNIX us */
     t.lines_in = (int32_t)s->lines_in;
     t.lines_out = (int32_t)s->lines_out;
     t.bad_lines = (int32_t)s->bad_lines;
