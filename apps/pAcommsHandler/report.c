@@ -48,7 +48,7 @@ void handler_report(kelp_app *app, void *state, FILE *out)
     for (size_t i = 0; i < c->nnames; i++) {
         const kelp_acomms_qname *n = &c->names[i];
         double p = 0;
-        if (kelp_queue_priority(&c->node.q, n->key, us_of(c->now), &p) != KELP_OK) p = NAN;
+        if (kelp_queue_priority(&c->node.q, n->key, c->now, &p) != KELP_OK) p = NAN;
         fprintf(out, "%-24.24s %s%-4u %5ld %9.3f\n", n->name ? n->name : "?", n->key.type == KELP_QUEUE_CCL ? "C" : "D",
                 (unsigned)n->key.id, kelp_queue_size(&c->node.q, n->key), p);
     }

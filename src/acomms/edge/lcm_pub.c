@@ -76,7 +76,7 @@ static void fill_data(kelp_acomms_lcm *l, kelp_acomms_data_t *d, double time, co
     d->src = m->src;
     d->dest = m->dest;
     time_text[0] = '\0';
-    if (m->has_time && kelp_acomms_time_text(m->time_us, time_text, 48) != KELP_OK) time_text[0] = '\0';
+    if (m->has_time && kelp_acomms_time_text(m->time, time_text, 48) != KELP_OK) time_text[0] = '\0';
     d->msg_time = time_text;
     d->ack_requested = m->ack_requested;
     d->frame = (int32_t)m->frame;
