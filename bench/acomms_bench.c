@@ -20,7 +20,7 @@ static void nop_w(const char *b, size_t n, void *u) { (void)b; (void)n; (void)u;
 
 int main(void)
 {
-    const int64_t T = 1704196800LL * 1000000LL;
+    const kelp_time T = 1704196800.0;
     kelp_queue_mgr m;
     if (kelp_queue_init(&m, 1, qs, 16, pool, 512, NULL, NULL, NULL)) return 1;
     for (unsigned id = 1; id <= 16; id++) {
@@ -47,7 +47,7 @@ int main(void)
             if (kelp_queue_push(&m, &msg, T)) return 1;
         }
         kelp_queue_request r = { -1, 0, 256 };
-        if (kelp_queue_data_request(&m, &r, T + (int64_t)i * 1000, &out)) return 1;
+        if (kelp_queue_data_request(&m, &r, T + i * 0.001, &out)) return 1;
         frames++;
         bytes += (long)out.len;
         for (unsigned id = 1; id <= 16; id++) {
@@ -93,7 +93,7 @@ int main(void)
     int M = 50000;
     t0 = now_s();
     for (int i = 0; i < M; i++)
-        if (kelp_mmdriver_feed(&mm, (const uint8_t *)full, fl, T + 2000000)) return 1;
+        if (kelp_mmdriver_feed(&mm, (const uint8_t *)full, fl, T + 2)) return 1;
     t1 = now_s();
     printf("mmdriver: feed a 256-byte $CARXD (%zu bytes): %.2f us/line (%.1f MB/s; a 19200-baud link is 0.002 MB/s)\n",
            fl, (t1 - t0) / M * 1e6, fl * (double)M / (t1 - t0) / 1e6);

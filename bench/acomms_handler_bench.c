@@ -31,7 +31,7 @@ int main(void)
     m.src = 1;
     m.dest = 2;
     m.has_time = true;
-    m.time_us = 1295698086887950LL;
+    m.time = 1295698086.887950;
     m.key.type = KELP_QUEUE_DCCL;
     m.key.id = 20;
     const int N = 20000;
@@ -63,7 +63,7 @@ int main(void)
     c.mac.nslots = 1;
     kelp_acomms_node_ops ops = { NULL, ev, NULL };
     if (kelp_acomms_node_init(&n, &c, qs, 4, pool, 512, &ops, NULL) != KELP_OK) return 1;
-    const int64_t T = 1704196800LL * 1000000;
+    const kelp_time T = 1704196800.0;
     kelp_queue_cfg q;
     kelp_queue_cfg_default(&q, KELP_QUEUE_DCCL, 20);
     if (kelp_acomms_node_add_queue(&n, &q, T) || kelp_acomms_node_start(&n, T)) return 1;
@@ -80,11 +80,11 @@ int main(void)
     for (int sec = 1; sec <= SECONDS; sec++) {
         for (int k = 0; k < 60; k++, pushed++) {
             m.has_time = true;
-            m.time_us = T + (int64_t)sec * 1000000;
-            if (kelp_acomms_node_push(&n, &m, m.time_us) != KELP_OK) return 1;
+            m.time = T + sec;
+            if (kelp_acomms_node_push(&n, &m, m.time) != KELP_OK) return 1;
         }
         for (int tick = 1; tick <= 10; tick++)
-            if (kelp_acomms_node_tick(&n, T + (int64_t)sec * 1000000 + tick * 100000) != KELP_OK) return 1;
+            if (kelp_acomms_node_tick(&n, T + sec + tick * 0.1) != KELP_OK) return 1;
     }
     dt = now_s() - t0;
     printf("node: %d simulated s at AppTick 10, %lu messages pushed, %lu acknowledged through %u frames (rate 5 "

@@ -33,7 +33,7 @@ static void node_feed(const uint8_t *d, size_t n)
     c.modem_id = 1;
     c.driver = KELP_ACOMMS_DRIVER_WHOI_MICROMODEM;
     if (kelp_acomms_node_init(&node, &c, qs, 4, pool, 16, NULL, NULL) != KELP_OK) abort();
-    const int64_t t0 = 1704196800LL * 1000000;
+    const kelp_time t0 = 1704196800.0;
     kelp_queue_cfg q;
     kelp_queue_cfg_default(&q, KELP_QUEUE_CCL, 2);
     if (kelp_acomms_node_add_queue(&node, &q, t0) != KELP_OK) abort();
@@ -46,12 +46,12 @@ static void node_feed(const uint8_t *d, size_t n)
     m.key.type = KELP_QUEUE_CCL;
     m.key.id = 2;
     (void)kelp_acomms_node_push(&node, &m, t0);
-    int64_t t = t0;
+    kelp_time t = t0;
     size_t off = 0;
     while (off < n) {
         size_t k = n - off < 37 ? n - off : 37;
         (void)kelp_acomms_node_feed(&node, d + off, k, t);
-        t += 700000;
+        t += 0.7;
         (void)kelp_acomms_node_tick(&node, t);
         (void)kelp_acomms_node_transmit(&node, 1, 2, (unsigned)(d[off] % 6), t);
         off += k;

@@ -36,7 +36,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     static kelp_queue_entry pa[16], pb[16];
     kelp_queue_mgr a, b;
     if (size < 1) return 0;
-    const int64_t t = 1704196800LL * 1000000LL;
+    const kelp_time t = 1704196800.0;
     if (kelp_queue_init(&a, 1, qa, 8, pa, 16, NULL, NULL, NULL) != KELP_OK) abort();
     if (kelp_queue_init(&b, 2, qb, 8, pb, 16, rx_check, NULL, NULL) != KELP_OK) abort();
     for (unsigned id = 1; id <= 4; id++) {
@@ -80,7 +80,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     kelp_queue_request r = { -1, 0, (data[0] & 2) ? 256u : 64u };
     kelp_acomms_msg out;
-    if (kelp_queue_data_request(&a, &r, t + 1000000, &out) != KELP_OK) abort();
+    if (kelp_queue_data_request(&a, &r, t + 1, &out) != KELP_OK) abort();
     if (out.len > r.max_bytes) abort();
     out.dest = 2;
     int n = kelp_queue_receive(&b, &out);

@@ -47,18 +47,18 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     c.n_nvram = 1;
     kelp_mmdriver_ops ops = { w, ev, dr };
     if (kelp_mmdriver_init(&mm, &c, &ops, NULL) != KELP_OK) return 0;
-    int64_t t = 1704196800LL * 1000000LL;
-    if (kelp_mmdriver_start(&mm, t) != KELP_OK) return 0;
+    int64_t t = 1704196800LL * 1000000LL; /* whole microseconds; the driver takes seconds */
+    if (kelp_mmdriver_start(&mm, (kelp_time)t / 1e6) != KELP_OK) return 0;
     kelp_nmea_reader_init(&rd, (data[0] & 4) ? '\n' : 0);
     int64_t step = (int64_t)(data[0] >> 3) * 250000;
     size_t chunk = 1 + (data[0] & 7) * 9;
     for (size_t i = 1; i < size; i += chunk) {
         size_t n = size - i < chunk ? size - i : chunk;
         for (size_t k = 0; k < n; k++) (void)kelp_nmea_reader_feed_sentence(&rd, data[i + k], &s);
-        (void)kelp_mmdriver_feed(&mm, data + i, n, t);
+        (void)kelp_mmdriver_feed(&mm, data + i, n, (kelp_time)t / 1e6);
         t += step;
-        if (kelp_mmdriver_tick(&mm, t) == KELP_ERR_TIMEOUT) (void)kelp_mmdriver_start(&mm, t);
-        if ((data[i] & 0x3f) == 0x3f) (void)kelp_mmdriver_initiate_transmission(&mm, 1, -1, data[i] >> 6, t);
+        if (kelp_mmdriver_tick(&mm, (kelp_time)t / 1e6) == KELP_ERR_TIMEOUT) (void)kelp_mmdriver_start(&mm, (kelp_time)t / 1e6);
+        if ((data[i] & 0x3f) == 0x3f) (void)kelp_mmdriver_initiate_transmission(&mm, 1, -1, data[i] >> 6, (kelp_time)t / 1e6);
     }
     return 0;
 }

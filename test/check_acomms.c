@@ -6,8 +6,8 @@
 
 #include <kelp/acomms.h>
 
-#define S 1000000LL
-static const int64_t T0 = 1704196800LL * S; /* 2024-01-02 12:00:00 UTC, a multiple of 10 s */
+#define S 1.0                               /* one second of kelp_time */
+static const kelp_time T0 = 1704196800.0;   /* 2024-01-02 12:00:00 UTC, a multiple of 10 s */
 
 /* ------------------------------------------------------------------ TextFormat */
 
@@ -54,7 +54,7 @@ START_TEST(test_escapes_and_round_trip)
     m.key.type = KELP_QUEUE_DCCL;
     m.key.id = 20;
     m.has_time = true;
-    m.time_us = 1295698086887950LL;
+    m.time = 1295698086.887950;
     ck_assert_int_eq(kelp_acomms_print_data(&m, buf, sizeof buf, NULL), 0);
     const char *why = NULL;
     ck_assert_int_eq(kelp_acomms_parse_data(buf, strlen(buf), &back, &why), 0);
@@ -167,16 +167,16 @@ END_TEST
 START_TEST(test_time_and_other_prints)
 {
     char buf[256];
-    ck_assert_int_eq(kelp_acomms_time_text(1295698086887950LL, buf, sizeof buf), 0);
+    ck_assert_int_eq(kelp_acomms_time_text(1295698086.887950, buf, sizeof buf), 0);
     ck_assert_str_eq(buf, "2011-Jan-22 12:08:06.887950"); /* acomms.md 2.4: Slot.last_heard_time form */
-    ck_assert_int_eq(kelp_acomms_time_text(1009894991LL * S, buf, sizeof buf), 0);
+    ck_assert_int_eq(kelp_acomms_time_text(1009894991.0, buf, sizeof buf), 0);
     ck_assert_str_eq(buf, "2002-Jan-01 14:23:11");
     kelp_queue_key k = { KELP_QUEUE_DCCL, 20 };
     ck_assert_int_eq(kelp_acomms_print_qsize(k, 3, buf, sizeof buf, NULL), 0);
     ck_assert_str_eq(buf, "key { type: QUEUE_DCCL id: 20 } size: 3");
     /* $CAMPR,2,1,0.0101 (real_nmea_examples #7): reply src 2 dest 1 */
     double tt = 0.0101;
-    ck_assert_int_eq(kelp_acomms_print_range(2, 1, 1009894991LL * S, KELP_RANGING_TWO_WAY_PING, &tt, 1, buf, sizeof buf, NULL), 0);
+    ck_assert_int_eq(kelp_acomms_print_range(2, 1, 1009894991.0, KELP_RANGING_TWO_WAY_PING, &tt, 1, buf, sizeof buf, NULL), 0);
     ck_assert_str_eq(buf, "base { src: 2 dest: 1 time: \"2002-Jan-01 14:23:11\" } one_way_travel_time: 0.0101 "
                           "type: MODEM_TWO_WAY_PING");
     double nan4[2] = { 0.1, (double)NAN };
@@ -188,7 +188,7 @@ START_TEST(test_time_and_other_prints)
     m.dest = 2;
     m.len = 1;
     m.data[0] = 14;
-    ck_assert_int_eq(kelp_acomms_print_ack(2, 1, 0, 1009894991LL * S, &m, buf, sizeof buf, NULL), 0);
+    ck_assert_int_eq(kelp_acomms_print_ack(2, 1, 0, 1009894991.0, &m, buf, sizeof buf, NULL), 0);
     ck_assert_str_eq(buf, "base { src: 2 dest: 1 time: \"2002-Jan-01 14:23:11\" } frame: 0 orig_msg { base { src: 1 "
                           "dest: 2 } ack_requested: false data: \"\\016\" frame: 0 }");
     ck_assert_int_eq(kelp_acomms_print_expire(&m, buf, sizeof buf, NULL), 0);
@@ -245,7 +245,7 @@ static void line(const char *body, char *out)
     sprintf(out, "$%s*%02X\r\n", body, kelp_nmea_checksum(body, strlen(body)));
 }
 
-static void feed(kelp_acomms_node *n, const char *body, int64_t t)
+static void feed(kelp_acomms_node *n, const char *body, kelp_time t)
 {
     char l[KELP_MAX_NMEA_LINE + 8];
     line(body, l);
@@ -255,7 +255,7 @@ static void feed(kelp_acomms_node *n, const char *body, int64_t t)
 static kelp_queue qs[8];
 static kelp_queue_entry pool[32];
 
-static void whoi_node(kelp_acomms_node *n, int64_t t)
+static void whoi_node(kelp_acomms_node *n, kelp_time t)
 {
     kelp_acomms_node_cfg c;
     kelp_acomms_node_cfg_default(&c);
@@ -276,7 +276,7 @@ static void whoi_node(kelp_acomms_node *n, int64_t t)
     ck_assert_int_eq(kelp_acomms_node_start(n, t), 0);
 }
 
-static void startup_answers(kelp_acomms_node *n, int64_t t)
+static void startup_answers(kelp_acomms_node *n, kelp_time t)
 {
     char expect[64], clk[64];
     int sec = (int)((t - T0) / S); /* T0 is 12:00:00 */
@@ -314,7 +314,7 @@ START_TEST(test_node_whoi_cycle)
     m.key.type = KELP_QUEUE_CCL;
     m.key.id = 2;
     m.has_time = true;
-    m.time_us = T0 + 2 * S;
+    m.time = T0 + 2 * S;
     ck_assert_int_eq(kelp_acomms_node_push(&n, &m, T0 + 2 * S), 0);
     ck_assert_uint_eq(last_qsize, 1);
     int before = nw;
@@ -380,7 +380,7 @@ START_TEST(test_node_driver_dead)
     /* the modem never answers: $CCCLK re-sent every 3 s; after 3 the queue is given up; 5
      * failures without any sentence -> the node reports TIMEOUT */
     int rc = 0;
-    int64_t t = T0;
+    kelp_time t = T0;
     for (int i = 0; i < 40 && rc == 0; i++) {
         t += S;
         rc = kelp_acomms_node_tick(&n, t);

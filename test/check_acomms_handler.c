@@ -9,7 +9,6 @@
 #include <kelp/nmea.h>
 
 #define T0 1262304000.0
-#define S 1000000LL
 
 /* ------------------------------------------------------------------ the fake codec */
 
@@ -364,7 +363,7 @@ START_TEST(test_handler_trigger_encodes_and_queues)
     /* the modem asks for data: the queue hands out the message */
     kelp_queue_request req = { -1, 0, 32 };
     kelp_acomms_msg out;
-    ck_assert_int_eq(kelp_acomms_node_data_request(&h.node, &req, (int64_t)(T0 + 3) * S, &out), 0);
+    ck_assert_int_eq(kelp_acomms_node_data_request(&h.node, &req, T0 + 3, &out), 0);
     ck_assert_uint_eq(out.len, 8);
     ck_assert_int_eq(out.dest, 2);
     ck_assert_int_eq(out.data[6] << 8 | out.data[7], 300);
@@ -391,7 +390,7 @@ START_TEST(test_handler_incoming_frame_decoded)
     m.len = 8;
     m.src = 2;
     m.dest = 1;
-    ck_assert_int_eq(kelp_acomms_node_receive(&h.node, &m, (int64_t)(T0 + 5) * S), 1);
+    ck_assert_int_eq(kelp_acomms_node_receive(&h.node, &m, T0 + 5), 1);
     const pub *p = find_pub("ACOMMS_INCOMING_DATA");
     ck_assert_ptr_nonnull(p);
     ck_assert_ptr_nonnull(strstr(p->sval, "src: 2 dest: 1"));
@@ -410,7 +409,7 @@ START_TEST(test_handler_incoming_frame_decoded)
     clear();
     m.data[7] = 0;
     m.len = 7;
-    ck_assert_int_eq(kelp_acomms_node_receive(&h.node, &m, (int64_t)(T0 + 6) * S), 1);
+    ck_assert_int_eq(kelp_acomms_node_receive(&h.node, &m, T0 + 6), 1);
     ck_assert_ptr_nonnull(find_pub("ACOMMS_INCOMING_DATA"));
     ck_assert_ptr_null(find_pub("SPEED_IN"));
     ck_assert_uint_eq(h.count.decode_errors, 1);

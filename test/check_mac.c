@@ -5,9 +5,10 @@
 
 #include <kelp/mac.h>
 
-#define S 1000000LL
-static const int64_t DAY0 = 1704153600LL * S; /* 2024-01-02 00:00:00 UTC */
-#define AT(h, m, s) (DAY0 + ((int64_t)(h) * 3600 + (m) * 60 + (s)) * S)
+#define S 1.0                                   /* one second of kelp_time */
+static const kelp_time DAY0 = 1704153600.0;    /* 2024-01-02 00:00:00 UTC */
+#define AT(h, m, s) (DAY0 + (kelp_time)((h) * 3600 + (m) * 60 + (s)))
+#define US 1e-6                                 /* one microsecond */
 
 static kelp_mac_slot slot(int src, int dest, unsigned secs)
 {
@@ -18,7 +19,7 @@ static kelp_mac_slot slot(int src, int dest, unsigned secs)
     return s;
 }
 
-static void init_fixed(kelp_mac *mac, kelp_mac_type type, int id, const kelp_mac_slot *sl, size_t n, int64_t now)
+static void init_fixed(kelp_mac *mac, kelp_mac_type type, int id, const kelp_mac_slot *sl, size_t n, kelp_time now)
 {
     kelp_mac_cfg c;
     kelp_mac_cfg_default(&c);
@@ -33,20 +34,20 @@ START_TEST(alignment_to_utc_midnight)
 {
     unsigned long k;
     /* cycle 20 s at 00:00:07 -> first cycle at 00:00:20 (k = 1) */
-    ck_assert_int_eq(kelp_mac_aligned_start(AT(0, 0, 7), 20, &k), AT(0, 0, 20));
+    ck_assert_double_eq(kelp_mac_aligned_start(AT(0, 0, 7), 20, &k), AT(0, 0, 20));
     ck_assert_uint_eq(k, 1);
     /* fractional seconds are dropped: 00:00:19.9 -> still 00:00:20 */
-    ck_assert_int_eq(kelp_mac_aligned_start(AT(0, 0, 19) + 900000, 20, &k), AT(0, 0, 20));
+    ck_assert_double_eq(kelp_mac_aligned_start(AT(0, 0, 19) + 900000 * US, 20, &k), AT(0, 0, 20));
     /* exactly on a boundary -> the next one */
-    ck_assert_int_eq(kelp_mac_aligned_start(AT(0, 0, 20), 20, &k), AT(0, 0, 40));
+    ck_assert_double_eq(kelp_mac_aligned_start(AT(0, 0, 20), 20, &k), AT(0, 0, 40));
     ck_assert_uint_eq(k, 2);
     /* 7 s cycles do not divide the day: at 23:59:58, k = 86398/7 + 1 = 12343 -> 86401 s = 00:00:01 tomorrow */
-    ck_assert_int_eq(kelp_mac_aligned_start(AT(23, 59, 58), 7, &k), AT(24, 0, 1));
+    ck_assert_double_eq(kelp_mac_aligned_start(AT(23, 59, 58), 7, &k), AT(24, 0, 1));
     ck_assert_uint_eq(k, 12343);
     /* just after midnight the count restarts from 0 */
-    ck_assert_int_eq(kelp_mac_aligned_start(AT(24, 0, 0) + 1, 7, &k), AT(24, 0, 7));
+    ck_assert_double_eq(kelp_mac_aligned_start(AT(24, 0, 0) + 1 * US, 7, &k), AT(24, 0, 7));
     ck_assert_uint_eq(k, 1);
-    ck_assert_int_eq(kelp_mac_aligned_start(AT(0, 0, 1), 0, &k), -1);
+    ck_assert_double_eq(kelp_mac_aligned_start(AT(0, 0, 1), 0, &k), -1);
 }
 END_TEST
 
@@ -57,17 +58,17 @@ START_TEST(fixed_example1_single_slot)
     init_fixed(&m1, KELP_MAC_FIXED_DECENTRALIZED, 1, &sl, 1, AT(12, 0, 3));
     init_fixed(&m2, KELP_MAC_FIXED_DECENTRALIZED, 2, &sl, 1, AT(12, 0, 3));
     ck_assert_uint_eq(kelp_mac_cycle_length(&m1), 10);
-    ck_assert_int_eq(kelp_mac_next_slot_time(&m1), AT(12, 0, 10));
+    ck_assert_double_eq(kelp_mac_next_slot_time(&m1), AT(12, 0, 10));
     kelp_mac_action a;
-    ck_assert_int_eq(kelp_mac_tick(&m1, AT(12, 0, 10) - 1, &a), KELP_ERR_EMPTY);
+    ck_assert_int_eq(kelp_mac_tick(&m1, AT(12, 0, 10) - 1 * US, &a), KELP_ERR_EMPTY);
     for (int i = 0; i < 5; i++) {
-        int64_t t = AT(12, 0, 10) + i * 10 * S;
+        kelp_time t = AT(12, 0, 10) + i * 10 * S;
         ck_assert_int_eq(kelp_mac_tick(&m1, t, &a), KELP_OK);
         ck_assert_int_eq(a.kind, KELP_MAC_ACT_TRANSMIT);
         ck_assert_int_eq(a.src, 1);
         ck_assert_int_eq(a.dest, 2);
         ck_assert_uint_eq(a.rate, 0);
-        ck_assert_int_eq(a.slot_start_us, t);
+        ck_assert_double_eq(a.slot_start, t);
         ck_assert_int_eq(kelp_mac_tick(&m2, t, &a), KELP_OK);   /* the slot passes at node 2 ... */
         ck_assert_int_eq(a.kind, KELP_MAC_ACT_NONE);               /* ... without an action */
     }
@@ -81,18 +82,18 @@ START_TEST(fixed_example2_two_slots)
     init_fixed(&m1, KELP_MAC_FIXED_DECENTRALIZED, 1, sl, 2, AT(12, 0, 5));
     init_fixed(&m2, KELP_MAC_FIXED_DECENTRALIZED, 2, sl, 2, AT(12, 0, 5));
     ck_assert_uint_eq(kelp_mac_cycle_length(&m1), 20);
-    ck_assert_int_eq(kelp_mac_next_slot_time(&m1), AT(12, 0, 20));
+    ck_assert_double_eq(kelp_mac_next_slot_time(&m1), AT(12, 0, 20));
     /* second by second until 12:01:10: node 1 at :20 :40 :00, node 2 at :30 :50 :10 */
     int n1 = 0, n2 = 0;
-    for (int64_t t = AT(12, 0, 5); t <= AT(12, 1, 10); t += S) {
+    for (kelp_time t = AT(12, 0, 5); t <= AT(12, 1, 10); t += S) {
         kelp_mac_action a;
         if (kelp_mac_tick(&m1, t, &a) == KELP_OK && a.kind == KELP_MAC_ACT_TRANSMIT) {
-            ck_assert_int_eq(((t - DAY0) / S) % 20, 0);
+            ck_assert_int_eq((long)(t - DAY0) % 20, 0);
             ck_assert_int_eq(a.dest, 2);
             n1++;
         }
         if (kelp_mac_tick(&m2, t, &a) == KELP_OK && a.kind == KELP_MAC_ACT_TRANSMIT) {
-            ck_assert_int_eq(((t - DAY0) / S) % 20, 10);
+            ck_assert_int_eq((long)(t - DAY0) % 20, 10);
             ck_assert_int_eq(a.src, 2);
             ck_assert_int_eq(a.dest, 1);
             n2++;
@@ -110,7 +111,7 @@ START_TEST(polled_master_initiates_every_slot)
     kelp_mac m;
     init_fixed(&m, KELP_MAC_POLLED, 1, sl, 3, AT(12, 0, 0));
     ck_assert_uint_eq(kelp_mac_cycle_length(&m), 30);
-    ck_assert_int_eq(kelp_mac_next_slot_time(&m), AT(12, 0, 30));
+    ck_assert_double_eq(kelp_mac_next_slot_time(&m), AT(12, 0, 30));
     kelp_mac_action a;
     ck_assert_int_eq(kelp_mac_tick(&m, AT(12, 0, 30), &a), KELP_OK);
     ck_assert_int_eq(a.kind, KELP_MAC_ACT_TRANSMIT);
@@ -122,7 +123,7 @@ START_TEST(polled_master_initiates_every_slot)
     ck_assert_uint_eq(a.rate, 2);
     ck_assert_int_eq(kelp_mac_tick(&m, AT(12, 0, 55), &a), KELP_OK);
     ck_assert_int_eq(a.kind, KELP_MAC_ACT_NONE);          /* src 0: quiet */
-    ck_assert_int_eq(kelp_mac_next_slot_time(&m), AT(12, 1, 0));
+    ck_assert_double_eq(kelp_mac_next_slot_time(&m), AT(12, 1, 0));
 }
 END_TEST
 
@@ -135,22 +136,22 @@ START_TEST(ping_and_lbl_slots_and_late_ticks)
     init_fixed(&m, KELP_MAC_FIXED_DECENTRALIZED, 1, sl, 2, AT(1, 0, 0));
     kelp_mac_action a;
     /* 45 s late: every missed slot fires, one per call, in order */
-    int64_t late = AT(1, 0, 20) + 45 * S;
+    kelp_time late = AT(1, 0, 20) + 45 * S;
     ck_assert_int_eq(kelp_mac_tick(&m, late, &a), KELP_OK);
     ck_assert_int_eq(a.kind, KELP_MAC_ACT_RANGING);
     ck_assert_int_eq(a.ranging, KELP_RANGING_TWO_WAY_PING);
     ck_assert_int_eq(a.dest, 3);
-    ck_assert_int_eq(a.slot_start_us, AT(1, 0, 20));
+    ck_assert_double_eq(a.slot_start, AT(1, 0, 20));
     ck_assert_int_eq(kelp_mac_tick(&m, late, &a), KELP_OK);
     ck_assert_int_eq(a.ranging, KELP_RANGING_REMUS_LBL);
-    ck_assert_int_eq(a.slot_start_us, AT(1, 0, 30));
+    ck_assert_double_eq(a.slot_start, AT(1, 0, 30));
     ck_assert_int_eq(kelp_mac_tick(&m, late, &a), KELP_OK);
     ck_assert_int_eq(kelp_mac_tick(&m, late, &a), KELP_OK);
-    ck_assert_int_eq(a.slot_start_us, AT(1, 0, 50));
+    ck_assert_double_eq(a.slot_start, AT(1, 0, 50));
     ck_assert_int_eq(kelp_mac_tick(&m, late, &a), KELP_OK);
-    ck_assert_int_eq(a.slot_start_us, AT(1, 1, 0));
+    ck_assert_double_eq(a.slot_start, AT(1, 1, 0));
     ck_assert_int_eq(kelp_mac_tick(&m, late, &a), KELP_ERR_EMPTY);
-    ck_assert_int_eq(kelp_mac_next_slot_time(&m), AT(1, 1, 10));
+    ck_assert_double_eq(kelp_mac_next_slot_time(&m), AT(1, 1, 10));
 }
 END_TEST
 
@@ -169,7 +170,7 @@ START_TEST(mac_update_add_remove_replace)
     ck_assert_uint_eq(kelp_mac_cycle_length(&m1), 35);
     ck_assert_uint_eq(m2.n, 2);
     /* re-aligned: 43233 / 35 = 1235 -> 1236 * 35 = 43260 = 12:01:00 */
-    ck_assert_int_eq(kelp_mac_next_slot_time(&m1), AT(12, 1, 0));
+    ck_assert_double_eq(kelp_mac_next_slot_time(&m1), AT(12, 1, 0));
     kelp_mac_action a;
     ck_assert_int_eq(kelp_mac_tick(&m1, AT(12, 1, 0), &a), KELP_OK);
     ck_assert_int_eq(a.dest, 2);
@@ -177,7 +178,7 @@ START_TEST(mac_update_add_remove_replace)
     ck_assert_int_eq(a.kind, KELP_MAC_ACT_NONE);
     ck_assert_int_eq(kelp_mac_tick(&m1, AT(12, 1, 20), &a), KELP_OK);
     ck_assert_int_eq(a.dest, 3);
-    ck_assert_int_eq(kelp_mac_next_slot_time(&m1), AT(12, 1, 35));
+    ck_assert_double_eq(kelp_mac_next_slot_time(&m1), AT(12, 1, 35));
     /* REMOVE matches on (src, dest, rate, type, slot_seconds) */
     kelp_mac_slot rm = slot(1, 3, 16);
     ck_assert_int_eq(kelp_mac_update(&m1, 1, KELP_MAC_UPDATE_REMOVE, &rm, 1, AT(12, 2, 0)), KELP_ERR_NOTFOUND);
@@ -188,18 +189,18 @@ START_TEST(mac_update_add_remove_replace)
     kelp_mac_slot rep = slot(1, 4, 30);
     ck_assert_int_eq(kelp_mac_update(&m1, 1, KELP_MAC_UPDATE_REPLACE, &rep, 1, AT(12, 2, 1)), KELP_OK);
     ck_assert_uint_eq(m1.n, 1);
-    ck_assert_int_eq(kelp_mac_next_slot_time(&m1), AT(12, 2, 30));
+    ck_assert_double_eq(kelp_mac_next_slot_time(&m1), AT(12, 2, 30));
     /* removing the last slot stops the MAC instead of dividing by zero */
     ck_assert_int_eq(kelp_mac_remove_slot(&m1, &rep, AT(12, 2, 2)), KELP_OK);
-    ck_assert_int_eq(kelp_mac_next_slot_time(&m1), -1);
+    ck_assert_double_eq(kelp_mac_next_slot_time(&m1), -1);
     ck_assert_int_eq(kelp_mac_tick(&m1, AT(13, 0, 0), &a), KELP_ERR_EMPTY);
 }
 END_TEST
 
-static kelp_mac_action tick_at(kelp_mac *m, int64_t t)
+static kelp_mac_action tick_at(kelp_mac *m, kelp_time t)
 {
     kelp_mac_action a;
-    ck_assert_int_eq(kelp_mac_next_slot_time(m), t);
+    ck_assert_double_eq(kelp_mac_next_slot_time(m), t);
     ck_assert_int_eq(kelp_mac_tick(m, t, &a), KELP_OK);
     return a;
 }
@@ -250,7 +251,7 @@ START_TEST(auto_decentralized_blank_discovery_expiry)
      * cycle is re-aligned (30 s -> 12:04:30) and Goby still adds one slot length: 12:04:45 */
     ck_assert_int_eq(tick_at(&m, AT(12, 4, 0)).kind, KELP_MAC_ACT_TRANSMIT);
     ck_assert_uint_eq(m.n, 2);
-    ck_assert_int_eq(kelp_mac_next_slot_time(&m), AT(12, 4, 45));
+    ck_assert_double_eq(kelp_mac_next_slot_time(&m), AT(12, 4, 45));
     /* hearing a known id only refreshes it; MAC updates do not apply to AUTO */
     kelp_mac_heard(&m, 3, AT(12, 4, 1));
     ck_assert_uint_eq(m.n, 2);
@@ -271,17 +272,17 @@ START_TEST(auto_keeps_heard_ids_alive)
     kelp_mac_heard(&m, 4, AT(6, 0, 2));
     ck_assert_uint_eq(m.n, 4);
     /* default expire_cycles 30: heard every cycle, nobody expires over 30 minutes */
-    for (int64_t t = AT(6, 0, 3); t < AT(6, 30, 0); t += S) {
+    for (kelp_time t = AT(6, 0, 3); t < AT(6, 30, 0); t += S) {
         kelp_mac_action a;
-        if ((t / S) % 60 == 0) { kelp_mac_heard(&m, 5, t); kelp_mac_heard(&m, 4, t); }
+        if ((long long)t % 60 == 0) { kelp_mac_heard(&m, 5, t); kelp_mac_heard(&m, 4, t); }
         if (kelp_mac_tick(&m, t, &a) == KELP_OK) ck_assert_int_ne(a.kind, KELP_MAC_ACT_RANGING);
     }
     ck_assert_uint_eq(m.n, 4);
     /* node 4 falls silent: gone after 60 s * 30 cycles */
-    int64_t t = AT(6, 30, 0);
+    kelp_time t = AT(6, 30, 0);
     for (; t < AT(7, 2, 0); t += S) {
         kelp_mac_action a;
-        if ((t / S) % 60 == 0) kelp_mac_heard(&m, 5, t);
+        if ((long long)t % 60 == 0) kelp_mac_heard(&m, 5, t);
         if (kelp_mac_tick(&m, t, &a) == KELP_OK) ck_assert_int_ne(a.kind, KELP_MAC_ACT_RANGING);
     }
     ck_assert_uint_eq(m.n, 3);
@@ -300,6 +301,10 @@ START_TEST(bad_configuration)
     c.modem_id = 1;
     c.slot_seconds = 0;
     ck_assert_int_eq(kelp_mac_init(&m, &c, AT(0, 0, 0)), KELP_ERR_ARG);
+    ck_assert_int_eq(m.diag.code, KELP_ERR_ARG);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(kelp_diag_text(&m.diag), "mac: slot_seconds must be > 0");
+#endif
     kelp_mac_cfg_default(&c);
     ck_assert_int_eq(kelp_mac_init(&m, &c, AT(0, 0, 0)), KELP_OK);  /* MAC_NONE: never fires */
     kelp_mac_action a;
@@ -310,6 +315,10 @@ START_TEST(bad_configuration)
     c.slots = sl;
     c.nslots = KELP_MAX_MAC_SLOTS + 1;
     ck_assert_int_eq(kelp_mac_init(&m, &c, AT(0, 0, 0)), KELP_ERR_NOSPACE);
+    ck_assert_int_eq(m.diag.code, KELP_ERR_NOSPACE);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(kelp_diag_text(&m.diag), "mac: too many slots (KELP_MAX_MAC_SLOTS)");
+#endif
 }
 END_TEST
 

@@ -10,6 +10,8 @@
 
 #define S 1000000LL
 static const int64_t T = 1704196800LL * S; /* 2024-01-02 12:00:00 UTC */
+/* the test clock counts whole microseconds; the driver takes kelp_time seconds */
+#define SEC(us) ((kelp_time)(us) / 1e6)
 
 /* ------------------------------------------------------------------ capture */
 
@@ -92,7 +94,7 @@ static void feed(kelp_mmdriver *mm, const char *body_without_cs, int64_t t)
     char line[KELP_MAX_NMEA_LINE + 8];
     cs(body_without_cs, line);
     strcat(line, "\r\n");
-    ck_assert_int_eq(kelp_mmdriver_feed(mm, (const uint8_t *)line, strlen(line), t), KELP_OK);
+    ck_assert_int_eq(kelp_mmdriver_feed(mm, (const uint8_t *)line, strlen(line), SEC(t)), KELP_OK);
 }
 
 static void feed_pfx(kelp_mmdriver *mm, const char *pfx, const char *body_without_cs, int64_t t)
@@ -100,17 +102,17 @@ static void feed_pfx(kelp_mmdriver *mm, const char *pfx, const char *body_withou
     char line[KELP_MAX_NMEA_LINE + 8], all[KELP_MAX_NMEA_LINE + 16];
     cs(body_without_cs, line);
     snprintf(all, sizeof all, "%s%s\r\n", pfx, line);
-    ck_assert_int_eq(kelp_mmdriver_feed(mm, (const uint8_t *)all, strlen(all), t), KELP_OK);
+    ck_assert_int_eq(kelp_mmdriver_feed(mm, (const uint8_t *)all, strlen(all), SEC(t)), KELP_OK);
 }
 
 static void feed_raw(kelp_mmdriver *mm, const char *exact, int64_t t)
 {
-    ck_assert_int_eq(kelp_mmdriver_feed(mm, (const uint8_t *)exact, strlen(exact), t), KELP_OK);
+    ck_assert_int_eq(kelp_mmdriver_feed(mm, (const uint8_t *)exact, strlen(exact), SEC(t)), KELP_OK);
 }
 
 static void tick(kelp_mmdriver *mm, int64_t t)
 {
-    ck_assert_int_eq(kelp_mmdriver_tick(mm, t), KELP_OK);
+    ck_assert_int_eq(kelp_mmdriver_tick(mm, SEC(t)), KELP_OK);
 }
 
 static int find_ev(kelp_mmdriver_event_kind k, int from)
@@ -148,7 +150,7 @@ static void make(kelp_mmdriver *mm, int id, bool reset, const char *nvram, int h
 static void boot(kelp_mmdriver *mm)
 {
     make(mm, 1, false, "cst,1", 0);
-    ck_assert_int_eq(kelp_mmdriver_start(mm, T), KELP_OK);
+    ck_assert_int_eq(kelp_mmdriver_start(mm, SEC(T)), KELP_OK);
     expect("", "$CCCLK,2024,1,2,12,0,0");
     expect_none();
     feed(mm, "$CACLK,2024,1,2,12,0,0", T + 300000);   /* arrives during the 1 s pause */
@@ -185,7 +187,7 @@ START_TEST(startup_sequence)
     /* reset_nvram: $CCCFG,ALL,0 before SRC */
     kelp_mmdriver m2;
     make(&m2, 3, true, NULL, 0);
-    ck_assert_int_eq(kelp_mmdriver_start(&m2, T + 59 * S), KELP_OK);
+    ck_assert_int_eq(kelp_mmdriver_start(&m2, SEC(T + 59 * S)), KELP_OK);
     expect("", "$CCCLK,2024,1,2,12,0,59");
     feed(&m2, "$CACLK,2024,1,2,12,0,59", T + 60 * S);
     tick(&m2, T + 61 * S);
@@ -214,7 +216,7 @@ START_TEST(data_cycle_local)
     memcpy(next_frames[0].data, hello, 11);
     next_frames[0].len = 11;
     n_next = 1;
-    ck_assert_int_eq(kelp_mmdriver_initiate_transmission(&mm, 1, -1, 0, T + 10 * S), KELP_OK);
+    ck_assert_int_eq(kelp_mmdriver_initiate_transmission(&mm, 1, -1, 0, SEC(T + 10 * S)), KELP_OK);
     ck_assert_int_eq(n_requests, 1);                 /* rate 0: one frame asked for */
     ck_assert_uint_eq(last_req.max_bytes, 32);
     ck_assert_int_eq(last_req.dest, -1);
@@ -238,11 +240,15 @@ START_TEST(data_cycle_local)
 
     /* no data: no cycle at all */
     n_next = 0;
-    ck_assert_int_eq(kelp_mmdriver_initiate_transmission(&mm, 1, 2, 2, T + 20 * S), KELP_OK);
+    ck_assert_int_eq(kelp_mmdriver_initiate_transmission(&mm, 1, 2, 2, SEC(T + 20 * S)), KELP_OK);
     ck_assert_uint_eq(last_req.max_bytes, 64);
     expect_none();
     /* rate out of range */
-    ck_assert_int_eq(kelp_mmdriver_initiate_transmission(&mm, 1, 2, 6, T + 20 * S), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_mmdriver_initiate_transmission(&mm, 1, 2, 6, SEC(T + 20 * S)), KELP_ERR_RANGE);
+    ck_assert_int_eq(mm.diag.code, KELP_ERR_RANGE);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(kelp_diag_text(&mm.diag), "mmdriver: rate out of range (0..5)");
+#endif
 }
 END_TEST
 
@@ -258,7 +264,7 @@ START_TEST(caller_frames_fewer_than_requested)
     f.ack_requested = false;
     f.len = 2;
     f.data[0] = 0xab, f.data[1] = 0xcd;
-    ck_assert_int_eq(kelp_mmdriver_transmit_frames(&mm, 2, &f, 1, T + 10 * S), KELP_OK);
+    ck_assert_int_eq(kelp_mmdriver_transmit_frames(&mm, 2, &f, 1, SEC(T + 10 * S)), KELP_OK);
     ck_assert_int_eq(n_requests, 0);
     expect("", "$CCCYC,0,1,3,2,0,3");               /* the rate's frame count, not the caller's */
     feed(&mm, "$CACYC,0,1,3,2,0,3", T + 10 * S + 200000);
@@ -272,11 +278,11 @@ START_TEST(caller_frames_fewer_than_requested)
     feed(&mm, "$CADRQ,120012,1,3,0,64,3", T + 13 * S);
     expect("", "$CCTXD,1,3,0,");
     /* nothing given: nothing sent; more than the rate carries: refused */
-    ck_assert_int_eq(kelp_mmdriver_transmit_frames(&mm, 2, &f, 0, T + 20 * S), KELP_OK);
+    ck_assert_int_eq(kelp_mmdriver_transmit_frames(&mm, 2, &f, 0, SEC(T + 20 * S)), KELP_OK);
     kelp_mmdriver_frame many[4];
     memset(many, 0, sizeof many);
-    ck_assert_int_eq(kelp_mmdriver_transmit_frames(&mm, 2, many, 4, T + 20 * S), KELP_ERR_RANGE);
-    ck_assert_int_eq(kelp_mmdriver_transmit_frames(&mm, 7, &f, 1, T + 20 * S), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_mmdriver_transmit_frames(&mm, 2, many, 4, SEC(T + 20 * S)), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_mmdriver_transmit_frames(&mm, 7, &f, 1, SEC(T + 20 * S)), KELP_ERR_RANGE);
 }
 END_TEST
 
@@ -286,7 +292,7 @@ START_TEST(clock_written_late_in_a_second)
      * pause ends (ss+1.95, within the 2 s skew), not at the caller's next tick (ss+2.05) */
     kelp_mmdriver mm;
     make(&mm, 1, false, NULL, 0);
-    ck_assert_int_eq(kelp_mmdriver_start(&mm, T + 950000), KELP_OK);
+    ck_assert_int_eq(kelp_mmdriver_start(&mm, SEC(T + 950000)), KELP_OK);
     expect("", "$CCCLK,2024,1,2,12,0,0");
     feed(&mm, "$CACLK,2024,1,2,12,0,0", T + 1300000);
     tick(&mm, T + 1850000);
@@ -340,7 +346,7 @@ START_TEST(remote_cycle_and_third_party_cycle)
     feed(&mm, "$CATXD,1,3,0,", T + 7 * S);
     /* we are the master: a slot src 2 -> dest 1 is a third-party cycle, ACK field 1 */
     reset_capture();
-    ck_assert_int_eq(kelp_mmdriver_initiate_transmission(&mm, 2, 1, 0, T + 8 * S), KELP_OK);
+    ck_assert_int_eq(kelp_mmdriver_initiate_transmission(&mm, 2, 1, 0, SEC(T + 8 * S)), KELP_OK);
     ck_assert_int_eq(n_requests, 0);
     expect("", "$CCCYC,0,2,1,0,1,1");
 }
@@ -366,7 +372,7 @@ START_TEST(receive_ranging_and_toa)
     ck_assert_int_eq(ev[in].src, 2);                  /* for MAC discovery */
 
     /* two-way ping, real request/reply pair #5/#7 */
-    ck_assert_int_eq(kelp_mmdriver_initiate_ranging(&mm, 1, 2, KELP_RANGING_TWO_WAY_PING, 1000, 15, T + 6 * S), KELP_OK);
+    ck_assert_int_eq(kelp_mmdriver_initiate_ranging(&mm, 1, 2, KELP_RANGING_TWO_WAY_PING, 1000, 15, SEC(T + 6 * S)), KELP_OK);
     expect("", "$CCMPC,1,2");
     feed_raw(&mm, "$CAMPR,2,1,0.0101*7C\r\n", T + 7 * S);
     r = find_ev(KELP_MMDRIVER_EV_RANGE, 0);
@@ -379,7 +385,7 @@ START_TEST(receive_ranging_and_toa)
     feed(&mm, "$CAMPC,1,2", T + 7 * S);               /* echo completes $CCMPC */
 
     /* REMUS LBL: timeout int(1000*2/1500*1000 + 50) = 1383 ms, channel 1 % 4 + 1 = 2 */
-    ck_assert_int_eq(kelp_mmdriver_initiate_ranging(&mm, 1, 0, KELP_RANGING_REMUS_LBL, 1000, 15, T + 8 * S), KELP_OK);
+    ck_assert_int_eq(kelp_mmdriver_initiate_ranging(&mm, 1, 0, KELP_RANGING_REMUS_LBL, 1000, 15, SEC(T + 8 * S)), KELP_OK);
     tick(&mm, T + 8 * S);
     expect("", "$CCPDT,1,2,0,0,1383,1,1,1,1");
     feed(&mm, "$CAPDT,1,2,0,0,1383,1,1,1,1", T + 8 * S);
@@ -392,7 +398,7 @@ START_TEST(receive_ranging_and_toa)
     ck_assert_double_eq_tol(ev[0].tt[0], 0.1, 1e-12);
     ck_assert(isnan(ev[0].tt[1]));
     ck_assert_double_eq_tol(ev[0].tt[3], 0.4, 1e-12);
-    ck_assert_int_eq(kelp_mmdriver_initiate_ranging(&mm, 1, 2, KELP_RANGING_ONE_WAY_SYNCHRONOUS, 0, 0, T), KELP_ERR_UNSUPPORTED);
+    ck_assert_int_eq(kelp_mmdriver_initiate_ranging(&mm, 1, 2, KELP_RANGING_ONE_WAY_SYNCHRONOUS, 0, 0, SEC(T)), KELP_ERR_UNSUPPORTED);
 
     /* one-way synchronous: $CATOA (mode 3) then the next $CARXD gives 7 candidate times */
     nev = 0;
@@ -422,7 +428,7 @@ START_TEST(timeouts_retries_and_death)
 {
     kelp_mmdriver mm;
     make(&mm, 1, false, NULL, 0);
-    ck_assert_int_eq(kelp_mmdriver_start(&mm, T), KELP_OK);
+    ck_assert_int_eq(kelp_mmdriver_start(&mm, SEC(T)), KELP_OK);
     expect("", "$CCCLK,2024,1,2,12,0,0");
     tick(&mm, T + 2 * S);
     expect_none();
@@ -442,12 +448,12 @@ START_TEST(timeouts_retries_and_death)
     ck_assert_int_eq(count_evk(KELP_MMDRIVER_EV_RETRY), 3);
     tick(&mm, T + 11 * S);
     expect_none();
-    ck_assert_int_eq(kelp_mmdriver_tick(&mm, T + 12 * S + 100000), KELP_ERR_TIMEOUT); /* 5th: dead */
+    ck_assert_int_eq(kelp_mmdriver_tick(&mm, SEC(T + 12 * S + 100000)), KELP_ERR_TIMEOUT); /* 5th: dead */
     ck_assert_int_eq(count_evk(KELP_MMDRIVER_EV_DEAD), 1);
     expect_none();
-    ck_assert_int_eq(kelp_mmdriver_tick(&mm, T + 16 * S), KELP_ERR_TIMEOUT);
+    ck_assert_int_eq(kelp_mmdriver_tick(&mm, SEC(T + 16 * S)), KELP_ERR_TIMEOUT);
     /* the edge reconnects and restarts */
-    ck_assert_int_eq(kelp_mmdriver_start(&mm, T + 20 * S), KELP_OK);
+    ck_assert_int_eq(kelp_mmdriver_start(&mm, SEC(T + 20 * S)), KELP_OK);
     expect("", "$CCCLK,2024,1,2,12,0,20");
     /* any sentence from the modem resets the consecutive-failure count */
     tick(&mm, T + 23 * S);
@@ -461,7 +467,7 @@ START_TEST(caerr_nmea_resends_at_once)
 {
     kelp_mmdriver mm;
     make(&mm, 1, false, NULL, 0);
-    ck_assert_int_eq(kelp_mmdriver_start(&mm, T), KELP_OK);
+    ck_assert_int_eq(kelp_mmdriver_start(&mm, SEC(T)), KELP_OK);
     expect("", "$CCCLK,2024,1,2,12,0,0");
     feed(&mm, "$CAERR,120000,NMEA,1,bad sentence", T + 1 * S + 100000);
     expect("", "$CCCLK,2024,1,2,12,0,0");
@@ -500,7 +506,7 @@ START_TEST(clock_checks_rev_and_reboot_pause)
     int64_t t3 = t2 + 10 * S;
     feed_raw(&mm, "$CAREV,000052,INIT,0.93.0.09\r\n$CARXD,2,1,0,1,00ff\r\n", t3);
     ck_assert(!kelp_mmdriver_clock_ok(&mm));
-    ck_assert_int_eq(kelp_mmdriver_busy_until(&mm), t3 + 2 * S);
+    ck_assert_double_eq(kelp_mmdriver_busy_until(&mm), SEC(t3 + 2 * S));
     ck_assert_int_eq(find_ev(KELP_MMDRIVER_EV_RECEIVE, 0), -1);
     tick(&mm, t3 + 1 * S);
     ck_assert_int_eq(find_ev(KELP_MMDRIVER_EV_RECEIVE, 0), -1);
@@ -516,7 +522,7 @@ START_TEST(hydroid_gateway_prefix)
 {
     kelp_mmdriver mm;
     make(&mm, 1, true, NULL, 1);
-    ck_assert_int_eq(kelp_mmdriver_start(&mm, T), KELP_OK);
+    ck_assert_int_eq(kelp_mmdriver_start(&mm, SEC(T)), KELP_OK);
     expect("#M1", "$CCCLK,2024,1,2,12,0,0");
     feed_pfx(&mm, "!M1", "$CACLK,2024,1,2,12,0,0", T + 1 * S);
     tick(&mm, T + 1 * S + 100000);
@@ -542,7 +548,7 @@ START_TEST(garbage_is_reported_and_survived)
     boot(&mm);
     reset_capture();
     static const char junk[] = "\x01\x02\xff garbage\r$CARXD,2,1,1,1,zz*00\r$CARXD,2,1,1,1,0g*";
-    ck_assert_int_eq(kelp_mmdriver_feed(&mm, (const uint8_t *)junk, sizeof junk - 1, T + 5 * S), KELP_OK);
+    ck_assert_int_eq(kelp_mmdriver_feed(&mm, (const uint8_t *)junk, sizeof junk - 1, SEC(T + 5 * S)), KELP_OK);
     feed(&mm, "$CARXD,2,1,1,1,zz", T + 5 * S);        /* good checksum, bad hex */
     feed(&mm, "$CARXD,2,1,x,1,00", T + 5 * S);        /* bad ack field */
     feed(&mm, "$CACYC,0,1", T + 5 * S);               /* missing fields */
@@ -555,27 +561,27 @@ START_TEST(garbage_is_reported_and_survived)
     memset(big, 'A', sizeof big);
     big[0] = '$';
     big[sizeof big - 1] = '\r';
-    ck_assert_int_eq(kelp_mmdriver_feed(&mm, (const uint8_t *)big, sizeof big, T + 6 * S), KELP_OK);
+    ck_assert_int_eq(kelp_mmdriver_feed(&mm, (const uint8_t *)big, sizeof big, SEC(T + 6 * S)), KELP_OK);
     feed(&mm, "$CARXD,2,1,1,1,00ff", T + 6 * S);
     ck_assert_int_eq(count_evk(KELP_MMDRIVER_EV_RECEIVE), 1);
     ck_assert_int_eq(count_evk(KELP_MMDRIVER_EV_BAD_LINE), 6);
     /* the driver refuses calls before start */
     kelp_mmdriver m2;
     make(&m2, 2, false, NULL, 0);
-    ck_assert_int_eq(kelp_mmdriver_feed(&m2, (const uint8_t *)"x", 1, T), KELP_ERR_STATE);
-    ck_assert_int_eq(kelp_mmdriver_tick(&m2, T), KELP_ERR_STATE);
+    ck_assert_int_eq(kelp_mmdriver_feed(&m2, (const uint8_t *)"x", 1, SEC(T)), KELP_ERR_STATE);
+    ck_assert_int_eq(kelp_mmdriver_tick(&m2, SEC(T)), KELP_ERR_STATE);
 }
 END_TEST
 
 START_TEST(civil_time)
 {
     int y, mo, d, h, mi, s;
-    kelp_mmdriver_civil(T, &y, &mo, &d, &h, &mi, &s);
+    kelp_mmdriver_civil(SEC(T), &y, &mo, &d, &h, &mi, &s);
     ck_assert_int_eq(y, 2024); ck_assert_int_eq(mo, 1); ck_assert_int_eq(d, 2);
     ck_assert_int_eq(h, 12); ck_assert_int_eq(mi, 0); ck_assert_int_eq(s, 0);
-    kelp_mmdriver_civil(951782400LL * S, &y, &mo, &d, &h, &mi, &s);   /* 2000-02-29 */
+    kelp_mmdriver_civil(SEC(951782400LL * S), &y, &mo, &d, &h, &mi, &s);   /* 2000-02-29 */
     ck_assert_int_eq(y, 2000); ck_assert_int_eq(mo, 2); ck_assert_int_eq(d, 29);
-    kelp_mmdriver_civil(-1, &y, &mo, &d, &h, &mi, &s);               /* 1969-12-31 23:59:59 */
+    kelp_mmdriver_civil(SEC(-1), &y, &mo, &d, &h, &mi, &s);               /* 1969-12-31 23:59:59 */
     ck_assert_int_eq(y, 1969); ck_assert_int_eq(mo, 12); ck_assert_int_eq(d, 31);
     ck_assert_int_eq(h, 23); ck_assert_int_eq(mi, 59); ck_assert_int_eq(s, 59);
 }

@@ -42,7 +42,8 @@ typedef struct node {
 } node;
 
 static node nodes[NN];
-static int64_t now;
+static int64_t now; /* the simulation clock, whole microseconds */
+#define SEC(us) ((kelp_time)(us) / 1e6)
 static uint8_t air[KELP_MODEMSIM_PKT_MAX_ENCODED];
 
 static void fifo_put(fifo *f, const void *b, size_t n)
@@ -89,7 +90,7 @@ static void mm_event(const kelp_mmdriver_event *e, void *u)
     node *nd = u;
     if (getenv("TRACE") && (e->kind == KELP_MMDRIVER_EV_NMEA_IN || e->kind == KELP_MMDRIVER_EV_NMEA_OUT || e->kind == KELP_MMDRIVER_EV_RETRY))
         printf("%.3f node%d %s %s\n", (double)(now - T0) / 1e6, nd->id, e->kind == KELP_MMDRIVER_EV_NMEA_IN ? "IN " : e->kind == KELP_MMDRIVER_EV_RETRY ? "RETRY" : "OUT", e->raw);
-    if (e->kind == KELP_MMDRIVER_EV_NMEA_IN && e->has_src) kelp_mac_heard(&nd->mac, e->src, now);
+    if (e->kind == KELP_MMDRIVER_EV_NMEA_IN && e->has_src) kelp_mac_heard(&nd->mac, e->src, SEC(now));
     if (e->kind == KELP_MMDRIVER_EV_RECEIVE) {
         static kelp_acomms_msg f;
         memset(&f, 0, sizeof f);
@@ -118,7 +119,7 @@ static void mm_data_request(const kelp_mmdriver_data_request *req, kelp_mmdriver
     kelp_queue_request r = { req->dest, req->frame, req->max_bytes };
     static kelp_acomms_msg m;
     memset(&m, 0, sizeof m);
-    ck_assert_int_eq(kelp_queue_data_request(&nd->qm, &r, now, &m), KELP_OK);
+    ck_assert_int_eq(kelp_queue_data_request(&nd->qm, &r, SEC(now), &m), KELP_OK);
     out->src = nd->id;
     out->dest = m.dest;
     out->ack_requested = m.ack_requested;
@@ -163,8 +164,8 @@ static void push(node *nd, unsigned dccl_id, int dest, int tag)
     m.key.type = KELP_QUEUE_DCCL;
     m.key.id = dccl_id;
     m.has_time = true;
-    m.time_us = now;
-    ck_assert_int_eq(kelp_queue_push(&nd->qm, &m, now), KELP_OK);
+    m.time = SEC(now);
+    ck_assert_int_eq(kelp_queue_push(&nd->qm, &m, SEC(now)), KELP_OK);
 }
 
 static void setup(double loss, uint32_t ttl_status, double separation)
@@ -196,22 +197,22 @@ static void setup(double loss, uint32_t ttl_status, double separation)
         memset(&mc, 0, sizeof mc);
         mc.modem_id = nd->id;
         ck_assert_int_eq(kelp_mmdriver_init(&nd->mm, &mc, &MM_OPS, nd), KELP_OK);
-        ck_assert_int_eq(kelp_mmdriver_start(&nd->mm, now), KELP_OK);
+        ck_assert_int_eq(kelp_mmdriver_start(&nd->mm, SEC(now)), KELP_OK);
         ck_assert_int_eq(kelp_queue_init(&nd->qm, nd->id, nd->queues, 4, nd->pool, 64, q_event, NULL, nd), KELP_OK);
         kelp_queue_cfg qc;
         kelp_queue_cfg_default(&qc, KELP_QUEUE_DCCL, 1); /* GoToCommand: ack, newest first, ttl 1800 */
-        ck_assert_int_eq(kelp_queue_add(&nd->qm, &qc, now), KELP_OK);
+        ck_assert_int_eq(kelp_queue_add(&nd->qm, &qc, SEC(now)), KELP_OK);
         kelp_queue_cfg_default(&qc, KELP_QUEUE_DCCL, 2); /* VehicleStatus */
         qc.newest_first = false;
         qc.ttl = ttl_status;
-        ck_assert_int_eq(kelp_queue_add(&nd->qm, &qc, now), KELP_OK);
+        ck_assert_int_eq(kelp_queue_add(&nd->qm, &qc, SEC(now)), KELP_OK);
         kelp_mac_cfg cfg;
         kelp_mac_cfg_default(&cfg);
         cfg.type = KELP_MAC_FIXED_DECENTRALIZED;
         cfg.modem_id = nd->id;
         cfg.slots = slots;
         cfg.nslots = 2;
-        ck_assert_int_eq(kelp_mac_init(&nd->mac, &cfg, now), KELP_OK);
+        ck_assert_int_eq(kelp_mac_init(&nd->mac, &cfg, SEC(now)), KELP_OK);
     }
 }
 
@@ -222,7 +223,7 @@ static void step(void)
     now += 10000;
     for (int i = 0; i < NN; i++) {
         node *nd = &nodes[i];
-        if (kelp_mmdriver_tick(&nd->mm, now) != KELP_OK) nd->dead = true;
+        if (kelp_mmdriver_tick(&nd->mm, SEC(now)) != KELP_OK) nd->dead = true;
         /* the serial line, both ways */
         if (nd->to_modem.n) {
             size_t n = nd->to_modem.n;
@@ -237,16 +238,16 @@ static void step(void)
             static uint8_t tmp2[FIFO];
             memcpy(tmp2, nd->to_host.b, n);
             nd->to_host.n = 0;
-            ck_assert_int_eq(kelp_mmdriver_feed(&nd->mm, tmp2, n, now), KELP_OK);
+            ck_assert_int_eq(kelp_mmdriver_feed(&nd->mm, tmp2, n, SEC(now)), KELP_OK);
         }
         kelp_mac_action act;
-        while (kelp_mac_tick(&nd->mac, now, &act) == KELP_OK) {
+        while (kelp_mac_tick(&nd->mac, SEC(now), &act) == KELP_OK) {
             if (act.kind == KELP_MAC_ACT_TRANSMIT) {
                 n_cycles_started++;
-                ck_assert_int_eq(kelp_mmdriver_initiate_transmission(&nd->mm, act.src, act.dest, act.rate, now), KELP_OK);
+                ck_assert_int_eq(kelp_mmdriver_initiate_transmission(&nd->mm, act.src, act.dest, act.rate, SEC(now)), KELP_OK);
             }
         }
-        kelp_queue_do_work(&nd->qm, now);
+        kelp_queue_do_work(&nd->qm, SEC(now));
     }
 }
 
@@ -271,7 +272,7 @@ START_TEST(driver_startup_against_the_simulator)
         ck_assert_uint_eq(kelp_modemsim_get_counters(&nodes[i].sim)->host_errors, 0);
     }
     /* ranging through the driver: 1000 m apart -> 0.6667 s one way */
-    ck_assert_int_eq(kelp_mmdriver_initiate_ranging(&nodes[0].mm, 1, 2, KELP_RANGING_TWO_WAY_PING, 0, 0, now), KELP_OK);
+    ck_assert_int_eq(kelp_mmdriver_initiate_ranging(&nodes[0].mm, 1, 2, KELP_RANGING_TWO_WAY_PING, 0, 0, SEC(now)), KELP_OK);
     run_until(now + 5 * S);
     ck_assert_int_eq(nodes[0].ranges, 1);
     ck_assert_double_eq_tol(nodes[0].last_tt, 1000.0 / 1500.0, 0.0001);

@@ -6,8 +6,9 @@
 
 #include <kelp/queue.h>
 
-#define S 1000000LL
-static const int64_t T0 = 1704196800LL * S; /* 2024-01-02 12:00:00 UTC */
+#define S 1.0                                 /* one second of kelp_time */
+#define US 1e-6                               /* one microsecond */
+static const kelp_time T0 = 1704196800.0;     /* 2024-01-02 12:00:00 UTC */
 
 static kelp_queue qs[8];
 static kelp_queue_entry pool[48];
@@ -40,7 +41,7 @@ static void setup_mgr(int modem_id)
     ck_assert_int_eq(kelp_queue_init(&M, modem_id, qs, 8, pool, 48, on_event, NULL, NULL), KELP_OK);
 }
 
-static void add_q(uint8_t type, uint32_t id, double vb, uint32_t ttl, bool ack, int64_t now)
+static void add_q(uint8_t type, uint32_t id, double vb, uint32_t ttl, bool ack, kelp_time now)
 {
     kelp_queue_cfg c;
     kelp_queue_cfg_default(&c, type, id);
@@ -63,16 +64,16 @@ static kelp_acomms_msg dccl(unsigned id, int dest, size_t body, uint8_t fill)
     m.key.type = KELP_QUEUE_DCCL;
     m.key.id = id;
     m.has_time = true;
-    m.time_us = T0;
+    m.time = T0;
     return m;
 }
 
-static void push(kelp_acomms_msg m, int64_t now)
+static void push(kelp_acomms_msg m, kelp_time now)
 {
     ck_assert_int_eq(kelp_queue_push(&M, &m, now), KELP_OK);
 }
 
-static kelp_acomms_msg request(int dest, uint32_t frame, uint32_t max_bytes, int64_t now)
+static kelp_acomms_msg request(int dest, uint32_t frame, uint32_t max_bytes, kelp_time now)
 {
     kelp_queue_request r = { dest, frame, max_bytes };
     kelp_acomms_msg out;
@@ -137,7 +138,7 @@ START_TEST(ttl_zero_is_infinite_priority_and_immediate_expiry)
     /* ttl 0: expires at the next do_work */
     push(dccl(1, 2, 4, 0), T0);
     nev = 0;
-    kelp_queue_do_work(&M, T0 + 1);
+    kelp_queue_do_work(&M, T0 + 1 * US);
     ck_assert_int_eq(count_ev(KELP_QUEUE_EV_EXPIRE), 1);
     ck_assert_int_eq(kelp_queue_size(&M, K(1)), 0);
 }
@@ -198,7 +199,7 @@ START_TEST(blackout_time)
     /* created at T0: in blackout until T0+10 */
     ck_assert_uint_eq(request(-1, 0, 32, T0 + 9 * S).len, 0);
     ck_assert_uint_eq(request(-1, 0, 32, T0 + 10 * S).len, 16);   /* last_send + 10 > now is false */
-    ck_assert_uint_eq(request(-1, 0, 32, T0 + 19999999).len, 0);  /* within 10 s of the send */
+    ck_assert_uint_eq(request(-1, 0, 32, T0 + 19999999 * US).len, 0);  /* within 10 s of the send */
     ck_assert_uint_eq(request(-1, 0, 32, T0 + 20 * S).len, 16);
 }
 END_TEST
@@ -315,6 +316,10 @@ START_TEST(no_ack_pops_on_send_and_qsize_events)
     e.len = 0;
     int before = nev;
     ck_assert_int_eq(kelp_queue_push(&M, &e, T0), KELP_ERR_ARG);
+    ck_assert_int_eq(M.diag.code, KELP_ERR_ARG); /* the first error is kept */
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(kelp_diag_text(&M.diag), "queue: empty message");
+#endif
     ck_assert_int_eq(nev, before + 1);
     ck_assert_uint_eq(evs[nev - 1].size, 1);
     /* no queue for the key */
@@ -328,13 +333,13 @@ START_TEST(expiry_after_ttl)
     setup_mgr(1);
     add_q(KELP_QUEUE_DCCL, 1, 1, 300, true, T0);
     kelp_acomms_msg a = dccl(1, 2, 4, 0xa0), b = dccl(1, 2, 4, 0xb0);
-    b.time_us = T0 + 100 * S;
+    b.time = T0 + 100 * S;
     push(a, T0);
     push(b, T0);
     nev = 0;
     kelp_queue_do_work(&M, T0 + 300 * S);      /* time + ttl < now is false */
     ck_assert_int_eq(nev, 0);
-    kelp_queue_do_work(&M, T0 + 300 * S + 1);
+    kelp_queue_do_work(&M, T0 + 300 * S + 1 * US);
     ck_assert_int_eq(nev, 1);                   /* only the expiry, no queue-size event */
     ck_assert_int_eq(evs[0].kind, KELP_QUEUE_EV_EXPIRE);
     ck_assert_uint_eq(evmsg[0].data[6], 0xa0);

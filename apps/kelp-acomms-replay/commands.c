@@ -26,14 +26,14 @@ void cmd_push(replay *r, char **w, int n)
     memset(&m, 0, sizeof m);
     size_t len = 0;
     const char *why = NULL;
-    if (kelp_acomms_dccl_encode_string(r->dccl, (size_t)idx, kv, (double)r->now_us / 1e6, m.data, sizeof m.data, &len,
+    if (kelp_acomms_dccl_encode_string(r->dccl, (size_t)idx, kv, replay_sec(r->now_us), m.data, sizeof m.data, &len,
                                        &why) != KELP_OK) {
         replay_error(r, "cannot encode: %s", why);
         return;
     }
     kelp_acomms_dccl_info info;
     if (kelp_acomms_dccl_info_get(r->dccl, (size_t)idx, &info) != KELP_OK) return;
-    if (kelp_acomms_msg_from_dccl(&m, len, r->cfg.modem_id, info.id, r->now_us) != KELP_OK) {
+    if (kelp_acomms_msg_from_dccl(&m, len, r->cfg.modem_id, info.id, replay_sec(r->now_us)) != KELP_OK) {
         replay_error(r, "encoded message too short");
         return;
     }
@@ -41,7 +41,7 @@ void cmd_push(replay *r, char **w, int n)
     fprintf(r->out, "push queue=%s id=%u dest=%d bytes=%zu hex=", info.name, info.id, m.dest, len);
     replay_hex(r->out, m.data, len);
     fputc('\n', r->out);
-    if (kelp_acomms_node_push(&r->h.node, &m, r->now_us) != KELP_OK) replay_error(r, "push refused: %s", r->h.node.errmsg);
+    if (kelp_acomms_node_push(&r->h.node, &m, replay_sec(r->now_us)) != KELP_OK) replay_error(r, "push refused: %s", r->h.node.errmsg);
 }
 
 void cmd_push_ccl(replay *r, char **w, int n)
@@ -63,13 +63,13 @@ void cmd_push_ccl(replay *r, char **w, int n)
     }
     m.src = r->cfg.modem_id;
     m.has_time = true;
-    m.time_us = r->now_us;
+    m.time = replay_sec(r->now_us);
     m.key.type = KELP_QUEUE_CCL;
     m.key.id = m.data[0];
     replay_stamp(r);
     fprintf(r->out, "push queue=%s id=%u dest=%d bytes=%zu hex=%s\n", replay_name_of(r, m.key), (unsigned)m.key.id, m.dest, m.len,
             w[0]);
-    if (kelp_acomms_node_push(&r->h.node, &m, r->now_us) != KELP_OK) replay_error(r, "push refused: %s", r->h.node.errmsg);
+    if (kelp_acomms_node_push(&r->h.node, &m, replay_sec(r->now_us)) != KELP_OK) replay_error(r, "push refused: %s", r->h.node.errmsg);
 }
 
 void cmd_data_request(replay *r, char **w, int n)
@@ -111,7 +111,7 @@ void cmd_data_request(replay *r, char **w, int n)
         req.max_bytes = (uint32_t)v;
     }
     kelp_acomms_msg out;
-    if (kelp_acomms_node_data_request(&r->h.node, &req, r->now_us, &out) != KELP_OK)
+    if (kelp_acomms_node_data_request(&r->h.node, &req, replay_sec(r->now_us), &out) != KELP_OK)
         replay_error(r, "data request failed: %s", r->h.node.errmsg);
 }
 
@@ -130,7 +130,7 @@ void cmd_ack(replay *r, char **w, int n)
         replay_error(r, "bad src or dest");
         return;
     }
-    int k = kelp_acomms_node_ack(&r->h.node, (int)src, (int)dest, (uint32_t)frame, r->now_us);
+    int k = kelp_acomms_node_ack(&r->h.node, (int)src, (int)dest, (uint32_t)frame, replay_sec(r->now_us));
     if (k == 0) {
         replay_stamp(r);
         if (dest != r->cfg.modem_id) fprintf(r->out, "ack-ignored frame=%ld (addressed to %ld, not us)\n", frame, dest);
@@ -164,8 +164,8 @@ void cmd_receive(replay *r, char **w, int n)
     m.src = (int)src;
     m.dest = (int)dest;
     m.has_time = true;
-    m.time_us = r->now_us;
-    int k = kelp_acomms_node_receive(&r->h.node, &m, r->now_us);
+    m.time = replay_sec(r->now_us);
+    int k = kelp_acomms_node_receive(&r->h.node, &m, replay_sec(r->now_us));
     if (k == 0) {
         replay_stamp(r);
         fprintf(r->out, "receive-ignored src=%ld dest=%ld (not for us, no queue, or malformed)\n", src, dest);
@@ -190,7 +190,7 @@ void cmd_transmit(replay *r, char **w, int n)
         }
     replay_stamp(r);
     fprintf(r->out, "transmit src=%d dest=%ld rate=%ld\n", r->cfg.modem_id, dest, rate);
-    if (kelp_acomms_node_transmit(&r->h.node, r->cfg.modem_id, (int)dest, (unsigned)rate, r->now_us) != KELP_OK)
+    if (kelp_acomms_node_transmit(&r->h.node, r->cfg.modem_id, (int)dest, (unsigned)rate, replay_sec(r->now_us)) != KELP_OK)
         replay_error(r, "transmit failed: %s", r->h.node.errmsg);
 }
 
@@ -249,13 +249,13 @@ void cmd_status(replay *r)
 {
     for (size_t i = 0; i < r->h.nnames; i++) {
         double p = 0;
-        if (kelp_queue_priority(&r->h.node.q, r->h.names[i].key, r->now_us, &p) != KELP_OK) p = NAN;
+        if (kelp_queue_priority(&r->h.node.q, r->h.names[i].key, replay_sec(r->now_us), &p) != KELP_OK) p = NAN;
         replay_stamp(r);
         fprintf(r->out, "status queue=%s size=%ld priority=%.6g\n", r->h.names[i].name, kelp_queue_size(&r->h.node.q, r->h.names[i].key),
                 p);
     }
-    int64_t next = kelp_mac_next_slot_time(&r->h.node.mac);
+    kelp_time next = kelp_mac_next_slot_time(&r->h.node.mac);
     replay_stamp(r);
     fprintf(r->out, "status mac slots=%zu cycle=%u next_slot=%.3f\n", r->h.node.mac.n, kelp_mac_cycle_length(&r->h.node.mac),
-            next < 0 ? -1.0 : (double)(next - r->start_us) / 1e6);
+            next < 0 ? -1.0 : (double)(replay_us(next) - r->start_us) / 1e6);
 }

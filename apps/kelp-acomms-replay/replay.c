@@ -140,7 +140,7 @@ static int start_handler(replay *r)
     nc.driver = KELP_ACOMMS_DRIVER_NONE;
     nc.loopback_channel = false;
     const kelp_acomms_sink sink = { r, no_publish, NULL, NULL, NULL, NULL, NULL, replay_on_event };
-    double now = (double)r->now_us / 1e6;
+    double now = replay_sec(r->now_us);
     int rc = kelp_acomms_handler_init(&r->h, &r->cfg, &nc, &r->codec, r->pool, KELP_ACOMMS_MAX_POOL, &sink, now);
     if (rc && r->h.err_queue) {
         fprintf(stderr, "kelp-acomms-replay: queue %s: %s\n", r->h.err_queue, r->h.errmsg);

@@ -1,6 +1,7 @@
 /* kelp-acomms-replay (private). */
 #ifndef KELP_ACOMMS_REPLAY_H
 #define KELP_ACOMMS_REPLAY_H
+#include <math.h>
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -8,6 +9,11 @@
 #include <kelp/mmdriver.h>
 
 #define TICK_US 100000LL /* Goby's do_work at AppTick 10 */
+
+/* The replay's clock counts whole microseconds (the timeline's steps are exact); the core
+ * takes kelp_time seconds. */
+static inline kelp_time replay_sec(int64_t us) { return (kelp_time)us / 1e6; }
+static inline int64_t replay_us(kelp_time t) { return (int64_t)llround(t * 1e6); }
 #define MAX_LINE 4096
 
 int replay_main(int argc, char **argv);

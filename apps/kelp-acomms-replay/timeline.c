@@ -85,7 +85,7 @@ void replay_on_event(void *ctx, const kelp_acomms_event *ev)
         case KELP_QUEUE_EV_RECEIVE: {
             char text[1024] = "";
             if (r->dccl && kelp_acomms_dccl_describe(r->dccl, q->msg->data, q->msg->len,
-                                                     (double)r->now_us / 1e6, text, sizeof text) != KELP_OK) {
+                                                     replay_sec(r->now_us), text, sizeof text) != KELP_OK) {
                 /* text holds the reason */
             }
             fprintf(r->out, "receive queue=%s src=%d dest=%d hex=", nm, q->msg->src, q->msg->dest);
@@ -116,18 +116,18 @@ static void advance_to(replay *r, int64_t t_us)
         r->now_us = next;
         if (!r->auto_request) {
             /* report slots without requesting data: step the MAC ourselves */
-            kelp_queue_do_work(&r->h.node.q, r->now_us);
+            kelp_queue_do_work(&r->h.node.q, replay_sec(r->now_us));
             kelp_mac_action act;
-            while (kelp_mac_tick(&r->h.node.mac, r->now_us, &act) == KELP_OK) {
+            while (kelp_mac_tick(&r->h.node.mac, replay_sec(r->now_us), &act) == KELP_OK) {
                 if (act.kind == KELP_MAC_ACT_NONE) continue;
                 kelp_acomms_event ev;
                 memset(&ev, 0, sizeof ev);
                 ev.kind = KELP_ACOMMS_EV_SLOT;
-                ev.time_us = r->now_us;
+                ev.time = replay_sec(r->now_us);
                 ev.slot = &act;
                 replay_on_event(r, &ev);
             }
-        } else if (kelp_acomms_node_tick(&r->h.node, r->now_us) != KELP_OK) {
+        } else if (kelp_acomms_node_tick(&r->h.node, replay_sec(r->now_us)) != KELP_OK) {
             replay_error(r, "tick failed: %s", r->h.node.errmsg);
         }
         rmodem_tick(&r->modem, r->now_us);
@@ -205,7 +205,7 @@ void replay_run_line(replay *r, char *line)
             replay_error(r, "bad MACUpdate: %s", why);
             return;
         }
-        int rc = kelp_acomms_node_mac_update(&r->h.node, &u, r->now_us);
+        int rc = kelp_acomms_node_mac_update(&r->h.node, &u, replay_sec(r->now_us));
         replay_stamp(r);
         if (rc == KELP_ERR_NOTFOUND && u.dest != r->cfg.modem_id)
             fprintf(r->out, "mac_update ignored (dest %d is not us)\n", u.dest);
@@ -255,7 +255,7 @@ void replay_run_line(replay *r, char *line)
             replay_error(r, "heard needs a modem id");
             return;
         }
-        kelp_acomms_node_heard(&r->h.node, (int)v, r->now_us);
+        kelp_acomms_node_heard(&r->h.node, (int)v, replay_sec(r->now_us));
         replay_stamp(r);
         fprintf(r->out, "heard id=%ld slots=%zu cycle=%u\n", v, r->h.node.mac.n, kelp_mac_cycle_length(&r->h.node.mac));
     } else if (!strcmp(w[0], "receive")) {

@@ -39,16 +39,16 @@ void handler_report(kelp_app *app, void *state, FILE *out)
                 kelp_mmdriver_clock_ok(mm) ? "ok" : "not set", kelp_mmdriver_pending(mm), mm->count.lines_in,
                 mm->count.lines_out, mm->count.bad_lines, mm->count.retries, mm->count.give_ups, mm->count.modem_errors,
                 k->deaths);
-    int64_t next = kelp_mac_next_slot_time(&c->node.mac);
+    kelp_time next = kelp_mac_next_slot_time(&c->node.mac);
     fprintf(out, "MAC: %s, %zu slot(s), cycle %u s", kelp_acomms_mac_name(h->cfg.mac_type), c->node.mac.n,
             kelp_mac_cycle_length(&c->node.mac));
-    if (next >= 0) fprintf(out, ", next slot in %.1f s", (double)(next - us_of(c->now)) / 1e6);
+    if (next >= 0) fprintf(out, ", next slot in %.1f s", (double)(us_of(next) - us_of(c->now)) / 1e6);
     fprintf(out, ", %u slot(s) fired, %u skipped (link down)\n", c->node.count.slots, c->node.count.slots_skipped);
     fprintf(out, "%-24s %-6s %5s %9s\n", "queue", "key", "size", "priority");
     for (size_t i = 0; i < c->nnames; i++) {
         const kelp_acomms_qname *n = &c->names[i];
         double p = 0;
-        if (kelp_queue_priority(&c->node.q, n->key, us_of(c->now), &p) != KELP_OK) p = NAN;
+        if (kelp_queue_priority(&c->node.q, n->key, c->now, &p) != KELP_OK) p = NAN;
         fprintf(out, "%-24.24s %s%-4u %5ld %9.3f\n", n->name ? n->name : "?", n->key.type == KELP_QUEUE_CCL ? "C" : "D",
                 (unsigned)n->key.id, kelp_queue_size(&c->node.q, n->key), p);
     }

@@ -130,8 +130,9 @@ KELP_MUST_CHECK int kelp_acomms_dccl_describe(kelp_acomms_dccl *d, const uint8_t
 /* ================================================================== 2. TextFormat (core) */
 
 /** boost ptime text of a UNIX time: "2011-Jan-22 12:08:06.887950" ("2002-Jan-01 14:23:11"
- *  when the microseconds are 0).  @return 0 or KELP_ERR_NOSPACE. */
-KELP_MUST_CHECK int kelp_acomms_time_text(int64_t unix_us, char *buf, size_t cap);
+ *  when the microseconds are 0); t is rounded to the nearest microsecond.
+ *  @return 0 or KELP_ERR_NOSPACE. */
+KELP_MUST_CHECK int kelp_acomms_time_text(kelp_time t, char *buf, size_t cap);
 
 /** ModemDataTransmission:
  *  `base { src: 1 dest: 2 time: "..." } ack_requested: true data: "\002..." frame: 0
@@ -142,7 +143,7 @@ KELP_MUST_CHECK int kelp_acomms_print_data(const kelp_acomms_msg *m, char *buf, 
  *  pREMUSCodec fills it: `base { src: 2 dest: 0 } data: "\016..."`. Same returns. */
 KELP_MUST_CHECK int kelp_acomms_print_data_bare(const kelp_acomms_msg *m, char *buf, size_t cap, size_t *len);
 /** ModemDataAck: `base { src: S dest: D time: ".." } frame: F orig_msg { ... }`. */
-KELP_MUST_CHECK int kelp_acomms_print_ack(int src, int dest, uint32_t frame, int64_t time_us, const kelp_acomms_msg *orig,
+KELP_MUST_CHECK int kelp_acomms_print_ack(int src, int dest, uint32_t frame, kelp_time time, const kelp_acomms_msg *orig,
                                           char *buf, size_t cap, size_t *len);
 /** ModemDataExpire: `orig_msg { ... }`. */
 KELP_MUST_CHECK int kelp_acomms_print_expire(const kelp_acomms_msg *orig, char *buf, size_t cap, size_t *len);
@@ -150,7 +151,7 @@ KELP_MUST_CHECK int kelp_acomms_print_expire(const kelp_acomms_msg *orig, char *
 KELP_MUST_CHECK int kelp_acomms_print_qsize(kelp_queue_key key, uint32_t size, char *buf, size_t cap, size_t *len);
 /** ModemRangingReply: `base { src: S dest: D time: ".." } one_way_travel_time: 0.0101 ...
  *  type: MODEM_TWO_WAY_PING` (NaN travel times print as "nan"). */
-KELP_MUST_CHECK int kelp_acomms_print_range(int src, int dest, int64_t time_us, kelp_ranging_type type, const double *tt,
+KELP_MUST_CHECK int kelp_acomms_print_range(int src, int dest, kelp_time time, kelp_ranging_type type, const double *tt,
                                             unsigned n_tt, char *buf, size_t cap, size_t *len);
 
 /** ModemRangingRequest (ACOMMS_RANGE_COMMAND). */
@@ -196,7 +197,7 @@ typedef enum kelp_acomms_ev_kind {
 
 typedef struct kelp_acomms_event {
     kelp_acomms_ev_kind kind;
-    int64_t time_us;
+    kelp_time time;
     const kelp_queue_event *q;
     const kelp_mmdriver_event *mm;
     const kelp_mac_action *slot;
@@ -240,7 +241,7 @@ typedef struct kelp_acomms_node {
     kelp_mmdriver mm;
     kelp_acomms_node_ops ops;
     void *user;
-    int64_t now_us;               /**< time of the call in progress (for callbacks) */
+    kelp_time now;                /**< time of the call in progress (for callbacks) */
     kelp_acomms_msg scratch;      /**< driver callbacks: the frame asked for / received */
     union {
         kelp_acomms_msg frames[KELP_MAX_MM_FRAMES]; /**< DRIVER_NONE transmission: the packet's frames */
@@ -259,42 +260,42 @@ KELP_MUST_CHECK int kelp_acomms_node_init(kelp_acomms_node *n, const kelp_acomms
                                           size_t cap_queues, kelp_queue_entry *pool, size_t cap_pool,
                                           const kelp_acomms_node_ops *ops, void *user);
 /** Add a queue (before or after start). */
-KELP_MUST_CHECK int kelp_acomms_node_add_queue(kelp_acomms_node *n, const kelp_queue_cfg *cfg, int64_t now_us);
+KELP_MUST_CHECK int kelp_acomms_node_add_queue(kelp_acomms_node *n, const kelp_queue_cfg *cfg, kelp_time now);
 /** The queue configuration of a DCCL message: its <queuing> block and its file's manipulators
  *  (on_demand, no_queue). Loopback stays off: the handler decodes its own sends itself. */
 void kelp_acomms_queue_cfg_from_info(const kelp_acomms_dccl_info *info, kelp_queue_cfg *q);
 /** Start the MAC and (WHOI) the driver's start-up sequence. */
-KELP_MUST_CHECK int kelp_acomms_node_start(kelp_acomms_node *n, int64_t now_us);
+KELP_MUST_CHECK int kelp_acomms_node_start(kelp_acomms_node *n, kelp_time now);
 /** The link came back: run the driver's start-up sequence again (queued messages are kept). */
-KELP_MUST_CHECK int kelp_acomms_node_restart_driver(kelp_acomms_node *n, int64_t now_us);
+KELP_MUST_CHECK int kelp_acomms_node_restart_driver(kelp_acomms_node *n, kelp_time now);
 /** WHOI: tell the node whether the modem link is up.  While it is down (or the driver is dead)
  *  MAC slots are reported but start no cycle -- so no queued message is handed to a modem that
  *  cannot send it -- and the driver is not ticked.  Default: up. */
 void kelp_acomms_node_set_link_up(kelp_acomms_node *n, bool up);
 /** Periodic work: queue expiry, MAC slots, driver timers.  @return 0, or KELP_ERR_TIMEOUT when
  *  the modem has stopped answering (reconnect, then kelp_acomms_node_restart_driver). */
-KELP_MUST_CHECK int kelp_acomms_node_tick(kelp_acomms_node *n, int64_t now_us);
+KELP_MUST_CHECK int kelp_acomms_node_tick(kelp_acomms_node *n, kelp_time now);
 /** Bytes read from the modem link. */
-KELP_MUST_CHECK int kelp_acomms_node_feed(kelp_acomms_node *n, const uint8_t *bytes, size_t len, int64_t now_us);
+KELP_MUST_CHECK int kelp_acomms_node_feed(kelp_acomms_node *n, const uint8_t *bytes, size_t len, kelp_time now);
 /** Queue a message (see kelp_queue_push). */
-KELP_MUST_CHECK int kelp_acomms_node_push(kelp_acomms_node *n, const kelp_acomms_msg *msg, int64_t now_us);
+KELP_MUST_CHECK int kelp_acomms_node_push(kelp_acomms_node *n, const kelp_acomms_msg *msg, kelp_time now);
 /** Start a transmission as a MAC data slot would (src, dest -1 = ask the queue, rate 0..5). */
-KELP_MUST_CHECK int kelp_acomms_node_transmit(kelp_acomms_node *n, int src, int dest, unsigned rate, int64_t now_us);
+KELP_MUST_CHECK int kelp_acomms_node_transmit(kelp_acomms_node *n, int src, int dest, unsigned rate, kelp_time now);
 /** Ranging (ACOMMS_RANGE_COMMAND or a MAC ping slot).  KELP_ERR_STATE without a driver. */
-KELP_MUST_CHECK int kelp_acomms_node_range(kelp_acomms_node *n, const kelp_acomms_range_req *r, int64_t now_us);
+KELP_MUST_CHECK int kelp_acomms_node_range(kelp_acomms_node *n, const kelp_acomms_range_req *r, kelp_time now);
 /** ACOMMS_MAC_CYCLE_UPDATE (see kelp_mac_update). */
-KELP_MUST_CHECK int kelp_acomms_node_mac_update(kelp_acomms_node *n, const kelp_acomms_mac_update *u, int64_t now_us);
+KELP_MUST_CHECK int kelp_acomms_node_mac_update(kelp_acomms_node *n, const kelp_acomms_mac_update *u, kelp_time now);
 
 /* Direct access for replay tools (what the modem would cause): */
 /** A data request as the modem would make it; the FRAME_OUT event is emitted too. */
-KELP_MUST_CHECK int kelp_acomms_node_data_request(kelp_acomms_node *n, const kelp_queue_request *req, int64_t now_us,
+KELP_MUST_CHECK int kelp_acomms_node_data_request(kelp_acomms_node *n, const kelp_queue_request *req, kelp_time now,
                                                   kelp_acomms_msg *out);
 /** A modem ack of `frame` from src (dest must be us).  @return messages acknowledged. */
-int kelp_acomms_node_ack(kelp_acomms_node *n, int src, int dest, uint32_t frame, int64_t now_us);
+int kelp_acomms_node_ack(kelp_acomms_node *n, int src, int dest, uint32_t frame, kelp_time now);
 /** A frame received from the modem. */
-int kelp_acomms_node_receive(kelp_acomms_node *n, const kelp_acomms_msg *frame, int64_t now_us);
+int kelp_acomms_node_receive(kelp_acomms_node *n, const kelp_acomms_msg *frame, kelp_time now);
 /** Modem `src` was heard (MAC auto-discovery). */
-void kelp_acomms_node_heard(kelp_acomms_node *n, int src, int64_t now_us);
+void kelp_acomms_node_heard(kelp_acomms_node *n, int src, kelp_time now);
 
 kelp_queue_mgr *kelp_acomms_node_queue(kelp_acomms_node *n);
 kelp_mac *kelp_acomms_node_mac(kelp_acomms_node *n);
@@ -450,7 +451,7 @@ typedef struct kelp_acomms_status {
     int modem_id;
     const char *driver, *link, *mac;
     bool link_up, clock_ok;
-    int64_t next_slot_us;
+    kelp_time next_slot;      /**< next MAC slot start, -1 when idle */
     uint32_t lines_in, lines_out, bad_lines, retries, modem_errors, reconnects, frames_out, frames_in, acks, expired,
         encoded, decoded;
     size_t nqueues;
@@ -561,7 +562,7 @@ typedef struct kelp_acomms_handler {
 /** A DCCL message encoded into m->data (len bytes) made ready for its queue: src, dest (from
  *  the DCCL header), time, queue key (QUEUE_DCCL, id).  @return 0, KELP_ERR_TRUNCATED (shorter
  *  than the header) or KELP_ERR_ARG. */
-KELP_MUST_CHECK int kelp_acomms_msg_from_dccl(kelp_acomms_msg *m, size_t len, int src, unsigned id, int64_t time_us);
+KELP_MUST_CHECK int kelp_acomms_msg_from_dccl(kelp_acomms_msg *m, size_t len, int src, unsigned id, kelp_time time);
 
 /** "MAC_NONE", "MAC_FIXED_DECENTRALIZED", ... ("?" if unknown). */
 const char *kelp_acomms_mac_name(kelp_mac_type t);

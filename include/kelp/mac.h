@@ -1,6 +1,7 @@
 /* kelp: Goby 1.1 libamac -- slotted TDMA medium access control (core; no allocation, no clock).
  *
- * Time is an argument (UNIX UTC microseconds).  The manager keeps the next slot start; the caller
+ * Time is an argument (kelp_time: UNIX UTC seconds).  Slot starts are whole seconds; the
+ * manager compares times in whole microseconds (as Goby) after rounding `now`.  The manager keeps the next slot start; the caller
  * calls kelp_mac_tick(mac, now, &act) regularly (and again while it returns an action: each call
  * starts at most one slot, so a late caller gets every missed slot, in order).
  *
@@ -57,7 +58,7 @@ typedef struct kelp_mac_slot {
     unsigned rate;           /**< 0..5 */
     kelp_slot_type type;     /**< default SLOT_DATA */
     unsigned slot_seconds;   /**< duration */
-    int64_t last_heard_us;   /**< AUTO: last time this id was heard */
+    kelp_time last_heard;     /**< AUTO: last time this id was heard */
     bool never_expires;      /**< AUTO: own id and the blank */
 } kelp_mac_slot;
 
@@ -83,7 +84,7 @@ typedef struct kelp_mac_action {
     unsigned rate;
     kelp_ranging_type ranging;
     kelp_slot_type slot_type;
-    int64_t slot_start_us;   /**< scheduled start of the slot that fired */
+    kelp_time slot_start;     /**< scheduled start of the slot that fired */
     unsigned slot_index;     /**< its position in the cycle */
 } kelp_mac_action;
 
@@ -101,10 +102,10 @@ typedef struct kelp_mac {
     size_t n;
     size_t current;          /**< slot that starts next */
     bool running;            /**< the slot timer is armed */
-    int64_t next_slot_us;
+    kelp_time next_slot;     /**< start of the next slot (whole seconds) */
     unsigned long cycles_since_day_start; /**< k */
     uint32_t slots_fired;
-    const char *errmsg;
+    kelp_diag diag;          /**< first error (too many slots / ids, bad configuration) */
 } kelp_mac;
 
 void kelp_mac_cfg_default(kelp_mac_cfg *cfg);
@@ -112,31 +113,31 @@ void kelp_mac_slot_default(kelp_mac_slot *s, int src);
 
 /** Start the MAC (MACManager::startup) at `now`.  KELP_ERR_ARG for a bad configuration
  *  (AUTO with slot_seconds 0, negative modem id), KELP_ERR_NOSPACE for too many slots. */
-KELP_MUST_CHECK int kelp_mac_init(kelp_mac *mac, const kelp_mac_cfg *cfg, int64_t now_us);
+KELP_MUST_CHECK int kelp_mac_init(kelp_mac *mac, const kelp_mac_cfg *cfg, kelp_time now);
 
 /** Start the next slot if its time has come.  act->kind is NONE when nothing is due or the slot
  *  is not ours to initiate.  @return 0, or KELP_ERR_EMPTY when no slot was due (act->kind NONE). */
-KELP_MUST_CHECK int kelp_mac_tick(kelp_mac *mac, int64_t now_us, kelp_mac_action *act);
+KELP_MUST_CHECK int kelp_mac_tick(kelp_mac *mac, kelp_time now, kelp_mac_action *act);
 
 /** Anything received from modem `src` (handle_modem_all_incoming; AUTO only: discovery). */
-void kelp_mac_heard(kelp_mac *mac, int src, int64_t now_us);
+void kelp_mac_heard(kelp_mac *mac, int src, kelp_time now);
 
 /** Run-time cycle change (ACOMMS_MAC_CYCLE_UPDATE, FIXED/POLLED).  KELP_ERR_NOTFOUND when
  *  dest != own id (ignored), KELP_ERR_STATE for NONE/AUTO. */
 KELP_MUST_CHECK int kelp_mac_update(kelp_mac *mac, int dest, kelp_mac_update_type type,
-                                    const kelp_mac_slot *slots, size_t n, int64_t now_us);
+                                    const kelp_mac_slot *slots, size_t n, kelp_time now);
 
-KELP_MUST_CHECK int kelp_mac_add_slot(kelp_mac *mac, const kelp_mac_slot *s, int64_t now_us);
+KELP_MUST_CHECK int kelp_mac_add_slot(kelp_mac *mac, const kelp_mac_slot *s, kelp_time now);
 /** Remove the first slot equal on (src, dest, rate, type, slot_seconds).  KELP_ERR_NOTFOUND. */
-KELP_MUST_CHECK int kelp_mac_remove_slot(kelp_mac *mac, const kelp_mac_slot *s, int64_t now_us);
+KELP_MUST_CHECK int kelp_mac_remove_slot(kelp_mac *mac, const kelp_mac_slot *s, kelp_time now);
 void kelp_mac_clear(kelp_mac *mac);
 
 /** Cycle length in seconds (sum of slot_seconds). */
 unsigned kelp_mac_cycle_length(const kelp_mac *mac);
 /** Start of the next slot, or -1 when the MAC is idle. */
-int64_t kelp_mac_next_slot_time(const kelp_mac *mac);
+kelp_time kelp_mac_next_slot_time(const kelp_mac *mac);
 /** First cycle start at or after `now` for a cycle of `cycle_seconds` (Goby's next_cycle_time). */
-int64_t kelp_mac_aligned_start(int64_t now_us, unsigned cycle_seconds, unsigned long *cycles_since_day_start);
+kelp_time kelp_mac_aligned_start(kelp_time now, unsigned cycle_seconds, unsigned long *cycles_since_day_start);
 
 #ifdef __cplusplus
 }

@@ -38,11 +38,11 @@
 extern "C" {
 #endif
 
-#define KELP_MMDRIVER_MODEM_WAIT_US 3000000LL   /**< MODEM_WAIT: resend after 3 s */
+#define KELP_MMDRIVER_MODEM_WAIT 3              /**< MODEM_WAIT: resend after 3 s (seconds) */
 #define KELP_MMDRIVER_RETRIES 3                 /**< RETRIES: clear the command queue */
 #define KELP_MMDRIVER_MAX_FAILS_BEFORE_DEAD 5
-#define KELP_MMDRIVER_ALLOWED_SKEW_US 2000000LL
-#define KELP_MMDRIVER_HYDROID_GPS_INTERVAL_US 30000000LL
+#define KELP_MMDRIVER_ALLOWED_SKEW 2            /**< seconds */
+#define KELP_MMDRIVER_HYDROID_GPS_INTERVAL 30   /**< seconds */
 
 /** Frames per packet and bytes per frame for rates 0..5 (PACKET_FRAME_COUNT, PACKET_SIZE). */
 extern const unsigned kelp_mmdriver_packet_frames[6];
@@ -78,7 +78,7 @@ typedef enum kelp_mmdriver_event_kind {
 
 typedef struct kelp_mmdriver_event {
     kelp_mmdriver_event_kind kind;
-    int64_t time_us;
+    kelp_time time;
     const char *raw;        /**< NUL-terminated, valid during the callback */
     size_t raw_len;
     bool has_src;
@@ -137,20 +137,20 @@ typedef struct kelp_mmdriver {
     kelp_mmdriver_cmd outq[KELP_MAX_MM_OUTQ]; /**< commands waiting (ring) */
     size_t out_head, out_n;
     bool waiting;                       /**< the front command was written, no reply yet */
-    int64_t last_write_us;
+    kelp_time last_write;
     unsigned global_fail, present_fail;
     bool clock_set, started, dead, local_cccyc;
-    int64_t hold_until_us;
+    kelp_time hold_until;                /**< paused (sleep) until then; 0 = not */
     uint8_t backlog[KELP_MAX_MM_BACKLOG];
     size_t backlog_len;
-    int64_t last_gps_us;
+    kelp_time last_gps;
     kelp_mmdriver_frame cache[KELP_MAX_MM_FRAMES];
     unsigned ncache;
     uint32_t ack_mask;                  /**< frames sent with ack=1 in the current cycle */
     bool toa_pending;
     double toa_frac;
     kelp_mmdriver_counters count;
-    const char *errmsg;
+    kelp_diag diag;                     /**< first error */
 } kelp_mmdriver;
 
 /** Configure (copies cfg).  KELP_ERR_ARG for modem_id outside 1..31 (0 is broadcast) or a bad
@@ -158,40 +158,41 @@ typedef struct kelp_mmdriver {
 KELP_MUST_CHECK int kelp_mmdriver_init(kelp_mmdriver *mm, const kelp_mmdriver_cfg *cfg, const kelp_mmdriver_ops *ops, void *user);
 
 /** (Re)start: forget queued commands and partial input, then the start-up sequence. */
-KELP_MUST_CHECK int kelp_mmdriver_start(kelp_mmdriver *mm, int64_t now_us);
+KELP_MUST_CHECK int kelp_mmdriver_start(kelp_mmdriver *mm, kelp_time now);
 
 /** Periodic work (do_work without the read): clock re-set, resend on timeout, Hydroid GPS
  *  query, lines held during a pause.  KELP_ERR_TIMEOUT once the modem is declared dead. */
-KELP_MUST_CHECK int kelp_mmdriver_tick(kelp_mmdriver *mm, int64_t now_us);
+KELP_MUST_CHECK int kelp_mmdriver_tick(kelp_mmdriver *mm, kelp_time now);
 
 /** Bytes read from the modem.  Bad lines are reported (KELP_MMDRIVER_EV_BAD_LINE) and skipped.
  *  @return 0, or KELP_ERR_STATE before kelp_mmdriver_start(). */
-KELP_MUST_CHECK int kelp_mmdriver_feed(kelp_mmdriver *mm, const uint8_t *bytes, size_t n, int64_t now_us);
+KELP_MUST_CHECK int kelp_mmdriver_feed(kelp_mmdriver *mm, const uint8_t *bytes, size_t n, kelp_time now);
 
 /** MAC slot (signal_initiate_transmission): src == own id requests the frames now and sends
  *  $CCCYC only if there are data; another src starts a third-party cycle (ACK field 1). */
-KELP_MUST_CHECK int kelp_mmdriver_initiate_transmission(kelp_mmdriver *mm, int src, int dest, unsigned rate, int64_t now_us);
+KELP_MUST_CHECK int kelp_mmdriver_initiate_transmission(kelp_mmdriver *mm, int src, int dest, unsigned rate, kelp_time now);
 
 /** A cycle of our own with frames the caller supplies (no data request is made): $CCCYC
  *  with ADR2/ACK from frames[0] and the rate's frame count; each $CADRQ is answered from
  *  frames (cut to the rate's size), and one beyond n with an empty $CCTXD. n == 0 sends
  *  nothing; n larger than the rate carries is KELP_ERR_RANGE. */
 KELP_MUST_CHECK int kelp_mmdriver_transmit_frames(kelp_mmdriver *mm, unsigned rate, const kelp_mmdriver_frame *frames, size_t n,
-                                            int64_t now_us);
+                                            kelp_time now);
 
 /** Ranging: TWO_WAY_PING -> $CCMPC,src,dest; REMUS_LBL -> $CCPDT (max_range m, beacon bits);
  *  ONE_WAY_SYNCHRONOUS cannot be requested (KELP_ERR_UNSUPPORTED). */
 KELP_MUST_CHECK int kelp_mmdriver_initiate_ranging(kelp_mmdriver *mm, int src, int dest, kelp_ranging_type type,
-                                             unsigned max_range, unsigned enable_beacons, int64_t now_us);
+                                             unsigned max_range, unsigned enable_beacons, kelp_time now);
 
 /** The driver is pausing until this time (Goby's sleep); 0 if not. */
-int64_t kelp_mmdriver_busy_until(const kelp_mmdriver *mm);
+kelp_time kelp_mmdriver_busy_until(const kelp_mmdriver *mm);
 bool kelp_mmdriver_clock_ok(const kelp_mmdriver *mm);
 /** Commands queued (the first may be awaiting its reply). */
 size_t kelp_mmdriver_pending(const kelp_mmdriver *mm);
 
-/** UTC civil date of a UNIX time (helper, exposed for tests and the simulator). */
-void kelp_mmdriver_civil(int64_t unix_us, int *year, int *month, int *day, int *hour, int *minute, int *second);
+/** UTC civil date of a UNIX time, rounded to the microsecond (helper, exposed for tests and
+ *  the simulator). */
+void kelp_mmdriver_civil(kelp_time t, int *year, int *month, int *day, int *hour, int *minute, int *second);
 
 #ifdef __cplusplus
 }

@@ -71,7 +71,7 @@ typedef struct kelp_acomms_msg {
     bool ack_requested;
     bool has_ack;           /**< ack_requested was set (else the queue's `ack` applies) */
     bool has_time;
-    int64_t time_us;        /**< base.time (UNIX us); used for expiry */
+    kelp_time time;         /**< base.time (kelp_time seconds); used for expiry */
     uint32_t frame;         /**< Goby frame number (WHOI frame - 1) */
     kelp_queue_key key;     /**< queue of the message (push) / of the piece (receive) */
     size_t len;
@@ -90,7 +90,7 @@ typedef struct kelp_queue_entry {
 /** One queue (treat as opaque; read with the accessors). */
 typedef struct kelp_queue {
     kelp_queue_cfg cfg;
-    int64_t last_send_us;   /**< starts at creation; set when the queue gives a message */
+    kelp_time last_send;    /**< starts at creation; set when the queue gives a message */
     int32_t head, tail;     /**< oldest, newest; -1 when empty */
     uint32_t size;
     uint32_t n_waiting;     /**< messages of this queue waiting for an ack */
@@ -154,7 +154,7 @@ typedef struct kelp_queue_mgr {
     kelp_queue_on_demand_fn on_demand;
     void *user;
     kelp_queue_counters count;
-    const char *errmsg;     /**< first error, NULL if none */
+    kelp_diag diag;         /**< first error (code KELP_OK if none) */
     /* scratch (not on the stack, which is small on firmware); all three can be in use at once:
      * a data request stitches `next` while an ON_DEMAND queue fills `fresh`, whose loopback
      * push receives it through `rx` */
@@ -174,18 +174,18 @@ KELP_MUST_CHECK int kelp_queue_init(kelp_queue_mgr *m, int modem_id, kelp_queue 
 
 /** Add a queue (last_send_time = now).  Emits QSIZE 0.  KELP_ERR_EXISTS for a duplicate key,
  *  KELP_ERR_RANGE for a DCCL id outside 1..512, KELP_ERR_NOSPACE when the array is full. */
-KELP_MUST_CHECK int kelp_queue_add(kelp_queue_mgr *m, const kelp_queue_cfg *cfg, int64_t now_us);
+KELP_MUST_CHECK int kelp_queue_add(kelp_queue_mgr *m, const kelp_queue_cfg *cfg, kelp_time now);
 
 /** Push a message (msg->key names the queue).  dest == own id: looped back to the receive path,
  *  not queued.  src is set to the own id; ack_requested defaults to the queue's `ack`.
  *  A QSIZE event follows every push attempt on an existing queue (as Goby), even a rejected one.
  *  @return 0; KELP_ERR_NOTFOUND (no queue); KELP_ERR_ARG (empty data, CCL data whose first byte
  *  is not the queue id, DCCL data shorter than the 6-byte header); KELP_ERR_NOSPACE (pool full). */
-KELP_MUST_CHECK int kelp_queue_push(kelp_queue_mgr *m, const kelp_acomms_msg *msg, int64_t now_us);
+KELP_MUST_CHECK int kelp_queue_push(kelp_queue_mgr *m, const kelp_acomms_msg *msg, kelp_time now);
 
 /** Answer a modem data request (handle_modem_data_request): fills *out with src, dest,
  *  ack_requested and the (possibly stitched) frame; out->len 0 = nothing to send (a blank). */
-KELP_MUST_CHECK int kelp_queue_data_request(kelp_queue_mgr *m, const kelp_queue_request *req, int64_t now_us,
+KELP_MUST_CHECK int kelp_queue_data_request(kelp_queue_mgr *m, const kelp_queue_request *req, kelp_time now,
                                            kelp_acomms_msg *out);
 
 /** Handle a modem ack (handle_modem_ack): ignored unless dest == own id and a message waits for
@@ -198,7 +198,7 @@ int kelp_queue_ack(kelp_queue_mgr *m, int src, int dest, uint32_t frame);
 int kelp_queue_receive(kelp_queue_mgr *m, const kelp_acomms_msg *frame);
 
 /** Expire old messages (do_work): per queue, from the oldest, while time + ttl < now. */
-void kelp_queue_do_work(kelp_queue_mgr *m, int64_t now_us);
+void kelp_queue_do_work(kelp_queue_mgr *m, kelp_time now);
 
 /** Empty a queue (emits QSIZE).  KELP_ERR_NOTFOUND if no such queue. */
 KELP_MUST_CHECK int kelp_queue_flush(kelp_queue_mgr *m, kelp_queue_key key);
@@ -207,7 +207,7 @@ KELP_MUST_CHECK int kelp_queue_flush(kelp_queue_mgr *m, kelp_queue_key key);
 long kelp_queue_size(const kelp_queue_mgr *m, kelp_queue_key key);
 
 /** Priority of a queue at `now` (the contest formula), NAN-free only for ttl > 0. */
-KELP_MUST_CHECK int kelp_queue_priority(const kelp_queue_mgr *m, kelp_queue_key key, int64_t now_us, double *prio);
+KELP_MUST_CHECK int kelp_queue_priority(const kelp_queue_mgr *m, kelp_queue_key key, kelp_time now, double *prio);
 
 /* ------------------------------------------------------------------ DCCL header helpers */
 

@@ -15,11 +15,6 @@
 #define MAX_RAW_PUBLISH 35000 /* Goby publishes raw NMEA only below this length */
 #define MAX_IDX 16
 
-static int64_t us_of(double t)
-{
-    return (int64_t)llround(t * 1e6);
-}
-
 const char *kelp_acomms_mac_name(kelp_mac_type t)
 {
     static const char *const MACN[] = { "?", "MAC_NONE", "MAC_FIXED_DECENTRALIZED", "MAC_AUTO_DECENTRALIZED",
@@ -40,7 +35,7 @@ static const char *qname_of(const kelp_acomms_handler *h, kelp_queue_key key)
     return n ? n->name : NULL;
 }
 
-int kelp_acomms_msg_from_dccl(kelp_acomms_msg *m, size_t len, int src, unsigned id, int64_t time_us)
+int kelp_acomms_msg_from_dccl(kelp_acomms_msg *m, size_t len, int src, unsigned id, kelp_time time)
 {
     kelp_queue_header hd;
     if (!m || len > sizeof m->data) return KELP_ERR_ARG;
@@ -50,7 +45,7 @@ int kelp_acomms_msg_from_dccl(kelp_acomms_msg *m, size_t len, int src, unsigned 
     m->src = src;
     m->dest = (int)hd.dest;
     m->has_time = true;
-    m->time_us = time_us;
+    m->time = time;
     m->key.type = KELP_QUEUE_DCCL;
     m->key.id = id;
     return KELP_OK;
@@ -173,7 +168,7 @@ static void on_queue_event(kelp_acomms_handler *h, const kelp_queue_event *q)
     case KELP_QUEUE_EV_ACK:
         h->count.acks++;
         /* the acknowledging modem is the message's destination; the ack is addressed to us */
-        if (kelp_acomms_print_ack(q->msg->dest, h->cfg->modem_id, q->frame, us_of(h->now), q->msg, h->text,
+        if (kelp_acomms_print_ack(q->msg->dest, h->cfg->modem_id, q->frame, h->now, q->msg, h->text,
                                   sizeof h->text, NULL) == KELP_OK)
             pub_text(h, "ACOMMS_ACK");
         r.kind = KELP_ACOMMS_REC_ACK;
@@ -224,7 +219,7 @@ static void on_driver_event(kelp_acomms_handler *h, const kelp_mmdriver_event *e
     }
     case KELP_MMDRIVER_EV_RANGE: {
         h->count.ranges++;
-        if (kelp_acomms_print_range(e->src, e->dest, e->time_us, e->ranging, e->tt, e->n_tt, h->text, sizeof h->text,
+        if (kelp_acomms_print_range(e->src, e->dest, e->time, e->ranging, e->tt, e->n_tt, h->text, sizeof h->text,
                                     NULL) == KELP_OK)
             pub_text(h, "ACOMMS_RANGE_RESPONSE");
         kelp_acomms_record r;
@@ -299,7 +294,7 @@ static int build_msg(kelp_acomms_handler *h, size_t idx, kelp_acomms_msg *m, con
     size_t len = 0;
     int rc = h->codec.encode(h->codec.ctx, idx, h->now, m->data, sizeof m->data, &len, why);
     if (rc) return rc;
-    if (kelp_acomms_msg_from_dccl(m, len, h->cfg->modem_id, info.id, us_of(h->now)) != KELP_OK) {
+    if (kelp_acomms_msg_from_dccl(m, len, h->cfg->modem_id, info.id, h->now) != KELP_OK) {
         *why = "encoded message shorter than its header";
         return KELP_ERR_TRUNCATED;
     }
@@ -328,7 +323,7 @@ static void outgoing_dccl(kelp_acomms_handler *h, size_t idx)
         if (info.out_var) pub_text(h, info.out_var);
     }
     record_data(h, "ACOMMS_OUTGOING_DATA_LCM", m, info.name, decoded);
-    rc = kelp_acomms_node_push(&h->node, m, us_of(h->now));
+    rc = kelp_acomms_node_push(&h->node, m, h->now);
     if (rc) {
         h->count.push_errors++;
         WARN(h, "cannot queue %s: %s", info.name, kelp_strerror(rc));
@@ -370,7 +365,7 @@ static void on_demand(kelp_queue_key key, const kelp_queue_request *req, kelp_ac
 
 /* ------------------------------------------------------------------ set-up */
 
-static int add_queues(kelp_acomms_handler *h, int64_t now_us)
+static int add_queues(kelp_acomms_handler *h, kelp_time now)
 {
     size_t nm = h->has_codec ? h->codec.count(h->codec.ctx) : 0;
     for (size_t i = 0; i < nm && h->nnames < KELP_ACOMMS_MAX_QUEUES; i++) {
@@ -386,7 +381,7 @@ static int add_queues(kelp_acomms_handler *h, int64_t now_us)
         n->out_var = info.out_var;
         n->dccl_index = (long)i;
         h->nnames++; /* named before it is added: adding it reports its size */
-        int rc = kelp_acomms_node_add_queue(&h->node, &q, now_us);
+        int rc = kelp_acomms_node_add_queue(&h->node, &q, now);
         if (rc) {
             h->nnames--;
             h->errmsg = h->node.errmsg ? h->node.errmsg : kelp_strerror(rc);
@@ -406,7 +401,7 @@ static int add_queues(kelp_acomms_handler *h, int64_t now_us)
         n->out_var = cq->out_var;
         n->dccl_index = -1;
         h->nnames++;
-        int rc = kelp_acomms_node_add_queue(&h->node, &q, now_us);
+        int rc = kelp_acomms_node_add_queue(&h->node, &q, now);
         if (rc) {
             h->nnames--;
             h->errmsg = h->node.errmsg ? h->node.errmsg : kelp_strerror(rc);
@@ -439,7 +434,7 @@ int kelp_acomms_handler_init(kelp_acomms_handler *h, const kelp_acomms_config *c
         h->errmsg = h->node.errmsg ? h->node.errmsg : kelp_strerror(rc);
         return rc;
     }
-    rc = add_queues(h, us_of(now));
+    rc = add_queues(h, now);
     if (rc) return rc;
     (void)h->sink.publish(h->sink.ctx, "MODEM_ID", false, NULL, cfg->modem_id);
     (void)h->sink.publish(h->sink.ctx, "VEHICLE_ID", false, NULL, cfg->modem_id);
@@ -478,7 +473,7 @@ int kelp_acomms_handler_start(kelp_acomms_handler *h, bool link_up, double now)
         kelp_acomms_node_set_link_up(&h->node, link_up);
     }
     if (h->has_codec) h->codec.start(h->codec.ctx, now);
-    int rc = kelp_acomms_node_start(&h->node, us_of(now));
+    int rc = kelp_acomms_node_start(&h->node, now);
     if (rc) {
         h->errmsg = h->node.errmsg ? h->node.errmsg : kelp_strerror(rc);
         return rc;
@@ -499,7 +494,7 @@ static bool bad_mail(kelp_acomms_handler *h, const char *what, const char *why)
     return false;
 }
 
-static void mail_ccl(kelp_acomms_handler *h, const kelp_acomms_qname *n, const kelp_var *v, int64_t now_us)
+static void mail_ccl(kelp_acomms_handler *h, const kelp_acomms_qname *n, const kelp_var *v, kelp_time now)
 {
     /* CCL: a ModemDataTransmission to queue */
     kelp_acomms_msg *m = &h->work.msg;
@@ -511,13 +506,13 @@ static void mail_ccl(kelp_acomms_handler *h, const kelp_acomms_qname *n, const k
     m->key = n->key;
     if (!m->has_time) {
         m->has_time = true;
-        m->time_us = now_us;
+        m->time = now;
     }
     h->count.ccl_out++;
     h->count.out_data++;
     if (kelp_acomms_print_data(m, h->text, sizeof h->text, NULL) == KELP_OK) pub_text(h, "ACOMMS_OUTGOING_DATA");
     record_data(h, "ACOMMS_OUTGOING_DATA_LCM", m, n->name, NULL);
-    int rc = kelp_acomms_node_push(&h->node, m, now_us);
+    int rc = kelp_acomms_node_push(&h->node, m, now);
     if (rc) {
         h->count.push_errors++;
         WARN(h, "cannot queue %s: %s", v->name, h->node.errmsg ? h->node.errmsg : kelp_strerror(rc));
@@ -541,7 +536,7 @@ static void mail_in_var(kelp_acomms_handler *h, const kelp_var *v)
     else if (!rc) h->count.decoded++;
 }
 
-static void mail_command(kelp_acomms_handler *h, const kelp_var *v, int64_t now_us)
+static void mail_command(kelp_acomms_handler *h, const kelp_var *v, kelp_time now)
 {
     const char *why = NULL;
     bool is_str = v->kind == KELP_VAR_STRING;
@@ -552,7 +547,7 @@ static void mail_command(kelp_acomms_handler *h, const kelp_var *v, int64_t now_
             return;
         }
         if (r.src == 0) r.src = h->cfg->modem_id;
-        if (kelp_acomms_node_range(&h->node, &r, now_us) != KELP_OK)
+        if (kelp_acomms_node_range(&h->node, &r, now) != KELP_OK)
             WARN(h, "ranging refused: %s", h->node.errmsg ? h->node.errmsg : "?");
         return;
     }
@@ -561,7 +556,7 @@ static void mail_command(kelp_acomms_handler *h, const kelp_var *v, int64_t now_
         (void)bad_mail(h, v->name, why);
         return;
     }
-    int rc = kelp_acomms_node_mac_update(&h->node, u, now_us);
+    int rc = kelp_acomms_node_mac_update(&h->node, u, now);
     if (rc == KELP_ERR_NOTFOUND) return; /* for another modem */
     if (rc) WARN(h, "MAC update refused: %s", h->node.errmsg ? h->node.errmsg : kelp_strerror(rc));
     else EVENT(h, "MAC cycle updated: %zu slot(s), cycle %u s", u->nslots, kelp_mac_cycle_length(&h->node.mac));
@@ -570,10 +565,9 @@ static void mail_command(kelp_acomms_handler *h, const kelp_var *v, int64_t now_
 void kelp_acomms_handler_mail(kelp_acomms_handler *h, const kelp_var *v, bool own, double now)
 {
     h->now = now;
-    int64_t now_us = us_of(now);
     if (strcmp(v->name, "ACOMMS_RANGE_COMMAND") == 0 || strcmp(v->name, "ACOMMS_MAC_CYCLE_UPDATE") == 0 ||
         strcmp(v->name, "ACOMMS_POLLER_UPDATE") == 0) {
-        mail_command(h, v, now_us);
+        mail_command(h, v, now);
         return;
     }
     /* our own publications come back through the bus: they are not mail for us */
@@ -584,7 +578,7 @@ void kelp_acomms_handler_mail(kelp_acomms_handler *h, const kelp_var *v, bool ow
             return;
         }
         if (n->dccl_index < 0 && n->out_var && n->out_var[0] && strcmp(v->name, n->out_var) == 0) {
-            mail_ccl(h, n, v, now_us);
+            mail_ccl(h, n, v, now);
             return;
         }
     }
@@ -609,7 +603,7 @@ void kelp_acomms_handler_link_up(kelp_acomms_handler *h, double now)
     if (!first) h->count.reconnects++;
     EVENT(h, "modem link %s: %s", first ? "up" : "re-established", h->link_desc ? h->link_desc : "");
     /* the start-up sequence already went out if the link was open at start */
-    if (!(first && h->started_on_link) && kelp_acomms_node_restart_driver(&h->node, us_of(now)) != KELP_OK)
+    if (!(first && h->started_on_link) && kelp_acomms_node_restart_driver(&h->node, now) != KELP_OK)
         WARN(h, "driver restart failed: %s", h->node.errmsg ? h->node.errmsg : "?");
 }
 
@@ -623,7 +617,7 @@ void kelp_acomms_handler_link_lost(kelp_acomms_handler *h, const char *why)
 
 void kelp_acomms_handler_feed(kelp_acomms_handler *h, const uint8_t *bytes, size_t len, double now)
 {
-    if (kelp_acomms_node_feed(&h->node, bytes, len, us_of(now)) != KELP_OK) WARN(h, "driver refused input");
+    if (kelp_acomms_node_feed(&h->node, bytes, len, now) != KELP_OK) WARN(h, "driver refused input");
 }
 
 static void publish_status(kelp_acomms_handler *h)
@@ -641,7 +635,7 @@ static void publish_status(kelp_acomms_handler *h)
     kelp_mmdriver *mm = kelp_acomms_node_driver(&h->node);
     s.clock_ok = mm ? kelp_mmdriver_clock_ok(mm) : false;
     s.mac = kelp_acomms_mac_name(h->cfg->mac_type);
-    s.next_slot_us = kelp_mac_next_slot_time(&h->node.mac);
+    s.next_slot = kelp_mac_next_slot_time(&h->node.mac);
     if (mm) {
         s.lines_in = mm->count.lines_in;
         s.lines_out = mm->count.lines_out;
@@ -677,7 +671,7 @@ static void publish_status(kelp_acomms_handler *h)
 void kelp_acomms_handler_tick(kelp_acomms_handler *h, double now)
 {
     h->now = now;
-    int rc = kelp_acomms_node_tick(&h->node, us_of(now));
+    int rc = kelp_acomms_node_tick(&h->node, now);
     if (rc == KELP_ERR_TIMEOUT && !h->driver_dead) {
         /* the modem stopped answering: re-open the link and start the driver again */
         h->driver_dead = true;

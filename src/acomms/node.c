@@ -31,11 +31,11 @@ static void emit(kelp_acomms_node *n, const kelp_acomms_event *ev)
     if (n->ops.event) n->ops.event(ev, n->user);
 }
 
-static void ev_init(kelp_acomms_event *ev, kelp_acomms_ev_kind kind, int64_t now_us)
+static void ev_init(kelp_acomms_event *ev, kelp_acomms_ev_kind kind, kelp_time now)
 {
     memset(ev, 0, sizeof *ev);
     ev->kind = kind;
-    ev->time_us = now_us;
+    ev->time = now;
 }
 
 /* ------------------------------------------------------------------ callbacks */
@@ -44,7 +44,7 @@ static void on_queue(const kelp_queue_event *qe, void *user)
 {
     kelp_acomms_node *n = user;
     kelp_acomms_event ev;
-    ev_init(&ev, KELP_ACOMMS_EV_QUEUE, n->now_us);
+    ev_init(&ev, KELP_ACOMMS_EV_QUEUE, n->now);
     ev.q = qe;
     emit(n, &ev);
 }
@@ -64,16 +64,16 @@ static void mm_write(const char *bytes, size_t len, void *user)
 /* the queue answers one data request; FRAME_OUT reports it */
 static int request_frame(kelp_acomms_node *n, const kelp_queue_request *req, kelp_acomms_msg *out)
 {
-    int rc = kelp_queue_data_request(&n->q, req, n->now_us, out);
+    int rc = kelp_queue_data_request(&n->q, req, n->now, out);
     if (rc) {
-        n->errmsg = n->q.errmsg ? n->q.errmsg : "acomms: data request failed";
+        n->errmsg = n->q.diag.code ? kelp_diag_text(&n->q.diag) : "acomms: data request failed";
         out->len = 0;
         return rc;
     }
     if (out->len) n->count.frames_out++;
     else n->count.blank_frames++;
     kelp_acomms_event ev;
-    ev_init(&ev, KELP_ACOMMS_EV_FRAME_OUT, n->now_us);
+    ev_init(&ev, KELP_ACOMMS_EV_FRAME_OUT, n->now);
     ev.req = req;
     ev.frame = out;
     emit(n, &ev);
@@ -102,12 +102,12 @@ static void mm_event(const kelp_mmdriver_event *me, void *user)
 {
     kelp_acomms_node *n = user;
     kelp_acomms_event ev;
-    ev_init(&ev, KELP_ACOMMS_EV_DRIVER, n->now_us);
+    ev_init(&ev, KELP_ACOMMS_EV_DRIVER, n->now);
     ev.mm = me;
     emit(n, &ev);
     switch (me->kind) {
     case KELP_MMDRIVER_EV_NMEA_IN:
-        if (me->has_src) kelp_mac_heard(&n->mac, me->src, n->now_us);
+        if (me->has_src) kelp_mac_heard(&n->mac, me->src, n->now);
         break;
     case KELP_MMDRIVER_EV_RECEIVE: {
         kelp_acomms_msg *m = &n->scratch;
@@ -118,7 +118,7 @@ static void mm_event(const kelp_mmdriver_event *me, void *user)
         m->has_ack = true;
         m->frame = me->frame;
         m->has_time = true;
-        m->time_us = n->now_us;
+        m->time = n->now;
         m->len = me->data_len <= sizeof m->data ? me->data_len : sizeof m->data;
         memcpy(m->data, me->data, m->len);
         n->count.frames_in++;
@@ -166,7 +166,7 @@ int kelp_acomms_node_init(kelp_acomms_node *n, const kelp_acomms_node_cfg *cfg, 
     n->user = user;
     int rc = kelp_queue_init(&n->q, cfg->modem_id, queues, cap_queues, pool, cap_pool, on_queue, on_demand, n);
     if (rc) {
-        n->errmsg = n->q.errmsg ? n->q.errmsg : "acomms: queue storage";
+        n->errmsg = n->q.diag.code ? kelp_diag_text(&n->q.diag) : "acomms: queue storage";
         return rc;
     }
     if (n->driver == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
@@ -185,25 +185,25 @@ int kelp_acomms_node_init(kelp_acomms_node *n, const kelp_acomms_node_cfg *cfg, 
     mac.modem_id = cfg->modem_id;
     rc = kelp_mac_init(&n->mac, &mac, 0);
     if (rc) {
-        n->errmsg = n->mac.errmsg ? n->mac.errmsg : "acomms: bad MAC configuration";
+        n->errmsg = n->mac.diag.code ? kelp_diag_text(&n->mac.diag) : "acomms: bad MAC configuration";
         return rc;
     }
     return KELP_OK;
 }
 
-int kelp_acomms_node_add_queue(kelp_acomms_node *n, const kelp_queue_cfg *cfg, int64_t now_us)
+int kelp_acomms_node_add_queue(kelp_acomms_node *n, const kelp_queue_cfg *cfg, kelp_time now)
 {
     if (!n || !cfg) return KELP_ERR_ARG;
-    n->now_us = now_us;
-    int rc = kelp_queue_add(&n->q, cfg, now_us);
-    if (rc) n->errmsg = n->q.errmsg ? n->q.errmsg : "acomms: cannot add queue";
+    n->now = now;
+    int rc = kelp_queue_add(&n->q, cfg, now);
+    if (rc) n->errmsg = n->q.diag.code ? kelp_diag_text(&n->q.diag) : "acomms: cannot add queue";
     return rc;
 }
 
-int kelp_acomms_node_start(kelp_acomms_node *n, int64_t now_us)
+int kelp_acomms_node_start(kelp_acomms_node *n, kelp_time now)
 {
     if (!n) return KELP_ERR_ARG;
-    n->now_us = now_us;
+    n->now = now;
     /* re-align the cycle to the start time (kelp_mac_init at 0 aligned it to 1970) */
     kelp_mac_slot *slots = n->work.slots;
     kelp_mac_cfg mc;
@@ -219,15 +219,15 @@ int kelp_acomms_node_start(kelp_acomms_node *n, int64_t now_us)
         mc.slots = slots;
         mc.nslots = ns;
     }
-    int rc = kelp_mac_init(&n->mac, &mc, now_us);
+    int rc = kelp_mac_init(&n->mac, &mc, now);
     if (rc) {
-        n->errmsg = n->mac.errmsg ? n->mac.errmsg : "acomms: MAC start failed";
+        n->errmsg = n->mac.diag.code ? kelp_diag_text(&n->mac.diag) : "acomms: MAC start failed";
         return rc;
     }
     if (n->driver == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
-        rc = kelp_mmdriver_start(&n->mm, now_us);
+        rc = kelp_mmdriver_start(&n->mm, now);
         if (rc) {
-            n->errmsg = n->mm.errmsg ? n->mm.errmsg : "acomms: driver start failed";
+            n->errmsg = n->mm.diag.code ? kelp_diag_text(&n->mm.diag) : "acomms: driver start failed";
             return rc;
         }
     }
@@ -235,19 +235,19 @@ int kelp_acomms_node_start(kelp_acomms_node *n, int64_t now_us)
     return KELP_OK;
 }
 
-int kelp_acomms_node_restart_driver(kelp_acomms_node *n, int64_t now_us)
+int kelp_acomms_node_restart_driver(kelp_acomms_node *n, kelp_time now)
 {
     if (!n) return KELP_ERR_ARG;
     if (n->driver != KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) return KELP_OK;
-    n->now_us = now_us;
+    n->now = now;
     n->count.driver_restarts++;
-    int rc = kelp_mmdriver_start(&n->mm, now_us);
-    if (rc) n->errmsg = n->mm.errmsg ? n->mm.errmsg : "acomms: driver restart failed";
+    int rc = kelp_mmdriver_start(&n->mm, now);
+    if (rc) n->errmsg = n->mm.diag.code ? kelp_diag_text(&n->mm.diag) : "acomms: driver restart failed";
     return rc;
 }
 
 /* DRIVER_NONE: a transmission handled inside the node (as the driver would request frames) */
-static int transmit_internal(kelp_acomms_node *n, int src, int dest, unsigned rate, int64_t now_us)
+static int transmit_internal(kelp_acomms_node *n, int src, int dest, unsigned rate, kelp_time now)
 {
     if (src != n->modem_id) return KELP_OK; /* third-party cycles need a modem */
     unsigned nframes = kelp_mmdriver_packet_frames[rate];
@@ -269,14 +269,14 @@ static int transmit_internal(kelp_acomms_node *n, int src, int dest, unsigned ra
     for (unsigned i = 0; i < got; i++) {
         kelp_acomms_msg *m = &frames[i];
         kelp_acomms_event ev;
-        ev_init(&ev, KELP_ACOMMS_EV_LOOPBACK, now_us);
+        ev_init(&ev, KELP_ACOMMS_EV_LOOPBACK, now);
         ev.frame = m;
         emit(n, &ev);
         /* everyone hears a frame: the queue keeps the pieces for us (broadcast pieces, also
          * those stitched into a frame addressed to another modem) */
         /* received as sent, stamped with the time (the frame is not used again after) */
         m->has_time = true;
-        m->time_us = now_us;
+        m->time = now;
         if (kelp_queue_receive(&n->q, m) > 0) n->count.loopback_delivered++;
         if (m->ack_requested && m->dest != KELP_ACOMMS_BROADCAST) {
             n->count.loopback_acked++;
@@ -286,43 +286,43 @@ static int transmit_internal(kelp_acomms_node *n, int src, int dest, unsigned ra
     return KELP_OK;
 }
 
-int kelp_acomms_node_transmit(kelp_acomms_node *n, int src, int dest, unsigned rate, int64_t now_us)
+int kelp_acomms_node_transmit(kelp_acomms_node *n, int src, int dest, unsigned rate, kelp_time now)
 {
     if (!n) return KELP_ERR_ARG;
     if (rate > 5) {
         n->errmsg = "acomms: rate must be 0..5";
         return KELP_ERR_RANGE;
     }
-    n->now_us = now_us;
+    n->now = now;
     n->count.transmissions++;
     if (n->driver == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
-        int rc = kelp_mmdriver_initiate_transmission(&n->mm, src, dest, rate, now_us);
-        if (rc) n->errmsg = n->mm.errmsg ? n->mm.errmsg : "acomms: cannot initiate transmission";
+        int rc = kelp_mmdriver_initiate_transmission(&n->mm, src, dest, rate, now);
+        if (rc) n->errmsg = n->mm.diag.code ? kelp_diag_text(&n->mm.diag) : "acomms: cannot initiate transmission";
         return rc;
     }
-    return transmit_internal(n, src, dest, rate, now_us);
+    return transmit_internal(n, src, dest, rate, now);
 }
 
-int kelp_acomms_node_range(kelp_acomms_node *n, const kelp_acomms_range_req *r, int64_t now_us)
+int kelp_acomms_node_range(kelp_acomms_node *n, const kelp_acomms_range_req *r, kelp_time now)
 {
     if (!n || !r) return KELP_ERR_ARG;
-    n->now_us = now_us;
+    n->now = now;
     if (n->driver != KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
         n->errmsg = "acomms: ranging needs a modem driver";
         return KELP_ERR_STATE;
     }
     n->count.ranging++;
-    int rc = kelp_mmdriver_initiate_ranging(&n->mm, r->src, r->dest, r->type, r->max_range, r->enable_beacons, now_us);
-    if (rc) n->errmsg = n->mm.errmsg ? n->mm.errmsg : "acomms: cannot start ranging";
+    int rc = kelp_mmdriver_initiate_ranging(&n->mm, r->src, r->dest, r->type, r->max_range, r->enable_beacons, now);
+    if (rc) n->errmsg = n->mm.diag.code ? kelp_diag_text(&n->mm.diag) : "acomms: cannot start ranging";
     return rc;
 }
 
-int kelp_acomms_node_mac_update(kelp_acomms_node *n, const kelp_acomms_mac_update *u, int64_t now_us)
+int kelp_acomms_node_mac_update(kelp_acomms_node *n, const kelp_acomms_mac_update *u, kelp_time now)
 {
     if (!n || !u) return KELP_ERR_ARG;
-    n->now_us = now_us;
-    int rc = kelp_mac_update(&n->mac, u->dest, u->type, u->slot, u->nslots, now_us);
-    if (rc && rc != KELP_ERR_NOTFOUND) n->errmsg = n->mac.errmsg ? n->mac.errmsg : "acomms: MAC update refused";
+    n->now = now;
+    int rc = kelp_mac_update(&n->mac, u->dest, u->type, u->slot, u->nslots, now);
+    if (rc && rc != KELP_ERR_NOTFOUND) n->errmsg = n->mac.diag.code ? kelp_diag_text(&n->mac.diag) : "acomms: MAC update refused";
     return rc;
 }
 
@@ -338,22 +338,22 @@ static bool driver_usable(const kelp_acomms_node *n)
     return n->link_up && n->mm.started && !n->mm.dead;
 }
 
-int kelp_acomms_node_tick(kelp_acomms_node *n, int64_t now_us)
+int kelp_acomms_node_tick(kelp_acomms_node *n, kelp_time now)
 {
     if (!n) return KELP_ERR_ARG;
     if (!n->started) return KELP_ERR_STATE;
-    n->now_us = now_us;
-    kelp_queue_do_work(&n->q, now_us);
+    n->now = now;
+    kelp_queue_do_work(&n->q, now);
     /* every slot that has come (one per call of kelp_mac_tick) */
     for (int guard = 0; guard < 4 * KELP_MAX_MAC_SLOTS; guard++) {
         kelp_mac_action act;
-        int rc = kelp_mac_tick(&n->mac, now_us, &act);
+        int rc = kelp_mac_tick(&n->mac, now, &act);
         if (rc == KELP_ERR_EMPTY) break;
         if (rc) break;
         if (act.kind == KELP_MAC_ACT_NONE) continue;
         n->count.slots++;
         kelp_acomms_event ev;
-        ev_init(&ev, KELP_ACOMMS_EV_SLOT, now_us);
+        ev_init(&ev, KELP_ACOMMS_EV_SLOT, now);
         ev.slot = &act;
         emit(n, &ev);
         if (!driver_usable(n)) {
@@ -361,7 +361,7 @@ int kelp_acomms_node_tick(kelp_acomms_node *n, int64_t now_us)
             continue;
         }
         if (act.kind == KELP_MAC_ACT_TRANSMIT) {
-            if (kelp_acomms_node_transmit(n, act.src, act.dest, act.rate, now_us) != KELP_OK) {
+            if (kelp_acomms_node_transmit(n, act.src, act.dest, act.rate, now) != KELP_OK) {
                 /* reported through errmsg; the cycle goes on */
             }
         } else if (act.kind == KELP_MAC_ACT_RANGING && n->driver == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
@@ -371,69 +371,69 @@ int kelp_acomms_node_tick(kelp_acomms_node *n, int64_t now_us)
             r.type = act.ranging;
             r.max_range = 1000;
             r.enable_beacons = 15;
-            if (kelp_acomms_node_range(n, &r, now_us) != KELP_OK) {
+            if (kelp_acomms_node_range(n, &r, now) != KELP_OK) {
                 /* reported through errmsg */
             }
         }
     }
     if (n->driver == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM && n->link_up) {
-        int rc = kelp_mmdriver_tick(&n->mm, now_us);
+        int rc = kelp_mmdriver_tick(&n->mm, now);
         if (rc) {
-            n->errmsg = n->mm.errmsg ? n->mm.errmsg : "acomms: modem not responding";
+            n->errmsg = n->mm.diag.code ? kelp_diag_text(&n->mm.diag) : "acomms: modem not responding";
             return rc;
         }
     }
     return KELP_OK;
 }
 
-int kelp_acomms_node_feed(kelp_acomms_node *n, const uint8_t *bytes, size_t len, int64_t now_us)
+int kelp_acomms_node_feed(kelp_acomms_node *n, const uint8_t *bytes, size_t len, kelp_time now)
 {
     if (!n) return KELP_ERR_ARG;
     if (n->driver != KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) return KELP_OK;
-    n->now_us = now_us;
-    return kelp_mmdriver_feed(&n->mm, bytes, len, now_us);
+    n->now = now;
+    return kelp_mmdriver_feed(&n->mm, bytes, len, now);
 }
 
-int kelp_acomms_node_push(kelp_acomms_node *n, const kelp_acomms_msg *msg, int64_t now_us)
+int kelp_acomms_node_push(kelp_acomms_node *n, const kelp_acomms_msg *msg, kelp_time now)
 {
     if (!n || !msg) return KELP_ERR_ARG;
-    n->now_us = now_us;
-    int rc = kelp_queue_push(&n->q, msg, now_us);
-    if (rc) n->errmsg = n->q.errmsg ? n->q.errmsg : "acomms: push refused";
+    n->now = now;
+    int rc = kelp_queue_push(&n->q, msg, now);
+    if (rc) n->errmsg = n->q.diag.code ? kelp_diag_text(&n->q.diag) : "acomms: push refused";
     return rc;
 }
 
-int kelp_acomms_node_data_request(kelp_acomms_node *n, const kelp_queue_request *req, int64_t now_us,
+int kelp_acomms_node_data_request(kelp_acomms_node *n, const kelp_queue_request *req, kelp_time now,
                                   kelp_acomms_msg *out)
 {
     if (!n || !req || !out) return KELP_ERR_ARG;
-    n->now_us = now_us;
+    n->now = now;
     memset(out, 0, sizeof *out);
     return request_frame(n, req, out);
 }
 
-int kelp_acomms_node_ack(kelp_acomms_node *n, int src, int dest, uint32_t frame, int64_t now_us)
+int kelp_acomms_node_ack(kelp_acomms_node *n, int src, int dest, uint32_t frame, kelp_time now)
 {
     if (!n) return KELP_ERR_ARG;
-    n->now_us = now_us;
+    n->now = now;
     n->count.acks++;
     return kelp_queue_ack(&n->q, src, dest, frame);
 }
 
-int kelp_acomms_node_receive(kelp_acomms_node *n, const kelp_acomms_msg *frame, int64_t now_us)
+int kelp_acomms_node_receive(kelp_acomms_node *n, const kelp_acomms_msg *frame, kelp_time now)
 {
     if (!n || !frame) return KELP_ERR_ARG;
-    n->now_us = now_us;
+    n->now = now;
     n->count.frames_in++;
-    kelp_mac_heard(&n->mac, frame->src, now_us);
+    kelp_mac_heard(&n->mac, frame->src, now);
     return kelp_queue_receive(&n->q, frame);
 }
 
-void kelp_acomms_node_heard(kelp_acomms_node *n, int src, int64_t now_us)
+void kelp_acomms_node_heard(kelp_acomms_node *n, int src, kelp_time now)
 {
     if (!n) return;
-    n->now_us = now_us;
-    kelp_mac_heard(&n->mac, src, now_us);
+    n->now = now;
+    kelp_mac_heard(&n->mac, src, now);
 }
 
 kelp_queue_mgr *kelp_acomms_node_queue(kelp_acomms_node *n)

@@ -137,10 +137,11 @@ static int tw_finish(tw *w, size_t *len)
 static const char MONTHS[12][4] = { "Jan", "Feb", "Mar", "Apr", "May", "Jun",
                                     "Jul", "Aug", "Sep", "Oct", "Nov", "Dec" };
 
-int kelp_acomms_time_text(int64_t unix_us, char *buf, size_t cap)
+int kelp_acomms_time_text(kelp_time t, char *buf, size_t cap)
 {
     int y, mo, d, h, mi, s;
-    kelp_mmdriver_civil(unix_us, &y, &mo, &d, &h, &mi, &s);
+    const int64_t unix_us = (int64_t)llround(t * 1e6); /* boost ptime: whole microseconds */
+    kelp_mmdriver_civil(t, &y, &mo, &d, &h, &mi, &s);
     int64_t frac = unix_us % 1000000;
     if (frac < 0) frac += 1000000;
     int n;
@@ -151,7 +152,7 @@ int kelp_acomms_time_text(int64_t unix_us, char *buf, size_t cap)
     return (n < 0 || (size_t)n >= cap) ? KELP_ERR_NOSPACE : KELP_OK;
 }
 
-static void tw_base(tw *w, int src, int dest, bool has_time, int64_t time_us)
+static void tw_base(tw *w, int src, int dest, bool has_time, kelp_time time)
 {
     tw_open(w, "base");
     tw_field(w, "src");
@@ -160,7 +161,7 @@ static void tw_base(tw *w, int src, int dest, bool has_time, int64_t time_us)
     tw_long(w, dest);
     if (has_time) {
         char t[48];
-        if (kelp_acomms_time_text(time_us, t, sizeof t) == KELP_OK) {
+        if (kelp_acomms_time_text(time, t, sizeof t) == KELP_OK) {
             tw_field(w, "time");
             tw_bytes(w, (const uint8_t *)t, strlen(t));
         }
@@ -185,7 +186,7 @@ static void tw_key(tw *w, const char *name, kelp_queue_key key)
 
 static void tw_data(tw *w, const kelp_acomms_msg *m)
 {
-    tw_base(w, m->src, m->dest, m->has_time, m->time_us);
+    tw_base(w, m->src, m->dest, m->has_time, m->time);
     tw_field(w, "ack_requested");
     tw_puts(w, m->ack_requested ? "true" : "false");
     tw_field(w, "data");
@@ -209,19 +210,19 @@ int kelp_acomms_print_data_bare(const kelp_acomms_msg *m, char *buf, size_t cap,
     tw w;
     if (!m || !buf || !cap) return KELP_ERR_ARG;
     tw_init(&w, buf, cap);
-    tw_base(&w, m->src, m->dest, m->has_time, m->time_us);
+    tw_base(&w, m->src, m->dest, m->has_time, m->time);
     tw_field(&w, "data");
     tw_bytes(&w, m->data, m->len);
     return tw_finish(&w, len);
 }
 
-int kelp_acomms_print_ack(int src, int dest, uint32_t frame, int64_t time_us, const kelp_acomms_msg *orig, char *buf,
+int kelp_acomms_print_ack(int src, int dest, uint32_t frame, kelp_time time, const kelp_acomms_msg *orig, char *buf,
                           size_t cap, size_t *len)
 {
     tw w;
     if (!orig || !buf || !cap) return KELP_ERR_ARG;
     tw_init(&w, buf, cap);
-    tw_base(&w, src, dest, true, time_us);
+    tw_base(&w, src, dest, true, time);
     tw_field(&w, "frame");
     tw_long(&w, (long)frame);
     tw_open(&w, "orig_msg");
@@ -262,13 +263,13 @@ static const char *ranging_name(kelp_ranging_type t)
     }
 }
 
-int kelp_acomms_print_range(int src, int dest, int64_t time_us, kelp_ranging_type type, const double *tt, unsigned n_tt,
+int kelp_acomms_print_range(int src, int dest, kelp_time time, kelp_ranging_type type, const double *tt, unsigned n_tt,
                             char *buf, size_t cap, size_t *len)
 {
     tw w;
     if (!buf || !cap || (n_tt && !tt)) return KELP_ERR_ARG;
     tw_init(&w, buf, cap);
-    tw_base(&w, src, dest, true, time_us);
+    tw_base(&w, src, dest, true, time);
     for (unsigned i = 0; i < n_tt; i++) {
         tw_field(&w, "one_way_travel_time");
         tw_double(&w, tt[i]);

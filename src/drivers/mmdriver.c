@@ -18,8 +18,21 @@ const unsigned kelp_mmdriver_packet_size[6] = { 32, 32, 64, 256, 256, 256 };
 
 /* ------------------------------------------------------------------ time helpers */
 
-void kelp_mmdriver_civil(int64_t unix_us, int *year, int *month, int *day, int *hour, int *minute, int *second)
+/* The driver's timers count whole microseconds (Goby's boost clocks; the one-second $CCCLK
+ * hold must end exactly): every kelp_time is converted here, once per call. */
+static int64_t mm_us(kelp_time t)
 {
+    return (int64_t)llround(t * 1e6);
+}
+
+static kelp_time mm_time(int64_t us)
+{
+    return (kelp_time)us / 1e6;
+}
+
+void kelp_mmdriver_civil(kelp_time t, int *year, int *month, int *day, int *hour, int *minute, int *second)
+{
+    const int64_t unix_us = mm_us(t);
     int64_t days = kelp_floor_div(unix_us, US_PER_DAY);
     int64_t tod = (unix_us - days * US_PER_DAY) / US_PER_S;
     int64_t y;
@@ -62,16 +75,12 @@ static bool nmea_time(const char *t, int64_t now_us, int64_t *out)
 
 /* ------------------------------------------------------------------ events and writing */
 
-static void set_err(kelp_mmdriver *mm, const char *msg)
-{
-    if (!mm->errmsg) mm->errmsg = msg;
-}
 
 static void ev_init(kelp_mmdriver_event *ev, kelp_mmdriver_event_kind kind, int64_t now_us)
 {
     memset(ev, 0, sizeof *ev);
     ev->kind = kind;
-    ev->time_us = now_us;
+    ev->time = mm_time(now_us);
     ev->raw = "";
 }
 
@@ -137,7 +146,7 @@ static void clear_out(kelp_mmdriver *mm)
 
 static bool holding(const kelp_mmdriver *mm, int64_t now_us)
 {
-    return now_us < mm->hold_until_us;
+    return now_us < mm_us(mm->hold_until);
 }
 
 /* count one failure of the pending command; false when the command queue was given up or the
@@ -150,7 +159,7 @@ static bool count_failure(kelp_mmdriver *mm, int64_t now_us)
     if (mm->global_fail == KELP_MMDRIVER_MAX_FAILS_BEFORE_DEAD) {
         mm->dead = true;
         mm->count.deaths++;
-        set_err(mm, "mmdriver: modem appears to not be responding");
+        (void)kelp_fail(&mm->diag, KELP_ERR_TIMEOUT, "mmdriver: modem appears to not be responding");
         emit_simple(mm, KELP_MMDRIVER_EV_DEAD, NULL, 0, KELP_ERR_TIMEOUT, now_us);
         return false;
     }
@@ -169,20 +178,20 @@ static bool count_failure(kelp_mmdriver *mm, int64_t now_us)
 static void try_send(kelp_mmdriver *mm, int64_t now_us)
 {
     if (mm->dead || !mm->out_n || holding(mm, now_us)) return;
-    bool resend = mm->waiting && mm->last_write_us <= now_us - KELP_MMDRIVER_MODEM_WAIT_US;
+    bool resend = mm->waiting && mm_us(mm->last_write) <= now_us - KELP_MMDRIVER_MODEM_WAIT * US_PER_S;
     if (mm->waiting && !resend) return;
     if (resend && !count_failure(mm, now_us)) return;
     mm_write(mm, front(mm), now_us);
     mm->waiting = true;
-    mm->last_write_us = now_us;
+    mm->last_write = mm_time(now_us);
 }
 
 static int append(kelp_mmdriver *mm, kelp_nmea_writer *w, int64_t now_us)
 {
     size_t len;
     int rc = kelp_nmea_writer_finish(w, &len);
-    if (rc) { set_err(mm, "mmdriver: sentence too long"); return rc; }
-    if (mm->out_n >= KELP_MAX_MM_OUTQ) { set_err(mm, "mmdriver: command queue full"); return KELP_ERR_NOSPACE; }
+    if (rc) return kelp_fail(&mm->diag, rc, "mmdriver: sentence too long");
+    if (mm->out_n >= KELP_MAX_MM_OUTQ) return kelp_fail(&mm->diag, KELP_ERR_NOSPACE, "mmdriver: command queue full");
     kelp_mmdriver_cmd *c = &mm->outq[(mm->out_head + mm->out_n) % KELP_MAX_MM_OUTQ];
     memcpy(c->line, w->buf, len + 1);
     c->len = len;
@@ -198,7 +207,7 @@ static int set_clock(kelp_mmdriver *mm, int64_t now_us)
     char buf[64];
     kelp_nmea_writer w;
     int y, mo, d, h, mi, s;
-    kelp_mmdriver_civil(now_us, &y, &mo, &d, &h, &mi, &s);
+    kelp_mmdriver_civil(mm_time(now_us), &y, &mo, &d, &h, &mi, &s);
     kelp_nmea_writer_init(&w, buf, sizeof buf, "$CCCLK");
     kelp_nmea_writer_long(&w, y);
     kelp_nmea_writer_long(&w, mo);
@@ -207,7 +216,7 @@ static int set_clock(kelp_mmdriver *mm, int64_t now_us)
     kelp_nmea_writer_long(&w, mi);
     kelp_nmea_writer_long(&w, s);
     int rc = append(mm, &w, now_us);
-    mm->hold_until_us = now_us + US_PER_S; /* sleep(1): let the clock be set */
+    mm->hold_until = mm_time(now_us + US_PER_S); /* sleep(1): let the clock be set */
     return rc;
 }
 
@@ -262,8 +271,9 @@ int kelp_mmdriver_init(kelp_mmdriver *mm, const kelp_mmdriver_cfg *cfg, const ke
     return KELP_OK;
 }
 
-int kelp_mmdriver_start(kelp_mmdriver *mm, int64_t now_us)
+int kelp_mmdriver_start(kelp_mmdriver *mm, kelp_time now)
 {
+    const int64_t now_us = mm_us(now);
     if (!mm || mm->modem_id < 1) return KELP_ERR_ARG;
     clear_out(mm);
     mm->waiting = false;
@@ -271,13 +281,13 @@ int kelp_mmdriver_start(kelp_mmdriver *mm, int64_t now_us)
     mm->clock_set = false;
     mm->dead = false;
     mm->local_cccyc = false;
-    mm->hold_until_us = 0;
+    mm->hold_until = 0;
     mm->backlog_len = 0;
     mm->ncache = 0;
     mm->ack_mask = 0;
     mm->toa_pending = false;
-    mm->last_write_us = now_us;
-    mm->last_gps_us = now_us;
+    mm->last_write = mm_time(now_us);
+    mm->last_gps = mm_time(now_us);
     kelp_nmea_reader_init(&mm->rd, mm->rd.delim);
     mm->started = true;
     int rc = set_clock(mm, now_us);
@@ -300,9 +310,9 @@ int kelp_mmdriver_start(kelp_mmdriver *mm, int64_t now_us)
     return rc;
 }
 
-int64_t kelp_mmdriver_busy_until(const kelp_mmdriver *mm)
+kelp_time kelp_mmdriver_busy_until(const kelp_mmdriver *mm)
 {
-    return mm->hold_until_us;
+    return mm->hold_until;
 }
 
 bool kelp_mmdriver_clock_ok(const kelp_mmdriver *mm)
@@ -321,7 +331,7 @@ static int cache_outgoing(kelp_mmdriver *mm, int src, int dest, unsigned rate, u
 {
     (void)now_us;
     if (src != mm->modem_id) return KELP_OK;
-    if (rate > 5) { set_err(mm, "mmdriver: rate out of range (0..5)"); return KELP_ERR_RANGE; }
+    if (rate > 5) return kelp_fail(&mm->diag, KELP_ERR_RANGE, "mmdriver: rate out of range (0..5)");
     mm->ncache = 0; /* flush frames never asked for by a $CADRQ */
     mm->ack_mask = 0;
     if (nframes > KELP_MAX_MM_FRAMES) nframes = KELP_MAX_MM_FRAMES;
@@ -357,11 +367,12 @@ static int write_cycle(kelp_mmdriver *mm, int src, int dest, unsigned rate, int6
     return append(mm, &w, now_us);
 }
 
-int kelp_mmdriver_initiate_transmission(kelp_mmdriver *mm, int src, int dest, unsigned rate, int64_t now_us)
+int kelp_mmdriver_initiate_transmission(kelp_mmdriver *mm, int src, int dest, unsigned rate, kelp_time now)
 {
+    const int64_t now_us = mm_us(now);
     if (!mm) return KELP_ERR_ARG;
     if (!mm->started) return KELP_ERR_STATE;
-    if (rate > 5) { set_err(mm, "mmdriver: rate out of range (0..5)"); return KELP_ERR_RANGE; }
+    if (rate > 5) return kelp_fail(&mm->diag, KELP_ERR_RANGE, "mmdriver: rate out of range (0..5)");
     mm->local_cccyc = true; /* we initiated: don't fetch data again on the $CACYC echo */
     int rc = cache_outgoing(mm, src, dest, rate, kelp_mmdriver_packet_frames[rate], now_us);
     if (rc) return rc;
@@ -369,15 +380,15 @@ int kelp_mmdriver_initiate_transmission(kelp_mmdriver *mm, int src, int dest, un
     return write_cycle(mm, src, dest, rate, now_us);
 }
 
-int kelp_mmdriver_transmit_frames(kelp_mmdriver *mm, unsigned rate, const kelp_mmdriver_frame *frames, size_t n, int64_t now_us)
+int kelp_mmdriver_transmit_frames(kelp_mmdriver *mm, unsigned rate, const kelp_mmdriver_frame *frames, size_t n, kelp_time now)
 {
+    const int64_t now_us = mm_us(now);
     if (!mm || (n && !frames)) return KELP_ERR_ARG;
     if (!mm->started) return KELP_ERR_STATE;
-    if (rate > 5) { set_err(mm, "mmdriver: rate out of range (0..5)"); return KELP_ERR_RANGE; }
+    if (rate > 5) return kelp_fail(&mm->diag, KELP_ERR_RANGE, "mmdriver: rate out of range (0..5)");
     if (n == 0) return KELP_OK; /* no data: no cycle, as a local slot with an empty queue */
     if (n > kelp_mmdriver_packet_frames[rate]) {
-        set_err(mm, "mmdriver: more frames than the rate carries");
-        return KELP_ERR_RANGE;
+        return kelp_fail(&mm->diag, KELP_ERR_RANGE, "mmdriver: more frames than the rate carries");
     }
     mm->local_cccyc = true;
     mm->ncache = 0;
@@ -392,8 +403,9 @@ int kelp_mmdriver_transmit_frames(kelp_mmdriver *mm, unsigned rate, const kelp_m
 }
 
 int kelp_mmdriver_initiate_ranging(kelp_mmdriver *mm, int src, int dest, kelp_ranging_type type, unsigned max_range,
-                             unsigned enable_beacons, int64_t now_us)
+                             unsigned enable_beacons, kelp_time now)
 {
+    const int64_t now_us = mm_us(now);
     if (!mm) return KELP_ERR_ARG;
     if (!mm->started) return KELP_ERR_STATE;
     char buf[96];
@@ -415,8 +427,7 @@ int kelp_mmdriver_initiate_ranging(kelp_mmdriver *mm, int src, int dest, kelp_ra
         return append(mm, &w, now_us);
     case KELP_RANGING_ONE_WAY_SYNCHRONOUS:
     default:
-        set_err(mm, "mmdriver: ONE_WAY_SYNCHRONOUS cannot be requested (enable NVRAM TOA,1)");
-        return KELP_ERR_UNSUPPORTED;
+        return kelp_fail(&mm->diag, KELP_ERR_UNSUPPORTED, "mmdriver: ONE_WAY_SYNCHRONOUS cannot be requested (enable NVRAM TOA,1)");
     }
 }
 
@@ -478,7 +489,7 @@ static int clk(kelp_mmdriver *mm, const kelp_nmea_sentence *s, int64_t now_us)
     if (v[1] < 1 || v[1] > 12 || v[2] < 1 || v[2] > 31 || v[0] < 1400 || v[0] > 9999) return KELP_ERR_RANGE;
     int64_t reported = (kelp_days_from_civil(v[0], (unsigned)v[1], (unsigned)v[2]) * 86400 + v[3] * 3600 + v[4] * 60 + v[5]) *
                        US_PER_S;
-    if (reported >= now_us - KELP_MMDRIVER_ALLOWED_SKEW_US) set_clock_state(mm, true, now_us);
+    if (reported >= now_us - KELP_MMDRIVER_ALLOWED_SKEW * US_PER_S) set_clock_state(mm, true, now_us);
     return KELP_OK;
 }
 
@@ -486,11 +497,11 @@ static void rev(kelp_mmdriver *mm, const kelp_nmea_sentence *s, int64_t now_us)
 {
     const char *what = kelp_nmea_field(s, 2);
     if (strcmp(what, "INIT") == 0) {
-        mm->hold_until_us = now_us + 2 * US_PER_S; /* sleep(WAIT_AFTER_REBOOT) */
+        mm->hold_until = mm_time(now_us + 2 * US_PER_S); /* sleep(WAIT_AFTER_REBOOT) */
         set_clock_state(mm, false, now_us);
     } else if (strcmp(what, "AUV") == 0) {
         int64_t reported;
-        if (nmea_time(kelp_nmea_field(s, 1), now_us, &reported) && reported < now_us - KELP_MMDRIVER_ALLOWED_SKEW_US)
+        if (nmea_time(kelp_nmea_field(s, 1), now_us, &reported) && reported < now_us - KELP_MMDRIVER_ALLOWED_SKEW * US_PER_S)
             set_clock_state(mm, false, now_us);
     }
 }
@@ -504,7 +515,7 @@ static void err_sentence(kelp_mmdriver *mm, const kelp_nmea_sentence *s, const c
         if (count_failure(mm, now_us)) {
             mm_write(mm, front(mm), now_us);
             mm->waiting = true;
-            mm->last_write_us = now_us;
+            mm->last_write = mm_time(now_us);
         }
     }
 }
@@ -709,15 +720,16 @@ static void feed_byte(kelp_mmdriver *mm, uint8_t byte, int64_t now_us)
  * the caller's next feed or tick comes. */
 static void drain_backlog(kelp_mmdriver *mm, int64_t now_us)
 {
-    if (mm->hold_until_us > 0 && mm->hold_until_us <= now_us) now_us = mm->hold_until_us;
+    if (mm->hold_until > 0 && mm_us(mm->hold_until) <= now_us) now_us = mm_us(mm->hold_until);
     size_t i = 0;
     while (i < mm->backlog_len && !holding(mm, now_us)) feed_byte(mm, mm->backlog[i++], now_us);
     memmove(mm->backlog, mm->backlog + i, mm->backlog_len - i);
     mm->backlog_len -= i;
 }
 
-int kelp_mmdriver_feed(kelp_mmdriver *mm, const uint8_t *bytes, size_t n, int64_t now_us)
+int kelp_mmdriver_feed(kelp_mmdriver *mm, const uint8_t *bytes, size_t n, kelp_time now)
 {
+    const int64_t now_us = mm_us(now);
     if (!mm || (n && !bytes)) return KELP_ERR_ARG;
     if (!mm->started) return KELP_ERR_STATE;
     if (!holding(mm, now_us) && mm->backlog_len) drain_backlog(mm, now_us);
@@ -732,8 +744,9 @@ int kelp_mmdriver_feed(kelp_mmdriver *mm, const uint8_t *bytes, size_t n, int64_
     return KELP_OK;
 }
 
-int kelp_mmdriver_tick(kelp_mmdriver *mm, int64_t now_us)
+int kelp_mmdriver_tick(kelp_mmdriver *mm, kelp_time now)
 {
+    const int64_t now_us = mm_us(now);
     if (!mm) return KELP_ERR_ARG;
     if (!mm->started) return KELP_ERR_STATE;
     if (mm->dead) return KELP_ERR_TIMEOUT;
@@ -747,7 +760,7 @@ int kelp_mmdriver_tick(kelp_mmdriver *mm, int64_t now_us)
     try_send(mm, now_us);
     if (mm->dead) return KELP_ERR_TIMEOUT;
     if (mm->backlog_len) drain_backlog(mm, now_us);
-    if (mm->hydroid_id && mm->last_gps_us + KELP_MMDRIVER_HYDROID_GPS_INTERVAL_US < now_us) {
+    if (mm->hydroid_id && mm_us(mm->last_gps) + KELP_MMDRIVER_HYDROID_GPS_INTERVAL * US_PER_S < now_us) {
         char q[16];
         kelp_nmea_writer w;
         kelp_nmea_writer_init(&w, q, sizeof q, "");
@@ -761,7 +774,7 @@ int kelp_mmdriver_tick(kelp_mmdriver *mm, int64_t now_us)
         out[n++] = '\n';
         out[n] = '\0';
         if (mm->ops.write) mm->ops.write(out, n, mm->user);
-        mm->last_gps_us = now_us;
+        mm->last_gps = mm_time(now_us);
     }
     return mm->dead ? KELP_ERR_TIMEOUT : KELP_OK;
 }

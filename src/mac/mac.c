@@ -1,11 +1,18 @@
 /* kelp: Goby 1.1 TDMA MAC (libamac mac_manager.cpp behaviour, goby-wire.md section 9). */
 #include <kelp/mac.h>
 
+#include <math.h>
 #include <string.h>
 
 #define US_PER_S 1000000LL
 #define US_PER_DAY (86400LL * US_PER_S)
 #define ENTROPY 5u
+
+/* The slot clock runs in whole microseconds (as Goby's): a kelp_time is converted once, here. */
+static int64_t mac_us(kelp_time t)
+{
+    return (int64_t)llround(t * 1e6);
+}
 
 static int64_t floor_div(int64_t a, int64_t b)
 {
@@ -40,20 +47,21 @@ unsigned kelp_mac_cycle_length(const kelp_mac *mac)
     return len;
 }
 
-int64_t kelp_mac_aligned_start(int64_t now_us, unsigned cycle_seconds, unsigned long *k_out)
+kelp_time kelp_mac_aligned_start(kelp_time now, unsigned cycle_seconds, unsigned long *k_out)
 {
     if (cycle_seconds == 0) return -1;
+    int64_t now_us = mac_us(now);
     int64_t day = floor_div(now_us, US_PER_DAY);
     int64_t midnight = day * US_PER_DAY;
     int64_t tod = (now_us - midnight) / US_PER_S; /* whole seconds since midnight */
     unsigned long k = (unsigned long)(tod / cycle_seconds) + 1;
     if (k_out) *k_out = k;
-    return midnight + (int64_t)k * cycle_seconds * US_PER_S;
+    return (kelp_time)(midnight + (int64_t)k * cycle_seconds * US_PER_S) / 1e6; /* whole seconds: exact */
 }
 
-int64_t kelp_mac_next_slot_time(const kelp_mac *mac)
+kelp_time kelp_mac_next_slot_time(const kelp_mac *mac)
 {
-    return mac->running ? mac->next_slot_us : -1;
+    return mac->running ? mac->next_slot : -1;
 }
 
 static int blank_index(const kelp_mac *mac)
@@ -84,7 +92,7 @@ static void position_blank(kelp_mac *mac)
 }
 
 /* MACManager::process_cycle_size_change: re-align to the next cycle boundary */
-static void cycle_size_change(kelp_mac *mac, int64_t now_us)
+static void cycle_size_change(kelp_mac *mac, kelp_time now)
 {
     unsigned len = kelp_mac_cycle_length(mac);
     if (mac->n == 0 || len == 0) {
@@ -93,7 +101,7 @@ static void cycle_size_change(kelp_mac *mac, int64_t now_us)
         mac->current = 0;
         return;
     }
-    mac->next_slot_us = kelp_mac_aligned_start(now_us, len, &mac->cycles_since_day_start);
+    mac->next_slot = kelp_mac_aligned_start(now, len, &mac->cycles_since_day_start);
     if (mac->type == KELP_MAC_AUTO_DECENTRALIZED && mac->n > 1) position_blank(mac);
     mac->running = true;
 }
@@ -111,26 +119,26 @@ static void sort_by_src(kelp_mac *mac)
     }
 }
 
-static int add_slot(kelp_mac *mac, const kelp_mac_slot *s, int64_t now_us)
+static int add_slot(kelp_mac *mac, const kelp_mac_slot *s, kelp_time now)
 {
     if (mac->n >= KELP_MAX_MAC_SLOTS) {
-        if (!mac->errmsg) mac->errmsg = "mac: too many slots (KELP_MAX_MAC_SLOTS)";
+        (void)kelp_fail(&mac->diag, KELP_ERR_NOSPACE, "mac: too many slots (KELP_MAX_MAC_SLOTS)");
         return KELP_ERR_NOSPACE;
     }
     mac->slot[mac->n++] = *s;
     mac->current = 0;
-    cycle_size_change(mac, now_us);
+    cycle_size_change(mac, now);
     return KELP_OK;
 }
 
-int kelp_mac_add_slot(kelp_mac *mac, const kelp_mac_slot *s, int64_t now_us)
+int kelp_mac_add_slot(kelp_mac *mac, const kelp_mac_slot *s, kelp_time now)
 {
     if (!mac || !s) return KELP_ERR_ARG;
     if (mac->type == KELP_MAC_AUTO_DECENTRALIZED || mac->type == KELP_MAC_NONE) return KELP_ERR_STATE;
     kelp_mac_slot c = *s;
     c.never_expires = false;
-    c.last_heard_us = 0;
-    return add_slot(mac, &c, now_us);
+    c.last_heard = 0;
+    return add_slot(mac, &c, now);
 }
 
 static bool slot_eq(const kelp_mac_slot *a, const kelp_mac_slot *b)
@@ -139,7 +147,7 @@ static bool slot_eq(const kelp_mac_slot *a, const kelp_mac_slot *b)
            a->slot_seconds == b->slot_seconds;
 }
 
-int kelp_mac_remove_slot(kelp_mac *mac, const kelp_mac_slot *s, int64_t now_us)
+int kelp_mac_remove_slot(kelp_mac *mac, const kelp_mac_slot *s, kelp_time now)
 {
     if (!mac || !s) return KELP_ERR_ARG;
     if (mac->type == KELP_MAC_AUTO_DECENTRALIZED || mac->type == KELP_MAC_NONE) return KELP_ERR_STATE;
@@ -152,7 +160,7 @@ int kelp_mac_remove_slot(kelp_mac *mac, const kelp_mac_slot *s, int64_t now_us)
             break;
         }
     }
-    cycle_size_change(mac, now_us);
+    cycle_size_change(mac, now);
     if (removed) mac->current = 0;
     return removed ? KELP_OK : KELP_ERR_NOTFOUND;
 }
@@ -164,7 +172,7 @@ void kelp_mac_clear(kelp_mac *mac)
     mac->running = false;
 }
 
-int kelp_mac_init(kelp_mac *mac, const kelp_mac_cfg *cfg, int64_t now_us)
+int kelp_mac_init(kelp_mac *mac, const kelp_mac_cfg *cfg, kelp_time now)
 {
     if (!mac || !cfg || (cfg->nslots && !cfg->slots)) return KELP_ERR_ARG;
     memset(mac, 0, sizeof *mac);
@@ -178,19 +186,19 @@ int kelp_mac_init(kelp_mac *mac, const kelp_mac_cfg *cfg, int64_t now_us)
     case KELP_MAC_NONE:
         return KELP_OK;
     case KELP_MAC_AUTO_DECENTRALIZED: {
-        if (cfg->slot_seconds == 0) { mac->errmsg = "mac: slot_seconds must be > 0"; return KELP_ERR_ARG; }
+        if (cfg->slot_seconds == 0) return kelp_fail(&mac->diag, KELP_ERR_ARG, "mac: slot_seconds must be > 0");
         kelp_mac_slot s;
         kelp_mac_slot_default(&s, 0);
         s.rate = cfg->rate;
         s.slot_seconds = cfg->slot_seconds;
         s.never_expires = true;
-        int rc = add_slot(mac, &s, now_us); /* the blank */
+        int rc = add_slot(mac, &s, now); /* the blank */
         if (rc) return rc;
         s.src = cfg->modem_id;
-        rc = add_slot(mac, &s, now_us);     /* ourselves */
+        rc = add_slot(mac, &s, now);     /* ourselves */
         if (rc) return rc;
         sort_by_src(mac);
-        mac->next_slot_us = kelp_mac_aligned_start(now_us, kelp_mac_cycle_length(mac), &mac->cycles_since_day_start);
+        mac->next_slot = kelp_mac_aligned_start(now, kelp_mac_cycle_length(mac), &mac->cycles_since_day_start);
         position_blank(mac);
         mac->running = true;
         return KELP_OK;
@@ -198,7 +206,7 @@ int kelp_mac_init(kelp_mac *mac, const kelp_mac_cfg *cfg, int64_t now_us)
     case KELP_MAC_FIXED_DECENTRALIZED:
     case KELP_MAC_POLLED:
         for (size_t i = 0; i < cfg->nslots; i++) {
-            int rc = kelp_mac_add_slot(mac, &cfg->slots[i], now_us);
+            int rc = kelp_mac_add_slot(mac, &cfg->slots[i], now);
             if (rc) return rc;
         }
         return KELP_OK;
@@ -208,14 +216,14 @@ int kelp_mac_init(kelp_mac *mac, const kelp_mac_cfg *cfg, int64_t now_us)
 }
 
 /* expire ids not heard for cycle_length * expire_cycles seconds (own id and the blank never) */
-static void expire_ids(kelp_mac *mac, int64_t now_us)
+static void expire_ids(kelp_mac *mac, kelp_time now)
 {
-    int64_t limit = now_us - (int64_t)kelp_mac_cycle_length(mac) * mac->expire_cycles * US_PER_S;
+    int64_t limit = mac_us(now) - (int64_t)kelp_mac_cycle_length(mac) * mac->expire_cycles * US_PER_S;
     bool reset = false;
     size_t i = 0;
     while (i < mac->n) {
         const kelp_mac_slot *s = &mac->slot[i];
-        if (!s->never_expires && s->src != mac->modem_id && s->last_heard_us < limit) {
+        if (!s->never_expires && s->src != mac->modem_id && mac_us(s->last_heard) < limit) {
             memmove(&mac->slot[i], &mac->slot[i + 1], (mac->n - i - 1) * sizeof mac->slot[0]);
             mac->n--;
             if (mac->current > i) mac->current--;
@@ -224,15 +232,15 @@ static void expire_ids(kelp_mac *mac, int64_t now_us)
             i++;
         }
     }
-    if (reset) cycle_size_change(mac, now_us);
+    if (reset) cycle_size_change(mac, now);
 }
 
-int kelp_mac_tick(kelp_mac *mac, int64_t now_us, kelp_mac_action *act)
+int kelp_mac_tick(kelp_mac *mac, kelp_time now, kelp_mac_action *act)
 {
     if (!mac || !act) return KELP_ERR_ARG;
     memset(act, 0, sizeof *act);
     act->kind = KELP_MAC_ACT_NONE;
-    if (!mac->running || mac->n == 0 || now_us < mac->next_slot_us) return KELP_ERR_EMPTY;
+    if (!mac->running || mac->n == 0 || mac_us(now) < mac_us(mac->next_slot)) return KELP_ERR_EMPTY;
     if (mac->current >= mac->n) mac->current = 0;
     const kelp_mac_slot s = mac->slot[mac->current];
     bool send;
@@ -242,7 +250,7 @@ int kelp_mac_tick(kelp_mac *mac, int64_t now_us, kelp_mac_action *act)
     case KELP_MAC_POLLED: send = (s.src != 0); break;
     default: send = false; break;
     }
-    act->slot_start_us = mac->next_slot_us;
+    act->slot_start = mac->next_slot;
     act->slot_index = (unsigned)mac->current;
     act->slot_type = s.type;
     if (send) {
@@ -259,46 +267,47 @@ int kelp_mac_tick(kelp_mac *mac, int64_t now_us, kelp_mac_action *act)
     mac->slots_fired++;
     mac->current++;
     if (mac->type == KELP_MAC_AUTO_DECENTRALIZED) {
-        expire_ids(mac, now_us);
+        expire_ids(mac, now);
         if (mac->current >= mac->n) {
             mac->cycles_since_day_start++;
             position_blank(mac);
         }
         /* after an expiry the cycle was re-aligned and Goby still adds one slot: reproduced */
-        mac->next_slot_us += (int64_t)mac->slot_seconds * US_PER_S;
+        mac->next_slot += mac->slot_seconds; /* whole seconds: exact */
     } else {
         if (mac->current >= mac->n) mac->current = 0;
-        mac->next_slot_us += (int64_t)s.slot_seconds * US_PER_S;
+        mac->next_slot += s.slot_seconds;
     }
     return KELP_OK;
 }
 
-void kelp_mac_heard(kelp_mac *mac, int src, int64_t now_us)
+void kelp_mac_heard(kelp_mac *mac, int src, kelp_time now)
 {
     if (!mac || mac->type != KELP_MAC_AUTO_DECENTRALIZED || src < 0) return;
     for (size_t i = 0; i < mac->n; i++) {
         if (mac->slot[i].src == src) {
-            if (!mac->slot[i].never_expires) mac->slot[i].last_heard_us = now_us;
+            if (!mac->slot[i].never_expires) mac->slot[i].last_heard = now;
             return;
         }
     }
     if (mac->n >= KELP_MAX_MAC_SLOTS) {
-        if (!mac->errmsg) mac->errmsg = "mac: too many ids heard (KELP_MAX_MAC_SLOTS)";
+        /* recorded, the id is not added */
+        (void)kelp_fail(&mac->diag, KELP_ERR_NOSPACE, "mac: too many ids heard (KELP_MAX_MAC_SLOTS)");
         return;
     }
     kelp_mac_slot s;
     kelp_mac_slot_default(&s, src);
     s.rate = mac->rate;
     s.slot_seconds = mac->slot_seconds;
-    s.last_heard_us = now_us;
+    s.last_heard = now;
     mac->slot[mac->n++] = s;
     sort_by_src(mac);
     mac->current = 0;
-    cycle_size_change(mac, now_us);
+    cycle_size_change(mac, now);
 }
 
 int kelp_mac_update(kelp_mac *mac, int dest, kelp_mac_update_type type, const kelp_mac_slot *slots, size_t n,
-                    int64_t now_us)
+                    kelp_time now)
 {
     if (!mac || (n && !slots)) return KELP_ERR_ARG;
     if (mac->type != KELP_MAC_FIXED_DECENTRALIZED && mac->type != KELP_MAC_POLLED) return KELP_ERR_STATE;
@@ -309,11 +318,11 @@ int kelp_mac_update(kelp_mac *mac, int dest, kelp_mac_update_type type, const ke
         kelp_mac_clear(mac);
         /* fall through */
     case KELP_MAC_UPDATE_ADD:
-        for (size_t i = 0; i < n && rc == KELP_OK; i++) rc = kelp_mac_add_slot(mac, &slots[i], now_us);
+        for (size_t i = 0; i < n && rc == KELP_OK; i++) rc = kelp_mac_add_slot(mac, &slots[i], now);
         return rc;
     case KELP_MAC_UPDATE_REMOVE:
         for (size_t i = 0; i < n; i++) {
-            int r = kelp_mac_remove_slot(mac, &slots[i], now_us);
+            int r = kelp_mac_remove_slot(mac, &slots[i], now);
             if (r != KELP_OK && rc == KELP_OK) rc = r;
         }
         return rc;

@@ -2,15 +2,17 @@
  * goby-wire.md section 8 (queue.cpp / queue_manager.cpp).  Core: no allocation, no I/O. */
 #include <kelp/queue.h>
 
+#include <math.h>
 #include <stddef.h>
 #include <string.h>
 
 #define US_PER_S 1000000LL
 #define ON_DEMAND_SKEW_US (1 * US_PER_S)
 
-static void set_err(kelp_queue_mgr *m, const char *msg)
+/* Times are compared in whole microseconds (as Goby's boost::posix_time): converted here. */
+static int64_t q_us(kelp_time t)
 {
-    if (!m->errmsg) m->errmsg = msg;
+    return (int64_t)llround(t * 1e6);
 }
 
 static int key_cmp(kelp_queue_key a, kelp_queue_key b)
@@ -79,18 +81,17 @@ int kelp_queue_init(kelp_queue_mgr *m, int modem_id, kelp_queue *queues, size_t 
     return KELP_OK;
 }
 
-int kelp_queue_add(kelp_queue_mgr *m, const kelp_queue_cfg *cfg, int64_t now_us)
+int kelp_queue_add(kelp_queue_mgr *m, const kelp_queue_cfg *cfg, kelp_time now)
 {
     if (!m || !cfg) return KELP_ERR_ARG;
     if (cfg->key.type != KELP_QUEUE_DCCL && cfg->key.type != KELP_QUEUE_CCL) return KELP_ERR_ARG;
-    if (find_q(m, cfg->key)) { set_err(m, "queue: duplicate key"); return KELP_ERR_EXISTS; }
+    if (find_q(m, cfg->key)) return kelp_fail(&m->diag, KELP_ERR_EXISTS, "queue: duplicate key");
     if (cfg->key.type == KELP_QUEUE_DCCL &&
         (cfg->key.id < KELP_QUEUE_DCCL_MIN_ID || cfg->key.id > KELP_QUEUE_DCCL_MAX_ID)) {
-        set_err(m, "queue: DCCL id out of bounds (1..512)");
-        return KELP_ERR_RANGE;
+        return kelp_fail(&m->diag, KELP_ERR_RANGE, "queue: DCCL id out of bounds (1..512)");
     }
     if (cfg->key.type == KELP_QUEUE_CCL && cfg->key.id > 255) return KELP_ERR_RANGE;
-    if (m->nq >= m->cap_q) { set_err(m, "queue: no room for another queue"); return KELP_ERR_NOSPACE; }
+    if (m->nq >= m->cap_q) return kelp_fail(&m->diag, KELP_ERR_NOSPACE, "queue: no room for another queue");
     /* sorted insert; wait records hold queue indices, so move them along */
     size_t pos = 0;
     while (pos < m->nq && key_cmp(m->q[pos].cfg.key, cfg->key) < 0) pos++;
@@ -100,7 +101,7 @@ int kelp_queue_add(kelp_queue_mgr *m, const kelp_queue_cfg *cfg, int64_t now_us)
     kelp_queue *q = &m->q[pos];
     memset(q, 0, sizeof *q);
     q->cfg = *cfg;
-    q->last_send_us = now_us;
+    q->last_send = now;
     q->head = q->tail = -1;
     m->nq++;
     qsize(m, q);
@@ -131,20 +132,18 @@ static int32_t next_message(const kelp_queue_mgr *m, const kelp_queue *q)
 
 static int queue_push(kelp_queue_mgr *m, kelp_queue *q, const kelp_acomms_msg *msg)
 {
-    if (msg->len == 0) { set_err(m, "queue: empty message"); return KELP_ERR_ARG; }
+    if (msg->len == 0) return kelp_fail(&m->diag, KELP_ERR_ARG, "queue: empty message");
     if (msg->len > KELP_MAX_ACOMMS_FRAME) return KELP_ERR_NOSPACE;
     if (q->cfg.key.type == KELP_QUEUE_CCL && msg->data[0] != (uint8_t)q->cfg.key.id) {
-        set_err(m, "queue: CCL message without the queue's CCL id byte");
-        return KELP_ERR_ARG;
+        return kelp_fail(&m->diag, KELP_ERR_ARG, "queue: CCL message without the queue's CCL id byte");
     }
     if (q->cfg.key.type == KELP_QUEUE_DCCL && msg->len < KELP_DCCL_HEADER_BYTES) {
-        set_err(m, "queue: DCCL message shorter than its header");
-        return KELP_ERR_ARG;
+        return kelp_fail(&m->diag, KELP_ERR_ARG, "queue: DCCL message shorter than its header");
     }
     int32_t slot = -1;
     for (size_t i = 0; i < m->cap_pool; i++)
         if (!m->pool[i].used) { slot = (int32_t)i; break; }
-    if (slot < 0) { set_err(m, "queue: message pool full"); return KELP_ERR_NOSPACE; }
+    if (slot < 0) return kelp_fail(&m->diag, KELP_ERR_NOSPACE, "queue: message pool full");
     kelp_queue_entry *e = &m->pool[slot];
     e->msg = *msg;
     e->msg.key = q->cfg.key;
@@ -171,9 +170,9 @@ static int queue_push(kelp_queue_mgr *m, kelp_queue *q, const kelp_acomms_msg *m
     return KELP_OK;
 }
 
-int kelp_queue_push(kelp_queue_mgr *m, const kelp_acomms_msg *msg, int64_t now_us)
+int kelp_queue_push(kelp_queue_mgr *m, const kelp_acomms_msg *msg, kelp_time now)
 {
-    (void)now_us;
+    (void)now;
     if (!m || !msg) return KELP_ERR_ARG;
     if (msg->dest == m->modem_id) {
         /* addressed to us: loop back, never queued */
@@ -181,7 +180,7 @@ int kelp_queue_push(kelp_queue_mgr *m, const kelp_acomms_msg *msg, int64_t now_u
         return KELP_OK;
     }
     kelp_queue *q = find_q(m, msg->key);
-    if (!q) { set_err(m, "queue: no queue for key"); return KELP_ERR_NOTFOUND; }
+    if (!q) return kelp_fail(&m->diag, KELP_ERR_NOTFOUND, "queue: no queue for key");
     int rc = KELP_OK;
     bool dccl = q->cfg.key.type == KELP_QUEUE_DCCL;
     if (!(dccl && q->cfg.no_queue)) {
@@ -196,31 +195,31 @@ int kelp_queue_push(kelp_queue_mgr *m, const kelp_acomms_msg *msg, int64_t now_u
 
 /* ------------------------------------------------------------------ contest */
 
-static double priority_of(const kelp_queue *q, int64_t now_us)
+static double priority_of(const kelp_queue *q, kelp_time now)
 {
-    double dt = (double)(now_us - q->last_send_us) / 1e6;
+    double dt = (double)(q_us(now) - q_us(q->last_send)) / 1e6;
     return dt / (double)q->cfg.ttl * q->cfg.value_base;
 }
 
-int kelp_queue_priority(const kelp_queue_mgr *m, kelp_queue_key key, int64_t now_us, double *prio)
+int kelp_queue_priority(const kelp_queue_mgr *m, kelp_queue_key key, kelp_time now, double *prio)
 {
     if (!m || !prio) return KELP_ERR_ARG;
     const kelp_queue *q = find_q(m, key);
     if (!q) return KELP_ERR_NOTFOUND;
-    *prio = priority_of(q, now_us);
+    *prio = priority_of(q, now);
     return KELP_OK;
 }
 
 /* Queue::priority_values: may this queue compete for the frame built so far? */
 static bool priority_values(const kelp_queue_mgr *m, const kelp_queue *q, const kelp_queue_request *req,
-                            const kelp_acomms_msg *sofar, int64_t now_us, double *prio)
+                            const kelp_acomms_msg *sofar, kelp_time now, double *prio)
 {
-    *prio = priority_of(q, now_us);
+    *prio = priority_of(q, now);
     if (q->size <= q->n_waiting) return false;
     int32_t ni = next_message(m, q);
     if (ni < 0) return false;
     const kelp_acomms_msg *next = &m->pool[ni].msg;
-    if (q->last_send_us + (int64_t)q->cfg.blackout_time * US_PER_S > now_us) return false; /* blackout */
+    if (q_us(q->last_send) + (int64_t)q->cfg.blackout_time * US_PER_S > q_us(now)) return false; /* blackout */
     if (next->len > (size_t)req->max_bytes - sofar->len) return false;                       /* too big */
     if (sofar->dest != KELP_ACOMMS_QUERY_DEST && next->dest != KELP_ACOMMS_BROADCAST && sofar->dest != next->dest)
         return false;                                                                           /* wrong dest */
@@ -230,41 +229,41 @@ static bool priority_values(const kelp_queue_mgr *m, const kelp_queue *q, const 
 }
 
 static kelp_queue *find_next_sender(kelp_queue_mgr *m, const kelp_queue_request *req, const kelp_acomms_msg *sofar,
-                                    bool first_user_frame, int64_t now_us)
+                                    bool first_user_frame, kelp_time now)
 {
     kelp_queue *win = NULL;
     double win_p = 0.0;
-    int64_t win_last = 0;
+    kelp_time win_last = 0;
     for (size_t i = 0; i < m->nq; i++) {
         kelp_queue *q = &m->q[i];
         if (q->cfg.key.type == KELP_QUEUE_DCCL && q->cfg.on_demand && m->on_demand) {
             bool stale = q->size == 0;
             if (!stale && m->pool[q->tail].msg.has_time)
-                stale = m->pool[q->tail].msg.time_us + ON_DEMAND_SKEW_US < now_us;
+                stale = q_us(m->pool[q->tail].msg.time) + ON_DEMAND_SKEW_US < q_us(now);
             if (stale) {
                 kelp_acomms_msg *fresh = &m->fresh;
                 memset(fresh, 0, sizeof *fresh);
                 fresh->key = q->cfg.key;
                 m->on_demand(q->cfg.key, req, fresh, m->user);
                 fresh->key = q->cfg.key;
-                if (kelp_queue_push(m, fresh, now_us) != KELP_OK) set_err(m, "queue: ON_DEMAND message rejected");
+                if (kelp_queue_push(m, fresh, now) != KELP_OK) (void)kelp_fail(&m->diag, KELP_ERR_STATE, "queue: ON_DEMAND message rejected"); /* recorded; the contest goes on */
                 q = &m->q[i];
             }
         }
         double p;
-        if (!priority_values(m, q, req, sofar, now_us, &p)) continue;
-        if ((!win || p > win_p || (p == win_p && q->last_send_us < win_last)) &&
+        if (!priority_values(m, q, req, sofar, now, &p)) continue;
+        if ((!win || p > win_p || (p == win_p && q_us(q->last_send) < q_us(win_last))) &&
             !(q->cfg.key.type == KELP_QUEUE_CCL && !first_user_frame)) {
             win = q;
             win_p = p;
-            win_last = q->last_send_us;
+            win_last = q->last_send;
         }
     }
     return win;
 }
 
 /* Queue::give_data: hand out the next message (broadcast never requests an ack) */
-static int32_t give_data(kelp_queue_mgr *m, kelp_queue *q, uint32_t frame, int64_t now_us)
+static int32_t give_data(kelp_queue_mgr *m, kelp_queue *q, uint32_t frame, kelp_time now)
 {
     int32_t i = next_message(m, q);
     kelp_queue_entry *e = &m->pool[i];
@@ -276,7 +275,7 @@ static int32_t give_data(kelp_queue_mgr *m, kelp_queue *q, uint32_t frame, int64
         e->ack_seq = ++m->ack_seq;
         q->n_waiting++;
     }
-    q->last_send_us = now_us;
+    q->last_send = now;
     return i;
 }
 
@@ -302,10 +301,10 @@ static void clear_packet(kelp_queue_mgr *m)
 }
 
 static int stitch(kelp_queue_mgr *m, const kelp_queue_request *req, kelp_acomms_msg *out, kelp_queue *win,
-                  int64_t now_us)
+                  kelp_time now)
 {
     for (;;) {
-        int32_t gi = give_data(m, win, req->frame, now_us);
+        int32_t gi = give_data(m, win, req->frame, now);
         kelp_acomms_msg *next = &m->next;
         *next = m->pool[gi].msg;
         if (next->ack_requested) {
@@ -314,7 +313,8 @@ static int stitch(kelp_queue_mgr *m, const kelp_queue_request *req, kelp_acomms_
                 m->wait[m->nwait].q = (uint16_t)(win - m->q);
                 m->nwait++;
             } else {
-                set_err(m, "queue: too many messages waiting for acks (KELP_MAX_QUEUE_ACK_WAIT)");
+                /* recorded; the message is sent without waiting for its ack */
+                (void)kelp_fail(&m->diag, KELP_ERR_NOSPACE, "queue: too many messages waiting for acks (KELP_MAX_QUEUE_ACK_WAIT)");
             }
         } else {
             (void)pop_message(m, win);
@@ -344,7 +344,7 @@ static int stitch(kelp_queue_mgr *m, const kelp_queue_request *req, kelp_acomms_
 
         kelp_queue *more = NULL;
         if ((size_t)req->max_bytes - out->len > KELP_DCCL_HEADER_BYTES)
-            more = find_next_sender(m, req, out, false, now_us);
+            more = find_next_sender(m, req, out, false, now);
         /* replace_header: multimessage unless last, broadcast if this piece's dest is 0 */
         uint8_t *b5 = &out->data[start + 4];
         *b5 = (uint8_t)(*b5 & ~(KELP_DCCL_MULTIMESSAGE_MASK | KELP_DCCL_BROADCAST_MASK));
@@ -362,7 +362,7 @@ static int stitch(kelp_queue_mgr *m, const kelp_queue_request *req, kelp_acomms_
     }
 }
 
-int kelp_queue_data_request(kelp_queue_mgr *m, const kelp_queue_request *req_in, int64_t now_us, kelp_acomms_msg *out)
+int kelp_queue_data_request(kelp_queue_mgr *m, const kelp_queue_request *req_in, kelp_time now, kelp_acomms_msg *out)
 {
     if (!m || !req_in || !out) return KELP_ERR_ARG;
     kelp_queue_request req = *req_in;
@@ -380,14 +380,14 @@ int kelp_queue_data_request(kelp_queue_mgr *m, const kelp_queue_request *req_in,
         }
         out->dest = m->packet_dest;
     }
-    kelp_queue *win = find_next_sender(m, &req, out, true, now_us);
+    kelp_queue *win = find_next_sender(m, &req, out, true, now);
     if (!win) {
         out->ack_requested = m->packet_ack;
         out->has_ack = true;
         out->dest = m->packet_dest;
         return KELP_OK;
     }
-    return stitch(m, &req, out, win, now_us);
+    return stitch(m, &req, out, win, now);
 }
 
 int kelp_queue_ack(kelp_queue_mgr *m, int src, int dest, uint32_t frame)
@@ -418,14 +418,14 @@ int kelp_queue_ack(kelp_queue_mgr *m, int src, int dest, uint32_t frame)
     return n;
 }
 
-void kelp_queue_do_work(kelp_queue_mgr *m, int64_t now_us)
+void kelp_queue_do_work(kelp_queue_mgr *m, kelp_time now)
 {
     if (!m) return;
     for (size_t k = 0; k < m->nq; k++) {
         kelp_queue *q = &m->q[k];
         while (q->head >= 0) {
             kelp_queue_entry *e = &m->pool[q->head];
-            if (!e->msg.has_time || !(e->msg.time_us + (int64_t)q->cfg.ttl * US_PER_S < now_us)) break;
+            if (!e->msg.has_time || !(q_us(e->msg.time) + (int64_t)q->cfg.ttl * US_PER_S < q_us(now))) break;
             kelp_acomms_msg orig = e->msg;
             unlink_entry(m, q, q->head);
             m->count.expired++;

@@ -513,7 +513,7 @@ static void cmd_clk(kelp_modemsim *m, const kelp_nmea_sentence *s, const char *l
     m->clock_offset_us = t - now_us;
     emit(m, KELP_MODEMSIM_EV_INFO, NULL, 0, KELP_MODEMSIM_LOSS_NONE, "clock set", 0, now_us);
     int y, mo, d, h, mi, sec;
-    kelp_mmdriver_civil(kelp_modemsim_clock(m, now_us), &y, &mo, &d, &h, &mi, &sec);
+    kelp_mmdriver_civil((kelp_time)kelp_modemsim_clock(m, now_us) / 1e6, &y, &mo, &d, &h, &mi, &sec);
     char buf[64];
     char f[8];
     kelp_nmea_writer w;

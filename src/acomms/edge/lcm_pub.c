@@ -76,7 +76,7 @@ static void fill_data(kelp_acomms_lcm *l, kelp_acomms_data_t *d, double time, co
     d->src = m->src;
     d->dest = m->dest;
     time_text[0] = '\0';
-    if (m->has_time && kelp_acomms_time_text(m->time_us, time_text, 48) != KELP_OK) time_text[0] = '\0';
+    if (m->has_time && kelp_acomms_time_text(m->time, time_text, 48) != KELP_OK) time_text[0] = '\0';
     d->msg_time = time_text;
     d->ack_requested = m->ack_requested;
     d->frame = (int32_t)m->frame;
@@ -174,7 +174,7 @@ int kelp_acomms_lcm_status(kelp_acomms_lcm *l, const char *channel, const kelp_a
     t.link_up = s->link_up;
     t.clock_ok = s->clock_ok;
     t.mac = (char *)(s->mac ? s->mac : "");
-    t.next_slot_us = s->next_slot_us;
+    t.next_slot_us = s->next_slot < 0 ? -1 : (int64_t)llround(s->next_slot * 1e6); /* wire: UNIX us */
     t.lines_in = (int32_t)s->lines_in;
     t.lines_out = (int32_t)s->lines_out;
     t.bad_lines = (int32_t)s->bad_lines;
