@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <kelp/util.h>
+#include <kelp/kv.h>
 
 static const char *fx(double v, unsigned dec, bool strip)
 {
@@ -143,6 +144,21 @@ START_TEST(parse_format_parse_is_stable)
 }
 END_TEST
 
+START_TEST(kv_walk_bounded)
+{
+    const char text[] = "a=1, b = two,c=3"; /* walked only to "a=1, b = two" */
+    size_t pos = 0, kl, vl;
+    const char *k, *v;
+    ck_assert_int_eq(kelp_kv_next_n(text, 12, ',', &pos, &k, &kl, &v, &vl), 1);
+    ck_assert(kl == 1 && k[0] == 'a' && vl == 1 && v[0] == '1');
+    ck_assert_int_eq(kelp_kv_next_n(text, 12, ',', &pos, &k, &kl, &v, &vl), 1);
+    ck_assert(kl == 1 && k[0] == 'b' && vl == 3 && memcmp(v, "two", 3) == 0);
+    ck_assert_int_eq(kelp_kv_next_n(text, 12, ',', &pos, &k, &kl, &v, &vl), 0);
+    pos = 0;
+    ck_assert_int_eq(kelp_kv_next_n("x", 1, ',', &pos, &k, &kl, &v, &vl), KELP_ERR_PARSE);
+}
+END_TEST
+
 START_TEST(big_endian_bytes)
 {
     uint8_t b[8];
@@ -173,6 +189,7 @@ Suite *kelp_util_num_suite(void)
     tcase_add_test(tc, parse_double_agrees_with_strtod);
     tcase_add_test(tc, parse_format_parse_is_stable);
     tcase_add_test(tc, big_endian_bytes);
+    tcase_add_test(tc, kv_walk_bounded);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -18,6 +18,9 @@ KELP_MUST_CHECK int kelp_kv_get(const char *s, char sep, const char *key, char *
  *  @return 1 while a pair is produced, 0 at the end, KELP_ERR_PARSE on a pair without '='. */
 KELP_MUST_CHECK int kelp_kv_next(const char *s, char sep, size_t *pos, const char **key, size_t *klen, const char **val,
                                  size_t *vlen);
+/** kelp_kv_next over the first n bytes of s (a text that need not end in NUL). */
+KELP_MUST_CHECK int kelp_kv_next_n(const char *s, size_t n, char sep, size_t *pos, const char **key, size_t *klen,
+                                   const char **val, size_t *vlen);
 #ifdef __cplusplus
 }
 #endif

@@ -331,12 +331,10 @@ int kelp_appcast_req_parse(const char *s, size_t len, kelp_appcast_req *r)
     const char *k, *v;
     size_t kl, vl;
     int rc;
-    /* the walker wants a NUL-terminated string: work on a bounded copy */
-    char tmp[512];
-    if (len >= sizeof tmp) return KELP_ERR_RANGE;
-    memcpy(tmp, s, len);
-    tmp[len] = '\0';
-    while ((rc = kelp_kv_next(tmp, ',', &pos, &k, &kl, &v, &vl)) == 1) {
+    if (len >= 512) return KELP_ERR_RANGE;
+    const char *nul = memchr(s, '\0', len);
+    if (nul) len = (size_t)(nul - s); /* a C string's end, wherever the length says */
+    while ((rc = kelp_kv_next_n(s, len, ',', &pos, &k, &kl, &v, &vl)) == 1) {
         if (kelp_strieq_n(k, kl, "node")) copy(r->node, sizeof r->node, v, vl);
         else if (kelp_strieq_n(k, kl, "app")) copy(r->app, sizeof r->app, v, vl);
         else if (kelp_strieq_n(k, kl, "key")) copy(r->key, sizeof r->key, v, vl);

@@ -10,7 +10,12 @@ static bool ws(char c)
 
 int kelp_kv_next(const char *s, char sep, size_t *pos, const char **key, size_t *klen, const char **val, size_t *vlen)
 {
-    size_t n = strlen(s);
+    return kelp_kv_next_n(s, strlen(s), sep, pos, key, klen, val, vlen);
+}
+
+int kelp_kv_next_n(const char *s, size_t n, char sep, size_t *pos, const char **key, size_t *klen, const char **val,
+                   size_t *vlen)
+{
     while (*pos < n) {
         size_t a = *pos, e = a;
         while (e < n && s[e] != sep) e++;
