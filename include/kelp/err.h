@@ -94,10 +94,13 @@ const char *kelp_diag_text(const kelp_diag *d);
 
 /** Fail with a code and a constant reason: `return kelp_fail(d, KELP_ERR_PARSE, "no '='");`
  *  kelp_failf() takes a format. With KELP_NO_ERRMSG both record the code only. */
-/* (the macros yield `code` itself, so a static analyser sees the value returned) */
+/* (the macros yield `code` itself, so a static analyser sees the value returned; without
+ * messages the arguments still appear in a branch that is never taken and folds away, so a
+ * variable used only in a message is not "unused", and no message text reaches the image) */
 #ifdef KELP_NO_ERRMSG
-#define kelp_fail(d, code, msg) (kelp_diag_set((d), (code), (const char *)0), (code))
-#define kelp_failf(d, code, ...) (kelp_diag_set((d), (code), (const char *)0), (code))
+#define kelp_fail(d, code, msg) ((void)(0 ? (msg) : (const char *)0), kelp_diag_set((d), (code), (const char *)0), (code))
+#define kelp_failf(d, code, ...) \
+    ((void)(0 ? kelp_diag_setf((d), (code), __VA_ARGS__) : 0), kelp_diag_set((d), (code), (const char *)0), (code))
 #else
 #define kelp_fail(d, code, msg) (kelp_diag_set((d), (code), (msg)), (code))
 #define kelp_failf(d, code, ...) (kelp_diag_setf((d), (code), __VA_ARGS__), (code))
