@@ -25,10 +25,11 @@ void cmd_push(replay *r, char **w, int n)
     kelp_acomms_msg m;
     memset(&m, 0, sizeof m);
     size_t len = 0;
-    const char *why = NULL;
+    kelp_diag why;
+    kelp_diag_clear(&why);
     if (kelp_acomms_dccl_encode_string(r->dccl, (size_t)idx, kv, (double)r->now_us / 1e6, m.data, sizeof m.data, &len,
                                        &why) != KELP_OK) {
-        replay_error(r, "cannot encode: %s", why);
+        replay_error(r, "cannot encode: %s", kelp_diag_text(&why));
         return;
     }
     kelp_acomms_dccl_info info;

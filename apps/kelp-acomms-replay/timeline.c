@@ -199,10 +199,11 @@ void replay_run_line(replay *r, char *line)
     if (!L) return;
     if (strncmp(line, "mac_update ", 11) == 0) {
         kelp_acomms_mac_update u;
-        const char *why = NULL;
+        kelp_diag why;
+        kelp_diag_clear(&why);
         if (kelp_acomms_parse_mac_update(line + 11, strlen(line + 11), &u, &why) != KELP_OK)
             {
-            replay_error(r, "bad MACUpdate: %s", why);
+            replay_error(r, "bad MACUpdate: %s", kelp_diag_text(&why));
             return;
         }
         int rc = kelp_acomms_node_mac_update(&r->h.node, &u, r->now_us);

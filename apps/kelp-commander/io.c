@@ -36,10 +36,10 @@ int cmdr_load_file(cmdr_app *s, const char *path, char *err, size_t errcap)
     size_t n = fread(text, 1, sizeof text - 1, f);
     fclose(f);
     text[n] = 0;
-    unsigned line;
-    const char *why;
-    int rc = kelp_cmdr_load(&s->core, text, &line, &why);
-    if (rc < 0) (void)snprintf(err, errcap, "%s:%u: %s", p, line, why);
+    kelp_diag why;
+    kelp_diag_clear(&why);
+    int rc = kelp_cmdr_load(&s->core, text, &why);
+    if (rc < 0) (void)snprintf(err, errcap, "%s:%d: %s", p, why.line, kelp_diag_text(&why));
     return rc;
 }
 
@@ -67,10 +67,11 @@ int cmdr_send(cmdr_app *s, unsigned msg, char *text, size_t cap)
 {
     kelp_cmdr_pub pubs[KELP_CMDR_MAX_PUBS];
     size_t n, at = 0;
-    const char *why;
+    kelp_diag why;
+    kelp_diag_clear(&why);
     int rc = kelp_cmdr_send(&s->core, msg, kelp_app_time(s->app), pubs, KELP_CMDR_MAX_PUBS, &n, &why);
     if (rc < 0) {
-        (void)snprintf(text, cap, "not sent: %s", why ? why : kelp_strerror(rc));
+        (void)snprintf(text, cap, "not sent: %s", kelp_diag_text(&why)[0] ? kelp_diag_text(&why) : kelp_strerror(rc));
         return rc;
     }
     text[0] = 0;
