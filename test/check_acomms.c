@@ -464,7 +464,10 @@ START_TEST(test_node_bad_config)
     kelp_acomms_node_cfg_default(&c);
     c.modem_id = 0; /* broadcast */
     ck_assert_int_eq(kelp_acomms_node_init(&n, &c, qs, 8, pool, 32, NULL, NULL), KELP_ERR_ARG);
-    ck_assert_ptr_nonnull(n.errmsg);
+    ck_assert_int_eq(n.diag.code, KELP_ERR_ARG);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(n.diag.msg, "acomms: modem_id must be 1..31 (0 is broadcast)");
+#endif
     c.modem_id = 32;
     ck_assert_int_eq(kelp_acomms_node_init(&n, &c, qs, 8, pool, 32, NULL, NULL), KELP_ERR_ARG);
     c.modem_id = 1;

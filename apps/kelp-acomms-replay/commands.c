@@ -42,7 +42,7 @@ void cmd_push(replay *r, char **w, int n)
     fprintf(r->out, "push queue=%s id=%u dest=%d bytes=%zu hex=", info.name, info.id, m.dest, len);
     replay_hex(r->out, m.data, len);
     fputc('\n', r->out);
-    if (kelp_acomms_node_push(&r->h.node, &m, r->now_us) != KELP_OK) replay_error(r, "push refused: %s", r->h.node.errmsg);
+    if (kelp_acomms_node_push(&r->h.node, &m, r->now_us) != KELP_OK) replay_error(r, "push refused: %s", kelp_diag_text(&r->h.node.diag));
 }
 
 void cmd_push_ccl(replay *r, char **w, int n)
@@ -70,7 +70,7 @@ void cmd_push_ccl(replay *r, char **w, int n)
     replay_stamp(r);
     fprintf(r->out, "push queue=%s id=%u dest=%d bytes=%zu hex=%s\n", replay_name_of(r, m.key), (unsigned)m.key.id, m.dest, m.len,
             w[0]);
-    if (kelp_acomms_node_push(&r->h.node, &m, r->now_us) != KELP_OK) replay_error(r, "push refused: %s", r->h.node.errmsg);
+    if (kelp_acomms_node_push(&r->h.node, &m, r->now_us) != KELP_OK) replay_error(r, "push refused: %s", kelp_diag_text(&r->h.node.diag));
 }
 
 void cmd_data_request(replay *r, char **w, int n)
@@ -113,7 +113,7 @@ void cmd_data_request(replay *r, char **w, int n)
     }
     kelp_acomms_msg out;
     if (kelp_acomms_node_data_request(&r->h.node, &req, r->now_us, &out) != KELP_OK)
-        replay_error(r, "data request failed: %s", r->h.node.errmsg);
+        replay_error(r, "data request failed: %s", kelp_diag_text(&r->h.node.diag));
 }
 
 void cmd_ack(replay *r, char **w, int n)
@@ -192,7 +192,7 @@ void cmd_transmit(replay *r, char **w, int n)
     replay_stamp(r);
     fprintf(r->out, "transmit src=%d dest=%ld rate=%ld\n", r->cfg.modem_id, dest, rate);
     if (kelp_acomms_node_transmit(&r->h.node, r->cfg.modem_id, (int)dest, (unsigned)rate, r->now_us) != KELP_OK)
-        replay_error(r, "transmit failed: %s", r->h.node.errmsg);
+        replay_error(r, "transmit failed: %s", kelp_diag_text(&r->h.node.diag));
 }
 
 /* modem start | modem $CA... : the driver, and a sentence from the modem */

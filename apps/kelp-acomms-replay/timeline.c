@@ -128,7 +128,7 @@ static void advance_to(replay *r, int64_t t_us)
                 replay_on_event(r, &ev);
             }
         } else if (kelp_acomms_node_tick(&r->h.node, r->now_us) != KELP_OK) {
-            replay_error(r, "tick failed: %s", r->h.node.errmsg);
+            replay_error(r, "tick failed: %s", kelp_diag_text(&r->h.node.diag));
         }
         rmodem_tick(&r->modem, r->now_us);
     }

@@ -248,7 +248,7 @@ typedef struct kelp_acomms_node {
     } work;                       /**< scratch of one call (never held across an event callback
                                        that could start another transmission or a start) */
     kelp_acomms_node_counters count;
-    const char *errmsg;
+    kelp_diag diag;               /**< why the last failed call failed (each failure replaces it) */
 } kelp_acomms_node;
 
 void kelp_acomms_node_cfg_default(kelp_acomms_node_cfg *cfg);

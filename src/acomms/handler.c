@@ -79,6 +79,12 @@ static kelp_diag *fresh(kelp_acomms_handler *h)
     return &h->diag;
 }
 
+/* the reason the node gave for its last failure, or dflt when none */
+static const char *node_reason(const kelp_acomms_handler *h, const char *dflt)
+{
+    return h->node.diag.code ? kelp_diag_text(&h->node.diag) : dflt;
+}
+
 /* the reason h->diag holds, or dflt when the failed call gave none */
 static const char *reason(const kelp_acomms_handler *h, const char *dflt)
 {
@@ -396,7 +402,7 @@ static int add_queues(kelp_acomms_handler *h, int64_t now_us)
         int rc = kelp_acomms_node_add_queue(&h->node, &q, now_us);
         if (rc) {
             h->nnames--;
-            (void)kelp_fail(&h->diag, rc, h->node.errmsg);
+            (void)kelp_fail(&h->diag, rc, node_reason(h, NULL));
             h->err_queue = info.name;
             h->err_id = info.id;
             return rc;
@@ -416,7 +422,7 @@ static int add_queues(kelp_acomms_handler *h, int64_t now_us)
         int rc = kelp_acomms_node_add_queue(&h->node, &q, now_us);
         if (rc) {
             h->nnames--;
-            (void)kelp_fail(&h->diag, rc, h->node.errmsg);
+            (void)kelp_fail(&h->diag, rc, node_reason(h, NULL));
             h->err_queue = cq->name;
             h->err_id = q.key.id;
             h->err_ccl = true;
@@ -443,7 +449,7 @@ int kelp_acomms_handler_init(kelp_acomms_handler *h, const kelp_acomms_config *c
     kelp_acomms_node_ops ops = { node_write, node_event, on_demand };
     int rc = kelp_acomms_node_init(&h->node, nc, h->queues, KELP_ACOMMS_MAX_QUEUES, pool, cap_pool, &ops, h);
     if (rc) {
-        (void)kelp_fail(&h->diag, rc, h->node.errmsg);
+        (void)kelp_fail(&h->diag, rc, node_reason(h, NULL));
         return rc;
     }
     rc = add_queues(h, us_of(now));
@@ -487,7 +493,7 @@ int kelp_acomms_handler_start(kelp_acomms_handler *h, bool link_up, double now)
     if (h->has_codec) h->codec.start(h->codec.ctx, now);
     int rc = kelp_acomms_node_start(&h->node, us_of(now));
     if (rc) {
-        (void)kelp_fail(&h->diag, rc, h->node.errmsg);
+        (void)kelp_fail(&h->diag, rc, node_reason(h, NULL));
         return rc;
     }
     h->started = true;
@@ -528,7 +534,7 @@ static void mail_ccl(kelp_acomms_handler *h, const kelp_acomms_qname *n, const k
     int rc = kelp_acomms_node_push(&h->node, m, now_us);
     if (rc) {
         h->count.push_errors++;
-        WARN(h, "cannot queue %s: %s", v->name, h->node.errmsg ? h->node.errmsg : kelp_strerror(rc));
+        WARN(h, "cannot queue %s: %s", v->name, node_reason(h, kelp_strerror(rc)));
     } else {
         h->count.pushed++;
     }
@@ -560,7 +566,7 @@ static void mail_command(kelp_acomms_handler *h, const kelp_var *v, int64_t now_
         }
         if (r.src == 0) r.src = h->cfg->modem_id;
         if (kelp_acomms_node_range(&h->node, &r, now_us) != KELP_OK)
-            WARN(h, "ranging refused: %s", h->node.errmsg ? h->node.errmsg : "?");
+            WARN(h, "ranging refused: %s", node_reason(h, "?"));
         return;
     }
     kelp_acomms_mac_update *u = &h->work.mac_update;
@@ -570,7 +576,7 @@ static void mail_command(kelp_acomms_handler *h, const kelp_var *v, int64_t now_
     }
     int rc = kelp_acomms_node_mac_update(&h->node, u, now_us);
     if (rc == KELP_ERR_NOTFOUND) return; /* for another modem */
-    if (rc) WARN(h, "MAC update refused: %s", h->node.errmsg ? h->node.errmsg : kelp_strerror(rc));
+    if (rc) WARN(h, "MAC update refused: %s", node_reason(h, kelp_strerror(rc)));
     else EVENT(h, "MAC cycle updated: %zu slot(s), cycle %u s", u->nslots, kelp_mac_cycle_length(&h->node.mac));
 }
 
@@ -617,7 +623,7 @@ void kelp_acomms_handler_link_up(kelp_acomms_handler *h, double now)
     EVENT(h, "modem link %s: %s", first ? "up" : "re-established", h->link_desc ? h->link_desc : "");
     /* the start-up sequence already went out if the link was open at start */
     if (!(first && h->started_on_link) && kelp_acomms_node_restart_driver(&h->node, us_of(now)) != KELP_OK)
-        WARN(h, "driver restart failed: %s", h->node.errmsg ? h->node.errmsg : "?");
+        WARN(h, "driver restart failed: %s", node_reason(h, "?"));
 }
 
 void kelp_acomms_handler_link_lost(kelp_acomms_handler *h, const char *why)

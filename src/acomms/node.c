@@ -26,6 +26,18 @@ void kelp_acomms_queue_cfg_from_info(const kelp_acomms_dccl_info *info, kelp_que
     q->no_queue = (info->manip & KELP_ACOMMS_MANIP_NO_QUEUE) != 0;
 }
 
+/* record a failure of this call in n->diag (replacing an older one: the node outlives its
+ * calls): the inner module's reason when it gave one, else the node's own; returns rc */
+static int node_fail(kelp_acomms_node *n, int rc, const char *inner, const char *own)
+{
+#ifdef KELP_NO_ERRMSG
+    (void)inner, (void)own;
+#endif
+    kelp_diag_clear(&n->diag);
+    (void)kelp_fail(&n->diag, rc, inner ? inner : own);
+    return rc;
+}
+
 static void emit(kelp_acomms_node *n, const kelp_acomms_event *ev)
 {
     if (n->ops.event) n->ops.event(ev, n->user);
@@ -66,7 +78,7 @@ static int request_frame(kelp_acomms_node *n, const kelp_queue_request *req, kel
 {
     int rc = kelp_queue_data_request(&n->q, req, n->now_us, out);
     if (rc) {
-        n->errmsg = n->q.errmsg ? n->q.errmsg : "acomms: data request failed";
+        (void)node_fail(n, rc, n->q.errmsg, "acomms: data request failed");
         out->len = 0;
         return rc;
     }
@@ -151,12 +163,10 @@ int kelp_acomms_node_init(kelp_acomms_node *n, const kelp_acomms_node_cfg *cfg, 
     if (!n || !cfg) return KELP_ERR_ARG;
     memset(n, 0, sizeof *n);
     if (cfg->modem_id < 1 || cfg->modem_id > 31) {
-        n->errmsg = "acomms: modem_id must be 1..31 (0 is broadcast)";
-        return KELP_ERR_ARG;
+        return node_fail(n, KELP_ERR_ARG, NULL, "acomms: modem_id must be 1..31 (0 is broadcast)");
     }
     if (cfg->driver != KELP_ACOMMS_DRIVER_NONE && cfg->driver != KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
-        n->errmsg = "acomms: unknown driver type";
-        return KELP_ERR_ARG;
+        return node_fail(n, KELP_ERR_ARG, NULL, "acomms: unknown driver type");
     }
     n->modem_id = cfg->modem_id;
     n->driver = cfg->driver;
@@ -166,8 +176,7 @@ int kelp_acomms_node_init(kelp_acomms_node *n, const kelp_acomms_node_cfg *cfg, 
     n->user = user;
     int rc = kelp_queue_init(&n->q, cfg->modem_id, queues, cap_queues, pool, cap_pool, on_queue, on_demand, n);
     if (rc) {
-        n->errmsg = n->q.errmsg ? n->q.errmsg : "acomms: queue storage";
-        return rc;
+        return node_fail(n, rc, n->q.errmsg, "acomms: queue storage");
     }
     if (n->driver == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
         kelp_mmdriver_cfg mc = cfg->mm;
@@ -175,8 +184,7 @@ int kelp_acomms_node_init(kelp_acomms_node *n, const kelp_acomms_node_cfg *cfg, 
         kelp_mmdriver_ops mo = { mm_write, mm_event, mm_data_request };
         rc = kelp_mmdriver_init(&n->mm, &mc, &mo, n);
         if (rc) {
-            n->errmsg = "acomms: bad Micro-Modem driver configuration";
-            return rc;
+            return node_fail(n, rc, NULL, "acomms: bad Micro-Modem driver configuration");
         }
     }
     /* the MAC starts in kelp_acomms_node_start; keep its configuration by initialising now
@@ -185,8 +193,7 @@ int kelp_acomms_node_init(kelp_acomms_node *n, const kelp_acomms_node_cfg *cfg, 
     mac.modem_id = cfg->modem_id;
     rc = kelp_mac_init(&n->mac, &mac, 0);
     if (rc) {
-        n->errmsg = n->mac.errmsg ? n->mac.errmsg : "acomms: bad MAC configuration";
-        return rc;
+        return node_fail(n, rc, n->mac.errmsg, "acomms: bad MAC configuration");
     }
     return KELP_OK;
 }
@@ -196,7 +203,7 @@ int kelp_acomms_node_add_queue(kelp_acomms_node *n, const kelp_queue_cfg *cfg, i
     if (!n || !cfg) return KELP_ERR_ARG;
     n->now_us = now_us;
     int rc = kelp_queue_add(&n->q, cfg, now_us);
-    if (rc) n->errmsg = n->q.errmsg ? n->q.errmsg : "acomms: cannot add queue";
+    if (rc) (void)node_fail(n, rc, n->q.errmsg, "acomms: cannot add queue");
     return rc;
 }
 
@@ -221,14 +228,12 @@ int kelp_acomms_node_start(kelp_acomms_node *n, int64_t now_us)
     }
     int rc = kelp_mac_init(&n->mac, &mc, now_us);
     if (rc) {
-        n->errmsg = n->mac.errmsg ? n->mac.errmsg : "acomms: MAC start failed";
-        return rc;
+        return node_fail(n, rc, n->mac.errmsg, "acomms: MAC start failed");
     }
     if (n->driver == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
         rc = kelp_mmdriver_start(&n->mm, now_us);
         if (rc) {
-            n->errmsg = n->mm.errmsg ? n->mm.errmsg : "acomms: driver start failed";
-            return rc;
+            return node_fail(n, rc, n->mm.errmsg, "acomms: driver start failed");
         }
     }
     n->started = true;
@@ -242,7 +247,7 @@ int kelp_acomms_node_restart_driver(kelp_acomms_node *n, int64_t now_us)
     n->now_us = now_us;
     n->count.driver_restarts++;
     int rc = kelp_mmdriver_start(&n->mm, now_us);
-    if (rc) n->errmsg = n->mm.errmsg ? n->mm.errmsg : "acomms: driver restart failed";
+    if (rc) (void)node_fail(n, rc, n->mm.errmsg, "acomms: driver restart failed");
     return rc;
 }
 
@@ -290,14 +295,13 @@ int kelp_acomms_node_transmit(kelp_acomms_node *n, int src, int dest, unsigned r
 {
     if (!n) return KELP_ERR_ARG;
     if (rate > 5) {
-        n->errmsg = "acomms: rate must be 0..5";
-        return KELP_ERR_RANGE;
+        return node_fail(n, KELP_ERR_RANGE, NULL, "acomms: rate must be 0..5");
     }
     n->now_us = now_us;
     n->count.transmissions++;
     if (n->driver == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
         int rc = kelp_mmdriver_initiate_transmission(&n->mm, src, dest, rate, now_us);
-        if (rc) n->errmsg = n->mm.errmsg ? n->mm.errmsg : "acomms: cannot initiate transmission";
+        if (rc) (void)node_fail(n, rc, n->mm.errmsg, "acomms: cannot initiate transmission");
         return rc;
     }
     return transmit_internal(n, src, dest, rate, now_us);
@@ -308,12 +312,11 @@ int kelp_acomms_node_range(kelp_acomms_node *n, const kelp_acomms_range_req *r, 
     if (!n || !r) return KELP_ERR_ARG;
     n->now_us = now_us;
     if (n->driver != KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
-        n->errmsg = "acomms: ranging needs a modem driver";
-        return KELP_ERR_STATE;
+        return node_fail(n, KELP_ERR_STATE, NULL, "acomms: ranging needs a modem driver");
     }
     n->count.ranging++;
     int rc = kelp_mmdriver_initiate_ranging(&n->mm, r->src, r->dest, r->type, r->max_range, r->enable_beacons, now_us);
-    if (rc) n->errmsg = n->mm.errmsg ? n->mm.errmsg : "acomms: cannot start ranging";
+    if (rc) (void)node_fail(n, rc, n->mm.errmsg, "acomms: cannot start ranging");
     return rc;
 }
 
@@ -322,7 +325,7 @@ int kelp_acomms_node_mac_update(kelp_acomms_node *n, const kelp_acomms_mac_updat
     if (!n || !u) return KELP_ERR_ARG;
     n->now_us = now_us;
     int rc = kelp_mac_update(&n->mac, u->dest, u->type, u->slot, u->nslots, now_us);
-    if (rc && rc != KELP_ERR_NOTFOUND) n->errmsg = n->mac.errmsg ? n->mac.errmsg : "acomms: MAC update refused";
+    if (rc && rc != KELP_ERR_NOTFOUND) (void)node_fail(n, rc, n->mac.errmsg, "acomms: MAC update refused");
     return rc;
 }
 
@@ -362,7 +365,7 @@ int kelp_acomms_node_tick(kelp_acomms_node *n, int64_t now_us)
         }
         if (act.kind == KELP_MAC_ACT_TRANSMIT) {
             if (kelp_acomms_node_transmit(n, act.src, act.dest, act.rate, now_us) != KELP_OK) {
-                /* reported through errmsg; the cycle goes on */
+                /* reported through n->diag; the cycle goes on */
             }
         } else if (act.kind == KELP_MAC_ACT_RANGING && n->driver == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
             kelp_acomms_range_req r;
@@ -372,15 +375,14 @@ int kelp_acomms_node_tick(kelp_acomms_node *n, int64_t now_us)
             r.max_range = 1000;
             r.enable_beacons = 15;
             if (kelp_acomms_node_range(n, &r, now_us) != KELP_OK) {
-                /* reported through errmsg */
+                /* reported through n->diag */
             }
         }
     }
     if (n->driver == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM && n->link_up) {
         int rc = kelp_mmdriver_tick(&n->mm, now_us);
         if (rc) {
-            n->errmsg = n->mm.errmsg ? n->mm.errmsg : "acomms: modem not responding";
-            return rc;
+            return node_fail(n, rc, n->mm.errmsg, "acomms: modem not responding");
         }
     }
     return KELP_OK;
@@ -399,7 +401,7 @@ int kelp_acomms_node_push(kelp_acomms_node *n, const kelp_acomms_msg *msg, int64
     if (!n || !msg) return KELP_ERR_ARG;
     n->now_us = now_us;
     int rc = kelp_queue_push(&n->q, msg, now_us);
-    if (rc) n->errmsg = n->q.errmsg ? n->q.errmsg : "acomms: push refused";
+    if (rc) (void)node_fail(n, rc, n->q.errmsg, "acomms: push refused");
     return rc;
 }
 
