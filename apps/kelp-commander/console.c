@@ -142,11 +142,12 @@ static void main_action(cmdr_app *s, console *c)
 
 static void prompt_done(cmdr_app *s, console *c)
 {
-    char err[512];
-    int rc = c->prompt_id == P_LOAD   ? cmdr_load_file(s, c->buf, err, sizeof err)
-             : c->prompt_id == P_SAVE ? cmdr_save_file(s, c->buf, err, sizeof err)
-                                      : cmdr_import(s, c->buf, err, sizeof err);
-    if (rc < 0) status(c, "%s", err);
+    kelp_diag err;
+    kelp_diag_clear(&err);
+    int rc = c->prompt_id == P_LOAD   ? cmdr_load_file(s, c->buf, &err)
+             : c->prompt_id == P_SAVE ? cmdr_save_file(s, c->buf, &err)
+                                      : cmdr_import(s, c->buf, &err);
+    if (rc < 0) status(c, "%s", kelp_diag_text(&err));
     else status(c, "%s: done", c->buf);
     c->screen_id = SCR_MAIN;
     c->sel = 0;

@@ -68,7 +68,7 @@ static int script_fields(cmdr_app *s)
 static int startup(kelp_app *app, void *st)
 {
     cmdr_app *s = st;
-    char err[512], warn[2048];
+    char warn[2048];
     kelp_diag d;
     kelp_diag_clear(&d);
     s->app = app;
@@ -93,7 +93,7 @@ static int startup(kelp_app *app, void *st)
     kelp_cmdr_init(&s->core, &s->ld.set, &s->geo);
     s->core.force_xy_only = xy;
     for (unsigned i = 0; i < s->n_load; i++)
-        if (cmdr_load_file(s, s->load[i], err, sizeof err) < 0) return kelp_app_config_error(app, NULL, "load: %s", err);
+        if (cmdr_load_file(s, s->load[i], &d) < 0) return kelp_app_config_error(app, NULL, "load: %s", kelp_diag_text(&d));
     if (kelp_app_register(app, "ACOMMS_ACK", 0) < 0 || kelp_app_register(app, "ACOMMS_EXPIRE", 0) < 0)
         return kelp_app_config_error(app, NULL, "cannot register ACOMMS_ACK / ACOMMS_EXPIRE");
     for (unsigned i = 0; i < s->n_show; i++)
