@@ -38,9 +38,8 @@ int main(void)
     double t0 = now_s();
     size_t len = 0;
     for (int i = 0; i < N; i++) {
-        const char *why;
         if (kelp_acomms_print_data(&m, buf, sizeof buf, &len) != KELP_OK) return 1;
-        if (kelp_acomms_parse_data(buf, len, &back, &why) != KELP_OK) return 1;
+        if (kelp_acomms_parse_data(buf, len, &back, NULL) != KELP_OK) return 1;
     }
     double dt = now_s() - t0;
     printf("textformat: print+parse of a 256-byte ModemDataTransmission (%zu chars): %.2f us per round trip\n", len,

@@ -42,12 +42,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     text[size] = 0;
     kelp_cmdr_init(&c, &ld.set, &geo);
     c.force_xy_only = size & 1;
-    unsigned line;
-    const char *why;
     size_t n;
-    (void)kelp_cmdr_load(&c, text, &line, &why);
+    (void)kelp_cmdr_load(&c, text, NULL);
     if (kelp_cmdr_save(&c, out, sizeof out, &n) == 0 && strlen(out) != n) abort();
-    for (unsigned i = 0; i < c.n_open; i++) (void)kelp_cmdr_send(&c, i, 1.7e9, pubs, KELP_CMDR_MAX_PUBS, &n, &why);
+    for (unsigned i = 0; i < c.n_open; i++) (void)kelp_cmdr_send(&c, i, 1.7e9, pubs, KELP_CMDR_MAX_PUBS, &n, NULL);
     (void)kelp_cmdr_ack_note(&c, true, text, 1.7e9, out, sizeof out);
     return 0;
 }

@@ -56,7 +56,7 @@ START_TEST(test_escapes_and_round_trip)
     m.has_time = true;
     m.time = 1295698086.887950;
     ck_assert_int_eq(kelp_acomms_print_data(&m, buf, sizeof buf, NULL), 0);
-    const char *why = NULL;
+    kelp_diag why = {0};
     ck_assert_int_eq(kelp_acomms_parse_data(buf, strlen(buf), &back, &why), 0);
     ck_assert_uint_eq(back.len, 256);
     ck_assert_int_eq(memcmp(back.data, m.data, 256), 0);
@@ -70,7 +70,7 @@ END_TEST
 START_TEST(test_parse_data_forms)
 {
     kelp_acomms_msg m;
-    const char *why = NULL;
+    kelp_diag why = {0};
     const char *seed = "data: \"\\002\\002\\003\\004\"";
     ck_assert_int_eq(kelp_acomms_parse_data(seed, strlen(seed), &m, &why), 0);
     ck_assert_uint_eq(m.len, 4);
@@ -106,14 +106,23 @@ START_TEST(test_parse_data_forms)
                                        "queue_key { type: QUEUE_FOO id: 1 }", "base { src: 1", "}", "data 1",
                                        "data: \"\\q\"", "ack_requested: maybe" };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        why = NULL;
-        ck_assert_msg(kelp_acomms_parse_data(bad[i], strlen(bad[i]), &m, &why) < 0, "accepted: %s", bad[i]);
-        ck_assert_ptr_nonnull(why);
+        kelp_diag_clear(&why);
+        int rc = kelp_acomms_parse_data(bad[i], strlen(bad[i]), &m, &why);
+        ck_assert_msg(rc < 0, "accepted: %s", bad[i]);
+        ck_assert_int_eq(why.code, rc);
+#ifndef KELP_NO_ERRMSG
+        ck_assert_str_ne(why.msg, "");
+#endif
     }
     char big[1400] = "data: \"";
     for (int i = 0; i < 300; i++) strcat(big, "\\001");
     strcat(big, "\"");
+    kelp_diag_clear(&why);
     ck_assert_int_eq(kelp_acomms_parse_data(big, strlen(big), &m, &why), KELP_ERR_NOSPACE);
+    ck_assert_int_eq(why.code, KELP_ERR_NOSPACE);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(why.msg, "data longer than a modem frame");
+#endif
 }
 END_TEST
 
@@ -122,7 +131,7 @@ START_TEST(test_parse_mac_update_seed)
     /* seed 002 section 2.3.6: the C++ MACUpdate example, serialized (acomms.md 2.4 [DERIVED]) */
     const char *t = "dest: 1 update_type: ADD slot { src: 1 dest: 3 rate: 0 type: SLOT_DATA slot_seconds: 15 }";
     kelp_acomms_mac_update u;
-    const char *why = NULL;
+    kelp_diag why = {0};
     ck_assert_int_eq(kelp_acomms_parse_mac_update(t, strlen(t), &u, &why), 0);
     ck_assert_int_eq(u.dest, 1);
     ck_assert_int_eq(u.type, KELP_MAC_UPDATE_ADD);
@@ -149,7 +158,7 @@ END_TEST
 START_TEST(test_parse_range_req)
 {
     kelp_acomms_range_req r;
-    const char *why = NULL;
+    kelp_diag why = {0};
     const char *t = "base { src: 1 dest: 2 }";
     ck_assert_int_eq(kelp_acomms_parse_range_req(t, strlen(t), &r, &why), 0);
     ck_assert_int_eq(r.type, KELP_RANGING_TWO_WAY_PING); /* defaults of ModemRangingRequest */
@@ -160,7 +169,11 @@ START_TEST(test_parse_range_req)
     ck_assert_int_eq(r.type, KELP_RANGING_REMUS_LBL);
     ck_assert_uint_eq(r.max_range, 2000);
     ck_assert_uint_eq(r.enable_beacons, 5);
-    ck_assert_int_lt(kelp_acomms_parse_range_req("type: SONAR", 11, &r, &why), 0);
+    ck_assert_int_eq(kelp_acomms_parse_range_req("type: SONAR", 11, &r, &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(why.code, KELP_ERR_PARSE);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(why.msg, "type must be MODEM_TWO_WAY_PING, MODEM_ONE_WAY_SYNCHRONOUS or REMUS_LBL_RANGING");
+#endif
 }
 END_TEST
 
@@ -451,7 +464,10 @@ START_TEST(test_node_bad_config)
     kelp_acomms_node_cfg_default(&c);
     c.modem_id = 0; /* broadcast */
     ck_assert_int_eq(kelp_acomms_node_init(&n, &c, qs, 8, pool, 32, NULL, NULL), KELP_ERR_ARG);
-    ck_assert_ptr_nonnull(n.errmsg);
+    ck_assert_int_eq(n.diag.code, KELP_ERR_ARG);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(n.diag.msg, "acomms: modem_id must be 1..31 (0 is broadcast)");
+#endif
     c.modem_id = 32;
     ck_assert_int_eq(kelp_acomms_node_init(&n, &c, qs, 8, pool, 32, NULL, NULL), KELP_ERR_ARG);
     c.modem_id = 1;

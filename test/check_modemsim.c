@@ -749,7 +749,7 @@ END_TEST
 START_TEST(poller_slots_and_update_text)
 {
     kelp_mac_slot s[3];
-    const char *bad;
+    kelp_diag bad = {0};
     ck_assert_int_eq(kelp_poller_parse_slot("src=1,dest=3,rate=0,type=SLOT_DATA,slot_seconds=15", 10, &s[0], &bad),
                      KELP_OK);
     ck_assert_int_eq(s[0].src, 1);
@@ -778,13 +778,25 @@ START_TEST(poller_slots_and_update_text)
     ck_assert_int_eq(kelp_poller_format_slot(&s[2], buf, sizeof buf, &len), KELP_OK);
     ck_assert_str_eq(buf, "src=3,dest=-1,rate=0,type=ping,slot_seconds=5");
     /* errors name the key */
+    kelp_diag_clear(&bad);
     ck_assert_int_eq(kelp_poller_parse_slot("dest=1", 10, &s[0], &bad), KELP_ERR_PARSE);
-    ck_assert_str_eq(bad, "src");
+    ck_assert_int_eq(bad.code, KELP_ERR_PARSE);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(bad.msg, "src");
+#endif
+    kelp_diag_clear(&bad);
     ck_assert_int_eq(kelp_poller_parse_slot("src=1,rate=6", 10, &s[0], &bad), KELP_ERR_RANGE);
-    ck_assert_str_eq(bad, "rate");
+    ck_assert_int_eq(bad.code, KELP_ERR_RANGE);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(bad.msg, "rate");
+#endif
     ck_assert_int_eq(kelp_poller_parse_slot("src=32", 10, &s[0], &bad), KELP_ERR_RANGE);
+    kelp_diag_clear(&bad);
     ck_assert_int_eq(kelp_poller_parse_slot("src=1,type=bogus", 10, &s[0], &bad), KELP_ERR_PARSE);
-    ck_assert_str_eq(bad, "type");
+    ck_assert_int_eq(bad.code, KELP_ERR_PARSE);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(bad.msg, "type");
+#endif
     ck_assert_int_eq(kelp_poller_parse_slot("src=1,colour=red", 10, &s[0], &bad), KELP_ERR_PARSE);
     ck_assert_int_eq(kelp_poller_parse_slot("src=1,slot_seconds=0", 10, &s[0], &bad), KELP_ERR_RANGE);
     ck_assert_int_eq(kelp_poller_parse_slot("src=1x", 10, &s[0], &bad), KELP_ERR_PARSE);

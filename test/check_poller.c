@@ -9,7 +9,7 @@ START_TEST(poller_commands)
     kelp_poller_list l;
     memset(&l, 0, sizeof l);
     l.default_seconds = 15;
-    const char *why = NULL;
+    kelp_diag why = {0};
     ck_assert_int_eq(kelp_poller_add(&l, "src=2,dest=1", &why), 0);
     ck_assert_int_eq(kelp_poller_command(&l, "add src=3,dest=1,rate=1,slot_seconds=20", &why), 1);
     ck_assert_uint_eq(l.n, 2);
@@ -17,8 +17,12 @@ START_TEST(poller_commands)
     ck_assert_int_eq(kelp_poller_command(&l, "remove src=2,dest=1", &why), 1);
     ck_assert_uint_eq(l.n, 1);
     ck_assert_int_eq(l.slot[0].src, 3);
-    ck_assert_int_lt(kelp_poller_command(&l, "remove src=9,dest=1", &why), 0);
-    ck_assert_str_eq(why, "no such slot");
+    ck_assert_int_eq(kelp_poller_command(&l, "remove src=9,dest=1", &why), KELP_ERR_NOTFOUND);
+    ck_assert_int_eq(why.code, KELP_ERR_NOTFOUND);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(why.msg, "no such slot");
+#endif
+    kelp_diag_clear(&why);
     /* replace is all or nothing */
     ck_assert_int_lt(kelp_poller_command(&l, "replace src=4,dest=1;src=99,dest=1", &why), 0);
     ck_assert_uint_eq(l.n, 1);
@@ -31,7 +35,12 @@ START_TEST(poller_commands)
     ck_assert_int_eq(kelp_poller_command(&l, "resume", &why), 1);
     ck_assert(!l.paused);
     ck_assert_int_eq(kelp_poller_command(&l, "publish", &why), 1);
-    ck_assert_int_lt(kelp_poller_command(&l, "frobnicate", &why), 0);
+    kelp_diag_clear(&why);
+    ck_assert_int_eq(kelp_poller_command(&l, "frobnicate", &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(why.code, KELP_ERR_PARSE);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_ptr_nonnull(strstr(why.msg, "unknown command"));
+#endif
     ck_assert_int_lt(kelp_poller_command(&l, "add", &why), 0);
     ck_assert_int_eq(kelp_poller_command(&l, "clear", &why), 1);
     ck_assert_uint_eq(l.n, 0);

@@ -25,10 +25,11 @@ void cmd_push(replay *r, char **w, int n)
     kelp_acomms_msg m;
     memset(&m, 0, sizeof m);
     size_t len = 0;
-    const char *why = NULL;
+    kelp_diag why;
+    kelp_diag_clear(&why);
     if (kelp_acomms_dccl_encode_string(r->dccl, (size_t)idx, kv, replay_sec(r->now_us), m.data, sizeof m.data, &len,
                                        &why) != KELP_OK) {
-        replay_error(r, "cannot encode: %s", why);
+        replay_error(r, "cannot encode: %s", kelp_diag_text(&why));
         return;
     }
     kelp_acomms_dccl_info info;
@@ -41,7 +42,7 @@ void cmd_push(replay *r, char **w, int n)
     fprintf(r->out, "push queue=%s id=%u dest=%d bytes=%zu hex=", info.name, info.id, m.dest, len);
     replay_hex(r->out, m.data, len);
     fputc('\n', r->out);
-    if (kelp_acomms_node_push(&r->h.node, &m, replay_sec(r->now_us)) != KELP_OK) replay_error(r, "push refused: %s", r->h.node.errmsg);
+    if (kelp_acomms_node_push(&r->h.node, &m, replay_sec(r->now_us)) != KELP_OK) replay_error(r, "push refused: %s", kelp_diag_text(&r->h.node.diag));
 }
 
 void cmd_push_ccl(replay *r, char **w, int n)
@@ -69,7 +70,7 @@ void cmd_push_ccl(replay *r, char **w, int n)
     replay_stamp(r);
     fprintf(r->out, "push queue=%s id=%u dest=%d bytes=%zu hex=%s\n", replay_name_of(r, m.key), (unsigned)m.key.id, m.dest, m.len,
             w[0]);
-    if (kelp_acomms_node_push(&r->h.node, &m, replay_sec(r->now_us)) != KELP_OK) replay_error(r, "push refused: %s", r->h.node.errmsg);
+    if (kelp_acomms_node_push(&r->h.node, &m, replay_sec(r->now_us)) != KELP_OK) replay_error(r, "push refused: %s", kelp_diag_text(&r->h.node.diag));
 }
 
 void cmd_data_request(replay *r, char **w, int n)
@@ -112,7 +113,7 @@ void cmd_data_request(replay *r, char **w, int n)
     }
     kelp_acomms_msg out;
     if (kelp_acomms_node_data_request(&r->h.node, &req, replay_sec(r->now_us), &out) != KELP_OK)
-        replay_error(r, "data request failed: %s", r->h.node.errmsg);
+        replay_error(r, "data request failed: %s", kelp_diag_text(&r->h.node.diag));
 }
 
 void cmd_ack(replay *r, char **w, int n)
@@ -191,7 +192,7 @@ void cmd_transmit(replay *r, char **w, int n)
     replay_stamp(r);
     fprintf(r->out, "transmit src=%d dest=%ld rate=%ld\n", r->cfg.modem_id, dest, rate);
     if (kelp_acomms_node_transmit(&r->h.node, r->cfg.modem_id, (int)dest, (unsigned)rate, replay_sec(r->now_us)) != KELP_OK)
-        replay_error(r, "transmit failed: %s", r->h.node.errmsg);
+        replay_error(r, "transmit failed: %s", kelp_diag_text(&r->h.node.diag));
 }
 
 /* modem start | modem $CA... : the driver, and a sentence from the modem */

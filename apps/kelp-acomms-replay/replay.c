@@ -143,11 +143,11 @@ static int start_handler(replay *r)
     double now = replay_sec(r->now_us);
     int rc = kelp_acomms_handler_init(&r->h, &r->cfg, &nc, &r->codec, r->pool, KELP_ACOMMS_MAX_POOL, &sink, now);
     if (rc && r->h.err_queue) {
-        fprintf(stderr, "kelp-acomms-replay: queue %s: %s\n", r->h.err_queue, r->h.errmsg);
+        fprintf(stderr, "kelp-acomms-replay: queue %s: %s\n", r->h.err_queue, kelp_diag_text(&r->h.diag));
         return rc;
     }
     if (!rc) rc = kelp_acomms_handler_start(&r->h, false, now);
-    if (rc) fprintf(stderr, "kelp-acomms-replay: %s\n", r->h.errmsg ? r->h.errmsg : kelp_strerror(rc));
+    if (rc) fprintf(stderr, "kelp-acomms-replay: %s\n", kelp_diag_text(&r->h.diag));
     return rc;
 }
 

@@ -128,7 +128,7 @@ static void advance_to(replay *r, int64_t t_us)
                 replay_on_event(r, &ev);
             }
         } else if (kelp_acomms_node_tick(&r->h.node, replay_sec(r->now_us)) != KELP_OK) {
-            replay_error(r, "tick failed: %s", r->h.node.errmsg);
+            replay_error(r, "tick failed: %s", kelp_diag_text(&r->h.node.diag));
         }
         rmodem_tick(&r->modem, r->now_us);
     }
@@ -199,13 +199,14 @@ void replay_run_line(replay *r, char *line)
     if (!L) return;
     if (strncmp(line, "mac_update ", 11) == 0) {
         kelp_acomms_mac_update u;
-        const char *why = NULL;
+        kelp_diag why;
+        kelp_diag_clear(&why);
         if (kelp_acomms_parse_mac_update(line + 11, strlen(line + 11), &u, &why) != KELP_OK)
             {
-            replay_error(r, "bad MACUpdate: %s", why);
+            replay_error(r, "bad MACUpdate: %s", kelp_diag_text(&why));
             return;
         }
-        int rc = kelp_acomms_node_mac_update(&r->h.node, &u, replay_sec(r->now_us));
+        int rc = kelp_acomms_node_mac_update(&r->h.node, &u, replay_sec(replay_sec(r->now_us)));
         replay_stamp(r);
         if (rc == KELP_ERR_NOTFOUND && u.dest != r->cfg.modem_id)
             fprintf(r->out, "mac_update ignored (dest %d is not us)\n", u.dest);
@@ -255,7 +256,7 @@ void replay_run_line(replay *r, char *line)
             replay_error(r, "heard needs a modem id");
             return;
         }
-        kelp_acomms_node_heard(&r->h.node, (int)v, replay_sec(r->now_us));
+        kelp_acomms_node_heard(&r->h.node, (int)v, replay_sec(replay_sec(r->now_us)));
         replay_stamp(r);
         fprintf(r->out, "heard id=%ld slots=%zu cycle=%u\n", v, r->h.node.mac.n, kelp_mac_cycle_length(&r->h.node.mac));
     } else if (!strcmp(w[0], "receive")) {

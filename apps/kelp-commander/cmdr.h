@@ -44,9 +44,9 @@ typedef struct cmdr_app {
 
 /* main.c */
 int cmdr_send(cmdr_app *s, unsigned msg, char *text, size_t cap);
-int cmdr_import(cmdr_app *s, const char *path, char *err, size_t errcap);
-int cmdr_load_file(cmdr_app *s, const char *path, char *err, size_t errcap);
-int cmdr_save_file(cmdr_app *s, const char *path, char *err, size_t errcap);
+int cmdr_import(cmdr_app *s, const char *path, kelp_diag *d);
+int cmdr_load_file(cmdr_app *s, const char *path, kelp_diag *d);
+int cmdr_save_file(cmdr_app *s, const char *path, kelp_diag *d);
 
 /* console.c */
 bool cmdr_console_start(cmdr_app *s);

@@ -30,11 +30,12 @@ static void edit(console *c, int msg)
 /* the typed text into the selected row (refused when the field does not take it) */
 static bool commit(cmdr_app *s, console *c)
 {
-    const char *why;
+    kelp_diag why;
+    kelp_diag_clear(&why);
     if (!c->typing) return true;
     c->typing = false;
     if (kelp_cmdr_set(&s->core, (unsigned)c->msg, c->row, c->buf, &why) < 0) {
-        status(c, "refused \"%s\": %s", c->buf, why);
+        status(c, "refused \"%s\": %s", c->buf, kelp_diag_text(&why));
         return false;
     }
     status(c, "%s", "");
@@ -91,9 +92,10 @@ static void menu_action(cmdr_app *s, console *c)
     case 2: {
         kelp_cmdr_pub p[KELP_CMDR_MAX_PUBS];
         size_t n;
-        const char *why;
+        kelp_diag why;
+        kelp_diag_clear(&why);
         if (kelp_cmdr_send(&s->core, (unsigned)c->msg, kelp_app_time(s->app), p, KELP_CMDR_MAX_PUBS, &n, &why) < 0) {
-            (void)snprintf(c->text, sizeof c->text, "cannot be sent: %s\n", why ? why : "too long");
+            (void)snprintf(c->text, sizeof c->text, "cannot be sent: %s\n", why.code ? kelp_diag_text(&why) : "too long");
         } else {
             size_t at = 0;
             c->text[0] = 0;
@@ -140,11 +142,12 @@ static void main_action(cmdr_app *s, console *c)
 
 static void prompt_done(cmdr_app *s, console *c)
 {
-    char err[512];
-    int rc = c->prompt_id == P_LOAD   ? cmdr_load_file(s, c->buf, err, sizeof err)
-             : c->prompt_id == P_SAVE ? cmdr_save_file(s, c->buf, err, sizeof err)
-                                      : cmdr_import(s, c->buf, err, sizeof err);
-    if (rc < 0) status(c, "%s", err);
+    kelp_diag err;
+    kelp_diag_clear(&err);
+    int rc = c->prompt_id == P_LOAD   ? cmdr_load_file(s, c->buf, &err)
+             : c->prompt_id == P_SAVE ? cmdr_save_file(s, c->buf, &err)
+                                      : cmdr_import(s, c->buf, &err);
+    if (rc < 0) status(c, "%s", kelp_diag_text(&err));
     else status(c, "%s: done", c->buf);
     c->screen_id = SCR_MAIN;
     c->sel = 0;

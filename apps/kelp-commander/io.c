@@ -12,54 +12,46 @@ static void full_path(const cmdr_app *s, const char *path, char *out, size_t cap
         (void)snprintf(out, cap, "%s", path);
 }
 
-int cmdr_import(cmdr_app *s, const char *path, char *err, size_t errcap)
+int cmdr_import(cmdr_app *s, const char *path, kelp_diag *d)
 {
     char p[1024];
     full_path(s, path, p, sizeof p);
-    kelp_diag d;
-    kelp_diag_clear(&d);
-    int rc = kelp_dccl_load_file(&s->ld, p, NULL, &d);
-    if (rc < 0) (void)snprintf(err, errcap, "%s", kelp_diag_text(&d));
-    return rc;
+    return kelp_dccl_load_file(&s->ld, p, NULL, d);
 }
 
-int cmdr_load_file(cmdr_app *s, const char *path, char *err, size_t errcap)
+int cmdr_load_file(cmdr_app *s, const char *path, kelp_diag *d)
 {
     char p[1024];
     full_path(s, path, p, sizeof p);
     FILE *f = fopen(p, "r");
-    if (!f) {
-        (void)snprintf(err, errcap, "%s: cannot read", p);
-        return KELP_ERR_IO;
-    }
+    if (!f) return kelp_failf(d, KELP_ERR_IO, "%s: cannot read", p);
     static char text[256 * 1024];
     size_t n = fread(text, 1, sizeof text - 1, f);
     fclose(f);
     text[n] = 0;
-    unsigned line;
-    const char *why;
-    int rc = kelp_cmdr_load(&s->core, text, &line, &why);
-    if (rc < 0) (void)snprintf(err, errcap, "%s:%u: %s", p, line, why);
+    kelp_diag why;
+    kelp_diag_clear(&why);
+    int rc = kelp_cmdr_load(&s->core, text, &why);
+    if (rc < 0) {
+        (void)kelp_failf(d, rc, "%s:%d: %s", p, why.line, kelp_diag_text(&why));
+        (void)kelp_diag_where(d, why.line, 0);
+    }
     return rc;
 }
 
-int cmdr_save_file(cmdr_app *s, const char *path, char *err, size_t errcap)
+int cmdr_save_file(cmdr_app *s, const char *path, kelp_diag *d)
 {
     static char text[256 * 1024];
     size_t n;
     char p[1024];
     full_path(s, path, p, sizeof p);
-    if (kelp_cmdr_save(&s->core, text, sizeof text, &n) < 0) {
-        (void)snprintf(err, errcap, "too much to save");
-        return KELP_ERR_NOSPACE;
-    }
+    if (kelp_cmdr_save(&s->core, text, sizeof text, &n) < 0) return kelp_fail(d, KELP_ERR_NOSPACE, "too much to save");
     FILE *f = fopen(p, "w");
     if (!f || fwrite(text, 1, n, f) != n) {
         if (f) fclose(f);
-        (void)snprintf(err, errcap, "%s: cannot write", p);
-        return KELP_ERR_IO;
+        return kelp_failf(d, KELP_ERR_IO, "%s: cannot write", p);
     }
-    return fclose(f) == 0 ? KELP_OK : KELP_ERR_IO;
+    return fclose(f) == 0 ? KELP_OK : kelp_failf(d, KELP_ERR_IO, "%s: cannot write", p);
 }
 
 /* publish a message's variables for pAcommsHandler; text gets what was sent (or why not) */
@@ -67,10 +59,11 @@ int cmdr_send(cmdr_app *s, unsigned msg, char *text, size_t cap)
 {
     kelp_cmdr_pub pubs[KELP_CMDR_MAX_PUBS];
     size_t n, at = 0;
-    const char *why;
+    kelp_diag why;
+    kelp_diag_clear(&why);
     int rc = kelp_cmdr_send(&s->core, msg, kelp_app_time(s->app), pubs, KELP_CMDR_MAX_PUBS, &n, &why);
     if (rc < 0) {
-        (void)snprintf(text, cap, "not sent: %s", why ? why : kelp_strerror(rc));
+        (void)snprintf(text, cap, "not sent: %s", kelp_diag_text(&why)[0] ? kelp_diag_text(&why) : kelp_strerror(rc));
         return rc;
     }
     text[0] = 0;

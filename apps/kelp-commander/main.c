@@ -48,7 +48,9 @@ static int script_fields(cmdr_app *s)
     if (m < 0) return kelp_app_config_error(s->app, NULL, "--send %s: no such message in the XML files", s->send_name);
     for (int i = 0; i < s->n_send_args; i++) {
         char buf[KELP_CMDR_VAL + KELP_DCCL_MAX_NAME];
-        const char *k, *v, *why;
+        const char *k, *v;
+        kelp_diag why;
+        kelp_diag_clear(&why);
         size_t kl, vl, pos = 0;
         (void)snprintf(buf, sizeof buf, "%s", s->send_args[i]);
         if (kelp_kv_next(buf, '\n', &pos, &k, &kl, &v, &vl) != 1)
@@ -58,7 +60,7 @@ static int script_fields(cmdr_app *s)
         int row = kelp_cmdr_row(&s->core.open[m], k);
         if (row < 0) return kelp_app_config_error(s->app, NULL, "--send: %s has no field %s", s->send_name, k);
         if (kelp_cmdr_set(&s->core, (unsigned)m, (unsigned)row, v, &why) < 0)
-            return kelp_app_config_error(s->app, NULL, "--send: %s=%s: %s", k, v, why);
+            return kelp_app_config_error(s->app, NULL, "--send: %s=%s: %s", k, v, kelp_diag_text(&why));
     }
     return KELP_OK;
 }
@@ -66,7 +68,7 @@ static int script_fields(cmdr_app *s)
 static int startup(kelp_app *app, void *st)
 {
     cmdr_app *s = st;
-    char err[512], warn[2048];
+    char warn[2048];
     kelp_diag d;
     kelp_diag_clear(&d);
     s->app = app;
@@ -91,7 +93,7 @@ static int startup(kelp_app *app, void *st)
     kelp_cmdr_init(&s->core, &s->ld.set, &s->geo);
     s->core.force_xy_only = xy;
     for (unsigned i = 0; i < s->n_load; i++)
-        if (cmdr_load_file(s, s->load[i], err, sizeof err) < 0) return kelp_app_config_error(app, NULL, "load: %s", err);
+        if (cmdr_load_file(s, s->load[i], &d) < 0) return kelp_app_config_error(app, NULL, "load: %s", kelp_diag_text(&d));
     if (kelp_app_register(app, "ACOMMS_ACK", 0) < 0 || kelp_app_register(app, "ACOMMS_EXPIRE", 0) < 0)
         return kelp_app_config_error(app, NULL, "cannot register ACOMMS_ACK / ACOMMS_EXPIRE");
     for (unsigned i = 0; i < s->n_show; i++)

@@ -192,11 +192,12 @@ static int init_core(handler *h, double now)
                                     NULL };
     int rc = kelp_acomms_handler_init(&h->core, &h->cfg, &nc, &h->codec, h->pool, KELP_ACOMMS_MAX_POOL, &sink, now);
     if (rc && h->core.err_queue && h->core.err_ccl)
-        return kelp_app_config_error(h->app, NULL, "cannot add CCL queue %s: %s", h->core.err_queue, h->core.errmsg);
+        return kelp_app_config_error(h->app, NULL, "cannot add CCL queue %s: %s", h->core.err_queue,
+                                     kelp_diag_text(&h->core.diag));
     if (rc && h->core.err_queue)
         return kelp_app_config_error(h->app, NULL, "cannot add the queue of DCCL message %s (id %u): %s",
-                                     h->core.err_queue, h->core.err_id, h->core.errmsg);
-    if (rc) return kelp_app_config_error(h->app, NULL, "%s", h->core.errmsg ? h->core.errmsg : kelp_strerror(rc));
+                                     h->core.err_queue, h->core.err_id, kelp_diag_text(&h->core.diag));
+    if (rc) return kelp_app_config_error(h->app, NULL, "%s", kelp_diag_text(&h->core.diag));
     return KELP_OK;
 }
 
@@ -221,7 +222,7 @@ int handler_startup(kelp_app *app, void *state)
         link_up = kelp_link_connected(h->link);
     }
     int rc = kelp_acomms_handler_start(&h->core, link_up, now);
-    if (rc) return kelp_app_config_error(app, NULL, "%s", h->core.errmsg ? h->core.errmsg : kelp_strerror(rc));
+    if (rc) return kelp_app_config_error(app, NULL, "%s", kelp_diag_text(&h->core.diag));
     return 0;
 }
 

@@ -86,8 +86,10 @@ static int block_to_spec(kelp_app *app, const kelp_mission_node *blk, char *out,
 
 static int add_slot(kelp_app *app, poller *p, const char *spec, const kelp_mission_node *at)
 {
-    const char *why = "";
-    if (kelp_poller_add(&p->list, spec, &why) < 0) return kelp_app_config_error(app, at, "poll slot '%s': %s", spec, why);
+    kelp_diag why;
+    kelp_diag_clear(&why);
+    if (kelp_poller_add(&p->list, spec, &why) < 0)
+        return kelp_app_config_error(app, at, "poll slot '%s': %s", spec, kelp_diag_text(&why));
     check_slot(app, p, &p->list.slot[p->list.n - 1]);
     return 0;
 }
@@ -144,12 +146,13 @@ static int startup(kelp_app *app, void *st)
 
 static void command(kelp_app *app, poller *p, const char *cmd)
 {
-    const char *why = "";
+    kelp_diag why;
+    kelp_diag_clear(&why);
     size_t before = p->list.n;
     p->commands++;
     if (kelp_poller_command(&p->list, cmd, &why) < 0) {
         p->bad_commands++;
-        kelp_app_run_warning(app, "%s '%s' refused (%s)", p->command_var, cmd, why);
+        kelp_app_run_warning(app, "%s '%s' refused (%s)", p->command_var, cmd, kelp_diag_text(&why));
         return;
     }
     for (size_t i = before; i < p->list.n; i++) check_slot(app, p, &p->list.slot[i]);

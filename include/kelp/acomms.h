@@ -102,20 +102,20 @@ void kelp_acomms_dccl_start(kelp_acomms_dccl *d, double now);
 size_t kelp_acomms_dccl_due(kelp_acomms_dccl *d, double now, size_t *idx, size_t cap);
 
 /** Encode message i from the remembered variables at `now` (UNIX seconds).
- *  @return 0, or <0 with *why set. */
+ *  @return 0, or <0 with diag set (may be NULL). */
 KELP_MUST_CHECK int kelp_acomms_dccl_encode_vars(kelp_acomms_dccl *d, size_t i, double now, uint8_t *out, size_t cap,
-                                                 size_t *len, const char **why);
+                                                 size_t *len, kelp_diag *diag);
 /** Encode message i from one "field=value,field=value" string that every field reads
  *  (header fields by their <name>, e.g. Destination=3). */
 KELP_MUST_CHECK int kelp_acomms_dccl_encode_string(kelp_acomms_dccl *d, size_t i, const char *kv, double now,
-                                                   uint8_t *out, size_t cap, size_t *len, const char **why);
+                                                   uint8_t *out, size_t cap, size_t *len, kelp_diag *diag);
 
 typedef void (*kelp_acomms_pub_fn)(const char *var, bool is_double, double dval, const char *sval, void *user);
 /** Decode one (unstitched, flags cleared) DCCL message and run its <publish> blocks, calling
  *  fn for each publication.  NO_DECODE messages give KELP_ERR_STATE.
- *  @return 0, or <0 with *why (unknown id, bad bytes). */
+ *  @return 0, or <0 with diag (unknown id, bad bytes; diag may be NULL). */
 KELP_MUST_CHECK int kelp_acomms_dccl_decode(kelp_acomms_dccl *d, const uint8_t *in, size_t n, double now,
-                                            kelp_acomms_pub_fn fn, void *user, const char **why);
+                                            kelp_acomms_pub_fn fn, void *user, kelp_diag *diag);
 /** "Name: field=value,field=value" of a message (every header and layout field). */
 KELP_MUST_CHECK int kelp_acomms_dccl_describe(kelp_acomms_dccl *d, const uint8_t *in, size_t n, double now, char *buf,
                                               size_t cap);
@@ -173,12 +173,12 @@ typedef struct kelp_acomms_mac_update {
 
 /** Parse a ModemDataTransmission (CCL out var, IN_ hex var).  Unknown fields, bad values and
  *  data longer than KELP_MAX_ACOMMS_FRAME are errors.  @return 0 or KELP_ERR_PARSE /
- *  KELP_ERR_NOSPACE with *why. */
-KELP_MUST_CHECK int kelp_acomms_parse_data(const char *text, size_t len, kelp_acomms_msg *out, const char **why);
-KELP_MUST_CHECK int kelp_acomms_parse_range_req(const char *text, size_t len, kelp_acomms_range_req *out, const char **why);
+ *  KELP_ERR_NOSPACE with d's reason (d may be NULL). */
+KELP_MUST_CHECK int kelp_acomms_parse_data(const char *text, size_t len, kelp_acomms_msg *out, kelp_diag *d);
+KELP_MUST_CHECK int kelp_acomms_parse_range_req(const char *text, size_t len, kelp_acomms_range_req *out, kelp_diag *d);
 /** dest is required; slot fields default as Slot does (dest -1, rate 0, SLOT_DATA). */
 KELP_MUST_CHECK int kelp_acomms_parse_mac_update(const char *text, size_t len, kelp_acomms_mac_update *out,
-                                                 const char **why);
+                                                 kelp_diag *d);
 
 /* ================================================================== 3. the node (core) */
 
@@ -249,7 +249,7 @@ typedef struct kelp_acomms_node {
     } work;                       /**< scratch of one call (never held across an event callback
                                        that could start another transmission or a start) */
     kelp_acomms_node_counters count;
-    const char *errmsg;
+    kelp_diag diag;               /**< why the last failed call failed (each failure replaces it) */
 } kelp_acomms_node;
 
 void kelp_acomms_node_cfg_default(kelp_acomms_node_cfg *cfg);
@@ -439,9 +439,9 @@ typedef struct kelp_acomms_codec {
     size_t (*triggered)(void *ctx, const char *name, size_t *idx, size_t cap);
     void (*start)(void *ctx, double now);
     size_t (*due)(void *ctx, double now, size_t *idx, size_t cap);
-    int (*encode)(void *ctx, size_t i, double now, uint8_t *out, size_t cap, size_t *len, const char **why);
+    int (*encode)(void *ctx, size_t i, double now, uint8_t *out, size_t cap, size_t *len, kelp_diag *d);
     int (*decode)(void *ctx, const uint8_t *in, size_t n, double now, kelp_acomms_pub_fn fn, void *user,
-                  const char **why);
+                  kelp_diag *d);
     int (*describe)(void *ctx, const uint8_t *in, size_t n, double now, char *buf, size_t cap);
 } kelp_acomms_codec;
 
@@ -538,8 +538,10 @@ typedef struct kelp_acomms_handler {
     char last_in[KELP_ACOMMS_NMEA_KEEP][KELP_ACOMMS_NMEA_KEEP_LEN];
     char last_out[KELP_ACOMMS_NMEA_KEEP][KELP_ACOMMS_NMEA_KEEP_LEN];
     unsigned n_in, n_out;
-    /** After a failed init/start: the node's reason, and for a refused queue its name, id and kind. */
-    const char *errmsg;
+    /** Why the last call failed: after a failed init/start the code and the node's reason (and
+     *  for a refused queue err_queue, err_id and err_ccl below); while running, the reason of the
+     *  last refused mail or failed encode/decode (then rewritten by each mail and tick). */
+    kelp_diag diag;
     const char *err_queue;
     unsigned err_id;
     bool err_ccl;
@@ -570,7 +572,7 @@ const char *kelp_acomms_mac_name(kelp_mac_type t);
 /** Set up the node (nc, over the caller's pool), add a queue for every DCCL message of the
  *  codec (NULL = none) and every CCL queue of cfg (until KELP_ACOMMS_MAX_QUEUES), then publish
  *  MODEM_ID and VEHICLE_ID.  cfg, the codec's strings and the pool must outlive the handler.
- *  @return 0, or <0 with errmsg (and err_queue/err_id when a queue was refused). */
+ *  @return 0, or <0 with h->diag (and err_queue/err_id when a queue was refused). */
 KELP_MUST_CHECK int kelp_acomms_handler_init(kelp_acomms_handler *h, const kelp_acomms_config *cfg,
                                              const kelp_acomms_node_cfg *nc, const kelp_acomms_codec *codec,
                                              kelp_queue_entry *pool, size_t cap_pool, const kelp_acomms_sink *sink,

@@ -70,18 +70,19 @@ const char *kelp_cmdr_type_name(const kelp_dccl_field *f);
  *  field", "(int) range: 0 to 10000", ...). */
 void kelp_cmdr_describe(const kelp_dccl_field *f, char *out, size_t cap);
 /** Check a value for a field. "" (not given) and the specials are accepted where they apply.
- *  @return 0, or KELP_ERR_RANGE / KELP_ERR_PARSE with *why (static text). */
-KELP_MUST_CHECK int kelp_cmdr_check(const kelp_cmdr *c, const kelp_dccl_field *f, const char *val, const char **why);
+ *  @return 0, or KELP_ERR_RANGE / KELP_ERR_PARSE with d's message (d may be NULL). */
+KELP_MUST_CHECK int kelp_cmdr_check(const kelp_cmdr *c, const kelp_dccl_field *f, const char *val, kelp_diag *d);
 /** Check and store; the message becomes the active one. */
-KELP_MUST_CHECK int kelp_cmdr_set(kelp_cmdr *c, unsigned msg, unsigned row, const char *val, const char **why);
+KELP_MUST_CHECK int kelp_cmdr_set(kelp_cmdr *c, unsigned msg, unsigned row, const char *val, kelp_diag *d);
 /** Clear every value (statics stay). */
 void kelp_cmdr_clear(kelp_cmdr *c, unsigned msg);
 /** The next free pair number of the x/y special in a message (1, 2, ...). */
 unsigned kelp_cmdr_next_xy(const kelp_cmdr_msg *m);
 /** Build the publications of a send at UNIX time `now`. KELP_ERR_NOSPACE when they do not
- *  fit; KELP_ERR_PARSE (with *why) for an x/y special without its pair or without LatOrigin. */
+ *  fit (no message in d); KELP_ERR_PARSE (with d's message) for an x/y special without its
+ *  pair or without LatOrigin. */
 KELP_MUST_CHECK int kelp_cmdr_send(const kelp_cmdr *c, unsigned msg, double now, kelp_cmdr_pub *out, size_t cap,
-                                   size_t *n, const char **why);
+                                   size_t *n, kelp_diag *d);
 
 /* ---- save files: plain text, "message = NAME" opens a message, then "field = value" lines;
  *      '#' starts a comment line ---- */
@@ -89,8 +90,8 @@ KELP_MUST_CHECK int kelp_cmdr_send(const kelp_cmdr *c, unsigned msg, double now,
 KELP_MUST_CHECK int kelp_cmdr_save(const kelp_cmdr *c, char *out, size_t cap, size_t *len);
 /** Read a save file (NUL-terminated text) into open messages. Stops at the first bad line.
  *  @return 0, or KELP_ERR_PARSE / KELP_ERR_NOTFOUND / KELP_ERR_RANGE / KELP_ERR_NOSPACE with
- *  *line (1-based) and *why. */
-KELP_MUST_CHECK int kelp_cmdr_load(kelp_cmdr *c, const char *text, unsigned *line, const char **why);
+ *  the bad line (1-based) in d->line and the reason in d's message. */
+KELP_MUST_CHECK int kelp_cmdr_load(kelp_cmdr *c, const char *text, kelp_diag *d);
 
 /* ---- acks and expiries (ACOMMS_ACK / ACOMMS_EXPIRE of pAcommsHandler) ---- */
 /** The on-screen note for an ACOMMS_ACK (ack = true) or ACOMMS_EXPIRE text:

@@ -260,6 +260,7 @@ typedef union kelp_remus_codec_work {
     } out;
     struct {
         kelp_acomms_msg msg;               /**< the frame received */
+        kelp_diag diag;                    /**< why it was refused */
         kelp_nodereport report;            /**< the contact's NODE_REPORT */
         char extra[256];                   /**< State: the STATUS_REPORT_IN fields after Depth */
         char up[KELP_DCCL_MAX_MODEM_NAME + 1]; /**< the contact's name upper-cased */
@@ -277,6 +278,7 @@ typedef struct kelp_remus_codec {
     double last_status; /**< -1: none yet */
     unsigned long sent, received[KELP_REMUS_NVARS], refused;
     kelp_remus_codec_work work;
+    char warn[256]; /**< workspace: a warning being formatted for the sink (not on the stack) */
 } kelp_remus_codec;
 
 /** @return 0; KELP_ERR_ARG (NULL geo, an empty variable name, status_interval not > 0). */

@@ -123,9 +123,9 @@ static bool latlon_name(const char *name)
     return false;
 }
 
-static int check_one(const kelp_cmdr *c, const kelp_dccl_field *f, const char *s, size_t n, const char **why)
+static int check_one(const kelp_cmdr *c, const kelp_dccl_field *f, const char *s, size_t n, kelp_diag *d)
 {
-    double d;
+    double x;
     long l;
     char axis;
     bool special_time = n == 5 && memcmp(s, "_time", 5) == 0;
@@ -133,106 +133,89 @@ static int check_one(const kelp_cmdr *c, const kelp_dccl_field *f, const char *s
     case KELP_DCCL_T_INT:
     case KELP_DCCL_T_FLOAT:
         if (special_time) return KELP_OK;
-        if (xy_special(s, n, &axis, &l, &d)) return KELP_OK;
+        if (xy_special(s, n, &axis, &l, &x)) return KELP_OK;
         if (c->force_xy_only && f->type == KELP_DCCL_T_FLOAT && latlon_name(f->name)) {
-            *why = "force_xy_only: give y(lat)N:metres or x(lon)N:metres";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "force_xy_only: give y(lat)N:metres or x(lon)N:metres");
         }
-        if (kelp_parse_finite(s, n, &d) < 0) {
-            *why = "not a number";
-            return KELP_ERR_PARSE;
+        if (kelp_parse_finite(s, n, &x) < 0) {
+            return kelp_fail(d, KELP_ERR_PARSE, "not a number");
         }
-        if (f->type == KELP_DCCL_T_INT && d != floor(d)) {
-            *why = "not a whole number";
-            return KELP_ERR_PARSE;
+        if (f->type == KELP_DCCL_T_INT && x != floor(x)) {
+            return kelp_fail(d, KELP_ERR_PARSE, "not a whole number");
         }
-        if (d < f->min || d > f->max) {
-            *why = "out of range";
-            return KELP_ERR_RANGE;
+        if (x < f->min || x > f->max) {
+            return kelp_fail(d, KELP_ERR_RANGE, "out of range");
         }
         return KELP_OK;
     case KELP_DCCL_T_HEAD_SRC:
     case KELP_DCCL_T_HEAD_DEST:
         if (kelp_parse_long(s, n, &l) < 0) {
-            *why = "not a whole number";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "not a whole number");
         }
         if (l < 0 || l > 31) {
-            *why = "out of range";
-            return KELP_ERR_RANGE;
+            return kelp_fail(d, KELP_ERR_RANGE, "out of range");
         }
         return KELP_OK;
     case KELP_DCCL_T_HEAD_TIME:
         if (special_time) return KELP_OK;
-        if (kelp_parse_finite(s, n, &d) < 0 || d < 0) {
-            *why = "not a UNIX time";
-            return KELP_ERR_PARSE;
+        if (kelp_parse_finite(s, n, &x) < 0 || x < 0) {
+            return kelp_fail(d, KELP_ERR_PARSE, "not a UNIX time");
         }
         return KELP_OK;
     case KELP_DCCL_T_BOOL:
         /* what kelp_dccl_val_to_bool takes from a string: true/1/false/0, any case */
         if (!kelp_strieq_n(s, n, "true") && !kelp_strieq_n(s, n, "1") && !kelp_strieq_n(s, n, "false") &&
             !kelp_strieq_n(s, n, "0")) {
-            *why = "not true or false";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "not true or false");
         }
         return KELP_OK;
     case KELP_DCCL_T_ENUM:
         for (unsigned i = 0; i < f->n_enum; i++)
             if (strlen(f->enum_values[i]) == n && memcmp(f->enum_values[i], s, n) == 0) return KELP_OK;
-        *why = "not one of the enum values";
-        return KELP_ERR_RANGE;
+        return kelp_fail(d, KELP_ERR_RANGE, "not one of the enum values");
     case KELP_DCCL_T_STRING:
         if (special_time) return KELP_OK;
         if (n > f->max_length) {
-            *why = "longer than max_length";
-            return KELP_ERR_RANGE;
+            return kelp_fail(d, KELP_ERR_RANGE, "longer than max_length");
         }
         if (memchr(s, '{', n) || memchr(s, '}', n)) {
-            *why = "'{' and '}' cannot be sent";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "'{' and '}' cannot be sent");
         }
         return KELP_OK;
     case KELP_DCCL_T_HEX:
         if (n != 2u * f->num_bytes) {
-            *why = "wrong number of hex digits";
-            return KELP_ERR_RANGE;
+            return kelp_fail(d, KELP_ERR_RANGE, "wrong number of hex digits");
         }
         for (size_t i = 0; i < n; i++)
             if (kelp_hex_digit(s[i]) < 0) {
-                *why = "not hexadecimal";
-                return KELP_ERR_PARSE;
+                return kelp_fail(d, KELP_ERR_PARSE, "not hexadecimal");
             }
         return KELP_OK;
-    default: *why = "(static) you cannot change the value of this field"; return KELP_ERR_RANGE;
+    default: return kelp_fail(d, KELP_ERR_RANGE, "(static) you cannot change the value of this field");
     }
 }
 
-int kelp_cmdr_check(const kelp_cmdr *c, const kelp_dccl_field *f, const char *val, const char **why)
+int kelp_cmdr_check(const kelp_cmdr *c, const kelp_dccl_field *f, const char *val, kelp_diag *d)
 {
     size_t n = strlen(val);
-    *why = NULL;
     if (is_static(f)) {
         if (f->type == KELP_DCCL_T_STATIC && f->static_value && strcmp(val, f->static_value) == 0) return KELP_OK;
-        *why = "(static) you cannot change the value of this field";
-        return KELP_ERR_RANGE;
+        return kelp_fail(d, KELP_ERR_RANGE, "(static) you cannot change the value of this field");
     }
     if (n == 0) return KELP_OK;
     if (n >= KELP_CMDR_VAL) {
-        *why = "too long";
-        return KELP_ERR_RANGE;
+        return kelp_fail(d, KELP_ERR_RANGE, "too long");
     }
-    if (f->array_length <= 1 || f->type == KELP_DCCL_T_STRING) return check_one(c, f, val, n, why);
+    if (f->array_length <= 1 || f->type == KELP_DCCL_T_STRING) return check_one(c, f, val, n, d);
     size_t a = 0;
     unsigned k = 0;
     for (size_t b = 0; b <= n; b++) {
         if (b < n && val[b] != ',') continue;
         if (++k > f->array_length) {
-            *why = "more values than array_length";
-            return KELP_ERR_RANGE;
+            return kelp_fail(d, KELP_ERR_RANGE, "more values than array_length");
         }
         if (b > a) {
-            int rc = check_one(c, f, val + a, b - a, why);
+            int rc = check_one(c, f, val + a, b - a, d);
             if (rc < 0) return rc;
         }
         a = b + 1;
@@ -240,12 +223,11 @@ int kelp_cmdr_check(const kelp_cmdr *c, const kelp_dccl_field *f, const char *va
     return KELP_OK;
 }
 
-int kelp_cmdr_set(kelp_cmdr *c, unsigned msg, unsigned row, const char *val, const char **why)
+int kelp_cmdr_set(kelp_cmdr *c, unsigned msg, unsigned row, const char *val, kelp_diag *d)
 {
-    *why = "no such message or field";
-    if (msg >= c->n_open || row >= c->open[msg].n_rows) return KELP_ERR_ARG;
+    if (msg >= c->n_open || row >= c->open[msg].n_rows) return kelp_fail(d, KELP_ERR_ARG, "no such message or field");
     kelp_cmdr_msg *m = &c->open[msg];
-    int rc = kelp_cmdr_check(c, kelp_cmdr_row_field(m, row), val, why);
+    int rc = kelp_cmdr_check(c, kelp_cmdr_row_field(m, row), val, d);
     if (rc < 0) return rc;
     (void)kelp_snprintf(m->val[row], KELP_CMDR_VAL, "%s", val);
     m->edited = true;

@@ -29,7 +29,7 @@ static bool is_special(const char *v)
 
 /* the value to send for a row, specials replaced */
 static int resolve(const kelp_cmdr *c, const kelp_cmdr_msg *m, const char *v, double now, char *out, size_t cap,
-                   const char **why)
+                   kelp_diag *d)
 {
     if (strcmp(v, "_time") == 0) {
         (void)kelp_snprintf(out, cap, "%.0f", floor(now));
@@ -42,15 +42,13 @@ static int resolve(const kelp_cmdr *c, const kelp_cmdr_msg *m, const char *v, do
         size_t plen = (size_t)(colon - v) - 6;
         if (!find_xy(m, 'x', v + 6, plen, &x) || !find_xy(m, 'y', v + 6, plen, &y)) goto bad;
         if (!c->geo || !c->geo->have_origin) {
-            *why = "x/y special without LatOrigin/LongOrigin";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "x/y special without LatOrigin/LongOrigin");
         }
         kelp_dccl_geo_local2latlon(c->geo, x, y, &lat, &lon);
         (void)kelp_fmt_fixed(out, cap, v[0] == 'x' ? lon : lat, 7, true);
         return KELP_OK;
     bad:
-        *why = "an x(lon)N:/y(lat)N: special without its pair";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "an x(lon)N:/y(lat)N: special without its pair");
     }
     (void)kelp_snprintf(out, cap, "%s", v);
     return KELP_OK;
@@ -76,11 +74,10 @@ static int append(kelp_cmdr_pub *p, const char *key, const char *val)
 }
 
 int kelp_cmdr_send(const kelp_cmdr *c, unsigned msg, double now, kelp_cmdr_pub *out, size_t cap, size_t *n,
-                   const char **why)
+                   kelp_diag *d)
 {
     *n = 0;
-    *why = NULL;
-    if (msg >= c->n_open) return KELP_ERR_ARG;
+    if (msg >= c->n_open) return kelp_fail(d, KELP_ERR_ARG, "no such message");
     const kelp_cmdr_msg *m = &c->open[msg];
     const kelp_dccl_msgdef *def = m->def;
     const char *trig = def->trigger == KELP_DCCL_TRIG_PUBLISH && def->trigger_var && def->trigger_var[0]
@@ -98,7 +95,7 @@ int kelp_cmdr_send(const kelp_cmdr *c, unsigned msg, double now, kelp_cmdr_pub *
             if (f->type == KELP_DCCL_T_STATIC || !m->val[r][0] || !var) continue;
             if ((pass == 0) == (trig && strcmp(var, trig) == 0)) continue;
             if (is_special(m->val[r])) {
-                int rc = resolve(c, m, m->val[r], now, num, sizeof num, why);
+                int rc = resolve(c, m, m->val[r], now, num, sizeof num, d);
                 if (rc < 0) return rc;
                 v = num;
             }
@@ -150,51 +147,52 @@ int kelp_cmdr_save(const kelp_cmdr *c, char *out, size_t cap, size_t *len)
     return KELP_OK;
 }
 
-int kelp_cmdr_load(kelp_cmdr *c, const char *text, unsigned *line, const char **why)
+/* the failure rc of input line `line`: the line goes into d (kelp_diag_where) */
+static int where(kelp_diag *d, int line, int rc)
 {
-    int msg = -1;
+    (void)kelp_diag_where(d, line, 0);
+    return rc;
+}
+
+int kelp_cmdr_load(kelp_cmdr *c, const char *text, kelp_diag *d)
+{
+    int msg = -1, line = 0;
     const char *p = text;
-    *line = 0;
-    *why = NULL;
     while (*p) {
         const char *e = strchr(p, '\n');
         size_t n = e ? (size_t)(e - p) : strlen(p);
         char *buf = c->line;
         const char *k, *v;
         size_t kl, vl, pos = 0, s = 0;
-        (*line)++;
+        line++;
         while (s < n && (p[s] == ' ' || p[s] == '\t' || p[s] == '\r')) s++;
         if (s == n || p[s] == '#') goto next;
         if (n >= sizeof c->line) {
-            *why = "line too long";
-            return KELP_ERR_RANGE;
+            return where(d, line, kelp_fail(d, KELP_ERR_RANGE, "line too long"));
         }
         memcpy(buf, p, n);
         buf[n] = 0;
         if (kelp_kv_next(buf, '\n', &pos, &k, &kl, &v, &vl) != 1) {
-            *why = "not \"key = value\"";
-            return KELP_ERR_PARSE;
+            return where(d, line, kelp_fail(d, KELP_ERR_PARSE, "not \"key = value\""));
         }
         ((char *)k)[kl] = 0; /* both point into buf */
         ((char *)v)[vl] = 0;
         if (strcmp(k, "message") == 0) {
             msg = kelp_cmdr_open(c, v);
             if (msg < 0) {
-                *why = msg == KELP_ERR_NOSPACE ? "too many open messages" : "no such message in the loaded XML";
-                return msg;
+                (void)kelp_fail(d, msg, msg == KELP_ERR_NOSPACE ? "too many open messages" : "no such message in the loaded XML");
+                return where(d, line, msg);
             }
         } else {
             int row = msg < 0 ? -1 : kelp_cmdr_row(&c->open[msg], k);
             if (msg < 0) {
-                *why = "a field before any \"message = NAME\" line";
-                return KELP_ERR_PARSE;
+                return where(d, line, kelp_fail(d, KELP_ERR_PARSE, "a field before any \"message = NAME\" line"));
             }
             if (row < 0) {
-                *why = "no such field in this message";
-                return KELP_ERR_NOTFOUND;
+                return where(d, line, kelp_fail(d, KELP_ERR_NOTFOUND, "no such field in this message"));
             }
-            int rc = kelp_cmdr_set(c, (unsigned)msg, (unsigned)row, v, why);
-            if (rc < 0) return rc;
+            int rc = kelp_cmdr_set(c, (unsigned)msg, (unsigned)row, v, d);
+            if (rc < 0) return where(d, line, rc);
         }
     next:
         p += n;
@@ -210,11 +208,10 @@ int kelp_cmdr_ack_note(const kelp_cmdr *c, bool ack, const char *text, double no
                                         "Jul", "Aug", "Sep", "Oct", "Nov", "Dec"};
     const char *o = strstr(text, "orig_msg {");
     const char *z = strrchr(text, '}');
-    const char *why;
     kelp_acomms_msg msg;
     if (!o || !z || z < o + 10) return KELP_ERR_PARSE;
     o += 10;
-    if (kelp_acomms_parse_data(o, (size_t)(z - o), &msg, &why) < 0) return KELP_ERR_PARSE;
+    if (kelp_acomms_parse_data(o, (size_t)(z - o), &msg, NULL) < 0) return KELP_ERR_PARSE;
     unsigned id;
     const kelp_dccl_msgdef *def = NULL;
     if (kelp_dccl_peek_id(msg.data, msg.len, &id) == KELP_OK && c->set) def = kelp_dccl_set_find_id(c->set, id);

@@ -66,6 +66,25 @@ static void say(kelp_acomms_handler *h, bool warning, const char *fmt, ...)
 }
 
 #define WARN(h, ...) say((h), true, __VA_ARGS__)
+
+/* h->diag emptied for the next call that reports into it */
+static kelp_diag *fresh(kelp_acomms_handler *h)
+{
+    kelp_diag_clear(&h->diag);
+    return &h->diag;
+}
+
+/* the reason the node gave for its last failure, or dflt when none */
+static const char *node_reason(const kelp_acomms_handler *h, const char *dflt)
+{
+    return h->node.diag.code ? kelp_diag_text(&h->node.diag) : dflt;
+}
+
+/* the reason h->diag holds, or dflt when the failed call gave none */
+static const char *reason(const kelp_acomms_handler *h, const char *dflt)
+{
+    return h->diag.code ? kelp_diag_text(&h->diag) : dflt;
+}
 #define EVENT(h, ...) say((h), false, __VA_ARGS__)
 
 /* h->text on var; a failure is a warning */
@@ -132,12 +151,11 @@ static void incoming_dccl(kelp_acomms_handler *h, const kelp_acomms_msg *m)
     }
     record_data(h, "ACOMMS_INCOMING_DATA_LCM", m, nm ? nm->name : NULL, decoded);
     if (!h->has_codec) return;
-    const char *why = NULL;
-    int rc = h->codec.decode(h->codec.ctx, m->data, m->len, h->now, on_publication, h, &why);
+    int rc = h->codec.decode(h->codec.ctx, m->data, m->len, h->now, on_publication, h, fresh(h));
     if (rc == KELP_ERR_STATE) return; /* NO_DECODE */
     if (rc) {
         h->count.decode_errors++;
-        WARN(h, "cannot decode a received DCCL message: %s", why ? why : kelp_strerror(rc));
+        WARN(h, "cannot decode a received DCCL message: %s", reason(h, kelp_strerror(rc)));
         return;
     }
     h->count.decoded++;
@@ -286,18 +304,16 @@ static void node_write(const char *bytes, size_t len, void *user)
 
 /* ------------------------------------------------------------------ outgoing DCCL */
 
-static int build_msg(kelp_acomms_handler *h, size_t idx, kelp_acomms_msg *m, const char **why)
+static int build_msg(kelp_acomms_handler *h, size_t idx, kelp_acomms_msg *m)
 {
     kelp_acomms_dccl_info info;
     if (h->codec.info(h->codec.ctx, idx, &info) != KELP_OK) return KELP_ERR_ARG;
     memset(m, 0, sizeof *m);
     size_t len = 0;
-    int rc = h->codec.encode(h->codec.ctx, idx, h->now, m->data, sizeof m->data, &len, why);
+    int rc = h->codec.encode(h->codec.ctx, idx, h->now, m->data, sizeof m->data, &len, fresh(h));
     if (rc) return rc;
-    if (kelp_acomms_msg_from_dccl(m, len, h->cfg->modem_id, info.id, h->now) != KELP_OK) {
-        *why = "encoded message shorter than its header";
-        return KELP_ERR_TRUNCATED;
-    }
+    if (kelp_acomms_msg_from_dccl(m, len, h->cfg->modem_id, info.id, h->now) != KELP_OK)
+        return kelp_fail(&h->diag, KELP_ERR_TRUNCATED, "encoded message shorter than its header");
     return KELP_OK;
 }
 
@@ -305,14 +321,13 @@ static void outgoing_dccl(kelp_acomms_handler *h, size_t idx)
 {
     kelp_acomms_dccl_info info;
     kelp_acomms_msg *m = &h->work.msg;
-    const char *why = NULL;
     if (h->codec.info(h->codec.ctx, idx, &info) != KELP_OK) return;
     if (info.manip & KELP_ACOMMS_MANIP_ON_DEMAND) return; /* encoded at the data request */
-    int rc = build_msg(h, idx, m, &why);
+    int rc = build_msg(h, idx, m);
     if (rc == KELP_ERR_PARTIAL) return; /* <repeat>: still collecting */
     if (rc) {
         h->count.encode_errors++;
-        WARN(h, "cannot encode %s: %s", info.name, why ? why : kelp_strerror(rc));
+        WARN(h, "cannot encode %s: %s", info.name, reason(h, kelp_strerror(rc)));
         return;
     }
     h->count.encoded++;
@@ -333,10 +348,9 @@ static void outgoing_dccl(kelp_acomms_handler *h, size_t idx)
     /* LOOPBACK: "decode this message internally immediately following encode" (a message to
      * ourselves was already looped back by the queue) */
     if ((info.manip & KELP_ACOMMS_MANIP_LOOPBACK) && m->dest != h->cfg->modem_id) {
-        const char *w2 = NULL;
-        rc = h->codec.decode(h->codec.ctx, m->data, m->len, h->now, on_publication, h, &w2);
+        rc = h->codec.decode(h->codec.ctx, m->data, m->len, h->now, on_publication, h, fresh(h));
         if (rc == KELP_OK) h->count.decoded++;
-        else if (rc != KELP_ERR_STATE) WARN(h, "LOOPBACK decode of %s failed: %s", info.name, w2 ? w2 : "?");
+        else if (rc != KELP_ERR_STATE) WARN(h, "LOOPBACK decode of %s failed: %s", info.name, reason(h, "?"));
     }
 }
 
@@ -349,15 +363,14 @@ static void on_demand(kelp_queue_key key, const kelp_queue_request *req, kelp_ac
 {
     kelp_acomms_handler *h = user;
     (void)req;
-    const char *why = NULL;
     out->len = 0;
     if (!h->has_codec) return;
     long idx = h->codec.find_id(h->codec.ctx, key.id);
     if (idx < 0) return;
-    int rc = build_msg(h, (size_t)idx, out, &why);
+    int rc = build_msg(h, (size_t)idx, out);
     if (rc) {
         out->len = 0;
-        if (rc != KELP_ERR_PARTIAL) WARN(h, "ON_DEMAND encode failed: %s", why ? why : "?");
+        if (rc != KELP_ERR_PARTIAL) WARN(h, "ON_DEMAND encode failed: %s", reason(h, "?"));
         return;
     }
     h->count.encoded++;
@@ -384,7 +397,7 @@ static int add_queues(kelp_acomms_handler *h, kelp_time now)
         int rc = kelp_acomms_node_add_queue(&h->node, &q, now);
         if (rc) {
             h->nnames--;
-            h->errmsg = h->node.errmsg ? h->node.errmsg : kelp_strerror(rc);
+            (void)kelp_fail(&h->diag, rc, node_reason(h, NULL));
             h->err_queue = info.name;
             h->err_id = info.id;
             return rc;
@@ -404,7 +417,7 @@ static int add_queues(kelp_acomms_handler *h, kelp_time now)
         int rc = kelp_acomms_node_add_queue(&h->node, &q, now);
         if (rc) {
             h->nnames--;
-            h->errmsg = h->node.errmsg ? h->node.errmsg : kelp_strerror(rc);
+            (void)kelp_fail(&h->diag, rc, node_reason(h, NULL));
             h->err_queue = cq->name;
             h->err_id = q.key.id;
             h->err_ccl = true;
@@ -431,7 +444,7 @@ int kelp_acomms_handler_init(kelp_acomms_handler *h, const kelp_acomms_config *c
     kelp_acomms_node_ops ops = { node_write, node_event, on_demand };
     int rc = kelp_acomms_node_init(&h->node, nc, h->queues, KELP_ACOMMS_MAX_QUEUES, pool, cap_pool, &ops, h);
     if (rc) {
-        h->errmsg = h->node.errmsg ? h->node.errmsg : kelp_strerror(rc);
+        (void)kelp_fail(&h->diag, rc, node_reason(h, NULL));
         return rc;
     }
     rc = add_queues(h, now);
@@ -475,7 +488,7 @@ int kelp_acomms_handler_start(kelp_acomms_handler *h, bool link_up, double now)
     if (h->has_codec) h->codec.start(h->codec.ctx, now);
     int rc = kelp_acomms_node_start(&h->node, now);
     if (rc) {
-        h->errmsg = h->node.errmsg ? h->node.errmsg : kelp_strerror(rc);
+        (void)kelp_fail(&h->diag, rc, node_reason(h, NULL));
         return rc;
     }
     h->started = true;
@@ -487,10 +500,11 @@ int kelp_acomms_handler_start(kelp_acomms_handler *h, bool link_up, double now)
 
 /* ------------------------------------------------------------------ mail */
 
-static bool bad_mail(kelp_acomms_handler *h, const char *what, const char *why)
+/* after a parse into fresh(h) (or none when the mail is not a string) */
+static bool bad_mail(kelp_acomms_handler *h, const char *what)
 {
     h->count.bad_mail++;
-    WARN(h, "bad %s: %s", what, why ? why : "not a string");
+    WARN(h, "bad %s: %s", what, reason(h, "not a string"));
     return false;
 }
 
@@ -498,9 +512,9 @@ static void mail_ccl(kelp_acomms_handler *h, const kelp_acomms_qname *n, const k
 {
     /* CCL: a ModemDataTransmission to queue */
     kelp_acomms_msg *m = &h->work.msg;
-    const char *why = NULL;
-    if (v->kind != KELP_VAR_STRING || kelp_acomms_parse_data(v->sval, v->slen, m, &why) != KELP_OK) {
-        (void)bad_mail(h, v->name, why);
+    (void)fresh(h);
+    if (v->kind != KELP_VAR_STRING || kelp_acomms_parse_data(v->sval, v->slen, m, &h->diag) != KELP_OK) {
+        (void)bad_mail(h, v->name);
         return;
     }
     m->key = n->key;
@@ -515,7 +529,7 @@ static void mail_ccl(kelp_acomms_handler *h, const kelp_acomms_qname *n, const k
     int rc = kelp_acomms_node_push(&h->node, m, now);
     if (rc) {
         h->count.push_errors++;
-        WARN(h, "cannot queue %s: %s", v->name, h->node.errmsg ? h->node.errmsg : kelp_strerror(rc));
+        WARN(h, "cannot queue %s: %s", v->name, node_reason(h, kelp_strerror(rc)));
     } else {
         h->count.pushed++;
     }
@@ -525,40 +539,39 @@ static void mail_in_var(kelp_acomms_handler *h, const kelp_var *v)
 {
     /* a DCCL message from another process: decode it */
     kelp_acomms_msg *m = &h->work.msg;
-    const char *why = NULL;
-    if (v->kind != KELP_VAR_STRING || kelp_acomms_parse_data(v->sval, v->slen, m, &why) != KELP_OK) {
-        (void)bad_mail(h, v->name, why);
+    (void)fresh(h);
+    if (v->kind != KELP_VAR_STRING || kelp_acomms_parse_data(v->sval, v->slen, m, &h->diag) != KELP_OK) {
+        (void)bad_mail(h, v->name);
         return;
     }
-    const char *w2 = NULL;
-    int rc = h->codec.decode(h->codec.ctx, m->data, m->len, h->now, on_publication, h, &w2);
-    if (rc && rc != KELP_ERR_STATE) WARN(h, "cannot decode %s: %s", v->name, w2 ? w2 : "?");
+    int rc = h->codec.decode(h->codec.ctx, m->data, m->len, h->now, on_publication, h, fresh(h));
+    if (rc && rc != KELP_ERR_STATE) WARN(h, "cannot decode %s: %s", v->name, reason(h, "?"));
     else if (!rc) h->count.decoded++;
 }
 
 static void mail_command(kelp_acomms_handler *h, const kelp_var *v, kelp_time now)
 {
-    const char *why = NULL;
     bool is_str = v->kind == KELP_VAR_STRING;
+    (void)fresh(h);
     if (strcmp(v->name, "ACOMMS_RANGE_COMMAND") == 0) {
         kelp_acomms_range_req r;
-        if (!is_str || kelp_acomms_parse_range_req(v->sval, v->slen, &r, &why) != KELP_OK) {
-            (void)bad_mail(h, "ACOMMS_RANGE_COMMAND", why);
+        if (!is_str || kelp_acomms_parse_range_req(v->sval, v->slen, &r, &h->diag) != KELP_OK) {
+            (void)bad_mail(h, "ACOMMS_RANGE_COMMAND");
             return;
         }
         if (r.src == 0) r.src = h->cfg->modem_id;
         if (kelp_acomms_node_range(&h->node, &r, now) != KELP_OK)
-            WARN(h, "ranging refused: %s", h->node.errmsg ? h->node.errmsg : "?");
+            WARN(h, "ranging refused: %s", node_reason(h, "?"));
         return;
     }
     kelp_acomms_mac_update *u = &h->work.mac_update;
-    if (!is_str || kelp_acomms_parse_mac_update(v->sval, v->slen, u, &why) != KELP_OK) {
-        (void)bad_mail(h, v->name, why);
+    if (!is_str || kelp_acomms_parse_mac_update(v->sval, v->slen, u, &h->diag) != KELP_OK) {
+        (void)bad_mail(h, v->name);
         return;
     }
     int rc = kelp_acomms_node_mac_update(&h->node, u, now);
     if (rc == KELP_ERR_NOTFOUND) return; /* for another modem */
-    if (rc) WARN(h, "MAC update refused: %s", h->node.errmsg ? h->node.errmsg : kelp_strerror(rc));
+    if (rc) WARN(h, "MAC update refused: %s", node_reason(h, kelp_strerror(rc)));
     else EVENT(h, "MAC cycle updated: %zu slot(s), cycle %u s", u->nslots, kelp_mac_cycle_length(&h->node.mac));
 }
 
@@ -604,7 +617,7 @@ void kelp_acomms_handler_link_up(kelp_acomms_handler *h, double now)
     EVENT(h, "modem link %s: %s", first ? "up" : "re-established", h->link_desc ? h->link_desc : "");
     /* the start-up sequence already went out if the link was open at start */
     if (!(first && h->started_on_link) && kelp_acomms_node_restart_driver(&h->node, now) != KELP_OK)
-        WARN(h, "driver restart failed: %s", h->node.errmsg ? h->node.errmsg : "?");
+        WARN(h, "driver restart failed: %s", node_reason(h, "?"));
 }
 
 void kelp_acomms_handler_link_lost(kelp_acomms_handler *h, const char *why)

@@ -26,6 +26,24 @@ void kelp_acomms_queue_cfg_from_info(const kelp_acomms_dccl_info *info, kelp_que
     q->no_queue = (info->manip & KELP_ACOMMS_MANIP_NO_QUEUE) != 0;
 }
 
+/* the reason a lower layer recorded, or NULL */
+static const char *inner_text(const kelp_diag *d)
+{
+    return d->code ? kelp_diag_text(d) : NULL;
+}
+
+/* record a failure of this call in n->diag (replacing an older one: the node outlives its
+ * calls): the inner module's reason when it gave one, else the node's own; returns rc */
+static int node_fail(kelp_acomms_node *n, int rc, const char *inner, const char *own)
+{
+#ifdef KELP_NO_ERRMSG
+    (void)inner, (void)own;
+#endif
+    kelp_diag_clear(&n->diag);
+    (void)kelp_fail(&n->diag, rc, inner ? inner : own);
+    return rc;
+}
+
 static void emit(kelp_acomms_node *n, const kelp_acomms_event *ev)
 {
     if (n->ops.event) n->ops.event(ev, n->user);
@@ -66,7 +84,7 @@ static int request_frame(kelp_acomms_node *n, const kelp_queue_request *req, kel
 {
     int rc = kelp_queue_data_request(&n->q, req, n->now, out);
     if (rc) {
-        n->errmsg = n->q.diag.code ? kelp_diag_text(&n->q.diag) : "acomms: data request failed";
+        (void)node_fail(n, rc, inner_text(&n->q.diag), "acomms: data request failed");
         out->len = 0;
         return rc;
     }
@@ -151,12 +169,10 @@ int kelp_acomms_node_init(kelp_acomms_node *n, const kelp_acomms_node_cfg *cfg, 
     if (!n || !cfg) return KELP_ERR_ARG;
     memset(n, 0, sizeof *n);
     if (cfg->modem_id < 1 || cfg->modem_id > 31) {
-        n->errmsg = "acomms: modem_id must be 1..31 (0 is broadcast)";
-        return KELP_ERR_ARG;
+        return node_fail(n, KELP_ERR_ARG, NULL, "acomms: modem_id must be 1..31 (0 is broadcast)");
     }
     if (cfg->driver != KELP_ACOMMS_DRIVER_NONE && cfg->driver != KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
-        n->errmsg = "acomms: unknown driver type";
-        return KELP_ERR_ARG;
+        return node_fail(n, KELP_ERR_ARG, NULL, "acomms: unknown driver type");
     }
     n->modem_id = cfg->modem_id;
     n->driver = cfg->driver;
@@ -166,8 +182,7 @@ int kelp_acomms_node_init(kelp_acomms_node *n, const kelp_acomms_node_cfg *cfg, 
     n->user = user;
     int rc = kelp_queue_init(&n->q, cfg->modem_id, queues, cap_queues, pool, cap_pool, on_queue, on_demand, n);
     if (rc) {
-        n->errmsg = n->q.diag.code ? kelp_diag_text(&n->q.diag) : "acomms: queue storage";
-        return rc;
+        return node_fail(n, rc, inner_text(&n->q.diag), "acomms: queue storage");
     }
     if (n->driver == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
         kelp_mmdriver_cfg mc = cfg->mm;
@@ -175,8 +190,7 @@ int kelp_acomms_node_init(kelp_acomms_node *n, const kelp_acomms_node_cfg *cfg, 
         kelp_mmdriver_ops mo = { mm_write, mm_event, mm_data_request };
         rc = kelp_mmdriver_init(&n->mm, &mc, &mo, n);
         if (rc) {
-            n->errmsg = "acomms: bad Micro-Modem driver configuration";
-            return rc;
+            return node_fail(n, rc, NULL, "acomms: bad Micro-Modem driver configuration");
         }
     }
     /* the MAC starts in kelp_acomms_node_start; keep its configuration by initialising now
@@ -185,8 +199,7 @@ int kelp_acomms_node_init(kelp_acomms_node *n, const kelp_acomms_node_cfg *cfg, 
     mac.modem_id = cfg->modem_id;
     rc = kelp_mac_init(&n->mac, &mac, 0);
     if (rc) {
-        n->errmsg = n->mac.diag.code ? kelp_diag_text(&n->mac.diag) : "acomms: bad MAC configuration";
-        return rc;
+        return node_fail(n, rc, inner_text(&n->mac.diag), "acomms: bad MAC configuration");
     }
     return KELP_OK;
 }
@@ -196,7 +209,7 @@ int kelp_acomms_node_add_queue(kelp_acomms_node *n, const kelp_queue_cfg *cfg, k
     if (!n || !cfg) return KELP_ERR_ARG;
     n->now = now;
     int rc = kelp_queue_add(&n->q, cfg, now);
-    if (rc) n->errmsg = n->q.diag.code ? kelp_diag_text(&n->q.diag) : "acomms: cannot add queue";
+    if (rc) (void)node_fail(n, rc, inner_text(&n->q.diag), "acomms: cannot add queue");
     return rc;
 }
 
@@ -221,14 +234,12 @@ int kelp_acomms_node_start(kelp_acomms_node *n, kelp_time now)
     }
     int rc = kelp_mac_init(&n->mac, &mc, now);
     if (rc) {
-        n->errmsg = n->mac.diag.code ? kelp_diag_text(&n->mac.diag) : "acomms: MAC start failed";
-        return rc;
+        return node_fail(n, rc, inner_text(&n->mac.diag), "acomms: MAC start failed");
     }
     if (n->driver == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
         rc = kelp_mmdriver_start(&n->mm, now);
         if (rc) {
-            n->errmsg = n->mm.diag.code ? kelp_diag_text(&n->mm.diag) : "acomms: driver start failed";
-            return rc;
+            return node_fail(n, rc, inner_text(&n->mm.diag), "acomms: driver start failed");
         }
     }
     n->started = true;
@@ -242,7 +253,7 @@ int kelp_acomms_node_restart_driver(kelp_acomms_node *n, kelp_time now)
     n->now = now;
     n->count.driver_restarts++;
     int rc = kelp_mmdriver_start(&n->mm, now);
-    if (rc) n->errmsg = n->mm.diag.code ? kelp_diag_text(&n->mm.diag) : "acomms: driver restart failed";
+    if (rc) (void)node_fail(n, rc, inner_text(&n->mm.diag), "acomms: driver restart failed");
     return rc;
 }
 
@@ -290,15 +301,13 @@ int kelp_acomms_node_transmit(kelp_acomms_node *n, int src, int dest, unsigned r
 {
     if (!n) return KELP_ERR_ARG;
     if (rate > 5) {
-        n->errmsg = "acomms: rate must be 0..5";
-        return KELP_ERR_RANGE;
+        return node_fail(n, KELP_ERR_RANGE, NULL, "acomms: rate must be 0..5");
     }
     n->now = now;
     n->count.transmissions++;
     if (n->driver == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
         int rc = kelp_mmdriver_initiate_transmission(&n->mm, src, dest, rate, now);
-        if (rc) n->errmsg = n->mm.diag.code ? kelp_diag_text(&n->mm.diag) : "acomms: cannot initiate transmission";
-        return rc;
+        if (rc) return node_fail(n, rc, inner_text(&n->mm.diag), "acomms: cannot initiate transmission");
     }
     return transmit_internal(n, src, dest, rate, now);
 }
@@ -308,12 +317,11 @@ int kelp_acomms_node_range(kelp_acomms_node *n, const kelp_acomms_range_req *r, 
     if (!n || !r) return KELP_ERR_ARG;
     n->now = now;
     if (n->driver != KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
-        n->errmsg = "acomms: ranging needs a modem driver";
-        return KELP_ERR_STATE;
+        return node_fail(n, KELP_ERR_STATE, NULL, "acomms: ranging needs a modem driver");
     }
     n->count.ranging++;
     int rc = kelp_mmdriver_initiate_ranging(&n->mm, r->src, r->dest, r->type, r->max_range, r->enable_beacons, now);
-    if (rc) n->errmsg = n->mm.diag.code ? kelp_diag_text(&n->mm.diag) : "acomms: cannot start ranging";
+    if (rc) (void)node_fail(n, rc, inner_text(&n->mm.diag), "acomms: cannot start ranging");
     return rc;
 }
 
@@ -322,7 +330,7 @@ int kelp_acomms_node_mac_update(kelp_acomms_node *n, const kelp_acomms_mac_updat
     if (!n || !u) return KELP_ERR_ARG;
     n->now = now;
     int rc = kelp_mac_update(&n->mac, u->dest, u->type, u->slot, u->nslots, now);
-    if (rc && rc != KELP_ERR_NOTFOUND) n->errmsg = n->mac.diag.code ? kelp_diag_text(&n->mac.diag) : "acomms: MAC update refused";
+    if (rc && rc != KELP_ERR_NOTFOUND) (void)node_fail(n, rc, inner_text(&n->mac.diag), "acomms: MAC update refused");
     return rc;
 }
 
@@ -362,7 +370,7 @@ int kelp_acomms_node_tick(kelp_acomms_node *n, kelp_time now)
         }
         if (act.kind == KELP_MAC_ACT_TRANSMIT) {
             if (kelp_acomms_node_transmit(n, act.src, act.dest, act.rate, now) != KELP_OK) {
-                /* reported through errmsg; the cycle goes on */
+                /* reported through n->diag; the cycle goes on */
             }
         } else if (act.kind == KELP_MAC_ACT_RANGING && n->driver == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
             kelp_acomms_range_req r;
@@ -372,15 +380,14 @@ int kelp_acomms_node_tick(kelp_acomms_node *n, kelp_time now)
             r.max_range = 1000;
             r.enable_beacons = 15;
             if (kelp_acomms_node_range(n, &r, now) != KELP_OK) {
-                /* reported through errmsg */
+                /* reported through n->diag */
             }
         }
     }
     if (n->driver == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM && n->link_up) {
         int rc = kelp_mmdriver_tick(&n->mm, now);
         if (rc) {
-            n->errmsg = n->mm.diag.code ? kelp_diag_text(&n->mm.diag) : "acomms: modem not responding";
-            return rc;
+            return node_fail(n, rc, inner_text(&n->mm.diag), "acomms: modem not responding");
         }
     }
     return KELP_OK;
@@ -399,7 +406,7 @@ int kelp_acomms_node_push(kelp_acomms_node *n, const kelp_acomms_msg *msg, kelp_
     if (!n || !msg) return KELP_ERR_ARG;
     n->now = now;
     int rc = kelp_queue_push(&n->q, msg, now);
-    if (rc) n->errmsg = n->q.diag.code ? kelp_diag_text(&n->q.diag) : "acomms: push refused";
+    if (rc) (void)node_fail(n, rc, inner_text(&n->q.diag), "acomms: push refused");
     return rc;
 }
 

@@ -49,15 +49,15 @@ const char *kelp_remus_codec_subscription(const kelp_remus_codec *t, unsigned i)
     return i == KELP_REMUS_NNAV ? "OUTGOING_COMMAND" : NULL;
 }
 
-KELP_PRINTF(2, 3) static void warnf(const kelp_field_sink *sink, const char *fmt, ...)
+/* formatted in t->warn, not on the stack (the contact path is deep) */
+KELP_PRINTF(3, 4) static void warnf(kelp_remus_codec *t, const kelp_field_sink *sink, const char *fmt, ...)
 {
-    char msg[256];
     if (!sink->warn) return;
     va_list ap;
     va_start(ap, fmt);
-    (void)kelp_vsnprintf(msg, sizeof msg, fmt, ap);
+    (void)kelp_vsnprintf(t->warn, sizeof t->warn, fmt, ap);
     va_end(ap);
-    sink->warn(sink->ctx, msg);
+    sink->warn(sink->ctx, t->warn);
 }
 
 static void pub_d(const kelp_field_sink *sink, const char *var, double v)
@@ -130,7 +130,7 @@ static void publish_contact(kelp_remus_codec *t, const contact *c, const char *k
     if (kelp_nodereport_format(r, buf, KELP_NODEREPORT_MAX_LEN, NULL) == 0)
         sink->publish(sink->ctx, "NODE_REPORT", true, buf, 0);
     else
-        warnf(sink, "cannot write a NODE_REPORT for %s", c->name);
+        warnf(t, sink, "cannot write a NODE_REPORT for %s", c->name);
 }
 
 static const kelp_dccl_modem_entry *lookup(const kelp_dccl_builtin *g, int id)
@@ -211,10 +211,11 @@ static void redirect_text(const uint8_t *f, int node, double now, sb *b)
 static int incoming(kelp_remus_codec *t, int kind, const char *text, double now, const kelp_field_sink *sink)
 {
     kelp_acomms_msg *m = &t->work.in.msg;
-    const char *why = NULL;
-    if (!text || kelp_acomms_parse_data(text, strlen(text), m, &why) < 0) {
+    kelp_diag *why = &t->work.in.diag;
+    kelp_diag_clear(why);
+    if (!text || kelp_acomms_parse_data(text, strlen(text), m, why) < 0) {
         t->refused++;
-        warnf(sink, "%s: not a ModemDataTransmission (%s)", t->cfg.in_var[kind], why ? why : "?");
+        warnf(t, sink, "%s: not a ModemDataTransmission (%s)", t->cfg.in_var[kind], why->code ? kelp_diag_text(why) : "?");
         return KELP_ERR_PARSE;
     }
     /* zero-padded or cut to one 32-byte frame, as Goby does */
@@ -226,7 +227,7 @@ static int incoming(kelp_remus_codec *t, int kind, const char *text, double now,
     bool alert = kind == KELP_REMUS_ALERT_VAR || kind == KELP_REMUS_ALERT2_VAR;
     if (m->len == 0 || (!alert && kelp_remus_identify(f, sizeof f) != want[kind])) {
         t->refused++;
-        warnf(sink, "%s: the frame is not a REMUS %s message", t->cfg.in_var[kind], KIND_NAME[kind]);
+        warnf(t, sink, "%s: the frame is not a REMUS %s message", t->cfg.in_var[kind], KIND_NAME[kind]);
         return KELP_ERR_PARSE;
     }
     t->received[kind]++;

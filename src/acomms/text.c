@@ -449,12 +449,13 @@ typedef struct tf_val {
 } tf_val;
 
 typedef struct tf_walk {
-    /* callbacks return 0 or a negative code with *why */
+    /* callbacks return 0 or a negative code recorded in d (kelp_fail) */
     int (*field)(void *ctx, const char *const *path, unsigned depth, const char *name, size_t nlen, const tf_val *v);
     int (*open)(void *ctx, const char *const *path, unsigned depth, const char *name, size_t nlen);
     int (*close)(void *ctx, unsigned depth);
     void *ctx;
-    const char *why;
+    kelp_diag *d;           /* the caller's record (may be NULL) */
+    const char *too_long;   /* reason of a string longer than the string buffer */
 } tf_walk;
 
 static bool tok_is(const char *s, size_t n, const char *z)
@@ -474,15 +475,13 @@ static int walk(tf_walk *wk, const char *text, size_t len, uint8_t *sbuf, size_t
     for (;;) {
         if (t.kind == TK_END) {
             if (depth) {
-                wk->why = "unterminated sub-message";
-                return KELP_ERR_PARSE;
+                return kelp_fail(wk->d, KELP_ERR_PARSE, "unterminated sub-message");
             }
             return KELP_OK;
         }
         if (t.kind == TK_CLOSE) {
             if (!depth || closers[depth - 1] != t.close) {
-                wk->why = "unbalanced '}'";
-                return KELP_ERR_PARSE;
+                return kelp_fail(wk->d, KELP_ERR_PARSE, "unbalanced '}'");
             }
             depth--;
             int rc = wk->close ? wk->close(wk->ctx, depth) : 0;
@@ -492,8 +491,7 @@ static int walk(tf_walk *wk, const char *text, size_t len, uint8_t *sbuf, size_t
             continue;
         }
         if (t.kind != TK_IDENT) {
-            wk->why = t.kind == TK_BAD ? "unexpected character or unterminated string" : "expected a field name";
-            return KELP_ERR_PARSE;
+            return kelp_fail(wk->d, KELP_ERR_PARSE, t.kind == TK_BAD ? "unexpected character or unterminated string" : "expected a field name");
         }
         tk name = t;
         t = lex(&lx);
@@ -504,8 +502,7 @@ static int walk(tf_walk *wk, const char *text, size_t len, uint8_t *sbuf, size_t
         }
         if (t.kind == TK_OPEN) {
             if (depth >= TF_MAX_DEPTH) {
-                wk->why = "sub-messages nested too deeply";
-                return KELP_ERR_PARSE;
+                return kelp_fail(wk->d, KELP_ERR_PARSE, "sub-messages nested too deeply");
             }
             size_t nn = name.n < sizeof names[0] - 1 ? name.n : sizeof names[0] - 1;
             memcpy(names[depth], name.s, nn);
@@ -518,8 +515,7 @@ static int walk(tf_walk *wk, const char *text, size_t len, uint8_t *sbuf, size_t
             continue;
         }
         if (!colon) {
-            wk->why = "expected ':' after a field name";
-            return KELP_ERR_PARSE;
+            return kelp_fail(wk->d, KELP_ERR_PARSE, "expected ':' after a field name");
         }
         tf_val v = { t.kind, t.s, t.n, NULL, 0 };
         if (t.kind == TK_STRING) {
@@ -528,16 +524,14 @@ static int walk(tf_walk *wk, const char *text, size_t len, uint8_t *sbuf, size_t
             while (t.kind == TK_STRING) {
                 int rc = unescape(t.s, t.n, t.close != 0, sbuf, scap, &v.blen);
                 if (rc) {
-                    wk->why = rc == KELP_ERR_NOSPACE ? "string too long" : "bad escape in string";
-                    return rc;
+                    return kelp_fail(wk->d, rc, rc == KELP_ERR_NOSPACE ? wk->too_long : "bad escape in string");
                 }
                 t = lex(&lx);
             }
         } else if (t.kind == TK_NUMBER || t.kind == TK_IDENT) {
             t = lex(&lx);
         } else {
-            wk->why = "expected a value";
-            return KELP_ERR_PARSE;
+            return kelp_fail(wk->d, KELP_ERR_PARSE, "expected a value");
         }
         int rc = wk->field(wk->ctx, path, depth, name.s, name.n, &v);
         if (rc) return rc;
@@ -576,13 +570,12 @@ static int val_bool(const tf_val *v, bool *out)
 /* ------------------------------------------------------------------ ModemMsgBase (shared) */
 
 /* base { src dest time time_source rate raw description }: src/dest kept, others checked */
-static int base_field(const char *name, size_t nlen, const tf_val *v, int *src, int *dest, const char **why)
+static int base_field(const char *name, size_t nlen, const tf_val *v, int *src, int *dest, kelp_diag *d)
 {
     long long x;
     if (tok_is(name, nlen, "src") || tok_is(name, nlen, "dest")) {
         if (val_long(v, -2147483647LL - 1, 2147483647LL, &x) != KELP_OK) {
-            *why = "base.src/dest must be an integer";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "base.src/dest must be an integer");
         }
         if (name[0] == 's') *src = (int)x;
         else *dest = (int)x;
@@ -590,33 +583,29 @@ static int base_field(const char *name, size_t nlen, const tf_val *v, int *src, 
     }
     if (tok_is(name, nlen, "time") || tok_is(name, nlen, "raw") || tok_is(name, nlen, "description")) {
         if (v->kind != TK_STRING) {
-            *why = "base.time/raw/description must be a string";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "base.time/raw/description must be a string");
         }
         return KELP_OK;
     }
     if (tok_is(name, nlen, "time_source")) {
         if (v->kind == TK_IDENT && (tok_is(v->s, v->n, "MODEM_TIME") || tok_is(v->s, v->n, "GOBY_TIME"))) return KELP_OK;
         if (val_long(v, 1, 2, &x) == KELP_OK) return KELP_OK;
-        *why = "base.time_source must be MODEM_TIME or GOBY_TIME";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "base.time_source must be MODEM_TIME or GOBY_TIME");
     }
     if (tok_is(name, nlen, "rate")) {
         if (val_long(v, 0, 4294967295LL, &x) != KELP_OK) {
-            *why = "base.rate must be an unsigned integer";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "base.rate must be an unsigned integer");
         }
         return KELP_OK;
     }
-    *why = "unknown field in base";
-    return KELP_ERR_PARSE;
+    return kelp_fail(d, KELP_ERR_PARSE, "unknown field in base");
 }
 
 /* ------------------------------------------------------------------ ModemDataTransmission */
 
 typedef struct data_ctx {
     kelp_acomms_msg *m;
-    const char **why;
+    kelp_diag *d;
     bool in_base, in_key;
     bool has_key_type;
 } data_ctx;
@@ -633,8 +622,7 @@ static int data_open(void *c, const char *const *path, unsigned depth, const cha
         x->in_key = true;
         return KELP_OK;
     }
-    *x->why = "unknown sub-message in ModemDataTransmission";
-    return KELP_ERR_PARSE;
+    return kelp_fail(x->d, KELP_ERR_PARSE, "unknown sub-message in ModemDataTransmission");
 }
 
 static int data_close(void *c, unsigned depth)
@@ -650,47 +638,41 @@ static int data_field(void *c, const char *const *path, unsigned depth, const ch
     data_ctx *x = c;
     kelp_acomms_msg *m = x->m;
     long long l;
-    if (depth == 1 && x->in_base) return base_field(name, nlen, v, &m->src, &m->dest, x->why);
+    if (depth == 1 && x->in_base) return base_field(name, nlen, v, &m->src, &m->dest, x->d);
     if (depth == 1 && x->in_key) {
         if (tok_is(name, nlen, "type")) {
             if (v->kind == TK_IDENT && tok_is(v->s, v->n, "QUEUE_DCCL")) m->key.type = KELP_QUEUE_DCCL;
             else if (v->kind == TK_IDENT && tok_is(v->s, v->n, "QUEUE_CCL")) m->key.type = KELP_QUEUE_CCL;
             else if (val_long(v, 1, 2, &l) == KELP_OK) m->key.type = (uint8_t)l;
             else {
-                *x->why = "queue_key.type must be QUEUE_DCCL or QUEUE_CCL";
-                return KELP_ERR_PARSE;
+                return kelp_fail(x->d, KELP_ERR_PARSE, "queue_key.type must be QUEUE_DCCL or QUEUE_CCL");
             }
             x->has_key_type = true;
             return KELP_OK;
         }
         if (tok_is(name, nlen, "id")) {
             if (val_long(v, 0, 4294967295LL, &l) != KELP_OK) {
-                *x->why = "queue_key.id must be an unsigned integer";
-                return KELP_ERR_PARSE;
+                return kelp_fail(x->d, KELP_ERR_PARSE, "queue_key.id must be an unsigned integer");
             }
             m->key.id = (uint32_t)l;
             if (!x->has_key_type) m->key.type = KELP_QUEUE_DCCL;
             return KELP_OK;
         }
-        *x->why = "unknown field in queue_key";
-        return KELP_ERR_PARSE;
+        return kelp_fail(x->d, KELP_ERR_PARSE, "unknown field in queue_key");
     }
     if (depth != 0) {
-        *x->why = "unexpected nesting";
-        return KELP_ERR_PARSE;
+        return kelp_fail(x->d, KELP_ERR_PARSE, "unexpected nesting");
     }
     if (tok_is(name, nlen, "ack_requested")) {
         if (val_bool(v, &m->ack_requested) != KELP_OK) {
-            *x->why = "ack_requested must be true or false";
-            return KELP_ERR_PARSE;
+            return kelp_fail(x->d, KELP_ERR_PARSE, "ack_requested must be true or false");
         }
         m->has_ack = true;
         return KELP_OK;
     }
     if (tok_is(name, nlen, "data")) {
         if (v->kind != TK_STRING) {
-            *x->why = "data must be a quoted string";
-            return KELP_ERR_PARSE;
+            return kelp_fail(x->d, KELP_ERR_PARSE, "data must be a quoted string");
         }
         memcpy(m->data, v->bytes, v->blen);
         m->len = v->blen;
@@ -698,36 +680,29 @@ static int data_field(void *c, const char *const *path, unsigned depth, const ch
     }
     if (tok_is(name, nlen, "frame")) {
         if (val_long(v, 0, 4294967295LL, &l) != KELP_OK) {
-            *x->why = "frame must be an unsigned integer";
-            return KELP_ERR_PARSE;
+            return kelp_fail(x->d, KELP_ERR_PARSE, "frame must be an unsigned integer");
         }
         m->frame = (uint32_t)l;
         return KELP_OK;
     }
-    *x->why = "unknown field in ModemDataTransmission";
-    return KELP_ERR_PARSE;
+    return kelp_fail(x->d, KELP_ERR_PARSE, "unknown field in ModemDataTransmission");
 }
 
-int kelp_acomms_parse_data(const char *text, size_t len, kelp_acomms_msg *out, const char **why)
+int kelp_acomms_parse_data(const char *text, size_t len, kelp_acomms_msg *out, kelp_diag *d)
 {
-    const char *dummy;
-    if (!why) why = &dummy;
-    *why = NULL;
-    if (!text || !out) return KELP_ERR_ARG;
+    if (!text || !out) return kelp_fail(d, KELP_ERR_ARG, "no text or no message");
     memset(out, 0, sizeof *out);
-    data_ctx x = { out, why, false, false, false };
-    tf_walk wk = { data_field, data_open, data_close, &x, NULL };
+    data_ctx x = { out, d, false, false, false };
+    tf_walk wk = { data_field, data_open, data_close, &x, d, "data longer than a modem frame" };
     int rc = walk(&wk, text, len, out->data, sizeof out->data);
-    if (rc && !*why) *why = wk.why ? wk.why : "malformed ModemDataTransmission";
-    if (rc == KELP_ERR_NOSPACE) *why = "data longer than a modem frame";
-    return rc;
+    return rc ? kelp_fail(d, rc, "malformed ModemDataTransmission") : KELP_OK;
 }
 
 /* ------------------------------------------------------------------ ModemRangingRequest */
 
 typedef struct range_ctx {
     kelp_acomms_range_req *r;
-    const char **why;
+    kelp_diag *d;
     bool in_base;
 } range_ctx;
 
@@ -739,8 +714,7 @@ static int range_open(void *c, const char *const *path, unsigned depth, const ch
         x->in_base = true;
         return KELP_OK;
     }
-    *x->why = "unknown sub-message in ModemRangingRequest";
-    return KELP_ERR_PARSE;
+    return kelp_fail(x->d, KELP_ERR_PARSE, "unknown sub-message in ModemRangingRequest");
 }
 
 static int range_close(void *c, unsigned depth)
@@ -755,10 +729,9 @@ static int range_field(void *c, const char *const *path, unsigned depth, const c
     (void)path;
     range_ctx *x = c;
     long long l;
-    if (depth == 1 && x->in_base) return base_field(name, nlen, v, &x->r->src, &x->r->dest, x->why);
+    if (depth == 1 && x->in_base) return base_field(name, nlen, v, &x->r->src, &x->r->dest, x->d);
     if (depth != 0) {
-        *x->why = "unexpected nesting";
-        return KELP_ERR_PARSE;
+        return kelp_fail(x->d, KELP_ERR_PARSE, "unexpected nesting");
     }
     if (tok_is(name, nlen, "type")) {
         if (v->kind == TK_IDENT && tok_is(v->s, v->n, "MODEM_TWO_WAY_PING")) x->r->type = KELP_RANGING_TWO_WAY_PING;
@@ -767,47 +740,40 @@ static int range_field(void *c, const char *const *path, unsigned depth, const c
         else if (v->kind == TK_IDENT && tok_is(v->s, v->n, "REMUS_LBL_RANGING")) x->r->type = KELP_RANGING_REMUS_LBL;
         else if (val_long(v, 1, 3, &l) == KELP_OK) x->r->type = (kelp_ranging_type)l;
         else {
-            *x->why = "type must be MODEM_TWO_WAY_PING, MODEM_ONE_WAY_SYNCHRONOUS or REMUS_LBL_RANGING";
-            return KELP_ERR_PARSE;
+            return kelp_fail(x->d, KELP_ERR_PARSE, "type must be MODEM_TWO_WAY_PING, MODEM_ONE_WAY_SYNCHRONOUS or REMUS_LBL_RANGING");
         }
         return KELP_OK;
     }
     if (tok_is(name, nlen, "max_range") || tok_is(name, nlen, "enable_beacons")) {
         if (val_long(v, 0, 4294967295LL, &l) != KELP_OK) {
-            *x->why = "max_range/enable_beacons must be unsigned integers";
-            return KELP_ERR_PARSE;
+            return kelp_fail(x->d, KELP_ERR_PARSE, "max_range/enable_beacons must be unsigned integers");
         }
         if (name[0] == 'm') x->r->max_range = (unsigned)l;
         else x->r->enable_beacons = (unsigned)l;
         return KELP_OK;
     }
-    *x->why = "unknown field in ModemRangingRequest";
-    return KELP_ERR_PARSE;
+    return kelp_fail(x->d, KELP_ERR_PARSE, "unknown field in ModemRangingRequest");
 }
 
-int kelp_acomms_parse_range_req(const char *text, size_t len, kelp_acomms_range_req *out, const char **why)
+int kelp_acomms_parse_range_req(const char *text, size_t len, kelp_acomms_range_req *out, kelp_diag *d)
 {
-    const char *dummy;
-    if (!why) why = &dummy;
-    *why = NULL;
-    if (!text || !out) return KELP_ERR_ARG;
+    if (!text || !out) return kelp_fail(d, KELP_ERR_ARG, "no text or no request");
     memset(out, 0, sizeof *out);
     out->type = KELP_RANGING_TWO_WAY_PING;
     out->max_range = 1000;
     out->enable_beacons = 15;
-    range_ctx x = { out, why, false };
-    tf_walk wk = { range_field, range_open, range_close, &x, NULL };
+    range_ctx x = { out, d, false };
+    tf_walk wk = { range_field, range_open, range_close, &x, d, "string too long" };
     /* no string field's value is kept: strings are checked and counted, not stored */
     int rc = walk(&wk, text, len, NULL, KELP_MAX_NMEA_LINE);
-    if (rc && !*why) *why = wk.why ? wk.why : "malformed ModemRangingRequest";
-    return rc;
+    return rc ? kelp_fail(d, rc, "malformed ModemRangingRequest") : KELP_OK;
 }
 
 /* ------------------------------------------------------------------ MACUpdate */
 
 typedef struct mac_ctx {
     kelp_acomms_mac_update *u;
-    const char **why;
+    kelp_diag *d;
     bool in_slot;
     bool slot_has_src;
 } mac_ctx;
@@ -818,16 +784,14 @@ static int mac_open(void *c, const char *const *path, unsigned depth, const char
     mac_ctx *x = c;
     if (depth == 0 && tok_is(name, nlen, "slot")) {
         if (x->u->nslots >= KELP_MAX_MAC_SLOTS) {
-            *x->why = "too many slots";
-            return KELP_ERR_NOSPACE;
+            return kelp_fail(x->d, KELP_ERR_NOSPACE, "too many slots");
         }
         kelp_mac_slot_default(&x->u->slot[x->u->nslots], 0);
         x->in_slot = true;
         x->slot_has_src = false;
         return KELP_OK;
     }
-    *x->why = "unknown sub-message in MACUpdate";
-    return KELP_ERR_PARSE;
+    return kelp_fail(x->d, KELP_ERR_PARSE, "unknown sub-message in MACUpdate");
 }
 
 static int mac_close(void *c, unsigned depth)
@@ -835,8 +799,7 @@ static int mac_close(void *c, unsigned depth)
     mac_ctx *x = c;
     if (depth == 0 && x->in_slot) {
         if (!x->slot_has_src) {
-            *x->why = "slot without src (required)";
-            return KELP_ERR_PARSE;
+            return kelp_fail(x->d, KELP_ERR_PARSE, "slot without src (required)");
         }
         x->u->nslots++;
         x->in_slot = false;
@@ -853,8 +816,7 @@ static int mac_field(void *c, const char *const *path, unsigned depth, const cha
         kelp_mac_slot *s = &x->u->slot[x->u->nslots];
         if (tok_is(name, nlen, "src") || tok_is(name, nlen, "dest")) {
             if (val_long(v, -1, 31, &l) != KELP_OK) {
-                *x->why = "slot src/dest must be -1..31";
-                return KELP_ERR_PARSE;
+                return kelp_fail(x->d, KELP_ERR_PARSE, "slot src/dest must be -1..31");
             }
             if (name[0] == 's') {
                 s->src = (int)l;
@@ -866,16 +828,14 @@ static int mac_field(void *c, const char *const *path, unsigned depth, const cha
         }
         if (tok_is(name, nlen, "rate")) {
             if (val_long(v, 0, 5, &l) != KELP_OK) {
-                *x->why = "slot rate must be 0..5";
-                return KELP_ERR_PARSE;
+                return kelp_fail(x->d, KELP_ERR_PARSE, "slot rate must be 0..5");
             }
             s->rate = (unsigned)l;
             return KELP_OK;
         }
         if (tok_is(name, nlen, "slot_seconds")) {
             if (val_long(v, 0, 86400, &l) != KELP_OK) {
-                *x->why = "slot_seconds must be 0..86400";
-                return KELP_ERR_PARSE;
+                return kelp_fail(x->d, KELP_ERR_PARSE, "slot_seconds must be 0..86400");
             }
             s->slot_seconds = (unsigned)l;
             return KELP_OK;
@@ -886,29 +846,24 @@ static int mac_field(void *c, const char *const *path, unsigned depth, const cha
             else if (v->kind == TK_IDENT && tok_is(v->s, v->n, "SLOT_REMUS_LBL")) s->type = KELP_SLOT_REMUS_LBL;
             else if (val_long(v, 1, 3, &l) == KELP_OK) s->type = (kelp_slot_type)l;
             else {
-                *x->why = "slot type must be SLOT_DATA, SLOT_PING or SLOT_REMUS_LBL";
-                return KELP_ERR_PARSE;
+                return kelp_fail(x->d, KELP_ERR_PARSE, "slot type must be SLOT_DATA, SLOT_PING or SLOT_REMUS_LBL");
             }
             return KELP_OK;
         }
         if (tok_is(name, nlen, "last_heard_time")) {
             if (v->kind != TK_STRING) {
-                *x->why = "last_heard_time must be a string";
-                return KELP_ERR_PARSE;
+                return kelp_fail(x->d, KELP_ERR_PARSE, "last_heard_time must be a string");
             }
             return KELP_OK;
         }
-        *x->why = "unknown field in slot";
-        return KELP_ERR_PARSE;
+        return kelp_fail(x->d, KELP_ERR_PARSE, "unknown field in slot");
     }
     if (depth != 0) {
-        *x->why = "unexpected nesting";
-        return KELP_ERR_PARSE;
+        return kelp_fail(x->d, KELP_ERR_PARSE, "unexpected nesting");
     }
     if (tok_is(name, nlen, "dest")) {
         if (val_long(v, -2147483647LL - 1, 2147483647LL, &l) != KELP_OK) {
-            *x->why = "dest must be an integer";
-            return KELP_ERR_PARSE;
+            return kelp_fail(x->d, KELP_ERR_PARSE, "dest must be an integer");
         }
         x->u->dest = (int)l;
         x->u->has_dest = true;
@@ -920,30 +875,22 @@ static int mac_field(void *c, const char *const *path, unsigned depth, const cha
         else if (v->kind == TK_IDENT && tok_is(v->s, v->n, "REPLACE")) x->u->type = KELP_MAC_UPDATE_REPLACE;
         else if (val_long(v, 1, 3, &l) == KELP_OK) x->u->type = (kelp_mac_update_type)l;
         else {
-            *x->why = "update_type must be ADD, REMOVE or REPLACE";
-            return KELP_ERR_PARSE;
+            return kelp_fail(x->d, KELP_ERR_PARSE, "update_type must be ADD, REMOVE or REPLACE");
         }
         return KELP_OK;
     }
-    *x->why = "unknown field in MACUpdate";
-    return KELP_ERR_PARSE;
+    return kelp_fail(x->d, KELP_ERR_PARSE, "unknown field in MACUpdate");
 }
 
-int kelp_acomms_parse_mac_update(const char *text, size_t len, kelp_acomms_mac_update *out, const char **why)
+int kelp_acomms_parse_mac_update(const char *text, size_t len, kelp_acomms_mac_update *out, kelp_diag *d)
 {
-    const char *dummy;
-    if (!why) why = &dummy;
-    *why = NULL;
-    if (!text || !out) return KELP_ERR_ARG;
+    if (!text || !out) return kelp_fail(d, KELP_ERR_ARG, "no text or no update");
     memset(out, 0, sizeof *out);
     out->type = KELP_MAC_UPDATE_REPLACE;
-    mac_ctx x = { out, why, false, false };
-    tf_walk wk = { mac_field, mac_open, mac_close, &x, NULL };
+    mac_ctx x = { out, d, false, false };
+    tf_walk wk = { mac_field, mac_open, mac_close, &x, d, "string too long" };
     int rc = walk(&wk, text, len, NULL, 128); /* strings checked and counted, not stored */
-    if (rc && !*why) *why = wk.why ? wk.why : "malformed MACUpdate";
-    if (!rc && !out->has_dest) {
-        *why = "MACUpdate without dest (required)";
-        rc = KELP_ERR_PARSE;
-    }
-    return rc;
+    if (rc) return kelp_fail(d, rc, "malformed MACUpdate");
+    if (!out->has_dest) return kelp_fail(d, KELP_ERR_PARSE, "MACUpdate without dest (required)");
+    return KELP_OK;
 }

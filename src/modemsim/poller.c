@@ -35,11 +35,10 @@ static int slot_type(const char *v, size_t vl, kelp_slot_type *out)
     return KELP_ERR_PARSE;
 }
 
-int kelp_poller_parse_slot(const char *spec, unsigned default_seconds, kelp_mac_slot *out, const char **bad)
+int kelp_poller_parse_slot(const char *spec, unsigned default_seconds, kelp_mac_slot *out, kelp_diag *d)
 {
     static const char *const KEYS[] = { "src", "dest", "rate", "type", "slot_seconds" };
-    if (bad) *bad = "";
-    if (!spec || !out) return KELP_ERR_ARG;
+    if (!spec || !out) return kelp_fail(d, KELP_ERR_ARG, "no slot text");
     kelp_mac_slot_default(out, 0);
     out->slot_seconds = default_seconds;
     bool have_src = false;
@@ -53,19 +52,16 @@ int kelp_poller_parse_slot(const char *spec, unsigned default_seconds, kelp_mac_
         for (size_t i = 0; i < sizeof KEYS / sizeof KEYS[0]; i++)
             if (key_is(k, kl, KEYS[i])) which = i;
         if (which == sizeof KEYS / sizeof KEYS[0]) {
-            if (bad) *bad = "unknown key";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "unknown key");
         }
         if (which == 3) {
             if (slot_type(v, vl, &out->type) != KELP_OK) {
-                if (bad) *bad = "type";
-                return KELP_ERR_PARSE;
+                return kelp_fail(d, KELP_ERR_PARSE, "type");
             }
             continue;
         }
         if (kelp_parse_long(v, vl, &n) != KELP_OK) {
-            if (bad) *bad = KEYS[which];
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, KEYS[which]);
         }
         switch (which) {
         case 0:
@@ -88,20 +84,16 @@ int kelp_poller_parse_slot(const char *spec, unsigned default_seconds, kelp_mac_
         }
         continue;
     range:
-        if (bad) *bad = KEYS[which];
-        return KELP_ERR_RANGE;
+        return kelp_fail(d, KELP_ERR_RANGE, KEYS[which]);
     }
     if (rc < 0) {
-        if (bad) *bad = "not key=value";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "not key=value");
     }
     if (!have_src) {
-        if (bad) *bad = "src";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "src");
     }
     if (out->slot_seconds < 1) {
-        if (bad) *bad = "slot_seconds";
-        return KELP_ERR_RANGE;
+        return kelp_fail(d, KELP_ERR_RANGE, "slot_seconds");
     }
     return KELP_OK;
 }
@@ -220,14 +212,13 @@ int kelp_poller_format_slot(const kelp_mac_slot *s, char *buf, size_t cap, size_
 
 /* ------------------------------------------------------------------ the poll list */
 
-int kelp_poller_add(kelp_poller_list *l, const char *spec, const char **why)
+int kelp_poller_add(kelp_poller_list *l, const char *spec, kelp_diag *d)
 {
     kelp_mac_slot s;
-    int rc = kelp_poller_parse_slot(spec, l->default_seconds, &s, why);
+    int rc = kelp_poller_parse_slot(spec, l->default_seconds, &s, d);
     if (rc < 0) return rc;
     if (l->n >= KELP_MAX_MSIM_POLL_SLOTS) {
-        *why = "list full (KELP_MAX_MSIM_POLL_SLOTS)";
-        return KELP_ERR_NOSPACE;
+        return kelp_fail(d, KELP_ERR_NOSPACE, "list full (KELP_MAX_MSIM_POLL_SLOTS)");
     }
     l->slot[l->n++] = s;
     return KELP_OK;
@@ -239,7 +230,7 @@ static bool same_slot(const kelp_mac_slot *a, const kelp_mac_slot *b)
            a->slot_seconds == b->slot_seconds;
 }
 
-int kelp_poller_command(kelp_poller_list *l, const char *cmd, const char **why)
+int kelp_poller_command(kelp_poller_list *l, const char *cmd, kelp_diag *d)
 {
     while (*cmd == ' ') cmd++;
     const char *arg = strchr(cmd, ' ');
@@ -247,18 +238,17 @@ int kelp_poller_command(kelp_poller_list *l, const char *cmd, const char **why)
     if (arg)
         while (*arg == ' ') arg++;
 #define VERB(w) (vl == strlen(w) && strncmp(cmd, w, vl) == 0)
-    if (VERB("add") && arg && *arg) return kelp_poller_add(l, arg, why) < 0 ? KELP_ERR_PARSE : 1;
+    if (VERB("add") && arg && *arg) return kelp_poller_add(l, arg, d) < 0 ? KELP_ERR_PARSE : 1;
     if (VERB("remove") && arg && *arg) {
         kelp_mac_slot s;
-        if (kelp_poller_parse_slot(arg, l->default_seconds, &s, why) < 0) return KELP_ERR_PARSE;
+        if (kelp_poller_parse_slot(arg, l->default_seconds, &s, d) < 0) return KELP_ERR_PARSE;
         for (size_t i = 0; i < l->n; i++) {
             if (!same_slot(&l->slot[i], &s)) continue;
             memmove(&l->slot[i], &l->slot[i + 1], (l->n - i - 1) * sizeof l->slot[0]);
             l->n--;
             return 1;
         }
-        *why = "no such slot";
-        return KELP_ERR_NOTFOUND;
+        return kelp_fail(d, KELP_ERR_NOTFOUND, "no such slot");
     }
     if (VERB("replace")) {
         /* replace src=..;src=..;... (empty = no slots): all or nothing, so every slot is
@@ -272,17 +262,15 @@ int kelp_poller_command(kelp_poller_list *l, const char *cmd, const char **why)
                 size_t len = e ? (size_t)(e - p) : strlen(p);
                 char one[256];
                 if (len >= sizeof one) {
-                    *why = "slot too long";
-                    return KELP_ERR_RANGE;
+                    return kelp_fail(d, KELP_ERR_RANGE, "slot too long");
                 }
                 memcpy(one, p, len);
                 one[len] = '\0';
                 if (len) {
                     kelp_mac_slot s;
-                    if (kelp_poller_parse_slot(one, l->default_seconds, &s, why) < 0) return KELP_ERR_PARSE;
+                    if (kelp_poller_parse_slot(one, l->default_seconds, &s, d) < 0) return KELP_ERR_PARSE;
                     if (count >= KELP_MAX_MSIM_POLL_SLOTS) {
-                        *why = "list full (KELP_MAX_MSIM_POLL_SLOTS)";
-                        return KELP_ERR_PARSE;
+                        return kelp_fail(d, KELP_ERR_PARSE, "list full (KELP_MAX_MSIM_POLL_SLOTS)");
                     }
                     if (pass) l->slot[count] = s;
                     count++;
@@ -297,8 +285,7 @@ int kelp_poller_command(kelp_poller_list *l, const char *cmd, const char **why)
     else if (VERB("pause")) l->paused = true;
     else if (VERB("resume")) l->paused = false;
     else if (!VERB("publish")) {
-        *why = "unknown command (add SLOT | remove SLOT | replace SLOT;SLOT | clear | pause | resume | publish)";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "unknown command (add SLOT | remove SLOT | replace SLOT;SLOT | clear | pause | resume | publish)");
     }
 #undef VERB
     return 1;

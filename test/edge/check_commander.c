@@ -62,7 +62,7 @@ static void teardown(void)
 
 START_TEST(cmdr_rows_and_checks)
 {
-    const char *why;
+    kelp_diag why = {0};
     int m = kelp_cmdr_open(&c, "GoToCommand");
     ck_assert_int_eq(m, 0);
     ck_assert_int_eq(kelp_cmdr_open(&c, "GoToCommand"), 0);
@@ -82,8 +82,12 @@ START_TEST(cmdr_rows_and_checks)
     kelp_cmdr_describe(kelp_cmdr_row_field(g, 6), d, sizeof d);
     ck_assert_str_eq(d, "(float) range: 0.00 to 3.00, 2 decimal places");
     ck_assert_int_eq(kelp_cmdr_set(&c, 0, 1, "stop", &why), KELP_ERR_RANGE);
+    kelp_diag_clear(&why);
     ck_assert_int_eq(kelp_cmdr_set(&c, 0, 2, "10001", &why), KELP_ERR_RANGE);
-    ck_assert_str_eq(why, "out of range");
+    ck_assert_int_eq(why.code, KELP_ERR_RANGE);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(why.msg, "out of range");
+#endif
     ck_assert_int_eq(kelp_cmdr_set(&c, 0, 2, "-1", &why), KELP_ERR_RANGE);
     ck_assert_int_eq(kelp_cmdr_set(&c, 0, 2, "1.5", &why), KELP_ERR_PARSE);
     ck_assert_int_eq(kelp_cmdr_set(&c, 0, 2, "abc", &why), KELP_ERR_PARSE);
@@ -134,7 +138,7 @@ static void through_handler(const kelp_cmdr_pub *p, size_t n, const kelp_dccl_ms
 
 START_TEST(cmdr_send_is_what_the_handler_reads)
 {
-    const char *why;
+    kelp_diag why = {0};
     kelp_cmdr_pub p[KELP_CMDR_MAX_PUBS];
     size_t n;
     static kelp_dccl_val out[64];
@@ -193,8 +197,7 @@ END_TEST
 
 START_TEST(cmdr_save_load)
 {
-    const char *why;
-    unsigned line;
+    kelp_diag why = {0};
     char buf[2048];
     size_t len;
     ck_assert_int_eq(kelp_cmdr_open(&c, "GoToCommand"), 0);
@@ -205,16 +208,25 @@ START_TEST(cmdr_save_load)
     ck_assert_int_eq(kelp_cmdr_save(&c, buf, 40, &len), KELP_ERR_NOSPACE);
     kelp_cmdr d;
     kelp_cmdr_init(&d, &ld.set, &geo);
-    ck_assert_int_eq(kelp_cmdr_load(&d, "# x\n\nmessage = Where\n mode = go \r\nmessage=GoToCommand\ngoto_x=7", &line, &why), 0);
+    ck_assert_int_eq(kelp_cmdr_load(&d, "# x\n\nmessage = Where\n mode = go \r\nmessage=GoToCommand\ngoto_x=7", &why), 0);
     ck_assert_uint_eq(d.n_open, 2);
     ck_assert_str_eq(d.open[0].val[3], "go");
     ck_assert_str_eq(d.open[1].val[2], "7");
-    ck_assert_int_eq(kelp_cmdr_load(&d, "message = Where\nmode = fly\n", &line, &why), KELP_ERR_RANGE);
-    ck_assert_uint_eq(line, 2);
-    ck_assert_int_eq(kelp_cmdr_load(&d, "goto_x = 1\n", &line, &why), KELP_ERR_PARSE);
-    ck_assert_int_eq(kelp_cmdr_load(&d, "message = Where\nbogus\n", &line, &why), KELP_ERR_PARSE);
-    ck_assert_int_eq(kelp_cmdr_load(&d, "message = Nope\n", &line, &why), KELP_ERR_NOTFOUND);
-    ck_assert_int_eq(kelp_cmdr_load(&d, "message = Where\nnofield = 1\n", &line, &why), KELP_ERR_NOTFOUND);
+    kelp_diag_clear(&why);
+    ck_assert_int_eq(kelp_cmdr_load(&d, "message = Where\nmode = fly\n", &why), KELP_ERR_RANGE);
+    ck_assert_int_eq(why.code, KELP_ERR_RANGE);
+    ck_assert_int_eq(why.line, 2);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(why.msg, "not one of the enum values");
+#endif
+    kelp_diag_clear(&why);
+    ck_assert_int_eq(kelp_cmdr_load(&d, "message = Where\n\nmessage = Nope\n", &why), KELP_ERR_NOTFOUND);
+    ck_assert_int_eq(why.code, KELP_ERR_NOTFOUND);
+    ck_assert_int_eq(why.line, 3);
+    ck_assert_int_eq(kelp_cmdr_load(&d, "goto_x = 1\n", NULL), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_cmdr_load(&d, "message = Where\nbogus\n", NULL), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_cmdr_load(&d, "message = Nope\n", NULL), KELP_ERR_NOTFOUND);
+    ck_assert_int_eq(kelp_cmdr_load(&d, "message = Where\nnofield = 1\n", NULL), KELP_ERR_NOTFOUND);
 }
 END_TEST
 

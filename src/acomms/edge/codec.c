@@ -31,9 +31,9 @@ static size_t triggered(void *ctx, const char *name, size_t *idx, size_t cap)
     return kelp_acomms_dccl_triggered(ctx, name, idx, cap);
 }
 
-static int encode(void *ctx, size_t i, double now, uint8_t *out, size_t cap, size_t *len, const char **why)
+static int encode(void *ctx, size_t i, double now, uint8_t *out, size_t cap, size_t *len, kelp_diag *d)
 {
-    return kelp_acomms_dccl_encode_vars(ctx, i, now, out, cap, len, why);
+    return kelp_acomms_dccl_encode_vars(ctx, i, now, out, cap, len, d);
 }
 
 static void set_var(void *ctx, const char *name, bool is_double, double dval, const char *sval)
@@ -52,9 +52,9 @@ static size_t due(void *ctx, double now, size_t *idx, size_t cap)
 }
 
 static int decode(void *ctx, const uint8_t *in, size_t n, double now, kelp_acomms_pub_fn fn, void *user,
-                  const char **why)
+                  kelp_diag *d)
 {
-    return kelp_acomms_dccl_decode(ctx, in, n, now, fn, user, why);
+    return kelp_acomms_dccl_decode(ctx, in, n, now, fn, user, d);
 }
 
 static int describe(void *ctx, const uint8_t *in, size_t n, double now, char *buf, size_t cap)

@@ -302,23 +302,27 @@ size_t kelp_acomms_dccl_due(kelp_acomms_dccl *d, double now, size_t *idx, size_t
     return n;
 }
 
+/* rc of the DCCL codec into diag: the codec's reason (or dflt when it gave none) */
+static int codec_fail(kelp_acomms_dccl *d, kelp_diag *diag, int rc, const char *dflt)
+{
+#ifdef KELP_NO_ERRMSG
+    (void)d, (void)dflt;
+#endif
+    return kelp_fail(diag, rc, d->cx.diag.code ? kelp_diag_text(&d->cx.diag) : dflt); /* NULL: kelp_strerror */
+}
+
 static int encode_vals(kelp_acomms_dccl *d, const kelp_dccl_msgdef *def, const kelp_dccl_val *vals, double now,
-                       uint8_t *out, size_t cap, size_t *len, const char **why)
+                       uint8_t *out, size_t cap, size_t *len, kelp_diag *diag)
 {
     int rc = kelp_dccl_encode(&d->cx, def, vals, def->n_slots, now, out, cap, len);
-    if (rc) *why = kelp_diag_text(&d->cx.diag)[0] ? kelp_diag_text(&d->cx.diag) : kelp_strerror(rc);
-    return rc;
+    return rc ? codec_fail(d, diag, rc, NULL) : KELP_OK;
 }
 
 int kelp_acomms_dccl_encode_vars(kelp_acomms_dccl *d, size_t i, double now, uint8_t *out, size_t cap, size_t *len,
-                                 const char **why)
+                                 kelp_diag *diag)
 {
-    const char *dummy;
-    if (!why) why = &dummy;
-    *why = NULL;
     if (!d || i >= d->ld.set.n || !out || !len) {
-        *why = "bad argument";
-        return KELP_ERR_ARG;
+        return kelp_fail(diag, KELP_ERR_ARG, "bad argument");
     }
     const kelp_dccl_msgdef *def = d->ld.set.msgs[i];
     size_t ns = 0;
@@ -338,34 +342,27 @@ int kelp_acomms_dccl_encode_vars(kelp_acomms_dccl *d, size_t i, double now, uint
             for (unsigned k = 0; k < def->n_slots; k++) kelp_dccl_val_clear(&g->rep[k]);
         int rc = kelp_dccl_source(def, d->src, ns, g->rep_count, g->rep, def->n_slots);
         if (rc) {
-            *why = "cannot source values";
-            return rc;
+            return kelp_fail(diag, rc, "cannot source values");
         }
         if (++g->rep_count < def->repeat) {
-            *why = "repeat: collecting";
-            return KELP_ERR_PARTIAL;
+            return kelp_fail(diag, KELP_ERR_PARTIAL, "repeat: collecting");
         }
         g->rep_count = 0;
-        return encode_vals(d, def, g->rep, now, out, cap, len, why);
+        return encode_vals(d, def, g->rep, now, out, cap, len, diag);
     }
     for (unsigned k = 0; k < def->n_slots; k++) kelp_dccl_val_clear(&d->vals[k]);
     int rc = kelp_dccl_source(def, d->src, ns, 0, d->vals, def->n_slots);
     if (rc) {
-        *why = "cannot source values";
-        return rc;
+        return kelp_fail(diag, rc, "cannot source values");
     }
-    return encode_vals(d, def, d->vals, now, out, cap, len, why);
+    return encode_vals(d, def, d->vals, now, out, cap, len, diag);
 }
 
 int kelp_acomms_dccl_encode_string(kelp_acomms_dccl *d, size_t i, const char *kv, double now, uint8_t *out, size_t cap,
-                                   size_t *len, const char **why)
+                                   size_t *len, kelp_diag *diag)
 {
-    const char *dummy;
-    if (!why) why = &dummy;
-    *why = NULL;
     if (!d || i >= d->ld.set.n || !kv || !out || !len) {
-        *why = "bad argument";
-        return KELP_ERR_ARG;
+        return kelp_fail(diag, KELP_ERR_ARG, "bad argument");
     }
     const kelp_dccl_msgdef *def = d->ld.set.msgs[i];
     for (unsigned k = 0; k < def->n_slots; k++) kelp_dccl_val_clear(&d->vals[k]);
@@ -375,14 +372,12 @@ int kelp_acomms_dccl_encode_string(kelp_acomms_dccl *d, size_t i, const char *kv
         if (!*p) break;
         const char *eq = strchr(p, '=');
         if (!eq) {
-            *why = "expected field=value";
-            return KELP_ERR_PARSE;
+            return kelp_fail(diag, KELP_ERR_PARSE, "expected field=value");
         }
         char name[KELP_DCCL_MAX_NAME];
         size_t nl = (size_t)(eq - p);
         if (nl == 0 || nl >= sizeof name) {
-            *why = "bad field name";
-            return KELP_ERR_PARSE;
+            return kelp_fail(diag, KELP_ERR_PARSE, "bad field name");
         }
         memcpy(name, p, nl);
         name[nl] = '\0';
@@ -392,8 +387,7 @@ int kelp_acomms_dccl_encode_string(kelp_acomms_dccl *d, size_t i, const char *kv
             v++;
             end = strchr(v, '}');
             if (!end) {
-                *why = "missing '}'";
-                return KELP_ERR_PARSE;
+                return kelp_fail(diag, KELP_ERR_PARSE, "missing '}'");
             }
         } else {
             end = strchr(v, ',');
@@ -401,8 +395,7 @@ int kelp_acomms_dccl_encode_string(kelp_acomms_dccl *d, size_t i, const char *kv
         }
         int fi = kelp_dccl_field_find(def, name);
         if (fi < 0) {
-            *why = "no such field in the message";
-            return KELP_ERR_NOTFOUND;
+            return kelp_fail(diag, KELP_ERR_NOTFOUND, "no such field in the message");
         }
         const kelp_dccl_field *f = &def->fields[fi];
         if (braced || f->array_length > 1) {
@@ -420,26 +413,27 @@ int kelp_acomms_dccl_encode_string(kelp_acomms_dccl *d, size_t i, const char *kv
         }
         p = braced ? end + 1 : end;
     }
-    return encode_vals(d, def, d->vals, now, out, cap, len, why);
+    return encode_vals(d, def, d->vals, now, out, cap, len, diag);
 }
 
 static int decode_into(kelp_acomms_dccl *d, const uint8_t *in, size_t n, double now, const kelp_dccl_msgdef **defp,
-                       long *idx, const char **why)
+                       long *idx, kelp_diag *diag)
 {
     unsigned id;
+    /* the constant codes are returned as such: *defp is set exactly when 0 is returned */
     if (kelp_dccl_peek_id(in, n, &id) != KELP_OK) {
-        *why = "too short for a DCCL header";
+        (void)kelp_fail(diag, KELP_ERR_TRUNCATED, "too short for a DCCL header");
         return KELP_ERR_TRUNCATED;
     }
     long i = kelp_acomms_dccl_find_id(d, id);
     if (i < 0) {
-        *why = "no message with this DCCL id";
+        (void)kelp_fail(diag, KELP_ERR_NOTFOUND, "no message with this DCCL id");
         return KELP_ERR_NOTFOUND;
     }
     const kelp_dccl_msgdef *def = d->ld.set.msgs[i];
     int rc = kelp_dccl_decode(&d->cx, def, in, n, now, d->vals, def->n_slots);
     if (rc) {
-        *why = kelp_diag_text(&d->cx.diag)[0] ? kelp_diag_text(&d->cx.diag) : kelp_strerror(rc);
+        (void)codec_fail(d, diag, rc, NULL);
         return rc;
     }
     *defp = def;
@@ -448,43 +442,37 @@ static int decode_into(kelp_acomms_dccl *d, const uint8_t *in, size_t n, double 
 }
 
 int kelp_acomms_dccl_decode(kelp_acomms_dccl *d, const uint8_t *in, size_t n, double now, kelp_acomms_pub_fn fn,
-                            void *user, const char **why)
+                            void *user, kelp_diag *diag)
 {
-    const char *dummy;
-    if (!why) why = &dummy;
-    *why = NULL;
-    if (!d || !in) return KELP_ERR_ARG;
+    if (!d || !in) return kelp_fail(diag, KELP_ERR_ARG, "bad argument");
     const kelp_dccl_msgdef *def = NULL;
     long i = -1;
     unsigned id;
     if (kelp_dccl_peek_id(in, n, &id) == KELP_OK) {
         long k = kelp_acomms_dccl_find_id(d, id);
         if (k >= 0 && (d->msg[k].manip & KELP_ACOMMS_MANIP_NO_DECODE)) {
-            *why = "NO_DECODE";
-            return KELP_ERR_STATE;
+            return kelp_fail(diag, KELP_ERR_STATE, "NO_DECODE");
         }
     }
-    int rc = decode_into(d, in, n, now, &def, &i, why);
+    int rc = decode_into(d, in, n, now, &def, &i, diag);
     if (rc) return rc;
     size_t np = 0;
     rc = kelp_dccl_publish_all(&d->cx, def, d->vals, def->n_slots, d->pubs, d->max_pubs + 1, &np);
-    if (rc) {
-        *why = d->cx.diag.code ? kelp_diag_text(&d->cx.diag) : "publish failed";
-        return rc;
-    }
+    if (rc) return codec_fail(d, diag, rc, "publish failed");
     for (size_t k = 0; k < np && fn; k++) fn(d->pubs[k].var, d->pubs[k].is_double, d->pubs[k].d, d->pubs[k].s, user);
     return KELP_OK;
 }
 
 int kelp_acomms_dccl_describe(kelp_acomms_dccl *d, const uint8_t *in, size_t n, double now, char *buf, size_t cap)
 {
-    const char *why = NULL;
+    kelp_diag why;
     const kelp_dccl_msgdef *def = NULL;
     long i = -1;
     if (!d || !in || !buf || !cap) return KELP_ERR_ARG;
+    kelp_diag_clear(&why);
     int rc = decode_into(d, in, n, now, &def, &i, &why);
     if (rc) {
-        snprintf(buf, cap, "(cannot decode: %s)", why ? why : kelp_strerror(rc));
+        snprintf(buf, cap, "(cannot decode: %s)", why.code ? kelp_diag_text(&why) : kelp_strerror(rc));
         return rc;
     }
     size_t o = 0;
