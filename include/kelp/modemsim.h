@@ -10,7 +10,8 @@
  *   packets out     ops.transmit(&pkt, user)                (publish on the channel)
  *   packets in      kelp_modemsim_hear(m, &pkt, now)            (every packet on the channel)
  *   timers          kelp_modemsim_tick(m, now)                  (often: every 10-50 ms)
- *   time            every call takes now = UNIX UTC microseconds of the shared simulation clock
+ *   time            every call takes now = kelp_time of the shared simulation clock (used to the
+ *                   whole microsecond)
  *
  * Host protocol (sentence forms of the WHOI Micro-Modem):
  *   $CCCLK,Y,M,D,h,m,s      -> $CACLK,YYYY,MM,DD,hh,mm,ss (the modem clock is set)
