@@ -13,7 +13,8 @@
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 static kelp_modemsim mods[2];
-static int64_t now;
+static int64_t now; /* whole microseconds; the simulator takes kelp_time seconds */
+#define SEC(us) ((kelp_time)(us) / 1e6)
 static uint8_t enc[KELP_MODEMSIM_PKT_MAX_ENCODED];
 
 static void w(const char *b, size_t n, void *u)
@@ -33,7 +34,7 @@ static void tx(const kelp_modemsim_pkt *p, void *u)
     /* what a modem transmits always encodes and decodes */
     if (kelp_modemsim_pkt_encode(p, enc, sizeof enc, &len) != KELP_OK) abort();
     if (kelp_modemsim_pkt_decode(enc, len, &q) != KELP_OK) abort();
-    for (int i = 0; i < 2; i++) (void)kelp_modemsim_hear(&mods[i], &q, now);
+    for (int i = 0; i < 2; i++) (void)kelp_modemsim_hear(&mods[i], &q, SEC(now));
 }
 
 static void ev(const kelp_modemsim_event *e, void *u)
@@ -59,7 +60,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         c.loss_probability = (data[0] & 2) ? 0.5 : 0.0;
         c.n_lbl = 1;
         c.lbl_x[0] = 500;
-        if (kelp_modemsim_init(&mods[i], &c, &OPS, NULL, now) != KELP_OK) abort();
+        if (kelp_modemsim_init(&mods[i], &c, &OPS, NULL, SEC(now)) != KELP_OK) abort();
     }
     if (data[0] & 1) {
         kelp_modemsim_pkt p;
@@ -67,11 +68,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             size_t len;
             if (kelp_modemsim_pkt_encode(&p, enc, sizeof enc, &len) != KELP_OK) abort();
             if (len != size - 1 || memcmp(enc, data + 1, len) != 0) abort(); /* canonical encoding */
-            p.start_us = now;
-            (void)kelp_modemsim_hear(&mods[0], &p, now);
+            p.start = SEC(now);
+            (void)kelp_modemsim_hear(&mods[0], &p, SEC(now));
             for (int k = 0; k < 40; k++) {
                 now += 250000;
-                kelp_modemsim_tick(&mods[0], now);
+                kelp_modemsim_tick(&mods[0], SEC(now));
             }
         }
         return 0;
@@ -80,16 +81,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     size_t off = 1;
     while (off < size) {
         size_t n = size - off < 64 ? size - off : 64;
-        if (kelp_modemsim_feed(&mods[0], data + off, n, now) != KELP_OK) abort();
+        if (kelp_modemsim_feed(&mods[0], data + off, n, SEC(now)) != KELP_OK) abort();
         off += n;
         for (int k = 0; k < 4; k++) {
             now += 100000;
-            for (int i = 0; i < 2; i++) kelp_modemsim_tick(&mods[i], now);
+            for (int i = 0; i < 2; i++) kelp_modemsim_tick(&mods[i], SEC(now));
         }
     }
     for (int k = 0; k < 100; k++) {
         now += 200000;
-        for (int i = 0; i < 2; i++) kelp_modemsim_tick(&mods[i], now);
+        for (int i = 0; i < 2; i++) kelp_modemsim_tick(&mods[i], SEC(now));
     }
     return 0;
 }

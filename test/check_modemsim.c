@@ -11,6 +11,8 @@
 
 #define S 1000000LL
 static const int64_t T0 = 1297857600LL * S; /* 2011-02-16 12:00:00 UTC */
+/* the test clock counts whole microseconds; the simulator takes kelp_time seconds */
+#define SEC(us) ((kelp_time)(us) / 1e6)
 
 /* ------------------------------------------------------------------ a little world of modems */
 
@@ -51,7 +53,7 @@ static void tx_cb(const kelp_modemsim_pkt *p, void *u)
     ck_assert_int_eq(kelp_modemsim_pkt_encode(p, air, sizeof air, &len), KELP_OK);
     static kelp_modemsim_pkt q;
     ck_assert_int_eq(kelp_modemsim_pkt_decode(air, len, &q), KELP_OK);
-    for (int i = 0; i < nmod; i++) ck_assert_int_eq(kelp_modemsim_hear(&mod[i], &q, now), KELP_OK);
+    for (int i = 0; i < nmod; i++) ck_assert_int_eq(kelp_modemsim_hear(&mod[i], &q, SEC(now)), KELP_OK);
 }
 
 static void ev_cb(const kelp_modemsim_event *e, void *u)
@@ -86,21 +88,21 @@ static kelp_modemsim_cfg cfg_for(int id, double x, double y)
 
 static void add(int k, const kelp_modemsim_cfg *c)
 {
-    ck_assert_int_eq(kelp_modemsim_init(&mod[k], c, &OPS, (void *)(intptr_t)k, now), KELP_OK);
+    ck_assert_int_eq(kelp_modemsim_init(&mod[k], c, &OPS, (void *)(intptr_t)k, SEC(now)), KELP_OK);
 }
 
 static void run_until(int64_t t)
 {
     while (now < t) {
         now += 5000;
-        for (int i = 0; i < nmod; i++) kelp_modemsim_tick(&mod[i], now);
+        for (int i = 0; i < nmod; i++) kelp_modemsim_tick(&mod[i], SEC(now));
     }
 }
 
 static void host(int k, const char *s)
 {
-    ck_assert_int_eq(kelp_modemsim_feed(&mod[k], (const uint8_t *)s, strlen(s), now), KELP_OK);
-    ck_assert_int_eq(kelp_modemsim_feed(&mod[k], (const uint8_t *)"\r\n", 2, now), KELP_OK);
+    ck_assert_int_eq(kelp_modemsim_feed(&mod[k], (const uint8_t *)s, strlen(s), SEC(now)), KELP_OK);
+    ck_assert_int_eq(kelp_modemsim_feed(&mod[k], (const uint8_t *)"\r\n", 2, SEC(now)), KELP_OK);
 }
 
 /* body + "*HH" */
@@ -202,8 +204,8 @@ START_TEST(packet_codec_round_trip_and_rejects)
     p.dest = 1;
     p.rate = 2;
     p.nframes = 2;
-    p.start_us = T0;
-    p.duration_us = 3072000;
+    p.start = SEC(T0);
+    p.duration = SEC(3072000);
     p.x = -12.5;
     p.y = 1e6;
     p.depth = 30;
@@ -224,7 +226,7 @@ START_TEST(packet_codec_round_trip_and_rejects)
     ck_assert_int_eq(q.kind, KELP_MODEMSIM_PKT_DATA);
     ck_assert_uint_eq(q.instance, 0xdeadbeef);
     ck_assert_uint_eq(q.seq, 7);
-    ck_assert_int_eq(q.start_us, T0);
+    ck_assert_double_eq(q.start, SEC(T0));
     ck_assert_double_eq(q.x, -12.5);
     ck_assert_double_eq(q.y, 1e6);
     ck_assert_uint_eq(q.frame[0].len, 64);
@@ -265,10 +267,10 @@ START_TEST(clock_cfg_and_queries)
     c.clock_set_at_boot = false;
     add(0, &c);
     /* before $CCCLK the clock counts from 2000-01-01 */
-    ck_assert_int_eq(kelp_modemsim_clock(&mod[0], now), 946684800LL * S);
+    ck_assert_double_eq(kelp_modemsim_clock(&mod[0], SEC(now)), 946684800.0);
     host(0, "$CCCLK,2011,2,16,12,0,0");
     ck_assert_str_eq(lines[0][0].s, cs("$CACLK,2011,02,16,12,00,00"));
-    ck_assert_int_eq(kelp_modemsim_clock(&mod[0], now), T0);
+    ck_assert_double_eq(kelp_modemsim_clock(&mod[0], SEC(now)), SEC(T0));
     /* real example 3: the reply to $CCCFQ,SRC after $CCCFG,SRC,1 is $CACFG,SRC,1*33 */
     host(0, "$CCCFG,SRC,1");
     ck_assert_str_eq(lines[0][1].s, cs("$CACFG,SRC,1"));
@@ -308,7 +310,7 @@ START_TEST(revision_at_boot_and_heartbeat)
     c.revision = "0.93.0.09";
     c.rev_interval_seconds = 52;
     add(0, &c);
-    kelp_modemsim_boot(&mod[0], now);
+    kelp_modemsim_boot(&mod[0], SEC(now));
     ck_assert_str_eq(lines[0][0].s, cs("$CAREV,000000,INIT,0.93.0.09"));
     /* no host yet: no heartbeat */
     run_until(T0 + 60 * S);
@@ -696,22 +698,26 @@ START_TEST(stale_and_overflow_are_counted)
     p.instance = 999;
     p.src = 5;
     p.dest = 1;
-    p.start_us = now - 10 * S;
-    p.duration_us = 500000;
-    ck_assert_int_eq(kelp_modemsim_hear(&mod[0], &p, now), KELP_OK);
+    p.start = SEC(now - 10 * S);
+    p.duration = SEC(500000);
+    ck_assert_int_eq(kelp_modemsim_hear(&mod[0], &p, SEC(now)), KELP_OK);
     ck_assert_uint_eq(kelp_modemsim_get_counters(&mod[0])->lost_stale, 1);
     /* own packets are ignored */
     p.instance = a.instance;
-    p.start_us = now;
-    ck_assert_int_eq(kelp_modemsim_hear(&mod[0], &p, now), KELP_OK);
+    p.start = SEC(now);
+    ck_assert_int_eq(kelp_modemsim_hear(&mod[0], &p, SEC(now)), KELP_OK);
     p.instance = 999;
     int rc = KELP_OK;
     for (int i = 0; i < KELP_MAX_MSIM_ARRIVALS + 1; i++) {
         p.seq = (uint32_t)i;
-        p.start_us = now + i * 10 * S;
-        rc = kelp_modemsim_hear(&mod[0], &p, now);
+        p.start = SEC(now + i * 10 * S);
+        rc = kelp_modemsim_hear(&mod[0], &p, SEC(now));
     }
     ck_assert_int_eq(rc, KELP_ERR_NOSPACE);
+    ck_assert_int_eq(mod[0].diag.code, KELP_ERR_NOSPACE);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(kelp_diag_text(&mod[0].diag), "modemsim: too many packets in flight");
+#endif
     ck_assert_uint_eq(kelp_modemsim_get_counters(&mod[0])->overflow, 1);
 }
 END_TEST
@@ -722,25 +728,25 @@ START_TEST(init_rejects_bad_configuration)
     kelp_modemsim_cfg c;
     kelp_modemsim_cfg_default(&c);
     c.modem_id = 0;
-    ck_assert_int_eq(kelp_modemsim_init(&m, &c, &OPS, NULL, T0), KELP_ERR_ARG);
+    ck_assert_int_eq(kelp_modemsim_init(&m, &c, &OPS, NULL, SEC(T0)), KELP_ERR_ARG);
     kelp_modemsim_cfg_default(&c);
     c.loss_probability = 1.5;
-    ck_assert_int_eq(kelp_modemsim_init(&m, &c, &OPS, NULL, T0), KELP_ERR_ARG);
+    ck_assert_int_eq(kelp_modemsim_init(&m, &c, &OPS, NULL, SEC(T0)), KELP_ERR_ARG);
     kelp_modemsim_cfg_default(&c);
     c.sound_speed = 0;
-    ck_assert_int_eq(kelp_modemsim_init(&m, &c, &OPS, NULL, T0), KELP_ERR_ARG);
+    ck_assert_int_eq(kelp_modemsim_init(&m, &c, &OPS, NULL, SEC(T0)), KELP_ERR_ARG);
     kelp_modemsim_cfg_default(&c);
     c.ci_seconds = -1;
-    ck_assert_int_eq(kelp_modemsim_init(&m, &c, &OPS, NULL, T0), KELP_ERR_ARG);
+    ck_assert_int_eq(kelp_modemsim_init(&m, &c, &OPS, NULL, SEC(T0)), KELP_ERR_ARG);
     kelp_modemsim_cfg_default(&c);
     c.revision = "a,b";
-    ck_assert_int_eq(kelp_modemsim_init(&m, &c, &OPS, NULL, T0), KELP_ERR_ARG);
+    ck_assert_int_eq(kelp_modemsim_init(&m, &c, &OPS, NULL, SEC(T0)), KELP_ERR_ARG);
     kelp_modemsim_cfg_default(&c);
     c.x = NAN;
-    ck_assert_int_eq(kelp_modemsim_init(&m, &c, &OPS, NULL, T0), KELP_ERR_ARG);
+    ck_assert_int_eq(kelp_modemsim_init(&m, &c, &OPS, NULL, SEC(T0)), KELP_ERR_ARG);
     kelp_modemsim_cfg_default(&c);
-    ck_assert_int_eq(kelp_modemsim_init(&m, &c, &OPS, NULL, T0), KELP_OK);
-    ck_assert_int_eq(kelp_modemsim_next_due(&m), INT64_MAX);
+    ck_assert_int_eq(kelp_modemsim_init(&m, &c, &OPS, NULL, SEC(T0)), KELP_OK);
+    ck_assert(isinf(kelp_modemsim_next_due(&m)));
 }
 END_TEST
 

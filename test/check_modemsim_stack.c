@@ -4,6 +4,7 @@
  * sharing one simulated channel.  The seed's example DCCL messages (GoToCommand, VehicleStatus:
  * the [DERIVED] frames of acomms.md 3.8) are exchanged under a FIXED TDMA cycle with acks. */
 #include <check.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -74,7 +75,7 @@ static void sim_tx(const kelp_modemsim_pkt *p, void *u)
     static kelp_modemsim_pkt q;
     ck_assert_int_eq(kelp_modemsim_pkt_encode(p, air, sizeof air, &len), KELP_OK);
     ck_assert_int_eq(kelp_modemsim_pkt_decode(air, len, &q), KELP_OK);
-    for (int i = 0; i < NN; i++) ck_assert_int_eq(kelp_modemsim_hear(&nodes[i].sim, &q, now), KELP_OK);
+    for (int i = 0; i < NN; i++) ck_assert_int_eq(kelp_modemsim_hear(&nodes[i].sim, &q, SEC(now)), KELP_OK);
 }
 
 static const kelp_modemsim_ops SIM_OPS = { sim_write, sim_tx, NULL };
@@ -190,8 +191,8 @@ static void setup(double loss, uint32_t ttl_status, double separation)
         sc.depth = 10;
         sc.loss_probability = loss;
         sc.seed = (uint64_t)(1234 + i);
-        ck_assert_int_eq(kelp_modemsim_init(&nd->sim, &sc, &SIM_OPS, nd, now), KELP_OK);
-        kelp_modemsim_boot(&nd->sim, now - 60 * S); /* powered on a minute before the host opens the line */
+        ck_assert_int_eq(kelp_modemsim_init(&nd->sim, &sc, &SIM_OPS, nd, SEC(now)), KELP_OK);
+        kelp_modemsim_boot(&nd->sim, SEC(now - 60 * S)); /* powered on a minute before the host opens the line */
         nd->to_host.n = 0;                       /* ... so the host never reads the $CAREV,INIT */
         kelp_mmdriver_cfg mc;
         memset(&mc, 0, sizeof mc);
@@ -230,9 +231,9 @@ static void step(void)
             static uint8_t tmp[FIFO];
             memcpy(tmp, nd->to_modem.b, n);
             nd->to_modem.n = 0;
-            ck_assert_int_eq(kelp_modemsim_feed(&nd->sim, tmp, n, now), KELP_OK);
+            ck_assert_int_eq(kelp_modemsim_feed(&nd->sim, tmp, n, SEC(now)), KELP_OK);
         }
-        kelp_modemsim_tick(&nd->sim, now);
+        kelp_modemsim_tick(&nd->sim, SEC(now));
         if (nd->to_host.n) {
             size_t n = nd->to_host.n;
             static uint8_t tmp2[FIFO];
@@ -267,7 +268,7 @@ START_TEST(driver_startup_against_the_simulator)
         ck_assert_uint_eq(nodes[i].mm.count.bad_lines, 0);
         ck_assert_int_eq(kelp_modemsim_src(&nodes[i].sim), i + 1);
         /* the modem clock now follows the host's UTC (set from $CCCLK, within a second) */
-        int64_t skew = kelp_modemsim_clock(&nodes[i].sim, now) - now;
+        int64_t skew = llround(kelp_modemsim_clock(&nodes[i].sim, SEC(now)) * 1e6) - now;
         ck_assert(skew <= 0 && skew > -1100000);
         ck_assert_uint_eq(kelp_modemsim_get_counters(&nodes[i].sim)->host_errors, 0);
     }

@@ -7,7 +7,6 @@
 #include <kelp/nodereport.h>
 #include "msim.h"
 
-static int64_t us_of(double t) { return (int64_t)llround(t * 1e6); }
 
 /* ------------------------------------------------------------------ host I/O */
 static void host_write(const char *b, size_t n, void *u)
@@ -22,7 +21,7 @@ static void host_write(const char *b, size_t n, void *u)
 static void feed_host(void *ctx, const uint8_t *b, size_t n)
 {
     msim_app *s = ctx;
-    int64_t now = us_of(kelp_app_time(s->app));
+    kelp_time now = kelp_app_time(s->app);
     if (kelp_modemsim_feed(&s->m, b, n, now) < 0) kelp_app_run_warning(s->app, "modem feed failed");
     kelp_modemsim_tick(&s->m, now);
 }
@@ -64,7 +63,7 @@ static void channel_rx(msim_app *s, const kelp_var *v)
         kelp_app_run_warning(s->app, "malformed %s from %s: ignored", s->channel_var, v->source);
         return;
     }
-    int64_t now = us_of(kelp_app_time(s->app));
+    kelp_time now = kelp_app_time(s->app);
     if (s->rxpkt.instance != s->m.cfg.instance) s->pkts_in++;
     if (kelp_modemsim_hear(&s->m, &s->rxpkt, now) < 0) kelp_app_run_warning(s->app, "too many packets in flight");
     kelp_modemsim_tick(&s->m, now);
@@ -108,7 +107,7 @@ static int startup(kelp_app *app, void *st)
     if (msim_config(app, s, &c) < 0) return -1;
     c.instance = msim_instance();
     kelp_modemsim_ops ops = { host_write, channel_tx, on_event };
-    int64_t now = us_of(kelp_app_time(app));
+    kelp_time now = kelp_app_time(app);
     if ((rc = kelp_modemsim_init(&s->m, &c, &ops, s, now)) < 0)
         return kelp_app_config_error(app, NULL, "bad modem configuration: %s", kelp_strerror(rc));
     /* the host link */
@@ -179,7 +178,7 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
 static int iterate(kelp_app *app, void *st, double now)
 {
     msim_app *s = st;
-    kelp_modemsim_tick(&s->m, us_of(now));
+    kelp_modemsim_tick(&s->m, now);
     if (now - s->last_status >= 2.0) {
         const kelp_modemsim_counters *c = kelp_modemsim_get_counters(&s->m);
         KELP_IGNORE(kelp_app_notify_stringf(app, "MODEMSIM_STATUS",

@@ -91,9 +91,10 @@ static int open_link(handler *h)
         lc.baud = c->serial_baud;
         break;
     }
-    char err[256];
-    h->link = kelp_link_create(&lc, err, sizeof err);
-    if (!h->link) return kelp_app_config_error(h->app, NULL, "modem link: %s", err);
+    kelp_diag d;
+    kelp_diag_clear(&d);
+    h->link = kelp_link_create(&lc, &d);
+    if (!h->link) return kelp_app_config_error(h->app, NULL, "modem link: %s", kelp_diag_text(&d));
     h->core.link_desc = kelp_link_describe(h->link);
     if (kelp_app_watch_fd(h->app, kelp_link_fd(h->link), on_link_readable) != KELP_OK)
         return kelp_app_config_error(h->app, NULL, "cannot watch the modem link");

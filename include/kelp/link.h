@@ -76,9 +76,10 @@ typedef struct kelp_link_ops {
 void kelp_link_cfg_default(kelp_link_cfg *cfg, kelp_link_type type);
 
 /** Create a link and try to open it once.  A device that is not there yet is NOT an error:
- *  the link retries in kelp_link_service().  @return NULL (with err) only for a bad
- *  configuration or when the process is out of resources. */
-kelp_link *kelp_link_create(const kelp_link_cfg *cfg, char *err, size_t errcap);
+ *  the link retries in kelp_link_service().  @return NULL only for a bad configuration
+ *  (d: KELP_ERR_ARG, KELP_ERR_UNSUPPORTED for a baud rate) or when the process is out of
+ *  resources (KELP_ERR_NOSPACE, KELP_ERR_IO); d may be NULL. */
+kelp_link *kelp_link_create(const kelp_link_cfg *cfg, kelp_diag *d);
 void kelp_link_destroy(kelp_link *l);
 
 /** The link's operations (the same for every link of a type). */

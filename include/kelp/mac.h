@@ -1,9 +1,10 @@
 /* kelp: Goby 1.1 libamac -- slotted TDMA medium access control (core; no allocation, no clock).
  *
  * Time is an argument (kelp_time: UNIX UTC seconds).  Slot starts are whole seconds; the
- * manager compares times in whole microseconds (as Goby) after rounding `now`.  The manager keeps the next slot start; the caller
- * calls kelp_mac_tick(mac, now, &act) regularly (and again while it returns an action: each call
- * starts at most one slot, so a late caller gets every missed slot, in order).
+ * manager compares times in whole microseconds (as Goby) after rounding `now`.  The manager
+ * keeps the next slot start; the caller calls kelp_mac_tick(mac, now, &act) regularly (and
+ * again while it returns an action: each call starts at most one slot, so a late caller gets
+ * every missed slot, in order).
  *
  * Cycle alignment (as Goby): cycle length D = sum of slot_seconds; a (re)started cycle begins at
  *   UTC midnight + (floor(tod / D) + 1) * D        (tod = whole seconds since UTC midnight)

@@ -5,7 +5,7 @@
  *   lines out  ops.write(bytes, n, user)             ("#M1" Hydroid prefix + "$CC...*hh\r\n")
  *   events     ops.event(&ev, user)                  (received frames, acks, ranges, raw NMEA ...)
  *   data       ops.data_request(&req, &frame, user)  (the queue fills a frame; len 0 = none)
- *   time       every call takes now (UNIX UTC microseconds)
+ *   time       every call takes now (kelp_time; the timers count whole microseconds of it)
  *
  * Call kelp_mmdriver_tick(mm, now) often (Goby's do_work runs at app_tick, 10 Hz by default), then
  * feed what the link read: the same order as do_work (send, then read).

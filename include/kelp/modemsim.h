@@ -10,7 +10,8 @@
  *   packets out     ops.transmit(&pkt, user)                (publish on the channel)
  *   packets in      kelp_modemsim_hear(m, &pkt, now)            (every packet on the channel)
  *   timers          kelp_modemsim_tick(m, now)                  (often: every 10-50 ms)
- *   time            every call takes now = UNIX UTC microseconds of the shared simulation clock
+ *   time            every call takes now = kelp_time of the shared simulation clock (used to the
+ *                   whole microsecond)
  *
  * Host protocol (sentence forms of the WHOI Micro-Modem):
  *   $CCCLK,Y,M,D,h,m,s      -> $CACLK,YYYY,MM,DD,hh,mm,ss (the modem clock is set)
@@ -87,7 +88,7 @@ typedef enum kelp_modemsim_pkt_kind {
     KELP_MODEMSIM_PKT_DATA = 2,       /**< frames (each with its own src/dest/ack) */
     KELP_MODEMSIM_PKT_ACK = 3,        /**< ack_mask of frames of the data packet from `dest` */
     KELP_MODEMSIM_PKT_PING = 4,       /**< two-way ping src -> dest */
-    KELP_MODEMSIM_PKT_PING_REPLY = 5, /**< reply dest <- src; turnaround_us as measured by the replier */
+    KELP_MODEMSIM_PKT_PING_REPLY = 5, /**< reply dest <- src; turnaround as measured by the replier */
     KELP_MODEMSIM_PKT_MINI = 6        /**< $CCMUC 13-bit mini-packet */
 } kelp_modemsim_pkt_kind;
 
@@ -110,9 +111,9 @@ typedef struct kelp_modemsim_pkt {
     uint8_t nframes;         /**< cycle init: frames announced; data: frames carried */
     uint32_t ack_mask;       /**< ack: bit f = frame f+1 acknowledged */
     uint16_t mini;           /**< mini-packet payload (13 bits) */
-    int64_t start_us;        /**< transmission start (shared clock) */
-    int64_t duration_us;
-    int64_t turnaround_us;   /**< ping reply: time between the ping's end and the reply's start */
+    kelp_time start;         /**< transmission start (shared clock; whole microseconds) */
+    kelp_time duration;      /**< seconds (whole microseconds) */
+    kelp_time turnaround;    /**< ping reply: seconds between the ping's end and the reply's start */
     double x, y, depth;      /**< transmitter position at start */
     kelp_modemsim_frame frame[KELP_MAX_MM_FRAMES];
 } kelp_modemsim_pkt;
@@ -124,7 +125,8 @@ typedef struct kelp_modemsim_pkt {
  *  @return 0 or KELP_ERR_NOSPACE / KELP_ERR_ARG (bad kind, too many frames, frame too long). */
 KELP_MUST_CHECK int kelp_modemsim_pkt_encode(const kelp_modemsim_pkt *p, uint8_t *buf, size_t cap, size_t *len);
 /** Decode and validate (every length and enum checked; safe on arbitrary bytes).
- *  @return 0, KELP_ERR_PARSE (magic, kind, rate, ids, counts), KELP_ERR_TRUNCATED, KELP_ERR_RANGE. */
+ *  @return 0, KELP_ERR_PARSE (magic, kind, rate, ids, counts), KELP_ERR_TRUNCATED, KELP_ERR_RANGE
+ *  (also a start outside 1843..2096, which a kelp_time would not hold to the microsecond). */
 KELP_MUST_CHECK int kelp_modemsim_pkt_decode(const uint8_t *buf, size_t len, kelp_modemsim_pkt *p);
 
 /* ------------------------------------------------------------------ one simulated modem */
@@ -171,7 +173,7 @@ typedef enum kelp_modemsim_loss {
 
 typedef struct kelp_modemsim_event {
     kelp_modemsim_event_kind kind;
-    int64_t time_us;
+    kelp_time time;
     const kelp_modemsim_pkt *pkt;   /**< valid during the callback */
     unsigned frame;             /**< 1-based frame of a data packet, 0 = the whole packet */
     kelp_modemsim_loss loss;
@@ -230,7 +232,9 @@ typedef struct kelp_modemsim {
     char revision[24];
     kelp_modemsim_ops ops;
     void *user;
-    /* state */
+    /* state (private). Its times (*_us, and those of the arrival / txslot / txlog records) are
+     * the simulator's internal clock in whole UNIX microseconds: arrival overlaps, turnarounds
+     * and the modem clock are integer arithmetic, converted from / to kelp_time at the calls. */
     double x, y, depth;
     int64_t clock_offset_us;    /**< modem clock = now + offset */
     int64_t last_host_us, last_rev_us;
@@ -273,7 +277,7 @@ typedef struct kelp_modemsim {
     char line[KELP_MAX_NMEA_LINE + 1]; /**< the host line being handled, NUL-terminated */
     char rxd[KELP_MAX_NMEA_LINE + 4];  /**< a $CARXD being written */
     kelp_modemsim_frame txd;        /**< the frame of a $CCTXD being handled */
-    const char *errmsg;
+    kelp_diag diag;                 /**< first error (transmit queue full, packets in flight...) */
 } kelp_modemsim;
 
 void kelp_modemsim_cfg_default(kelp_modemsim_cfg *cfg);
@@ -281,31 +285,31 @@ void kelp_modemsim_cfg_default(kelp_modemsim_cfg *cfg);
 /** Configure (copies cfg).  KELP_ERR_ARG for a modem id outside 1..127, a negative or non-finite
  *  duration, loss outside [0,1], a sound speed <= 0, more than 4 LBL transponders. */
 KELP_MUST_CHECK int kelp_modemsim_init(kelp_modemsim *m, const kelp_modemsim_cfg *cfg, const kelp_modemsim_ops *ops, void *user,
-                                   int64_t now_us);
+                                   kelp_time now);
 
 /** Power-on message: $CAREV,hhmmss,INIT,<revision>. */
-void kelp_modemsim_boot(kelp_modemsim *m, int64_t now_us);
+void kelp_modemsim_boot(kelp_modemsim *m, kelp_time now);
 
 /** Bytes from the host (lines end with CR, LF or both).  @return 0 or KELP_ERR_ARG. */
-KELP_MUST_CHECK int kelp_modemsim_feed(kelp_modemsim *m, const uint8_t *bytes, size_t n, int64_t now_us);
+KELP_MUST_CHECK int kelp_modemsim_feed(kelp_modemsim *m, const uint8_t *bytes, size_t n, kelp_time now);
 
 /** A packet heard on the channel (own packets are ignored).  @return 0, or KELP_ERR_NOSPACE when
  *  too many packets are in flight (counted in overflow; the packet is not received). */
-KELP_MUST_CHECK int kelp_modemsim_hear(kelp_modemsim *m, const kelp_modemsim_pkt *p, int64_t now_us);
+KELP_MUST_CHECK int kelp_modemsim_hear(kelp_modemsim *m, const kelp_modemsim_pkt *p, kelp_time now);
 
 /** Timers: scheduled transmissions, arrivals that ended, DRQ / ping / LBL timeouts, heartbeat. */
-void kelp_modemsim_tick(kelp_modemsim *m, int64_t now_us);
+void kelp_modemsim_tick(kelp_modemsim *m, kelp_time now);
 
-/** Earliest time at which kelp_modemsim_tick has something to do (INT64_MAX if nothing). */
-int64_t kelp_modemsim_next_due(const kelp_modemsim *m);
+/** Earliest time at which kelp_modemsim_tick has something to do (HUGE_VAL if nothing). */
+kelp_time kelp_modemsim_next_due(const kelp_modemsim *m);
 
 void kelp_modemsim_set_position(kelp_modemsim *m, double x, double y, double depth);
 /** The acoustic address now in use (NVRAM SRC). */
 int kelp_modemsim_src(const kelp_modemsim *m);
 /** The NVRAM value of a parameter (3 letters). @return 0 or KELP_ERR_NOTFOUND. */
 KELP_MUST_CHECK int kelp_modemsim_nvram(const kelp_modemsim *m, const char *name, long *value);
-/** The modem clock (UNIX us) at `now`. */
-int64_t kelp_modemsim_clock(const kelp_modemsim *m, int64_t now_us);
+/** The modem clock (kelp_time) at `now`. */
+kelp_time kelp_modemsim_clock(const kelp_modemsim *m, kelp_time now);
 const kelp_modemsim_counters *kelp_modemsim_get_counters(const kelp_modemsim *m);
 
 #ifdef __cplusplus

@@ -8,9 +8,9 @@
  * Goby 1.1 does (byte-compatible), and received frames are unstitched back into pieces.
  *
  * Storage: the caller passes an array of kelp_queue (one per queue) and a pool of
- * kelp_queue_entry (one per message held over all queues).  Time is an argument: UNIX UTC
- * microseconds.  Everything the queue reports (received pieces, acks, expiries, queue sizes)
- * goes through one event callback with `void *user` last.
+ * kelp_queue_entry (one per message held over all queues).  Time is an argument (kelp_time),
+ * compared in whole microseconds as Goby does.  Everything the queue reports (received
+ * pieces, acks, expiries, queue sizes) goes through one event callback with `void *user` last.
  *
  * DCCL messages are byte strings whose first 6 bytes are the DCCL header:
  *   ccl id 8 (0x20) | id 9 | time 17 | src 5 | dest 5 | multimessage 1 | broadcast 1 | unused 2

@@ -74,10 +74,24 @@ static bool kind_ok(int k)
     return k >= KELP_MODEMSIM_PKT_CYCLE_INIT && k <= KELP_MODEMSIM_PKT_MINI;
 }
 
+/* The wire carries times as whole microseconds (int64). A start within +-4e15 us (1843..2096)
+ * survives the kelp_time double exactly; the decoder refuses the rest. */
+#define WIRE_START_MAX_US INT64_C(4000000000000000)
+static int64_t wire_us(kelp_time t)
+{
+    return (int64_t)llround(t * 1e6);
+}
+
+static bool wire_time_ok(kelp_time t)
+{
+    return fabs(t) < 9.2e12; /* finite, and whole microseconds fit an int64 */
+}
+
 int kelp_modemsim_pkt_encode(const kelp_modemsim_pkt *p, uint8_t *buf, size_t cap, size_t *len)
 {
     if (!p || !buf || !len) return KELP_ERR_ARG;
     if (!kind_ok((int)p->kind) || p->rate > 5) return KELP_ERR_ARG;
+    if (!wire_time_ok(p->start) || !wire_time_ok(p->duration) || !wire_time_ok(p->turnaround)) return KELP_ERR_ARG;
     unsigned nf = p->kind == KELP_MODEMSIM_PKT_DATA ? p->nframes : 0;
     if (nf > KELP_MAX_MM_FRAMES) return KELP_ERR_ARG;
     wbuf w = { buf, cap, 0, false };
@@ -95,9 +109,9 @@ int kelp_modemsim_pkt_encode(const kelp_modemsim_pkt *p, uint8_t *buf, size_t ca
     put(&w, p->seq, 4);
     put(&w, p->ack_mask, 4);
     put(&w, p->mini, 2);
-    put(&w, (uint64_t)p->start_us, 8);
-    put(&w, (uint64_t)p->duration_us, 8);
-    put(&w, (uint64_t)p->turnaround_us, 8);
+    put(&w, (uint64_t)wire_us(p->start), 8);
+    put(&w, (uint64_t)wire_us(p->duration), 8);
+    put(&w, (uint64_t)wire_us(p->turnaround), 8);
     put_f64(&w, p->x);
     put_f64(&w, p->y);
     put_f64(&w, p->depth);
@@ -160,9 +174,8 @@ int kelp_modemsim_pkt_decode(const uint8_t *buf, size_t len, kelp_modemsim_pkt *
     p->seq = (uint32_t)get(&r, 4);
     p->ack_mask = (uint32_t)get(&r, 4);
     p->mini = (uint16_t)get(&r, 2);
-    p->start_us = (int64_t)get(&r, 8);
-    p->duration_us = (int64_t)get(&r, 8);
-    p->turnaround_us = (int64_t)get(&r, 8);
+    const int64_t start_us = (int64_t)get(&r, 8), duration_us = (int64_t)get(&r, 8),
+                  turnaround_us = (int64_t)get(&r, 8);
     p->x = get_f64(&r);
     p->y = get_f64(&r);
     p->depth = get_f64(&r);
@@ -176,9 +189,12 @@ int kelp_modemsim_pkt_decode(const uint8_t *buf, size_t len, kelp_modemsim_pkt *
     if (p->nframes > kelp_modemsim_rate_frames[p->rate] || p->nframes > KELP_MAX_MM_FRAMES) return KELP_ERR_RANGE;
     if (p->kind == KELP_MODEMSIM_PKT_DATA && p->nframes == 0) return KELP_ERR_PARSE;
     if (p->mini > 0x1fff) return KELP_ERR_RANGE;
-    if (p->duration_us < 0 || p->duration_us > INT64_C(3600000000) || p->turnaround_us < 0 ||
-        p->turnaround_us > INT64_C(3600000000))
+    if (duration_us < 0 || duration_us > INT64_C(3600000000) || turnaround_us < 0 || turnaround_us > INT64_C(3600000000))
         return KELP_ERR_RANGE;
+    if (start_us < -WIRE_START_MAX_US || start_us > WIRE_START_MAX_US) return KELP_ERR_RANGE;
+    p->start = (kelp_time)start_us / 1e6;
+    p->duration = (kelp_time)duration_us / 1e6;
+    p->turnaround = (kelp_time)turnaround_us / 1e6;
     if (!isfinite(p->x) || !isfinite(p->y) || !isfinite(p->depth)) return KELP_ERR_RANGE;
     if (fabs(p->x) > 1e9 || fabs(p->y) > 1e9 || fabs(p->depth) > 1e6) return KELP_ERR_RANGE;
     unsigned nf = p->kind == KELP_MODEMSIM_PKT_DATA ? p->nframes : 0;

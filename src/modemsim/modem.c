@@ -46,9 +46,17 @@ static unsigned days_in_month(long y, long mo)
     return dm[mo - 1];
 }
 
-static void set_err(kelp_modemsim *m, const char *msg)
+/* The simulator's clock counts whole microseconds (arrival overlaps, turnarounds and the
+ * modem clock are exact): a kelp_time is converted here, once per call, and back for events. */
+static int64_t us_of(double s)
 {
-    if (!m->errmsg) m->errmsg = msg;
+    double u = s * 1e6;
+    return (int64_t)(u >= 0 ? u + 0.5 : u - 0.5);
+}
+
+static kelp_time time_of(int64_t us)
+{
+    return (kelp_time)us / 1e6;
 }
 
 /* unsigned v as exactly `width` digits (zero padded) at b; returns chars written */
@@ -105,7 +113,7 @@ static void emit(kelp_modemsim *m, kelp_modemsim_event_kind kind, const kelp_mod
     kelp_modemsim_event ev;
     memset(&ev, 0, sizeof ev);
     ev.kind = kind;
-    ev.time_us = now_us;
+    ev.time = time_of(now_us);
     ev.pkt = p;
     ev.frame = frame;
     ev.loss = loss;
@@ -126,9 +134,14 @@ int kelp_modemsim_src(const kelp_modemsim *m)
     return src_id(m);
 }
 
-int64_t kelp_modemsim_clock(const kelp_modemsim *m, int64_t now_us)
+static int64_t clock_us(const kelp_modemsim *m, int64_t now_us)
 {
     return now_us + m->clock_offset_us;
+}
+
+kelp_time kelp_modemsim_clock(const kelp_modemsim *m, kelp_time now)
+{
+    return time_of(clock_us(m, us_of(now)));
 }
 
 /* ------------------------------------------------------------------ writing to the host */
@@ -137,7 +150,7 @@ static void send_sentence(kelp_modemsim *m, kelp_nmea_writer *w, int64_t now_us)
 {
     size_t len;
     if (kelp_nmea_writer_finish(w, &len) != KELP_OK || len + 3 > w->cap) {
-        set_err(m, "modemsim: sentence too long");
+        (void)kelp_fail(&m->diag, KELP_ERR_NOSPACE, "modemsim: sentence too long");
         return;
     }
     emit(m, KELP_MODEMSIM_EV_HOST_OUT, NULL, 0, KELP_MODEMSIM_LOSS_NONE, w->buf, 0, now_us);
@@ -155,7 +168,7 @@ static void host_error(kelp_modemsim *m, int num, const char *text, const char *
     kelp_nmea_writer w;
     m->count.host_errors++;
     emit(m, KELP_MODEMSIM_EV_HOST_ERROR, NULL, 0, KELP_MODEMSIM_LOSS_NONE, line, err, now_us);
-    hhmmss(kelp_modemsim_clock(m, now_us), t);
+    hhmmss(clock_us(m, now_us), t);
     kelp_nmea_writer_init(&w, buf, sizeof buf, "$CAERR");
     kelp_nmea_writer_str(&w, t);
     kelp_nmea_writer_str(&w, "NMEA");
@@ -169,7 +182,7 @@ static void write_rev(kelp_modemsim *m, const char *ident, int64_t now_us)
     char buf[80];
     char t[7];
     kelp_nmea_writer w;
-    hhmmss(kelp_modemsim_clock(m, now_us), t);
+    hhmmss(clock_us(m, now_us), t);
     kelp_nmea_writer_init(&w, buf, sizeof buf, "$CAREV");
     kelp_nmea_writer_str(&w, t);
     kelp_nmea_writer_str(&w, ident);
@@ -247,8 +260,9 @@ int kelp_modemsim_nvram(const kelp_modemsim *m, const char *name, long *value)
     return KELP_OK;
 }
 
-int kelp_modemsim_init(kelp_modemsim *m, const kelp_modemsim_cfg *cfg, const kelp_modemsim_ops *ops, void *user, int64_t now_us)
+int kelp_modemsim_init(kelp_modemsim *m, const kelp_modemsim_cfg *cfg, const kelp_modemsim_ops *ops, void *user, kelp_time now)
 {
+    const int64_t now_us = us_of(now);
     if (!m || !cfg) return KELP_ERR_ARG;
     memset(m, 0, sizeof *m);
     if (cfg->modem_id < 1 || cfg->modem_id > KELP_MODEMSIM_MAX_ID) return KELP_ERR_ARG;
@@ -285,8 +299,9 @@ int kelp_modemsim_init(kelp_modemsim *m, const kelp_modemsim_cfg *cfg, const kel
     return KELP_OK;
 }
 
-void kelp_modemsim_boot(kelp_modemsim *m, int64_t now_us)
+void kelp_modemsim_boot(kelp_modemsim *m, kelp_time now)
 {
+    const int64_t now_us = us_of(now);
     write_rev(m, "INIT", now_us);
 }
 
@@ -305,12 +320,6 @@ const kelp_modemsim_counters *kelp_modemsim_get_counters(const kelp_modemsim *m)
 
 /* ------------------------------------------------------------------ transmissions */
 
-static int64_t us_of(double s)
-{
-    double u = s * 1e6;
-    return (int64_t)(u >= 0 ? u + 0.5 : u - 0.5);
-}
-
 static void new_pkt(kelp_modemsim *m, kelp_modemsim_pkt_kind kind)
 {
     memset(&m->scratch, 0, sizeof m->scratch);
@@ -322,7 +331,7 @@ static void new_pkt(kelp_modemsim *m, kelp_modemsim_pkt_kind kind)
 static void schedule(kelp_modemsim *m, int64_t due_us, int64_t ref_us)
 {
     if (m->n_txq >= KELP_MAX_MSIM_TXQ) {
-        set_err(m, "modemsim: transmit queue full");
+        (void)kelp_fail(&m->diag, KELP_ERR_NOSPACE, "modemsim: transmit queue full");
         m->count.overflow++;
         emit(m, KELP_MODEMSIM_EV_INFO, &m->scratch, 0, KELP_MODEMSIM_LOSS_NONE, "transmit queue full: dropped", KELP_ERR_NOSPACE,
              due_us);
@@ -331,7 +340,7 @@ static void schedule(kelp_modemsim *m, int64_t due_us, int64_t ref_us)
     kelp_modemsim_txslot *t = &m->txq[m->n_txq++];
     t->due_us = due_us;
     t->pkt = m->scratch;
-    t->pkt.turnaround_us = ref_us; /* replaced by the real turnaround when it starts */
+    t->pkt.turnaround = time_of(ref_us); /* replaced by the real turnaround when it starts */
 }
 
 static int64_t pkt_duration(const kelp_modemsim *m, const kelp_modemsim_pkt *p)
@@ -365,24 +374,25 @@ static void start_tx(kelp_modemsim *m, kelp_modemsim_txslot *t, int64_t now_us)
     kelp_modemsim_pkt *p = &t->pkt;
     int64_t start = t->due_us > m->busy_until_us ? t->due_us : m->busy_until_us;
     if (start < now_us - LATE_START_US) start = now_us - LATE_START_US;
-    p->start_us = start;
-    p->duration_us = pkt_duration(m, p);
+    const int64_t duration = pkt_duration(m, p);
+    p->start = time_of(start);
+    p->duration = time_of(duration);
     if (p->kind == KELP_MODEMSIM_PKT_PING_REPLY) {
-        int64_t ta = start - p->turnaround_us;
-        p->turnaround_us = ta > 0 ? ta : 0;
+        int64_t ta = start - us_of(p->turnaround);
+        p->turnaround = time_of(ta > 0 ? ta : 0);
     } else {
-        p->turnaround_us = 0;
+        p->turnaround = 0;
     }
     p->instance = m->cfg.instance;
     p->seq = ++m->seq;
     p->x = m->x;
     p->y = m->y;
     p->depth = m->depth;
-    m->busy_until_us = start + p->duration_us;
+    m->busy_until_us = start + duration;
     kelp_modemsim_txlog *l = &m->txlog[m->txlog_next];
     m->txlog_next = (m->txlog_next + 1) % KELP_MAX_MSIM_TXLOG;
     l->start_us = start;
-    l->end_us = start + p->duration_us;
+    l->end_us = start + duration;
     l->kind = p->kind;
     l->bytes = pkt_bytes(p);
     l->txf_pending = true;
@@ -390,7 +400,7 @@ static void start_tx(kelp_modemsim *m, kelp_modemsim_txslot *t, int64_t now_us)
         m->ping_active = true;
         m->ping_dest = p->dest;
         m->ping_start_us = start;
-        m->ping_duration_us = p->duration_us;
+        m->ping_duration_us = duration;
     }
     m->count.tx[p->kind]++;
     if (p->kind == KELP_MODEMSIM_PKT_DATA) m->count.frames_tx += p->nframes;
@@ -455,7 +465,7 @@ static void gather_next(kelp_modemsim *m, int64_t now_us)
     char buf[80];
     char t[7];
     kelp_nmea_writer w;
-    hhmmss(kelp_modemsim_clock(m, now_us), t);
+    hhmmss(clock_us(m, now_us), t);
     kelp_nmea_writer_init(&w, buf, sizeof buf, "$CADRQ");
     kelp_nmea_writer_str(&w, t);
     kelp_nmea_writer_long(&w, m->cyc.adr1);
@@ -513,7 +523,7 @@ static void cmd_clk(kelp_modemsim *m, const kelp_nmea_sentence *s, const char *l
     m->clock_offset_us = t - now_us;
     emit(m, KELP_MODEMSIM_EV_INFO, NULL, 0, KELP_MODEMSIM_LOSS_NONE, "clock set", 0, now_us);
     int y, mo, d, h, mi, sec;
-    kelp_mmdriver_civil((kelp_time)kelp_modemsim_clock(m, now_us) / 1e6, &y, &mo, &d, &h, &mi, &sec);
+    kelp_mmdriver_civil(time_of(clock_us(m, now_us)), &y, &mo, &d, &h, &mi, &sec);
     char buf[64];
     char f[8];
     kelp_nmea_writer w;
@@ -783,8 +793,9 @@ static void handle_line(kelp_modemsim *m, const char *line, size_t len, int64_t 
     else host_error(m, ERR_UNKNOWN, "UNSUPPORTED_COMMAND", copy, KELP_ERR_UNSUPPORTED, now_us);
 }
 
-int kelp_modemsim_feed(kelp_modemsim *m, const uint8_t *bytes, size_t n, int64_t now_us)
+int kelp_modemsim_feed(kelp_modemsim *m, const uint8_t *bytes, size_t n, kelp_time now)
 {
+    const int64_t now_us = us_of(now);
     if (!m || (n && !bytes)) return KELP_ERR_ARG;
     for (size_t i = 0; i < n; i++) {
         uint8_t b = bytes[i] == '\n' ? (uint8_t)'\r' : bytes[i];
@@ -803,8 +814,9 @@ int kelp_modemsim_feed(kelp_modemsim *m, const uint8_t *bytes, size_t n, int64_t
 
 /* ------------------------------------------------------------------ the channel: hearing */
 
-int kelp_modemsim_hear(kelp_modemsim *m, const kelp_modemsim_pkt *p, int64_t now_us)
+int kelp_modemsim_hear(kelp_modemsim *m, const kelp_modemsim_pkt *p, kelp_time now)
 {
+    const int64_t now_us = us_of(now);
     if (!m || !p) return KELP_ERR_ARG;
     if (p->instance == m->cfg.instance) return KELP_OK; /* our own transmission */
     double range = sqrt((p->x - m->x) * (p->x - m->x) + (p->y - m->y) * (p->y - m->y) +
@@ -814,8 +826,8 @@ int kelp_modemsim_hear(kelp_modemsim *m, const kelp_modemsim_pkt *p, int64_t now
         return KELP_OK;
     }
     double tt = range / m->cfg.sound_speed;
-    int64_t start = p->start_us + us_of(tt);
-    int64_t end = start + p->duration_us;
+    int64_t start = us_of(p->start) + us_of(tt);
+    int64_t end = start + us_of(p->duration);
     if (end < now_us - STALE_US) {
         m->count.lost_stale++;
         emit(m, KELP_MODEMSIM_EV_LOST, p, 0, KELP_MODEMSIM_LOSS_STALE, "heard too late", 0, now_us);
@@ -832,7 +844,7 @@ int kelp_modemsim_hear(kelp_modemsim *m, const kelp_modemsim_pkt *p, int64_t now
     if (slot == SIZE_MAX) slot = oldest;
     if (slot == SIZE_MAX) {
         m->count.overflow++;
-        set_err(m, "modemsim: too many packets in flight");
+        (void)kelp_fail(&m->diag, KELP_ERR_NOSPACE, "modemsim: too many packets in flight");
         emit(m, KELP_MODEMSIM_EV_LOST, p, 0, KELP_MODEMSIM_LOSS_NONE, "too many packets in flight", KELP_ERR_NOSPACE, now_us);
         return KELP_ERR_NOSPACE;
     }
@@ -855,7 +867,7 @@ static void emit_arrival(kelp_modemsim *m, kelp_modemsim_event_kind kind, const 
     kelp_modemsim_event ev;
     memset(&ev, 0, sizeof ev);
     ev.kind = kind;
-    ev.time_us = now_us;
+    ev.time = time_of(now_us);
     ev.pkt = &a->pkt;
     ev.frame = frame;
     ev.loss = loss;
@@ -1007,7 +1019,7 @@ static void decide(kelp_modemsim *m, kelp_modemsim_arrival *a, int64_t now_us)
         emit_arrival(m, KELP_MODEMSIM_EV_RX, a, 0, KELP_MODEMSIM_LOSS_NONE, now_us);
         {
             double owtt =
-                (double)(a->start_us - m->ping_start_us - m->ping_duration_us - p->turnaround_us) / 2.0 / 1e6;
+                (double)(a->start_us - m->ping_start_us - m->ping_duration_us - us_of(p->turnaround)) / 2.0 / 1e6;
             char tt[24];
             fixed(owtt, 4, tt, sizeof tt);
             char buf[64];
@@ -1064,7 +1076,7 @@ static void lbl_reply(kelp_modemsim *m, int64_t now_us)
         kelp_nmea_writer_str(&w, tt);
     }
     /* hhmmss.ss of the modem clock */
-    int64_t c = kelp_modemsim_clock(m, now_us);
+    int64_t c = clock_us(m, now_us);
     char t[16];
     hhmmss(c, t);
     int64_t cs = (c - kelp_floor_div(c, US_PER_S) * US_PER_S) / 10000;
@@ -1074,8 +1086,9 @@ static void lbl_reply(kelp_modemsim *m, int64_t now_us)
     send_sentence(m, &w, now_us);
 }
 
-void kelp_modemsim_tick(kelp_modemsim *m, int64_t now_us)
+void kelp_modemsim_tick(kelp_modemsim *m, kelp_time now)
 {
+    const int64_t now_us = us_of(now);
     if (!m) return;
     run_txq(m, now_us);
     for (size_t i = 0; i < KELP_MAX_MSIM_TXLOG; i++) {
@@ -1114,7 +1127,7 @@ void kelp_modemsim_tick(kelp_modemsim *m, int64_t now_us)
     run_txq(m, now_us); /* acks and replies decided above */
 }
 
-int64_t kelp_modemsim_next_due(const kelp_modemsim *m)
+kelp_time kelp_modemsim_next_due(const kelp_modemsim *m)
 {
     int64_t t = INT64_MAX;
     for (size_t i = 0; i < m->n_txq; i++) {
@@ -1135,7 +1148,7 @@ int64_t kelp_modemsim_next_due(const kelp_modemsim *m)
         int64_t r = m->last_rev_us + us_of(m->cfg.rev_interval_seconds);
         if (r < t) t = r;
     }
-    return t;
+    return t == INT64_MAX ? HUGE_VAL : time_of(t);
 }
 
 /* ------------------------------------------------------------------ event text */

@@ -58,8 +58,9 @@ START_TEST(test_serial_pty_termios_both_ways)
     kelp_link_cfg_default(&c, KELP_LINK_SERIAL);
     ck_assert_uint_eq(c.baud, 19200); /* the Micro-Modem default */
     c.device = name;
-    char err[256];
-    kelp_link *l = kelp_link_create(&c, err, sizeof err);
+    kelp_diag err;
+    kelp_diag_clear(&err);
+    kelp_link *l = kelp_link_create(&c, &err);
     ck_assert_ptr_nonnull(l);
     ck_assert(kelp_link_connected(l));
     /* libserialport 0.1.1 refuses ptys: the link fell back to termios */
@@ -102,8 +103,9 @@ START_TEST(test_serial_backends_and_errors)
     kelp_link_cfg_default(&c, KELP_LINK_SERIAL);
     c.device = name;
     c.backend = KELP_LINK_BACKEND_LIBSERIALPORT; /* as shipped it cannot open a pty */
-    char err[256];
-    kelp_link *l = kelp_link_create(&c, err, sizeof err);
+    kelp_diag err;
+    kelp_diag_clear(&err);
+    kelp_link *l = kelp_link_create(&c, &err);
     ck_assert_ptr_nonnull(l);
     ck_assert(!kelp_link_connected(l));
     ck_assert_ptr_nonnull(strstr(kelp_link_error(l), "libserialport"));
@@ -111,7 +113,7 @@ START_TEST(test_serial_backends_and_errors)
     /* a missing device is not fatal: retried */
     c.backend = KELP_LINK_BACKEND_AUTO;
     c.device = "/nonexistent/ttyS9";
-    l = kelp_link_create(&c, err, sizeof err);
+    l = kelp_link_create(&c, &err);
     ck_assert_ptr_nonnull(l);
     ck_assert(!kelp_link_connected(l));
     ck_assert_ptr_nonnull(strstr(kelp_link_error(l), "No such file"));
@@ -121,18 +123,22 @@ START_TEST(test_serial_backends_and_errors)
     /* not a terminal */
     c.device = "/dev/null";
     c.backend = KELP_LINK_BACKEND_TERMIOS;
-    l = kelp_link_create(&c, err, sizeof err);
+    l = kelp_link_create(&c, &err);
     ck_assert_ptr_nonnull(l);
     ck_assert(!kelp_link_connected(l));
     ck_assert_ptr_nonnull(strstr(kelp_link_error(l), "not a terminal"));
     kelp_link_destroy(l);
     /* bad configurations */
     c.device = "";
-    ck_assert_ptr_null(kelp_link_create(&c, err, sizeof err));
+    ck_assert_ptr_null(kelp_link_create(&c, &err));
     c.device = name;
     c.baud = 12345;
-    ck_assert_ptr_null(kelp_link_create(&c, err, sizeof err));
-    ck_assert_ptr_nonnull(strstr(err, "baud"));
+    kelp_diag_clear(&err);
+    ck_assert_ptr_null(kelp_link_create(&c, &err));
+    ck_assert_int_eq(err.code, KELP_ERR_UNSUPPORTED);
+#ifndef KELP_NO_ERRMSG
+    ck_assert_str_eq(kelp_diag_text(&err), "unsupported baud rate 12345");
+#endif
     close(m);
 }
 END_TEST
@@ -152,8 +158,9 @@ START_TEST(test_serial_reconnect_same_name)
     kelp_link_cfg_default(&c, KELP_LINK_SERIAL);
     c.device = ln;
     c.reconnect_s = 1.0;
-    char err[256];
-    kelp_link *l = kelp_link_create(&c, err, sizeof err);
+    kelp_diag err;
+    kelp_diag_clear(&err);
+    kelp_link *l = kelp_link_create(&c, &err);
     ck_assert_ptr_nonnull(l);
     ck_assert(kelp_link_connected(l));
     int fd = kelp_link_fd(l);
@@ -188,8 +195,9 @@ START_TEST(test_tcp_client_server)
     kelp_link_cfg sc;
     kelp_link_cfg_default(&sc, KELP_LINK_TCP_SERVER);
     sc.port = 0; /* any free port */
-    char err[256];
-    kelp_link *srv = kelp_link_create(&sc, err, sizeof err);
+    kelp_diag err;
+    kelp_diag_clear(&err);
+    kelp_link *srv = kelp_link_create(&sc, &err);
     ck_assert_ptr_nonnull(srv);
     ck_assert(kelp_link_listening(srv));
     ck_assert(!kelp_link_connected(srv));
@@ -199,7 +207,7 @@ START_TEST(test_tcp_client_server)
     kelp_link_cfg_default(&cc, KELP_LINK_TCP_CLIENT);
     cc.host = "127.0.0.1";
     cc.port = port;
-    kelp_link *cli = kelp_link_create(&cc, err, sizeof err);
+    kelp_link *cli = kelp_link_create(&cc, &err);
     ck_assert_ptr_nonnull(cli);
     ck_assert(kelp_link_connected(cli));
     /* the server accepts when its fd is readable */
@@ -223,7 +231,7 @@ START_TEST(test_tcp_client_server)
     }
     ck_assert_int_eq(rc, KELP_ERR_IO);
     ck_assert(kelp_link_listening(srv));
-    cli = kelp_link_create(&cc, err, sizeof err);
+    cli = kelp_link_create(&cc, &err);
     ck_assert(kelp_link_connected(cli));
     ck_assert_int_eq(poll(&pf, 1, 1000), 1);
     ck_assert_int_eq(kelp_link_service(srv, 1), 1);
@@ -243,10 +251,10 @@ START_TEST(test_tcp_client_server)
     kelp_link_destroy(cli);
     /* bad configurations */
     cc.port = 0;
-    ck_assert_ptr_null(kelp_link_create(&cc, err, sizeof err));
+    ck_assert_ptr_null(kelp_link_create(&cc, &err));
     cc.port = 1;
     cc.host = "";
-    ck_assert_ptr_null(kelp_link_create(&cc, err, sizeof err));
+    ck_assert_ptr_null(kelp_link_create(&cc, &err));
 }
 END_TEST
 

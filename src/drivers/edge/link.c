@@ -461,46 +461,46 @@ void kelp_link_cfg_default(kelp_link_cfg *cfg, kelp_link_type type)
     cfg->write_timeout_ms = 500;
 }
 
-kelp_link *kelp_link_create(const kelp_link_cfg *cfg, char *err, size_t errcap)
+kelp_link *kelp_link_create(const kelp_link_cfg *cfg, kelp_diag *d)
 {
     if (!cfg) {
-        if (err) snprintf(err, errcap, "no link configuration");
+        (void)kelp_fail(d, KELP_ERR_ARG, "no link configuration");
         return NULL;
     }
     if (cfg->type == KELP_LINK_SERIAL) {
         if (!cfg->device || !cfg->device[0]) {
-            if (err) snprintf(err, errcap, "serial link without a device path");
+            (void)kelp_fail(d, KELP_ERR_ARG, "serial link without a device path");
             return NULL;
         }
         if (strlen(cfg->device) >= PATH_MAX) {
-            if (err) snprintf(err, errcap, "serial device path too long");
+            (void)kelp_fail(d, KELP_ERR_ARG, "serial device path too long");
             return NULL;
         }
         if (speed_of(cfg->baud ? cfg->baud : 19200) == 0) {
-            if (err) snprintf(err, errcap, "unsupported baud rate %u", cfg->baud);
+            (void)kelp_failf(d, KELP_ERR_UNSUPPORTED, "unsupported baud rate %u", cfg->baud);
             return NULL;
         }
     } else if (cfg->type == KELP_LINK_TCP_CLIENT) {
         if (!cfg->host || !cfg->host[0] || strlen(cfg->host) >= 256) {
-            if (err) snprintf(err, errcap, "tcp client link needs a server address");
+            (void)kelp_fail(d, KELP_ERR_ARG, "tcp client link needs a server address");
             return NULL;
         }
         if (cfg->port == 0 || cfg->port > 65535) {
-            if (err) snprintf(err, errcap, "tcp client link needs a port 1..65535");
+            (void)kelp_fail(d, KELP_ERR_ARG, "tcp client link needs a port 1..65535");
             return NULL;
         }
     } else if (cfg->type == KELP_LINK_TCP_SERVER) {
         if (cfg->port > 65535) {
-            if (err) snprintf(err, errcap, "tcp server port out of range");
+            (void)kelp_fail(d, KELP_ERR_ARG, "tcp server port out of range");
             return NULL;
         }
     } else {
-        if (err) snprintf(err, errcap, "unknown link type");
+        (void)kelp_fail(d, KELP_ERR_ARG, "unknown link type");
         return NULL;
     }
     kelp_link *l = calloc(1, sizeof *l);
     if (!l) {
-        if (err) snprintf(err, errcap, "out of memory");
+        (void)kelp_fail(d, KELP_ERR_NOSPACE, "out of memory");
         return NULL;
     }
     l->cfg = *cfg;
@@ -516,7 +516,7 @@ kelp_link *kelp_link_create(const kelp_link_cfg *cfg, char *err, size_t errcap)
     l->lfd = -1;
     l->ep = epoll_create1(EPOLL_CLOEXEC);
     if (l->ep < 0) {
-        if (err) snprintf(err, errcap, "epoll_create1: %s", strerror(errno));
+        (void)kelp_failf(d, KELP_ERR_IO, "epoll_create1: %s", strerror(errno));
         free(l);
         return NULL;
     }
