@@ -32,6 +32,27 @@ if grep -wE '_malloc_r|malloc|_free_r|_realloc_r' <<<"$syms_img"; then
   echo "firmware: malloc was pulled in (who calls it: arm-none-eabi-objdump -d $O/kelp_fw.elf)"; exit 1
 fi
 echo "firmware: ok, no malloc in image"
+# The same image with the messages of kelp_diag compiled out (-DKELP_NO_ERRMSG): no reason text may
+# reach it (a few of the mission parser's, the DCCL codec's and the helm's messages are looked for)
+mkdir -p "$O/noerr"
+nobjs=()
+for f in $(ls src/*/*.c | grep -v "^src/app/"); do
+  o="$O/noerr/$(echo "${f%.c}" | tr / _).o"
+  $CC $FLAGS -DKELP_NO_ERRMSG -c "$f" -o "$o"
+  nobjs+=("$o")
+done
+arm-none-eabi-ar rcs "$O/libkelp_core_m4_noerr.a" "${nobjs[@]}"
+syms_n=$(arm-none-eabi-nm -g --defined-only "$O/libkelp_core_m4_noerr.a" | awk '$2=="T"{printf " -Wl,--undefined=%s", $3}')
+$CC $FLAGS -DKELP_NO_ERRMSG --specs=nosys.specs -Wl,--gc-sections $syms_n -Wl,--whole-archive "$O/libkelp_core_m4_noerr.a" \
+  -Wl,--no-whole-archive firmware/fw_main.c -lm -o "$O/kelp_fw_noerr.elf"
+echo "== arm-none-eabi-size (the same image built with -DKELP_NO_ERRMSG)"
+arm-none-eabi-size "$O/kelp_fw_noerr.elf"
+str_img=$(strings -a "$O/kelp_fw.elf"); str_noerr=$(strings -a "$O/kelp_fw_noerr.elf")
+for msg in "block not closed: missing '}'" "protobuf-style 'key: value' outside" "unterminated string"; do
+  grep -qF "$msg" <<<"$str_img" || { echo "firmware: '$msg' is not in the normal image (check the probe)"; exit 1; }
+  if grep -qF "$msg" <<<"$str_noerr"; then echo "firmware: '$msg' is in the KELP_NO_ERRMSG image"; exit 1; fi
+done
+echo "firmware: no diagnostic text in the KELP_NO_ERRMSG image"
 echo "== worst-case stack of the public core entry points (Cortex-M4 -Os; calls through function pointers not followed)"
 python3 scripts/stack_report.py --limit 1024 --top ${FW_STACK_TOP:-15} "$O"/obj/*.ci
 # The CAN node example (firmware/can_node.c): kelp's CAN framing with the firmware's own
