@@ -230,7 +230,7 @@ int bhv_general_param(kelp_bhv *b, const char *p, const char *v)
 
 int kelp_bhv_set_param(kelp_bhv *b, const char *param, const char *value)
 {
-    if (!b || !param || !value)
+    if (!b || !b->helm || !param || !value)
         return KELP_ERR_ARG;
     const char *p = param, *v = value;
     size_t pn = strlen(p), vn = strlen(v);
@@ -240,13 +240,13 @@ int kelp_bhv_set_param(kelp_bhv *b, const char *param, const char *value)
         p++;
         pn--;
     }
-    char lp[KELP_MAX_NAME], val[KELP_HELM_MAX_SVAL];
+    char lp[KELP_MAX_NAME], *val = b->helm->ws_param;
     if (pn == 0 || pn >= sizeof lp)
         return kelp_bhv_fail(b, "bad parameter name");
     for (size_t i = 0; i < pn; i++)
         lp[i] = hx_lower(p[i]);
     lp[pn] = '\0';
-    if (!hx_copy(val, sizeof val, v, vn))
+    if (!hx_copy(val, sizeof b->helm->ws_param, v, vn))
         return kelp_bhv_fail(b, "value too long");
     int rc = bhv_general_param(b, lp, val);
     if (rc != KELP_ERR_NOTFOUND)

@@ -2,7 +2,6 @@
  * behaviour set, .bhv loading, the per-iteration call sequence, the duplicate filter and the
  * decision. */
 #include <math.h>
-#include <stdarg.h>
 #include <string.h>
 #include "helm_int.h"
 
@@ -1102,14 +1101,17 @@ int kelp_helm_iterate(kelp_helm *h, double now)
     helm_mode_eval(h, post_mode);
     helm_spawn(h);
     kelp_helm_report *r = &h->rep;
-    kelp_helm_report prev = *r;
-    memset(r, 0, sizeof *r);
-    r->warnings = prev.warnings;
-    r->errors = prev.errors;
-    r->max_create_time = prev.max_create_time;
-    r->max_solve_time = prev.max_solve_time;
-    r->max_loop_time = prev.max_loop_time;
-    r->total_pcs_formed = prev.total_pcs_formed;
+    {   /* a new report keeping the running counts (not a copy of the whole report: stack) */
+        unsigned long warnings = r->warnings, errors = r->errors, total_pcs = r->total_pcs_formed;
+        double max_create = r->max_create_time, max_solve = r->max_solve_time, max_loop = r->max_loop_time;
+        memset(r, 0, sizeof *r);
+        r->warnings = warnings;
+        r->errors = errors;
+        r->max_create_time = max_create;
+        r->max_solve_time = max_solve;
+        r->max_loop_time = max_loop;
+        r->total_pcs_formed = total_pcs;
+    }
     r->iteration = h->iteration;
     r->time = h->ib.curr_time;
     sink(h, "IVPHELM_STATE", true, h->engaged ? "DRIVE" : "PARK", 0, NULL);
@@ -1131,10 +1133,10 @@ int kelp_helm_iterate(kelp_helm *h, double now)
         flush_posts(h);
         double t_built = clk ? clk(h->cfg.user) : 0;
         if (r->halted) { /* MOOS-IvP's halt message names the behaviour error */
-            char err[sizeof r->halt_msg - 12];
-            if (!kelp_helm_ib_string(&h->ib, "BHV_ERROR", err, sizeof err))
-                hx_copy(err, sizeof err, " - unknown - ", 13);
-            hx_cat(r->halt_msg, sizeof r->halt_msg, "BHV_ERROR: ", err, HX_END);
+            /* "BHV_ERROR: " (11 bytes) then the value, cut as in a buffer of sizeof halt_msg - 12 */
+            char *err = r->halt_msg + hx_cat(r->halt_msg, sizeof r->halt_msg, "BHV_ERROR: ", HX_END);
+            if (!kelp_helm_ib_string(&h->ib, "BHV_ERROR", err, sizeof r->halt_msg - 12))
+                hx_copy(err, sizeof r->halt_msg - 12, " - unknown - ", 13);
         } else
             solve(h, has_fn);
         if (clk) {
