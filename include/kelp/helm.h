@@ -613,6 +613,8 @@ struct kelp_helm {
     /** workspace of kelp_bhv_set_param (the trimmed value; keeps the stack small): a behaviour's
      *  set_param must not call kelp_bhv_set_param again */
     char ws_param[KELP_HELM_MAX_SVAL];
+    /** workspace of a flag's value with its macros expanded (keeps the stack small) */
+    char ws_flag[KELP_HELM_MAX_SVAL];
 };
 
 /** Initialise an empty helm. The storage in mem must outlive the helm. */

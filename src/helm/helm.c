@@ -488,10 +488,12 @@ void helm_expand_macros(const kelp_bhv *b, const char *in, char *out, size_t cap
 
 void helm_post_flag_string(kelp_bhv *b, const char *var, const char *sval, const char *key)
 {
-    char val[KELP_HELM_MAX_SVAL];
+    if (!b->helm)
+        return;
+    char *val = b->helm->ws_flag; /* the value is queued (copied) before anything else posts */
     bool solo;
     double d;
-    helm_expand_macros(b, sval, val, sizeof val, &solo);
+    helm_expand_macros(b, sval, val, sizeof b->helm->ws_flag, &solo);
     if (solo && hx_number(val, strlen(val), &d))
         kelp_bhv_post_double(b, var, d, key);
     else
