@@ -76,8 +76,31 @@ static int copy_name(kelp_bhv *b, char *dst, const char *v, bool need)
     return 0;
 }
 
+/* A condition line: kept apart so that the condition parser's stack does not add to the frame
+ * of the other general parameters. */
+KELP_NOINLINE static int add_condition(kelp_bhv *b, const char *v, size_t vn)
+{
+    if (b->ncond >= KELP_HELM_MAX_CONDS)
+        return kelp_bhv_fail(b, "too many conditions");
+    if (vn >= KELP_HELM_MAX_COND_LEN)
+        return kelp_bhv_fail(b, "condition too long");
+    if (kelp_helm_cond_check(v, cond_var, b) != 0)
+        return kelp_bhv_fail(b, "malformed condition");
+    memcpy(b->cond[b->ncond++], v, vn + 1);
+    return 0;
+}
+
+KELP_NOINLINE static int general_param(kelp_bhv *b, const char *p, const char *v);
+
 /* 0 accepted, KELP_ERR_NOTFOUND not a general parameter, KELP_ERR_PARSE malformed. */
 int bhv_general_param(kelp_bhv *b, const char *p, const char *v)
+{
+    if (!strcmp(p, "condition"))
+        return add_condition(b, v, strlen(v));
+    return general_param(b, p, v);
+}
+
+static int general_param(kelp_bhv *b, const char *p, const char *v)
 {
     size_t vn = strlen(v);
     double d;
@@ -95,16 +118,6 @@ int bhv_general_param(kelp_bhv *b, const char *p, const char *v)
         if (!hx_number(v, vn, &d) || d < 0)
             return kelp_bhv_fail(b, "priority must be a number >= 0");
         b->pwt = d;
-        return 0;
-    }
-    if (!strcmp(p, "condition")) {
-        if (b->ncond >= KELP_HELM_MAX_CONDS)
-            return kelp_bhv_fail(b, "too many conditions");
-        if (vn >= KELP_HELM_MAX_COND_LEN)
-            return kelp_bhv_fail(b, "condition too long");
-        if (kelp_helm_cond_check(v, cond_var, b) != 0)
-            return kelp_bhv_fail(b, "malformed condition");
-        memcpy(b->cond[b->ncond++], v, vn + 1);
         return 0;
     }
     /* flags, each with MOOS-IvP's underscored alias (run_flag, spawnx_flag, ...) */

@@ -143,13 +143,14 @@ static void var_value(cparse *p, const tok *t, val *v)
         p->on_var(t->s, t->n, p->user);
     if (!p->ib)
         return;
-    char name[KELP_MAX_NAME];
-    if (!hx_copy(name, sizeof name, t->s, t->n))
+    if (t->n >= KELP_MAX_NAME)
         return;
-    int i = kelp_helm_ib_find(p->ib, name);
-    if (i < 0 || p->ib->var[i].time < 0)
+    const kelp_helm_ibvar *x = NULL; /* kelp_helm_ib_find on the token itself (no copy of the name) */
+    for (unsigned i = 0; i < p->ib->nvar && !x; i++)
+        if (!strncmp(p->ib->var[i].name, t->s, t->n) && p->ib->var[i].name[t->n] == '\0')
+            x = &p->ib->var[i];
+    if (!x || x->time < 0)
         return;
-    const kelp_helm_ibvar *x = &p->ib->var[i];
     v->known = true;
     if (x->is_str) {
         v->s = x->sval;

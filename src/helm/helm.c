@@ -332,16 +332,17 @@ void kelp_helm_start(kelp_helm *h, double now)
     h->t0 = now;
     h->started = true;
     h->ib.curr_time = 0;
-    char buf[KELP_HELM_MAX_SVAL];
+    char *buf = h->ws_out.buf; /* the postings workspace: idle until the first iteration posts */
+    const size_t cap = sizeof h->ws_out.buf;
     if (h->nmodes) {
-        helm_mode_describe(h, buf, sizeof buf);
+        helm_mode_describe(h, buf, cap);
         sink(h, "IVPHELM_MODESET", true, buf, 0, NULL);
     }
-    helm_domain_string(&h->cfg.domain, buf, sizeof buf);
+    helm_domain_string(&h->cfg.domain, buf, cap);
     sink(h, "IVPHELM_DOMAIN", true, buf, 0, NULL);
     /* one spawn event per behaviour of the files */
     for (unsigned i = 0; i < h->nbhv; i++) {
-        hx_cat(buf, sizeof buf, "time=0.00, iter=0, bname=", h->bhv[i].name, ", btype=", h->bhv[i].type,
+        hx_cat(buf, cap, "time=0.00, iter=0, bname=", h->bhv[i].name, ", btype=", h->bhv[i].type,
                ", event=spawn, seed=helm startup", HX_END);
         sink(h, "IVPHELM_LIFE_EVENT", true, buf, 0, NULL);
     }
@@ -363,10 +364,10 @@ void kelp_helm_start(kelp_helm *h, double now)
     for (unsigned i = 0; i < h->nbhv + h->ntmpl; i++) {
         const kelp_bhv *b = i < h->nbhv ? &h->bhv[i] : &h->tmpl[i - h->nbhv];
         if (b->updates[0])
-            n += hx_cat(buf + n, sizeof buf - n, n ? "," : "", b->updates, HX_END);
+            n += hx_cat(buf + n, cap - n, n ? "," : "", b->updates, HX_END);
     }
     sink(h, "IVPHELM_UPDATEVARS", true, buf, 0, NULL);
-    helm_mode_vars(h, buf, sizeof buf);
+    helm_mode_vars(h, buf, cap);
     sink(h, "IVPHELM_STATEVARS", true, buf, 0, NULL);
     for (unsigned i = 0; i < h->ninit; i++)
         if (!h->init_defer[i])
@@ -814,7 +815,7 @@ static bool func_finite(const kelp_ivp_func *f)
 }
 
 /* produceOF for behaviour i; returns true when it produced a function into h->fn[i]. */
-static bool produce(kelp_helm *h, unsigned i, size_t *pool_used, bool *halted)
+KELP_NOINLINE static bool produce(kelp_helm *h, unsigned i, size_t *pool_used, bool *halted)
 {
     kelp_bhv *b = &h->bhv[i];
     double now = h->ib.curr_time;
