@@ -609,12 +609,16 @@ struct kelp_helm {
     } ws_out;
     struct {                        /* workspace of a behaviour's updates (keeps the stack small) */
         char val[KELP_HELM_MAX_SVAL], bad[KELP_HELM_MAX_SVAL - 128], msg[KELP_HELM_MAX_SVAL];
+        char param[KELP_MAX_NAME];
     } ws_upd;
     /** workspace of kelp_bhv_set_param (the trimmed value; keeps the stack small): a behaviour's
      *  set_param must not call kelp_bhv_set_param again */
     char ws_param[KELP_HELM_MAX_SVAL];
+    char ws_pname[KELP_MAX_NAME];      /**< ... and the lower-cased parameter name */
     /** workspace of a flag's value with its macros expanded (keeps the stack small) */
     char ws_flag[KELP_HELM_MAX_SVAL];
+    /** workspace of the general parameters' VAR=value checks (kelp_bhv_set_param) */
+    kelp_helm_pair ws_pair;
 };
 
 /** Initialise an empty helm. The storage in mem must outlive the helm. */

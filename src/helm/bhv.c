@@ -162,8 +162,8 @@ static int general_param(kelp_bhv *b, const char *p, const char *v)
     if (!strcmp(p, "duration_status"))
         return copy_name(b, b->duration_status, v, false);
     if (!strcmp(p, "duration_reset")) {
-        kelp_helm_pair pr;
-        if (!hx_pair(v, &pr))
+        kelp_helm_pair *pr = &b->helm->ws_pair; /* workspace (kelp_bhv_set_param checked helm) */
+        if (!hx_pair(v, pr))
             return kelp_bhv_fail(b, "duration_reset is VAR=value");
         const char *eq = strchr(v, '=');
         const char *rv = eq + 1;
@@ -171,7 +171,7 @@ static int general_param(kelp_bhv *b, const char *p, const char *v)
         hx_trim(&rv, &rn);
         if (!hx_copy(b->duration_reset_val, sizeof b->duration_reset_val, rv, rn))
             return kelp_bhv_fail(b, "duration_reset value too long");
-        return copy_name(b, b->duration_reset_var, pr.var, true);
+        return copy_name(b, b->duration_reset_var, pr->var, true);
     }
     if (!strcmp(p, "duration_idle_decay")) {
         if (!parse_bool(v, &b->duration_idle_decay))
@@ -253,8 +253,8 @@ int kelp_bhv_set_param(kelp_bhv *b, const char *param, const char *value)
         p++;
         pn--;
     }
-    char lp[KELP_MAX_NAME], *val = b->helm->ws_param;
-    if (pn == 0 || pn >= sizeof lp)
+    char *lp = b->helm->ws_pname, *val = b->helm->ws_param;
+    if (pn == 0 || pn >= sizeof b->helm->ws_pname)
         return kelp_bhv_fail(b, "bad parameter name");
     for (size_t i = 0; i < pn; i++)
         lp[i] = hx_lower(p[i]);

@@ -596,7 +596,7 @@ static void duration_reset(kelp_bhv *b)
         kelp_bhv_post_double(b, b->duration_status, b->duration, NULL);
 }
 
-static void post_duration_status(kelp_bhv *b, double now)
+KELP_NOINLINE static void post_duration_status(kelp_bhv *b, double now)
 {
     if (b->duration < 0 || !b->duration_status[0])
         return;
@@ -620,7 +620,7 @@ static void update_state_durations(kelp_bhv *b, bool idle, double now)
     b->dur_prev_time = now;
 }
 
-static void check_duration_reset(kelp_helm *h, kelp_bhv *b)
+KELP_NOINLINE static void check_duration_reset(kelp_helm *h, kelp_bhv *b)
 {
     if (!b->duration_reset_var[0])
         return;
@@ -671,16 +671,16 @@ bool helm_update_piece(const char *piece, size_t pn, char *param, size_t pcap, c
 }
 
 /* Apply one update string; returns the result word of IVPHELM_UPDATE_RESULT. */
-static const char *apply_update(kelp_helm *h, kelp_bhv *b, const char *s)
+KELP_NOINLINE static const char *apply_update(kelp_helm *h, kelp_bhv *b, const char *s)
 {
-    char param[KELP_MAX_NAME], *val = h->ws_upd.val, *bad = h->ws_upd.bad;
-    const size_t valcap = sizeof h->ws_upd.val, badcap = sizeof h->ws_upd.bad;
+    char *param = h->ws_upd.param, *val = h->ws_upd.val, *bad = h->ws_upd.bad;
+    const size_t paramcap = sizeof h->ws_upd.param, valcap = sizeof h->ws_upd.val, badcap = sizeof h->ws_upd.bad;
     bad[0] = '\0';
     /* a name=... piece must name this behaviour (neither a success nor a failure otherwise) */
     for (const char *p = s;;) {
         const char *e = strchr(p, '#');
         size_t pn = e ? (size_t)(e - p) : strlen(p);
-        if (helm_update_piece(p, pn, param, sizeof param, val, valcap) && !strcmp(param, "name") &&
+        if (helm_update_piece(p, pn, param, paramcap, val, valcap) && !strcmp(param, "name") &&
             !helm_name_matches(b, val))
             return "name_mismatch";
         if (!e)
@@ -692,7 +692,7 @@ static const char *apply_update(kelp_helm *h, kelp_bhv *b, const char *s)
         const char *e = strchr(p, '#');
         size_t pn = e ? (size_t)(e - p) : strlen(p);
         b->fail = NULL;
-        bool parsed = helm_update_piece(p, pn, param, sizeof param, val, valcap);
+        bool parsed = helm_update_piece(p, pn, param, paramcap, val, valcap);
         if (!parsed || (strcmp(param, "name") != 0 && kelp_bhv_set_param(b, param, val) < 0)) {
             ok = false;
             const char *pp = p;
@@ -725,7 +725,32 @@ static const char *apply_update(kelp_helm *h, kelp_bhv *b, const char *s)
     return "success";
 }
 
-static void check_updates(kelp_helm *h, kelp_bhv *b)
+/* IVPHELM_UPDATE_RESULT: bhv=,var=,time= (since helm start),result=,val= */
+KELP_NOINLINE static void post_update_result(kelp_helm *h, const kelp_bhv *b, const char *result, const char *s)
+{
+    char *msg = h->ws_upd.msg, tm[32];
+    hx_fmt_fixed(tm, sizeof tm, h->ib.curr_time, 2);
+    hx_cat(msg, sizeof h->ws_upd.msg, "bhv=", b->name, ",var=", b->updates, ",time=", tm, ",result=", result, ",val=", s, HX_END);
+    sink(h, "IVPHELM_UPDATE_RESULT", true, msg, 0, NULL);
+}
+
+/* update_summary "good/attempted" and UH_<name> (out of line: its texts stay off the deep path) */
+KELP_NOINLINE static void update_summary(kelp_bhv *b, bool any)
+{
+    char g[24], t[24];
+    hx_fmt_ulong(g, sizeof g, b->good_updates);
+    hx_fmt_ulong(t, sizeof t, b->good_updates + b->bad_updates);
+    hx_cat(b->update_summary, sizeof b->update_summary, g, "/", t, HX_END);
+    if (any || b->good_updates + b->bad_updates) {
+        char var[KELP_MAX_NAME + 4], msg[96], f[24];
+        hx_fmt_ulong(f, sizeof f, b->bad_updates);
+        hx_cat(var, sizeof var, "UH_", b->name, HX_END);
+        hx_cat(msg, sizeof msg, g, " update(s), and ", f, " failure(s)", HX_END);
+        kelp_bhv_post_string(b, var, msg, NULL);
+    }
+}
+
+KELP_NOINLINE static void check_updates(kelp_helm *h, kelp_bhv *b)
 {
     if (!b->updates[0]) {
         hx_copy(b->update_summary, sizeof b->update_summary, "n/a", 3);
@@ -747,32 +772,18 @@ static void check_updates(kelp_helm *h, kelp_bhv *b)
                 b->prev_update_hash = hs;
             }
         }
-        /* IVPHELM_UPDATE_RESULT: bhv=,var=,time= (since helm start),result=,val= */
-        char *msg = h->ws_upd.msg, tm[32];
-        hx_fmt_fixed(tm, sizeof tm, h->ib.curr_time, 2);
-        hx_cat(msg, sizeof h->ws_upd.msg, "bhv=", b->name, ",var=", b->updates, ",time=", tm, ",result=", result, ",val=", s, HX_END);
-        sink(h, "IVPHELM_UPDATE_RESULT", true, msg, 0, NULL);
+        post_update_result(h, b, result, s);
     }
     if (made && b->ops->params_done)
         (void)b->ops->params_done(b);
     if (made && b->ops->post_config)
         b->ops->post_config(b);
-    char g[24], t[24];
-    hx_fmt_ulong(g, sizeof g, b->good_updates);
-    hx_fmt_ulong(t, sizeof t, b->good_updates + b->bad_updates);
-    hx_cat(b->update_summary, sizeof b->update_summary, g, "/", t, HX_END);
-    if (any || b->good_updates + b->bad_updates) {
-        char var[KELP_MAX_NAME + 4], msg[96], f[24];
-        hx_fmt_ulong(f, sizeof f, b->bad_updates);
-        hx_cat(var, sizeof var, "UH_", b->name, HX_END);
-        hx_cat(msg, sizeof msg, g, " update(s), and ", f, " failure(s)", HX_END);
-        kelp_bhv_post_string(b, var, msg, NULL);
-    }
+    update_summary(b, any);
 }
 
 /* ---------------------------------------------------------------- isRunnable */
 
-static kelp_bhv_state runnable(kelp_helm *h, kelp_bhv *b)
+KELP_NOINLINE static kelp_bhv_state runnable(kelp_helm *h, kelp_bhv *b)
 {
     double now = h->ib.curr_time;
     for (unsigned i = 0; i < b->ncond; i++)
@@ -815,6 +826,16 @@ static bool func_finite(const kelp_ivp_func *f)
 }
 
 /* produceOF for behaviour i; returns true when it produced a function into h->fn[i]. */
+/* BHV_STATUS: posted when it changes, keyed by the behaviour (MOOS-IvP's statusInfoPost) */
+KELP_NOINLINE static void post_status(kelp_bhv *b, kelp_bhv_state ns)
+{
+    static const char *const stname[] = {"idle", "idle", "running", "active", "completed"};
+    const char *st = b->completed ? "completed" : stname[ns <= KELP_BHV_COMPLETED ? ns : 0];
+    char msg[KELP_MAX_NAME + 96];
+    hx_cat(msg, sizeof msg, "name=", b->name, ",state=", st, ",updates=", b->update_summary, HX_END);
+    kelp_bhv_post_string(b, "BHV_STATUS", msg, b->name);
+}
+
 KELP_NOINLINE static bool produce(kelp_helm *h, unsigned i, size_t *pool_used, bool *halted)
 {
     kelp_bhv *b = &h->bhv[i];
@@ -875,12 +896,7 @@ KELP_NOINLINE static bool produce(kelp_helm *h, unsigned i, size_t *pool_used, b
     b->state = ns;
     if (made)
         h->rep.active_goal = true; /* kelp's behaviours are all goal (not constraint) behaviours */
-    /* BHV_STATUS: posted when it changes, keyed by the behaviour (MOOS-IvP's statusInfoPost) */
-    static const char *const stname[] = {"idle", "idle", "running", "active", "completed"};
-    const char *st = b->completed ? "completed" : stname[ns <= KELP_BHV_COMPLETED ? ns : 0];
-    char msg[KELP_MAX_NAME + 96];
-    hx_cat(msg, sizeof msg, "name=", b->name, ",state=", st, ",updates=", b->update_summary, HX_END);
-    kelp_bhv_post_string(b, "BHV_STATUS", msg, b->name);
+    post_status(b, ns);
     return made;
 }
 
