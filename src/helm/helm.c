@@ -165,7 +165,7 @@ int kelp_helm_add_init(kelp_helm *h, const char *var, const char *value, bool de
 }
 
 /* "initialize VAR = value[, VAR2 = value2 ...]": key holds "initialize VAR". */
-static int load_init(kelp_helm *h, const kelp_mission_node *nd)
+KELP_NOINLINE static int load_init(kelp_helm *h, const kelp_mission_node *nd)
 {
     const char *k = nd->key + 10; /* strlen("initialize") */
     size_t kn = nd->klen - 10;
@@ -783,6 +783,16 @@ KELP_NOINLINE static void check_updates(kelp_helm *h, kelp_bhv *b)
 
 /* ---------------------------------------------------------------- isRunnable */
 
+/* NOSTARVE: BHV_ERROR "<name>: VarStarve: VAR older than S s" (out of line: its text) */
+KELP_NOINLINE static void post_starved(kelp_bhv *b, const char *var)
+{
+    char msg[KELP_MAX_NAME + 96], secs[32];
+    hx_fmt_double(secs, sizeof secs, b->starve_time);
+    hx_cat(msg, sizeof msg, b->name, ": VarStarve: ", var, " older than ", secs, " s", HX_END);
+    kelp_bhv_post_string(b, "BHV_ERROR", msg, NULL);
+    b->state_ok = false;
+}
+
 KELP_NOINLINE static kelp_bhv_state runnable(kelp_helm *h, kelp_bhv *b)
 {
     double now = h->ib.curr_time;
@@ -802,11 +812,7 @@ KELP_NOINLINE static kelp_bhv_state runnable(kelp_helm *h, kelp_bhv *b)
     for (unsigned i = 0; i < b->nstarve; i++) {
         double t = kelp_helm_ib_time(&h->ib, b->starve[i]);
         if (t < 0 || now - t > b->starve_time) {
-            char msg[KELP_MAX_NAME + 96], secs[32];
-            hx_fmt_double(secs, sizeof secs, b->starve_time);
-            hx_cat(msg, sizeof msg, b->name, ": VarStarve: ", b->starve[i], " older than ", secs, " s", HX_END);
-            kelp_bhv_post_string(b, "BHV_ERROR", msg, NULL);
-            b->state_ok = false;
+            post_starved(b, b->starve[i]);
             return KELP_BHV_IDLE;
         }
     }
