@@ -973,6 +973,14 @@ static void solve(kelp_helm *h, const bool *has_fn)
     }
 }
 
+/* key then v with dec decimals appended to buf; returns the length added */
+KELP_NOINLINE static size_t cat_fixed(char *buf, size_t cap, const char *key, double v, unsigned dec)
+{
+    char num[32];
+    hx_fmt_fixed(num, sizeof num, v, dec);
+    return hx_cat(buf, cap, key, num, HX_END);
+}
+
 static void post_outputs(kelp_helm *h)
 {
     kelp_helm_report *r = &h->rep;
@@ -1078,17 +1086,16 @@ static void post_outputs(kelp_helm *h)
         n += hx_cat(buf + n, bufcap - n, ",", keys[k], "=", tmp[0] ? tmp : "none", HX_END);
     }
     {
-        char ut[32], ct[32], st[32], lt[32], mct[32], mst[32], mlt[32], pf[24];
-        hx_fmt_fixed(ut, sizeof ut, h->t0 + r->time, 2);
-        hx_fmt_fixed(ct, sizeof ct, r->create_time, 4);
-        hx_fmt_fixed(st, sizeof st, r->solve_time, 4);
-        hx_fmt_fixed(lt, sizeof lt, r->loop_time, 4);
-        hx_fmt_fixed(mct, sizeof mct, r->max_create_time, 4);
-        hx_fmt_fixed(mst, sizeof mst, r->max_solve_time, 4);
-        hx_fmt_fixed(mlt, sizeof mlt, r->max_loop_time, 4);
+        /* one number at a time, appended (the same text as one hx_cat of them all) */
+        static const char *const tkey[7] = {",utc_time=", ",create_time=", ",solve_time=", ",loop_time=",
+                                            ",max_create_time=", ",max_solve_time=", ",max_loop_time="};
+        const double tval[7] = {h->t0 + r->time, r->create_time, r->solve_time, r->loop_time,
+                                r->max_create_time, r->max_solve_time, r->max_loop_time};
+        for (int k = 0; k < 7; k++)
+            n += cat_fixed(buf + n, bufcap - n, tkey[k], tval[k], k ? 4 : 2);
+        char pf[24];
         hx_fmt_ulong(pf, sizeof pf, r->total_pcs_formed);
-        n += hx_cat(buf + n, bufcap - n, ",utc_time=", ut, ",create_time=", ct, ",solve_time=", st, ",loop_time=", lt,
-                    ",max_create_time=", mct, ",max_solve_time=", mst, ",max_loop_time=", mlt, ",total_pcs_formed=", pf,
+        n += hx_cat(buf + n, bufcap - n, ",total_pcs_formed=", pf,
                     ",total_pcs_cached=0,disabled_bhvs=none,active_goal=", r->active_goal ? "true" : "false", HX_END);
         char *dom = h->ws_out.dom;
         helm_domain_string(hd, dom, sizeof h->ws_out.dom);
