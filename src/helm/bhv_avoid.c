@@ -478,8 +478,10 @@ bool helm_avoid_macro(const kelp_bhv *b, const char *m, size_t ml, char *val, si
         {"OSX", 8, 3},     {"OSY", 9, 3},     {"OSH", 10, 3},     {"OSV", 11, 3}};
     for (size_t i = 0; i < sizeof mac / sizeof mac[0]; i++) {
         if (strlen(mac[i].m) != ml || strncmp(m, mac[i].m, ml) != 0) continue;
-        const char *s = mac[i].what == 0 ? a->contact : mac[i].what == 1 ? a->cn.type : mac[i].what == 2 ? a->cn.group : NULL;
-        if (s) return hx_copy(val, cap, s, strlen(s));
+        if (mac[i].what < 3) {
+            const char *s = mac[i].what == 0 ? a->contact : mac[i].what == 1 ? a->cn.type : a->cn.group;
+            return hx_copy(val, cap, s, strlen(s));
+        }
         const double d[] = {a->range, a->cn.x, a->cn.y, a->cn.hdg, a->cn.spd, a->osx, a->osy, a->osh, a->osv};
         hx_fmt_x(val, cap, d[mac[i].what - 3], mac[i].dec);
         return true;
