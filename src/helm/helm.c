@@ -842,6 +842,41 @@ KELP_NOINLINE static void post_status(kelp_bhv *b, kelp_bhv_state ns)
     kelp_bhv_post_string(b, "BHV_STATUS", msg, b->name);
 }
 
+/* The running state of behaviour i (onRunState): RUNNING, or ACTIVE when it made a function
+ * (*made). Out of line: its work descriptor stays off the updates path. */
+KELP_NOINLINE static kelp_bhv_state run_state(kelp_helm *h, unsigned i, kelp_bhv_state old, size_t *pool_used, bool *made)
+{
+    kelp_bhv *b = &h->bhv[i];
+    double now = h->ib.curr_time;
+    kelp_bhv_state ns = KELP_BHV_RUNNING;
+    if (old == KELP_BHV_IDLE || old == KELP_BHV_NONE)
+        helm_post_flags(b, KELP_FLAG_RUN);
+    post_duration_status(b, now);
+    kelp_helm_work w = {h->mem.pool + *pool_used, h->mem.pool_cap - *pool_used, h->mem.tmp, h->mem.tmp_cap,
+                        h->mem.dwork, h->mem.dwork_cap, h->mem.pq, h->mem.pq_cap};
+    kelp_ivp_func *f = &h->fn[i];
+    b->pwt_factor = 1.0;
+    int rc = b->ops->on_run ? b->ops->on_run(b, &w, f) : 0;
+    helm_post_flags(b, KELP_FLAG_RUNX);
+    if (rc == 1 && f->n > 0 && !func_finite(f)) {
+        kelp_bhv_post_error(b, "NaN detected in IvP Function");
+        rc = 0;
+    }
+    double pwt = b->pwt * (b->pwt_factor >= 0 ? b->pwt_factor : 0);
+    if (rc == 1 && f->n > 0 && pwt > 0) {
+        f->pwt = pwt;
+        *made = true;
+        *pool_used += f->n;
+        if (old != KELP_BHV_ACTIVE)
+            helm_post_flags(b, KELP_FLAG_ACTIVE);
+        ns = KELP_BHV_ACTIVE;
+    } else if (old == KELP_BHV_ACTIVE) {
+        helm_post_flags(b, KELP_FLAG_INACTIVE);
+    }
+    update_state_durations(b, false, now);
+    return ns;
+}
+
 KELP_NOINLINE static bool produce(kelp_helm *h, unsigned i, size_t *pool_used, bool *halted)
 {
     kelp_bhv *b = &h->bhv[i];
@@ -869,31 +904,7 @@ KELP_NOINLINE static bool produce(kelp_helm *h, unsigned i, size_t *pool_used, b
             b->ops->on_idle(b);
         update_state_durations(b, true, now);
     } else if (ns == KELP_BHV_RUNNING) {
-        if (old == KELP_BHV_IDLE || old == KELP_BHV_NONE)
-            helm_post_flags(b, KELP_FLAG_RUN);
-        post_duration_status(b, now);
-        kelp_helm_work w = {h->mem.pool + *pool_used, h->mem.pool_cap - *pool_used, h->mem.tmp, h->mem.tmp_cap,
-                            h->mem.dwork, h->mem.dwork_cap, h->mem.pq, h->mem.pq_cap};
-        kelp_ivp_func *f = &h->fn[i];
-        b->pwt_factor = 1.0;
-        int rc = b->ops->on_run ? b->ops->on_run(b, &w, f) : 0;
-        helm_post_flags(b, KELP_FLAG_RUNX);
-        if (rc == 1 && f->n > 0 && !func_finite(f)) {
-            kelp_bhv_post_error(b, "NaN detected in IvP Function");
-            rc = 0;
-        }
-        double pwt = b->pwt * (b->pwt_factor >= 0 ? b->pwt_factor : 0);
-        if (rc == 1 && f->n > 0 && pwt > 0) {
-            f->pwt = pwt;
-            made = true;
-            *pool_used += f->n;
-            if (old != KELP_BHV_ACTIVE)
-                helm_post_flags(b, KELP_FLAG_ACTIVE);
-            ns = KELP_BHV_ACTIVE;
-        } else if (old == KELP_BHV_ACTIVE) {
-            helm_post_flags(b, KELP_FLAG_INACTIVE);
-        }
-        update_state_durations(b, false, now);
+        ns = run_state(h, i, old, pool_used, &made);
     }
     if (!b->state_ok)
         *halted = true;
