@@ -326,6 +326,21 @@ static const cond_case g_conds[] = {
     {"$(K) < $(J)", 1},
     {"MODE < Tango", 1},           /* lexical ordering of strings */
     {"MODE > 3", 0},               /* ordering a string against a number */
+    /* precedence and nesting (the parser keeps an explicit stack, not recursion) */
+    {"K = 5 or K = 4 and J = 9", 1},       /* and binds tighter than or */
+    {"(K = 5 or K = 4) and J = 8", 0},
+    {"not K = 5 and not not J = 9", 1},    /* not binds to one factor */
+    {"not (K = 4 and J = 9) or MODE = Survey", 1},
+    {"not (K = 4 and (J = 9 or (MODE = x)))", 0},
+    {"((K = 4)) and ((J = 9) or (K = 1))", 1},
+    {"K = 4 and (J = 1 or (MODE = Survey and not (DEPLOY = false)))", 1},
+    {"K = 4 or J = 9 or MODE = x and DEPLOY = false", 1},
+    {"K = 4 and ()", -1},
+    {"(K = 4))", -1},
+    {"((K = 4)", -1},
+    {"K = 4 (J = 9)", -1},
+    {"not", -1},
+    {"K = 4 or not", -1},
     {"DEPLOY", -1},
     {"DEPLOY =", -1},
     {"= true", -1},

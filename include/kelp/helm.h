@@ -407,7 +407,8 @@ void kelp_bhv_post_error(kelp_bhv *b, const char *msg);
 KELP_MUST_CHECK int kelp_bhv_fail(kelp_bhv *b, const char *why);
 
 /** setParam as the helm applies it: general parameters (section 4.2) first, then the type's.
- *  param is matched case-insensitively. 0 or <0 (b->fail says why). */
+ *  param is matched case-insensitively. 0 or <0 (b->fail says why). b must belong to a helm
+ *  (kelp_helm_add): the trimmed value is kept in the helm's ws_param (KELP_ERR_ARG otherwise). */
 KELP_MUST_CHECK int kelp_bhv_set_param(kelp_bhv *b, const char *param, const char *value);
 
 /** relAng: compass bearing from (xa,ya) to (xb,yb) in [0,360): 0 = +y, 90 = +x; 0 if equal. */
@@ -608,7 +609,16 @@ struct kelp_helm {
     } ws_out;
     struct {                        /* workspace of a behaviour's updates (keeps the stack small) */
         char val[KELP_HELM_MAX_SVAL], bad[KELP_HELM_MAX_SVAL - 128], msg[KELP_HELM_MAX_SVAL];
+        char param[KELP_MAX_NAME];
     } ws_upd;
+    /** workspace of kelp_bhv_set_param (the trimmed value; keeps the stack small): a behaviour's
+     *  set_param must not call kelp_bhv_set_param again */
+    char ws_param[KELP_HELM_MAX_SVAL];
+    char ws_pname[KELP_MAX_NAME];      /**< ... and the lower-cased parameter name */
+    /** workspace of a flag's value with its macros expanded (keeps the stack small) */
+    char ws_flag[KELP_HELM_MAX_SVAL];
+    /** workspace of the general parameters' VAR=value checks (kelp_bhv_set_param) */
+    kelp_helm_pair ws_pair;
 };
 
 /** Initialise an empty helm. The storage in mem must outlive the helm. */

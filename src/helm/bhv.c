@@ -76,8 +76,31 @@ static int copy_name(kelp_bhv *b, char *dst, const char *v, bool need)
     return 0;
 }
 
+/* A condition line: kept apart so that the condition parser's stack does not add to the frame
+ * of the other general parameters. */
+KELP_NOINLINE static int add_condition(kelp_bhv *b, const char *v, size_t vn)
+{
+    if (b->ncond >= KELP_HELM_MAX_CONDS)
+        return kelp_bhv_fail(b, "too many conditions");
+    if (vn >= KELP_HELM_MAX_COND_LEN)
+        return kelp_bhv_fail(b, "condition too long");
+    if (kelp_helm_cond_check(v, cond_var, b) != 0)
+        return kelp_bhv_fail(b, "malformed condition");
+    memcpy(b->cond[b->ncond++], v, vn + 1);
+    return 0;
+}
+
+KELP_NOINLINE static int general_param(kelp_bhv *b, const char *p, const char *v);
+
 /* 0 accepted, KELP_ERR_NOTFOUND not a general parameter, KELP_ERR_PARSE malformed. */
 int bhv_general_param(kelp_bhv *b, const char *p, const char *v)
+{
+    if (!strcmp(p, "condition"))
+        return add_condition(b, v, strlen(v));
+    return general_param(b, p, v);
+}
+
+static int general_param(kelp_bhv *b, const char *p, const char *v)
 {
     size_t vn = strlen(v);
     double d;
@@ -95,16 +118,6 @@ int bhv_general_param(kelp_bhv *b, const char *p, const char *v)
         if (!hx_number(v, vn, &d) || d < 0)
             return kelp_bhv_fail(b, "priority must be a number >= 0");
         b->pwt = d;
-        return 0;
-    }
-    if (!strcmp(p, "condition")) {
-        if (b->ncond >= KELP_HELM_MAX_CONDS)
-            return kelp_bhv_fail(b, "too many conditions");
-        if (vn >= KELP_HELM_MAX_COND_LEN)
-            return kelp_bhv_fail(b, "condition too long");
-        if (kelp_helm_cond_check(v, cond_var, b) != 0)
-            return kelp_bhv_fail(b, "malformed condition");
-        memcpy(b->cond[b->ncond++], v, vn + 1);
         return 0;
     }
     /* flags, each with MOOS-IvP's underscored alias (run_flag, spawnx_flag, ...) */
@@ -149,8 +162,8 @@ int bhv_general_param(kelp_bhv *b, const char *p, const char *v)
     if (!strcmp(p, "duration_status"))
         return copy_name(b, b->duration_status, v, false);
     if (!strcmp(p, "duration_reset")) {
-        kelp_helm_pair pr;
-        if (!hx_pair(v, &pr))
+        kelp_helm_pair *pr = &b->helm->ws_pair; /* workspace (kelp_bhv_set_param checked helm) */
+        if (!hx_pair(v, pr))
             return kelp_bhv_fail(b, "duration_reset is VAR=value");
         const char *eq = strchr(v, '=');
         const char *rv = eq + 1;
@@ -158,7 +171,7 @@ int bhv_general_param(kelp_bhv *b, const char *p, const char *v)
         hx_trim(&rv, &rn);
         if (!hx_copy(b->duration_reset_val, sizeof b->duration_reset_val, rv, rn))
             return kelp_bhv_fail(b, "duration_reset value too long");
-        return copy_name(b, b->duration_reset_var, pr.var, true);
+        return copy_name(b, b->duration_reset_var, pr->var, true);
     }
     if (!strcmp(p, "duration_idle_decay")) {
         if (!parse_bool(v, &b->duration_idle_decay))
@@ -230,7 +243,7 @@ int bhv_general_param(kelp_bhv *b, const char *p, const char *v)
 
 int kelp_bhv_set_param(kelp_bhv *b, const char *param, const char *value)
 {
-    if (!b || !param || !value)
+    if (!b || !b->helm || !param || !value)
         return KELP_ERR_ARG;
     const char *p = param, *v = value;
     size_t pn = strlen(p), vn = strlen(v);
@@ -240,13 +253,13 @@ int kelp_bhv_set_param(kelp_bhv *b, const char *param, const char *value)
         p++;
         pn--;
     }
-    char lp[KELP_MAX_NAME], val[KELP_HELM_MAX_SVAL];
-    if (pn == 0 || pn >= sizeof lp)
+    char *lp = b->helm->ws_pname, *val = b->helm->ws_param;
+    if (pn == 0 || pn >= sizeof b->helm->ws_pname)
         return kelp_bhv_fail(b, "bad parameter name");
     for (size_t i = 0; i < pn; i++)
         lp[i] = hx_lower(p[i]);
     lp[pn] = '\0';
-    if (!hx_copy(val, sizeof val, v, vn))
+    if (!hx_copy(val, sizeof b->helm->ws_param, v, vn))
         return kelp_bhv_fail(b, "value too long");
     int rc = bhv_general_param(b, lp, val);
     if (rc != KELP_ERR_NOTFOUND)

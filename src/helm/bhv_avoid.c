@@ -471,16 +471,19 @@ static void post_bearing_line(kelp_bhv *b, bool active)
 bool helm_avoid_macro(const kelp_bhv *b, const char *m, size_t ml, char *val, size_t cap)
 {
     const kelp_bhv_avoid *a = &b->u.avoid;
-    const struct { const char *m; const char *s; double d; unsigned dec; } mac[] = {
-        {"CONTACT", a->contact, 0, 0},   {"CN_NAME", a->contact, 0, 0}, {"CN_VTYPE", a->cn.type, 0, 0},
-        {"CN_GROUP", a->cn.group, 0, 0}, {"CN_RANGE", NULL, a->range, 1}, {"RANGE", NULL, a->range, 1},
-        {"CNX", NULL, a->cn.x, 3},        {"CNY", NULL, a->cn.y, 3},      {"CNH", NULL, a->cn.hdg, 3},
-        {"CNV", NULL, a->cn.spd, 3},      {"OSX", NULL, a->osx, 3},       {"OSY", NULL, a->osy, 3},
-        {"OSH", NULL, a->osh, 3},         {"OSV", NULL, a->osv, 3}};
+    /* a constant table (not built on the stack): the macro, then its string or number */
+    static const struct { const char *m; unsigned char what, dec; } mac[] = {
+        {"CONTACT", 0, 0}, {"CN_NAME", 0, 0}, {"CN_VTYPE", 1, 0}, {"CN_GROUP", 2, 0}, {"CN_RANGE", 3, 1},
+        {"RANGE", 3, 1},   {"CNX", 4, 3},     {"CNY", 5, 3},      {"CNH", 6, 3},      {"CNV", 7, 3},
+        {"OSX", 8, 3},     {"OSY", 9, 3},     {"OSH", 10, 3},     {"OSV", 11, 3}};
     for (size_t i = 0; i < sizeof mac / sizeof mac[0]; i++) {
         if (strlen(mac[i].m) != ml || strncmp(m, mac[i].m, ml) != 0) continue;
-        if (mac[i].s) return hx_copy(val, cap, mac[i].s, strlen(mac[i].s));
-        hx_fmt_x(val, cap, mac[i].d, mac[i].dec);
+        if (mac[i].what < 3) {
+            const char *s = mac[i].what == 0 ? a->contact : mac[i].what == 1 ? a->cn.type : a->cn.group;
+            return hx_copy(val, cap, s, strlen(s));
+        }
+        const double d[] = {a->range, a->cn.x, a->cn.y, a->cn.hdg, a->cn.spd, a->osx, a->osy, a->osh, a->osv};
+        hx_fmt_x(val, cap, d[mac[i].what - 3], mac[i].dec);
         return true;
     }
     return false;

@@ -1,5 +1,5 @@
 /* kelp helm: behaviour run conditions ("DEPLOY = true", "(K <= 4)", and/or/not).
- * One recursive-descent pass both checks the syntax and, given a buffer, evaluates. */
+ * One pass both checks the syntax and, given a buffer, evaluates. */
 #include <string.h>
 #include "helm_int.h"
 
@@ -20,8 +20,6 @@ typedef struct cparse {
     const kelp_helm_ib *ib;  /* NULL: syntax check only */
     void (*on_var)(const char *var, size_t len, void *user);
     void *user;
-    unsigned depth; /* nesting of ( and not: at most KELP_HELM_COND_MAX_DEPTH */
-    bool err;
 } cparse;
 
 static bool word_char(char c)
@@ -116,14 +114,15 @@ static void next(cparse *p)
     p->pos = i;
 }
 
+/* An operand's value. A double read from the buffer keeps no text (s == NULL): its string
+ * form is made only when a comparison needs one (cmp_fmt), so a relation's frame stays small. */
 typedef struct val {
     bool known;
     bool is_num;
+    bool literal;
     double num;
     const char *s;
     size_t n;
-    bool literal;
-    char buf[64];
 } val;
 
 static void lit_value(const tok *t, val *v)
@@ -144,13 +143,14 @@ static void var_value(cparse *p, const tok *t, val *v)
         p->on_var(t->s, t->n, p->user);
     if (!p->ib)
         return;
-    char name[KELP_MAX_NAME];
-    if (!hx_copy(name, sizeof name, t->s, t->n))
+    if (t->n >= KELP_MAX_NAME)
         return;
-    int i = kelp_helm_ib_find(p->ib, name);
-    if (i < 0 || p->ib->var[i].time < 0)
+    const kelp_helm_ibvar *x = NULL; /* kelp_helm_ib_find on the token itself (no copy of the name) */
+    for (unsigned i = 0; i < p->ib->nvar && !x; i++)
+        if (!strncmp(p->ib->var[i].name, t->s, t->n) && p->ib->var[i].name[t->n] == '\0')
+            x = &p->ib->var[i];
+    if (!x || x->time < 0)
         return;
-    const kelp_helm_ibvar *x = &p->ib->var[i];
     v->known = true;
     if (x->is_str) {
         v->s = x->sval;
@@ -159,9 +159,6 @@ static void var_value(cparse *p, const tok *t, val *v)
     } else {
         v->is_num = true;
         v->num = x->dval;
-        hx_fmt_double(v->buf, sizeof v->buf, x->dval);
-        v->s = v->buf;
-        v->n = strlen(v->buf);
     }
 }
 
@@ -181,6 +178,18 @@ static int cmp_str(const val *a, const val *b, bool ci)
     return a->n == b->n ? 0 : (a->n < b->n ? -1 : 1);
 }
 
+/* cmp_str where one side is a buffer double (only one can be: two numbers compare as numbers):
+ * its text is the %g-like form the buffer gives (hx_fmt_double). */
+KELP_NOINLINE static int cmp_fmt(const val *a, const val *b, bool ci)
+{
+    char buf[64];
+    val t = a->s ? *b : *a;
+    hx_fmt_double(buf, sizeof buf, t.num);
+    t.s = buf;
+    t.n = strlen(buf);
+    return a->s ? cmp_str(a, &t, ci) : cmp_str(&t, b, ci);
+}
+
 static bool compare(const val *a, enum rel_op op, const val *b)
 {
     if (!a->known || !b->known)
@@ -191,7 +200,8 @@ static bool compare(const val *a, enum rel_op op, const val *b)
     } else if (a->is_num != b->is_num && op != OP_EQ && op != OP_NE) {
         return false; /* ordering a number against a non-number */
     } else {
-        c = cmp_str(a, b, is_bool_lit(a) || is_bool_lit(b));
+        bool ci = is_bool_lit(a) || is_bool_lit(b);
+        c = a->s && b->s ? cmp_str(a, b, ci) : cmp_fmt(a, b, ci);
     }
     switch (op) {
     case OP_EQ: return c == 0;
@@ -209,27 +219,20 @@ static bool operand(enum tok_kind k)
     return k == T_STR || k == T_WORD || k == T_VAR;
 }
 
-static bool expr(cparse *p);
-
-KELP_NOINLINE static bool relation(cparse *p)
+/* relation := operand op operand. *ok = false on a syntax error. */
+KELP_NOINLINE static bool relation(cparse *p, bool *ok)
 {
     tok a = p->cur;
-    if (!operand(a.k)) {
-        p->err = true;
-        return false;
-    }
+    if (!operand(a.k))
+        return *ok = false;
     next(p);
-    if (p->cur.k != T_OP) {
-        p->err = true;
-        return false;
-    }
+    if (p->cur.k != T_OP)
+        return *ok = false;
     enum rel_op op = p->cur.op;
     next(p);
     tok b = p->cur;
-    if (!operand(b.k)) {
-        p->err = true;
-        return false;
-    }
+    if (!operand(b.k))
+        return *ok = false;
     next(p);
     /* which side names a variable */
     bool av = a.k == T_VAR, bv = b.k == T_VAR;
@@ -254,66 +257,70 @@ KELP_NOINLINE static bool relation(cparse *p)
     return compare(&x, op, &y);
 }
 
-static bool factor(cparse *p)
-{
-    if (p->cur.k == T_NOT || p->cur.k == T_LP) {
-        if (p->depth >= KELP_HELM_COND_MAX_DEPTH) { /* deeper would only grow the stack */
-            p->err = true;
-            return false;
-        }
-        p->depth++;
-        bool v;
-        if (p->cur.k == T_NOT) {
-            next(p);
-            v = !factor(p);
-        } else {
-            next(p);
-            v = expr(p);
-            if (p->cur.k != T_RP)
-                p->err = true;
-            else
-                next(p);
-        }
-        p->depth--;
-        return p->err ? false : v;
-    }
-    return relation(p);
-}
-
-static bool term(cparse *p)
-{
-    bool v = factor(p);
-    while (!p->err && p->cur.k == T_AND) {
-        next(p);
-        bool w = factor(p);
-        v = v && w;
-    }
-    return v;
-}
-
-static bool expr(cparse *p)
-{
-    bool v = term(p);
-    while (!p->err && p->cur.k == T_OR) {
-        next(p);
-        bool w = term(p);
-        v = v || w;
-    }
-    return v;
-}
+/* The grammar (expr := term {or term}, term := factor {and factor}, factor := not factor |
+ * ( expr ) | relation) without recursion: one byte per open "not" or "(" on an explicit stack
+ * of KELP_HELM_COND_MAX_DEPTH, so the stack use does not grow with the nesting. Every factor is
+ * evaluated (no short cut: each relation reports its variables), left to right. */
+enum { F_PAREN = 1, F_OR = 2, F_AND = 4 }; /* stack entry: "(" (else "not"), the saved level */
 
 static int run(const char *cond, const kelp_helm_ib *ib, void (*on_var)(const char *, size_t, void *), void *user)
 {
     if (!cond)
         return KELP_ERR_ARG;
-    cparse p = {cond, 0, {T_END, cond, 0, OP_EQ}, ib, on_var, user, 0, false};
+    cparse p = {cond, 0, {T_END, cond, 0, OP_EQ}, ib, on_var, user};
+    uint8_t st[KELP_HELM_COND_MAX_DEPTH];
+    unsigned depth = 0;
+    bool or_v = false, and_v = true; /* this level: or of the terms done, and of this term's factors */
     next(&p);
     if (p.cur.k == T_END)
         return KELP_ERR_PARSE;
-    bool v = expr(&p);
-    if (p.err || p.cur.k != T_END)
-        return KELP_ERR_PARSE;
-    return v ? 1 : 0;
+    for (;;) {
+        /* a factor: open "not"s and "("s, then a relation */
+        if (p.cur.k == T_NOT || p.cur.k == T_LP) {
+            if (depth >= KELP_HELM_COND_MAX_DEPTH) /* deeper would only grow the stack */
+                return KELP_ERR_PARSE;
+            if (p.cur.k == T_NOT) {
+                st[depth++] = 0;
+            } else {
+                st[depth++] = (uint8_t)(F_PAREN | (or_v ? F_OR : 0) | (and_v ? F_AND : 0));
+                or_v = false;
+                and_v = true;
+            }
+            next(&p);
+            continue;
+        }
+        bool ok = true;
+        bool f = relation(&p, &ok);
+        if (!ok)
+            return KELP_ERR_PARSE;
+        for (;;) {
+            /* the factor is done: apply the "not"s waiting for it */
+            while (depth > 0 && !(st[depth - 1] & F_PAREN)) {
+                f = !f;
+                depth--;
+            }
+            and_v = and_v && f;
+            if (p.cur.k != T_RP || depth == 0)
+                break;
+            /* ")" closes the level: its value is a factor of the level around it */
+            f = or_v || and_v;
+            depth--;
+            or_v = (st[depth] & F_OR) != 0;
+            and_v = (st[depth] & F_AND) != 0;
+            next(&p);
+        }
+        if (p.cur.k == T_AND) {
+            next(&p);
+        } else if (p.cur.k == T_OR) {
+            or_v = or_v || and_v;
+            and_v = true;
+            next(&p);
+        } else if (p.cur.k == T_END && depth == 0) {
+            return or_v || and_v ? 1 : 0;
+        } else {
+            return KELP_ERR_PARSE; /* an unclosed "(", a stray ")" or a missing and/or */
+        }
+    }
 }
 
 int kelp_helm_cond_check(const char *cond, void (*on_var)(const char *var, size_t len, void *user), void *user)

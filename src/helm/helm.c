@@ -2,7 +2,6 @@
  * behaviour set, .bhv loading, the per-iteration call sequence, the duplicate filter and the
  * decision. */
 #include <math.h>
-#include <stdarg.h>
 #include <string.h>
 #include "helm_int.h"
 
@@ -166,7 +165,7 @@ int kelp_helm_add_init(kelp_helm *h, const char *var, const char *value, bool de
 }
 
 /* "initialize VAR = value[, VAR2 = value2 ...]": key holds "initialize VAR". */
-static int load_init(kelp_helm *h, const kelp_mission_node *nd)
+KELP_NOINLINE static int load_init(kelp_helm *h, const kelp_mission_node *nd)
 {
     const char *k = nd->key + 10; /* strlen("initialize") */
     size_t kn = nd->klen - 10;
@@ -333,16 +332,17 @@ void kelp_helm_start(kelp_helm *h, double now)
     h->t0 = now;
     h->started = true;
     h->ib.curr_time = 0;
-    char buf[KELP_HELM_MAX_SVAL];
+    char *buf = h->ws_out.buf; /* the postings workspace: idle until the first iteration posts */
+    const size_t cap = sizeof h->ws_out.buf;
     if (h->nmodes) {
-        helm_mode_describe(h, buf, sizeof buf);
+        helm_mode_describe(h, buf, cap);
         sink(h, "IVPHELM_MODESET", true, buf, 0, NULL);
     }
-    helm_domain_string(&h->cfg.domain, buf, sizeof buf);
+    helm_domain_string(&h->cfg.domain, buf, cap);
     sink(h, "IVPHELM_DOMAIN", true, buf, 0, NULL);
     /* one spawn event per behaviour of the files */
     for (unsigned i = 0; i < h->nbhv; i++) {
-        hx_cat(buf, sizeof buf, "time=0.00, iter=0, bname=", h->bhv[i].name, ", btype=", h->bhv[i].type,
+        hx_cat(buf, cap, "time=0.00, iter=0, bname=", h->bhv[i].name, ", btype=", h->bhv[i].type,
                ", event=spawn, seed=helm startup", HX_END);
         sink(h, "IVPHELM_LIFE_EVENT", true, buf, 0, NULL);
     }
@@ -364,10 +364,10 @@ void kelp_helm_start(kelp_helm *h, double now)
     for (unsigned i = 0; i < h->nbhv + h->ntmpl; i++) {
         const kelp_bhv *b = i < h->nbhv ? &h->bhv[i] : &h->tmpl[i - h->nbhv];
         if (b->updates[0])
-            n += hx_cat(buf + n, sizeof buf - n, n ? "," : "", b->updates, HX_END);
+            n += hx_cat(buf + n, cap - n, n ? "," : "", b->updates, HX_END);
     }
     sink(h, "IVPHELM_UPDATEVARS", true, buf, 0, NULL);
-    helm_mode_vars(h, buf, sizeof buf);
+    helm_mode_vars(h, buf, cap);
     sink(h, "IVPHELM_STATEVARS", true, buf, 0, NULL);
     for (unsigned i = 0; i < h->ninit; i++)
         if (!h->init_defer[i])
@@ -489,10 +489,12 @@ void helm_expand_macros(const kelp_bhv *b, const char *in, char *out, size_t cap
 
 void helm_post_flag_string(kelp_bhv *b, const char *var, const char *sval, const char *key)
 {
-    char val[KELP_HELM_MAX_SVAL];
+    if (!b->helm)
+        return;
+    char *val = b->helm->ws_flag; /* the value is queued (copied) before anything else posts */
     bool solo;
     double d;
-    helm_expand_macros(b, sval, val, sizeof val, &solo);
+    helm_expand_macros(b, sval, val, sizeof b->helm->ws_flag, &solo);
     if (solo && hx_number(val, strlen(val), &d))
         kelp_bhv_post_double(b, var, d, key);
     else
@@ -594,7 +596,7 @@ static void duration_reset(kelp_bhv *b)
         kelp_bhv_post_double(b, b->duration_status, b->duration, NULL);
 }
 
-static void post_duration_status(kelp_bhv *b, double now)
+KELP_NOINLINE static void post_duration_status(kelp_bhv *b, double now)
 {
     if (b->duration < 0 || !b->duration_status[0])
         return;
@@ -618,7 +620,7 @@ static void update_state_durations(kelp_bhv *b, bool idle, double now)
     b->dur_prev_time = now;
 }
 
-static void check_duration_reset(kelp_helm *h, kelp_bhv *b)
+KELP_NOINLINE static void check_duration_reset(kelp_helm *h, kelp_bhv *b)
 {
     if (!b->duration_reset_var[0])
         return;
@@ -669,16 +671,16 @@ bool helm_update_piece(const char *piece, size_t pn, char *param, size_t pcap, c
 }
 
 /* Apply one update string; returns the result word of IVPHELM_UPDATE_RESULT. */
-static const char *apply_update(kelp_helm *h, kelp_bhv *b, const char *s)
+KELP_NOINLINE static const char *apply_update(kelp_helm *h, kelp_bhv *b, const char *s)
 {
-    char param[KELP_MAX_NAME], *val = h->ws_upd.val, *bad = h->ws_upd.bad;
-    const size_t valcap = sizeof h->ws_upd.val, badcap = sizeof h->ws_upd.bad;
+    char *param = h->ws_upd.param, *val = h->ws_upd.val, *bad = h->ws_upd.bad;
+    const size_t paramcap = sizeof h->ws_upd.param, valcap = sizeof h->ws_upd.val, badcap = sizeof h->ws_upd.bad;
     bad[0] = '\0';
     /* a name=... piece must name this behaviour (neither a success nor a failure otherwise) */
     for (const char *p = s;;) {
         const char *e = strchr(p, '#');
         size_t pn = e ? (size_t)(e - p) : strlen(p);
-        if (helm_update_piece(p, pn, param, sizeof param, val, valcap) && !strcmp(param, "name") &&
+        if (helm_update_piece(p, pn, param, paramcap, val, valcap) && !strcmp(param, "name") &&
             !helm_name_matches(b, val))
             return "name_mismatch";
         if (!e)
@@ -690,7 +692,7 @@ static const char *apply_update(kelp_helm *h, kelp_bhv *b, const char *s)
         const char *e = strchr(p, '#');
         size_t pn = e ? (size_t)(e - p) : strlen(p);
         b->fail = NULL;
-        bool parsed = helm_update_piece(p, pn, param, sizeof param, val, valcap);
+        bool parsed = helm_update_piece(p, pn, param, paramcap, val, valcap);
         if (!parsed || (strcmp(param, "name") != 0 && kelp_bhv_set_param(b, param, val) < 0)) {
             ok = false;
             const char *pp = p;
@@ -723,7 +725,32 @@ static const char *apply_update(kelp_helm *h, kelp_bhv *b, const char *s)
     return "success";
 }
 
-static void check_updates(kelp_helm *h, kelp_bhv *b)
+/* IVPHELM_UPDATE_RESULT: bhv=,var=,time= (since helm start),result=,val= */
+KELP_NOINLINE static void post_update_result(kelp_helm *h, const kelp_bhv *b, const char *result, const char *s)
+{
+    char *msg = h->ws_upd.msg, tm[32];
+    hx_fmt_fixed(tm, sizeof tm, h->ib.curr_time, 2);
+    hx_cat(msg, sizeof h->ws_upd.msg, "bhv=", b->name, ",var=", b->updates, ",time=", tm, ",result=", result, ",val=", s, HX_END);
+    sink(h, "IVPHELM_UPDATE_RESULT", true, msg, 0, NULL);
+}
+
+/* update_summary "good/attempted" and UH_<name> (out of line: its texts stay off the deep path) */
+KELP_NOINLINE static void update_summary(kelp_bhv *b, bool any)
+{
+    char g[24], t[24];
+    hx_fmt_ulong(g, sizeof g, b->good_updates);
+    hx_fmt_ulong(t, sizeof t, b->good_updates + b->bad_updates);
+    hx_cat(b->update_summary, sizeof b->update_summary, g, "/", t, HX_END);
+    if (any || b->good_updates + b->bad_updates) {
+        char var[KELP_MAX_NAME + 4], msg[96], f[24];
+        hx_fmt_ulong(f, sizeof f, b->bad_updates);
+        hx_cat(var, sizeof var, "UH_", b->name, HX_END);
+        hx_cat(msg, sizeof msg, g, " update(s), and ", f, " failure(s)", HX_END);
+        kelp_bhv_post_string(b, var, msg, NULL);
+    }
+}
+
+KELP_NOINLINE static void check_updates(kelp_helm *h, kelp_bhv *b)
 {
     if (!b->updates[0]) {
         hx_copy(b->update_summary, sizeof b->update_summary, "n/a", 3);
@@ -745,32 +772,28 @@ static void check_updates(kelp_helm *h, kelp_bhv *b)
                 b->prev_update_hash = hs;
             }
         }
-        /* IVPHELM_UPDATE_RESULT: bhv=,var=,time= (since helm start),result=,val= */
-        char *msg = h->ws_upd.msg, tm[32];
-        hx_fmt_fixed(tm, sizeof tm, h->ib.curr_time, 2);
-        hx_cat(msg, sizeof h->ws_upd.msg, "bhv=", b->name, ",var=", b->updates, ",time=", tm, ",result=", result, ",val=", s, HX_END);
-        sink(h, "IVPHELM_UPDATE_RESULT", true, msg, 0, NULL);
+        post_update_result(h, b, result, s);
     }
     if (made && b->ops->params_done)
         (void)b->ops->params_done(b);
     if (made && b->ops->post_config)
         b->ops->post_config(b);
-    char g[24], t[24];
-    hx_fmt_ulong(g, sizeof g, b->good_updates);
-    hx_fmt_ulong(t, sizeof t, b->good_updates + b->bad_updates);
-    hx_cat(b->update_summary, sizeof b->update_summary, g, "/", t, HX_END);
-    if (any || b->good_updates + b->bad_updates) {
-        char var[KELP_MAX_NAME + 4], msg[96], f[24];
-        hx_fmt_ulong(f, sizeof f, b->bad_updates);
-        hx_cat(var, sizeof var, "UH_", b->name, HX_END);
-        hx_cat(msg, sizeof msg, g, " update(s), and ", f, " failure(s)", HX_END);
-        kelp_bhv_post_string(b, var, msg, NULL);
-    }
+    update_summary(b, any);
 }
 
 /* ---------------------------------------------------------------- isRunnable */
 
-static kelp_bhv_state runnable(kelp_helm *h, kelp_bhv *b)
+/* NOSTARVE: BHV_ERROR "<name>: VarStarve: VAR older than S s" (out of line: its text) */
+KELP_NOINLINE static void post_starved(kelp_bhv *b, const char *var)
+{
+    char msg[KELP_MAX_NAME + 96], secs[32];
+    hx_fmt_double(secs, sizeof secs, b->starve_time);
+    hx_cat(msg, sizeof msg, b->name, ": VarStarve: ", var, " older than ", secs, " s", HX_END);
+    kelp_bhv_post_string(b, "BHV_ERROR", msg, NULL);
+    b->state_ok = false;
+}
+
+KELP_NOINLINE static kelp_bhv_state runnable(kelp_helm *h, kelp_bhv *b)
 {
     double now = h->ib.curr_time;
     for (unsigned i = 0; i < b->ncond; i++)
@@ -789,11 +812,7 @@ static kelp_bhv_state runnable(kelp_helm *h, kelp_bhv *b)
     for (unsigned i = 0; i < b->nstarve; i++) {
         double t = kelp_helm_ib_time(&h->ib, b->starve[i]);
         if (t < 0 || now - t > b->starve_time) {
-            char msg[KELP_MAX_NAME + 96], secs[32];
-            hx_fmt_double(secs, sizeof secs, b->starve_time);
-            hx_cat(msg, sizeof msg, b->name, ": VarStarve: ", b->starve[i], " older than ", secs, " s", HX_END);
-            kelp_bhv_post_string(b, "BHV_ERROR", msg, NULL);
-            b->state_ok = false;
+            post_starved(b, b->starve[i]);
             return KELP_BHV_IDLE;
         }
     }
@@ -813,7 +832,52 @@ static bool func_finite(const kelp_ivp_func *f)
 }
 
 /* produceOF for behaviour i; returns true when it produced a function into h->fn[i]. */
-static bool produce(kelp_helm *h, unsigned i, size_t *pool_used, bool *halted)
+/* BHV_STATUS: posted when it changes, keyed by the behaviour (MOOS-IvP's statusInfoPost) */
+KELP_NOINLINE static void post_status(kelp_bhv *b, kelp_bhv_state ns)
+{
+    static const char *const stname[] = {"idle", "idle", "running", "active", "completed"};
+    const char *st = b->completed ? "completed" : stname[ns <= KELP_BHV_COMPLETED ? ns : 0];
+    char msg[KELP_MAX_NAME + 96];
+    hx_cat(msg, sizeof msg, "name=", b->name, ",state=", st, ",updates=", b->update_summary, HX_END);
+    kelp_bhv_post_string(b, "BHV_STATUS", msg, b->name);
+}
+
+/* The running state of behaviour i (onRunState): RUNNING, or ACTIVE when it made a function
+ * (*made). Out of line: its work descriptor stays off the updates path. */
+KELP_NOINLINE static kelp_bhv_state run_state(kelp_helm *h, unsigned i, kelp_bhv_state old, size_t *pool_used, bool *made)
+{
+    kelp_bhv *b = &h->bhv[i];
+    double now = h->ib.curr_time;
+    kelp_bhv_state ns = KELP_BHV_RUNNING;
+    if (old == KELP_BHV_IDLE || old == KELP_BHV_NONE)
+        helm_post_flags(b, KELP_FLAG_RUN);
+    post_duration_status(b, now);
+    kelp_helm_work w = {h->mem.pool + *pool_used, h->mem.pool_cap - *pool_used, h->mem.tmp, h->mem.tmp_cap,
+                        h->mem.dwork, h->mem.dwork_cap, h->mem.pq, h->mem.pq_cap};
+    kelp_ivp_func *f = &h->fn[i];
+    b->pwt_factor = 1.0;
+    int rc = b->ops->on_run ? b->ops->on_run(b, &w, f) : 0;
+    helm_post_flags(b, KELP_FLAG_RUNX);
+    if (rc == 1 && f->n > 0 && !func_finite(f)) {
+        kelp_bhv_post_error(b, "NaN detected in IvP Function");
+        rc = 0;
+    }
+    double pwt = b->pwt * (b->pwt_factor >= 0 ? b->pwt_factor : 0);
+    if (rc == 1 && f->n > 0 && pwt > 0) {
+        f->pwt = pwt;
+        *made = true;
+        *pool_used += f->n;
+        if (old != KELP_BHV_ACTIVE)
+            helm_post_flags(b, KELP_FLAG_ACTIVE);
+        ns = KELP_BHV_ACTIVE;
+    } else if (old == KELP_BHV_ACTIVE) {
+        helm_post_flags(b, KELP_FLAG_INACTIVE);
+    }
+    update_state_durations(b, false, now);
+    return ns;
+}
+
+KELP_NOINLINE static bool produce(kelp_helm *h, unsigned i, size_t *pool_used, bool *halted)
 {
     kelp_bhv *b = &h->bhv[i];
     double now = h->ib.curr_time;
@@ -840,31 +904,7 @@ static bool produce(kelp_helm *h, unsigned i, size_t *pool_used, bool *halted)
             b->ops->on_idle(b);
         update_state_durations(b, true, now);
     } else if (ns == KELP_BHV_RUNNING) {
-        if (old == KELP_BHV_IDLE || old == KELP_BHV_NONE)
-            helm_post_flags(b, KELP_FLAG_RUN);
-        post_duration_status(b, now);
-        kelp_helm_work w = {h->mem.pool + *pool_used, h->mem.pool_cap - *pool_used, h->mem.tmp, h->mem.tmp_cap,
-                            h->mem.dwork, h->mem.dwork_cap, h->mem.pq, h->mem.pq_cap};
-        kelp_ivp_func *f = &h->fn[i];
-        b->pwt_factor = 1.0;
-        int rc = b->ops->on_run ? b->ops->on_run(b, &w, f) : 0;
-        helm_post_flags(b, KELP_FLAG_RUNX);
-        if (rc == 1 && f->n > 0 && !func_finite(f)) {
-            kelp_bhv_post_error(b, "NaN detected in IvP Function");
-            rc = 0;
-        }
-        double pwt = b->pwt * (b->pwt_factor >= 0 ? b->pwt_factor : 0);
-        if (rc == 1 && f->n > 0 && pwt > 0) {
-            f->pwt = pwt;
-            made = true;
-            *pool_used += f->n;
-            if (old != KELP_BHV_ACTIVE)
-                helm_post_flags(b, KELP_FLAG_ACTIVE);
-            ns = KELP_BHV_ACTIVE;
-        } else if (old == KELP_BHV_ACTIVE) {
-            helm_post_flags(b, KELP_FLAG_INACTIVE);
-        }
-        update_state_durations(b, false, now);
+        ns = run_state(h, i, old, pool_used, &made);
     }
     if (!b->state_ok)
         *halted = true;
@@ -873,12 +913,7 @@ static bool produce(kelp_helm *h, unsigned i, size_t *pool_used, bool *halted)
     b->state = ns;
     if (made)
         h->rep.active_goal = true; /* kelp's behaviours are all goal (not constraint) behaviours */
-    /* BHV_STATUS: posted when it changes, keyed by the behaviour (MOOS-IvP's statusInfoPost) */
-    static const char *const stname[] = {"idle", "idle", "running", "active", "completed"};
-    const char *st = b->completed ? "completed" : stname[ns <= KELP_BHV_COMPLETED ? ns : 0];
-    char msg[KELP_MAX_NAME + 96];
-    hx_cat(msg, sizeof msg, "name=", b->name, ",state=", st, ",updates=", b->update_summary, HX_END);
-    kelp_bhv_post_string(b, "BHV_STATUS", msg, b->name);
+    post_status(b, ns);
     return made;
 }
 
@@ -947,6 +982,14 @@ static void solve(kelp_helm *h, const bool *has_fn)
         r->decided[k] = true;
         r->decision[k] = res.val[j];
     }
+}
+
+/* key then v with dec decimals appended to buf; returns the length added */
+KELP_NOINLINE static size_t cat_fixed(char *buf, size_t cap, const char *key, double v, unsigned dec)
+{
+    char num[32];
+    hx_fmt_fixed(num, sizeof num, v, dec);
+    return hx_cat(buf, cap, key, num, HX_END);
 }
 
 static void post_outputs(kelp_helm *h)
@@ -1054,17 +1097,16 @@ static void post_outputs(kelp_helm *h)
         n += hx_cat(buf + n, bufcap - n, ",", keys[k], "=", tmp[0] ? tmp : "none", HX_END);
     }
     {
-        char ut[32], ct[32], st[32], lt[32], mct[32], mst[32], mlt[32], pf[24];
-        hx_fmt_fixed(ut, sizeof ut, h->t0 + r->time, 2);
-        hx_fmt_fixed(ct, sizeof ct, r->create_time, 4);
-        hx_fmt_fixed(st, sizeof st, r->solve_time, 4);
-        hx_fmt_fixed(lt, sizeof lt, r->loop_time, 4);
-        hx_fmt_fixed(mct, sizeof mct, r->max_create_time, 4);
-        hx_fmt_fixed(mst, sizeof mst, r->max_solve_time, 4);
-        hx_fmt_fixed(mlt, sizeof mlt, r->max_loop_time, 4);
+        /* one number at a time, appended (the same text as one hx_cat of them all) */
+        static const char *const tkey[7] = {",utc_time=", ",create_time=", ",solve_time=", ",loop_time=",
+                                            ",max_create_time=", ",max_solve_time=", ",max_loop_time="};
+        const double tval[7] = {h->t0 + r->time, r->create_time, r->solve_time, r->loop_time,
+                                r->max_create_time, r->max_solve_time, r->max_loop_time};
+        for (int k = 0; k < 7; k++)
+            n += cat_fixed(buf + n, bufcap - n, tkey[k], tval[k], k ? 4 : 2);
+        char pf[24];
         hx_fmt_ulong(pf, sizeof pf, r->total_pcs_formed);
-        n += hx_cat(buf + n, bufcap - n, ",utc_time=", ut, ",create_time=", ct, ",solve_time=", st, ",loop_time=", lt,
-                    ",max_create_time=", mct, ",max_solve_time=", mst, ",max_loop_time=", mlt, ",total_pcs_formed=", pf,
+        n += hx_cat(buf + n, bufcap - n, ",total_pcs_formed=", pf,
                     ",total_pcs_cached=0,disabled_bhvs=none,active_goal=", r->active_goal ? "true" : "false", HX_END);
         char *dom = h->ws_out.dom;
         helm_domain_string(hd, dom, sizeof h->ws_out.dom);
@@ -1102,14 +1144,17 @@ int kelp_helm_iterate(kelp_helm *h, double now)
     helm_mode_eval(h, post_mode);
     helm_spawn(h);
     kelp_helm_report *r = &h->rep;
-    kelp_helm_report prev = *r;
-    memset(r, 0, sizeof *r);
-    r->warnings = prev.warnings;
-    r->errors = prev.errors;
-    r->max_create_time = prev.max_create_time;
-    r->max_solve_time = prev.max_solve_time;
-    r->max_loop_time = prev.max_loop_time;
-    r->total_pcs_formed = prev.total_pcs_formed;
+    {   /* a new report keeping the running counts (not a copy of the whole report: stack) */
+        unsigned long warnings = r->warnings, errors = r->errors, total_pcs = r->total_pcs_formed;
+        double max_create = r->max_create_time, max_solve = r->max_solve_time, max_loop = r->max_loop_time;
+        memset(r, 0, sizeof *r);
+        r->warnings = warnings;
+        r->errors = errors;
+        r->max_create_time = max_create;
+        r->max_solve_time = max_solve;
+        r->max_loop_time = max_loop;
+        r->total_pcs_formed = total_pcs;
+    }
     r->iteration = h->iteration;
     r->time = h->ib.curr_time;
     sink(h, "IVPHELM_STATE", true, h->engaged ? "DRIVE" : "PARK", 0, NULL);
@@ -1131,10 +1176,10 @@ int kelp_helm_iterate(kelp_helm *h, double now)
         flush_posts(h);
         double t_built = clk ? clk(h->cfg.user) : 0;
         if (r->halted) { /* MOOS-IvP's halt message names the behaviour error */
-            char err[sizeof r->halt_msg - 12];
-            if (!kelp_helm_ib_string(&h->ib, "BHV_ERROR", err, sizeof err))
-                hx_copy(err, sizeof err, " - unknown - ", 13);
-            hx_cat(r->halt_msg, sizeof r->halt_msg, "BHV_ERROR: ", err, HX_END);
+            /* "BHV_ERROR: " (11 bytes) then the value, cut as in a buffer of sizeof halt_msg - 12 */
+            char *err = r->halt_msg + hx_cat(r->halt_msg, sizeof r->halt_msg, "BHV_ERROR: ", HX_END);
+            if (!kelp_helm_ib_string(&h->ib, "BHV_ERROR", err, sizeof r->halt_msg - 12))
+                hx_copy(err, sizeof r->halt_msg - 12, " - unknown - ", 13);
         } else
             solve(h, has_fn);
         if (clk) {

@@ -2,6 +2,7 @@
 #ifndef KELP_HELM_INT_H
 #define KELP_HELM_INT_H
 
+#include <stdarg.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>

@@ -50,20 +50,21 @@ int helm_templates_extract(kelp_helm *h)
 
 static void life_event(kelp_helm *h, const kelp_bhv *b, const char *event, const char *seed)
 {
-    char buf[KELP_HELM_MAX_SVAL], tm[32], it[24];
+    char *buf = h->ws_upd.msg, tm[32], it[24]; /* the update workspace: idle while spawning / reaping */
+    const size_t cap = sizeof h->ws_upd.msg;
     hx_fmt_fixed(tm, sizeof tm, h->ib.curr_time, 2);
     hx_fmt_ulong(it, sizeof it, h->iteration);
-    size_t n = hx_cat(buf, sizeof buf, "time=", tm, ", iter=", it, ", bname=", b->name, ", btype=", b->type,
+    size_t n = hx_cat(buf, cap, "time=", tm, ", iter=", it, ", bname=", b->name, ", btype=", b->type,
                       ", event=", event, HX_END);
     if (seed && *seed)
-        hx_cat(buf + n, sizeof buf - n, ", seed=", seed, HX_END);
+        hx_cat(buf + n, cap - n, ", seed=", seed, HX_END);
     helm_sink(h, "IVPHELM_LIFE_EVENT", true, buf, 0, NULL);
 }
 
 static void warn(kelp_helm *h, const char *a, const char *b, const char *c)
 {
-    char msg[KELP_HELM_MAX_SVAL];
-    hx_cat(msg, sizeof msg, a, b ? b : "", c ? c : "", HX_END);
+    char *msg = h->ws_upd.msg; /* the update workspace: idle while spawning */
+    hx_cat(msg, sizeof h->ws_upd.msg, a, b ? b : "", c ? c : "", HX_END);
     helm_sink(h, "BHV_WARNING", true, msg, 0, NULL);
     helm_sink(h, "IVPHELM_BHVSET_WARNING", true, msg, 0, NULL);
     h->rep.warnings++;
@@ -75,13 +76,13 @@ static bool name_taken(kelp_helm *h, const char *full, const char *uname)
 }
 
 /* Apply the update's pieces other than name= to b; false on the first bad piece. */
-static bool apply_pieces(kelp_bhv *b, const char *s)
+static bool apply_pieces(kelp_helm *h, kelp_bhv *b, const char *s)
 {
-    char param[KELP_MAX_NAME], val[KELP_HELM_MAX_SVAL];
+    char param[KELP_MAX_NAME], *val = h->ws_upd.val; /* the update workspace: idle while spawning */
     for (const char *p = s;;) {
         const char *e = strchr(p, '#');
         size_t pn = e ? (size_t)(e - p) : strlen(p);
-        if (!helm_update_piece(p, pn, param, sizeof param, val, sizeof val))
+        if (!helm_update_piece(p, pn, param, sizeof param, val, sizeof h->ws_upd.val))
             return false;
         b->fail = NULL;
         if (strcmp(param, "name") != 0 && kelp_bhv_set_param(b, param, val) < 0)
@@ -93,13 +94,13 @@ static bool apply_pieces(kelp_bhv *b, const char *s)
 }
 
 /* the value of the request's name= piece into out; false without one */
-static bool request_name(const char *s, char *out, size_t cap)
+static bool request_name(kelp_helm *h, const char *s, char *out, size_t cap)
 {
-    char param[KELP_MAX_NAME], val[KELP_HELM_MAX_SVAL];
+    char param[KELP_MAX_NAME], *val = h->ws_upd.val; /* the update workspace: idle while spawning */
     for (const char *p = s;;) {
         const char *e = strchr(p, '#');
         size_t pn = e ? (size_t)(e - p) : strlen(p);
-        if (helm_update_piece(p, pn, param, sizeof param, val, sizeof val) && !strcmp(param, "name"))
+        if (helm_update_piece(p, pn, param, sizeof param, val, sizeof h->ws_upd.val) && !strcmp(param, "name"))
             return val[0] && hx_copy(out, cap, val, strlen(val));
         if (!e)
             return false;
@@ -110,7 +111,7 @@ static bool request_name(const char *s, char *out, size_t cap)
 static void spawn_one(kelp_helm *h, kelp_bhv *t, const char *req)
 {
     char uname[KELP_MAX_NAME], full[KELP_MAX_NAME];
-    if (!request_name(req, uname, sizeof uname))
+    if (!request_name(h, req, uname, sizeof uname))
         return;
     if (starts_with(uname, t->name))
         memcpy(full, uname, sizeof full);
@@ -141,7 +142,7 @@ static void spawn_one(kelp_helm *h, kelp_bhv *t, const char *req)
     memcpy(b->name, full, sizeof b->name);
     (void)hx_copy(b->templating, sizeof b->templating, "disallowed", 10);
     b->fail = NULL;
-    if (!apply_pieces(b, req) || (b->ops->params_done && b->ops->params_done(b) < 0)) {
+    if (!apply_pieces(h, b, req) || (b->ops->params_done && b->ops->params_done(b) < 0)) {
         life_event(h, b, "abort", req);
         warn(h, "Failed to spawn ", full, b->fail ? b->fail : ": bad configuration");
         return;
