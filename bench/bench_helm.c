@@ -63,7 +63,8 @@ int main(int argc, char **argv)
     unsigned long posts = 0;
     kelp_helm_config cfg;
     kelp_helm_config_default(&cfg);
-    kelp_ivp_errbuf e = {""};
+    kelp_diag e;
+    kelp_diag_clear(&e);
     if (kelp_ivp_domain_parse(&cfg.domain, "course:0:359:360,speed:0:4:21", &e))
         return 1;
     cfg.sink = sink;
@@ -74,7 +75,7 @@ int main(int argc, char **argv)
     snprintf(text, sizeof text, "%s%s", B3, nb == 10 ? B10_EXTRA : "");
     kelp_mission m;
     if (kelp_mission_parse(&m, text, strlen(text), nodes, 256) || kelp_helm_load_bhv(&h, &m) || kelp_helm_configured(&h)) {
-        fprintf(stderr, "config: %s\n", h.err);
+        fprintf(stderr, "config: %s\n", kelp_diag_text(&h.diag));
         return 1;
     }
     kelp_helm_start(&h, 0);

@@ -43,7 +43,8 @@ int main(int argc, char **argv)
         return 2;
     double *t = calloc((size_t)n, sizeof *t);
     kelp_ivp_domain d;
-    kelp_ivp_errbuf e = {""};
+    kelp_diag e;
+    kelp_diag_clear(&e);
     size_t pieces = 0;
     bool zaic = strcmp(argv[1], "zaic") == 0;
     if (kelp_ivp_domain_parse(&d, zaic ? "course:0:359:360" : "x:-250:249:500,y:-250:249:500", &e))

@@ -10,6 +10,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 static kelp_ivp_piece store[4096];
 static double work[4096];
+static kelp_ivp_zaic_peak zws;
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
@@ -34,7 +35,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         kelp_ivp_spec sp;
         if (kelp_ivp_spec_parse(&sp, line, &err) == 0 && dom.dim > 0 && dom.var[0].points <= 4096) {
             kelp_ivp_func f;
-            (void)kelp_ivp_spec_build(&sp, &dom, dom.var[0].name, work, 4096, store, 4096, &f, &err);
+            (void)kelp_ivp_spec_build(&sp, &dom, dom.var[0].name, work, 4096, &zws, store, 4096, &f, &err);
         }
         kelp_ivp_fileline fl;
         (void)kelp_ivp_file_line(line, &dom, &fl, &err);

@@ -7,6 +7,11 @@ for t in "$B/test/check_core" "$B/test/check_edge"; do
   echo "== $(basename "$t")"
   if ! "$t"; then fail=1; fi
 done
+echo "== benchmarks compile"
+for b in bench/*.c; do
+  if ! ${CC:-gcc} -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE -fsyntax-only -Wall -Werror -Iinclude -I"$B/gen" \
+       $(pkg-config --cflags lcm 2>/dev/null) "$b"; then echo "benchmark $b does not compile"; fail=1; fi
+done
 echo "== integration"
 if ! BUILD=$(cd "$B" && pwd) "$(dirname "$0")/run-integration.sh"; then fail=1; fi
 if [ $fail -ne 0 ]; then echo "make test: FAILED"; exit 1; fi

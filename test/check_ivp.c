@@ -16,6 +16,7 @@ static kelp_ivp_domain dom1(const char *s)
 
 static kelp_ivp_piece g_store[4096];
 static double g_work[4096];
+static kelp_ivp_zaic_peak g_zws; /* spec_build's ZAIC_PEAK workspace */
 
 static double fval(const kelp_ivp_func *f, uint32_t ix)
 {
@@ -32,7 +33,7 @@ static kelp_ivp_func spec_func(const char *dom, const char *spec)
     kelp_diag e = {0};
     kelp_ivp_func f;
     ck_assert_int_eq(kelp_ivp_spec_parse(&sp, spec, &e), 0);
-    ck_assert_int_eq(kelp_ivp_spec_build(&sp, &d, d.var[0].name, g_work, 4096, g_store, 4096, &f, &e), 0);
+    ck_assert_int_eq(kelp_ivp_spec_build(&sp, &d, d.var[0].name, g_work, 4096, &g_zws, g_store, 4096, &f, &e), 0);
     ck_assert(kelp_ivp_func_tiles(&f));
     return f;
 }
@@ -547,8 +548,8 @@ START_TEST(coupler_argmax_and_range)
     kelp_ivp_func fc, fs, out;
     ck_assert_int_eq(kelp_ivp_spec_parse(&a, "peak(summit=90,peakwidth=0,basewidth=180,summitdelta=0,wrap)", &e), 0);
     ck_assert_int_eq(kelp_ivp_spec_parse(&b, "peak(summit=2,peakwidth=0.5,basewidth=1,summitdelta=0.8)", &e), 0);
-    ck_assert_int_eq(kelp_ivp_spec_build(&a, &d, "course", g_work, 4096, g_store, 2048, &fc, &e), 0);
-    ck_assert_int_eq(kelp_ivp_spec_build(&b, &d, "speed", g_work, 4096, g_store + 2048, 2048, &fs, &e), 0);
+    ck_assert_int_eq(kelp_ivp_spec_build(&a, &d, "course", g_work, 4096, &g_zws, g_store, 2048, &fc, &e), 0);
+    ck_assert_int_eq(kelp_ivp_spec_build(&b, &d, "speed", g_work, 4096, &g_zws, g_store + 2048, 2048, &fs, &e), 0);
     ck_assert_uint_eq(fc.n, 3);
     ck_assert_uint_eq(fs.n, 6);
     const double w[3][2] = {{50, 50}, {75, 25}, {25, 75}};

@@ -50,6 +50,7 @@ static kelp_ivp_domain mkdom(const char *s)
 static kelp_ivp_piece s_store[NF][CAP];
 static kelp_ivp_piece s_tmpa[CAP], s_tmpb[CAP];
 static double s_zw[CAP];
+static kelp_ivp_zaic_peak s_zws;
 static kelp_ivp_pq_entry s_pq[CAP];
 static unsigned char s_work[1 << 21];
 
@@ -495,8 +496,8 @@ START_TEST(solver_bench_problem_vs_reference)
         if (_i > 0) /* variants: move every course summit by _i degrees */
             fl.a.comp[0].summit = fmod(fl.a.comp[0].summit + 37.0 * _i, 360.0);
         kelp_ivp_func a, b;
-        ck_assert_int_eq(kelp_ivp_spec_build(&fl.a, &d, d.var[vc].name, s_zw, CAP, s_tmpa, CAP, &a, &e), 0);
-        ck_assert_int_eq(kelp_ivp_spec_build(&fl.b, &d, d.var[vs].name, s_zw, CAP, s_tmpb, CAP, &b, &e), 0);
+        ck_assert_int_eq(kelp_ivp_spec_build(&fl.a, &d, d.var[vc].name, s_zw, CAP, &s_zws, s_tmpa, CAP, &a, &e), 0);
+        ck_assert_int_eq(kelp_ivp_spec_build(&fl.b, &d, d.var[vs].name, s_zw, CAP, &s_zws, s_tmpb, CAP, &b, &e), 0);
         ck_assert_int_eq(kelp_ivp_couple(&a, fl.wc, &b, fl.ws, true, 0, 100, s_store[i], CAP, &f[i]), 0);
         f[i].pwt = fl.pwt;
     }

@@ -71,6 +71,8 @@ KELP_MUST_CHECK int kelp_ivp_domain_sub(const kelp_ivp_domain *d, const char *na
 bool kelp_ivp_domain_is_sub(const kelp_ivp_domain *sub, const kelp_ivp_domain *d);
 /** Parse "name:low:high:points[,name:low:high:points]..." (blanks around tokens allowed). */
 KELP_MUST_CHECK int kelp_ivp_domain_parse(kelp_ivp_domain *d, const char *s, kelp_diag *diag);
+/** The same over the first len bytes of s (no NUL needed). */
+KELP_MUST_CHECK int kelp_ivp_domain_parse_n(kelp_ivp_domain *d, const char *s, size_t len, kelp_diag *diag);
 
 /* ------------------------------------------------------------------ functions */
 
@@ -306,11 +308,13 @@ typedef struct kelp_ivp_spec {
  * defaults (summitdelta 50 on added peak components, as the seed's addComponent). The flags
  * insist/wrap/sum default to off in the text form. */
 KELP_MUST_CHECK int kelp_ivp_spec_parse(kelp_ivp_spec *sp, const char *s, kelp_diag *diag);
-/** Build the spec's function over variable var of dom. work: kelp_ivp_spec_work_len doubles. */
 size_t kelp_ivp_spec_max_pieces(const kelp_ivp_spec *sp, const kelp_ivp_domain *dom, const char *var);
+/** Build the spec's function over variable var of dom. work: kelp_ivp_spec_work_len doubles;
+ *  zws: the builder the spec needs, as workspace (a ZAIC_PEAK is some 900 bytes: kept off the
+ *  stack). */
 KELP_MUST_CHECK int kelp_ivp_spec_build(const kelp_ivp_spec *sp, const kelp_ivp_domain *dom, const char *var, double *work,
-                                        size_t work_len, kelp_ivp_piece *store, size_t cap, kelp_ivp_func *out,
-                                        kelp_diag *diag);
+                                        size_t work_len, kelp_ivp_zaic_peak *zws, kelp_ivp_piece *store, size_t cap,
+                                        kelp_ivp_func *out, kelp_diag *diag);
 
 /** One function line of a solve FILE. */
 typedef struct kelp_ivp_fileline {
@@ -322,6 +326,7 @@ typedef struct kelp_ivp_fileline {
     unsigned nvars;                   /**< raw: variables spanned, in order */
     int vars[KELP_IVP_MAX_DIM];       /**< raw: problem variable index of each */
     unsigned long npieces;            /**< raw: piece lines that follow */
+    char ws_spec[512];                /**< workspace: a SPEC token's text while it is parsed */
 } kelp_ivp_fileline;
 
 /** Parse "domain DOMAIN" (the first non-blank, non-# line of a FILE). */

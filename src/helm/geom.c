@@ -60,10 +60,10 @@ int kelp_helm_parse_points(const char *str, kelp_bhv_pt *pts, size_t cap, unsign
     const char *s = str;
     size_t len = strlen(s);
     hx_trim(&s, &len);
-    char buf[KELP_HELM_MAX_SVAL];
-    if (len == 0 || !hx_copy(buf, sizeof buf, s, len))
+    /* read in place (no copy): every reader below trims or stops at its own delimiters */
+    if (len == 0 || len >= KELP_HELM_MAX_SVAL)
         return KELP_ERR_PARSE;
-    char *b = buf;
+    const char *b = s;
     if (!strncmp(b, "radial::", 8) || !strncmp(b, "radial:", 7)) {
         b += b[7] == ':' ? 8 : 7;
         return parse_radial(b, pts, cap, n);
@@ -79,7 +79,7 @@ int kelp_helm_parse_points(const char *str, kelp_bhv_pt *pts, size_t cap, unsign
     if (kelp_kv_get(b, ',', "radius", tmp, sizeof tmp) == 1)
         return parse_radial(b, pts, cap, n);
     if ((b[0] == 'p' || b[0] == 'P') && kelp_strieq_n(b, 3, "pts")) {
-        char *eq = strchr(b, '=');
+        const char *eq = strchr(b, '=');
         if (!eq)
             return KELP_ERR_PARSE;
         b = eq + 1;

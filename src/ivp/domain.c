@@ -123,17 +123,22 @@ bool kelp_ivp_domain_is_sub(const kelp_ivp_domain *sub, const kelp_ivp_domain *d
 
 int kelp_ivp_domain_parse(kelp_ivp_domain *d, const char *s, kelp_diag *diag)
 {
+    return kelp_ivp_domain_parse_n(d, s, s ? strlen(s) : 0, diag);
+}
+
+int kelp_ivp_domain_parse_n(kelp_ivp_domain *d, const char *s, size_t len, kelp_diag *diag)
+{
     kelp_ivp_domain_init(d);
     if (!s)
         return ivp_fail(diag, KELP_ERR_ARG, "domain: no text", NULL, 0);
-    const char *p = s;
+    const char *p = s, *end = s + len;
     for (;;) {
-        const char *c = strchr(p, ',');
-        size_t n = c ? (size_t)(c - p) : strlen(p);
+        const char *c = memchr(p, ',', (size_t)(end - p));
+        size_t n = c ? (size_t)(c - p) : (size_t)(end - p);
         const char *t = p;
         ivp_trim(&t, &n);
         if (n == 0)
-            return ivp_fail(diag, KELP_ERR_PARSE, "domain: empty variable in", s, strlen(s));
+            return ivp_fail(diag, KELP_ERR_PARSE, "domain: empty variable in", s, len);
         /* name:low:high:points */
         const char *f[4];
         size_t fl[4];

@@ -150,28 +150,31 @@ size_t kelp_ivp_spec_max_pieces(const kelp_ivp_spec *sp, const kelp_ivp_domain *
 }
 
 int kelp_ivp_spec_build(const kelp_ivp_spec *sp, const kelp_ivp_domain *dom, const char *var, double *work,
-                        size_t work_len, kelp_ivp_piece *store, size_t cap, kelp_ivp_func *out, kelp_diag *diag)
+                        size_t work_len, kelp_ivp_zaic_peak *zws, kelp_ivp_piece *store, size_t cap, kelp_ivp_func *out,
+                        kelp_diag *diag)
 {
     int rc;
     if (kelp_ivp_domain_index(dom, var) < 0)
         return ivp_fail(diag, KELP_ERR_NOTFOUND, "spec: variable not in domain:", var, strlen(var));
     if (sp->kind == KELP_IVP_SPEC_PEAK) {
-        kelp_ivp_zaic_peak z;
-        rc = kelp_ivp_zaic_peak_init(&z, dom, var);
+        if (!zws)
+            return ivp_fail(diag, KELP_ERR_ARG, "spec: no ZAIC_PEAK workspace", NULL, 0);
+        kelp_ivp_zaic_peak *z = zws;
+        rc = kelp_ivp_zaic_peak_init(z, dom, var);
         if (rc)
             return ivp_fail(diag, rc, "spec: cannot build ZAIC_PEAK on", var, strlen(var));
         for (unsigned i = 0; i < sp->ncomp; i++) {
             const kelp_ivp_zaic_comp *c = &sp->comp[i];
             if (i > 0)
-                (void)kelp_ivp_zaic_peak_add_component(&z);
-            ivp_ignore(kelp_ivp_zaic_peak_set_params(&z, c->summit, c->peakwidth, c->basewidth, c->summitdelta, c->minutil,
+                (void)kelp_ivp_zaic_peak_add_component(z);
+            ivp_ignore(kelp_ivp_zaic_peak_set_params(z, c->summit, c->peakwidth, c->basewidth, c->summitdelta, c->minutil,
                                                 c->maxutil, i));
         }
-        z.wrap = sp->wrap;
-        z.insist = sp->insist;
-        if (!z.ok)
-            return ivp_fail(diag, KELP_ERR_RANGE, "spec: bad peak parameters:", z.warn, strlen(z.warn));
-        rc = kelp_ivp_zaic_peak_extract(&z, !sp->sum, work, work_len, store, cap, out);
+        z->wrap = sp->wrap;
+        z->insist = sp->insist;
+        if (!z->ok)
+            return ivp_fail(diag, KELP_ERR_RANGE, "spec: bad peak parameters:", z->warn, strlen(z->warn));
+        rc = kelp_ivp_zaic_peak_extract(z, !sp->sum, work, work_len, store, cap, out);
         if (rc)
             return ivp_fail(diag, rc, "spec: peak extraction failed (storage)", NULL, 0);
         return 0;
@@ -229,23 +232,21 @@ int kelp_ivp_file_domain(const char *line, kelp_ivp_domain *dom, kelp_diag *diag
     if (!ivp_word_eq(t.s, t.n, "domain"))
         return ivp_fail(diag, KELP_ERR_PARSE, "file: first line must be 'domain DOMAIN', got", t.s, t.n);
     p = ivp_skip_ws(p);
-    char buf[512];
     size_t n = strcspn(p, "\n");
     span r = {p, n};
     ivp_trim(&r.s, &r.n);
     if (r.n == 0)
         return ivp_fail(diag, KELP_ERR_PARSE, "file: 'domain' needs name:low:high:points", NULL, 0);
-    if (tok_copy(r, buf, sizeof buf))
+    if (r.n >= 512)
         return ivp_fail(diag, KELP_ERR_PARSE, "file: domain text too long", r.s, r.n);
-    return kelp_ivp_domain_parse(dom, buf, diag);
+    return kelp_ivp_domain_parse_n(dom, r.s, r.n, diag);
 }
 
-static int spec_tok(span t, kelp_ivp_spec *sp, kelp_diag *diag)
+static int spec_tok(span t, kelp_ivp_spec *sp, char *buf, size_t cap, kelp_diag *diag)
 {
-    char buf[512];
     if (t.n == 0)
         return ivp_fail(diag, KELP_ERR_PARSE, "file: missing SPEC", NULL, 0);
-    if (tok_copy(t, buf, sizeof buf))
+    if (tok_copy(t, buf, cap))
         return ivp_fail(diag, KELP_ERR_PARSE, "file: SPEC too long", t.s, t.n);
     return kelp_ivp_spec_parse(sp, buf, diag);
 }
@@ -280,7 +281,7 @@ int kelp_ivp_file_line(const char *line, const kelp_ivp_domain *dom, kelp_ivp_fi
             return rc;
         if (!(fl->wc > 0) || !(fl->ws > 0))
             return ivp_fail(diag, KELP_ERR_RANGE, "file: couple weights must be > 0", NULL, 0);
-        if ((rc = spec_tok(next_tok(&p), &fl->a, diag)) || (rc = spec_tok(next_tok(&p), &fl->b, diag)))
+        if ((rc = spec_tok(next_tok(&p), &fl->a, fl->ws_spec, sizeof fl->ws_spec, diag)) || (rc = spec_tok(next_tok(&p), &fl->b, fl->ws_spec, sizeof fl->ws_spec, diag)))
             return rc;
         int vc, vs;
         if (kelp_ivp_couple_vars(dom, &vc, &vs))
@@ -319,7 +320,7 @@ int kelp_ivp_file_line(const char *line, const kelp_ivp_domain *dom, kelp_ivp_fi
         fl->kind = KELP_IVP_LINE_SPEC;
         if (tok_copy(kind, fl->var, sizeof fl->var) || kelp_ivp_domain_index(dom, fl->var) < 0)
             return ivp_fail(diag, KELP_ERR_NOTFOUND, "file: expected couple, raw or a domain variable, got", kind.s, kind.n);
-        if ((rc = spec_tok(next_tok(&p), &fl->a, diag)))
+        if ((rc = spec_tok(next_tok(&p), &fl->a, fl->ws_spec, sizeof fl->ws_spec, diag)))
             return rc;
     }
     span extra = next_tok(&p);
