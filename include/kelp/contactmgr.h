@@ -156,6 +156,7 @@ typedef struct kelp_cmgr {
         kelp_view view;                     /**< a region parsed as a polygon */
         char str[KELP_CMGR_MAX_TEXT];       /**< a report request's text, a flag's expanded value */
     } ws;
+    kelp_diag diag; /**< workspace: why the last node report was refused (read by bad_report) */
 } kelp_cmgr;
 
 /** Defaults (contactmgr.md 2.1) for ownship `ownship` (the community; its reports are dropped). */

@@ -15,6 +15,7 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <kelp/err.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -99,8 +100,8 @@ typedef struct kelp_xms {
 void kelp_xms_init(kelp_xms *x);
 /** One ProcessConfig parameter (VAR, HISTORY_VAR, SOURCE, DISPLAY_*, PAUSED, REFRESH_MODE,
  *  CONTENT_MODE, TRUNC_DATA, WRAP_DATA, WRAP_DATA_LEN, COLOR_MAP, TERM_REPORT_INTERVAL):
- *  1 taken, 0 not an xms parameter, <0 bad value (*why). */
-int kelp_xms_config(kelp_xms *x, const char *key, const char *val, const char **why);
+ *  1 taken, 0 not an xms parameter, KELP_ERR_PARSE bad value (reason in d). */
+KELP_MUST_CHECK int kelp_xms_config(kelp_xms *x, const char *key, const char *val, kelp_diag *d);
 /** Add a variable to the scope list (history: also the history variable, if none yet).
  *  Names containing "uXMS" or white space are refused (0); 1 added or present; <0 table full. */
 int kelp_xms_add_var(kelp_xms *x, const char *name, bool history);

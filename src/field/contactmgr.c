@@ -186,8 +186,7 @@ static double cross(const double *o, const double *a, const double *b)
 
 static int parse_poly(const char *v, size_t vl, kelp_cmgr_poly *p, kelp_view *view)
 {
-    const char *why = NULL;
-    if (kelp_view_parse(KELP_VIEW_POLYGON, v, vl, view, &why) < 0 || view->npts < 3 ||
+    if (kelp_view_parse(KELP_VIEW_POLYGON, v, vl, view, NULL) < 0 || view->npts < 3 ||
         view->npts > KELP_CMGR_MAX_REGION_PTS)
         return KELP_ERR_PARSE;
     p->n = (unsigned)view->npts;
@@ -668,9 +667,9 @@ static int bad_report(kelp_cmgr *c, const kelp_field_sink *out, const char *why)
 static int node_report(kelp_cmgr *c, const char *s, double now, const kelp_field_sink *out)
 {
     kelp_nodereport r;
-    const char *why = NULL;
     c->reports_in++;
-    if (kelp_nodereport_parse(s, strlen(s), &r, &why) < 0) return bad_report(c, out, why ? why : "unreadable");
+    kelp_diag_clear(&c->diag);
+    if (kelp_nodereport_parse(s, strlen(s), &r, &c->diag) < 0) return bad_report(c, out, kelp_diag_text(&c->diag));
     if (kelp_strieq(r.name, c->ownship)) return 1;
     bool have_xy = (r.fields & (KELP_NR_X | KELP_NR_Y)) == (KELP_NR_X | KELP_NR_Y);
     bool have_ll = (r.fields & (KELP_NR_LAT | KELP_NR_LON)) == (KELP_NR_LAT | KELP_NR_LON);

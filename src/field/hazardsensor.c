@@ -48,7 +48,7 @@ static int num(const char *v, size_t n, double *out)
     return kelp_parse_finite(v, n, out) < 0 ? KELP_ERR_PARSE : KELP_OK;
 }
 
-int kelp_field_uhz_add_setting(kelp_field_uhz_cfg *cfg, const char *spec, const char **why)
+int kelp_field_uhz_add_setting(kelp_field_uhz_cfg *cfg, const char *spec, kelp_diag *d)
 {
     double w = NAN, e = NAN, pc = NAN, mx = 0;
     size_t pos = 0;
@@ -63,17 +63,14 @@ int kelp_field_uhz_add_setting(kelp_field_uhz_cfg *cfg, const char *spec, const 
                       : kelp_strieq_n(k, kl, "max")    ? &mx
                                                        : NULL;
         if (dst && num(v, vl, dst) < 0) {
-            if (why) *why = "sensor_config: a bad number";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "sensor_config: a bad number");
         }
     }
     if (rc < 0 || isnan(w) || isnan(e) || isnan(pc)) {
-        if (why) *why = "sensor_config: width, exp and pclass required";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "sensor_config: width, exp and pclass required");
     }
     if (cfg->nsettings >= KELP_UHZ_MAX_SETTINGS) {
-        if (why) *why = "sensor_config: too many (KELP_UHZ_MAX_SETTINGS)";
-        return KELP_ERR_NOSPACE;
+        return kelp_fail(d, KELP_ERR_NOSPACE, "sensor_config: too many (KELP_UHZ_MAX_SETTINGS)");
     }
     kelp_uhz_setting *s = &cfg->setting[cfg->nsettings++];
     s->width = w < 0 ? 0 : w;
@@ -83,7 +80,7 @@ int kelp_field_uhz_add_setting(kelp_field_uhz_cfg *cfg, const char *spec, const 
     return KELP_OK;
 }
 
-int kelp_field_uhz_hazard_line(kelp_field_uhz_cfg *cfg, const char *line, const char **why)
+int kelp_field_uhz_hazard_line(kelp_field_uhz_cfg *cfg, const char *line, kelp_diag *d)
 {
     const char *s = line;
     while (*s == ' ' || *s == '\t') s++;
@@ -91,8 +88,7 @@ int kelp_field_uhz_hazard_line(kelp_field_uhz_cfg *cfg, const char *line, const 
     /* "hazard = x=..": drop the prefix; another "key = ..." line is not an object */
     const char *eq = strchr(s, '=');
     if (!eq) {
-        if (why) *why = "hazard: not a key=value list";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "hazard: not a key=value list");
     }
     size_t kl = (size_t)(eq - s);
     while (kl && (s[kl - 1] == ' ' || s[kl - 1] == '\t')) kl--;
@@ -111,19 +107,17 @@ int kelp_field_uhz_hazard_line(kelp_field_uhz_cfg *cfg, const char *line, const 
     while ((rc = kelp_kv_next(s, ',', &pos, &k, &kl, &v, &vl)) == 1) {
         while (vl && (v[vl - 1] == '\r' || v[vl - 1] == '\n')) vl--;
         if (kelp_strieq_n(k, kl, "x") || kelp_strieq_n(k, kl, "y") || kelp_strieq_n(k, kl, "width")) {
-            double d;
-            if (sim_number(v, vl, &d) < 0) {
-                if (why) *why = "hazard: a bad number";
-                return KELP_ERR_PARSE;
+            double dv;
+            if (sim_number(v, vl, &dv) < 0) {
+                return kelp_fail(d, KELP_ERR_PARSE, "hazard: a bad number");
             }
-            if (kelp_strieq_n(k, kl, "x")) o.x = d, hx = true;
-            else if (kelp_strieq_n(k, kl, "y")) o.y = d, hy = true;
-            else o.width = d < 0 ? 0 : d;
+            if (kelp_strieq_n(k, kl, "x")) o.x = dv, hx = true;
+            else if (kelp_strieq_n(k, kl, "y")) o.y = dv, hy = true;
+            else o.width = dv < 0 ? 0 : dv;
         } else if (kelp_strieq_n(k, kl, "type")) {
             if (kelp_strieq_n(v, vl, "hazard")) o.hazard = true;
             else if (!kelp_strieq_n(v, vl, "benign")) {
-                if (why) *why = "hazard: type is hazard or benign";
-                return KELP_ERR_PARSE;
+                return kelp_fail(d, KELP_ERR_PARSE, "hazard: type is hazard or benign");
             }
             ht = true;
         } else {
@@ -133,25 +127,21 @@ int kelp_field_uhz_hazard_line(kelp_field_uhz_cfg *cfg, const char *line, const 
                                                         : NULL;
             if (!dst) continue; /* hr=, aspect=... of 24.8: not simulated */
             if (vl >= KELP_UHZ_LABEL_LEN || memchr(v, ',', vl) || memchr(v, '=', vl)) {
-                if (why) *why = "hazard: a label, color or shape too long";
-                return KELP_ERR_RANGE;
+                return kelp_fail(d, KELP_ERR_RANGE, "hazard: a label, color or shape too long");
             }
             copyn(dst, KELP_UHZ_LABEL_LEN, v, vl);
         }
     }
     if (rc < 0 || !hx || !hy || !ht) {
-        if (why) *why = "hazard: x, y and type (hazard or benign) required";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "hazard: x, y and type (hazard or benign) required");
     }
     if (cfg->nobjects >= KELP_UHZ_MAX_OBJECTS) {
-        if (why) *why = "hazard: too many objects (KELP_UHZ_MAX_OBJECTS)";
-        return KELP_ERR_NOSPACE;
+        return kelp_fail(d, KELP_ERR_NOSPACE, "hazard: too many objects (KELP_UHZ_MAX_OBJECTS)");
     }
     if (!o.label[0]) kelp_snprintf(o.label, sizeof o.label, "%u", cfg->nobjects);
     for (unsigned i = 0; i < cfg->nobjects; i++)
         if (strcmp(cfg->object[i].label, o.label) == 0) {
-            if (why) *why = "hazard: a duplicate label";
-            return KELP_ERR_ARG;
+            return kelp_fail(d, KELP_ERR_ARG, "hazard: a duplicate label");
         }
     cfg->object[cfg->nobjects++] = o;
     if (o.hazard) cfg->nhazard++;
@@ -159,37 +149,34 @@ int kelp_field_uhz_hazard_line(kelp_field_uhz_cfg *cfg, const char *line, const 
     return 1;
 }
 
-static int set_bool(bool *dst, const char *v, size_t n, const char **why)
+static int set_bool(bool *dst, const char *v, size_t n, kelp_diag *d)
 {
     if (kelp_parse_bool(v, n, dst) < 0) {
-        if (why) *why = "true or false";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "true or false");
     }
     return 1;
 }
 
-static int set_num(double *dst, const char *v, size_t n, double lo, double hi, const char **why)
+static int set_num(double *dst, const char *v, size_t n, double lo, double hi, kelp_diag *d)
 {
-    double d;
-    if (num(v, n, &d) < 0) {
-        if (why) *why = "a number";
-        return KELP_ERR_PARSE;
+    double dv;
+    if (num(v, n, &dv) < 0) {
+        return kelp_fail(d, KELP_ERR_PARSE, "a number");
     }
-    *dst = d < lo ? lo : d > hi ? hi : d;
+    *dst = dv < lo ? lo : dv > hi ? hi : dv;
     return 1;
 }
 
-static int set_text(char *dst, const char *v, size_t n, const char **why)
+static int set_text(char *dst, const char *v, size_t n, kelp_diag *d)
 {
     if (n == 0 || n >= KELP_UHZ_LABEL_LEN || memchr(v, ',', n) || memchr(v, '=', n)) {
-        if (why) *why = "a short name";
-        return KELP_ERR_ARG;
+        return kelp_fail(d, KELP_ERR_ARG, "a short name");
     }
     copyn(dst, KELP_UHZ_LABEL_LEN, v, n);
     return 1;
 }
 
-int kelp_field_uhz_config(kelp_field_uhz_cfg *c, const char *key, const char *val, const char **why)
+int kelp_field_uhz_config(kelp_field_uhz_cfg *c, const char *key, const char *val, kelp_diag *d)
 {
     size_t kl = strlen(key);
     size_t n = clean_len(val);
@@ -197,51 +184,48 @@ int kelp_field_uhz_config(kelp_field_uhz_cfg *c, const char *key, const char *va
     if (K("SENSOR_CONFIG")) {
         char spec[160];
         if (n >= sizeof spec) {
-            if (why) *why = "sensor_config too long";
-            return KELP_ERR_RANGE;
+            return kelp_fail(d, KELP_ERR_RANGE, "sensor_config too long");
         }
         copyn(spec, sizeof spec, val, n);
-        int rc = kelp_field_uhz_add_setting(c, spec, why);
+        int rc = kelp_field_uhz_add_setting(c, spec, d);
         return rc < 0 ? rc : 1;
     }
     if (K("HAZARD")) {
-        int rc = kelp_field_uhz_hazard_line(c, val, why);
+        int rc = kelp_field_uhz_hazard_line(c, val, d);
         if (rc == 0) {
-            if (why) *why = "hazard: x, y and type required";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "hazard: x, y and type required");
         }
         return rc;
     }
-    if (K("DEFAULT_HAZARD_SHAPE")) return set_text(c->hazard_shape, val, n, why);
-    if (K("DEFAULT_HAZARD_COLOR")) return set_text(c->hazard_color, val, n, why);
-    if (K("DEFAULT_BENIGN_SHAPE")) return set_text(c->benign_shape, val, n, why);
-    if (K("DEFAULT_BENIGN_COLOR")) return set_text(c->benign_color, val, n, why);
-    if (K("DEFAULT_HAZARD_WIDTH")) return set_num(&c->hazard_width, val, n, 0, 1e6, why);
-    if (K("DEFAULT_BENIGN_WIDTH")) return set_num(&c->benign_width, val, n, 0, 1e6, why);
-    if (K("SWATH_TRANSPARENCY")) return set_num(&c->swath_transparency, val, n, 0, 1, why);
-    if (K("SWATH_LENGTH")) return set_num(&c->swath_length, val, n, 1, 1e6, why);
-    if (K("OPTIONS_SUMMARY_INTERVAL")) return set_num(&c->options_summary_interval, val, n, 0, 120, why);
-    if (K("MIN_RESET_INTERVAL")) return set_num(&c->min_reset_interval, val, n, 0, 1e9, why);
+    if (K("DEFAULT_HAZARD_SHAPE")) return set_text(c->hazard_shape, val, n, d);
+    if (K("DEFAULT_HAZARD_COLOR")) return set_text(c->hazard_color, val, n, d);
+    if (K("DEFAULT_BENIGN_SHAPE")) return set_text(c->benign_shape, val, n, d);
+    if (K("DEFAULT_BENIGN_COLOR")) return set_text(c->benign_color, val, n, d);
+    if (K("DEFAULT_HAZARD_WIDTH")) return set_num(&c->hazard_width, val, n, 0, 1e6, d);
+    if (K("DEFAULT_BENIGN_WIDTH")) return set_num(&c->benign_width, val, n, 0, 1e6, d);
+    if (K("SWATH_TRANSPARENCY")) return set_num(&c->swath_transparency, val, n, 0, 1, d);
+    if (K("SWATH_LENGTH")) return set_num(&c->swath_length, val, n, 1, 1e6, d);
+    if (K("OPTIONS_SUMMARY_INTERVAL")) return set_num(&c->options_summary_interval, val, n, 0, 120, d);
+    if (K("MIN_RESET_INTERVAL")) return set_num(&c->min_reset_interval, val, n, 0, 1e9, d);
     if (K("MIN_CLASSIFY_INTERVAL") || K("CLASSIFY_PERIOD"))
-        return set_num(&c->min_classify_interval, val, n, 0, 1e9, why);
+        return set_num(&c->min_classify_interval, val, n, 0, 1e9, d);
     if (K("SHOW_REPORTS") || K("SHOW_DETECTIONS")) {
         if (kelp_strieq_n(val, n, "unlimited") || kelp_strieq_n(val, n, "nolimit")) {
             c->show_reports = -1;
             return 1;
         }
-        return set_num(&c->show_reports, val, n, 0, 1e9, why);
+        return set_num(&c->show_reports, val, n, 0, 1e9, d);
     }
-    if (K("SHOW_HAZARDS")) return set_bool(&c->show_hazards, val, n, why);
-    if (K("SHOW_SWATH")) return set_bool(&c->show_swath, val, n, why);
-    if (K("SHOW_PD")) return set_bool(&c->show_pd, val, n, why);
-    if (K("SHOW_PFA")) return set_bool(&c->show_pfa, val, n, why);
-    if (K("VERBOSE")) return set_bool(&c->verbose, val, n, why);
-    if (K("SEED_RANDOM")) return set_bool(&c->seed_random, val, n, why);
+    if (K("SHOW_HAZARDS")) return set_bool(&c->show_hazards, val, n, d);
+    if (K("SHOW_SWATH")) return set_bool(&c->show_swath, val, n, d);
+    if (K("SHOW_PD")) return set_bool(&c->show_pd, val, n, d);
+    if (K("SHOW_PFA")) return set_bool(&c->show_pfa, val, n, d);
+    if (K("VERBOSE")) return set_bool(&c->verbose, val, n, d);
+    if (K("SEED_RANDOM")) return set_bool(&c->seed_random, val, n, d);
     if (K("RANDOM_SEED")) {
         long long s;
         if (kelp_parse_llong(val, n, &s) < 0) {
-            if (why) *why = "an integer";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "an integer");
         }
         c->seed = (uint64_t)s;
         return 1;
@@ -654,9 +638,8 @@ static int classify_request(kelp_field_uhz *h, const char *s, double now, const 
 static int node_report(kelp_field_uhz *h, const char *s, const kelp_field_sink *out)
 {
     kelp_nodereport r;
-    const char *why = NULL;
     trace(h, 'N');
-    if (kelp_nodereport_parse(s, strlen(s), &r, &why) < 0 || !(r.fields & KELP_NR_X) || !(r.fields & KELP_NR_Y)) {
+    if (kelp_nodereport_parse(s, strlen(s), &r, NULL) < 0 || !(r.fields & KELP_NR_X) || !(r.fields & KELP_NR_Y)) {
         warn(out, "uFldHazardSensor: invalid NODE_REPORT (NAME, X and Y required)");
         return KELP_ERR_PARSE;
     }

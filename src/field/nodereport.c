@@ -85,7 +85,7 @@ int kelp_nodereport_format(const kelp_nodereport *r, char *buf, size_t cap, size
 
 typedef struct nrparse {
     kelp_nodereport *r;
-    const char *why;
+    kelp_diag *d;
 } nrparse;
 
 static int on_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl)
@@ -137,22 +137,18 @@ static int on_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl
         for (size_t i = 0; i < vl; i++) {
             unsigned char c = (unsigned char)v[i];
             if (c < 0x20 || c == 0x7f || c == '"' || c == '{' || c == '}' || c == ',' || c == '=') {
-                p->why = "text field holds a quote, brace, ',', '=' or control character";
-                return KELP_ERR_PARSE;
+                return kelp_fail(p->d, KELP_ERR_PARSE, "text field holds a quote, brace, ',', '=' or control character");
             }
         }
         if (field_copy_text(text, KELP_NODEREPORT_MAX_FIELD, v, vl) < 0) {
-            p->why = "text field too long";
-            return KELP_ERR_RANGE;
+            return kelp_fail(p->d, KELP_ERR_RANGE, "text field too long");
         }
     } else if (sim_number(v, vl, num) < 0) {
-        p->why = "bad number";
-        return KELP_ERR_PARSE;
+        return kelp_fail(p->d, KELP_ERR_PARSE, "bad number");
     }
     if (bit == KELP_NR_INDEX) {
         if (!(idx >= 0 && idx <= 2e9) || idx != (double)(long)idx) {
-            p->why = "INDEX is not a count";
-            return KELP_ERR_PARSE;
+            return kelp_fail(p->d, KELP_ERR_PARSE, "INDEX is not a count");
         }
         r->index = (long)idx;
     }
@@ -160,14 +156,10 @@ static int on_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl
     return KELP_OK;
 }
 
-int kelp_nodereport_parse(const char *s, size_t len, kelp_nodereport *out, const char **why)
+int kelp_nodereport_parse(const char *s, size_t len, kelp_nodereport *out, kelp_diag *d)
 {
-    const char *dummy;
-    if (!why) why = &dummy;
-    *why = NULL;
     if (!s || !out) {
-        *why = "no input";
-        return KELP_ERR_ARG;
+        return kelp_fail(d, KELP_ERR_ARG, "no input");
     }
     kelp_nodereport r;
     kelp_nodereport_init(&r);
@@ -175,21 +167,16 @@ int kelp_nodereport_parse(const char *s, size_t len, kelp_nodereport *out, const
     while (len && (s[len - 1] == ' ' || s[len - 1] == '\n' || s[len - 1] == '\r')) len--;
     while (len && *s == ' ') s++, len--;
     if (len >= 2 && s[0] == '"' && s[len - 1] == '"') s++, len -= 2;
-    nrparse p = {&r, NULL};
-    int rc = field_for_pairs(s, len, ',', on_pair, &p, why);
-    if (rc < 0) {
-        if (p.why) *why = p.why;
-        return rc;
-    }
+    nrparse p = {&r, d};
+    int rc = field_for_pairs(s, len, ',', on_pair, &p, d);
+    if (rc < 0) return rc;
     if (!(r.fields & KELP_NR_NAME) || !r.name[0]) {
-        *why = "no NAME";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "no NAME");
     }
     bool xy = (r.fields & (KELP_NR_X | KELP_NR_Y)) == (KELP_NR_X | KELP_NR_Y);
     bool ll = (r.fields & (KELP_NR_LAT | KELP_NR_LON)) == (KELP_NR_LAT | KELP_NR_LON);
     if (!xy && !ll) {
-        *why = "no position (X,Y or LAT,LON)";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "no position (X,Y or LAT,LON)");
     }
     *out = r;
     return KELP_OK;

@@ -70,26 +70,23 @@ static bool num_ok(const char *s, double *d)
     return kelp_parse_double(s, strlen(s), d) == KELP_OK && isfinite(*d);
 }
 
-int kelp_field_nrep_add_plat(kelp_field_nrep_cfg *cfg, const char *spec, const char **why)
+int kelp_field_nrep_add_plat(kelp_field_nrep_cfg *cfg, const char *spec, kelp_diag *d)
 {
     kelp_nrep_plat p;
     memset(&p, 0, sizeof p);
-    *why = NULL;
     /* "VAR" first (a bare name), then gap=, alias= pairs */
     const char *comma = strchr(spec, ','), *end = comma ? comma : spec + strlen(spec);
     while (*spec == ' ' || *spec == '\t') spec++;
     while (end > spec && (end[-1] == ' ' || end[-1] == '\t')) end--;
     if (end == spec || (size_t)(end - spec) >= sizeof p.var || memchr(spec, '=', (size_t)(end - spec)) ||
         memchr(spec, ' ', (size_t)(end - spec))) {
-        *why = "expected VAR, gap=S, alias=A";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "expected VAR, gap=S, alias=A");
     }
     memcpy(p.var, spec, (size_t)(end - spec));
     item it[3];
     int n = comma ? items(comma + 1, it, 3) : 0;
     if (n < 0) {
-        *why = "expected VAR, gap=S, alias=A";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "expected VAR, gap=S, alias=A");
     }
     for (int i = 0; i < n; i++) {
         if (kelp_strieq(it[i].key, "gap") && num_ok(it[i].val, &p.gap)) {
@@ -97,33 +94,29 @@ int kelp_field_nrep_add_plat(kelp_field_nrep_cfg *cfg, const char *spec, const c
         } else if (kelp_strieq(it[i].key, "alias") && it[i].val[0] && usable(it[i].val)) {
             set_text(p.alias, sizeof p.alias, it[i].val);
         } else {
-            *why = "unknown or bad item (gap=S, alias=A)";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "unknown or bad item (gap=S, alias=A)");
         }
     }
     for (unsigned i = 0; i < cfg->nplat; i++)
         if (!strcmp(cfg->plat[i].var, p.var)) {
-            *why = "variable given twice";
-            return KELP_ERR_EXISTS;
+            return kelp_fail(d, KELP_ERR_EXISTS, "variable given twice");
         }
     if (cfg->nplat >= KELP_NREP_MAX_PLAT) {
-        *why = "too many plat_report_input entries";
-        return KELP_ERR_NOSPACE;
+        return kelp_fail(d, KELP_ERR_NOSPACE, "too many plat_report_input entries");
     }
     cfg->plat[cfg->nplat++] = p;
     return KELP_OK;
 }
 
-int kelp_field_nrep_add_rider(kelp_field_nrep_cfg *cfg, const char *spec, const char **why)
+int kelp_field_nrep_add_rider(kelp_field_nrep_cfg *cfg, const char *spec, kelp_diag *d)
 {
     item it[6];
     int n = items(spec, it, 6);
     kelp_nrep_rider r;
     memset(&r, 0, sizeof r);
     r.prec = -1;
-    *why = NULL;
     for (int i = 0; i < n; i++) {
-        double d;
+        double dv;
         if (kelp_strieq(it[i].key, "var") && it[i].val[0]) {
             set_text(r.var, sizeof r.var, it[i].val);
         } else if (kelp_strieq(it[i].key, "rfld") && it[i].val[0] && usable(it[i].val)) {
@@ -131,21 +124,18 @@ int kelp_field_nrep_add_rider(kelp_field_nrep_cfg *cfg, const char *spec, const 
         } else if (kelp_strieq(it[i].key, "policy") &&
                    (kelp_strieq(it[i].val, "always") || kelp_strieq(it[i].val, "updated"))) {
             r.updated_only = kelp_strieq(it[i].val, "updated");
-        } else if (kelp_strieq(it[i].key, "prec") && num_ok(it[i].val, &d) && d >= 0 && d <= 9 && d == (int)d) {
-            r.prec = (int)d;
+        } else if (kelp_strieq(it[i].key, "prec") && num_ok(it[i].val, &dv) && dv >= 0 && dv <= 9 && dv == (int)dv) {
+            r.prec = (int)dv;
         } else {
-            *why = "expected var=V, policy=always|updated, rfld=F, prec=0..9";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "expected var=V, policy=always|updated, rfld=F, prec=0..9");
         }
     }
     if (n <= 0 || !r.var[0]) {
-        *why = "a rider needs var=";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "a rider needs var=");
     }
     if (!r.field[0]) set_text(r.field, sizeof r.field, r.var);
     if (cfg->nriders >= KELP_NREP_MAX_RIDERS) {
-        *why = "too many riders";
-        return KELP_ERR_NOSPACE;
+        return kelp_fail(d, KELP_ERR_NOSPACE, "too many riders");
     }
     cfg->rider[cfg->nriders++] = r;
     return KELP_OK;

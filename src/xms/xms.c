@@ -193,53 +193,52 @@ void kelp_xms_set_trunc(kelp_xms *x, unsigned n)
     x->trunc_start = x->trunc;
 }
 
-static int set_bool(bool *b, const char *val, const char **why)
+static int set_bool(bool *b, const char *val, kelp_diag *d)
 {
     if (kelp_parse_bool(val, strlen(val), b) < 0) {
-        *why = "expected true or false";
-        return -1;
+        return kelp_fail(d, KELP_ERR_PARSE, "expected true or false");
     }
     return 1;
 }
 
-int kelp_xms_config(kelp_xms *x, const char *key, const char *val, const char **why)
+int kelp_xms_config(kelp_xms *x, const char *key, const char *val, kelp_diag *d)
 {
     bool b = false;
     if (kelp_strieq(key, "VAR")) {
         if (x->ignore_file_vars) return 1;
-        if (kelp_xms_add_vars(x, val) < 0) *why = "a variable name is empty, too long, has white space or names uXMS";
+        (void)kelp_xms_add_vars(x, val); /* taken: a bad name is skipped, as uXMS does */
         return 1;
     }
     if (kelp_strieq(key, "HISTORY_VAR")) {
-        if (has_white(val) || kelp_xms_add_var(x, val, true) <= 0) return (*why = "not one variable name"), -1;
+        if (has_white(val) || kelp_xms_add_var(x, val, true) <= 0) return kelp_fail(d, KELP_ERR_PARSE, "not one variable name");
         return 1;
     }
     if (kelp_strieq(key, "SOURCE")) {
-        if (kelp_xms_add_sources(x, val) < 0) return (*why = "expected comma-separated process names"), -1;
+        if (kelp_xms_add_sources(x, val) < 0) return kelp_fail(d, KELP_ERR_PARSE, "expected comma-separated process names");
         return 1;
     }
     if (kelp_strieq(key, "REFRESH_MODE")) {
-        if (kelp_xms_set_refresh(x, val) < 0) return (*why = "expected events, paused or streaming"), -1;
+        if (kelp_xms_set_refresh(x, val) < 0) return kelp_fail(d, KELP_ERR_PARSE, "expected events, paused or streaming");
         return 1;
     }
     if (kelp_strieq(key, "CONTENT_MODE")) {
-        if (kelp_xms_set_content(x, val, false) < 0) return (*why = "expected scoping, history, procs or help"), -1;
+        if (kelp_xms_set_content(x, val, false) < 0) return kelp_fail(d, KELP_ERR_PARSE, "expected scoping, history, procs or help");
         return 1;
     }
     if (kelp_strieq(key, "PAUSED")) { /* deprecated: REFRESH_MODE */
-        if (set_bool(&b, val, why) < 0) return -1;
+        if (set_bool(&b, val, d) < 0) return KELP_ERR_PARSE;
         x->refresh = b ? KELP_XMS_PAUSED : KELP_XMS_EVENTS;
         return 1;
     }
-    if (kelp_strieq(key, "DISPLAY_SOURCE")) return set_bool(&x->disp_source, val, why);
-    if (kelp_strieq(key, "DISPLAY_AUX_SOURCE")) return set_bool(&x->disp_source, val, why);
-    if (kelp_strieq(key, "DISPLAY_TIME")) return set_bool(&x->disp_time, val, why);
-    if (kelp_strieq(key, "DISPLAY_COMMUNITY")) return set_bool(&x->disp_community, val, why);
-    if (kelp_strieq(key, "DISPLAY_VIRGINS")) return set_bool(&x->disp_virgins, val, why);
-    if (kelp_strieq(key, "DISPLAY_HISTORY_VAR")) return set_bool(&x->disp_hist_var, val, why);
-    if (kelp_strieq(key, "WRAP_DATA")) return set_bool(&x->wrap_data, val, why);
+    if (kelp_strieq(key, "DISPLAY_SOURCE")) return set_bool(&x->disp_source, val, d);
+    if (kelp_strieq(key, "DISPLAY_AUX_SOURCE")) return set_bool(&x->disp_source, val, d);
+    if (kelp_strieq(key, "DISPLAY_TIME")) return set_bool(&x->disp_time, val, d);
+    if (kelp_strieq(key, "DISPLAY_COMMUNITY")) return set_bool(&x->disp_community, val, d);
+    if (kelp_strieq(key, "DISPLAY_VIRGINS")) return set_bool(&x->disp_virgins, val, d);
+    if (kelp_strieq(key, "DISPLAY_HISTORY_VAR")) return set_bool(&x->disp_hist_var, val, d);
+    if (kelp_strieq(key, "WRAP_DATA")) return set_bool(&x->wrap_data, val, d);
     if (kelp_strieq(key, "DISPLAY_ALL") || kelp_strieq(key, "DISPLAY_ALLL")) {
-        if (set_bool(&b, val, why) < 0) return -1;
+        if (set_bool(&b, val, d) < 0) return KELP_ERR_PARSE;
         if (!x->ignore_file_vars) {
             x->disp_all = b;
             if (kelp_strieq(key, "DISPLAY_ALLL")) x->disp_all_really = b;
@@ -247,15 +246,16 @@ int kelp_xms_config(kelp_xms *x, const char *key, const char *val, const char **
         return 1;
     }
     if (kelp_strieq(key, "TRUNC_DATA")) {
-        if (set_bool(&b, val, why) < 0) return -1;
+        if (set_bool(&b, val, d) < 0) return KELP_ERR_PARSE;
         if (b) x->trunc = x->trunc_start;
         return 1;
     }
     if (kelp_strieq(key, "WRAP_DATA_LEN") || kelp_strieq(key, "TERM_REPORT_INTERVAL")) {
-        double d;
-        if (kelp_parse_finite(val, strlen(val), &d) < 0 || d < 0) return (*why = "expected a number >= 0"), -1;
-        if (kelp_strieq(key, "TERM_REPORT_INTERVAL")) x->term_interval = d > 10 ? 10 : d;
-        else x->wrap_len = d < 10 ? 10 : d > 120 ? 120 : (unsigned)d;
+        double num;
+        if (kelp_parse_finite(val, strlen(val), &num) < 0 || num < 0)
+            return kelp_fail(d, KELP_ERR_PARSE, "expected a number >= 0");
+        if (kelp_strieq(key, "TERM_REPORT_INTERVAL")) x->term_interval = num > 10 ? 10 : num;
+        else x->wrap_len = num < 10 ? 10 : num > 120 ? 120 : (unsigned)num;
         return 1;
     }
     if (kelp_strieq(key, "COLOR_MAP") || kelp_strieq(key, "COLORMAP")) return 1; /* no colours: accepted */
