@@ -333,39 +333,48 @@ static void upper(char *s)
         if (*s >= 'a' && *s <= 'z') *s = (char)(*s - 'a' + 'A');
 }
 
+#define RS_REPORT_BODY 256 /* bytes of a report body, terminator included */
+
 void rs_post_report(const kelp_field_sink *out, const char *pfx, bool gt, kelp_rsense_vars vars, const char *vname,
                     double range, const char *key, const char *id, const double *xy, double now)
 {
-    char body[256], var[KELP_MAX_NAME + KELP_RSENSE_NAME];
+    /* one buffer, "vname=<vname>," then the body: the short form posts it all, the long form
+     * the body alone (no second buffer, no printf on this path: it runs under every mail) */
+    char full[320], var[KELP_MAX_NAME + KELP_RSENSE_NAME];
     size_t n = 0;
-    int rc = field_put_str(body, sizeof body, &n, "range=");
-    if (rc == 0) rc = field_put_fixed(body, sizeof body, &n, range, 4, true);
+    int rc = field_put_str(full, sizeof full, &n, "vname=");
+    if (rc == 0) rc = field_put_str(full, sizeof full, &n, vname);
+    if (rc == 0) rc = field_put_str(full, sizeof full, &n, ",");
+    const size_t b = n;
+    if (rc == 0) rc = field_put_str(full, sizeof full, &n, "range=");
+    if (rc == 0) rc = field_put_fixed(full, sizeof full, &n, range, 4, true);
     if (rc == 0 && key) {
-        field_putf(body, sizeof body, &n, ",%s=%s", key, id);
-        if (xy) {
-            rc = field_put_str(body, sizeof body, &n, ",x=");
-            if (rc == 0) rc = field_put_fixed(body, sizeof body, &n, xy[0], 2, true);
-            if (rc == 0) rc = field_put_str(body, sizeof body, &n, ",y=");
-            if (rc == 0) rc = field_put_fixed(body, sizeof body, &n, xy[1], 2, true);
+        rc = field_put_str(full, sizeof full, &n, ",");
+        if (rc == 0) rc = field_put_str(full, sizeof full, &n, key);
+        if (rc == 0) rc = field_put_str(full, sizeof full, &n, "=");
+        if (rc == 0) rc = field_put_str(full, sizeof full, &n, id);
+        if (rc == 0 && xy) {
+            rc = field_put_str(full, sizeof full, &n, ",x=");
+            if (rc == 0) rc = field_put_fixed(full, sizeof full, &n, xy[0], 2, true);
+            if (rc == 0) rc = field_put_str(full, sizeof full, &n, ",y=");
+            if (rc == 0) rc = field_put_fixed(full, sizeof full, &n, xy[1], 2, true);
         }
     }
-    if (rc == 0) rc = field_put_str(body, sizeof body, &n, ",time=");
-    if (rc == 0) rc = field_put_fixed(body, sizeof body, &n, now, 3, true);
-    if (rc < 0) {
+    if (rc == 0) rc = field_put_str(full, sizeof full, &n, ",time=");
+    if (rc == 0) rc = field_put_fixed(full, sizeof full, &n, now, 3, true);
+    if (rc < 0 || n - b >= RS_REPORT_BODY) { /* the body's limit as before */
         rs_warn(out, "cannot format a range report for ", vname, RS_END);
         return;
     }
-    if (vars != KELP_RSENSE_LONG) {
-        char full[320];
-        size_t m = 0;
-        field_putf(full, sizeof full, &m, "vname=%s,%s", vname, body);
-        kelp_snprintf(var, sizeof var, "%s_RANGE_REPORT%s", pfx, gt ? "_GT" : "");
-        out->publish(out->ctx, var, true, full, 0);
-    }
-    if (vars != KELP_RSENSE_SHORT) {
-        kelp_snprintf(var, sizeof var, "%s_RANGE_REPORT%s_%s", pfx, gt ? "_GT" : "", vname);
+    size_t v = 0;
+    rc = field_put_str(var, sizeof var, &v, pfx);
+    if (rc == 0) rc = field_put_str(var, sizeof var, &v, gt ? "_RANGE_REPORT_GT" : "_RANGE_REPORT");
+    if (rc == 0 && vars != KELP_RSENSE_LONG) out->publish(out->ctx, var, true, full, 0);
+    if (rc == 0) rc = field_put_str(var, sizeof var, &v, "_");
+    if (rc == 0) rc = field_put_str(var, sizeof var, &v, vname);
+    if (rc == 0 && vars != KELP_RSENSE_SHORT) {
         upper(var);
-        out->publish(out->ctx, var, true, body, 0);
+        out->publish(out->ctx, var, true, full + b, 0);
     }
 }
 
