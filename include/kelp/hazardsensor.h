@@ -153,6 +153,7 @@ typedef struct kelp_field_uhz {
     char trace[KELP_UHZ_TRACE_LEN];     /**< the one-character trace since the last report */
     size_t ntrace;
     char ws[KELP_UHZ_MAX_SETTINGS * 64];   /**< workspace of one call (keeps the stack under 1 KB) */
+    kelp_nodereport ws_report;             /**< workspace: the node report being read */
 } kelp_field_uhz;
 
 /** Defaults of the seed (section 9.1, with ufield.md 14's choices). */

@@ -92,7 +92,7 @@ typedef struct kelp_xms {
     unsigned long frames, dropped;  /**< frames drawn; variables not added (table full) */
     /* workspace of one call (keeps the stack under 1 KB) */
     kelp_xms_entry ws_entry;        /**< mail: the entry as it becomes */
-    char ws_val[KELP_XMS_VAL], ws_cell[KELP_XMS_VAL + 8], ws_piece[KELP_XMS_VAL];
+    char ws_val[KELP_XMS_VAL], ws_cell[KELP_XMS_VAL + 24], ws_piece[KELP_XMS_VAL];
 } kelp_xms;
 
 /** Defaults as uXMS: no source/time/community columns, virgins shown, events refresh,

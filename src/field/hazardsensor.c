@@ -411,7 +411,7 @@ static bool ensure_setting(kelp_field_uhz *h, kelp_uhz_node *n, const kelp_field
     return true;
 }
 
-static int config_request(kelp_field_uhz *h, const char *s, double now, const kelp_field_sink *out)
+KELP_NOINLINE static int config_request(kelp_field_uhz *h, const char *s, double now, const kelp_field_sink *out)
 {
     char vname[KELP_NODEREPORT_MAX_FIELD] = "", ws[64] = "", ps[64] = "";
     if (kelp_kv_get(s, ',', "vname", vname, sizeof vname) < 0 || kelp_kv_get(s, ',', "width", ws, sizeof ws) < 0 ||
@@ -549,7 +549,7 @@ static void post_swath(kelp_field_uhz *h, const kelp_uhz_node *n, const kelp_fie
     post(out, "VIEW_POLYGON", b);
 }
 
-static int sensor_request(kelp_field_uhz *h, const char *s, double now, const kelp_field_sink *out)
+KELP_NOINLINE static int sensor_request(kelp_field_uhz *h, const char *s, double now, const kelp_field_sink *out)
 {
     char vname[KELP_NODEREPORT_MAX_FIELD] = "";
     trace(h, '$');
@@ -583,7 +583,7 @@ static int sensor_request(kelp_field_uhz *h, const char *s, double now, const ke
     return 1;
 }
 
-static int classify_request(kelp_field_uhz *h, const char *s, double now, const kelp_field_sink *out)
+KELP_NOINLINE static int classify_request(kelp_field_uhz *h, const char *s, double now, const kelp_field_sink *out)
 {
     char vname[KELP_NODEREPORT_MAX_FIELD] = "", label[KELP_UHZ_LABEL_LEN] = "", pr[32] = "", act[16] = "";
     if (kelp_kv_get(s, ',', "vname", vname, sizeof vname) < 0 || kelp_kv_get(s, ',', "label", label, sizeof label) < 0 ||
@@ -635,21 +635,21 @@ static int classify_request(kelp_field_uhz *h, const char *s, double now, const 
     return 1;
 }
 
-static int node_report(kelp_field_uhz *h, const char *s, const kelp_field_sink *out)
+KELP_NOINLINE static int node_report(kelp_field_uhz *h, const char *s, const kelp_field_sink *out)
 {
-    kelp_nodereport r;
+    kelp_nodereport *r = &h->ws_report; /* workspace: no report on the stack */
     trace(h, 'N');
-    if (kelp_nodereport_parse(s, strlen(s), &r, NULL) < 0 || !(r.fields & KELP_NR_X) || !(r.fields & KELP_NR_Y)) {
+    if (kelp_nodereport_parse(s, strlen(s), r, NULL) < 0 || !(r->fields & KELP_NR_X) || !(r->fields & KELP_NR_Y)) {
         warn(out, "uFldHazardSensor: invalid NODE_REPORT (NAME, X and Y required)");
         return KELP_ERR_PARSE;
     }
-    kelp_uhz_node *n = node_get(h, r.name, strlen(r.name), out);
+    kelp_uhz_node *n = node_get(h, r->name, strlen(r->name), out);
     if (!n) return KELP_ERR_NOSPACE;
     h->node_reports++;
     n->have_report = true;
-    n->x = r.x;
-    n->y = r.y;
-    n->hdg = (r.fields & KELP_NR_HDG) ? r.hdg : 0;
+    n->x = r->x;
+    n->y = r->y;
+    n->hdg = (r->fields & KELP_NR_HDG) ? r->hdg : 0;
     return 1;
 }
 

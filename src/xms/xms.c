@@ -656,11 +656,12 @@ static void history_rows(const kelp_xms *x, tab *t)
     unsigned n = x->nhist < x->history_len ? x->nhist : x->history_len;
     for (unsigned k = n; k-- > 0;) { /* oldest first */
         const kelp_xms_hist *h = &x->hist[(x->hist_head + k) % KELP_XMS_HIST_CAP];
-        char tm[24], cell[KELP_XMS_VAL + 24];
+        char tm[24], *cell = t->ws->ws_cell; /* workspace: no value-sized buffer on the stack */
+        const size_t cell_cap = sizeof t->ws->ws_cell;
         if (kelp_fmt_fixed(tm, sizeof tm, h->time, 2, false) < 0) copy(tm, sizeof tm, "n/a");
         if (x->trunc && strlen(h->value) > x->trunc)
-            (void)kelp_snprintf(cell, sizeof cell, "(%u) %.*s...", h->count, (int)x->trunc, h->value);
-        else (void)kelp_snprintf(cell, sizeof cell, "(%u) %s", h->count, h->value);
+            (void)kelp_snprintf(cell, cell_cap, "(%u) %.*s...", h->count, (int)x->trunc, h->value);
+        else (void)kelp_snprintf(cell, cell_cap, "(%u) %s", h->count, h->value);
         const char *c[4] = { x->disp_hist_var ? x->history_var : "", x->disp_source ? h->source : "",
                              x->disp_time ? tm : "", cell };
         row(t, c);
