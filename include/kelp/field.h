@@ -665,6 +665,7 @@ typedef struct kelp_field_nbroker_cfg {
     double retry;                              /**< RETRY_INTERVAL: s without an ack before the ping
                                                     registrations are posted again (10) */
     bool auto_realmcast, auto_appcast, auto_pshare_vars; /**< 24.8 AUTO_BRIDGE_* (false) */
+    kelp_diag ws_diag;                         /**< workspace: why a try host or an ack was refused */
 } kelp_field_nbroker_cfg;
 
 typedef struct kelp_field_nbroker {

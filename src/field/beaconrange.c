@@ -372,18 +372,23 @@ static void marker(const kelp_brs_beacon *bc, char *buf, size_t cap)
     if (rc < 0 && cap) buf[0] = 0;
 }
 
+/* the first iteration: markers posted, timers drawn (its marker buffer stays off the report
+ * path's stack) */
+KELP_NOINLINE static void start_beacons(kelp_field_brs *b, const kelp_field_sink *out)
+{
+    b->started = true;
+    for (unsigned k = 0; k < b->nbeacons; k++) {
+        char buf[256];
+        marker(&b->beacon[k], buf, sizeof buf);
+        if (buf[0]) out->publish(out->ctx, "VIEW_MARKER", true, buf, 0);
+        reset_timer(b, &b->beacon[k], b->start);
+    }
+}
+
 unsigned long kelp_field_brs_iterate(kelp_field_brs *b, double now, const kelp_field_sink *out)
 {
     unsigned long before = b->reports;
-    if (!b->started) {
-        b->started = true;
-        for (unsigned k = 0; k < b->nbeacons; k++) {
-            char buf[256];
-            marker(&b->beacon[k], buf, sizeof buf);
-            if (buf[0]) out->publish(out->ctx, "VIEW_MARKER", true, buf, 0);
-            reset_timer(b, &b->beacon[k], b->start);
-        }
-    }
+    if (!b->started) start_beacons(b, out);
     bool said = false;
     for (unsigned k = 0; k < b->nbeacons; k++) {
         kelp_brs_beacon *bc = &b->beacon[k];

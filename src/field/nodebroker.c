@@ -36,17 +36,18 @@ static void keep_bad(kelp_field_nbroker_cfg *cfg, const char *line, const char *
 static int add_try(kelp_field_nbroker_cfg *cfg, const char *val)
 {
     kelp_broker_try t;
-    kelp_diag d = { 0 };
-    int rc = kelp_broker_try_parse(val, &t, &d);
+    kelp_diag *d = &cfg->ws_diag;
+    kelp_diag_clear(d);
+    int rc = kelp_broker_try_parse(val, &t, d);
     if (rc < 0) {
-        keep_bad(cfg, val, kelp_diag_text(&d), rc == KELP_ERR_UNSUPPORTED);
+        keep_bad(cfg, val, kelp_diag_text(d), rc == KELP_ERR_UNSUPPORTED);
         return 0;
     }
     for (unsigned i = 0; i < cfg->ntry; i++)
         if (strcmp(cfg->tryh[i].host, t.host) == 0 && cfg->tryh[i].port == t.port) return 0;
     if (cfg->ntry >= KELP_BROKER_MAX_TRY) {
-        (void)kelp_fail(&d, KELP_ERR_NOSPACE, "too many try hosts (KELP_BROKER_MAX_TRY)");
-        keep_bad(cfg, val, kelp_diag_text(&d), false);
+        (void)kelp_fail(d, KELP_ERR_NOSPACE, "too many try hosts (KELP_BROKER_MAX_TRY)");
+        keep_bad(cfg, val, kelp_diag_text(d), false);
         return 0;
     }
     cfg->tryh[cfg->ntry++] = t;
@@ -143,17 +144,18 @@ static void warn(const kelp_field_sink *out, const char *msg)
 static int ack_mail(kelp_field_nbroker *b, const char *sval, double now, const kelp_field_sink *out)
 {
     kelp_broker_host h;
-    kelp_diag d = { 0 };
-    int rc = kelp_broker_host_parse(sval, &h, &d);
-    if (rc == 0 && !kelp_broker_host_complete(&h)) rc = kelp_fail(&d, KELP_ERR_PARSE, "no community, host or port_udp");
-    if (rc == 0 && h.have_warp && h.warp != b->cfg.warp) rc = kelp_fail(&d, KELP_ERR_STATE, "another time warp");
+    kelp_diag *d = &b->cfg.ws_diag;
+    kelp_diag_clear(d);
+    int rc = kelp_broker_host_parse(sval, &h, d);
+    if (rc == 0 && !kelp_broker_host_complete(&h)) rc = kelp_fail(d, KELP_ERR_PARSE, "no community, host or port_udp");
+    if (rc == 0 && h.have_warp && h.warp != b->cfg.warp) rc = kelp_fail(d, KELP_ERR_STATE, "another time warp");
     if (rc == 0 && h.keyword[0] && b->cfg.keyword[0] && strcmp(h.keyword, b->cfg.keyword) != 0)
-        rc = kelp_fail(&d, KELP_ERR_DENIED, "another keyword");
-    if (rc == 0 && h.status[0] && strcmp(h.status, "ok") != 0) rc = kelp_fail(&d, KELP_ERR_DENIED, "refused by the shore");
+        rc = kelp_fail(d, KELP_ERR_DENIED, "another keyword");
+    if (rc == 0 && h.status[0] && strcmp(h.status, "ok") != 0) rc = kelp_fail(d, KELP_ERR_DENIED, "refused by the shore");
     if (rc < 0) {
         b->bad_ack++;
         char msg[128];
-        kelp_snprintf(msg, sizeof msg, "bad NODE_BROKER_ACK: %s", kelp_diag_text(&d));
+        kelp_snprintf(msg, sizeof msg, "bad NODE_BROKER_ACK: %s", kelp_diag_text(d));
         warn(out, msg);
         return rc;
     }

@@ -335,8 +335,11 @@ static void upper(char *s)
 
 #define RS_REPORT_BODY 256 /* bytes of a report body, terminator included */
 
-void rs_post_report(const kelp_field_sink *out, const char *pfx, bool gt, kelp_rsense_vars vars, const char *vname,
-                    double range, const char *key, const char *id, const double *xy, double now)
+/* rs_post_report's posts; KELP_ERR_NOSPACE when the report does not fit (the caller warns:
+ * its message buffer is not stacked on this one) */
+KELP_NOINLINE static int post_report(const kelp_field_sink *out, const char *pfx, bool gt, kelp_rsense_vars vars,
+                                     const char *vname, double range, const char *key, const char *id,
+                                     const double *xy, double now)
 {
     /* one buffer, "vname=<vname>," then the body: the short form posts it all, the long form
      * the body alone (no second buffer, no printf on this path: it runs under every mail) */
@@ -362,10 +365,7 @@ void rs_post_report(const kelp_field_sink *out, const char *pfx, bool gt, kelp_r
     }
     if (rc == 0) rc = field_put_str(full, sizeof full, &n, ",time=");
     if (rc == 0) rc = field_put_fixed(full, sizeof full, &n, now, 3, true);
-    if (rc < 0 || n - b >= RS_REPORT_BODY) { /* the body's limit as before */
-        rs_warn(out, "cannot format a range report for ", vname, RS_END);
-        return;
-    }
+    if (rc < 0 || n - b >= RS_REPORT_BODY) return KELP_ERR_NOSPACE; /* the body's limit as before */
     size_t v = 0;
     rc = field_put_str(var, sizeof var, &v, pfx);
     if (rc == 0) rc = field_put_str(var, sizeof var, &v, gt ? "_RANGE_REPORT_GT" : "_RANGE_REPORT");
@@ -376,6 +376,14 @@ void rs_post_report(const kelp_field_sink *out, const char *pfx, bool gt, kelp_r
         upper(var);
         out->publish(out->ctx, var, true, full + b, 0);
     }
+    return KELP_OK;
+}
+
+void rs_post_report(const kelp_field_sink *out, const char *pfx, bool gt, kelp_rsense_vars vars, const char *vname,
+                    double range, const char *key, const char *id, const double *xy, double now)
+{
+    if (post_report(out, pfx, gt, vars, vname, range, key, id, xy, now) < 0)
+        rs_warn(out, "cannot format a range report for ", vname, RS_END);
 }
 
 void rs_pulse(const kelp_field_sink *out, double x, double y, double radius, double duration, const char *label,
