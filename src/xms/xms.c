@@ -61,14 +61,15 @@ static int find_var(const kelp_xms *x, const char *name, unsigned *at)
     return 0;
 }
 
-int kelp_xms_set_content(kelp_xms *x, const char *mode, bool toggle)
+/* the content mode (its callers inside pass a known mode) */
+static int set_content(kelp_xms *x, const char *mode, bool toggle)
 {
     kelp_xms_content c;
     if (kelp_strieq(mode, "procs")) c = KELP_XMS_PROCS;
     else if (kelp_strieq(mode, "scoping")) c = KELP_XMS_SCOPING;
     else if (kelp_strieq(mode, "history")) c = KELP_XMS_HISTORY;
     else if (kelp_strieq(mode, "help")) c = KELP_XMS_HELP;
-    else return -1;
+    else return KELP_ERR_PARSE;
     x->update_requested = true;
     if (c == x->content) {
         if (toggle) {
@@ -82,12 +83,17 @@ int kelp_xms_set_content(kelp_xms *x, const char *mode, bool toggle)
     return 0;
 }
 
+int kelp_xms_set_content(kelp_xms *x, const char *mode, bool toggle)
+{
+    return set_content(x, mode, toggle);
+}
+
 int kelp_xms_set_refresh(kelp_xms *x, const char *mode)
 {
     if (kelp_strieq(mode, "events")) x->refresh = KELP_XMS_EVENTS;
     else if (kelp_strieq(mode, "paused")) x->refresh = KELP_XMS_PAUSED;
     else if (kelp_strieq(mode, "streaming")) x->refresh = KELP_XMS_STREAMING;
-    else return -1;
+    else return KELP_ERR_PARSE;
     return 0;
 }
 
@@ -96,13 +102,13 @@ int kelp_xms_add_var(kelp_xms *x, const char *name, bool history)
     if (!name[0] || strstr(name, "uXMS") || has_white(name) || strlen(name) >= KELP_XMS_NAME) return 0;
     if (history && !x->history_var[0]) {
         copy(x->history_var, sizeof x->history_var, name);
-        if (x->nvar == 0) (void)kelp_xms_set_content(x, "history", false);
+        if (x->nvar == 0) (void)set_content(x, "history", false);
     }
     unsigned at;
     if (find_var(x, name, &at)) return 1;
     if (x->nvar >= KELP_XMS_MAX_VARS) {
         x->dropped++;
-        return -1;
+        return KELP_ERR_NOSPACE;
     }
     memmove(&x->var[at + 1], &x->var[at], (x->nvar - at) * sizeof x->var[0]);
     x->nvar++;
@@ -129,11 +135,11 @@ static int each_item(const char *list, int (*fn)(kelp_xms *, const char *), kelp
         if (e > s) {
             char item[KELP_XMS_NAME];
             size_t len = (size_t)(e - s);
-            if (len >= sizeof item) rc = -1;
+            if (len >= sizeof item) rc = KELP_ERR_RANGE;
             else {
                 memcpy(item, s, len);
                 item[len] = 0;
-                if (fn(x, item) <= 0) rc = -1;
+                if (fn(x, item) <= 0) rc = KELP_ERR_PARSE;
             }
         }
         if (!p[n]) return rc;
@@ -149,19 +155,19 @@ static int add_source(kelp_xms *x, const char *src)
 {
     char status[KELP_XMS_NAME];
     size_t n = strlen(src);
-    if (n + 8 > sizeof status || has_white(src)) return -1;
+    if (n + 8 > sizeof status || has_white(src)) return KELP_ERR_PARSE;
     for (size_t i = 0; i < n; i++) status[i] = (char)(src[i] >= 'a' && src[i] <= 'z' ? src[i] - 32 : src[i]);
     memcpy(status + n, "_STATUS", 8);
     for (unsigned i = 0; i < x->nsources; i++)
         if (strcmp(x->sources[i], status) == 0) return 1;
-    if (x->nsources >= KELP_XMS_MAX_SOURCES) return -1;
+    if (x->nsources >= KELP_XMS_MAX_SOURCES) return KELP_ERR_NOSPACE;
     copy(x->sources[x->nsources++], KELP_XMS_NAME, status);
     return 1;
 }
 
 int kelp_xms_add_sources(kelp_xms *x, const char *list)
 {
-    if (!strchr(list, ',') && !list[strspn(list, " \t")]) return -1;
+    if (!strchr(list, ',') && !list[strspn(list, " \t")]) return KELP_ERR_PARSE;
     return each_item(list, add_source, x);
 }
 
@@ -206,7 +212,7 @@ int kelp_xms_config(kelp_xms *x, const char *key, const char *val, kelp_diag *d)
     bool b = false;
     if (kelp_strieq(key, "VAR")) {
         if (x->ignore_file_vars) return 1;
-        (void)kelp_xms_add_vars(x, val); /* taken: a bad name is skipped, as uXMS does */
+        (void)each_item(val, add_plain, x); /* taken: a bad name is skipped, as uXMS does */
         return 1;
     }
     if (kelp_strieq(key, "HISTORY_VAR")) {
@@ -222,7 +228,7 @@ int kelp_xms_config(kelp_xms *x, const char *key, const char *val, kelp_diag *d)
         return 1;
     }
     if (kelp_strieq(key, "CONTENT_MODE")) {
-        if (kelp_xms_set_content(x, val, false) < 0) return kelp_fail(d, KELP_ERR_PARSE, "expected scoping, history, procs or help");
+        if (set_content(x, val, false) < 0) return kelp_fail(d, KELP_ERR_PARSE, "expected scoping, history, procs or help");
         return 1;
     }
     if (kelp_strieq(key, "PAUSED")) { /* deprecated: REFRESH_MODE */
@@ -439,11 +445,11 @@ int kelp_xms_key(kelp_xms *x, int c)
     case 'c': case 'C': x->disp_community = !x->disp_community; break;
     case 'v': case 'V': x->disp_virgins = !x->disp_virgins; break;
     case 'w': case 'W': x->wrap_data = !x->wrap_data; break;
-    case 'd': case 'D': (void)kelp_xms_set_content(x, "scoping", true); break;
-    case 'h': case 'H': (void)kelp_xms_set_content(x, "help", true); break;
+    case 'd': case 'D': (void)set_content(x, "scoping", true); break;
+    case 'h': case 'H': (void)set_content(x, "help", true); break;
     case 'z': case 'Z':
         if (!x->history_var[0]) return 0;
-        (void)kelp_xms_set_content(x, "history", true);
+        (void)set_content(x, "history", true);
         break;
     case 'j': case 'J':
         x->disp_hist_var = !x->disp_hist_var;
@@ -471,7 +477,7 @@ int kelp_xms_key(kelp_xms *x, int c)
             x->trunc = 0;
         }
         break;
-    case 'p': case 'P': (void)kelp_xms_set_content(x, "procs", true); break;
+    case 'p': case 'P': (void)set_content(x, "procs", true); break;
     case '-':
     case '+':
         if (c == '-') x->refresh = KELP_XMS_PAUSED;
