@@ -335,18 +335,20 @@ static void post_pair(kelp_field_uhz *h, const kelp_field_sink *out, const char 
                       const char *body)
 {
     char v[KELP_MAX_NAME + KELP_NODEREPORT_MAX_FIELD], *s = h->ws; /* (body is never h->ws) */
-    size_t k = 0;
-    field_putf(v, sizeof v, &k, "%s_", var);
+    size_t k = 0; /* no printf on this path (it runs under every request) */
+    if (field_put_str(v, sizeof v, &k, var) < 0 || field_put_str(v, sizeof v, &k, "_") < 0) return;
     for (const char *p = vname; *p && k + 1 < sizeof v; p++) v[k++] = (*p >= 'a' && *p <= 'z') ? (char)(*p - 32) : *p;
     v[k] = 0;
     post(out, v, body);
-    kelp_snprintf(s, sizeof h->ws, "vname=%s,%s", vname, body);
-    post(out, var, s);
+    size_t n = 0;
+    if (field_put_str(s, sizeof h->ws, &n, "vname=") == 0 && field_put_str(s, sizeof h->ws, &n, vname) == 0 &&
+        field_put_str(s, sizeof h->ws, &n, ",") == 0 && field_put_str(s, sizeof h->ws, &n, body) == 0)
+        post(out, var, s);
 }
 
 static void put_num(char *buf, size_t cap, size_t *k, double v, int dec, bool strip)
 {
-    if (field_put_fixed(buf, cap, k, v, dec, strip) < 0) field_putf(buf, cap, k, "nan");
+    if (field_put_fixed(buf, cap, k, v, dec, strip) < 0) (void)field_put_str(buf, cap, k, "nan");
 }
 
 /* ---- vehicles ---- */
@@ -475,18 +477,19 @@ static void post_circle(kelp_field_uhz *h, const kelp_uhz_node *n, const kelp_uh
 {
     if (h->cfg.show_reports == 0) return; /* shown for no time: not posted (MOOS-IvP: unlimited or > 0 only) */
     const char *c = said_hazard ? "yellow" : "white";
-    char b[320];
+    char *b = h->ws; /* workspace (free here: post_pair is done with it) */
+    const size_t cap = 320; /* the circle's limit as before */
     size_t k = 0;
-    field_putf(b, sizeof b, &k, "x=");
-    put_num(b, sizeof b, &k, o->x, 2, true);
-    field_putf(b, sizeof b, &k, ",y=");
-    put_num(b, sizeof b, &k, o->y, 2, true);
-    field_putf(b, sizeof b, &k, ",radius=%g,label=%s_%s,edge_color=%s,fill_color=%s,fill=0.3,edge_size=1,time=",
+    field_putf(b, cap, &k, "x=");
+    put_num(b, cap, &k, o->x, 2, true);
+    field_putf(b, cap, &k, ",y=");
+    put_num(b, cap, &k, o->y, 2, true);
+    field_putf(b, cap, &k, ",radius=%g,label=%s_%s,edge_color=%s,fill_color=%s,fill=0.3,edge_size=1,time=",
                KELP_UHZ_CIRCLE_RADIUS, n->name, o->label, c, c);
-    put_num(b, sizeof b, &k, now, 2, true);
+    put_num(b, cap, &k, now, 2, true);
     if (h->cfg.show_reports >= 0) {
-        field_putf(b, sizeof b, &k, ",duration=");
-        put_num(b, sizeof b, &k, h->cfg.show_reports, 2, true);
+        field_putf(b, cap, &k, ",duration=");
+        put_num(b, cap, &k, h->cfg.show_reports, 2, true);
     }
     post(out, "VIEW_CIRCLE", b);
 }
@@ -499,7 +502,7 @@ static void put_xy_label(char *b, size_t cap, size_t *k, const kelp_uhz_object *
     put_num(b, cap, k, o->y, 2, true);
 }
 
-static void detect(kelp_field_uhz *h, kelp_uhz_node *n, unsigned oi, double now, const kelp_field_sink *out)
+KELP_NOINLINE static void detect(kelp_field_uhz *h, kelp_uhz_node *n, unsigned oi, double now, const kelp_field_sink *out)
 {
     const kelp_uhz_object *o = &h->cfg.object[oi];
     const kelp_uhz_setting *st = &h->cfg.setting[n->setting];
@@ -522,29 +525,30 @@ static void detect(kelp_field_uhz *h, kelp_uhz_node *n, unsigned oi, double now,
     memo(h, "Detect/Classify report sent to vehicle: ", n->name);
 }
 
-static void post_swath(kelp_field_uhz *h, const kelp_uhz_node *n, const kelp_field_sink *out)
+KELP_NOINLINE static void post_swath(kelp_field_uhz *h, const kelp_uhz_node *n, const kelp_field_sink *out)
 {
     double hr = n->hdg * DEG2RAD, L = h->cfg.swath_length / 2, W = h->cfg.setting[n->setting].width / 2;
     static const double sa[4] = { 1, 1, -1, -1 }, sc[4] = { 1, -1, -1, 1 };
-    char b[400];
+    char *b = h->ws; /* workspace (the detections that follow use it after this post) */
+    const size_t cap = 400; /* the polygon's limit as before */
     size_t k = 0;
-    field_putf(b, sizeof b, &k, "pts={");
+    field_putf(b, cap, &k, "pts={");
     for (int i = 0; i < 4; i++) {
         double a = sa[i] * L, c = sc[i] * W;
-        if (i) field_putf(b, sizeof b, &k, ":");
-        put_num(b, sizeof b, &k, n->x + a * sin(hr) + c * cos(hr), 2, true);
-        field_putf(b, sizeof b, &k, ",");
-        put_num(b, sizeof b, &k, n->y + a * cos(hr) - c * sin(hr), 2, true);
+        if (i) field_putf(b, cap, &k, ":");
+        put_num(b, cap, &k, n->x + a * sin(hr) + c * cos(hr), 2, true);
+        field_putf(b, cap, &k, ",");
+        put_num(b, cap, &k, n->y + a * cos(hr) - c * sin(hr), 2, true);
     }
-    field_putf(b, sizeof b, &k,
+    field_putf(b, cap, &k,
                "},label=sensor_swath_%s,edge_color=white,fill_color=white,edge_size=0,vertex_size=0,fill=", n->name);
-    put_num(b, sizeof b, &k, h->cfg.swath_transparency, 3, true);
+    put_num(b, cap, &k, h->cfg.swath_transparency, 3, true);
     if (h->cfg.show_pd || h->cfg.show_pfa) {
-        field_putf(b, sizeof b, &k, ",msg=");
-        if (h->cfg.show_pd) put_num(b, sizeof b, &k, n->pd, 2, false);
-        if (h->cfg.show_pd && h->cfg.show_pfa) field_putf(b, sizeof b, &k, "/");
-        else if (h->cfg.show_pfa) field_putf(b, sizeof b, &k, "pfa="); /* 24.8: pfa alone is named */
-        if (h->cfg.show_pfa) put_num(b, sizeof b, &k, n->pfa, 2, false);
+        field_putf(b, cap, &k, ",msg=");
+        if (h->cfg.show_pd) put_num(b, cap, &k, n->pd, 2, false);
+        if (h->cfg.show_pd && h->cfg.show_pfa) field_putf(b, cap, &k, "/");
+        else if (h->cfg.show_pfa) field_putf(b, cap, &k, "pfa="); /* 24.8: pfa alone is named */
+        if (h->cfg.show_pfa) put_num(b, cap, &k, n->pfa, 2, false);
     }
     post(out, "VIEW_POLYGON", b);
 }
