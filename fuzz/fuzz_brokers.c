@@ -22,7 +22,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     char *t = malloc(n + 1);
     memcpy(t, data + 1, n);
     t[n] = 0;
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     kelp_field_sink sink = { NULL, check_publish, NULL };
     static char rep[16384];
     switch (data[0] % 5) {
@@ -31,7 +31,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         if (kelp_broker_host_parse(t, &h, &why) == 0) {
             if (kelp_broker_host_complete(&h) && (!h.community[0] || !h.host[0] || !h.port_udp)) abort();
             if (h.port_udp > 65535 || h.port_db > 65535) abort();
-        } else if (!why)
+        } else if (why.code == KELP_OK)
             abort(); /* a refusal says why */
         break;
     }

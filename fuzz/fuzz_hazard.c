@@ -19,17 +19,18 @@ static kelp_field_upc P;
 
 static void hazard(uint8_t opt, const char *t)
 {
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     kelp_field_uhz_cfg_default(&C);
     unsigned before = C.nobjects;
     int rc = kelp_field_uhz_hazard_line(&C, t, &why);
-    if (rc < 0 && !why) abort();
+    if (rc < 0 && why.code == KELP_OK) abort();
     if (rc == 1 && C.nobjects != before + 1) abort();
     if (rc == 1 && (!C.object[0].label[0] || strlen(C.object[0].label) >= KELP_UHZ_LABEL_LEN)) abort();
     static const char *const keys[] = { "sensor_config", "hazard", "show_reports", "swath_length", "verbose",
                                         "default_hazard_color", "random_seed", "min_reset_interval" };
+    kelp_diag_clear(&why);
     rc = kelp_field_uhz_config(&C, keys[opt % 8], t, &why);
-    if (rc < 0 && !why) abort();
+    if (rc < 0 && why.code == KELP_OK) abort();
     (void)kelp_field_uhz_config(&C, "sensor_config", "width=25,exp=4,pclass=0.9,max=1", &why);
     (void)kelp_field_uhz_config(&C, "sensor_config", "width=10,exp=6,pclass=0.95", &why);
     (void)kelp_field_uhz_hazard_line(&C, "x=1,y=1,type=hazard,label=12", &why);
@@ -54,9 +55,9 @@ static void hazard(uint8_t opt, const char *t)
 static void pathcheck(const char *t)
 {
     kelp_field_upc_cfg c;
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     kelp_field_upc_cfg_default(&c);
-    if (kelp_field_upc_config(&c, "history", t, &why) < 0 && !why) abort();
+    if (kelp_field_upc_config(&c, "history", t, &why) < 0 && why.code == KELP_OK) abort();
     if (kelp_field_upc_init(&P, &c) != 0) abort();
     kelp_field_sink sink = { NULL, check_publish, NULL };
     (void)kelp_field_upc_mail(&P, "NODE_REPORT", true, "NAME=a,X=0,Y=0,TIME=1", 1, &sink);

@@ -26,9 +26,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     size_t n = size - 1 < KELP_MAX_SVAL ? size - 1 : KELP_MAX_SVAL;
     memcpy(val, data + 1, n);
     val[n] = 0;
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     int rc = kelp_m2s_classify(&cfg, var, "shoreside", 100, (data[0] & 0x80) == 0, val, n, 3.5, &r, &why);
-    if (rc < 0 && !why) abort();
+    if (rc < 0 && why.code == KELP_OK) abort();
     if (rc == 1) {
         (void)kelp_m2s_fleet_update(&fleet, &cfg, &r);
         int len = kelp_m2s_kml(&fleet, "fuzz <&>", kml, sizeof kml);

@@ -21,9 +21,9 @@ static void check_text(const char *buf, size_t n, size_t cap)
 static void msghandler(uint8_t opt, const char *exact, const char *t, size_t n)
 {
     kelp_node_message m;
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     int rc = kelp_field_nodemsg_parse(exact, n, &m, &why);
-    if (rc < 0 && !why) abort(); /* every rejection has a reason */
+    if (rc < 0 && why.code == KELP_OK) abort(); /* every rejection has a reason */
     if (rc == 0) {
         /* every span lies inside the input */
         const kelp_field_text *sp[] = { &m.src_node, &m.dest_node, &m.dest_group, &m.var_name, &m.string_val };
@@ -60,7 +60,7 @@ static void scope(uint8_t opt, char *t)
 {
     kelp_field_ufs_cfg c;
     memset(&c, 0, sizeof c);
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     static const char *const base[] = { "var=R,key=vname,fld=a", "var=R,fld=b,alias=B", "var=S,key=name,fld=c" };
     for (int i = 0; i < 3; i++)
         if (kelp_field_ufs_config(&c, "SCOPE", base[i], &why) != 1) abort();

@@ -54,9 +54,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 memcpy(v, data + i + 1, vl);
                 v[vl] = 0;
                 if (pass == 0 && sel >= 0xC0) {
-                    const char *why = NULL;
+                    kelp_diag why = { 0 };
                     int rc = kelp_field_ncomms_config(&cfg, keys[sel % NK], v, &why);
-                    if (rc < 0 && !why) abort();
+                    if (rc < 0 && why.code == KELP_OK) abort();
                 } else if (pass == 1 && sel < 0xC0) {
                     (void)kelp_field_ncomms_mail(c, vars[sel % NV], sel & 0x80 ? false : true, v, (double)vl, now,
                                                  &sink);

@@ -12,9 +12,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     char *s = malloc(size ? size : 1);
     memcpy(s, data, size);
     kelp_nodereport r, r2;
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     int rc = kelp_nodereport_parse(s, size, &r, &why);
-    if (rc < 0 && !why) abort(); /* every rejection has a reason */
+    if (rc < 0 && why.code == KELP_OK) abort(); /* every rejection has a reason */
     if (rc == 0) {
         if (!(r.fields & KELP_NR_NAME)) abort();
         char a[KELP_NODEREPORT_MAX_LEN * 2], b[KELP_NODEREPORT_MAX_LEN * 2];
@@ -30,9 +30,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     static kelp_view v;
     for (int k = 0; k < KELP_VIEW_NKINDS; k++) {
-        why = NULL;
+        kelp_diag_clear(&why);
         rc = kelp_view_parse((kelp_view_kind)k, s, size, &v, &why);
-        if (rc < 0 && !why) abort();
+        if (rc < 0 && why.code == KELP_OK) abort();
         if (rc == 0 && v.npts > KELP_VIEW_MAX_PTS) abort();
     }
     free(s);

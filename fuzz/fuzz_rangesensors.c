@@ -56,11 +56,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 memcpy(v, data + i + 1, vl);
                 v[vl] = 0;
                 if (pass == 0 && sel >= 0xC0) {
-                    const char *why = NULL;
+                    kelp_diag why = { 0 };
                     int rc = kelp_field_brs_config(&bc, keys[sel % NK], v, &why);
-                    if (rc < 0 && !why) abort();
+                    if (rc < 0 && why.code == KELP_OK) abort();
+                    kelp_diag_clear(&why);
                     rc = kelp_field_crs_config(&cc, keys[sel % NK], v, &why);
-                    if (rc < 0 && !why) abort();
+                    if (rc < 0 && why.code == KELP_OK) abort();
                 } else if (pass == 1 && sel < 0xC0) {
                     (void)kelp_field_brs_mail(b, vars[sel % NV], (sel & 0x40) == 0, v, now, &sink);
                     (void)kelp_field_crs_mail(c, vars[sel % NV], (sel & 0x40) == 0, v, now, &sink);
@@ -74,9 +75,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             i = e + 1;
         }
         if (pass == 0) {
-            const char *why = NULL;
+            kelp_diag why = { 0 };
             ok = kelp_field_brs_init(b, &bc, 0, &why) == 0;
-            if (!ok && !why) abort();
+            if (!ok && why.code == KELP_OK) abort();
             if (!ok) kelp_field_brs_cfg_default(&bc), ok = kelp_field_brs_init(b, &bc, 0, &why) == 0;
             kelp_field_crs_init(c, &cc, 0);
         }

@@ -31,6 +31,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     memcpy(t, data + 1, n);
     t[n] = 0;
     const char *why = NULL;
+    kelp_diag dg = { 0 }; /* the field and sim modules' reason */
     switch (data[0] % 9) {
     case 0: {
         /* a list with a slot in it, then a command: all-or-nothing, the list stays sane */
@@ -76,18 +77,18 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             kelp_sim_state st;
             memset(&st, 0, sizeof st);
             kelp_sim_params_default(&p);
-            if (kelp_sim_config_set(&p, &st, t, eq + 1, &why) > 0 && p.nmap > KELP_SIM_MAX_MAP) abort();
+            if (kelp_sim_config_set(&p, &st, t, eq + 1, &dg) > 0 && p.nmap > KELP_SIM_MAX_MAP) abort();
             kelp_marine_pid_cfg c;
             kelp_marine_pid_cfg_default(&c);
-            (void)kelp_marine_pid_cfg_set(&c, t, eq + 1, &why);
+            (void)kelp_marine_pid_cfg_set(&c, t, eq + 1, &dg);
         }
         break;
     }
     case 6: {
         kelp_field_nrep_cfg c;
         kelp_field_nrep_cfg_default(&c, "alpha");
-        (void)kelp_field_nrep_add_rider(&c, t, &why);
-        (void)kelp_field_nrep_add_plat(&c, t, &why);
+        (void)kelp_field_nrep_add_rider(&c, t, &dg);
+        (void)kelp_field_nrep_add_plat(&c, t, &dg);
         kelp_nrep_fill f;
         (void)kelp_field_nrep_parse_fill(t, &f);
         if (c.nriders > KELP_NREP_MAX_RIDERS || c.nplat > KELP_NREP_MAX_PLAT) abort();

@@ -26,12 +26,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     memcpy(t, data + 1, n);
     t[n] = 0;
     kelp_ts_cfg_default(&c, "uTimerScript", "alpha");
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     (void)kelp_ts_cfg_set(&c, "event", "var=FIXED, val=x=$[X]|{2+3}|$(3)|$[DBTIME], time=0", &why);
     (void)kelp_ts_cfg_set(&c, "rand_var", "varname=X, min=0, max=9, key=at_post", &why);
     unsigned nev = c.nev, nrv = c.nrv;
     int rc = kelp_ts_cfg_set(&c, keys[data[0] % 8], t, &why);
-    if (rc < 0 && !why) abort();
+    if (rc < 0 && why.code == KELP_OK) abort();
     if (rc < 0 && (c.nev != nev || c.nrv != nrv)) abort(); /* refused: nothing added */
     if (c.nev > KELP_TS_MAX_EVENTS || c.nrv > KELP_TS_MAX_RANDVARS) abort();
     if (kelp_ts_init(&ts, &c, data[0]) == 0) {

@@ -29,9 +29,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     static double now;
     now += (data[0] >> 4) * 0.5;
     if (which >= 9 && which <= 11) {
-        const char *why = NULL;
+        kelp_diag why = { 0 };
         int rc = kelp_viewer_config(v, vars[which], s, &why);
-        if (rc < 0 && !why) abort();
+        if (rc < 0 && why.code == KELP_OK) abort();
         if (v->ncmds > KELP_VIEWER_MAX_CMDS) abort();
         if (v->ncmds == KELP_VIEWER_MAX_CMDS) v->ncmds = 0;
     } else {

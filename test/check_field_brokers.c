@@ -1,6 +1,7 @@
 /* uFldNodeBroker's and uFldShoreBroker's state machines (src/field/nodebroker.c,
  * shorebroker.c, broker.c): ufield.md 2.6 and 3.6, the handshake between them, restarts. */
 #include <check.h>
+#include "check_diag.h"
 #include <stdio.h>
 #include <string.h>
 #include <kelp/field.h>
@@ -63,7 +64,7 @@ static void cfg_node(kelp_field_nbroker_cfg *c, const char *const *lines)
 {
     kelp_field_nbroker_cfg_default(c);
     for (; *lines; lines += 2) {
-        const char *why = NULL;
+        kelp_diag why = { 0 };
         ck_assert_int_eq(kelp_field_nbroker_config(c, lines[0], lines[1], &why), 1);
     }
 }
@@ -76,7 +77,7 @@ static void cfg_node(kelp_field_nbroker_cfg *c, const char *const *lines)
 START_TEST(host_record_synonyms)
 {
     kelp_broker_host h;
-    const char *why;
+    kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_broker_host_parse(JAMES_PHI, &h, &why), 0);
     ck_assert_str_eq(h.community, "james");
     ck_assert_str_eq(h.host, "10.0.0.8");
@@ -112,7 +113,7 @@ START_TEST(try_and_bridge_lines)
 {
     kelp_broker_try t;
     kelp_broker_bridge b;
-    const char *why;
+    kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_broker_try_parse("host_ip=localhost, port_udp=9200, community=topside", &t, &why), 0);
     ck_assert_str_eq(t.host, "localhost");
     ck_assert_str_eq(t.community, "topside");
@@ -124,8 +125,17 @@ START_TEST(try_and_bridge_lines)
     ck_assert_uint_eq(t.port, 9301);
     ck_assert_int_eq(kelp_broker_try_parse("pshare_route=multicast_8", &t, &why), KELP_ERR_UNSUPPORTED);
     ck_assert_int_eq(kelp_broker_try_parse("pshare_route=localhost", &t, &why), KELP_ERR_PARSE);
+    kelp_diag_clear(&why);
     ck_assert_int_eq(kelp_broker_try_parse("port_udp=9200", &t, &why), KELP_ERR_PARSE);
-    ck_assert_str_eq(why, "no host_ip");
+    ck_diag(&why, KELP_ERR_PARSE, "no host_ip");
+    ck_assert_int_eq(why.line, 0); /* one value: no line of its own */
+    /* first error wins: a second failure keeps the first reason */
+    ck_assert_int_eq(kelp_broker_try_parse("host_ip=localhost", &t, &why), KELP_ERR_PARSE);
+    ck_diag_msg(&why, "no host_ip");
+    kelp_diag_clear(&why);
+    ck_assert_int_eq(kelp_broker_try_parse("pshare_route=multicast_8", &t, &why), KELP_ERR_UNSUPPORTED);
+    ck_diag(&why, KELP_ERR_UNSUPPORTED, "a multicast route (kelp-bridge sends unicast UDP only)");
+    ck_assert_int_eq(kelp_broker_try_parse("port_udp=9200", &t, NULL), KELP_ERR_PARSE); /* NULL: no record */
     ck_assert_int_eq(kelp_broker_try_parse("host_ip=localhost", &t, &why), KELP_ERR_PARSE);
     ck_assert_int_eq(kelp_broker_try_parse("host_ip=localhost, port_udp=x", &t, &why), KELP_ERR_PARSE);
     ck_assert_int_eq(kelp_broker_bridge_parse("src=VIEW_POINT", &b, &why), 0);
@@ -494,7 +504,7 @@ START_TEST(nb_auto_bridges_and_bools)
 {
     kelp_field_nbroker_cfg c;
     kelp_field_nbroker_cfg_default(&c);
-    const char *why;
+    kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_field_nbroker_config(&c, "auto_bridge_realmcast", "true  (default)", &why), 1);
     ck_assert_int_eq(kelp_field_nbroker_config(&c, "AUTO_BRIDGE_APPCAST", "false", &why), 1);
     ck_assert_int_lt(kelp_field_nbroker_config(&c, "AUTO_BRIDGE_APPCAST", "maybe", &why), 0);
@@ -519,7 +529,7 @@ static void shore(kelp_field_sbroker *sb, double warp, const char *const *lines,
     kelp_field_sbroker_cfg_default(&c);
     c.warp = warp;
     for (; lines && *lines; lines += 2) {
-        const char *why = NULL;
+        kelp_diag why = { 0 };
         ck_assert_int_eq(kelp_field_sbroker_config(&c, lines[0], lines[1], &why), 1);
     }
     kelp_field_sbroker_init(sb, &c);
@@ -554,7 +564,7 @@ START_TEST(sb_qbridge_list) /* 3.6.1 */
 {
     kelp_field_sbroker_cfg c;
     kelp_field_sbroker_cfg_default(&c);
-    const char *why;
+    kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_field_sbroker_config(&c, "QBRIDGE", "DEPLOY, RETURN", &why), 1);
     ck_assert_uint_eq(c.nbridges, 4);
     const char *want[4][2] = { { "DEPLOY_ALL", "DEPLOY" }, { "DEPLOY_$V", "DEPLOY" }, { "RETURN_ALL", "RETURN" },
@@ -846,7 +856,7 @@ START_TEST(sb_try_vnode_and_stale)
     const char *const lines[] = { "TRY_VNODE", "192.168.4.24:9201", "TRY_VNODE", "route=192.168.4.25",
                                   "WARNING_ON_STALE", "true", NULL };
     shore(&sb, 1, lines, &s);
-    const char *why;
+    kelp_diag why = { 0 };
     ck_assert_int_lt(kelp_field_sbroker_config(&sb.cfg, "TRY_VNODE", "192.168.4.24:9201", &why), 0);
     ck_assert_int_eq(ping(&sb, "henry", "2.56.111.1", "", 1, 10, &s), 1);
     R.n = 0;

@@ -49,7 +49,7 @@ static kelp_field_uhz H;
 
 static void cfg(const char *const *lines)
 {
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     kelp_field_uhz_cfg_default(&C);
     for (int i = 0; lines && lines[i]; i += 2) ck_assert_int_eq(kelp_field_uhz_config(&C, lines[i], lines[i + 1], &why), 1);
 }
@@ -230,7 +230,7 @@ START_TEST(uhz_options_summary)
                      "width=10,exp=6,pclass=0.93:width=25,exp=4,pclass=0.85:width=50,exp=2,pclass=0.6");
     ck_assert_int_eq(count(&r, "UHZ_OPTIONS_SUMMARY"), 3); /* at 100, 110, 120 */
     r.n = 0;
-    const char *why;
+    kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_field_uhz_config(&C, "options_summary_interval", "5", &why), 1);
     start();
     for (int t = 0; t <= 40; t++) kelp_field_uhz_iterate(&H, 100 + t * 0.5, &s);
@@ -242,7 +242,7 @@ END_TEST
 static void sure(const char *obj1, const char *obj2)
 {
     static const char *const L[] = { "sensor_config", "width=25, exp=4, pclass=1", NULL };
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     cfg(L);
     if (obj1) ck_assert_int_eq(kelp_field_uhz_config(&C, "hazard", obj1, &why), 1);
     if (obj2) ck_assert_int_eq(kelp_field_uhz_config(&C, "hazard", obj2, &why), 1);
@@ -320,7 +320,7 @@ START_TEST(uhz_classification_colours)
     ck_assert_ptr_nonnull(strstr(get(&r, "VIEW_CIRCLE"), "edge_color=white,fill_color=white"));
     ck_assert_ptr_null(strstr(get(&r, "VIEW_CIRCLE"), "duration="));
     sure("x=0,y=0,type=hazard,label=h", NULL);
-    const char *why;
+    kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_field_uhz_config(&C, "show_reports", "60", &why), 1);
     start();
     nr("archie", 0, 0, 0, &s);
@@ -367,7 +367,7 @@ START_TEST(uhz_markers)
 {
     rec r = { 0 };
     kelp_field_sink s = { &r, pub, wrn };
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     cfg(FIVE);
     int added = 0;
     for (int i = 0; JAKE[i]; i++) { /* test/data/moos-24.8/hazards.txt: a comment, then 18 lines */
@@ -407,7 +407,7 @@ END_TEST
 
 START_TEST(uhz_hazard_lines)
 {
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     kelp_field_uhz_cfg_default(&C);
     ck_assert_int_eq(kelp_field_uhz_hazard_line(&C, "x=20.1,y=13.8,type=hazard\n", &why), 1);
     ck_assert_int_eq(kelp_field_uhz_hazard_line(&C, "  hazard = x=1,y=2,type=benign,label=b7,color=red,width=3", &why),
@@ -491,7 +491,7 @@ static void rates(bool hazard, double pd, double exp, double pclass, int trials,
     rec r = { 0 };
     kelp_field_sink s = { &r, NULL, NULL };
     char sc[96], obj[64];
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     snprintf(sc, sizeof sc, "width=25, exp=%g, pclass=%g", exp, pclass);
     snprintf(obj, sizeof obj, "x=0,y=0,type=%s", hazard ? "hazard" : "benign");
     kelp_field_uhz_cfg_default(&C);
@@ -588,7 +588,7 @@ START_TEST(uhz_visual_options)
 {
     rec r = { 0 };
     kelp_field_sink s = { &r, pub, wrn };
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     sure("x=0,y=0,type=hazard,label=h,color=red,shape=square,width=3", "x=40,y=0,type=benign");
     ck_assert_int_eq(kelp_field_uhz_config(&C, "default_benign_shape", "circle // default", &why), 1);
     ck_assert_int_eq(kelp_field_uhz_config(&C, "default_benign_width", "5", &why), 1);

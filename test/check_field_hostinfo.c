@@ -203,7 +203,7 @@ START_TEST(hostinfo_pshare_iroutes)
                      "community=alpha,hostip=10.0.0.5,port_db=9000,timewarp=1,"
                      "pshare_iroutes=10.0.0.5:9200&multicast_23&5.6.7.8:9300");
     kelp_broker_host bh;
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_broker_host_parse(get(&r, "PHI_HOST_INFO"), &bh, &why), 0);
     ck_assert_uint_eq(bh.port_udp, 9200);
 }

@@ -129,7 +129,7 @@ START_TEST(nrep_mode_sources_and_config)
     snprintf(cfg.out_var, sizeof cfg.out_var, "MY_REPORT");
     cfg.dep_key = true;
     cfg.allow_color_change = true;
-    const char *why;
+    kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_field_nrep_add_rider(&cfg, "var=DB_UPTIME, policy=updated, rfld=upt, prec=3", &why), 0);
     ck_assert_int_lt(kelp_field_nrep_add_rider(&cfg, "policy=always", &why), 0);
     ck_assert_int_lt(kelp_field_nrep_add_rider(&cfg, "var=X, policy=sometimes", &why), 0);
@@ -209,7 +209,7 @@ START_TEST(nrep_blackout_extrap_fill_json_platform)
     cfg.have_geo = true;
     cfg.fill = KELP_NREP_FILL_LATEST;
     snprintf(cfg.json_var, sizeof cfg.json_var, "NODE_REPORT_JSON");
-    const char *why;
+    kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_field_nrep_add_plat(&cfg, "COMPASS_HEADING, gap=5, alias=CH", &why), 0);
     ck_assert_int_lt(kelp_field_nrep_add_plat(&cfg, "COMPASS_HEADING", &why), 0);
     ck_assert_int_lt(kelp_field_nrep_add_plat(&cfg, "A, gap=x", &why), 0);

@@ -184,7 +184,7 @@ END_TEST
 START_TEST(upc_config)
 {
     kelp_field_upc_cfg c;
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     kelp_field_upc_cfg_default(&c);
     ck_assert_uint_eq(c.history, 10);
     ck_assert_int_eq(kelp_field_upc_config(&c, "history_length", "25", &why), 1);

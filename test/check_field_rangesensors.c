@@ -59,9 +59,9 @@ static void brs_cfg(kelp_field_brs_cfg *c, const char *const *lines)
 {
     kelp_field_brs_cfg_default(c);
     for (; *lines; lines += 2) {
-        const char *why = NULL;
+        kelp_diag why = { 0 };
         int rc = kelp_field_brs_config(c, lines[0], lines[1], &why);
-        ck_assert_msg(rc >= 1, "%s = %s: %s", lines[0], lines[1], why ? why : "not taken");
+        ck_assert_msg(rc >= 1, "%s = %s: %s", lines[0], lines[1], kelp_diag_text(&why));
     }
 }
 
@@ -69,7 +69,7 @@ static void brs_start(kelp_field_brs *b, const char *const *lines, double start)
 {
     kelp_field_brs_cfg c;
     brs_cfg(&c, lines);
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_field_brs_init(b, &c, start, &why), 0);
 }
 
@@ -342,7 +342,7 @@ START_TEST(brs_beacons_markers)
     /* config errors and warnings */
     kelp_field_brs_cfg c;
     kelp_field_brs_cfg_default(&c);
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     ck_assert_int_lt(kelp_field_brs_config(&c, "beacon", "y=3, label=01", &why), 0); /* no x */
     ck_assert_int_lt(kelp_field_brs_config(&c, "beacon", "x=1,y=3,freq=9:3", &why), 0);
     ck_assert_int_lt(kelp_field_brs_config(&c, "ping_payments", "sometimes", &why), 0);
@@ -364,9 +364,9 @@ static void crs_start(const char *const *lines, double start)
     kelp_field_crs_cfg c;
     kelp_field_crs_cfg_default(&c);
     for (; *lines; lines += 2) {
-        const char *why = NULL;
+        kelp_diag why = { 0 };
         int rc = kelp_field_crs_config(&c, lines[0], lines[1], &why);
-        ck_assert_msg(rc == 1, "%s = %s: %s", lines[0], lines[1], why ? why : "not taken");
+        ck_assert_msg(rc == 1, "%s = %s: %s", lines[0], lines[1], kelp_diag_text(&why));
     }
     kelp_field_crs_init(&C, &c, start);
 }
@@ -515,7 +515,7 @@ START_TEST(crs_reports_pulses)
     ck_assert(strstr(nth(&r, "CRS_RANGE_REPORT", 0), "target=lima") != NULL);
     kelp_field_crs_cfg cc;
     kelp_field_crs_cfg_default(&cc);
-    const char *why;
+    kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_field_crs_config(&cc, "ignore_group", "red", &why), 1);
     kelp_field_crs_init(&C, &cc, 0);
     kelp_field_sink sink = { &r, pub, wrn };

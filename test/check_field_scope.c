@@ -1,5 +1,6 @@
 /* uFldScope's state machine (src/field/scope.c): ufield.md 7.5 and the rules around it. */
 #include <check.h>
+#include "check_diag.h"
 #include <stdio.h>
 #include <string.h>
 #include <kelp/field.h>
@@ -22,7 +23,7 @@ static void setup(const char *const (*lines)[2], int n)
 {
     kelp_field_ufs_cfg c;
     memset(&c, 0, sizeof c);
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     for (int i = 0; i < n; i++) ck_assert_int_eq(kelp_field_ufs_config(&c, lines[i][0], lines[i][1], &why), 1);
     kelp_field_ufs_init(&s, &c);
 }
@@ -240,9 +241,9 @@ START_TEST(ufs_config_errors)
 {
     kelp_field_ufs_cfg c;
     memset(&c, 0, sizeof c);
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_field_ufs_config(&c, "SCOPE", "var=A,key=vname", &why), KELP_ERR_PARSE);
-    ck_assert_str_eq(why, "var and fld are required");
+    ck_diag_msg(&why, "var and fld are required");
     ck_assert_int_eq(kelp_field_ufs_config(&c, "SCOPE", "var=A,fld=x,colour=red", &why), KELP_ERR_PARSE);
     ck_assert_int_eq(kelp_field_ufs_config(&c, "SCOPE", "var=A,fld", &why), KELP_ERR_PARSE);
     ck_assert_int_eq(kelp_field_ufs_config(&c, "SCOPE", "var=A,fld=x,xthresh=-2", &why), KELP_ERR_PARSE);

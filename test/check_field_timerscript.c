@@ -68,9 +68,9 @@ static void setup_cfg(const char *const *lines)
     memset(&R, 0, sizeof R);
     kelp_ts_cfg_default(&cfg, "uTimerScript", "archie");
     for (int i = 0; lines[i]; i += 2) {
-        const char *why = NULL;
+        kelp_diag why = { 0 };
         int rc = kelp_ts_cfg_set(&cfg, lines[i], lines[i + 1], &why);
-        ck_assert_msg(rc == 1, "%s = %s: %d %s", lines[i], lines[i + 1], rc, why ? why : "");
+        ck_assert_msg(rc == 1, "%s = %s: %d %s", lines[i], lines[i + 1], rc, kelp_diag_text(&why));
     }
     ck_assert_int_eq(kelp_ts_init(&ts, &cfg, 42), 0);
     kelp_ts_set_db_start(&ts, 1000);
@@ -469,10 +469,10 @@ static const char *const bad_cfg[][2] = {
 START_TEST(ts_bad_config)
 {
     kelp_ts_cfg_default(&cfg, "uTimerScript", "archie");
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     ck_assert_msg(kelp_ts_cfg_set(&cfg, bad_cfg[_i][0], bad_cfg[_i][1], &why) < 0, "%s = %s accepted", bad_cfg[_i][0],
                   bad_cfg[_i][1]);
-    ck_assert(why && *why);
+    ck_assert_int_ne(why.code, 0);
     ck_assert_int_eq(cfg.nev, 0);
     ck_assert_int_eq(cfg.nrv, 0);
 }
@@ -481,7 +481,7 @@ END_TEST
 START_TEST(ts_unknown_key_and_dup_randvar)
 {
     kelp_ts_cfg_default(&cfg, "uTimerScript", "archie");
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_ts_cfg_set(&cfg, "colour", "red", &why), 0);
     ck_assert_int_eq(kelp_ts_cfg_set(&cfg, "rand_var", "varname=X, min=0, max=1, key=at_post", &why), 1);
     ck_assert_int_lt(kelp_ts_cfg_set(&cfg, "rand_var", "varname=X, min=0, max=1, key=at_post", &why), 0);

@@ -4,7 +4,7 @@
 #include <string.h>
 #include <kelp/moos2sql.h>
 
-static int classify(const kelp_m2s_cfg *c, const char *var, const char *val, kelp_m2s_record *r, const char **why)
+static int classify(const kelp_m2s_cfg *c, const char *var, const char *val, kelp_m2s_record *r, kelp_diag *why)
 {
     return kelp_m2s_classify(c, var, "shoreside", 1000.5, true, val, strlen(val), 0, r, why);
 }
@@ -14,7 +14,7 @@ START_TEST(m2s_status_from_node_report)
     kelp_m2s_cfg c;
     kelp_m2s_cfg_default(&c);
     kelp_m2s_record r;
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     ck_assert_int_eq(classify(&c, "NODE_REPORT", "NAME=alpha,TYPE=UUV,TIME=1252348077.59,X=51.71,Y=-35.50,LAT=43.824981,"
                                                  "LON=-70.329755,SPD=2.00,HDG=118.85,DEPTH=4.63,LENGTH=3.8,MODE=LOITERING",
                               &r, &why),
@@ -30,7 +30,7 @@ START_TEST(m2s_status_from_node_report)
     ck_assert_str_eq(r.name, "bravo");
     /* no position: rejected with a reason; a number: rejected; not ours: 0 */
     ck_assert_int_lt(classify(&c, "NODE_REPORT", "NAME=alpha,SPD=2", &r, &why), 0);
-    ck_assert_ptr_nonnull(why);
+    ck_assert_int_ne(why.code, 0);
     ck_assert_int_lt(kelp_m2s_classify(&c, "NODE_REPORT", "s", 1, false, NULL, 0, 3, &r, &why), 0);
     ck_assert_int_eq(classify(&c, "NAV_X", "3", &r, &why), 0);
     /* the text must end at its length (as a kelp_var's does) */
@@ -66,7 +66,7 @@ START_TEST(m2s_track_from_status_message)
     kelp_m2s_cfg c;
     kelp_m2s_cfg_default(&c);
     kelp_m2s_record r;
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     ck_assert_int_eq(classify(&c, "STATUS_REPORT", "dest=1,name=bravo,nav_x=15.0,nav_y=10.0,heading=0,speed=0.5,behavior=", &r, &why), 1);
     ck_assert_int_eq(r.kind, KELP_M2S_TRACK);
     ck_assert_str_eq(r.name, "bravo");
@@ -88,7 +88,7 @@ START_TEST(m2s_config)
 {
     kelp_m2s_cfg c;
     kelp_m2s_cfg_default(&c);
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     ck_assert_str_eq(c.database, "moos2sql.db");
     ck_assert_int_eq(kelp_m2s_config(&c, "track_var", " MY_STATUS , NODE_REPORT_LOCAL", &why), 1);
     ck_assert_int_eq(kelp_m2s_kind_of(&c, "MY_STATUS"), KELP_M2S_TRACK);

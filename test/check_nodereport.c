@@ -1,5 +1,6 @@
 /* Node reports (uField seed format) and VIEW_* artifacts (seed 004 / seed 000 strings). */
 #include <check.h>
+#include "check_diag.h"
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -11,9 +12,9 @@ static const char *SEED_REPORT = "NAME=alpha,TYPE=UUV,TIME=1252348077.59,X=51.71
 START_TEST(test_parse_seed)
 {
     kelp_nodereport r;
-    const char *why = "x";
+    kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_nodereport_parse(SEED_REPORT, strlen(SEED_REPORT), &r, &why), KELP_OK);
-    ck_assert_ptr_null(why);
+    ck_assert_int_eq(why.code, 0);
     ck_assert_str_eq(r.name, "alpha");
     ck_assert_str_eq(r.type, "UUV");
     ck_assert_str_eq(r.mode, "LOITERING");
@@ -119,7 +120,7 @@ START_TEST(test_parse_errors)
     kelp_nodereport r;
     memset(&r, 0x5a, sizeof r);
     kelp_nodereport keep = r;
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     const struct {
         const char *s;
         int rc;
@@ -138,10 +139,10 @@ START_TEST(test_parse_errors)
          "text field too long"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        why = NULL;
+        kelp_diag_clear(&why);
         ck_assert_int_eq(kelp_nodereport_parse(bad[i].s, strlen(bad[i].s), &r, &why), bad[i].rc);
-        ck_assert_ptr_nonnull(why);
-        ck_assert_str_eq(why, bad[i].why);
+        ck_assert_int_ne(why.code, 0);
+        ck_diag_msg(&why, bad[i].why);
         ck_assert(memcmp(&r, &keep, sizeof r) == 0); /* output untouched on error */
     }
 }
@@ -178,7 +179,7 @@ END_TEST
 
 static kelp_view V;
 
-static int vparse(kelp_view_kind k, const char *s, const char **why)
+static int vparse(kelp_view_kind k, const char *s, kelp_diag *why)
 {
     return kelp_view_parse(k, s, strlen(s), &V, why);
 }
@@ -224,7 +225,7 @@ END_TEST
 
 START_TEST(test_view_shapes)
 {
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     /* uField seed 1.8 (uFldHazardSensor) */
     ck_assert_int_eq(vparse(KELP_VIEW_CIRCLE,
                             "x=12,y=-30,radius=10,label=archie_h1,edge_color=yellow,fill_color=yellow,fill=0.3,"
@@ -281,7 +282,7 @@ END_TEST
 
 START_TEST(test_view_errors)
 {
-    const char *why;
+    kelp_diag why = { 0 };
     const struct {
         kelp_view_kind k;
         const char *s;
@@ -302,10 +303,10 @@ START_TEST(test_view_errors)
         {KELP_VIEW_POINT, "label:x", KELP_ERR_PARSE, "segment without ','"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
-        why = NULL;
+        kelp_diag_clear(&why);
         ck_assert_int_eq(vparse(bad[i].k, bad[i].s, &why), bad[i].rc);
-        ck_assert_ptr_nonnull(why);
-        ck_assert_str_eq(why, bad[i].why);
+        ck_assert_int_ne(why.code, 0);
+        ck_diag_msg(&why, bad[i].why);
     }
     /* too many vertices */
     char big[4096];

@@ -71,7 +71,7 @@ START_TEST(marine_pid_iteration)
 {
     kelp_marine_pid_cfg c;
     kelp_marine_pid_cfg_default(&c);
-    const char *why;
+    kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_marine_pid_cfg_set(&c, "yaw_pid_kp", "0.5", &why), 1);
     ck_assert_int_eq(kelp_marine_pid_cfg_set(&c, "YAW_PID_KI_LIMIT", "0.2", &why), 1);
     ck_assert(c.yaw[3] == 0.2);
@@ -162,7 +162,7 @@ START_TEST(sim_rudder_thrust_model)
 {
     kelp_sim_params p;
     kelp_sim_params_default(&p);
-    const char *why;
+    kelp_diag why = { 0 };
     kelp_sim_state st = { 0, 0, 0, 0, 0 };
     ck_assert_int_eq(kelp_sim_config_set(&p, &st, "thrust_map", "0:0, 20:1, 40:2, 60:3, 80:5, 100:5", &why), 1);
     ck_assert(kelp_sim_thrust_speed(&p, 30) == 1.5 && kelp_sim_thrust_speed(&p, 90) == 5 &&

@@ -580,7 +580,7 @@ START_TEST(test_tool_incoming_state)
     int i = find(&r, "NODE_REPORT");
     ck_assert_int_ge(i, 0);
     kelp_nodereport nr;
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_nodereport_parse(r.sval[i], strlen(r.sval[i]), &nr, &why), 0);
     ck_assert_str_eq(nr.name, "mm2");
     ck_assert_str_eq(nr.type, "auv");

@@ -216,7 +216,7 @@ END_TEST
 
 START_TEST(test_buttons)
 {
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_viewer_config(V, "button_one", "DEPLOY # DEPLOY_ALL=true # MOOS_MANUAL_OVERRIDE_ALL=false", &why), 1);
     ck_assert_int_eq(kelp_viewer_config(V, "BUTTON_2", "RETURN # RETURN_ALL = true # SPEED=1.5 # NAME=\"3\"", &why), 1);
     ck_assert_int_eq(kelp_viewer_config(V, "button_twenty", "A=b # X # color=light_green", &why), 1); /* label anywhere */
@@ -255,7 +255,7 @@ START_TEST(test_buttons)
     ck_assert_uint_eq(kelp_viewer_press(V, 3, pk, 16), 0);
     /* refused */
     ck_assert_int_lt(kelp_viewer_config(V, "button_three", "A=1 # B=2", &why), 0); /* no label */
-    ck_assert_ptr_nonnull(why);
+    ck_assert_int_ne(why.code, 0);
     ck_assert_int_lt(kelp_viewer_config(V, "button_three", "L # =2", &why), 0);
     ck_assert_int_lt(kelp_viewer_config(V, "button_three", "L # A B=2", &why), 0);
     ck_assert_int_eq(kelp_viewer_config(V, "button_three", "ONLYLABEL", &why), 1); /* a label alone: posts nothing */
@@ -272,7 +272,7 @@ END_TEST
 
 START_TEST(test_actions)
 {
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_viewer_config(V, "action", "menu_key=deploy # DEPLOY = true # RETURN = false", &why), 1);
     ck_assert_int_eq(kelp_viewer_config(V, "action+", "menu_key=return # RETURN=true", &why), 1);
     ck_assert_int_eq(kelp_viewer_config(V, "action", "STATION_KEEP=true # LOITER=false", &why), 1);

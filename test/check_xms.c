@@ -167,7 +167,7 @@ END_TEST
 /* TRUNC_DATA: 20 characters, plus 8/5/10 for each hidden column, then "..." inside the quotes */
 START_TEST(xms_trunc)
 {
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_xms_config(&x, "TRUNC_DATA", "true", &why), 1);
     ck_assert_int_eq(kelp_xms_add_var(&x, "S", false), 1);
     x.disp_source = x.disp_time = x.disp_community = true;
@@ -181,17 +181,17 @@ END_TEST
 /* the mission block: VAR lists, REFRESH_MODE, CONTENT_MODE, PAUSED, bad values refused */
 START_TEST(xms_config)
 {
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_xms_config(&x, "VAR", "B, A", &why), 1);
     ck_assert_int_eq(kelp_xms_config(&x, "var", "C", &why), 1);
     ck_assert_uint_eq(x.nvar, 3);
     ck_assert_str_eq(x.var[0].name, "A");
     ck_assert_int_eq(kelp_xms_config(&x, "REFRESH_MODE", "streaming", &why), 1);
     ck_assert_int_eq(x.refresh, KELP_XMS_STREAMING);
-    ck_assert_int_eq(kelp_xms_config(&x, "REFRESH_MODE", "fast", &why), -1);
+    ck_assert_int_eq(kelp_xms_config(&x, "REFRESH_MODE", "fast", &why), KELP_ERR_PARSE);
     ck_assert_int_eq(kelp_xms_config(&x, "PAUSED", "true", &why), 1);
     ck_assert_int_eq(x.refresh, KELP_XMS_PAUSED);
-    ck_assert_int_eq(kelp_xms_config(&x, "DISPLAY_SOURCE", "maybe", &why), -1);
+    ck_assert_int_eq(kelp_xms_config(&x, "DISPLAY_SOURCE", "maybe", &why), KELP_ERR_PARSE);
     ck_assert_int_eq(kelp_xms_config(&x, "DISPLAY_ALL", "true", &why), 1);
     ck_assert(x.disp_all);
     ck_assert_int_eq(kelp_xms_config(&x, "CONTENT_MODE", "help", &why), 1);
@@ -205,7 +205,7 @@ END_TEST
 /* SOURCE: the Publishing list of <SRC>_STATUS joins the scope list */
 START_TEST(xms_source_publishing)
 {
-    const char *why = NULL;
+    kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_xms_config(&x, "SOURCE", "pHelmIvP", &why), 1);
     ck_assert_str_eq(x.sources[0], "PHELMIVP_STATUS");
     (void)kelp_xms_mail(&x, "PHELMIVP_STATUS", true,

@@ -65,11 +65,11 @@ int main(int argc, char **argv)
             nset++;
         } else if (opt == 'p') {
             char spec[4096];
-            const char *why = NULL;
+            kelp_diag dg = { 0 };
             int n = kelp_snprintf(spec, sizeof spec, "pts={%s}", optarg);
-            if (n < 0 || (size_t)n >= sizeof spec || kelp_view_parse(KELP_VIEW_POLYGON, spec, strlen(spec), &poly, &why) < 0 ||
+            if (n < 0 || (size_t)n >= sizeof spec || kelp_view_parse(KELP_VIEW_POLYGON, spec, strlen(spec), &poly, &dg) < 0 ||
                 poly.npts < 3)
-                return kelp_cli_error(&cli, "bad --polygon '%s': %s", optarg, why ? why : "three vertices or more");
+                return kelp_cli_error(&cli, "bad --polygon '%s': %s", optarg, dg.code ? kelp_diag_text(&dg) : "three vertices or more");
             have_poly = true;
         } else if (opt == 's') {
             long long v;

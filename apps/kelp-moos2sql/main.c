@@ -30,17 +30,17 @@ typedef struct m2s {
 static int take(m2s *s, const kelp_var *v, char *err, size_t cap)
 {
     kelp_m2s_record r;
-    const char *why;
+    kelp_diag dg = { 0 };
     bool str = v->kind == KELP_VAR_STRING;
     if (v->kind == KELP_VAR_BINARY || !s->store) return 0;
-    int rc = kelp_m2s_classify(&s->cfg, v->name, v->community, v->time, str, v->sval, str ? v->slen : 0, v->dval, &r, &why);
+    int rc = kelp_m2s_classify(&s->cfg, v->name, v->community, v->time, str, v->sval, str ? v->slen : 0, v->dval, &r, &dg);
     if (rc == 0) {
         s->ignored++;
         return 0;
     }
     if (rc < 0) {
         s->bad++;
-        snprintf(s->last_bad, sizeof s->last_bad, "%s: %s", v->name, why ? why : "unreadable");
+        snprintf(s->last_bad, sizeof s->last_bad, "%s: %s", v->name, dg.code ? kelp_diag_text(&dg) : "unreadable");
         return 0;
     }
     (void)kelp_m2s_fleet_update(&s->fleet, &s->cfg, &r);
@@ -68,9 +68,7 @@ static void summary(m2s *s, FILE *out)
 
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
-    const char *w = NULL;
-    int rc = kelp_m2s_config(&((m2s *)ctx)->cfg, key, val, &w);
-    return rc < 0 ? kelp_fail(d, rc, w) : rc;
+    return kelp_m2s_config(&((m2s *)ctx)->cfg, key, val, d);
 }
 
 static int startup(kelp_app *app, void *st)
@@ -194,13 +192,14 @@ static int from_log(int argc, char **argv)
     static m2s s;
     kelp_m2s_cfg_default(&s.cfg);
     kelp_m2s_fleet_init(&s.fleet);
-    const char *log = NULL, *why;
+    const char *log = NULL;
+    kelp_diag dg = { 0 };
     int c, status;
     while ((c = kelp_cli_next(&cli, argc, argv, &status)) != -1) {
         if (c == KELP_CLI_EXIT) return status;
         const char *key = c == OPT_DB ? "DATABASE" : c == OPT_KML ? "KML_FILE" : c == OPT_LINK ? "KML_LINK_FILE" : NULL;
         if (c == OPT_LOG) log = optarg;
-        if (key && kelp_m2s_config(&s.cfg, key, optarg, &why) < 0) return kelp_cli_error(&cli, "%s: %s", key, why);
+        if (key && kelp_m2s_config(&s.cfg, key, optarg, &dg) < 0) return kelp_cli_error(&cli, "%s: %s", key, kelp_diag_text(&dg));
         if (c == OPT_DATUM) {
             double lat, lon;
             char *comma = strchr(optarg, ',');

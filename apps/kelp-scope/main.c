@@ -87,9 +87,7 @@ static int on_arg(void *st, int val, const char *arg, kelp_diag *dg)
 
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
-    const char *w = NULL;
-    int rc = kelp_xms_config(&((scope *)ctx)->core, key, val, &w);
-    return rc < 0 ? kelp_fail(d, rc, w) : rc;
+    return kelp_xms_config(&((scope *)ctx)->core, key, val, d);
 }
 
 static void subscribe(kelp_app *app, scope *s)

@@ -56,9 +56,7 @@ static int on_arg(void *st, int val, const char *arg, kelp_diag *d)
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     viewer *s = ctx;
-    const char *w = NULL;
-    int rc = kelp_viewer_config(&s->model, key, val, &w);
-    if (rc < 0) (void)kelp_fail(d, rc, w);
+    int rc = kelp_viewer_config(&s->model, key, val, d);
     if (rc != 0) return rc;
     struct { const char *key; char *dst; size_t cap; } own[] = {
         {"port", s->port_s, sizeof s->port_s}, {"token", s->token, sizeof s->token},

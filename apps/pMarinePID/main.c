@@ -25,9 +25,7 @@ static void sink(void *ctx, const char *var, bool is_string, const char *sval, d
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     mpid *p = ctx;
-    const char *w = NULL;
-    int rc = kelp_marine_pid_cfg_set(&p->cfg, key, val, &w);
-    if (rc < 0) (void)kelp_fail(d, rc, w);
+    int rc = kelp_marine_pid_cfg_set(&p->cfg, key, val, d);
     if (rc != 0) return rc;
     static const char *const accepted[] = { "VERBOSE", "MAX_SAT_HDG_DEBUG", "MAX_SAT_SPD_DEBUG", "MAX_SAT_DEP_DEBUG",
                                             "AppTick", "CommsTick" };

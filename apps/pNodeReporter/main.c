@@ -118,7 +118,7 @@ static int startup(kelp_app *app, void *st)
         if ((rc = bool_param(app, bools[i].key, bools[i].v)) < 0) return rc;
     const kelp_mission_node *n;
     char buf[256];
-    const char *why = NULL;
+    kelp_diag dg = { 0 };
     if ((n = kelp_app_param(app, "JSON_REPORT")) && kelp_mission_bool(n, &c.json_only) < 0) {
         /* not true/false: the name of a variable to post the JSON form to as well */
         if (kelp_mission_copy(n, c.json_var, sizeof c.json_var) < 0 || strpbrk(c.json_var, " ,="))
@@ -147,8 +147,8 @@ static int startup(kelp_app *app, void *st)
     for (int k = 0; k < 4; k++)
         for (n = kelp_app_param_next(app, pk[k], NULL); n; n = kelp_app_param_next(app, pk[k], n))
             if (kelp_mission_copy(n, buf, sizeof buf) < 0 ||
-                (k < 3 ? kelp_field_nrep_add_plat(&c, buf, &why) : kelp_field_nrep_add_rider(&c, buf, &why)) < 0)
-                return kelp_app_config_error(app, n, "bad %s: %s", pk[k], why ? why : "too long");
+                (k < 3 ? kelp_field_nrep_add_plat(&c, buf, &dg) : kelp_field_nrep_add_rider(&c, buf, &dg)) < 0)
+                return kelp_app_config_error(app, n, "bad %s: %s", pk[k], dg.code ? kelp_diag_text(&dg) : "too long");
     if ((n = kelp_app_param(app, "PREFIX")) && (n->vlen == 0 || kelp_mission_copy(n, c.prefix, sizeof c.prefix) < 0))
         return kelp_app_config_error(app, n, "PREFIX must be 1..%zu characters", sizeof c.prefix - 1);
     double lat0, lon0;

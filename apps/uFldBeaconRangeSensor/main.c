@@ -35,11 +35,9 @@ static void log_line(void *ctx, const char *line)
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     brs_app *a = ctx;
-    const char *w = NULL;
-    int rc = kelp_field_brs_config(&a->cfg, key, val, &w);
-    if (rc < 0) (void)kelp_fail(d, rc, w);
+    int rc = kelp_field_brs_config(&a->cfg, key, val, d);
     if (rc == 2) {
-        kelp_app_config_warning(a->app, "%s = %s: %s", key, val, w ? w : "");
+        kelp_app_config_warning(a->app, "%s = %s: %s", key, val, KELP_BRS_WARN_QUERY_RANGE);
         return 1;
     }
     if (rc != 0) return rc;
@@ -60,9 +58,9 @@ static int startup(kelp_app *app, void *st)
         a->cfg.com.have_geo = kelp_geo_init(&a->cfg.com.geo, lat0, lon0) == 0;
     a->cfg.com.log = log_line;
     a->cfg.com.log_ctx = a;
-    const char *why = NULL;
-    if (kelp_field_brs_init(&a->core, &a->cfg, kelp_app_time(app), &why) < 0)
-        return kelp_app_config_error(app, NULL, "BEACON: %s", why ? why : "bad");
+    kelp_diag dg = { 0 };
+    if (kelp_field_brs_init(&a->core, &a->cfg, kelp_app_time(app), &dg) < 0)
+        return kelp_app_config_error(app, NULL, "BEACON: %s", dg.code ? kelp_diag_text(&dg) : "bad");
     const char *v;
     for (unsigned i = 0; (v = kelp_field_brs_subscription(i)) != NULL; i++)
         if (kelp_app_register(app, v, 0) < 0) return kelp_app_config_error(app, NULL, "cannot register %s", v);

@@ -36,9 +36,7 @@ static void log_line(void *ctx, const char *line)
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     crs_app *a = ctx;
-    const char *w = NULL;
-    int rc = kelp_field_crs_config(&a->cfg, key, val, &w);
-    if (rc < 0) (void)kelp_fail(d, rc, w);
+    int rc = kelp_field_crs_config(&a->cfg, key, val, d);
     if (rc != 0) return rc;
     if (kelp_strieq(key, "APP_LOGGING")) return 1; /* 24.8: record the bus with kelp-record instead */
     return 0;

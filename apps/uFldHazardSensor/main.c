@@ -58,9 +58,9 @@ static int read_hazard_file(uhz_app *a, const char *name)
     unsigned lineno = 0, added = 0;
     while (fgets(line, sizeof line, f)) {
         lineno++;
-        const char *w = NULL;
-        int rc = kelp_field_uhz_hazard_line(a->cfg, line, &w);
-        if (rc < 0) kelp_app_config_warning(a->app, "%s:%u: %s", name, lineno, w ? w : "bad line");
+        kelp_diag dg = { 0 };
+        int rc = kelp_field_uhz_hazard_line(a->cfg, line, &dg);
+        if (rc < 0) kelp_app_config_warning(a->app, "%s:%u: %s", name, lineno, dg.code ? kelp_diag_text(&dg) : "bad line");
         else added += (unsigned)rc;
     }
     fclose(f);
@@ -77,9 +77,7 @@ static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
     if (kelp_strieq(key, "TERM_REPORT_INTERVAL") || kelp_strieq(key, "MAX_APPCAST_EVENTS") ||
         kelp_strieq(key, "MAX_APPCAST_RUN_WARNINGS"))
         return 1;
-    const char *w = NULL;
-    int rc = kelp_field_uhz_config(a->cfg, key, val, &w);
-    return rc < 0 ? kelp_fail(d, rc, w) : rc;
+    return kelp_field_uhz_config(a->cfg, key, val, d);
 }
 
 static int startup(kelp_app *app, void *st)

@@ -27,9 +27,7 @@ static void publish(void *ctx, const char *var, bool is_string, const char *sval
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     umh *u = ctx;
-    const char *w = NULL;
-    int rc = kelp_field_umh_config(&u->cfg, key, val, &w);
-    if (rc < 0) (void)kelp_fail(d, rc, w);
+    int rc = kelp_field_umh_config(&u->cfg, key, val, d);
     if (rc != 0) return rc;
     if (kelp_strieq_n(key, strlen(key), "APP_LOGGING")) {
         kelp_app_event(u->app, "APP_LOGGING accepted (record the bus with kelp-record)");

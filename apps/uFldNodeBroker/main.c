@@ -38,9 +38,7 @@ static void warn(void *ctx, const char *msg)
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     nbroker *b = ctx;
-    const char *w = NULL;
-    int rc = kelp_field_nbroker_config(&b->cfg, key, val, &w);
-    if (rc < 0) (void)kelp_fail(d, rc, w);
+    int rc = kelp_field_nbroker_config(&b->cfg, key, val, d);
     if (rc != 0) return rc;
     static const char *const accepted[] = { "APP_LOGGING", "MAX_APPCAST_EVENTS" };
     for (size_t i = 0; i < sizeof accepted / sizeof accepted[0]; i++)
@@ -62,7 +60,7 @@ static int startup(kelp_app *app, void *st)
             kelp_app_event(app, "TRY_SHORE_HOST = %s: not used (%s)", b->cfg.bad_try[i], b->cfg.bad_why[i]);
         else
             kelp_app_config_warning(app, "TRY_SHORE_HOST = %s: invalid (%s)", b->cfg.bad_try[i],
-                                    b->cfg.bad_why[i] ? b->cfg.bad_why[i] : "malformed");
+                                    b->cfg.bad_why[i][0] ? b->cfg.bad_why[i] : "malformed");
     }
     if (b->cfg.ntry == 0) kelp_app_event(app, "no valid TRY_SHORE_HOST yet: waiting for one by mail");
     kelp_field_nbroker_init(&b->core, &b->cfg);

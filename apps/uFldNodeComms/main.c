@@ -32,9 +32,7 @@ static void warn(void *ctx, const char *msg)
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     ncomms *a = ctx;
-    const char *w = NULL;
-    int rc = kelp_field_ncomms_config(&a->cfg, key, val, &w);
-    if (rc < 0) (void)kelp_fail(d, rc, w);
+    int rc = kelp_field_ncomms_config(&a->cfg, key, val, d);
     if (rc != 0) return rc;
     if (kelp_strieq_n(key, strlen(key), "APP_LOGGING")) {
         kelp_app_event(a->app, "APP_LOGGING accepted (record the bus with kelp-record)");

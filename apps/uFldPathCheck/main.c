@@ -30,9 +30,7 @@ static void warn(void *ctx, const char *msg)
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     upc_app *a = ctx;
-    const char *w = NULL;
-    int rc = kelp_field_upc_config(&a->cfg, key, val, &w);
-    return rc < 0 ? kelp_fail(d, rc, w) : rc;
+    return kelp_field_upc_config(&a->cfg, key, val, d);
 }
 
 static int startup(kelp_app *app, void *st)

@@ -24,9 +24,7 @@ typedef struct scope {
 
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
-    const char *w = NULL;
-    int rc = kelp_field_ufs_config(&((scope *)ctx)->cfg, key, val, &w);
-    return rc < 0 ? kelp_fail(d, rc, w) : rc;
+    return kelp_field_ufs_config(&((scope *)ctx)->cfg, key, val, d);
 }
 
 static void draw(scope *s)

@@ -39,9 +39,7 @@ static void warn(void *ctx, const char *msg)
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     sbroker *s = ctx;
-    const char *w = NULL;
-    int rc = kelp_field_sbroker_config(&s->cfg, key, val, &w);
-    if (rc < 0) (void)kelp_fail(d, rc, w);
+    int rc = kelp_field_sbroker_config(&s->cfg, key, val, d);
     if (rc != 0) return rc;
     static const char *const accepted[] = { "APP_LOGGING", "MAX_APPCAST_EVENTS" };
     for (size_t i = 0; i < sizeof accepted / sizeof accepted[0]; i++)

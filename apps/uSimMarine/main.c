@@ -24,9 +24,7 @@ static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
     usim *a = ctx;
     bool is_pos = kelp_strieq_n(key, strlen(key), "START_POS");
     if (a->pass_start != is_pos) return is_pos ? 1 : 0;
-    const char *w = NULL;
-    int rc = kelp_usim_config(&a->u, key, val, &w);
-    if (rc < 0) (void)kelp_fail(d, rc, w);
+    int rc = kelp_usim_config(&a->u, key, val, d);
     if (rc != 0) return rc;
     /* MOOS-IvP 24.8 keys for what kelp does not simulate (sailing, the turn-speed map, a second
      * state, reverse thrust): accepted so a 24.8 block loads, and reported as events */

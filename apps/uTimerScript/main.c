@@ -30,9 +30,7 @@ static void warn(void *ctx, const char *msg) { kelp_app_run_warning(((uts *)ctx)
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     uts *u = ctx;
-    const char *w = NULL;
-    int rc = kelp_ts_cfg_set(&u->cfg, key, val, &w);
-    if (rc < 0) (void)kelp_fail(d, rc, w);
+    int rc = kelp_ts_cfg_set(&u->cfg, key, val, d);
     if (rc != 0) return rc;
     if (kelp_strieq(key, "seed")) {
         if (kelp_parse_finite(val, strlen(val), &u->seed) < 0 || u->seed < 0) {

@@ -37,6 +37,8 @@ extern "C" {
 /* ------------------------------------------------------------------ shared */
 
 #ifndef KELP_RSENSE_MAX_NODES
+/** The warning of kelp_field_brs_config's result 2 (a BEACON's query_range). */
+#define KELP_BRS_WARN_QUERY_RANGE "query_range is not used (report_range is): ignored"
 #define KELP_RSENSE_MAX_NODES 128   /**< vehicles known from node reports */
 #endif
 #ifndef KELP_RSENSE_MAX_VCFG
@@ -109,17 +111,17 @@ typedef struct kelp_rsense_common {
 
 void kelp_rsense_common_default(kelp_rsense_common *c);
 /** PING_WAIT, REPORT_VARS, RN_ALGORITHM, RN_UNIFORM_PCT, RN_GAUSSIAN_SIGMA, GROUND_TRUTH,
- *  VERBOSE, RAND_MODE, SEED_RANDOM (v already trimmed). @return 1, 0 not one, <0 with *why. */
-KELP_MUST_CHECK int kelp_rsense_common_config(kelp_rsense_common *c, const char *key, const char *v, const char **why);
+ *  VERBOSE, RAND_MODE, SEED_RANDOM (v already trimmed). @return 1, 0 not one, <0 (reason in d). */
+KELP_MUST_CHECK int kelp_rsense_common_config(kelp_rsense_common *c, const char *key, const char *v, kelp_diag *d);
 
 /** Value of name in m (default when not listed). */
 double kelp_rsense_vmap_get(const kelp_rsense_vmap *m, const char *name);
 /** Apply "default = v", "<vname> = v" or "v" (v a number, or nolimit/unlimited = -1 when
- *  allow_nolimit). @return 1, or <0 with *why. */
-KELP_MUST_CHECK int kelp_rsense_vmap_set(kelp_rsense_vmap *m, const char *val, bool allow_nolimit, const char **why);
+ *  allow_nolimit). @return 1, or <0 (reason in d). */
+KELP_MUST_CHECK int kelp_rsense_vmap_set(kelp_rsense_vmap *m, const char *val, bool allow_nolimit, kelp_diag *d);
 /** RN_ALGORITHM: "uniform,pct=0.12", "gaussian,sigma=1.5" (also "gauss"), "none".
- *  @return 1 or <0 with *why. */
-KELP_MUST_CHECK int kelp_rsense_noise_set(kelp_rsense_noise *n, const char *val, const char **why);
+ *  @return 1 or <0 (reason in d). */
+KELP_MUST_CHECK int kelp_rsense_noise_set(kelp_rsense_noise *n, const char *val, kelp_diag *d);
 void kelp_rsense_rand_init(kelp_rsense_rand *r, bool glibc, uint64_t seed);
 /** The noisy range (draws one value for uniform, MOOSWhiteNoise's pattern for gaussian,
  *  nothing for none). */
@@ -178,6 +180,7 @@ typedef struct kelp_field_brs {
     double start;
     bool started;                /**< markers posted, timers drawn (first iterate) */
     unsigned long requests, denied, accepted, reports, bad_mail, unknown;
+    kelp_diag diag; /**< workspace: why the last node report was refused */
 } kelp_field_brs;
 
 /** The seed's defaults (ufield.md 10.1). */
@@ -187,10 +190,10 @@ void kelp_field_brs_cfg_default(kelp_field_brs_cfg *cfg);
  *  and its example's "default beacon_color"), REACH_DISTANCE (node_push_dist),
  *  NODE_PULL_DIST, PING_WAIT, PING_PAYMENTS, REPORT_VARS, GROUND_TRUTH, RN_ALGORITHM,
  *  RN_UNIFORM_PCT, RN_GAUSSIAN_SIGMA, VERBOSE, REPORT_XY, BEACON_ORDER, RAND_MODE,
- *  SEED_RANDOM. @return 1 taken, 2 taken with a warning in *why, 0 not its key, <0 with *why. */
-KELP_MUST_CHECK int kelp_field_brs_config(kelp_field_brs_cfg *cfg, const char *key, const char *val, const char **why);
-/** Build the beacons and start at `now`. @return 0, or <0 with *why (a bad BEACON). */
-KELP_MUST_CHECK int kelp_field_brs_init(kelp_field_brs *b, const kelp_field_brs_cfg *cfg, double now, const char **why);
+ *  SEED_RANDOM. @return 1 taken, 2 taken with the warning KELP_BRS_WARN_QUERY_RANGE, 0 not its key, <0 (reason in d). */
+KELP_MUST_CHECK int kelp_field_brs_config(kelp_field_brs_cfg *cfg, const char *key, const char *val, kelp_diag *d);
+/** Build the beacons and start at `now`. @return@return 0, or <0 (reason in d) (a bad BEACON). */
+KELP_MUST_CHECK int kelp_field_brs_init(kelp_field_brs *b, const kelp_field_brs_cfg *cfg, double now, kelp_diag *d);
 const char *kelp_field_brs_subscription(unsigned i);
 /** NODE_REPORT, NODE_REPORT_LOCAL, BRS_RANGE_REQUEST. @return 1 used, 0 not ours, <0 bad
  *  (a warning through out->warn). */

@@ -156,6 +156,9 @@ typedef struct kelp_cmgr {
         kelp_view view;                     /**< a region parsed as a polygon */
         char str[KELP_CMGR_MAX_TEXT];       /**< a report request's text, a flag's expanded value */
     } ws;
+    kelp_diag diag; /**< workspace: why the last node report was refused (read by bad_report) */
+    kelp_nodereport ws_report; /**< workspace: the node report being read (keeps the stack under 1 KB) */
+    char ws_warn[KELP_CMGR_MAX_FLAG + 128]; /**< workspace: a warning being formatted */
 } kelp_cmgr;
 
 /** Defaults (contactmgr.md 2.1) for ownship `ownship` (the community; its reports are dropped). */

@@ -44,6 +44,7 @@ typedef struct kelp_field_crs {
     kelp_rsense_rand rand;
     double start;
     unsigned long requests, denied, accepted, reports, bad_mail, unknown, too_far;
+    kelp_diag diag; /**< workspace: why the last node report was refused */
 } kelp_field_crs;
 
 void kelp_field_crs_cfg_default(kelp_field_crs_cfg *cfg);
@@ -51,8 +52,8 @@ void kelp_field_crs_cfg_default(kelp_field_crs_cfg *cfg);
  *  pull_distance), PING_WAIT, REPORT_VARS, GROUND_TRUTH, VERBOSE, DISPLAY_PULSES, PING_COLOR,
  *  REPLY_COLOR (echo_color), RN_ALGORITHM, RN_UNIFORM_PCT, RN_GAUSSIAN_SIGMA,
  *  ALLOW_ECHO_TYPES, IGNORE_GROUP, SENSOR_ARC, ECHO_FALLOFF, RAND_MODE, SEED_RANDOM.
- *  @return 1 taken, 0 not its key, <0 with *why. */
-KELP_MUST_CHECK int kelp_field_crs_config(kelp_field_crs_cfg *cfg, const char *key, const char *val, const char **why);
+ *  @return 1 taken, 0 not its key, <0 (reason in d). */
+KELP_MUST_CHECK int kelp_field_crs_config(kelp_field_crs_cfg *cfg, const char *key, const char *val, kelp_diag *d);
 void kelp_field_crs_init(kelp_field_crs *c, const kelp_field_crs_cfg *cfg, double now);
 const char *kelp_field_crs_subscription(unsigned i);
 /** NODE_REPORT, NODE_REPORT_LOCAL, CRS_RANGE_REQUEST. @return 1 used, 0 not ours, <0 bad. */

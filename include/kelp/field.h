@@ -138,9 +138,9 @@ typedef struct kelp_field_nrep {
  *  extrapolation thresholds 0.25 m / 1 degree / 5 s, platform report PLATFORM_REPORT_LOCAL. */
 void kelp_field_nrep_cfg_default(kelp_field_nrep_cfg *cfg, const char *community);
 /** Add a plat_report_input ("VAR, gap=1, alias=A") or a rider ("var=V, policy=always|updated,
- *  rfld=F, prec=3"). @return 0, or <0 with *why. */
-KELP_MUST_CHECK int kelp_field_nrep_add_plat(kelp_field_nrep_cfg *cfg, const char *spec, const char **why);
-KELP_MUST_CHECK int kelp_field_nrep_add_rider(kelp_field_nrep_cfg *cfg, const char *spec, const char **why);
+ *  rfld=F, prec=3"). @return@return 0, or <0 (reason in d). */
+KELP_MUST_CHECK int kelp_field_nrep_add_plat(kelp_field_nrep_cfg *cfg, const char *spec, kelp_diag *d);
+KELP_MUST_CHECK int kelp_field_nrep_add_rider(kelp_field_nrep_cfg *cfg, const char *spec, kelp_diag *d);
 /** CROSS_FILL_POLICY value: literal, fill-empty, use-latest, global, local ('_' for '-' too). */
 KELP_MUST_CHECK int kelp_field_nrep_parse_fill(const char *s, kelp_nrep_fill *out);
 /** Start with cfg at `now`. KELP_ERR_ARG when a text field holds ',' or '=' or the name is empty. */
@@ -373,6 +373,7 @@ typedef struct kelp_field_ncomms {
     unsigned long scanned;                  /**< candidate receivers examined (bench) */
     unsigned long pulses;
     uint16_t ws_idx[KELP_NCOMMS_MAX_NODES]; /**< workspace of the report (the names in order) */
+    kelp_diag diag;                         /**< workspace: why the last mail was refused */
 } kelp_field_ncomms;
 
 /** Defaults of the seed and 24.8 (comms 100, critical 30, stale 5, message interval 30,
@@ -383,9 +384,9 @@ void kelp_field_ncomms_cfg_default(kelp_field_ncomms_cfg *cfg);
  *  MIN_RPT_INTERVAL, MAX_MSG_LENGTH, STEALTH, EARANGE ("vname=alpha, stealth=0.8"; repeat),
  *  GROUPS, MSG_GROUPS, VERBOSE, DEBUG, VIEW_NODE_RPT_PULSES, PULSE_DURATION,
  *  DROP_PERCENTAGE, SHARED_NODE_REPORTS (true, false or seconds), MSG_COLOR,
- *  MSG_REPEAT_COLOR. @return 1 taken, 0 not its key, <0 with *why. */
+ *  MSG_REPEAT_COLOR. @return 1 taken, 0 not its key, <0 (reason in d). */
 KELP_MUST_CHECK int kelp_field_ncomms_config(kelp_field_ncomms_cfg *cfg, const char *key, const char *val,
-                                             const char **why);
+                                             kelp_diag *d);
 /** Start with cfg (copied). @return 0 or KELP_ERR_NOSPACE (more STEALTH/EARANGE vehicles
  *  than KELP_NCOMMS_MAX_NODES). */
 KELP_MUST_CHECK int kelp_field_ncomms_init(kelp_field_ncomms *c, const kelp_field_ncomms_cfg *cfg);
@@ -433,8 +434,8 @@ typedef struct kelp_node_message {
  *  var_name are required, exactly one of string_val / double_val, a double_val that is a
  *  finite number, and a var_name that is a MOOS name (1..KELP_MAX_NAME-1 printable
  *  characters, no space, ',', '=' or '"'; not NODE_MESSAGE, which would loop).
- *  @param[out] m spans into s. @return 0, or KELP_ERR_PARSE with *why (a short reason). */
-KELP_MUST_CHECK int kelp_field_nodemsg_parse(const char *s, size_t len, kelp_node_message *m, const char **why);
+ *  @param[out] m spans into s. @return 0, or KELP_ERR_PARSE (a short reason in d). */
+KELP_MUST_CHECK int kelp_field_nodemsg_parse(const char *s, size_t len, kelp_node_message *m, kelp_diag *d);
 /** Is `me` (case-insensitive) one of the colon-separated names of the message's dest_node? */
 bool kelp_field_nodemsg_to(const kelp_node_message *m, const char *me);
 
@@ -444,6 +445,7 @@ bool kelp_field_nodemsg_to(const kelp_node_message *m, const char *me);
 #define KELP_UMH_FLAG_LEN 128     /**< bytes of a flag's value, with NUL */
 #define KELP_UMH_MAX_SOURCES 32   /**< source nodes in the per-source table (least recent reused) */
 #define KELP_UMH_LAST 5           /**< messages kept in each "last few" list */
+#define KELP_UMH_WHY_LEN 48       /**< bytes of a kept reason (a copy of the diag's text) */
 #define KELP_UMH_MSG_LEN 256      /**< bytes kept of a listed message, with NUL */
 #define KELP_UMH_VAL_LEN 64       /**< bytes kept of a source's last value, with NUL */
 
@@ -480,7 +482,7 @@ typedef struct kelp_umh_source {
 /** The last few messages of one kind, oldest first from `first`. */
 typedef struct kelp_umh_list {
     char msg[KELP_UMH_LAST][KELP_UMH_MSG_LEN];
-    const char *why[KELP_UMH_LAST]; /**< reason (invalid and rejected lists) */
+    char why[KELP_UMH_LAST][KELP_UMH_WHY_LEN]; /**< reason (invalid and rejected lists; "" none) */
     unsigned n, first;
 } kelp_umh_list;
 
@@ -496,14 +498,15 @@ typedef struct kelp_field_umh {
     bool summary_due;
     double last_summary;
     char post[KELP_MAX_SVAL + 1];            /**< the string value being posted */
+    kelp_diag diag;                          /**< workspace: why the last NODE_MESSAGE was invalid */
 } kelp_field_umh;
 
 /** Defaults: verbose, not strict, aux_info node, trunc 75, summary every 1 s at most. */
 void kelp_field_umh_cfg_default(kelp_field_umh_cfg *c, const char *community);
 /** One block parameter: VERBOSE, STRICT_ADDRESSING, AUX_INFO (node | node+app),
  *  APPCAST_TRUNC_MSG (>= 0), MSG_FLAG, BAD_MSG_FLAG ("VAR=value").
- *  @return 1 taken, 0 not ours, <0 with *why. */
-KELP_MUST_CHECK int kelp_field_umh_config(kelp_field_umh_cfg *c, const char *key, const char *val, const char **why);
+ *  @return 1 taken, 0 not ours, <0 (reason in d). */
+KELP_MUST_CHECK int kelp_field_umh_config(kelp_field_umh_cfg *c, const char *key, const char *val, kelp_diag *d);
 void kelp_field_umh_init(kelp_field_umh *h, const kelp_field_umh_cfg *cfg);
 /** NODE_MESSAGE (other variables: 0). Valid and addressed to us (ufield.md 6.4): the
  *  variable is posted (a string or a double), then the MSG_FLAGs. Invalid or rejected: counted
@@ -571,8 +574,8 @@ typedef struct kelp_field_ufs {
 } kelp_field_ufs;
 
 /** One block parameter: SCOPE (repeatable) or LAYOUT (repeatable, resolved at init).
- *  @return 1 taken, 0 not ours, <0 with *why. */
-KELP_MUST_CHECK int kelp_field_ufs_config(kelp_field_ufs_cfg *c, const char *key, const char *val, const char **why);
+ *  @return 1 taken, 0 not ours, <0 (reason in d). */
+KELP_MUST_CHECK int kelp_field_ufs_config(kelp_field_ufs_cfg *c, const char *key, const char *val, kelp_diag *d);
 /** Resolve keys and layouts; start streaming the all-columns view (A). */
 void kelp_field_ufs_init(kelp_field_ufs *s, const kelp_field_ufs_cfg *cfg);
 /** The distinct SCOPE variables to subscribe to, one per call (i from 0) until NULL. */
@@ -604,6 +607,7 @@ size_t kelp_field_ufs_render(kelp_field_ufs *s, char *buf, size_t cap);
 #define KELP_BROKER_MAX_NODES 64    /**< vehicles one shore broker tracks */
 #define KELP_BROKER_MAX_VNODES 16   /**< try_vnode routes (shore) */
 #define KELP_BROKER_LINE 128        /**< an invalid TRY_SHORE_HOST line kept for the report */
+#define KELP_BROKER_WHY 64          /**< bytes of the reason kept with it */
 #define KELP_BROKER_MSG 512         /**< one PMB_REGISTER / ping / ack value */
 #define KELP_BROKER_STALE 10.0      /**< s without a ping before a vehicle is stale (shore) */
 
@@ -624,8 +628,8 @@ typedef struct kelp_broker_host {
 } kelp_broker_host;
 
 /** Parse a host record. @return 0; KELP_ERR_PARSE (not key=value pairs, a bad number or
- *  port) or KELP_ERR_RANGE (a value too long) with *why. Completeness is separate. */
-KELP_MUST_CHECK int kelp_broker_host_parse(const char *s, kelp_broker_host *h, const char **why);
+ *  port) or KELP_ERR_RANGE (a value too long), the reason in d. Completeness is separate. */
+KELP_MUST_CHECK int kelp_broker_host_parse(const char *s, kelp_broker_host *h, kelp_diag *d);
 /** Complete: community, host and port_udp (what a node broker needs to reach the shore). */
 bool kelp_broker_host_complete(const kelp_broker_host *h);
 
@@ -642,17 +646,17 @@ typedef struct kelp_broker_try {
 
 /** Parse one TRY_SHORE_HOST: "host_ip=H, port_udp=P[, community=C]" (hostip too) or 24.8's
  *  "pshare_route=H:P". A multicast_N route is KELP_ERR_UNSUPPORTED (kelp-bridge is unicast);
- *  anything else missing or malformed KELP_ERR_PARSE; *why says which. */
-KELP_MUST_CHECK int kelp_broker_try_parse(const char *s, kelp_broker_try *t, const char **why);
+ *  anything else missing or malformed KELP_ERR_PARSE; d says which. */
+KELP_MUST_CHECK int kelp_broker_try_parse(const char *s, kelp_broker_try *t, kelp_diag *d);
 /** Parse one BRIDGE: "src=V[, alias=A]" (alias defaults to src). */
-KELP_MUST_CHECK int kelp_broker_bridge_parse(const char *s, kelp_broker_bridge *b, const char **why);
+KELP_MUST_CHECK int kelp_broker_bridge_parse(const char *s, kelp_broker_bridge *b, kelp_diag *d);
 
 typedef struct kelp_field_nbroker_cfg {
     char keyword[KELP_MAX_NAME];              /**< KEYWORD ("" none) */
     kelp_broker_try tryh[KELP_BROKER_MAX_TRY];/**< valid TRY_SHORE_HOSTs, config order */
     unsigned ntry;
     char bad_try[KELP_BROKER_MAX_TRY][KELP_BROKER_LINE]; /**< invalid lines, as written */
-    const char *bad_why[KELP_BROKER_MAX_TRY];  /**< why each is invalid (static text) */
+    char bad_why[KELP_BROKER_MAX_TRY][KELP_BROKER_WHY]; /**< why each is invalid (the diag's text) */
     bool bad_multicast[KELP_BROKER_MAX_TRY];   /**< a 24.8 multicast route: valid there, not here */
     unsigned nbad_try;
     kelp_broker_bridge bridge[KELP_BROKER_MAX_BRIDGES]; /**< BRIDGE, config order */
@@ -661,6 +665,7 @@ typedef struct kelp_field_nbroker_cfg {
     double retry;                              /**< RETRY_INTERVAL: s without an ack before the ping
                                                     registrations are posted again (10) */
     bool auto_realmcast, auto_appcast, auto_pshare_vars; /**< 24.8 AUTO_BRIDGE_* (false) */
+    kelp_diag ws_diag;                         /**< workspace: why a try host or an ack was refused */
 } kelp_field_nbroker_cfg;
 
 typedef struct kelp_field_nbroker {
@@ -682,9 +687,9 @@ typedef struct kelp_field_nbroker {
 void kelp_field_nbroker_cfg_default(kelp_field_nbroker_cfg *cfg);
 /** One block parameter: KEYWORD, TRY_SHORE_HOST (an invalid one is kept for the report and
  *  is still taken), BRIDGE, RETRY_INTERVAL, AUTO_BRIDGE_REALMCAST, AUTO_BRIDGE_APPCAST,
- *  AUTO_BRIDGE_PSHARE_VARS. @return 1 taken, 0 not its key, <0 with *why. */
+ *  AUTO_BRIDGE_PSHARE_VARS. @return 1 taken, 0 not its key, <0 (reason in d). */
 KELP_MUST_CHECK int kelp_field_nbroker_config(kelp_field_nbroker_cfg *cfg, const char *key, const char *val,
-                                              const char **why);
+                                              kelp_diag *d);
 /** Start: the AUTO_BRIDGE_* bridges are appended to the BRIDGE list. */
 void kelp_field_nbroker_init(kelp_field_nbroker *b, const kelp_field_nbroker_cfg *cfg);
 /** PHI_HOST_INFO, NODE_BROKER_ACK, TRY_SHORE_HOST, then NULL. */
@@ -755,9 +760,9 @@ void kelp_field_sbroker_cfg_default(kelp_field_sbroker_cfg *cfg);
  *  X_$V->X each), KEYWORD, TRY_VNODE ("[route=]ip[:port]", port 9200), WARNING_ON_STALE,
  *  AUTO_BRIDGE_REALMCAST (QBRIDGE REALMCAST_REQ), AUTO_BRIDGE_APPCAST (QBRIDGE APPCAST_REQ),
  *  AUTO_BRIDGE_MHASH (BRIDGE src=MISSION_HASH). A bridge already listed is not added twice.
- *  @return 1 taken, 0 not its key, <0 with *why. */
+ *  @return 1 taken, 0 not its key, <0 (reason in d). */
 KELP_MUST_CHECK int kelp_field_sbroker_config(kelp_field_sbroker_cfg *cfg, const char *key, const char *val,
-                                              const char **why);
+                                              kelp_diag *d);
 void kelp_field_sbroker_init(kelp_field_sbroker *s, const kelp_field_sbroker_cfg *cfg);
 /** PHI_HOST_INFO, NODE_BROKER_PING, then NULL. */
 const char *kelp_field_sbroker_subscription(unsigned i);

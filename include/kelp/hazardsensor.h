@@ -153,6 +153,7 @@ typedef struct kelp_field_uhz {
     char trace[KELP_UHZ_TRACE_LEN];     /**< the one-character trace since the last report */
     size_t ntrace;
     char ws[KELP_UHZ_MAX_SETTINGS * 64];   /**< workspace of one call (keeps the stack under 1 KB) */
+    kelp_nodereport ws_report;             /**< workspace: the node report being read */
 } kelp_field_uhz;
 
 /** Defaults of the seed (section 9.1, with ufield.md 14's choices). */
@@ -163,15 +164,15 @@ void kelp_field_uhz_cfg_default(kelp_field_uhz_cfg *cfg);
  *  SEED_RANDOM, RANDOM_SEED, VERBOSE, MIN_RESET_INTERVAL, MIN_CLASSIFY_INTERVAL
  *  (CLASSIFY_PERIOD), SENSOR_CONFIG, HAZARD. Not HAZARD_FILE: the app reads the file and
  *  gives each line to kelp_field_uhz_hazard_line. A value may end in "// comment" or
- *  "(default)". @return 1 taken, 0 not its key, <0 with *why. */
+ *  "(default)". @return 1 taken, 0 not its key, <0 (reason in d). */
 KELP_MUST_CHECK int kelp_field_uhz_config(kelp_field_uhz_cfg *cfg, const char *key, const char *val,
-                                          const char **why);
+                                          kelp_diag *d);
 /** One line of a hazard file: "hazard = x=..,y=..,type=.." or "x=..,y=..,type=..".
- *  @return 1 object added, 0 a blank/comment line or another key (skipped), <0 with *why
+ *  @return 1 object added, 0 a blank/comment line or another key (skipped), <0 (reason in d)
  *  (missing x, y or type, a bad number, a duplicate label, KELP_ERR_NOSPACE when full). */
-KELP_MUST_CHECK int kelp_field_uhz_hazard_line(kelp_field_uhz_cfg *cfg, const char *line, const char **why);
-/** One "width=..,exp=..,pclass=..[,max=..]" setting. @return 0 or <0 with *why. */
-KELP_MUST_CHECK int kelp_field_uhz_add_setting(kelp_field_uhz_cfg *cfg, const char *spec, const char **why);
+KELP_MUST_CHECK int kelp_field_uhz_hazard_line(kelp_field_uhz_cfg *cfg, const char *line, kelp_diag *d);
+/** One "width=..,exp=..,pclass=..[,max=..]" setting. @return 0 or <0 (reason in d). */
+KELP_MUST_CHECK int kelp_field_uhz_add_setting(kelp_field_uhz_cfg *cfg, const char *spec, kelp_diag *d);
 /** Start with cfg (copied; settings sorted by width). @return 0. */
 KELP_MUST_CHECK int kelp_field_uhz_init(kelp_field_uhz *h, const kelp_field_uhz_cfg *cfg);
 /** The variables to subscribe to, one per call (i from 0) until NULL. */

@@ -69,8 +69,8 @@ void kelp_m2s_cfg_default(kelp_m2s_cfg *c);
 /** One ProcessConfig parameter: DATABASE, KML_FILE, KML_LINK_FILE, KML_PERIOD (> 0),
  *  COMMIT_PERIOD (in (0, 0.5]), STATUS_VAR, CONTACT_VAR, TRACK_VAR (repeatable; comma lists
  *  too; a variable names one kind only, the last word wins).
- *  @return 1 taken, 0 not ours, <0 with *why. */
-KELP_MUST_CHECK int kelp_m2s_config(kelp_m2s_cfg *c, const char *key, const char *val, const char **why);
+ *  @return 1 taken, 0 not ours, <0 (reason in d). */
+KELP_MUST_CHECK int kelp_m2s_config(kelp_m2s_cfg *c, const char *key, const char *val, kelp_diag *d);
 
 /** The kind recorded for a variable (exact name). */
 kelp_m2s_kind kelp_m2s_kind_of(const kelp_m2s_cfg *c, const char *var);
@@ -93,10 +93,10 @@ typedef struct kelp_m2s_record {
 /** Classify one posting. sval/slen is the text of a string posting (a NUL at sval[slen] and
  *  none before, as in kelp_var), dval the value of a number posting (is_string false).
  *  @return 1 (out filled), 0 (not a recorded variable), KELP_ERR_PARSE / KELP_ERR_RANGE
- *  (a recorded variable whose value cannot be read: *why says why; not recorded). */
+ *  (a recorded variable whose value cannot be read: d says why; not recorded). */
 KELP_MUST_CHECK int kelp_m2s_classify(const kelp_m2s_cfg *c, const char *var, const char *community, double time,
                                       bool is_string, const char *sval, size_t slen, double dval, kelp_m2s_record *out,
-                                      const char **why);
+                                      kelp_diag *d);
 
 /* ------------------------------------------------------------------ the fleet and KML */
 

@@ -87,10 +87,10 @@ void kelp_nodereport_init(kelp_nodereport *r);
  *  cap > 0. */
 KELP_MUST_CHECK int kelp_nodereport_format(const kelp_nodereport *r, char *buf, size_t cap, size_t *len);
 
-/** Parse a report. @param why (may be NULL) a constant reason on failure.
+/** Parse a report. @param d (may be NULL) the reason on failure (first error wins).
  *  @return 0; KELP_ERR_PARSE (pair without '=', bad number, unbalanced quote/brace, no NAME,
  *  no position); KELP_ERR_RANGE (a text field longer than KELP_NODEREPORT_MAX_FIELD - 1). */
-KELP_MUST_CHECK int kelp_nodereport_parse(const char *s, size_t len, kelp_nodereport *out, const char **why);
+KELP_MUST_CHECK int kelp_nodereport_parse(const char *s, size_t len, kelp_nodereport *out, kelp_diag *d);
 
 /** Fill X/Y from LAT/LON with the datum when X/Y are absent (and LAT/LON from X/Y when those
  *  are absent). @return 0, KELP_ERR_RANGE if the conversion fails. */
@@ -153,9 +153,9 @@ const char *kelp_view_var(kelp_view_kind kind);
 /** Parse one posting. Required: POINT, CIRCLE, MARKER, RANGE_PULSE an x and y (CIRCLE also a
  *  radius > 0); COMMS_PULSE sx, sy, tx, ty; POLYGON and SEGLIST at least one vertex unless
  *  the posting is an erase (active=false).
- *  @return 0; KELP_ERR_PARSE (with *why); KELP_ERR_RANGE (text too long); KELP_ERR_NOSPACE
+ *  @return 0; KELP_ERR_PARSE (reason in d); KELP_ERR_RANGE (text too long); KELP_ERR_NOSPACE
  *  (more than KELP_VIEW_MAX_PTS vertices). */
-KELP_MUST_CHECK int kelp_view_parse(kelp_view_kind kind, const char *s, size_t len, kelp_view *out, const char **why);
+KELP_MUST_CHECK int kelp_view_parse(kelp_view_kind kind, const char *s, size_t len, kelp_view *out, kelp_diag *d);
 
 #ifdef __cplusplus
 }

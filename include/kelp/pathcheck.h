@@ -62,8 +62,8 @@ typedef struct kelp_field_upc {
 
 void kelp_field_upc_cfg_default(kelp_field_upc_cfg *cfg);
 /** One block parameter: HISTORY or HISTORY_LENGTH (an integer 2..KELP_UPC_MAX_HISTORY).
- *  @return 1 taken, 0 not its key, <0 with *why. */
-KELP_MUST_CHECK int kelp_field_upc_config(kelp_field_upc_cfg *cfg, const char *key, const char *val, const char **why);
+ *  @return 1 taken, 0 not its key, <0 (reason in d). */
+KELP_MUST_CHECK int kelp_field_upc_config(kelp_field_upc_cfg *cfg, const char *key, const char *val, kelp_diag *d);
 /** Start empty with cfg (copied). @return 0 or KELP_ERR_ARG (history out of range). */
 KELP_MUST_CHECK int kelp_field_upc_init(kelp_field_upc *p, const kelp_field_upc_cfg *cfg);
 /** The variables to subscribe to, one per call (i from 0) until NULL. */

@@ -88,8 +88,8 @@ void kelp_marine_pid_cfg_default(kelp_marine_pid_cfg *c);
  *  PITCH_PID_ + KP/KD/KI/INTEGRAL_LIMIT/KI_LIMIT, MAXRUDDER, MAXTHRUST, MAXPITCH,
  *  MAXELEVATOR, SPEED_FACTOR, TARDY_HELM_THRESHOLD, TARDY_NAV_THRESHOLD, SIM_INSTABILITY,
  *  DEPTH_CONTROL, ACTIVE_START, IGNORE_NAV_YAW, OUTPUT_SUFFIX.
- *  @return 1 taken, 0 not a PID key, <0 with *why. */
-KELP_MUST_CHECK int kelp_marine_pid_cfg_set(kelp_marine_pid_cfg *c, const char *key, const char *val, const char **why);
+ *  @return 1 taken, 0 not a PID key, <0 (reason in d). */
+KELP_MUST_CHECK int kelp_marine_pid_cfg_set(kelp_marine_pid_cfg *c, const char *key, const char *val, kelp_diag *d);
 /** @return 0, KELP_ERR_ARG for a negative or non-finite limit or threshold. */
 KELP_MUST_CHECK int kelp_marine_pid_init(kelp_marine_pid *m, const kelp_marine_pid_cfg *cfg, double now);
 /** Mail: DESIRED_HEADING/SPEED/DEPTH, NAV_HEADING/YAW/SPEED/DEPTH/PITCH, SPEED_FACTOR,

@@ -117,9 +117,9 @@ double kelp_sim_thrust_speed(const kelp_sim_params *p, double thrust);
  *  START_POS, START_X/Y/HEADING/SPEED/DEPTH (into *st when st), TURN_RATE, TURN_SPEED,
  *  MAX_ACCELERATION, MAX_DECELERATION, MAX_DEPTH_RATE, MAX_DEPTH_RATE_SPEED, MAX_SPEED,
  *  SIM_STEP, THRUST_FACTOR, THRUST_MAP, TURN_SPD_LOSS, BUOYANCY_RATE, DRIFT_X, DRIFT_Y,
- *  DRIFT_VECTOR, ROTATE_SPEED, CONTROL. @return 1 taken, 0 not a simulator key, <0 with *why. */
+ *  DRIFT_VECTOR, ROTATE_SPEED, CONTROL. @return 1 taken, 0 not a simulator key, <0 (reason in d). */
 KELP_MUST_CHECK int kelp_sim_config_set(kelp_sim_params *p, kelp_sim_state *st, const char *key, const char *val,
-                                        const char **why);
+                                        kelp_diag *d);
 
 /** Advance to `now`. @return 0; KELP_ERR_RANGE if `now` is before the last step (state
  *  unchanged) or more than KELP_SIM_MAX_SUBSTEPS sub-steps away; KELP_ERR_ARG if not
@@ -166,8 +166,8 @@ typedef struct kelp_usim {
 void kelp_usim_defaults(kelp_usim *u, struct kelp_marine_pid *pid, struct kelp_marine_pid_cfg *pid_cfg);
 /** One block key (the simulator's, the embedded PID's, PREFIX, SIM_PAUSE,
  *  POST_NAVPOS_SUMMARY, POST_DES_RUDDER, POST_DES_THRUST). START_POS should come before
- *  START_X etc. @return 1 taken, 0 not ours, <0 with *why. */
-KELP_MUST_CHECK int kelp_usim_config(kelp_usim *u, const char *key, const char *val, const char **why);
+ *  START_X etc. @return 1 taken, 0 not ours, <0 (reason in d). */
+KELP_MUST_CHECK int kelp_usim_config(kelp_usim *u, const char *key, const char *val, kelp_diag *d);
 /** Start at `now` (geo may be NULL). @return 0 or KELP_ERR_ARG. */
 KELP_MUST_CHECK int kelp_usim_start(kelp_usim *u, const kelp_geo *geo, double now);
 /** The variables to register, one per call until NULL. */

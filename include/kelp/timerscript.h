@@ -112,13 +112,13 @@ typedef struct kelp_ts_cfg {
 void kelp_ts_cfg_default(kelp_ts_cfg *c, const char *app_name, const char *community);
 
 /** One configuration line. @return 1 taken, 0 not a uTimerScript parameter, <0 (KELP_ERR_PARSE,
- *  KELP_ERR_NOSPACE) with *why when the value is bad. */
-KELP_MUST_CHECK int kelp_ts_cfg_set(kelp_ts_cfg *c, const char *key, const char *val, const char **why);
+ *  KELP_ERR_NOSPACE) with the reason in d when the value is bad. */
+KELP_MUST_CHECK int kelp_ts_cfg_set(kelp_ts_cfg *c, const char *key, const char *val, kelp_diag *d);
 /** The event parser alone (`var=..., val=..., time=..., amt=..., quit`): appends amt events. */
-KELP_MUST_CHECK int kelp_ts_cfg_add_event(kelp_ts_cfg *c, const char *spec, const char **why);
+KELP_MUST_CHECK int kelp_ts_cfg_add_event(kelp_ts_cfg *c, const char *spec, kelp_diag *d);
 /** The random-variable parser alone (`varname=X, min=0, max=1, key=at_post[, type=gaussian,
  *  mu=.., sigma=..][, snap=..]`). */
-KELP_MUST_CHECK int kelp_ts_cfg_add_randvar(kelp_ts_cfg *c, const char *spec, const char **why);
+KELP_MUST_CHECK int kelp_ts_cfg_add_randvar(kelp_ts_cfg *c, const char *spec, kelp_diag *d);
 
 typedef struct kelp_ts_logline {
     unsigned long total;

@@ -150,8 +150,8 @@ KELP_MUST_CHECK int kelp_viewer_set_image(kelp_viewer *v, const char *url, doubl
 
 /** One mission parameter: stale_report_thresh, stale_remove_thresh, trails_length,
  *  button_one..button_twenty (button_1..button_20), action, action+ (case-insensitive keys).
- *  @return 1 taken, 0 not a viewer key, <0 with *why. */
-KELP_MUST_CHECK int kelp_viewer_config(kelp_viewer *v, const char *key, const char *val, const char **why);
+ *  @return 1 taken, 0 not a viewer key, <0 (reason in d). */
+KELP_MUST_CHECK int kelp_viewer_config(kelp_viewer *v, const char *key, const char *val, kelp_diag *d);
 
 /** Parse one "VAR=value" poke (trimmed; a number if the value parses as one, a quoted value
  *  stays a string without its quotes). @return 0 or KELP_ERR_PARSE / KELP_ERR_RANGE. */

@@ -15,6 +15,7 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <kelp/err.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -91,7 +92,7 @@ typedef struct kelp_xms {
     unsigned long frames, dropped;  /**< frames drawn; variables not added (table full) */
     /* workspace of one call (keeps the stack under 1 KB) */
     kelp_xms_entry ws_entry;        /**< mail: the entry as it becomes */
-    char ws_val[KELP_XMS_VAL], ws_cell[KELP_XMS_VAL + 8], ws_piece[KELP_XMS_VAL];
+    char ws_val[KELP_XMS_VAL], ws_cell[KELP_XMS_VAL + 24], ws_piece[KELP_XMS_VAL];
 } kelp_xms;
 
 /** Defaults as uXMS: no source/time/community columns, virgins shown, events refresh,
@@ -99,17 +100,21 @@ typedef struct kelp_xms {
 void kelp_xms_init(kelp_xms *x);
 /** One ProcessConfig parameter (VAR, HISTORY_VAR, SOURCE, DISPLAY_*, PAUSED, REFRESH_MODE,
  *  CONTENT_MODE, TRUNC_DATA, WRAP_DATA, WRAP_DATA_LEN, COLOR_MAP, TERM_REPORT_INTERVAL):
- *  1 taken, 0 not an xms parameter, <0 bad value (*why). */
-int kelp_xms_config(kelp_xms *x, const char *key, const char *val, const char **why);
+ *  1 taken, 0 not an xms parameter, KELP_ERR_PARSE bad value (reason in d). */
+KELP_MUST_CHECK int kelp_xms_config(kelp_xms *x, const char *key, const char *val, kelp_diag *d);
 /** Add a variable to the scope list (history: also the history variable, if none yet).
- *  Names containing "uXMS" or white space are refused (0); 1 added or present; <0 table full. */
+ *  Names containing "uXMS" or white space are refused (0); 1 added or present; KELP_ERR_NOSPACE table full. */
 int kelp_xms_add_var(kelp_xms *x, const char *name, bool history);
-/** Add a comma-separated list of variables. @return 0, or <0 when one was refused. */
-int kelp_xms_add_vars(kelp_xms *x, const char *list);
-/** Add sources (comma-separated): their <SRC>_STATUS Publishing lists join the scope list. */
-int kelp_xms_add_sources(kelp_xms *x, const char *list);
-int kelp_xms_set_refresh(kelp_xms *x, const char *mode);
-int kelp_xms_set_content(kelp_xms *x, const char *mode, bool toggle);
+/** Add a comma-separated list of variables. @return 0, or KELP_ERR_PARSE / KELP_ERR_RANGE when
+ *  one was refused or too long (the others are added). */
+KELP_MUST_CHECK int kelp_xms_add_vars(kelp_xms *x, const char *list);
+/** Add sources (comma-separated): their <SRC>_STATUS Publishing lists join the scope list.
+ *  @return 0, or <0 (KELP_ERR_PARSE, KELP_ERR_NOSPACE) when one was refused. */
+KELP_MUST_CHECK int kelp_xms_add_sources(kelp_xms *x, const char *list);
+/** REFRESH_MODE events, paused or streaming. @return 0 or KELP_ERR_PARSE. */
+KELP_MUST_CHECK int kelp_xms_set_refresh(kelp_xms *x, const char *mode);
+/** CONTENT_MODE scoping, history, procs or help (toggle: again goes back). @return 0 or KELP_ERR_PARSE. */
+KELP_MUST_CHECK int kelp_xms_set_content(kelp_xms *x, const char *mode, bool toggle);
 /** --show=source,time,community */
 void kelp_xms_set_columns(kelp_xms *x, const char *list);
 /** --filter=PREFIX (also turns on display-all, as uXMS) */

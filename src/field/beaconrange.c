@@ -76,56 +76,55 @@ static int put_text(char *dst, size_t cap, const char *v, size_t n)
 /* one beacon property (BEACON pairs and DEFAULT_BEACON_*). @return 1 taken, 2 taken with a
  * warning, 0 unknown key, <0 bad value */
 static int beacon_prop(kelp_brs_beacon *b, const char *k, size_t kl, const char *v, size_t vl, bool *have_xy,
-                       const char **why)
+                       kelp_diag *d)
 {
-    double d;
+    double dv;
     if (kelp_strieq_n(k, kl, "x") || kelp_strieq_n(k, kl, "y")) {
-        if (kelp_parse_double(v, vl, &d) < 0 || !isfinite(d)) return *why = "x and y must be numbers", KELP_ERR_PARSE;
-        if (*k == 'x' || *k == 'X') b->x = d, have_xy[0] = true;
-        else b->y = d, have_xy[1] = true;
+        if (kelp_parse_double(v, vl, &dv) < 0 || !isfinite(dv)) return kelp_fail(d, KELP_ERR_PARSE, "x and y must be numbers");
+        if (*k == 'x' || *k == 'X') b->x = dv, have_xy[0] = true;
+        else b->y = dv, have_xy[1] = true;
         return 1;
     }
     if (kelp_strieq_n(k, kl, "freq")) {
         if (parse_freq(v, vl, &b->freq_lo, &b->freq_hi) < 0)
-            return *why = "freq must be never, <secs> or <a>:<b> with 0 <= a <= b", KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "freq must be never, <secs> or <a>:<b> with 0 <= a <= b");
         b->freq_set = true;
         return 1;
     }
     if (kelp_strieq_n(k, kl, "report_range") || kelp_strieq_n(k, kl, "push_dist")) {
-        if (parse_dist(v, vl, &b->push) < 0) return *why = "report_range must be a number or nolimit", KELP_ERR_PARSE;
+        if (parse_dist(v, vl, &b->push) < 0) return kelp_fail(d, KELP_ERR_PARSE, "report_range must be a number or nolimit");
         return 1;
     }
     if (kelp_strieq_n(k, kl, "pull_dist")) {
-        if (parse_dist(v, vl, &b->pull) < 0) return *why = "pull_dist must be a number or nolimit", KELP_ERR_PARSE;
+        if (parse_dist(v, vl, &b->pull) < 0) return kelp_fail(d, KELP_ERR_PARSE, "pull_dist must be a number or nolimit");
         return 1;
     }
     if (kelp_strieq_n(k, kl, "width")) {
-        if (kelp_parse_double(v, vl, &d) < 0 || !isfinite(d) || d < 0)
-            return *why = "width must be a number >= 0", KELP_ERR_PARSE;
-        b->width = d;
+        if (kelp_parse_double(v, vl, &dv) < 0 || !isfinite(dv) || dv < 0)
+            return kelp_fail(d, KELP_ERR_PARSE, "width must be a number >= 0");
+        b->width = dv;
         return 1;
     }
     if (kelp_strieq_n(k, kl, "label")) {
-        if (put_text(b->label, sizeof b->label, v, vl) < 0) return *why = "bad label", KELP_ERR_PARSE;
+        if (put_text(b->label, sizeof b->label, v, vl) < 0) return kelp_fail(d, KELP_ERR_PARSE, "bad label");
         return 1;
     }
     if (kelp_strieq_n(k, kl, "color")) {
-        if (put_text(b->color, sizeof b->color, v, vl) < 0) return *why = "bad color", KELP_ERR_PARSE;
+        if (put_text(b->color, sizeof b->color, v, vl) < 0) return kelp_fail(d, KELP_ERR_PARSE, "bad color");
         return 1;
     }
     if (kelp_strieq_n(k, kl, "shape") || kelp_strieq_n(k, kl, "type")) {
-        if (put_text(b->shape, sizeof b->shape, v, vl) < 0) return *why = "bad shape", KELP_ERR_PARSE;
+        if (put_text(b->shape, sizeof b->shape, v, vl) < 0) return kelp_fail(d, KELP_ERR_PARSE, "bad shape");
         return 1;
     }
     if (kelp_strieq_n(k, kl, "query_range")) { /* A52: listed, never described */
-        *why = "query_range is not used (report_range is): ignored";
-        return 2;
+        return 2; /* A52: the caller warns KELP_BRS_WARN_QUERY_RANGE */
     }
     return 0;
 }
 
 /* parse a BEACON line onto b (a copy of the defaults). @return 1, 2 (warning), <0 */
-static int parse_beacon(kelp_brs_beacon *b, const char *s, const char **why)
+static int parse_beacon(kelp_brs_beacon *b, const char *s, kelp_diag *d)
 {
     size_t pos = 0;
     const char *k, *v;
@@ -135,29 +134,29 @@ static int parse_beacon(kelp_brs_beacon *b, const char *s, const char **why)
     b->label[0] = 0;
     b->freq_set = false;
     while ((rc = kelp_kv_next(s, ',', &pos, &k, &kl, &v, &vl)) == 1) {
-        int r = beacon_prop(b, k, kl, v, vl, have_xy, why);
+        int r = beacon_prop(b, k, kl, v, vl, have_xy, d);
         if (r < 0) return r;
-        if (r == 0) return *why = "unknown beacon property (x, y, label, freq, shape, width, color, report_range, "
-                                  "push_dist, pull_dist)", KELP_ERR_PARSE;
+        if (r == 0) return kelp_fail(d, KELP_ERR_PARSE, "unknown beacon property (x, y, label, freq, shape, width, color, report_range, "
+                                  "push_dist, pull_dist)");
         if (r == 2) res = 2;
     }
-    if (rc < 0) return *why = "expected key=value pairs", KELP_ERR_PARSE;
-    if (!have_xy[0] || !have_xy[1]) return *why = "a beacon needs x and y", KELP_ERR_PARSE;
+    if (rc < 0) return kelp_fail(d, KELP_ERR_PARSE, "expected key=value pairs");
+    if (!have_xy[0] || !have_xy[1]) return kelp_fail(d, KELP_ERR_PARSE, "a beacon needs x and y");
     return res;
 }
 
-int kelp_field_brs_config(kelp_field_brs_cfg *cfg, const char *key, const char *val, const char **why)
+int kelp_field_brs_config(kelp_field_brs_cfg *cfg, const char *key, const char *val, kelp_diag *d)
 {
     char v[KELP_BRS_SPEC_LEN];
-    int nv = rs_value(val, v, sizeof v, why);
+    int nv = rs_value(val, v, sizeof v, d);
     if (nv < 0) return nv;
     size_t n = (size_t)nv, kl = strlen(key);
     bool have_xy[2];
     if (kelp_strieq_n(key, kl, "BEACON")) {
         kelp_brs_beacon t = cfg->dflt;
-        int rc = parse_beacon(&t, v, why);
+        int rc = parse_beacon(&t, v, d);
         if (rc < 0) return rc;
-        if (cfg->nspec >= KELP_BRS_MAX_BEACONS) return *why = "too many BEACON lines", KELP_ERR_NOSPACE;
+        if (cfg->nspec >= KELP_BRS_MAX_BEACONS) return kelp_fail(d, KELP_ERR_NOSPACE, "too many BEACON lines");
         memcpy(cfg->spec[cfg->nspec++], v, n + 1);
         return rc;
     }
@@ -170,30 +169,30 @@ int kelp_field_brs_config(kelp_field_brs_cfg *cfg, const char *key, const char *
     };
     for (size_t i = 0; i < sizeof dflt_keys / sizeof dflt_keys[0]; i++)
         if (kelp_strieq_n(key, kl, dflt_keys[i][0])) {
-            int rc = beacon_prop(&cfg->dflt, dflt_keys[i][1], strlen(dflt_keys[i][1]), v, n, have_xy, why);
+            int rc = beacon_prop(&cfg->dflt, dflt_keys[i][1], strlen(dflt_keys[i][1]), v, n, have_xy, d);
             return rc < 0 ? rc : 1;
         }
     if (kelp_strieq_n(key, kl, "REACH_DISTANCE") || kelp_strieq_n(key, kl, "NODE_PUSH_DIST"))
-        return kelp_rsense_vmap_set(&cfg->reach, v, true, why);
-    if (kelp_strieq_n(key, kl, "NODE_PULL_DIST")) return kelp_rsense_vmap_set(&cfg->node_pull, v, true, why);
+        return kelp_rsense_vmap_set(&cfg->reach, v, true, d);
+    if (kelp_strieq_n(key, kl, "NODE_PULL_DIST")) return kelp_rsense_vmap_set(&cfg->node_pull, v, true, d);
     if (kelp_strieq_n(key, kl, "PING_PAYMENTS")) {
         if (kelp_strieq_n(v, n, "upon_accept") || kelp_strieq_n(v, n, "upon_receipt")) cfg->payments = KELP_BRS_UPON_ACCEPT;
         else if (kelp_strieq_n(v, n, "upon_request")) cfg->payments = KELP_BRS_UPON_REQUEST;
         else if (kelp_strieq_n(v, n, "upon_response")) cfg->payments = KELP_BRS_UPON_RESPONSE;
-        else return *why = "must be upon_accept, upon_request or upon_response", KELP_ERR_PARSE;
+        else return kelp_fail(d, KELP_ERR_PARSE, "must be upon_accept, upon_request or upon_response");
         return 1;
     }
     if (kelp_strieq_n(key, kl, "REPORT_XY")) {
-        if (kelp_parse_bool(v, n, &cfg->report_xy) < 0) return *why = "must be true or false", KELP_ERR_PARSE;
+        if (kelp_parse_bool(v, n, &cfg->report_xy) < 0) return kelp_fail(d, KELP_ERR_PARSE, "must be true or false");
         return 1;
     }
     if (kelp_strieq_n(key, kl, "BEACON_ORDER")) {
         if (kelp_strieq_n(v, n, "config")) cfg->config_order = true;
         else if (kelp_strieq_n(v, n, "reverse")) cfg->config_order = false;
-        else return *why = "must be reverse or config", KELP_ERR_PARSE;
+        else return kelp_fail(d, KELP_ERR_PARSE, "must be reverse or config");
         return 1;
     }
-    return kelp_rsense_common_config(&cfg->com, key, v, why);
+    return kelp_rsense_common_config(&cfg->com, key, v, d);
 }
 
 int kelp_field_brs_find(const kelp_field_brs *b, const char *label)
@@ -203,7 +202,7 @@ int kelp_field_brs_find(const kelp_field_brs *b, const char *label)
     return -1;
 }
 
-int kelp_field_brs_init(kelp_field_brs *b, const kelp_field_brs_cfg *cfg, double now, const char **why)
+int kelp_field_brs_init(kelp_field_brs *b, const kelp_field_brs_cfg *cfg, double now, kelp_diag *d)
 {
     memset(b, 0, sizeof *b);
     b->cfg = *cfg;
@@ -213,7 +212,7 @@ int kelp_field_brs_init(kelp_field_brs *b, const kelp_field_brs_cfg *cfg, double
     if (cfg->dflt.freq_set && cfg->dflt.freq_lo >= 0) (void)kelp_rsense_interval(&b->rand, 0, 1);
     for (unsigned i = 0; i < cfg->nspec; i++) {
         kelp_brs_beacon t = cfg->dflt;
-        if (parse_beacon(&t, cfg->spec[i], why) < 0) return KELP_ERR_PARSE;
+        if (parse_beacon(&t, cfg->spec[i], d) < 0) return KELP_ERR_PARSE;
         if (t.freq_set && t.freq_lo >= 0) (void)kelp_rsense_interval(&b->rand, 0, 1);
         t.next = -1;
         if (!t.label[0]) kelp_snprintf(t.label, sizeof t.label, "%u", b->nbeacons); /* A42: 0-based index */
@@ -347,11 +346,11 @@ int kelp_field_brs_mail(kelp_field_brs *b, const char *var, bool is_string, cons
     if (rq) return request(b, sval, now, out);
     int idx;
     bool first;
-    const char *why = "bad node report";
-    int rc = rs_node_report(b->node, &b->nnodes, sval, &b->cfg.com.geo, b->cfg.com.have_geo, NULL, b->start, &idx, &first, &why);
+    kelp_diag_clear(&b->diag);
+    int rc = rs_node_report(b->node, &b->nnodes, sval, &b->cfg.com.geo, b->cfg.com.have_geo, NULL, b->start, &idx, &first, &b->diag);
     if (rc < 0) {
         b->bad_mail++;
-        rs_warn(out, "bad ", var, ": ", why, RS_END);
+        rs_warn(out, "bad ", var, ": ", kelp_diag_text(&b->diag), RS_END);
         return rc;
     }
     if (first) log_line(b, "Received first NODE_REPORT for: ", b->node[idx].name, NULL, NULL);
@@ -373,18 +372,23 @@ static void marker(const kelp_brs_beacon *bc, char *buf, size_t cap)
     if (rc < 0 && cap) buf[0] = 0;
 }
 
+/* the first iteration: markers posted, timers drawn (its marker buffer stays off the report
+ * path's stack) */
+KELP_NOINLINE static void start_beacons(kelp_field_brs *b, const kelp_field_sink *out)
+{
+    b->started = true;
+    for (unsigned k = 0; k < b->nbeacons; k++) {
+        char buf[256];
+        marker(&b->beacon[k], buf, sizeof buf);
+        if (buf[0]) out->publish(out->ctx, "VIEW_MARKER", true, buf, 0);
+        reset_timer(b, &b->beacon[k], b->start);
+    }
+}
+
 unsigned long kelp_field_brs_iterate(kelp_field_brs *b, double now, const kelp_field_sink *out)
 {
     unsigned long before = b->reports;
-    if (!b->started) {
-        b->started = true;
-        for (unsigned k = 0; k < b->nbeacons; k++) {
-            char buf[256];
-            marker(&b->beacon[k], buf, sizeof buf);
-            if (buf[0]) out->publish(out->ctx, "VIEW_MARKER", true, buf, 0);
-            reset_timer(b, &b->beacon[k], b->start);
-        }
-    }
+    if (!b->started) start_beacons(b, out);
     bool said = false;
     for (unsigned k = 0; k < b->nbeacons; k++) {
         kelp_brs_beacon *bc = &b->beacon[k];

@@ -33,15 +33,14 @@ bool broker_bool(const char *v, bool *out)
 
 typedef struct host_ctx {
     kelp_broker_host *h;
-    const char **why;
+    kelp_diag *d;
     unsigned iroute_port;
 } host_ctx;
 
-static int text_to(char *dst, size_t cap, const char *v, size_t vl, const char **why)
+static int text_to(char *dst, size_t cap, const char *v, size_t vl, kelp_diag *d)
 {
     if (field_copy_text(dst, cap, v, vl) < 0) {
-        *why = "value too long";
-        return KELP_ERR_RANGE;
+        return kelp_fail(d, KELP_ERR_RANGE, "value too long");
     }
     return KELP_OK;
 }
@@ -60,17 +59,16 @@ static int host_pair(void *ctx, const char *k, size_t kl, const char *v, size_t 
 {
     host_ctx *c = ctx;
     kelp_broker_host *h = c->h;
-    if (kelp_strieq_n(k, kl, "community")) return text_to(h->community, sizeof h->community, v, vl, c->why);
+    if (kelp_strieq_n(k, kl, "community")) return text_to(h->community, sizeof h->community, v, vl, c->d);
     if (kelp_strieq_n(k, kl, "host") || kelp_strieq_n(k, kl, "hostip") || kelp_strieq_n(k, kl, "host_ip") ||
         kelp_strieq_n(k, kl, "ip"))
-        return text_to(h->host, sizeof h->host, v, vl, c->why);
-    if (kelp_strieq_n(k, kl, "keyword")) return text_to(h->keyword, sizeof h->keyword, v, vl, c->why);
-    if (kelp_strieq_n(k, kl, "status")) return text_to(h->status, sizeof h->status, v, vl, c->why);
+        return text_to(h->host, sizeof h->host, v, vl, c->d);
+    if (kelp_strieq_n(k, kl, "keyword")) return text_to(h->keyword, sizeof h->keyword, v, vl, c->d);
+    if (kelp_strieq_n(k, kl, "status")) return text_to(h->status, sizeof h->status, v, vl, c->d);
     bool db = kelp_strieq_n(k, kl, "port") || kelp_strieq_n(k, kl, "port_db");
     if (db || kelp_strieq_n(k, kl, "port_udp")) {
         if (broker_port(v, vl, db ? &h->port_db : &h->port_udp) < 0) {
-            *c->why = "bad port";
-            return KELP_ERR_PARSE;
+            return kelp_fail(c->d, KELP_ERR_PARSE, "bad port");
         }
         return KELP_OK;
     }
@@ -78,8 +76,7 @@ static int host_pair(void *ctx, const char *k, size_t kl, const char *v, size_t 
     if (warp || kelp_strieq_n(k, kl, "time")) {
         double d;
         if (sim_number(v, vl, &d) < 0 || (warp && !(d > 0))) {
-            *c->why = warp ? "bad time_warp" : "bad time";
-            return KELP_ERR_PARSE;
+            return kelp_fail(c->d, KELP_ERR_PARSE, warp ? "bad time_warp" : "bad time");
         }
         if (warp) h->warp = d, h->have_warp = true;
         else h->time = d, h->have_time = true;
@@ -98,18 +95,14 @@ static int host_pair(void *ctx, const char *k, size_t kl, const char *v, size_t 
     return KELP_OK; /* other keys (24.8's id, key, ...) are ignored */
 }
 
-int kelp_broker_host_parse(const char *s, kelp_broker_host *h, const char **why)
+int kelp_broker_host_parse(const char *s, kelp_broker_host *h, kelp_diag *d)
 {
-    const char *dummy;
-    if (!why) why = &dummy;
-    *why = NULL;
     memset(h, 0, sizeof *h);
     if (!s) {
-        *why = "no text";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "no text");
     }
-    host_ctx c = { h, why, 0 };
-    int rc = field_for_pairs(s, strlen(s), ',', host_pair, &c, why);
+    host_ctx c = { h, d, 0 };
+    int rc = field_for_pairs(s, strlen(s), ',', host_pair, &c, d);
     if (rc < 0) return rc;
     if (!h->port_udp) h->port_udp = c.iroute_port;
     return KELP_OK;
@@ -122,7 +115,7 @@ bool kelp_broker_host_complete(const kelp_broker_host *h)
 
 typedef struct try_ctx {
     kelp_broker_try *t;
-    const char **why;
+    kelp_diag *d;
     bool route, multicast;
 } try_ctx;
 
@@ -131,12 +124,11 @@ static int try_pair(void *ctx, const char *k, size_t kl, const char *v, size_t v
     try_ctx *c = ctx;
     kelp_broker_try *t = c->t;
     if (kelp_strieq_n(k, kl, "host_ip") || kelp_strieq_n(k, kl, "hostip"))
-        return text_to(t->host, sizeof t->host, v, vl, c->why);
-    if (kelp_strieq_n(k, kl, "community")) return text_to(t->community, sizeof t->community, v, vl, c->why);
+        return text_to(t->host, sizeof t->host, v, vl, c->d);
+    if (kelp_strieq_n(k, kl, "community")) return text_to(t->community, sizeof t->community, v, vl, c->d);
     if (kelp_strieq_n(k, kl, "port_udp")) {
         if (broker_port(v, vl, &t->port) < 0) {
-            *c->why = "bad port_udp";
-            return KELP_ERR_PARSE;
+            return kelp_fail(c->d, KELP_ERR_PARSE, "bad port_udp");
         }
         return KELP_OK;
     }
@@ -149,39 +141,30 @@ static int try_pair(void *ctx, const char *k, size_t kl, const char *v, size_t v
         size_t colon = vl;
         while (colon > 0 && v[colon - 1] != ':') colon--;
         if (colon < 2 || broker_port(v + colon, vl - colon, &t->port) < 0) {
-            *c->why = "pshare_route is not host:port";
-            return KELP_ERR_PARSE;
+            return kelp_fail(c->d, KELP_ERR_PARSE, "pshare_route is not host:port");
         }
-        return text_to(t->host, sizeof t->host, v, colon - 1, c->why);
+        return text_to(t->host, sizeof t->host, v, colon - 1, c->d);
     }
-    *c->why = "unknown key";
-    return KELP_ERR_PARSE;
+    return kelp_fail(c->d, KELP_ERR_PARSE, "unknown key");
 }
 
-int kelp_broker_try_parse(const char *s, kelp_broker_try *t, const char **why)
+int kelp_broker_try_parse(const char *s, kelp_broker_try *t, kelp_diag *d)
 {
-    const char *dummy;
-    if (!why) why = &dummy;
-    *why = NULL;
     memset(t, 0, sizeof *t);
     if (!s) {
-        *why = "no text";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "no text");
     }
-    try_ctx c = { t, why, false, false };
-    int rc = field_for_pairs(s, strlen(s), ',', try_pair, &c, why);
+    try_ctx c = { t, d, false, false };
+    int rc = field_for_pairs(s, strlen(s), ',', try_pair, &c, d);
     if (rc < 0) return rc;
     if (c.multicast) {
-        *why = "a multicast route (kelp-bridge sends unicast UDP only)";
-        return KELP_ERR_UNSUPPORTED;
+        return kelp_fail(d, KELP_ERR_UNSUPPORTED, "a multicast route (kelp-bridge sends unicast UDP only)");
     }
     if (!t->host[0] || !t->port) {
-        *why = !t->host[0] ? "no host_ip" : "no port_udp";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, !t->host[0] ? "no host_ip" : "no port_udp");
     }
     if (strpbrk(t->host, " ,=") || strpbrk(t->community, " ,=")) {
-        *why = "host or community holds a space, ',' or '='";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "host or community holds a space, ',' or '='");
     }
     return KELP_OK;
 }
@@ -194,50 +177,42 @@ static bool var_ok(const char *s)
 
 typedef struct bridge_ctx {
     kelp_broker_bridge *b;
-    const char **why;
+    kelp_diag *d;
 } bridge_ctx;
 
 static int bridge_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl)
 {
     bridge_ctx *c = ctx;
-    if (kelp_strieq_n(k, kl, "src")) return text_to(c->b->src, sizeof c->b->src, v, vl, c->why);
-    if (kelp_strieq_n(k, kl, "alias")) return text_to(c->b->alias, sizeof c->b->alias, v, vl, c->why);
-    *c->why = "unknown key (src=, alias=)";
-    return KELP_ERR_PARSE;
+    if (kelp_strieq_n(k, kl, "src")) return text_to(c->b->src, sizeof c->b->src, v, vl, c->d);
+    if (kelp_strieq_n(k, kl, "alias")) return text_to(c->b->alias, sizeof c->b->alias, v, vl, c->d);
+    return kelp_fail(c->d, KELP_ERR_PARSE, "unknown key (src=, alias=)");
 }
 
-int kelp_broker_bridge_parse(const char *s, kelp_broker_bridge *b, const char **why)
+int kelp_broker_bridge_parse(const char *s, kelp_broker_bridge *b, kelp_diag *d)
 {
-    const char *dummy;
-    if (!why) why = &dummy;
-    *why = NULL;
     memset(b, 0, sizeof *b);
     if (!s) {
-        *why = "no text";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "no text");
     }
-    bridge_ctx c = { b, why };
-    int rc = field_for_pairs(s, strlen(s), ',', bridge_pair, &c, why);
+    bridge_ctx c = { b, d };
+    int rc = field_for_pairs(s, strlen(s), ',', bridge_pair, &c, d);
     if (rc < 0) return rc;
     if (!b->alias[0]) memcpy(b->alias, b->src, sizeof b->alias);
     if (!var_ok(b->src) || !var_ok(b->alias)) {
-        *why = "src (and alias) must be one variable name";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "src (and alias) must be one variable name");
     }
     return KELP_OK;
 }
 
-int broker_add_bridge(kelp_broker_bridge *list, unsigned *n, const char *src, const char *alias, const char **why)
+int broker_add_bridge(kelp_broker_bridge *list, unsigned *n, const char *src, const char *alias, kelp_diag *d)
 {
     for (unsigned i = 0; i < *n; i++)
         if (strcmp(list[i].src, src) == 0 && strcmp(list[i].alias, alias) == 0) return 1; /* listed already */
     if (*n >= KELP_BROKER_MAX_BRIDGES) {
-        *why = "too many bridges (KELP_BROKER_MAX_BRIDGES)";
-        return KELP_ERR_NOSPACE;
+        return kelp_fail(d, KELP_ERR_NOSPACE, "too many bridges (KELP_BROKER_MAX_BRIDGES)");
     }
     if (strlen(src) >= KELP_MAX_NAME || strlen(alias) >= KELP_MAX_NAME || !var_ok(src) || !var_ok(alias)) {
-        *why = "not a variable name";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "not a variable name");
     }
     memcpy(list[*n].src, src, strlen(src) + 1);
     memcpy(list[*n].alias, alias, strlen(alias) + 1);

@@ -11,16 +11,16 @@
 
 #define PI 3.14159265358979323846
 
-static void warnf(const kelp_field_sink *out, const char *fmt, ...) KELP_PRINTF(2, 3);
-static void warnf(const kelp_field_sink *out, const char *fmt, ...)
+/* a warning formatted in the manager's workspace (c->ws_warn: no message buffer on the stack) */
+static void warnf(kelp_cmgr *c, const kelp_field_sink *out, const char *fmt, ...) KELP_PRINTF(3, 4);
+static void warnf(kelp_cmgr *c, const kelp_field_sink *out, const char *fmt, ...)
 {
     if (!out || !out->warn) return;
-    char msg[KELP_CMGR_MAX_FLAG + 128];
     va_list ap;
     va_start(ap, fmt);
-    (void)kelp_vsnprintf(msg, sizeof msg, fmt, ap);
+    (void)kelp_vsnprintf(c->ws_warn, sizeof c->ws_warn, fmt, ap);
     va_end(ap);
-    out->warn(out->ctx, msg);
+    out->warn(out->ctx, c->ws_warn);
 }
 
 static void post_s(const kelp_field_sink *out, const char *var, const char *s)
@@ -147,7 +147,7 @@ double kelp_cmgr_cpa_range(const kelp_cmgr_alert *a)
 /* ------------------------------------------------------------------ filters */
 
 /* "a,b, c" or "{a,b}" into a list (case kept; compared case-insensitively) */
-static int filter_add_list(kelp_cmgr_filter *f, int kind, int ign, const char *v, size_t vl,
+static int filter_add_list(kelp_cmgr *c, kelp_cmgr_filter *f, int kind, int ign, const char *v, size_t vl,
                            const kelp_field_sink *out, bool quiet)
 {
     trim(&v, &vl);
@@ -160,7 +160,7 @@ static int filter_add_list(kelp_cmgr_filter *f, int kind, int ign, const char *v
         unquote(&it, &il);
         if (il == 0) continue;
         if (il >= KELP_CMGR_NAME) {
-            warnf(out, "filter entry too long: %.*s", (int)il, it);
+            warnf(c, out, "filter entry too long: %.*s", (int)il, it);
             return KELP_ERR_RANGE;
         }
         bool dup = false;
@@ -169,9 +169,9 @@ static int filter_add_list(kelp_cmgr_filter *f, int kind, int ign, const char *v
         if (dup) continue;
         for (unsigned i = 0; i < f->nlist[kind][!ign]; i++)
             if (!quiet && kelp_strieq_n(it, il, f->list[kind][!ign][i]) && strlen(f->list[kind][!ign][i]) == il)
-                warnf(out, "%.*s is both matched and ignored: ignored", (int)il, it);
+                warnf(c, out, "%.*s is both matched and ignored: ignored", (int)il, it);
         if (f->nlist[kind][ign] >= KELP_CMGR_MAX_FILTER) {
-            warnf(out, "more than %d filter entries", KELP_CMGR_MAX_FILTER);
+            warnf(c, out, "more than %d filter entries", KELP_CMGR_MAX_FILTER);
             return KELP_ERR_NOSPACE;
         }
         copyz(f->list[kind][ign][f->nlist[kind][ign]++], KELP_CMGR_NAME, it, il);
@@ -186,8 +186,7 @@ static double cross(const double *o, const double *a, const double *b)
 
 static int parse_poly(const char *v, size_t vl, kelp_cmgr_poly *p, kelp_view *view)
 {
-    const char *why = NULL;
-    if (kelp_view_parse(KELP_VIEW_POLYGON, v, vl, view, &why) < 0 || view->npts < 3 ||
+    if (kelp_view_parse(KELP_VIEW_POLYGON, v, vl, view, NULL) < 0 || view->npts < 3 ||
         view->npts > KELP_CMGR_MAX_REGION_PTS)
         return KELP_ERR_PARSE;
     p->n = (unsigned)view->npts;
@@ -215,16 +214,17 @@ static bool in_poly(const kelp_cmgr_poly *p, double x, double y)
     return true;
 }
 
-static int filter_add_region(kelp_cmgr_filter *f, int ign, const char *v, size_t vl, kelp_view *ws,
+static int filter_add_region(kelp_cmgr *c, kelp_cmgr_filter *f, int ign, const char *v, size_t vl,
                              const kelp_field_sink *out)
 {
+    kelp_view *ws = &c->ws.view;
     if (f->nregion[ign] >= KELP_CMGR_MAX_REGIONS) {
-        warnf(out, "more than %d regions", KELP_CMGR_MAX_REGIONS);
+        warnf(c, out, "more than %d regions", KELP_CMGR_MAX_REGIONS);
         return KELP_ERR_NOSPACE;
     }
     int rc = parse_poly(v, vl, &f->region[ign][f->nregion[ign]], ws);
     if (rc < 0) {
-        warnf(out, "%s: %.*s", rc == KELP_ERR_ARG ? "non-convex region" : "bad region", (int)vl, v);
+        warnf(c, out, "%s: %.*s", rc == KELP_ERR_ARG ? "non-convex region" : "bad region", (int)vl, v);
         return rc;
     }
     f->nregion[ign]++;
@@ -261,7 +261,7 @@ static bool filter_ok(const kelp_cmgr_filter *f, const char *name, const char *t
 }
 
 /* a filter key of either level: 1 taken, 0 not a filter key, <0 bad value */
-static int filter_param(kelp_cmgr_filter *f, const char *k, size_t kl, const char *v, size_t vl, kelp_view *ws,
+static int filter_param(kelp_cmgr *c, kelp_cmgr_filter *f, const char *k, size_t kl, const char *v, size_t vl,
                         const kelp_field_sink *out, bool *is_strict)
 {
     static const char *const kinds[3] = { "name", "type", "group" };
@@ -271,14 +271,14 @@ static int filter_param(kelp_cmgr_filter *f, const char *k, size_t kl, const cha
         size_t pl = strlen(pre);
         if (kl <= pl || !kelp_strieq_n(k, pl, pre)) continue;
         for (int kind = 0; kind < 3; kind++)
-            if (kelp_strieq_n(k + pl, kl - pl, kinds[kind])) return filter_add_list(f, kind, ign, v, vl, out, false);
-        if (kelp_strieq_n(k + pl, kl - pl, "region")) return filter_add_region(f, ign, v, vl, ws, out);
+            if (kelp_strieq_n(k + pl, kl - pl, kinds[kind])) return filter_add_list(c, f, kind, ign, v, vl, out, false);
+        if (kelp_strieq_n(k + pl, kl - pl, "region")) return filter_add_region(c, f, ign, v, vl, out);
     }
     if (kelp_strieq_n(k, kl, "strict_ignore")) {
         *is_strict = true;
         bool b;
         if (kelp_parse_bool(v, vl, &b) < 0) {
-            warnf(out, "strict_ignore must be true or false: %.*s", (int)vl, v);
+            warnf(c, out, "strict_ignore must be true or false: %.*s", (int)vl, v);
             return KELP_ERR_PARSE;
         }
         f->strict_ignore = b;
@@ -380,12 +380,12 @@ static int split_comps(const char *spec, comp *cp, unsigned *ncp)
     return rc < 0 ? KELP_ERR_PARSE : KELP_OK;
 }
 
-static int spec_reject(const kelp_field_sink *out, bool from_mail, const char *spec, const char *why, const char *k,
+static int spec_reject(kelp_cmgr *c, const kelp_field_sink *out, bool from_mail, const char *spec, const char *why, const char *k,
                        size_t kl)
 {
-    if (from_mail) warnf(out, "Unhandled Alert Request: %s (%s%s%.*s)", spec, why, k ? ": " : "", (int)kl, k ? k : "");
-    else if (k) warnf(out, "%s: %.*s", why, (int)kl, k);
-    else warnf(out, "%s: %s", why, spec);
+    if (from_mail) warnf(c, out, "Unhandled Alert Request: %s (%s%s%.*s)", spec, why, k ? ": " : "", (int)kl, k ? k : "");
+    else if (k) warnf(c, out, "%s: %.*s", why, (int)kl, k);
+    else warnf(c, out, "%s: %s", why, spec);
     return KELP_ERR_PARSE;
 }
 
@@ -394,24 +394,24 @@ int kelp_cmgr_alert_spec(kelp_cmgr *c, const char *spec, bool from_mail, const c
 {
     comp *cp = c->ws.comp;
     unsigned n;
-    if (split_comps(spec, cp, &n) < 0) return spec_reject(out, from_mail, spec, "malformed alert", NULL, 0);
+    if (split_comps(spec, cp, &n) < 0) return spec_reject(c, out, from_mail, spec, "malformed alert", NULL, 0);
     const comp *id = NULL, *action = NULL;
     for (unsigned i = 0; i < n; i++) {
         if (!alert_key_known(cp[i].k, cp[i].kl))
-            return spec_reject(out, from_mail, spec, "unhandled alert config component", cp[i].k, cp[i].kl);
+            return spec_reject(c, out, from_mail, spec, "unhandled alert config component", cp[i].k, cp[i].kl);
         if (kelp_strieq_n(cp[i].k, cp[i].kl, "id")) id = &cp[i];
         if (kelp_strieq_n(cp[i].k, cp[i].kl, "action")) action = &cp[i];
     }
     if (!id || id->vl == 0 || id->vl >= KELP_CMGR_MAX_ID)
-        return spec_reject(out, from_mail, spec, "alert without an id", NULL, 0);
+        return spec_reject(c, out, from_mail, spec, "alert without an id", NULL, 0);
     int ai = alert_find(c, id->v, id->vl);
     if (action) {
         bool dis = kelp_strieq(action->v, "disable");
         if (!dis && !kelp_strieq(action->v, "enable"))
-            return spec_reject(out, from_mail, spec, "action must be enable or disable", NULL, 0);
+            return spec_reject(c, out, from_mail, spec, "action must be enable or disable", NULL, 0);
         if (ai < 0) {
             if (!dis) return 1;
-            if (c->nalerts >= KELP_CMGR_MAX_ALERTS) return spec_reject(out, from_mail, spec, "too many alerts", NULL, 0);
+            if (c->nalerts >= KELP_CMGR_MAX_ALERTS) return spec_reject(c, out, from_mail, spec, "too many alerts", NULL, 0);
             ai = (int)c->nalerts++;
             memset(&c->alert[ai], 0, sizeof c->alert[ai]);
             filter_init(&c->alert[ai].filter);
@@ -425,7 +425,7 @@ int kelp_cmgr_alert_spec(kelp_cmgr *c, const char *spec, bool from_mail, const c
     kelp_cmgr_alert *a = &c->ws.alert; /* (a workspace: ~15 KB) */
     if (ai >= 0) *a = c->alert[ai];
     else {
-        if (c->nalerts >= KELP_CMGR_MAX_ALERTS) return spec_reject(out, from_mail, spec, "too many alerts", NULL, 0);
+        if (c->nalerts >= KELP_CMGR_MAX_ALERTS) return spec_reject(c, out, from_mail, spec, "too many alerts", NULL, 0);
         memset(a, 0, sizeof *a);
         filter_init(&a->filter);
         copyz(a->id, sizeof a->id, id->v, id->vl);
@@ -439,10 +439,10 @@ int kelp_cmgr_alert_spec(kelp_cmgr *c, const char *spec, bool from_mail, const c
         int rc = 1;
         if (keyis(k, kl, "id", "action")) continue;
         if (keyis(k, kl, "alert_range", "range")) {
-            if (num_ge0(v, vl, &d) < 0) return spec_reject(out, from_mail, spec, "bad alert_range", v, vl);
+            if (num_ge0(v, vl, &d) < 0) return spec_reject(c, out, from_mail, spec, "bad alert_range", v, vl);
             a->alert_range = d, a->have_range = true;
         } else if (keyis(k, kl, "cpa_range", NULL)) {
-            if (num_ge0(v, vl, &d) < 0) return spec_reject(out, from_mail, spec, "bad cpa_range", v, vl);
+            if (num_ge0(v, vl, &d) < 0) return spec_reject(c, out, from_mail, spec, "bad cpa_range", v, vl);
             a->cpa_range = d, a->have_cpa = true;
         } else if (keyis(k, kl, "on_flag", "onflag"))
             rc = add_flag(a->on, &a->non, v, vl);
@@ -457,32 +457,32 @@ int kelp_cmgr_alert_spec(kelp_cmgr *c, const char *spec, bool from_mail, const c
         else if (keyis(k, kl, "cpa_range_color", NULL))
             copyz(a->cpa_color, sizeof a->cpa_color, v, vl);
         else
-            rc = filter_param(&a->filter, k, kl, v, vl, &c->ws.view, out, &strict);
-        if (rc < 0) return spec_reject(out, from_mail, spec, "bad alert component", k, kl);
+            rc = filter_param(c, &a->filter, k, kl, v, vl, out, &strict);
+        if (rc < 0) return spec_reject(c, out, from_mail, spec, "bad alert component", k, kl);
     }
     if (legacy_var) {
         char f[KELP_CMGR_MAX_FLAG];
         int fl = kelp_snprintf(f, sizeof f, "%s=%s", legacy_var, legacy_val ? legacy_val : "");
         if (fl < 0 || (size_t)fl >= sizeof f || add_flag(a->on, &a->non, f, (size_t)fl) < 0)
-            return spec_reject(out, from_mail, spec, "bad var/val flag", NULL, 0);
+            return spec_reject(c, out, from_mail, spec, "bad var/val flag", NULL, 0);
     }
     if (a->have_cpa && a->have_range && a->cpa_range < a->alert_range)
-        warnf(out, "alert %s: cpa_range %g below alert_range %g: raised to it", a->id, a->cpa_range, a->alert_range);
+        warnf(c, out, "alert %s: cpa_range %g below alert_range %g: raised to it", a->id, a->cpa_range, a->alert_range);
     if (src && src[0]) copyz(a->source, sizeof a->source, src, strlen(src));
     if (ai < 0) {
         ai = (int)c->nalerts++;
         for (unsigned k = 0; k < KELP_CMGR_MAX_CONTACTS; k++) c->contact[k].alerted &= ~(1u << ai);
     }
     c->alert[ai] = *a;
-    if (from_mail && !alert_valid(a)) warnf(out, "Invalid alert request (needs id, alert_range, a flag): %s", spec);
+    if (from_mail && !alert_valid(a)) warnf(c, out, "Invalid alert request (needs id, alert_range, a flag): %s", spec);
     return 1;
 }
 
 /* ------------------------------------------------------------------ configuration */
 
-static int cfg_bad(const kelp_field_sink *out, const char *key, const char *val, const char *why)
+static int cfg_bad(kelp_cmgr *c, const kelp_field_sink *out, const char *key, const char *val, const char *why)
 {
-    warnf(out, "%s = %s: %s; default kept", key, val, why);
+    warnf(c, out, "%s = %s: %s; default kept", key, val, why);
     return 1;
 }
 
@@ -498,24 +498,24 @@ int kelp_cmgr_config(kelp_cmgr *c, const char *key, const char *val, const kelp_
         return 1;
     }
     if (keyis(key, kl, "contact_max_age", "max_contact_age")) {
-        if (num_ge0(v, vl, &d) < 0) return cfg_bad(out, key, val, "must be a number >= 0");
+        if (num_ge0(v, vl, &d) < 0) return cfg_bad(c, out, key, val, "must be a number >= 0");
         c->contact_max_age = d;
         return 1;
     }
     if (keyis(key, kl, "reject_range", NULL)) {
         if (kelp_strieq_n(v, vl, "off")) c->reject_range = -1;
-        else if (kelp_parse_finite(v, vl, &d) < 0 || d <= 0) return cfg_bad(out, key, val, "must be > 0 or off");
+        else if (kelp_parse_finite(v, vl, &d) < 0 || d <= 0) return cfg_bad(c, out, key, val, "must be > 0 or off");
         else c->reject_range = d;
         return 1;
     }
     if (keyis(key, kl, "recap_interval", "contacts_recap_interval")) {
         if (kelp_strieq_n(v, vl, "off")) c->recap_interval = -1;
-        else if (num_ge0(v, vl, &d) < 0) return cfg_bad(out, key, val, "must be >= 0 or off");
+        else if (num_ge0(v, vl, &d) < 0) return cfg_bad(c, out, key, val, "must be >= 0 or off");
         else c->recap_interval = d;
         return 1;
     }
     if (keyis(key, kl, "range_report_timeout", NULL)) {
-        if (num_ge0(v, vl, &d) < 0) return cfg_bad(out, key, val, "must be a number >= 0");
+        if (num_ge0(v, vl, &d) < 0) return cfg_bad(c, out, key, val, "must be a number >= 0");
         c->range_report_timeout = d;
         return 1;
     }
@@ -524,31 +524,31 @@ int kelp_cmgr_config(kelp_cmgr *c, const char *key, const char *val, const kelp_
         double d2;
         if (!comma || num_ge0(v, (size_t)(comma - v), &d) < 0 ||
             num_ge0(comma + 1, vl - (size_t)(comma - v) - 1, &d2) < 0 || d2 < d)
-            return cfg_bad(out, key, val, "must be a,b with 0 <= a <= b");
+            return cfg_bad(c, out, key, val, "must be a,b with 0 <= a <= b");
         c->decay[0] = d, c->decay[1] = d2;
         return 1;
     }
     long l;
     if (keyis(key, kl, "max_contacts", NULL)) {
-        if (kelp_parse_long(v, vl, &l) < 0 || l < 1) return cfg_bad(out, key, val, "must be an integer >= 1");
+        if (kelp_parse_long(v, vl, &l) < 0 || l < 1) return cfg_bad(c, out, key, val, "must be an integer >= 1");
         if (l > KELP_CMGR_MAX_CONTACTS) {
-            warnf(out, "max_contacts %ld above this build's %d: clamped", l, KELP_CMGR_MAX_CONTACTS);
+            warnf(c, out, "max_contacts %ld above this build's %d: clamped", l, KELP_CMGR_MAX_CONTACTS);
             l = KELP_CMGR_MAX_CONTACTS;
         }
         c->max_contacts = (unsigned)l;
         return 1;
     }
     if (keyis(key, kl, "max_retired_history", "max_retired_hist")) {
-        if (kelp_parse_long(v, vl, &l) < 0) return cfg_bad(out, key, val, "must be an integer in [1,50]");
+        if (kelp_parse_long(v, vl, &l) < 0) return cfg_bad(c, out, key, val, "must be an integer in [1,50]");
         if (l < 1 || l > 50) {
-            warnf(out, "%s = %s: outside [1,50]: clamped", key, val);
+            warnf(c, out, "%s = %s: outside [1,50]: clamped", key, val);
             l = l < 1 ? 1 : 50;
         }
         c->max_retired = (unsigned)l;
         return 1;
     }
     if (keyis(key, kl, "range_report_maxsize", NULL)) {
-        if (kelp_parse_long(v, vl, &l) < 0 || l < 1) return cfg_bad(out, key, val, "must be an integer >= 1");
+        if (kelp_parse_long(v, vl, &l) < 0 || l < 1) return cfg_bad(c, out, key, val, "must be an integer >= 1");
         c->range_report_maxsize = l > KELP_CMGR_MAX_REPORTS ? KELP_CMGR_MAX_REPORTS : (unsigned)l;
         return 1;
     }
@@ -560,7 +560,7 @@ int kelp_cmgr_config(kelp_cmgr *c, const char *key, const char *val, const kelp_
     };
     for (size_t i = 0; i < sizeof bools / sizeof bools[0]; i++)
         if (keyis(key, kl, bools[i].k, bools[i].alias)) {
-            if (kelp_parse_bool(v, vl, &b) < 0) return cfg_bad(out, key, val, "must be true or false");
+            if (kelp_parse_bool(v, vl, &b) < 0) return cfg_bad(c, out, key, val, "must be true or false");
             *bools[i].dst = b;
             return 1;
         }
@@ -580,11 +580,11 @@ int kelp_cmgr_config(kelp_cmgr *c, const char *key, const char *val, const kelp_
         if (kelp_strieq_n(v, vl, "verbatim")) c->coords = KELP_CMGR_VERBATIM;
         else if (kelp_strieq_n(v, vl, "lazy_lat_lon")) c->coords = KELP_CMGR_LAZY_LATLON;
         else if (kelp_strieq_n(v, vl, "force_lat_lon")) c->coords = KELP_CMGR_FORCE_LATLON;
-        else return cfg_bad(out, key, val, "must be verbatim, lazy_lat_lon or force_lat_lon");
+        else return cfg_bad(c, out, key, val, "must be verbatim, lazy_lat_lon or force_lat_lon");
         return 1;
     }
     if (keyis(key, kl, "alert_range", "alert_cpa_range")) {
-        warnf(out, "%s is deprecated (give it in an alert): ignored", key);
+        warnf(c, out, "%s is deprecated (give it in an alert): ignored", key);
         return 1;
     }
     /* 24.8.x features kelp does not implement: accepted so a 24.8 block loads */
@@ -593,7 +593,7 @@ int kelp_cmgr_config(kelp_cmgr *c, const char *key, const char *val, const kelp_
                                          "early_warning_flag", "cease_warning_flag", "retire_flag", "app_logging" };
     for (size_t i = 0; i < sizeof later / sizeof later[0]; i++)
         if (keyis(key, kl, later[i], NULL)) return 1;
-    int rc = filter_param(&c->filter, key, kl, v, vl, &c->ws.view, out, &strict);
+    int rc = filter_param(c, &c->filter, key, kl, v, vl, out, &strict);
     return rc < 0 ? 1 : rc;
 }
 
@@ -601,16 +601,16 @@ void kelp_cmgr_config_done(kelp_cmgr *c, bool have_lat, double lat0, bool have_l
                            const kelp_field_sink *out)
 {
     for (unsigned i = 0; i < c->nalerts; i++)
-        if (!alert_valid(&c->alert[i]) && !c->alert[i].disabled) warnf(out, "Invalid alert config:%s", c->alert[i].id);
+        if (!alert_valid(&c->alert[i]) && !c->alert[i].disabled) warnf(c, out, "Invalid alert config:%s", c->alert[i].id);
     c->have_geo = false;
     if (c->coords == KELP_CMGR_VERBATIM) return;
-    if (!have_lat) warnf(out, "No LatOrigin in *.moos file");
-    if (!have_lon) warnf(out, "No LongOrigin set in *.moos file");
+    if (!have_lat) warnf(c, out, "No LatOrigin in *.moos file");
+    if (!have_lon) warnf(c, out, "No LongOrigin set in *.moos file");
     if (have_lat && have_lon && kelp_geo_init(&c->geo, lat0, lon0) == 0) {
         c->have_geo = true;
         event(c, 0, "Geodesy init ok: Will derive x/y from lat/lon in node reports.");
     } else
-        warnf(out, "Wont derive x/y from lat/lon in node reports.");
+        warnf(c, out, "Wont derive x/y from lat/lon in node reports.");
 }
 
 const char *kelp_cmgr_subscription(unsigned i)
@@ -660,64 +660,64 @@ static void retired_remove(kelp_cmgr *c, const char *name)
 static int bad_report(kelp_cmgr *c, const kelp_field_sink *out, const char *why)
 {
     c->reports_bad++;
-    warnf(out, "Bad Mail: NODE_REPORT: %s", why);
+    warnf(c, out, "Bad Mail: NODE_REPORT: %s", why);
     post_s(out, "CONTACT_MGR_WARNING", "Bad Node Report Received");
     return KELP_ERR_PARSE;
 }
 
 static int node_report(kelp_cmgr *c, const char *s, double now, const kelp_field_sink *out)
 {
-    kelp_nodereport r;
-    const char *why = NULL;
+    kelp_nodereport *r = &c->ws_report; /* workspace: no report on the stack */
     c->reports_in++;
-    if (kelp_nodereport_parse(s, strlen(s), &r, &why) < 0) return bad_report(c, out, why ? why : "unreadable");
-    if (kelp_strieq(r.name, c->ownship)) return 1;
-    bool have_xy = (r.fields & (KELP_NR_X | KELP_NR_Y)) == (KELP_NR_X | KELP_NR_Y);
-    bool have_ll = (r.fields & (KELP_NR_LAT | KELP_NR_LON)) == (KELP_NR_LAT | KELP_NR_LON);
+    kelp_diag_clear(&c->diag);
+    if (kelp_nodereport_parse(s, strlen(s), r, &c->diag) < 0) return bad_report(c, out, kelp_diag_text(&c->diag));
+    if (kelp_strieq(r->name, c->ownship)) return 1;
+    bool have_xy = (r->fields & (KELP_NR_X | KELP_NR_Y)) == (KELP_NR_X | KELP_NR_Y);
+    bool have_ll = (r->fields & (KELP_NR_LAT | KELP_NR_LON)) == (KELP_NR_LAT | KELP_NR_LON);
     if (c->have_geo && have_ll && (c->coords == KELP_CMGR_FORCE_LATLON || !have_xy)) {
-        if (kelp_geo_to_local(&c->geo, r.lat, r.lon, &r.x, &r.y) < 0) return bad_report(c, out, "bad LAT/LON");
+        if (kelp_geo_to_local(&c->geo, r->lat, r->lon, &r->x, &r->y) < 0) return bad_report(c, out, "bad LAT/LON");
         have_xy = true;
     }
     if (!have_xy) return bad_report(c, out, "no X/Y (LAT/LON are not used with contact_local_coords = verbatim)");
-    if (!have_ll && c->have_geo && kelp_geo_to_latlon(&c->geo, r.x, r.y, &r.lat, &r.lon) == 0) have_ll = true;
-    int ci = kelp_cmgr_find(c, r.name);
-    if (!filter_ok(&c->filter, r.name, r.type, r.group, r.x, r.y)) {
+    if (!have_ll && c->have_geo && kelp_geo_to_latlon(&c->geo, r->x, r->y, &r->lat, &r->lon) == 0) have_ll = true;
+    int ci = kelp_cmgr_find(c, r->name);
+    if (!filter_ok(&c->filter, r->name, r->type, r->group, r->x, r->y)) {
         if (ci >= 0) c->contact[ci].filtered = true;
         return 1;
     }
     if (ci < 0) {
-        if (c->reject_range > 0 && hypot(c->osx - r.x, c->osy - r.y) > c->reject_range) return 1;
+        if (c->reject_range > 0 && hypot(c->osx - r->x, c->osy - r->y) > c->reject_range) return 1;
         if (c->ncontacts >= KELP_CMGR_MAX_CONTACTS) {
-            warnf(out, "more than %d contacts: %s dropped", KELP_CMGR_MAX_CONTACTS, r.name);
+            warnf(c, out, "more than %d contacts: %s dropped", KELP_CMGR_MAX_CONTACTS, r->name);
             return KELP_ERR_NOSPACE;
         }
         ci = c->spare[--c->nspare];
-        unsigned pos = order_pos(c, r.name);
+        unsigned pos = order_pos(c, r->name);
         memmove(&c->order[pos + 1], &c->order[pos], (c->ncontacts - pos) * sizeof c->order[0]);
         c->order[pos] = (uint16_t)ci;
         c->ncontacts++;
         kelp_cmgr_contact *k = &c->contact[ci];
         memset(k, 0, sizeof *k);
         k->used = true;
-        memcpy(k->name, r.name, sizeof k->name);
-        k->range = k->range_extrap = k->range_cpa = hypot(c->osx - r.x, c->osy - r.y);
+        memcpy(k->name, r->name, sizeof k->name);
+        k->range = k->range_extrap = k->range_cpa = hypot(c->osx - r->x, c->osy - r->y);
         if (c->alert_verbose) {
             char m[KELP_CMGR_NAME + 16];
-            (void)kelp_snprintf(m, sizeof m, "new_contact=%s", r.name);
+            (void)kelp_snprintf(m, sizeof m, "new_contact=%s", r->name);
             post_s(out, "ALERT_VERBOSE", m);
         }
-        retired_remove(c, r.name);
+        retired_remove(c, r->name);
     }
     kelp_cmgr_contact *k = &c->contact[ci];
-    memcpy(k->type, r.type, sizeof k->type);
-    memcpy(k->group, r.group, sizeof k->group);
-    k->x = r.x, k->y = r.y;
+    memcpy(k->type, r->type, sizeof k->type);
+    memcpy(k->group, r->group, sizeof k->group);
+    k->x = r->x, k->y = r->y;
     k->has_ll = have_ll;
-    k->lat = have_ll ? r.lat : 0, k->lon = have_ll ? r.lon : 0;
-    k->hdg = r.fields & KELP_NR_HDG ? r.hdg : 0;
-    k->spd = r.fields & KELP_NR_SPD ? r.spd : 0;
-    k->dep = r.fields & KELP_NR_DEPTH ? r.depth : 0;
-    k->time = r.fields & KELP_NR_TIME ? r.time : now;
+    k->lat = have_ll ? r->lat : 0, k->lon = have_ll ? r->lon : 0;
+    k->hdg = r->fields & KELP_NR_HDG ? r->hdg : 0;
+    k->spd = r->fields & KELP_NR_SPD ? r->spd : 0;
+    k->dep = r->fields & KELP_NR_DEPTH ? r->depth : 0;
+    k->time = r->fields & KELP_NR_TIME ? r->time : now;
     k->filtered = false;
     return 1;
 }
@@ -754,7 +754,7 @@ static int report_request(kelp_cmgr *c, const char *s, double now, const char *s
             bad = true;
     }
     if (bad || rc < 0 || !var[0] || range < 0) {
-        warnf(out, "Failed REPORT_REQUEST: %s", str);
+        warnf(c, out, "Failed REPORT_REQUEST: %s", str);
         event(c, now, "Failed REPORT_REQUEST: %.*s", KELP_CMGR_MAX_FLAG, str);
         return KELP_ERR_PARSE;
     }
@@ -800,7 +800,7 @@ static int display_radii(kelp_cmgr *c, const char *s, double now, const kelp_fie
         copyz(c->display_id, sizeof c->display_id, p, n);
         event(c, now, "Display_radii turn on and set to: %s", c->display_id);
     } else {
-        warnf(out, "Failed attempt to set Display_radii set to: %s", s);
+        warnf(c, out, "Failed attempt to set Display_radii set to: %s", s);
         return KELP_ERR_ARG;
     }
     return 1;
@@ -815,7 +815,7 @@ int kelp_cmgr_mail(kelp_cmgr *c, const char *var, bool is_string, const char *sv
     for (int i = 0; i < 4; i++)
         if (strcmp(var, navn[i]) == 0) {
             if (is_string || !isfinite(dval)) {
-                warnf(out, "%s must be a finite number", var);
+                warnf(c, out, "%s must be a finite number", var);
                 return KELP_ERR_ARG;
             }
             *nav[i] = dval;
@@ -829,7 +829,7 @@ int kelp_cmgr_mail(kelp_cmgr *c, const char *var, bool is_string, const char *sv
                 strcmp(var, "BCM_REPORT_REQUEST") == 0 || strcmp(var, "BCM_DISPLAY_RADII") == 0;
     if (!ours) return 0;
     if (!is_string || !sval) {
-        warnf(out, "%s must be a string", var);
+        warnf(c, out, "%s must be a string", var);
         return KELP_ERR_ARG;
     }
     if (var[0] == 'N') return node_report(c, sval, now, out);

@@ -24,15 +24,15 @@ void kelp_field_crs_cfg_default(kelp_field_crs_cfg *cfg)
     rs_copy(cfg->reply_color, sizeof cfg->reply_color, "chartreuse", 10);
 }
 
-static int put_word(char *dst, size_t cap, const char *v, size_t n, const char **why)
+static int put_word(char *dst, size_t cap, const char *v, size_t n, kelp_diag *d)
 {
-    if (n == 0 || n >= cap || memchr(v, ',', n) || memchr(v, '=', n)) return *why = "bad name", KELP_ERR_PARSE;
+    if (n == 0 || n >= cap || memchr(v, ',', n) || memchr(v, '=', n)) return kelp_fail(d, KELP_ERR_PARSE, "bad name");
     rs_copy(dst, cap, v, n);
     return 1;
 }
 
 /* "45:135,225:315", "315:45" or "360" (the full circle) */
-static int set_arcs(kelp_field_crs_cfg *cfg, const char *v, size_t n, const char **why)
+static int set_arcs(kelp_field_crs_cfg *cfg, const char *v, size_t n, kelp_diag *d)
 {
     if (kelp_strieq_n(v, n, "360")) {
         cfg->narcs = 0;
@@ -48,16 +48,16 @@ static int set_arcs(kelp_field_crs_cfg *cfg, const char *v, size_t n, const char
         const char *c = memchr(it, ':', il);
         if (!c || k >= KELP_CRS_MAX_ARCS || kelp_parse_finite(it, (size_t)(c - it), &arc[k][0]) < 0 ||
             kelp_parse_finite(c + 1, il - (size_t)(c - it) - 1, &arc[k][1]) < 0)
-            return *why = "must be 360 or <left>:<right>[,<left>:<right>...] in degrees", KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "must be 360 or <left>:<right>[,<left>:<right>...] in degrees");
         k++;
     }
-    if (rc < 0 || k == 0) return *why = "must be 360 or <left>:<right>[,...]", KELP_ERR_PARSE;
+    if (rc < 0 || k == 0) return kelp_fail(d, KELP_ERR_PARSE, "must be 360 or <left>:<right>[,...]");
     memcpy(cfg->arc, arc, sizeof arc);
     cfg->narcs = k;
     return 1;
 }
 
-static int set_types(kelp_field_crs_cfg *cfg, const char *v, size_t n, const char **why)
+static int set_types(kelp_field_crs_cfg *cfg, const char *v, size_t n, kelp_diag *d)
 {
     size_t pos = 0;
     const char *it;
@@ -67,39 +67,39 @@ static int set_types(kelp_field_crs_cfg *cfg, const char *v, size_t n, const cha
         bool dup = false;
         for (unsigned i = 0; i < cfg->ntypes; i++) dup = dup || kelp_strieq_n(it, il, cfg->types[i]);
         if (dup) continue;
-        if (cfg->ntypes >= KELP_CRS_MAX_TYPES) return *why = "too many types", KELP_ERR_NOSPACE;
-        if (put_word(cfg->types[cfg->ntypes], KELP_RSENSE_NAME, it, il, why) < 0) return KELP_ERR_PARSE;
+        if (cfg->ntypes >= KELP_CRS_MAX_TYPES) return kelp_fail(d, KELP_ERR_NOSPACE, "too many types");
+        if (put_word(cfg->types[cfg->ntypes], KELP_RSENSE_NAME, it, il, d) < 0) return KELP_ERR_PARSE;
         cfg->ntypes++;
     }
-    return rc < 0 ? (*why = "bad list", KELP_ERR_PARSE) : 1;
+    return rc < 0 ? kelp_fail(d, KELP_ERR_PARSE, "bad list") : 1;
 }
 
-int kelp_field_crs_config(kelp_field_crs_cfg *cfg, const char *key, const char *val, const char **why)
+int kelp_field_crs_config(kelp_field_crs_cfg *cfg, const char *key, const char *val, kelp_diag *d)
 {
     char v[256];
-    int nv = rs_value(val, v, sizeof v, why);
+    int nv = rs_value(val, v, sizeof v, d);
     if (nv < 0) return nv;
     size_t n = (size_t)nv, kl = strlen(key);
     if (kelp_strieq_n(key, kl, "REACH_DISTANCE") || kelp_strieq_n(key, kl, "PUSH_DIST") ||
         kelp_strieq_n(key, kl, "PUSH_DISTANCE"))
-        return kelp_rsense_vmap_set(&cfg->reach, v, true, why);
+        return kelp_rsense_vmap_set(&cfg->reach, v, true, d);
     if (kelp_strieq_n(key, kl, "REPLY_DISTANCE") || kelp_strieq_n(key, kl, "PULL_DIST") ||
         kelp_strieq_n(key, kl, "PULL_DISTANCE"))
-        return kelp_rsense_vmap_set(&cfg->reply, v, true, why);
-    if (kelp_strieq_n(key, kl, "PING_COLOR")) return put_word(cfg->ping_color, sizeof cfg->ping_color, v, n, why);
+        return kelp_rsense_vmap_set(&cfg->reply, v, true, d);
+    if (kelp_strieq_n(key, kl, "PING_COLOR")) return put_word(cfg->ping_color, sizeof cfg->ping_color, v, n, d);
     if (kelp_strieq_n(key, kl, "REPLY_COLOR") || kelp_strieq_n(key, kl, "ECHO_COLOR"))
-        return put_word(cfg->reply_color, sizeof cfg->reply_color, v, n, why);
-    if (kelp_strieq_n(key, kl, "IGNORE_GROUP")) return put_word(cfg->ignore_group, sizeof cfg->ignore_group, v, n, why);
-    if (kelp_strieq_n(key, kl, "ALLOW_ECHO_TYPES")) return set_types(cfg, v, n, why);
-    if (kelp_strieq_n(key, kl, "SENSOR_ARC")) return set_arcs(cfg, v, n, why);
+        return put_word(cfg->reply_color, sizeof cfg->reply_color, v, n, d);
+    if (kelp_strieq_n(key, kl, "IGNORE_GROUP")) return put_word(cfg->ignore_group, sizeof cfg->ignore_group, v, n, d);
+    if (kelp_strieq_n(key, kl, "ALLOW_ECHO_TYPES")) return set_types(cfg, v, n, d);
+    if (kelp_strieq_n(key, kl, "SENSOR_ARC")) return set_arcs(cfg, v, n, d);
     if (kelp_strieq_n(key, kl, "DISPLAY_PULSES") || kelp_strieq_n(key, kl, "ECHO_FALLOFF")) {
         bool f;
-        if (kelp_parse_bool(v, n, &f) < 0) return *why = "must be true or false", KELP_ERR_PARSE;
+        if (kelp_parse_bool(v, n, &f) < 0) return kelp_fail(d, KELP_ERR_PARSE, "must be true or false");
         if (kelp_strieq_n(key, kl, "ECHO_FALLOFF")) cfg->echo_falloff = f;
         else cfg->display_pulses = f;
         return 1;
     }
-    return kelp_rsense_common_config(&cfg->com, key, v, why);
+    return kelp_rsense_common_config(&cfg->com, key, v, d);
 }
 
 void kelp_field_crs_init(kelp_field_crs *c, const kelp_field_crs_cfg *cfg, double now)
@@ -231,12 +231,12 @@ int kelp_field_crs_mail(kelp_field_crs *c, const char *var, bool is_string, cons
     if (rq) return request(c, sval, now, out);
     int idx;
     bool first;
-    const char *why = "bad node report";
+    kelp_diag_clear(&c->diag);
     int rc = rs_node_report(c->node, &c->nnodes, sval, &c->cfg.com.geo, c->cfg.com.have_geo, c->cfg.ignore_group,
-                            c->start, &idx, &first, &why);
+                            c->start, &idx, &first, &c->diag);
     if (rc < 0) {
         c->bad_mail++;
-        rs_warn(out, "bad ", var, ": ", why, RS_END);
+        rs_warn(out, "bad ", var, ": ", kelp_diag_text(&c->diag), RS_END);
         return rc;
     }
     if (rc > 0 && first) say(c, "Received first NODE_REPORT for: ", c->node[idx].name, NULL, NULL);

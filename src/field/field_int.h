@@ -13,8 +13,8 @@ typedef int (*field_pair_fn)(void *ctx, const char *k, size_t kl, const char *v,
  *  its first '='; a value that holds " key=value" is split at that space (the seed's
  *  "type=waypoint source=transit"). Empty items are skipped.
  *  @return 0, the callback's status, or KELP_ERR_PARSE (unbalanced brace/quote, item
- *  without '=', empty key) with *why set. */
-int field_for_pairs(const char *s, size_t len, char sep, field_pair_fn fn, void *ctx, const char **why);
+ *  without '=', empty key) with the reason in d (a callback records its own). */
+int field_for_pairs(const char *s, size_t len, char sep, field_pair_fn fn, void *ctx, kelp_diag *d);
 
 /** Next item of s[0..len) split at `sep` outside braces/quotes: 1 with a trimmed item, 0 at
  *  the end, KELP_ERR_PARSE when a brace or quote is unbalanced. */
@@ -44,9 +44,9 @@ struct kelp_broker_host;
 int broker_port(const char *v, size_t vl, unsigned *out);
 /** true/false/yes/no, optionally followed by 24.8's "(default)"; false when neither. */
 bool broker_bool(const char *v, bool *out);
-/** Append src->alias unless listed already. @return 1, or <0 with *why. */
+/** Append src->alias unless listed already. @return 1, or <0 (reason in d). */
 int broker_add_bridge(struct kelp_broker_bridge *list, unsigned *n, const char *src, const char *alias,
-                      const char **why);
+                      kelp_diag *d);
 /** Post PMB_REGISTER "src_var=..,dest_community=..,dest_host=..,dest_port=..,dest_alias=.."
  *  (dest_community left out when NULL); a copy goes to last. @return 1 or <0. */
 int broker_register(const struct kelp_field_sink *out, const char *src, const char *community, const char *host,

@@ -48,7 +48,7 @@ static int num(const char *v, size_t n, double *out)
     return kelp_parse_finite(v, n, out) < 0 ? KELP_ERR_PARSE : KELP_OK;
 }
 
-int kelp_field_uhz_add_setting(kelp_field_uhz_cfg *cfg, const char *spec, const char **why)
+int kelp_field_uhz_add_setting(kelp_field_uhz_cfg *cfg, const char *spec, kelp_diag *d)
 {
     double w = NAN, e = NAN, pc = NAN, mx = 0;
     size_t pos = 0;
@@ -63,17 +63,14 @@ int kelp_field_uhz_add_setting(kelp_field_uhz_cfg *cfg, const char *spec, const 
                       : kelp_strieq_n(k, kl, "max")    ? &mx
                                                        : NULL;
         if (dst && num(v, vl, dst) < 0) {
-            if (why) *why = "sensor_config: a bad number";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "sensor_config: a bad number");
         }
     }
     if (rc < 0 || isnan(w) || isnan(e) || isnan(pc)) {
-        if (why) *why = "sensor_config: width, exp and pclass required";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "sensor_config: width, exp and pclass required");
     }
     if (cfg->nsettings >= KELP_UHZ_MAX_SETTINGS) {
-        if (why) *why = "sensor_config: too many (KELP_UHZ_MAX_SETTINGS)";
-        return KELP_ERR_NOSPACE;
+        return kelp_fail(d, KELP_ERR_NOSPACE, "sensor_config: too many (KELP_UHZ_MAX_SETTINGS)");
     }
     kelp_uhz_setting *s = &cfg->setting[cfg->nsettings++];
     s->width = w < 0 ? 0 : w;
@@ -83,7 +80,7 @@ int kelp_field_uhz_add_setting(kelp_field_uhz_cfg *cfg, const char *spec, const 
     return KELP_OK;
 }
 
-int kelp_field_uhz_hazard_line(kelp_field_uhz_cfg *cfg, const char *line, const char **why)
+int kelp_field_uhz_hazard_line(kelp_field_uhz_cfg *cfg, const char *line, kelp_diag *d)
 {
     const char *s = line;
     while (*s == ' ' || *s == '\t') s++;
@@ -91,8 +88,7 @@ int kelp_field_uhz_hazard_line(kelp_field_uhz_cfg *cfg, const char *line, const 
     /* "hazard = x=..": drop the prefix; another "key = ..." line is not an object */
     const char *eq = strchr(s, '=');
     if (!eq) {
-        if (why) *why = "hazard: not a key=value list";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "hazard: not a key=value list");
     }
     size_t kl = (size_t)(eq - s);
     while (kl && (s[kl - 1] == ' ' || s[kl - 1] == '\t')) kl--;
@@ -111,19 +107,17 @@ int kelp_field_uhz_hazard_line(kelp_field_uhz_cfg *cfg, const char *line, const 
     while ((rc = kelp_kv_next(s, ',', &pos, &k, &kl, &v, &vl)) == 1) {
         while (vl && (v[vl - 1] == '\r' || v[vl - 1] == '\n')) vl--;
         if (kelp_strieq_n(k, kl, "x") || kelp_strieq_n(k, kl, "y") || kelp_strieq_n(k, kl, "width")) {
-            double d;
-            if (sim_number(v, vl, &d) < 0) {
-                if (why) *why = "hazard: a bad number";
-                return KELP_ERR_PARSE;
+            double dv;
+            if (sim_number(v, vl, &dv) < 0) {
+                return kelp_fail(d, KELP_ERR_PARSE, "hazard: a bad number");
             }
-            if (kelp_strieq_n(k, kl, "x")) o.x = d, hx = true;
-            else if (kelp_strieq_n(k, kl, "y")) o.y = d, hy = true;
-            else o.width = d < 0 ? 0 : d;
+            if (kelp_strieq_n(k, kl, "x")) o.x = dv, hx = true;
+            else if (kelp_strieq_n(k, kl, "y")) o.y = dv, hy = true;
+            else o.width = dv < 0 ? 0 : dv;
         } else if (kelp_strieq_n(k, kl, "type")) {
             if (kelp_strieq_n(v, vl, "hazard")) o.hazard = true;
             else if (!kelp_strieq_n(v, vl, "benign")) {
-                if (why) *why = "hazard: type is hazard or benign";
-                return KELP_ERR_PARSE;
+                return kelp_fail(d, KELP_ERR_PARSE, "hazard: type is hazard or benign");
             }
             ht = true;
         } else {
@@ -133,25 +127,21 @@ int kelp_field_uhz_hazard_line(kelp_field_uhz_cfg *cfg, const char *line, const 
                                                         : NULL;
             if (!dst) continue; /* hr=, aspect=... of 24.8: not simulated */
             if (vl >= KELP_UHZ_LABEL_LEN || memchr(v, ',', vl) || memchr(v, '=', vl)) {
-                if (why) *why = "hazard: a label, color or shape too long";
-                return KELP_ERR_RANGE;
+                return kelp_fail(d, KELP_ERR_RANGE, "hazard: a label, color or shape too long");
             }
             copyn(dst, KELP_UHZ_LABEL_LEN, v, vl);
         }
     }
     if (rc < 0 || !hx || !hy || !ht) {
-        if (why) *why = "hazard: x, y and type (hazard or benign) required";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "hazard: x, y and type (hazard or benign) required");
     }
     if (cfg->nobjects >= KELP_UHZ_MAX_OBJECTS) {
-        if (why) *why = "hazard: too many objects (KELP_UHZ_MAX_OBJECTS)";
-        return KELP_ERR_NOSPACE;
+        return kelp_fail(d, KELP_ERR_NOSPACE, "hazard: too many objects (KELP_UHZ_MAX_OBJECTS)");
     }
     if (!o.label[0]) kelp_snprintf(o.label, sizeof o.label, "%u", cfg->nobjects);
     for (unsigned i = 0; i < cfg->nobjects; i++)
         if (strcmp(cfg->object[i].label, o.label) == 0) {
-            if (why) *why = "hazard: a duplicate label";
-            return KELP_ERR_ARG;
+            return kelp_fail(d, KELP_ERR_ARG, "hazard: a duplicate label");
         }
     cfg->object[cfg->nobjects++] = o;
     if (o.hazard) cfg->nhazard++;
@@ -159,37 +149,34 @@ int kelp_field_uhz_hazard_line(kelp_field_uhz_cfg *cfg, const char *line, const 
     return 1;
 }
 
-static int set_bool(bool *dst, const char *v, size_t n, const char **why)
+static int set_bool(bool *dst, const char *v, size_t n, kelp_diag *d)
 {
     if (kelp_parse_bool(v, n, dst) < 0) {
-        if (why) *why = "true or false";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "true or false");
     }
     return 1;
 }
 
-static int set_num(double *dst, const char *v, size_t n, double lo, double hi, const char **why)
+static int set_num(double *dst, const char *v, size_t n, double lo, double hi, kelp_diag *d)
 {
-    double d;
-    if (num(v, n, &d) < 0) {
-        if (why) *why = "a number";
-        return KELP_ERR_PARSE;
+    double dv;
+    if (num(v, n, &dv) < 0) {
+        return kelp_fail(d, KELP_ERR_PARSE, "a number");
     }
-    *dst = d < lo ? lo : d > hi ? hi : d;
+    *dst = dv < lo ? lo : dv > hi ? hi : dv;
     return 1;
 }
 
-static int set_text(char *dst, const char *v, size_t n, const char **why)
+static int set_text(char *dst, const char *v, size_t n, kelp_diag *d)
 {
     if (n == 0 || n >= KELP_UHZ_LABEL_LEN || memchr(v, ',', n) || memchr(v, '=', n)) {
-        if (why) *why = "a short name";
-        return KELP_ERR_ARG;
+        return kelp_fail(d, KELP_ERR_ARG, "a short name");
     }
     copyn(dst, KELP_UHZ_LABEL_LEN, v, n);
     return 1;
 }
 
-int kelp_field_uhz_config(kelp_field_uhz_cfg *c, const char *key, const char *val, const char **why)
+int kelp_field_uhz_config(kelp_field_uhz_cfg *c, const char *key, const char *val, kelp_diag *d)
 {
     size_t kl = strlen(key);
     size_t n = clean_len(val);
@@ -197,51 +184,48 @@ int kelp_field_uhz_config(kelp_field_uhz_cfg *c, const char *key, const char *va
     if (K("SENSOR_CONFIG")) {
         char spec[160];
         if (n >= sizeof spec) {
-            if (why) *why = "sensor_config too long";
-            return KELP_ERR_RANGE;
+            return kelp_fail(d, KELP_ERR_RANGE, "sensor_config too long");
         }
         copyn(spec, sizeof spec, val, n);
-        int rc = kelp_field_uhz_add_setting(c, spec, why);
+        int rc = kelp_field_uhz_add_setting(c, spec, d);
         return rc < 0 ? rc : 1;
     }
     if (K("HAZARD")) {
-        int rc = kelp_field_uhz_hazard_line(c, val, why);
+        int rc = kelp_field_uhz_hazard_line(c, val, d);
         if (rc == 0) {
-            if (why) *why = "hazard: x, y and type required";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "hazard: x, y and type required");
         }
         return rc;
     }
-    if (K("DEFAULT_HAZARD_SHAPE")) return set_text(c->hazard_shape, val, n, why);
-    if (K("DEFAULT_HAZARD_COLOR")) return set_text(c->hazard_color, val, n, why);
-    if (K("DEFAULT_BENIGN_SHAPE")) return set_text(c->benign_shape, val, n, why);
-    if (K("DEFAULT_BENIGN_COLOR")) return set_text(c->benign_color, val, n, why);
-    if (K("DEFAULT_HAZARD_WIDTH")) return set_num(&c->hazard_width, val, n, 0, 1e6, why);
-    if (K("DEFAULT_BENIGN_WIDTH")) return set_num(&c->benign_width, val, n, 0, 1e6, why);
-    if (K("SWATH_TRANSPARENCY")) return set_num(&c->swath_transparency, val, n, 0, 1, why);
-    if (K("SWATH_LENGTH")) return set_num(&c->swath_length, val, n, 1, 1e6, why);
-    if (K("OPTIONS_SUMMARY_INTERVAL")) return set_num(&c->options_summary_interval, val, n, 0, 120, why);
-    if (K("MIN_RESET_INTERVAL")) return set_num(&c->min_reset_interval, val, n, 0, 1e9, why);
+    if (K("DEFAULT_HAZARD_SHAPE")) return set_text(c->hazard_shape, val, n, d);
+    if (K("DEFAULT_HAZARD_COLOR")) return set_text(c->hazard_color, val, n, d);
+    if (K("DEFAULT_BENIGN_SHAPE")) return set_text(c->benign_shape, val, n, d);
+    if (K("DEFAULT_BENIGN_COLOR")) return set_text(c->benign_color, val, n, d);
+    if (K("DEFAULT_HAZARD_WIDTH")) return set_num(&c->hazard_width, val, n, 0, 1e6, d);
+    if (K("DEFAULT_BENIGN_WIDTH")) return set_num(&c->benign_width, val, n, 0, 1e6, d);
+    if (K("SWATH_TRANSPARENCY")) return set_num(&c->swath_transparency, val, n, 0, 1, d);
+    if (K("SWATH_LENGTH")) return set_num(&c->swath_length, val, n, 1, 1e6, d);
+    if (K("OPTIONS_SUMMARY_INTERVAL")) return set_num(&c->options_summary_interval, val, n, 0, 120, d);
+    if (K("MIN_RESET_INTERVAL")) return set_num(&c->min_reset_interval, val, n, 0, 1e9, d);
     if (K("MIN_CLASSIFY_INTERVAL") || K("CLASSIFY_PERIOD"))
-        return set_num(&c->min_classify_interval, val, n, 0, 1e9, why);
+        return set_num(&c->min_classify_interval, val, n, 0, 1e9, d);
     if (K("SHOW_REPORTS") || K("SHOW_DETECTIONS")) {
         if (kelp_strieq_n(val, n, "unlimited") || kelp_strieq_n(val, n, "nolimit")) {
             c->show_reports = -1;
             return 1;
         }
-        return set_num(&c->show_reports, val, n, 0, 1e9, why);
+        return set_num(&c->show_reports, val, n, 0, 1e9, d);
     }
-    if (K("SHOW_HAZARDS")) return set_bool(&c->show_hazards, val, n, why);
-    if (K("SHOW_SWATH")) return set_bool(&c->show_swath, val, n, why);
-    if (K("SHOW_PD")) return set_bool(&c->show_pd, val, n, why);
-    if (K("SHOW_PFA")) return set_bool(&c->show_pfa, val, n, why);
-    if (K("VERBOSE")) return set_bool(&c->verbose, val, n, why);
-    if (K("SEED_RANDOM")) return set_bool(&c->seed_random, val, n, why);
+    if (K("SHOW_HAZARDS")) return set_bool(&c->show_hazards, val, n, d);
+    if (K("SHOW_SWATH")) return set_bool(&c->show_swath, val, n, d);
+    if (K("SHOW_PD")) return set_bool(&c->show_pd, val, n, d);
+    if (K("SHOW_PFA")) return set_bool(&c->show_pfa, val, n, d);
+    if (K("VERBOSE")) return set_bool(&c->verbose, val, n, d);
+    if (K("SEED_RANDOM")) return set_bool(&c->seed_random, val, n, d);
     if (K("RANDOM_SEED")) {
         long long s;
         if (kelp_parse_llong(val, n, &s) < 0) {
-            if (why) *why = "an integer";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "an integer");
         }
         c->seed = (uint64_t)s;
         return 1;
@@ -351,18 +335,20 @@ static void post_pair(kelp_field_uhz *h, const kelp_field_sink *out, const char 
                       const char *body)
 {
     char v[KELP_MAX_NAME + KELP_NODEREPORT_MAX_FIELD], *s = h->ws; /* (body is never h->ws) */
-    size_t k = 0;
-    field_putf(v, sizeof v, &k, "%s_", var);
+    size_t k = 0; /* no printf on this path (it runs under every request) */
+    if (field_put_str(v, sizeof v, &k, var) < 0 || field_put_str(v, sizeof v, &k, "_") < 0) return;
     for (const char *p = vname; *p && k + 1 < sizeof v; p++) v[k++] = (*p >= 'a' && *p <= 'z') ? (char)(*p - 32) : *p;
     v[k] = 0;
     post(out, v, body);
-    kelp_snprintf(s, sizeof h->ws, "vname=%s,%s", vname, body);
-    post(out, var, s);
+    size_t n = 0;
+    if (field_put_str(s, sizeof h->ws, &n, "vname=") == 0 && field_put_str(s, sizeof h->ws, &n, vname) == 0 &&
+        field_put_str(s, sizeof h->ws, &n, ",") == 0 && field_put_str(s, sizeof h->ws, &n, body) == 0)
+        post(out, var, s);
 }
 
 static void put_num(char *buf, size_t cap, size_t *k, double v, int dec, bool strip)
 {
-    if (field_put_fixed(buf, cap, k, v, dec, strip) < 0) field_putf(buf, cap, k, "nan");
+    if (field_put_fixed(buf, cap, k, v, dec, strip) < 0) (void)field_put_str(buf, cap, k, "nan");
 }
 
 /* ---- vehicles ---- */
@@ -427,7 +413,7 @@ static bool ensure_setting(kelp_field_uhz *h, kelp_uhz_node *n, const kelp_field
     return true;
 }
 
-static int config_request(kelp_field_uhz *h, const char *s, double now, const kelp_field_sink *out)
+KELP_NOINLINE static int config_request(kelp_field_uhz *h, const char *s, double now, const kelp_field_sink *out)
 {
     char vname[KELP_NODEREPORT_MAX_FIELD] = "", ws[64] = "", ps[64] = "";
     if (kelp_kv_get(s, ',', "vname", vname, sizeof vname) < 0 || kelp_kv_get(s, ',', "width", ws, sizeof ws) < 0 ||
@@ -491,18 +477,19 @@ static void post_circle(kelp_field_uhz *h, const kelp_uhz_node *n, const kelp_uh
 {
     if (h->cfg.show_reports == 0) return; /* shown for no time: not posted (MOOS-IvP: unlimited or > 0 only) */
     const char *c = said_hazard ? "yellow" : "white";
-    char b[320];
+    char *b = h->ws; /* workspace (free here: post_pair is done with it) */
+    const size_t cap = 320; /* the circle's limit as before */
     size_t k = 0;
-    field_putf(b, sizeof b, &k, "x=");
-    put_num(b, sizeof b, &k, o->x, 2, true);
-    field_putf(b, sizeof b, &k, ",y=");
-    put_num(b, sizeof b, &k, o->y, 2, true);
-    field_putf(b, sizeof b, &k, ",radius=%g,label=%s_%s,edge_color=%s,fill_color=%s,fill=0.3,edge_size=1,time=",
+    field_putf(b, cap, &k, "x=");
+    put_num(b, cap, &k, o->x, 2, true);
+    field_putf(b, cap, &k, ",y=");
+    put_num(b, cap, &k, o->y, 2, true);
+    field_putf(b, cap, &k, ",radius=%g,label=%s_%s,edge_color=%s,fill_color=%s,fill=0.3,edge_size=1,time=",
                KELP_UHZ_CIRCLE_RADIUS, n->name, o->label, c, c);
-    put_num(b, sizeof b, &k, now, 2, true);
+    put_num(b, cap, &k, now, 2, true);
     if (h->cfg.show_reports >= 0) {
-        field_putf(b, sizeof b, &k, ",duration=");
-        put_num(b, sizeof b, &k, h->cfg.show_reports, 2, true);
+        field_putf(b, cap, &k, ",duration=");
+        put_num(b, cap, &k, h->cfg.show_reports, 2, true);
     }
     post(out, "VIEW_CIRCLE", b);
 }
@@ -515,7 +502,7 @@ static void put_xy_label(char *b, size_t cap, size_t *k, const kelp_uhz_object *
     put_num(b, cap, k, o->y, 2, true);
 }
 
-static void detect(kelp_field_uhz *h, kelp_uhz_node *n, unsigned oi, double now, const kelp_field_sink *out)
+KELP_NOINLINE static void detect(kelp_field_uhz *h, kelp_uhz_node *n, unsigned oi, double now, const kelp_field_sink *out)
 {
     const kelp_uhz_object *o = &h->cfg.object[oi];
     const kelp_uhz_setting *st = &h->cfg.setting[n->setting];
@@ -538,34 +525,35 @@ static void detect(kelp_field_uhz *h, kelp_uhz_node *n, unsigned oi, double now,
     memo(h, "Detect/Classify report sent to vehicle: ", n->name);
 }
 
-static void post_swath(kelp_field_uhz *h, const kelp_uhz_node *n, const kelp_field_sink *out)
+KELP_NOINLINE static void post_swath(kelp_field_uhz *h, const kelp_uhz_node *n, const kelp_field_sink *out)
 {
     double hr = n->hdg * DEG2RAD, L = h->cfg.swath_length / 2, W = h->cfg.setting[n->setting].width / 2;
     static const double sa[4] = { 1, 1, -1, -1 }, sc[4] = { 1, -1, -1, 1 };
-    char b[400];
+    char *b = h->ws; /* workspace (the detections that follow use it after this post) */
+    const size_t cap = 400; /* the polygon's limit as before */
     size_t k = 0;
-    field_putf(b, sizeof b, &k, "pts={");
+    field_putf(b, cap, &k, "pts={");
     for (int i = 0; i < 4; i++) {
         double a = sa[i] * L, c = sc[i] * W;
-        if (i) field_putf(b, sizeof b, &k, ":");
-        put_num(b, sizeof b, &k, n->x + a * sin(hr) + c * cos(hr), 2, true);
-        field_putf(b, sizeof b, &k, ",");
-        put_num(b, sizeof b, &k, n->y + a * cos(hr) - c * sin(hr), 2, true);
+        if (i) field_putf(b, cap, &k, ":");
+        put_num(b, cap, &k, n->x + a * sin(hr) + c * cos(hr), 2, true);
+        field_putf(b, cap, &k, ",");
+        put_num(b, cap, &k, n->y + a * cos(hr) - c * sin(hr), 2, true);
     }
-    field_putf(b, sizeof b, &k,
+    field_putf(b, cap, &k,
                "},label=sensor_swath_%s,edge_color=white,fill_color=white,edge_size=0,vertex_size=0,fill=", n->name);
-    put_num(b, sizeof b, &k, h->cfg.swath_transparency, 3, true);
+    put_num(b, cap, &k, h->cfg.swath_transparency, 3, true);
     if (h->cfg.show_pd || h->cfg.show_pfa) {
-        field_putf(b, sizeof b, &k, ",msg=");
-        if (h->cfg.show_pd) put_num(b, sizeof b, &k, n->pd, 2, false);
-        if (h->cfg.show_pd && h->cfg.show_pfa) field_putf(b, sizeof b, &k, "/");
-        else if (h->cfg.show_pfa) field_putf(b, sizeof b, &k, "pfa="); /* 24.8: pfa alone is named */
-        if (h->cfg.show_pfa) put_num(b, sizeof b, &k, n->pfa, 2, false);
+        field_putf(b, cap, &k, ",msg=");
+        if (h->cfg.show_pd) put_num(b, cap, &k, n->pd, 2, false);
+        if (h->cfg.show_pd && h->cfg.show_pfa) field_putf(b, cap, &k, "/");
+        else if (h->cfg.show_pfa) field_putf(b, cap, &k, "pfa="); /* 24.8: pfa alone is named */
+        if (h->cfg.show_pfa) put_num(b, cap, &k, n->pfa, 2, false);
     }
     post(out, "VIEW_POLYGON", b);
 }
 
-static int sensor_request(kelp_field_uhz *h, const char *s, double now, const kelp_field_sink *out)
+KELP_NOINLINE static int sensor_request(kelp_field_uhz *h, const char *s, double now, const kelp_field_sink *out)
 {
     char vname[KELP_NODEREPORT_MAX_FIELD] = "";
     trace(h, '$');
@@ -599,7 +587,7 @@ static int sensor_request(kelp_field_uhz *h, const char *s, double now, const ke
     return 1;
 }
 
-static int classify_request(kelp_field_uhz *h, const char *s, double now, const kelp_field_sink *out)
+KELP_NOINLINE static int classify_request(kelp_field_uhz *h, const char *s, double now, const kelp_field_sink *out)
 {
     char vname[KELP_NODEREPORT_MAX_FIELD] = "", label[KELP_UHZ_LABEL_LEN] = "", pr[32] = "", act[16] = "";
     if (kelp_kv_get(s, ',', "vname", vname, sizeof vname) < 0 || kelp_kv_get(s, ',', "label", label, sizeof label) < 0 ||
@@ -651,22 +639,21 @@ static int classify_request(kelp_field_uhz *h, const char *s, double now, const 
     return 1;
 }
 
-static int node_report(kelp_field_uhz *h, const char *s, const kelp_field_sink *out)
+KELP_NOINLINE static int node_report(kelp_field_uhz *h, const char *s, const kelp_field_sink *out)
 {
-    kelp_nodereport r;
-    const char *why = NULL;
+    kelp_nodereport *r = &h->ws_report; /* workspace: no report on the stack */
     trace(h, 'N');
-    if (kelp_nodereport_parse(s, strlen(s), &r, &why) < 0 || !(r.fields & KELP_NR_X) || !(r.fields & KELP_NR_Y)) {
+    if (kelp_nodereport_parse(s, strlen(s), r, NULL) < 0 || !(r->fields & KELP_NR_X) || !(r->fields & KELP_NR_Y)) {
         warn(out, "uFldHazardSensor: invalid NODE_REPORT (NAME, X and Y required)");
         return KELP_ERR_PARSE;
     }
-    kelp_uhz_node *n = node_get(h, r.name, strlen(r.name), out);
+    kelp_uhz_node *n = node_get(h, r->name, strlen(r->name), out);
     if (!n) return KELP_ERR_NOSPACE;
     h->node_reports++;
     n->have_report = true;
-    n->x = r.x;
-    n->y = r.y;
-    n->hdg = (r.fields & KELP_NR_HDG) ? r.hdg : 0;
+    n->x = r->x;
+    n->y = r->y;
+    n->hdg = (r->fields & KELP_NR_HDG) ? r->hdg : 0;
     return 1;
 }
 

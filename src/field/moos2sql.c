@@ -80,39 +80,34 @@ void kelp_m2s_cfg_default(kelp_m2s_cfg *c)
     c->commit_period = 0.25;
 }
 
-static int set_path(char *dst, const char *val, const char **why)
+static int set_path(char *dst, const char *val, kelp_diag *d)
 {
     size_t n = strlen(val);
     if (n >= KELP_M2S_PATH) {
-        *why = "path too long";
-        return KELP_ERR_RANGE;
+        return kelp_fail(d, KELP_ERR_RANGE, "path too long");
     }
     copyz(dst, KELP_M2S_PATH, val, n);
     return 1;
 }
 
-int kelp_m2s_config(kelp_m2s_cfg *c, const char *key, const char *val, const char **why)
+int kelp_m2s_config(kelp_m2s_cfg *c, const char *key, const char *val, kelp_diag *d)
 {
     static const char *const kinds[3] = { "STATUS_VAR", "CONTACT_VAR", "TRACK_VAR" };
-    const char *dummy;
-    if (!why) why = &dummy;
     if (kelp_strieq(key, "DATABASE")) {
         if (!val[0]) {
-            *why = "a database path is required";
-            return KELP_ERR_ARG;
+            return kelp_fail(d, KELP_ERR_ARG, "a database path is required");
         }
-        return set_path(c->database, val, why);
+        return set_path(c->database, val, d);
     }
-    if (kelp_strieq(key, "KML_FILE")) return set_path(c->kml, val, why);
-    if (kelp_strieq(key, "KML_LINK_FILE")) return set_path(c->kml_link, val, why);
+    if (kelp_strieq(key, "KML_FILE")) return set_path(c->kml, val, d);
+    if (kelp_strieq(key, "KML_LINK_FILE")) return set_path(c->kml_link, val, d);
     if (kelp_strieq(key, "KML_PERIOD") || kelp_strieq(key, "COMMIT_PERIOD")) {
         bool kml = kelp_strieq(key, "KML_PERIOD");
-        double d;
-        if (kelp_parse_finite(val, strlen(val), &d) < 0 || !(d > 0) || (!kml && d > 0.5)) {
-            *why = kml ? "a number of seconds > 0" : "a number of seconds in (0, 0.5]";
-            return KELP_ERR_PARSE;
+        double dv;
+        if (kelp_parse_finite(val, strlen(val), &dv) < 0 || !(dv > 0) || (!kml && dv > 0.5)) {
+            return kelp_fail(d, KELP_ERR_PARSE, kml ? "a number of seconds > 0" : "a number of seconds in (0, 0.5]");
         }
-        *(kml ? &c->kml_period : &c->commit_period) = d;
+        *(kml ? &c->kml_period : &c->commit_period) = dv;
         return 1;
     }
     for (unsigned k = 0; k < 3; k++) {
@@ -125,8 +120,7 @@ int kelp_m2s_config(kelp_m2s_cfg *c, const char *key, const char *val, const cha
             while (m && (s[m - 1] == ' ' || s[m - 1] == '\t')) m--;
             int rc = add_var(c, k, s, m);
             if (rc < 0) {
-                *why = rc == KELP_ERR_RANGE ? "variable name too long" : "too many variables";
-                return rc;
+                return kelp_fail(d, rc, rc == KELP_ERR_RANGE ? "variable name too long" : "too many variables");
             }
             p += n + (p[n] == ',');
         }
@@ -161,7 +155,7 @@ static long count_items(const char *s, size_t n)
 }
 
 /* track: the fields of a key=value status message */
-static int read_track(const char *s, kelp_m2s_record *out, const char **why)
+static int read_track(const char *s, kelp_m2s_record *out, kelp_diag *d)
 {
     static const struct { const char *key; uint32_t bit; } keys[] = {
         { "nav_x", KELP_NR_X }, { "x", KELP_NR_X }, { "nav_y", KELP_NR_Y }, { "y", KELP_NR_Y },
@@ -179,16 +173,15 @@ static int read_track(const char *s, kelp_m2s_record *out, const char **why)
         if (!out->name[0] && (kelp_strieq_n(k, kl, "name") || kelp_strieq_n(k, kl, "vname") ||
                               kelp_strieq_n(k, kl, "node"))) {
             if (vl >= sizeof out->name) {
-                *why = "vehicle name too long";
-                return KELP_ERR_RANGE;
+                return kelp_fail(d, KELP_ERR_RANGE, "vehicle name too long");
             }
             copyz(out->name, sizeof out->name, v, vl);
             continue;
         }
         for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++) {
             if (!kelp_strieq_n(k, kl, keys[i].key)) continue;
-            double d;
-            if ((r->fields & keys[i].bit) || kelp_parse_finite(v, vl, &d) < 0) break; /* first wins; text ignored */
+            double dv;
+            if ((r->fields & keys[i].bit) || kelp_parse_finite(v, vl, &dv) < 0) break; /* first wins; text ignored */
             double *dst = keys[i].bit == KELP_NR_X     ? &r->x
                           : keys[i].bit == KELP_NR_Y   ? &r->y
                           : keys[i].bit == KELP_NR_LAT ? &r->lat
@@ -196,24 +189,20 @@ static int read_track(const char *s, kelp_m2s_record *out, const char **why)
                           : keys[i].bit == KELP_NR_HDG ? &r->hdg
                           : keys[i].bit == KELP_NR_SPD ? &r->spd
                                                         : &r->depth;
-            *dst = d;
+            *dst = dv;
             r->fields |= keys[i].bit;
             break;
         }
     }
     if (rc < 0) {
-        *why = "not a key=value list";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "not a key=value list");
     }
     return 0;
 }
 
 int kelp_m2s_classify(const kelp_m2s_cfg *c, const char *var, const char *community, double time, bool is_string,
-                      const char *sval, size_t slen, double dval, kelp_m2s_record *out, const char **why)
+                      const char *sval, size_t slen, double dval, kelp_m2s_record *out, kelp_diag *d)
 {
-    const char *dummy;
-    if (!why) why = &dummy;
-    *why = NULL;
     kelp_m2s_kind kind = kelp_m2s_kind_of(c, var);
     if (kind == KELP_M2S_NONE) return 0;
     memset(out, 0, sizeof *out);
@@ -227,8 +216,7 @@ int kelp_m2s_classify(const kelp_m2s_cfg *c, const char *var, const char *commun
     out->value = is_string ? sval : "";
     out->value_len = is_string ? slen : 0;
     if (is_string && (memchr(sval, 0, slen) || sval[slen] != 0)) {
-        *why = "a NUL byte in the text, or the text not terminated at its length";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "a NUL byte in the text, or the text not terminated at its length");
     }
     if (kind == KELP_M2S_CONTACT) {
         copyz(out->name, sizeof out->name, out->community, strlen(out->community));
@@ -236,16 +224,15 @@ int kelp_m2s_classify(const kelp_m2s_cfg *c, const char *var, const char *commun
         return 1;
     }
     if (!is_string) {
-        *why = kind == KELP_M2S_STATUS ? "a node report must be a string" : "a status message must be a string";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, kind == KELP_M2S_STATUS ? "a node report must be a string" : "a status message must be a string");
     }
     if (kind == KELP_M2S_STATUS) {
-        int rc = kelp_nodereport_parse(sval, slen, &out->nr, why);
+        int rc = kelp_nodereport_parse(sval, slen, &out->nr, d);
         if (rc < 0) return rc;
         copyz(out->name, sizeof out->name, out->nr.name, strlen(out->nr.name));
         return 1;
     }
-    int rc = read_track(sval, out, why);
+    int rc = read_track(sval, out, d);
     return rc < 0 ? rc : 1;
 }
 

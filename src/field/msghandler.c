@@ -68,14 +68,11 @@ static void take_pair(kelp_node_message *m, kelp_field_text *var_alt, kelp_field
     /* string_val_quoted and unknown keys: nothing to keep */
 }
 
-int kelp_field_nodemsg_parse(const char *s, size_t len, kelp_node_message *m, const char **why)
+int kelp_field_nodemsg_parse(const char *s, size_t len, kelp_node_message *m, kelp_diag *d)
 {
-    const char *dummy;
-    if (!why) why = &dummy;
     memset(m, 0, sizeof *m);
     if (!s) {
-        *why = "no text";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "no text");
     }
     kelp_field_text var_alt = { NULL, 0 }, dval = { NULL, 0 };
     size_t pos = 0;
@@ -93,20 +90,18 @@ int kelp_field_nodemsg_parse(const char *s, size_t len, kelp_node_message *m, co
         take_pair(m, &var_alt, &dval, k, kl, v, vl);
     }
     if (rc < 0) {
-        *why = "unbalanced quote or brace";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "unbalanced quote or brace");
     }
     if (!m->var_name.n) m->var_name = var_alt;
-    if (!m->src_node.n) *why = "no src_node";
-    else if (!m->dest_node.n && !m->dest_group.n) *why = "no dest_node or dest_group";
-    else if (!m->var_name.n) *why = "no var_name";
-    else if (!name_ok(m->var_name.p, m->var_name.n)) *why = "var_name is not a variable name";
-    else if (kelp_strieq_n(m->var_name.p, m->var_name.n, "NODE_MESSAGE")) *why = "var_name NODE_MESSAGE would loop";
-    else if (m->has_string && m->has_double) *why = "both string_val and double_val";
-    else if (!m->has_string && !m->has_double) *why = "no string_val or double_val";
-    else if (m->has_double && !number(dval.p, dval.n, &m->double_val)) *why = "double_val is not a number";
-    else return KELP_OK;
-    return KELP_ERR_PARSE;
+    if (!m->src_node.n) return kelp_fail(d, KELP_ERR_PARSE, "no src_node");
+    if (!m->dest_node.n && !m->dest_group.n) return kelp_fail(d, KELP_ERR_PARSE, "no dest_node or dest_group");
+    if (!m->var_name.n) return kelp_fail(d, KELP_ERR_PARSE, "no var_name");
+    if (!name_ok(m->var_name.p, m->var_name.n)) return kelp_fail(d, KELP_ERR_PARSE, "var_name is not a variable name");
+    if (kelp_strieq_n(m->var_name.p, m->var_name.n, "NODE_MESSAGE")) return kelp_fail(d, KELP_ERR_PARSE, "var_name NODE_MESSAGE would loop");
+    if (m->has_string && m->has_double) return kelp_fail(d, KELP_ERR_PARSE, "both string_val and double_val");
+    if (!m->has_string && !m->has_double) return kelp_fail(d, KELP_ERR_PARSE, "no string_val or double_val");
+    if (m->has_double && !number(dval.p, dval.n, &m->double_val)) return kelp_fail(d, KELP_ERR_PARSE, "double_val is not a number");
+    return KELP_OK;
 }
 
 bool kelp_field_nodemsg_to(const kelp_node_message *m, const char *me)
@@ -124,7 +119,7 @@ bool kelp_field_nodemsg_to(const kelp_node_message *m, const char *me)
 static void copy_text(char *dst, size_t cap, const char *src, size_t n)
 {
     if (n >= cap) n = cap - 1;
-    memcpy(dst, src, n);
+    if (n) memcpy(dst, src, n);
     dst[n] = 0;
 }
 
@@ -137,27 +132,24 @@ void kelp_field_umh_cfg_default(kelp_field_umh_cfg *c, const char *community)
     c->summary_gap = UMH_SUMMARY_GAP_S;
 }
 
-static int parse_bool(const char *val, bool *out, const char **why)
+static int parse_bool(const char *val, bool *out, kelp_diag *d)
 {
     if (kelp_parse_bool(val, strlen(val), out) != KELP_OK) {
-        *why = "expected true or false";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "expected true or false");
     }
     return 1;
 }
 
 /* "VAR=value": a number is a double, anything else (quotes removed) a string */
-static int parse_flag(kelp_umh_flag *f, unsigned *n, const char *val, const char **why)
+static int parse_flag(kelp_umh_flag *f, unsigned *n, const char *val, kelp_diag *d)
 {
     if (*n >= KELP_UMH_MAX_FLAGS) {
-        *why = "too many flags (at most 8 of each kind)";
-        return KELP_ERR_NOSPACE;
+        return kelp_fail(d, KELP_ERR_NOSPACE, "too many flags (at most 8 of each kind)");
     }
     const char *eq = strchr(val, '=');
     size_t vl = strlen(val);
     if (!eq) {
-        *why = "expected VAR=value";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "expected VAR=value");
     }
     const char *k = val, *v = eq + 1;
     size_t kl = (size_t)(eq - val), l = vl - kl - 1;
@@ -166,8 +158,7 @@ static int parse_flag(kelp_umh_flag *f, unsigned *n, const char *val, const char
     while (l && (*v == ' ' || *v == '\t')) v++, l--;
     while (l && (v[l - 1] == ' ' || v[l - 1] == '\t')) l--;
     if (!name_ok(k, kl)) {
-        *why = "the flag's variable is not a variable name";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "the flag's variable is not a variable name");
     }
     kelp_umh_flag *t = &f[*n];
     memset(t, 0, sizeof *t);
@@ -178,8 +169,7 @@ static int parse_flag(kelp_umh_flag *f, unsigned *n, const char *val, const char
     } else {
         if (quoted) v++, l -= 2;
         if (l >= sizeof t->sval) {
-            *why = "the flag's value is too long";
-            return KELP_ERR_RANGE;
+            return kelp_fail(d, KELP_ERR_RANGE, "the flag's value is too long");
         }
         copy_text(t->sval, sizeof t->sval, v, l);
         t->is_string = true;
@@ -188,33 +178,29 @@ static int parse_flag(kelp_umh_flag *f, unsigned *n, const char *val, const char
     return 1;
 }
 
-int kelp_field_umh_config(kelp_field_umh_cfg *c, const char *key, const char *val, const char **why)
+int kelp_field_umh_config(kelp_field_umh_cfg *c, const char *key, const char *val, kelp_diag *d)
 {
-    const char *dummy;
-    if (!why) why = &dummy;
     size_t kl = strlen(key), vl = strlen(val);
-    if (kelp_strieq_n(key, kl, "VERBOSE")) return parse_bool(val, &c->verbose, why);
-    if (kelp_strieq_n(key, kl, "STRICT_ADDRESSING")) return parse_bool(val, &c->strict, why);
+    if (kelp_strieq_n(key, kl, "VERBOSE")) return parse_bool(val, &c->verbose, d);
+    if (kelp_strieq_n(key, kl, "STRICT_ADDRESSING")) return parse_bool(val, &c->strict, d);
     if (kelp_strieq_n(key, kl, "AUX_INFO")) {
         if (kelp_strieq_n(val, vl, "node")) c->aux_app = false;
         else if (kelp_strieq_n(val, vl, "node+app")) c->aux_app = true;
         else {
-            *why = "expected node or node+app";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "expected node or node+app");
         }
         return 1;
     }
     if (kelp_strieq_n(key, kl, "APPCAST_TRUNC_MSG")) {
         long n;
         if (kelp_parse_long(val, vl, &n) < 0 || n < 0 || n >= KELP_UMH_MSG_LEN) {
-            *why = "expected a whole number of characters in [0, 255]";
-            return KELP_ERR_RANGE;
+            return kelp_fail(d, KELP_ERR_RANGE, "expected a whole number of characters in [0, 255]");
         }
         c->trunc = (unsigned)n;
         return 1;
     }
-    if (kelp_strieq_n(key, kl, "MSG_FLAG")) return parse_flag(c->msg_flag, &c->nmsg_flag, val, why);
-    if (kelp_strieq_n(key, kl, "BAD_MSG_FLAG")) return parse_flag(c->bad_flag, &c->nbad_flag, val, why);
+    if (kelp_strieq_n(key, kl, "MSG_FLAG")) return parse_flag(c->msg_flag, &c->nmsg_flag, val, d);
+    if (kelp_strieq_n(key, kl, "BAD_MSG_FLAG")) return parse_flag(c->bad_flag, &c->nbad_flag, val, d);
     return 0;
 }
 
@@ -237,7 +223,8 @@ static void list_add(kelp_umh_list *l, const char *msg, const char *why)
         l->first = (l->first + 1) % KELP_UMH_LAST;
     }
     copy_text(l->msg[slot], sizeof l->msg[slot], msg, strlen(msg));
-    l->why[slot] = why;
+    if (!why) why = "";
+    copy_text(l->why[slot], sizeof l->why[slot], why, strlen(why));
 }
 
 /* $[CTR], $[GOOD_CTR], $[BAD_CTR] expanded into out */
@@ -312,9 +299,9 @@ int kelp_field_umh_mail(kelp_field_umh *h, const char *var, bool is_string, cons
     h->last_msg = now;
     if (!is_string || !sval) return bad(h, &h->last_invalid, &h->invalid, "(a number)", "not a string", out);
     kelp_node_message m;
-    const char *why = NULL;
-    if (kelp_field_nodemsg_parse(sval, strlen(sval), &m, &why) < 0)
-        return bad(h, &h->last_invalid, &h->invalid, sval, why, out);
+    kelp_diag_clear(&h->diag);
+    if (kelp_field_nodemsg_parse(sval, strlen(sval), &m, &h->diag) < 0)
+        return bad(h, &h->last_invalid, &h->invalid, sval, kelp_diag_text(&h->diag), out);
     /* addressing (ufield.md 6.4 rule 2) */
     bool all = kelp_strieq_n(m.dest_node.p, m.dest_node.n, "all");
     bool mine = m.dest_node.n && kelp_field_nodemsg_to(&m, h->cfg.community);
@@ -384,7 +371,7 @@ static void put_list(outbuf *o, const char *title, const kelp_umh_list *l, unsig
         size_t len = strlen(l->msg[k]);
         bool cut = trunc && len > trunc;
         put(o, "  %.*s%s", (int)(cut ? trunc : len), l->msg[k], cut ? "..." : "");
-        put(o, l->why[k] ? "   (%s)\n" : "%s\n", l->why[k] ? l->why[k] : "");
+        put(o, l->why[k][0] ? "   (%s)\n" : "%s\n", l->why[k]);
     }
 }
 

@@ -25,58 +25,60 @@ static void keep_bad(kelp_field_nbroker_cfg *cfg, const char *line, const char *
     if (n >= KELP_BROKER_LINE) n = KELP_BROKER_LINE - 1;
     memcpy(cfg->bad_try[i], line, n);
     cfg->bad_try[i][n] = 0;
-    cfg->bad_why[i] = why;
+    n = strlen(why);
+    if (n >= KELP_BROKER_WHY) n = KELP_BROKER_WHY - 1;
+    memcpy(cfg->bad_why[i], why, n);
+    cfg->bad_why[i][n] = 0;
     cfg->bad_multicast[i] = multicast;
 }
 
 /* a try host, once: 1 added, 0 listed already or invalid (kept for the report) */
-static int add_try(kelp_field_nbroker_cfg *cfg, const char *val, const char **why)
+static int add_try(kelp_field_nbroker_cfg *cfg, const char *val)
 {
     kelp_broker_try t;
-    int rc = kelp_broker_try_parse(val, &t, why);
+    kelp_diag *d = &cfg->ws_diag;
+    kelp_diag_clear(d);
+    int rc = kelp_broker_try_parse(val, &t, d);
     if (rc < 0) {
-        keep_bad(cfg, val, *why, rc == KELP_ERR_UNSUPPORTED);
+        keep_bad(cfg, val, kelp_diag_text(d), rc == KELP_ERR_UNSUPPORTED);
         return 0;
     }
     for (unsigned i = 0; i < cfg->ntry; i++)
         if (strcmp(cfg->tryh[i].host, t.host) == 0 && cfg->tryh[i].port == t.port) return 0;
     if (cfg->ntry >= KELP_BROKER_MAX_TRY) {
-        *why = "too many try hosts (KELP_BROKER_MAX_TRY)";
-        keep_bad(cfg, val, *why, false);
+        (void)kelp_fail(d, KELP_ERR_NOSPACE, "too many try hosts (KELP_BROKER_MAX_TRY)");
+        keep_bad(cfg, val, kelp_diag_text(d), false);
         return 0;
     }
     cfg->tryh[cfg->ntry++] = t;
     return 1;
 }
 
-int kelp_field_nbroker_config(kelp_field_nbroker_cfg *cfg, const char *key, const char *val, const char **why)
+int kelp_field_nbroker_config(kelp_field_nbroker_cfg *cfg, const char *key, const char *val, kelp_diag *d)
 {
     size_t kl = strlen(key);
-    *why = NULL;
     if (kelp_strieq_n(key, kl, "KEYWORD")) {
         if (strlen(val) >= sizeof cfg->keyword || strpbrk(val, " ,=")) {
-            *why = "one word without ',' or '=', up to 63 characters";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "one word without ',' or '=', up to 63 characters");
         }
         memcpy(cfg->keyword, val, strlen(val) + 1);
         return 1;
     }
     if (kelp_strieq_n(key, kl, "TRY_SHORE_HOST")) {
-        (void)add_try(cfg, val, why); /* an invalid one is listed in the report (seed 2.2) */
+        (void)add_try(cfg, val); /* an invalid one is listed in the report (seed 2.2) */
         return 1;
     }
     if (kelp_strieq_n(key, kl, "BRIDGE")) {
         kelp_broker_bridge b;
-        if (kelp_broker_bridge_parse(val, &b, why) < 0) return KELP_ERR_PARSE;
-        return broker_add_bridge(cfg->bridge, &cfg->nbridges, b.src, b.alias, why);
+        if (kelp_broker_bridge_parse(val, &b, d) < 0) return KELP_ERR_PARSE;
+        return broker_add_bridge(cfg->bridge, &cfg->nbridges, b.src, b.alias, d);
     }
     if (kelp_strieq_n(key, kl, "RETRY_INTERVAL")) {
-        double d;
-        if (kelp_parse_double(val, strlen(val), &d) < 0 || !(d > 0 && d < 1e6)) {
-            *why = "seconds > 0";
-            return KELP_ERR_PARSE;
+        double dv;
+        if (kelp_parse_double(val, strlen(val), &dv) < 0 || !(dv > 0 && dv < 1e6)) {
+            return kelp_fail(d, KELP_ERR_PARSE, "seconds > 0");
         }
-        cfg->retry = d;
+        cfg->retry = dv;
         return 1;
     }
     bool *flag = kelp_strieq_n(key, kl, "AUTO_BRIDGE_REALMCAST") ? &cfg->auto_realmcast
@@ -85,8 +87,7 @@ int kelp_field_nbroker_config(kelp_field_nbroker_cfg *cfg, const char *key, cons
                                                                     : NULL;
     if (flag) {
         if (!broker_bool(val, flag)) {
-            *why = "true or false";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "true or false");
         }
         return 1;
     }
@@ -100,12 +101,12 @@ void kelp_field_nbroker_init(kelp_field_nbroker *b, const kelp_field_nbroker_cfg
     b->routes_at = b->last_ack = b->host_req_at = -1;
     /* 24.8's automatic bridges, after the user's (a full list keeps the user's) */
     static const char *const realm[] = { "REALMCAST", "WATCHCAST", "REALMCAST_CHANNELS" };
-    const char *why;
+    /* a full list keeps the user's bridges: the automatic one is dropped (no reason wanted) */
     for (int i = 0; i < 3 && b->cfg.auto_realmcast; i++)
-        (void)broker_add_bridge(b->cfg.bridge, &b->cfg.nbridges, realm[i], realm[i], &why);
-    if (b->cfg.auto_appcast) (void)broker_add_bridge(b->cfg.bridge, &b->cfg.nbridges, "APPCAST", "APPCAST", &why);
+        (void)broker_add_bridge(b->cfg.bridge, &b->cfg.nbridges, realm[i], realm[i], NULL);
+    if (b->cfg.auto_appcast) (void)broker_add_bridge(b->cfg.bridge, &b->cfg.nbridges, "APPCAST", "APPCAST", NULL);
     if (b->cfg.auto_pshare_vars)
-        (void)broker_add_bridge(b->cfg.bridge, &b->cfg.nbridges, "NODE_PSHARE_VARS", "NODE_PSHARE_VARS", &why);
+        (void)broker_add_bridge(b->cfg.bridge, &b->cfg.nbridges, "NODE_PSHARE_VARS", "NODE_PSHARE_VARS", NULL);
 }
 
 const char *kelp_field_nbroker_subscription(unsigned i)
@@ -143,17 +144,18 @@ static void warn(const kelp_field_sink *out, const char *msg)
 static int ack_mail(kelp_field_nbroker *b, const char *sval, double now, const kelp_field_sink *out)
 {
     kelp_broker_host h;
-    const char *why = NULL;
-    int rc = kelp_broker_host_parse(sval, &h, &why);
-    if (rc == 0 && !kelp_broker_host_complete(&h)) why = "no community, host or port_udp", rc = KELP_ERR_PARSE;
-    if (rc == 0 && h.have_warp && h.warp != b->cfg.warp) why = "another time warp", rc = KELP_ERR_STATE;
+    kelp_diag *d = &b->cfg.ws_diag;
+    kelp_diag_clear(d);
+    int rc = kelp_broker_host_parse(sval, &h, d);
+    if (rc == 0 && !kelp_broker_host_complete(&h)) rc = kelp_fail(d, KELP_ERR_PARSE, "no community, host or port_udp");
+    if (rc == 0 && h.have_warp && h.warp != b->cfg.warp) rc = kelp_fail(d, KELP_ERR_STATE, "another time warp");
     if (rc == 0 && h.keyword[0] && b->cfg.keyword[0] && strcmp(h.keyword, b->cfg.keyword) != 0)
-        why = "another keyword", rc = KELP_ERR_DENIED;
-    if (rc == 0 && h.status[0] && strcmp(h.status, "ok") != 0) why = "refused by the shore", rc = KELP_ERR_DENIED;
+        rc = kelp_fail(d, KELP_ERR_DENIED, "another keyword");
+    if (rc == 0 && h.status[0] && strcmp(h.status, "ok") != 0) rc = kelp_fail(d, KELP_ERR_DENIED, "refused by the shore");
     if (rc < 0) {
         b->bad_ack++;
         char msg[128];
-        kelp_snprintf(msg, sizeof msg, "bad NODE_BROKER_ACK: %s", why ? why : "malformed");
+        kelp_snprintf(msg, sizeof msg, "bad NODE_BROKER_ACK: %s", kelp_diag_text(d));
         warn(out, msg);
         return rc;
     }
@@ -182,8 +184,7 @@ int kelp_field_nbroker_mail(kelp_field_nbroker *b, const char *var, bool is_stri
 {
     if (strcmp(var, "PHI_HOST_INFO") == 0) {
         kelp_broker_host h;
-        const char *why = NULL;
-        if (!is_string || kelp_broker_host_parse(sval, &h, &why) < 0 || !kelp_broker_host_complete(&h)) {
+        if (!is_string || kelp_broker_host_parse(sval, &h, NULL) < 0 || !kelp_broker_host_complete(&h)) {
             b->bad_phi++;
             return KELP_ERR_PARSE;
         }
@@ -201,10 +202,9 @@ int kelp_field_nbroker_mail(kelp_field_nbroker *b, const char *var, bool is_stri
         return ack_mail(b, sval, now, out);
     }
     if (strcmp(var, "TRY_SHORE_HOST") == 0) {
-        const char *why = NULL;
         if (!is_string || !sval) return KELP_ERR_PARSE;
         unsigned nbad = b->cfg.nbad_try;
-        if (add_try(&b->cfg, sval, &why) > 0) {
+        if (add_try(&b->cfg, sval) > 0) {
             if (b->routes_posted) (void)ping_route(b, &b->cfg.tryh[b->cfg.ntry - 1], out);
             return 1;
         }

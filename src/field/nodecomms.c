@@ -102,19 +102,17 @@ void kelp_field_ncomms_cfg_default(kelp_field_ncomms_cfg *cfg)
 static double clip(double v, double lo, double hi) { return v < lo ? lo : v > hi ? hi : v; }
 
 /* "vname=alpha, stealth=0.8" / "vname=alpha, earange=4.5" (also 24.8's "earrange") */
-static int parse_factor(const char *val, bool stealth, char *vname, size_t cap, double *f, const char **why)
+static int parse_factor(const char *val, bool stealth, char *vname, size_t cap, double *f, kelp_diag *d)
 {
     char num[64];
     int a = kelp_kv_get(val, ',', "vname", vname, cap);
     int b = kelp_kv_get(val, ',', stealth ? "stealth" : "earange", num, sizeof num);
     if (b == 0 && !stealth) b = kelp_kv_get(val, ',', "earrange", num, sizeof num);
     if (a != 1 || !vname[0] || strpbrk(vname, " ,=")) {
-        *why = "needs vname=<one word>";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "needs vname=<one word>");
     }
     if (b != 1 || parse_num(num, f) < 0) {
-        *why = stealth ? "needs stealth=<number>" : "needs earange=<number>";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, stealth ? "needs stealth=<number>" : "needs earange=<number>");
     }
     *f = stealth ? clip(*f, NC_MIN_STEALTH, 1) : clip(*f, 1, NC_MAX_EARANGE);
     return KELP_OK;
@@ -131,29 +129,27 @@ static int parse_share(const char *v, double *out)
     return KELP_OK;
 }
 
-static int set_color(char *dst, size_t cap, const char *v, const char **why)
+static int set_color(char *dst, size_t cap, const char *v, kelp_diag *d)
 {
     size_t n = strlen(v);
     if (n == 0 || n >= cap || strpbrk(v, " ,=")) {
-        *why = "must be one colour name";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "must be one colour name");
     }
     copy_z(dst, cap, v, n);
     return 1;
 }
 
-int kelp_field_ncomms_config(kelp_field_ncomms_cfg *cfg, const char *key, const char *val, const char **why)
+int kelp_field_ncomms_config(kelp_field_ncomms_cfg *cfg, const char *key, const char *val, kelp_diag *d)
 {
     char v[256];
     size_t n = strlen(val);
     if (n >= sizeof v) {
-        *why = "value too long";
-        return KELP_ERR_RANGE;
+        return kelp_fail(d, KELP_ERR_RANGE, "value too long");
     }
     memcpy(v, val, n + 1);
     while (n && (v[n - 1] == ';' || v[n - 1] == ' ')) v[--n] = 0; /* "PULSE_DURATION = 10;" (A3) */
     size_t kl = strlen(key);
-    double d = 0;
+    double dv = 0;
     bool b;
     struct { const char *k; double *dst; double lo; } nums[] = {
         { "COMMS_RANGE", &cfg->comms_range, -INFINITY },   { "CRITICAL_RANGE", &cfg->critical_range, 0 },
@@ -167,22 +163,19 @@ int kelp_field_ncomms_config(kelp_field_ncomms_cfg *cfg, const char *key, const 
     }
     for (size_t i = 0; i < sizeof nums / sizeof nums[0]; i++)
         if (kelp_strieq_n(key, kl, nums[i].k)) {
-            if (parse_num(v, &d) < 0 || d < nums[i].lo) {
-                *why = nums[i].lo == 0 ? "must be a number >= 0" : "must be a number";
-                return KELP_ERR_PARSE;
+            if (parse_num(v, &dv) < 0 || dv < nums[i].lo) {
+                return kelp_fail(d, KELP_ERR_PARSE, nums[i].lo == 0 ? "must be a number >= 0" : "must be a number");
             }
-            if (nums[i].dst == &cfg->drop_pct && d > 100) {
-                *why = "must be a percentage in [0,100]";
-                return KELP_ERR_PARSE;
+            if (nums[i].dst == &cfg->drop_pct && dv > 100) {
+                return kelp_fail(d, KELP_ERR_PARSE, "must be a percentage in [0,100]");
             }
-            *nums[i].dst = d;
+            *nums[i].dst = dv;
             return 1;
         }
     if (kelp_strieq_n(key, kl, "MAX_MSG_LENGTH")) {
         long l;
         if (kelp_parse_long(v, n, &l) < 0 || l < 0) {
-            *why = "must be a count of characters >= 0";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "must be a count of characters >= 0");
         }
         cfg->max_msg_length = (unsigned long)l;
         return 1;
@@ -195,31 +188,28 @@ int kelp_field_ncomms_config(kelp_field_ncomms_cfg *cfg, const char *key, const 
     for (size_t i = 0; i < sizeof bools / sizeof bools[0]; i++)
         if (kelp_strieq_n(key, kl, bools[i].k)) {
             if (kelp_parse_bool(v, n, &b) < 0) {
-                *why = "must be true or false";
-                return KELP_ERR_PARSE;
+                return kelp_fail(d, KELP_ERR_PARSE, "must be true or false");
             }
             *bools[i].dst = b;
             return 1;
         }
     if (kelp_strieq_n(key, kl, "SHARED_NODE_REPORTS")) {
         if (parse_share(v, &cfg->share_interval) < 0) {
-            *why = "must be true, false or seconds >= 0";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "must be true, false or seconds >= 0");
         }
         return 1;
     }
-    if (kelp_strieq_n(key, kl, "MSG_COLOR")) return set_color(cfg->msg_color, sizeof cfg->msg_color, v, why);
+    if (kelp_strieq_n(key, kl, "MSG_COLOR")) return set_color(cfg->msg_color, sizeof cfg->msg_color, v, d);
     if (kelp_strieq_n(key, kl, "MSG_REPEAT_COLOR"))
-        return set_color(cfg->msg_repeat_color, sizeof cfg->msg_repeat_color, v, why);
+        return set_color(cfg->msg_repeat_color, sizeof cfg->msg_repeat_color, v, d);
     bool st = kelp_strieq_n(key, kl, "STEALTH");
     if (st || kelp_strieq_n(key, kl, "EARANGE")) {
         kelp_ncomms_factor f;
         memset(&f, 0, sizeof f);
-        int rc = parse_factor(v, st, f.vname, sizeof f.vname, st ? &f.stealth : &f.earange, why);
+        int rc = parse_factor(v, st, f.vname, sizeof f.vname, st ? &f.stealth : &f.earange, d);
         if (rc < 0) return rc;
         if (cfg->nfactor >= KELP_NCOMMS_MAX_FACTORS) {
-            *why = "too many STEALTH/EARANGE lines";
-            return KELP_ERR_NOSPACE;
+            return kelp_fail(d, KELP_ERR_NOSPACE, "too many STEALTH/EARANGE lines");
         }
         cfg->factor[cfg->nfactor++] = f;
         return 1;
@@ -812,16 +802,19 @@ static void route_ack(kelp_field_ncomms *c, const kelp_ncomms_msg *m, double now
 static int mail_report(kelp_field_ncomms *c, const char *s, double now, const kelp_field_sink *out)
 {
     kelp_nodereport r;
-    const char *why = NULL;
+    kelp_diag *d = &c->diag;
+    kelp_diag_clear(d);
     size_t len = strlen(s);
-    if (len + 1 > KELP_NODEREPORT_MAX_LEN) why = "longer than KELP_NODEREPORT_MAX_LEN";
-    else if (kelp_nodereport_parse(s, len, &r, &why) < 0) why = why ? why : "malformed";
+    bool bad = true;
+    if (len + 1 > KELP_NODEREPORT_MAX_LEN) (void)kelp_fail(d, KELP_ERR_PARSE, "longer than KELP_NODEREPORT_MAX_LEN");
+    else if (kelp_nodereport_parse(s, len, &r, d) < 0) (void)kelp_fail(d, KELP_ERR_PARSE, "malformed");
     else if ((!(r.fields & KELP_NR_X) || !(r.fields & KELP_NR_Y)) &&
              (!c->cfg.have_geo || kelp_nodereport_complete(&r, &c->cfg.geo) < 0 || !(r.fields & KELP_NR_X)))
-        why = "no X,Y (and LAT,LON need the LatOrigin/LongOrigin datum)";
-    if (why) {
+        (void)kelp_fail(d, KELP_ERR_PARSE, "no X,Y (and LAT,LON need the LatOrigin/LongOrigin datum)");
+    else bad = false;
+    if (bad) {
         c->rpts_bad++;
-        warn3(out, "NODE_REPORT: ", why, "");
+        warn3(out, "NODE_REPORT: ", kelp_diag_text(d), "");
         return KELP_ERR_PARSE;
     }
     int i = node_get(c, r.name, strlen(r.name));
@@ -856,10 +849,10 @@ static int mail_report(kelp_field_ncomms *c, const char *s, double now, const ke
 static int mail_factor(kelp_field_ncomms *c, const char *var, const char *s, bool stealth, const kelp_field_sink *out)
 {
     char vname[KELP_NODEREPORT_MAX_FIELD];
-    double f;
-    const char *why = NULL;
-    if (parse_factor(s, stealth, vname, sizeof vname, &f, &why) < 0) {
-        warn3(out, var, ": ", why);
+    double f = 1;
+    kelp_diag_clear(&c->diag);
+    if (parse_factor(s, stealth, vname, sizeof vname, &f, &c->diag) < 0) {
+        warn3(out, var, ": ", kelp_diag_text(&c->diag));
         return KELP_ERR_PARSE;
     }
     int i = node_get(c, vname, strlen(vname));

@@ -83,9 +83,15 @@ int kelp_nodereport_format(const kelp_nodereport *r, char *buf, size_t cap, size
     return KELP_OK;
 }
 
+/* Two passes over the pairs: the first (r NULL) checks every value and which keys are there,
+ * the second writes them into the caller's report. No report-sized copy on the stack (this
+ * parser runs under every NODE_REPORT of the uField tools), and the output is still untouched
+ * when the text is refused. */
 typedef struct nrparse {
-    kelp_nodereport *r;
-    const char *why;
+    kelp_nodereport *r; /**< NULL in the checking pass */
+    kelp_diag *d;
+    uint32_t seen;      /**< keys met (the first of a repeated key wins) */
+    bool name_empty;
 } nrparse;
 
 static int on_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl)
@@ -109,9 +115,33 @@ static int on_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl
             bit = keys[i].bit;
             break;
         }
-    if (!bit || (r->fields & bit)) return KELP_OK; /* unknown key, or a repeat: first wins */
+    if (!bit || (p->seen & bit)) return KELP_OK; /* unknown key, or a repeat: first wins */
+    p->seen |= bit;
+    bool is_text = bit == KELP_NR_NAME || bit == KELP_NR_TYPE || bit == KELP_NR_MODE || bit == KELP_NR_ALLSTOP ||
+                   bit == KELP_NR_GROUP || bit == KELP_NR_COLOR;
+    double x = 0;
+    if (is_text) {
+        /* a text field must survive format -> parse: no quote, brace, separator or control
+         * byte (a fuzz finding: name=char"lie parsed, but its report could not be re-read) */
+        for (size_t i = 0; i < vl; i++) {
+            unsigned char c = (unsigned char)v[i];
+            if (c < 0x20 || c == 0x7f || c == '"' || c == '{' || c == '}' || c == ',' || c == '=') {
+                return kelp_fail(p->d, KELP_ERR_PARSE, "text field holds a quote, brace, ',', '=' or control character");
+            }
+        }
+        if (vl + 1 > KELP_NODEREPORT_MAX_FIELD) {
+            return kelp_fail(p->d, KELP_ERR_RANGE, "text field too long");
+        }
+        if (bit == KELP_NR_NAME) p->name_empty = vl == 0;
+    } else if (sim_number(v, vl, &x) < 0) {
+        return kelp_fail(p->d, KELP_ERR_PARSE, "bad number");
+    }
+    if (bit == KELP_NR_INDEX && (!(x >= 0 && x <= 2e9) || x != (double)(long)x)) {
+        return kelp_fail(p->d, KELP_ERR_PARSE, "INDEX is not a count");
+    }
+    if (!r) return KELP_OK; /* the checking pass */
     char *text = NULL;
-    double *num = NULL, idx = 0;
+    double *num = NULL;
     switch (bit) {
     case KELP_NR_NAME: text = r->name; break;
     case KELP_NR_TYPE: text = r->type; break;
@@ -120,7 +150,7 @@ static int on_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl
     case KELP_NR_GROUP: text = r->group; break;
     case KELP_NR_COLOR: text = r->color; break;
     case KELP_NR_YAW: num = &r->yaw; break;
-    case KELP_NR_INDEX: num = &idx; break;
+    case KELP_NR_INDEX: r->index = (long)x; break;
     case KELP_NR_TIME: num = &r->time; break;
     case KELP_NR_X: num = &r->x; break;
     case KELP_NR_Y: num = &r->y; break;
@@ -131,68 +161,35 @@ static int on_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl
     case KELP_NR_DEPTH: num = &r->depth; break;
     default: num = &r->length; break;
     }
-    if (text) {
-        /* a text field must survive format -> parse: no quote, brace, separator or control
-         * byte (a fuzz finding: name=char"lie parsed, but its report could not be re-read) */
-        for (size_t i = 0; i < vl; i++) {
-            unsigned char c = (unsigned char)v[i];
-            if (c < 0x20 || c == 0x7f || c == '"' || c == '{' || c == '}' || c == ',' || c == '=') {
-                p->why = "text field holds a quote, brace, ',', '=' or control character";
-                return KELP_ERR_PARSE;
-            }
-        }
-        if (field_copy_text(text, KELP_NODEREPORT_MAX_FIELD, v, vl) < 0) {
-            p->why = "text field too long";
-            return KELP_ERR_RANGE;
-        }
-    } else if (sim_number(v, vl, num) < 0) {
-        p->why = "bad number";
-        return KELP_ERR_PARSE;
-    }
-    if (bit == KELP_NR_INDEX) {
-        if (!(idx >= 0 && idx <= 2e9) || idx != (double)(long)idx) {
-            p->why = "INDEX is not a count";
-            return KELP_ERR_PARSE;
-        }
-        r->index = (long)idx;
-    }
+    if (text) (void)field_copy_text(text, KELP_NODEREPORT_MAX_FIELD, v, vl); /* fits: checked above */
+    if (num) *num = x;
     r->fields |= bit;
     return KELP_OK;
 }
 
-int kelp_nodereport_parse(const char *s, size_t len, kelp_nodereport *out, const char **why)
+int kelp_nodereport_parse(const char *s, size_t len, kelp_nodereport *out, kelp_diag *d)
 {
-    const char *dummy;
-    if (!why) why = &dummy;
-    *why = NULL;
     if (!s || !out) {
-        *why = "no input";
-        return KELP_ERR_ARG;
+        return kelp_fail(d, KELP_ERR_ARG, "no input");
     }
-    kelp_nodereport r;
-    kelp_nodereport_init(&r);
     /* a report quoted as a whole ("NAME=...") */
     while (len && (s[len - 1] == ' ' || s[len - 1] == '\n' || s[len - 1] == '\r')) len--;
     while (len && *s == ' ') s++, len--;
     if (len >= 2 && s[0] == '"' && s[len - 1] == '"') s++, len -= 2;
-    nrparse p = {&r, NULL};
-    int rc = field_for_pairs(s, len, ',', on_pair, &p, why);
-    if (rc < 0) {
-        if (p.why) *why = p.why;
-        return rc;
+    nrparse p = {NULL, d, 0, false};
+    int rc = field_for_pairs(s, len, ',', on_pair, &p, d);
+    if (rc < 0) return rc;
+    if (!(p.seen & KELP_NR_NAME) || p.name_empty) {
+        return kelp_fail(d, KELP_ERR_PARSE, "no NAME");
     }
-    if (!(r.fields & KELP_NR_NAME) || !r.name[0]) {
-        *why = "no NAME";
-        return KELP_ERR_PARSE;
-    }
-    bool xy = (r.fields & (KELP_NR_X | KELP_NR_Y)) == (KELP_NR_X | KELP_NR_Y);
-    bool ll = (r.fields & (KELP_NR_LAT | KELP_NR_LON)) == (KELP_NR_LAT | KELP_NR_LON);
+    bool xy = (p.seen & (KELP_NR_X | KELP_NR_Y)) == (KELP_NR_X | KELP_NR_Y);
+    bool ll = (p.seen & (KELP_NR_LAT | KELP_NR_LON)) == (KELP_NR_LAT | KELP_NR_LON);
     if (!xy && !ll) {
-        *why = "no position (X,Y or LAT,LON)";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "no position (X,Y or LAT,LON)");
     }
-    *out = r;
-    return KELP_OK;
+    kelp_nodereport_init(out);
+    p = (nrparse){out, d, 0, false};
+    return field_for_pairs(s, len, ',', on_pair, &p, d); /* 0: the same text passed the check */
 }
 
 int kelp_nodereport_complete(kelp_nodereport *r, const kelp_geo *g)

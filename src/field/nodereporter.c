@@ -42,12 +42,10 @@ static bool usable(const char *s)
     return !strpbrk(s, ",=");
 }
 
-/* "K=V" item of a comma list, trimmed, into key/val (val "" when there is no '=') */
-typedef struct item {
-    char key[KELP_MAX_NAME], val[KELP_MAX_NAME];
-} item;
-
-static int items(const char *spec, item *out, int cap)
+/* The "K=V" items of a comma list are read in place (spans, no copies: these run in the
+ * firmware's configuration path). @return the count, or KELP_ERR_RANGE when there are more
+ * than cap or a key or value does not fit a name. */
+static int items_check(const char *spec, int cap)
 {
     int n = 0;
     size_t pos = 0;
@@ -56,96 +54,103 @@ static int items(const char *spec, item *out, int cap)
     int rc;
     while ((rc = kelp_kv_next(spec, ',', &pos, &k, &kl, &v, &vl)) == 1) {
         if (n >= cap || kl >= KELP_MAX_NAME || vl >= KELP_MAX_NAME) return KELP_ERR_RANGE;
-        memcpy(out[n].key, k, kl);
-        out[n].key[kl] = 0;
-        memcpy(out[n].val, v ? v : "", v ? vl : 0);
-        out[n].val[v ? vl : 0] = 0;
         n++;
     }
     return rc < 0 ? rc : n;
 }
 
-static bool num_ok(const char *s, double *d)
+/* the next item of a list that items_check() passed; val "" when the item has no '=' */
+static bool item_next(const char *spec, size_t *pos, const char **k, size_t *kl, const char **v, size_t *vl)
 {
-    return kelp_parse_double(s, strlen(s), d) == KELP_OK && isfinite(*d);
+    if (kelp_kv_next(spec, ',', pos, k, kl, v, vl) != 1) return false;
+    if (!*v) *v = "", *vl = 0;
+    return true;
 }
 
-int kelp_field_nrep_add_plat(kelp_field_nrep_cfg *cfg, const char *spec, const char **why)
+static void span_text(char *dst, size_t cap, const char *v, size_t vl)
+{
+    if (vl >= cap) vl = cap - 1;
+    memcpy(dst, v, vl);
+    dst[vl] = '\0';
+}
+
+static bool span_usable(const char *v, size_t vl)
+{
+    return vl > 0 && !memchr(v, ',', vl) && !memchr(v, '=', vl);
+}
+
+static bool span_num(const char *v, size_t vl, double *d)
+{
+    return kelp_parse_double(v, vl, d) == KELP_OK && isfinite(*d);
+}
+
+int kelp_field_nrep_add_plat(kelp_field_nrep_cfg *cfg, const char *spec, kelp_diag *d)
 {
     kelp_nrep_plat p;
     memset(&p, 0, sizeof p);
-    *why = NULL;
     /* "VAR" first (a bare name), then gap=, alias= pairs */
     const char *comma = strchr(spec, ','), *end = comma ? comma : spec + strlen(spec);
     while (*spec == ' ' || *spec == '\t') spec++;
     while (end > spec && (end[-1] == ' ' || end[-1] == '\t')) end--;
     if (end == spec || (size_t)(end - spec) >= sizeof p.var || memchr(spec, '=', (size_t)(end - spec)) ||
         memchr(spec, ' ', (size_t)(end - spec))) {
-        *why = "expected VAR, gap=S, alias=A";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "expected VAR, gap=S, alias=A");
     }
     memcpy(p.var, spec, (size_t)(end - spec));
-    item it[3];
-    int n = comma ? items(comma + 1, it, 3) : 0;
+    int n = comma ? items_check(comma + 1, 3) : 0;
     if (n < 0) {
-        *why = "expected VAR, gap=S, alias=A";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "expected VAR, gap=S, alias=A");
     }
-    for (int i = 0; i < n; i++) {
-        if (kelp_strieq(it[i].key, "gap") && num_ok(it[i].val, &p.gap)) {
+    size_t pos = 0, kl, vl;
+    const char *k, *v;
+    while (n > 0 && item_next(comma + 1, &pos, &k, &kl, &v, &vl)) {
+        if (kelp_strieq_n(k, kl, "gap") && span_num(v, vl, &p.gap)) {
             if (p.gap < 0) p.gap = 0;
-        } else if (kelp_strieq(it[i].key, "alias") && it[i].val[0] && usable(it[i].val)) {
-            set_text(p.alias, sizeof p.alias, it[i].val);
+        } else if (kelp_strieq_n(k, kl, "alias") && span_usable(v, vl)) {
+            span_text(p.alias, sizeof p.alias, v, vl);
         } else {
-            *why = "unknown or bad item (gap=S, alias=A)";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "unknown or bad item (gap=S, alias=A)");
         }
     }
     for (unsigned i = 0; i < cfg->nplat; i++)
         if (!strcmp(cfg->plat[i].var, p.var)) {
-            *why = "variable given twice";
-            return KELP_ERR_EXISTS;
+            return kelp_fail(d, KELP_ERR_EXISTS, "variable given twice");
         }
     if (cfg->nplat >= KELP_NREP_MAX_PLAT) {
-        *why = "too many plat_report_input entries";
-        return KELP_ERR_NOSPACE;
+        return kelp_fail(d, KELP_ERR_NOSPACE, "too many plat_report_input entries");
     }
     cfg->plat[cfg->nplat++] = p;
     return KELP_OK;
 }
 
-int kelp_field_nrep_add_rider(kelp_field_nrep_cfg *cfg, const char *spec, const char **why)
+int kelp_field_nrep_add_rider(kelp_field_nrep_cfg *cfg, const char *spec, kelp_diag *d)
 {
-    item it[6];
-    int n = items(spec, it, 6);
+    int n = items_check(spec, 6);
     kelp_nrep_rider r;
     memset(&r, 0, sizeof r);
     r.prec = -1;
-    *why = NULL;
-    for (int i = 0; i < n; i++) {
-        double d;
-        if (kelp_strieq(it[i].key, "var") && it[i].val[0]) {
-            set_text(r.var, sizeof r.var, it[i].val);
-        } else if (kelp_strieq(it[i].key, "rfld") && it[i].val[0] && usable(it[i].val)) {
-            set_text(r.field, sizeof r.field, it[i].val);
-        } else if (kelp_strieq(it[i].key, "policy") &&
-                   (kelp_strieq(it[i].val, "always") || kelp_strieq(it[i].val, "updated"))) {
-            r.updated_only = kelp_strieq(it[i].val, "updated");
-        } else if (kelp_strieq(it[i].key, "prec") && num_ok(it[i].val, &d) && d >= 0 && d <= 9 && d == (int)d) {
-            r.prec = (int)d;
+    size_t pos = 0, kl, vl;
+    const char *k, *v;
+    while (n > 0 && item_next(spec, &pos, &k, &kl, &v, &vl)) {
+        double dv;
+        if (kelp_strieq_n(k, kl, "var") && vl > 0) {
+            span_text(r.var, sizeof r.var, v, vl);
+        } else if (kelp_strieq_n(k, kl, "rfld") && span_usable(v, vl)) {
+            span_text(r.field, sizeof r.field, v, vl);
+        } else if (kelp_strieq_n(k, kl, "policy") && (kelp_strieq_n(v, vl, "always") || kelp_strieq_n(v, vl, "updated"))) {
+            r.updated_only = kelp_strieq_n(v, vl, "updated");
+        } else if (kelp_strieq_n(k, kl, "prec") && span_num(v, vl, &dv) && dv >= 0 && dv <= 9 && dv == (int)dv) {
+            r.prec = (int)dv;
         } else {
-            *why = "expected var=V, policy=always|updated, rfld=F, prec=0..9";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "expected var=V, policy=always|updated, rfld=F, prec=0..9");
         }
     }
     if (n <= 0 || !r.var[0]) {
-        *why = "a rider needs var=";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "a rider needs var=");
     }
     if (!r.field[0]) set_text(r.field, sizeof r.field, r.var);
     if (cfg->nriders >= KELP_NREP_MAX_RIDERS) {
-        *why = "too many riders";
-        return KELP_ERR_NOSPACE;
+        return kelp_fail(d, KELP_ERR_NOSPACE, "too many riders");
     }
     cfg->rider[cfg->nriders++] = r;
     return KELP_OK;

@@ -12,7 +12,7 @@ void kelp_field_upc_cfg_default(kelp_field_upc_cfg *cfg)
     cfg->history = KELP_UPC_DEFAULT_HISTORY;
 }
 
-int kelp_field_upc_config(kelp_field_upc_cfg *cfg, const char *key, const char *val, const char **why)
+int kelp_field_upc_config(kelp_field_upc_cfg *cfg, const char *key, const char *val, kelp_diag *d)
 {
     size_t kl = strlen(key);
     if (!kelp_strieq_n(key, kl, "HISTORY") && !kelp_strieq_n(key, kl, "HISTORY_LENGTH")) return 0;
@@ -22,8 +22,7 @@ int kelp_field_upc_config(kelp_field_upc_cfg *cfg, const char *key, const char *
     while (e < vl && val[e] != ' ' && val[e] != '\t' && val[e] != '(' && val[e] != ';') e++;
     long h;
     if (kelp_parse_long(val, e, &h) < 0 || h < 2 || h > KELP_UPC_MAX_HISTORY) {
-        if (why) *why = "HISTORY: an integer from 2 to KELP_UPC_MAX_HISTORY";
-        return KELP_ERR_ARG;
+        return kelp_fail(d, KELP_ERR_ARG, "HISTORY: an integer from 2 to KELP_UPC_MAX_HISTORY");
     }
     cfg->history = (unsigned)h;
     return 1;
@@ -71,8 +70,7 @@ double kelp_field_upc_speed(const kelp_upc_node *n)
 static int node_report(kelp_field_upc *p, const char *s, double now, const kelp_field_sink *out)
 {
     kelp_nodereport r;
-    const char *why = NULL;
-    if (kelp_nodereport_parse(s, strlen(s), &r, &why) < 0 || !(r.fields & KELP_NR_X) || !(r.fields & KELP_NR_Y)) {
+    if (kelp_nodereport_parse(s, strlen(s), &r, NULL) < 0 || !(r.fields & KELP_NR_X) || !(r.fields & KELP_NR_Y)) {
         p->bad++;
         warn(out, "uFldPathCheck: invalid NODE_REPORT (NAME, X and Y required)");
         return KELP_ERR_PARSE;

@@ -21,13 +21,12 @@ void rs_copy(char *dst, size_t cap, const char *src, size_t n)
 
 static bool blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
 
-int rs_value(const char *val, char *v, size_t cap, const char **why)
+int rs_value(const char *val, char *v, size_t cap, kelp_diag *d)
 {
     while (*val && blank(*val)) val++;
     size_t n = strlen(val);
     if (n >= cap) {
-        *why = "value too long";
-        return KELP_ERR_RANGE;
+        return kelp_fail(d, KELP_ERR_RANGE, "value too long");
     }
     memcpy(v, val, n + 1);
     while (n && (v[n - 1] == ';' || blank(v[n - 1]))) v[--n] = 0; /* "ping_wait = 30;" (A3) */
@@ -61,7 +60,7 @@ static int parse_dist(const char *s, size_t n, bool allow_nolimit, double *out)
     return KELP_OK;
 }
 
-int kelp_rsense_vmap_set(kelp_rsense_vmap *m, const char *val, bool allow_nolimit, const char **why)
+int kelp_rsense_vmap_set(kelp_rsense_vmap *m, const char *val, bool allow_nolimit, kelp_diag *d)
 {
     const char *eq = strchr(val, '=');
     const char *name = NULL;
@@ -77,31 +76,28 @@ int kelp_rsense_vmap_set(kelp_rsense_vmap *m, const char *val, bool allow_nolimi
     while (*num && blank(*num)) num++;
     size_t vl = strlen(num);
     while (vl && blank(num[vl - 1])) vl--;
-    double d;
-    if (parse_dist(num, vl, allow_nolimit, &d) < 0) {
-        *why = allow_nolimit ? "must be [<vname>|default =] <number or nolimit>" : "must be [<vname>|default =] <number>";
-        return KELP_ERR_PARSE;
+    double dv;
+    if (parse_dist(num, vl, allow_nolimit, &dv) < 0) {
+        return kelp_fail(d, KELP_ERR_PARSE, allow_nolimit ? "must be [<vname>|default =] <number or nolimit>" : "must be [<vname>|default =] <number>");
     }
-    if (!allow_nolimit && d < 0) d = 0; /* a negative ping wait: no wait */
+    if (!allow_nolimit && dv < 0) dv = 0; /* a negative ping wait: no wait */
     if (!name || kelp_strieq_n(name, nl, "default")) {
-        m->dflt = d;
+        m->dflt = dv;
         return 1;
     }
     if (nl == 0 || nl >= KELP_RSENSE_NAME || memchr(name, ',', nl)) {
-        *why = "bad vehicle name";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "bad vehicle name");
     }
     for (unsigned i = 0; i < m->n; i++)
         if (kelp_strieq_n(name, nl, m->name[i])) {
-            m->v[i] = d;
+            m->v[i] = dv;
             return 1;
         }
     if (m->n >= KELP_RSENSE_MAX_VCFG) {
-        *why = "too many vehicles named for this parameter";
-        return KELP_ERR_NOSPACE;
+        return kelp_fail(d, KELP_ERR_NOSPACE, "too many vehicles named for this parameter");
     }
     rs_copy(m->name[m->n], KELP_RSENSE_NAME, name, nl);
-    m->v[m->n++] = d;
+    m->v[m->n++] = dv;
     return 1;
 }
 
@@ -115,27 +111,27 @@ void kelp_rsense_common_default(kelp_rsense_common *c)
     c->seed = 1;
 }
 
-int kelp_rsense_common_config(kelp_rsense_common *c, const char *key, const char *v, const char **why)
+int kelp_rsense_common_config(kelp_rsense_common *c, const char *key, const char *v, kelp_diag *d)
 {
     size_t kl = strlen(key), n = strlen(v);
-    if (kelp_strieq_n(key, kl, "PING_WAIT")) return kelp_rsense_vmap_set(&c->ping_wait, v, false, why);
+    if (kelp_strieq_n(key, kl, "PING_WAIT")) return kelp_rsense_vmap_set(&c->ping_wait, v, false, d);
     if (kelp_strieq_n(key, kl, "REPORT_VARS")) {
         if (kelp_strieq_n(v, n, "short")) c->report_vars = KELP_RSENSE_SHORT;
         else if (kelp_strieq_n(v, n, "long")) c->report_vars = KELP_RSENSE_LONG;
         else if (kelp_strieq_n(v, n, "both")) c->report_vars = KELP_RSENSE_BOTH;
-        else return *why = "must be short, long or both", KELP_ERR_PARSE;
+        else return kelp_fail(d, KELP_ERR_PARSE, "must be short, long or both");
         return 1;
     }
-    if (kelp_strieq_n(key, kl, "RN_ALGORITHM")) return kelp_rsense_noise_set(&c->noise, v, why);
+    if (kelp_strieq_n(key, kl, "RN_ALGORITHM")) return kelp_rsense_noise_set(&c->noise, v, d);
     if (kelp_strieq_n(key, kl, "RN_UNIFORM_PCT") || kelp_strieq_n(key, kl, "RN_GAUSSIAN_SIGMA")) {
         char spec[300];
         bool uni = kelp_strieq_n(key, kl, "RN_UNIFORM_PCT");
         kelp_snprintf(spec, sizeof spec, "%s,%s=%s", uni ? "uniform" : "gaussian", uni ? "pct" : "sigma", v);
-        return kelp_rsense_noise_set(&c->noise, spec, why);
+        return kelp_rsense_noise_set(&c->noise, spec, d);
     }
     if (kelp_strieq_n(key, kl, "GROUND_TRUTH") || kelp_strieq_n(key, kl, "VERBOSE")) {
         bool f;
-        if (kelp_parse_bool(v, n, &f) < 0) return *why = "must be true or false", KELP_ERR_PARSE;
+        if (kelp_parse_bool(v, n, &f) < 0) return kelp_fail(d, KELP_ERR_PARSE, "must be true or false");
         if (kelp_strieq_n(key, kl, "VERBOSE")) c->verbose = f;
         else c->ground_truth = f;
         return 1;
@@ -143,12 +139,12 @@ int kelp_rsense_common_config(kelp_rsense_common *c, const char *key, const char
     if (kelp_strieq_n(key, kl, "RAND_MODE")) {
         if (kelp_strieq_n(v, n, "glibc")) c->glibc = true;
         else if (kelp_strieq_n(v, n, "kelp")) c->glibc = false;
-        else return *why = "must be kelp or glibc", KELP_ERR_PARSE;
+        else return kelp_fail(d, KELP_ERR_PARSE, "must be kelp or glibc");
         return 1;
     }
     if (kelp_strieq_n(key, kl, "SEED_RANDOM")) {
         long long s;
-        if (kelp_parse_llong(v, n, &s) < 0) return *why = "must be an integer", KELP_ERR_PARSE;
+        if (kelp_parse_llong(v, n, &s) < 0) return kelp_fail(d, KELP_ERR_PARSE, "must be an integer");
         c->seed = (uint64_t)s;
         return 1;
     }
@@ -157,7 +153,7 @@ int kelp_rsense_common_config(kelp_rsense_common *c, const char *key, const char
 
 /* ------------------------------------------------------------------ noise */
 
-int kelp_rsense_noise_set(kelp_rsense_noise *n, const char *val, const char **why)
+int kelp_rsense_noise_set(kelp_rsense_noise *n, const char *val, kelp_diag *d)
 {
     const char *c = strchr(val, ',');
     size_t al = c ? (size_t)(c - val) : strlen(val);
@@ -172,8 +168,7 @@ int kelp_rsense_noise_set(kelp_rsense_noise *n, const char *val, const char **wh
         n->alg = KELP_RSENSE_NOISE_NONE;
         return 1;
     } else {
-        *why = "algorithm must be uniform (pct=) or gaussian (sigma=)";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "algorithm must be uniform (pct=) or gaussian (sigma=)");
     }
     if (c) {
         size_t pos = 0;
@@ -181,23 +176,20 @@ int kelp_rsense_noise_set(kelp_rsense_noise *n, const char *val, const char **wh
         size_t kl, vl;
         int rc;
         while ((rc = kelp_kv_next(c + 1, ',', &pos, &k, &kl, &v, &vl)) == 1) {
-            double d;
-            if (kelp_parse_double(v, vl, &d) < 0 || !isfinite(d)) {
-                *why = "bad number";
-                return KELP_ERR_PARSE;
+            double dv;
+            if (kelp_parse_double(v, vl, &dv) < 0 || !isfinite(dv)) {
+                return kelp_fail(d, KELP_ERR_PARSE, "bad number");
             }
             if (kelp_strieq_n(k, kl, "pct"))
-                t.pct = d < 0 ? 0 : d > 1 ? 1 : d; /* clipped to [0,1] as 24.8 does */
+                t.pct = dv < 0 ? 0 : dv > 1 ? 1 : dv; /* clipped to [0,1] as 24.8 does */
             else if (kelp_strieq_n(k, kl, "sigma"))
-                t.sigma = d < 0 ? 0 : d;
+                t.sigma = dv < 0 ? 0 : dv;
             else {
-                *why = "unknown noise parameter (pct or sigma)";
-                return KELP_ERR_PARSE;
+                return kelp_fail(d, KELP_ERR_PARSE, "unknown noise parameter (pct or sigma)");
             }
         }
         if (rc < 0) {
-            *why = "expected key=value after the algorithm";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "expected key=value after the algorithm");
         }
     }
     *n = t;
@@ -282,16 +274,15 @@ int rs_find(const kelp_rsense_node *nodes, unsigned n, const char *name)
 }
 
 int rs_node_report(kelp_rsense_node *nodes, unsigned *n, const char *s, const kelp_geo *geo, bool have_geo,
-                   const char *ignore_group, double start, int *idx, bool *first, const char **why)
+                   const char *ignore_group, double start, int *idx, bool *first, kelp_diag *d)
 {
     kelp_nodereport r;
     *first = false;
-    int rc = kelp_nodereport_parse(s, strlen(s), &r, why);
+    int rc = kelp_nodereport_parse(s, strlen(s), &r, d);
     if (rc < 0) return rc;
     if (!(r.fields & KELP_NR_X) || !(r.fields & KELP_NR_Y)) {
         if (!have_geo || kelp_nodereport_complete(&r, geo) < 0 || !(r.fields & KELP_NR_X)) {
-            *why = "no X,Y (and no datum for LAT,LON)";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "no X,Y (and no datum for LAT,LON)");
         }
     }
     int i = rs_find(nodes, *n, r.name);
@@ -304,8 +295,7 @@ int rs_node_report(kelp_rsense_node *nodes, unsigned *n, const char *s, const ke
     }
     if (i < 0) {
         if (*n >= KELP_RSENSE_MAX_NODES) {
-            *why = "too many vehicles";
-            return KELP_ERR_NOSPACE;
+            return kelp_fail(d, KELP_ERR_NOSPACE, "too many vehicles");
         }
         unsigned at = 0;
         while (at < *n && strcmp(nodes[at].name, r.name) < 0) at++;
@@ -343,40 +333,57 @@ static void upper(char *s)
         if (*s >= 'a' && *s <= 'z') *s = (char)(*s - 'a' + 'A');
 }
 
+#define RS_REPORT_BODY 256 /* bytes of a report body, terminator included */
+
+/* rs_post_report's posts; KELP_ERR_NOSPACE when the report does not fit (the caller warns:
+ * its message buffer is not stacked on this one) */
+KELP_NOINLINE static int post_report(const kelp_field_sink *out, const char *pfx, bool gt, kelp_rsense_vars vars,
+                                     const char *vname, double range, const char *key, const char *id,
+                                     const double *xy, double now)
+{
+    /* one buffer, "vname=<vname>," then the body: the short form posts it all, the long form
+     * the body alone (no second buffer, no printf on this path: it runs under every mail) */
+    char full[320], var[KELP_MAX_NAME + KELP_RSENSE_NAME];
+    size_t n = 0;
+    int rc = field_put_str(full, sizeof full, &n, "vname=");
+    if (rc == 0) rc = field_put_str(full, sizeof full, &n, vname);
+    if (rc == 0) rc = field_put_str(full, sizeof full, &n, ",");
+    const size_t b = n;
+    if (rc == 0) rc = field_put_str(full, sizeof full, &n, "range=");
+    if (rc == 0) rc = field_put_fixed(full, sizeof full, &n, range, 4, true);
+    if (rc == 0 && key) {
+        rc = field_put_str(full, sizeof full, &n, ",");
+        if (rc == 0) rc = field_put_str(full, sizeof full, &n, key);
+        if (rc == 0) rc = field_put_str(full, sizeof full, &n, "=");
+        if (rc == 0) rc = field_put_str(full, sizeof full, &n, id);
+        if (rc == 0 && xy) {
+            rc = field_put_str(full, sizeof full, &n, ",x=");
+            if (rc == 0) rc = field_put_fixed(full, sizeof full, &n, xy[0], 2, true);
+            if (rc == 0) rc = field_put_str(full, sizeof full, &n, ",y=");
+            if (rc == 0) rc = field_put_fixed(full, sizeof full, &n, xy[1], 2, true);
+        }
+    }
+    if (rc == 0) rc = field_put_str(full, sizeof full, &n, ",time=");
+    if (rc == 0) rc = field_put_fixed(full, sizeof full, &n, now, 3, true);
+    if (rc < 0 || n - b >= RS_REPORT_BODY) return KELP_ERR_NOSPACE; /* the body's limit as before */
+    size_t v = 0;
+    rc = field_put_str(var, sizeof var, &v, pfx);
+    if (rc == 0) rc = field_put_str(var, sizeof var, &v, gt ? "_RANGE_REPORT_GT" : "_RANGE_REPORT");
+    if (rc == 0 && vars != KELP_RSENSE_LONG) out->publish(out->ctx, var, true, full, 0);
+    if (rc == 0) rc = field_put_str(var, sizeof var, &v, "_");
+    if (rc == 0) rc = field_put_str(var, sizeof var, &v, vname);
+    if (rc == 0 && vars != KELP_RSENSE_SHORT) {
+        upper(var);
+        out->publish(out->ctx, var, true, full + b, 0);
+    }
+    return KELP_OK;
+}
+
 void rs_post_report(const kelp_field_sink *out, const char *pfx, bool gt, kelp_rsense_vars vars, const char *vname,
                     double range, const char *key, const char *id, const double *xy, double now)
 {
-    char body[256], var[KELP_MAX_NAME + KELP_RSENSE_NAME];
-    size_t n = 0;
-    int rc = field_put_str(body, sizeof body, &n, "range=");
-    if (rc == 0) rc = field_put_fixed(body, sizeof body, &n, range, 4, true);
-    if (rc == 0 && key) {
-        field_putf(body, sizeof body, &n, ",%s=%s", key, id);
-        if (xy) {
-            rc = field_put_str(body, sizeof body, &n, ",x=");
-            if (rc == 0) rc = field_put_fixed(body, sizeof body, &n, xy[0], 2, true);
-            if (rc == 0) rc = field_put_str(body, sizeof body, &n, ",y=");
-            if (rc == 0) rc = field_put_fixed(body, sizeof body, &n, xy[1], 2, true);
-        }
-    }
-    if (rc == 0) rc = field_put_str(body, sizeof body, &n, ",time=");
-    if (rc == 0) rc = field_put_fixed(body, sizeof body, &n, now, 3, true);
-    if (rc < 0) {
+    if (post_report(out, pfx, gt, vars, vname, range, key, id, xy, now) < 0)
         rs_warn(out, "cannot format a range report for ", vname, RS_END);
-        return;
-    }
-    if (vars != KELP_RSENSE_LONG) {
-        char full[320];
-        size_t m = 0;
-        field_putf(full, sizeof full, &m, "vname=%s,%s", vname, body);
-        kelp_snprintf(var, sizeof var, "%s_RANGE_REPORT%s", pfx, gt ? "_GT" : "");
-        out->publish(out->ctx, var, true, full, 0);
-    }
-    if (vars != KELP_RSENSE_SHORT) {
-        kelp_snprintf(var, sizeof var, "%s_RANGE_REPORT%s_%s", pfx, gt ? "_GT" : "", vname);
-        upper(var);
-        out->publish(out->ctx, var, true, body, 0);
-    }
 }
 
 void rs_pulse(const kelp_field_sink *out, double x, double y, double radius, double duration, const char *label,

@@ -4,16 +4,16 @@
 #include <kelp/beaconrange.h>
 
 /** Value with a trailing ';' and blanks removed, into v (cap bytes). @return length or <0. */
-int rs_value(const char *val, char *v, size_t cap, const char **why);
+int rs_value(const char *val, char *v, size_t cap, kelp_diag *d);
 /** A negative push or pull is "nolimit": always heard; else push + pull >= d. */
 bool rs_trans(double push, double pull, double d);
 /** Index of a vehicle (case-insensitive), or -1. */
 int rs_find(const kelp_rsense_node *nodes, unsigned n, const char *name);
 /** Apply a node report: 1 stored (*idx; *first on the first report of that vehicle), 0 when
- *  its GROUP is `ignore_group` (the vehicle is dropped), <0 with *why. Vehicles stay sorted
+ *  its GROUP is `ignore_group` (the vehicle is dropped), <0 (reason in d). Vehicles stay sorted
  *  by name; ping clocks start at `start`. */
 int rs_node_report(kelp_rsense_node *nodes, unsigned *n, const char *s, const kelp_geo *geo, bool have_geo,
-                   const char *ignore_group, double start, int *idx, bool *first, const char **why);
+                   const char *ignore_group, double start, int *idx, bool *first, kelp_diag *d);
 /** The name of a "name=V" request (vname= also), or <0. */
 int rs_request_name(const char *s, char *name, size_t cap);
 /** Post a range report: <pfx>_RANGE_REPORT "vname=V,range=R,<key>=<id>[,x=..,y=..],time=T"

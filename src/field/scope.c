@@ -20,11 +20,10 @@ static bool copy_fit(char *dst, size_t cap, const char *src, size_t n)
 
 /* ------------------------------------------------------------------ configuration */
 
-static int add_scope(kelp_field_ufs_cfg *c, const char *val, const char **why)
+static int add_scope(kelp_field_ufs_cfg *c, const char *val, kelp_diag *d)
 {
     if (c->nelem >= KELP_UFS_MAX_ELEMS) {
-        *why = "too many SCOPE entries (at most 16)";
-        return KELP_ERR_NOSPACE;
+        return kelp_fail(d, KELP_ERR_NOSPACE, "too many SCOPE entries (at most 16)");
     }
     kelp_ufs_elem e;
     memset(&e, 0, sizeof e);
@@ -43,45 +42,36 @@ static int add_scope(kelp_field_ufs_cfg *c, const char *val, const char **why)
         else if (kelp_strieq_n(k, kl, "xcolor")) dst = e.xcolor;
         else if (kelp_strieq_n(k, kl, "xthresh")) {
             if (kelp_parse_double(v, vl, &e.xthresh) < 0 || !(e.xthresh >= 0)) {
-                *why = "xthresh must be a number >= 0";
-                return KELP_ERR_PARSE;
+                return kelp_fail(d, KELP_ERR_PARSE, "xthresh must be a number >= 0");
             }
             continue;
         } else {
-            *why = "unknown field (var, key, fld, alias, color, xcolor, xthresh)";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "unknown field (var, key, fld, alias, color, xcolor, xthresh)");
         }
         if (!copy_fit(dst, cap, v, vl) || memchr(v, ' ', vl)) {
-            *why = "a field is too long or holds a space";
-            return KELP_ERR_RANGE;
+            return kelp_fail(d, KELP_ERR_RANGE, "a field is too long or holds a space");
         }
     }
     if (rc < 0) {
-        *why = "expected var=<VAR>, key=<KEY>, fld=<FIELD>, alias=<ALIAS>";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "expected var=<VAR>, key=<KEY>, fld=<FIELD>, alias=<ALIAS>");
     }
     if (!e.var[0] || !e.fld[0]) {
-        *why = "var and fld are required";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "var and fld are required");
     }
     c->elem[c->nelem++] = e;
     return 1;
 }
 
-int kelp_field_ufs_config(kelp_field_ufs_cfg *c, const char *key, const char *val, const char **why)
+int kelp_field_ufs_config(kelp_field_ufs_cfg *c, const char *key, const char *val, kelp_diag *d)
 {
-    const char *dummy;
-    if (!why) why = &dummy;
     size_t kl = strlen(key);
-    if (kelp_strieq_n(key, kl, "SCOPE")) return add_scope(c, val, why);
+    if (kelp_strieq_n(key, kl, "SCOPE")) return add_scope(c, val, d);
     if (!kelp_strieq_n(key, kl, "LAYOUT")) return 0;
     if (c->nlayout >= KELP_UFS_MAX_LAYOUTS) {
-        *why = "too many LAYOUT entries (at most 8)";
-        return KELP_ERR_NOSPACE;
+        return kelp_fail(d, KELP_ERR_NOSPACE, "too many LAYOUT entries (at most 8)");
     }
     if (!copy_fit(c->layout[c->nlayout], KELP_UFS_LAYOUT_LEN, val, strlen(val))) {
-        *why = "LAYOUT too long";
-        return KELP_ERR_RANGE;
+        return kelp_fail(d, KELP_ERR_RANGE, "LAYOUT too long");
     }
     c->nlayout++;
     return 1;

@@ -18,7 +18,7 @@ void kelp_field_sbroker_cfg_default(kelp_field_sbroker_cfg *cfg)
     cfg->warp = 1;
 }
 
-static int qbridge(kelp_field_sbroker_cfg *cfg, const char *val, const char **why)
+static int qbridge(kelp_field_sbroker_cfg *cfg, const char *val, kelp_diag *d)
 {
     size_t pos = 0, il, len = strlen(val);
     const char *it;
@@ -27,8 +27,7 @@ static int qbridge(kelp_field_sbroker_cfg *cfg, const char *val, const char **wh
         char name[KELP_MAX_NAME - 4], all[KELP_MAX_NAME], each[KELP_MAX_NAME];
         /* room for the "_ALL" / "_$V" suffix */
         if (il + 1 > sizeof name || memchr(it, '=', il) || memchr(it, ' ', il)) {
-            *why = "QBRIDGE takes variable names (X: X_ALL->X and X_$V->X)";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "QBRIDGE takes variable names (X: X_ALL->X and X_$V->X)");
         }
         memcpy(name, it, il);
         name[il] = 0;
@@ -37,29 +36,28 @@ static int qbridge(kelp_field_sbroker_cfg *cfg, const char *val, const char **wh
         if (!known && cfg->nqbridge < KELP_BROKER_MAX_BRIDGES / 2) memcpy(cfg->qbridge[cfg->nqbridge++], name, il + 1);
         kelp_snprintf(all, sizeof all, "%s_ALL", name);
         kelp_snprintf(each, sizeof each, "%s_$V", name);
-        if (broker_add_bridge(cfg->bridge, &cfg->nbridges, all, name, why) < 0 ||
-            broker_add_bridge(cfg->bridge, &cfg->nbridges, each, name, why) < 0)
+        if (broker_add_bridge(cfg->bridge, &cfg->nbridges, all, name, d) < 0 ||
+            broker_add_bridge(cfg->bridge, &cfg->nbridges, each, name, d) < 0)
             return KELP_ERR_NOSPACE;
         any = 1;
     }
     if (rc < 0 || !any) {
-        *why = "QBRIDGE takes variable names (X: X_ALL->X and X_$V->X)";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "QBRIDGE takes variable names (X: X_ALL->X and X_$V->X)");
     }
     return 1;
 }
 
 /* a BRIDGE line's bridge: listed (once) and marked as named by a BRIDGE line */
-static int raw_bridge(kelp_field_sbroker_cfg *cfg, const char *src, const char *alias, const char **why)
+static int raw_bridge(kelp_field_sbroker_cfg *cfg, const char *src, const char *alias, kelp_diag *d)
 {
-    int rc = broker_add_bridge(cfg->bridge, &cfg->nbridges, src, alias, why);
+    int rc = broker_add_bridge(cfg->bridge, &cfg->nbridges, src, alias, d);
     if (rc < 0) return rc;
     for (unsigned i = 0; i < cfg->nbridges; i++)
         if (strcmp(cfg->bridge[i].src, src) == 0 && strcmp(cfg->bridge[i].alias, alias) == 0) cfg->raw[i] = true;
     return rc;
 }
 
-static int vnode(kelp_field_sbroker_cfg *cfg, const char *val, const char **why)
+static int vnode(kelp_field_sbroker_cfg *cfg, const char *val, kelp_diag *d)
 {
     const char *v = val;
     if (kelp_strieq_n(v, strlen(v) < 6 ? strlen(v) : 6, "route=")) v += 6;
@@ -71,42 +69,37 @@ static int vnode(kelp_field_sbroker_cfg *cfg, const char *val, const char **why)
     t.port = SB_VNODE_PORT;
     if ((colon && broker_port(colon + 1, strlen(colon + 1), &t.port) < 0) || hl == 0 || hl >= sizeof t.host ||
         memchr(v, ',', hl) || memchr(v, ' ', hl) || memchr(v, '=', hl)) {
-        *why = "[route=]host[:port]";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "[route=]host[:port]");
     }
     memcpy(t.host, v, hl);
     for (unsigned i = 0; i < cfg->nvnodes; i++)
         if (strcmp(cfg->vnode[i].host, t.host) == 0 && cfg->vnode[i].port == t.port) {
-            *why = "duplicate try_vnode";
-            return KELP_ERR_EXISTS;
+            return kelp_fail(d, KELP_ERR_EXISTS, "duplicate try_vnode");
         }
     if (cfg->nvnodes >= KELP_BROKER_MAX_VNODES) {
-        *why = "too many try_vnode routes (KELP_BROKER_MAX_VNODES)";
-        return KELP_ERR_NOSPACE;
+        return kelp_fail(d, KELP_ERR_NOSPACE, "too many try_vnode routes (KELP_BROKER_MAX_VNODES)");
     }
     cfg->vnode[cfg->nvnodes++] = t;
     return 1;
 }
 
-int kelp_field_sbroker_config(kelp_field_sbroker_cfg *cfg, const char *key, const char *val, const char **why)
+int kelp_field_sbroker_config(kelp_field_sbroker_cfg *cfg, const char *key, const char *val, kelp_diag *d)
 {
     size_t kl = strlen(key);
-    *why = NULL;
     if (kelp_strieq_n(key, kl, "BRIDGE")) {
         kelp_broker_bridge b;
-        if (kelp_broker_bridge_parse(val, &b, why) < 0) return KELP_ERR_PARSE;
-        return raw_bridge(cfg, b.src, b.alias, why);
+        if (kelp_broker_bridge_parse(val, &b, d) < 0) return KELP_ERR_PARSE;
+        return raw_bridge(cfg, b.src, b.alias, d);
     }
-    if (kelp_strieq_n(key, kl, "QBRIDGE")) return qbridge(cfg, val, why);
+    if (kelp_strieq_n(key, kl, "QBRIDGE")) return qbridge(cfg, val, d);
     if (kelp_strieq_n(key, kl, "KEYWORD")) {
         if (strlen(val) >= sizeof cfg->keyword || strpbrk(val, " ,=")) {
-            *why = "one word without ',' or '=', up to 63 characters";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "one word without ',' or '=', up to 63 characters");
         }
         memcpy(cfg->keyword, val, strlen(val) + 1);
         return 1;
     }
-    if (kelp_strieq_n(key, kl, "TRY_VNODE")) return vnode(cfg, val, why);
+    if (kelp_strieq_n(key, kl, "TRY_VNODE")) return vnode(cfg, val, d);
     bool *flag = kelp_strieq_n(key, kl, "WARNING_ON_STALE") ? &cfg->warn_stale
                  : kelp_strieq_n(key, kl, "AUTO_BRIDGE_REALMCAST") ? &cfg->auto_realmcast
                  : kelp_strieq_n(key, kl, "AUTO_BRIDGE_APPCAST") ? &cfg->auto_appcast
@@ -114,8 +107,7 @@ int kelp_field_sbroker_config(kelp_field_sbroker_cfg *cfg, const char *key, cons
                                                                 : NULL;
     if (flag) {
         if (!broker_bool(val, flag)) {
-            *why = "true or false";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "true or false");
         }
         return 1;
     }
@@ -127,10 +119,10 @@ void kelp_field_sbroker_init(kelp_field_sbroker *s, const kelp_field_sbroker_cfg
     memset(s, 0, sizeof *s);
     s->cfg = *cfg;
     s->vnode_reg_at = s->vnode_post_at = s->count_at = s->host_req_at = -1;
-    const char *why;
-    if (s->cfg.auto_realmcast) (void)qbridge(&s->cfg, "REALMCAST_REQ", &why);
-    if (s->cfg.auto_appcast) (void)qbridge(&s->cfg, "APPCAST_REQ", &why);
-    if (s->cfg.auto_mhash) (void)raw_bridge(&s->cfg, "MISSION_HASH", "MISSION_HASH", &why);
+    /* a full list keeps the user's bridges: an automatic one is dropped (no reason wanted) */
+    if (s->cfg.auto_realmcast) (void)qbridge(&s->cfg, "REALMCAST_REQ", NULL);
+    if (s->cfg.auto_appcast) (void)qbridge(&s->cfg, "APPCAST_REQ", NULL);
+    if (s->cfg.auto_mhash) (void)raw_bridge(&s->cfg, "MISSION_HASH", "MISSION_HASH", NULL);
 }
 
 const char *kelp_field_sbroker_subscription(unsigned i)
@@ -277,9 +269,8 @@ static kelp_broker_node *find(kelp_field_sbroker *s, const char *community, cons
 static int ping_mail(kelp_field_sbroker *s, const char *sval, double now, const kelp_field_sink *out)
 {
     kelp_broker_host h;
-    const char *why = NULL;
     s->pings++;
-    if (kelp_broker_host_parse(sval, &h, &why) < 0 || !h.community[0] || strpbrk(h.community, " ")) {
+    if (kelp_broker_host_parse(sval, &h, NULL) < 0 || !h.community[0] || strpbrk(h.community, " ")) {
         s->bad_pings++;
         return KELP_ERR_PARSE;
     }
@@ -341,9 +332,8 @@ int kelp_field_sbroker_mail(kelp_field_sbroker *s, const char *var, bool is_stri
 {
     if (strcmp(var, "PHI_HOST_INFO") == 0) {
         kelp_broker_host h;
-        const char *why = NULL;
         s->phi++;
-        if (!is_string || kelp_broker_host_parse(sval, &h, &why) < 0 || !kelp_broker_host_complete(&h))
+        if (!is_string || kelp_broker_host_parse(sval, &h, NULL) < 0 || !kelp_broker_host_complete(&h))
             return KELP_ERR_PARSE;
         s->shore = h;
         s->have_shore = true;

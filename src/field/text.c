@@ -72,7 +72,7 @@ static size_t find_eq(const char *v, size_t vl)
     return vl;
 }
 
-int field_for_pairs(const char *s, size_t len, char sep, field_pair_fn fn, void *ctx, const char **why)
+int field_for_pairs(const char *s, size_t len, char sep, field_pair_fn fn, void *ctx, kelp_diag *d)
 {
     size_t pos = 0;
     const char *it;
@@ -82,16 +82,14 @@ int field_for_pairs(const char *s, size_t len, char sep, field_pair_fn fn, void 
         for (;;) {
             size_t eq = find_eq(it, il);
             if (eq >= il) {
-                if (why) *why = "item without '='";
-                return KELP_ERR_PARSE;
+                return kelp_fail(d, KELP_ERR_PARSE, "item without '='");
             }
             const char *k = it, *v = it + eq + 1;
             size_t kl = eq, vl = il - eq - 1;
             trim(&k, &kl);
             trim(&v, &vl);
             if (kl == 0) {
-                if (why) *why = "empty key";
-                return KELP_ERR_PARSE;
+                return kelp_fail(d, KELP_ERR_PARSE, "empty key");
             }
             /* "type=waypoint source=transit": the value holds another pair after a space */
             size_t eq2 = find_eq(v, vl);
@@ -114,8 +112,7 @@ int field_for_pairs(const char *s, size_t len, char sep, field_pair_fn fn, void 
             if (il == 0) break;
         }
     }
-    if (rc < 0 && why) *why = "unbalanced brace or quote";
-    return rc < 0 ? KELP_ERR_PARSE : KELP_OK;
+    return rc < 0 ? kelp_fail(d, KELP_ERR_PARSE, "unbalanced brace or quote") : KELP_OK;
 }
 
 int field_copy_text(char *dst, size_t cap, const char *v, size_t vl)

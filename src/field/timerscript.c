@@ -12,38 +12,33 @@
 
 static bool key_is(const char *k, size_t kl, const char *z) { return kelp_strieq_n(k, kl, z); }
 
-static int copy_name(char *dst, const char *v, size_t vl, const char **why)
+static int copy_name(char *dst, const char *v, size_t vl, kelp_diag *d)
 {
     for (size_t i = 0; i < vl; i++)
         if (v[i] == ' ' || v[i] == '\t' || v[i] == ',' || v[i] == '=') {
-            *why = "a variable name has no white space, ',' or '='";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "a variable name has no white space, ',' or '='");
         }
     if (vl == 0 || field_copy_text(dst, KELP_MAX_NAME, v, vl) < 0) {
-        *why = vl ? "name too long" : "empty name";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, vl ? "name too long" : "empty name");
     }
     return KELP_OK;
 }
 
 /* "A" or "A:B" with lo <= A <= B */
-static int parse_span(const char *v, size_t vl, double lo, kelp_ts_span *out, const char **why)
+static int parse_span(const char *v, size_t vl, double lo, kelp_ts_span *out, kelp_diag *d)
 {
     const char *colon = memchr(v, ':', vl);
     size_t al = colon ? (size_t)(colon - v) : vl;
     double a, b;
     if (kelp_parse_finite(v, al, &a) < 0 ||
         (colon ? kelp_parse_finite(colon + 1, vl - al - 1, &b) < 0 : (b = a, false))) {
-        *why = "expected a number or a range A:B";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "expected a number or a range A:B");
     }
     if (a < lo || b < a) {
-        *why = lo > 0 ? "expected 0 < A <= B" : "expected 0 <= A <= B";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, lo > 0 ? "expected 0 < A <= B" : "expected 0 <= A <= B");
     }
     if (lo > 0 && a <= 0) {
-        *why = "expected 0 < A <= B";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "expected 0 < A <= B");
     }
     out->min = a, out->max = b;
     return KELP_OK;
@@ -79,7 +74,7 @@ void kelp_ts_cfg_default(kelp_ts_cfg *c, const char *app_name, const char *commu
 /* ---- event = var=..., val=..., time=..., amt=..., quit ---- */
 
 /* "$[IDX]" / "$(IDX)" / "$$IDX" -> the event's index, 3 digits */
-static int put_idx(char *dst, const char *src, unsigned idx, const char **why)
+static int put_idx(char *dst, const char *src, unsigned idx, kelp_diag *d)
 {
     static const char *const forms[] = { "$[IDX]", "$(IDX)", "$$IDX" };
     size_t n = 0;
@@ -89,8 +84,7 @@ static int put_idx(char *dst, const char *src, unsigned idx, const char **why)
             if (strncmp(src, forms[k], strlen(forms[k])) == 0) fl = strlen(forms[k]);
         size_t need = fl ? 3 : 1;
         if (n + need + 1 > KELP_TS_MAX_VAL) {
-            *why = "event value too long";
-            return KELP_ERR_NOSPACE;
+            return kelp_fail(d, KELP_ERR_NOSPACE, "event value too long");
         }
         if (fl) {
             dst[n++] = (char)('0' + (idx / 100) % 10);
@@ -105,7 +99,7 @@ static int put_idx(char *dst, const char *src, unsigned idx, const char **why)
     return KELP_OK;
 }
 
-int kelp_ts_cfg_add_event(kelp_ts_cfg *c, const char *spec, const char **why)
+int kelp_ts_cfg_add_event(kelp_ts_cfg *c, const char *spec, kelp_diag *d)
 {
     kelp_ts_event e;
     memset(&e, 0, sizeof e);
@@ -122,34 +116,30 @@ int kelp_ts_cfg_add_event(kelp_ts_cfg *c, const char *spec, const char **why)
         }
         const char *eq = memchr(it, '=', il);
         if (!eq) {
-            *why = "event item without '='";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "event item without '='");
         }
         const char *k = it, *v = eq + 1;
         size_t kl = (size_t)(eq - it), vl = il - kl - 1;
         while (kl && (k[kl - 1] == ' ' || k[kl - 1] == '\t')) kl--;
         while (vl && (*v == ' ' || *v == '\t')) v++, vl--;
         if (key_is(k, kl, "var")) {
-            if (copy_name(e.var, v, vl, why) < 0) return KELP_ERR_PARSE;
+            if (copy_name(e.var, v, vl, d) < 0) return KELP_ERR_PARSE;
         } else if (key_is(k, kl, "val")) {
             val = v, vall = vl;
         } else if (key_is(k, kl, "amt")) {
             if (kelp_parse_long(v, vl, &amt) < 0 || amt < 1 || amt > KELP_TS_MAX_EVENTS) {
-                *why = "amt must be a whole number from 1";
-                return KELP_ERR_PARSE;
+                return kelp_fail(d, KELP_ERR_PARSE, "amt must be a whole number from 1");
             }
         } else if (key_is(k, kl, "time")) {
-            kelp_ts_span s;
-            if (parse_span(v, vl, 0, &s, why) < 0) return KELP_ERR_PARSE;
+            kelp_ts_span s = { 0, 0 };
+            if (parse_span(v, vl, 0, &s, d) < 0) return KELP_ERR_PARSE;
             e.tmin = s.min, e.tmax = s.max;
         } else {
-            *why = "unknown event key (var, val, time, amt, quit)";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "unknown event key (var, val, time, amt, quit)");
         }
     }
     if (rc < 0) {
-        *why = "unbalanced quote or brace in the event";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "unbalanced quote or brace in the event");
     }
     if (e.quit) {
         memcpy(e.var, "EXITED_NORMALLY", 16);
@@ -157,27 +147,23 @@ int kelp_ts_cfg_add_event(kelp_ts_cfg *c, const char *spec, const char **why)
         e.quoted = true;
     } else {
         if (!e.var[0]) {
-            *why = "event without var=";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "event without var=");
         }
         if (!val || vall == 0) {
-            *why = "event without val=";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "event without val=");
         }
         if (vall >= 2 && val[0] == '"' && val[vall - 1] == '"') val++, vall -= 2, e.quoted = true;
         if (field_copy_text(e.val, sizeof e.val, val, vall) < 0) {
-            *why = "event value too long";
-            return KELP_ERR_NOSPACE;
+            return kelp_fail(d, KELP_ERR_NOSPACE, "event value too long");
         }
     }
     if (c->nev + (unsigned long)amt > KELP_TS_MAX_EVENTS) {
-        *why = "too many events";
-        return KELP_ERR_NOSPACE;
+        return kelp_fail(d, KELP_ERR_NOSPACE, "too many events");
     }
     for (long i = 0; i < amt; i++) {
-        kelp_ts_event *d = &c->ev[c->nev];
-        *d = e;
-        if (put_idx(d->val, e.val, c->nev, why) < 0) return KELP_ERR_NOSPACE;
+        kelp_ts_event *ev = &c->ev[c->nev];
+        *ev = e;
+        if (put_idx(ev->val, e.val, c->nev, d) < 0) return KELP_ERR_NOSPACE;
         c->nev++;
     }
     return KELP_OK;
@@ -185,7 +171,7 @@ int kelp_ts_cfg_add_event(kelp_ts_cfg *c, const char *spec, const char **why)
 
 /* ---- rand_var = varname=X, min=.., max=.., key=at_post|at_start|at_reset ---- */
 
-int kelp_ts_cfg_add_randvar(kelp_ts_cfg *c, const char *spec, const char **why)
+int kelp_ts_cfg_add_randvar(kelp_ts_cfg *c, const char *spec, kelp_diag *d)
 {
     kelp_ts_randvar v;
     memset(&v, 0, sizeof v);
@@ -197,57 +183,50 @@ int kelp_ts_cfg_add_randvar(kelp_ts_cfg *c, const char *spec, const char **why)
     const char *k, *val;
     int rc;
     while ((rc = kelp_kv_next(spec, ',', &pos, &k, &kl, &val, &vl)) == 1) {
-        double d = 0;
-        bool num = kelp_parse_finite(val, vl, &d) == 0;
+        double dv = 0;
+        bool num = kelp_parse_finite(val, vl, &dv) == 0;
         if (key_is(k, kl, "varname")) {
-            if (copy_name(v.name, val, vl, why) < 0) return KELP_ERR_PARSE;
+            if (copy_name(v.name, val, vl, d) < 0) return KELP_ERR_PARSE;
         } else if (key_is(k, kl, "key")) {
             if (key_is(val, vl, "at_start")) v.key = KELP_TS_RV_AT_START;
             else if (key_is(val, vl, "at_reset")) v.key = KELP_TS_RV_AT_RESET;
             else if (key_is(val, vl, "at_post")) v.key = KELP_TS_RV_AT_POST;
             else {
-                *why = "key must be at_start, at_reset or at_post";
-                return KELP_ERR_PARSE;
+                return kelp_fail(d, KELP_ERR_PARSE, "key must be at_start, at_reset or at_post");
             }
         } else if (key_is(k, kl, "type")) {
             if (key_is(val, vl, "uniform")) v.type = KELP_TS_RV_UNIFORM;
             else if (key_is(val, vl, "gaussian") || key_is(val, vl, "normal")) v.type = KELP_TS_RV_GAUSSIAN;
             else {
-                *why = "type must be uniform or gaussian";
-                return KELP_ERR_PARSE;
+                return kelp_fail(d, KELP_ERR_PARSE, "type must be uniform or gaussian");
             }
         } else if (num && key_is(k, kl, "min")) {
-            v.min = d, have_min = true;
+            v.min = dv, have_min = true;
         } else if (num && key_is(k, kl, "max")) {
-            v.max = d, have_max = true;
+            v.max = dv, have_max = true;
         } else if (num && key_is(k, kl, "mu")) {
-            v.mu = d, have_mu = true;
+            v.mu = dv, have_mu = true;
         } else if (num && key_is(k, kl, "sigma")) {
-            v.sigma = d, have_sigma = true;
+            v.sigma = dv, have_sigma = true;
         } else if (num && key_is(k, kl, "snap")) {
-            if (d > 0) v.snap = d;
+            if (dv > 0) v.snap = dv;
         } else {
-            *why = "unknown key or not a number (varname, key, type, min, max, mu, sigma, snap)";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "unknown key or not a number (varname, key, type, min, max, mu, sigma, snap)");
         }
     }
-    if (rc < 0) *why = "item without '='";
-    else if (v.key < 0) *why = "key (at_start, at_reset or at_post) is required";
-    else if (!v.name[0]) *why = "varname is required";
-    else if (!have_min || !have_max) *why = "min and max are required";
-    else if (v.min > v.max) *why = "min is greater than max";
-    else if (v.type == KELP_TS_RV_GAUSSIAN && (!have_mu || !have_sigma)) *why = "a gaussian needs mu and sigma";
-    else if (v.type == KELP_TS_RV_GAUSSIAN && v.sigma < 0) *why = "sigma is negative";
-    else *why = NULL;
-    if (*why) return KELP_ERR_PARSE;
+    if (rc < 0) return kelp_fail(d, KELP_ERR_PARSE, "item without '='");
+    if (v.key < 0) return kelp_fail(d, KELP_ERR_PARSE, "key (at_start, at_reset or at_post) is required");
+    if (!v.name[0]) return kelp_fail(d, KELP_ERR_PARSE, "varname is required");
+    if (!have_min || !have_max) return kelp_fail(d, KELP_ERR_PARSE, "min and max are required");
+    if (v.min > v.max) return kelp_fail(d, KELP_ERR_PARSE, "min is greater than max");
+    if (v.type == KELP_TS_RV_GAUSSIAN && (!have_mu || !have_sigma)) return kelp_fail(d, KELP_ERR_PARSE, "a gaussian needs mu and sigma");
+    if (v.type == KELP_TS_RV_GAUSSIAN && v.sigma < 0) return kelp_fail(d, KELP_ERR_PARSE, "sigma is negative");
     for (unsigned i = 0; i < c->nrv; i++)
         if (kelp_strieq(c->rv[i].name, v.name)) {
-            *why = "duplicate random variable";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "duplicate random variable");
         }
     if (c->nrv >= KELP_TS_MAX_RANDVARS) {
-        *why = "too many random variables";
-        return KELP_ERR_NOSPACE;
+        return kelp_fail(d, KELP_ERR_NOSPACE, "too many random variables");
     }
     c->rv[c->nrv++] = v;
     return KELP_OK;
@@ -255,18 +234,17 @@ int kelp_ts_cfg_add_randvar(kelp_ts_cfg *c, const char *spec, const char **why)
 
 /* ---- the other parameters ---- */
 
-static int set_var(char *dst, const char *v, const char **why) { return copy_name(dst, v, strlen(v), why); }
+static int set_var(char *dst, const char *v, kelp_diag *d) { return copy_name(dst, v, strlen(v), d); }
 
-static int set_bool(bool *dst, const char *v, const char **why)
+static int set_bool(bool *dst, const char *v, kelp_diag *d)
 {
     if (kelp_parse_bool(v, strlen(v), dst) < 0) {
-        *why = "expected true or false";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "expected true or false");
     }
     return 1;
 }
 
-static int add_block(kelp_ts_cfg *c, const char *v, const char **why)
+static int add_block(kelp_ts_cfg *c, const char *v, kelp_diag *d)
 {
     size_t pos = 0, len = strlen(v), il;
     const char *it;
@@ -274,38 +252,34 @@ static int add_block(kelp_ts_cfg *c, const char *v, const char **why)
     while ((rc = field_next_item(v, len, &pos, ',', &it, &il)) == 1) {
         for (unsigned i = 0; i < c->nblock; i++)
             if (kelp_strieq_n(it, il, c->block[i])) {
-                *why = "duplicate block_on app";
-                return KELP_ERR_PARSE;
+                return kelp_fail(d, KELP_ERR_PARSE, "duplicate block_on app");
             }
         if (c->nblock >= KELP_TS_MAX_BLOCK) {
-            *why = "too many block_on apps";
-            return KELP_ERR_NOSPACE;
+            return kelp_fail(d, KELP_ERR_NOSPACE, "too many block_on apps");
         }
-        if (copy_name(c->block[c->nblock], it, il, why) < 0) return KELP_ERR_PARSE;
+        if (copy_name(c->block[c->nblock], it, il, d) < 0) return KELP_ERR_PARSE;
         c->nblock++;
     }
-    if (rc < 0) *why = "unbalanced quote";
-    return rc < 0 ? KELP_ERR_PARSE : 1;
+    return rc < 0 ? kelp_fail(d, KELP_ERR_PARSE, "unbalanced quote") : 1;
 }
 
-int kelp_ts_cfg_set(kelp_ts_cfg *c, const char *key, const char *v, const char **why)
+int kelp_ts_cfg_set(kelp_ts_cfg *c, const char *key, const char *v, kelp_diag *d)
 {
     size_t vl = strlen(v);
     kelp_ts_span s;
-    if (kelp_strieq(key, "event")) return kelp_ts_cfg_add_event(c, v, why) < 0 ? KELP_ERR_PARSE : 1;
+    if (kelp_strieq(key, "event")) return kelp_ts_cfg_add_event(c, v, d) < 0 ? KELP_ERR_PARSE : 1;
     if (kelp_strieq(key, "rand_var") || kelp_strieq(key, "randvar"))
-        return kelp_ts_cfg_add_randvar(c, v, why) < 0 ? KELP_ERR_PARSE : 1;
-    if (kelp_strieq(key, "paused")) return set_bool(&c->paused, v, why);
-    if (kelp_strieq(key, "script_atomic")) return set_bool(&c->atomic, v, why);
-    if (kelp_strieq(key, "shuffle")) return set_bool(&c->shuffle, v, why);
-    if (kelp_strieq(key, "verbose")) return set_bool(&c->verbose, v, why);
+        return kelp_ts_cfg_add_randvar(c, v, d) < 0 ? KELP_ERR_PARSE : 1;
+    if (kelp_strieq(key, "paused")) return set_bool(&c->paused, v, d);
+    if (kelp_strieq(key, "script_atomic")) return set_bool(&c->atomic, v, d);
+    if (kelp_strieq(key, "shuffle")) return set_bool(&c->shuffle, v, d);
+    if (kelp_strieq(key, "verbose")) return set_bool(&c->verbose, v, d);
     if (kelp_strieq(key, "upon_awake")) {
         if (kelp_strieq(v, "reset")) c->upon_awake = KELP_TS_AWAKE_RESET;
         else if (kelp_strieq(v, "restart")) c->upon_awake = KELP_TS_AWAKE_RESTART;
         else if (kelp_strieq(v, "n/a")) c->upon_awake = KELP_TS_AWAKE_NA;
         else {
-            *why = "expected reset, restart or n/a";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "expected reset, restart or n/a");
         }
         return 1;
     }
@@ -313,8 +287,7 @@ int kelp_ts_cfg_set(kelp_ts_cfg *c, const char *key, const char *v, const char *
         if (kelp_strieq(v, "db_start")) c->time_zero_db = true;
         else if (kelp_strieq(v, "script_start")) c->time_zero_db = false;
         else {
-            *why = "expected db_start or script_start";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "expected db_start or script_start");
         }
         return 1;
     }
@@ -323,56 +296,50 @@ int kelp_ts_cfg_set(kelp_ts_cfg *c, const char *key, const char *v, const char *
         if (kelp_strieq(v, "nolimit") || kelp_strieq(v, "any") || kelp_strieq(v, "unlimited")) c->reset_max = -1;
         else if (kelp_parse_long(v, vl, &n) == 0 && n >= 0) c->reset_max = n;
         else {
-            *why = "expected a whole number >= 0 or nolimit";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "expected a whole number >= 0 or nolimit");
         }
         return 1;
     }
     if (kelp_strieq(key, "reset_time")) {
-        double d;
+        double dv;
         if (kelp_strieq(v, "all-posted") || kelp_strieq(v, "end")) c->reset_time = 0;
         else if (kelp_strieq(v, "none")) c->reset_time = -1;
-        else if (kelp_parse_finite(v, vl, &d) == 0 && d > 0) c->reset_time = d;
+        else if (kelp_parse_finite(v, vl, &dv) == 0 && dv > 0) c->reset_time = dv;
         else {
-            *why = "expected none, all-posted or seconds > 0";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "expected none, all-posted or seconds > 0");
         }
         return 1;
     }
     if (kelp_strieq(key, "script_name")) {
         if (vl == 0 || field_copy_text(c->script_name, sizeof c->script_name, v, vl) < 0) {
-            *why = "empty or too long";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "empty or too long");
         }
         return 1;
     }
     if (kelp_strieq(key, "forward_var") || kelp_strieq(key, "forward_variable"))
-        return set_var(c->var_forward, v, why) < 0 ? KELP_ERR_PARSE : 1;
+        return set_var(c->var_forward, v, d) < 0 ? KELP_ERR_PARSE : 1;
     if (kelp_strieq(key, "reset_var") || kelp_strieq(key, "reset_variable"))
-        return set_var(c->var_reset, v, why) < 0 ? KELP_ERR_PARSE : 1;
+        return set_var(c->var_reset, v, d) < 0 ? KELP_ERR_PARSE : 1;
     if (kelp_strieq(key, "pause_var") || kelp_strieq(key, "pause_variable"))
-        return set_var(c->var_pause, v, why) < 0 ? KELP_ERR_PARSE : 1;
-    if (kelp_strieq(key, "status_var")) return set_var(c->var_status, v, why) < 0 ? KELP_ERR_PARSE : 1;
-    if (kelp_strieq(key, "next_var")) return set_var(c->var_next, v, why) < 0 ? KELP_ERR_PARSE : 1;
-    if (kelp_strieq(key, "block_on")) return add_block(c, v, why);
+        return set_var(c->var_pause, v, d) < 0 ? KELP_ERR_PARSE : 1;
+    if (kelp_strieq(key, "status_var")) return set_var(c->var_status, v, d) < 0 ? KELP_ERR_PARSE : 1;
+    if (kelp_strieq(key, "next_var")) return set_var(c->var_next, v, d) < 0 ? KELP_ERR_PARSE : 1;
+    if (kelp_strieq(key, "block_on")) return add_block(c, v, d);
     if (kelp_strieq(key, "time_warp") || kelp_strieq(key, "delay_start") || kelp_strieq(key, "delay_reset")) {
         bool warp = kelp_strieq(key, "time_warp");
-        if (parse_span(v, vl, warp ? 1e-9 : 0, &s, why) < 0) return KELP_ERR_PARSE;
+        if (parse_span(v, vl, warp ? 1e-9 : 0, &s, d) < 0) return KELP_ERR_PARSE;
         *(warp ? &c->warp : kelp_strieq(key, "delay_start") ? &c->delay_start : &c->delay_reset) = s;
         return 1;
     }
     if (kelp_strieq(key, "condition")) {
         if (c->ncond >= KELP_TS_MAX_CONDS) {
-            *why = "too many conditions";
-            return KELP_ERR_NOSPACE;
+            return kelp_fail(d, KELP_ERR_NOSPACE, "too many conditions");
         }
         if (kelp_helm_cond_check(v, NULL, NULL) < 0) {
-            *why = "not a logic condition (e.g. NAV_SPEED > 0, (A = true) and (B != x))";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "not a logic condition (e.g. NAV_SPEED > 0, (A = true) and (B != x))");
         }
         if (field_copy_text(c->cond[c->ncond], sizeof c->cond[0], v, vl) < 0) {
-            *why = "condition too long";
-            return KELP_ERR_NOSPACE;
+            return kelp_fail(d, KELP_ERR_NOSPACE, "condition too long");
         }
         c->ncond++;
         return 1;

@@ -31,7 +31,7 @@ int kelp_view_kind_of(const char *var, kelp_view_kind *out)
 
 typedef struct vparse {
     kelp_view *v;
-    const char *why;
+    kelp_diag *d;
 } vparse;
 
 /* "x,y[,z]" -> a vertex */
@@ -45,19 +45,16 @@ static int add_vertex(vparse *p, const char *s, size_t n)
     int rc;
     while ((rc = field_next_item(s, n, &pos, ',', &it, &il)) == 1) {
         if (k >= 3 || sim_number(it, il, &c[k]) < 0) {
-            p->why = "bad vertex";
-            return KELP_ERR_PARSE;
+            return kelp_fail(p->d, KELP_ERR_PARSE, "bad vertex");
         }
         k++;
     }
     if (rc < 0 || k < 2) {
-        p->why = "bad vertex";
-        return KELP_ERR_PARSE;
+        return kelp_fail(p->d, KELP_ERR_PARSE, "bad vertex");
     }
     kelp_view *v = p->v;
     if (v->npts >= KELP_VIEW_MAX_PTS) {
-        p->why = "too many vertices";
-        return KELP_ERR_NOSPACE;
+        return kelp_fail(p->d, KELP_ERR_NOSPACE, "too many vertices");
     }
     v->pts[v->npts][0] = c[0];
     v->pts[v->npts][1] = c[1];
@@ -77,8 +74,7 @@ static int add_pts(vparse *p, const char *s, size_t n)
         if (r2 < 0) return r2;
     }
     if (rc < 0) {
-        p->why = "bad pts";
-        return KELP_ERR_PARSE;
+        return kelp_fail(p->d, KELP_ERR_PARSE, "bad pts");
     }
     return KELP_OK;
 }
@@ -86,8 +82,7 @@ static int add_pts(vparse *p, const char *s, size_t n)
 static int set_text(vparse *p, char *dst, const char *v, size_t vl)
 {
     if (field_copy_text(dst, KELP_VIEW_MAX_FIELD, v, vl) < 0) {
-        p->why = "text field too long";
-        return KELP_ERR_RANGE;
+        return kelp_fail(p->d, KELP_ERR_RANGE, "text field too long");
     }
     return KELP_OK;
 }
@@ -121,8 +116,7 @@ static int on_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl
         if (kelp_strieq_n(k, kl, nums[i].key)) {
             double d;
             if (sim_number(v, vl, &d) < 0) {
-                p->why = "bad number";
-                return KELP_ERR_PARSE;
+                return kelp_fail(p->d, KELP_ERR_PARSE, "bad number");
             }
             memcpy((char *)w + nums[i].off, &d, sizeof d);
             w->fields |= nums[i].bit;
@@ -149,15 +143,13 @@ static int on_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl
         if (kelp_strieq_n(v, vl, "true")) w->active = true;
         else if (kelp_strieq_n(v, vl, "false")) w->active = false;
         else {
-            p->why = "active must be true or false";
-            return KELP_ERR_PARSE;
+            return kelp_fail(p->d, KELP_ERR_PARSE, "active must be true or false");
         }
         return KELP_OK;
     }
     if (kelp_strieq_n(k, kl, "pts")) {
         if (vl < 2 || v[0] != '{' || v[vl - 1] != '}') {
-            p->why = "pts must be {x,y:x,y:...}";
-            return KELP_ERR_PARSE;
+            return kelp_fail(p->d, KELP_ERR_PARSE, "pts must be {x,y:x,y:...}");
         }
         return add_pts(p, v + 1, vl - 2);
     }
@@ -177,8 +169,7 @@ static int parse_colon(vparse *p, const char *s, size_t len)
         if (is_alpha(it[0])) {
             const char *c = memchr(it, ',', il);
             if (!c) {
-                p->why = "segment without ','";
-                return KELP_ERR_PARSE;
+                return kelp_fail(p->d, KELP_ERR_PARSE, "segment without ','");
             }
             const char *k = it, *v = c + 1;
             size_t kl = (size_t)(c - it), vl = il - kl - 1;
@@ -192,8 +183,7 @@ static int parse_colon(vparse *p, const char *s, size_t len)
         }
     }
     if (rc < 0) {
-        p->why = "unbalanced brace or quote";
-        return KELP_ERR_PARSE;
+        return kelp_fail(p->d, KELP_ERR_PARSE, "unbalanced brace or quote");
     }
     return KELP_OK;
 }
@@ -209,14 +199,10 @@ static bool has_eq_outside_braces(const char *s, size_t len)
     return false;
 }
 
-int kelp_view_parse(kelp_view_kind kind, const char *s, size_t len, kelp_view *out, const char **why)
+int kelp_view_parse(kelp_view_kind kind, const char *s, size_t len, kelp_view *out, kelp_diag *d)
 {
-    const char *dummy;
-    if (!why) why = &dummy;
-    *why = NULL;
     if (!s || !out || (unsigned)kind >= KELP_VIEW_NKINDS) {
-        *why = "bad argument";
-        return KELP_ERR_ARG;
+        return kelp_fail(d, KELP_ERR_ARG, "bad argument");
     }
     kelp_view *v = out;
     memset(v, 0, sizeof *v);
@@ -237,12 +223,9 @@ int kelp_view_parse(kelp_view_kind kind, const char *s, size_t len, kelp_view *o
     while (len && (s[len - 1] == ' ' || s[len - 1] == '\n' || s[len - 1] == '\r')) len--;
     while (len && *s == ' ') s++, len--;
     if (len >= 2 && s[0] == '"' && s[len - 1] == '"') s++, len -= 2;
-    vparse p = {v, NULL};
-    int rc = has_eq_outside_braces(s, len) ? field_for_pairs(s, len, ',', on_pair, &p, why) : parse_colon(&p, s, len);
-    if (rc < 0) {
-        if (p.why) *why = p.why;
-        return rc;
-    }
+    vparse p = {v, d};
+    int rc = has_eq_outside_braces(s, len) ? field_for_pairs(s, len, ',', on_pair, &p, d) : parse_colon(&p, s, len);
+    if (rc < 0) return rc;
     /* the colon form gives a point as its vertex */
     if ((kind == KELP_VIEW_POINT || kind == KELP_VIEW_MARKER || kind == KELP_VIEW_CIRCLE) &&
         !(v->fields & (KELP_VF_X | KELP_VF_Y)) && v->npts >= 1) {
@@ -255,21 +238,20 @@ int kelp_view_parse(kelp_view_kind kind, const char *s, size_t len, kelp_view *o
     case KELP_VIEW_POINT:
     case KELP_VIEW_MARKER:
     case KELP_VIEW_RANGE_PULSE:
-        if ((v->fields & XY) != XY) *why = "needs x and y";
+        if ((v->fields & XY) != XY) return kelp_fail(d, KELP_ERR_PARSE, "needs x and y");
         break;
     case KELP_VIEW_CIRCLE:
-        if ((v->fields & XY) != XY) *why = "needs x and y";
-        else if (!(v->fields & KELP_VF_RADIUS) || v->radius <= 0) *why = "needs a radius > 0";
+        if ((v->fields & XY) != XY) return kelp_fail(d, KELP_ERR_PARSE, "needs x and y");
+        if (!(v->fields & KELP_VF_RADIUS) || v->radius <= 0) return kelp_fail(d, KELP_ERR_PARSE, "needs a radius > 0");
         break;
     case KELP_VIEW_COMMS_PULSE:
         if ((v->fields & (XY | KELP_VF_TX | KELP_VF_TY)) != (XY | KELP_VF_TX | KELP_VF_TY))
-            *why = "needs sx, sy, tx and ty";
+            return kelp_fail(d, KELP_ERR_PARSE, "needs sx, sy, tx and ty");
         break;
     default: /* polygon, seglist */
-        if (v->npts == 0 && v->active) *why = "needs at least one vertex";
+        if (v->npts == 0 && v->active) return kelp_fail(d, KELP_ERR_PARSE, "needs at least one vertex");
         break;
     }
-    if (*why) return KELP_ERR_PARSE;
     if (v->fill < 0) v->fill = 0;
     if (v->fill > 1) v->fill = 1;
     return KELP_OK;

@@ -10,30 +10,29 @@ static bool key_is(const char *key, const char *name)
     return kelp_strieq_n(key, strlen(key), name);
 }
 
-static int number(const char *val, double lo, double hi, double *out, const char **why, const char *msg)
+static int number(const char *val, double lo, double hi, double *out, kelp_diag *d, const char *msg)
 {
-    double d;
-    if (kelp_parse_double(val, strlen(val), &d) < 0 || !isfinite(d) || d < lo || d > hi) {
-        *why = msg;
-        return KELP_ERR_RANGE;
+    double x;
+    (void)msg; /* unused with KELP_NO_ERRMSG */
+    if (kelp_parse_double(val, strlen(val), &x) < 0 || !isfinite(x) || x < lo || x > hi) {
+        return kelp_fail(d, KELP_ERR_RANGE, msg);
     }
-    *out = d;
+    *out = x;
     return 1;
 }
 
-static int boolean(const char *val, bool *out, const char **why)
+static int boolean(const char *val, bool *out, kelp_diag *d)
 {
     size_t n = strlen(val);
     if (kelp_strieq_n(val, n, "true") || kelp_strieq_n(val, n, "yes") || !strcmp(val, "1")) *out = true;
     else if (kelp_strieq_n(val, n, "false") || kelp_strieq_n(val, n, "no") || !strcmp(val, "0")) *out = false;
     else {
-        *why = "must be true or false";
-        return KELP_ERR_PARSE;
+        return kelp_fail(d, KELP_ERR_PARSE, "must be true or false");
     }
     return 1;
 }
 
-int kelp_sim_config_set(kelp_sim_params *p, kelp_sim_state *st, const char *key, const char *val, const char **why)
+int kelp_sim_config_set(kelp_sim_params *p, kelp_sim_state *st, const char *key, const char *val, kelp_diag *d)
 {
     static const struct { const char *key; size_t off; double lo; } nums[] = {
         { "TURN_SPEED", offsetof(kelp_sim_params, turn_speed), 0 },
@@ -49,31 +48,29 @@ int kelp_sim_config_set(kelp_sim_params *p, kelp_sim_state *st, const char *key,
         { "DRIFT_Y", offsetof(kelp_sim_params, drift_y), -HUGE_VAL },
         { "ROTATE_SPEED", offsetof(kelp_sim_params, rotate_speed), -HUGE_VAL },
     };
-    *why = NULL;
     for (size_t i = 0; i < sizeof nums / sizeof nums[0]; i++)
         if (key_is(key, nums[i].key))
-            return number(val, nums[i].lo, HUGE_VAL, (double *)(void *)((char *)p + nums[i].off), why,
+            return number(val, nums[i].lo, HUGE_VAL, (double *)(void *)((char *)p + nums[i].off), d,
                           nums[i].lo > -HUGE_VAL ? "must be a number >= its minimum (see --example)" : "must be a number");
-    double d;
+    double num;
     if (key_is(key, "TURN_RATE")) {
         /* deg/s in the direct model; a percent [0, 100] in the actuated one (MOOS-IvP) */
-        int rc = number(val, 0, HUGE_VAL, &d, why, "must be a number >= 0");
-        if (rc > 0) p->turn_rate = d, p->act_turn_rate = d > 100 ? 100 : d;
+        int rc = number(val, 0, HUGE_VAL, &num, d, "must be a number >= 0");
+        if (rc > 0) p->turn_rate = num, p->act_turn_rate = num > 100 ? 100 : num;
         return rc;
     }
-    if (key_is(key, "TURN_SPD_LOSS")) return number(val, 0, 1, &p->turn_spd_loss, why, "must be in [0, 1]");
+    if (key_is(key, "TURN_SPD_LOSS")) return number(val, 0, 1, &p->turn_spd_loss, d, "must be in [0, 1]");
     if (key_is(key, "THRUST_MAP")) {
         int rc = kelp_sim_parse_thrust_map(val, p);
-        if (rc < 0) *why = "expected thrust:speed pairs, thrust ascending in [-100, 100] (at most 16)";
-        return rc < 0 ? rc : 1;
+        if (rc < 0) return kelp_fail(d, rc, "expected thrust:speed pairs, thrust ascending in [-100, 100] (at most 16)");
+        return 1;
     }
     if (key_is(key, "DRIFT_VECTOR")) { /* "heading, magnitude" */
         const char *c = strchr(val, ',');
         double h, m;
         if (!c || kelp_parse_double(val, (size_t)(c - val), &h) < 0 || kelp_parse_double(c + 1, strlen(c + 1), &m) < 0 ||
             !isfinite(h) || !isfinite(m)) {
-            *why = "expected heading,magnitude";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "expected heading,magnitude");
         }
         p->drift_x = m * sin(h * 3.14159265358979323846 / 180.0);
         p->drift_y = m * cos(h * 3.14159265358979323846 / 180.0);
@@ -85,29 +82,28 @@ int kelp_sim_config_set(kelp_sim_params *p, kelp_sim_state *st, const char *key,
         else if (kelp_strieq_n(val, n, "direct")) p->control = KELP_SIM_DIRECT;
         else if (kelp_strieq_n(val, n, "actuated") || kelp_strieq_n(val, n, "rudder")) p->control = KELP_SIM_ACTUATED;
         else {
-            *why = "must be auto, direct or actuated";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "must be auto, direct or actuated");
         }
         return 1;
     }
     if (st && key_is(key, "START_POS")) {
         int rc = kelp_sim_parse_start(val, st);
-        if (rc < 0) *why = "expected x,y[,heading[,speed[,depth]]] or x=..,y=..,heading=..,speed=..,depth=..";
-        return rc < 0 ? rc : 1;
+        if (rc < 0) return kelp_fail(d, rc, "expected x,y[,heading[,speed[,depth]]] or x=..,y=..,heading=..,speed=..,depth=..");
+        return 1;
     }
     static const char *const starts[] = { "START_X", "START_Y", "START_HEADING", "START_SPEED", "START_DEPTH" };
     for (int i = 0; st && i < 5; i++)
         if (key_is(key, starts[i])) {
-            int rc = number(val, i >= 3 ? 0 : -HUGE_VAL, HUGE_VAL, &d, why, i >= 3 ? "must be a number >= 0" : "must be a number");
+            int rc = number(val, i >= 3 ? 0 : -HUGE_VAL, HUGE_VAL, &num, d, i >= 3 ? "must be a number >= 0" : "must be a number");
             if (rc < 0) return rc;
             double *f[5] = { &st->x, &st->y, &st->heading, &st->speed, &st->depth };
-            *f[i] = i == 2 ? kelp_sim_angle360(d) : d;
+            *f[i] = i == 2 ? kelp_sim_angle360(num) : num;
             return 1;
         }
     return 0;
 }
 
-int kelp_marine_pid_cfg_set(kelp_marine_pid_cfg *c, const char *key, const char *val, const char **why)
+int kelp_marine_pid_cfg_set(kelp_marine_pid_cfg *c, const char *key, const char *val, kelp_diag *d)
 {
     static const struct { const char *prefix; size_t off; } loops[] = {
         { "YAW_PID_", offsetof(kelp_marine_pid_cfg, yaw) },
@@ -116,7 +112,6 @@ int kelp_marine_pid_cfg_set(kelp_marine_pid_cfg *c, const char *key, const char 
         { "PITCH_PID_", offsetof(kelp_marine_pid_cfg, pitch) },
     };
     static const char *const gains[] = { "KP", "KD", "KI", "INTEGRAL_LIMIT", "KI_LIMIT" };
-    *why = NULL;
     size_t kl = strlen(key);
     for (size_t i = 0; i < 4; i++) {
         size_t pl = strlen(loops[i].prefix);
@@ -124,7 +119,7 @@ int kelp_marine_pid_cfg_set(kelp_marine_pid_cfg *c, const char *key, const char 
         for (int g = 0; g < 5; g++)
             if (key_is(key + pl, gains[g])) {
                 double *v = (double *)(void *)((char *)c + loops[i].off);
-                return number(val, -HUGE_VAL, HUGE_VAL, &v[g < 4 ? g : 3], why, "must be a number");
+                return number(val, -HUGE_VAL, HUGE_VAL, &v[g < 4 ? g : 3], d, "must be a number");
             }
     }
     static const struct { const char *key; size_t off; double hi; } nums[] = {
@@ -139,16 +134,15 @@ int kelp_marine_pid_cfg_set(kelp_marine_pid_cfg *c, const char *key, const char 
     };
     for (size_t i = 0; i < sizeof nums / sizeof nums[0]; i++)
         if (key_is(key, nums[i].key))
-            return number(val, 0, nums[i].hi, (double *)(void *)((char *)c + nums[i].off), why,
+            return number(val, 0, nums[i].hi, (double *)(void *)((char *)c + nums[i].off), d,
                           "must be a number >= 0 (within its range, see --example)");
-    if (key_is(key, "DEPTH_CONTROL")) return boolean(val, &c->depth_control, why);
-    if (key_is(key, "ACTIVE_START")) return boolean(val, &c->active_start, why);
-    if (key_is(key, "IGNORE_NAV_YAW")) return boolean(val, &c->ignore_nav_yaw, why);
+    if (key_is(key, "DEPTH_CONTROL")) return boolean(val, &c->depth_control, d);
+    if (key_is(key, "ACTIVE_START")) return boolean(val, &c->active_start, d);
+    if (key_is(key, "IGNORE_NAV_YAW")) return boolean(val, &c->ignore_nav_yaw, d);
     if (key_is(key, "OUTPUT_SUFFIX")) {
         size_t n = strlen(val);
         if (n >= sizeof c->suffix || strpbrk(val, " ,=")) {
-            *why = "must be at most 15 characters, no spaces";
-            return KELP_ERR_RANGE;
+            return kelp_fail(d, KELP_ERR_RANGE, "must be at most 15 characters, no spaces");
         }
         memcpy(c->suffix, val, n + 1);
         return 1;

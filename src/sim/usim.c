@@ -22,11 +22,11 @@ void kelp_usim_defaults(kelp_usim *u, struct kelp_marine_pid *pid, struct kelp_m
     memcpy(u->prefix, "NAV", 4);
 }
 
-int kelp_usim_config(kelp_usim *u, const char *key, const char *val, const char **why)
+int kelp_usim_config(kelp_usim *u, const char *key, const char *val, kelp_diag *d)
 {
-    int rc = kelp_sim_config_set(&u->p, &u->start, key, val, why);
+    int rc = kelp_sim_config_set(&u->p, &u->start, key, val, d);
     if (rc != 0) return rc;
-    if (u->pid_cfg && (rc = kelp_marine_pid_cfg_set(u->pid_cfg, key, val, why)) != 0) {
+    if (u->pid_cfg && (rc = kelp_marine_pid_cfg_set(u->pid_cfg, key, val, d)) != 0) {
         if (rc > 0 && kelp_strieq_n(key, 7, "YAW_PID")) u->embedded_pid = true;
         return rc;
     }
@@ -34,8 +34,7 @@ int kelp_usim_config(kelp_usim *u, const char *key, const char *val, const char 
         size_t n = strlen(val);
         while (n && val[n - 1] == '_') n--; /* MOOS-IvP 24.8 writes "NAV_" */
         if (n == 0 || n >= sizeof u->prefix) {
-            *why = "must be 1..23 characters";
-            return KELP_ERR_RANGE;
+            return kelp_fail(d, KELP_ERR_RANGE, "must be 1..23 characters");
         }
         memcpy(u->prefix, val, n);
         u->prefix[n] = 0;
@@ -44,8 +43,7 @@ int kelp_usim_config(kelp_usim *u, const char *key, const char *val, const char 
     if (kelp_strieq(key, "SIM_PAUSE") || kelp_strieq(key, "POST_NAVPOS_SUMMARY")) {
         bool b = kelp_strieq(val, "true");
         if (!b && !kelp_strieq(val, "false")) {
-            *why = "must be true or false";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "must be true or false");
         }
         *(kelp_strieq(key, "SIM_PAUSE") ? &u->paused : &u->navpos_summary) = b;
         return 1;
@@ -53,8 +51,7 @@ int kelp_usim_config(kelp_usim *u, const char *key, const char *val, const char 
     char *dst = kelp_strieq(key, "POST_DES_RUDDER") ? u->post_rudder : kelp_strieq(key, "POST_DES_THRUST") ? u->post_thrust : NULL;
     if (dst) {
         if (strlen(val) >= KELP_MAX_NAME || !strcmp(val, "DESIRED_RUDDER") || !strcmp(val, "DESIRED_THRUST")) {
-            *why = "a variable name other than DESIRED_RUDDER/DESIRED_THRUST";
-            return KELP_ERR_PARSE;
+            return kelp_fail(d, KELP_ERR_PARSE, "a variable name other than DESIRED_RUDDER/DESIRED_THRUST");
         }
         memcpy(dst, val, strlen(val) + 1);
         return 1;

@@ -224,7 +224,7 @@ static kelp_viewer_cmd *cmd_new(kelp_viewer *v)
 /* button_N: a part without '=' is the label (the last one wins), color=C the button's colour,
  * every other part a poke; a later line for the same button adds its pokes (and relabels it),
  * as pMarineViewer does */
-static int config_button(kelp_viewer *v, unsigned slot, const char *val, const char **why)
+static int config_button(kelp_viewer *v, unsigned slot, const char *val, kelp_diag *d)
 {
     size_t n = strlen(val), pos = 0, pl;
     const char *p;
@@ -241,24 +241,24 @@ static int config_button(kelp_viewer *v, unsigned slot, const char *val, const c
     while (next_part(val, n, &pos, &p, &pl)) {
         if (pl == 0) continue;
         if (!memchr(p, '=', pl)) {
-            if (copy_text(nc->label, sizeof nc->label, p, pl) < 0) return (*why = "label too long"), KELP_ERR_RANGE;
+            if (copy_text(nc->label, sizeof nc->label, p, pl) < 0) return kelp_fail(d, KELP_ERR_RANGE, "label too long");
             continue;
         }
         kelp_viewer_poke pk;
         int rc = kelp_viewer_poke_parse(p, pl, &pk);
-        if (rc < 0) return (*why = "a poke is VAR=value"), rc;
+        if (rc < 0) return kelp_fail(d, rc, "a poke is VAR=value");
         if (kelp_strieq(pk.var, "color")) {
             const char *cv = pk.is_string ? pk.sval : "";
-            if (copy_text(nc->color, sizeof nc->color, cv, strlen(cv)) < 0) return (*why = "colour too long"), KELP_ERR_RANGE;
+            if (copy_text(nc->color, sizeof nc->color, cv, strlen(cv)) < 0) return kelp_fail(d, KELP_ERR_RANGE, "colour too long");
             continue;
         }
-        if (nc->npokes >= KELP_VIEWER_MAX_POKES) return (*why = "too many pokes"), KELP_ERR_NOSPACE;
+        if (nc->npokes >= KELP_VIEWER_MAX_POKES) return kelp_fail(d, KELP_ERR_NOSPACE, "too many pokes");
         nc->pokes[nc->npokes++] = pk;
     }
-    if (!nc->label[0]) return (*why = "a button needs a label: LABEL # VAR=value # ..."), KELP_ERR_PARSE;
+    if (!nc->label[0]) return kelp_fail(d, KELP_ERR_PARSE, "a button needs a label: LABEL # VAR=value # ...");
     if (!c) {
         c = cmd_new(v);
-        if (!c) return (*why = "too many buttons and actions"), KELP_ERR_NOSPACE;
+        if (!c) return kelp_fail(d, KELP_ERR_NOSPACE, "too many buttons and actions");
         v->ncmds++;
     }
     *c = *nc;
@@ -269,7 +269,7 @@ static int config_button(kelp_viewer *v, unsigned slot, const char *val, const c
  * menu_key=KEY part gives them a key, and choosing any entry with a key posts every pair of
  * every action line with that key (pMarineViewer's rule); action+ puts a separator after each
  * entry of its line */
-static int config_action(kelp_viewer *v, const char *val, bool separator, const char **why)
+static int config_action(kelp_viewer *v, const char *val, bool separator, kelp_diag *d)
 {
     size_t n = strlen(val), pos = 0, pl;
     const char *p;
@@ -279,7 +279,7 @@ static int config_action(kelp_viewer *v, const char *val, bool separator, const 
     while (next_part(val, n, &pos, &p, &pl)) {
         if (pl == 0) continue;
         int rc = kelp_viewer_poke_parse(p, pl, &pk);
-        if (rc < 0) return (*why = "an action is VAR=value # VAR=value ..."), rc;
+        if (rc < 0) return kelp_fail(d, rc, "an action is VAR=value # VAR=value ...");
         if (!kelp_strieq(pk.var, "menu_key")) {
             pairs++;
             continue;
@@ -290,10 +290,10 @@ static int config_action(kelp_viewer *v, const char *val, bool separator, const 
             (void)kelp_fmt_fixed(num, sizeof num, pk.dval, 6, true);
             kv = num;
         }
-        if (copy_text(key, sizeof key, kv, strlen(kv)) < 0 || !key[0]) return (*why = "bad menu_key"), KELP_ERR_PARSE;
+        if (copy_text(key, sizeof key, kv, strlen(kv)) < 0 || !key[0]) return kelp_fail(d, KELP_ERR_PARSE, "bad menu_key");
     }
-    if (pairs == 0) return (*why = "an action needs at least one VAR=value"), KELP_ERR_PARSE;
-    if (v->ncmds + pairs > KELP_VIEWER_MAX_CMDS) return (*why = "too many buttons and actions"), KELP_ERR_NOSPACE;
+    if (pairs == 0) return kelp_fail(d, KELP_ERR_PARSE, "an action needs at least one VAR=value");
+    if (v->ncmds + pairs > KELP_VIEWER_MAX_CMDS) return kelp_fail(d, KELP_ERR_NOSPACE, "too many buttons and actions");
     pos = 0;
     while (next_part(val, n, &pos, &p, &pl)) {
         if (pl == 0 || kelp_viewer_poke_parse(p, pl, &pk) < 0 || kelp_strieq(pk.var, "menu_key")) continue;
@@ -328,26 +328,23 @@ unsigned kelp_viewer_press(const kelp_viewer *v, unsigned i, const kelp_viewer_p
     return k;
 }
 
-int kelp_viewer_config(kelp_viewer *v, const char *key, const char *val, const char **why)
+int kelp_viewer_config(kelp_viewer *v, const char *key, const char *val, kelp_diag *d)
 {
-    const char *dummy;
-    if (!why) why = &dummy;
-    *why = NULL;
     if (!key || !val) return 0;
-    double d;
+    double dv;
     if (kelp_strieq(key, "stale_report_thresh") || kelp_strieq(key, "stale_remove_thresh") ||
         kelp_strieq(key, "trails_length")) {
-        if (kelp_parse_finite(val, strlen(val), &d) < 0 || d < 0)
-            return (*why = "expected a number >= 0"), KELP_ERR_PARSE;
-        if (kelp_strieq(key, "stale_report_thresh")) v->stale_report_thresh = d < KELP_VIEWER_STALE_MIN ? KELP_VIEWER_STALE_MIN : d;
-        else if (kelp_strieq(key, "stale_remove_thresh")) v->stale_remove_thresh = d;
-        else v->trails_length = d < 1 ? 1 : d > KELP_VIEWER_MAX_TRAIL ? KELP_VIEWER_MAX_TRAIL : (unsigned)d;
+        if (kelp_parse_finite(val, strlen(val), &dv) < 0 || dv < 0)
+            return kelp_fail(d, KELP_ERR_PARSE, "expected a number >= 0");
+        if (kelp_strieq(key, "stale_report_thresh")) v->stale_report_thresh = dv < KELP_VIEWER_STALE_MIN ? KELP_VIEWER_STALE_MIN : dv;
+        else if (kelp_strieq(key, "stale_remove_thresh")) v->stale_remove_thresh = dv;
+        else v->trails_length = dv < 1 ? 1 : dv > KELP_VIEWER_MAX_TRAIL ? KELP_VIEWER_MAX_TRAIL : (unsigned)dv;
         return 1;
     }
     unsigned slot = button_slot(key);
-    if (slot) return config_button(v, slot, val, why);
-    if (kelp_strieq(key, "action")) return config_action(v, val, false, why);
-    if (kelp_strieq(key, "action+")) return config_action(v, val, true, why);
+    if (slot) return config_button(v, slot, val, d);
+    if (kelp_strieq(key, "action")) return config_action(v, val, false, d);
+    if (kelp_strieq(key, "action+")) return config_action(v, val, true, d);
     return 0;
 }
 
@@ -401,8 +398,7 @@ static kelp_viewer_vehicle *vehicle_slot(kelp_viewer *v, const char *name)
 static int mail_report(kelp_viewer *v, const char *s, size_t len, double now)
 {
     kelp_nodereport *r = &v->ws_report;
-    const char *why;
-    if (kelp_nodereport_parse(s, len, r, &why) < 0) {
+    if (kelp_nodereport_parse(s, len, r, NULL) < 0) {
         v->stats.reports_bad++;
         return KELP_ERR_PARSE;
     }
@@ -485,9 +481,8 @@ static kelp_viewer_artifact *artifact_room(kelp_viewer *v)
 static int mail_view(kelp_viewer *v, kelp_view_kind kind, const char *s, size_t len, double now)
 {
     kelp_view *pv = &v->ws_view;
-    const char *why;
     memset(pv, 0, sizeof *pv);
-    if (kelp_view_parse(kind, s, len, pv, &why) < 0) {
+    if (kelp_view_parse(kind, s, len, pv, NULL) < 0) {
         v->stats.views_bad++;
         return KELP_ERR_PARSE;
     }

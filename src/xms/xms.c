@@ -61,14 +61,15 @@ static int find_var(const kelp_xms *x, const char *name, unsigned *at)
     return 0;
 }
 
-int kelp_xms_set_content(kelp_xms *x, const char *mode, bool toggle)
+/* the content mode (its callers inside pass a known mode) */
+static int set_content(kelp_xms *x, const char *mode, bool toggle)
 {
     kelp_xms_content c;
     if (kelp_strieq(mode, "procs")) c = KELP_XMS_PROCS;
     else if (kelp_strieq(mode, "scoping")) c = KELP_XMS_SCOPING;
     else if (kelp_strieq(mode, "history")) c = KELP_XMS_HISTORY;
     else if (kelp_strieq(mode, "help")) c = KELP_XMS_HELP;
-    else return -1;
+    else return KELP_ERR_PARSE;
     x->update_requested = true;
     if (c == x->content) {
         if (toggle) {
@@ -82,12 +83,17 @@ int kelp_xms_set_content(kelp_xms *x, const char *mode, bool toggle)
     return 0;
 }
 
+int kelp_xms_set_content(kelp_xms *x, const char *mode, bool toggle)
+{
+    return set_content(x, mode, toggle);
+}
+
 int kelp_xms_set_refresh(kelp_xms *x, const char *mode)
 {
     if (kelp_strieq(mode, "events")) x->refresh = KELP_XMS_EVENTS;
     else if (kelp_strieq(mode, "paused")) x->refresh = KELP_XMS_PAUSED;
     else if (kelp_strieq(mode, "streaming")) x->refresh = KELP_XMS_STREAMING;
-    else return -1;
+    else return KELP_ERR_PARSE;
     return 0;
 }
 
@@ -96,13 +102,13 @@ int kelp_xms_add_var(kelp_xms *x, const char *name, bool history)
     if (!name[0] || strstr(name, "uXMS") || has_white(name) || strlen(name) >= KELP_XMS_NAME) return 0;
     if (history && !x->history_var[0]) {
         copy(x->history_var, sizeof x->history_var, name);
-        if (x->nvar == 0) (void)kelp_xms_set_content(x, "history", false);
+        if (x->nvar == 0) (void)set_content(x, "history", false);
     }
     unsigned at;
     if (find_var(x, name, &at)) return 1;
     if (x->nvar >= KELP_XMS_MAX_VARS) {
         x->dropped++;
-        return -1;
+        return KELP_ERR_NOSPACE;
     }
     memmove(&x->var[at + 1], &x->var[at], (x->nvar - at) * sizeof x->var[0]);
     x->nvar++;
@@ -129,11 +135,11 @@ static int each_item(const char *list, int (*fn)(kelp_xms *, const char *), kelp
         if (e > s) {
             char item[KELP_XMS_NAME];
             size_t len = (size_t)(e - s);
-            if (len >= sizeof item) rc = -1;
+            if (len >= sizeof item) rc = KELP_ERR_RANGE;
             else {
                 memcpy(item, s, len);
                 item[len] = 0;
-                if (fn(x, item) <= 0) rc = -1;
+                if (fn(x, item) <= 0) rc = KELP_ERR_PARSE;
             }
         }
         if (!p[n]) return rc;
@@ -149,19 +155,19 @@ static int add_source(kelp_xms *x, const char *src)
 {
     char status[KELP_XMS_NAME];
     size_t n = strlen(src);
-    if (n + 8 > sizeof status || has_white(src)) return -1;
+    if (n + 8 > sizeof status || has_white(src)) return KELP_ERR_PARSE;
     for (size_t i = 0; i < n; i++) status[i] = (char)(src[i] >= 'a' && src[i] <= 'z' ? src[i] - 32 : src[i]);
     memcpy(status + n, "_STATUS", 8);
     for (unsigned i = 0; i < x->nsources; i++)
         if (strcmp(x->sources[i], status) == 0) return 1;
-    if (x->nsources >= KELP_XMS_MAX_SOURCES) return -1;
+    if (x->nsources >= KELP_XMS_MAX_SOURCES) return KELP_ERR_NOSPACE;
     copy(x->sources[x->nsources++], KELP_XMS_NAME, status);
     return 1;
 }
 
 int kelp_xms_add_sources(kelp_xms *x, const char *list)
 {
-    if (!strchr(list, ',') && !list[strspn(list, " \t")]) return -1;
+    if (!strchr(list, ',') && !list[strspn(list, " \t")]) return KELP_ERR_PARSE;
     return each_item(list, add_source, x);
 }
 
@@ -193,53 +199,52 @@ void kelp_xms_set_trunc(kelp_xms *x, unsigned n)
     x->trunc_start = x->trunc;
 }
 
-static int set_bool(bool *b, const char *val, const char **why)
+static int set_bool(bool *b, const char *val, kelp_diag *d)
 {
     if (kelp_parse_bool(val, strlen(val), b) < 0) {
-        *why = "expected true or false";
-        return -1;
+        return kelp_fail(d, KELP_ERR_PARSE, "expected true or false");
     }
     return 1;
 }
 
-int kelp_xms_config(kelp_xms *x, const char *key, const char *val, const char **why)
+int kelp_xms_config(kelp_xms *x, const char *key, const char *val, kelp_diag *d)
 {
     bool b = false;
     if (kelp_strieq(key, "VAR")) {
         if (x->ignore_file_vars) return 1;
-        if (kelp_xms_add_vars(x, val) < 0) *why = "a variable name is empty, too long, has white space or names uXMS";
+        (void)each_item(val, add_plain, x); /* taken: a bad name is skipped, as uXMS does */
         return 1;
     }
     if (kelp_strieq(key, "HISTORY_VAR")) {
-        if (has_white(val) || kelp_xms_add_var(x, val, true) <= 0) return (*why = "not one variable name"), -1;
+        if (has_white(val) || kelp_xms_add_var(x, val, true) <= 0) return kelp_fail(d, KELP_ERR_PARSE, "not one variable name");
         return 1;
     }
     if (kelp_strieq(key, "SOURCE")) {
-        if (kelp_xms_add_sources(x, val) < 0) return (*why = "expected comma-separated process names"), -1;
+        if (kelp_xms_add_sources(x, val) < 0) return kelp_fail(d, KELP_ERR_PARSE, "expected comma-separated process names");
         return 1;
     }
     if (kelp_strieq(key, "REFRESH_MODE")) {
-        if (kelp_xms_set_refresh(x, val) < 0) return (*why = "expected events, paused or streaming"), -1;
+        if (kelp_xms_set_refresh(x, val) < 0) return kelp_fail(d, KELP_ERR_PARSE, "expected events, paused or streaming");
         return 1;
     }
     if (kelp_strieq(key, "CONTENT_MODE")) {
-        if (kelp_xms_set_content(x, val, false) < 0) return (*why = "expected scoping, history, procs or help"), -1;
+        if (set_content(x, val, false) < 0) return kelp_fail(d, KELP_ERR_PARSE, "expected scoping, history, procs or help");
         return 1;
     }
     if (kelp_strieq(key, "PAUSED")) { /* deprecated: REFRESH_MODE */
-        if (set_bool(&b, val, why) < 0) return -1;
+        if (set_bool(&b, val, d) < 0) return KELP_ERR_PARSE;
         x->refresh = b ? KELP_XMS_PAUSED : KELP_XMS_EVENTS;
         return 1;
     }
-    if (kelp_strieq(key, "DISPLAY_SOURCE")) return set_bool(&x->disp_source, val, why);
-    if (kelp_strieq(key, "DISPLAY_AUX_SOURCE")) return set_bool(&x->disp_source, val, why);
-    if (kelp_strieq(key, "DISPLAY_TIME")) return set_bool(&x->disp_time, val, why);
-    if (kelp_strieq(key, "DISPLAY_COMMUNITY")) return set_bool(&x->disp_community, val, why);
-    if (kelp_strieq(key, "DISPLAY_VIRGINS")) return set_bool(&x->disp_virgins, val, why);
-    if (kelp_strieq(key, "DISPLAY_HISTORY_VAR")) return set_bool(&x->disp_hist_var, val, why);
-    if (kelp_strieq(key, "WRAP_DATA")) return set_bool(&x->wrap_data, val, why);
+    if (kelp_strieq(key, "DISPLAY_SOURCE")) return set_bool(&x->disp_source, val, d);
+    if (kelp_strieq(key, "DISPLAY_AUX_SOURCE")) return set_bool(&x->disp_source, val, d);
+    if (kelp_strieq(key, "DISPLAY_TIME")) return set_bool(&x->disp_time, val, d);
+    if (kelp_strieq(key, "DISPLAY_COMMUNITY")) return set_bool(&x->disp_community, val, d);
+    if (kelp_strieq(key, "DISPLAY_VIRGINS")) return set_bool(&x->disp_virgins, val, d);
+    if (kelp_strieq(key, "DISPLAY_HISTORY_VAR")) return set_bool(&x->disp_hist_var, val, d);
+    if (kelp_strieq(key, "WRAP_DATA")) return set_bool(&x->wrap_data, val, d);
     if (kelp_strieq(key, "DISPLAY_ALL") || kelp_strieq(key, "DISPLAY_ALLL")) {
-        if (set_bool(&b, val, why) < 0) return -1;
+        if (set_bool(&b, val, d) < 0) return KELP_ERR_PARSE;
         if (!x->ignore_file_vars) {
             x->disp_all = b;
             if (kelp_strieq(key, "DISPLAY_ALLL")) x->disp_all_really = b;
@@ -247,15 +252,16 @@ int kelp_xms_config(kelp_xms *x, const char *key, const char *val, const char **
         return 1;
     }
     if (kelp_strieq(key, "TRUNC_DATA")) {
-        if (set_bool(&b, val, why) < 0) return -1;
+        if (set_bool(&b, val, d) < 0) return KELP_ERR_PARSE;
         if (b) x->trunc = x->trunc_start;
         return 1;
     }
     if (kelp_strieq(key, "WRAP_DATA_LEN") || kelp_strieq(key, "TERM_REPORT_INTERVAL")) {
-        double d;
-        if (kelp_parse_finite(val, strlen(val), &d) < 0 || d < 0) return (*why = "expected a number >= 0"), -1;
-        if (kelp_strieq(key, "TERM_REPORT_INTERVAL")) x->term_interval = d > 10 ? 10 : d;
-        else x->wrap_len = d < 10 ? 10 : d > 120 ? 120 : (unsigned)d;
+        double num;
+        if (kelp_parse_finite(val, strlen(val), &num) < 0 || num < 0)
+            return kelp_fail(d, KELP_ERR_PARSE, "expected a number >= 0");
+        if (kelp_strieq(key, "TERM_REPORT_INTERVAL")) x->term_interval = num > 10 ? 10 : num;
+        else x->wrap_len = num < 10 ? 10 : num > 120 ? 120 : (unsigned)num;
         return 1;
     }
     if (kelp_strieq(key, "COLOR_MAP") || kelp_strieq(key, "COLORMAP")) return 1; /* no colours: accepted */
@@ -439,11 +445,11 @@ int kelp_xms_key(kelp_xms *x, int c)
     case 'c': case 'C': x->disp_community = !x->disp_community; break;
     case 'v': case 'V': x->disp_virgins = !x->disp_virgins; break;
     case 'w': case 'W': x->wrap_data = !x->wrap_data; break;
-    case 'd': case 'D': (void)kelp_xms_set_content(x, "scoping", true); break;
-    case 'h': case 'H': (void)kelp_xms_set_content(x, "help", true); break;
+    case 'd': case 'D': (void)set_content(x, "scoping", true); break;
+    case 'h': case 'H': (void)set_content(x, "help", true); break;
     case 'z': case 'Z':
         if (!x->history_var[0]) return 0;
-        (void)kelp_xms_set_content(x, "history", true);
+        (void)set_content(x, "history", true);
         break;
     case 'j': case 'J':
         x->disp_hist_var = !x->disp_hist_var;
@@ -471,7 +477,7 @@ int kelp_xms_key(kelp_xms *x, int c)
             x->trunc = 0;
         }
         break;
-    case 'p': case 'P': (void)kelp_xms_set_content(x, "procs", true); break;
+    case 'p': case 'P': (void)set_content(x, "procs", true); break;
     case '-':
     case '+':
         if (c == '-') x->refresh = KELP_XMS_PAUSED;
@@ -656,11 +662,12 @@ static void history_rows(const kelp_xms *x, tab *t)
     unsigned n = x->nhist < x->history_len ? x->nhist : x->history_len;
     for (unsigned k = n; k-- > 0;) { /* oldest first */
         const kelp_xms_hist *h = &x->hist[(x->hist_head + k) % KELP_XMS_HIST_CAP];
-        char tm[24], cell[KELP_XMS_VAL + 24];
+        char tm[24], *cell = t->ws->ws_cell; /* workspace: no value-sized buffer on the stack */
+        const size_t cell_cap = sizeof t->ws->ws_cell;
         if (kelp_fmt_fixed(tm, sizeof tm, h->time, 2, false) < 0) copy(tm, sizeof tm, "n/a");
         if (x->trunc && strlen(h->value) > x->trunc)
-            (void)kelp_snprintf(cell, sizeof cell, "(%u) %.*s...", h->count, (int)x->trunc, h->value);
-        else (void)kelp_snprintf(cell, sizeof cell, "(%u) %s", h->count, h->value);
+            (void)kelp_snprintf(cell, cell_cap, "(%u) %.*s...", h->count, (int)x->trunc, h->value);
+        else (void)kelp_snprintf(cell, cell_cap, "(%u) %s", h->count, h->value);
         const char *c[4] = { x->disp_hist_var ? x->history_var : "", x->disp_source ? h->source : "",
                              x->disp_time ? tm : "", cell };
         row(t, c);

@@ -83,10 +83,10 @@ static bool same_key(const kelp_plot_view *a, const kelp_view *b, const char *co
 static void add_view(kelp_plot_scene *s, const kelp_var *var, kelp_view_kind kind)
 {
     kelp_view v;
-    const char *why = NULL;
-    if (kelp_view_parse(kind, var->sval, var->slen, &v, &why) < 0) {
+    kelp_diag dg = { 0 };
+    if (kelp_view_parse(kind, var->sval, var->slen, &v, &dg) < 0) {
         s->bad_views++;
-        snprintf(s->last_bad, sizeof s->last_bad, "%s: %s", var->name, why ? why : "?");
+        snprintf(s->last_bad, sizeof s->last_bad, "%s: %s", var->name, dg.code ? kelp_diag_text(&dg) : "?");
         return;
     }
     /* an unlabelled point/marker is keyed by its position too (several may coexist) */
@@ -136,11 +136,11 @@ void kelp_plot_scene_add_var(kelp_plot_scene *s, const kelp_var *v)
     if (strncmp(v->name, "NODE_REPORT", 11) == 0 && v->kind == KELP_VAR_STRING &&
         (strcmp(v->name, "NODE_REPORT") == 0 || strcmp(v->name, "NODE_REPORT_LOCAL") == 0)) {
         kelp_nodereport r;
-        const char *why = NULL;
-        if (kelp_nodereport_parse(v->sval, v->slen, &r, &why) < 0 ||
+        kelp_diag dg = { 0 };
+        if (kelp_nodereport_parse(v->sval, v->slen, &r, &dg) < 0 ||
             (r.fields & (KELP_NR_X | KELP_NR_Y)) != (KELP_NR_X | KELP_NR_Y)) {
             s->bad_reports++;
-            snprintf(s->last_bad, sizeof s->last_bad, "%s: %s", v->name, why ? why : "no X,Y");
+            snprintf(s->last_bad, sizeof s->last_bad, "%s: %s", v->name, dg.code ? kelp_diag_text(&dg) : "no X,Y");
             return;
         }
         kelp_plot_track *t = track_get(s, r.name, KELP_PLOT_SRC_REPORT);

@@ -127,9 +127,9 @@ static void mission_config(kelp_viewer *v, const char *path, const char *name, c
         if (nd->klen >= sizeof key || kelp_mission_copy(nd, val, sizeof val) < 0) continue;
         memcpy(key, nd->key, nd->klen);
         key[nd->klen] = '\0';
-        const char *why = NULL;
-        if (kelp_viewer_config(v, key, val, &why) < 0)
-            fprintf(stderr, "kelp-viewer: %s:%d: %s\n", path, nd->line, why ? why : "refused");
+        kelp_diag dg = { 0 };
+        if (kelp_viewer_config(v, key, val, &dg) < 0)
+            fprintf(stderr, "kelp-viewer: %s:%d: %s\n", path, nd->line, dg.code ? kelp_diag_text(&dg) : "refused");
         else if (kelp_strieq(key, "port")) copy(port, 16, val);
         else if (kelp_strieq(key, "token")) copy(token, 128, val);
         else if (kelp_strieq(key, "tiff_file")) copy(image, cap, val);
