@@ -168,6 +168,7 @@ typedef struct kelp_field_brs_cfg {
     kelp_brs_payments payments;
     bool report_xy;              /**< REPORT_XY (false): x=,y= of the beacon in each report */
     bool config_order;           /**< BEACON_ORDER = config (24.8); default reverse (the seed's listings) */
+    char ws_val[KELP_BRS_SPEC_LEN]; /**< workspace: the value being read by kelp_field_brs_config */
 } kelp_field_brs_cfg;
 
 typedef struct kelp_field_brs {

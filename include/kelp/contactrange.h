@@ -35,6 +35,7 @@ typedef struct kelp_field_crs_cfg {
     unsigned ntypes;
     double arc[KELP_CRS_MAX_ARCS][2];       /**< SENSOR_ARC "a:b" relative bearings (none: all) */
     unsigned narcs;
+    char ws_val[256];            /**< workspace: the value being read by kelp_field_crs_config */
 } kelp_field_crs_cfg;
 
 typedef struct kelp_field_crs {

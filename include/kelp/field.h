@@ -128,7 +128,7 @@ typedef struct kelp_field_nrep {
     unsigned long posted, alt_posted, nav_mail, bad_mail, extrap_skipped;
     char last[KELP_NODEREPORT_MAX_LEN];    /**< the last report posted */
     struct {                               /* workspace of one call (keeps the stack under 1 KB) */
-        kelp_nodereport alt;               /**< the alternate solution's report */
+        kelp_nodereport main, alt;         /**< the report being posted; the alternate solution's */
         char extra[KELP_NODEREPORT_MAX_LEN / 2], text[KELP_NODEREPORT_MAX_LEN];
         char json[KELP_NODEREPORT_MAX_LEN + 128];
     } ws;

@@ -147,8 +147,8 @@ static int parse_beacon(kelp_brs_beacon *b, const char *s, kelp_diag *d)
 
 int kelp_field_brs_config(kelp_field_brs_cfg *cfg, const char *key, const char *val, kelp_diag *d)
 {
-    char v[KELP_BRS_SPEC_LEN];
-    int nv = rs_value(val, v, sizeof v, d);
+    char *v = cfg->ws_val;
+    int nv = rs_value(val, v, sizeof cfg->ws_val, d);
     if (nv < 0) return nv;
     size_t n = (size_t)nv, kl = strlen(key);
     bool have_xy[2];

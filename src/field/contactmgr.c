@@ -389,6 +389,15 @@ static int spec_reject(kelp_cmgr *c, const kelp_field_sink *out, bool from_mail,
     return KELP_ERR_PARSE;
 }
 
+/* the seed's var=/val= pair as one on_flag "VAR=val" (its buffer off the component path) */
+KELP_NOINLINE static int legacy_flag(kelp_cmgr_alert *a, const char *var, const char *val)
+{
+    char f[KELP_CMGR_MAX_FLAG];
+    int fl = kelp_snprintf(f, sizeof f, "%s=%s", var, val ? val : "");
+    if (fl < 0 || (size_t)fl >= sizeof f) return KELP_ERR_NOSPACE;
+    return add_flag(a->on, &a->non, f, (size_t)fl);
+}
+
 int kelp_cmgr_alert_spec(kelp_cmgr *c, const char *spec, bool from_mail, const char *src, double now,
                          const kelp_field_sink *out)
 {
@@ -460,12 +469,8 @@ int kelp_cmgr_alert_spec(kelp_cmgr *c, const char *spec, bool from_mail, const c
             rc = filter_param(c, &a->filter, k, kl, v, vl, out, &strict);
         if (rc < 0) return spec_reject(c, out, from_mail, spec, "bad alert component", k, kl);
     }
-    if (legacy_var) {
-        char f[KELP_CMGR_MAX_FLAG];
-        int fl = kelp_snprintf(f, sizeof f, "%s=%s", legacy_var, legacy_val ? legacy_val : "");
-        if (fl < 0 || (size_t)fl >= sizeof f || add_flag(a->on, &a->non, f, (size_t)fl) < 0)
-            return spec_reject(c, out, from_mail, spec, "bad var/val flag", NULL, 0);
-    }
+    if (legacy_var && legacy_flag(a, legacy_var, legacy_val) < 0)
+        return spec_reject(c, out, from_mail, spec, "bad var/val flag", NULL, 0);
     if (a->have_cpa && a->have_range && a->cpa_range < a->alert_range)
         warnf(c, out, "alert %s: cpa_range %g below alert_range %g: raised to it", a->id, a->cpa_range, a->alert_range);
     if (src && src[0]) copyz(a->source, sizeof a->source, src, strlen(src));
@@ -665,7 +670,7 @@ static int bad_report(kelp_cmgr *c, const kelp_field_sink *out, const char *why)
     return KELP_ERR_PARSE;
 }
 
-static int node_report(kelp_cmgr *c, const char *s, double now, const kelp_field_sink *out)
+KELP_NOINLINE static int node_report(kelp_cmgr *c, const char *s, double now, const kelp_field_sink *out)
 {
     kelp_nodereport *r = &c->ws_report; /* workspace: no report on the stack */
     c->reports_in++;
@@ -724,7 +729,8 @@ static int node_report(kelp_cmgr *c, const char *s, double now, const kelp_field
 
 /* ------------------------------------------------------------------ requests */
 
-static int report_request(kelp_cmgr *c, const char *s, double now, const char *src, const kelp_field_sink *out)
+/* (out of line, here and below: their locals stay off kelp_cmgr_mail's alert path) */
+KELP_NOINLINE static int report_request(kelp_cmgr *c, const char *s, double now, const char *src, const kelp_field_sink *out)
 {
     size_t len = strlen(s), pos = 0, kl, vl;
     const char *p = s, *k, *v;
@@ -787,7 +793,7 @@ static int report_request(kelp_cmgr *c, const char *s, double now, const char *s
     return 1;
 }
 
-static int display_radii(kelp_cmgr *c, const char *s, double now, const kelp_field_sink *out)
+KELP_NOINLINE static int display_radii(kelp_cmgr *c, const char *s, double now, const kelp_field_sink *out)
 {
     const char *p = s;
     size_t n = strlen(s);
@@ -969,16 +975,16 @@ static void check_alerts(kelp_cmgr *c, kelp_cmgr_contact *k, double now, const k
     }
 }
 
-static void circle(const kelp_cmgr *c, double r, const char *label, const char *suffix, const char *color,
+static void circle(kelp_cmgr *c, double r, const char *label, const char *suffix, const char *color,
                    double now, const kelp_field_sink *out)
 {
-    char x[32], y[32], rad[32], t[32], m[3 * KELP_CMGR_MAX_ID + 160];
+    char x[32], y[32], rad[32], t[32], *m = c->ws_view;
     fmtx(x, sizeof x, c->osx, 2);
     fmtx(y, sizeof y, c->osy, 2);
     fmtx(rad, sizeof rad, r, 2);
     fmtx(t, sizeof t, now, 2);
     bool off = !color[0] || kelp_strieq(color, "invisible") || kelp_strieq(color, "empty") || r <= 0;
-    (void)kelp_snprintf(m, sizeof m, "x=%s,y=%s,radius=%s,duration=3%s,label=%s%s,edge_color=%s,time=%s,"
+    (void)kelp_snprintf(m, sizeof c->ws_view, "x=%s,y=%s,radius=%s,duration=3%s,label=%s%s,edge_color=%s,time=%s,"
                         "vertex_size=0,edge_size=1", x, y, rad, off ? ",active=false" : "", label, suffix, color, t);
     post_s(out, "VIEW_CIRCLE", m);
 }

@@ -76,8 +76,8 @@ static int set_types(kelp_field_crs_cfg *cfg, const char *v, size_t n, kelp_diag
 
 int kelp_field_crs_config(kelp_field_crs_cfg *cfg, const char *key, const char *val, kelp_diag *d)
 {
-    char v[256];
-    int nv = rs_value(val, v, sizeof v, d);
+    char *v = cfg->ws_val;
+    int nv = rs_value(val, v, sizeof cfg->ws_val, d);
     if (nv < 0) return nv;
     size_t n = (size_t)nv, kl = strlen(key);
     if (kelp_strieq_n(key, kl, "REACH_DISTANCE") || kelp_strieq_n(key, kl, "PUSH_DIST") ||

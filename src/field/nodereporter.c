@@ -481,23 +481,23 @@ int kelp_field_nrep_iterate(kelp_field_nrep *r, double now, const kelp_field_sin
     for (int k = 0; k < 2; k++)
         if (r->nav[k].mail) r->nav[k].last = now, r->nav[k].mail = false;
     if (r->cfg.paused) return 0;
-    kelp_nodereport n;
-    if (!build(r, &r->nav[0], r->cfg.name, r->cfg.group, now, out, &n)) return 0;
+    kelp_nodereport *n = &r->ws.main; /* (workspace) */
+    if (!build(r, &r->nav[0], r->cfg.name, r->cfg.group, now, out, n)) return 0;
     if (r->last_post >= 0 && r->blackout > 0 && !(now - r->last_post > r->blackout)) return 0;
-    if (extrapolable(r, &n, now)) {
+    if (extrapolable(r, n, now)) {
         r->extrap_skipped++;
         return 0;
     }
-    n.index = (long)r->posted;
-    if (r->posted) n.fields |= KELP_NR_INDEX;
-    double px = n.x, py = n.y;
-    if (r->cfg.coord_global && (n.fields & KELP_NR_LAT)) n.fields &= ~(uint32_t)(KELP_NR_X | KELP_NR_Y);
+    n->index = (long)r->posted;
+    if (r->posted) n->fields |= KELP_NR_INDEX;
+    double px = n->x, py = n->y;
+    if (r->cfg.coord_global && (n->fields & KELP_NR_LAT)) n->fields &= ~(uint32_t)(KELP_NR_X | KELP_NR_Y);
     char *extra = r->ws.extra;
     extras_with_cog(r, &r->nav[0], extra, sizeof r->ws.extra);
-    int rc = post(r, &n, extra, r->posted == 0, out, r->last, sizeof r->last);
+    int rc = post(r, n, extra, r->posted == 0, out, r->last, sizeof r->last);
     if (rc < 0) return rc;
     out->publish(out->ctx, "PNR_POST_GAP", false, NULL, r->posted ? now - r->posted_at.time : 0);
-    r->posted_at.x = px, r->posted_at.y = py, r->posted_at.hdg = n.hdg, r->posted_at.spd = n.spd;
+    r->posted_at.x = px, r->posted_at.y = py, r->posted_at.hdg = n->hdg, r->posted_at.spd = n->spd;
     r->posted_at.time = now;
     r->posted++;
     r->last_post = now;

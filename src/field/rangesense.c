@@ -111,6 +111,16 @@ void kelp_rsense_common_default(kelp_rsense_common *c)
     c->seed = 1;
 }
 
+/* one pct= (clipped to [0,1] as 24.8 does) or sigma= (at least 0) value into t */
+static int noise_value(kelp_rsense_noise *t, bool pct, const char *v, size_t vl, kelp_diag *d)
+{
+    double dv;
+    if (kelp_parse_double(v, vl, &dv) < 0 || !isfinite(dv)) return kelp_fail(d, KELP_ERR_PARSE, "bad number");
+    if (pct) t->pct = dv < 0 ? 0 : dv > 1 ? 1 : dv;
+    else t->sigma = dv < 0 ? 0 : dv;
+    return 1;
+}
+
 int kelp_rsense_common_config(kelp_rsense_common *c, const char *key, const char *v, kelp_diag *d)
 {
     size_t kl = strlen(key), n = strlen(v);
@@ -124,10 +134,14 @@ int kelp_rsense_common_config(kelp_rsense_common *c, const char *key, const char
     }
     if (kelp_strieq_n(key, kl, "RN_ALGORITHM")) return kelp_rsense_noise_set(&c->noise, v, d);
     if (kelp_strieq_n(key, kl, "RN_UNIFORM_PCT") || kelp_strieq_n(key, kl, "RN_GAUSSIAN_SIGMA")) {
-        char spec[300];
+        /* the same as RN_ALGORITHM = uniform,pct=V (or gaussian,sigma=V) */
         bool uni = kelp_strieq_n(key, kl, "RN_UNIFORM_PCT");
-        kelp_snprintf(spec, sizeof spec, "%s,%s=%s", uni ? "uniform" : "gaussian", uni ? "pct" : "sigma", v);
-        return kelp_rsense_noise_set(&c->noise, spec, d);
+        kelp_rsense_noise t = c->noise;
+        t.alg = uni ? KELP_RSENSE_NOISE_UNIFORM : KELP_RSENSE_NOISE_GAUSSIAN;
+        int rc = noise_value(&t, uni, v, n, d);
+        if (rc < 0) return rc;
+        c->noise = t;
+        return 1;
     }
     if (kelp_strieq_n(key, kl, "GROUND_TRUTH") || kelp_strieq_n(key, kl, "VERBOSE")) {
         bool f;
@@ -176,17 +190,14 @@ int kelp_rsense_noise_set(kelp_rsense_noise *n, const char *val, kelp_diag *d)
         size_t kl, vl;
         int rc;
         while ((rc = kelp_kv_next(c + 1, ',', &pos, &k, &kl, &v, &vl)) == 1) {
-            double dv;
-            if (kelp_parse_double(v, vl, &dv) < 0 || !isfinite(dv)) {
-                return kelp_fail(d, KELP_ERR_PARSE, "bad number");
-            }
-            if (kelp_strieq_n(k, kl, "pct"))
-                t.pct = dv < 0 ? 0 : dv > 1 ? 1 : dv; /* clipped to [0,1] as 24.8 does */
-            else if (kelp_strieq_n(k, kl, "sigma"))
-                t.sigma = dv < 0 ? 0 : dv;
-            else {
+            bool pct = kelp_strieq_n(k, kl, "pct");
+            if (!pct && !kelp_strieq_n(k, kl, "sigma")) {
+                double dv;
+                if (kelp_parse_double(v, vl, &dv) < 0 || !isfinite(dv)) return kelp_fail(d, KELP_ERR_PARSE, "bad number");
                 return kelp_fail(d, KELP_ERR_PARSE, "unknown noise parameter (pct or sigma)");
             }
+            int vr = noise_value(&t, pct, v, vl, d);
+            if (vr < 0) return vr;
         }
         if (rc < 0) {
             return kelp_fail(d, KELP_ERR_PARSE, "expected key=value after the algorithm");

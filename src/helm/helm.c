@@ -449,7 +449,8 @@ void helm_expand_macros(const kelp_bhv *b, const char *in, char *out, size_t cap
     unsigned found = 0;
     bool other = false;
     while (*in && n + 1 < cap) {
-        char val[KELP_HELM_MAX_FLAG_VAL];
+        char *val = out + n; /* a macro's value is written in place (no copy on the stack) */
+        size_t room = cap - n;
         const char *end = NULL;
         bool have = false;
         if (in[0] == '$' && (in[1] == '[' || in[1] == '(')) {
@@ -469,9 +470,9 @@ void helm_expand_macros(const kelp_bhv *b, const char *in, char *out, size_t cap
                     hx_fmt_x(num, sizeof num, b->helm->t0 + kelp_bhv_buf_now(b), 3);
                     g = num;
                 }
-                if (g) have = hx_copy(val, sizeof val, g, strlen(g));
-                else if (b->ops == &kelp_bhv_avoid_collision_ops) have = helm_avoid_macro(b, m, ml, val, sizeof val);
-                else if (ml == 7 && !strncmp(m, "CONTACT", ml)) have = hx_copy(val, sizeof val, "", 0);
+                if (g) have = hx_copy(val, room, g, strlen(g));
+                else if (b->ops == &kelp_bhv_avoid_collision_ops) have = helm_avoid_macro(b, m, ml, val, room);
+                else if (ml == 7 && !strncmp(m, "CONTACT", ml)) have = hx_copy(val, room, "", 0);
             }
         }
         if (!have) {
@@ -480,7 +481,7 @@ void helm_expand_macros(const kelp_bhv *b, const char *in, char *out, size_t cap
             continue;
         }
         found++;
-        for (const char *v = val; *v && n + 1 < cap; v++) out[n++] = *v;
+        n += strlen(val);
         in = end + 1;
     }
     out[n] = '\0';

@@ -7,7 +7,7 @@
 int kelp_fmt_fixed(char *buf, size_t cap, double v, unsigned dec, bool strip)
 {
     static const double pow10[] = {1, 10, 100, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
-    char t[48];
+    char t[32]; /* sign, 19 digits, point, 9 decimals */
     size_t n = 0;
     if (dec > 9) dec = 9;
     if (!isfinite(v)) {
@@ -24,7 +24,7 @@ int kelp_fmt_fixed(char *buf, size_t cap, double v, unsigned dec, bool strip)
         if (f >= scale) { f -= scale; ipart++; }
         bool any = ipart != 0 || f != 0;
         uint64_t u = f;
-        char r[48]; /* digits, least significant first */
+        char r[9]; /* the decimals, least significant first */
         size_t k = 0;
         for (unsigned i = 0; i < dec; i++, u /= 10) r[k++] = (char)('0' + u % 10);
         u = ipart;
@@ -33,7 +33,7 @@ int kelp_fmt_fixed(char *buf, size_t cap, double v, unsigned dec, bool strip)
             while (skip < dec && r[skip] == '0') skip++;
         }
         if (v < 0 && any) t[n++] = '-';
-        char ip[24];
+        char ip[20];
         size_t m = 0;
         do { ip[m++] = (char)('0' + u % 10); u /= 10; } while (u);
         while (m) t[n++] = ip[--m];
