@@ -619,6 +619,12 @@ struct kelp_helm {
     char ws_flag[KELP_HELM_MAX_SVAL];
     /** workspace of the general parameters' VAR=value checks (kelp_bhv_set_param) */
     kelp_helm_pair ws_pair;
+    /** workspace of the solve: the sub-domain the objective functions span */
+    kelp_ivp_domain ws_sub;
+    /** workspace of an iteration: which behaviours produced an objective function */
+    bool ws_has_fn[KELP_HELM_MAX_BHVS];
+    /** workspace of a spawn: the requested name and the instance's full name */
+    char ws_spawn_name[2][KELP_MAX_NAME];
 };
 
 /** Initialise an empty helm. The storage in mem must outlive the helm. */

@@ -1,5 +1,6 @@
 /* kelp helm: behaviour run conditions ("DEPLOY = true", "(K <= 4)", and/or/not).
  * One pass both checks the syntax and, given a buffer, evaluates. */
+#include <math.h>
 #include <string.h>
 #include "helm_int.h"
 
@@ -155,7 +156,10 @@ static void var_value(cparse *p, const tok *t, val *v)
     if (x->is_str) {
         v->s = x->sval;
         v->n = strlen(x->sval);
-        v->is_num = hx_number(v->s, v->n, &v->num);
+        /* hx_number's reading, straight into v (one frame less on this deep path) */
+        v->is_num = kelp_parse_double(v->s, v->n, &v->num) == KELP_OK && isfinite(v->num);
+        if (!v->is_num)
+            v->num = 0;
     } else {
         v->is_num = true;
         v->num = x->dval;
@@ -182,7 +186,7 @@ static int cmp_str(const val *a, const val *b, bool ci)
  * its text is the %g-like form the buffer gives (hx_fmt_double). */
 KELP_NOINLINE static int cmp_fmt(const val *a, const val *b, bool ci)
 {
-    char buf[64];
+    char buf[32]; /* hx_fmt_double: at most 20 characters */
     val t = a->s ? *b : *a;
     hx_fmt_double(buf, sizeof buf, t.num);
     t.s = buf;
@@ -220,6 +224,13 @@ static bool operand(enum tok_kind k)
 }
 
 /* relation := operand op operand. *ok = false on a syntax error. */
+/* a word that reads as a number (out of line: its double is not in relation's frame) */
+KELP_NOINLINE static bool is_number(const tok *t)
+{
+    double d;
+    return hx_number(t->s, t->n, &d);
+}
+
 KELP_NOINLINE static bool relation(cparse *p, bool *ok)
 {
     tok a = p->cur;
@@ -236,9 +247,8 @@ KELP_NOINLINE static bool relation(cparse *p, bool *ok)
     next(p);
     /* which side names a variable */
     bool av = a.k == T_VAR, bv = b.k == T_VAR;
-    double dummy;
-    bool aw = a.k == T_WORD && !hx_number(a.s, a.n, &dummy);
-    bool bw = b.k == T_WORD && !hx_number(b.s, b.n, &dummy);
+    bool aw = a.k == T_WORD && !is_number(&a);
+    bool bw = b.k == T_WORD && !is_number(&b);
     if (!av && !bv) {
         if (aw)
             av = true;

@@ -197,11 +197,11 @@ KELP_NOINLINE static int load_init(kelp_helm *h, const kelp_mission_node *nd)
             return helm_fail(h, nd->line, KELP_ERR_PARSE, "bad initialize value for ", var, HX_END);
         if (!cut)
             break;
-        kelp_helm_pair pr;
-        if (!hx_pair(cut + 1, &pr))
+        kelp_helm_pair *pr = &h->ws_pair; /* (a workspace: idle while loading) */
+        if (!hx_pair(cut + 1, pr))
             return helm_fail(h, nd->line, KELP_ERR_PARSE, "bad initialize pair", HX_END);
         char *eq = strchr(cut + 1, '=');
-        memcpy(var, pr.var, sizeof var);
+        memcpy(var, pr->var, sizeof var);
         s = eq + 1;
     }
     return 0;
@@ -938,7 +938,16 @@ static void list_append(char *buf, size_t cap, const char *name, char sep)
     memcpy(buf + n, name, m + 1);
 }
 
-static void solve(kelp_helm *h, const bool *has_fn)
+KELP_NOINLINE static void solve_failed(kelp_helm *h, int rc)
+{
+    char msg[220];
+    hx_cat(msg, sizeof msg, "pHelmIvP: IvP solve failed: ", kelp_strerror(rc), " (", kelp_diag_text(&h->prob.diag), ")", HX_END);
+    sink(h, "BHV_ERROR", true, msg, 0, NULL);
+    h->rep.halted = true;
+    hx_copy(h->rep.halt_msg, sizeof h->rep.halt_msg, msg + 10, strlen(msg + 10));
+}
+
+KELP_NOINLINE static void solve(kelp_helm *h, const bool *has_fn)
 {
     kelp_helm_report *r = &h->rep;
     const kelp_ivp_domain *hd = &h->cfg.domain;
@@ -957,12 +966,12 @@ static void solve(kelp_helm *h, const bool *has_fn)
             cover[k] = true;
         }
     }
-    kelp_ivp_domain sub;
-    kelp_ivp_domain_init(&sub);
+    kelp_ivp_domain *sub = &h->ws_sub;
+    kelp_ivp_domain_init(sub);
     for (unsigned d = 0; d < hd->dim; d++)
         if (cover[d])
-            hx_ignore(kelp_ivp_domain_add(&sub, hd->var[d].name, hd->var[d].low, hd->var[d].high, hd->var[d].points));
-    kelp_ivp_problem_init(&h->prob, &sub);
+            hx_ignore(kelp_ivp_domain_add(sub, hd->var[d].name, hd->var[d].low, hd->var[d].high, hd->var[d].points));
+    kelp_ivp_problem_init(&h->prob, sub);
     for (unsigned i = 0; i < h->nbhv; i++)
         if (has_fn[i] && r->ofnum < KELP_IVP_MAX_FUNCS && kelp_ivp_problem_add(&h->prob, &h->fn[i]) == 0)
             r->ofnum++;
@@ -971,15 +980,11 @@ static void solve(kelp_helm *h, const bool *has_fn)
     kelp_ivp_result res;
     int rc = kelp_ivp_solve(&h->prob, h->mem.solve_work, h->mem.solve_work_size, &res);
     if (rc < 0) {
-        char msg[220];
-        hx_cat(msg, sizeof msg, "pHelmIvP: IvP solve failed: ", kelp_strerror(rc), " (", kelp_diag_text(&h->prob.diag), ")", HX_END);
-        sink(h, "BHV_ERROR", true, msg, 0, NULL);
-        r->halted = true;
-        hx_copy(r->halt_msg, sizeof r->halt_msg, msg + 10, strlen(msg + 10));
+        solve_failed(h, rc);
         return;
     }
-    for (unsigned j = 0; j < sub.dim; j++) {
-        int k = kelp_ivp_domain_index(hd, sub.var[j].name);
+    for (unsigned j = 0; j < sub->dim; j++) {
+        int k = kelp_ivp_domain_index(hd, sub->var[j].name);
         r->decided[k] = true;
         r->decision[k] = res.val[j];
     }
@@ -1124,6 +1129,21 @@ static void post_outputs(kelp_helm *h)
     sink(h, "IVPHELM_ITER", false, NULL, (double)h->iteration, NULL);
 }
 
+/* a new report keeping the running counts (not a copy of the whole report: stack; and out of
+ * line, so its saved values are not in kelp_helm_iterate's frame) */
+KELP_NOINLINE static void report_reset(kelp_helm_report *r)
+{
+    unsigned long warnings = r->warnings, errors = r->errors, total_pcs = r->total_pcs_formed;
+    double max_create = r->max_create_time, max_solve = r->max_solve_time, max_loop = r->max_loop_time;
+    memset(r, 0, sizeof *r);
+    r->warnings = warnings;
+    r->errors = errors;
+    r->max_create_time = max_create;
+    r->max_solve_time = max_solve;
+    r->max_loop_time = max_loop;
+    r->total_pcs_formed = total_pcs;
+}
+
 int kelp_helm_iterate(kelp_helm *h, double now)
 {
     if (!h)
@@ -1145,17 +1165,7 @@ int kelp_helm_iterate(kelp_helm *h, double now)
     helm_mode_eval(h, post_mode);
     helm_spawn(h);
     kelp_helm_report *r = &h->rep;
-    {   /* a new report keeping the running counts (not a copy of the whole report: stack) */
-        unsigned long warnings = r->warnings, errors = r->errors, total_pcs = r->total_pcs_formed;
-        double max_create = r->max_create_time, max_solve = r->max_solve_time, max_loop = r->max_loop_time;
-        memset(r, 0, sizeof *r);
-        r->warnings = warnings;
-        r->errors = errors;
-        r->max_create_time = max_create;
-        r->max_solve_time = max_solve;
-        r->max_loop_time = max_loop;
-        r->total_pcs_formed = total_pcs;
-    }
+    report_reset(r);
     r->iteration = h->iteration;
     r->time = h->ib.curr_time;
     sink(h, "IVPHELM_STATE", true, h->engaged ? "DRIVE" : "PARK", 0, NULL);
@@ -1167,7 +1177,8 @@ int kelp_helm_iterate(kelp_helm *h, double now)
     double (*clk)(void *) = h->cfg.cpu_clock;
     double t_start = clk ? clk(h->cfg.user) : 0;
     if (h->engaged) {
-        bool has_fn[KELP_HELM_MAX_BHVS] = {false};
+        bool *has_fn = h->ws_has_fn;
+        memset(has_fn, 0, sizeof h->ws_has_fn);
         size_t pool_used = 0;
         for (unsigned i = 0; i < h->nbhv; i++) {
             has_fn[i] = produce(h, i, &pool_used, &r->halted);

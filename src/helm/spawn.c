@@ -110,13 +110,14 @@ static bool request_name(kelp_helm *h, const char *s, char *out, size_t cap)
 
 static void spawn_one(kelp_helm *h, kelp_bhv *t, const char *req)
 {
-    char uname[KELP_MAX_NAME], full[KELP_MAX_NAME];
-    if (!request_name(h, req, uname, sizeof uname))
+    char *uname = h->ws_spawn_name[0], *full = h->ws_spawn_name[1];
+    const size_t cap = sizeof h->ws_spawn_name[0];
+    if (!request_name(h, req, uname, cap))
         return;
     if (starts_with(uname, t->name))
-        memcpy(full, uname, sizeof full);
-    else if (!hx_copy(full, sizeof full, t->name, strlen(t->name)) ||
-             !hx_copy(full + strlen(t->name), sizeof full - strlen(t->name), uname, strlen(uname))) {
+        memcpy(full, uname, cap);
+    else if (!hx_copy(full, cap, t->name, strlen(t->name)) ||
+             !hx_copy(full + strlen(t->name), cap - strlen(t->name), uname, strlen(uname))) {
         warn(h, "Spawn refused: behaviour name too long: ", t->name, uname);
         return;
     }
@@ -139,7 +140,7 @@ static void spawn_one(kelp_helm *h, kelp_bhv *t, const char *req)
     b->spawned = true;
     b->uid = ++h->next_uid;
     memcpy(b->spawn_base, t->name, sizeof b->spawn_base);
-    memcpy(b->name, full, sizeof b->name);
+    memcpy(b->name, full, sizeof b->name < cap ? sizeof b->name : cap);
     (void)hx_copy(b->templating, sizeof b->templating, "disallowed", 10);
     b->fail = NULL;
     if (!apply_pieces(h, b, req) || (b->ops->params_done && b->ops->params_done(b) < 0)) {

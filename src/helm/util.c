@@ -152,15 +152,21 @@ void hx_fmt_x(char *buf, size_t cap, double v, unsigned dec)
         buf[0] = '0', buf[1] = '\0';
 }
 
+/* |v| >= 1e12 as mantissa (up to 6 decimals) "e+" exponent (its buffers off the common path) */
+KELP_NOINLINE static void fmt_sci(char *buf, size_t cap, double v)
+{
+    int e = (int)floor(log10(fabs(v)));
+    double m = v / pow(10, e);
+    char mb[32], eb[16];
+    fmt_fixed(mb, sizeof mb, m, 6, true);
+    hx_fmt_ulong(eb, sizeof eb, (unsigned long)e);
+    hx_cat(buf, cap, mb, "e+", eb, HX_END);
+}
+
 void hx_fmt_double(char *buf, size_t cap, double v)
 {
     if (isfinite(v) && fabs(v) >= 1e12) {
-        int e = (int)floor(log10(fabs(v)));
-        double m = v / pow(10, e);
-        char mb[32], eb[16];
-        fmt_fixed(mb, sizeof mb, m, 6, true);
-        hx_fmt_ulong(eb, sizeof eb, (unsigned long)e);
-        hx_cat(buf, cap, mb, "e+", eb, HX_END);
+        fmt_sci(buf, cap, v);
         return;
     }
     fmt_fixed(buf, cap, v, 6, true);

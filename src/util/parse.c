@@ -38,8 +38,8 @@ bool kelp_strieq_n(const char *s, size_t len, const char *z)
  * A candidate double z is checked against the decimal D * 10^e10 by comparing the decimal
  * with the halfway points between z and its neighbours, all as exact integers. 10^n is
  * 5^n * 2^n and the 2^n goes into the shift, so the big side is at most 5^365 * 2^54 (902 bits)
- * or D * 5^e (760 bits) within the exponent limits below: 32 words of 32 bits. */
-enum { BIG_WORDS = 32, DEC_MAX = 40 };
+ * or D * 5^e (760 bits) within the exponent limits below: 29 words of 32 bits. */
+enum { BIG_WORDS = 29, DEC_MAX = 40 };
 typedef struct { uint32_t w[BIG_WORDS]; int n; } big;
 
 static bool big_mul_add(big *b, uint32_t m, uint32_t a)
@@ -130,7 +130,7 @@ static int cmp_halfway(const digs *dig, int nd, int e10, double z)
     uint64_t m;
     int k;
     split_double(z, &m, &k);
-    uint32_t d[6] = {0}; /* D: at most DEC_MAX (40) digits, 133 bits */
+    uint32_t d[5] = {0}; /* D: at most DEC_MAX (40) digits, 133 bits */
     int dn = 1;
     for (int i = 0; i < nd; i++) {
         uint64_t carry = (uint32_t)dig_at(dig, i);
