@@ -10,7 +10,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 static kelp_ivp_piece store[4096];
 static double work[4096];
-static kelp_ivp_zaic_peak zws;
+static kelp_ivp_spec_ws zws;
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {

@@ -16,7 +16,7 @@ static kelp_ivp_domain dom1(const char *s)
 
 static kelp_ivp_piece g_store[4096];
 static double g_work[4096];
-static kelp_ivp_zaic_peak g_zws; /* spec_build's ZAIC_PEAK workspace */
+static kelp_ivp_spec_ws g_zws; /* spec_build's ZAIC_PEAK workspace */
 
 static double fval(const kelp_ivp_func *f, uint32_t ix)
 {

@@ -50,7 +50,7 @@ static kelp_ivp_domain mkdom(const char *s)
 static kelp_ivp_piece s_store[NF][CAP];
 static kelp_ivp_piece s_tmpa[CAP], s_tmpb[CAP];
 static double s_zw[CAP];
-static kelp_ivp_zaic_peak s_zws;
+static kelp_ivp_spec_ws s_zws;
 static kelp_ivp_pq_entry s_pq[CAP];
 static unsigned char s_work[1 << 21];
 

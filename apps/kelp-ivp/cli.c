@@ -56,7 +56,7 @@ int kivp_build_spec(const kelp_ivp_spec *sp, const kelp_ivp_domain *dom, const c
     size_t wl = ix >= 0 ? dom->var[ix].points : 1;
     kelp_ivp_piece *st = kivp_xcalloc(cap, sizeof *st);
     double *work = kivp_xcalloc(wl, sizeof *work);
-    kelp_ivp_zaic_peak *zws = kivp_xcalloc(1, sizeof *zws);
+    kelp_ivp_spec_ws *zws = kivp_xcalloc(1, sizeof *zws);
     int rc = kelp_ivp_spec_build(sp, dom, var, work, wl, zws, st, cap, f, d);
     free(zws);
     free(work);

@@ -182,6 +182,7 @@ typedef struct kelp_field_brs {
     bool started;                /**< markers posted, timers drawn (first iterate) */
     unsigned long requests, denied, accepted, reports, bad_mail, unknown;
     kelp_diag diag; /**< workspace: why the last node report was refused */
+    char ws_label[KELP_RSENSE_NAME + KELP_BRS_LABEL + 8]; /**< workspace: a pulse's label */
 } kelp_field_brs;
 
 /** The seed's defaults (ufield.md 10.1). */

@@ -309,11 +309,16 @@ typedef struct kelp_ivp_spec {
  * insist/wrap/sum default to off in the text form. */
 KELP_MUST_CHECK int kelp_ivp_spec_parse(kelp_ivp_spec *sp, const char *s, kelp_diag *diag);
 size_t kelp_ivp_spec_max_pieces(const kelp_ivp_spec *sp, const kelp_ivp_domain *dom, const char *var);
+/** The builder a spec needs, as the caller's workspace (a ZAIC_PEAK is some 900 bytes, a
+ *  ZAIC_LEQ/HEQ some 550: kept off the stack). */
+typedef union kelp_ivp_spec_ws {
+    kelp_ivp_zaic_peak peak;
+    kelp_ivp_zaic_hleq hleq;
+} kelp_ivp_spec_ws;
 /** Build the spec's function over variable var of dom. work: kelp_ivp_spec_work_len doubles;
- *  zws: the builder the spec needs, as workspace (a ZAIC_PEAK is some 900 bytes: kept off the
- *  stack). */
+ *  ws: the builder's workspace. */
 KELP_MUST_CHECK int kelp_ivp_spec_build(const kelp_ivp_spec *sp, const kelp_ivp_domain *dom, const char *var, double *work,
-                                        size_t work_len, kelp_ivp_zaic_peak *zws, kelp_ivp_piece *store, size_t cap,
+                                        size_t work_len, kelp_ivp_spec_ws *ws, kelp_ivp_piece *store, size_t cap,
                                         kelp_ivp_func *out, kelp_diag *diag);
 
 /** One function line of a solve FILE. */

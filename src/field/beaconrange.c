@@ -274,6 +274,14 @@ static void reset_timer(kelp_field_brs *b, kelp_brs_beacon *bc, double now)
     bc->next = now + kelp_rsense_interval(&b->rand, bc->freq_lo, bc->freq_hi);
 }
 
+KELP_NOINLINE static void log_elapsed(kelp_field_brs *b, double elapsed)
+{
+    char e[64];
+    size_t n = 0;
+    (void)field_put_fixed(e, sizeof e, &n, elapsed, 5, false);
+    log_line(b, "  Elapsed time: ", e, NULL, NULL);
+}
+
 static int request(kelp_field_brs *b, const char *s, double now, const kelp_field_sink *out)
 {
     char name[KELP_RSENSE_NAME];
@@ -295,12 +303,7 @@ static int request(kelp_field_brs *b, const char *s, double now, const kelp_fiel
     kelp_rsense_node *v = &b->node[i];
     v->pings++;
     double elapsed = now - v->clock;
-    if (b->cfg.com.verbose) {
-        char e[64];
-        size_t n = 0;
-        (void)field_put_fixed(e, sizeof e, &n, elapsed, 5, false);
-        log_line(b, "  Elapsed time: ", e, NULL, NULL);
-    }
+    if (b->cfg.com.verbose) log_elapsed(b, elapsed);
     if (elapsed < kelp_rsense_vmap_get(&b->cfg.com.ping_wait, v->name)) {
         if (b->cfg.payments == KELP_BRS_UPON_REQUEST) v->clock = now;
         v->denied++;
@@ -312,8 +315,8 @@ static int request(kelp_field_brs *b, const char *s, double now, const kelp_fiel
     b->accepted++;
     if (b->cfg.payments != KELP_BRS_UPON_RESPONSE) v->clock = now;
     log_line(b, "    Query accepted by uFldBeaconRangeSensor.", NULL, NULL, NULL);
-    char label[KELP_RSENSE_NAME + 8];
-    kelp_snprintf(label, sizeof label, "%s_ping", v->name);
+    char *label = b->ws_label;
+    kelp_snprintf(label, sizeof b->ws_label, "%s_ping", v->name);
     rs_pulse(out, v->x, v->y, BRS_REQ_RADIUS, BRS_REQ_DURATION, label, "white", now, true);
     double reach = kelp_rsense_vmap_get(&b->cfg.reach, v->name);
     unsigned long got = 0;
@@ -323,8 +326,8 @@ static int request(kelp_field_brs *b, const char *s, double now, const kelp_fiel
         bc->heard++;
         bc->replies++;
         got += broadcast(b, bc, now, out, i, "    ");
-        char bl[KELP_BRS_LABEL + 8];
-        kelp_snprintf(bl, sizeof bl, "%s_reply", bc->label);
+        char *bl = b->ws_label;
+        kelp_snprintf(bl, sizeof b->ws_label, "%s_reply", bc->label);
         rs_pulse(out, bc->x, bc->y, BRS_REPLY_RADIUS, BRS_REPLY_DURATION, bl, "pink", now, true);
         reset_timer(b, bc, now);
     }
@@ -398,8 +401,8 @@ unsigned long kelp_field_brs_iterate(kelp_field_brs *b, double now, const kelp_f
         if (!said) log_line(b, "Unsolicited beacon reports:", NULL, NULL, NULL);
         said = true;
         (void)broadcast(b, bc, now, out, -1, "  ");
-        char bl[KELP_BRS_LABEL + 8];
-        kelp_snprintf(bl, sizeof bl, "%s_reply", bc->label);
+        char *bl = b->ws_label;
+        kelp_snprintf(bl, sizeof b->ws_label, "%s_reply", bc->label);
         rs_pulse(out, bc->x, bc->y, BRS_REPLY_RADIUS, BRS_REPLY_DURATION, bl, "green", now, true);
     }
     return b->reports - before;

@@ -411,8 +411,14 @@ void rs_pulse(const kelp_field_sink *out, double x, double y, double radius, dou
     if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",duration=");
     if (rc == 0) rc = field_put_fixed(buf, sizeof buf, &n, duration, 2, true);
     if (rc == 0) {
-        field_putf(buf, sizeof buf, &n, ",label=%s,edge_color=%s,fill_color=%s,time=", label, color, color);
-        rc = field_put_fixed(buf, sizeof buf, &n, now, 2, true);
+        rc = field_put_str(buf, sizeof buf, &n, ",label=");
+        if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, label);
+        if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",edge_color=");
+        if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, color);
+        if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",fill_color=");
+        if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, color);
+        if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",time=");
+        if (rc == 0) rc = field_put_fixed(buf, sizeof buf, &n, now, 2, true);
     }
     if (rc == 0 && edge_size) rc = field_put_str(buf, sizeof buf, &n, ",edge_size=1");
     if (rc < 0) {

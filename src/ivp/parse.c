@@ -150,16 +150,16 @@ size_t kelp_ivp_spec_max_pieces(const kelp_ivp_spec *sp, const kelp_ivp_domain *
 }
 
 int kelp_ivp_spec_build(const kelp_ivp_spec *sp, const kelp_ivp_domain *dom, const char *var, double *work,
-                        size_t work_len, kelp_ivp_zaic_peak *zws, kelp_ivp_piece *store, size_t cap, kelp_ivp_func *out,
+                        size_t work_len, kelp_ivp_spec_ws *ws, kelp_ivp_piece *store, size_t cap, kelp_ivp_func *out,
                         kelp_diag *diag)
 {
     int rc;
     if (kelp_ivp_domain_index(dom, var) < 0)
         return ivp_fail(diag, KELP_ERR_NOTFOUND, "spec: variable not in domain:", var, strlen(var));
     if (sp->kind == KELP_IVP_SPEC_PEAK) {
-        if (!zws)
-            return ivp_fail(diag, KELP_ERR_ARG, "spec: no ZAIC_PEAK workspace", NULL, 0);
-        kelp_ivp_zaic_peak *z = zws;
+        if (!ws)
+            return ivp_fail(diag, KELP_ERR_ARG, "spec: no workspace", NULL, 0);
+        kelp_ivp_zaic_peak *z = &ws->peak;
         rc = kelp_ivp_zaic_peak_init(z, dom, var);
         if (rc)
             return ivp_fail(diag, rc, "spec: cannot build ZAIC_PEAK on", var, strlen(var));
@@ -179,18 +179,20 @@ int kelp_ivp_spec_build(const kelp_ivp_spec *sp, const kelp_ivp_domain *dom, con
             return ivp_fail(diag, rc, "spec: peak extraction failed (storage)", NULL, 0);
         return 0;
     }
-    kelp_ivp_zaic_hleq z;
-    rc = kelp_ivp_zaic_hleq_init(&z, sp->kind == KELP_IVP_SPEC_LEQ ? KELP_IVP_ZAIC_LEQ : KELP_IVP_ZAIC_HEQ, dom, var);
+    if (!ws)
+        return ivp_fail(diag, KELP_ERR_ARG, "spec: no workspace", NULL, 0);
+    kelp_ivp_zaic_hleq *z = &ws->hleq;
+    rc = kelp_ivp_zaic_hleq_init(z, sp->kind == KELP_IVP_SPEC_LEQ ? KELP_IVP_ZAIC_LEQ : KELP_IVP_ZAIC_HEQ, dom, var);
     if (rc)
         return ivp_fail(diag, rc, "spec: cannot build ZAIC_LEQ/HEQ on", var, strlen(var));
     const kelp_ivp_zaic_comp *c = &sp->comp[0];
-    ivp_ignore(kelp_ivp_zaic_hleq_set_summit(&z, c->summit));
-    ivp_ignore(kelp_ivp_zaic_hleq_set_basewidth(&z, c->basewidth));
-    ivp_ignore(kelp_ivp_zaic_hleq_set_minmaxutil(&z, c->minutil, c->maxutil));
-    ivp_ignore(kelp_ivp_zaic_hleq_set_summitdelta(&z, c->summitdelta));
-    if (!z.ok)
-        return ivp_fail(diag, KELP_ERR_RANGE, "spec: bad leq/heq parameters:", z.warn, strlen(z.warn));
-    rc = kelp_ivp_zaic_hleq_extract(&z, store, cap, out);
+    ivp_ignore(kelp_ivp_zaic_hleq_set_summit(z, c->summit));
+    ivp_ignore(kelp_ivp_zaic_hleq_set_basewidth(z, c->basewidth));
+    ivp_ignore(kelp_ivp_zaic_hleq_set_minmaxutil(z, c->minutil, c->maxutil));
+    ivp_ignore(kelp_ivp_zaic_hleq_set_summitdelta(z, c->summitdelta));
+    if (!z->ok)
+        return ivp_fail(diag, KELP_ERR_RANGE, "spec: bad leq/heq parameters:", z->warn, strlen(z->warn));
+    rc = kelp_ivp_zaic_hleq_extract(z, store, cap, out);
     if (rc)
         return ivp_fail(diag, rc, "spec: leq/heq extraction failed (storage)", NULL, 0);
     return 0;

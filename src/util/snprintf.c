@@ -152,7 +152,7 @@ KELP_NOINLINE static void fmt_float(out *o, double v, char conv, int prec, int w
     if (c == 'g') {
         if (prec == 0) prec = 1;
         int e = v == 0 ? 0 : (int)floor(log10(v));
-        if (v != 0) { char d[20]; e = digits(v, prec > 17 ? 17 : prec, d); }
+        if (v != 0) e = digits(v, prec > 17 ? 17 : prec, body); /* (body as scratch: filled below) */
         if (e < -4 || e >= prec) { c = 'e'; prec -= 1; }
         else { c = 'f'; prec = prec - 1 - e; }
         trim = !alt; /* %g drops trailing zeros: format, then trim */
