@@ -159,7 +159,10 @@ typedef struct kelp_cmgr {
     kelp_diag diag; /**< workspace: why the last node report was refused (read by bad_report) */
     kelp_nodereport ws_report; /**< workspace: the node report being read (keeps the stack under 1 KB) */
     char ws_warn[KELP_CMGR_MAX_FLAG + 128]; /**< workspace: a warning being formatted */
-    char ws_view[3 * KELP_CMGR_MAX_ID + 160]; /**< workspace: a VIEW_CIRCLE being formatted */
+    char ws_flag[2][KELP_CMGR_MAX_FLAG]; /**< workspace: a flag's variable, raw and expanded */
+    /** workspace: a VIEW_CIRCLE or ALERT_VERBOSE being formatted */
+    char ws_view[(3 * KELP_CMGR_MAX_ID + 160) > (KELP_CMGR_NAME + KELP_CMGR_MAX_ID + 200)
+                     ? (3 * KELP_CMGR_MAX_ID + 160) : (KELP_CMGR_NAME + KELP_CMGR_MAX_ID + 200)];
 } kelp_cmgr;
 
 /** Defaults (contactmgr.md 2.1) for ownship `ownship` (the community; its reports are dropped). */

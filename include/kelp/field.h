@@ -304,6 +304,7 @@ typedef struct kelp_field_ncomms_cfg {
     kelp_ncomms_factor factor[KELP_NCOMMS_MAX_FACTORS]; /**< STEALTH / EARANGE lines */
     unsigned nfactor;
     uint64_t seed;                /**< drop_percentage draws */
+    char ws_val[256];             /**< workspace: the value being read by kelp_field_ncomms_config */
 } kelp_field_ncomms_cfg;
 
 /** One vehicle. The grid fields and position are kept in kelp_ncomms_hot for the scan. */
@@ -374,6 +375,7 @@ typedef struct kelp_field_ncomms {
     unsigned long pulses;
     uint16_t ws_idx[KELP_NCOMMS_MAX_NODES]; /**< workspace of the report (the names in order) */
     kelp_diag diag;                         /**< workspace: why the last mail was refused */
+    char ws_pulse[384];                     /**< workspace: a VIEW_COMMS_PULSE being built */
 } kelp_field_ncomms;
 
 /** Defaults of the seed and 24.8 (comms 100, critical 30, stale 5, message interval 30,
@@ -752,6 +754,7 @@ typedef struct kelp_field_sbroker {
     /* workspace of one call (keeps the stack under 1 KB): the bridge-name candidates, a list */
     uint16_t ws_idx[(KELP_BROKER_MAX_BRIDGES + 1) * (KELP_BROKER_MAX_NODES + 1)];
     char ws[KELP_MAX_SVAL];
+    kelp_broker_host ws_host;      /**< workspace: the pinging node's host record */
 } kelp_field_sbroker;
 
 /** Defaults: no keyword, no bridges, warp 1, no stale warnings, auto bridges off. */

@@ -491,17 +491,24 @@ static int cfg_bad(kelp_cmgr *c, const kelp_field_sink *out, const char *key, co
     return 1;
 }
 
+KELP_NOINLINE static int config_other(kelp_cmgr *c, const char *key, const char *val, const kelp_field_sink *out);
+
 int kelp_cmgr_config(kelp_cmgr *c, const char *key, const char *val, const kelp_field_sink *out)
+{
+    if (keyis(key, strlen(key), "alert", NULL)) {
+        if (kelp_cmgr_alert_spec(c, val, false, NULL, 0, out) < 0) return 1; /* warned; the line is dropped */
+        return 1;
+    }
+    return config_other(c, key, val, out); /* (its locals off the alert path) */
+}
+
+static int config_other(kelp_cmgr *c, const char *key, const char *val, const kelp_field_sink *out)
 {
     size_t kl = strlen(key), vl = strlen(val);
     const char *v = val;
     trim(&v, &vl);
     double d;
     bool b, strict;
-    if (keyis(key, kl, "alert", NULL)) {
-        if (kelp_cmgr_alert_spec(c, val, false, NULL, 0, out) < 0) return 1; /* warned; the line is dropped */
-        return 1;
-    }
     if (keyis(key, kl, "contact_max_age", "max_contact_age")) {
         if (num_ge0(v, vl, &d) < 0) return cfg_bad(c, out, key, val, "must be a number >= 0");
         c->contact_max_age = d;
@@ -869,6 +876,24 @@ static void ranges(kelp_cmgr *c, kelp_cmgr_contact *k, double now)
 }
 
 /* expand the macros of s into out for contact k */
+/* the value of macro i of expand's list (no table of eleven doubles on the stack) */
+static double macro_value(const kelp_cmgr_contact *k, double now, size_t i)
+{
+    switch (i) {
+    case 0: return k->x;
+    case 1: return k->y;
+    case 2: return k->lat;
+    case 3: return k->lon;
+    case 4: return k->hdg;
+    case 5: return k->spd;
+    case 6: return k->dep;
+    case 7:
+    case 8: return k->time;
+    case 9: return now;
+    default: return k->range;
+    }
+}
+
 static void expand(const kelp_cmgr_contact *k, double now, const char *s, char *out, size_t cap)
 {
     size_t n = 0;
@@ -889,12 +914,10 @@ static void expand(const kelp_cmgr_contact *k, double now, const char *s, char *
         else {
             static const char *const nm[] = { "X", "Y", "LAT", "LON", "HDG", "SPD", "DEP", "UTIME", "UTC", "TIME",
                                               "RANGE" };
-            const double v[] = { k->x, k->y, k->lat, k->lon, k->hdg, k->spd, k->dep, k->time, k->time, now, k->range };
-            const unsigned dec[] = { 2, 2, 8, 8, 2, 2, 2, 2, 2, 2, 2 };
             val = NULL;
             for (size_t i = 0; i < sizeof nm / sizeof nm[0] && !val; i++)
                 if (ml == strlen(nm[i]) && memcmp(m, nm[i], ml) == 0) {
-                    fmtx(num, sizeof num, v[i], dec[i]);
+                    fmtx(num, sizeof num, macro_value(k, now, i), i == 2 || i == 3 ? 8 : 2);
                     val = num;
                 }
         }
@@ -915,9 +938,9 @@ static void post_flags(kelp_cmgr *c, const kelp_cmgr_contact *k, char (*flags)[K
     for (unsigned i = 0; i < n; i++) {
         const char *eq = strchr(flags[i], '=');
         if (!eq) continue;
-        char var[KELP_CMGR_MAX_FLAG], raw[KELP_CMGR_MAX_FLAG], *val = c->ws.str; /* (a workspace) */
-        copyz(raw, sizeof raw, flags[i], (size_t)(eq - flags[i]));
-        expand(k, now, raw, var, sizeof var);
+        char *var = c->ws_flag[0], *raw = c->ws_flag[1], *val = c->ws.str; /* (workspaces) */
+        copyz(raw, KELP_CMGR_MAX_FLAG, flags[i], (size_t)(eq - flags[i]));
+        expand(k, now, raw, var, KELP_CMGR_MAX_FLAG);
         double d;
         if (!var[0]) continue;
         if (kelp_parse_finite(eq + 1, strlen(eq + 1), &d) == 0) {
@@ -932,18 +955,18 @@ static void post_flags(kelp_cmgr *c, const kelp_cmgr_contact *k, char (*flags)[K
     }
 }
 
-static void verbose(const kelp_cmgr_alert *a, const kelp_cmgr_contact *k, bool on, const kelp_field_sink *out)
+static void verbose(kelp_cmgr *c, const kelp_cmgr_alert *a, const kelp_cmgr_contact *k, bool on, const kelp_field_sink *out)
 {
-    char r[32], cr[32], ra[32], rc[32], m[KELP_CMGR_NAME + KELP_CMGR_MAX_ID + 200];
+    char r[32], cr[32], ra[32], rc[32], *m = c->ws_view;
     fmtx(r, sizeof r, a->alert_range, 1);
     fmtx(cr, sizeof cr, kelp_cmgr_cpa_range(a), 1);
     fmtf(ra, sizeof ra, k->range, 1);
     fmtf(rc, sizeof rc, k->range_cpa, 1);
     if (on)
-        (void)kelp_snprintf(m, sizeof m, "contact=%s,alert_id=%s,off-->alerted,alert_range=%s,alert_range_cpa=%s,"
+        (void)kelp_snprintf(m, sizeof c->ws_view, "contact=%s,alert_id=%s,off-->alerted,alert_range=%s,alert_range_cpa=%s,"
                             "range_actual=%s,range_cpa=%s", k->name, a->id, r, cr, ra, rc);
     else
-        (void)kelp_snprintf(m, sizeof m, "contact=%s,alert_id=%s,alerted-->off,alert_range=%s,alert_range_cpa=%s,"
+        (void)kelp_snprintf(m, sizeof c->ws_view, "contact=%s,alert_id=%s,alerted-->off,alert_range=%s,alert_range_cpa=%s,"
                             "range_actual=%s", k->name, a->id, r, cr, ra);
     post_s(out, "ALERT_VERBOSE", m);
 }
@@ -971,7 +994,7 @@ static void check_alerts(kelp_cmgr *c, kelp_cmgr_contact *k, double now, const k
             k->active--;
             post_flags(c, k, a->off, a->noff, now, out);
         }
-        if (c->alert_verbose) verbose(a, k, now_on, out);
+        if (c->alert_verbose) verbose(c, a, k, now_on, out);
     }
 }
 

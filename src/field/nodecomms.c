@@ -141,9 +141,9 @@ static int set_color(char *dst, size_t cap, const char *v, kelp_diag *d)
 
 int kelp_field_ncomms_config(kelp_field_ncomms_cfg *cfg, const char *key, const char *val, kelp_diag *d)
 {
-    char v[256];
+    char *v = cfg->ws_val;
     size_t n = strlen(val);
-    if (n >= sizeof v) {
+    if (n >= sizeof cfg->ws_val) {
         return kelp_fail(d, KELP_ERR_RANGE, "value too long");
     }
     memcpy(v, val, n + 1);
@@ -523,34 +523,34 @@ static void pulse(kelp_field_ncomms *c, int s, int d, const char *color, double 
                   const kelp_field_sink *out)
 {
     if (!(c->cfg.pulse_duration > 0) || kelp_strieq(color, "off") || kelp_strieq(color, "invisible")) return;
-    char b[384];
+    char *b = c->ws_pulse;
     size_t n = 0;
     int rc = 0;
     const kelp_ncomms_hot *hs = &c->hot[s], *hd = &c->hot[d];
-    rc |= field_put_str(b, sizeof b, &n, "sx=");
-    rc |= field_put_fixed(b, sizeof b, &n, hs->x, 2, true);
-    rc |= field_put_str(b, sizeof b, &n, ",sy=");
-    rc |= field_put_fixed(b, sizeof b, &n, hs->y, 2, true);
-    rc |= field_put_str(b, sizeof b, &n, ",tx=");
-    rc |= field_put_fixed(b, sizeof b, &n, hd->x, 2, true);
-    rc |= field_put_str(b, sizeof b, &n, ",ty=");
-    rc |= field_put_fixed(b, sizeof b, &n, hd->y, 2, true);
-    rc |= field_put_str(b, sizeof b, &n, ",beam_width=7,duration=");
-    rc |= field_put_fixed(b, sizeof b, &n, c->cfg.pulse_duration, 2, true);
-    rc |= field_put_str(b, sizeof b, &n, ",fill=");
-    rc |= field_put_fixed(b, sizeof b, &n, fill, 2, true);
-    rc |= field_put_str(b, sizeof b, &n, ",label=");
-    rc |= field_put_str(b, sizeof b, &n, c->node[s].name);
-    rc |= field_put_str(b, sizeof b, &n, "2");
-    rc |= field_put_str(b, sizeof b, &n, c->node[d].name);
-    if (msg) rc |= field_put_str(b, sizeof b, &n, "_MSG");
-    rc |= field_put_str(b, sizeof b, &n, ",edge_color=");
-    rc |= field_put_str(b, sizeof b, &n, color);
-    rc |= field_put_str(b, sizeof b, &n, ",fill_color=");
-    rc |= field_put_str(b, sizeof b, &n, color);
-    rc |= field_put_str(b, sizeof b, &n, ",time=");
-    rc |= field_put_fixed(b, sizeof b, &n, now, 2, true);
-    rc |= field_put_str(b, sizeof b, &n, ",edge_size=1");
+    rc |= field_put_str(b, sizeof c->ws_pulse, &n, "sx=");
+    rc |= field_put_fixed(b, sizeof c->ws_pulse, &n, hs->x, 2, true);
+    rc |= field_put_str(b, sizeof c->ws_pulse, &n, ",sy=");
+    rc |= field_put_fixed(b, sizeof c->ws_pulse, &n, hs->y, 2, true);
+    rc |= field_put_str(b, sizeof c->ws_pulse, &n, ",tx=");
+    rc |= field_put_fixed(b, sizeof c->ws_pulse, &n, hd->x, 2, true);
+    rc |= field_put_str(b, sizeof c->ws_pulse, &n, ",ty=");
+    rc |= field_put_fixed(b, sizeof c->ws_pulse, &n, hd->y, 2, true);
+    rc |= field_put_str(b, sizeof c->ws_pulse, &n, ",beam_width=7,duration=");
+    rc |= field_put_fixed(b, sizeof c->ws_pulse, &n, c->cfg.pulse_duration, 2, true);
+    rc |= field_put_str(b, sizeof c->ws_pulse, &n, ",fill=");
+    rc |= field_put_fixed(b, sizeof c->ws_pulse, &n, fill, 2, true);
+    rc |= field_put_str(b, sizeof c->ws_pulse, &n, ",label=");
+    rc |= field_put_str(b, sizeof c->ws_pulse, &n, c->node[s].name);
+    rc |= field_put_str(b, sizeof c->ws_pulse, &n, "2");
+    rc |= field_put_str(b, sizeof c->ws_pulse, &n, c->node[d].name);
+    if (msg) rc |= field_put_str(b, sizeof c->ws_pulse, &n, "_MSG");
+    rc |= field_put_str(b, sizeof c->ws_pulse, &n, ",edge_color=");
+    rc |= field_put_str(b, sizeof c->ws_pulse, &n, color);
+    rc |= field_put_str(b, sizeof c->ws_pulse, &n, ",fill_color=");
+    rc |= field_put_str(b, sizeof c->ws_pulse, &n, color);
+    rc |= field_put_str(b, sizeof c->ws_pulse, &n, ",time=");
+    rc |= field_put_fixed(b, sizeof c->ws_pulse, &n, now, 2, true);
+    rc |= field_put_str(b, sizeof c->ws_pulse, &n, ",edge_size=1");
     if (rc != 0) return; /* a position too large to print: no pulse */
     out->publish(out->ctx, "VIEW_COMMS_PULSE", true, b, 0);
     c->pulses++;

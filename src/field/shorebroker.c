@@ -268,9 +268,9 @@ static kelp_broker_node *find(kelp_field_sbroker *s, const char *community, cons
 
 static int ping_mail(kelp_field_sbroker *s, const char *sval, double now, const kelp_field_sink *out)
 {
-    kelp_broker_host h;
+    kelp_broker_host *h = &s->ws_host; /* (a workspace) */
     s->pings++;
-    if (kelp_broker_host_parse(sval, &h, NULL) < 0 || !h.community[0] || strpbrk(h.community, " ")) {
+    if (kelp_broker_host_parse(sval, h, NULL) < 0 || !h->community[0] || strpbrk(h->community, " ")) {
         s->bad_pings++;
         return KELP_ERR_PARSE;
     }
@@ -278,67 +278,71 @@ static int ping_mail(kelp_field_sbroker *s, const char *sval, double now, const 
         s->early_pings++; /* nothing to ack with until our own host info is complete */
         return 1;
     }
-    kelp_broker_node *nd = find(s, h.community, out);
+    kelp_broker_node *nd = find(s, h->community, out);
     if (!nd) return KELP_ERR_NOSPACE;
     nd->pings++;
     nd->last_ping = now;
     nd->stale = false;
-    nd->skew = h.have_time ? now - h.time : 0;
-    if (!kelp_broker_host_complete(&h)) {
-        if (!nd->rec.community[0]) memcpy(nd->rec.community, h.community, sizeof h.community);
+    nd->skew = h->have_time ? now - h->time : 0;
+    if (!kelp_broker_host_complete(h)) {
+        if (!nd->rec.community[0]) memcpy(nd->rec.community, h->community, sizeof h->community);
         kelp_snprintf(nd->status, sizeof nd->status, "invalid");
         s->bad_pings++;
         return KELP_ERR_PARSE;
     }
-    nd->rec = h;
-    if (!h.have_warp || h.warp != s->cfg.warp) {
+    nd->rec = *h;
+    if (!h->have_warp || h->warp != s->cfg.warp) {
         char w[2][24];
         size_t n0 = 0, n1 = 0;
         if (field_put_fixed(w[0], sizeof w[0], &n0, s->cfg.warp, 6, true) < 0) kelp_snprintf(w[0], sizeof w[0], "?");
-        if (!h.have_warp || field_put_fixed(w[1], sizeof w[1], &n1, h.warp, 6, true) < 0) kelp_snprintf(w[1], sizeof w[1], "?");
+        if (!h->have_warp || field_put_fixed(w[1], sizeof w[1], &n1, h->warp, 6, true) < 0) kelp_snprintf(w[1], sizeof w[1], "?");
         kelp_snprintf(nd->status, sizeof nd->status, "timewarp (%s!=%s)", w[0], w[1]);
         return 1;
     }
-    if (s->cfg.keyword[0] && strcmp(s->cfg.keyword, h.keyword) != 0) {
+    if (s->cfg.keyword[0] && strcmp(s->cfg.keyword, h->keyword) != 0) {
         kelp_snprintf(nd->status, sizeof nd->status, "keyword");
         return 1;
     }
     kelp_snprintf(nd->status, sizeof nd->status, "ok");
     if (!nd->index) nd->index = ++s->naccepted;
-    bool moved = nd->bridged && (strcmp(nd->bridged_host, h.host) != 0 || nd->bridged_port != h.port_udp);
+    bool moved = nd->bridged && (strcmp(nd->bridged_host, h->host) != 0 || nd->bridged_port != h->port_udp);
     if (!nd->bridged || moved) {
         (void)reg(s, nd, SB_ACK_SRC, "NODE_BROKER_ACK", out);
         for (unsigned i = 0; i < s->cfg.nbridges; i++) (void)reg(s, nd, s->cfg.bridge[i].src, s->cfg.bridge[i].alias, out);
-        memcpy(nd->bridged_host, h.host, sizeof h.host);
-        nd->bridged_port = h.port_udp;
+        memcpy(nd->bridged_host, h->host, sizeof h->host);
+        nd->bridged_port = h->port_udp;
         if (!nd->bridged) {
             nd->bridged = true;
             post_bridge_vars(s, out); /* new names: this vehicle's (a move adds none) */
         }
     }
     char var[KELP_MAX_NAME], *ack = s->ws; /* (the workspace: not in use here) */
-    if (expand("NODE_BROKER_ACK_$V", h.community, nd->index, var, sizeof var) < 0 ||
+    if (expand("NODE_BROKER_ACK_$V", h->community, nd->index, var, sizeof var) < 0 ||
         broker_host_format(&s->shore, s->cfg.keyword, s->cfg.warp, now, "ok", ack, sizeof s->ws) < 0)
         return KELP_ERR_RANGE;
     out->publish(out->ctx, var, true, ack, 0);
-    out->publish(out->ctx, "NODE_BROKER_VACK", true, h.community, 0);
+    out->publish(out->ctx, "NODE_BROKER_VACK", true, h->community, 0);
     nd->acks++;
     s->acks++;
+    return 1;
+}
+
+/* the shoreside's own PHI_HOST_INFO (out of line: its host record is not on the ping path) */
+KELP_NOINLINE static int host_info(kelp_field_sbroker *s, bool is_string, const char *sval)
+{
+    kelp_broker_host h;
+    s->phi++;
+    if (!is_string || kelp_broker_host_parse(sval, &h, NULL) < 0 || !kelp_broker_host_complete(&h))
+        return KELP_ERR_PARSE;
+    s->shore = h;
+    s->have_shore = true;
     return 1;
 }
 
 int kelp_field_sbroker_mail(kelp_field_sbroker *s, const char *var, bool is_string, const char *sval, double now,
                             const kelp_field_sink *out)
 {
-    if (strcmp(var, "PHI_HOST_INFO") == 0) {
-        kelp_broker_host h;
-        s->phi++;
-        if (!is_string || kelp_broker_host_parse(sval, &h, NULL) < 0 || !kelp_broker_host_complete(&h))
-            return KELP_ERR_PARSE;
-        s->shore = h;
-        s->have_shore = true;
-        return 1;
-    }
+    if (strcmp(var, "PHI_HOST_INFO") == 0) return host_info(s, is_string, sval);
     if (strcmp(var, "NODE_BROKER_PING") == 0) {
         if (!is_string || !sval) {
             s->pings++, s->bad_pings++;
