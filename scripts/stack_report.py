@@ -19,13 +19,15 @@ SIZE = re.compile(r'\\n(\d+) bytes \((static|dynamic|dynamic,bounded)\)')
 
 
 def main(argv):
-    limit, top, files = 1024, 12, []
+    limit, top, files, fail = 1024, 12, [], False
     i = 0
     while i < len(argv):
         if argv[i] == '--limit':
             limit = int(argv[i + 1]); i += 2
         elif argv[i] == '--top':
             top = int(argv[i + 1]); i += 2
+        elif argv[i] == '--fail':
+            fail = True; i += 1
         else:
             files.append(argv[i]); i += 1
     frame, kind, calls = {}, {}, {}
@@ -77,6 +79,9 @@ def main(argv):
         print("  dynamic frames (not bounded at compile time): " + ', '.join(dyn))
     if recursive:
         print("  recursive (one round counted): " + ', '.join(sorted(c.split(':')[-1] for c in recursive)))
+    if fail and over:
+        print(f"stack: {len(over)} public entry points need more than {limit} bytes")
+        return 1
     return 0
 
 
