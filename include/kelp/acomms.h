@@ -97,27 +97,27 @@ void kelp_acomms_dccl_set_var(kelp_acomms_dccl *d, const char *name, bool is_dou
  *  not NO_ENCODE).  Call after kelp_acomms_dccl_set_var().  @return the count (<= cap). */
 size_t kelp_acomms_dccl_triggered(const kelp_acomms_dccl *d, const char *name, size_t *idx, size_t cap);
 /** Start the time-trigger clocks (trigger_time periods count from `now`). */
-void kelp_acomms_dccl_start(kelp_acomms_dccl *d, double now);
+void kelp_acomms_dccl_start(kelp_acomms_dccl *d, kelp_time now);
 /** Time-triggered messages due at `now` (each firing counted once). */
-size_t kelp_acomms_dccl_due(kelp_acomms_dccl *d, double now, size_t *idx, size_t cap);
+size_t kelp_acomms_dccl_due(kelp_acomms_dccl *d, kelp_time now, size_t *idx, size_t cap);
 
 /** Encode message i from the remembered variables at `now` (UNIX seconds).
  *  @return 0, or <0 with diag set (may be NULL). */
-KELP_MUST_CHECK int kelp_acomms_dccl_encode_vars(kelp_acomms_dccl *d, size_t i, double now, uint8_t *out, size_t cap,
+KELP_MUST_CHECK int kelp_acomms_dccl_encode_vars(kelp_acomms_dccl *d, size_t i, kelp_time now, uint8_t *out, size_t cap,
                                                  size_t *len, kelp_diag *diag);
 /** Encode message i from one "field=value,field=value" string that every field reads
  *  (header fields by their <name>, e.g. Destination=3). */
-KELP_MUST_CHECK int kelp_acomms_dccl_encode_string(kelp_acomms_dccl *d, size_t i, const char *kv, double now,
+KELP_MUST_CHECK int kelp_acomms_dccl_encode_string(kelp_acomms_dccl *d, size_t i, const char *kv, kelp_time now,
                                                    uint8_t *out, size_t cap, size_t *len, kelp_diag *diag);
 
 typedef void (*kelp_acomms_pub_fn)(const char *var, bool is_double, double dval, const char *sval, void *user);
 /** Decode one (unstitched, flags cleared) DCCL message and run its <publish> blocks, calling
  *  fn for each publication.  NO_DECODE messages give KELP_ERR_STATE.
  *  @return 0, or <0 with diag (unknown id, bad bytes; diag may be NULL). */
-KELP_MUST_CHECK int kelp_acomms_dccl_decode(kelp_acomms_dccl *d, const uint8_t *in, size_t n, double now,
+KELP_MUST_CHECK int kelp_acomms_dccl_decode(kelp_acomms_dccl *d, const uint8_t *in, size_t n, kelp_time now,
                                             kelp_acomms_pub_fn fn, void *user, kelp_diag *diag);
 /** "Name: field=value,field=value" of a message (every header and layout field). */
-KELP_MUST_CHECK int kelp_acomms_dccl_describe(kelp_acomms_dccl *d, const uint8_t *in, size_t n, double now, char *buf,
+KELP_MUST_CHECK int kelp_acomms_dccl_describe(kelp_acomms_dccl *d, const uint8_t *in, size_t n, kelp_time now, char *buf,
                                               size_t cap);
 
 #ifndef KELP_ACOMMS_DCCL_ONLY
@@ -437,12 +437,12 @@ typedef struct kelp_acomms_codec {
     const char *(*var_name)(void *ctx, size_t i);
     void (*set_var)(void *ctx, const char *name, bool is_double, double dval, const char *sval);
     size_t (*triggered)(void *ctx, const char *name, size_t *idx, size_t cap);
-    void (*start)(void *ctx, double now);
-    size_t (*due)(void *ctx, double now, size_t *idx, size_t cap);
-    int (*encode)(void *ctx, size_t i, double now, uint8_t *out, size_t cap, size_t *len, kelp_diag *d);
-    int (*decode)(void *ctx, const uint8_t *in, size_t n, double now, kelp_acomms_pub_fn fn, void *user,
+    void (*start)(void *ctx, kelp_time now);
+    size_t (*due)(void *ctx, kelp_time now, size_t *idx, size_t cap);
+    int (*encode)(void *ctx, size_t i, kelp_time now, uint8_t *out, size_t cap, size_t *len, kelp_diag *d);
+    int (*decode)(void *ctx, const uint8_t *in, size_t n, kelp_time now, kelp_acomms_pub_fn fn, void *user,
                   kelp_diag *d);
-    int (*describe)(void *ctx, const uint8_t *in, size_t n, double now, char *buf, size_t cap);
+    int (*describe)(void *ctx, const uint8_t *in, size_t n, kelp_time now, char *buf, size_t cap);
 } kelp_acomms_codec;
 
 /** Counters for kelp.acomms_status_t. */
@@ -533,7 +533,7 @@ typedef struct kelp_acomms_handler {
     size_t nnames;
     kelp_acomms_handler_counters count;
     bool started, link_up;
-    double now;                   /**< time of the last mail or tick */
+    kelp_time now;                   /**< time of the last mail or tick */
     const char *link_desc;        /**< set by the caller: how the modem link is described ("" none) */
     char last_in[KELP_ACOMMS_NMEA_KEEP][KELP_ACOMMS_NMEA_KEEP_LEN];
     char last_out[KELP_ACOMMS_NMEA_KEEP][KELP_ACOMMS_NMEA_KEEP_LEN];
@@ -576,7 +576,7 @@ const char *kelp_acomms_mac_name(kelp_mac_type t);
 KELP_MUST_CHECK int kelp_acomms_handler_init(kelp_acomms_handler *h, const kelp_acomms_config *cfg,
                                              const kelp_acomms_node_cfg *nc, const kelp_acomms_codec *codec,
                                              kelp_queue_entry *pool, size_t cap_pool, const kelp_acomms_sink *sink,
-                                             double now);
+                                             kelp_time now);
 /** The bus variables to subscribe to, i = 0, 1, ... until NULL: the codec's source and trigger
  *  variables, the DCCL IN_ and CCL out variables, ACOMMS_RANGE_COMMAND, ACOMMS_MAC_CYCLE_UPDATE
  *  and ACOMMS_POLLER_UPDATE. */
@@ -585,16 +585,16 @@ const char *kelp_acomms_handler_subscription(kelp_acomms_handler *h, size_t i);
 void kelp_acomms_handler_set_var(kelp_acomms_handler *h, const char *name, bool is_double, double dval,
                                  const char *sval);
 /** Start: DCCL time triggers and the node (WHOI: its start-up sequence goes out when link_up). */
-KELP_MUST_CHECK int kelp_acomms_handler_start(kelp_acomms_handler *h, bool link_up, double now);
+KELP_MUST_CHECK int kelp_acomms_handler_start(kelp_acomms_handler *h, bool link_up, kelp_time now);
 /** Mail.  own: our own publication coming back (an IN_ variable is then not decoded again). */
-void kelp_acomms_handler_mail(kelp_acomms_handler *h, const kelp_var *v, bool own, double now);
+void kelp_acomms_handler_mail(kelp_acomms_handler *h, const kelp_var *v, bool own, kelp_time now);
 /** Periodic work: node tick, driver death (close_link), time-triggered DCCL, status once a second. */
-void kelp_acomms_handler_tick(kelp_acomms_handler *h, double now);
+void kelp_acomms_handler_tick(kelp_acomms_handler *h, kelp_time now);
 /** Bytes from the modem link (events use the time of the last mail or tick). */
-void kelp_acomms_handler_feed(kelp_acomms_handler *h, const uint8_t *bytes, size_t len, double now);
+void kelp_acomms_handler_feed(kelp_acomms_handler *h, const uint8_t *bytes, size_t len, kelp_time now);
 /** The modem link came up (first time, or again after a loss) at `now`: restart the driver if
  *  needed (not the first time when start() was told the link was up). */
-void kelp_acomms_handler_link_up(kelp_acomms_handler *h, double now);
+void kelp_acomms_handler_link_up(kelp_acomms_handler *h, kelp_time now);
 /** The modem link was lost (why: the link's reason). */
 void kelp_acomms_handler_link_lost(kelp_acomms_handler *h, const char *why);
 /** The handler's queue of a key, or NULL. */

@@ -21,6 +21,7 @@
 
 #include <stdio.h>
 #include <stdbool.h>
+#include <kelp/config.h>
 #include <kelp/bus.h>
 #include <kelp/edge/cli.h>
 #include <kelp/mission.h>
@@ -77,7 +78,7 @@ typedef struct kelp_app_def {
     /** OnNewMail, one call per message in arrival order. */
     void (*on_mail)(kelp_app *app, void *state, const kelp_var *v);
     /** Iterate. Return <0 to stop the app. */
-    int (*iterate)(kelp_app *app, void *state, double now);
+    int (*iterate)(kelp_app *app, void *state, kelp_time now);
     /** App-specific lines of the status report. */
     void (*report)(kelp_app *app, void *state, FILE *out);
     /** Called once on exit. */

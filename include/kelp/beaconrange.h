@@ -195,15 +195,15 @@ void kelp_field_brs_cfg_default(kelp_field_brs_cfg *cfg);
  *  SEED_RANDOM. @return 1 taken, 2 taken with the warning KELP_BRS_WARN_QUERY_RANGE, 0 not its key, <0 (reason in d). */
 KELP_MUST_CHECK int kelp_field_brs_config(kelp_field_brs_cfg *cfg, const char *key, const char *val, kelp_diag *d);
 /** Build the beacons and start at `now`. @return@return 0, or <0 (reason in d) (a bad BEACON). */
-KELP_MUST_CHECK int kelp_field_brs_init(kelp_field_brs *b, const kelp_field_brs_cfg *cfg, double now, kelp_diag *d);
+KELP_MUST_CHECK int kelp_field_brs_init(kelp_field_brs *b, const kelp_field_brs_cfg *cfg, kelp_time now, kelp_diag *d);
 const char *kelp_field_brs_subscription(unsigned i);
 /** NODE_REPORT, NODE_REPORT_LOCAL, BRS_RANGE_REQUEST. @return 1 used, 0 not ours, <0 bad
  *  (a warning through out->warn). */
-int kelp_field_brs_mail(kelp_field_brs *b, const char *var, bool is_string, const char *sval, double now,
+int kelp_field_brs_mail(kelp_field_brs *b, const char *var, bool is_string, const char *sval, kelp_time now,
                         const kelp_field_sink *out);
 /** First call: VIEW_MARKER per beacon, unsolicited timers drawn. Then unsolicited reports.
  *  @return the range reports posted. */
-unsigned long kelp_field_brs_iterate(kelp_field_brs *b, double now, const kelp_field_sink *out);
+unsigned long kelp_field_brs_iterate(kelp_field_brs *b, kelp_time now, const kelp_field_sink *out);
 /** The startup block of Listing 25 ("SRS Model - # Beacons: ..."). @return 0 or KELP_ERR_NOSPACE. */
 KELP_MUST_CHECK int kelp_field_brs_summary(const kelp_field_brs *b, char *buf, size_t cap);
 /** Index of a beacon by label, or -1. */

@@ -218,27 +218,27 @@ KELP_MUST_CHECK int kelp_bus_reply_channel(const char *app, uint32_t nonce, char
 
 /** Publish (MOOS Notify). The var is stamped with this client's app and community and time
  *  `now`, retained in the cache and sent. */
-KELP_MUST_CHECK int kelp_bus_notify_double(kelp_bus *b, const char *name, double value, double now);
-KELP_MUST_CHECK int kelp_bus_notify_string(kelp_bus *b, const char *name, const char *value, double now);
+KELP_MUST_CHECK int kelp_bus_notify_double(kelp_bus *b, const char *name, double value, kelp_time now);
+KELP_MUST_CHECK int kelp_bus_notify_string(kelp_bus *b, const char *name, const char *value, kelp_time now);
 KELP_MUST_CHECK int kelp_bus_notify_binary(kelp_bus *b, const char *name, const void *data, size_t len,
-                                           double now);
+                                           kelp_time now);
 /** Publish a fully formed var as is (source/community/time kept): bridges and replays. */
 KELP_MUST_CHECK int kelp_bus_forward(kelp_bus *b, const kelp_var *v);
 
 /** Register (MOOS Register) by exact name or wildcard pattern; sends a sync request so the
  *  current value(s) arrive. Registering the same pattern twice updates its interval. */
-KELP_MUST_CHECK int kelp_bus_register(kelp_bus *b, const char *pattern, double min_interval, double now);
+KELP_MUST_CHECK int kelp_bus_register(kelp_bus *b, const char *pattern, double min_interval, kelp_time now);
 
 /** Feed one received datagram (from the transport) with its channel.
  *  @return 0 when handled (delivered or not of interest), or the validation error (counted
  *  in stats.bad; the client goes on). */
-KELP_MUST_CHECK int kelp_bus_receive(kelp_bus *b, const char *channel, const uint8_t *data, size_t len, double now);
+KELP_MUST_CHECK int kelp_bus_receive(kelp_bus *b, const char *channel, const uint8_t *data, size_t len, kelp_time now);
 
 /** Latest retained value of a variable, or NULL. */
 const kelp_var *kelp_bus_cached(const kelp_bus *b, const char *name);
 
 /** Retain every variable seen on the bus (for a launcher-side retainer). */
-KELP_MUST_CHECK int kelp_bus_retain_all(kelp_bus *b, double now);
+KELP_MUST_CHECK int kelp_bus_retain_all(kelp_bus *b, kelp_time now);
 
 const kelp_bus_stats *kelp_bus_get_stats(const kelp_bus *b);
 
@@ -252,7 +252,7 @@ typedef struct kelp_loopback {
     /* private */
     kelp_bus *clients[KELP_MAX_LOOPBACK_CLIENTS];
     size_t nclients;
-    double now;
+    kelp_time now;
     uint8_t fifo[KELP_LOOPBACK_FIFO];   /* records: u16 chan len, chan, u32 len, data */
     size_t head, tail;
     bool pumping;
@@ -265,7 +265,7 @@ typedef struct kelp_loopback_port {
 
 void kelp_loopback_init(kelp_loopback *net);
 /** Set the time handed to receivers' kelp_bus_receive (the "now" of delivery). */
-void kelp_loopback_set_time(kelp_loopback *net, double now);
+void kelp_loopback_set_time(kelp_loopback *net, kelp_time now);
 /** Fill a transport for a client; attach the client after kelp_bus_init. */
 void kelp_loopback_transport(kelp_loopback *net, kelp_loopback_port *port, kelp_bus_transport *tr);
 KELP_MUST_CHECK int kelp_loopback_attach(kelp_loopback *net, kelp_bus *b);

@@ -36,6 +36,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <kelp/config.h>
 #include <kelp/bus.h>
 #include <kelp/err.h>
 
@@ -204,15 +205,15 @@ typedef struct kelp_can_rx {
 
 void kelp_can_rx_init(kelp_can_rx *rx, double timeout);
 /** Drop partial messages older than the timeout (counted timed_out). */
-void kelp_can_rx_expire(kelp_can_rx *rx, double now);
+void kelp_can_rx_expire(kelp_can_rx *rx, kelp_time now);
 /** Feed one frame. @return 1 when *out holds a complete message, 0 when the frame was used
  *  (or ignored as foreign), < 0 when it was refused (counted; never fatal). */
-KELP_MUST_CHECK int kelp_can_rx_frame(kelp_can_rx *rx, const kelp_can_dict *d, const kelp_can_frame *f, double now,
+KELP_MUST_CHECK int kelp_can_rx_frame(kelp_can_rx *rx, const kelp_can_dict *d, const kelp_can_frame *f, kelp_time now,
                       kelp_can_msg *out);
 
 /** Fill a kelp_var from a decoded message: name as given (or `as` when non-empty), source
  *  (the message's, else "can<node>"), time (the message's, else now). */
-KELP_MUST_CHECK int kelp_can_msg_to_var(const kelp_can_msg *m, const char *as, double now, kelp_var *v);
+KELP_MUST_CHECK int kelp_can_msg_to_var(const kelp_can_msg *m, const char *as, kelp_time now, kelp_var *v);
 /** A kelp_var as a message to send (pointers into v). */
 void kelp_can_msg_from_var(const kelp_var *v, const char *as, kelp_can_msg *m);
 
@@ -267,7 +268,7 @@ size_t kelp_canbridge_filters(const kelp_canbridge *b, kelp_can_filter *out, siz
 KELP_MUST_CHECK int kelp_canbridge_from_bus(kelp_canbridge *b, const kelp_var *v, kelp_can_emit_fn emit, void *user);
 /** A frame from CAN: 1 when *out holds a variable to publish (renamed, flagged BRIDGED),
  *  0 nothing yet / not routed, < 0 refused (counted in b->rx.st). */
-KELP_MUST_CHECK int kelp_canbridge_from_can(kelp_canbridge *b, const kelp_can_frame *f, double now, kelp_var *out);
+KELP_MUST_CHECK int kelp_canbridge_from_can(kelp_canbridge *b, const kelp_can_frame *f, kelp_time now, kelp_var *out);
 
 #ifdef __cplusplus
 }

@@ -20,6 +20,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include <kelp/config.h>
 #include <kelp/dccl.h>
 #include <kelp/err.h>
 
@@ -81,7 +82,7 @@ unsigned kelp_cmdr_next_xy(const kelp_cmdr_msg *m);
 /** Build the publications of a send at UNIX time `now`. KELP_ERR_NOSPACE when they do not
  *  fit (no message in d); KELP_ERR_PARSE (with d's message) for an x/y special without its
  *  pair or without LatOrigin. */
-KELP_MUST_CHECK int kelp_cmdr_send(const kelp_cmdr *c, unsigned msg, double now, kelp_cmdr_pub *out, size_t cap,
+KELP_MUST_CHECK int kelp_cmdr_send(const kelp_cmdr *c, unsigned msg, kelp_time now, kelp_cmdr_pub *out, size_t cap,
                                    size_t *n, kelp_diag *d);
 
 /* ---- save files: plain text, "message = NAME" opens a message, then "field = value" lines;
@@ -98,7 +99,7 @@ KELP_MUST_CHECK int kelp_cmdr_load(kelp_cmdr *c, const char *text, kelp_diag *d)
  *  "Message acknowledged from queue: NAME\n for destination: N\n at time: 2011-Mar-03 22:38:12".
  *  The queue is named from the DCCL id in the data; `now` (UNIX) is used when the text has no
  *  time. @return 0 or KELP_ERR_PARSE. */
-KELP_MUST_CHECK int kelp_cmdr_ack_note(const kelp_cmdr *c, bool ack, const char *text, double now, char *out,
+KELP_MUST_CHECK int kelp_cmdr_ack_note(const kelp_cmdr *c, bool ack, const char *text, kelp_time now, char *out,
                                        size_t cap);
 
 #ifdef __cplusplus

@@ -182,20 +182,20 @@ const char *kelp_cmgr_subscription(unsigned i);
 
 /** One mail at `now` from app `src` (may be NULL). @return 1 handled, 0 not ours,
  *  <0 bad mail (already warned through out). */
-int kelp_cmgr_mail(kelp_cmgr *c, const char *var, bool is_string, const char *sval, double dval, double now,
+int kelp_cmgr_mail(kelp_cmgr *c, const char *var, bool is_string, const char *sval, double dval, kelp_time now,
                    const char *src, const kelp_field_sink *out);
 
 /** Apply an alert spec (as an "alert" line when from_mail is false, else BCM_ALERT_REQUEST).
  *  @return 1 applied, <0 rejected (warned). */
-KELP_MUST_CHECK int kelp_cmgr_alert_spec(kelp_cmgr *c, const char *spec, bool from_mail, const char *src, double now,
+KELP_MUST_CHECK int kelp_cmgr_alert_spec(kelp_cmgr *c, const char *spec, bool from_mail, const char *src, kelp_time now,
                                          const kelp_field_sink *out);
 
 /** One iteration at `now` (contactmgr.md 4.8). */
-void kelp_cmgr_iterate(kelp_cmgr *c, double now, const kelp_field_sink *out);
+void kelp_cmgr_iterate(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out);
 
 /** The terminal report (contactmgr.md 5, from "X/Y from Lat/Lon:" on). @return the length,
  *  or KELP_ERR_NOSPACE when cut. */
-int kelp_cmgr_report_text(const kelp_cmgr *c, double now, char *buf, size_t cap);
+int kelp_cmgr_report_text(const kelp_cmgr *c, kelp_time now, char *buf, size_t cap);
 
 /** The effective CPA range of an alert: max(cpa_range, alert_range). */
 double kelp_cmgr_cpa_range(const kelp_cmgr_alert *a);

@@ -13,6 +13,7 @@
 #ifndef KELP_CONTACTRANGE_H
 #define KELP_CONTACTRANGE_H
 
+#include <kelp/config.h>
 #include <kelp/beaconrange.h>
 
 #ifdef __cplusplus
@@ -55,10 +56,10 @@ void kelp_field_crs_cfg_default(kelp_field_crs_cfg *cfg);
  *  ALLOW_ECHO_TYPES, IGNORE_GROUP, SENSOR_ARC, ECHO_FALLOFF, RAND_MODE, SEED_RANDOM.
  *  @return 1 taken, 0 not its key, <0 (reason in d). */
 KELP_MUST_CHECK int kelp_field_crs_config(kelp_field_crs_cfg *cfg, const char *key, const char *val, kelp_diag *d);
-void kelp_field_crs_init(kelp_field_crs *c, const kelp_field_crs_cfg *cfg, double now);
+void kelp_field_crs_init(kelp_field_crs *c, const kelp_field_crs_cfg *cfg, kelp_time now);
 const char *kelp_field_crs_subscription(unsigned i);
 /** NODE_REPORT, NODE_REPORT_LOCAL, CRS_RANGE_REQUEST. @return 1 used, 0 not ours, <0 bad. */
-int kelp_field_crs_mail(kelp_field_crs *c, const char *var, bool is_string, const char *sval, double now,
+int kelp_field_crs_mail(kelp_field_crs *c, const char *var, bool is_string, const char *sval, kelp_time now,
                         const kelp_field_sink *out);
 /** The startup block of Listing 29 ("Default Reach Distance: ..."). @return 0 or KELP_ERR_NOSPACE. */
 KELP_MUST_CHECK int kelp_field_crs_summary(const kelp_field_crs *c, char *buf, size_t cap);

@@ -329,7 +329,7 @@ void kelp_dccl_codec_init(kelp_dccl_codec *cx, unsigned modem_id, const kelp_dcc
  * @return 0, KELP_ERR_NOSPACE, KELP_ERR_PARSE (hex field of the wrong length),
  *         KELP_ERR_CRYPTO. cx->diag says why (kelp_diag_text). */
 KELP_MUST_CHECK int kelp_dccl_encode(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, const kelp_dccl_val *in,
-                                     size_t n_in, double now, uint8_t *out, size_t cap, size_t *len);
+                                     size_t n_in, kelp_time now, uint8_t *out, size_t cap, size_t *len);
 
 /** Decode one message (trailing zero bytes stripped first, as Goby does).
  * @param out n_out >= def->n_slots; every slot is written (EMPTY = null)
@@ -337,7 +337,7 @@ KELP_MUST_CHECK int kelp_dccl_encode(kelp_dccl_codec *cx, const kelp_dccl_msgdef
  * @return 0, KELP_ERR_TRUNCATED (empty input), KELP_ERR_RANGE (enum index out of range),
  *         KELP_ERR_CRYPTO. Never reads outside in[0..n). */
 KELP_MUST_CHECK int kelp_dccl_decode(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, const uint8_t *in, size_t n,
-                                     double now, kelp_dccl_val *out, size_t n_out);
+                                     kelp_time now, kelp_dccl_val *out, size_t n_out);
 
 /** DCCL id from the first (up to 6) bytes, as Goby reads it before decoding. */
 KELP_MUST_CHECK int kelp_dccl_peek_id(const uint8_t *in, size_t n, unsigned *id);
@@ -350,12 +350,12 @@ typedef struct kelp_dccl_header {
     bool multimessage, broadcast;
 } kelp_dccl_header;
 
-KELP_MUST_CHECK int kelp_dccl_head_read(const uint8_t *in, size_t n, double now, kelp_dccl_header *h);
+KELP_MUST_CHECK int kelp_dccl_head_read(const uint8_t *in, size_t n, kelp_time now, kelp_dccl_header *h);
 /** Set or clear the two flag bits that libqueue uses (byte 5, bits 3 and 2). */
 void kelp_dccl_head_set_flags(uint8_t head[KELP_DCCL_HEAD_BYTES], bool multimessage, bool broadcast);
 /** Goby's time inference: midnight (UTC) of now's day, or the day before when
  *  |tod_now - tod| > 43200, plus tod. */
-double kelp_dccl_time_infer(unsigned tod, double now);
+double kelp_dccl_time_infer(unsigned tod, kelp_time now);
 
 /* ------------------------------------------------------------------ publish (on receipt) */
 /** One publication: variable and a double or a string. */
@@ -413,7 +413,7 @@ typedef struct kelp_dccl_timer {
     unsigned k;
 } kelp_dccl_timer;
 void kelp_dccl_timer_init(kelp_dccl_timer *t, double start);
-bool kelp_dccl_timer_due(kelp_dccl_timer *t, const kelp_dccl_msgdef *def, double now);
+bool kelp_dccl_timer_due(kelp_dccl_timer *t, const kelp_dccl_msgdef *def, kelp_time now);
 
 #ifdef __cplusplus
 }

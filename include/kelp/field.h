@@ -144,7 +144,7 @@ KELP_MUST_CHECK int kelp_field_nrep_add_rider(kelp_field_nrep_cfg *cfg, const ch
 /** CROSS_FILL_POLICY value: literal, fill-empty, use-latest, global, local ('_' for '-' too). */
 KELP_MUST_CHECK int kelp_field_nrep_parse_fill(const char *s, kelp_nrep_fill *out);
 /** Start with cfg at `now`. KELP_ERR_ARG when a text field holds ',' or '=' or the name is empty. */
-KELP_MUST_CHECK int kelp_field_nrep_init(kelp_field_nrep *r, const kelp_field_nrep_cfg *cfg, double now);
+KELP_MUST_CHECK int kelp_field_nrep_init(kelp_field_nrep *r, const kelp_field_nrep_cfg *cfg, kelp_time now);
 /** The variables to subscribe to, one per call (i from 0) until NULL. */
 const char *kelp_field_nrep_subscription(const kelp_field_nrep *r, unsigned i);
 /** One mail. Returns 1 when it was used, 0 when not for this tool, <0 (and a warning) when
@@ -158,7 +158,7 @@ int kelp_field_nrep_mail(kelp_field_nrep *r, const char *var, bool is_string, co
  *  name and group) follows while that solution had mail in the last 5 s. MODE is NOHELM-EVER / NOHELM-<s> without helm mail for
  *  nohelm_threshold s, else the helm state, or the helm's modes in DRIVE.
  *  Returns 1 when a report was published, 0 when none was due, <0 on a formatting error. */
-int kelp_field_nrep_iterate(kelp_field_nrep *r, double now, const kelp_field_sink *out);
+int kelp_field_nrep_iterate(kelp_field_nrep *r, kelp_time now, const kelp_field_sink *out);
 
 /* ------------------------------------------------------------------ pHostInfo */
 
@@ -366,7 +366,7 @@ typedef struct kelp_field_ncomms {
     unsigned nrecent, recent_head;
     unsigned long mark;
     kelp_rng rng;
-    double now;                             /**< time of the last iteration */
+    kelp_time now;                             /**< time of the last iteration */
     /* counters */
     unsigned long rpts_rcvd, rpts_sent, rpts_bad, rpts_dropped, rpts_held, rpts_full;
     unsigned long msgs_rcvd, msgs_sent, acks_rcvd, acks_sent, msgs_queue_full, pair_full;
@@ -400,14 +400,14 @@ const char *kelp_field_ncomms_subscription(unsigned i);
  *  UNC_SHARED_NODE_REPORTS, UNC_FULL_REPORT_REQ. Returns 1 used, 0 not ours, <0 (and a
  *  warning through out->warn) when the value is bad; other state is never lost. */
 int kelp_field_ncomms_mail(kelp_field_ncomms *c, const char *var, bool is_string, const char *sval, double dval,
-                           double now, const kelp_field_sink *out);
+                           kelp_time now, const kelp_field_sink *out);
 /** Iterate at `now`: relay every report updated since the last iteration, answer
  *  UNC_FULL_REPORT_REQ, route the queued messages and acks (ufield.md 5.4). @return the
  *  number of NODE_REPORT_* / NODE_MESSAGE_* / MEDIATED_MESSAGE_* / ACK_MESSAGE_* posts. */
-unsigned long kelp_field_ncomms_iterate(kelp_field_ncomms *c, double now, const kelp_field_sink *out);
+unsigned long kelp_field_ncomms_iterate(kelp_field_ncomms *c, kelp_time now, const kelp_field_sink *out);
 /** The terminal summary of Listing 11 at `now` into buf (always terminated when cap > 0).
  *  @return 0 or KELP_ERR_NOSPACE (truncated). */
-KELP_MUST_CHECK int kelp_field_ncomms_report(kelp_field_ncomms *c, double now, char *buf, size_t cap);
+KELP_MUST_CHECK int kelp_field_ncomms_report(kelp_field_ncomms *c, kelp_time now, char *buf, size_t cap);
 /** Index of a vehicle by name (case-insensitive), or -1. */
 int kelp_field_ncomms_find(const kelp_field_ncomms *c, const char *name);
 
@@ -515,16 +515,16 @@ void kelp_field_umh_init(kelp_field_umh *h, const kelp_field_umh_cfg *cfg);
  *  and listed with the reason; a rejected one (addressed elsewhere) is followed by the
  *  BAD_MSG_FLAGs (MOOS-IvP 24.8: an invalid message posts no flag).
  *  @return 1 posted, KELP_ERR_PARSE invalid, KELP_ERR_ARG rejected (addressing). */
-int kelp_field_umh_mail(kelp_field_umh *h, const char *var, bool is_string, const char *sval, double now,
+int kelp_field_umh_mail(kelp_field_umh *h, const char *var, bool is_string, const char *sval, kelp_time now,
                         const kelp_field_sink *out);
 /** UMH_SUMMARY_MSGS "total=..,valid=..,rejected=.." (seed 6.1.2's three totals, in MOOS-IvP
  *  24.8's form; the invalid are total - valid - rejected) on the first call and after a
  *  change, at most every summary_gap s. @return 1 posted, 0 not due. */
-int kelp_field_umh_iterate(kelp_field_umh *h, double now, const kelp_field_sink *out);
+int kelp_field_umh_iterate(kelp_field_umh *h, kelp_time now, const kelp_field_sink *out);
 /** The terminal report (Listing 14: totals, per source, last few messages; totals only when
  *  not verbose) into buf, NUL-terminated, truncated to fit. Counts a report.
  *  @return the length written. */
-size_t kelp_field_umh_report(kelp_field_umh *h, double now, char *buf, size_t cap);
+size_t kelp_field_umh_report(kelp_field_umh *h, kelp_time now, char *buf, size_t cap);
 
 /* ------------------------------------------------------------------ uFldScope */
 
@@ -702,12 +702,12 @@ const char *kelp_field_nbroker_subscription(unsigned i);
  *  new shore or after RETRY_INTERVAL of silence, every BRIDGE is registered to it; then
  *  NODE_PSHARE_VARS, the bridges' aliases comma-joined, as 24.8 posts it);
  *  TRY_SHORE_HOST (24.8: a try host added at run time). @return 1 used, 0 not ours, <0 bad. */
-int kelp_field_nbroker_mail(kelp_field_nbroker *b, const char *var, bool is_string, const char *sval, double now,
+int kelp_field_nbroker_mail(kelp_field_nbroker *b, const char *var, bool is_string, const char *sval, kelp_time now,
                             const kelp_field_sink *out);
 /** Iterate: once the host info is complete, the ping registrations (one PMB_REGISTER per
  *  valid try host; again every RETRY_INTERVAL while no ack is heard), then one
  *  NODE_BROKER_PING. @return the number of posts. */
-int kelp_field_nbroker_iterate(kelp_field_nbroker *b, double now, const kelp_field_sink *out);
+int kelp_field_nbroker_iterate(kelp_field_nbroker *b, kelp_time now, const kelp_field_sink *out);
 /** The terminal report (seed Listing 3) into buf. @return 0, or KELP_ERR_NOSPACE (truncated). */
 KELP_MUST_CHECK int kelp_field_nbroker_report(const kelp_field_nbroker *b, char *buf, size_t cap);
 
@@ -778,14 +778,14 @@ const char *kelp_field_sbroker_subscription(unsigned i);
  *  NODE_BROKER_ACK_$V and every source expanded for a vehicle, as MOOS-IvP 24.8 posts it);
  *  then the ack NODE_BROKER_ACK_<V> and NODE_BROKER_VACK are posted. @return 1 used, 0 not
  *  ours, <0 bad. */
-int kelp_field_sbroker_mail(kelp_field_sbroker *s, const char *var, bool is_string, const char *sval, double now,
+int kelp_field_sbroker_mail(kelp_field_sbroker *s, const char *var, bool is_string, const char *sval, kelp_time now,
                             const kelp_field_sink *out);
 /** Iterate: UFSB_QBRIDGE_VARS (the QBRIDGE names, sorted; once), stale warnings,
  *  UFSB_NODE_COUNT (on change, else every 30 s), try_vnode registrations (every 30 s) and
  *  TRY_SHORE_HOST (every 10 s). @return the number of posts. */
-int kelp_field_sbroker_iterate(kelp_field_sbroker *s, double now, const kelp_field_sink *out);
+int kelp_field_sbroker_iterate(kelp_field_sbroker *s, kelp_time now, const kelp_field_sink *out);
 /** The terminal report (seed Listing 6) at `now` into buf. @return 0 or KELP_ERR_NOSPACE. */
-KELP_MUST_CHECK int kelp_field_sbroker_report(const kelp_field_sbroker *s, double now, char *buf, size_t cap);
+KELP_MUST_CHECK int kelp_field_sbroker_report(const kelp_field_sbroker *s, kelp_time now, char *buf, size_t cap);
 
 #ifdef __cplusplus
 }

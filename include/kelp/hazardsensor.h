@@ -51,6 +51,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <kelp/config.h>
 #include <kelp/field.h>
 #include <kelp/rng.h>
 
@@ -180,9 +181,9 @@ const char *kelp_field_uhz_subscription(unsigned i);
 /** One mail at `now`: NODE_REPORT, NODE_REPORT_LOCAL, UHZ_SENSOR_REQUEST, UHZ_CONFIG_REQUEST,
  *  UHZ_SENSOR_CONFIG, UHZ_CLASSIFY_REQUEST, PMV_CONNECT. @return 1 used, 0 not ours, <0 bad
  *  (a warning through out->warn). */
-int kelp_field_uhz_mail(kelp_field_uhz *h, const char *var, const char *sval, double now, const kelp_field_sink *out);
+int kelp_field_uhz_mail(kelp_field_uhz *h, const char *var, const char *sval, kelp_time now, const kelp_field_sink *out);
 /** Iterate at `now`: markers and the options summary when due, classify answers. */
-void kelp_field_uhz_iterate(kelp_field_uhz *h, double now, const kelp_field_sink *out);
+void kelp_field_uhz_iterate(kelp_field_uhz *h, kelp_time now, const kelp_field_sink *out);
 /** The default setting index (ufield.md 9.3), or -1 with no settings. */
 int kelp_field_uhz_default_setting(const kelp_field_uhz_cfg *cfg);
 /** Index of a vehicle (case-insensitive), or -1. */
@@ -198,7 +199,7 @@ bool kelp_field_uhz_in_convex(const double (*pts)[2], size_t n, double x, double
 KELP_MUST_CHECK int kelp_field_uhz_random_point(const double (*pts)[2], size_t n, kelp_rng *rng, double *x, double *y);
 /** The terminal report at `now`: Listing 21 when verbose, else the one-character trace since
  *  the last call (which it clears). @return 0 or KELP_ERR_NOSPACE (truncated). */
-KELP_MUST_CHECK int kelp_field_uhz_report(kelp_field_uhz *h, double now, char *buf, size_t cap);
+KELP_MUST_CHECK int kelp_field_uhz_report(kelp_field_uhz *h, kelp_time now, char *buf, size_t cap);
 
 #ifdef __cplusplus
 }

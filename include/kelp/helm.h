@@ -644,13 +644,13 @@ KELP_MUST_CHECK int kelp_helm_load_bhv(kelp_helm *h, const kelp_mission *m);
 KELP_MUST_CHECK int kelp_helm_configured(kelp_helm *h);
 /** Start: buffer time 0 = now; publish the (non-deferred) initialize values to the sink and
  *  the buffer. */
-void kelp_helm_start(kelp_helm *h, double now);
+void kelp_helm_start(kelp_helm *h, kelp_time now);
 /** Mail (OnNewMail). MOOS_MANUAL_OVERIDE / MOOS_MANUAL_OVERRIDE = true|false park / drive
  *  the helm; everything else goes to the buffer. */
 void kelp_helm_mail_double(kelp_helm *h, const char *var, double v);
 void kelp_helm_mail_string(kelp_helm *h, const char *var, const char *v);
 /** One helm iteration at MOOS time now. Returns 0, or <0 only for misuse. */
-KELP_MUST_CHECK int kelp_helm_iterate(kelp_helm *h, double now);
+KELP_MUST_CHECK int kelp_helm_iterate(kelp_helm *h, kelp_time now);
 /** Variables to register for that were not yet returned (conditions, updates, nostarve,
  *  info vars, duration_reset): call after configuration and after each iteration. */
 const char *kelp_helm_next_new_var(kelp_helm *h);

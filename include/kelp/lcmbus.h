@@ -9,6 +9,7 @@
 #ifndef KELP_LCMBUS_H
 #define KELP_LCMBUS_H
 
+#include <kelp/config.h>
 #include <kelp/bus.h>
 #include <kelp/edge/udpm.h>
 #include <kelp/mission.h>
@@ -45,7 +46,7 @@ int kelp_lcmbus_fd(kelp_lcmbus *lb);
 void kelp_lcmbus_ignore_own(kelp_lcmbus *lb, bool on);
 /** Handle every datagram already received (non-blocking), then wait up to timeout_ms for
  *  more. `now` is the MOOS time handed to the bus. @return datagrams handled, or <0. */
-KELP_MUST_CHECK int kelp_lcmbus_handle(kelp_lcmbus *lb, int timeout_ms, double now);
+KELP_MUST_CHECK int kelp_lcmbus_handle(kelp_lcmbus *lb, int timeout_ms, kelp_time now);
 /** Transport counters (bad datagrams, reassembly timeouts, queue drops...). */
 void kelp_lcmbus_get_stats(kelp_lcmbus *lb, kelp_udpm_sock_stats *out);
 /** Publish raw bytes on a channel (bridges, tools). */

@@ -24,6 +24,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include <kelp/config.h>
 #include <kelp/err.h>
 
 #ifdef __cplusplus
@@ -103,7 +104,7 @@ int kelp_link_fd(const kelp_link *l);
 
 /** Re-open when down and the retry interval has passed.  `now` is any monotonic seconds.
  *  @return 1 when the link has just (re)connected, 0 otherwise. */
-int kelp_link_service(kelp_link *l, double now);
+int kelp_link_service(kelp_link *l, kelp_time now);
 
 bool kelp_link_connected(const kelp_link *l);
 /** A tcp server that is listening without a client (connected() is false then). */

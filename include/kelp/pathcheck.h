@@ -19,6 +19,7 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <kelp/config.h>
 #include <kelp/field.h>
 
 #ifdef __cplusplus
@@ -70,16 +71,16 @@ KELP_MUST_CHECK int kelp_field_upc_init(kelp_field_upc *p, const kelp_field_upc_
 const char *kelp_field_upc_subscription(unsigned i);
 /** One mail at `now`. @return 1 used, 0 not ours, <0 bad value (a warning through
  *  out->warn, which may be NULL as may out). */
-int kelp_field_upc_mail(kelp_field_upc *p, const char *var, bool is_string, const char *sval, double now,
+int kelp_field_upc_mail(kelp_field_upc *p, const char *var, bool is_string, const char *sval, kelp_time now,
                         const kelp_field_sink *out);
 /** Post the reports of the vehicles updated since the last call. @return posts made. */
-unsigned kelp_field_upc_iterate(kelp_field_upc *p, double now, const kelp_field_sink *out);
+unsigned kelp_field_upc_iterate(kelp_field_upc *p, kelp_time now, const kelp_field_sink *out);
 /** avg_speed of a vehicle (m/s) by the rule above. */
 double kelp_field_upc_speed(const kelp_upc_node *n);
 /** Index of a vehicle (case-insensitive), or -1. */
 int kelp_field_upc_find(const kelp_field_upc *p, const char *name);
 /** The terminal report (counts and one row per vehicle). @return 0 or KELP_ERR_NOSPACE. */
-KELP_MUST_CHECK int kelp_field_upc_report(const kelp_field_upc *p, double now, char *buf, size_t cap);
+KELP_MUST_CHECK int kelp_field_upc_report(const kelp_field_upc *p, kelp_time now, char *buf, size_t cap);
 
 #ifdef __cplusplus
 }

@@ -91,13 +91,13 @@ void kelp_marine_pid_cfg_default(kelp_marine_pid_cfg *c);
  *  @return 1 taken, 0 not a PID key, <0 (reason in d). */
 KELP_MUST_CHECK int kelp_marine_pid_cfg_set(kelp_marine_pid_cfg *c, const char *key, const char *val, kelp_diag *d);
 /** @return 0, KELP_ERR_ARG for a negative or non-finite limit or threshold. */
-KELP_MUST_CHECK int kelp_marine_pid_init(kelp_marine_pid *m, const kelp_marine_pid_cfg *cfg, double now);
+KELP_MUST_CHECK int kelp_marine_pid_init(kelp_marine_pid *m, const kelp_marine_pid_cfg *cfg, kelp_time now);
 /** Mail: DESIRED_HEADING/SPEED/DEPTH, NAV_HEADING/YAW/SPEED/DEPTH/PITCH, SPEED_FACTOR,
  *  MOOS_MANUAL_OVERRIDE (and OVERIDE) "true"/"false". @return 1 used, 0 not ours, <0 bad. */
 int kelp_marine_pid_mail(kelp_marine_pid *m, const char *var, bool is_string, const char *sval, double dval,
-                         double now);
+                         kelp_time now);
 /** One iteration at `now`, publishing through sink. */
-void kelp_marine_pid_iterate(kelp_marine_pid *m, double now, kelp_marine_pid_sink sink, void *ctx);
+void kelp_marine_pid_iterate(kelp_marine_pid *m, kelp_time now, kelp_marine_pid_sink sink, void *ctx);
 
 #ifdef __cplusplus
 }

@@ -94,7 +94,7 @@ void kelp_sim_params_default(kelp_sim_params *p);
  *  vehicle holds its course and speed until told otherwise).
  *  @return 0, KELP_ERR_ARG for a negative/non-finite parameter or state (negative speed or
  *  depth, step <= 0). */
-KELP_MUST_CHECK int kelp_sim_init(kelp_sim *sim, const kelp_sim_params *p, const kelp_sim_state *start, double now);
+KELP_MUST_CHECK int kelp_sim_init(kelp_sim *sim, const kelp_sim_params *p, const kelp_sim_state *start, kelp_time now);
 
 /** Desired values. Heading is taken modulo 360; speed is clipped to [0, max_speed];
  *  depth to >= 0. @return 0, KELP_ERR_ARG if the value is not finite (ignored). */
@@ -124,7 +124,7 @@ KELP_MUST_CHECK int kelp_sim_config_set(kelp_sim_params *p, kelp_sim_state *st, 
 /** Advance to `now`. @return 0; KELP_ERR_RANGE if `now` is before the last step (state
  *  unchanged) or more than KELP_SIM_MAX_SUBSTEPS sub-steps away; KELP_ERR_ARG if not
  *  finite. */
-KELP_MUST_CHECK int kelp_sim_step(kelp_sim *sim, double now);
+KELP_MUST_CHECK int kelp_sim_step(kelp_sim *sim, kelp_time now);
 
 /** Parse a START_POS value: either "x=.., y=.., heading=.., speed=.., depth=.." (any order,
  *  keys case-insensitive, hdg/deg and spd/dep accepted) or the older positional form
@@ -169,14 +169,14 @@ void kelp_usim_defaults(kelp_usim *u, struct kelp_marine_pid *pid, struct kelp_m
  *  START_X etc. @return 1 taken, 0 not ours, <0 (reason in d). */
 KELP_MUST_CHECK int kelp_usim_config(kelp_usim *u, const char *key, const char *val, kelp_diag *d);
 /** Start at `now` (geo may be NULL). @return 0 or KELP_ERR_ARG. */
-KELP_MUST_CHECK int kelp_usim_start(kelp_usim *u, const kelp_geo *geo, double now);
+KELP_MUST_CHECK int kelp_usim_start(kelp_usim *u, const kelp_geo *geo, kelp_time now);
 /** The variables to register, one per call until NULL. */
 const char *kelp_usim_subscription(unsigned i);
 /** Mail: DESIRED_*, USM_RESET, USM_SIM_PAUSED, DRIFT_X/Y, ROTATE_SPEED, BUOYANCY_RATE.
  *  @return 1 used, 0 not ours, <0 bad (a warning's worth). */
-int kelp_usim_mail(kelp_usim *u, const char *var, bool is_string, const char *sval, double dval, double now);
+int kelp_usim_mail(kelp_usim *u, const char *var, bool is_string, const char *sval, double dval, kelp_time now);
 /** Step to `now` and publish. @return 0, or <0 when the step failed (resumed from now). */
-int kelp_usim_iterate(kelp_usim *u, double now, kelp_usim_sink sink, void *ctx);
+int kelp_usim_iterate(kelp_usim *u, kelp_time now, kelp_usim_sink sink, void *ctx);
 
 #ifdef __cplusplus
 }

@@ -167,15 +167,15 @@ const char *kelp_ts_subscription(const kelp_ts *r, unsigned i);
  *  first iteration's time (or a DB_UPTIME mail) is used. */
 void kelp_ts_set_db_start(kelp_ts *r, double t);
 /** One mail. @return 1 used, 0 not for this tool, <0 (and a warning) when bad. */
-int kelp_ts_mail(kelp_ts *r, const char *var, bool is_string, const char *sval, double dval, double now,
+int kelp_ts_mail(kelp_ts *r, const char *var, bool is_string, const char *sval, double dval, kelp_time now,
                  const kelp_field_sink *out);
 /** One iteration at MOOS time `now`: conditions, schedule, postings, resets, status.
  *  @return the number of events posted. */
-int kelp_ts_iterate(kelp_ts *r, double now, const kelp_field_sink *out);
+int kelp_ts_iterate(kelp_ts *r, kelp_time now, const kelp_field_sink *out);
 /** Expand the macros and {a op b} groups of `val` as a posting would (the event machinery's
  *  text step, also the fuzz entry): @return 1 when the result is a lone number (*dval set),
  *  0 for text, KELP_ERR_NOSPACE when it does not fit. */
-KELP_MUST_CHECK int kelp_ts_expand(kelp_ts *r, const char *val, double now, char *out, size_t cap, double *dval);
+KELP_MUST_CHECK int kelp_ts_expand(kelp_ts *r, const char *val, kelp_time now, char *out, size_t cap, double *dval);
 /** The status string. @return its length or KELP_ERR_NOSPACE. */
 int kelp_ts_status(const kelp_ts *r, char *buf, size_t cap);
 

@@ -103,11 +103,11 @@ KELP_MUST_CHECK int kelp_udpm_init(kelp_udpm_rx *r, kelp_udpm_slot *slots, size_
  *  was rejected (counted in stats): KELP_ERR_TRUNCATED (short header), KELP_ERR_PARSE
  *  (magic, channel), KELP_ERR_RANGE (fragment fields, size over slot_cap). Safe on
  *  arbitrary bytes. */
-KELP_MUST_CHECK int kelp_udpm_feed(kelp_udpm_rx *r, const uint8_t *dg, size_t len, uint64_t sender, double now,
+KELP_MUST_CHECK int kelp_udpm_feed(kelp_udpm_rx *r, const uint8_t *dg, size_t len, uint64_t sender, kelp_time now,
                    kelp_udpm_msg *out);
 
 /** Free slots idle for longer than the timeout. @return how many were freed. */
-size_t kelp_udpm_expire(kelp_udpm_rx *r, double now);
+size_t kelp_udpm_expire(kelp_udpm_rx *r, kelp_time now);
 
 const kelp_udpm_stats *kelp_udpm_get_stats(const kelp_udpm_rx *r);
 

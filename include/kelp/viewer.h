@@ -159,10 +159,10 @@ KELP_MUST_CHECK int kelp_viewer_poke_parse(const char *s, size_t len, kelp_viewe
 
 /** Mail: NODE_REPORT, NODE_REPORT_LOCAL, VIEW_*, APPCAST (other variables are not the viewer's: 0).
  *  @return 1 the model changed, 0 not a viewer variable, <0 the value was refused (counted). */
-int kelp_viewer_mail(kelp_viewer *v, const char *var, const char *sval, size_t len, double now);
+int kelp_viewer_mail(kelp_viewer *v, const char *var, const char *sval, size_t len, kelp_time now);
 
 /** Time passes: stale flags, stale removal, pulse expiry. @return 1 if anything changed. */
-int kelp_viewer_tick(kelp_viewer *v, double now);
+int kelp_viewer_tick(kelp_viewer *v, kelp_time now);
 
 /** Current sequence number (0 before any change). */
 uint32_t kelp_viewer_seq(const kelp_viewer *v);
@@ -170,12 +170,12 @@ uint32_t kelp_viewer_seq(const kelp_viewer *v);
 /** The JSON of everything ("full":1, with "cfg"). rate: MOOS seconds per wall second the page
  *  should advance its clock by between updates (MOOSTimeWarp live, the replay speed, 0 paused).
  *  @return 0, KELP_ERR_NOSPACE (buf holds a cut, terminated text). len may be NULL. */
-KELP_MUST_CHECK int kelp_viewer_json_snapshot(const kelp_viewer *v, double now, double rate, char *buf, size_t cap,
+KELP_MUST_CHECK int kelp_viewer_json_snapshot(const kelp_viewer *v, kelp_time now, double rate, char *buf, size_t cap,
                                               size_t *len);
 
 /** The JSON of what changed after sequence number since (a snapshot if since is older than
  *  what the model remembers, or 0). @return as kelp_viewer_json_snapshot. */
-KELP_MUST_CHECK int kelp_viewer_json_changes(const kelp_viewer *v, uint32_t since, double now, double rate, char *buf,
+KELP_MUST_CHECK int kelp_viewer_json_changes(const kelp_viewer *v, uint32_t since, kelp_time now, double rate, char *buf,
                                              size_t cap, size_t *len);
 
 /** The JSON of one vehicle's last report fields, or KELP_ERR_NOTFOUND. */

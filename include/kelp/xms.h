@@ -15,6 +15,7 @@
 
 #include <stdbool.h>
 #include <stddef.h>
+#include <kelp/config.h>
 #include <kelp/err.h>
 
 #ifdef __cplusplus
@@ -134,12 +135,12 @@ int kelp_xms_mail(kelp_xms *x, const char *name, bool is_string, const char *sva
 int kelp_xms_key(kelp_xms *x, int c);
 /** Is a frame due at now: one is wanted (refresh and content mode, pending changes) and the
  *  term interval has passed since the last (AppCasting limits every terminal report so)? */
-bool kelp_xms_due(const kelp_xms *x, double now);
+bool kelp_xms_due(const kelp_xms *x, kelp_time now);
 /** Write the current frame (NUL-terminated, lines end in '\n') and note it drawn (clears the
  *  pending request). @return its length (cut at cap-1). */
-size_t kelp_xms_render(kelp_xms *x, double now, char *buf, size_t cap);
+size_t kelp_xms_render(kelp_xms *x, kelp_time now, char *buf, size_t cap);
 /** The same text, changing nothing (the app's AppCast report body). */
-size_t kelp_xms_format(kelp_xms *x, double now, char *buf, size_t cap);
+size_t kelp_xms_format(kelp_xms *x, kelp_time now, char *buf, size_t cap);
 
 #ifdef __cplusplus
 }

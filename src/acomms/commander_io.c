@@ -28,7 +28,7 @@ static bool is_special(const char *v)
 }
 
 /* the value to send for a row, specials replaced */
-static int resolve(const kelp_cmdr *c, const kelp_cmdr_msg *m, const char *v, double now, char *out, size_t cap,
+static int resolve(const kelp_cmdr *c, const kelp_cmdr_msg *m, const char *v, kelp_time now, char *out, size_t cap,
                    kelp_diag *d)
 {
     if (strcmp(v, "_time") == 0) {
@@ -73,7 +73,7 @@ static int append(kelp_cmdr_pub *p, const char *key, const char *val)
     return (k < 0 || (size_t)k >= sizeof p->val - used) ? KELP_ERR_NOSPACE : KELP_OK;
 }
 
-int kelp_cmdr_send(const kelp_cmdr *c, unsigned msg, double now, kelp_cmdr_pub *out, size_t cap, size_t *n,
+int kelp_cmdr_send(const kelp_cmdr *c, unsigned msg, kelp_time now, kelp_cmdr_pub *out, size_t cap, size_t *n,
                    kelp_diag *d)
 {
     *n = 0;
@@ -202,7 +202,7 @@ int kelp_cmdr_load(kelp_cmdr *c, const char *text, kelp_diag *d)
 }
 
 /* ------------------------------------------------------------------ acks and expiries */
-int kelp_cmdr_ack_note(const kelp_cmdr *c, bool ack, const char *text, double now, char *out, size_t cap)
+int kelp_cmdr_ack_note(const kelp_cmdr *c, bool ack, const char *text, kelp_time now, char *out, size_t cap)
 {
     static const char *const MON[12] = {"Jan", "Feb", "Mar", "Apr", "May", "Jun",
                                         "Jul", "Aug", "Sep", "Oct", "Nov", "Dec"};

@@ -429,7 +429,7 @@ static int add_queues(kelp_acomms_handler *h, kelp_time now)
 
 int kelp_acomms_handler_init(kelp_acomms_handler *h, const kelp_acomms_config *cfg, const kelp_acomms_node_cfg *nc,
                              const kelp_acomms_codec *codec, kelp_queue_entry *pool, size_t cap_pool,
-                             const kelp_acomms_sink *sink, double now)
+                             const kelp_acomms_sink *sink, kelp_time now)
 {
     if (!h || !cfg || !nc || !sink || !sink->publish) return KELP_ERR_ARG;
     memset(h, 0, sizeof *h);
@@ -477,7 +477,7 @@ void kelp_acomms_handler_set_var(kelp_acomms_handler *h, const char *name, bool 
     if (h->has_codec) h->codec.set_var(h->codec.ctx, name, is_double, dval, sval);
 }
 
-int kelp_acomms_handler_start(kelp_acomms_handler *h, bool link_up, double now)
+int kelp_acomms_handler_start(kelp_acomms_handler *h, bool link_up, kelp_time now)
 {
     h->now = now;
     if (h->cfg->driver_type == KELP_ACOMMS_DRIVER_WHOI_MICROMODEM) {
@@ -575,7 +575,7 @@ static void mail_command(kelp_acomms_handler *h, const kelp_var *v, kelp_time no
     else EVENT(h, "MAC cycle updated: %zu slot(s), cycle %u s", u->nslots, kelp_mac_cycle_length(&h->node.mac));
 }
 
-void kelp_acomms_handler_mail(kelp_acomms_handler *h, const kelp_var *v, bool own, double now)
+void kelp_acomms_handler_mail(kelp_acomms_handler *h, const kelp_var *v, bool own, kelp_time now)
 {
     h->now = now;
     if (strcmp(v->name, "ACOMMS_RANGE_COMMAND") == 0 || strcmp(v->name, "ACOMMS_MAC_CYCLE_UPDATE") == 0 ||
@@ -605,7 +605,7 @@ void kelp_acomms_handler_mail(kelp_acomms_handler *h, const kelp_var *v, bool ow
 
 /* ------------------------------------------------------------------ link, tick */
 
-void kelp_acomms_handler_link_up(kelp_acomms_handler *h, double now)
+void kelp_acomms_handler_link_up(kelp_acomms_handler *h, kelp_time now)
 {
     h->now = now;
     bool first = !h->seen_link;
@@ -628,7 +628,7 @@ void kelp_acomms_handler_link_lost(kelp_acomms_handler *h, const char *why)
     EVENT(h, "modem link lost: %s", why ? why : "");
 }
 
-void kelp_acomms_handler_feed(kelp_acomms_handler *h, const uint8_t *bytes, size_t len, double now)
+void kelp_acomms_handler_feed(kelp_acomms_handler *h, const uint8_t *bytes, size_t len, kelp_time now)
 {
     if (kelp_acomms_node_feed(&h->node, bytes, len, now) != KELP_OK) WARN(h, "driver refused input");
 }
@@ -681,7 +681,7 @@ static void publish_status(kelp_acomms_handler *h)
     pub_record(h, &r);
 }
 
-void kelp_acomms_handler_tick(kelp_acomms_handler *h, double now)
+void kelp_acomms_handler_tick(kelp_acomms_handler *h, kelp_time now)
 {
     h->now = now;
     int rc = kelp_acomms_node_tick(&h->node, now);

@@ -80,7 +80,7 @@ typedef struct contact {
     double lat, lon, spd, hdg, depth;
 } contact;
 
-static void publish_contact(kelp_remus_codec *t, const contact *c, const char *kind_extra, double now,
+static void publish_contact(kelp_remus_codec *t, const contact *c, const char *kind_extra, kelp_time now,
                             const kelp_field_sink *sink)
 {
     double x = 0, y = 0;
@@ -194,7 +194,7 @@ static void alert_text(const uint8_t *f, int node, bool two, sb *b)
     }
 }
 
-static void redirect_text(const uint8_t *f, int node, double now, sb *b)
+static void redirect_text(const uint8_t *f, int node, kelp_time now, sb *b)
 {
     sb_add(b, "MessageType=CCL_REDIRECT,DestinationPlatformId=%d,Timestamp=%.17g,Latitude=%.17g,Longitude=%.17g"
               ",SpeedDepthFlags=%02X",
@@ -208,7 +208,7 @@ static void redirect_text(const uint8_t *f, int node, double now, sb *b)
     sb_add(b, ",StartLatitude=%.17g,StartLongitude=%.17g", ll_at(f, 23), ll_at(f, 26));
 }
 
-static int incoming(kelp_remus_codec *t, int kind, const char *text, double now, const kelp_field_sink *sink)
+static int incoming(kelp_remus_codec *t, int kind, const char *text, kelp_time now, const kelp_field_sink *sink)
 {
     kelp_acomms_msg *m = &t->work.in.msg;
     kelp_diag *why = &t->work.in.diag;
@@ -323,7 +323,7 @@ static int outgoing_command(kelp_remus_codec *t, const char *s, const kelp_field
 }
 
 int kelp_remus_codec_mail(kelp_remus_codec *t, const char *var, bool is_string, const char *sval, double dval,
-                          double now, const kelp_field_sink *sink)
+                          kelp_time now, const kelp_field_sink *sink)
 {
     if (kelp_strieq(var, "OUTGOING_COMMAND")) return is_string ? outgoing_command(t, sval, sink) : 0;
     for (int k = 0; k < KELP_REMUS_NVARS; k++)
@@ -345,7 +345,7 @@ int kelp_remus_codec_mail(kelp_remus_codec *t, const char *var, bool is_string, 
     return 0;
 }
 
-int kelp_remus_codec_iterate(kelp_remus_codec *t, double now, const kelp_field_sink *sink)
+int kelp_remus_codec_iterate(kelp_remus_codec *t, kelp_time now, const kelp_field_sink *sink)
 {
     if (!t->cfg.create_status) return 0;
     for (int k = 0; k < KELP_REMUS_NNAV; k++)

@@ -142,7 +142,7 @@ int kelp_bus_forward(kelp_bus *b, const kelp_var *v)
 }
 
 static int notify(kelp_bus *b, const char *name, kelp_var_kind kind, double d, const char *data,
-                  size_t len, double now)
+                  size_t len, kelp_time now)
 {
     if (!b || !name || !*name) return KELP_ERR_ARG;
     if (strlen(name) >= KELP_MAX_NAME) return KELP_ERR_RANGE;
@@ -174,24 +174,24 @@ static int notify(kelp_bus *b, const char *name, kelp_var_kind kind, double d, c
     return KELP_OK;
 }
 
-int kelp_bus_notify_double(kelp_bus *b, const char *name, double value, double now)
+int kelp_bus_notify_double(kelp_bus *b, const char *name, double value, kelp_time now)
 {
     return notify(b, name, KELP_VAR_DOUBLE, value, NULL, 0, now);
 }
 
-int kelp_bus_notify_string(kelp_bus *b, const char *name, const char *value, double now)
+int kelp_bus_notify_string(kelp_bus *b, const char *name, const char *value, kelp_time now)
 {
     if (!value) return KELP_ERR_ARG;
     return notify(b, name, KELP_VAR_STRING, 0.0, value, strlen(value), now);
 }
 
-int kelp_bus_notify_binary(kelp_bus *b, const char *name, const void *data, size_t len, double now)
+int kelp_bus_notify_binary(kelp_bus *b, const char *name, const void *data, size_t len, kelp_time now)
 {
     if (!data && len) return KELP_ERR_ARG;
     return notify(b, name, KELP_VAR_BINARY, 0.0, data, len, now);
 }
 
-static int send_sync_request(kelp_bus *b, const char *pattern, double now)
+static int send_sync_request(kelp_bus *b, const char *pattern, kelp_time now)
 {
     size_t n = 0;
     int rc = kelp_sync_req_encode_one(now, b->app, b->community, b->reply_channel, pattern, b->st.scratch,
@@ -200,7 +200,7 @@ static int send_sync_request(kelp_bus *b, const char *pattern, double now)
     return b->tr.publish(b->tr.ctx, KELP_BUS_SYNC_CHANNEL, b->st.scratch, n);
 }
 
-int kelp_bus_register(kelp_bus *b, const char *pattern, double min_interval, double now)
+int kelp_bus_register(kelp_bus *b, const char *pattern, double min_interval, kelp_time now)
 {
     if (!b || !pattern || !*pattern || min_interval < 0) return KELP_ERR_ARG;
     if (strlen(pattern) >= KELP_MAX_NAME) return KELP_ERR_RANGE;
@@ -232,7 +232,7 @@ int kelp_bus_register(kelp_bus *b, const char *pattern, double min_interval, dou
     return send_sync_request(b, pattern, now);
 }
 
-int kelp_bus_retain_all(kelp_bus *b, double now)
+int kelp_bus_retain_all(kelp_bus *b, kelp_time now)
 {
     (void)now;
     if (!b) return KELP_ERR_ARG;
@@ -333,7 +333,7 @@ static bool reply_ok(const char *requester, const char *reply)
     return h >= 1 && h <= 8;
 }
 
-static void refill(double *tokens, double *last, double burst, double rate, double now)
+static void refill(double *tokens, double *last, double burst, double rate, kelp_time now)
 {
     if (isfinite(now) && now > *last) {
         *tokens += (now - *last) * rate;
@@ -343,7 +343,7 @@ static void refill(double *tokens, double *last, double burst, double rate, doub
 }
 
 /* The requester's budget: its slot in the table, or the least recently used slot. */
-static kelp_bus_sync_peer *peer_for(kelp_bus *b, const char *reply, double now)
+static kelp_bus_sync_peer *peer_for(kelp_bus *b, const char *reply, kelp_time now)
 {
     kelp_bus_sync_peer *lru = &b->peers[0];
     for (size_t i = 0; i < KELP_BUS_SYNC_PEERS; i++) {
@@ -357,7 +357,7 @@ static kelp_bus_sync_peer *peer_for(kelp_bus *b, const char *reply, double now)
     return lru;
 }
 
-static void answer_sync(kelp_bus *b, const kelp_sync_req *q, double now)
+static void answer_sync(kelp_bus *b, const kelp_sync_req *q, kelp_time now)
 {
     if (strcmp(q->reply_channel, b->reply_channel) == 0) return; /* our own request */
     if (!reply_ok(q->requester, q->reply_channel)) {
@@ -393,7 +393,7 @@ static bool foreign(const kelp_bus *b, const char *community, uint8_t flags)
     return !b->bridge && !(flags & KELP_VAR_FLAG_BRIDGED) && strcmp(community, b->community) != 0;
 }
 
-int kelp_bus_receive(kelp_bus *b, const char *channel, const uint8_t *data, size_t len, double now)
+int kelp_bus_receive(kelp_bus *b, const char *channel, const uint8_t *data, size_t len, kelp_time now)
 {
     if (!b || !channel) return KELP_ERR_ARG;
     b->stats.received++;

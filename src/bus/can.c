@@ -24,7 +24,7 @@ int kelp_can_dict_add(kelp_can_dict *d, unsigned id, const char *name)
     return KELP_OK;
 }
 
-int kelp_can_dict_parse(kelp_can_dict *d, const char *spec, kelp_diag *dg)
+int kelp_can_dict_parse(kelp_can_dict *dict, const char *spec, kelp_diag *d)
 {
     size_t pos = 0, klen, vlen;
     const char *k, *v;
@@ -32,14 +32,14 @@ int kelp_can_dict_parse(kelp_can_dict *d, const char *spec, kelp_diag *dg)
     while ((rc = kelp_kv_next(spec, ',', &pos, &k, &klen, &v, &vlen)) == 1) {
         long id;
         char name[KELP_CAN_NAME];
-        if (kelp_parse_long(k, klen, &id) < 0 || id < 0 || id >= (long)KELP_CAN_VAR_NAMED) return kelp_fail(dg, KELP_ERR_PARSE, "variable id must be 0-510");
-        if (vlen == 0 || vlen >= sizeof name) return kelp_fail(dg, KELP_ERR_PARSE, "name empty or longer than 63");
+        if (kelp_parse_long(k, klen, &id) < 0 || id < 0 || id >= (long)KELP_CAN_VAR_NAMED) return kelp_fail(d, KELP_ERR_PARSE, "variable id must be 0-510");
+        if (vlen == 0 || vlen >= sizeof name) return kelp_fail(d, KELP_ERR_PARSE, "name empty or longer than 63");
         memcpy(name, v, vlen);
         name[vlen] = 0;
-        rc = kelp_can_dict_add(d, (unsigned)id, name);
-        if (rc < 0) return kelp_fail(dg, KELP_ERR_PARSE, rc == KELP_ERR_EXISTS ? "id or name given twice" : "dictionary full");
+        rc = kelp_can_dict_add(dict, (unsigned)id, name);
+        if (rc < 0) return kelp_fail(d, KELP_ERR_PARSE, rc == KELP_ERR_EXISTS ? "id or name given twice" : "dictionary full");
     }
-    return rc < 0 ? kelp_fail(dg, KELP_ERR_PARSE, "expected id=NAME pairs") : KELP_OK;
+    return rc < 0 ? kelp_fail(d, KELP_ERR_PARSE, "expected id=NAME pairs") : KELP_OK;
 }
 
 int kelp_can_dict_id(const kelp_can_dict *d, const char *name)
@@ -226,7 +226,7 @@ void kelp_can_rx_init(kelp_can_rx *rx, double timeout)
     rx->timeout = timeout > 0 ? timeout : KELP_CAN_TIMEOUT_DEFAULT;
 }
 
-void kelp_can_rx_expire(kelp_can_rx *rx, double now)
+void kelp_can_rx_expire(kelp_can_rx *rx, kelp_time now)
 {
     for (size_t i = 0; i < KELP_CAN_SLOTS; i++) {
         kelp_can_slot *s = &rx->slots[i];
@@ -340,7 +340,7 @@ static kelp_can_slot *find_slot(kelp_can_rx *rx, uint32_t key)
     return NULL;
 }
 
-static kelp_can_slot *new_slot(kelp_can_rx *rx, uint32_t key, bool fd, double now)
+static kelp_can_slot *new_slot(kelp_can_rx *rx, uint32_t key, bool fd, kelp_time now)
 {
     for (size_t i = 0; i < KELP_CAN_SLOTS; i++) {
         kelp_can_slot *s = &rx->slots[i];
@@ -368,7 +368,7 @@ static bool complete(const kelp_can_slot *s)
     return (s->got & want) == want;
 }
 
-int kelp_can_rx_frame(kelp_can_rx *rx, const kelp_can_dict *d, const kelp_can_frame *f, double now, kelp_can_msg *out)
+int kelp_can_rx_frame(kelp_can_rx *rx, const kelp_can_dict *d, const kelp_can_frame *f, kelp_time now, kelp_can_msg *out)
 {
     rx->st.frames++;
     kelp_can_rx_expire(rx, now);
@@ -465,7 +465,7 @@ int kelp_can_rx_frame(kelp_can_rx *rx, const kelp_can_dict *d, const kelp_can_fr
 
 /* ------------------------------------------------------------------ bus variables */
 
-int kelp_can_msg_to_var(const kelp_can_msg *m, const char *as, double now, kelp_var *v)
+int kelp_can_msg_to_var(const kelp_can_msg *m, const char *as, kelp_time now, kelp_var *v)
 {
     memset(v, 0, offsetof(kelp_var, sval));
     v->sval[0] = 0;

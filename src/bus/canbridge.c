@@ -74,7 +74,7 @@ int kelp_canbridge_from_bus(kelp_canbridge *b, const kelp_var *v, kelp_can_emit_
     return 0;
 }
 
-int kelp_canbridge_from_can(kelp_canbridge *b, const kelp_can_frame *f, double now, kelp_var *out)
+int kelp_canbridge_from_can(kelp_canbridge *b, const kelp_can_frame *f, kelp_time now, kelp_var *out)
 {
     kelp_can_msg m;
     int rc = kelp_can_rx_frame(&b->rx, &b->dict, f, now, &m);

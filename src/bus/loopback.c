@@ -7,7 +7,7 @@ void kelp_loopback_init(kelp_loopback *net)
     memset(net, 0, sizeof *net);
 }
 
-void kelp_loopback_set_time(kelp_loopback *net, double now)
+void kelp_loopback_set_time(kelp_loopback *net, kelp_time now)
 {
     net->now = now;
 }

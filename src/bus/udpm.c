@@ -69,7 +69,7 @@ static int channel_len(const uint8_t *p, size_t n)
     return (int)(z - p);
 }
 
-size_t kelp_udpm_expire(kelp_udpm_rx *r, double now)
+size_t kelp_udpm_expire(kelp_udpm_rx *r, kelp_time now)
 {
     size_t n = 0;
     for (size_t i = 0; i < r->nslots; i++) {
@@ -121,7 +121,7 @@ static kelp_udpm_slot *slot_take(kelp_udpm_rx *r, uint64_t sender)
     return old;
 }
 
-static int feed_fragment(kelp_udpm_rx *r, const uint8_t *dg, size_t len, uint64_t sender, double now,
+static int feed_fragment(kelp_udpm_rx *r, const uint8_t *dg, size_t len, uint64_t sender, kelp_time now,
                          kelp_udpm_msg *out)
 {
     if (len < KELP_UDPM_FRAG_HDR) return reject(r, &r->stats.bad_header, KELP_ERR_TRUNCATED);
@@ -190,7 +190,7 @@ static int feed_fragment(kelp_udpm_rx *r, const uint8_t *dg, size_t len, uint64_
     return 1;
 }
 
-int kelp_udpm_feed(kelp_udpm_rx *r, const uint8_t *dg, size_t len, uint64_t sender, double now,
+int kelp_udpm_feed(kelp_udpm_rx *r, const uint8_t *dg, size_t len, uint64_t sender, kelp_time now,
                    kelp_udpm_msg *out)
 {
     if (!r || !out || (!dg && len)) return KELP_ERR_ARG;

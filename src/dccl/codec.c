@@ -136,13 +136,13 @@ typedef struct enc_ctx {
     kelp_dccl_codec *cx;
     const kelp_dccl_msgdef *def;
     const kelp_dccl_val *in;
-    double now;
+    kelp_time now;
     unsigned cur;          /* field being encoded */
     unsigned nref;         /* temps (cx->work.enc.ref) handed out for the current algorithm call */
 } enc_ctx;
 
 static void head_default(const kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, unsigned h, const kelp_dccl_val *given,
-                         double now, kelp_dccl_val *out);
+                         kelp_time now, kelp_dccl_val *out);
 
 /* A layout field's value as the caller gave it (header fields: see enc_ref). */
 static const kelp_dccl_val *field_raw(const enc_ctx *e, unsigned field, unsigned element)
@@ -340,7 +340,7 @@ static int encode_field(enc_ctx *e, unsigned fi, bitbuf *buf, uint32_t *pos)
 
 /* header value after defaults (set_head_defaults) */
 static void head_default(const kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, unsigned h, const kelp_dccl_val *given,
-                         double now, kelp_dccl_val *out)
+                         kelp_time now, kelp_dccl_val *out)
 {
     double d;
     bool empty = given->kind == KELP_DCCL_V_EMPTY;
@@ -397,7 +397,7 @@ static uint64_t head_code(unsigned h, const kelp_dccl_val *v)
     }
 }
 
-int kelp_dccl_encode(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, const kelp_dccl_val *in, size_t n_in, double now,
+int kelp_dccl_encode(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, const kelp_dccl_val *in, size_t n_in, kelp_time now,
                      uint8_t *out, size_t cap, size_t *len)
 {
     enc_ctx e;
@@ -468,7 +468,7 @@ int kelp_dccl_encode(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, const kel
 }
 
 /* ------------------------------------------------------------------ header */
-double kelp_dccl_time_infer(unsigned tod, double now)
+double kelp_dccl_time_infer(unsigned tod, kelp_time now)
 {
     double day = floor(now / 86400.0) * 86400.0;
     double tod_now = floor(now - day);
@@ -491,7 +491,7 @@ int kelp_dccl_peek_id(const uint8_t *in, size_t n, unsigned *id)
     return KELP_OK;
 }
 
-static void head_split(uint64_t hv, double now, kelp_dccl_header *h)
+static void head_split(uint64_t hv, kelp_time now, kelp_dccl_header *h)
 {
     h->unused = (unsigned)(hv & 3u);
     h->broadcast = (hv >> 2) & 1u;
@@ -504,7 +504,7 @@ static void head_split(uint64_t hv, double now, kelp_dccl_header *h)
     h->time = kelp_dccl_time_infer(h->time_of_day, now);
 }
 
-int kelp_dccl_head_read(const uint8_t *in, size_t n, double now, kelp_dccl_header *h)
+int kelp_dccl_head_read(const uint8_t *in, size_t n, kelp_time now, kelp_dccl_header *h)
 {
     if (!in || !h || n < KELP_DCCL_HEAD_BYTES) return KELP_ERR_TRUNCATED;
     head_split(head48(in, n), now, h);
@@ -590,7 +590,7 @@ static int decode_element(kelp_dccl_codec *cx, const kelp_dccl_field *f, const u
     }
 }
 
-int kelp_dccl_decode(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, const uint8_t *in, size_t n, double now,
+int kelp_dccl_decode(kelp_dccl_codec *cx, const kelp_dccl_msgdef *def, const uint8_t *in, size_t n, kelp_time now,
                      kelp_dccl_val *out, size_t n_out)
 {
     uint8_t *body = cx->work.dec.body;

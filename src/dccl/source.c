@@ -118,7 +118,7 @@ void kelp_dccl_timer_init(kelp_dccl_timer *t, double start)
     t->k = 1;
 }
 
-bool kelp_dccl_timer_due(kelp_dccl_timer *t, const kelp_dccl_msgdef *def, double now)
+bool kelp_dccl_timer_due(kelp_dccl_timer *t, const kelp_dccl_msgdef *def, kelp_time now)
 {
     if (def->trigger != KELP_DCCL_TRIG_TIME || !(def->trigger_time > 0)) return false;
     if (now > t->start + (double)t->k * def->trigger_time) {

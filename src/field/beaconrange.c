@@ -202,7 +202,7 @@ int kelp_field_brs_find(const kelp_field_brs *b, const char *label)
     return -1;
 }
 
-int kelp_field_brs_init(kelp_field_brs *b, const kelp_field_brs_cfg *cfg, double now, kelp_diag *d)
+int kelp_field_brs_init(kelp_field_brs *b, const kelp_field_brs_cfg *cfg, kelp_time now, kelp_diag *d)
 {
     memset(b, 0, sizeof *b);
     b->cfg = *cfg;
@@ -245,7 +245,7 @@ static void log_line(const kelp_field_brs *b, const char *a, const char *c, cons
 }
 
 /* every vehicle within B's report range gets a report. @return reports to `to` (or all) */
-static unsigned long broadcast(kelp_field_brs *b, kelp_brs_beacon *bc, double now, const kelp_field_sink *out, int to,
+static unsigned long broadcast(kelp_field_brs *b, kelp_brs_beacon *bc, kelp_time now, const kelp_field_sink *out, int to,
                                const char *indent)
 {
     unsigned long got = 0;
@@ -268,7 +268,7 @@ static unsigned long broadcast(kelp_field_brs *b, kelp_brs_beacon *bc, double no
     return got;
 }
 
-static void reset_timer(kelp_field_brs *b, kelp_brs_beacon *bc, double now)
+static void reset_timer(kelp_field_brs *b, kelp_brs_beacon *bc, kelp_time now)
 {
     if (bc->freq_lo < 0) return;
     bc->next = now + kelp_rsense_interval(&b->rand, bc->freq_lo, bc->freq_hi);
@@ -282,7 +282,7 @@ KELP_NOINLINE static void log_elapsed(kelp_field_brs *b, double elapsed)
     log_line(b, "  Elapsed time: ", e, NULL, NULL);
 }
 
-static int request(kelp_field_brs *b, const char *s, double now, const kelp_field_sink *out)
+static int request(kelp_field_brs *b, const char *s, kelp_time now, const kelp_field_sink *out)
 {
     char name[KELP_RSENSE_NAME];
     b->requests++;
@@ -335,7 +335,7 @@ static int request(kelp_field_brs *b, const char *s, double now, const kelp_fiel
     return 1;
 }
 
-int kelp_field_brs_mail(kelp_field_brs *b, const char *var, bool is_string, const char *sval, double now,
+int kelp_field_brs_mail(kelp_field_brs *b, const char *var, bool is_string, const char *sval, kelp_time now,
                         const kelp_field_sink *out)
 {
     bool nr = strcmp(var, "NODE_REPORT") == 0 || strcmp(var, "NODE_REPORT_LOCAL") == 0;
@@ -388,7 +388,7 @@ KELP_NOINLINE static void start_beacons(kelp_field_brs *b, const kelp_field_sink
     }
 }
 
-unsigned long kelp_field_brs_iterate(kelp_field_brs *b, double now, const kelp_field_sink *out)
+unsigned long kelp_field_brs_iterate(kelp_field_brs *b, kelp_time now, const kelp_field_sink *out)
 {
     unsigned long before = b->reports;
     if (!b->started) start_beacons(b, out);

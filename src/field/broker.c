@@ -246,7 +246,7 @@ int broker_register(const kelp_field_sink *out, const char *src, const char *com
     return 1;
 }
 
-int broker_host_format(const kelp_broker_host *h, const char *keyword, double warp, double now, const char *status,
+int broker_host_format(const kelp_broker_host *h, const char *keyword, double warp, kelp_time now, const char *status,
                        char *buf, size_t cap)
 {
     size_t n = 0;

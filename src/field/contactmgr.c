@@ -33,8 +33,8 @@ static void post_d(const kelp_field_sink *out, const char *var, double d)
     if (out && out->publish) out->publish(out->ctx, var, false, NULL, d);
 }
 
-static void event(kelp_cmgr *c, double now, const char *fmt, ...) KELP_PRINTF(3, 4);
-static void event(kelp_cmgr *c, double now, const char *fmt, ...)
+static void event(kelp_cmgr *c, kelp_time now, const char *fmt, ...) KELP_PRINTF(3, 4);
+static void event(kelp_cmgr *c, kelp_time now, const char *fmt, ...)
 {
     unsigned i = c->event_head;
     va_list ap;
@@ -398,7 +398,7 @@ KELP_NOINLINE static int legacy_flag(kelp_cmgr_alert *a, const char *var, const 
     return add_flag(a->on, &a->non, f, (size_t)fl);
 }
 
-int kelp_cmgr_alert_spec(kelp_cmgr *c, const char *spec, bool from_mail, const char *src, double now,
+int kelp_cmgr_alert_spec(kelp_cmgr *c, const char *spec, bool from_mail, const char *src, kelp_time now,
                          const kelp_field_sink *out)
 {
     comp *cp = c->ws.comp;
@@ -677,7 +677,7 @@ static int bad_report(kelp_cmgr *c, const kelp_field_sink *out, const char *why)
     return KELP_ERR_PARSE;
 }
 
-KELP_NOINLINE static int node_report(kelp_cmgr *c, const char *s, double now, const kelp_field_sink *out)
+KELP_NOINLINE static int node_report(kelp_cmgr *c, const char *s, kelp_time now, const kelp_field_sink *out)
 {
     kelp_nodereport *r = &c->ws_report; /* workspace: no report on the stack */
     c->reports_in++;
@@ -737,7 +737,7 @@ KELP_NOINLINE static int node_report(kelp_cmgr *c, const char *s, double now, co
 /* ------------------------------------------------------------------ requests */
 
 /* (out of line, here and below: their locals stay off kelp_cmgr_mail's alert path) */
-KELP_NOINLINE static int report_request(kelp_cmgr *c, const char *s, double now, const char *src, const kelp_field_sink *out)
+KELP_NOINLINE static int report_request(kelp_cmgr *c, const char *s, kelp_time now, const char *src, const kelp_field_sink *out)
 {
     size_t len = strlen(s), pos = 0, kl, vl;
     const char *p = s, *k, *v;
@@ -800,7 +800,7 @@ KELP_NOINLINE static int report_request(kelp_cmgr *c, const char *s, double now,
     return 1;
 }
 
-KELP_NOINLINE static int display_radii(kelp_cmgr *c, const char *s, double now, const kelp_field_sink *out)
+KELP_NOINLINE static int display_radii(kelp_cmgr *c, const char *s, kelp_time now, const kelp_field_sink *out)
 {
     const char *p = s;
     size_t n = strlen(s);
@@ -819,7 +819,7 @@ KELP_NOINLINE static int display_radii(kelp_cmgr *c, const char *s, double now, 
     return 1;
 }
 
-int kelp_cmgr_mail(kelp_cmgr *c, const char *var, bool is_string, const char *sval, double dval, double now,
+int kelp_cmgr_mail(kelp_cmgr *c, const char *var, bool is_string, const char *sval, double dval, kelp_time now,
                    const char *src, const kelp_field_sink *out)
 {
     if (c->t_start < 0) c->t_start = now;
@@ -865,7 +865,7 @@ double kelp_cmgr_extrap_dist(double v, double dt, double d1, double d2)
     return v * d1 + (d2 > d1 ? (v / 2) * (d2 - d1) : 0);
 }
 
-static void ranges(kelp_cmgr *c, kelp_cmgr_contact *k, double now)
+static void ranges(kelp_cmgr *c, kelp_cmgr_contact *k, kelp_time now)
 {
     k->range = hypot(c->osx - k->x, c->osy - k->y);
     double dist = kelp_cmgr_extrap_dist(k->spd, now - k->time, c->decay[0], c->decay[1]);
@@ -877,7 +877,7 @@ static void ranges(kelp_cmgr *c, kelp_cmgr_contact *k, double now)
 
 /* expand the macros of s into out for contact k */
 /* the value of macro i of expand's list (no table of eleven doubles on the stack) */
-static double macro_value(const kelp_cmgr_contact *k, double now, size_t i)
+static double macro_value(const kelp_cmgr_contact *k, kelp_time now, size_t i)
 {
     switch (i) {
     case 0: return k->x;
@@ -894,7 +894,7 @@ static double macro_value(const kelp_cmgr_contact *k, double now, size_t i)
     }
 }
 
-static void expand(const kelp_cmgr_contact *k, double now, const char *s, char *out, size_t cap)
+static void expand(const kelp_cmgr_contact *k, kelp_time now, const char *s, char *out, size_t cap)
 {
     size_t n = 0;
     while (*s && n + 1 < cap) {
@@ -933,7 +933,7 @@ static void expand(const kelp_cmgr_contact *k, double now, const char *s, char *
 }
 
 static void post_flags(kelp_cmgr *c, const kelp_cmgr_contact *k, char (*flags)[KELP_CMGR_MAX_FLAG], unsigned n,
-                       double now, const kelp_field_sink *out)
+                       kelp_time now, const kelp_field_sink *out)
 {
     for (unsigned i = 0; i < n; i++) {
         const char *eq = strchr(flags[i], '=');
@@ -971,7 +971,7 @@ static void verbose(kelp_cmgr *c, const kelp_cmgr_alert *a, const kelp_cmgr_cont
     post_s(out, "ALERT_VERBOSE", m);
 }
 
-static void check_alerts(kelp_cmgr *c, kelp_cmgr_contact *k, double now, const kelp_field_sink *out)
+static void check_alerts(kelp_cmgr *c, kelp_cmgr_contact *k, kelp_time now, const kelp_field_sink *out)
 {
     for (unsigned ai = 0; ai < c->nalerts; ai++) {
         kelp_cmgr_alert *a = &c->alert[ai];
@@ -999,7 +999,7 @@ static void check_alerts(kelp_cmgr *c, kelp_cmgr_contact *k, double now, const k
 }
 
 static void circle(kelp_cmgr *c, double r, const char *label, const char *suffix, const char *color,
-                   double now, const kelp_field_sink *out)
+                   kelp_time now, const kelp_field_sink *out)
 {
     char x[32], y[32], rad[32], t[32], *m = c->ws_view;
     fmtx(x, sizeof x, c->osx, 2);
@@ -1012,7 +1012,7 @@ static void circle(kelp_cmgr *c, double r, const char *label, const char *suffix
     post_s(out, "VIEW_CIRCLE", m);
 }
 
-static void visuals(kelp_cmgr *c, double now, const kelp_field_sink *out)
+static void visuals(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
 {
     if (!c->display_radii || c->nalerts == 0) return;
     if (!c->display_id[0]) memcpy(c->display_id, c->alert[0].id, sizeof c->display_id);
@@ -1057,7 +1057,7 @@ static void heapsort(kelp_cmgr_sortkey *a, unsigned n)
     }
 }
 
-static void retire(kelp_cmgr *c, double now)
+static void retire(kelp_cmgr *c, kelp_time now)
 {
     unsigned nr = 0;
     for (unsigned i = 0; i < c->ncontacts; i++) {
@@ -1115,7 +1115,7 @@ static void post_text(kelp_cmgr *c, const char *var, sbuf *sb, char *prev, bool 
     if (changed(prev, sb->b) || always) post_s(out, var, sb->b);
 }
 
-static void custom_reports(kelp_cmgr *c, double now, const kelp_field_sink *out)
+static void custom_reports(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
 {
     for (unsigned i = 0; i < c->nreports;)
         if (now - c->report[i].req_time > c->range_report_timeout) c->report[i] = c->report[--c->nreports];
@@ -1149,7 +1149,7 @@ static void custom_reports(kelp_cmgr *c, double now, const kelp_field_sink *out)
     }
 }
 
-static void summaries(kelp_cmgr *c, double now, const kelp_field_sink *out)
+static void summaries(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
 {
     sbuf sb;
     /* CONTACTS_RETIRED, newest first, then prune */
@@ -1244,7 +1244,7 @@ static void summaries(kelp_cmgr *c, double now, const kelp_field_sink *out)
     }
 }
 
-void kelp_cmgr_iterate(kelp_cmgr *c, double now, const kelp_field_sink *out)
+void kelp_cmgr_iterate(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
 {
     if (c->t_start < 0) c->t_start = now;
     c->iterations++;
@@ -1259,7 +1259,7 @@ void kelp_cmgr_iterate(kelp_cmgr *c, double now, const kelp_field_sink *out)
 
 /* ------------------------------------------------------------------ report */
 
-int kelp_cmgr_report_text(const kelp_cmgr *c, double now, char *buf, size_t cap)
+int kelp_cmgr_report_text(const kelp_cmgr *c, kelp_time now, char *buf, size_t cap)
 {
     size_t n = 0;
     char a[32], b[32];

@@ -102,7 +102,7 @@ int kelp_field_crs_config(kelp_field_crs_cfg *cfg, const char *key, const char *
     return kelp_rsense_common_config(&cfg->com, key, v, d);
 }
 
-void kelp_field_crs_init(kelp_field_crs *c, const kelp_field_crs_cfg *cfg, double now)
+void kelp_field_crs_init(kelp_field_crs *c, const kelp_field_crs_cfg *cfg, kelp_time now)
 {
     memset(c, 0, sizeof *c);
     c->cfg = *cfg;
@@ -144,7 +144,7 @@ static void say(const kelp_field_crs *c, const char *a, const char *b, const cha
     if (c->cfg.com.verbose) rs_log(c->cfg.com.log, c->cfg.com.log_ctx, a, b, d, e, RS_END);
 }
 
-static int request(kelp_field_crs *c, const char *s, double now, const kelp_field_sink *out)
+static int request(kelp_field_crs *c, const char *s, kelp_time now, const kelp_field_sink *out)
 {
     char name[KELP_RSENSE_NAME];
     c->requests++;
@@ -217,7 +217,7 @@ static int request(kelp_field_crs *c, const char *s, double now, const kelp_fiel
     return 1;
 }
 
-int kelp_field_crs_mail(kelp_field_crs *c, const char *var, bool is_string, const char *sval, double now,
+int kelp_field_crs_mail(kelp_field_crs *c, const char *var, bool is_string, const char *sval, kelp_time now,
                         const kelp_field_sink *out)
 {
     bool nr = strcmp(var, "NODE_REPORT") == 0 || strcmp(var, "NODE_REPORT_LOCAL") == 0;

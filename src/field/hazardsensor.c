@@ -413,7 +413,7 @@ static bool ensure_setting(kelp_field_uhz *h, kelp_uhz_node *n, const kelp_field
     return true;
 }
 
-KELP_NOINLINE static int config_request(kelp_field_uhz *h, const char *s, double now, const kelp_field_sink *out)
+KELP_NOINLINE static int config_request(kelp_field_uhz *h, const char *s, kelp_time now, const kelp_field_sink *out)
 {
     char vname[KELP_NODEREPORT_MAX_FIELD] = "", ws[64] = "", ps[64] = "";
     if (kelp_kv_get(s, ',', "vname", vname, sizeof vname) < 0 || kelp_kv_get(s, ',', "width", ws, sizeof ws) < 0 ||
@@ -473,7 +473,7 @@ KELP_NOINLINE static int config_request(kelp_field_uhz *h, const char *s, double
 }
 
 static void post_circle(kelp_field_uhz *h, const kelp_uhz_node *n, const kelp_uhz_object *o, bool said_hazard,
-                        double now, const kelp_field_sink *out)
+                        kelp_time now, const kelp_field_sink *out)
 {
     if (h->cfg.show_reports == 0) return; /* shown for no time: not posted (MOOS-IvP: unlimited or > 0 only) */
     const char *c = said_hazard ? "yellow" : "white";
@@ -502,7 +502,7 @@ static void put_xy_label(char *b, size_t cap, size_t *k, const kelp_uhz_object *
     put_num(b, cap, k, o->y, 2, true);
 }
 
-KELP_NOINLINE static void detect(kelp_field_uhz *h, kelp_uhz_node *n, unsigned oi, double now, const kelp_field_sink *out)
+KELP_NOINLINE static void detect(kelp_field_uhz *h, kelp_uhz_node *n, unsigned oi, kelp_time now, const kelp_field_sink *out)
 {
     const kelp_uhz_object *o = &h->cfg.object[oi];
     const kelp_uhz_setting *st = &h->cfg.setting[n->setting];
@@ -553,7 +553,7 @@ KELP_NOINLINE static void post_swath(kelp_field_uhz *h, const kelp_uhz_node *n, 
     post(out, "VIEW_POLYGON", b);
 }
 
-KELP_NOINLINE static int sensor_request(kelp_field_uhz *h, const char *s, double now, const kelp_field_sink *out)
+KELP_NOINLINE static int sensor_request(kelp_field_uhz *h, const char *s, kelp_time now, const kelp_field_sink *out)
 {
     char vname[KELP_NODEREPORT_MAX_FIELD] = "";
     trace(h, '$');
@@ -587,7 +587,7 @@ KELP_NOINLINE static int sensor_request(kelp_field_uhz *h, const char *s, double
     return 1;
 }
 
-KELP_NOINLINE static int classify_request(kelp_field_uhz *h, const char *s, double now, const kelp_field_sink *out)
+KELP_NOINLINE static int classify_request(kelp_field_uhz *h, const char *s, kelp_time now, const kelp_field_sink *out)
 {
     char vname[KELP_NODEREPORT_MAX_FIELD] = "", label[KELP_UHZ_LABEL_LEN] = "", pr[32] = "", act[16] = "";
     if (kelp_kv_get(s, ',', "vname", vname, sizeof vname) < 0 || kelp_kv_get(s, ',', "label", label, sizeof label) < 0 ||
@@ -657,7 +657,7 @@ KELP_NOINLINE static int node_report(kelp_field_uhz *h, const char *s, const kel
     return 1;
 }
 
-int kelp_field_uhz_mail(kelp_field_uhz *h, const char *var, const char *sval, double now, const kelp_field_sink *out)
+int kelp_field_uhz_mail(kelp_field_uhz *h, const char *var, const char *sval, kelp_time now, const kelp_field_sink *out)
 {
     int rc = 0;
     if (kelp_strieq(var, "PMV_CONNECT")) {
@@ -709,7 +709,7 @@ static void post_summary(kelp_field_uhz *h, const kelp_field_sink *out)
     post(out, "UHZ_OPTIONS_SUMMARY", b);
 }
 
-void kelp_field_uhz_iterate(kelp_field_uhz *h, double now, const kelp_field_sink *out)
+void kelp_field_uhz_iterate(kelp_field_uhz *h, kelp_time now, const kelp_field_sink *out)
 {
     h->iterations++;
     trace(h, '*');
@@ -747,7 +747,7 @@ void kelp_field_uhz_iterate(kelp_field_uhz *h, double now, const kelp_field_sink
     }
 }
 
-int kelp_field_uhz_report(kelp_field_uhz *h, double now, char *buf, size_t cap)
+int kelp_field_uhz_report(kelp_field_uhz *h, kelp_time now, char *buf, size_t cap)
 {
     size_t k = 0;
     if (cap) buf[0] = 0;

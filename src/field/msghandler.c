@@ -291,7 +291,7 @@ static int bad(kelp_field_umh *h, kelp_umh_list *l, unsigned long *ctr, const ch
     return KELP_ERR_ARG;
 }
 
-int kelp_field_umh_mail(kelp_field_umh *h, const char *var, bool is_string, const char *sval, double now,
+int kelp_field_umh_mail(kelp_field_umh *h, const char *var, bool is_string, const char *sval, kelp_time now,
                         const kelp_field_sink *out)
 {
     if (strcmp(var, "NODE_MESSAGE") != 0) return 0;
@@ -340,7 +340,7 @@ int kelp_field_umh_mail(kelp_field_umh *h, const char *var, bool is_string, cons
     return 1;
 }
 
-int kelp_field_umh_iterate(kelp_field_umh *h, double now, const kelp_field_sink *out)
+int kelp_field_umh_iterate(kelp_field_umh *h, kelp_time now, const kelp_field_sink *out)
 {
     if (!h->summary_due || (h->summaries && now - h->last_summary < h->cfg.summary_gap)) return 0;
     char buf[128];
@@ -375,7 +375,7 @@ static void put_list(outbuf *o, const char *title, const kelp_umh_list *l, unsig
     }
 }
 
-size_t kelp_field_umh_report(kelp_field_umh *h, double now, char *buf, size_t cap)
+size_t kelp_field_umh_report(kelp_field_umh *h, kelp_time now, char *buf, size_t cap)
 {
     if (!buf || !cap) return 0;
     outbuf o = { buf, cap, 0 };

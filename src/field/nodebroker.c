@@ -141,7 +141,7 @@ static void warn(const kelp_field_sink *out, const char *msg)
     if (out->warn) out->warn(out->ctx, msg);
 }
 
-static int ack_mail(kelp_field_nbroker *b, const char *sval, double now, const kelp_field_sink *out)
+static int ack_mail(kelp_field_nbroker *b, const char *sval, kelp_time now, const kelp_field_sink *out)
 {
     kelp_broker_host h;
     kelp_diag *d = &b->cfg.ws_diag;
@@ -179,7 +179,7 @@ static int ack_mail(kelp_field_nbroker *b, const char *sval, double now, const k
     return 1;
 }
 
-int kelp_field_nbroker_mail(kelp_field_nbroker *b, const char *var, bool is_string, const char *sval, double now,
+int kelp_field_nbroker_mail(kelp_field_nbroker *b, const char *var, bool is_string, const char *sval, kelp_time now,
                             const kelp_field_sink *out)
 {
     if (strcmp(var, "PHI_HOST_INFO") == 0) {
@@ -213,7 +213,7 @@ int kelp_field_nbroker_mail(kelp_field_nbroker *b, const char *var, bool is_stri
     return 0;
 }
 
-int kelp_field_nbroker_iterate(kelp_field_nbroker *b, double now, const kelp_field_sink *out)
+int kelp_field_nbroker_iterate(kelp_field_nbroker *b, kelp_time now, const kelp_field_sink *out)
 {
     b->iterations++;
     if (!b->have_node) { /* nothing to say about ourselves yet: ask pHostInfo */

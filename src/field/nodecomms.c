@@ -273,7 +273,7 @@ static int node_get(kelp_field_ncomms *c, const char *s, size_t n)
 
 static bool has_report(const kelp_field_ncomms *c, int i) { return c->hot[i].bucket >= 0; }
 
-static bool stale(const kelp_field_ncomms *c, int i, double now)
+static bool stale(const kelp_field_ncomms *c, int i, kelp_time now)
 {
     return c->cfg.stale_time >= 0 && now - c->hot[i].t_recv > c->cfg.stale_time;
 }
@@ -459,7 +459,7 @@ static void remember_last(kelp_field_ncomms *c, const char *s)
     if (c->nlast < KELP_NCOMMS_LAST_MSGS) c->nlast++;
 }
 
-static int queue_msg(kelp_field_ncomms *c, const char *s, bool is_ack, double now, const kelp_field_sink *out)
+static int queue_msg(kelp_field_ncomms *c, const char *s, bool is_ack, kelp_time now, const kelp_field_sink *out)
 {
     size_t len = strlen(s);
     remember_last(c, s);
@@ -519,7 +519,7 @@ static void publish_to(const kelp_field_sink *out, const char *prefix, const cha
 
 /* VIEW_COMMS_PULSE (seed 1.5): sx,sy,tx,ty,beam_width,duration,fill,label,edge_color,
  * fill_color,time,edge_size; label <SRC>2<DST> (reports) or <SRC>2<DST>_MSG (messages) */
-static void pulse(kelp_field_ncomms *c, int s, int d, const char *color, double fill, bool msg, double now,
+static void pulse(kelp_field_ncomms *c, int s, int d, const char *color, double fill, bool msg, kelp_time now,
                   const kelp_field_sink *out)
 {
     if (!(c->cfg.pulse_duration > 0) || kelp_strieq(color, "off") || kelp_strieq(color, "invisible")) return;
@@ -564,7 +564,7 @@ static bool drop(kelp_field_ncomms *c)
 static uint32_t pair_key(int s, int d) { return ((uint32_t)(s + 1) << 16) | (uint32_t)(d + 1); }
 
 /* min_rpt_interval: true when S -> D may be sent now (and stamps it) */
-static bool pair_ok(kelp_field_ncomms *c, int s, int d, double now, bool stamp_only)
+static bool pair_ok(kelp_field_ncomms *c, int s, int d, kelp_time now, bool stamp_only)
 {
     double iv = c->cfg.min_rpt_interval;
     uint32_t key = pair_key(s, d);
@@ -591,7 +591,7 @@ static bool pair_ok(kelp_field_ncomms *c, int s, int d, double now, bool stamp_o
     return true;
 }
 
-static unsigned long send_report(kelp_field_ncomms *c, int s, int d, double now, const kelp_field_sink *out)
+static unsigned long send_report(kelp_field_ncomms *c, int s, int d, kelp_time now, const kelp_field_sink *out)
 {
     publish_to(out, "NODE_REPORT_", c->node[d].name, c->node[s].report);
     if (c->view_rpt_pulses) pulse(c, s, d, palette[c->node[s].color], NC_RPT_FILL, false, now, out);
@@ -610,7 +610,7 @@ static bool in_comms_range(const kelp_field_ncomms *c, int s, int d, double r2)
 
 /* seed 5.4: stale receiver -> skip; r < CRITICAL -> send; groups -> skip; r < COMMS*stealth*
  * earange -> send (24.8: unless dropped or within MIN_RPT_INTERVAL of the last S -> D) */
-static unsigned long relay_pair(kelp_field_ncomms *c, int s, int d, double now, bool full, const kelp_field_sink *out)
+static unsigned long relay_pair(kelp_field_ncomms *c, int s, int d, kelp_time now, bool full, const kelp_field_sink *out)
 {
     c->scanned++;
     if (stale(c, d, now)) return 0;
@@ -632,7 +632,7 @@ static unsigned long relay_pair(kelp_field_ncomms *c, int s, int d, double now, 
 }
 
 /* every receiver of S's report: the grid cells within S's largest effective range */
-static unsigned long relay_from(kelp_field_ncomms *c, int s, double now, const kelp_field_sink *out)
+static unsigned long relay_from(kelp_field_ncomms *c, int s, kelp_time now, const kelp_field_sink *out)
 {
     unsigned long sent = 0;
     double reach = c->comms_range * c->node[s].stealth * c->max_earange;
@@ -670,7 +670,7 @@ typedef struct route {
     unsigned long sent;
 } route;
 
-static void deliver(kelp_field_ncomms *c, route *r, int d, double now, const kelp_field_sink *out)
+static void deliver(kelp_field_ncomms *c, route *r, int d, kelp_time now, const kelp_field_sink *out)
 {
     if (c->cfg.msg_groups && strcmp(c->node[r->src].group, c->node[d].group) != 0) {
         c->blocked[KELP_NCOMMS_BLK_GROUP]++;
@@ -703,7 +703,7 @@ static bool recent_id(const kelp_field_ncomms *c, const char *id, size_t n)
 }
 
 /* the destinations of a message, each once, never its source */
-static void route_msg(kelp_field_ncomms *c, const kelp_ncomms_msg *m, double now, const kelp_field_sink *out)
+static void route_msg(kelp_field_ncomms *c, const kelp_ncomms_msg *m, kelp_time now, const kelp_field_sink *out)
 {
     int src = m->valid ? find_n(c, m->src, strlen(m->src)) : -1;
     if (src < 0 || !has_report(c, src)) {
@@ -771,7 +771,7 @@ static void route_msg(kelp_field_ncomms *c, const kelp_ncomms_msg *m, double now
 }
 
 /* ACK_MESSAGE "src=henry, dest=ike, id=ike_21" -> ACK_MESSAGE_<DEST> (24.8) */
-static void route_ack(kelp_field_ncomms *c, const kelp_ncomms_msg *m, double now, const kelp_field_sink *out)
+static void route_ack(kelp_field_ncomms *c, const kelp_ncomms_msg *m, kelp_time now, const kelp_field_sink *out)
 {
     char dest[KELP_NODEREPORT_MAX_FIELD];
     int s = m->valid ? find_n(c, m->src, strlen(m->src)) : -1;
@@ -799,7 +799,7 @@ static void route_ack(kelp_field_ncomms *c, const kelp_ncomms_msg *m, double now
 
 /* ------------------------------------------------------------------ mail */
 
-static int mail_report(kelp_field_ncomms *c, const char *s, double now, const kelp_field_sink *out)
+static int mail_report(kelp_field_ncomms *c, const char *s, kelp_time now, const kelp_field_sink *out)
 {
     kelp_nodereport r;
     kelp_diag *d = &c->diag;
@@ -878,7 +878,7 @@ static int mail_number(const char *var, bool is_string, const char *sval, double
 }
 
 int kelp_field_ncomms_mail(kelp_field_ncomms *c, const char *var, bool is_string, const char *sval, double dval,
-                           double now, const kelp_field_sink *out)
+                           kelp_time now, const kelp_field_sink *out)
 {
     static const char *const strvars[] = { "NODE_REPORT", "NODE_REPORT_LOCAL", "NODE_MESSAGE", "MEDIATED_MESSAGE",
                                            "ACK_MESSAGE", "UNC_STEALTH", "UNC_EARANGE", "UNC_VIEW_NODE_RPT_PULSES",
@@ -943,7 +943,7 @@ int kelp_field_ncomms_mail(kelp_field_ncomms *c, const char *var, bool is_string
 
 /* ------------------------------------------------------------------ iterate */
 
-unsigned long kelp_field_ncomms_iterate(kelp_field_ncomms *c, double now, const kelp_field_sink *out)
+unsigned long kelp_field_ncomms_iterate(kelp_field_ncomms *c, kelp_time now, const kelp_field_sink *out)
 {
     unsigned long posts = 0;
     c->now = now;
@@ -1007,7 +1007,7 @@ static void sort_names(const kelp_field_ncomms *c, uint16_t *idx, unsigned n)
         }
 }
 
-static void per_vehicle(rbuf *r, const kelp_field_ncomms *c, const uint16_t *idx, unsigned n, int what, double now)
+static void per_vehicle(rbuf *r, const kelp_field_ncomms *c, const uint16_t *idx, unsigned n, int what, kelp_time now)
 {
     for (unsigned k = 0; k < n; k++) {
         const kelp_ncomms_node *nd = &c->node[idx[k]];
@@ -1028,7 +1028,7 @@ static void per_vehicle(rbuf *r, const kelp_field_ncomms *c, const uint16_t *idx
     }
 }
 
-int kelp_field_ncomms_report(kelp_field_ncomms *c, double now, char *buf, size_t cap)
+int kelp_field_ncomms_report(kelp_field_ncomms *c, kelp_time now, char *buf, size_t cap)
 {
     rbuf r = { buf, cap, 0, false };
     if (cap == 0) return KELP_ERR_NOSPACE;

@@ -171,7 +171,7 @@ int kelp_field_nrep_parse_fill(const char *s, kelp_nrep_fill *out)
     return KELP_ERR_PARSE;
 }
 
-int kelp_field_nrep_init(kelp_field_nrep *r, const kelp_field_nrep_cfg *cfg, double now)
+int kelp_field_nrep_init(kelp_field_nrep *r, const kelp_field_nrep_cfg *cfg, kelp_time now)
 {
     memset(r, 0, sizeof *r);
     if (!cfg->name[0] || !usable(cfg->name) || !usable(cfg->type) || !usable(cfg->group) || !usable(cfg->color) ||
@@ -312,7 +312,7 @@ static double wrap180(double a)
 }
 
 /* Could a receiver have extrapolated this report from the last one? */
-static bool extrapolable(const kelp_field_nrep *r, const kelp_nodereport *n, double now)
+static bool extrapolable(const kelp_field_nrep *r, const kelp_nodereport *n, kelp_time now)
 {
     double dt = now - r->posted_at.time;
     if (!r->cfg.extrap || r->posted == 0 || !(dt > 0) || dt >= r->cfg.extrap_gap) return false;
@@ -321,7 +321,7 @@ static bool extrapolable(const kelp_field_nrep *r, const kelp_nodereport *n, dou
     return hypot(n->x - ex, n->y - ey) < r->cfg.extrap_pos && fabs(wrap180(n->hdg - r->posted_at.hdg)) < r->cfg.extrap_hdg;
 }
 
-static void mode_of(const kelp_field_nrep *r, double now, char *mode, size_t cap)
+static void mode_of(const kelp_field_nrep *r, kelp_time now, char *mode, size_t cap)
 {
     if (r->mode[0]) {
         set_text(mode, cap, r->mode);
@@ -373,7 +373,7 @@ static int to_json(const char *csp, char *buf, size_t cap)
     return KELP_OK;
 }
 
-static void platform_report(kelp_field_nrep *r, double now, const kelp_field_sink *out)
+static void platform_report(kelp_field_nrep *r, kelp_time now, const kelp_field_sink *out)
 {
     char *buf = r->ws.text;
     const size_t cap = sizeof r->ws.text;
@@ -393,7 +393,7 @@ static void platform_report(kelp_field_nrep *r, double now, const kelp_field_sin
 }
 
 /* The report of one navigation solution; false when it is not valid (and no grace). */
-static bool build(kelp_field_nrep *r, const kelp_nrep_nav *nv, const char *name, const char *group, double now,
+static bool build(kelp_field_nrep *r, const kelp_nrep_nav *nv, const char *name, const char *group, kelp_time now,
                   const kelp_field_sink *out, kelp_nodereport *n)
 {
     kelp_nodereport_init(n);
@@ -475,7 +475,7 @@ static int post(kelp_field_nrep *r, kelp_nodereport *n, const char *extra, bool 
     return KELP_OK;
 }
 
-int kelp_field_nrep_iterate(kelp_field_nrep *r, double now, const kelp_field_sink *out)
+int kelp_field_nrep_iterate(kelp_field_nrep *r, kelp_time now, const kelp_field_sink *out)
 {
     if (r->helm_mail) r->helm_last = now, r->helm_mail = false;
     for (int k = 0; k < 2; k++)

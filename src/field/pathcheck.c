@@ -67,7 +67,7 @@ double kelp_field_upc_speed(const kelp_upc_node *n)
     return dt > 0 ? dist / dt : 0;
 }
 
-static int node_report(kelp_field_upc *p, const char *s, double now, const kelp_field_sink *out)
+static int node_report(kelp_field_upc *p, const char *s, kelp_time now, const kelp_field_sink *out)
 {
     kelp_nodereport r;
     if (kelp_nodereport_parse(s, strlen(s), &r, NULL) < 0 || !(r.fields & KELP_NR_X) || !(r.fields & KELP_NR_Y)) {
@@ -112,7 +112,7 @@ static int node_report(kelp_field_upc *p, const char *s, double now, const kelp_
     return 1;
 }
 
-int kelp_field_upc_mail(kelp_field_upc *p, const char *var, bool is_string, const char *sval, double now,
+int kelp_field_upc_mail(kelp_field_upc *p, const char *var, bool is_string, const char *sval, kelp_time now,
                         const kelp_field_sink *out)
 {
     if (kelp_strieq(var, "NODE_REPORT") || kelp_strieq(var, "NODE_REPORT_LOCAL")) {
@@ -146,7 +146,7 @@ int kelp_field_upc_mail(kelp_field_upc *p, const char *var, bool is_string, cons
     return 0;
 }
 
-unsigned kelp_field_upc_iterate(kelp_field_upc *p, double now, const kelp_field_sink *out)
+unsigned kelp_field_upc_iterate(kelp_field_upc *p, kelp_time now, const kelp_field_sink *out)
 {
     (void)now;
     unsigned posts = 0;
@@ -175,7 +175,7 @@ unsigned kelp_field_upc_iterate(kelp_field_upc *p, double now, const kelp_field_
     return posts;
 }
 
-int kelp_field_upc_report(const kelp_field_upc *p, double now, char *buf, size_t cap)
+int kelp_field_upc_report(const kelp_field_upc *p, kelp_time now, char *buf, size_t cap)
 {
     size_t k = 0;
     if (cap) buf[0] = 0;

@@ -350,7 +350,7 @@ static void upper(char *s)
  * its message buffer is not stacked on this one) */
 KELP_NOINLINE static int post_report(const kelp_field_sink *out, const char *pfx, bool gt, kelp_rsense_vars vars,
                                      const char *vname, double range, const char *key, const char *id,
-                                     const double *xy, double now)
+                                     const double *xy, kelp_time now)
 {
     /* one buffer, "vname=<vname>," then the body: the short form posts it all, the long form
      * the body alone (no second buffer, no printf on this path: it runs under every mail) */
@@ -391,14 +391,14 @@ KELP_NOINLINE static int post_report(const kelp_field_sink *out, const char *pfx
 }
 
 void rs_post_report(const kelp_field_sink *out, const char *pfx, bool gt, kelp_rsense_vars vars, const char *vname,
-                    double range, const char *key, const char *id, const double *xy, double now)
+                    double range, const char *key, const char *id, const double *xy, kelp_time now)
 {
     if (post_report(out, pfx, gt, vars, vname, range, key, id, xy, now) < 0)
         rs_warn(out, "cannot format a range report for ", vname, RS_END);
 }
 
 void rs_pulse(const kelp_field_sink *out, double x, double y, double radius, double duration, const char *label,
-              const char *color, double now, bool edge_size)
+              const char *color, kelp_time now, bool edge_size)
 {
     char buf[320];
     size_t n = 0;

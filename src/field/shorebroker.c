@@ -266,7 +266,7 @@ static kelp_broker_node *find(kelp_field_sbroker *s, const char *community, cons
     return nd;
 }
 
-static int ping_mail(kelp_field_sbroker *s, const char *sval, double now, const kelp_field_sink *out)
+static int ping_mail(kelp_field_sbroker *s, const char *sval, kelp_time now, const kelp_field_sink *out)
 {
     kelp_broker_host *h = &s->ws_host; /* (a workspace) */
     s->pings++;
@@ -339,7 +339,7 @@ KELP_NOINLINE static int host_info(kelp_field_sbroker *s, bool is_string, const 
     return 1;
 }
 
-int kelp_field_sbroker_mail(kelp_field_sbroker *s, const char *var, bool is_string, const char *sval, double now,
+int kelp_field_sbroker_mail(kelp_field_sbroker *s, const char *var, bool is_string, const char *sval, kelp_time now,
                             const kelp_field_sink *out)
 {
     if (strcmp(var, "PHI_HOST_INFO") == 0) return host_info(s, is_string, sval);
@@ -353,7 +353,7 @@ int kelp_field_sbroker_mail(kelp_field_sbroker *s, const char *var, bool is_stri
     return 0;
 }
 
-int kelp_field_sbroker_iterate(kelp_field_sbroker *s, double now, const kelp_field_sink *out)
+int kelp_field_sbroker_iterate(kelp_field_sbroker *s, kelp_time now, const kelp_field_sink *out)
 {
     int posts = 0;
     s->iterations++;
@@ -409,7 +409,7 @@ int kelp_field_sbroker_iterate(kelp_field_sbroker *s, double now, const kelp_fie
     return posts;
 }
 
-int kelp_field_sbroker_report(const kelp_field_sbroker *s, double now, char *buf, size_t cap)
+int kelp_field_sbroker_report(const kelp_field_sbroker *s, kelp_time now, char *buf, size_t cap)
 {
     size_t n = 0, wn = 0;
     bool full = false;

@@ -462,7 +462,7 @@ static void block_clear(kelp_ts *r, const char *app, size_t len)
     r->blocked_any = any;
 }
 
-int kelp_ts_mail(kelp_ts *r, const char *var, bool is_string, const char *sval, double dval, double now,
+int kelp_ts_mail(kelp_ts *r, const char *var, bool is_string, const char *sval, double dval, kelp_time now,
                  const kelp_field_sink *out)
 {
     const kelp_ts_cfg *c = &r->cfg;
@@ -556,7 +556,7 @@ static void put_num(obuf *o, double v, unsigned dec)
 }
 
 /* the value of macro name[0..nl), written to o; false when it is no macro */
-static bool macro(kelp_ts *r, const char *name, size_t nl, double now, obuf *o)
+static bool macro(kelp_ts *r, const char *name, size_t nl, kelp_time now, obuf *o)
 {
     if (kelp_strieq_n(name, nl, "DBTIME")) put_num(o, now - r->db_start, 2);
     else if (kelp_strieq_n(name, nl, "UTCTIME") || kelp_strieq_n(name, nl, "UTC")) put_num(o, now, 2);
@@ -628,7 +628,7 @@ static bool math_pass(char *s, size_t cap)
     return true;
 }
 
-int kelp_ts_expand(kelp_ts *r, const char *val, double now, char *out, size_t cap, double *dval)
+int kelp_ts_expand(kelp_ts *r, const char *val, kelp_time now, char *out, size_t cap, double *dval)
 {
     if (!cap) return KELP_ERR_NOSPACE;
     obuf o = { out, cap, 0, false };
@@ -670,7 +670,7 @@ int kelp_ts_expand(kelp_ts *r, const char *val, double now, char *out, size_t ca
 
 /* ---- iteration ---- */
 
-static void schedule(kelp_ts *r, double now)
+static void schedule(kelp_ts *r, kelp_time now)
 {
     const kelp_ts_cfg *c = &r->cfg;
     bool first = !r->drawn;
@@ -699,7 +699,7 @@ static bool conditions(kelp_ts *r)
     return true;
 }
 
-static void post_event(kelp_ts *r, unsigned i, double now, const kelp_field_sink *out)
+static void post_event(kelp_ts *r, unsigned i, kelp_time now, const kelp_field_sink *out)
 {
     const kelp_ts_event *e = &r->cfg.ev[i];
     char text[KELP_TS_MAX_VAL];
@@ -725,7 +725,7 @@ static void post_event(kelp_ts *r, unsigned i, double now, const kelp_field_sink
 
 #define TS_STATUS_MAX 400 /* the fixed text, a script name and four numbers */
 
-static void post_status(kelp_ts *r, double now, const kelp_field_sink *out)
+static void post_status(kelp_ts *r, kelp_time now, const kelp_field_sink *out)
 {
     char st[TS_STATUS_MAX];
     if (kelp_ts_status(r, st, sizeof st) > 0) out->publish(out->ctx, r->cfg.var_status, true, st, 0);
@@ -733,7 +733,7 @@ static void post_status(kelp_ts *r, double now, const kelp_field_sink *out)
     r->status_time = now;
 }
 
-int kelp_ts_iterate(kelp_ts *r, double now, const kelp_field_sink *out)
+int kelp_ts_iterate(kelp_ts *r, kelp_time now, const kelp_field_sink *out)
 {
     const kelp_ts_cfg *c = &r->cfg;
     if (!r->db_set) kelp_ts_set_db_start(r, now);

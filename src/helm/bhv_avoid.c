@@ -360,7 +360,7 @@ static bool update_info(kelp_bhv *b)
     }
     a->cn = *c;
     if (a->extrapolate && c->utc >= 0) {
-        double now = b->helm->t0 + kelp_bhv_buf_now(b);
+        kelp_time now = b->helm->t0 + kelp_bhv_buf_now(b);
         double d = extrap_dist(c->spd > 0 ? c->spd : 0, now - c->utc, a->decay_start, a->decay_end);
         double h = c->hdg * 0.017453292519943295;
         a->cn.x += d * sin(h);

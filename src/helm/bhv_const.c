@@ -93,7 +93,7 @@ static int c1_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
         while (v >= 360)
             v -= 360;
     }
-    double now;
+    kelp_time now;
     if ((s->mismatch_var[0] || s->complete_thresh > 0) && kelp_bhv_buf_double(b, k->nav, &now)) {
         double diff = fabs(v - now);
         if (k->wrap) {

@@ -327,7 +327,7 @@ static void post_mode(kelp_helm *h, const char *var, const char *val)
     sink(h, var, true, val, 0, NULL);
 }
 
-void kelp_helm_start(kelp_helm *h, double now)
+void kelp_helm_start(kelp_helm *h, kelp_time now)
 {
     h->t0 = now;
     h->started = true;
@@ -573,7 +573,7 @@ static void flush_posts(kelp_helm *h)
 
 /* ---------------------------------------------------------------- duration */
 
-static bool duration_exceeded(kelp_bhv *b, double now)
+static bool duration_exceeded(kelp_bhv *b, kelp_time now)
 {
     if (b->duration < 0)
         return false;
@@ -597,7 +597,7 @@ static void duration_reset(kelp_bhv *b)
         kelp_bhv_post_double(b, b->duration_status, b->duration, NULL);
 }
 
-KELP_NOINLINE static void post_duration_status(kelp_bhv *b, double now)
+KELP_NOINLINE static void post_duration_status(kelp_bhv *b, kelp_time now)
 {
     if (b->duration < 0 || !b->duration_status[0])
         return;
@@ -613,7 +613,7 @@ KELP_NOINLINE static void post_duration_status(kelp_bhv *b, double now)
         kelp_bhv_post_int(b, b->duration_status, rem, NULL);
 }
 
-static void update_state_durations(kelp_bhv *b, bool idle, double now)
+static void update_state_durations(kelp_bhv *b, bool idle, kelp_time now)
 {
     if (b->dur_have_prev && idle && b->dur_started)
         b->dur_idle_time += now - b->dur_prev_time;
@@ -796,7 +796,7 @@ KELP_NOINLINE static void post_starved(kelp_bhv *b, const char *var)
 
 KELP_NOINLINE static kelp_bhv_state runnable(kelp_helm *h, kelp_bhv *b)
 {
-    double now = h->ib.curr_time;
+    kelp_time now = h->ib.curr_time;
     for (unsigned i = 0; i < b->ncond; i++)
         if (kelp_helm_cond_eval(b->cond[i], &h->ib) != 1)
             return KELP_BHV_IDLE;
@@ -848,7 +848,7 @@ KELP_NOINLINE static void post_status(kelp_bhv *b, kelp_bhv_state ns)
 KELP_NOINLINE static kelp_bhv_state run_state(kelp_helm *h, unsigned i, kelp_bhv_state old, size_t *pool_used, bool *made)
 {
     kelp_bhv *b = &h->bhv[i];
-    double now = h->ib.curr_time;
+    kelp_time now = h->ib.curr_time;
     kelp_bhv_state ns = KELP_BHV_RUNNING;
     if (old == KELP_BHV_IDLE || old == KELP_BHV_NONE)
         helm_post_flags(b, KELP_FLAG_RUN);
@@ -881,7 +881,7 @@ KELP_NOINLINE static kelp_bhv_state run_state(kelp_helm *h, unsigned i, kelp_bhv
 KELP_NOINLINE static bool produce(kelp_helm *h, unsigned i, size_t *pool_used, bool *halted)
 {
     kelp_bhv *b = &h->bhv[i];
-    double now = h->ib.curr_time;
+    kelp_time now = h->ib.curr_time;
     kelp_bhv_state old = b->state;
     bool made = false;
     if (b->completed) { /* isComplete(): completed in a prior iteration */
@@ -1144,7 +1144,7 @@ KELP_NOINLINE static void report_reset(kelp_helm_report *r)
     r->total_pcs_formed = total_pcs;
 }
 
-int kelp_helm_iterate(kelp_helm *h, double now)
+int kelp_helm_iterate(kelp_helm *h, kelp_time now)
 {
     if (!h)
         return KELP_ERR_ARG;

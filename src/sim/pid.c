@@ -72,7 +72,7 @@ static bool lim_ok(double v)
     return isfinite(v) && v >= 0;
 }
 
-int kelp_marine_pid_init(kelp_marine_pid *m, const kelp_marine_pid_cfg *cfg, double now)
+int kelp_marine_pid_init(kelp_marine_pid *m, const kelp_marine_pid_cfg *cfg, kelp_time now)
 {
     if (!lim_ok(cfg->max_rudder) || !lim_ok(cfg->max_thrust) || !lim_ok(cfg->max_pitch_deg) ||
         !lim_ok(cfg->max_elevator) || !lim_ok(cfg->speed_factor) || !lim_ok(cfg->tardy_helm) ||
@@ -104,7 +104,7 @@ static bool num_of(bool is_string, const char *sval, double dval, double *out)
 }
 
 int kelp_marine_pid_mail(kelp_marine_pid *m, const char *var, bool is_string, const char *sval, double dval,
-                         double now)
+                         kelp_time now)
 {
     if (!strcmp(var, "MOOS_MANUAL_OVERRIDE") || !strcmp(var, "MOOS_MANUAL_OVERIDE")) {
         if (!is_string || !sval) return KELP_ERR_PARSE;
@@ -157,7 +157,7 @@ static void post_sat(kelp_marine_pid *m, kelp_marine_pid_sink sink, void *ctx, i
     sink(ctx, v[i], true, sat ? "true" : "false", 0);
 }
 
-void kelp_marine_pid_iterate(kelp_marine_pid *m, double now, kelp_marine_pid_sink sink, void *ctx)
+void kelp_marine_pid_iterate(kelp_marine_pid *m, kelp_time now, kelp_marine_pid_sink sink, void *ctx)
 {
     m->iterations++;
     if (!m->has_control) {

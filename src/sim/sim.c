@@ -51,7 +51,7 @@ void kelp_sim_params_default(kelp_sim_params *p)
 
 static bool nonneg(double v) { return isfinite(v) && v >= 0.0; }
 
-int kelp_sim_init(kelp_sim *sim, const kelp_sim_params *p, const kelp_sim_state *start, double now)
+int kelp_sim_init(kelp_sim *sim, const kelp_sim_params *p, const kelp_sim_state *start, kelp_time now)
 {
     if (!sim || !p || !start || !isfinite(now)) return KELP_ERR_ARG;
     if (!nonneg(p->turn_rate) || !nonneg(p->turn_speed) || !nonneg(p->max_accel) || !nonneg(p->max_decel) || !nonneg(p->max_depth_rate) ||
@@ -231,7 +231,7 @@ static void substep(kelp_sim *sim, double h)
     sim->odometer += vmid * h;
 }
 
-int kelp_sim_step(kelp_sim *sim, double now)
+int kelp_sim_step(kelp_sim *sim, kelp_time now)
 {
     if (!sim || !isfinite(now)) return KELP_ERR_ARG;
     double dt = now - sim->time;

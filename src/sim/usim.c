@@ -59,7 +59,7 @@ int kelp_usim_config(kelp_usim *u, const char *key, const char *val, kelp_diag *
     return 0;
 }
 
-int kelp_usim_start(kelp_usim *u, const kelp_geo *geo, double now)
+int kelp_usim_start(kelp_usim *u, const kelp_geo *geo, kelp_time now)
 {
     if (u->embedded_pid) u->p.control = KELP_SIM_ACTUATED;
     if (kelp_sim_init(&u->sim, &u->p, &u->start, now) < 0) return KELP_ERR_ARG;
@@ -78,7 +78,7 @@ const char *kelp_usim_subscription(unsigned i)
     return i < sizeof subs / sizeof subs[0] ? subs[i] : NULL;
 }
 
-int kelp_usim_mail(kelp_usim *u, const char *var, bool is_string, const char *sval, double dval, double now)
+int kelp_usim_mail(kelp_usim *u, const char *var, bool is_string, const char *sval, double dval, kelp_time now)
 {
     int k = -1;
     for (int i = 0; i < (int)(sizeof subs / sizeof subs[0]); i++)
@@ -142,7 +142,7 @@ static void pid_out(void *ctx, const char *var, bool is_string, const char *sval
     if (rc == 0 && post && post[0]) c->sink(c->ctx, post, false, NULL, dval);
 }
 
-int kelp_usim_iterate(kelp_usim *u, double now, kelp_usim_sink sink, void *ctx)
+int kelp_usim_iterate(kelp_usim *u, kelp_time now, kelp_usim_sink sink, void *ctx)
 {
     const kelp_sim_state *s = &u->sim.s;
     if (u->embedded_pid) {

@@ -395,7 +395,7 @@ static kelp_viewer_vehicle *vehicle_slot(kelp_viewer *v, const char *name)
     return freeslot;
 }
 
-static int mail_report(kelp_viewer *v, const char *s, size_t len, double now)
+static int mail_report(kelp_viewer *v, const char *s, size_t len, kelp_time now)
 {
     kelp_nodereport *r = &v->ws_report;
     if (kelp_nodereport_parse(s, len, r, NULL) < 0) {
@@ -478,7 +478,7 @@ static kelp_viewer_artifact *artifact_room(kelp_viewer *v)
     return a;
 }
 
-static int mail_view(kelp_viewer *v, kelp_view_kind kind, const char *s, size_t len, double now)
+static int mail_view(kelp_viewer *v, kelp_view_kind kind, const char *s, size_t len, kelp_time now)
 {
     kelp_view *pv = &v->ws_view;
     memset(pv, 0, sizeof *pv);
@@ -503,7 +503,7 @@ static int mail_view(kelp_viewer *v, kelp_view_kind kind, const char *s, size_t 
     return 1;
 }
 
-static int mail_cast(kelp_viewer *v, const char *s, size_t len, double now)
+static int mail_cast(kelp_viewer *v, const char *s, size_t len, kelp_time now)
 {
     char node[KELP_NODEREPORT_MAX_FIELD] = "", proc[KELP_NODEREPORT_MAX_FIELD];
     if (len >= KELP_MAX_SVAL || memchr(s, '\0', len) || !kelp_appcast_field(s, len, "proc", proc, sizeof proc) || !proc[0]) {
@@ -537,7 +537,7 @@ static int mail_cast(kelp_viewer *v, const char *s, size_t len, double now)
     return 1;
 }
 
-int kelp_viewer_mail(kelp_viewer *v, const char *var, const char *sval, size_t len, double now)
+int kelp_viewer_mail(kelp_viewer *v, const char *var, const char *sval, size_t len, kelp_time now)
 {
     if (!v || !var || !sval) return 0;
     /* (not NODE_REPORT_<VEHICLE>: uFldNodeComms's relayed copies, older than the originals) */
@@ -548,7 +548,7 @@ int kelp_viewer_mail(kelp_viewer *v, const char *var, const char *sval, size_t l
     return 0;
 }
 
-int kelp_viewer_tick(kelp_viewer *v, double now)
+int kelp_viewer_tick(kelp_viewer *v, kelp_time now)
 {
     int changed = 0;
     for (unsigned i = 0; i < v->nveh; i++) {
@@ -731,7 +731,7 @@ static void json_artifact(const kelp_viewer_artifact *a, jw *w)
     jw_lit(w, "}");
 }
 
-static int json_out(const kelp_viewer *v, uint32_t since, bool full, double now, double rate, char *buf, size_t cap,
+static int json_out(const kelp_viewer *v, uint32_t since, bool full, kelp_time now, double rate, char *buf, size_t cap,
                     size_t *len)
 {
     jw w = {buf, cap, 0, false};
@@ -785,12 +785,12 @@ static int json_out(const kelp_viewer *v, uint32_t since, bool full, double now,
     return w.full ? KELP_ERR_NOSPACE : KELP_OK;
 }
 
-int kelp_viewer_json_snapshot(const kelp_viewer *v, double now, double rate, char *buf, size_t cap, size_t *len)
+int kelp_viewer_json_snapshot(const kelp_viewer *v, kelp_time now, double rate, char *buf, size_t cap, size_t *len)
 {
     return json_out(v, 0, true, now, rate, buf, cap, len);
 }
 
-int kelp_viewer_json_changes(const kelp_viewer *v, uint32_t since, double now, double rate, char *buf, size_t cap,
+int kelp_viewer_json_changes(const kelp_viewer *v, uint32_t since, kelp_time now, double rate, char *buf, size_t cap,
                              size_t *len)
 {
     if (since == 0 || since < v->floor || since > v->seq) return json_out(v, 0, true, now, rate, buf, cap, len);

@@ -509,7 +509,7 @@ int kelp_xms_key(kelp_xms *x, int c)
     return 1;
 }
 
-bool kelp_xms_due(const kelp_xms *x, double now)
+bool kelp_xms_due(const kelp_xms *x, kelp_time now)
 {
     bool want;
     if (x->content == KELP_XMS_HISTORY)
@@ -676,7 +676,7 @@ static void history_rows(const kelp_xms *x, tab *t)
 
 /* the processes report: the mode right-justified in 78 columns, the process-watch line (kelp
  * has no uProcessWatch summary), then ID, name, age of its last mail, client age */
-static void procs_rows(const kelp_xms *x, tab *t, double now)
+static void procs_rows(const kelp_xms *x, tab *t, kelp_time now)
 {
     const char *hdr[4] = { "ID", "Process Name", "Mail", "Client" };
     row(t, hdr);
@@ -718,7 +718,7 @@ static const char *const help_lines[] = {
     "    w        Wrap long values",
 };
 
-size_t kelp_xms_format(kelp_xms *x, double now, char *buf, size_t cap)
+size_t kelp_xms_format(kelp_xms *x, kelp_time now, char *buf, size_t cap)
 {
     tab t = { .buf = buf, .cap = cap, .dash_max = XMS_HEADER_MAX, .ws = x };
     if (cap) buf[0] = 0;
@@ -766,7 +766,7 @@ size_t kelp_xms_format(kelp_xms *x, double now, char *buf, size_t cap)
     return t.len < cap ? t.len : (cap ? cap - 1 : 0);
 }
 
-size_t kelp_xms_render(kelp_xms *x, double now, char *buf, size_t cap)
+size_t kelp_xms_render(kelp_xms *x, kelp_time now, char *buf, size_t cap)
 {
     size_t n = kelp_xms_format(x, now, buf, cap);
     x->update_requested = false;
