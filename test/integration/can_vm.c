@@ -289,7 +289,7 @@ static int run(bool fd)
     kelp_can_filter f[8];
     size_t nf = kelp_canbridge_filters(&B, f, 8);
     if (kelp_can_port_open(&BP, &kelp_can_socketcan_ops, "vcan0", f, nf, fd) < 0) {
-        printf("CAN_VM FAIL bridge open: %s\n", BP.err);
+        printf("CAN_VM FAIL bridge open: %s\n", kelp_diag_text(&BP.diag));
         return 1;
     }
     CHECK(fw_node_init(&F, 2, fd) == 0, "fw init");
@@ -297,7 +297,7 @@ static int run(bool fd)
     kelp_can_filter ff[2];
     size_t nff = kelp_can_filters(fwvars, 1, ff, 2);
     if (kelp_can_port_open(&FP, &kelp_can_socketcan_ops, "vcan0", ff, nff, fd) < 0) {
-        printf("CAN_VM FAIL firmware open: %s\n", FP.err);
+        printf("CAN_VM FAIL firmware open: %s\n", kelp_diag_text(&FP.diag));
         return 1;
     }
     inj = socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK, CAN_RAW);
@@ -318,7 +318,7 @@ static int run(bool fd)
     CHECK(BP.went_down >= 1 && FP.went_down >= 1, "ports noticed down: %lu %lu", BP.went_down, FP.went_down);
     sh("ip link set vcan0 up");
     pump(800);
-    CHECK(!BP.down && BP.reopened >= 1, "bridge reopened %lu (%s)", BP.reopened, BP.err);
+    CHECK(!BP.down && BP.reopened >= 1, "bridge reopened %lu (%s)", BP.reopened, kelp_diag_text(&BP.diag));
     round_trip(7.5, "after down/up");
     /* deleted and re-created: the old binding is gone, the reopen binds the new interface */
     close(inj);
@@ -326,7 +326,7 @@ static int run(bool fd)
     pump(200);
     sh("ip link add dev vcan0 type vcan && ip link set vcan0 mtu 72 && ip link set vcan0 up");
     pump(800);
-    CHECK(!BP.down && BP.reopened >= 2, "bridge reopened %lu after re-create (%s)", BP.reopened, BP.err);
+    CHECK(!BP.down && BP.reopened >= 2, "bridge reopened %lu after re-create (%s)", BP.reopened, kelp_diag_text(&BP.diag));
     round_trip(99, "after re-create");
     a.can_ifindex = (int)if_nametoindex("vcan0");
     inj = socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK, CAN_RAW);
@@ -381,7 +381,7 @@ static int fwnode(double secs)
     kelp_can_filter ff[2];
     size_t nff = kelp_can_filters(fwvars, 1, ff, 2);
     if (kelp_can_port_open(&FP, &kelp_can_socketcan_ops, "vcan0", ff, nff, false) < 0) {
-        printf("FWNODE FAIL open: %s\n", FP.err);
+        printf("FWNODE FAIL open: %s\n", kelp_diag_text(&FP.diag));
         return 1;
     }
     inj_open();

@@ -42,8 +42,8 @@ int main(int argc, char **argv)
     if (kelp_bus_register(kelp_lcmbus_bus(rx), "HELLO", 0, 0) < 0) return 1;
     for (int i = 0; i < 50 && !got; i++) {
         if (kelp_bus_notify_string(kelp_lcmbus_bus(tx), "HELLO", "world", 0) < 0) return 1;
-        (void)kelp_lcmbus_handle(tx, 0, 0);
-        (void)kelp_lcmbus_handle(rx, 100, 0);
+        KELP_IGNORE(kelp_lcmbus_handle(tx, 0, 0));
+        KELP_IGNORE(kelp_lcmbus_handle(rx, 100, 0));
     }
     kelp_lcmbus_close(tx);
     kelp_lcmbus_close(rx);
