@@ -191,23 +191,14 @@ static double refine(const digs *dig, int nd, int e10, bool sticky, double z)
     return z;
 }
 
-/* A number's text without its surrounding blanks: i at its first character after an optional
- * sign (neg set), len at its end; false when nothing but blanks */
-static bool number_start(const char *s, size_t *i, size_t *len, bool *neg)
-{
-    while (*i < *len && is_space(s[*i])) (*i)++;
-    while (*len > *i && is_space(s[*len - 1])) (*len)--;
-    if (*i >= *len) return false;
-    *neg = false;
-    if (s[*i] == '+' || s[*i] == '-') *neg = s[(*i)++] == '-';
-    return true;
-}
-
 int kelp_parse_double(const char *s, size_t len, double *out)
 {
     size_t i = 0;
-    bool neg;
-    if (!number_start(s, &i, &len, &neg)) return KELP_ERR_PARSE;
+    while (i < len && is_space(s[i])) i++;
+    while (len > i && is_space(s[len - 1])) len--;
+    if (i >= len) return KELP_ERR_PARSE;
+    bool neg = false;
+    if (s[i] == '+' || s[i] == '-') neg = s[i++] == '-';
     if (i < len && (len - i == 3 || len - i == 8) &&
         (kelp_strieq_n(s + i, len - i, "inf") || kelp_strieq_n(s + i, len - i, "infinity"))) {
         *out = neg ? -INFINITY : INFINITY;
@@ -309,8 +300,11 @@ bool kelp_strieq(const char *a, const char *b)
 int kelp_parse_llong(const char *s, size_t len, long long *out)
 {
     size_t i = 0;
-    bool neg;
-    if (!number_start(s, &i, &len, &neg)) return KELP_ERR_PARSE;
+    while (i < len && is_space(s[i])) i++;
+    while (len > i && is_space(s[len - 1])) len--;
+    if (i >= len) return KELP_ERR_PARSE;
+    bool neg = false;
+    if (s[i] == '+' || s[i] == '-') neg = s[i++] == '-';
     if (i >= len) return KELP_ERR_PARSE;
     long long v = 0;
     for (; i < len; i++) {
