@@ -1,5 +1,6 @@
 /* acomms glue (core): the ACOMMS_* TextFormat strings and the node (queue + MAC + driver). */
 #include <check.h>
+#include "check_diag.h"
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -119,10 +120,7 @@ START_TEST(test_parse_data_forms)
     strcat(big, "\"");
     kelp_diag_clear(&why);
     ck_assert_int_eq(kelp_acomms_parse_data(big, strlen(big), &m, &why), KELP_ERR_NOSPACE);
-    ck_assert_int_eq(why.code, KELP_ERR_NOSPACE);
-#ifndef KELP_NO_ERRMSG
-    ck_assert_str_eq(why.msg, "data longer than a modem frame");
-#endif
+    ck_diag(&why, KELP_ERR_NOSPACE, "data longer than a modem frame");
 }
 END_TEST
 
@@ -170,10 +168,7 @@ START_TEST(test_parse_range_req)
     ck_assert_uint_eq(r.max_range, 2000);
     ck_assert_uint_eq(r.enable_beacons, 5);
     ck_assert_int_eq(kelp_acomms_parse_range_req("type: SONAR", 11, &r, &why), KELP_ERR_PARSE);
-    ck_assert_int_eq(why.code, KELP_ERR_PARSE);
-#ifndef KELP_NO_ERRMSG
-    ck_assert_str_eq(why.msg, "type must be MODEM_TWO_WAY_PING, MODEM_ONE_WAY_SYNCHRONOUS or REMUS_LBL_RANGING");
-#endif
+    ck_diag(&why, KELP_ERR_PARSE, "type must be MODEM_TWO_WAY_PING, MODEM_ONE_WAY_SYNCHRONOUS or REMUS_LBL_RANGING");
 }
 END_TEST
 
@@ -464,10 +459,7 @@ START_TEST(test_node_bad_config)
     kelp_acomms_node_cfg_default(&c);
     c.modem_id = 0; /* broadcast */
     ck_assert_int_eq(kelp_acomms_node_init(&n, &c, qs, 8, pool, 32, NULL, NULL), KELP_ERR_ARG);
-    ck_assert_int_eq(n.diag.code, KELP_ERR_ARG);
-#ifndef KELP_NO_ERRMSG
-    ck_assert_str_eq(n.diag.msg, "acomms: modem_id must be 1..31 (0 is broadcast)");
-#endif
+    ck_diag(&n.diag, KELP_ERR_ARG, "acomms: modem_id must be 1..31 (0 is broadcast)");
     c.modem_id = 32;
     ck_assert_int_eq(kelp_acomms_node_init(&n, &c, qs, 8, pool, 32, NULL, NULL), KELP_ERR_ARG);
     c.modem_id = 1;

@@ -1,6 +1,7 @@
 /* TDMA MAC: cycle arithmetic of every type, UTC-midnight alignment, AUTO discovery/blank/expiry,
  * run-time updates (acomms.md 9 items 56-62, goby-wire.md 9). */
 #include <check.h>
+#include "check_diag.h"
 #include <string.h>
 
 #include <kelp/mac.h>
@@ -301,10 +302,7 @@ START_TEST(bad_configuration)
     c.modem_id = 1;
     c.slot_seconds = 0;
     ck_assert_int_eq(kelp_mac_init(&m, &c, AT(0, 0, 0)), KELP_ERR_ARG);
-    ck_assert_int_eq(m.diag.code, KELP_ERR_ARG);
-#ifndef KELP_NO_ERRMSG
-    ck_assert_str_eq(kelp_diag_text(&m.diag), "mac: slot_seconds must be > 0");
-#endif
+    ck_diag(&m.diag, KELP_ERR_ARG, "mac: slot_seconds must be > 0");
     kelp_mac_cfg_default(&c);
     ck_assert_int_eq(kelp_mac_init(&m, &c, AT(0, 0, 0)), KELP_OK);  /* MAC_NONE: never fires */
     kelp_mac_action a;
@@ -315,10 +313,7 @@ START_TEST(bad_configuration)
     c.slots = sl;
     c.nslots = KELP_MAX_MAC_SLOTS + 1;
     ck_assert_int_eq(kelp_mac_init(&m, &c, AT(0, 0, 0)), KELP_ERR_NOSPACE);
-    ck_assert_int_eq(m.diag.code, KELP_ERR_NOSPACE);
-#ifndef KELP_NO_ERRMSG
-    ck_assert_str_eq(kelp_diag_text(&m.diag), "mac: too many slots (KELP_MAX_MAC_SLOTS)");
-#endif
+    ck_diag(&m.diag, KELP_ERR_NOSPACE, "mac: too many slots (KELP_MAX_MAC_SLOTS)");
 }
 END_TEST
 

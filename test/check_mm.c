@@ -2,6 +2,7 @@
  * the lines it writes (goby-wire.md 10; acomms.md 5 and 9 items 11-17; real sentences from
  * shared/data/real_nmea_examples.md). */
 #include <check.h>
+#include "check_diag.h"
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -245,10 +246,7 @@ START_TEST(data_cycle_local)
     expect_none();
     /* rate out of range */
     ck_assert_int_eq(kelp_mmdriver_initiate_transmission(&mm, 1, 2, 6, SEC(T + 20 * S)), KELP_ERR_RANGE);
-    ck_assert_int_eq(mm.diag.code, KELP_ERR_RANGE);
-#ifndef KELP_NO_ERRMSG
-    ck_assert_str_eq(kelp_diag_text(&mm.diag), "mmdriver: rate out of range (0..5)");
-#endif
+    ck_diag(&mm.diag, KELP_ERR_RANGE, "mmdriver: rate out of range (0..5)");
 }
 END_TEST
 

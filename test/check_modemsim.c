@@ -2,6 +2,7 @@
  * channel arithmetic (acomms.md 1.5 rate table, Eq. 2.1), travel time, loss, half duplex,
  * collisions, ranging, polling and the bus packet codec. */
 #include <check.h>
+#include "check_diag.h"
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -714,10 +715,7 @@ START_TEST(stale_and_overflow_are_counted)
         rc = kelp_modemsim_hear(&mod[0], &p, SEC(now));
     }
     ck_assert_int_eq(rc, KELP_ERR_NOSPACE);
-    ck_assert_int_eq(mod[0].diag.code, KELP_ERR_NOSPACE);
-#ifndef KELP_NO_ERRMSG
-    ck_assert_str_eq(kelp_diag_text(&mod[0].diag), "modemsim: too many packets in flight");
-#endif
+    ck_diag(&mod[0].diag, KELP_ERR_NOSPACE, "modemsim: too many packets in flight");
     ck_assert_uint_eq(kelp_modemsim_get_counters(&mod[0])->overflow, 1);
 }
 END_TEST
@@ -786,23 +784,14 @@ START_TEST(poller_slots_and_update_text)
     /* errors name the key */
     kelp_diag_clear(&bad);
     ck_assert_int_eq(kelp_poller_parse_slot("dest=1", 10, &s[0], &bad), KELP_ERR_PARSE);
-    ck_assert_int_eq(bad.code, KELP_ERR_PARSE);
-#ifndef KELP_NO_ERRMSG
-    ck_assert_str_eq(bad.msg, "src");
-#endif
+    ck_diag(&bad, KELP_ERR_PARSE, "src");
     kelp_diag_clear(&bad);
     ck_assert_int_eq(kelp_poller_parse_slot("src=1,rate=6", 10, &s[0], &bad), KELP_ERR_RANGE);
-    ck_assert_int_eq(bad.code, KELP_ERR_RANGE);
-#ifndef KELP_NO_ERRMSG
-    ck_assert_str_eq(bad.msg, "rate");
-#endif
+    ck_diag(&bad, KELP_ERR_RANGE, "rate");
     ck_assert_int_eq(kelp_poller_parse_slot("src=32", 10, &s[0], &bad), KELP_ERR_RANGE);
     kelp_diag_clear(&bad);
     ck_assert_int_eq(kelp_poller_parse_slot("src=1,type=bogus", 10, &s[0], &bad), KELP_ERR_PARSE);
-    ck_assert_int_eq(bad.code, KELP_ERR_PARSE);
-#ifndef KELP_NO_ERRMSG
-    ck_assert_str_eq(bad.msg, "type");
-#endif
+    ck_diag(&bad, KELP_ERR_PARSE, "type");
     ck_assert_int_eq(kelp_poller_parse_slot("src=1,colour=red", 10, &s[0], &bad), KELP_ERR_PARSE);
     ck_assert_int_eq(kelp_poller_parse_slot("src=1,slot_seconds=0", 10, &s[0], &bad), KELP_ERR_RANGE);
     ck_assert_int_eq(kelp_poller_parse_slot("src=1x", 10, &s[0], &bad), KELP_ERR_PARSE);

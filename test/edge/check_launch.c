@@ -1,5 +1,6 @@
 /* kelp launch (src/app/launch.c): the ANTLER block as a plan; children started and reaped. */
 #include <check.h>
+#include "check_diag.h"
 #include <signal.h>
 #include <stdio.h>
 #include <string.h>
@@ -36,24 +37,16 @@ START_TEST(launch_plan)
     ck_assert_str_eq(kelp_launch_map_prog("pHelmIvP"), "pHelmIvP");
     /* errors say where */
     ck_assert_int_lt(plan_of("ProcessConfig = X\n{\n a = 1\n}\n", &p, &err), 0);
-#ifndef KELP_NO_ERRMSG
-    ck_assert_ptr_nonnull(strstr(kelp_diag_text(&err), "no ProcessConfig = ANTLER"));
-#endif
+    ck_diag_has(&err, "no ProcessConfig = ANTLER");
     kelp_diag_clear(&err);
     ck_assert_int_lt(plan_of("ProcessConfig = ANTLER\n{\n MSBetweenLaunches = nan\n Run = a\n}\n", &p, &err), 0);
-#ifndef KELP_NO_ERRMSG
-    ck_assert_ptr_nonnull(strstr(kelp_diag_text(&err), "t.moos:3: MSBetweenLaunches"));
-#endif
+    ck_diag_has(&err, "t.moos:3: MSBetweenLaunches");
     kelp_diag_clear(&err);
     ck_assert_int_lt(plan_of("ProcessConfig = ANTLER\n{\n Run = two words\n}\n", &p, &err), 0);
-#ifndef KELP_NO_ERRMSG
-    ck_assert_ptr_nonnull(strstr(kelp_diag_text(&err), "t.moos:3:"));
-#endif
+    ck_diag_has(&err, "t.moos:3:");
     kelp_diag_clear(&err);
     ck_assert_int_lt(plan_of("ProcessConfig = ANTLER\n{\n Run = MOOSDB\n}\n", &p, &err), 0);
-#ifndef KELP_NO_ERRMSG
-    ck_assert_ptr_nonnull(strstr(kelp_diag_text(&err), "no Run lines"));
-#endif
+    ck_diag_has(&err, "no Run lines");
     kelp_diag_clear(&err);
 }
 END_TEST
