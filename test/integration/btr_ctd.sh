@@ -28,8 +28,19 @@ near() { # name sent_var got_var tolerance
 near depth CTD_DEPTH CTD_DEPTH_IN 0.1001
 near temperature CTD_TEMPERATURE CTD_TEMPERATURE_IN 0.01001
 near conductivity CTD_CONDUCTIVITY CTD_CONDUCTIVITY_IN 0.001001
-near levels BTR_LEVELS BTR_LEVELS_IN 0
-[ "$(vals mm1.txt BTR_LEVELS_IN | tail -1)" = "$(vals mm2.txt BTR_LEVELS | tail -1)" ] || fail "BTR levels not exact"
+# Goby 1.1 strips trailing zero bytes of a received frame, so when the BTR frame (DCCL id 31)
+# ends in 0x00 the field packed in that byte, the first level, decodes as null (goby-wire.md 6;
+# acomms_handler_loopback allows the same): then the other 19 levels must still be exact.
+btr_sent=$(vals mm2.txt BTR_LEVELS | tail -1) btr_got=$(vals mm1.txt BTR_LEVELS_IN | tail -1)
+if [ "${btr_got%%,*}" = "" ] && [ "${btr_got#*,}" = "${btr_sent#*,}" ]; then
+  fr=$(grep ' ACOMMS_INCOMING_DATA ' mm1.txt | grep 'id: 31 }' | tail -1 | sed -E 's/.* frame: ([0-9]+) .*/\1/')
+  hex=$(grep -E " ACOMMS_NMEA_IN [$]CARXD,2,1,[01],$((fr + 1))," mm1.txt | tail -1 | sed -E 's/.*,([0-9a-fA-F]+)[*][0-9A-F]{2}$/\1/')
+  case $hex in *00) echo "note: the BTR frame ended in 0x00: the first level decoded as Goby 1.1 would (trailing zeros stripped)" ;;
+    *) fail "levels: sent $btr_sent, arrived $btr_got (frame $fr: $hex)" ;; esac
+else
+  near levels BTR_LEVELS BTR_LEVELS_IN 0
+  [ "$btr_got" = "$btr_sent" ] || fail "BTR levels not exact"
+fi
 vals mm1.txt BTR_RECORD_IN | grep -q 'heading=87' || { vals mm1.txt BTR_RECORD_IN; fail "BTR heading"; }
 vals mm1.txt CTD_PROFILE_IN | grep -q 'depth={10.0,12.5,15.1,17.6,20.0,22.4,25.0,27.5,30.1,32.6},temperature={14.2' || { vals mm1.txt CTD_PROFILE_IN; fail "CTD_PROFILE_IN arrays"; }
 # one of each arrived, from modem 2 to modem 1, each acknowledged once
