@@ -153,8 +153,9 @@ START_TEST(var_decode_hostile_lengths)
     ck_assert_int_eq(kelp_var_decode(t, n, &b), KELP_ERR_PARSE);
     memcpy(t, buf, n); t[0] ^= 1;                            /* wrong fingerprint */
     ck_assert_int_eq(kelp_var_decode(t, n, &b), KELP_ERR_DEFMISMATCH);
-    /* kind byte: 8+8 + (4+2)*1 name "X" + source + community */
-    size_t koff = 16 + (4 + 2) + (4 + strlen(a.source) + 1) + (4 + strlen(a.community) + 1);
+    /* kind byte: 8+8 + (4+2)*1 name "X" + source + source_aux + community */
+    size_t koff = 16 + (4 + 2) + (4 + strlen(a.source) + 1) + (4 + strlen(a.source_aux) + 1) +
+                  (4 + strlen(a.community) + 1);
     memcpy(t, buf, n); t[koff] = 7;
     ck_assert_int_eq(kelp_var_decode(t, n, &b), KELP_ERR_PARSE);
     /* nbytes negative */
@@ -233,6 +234,53 @@ START_TEST(publish_subscribe_exact_and_wildcard)
     ck_assert(b->last.time == 11.0);
     ck_assert_int_eq(a->ndeliv, 0);
     free(a); free(b);
+}
+END_TEST
+
+/* MOOS source-aux travels with the write (uFldMessageHandler puts the sending node there) */
+START_TEST(source_aux_roundtrip)
+{
+    static kelp_loopback net;
+    kelp_loopback_init(&net);
+    tclient *a = tc_new(&net, "pA", 32), *b = tc_new(&net, "pB", 32);
+    ck_assert_int_eq(kelp_bus_register(&b->bus, "FOO", 0, 10.0), 0);
+    ck_assert_int_eq(kelp_bus_notify_aux(&a->bus, "FOO", true, "hello", 0, "alpha", 11.0), 0);
+    ck_assert_str_eq(b->log, "FOO='hello';");
+    ck_assert_str_eq(b->last.source, "pA");
+    ck_assert_str_eq(b->last.source_aux, "alpha");
+    ck_assert_int_eq(kelp_bus_notify_string(&a->bus, "FOO", "plain", 12.0), 0);
+    ck_assert_str_eq(b->last.source_aux, "");
+    char longaux[KELP_MAX_NAME + 1];
+    memset(longaux, 'x', KELP_MAX_NAME);
+    longaux[KELP_MAX_NAME] = 0;
+    ck_assert_int_eq(kelp_bus_notify_aux(&a->bus, "FOO", true, "x", 0, longaux, 13.0), KELP_ERR_RANGE);
+    free(a); free(b);
+}
+END_TEST
+
+/* The MOOSDB's type rule: a variable's type is fixed by its first write; a double posted to a
+ * variable holding strings (or the reverse) reaches nobody, and each side counts it. */
+START_TEST(type_clash_dropped_as_moosdb)
+{
+    static kelp_loopback net;
+    kelp_loopback_init(&net);
+    tclient *a = tc_new(&net, "pA", 32), *b = tc_new(&net, "pB", 32), *c = tc_new(&net, "pC", 32);
+    ck_assert_int_eq(kelp_bus_register(&b->bus, "NODE_MESSAGE", 0, 10.0), 0);
+    ck_assert_int_eq(kelp_bus_notify_string(&a->bus, "NODE_MESSAGE", "src_node=a", 11.0), 0);
+    /* the writer knows the type: it does not send the double */
+    ck_assert_int_eq(kelp_bus_notify_double(&a->bus, "NODE_MESSAGE", 3.0, 12.0), 0);
+    ck_assert_uint_eq(kelp_bus_get_stats(&a->bus)->type_refused, 1);
+    /* another writer that never saw it sends; the receiver that holds a string drops it */
+    ck_assert_int_eq(kelp_bus_notify_double(&c->bus, "NODE_MESSAGE", 4.0, 13.0), 0);
+    ck_assert_uint_eq(kelp_bus_get_stats(&b->bus)->type_refused, 1);
+    ck_assert_int_eq(kelp_bus_notify_string(&a->bus, "NODE_MESSAGE", "src_node=b", 14.0), 0);
+    ck_assert_str_eq(b->log, "NODE_MESSAGE='src_node=a';NODE_MESSAGE='src_node=b';");
+    /* a new variable takes the type of its first write, whatever it is */
+    ck_assert_int_eq(kelp_bus_register(&b->bus, "SPEED", 0, 15.0), 0);
+    ck_assert_int_eq(kelp_bus_notify_double(&a->bus, "SPEED", 2.5, 16.0), 0);
+    ck_assert_int_eq(kelp_bus_notify_string(&c->bus, "SPEED", "fast", 17.0), 0);
+    ck_assert_str_eq(b->log, "NODE_MESSAGE='src_node=a';NODE_MESSAGE='src_node=b';SPEED=2.5;");
+    free(a); free(b); free(c);
 }
 END_TEST
 
@@ -435,6 +483,8 @@ Suite *kelp_bus_suite(void)
     suite_add_tcase(s, w);
     TCase *c = tcase_create("client");
     tcase_add_test(c, publish_subscribe_exact_and_wildcard);
+    tcase_add_test(c, source_aux_roundtrip);
+    tcase_add_test(c, type_clash_dropped_as_moosdb);
     tcase_add_test(c, late_registrant_gets_current_value_once);
     tcase_add_test(c, register_interval_limits_rate);
     tcase_add_test(c, handlers_may_publish);

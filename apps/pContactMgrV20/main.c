@@ -89,6 +89,7 @@ static void report(kelp_app *app, void *st, FILE *out)
 
 static const kelp_app_def def = {
     .name = "pContactMgrV20",
+    .pid_var = "PCONTACTMGRV20_PID",
     .purpose = "The contact manager: alerts by range and CPA range about contacts, summaries, range reports.",
     .synopsis = "The contact manager deals with other known vehicles in its\n"
                 "vicinity. It handles incoming reports perhaps received via a\n"

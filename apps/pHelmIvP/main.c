@@ -220,7 +220,7 @@ static void shutdown_app(kelp_app *app, void *st)
 }
 
 static const kelp_app_def def = {
-    .name = "pHelmIvP",
+    .name = "pHelmIvP", .pid_var = "PHELMIVP_PID",
     .purpose = "The IvP helm: runs the behaviours of a .bhv file and posts DESIRED_HEADING/SPEED/DEPTH.",
     .synopsis = "The IvP helm: runs the behaviours of the Behaviors files, solves their objective\n"
                 "functions over the Domain at each iteration and posts the decision as DESIRED_<var>.\n"

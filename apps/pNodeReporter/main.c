@@ -191,6 +191,7 @@ static void report(kelp_app *app, void *st, FILE *out)
 
 static const kelp_app_def def = {
     .name = "pNodeReporter",
+    .pid_var = "PNODEREPORTER_PID",
     .purpose = "Publish NODE_REPORT_LOCAL (NAME,TYPE,TIME,X,Y,LAT,LON,SPD,HDG,DEPTH,...) from NAV_* and the helm.",
     .params = (const kelp_app_param_info[]){
         { "PLATFORM_TYPE", "UUV", "TYPE= in the report", NULL },

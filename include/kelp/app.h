@@ -83,6 +83,9 @@ typedef struct kelp_app_def {
     void (*report)(kelp_app *app, void *state, FILE *out);
     /** Called once on exit. */
     void (*shutdown)(kelp_app *app, void *state);
+    /** The variable the app posts its process id to at start-up, where MOOS-IvP 24.8's app
+     *  does (e.g. "PHELMIVP_PID"), or NULL. */
+    const char *pid_var;
 } kelp_app_def;
 
 /** Run the app; returns the process exit status. */
@@ -93,6 +96,10 @@ KELP_MUST_CHECK int kelp_app_notify_double(kelp_app *app, const char *name, doub
 KELP_MUST_CHECK int kelp_app_notify_string(kelp_app *app, const char *name, const char *value);
 KELP_MUST_CHECK int kelp_app_notify_stringf(kelp_app *app, const char *name, const char *fmt, ...) KELP_PRINTF(3, 4);
 KELP_MUST_CHECK int kelp_app_notify_binary(kelp_app *app, const char *name, const void *data, size_t len);
+/** A double (is_string false) or a string with a MOOS source-aux, e.g. the node a relayed
+ *  message came from (aux NULL or "" for none). */
+KELP_MUST_CHECK int kelp_app_notify_aux(kelp_app *app, const char *name, bool is_string, const char *sval, double dval,
+                                        const char *aux);
 KELP_MUST_CHECK int kelp_app_register(kelp_app *app, const char *pattern, double min_interval);
 /** A raw LCM message (e.g. an lcm-gen'd structure, fingerprint first) on its own channel,
  *  through the app's LCM socket; not a bus variable.  @return 0 or <0. */

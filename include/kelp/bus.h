@@ -39,7 +39,7 @@ typedef enum kelp_var_kind {
 
 /** LCM fingerprints of kelp.var_t and kelp.sync_req_t (lcmtypes/), as lcm-gen computes them;
  *  a unit test checks them against the generated code, so a change to a .lcm file is caught. */
-#define KELP_VAR_FINGERPRINT UINT64_C(0x60a289cff2a53869)
+#define KELP_VAR_FINGERPRINT UINT64_C(0x0ba5b50d8930056a)
 #define KELP_SYNC_REQ_FINGERPRINT UINT64_C(0xbd478c3a05578b77)
 
 /** Channel on which sync requests travel. */
@@ -54,6 +54,7 @@ typedef struct kelp_var {
     double time;                     /**< MOOS time (s since 1970, times MOOSTimeWarp) */
     char name[KELP_MAX_NAME];
     char source[KELP_MAX_NAME];
+    char source_aux[KELP_MAX_NAME];  /**< MOOS source-aux ("" when the writer set none) */
     char community[KELP_MAX_NAME];
     kelp_var_kind kind;
     uint8_t flags;
@@ -132,6 +133,8 @@ typedef struct kelp_bus_stats {
     uint64_t time_rejected;          /**< writes stamped non-finite or too far in the future */
     uint64_t sync_limited;           /**< retained values not sent: requester over its budget */
     uint64_t sync_bad_reply;         /**< sync requests naming a reply channel not the requester's */
+    uint64_t type_refused;           /**< writes dropped as the MOOSDB does: a double to a variable
+                                          holding strings or the reverse (sent or received) */
     int last_bad_err;                /**< status of the last rejected datagram */
 } kelp_bus_stats;
 
@@ -222,6 +225,13 @@ KELP_MUST_CHECK int kelp_bus_notify_double(kelp_bus *b, const char *name, double
 KELP_MUST_CHECK int kelp_bus_notify_string(kelp_bus *b, const char *name, const char *value, kelp_time now);
 KELP_MUST_CHECK int kelp_bus_notify_binary(kelp_bus *b, const char *name, const void *data, size_t len,
                                            kelp_time now);
+/** Publish a double or a string with a MOOS source-aux (e.g. the node a message came from);
+ *  aux may be NULL or "". */
+KELP_MUST_CHECK int kelp_bus_notify_aux(kelp_bus *b, const char *name, bool is_string, const char *sval,
+                                        double dval, const char *aux, kelp_time now);
+/* The MOOSDB's type rule: a write of another type than the one this client retains for the
+ * name (the first write it saw) is refused -- not sent by notify, not delivered by receive --
+ * and counted in stats.type_refused; notify still returns 0, as MOOS's Notify does. */
 /** Publish a fully formed var as is (source/community/time kept): bridges and replays. */
 KELP_MUST_CHECK int kelp_bus_forward(kelp_bus *b, const kelp_var *v);
 

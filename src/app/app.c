@@ -1,4 +1,5 @@
 /* kelp app runner: command line, mission, bus, loop, status report, signals. */
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <poll.h>
@@ -13,6 +14,7 @@
 #include <sys/resource.h>
 #include <kelp/app.h>
 #include <kelp/appcast.h>
+#include <kelp/kv.h>
 #include <kelp/lcmbus.h>
 #include <kelp/edge/mission.h>
 
@@ -23,6 +25,7 @@
 #define MAX_REAL_HZ 1000.0          /* cap on Iterate rate in wall-clock Hz */
 #define STATUS_PERIOD_TTY 1.0       /* wall seconds between status reports on a terminal */
 #define STATUS_PERIOD_LOG 10.0      /* ... when stdout is a file */
+#define STATUS_PERIOD_MOOS 2.0      /* MOOS seconds between <NAME>_STATUS postings (CMOOSApp's STATUS_PERIOD) */
 
 struct kelp_app {
     const kelp_app_def *def;
@@ -60,6 +63,11 @@ struct kelp_app {
     char pubs[MAX_PUBS][KELP_MAX_NAME];
     int npubs;
     double cpu_wall, cpu_proc, cpuload;
+    double last_status;              /* MOOS time of the last <NAME>_STATUS (-1: none yet) */
+    double term_interval;            /* TERM_REPORT_INTERVAL: real seconds between terminal reports (0: default) */
+    char comms_policy[8];            /* COMMS_POLICY: open, lean or dire */
+    double lcast_t0, lcast_duration; /* LOADCAST_REQ: while it holds, <NAME>_ITER_GAP / _ITER_LEN */
+    double last_iter_time;
     /* AppCasting: the clients' APPCAST_REQs (by key) and when the last cast went out */
     struct { kelp_appcast_req r; double t0; } cast_req[8];
     int ncast_req;
@@ -144,6 +152,13 @@ int kelp_app_notify_string(kelp_app *app, const char *name, const char *value)
 {
     note_pub(app, name);
     return kelp_bus_notify_string(kelp_lcmbus_bus(app->lb), name, value, kelp_app_time(app));
+}
+
+int kelp_app_notify_aux(kelp_app *app, const char *name, bool is_string, const char *sval, double dval,
+                        const char *aux)
+{
+    note_pub(app, name);
+    return kelp_bus_notify_aux(kelp_lcmbus_bus(app->lb), name, is_string, sval, dval, aux, kelp_app_time(app));
 }
 
 int kelp_app_notify_stringf(kelp_app *app, const char *name, const char *fmt, ...)
@@ -422,13 +437,13 @@ static void report(kelp_app *app, FILE *out)
     kelp_lcmbus_get_stats(app->lb, &ts);
     fprintf(out, "Transport: %llu datagrams, %llu rejected (%llu header, %llu channel, %llu fragment, %llu magic, "
                  "%llu too big), %llu reassembly timeouts, %llu queue drops; dropped %llu of another community, "
-                 "%llu with a bad time; %llu sync replies withheld\n",
+                 "%llu with a bad time, %llu of another type than the variable's (MOOSDB rule); %llu sync replies withheld\n",
             (unsigned long long)ts.rx.datagrams, (unsigned long long)ts.rx.bad, (unsigned long long)ts.rx.bad_header,
             (unsigned long long)ts.rx.bad_channel, (unsigned long long)ts.rx.bad_fragment,
             (unsigned long long)ts.rx.bad_magic, (unsigned long long)ts.rx.too_big,
             (unsigned long long)ts.rx.timeouts, (unsigned long long)ts.queue_dropped,
             (unsigned long long)st->foreign_community, (unsigned long long)st->time_rejected,
-            (unsigned long long)st->sync_limited + (unsigned long long)st->sync_bad_reply);
+            (unsigned long long)st->type_refused, (unsigned long long)st->sync_limited + (unsigned long long)st->sync_bad_reply);
     if (app->def->report) {
         fprintf(out, "------------------------------------------------------------------\n");
         app->def->report(app, app->state, out);
@@ -577,25 +592,39 @@ double kelp_app_cpu_load(const kelp_app *app)
     return app ? app->cpuload : 0;
 }
 
-/* "A,B,C" into buf, as many names as fit */
+static int cmp_name(const void *a, const void *b)
+{
+    return strcmp(*(const char *const *)a, *(const char *const *)b);
+}
+
+/* MOOS's set of names as <NAME>_STATUS lists them: sorted, each followed by a comma
+ * ("A,B,C,"), as many as fit */
 static void name_list(char *buf, size_t cap, const char *names, size_t stride, size_t n)
 {
-    size_t o = 0;
+    const char *sorted[MAX_PUBS > KELP_MAX_SUBS ? MAX_PUBS : KELP_MAX_SUBS];
+    size_t m = 0;
     buf[0] = 0;
-    for (size_t i = 0; i < n; i++) {
-        const char *nm = names + i * stride;
-        size_t l = strlen(nm);
-        if (o + l + 2 >= cap) break;
-        if (o) buf[o++] = ',';
-        memcpy(buf + o, nm, l + 1);
+    if (n == 0) return;
+    for (size_t i = 0; i < n && m < sizeof sorted / sizeof sorted[0]; i++) sorted[m++] = names + i * stride;
+    qsort(sorted, m, sizeof sorted[0], cmp_name);
+    size_t o = 0;
+    for (size_t i = 0; i < m; i++) {
+        if (i && strcmp(sorted[i], sorted[i - 1]) == 0) continue;
+        size_t l = strlen(sorted[i]);
+        if (o + l + 2 > cap) break;
+        memcpy(buf + o, sorted[i], l);
         o += l;
+        buf[o++] = ',';
+        buf[o] = 0;
     }
 }
 
+/* <NAME>_STATUS as MOOS 24.8 writes it (CMOOSApp's status string): AppErrorFlag, Uptime (MOOS
+ * seconds, 6 significant digits), cpuload and memory (4 significant digits), MOOSName, and
+ * the sorted Publishing and Subscribing sets */
 static void publish_status(kelp_app *app)
 {
     kelp_bus *bus = kelp_lcmbus_bus(app->lb);
-    const kelp_bus_stats *st = kelp_bus_get_stats(bus);
     char var[KELP_MAX_NAME + 8];
     snprintf(var, sizeof var, "%.*s_STATUS", KELP_MAX_NAME - 8, app->name);
     for (char *c = var; *c; c++)
@@ -608,14 +637,56 @@ static void publish_status(kelp_app *app)
     name_list(pubs, sizeof pubs, app->pubs[0], sizeof app->pubs[0], (size_t)app->npubs);
     name_list(subs, sizeof subs, (const char *)bus->st.subs + offsetof(kelp_bus_sub, pattern), sizeof bus->st.subs[0],
               bus->nsubs_used);
-    KELP_IGNORE(kelp_app_notify_stringf(app, var,
-                                  "AppErrorFlag=%s,Uptime=%.2f,cpuload=%.4f,memory_kb=%ld,memory_max_kb=%ld,MOOSName=%s,"
-                                  "Publishing=\"%s\",Subscribing=\"%s\",iter=%lu,mail=%lu,published=%llu,bad=%llu,"
-                                  "cfg_warnings=%d,run_warnings=%d",
-                                  (app->nrun_warn || st->bad) ? "true" : "false", kelp_app_time(app) - app->start,
-                                  app->cpuload, mem, mem_max, app->name, pubs, subs, app->iter, app->mail_total,
-                                  (unsigned long long)st->published, (unsigned long long)st->bad, app->ncfg_warn,
-                                  app->nrun_warn));
+    char head[256];
+    if (kelp_snprintf(head, sizeof head, "AppErrorFlag=false,Uptime=%g,cpuload=%.4g,memory_kb=%.4g,memory_max_kb=%.4g,",
+                      kelp_app_time(app) - app->start, app->cpuload, (double)mem, (double)mem_max) < 0)
+        return;
+    KELP_IGNORE(kelp_app_notify_stringf(app, var, "%sMOOSName=%s,Publishing=\"%s\",Subscribing=\"%s\"", head,
+                                        app->name, pubs, subs));
+}
+
+static void post_loadcast(kelp_app *app, const char *suffix, double v)
+{
+    char var[KELP_MAX_NAME + 16];
+    snprintf(var, sizeof var, "%.*s%s", KELP_MAX_NAME - 12, app->name, suffix);
+    for (char *c = var; *c; c++)
+        if (*c >= 'a' && *c <= 'z') *c = (char)(*c - 'a' + 'A');
+    KELP_IGNORE(kelp_app_notify_double(app, var, v));
+}
+
+/* AppCasting's own mail (every app registers for it, as MOOS-IvP's AppCastingMOOSApp does):
+ * TERM_REPORT_INTERVAL, COMMS_POLICY and LOADCAST_REQ. Returns true when v was one of them. */
+static bool appcasting_mail(kelp_app *app, const kelp_var *v)
+{
+    if (strcmp(v->name, "TERM_REPORT_INTERVAL") == 0) {
+        double d = v->kind == KELP_VAR_DOUBLE ? v->dval : 0;
+        app->term_interval = d < 0.4 ? 0.4 : d;
+        return true;
+    }
+    if (strcmp(v->name, "COMMS_POLICY") == 0) {
+        char pol[8] = "";
+        if (v->kind == KELP_VAR_STRING && v->slen < sizeof pol)
+            for (size_t i = 0; i <= v->slen; i++) pol[i] = (char)tolower((unsigned char)v->sval[i]);
+        if (strcmp(pol, "open") != 0 && strcmp(pol, "lean") != 0 && strcmp(pol, "dire") != 0)
+            kelp_app_run_warning(app, "Unhandled COMMS_POLICY:%.60s", v->kind == KELP_VAR_STRING ? v->sval : "");
+        else
+            memcpy(app->comms_policy, pol, sizeof pol);
+        return true;
+    }
+    if (strcmp(v->name, "LOADCAST_REQ") == 0) {
+        /* app=NAME|all|any, duration (0..30 s), thresh */
+        if (v->kind != KELP_VAR_STRING) return true;
+        char appname[KELP_MAX_NAME] = "", durs[32] = "";
+        double dur = 0;
+        if (kelp_kv_get(v->sval, ',', "app", appname, sizeof appname) < 0) appname[0] = 0;
+        if (kelp_kv_get(v->sval, ',', "duration", durs, sizeof durs) <= 0 || kelp_parse_double(durs, strlen(durs), &dur) < 0)
+            dur = 0;
+        if (strcmp(appname, app->name) != 0 && strcmp(appname, "all") != 0 && strcmp(appname, "any") != 0) return true;
+        app->lcast_duration = dur < 0 ? 0 : dur > 30 ? 30 : dur;
+        app->lcast_t0 = kelp_app_time(app);
+        return true;
+    }
+    return false;
 }
 
 /* ------------------------------------------------------------------ command line */
@@ -702,12 +773,19 @@ static void print_interface(const kelp_app_def *def)
     printf("\n");
     interface_vars("SUBSCRIPTIONS", def->subscribes, true);
     printf("  APPCAST_REQ = node=alpha,app=%s,duration=3,key=kelp-mac_1234,thresh=any\n"
-           "  %*s   every app: a client asks for APPCAST for duration seconds\n\n", moos_name(def), 11, "");
+           "  %*s   every app: a client asks for APPCAST for duration seconds\n", moos_name(def), 11, "");
+    printf("  LOADCAST_REQ = app=%s,duration=10,thresh=0\n"
+           "  %*s   every app: post <NAME>_ITER_GAP and <NAME>_ITER_LEN for duration seconds (30 at most)\n",
+           moos_name(def), 12, "");
+    printf("  TERM_REPORT_INTERVAL = 2\n  %*s   every app: real seconds between terminal reports (0.4 at least)\n", 20, "");
+    printf("  COMMS_POLICY = lean\n  %*s   every app: open, lean or dire (kept; others are a run warning)\n\n", 12, "");
     interface_vars("PUBLICATIONS", def->publishes, true); /* <NAME>_STATUS follows */
-    printf("  <NAME>_STATUS = AppErrorFlag=false,Uptime=12.00,cpuload=0.3100,memory_kb=2412,memory_max_kb=2412,"
-           "MOOSName=<name>,Publishing=\"A,B\",Subscribing=\"X,Y\",iter=48,mail=10,published=52,bad=0,"
-           "cfg_warnings=0,run_warnings=0\n"
-           "  %*s   every app, every 2 s: its status (NAME: its MOOS name, upper case)\n", 13, "");
+    if (def->pid_var) printf("  %s = 4012\n  %*s   at start-up: the process id\n", def->pid_var, (int)strlen(def->pid_var), "");
+    printf("  <NAME>_STATUS = AppErrorFlag=false,Uptime=12.0041,cpuload=0.31,memory_kb=2412,memory_max_kb=2412,"
+           "MOOSName=<name>,Publishing=\"A,B,\",Subscribing=\"X,Y,\"\n"
+           "  %*s   every app, every 2 MOOS seconds: its status (NAME: its MOOS name, upper case)\n", 13, "");
+    printf("  <NAME>_ITER_GAP = 1.02, <NAME>_ITER_LEN = 0.01\n"
+           "  %*s   every app, while a LOADCAST_REQ holds: iteration gap and length in AppTick periods\n", 13, "");
     printf("  APPCAST = proc=%s!@#iter=48!@#node=alpha!@#iter=48!@#messages=...!@#events_total=0!@#run_warning_total=0!@#\n"
            "  %*s   every app: its AppCast, while a client's APPCAST_REQ holds and when a configuration\n"
            "  %*s   warning is new\n", moos_name(def), 7, "", 7, "");
@@ -874,11 +952,15 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
         }
     }
     app->start = kelp_app_time(app);
+    app->last_status = -1;
+    memcpy(app->comms_policy, "open", 5);
     kelp_cli_on_stop(on_signal);
 
     if (def->ignore_own_posts) kelp_lcmbus_ignore_own(app->lb, true);
     app->cast = calloc(1, sizeof *app->cast);
-    if (!app->cast || kelp_app_register(app, "APPCAST_REQ", 0) < 0) {
+    /* AppCastingMOOSApp registers for these four in every app */
+    if (!app->cast || kelp_app_register(app, "APPCAST_REQ", 0) < 0 || kelp_app_register(app, "LOADCAST_REQ", 0) < 0 ||
+        kelp_app_register(app, "TERM_REPORT_INTERVAL", 0) < 0 || kelp_app_register(app, "COMMS_POLICY", 0) < 0) {
         fprintf(stderr, "%s: cannot set up AppCasting\n", app->name);
         kelp_lcmbus_close(app->lb);
         kelp_mission_free(&app->mf);
@@ -887,6 +969,7 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
         free(app);
         return 1;
     }
+    if (def->pid_var) KELP_IGNORE(kelp_app_notify_double(app, def->pid_var, (double)getpid()));
     if (def->startup && def->startup(app, state) < 0) {
         free(app->cast);
         kelp_lcmbus_close(app->lb);
@@ -912,7 +995,6 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
     double next_iter = wall_now();
     double status_period = app->tty ? STATUS_PERIOD_TTY : STATUS_PERIOD_LOG;
     double next_status = wall_now() + (app->tty ? 0.5 : 2.0);
-    double next_status_var = wall_now() + 1.0;
     int rc_exit = 0;
     while (!g_stop && !app->quit) {
         double w = wall_now();
@@ -937,23 +1019,34 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
         /* OnNewMail (only when mail arrived), then Iterate */
         for (size_t i = 0; i < app->nmail; i++) {
             if (strcmp(app->mail[i].name, "APPCAST_REQ") == 0) appcast_request(app, &app->mail[i]);
+            else if (appcasting_mail(app, &app->mail[i])) continue;
             else if (def->on_mail) def->on_mail(app, state, &app->mail[i]);
         }
         app->mail_in += app->nmail;
         app->nmail = 0;
         app->iter++;
-        if (def->iterate && def->iterate(app, state, kelp_app_time(app)) < 0) {
+        kelp_time now = kelp_app_time(app);
+        /* while a LOADCAST_REQ holds: the gap since the last iteration and the length of this
+         * one, in AppTick periods (<NAME>_ITER_GAP, <NAME>_ITER_LEN, as AppCastingMOOSApp) */
+        bool lcast = app->app_tick > 0 && now - app->lcast_t0 < app->lcast_duration;
+        if (lcast && app->last_iter_time != 0) post_loadcast(app, "_ITER_GAP", (now - app->last_iter_time) * app->app_tick);
+        app->last_iter_time = now;
+        if (def->iterate && def->iterate(app, state, now) < 0) {
             rc_exit = 1;
             break;
         }
+        if (lcast) post_loadcast(app, "_ITER_LEN", (kelp_app_time(app) - now) * app->app_tick);
         appcast(app, w);
+        if (app->term_interval > 0) status_period = app->term_interval;
         if (w >= next_status) {
             report(app, stdout);
             next_status = w + status_period;
         }
-        if (w >= next_status_var) {
+        /* <NAME>_STATUS from the iteration once more than 2 MOOS seconds have passed since the
+         * last (either way: a clock step back posts too), the first at the first iteration */
+        if (!(fabs(now - app->last_status) <= STATUS_PERIOD_MOOS)) {
             publish_status(app);
-            next_status_var = w + 2.0;
+            app->last_status = now;
         }
     }
     if (def->shutdown) def->shutdown(app, state);

@@ -143,7 +143,7 @@ int kelp_bridge_frame(kelp_bridge_tx *tx, const kelp_var *v, const char *as, con
     const char *name = (as && *as) ? as : v->name;
     size_t n = 0;
     /* encode with the alias name and the BRIDGED flag without copying the value */
-    int rc = kelp_var_encode_parts(v->time, name, v->source, v->community, v->kind, v->dval,
+    int rc = kelp_var_encode_parts(v->time, name, v->source, v->source_aux, v->community, v->kind, v->dval,
                                    v->kind == KELP_VAR_DOUBLE ? NULL : v->sval, v->kind == KELP_VAR_DOUBLE ? 0 : v->slen,
                                    (uint8_t)(v->flags | KELP_VAR_FLAG_BRIDGED), buf + KELP_BRIDGE_HDR_LEN,
                                    cap - KELP_BRIDGE_HDR_LEN, &n);

@@ -141,14 +141,30 @@ int kelp_bus_forward(kelp_bus *b, const kelp_var *v)
     return send_var(b, v, v->name);
 }
 
+/* The MOOSDB fixes a variable's type at its first write and refuses a write of another
+ * type (a double to a variable that holds strings, or the reverse). There is no DB here: each
+ * client applies the rule with the type of the value it retains for that name. */
+static bool type_clash(const kelp_bus *b, const char *name, kelp_var_kind kind)
+{
+    const kelp_var *have = cache_find(b, name);
+    return have && have->kind != kind;
+}
+
 static int notify(kelp_bus *b, const char *name, kelp_var_kind kind, double d, const char *data,
-                  size_t len, kelp_time now)
+                  size_t len, const char *aux, kelp_time now)
 {
     if (!b || !name || !*name) return KELP_ERR_ARG;
     if (strlen(name) >= KELP_MAX_NAME) return KELP_ERR_RANGE;
     if (len > KELP_MAX_SVAL) return KELP_ERR_RANGE;
+    if (!aux) aux = "";
+    if (strlen(aux) >= KELP_MAX_NAME) return KELP_ERR_RANGE;
+    if (type_clash(b, name, kind)) {
+        /* the MOOSDB would refuse it: nobody receives it (MOOS's Notify still says yes) */
+        b->stats.type_refused++;
+        return KELP_OK;
+    }
     size_t n = 0;
-    int rc = kelp_var_encode_parts(now, name, b->app, b->community, kind, d, data, len, 0,
+    int rc = kelp_var_encode_parts(now, name, b->app, aux, b->community, kind, d, data, len, 0,
                                    b->st.scratch, b->st.scratch_cap, &n);
     if (rc < 0) return rc;
     /* retain it: we answer late registrants for what we wrote */
@@ -158,6 +174,7 @@ static int notify(kelp_bus *b, const char *name, kelp_var_kind kind, double d, c
         memset(slot, 0, offsetof(kelp_var, sval));
         memcpy(slot->name, name, strlen(name) + 1);
         memcpy(slot->source, b->app, sizeof b->app);
+        memcpy(slot->source_aux, aux, strlen(aux) + 1);
         memcpy(slot->community, b->community, sizeof b->community);
         slot->time = now;
         slot->kind = kind;
@@ -176,19 +193,27 @@ static int notify(kelp_bus *b, const char *name, kelp_var_kind kind, double d, c
 
 int kelp_bus_notify_double(kelp_bus *b, const char *name, double value, kelp_time now)
 {
-    return notify(b, name, KELP_VAR_DOUBLE, value, NULL, 0, now);
+    return notify(b, name, KELP_VAR_DOUBLE, value, NULL, 0, NULL, now);
 }
 
 int kelp_bus_notify_string(kelp_bus *b, const char *name, const char *value, kelp_time now)
 {
     if (!value) return KELP_ERR_ARG;
-    return notify(b, name, KELP_VAR_STRING, 0.0, value, strlen(value), now);
+    return notify(b, name, KELP_VAR_STRING, 0.0, value, strlen(value), NULL, now);
 }
 
 int kelp_bus_notify_binary(kelp_bus *b, const char *name, const void *data, size_t len, kelp_time now)
 {
     if (!data && len) return KELP_ERR_ARG;
-    return notify(b, name, KELP_VAR_BINARY, 0.0, data, len, now);
+    return notify(b, name, KELP_VAR_BINARY, 0.0, data, len, NULL, now);
+}
+
+int kelp_bus_notify_aux(kelp_bus *b, const char *name, bool is_string, const char *sval, double dval,
+                        const char *aux, kelp_time now)
+{
+    if (is_string && !sval) return KELP_ERR_ARG;
+    return is_string ? notify(b, name, KELP_VAR_STRING, 0.0, sval, strlen(sval), aux, now)
+                     : notify(b, name, KELP_VAR_DOUBLE, dval, NULL, 0, aux, now);
 }
 
 static int send_sync_request(kelp_bus *b, const char *pattern, kelp_time now)
@@ -456,6 +481,11 @@ int kelp_bus_receive(kelp_bus *b, const char *channel, const uint8_t *data, size
             b->stats.sync_stale++;
             return KELP_OK;
         }
+    }
+    if (!is_sync && type_clash(b, v->name, v->kind)) {
+        /* the MOOSDB refuses a write of another type than the variable's: nobody gets it */
+        b->stats.type_refused++;
+        return KELP_OK;
     }
     bool limited = false;
     bool want = wanted(b, v, &limited);

@@ -4,7 +4,7 @@
  * before checking it, and a negative length reaches memcpy), so one malformed datagram can
  * crash a subscriber. This decoder checks every length against the remaining bytes and
  * against kelp's limits before touching memory, and needs no heap. Layout (big-endian):
- *   u64 fingerprint | f64 time | str name | str source | str community | i8 kind |
+ *   u64 fingerprint | f64 time | str name | str source | str source_aux | str community | i8 kind |
  *   f64 dval | str sval | i32 nbytes | nbytes bytes | i8 flags
  * where str = i32 length-including-NUL, bytes, NUL.
  */
@@ -107,6 +107,7 @@ size_t kelp_var_encoded_size(const kelp_var *v)
     size_t n = 8 + 8;
     n += 4 + str_len_bounded(v->name, KELP_MAX_NAME) + 1;
     n += 4 + str_len_bounded(v->source, KELP_MAX_NAME) + 1;
+    n += 4 + str_len_bounded(v->source_aux, KELP_MAX_NAME) + 1;
     n += 4 + str_len_bounded(v->community, KELP_MAX_NAME) + 1;
     n += 1 + 8;
     n += 4 + (v->kind == KELP_VAR_STRING ? v->slen : 0) + 1;
@@ -115,15 +116,17 @@ size_t kelp_var_encoded_size(const kelp_var *v)
     return n;
 }
 
-int kelp_var_encode_parts(double time, const char *name, const char *source, const char *community,
-                          kelp_var_kind kind, double dval, const char *val, size_t vlen, uint8_t flags,
-                          uint8_t *buf, size_t cap, size_t *len)
+int kelp_var_encode_parts(double time, const char *name, const char *source, const char *source_aux,
+                          const char *community, kelp_var_kind kind, double dval, const char *val, size_t vlen,
+                          uint8_t flags, uint8_t *buf, size_t cap, size_t *len)
 {
+    if (!source_aux) source_aux = "";
     if (!name || !source || !community || !len || (!buf && cap) || (!val && vlen)) return KELP_ERR_ARG;
     if (kind != KELP_VAR_DOUBLE && kind != KELP_VAR_STRING && kind != KELP_VAR_BINARY) return KELP_ERR_ARG;
     if (vlen > KELP_MAX_SVAL) return KELP_ERR_ARG;
     if (str_len_bounded(name, KELP_MAX_NAME) == KELP_MAX_NAME ||
         str_len_bounded(source, KELP_MAX_NAME) == KELP_MAX_NAME ||
+        str_len_bounded(source_aux, KELP_MAX_NAME) == KELP_MAX_NAME ||
         str_len_bounded(community, KELP_MAX_NAME) == KELP_MAX_NAME)
         return KELP_ERR_ARG;
     /* A string value may not hold a NUL: LCM strings cannot carry one. */
@@ -133,6 +136,7 @@ int kelp_var_encode_parts(double time, const char *name, const char *source, con
     put_f64(&w, time);
     put_str(&w, name, strlen(name));
     put_str(&w, source, strlen(source));
+    put_str(&w, source_aux, strlen(source_aux));
     put_str(&w, community, strlen(community));
     put_u8(&w, (uint8_t)kind);
     put_f64(&w, kind == KELP_VAR_DOUBLE ? dval : 0.0);
@@ -154,7 +158,7 @@ int kelp_var_encode(const kelp_var *v, uint8_t *buf, size_t cap, size_t *len)
 {
     if (!v) return KELP_ERR_ARG;
     if (v->slen > KELP_MAX_SVAL) return KELP_ERR_ARG;
-    return kelp_var_encode_parts(v->time, v->name, v->source, v->community, v->kind, v->dval,
+    return kelp_var_encode_parts(v->time, v->name, v->source, v->source_aux, v->community, v->kind, v->dval,
                                  v->kind == KELP_VAR_DOUBLE ? NULL : v->sval,
                                  v->kind == KELP_VAR_DOUBLE ? 0 : v->slen, v->flags, buf, cap, len);
 }
@@ -170,6 +174,7 @@ int kelp_var_decode(const uint8_t *buf, size_t len, kelp_var *out)
     out->time = get_f64(&r);
     get_str(&r, out->name, sizeof out->name);
     get_str(&r, out->source, sizeof out->source);
+    get_str(&r, out->source_aux, sizeof out->source_aux);
     get_str(&r, out->community, sizeof out->community);
     int8_t kind = (int8_t)get_uN(&r, 1);
     out->dval = get_f64(&r);

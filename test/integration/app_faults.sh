@@ -57,6 +57,6 @@ kill -INT ${PIDS[1]}; wait ${PIDS[1]} 2>/dev/null || true
 "$BIN/kelp-logcheck" --print status.lcmlog > status.txt || fail "status log undecodable"
 line=$(grep ' PACOMMSPOLLER_STATUS ' status.txt | tail -1)
 [ -n "$line" ] || fail "no PACOMMSPOLLER_STATUS: $(head -5 status.txt)"
-echo "$line" | grep -qE 'PACOMMSPOLLER_STATUS AppErrorFlag=(true|false),Uptime=[0-9.]+,cpuload=[0-9.]+,memory_kb=[1-9][0-9]*,memory_max_kb=[1-9][0-9]*,MOOSName=pAcommsPoller,Publishing="[^"]*PACOMMSPOLLER_STATUS[^"]*",Subscribing="[^"]*POLLER_COMMAND[^"]*",iter=' ||
+echo "$line" | grep -qE 'PACOMMSPOLLER_STATUS AppErrorFlag=(true|false),Uptime=[0-9.]+,cpuload=[0-9.e+-]+,memory_kb=[1-9][0-9.e+]*,memory_max_kb=[1-9][0-9.e+]*,MOOSName=pAcommsPoller,Publishing="[^"]*PACOMMSPOLLER_STATUS[^"]*",Subscribing="[^"]*POLLER_COMMAND,[^"]*"$' ||
   fail "status lacks MOOS's keys: $line"
 ok "status with MOOS keys: ${line:0:160}..."

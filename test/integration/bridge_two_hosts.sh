@@ -100,7 +100,7 @@ for i in range(int(sys.argv[1])):
 assert d[:4] == b"KBR2" and d[4] == 1
 body = d[21:-32]
 o = 16                                            # fingerprint, time
-for _ in range(3):                                # name, source, community
+for _ in range(4):                                # name, source, source_aux, community
     (n,) = struct.unpack(">i", body[o:o + 4]); o += 4 + n
 o += 1 + 8                                        # kind, dval
 big = b"x" * 60000 + b"\0"

@@ -137,10 +137,10 @@ awk -v k="$kink" -v c="$cink" 'BEGIN { exit !(k > 0.03 && k > 5 * c) }' ||
   fail "$kname's detail view does not show decoded fields (ink $kink, against $cink for a type lcm-spy cannot decode)"
 ok "$kname decoded field by field; 0_PROBE, of no known type, not"
 
-# a field's plot over time (jchart2d): click on dval, the 6th field of var_t
+# a field's plot over time (jchart2d): click on dval, the 7th field of var_t (rows are 15 px)
 chart=""
 for _ in 1 2 3; do
-  xdotool mousemove --window "$kw" 520 108 click 1
+  xdotool mousemove --window "$kw" 520 123 click 1
   chart=$(timeout 5 xdotool search --sync --name '^dval$' 2> /dev/null | head -1) && [ -n "$chart" ] && break
 done
 [ -n "$chart" ] || { cat spy.out; fail "clicking dval opened no plot"; }
