@@ -77,7 +77,7 @@ SOMAJOR := $(firstword $(subst ., ,$(VERSION)))
 SOCORE  := $(BUILD)/libkelp_core.so.$(VERSION)
 SOEDGE  := $(BUILD)/libkelp.so.$(VERSION)
 
-.PHONY: all deps test unit integration check-alloc firmware cross asan lint fuzz bench install \
+.PHONY: all deps test unit integration conformance check-alloc firmware cross asan lint fuzz bench install \
         demo demo-xrelay spy-jar clean tests-bin unit-noerrmsg
 .DEFAULT_GOAL := all
 
@@ -178,6 +178,15 @@ unit: tests-bin
 unit-noerrmsg:
 	@$(MAKE) --no-print-directory BUILD=$(BUILD)-noerrmsg CPPFLAGS_EXTRA=-DKELP_NO_ERRMSG tests-bin
 	@$(BUILD)-noerrmsg/test/check_core && $(BUILD)-noerrmsg/test/check_edge
+
+# the conformance suite: recorded runs of the real MOOS-IvP 24.8 apps replayed on kelp
+# (test/conformance/README.md); CONFORMANCE_SCENARIOS="a b" runs a subset
+$(BUILD)/test/conform-driver: test/conformance/driver.c $(LIBEDGE) $(LIBCORE)
+	@mkdir -p $(dir $@)
+	$(CC) $(CPPFLAGS) $(LCM_CFLAGS) $(CFLAGS) -o $@ $< $(LIBEDGE) $(LIBCORE) $(EDGE_LIBS)
+
+conformance: all $(BUILD)/test/conform-driver
+	@BUILD=$(abspath $(BUILD)) test/conformance/run.sh $(CONFORMANCE_SCENARIOS)
 
 integration: all spy-jar
 	@BUILD=$(abspath $(BUILD)) scripts/run-integration.sh

@@ -81,7 +81,7 @@ START_TEST(umh_string_src_var)
     ck_assert(r.str[i]);
     ck_assert_str_eq(r.val[i], "fast");
     /* var_name wins over src_var; dest_name stands for dest_node */
-    ck_assert_int_eq(mail("src_node=alpha,src_var=A,dest_name=BRAVO,var_name=B,string_val=x", 2), 1);
+    ck_assert_int_eq(mail("src_node=alpha,src_var=A,dest_name=bravo,var_name=B,string_val=x", 2), 1);
     ck_assert_int_ge(find(&r, "B"), 0);
     ck_assert_int_lt(find(&r, "A"), 0);
 }
@@ -109,7 +109,7 @@ START_TEST(umh_group_strict)
     ck_assert_int_eq(mail(m, 1), KELP_ERR_ARG);
     ck_assert_int_lt(find(&r, "SPEED"), 0);
     ck_assert_uint_eq(h.rejected, 1);
-    ck_assert_uint_eq(h.valid, 0);
+    ck_assert_uint_eq(h.valid, 1); /* 24.8: well formed, then rejected: counted in both */
     ck_assert_str_eq(h.last_rejected.why[0], "group address (strict addressing)");
 }
 END_TEST
@@ -136,16 +136,42 @@ START_TEST(umh_all)
     ck_assert_int_eq(mail("src_node=henry,dest_node=all,var_name=FOOBAR,string_val=74", 1), KELP_ERR_ARG);
     ck_assert_uint_eq(h.rejected, 1);
     /* strict still takes its own name */
-    ck_assert_int_eq(mail("src_node=henry,dest_node=Bravo,var_name=FOOBAR,string_val=74", 1), 1);
+    ck_assert_int_eq(mail("src_node=henry,dest_node=bravo,var_name=FOOBAR,string_val=74", 1), 1);
 }
 END_TEST
 
-/* 6.6.6: a colon list naming us */
+/* MOOS-IvP 24.8 (MessageHandler::handleMailNodeMessage): dest_node must equal this
+ * community as written -- another case is another name, and a colon list is no name (the
+ * recorded run: dest_node=Bravo and dest_node=bravo:charlie are rejected) */
 START_TEST(umh_colon_list)
 {
-    start("bravo", true);
-    ck_assert_int_eq(mail("src_node=alpha,dest_node=alpha:bravo,var_name=X,double_val=3", 1), 1);
-    ck_assert_int_eq(mail("src_node=alpha,dest_node=alpha:bravox:charlie,var_name=X,double_val=3", 1), KELP_ERR_ARG);
+    start("bravo", false);
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=alpha:bravo,var_name=X,double_val=3", 1), KELP_ERR_ARG);
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=Bravo,var_name=X,double_val=3", 1), KELP_ERR_ARG);
+    ck_assert_int_lt(find(&r, "X"), 0);
+    ck_assert_uint_eq(h.rejected, 2);
+    ck_assert_uint_eq(h.valid, 2);
+}
+END_TEST
+
+/* 24.8: an empty string_val is no string (the variable is posted as the double 0); a
+ * double_val is read as atof reads it (abc: 0, 2.5x: 2.5); a message with neither value is
+ * well formed (posts 0) */
+START_TEST(umh_values_as_248)
+{
+    start("bravo", false);
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=E,string_val=", 1), 1);
+    int i = find(&r, "E");
+    ck_assert(i >= 0 && !r.str[i]);
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=D,double_val=abc", 1), 1);
+    ck_assert(!r.str[find(&r, "D")]);
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=P,double_val=2.5x", 1), 1);
+    ck_assert(!r.str[find(&r, "P")]);
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=N", 1), 1);
+    ck_assert(!r.str[find(&r, "N")]);
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=S,string_val=,double_val=4", 1), 1);
+    ck_assert_uint_eq(h.valid, 5);
+    ck_assert_uint_eq(h.invalid, 0);
 }
 END_TEST
 
@@ -154,12 +180,9 @@ static const struct {
     const char *msg, *why;
 } invalid[] = {
     { "src_node=alpha,dest_node=bravo,string_val=x", "no var_name" },
-    { "src_node=alpha,dest_node=bravo,var_name=X", "no string_val or double_val" },
     { "dest_node=bravo,var_name=X,string_val=x", "no src_node" },
     { "src_node=alpha,var_name=X,string_val=x", "no dest_node or dest_group" },
     { "src_node=alpha,dest_node=bravo,var_name=X,string_val=x,double_val=2", "both string_val and double_val" },
-    { "src_node=alpha,dest_node=bravo,var_name=X,double_val=fast", "double_val is not a number" },
-    { "src_node=alpha,dest_node=bravo,var_name=X,double_val=nan", "double_val is not a number" },
     { "src_node=alpha,dest_node=bravo,var_name=MY VAR,double_val=1", "var_name is not a variable name" },
     { "src_node=alpha,dest_node=bravo,var_name=NODE_MESSAGE,string_val=a", "var_name NODE_MESSAGE would loop" },
     { "src_node=alpha,dest_node=bravo,var_name=X,string_val=\"open", "unbalanced quote or brace" },
@@ -206,20 +229,22 @@ START_TEST(umh_per_source_and_report)
     char buf[4096];
     size_t n = kelp_field_umh_report(&h, 120.5, buf, sizeof buf);
     ck_assert_uint_eq(n, strlen(buf));
-    ck_assert_ptr_nonnull(strstr(buf, "uFldMessageHandler Summary: (james)(1)\n"));
-    ck_assert_ptr_nonnull(strstr(buf, "    Total Received Valid: 28\n"));
-    ck_assert_ptr_nonnull(strstr(buf, "                 Invalid: 0\n"));
-    ck_assert_ptr_nonnull(strstr(buf, "     Time since last Msg: 30.5\n"));
-    ck_assert_ptr_nonnull(strstr(buf, "  Source  Total  Elapsed  Variable  Value\n"));
-    ck_assert_ptr_nonnull(strstr(buf, "  gilda      19      2.5  FOOBAR    35\n"));
-    ck_assert_ptr_nonnull(strstr(buf, "  henry       5     16.5  FOOBAR    44\n"));
-    ck_assert_ptr_nonnull(strstr(buf, "  ike         4     30.5  FOOBAR    20.25\n"));
+    /* MOOS-IvP 24.8's report, line for line as the recorded APPCAST shows it */
+    ck_assert_ptr_eq(strstr(buf, "Overall Totals Summary\n======================================\n"), buf);
+    ck_assert_ptr_nonnull(strstr(buf, "\n   Total Received Valid: 28\n"));
+    ck_assert_ptr_nonnull(strstr(buf, "\n                Invalid: 0\n"));
+    ck_assert_ptr_nonnull(strstr(buf, "\n    Time since last Msg: 30.5\n"));
+    ck_assert_ptr_nonnull(strstr(buf, "\nSource  Total  Elapsed  Variable  Value\n------  -----  -------  --------  -----\n"));
+    ck_assert_ptr_nonnull(strstr(buf, "\ngilda   19     2.5      FOOBAR    35\n"));
+    ck_assert_ptr_nonnull(strstr(buf, "\nhenry   5      16.5     FOOBAR    44\n"));
+    ck_assert_ptr_nonnull(strstr(buf, "\nike     4      30.5     FOOBAR    20.25\n\nLast Few Messages: (oldest to newest) \n"));
     /* sources in name order */
-    BEFORE(strstr(buf, "  gilda"), strstr(buf, "  henry"));
-    BEFORE(strstr(buf, "  henry"), strstr(buf, "  ike"));
-    ck_assert_ptr_nonnull(strstr(buf, "Invalid Mgs:\n  NONE\nRejected Mgs:\n  NONE\n"));
+    BEFORE(strstr(buf, "\ngilda"), strstr(buf, "\nhenry"));
+    BEFORE(strstr(buf, "\nhenry"), strstr(buf, "\nike"));
+    ck_assert_ptr_nonnull(strstr(buf, "Invalid Mgs: \n  NONE  \nRejected Mgs: \n  NONE  \n"));
+    ck_assert_uint_eq(h.reports, 1);
     (void)kelp_field_umh_report(&h, 121, buf, sizeof buf);
-    ck_assert_ptr_nonnull(strstr(buf, "(james)(2)"));
+    ck_assert_uint_eq(h.reports, 2);
 }
 END_TEST
 
@@ -235,23 +260,24 @@ START_TEST(umh_last_five)
     ck_assert_int_eq(mail("src_node=alpha,dest_node=zed,var_name=N,double_val=1", 8), KELP_ERR_ARG);
     char buf[4096];
     (void)kelp_field_umh_report(&h, 8, buf, sizeof buf);
-    const char *v = strstr(buf, "Valid Mgs:\n");
+    const char *v = strstr(buf, "Valid Mgs: \n");
     ck_assert_ptr_nonnull(v);
-    ck_assert_ptr_null(strstr(v, "double_val=2\n"));
-    const char *p3 = strstr(v, "double_val=3\n"), *p7 = strstr(v, "double_val=7\n");
-    ck_assert_ptr_nonnull(p3);
+    /* 24.8 lists a rejected (well formed) message among the valid ones too: 4..7 and zed */
+    ck_assert_ptr_null(strstr(v, "double_val=3\n"));
+    const char *p4 = strstr(v, "double_val=4\n"), *p7 = strstr(v, "double_val=7\n");
+    ck_assert_ptr_nonnull(p4);
     ck_assert_ptr_nonnull(p7);
-    BEFORE(p3, p7);
-    ck_assert_ptr_nonnull(strstr(buf, "Rejected Mgs:\n  src_node=alpha,dest_node=zed,var_name=N,double_val=1   (dest_node is not this node)\n"));
+    BEFORE(p4, p7);
+    ck_assert_ptr_nonnull(strstr(buf, "Rejected Mgs: \n  src_node=alpha,dest_node=zed,var_name=N,double_val=1\n"));
     /* truncation at 20 characters with "..." */
     h.cfg.trunc = 20;
     (void)kelp_field_umh_report(&h, 8, buf, sizeof buf);
-    ck_assert_ptr_nonnull(strstr(buf, "Valid Mgs:\n  src_node=alpha,dest_...\n"));
+    ck_assert_ptr_nonnull(strstr(buf, "Valid Mgs: \n  src_node=alpha,dest_...\n"));
     /* not verbose: the totals only */
     h.cfg.verbose = false;
     (void)kelp_field_umh_report(&h, 8, buf, sizeof buf);
-    ck_assert_ptr_nonnull(strstr(buf, "Total Received Valid: 7"));
-    ck_assert_ptr_null(strstr(buf, "Valid Mgs:"));
+    ck_assert_ptr_nonnull(strstr(buf, "Total Received Valid: 8")); /* 24.8: every message received */
+    ck_assert_ptr_null(strstr(buf, "Valid Mgs: "));
 }
 END_TEST
 
@@ -263,7 +289,7 @@ START_TEST(umh_report_small_buffer)
     size_t n = kelp_field_umh_report(&h, 1, buf, sizeof buf);
     ck_assert_uint_eq(n, strlen(buf));
     ck_assert_uint_lt(n, sizeof buf);
-    ck_assert_ptr_nonnull(strstr(buf, "****\nuFldMessageHandler"));
+    ck_assert_ptr_nonnull(strstr(buf, "Overall Totals"));
 }
 END_TEST
 
@@ -280,11 +306,16 @@ START_TEST(umh_summary)
     ck_assert_int_eq(mail("src_node=a,dest_node=c,var_name=X,double_val=1", 12), KELP_ERR_ARG);
     ck_assert_int_eq(mail("src_node=a", 12), KELP_ERR_PARSE);
     ck_assert_int_eq(kelp_field_umh_iterate(&h, 12.2, &sink), 1);
-    ck_assert_str_eq(r.val[find(&r, "UMH_SUMMARY_MSGS")], "total=3,valid=1,rejected=1");
-    ck_assert_int_eq(mail("src_node=a,dest_node=bravo,var_name=X,double_val=1", 12.5), 1);
-    ck_assert_int_eq(kelp_field_umh_iterate(&h, 12.9, &sink), 0); /* < 1 s since the last */
-    ck_assert_int_eq(kelp_field_umh_iterate(&h, 13.2, &sink), 1);
-    ck_assert_str_eq(r.val[find(&r, "UMH_SUMMARY_MSGS")], "total=4,valid=2,rejected=1");
+    /* 24.8: valid counts the rejected message too (it was well formed) */
+    ck_assert_str_eq(r.val[find(&r, "UMH_SUMMARY_MSGS")], "total=3,valid=2,rejected=1");
+    ck_assert_int_eq(mail("src_node=a,dest_node=bravo,var_name=X,double_val=1", 12.25), 1);
+    /* every iteration with mail posts, however close (24.8: m_newmail) */
+    ck_assert_int_eq(kelp_field_umh_iterate(&h, 12.25, &sink), 1);
+    ck_assert_str_eq(r.val[find(&r, "UMH_SUMMARY_MSGS")], "total=4,valid=3,rejected=1");
+    /* and iterations 101, 201, ... without mail */
+    int posted = 0;
+    for (int i = 4; i <= 201; i++) posted += kelp_field_umh_iterate(&h, 13 + i * 0.25, &sink);
+    ck_assert_int_eq(posted, 2);
 }
 END_TEST
 
@@ -349,7 +380,7 @@ START_TEST(umh_flags)
     ck_assert(!r.str[find(&r, "BAD_NUM")]);
     ck_assert_double_eq(r.d[find(&r, "BAD_NUM")], 7);
     ck_assert_int_eq(mail("src_node=a,dest_node=bravo,var_name=X,double_val=1", 4), 1);
-    ck_assert_str_eq(r.val[find(&r, "GOT")], "n2_of_4");
+    ck_assert_str_eq(r.val[find(&r, "GOT")], "n3_of_4"); /* 24.8: GOOD_CTR counts the rejected one too */
     /* order: the variable first, then its flags */
     ck_assert_int_lt(find(&r, "X"), find(&r, "GOT"));
 }
@@ -459,6 +490,7 @@ Suite *kelp_field_msghandler_suite(void)
     tcase_add_test(tc, umh_last_five);
     tcase_add_test(tc, umh_report_small_buffer);
     tcase_add_test(tc, umh_summary);
+    tcase_add_test(tc, umh_values_as_248);
     tcase_add_test(tc, umh_config);
     tcase_add_test(tc, umh_flags);
     tcase_add_test(tc, umh_bad_flags_on_rejected_only);

@@ -2,9 +2,8 @@
  * variable each carries (ufield.md 6). The logic is the core kelp_field_umh
  * (include/kelp/field.h); this file reads the block and wires the core to the bus.
  *
- * MOOS posts the carried variable with the sending node as its auxiliary source. kelp's
- * bus records one source per write (the app's MOOS name), so the sender (node, or node+app
- * with aux_info = node+app) shows in the report and run events instead. */
+ * As MOOS-IvP 24.8 does, the carried variable is posted with the sending node (node+app with
+ * aux_info = node+app) as its MOOS source-aux. */
 #include <stdio.h>
 #include <string.h>
 #include <kelp/app.h>
@@ -20,7 +19,7 @@ typedef struct umh {
 static void publish(void *ctx, const char *var, bool is_string, const char *sval, double dval)
 {
     umh *u = ctx;
-    int rc = is_string ? kelp_app_notify_string(u->app, var, sval) : kelp_app_notify_double(u->app, var, dval);
+    int rc = kelp_app_notify_aux(u->app, var, is_string, sval, dval, u->core.posting ? u->core.aux : NULL);
     if (rc < 0) kelp_app_run_warning(u->app, "cannot publish %s", var);
 }
 
@@ -46,19 +45,14 @@ static int startup(kelp_app *app, void *st)
     if (rc < 0) return rc;
     kelp_field_umh_init(&u->core, &u->cfg);
     if (kelp_app_register(app, "NODE_MESSAGE", 0) < 0) return kelp_app_config_error(app, NULL, "cannot register NODE_MESSAGE");
-    kelp_app_event(app, "handling NODE_MESSAGE for %s (%s addressing, aux %s)", u->cfg.community,
-                   u->cfg.strict ? "strict" : "non-strict", u->cfg.aux_app ? "node+app" : "node");
     return 0;
 }
 
 static void on_mail(kelp_app *app, void *st, const kelp_var *v)
 {
     umh *u = st;
-    int rc = kelp_field_umh_mail(&u->core, v->name, v->kind == KELP_VAR_STRING, v->sval, kelp_app_time(app), &u->sink);
-    if (rc == KELP_ERR_PARSE) {
-        const kelp_umh_list *l = &u->core.last_invalid;
-        kelp_app_run_warning(app, "invalid NODE_MESSAGE ignored: %s", l->why[(l->first + l->n - 1) % KELP_UMH_LAST]);
-    }
+    /* an invalid or rejected message is counted and listed in the report (24.8 warns of neither) */
+    KELP_IGNORE(kelp_field_umh_mail(&u->core, v->name, v->kind == KELP_VAR_STRING, v->sval, kelp_app_time(app), &u->sink));
 }
 
 static int iterate(kelp_app *app, void *st, double now)
@@ -75,7 +69,6 @@ static void report(kelp_app *app, void *st, FILE *out)
     static char buf[8192];
     size_t n = kelp_field_umh_report(&u->core, kelp_app_time(app), buf, sizeof buf);
     fwrite(buf, 1, n, out);
-    if (u->core.valid) fprintf(out, "Last posted from (aux source): %s\n", u->core.aux);
 }
 
 static const kelp_app_def def = {
@@ -88,7 +81,7 @@ static const kelp_app_def def = {
     .params = (const kelp_app_param_info[]){
         { "VERBOSE", "true", "the full report (per source, last messages); false: totals only", NULL },
         { "STRICT_ADDRESSING", "false", "true: only messages whose dest_node names this community", NULL },
-        { "AUX_INFO", "node", "node or node+app: the sender as aux source (kelp shows it in the report)", NULL },
+        { "AUX_INFO", "node", "node or node+app: the sender, as the posting's MOOS source-aux", NULL },
         { "APPCAST_TRUNC_MSG", "75", "characters of a listed valid message (0: whole)", NULL },
         { "MSG_FLAG", "RETURN=true", "posted after each message posted; $[CTR] $[GOOD_CTR] $[BAD_CTR] expand (repeatable)", NULL },
         { "BAD_MSG_FLAG", "TOTAL_BAD=$[BAD_CTR]", "posted after each message rejected for its address (repeatable); $[BAD_CTR]: rejected", NULL },
@@ -100,7 +93,7 @@ static const kelp_app_def def = {
         { NULL, NULL, NULL } },
     .publishes = (const kelp_app_var_info[]){
         { "<var_name>", "BAR", "the message's variable: a string, or a double for double_val" },
-        { "UMH_SUMMARY_MSGS", "total=23,valid=18,rejected=3", "on change, at most once a second" },
+        { "UMH_SUMMARY_MSGS", "total=23,valid=18,rejected=3", "after an iteration with mail, and every 100 iterations" },
         { "<MSG_FLAG>", "RETURN=true", NULL },
         { "<BAD_MSG_FLAG>", "TOTAL_BAD=5", NULL },
         { NULL, NULL, NULL } },

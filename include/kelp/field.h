@@ -428,7 +428,9 @@ typedef struct kelp_field_text {
 typedef struct kelp_node_message {
     kelp_field_text src_node, src_app, src_bhv, dest_node, dest_group, var_name, string_val, color, ack_id;
     double double_val;
-    bool has_string, has_double; /**< which value the message carries */
+    bool has_string, has_double; /**< which value the message carries (an empty string_val is none) */
+    bool string_quoted;          /**< string_val was written in double quotes (stripped in string_val) */
+    bool string_val_quoted;      /**< string_val_quoted=true: the quotes were added to hide commas */
     bool ack;                    /**< ack=true */
 } kelp_node_message;
 
@@ -467,7 +469,6 @@ typedef struct kelp_field_umh_cfg {
     bool strict;                   /**< STRICT_ADDRESSING: only dest_node naming us (false) */
     bool aux_app;                  /**< AUX_INFO = node+app: aux source "node+src_app" (node) */
     unsigned trunc;                /**< APPCAST_TRUNC_MSG: characters of a listed valid message (75; 0 all) */
-    double summary_gap;            /**< s of MOOS time between UMH_SUMMARY_MSGS posts, at least (1) */
     kelp_umh_flag msg_flag[KELP_UMH_MAX_FLAGS], bad_flag[KELP_UMH_MAX_FLAGS];
     unsigned nmsg_flag, nbad_flag;
 } kelp_field_umh_cfg;
@@ -496,14 +497,17 @@ typedef struct kelp_field_umh {
     unsigned nsrc;
     kelp_umh_list last_valid, last_invalid, last_rejected;
     char aux[2 * KELP_MAX_NAME];             /**< aux source of the last post (node or node+app) */
+    bool posting;                            /**< set while the carried variable is published: the
+                                                  sink posts it with `aux` as its MOOS source-aux */
     /* private */
     bool summary_due;
+    unsigned long iter;                      /* iterations, for 24.8's summary on 1, 101, 201, ... */
     double last_summary;
     char post[KELP_MAX_SVAL + 1];            /**< the string value being posted */
     kelp_diag diag;                          /**< workspace: why the last NODE_MESSAGE was invalid */
 } kelp_field_umh;
 
-/** Defaults: verbose, not strict, aux_info node, trunc 75, summary every 1 s at most. */
+/** Defaults: verbose, not strict, aux_info node, trunc 75. */
 void kelp_field_umh_cfg_default(kelp_field_umh_cfg *c, const char *community);
 /** One block parameter: VERBOSE, STRICT_ADDRESSING, AUX_INFO (node | node+app),
  *  APPCAST_TRUNC_MSG (>= 0), MSG_FLAG, BAD_MSG_FLAG ("VAR=value").
@@ -517,9 +521,10 @@ void kelp_field_umh_init(kelp_field_umh *h, const kelp_field_umh_cfg *cfg);
  *  @return 1 posted, KELP_ERR_PARSE invalid, KELP_ERR_ARG rejected (addressing). */
 int kelp_field_umh_mail(kelp_field_umh *h, const char *var, bool is_string, const char *sval, kelp_time now,
                         const kelp_field_sink *out);
-/** UMH_SUMMARY_MSGS "total=..,valid=..,rejected=.." (seed 6.1.2's three totals, in MOOS-IvP
- *  24.8's form; the invalid are total - valid - rejected) on the first call and after a
- *  change, at most every summary_gap s. @return 1 posted, 0 not due. */
+/** One iteration: UMH_SUMMARY_MSGS "total=..,valid=..,rejected=.." (MOOS-IvP 24.8: valid counts
+ *  every well-formed message, rejected ones included; the invalid are total - valid) after an
+ *  iteration that had NODE_MESSAGE mail and on iterations 1, 101, 201, ... as 24.8 posts it.
+ *  @return 1 posted, 0 not due. */
 int kelp_field_umh_iterate(kelp_field_umh *h, kelp_time now, const kelp_field_sink *out);
 /** The terminal report (Listing 14: totals, per source, last few messages; totals only when
  *  not verbose) into buf, NUL-terminated, truncated to fit. Counts a report.

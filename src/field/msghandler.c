@@ -9,7 +9,6 @@
 #include <kelp/util.h>
 
 #define UMH_DEFAULT_TRUNC 75
-#define UMH_SUMMARY_GAP_S 1.0
 
 /* ------------------------------------------------------------------ NODE_MESSAGE */
 
@@ -25,9 +24,16 @@ static void set_text(kelp_field_text *t, const char *v, size_t vl)
     t->n = vl;
 }
 
-static bool number(const char *v, size_t vl, double *out)
+/* double_val as MOOS-IvP reads it (atof): the longest leading number, 0 when there is none */
+static double leading_number(const char *v, size_t vl)
 {
-    return kelp_parse_double(v, vl, out) == 0 && isfinite(*out);
+    while (vl && (*v == ' ' || *v == '\t')) v++, vl--;
+    if (vl > 64) vl = 64;
+    for (size_t n = vl; n > 0; n--) {
+        double d;
+        if (kelp_parse_double(v, n, &d) == 0 && isfinite(d)) return d;
+    }
+    return 0.0;
 }
 
 /* a MOOS variable name we are willing to post */
@@ -54,9 +60,11 @@ static void take_pair(kelp_node_message *m, kelp_field_text *var_alt, kelp_field
     else if (key_is(k, kl, "color", NULL)) set_text(&m->color, v, vl);
     else if (key_is(k, kl, "ack_id", "msg_id")) set_text(&m->ack_id, v, vl);
     else if (key_is(k, kl, "ack", NULL)) m->ack = kelp_strieq_n(v, vl, "true");
+    else if (key_is(k, kl, "string_val_quoted", NULL)) m->string_val_quoted = kelp_strieq_n(v, vl, "true");
     else if (key_is(k, kl, "string_val", NULL)) {
         if (!m->has_string) {
-            if (vl >= 2 && v[0] == '"' && v[vl - 1] == '"') v++, vl -= 2;
+            m->string_quoted = vl >= 2 && v[0] == '"' && v[vl - 1] == '"';
+            if (m->string_quoted) v++, vl -= 2;
             m->string_val.p = v;
             m->string_val.n = vl;
         }
@@ -98,9 +106,11 @@ int kelp_field_nodemsg_parse(const char *s, size_t len, kelp_node_message *m, ke
     if (!m->var_name.n) return kelp_fail(d, KELP_ERR_PARSE, "no var_name");
     if (!name_ok(m->var_name.p, m->var_name.n)) return kelp_fail(d, KELP_ERR_PARSE, "var_name is not a variable name");
     if (kelp_strieq_n(m->var_name.p, m->var_name.n, "NODE_MESSAGE")) return kelp_fail(d, KELP_ERR_PARSE, "var_name NODE_MESSAGE would loop");
+    /* MOOS-IvP 24.8 (NodeMessage): an empty string_val is no string value; a message with a
+     * string and a double is invalid; a double_val is read as atof reads it */
+    if (m->has_string && m->string_val.n == 0 && !m->string_quoted) m->has_string = false;
     if (m->has_string && m->has_double) return kelp_fail(d, KELP_ERR_PARSE, "both string_val and double_val");
-    if (!m->has_string && !m->has_double) return kelp_fail(d, KELP_ERR_PARSE, "no string_val or double_val");
-    if (m->has_double && !number(dval.p, dval.n, &m->double_val)) return kelp_fail(d, KELP_ERR_PARSE, "double_val is not a number");
+    if (m->has_double) m->double_val = leading_number(dval.p, dval.n);
     return KELP_OK;
 }
 
@@ -129,7 +139,6 @@ void kelp_field_umh_cfg_default(kelp_field_umh_cfg *c, const char *community)
     copy_text(c->community, sizeof c->community, community ? community : "", community ? strlen(community) : 0);
     c->verbose = true;
     c->trunc = UMH_DEFAULT_TRUNC;
-    c->summary_gap = UMH_SUMMARY_GAP_S;
 }
 
 static int parse_bool(const char *val, bool *out, kelp_diag *d)
@@ -164,7 +173,7 @@ static int parse_flag(kelp_umh_flag *f, unsigned *n, const char *val, kelp_diag 
     memset(t, 0, sizeof *t);
     copy_text(t->var, sizeof t->var, k, kl);
     bool quoted = l >= 2 && v[0] == '"' && v[l - 1] == '"';
-    if (!quoted && number(v, l, &t->dval)) {
+    if (!quoted && kelp_parse_double(v, l, &t->dval) == 0 && isfinite(t->dval)) {
         t->is_string = false;
     } else {
         if (quoted) v++, l -= 2;
@@ -302,47 +311,53 @@ int kelp_field_umh_mail(kelp_field_umh *h, const char *var, bool is_string, cons
     kelp_diag_clear(&h->diag);
     if (kelp_field_nodemsg_parse(sval, strlen(sval), &m, &h->diag) < 0)
         return bad(h, &h->last_invalid, &h->invalid, sval, kelp_diag_text(&h->diag), out);
-    /* addressing (ufield.md 6.4 rule 2) */
-    bool all = kelp_strieq_n(m.dest_node.p, m.dest_node.n, "all");
-    bool mine = m.dest_node.n && kelp_field_nodemsg_to(&m, h->cfg.community);
-    if (!mine && h->cfg.strict)
-        return bad(h, &h->last_rejected, &h->rejected, sval,
-                   m.dest_node.n ? (all ? "dest_node all (strict addressing)" : "dest_node is not this node")
-                                 : "group address (strict addressing)",
-                   out);
-    if (!mine && !all && m.dest_node.n) return bad(h, &h->last_rejected, &h->rejected, sval, "dest_node is not this node", out);
-    /* accepted */
+    /* well formed: counted valid (24.8 counts it before the address check) and listed */
     h->valid++;
     h->summary_due = true;
     char var_name[KELP_MAX_NAME];
     copy_text(var_name, sizeof var_name, m.var_name.p, m.var_name.n);
+    kelp_umh_source *s = source(h, &m.src_node);
+    s->total++;
+    s->last = now;
+    memcpy(s->var, var_name, sizeof s->var);
+    if (m.has_string) copy_text(s->val, sizeof s->val, m.string_val.p, m.string_val.n);
+    else {
+        size_t n = 0;
+        if (field_put_fixed(s->val, sizeof s->val, &n, m.double_val, 6, true) < 0) copy_text(s->val, sizeof s->val, "?", 1);
+    }
+    list_add(&h->last_valid, sval, NULL);
+    /* addressing as MOOS-IvP 24.8: dest_node must be this community exactly (case and all; a
+     * colon list is no name), "all" or "ALL"; no dest_node (a group message) is taken, unless
+     * addressing is strict */
+    bool all = m.dest_node.n == 3 && (memcmp(m.dest_node.p, "all", 3) == 0 || memcmp(m.dest_node.p, "ALL", 3) == 0);
+    bool mine = m.dest_node.n == strlen(h->cfg.community) && memcmp(m.dest_node.p, h->cfg.community, m.dest_node.n) == 0;
+    if (m.dest_node.n && !all && !mine) return bad(h, &h->last_rejected, &h->rejected, sval, "dest_node is not this node", out);
+    if (h->cfg.strict && !mine)
+        return bad(h, &h->last_rejected, &h->rejected, sval,
+                   m.dest_node.n ? "dest_node all (strict addressing)" : "group address (strict addressing)", out);
     size_t an = m.src_node.n < KELP_MAX_NAME ? m.src_node.n : KELP_MAX_NAME - 1;
     copy_text(h->aux, sizeof h->aux, m.src_node.p, an);
     if (h->cfg.aux_app && m.src_app.n) {
         h->aux[an] = '+';
         copy_text(h->aux + an + 1, sizeof h->aux - an - 1, m.src_app.p, m.src_app.n);
     }
-    kelp_umh_source *s = source(h, &m.src_node);
-    s->total++;
-    s->last = now;
-    memcpy(s->var, var_name, sizeof s->var);
+    h->posting = true;
     if (m.has_string) {
         copy_text(h->post, sizeof h->post, m.string_val.p, m.string_val.n);
-        copy_text(s->val, sizeof s->val, h->post, strlen(h->post));
         out->publish(out->ctx, var_name, true, h->post, 0);
     } else {
-        size_t n = 0;
-        if (field_put_fixed(s->val, sizeof s->val, &n, m.double_val, 6, true) < 0) copy_text(s->val, sizeof s->val, "?", 1);
         out->publish(out->ctx, var_name, false, NULL, m.double_val);
     }
-    list_add(&h->last_valid, sval, NULL);
+    h->posting = false;
     post_flags(h, h->cfg.msg_flag, h->cfg.nmsg_flag, out);
     return 1;
 }
 
 int kelp_field_umh_iterate(kelp_field_umh *h, kelp_time now, const kelp_field_sink *out)
 {
-    if (!h->summary_due || (h->summaries && now - h->last_summary < h->cfg.summary_gap)) return 0;
+    /* MOOS-IvP 24.8: after an iteration with NODE_MESSAGE mail, and on iterations 1, 101, 201, ... */
+    h->iter++;
+    if (!h->summary_due && h->iter % 100 != 1) return 0;
     char buf[128];
     /* seed 6.1.2: total, valid and rejected; written as 24.8 writes it */
     kelp_snprintf(buf, sizeof buf, "total=%lu,valid=%lu,rejected=%lu", h->total, h->valid, h->rejected);
@@ -362,18 +377,21 @@ typedef struct outbuf {
 
 #define put(o, ...) field_putf((o)->b, (o)->cap, &(o)->n, __VA_ARGS__)
 
-static void put_list(outbuf *o, const char *title, const kelp_umh_list *l, unsigned trunc)
+/* one "last few" list as 24.8 writes it: the valid ones cut at APPCAST_TRUNC_MSG with "...",
+ * the invalid and rejected ones at 70 characters */
+static void put_list(outbuf *o, const char *title, const kelp_umh_list *l, unsigned trunc, bool dots)
 {
     put(o, "%s\n", title);
-    if (!l->n) put(o, "  NONE\n");
+    if (!l->n) put(o, "  NONE  \n");
     for (unsigned i = 0; i < l->n; i++) {
         unsigned k = (l->first + i) % KELP_UMH_LAST;
         size_t len = strlen(l->msg[k]);
         bool cut = trunc && len > trunc;
-        put(o, "  %.*s%s", (int)(cut ? trunc : len), l->msg[k], cut ? "..." : "");
-        put(o, l->why[k][0] ? "   (%s)\n" : "%s\n", l->why[k]);
+        put(o, "  %.*s%s\n", (int)(cut ? trunc : len), l->msg[k], cut && dots ? "..." : "");
     }
 }
+
+#define UMH_RULE "======================================\n"
 
 size_t kelp_field_umh_report(kelp_field_umh *h, kelp_time now, char *buf, size_t cap)
 {
@@ -381,25 +399,31 @@ size_t kelp_field_umh_report(kelp_field_umh *h, kelp_time now, char *buf, size_t
     outbuf o = { buf, cap, 0 };
     buf[0] = 0;
     h->reports++;
-    put(&o, "****\nuFldMessageHandler Summary: (%s)(%lu)\n****\n\n", h->cfg.community, h->reports);
-    put(&o, "Overall Totals Summary\n=====\n");
-    put(&o, "    Total Received Valid: %lu\n", h->valid);
-    put(&o, "                 Invalid: %lu\n", h->invalid);
-    put(&o, "                Rejected: %lu\n", h->rejected);
-    if (h->last_msg < 0) put(&o, "     Time since last Msg: N/A\n");
-    else put(&o, "     Time since last Msg: %.1f\n", now - h->last_msg);
+    /* MOOS-IvP 24.8's report (MessageHandler::buildReport): every message received under "Total
+     * Received Valid", the invalid as total - valid */
+    put(&o, "Overall Totals Summary\n" UMH_RULE);
+    put(&o, "   Total Received Valid: %lu\n", h->total);
+    put(&o, "                Invalid: %lu\n", h->total - h->valid);
+    put(&o, "               Rejected: %lu\n", h->rejected);
+    if (h->last_msg < 0) put(&o, "    Time since last Msg: N/A\n");
+    else put(&o, "    Time since last Msg: %.1f\n", now - h->last_msg);
     if (!h->cfg.verbose) return o.n;
-    put(&o, "\nPer Source Node Summary\n=====\n");
-    /* columns as wide as their widest entry; sources in name order */
+    put(&o, "\nPer Source Node Summary\n" UMH_RULE);
+    /* a table as MOOS-IvP's ACTable draws it: columns as wide as their widest cell, two blanks
+     * apart, a dashed line under the header; sources in name order */
+    char tot[KELP_UMH_MAX_SOURCES][24], ela[KELP_UMH_MAX_SOURCES][24];
     int w[5] = { 6, 5, 7, 8, 5 };
     for (unsigned i = 0; i < h->nsrc; i++) {
-        int a = (int)strlen(h->src[i].name), b = (int)strlen(h->src[i].var), c = (int)strlen(h->src[i].val);
-        if (a > w[0]) w[0] = a;
-        if (b > w[3]) w[3] = b;
-        if (c > w[4]) w[4] = c;
+        kelp_snprintf(tot[i], sizeof tot[i], "%lu", h->src[i].total);
+        kelp_snprintf(ela[i], sizeof ela[i], "%.1f", now - h->src[i].last);
+        int c[5] = { (int)strlen(h->src[i].name), (int)strlen(tot[i]), (int)strlen(ela[i]), (int)strlen(h->src[i].var),
+                     (int)strlen(h->src[i].val) };
+        for (int j = 0; j < 5; j++)
+            if (c[j] > w[j]) w[j] = c[j];
     }
-    put(&o, "  %-*s  %*s  %*s  %-*s  %s\n", w[0], "Source", w[1], "Total", w[2], "Elapsed", w[3], "Variable", "Value");
-    put(&o, "  %-*s  %*s  %*s  %-*s  %s\n", w[0], "------", w[1], "-----", w[2], "-------", w[3], "--------", "-----");
+    static const char dashes[] = "----------------------------------------------------------------";
+    put(&o, "%-*s  %-*s  %-*s  %-*s  %s\n", w[0], "Source", w[1], "Total", w[2], "Elapsed", w[3], "Variable", "Value");
+    put(&o, "%.*s  %.*s  %.*s  %.*s  %.*s", w[0], dashes, w[1], dashes, w[2], dashes, w[3], dashes, w[4], dashes);
     bool done[KELP_UMH_MAX_SOURCES] = { false };
     for (unsigned r = 0; r < h->nsrc; r++) {
         int best = -1;
@@ -408,12 +432,11 @@ size_t kelp_field_umh_report(kelp_field_umh *h, kelp_time now, char *buf, size_t
         if (best < 0) break;
         done[best] = true;
         const kelp_umh_source *s = &h->src[best];
-        put(&o, "  %-*s  %*lu  %*.1f  %-*s  %s\n", w[0], s->name, w[1], s->total, w[2], now - s->last, w[3], s->var,
-            s->val);
+        put(&o, "\n%-*s  %-*s  %-*s  %-*s  %s", w[0], s->name, w[1], tot[best], w[2], ela[best], w[3], s->var, s->val);
     }
-    put(&o, "\nLast Few Messages: (from oldest to newest)\n=====\n");
-    put_list(&o, "Valid Mgs:", &h->last_valid, h->cfg.trunc);
-    put_list(&o, "Invalid Mgs:", &h->last_invalid, h->cfg.trunc);
-    put_list(&o, "Rejected Mgs:", &h->last_rejected, h->cfg.trunc);
+    put(&o, "\n\nLast Few Messages: (oldest to newest) \n" UMH_RULE);
+    put_list(&o, "Valid Mgs: ", &h->last_valid, h->cfg.trunc, true);
+    put_list(&o, "Invalid Mgs: ", &h->last_invalid, 70, false);
+    put_list(&o, "Rejected Mgs: ", &h->last_rejected, 70, false);
     return o.n;
 }

@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# The conformance suite: replay recorded runs of the real MOOS-IvP 24.8 apps on kelp and compare.
+#
+#   test/conformance/run.sh [SCENARIO ...]        (make conformance; default: every scenario)
+#
+# For each scenario of $KELP_CONF_DIR (default ../shared/conformance/moos-ivp-24.8): the .moos
+# file is copied unchanged and only an ANTLER block is appended (one Run = line per
+# ProcessConfig block, under its 24.8 name: kelp-launch maps names such as uSimMarineV22 or
+# pShare to kelp's programs); in its own private network namespace (loopback only, ttl=0, its
+# own port) kelp-launch starts the apps and conform-driver plays the .scn script and records
+# kelp's transcript. All scenarios run side by side (they mostly wait on MOOS time), then
+# compare.py compares each transcript with the recording, figure by figure, and prints the
+# table. Output: $BUILD/conformance/<scenario>.{jsonl,meta.json,launch.log}, report.txt.
+# Exit status: 0 when every gated scenario agrees except for the differences listed in
+# docs/CONFORMANCE.md.
+set -uo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+BUILD=${BUILD:-$root/build}
+CONF=${KELP_CONF_DIR:-$root/../shared/conformance/moos-ivp-24.8}
+[ -d "$CONF/missions" ] || { echo "conformance: no recordings at $CONF (set KELP_CONF_DIR)"; exit 2; }
+OUT=$BUILD/conformance
+mkdir -p "$OUT"
+scenarios=("$@")
+if [ ${#scenarios[@]} -eq 0 ]; then
+  for f in "$CONF"/missions/*.scn; do scenarios+=("$(basename "$f" .scn)"); done
+fi
+
+# one scenario, inside its own network namespace (re-entered through unshare)
+if [ "${1:-}" = --inside ]; then
+  scn=$2 port=$3
+  ip link set lo up && ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo 2>/dev/null
+  W=$(mktemp -d /tmp/kelp-conf-$scn.XXXXXX)
+  cp "$CONF/missions/$scn.moos" "$W/$scn.moos"
+  {
+    echo
+    echo "// appended by kelp's conformance runner: launch every block of this mission"
+    echo "ProcessConfig = ANTLER"
+    echo "{"
+    echo "  MSBetweenLaunches = 100"
+    echo "  Run = MOOSDB @ NewConsole = false"
+    sed -n 's/^[[:space:]]*ProcessConfig[[:space:]]*=[[:space:]]*\([A-Za-z0-9_]*\).*/\1/p' "$CONF/missions/$scn.moos" |
+      grep -v '^ANTLER$' | while read -r app; do echo "  Run = $app @ NewConsole = false"; done
+    echo "}"
+  } >> "$W/$scn.moos"
+  export KELP_LCM_URL="udpm://239.255.76.67:$port?ttl=0"
+  (cd "$W" && exec "$BUILD/bin/kelp-launch" "$scn.moos") > "$OUT/$scn.launch.log" 2>&1 &
+  lp=$!
+  "$BUILD/test/conform-driver" "$CONF/missions/$scn.scn" "$W/$scn.moos" "$OUT/$scn.jsonl" "$OUT/$scn.meta.json" \
+    > "$OUT/$scn.driver.log" 2>&1
+  rc=$?
+  kill -INT $lp 2>/dev/null; wait $lp 2>/dev/null
+  cp "$W"/*.log "$OUT/" 2>/dev/null || true
+  rm -rf "$W"
+  exit $rc
+fi
+
+start=$(date +%s)
+echo "conformance: ${#scenarios[@]} scenarios side by side (recordings: $CONF)"
+pids=()
+i=0
+for scn in "${scenarios[@]}"; do
+  [ -f "$CONF/missions/$scn.scn" ] || { echo "conformance: no scenario $scn"; exit 2; }
+  rm -f "$OUT/$scn.jsonl" "$OUT/$scn.meta.json"
+  port=$((7300 + i)); i=$((i + 1))
+  if [ "$(id -u)" -eq 0 ]; then unshare -n bash "$0" --inside "$scn" "$port" &
+  else unshare -rn bash "$0" --inside "$scn" "$port" & fi
+  pids+=($!)
+done
+fail=0
+for k in "${!pids[@]}"; do
+  if ! wait "${pids[$k]}"; then echo "conformance: ${scenarios[$k]}: the run failed (see $OUT/${scenarios[$k]}.driver.log)"; fail=1; fi
+done
+echo "conformance: runs done in $(( $(date +%s) - start )) s"
+python3 "$here/compare.py" --golden "$CONF" --kelp "$OUT" --allow "$root/docs/CONFORMANCE.md" --open "$here/open.txt" \
+  ${KELP_CONF_WRITE_OPEN:+--write-open "$KELP_CONF_WRITE_OPEN"} "${scenarios[@]}" |
+  tee "$OUT/report.txt"
+rc=${PIPESTATUS[0]}
+[ $fail -eq 0 ] && [ "$rc" -eq 0 ]
