@@ -34,7 +34,12 @@ PERIODIC_SKIP_VALUES = re.compile(r".*_STATUS$|^APPCAST$|.*_ITER_(GAP|LEN)$|.*_P
 
 def load_rows(path):
     rows = []
-    with open(path) as f:
+    if not os.path.exists(path) and os.path.exists(path + ".gz"):
+        import gzip
+        opener = lambda: gzip.open(path + ".gz", "rt")
+    else:
+        opener = lambda: open(path)
+    with opener() as f:
         for line in f:
             line = line.strip()
             if line:
@@ -273,10 +278,10 @@ def compare(scn, golden_dir, kelp_dir):
                     d += "; kelp t=%.2f %s" % (extra[0]["t"], short(raw_of(K, extra[0])))
             figs.append(Figure("values/%s" % var, ok, d))
             # source-aux
-            ga = collections.Counter(r.get("aux", "") for r in g)
-            ka = collections.Counter(r.get("aux", "") for r in k)
-            if ga != ka:
-                figs.append(Figure("aux/%s" % var, False, "24.8 %s, kelp %s" % (dict(ga), dict(ka))))
+            ga = sorted({r.get("aux", "") for r in g})
+            ka = sorted({r.get("aux", "") for r in k})
+            if ga != ka or any(ga):
+                figs.append(Figure("aux/%s" % var, ga == ka, "" if ga == ka else "24.8 %s, kelp %s" % (ga, ka)))
     if scn.startswith("nodecomms_"):
         figs.extend(nodecomms_figures(Gr, Kr, tol, dur))
     if scn.startswith("msghandler_"):
@@ -474,7 +479,18 @@ def msghandler_figures(G, K, tol):
     gs = [r["val"] for r in G if r["var"] == "UMH_SUMMARY_MSGS"]
     ks = [r["val"] for r in K if r["var"] == "UMH_SUMMARY_MSGS"]
     gu, ku = sorted(set(gs), key=gs.index), sorted(set(ks), key=ks.index)
-    figs.append(Figure("summary/sequence", gu == ku, "" if gu == ku else "24.8 %s, kelp %s" % (short(gu, 150), short(ku, 150))))
+    # inputs closer together than one iteration period land in one iteration or in two,
+    # depending only on the iteration's phase: each such pair may add (or save) one
+    # intermediate summary in either run
+    ins = [r["t"] for r in G if r["var"] == "NODE_MESSAGE" and r["src"] == "driver"]
+    close = sum(1 for a, b in zip(ins, ins[1:]) if b - a < tol / 2)
+
+    def sub(a, b):  # a is an ordered subsequence of b
+        it = iter(b)
+        return all(x in it for x in a)
+
+    ok = (sub(gu, ku) and len(ku) - len(gu) <= close) or (sub(ku, gu) and len(gu) - len(ku) <= close)
+    figs.append(Figure("summary/sequence", ok, "" if ok else "24.8 %s, kelp %s" % (short(gu, 150), short(ku, 150))))
     return figs
 
 
@@ -561,7 +577,9 @@ def self_test(args):
     bad = 0
     with tempfile.TemporaryDirectory() as d:
         for scn in scns:
-            shutil.copy(os.path.join(args.golden, "golden", scn + ".jsonl"), d)
+            with open(os.path.join(d, scn + ".jsonl"), "w") as f:
+                for r in load_rows(os.path.join(args.golden, "golden", scn + ".jsonl")):
+                    f.write(json.dumps(r) + "\n")
             shutil.copy(os.path.join(args.golden, "golden", scn + ".meta.json"), d)
             figs = compare(scn, args.golden, d)
             n = sum(not f.ok for f in figs)

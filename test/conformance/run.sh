@@ -3,7 +3,7 @@
 #
 #   test/conformance/run.sh [SCENARIO ...]        (make conformance; default: every scenario)
 #
-# For each scenario of $KELP_CONF_DIR (default ../shared/conformance/moos-ivp-24.8): the .moos
+# For each scenario of the recordings (below): the .moos
 # file is copied unchanged and only an ANTLER block is appended (one Run = line per
 # ProcessConfig block, under its 24.8 name: kelp-launch maps names such as uSimMarineV22 or
 # pShare to kelp's programs); in its own private network namespace (loopback only, ttl=0, its
@@ -17,7 +17,13 @@ set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 BUILD=${BUILD:-$root/build}
-CONF=${KELP_CONF_DIR:-$root/../shared/conformance/moos-ivp-24.8}
+# the recordings: $KELP_CONF_DIR, else the shared copy beside the project when there is one,
+# else the project's own copy (test/conformance/moos-ivp-24.8, transcripts gzipped)
+CONF=${KELP_CONF_DIR:-}
+if [ -z "$CONF" ]; then
+  CONF=$root/test/conformance/moos-ivp-24.8
+  [ -d "$root/../shared/conformance/moos-ivp-24.8/missions" ] && CONF=$(cd "$root/../shared/conformance/moos-ivp-24.8" && pwd)
+fi
 [ -d "$CONF/missions" ] || { echo "conformance: no recordings at $CONF (set KELP_CONF_DIR)"; exit 2; }
 OUT=$BUILD/conformance
 mkdir -p "$OUT"
