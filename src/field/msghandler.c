@@ -411,13 +411,12 @@ size_t kelp_field_umh_report(kelp_field_umh *h, kelp_time now, char *buf, size_t
     put(&o, "\nPer Source Node Summary\n" UMH_RULE);
     /* a table as MOOS-IvP's ACTable draws it: columns as wide as their widest cell, two blanks
      * apart, a dashed line under the header; sources in name order */
-    char tot[KELP_UMH_MAX_SOURCES][24], ela[KELP_UMH_MAX_SOURCES][24];
+    char tot[24], ela[24]; /* one cell at a time: the table is measured, then written */
     int w[5] = { 6, 5, 7, 8, 5 };
     for (unsigned i = 0; i < h->nsrc; i++) {
-        kelp_snprintf(tot[i], sizeof tot[i], "%lu", h->src[i].total);
-        kelp_snprintf(ela[i], sizeof ela[i], "%.1f", now - h->src[i].last);
-        int c[5] = { (int)strlen(h->src[i].name), (int)strlen(tot[i]), (int)strlen(ela[i]), (int)strlen(h->src[i].var),
-                     (int)strlen(h->src[i].val) };
+        const int c[5] = { (int)strlen(h->src[i].name), kelp_snprintf(tot, sizeof tot, "%lu", h->src[i].total),
+                           kelp_snprintf(ela, sizeof ela, "%.1f", now - h->src[i].last), (int)strlen(h->src[i].var),
+                           (int)strlen(h->src[i].val) };
         for (int j = 0; j < 5; j++)
             if (c[j] > w[j]) w[j] = c[j];
     }
@@ -432,7 +431,9 @@ size_t kelp_field_umh_report(kelp_field_umh *h, kelp_time now, char *buf, size_t
         if (best < 0) break;
         done[best] = true;
         const kelp_umh_source *s = &h->src[best];
-        put(&o, "\n%-*s  %-*s  %-*s  %-*s  %s", w[0], s->name, w[1], tot[best], w[2], ela[best], w[3], s->var, s->val);
+        kelp_snprintf(tot, sizeof tot, "%lu", s->total);
+        kelp_snprintf(ela, sizeof ela, "%.1f", now - s->last);
+        put(&o, "\n%-*s  %-*s  %-*s  %-*s  %s", w[0], s->name, w[1], tot, w[2], ela, w[3], s->var, s->val);
     }
     put(&o, "\n\nLast Few Messages: (oldest to newest) \n" UMH_RULE);
     put_list(&o, "Valid Mgs: ", &h->last_valid, h->cfg.trunc, true);
