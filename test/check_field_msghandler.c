@@ -2,6 +2,7 @@
  * MOOS-IvP 24.8 parameters (aux_info, msg_flag, bad_msg_flag, appcast_trunc_msg). */
 #include <check.h>
 #include "check_diag.h"
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include <kelp/field.h>
@@ -16,7 +17,10 @@ typedef struct rec {
     char val[REC_MAX][512];
     bool str[REC_MAX];
     double d[REC_MAX];
+    char aux[REC_MAX][2 * KELP_MAX_NAME]; /* the MOOS source-aux the app would post it with */
 } rec;
+
+static kelp_field_umh h;
 
 static void pub(void *ctx, const char *var, bool is_string, const char *sval, double dval)
 {
@@ -27,6 +31,7 @@ static void pub(void *ctx, const char *var, bool is_string, const char *sval, do
     else snprintf(r->val[r->n], sizeof r->val[0], "%g", dval);
     r->str[r->n] = is_string;
     r->d[r->n] = dval;
+    snprintf(r->aux[r->n], sizeof r->aux[0], "%s", h.posting ? h.aux : "");
     r->n++;
 }
 
@@ -38,7 +43,6 @@ static int find(const rec *r, const char *var)
     return -1;
 }
 
-static kelp_field_umh h;
 static rec r;
 static kelp_field_sink sink = { &r, pub, NULL };
 
@@ -185,7 +189,6 @@ static const struct {
     { "src_node=alpha,dest_node=bravo,var_name=X,string_val=x,double_val=2", "both string_val and double_val" },
     { "src_node=alpha,dest_node=bravo,var_name=MY VAR,double_val=1", "var_name is not a variable name" },
     { "src_node=alpha,dest_node=bravo,var_name=NODE_MESSAGE,string_val=a", "var_name NODE_MESSAGE would loop" },
-    { "src_node=alpha,dest_node=bravo,var_name=X,string_val=\"open", "unbalanced quote or brace" },
     { "", "no src_node" },
 };
 
@@ -337,7 +340,8 @@ START_TEST(umh_config)
     ck_diag_msg(&why, "expected node or node+app");
     ck_assert_int_eq(kelp_field_umh_config(&c, "appcast_trunc_msg", "40", &why), 1);
     ck_assert_uint_eq(c.trunc, 40);
-    ck_assert_int_eq(kelp_field_umh_config(&c, "appcast_trunc_msg", "-1", &why), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "appcast_trunc_msg", "-1", &why), 1); /* 24.8: below 0 is 0 */
+    ck_assert_uint_eq(c.trunc, 0);
     ck_assert_int_eq(kelp_field_umh_config(&c, "strict_addressing", "maybe", &why), KELP_ERR_PARSE);
     ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "RETURN=true", &why), 1);
     ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "GOT = 3", &why), 1);
@@ -472,6 +476,323 @@ START_TEST(umh_many_sources)
 }
 END_TEST
 
+/* msghandler_b1_default: each NODE_MESSAGE the DB delivered (the double one it dropped is not
+ * here) at the MOOS time 24.8 handled it (its UMH_SUMMARY_MSGS row), scenario time */
+static const struct {
+    double t;
+    const char *msg;
+} b1_in[] = {
+    { 1.0456, "src_node=alpha,dest_node=bravo,var_name=FOO,string_val=hello" },
+    { 2.0478, "src_node=alpha,dest_node=bravo,var_name=SPEED,double_val=2.5" },
+    { 3.0483, "src_node=charlie,dest_node=all,var_name=BAR,string_val=to_all" },
+    { 4.0509, "src_node=charlie,dest_node=ALL,var_name=BAR2,double_val=-7" },
+    { 5.0525, "src_node=delta,dest_group=red,var_name=GRP,string_val=group_msg" },
+    { 6.0550, "src_node=alpha,dest_node=charlie,var_name=NOT_MINE,string_val=x" },
+    { 7.0565, "src_node=alpha,dest_node=bravo,string_val=novar" },
+    { 8.0594, "dest_node=bravo,var_name=NOSRC,string_val=x" },
+    { 9.0606, "src_node=alpha,var_name=NODEST,string_val=x" },
+    { 10.0631, "src_node=alpha,dest_node=bravo,var_name=BOTH,string_val=s,double_val=3" },
+    { 11.0660, "src_node=alpha,dest_node=bravo,var_name=QUOTED,string_val=\"a,b=c\"" },
+    { 12.0685, "src_node=alpha,dest_node=bravo,var_name=QUOTED2,string_val=\"keep\",string_val_quoted=true" },
+    { 13.0727, "src_node=alpha,src_app=pHelmIvP,dest_node=bravo,var_name=WITHAPP,string_val=app" },
+    { 14.0751, "src_node=alpha,dest_node=bravo,var_name=NUMSTR,string_val=42" },
+    { 15.0768, "src_node=alpha,dest_node=bravo,var_name=DBLBAD,double_val=abc" },
+    { 16.0790, "this is not a node message" },
+    { 18.0836, "src_node=alpha,dest_node=Bravo,var_name=CASE,string_val=case" },
+    { 19.0844, "SRC_NODE=alpha,DEST_NODE=bravo,VAR_NAME=UPPERKEYS,STRING_VAL=up" },
+    { 20.0864, "src_node=alpha,dest_node=bravo,var_name=EMPTYSTR,string_val=" },
+    { 21.0879, "src_node=alpha,dest_node=bravo:charlie,var_name=LIST,string_val=l" },
+    { 22.0912, "src_node=alpha , dest_node = bravo , var_name = SPACES , string_val = sp" },
+    { 22.0912, "src_node=echo,dest_node=bravo,var_name=BURST1,double_val=1" },
+    { 22.0912, "src_node=echo,dest_node=bravo,var_name=BURST2,double_val=2" },
+};
+/* every posting of uFldMessageHandler in the recording but its status and APPCAST: variable,
+ * type, value, MOOS source-aux, time */
+static const struct {
+    const char *var;
+    bool str;
+    const char *val, *aux;
+    double t;
+} b1_out[] = {
+    { "FOO", true, "hello", "alpha", 1.0455 },
+    { "UMH_SUMMARY_MSGS", true, "total=1,valid=1,rejected=0", "", 1.0456 },
+    { "SPEED", false, "2.5", "alpha", 2.0476 },
+    { "UMH_SUMMARY_MSGS", true, "total=2,valid=2,rejected=0", "", 2.0478 },
+    { "BAR", true, "to_all", "charlie", 3.0482 },
+    { "UMH_SUMMARY_MSGS", true, "total=3,valid=3,rejected=0", "", 3.0483 },
+    { "BAR2", false, "-7", "charlie", 4.0507 },
+    { "UMH_SUMMARY_MSGS", true, "total=4,valid=4,rejected=0", "", 4.0509 },
+    { "GRP", true, "group_msg", "delta", 5.0525 },
+    { "UMH_SUMMARY_MSGS", true, "total=5,valid=5,rejected=0", "", 5.0525 },
+    { "UMH_SUMMARY_MSGS", true, "total=6,valid=6,rejected=1", "", 6.0550 },
+    { "UMH_SUMMARY_MSGS", true, "total=7,valid=6,rejected=1", "", 7.0565 },
+    { "UMH_SUMMARY_MSGS", true, "total=8,valid=6,rejected=1", "", 8.0594 },
+    { "UMH_SUMMARY_MSGS", true, "total=9,valid=6,rejected=1", "", 9.0606 },
+    { "UMH_SUMMARY_MSGS", true, "total=10,valid=6,rejected=1", "", 10.0631 },
+    { "QUOTED", true, "a,b=c", "alpha", 11.0660 },
+    { "UMH_SUMMARY_MSGS", true, "total=11,valid=7,rejected=1", "", 11.0660 },
+    { "QUOTED2", true, "keep", "alpha", 12.0685 },
+    { "UMH_SUMMARY_MSGS", true, "total=12,valid=8,rejected=1", "", 12.0685 },
+    { "WITHAPP", true, "app", "alpha", 13.0725 },
+    { "UMH_SUMMARY_MSGS", true, "total=13,valid=9,rejected=1", "", 13.0727 },
+    { "NUMSTR", true, "42", "alpha", 14.0750 },
+    { "UMH_SUMMARY_MSGS", true, "total=14,valid=10,rejected=1", "", 14.0751 },
+    { "DBLBAD", false, "0", "alpha", 15.0767 },
+    { "UMH_SUMMARY_MSGS", true, "total=15,valid=11,rejected=1", "", 15.0768 },
+    { "UMH_SUMMARY_MSGS", true, "total=16,valid=11,rejected=1", "", 16.0790 },
+    { "UMH_SUMMARY_MSGS", true, "total=17,valid=12,rejected=2", "", 18.0836 },
+    { "UPPERKEYS", true, "up", "alpha", 19.0844 },
+    { "UMH_SUMMARY_MSGS", true, "total=18,valid=13,rejected=2", "", 19.0844 },
+    { "EMPTYSTR", false, "0", "alpha", 20.0863 },
+    { "UMH_SUMMARY_MSGS", true, "total=19,valid=14,rejected=2", "", 20.0864 },
+    { "UMH_SUMMARY_MSGS", true, "total=20,valid=15,rejected=3", "", 21.0879 },
+    { "SPACES", true, "sp", "alpha", 22.0911 },
+    { "BURST1", false, "1", "echo", 22.0912 },
+    { "BURST2", false, "2", "echo", 22.0912 },
+    { "UMH_SUMMARY_MSGS", true, "total=23,valid=18,rejected=3", "", 22.0912 },
+    { "UMH_SUMMARY_MSGS", true, "total=23,valid=18,rejected=3", "", 22.5924 },
+};
+/* the messages= field of its APPCAST at t=24.0970 (iter=107), one report line per line */
+static const char b1_report[] =
+    "Overall Totals Summary\n"
+    "======================================\n"
+    "   Total Received Valid: 23\n"
+    "                Invalid: 5\n"
+    "               Rejected: 3\n"
+    "    Time since last Msg: 2.0\n"
+    "\n"
+    "Per Source Node Summary\n"
+    "======================================\n"
+    "Source   Total  Elapsed  Variable  Value\n"
+    "-------  -----  -------  --------  ---------\n"
+    "alpha    13     2.0      SPACES    sp\n"
+    "charlie  2      20.0     BAR2      -7\n"
+    "delta    1      19.0     GRP       group_msg\n"
+    "echo     2      2.0      BURST2    2\n"
+    "\n"
+    "Last Few Messages: (oldest to newest) \n"
+    "======================================\n"
+    "Valid Mgs: \n"
+    "  src_node=alpha,dest_node=bravo,var_name=EMPTYSTR,string_val=\n"
+    "  src_node=alpha,dest_node=bravo:charlie,var_name=LIST,string_val=l\n"
+    "  src_node=alpha , dest_node = bravo , var_name = SPACES , string_val = sp\n"
+    "  src_node=echo,dest_node=bravo,var_name=BURST1,double_val=1\n"
+    "  src_node=echo,dest_node=bravo,var_name=BURST2,double_val=2\n"
+    "Invalid Mgs: \n"
+    "  src_node=alpha,dest_node=bravo,string_val=novar\n"
+    "  dest_node=bravo,var_name=NOSRC,string_val=x\n"
+    "  src_node=alpha,var_name=NODEST,string_val=x\n"
+    "  src_node=alpha,dest_node=bravo,var_name=BOTH,string_val=s,double_val=3\n"
+    "  this is not a node message\n"
+    "Rejected Mgs: \n"
+    "  src_node=alpha,dest_node=charlie,var_name=NOT_MINE,string_val=x\n"
+    "  src_node=alpha,dest_node=Bravo,var_name=CASE,string_val=case\n"
+    "  src_node=alpha,dest_node=bravo:charlie,var_name=LIST,string_val=l\n"
+    ;
+
+/* The recorded run of MOOS-IvP 24.8 (conformance scenario msghandler_b1_default), replayed on the
+ * state machine at 4 Hz: every posting in order with its type, value and source-aux, the
+ * summary after each iteration with mail and on iteration 101 (t=22.59, no mail), and the
+ * APPCAST report text at t=24.097 exactly. */
+START_TEST(umh_golden_b1_default)
+{
+    start("bravo", false);
+    const double t1 = 22.5924 - 100 * 0.25; /* iteration 1 (the recording's 101st posted at 22.5924) */
+    size_t next = 0;
+    double now = 0;
+    for (int k = 1; k <= 107; k++) {
+        now = t1 + 0.25 * (k - 1);
+        while (next < sizeof b1_in / sizeof b1_in[0] && b1_in[next].t < now + 0.125) {
+            now = b1_in[next].t;
+            KELP_IGNORE(mail(b1_in[next].msg, now));
+            next++;
+        }
+        KELP_IGNORE(kelp_field_umh_iterate(&h, now, &sink));
+    }
+    ck_assert_uint_eq(next, sizeof b1_in / sizeof b1_in[0]);
+    /* the start-up summary of iteration 1 is not in the recording (posted before t0) */
+    ck_assert_str_eq(r.var[0], "UMH_SUMMARY_MSGS");
+    ck_assert_str_eq(r.val[0], "total=0,valid=0,rejected=0");
+    ck_assert_int_eq(r.n - 1, (int)(sizeof b1_out / sizeof b1_out[0]));
+    for (int i = 1; i < r.n; i++) {
+        ck_assert_str_eq(r.var[i], b1_out[i - 1].var);
+        ck_assert_int_eq(r.str[i], b1_out[i - 1].str);
+        ck_assert_str_eq(r.val[i], b1_out[i - 1].val);
+        ck_assert_str_eq(r.aux[i], b1_out[i - 1].aux);
+    }
+    static char buf[4096];
+    (void)kelp_field_umh_report(&h, 24.0970, buf, sizeof buf);
+    ck_assert_str_eq(buf, b1_report);
+}
+END_TEST
+
+/* NodeMessageUtils.cpp string2NodeMessage: every set... call overwrites, so of a repeated key
+ * the last one counts (kelp took the first) */
+START_TEST(umh_repeated_key_last_wins)
+{
+    start("bravo", false);
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=charlie,var_name=X,dest_node=bravo,string_val=a,string_val=b", 1), 1);
+    ck_assert_str_eq(r.val[find(&r, "X")], "b");
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=Y,double_val=1,double_val=2", 2), 1);
+    ck_assert_double_eq(r.d[find(&r, "Y")], 2);
+}
+END_TEST
+
+/* NodeMessage::setStringVal and MessageHandler.cpp: quotes come off (isQuoted/stripQuotes), and
+ * a string left empty posts the double instead (is_string = var_sval != ""): string_val=""
+ * posts 0 as a double, as the recording's EMPTYSTR does; string_val_quoted=true strips once
+ * more before NodeMessage::valid() looks */
+START_TEST(umh_quoted_empty_posts_double)
+{
+    start("bravo", false);
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=Q,string_val=\"\"", 1), 1);
+    int i = find(&r, "Q");
+    ck_assert(i >= 0 && !r.str[i]);
+    ck_assert_double_eq(r.d[i], 0);
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=Q2,string_val=\"\",string_val_quoted=true,double_val=4", 2), 1);
+    ck_assert_double_eq(r.d[find(&r, "Q2")], 4);
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=Q3,string_val=\"\",double_val=4", 3), KELP_ERR_PARSE);
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=Q4,string_val_quoted=true,string_val=\"\"x\"\"", 4), 1);
+    ck_assert_str_eq(r.val[find(&r, "Q4")], "x");
+}
+END_TEST
+
+/* MBUtils.cpp parseStringQ: an unclosed quote or brace runs to the end of the message (no
+ * error), and a brace counts inside quotes too */
+START_TEST(umh_unclosed_quote_runs_to_end)
+{
+    start("bravo", false);
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=X,string_val=\"open", 1), 1);
+    ck_assert_str_eq(r.val[find(&r, "X")], "\"open");
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=B,string_val={a,b", 2), 1);
+    ck_assert_str_eq(r.val[find(&r, "B")], "{a,b");
+    /* the '{' inside the quotes opens a brace: var_name=X is part of string_val's text */
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,string_val=\"{\",var_name=Z", 3), KELP_ERR_PARSE);
+    ck_assert_int_lt(find(&r, "Z"), 0);
+    ck_assert_uint_eq(h.valid, 2);
+}
+END_TEST
+
+/* MessageHandler.h: the per-source table is a std::map keyed by src_node as written, so alpha
+ * and Alpha are two rows (kelp merged them) */
+START_TEST(umh_sources_by_exact_name)
+{
+    start("bravo", false);
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=X,double_val=1", 1), 1);
+    ck_assert_int_eq(mail("src_node=Alpha,dest_node=bravo,var_name=Y,double_val=2", 1), 1);
+    ck_assert_uint_eq(h.nsrc, 2);
+    static char buf[4096];
+    (void)kelp_field_umh_report(&h, 2, buf, sizeof buf);
+    /* std::string order: upper case first */
+    ck_assert_ptr_nonnull(strstr(buf, "\nAlpha   1      1.0      Y         2\nalpha   1      1.0      X         1\n"));
+}
+END_TEST
+
+/* MacroUtils.cpp macroExpand: $(CTR) as well as $[CTR] */
+START_TEST(umh_flag_round_macros)
+{
+    kelp_field_umh_cfg c;
+    kelp_diag why = { 0 };
+    kelp_field_umh_cfg_default(&c, "bravo");
+    ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "GOT=$(CTR)/$(GOOD_CTR)/$(BAD_CTR)", &why), 1);
+    kelp_field_umh_init(&h, &c);
+    memset(&r, 0, sizeof r);
+    ck_assert_int_eq(mail("src_node=a,dest_node=zulu,var_name=X,double_val=1", 1), KELP_ERR_ARG);
+    ck_assert_int_eq(mail("src_node=a,dest_node=bravo,var_name=X,double_val=1", 2), 1);
+    ck_assert_str_eq(r.val[find(&r, "GOT")], "2/2/1");
+}
+END_TEST
+
+/* VarDataPairUtils.cpp setVarDataPairOnString and VarDataPair(var, val, "auto"): the value is
+ * a double only when MBUtils' isNumber says so (1e3 is a string); "clearall" empties the list;
+ * post and destination tags and an [if] condition are read past; VAR= with no value refused */
+START_TEST(umh_flag_values_as_248)
+{
+    kelp_field_umh_cfg c;
+    kelp_diag why = { 0 };
+    kelp_field_umh_cfg_default(&c, "bravo");
+    ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "OLD=1", &why), 1);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "clearall", &why), 1);
+    ck_assert_uint_eq(c.nmsg_flag, 0);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "E=1e3", &why), 1);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "@cpa T=+2.5", &why), 1);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "#red G=go [if] MODE=survey", &why), 1);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "EMPTY=", &why), KELP_ERR_PARSE);
+    ck_assert_uint_eq(c.nmsg_flag, 3);
+    ck_assert(c.msg_flag[0].is_string);
+    ck_assert_str_eq(c.msg_flag[0].sval, "1e3");
+    ck_assert(!c.msg_flag[1].is_string);
+    ck_assert_str_eq(c.msg_flag[1].var, "T");
+    ck_assert_double_eq(c.msg_flag[1].dval, 2.5);
+    ck_assert_str_eq(c.msg_flag[2].var, "G");
+    ck_assert_str_eq(c.msg_flag[2].sval, "go");
+}
+END_TEST
+
+/* MessageHandler.cpp OnStartUp: strict_addressing through setBooleanOnString (on/off too);
+ * aux_info exactly "node" or "node+app"; appcast_trunc_msg any isNumber, read as atoi */
+START_TEST(umh_config_as_248)
+{
+    kelp_field_umh_cfg c;
+    kelp_diag why = { 0 };
+    kelp_field_umh_cfg_default(&c, "bravo");
+    ck_assert_int_eq(kelp_field_umh_config(&c, "strict_addressing", "on", &why), 1);
+    ck_assert(c.strict);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "aux_info", "NODE+APP", &why), KELP_ERR_PARSE);
+    ck_assert(!c.aux_app);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "appcast_trunc_msg", "3.7", &why), 1);
+    ck_assert_uint_eq(c.trunc, 3);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "appcast_trunc_msg", "300", &why), 1);
+    ck_assert_uint_eq(c.trunc, 300);
+    ck_assert_int_eq(kelp_field_umh_config(&c, "appcast_trunc_msg", "1e2", &why), KELP_ERR_PARSE);
+}
+END_TEST
+
+/* MessageHandler.cpp OnNewMail: msg.GetString() of a double is "", listed as such */
+START_TEST(umh_double_mail_listed_empty)
+{
+    start("bravo", false);
+    ck_assert_int_eq(kelp_field_umh_mail(&h, "NODE_MESSAGE", false, NULL, 1, &sink), KELP_ERR_PARSE);
+    static char buf[4096];
+    (void)kelp_field_umh_report(&h, 2, buf, sizeof buf);
+    ck_assert_ptr_nonnull(strstr(buf, "Invalid Mgs: \n  \nRejected Mgs: \n"));
+}
+END_TEST
+
+/* ACTable.cpp operator<< and getFormattedString: a '|' in a value cuts it into two cells (the
+ * row is then short and not drawn), and a cell loses its blanks */
+START_TEST(umh_table_cells_as_actable)
+{
+    start("bravo", false);
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=V,string_val=p|q", 1), 1);
+    static char buf[4096];
+    (void)kelp_field_umh_report(&h, 1.5, buf, sizeof buf);
+    ck_assert_ptr_nonnull(strstr(buf, "Source  Total  Elapsed  Variable  Value\n"
+                                      "------  -----  -------  --------  -----\n"
+                                      "alpha   1      0.5      V         p\n\nLast Few"));
+    start("bravo", false);
+    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=V,string_val=\"  x  \"", 1), 1);
+    ck_assert_str_eq(r.val[find(&r, "V")], "  x  ");
+    (void)kelp_field_umh_report(&h, 1.5, buf, sizeof buf);
+    ck_assert_ptr_nonnull(strstr(buf, "\nalpha   1      0.5      V         x\n\nLast Few"));
+}
+END_TEST
+
+/* NodeMessageUtils.cpp: double_val through atof, whatever its length, overflow to inf */
+START_TEST(umh_double_val_atof)
+{
+    start("bravo", false);
+    char m[256];
+    snprintf(m, sizeof m, "src_node=a,dest_node=bravo,var_name=L,double_val=1%070d", 0);
+    ck_assert_int_eq(mail(m, 1), 1);
+    ck_assert_double_eq_tol(r.d[find(&r, "L")], 1e70, 1e55);
+    ck_assert_int_eq(mail("src_node=a,dest_node=bravo,var_name=H,double_val=1e400", 2), 1);
+    ck_assert(isinf(r.d[find(&r, "H")]));
+    ck_assert_int_eq(mail("src_node=a,dest_node=bravo,var_name=P,double_val=-2.5e1x", 3), 1);
+    ck_assert_double_eq(r.d[find(&r, "P")], -25);
+}
+END_TEST
+
 Suite *kelp_field_msghandler_suite(void);
 Suite *kelp_field_msghandler_suite(void)
 {
@@ -497,6 +818,17 @@ Suite *kelp_field_msghandler_suite(void)
     tcase_add_test(tc, umh_aux_node_app);
     tcase_add_test(tc, nodemsg_parse_fields);
     tcase_add_test(tc, umh_many_sources);
+    tcase_add_test(tc, umh_golden_b1_default);
+    tcase_add_test(tc, umh_repeated_key_last_wins);
+    tcase_add_test(tc, umh_quoted_empty_posts_double);
+    tcase_add_test(tc, umh_unclosed_quote_runs_to_end);
+    tcase_add_test(tc, umh_sources_by_exact_name);
+    tcase_add_test(tc, umh_flag_round_macros);
+    tcase_add_test(tc, umh_flag_values_as_248);
+    tcase_add_test(tc, umh_config_as_248);
+    tcase_add_test(tc, umh_double_mail_listed_empty);
+    tcase_add_test(tc, umh_table_cells_as_actable);
+    tcase_add_test(tc, umh_double_val_atof);
     suite_add_tcase(s, tc);
     return s;
 }
