@@ -74,28 +74,30 @@ static void report(kelp_app *app, void *st, FILE *out)
 static const kelp_app_def def = {
     .name = "uFldMessageHandler",
     .purpose = "Post the variable-value pair carried by each NODE_MESSAGE addressed to this vehicle.",
-    .synopsis = "The uFldMessageHandler tool handles incoming messages from other nodes. A message is a\n"
-                "string holding its source and destination and a MOOS variable and value; the app\n"
-                "posts that variable-value pair to the local community when the message is addressed\n"
-                "to it (dest_node naming the community, dest_node=all, or a dest_group).",
+    .synopsis = "The uFldMessageHandler tool handles the messages other nodes send this one. A message is\n"
+                "a string naming its source and destination and carrying a MOOS variable and its\n"
+                "value; the app posts that variable-value pair to the local MOOSDB, with the sending\n"
+                "node as the posting's source-aux, when the message is addressed to it (dest_node\n"
+                "naming the community exactly, all or ALL, or only a dest_group).",
+    /* as MOOS-IvP 24.8's --example writes its block: names, order and sample values */
     .params = (const kelp_app_param_info[]){
-        { "VERBOSE", "true", "the full report (per source, last messages); false: totals only", NULL },
-        { "STRICT_ADDRESSING", "false", "true: only messages whose dest_node names this community", NULL },
-        { "AUX_INFO", "node", "node or node+app: the sender, as the posting's MOOS source-aux", NULL },
-        { "APPCAST_TRUNC_MSG", "75", "characters of a listed valid message (0: whole)", NULL },
-        { "MSG_FLAG", "RETURN=true", "posted after each message posted; $[CTR] $[GOOD_CTR] $[BAD_CTR] expand (repeatable)", NULL },
-        { "BAD_MSG_FLAG", "TOTAL_BAD=$[BAD_CTR]", "posted after each message rejected for its address (repeatable); $[BAD_CTR]: rejected", NULL },
-        { "APP_LOGGING", "false", "accepted (record the bus with kelp-record)", NULL },
+        { "strict_addressing", "false", "default; true: only messages whose dest_node names this community", NULL },
+        { "appcast_trunc_msg", "75", "default: characters of a listed valid message in the report (0: whole)", NULL },
+        { "msg_flag", "RETURN=true", "posted after each message posted; $[CTR] $[GOOD_CTR] $[BAD_CTR] expand (repeatable)", NULL },
+        { "bad_msg_flag", "TOTAL_BAD=$[BAD_CTR]", "posted after each message rejected for its address (repeatable)", NULL },
+        { "aux_info", "node+app", "node or node+app (default node): the sender, as the posting's MOOS source-aux", NULL },
+        { "app_logging", "true", "accepted (record the bus with kelp-record)", NULL },
+        { "verbose", "true", "kelp: the full report (per source, last messages); false: totals only", NULL },
         { NULL, NULL, NULL, NULL } },
     .subscribes = (const kelp_app_var_info[]){
         { "NODE_MESSAGE", "src_node=alpha,dest_node=bravo,var_name=FOO,string_val=BAR",
-          "also dest_group=, src_var= for var_name, double_val=, string_val=\"a,b\"" },
+          "or dest_group=, double_val=, string_val=\"a,b\" (kelp also reads the seed's src_var= for var_name)" },
         { NULL, NULL, NULL } },
     .publishes = (const kelp_app_var_info[]){
-        { "<var_name>", "BAR", "the message's variable: a string, or a double for double_val" },
-        { "UMH_SUMMARY_MSGS", "total=23,valid=18,rejected=3", "after an iteration with mail, and every 100 iterations" },
-        { "<MSG_FLAG>", "RETURN=true", NULL },
-        { "<BAD_MSG_FLAG>", "TOTAL_BAD=5", NULL },
+        { "UMH_SUMMARY_MSGS", "total=23,valid=18,rejected=5", "after an iteration with mail, and every 100 iterations" },
+        { "<var_name>", "BAR", "(a) node message content: a string, or a double when there is no string" },
+        { "<MSG_FLAG>", "RETURN=true", "(b) msg_flag content" },
+        { "<BAD_MSG_FLAG>", "TOTAL_BAD=5", "(c) bad_msg_flag content" },
         { NULL, NULL, NULL } },
     .notes = "Globals used: Community (this vehicle's name, matched against dest_node).\n",
     .startup = startup,

@@ -421,23 +421,27 @@ typedef struct kelp_field_text {
 } kelp_field_text;
 
 /** One NODE_MESSAGE "src_node=alpha,dest_node=bravo,var_name=SPEED,double_val=2.5"
- *  (ufield.md 1.2). Keys are case-insensitive; dest_name stands for dest_node and src_var
- *  for var_name (var_name wins when both are given); "dest_node;bravo" (the seed's typo) is
- *  read as dest_node=bravo. string_val may be double-quoted to carry commas (the quotes are
- *  removed, with or without string_val_quoted=true). Unknown keys are ignored. */
+ *  (ufield.md 1.2), read as MOOS-IvP 24.8 reads it (string2NodeMessage): items cut at ','
+ *  outside quotes and braces (parseStringQ: an unclosed quote or brace runs to the end), the
+ *  key before the first '=' in any case, key and value blank-stripped, the last of a repeated
+ *  key wins, unknown keys ignored. The seed's spellings are read too: dest_name for dest_node,
+ *  src_var for var_name (var_name wins when both are given), "dest_node;bravo". string_val
+ *  loses its enclosing quotes once when string_val_quoted=true and once more if still quoted. */
 typedef struct kelp_node_message {
     kelp_field_text src_node, src_app, src_bhv, dest_node, dest_group, var_name, string_val, color, ack_id;
     double double_val;
-    bool has_string, has_double; /**< which value the message carries (an empty string_val is none) */
-    bool string_quoted;          /**< string_val was written in double quotes (stripped in string_val) */
+    bool has_string;             /**< a non-empty string_val is left: it is posted as a string */
+    bool has_double;             /**< double_val= was given (double_val read as atof; 0 without) */
+    bool string_quoted;          /**< string_val lost enclosing double quotes */
     bool string_val_quoted;      /**< string_val_quoted=true: the quotes were added to hide commas */
     bool ack;                    /**< ack=true */
 } kelp_node_message;
 
-/** Parse and validate s[0..len): src_node, a destination (dest_node or dest_group) and a
- *  var_name are required, exactly one of string_val / double_val, a double_val that is a
- *  finite number, and a var_name that is a MOOS name (1..KELP_MAX_NAME-1 printable
- *  characters, no space, ',', '=' or '"'; not NODE_MESSAGE, which would loop).
+/** Parse and validate s[0..len) as NodeMessage::valid() does: src_node, a destination
+ *  (dest_node or dest_group) and a var_name are required, and not both a string_val (judged
+ *  after string_val_quoted's stripping) and a double_val. Neither value is no error: 24.8 posts
+ *  the double, 0. kelp refuses besides a var_name that is not a MOOS name (1..KELP_MAX_NAME-1
+ *  printable characters, no space, ',', '=' or '"') or is NODE_MESSAGE (docs/CONFORMANCE.md).
  *  @param[out] m spans into s. @return 0, or KELP_ERR_PARSE (a short reason in d). */
 KELP_MUST_CHECK int kelp_field_nodemsg_parse(const char *s, size_t len, kelp_node_message *m, kelp_diag *d);
 /** Is `me` (case-insensitive) one of the colon-separated names of the message's dest_node? */
@@ -453,9 +457,9 @@ bool kelp_field_nodemsg_to(const kelp_node_message *m, const char *me);
 #define KELP_UMH_MSG_LEN 256      /**< bytes kept of a listed message, with NUL */
 #define KELP_UMH_VAL_LEN 64       /**< bytes kept of a source's last value, with NUL */
 
-/** A MSG_FLAG / BAD_MSG_FLAG "VAR=value": a number is posted as a double, anything else as a
- *  string after expanding $[CTR] (messages received), $[GOOD_CTR] (posted) and $[BAD_CTR]
- *  (rejected, as MOOS-IvP 24.8 counts it). */
+/** A MSG_FLAG / BAD_MSG_FLAG "VAR=value": a number (MBUtils' isNumber) is posted as a double,
+ *  anything else as a string after expanding $[CTR] / $(CTR) (messages received), $[GOOD_CTR]
+ *  (well formed, rejected ones included) and $[BAD_CTR] (rejected), as MOOS-IvP 24.8 does. */
 typedef struct kelp_umh_flag {
     char var[KELP_MAX_NAME];
     char sval[KELP_UMH_FLAG_LEN];
@@ -509,15 +513,21 @@ typedef struct kelp_field_umh {
 
 /** Defaults: verbose, not strict, aux_info node, trunc 75. */
 void kelp_field_umh_cfg_default(kelp_field_umh_cfg *c, const char *community);
-/** One block parameter: VERBOSE, STRICT_ADDRESSING, AUX_INFO (node | node+app),
- *  APPCAST_TRUNC_MSG (>= 0), MSG_FLAG, BAD_MSG_FLAG ("VAR=value").
+/** One block parameter, read as MOOS-IvP 24.8's OnStartUp reads it: STRICT_ADDRESSING
+ *  (true/false, yes/no, on/off, toggle), AUX_INFO (exactly node or node+app), APPCAST_TRUNC_MSG
+ *  (a number read as atoi, below 0 is 0), MSG_FLAG and BAD_MSG_FLAG ("VAR=value" with 24.8's
+ *  optional tags and [if] part, which its handler does not use; "clearall" empties the list);
+ *  and kelp's VERBOSE.
  *  @return 1 taken, 0 not ours, <0 (reason in d). */
 KELP_MUST_CHECK int kelp_field_umh_config(kelp_field_umh_cfg *c, const char *key, const char *val, kelp_diag *d);
 void kelp_field_umh_init(kelp_field_umh *h, const kelp_field_umh_cfg *cfg);
-/** NODE_MESSAGE (other variables: 0). Valid and addressed to us (ufield.md 6.4): the
- *  variable is posted (a string or a double), then the MSG_FLAGs. Invalid or rejected: counted
- *  and listed with the reason; a rejected one (addressed elsewhere) is followed by the
- *  BAD_MSG_FLAGs (MOOS-IvP 24.8: an invalid message posts no flag).
+/** NODE_MESSAGE (other variables: 0), as MOOS-IvP 24.8's handleMailNodeMessage: a valid one
+ *  is counted valid and listed, and its source's row updated, before its address is looked
+ *  at; dest_node must be this community exactly, "all" or "ALL", or absent (a dest_group
+ *  message; refused when strict). Taken: the variable is posted (a string, or the double when
+ *  no string is left) with `posting` set and the sender in `aux` (the app's sink posts it as
+ *  the MOOS source-aux), then the MSG_FLAGs. Invalid: counted and listed with the reason, no
+ *  flag. Rejected: counted and listed, then the BAD_MSG_FLAGs. A double is an invalid "".
  *  @return 1 posted, KELP_ERR_PARSE invalid, KELP_ERR_ARG rejected (addressing). */
 int kelp_field_umh_mail(kelp_field_umh *h, const char *var, bool is_string, const char *sval, kelp_time now,
                         const kelp_field_sink *out);
@@ -526,8 +536,9 @@ int kelp_field_umh_mail(kelp_field_umh *h, const char *var, bool is_string, cons
  *  iteration that had NODE_MESSAGE mail and on iterations 1, 101, 201, ... as 24.8 posts it.
  *  @return 1 posted, 0 not due. */
 int kelp_field_umh_iterate(kelp_field_umh *h, kelp_time now, const kelp_field_sink *out);
-/** The terminal report (Listing 14: totals, per source, last few messages; totals only when
- *  not verbose) into buf, NUL-terminated, truncated to fit. Counts a report.
+/** The report as MOOS-IvP 24.8's buildReport writes it (totals, the per-source table as
+ *  ACTable draws it, the last five valid, invalid and rejected messages; kelp's VERBOSE =
+ *  false: the totals only) into buf, NUL-terminated, truncated to fit. Counts a report.
  *  @return the length written. */
 size_t kelp_field_umh_report(kelp_field_umh *h, kelp_time now, char *buf, size_t cap);
 
