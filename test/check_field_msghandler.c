@@ -55,9 +55,29 @@ static void start(const char *me, bool strict)
     memset(&r, 0, sizeof r);
 }
 
+/* bravo, with one parameter of its block */
+static void start_with(const char *key, const char *val)
+{
+    kelp_field_umh_cfg c;
+    kelp_diag why = { 0 };
+    kelp_field_umh_cfg_default(&c, "bravo");
+    ck_assert_int_eq(kelp_field_umh_config(&c, key, val, &why), 1);
+    kelp_field_umh_init(&h, &c);
+    memset(&r, 0, sizeof r);
+}
+
 static int mail(const char *msg, double now)
 {
     return kelp_field_umh_mail(&h, "NODE_MESSAGE", true, msg, now, &sink);
+}
+
+/* mail msg, which must be taken; what was posted to var (a double as %g) */
+static const char *posted(const char *msg, const char *var)
+{
+    ck_assert_int_eq(mail(msg, 1), 1);
+    int i = find(&r, var);
+    ck_assert_int_ge(i, 0);
+    return r.val[i];
 }
 
 /* 6.6.1: a double posted as a double, aux source alpha */
@@ -395,12 +415,7 @@ END_TEST
  * $[BAD_CTR] counts the rejected messages */
 START_TEST(umh_bad_flags_on_rejected_only)
 {
-    kelp_field_umh_cfg c;
-    kelp_diag why = { 0 };
-    kelp_field_umh_cfg_default(&c, "bravo");
-    ck_assert_int_eq(kelp_field_umh_config(&c, "bad_msg_flag", "TOTAL_BAD=$[BAD_CTR]", &why), 1);
-    kelp_field_umh_init(&h, &c);
-    memset(&r, 0, sizeof r);
+    start_with("bad_msg_flag", "TOTAL_BAD=$[BAD_CTR]");
     ck_assert_int_eq(mail("src_node=a,dest_node=bravo,double_val=1", 1), KELP_ERR_PARSE);
     ck_assert_int_lt(find(&r, "TOTAL_BAD"), 0);
     ck_assert_int_eq(mail("src_node=a,dest_node=zulu,var_name=X,double_val=1", 2), KELP_ERR_ARG);
@@ -631,10 +646,8 @@ END_TEST
 START_TEST(umh_repeated_key_last_wins)
 {
     start("bravo", false);
-    ck_assert_int_eq(mail("src_node=alpha,dest_node=charlie,var_name=X,dest_node=bravo,string_val=a,string_val=b", 1), 1);
-    ck_assert_str_eq(r.val[find(&r, "X")], "b");
-    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=Y,double_val=1,double_val=2", 2), 1);
-    ck_assert_double_eq(r.d[find(&r, "Y")], 2);
+    ck_assert_str_eq(posted("src_node=alpha,dest_node=charlie,var_name=X,dest_node=bravo,string_val=a,string_val=b", "X"), "b");
+    ck_assert_str_eq(posted("src_node=alpha,dest_node=bravo,var_name=Y,double_val=1,double_val=2", "Y"), "2");
 }
 END_TEST
 
@@ -642,18 +655,32 @@ END_TEST
  * a string left empty posts the double instead (is_string = var_sval != ""): string_val=""
  * posts 0 as a double, as the recording's EMPTYSTR does; string_val_quoted=true strips once
  * more before NodeMessage::valid() looks */
+static const struct {
+    const char *msg;
+    int rc;
+    bool str; /* posted as a string (val) or a double (d) */
+    const char *val;
+    double d;
+} quoted[] = {
+    { "src_node=alpha,dest_node=bravo,var_name=Q,string_val=\"\"", 1, false, NULL, 0 },
+    { "src_node=alpha,dest_node=bravo,var_name=Q,string_val=\"\",string_val_quoted=true,double_val=4", 1, false, NULL, 4 },
+    { "src_node=alpha,dest_node=bravo,var_name=Q,string_val=\"\",double_val=4", KELP_ERR_PARSE, false, NULL, 0 },
+    { "src_node=alpha,dest_node=bravo,var_name=Q,string_val_quoted=true,string_val=\"\"x\"\"", 1, true, "x", 0 },
+};
+
 START_TEST(umh_quoted_empty_posts_double)
 {
     start("bravo", false);
-    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=Q,string_val=\"\"", 1), 1);
+    ck_assert_int_eq(mail(quoted[_i].msg, 1), quoted[_i].rc);
     int i = find(&r, "Q");
-    ck_assert(i >= 0 && !r.str[i]);
-    ck_assert_double_eq(r.d[i], 0);
-    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=Q2,string_val=\"\",string_val_quoted=true,double_val=4", 2), 1);
-    ck_assert_double_eq(r.d[find(&r, "Q2")], 4);
-    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=Q3,string_val=\"\",double_val=4", 3), KELP_ERR_PARSE);
-    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=Q4,string_val_quoted=true,string_val=\"\"x\"\"", 4), 1);
-    ck_assert_str_eq(r.val[find(&r, "Q4")], "x");
+    if (quoted[_i].rc != 1) {
+        ck_assert_int_lt(i, 0);
+        return;
+    }
+    ck_assert_int_ge(i, 0);
+    ck_assert_int_eq(r.str[i], quoted[_i].str);
+    if (quoted[_i].str) ck_assert_str_eq(r.val[i], quoted[_i].val);
+    else ck_assert_double_eq(r.d[i], quoted[_i].d);
 }
 END_TEST
 
@@ -662,10 +689,8 @@ END_TEST
 START_TEST(umh_unclosed_quote_runs_to_end)
 {
     start("bravo", false);
-    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=X,string_val=\"open", 1), 1);
-    ck_assert_str_eq(r.val[find(&r, "X")], "\"open");
-    ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,var_name=B,string_val={a,b", 2), 1);
-    ck_assert_str_eq(r.val[find(&r, "B")], "{a,b");
+    ck_assert_str_eq(posted("src_node=alpha,dest_node=bravo,var_name=X,string_val=\"open", "X"), "\"open");
+    ck_assert_str_eq(posted("src_node=alpha,dest_node=bravo,var_name=B,string_val={a,b", "B"), "{a,b");
     /* the '{' inside the quotes opens a brace: var_name=X is part of string_val's text */
     ck_assert_int_eq(mail("src_node=alpha,dest_node=bravo,string_val=\"{\",var_name=Z", 3), KELP_ERR_PARSE);
     ck_assert_int_lt(find(&r, "Z"), 0);
@@ -691,12 +716,7 @@ END_TEST
 /* MacroUtils.cpp macroExpand: $(CTR) as well as $[CTR] */
 START_TEST(umh_flag_round_macros)
 {
-    kelp_field_umh_cfg c;
-    kelp_diag why = { 0 };
-    kelp_field_umh_cfg_default(&c, "bravo");
-    ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "GOT=$(CTR)/$(GOOD_CTR)/$(BAD_CTR)", &why), 1);
-    kelp_field_umh_init(&h, &c);
-    memset(&r, 0, sizeof r);
+    start_with("msg_flag", "GOT=$(CTR)/$(GOOD_CTR)/$(BAD_CTR)");
     ck_assert_int_eq(mail("src_node=a,dest_node=zulu,var_name=X,double_val=1", 1), KELP_ERR_ARG);
     ck_assert_int_eq(mail("src_node=a,dest_node=bravo,var_name=X,double_val=1", 2), 1);
     ck_assert_str_eq(r.val[find(&r, "GOT")], "2/2/1");
@@ -708,17 +728,20 @@ END_TEST
  * post and destination tags and an [if] condition are read past; VAR= with no value refused */
 START_TEST(umh_flag_values_as_248)
 {
+    static const struct {
+        const char *line;
+        int rc;
+        unsigned n; /* flags after it */
+    } lines[] = { { "OLD=1", 1, 1 },       { "clearall", 1, 0 },
+                  { "E=1e3", 1, 1 },       { "@cpa T=+2.5", 1, 2 },
+                  { "#red G=go [if] MODE=survey", 1, 3 }, { "EMPTY=", KELP_ERR_PARSE, 3 } };
     kelp_field_umh_cfg c;
     kelp_diag why = { 0 };
     kelp_field_umh_cfg_default(&c, "bravo");
-    ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "OLD=1", &why), 1);
-    ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "clearall", &why), 1);
-    ck_assert_uint_eq(c.nmsg_flag, 0);
-    ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "E=1e3", &why), 1);
-    ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "@cpa T=+2.5", &why), 1);
-    ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "#red G=go [if] MODE=survey", &why), 1);
-    ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", "EMPTY=", &why), KELP_ERR_PARSE);
-    ck_assert_uint_eq(c.nmsg_flag, 3);
+    for (size_t k = 0; k < sizeof lines / sizeof lines[0]; k++) {
+        ck_assert_int_eq(kelp_field_umh_config(&c, "msg_flag", lines[k].line, &why), lines[k].rc);
+        ck_assert_uint_eq(c.nmsg_flag, lines[k].n);
+    }
     ck_assert(c.msg_flag[0].is_string);
     ck_assert_str_eq(c.msg_flag[0].sval, "1e3");
     ck_assert(!c.msg_flag[1].is_string);
@@ -733,18 +756,21 @@ END_TEST
  * aux_info exactly "node" or "node+app"; appcast_trunc_msg any isNumber, read as atoi */
 START_TEST(umh_config_as_248)
 {
+    static const struct {
+        const char *key, *val;
+        int rc;
+    } lines[] = { { "strict_addressing", "on", 1 },   { "aux_info", "NODE+APP", KELP_ERR_PARSE },
+                  { "appcast_trunc_msg", "3.7", 1 },  { "appcast_trunc_msg", "1e2", KELP_ERR_PARSE },
+                  { "strict_addressing", "toggle", 1 }, { "appcast_trunc_msg", "300", 1 } };
     kelp_field_umh_cfg c;
     kelp_diag why = { 0 };
     kelp_field_umh_cfg_default(&c, "bravo");
-    ck_assert_int_eq(kelp_field_umh_config(&c, "strict_addressing", "on", &why), 1);
-    ck_assert(c.strict);
-    ck_assert_int_eq(kelp_field_umh_config(&c, "aux_info", "NODE+APP", &why), KELP_ERR_PARSE);
-    ck_assert(!c.aux_app);
-    ck_assert_int_eq(kelp_field_umh_config(&c, "appcast_trunc_msg", "3.7", &why), 1);
-    ck_assert_uint_eq(c.trunc, 3);
-    ck_assert_int_eq(kelp_field_umh_config(&c, "appcast_trunc_msg", "300", &why), 1);
+    for (size_t k = 0; k < sizeof lines / sizeof lines[0]; k++) {
+        ck_assert_int_eq(kelp_field_umh_config(&c, lines[k].key, lines[k].val, &why), lines[k].rc);
+        if (k == 2) ck_assert_uint_eq(c.trunc, 3);
+    }
+    ck_assert(!c.strict && !c.aux_app); /* on, then toggled off */
     ck_assert_uint_eq(c.trunc, 300);
-    ck_assert_int_eq(kelp_field_umh_config(&c, "appcast_trunc_msg", "1e2", &why), KELP_ERR_PARSE);
 }
 END_TEST
 
@@ -820,7 +846,7 @@ Suite *kelp_field_msghandler_suite(void)
     tcase_add_test(tc, umh_many_sources);
     tcase_add_test(tc, umh_golden_b1_default);
     tcase_add_test(tc, umh_repeated_key_last_wins);
-    tcase_add_test(tc, umh_quoted_empty_posts_double);
+    tcase_add_loop_test(tc, umh_quoted_empty_posts_double, 0, (int)(sizeof quoted / sizeof quoted[0]));
     tcase_add_test(tc, umh_unclosed_quote_runs_to_end);
     tcase_add_test(tc, umh_sources_by_exact_name);
     tcase_add_test(tc, umh_flag_round_macros);
