@@ -1112,6 +1112,23 @@ static void put_paren(rbuf *r, const char *open, double v, int dec, const char *
     put_pad(r, t, w, true);
 }
 
+/* the vehicles with a count, in name order: reports sent to (what 0), messages received from
+ * (1, with the time since its last one went out) and sent to (2) */
+static void per_vehicle(rbuf *r, const kelp_field_ncomms *c, int what, kelp_time now)
+{
+    for (unsigned j = 0; j < c->nnodes; j++) {
+        const kelp_ncomms_node *nd = &c->node[c->sorted[j]];
+        unsigned long v = what == 0 ? nd->rpts_sent : what == 1 ? nd->msgs_rcvd : nd->msgs_sent;
+        if (!v) continue;
+        put(r, "  ");
+        put_pad(r, nd->name, what == 0 ? 17 : 20, true);
+        put(r, ": ");
+        put_ul(r, v);
+        if (what == 1) put_paren(r, "(", nd->has_msg_time ? now - nd->msg_time : now, 1, ")", 12);
+        put(r, "\n");
+    }
+}
+
 static void put_cfg(rbuf *r, const char *label, double v, int dec)
 {
     put(r, label);
@@ -1170,42 +1187,17 @@ int kelp_field_ncomms_report(kelp_field_ncomms *c, kelp_time now, char *buf, siz
     put(&r, "     --------------- \n         Total Sent: ");
     put_ul(&r, c->rpts_sent);
     put(&r, "\n");
-    for (unsigned j = 0; j < c->nnodes; j++) {
-        const kelp_ncomms_node *nd = &c->node[c->sorted[j]];
-        if (!nd->rpts_sent) continue;
-        put(&r, "  ");
-        put_pad(&r, nd->name, 17, true);
-        put(&r, ": ");
-        put_ul(&r, nd->rpts_sent);
-        put(&r, "\n");
-    }
+    per_vehicle(&r, c, 0, now);
     put(&r, "     --------------- \n     Stale Vehicles: ");
     put_ul(&r, c->stale_dropped);
     put(&r, "\n\nNode Message Summary\n======================================\n    Total Msgs Received: ");
     put_ul(&r, c->msgs_rcvd);
     put(&r, "\n");
-    for (unsigned j = 0; j < c->nnodes; j++) {
-        const kelp_ncomms_node *nd = &c->node[c->sorted[j]];
-        if (!nd->msgs_rcvd) continue;
-        put(&r, "  ");
-        put_pad(&r, nd->name, 20, true);
-        put(&r, ": ");
-        put_ul(&r, nd->msgs_rcvd);
-        put_paren(&r, "(", nd->has_msg_time ? now - nd->msg_time : now, 1, ")", 12);
-        put(&r, "\n");
-    }
+    per_vehicle(&r, c, 1, now);
     put(&r, "     ------------------ \n            Total Sent: ");
     put_ul(&r, c->msgs_sent);
     put(&r, "\n");
-    for (unsigned j = 0; j < c->nnodes; j++) {
-        const kelp_ncomms_node *nd = &c->node[c->sorted[j]];
-        if (!nd->msgs_sent) continue;
-        put(&r, "  ");
-        put_pad(&r, nd->name, 20, true);
-        put(&r, ": ");
-        put_ul(&r, nd->msgs_sent);
-        put(&r, "\n");
-    }
+    per_vehicle(&r, c, 2, now);
     unsigned long total = 0;
     for (int i = 0; i < KELP_NCOMMS_BLK_N; i++) total += c->blocked[i];
     put(&r, "     ------------------ \n    Total Blocked Msgs: ");

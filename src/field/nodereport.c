@@ -32,6 +32,17 @@ static bool writable(const kelp_nodereport *r)
     return true;
 }
 
+/* ",KEY=value" (no comma first): a text, or a number with dec decimals */
+static int put_field(char *buf, size_t cap, size_t *n, const char *key, const char *text, double num, int dec,
+                     bool strip)
+{
+    int rc = *n > 0 ? field_put_str(buf, cap, n, ",") : KELP_OK;
+    if (rc == KELP_OK) rc = field_put_str(buf, cap, n, key);
+    if (rc == KELP_OK) rc = field_put_str(buf, cap, n, "=");
+    if (rc == KELP_OK) rc = text ? field_put_str(buf, cap, n, text) : field_put_fixed(buf, cap, n, num, dec, strip);
+    return rc;
+}
+
 int kelp_nodereport_format(const kelp_nodereport *r, char *buf, size_t cap, size_t *len)
 {
     size_t n = 0;
@@ -74,11 +85,7 @@ int kelp_nodereport_format(const kelp_nodereport *r, char *buf, size_t cap, size
         double num = 0;
         if (index) num = (double)r->index;
         else if (!f[i].text) memcpy(&num, base + f[i].off, sizeof num);
-        if (n > 0) rc = field_put_str(buf, cap, &n, ",");
-        if (rc == KELP_OK) rc = field_put_str(buf, cap, &n, key);
-        if (rc == KELP_OK) rc = field_put_str(buf, cap, &n, "=");
-        if (rc == KELP_OK) rc = f[i].text ? field_put_str(buf, cap, &n, base + f[i].off)
-                                          : field_put_fixed(buf, cap, &n, num, f[i].dec, f[i].strip);
+        rc = put_field(buf, cap, &n, key, f[i].text ? base + f[i].off : NULL, num, f[i].dec, f[i].strip);
     }
     if (rc == KELP_OK && r->extra && r->extra[0]) {
         rc = field_put_str(buf, cap, &n, ",");
@@ -314,11 +321,7 @@ int kelp_nodereport_format_record(const kelp_nodereport *r, char *buf, size_t ca
             if (num > 3.14159265358979323846) num -= 2 * 3.14159265358979323846;
             else if (num < -3.14159265358979323846) num += 2 * 3.14159265358979323846;
         }
-        if (n > 0) rc = field_put_str(buf, cap, &n, ",");
-        if (rc == KELP_OK) rc = field_put_str(buf, cap, &n, f[i].key);
-        if (rc == KELP_OK) rc = field_put_str(buf, cap, &n, "=");
-        if (rc == KELP_OK) rc = f[i].text ? field_put_str(buf, cap, &n, base + f[i].off)
-                                          : field_put_fixed(buf, cap, &n, num, f[i].dec, true);
+        rc = put_field(buf, cap, &n, f[i].key, f[i].text ? base + f[i].off : NULL, num, f[i].dec, true);
     }
     if (rc == KELP_OK && r->extra) rc = put_properties(r->extra, buf, cap, &n);
     if (rc < 0) {
