@@ -67,7 +67,7 @@ int main(int argc, char **argv)
         for (int i = 0; i < n; i++) {
             snprintf(buf, sizeof buf, "NAME=v%d,TYPE=UUV,TIME=%.2f,X=%.2f,Y=%.2f,SPD=1.50,HDG=90.00,DEP=0.00,LENGTH=4",
                      i, now, x[i], y[i]);
-            if (kelp_field_ncomms_mail(c, "NODE_REPORT", true, buf, 0, now, &sink) != 1) return 1;
+            if (kelp_field_ncomms_mail(c, "NODE_REPORT", true, buf, 0, "bench", now, &sink) != 1) return 1;
         }
         (void)kelp_field_ncomms_iterate(c, now, &sink);
         cpu += cpu_s() - t0;

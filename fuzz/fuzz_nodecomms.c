@@ -9,8 +9,7 @@
 
 static const char *const vars[] = { "NODE_REPORT",  "NODE_REPORT_LOCAL", "NODE_MESSAGE",   "MEDIATED_MESSAGE",
                                     "ACK_MESSAGE",  "UNC_STEALTH",       "UNC_EARANGE",    "UNC_COMMS_RANGE",
-                                    "UNC_DROP_PCT", "UNC_VIEW_NODE_RPT_PULSES", "UNC_SHARED_NODE_REPORTS",
-                                    "UNC_FULL_REPORT_REQ" };
+                                    "UNC_DROP_PCT", "UNC_VIEW_NODE_RPT_PULSES", "UNC_SHARED_NODE_REPORTS" };
 static const char *const keys[] = { "COMMS_RANGE", "CRITICAL_RANGE", "STALE_TIME", "MIN_MSG_INTERVAL", "MIN_RPT_INTERVAL",
                                     "MAX_MSG_LENGTH", "STEALTH", "EARANGE", "GROUPS", "MSG_GROUPS", "DROP_PERCENTAGE",
                                     "SHARED_NODE_REPORTS", "PULSE_DURATION", "MSG_COLOR" };
@@ -58,8 +57,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                     int rc = kelp_field_ncomms_config(&cfg, keys[sel % NK], v, &why);
                     if (rc < 0 && why.code == KELP_OK) abort();
                 } else if (pass == 1 && sel < 0xC0) {
-                    (void)kelp_field_ncomms_mail(c, vars[sel % NV], sel & 0x80 ? false : true, v, (double)vl, now,
-                                                 &sink);
+                    (void)kelp_field_ncomms_mail(c, vars[sel % NV], sel & 0x80 ? false : true, v, (double)vl,
+                                                 sel & 0x40 ? "fuzz" : NULL, now, &sink);
                     if (++rec % 3 == 0) {
                         now += 0.25 * (sel & 7);
                         (void)kelp_field_ncomms_iterate(c, now, &sink);

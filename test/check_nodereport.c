@@ -184,6 +184,38 @@ static int vparse(kelp_view_kind k, const char *s, kelp_diag *why)
     return kelp_view_parse(k, s, strlen(s), &V, why);
 }
 
+/* MOOS-IvP 24.8's node record (what uFldNodeComms relays): the readers take it (COG, DEP,
+ * 8-decimal LAT/LON), and it writes back the same (a row of the recorded 24.8 run a3) */
+START_TEST(test_record_248)
+{
+    const char *rec = "NAME=abe,X=0,Y=0,SPD=0,HDG=0,COG=0,DEP=0,LAT=42.358456,LON=-71.087589,TYPE=kayak,GROUP=g1,"
+                      "TIME=1795284022.41,LENGTH=4";
+    kelp_nodereport r;
+    char buf[512];
+    size_t n = 0;
+    ck_assert_int_eq(kelp_nodereport_parse(rec, strlen(rec), &r, NULL), KELP_OK);
+    ck_assert(r.fields & KELP_NR_COG);
+    ck_assert(r.fields & KELP_NR_DEPTH);
+    ck_assert_int_eq(kelp_nodereport_format_record(&r, buf, sizeof buf, &n), KELP_OK);
+    ck_assert_str_eq(buf, rec);
+    ck_assert_uint_eq(n, strlen(rec));
+    const char *b = "NAME=ben,X=50.004,Y=-0.001,SPD=1,HDG=90,COG=89.999,DEPTH=2.5,LAT=42.35846706,LON=-71.08698225,TYPE=kayak,"
+                    "TIME=1795284022.406,LENGTH=4,YAW=1";
+    ck_assert_int_eq(kelp_nodereport_parse(b, strlen(b), &r, NULL), KELP_OK);
+    ck_assert_double_eq_tol(r.depth, 2.5, 1e-12);
+    ck_assert_int_eq(kelp_nodereport_format_record(&r, buf, sizeof buf, NULL), KELP_OK);
+    ck_assert_str_eq(buf, "NAME=ben,X=50,Y=0,SPD=1,HDG=90,COG=90,DEP=2.5,LAT=42.35846706,LON=-71.08698225,TYPE=kayak,YAW=0,"
+                          "TIME=1795284022.41,LENGTH=4");
+    /* the ledger: no type -> ship, length 12, COG from HDG; uuv without depth refused */
+    ck_assert_int_eq(kelp_nodereport_parse("NAME=c,X=1,Y=2,HDG=30,TIME=5", 28, &r, NULL), KELP_OK);
+    ck_assert_int_eq(kelp_nodereport_ledger(&r, NULL, NULL), KELP_OK);
+    ck_assert_int_eq(kelp_nodereport_format_record(&r, buf, sizeof buf, NULL), KELP_OK);
+    ck_assert_str_eq(buf, "NAME=c,X=1,Y=2,HDG=30,COG=30,TYPE=ship,TIME=5,LENGTH=12");
+    ck_assert_int_eq(kelp_nodereport_parse("NAME=c,X=1,Y=2,TYPE=glider,TIME=5", 33, &r, NULL), KELP_OK);
+    ck_assert_int_eq(kelp_nodereport_ledger(&r, NULL, NULL), KELP_ERR_PARSE);
+}
+END_TEST
+
 START_TEST(test_view_kinds)
 {
     kelp_view_kind k;
@@ -334,6 +366,7 @@ Suite *kelp_nodereport_suite(void)
     tcase_add_test(tc, test_parse_variants);
     tcase_add_test(tc, test_parse_errors);
     tcase_add_test(tc, test_round_trip_fields);
+    tcase_add_test(tc, test_record_248);
     suite_add_tcase(s, tc);
     TCase *tv = tcase_create("view");
     tcase_add_test(tv, test_view_kinds);

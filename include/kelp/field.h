@@ -217,25 +217,42 @@ int kelp_field_hostinfo_mail(kelp_field_hostinfo *h, const char *var, bool is_st
 int kelp_field_hostinfo_iterate(kelp_field_hostinfo *h, const kelp_field_sink *out);
 
 /* ------------------------------------------------------------------ uFldNodeComms */
-/* The shoreside relay of node reports and node messages between vehicles (uField seed
- * chapter 5; ufield.md section 5), with MOOS-IvP 24.8's additions (min_rpt_interval,
- * msg_groups, drop_percentage, shared_node_reports, MEDIATED_MESSAGE / ACK_MESSAGE,
- * UNC_COMMS_RANGE, UNC_DROP_PCT, ...). Where the seed and 24.8 differ the seed wins: strict
- * '<' range tests, a stale receiver gets nothing even inside the critical range, the message
- * interval starts at a successful send, pulses have beam_width 7.
+/* The shoreside relay of node reports and node messages between vehicles, as MOOS-IvP 24.8's
+ * uFldNodeComms does it (the uField seed's chapter 5 plus min_rpt_interval, msg_groups,
+ * drop_percentage, shared_node_reports, MEDIATED_MESSAGE / ACK_MESSAGE, UNC_COMMS_RANGE...):
+ *
+ * - a report goes through 24.8's contact ledger (kelp_nodereport_ledger: type, length, COG;
+ *   LAT/LON from X/Y with the datum, or the reverse) and is relayed re-serialised as 24.8's
+ *   node record (kelp_nodereport_format_record), to NODE_REPORT_<NAME in upper case>;
+ * - vehicles are named as they report (case kept: "abe" and "ABE" are two vehicles), visited
+ *   in name order (byte order), as 24.8's maps are;
+ * - a report reaches D from S when both have SPD and HDG and their range is <= CRITICAL_RANGE;
+ *   else when D's last report came less than STALE_TIME ago, the range is <= COMMS_RANGE *
+ *   stealth(S) * earange(D) (COMMS_RANGE < 0: any; 0: none), the groups match (GROUPS), the
+ *   random drop spares it and MIN_RPT_INTERVAL has passed since the last S -> D relay;
+ * - a message is re-serialised (src_app= added from the poster, 24.8's field order and number
+ *   format); each source's messages go out in arrival order, each only MIN_MSG_INTERVAL after
+ *   the source's previous one, delivered or not ("Too Recent" otherwise); dest_node (a colon
+ *   list, or all / ALL) and dest_group match names and groups exactly; a destination gets it
+ *   when its report is valid and fresh by its TIME ("Missing Info"), and in range ("Range Too
+ *   Far"); random drops are not counted;
+ * - ACK_MESSAGE "src=..,dest=..,id=.." goes to ACK_MESSAGE_<dest as written> as
+ *   "id=.., src=.., dest=..";
+ * - a vehicle not heard from for 20 x STALE_TIME is forgotten ("Stale Vehicles").
  *
  * Relaying one node report costs work proportional to the sender's neighbours: vehicles sit
  * in a uniform grid (cells of max(COMMS_RANGE, CRITICAL_RANGE) metres, hashed into
  * KELP_NCOMMS_GRID_BUCKETS lists), and a sender scans the cells within its largest effective
- * range, max(CRITICAL_RANGE, COMMS_RANGE * stealth * largest earange). With no range limit
- * (COMMS_RANGE < 0), or a window wider than the fleet, it scans the fleet instead.
+ * range, max(CRITICAL_RANGE, COMMS_RANGE * stealth * largest earange), then visits those
+ * receivers in name order. With no range limit (COMMS_RANGE < 0), or a window wider than the
+ * fleet, it visits the fleet in name order.
  *
- * Size: sizeof(kelp_field_ncomms) is 2,786,568 bytes (x86-64) with the defaults below: 2048
- * vehicles with a 512-byte report each (1.5 MB), 65536 pair stamps (1 MB), 64 pending
- * messages of 2 KB; place it statically or on the heap, not on a small stack. */
+ * Size: sizeof(kelp_field_ncomms) is 3,077,656 bytes (x86-64) with the defaults below: 2048
+ * vehicles with a 640-byte report each, 65536 pair stamps (1 MB), 64 pending messages of
+ * 2 KB; place it statically or on the heap, not on a small stack. */
 
 #ifndef KELP_NCOMMS_MAX_NODES
-#define KELP_NCOMMS_MAX_NODES 2048       /**< vehicles known (reports or stealth/earange) */
+#define KELP_NCOMMS_MAX_NODES 2048       /**< vehicles known (reports, messages or stealth/earange) */
 #endif
 #ifndef KELP_NCOMMS_GRID_BUCKETS
 #define KELP_NCOMMS_GRID_BUCKETS 4096    /**< grid cell lists (a power of two) */
@@ -252,25 +269,23 @@ int kelp_field_hostinfo_iterate(kelp_field_hostinfo *h, const kelp_field_sink *o
 #ifndef KELP_NCOMMS_PAIR_SLOTS
 #define KELP_NCOMMS_PAIR_SLOTS 65536     /**< min_rpt_interval stamps per (source, receiver) */
 #endif
-#define KELP_NCOMMS_LAST_MSGS 5          /**< "Last Msgs" of the terminal report */
+#define KELP_NCOMMS_REPORT_LEN (KELP_NODEREPORT_MAX_LEN + 128) /**< a relayed report: the input and COG, LAT, LON... */
 #define KELP_NCOMMS_MAX_FACTORS 32       /**< STEALTH / EARANGE lines of the block */
 #define KELP_NCOMMS_RECENT_IDS 100       /**< message ids remembered for msg_repeat_color */
-#define KELP_NCOMMS_MAX_FULL_REQ 16      /**< UNC_FULL_REPORT_REQ requests per iteration */
 KELP_STATIC_ASSERT((KELP_NCOMMS_GRID_BUCKETS & (KELP_NCOMMS_GRID_BUCKETS - 1)) == 0, "grid buckets: a power of two");
 KELP_STATIC_ASSERT((KELP_NCOMMS_NAME_SLOTS & (KELP_NCOMMS_NAME_SLOTS - 1)) == 0, "name slots: a power of two");
 KELP_STATIC_ASSERT((KELP_NCOMMS_PAIR_SLOTS & (KELP_NCOMMS_PAIR_SLOTS - 1)) == 0, "pair slots: a power of two");
 KELP_STATIC_ASSERT(KELP_NCOMMS_NAME_SLOTS >= KELP_NCOMMS_MAX_NODES + KELP_NCOMMS_MAX_NODES / 2, "name slots too few");
 KELP_STATIC_ASSERT(KELP_NCOMMS_MAX_NODES < 32768, "node index must fit 15 bits (pair keys)");
 
-/** Why a message was not delivered (the terminal report's "Total Blocked Msgs" lines). */
+/** Why a message was not delivered (the report's "Total Blocked Msgs" lines, 24.8's). */
 typedef enum kelp_ncomms_block {
-    KELP_NCOMMS_BLK_INVALID = 0,  /**< malformed, or its source never reported */
-    KELP_NCOMMS_BLK_STALE,        /**< receiver unknown or stale ("Stale Receiver") */
-    KELP_NCOMMS_BLK_TOO_RECENT,   /**< within MIN_MSG_INTERVAL of the source's last send */
-    KELP_NCOMMS_BLK_TOO_LONG,     /**< string_val longer than MAX_MSG_LENGTH */
-    KELP_NCOMMS_BLK_TOO_FAR,      /**< range >= COMMS_RANGE * stealth(src) * earange(dest) */
-    KELP_NCOMMS_BLK_DROPPED,      /**< 24.8 drop_percentage: a random drop */
-    KELP_NCOMMS_BLK_GROUP,        /**< 24.8 msg_groups: receiver in another group */
+    KELP_NCOMMS_BLK_INVALID = 0,  /**< "Invalid" (24.8 refuses an invalid message at mail: never counted) */
+    KELP_NCOMMS_BLK_NOINFO,       /**< "Missing Info": the destination's report is invalid or old by its TIME */
+    KELP_NCOMMS_BLK_STALE,        /**< "Stale Receiver": an ack whose source or destination is old */
+    KELP_NCOMMS_BLK_TOO_RECENT,   /**< "Too Recent": within MIN_MSG_INTERVAL of the source's last one */
+    KELP_NCOMMS_BLK_TOO_LONG,     /**< "Msg Too Long": longer than MAX_MSG_LENGTH */
+    KELP_NCOMMS_BLK_TOO_FAR,      /**< "Range Too Far": range > COMMS_RANGE * stealth(src) * earange(dest) */
     KELP_NCOMMS_BLK_N
 } kelp_ncomms_block;
 
@@ -281,12 +296,12 @@ typedef struct kelp_ncomms_factor {
 
 typedef struct kelp_field_ncomms_cfg {
     double comms_range;           /**< COMMS_RANGE m (100); < 0 no limit ("nolimit"), 0 nothing */
-    double critical_range;        /**< CRITICAL_RANGE m (30): reports shared below it */
-    double stale_time;            /**< STALE_TIME s (5); < 0 never stale */
-    double min_msg_interval;      /**< MIN_MSG_INTERVAL s (30) between sends of one source */
+    double critical_range;        /**< CRITICAL_RANGE m (30): reports shared within it */
+    double stale_time;            /**< STALE_TIME s (5); < 0 never stale; 20 x: forgotten */
+    double min_msg_interval;      /**< MIN_MSG_INTERVAL s (30) between messages of one source */
     double min_rpt_interval;      /**< MIN_RPT_INTERVAL s (-1 off) between reports S -> D */
     unsigned long max_msg_length; /**< MAX_MSG_LENGTH characters (1000); 0 unlimited */
-    bool verbose;                 /**< VERBOSE (true): the terminal summary */
+    bool verbose;                 /**< VERBOSE (true): the report */
     bool debug;                   /**< DEBUG (false) */
     bool groups;                  /**< GROUPS (false): reports only within a group */
     bool msg_groups;              /**< MSG_GROUPS (false): messages only within a group */
@@ -296,9 +311,8 @@ typedef struct kelp_field_ncomms_cfg {
     double share_interval;        /**< SHARED_NODE_REPORTS: NODE_REPORT_UNC every s of real
                                        time (true 0.1, false -1 off: the default) */
     double warp;                  /**< MOOSTimeWarp (for share_interval) */
-    kelp_geo geo;                 /**< LatOrigin/LongOrigin (with have_geo): X,Y of a report
-                                       that carries only LAT,LON */
-    bool have_geo;
+    kelp_geo geo;                 /**< LatOrigin/LongOrigin: LAT,LON from X,Y and the reverse */
+    bool have_geo;                /**< false: the datum 0,0 (as 24.8 without LatOrigin/LongOrigin) */
     char msg_color[KELP_VIEW_MAX_FIELD];        /**< MSG_COLOR (white); off/invisible: none */
     char msg_repeat_color[KELP_VIEW_MAX_FIELD]; /**< MSG_REPEAT_COLOR (light_green) */
     kelp_ncomms_factor factor[KELP_NCOMMS_MAX_FACTORS]; /**< STEALTH / EARANGE lines */
@@ -307,15 +321,17 @@ typedef struct kelp_field_ncomms_cfg {
     char ws_val[256];             /**< workspace: the value being read by kelp_field_ncomms_config */
 } kelp_field_ncomms_cfg;
 
-/** One vehicle. The grid fields and position are kept in kelp_ncomms_hot for the scan. */
+/** One vehicle (or a name a message or a STEALTH/EARANGE line gave). */
 typedef struct kelp_ncomms_node {
-    char name[KELP_NODEREPORT_MAX_FIELD];   /**< upper-case (the NODE_REPORT_<NAME> suffix) */
-    char group[KELP_NODEREPORT_MAX_FIELD];  /**< upper-case ("" none) */
-    char report[KELP_NODEREPORT_MAX_LEN];   /**< the last report, verbatim */
+    char name[KELP_NODEREPORT_MAX_FIELD];   /**< as it reports (NODE_REPORT_<upper case>) */
+    char group[KELP_NODEREPORT_MAX_FIELD];  /**< as it reports ("" none) */
+    char report[KELP_NCOMMS_REPORT_LEN];    /**< the last report, re-serialised (24.8's node record) */
+    double rpt_time;                        /**< TIME of the last report */
     double stealth, earange;
-    double last_msg_rcvd, last_msg_sent, last_share; /**< -1: never */
-    unsigned long rpts_rcvd, rpts_sent, msgs_rcvd, msgs_sent, acks_sent;
-    unsigned color;                         /**< index of its report pulse colour */
+    double msg_time, ack_time, share_time;  /**< last message / ack sent on, NODE_REPORT_UNC */
+    bool has_msg_time, has_ack_time, has_share_time;
+    bool valid;                             /**< the last report has SPD and HDG */
+    unsigned long rpts_rcvd, rpts_sent, msgs_rcvd, msgs_sent, acks_rcvd, acks_sent;
     unsigned long mark;                     /**< message de-duplication stamp */
     bool updated;                           /**< a report since the last iteration */
 } kelp_ncomms_node;
@@ -324,14 +340,13 @@ typedef struct kelp_ncomms_hot {
     double x, y, t_recv;
     int32_t cx, cy;                         /**< grid cell */
     int32_t next, prev;                     /**< bucket list (-1 end) */
-    int32_t bucket;                         /**< -1: not in the grid (no report yet) */
+    int32_t bucket;                         /**< -1: not in the ledger (no report, or forgotten) */
 } kelp_ncomms_hot;
 
 typedef struct kelp_ncomms_msg {
-    char text[KELP_NCOMMS_MSG_LEN];         /**< verbatim ("" when it did not fit: too long) */
-    char src[KELP_NODEREPORT_MAX_FIELD];    /**< upper-case */
-    size_t length;                          /**< characters of string_val (0 for double_val) */
-    bool valid, overflow, ack, is_ack;      /**< ack: MEDIATED_MESSAGE_<V> out; is_ack: ACK_MESSAGE */
+    char text[KELP_NCOMMS_MSG_LEN];         /**< re-serialised (NodeMessage / AckMessage spec) */
+    uint16_t src;                           /**< its source's node */
+    bool is_ack;
 } kelp_ncomms_msg;
 
 typedef struct kelp_ncomms_pair {
@@ -348,38 +363,40 @@ typedef struct kelp_field_ncomms {
     /* private */
     kelp_ncomms_node node[KELP_NCOMMS_MAX_NODES];
     kelp_ncomms_hot hot[KELP_NCOMMS_MAX_NODES];
+    uint16_t sorted[KELP_NCOMMS_MAX_NODES]; /**< every node, in name order */
     unsigned nnodes, nreporting;
     int16_t name_slot[KELP_NCOMMS_NAME_SLOTS];  /**< node index + 1, 0 empty */
     int32_t grid[KELP_NCOMMS_GRID_BUCKETS];     /**< first node of each bucket, -1 empty */
     double cell;                            /**< grid cell size m */
     double max_earange;                     /**< over all vehicles */
-    uint16_t upd[KELP_NCOMMS_MAX_NODES];    /**< vehicles updated since the last iteration, in order */
+    uint16_t upd[KELP_NCOMMS_MAX_NODES];    /**< vehicles updated since the last iteration */
     unsigned nupd;
     kelp_ncomms_msg msg[KELP_NCOMMS_MAX_MSGS];
     unsigned nmsg;
-    uint16_t full_req[KELP_NCOMMS_MAX_FULL_REQ];
-    unsigned nfull_req;
     kelp_ncomms_pair pair[KELP_NCOMMS_PAIR_SLOTS];
-    char last_msgs[KELP_NCOMMS_LAST_MSGS][KELP_NCOMMS_MSG_LEN];
-    unsigned nlast, last_head;
-    char recent_id[KELP_NCOMMS_RECENT_IDS][KELP_NODEREPORT_MAX_FIELD];
-    unsigned nrecent, recent_head;
+    char recent_id[KELP_NCOMMS_RECENT_IDS][KELP_NODEREPORT_MAX_FIELD]; /**< newest first */
+    unsigned nrecent;
     unsigned long mark;
     kelp_rng rng;
-    kelp_time now;                             /**< time of the last iteration */
+    kelp_time now;                          /**< time of the last iteration */
+    kelp_time start;                        /**< time of the first mail or iteration */
+    bool started;
     /* counters */
-    unsigned long rpts_rcvd, rpts_sent, rpts_bad, rpts_dropped, rpts_held, rpts_full;
+    unsigned long rpts_rcvd, rpts_sent, rpts_bad, rpts_full, stale_dropped;
     unsigned long msgs_rcvd, msgs_sent, acks_rcvd, acks_sent, msgs_queue_full, pair_full;
     unsigned long blocked[KELP_NCOMMS_BLK_N];
     unsigned long scanned;                  /**< candidate receivers examined (bench) */
     unsigned long pulses;
-    uint16_t ws_idx[KELP_NCOMMS_MAX_NODES]; /**< workspace of the report (the names in order) */
+    uint16_t ws_idx[KELP_NCOMMS_MAX_NODES]; /**< workspace: receivers of one sender, messages by source */
+    kelp_nodereport ws_rec;                 /**< workspace: the report being read */
+    char ws_report[KELP_NCOMMS_REPORT_LEN]; /**< workspace: the report being re-serialised */
     kelp_diag diag;                         /**< workspace: why the last mail was refused */
     char ws_pulse[384];                     /**< workspace: a VIEW_COMMS_PULSE being built */
+    char ws_line[256];                      /**< workspace: a warning or a report line */
 } kelp_field_ncomms;
 
-/** Defaults of the seed and 24.8 (comms 100, critical 30, stale 5, message interval 30,
- *  length 1000, verbose, report pulses on, duration 10, white / light_green, warp 1). */
+/** Defaults of 24.8 (comms 100, critical 30, stale 5, message interval 30, length 1000,
+ *  verbose, report pulses on, duration 10, white / light_green, warp 1). */
 void kelp_field_ncomms_cfg_default(kelp_field_ncomms_cfg *cfg);
 /** One block parameter (key case-insensitive; a trailing ';' of the value is ignored):
  *  COMMS_RANGE (a number or nolimit), CRITICAL_RANGE, STALE_TIME, MIN_MSG_INTERVAL,
@@ -392,23 +409,25 @@ KELP_MUST_CHECK int kelp_field_ncomms_config(kelp_field_ncomms_cfg *cfg, const c
 /** Start with cfg (copied). @return 0 or KELP_ERR_NOSPACE (more STEALTH/EARANGE vehicles
  *  than KELP_NCOMMS_MAX_NODES). */
 KELP_MUST_CHECK int kelp_field_ncomms_init(kelp_field_ncomms *c, const kelp_field_ncomms_cfg *cfg);
-/** The variables to subscribe to, one per call (i from 0) until NULL. */
+/** The variables to subscribe to (24.8's), one per call (i from 0) until NULL. */
 const char *kelp_field_ncomms_subscription(unsigned i);
-/** One mail at `now`: NODE_REPORT, NODE_REPORT_LOCAL (seed or 24.8 format, DEP or DEPTH),
- *  NODE_MESSAGE, MEDIATED_MESSAGE, ACK_MESSAGE (queued for the next iteration), UNC_STEALTH,
- *  UNC_EARANGE, UNC_COMMS_RANGE, UNC_DROP_PCT, UNC_VIEW_NODE_RPT_PULSES,
- *  UNC_SHARED_NODE_REPORTS, UNC_FULL_REPORT_REQ. Returns 1 used, 0 not ours, <0 (and a
- *  warning through out->warn) when the value is bad; other state is never lost. */
+/** One mail at `now` from the client `source` (the MOOS source: a message without src_app
+ *  gets it; may be NULL): NODE_REPORT, NODE_REPORT_LOCAL, NODE_MESSAGE, MEDIATED_MESSAGE,
+ *  ACK_MESSAGE (queued for the next iteration), UNC_STEALTH, UNC_EARANGE, UNC_COMMS_RANGE,
+ *  UNC_DROP_PCT, UNC_VIEW_NODE_RPT_PULSES, UNC_SHARED_NODE_REPORTS. Returns 1 used, 0 not
+ *  ours, <0 when the value is refused, with 24.8's run warning through out->warn ("Bad Mail:
+ *  <VAR>", for a report with the reason: "Bad Mail: NODE_REPORT Missing timestamp."). */
 int kelp_field_ncomms_mail(kelp_field_ncomms *c, const char *var, bool is_string, const char *sval, double dval,
-                           kelp_time now, const kelp_field_sink *out);
-/** Iterate at `now`: relay every report updated since the last iteration, answer
- *  UNC_FULL_REPORT_REQ, route the queued messages and acks (ufield.md 5.4). @return the
+                           const char *source, kelp_time now, const kelp_field_sink *out);
+/** Iterate at `now`: relay every report received since the last iteration (senders in name
+ *  order; NODE_REPORT_UNC and RTE with SHARED_NODE_REPORTS), route the queued messages, then
+ *  the acks (sources in name order), forget vehicles silent for 20 x STALE_TIME. @return the
  *  number of NODE_REPORT_* / NODE_MESSAGE_* / MEDIATED_MESSAGE_* / ACK_MESSAGE_* posts. */
 unsigned long kelp_field_ncomms_iterate(kelp_field_ncomms *c, kelp_time now, const kelp_field_sink *out);
-/** The terminal summary of Listing 11 at `now` into buf (always terminated when cap > 0).
- *  @return 0 or KELP_ERR_NOSPACE (truncated). */
+/** 24.8's report (Configuration, Node Report Summary, Node Message Summary) at `now` into buf
+ *  (always terminated when cap > 0). @return 0 or KELP_ERR_NOSPACE (truncated). */
 KELP_MUST_CHECK int kelp_field_ncomms_report(kelp_field_ncomms *c, kelp_time now, char *buf, size_t cap);
-/** Index of a vehicle by name (case-insensitive), or -1. */
+/** Index of a vehicle by its exact name, or -1. */
 int kelp_field_ncomms_find(const kelp_field_ncomms *c, const char *name);
 
 /* ------------------------------------------------------------------ NODE_MESSAGE */

@@ -9,7 +9,8 @@
  * X, Y, SPD, HDG, DEPTH: 2 fixed; LAT, LON: 6 fixed; LENGTH: up to 2, trailing zeros
  * stripped), with COLOR after TIME and YAW (radians, up to 7 decimals) after HDG when set,
  * then ALLSTOP, GROUP, INDEX (when not 0) and any extra "K=V" pairs. kelp_nodereport_parse reads any order, keys
- * case-insensitively (synonyms: VNAME=NAME, LONG=LON, SPEED=SPD, HEADING=HDG, DEP=DEPTH),
+ * case-insensitively (synonyms: VNAME=NAME, LONG=LON, SPEED=SPD, HEADING=HDG, DEP=DEPTH,
+ * UTC_TIME=TIME, LEN=LENGTH; COG is read too),
  * ignores unknown keys, keeps the first of a repeated key, and requires NAME plus a position
  * (X and Y, or LAT and LON).
  *
@@ -62,6 +63,7 @@ extern "C" {
 #define KELP_NR_YAW 0x4000u
 #define KELP_NR_INDEX 0x8000u
 #define KELP_NR_COLOR 0x10000u
+#define KELP_NR_COG 0x20000u
 
 typedef struct kelp_nodereport {
     char name[KELP_NODEREPORT_MAX_FIELD];
@@ -72,6 +74,7 @@ typedef struct kelp_nodereport {
     char color[KELP_NODEREPORT_MAX_FIELD];
     double time, x, y, lat, lon, spd, hdg, depth, length;
     double yaw;                  /**< radians, counter-clockwise from east (written with 7 decimals) */
+    double cog;                  /**< course over ground, degrees (COG; read, and written by the record format) */
     long index;                  /**< reports posted before this one (written when not 0) */
     uint32_t fields;             /**< KELP_NR_* bits of the fields present */
     bool dep_key;                /**< format: write depth as DEP= (MOOS-IvP today) instead of DEPTH= */
@@ -86,6 +89,25 @@ void kelp_nodereport_init(kelp_nodereport *r);
  *  too small; KELP_ERR_RANGE for a number too large to print. buf is always terminated when
  *  cap > 0. */
 KELP_MUST_CHECK int kelp_nodereport_format(const kelp_nodereport *r, char *buf, size_t cap, size_t *len);
+
+/** MOOS-IvP 24.8's node record (NodeRecord::getSpec), what uFldNodeComms relays: NAME, X, Y,
+ *  SPD, HDG, COG, DEP, LAT, LON, TYPE, COLOR, GROUP, MODE, ALLSTOP, INDEX (when not 0), YAW,
+ *  TIME, LENGTH, each when present, numbers with trailing zeros stripped (X, Y, SPD, HDG, COG,
+ *  DEP, TIME, LENGTH: 2 decimals; LAT, LON: 8; YAW: 7, written as 24.8 writes it, from HDG),
+ *  then the pairs of r->extra whose keys kelp_nodereport_parse does not read (24.8's
+ *  "properties": ordered by key, the last of a repeated key). @return as kelp_nodereport_format. */
+KELP_MUST_CHECK int kelp_nodereport_format_record(const kelp_nodereport *r, char *buf, size_t cap, size_t *len);
+
+/** MOOS-IvP 24.8's contact ledger on a received report (ContactLedger::processNodeRecord):
+ *  the type "uuv" becomes "auv" and one that is not a known vehicle type (kayak, auv, uuv,
+ *  usv, glider, asv, ship, mokai, longship, buoy, heron, swimmer, cray, bcray, crayx, bcrayx,
+ *  wamv, smr, smrx, skyw, skywalker, quad, quadcopter; any case) or absent becomes "ship"; an
+ *  auv or glider must report its depth; a LENGTH absent or <= 0 takes the type's default
+ *  (auv, kayak, heron 3; glider 2; cray, bcray, crayx, bcrayx 1.5; ship 12; longship 15; wamv,
+ *  smr 6; else what it was) and is always written; COG, when not reported, is the bearing
+ *  from prev_xy (the vehicle's last position, NULL when none) or else HDG.
+ *  @return 0, or KELP_ERR_PARSE (reason in d) for an underwater type without depth. */
+KELP_MUST_CHECK int kelp_nodereport_ledger(kelp_nodereport *r, const double *prev_xy, kelp_diag *d);
 
 /** Parse a report. @param d (may be NULL) the reason on failure (first error wins).
  *  @return 0; KELP_ERR_PARSE (pair without '=', bad number, unbalanced quote/brace, no NAME,

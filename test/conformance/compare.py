@@ -29,7 +29,9 @@ import re
 import sys
 
 GATED = ["nodecomms_*", "msghandler_*"]
-PERIODIC_SKIP_VALUES = re.compile(r".*_STATUS$|^APPCAST$|.*_ITER_(GAP|LEN)$|.*_PID$")
+# values that are measured timings (uFldNodeComms's RTE: real seconds between two of its
+# iterations that saw a vehicle's report) are compared by count and format only
+PERIODIC_SKIP_VALUES = re.compile(r".*_STATUS$|^APPCAST$|.*_ITER_(GAP|LEN)$|.*_PID$|^RTE$")
 
 
 def load_rows(path):
@@ -236,10 +238,12 @@ def compare(scn, golden_dir, kelp_dir):
 
     apps = sorted(ticks)
     by = collections.defaultdict(list)
-    for side, rows in (("g", Gr), ("k", Kr)):
-        for r in rows:
+    raw = collections.defaultdict(list)  # the values as posted: their number formats
+    for side, rows, rrows in (("g", Gr, G), ("k", Kr, K)):
+        for r, r0 in zip(rows, rrows):
             if r["src"] != "driver":
                 by[(side, r["src"], r["var"])].append(r)
+                raw[(side, r["src"], r["var"])].append(r0)
     for app in apps:
         gv = {v for (s, a, v) in by if s == "g" and a == app}
         kv = {v for (s, a, v) in by if s == "k" and a == app}
@@ -262,7 +266,7 @@ def compare(scn, golden_dir, kelp_dir):
             if var == "APPCAST":
                 figs.extend(appcast_figures(app, G, K))
                 continue
-            figs.append(format_figure(var, g, k))
+            figs.append(format_figure(var, raw[("g", app, var)], raw[("k", app, var)]))
             if PERIODIC_SKIP_VALUES.match(var):
                 continue
             miss, extra = match_rows(g, k, norm, tol)
