@@ -400,7 +400,9 @@ int main(int argc, char **argv)
     if (s.nsub == 0) snprintf(s.sub[s.nsub++], KELP_MAX_NAME, "*");
     for (int i = 0; i < s.nsub; i++)
         if (kelp_bus_register(bus, s.sub[i], 0, moos_now()) < 0) return bad(argv[1], 0, "cannot register"), 1;
-    while (moos_now() < r.t0) KELP_IGNORE(kelp_lcmbus_handle(lb, 20, moos_now()));
+    /* settle: wake in time for t0, the vehicles' first reports are stamped with it */
+    for (double left; (left = (r.t0 - moos_now()) / g_warp) > 0;)
+        KELP_IGNORE(kelp_lcmbus_handle(lb, left < 0.02 ? (int)(left * 1000.0) : 20, moos_now()));
     unsigned long posts = 0;
     for (;;) {
         double t = moos_now() - r.t0;
