@@ -180,7 +180,8 @@ unit-noerrmsg:
 	@$(BUILD)-noerrmsg/test/check_core && $(BUILD)-noerrmsg/test/check_edge
 
 # the conformance suite: recorded runs of the real MOOS-IvP 24.8 apps replayed on kelp
-# (test/conformance/README.md); CONFORMANCE_SCENARIOS="a b" runs a subset
+# (test/conformance/run.sh, compare.py; the recordings: test/conformance/moos-ivp-24.8/README.md);
+# CONFORMANCE_SCENARIOS="a b" runs a subset
 $(BUILD)/test/conform-driver: test/conformance/driver.c $(LIBEDGE) $(LIBCORE)
 	@mkdir -p $(dir $@)
 	$(CC) $(CPPFLAGS) $(LCM_CFLAGS) $(CFLAGS) -o $@ $< $(LIBEDGE) $(LIBCORE) $(EDGE_LIBS)

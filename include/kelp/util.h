@@ -48,6 +48,11 @@ int kelp_vsnprintf_own(char *buf, size_t cap, const char *fmt, va_list ap) KELP_
 bool kelp_strieq_n(const char *s, size_t len, const char *z);
 /** Case-insensitive equality of two NUL-terminated strings (ASCII). */
 bool kelp_strieq(const char *a, const char *b);
+/** s[0..n) as a JSON string literal, quotes included: '"' and '\\' escaped, control bytes,
+ *  DEL and bytes >= 0x80 as \u00XX (bus strings are not promised to be UTF-8, so the output is
+ *  plain ASCII; a NUL inside s is kept as \u0000). Writes at most cap-1 characters and a NUL;
+ *  returns the length the whole literal needs (as snprintf). */
+size_t kelp_json_quote(char *buf, size_t cap, const char *s, size_t n);
 
 /* ---- integers and civil time (proleptic Gregorian, UTC) ---- */
 

@@ -2,14 +2,17 @@
  *
  *   conform-driver SCENARIO.scn MISSION.moos OUT.jsonl [OUT.meta.json]
  *
- * It joins the mission's community as the client "driver", waits `settle` real seconds, takes
- * t0, plays the .scn script (at, every, appcast, vehicle; `@MOOSTIME` expanded) and records
+ * It joins the mission's community as the client "driver", waits `settle` real seconds (t0 is
+ * the MOOS time then, fixed when it joins: join time + settle x warp), plays the .scn script (at, every, appcast, vehicle; `@MOOSTIME` expanded) and records
  * every notification it receives as one JSON row, in the layout of the recordings (README of
  * ../shared/conformance/moos-ivp-24.8): t (the poster's time - t0), trx (our receive time -
  * t0), var, type, val, src, aux, community. Its own posts come back over the bus as they do
  * through a MOOSDB (src "driver"); a post the MOOSDB's type rule refuses comes back as
- * nothing. Rows before t0 are not recorded (as in the recordings). A bad script line is a
- * file:line error and exit status 2. */
+ * nothing. Rows are recorded from the moment it joins (the apps' start-up, negative t): the
+ * recordings hold what their driver saw before t0 too, less what it dropped (their README), so
+ * the comparator, not the recorder, decides what before t0 counts. The meta file counts every
+ * notification received and every post made (a vehicle with nav=true makes six per update).
+ * A bad script line is a file:line error and exit status 2. */
 #include <fnmatch.h>
 #include <math.h>
 #include <stdio.h>
@@ -238,16 +241,12 @@ static int parse_scn(const char *path, scenario *s)
     return rc;
 }
 
+/* s[0..n) as a JSON string (kelp_json_quote: plain ASCII, whatever the bytes) */
 static void json_str(FILE *f, const char *s, size_t n)
 {
-    fputc('"', f);
-    for (size_t i = 0; i < n; i++) {
-        unsigned char ch = (unsigned char)s[i];
-        if (ch == '"' || ch == '\\') fprintf(f, "\\%c", ch);
-        else if (ch < 0x20) fprintf(f, "\\u%04x", ch);
-        else fputc(ch, f);
-    }
-    fputc('"', f);
+    static char buf[6 * KELP_MAX_SVAL + 3];
+    size_t need = kelp_json_quote(buf, sizeof buf, s, n);
+    fwrite(buf, 1, need < sizeof buf ? need : sizeof buf - 1, f);
 }
 
 static bool recorded(const scenario *s, const char *name)
@@ -318,7 +317,8 @@ static void vehicle_at(const vehicle *v, double t, double *x, double *y, double 
     }
 }
 
-static int post_vehicle(kelp_bus *bus, const vehicle *v, double t, double now)
+/* one update of a vehicle; adds the notifications made to *posts */
+static int post_vehicle(kelp_bus *bus, const vehicle *v, double t, double now, unsigned long *posts)
 {
     double x = 0, y = 0, h = 0, sp = 0;
     vehicle_at(v, t, &x, &y, &h, &sp);
@@ -329,8 +329,10 @@ static int post_vehicle(kelp_bus *bus, const vehicle *v, double t, double now)
         rc |= kelp_bus_notify_double(bus, "NAV_HEADING", h, now);
         rc |= kelp_bus_notify_double(bus, "NAV_SPEED", sp, now);
         rc |= kelp_bus_notify_double(bus, "NAV_DEPTH", v->depth, now);
+        *posts += 5;
     }
     if (!v->report) return rc;
+    (*posts)++;
     char b[6][32], rep[512];
     int o = snprintf(rep, sizeof rep, "NAME=%s,X=%s,Y=%s,SPD=%s,HDG=%s,DEP=%s", v->name, n2(b[0], x), n2(b[1], y),
                      n2(b[2], sp), n2(b[3], h), n2(b[4], v->depth));
@@ -384,6 +386,8 @@ int main(int argc, char **argv)
     g_warp = s.warp > 0 ? s.warp : 1;
     static recorder r;
     r.s = &s;
+    r.t0 = moos_now() + s.settle * g_warp;
+    r.started = true;
     r.out = fopen(argv[3], "w");
     if (!r.out) return bad(argv[3], 0, "cannot write"), 2;
     kelp_diag err = {0};
@@ -396,10 +400,9 @@ int main(int argc, char **argv)
     if (s.nsub == 0) snprintf(s.sub[s.nsub++], KELP_MAX_NAME, "*");
     for (int i = 0; i < s.nsub; i++)
         if (kelp_bus_register(bus, s.sub[i], 0, moos_now()) < 0) return bad(argv[1], 0, "cannot register"), 1;
-    double until = wall() + s.settle;
-    while (wall() < until) KELP_IGNORE(kelp_lcmbus_handle(lb, 20, moos_now()));
-    r.t0 = moos_now();
-    r.started = true;
+    /* settle: wake in time for t0, the vehicles' first reports are stamped with it */
+    for (double left; (left = (r.t0 - moos_now()) / g_warp) > 0;)
+        KELP_IGNORE(kelp_lcmbus_handle(lb, left < 0.02 ? (int)(left * 1000.0) : 20, moos_now()));
     unsigned long posts = 0;
     for (;;) {
         double t = moos_now() - r.t0;
@@ -428,8 +431,8 @@ int main(int argc, char **argv)
         for (int i = 0; i < s.nveh; i++) {
             vehicle *v = &s.veh[i];
             while (v->next <= t && v->next < v->t1) {
-                if (post_vehicle(bus, v, moos_now() - r.t0, moos_now()) < 0) fprintf(stderr, "conform-driver: post failed\n");
-                posts++;
+                double now = moos_now();
+                if (post_vehicle(bus, v, now - r.t0, now, &posts) < 0) fprintf(stderr, "conform-driver: post failed\n");
                 v->next += 1.0 / v->rate;
             }
             if (v->next < v->t1 && v->next < next) next = v->next;
@@ -440,18 +443,24 @@ int main(int argc, char **argv)
         KELP_IGNORE(kelp_lcmbus_handle(lb, ms, moos_now()));
     }
     /* late echoes of the last posts */
-    until = wall() + 0.2;
+    double until = wall() + 0.2;
     while (wall() < until) KELP_IGNORE(kelp_lcmbus_handle(lb, 20, moos_now()));
     r.started = false;
     fclose(r.out);
     if (argc > 4) {
         FILE *m = fopen(argv[4], "w");
         if (!m) return bad(argv[4], 0, "cannot write"), 2;
-        fprintf(m, "{\"scenario\":\"%s\",\"t0_moostime\":%.4f,\"warp\":%g,\"duration\":%g,\"rows\":%lu,\"driver_posts\":%lu,"
+        fputs("{\"scenario\":", m);
+        json_str(m, argv[1], strlen(argv[1]));
+        fprintf(m, ",\"t0_moostime\":%.4f,\"warp\":%g,\"duration\":%g,\"rows\":%lu,\"driver_posts\":%lu,"
                    "\"type_refused\":%llu,\"counts\":{",
-                argv[1], r.t0, g_warp, s.duration, r.rows, posts,
+                r.t0, g_warp, s.duration, r.rows, posts,
                 (unsigned long long)kelp_bus_get_stats(bus)->type_refused);
-        for (int i = 0; i < r.nnames; i++) fprintf(m, "%s\"%s\":%lu", i ? "," : "", r.names[i], r.counts[i]);
+        for (int i = 0; i < r.nnames; i++) {
+            if (i) fputc(',', m);
+            json_str(m, r.names[i], strlen(r.names[i]));
+            fprintf(m, ":%lu", r.counts[i]);
+        }
         fprintf(m, "}}\n");
         fclose(m);
     }
