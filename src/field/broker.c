@@ -317,3 +317,182 @@ void broker_table(char *buf, size_t cap, size_t *n, bool *full, unsigned ncols, 
         if (r < nrows) broker_put(buf, cap, n, full, "\n");
     }
 }
+
+typedef struct try_ctx {
+    kelp_broker_try *t;
+    kelp_diag *d;
+    bool route, multicast;
+} try_ctx;
+
+static int try_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl)
+{
+    try_ctx *c = ctx;
+    kelp_broker_try *t = c->t;
+    if (kelp_strieq_n(k, kl, "host_ip") || kelp_strieq_n(k, kl, "hostip"))
+        return text_to(t->host, sizeof t->host, v, vl, c->d);
+    if (kelp_strieq_n(k, kl, "community")) return text_to(t->community, sizeof t->community, v, vl, c->d);
+    if (kelp_strieq_n(k, kl, "port_udp")) {
+        if (broker_port(v, vl, &t->port) < 0) {
+            return kelp_fail(c->d, KELP_ERR_PARSE, "bad port_udp");
+        }
+        return KELP_OK;
+    }
+    if (kelp_strieq_n(k, kl, "pshare_route") || kelp_strieq_n(k, kl, "route")) {
+        c->route = true;
+        if (vl >= 9 && kelp_strieq_n(v, 9, "multicast")) {
+            c->multicast = true;
+            return KELP_OK;
+        }
+        size_t colon = vl;
+        while (colon > 0 && v[colon - 1] != ':') colon--;
+        if (colon < 2 || broker_port(v + colon, vl - colon, &t->port) < 0) {
+            return kelp_fail(c->d, KELP_ERR_PARSE, "pshare_route is not host:port");
+        }
+        return text_to(t->host, sizeof t->host, v, colon - 1, c->d);
+    }
+    return kelp_fail(c->d, KELP_ERR_PARSE, "unknown key");
+}
+
+int kelp_broker_try_parse(const char *s, kelp_broker_try *t, kelp_diag *d)
+{
+    memset(t, 0, sizeof *t);
+    if (!s) {
+        return kelp_fail(d, KELP_ERR_PARSE, "no text");
+    }
+    try_ctx c = { t, d, false, false };
+    int rc = field_for_pairs(s, strlen(s), ',', try_pair, &c, d);
+    if (rc < 0) return rc;
+    if (c.multicast) {
+        return kelp_fail(d, KELP_ERR_UNSUPPORTED, "a multicast route (kelp-bridge sends unicast UDP only)");
+    }
+    if (!t->host[0] || !t->port) {
+        return kelp_fail(d, KELP_ERR_PARSE, !t->host[0] ? "no host_ip" : "no port_udp");
+    }
+    if (strpbrk(t->host, " ,=") || strpbrk(t->community, " ,=")) {
+        return kelp_fail(d, KELP_ERR_PARSE, "host or community holds a space, ',' or '='");
+    }
+    return KELP_OK;
+}
+
+/* a MOOS variable name: one word without ',' or '=' */
+static bool var_ok(const char *s)
+{
+    return s[0] && !strpbrk(s, " \t,=");
+}
+
+typedef struct bridge_ctx {
+    kelp_broker_bridge *b;
+    kelp_diag *d;
+} bridge_ctx;
+
+static int bridge_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl)
+{
+    bridge_ctx *c = ctx;
+    if (kelp_strieq_n(k, kl, "src")) return text_to(c->b->src, sizeof c->b->src, v, vl, c->d);
+    if (kelp_strieq_n(k, kl, "alias")) return text_to(c->b->alias, sizeof c->b->alias, v, vl, c->d);
+    return kelp_fail(c->d, KELP_ERR_PARSE, "unknown key (src=, alias=)");
+}
+
+int kelp_broker_bridge_parse(const char *s, kelp_broker_bridge *b, kelp_diag *d)
+{
+    memset(b, 0, sizeof *b);
+    if (!s) {
+        return kelp_fail(d, KELP_ERR_PARSE, "no text");
+    }
+    bridge_ctx c = { b, d };
+    int rc = field_for_pairs(s, strlen(s), ',', bridge_pair, &c, d);
+    if (rc < 0) return rc;
+    if (!b->alias[0]) memcpy(b->alias, b->src, sizeof b->alias);
+    if (!var_ok(b->src) || !var_ok(b->alias)) {
+        return kelp_fail(d, KELP_ERR_PARSE, "src (and alias) must be one variable name");
+    }
+    return KELP_OK;
+}
+
+int broker_add_bridge(kelp_broker_bridge *list, unsigned *n, const char *src, const char *alias, kelp_diag *d)
+{
+    for (unsigned i = 0; i < *n; i++)
+        if (strcmp(list[i].src, src) == 0 && strcmp(list[i].alias, alias) == 0) return 1; /* listed already */
+    if (*n >= KELP_BROKER_MAX_BRIDGES) {
+        return kelp_fail(d, KELP_ERR_NOSPACE, "too many bridges (KELP_BROKER_MAX_BRIDGES)");
+    }
+    if (strlen(src) >= KELP_MAX_NAME || strlen(alias) >= KELP_MAX_NAME || !var_ok(src) || !var_ok(alias)) {
+        return kelp_fail(d, KELP_ERR_PARSE, "not a variable name");
+    }
+    memcpy(list[*n].src, src, strlen(src) + 1);
+    memcpy(list[*n].alias, alias, strlen(alias) + 1);
+    (*n)++;
+    return 1;
+}
+
+int broker_register(const kelp_field_sink *out, const char *src, const char *community, const char *host,
+                    unsigned port, const char *alias, char *last, size_t cap)
+{
+    /* built where the caller keeps the last registration (no second 512-byte buffer on the
+     * stack); a registration too long for it is not posted and leaves that text empty */
+    char lbuf[1], *msg = last && cap >= KELP_BROKER_MSG ? last : lbuf;
+    const size_t mcap = msg == last ? cap : sizeof lbuf;
+    size_t n = 0;
+    int rc = field_put_str(msg, mcap, &n, "src_var=");
+    if (rc == 0) rc = field_put_str(msg, mcap, &n, src);
+    if (rc == 0 && community) rc = field_put_str(msg, mcap, &n, ",dest_community=");
+    if (rc == 0 && community) rc = field_put_str(msg, mcap, &n, community);
+    if (rc == 0) rc = field_put_str(msg, mcap, &n, ",dest_host=");
+    if (rc == 0) rc = field_put_str(msg, mcap, &n, host);
+    if (rc == 0) rc = field_put_str(msg, mcap, &n, ",dest_port=");
+    if (rc == 0) rc = field_put_fixed(msg, mcap, &n, port, 0, false);
+    if (rc == 0) rc = field_put_str(msg, mcap, &n, ",dest_alias=");
+    if (rc == 0) rc = field_put_str(msg, mcap, &n, alias);
+    if (rc < 0) {
+        if (msg == last) last[0] = 0;
+        return rc;
+    }
+    out->publish(out->ctx, "PMB_REGISTER", true, msg, 0);
+    return 1;
+}
+
+int broker_host_format(const kelp_broker_host *h, const char *keyword, double warp, kelp_time now, const char *status,
+                       char *buf, size_t cap)
+{
+    size_t n = 0;
+    int rc = field_put_str(buf, cap, &n, "community=");
+    if (rc == 0) rc = field_put_str(buf, cap, &n, h->community);
+    if (rc == 0) rc = field_put_str(buf, cap, &n, ",host=");
+    if (rc == 0) rc = field_put_str(buf, cap, &n, h->host);
+    if (rc == 0 && h->port_db) rc = field_put_str(buf, cap, &n, ",port=");
+    if (rc == 0 && h->port_db) rc = field_put_fixed(buf, cap, &n, h->port_db, 0, false);
+    if (rc == 0) rc = field_put_str(buf, cap, &n, ",port_udp=");
+    if (rc == 0) rc = field_put_fixed(buf, cap, &n, h->port_udp, 0, false);
+    if (rc == 0 && keyword[0]) rc = field_put_str(buf, cap, &n, ",keyword=");
+    if (rc == 0 && keyword[0]) rc = field_put_str(buf, cap, &n, keyword);
+    if (rc == 0) rc = field_put_str(buf, cap, &n, ",time_warp=");
+    if (rc == 0) rc = field_put_fixed(buf, cap, &n, warp, 6, true);
+    if (rc == 0) rc = field_put_str(buf, cap, &n, ",time=");
+    if (rc == 0) rc = field_put_fixed(buf, cap, &n, now, 2, true);
+    if (rc == 0 && status) rc = field_put_str(buf, cap, &n, ",status=");
+    if (rc == 0 && status) rc = field_put_str(buf, cap, &n, status);
+    return rc;
+}
+
+bool broker_same_host(const kelp_broker_host *a, const kelp_broker_host *b)
+{
+    return strcmp(a->community, b->community) == 0 && strcmp(a->host, b->host) == 0 && a->port_db == b->port_db &&
+           a->port_udp == b->port_udp && a->have_warp == b->have_warp && (!a->have_warp || a->warp == b->warp);
+}
+
+void broker_put(char *buf, size_t cap, size_t *n, bool *full, const char *fmt, ...)
+{
+    if (*n >= cap) {
+        *full = true;
+        return;
+    }
+    va_list ap;
+    va_start(ap, fmt);
+    int w = kelp_vsnprintf(buf + *n, cap - *n, fmt, ap);
+    va_end(ap);
+    if (w < 0 || (size_t)w >= cap - *n) {
+        *full = true;
+        *n = cap;
+    } else
+        *n += (size_t)w;
+}
