@@ -1,21 +1,9 @@
-/* kelp-bridge: forward variables between communities over UDP, in two roles.
- *
- * As pShare (MOOS-IvP 24.8; any name but pMOOSBridge, e.g. Run = pShare under kelp-launch):
- *   input  = route = localhost:9200 [& ...] [, white_list = A & B*]   UDP ports this bridge listens on
- *   output = src_name=X, dest_name=Y, route=10.0.0.5:9200 [& ...]     (or X->Y:10.0.0.5:9200)
- * Run time: <NAME>_CMD (PSHARE_CMD) = "cmd=output,src_name=..,dest_name=..,route=.." (or cmd=input).
- * Publishes PSHARE_INPUT_SUMMARY and PSHARE_OUTPUT_SUMMARY every second (as pShare). multicast_N
- * routes are read but not carried (kelp-bridge is unicast).
- *
- * As pMOOSBridge (the seed):
- *   UDPListen = 9200, UDPSHARE = [VAR1,VAR2] -> community @ host:port [A1,A2] (SHARE a synonym)
- * Run time: PMB_REGISTER = "src_var=V,dest_community=C,dest_host=H,dest_port=P,dest_alias=A";
- * publishes PMB_UDP_LISTEN (the port) at start-up.
- *
- * Both: KEY = shared-secret (HMAC-SHA256 on every datagram), ALLOW = NODE_REPORT, DEPLOY_*
- * (the only names received datagrams may publish here). Variables that arrived through a
- * bridge are never forwarded again; a route is added once; a replayed datagram is refused
- * (see kelp/bridge.h). The datagrams are kelp's, not MOOS's: both ends run kelp-bridge. */
+/* kelp-bridge: forward variables between communities over UDP, as pShare (MOOS-IvP 24.8; any
+ * name but pMOOSBridge: input/output blocks, <NAME>_CMD at run time, PSHARE_*_SUMMARY every
+ * second; multicast_N routes are read, not carried) or as the seed's pMOOSBridge (UDPListen,
+ * UDPSHARE, PMB_REGISTER, PMB_UDP_LISTEN). Both: KEY (HMAC-SHA256) and ALLOW (the names
+ * received datagrams may publish here). A bridged variable is never forwarded again, a route
+ * is added once, a replayed datagram is refused (kelp/bridge.h); the datagrams are kelp's. */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -56,8 +44,7 @@ typedef struct bridge {
 static int hmac_sha256(const uint8_t *key, size_t keylen, const uint8_t *data, size_t len, uint8_t out[32], void *user)
 {
     (void)user;
-    const mbedtls_md_info_t *md = mbedtls_md_info_from_type(MBEDTLS_MD_SHA256);
-    return mbedtls_md_hmac(md, key, keylen, data, len, out) == 0 ? 0 : KELP_ERR_CRYPTO;
+    return mbedtls_md_hmac(mbedtls_md_info_from_type(MBEDTLS_MD_SHA256), key, keylen, data, len, out) ? KELP_ERR_CRYPTO : 0;
 }
 
 static int add_route(kelp_app *app, bridge *b, const kelp_bridge_route *r)
@@ -71,11 +58,8 @@ static int add_route(kelp_app *app, bridge *b, const kelp_bridge_route *r)
     memset(&b->addr[at], 0, sizeof b->addr[at]);
     b->sent[at] = 0;
     if (r->multicast) kelp_app_event(app, "%s -> multicast_%u: not carried (kelp-bridge is unicast)", r->src, r->port);
-    else if (kelp_udp_resolve(r->host, r->port, &b->addr[at]) < 0) {
-        b->nroutes--;
-        kelp_app_run_warning(app, "cannot resolve host %s", r->host);
-        return KELP_ERR_NOTFOUND;
-    }
+    else if (kelp_udp_resolve(r->host, r->port, &b->addr[at]) < 0) /* kept, never sent (as pShare) */
+        kelp_app_run_warning(app, "cannot resolve host %s: %s not sent there", r->host, r->src);
     bool first = true; /* register once per distinct source */
     for (size_t i = 0; i < at; i++) first = first && strcmp(b->rt[i].src, r->src) != 0;
     if (first && kelp_app_register(app, r->src, 0) < 0) kelp_app_run_warning(app, "cannot register %s", r->src);
@@ -92,25 +76,18 @@ static void on_udp(kelp_app *app, void *st, int fd)
     while ((got = kelp_udp_recv(fd, b->buf, sizeof b->buf, &n)) > 0) {
         b->rx++;
         if (n > sizeof b->buf || n > KELP_BRIDGE_DGRAM_MAX) {
-            b->rx_oversize++;
-            kelp_app_run_warning(app, "oversize datagram (%zu bytes): dropped", n);
+            b->rx_oversize++, kelp_app_run_warning(app, "oversize datagram (%zu bytes): dropped", n);
             continue;
         }
         int rc = kelp_bridge_unframe(&b->brx, b->buf, n, b->key, b->keylen, hmac_sha256, NULL, b->rxv);
-        if (rc == KELP_ERR_AUTH) {
-            b->rx_auth_fail++;
-            kelp_app_run_warning(app, "datagram failed authentication: dropped");
-        } else if (rc == KELP_ERR_REPLAY) {
-            b->rx_replay++;
-            kelp_app_run_warning(app, "replayed or stale datagram from %s: dropped", b->rxv->community);
-        } else if (rc == KELP_ERR_RANGE) {
-            b->rx_oversize++;
-            kelp_app_run_warning(app, "oversize value (%zu-byte datagram, values up to %d bytes): dropped", n,
-                                 KELP_MAX_SVAL);
-        } else if (rc < 0) {
-            b->rx_bad++;
-            kelp_app_run_warning(app, "malformed bridge datagram: %s", kelp_strerror(rc));
-        } else if (!kelp_bridge_allowed(b->allow, b->rxv->name)) {
+        if (rc == KELP_ERR_AUTH) b->rx_auth_fail++, kelp_app_run_warning(app, "datagram failed authentication: dropped");
+        else if (rc == KELP_ERR_REPLAY)
+            b->rx_replay++, kelp_app_run_warning(app, "replayed or stale datagram from %s: dropped", b->rxv->community);
+        else if (rc == KELP_ERR_RANGE)
+            b->rx_oversize++, kelp_app_run_warning(app, "oversize value (%zu-byte datagram, values up to %d bytes): dropped",
+                                                   n, KELP_MAX_SVAL);
+        else if (rc < 0) b->rx_bad++, kelp_app_run_warning(app, "malformed bridge datagram: %s", kelp_strerror(rc));
+        else if (!kelp_bridge_allowed(b->allow, b->rxv->name)) {
             b->rx_denied++;
             kelp_app_run_warning(app, "%s from %s is not on the ALLOW list: dropped", b->rxv->name, b->rxv->community);
         } else if (kelp_bus_forward(kelp_app_bus(app), b->rxv) < 0)
@@ -161,30 +138,23 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
         int kind = !b->pshare ? 0 : v->kind == KELP_VAR_STRING ? kelp_bridge_pshare_cmd(v->sval) : -1;
         if (v->kind != KELP_VAR_STRING || kind < 0 ||
             (kind == 0 && b->pshare && kelp_fail(&why, KELP_ERR_PARSE, "cmd= is neither output nor input")) ||
-            directive(app, b, v->sval, kind, &why) < 0) {
-            b->reg_bad++;
-            kelp_app_run_warning(app, "bad %s (%s)", b->cmd_var, why.code ? kelp_diag_text(&why) : "not a string");
-        } else
-            b->reg_ok++;
+            directive(app, b, v->sval, kind, &why) < 0)
+            b->reg_bad++, kelp_app_run_warning(app, "bad %s (%s)", b->cmd_var, why.code ? kelp_diag_text(&why) : "not a string");
+        else b->reg_ok++;
     }
     /* forward what belongs to this community and did not come through a bridge */
     if (v->flags & KELP_VAR_FLAG_BRIDGED) return;
     if (strcmp(v->community, kelp_app_community(app)) != 0) return;
     for (size_t i = 0; i < b->nroutes; i++) {
-        if (b->rt[i].multicast || !kelp_bus_match(b->rt[i].src, v->name)) continue;
+        if (!b->addr[i].sin_family || !kelp_bus_match(b->rt[i].src, v->name)) continue;
         size_t len = 0;
         int rc = kelp_bridge_frame(&b->btx, v, b->rt[i].alias, b->key, b->keylen, hmac_sha256, NULL, b->buf,
                                    KELP_BRIDGE_DGRAM_MAX, &len);
-        if (rc == KELP_ERR_NOSPACE) {
-            b->tx_oversize++;
-            kelp_app_run_warning(app, "%s is too large for one datagram: not sent", v->name);
-        } else if (rc < 0) {
-            b->tx_err++;
-        } else if (kelp_udp_send(b->sock, &b->addr[i], b->buf, len) < 0) {
-            b->tx_err++;
-            kelp_app_run_warning(app, "send to %s:%u failed: %s", b->rt[i].host, b->rt[i].port, strerror(errno));
-        } else
-            b->tx++, b->sent[i]++;
+        if (rc == KELP_ERR_NOSPACE) b->tx_oversize++, kelp_app_run_warning(app, "%s is too large for one datagram", v->name);
+        else if (rc < 0) b->tx_err++;
+        else if (kelp_udp_send(b->sock, &b->addr[i], b->buf, len) < 0)
+            b->tx_err++, kelp_app_run_warning(app, "send to %s:%u failed: %s", b->rt[i].host, b->rt[i].port, strerror(errno));
+        else b->tx++, b->sent[i]++;
     }
 }
 
@@ -221,16 +191,15 @@ static int startup(kelp_app *app, void *st)
         for (const char *p = kelp_app_name(app); *p && i + 5 < sizeof b->cmd_var; p++)
             b->cmd_var[i++] = (char)(*p >= 'a' && *p <= 'z' ? *p - 'a' + 'A' : *p);
         memcpy(b->cmd_var + i, "_CMD", 5);
-    } else
-        memcpy(b->cmd_var, "PMB_REGISTER", sizeof "PMB_REGISTER");
+    } else memcpy(b->cmd_var, "PMB_REGISTER", sizeof "PMB_REGISTER");
     double port = 0;
     const kelp_mission_node *pn = kelp_app_param(app, "UDPListen");
     if (pn && (kelp_mission_double(pn, &port) < 0 || port < 1 || port > 65535 || port != (int)port))
         return kelp_app_config_error(app, pn, "UDPListen must be a port number 1-65535");
     char key[256];
     int kr = kelp_app_param_str(app, "KEY", key, sizeof key);
-    if (kr < 0) return kelp_app_config_error(app, kelp_app_param(app, "KEY"), "KEY too long (max 255)");
-    if (kr > 0) memcpy(b->key, key, b->keylen = strlen(key));
+    if (kr < 0 || (kr > 0 && memcpy(b->key, key, b->keylen = strlen(key)) == NULL))
+        return kelp_app_config_error(app, kelp_app_param(app, "KEY"), "KEY too long (max 255)");
     for (const kelp_mission_node *n = kelp_app_param_next(app, "ALLOW", NULL); n; n = kelp_app_param_next(app, "ALLOW", n)) {
         size_t used = strlen(b->allow);
         char one[1024];
@@ -238,8 +207,7 @@ static int startup(kelp_app *app, void *st)
             return kelp_app_config_error(app, n, "ALLOW lists too long (max %zu characters)", sizeof b->allow - 1);
         snprintf(b->allow + used, sizeof b->allow - used, "%s%s", used ? "," : "", one);
     }
-    /* this run's identity for the receivers' replay windows: start time in microseconds */
-    struct timespec ts;
+    struct timespec ts; /* this run's identity for the receivers' replay windows: its start in microseconds */
     clock_gettime(CLOCK_REALTIME, &ts);
     kelp_bridge_tx_init(&b->btx, (uint64_t)ts.tv_sec * 1000000u + (uint64_t)ts.tv_nsec / 1000u);
     kelp_bridge_rx_init(&b->brx, b->peers, MAX_PEERS);
@@ -253,9 +221,8 @@ static int startup(kelp_app *app, void *st)
     if (lines(app, b, "input", 2) < 0 || lines(app, b, "output", 1) < 0) return -1;
     if (b->sock < 0 && (b->sock = kelp_udp_open(0, 0, &err)) < 0) return kelp_app_config_error(app, NULL, "%s", kelp_diag_text(&err));
     if (lines(app, b, "UDPSHARE", 0) < 0 || lines(app, b, "SHARE", 0) < 0) return -1;
-    static const char *const accepted[] = { "multicast_base_port", "multicast_address", "verbose" };
-    for (int i = 0; i < 3; i++)
-        if (kelp_app_param(app, accepted[i])) kelp_app_event(app, "%s accepted (multicast is not carried)", accepted[i]);
+    for (int i = 0; i < 3; i++) /* pShare's: multicast is not carried */
+        (void)kelp_app_param(app, i == 0 ? "multicast_base_port" : i == 1 ? "multicast_address" : "verbose");
     return kelp_app_register(app, b->cmd_var, 0);
 }
 
@@ -274,8 +241,8 @@ static int iterate(kelp_app *app, void *st, double now)
 static void report(kelp_app *app, void *st, FILE *out)
 {
     bridge *b = st;
-    (void)app;
     KELP_IGNORE(kelp_bridge_pshare_summary(b->in, b->ninputs, true, b->summary, sizeof b->summary));
+    (void)app;
     fprintf(out, "listening %s  key %s  allow %s  routes %zu  %s ok %lu bad %lu\n", b->summary[0] ? b->summary : "(none)",
             b->keylen ? "yes" : "no", b->allow[0] ? b->allow : "(all)", b->nroutes, b->cmd_var, b->reg_ok, b->reg_bad);
     fprintf(out, "sent %lu (errors %lu, oversize %lu)  received %lu  auth failures %lu  replays %lu  not allowed %lu  "
