@@ -135,8 +135,18 @@ int kelp_broker_host_parse(const char *s, kelp_broker_host *h, kelp_diag *d)
         return kelp_fail(d, KELP_ERR_PARSE, "no text");
     }
     host_ctx c = { h, d, 0, false };
-    int rc = field_for_pairs(s, strlen(s), ',', host_pair, &c, d);
-    if (rc < 0) return rc;
+    /* the pairs; an item without '=' is skipped as 24.8 skips it (a hostip_alts list of two
+     * addresses leaves one), but a record must have at least one pair */
+    size_t pos = 0, len = strlen(s), il;
+    const char *it;
+    int rc, pairs = 0;
+    while ((rc = field_next_item(s, len, &pos, ',', &it, &il)) == 1) {
+        if (!memchr(it, '=', il)) continue;
+        rc = field_for_pairs(it, il, ',', host_pair, &c, d);
+        if (rc < 0) return rc;
+        pairs++;
+    }
+    if (rc < 0 || !pairs) return kelp_fail(d, KELP_ERR_PARSE, rc < 0 ? "unbalanced quote or brace" : "no key=value pair");
     if (!h->port_udp) h->port_udp = c.iroute_port;
     return KELP_OK;
 }
