@@ -115,6 +115,7 @@ static void report(kelp_app *app, void *st, FILE *out)
     (void)app;
     if (kelp_field_hostinfo_report(&h->core, h->report, sizeof h->report) < 0) fputs("(report truncated)\n", out);
     fputs(h->report, out);
+    if (h->report[0] && h->report[strlen(h->report) - 1] != '\n') fputc('\n', out);
 }
 
 static const kelp_app_def def = {

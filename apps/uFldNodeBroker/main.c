@@ -100,6 +100,7 @@ static void report(kelp_app *app, void *st, FILE *out)
     (void)app;
     if (kelp_field_nbroker_report(&b->core, b->report, sizeof b->report) < 0) fputs("(report truncated)\n", out);
     fputs(b->report, out);
+    if (b->report[0] && b->report[strlen(b->report) - 1] != '\n') fputc('\n', out); /* 24.8's table ends without one */
     if (b->core.last_register[0] && b->cfg.pmb) fprintf(out, "\nLast PMB_REGISTER: %s\n", b->core.last_register);
 }
 

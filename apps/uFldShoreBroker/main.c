@@ -97,6 +97,7 @@ static void report(kelp_app *app, void *st, FILE *out)
     if (kelp_field_sbroker_report(&s->core, kelp_app_time(app), s->report, sizeof s->report) < 0)
         fputs("(report truncated)\n", out);
     fputs(s->report, out);
+    if (s->report[0] && s->report[strlen(s->report) - 1] != '\n') fputc('\n', out); /* 24.8's table ends without one */
     if (s->core.last_register[0] && s->cfg.pmb) fprintf(out, "\nLast PMB_REGISTER: %s\n", s->core.last_register);
 }
 

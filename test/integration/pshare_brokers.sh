@@ -156,7 +156,7 @@ M
 vehicle alpha 1
 vehicle bravo 2
 moos_of() { [ "$1" = sh ] && echo shoreside.moos || echo "$1.moos"; }
-url_of() { awk -F' *= *' '$1=="LCM_URL"{print $2}' $T/$1/$(moos_of $1); }
+url_of() { sed -n 's/^LCM_URL *= *//p' $T/$1/$(moos_of $1); }
 in_ns() { local h=$1; shift; ip netns exec ${P}$h "$@"; }
 poke() { local h=$1; shift; (cd $T/$h && in_ns $h $BIN/kelp-poke "$(moos_of $h)" "$@" > /dev/null); }
 for h in $HOSTS; do
@@ -185,35 +185,36 @@ PIDS=()
 for h in $HOSTS; do $BIN/kelp-logcheck $T/$h/bus.lcmlog --print > $T/$h/ev.txt || fail "$h log undecodable"; done
 val() { awk -v v="$2" '$3==v {sub(/^[^ ]+ [^ ]+ [^ ]+ /, ""); print}' "$1"; }
 tim() { awk -v v="$2" '$3==v {print $1}' "$1"; }
+val1() { awk -v v="$2" '$3==v {sub(/^[^ ]+ [^ ]+ [^ ]+ /, ""); print; exit}' "$1"; }   # the first (no SIGPIPE)
+tim1() { awk -v v="$2" '$3==v {print $1; exit}' "$1"; }
 
 # ---- pShare's summaries and pHostInfo's record on the shore
 [ "$(val $T/sh/ev.txt PSHARE_INPUT_SUMMARY | tail -1)" = "224.1.1.11:24469:multicast_9,localhost:9300" ] || fail "shore PSHARE_INPUT_SUMMARY: $(val $T/sh/ev.txt PSHARE_INPUT_SUMMARY | tail -1)"
-[ "$(val $T/sh/ev.txt PHI_HOST_INFO | tail -1)" = "community=shoreside,hostip=198.51.100.1,port_db=9000,pshare_iroutes=198.51.100.1:9300&multicast_9,hostip_alts=,timewarp=4" ] || fail "shore PHI_HOST_INFO: $(val $T/sh/ev.txt PHI_HOST_INFO | tail -1)"
+[ "$(val $T/sh/ev.txt PHI_HOST_INFO | tail -1)" = "community=shoreside,hostip=198.51.100.1,port_db=9000,port_udp=9300,pshare_iroutes=multicast_9&198.51.100.1:9300,hostip_alts=,timewarp=4" ] || fail "shore PHI_HOST_INFO: $(val $T/sh/ev.txt PHI_HOST_INFO | tail -1)"
 ok "shore: PSHARE_INPUT_SUMMARY and PHI_HOST_INFO as 24.8 posts them"
 
 for v in alpha bravo; do
   E=$T/$v/ev.txt
   n=$([ $v = alpha ] && echo 2 || echo 3); p=$([ $v = alpha ] && echo 1 || echo 2)
   # the ping bridge, every iteration until the first ack, then never again
-  t_ack=$(tim $E NODE_BROKER_ACK | head -1)
+  t_ack=$(tim1 $E NODE_BROKER_ACK)
   [ -n "$t_ack" ] || fail "$v: no NODE_BROKER_ACK"
   cmd="cmd=output,src_name=NODE_BROKER_PING_0,dest_name=NODE_BROKER_PING,route=198.51.100.1:9300"
-  awk -v c="$cmd" -v a="$t_ack" '$3=="PSHARE_CMD" {sub(/^[^ ]+ [^ ]+ [^ ]+ /, ""); } 0' $E
   n_before=$(awk -v a="$t_ack" '$3=="PSHARE_CMD" && $1 < a && $4 ~ /src_name=NODE_BROKER_PING_0,/' $E | wc -l)
   n_after=$(awk -v a="$t_ack" '$3=="PSHARE_CMD" && $1 > a + 1 && $4 ~ /src_name=NODE_BROKER_PING_0,/' $E | wc -l)
   [ "$n_before" -ge 6 ] && [ "$n_after" -eq 0 ] || fail "$v: ping bridge posted $n_before times before the ack, $n_after after"
   grep -q " PSHARE_CMD cmd=output,src_name=NODE_BROKER_PING_0,dest_name=NODE_BROKER_PING,route=198.51.100.1:9300$" $E || fail "$v: PSHARE_CMD form"
   # the pings: 24.8's keys, the first ~5 s after the broker's first PSHARE_CMD, then every ~15 s
-  ping=$(val $E NODE_BROKER_PING_0 | head -1)
+  ping=$(val1 $E NODE_BROKER_PING_0)
   [[ "$ping" =~ ^community=$v,hostip=198\.51\.100\.$n,port_db=900$p,port_udp=920$p,pshare_iroutes=198\.51\.100\.$n:920$p,timewarp=4,time=[0-9]+\.[0-9][0-9],key=0$ ]] || fail "$v ping: $ping"
   [ "$(val $E NODE_BROKER_PING | wc -l)" -eq 0 ] || fail "$v posted the seed's NODE_BROKER_PING"
-  t0=$(tim $E PSHARE_CMD | head -1)
+  t0=$(tim1 $E PSHARE_CMD)
   gaps=$( (echo "$t0"; tim $E NODE_BROKER_PING_0) | awk 'NR>1{printf "%.1f ", $1 - p} {p=$1}')
   echo "$v: first ping and the gaps between pings (MOOS s): $gaps"
   echo "$gaps" | awk '{ if (NF < 3) exit 1; if ($1 < 3.5 || $1 > 7.5) exit 1; for (i = 2; i <= NF; i++) if ($i < 13.5 || $i > 17) exit 1 }' || fail "$v: ping times $gaps (want ~5, then ~15 apart)"
   # the acks: 24.8's keys, every iteration while the last ping is fresh
-  ack=$(val $E NODE_BROKER_ACK | head -1)
-  [[ "$ack" =~ ^community=shoreside,hostip=198\.51\.100\.1,port_db=9000,pshare_iroutes=198\.51\.100\.1:9300\&multicast_9,timewarp=4,status=ok,key=0,id=[0-9]+$ ]] || fail "$v ack: $ack"
+  ack=$(val1 $E NODE_BROKER_ACK)
+  [[ "$ack" =~ ^community=shoreside,hostip=198\.51\.100\.1,port_db=9000,port_udp=9300,pshare_iroutes=multicast_9\&198\.51\.100\.1:9300,timewarp=4,status=ok,key=0,id=[0-9]+$ ]] || fail "$v ack: $ack"
   n_ack=$(val $E NODE_BROKER_ACK | wc -l); n_ping=$(val $E NODE_BROKER_PING_0 | wc -l)
   [ "$n_ack" -ge $((n_ping * 10)) ] || fail "$v: $n_ack acks for $n_ping pings (want ~20 per ping)"
   # the user's bridges and the automatic ones, once, after the first ack
@@ -229,16 +230,18 @@ for v in alpha bravo; do
 done
 # data, vehicle -> shore; the shore's requests and sets
 S=$T/sh/ev.txt
-val $S NODE_REPORT | grep -qx "NAME=alpha,TYPE=kayak,X=10,Y=-5,SPD=1,HDG=90,TIME=1" || fail "alpha's NODE_REPORT_LOCAL did not reach the shore as NODE_REPORT"
-val $S NODE_REPORT | grep -qx "NAME=bravo,TYPE=kayak,X=30,Y=-5,SPD=1,HDG=90,TIME=1" || fail "bravo's NODE_REPORT_LOCAL did not reach the shore as NODE_REPORT"
-[ "$(val $S UFSB_QBRIDGE_VARS | head -1)" = "APPCAST_REQ,DEPLOY,NODE_MESSAGE,NODE_REPORT,REALMCAST_REQ" ] || fail "UFSB_QBRIDGE_VARS $(val $S UFSB_QBRIDGE_VARS)"
+val $S NODE_REPORT > $T/reports.txt
+grep -qx "NAME=alpha,TYPE=kayak,X=10,Y=-5,SPD=1,HDG=90,TIME=1" $T/reports.txt || fail "alpha's NODE_REPORT_LOCAL did not reach the shore as NODE_REPORT"
+grep -qx "NAME=bravo,TYPE=kayak,X=30,Y=-5,SPD=1,HDG=90,TIME=1" $T/reports.txt || fail "bravo's NODE_REPORT_LOCAL did not reach the shore as NODE_REPORT"
+[ "$(val1 $S UFSB_QBRIDGE_VARS)" = "APPCAST_REQ,DEPLOY,NODE_MESSAGE,NODE_REPORT,REALMCAST_REQ" ] || fail "UFSB_QBRIDGE_VARS $(val $S UFSB_QBRIDGE_VARS)"
 last_vars=$(val $S UFSB_BRIDGE_VARS | tail -1)
-for w in APPCAST_REQ_ALL APPCAST_REQ_ALPHA APPCAST_REQ_BRAVO MISSION_HASH NODE_BROKER_ACK_ALPHA NODE_BROKER_ACK_BRAVO NODE_MESSAGE_ALPHA REALMCAST_REQ_BRAVO RETURN_ALL 'RETURN_\$V'; do
-  echo ",$last_vars," | grep -q ",$w," || fail "UFSB_BRIDGE_VARS lacks $w: $last_vars"
+for w in APPCAST_REQ_ALL APPCAST_REQ_ALPHA APPCAST_REQ_BRAVO MISSION_HASH NODE_BROKER_ACK_ALPHA NODE_BROKER_ACK_BRAVO NODE_MESSAGE_ALPHA REALMCAST_REQ_BRAVO RETURN_ALL 'RETURN_$V'; do
+  [[ ",$last_vars," == *",$w,"* ]] || fail "UFSB_BRIDGE_VARS lacks $w: $last_vars"
 done
 grep -q " PSHARE_CMD cmd=output,src_name=NODE_BROKER_ACK_ALPHA,dest_name=NODE_BROKER_ACK,route=198.51.100.2:9201$" $S || fail "no ack bridge to alpha"
 grep -q " PSHARE_CMD cmd=output,src_name=DEPLOY_ALL,dest_name=DEPLOY,route=198.51.100.3:9202$" $S || fail "no DEPLOY_ALL bridge to bravo"
 [ "$(val $S NODE_BROKER_VACK | sort -u | tr '\n' ' ')" = "alpha bravo " ] || fail "NODE_BROKER_VACK $(val $S NODE_BROKER_VACK | sort -u)"
-grep -q "PSHARE_OUTPUT_SUMMARY" $S && val $S PSHARE_OUTPUT_SUMMARY | tail -1 | grep -q "NODE_BROKER_ACK_ALPHA->NODE_BROKER_ACK:198.51.100.2:9201" || fail "PSHARE_OUTPUT_SUMMARY lacks the ack bridge"
+summary=$(val $S PSHARE_OUTPUT_SUMMARY | tail -1)
+[[ "$summary" == *"NODE_BROKER_ACK_ALPHA->NODE_BROKER_ACK:198.51.100.2:9201"* ]] || fail "PSHARE_OUTPUT_SUMMARY lacks the ack bridge"
 grep -q "alpha  *198.51.100.2  *ok " $T/sh/logs/uFldShoreBroker.log || fail "the shore's report does not list alpha ok"
 ok "the shore took both vehicles' pings, bridged its QBRIDGE/BRIDGE variables and acks to each; reports and messages went both ways"
