@@ -395,6 +395,22 @@ static int qvars(kelp_field_sbroker *s, const kelp_field_sink *out)
     return 0;
 }
 
+/* stale warnings (no ping for 10 s) and UFSB_NODE_COUNT (on a change, else every 30 s) */
+static int stale_and_count(kelp_field_sbroker *s, kelp_time now, const kelp_field_sink *out)
+{
+    for (unsigned i = 0; i < s->nnodes; i++) {
+        kelp_broker_node *nd = &s->node[i];
+        bool stale = now - nd->last_ping > KELP_BROKER_STALE;
+        if (stale && !nd->stale && s->cfg.warn_stale) warn(out, "Node ", nd->rec.community, " is stale.");
+        nd->stale = stale;
+    }
+    if (s->nnodes == s->count_posted && s->count_at >= 0 && now - s->count_at <= SB_COUNT_EVERY) return 0;
+    out->publish(out->ctx, "UFSB_NODE_COUNT", false, NULL, s->nnodes);
+    s->count_posted = s->nnodes;
+    s->count_at = now;
+    return 1;
+}
+
 static int seed_iterate(kelp_field_sbroker *s, kelp_time now, const kelp_field_sink *out)
 {
     int posts = qvars(s, out);
@@ -403,18 +419,7 @@ static int seed_iterate(kelp_field_sbroker *s, kelp_time now, const kelp_field_s
         s->host_req_at = now;
         posts++;
     }
-    for (unsigned i = 0; i < s->nnodes; i++) {
-        kelp_broker_node *nd = &s->node[i];
-        bool stale = now - nd->last_ping > KELP_BROKER_STALE;
-        if (stale && !nd->stale && s->cfg.warn_stale) warn(out, "Node ", nd->rec.community, " is stale.");
-        nd->stale = stale;
-    }
-    if (s->nnodes != s->count_posted || s->count_at < 0 || now - s->count_at > SB_COUNT_EVERY) {
-        out->publish(out->ctx, "UFSB_NODE_COUNT", false, NULL, s->nnodes);
-        s->count_posted = s->nnodes;
-        s->count_at = now;
-        posts++;
-    }
+    posts += stale_and_count(s, now, out);
     if (s->cfg.nvnodes && (s->vnode_reg_at < 0 || now - s->vnode_reg_at > SB_VNODE_REG_EVERY)) {
         for (unsigned i = 0; i < s->cfg.nvnodes; i++)
             if (broker_register(out, "TRY_SHORE_HOST", NULL, s->cfg.vnode[i].host, s->cfg.vnode[i].port,
@@ -625,18 +630,7 @@ static int iterate24(kelp_field_sbroker *s, kelp_time now, const kelp_field_sink
         }
         s->acks++;
     }
-    for (unsigned i = 0; i < s->nnodes; i++) {
-        kelp_broker_node *nd = &s->node[i];
-        bool stale = now - nd->last_ping > KELP_BROKER_STALE;
-        if (stale && !nd->stale && s->cfg.warn_stale) warn(out, "Node ", nd->rec.community, " is stale.");
-        nd->stale = stale;
-    }
-    if (s->nnodes != s->count_posted || s->count_at < 0 || now - s->count_at > SB_COUNT_EVERY) {
-        out->publish(out->ctx, "UFSB_NODE_COUNT", false, NULL, s->nnodes);
-        s->count_posted = s->nnodes;
-        s->count_at = now;
-        posts++;
-    }
+    posts += stale_and_count(s, now, out);
     if (s->vnode_reg_at < 0 || now - s->vnode_reg_at > SB_VNODE_REG_EVERY) {
         s->vnode_reg_at = now;
         for (unsigned i = 0; i < s->cfg.nvnodes; i++) {
