@@ -740,6 +740,7 @@ typedef struct kelp_field_nbroker {
     double ping_at, ok_ack_at;                 /**< last ping, last valid ack (long ago at start) */
     unsigned long pshare_cmds;
     char ws[KELP_MAX_SVAL];                    /**< workspace of one call (keeps the stack under 1 KB) */
+    kelp_broker_host ws_host;                  /**< workspace: a record being parsed */
 } kelp_field_nbroker;
 
 /** Defaults, 24.8's: no keyword, no try hosts, no bridges, warp 1, the AUTO_BRIDGE_* on. */

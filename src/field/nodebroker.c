@@ -159,7 +159,8 @@ static void warn(const kelp_field_sink *out, const char *msg)
 
 static int ack_mail(kelp_field_nbroker *b, const char *sval, kelp_time now, const kelp_field_sink *out)
 {
-    kelp_broker_host h;
+    kelp_broker_host *hp = &b->ws_host;
+#define h (*hp)
     kelp_diag *d = &b->cfg.ws_diag;
     kelp_diag_clear(d);
     int rc = kelp_broker_host_parse(sval, &h, d);
@@ -193,20 +194,21 @@ static int ack_mail(kelp_field_nbroker *b, const char *sval, kelp_time now, cons
         field_putf(aliases, sizeof b->ws, &n, "%s%s", i ? "," : "", b->cfg.bridge[i].alias);
     out->publish(out->ctx, "NODE_PSHARE_VARS", true, aliases, 0);
     return 1;
+#undef h
 }
 
-static int seed_mail(kelp_field_nbroker *b, const char *var, bool is_string, const char *sval, kelp_time now,
+KELP_NOINLINE static int seed_mail(kelp_field_nbroker *b, const char *var, bool is_string, const char *sval, kelp_time now,
                      const kelp_field_sink *out)
 {
     if (strcmp(var, "PHI_HOST_INFO") == 0) {
-        kelp_broker_host h;
-        if (!is_string || kelp_broker_host_parse(sval, &h, NULL) < 0 || !kelp_broker_host_complete(&h)) {
+        kelp_broker_host *h = &b->ws_host;
+        if (!is_string || kelp_broker_host_parse(sval, h, NULL) < 0 || !kelp_broker_host_complete(h)) {
             b->bad_phi++;
             return KELP_ERR_PARSE;
         }
         b->ok_phi++;
-        if (b->have_node && !broker_same_host(&b->node, &h)) b->phi_changes++;
-        b->node = h;
+        if (b->have_node && !broker_same_host(&b->node, h)) b->phi_changes++;
+        b->node = *h;
         b->have_node = true;
         return 1;
     }
@@ -229,7 +231,7 @@ static int seed_mail(kelp_field_nbroker *b, const char *var, bool is_string, con
     return 0;
 }
 
-static int seed_iterate(kelp_field_nbroker *b, kelp_time now, const kelp_field_sink *out)
+KELP_NOINLINE static int seed_iterate(kelp_field_nbroker *b, kelp_time now, const kelp_field_sink *out)
 {
     if (!b->have_node) { /* nothing to say about ourselves yet: ask pHostInfo */
         if (b->host_req_at < 0 || now - b->host_req_at >= KELP_BROKER_HOST_REQ_PERIOD) {
@@ -329,27 +331,31 @@ static int ping_bridges(kelp_field_nbroker *b, unsigned from, unsigned to, const
     return posts;
 }
 
-static void warn24(const kelp_field_sink *out, const char *a, const char *b2, const char *c)
+/* a run warning a b2 c, built in the workspace (b2 must not live there) */
+KELP_NOINLINE static void warn24(kelp_field_nbroker *b, const kelp_field_sink *out, const char *a, const char *b2,
+                                 const char *c)
 {
     if (!out->warn) return;
-    char msg[KELP_BROKER_MSG];
     size_t n = 0;
-    field_putf(msg, sizeof msg, &n, "%s%s%s", a, b2, c);
-    out->warn(out->ctx, msg);
+    b->ws[0] = 0;
+    if (field_put_str(b->ws, sizeof b->ws, &n, a) == 0 && field_put_str(b->ws, sizeof b->ws, &n, b2) == 0)
+        KELP_IGNORE(field_put_str(b->ws, sizeof b->ws, &n, c));
+    out->warn(out->ctx, b->ws);
 }
 
 static int ack24(kelp_field_nbroker *b, const char *sval, kelp_time now, const kelp_field_sink *out)
 {
-    kelp_broker_host *h = &b->shore; /* the ack's record */
+    kelp_broker_host *h = &b->ws_host; /* the ack's record */
     long ix = -1;
     bool ok = kelp_broker_host_parse(sval, h, NULL) == 0 && kelp_broker_host_valid(h);
     if (ok && (!h->key[0] || kelp_parse_long(h->key, strlen(h->key), &ix) < 0 || ix < 0 || (unsigned long)ix >= b->cfg.ntry))
         ok = false;
     if (!ok) {
         b->bad_ack++;
-        warn24(out, "NODE_BROKER_ACK recvd from ", h->host, " w/ null or bad key, for now.");
+        warn24(b, out, "NODE_BROKER_ACK recvd from ", h->host, " w/ null or bad key, for now.");
         return KELP_ERR_PARSE;
     }
+    b->shore = *h;
     kelp_broker_shore *sh = &b->sh[ix];
     memcpy(sh->community, h->community, sizeof sh->community);
     memcpy(sh->ip, h->host, sizeof sh->ip);
@@ -375,16 +381,14 @@ static int ack24(kelp_field_nbroker *b, const char *sval, kelp_time now, const k
     return 1;
 }
 
-static int mail24(kelp_field_nbroker *b, const char *var, bool is_string, const char *sval, kelp_time now,
+KELP_NOINLINE static int mail24(kelp_field_nbroker *b, const char *var, bool is_string, const char *sval, kelp_time now,
                   const kelp_field_sink *out)
 {
     if (strcmp(var, "PHI_HOST_INFO") == 0) {
-        kelp_broker_host *h = &b->shore; /* parsed here first (a workspace until an ack) */
-        kelp_broker_host keep = b->shore;
+        kelp_broker_host *h = &b->ws_host;
         if (!is_string || !sval || kelp_broker_host_parse(sval, h, NULL) < 0 || !kelp_broker_host_valid(h)) {
-            b->shore = keep;
             b->bad_phi++;
-            warn24(out, "Invalid PHI_HOST_INFO recd: ", sval && is_string ? sval : "", "");
+            warn24(b, out, "Invalid PHI_HOST_INFO recd: ", sval && is_string ? sval : "", "");
             return KELP_ERR_PARSE;
         }
         b->ok_phi++;
@@ -395,21 +399,17 @@ static int mail24(kelp_field_nbroker *b, const char *var, bool is_string, const 
             b->phi_changes++;
         b->node = *h;
         b->have_node = true;
-        b->shore = keep;
         return 1;
     }
     if (strcmp(var, "NODE_BROKER_ACK") == 0) {
-        kelp_broker_host keep = b->shore;
-        int rc = ack24(b, is_string && sval ? sval : "", now, out);
-        if (rc < 0) b->shore = keep;
-        return rc;
+        return ack24(b, is_string && sval ? sval : "", now, out);
     }
     if (strcmp(var, "TRY_SHORE_HOST") == 0) {
         unsigned nbad = b->cfg.nbad_try;
         int rc = add_try(&b->cfg, is_string && sval ? sval : "");
         if (rc == 0 && b->cfg.nbad_try > nbad) {
             b->cfg.nbad_try = nbad; /* 24.8 warns at run time; the report lists configured ones */
-            warn24(out, "Invalid incoming TRY_SHORE_HOST:", is_string && sval ? sval : "", "");
+            warn24(b, out, "Invalid incoming TRY_SHORE_HOST:", is_string && sval ? sval : "", "");
             return KELP_ERR_PARSE;
         }
         /* a new route or one listed already: the latest route's ping bridge (as 24.8) */
@@ -419,7 +419,7 @@ static int mail24(kelp_field_nbroker *b, const char *var, bool is_string, const 
     return 0;
 }
 
-static int iterate24(kelp_field_nbroker *b, kelp_time now, const kelp_field_sink *out)
+KELP_NOINLINE static int iterate24(kelp_field_nbroker *b, kelp_time now, const kelp_field_sink *out)
 {
     int posts = 0;
     bool acked = false;

@@ -348,16 +348,16 @@ static int ping_mail(kelp_field_sbroker *s, const char *sval, kelp_time now, con
 /* the shoreside's own PHI_HOST_INFO (out of line: its host record is not on the ping path) */
 KELP_NOINLINE static int host_info(kelp_field_sbroker *s, bool is_string, const char *sval)
 {
-    kelp_broker_host h;
+    kelp_broker_host *h = &s->ws_host;
     s->phi++;
-    if (!is_string || kelp_broker_host_parse(sval, &h, NULL) < 0 || !kelp_broker_host_complete(&h))
+    if (!is_string || kelp_broker_host_parse(sval, h, NULL) < 0 || !kelp_broker_host_complete(h))
         return KELP_ERR_PARSE;
-    s->shore = h;
+    s->shore = *h;
     s->have_shore = true;
     return 1;
 }
 
-static int seed_mail(kelp_field_sbroker *s, const char *var, bool is_string, const char *sval, kelp_time now,
+KELP_NOINLINE static int seed_mail(kelp_field_sbroker *s, const char *var, bool is_string, const char *sval, kelp_time now,
                      const kelp_field_sink *out)
 {
     if (strcmp(var, "PHI_HOST_INFO") == 0) return host_info(s, is_string, sval);
@@ -372,7 +372,7 @@ static int seed_mail(kelp_field_sbroker *s, const char *var, bool is_string, con
 }
 
 /* UFSB_QBRIDGE_VARS: the QBRIDGE names, sorted (24.8 posts them at start-up) */
-static int qvars(kelp_field_sbroker *s, const kelp_field_sink *out)
+KELP_NOINLINE static int qvars(kelp_field_sbroker *s, const kelp_field_sink *out)
 {
     if (!s->qvars_posted) { /* the QBRIDGE names, sorted (24.8 posts them at start-up) */
         char *list = s->ws;
@@ -385,7 +385,7 @@ static int qvars(kelp_field_sbroker *s, const kelp_field_sink *out)
                 if (strcmp(s->cfg.qbridge[i], prev) > 0 && (!next || strcmp(s->cfg.qbridge[i], next) < 0))
                     next = s->cfg.qbridge[i];
             if (!next) break;
-            field_putf(list, sizeof s->ws, &len, "%s%s", len ? "," : "", next);
+            if ((len && field_put_str(list, sizeof s->ws, &len, ",") < 0) || field_put_str(list, sizeof s->ws, &len, next) < 0) break;
             prev = next;
         }
         out->publish(out->ctx, "UFSB_QBRIDGE_VARS", true, list, 0);
@@ -396,7 +396,7 @@ static int qvars(kelp_field_sbroker *s, const kelp_field_sink *out)
 }
 
 /* stale warnings (no ping for 10 s) and UFSB_NODE_COUNT (on a change, else every 30 s) */
-static int stale_and_count(kelp_field_sbroker *s, kelp_time now, const kelp_field_sink *out)
+KELP_NOINLINE static int stale_and_count(kelp_field_sbroker *s, kelp_time now, const kelp_field_sink *out)
 {
     for (unsigned i = 0; i < s->nnodes; i++) {
         kelp_broker_node *nd = &s->node[i];
@@ -411,7 +411,7 @@ static int stale_and_count(kelp_field_sbroker *s, kelp_time now, const kelp_fiel
     return 1;
 }
 
-static int seed_iterate(kelp_field_sbroker *s, kelp_time now, const kelp_field_sink *out)
+KELP_NOINLINE static int seed_iterate(kelp_field_sbroker *s, kelp_time now, const kelp_field_sink *out)
 {
     int posts = qvars(s, out);
     if (!s->have_shore && (s->host_req_at < 0 || now - s->host_req_at >= KELP_BROKER_HOST_REQ_PERIOD)) {
@@ -598,7 +598,7 @@ static void request(kelp_field_sbroker *s, unsigned j, unsigned k, const kelp_fi
     }
 }
 
-static int iterate24(kelp_field_sbroker *s, kelp_time now, const kelp_field_sink *out)
+KELP_NOINLINE static int iterate24(kelp_field_sbroker *s, kelp_time now, const kelp_field_sink *out)
 {
     int posts = qvars(s, out);
     /* every bridge for every vehicle, 5 s after a new vehicle, the gap growing by 3 s a pass */
@@ -653,7 +653,7 @@ static int iterate24(kelp_field_sbroker *s, kelp_time now, const kelp_field_sink
     return posts;
 }
 
-static int mail24(kelp_field_sbroker *s, const char *var, bool is_string, const char *sval, kelp_time now,
+KELP_NOINLINE static int mail24(kelp_field_sbroker *s, const char *var, bool is_string, const char *sval, kelp_time now,
                   const kelp_field_sink *out)
 {
     if (strcmp(var, "NODE_BROKER_PING") == 0) return ping24(s, is_string && sval ? sval : "", now, out);
