@@ -55,8 +55,7 @@ static int add_route(kelp_app *app, bridge *b, const kelp_bridge_route *r)
         if (rc < 0) kelp_app_run_warning(app, "too many routes (max %d)", MAX_ROUTES);
         return rc; /* 0: already bridged, no duplicates */
     }
-    memset(&b->addr[at], 0, sizeof b->addr[at]);
-    b->sent[at] = 0;
+    memset(&b->addr[at], 0, sizeof b->addr[at]), b->sent[at] = 0;
     if (r->multicast) kelp_app_event(app, "%s -> multicast_%u: not carried (kelp-bridge is unicast)", r->src, r->port);
     else if (kelp_udp_resolve(r->host, r->port, &b->addr[at]) < 0) /* kept, never sent (as pShare) */
         kelp_app_run_warning(app, "cannot resolve host %s: %s not sent there", r->host, r->src);
