@@ -219,6 +219,80 @@ START_TEST(t_oversize_value)
 }
 END_TEST
 
+
+/* pShare's configuration and command model (MOOS-IvP 24.8 Share.cpp, ShareHelp.cpp, readme.md) */
+START_TEST(t_pshare_output_forms)
+{
+    kelp_bridge_route r[8];
+    size_t n = 0;
+    kelp_diag why = { 0 };
+    /* long form: dest_name defaults to src_name; an '&' list of routes; duration etc. accepted */
+    ck_assert_int_eq(kelp_bridge_pshare_output("src_name = P,dest_name = H,route=multicast_9 & robots.ox.ac.uk:10200 & "
+                                               "178.4.5.6:9001, max_shares = 2", r, 8, &n, &why), 0);
+    ck_assert_uint_eq(n, 3);
+    ck_assert(r[0].multicast && r[0].port == 9);
+    ck_assert_str_eq(r[1].host, "robots.ox.ac.uk");
+    ck_assert_uint_eq(r[2].port, 9001);
+    ck_assert_str_eq(r[2].src, "P");
+    ck_assert_str_eq(r[2].alias, "H");
+    ck_assert_int_eq(kelp_bridge_pshare_output("src_name = Z, route = oceanai.mit.edu:9020", r, 8, &n, &why), 0);
+    ck_assert_str_eq(r[0].alias, "Z");
+    /* the PSHARE_CMD the brokers post */
+    const char *cmd = "cmd=output,src_name=NODE_BROKER_PING_0,dest_name=NODE_BROKER_PING,route=10.0.0.1:9300";
+    ck_assert_int_eq(kelp_bridge_pshare_cmd(cmd), 1);
+    ck_assert_int_eq(kelp_bridge_pshare_output(cmd, r, 8, &n, &why), 0);
+    ck_assert_str_eq(r[0].src, "NODE_BROKER_PING_0");
+    ck_assert_str_eq(r[0].alias, "NODE_BROKER_PING");
+    ck_assert_str_eq(r[0].host, "10.0.0.1");
+    ck_assert_int_eq(kelp_bridge_pshare_cmd("cmd=Input,route=localhost:9200"), 2);
+    ck_assert_int_eq(kelp_bridge_pshare_cmd("cmd=delete,src_name=X"), 0);
+    /* shorthand: X->[Y:]host:port[@freq] & [Y:]multicast_N */
+    ck_assert_int_eq(kelp_bridge_pshare_output("VAR1->VAR3:multicast_8 & multicast_2 & oranges:oceanai.mit.edu:10007@4.0",
+                                               r, 8, &n, &why), 0);
+    ck_assert_uint_eq(n, 3);
+    ck_assert_str_eq(r[0].alias, "VAR3");
+    ck_assert_str_eq(r[1].alias, "VAR1");
+    ck_assert_str_eq(r[2].alias, "oranges");
+    ck_assert_uint_eq(r[2].port, 10007);
+    /* refused: no src_name, no route, a bad port */
+    ck_assert_int_lt(kelp_bridge_pshare_output("dest_name=A,route=1.2.3.4:9000", r, 8, &n, &why), 0);
+    ck_assert_int_lt(kelp_bridge_pshare_output("src_name=A,dest_name=B", r, 8, &n, &why), 0);
+    ck_assert_int_lt(kelp_bridge_pshare_output("src_name=A,route=1.2.3.4:99999", r, 8, &n, &why), 0);
+}
+END_TEST
+
+START_TEST(t_pshare_inputs_and_summaries)
+{
+    kelp_bridge_route in[8], out[8];
+    size_t n = 0, m = 0, k = 0;
+    char white[64];
+    kelp_diag why = { 0 };
+    ck_assert_int_eq(kelp_bridge_pshare_input("route = localhost:9300 & multicast_9, white_list = NODE_* & DEPLOY",
+                                              in, 8, &n, white, sizeof white, &why), 0);
+    ck_assert_uint_eq(n, 2);
+    ck_assert_str_eq(in[0].host, "localhost");
+    ck_assert_uint_eq(in[0].port, 9300);
+    ck_assert(in[1].multicast && in[1].port == 9);
+    ck_assert_str_eq(white, "NODE_*,DEPLOY");
+    ck_assert_int_lt(kelp_bridge_pshare_input("localhost:9300", in, 8, &k, NULL, 0, &why), 0); /* route= required */
+    char buf[512];
+    ck_assert_int_eq(kelp_bridge_pshare_summary(in, n, true, buf, sizeof buf), 0);
+    ck_assert_str_eq(buf, "224.1.1.11:24469:multicast_9,localhost:9300");
+    /* the output summary: sources in name order, each source's routes joined with " & " */
+    kelp_bridge_route t[8];
+    size_t nt = 0;
+    ck_assert_int_eq(kelp_bridge_pshare_output("src_name=Y,dest_name=YY,route=10.0.0.2:9201", out, 8, &m, &why), 0);
+    ck_assert_int_eq(kelp_bridge_table_add(t, &nt, 8, &out[0]), 1);
+    ck_assert_int_eq(kelp_bridge_pshare_output("X->10.0.0.3:9202 & Z:multicast_8", out, 8, &m, &why), 0);
+    for (size_t i = 0; i < m; i++) ck_assert_int_eq(kelp_bridge_table_add(t, &nt, 8, &out[i]), 1);
+    ck_assert_int_eq(kelp_bridge_pshare_output("src_name=Y,dest_name=Q,route=10.0.0.4:9203", out, 8, &m, &why), 0);
+    ck_assert_int_eq(kelp_bridge_table_add(t, &nt, 8, &out[0]), 1);
+    ck_assert_int_eq(kelp_bridge_table_add(t, &nt, 8, &out[0]), 0); /* the same route once */
+    ck_assert_int_eq(kelp_bridge_pshare_summary(t, nt, false, buf, sizeof buf), 0);
+    ck_assert_str_eq(buf, "X->X:10.0.0.3:9202 & Z:224.1.1.11:24468:multicast_8, Y->YY:10.0.0.2:9201 & Q:10.0.0.4:9203");
+}
+END_TEST
+
 Suite *kelp_bridge_suite(void)
 {
     Suite *s = suite_create("bridge");
@@ -230,6 +304,8 @@ Suite *kelp_bridge_suite(void)
     tcase_add_test(tc, t_seq_zero_refused);
     tcase_add_test(tc, t_allow_list);
     tcase_add_test(tc, t_oversize_value);
+    tcase_add_test(tc, t_pshare_output_forms);
+    tcase_add_test(tc, t_pshare_inputs_and_summaries);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -62,7 +62,7 @@ static const char *last(const char *var)
 
 static void cfg_node(kelp_field_nbroker_cfg *c, const char *const *lines)
 {
-    kelp_field_nbroker_cfg_default(c);
+    kelp_field_nbroker_cfg_seed(c);
     for (; *lines; lines += 2) {
         kelp_diag why = { 0 };
         ck_assert_int_eq(kelp_field_nbroker_config(c, lines[0], lines[1], &why), 1);
@@ -503,7 +503,7 @@ END_TEST
 START_TEST(nb_auto_bridges_and_bools)
 {
     kelp_field_nbroker_cfg c;
-    kelp_field_nbroker_cfg_default(&c);
+    kelp_field_nbroker_cfg_seed(&c);
     kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_field_nbroker_config(&c, "auto_bridge_realmcast", "true  (default)", &why), 1);
     ck_assert_int_eq(kelp_field_nbroker_config(&c, "AUTO_BRIDGE_APPCAST", "false", &why), 1);
@@ -526,7 +526,7 @@ END_TEST
 static void shore(kelp_field_sbroker *sb, double warp, const char *const *lines, const kelp_field_sink *s)
 {
     kelp_field_sbroker_cfg c;
-    kelp_field_sbroker_cfg_default(&c);
+    kelp_field_sbroker_cfg_seed(&c);
     c.warp = warp;
     for (; lines && *lines; lines += 2) {
         kelp_diag why = { 0 };
@@ -563,7 +563,7 @@ static const char *regs(const char *prefix, char *buf, size_t cap)
 START_TEST(sb_qbridge_list) /* 3.6.1 */
 {
     kelp_field_sbroker_cfg c;
-    kelp_field_sbroker_cfg_default(&c);
+    kelp_field_sbroker_cfg_seed(&c);
     kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_field_sbroker_config(&c, "QBRIDGE", "DEPLOY, RETURN", &why), 1);
     ck_assert_uint_eq(c.nbridges, 4);
@@ -761,7 +761,7 @@ START_TEST(sb_waits_for_own_host_info)
     static kelp_field_sbroker sb;
     kelp_field_sink s = sink();
     kelp_field_sbroker_cfg c;
-    kelp_field_sbroker_cfg_default(&c);
+    kelp_field_sbroker_cfg_seed(&c);
     kelp_field_sbroker_init(&sb, &c);
     ck_assert_int_eq(ping(&sb, "henry", "2.56.111.1", "", 1, 10, &s), 1);
     ck_assert_int_lt(kelp_field_sbroker_mail(&sb, "PHI_HOST_INFO", true, "community=shoreside,hostip=10.0.0.8", 10, &s), 0);
@@ -910,6 +910,292 @@ START_TEST(handshake_node_and_shore)
 }
 END_TEST
 
+
+/* ================================================================ MOOS-IvP 24.8's model
+ * (NodeBroker.cpp, ShoreBroker.cpp, HostRecord.cpp of 24.8; the default configuration) */
+
+#define ALPHA_PHI "community=alpha,hostip=10.0.0.2,port_db=9001,port_udp=9201,pshare_iroutes=10.0.0.2:9201,hostip_alts=,timewarp=2"
+#define SHORE24_PHI "community=shoreside,hostip=10.0.0.1,port_db=9000,port_udp=9300,pshare_iroutes=10.0.0.1:9300,hostip_alts=,timewarp=2"
+
+static void node24(kelp_field_nbroker *nb, const char *const *lines)
+{
+    kelp_field_nbroker_cfg c;
+    kelp_field_nbroker_cfg_default(&c);
+    c.warp = 2;
+    for (; *lines; lines += 2) {
+        kelp_diag why = { 0 };
+        ck_assert_int_eq(kelp_field_nbroker_config(&c, lines[0], lines[1], &why), 1);
+    }
+    kelp_field_nbroker_init(nb, &c);
+}
+
+static void shore24(kelp_field_sbroker *sb, const char *const *lines)
+{
+    kelp_field_sbroker_cfg c;
+    kelp_field_sbroker_cfg_default(&c);
+    c.warp = 2;
+    for (; lines && *lines; lines += 2) {
+        kelp_diag why = { 0 };
+        ck_assert_int_eq(kelp_field_sbroker_config(&c, lines[0], lines[1], &why), 1);
+    }
+    kelp_field_sbroker_init(sb, &c);
+}
+
+START_TEST(hr24_spec_order)
+{
+    /* HostRecord::getSpec: community, hostip, port_db, port_udp, pshare_iroutes, keyword,
+     * hostip_alts (own address out), timewarp, time, key */
+    kelp_broker_host h;
+    kelp_diag why = { 0 };
+    ck_assert_int_eq(kelp_broker_host_parse("timewarp=2,hostip_alts=10.0.0.2,10.9.9.9,community=alpha,"
+                                            "pshare_iroutes=10.0.0.2:9201,port_db=9001,hostip=10.0.0.2,keyword=lemon",
+                                            &h, &why),
+                     0);
+    ck_assert(kelp_broker_host_valid(&h));
+    ck_assert(h.have_port_udp && h.port_udp == 9201); /* a single route gives port_udp */
+    char buf[512];
+    ck_assert_int_eq(kelp_broker_host_spec(&h, "100.00", "0", buf, sizeof buf), 0);
+    ck_assert_str_eq(buf, "community=alpha,hostip=10.0.0.2,port_db=9001,port_udp=9201,pshare_iroutes=10.0.0.2:9201,"
+                          "keyword=lemon,hostip_alts=,timewarp=2,time=100.00,key=0");
+    /* two routes: no port_udp; no port_db: not valid */
+    ck_assert_int_eq(kelp_broker_host_parse("community=a,hostip=localhost,pshare_iroutes=10.0.0.2:9201&multicast_8", &h, &why), 0);
+    ck_assert(!h.have_port_udp);
+    ck_assert(!kelp_broker_host_valid(&h));
+    ck_assert_int_eq(kelp_broker_host_parse("community=a,hostip=host.example,port_db=9000", &h, &why), 0);
+    ck_assert(!kelp_broker_host_valid(&h)); /* hostip must be a dotted quad or localhost */
+}
+END_TEST
+
+START_TEST(nb24_try_hosts)
+{
+    kelp_field_nbroker_cfg c;
+    kelp_field_nbroker_cfg_default(&c);
+    kelp_diag why = { 0 };
+    ck_assert(c.auto_realmcast && c.auto_appcast && c.auto_pshare_vars && !c.pmb);
+    ck_assert_int_eq(kelp_field_nbroker_config(&c, "try_shore_host", "pshare_route=localhost:9200", &why), 1);
+    ck_assert_int_eq(kelp_field_nbroker_config(&c, "try_shore_host", "pshare_route=multicast_8", &why), 1);
+    ck_assert_int_eq(kelp_field_nbroker_config(&c, "try_shore_host", "host_ip=10.0.0.1, port_udp=9300", &why), 1);
+    ck_assert_uint_eq(c.ntry, 2);     /* 24.8 takes pshare_route= only */
+    ck_assert_uint_eq(c.nbad_try, 1);
+    ck_assert_int_eq(kelp_field_nbroker_config(&c, "try_shore_host", "pshare_route=localhost:9200", &why), KELP_ERR_EXISTS);
+    ck_assert_str_eq(c.tryh[1].route, "multicast_8");
+    static kelp_field_nbroker nb;
+    kelp_field_nbroker_init(&nb, &c);
+    /* the automatic bridges after the user's */
+    ck_assert_uint_eq(nb.cfg.nbridges, 5);
+    ck_assert_str_eq(nb.cfg.bridge[0].src, "REALMCAST");
+    ck_assert_str_eq(nb.cfg.bridge[1].src, "WATCHCAST");
+    ck_assert_str_eq(nb.cfg.bridge[2].src, "REALMCAST_CHANNELS");
+    ck_assert_str_eq(nb.cfg.bridge[3].src, "APPCAST");
+    ck_assert_str_eq(nb.cfg.bridge[4].src, "NODE_PSHARE_VARS");
+}
+END_TEST
+
+START_TEST(nb24_ping_bridge_until_ack)
+{
+    static kelp_field_nbroker nb;
+    const char *const lines[] = { "TRY_SHORE_HOST", "pshare_route=10.0.0.1:9300", "BRIDGE",
+                                  "src=NODE_REPORT_LOCAL, alias=NODE_REPORT", "AUTO_BRIDGE_REALMCAST", "false",
+                                  "AUTO_BRIDGE_APPCAST", "false", "AUTO_BRIDGE_PSHARE_VARS", "false", NULL };
+    node24(&nb, lines);
+    kelp_field_sink s = sink();
+    /* no host info yet: the ping bridge, every iteration; no ping, no HOST_INFO_REQUEST */
+    for (int i = 0; i < 3; i++) (void)kelp_field_nbroker_iterate(&nb, 100 + i, &s);
+    ck_assert_int_eq(count("PSHARE_CMD"), 3);
+    ck_assert_str_eq(nth("PSHARE_CMD", 0), "cmd=output,src_name=NODE_BROKER_PING_0,dest_name=NODE_BROKER_PING,route=10.0.0.1:9300");
+    ck_assert_int_eq(count("NODE_BROKER_PING_0") + count("NODE_BROKER_PING") + count("HOST_INFO_REQUEST"), 0);
+    /* PHI_HOST_INFO without pshare_iroutes: still no ping */
+    ck_assert_int_eq(kelp_field_nbroker_mail(&nb, "PHI_HOST_INFO", true, "community=alpha,hostip=10.0.0.2,port_db=9001,timewarp=2", 103, &s), 1);
+    (void)kelp_field_nbroker_iterate(&nb, 103, &s);
+    ck_assert_int_eq(count("NODE_BROKER_PING_0"), 0);
+    ck_assert_int_eq(kelp_field_nbroker_mail(&nb, "PHI_HOST_INFO", true, ALPHA_PHI, 104, &s), 1);
+    ck_assert_uint_eq(nb.phi_changes, 2);
+    (void)kelp_field_nbroker_iterate(&nb, 104, &s);
+    ck_assert_str_eq(last("NODE_BROKER_PING_0"), "community=alpha,hostip=10.0.0.2,port_db=9001,port_udp=9201,"
+                                                 "pshare_iroutes=10.0.0.2:9201,timewarp=2,time=104.00,key=0");
+    ck_assert_int_eq(count("PSHARE_CMD"), 5);
+    /* the shore's ack (key 0): the user's bridge to that route, NODE_PSHARE_VARS; the ping
+     * bridge is not posted again */
+    ck_assert_int_eq(kelp_field_nbroker_mail(&nb, "NODE_BROKER_ACK", true,
+                                             "community=shoreside,hostip=10.0.0.1,port_db=9000,port_udp=9300,"
+                                             "pshare_iroutes=10.0.0.1:9300,timewarp=2,status=ok,key=0,id=7", 104.5, &s), 1);
+    ck_assert_str_eq(last("PSHARE_CMD"), "cmd=output,src_name=NODE_REPORT_LOCAL,dest_name=NODE_REPORT,route=10.0.0.1:9300");
+    ck_assert_str_eq(last("NODE_PSHARE_VARS"), "NODE_REPORT");
+    int cmds = count("PSHARE_CMD");
+    (void)kelp_field_nbroker_iterate(&nb, 105, &s);
+    ck_assert_int_eq(count("PSHARE_CMD"), cmds);
+    ck_assert_str_eq(nb.sh[0].community, "shoreside");
+    ck_assert_uint_eq(nb.sh[0].acks, 1);
+    /* a bad key, no key: a bad ack */
+    ck_assert_int_lt(kelp_field_nbroker_mail(&nb, "NODE_BROKER_ACK", true,
+                                             "community=shoreside,hostip=10.0.0.1,port_db=9000,status=ok,key=4", 106, &s), 0);
+    ck_assert_int_lt(kelp_field_nbroker_mail(&nb, "NODE_BROKER_ACK", true, "community=shoreside,hostip=10.0.0.1,port_db=9000", 106, &s), 0);
+    ck_assert_uint_eq(nb.bad_ack, 2);
+}
+END_TEST
+
+START_TEST(nb24_ping_cadence)
+{
+    /* pings every 5 s without acks; while acks come (the shore acks for 10 s after a ping)
+     * every 20 s, so with a live shore one ping per 15 s */
+    static kelp_field_nbroker nb;
+    const char *const lines[] = { "TRY_SHORE_HOST", "pshare_route=10.0.0.1:9300", "TRY_SHORE_HOST",
+                                  "pshare_route=10.0.0.9:9300", NULL };
+    node24(&nb, lines);
+    kelp_field_sink s = sink();
+    ck_assert_int_eq(kelp_field_nbroker_mail(&nb, "PHI_HOST_INFO", true, ALPHA_PHI, 0, &s), 1);
+    double pings[16];
+    int np = 0;
+    double last_ping = -100;
+    for (double t = 0; t < 40; t += 0.25) {
+        int before = count("NODE_BROKER_PING_0");
+        (void)kelp_field_nbroker_iterate(&nb, t, &s);
+        if (count("NODE_BROKER_PING_0") > before && np < 16) pings[np++] = t, last_ping = t;
+        if (t - last_ping < 10) /* the shore acks each iteration while the ping is fresh */
+            ck_assert_int_eq(kelp_field_nbroker_mail(&nb, "NODE_BROKER_ACK", true,
+                                                     "community=shoreside,hostip=10.0.0.1,port_db=9000,timewarp=2,"
+                                                     "status=ok,key=0", t, &s), 1);
+    }
+    ck_assert_int_eq(count("NODE_BROKER_PING_1"), 0); /* one clock for all routes (24.8) */
+    ck_assert_int_eq(np, 3);
+    ck_assert(pings[0] == 0);
+    ck_assert(pings[1] > 14.9 && pings[1] < 15.3);
+    ck_assert(pings[2] > 29.9 && pings[2] < 30.6);
+    /* no acks: every 5 s */
+    np = count("NODE_BROKER_PING_0");
+    for (double t = 40; t < 60; t += 0.25) (void)kelp_field_nbroker_iterate(&nb, t, &s);
+    ck_assert_int_ge(count("NODE_BROKER_PING_0") - np, 3);
+    ck_assert_int_le(count("NODE_BROKER_PING_0") - np, 4);
+}
+END_TEST
+
+START_TEST(nb24_report)
+{
+    static kelp_field_nbroker nb;
+    const char *const lines[] = { "TRY_SHORE_HOST", "pshare_route=10.0.0.1:9300", NULL };
+    node24(&nb, lines);
+    kelp_field_sink s = sink();
+    ck_assert_int_eq(kelp_field_nbroker_mail(&nb, "PHI_HOST_INFO", true, ALPHA_PHI, 0, &s), 1);
+    (void)kelp_field_nbroker_iterate(&nb, 1, &s);
+    static char rep[8192];
+    ck_assert_int_eq(kelp_field_nbroker_report(&nb, rep, sizeof rep), 0);
+    ck_assert_ptr_nonnull(strstr(rep, "  Total OK  PHI_HOST_INFO    received: 1\n"));
+    ck_assert_ptr_nonnull(strstr(rep, "  Total          PSHARE_CMD    posted: 1\n"));
+    ck_assert_ptr_nonnull(strstr(rep, "     Community: alpha\n        HostIP: 10.0.0.2\n   Port MOOSDB: 9001\n     Time Warp: 2\n   TryHost IPs: 10.0.0.1\n      IRoutes: 10.0.0.2:9201\n"));
+    ck_assert_ptr_nonnull(strstr(rep, "Community                 Pings  Pings  IP       Time\n"
+                                      "Name       Route          Sent   Acked  Address  Warp\n"
+                                      "---------  -------------  -----  -----  -------  ----\n"
+                                      "           10.0.0.1:9300  1      0\n\nPhase Completion Summary:"));
+    ck_assert_ptr_nonnull(strstr(rep, " Phase 3: (Y) NODE_BROKER_PINGS are being sent to TryHosts.\n Phase 4: (N)"));
+    ck_assert_ptr_nonnull(strstr(rep, "*Hint: Phase 4 problem."));
+}
+END_TEST
+
+START_TEST(sb24_acks_every_iteration_while_fresh)
+{
+    static kelp_field_sbroker sb;
+    const char *const lines[] = { "QBRIDGE", "DEPLOY", NULL };
+    shore24(&sb, lines);
+    kelp_field_sink s = sink();
+    ck_assert_int_eq(kelp_field_sbroker_mail(&sb, "PHI_HOST_INFO", true, SHORE24_PHI, 0, &s), 1);
+    ck_assert_int_eq(kelp_field_sbroker_mail(&sb, "NODE_BROKER_PING", true,
+                                             "community=alpha,hostip=10.0.0.2,port_db=9001,port_udp=9201,"
+                                             "pshare_iroutes=10.0.0.2:9201,timewarp=2,time=0.50,key=0", 1, &s), 1);
+    for (double t = 1; t < 14; t += 0.5) (void)kelp_field_sbroker_iterate(&sb, t, &s);
+    /* t = 1 .. 10.5 (younger than last ping + 10 s): 20 acks, ids counting iterations */
+    ck_assert_int_eq(count("NODE_BROKER_ACK_ALPHA"), 20);
+    ck_assert_int_eq(count("NODE_BROKER_VACK"), 20);
+    ck_assert_str_eq(nth("NODE_BROKER_ACK_ALPHA", 0), "community=shoreside,hostip=10.0.0.1,port_db=9000,port_udp=9300,"
+                                                      "pshare_iroutes=10.0.0.1:9300,timewarp=2,status=ok,key=0,id=0");
+    ck_assert_ptr_nonnull(strstr(nth("NODE_BROKER_ACK_ALPHA", 3), ",id=3"));
+    ck_assert_uint_eq(sb.acks, 26); /* one per iteration with our own record */
+    ck_assert_str_eq(last("NODE_BROKER_VACK"), "alpha");
+    ck_assert_int_eq(kelp_field_sbroker_mail(&sb, "NODE_BROKER_PING", true,
+                                             "community=bravo,hostip=10.0.0.3,port_db=9002,pshare_iroutes=10.0.0.3:9202,"
+                                             "timewarp=4,time=14.00,key=0", 14, &s), 1);
+    ck_assert_str_eq(sb.node[1].status, "timewarp (2!=4)");
+}
+END_TEST
+
+START_TEST(sb24_bridge_requests)
+{
+    static kelp_field_sbroker sb;
+    const char *const lines[] = { "QBRIDGE", "DEPLOY", "BRIDGE", "src=RETURN_$V, alias=RETURN", NULL };
+    shore24(&sb, lines);
+    kelp_field_sink s = sink();
+    ck_assert_int_eq(kelp_field_sbroker_mail(&sb, "PHI_HOST_INFO", true, SHORE24_PHI, 0, &s), 1);
+    (void)kelp_field_sbroker_iterate(&sb, 0, &s); /* a pass with no vehicle: the gap grows to 8 */
+    ck_assert_str_eq(last("UFSB_QBRIDGE_VARS"), "APPCAST_REQ,DEPLOY,REALMCAST_REQ");
+    ck_assert_int_eq(kelp_field_sbroker_mail(&sb, "PSHARE_OUTPUT_SUMMARY", true,
+                                             "DEPLOY_ALL->DEPLOY:10.0.0.2:9201, X->Y:1.2.3.4:5", 0.5, &s), 1);
+    ck_assert_int_eq(kelp_field_sbroker_mail(&sb, "NODE_BROKER_PING", true,
+                                             "community=alpha,hostip=10.0.0.2,port_db=9001,port_udp=9201,"
+                                             "pshare_iroutes=10.0.0.2:9201,timewarp=2,time=0.50,key=0", 1, &s), 1);
+    for (double t = 1; t < 4.9; t += 0.5) (void)kelp_field_sbroker_iterate(&sb, t, &s);
+    ck_assert_int_eq(count("PSHARE_CMD"), 0); /* the next pass 5 s after the last one */
+    (void)kelp_field_sbroker_iterate(&sb, 5, &s);
+    /* config order, the automatic ones, then the ack bridge; DEPLOY_ALL is shared already */
+    static const char *const want[] = {
+        "cmd=output,src_name=DEPLOY_ALPHA,dest_name=DEPLOY,route=10.0.0.2:9201",
+        "cmd=output,src_name=RETURN_ALPHA,dest_name=RETURN,route=10.0.0.2:9201",
+        "cmd=output,src_name=REALMCAST_REQ_ALL,dest_name=REALMCAST_REQ,route=10.0.0.2:9201",
+        "cmd=output,src_name=REALMCAST_REQ_ALPHA,dest_name=REALMCAST_REQ,route=10.0.0.2:9201",
+        "cmd=output,src_name=APPCAST_REQ_ALL,dest_name=APPCAST_REQ,route=10.0.0.2:9201",
+        "cmd=output,src_name=APPCAST_REQ_ALPHA,dest_name=APPCAST_REQ,route=10.0.0.2:9201",
+        "cmd=output,src_name=MISSION_HASH,dest_name=MISSION_HASH,route=10.0.0.2:9201",
+        "cmd=output,src_name=NODE_BROKER_ACK_ALPHA,dest_name=NODE_BROKER_ACK,route=10.0.0.2:9201" };
+    ck_assert_int_eq(count("PSHARE_CMD"), 8);
+    for (int i = 0; i < 8; i++) ck_assert_str_eq(nth("PSHARE_CMD", i), want[i]);
+    ck_assert_int_eq(count("PSHARE_TEST"), 27);
+    ck_assert_str_eq(nth("PSHARE_TEST", 1), "DEPLOY_ALL->DEPLOY:10.0.0.2:9201");
+    ck_assert_str_eq(nth("PSHARE_TEST", 2), "needed=false");
+    ck_assert_str_eq(last("UFSB_BRIDGE_VARS"),
+                     "APPCAST_REQ_ALL,APPCAST_REQ_ALPHA,DEPLOY_ALL,DEPLOY_ALPHA,MISSION_HASH,NODE_BROKER_ACK_$V,"
+                     "NODE_BROKER_ACK_ALPHA,REALMCAST_REQ_ALL,REALMCAST_REQ_ALPHA,RETURN_$V,RETURN_ALPHA");
+    /* again 8 s later, then 11 s */
+    int n = count("PSHARE_CMD");
+    for (double t = 5.5; t < 12.9; t += 0.5) (void)kelp_field_sbroker_iterate(&sb, t, &s);
+    ck_assert_int_eq(count("PSHARE_CMD"), n);
+    (void)kelp_field_sbroker_iterate(&sb, 13, &s);
+    ck_assert_int_eq(count("PSHARE_CMD"), n + 8);
+    ck_assert_uint_eq(sb.pshare_cmds, 18);
+    static char rep[8192];
+    ck_assert_int_eq(kelp_field_sbroker_report(&sb, 13, rep, sizeof rep), 0);
+    ck_assert_ptr_nonnull(strstr(rep, " Total PSHARE_CMD         posted: 18\n"));
+    ck_assert_ptr_nonnull(strstr(rep, "Node   IP                Elap  pShare\n"
+                                      "Name   Address   Status  Time  Input Route(s)  Skew\n"
+                                      "-----  --------  ------  ----  --------------  ------\n"
+                                      "alpha  10.0.0.2  ok      12.0  10.0.0.2:9201   0.5000"));
+}
+END_TEST
+
+START_TEST(handshake24)
+{
+    static kelp_field_nbroker nb;
+    static kelp_field_sbroker sb;
+    const char *const nl[] = { "TRY_SHORE_HOST", "pshare_route=10.0.0.1:9300", "BRIDGE", "src=NODE_REPORT_LOCAL, alias=NODE_REPORT", NULL };
+    node24(&nb, nl);
+    shore24(&sb, NULL);
+    kelp_field_sink s = sink();
+    ck_assert_int_eq(kelp_field_nbroker_mail(&nb, "PHI_HOST_INFO", true, ALPHA_PHI, 0, &s), 1);
+    ck_assert_int_eq(kelp_field_sbroker_mail(&sb, "PHI_HOST_INFO", true, SHORE24_PHI, 0, &s), 1);
+    for (double t = 0; t < 3; t += 0.5) {
+        R.n = 0;
+        (void)kelp_field_nbroker_iterate(&nb, t, &s);
+        if (last("NODE_BROKER_PING_0"))
+            ck_assert_int_eq(kelp_field_sbroker_mail(&sb, "NODE_BROKER_PING", true, last("NODE_BROKER_PING_0"), t, &s), 1);
+        (void)kelp_field_sbroker_iterate(&sb, t, &s);
+        if (last("NODE_BROKER_ACK_ALPHA"))
+            ck_assert_int_eq(kelp_field_nbroker_mail(&nb, "NODE_BROKER_ACK", true, last("NODE_BROKER_ACK_ALPHA"), t, &s), 1);
+    }
+    ck_assert_uint_eq(nb.pings, 1);
+    ck_assert_uint_eq(nb.ok_ack, 6);
+    ck_assert(nb.sh[0].bridged);
+    ck_assert_str_eq(sb.node[0].rec.iroutes, "10.0.0.2:9201");
+    ck_assert_str_eq(sb.node[0].status, "ok");
+}
+END_TEST
+
 Suite *kelp_field_brokers_suite(void)
 {
     Suite *s = suite_create("field_brokers");
@@ -945,6 +1231,14 @@ Suite *kelp_field_brokers_suite(void)
     tcase_add_test(tc, sb_many_vehicles);
     tcase_add_test(tc, sb_try_vnode_and_stale);
     tcase_add_test(tc, handshake_node_and_shore);
+    tcase_add_test(tc, hr24_spec_order);
+    tcase_add_test(tc, nb24_try_hosts);
+    tcase_add_test(tc, nb24_ping_bridge_until_ack);
+    tcase_add_test(tc, nb24_ping_cadence);
+    tcase_add_test(tc, nb24_report);
+    tcase_add_test(tc, sb24_acks_every_iteration_while_fresh);
+    tcase_add_test(tc, sb24_bridge_requests);
+    tcase_add_test(tc, handshake24);
     suite_add_tcase(s, tc);
     return s;
 }

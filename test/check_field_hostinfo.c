@@ -57,16 +57,19 @@ START_TEST(hostinfo_addresses_and_info)
     ck_assert_str_eq(get(&r, "PHI_HOST_IP_VERBOSE"), "LINUX_ETHERNET=118.10.24.23,LINUX_ETHERNET=118.10.24.23,"
                                                      "LINUX_WIFI=169.224.126.40,LINUX_WIFI=10.0.0.9,DOCKER0=172.17.0.1");
     ck_assert_str_eq(get(&r, "PHI_HOST_PORT_DB"), "9000");
-    ck_assert_str_eq(get(&r, "PHI_HOST_PORT"), "9000");
+    ck_assert_ptr_null(get(&r, "PHI_HOST_PORT")); /* 24.8 posts PHI_HOST_PORT_DB only */
     ck_assert_ptr_null(get(&r, "PHI_HOST_PORT_UDP"));
-    ck_assert_str_eq(get(&r, "PHI_HOST_INFO"), "community=alpha,hostip=118.10.24.23,port_db=9000,timewarp=8");
-    /* the bridge's port arrives: posted again with port_udp */
+    ck_assert_str_eq(get(&r, "PHI_HOST_INFO"), "community=alpha,hostip=118.10.24.23,port_db=9000,"
+                                               "hostip_alts=169.224.126.40,10.0.0.9,172.17.0.1,timewarp=8");
+    /* the seed's bridge port arrives: in PHI_HOST_INFO from the next post, the tenth iteration */
     ck_assert_int_eq(kelp_field_hostinfo_mail(&h, "PMB_UDP_LISTEN", false, NULL, 9200), 1);
     ck_assert_int_lt(kelp_field_hostinfo_mail(&h, "PMB_UDP_LISTEN", true, "port", 0), 0);
     r.n = 0;
+    for (int i = 4; i < 10; i++) ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 0);
     ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 1);
     ck_assert_str_eq(get(&r, "PHI_HOST_PORT_UDP"), "9200");
-    ck_assert_str_eq(get(&r, "PHI_HOST_INFO"), "community=alpha,hostip=118.10.24.23,port_db=9000,port_udp=9200,timewarp=8");
+    ck_assert_str_eq(get(&r, "PHI_HOST_INFO"), "community=alpha,hostip=118.10.24.23,port_db=9000,port_udp=9200,"
+                                               "hostip_alts=169.224.126.40,10.0.0.9,172.17.0.1,timewarp=8");
     /* HOST_INFO_REQUEST: the edge looks again, everything is posted again */
     ck_assert_int_eq(kelp_field_hostinfo_mail(&h, "HOST_INFO_REQUEST", true, "true", 0), 1);
     ck_assert(h.redetect);
@@ -168,7 +171,7 @@ START_TEST(hostinfo_ports_are_strings)
     kelp_field_hostinfo_init(&h, &c);
     ck_assert_int_eq(kelp_field_hostinfo_mail(&h, "PMB_UDP_LISTEN", false, NULL, 9200), 1);
     ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 1);
-    const char *vars[] = { "PHI_HOST_PORT_DB", "PHI_HOST_PORT", "PHI_HOST_PORT_UDP" };
+    const char *vars[] = { "PHI_HOST_PORT_DB", "PHI_HOST_PORT_DB", "PHI_HOST_PORT_UDP" };
     for (int k = 0; k < 3; k++) {
         int i = r.n;
         while (i-- > 0 && strcmp(r.var[i], vars[k]) != 0) {}
@@ -182,7 +185,8 @@ END_TEST
 /* PSHARE_INPUT_SUMMARY (MOOS-IvP 24.8 pHostInfo handleMailPShareInput): each "host:port[:udp]"
  * input route is carried as host:port, a "host:port:multicast_N" one as multicast_N, anything
  * else is dropped; the routes are joined with '&' and "localhost" reads as the host's address
- * (postIPInfo). The brokers take port_udp from the first unicast route. */
+ * (postIPInfo). Several routes: no port_udp (24.8); the seed's brokers take the first
+ * unicast route's port. */
 START_TEST(hostinfo_pshare_iroutes)
 {
     rec r = { 0 };
@@ -200,12 +204,55 @@ START_TEST(hostinfo_pshare_iroutes)
                      1);
     ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 1);
     ck_assert_str_eq(get(&r, "PHI_HOST_INFO"),
-                     "community=alpha,hostip=10.0.0.5,port_db=9000,timewarp=1,"
-                     "pshare_iroutes=10.0.0.5:9200&multicast_23&5.6.7.8:9300");
+                     "community=alpha,hostip=10.0.0.5,port_db=9000,"
+                     "pshare_iroutes=10.0.0.5:9200&multicast_23&5.6.7.8:9300,hostip_alts=,timewarp=1");
     kelp_broker_host bh;
     kelp_diag why = { 0 };
     ck_assert_int_eq(kelp_broker_host_parse(get(&r, "PHI_HOST_INFO"), &bh, &why), 0);
     ck_assert_uint_eq(bh.port_udp, 9200);
+}
+END_TEST
+
+/* MOOS-IvP 24.8 (HostInfo.cpp Iterate/postIPInfo, HostRecord::getSpec): PHI_HOST_INFO at the
+ * first iteration, every tenth and after HOST_INFO_REQUEST (not when pShare's summary
+ * changes); the record in getSpec's order with port_udp from a single route, pshare_iroutes,
+ * hostip_alts (the other addresses), timewarp; the report's PHI_HOST_* lines */
+START_TEST(hostinfo_24_record_and_cadence)
+{
+    rec r = { 0 };
+    kelp_field_sink sink = { &r, pub, NULL };
+    kelp_field_hostinfo_cfg c;
+    kelp_field_hostinfo_cfg_default(&c);
+    snprintf(c.community, sizeof c.community, "alpha");
+    c.port_db = 9001;
+    c.warp = 2;
+    kelp_field_hostinfo h;
+    kelp_field_hostinfo_init(&h, &c);
+    const char *n1[] = { "eth0" }, *i1[] = { "10.0.0.5" };
+    kelp_field_hostinfo_set(&h, n1, i1, 1);
+    ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 1);
+    ck_assert_str_eq(get(&r, "PHI_HOST_INFO"), "community=alpha,hostip=10.0.0.5,port_db=9001,hostip_alts=,timewarp=2");
+    ck_assert_int_eq(kelp_field_hostinfo_mail(&h, "PSHARE_INPUT_SUMMARY", true, "localhost:9201", 0), 1);
+    int posts = 0;
+    for (int i = 2; i <= 25; i++) {
+        int rc = kelp_field_hostinfo_iterate(&h, &sink);
+        ck_assert_int_eq(rc, i % 10 == 0);
+        posts += rc;
+    }
+    ck_assert_int_eq(posts, 2);
+    ck_assert_str_eq(get(&r, "PHI_HOST_INFO"), "community=alpha,hostip=10.0.0.5,port_db=9001,port_udp=9201,"
+                                               "pshare_iroutes=10.0.0.5:9201,hostip_alts=,timewarp=2");
+    ck_assert_int_eq(kelp_field_hostinfo_mail(&h, "HOST_INFO_REQUEST", true, "true", 0), 1);
+    ck_assert_int_eq(kelp_field_hostinfo_iterate(&h, &sink), 1);
+    static char rep[4096];
+    ck_assert_int_eq(kelp_field_hostinfo_report(&h, rep, sizeof rep), 0);
+    ck_assert_ptr_nonnull(strstr(rep, "\n  PHI_HOST_IP:          10.0.0.5\n  PHI_HOST_IP_ALL:      10.0.0.5\n\n"));
+    ck_assert_ptr_nonnull(strstr(rep, "  PHI_HOST_PORT:        9001\n  PHI_PSHARES_IROUTES:  localhost:9201\n"));
+    /* ACBlock(42): items joined while a line stays within 42 characters */
+    ck_assert_ptr_nonnull(strstr(rep, "  PHI_HOST_INFO:        community=alpha,hostip=10.0.0.5,\n"
+                                      "                        port_db=9001,port_udp=9201,\n"
+                                      "                        pshare_iroutes=10.0.0.5:9201,hostip_alts=,\n"
+                                      "                        timewarp=2\n"));
 }
 END_TEST
 
@@ -219,6 +266,7 @@ Suite *kelp_field_hostinfo_suite(void)
     tcase_add_test(tc, hostinfo_ports_are_strings);
     tcase_add_test(tc, hostinfo_forced);
     tcase_add_test(tc, hostinfo_prefer_wifi);
+    tcase_add_test(tc, hostinfo_24_record_and_cadence);
     suite_add_tcase(s, tc);
     return s;
 }

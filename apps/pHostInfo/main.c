@@ -15,6 +15,7 @@ typedef struct hostinfo {
     kelp_app *app;
     kelp_field_hostinfo core;
     kelp_field_sink sink;
+    char report[4096];
 } hostinfo;
 
 static void publish(void *ctx, const char *var, bool is_string, const char *sval, double dval)
@@ -110,13 +111,11 @@ static int iterate(kelp_app *app, void *st, double now)
 
 static void report(kelp_app *app, void *st, FILE *out)
 {
-    const kelp_field_hostinfo *h = &((hostinfo *)st)->core;
+    hostinfo *h = st;
     (void)app;
-    fprintf(out, "Host IP %s (posted %lu times; HOST_INFO_REQUEST %lu)\n", h->best[0] ? h->best : "(not yet)", h->posts,
-            h->requests);
-    for (unsigned i = 0; i < h->naddr; i++)
-        fprintf(out, "  %-16s %-8s %s\n", h->addr[i].source, h->addr[i].ifname, h->addr[i].ip);
-    fprintf(out, "DB port %.0f   UDP port %.0f   time warp %g\n", h->cfg.port_db, h->port_udp, h->cfg.warp);
+    if (kelp_field_hostinfo_report(&h->core, h->report, sizeof h->report) < 0) fputs("(report truncated)\n", out);
+    fputs(h->report, out);
+    if (h->report[0] && h->report[strlen(h->report) - 1] != '\n') fputc('\n', out);
 }
 
 static const kelp_app_def def = {
@@ -133,16 +132,18 @@ static const kelp_app_def def = {
         { NULL, NULL, NULL, NULL } },
     .subscribes = (const kelp_app_var_info[]){
         { "HOST_INFO_REQUEST", "true", "any value: look again and post again" },
-        { "PMB_UDP_LISTEN", "9200", "kelp-bridge's UDP port: PHI_HOST_PORT_UDP, port_udp=" },
-        { "PSHARE_INPUT_SUMMARY", "localhost:9000:udp", "pshare_iroutes= in PHI_HOST_INFO" },
+        { "PSHARE_INPUT_SUMMARY", "localhost:9000:udp,1.2.3.4:2000:multicast_23", "pshare_iroutes= in PHI_HOST_INFO" },
+        { "PMB_UDP_LISTEN", "9200", "the seed's pMOOSBridge port: PHI_HOST_PORT_UDP, port_udp=" },
         { NULL, NULL, NULL } },
     .publishes = (const kelp_app_var_info[]){
         { "PHI_HOST_IP", "192.168.0.1", "the best guess: ethernet before wireless" },
         { "PHI_HOST_IP_ALL", "192.168.0.1,10.1.127.3", NULL },
         { "PHI_HOST_IP_VERBOSE", "LINUX_ETHERNET=192.168.0.1,LINUX_WIFI=10.1.127.3", NULL },
-        { "PHI_HOST_PORT_DB", "9000", "the ServerPort global; also PHI_HOST_PORT (the seed's name)" },
-        { "PHI_HOST_PORT_UDP", "9200", "once PMB_UDP_LISTEN is known" },
-        { "PHI_HOST_INFO", "community=alpha,hostip=192.168.0.1,port_db=9000,port_udp=9200,timewarp=8", NULL },
+        { "PHI_HOST_PORT_DB", "9000", "the ServerPort global" },
+        { "PHI_HOST_PORT_UDP", "9200", "seed (pMOOSBridge) missions: once PMB_UDP_LISTEN is known" },
+        { "PHI_HOST_INFO", "community=alpha,hostip=123.1.1.0,port_db=9000,port_udp=9200,pshare_iroutes=123.1.1.0:9200,"
+          "hostip_alts=10.1.127.3,timewarp=8",
+          "at the first iteration, every tenth, and after HOST_INFO_REQUEST" },
         { NULL, NULL, NULL } },
     .notes = "Globals used: ServerPort, MOOSTimeWarp, Community.\n",
     .startup = startup,

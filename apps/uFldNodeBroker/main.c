@@ -1,14 +1,11 @@
-/* uFldNodeBroker: on a vehicle, find the shoreside and ask the local kelp-bridge (the
- * pMOOSBridge role) for the bridges to it. From pHostInfo's PHI_HOST_INFO it learns its own
- * community, IP and bridge port; it asks the bridge to carry NODE_BROKER_PING to every
- * TRY_SHORE_HOST (PMB_REGISTER) and pings on every iteration; the shore's uFldShoreBroker
- * answers NODE_BROKER_ACK, and the vehicle's BRIDGE variables are then registered to that
- * shore. Pings never stop, so a restarted shore finds the vehicle again; while no ack is
- * heard the ping registrations are posted again every RETRY_INTERVAL (kelp-bridge ignores
- * a route it has already). The logic is the core kelp_field_nbroker (include/kelp/field.h).
- *
- * The vehicle's kelp-bridge must let in what the shore sends: ALLOW = NODE_BROKER_ACK,
- * TRY_SHORE_HOST and the aliases of the shore's BRIDGE/QBRIDGE lines (DEPLOY, RETURN, ...). */
+/* uFldNodeBroker: on a vehicle, find the shoreside and ask the local kelp-bridge for the
+ * bridges to it. The logic is the core kelp_field_nbroker (include/kelp/field.h), in one of
+ * two models chosen by the mission:
+ *  - MOOS-IvP 24.8's (a mission without a pMOOSBridge block, kelp-bridge running as pShare):
+ *    PSHARE_CMD to pShare, NODE_BROKER_PING_<n> to each pshare_route, the user's BRIDGEs once
+ *    a NODE_BROKER_ACK (from another community) names that route's key;
+ *  - the seed's (a mission with a pMOOSBridge block): PMB_REGISTER, NODE_BROKER_PING every
+ *    iteration, the registrations again every RETRY_INTERVAL while no ack is heard. */
 #include <stdio.h>
 #include <string.h>
 #include <kelp/app.h>
@@ -27,7 +24,8 @@ static void publish(void *ctx, const char *var, bool is_string, const char *sval
     nbroker *b = ctx;
     int rc = is_string ? kelp_app_notify_string(b->app, var, sval) : kelp_app_notify_double(b->app, var, dval);
     if (rc < 0) kelp_app_run_warning(b->app, "cannot publish %s", var);
-    else if (strcmp(var, "PMB_REGISTER") == 0) kelp_app_event(b->app, "PMB_REGISTER %s", sval);
+    else if (strcmp(var, "PMB_REGISTER") == 0 || strcmp(var, "PSHARE_CMD") == 0)
+        kelp_app_event(b->app, "%s %s", var, sval);
 }
 
 static void warn(void *ctx, const char *msg)
@@ -51,7 +49,9 @@ static int startup(kelp_app *app, void *st)
     nbroker *b = st;
     b->app = app;
     b->sink = (kelp_field_sink){ b, publish, warn };
-    kelp_field_nbroker_cfg_default(&b->cfg);
+    /* the seed's model when the mission runs pMOOSBridge, MOOS-IvP 24.8's otherwise */
+    if (kelp_mission_block(kelp_app_mission(app), "ProcessConfig", "pMOOSBridge") >= 0) kelp_field_nbroker_cfg_seed(&b->cfg);
+    else kelp_field_nbroker_cfg_default(&b->cfg);
     b->cfg.warp = kelp_app_warp(app);
     int rc = kelp_app_param_foreach(app, param, b);
     if (rc < 0) return rc;
@@ -74,9 +74,13 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
 {
     nbroker *b = st;
     if (v->kind == KELP_VAR_BINARY) return;
+    /* 24.8: our own community's PHI_HOST_INFO, another community's NODE_BROKER_ACK */
+    bool local = strcmp(v->community, kelp_app_community(app)) == 0;
+    if (!b->cfg.pmb && ((!strcmp(v->name, "PHI_HOST_INFO") && !local) || (!strcmp(v->name, "NODE_BROKER_ACK") && local)))
+        return;
     int rc = kelp_field_nbroker_mail(&b->core, v->name, v->kind == KELP_VAR_STRING, v->sval, kelp_app_time(app),
                                      &b->sink);
-    if (rc < 0 && strcmp(v->name, "NODE_BROKER_ACK") != 0) /* the core explains bad acks itself */
+    if (rc < 0 && b->cfg.pmb && strcmp(v->name, "NODE_BROKER_ACK") != 0) /* the core explains bad acks itself */
         kelp_app_run_warning(app, "%s: %s; ignored", v->name,
                              strcmp(v->name, "PHI_HOST_INFO") == 0 ? "incomplete (community, hostip, port_udp)"
                                                                    : "not a usable value");
@@ -96,44 +100,49 @@ static void report(kelp_app *app, void *st, FILE *out)
     (void)app;
     if (kelp_field_nbroker_report(&b->core, b->report, sizeof b->report) < 0) fputs("(report truncated)\n", out);
     fputs(b->report, out);
-    if (b->core.last_register[0]) fprintf(out, "\nLast PMB_REGISTER: %s\n", b->core.last_register);
+    if (b->report[0] && b->report[strlen(b->report) - 1] != '\n') fputc('\n', out); /* 24.8's table ends without one */
+    if (b->core.last_register[0] && b->cfg.pmb) fprintf(out, "\nLast PMB_REGISTER: %s\n", b->core.last_register);
 }
 
 static const kelp_app_def def = {
     .name = "uFldNodeBroker",
-    .purpose = "Find the shoreside from TRY_SHORE_HOST, ping it, and bridge BRIDGE variables to it once it acks.",
+    .purpose = "Find the shoreside from TRY_SHORE_HOST, ping it, and have pShare bridge the BRIDGE variables to it "
+               "once it acks.",
     .params = (const kelp_app_param_info[]){
-        { "KEYWORD", "lemon", "optional: sent in every ping; the shore may require it", NULL },
-        { "TRY_SHORE_HOST", "host_ip=localhost, port_udp=9200, community=topside",
-          "repeatable: a shore bridge to ping (also 24.8's pshare_route=host:port)", NULL },
+        { "AUTO_BRIDGE_REALMCAST", "true  (default)", "also bridge REALMCAST, WATCHCAST, REALMCAST_CHANNELS", NULL },
+        { "AUTO_BRIDGE_APPCAST", "true  (default)", "also bridge APPCAST", NULL },
+        { "AUTO_BRIDGE_PSHARE_VARS", "true  (default)", "also bridge NODE_PSHARE_VARS", NULL },
+        { "TRY_SHORE_HOST", "pshare_route=192.168.0.122:9301",
+          "repeatable: a shoreside pShare input route (host:port or multicast_N); the seed's "
+          "host_ip=H, port_udp=P[, community=C] with pMOOSBridge", NULL },
         { "BRIDGE", "src=NODE_REPORT_LOCAL, alias=NODE_REPORT",
           "repeatable: src=V[, alias=A] bridged to the shore once it acks (alias defaults to src)", NULL },
-        { "RETRY_INTERVAL", "10", "s without an ack before the ping registrations are posted again", NULL },
-        { "AUTO_BRIDGE_REALMCAST", "false", "24.8: also bridge REALMCAST, WATCHCAST, REALMCAST_CHANNELS", NULL },
-        { "AUTO_BRIDGE_APPCAST", "false", "24.8: also bridge APPCAST", NULL },
-        { "AUTO_BRIDGE_PSHARE_VARS", "false", "24.8: also bridge NODE_PSHARE_VARS", NULL },
-        { "APP_LOGGING", "false", "accepted (24.8)", NULL },
-        { "MAX_APPCAST_EVENTS", "8", "accepted (24.8)", NULL },
+        { "KEYWORD", "lemon", "optional: sent in every ping; the shore may require it", NULL },
+        { "RETRY_INTERVAL", "10", "seed (pMOOSBridge) missions: s without an ack before the registrations are posted again", NULL },
+        { "APP_LOGGING", "true  // {true or file} By default disabled", "accepted", NULL },
+        { "MAX_APPCAST_EVENTS", "8", "accepted", NULL },
         { NULL, NULL, NULL, NULL } },
     .subscribes = (const kelp_app_var_info[]){
-        { "PHI_HOST_INFO", "community=james,hostip=10.0.0.8,port_db=9204,port_udp=9304,timewarp=1",
-          "from pHostInfo: complete with community, hostip and port_udp" },
-        { "NODE_BROKER_ACK", "community=shoreside,host=10.0.0.8,port=9000,port_udp=9200,time_warp=1,time=0,status=ok",
-          "from the shore (its NODE_BROKER_ACK_<V>, bridged)" },
-        { "TRY_SHORE_HOST", "pshare_route=192.168.4.100:9200", "24.8: a try host added at run time" },
+        { "PHI_HOST_INFO", "community=alpha,hostip=123.1.1.0,port_db=9000,port_udp=9200,timewarp=8",
+          "from pHostInfo (our own community only)" },
+        { "NODE_BROKER_ACK", "community=shoreside,hostip=192.168.1.99,port_db=9000,port_udp=9200,timewarp=8,status=ok,key=0,id=3",
+          "from the shore (its NODE_BROKER_ACK_<V>, bridged): key= names the try host" },
+        { "TRY_SHORE_HOST", "pshare_route=192.168.4.100:9200", "a try host added at run time" },
         { NULL, NULL, NULL } },
     .publishes = (const kelp_app_var_info[]){
-        { "PMB_REGISTER",
-          "src_var=NODE_REPORT_LOCAL,dest_community=shoreside,dest_host=10.0.0.8,dest_port=9200,dest_alias=NODE_REPORT",
-          "to the local kelp-bridge: NODE_BROKER_PING to each try host, then each BRIDGE to the shore" },
-        { "NODE_BROKER_PING",
-          "community=henry,host=192.168.1.22,port=9000,port_udp=9200,keyword=lemon,time_warp=10,time=1325178800.81",
-          "every iteration once PHI_HOST_INFO is complete" },
-        { "NODE_PSHARE_VARS", "VIEW_POLYGON,VIEW_POINT,VIEW_SEGLIST,NODE_REPORT", "the bridges' aliases, after each valid ack" },
-        { "HOST_INFO_REQUEST", "true", "every 2 s until PHI_HOST_INFO is complete" },
+        { "PSHARE_CMD", "cmd=output,src_name=NODE_REPORT_LOCAL,dest_name=NODE_REPORT,route=18.11.4.23:9200",
+          "to pShare: NODE_BROKER_PING_<n> to each try host (every iteration until an ack), then each BRIDGE" },
+        { "NODE_BROKER_PING_<n>",
+          "community=henry,hostip=12.16.1.22,port_db=9000,port_udp=9200,pshare_iroutes=12.16.1.22:9200,timewarp=8,"
+          "time=1325178800.81,key=0",
+          "every 5 s, every 20 s while acks come" },
+        { "NODE_PSHARE_VARS", "VIEW_POLYGON,VIEW_POINT,VIEW_SEGLIST,NODE_REPORT", "the bridges' aliases, after each valid ack (for uFldDelve)" },
+        { "PMB_REGISTER", "src_var=NODE_REPORT_LOCAL,dest_community=shoreside,dest_host=10.0.0.8,dest_port=9200,dest_alias=NODE_REPORT",
+          "seed (pMOOSBridge) missions, with NODE_BROKER_PING and HOST_INFO_REQUEST" },
         { NULL, NULL, NULL } },
     .notes = "Globals used: MOOSTimeWarp (must equal the shore's).\n"
-             "The vehicle's kelp-bridge needs UDPListen and ALLOW = NODE_BROKER_ACK, TRY_SHORE_HOST, <shore aliases>.\n",
+             "The model follows the mission: with a pMOOSBridge block the seed's (PMB_REGISTER), else MOOS-IvP 24.8's "
+             "(PSHARE_CMD to kelp-bridge running as pShare).\n",
     .startup = startup,
     .on_mail = on_mail,
     .iterate = iterate,

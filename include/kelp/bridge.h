@@ -66,6 +66,7 @@ typedef struct kelp_bridge_route {
     char community[KELP_MAX_NAME];    /**< destination community (informational) */
     char host[KELP_MAX_NAME];
     uint16_t port;
+    bool multicast;                   /**< pShare's multicast_<port> (port holds the channel; host "") */
 } kelp_bridge_route;
 
 /** Parse one UDPSHARE/SHARE value into up to cap routes. @return 0 and *n, or
@@ -74,6 +75,37 @@ KELP_MUST_CHECK int kelp_bridge_parse_share(const char *line, kelp_bridge_route 
                                             kelp_diag *d);
 /** Parse a PMB_REGISTER request. */
 KELP_MUST_CHECK int kelp_bridge_parse_register(const char *s, kelp_bridge_route *r, kelp_diag *d);
+
+/* ---- pShare's model (MOOS-IvP 24.8's pShare: kelp-bridge running as pShare) ----
+ * A route is "host:port" (an optional ":udp" after it) or "multicast_N". Outputs:
+ *   output = src_name=X, dest_name=Y, route=10.0.0.5:9200 & multicast_8   (long form)
+ *   output = X->Y:10.0.0.5:9200 & 10.0.0.6:9300 & Z:multicast_8            (shorthand)
+ * and at run time PSHARE_CMD (<APP>_CMD) = "cmd=output,src_name=..,dest_name=..,route=..".
+ * Inputs: input = route=localhost:9200 & multicast_9 [, white_list=A & B*]. Keys are read
+ * case-insensitively; duration, max_shares and frequency are accepted (not applied). */
+#define KELP_PSHARE_MCAST_ADDR "224.1.1.11" /**< pShare's multicast group (multicast_address) */
+#define KELP_PSHARE_MCAST_PORT 24460u       /**< multicast_N is this port + N (multicast_base_port) */
+
+/** One output directive (long form when it names a route, shorthand otherwise) into up to
+ *  cap routes (src, alias = dest_name or src, host/port or multicast). @return 0 and *n, or
+ *  KELP_ERR_PARSE / KELP_ERR_NOSPACE, the reason in d. */
+KELP_MUST_CHECK int kelp_bridge_pshare_output(const char *line, kelp_bridge_route *routes, size_t cap, size_t *n,
+                                              kelp_diag *d);
+/** One input directive ("route=R & R[, white_list=M & M]") into up to cap listen routes
+ *  (host, port or multicast); white_list (when given) is written comma-separated into white
+ *  (a kelp_bridge_allowed list). @return 0 and *n, or KELP_ERR_PARSE, the reason in d. */
+KELP_MUST_CHECK int kelp_bridge_pshare_input(const char *line, kelp_bridge_route *routes, size_t cap, size_t *n,
+                                             char *white, size_t wcap, kelp_diag *d);
+/** A PSHARE_CMD's cmd=: 1 output, 2 input, 0 neither (24.8 refuses it). */
+int kelp_bridge_pshare_cmd(const char *s);
+/** PSHARE_OUTPUT_SUMMARY (input false): "SRC->dest:host:port & dest:host:port, SRC2->..",
+ *  sources in name order, a multicast route as "dest:<addr>:<port>:multicast_N"; or
+ *  PSHARE_INPUT_SUMMARY (input true): "host:port,<addr>:<port>:multicast_N" in address order.
+ *  @return 0 or KELP_ERR_NOSPACE (cut). */
+KELP_MUST_CHECK int kelp_bridge_pshare_summary(const kelp_bridge_route *r, size_t n, bool input, char *buf, size_t cap);
+/** Add r to a route table unless the same src, alias and destination is there.
+ *  @return 1 added, 0 there already, KELP_ERR_NOSPACE full. */
+KELP_MUST_CHECK int kelp_bridge_table_add(kelp_bridge_route *tab, size_t *n, size_t cap, const kelp_bridge_route *r);
 
 /** HMAC-SHA256(key, data) -> out[32]; returns 0 or <0. */
 typedef int (*kelp_hmac_fn)(const uint8_t *key, size_t keylen, const uint8_t *data, size_t len, uint8_t out[32],

@@ -162,6 +162,32 @@ int kelp_field_nrep_iterate(kelp_field_nrep *r, kelp_time now, const kelp_field_
 
 /* ------------------------------------------------------------------ pHostInfo */
 
+#define KELP_BROKER_IROUTES 192     /**< a pshare_iroutes / hostip_alts value */
+
+/** A host record (ufield.md 1.3): PHI_HOST_INFO, NODE_BROKER_PING or NODE_BROKER_ACK. Keys
+ *  are read case-insensitively with the synonyms host/hostip/host_ip/ip, port/port_db,
+ *  time_warp/timewarp; without port_udp, the port of the first host:port of a 24.8
+ *  pshare_iroutes ("10.0.0.5:9200&multicast_8") is taken. Zero / "" means absent. */
+typedef struct kelp_broker_host {
+    char community[KELP_MAX_NAME];
+    char host[KELP_MAX_NAME];
+    unsigned port_db, port_udp;
+    double warp;                       /**< time_warp (have_warp) */
+    bool have_warp;
+    double time;                       /**< time= (have_time) */
+    bool have_time;
+    char keyword[KELP_MAX_NAME];
+    char status[KELP_MAX_NAME];        /**< an ack's status= ("" none) */
+    /* 24.8's HostRecord fields, kept as written */
+    char iroutes[KELP_BROKER_IROUTES]; /**< pshare_iroutes ("" none) */
+    char alts[KELP_BROKER_IROUTES];    /**< hostip_alts ("" none) */
+    char warp_s[24];                   /**< timewarp as written ("" none) */
+    char key[24];                      /**< key= (a ping's try-host index) */
+    bool have_port_db;
+    bool have_port_udp;                /**< 24.8's record has port_udp: given, or the port of a
+                                            single-route pshare_iroutes ("10.0.0.5:9200") */
+} kelp_broker_host;
+
 #define KELP_HOSTINFO_MAX_ADDRS 16
 
 /** One address found on this host: its source label (LINUX_ETHERNET, LINUX_WIFI, or the
@@ -190,11 +216,13 @@ typedef struct kelp_field_hostinfo {
     double port_udp;               /**< from PMB_UDP_LISTEN (0: unknown) */
     char iroutes[256];             /**< from PSHARE_INPUT_SUMMARY ("" unknown) */
     bool redetect;                 /**< HOST_INFO_REQUEST arrived: the edge should look again */
-    bool post_due;
-    unsigned long posts, requests;
+    bool post_due;                 /**< post at the next iteration (the first, after HOST_INFO_REQUEST) */
+    unsigned long posts, requests, iterations;
     char best[64];                 /**< the last PHI_HOST_IP */
     /* workspace of one call (keeps the stack under 1 KB) */
-    char ws_all[KELP_HOSTINFO_MAX_ADDRS * 17 + 1], ws_verbose[KELP_HOSTINFO_MAX_ADDRS * 50 + 1], ws_info[512];
+    char ws_all[KELP_HOSTINFO_MAX_ADDRS * 17 + 1], ws_verbose[KELP_HOSTINFO_MAX_ADDRS * 50 + 1], ws_info[1024];
+    char ws_spec[1024];
+    kelp_broker_host ws_rec;
 } kelp_field_hostinfo;
 
 void kelp_field_hostinfo_cfg_default(kelp_field_hostinfo_cfg *c);
@@ -208,13 +236,17 @@ void kelp_field_hostinfo_set(kelp_field_hostinfo *h, const char *const *ifnames,
  *  PSHARE_INPUT_SUMMARY ("localhost:9200:udp,1.2.3.4:2000:multicast_23" is kept as 24.8 keeps
  *  it: "localhost:9200&multicast_23"). @return 1 used, 0 not ours, <0 bad value. */
 int kelp_field_hostinfo_mail(kelp_field_hostinfo *h, const char *var, bool is_string, const char *sval, double dval);
-/** When a post is due: PHI_HOST_IP ("localhost", or DEFAULT_HOSTIP, when nothing was found),
- *  PHI_HOST_IP_ALL and PHI_HOST_IP_VERBOSE (both "" when nothing was found), PHI_HOST_PORT_DB
- *  and PHI_HOST_PORT (the seed's name), PHI_HOST_PORT_UDP when known (the ports as strings),
- *  and PHI_HOST_INFO "community=..,hostip=..,port_db=..[,port_udp=..],timewarp=..
- *  [,pshare_iroutes=..]" (a localhost route as this host's address). @return 1 posted, 0
- *  nothing due. */
+/** One iteration; a post at the first, after HOST_INFO_REQUEST and every tenth (24.8):
+ *  PHI_HOST_IP ("localhost", or DEFAULT_HOSTIP, when nothing was found), PHI_HOST_IP_ALL and
+ *  PHI_HOST_IP_VERBOSE (both "" when nothing was found), PHI_HOST_PORT_DB, PHI_HOST_PORT_UDP
+ *  when PMB_UDP_LISTEN told it (the seed's pMOOSBridge; the ports as strings), and
+ *  PHI_HOST_INFO as 24.8's host record: community, hostip, port_db, port_udp (PMB_UDP_LISTEN's,
+ *  or a single pshare route's), pshare_iroutes, hostip_alts (PHI_HOST_IP_ALL without hostip),
+ *  timewarp (one decimal, trailing zeros dropped), "localhost" anywhere read as this host's
+ *  address. @return 1 posted, 0 nothing due. */
 int kelp_field_hostinfo_iterate(kelp_field_hostinfo *h, const kelp_field_sink *out);
+/** 24.8's report (the PHI_HOST_* lines) into buf. @return 0 or KELP_ERR_NOSPACE. */
+KELP_MUST_CHECK int kelp_field_hostinfo_report(const kelp_field_hostinfo *h, char *buf, size_t cap);
 
 /* ------------------------------------------------------------------ uFldNodeComms */
 /* The shoreside relay of node reports and node messages between vehicles, as MOOS-IvP 24.8's
@@ -647,28 +679,31 @@ size_t kelp_field_ufs_render(kelp_field_ufs *s, char *buf, size_t cap);
 #define KELP_BROKER_WHY 64          /**< bytes of the reason kept with it */
 #define KELP_BROKER_MSG 512         /**< one PMB_REGISTER / ping / ack value */
 #define KELP_BROKER_STALE 10.0      /**< s without a ping before a vehicle is stale (shore) */
+#define KELP_BROKER_ROUTE 64        /**< one pShare route: "host:port" or "multicast_N" */
+#define KELP_BROKER_ACK_WINDOW 10.0 /**< 24.8: s after a vehicle's last ping during which the shore acks
+                                         it every iteration (and after which it is stale) */
+#define KELP_BROKER_PING_SLOW 20.0  /**< 24.8: s between pings while acks are heard */
+#define KELP_BROKER_PING_FAST 5.0   /**< 24.8: s between pings when no ack came for 5 s */
+#define KELP_BROKER_SUMMARY KELP_MAX_SVAL /**< the last PSHARE_OUTPUT_SUMMARY the shore keeps */
 
-/** A host record (ufield.md 1.3): PHI_HOST_INFO, NODE_BROKER_PING or NODE_BROKER_ACK. Keys
- *  are read case-insensitively with the synonyms host/hostip/host_ip/ip, port/port_db,
- *  time_warp/timewarp; without port_udp, the port of the first host:port of a 24.8
- *  pshare_iroutes ("10.0.0.5:9200&multicast_8") is taken. Zero / "" means absent. */
-typedef struct kelp_broker_host {
-    char community[KELP_MAX_NAME];
-    char host[KELP_MAX_NAME];
-    unsigned port_db, port_udp;
-    double warp;                       /**< time_warp (have_warp) */
-    bool have_warp;
-    double time;                       /**< time= (have_time) */
-    bool have_time;
-    char keyword[KELP_MAX_NAME];
-    char status[KELP_MAX_NAME];        /**< an ack's status= ("" none) */
-} kelp_broker_host;
+/** The two command models. 24.8 (the default): the brokers drive pShare (kelp-bridge running
+ *  as pShare) with PSHARE_CMD "cmd=output,src_name=..,dest_name=..,route=..", ping on
+ *  NODE_BROKER_PING_<n> and ack with 24.8's host records. Seed (pmb = true, a mission with a
+ *  pMOOSBridge block): PMB_REGISTER to kelp-bridge as pMOOSBridge, the seed's records. */
+
 
 /** Parse a host record. @return 0; KELP_ERR_PARSE (not key=value pairs, a bad number or
  *  port) or KELP_ERR_RANGE (a value too long), the reason in d. Completeness is separate. */
 KELP_MUST_CHECK int kelp_broker_host_parse(const char *s, kelp_broker_host *h, kelp_diag *d);
 /** Complete: community, host and port_udp (what a node broker needs to reach the shore). */
 bool kelp_broker_host_complete(const kelp_broker_host *h);
+/** 24.8's HostRecord::valid(): a community, an IPv4 dotted quad or "localhost" as host, a port_db. */
+bool kelp_broker_host_valid(const kelp_broker_host *h);
+/** 24.8's HostRecord::getSpec() into buf: community, hostip, port_db, port_udp,
+ *  pshare_iroutes, keyword, hostip_alts (the host's own address taken out), timewarp, then
+ *  `time` and `key` when non-NULL. @return 0 or KELP_ERR_NOSPACE. */
+KELP_MUST_CHECK int kelp_broker_host_spec(const kelp_broker_host *h, const char *time, const char *key, char *buf,
+                                          size_t cap);
 
 /** A bridge to request: local src (macros $V $v $N on the shore) and the remote alias. */
 typedef struct kelp_broker_bridge {
@@ -679,7 +714,19 @@ typedef struct kelp_broker_bridge {
 typedef struct kelp_broker_try {
     char host[KELP_MAX_NAME], community[KELP_MAX_NAME];
     unsigned port;
+    char route[KELP_BROKER_ROUTE];     /**< 24.8: the pshare_route as written (host:port or multicast_N) */
 } kelp_broker_try;
+
+/** 24.8's TRY_SHORE_HOST: only "pshare_route=R", R a "host:port" (host a dotted quad,
+ *  localhost or a name) or "multicast_N". @return 0 or KELP_ERR_PARSE (reason in d). */
+KELP_MUST_CHECK int kelp_broker_try_parse_pshare(const char *s, kelp_broker_try *t, kelp_diag *d);
+
+/** What a node broker knows of one try host (24.8's per-route columns). */
+typedef struct kelp_broker_shore {
+    char community[KELP_MAX_NAME], ip[KELP_MAX_NAME], warp[24];
+    unsigned long pings, acks;
+    bool bridged;                      /**< the user bridges were requested to this route */
+} kelp_broker_shore;
 
 /** Parse one TRY_SHORE_HOST: "host_ip=H, port_udp=P[, community=C]" (hostip too) or 24.8's
  *  "pshare_route=H:P". A multicast_N route is KELP_ERR_UNSUPPORTED (kelp-bridge is unicast);
@@ -701,7 +748,8 @@ typedef struct kelp_field_nbroker_cfg {
     double warp;                               /**< MOOSTimeWarp (1) */
     double retry;                              /**< RETRY_INTERVAL: s without an ack before the ping
                                                     registrations are posted again (10) */
-    bool auto_realmcast, auto_appcast, auto_pshare_vars; /**< 24.8 AUTO_BRIDGE_* (false) */
+    bool auto_realmcast, auto_appcast, auto_pshare_vars; /**< AUTO_BRIDGE_* (24.8: true; seed: false) */
+    bool pmb;                                  /**< the seed's model (PMB_REGISTER); false: 24.8's */
     kelp_diag ws_diag;                         /**< workspace: why a try host or an ack was refused */
 } kelp_field_nbroker_cfg;
 
@@ -717,11 +765,19 @@ typedef struct kelp_field_nbroker {
     double routes_at, last_ack;                /**< times (-1 never) */
     unsigned long iterations, ok_phi, bad_phi, phi_changes, registers, pings, ok_ack, bad_ack;
     char last_register[KELP_BROKER_MSG];
+    /* 24.8's model */
+    kelp_broker_shore sh[KELP_BROKER_MAX_TRY]; /**< per valid try host, config order */
+    double ping_at, ok_ack_at;                 /**< last ping, last valid ack (long ago at start) */
+    unsigned long pshare_cmds;
     char ws[KELP_MAX_SVAL];                    /**< workspace of one call (keeps the stack under 1 KB) */
+    kelp_broker_host ws_host;                  /**< workspace: a record being parsed */
 } kelp_field_nbroker;
 
-/** Defaults: no keyword, no try hosts, no bridges, warp 1, retry 10 s, auto bridges off. */
+/** Defaults, 24.8's: no keyword, no try hosts, no bridges, warp 1, the AUTO_BRIDGE_* on. */
 void kelp_field_nbroker_cfg_default(kelp_field_nbroker_cfg *cfg);
+/** The seed's model (a mission with a pMOOSBridge block): PMB_REGISTER, the seed's ping and
+ *  ack records and report, retry 10 s, auto bridges off. */
+void kelp_field_nbroker_cfg_seed(kelp_field_nbroker_cfg *cfg);
 /** One block parameter: KEYWORD, TRY_SHORE_HOST (an invalid one is kept for the report and
  *  is still taken), BRIDGE, RETRY_INTERVAL, AUTO_BRIDGE_REALMCAST, AUTO_BRIDGE_APPCAST,
  *  AUTO_BRIDGE_PSHARE_VARS. @return 1 taken, 0 not its key, <0 (reason in d). */
@@ -739,11 +795,16 @@ const char *kelp_field_nbroker_subscription(unsigned i);
  *  TRY_SHORE_HOST (24.8: a try host added at run time). @return 1 used, 0 not ours, <0 bad. */
 int kelp_field_nbroker_mail(kelp_field_nbroker *b, const char *var, bool is_string, const char *sval, kelp_time now,
                             const kelp_field_sink *out);
-/** Iterate: once the host info is complete, the ping registrations (one PMB_REGISTER per
+/** Iterate. 24.8: while no try host has acked, the ping bridges (PSHARE_CMD
+ *  NODE_BROKER_PING_<i> -> NODE_BROKER_PING to route i); once PHI_HOST_INFO gave
+ *  pshare_iroutes and timewarp, NODE_BROKER_PING_<i> = the host record with time= and key=i
+ *  when the last ping is older than 5 s (20 s while an ack came in the last 5 s).
+ *  Seed: once the host info is complete, the ping registrations (one PMB_REGISTER per
  *  valid try host; again every RETRY_INTERVAL while no ack is heard), then one
  *  NODE_BROKER_PING. @return the number of posts. */
 int kelp_field_nbroker_iterate(kelp_field_nbroker *b, kelp_time now, const kelp_field_sink *out);
-/** The terminal report (seed Listing 3) into buf. @return 0, or KELP_ERR_NOSPACE (truncated). */
+/** The report into buf (24.8's layout; the seed's Listing 3 with pmb). @return 0, or
+ *  KELP_ERR_NOSPACE (truncated). */
 KELP_MUST_CHECK int kelp_field_nbroker_report(const kelp_field_nbroker *b, char *buf, size_t cap);
 
 typedef struct kelp_field_sbroker_cfg {
@@ -754,7 +815,8 @@ typedef struct kelp_field_sbroker_cfg {
     unsigned nvnodes;
     double warp;                                        /**< MOOSTimeWarp (1) */
     bool warn_stale;                                    /**< WARNING_ON_STALE (false) */
-    bool auto_realmcast, auto_appcast, auto_mhash;      /**< 24.8 AUTO_BRIDGE_* (false) */
+    bool auto_realmcast, auto_appcast, auto_mhash;      /**< AUTO_BRIDGE_* (24.8: true; seed: false) */
+    bool pmb;                                           /**< the seed's model; false: 24.8's */
     bool raw[KELP_BROKER_MAX_BRIDGES];                  /**< named by a BRIDGE line (its src as written
                                                              is in UFSB_BRIDGE_VARS) */
     char qbridge[KELP_BROKER_MAX_BRIDGES / 2][KELP_MAX_NAME]; /**< QBRIDGE names (UFSB_QBRIDGE_VARS) */
@@ -772,6 +834,7 @@ typedef struct kelp_broker_node {
     unsigned bridged_port;
     bool stale;
     unsigned long pings, acks;
+    unsigned nset;                        /**< 24.8: bridges requested so far (UFSB_BRIDGE_VARS) */
 } kelp_broker_node;
 
 typedef struct kelp_field_sbroker {
@@ -786,14 +849,21 @@ typedef struct kelp_field_sbroker {
     bool qvars_posted;                    /**< UFSB_QBRIDGE_VARS posted (once, at the first iteration) */
     unsigned long iterations, phi, pings, bad_pings, early_pings, full, acks, registers;
     char last_register[KELP_BROKER_MSG];
+    /* 24.8's model */
+    double cmd_at, cmd_interval;          /**< bridge requests: last pass, the gap to the next */
+    bool ack_bridge;                      /**< NODE_BROKER_ACK_$V -> NODE_BROKER_ACK listed */
+    unsigned long pshare_cmds, tests;     /**< PSHARE_CMD posted, PSHARE_TEST count */
+    char summary[KELP_BROKER_SUMMARY];    /**< the last PSHARE_OUTPUT_SUMMARY */
     /* workspace of one call (keeps the stack under 1 KB): the bridge-name candidates, a list */
     uint16_t ws_idx[(KELP_BROKER_MAX_BRIDGES + 1) * (KELP_BROKER_MAX_NODES + 1)];
     char ws[KELP_MAX_SVAL];
     kelp_broker_host ws_host;      /**< workspace: the pinging node's host record */
 } kelp_field_sbroker;
 
-/** Defaults: no keyword, no bridges, warp 1, no stale warnings, auto bridges off. */
+/** Defaults, 24.8's: no keyword, no bridges, warp 1, no stale warnings, the AUTO_BRIDGE_* on. */
 void kelp_field_sbroker_cfg_default(kelp_field_sbroker_cfg *cfg);
+/** The seed's model (PMB_REGISTER, the seed's records and report), auto bridges off. */
+void kelp_field_sbroker_cfg_seed(kelp_field_sbroker_cfg *cfg);
 /** One block parameter: BRIDGE ("src=V[, alias=A]"), QBRIDGE ("X[, Y ...]": X_ALL->X and
  *  X_$V->X each), KEYWORD, TRY_VNODE ("[route=]ip[:port]", port 9200), WARNING_ON_STALE,
  *  AUTO_BRIDGE_REALMCAST (QBRIDGE REALMCAST_REQ), AUTO_BRIDGE_APPCAST (QBRIDGE APPCAST_REQ),
@@ -802,7 +872,7 @@ void kelp_field_sbroker_cfg_default(kelp_field_sbroker_cfg *cfg);
 KELP_MUST_CHECK int kelp_field_sbroker_config(kelp_field_sbroker_cfg *cfg, const char *key, const char *val,
                                               kelp_diag *d);
 void kelp_field_sbroker_init(kelp_field_sbroker *s, const kelp_field_sbroker_cfg *cfg);
-/** PHI_HOST_INFO, NODE_BROKER_PING, then NULL. */
+/** PHI_HOST_INFO, NODE_BROKER_PING, PSHARE_OUTPUT_SUMMARY (24.8), then NULL. */
 const char *kelp_field_sbroker_subscription(unsigned i);
 /** One mail at `now`. NODE_BROKER_PING: counted; ignored until our own host info
  *  is complete; the vehicle (by community, case-insensitive) is recorded with its status and
@@ -819,7 +889,14 @@ int kelp_field_sbroker_mail(kelp_field_sbroker *s, const char *var, bool is_stri
  *  UFSB_NODE_COUNT (on change, else every 30 s), try_vnode registrations (every 30 s) and
  *  TRY_SHORE_HOST (every 10 s). @return the number of posts. */
 int kelp_field_sbroker_iterate(kelp_field_sbroker *s, kelp_time now, const kelp_field_sink *out);
-/** The terminal report (seed Listing 6) at `now` into buf. @return 0 or KELP_ERR_NOSPACE. */
+/** 24.8 (pmb false): a ping (a valid host record) makes a new vehicle known (its record and
+ *  status kept, the ack bridge listed) or refreshes a known one (time, skew, status); acks
+ *  (NODE_BROKER_ACK_<V> = our host record, status, key, id) go out every iteration while a
+ *  vehicle's last ping is younger than 10 s; every bridge is requested for every vehicle
+ *  (PSHARE_CMD unless PSHARE_OUTPUT_SUMMARY lists it; PSHARE_TEST; UFSB_BRIDGE_VARS on a new
+ *  name) 5 s after a new vehicle, the gap growing by 3 s per pass.
+ *  The report at `now` into buf (24.8's layout; the seed's Listing 6 with pmb). @return 0 or
+ *  KELP_ERR_NOSPACE. */
 KELP_MUST_CHECK int kelp_field_sbroker_report(const kelp_field_sbroker *s, kelp_time now, char *buf, size_t cap);
 
 #ifdef __cplusplus

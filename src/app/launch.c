@@ -12,7 +12,8 @@
 const char *kelp_launch_map_prog(const char *p)
 {
     static const char *const map[][2] = { { "uXMS", "kelp-scope" },        { "uPokeDB", "kelp-poke" },
-                                          { "pMOOSBridge", "kelp-bridge" }, { "pAntler", "kelp-launch" },
+                                          { "pMOOSBridge", "kelp-bridge" }, { "pShare", "kelp-bridge" },
+                                          { "pAntler", "kelp-launch" },
                                           { "iMarineSim", "uSimMarine" },   { "pMarineViewer", "kelp-plot" },
                                           { "uSimMarineV22", "uSimMarine" }, { "pMarinePIDV22", "pMarinePID" },
                                           { "iCommander", "kelp-commander" },

@@ -1,5 +1,7 @@
 /* kelp bridge: route parsing and datagram framing (core). */
+#include <stdarg.h>
 #include <string.h>
+#include <kelp/util.h>
 #include <kelp/bridge.h>
 #include <kelp/kv.h>
 #include <kelp/mission.h>
@@ -314,4 +316,223 @@ int kelp_bridge_parse_rename(const char *line, kelp_bridge_route *routes, size_t
     (void)kelp_bridge_rename_list(line, routes[0].src, routes[0].alias, sizeof routes[0], &ns, &na, &glob, d);
     *n = (size_t)ns;
     return KELP_OK;
+}
+
+/* ---- pShare's model ---- */
+
+/* printf-style text appended at buf + *len (cut to fit; *len counts what was wanted) */
+static void bridge_putf(char *buf, size_t cap, size_t *len, const char *fmt, ...) KELP_PRINTF(4, 5);
+static void bridge_putf(char *buf, size_t cap, size_t *len, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    int k = kelp_vsnprintf(buf + (*len < cap ? *len : cap - 1), *len < cap ? cap - *len : 1, fmt, ap);
+    va_end(ap);
+    if (k > 0) *len += (size_t)k;
+}
+
+/* s[0..len) trimmed of blanks */
+static void trim_n(const char **s, size_t *len)
+{
+    while (*len && (**s == ' ' || **s == '\t')) (*s)++, (*len)--;
+    while (*len && ((*s)[*len - 1] == ' ' || (*s)[*len - 1] == '\t')) (*len)--;
+}
+
+/* one route "host:port[:udp]" or "multicast_N" (optionally "dest:" before it when dest is
+ * non-NULL, the shorthand) into r; "@freq" after it is dropped */
+static int one_route(const char *s, size_t len, kelp_bridge_route *r, char *dest, kelp_diag *d)
+{
+    const char *at = memchr(s, '@', len);
+    if (at) len = (size_t)(at - s);
+    trim_n(&s, &len);
+    const char *part[4];
+    size_t pl[4], np = 0, a = 0;
+    for (size_t i = 0; i <= len; i++)
+        if (i == len || s[i] == ':') {
+            if (np == 4) return kelp_fail(d, KELP_ERR_PARSE, "too many parts in a route");
+            part[np] = s + a, pl[np++] = i - a;
+            a = i + 1;
+        }
+    for (size_t i = 0; i < np; i++) trim_n(&part[i], &pl[i]);
+    const char *last = part[np - 1];
+    if (pl[np - 1] > 10 && strncmp(last, "multicast_", 10) == 0) { /* [dest:]multicast_N */
+        long ch;
+        if (np > (dest ? 2u : 1u) || kelp_parse_long(last + 10, pl[np - 1] - 10, &ch) < 0 || ch < 0 || ch > 255)
+            return kelp_fail(d, KELP_ERR_PARSE, "bad multicast_N route");
+        if (np == 2 && (pl[0] == 0 || pl[0] >= KELP_MAX_NAME)) return kelp_fail(d, KELP_ERR_PARSE, "bad name in a route");
+        if (np == 2) memcpy(dest, part[0], pl[0]), dest[pl[0]] = 0;
+        r->multicast = true, r->port = (uint16_t)ch, r->host[0] = 0;
+        return KELP_OK;
+    }
+    size_t h = 0; /* [dest:]host:port[:udp] */
+    if (np == 4 || (np == 3 && !(pl[2] == 3 && strncmp(part[2], "udp", 3) == 0))) {
+        if (!dest || (np == 4 && !(pl[3] == 3 && strncmp(part[3], "udp", 3) == 0)))
+            return kelp_fail(d, KELP_ERR_PARSE, "a route is host:port or multicast_N");
+        if (pl[0] == 0 || pl[0] >= KELP_MAX_NAME) return kelp_fail(d, KELP_ERR_PARSE, "bad name in a route");
+        memcpy(dest, part[0], pl[0]), dest[pl[0]] = 0;
+        h = 1;
+    }
+    if (np < h + 2) return kelp_fail(d, KELP_ERR_PARSE, "a route is host:port or multicast_N");
+    if (pl[h] == 0 || pl[h] >= KELP_MAX_NAME) return kelp_fail(d, KELP_ERR_PARSE, "bad host in a route");
+    if (parse_port(part[h + 1], pl[h + 1], &r->port) < 0) return kelp_fail(d, KELP_ERR_PARSE, "bad port in a route (1-65535)");
+    memcpy(r->host, part[h], pl[h]);
+    r->host[pl[h]] = 0;
+    r->multicast = false;
+    return KELP_OK;
+}
+
+/* the '&' list of routes in s[0..len), each filled from proto */
+static int route_list(const char *s, size_t len, const kelp_bridge_route *proto, bool shorthand, kelp_bridge_route *routes,
+                      size_t cap, size_t *n, kelp_diag *d)
+{
+    size_t a = 0;
+    for (size_t i = 0; i <= len; i++) {
+        if (i < len && s[i] != '&') continue;
+        const char *it = s + a;
+        size_t il = i - a;
+        a = i + 1;
+        trim_n(&it, &il);
+        if (!il) continue;
+        if (*n >= cap) return kelp_fail(d, KELP_ERR_NOSPACE, "too many routes");
+        kelp_bridge_route *r = &routes[*n];
+        *r = *proto;
+        char dest[KELP_MAX_NAME] = "";
+        if (one_route(it, il, r, shorthand ? dest : NULL, d) < 0) return KELP_ERR_PARSE;
+        if (dest[0]) memcpy(r->alias, dest, sizeof dest);
+        (*n)++;
+    }
+    if (!*n) return kelp_fail(d, KELP_ERR_PARSE, "no route");
+    return KELP_OK;
+}
+
+/* the value of key in a "k=v,k=v" line, in place (no copy: a route list may be long) */
+static bool kv_find(const char *line, const char *key, const char **v, size_t *vl)
+{
+    size_t pos = 0, kl;
+    const char *k;
+    while (kelp_kv_next(line, ',', &pos, &k, &kl, v, vl) == 1)
+        if (kelp_strieq_n(k, kl, key)) return true;
+    return false;
+}
+
+static bool names_route(const char *line)
+{
+    for (const char *p = line; *p; p++)
+        if ((p[0] == 'r' || p[0] == 'R') && kelp_strieq_n(p, 5, "route")) return true;
+    return false;
+}
+
+int kelp_bridge_pshare_output(const char *line, kelp_bridge_route *routes, size_t cap, size_t *n, kelp_diag *d)
+{
+    kelp_bridge_route proto;
+    memset(&proto, 0, sizeof proto);
+    const char *rv;
+    size_t rvl;
+    *n = 0;
+    if (names_route(line)) { /* src_name=X, dest_name=Y, route=R & R */
+        int rc = kelp_kv_get(line, ',', "src_name", proto.src, sizeof proto.src);
+        if (rc != 1 || !proto.src[0]) return kelp_fail(d, KELP_ERR_PARSE, "src_name is a required field");
+        if (kelp_kv_get(line, ',', "dest_name", proto.alias, sizeof proto.alias) < 0) return kelp_fail(d, KELP_ERR_PARSE, "dest_name too long");
+        if (!kv_find(line, "route", &rv, &rvl)) return kelp_fail(d, KELP_ERR_PARSE, "route is a required field");
+        if (!proto.alias[0]) memcpy(proto.alias, proto.src, sizeof proto.src);
+        return route_list(rv, rvl, &proto, false, routes, cap, n, d);
+    }
+    const char *arrow = strstr(line, "->"); /* X->[Y:]host:port & ... */
+    if (!arrow) return kelp_fail(d, KELP_ERR_PARSE, "expected src_name=.., route=.. or X->route");
+    const char *src = line;
+    size_t sl = (size_t)(arrow - line);
+    trim_n(&src, &sl);
+    if (!sl || sl >= sizeof proto.src) return kelp_fail(d, KELP_ERR_PARSE, "bad variable name before ->");
+    memcpy(proto.src, src, sl);
+    memcpy(proto.alias, src, sl);
+    return route_list(arrow + 2, strlen(arrow + 2), &proto, true, routes, cap, n, d);
+}
+
+int kelp_bridge_pshare_input(const char *line, kelp_bridge_route *routes, size_t cap, size_t *n, char *white, size_t wcap,
+                             kelp_diag *d)
+{
+    kelp_bridge_route proto;
+    memset(&proto, 0, sizeof proto);
+    const char *rv;
+    size_t rvl;
+    *n = 0;
+    if (!kv_find(line, "route", &rv, &rvl)) return kelp_fail(d, KELP_ERR_PARSE, "route is a required field");
+    int rc = route_list(rv, rvl, &proto, false, routes, cap, n, d);
+    if (rc < 0 || !white || !wcap) return rc;
+    white[0] = 0;
+    if (!kv_find(line, "white_list", &rv, &rvl)) return KELP_OK;
+    size_t w = 0;
+    for (size_t i = 0; i < rvl && w + 1 < wcap; i++)
+        if (rv[i] != ' ' && rv[i] != '\t') white[w++] = rv[i] == '&' ? ',' : rv[i];
+    white[w] = 0;
+    return KELP_OK;
+}
+
+int kelp_bridge_pshare_cmd(const char *s)
+{
+    char cmd[16];
+    if (kelp_kv_get(s, ',', "cmd", cmd, sizeof cmd) != 1) return 0;
+    return kelp_strieq_n(cmd, strlen(cmd), "output") ? 1 : kelp_strieq_n(cmd, strlen(cmd), "input") ? 2 : 0;
+}
+
+static void put_addr(char *buf, size_t cap, size_t *len, const kelp_bridge_route *r)
+{
+    if (r->multicast)
+        bridge_putf(buf, cap, len, "%s:%u:multicast_%u", KELP_PSHARE_MCAST_ADDR, KELP_PSHARE_MCAST_PORT + r->port, r->port);
+    else
+        bridge_putf(buf, cap, len, "%s:%u", r->host, r->port);
+}
+
+static int addr_cmp(const kelp_bridge_route *a, const kelp_bridge_route *b)
+{
+    const char *ha = a->multicast ? KELP_PSHARE_MCAST_ADDR : a->host, *hb = b->multicast ? KELP_PSHARE_MCAST_ADDR : b->host;
+    unsigned pa = a->multicast ? KELP_PSHARE_MCAST_PORT + a->port : a->port;
+    unsigned pb = b->multicast ? KELP_PSHARE_MCAST_PORT + b->port : b->port;
+    int c = strcmp(ha, hb);
+    return c ? c : (pa > pb) - (pa < pb);
+}
+
+int kelp_bridge_pshare_summary(const kelp_bridge_route *r, size_t n, bool input, char *buf, size_t cap)
+{
+    size_t len = 0;
+    if (!cap) return KELP_ERR_NOSPACE;
+    buf[0] = 0;
+    const kelp_bridge_route *prev = NULL;
+    for (size_t k = 0; k < n; k++) { /* the next source (output) or address (input) in order */
+        const kelp_bridge_route *next = NULL;
+        for (size_t i = 0; i < n; i++) {
+            int after = !prev ? 1 : input ? addr_cmp(&r[i], prev) : strcmp(r[i].src, prev->src);
+            int before = !next ? -1 : input ? addr_cmp(&r[i], next) : strcmp(r[i].src, next->src);
+            if (after > 0 && before < 0) next = &r[i];
+        }
+        if (!next) break;
+        prev = next;
+        if (input) {
+            if (len) bridge_putf(buf, cap, &len, ",");
+            put_addr(buf, cap, &len, next);
+            continue;
+        }
+        bridge_putf(buf, cap, &len, "%s%s->", len ? ", " : "", next->src);
+        bool first = true;
+        for (size_t i = 0; i < n; i++) {
+            if (strcmp(r[i].src, next->src) != 0) continue;
+            bridge_putf(buf, cap, &len, "%s%s:", first ? "" : " & ", r[i].alias[0] ? r[i].alias : r[i].src);
+            put_addr(buf, cap, &len, &r[i]);
+            first = false;
+        }
+    }
+    return len + 1 >= cap ? KELP_ERR_NOSPACE : KELP_OK;
+}
+
+int kelp_bridge_table_add(kelp_bridge_route *tab, size_t *n, size_t cap, const kelp_bridge_route *r)
+{
+    for (size_t i = 0; i < *n; i++) {
+        const kelp_bridge_route *o = &tab[i];
+        if (strcmp(o->src, r->src) == 0 && strcmp(o->alias, r->alias) == 0 && strcmp(o->host, r->host) == 0 &&
+            o->port == r->port && o->multicast == r->multicast)
+            return 0;
+    }
+    if (*n >= cap) return KELP_ERR_NOSPACE;
+    tab[(*n)++] = *r;
+    return 1;
 }

@@ -35,7 +35,22 @@ typedef struct host_ctx {
     kelp_broker_host *h;
     kelp_diag *d;
     unsigned iroute_port;
+    bool udp_given;
 } host_ctx;
+
+bool field_ip_ok(const char *s, size_t n)
+{
+    /* 24.8's isValidIPAddress: "localhost" (any case) or four numbers 0..255 */
+    if (kelp_strieq_n(s, n, "localhost")) return true;
+    size_t i = 0;
+    for (int part = 0; part < 4; part++) {
+        if (part && (i >= n || s[i++] != '.')) return false;
+        int v = 0, digits = 0;
+        while (i < n && s[i] >= '0' && s[i] <= '9' && digits < 4) v = v * 10 + (s[i++] - '0'), digits++;
+        if (digits == 0 || digits > 3 || v > 255) return false;
+    }
+    return i == n;
+}
 
 static int text_to(char *dst, size_t cap, const char *v, size_t vl, kelp_diag *d)
 {
@@ -59,7 +74,10 @@ static int host_pair(void *ctx, const char *k, size_t kl, const char *v, size_t 
 {
     host_ctx *c = ctx;
     kelp_broker_host *h = c->h;
-    if (kelp_strieq_n(k, kl, "community")) return text_to(h->community, sizeof h->community, v, vl, c->d);
+    if (kelp_strieq_n(k, kl, "community") || kelp_strieq_n(k, kl, "vname"))
+        return text_to(h->community, sizeof h->community, v, vl, c->d);
+    if (kelp_strieq_n(k, kl, "key")) return text_to(h->key, sizeof h->key, v, vl, c->d);
+    if (kelp_strieq_n(k, kl, "hostip_alts")) return text_to(h->alts, sizeof h->alts, v, vl, c->d);
     if (kelp_strieq_n(k, kl, "host") || kelp_strieq_n(k, kl, "hostip") || kelp_strieq_n(k, kl, "host_ip") ||
         kelp_strieq_n(k, kl, "ip"))
         return text_to(h->host, sizeof h->host, v, vl, c->d);
@@ -70,6 +88,8 @@ static int host_pair(void *ctx, const char *k, size_t kl, const char *v, size_t 
         if (broker_port(v, vl, db ? &h->port_db : &h->port_udp) < 0) {
             return kelp_fail(c->d, KELP_ERR_PARSE, "bad port");
         }
+        if (db) h->have_port_db = true;
+        else c->udp_given = h->have_port_udp = true;
         return KELP_OK;
     }
     bool warp = kelp_strieq_n(k, kl, "time_warp") || kelp_strieq_n(k, kl, "timewarp");
@@ -78,9 +98,22 @@ static int host_pair(void *ctx, const char *k, size_t kl, const char *v, size_t 
         if (sim_number(v, vl, &d) < 0 || (warp && !(d > 0))) {
             return kelp_fail(c->d, KELP_ERR_PARSE, warp ? "bad time_warp" : "bad time");
         }
-        if (warp) h->warp = d, h->have_warp = true;
-        else h->time = d, h->have_time = true;
+        if (warp) {
+            h->warp = d, h->have_warp = true;
+            return text_to(h->warp_s, sizeof h->warp_s, v, vl, c->d);
+        }
+        h->time = d, h->have_time = true;
         return KELP_OK;
+    }
+    if (kelp_strieq_n(k, kl, "pshare_iroutes")) {
+        int rc = text_to(h->iroutes, sizeof h->iroutes, v, vl, c->d);
+        if (rc < 0) return rc;
+        /* 24.8 (HostRecord::setPShareIRoutes): without port_udp so far, what follows the
+         * first ':' when it is a number */
+        const char *colon = memchr(v, ':', vl);
+        unsigned p;
+        if (!c->udp_given && colon && broker_port(colon + 1, vl - (size_t)(colon + 1 - v), &p) == 0)
+            h->port_udp = p, h->have_port_udp = true, c->udp_given = true;
     }
     if (kelp_strieq_n(k, kl, "pshare_iroutes") && !c->iroute_port) {
         /* "localhost:9200&multicast_8": the first unicast route's port */
@@ -101,9 +134,19 @@ int kelp_broker_host_parse(const char *s, kelp_broker_host *h, kelp_diag *d)
     if (!s) {
         return kelp_fail(d, KELP_ERR_PARSE, "no text");
     }
-    host_ctx c = { h, d, 0 };
-    int rc = field_for_pairs(s, strlen(s), ',', host_pair, &c, d);
-    if (rc < 0) return rc;
+    host_ctx c = { h, d, 0, false };
+    /* the pairs; an item without '=' is skipped as 24.8 skips it (a hostip_alts list of two
+     * addresses leaves one), but a record must have at least one pair */
+    size_t pos = 0, len = strlen(s), il;
+    const char *it;
+    int rc, pairs = 0;
+    while ((rc = field_next_item(s, len, &pos, ',', &it, &il)) == 1) {
+        if (!memchr(it, '=', il)) continue;
+        rc = field_for_pairs(it, il, ',', host_pair, &c, d);
+        if (rc < 0) return rc;
+        pairs++;
+    }
+    if (rc < 0 || !pairs) return kelp_fail(d, KELP_ERR_PARSE, rc < 0 ? "unbalanced quote or brace" : "no key=value pair");
     if (!h->port_udp) h->port_udp = c.iroute_port;
     return KELP_OK;
 }
@@ -111,6 +154,178 @@ int kelp_broker_host_parse(const char *s, kelp_broker_host *h, kelp_diag *d)
 bool kelp_broker_host_complete(const kelp_broker_host *h)
 {
     return h->community[0] && h->host[0] && h->port_udp;
+}
+
+bool kelp_broker_host_valid(const kelp_broker_host *h)
+{
+    return h->community[0] && field_ip_ok(h->host, strlen(h->host)) && h->have_port_db;
+}
+
+/* text with every `what` taken out (24.8's findReplace(s, what, "")) */
+static int put_without(char *buf, size_t cap, size_t *n, const char *s, const char *what)
+{
+    size_t wl = strlen(what);
+    for (const char *p = s; *p;) {
+        if (wl && strncmp(p, what, wl) == 0) {
+            p += wl;
+            continue;
+        }
+        char one[2] = { *p++, 0 };
+        if (field_put_str(buf, cap, n, one) < 0) return KELP_ERR_NOSPACE;
+    }
+    return KELP_OK;
+}
+
+int kelp_broker_host_spec(const kelp_broker_host *h, const char *time, const char *key, char *buf, size_t cap)
+{
+    size_t n = 0;
+    int rc = field_put_str(buf, cap, &n, "community=");
+    if (rc == 0) rc = field_put_str(buf, cap, &n, h->community);
+    if (rc == 0 && h->host[0]) rc = field_put_str(buf, cap, &n, ",hostip="), rc = rc ? rc : field_put_str(buf, cap, &n, h->host);
+    if (rc == 0 && h->have_port_db) rc = field_put_str(buf, cap, &n, ",port_db="), rc = rc ? rc : field_put_fixed(buf, cap, &n, h->port_db, 0, false);
+    if (rc == 0 && h->have_port_udp) rc = field_put_str(buf, cap, &n, ",port_udp="), rc = rc ? rc : field_put_fixed(buf, cap, &n, h->port_udp, 0, false);
+    if (rc == 0 && h->iroutes[0]) rc = field_put_str(buf, cap, &n, ",pshare_iroutes="), rc = rc ? rc : field_put_str(buf, cap, &n, h->iroutes);
+    if (rc == 0 && h->keyword[0]) rc = field_put_str(buf, cap, &n, ",keyword="), rc = rc ? rc : field_put_str(buf, cap, &n, h->keyword);
+    if (rc == 0 && h->alts[0]) {
+        /* the host's own address taken out: "<ip>," first, then "<ip>" (filtered in place) */
+        rc = field_put_str(buf, cap, &n, ",hostip_alts=");
+        if (rc == 0) {
+            size_t at = n;
+            char pat[KELP_MAX_NAME + 1];
+            kelp_snprintf(pat, sizeof pat, "%s,", h->host);
+            rc = put_without(buf, cap, &n, h->alts, pat);
+            if (rc == 0 && h->host[0]) { /* second pass over what the first one wrote */
+                size_t end = n, w = at, hl = strlen(h->host);
+                for (size_t r = at; r < end;) {
+                    if (r + hl <= end && strncmp(buf + r, h->host, hl) == 0) r += hl;
+                    else buf[w++] = buf[r++];
+                }
+                n = w;
+                buf[n] = 0;
+            }
+        }
+    }
+    if (rc == 0 && h->warp_s[0]) rc = field_put_str(buf, cap, &n, ",timewarp="), rc = rc ? rc : field_put_str(buf, cap, &n, h->warp_s);
+    /* 24.8 writes the record's timewarp after status= (HostRecord::getSpec) */
+    if (rc == 0 && h->status[0]) rc = field_put_str(buf, cap, &n, ",status="), rc = rc ? rc : field_put_str(buf, cap, &n, h->warp_s);
+    if (rc == 0 && time) rc = field_put_str(buf, cap, &n, ",time="), rc = rc ? rc : field_put_str(buf, cap, &n, time);
+    if (rc == 0 && key) rc = field_put_str(buf, cap, &n, ",key="), rc = rc ? rc : field_put_str(buf, cap, &n, key);
+    return rc < 0 ? KELP_ERR_NOSPACE : KELP_OK;
+}
+
+int kelp_broker_try_parse_pshare(const char *s, kelp_broker_try *t, kelp_diag *d)
+{
+    /* 24.8 (NodeBroker::handleConfigTryShoreHost, isValidPShareRoute): pshare_route= only */
+    memset(t, 0, sizeof *t);
+    if (!s) return kelp_fail(d, KELP_ERR_PARSE, "no text");
+    size_t pos = 0, len = strlen(s), il;
+    const char *it;
+    int rc;
+    while ((rc = field_next_item(s, len, &pos, ',', &it, &il)) == 1) {
+        const char *eq = memchr(it, '=', il);
+        size_t kl = eq ? (size_t)(eq - it) : il;
+        while (kl && (it[kl - 1] == ' ' || it[kl - 1] == '\t')) kl--;
+        if (!eq || !(kl == 12 && strncmp(it, "pshare_route", 12) == 0)) {
+            return kelp_fail(d, KELP_ERR_PARSE, "24.8 takes pshare_route=host:port or pshare_route=multicast_N");
+        }
+        const char *v = eq + 1;
+        size_t vl = il - (size_t)(v - it);
+        while (vl && (*v == ' ' || *v == '\t')) v++, vl--;
+        if (text_to(t->route, sizeof t->route, v, vl, d) < 0) return KELP_ERR_PARSE;
+    }
+    if (rc < 0) return kelp_fail(d, KELP_ERR_PARSE, "unbalanced quote or brace");
+    const char *r = t->route;
+    size_t rl = strlen(r);
+    const char *colon = strchr(r, ':');
+    long ch;
+    if (!colon) {
+        if (rl > 10 && strncmp(r, "multicast_", 10) == 0 && kelp_parse_long(r + 10, rl - 10, &ch) == 0 && ch >= 0)
+            return KELP_OK;
+        return kelp_fail(d, KELP_ERR_PARSE, "pshare_route is neither host:port nor multicast_N");
+    }
+    if (strchr(colon + 1, ':') || colon == r || (size_t)(colon - r) >= sizeof t->host ||
+        broker_port(colon + 1, strlen(colon + 1), &t->port) < 0 || strpbrk(r, " =")) {
+        return kelp_fail(d, KELP_ERR_PARSE, "pshare_route is not host:port");
+    }
+    memcpy(t->host, r, (size_t)(colon - r));
+    t->host[colon - r] = 0;
+    return KELP_OK;
+}
+
+int broker_pshare_cmd(const kelp_field_sink *out, const char *src, const char *dest, const char *route, char *last,
+                      size_t cap)
+{
+    /* 24.8's PSHARE_CMD (NodeBroker::postPShareCommand, ShoreBroker::makeBridgeRequest) */
+    size_t n = 0;
+    if (!last || cap < 16) return KELP_ERR_NOSPACE;
+    int rc = field_put_str(last, cap, &n, "cmd=output,src_name=");
+    if (rc == 0) rc = field_put_str(last, cap, &n, src);
+    if (rc == 0) rc = field_put_str(last, cap, &n, ",dest_name=");
+    if (rc == 0) rc = field_put_str(last, cap, &n, dest);
+    if (rc == 0) rc = field_put_str(last, cap, &n, ",route=");
+    if (rc == 0) rc = field_put_str(last, cap, &n, route);
+    if (rc < 0) {
+        last[0] = 0;
+        return rc;
+    }
+    out->publish(out->ctx, "PSHARE_CMD", true, last, 0);
+    return 1;
+}
+
+void broker_block(char *buf, size_t cap, size_t *n, bool *full, const char *label, const char *msg, size_t maxlen,
+                  char sep)
+{
+    /* 24.8's ACBlock: the items of msg (split at sep) joined into lines of up to maxlen
+     * characters, a broken line ending in ','; lines after the first under the label's width */
+    size_t ll = strlen(label), len = strlen(msg), pos = 0, line = 0;
+    if (!msg[0]) {
+        broker_put(buf, cap, n, full, "%s", label);
+        return;
+    }
+    while (pos <= len) {
+        size_t e = pos;
+        while (e < len && msg[e] != sep) e++;
+        size_t il = e - pos;
+        if (line == 0) broker_put(buf, cap, n, full, "%s%.*s", label, (int)il, msg + pos), line = il;
+        else if (line + 1 + il <= maxlen) broker_put(buf, cap, n, full, "%c%.*s", sep, (int)il, msg + pos), line += 1 + il;
+        else broker_put(buf, cap, n, full, ",\n%*s%.*s", (int)ll, "", (int)il, msg + pos), line = il;
+        pos = e + 1;
+        if (e >= len) break;
+    }
+    broker_put(buf, cap, n, full, "\n");
+}
+
+void broker_table(char *buf, size_t cap, size_t *n, bool *full, unsigned ncols, unsigned nrows, unsigned header_rows,
+                  broker_cell_fn cell, const void *ctx)
+{
+    /* 24.8's ACTable: columns as wide as their widest cell, two blanks apart, a dashed line
+     * after the header rows, trailing blanks removed, no newline after the last row */
+    enum { MAXC = 8 };
+    static const char dashes[] = "--------------------------------------------------------------------------------";
+    size_t w[MAXC] = { 0 };
+    char tmp[48];
+    if (ncols > MAXC) return;
+    for (unsigned r = 0; r < nrows; r++)
+        for (unsigned c = 0; c < ncols; c++) {
+            size_t l = strlen(cell(ctx, r, c, tmp, sizeof tmp));
+            if (l > w[c]) w[c] = l;
+        }
+    for (unsigned r = 0; r <= nrows; r++) {
+        bool dash = r == header_rows;
+        if (!dash && r > nrows) break;
+        unsigned src = r > header_rows ? r - 1 : r;
+        if (!dash && src >= nrows) break;
+        size_t start = *n;
+        for (unsigned c = 0; c < ncols; c++) {
+            if (dash)
+                broker_put(buf, cap, n, full, "%.*s", (int)(w[c] < sizeof dashes - 1 ? w[c] : sizeof dashes - 1), dashes);
+            else
+                broker_put(buf, cap, n, full, "%-*s", (int)w[c], cell(ctx, src, c, tmp, sizeof tmp));
+            if (c + 1 < ncols) broker_put(buf, cap, n, full, "  ");
+        }
+        while (*n > start && *n < cap && buf[*n - 1] == ' ') buf[--*n] = 0;
+        if (r < nrows) broker_put(buf, cap, n, full, "\n");
+    }
 }
 
 typedef struct try_ctx {

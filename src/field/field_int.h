@@ -56,6 +56,19 @@ int broker_host_format(const struct kelp_broker_host *h, const char *keyword, do
                        const char *status, char *buf, size_t cap);
 /** snprintf at buf + *n (a report); *full when it ran out of room. */
 void broker_put(char *buf, size_t cap, size_t *n, bool *full, const char *fmt, ...) KELP_PRINTF(5, 6);
+/** 24.8's isValidIPAddress: "localhost" (any case) or a dotted quad of numbers 0..255. */
+bool field_ip_ok(const char *s, size_t n);
+/** Post PSHARE_CMD "cmd=output,src_name=S,dest_name=D,route=R" (built in last). @return 1 or <0. */
+int broker_pshare_cmd(const struct kelp_field_sink *out, const char *src, const char *dest, const char *route,
+                      char *last, size_t cap);
+/** 24.8's ACBlock(label, msg, maxlen, sep) appended to a report. */
+void broker_block(char *buf, size_t cap, size_t *n, bool *full, const char *label, const char *msg, size_t maxlen,
+                  char sep);
+/** A table cell: the text of (row, col), made in tmp when it has to be. */
+typedef const char *(*broker_cell_fn)(const void *ctx, unsigned row, unsigned col, char *tmp, size_t cap);
+/** 24.8's ACTable (two blanks apart, dashes after header_rows rows) appended to a report. */
+void broker_table(char *buf, size_t cap, size_t *n, bool *full, unsigned ncols, unsigned nrows, unsigned header_rows,
+                  broker_cell_fn cell, const void *ctx);
 /** Same community, host, ports and warp. */
 bool broker_same_host(const struct kelp_broker_host *a, const struct kelp_broker_host *b);
 

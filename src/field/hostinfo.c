@@ -33,16 +33,7 @@ void kelp_field_hostinfo_init(kelp_field_hostinfo *h, const kelp_field_hostinfo_
 /* a dotted quad of four numbers 0..255 */
 static bool quad_ok(const char *s)
 {
-    int parts = 0;
-    while (parts < 4) {
-        if (*s < '0' || *s > '9') return false;
-        int v = 0, digits = 0;
-        while (*s >= '0' && *s <= '9' && digits < 4) v = v * 10 + (*s++ - '0'), digits++;
-        if (digits > 3 || v > 255) return false;
-        parts++;
-        if (parts < 4 && *s++ != '.') return false;
-    }
-    return *s == 0;
+    return !kelp_strieq(s, "localhost") && field_ip_ok(s, strlen(s));
 }
 
 static int rank(const char *ifname, char *label, size_t cap)
@@ -126,16 +117,12 @@ int kelp_field_hostinfo_mail(kelp_field_hostinfo *h, const char *var, bool is_st
         double p = dval;
         if (is_string && (!sval || kelp_parse_double(sval, strlen(sval), &p) < 0)) return KELP_ERR_PARSE;
         if (!(p >= 1 && p <= 65535)) return KELP_ERR_RANGE;
-        if (p != h->port_udp) h->post_due = true;
-        h->port_udp = p;
+        h->port_udp = p; /* in PHI_HOST_INFO from the next post (24.8 waits too) */
         return 1;
     }
     if (!strcmp(var, "PSHARE_INPUT_SUMMARY")) {
         if (!is_string || !sval) return KELP_ERR_PARSE;
-        char r[sizeof h->iroutes];
-        iroutes(sval, r, sizeof r);
-        if (strcmp(r, h->iroutes) != 0) h->post_due = true;
-        memcpy(h->iroutes, r, strlen(r) + 1);
+        iroutes(sval, h->iroutes, sizeof h->iroutes); /* posted with the next post, as 24.8 */
         return 1;
     }
     return 0;
@@ -143,7 +130,10 @@ int kelp_field_hostinfo_mail(kelp_field_hostinfo *h, const char *var, bool is_st
 
 int kelp_field_hostinfo_iterate(kelp_field_hostinfo *h, const kelp_field_sink *out)
 {
-    if (!h->post_due) return 0;
+    /* 24.8 (HostInfo::Iterate): at the first iteration, after HOST_INFO_REQUEST, and every
+     * tenth iteration */
+    h->iterations++;
+    if (!h->post_due && h->iterations % 10 != 0) return 0;
     h->post_due = false;
     const char *best = h->cfg.default_ip;
     /* PREFER_INTERFACE: an interface name (any case), or 24.8's "wifi" for the wireless one */
@@ -173,35 +163,63 @@ int kelp_field_hostinfo_iterate(kelp_field_hostinfo *h, const kelp_field_sink *o
     out->publish(out->ctx, "PHI_HOST_IP", true, h->best, 0);
     out->publish(out->ctx, "PHI_HOST_IP_ALL", true, all, 0); /* "" when nothing was found (A17) */
     out->publish(out->ctx, "PHI_HOST_IP_VERBOSE", true, verbose, 0);
-    char *info = h->ws_info;
-    const size_t info_cap = sizeof h->ws_info;
-    int n = kelp_snprintf(info, info_cap, "community=%s,hostip=%s", h->cfg.community, h->best);
     char port[24]; /* the ports are posted as strings, as 24.8's pHostInfo posts them */
     if (h->cfg.port_db > 0) {
         kelp_snprintf(port, sizeof port, "%.0f", h->cfg.port_db);
         out->publish(out->ctx, "PHI_HOST_PORT_DB", true, port, 0);
-        out->publish(out->ctx, "PHI_HOST_PORT", true, port, 0);
-        n += kelp_snprintf(info + n, info_cap - (size_t)n, ",port_db=%s", port);
     }
-    if (h->port_udp > 0) {
+    if (h->port_udp > 0) { /* the seed's pMOOSBridge port (PMB_UDP_LISTEN) */
         kelp_snprintf(port, sizeof port, "%.0f", h->port_udp);
         out->publish(out->ctx, "PHI_HOST_PORT_UDP", true, port, 0);
-        n += kelp_snprintf(info + n, info_cap - (size_t)n, ",port_udp=%s", port);
     }
-    n += kelp_snprintf(info + n, info_cap - (size_t)n, ",timewarp=%g", h->cfg.warp);
-    if (h->iroutes[0] && (size_t)n < info_cap) {
-        /* "localhost" routes read as this host's address (24.8's postIPInfo) */
-        size_t m = (size_t)n;
-        field_putf(info, info_cap, &m, ",pshare_iroutes=");
-        for (const char *p = h->iroutes; *p;) {
-            if (kelp_strieq_n(p, strlen(p) < 9 ? strlen(p) : 9, "localhost")) {
-                field_putf(info, info_cap, &m, "%s", h->best);
-                p += 9;
-            } else
-                field_putf(info, info_cap, &m, "%c", *p++);
-        }
+    /* 24.8's host record (HostRecord::getSpec), "localhost" anywhere in it read as our address */
+    kelp_broker_host *rec = &h->ws_rec;
+    memset(rec, 0, sizeof *rec);
+    copy(rec->community, sizeof rec->community, h->cfg.community);
+    copy(rec->host, sizeof rec->host, h->best);
+    copy(rec->alts, sizeof rec->alts, all);
+    if (h->cfg.port_db > 0) rec->port_db = (unsigned)h->cfg.port_db, rec->have_port_db = true;
+    size_t wn = 0;
+    if (field_put_fixed(rec->warp_s, sizeof rec->warp_s, &wn, h->cfg.warp, 1, true) < 0) rec->warp_s[0] = 0;
+    copy(rec->iroutes, sizeof rec->iroutes, h->iroutes);
+    const char *colon = strchr(h->iroutes, ':');
+    unsigned p;
+    if (h->port_udp > 0) rec->port_udp = (unsigned)h->port_udp, rec->have_port_udp = true;
+    else if (colon && broker_port(colon + 1, strlen(colon + 1), &p) == 0) rec->port_udp = p, rec->have_port_udp = true;
+    char *spec = h->ws_spec, *info = h->ws_info;
+    if (kelp_broker_host_spec(rec, NULL, NULL, spec, sizeof h->ws_spec) < 0) return 0;
+    size_t m = 0;
+    info[0] = 0;
+    for (const char *q = spec; *q;) {
+        if (strncmp(q, "localhost", 9) == 0 && h->best[0]) {
+            field_putf(info, sizeof h->ws_info, &m, "%s", h->best);
+            q += 9;
+        } else
+            field_putf(info, sizeof h->ws_info, &m, "%c", *q++);
     }
     out->publish(out->ctx, "PHI_HOST_INFO", true, info, 0);
     h->posts++;
     return 1;
+}
+
+int kelp_field_hostinfo_report(const kelp_field_hostinfo *h, char *buf, size_t cap)
+{
+    /* 24.8's report (HostInfo::buildReport) */
+    size_t n = 0;
+    bool full = false;
+    if (!buf || !cap) return KELP_ERR_NOSPACE;
+    buf[0] = 0;
+    char port[24] = "";
+    if (h->cfg.port_db > 0) kelp_snprintf(port, sizeof port, "%.0f", h->cfg.port_db);
+    broker_put(buf, cap, &n, &full, "\n  PHI_HOST_IP:          %s%s\n", h->best,
+               h->best[0] && strcmp(h->best, h->cfg.default_ip) != 0 ? ""
+               : h->cfg.force_ip[0]                                 ? "DEFAULT HOSTIP FORCED"
+                                                                    : "DEFAULT HOSTIP USED");
+    broker_block(buf, cap, &n, &full, "  PHI_HOST_IP_ALL:      ", h->ws_all, 42, ',');
+    broker_put(buf, cap, &n, &full, "\n");
+    broker_block(buf, cap, &n, &full, "  PHI_HOST_IP_VERBOSE:  ", h->ws_verbose, 42, ',');
+    broker_put(buf, cap, &n, &full, "\n  PHI_HOST_PORT:        %s\n  PHI_PSHARES_IROUTES:  %s\n  HOSTNAME util(Linux): \n", port,
+               h->iroutes);
+    broker_block(buf, cap, &n, &full, "  PHI_HOST_INFO:        ", h->ws_info, 42, ',');
+    return full ? KELP_ERR_NOSPACE : KELP_OK;
 }

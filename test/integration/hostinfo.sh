@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # pHostInfo in a network namespace with two interfaces of its own (a wireless-named one first,
 # an ethernet-named one second): PHI_HOST_IP is the ethernet address, the other is listed too,
-# the loopback is not; PMB_UDP_LISTEN adds port_udp to PHI_HOST_INFO; an address added later
-# appears after HOST_INFO_REQUEST.
+# the loopback is not; PHI_HOST_INFO is MOOS-IvP 24.8's record (hostip_alts: the other
+# addresses); the seed's PMB_UDP_LISTEN adds port_udp to it; an address added later appears
+# after HOST_INFO_REQUEST.
 . "$(dirname "$0")/lib.sh"
 cd "$T"
 # veth pairs (the dummy driver may be missing); the peers carry no address
@@ -40,7 +41,7 @@ last() { awk -v v="$1" '$3==v {sub(/^[^ ]+ [^ ]+ [^ ]+ /, ""); x=$0} END{print x
 [ "$(first PHI_HOST_IP_ALL)" = "10.88.0.7,10.77.0.5" ] || fail "PHI_HOST_IP_ALL $(first PHI_HOST_IP_ALL)"
 [ "$(first PHI_HOST_IP_VERBOSE)" = "LINUX_ETHERNET=10.88.0.7,LINUX_WIFI=10.77.0.5" ] || fail "verbose $(first PHI_HOST_IP_VERBOSE)"
 [ "$(first PHI_HOST_PORT_DB)" = 9123 ] || fail "PHI_HOST_PORT_DB $(first PHI_HOST_PORT_DB)"
-[ "$(first PHI_HOST_INFO)" = "community=alpha,hostip=10.88.0.7,port_db=9123,timewarp=4" ] || fail "info $(first PHI_HOST_INFO)"
+[ "$(first PHI_HOST_INFO)" = "community=alpha,hostip=10.88.0.7,port_db=9123,hostip_alts=10.77.0.5,timewarp=4" ] || fail "info $(first PHI_HOST_INFO)"
 last PHI_HOST_INFO | grep -q "port_udp=9200" || fail "port_udp missing: $(last PHI_HOST_INFO)"
 [ "$(last PHI_HOST_IP_ALL)" = "10.88.0.7,10.99.0.8,10.77.0.5" ] || fail "after HOST_INFO_REQUEST: $(last PHI_HOST_IP_ALL)"
 ok "PHI_HOST_IP $(first PHI_HOST_IP); after the request $(last PHI_HOST_IP_ALL); $(last PHI_HOST_INFO)"

@@ -8,6 +8,7 @@ D="$KELP_ROOT/test/data/moos-24.8"
 for f in "$D"/*.moos; do
   app=$(basename "$f" .moos)
   prog=${app%V22}   # pMarinePIDV22 and uSimMarineV22 are kelp's pMarinePID and uSimMarine
+  [ "$app" = pShare ] && prog=kelp-bridge   # pShare is kelp-bridge running as pShare
   [ -x "$BIN/$prog" ] || fail "no kelp program $prog for $f"
   rc=0
   timeout -s INT 2 "$BIN/$prog" "$f" --alias "$app" > "$app.out" 2>&1 || rc=$?
