@@ -1042,9 +1042,12 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
             report(app, stdout);
             next_status = w + status_period;
         }
-        /* <NAME>_STATUS from the iteration once more than 2 MOOS seconds have passed since the
-         * last (either way: a clock step back posts too), the first at the first iteration */
-        if (!(fabs(now - app->last_status) <= STATUS_PERIOD_MOOS)) {
+        /* <NAME>_STATUS from the iteration once 2 MOOS seconds have passed since the last (either
+         * way: a clock step back posts too), the first at the first iteration. MOOS tests "more
+         * than 2 s", but its iterations run a little over their period, so it posts every 2.00 s
+         * in the recordings; kelp's run on time, so the test allows a millisecond to land on the
+         * same eighth iteration at AppTick 4 */
+        if (!(fabs(now - app->last_status) < STATUS_PERIOD_MOOS - 1e-3)) {
             publish_status(app);
             app->last_status = now;
         }
