@@ -312,7 +312,6 @@ void broker_table(char *buf, size_t cap, size_t *n, bool *full, unsigned ncols, 
         }
     for (unsigned r = 0; r <= nrows; r++) {
         bool dash = r == header_rows;
-        if (!dash && r > nrows) break;
         unsigned src = r > header_rows ? r - 1 : r;
         if (!dash && src >= nrows) break;
         size_t start = *n;

@@ -79,7 +79,7 @@ static double atof_n(const char *v, size_t vl)
     size_t b = i;
     if (i < vl && (v[i] == '+' || v[i] == '-')) i++;
     const char *w = v + i;
-    size_t wl = vl - i, end = i;
+    size_t wl = vl - i, end;
     if (wl >= 8 && kelp_strieq_n(w, 8, "infinity")) end = i + 8;
     else if (wl >= 3 && (kelp_strieq_n(w, 3, "inf") || kelp_strieq_n(w, 3, "nan"))) end = i + 3;
     else {
