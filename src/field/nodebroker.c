@@ -393,9 +393,9 @@ KELP_NOINLINE static int mail24(kelp_field_nbroker *b, const char *var, bool is_
         }
         b->ok_phi++;
         const kelp_broker_host *o = &b->node;
-        if (strcmp(o->community, h->community) || strcmp(o->warp_s, h->warp_s) || strcmp(o->host, h->host) ||
+        if (strcmp(o->community, h->community) != 0 || strcmp(o->warp_s, h->warp_s) != 0 || strcmp(o->host, h->host) != 0 ||
             o->port_db != h->port_db || o->have_port_db != h->have_port_db || o->port_udp != h->port_udp ||
-            o->have_port_udp != h->have_port_udp || strcmp(o->iroutes, h->iroutes))
+            o->have_port_udp != h->have_port_udp || strcmp(o->iroutes, h->iroutes) != 0)
             b->phi_changes++;
         b->node = *h;
         b->have_node = true;
