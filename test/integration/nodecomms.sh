@@ -23,7 +23,9 @@ bg "$BIN/kelp-record" --lcm-url="$KELP_LCM_URL" -f n.lcmlog
 sleep 0.5
 bg "$BIN/uFldNodeComms" n.moos > app.out 2>&1
 sleep 1
-t=$(date +%s.%N | cut -c1-14) # the reports' TIME: a message goes only to a vehicle whose report is recent
+# the reports' TIME (a message goes only to a vehicle whose report is recent), in hundredths so
+# the relayed TIME (two decimals) is the same number with no rounding tie to decide
+t=$(date +%s.%N | cut -c1-13)
 "$BIN/kelp-poke" n.moos "NODE_REPORT=NAME=alpha,TYPE=kayak,X=0,Y=0,SPD=1,HDG=90,DEP=0,TIME=$t" \
   "NODE_REPORT=NAME=bravo,TYPE=uuv,X=50,Y=0,SPD=1,HDG=90,DEPTH=2,TIME=$t,LENGTH=4" \
   "NODE_REPORT=NAME=charlie,TYPE=uuv,X=500,Y=0,SPD=1,HDG=90,DEP=0,TIME=$t" \
@@ -36,7 +38,7 @@ wait 2>/dev/null || true
 PIDS=()
 "$BIN/kelp-logcheck" --print n.lcmlog > n.txt || fail "log undecodable"
 val() { awk -v v="$1" '$3==v {sub(/^[^ ]+ [^ ]+ [^ ]+ /, ""); print; exit}' n.txt; }
-tt=$(printf '%.2f' "$t" | sed 's/0*$//; s/\.$//')
+tt=$(echo "$t" | sed 's/0*$//; s/\.$//')
 [ "$(val NODE_REPORT_BRAVO)" = "NAME=alpha,X=0,Y=0,SPD=1,HDG=90,COG=90,DEP=0,LAT=42.358456,LON=-71.087589,TYPE=kayak,TIME=$tt,LENGTH=3" ] ||
   fail "NODE_REPORT_BRAVO: $(val NODE_REPORT_BRAVO)"
 val NODE_REPORT_ALPHA | grep -qE "^NAME=bravo,X=50,Y=0,SPD=1,HDG=90,COG=90,DEP=2,LAT=42\.358[0-9]*,LON=-71\.08[0-9]*,TYPE=auv,TIME=$tt,LENGTH=4$" ||
