@@ -905,7 +905,8 @@ START_TEST(cm_coords_80_to_85)
     geo_setup("force_lat_lon", true); /* 82 */
     ck_assert_int_eq(mail_s("NODE_REPORT", "NAME=ben,TIME=1000,X=0,Y=10,LAT=43.8262,LON=-70.3304"), 1);
     it();
-    ck_assert_double_eq_tol(C->contact[kelp_cmgr_find(C, "ben")].range, 100.03, 0.05);
+    /* UTM as 24.8 (PROJ: 1.6075 m east, 99.9591 m north of the datum in zone 19) */
+    ck_assert_double_eq_tol(C->contact[kelp_cmgr_find(C, "ben")].range, 99.972, 0.001);
     geo_setup("verbatim", true); /* 83 */
     ck_assert_int_lt(mail_s("NODE_REPORT", "NAME=ben,TIME=1000,LAT=43.8262,LON=-70.3304"), 0);
     ck_assert_str_eq(last("CONTACT_MGR_WARNING"), "Bad Node Report Received");
@@ -920,8 +921,9 @@ START_TEST(cm_coords_80_to_85)
     geo_setup("lazy_lat_lon", true); /* 85 */
     ck_assert_int_eq(mail_s("NODE_REPORT", "NAME=ben,TIME=1000,LAT=43.8253,LON=-70.3292"), 1);
     int ci = kelp_cmgr_find(C, "ben");
-    ck_assert_double_eq_tol(C->contact[ci].x, 96.22, 0.5);
-    ck_assert_double_eq_tol(C->contact[ci].y, 0, 0.01);
+    /* UTM as 24.8 (PROJ: the datum's parallel curves 1.55 m south of grid east at 96 m) */
+    ck_assert_double_eq_tol(C->contact[ci].x, 96.4919, 0.001);
+    ck_assert_double_eq_tol(C->contact[ci].y, -1.5511, 0.001);
 }
 END_TEST
 

@@ -90,7 +90,7 @@ START_TEST(nrep_report_from_nav_and_helm)
     ck_assert_str_eq(r.var[1], "NODE_REPORT_LOCAL");
     ck_assert_str_eq(r.var[2], "PNR_POST_GAP");
     ck_assert_str_eq(r.val[0], r.val[1]);
-    ck_assert_str_eq(r.val[1], "NAME=alpha,TYPE=UUV,TIME=1252348077.59,X=51.71,Y=-35.50,LAT=43.824981,LON=-70.329755,"
+    ck_assert_str_eq(r.val[1], "NAME=alpha,TYPE=UUV,TIME=1252348077.59,X=51.71,Y=-35.50,LAT=43.824988,LON=-70.329750,"
                                "SPD=2.00,HDG=118.85,DEPTH=4.63,LENGTH=3.8,MODE=MODE@ACTIVE:LOITERING,ALLSTOP=clear");
     /* reported every iteration (MOOS-IvP), fresh mail or not; INDEX counts the earlier ones */
     ck_assert_int_eq(kelp_field_nrep_iterate(&nr, 1252348078, &sink), 1);

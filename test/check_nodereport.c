@@ -100,14 +100,16 @@ START_TEST(test_parse_variants)
     ck_assert_int_eq(kelp_geo_init(&g, 43.8253, -70.3304), KELP_OK);
     ck_assert_int_eq(kelp_nodereport_complete(&r, &g), KELP_OK);
     ck_assert(r.fields & KELP_NR_X && r.fields & KELP_NR_Y);
-    ck_assert_double_eq_tol(r.x, 51.71, 0.05);
-    ck_assert_double_eq_tol(r.y, -35.50, 0.06);
+    /* UTM as 24.8 (PROJ; the seed's 2012 LAT/LON were the older local grid's) */
+    ck_assert_double_eq_tol(r.x, 51.2949, 0.001);
+    ck_assert_double_eq_tol(r.y, -36.2638, 0.001);
     /* and LAT/LON from X/Y */
     s = "NAME=alpha,X=51.71,Y=-35.50";
     ck_assert_int_eq(kelp_nodereport_parse(s, strlen(s), &r, NULL), KELP_OK);
     ck_assert_int_eq(kelp_nodereport_complete(&r, &g), KELP_OK);
-    ck_assert_double_eq_tol(r.lat, 43.824981, 5e-7);
-    ck_assert_double_eq_tol(r.lon, -70.329755, 5e-7);
+    /* PROJ; MOOS's inverse stops within 1 m of the UTM point: 1.4 cm here */
+    ck_assert_double_eq_tol(r.lat, 43.8249879354, 3e-7);
+    ck_assert_double_eq_tol(r.lon, -70.3297499916, 3e-7);
     /* length-bounded: only the first len bytes count */
     s = "NAME=delta,X=1,Y=2,MODE=PARK";
     ck_assert_int_eq(kelp_nodereport_parse(s, strlen(s) - 10, &r, NULL), KELP_OK);

@@ -38,18 +38,37 @@
     return c || dflt;
   }
 
-  // ---------------------------------------------------------------- geodesy (the MOOS local grid, kelp/geo.h)
+  // ---------------------------------------------------------------- geodesy (UTM as MOOS-IvP 24.8, kelp/geo.h)
   const D2R = Math.PI / 180;
-  function toLatLon(x, y) {
-    const c = S.cfg;
-    if (!c || !c.datum) return null;
+  function utm(lat, lon, lonc) { // Snyder's series (USGS Bulletin 1532), no false origin
+    const e2 = 0.00669438, e4 = e2 * e2, e6 = e4 * e2, ep2 = e2 / (1 - e2), a = 6378137, k0 = 0.9996;
+    const p = lat * D2R, s = Math.sin(p), c = Math.cos(p), t = Math.tan(p);
+    const N = a / Math.sqrt(1 - e2 * s * s), T = t * t, C = ep2 * c * c, A = c * (lon - lonc) * D2R;
+    const M = a * ((1 - e2 / 4 - 3 * e4 / 64 - 5 * e6 / 256) * p - (3 * e2 / 8 + 3 * e4 / 32 + 45 * e6 / 1024) * Math.sin(2 * p) +
+                   (15 * e4 / 256 + 45 * e6 / 1024) * Math.sin(4 * p) - (35 * e6 / 3072) * Math.sin(6 * p));
+    return [k0 * N * (A + (1 - T + C) * A ** 3 / 6 + (5 - 18 * T + T * T + 72 * C - 58 * ep2) * A ** 5 / 120),
+            k0 * (M + N * t * (A * A / 2 + (5 - T + 9 * C + 4 * C * C) * A ** 4 / 24 + (61 - 58 * T + T * T + 600 * C - 330 * ep2) * A ** 6 / 720))];
+  }
+  function gridLatLon(c, x, y) {
     const sy = y / c.R, sx = x / (c.R * Math.cos(c.lat0 * D2R));
     if (Math.abs(sy) > 1 || Math.abs(sx) > 1) return null;
     return [c.lat0 + Math.asin(sy) / D2R, c.lon0 + Math.asin(sx) / D2R];
   }
-  function toLocal(lat, lon) {
+  function toLatLon(x, y) { // MOOS's inverse: the grid's answer corrected until within 1 m
     const c = S.cfg;
-    return [c.R * Math.cos(c.lat0 * D2R) * Math.sin((lon - c.lon0) * D2R), c.R * Math.sin((lat - c.lat0) * D2R)];
+    if (!c || !c.datum) return null;
+    let gx = x, gy = y, err = Infinity;
+    for (let i = 0; i < 16 && err > 1; i++) {
+      const ll = gridLatLon(c, gx, gy);
+      if (!ll) return null;
+      const [e, n] = utm(ll[0], ll[1], c.lonc), dx = e - c.e0 - x, dy = n - c.n0 - y;
+      gx -= dx; gy -= dy; err = Math.hypot(dx, dy);
+    }
+    return err > 1 ? null : gridLatLon(c, gx, gy);
+  }
+  function toLocal(lat, lon) {
+    const c = S.cfg, [e, n] = utm(lat, lon, c.lonc);
+    return [e - c.e0, n - c.n0];
   }
 
   // ---------------------------------------------------------------- the model from the stream

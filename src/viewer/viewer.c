@@ -590,7 +590,12 @@ static void json_cfg(const kelp_viewer *v, jw *w)
     jw_knum(w, &f, "datum", v->have_datum ? 1 : 0, 0);
     jw_knum(w, &f, "lat0", v->have_datum ? v->geo.lat0 : 0, 8);
     jw_knum(w, &f, "lon0", v->have_datum ? v->geo.lon0 : 0, 8);
-    jw_knum(w, &f, "R", v->have_datum ? kelp_geo_radius(v->geo.lat0) : 0, 3);
+    /* the page converts as kelp_geo does (UTM as MOOS): the local grid's radius, the zone's
+     * central meridian and the datum's easting/northing */
+    jw_knum(w, &f, "R", v->have_datum ? v->geo.radius : 0, 3);
+    jw_knum(w, &f, "lonc", v->have_datum ? v->geo.lon_c : 0, 1);
+    jw_knum(w, &f, "e0", v->have_datum ? v->geo.e0 : 0, 4);
+    jw_knum(w, &f, "n0", v->have_datum ? v->geo.n0 : 0, 4);
     jw_knum(w, &f, "stale", v->stale_report_thresh, 3);
     jw_knum(w, &f, "trails", v->trails_length, 0);
     if (v->image_url[0]) {
