@@ -46,7 +46,14 @@ for i in $(seq 1 300); do
   awk -v h="$minh" 'BEGIN{exit !(h >= 0 && h <= 8)}' && break
   sleep 0.1
 done
-sleep 1.5   # let it settle: the helm has nothing left to do and stops the vehicle
+# let it settle: the helm completes waypt_return (its capture radius is inside the 8 m above) and
+# has nothing left to do; under a loaded machine (ASan, CI) that can take some seconds of wall time
+done_both() {
+  $BIN/kelp-logcheck run.lcm --print 2>/dev/null | grep IVPHELM_SUMMARY | tail -1 |
+    grep -qE "completed_bhvs=(transit_to_point:waypt_return|waypt_return:transit_to_point)"
+}
+for i in $(seq 1 150); do done_both && break; sleep 0.1; done
+sleep 0.5
 kill -TERM $LP; wait $LP || { cat launch.out; fail "launcher did not end cleanly"; }
 kill -INT $LG; wait $LG 2>/dev/null || true
 read reached mind minh tr th tl lx ly < <(track)
