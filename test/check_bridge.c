@@ -1,6 +1,7 @@
 /* Unit tests: kelp-bridge's core -- route lines, datagram framing, the replay window per
  * sending community, the allow-list and oversize values. */
 #include <check.h>
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include <kelp/bridge.h>
@@ -221,6 +222,48 @@ END_TEST
 
 
 /* pShare's configuration and command model (MOOS-IvP 24.8 Share.cpp, ShareHelp.cpp, readme.md) */
+/* 24.8's Route::IsActive: frequency, duration, max_shares, and duration = 0 restated */
+START_TEST(t_pshare_limits)
+{
+    kelp_bridge_route r[4];
+    size_t n = 0;
+    kelp_diag why = {0};
+    ck_assert_int_eq(kelp_bridge_pshare_output("src_name=A, route=h:9000, frequency=4, duration=10, max_shares=3", r, 4, &n, &why), 0);
+    ck_assert(r[0].limited && r[0].frequency == 4 && r[0].duration == 10 && r[0].max_shares == 3);
+    kelp_bridge_share s = { .created = 100 };
+    ck_assert(kelp_bridge_share_active(&r[0], &s, 100));
+    s.done = 1, s.last_sent = 100;
+    ck_assert(!kelp_bridge_share_active(&r[0], &s, 100.2));  /* sooner than 1/4 s */
+    ck_assert(kelp_bridge_share_active(&r[0], &s, 100.25));
+    ck_assert(kelp_bridge_share_active(&r[0], &s, 99));      /* a clock step back never stalls it */
+    s.done = 3, s.last_sent = 101;
+    ck_assert(!kelp_bridge_share_active(&r[0], &s, 102));    /* max_shares */
+    s.done = 1;
+    ck_assert(!kelp_bridge_share_active(&r[0], &s, 110.5));  /* past its duration */
+    ck_assert(!kelp_bridge_share_active(&r[0], &s, NAN));
+    /* defaults: every notification, for ever; shorthand @F (not a number: 0, every one) */
+    ck_assert_int_eq(kelp_bridge_pshare_output("X->Y:h:9000@0.5 & h2:9001@fast & multicast_3", r, 4, &n, &why), 0);
+    ck_assert_uint_eq(n, 3);
+    ck_assert(r[0].frequency == 0.5 && r[1].frequency == 0 && r[2].frequency == 0);
+    ck_assert(r[0].duration < 0 && r[0].max_shares < 0);
+    s = (kelp_bridge_share){ .created = 0, .done = 1000000, .last_sent = 5 };
+    ck_assert(kelp_bridge_share_active(&r[1], &s, 1e9));
+    /* a new route with duration = 0 never shares (24.8); restated, it is max_shares 1 */
+    ck_assert_int_eq(kelp_bridge_pshare_output("src_name=A, route=h:9000, duration=0", r, 4, &n, &why), 0);
+    s = (kelp_bridge_share){ .created = 100 };
+    ck_assert(!kelp_bridge_share_active(&r[0], &s, 100.5));
+    r[0].max_shares = 1, r[0].duration = INFINITY;
+    ck_assert(kelp_bridge_share_active(&r[0], &s, 100.5));
+    s.done = 1;
+    ck_assert(!kelp_bridge_share_active(&r[0], &s, 100.6));
+    /* UDPSHARE routes (pMOOSBridge) have no limits */
+    ck_assert_int_eq(kelp_bridge_parse_share("[X] -> c @ h:9000", r, 4, &n, &why), 0);
+    ck_assert(!r[0].limited);
+    s = (kelp_bridge_share){ .created = 0, .done = 5, .last_sent = 1 };
+    ck_assert(kelp_bridge_share_active(&r[0], &s, 1));
+}
+END_TEST
+
 START_TEST(t_pshare_output_forms)
 {
     kelp_bridge_route r[8];
@@ -305,6 +348,7 @@ Suite *kelp_bridge_suite(void)
     tcase_add_test(tc, t_allow_list);
     tcase_add_test(tc, t_oversize_value);
     tcase_add_test(tc, t_pshare_output_forms);
+    tcase_add_test(tc, t_pshare_limits);
     tcase_add_test(tc, t_pshare_inputs_and_summaries);
     suite_add_tcase(s, tc);
     return s;

@@ -1,10 +1,12 @@
 /* kelp-bridge: forward variables between communities over UDP, as pShare (MOOS-IvP 24.8; any
  * name but pMOOSBridge: input/output blocks, <NAME>_CMD at run time, PSHARE_*_SUMMARY every
- * second; multicast_N routes are read, not carried) or as the seed's pMOOSBridge (UDPListen,
+ * second; multicast_N routes on multicast_address:multicast_base_port+N; an output's frequency,
+ * duration and max_shares as 24.8 applies them) or as the seed's pMOOSBridge (UDPListen,
  * UDPSHARE, PMB_REGISTER, PMB_UDP_LISTEN). Both: KEY (HMAC-SHA256) and ALLOW (the names
  * received datagrams may publish here). A bridged variable is never forwarded again, a route
  * is added once, a replayed datagram is refused (kelp/bridge.h); the datagrams are kelp's. */
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,6 +30,9 @@ typedef struct bridge {
     kelp_bridge_route rt[MAX_ROUTES], in[MAX_INPUTS];
     struct sockaddr_in addr[MAX_ROUTES];
     unsigned long sent[MAX_ROUTES];
+    kelp_bridge_share share[MAX_ROUTES]; /* pShare's per-route limits' state */
+    char mc_group[64];                   /* multicast_address */
+    unsigned mc_base;                    /* multicast_base_port */
     size_t nroutes, ninputs;
     char allow[2048]; /* comma-separated ALLOW entries; "" allows every name */
     kelp_bridge_tx btx;
@@ -47,17 +52,55 @@ static int hmac_sha256(const uint8_t *key, size_t keylen, const uint8_t *data, s
     return mbedtls_md_hmac(mbedtls_md_info_from_type(MBEDTLS_MD_SHA256), key, keylen, data, len, out) ? KELP_ERR_CRYPTO : 0;
 }
 
+/* route i shares v when its limits allow (pShare's rule); counts the share */
+static void send_route(kelp_app *app, bridge *b, size_t i, const kelp_var *v, double now)
+{
+    if (!b->addr[i].sin_family || !kelp_bridge_share_active(&b->rt[i], &b->share[i], now)) return;
+    size_t len = 0;
+    int rc = kelp_bridge_frame(&b->btx, v, b->rt[i].alias, b->key, b->keylen, hmac_sha256, NULL, b->buf,
+                               KELP_BRIDGE_DGRAM_MAX, &len);
+    if (rc == KELP_ERR_NOSPACE) b->tx_oversize++, kelp_app_run_warning(app, "%s is too large for one datagram", v->name);
+    else if (rc < 0) b->tx_err++;
+    else if (kelp_udp_send(b->sock, &b->addr[i], b->buf, len) < 0)
+        b->tx_err++, kelp_app_run_warning(app, "send to %s:%u failed: %s", b->rt[i].host, b->rt[i].port, strerror(errno));
+    else b->tx++, b->sent[i]++, b->share[i].done++, b->share[i].last_sent = now;
+}
+
+/* 24.8: stating a route again resets its limits and its clock; with duration = 0 it shares
+ * the latest value once */
+static void restate_route(kelp_app *app, bridge *b, const kelp_bridge_route *r)
+{
+    for (size_t i = 0; i < b->nroutes; i++) {
+        kelp_bridge_route *q = &b->rt[i];
+        if (strcmp(q->src, r->src) != 0 || strcmp(q->alias, r->alias) != 0 || q->multicast != r->multicast ||
+            q->port != r->port || strcmp(q->host, r->host) != 0)
+            continue;
+        q->limited = r->limited, q->frequency = r->frequency, q->duration = r->duration, q->max_shares = r->max_shares;
+        b->share[i] = (kelp_bridge_share){ .created = kelp_app_time(app) };
+        if (r->limited && r->duration == 0) {
+            q->max_shares = 1, q->duration = INFINITY;
+            const kelp_var *v = kelp_bus_cached(kelp_app_bus(app), r->src);
+            if (v) send_route(app, b, i, v, kelp_app_time(app));
+        }
+        return;
+    }
+}
+
 static int add_route(kelp_app *app, bridge *b, const kelp_bridge_route *r)
 {
     size_t at = b->nroutes;
     int rc = kelp_bridge_table_add(b->rt, &b->nroutes, MAX_ROUTES, r);
     if (rc <= 0) {
         if (rc < 0) kelp_app_run_warning(app, "too many routes (max %d)", MAX_ROUTES);
+        else restate_route(app, b, r);
         return rc; /* 0: already bridged, no duplicates */
     }
     memset(&b->addr[at], 0, sizeof b->addr[at]), b->sent[at] = 0;
-    if (r->multicast) kelp_app_event(app, "%s -> multicast_%u: not carried (kelp-bridge is unicast)", r->src, r->port);
-    else if (kelp_udp_resolve(r->host, r->port, &b->addr[at]) < 0) /* kept, never sent (as pShare) */
+    b->share[at] = (kelp_bridge_share){ .created = kelp_app_time(app) };
+    if (r->multicast) {
+        if (kelp_udp_resolve(b->mc_group, (uint16_t)(b->mc_base + r->port), &b->addr[at]) < 0)
+            kelp_app_run_warning(app, "bad multicast_address %s: %s not sent", b->mc_group, r->src);
+    } else if (kelp_udp_resolve(r->host, r->port, &b->addr[at]) < 0) /* kept, never sent (as pShare) */
         kelp_app_run_warning(app, "cannot resolve host %s: %s not sent there", r->host, r->src);
     bool first = true; /* register once per distinct source */
     for (size_t i = 0; i < at; i++) first = first && strcmp(b->rt[i].src, r->src) != 0;
@@ -101,17 +144,13 @@ static int add_input(kelp_app *app, bridge *b, const kelp_bridge_route *r, kelp_
     size_t at = b->ninputs;
     int rc = kelp_bridge_table_add(b->in, &b->ninputs, MAX_INPUTS, r);
     if (rc <= 0) return rc < 0 ? kelp_fail(d, rc, "too many inputs") : 0;
-    b->in_fd[at] = -1;
-    if (r->multicast) {
-        kelp_app_event(app, "input multicast_%u: not listened to (kelp-bridge is unicast)", r->port);
-        return 1;
-    }
-    b->in_fd[at] = kelp_udp_open(r->port, 4 << 20, d);
+    b->in_fd[at] = r->multicast ? kelp_udp_open_group(b->mc_group, (uint16_t)(b->mc_base + r->port), 4 << 20, d)
+                                : kelp_udp_open(r->port, 4 << 20, d);
     if (b->in_fd[at] < 0 || kelp_app_watch_fd(app, b->in_fd[at], on_udp) < 0) {
         b->ninputs--;
         return kelp_fail(d, KELP_ERR_IO, "cannot listen");
     }
-    if (b->sock < 0) b->sock = b->in_fd[at]; /* send from the first listening port */
+    if (b->sock < 0 && !r->multicast) b->sock = b->in_fd[at]; /* send from the first listening port */
     return 1;
 }
 
@@ -144,17 +183,8 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
     /* forward what belongs to this community and did not come through a bridge */
     if (v->flags & KELP_VAR_FLAG_BRIDGED) return;
     if (strcmp(v->community, kelp_app_community(app)) != 0) return;
-    for (size_t i = 0; i < b->nroutes; i++) {
-        if (!b->addr[i].sin_family || !kelp_bus_match(b->rt[i].src, v->name)) continue;
-        size_t len = 0;
-        int rc = kelp_bridge_frame(&b->btx, v, b->rt[i].alias, b->key, b->keylen, hmac_sha256, NULL, b->buf,
-                                   KELP_BRIDGE_DGRAM_MAX, &len);
-        if (rc == KELP_ERR_NOSPACE) b->tx_oversize++, kelp_app_run_warning(app, "%s is too large for one datagram", v->name);
-        else if (rc < 0) b->tx_err++;
-        else if (kelp_udp_send(b->sock, &b->addr[i], b->buf, len) < 0)
-            b->tx_err++, kelp_app_run_warning(app, "send to %s:%u failed: %s", b->rt[i].host, b->rt[i].port, strerror(errno));
-        else b->tx++, b->sent[i]++;
-    }
+    for (size_t i = 0; i < b->nroutes; i++)
+        if (kelp_bus_match(b->rt[i].src, v->name)) send_route(app, b, i, v, kelp_app_time(app));
 }
 
 /* every line of `name` in the block through directive() (kind 0: UDPSHARE, 1 output, 2 input) */
@@ -217,11 +247,25 @@ static int startup(kelp_app *app, void *st)
         if (add_input(app, b, &r, &err) < 0) return kelp_app_config_error(app, pn, "%s", kelp_diag_text(&err));
         if (!b->pshare) KELP_IGNORE(kelp_app_notify_double(app, "PMB_UDP_LISTEN", port));
     }
-    if (lines(app, b, "input", 2) < 0 || lines(app, b, "output", 1) < 0) return -1;
+    /* pShare's multicast channels: multicast_N is multicast_address : multicast_base_port + N */
+    memcpy(b->mc_group, KELP_PSHARE_MCAST_ADDR, sizeof KELP_PSHARE_MCAST_ADDR);
+    b->mc_base = KELP_PSHARE_MCAST_PORT;
+    const kelp_mission_node *mn = kelp_app_param(app, "multicast_address");
+    struct sockaddr_in probe;
+    if (mn && (kelp_mission_copy(mn, b->mc_group, sizeof b->mc_group) < 0 || kelp_udp_resolve(b->mc_group, 1, &probe) < 0 ||
+               !IN_MULTICAST(ntohl(probe.sin_addr.s_addr))))
+        return kelp_app_config_error(app, mn, "multicast_address must be an IPv4 multicast address (224.0.0.0/4)");
+    double base = KELP_PSHARE_MCAST_PORT;
+    mn = kelp_app_param(app, "multicast_base_port");
+    if (mn && (kelp_mission_double(mn, &base) < 0 || base < 1 || base > 65535 - 255 || base != (int)base))
+        return kelp_app_config_error(app, mn, "multicast_base_port must be a port number 1-65280");
+    b->mc_base = (unsigned)base;
+    (void)kelp_app_param(app, "verbose");
+    if (lines(app, b, "input", 2) < 0) return -1;
     if (b->sock < 0 && (b->sock = kelp_udp_open(0, 0, &err)) < 0) return kelp_app_config_error(app, NULL, "%s", kelp_diag_text(&err));
+    if (kelp_udp_multicast_tx(b->sock, 1) < 0) kelp_app_run_warning(app, "multicast sending not set up: %s", strerror(errno));
+    if (lines(app, b, "output", 1) < 0) return -1;
     if (lines(app, b, "UDPSHARE", 0) < 0 || lines(app, b, "SHARE", 0) < 0) return -1;
-    for (int i = 0; i < 3; i++) /* pShare's: multicast is not carried */
-        (void)kelp_app_param(app, i == 0 ? "multicast_base_port" : i == 1 ? "multicast_address" : "verbose");
     return kelp_app_register(app, b->cmd_var, 0);
 }
 
@@ -261,10 +305,12 @@ static const kelp_app_def def = {
                "and optional HMAC authentication.",
     .params = (const kelp_app_param_info[]){
         { "input", "route = localhost:9067 & multicast_9", "pShare, repeatable: where to listen (, white_list = A & B*)", NULL },
-        { "output", "src_name = P, dest_name = H, route = 178.4.5.6:9001", "pShare, repeatable (or P->H:178.4.5.6:9001)", NULL },
-        { "multicast_base_port", "9061", "pShare: accepted (multicast is not carried)", NULL },
-        { "multicast_address", "224.1.1.12", "pShare: accepted (multicast is not carried)", NULL },
-        { "verbose", "false", "pShare: accepted", NULL },
+        { "output", "src_name = P, dest_name = H, route = 178.4.5.6:9001",
+          "pShare, repeatable (or P->H:178.4.5.6:9001@F); also frequency = F (shares/s at most), duration = D (s), max_shares = M",
+          NULL },
+        { "multicast_base_port", "24460", "pShare: multicast_N is this port + N (default 24460)", NULL },
+        { "multicast_address", "224.1.1.11", "pShare: the multicast group of multicast_N routes (default 224.1.1.11)", NULL },
+        { "verbose", "false", "pShare: accepted (kelp's run warnings and APPCAST say what verbose prints)", NULL },
         { "UDPListen", "9200", "pMOOSBridge: UDP port other bridges send to (default: none, send only)", NULL },
         { "UDPSHARE", "[NODE_REPORT_LOCAL] -> shoreside @ 192.168.1.10:9200 [NODE_REPORT]",
           "pMOOSBridge, repeatable: [vars] -> community @ host:port [aliases]", NULL },

@@ -214,6 +214,7 @@ static void shutdown_(kelp_app *app, void *st)
 
 static const kelp_app_def def = {
     .name = "kelp-viewer",
+    .pid_var = "PMARINEVIEWER_PID", /* the pMarineViewer role: 24.8 posts it at start-up */
     .purpose = "The pMarineViewer role in a browser: vehicles, trails and VIEW_* artifacts live, with action buttons.",
     .synopsis = "Serves a web page (HTTP and Server-Sent Events, on 127.0.0.1 unless --bind with a token) showing\n"
                 "every vehicle of NODE_REPORT/NODE_REPORT_LOCAL (icon by type and heading, name, trail, stale\n"

@@ -106,6 +106,7 @@ static void report(kelp_app *app, void *st, FILE *out)
 
 static const kelp_app_def def = {
     .name = "uFldNodeBroker",
+    .pid_var = "UFLDNODEBROKER_PID",
     .purpose = "Find the shoreside from TRY_SHORE_HOST, ping it, and have pShare bridge the BRIDGE variables to it "
                "once it acks.",
     .params = (const kelp_app_param_info[]){

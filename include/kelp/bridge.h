@@ -67,7 +67,23 @@ typedef struct kelp_bridge_route {
     char host[KELP_MAX_NAME];
     uint16_t port;
     bool multicast;                   /**< pShare's multicast_<port> (port holds the channel; host "") */
+    bool limited;                     /**< pShare output: duration and max_shares below apply */
+    double frequency;                 /**< pShare: shares per second at most (0: every notification) */
+    double duration;                  /**< pShare: seconds the share lasts from its creation (<0: for ever) */
+    int max_shares;                   /**< pShare: shares at most (<0: no limit) */
 } kelp_bridge_route;
+
+/** A share's run-time state (pShare's route bookkeeping). */
+typedef struct kelp_bridge_share {
+    double created;      /**< MOOS time the route was (re)stated */
+    double last_sent;    /**< MOOS time of the last share (0: none yet) */
+    long done;           /**< shares made */
+} kelp_bridge_share;
+
+/** pShare's rule for whether a route shares a notification at now: not once its duration has
+ *  passed (duration 0 on a restated route: the latest value once), not past max_shares, not
+ *  sooner than 1/frequency after the last share. A clock step back never stops a route. */
+bool kelp_bridge_share_active(const kelp_bridge_route *r, const kelp_bridge_share *s, double now);
 
 /** Parse one UDPSHARE/SHARE value into up to cap routes. @return 0 and *n, or
  *  KELP_ERR_PARSE, the reason in d. */
@@ -82,7 +98,8 @@ KELP_MUST_CHECK int kelp_bridge_parse_register(const char *s, kelp_bridge_route 
  *   output = X->Y:10.0.0.5:9200 & 10.0.0.6:9300 & Z:multicast_8            (shorthand)
  * and at run time PSHARE_CMD (<APP>_CMD) = "cmd=output,src_name=..,dest_name=..,route=..".
  * Inputs: input = route=localhost:9200 & multicast_9 [, white_list=A & B*]. Keys are read
- * case-insensitively; duration, max_shares and frequency are accepted (not applied). */
+ * case-insensitively. An output's frequency (or "@F" after a shorthand route), duration and
+ * max_shares fill the routes' limits (kelp_bridge_share_active). */
 #define KELP_PSHARE_MCAST_ADDR "224.1.1.11" /**< pShare's multicast group (multicast_address) */
 #define KELP_PSHARE_MCAST_PORT 24460u       /**< multicast_N is this port + N (multicast_base_port) */
 

@@ -1,4 +1,5 @@
 /* kelp bridge: route parsing and datagram framing (core). */
+#include <math.h>
 #include <stdarg.h>
 #include <string.h>
 #include <kelp/util.h>
@@ -343,7 +344,14 @@ static void trim_n(const char **s, size_t *len)
 static int one_route(const char *s, size_t len, kelp_bridge_route *r, char *dest, kelp_diag *d)
 {
     const char *at = memchr(s, '@', len);
-    if (at) len = (size_t)(at - s);
+    if (at) { /* "@F": F shares per second (24.8: anything not a number is 0, every notification) */
+        const char *f = at + 1;
+        size_t fl = len - (size_t)(f - s);
+        trim_n(&f, &fl);
+        double hz;
+        r->frequency = kelp_parse_finite(f, fl, &hz) == 0 && hz > 0 ? hz : 0;
+        len = (size_t)(at - s);
+    }
     trim_n(&s, &len);
     const char *part[4];
     size_t pl[4], np = 0, a = 0;
@@ -422,14 +430,30 @@ static bool names_route(const char *line)
     return false;
 }
 
+/* a number-valued key of an output line into *out (left alone when absent or not a number) */
+static void kv_number(const char *line, const char *key, double *out)
+{
+    const char *v;
+    size_t vl;
+    double x;
+    if (kv_find(line, key, &v, &vl) && kelp_parse_finite(v, vl, &x) == 0) *out = x;
+}
+
 int kelp_bridge_pshare_output(const char *line, kelp_bridge_route *routes, size_t cap, size_t *n, kelp_diag *d)
 {
     kelp_bridge_route proto;
     memset(&proto, 0, sizeof proto);
+    proto.limited = true, proto.duration = -1, proto.max_shares = -1;
     const char *rv;
     size_t rvl;
     *n = 0;
-    if (names_route(line)) { /* src_name=X, dest_name=Y, route=R & R */
+    if (names_route(line)) { /* src_name=X, dest_name=Y, route=R & R, frequency=F, duration=D, max_shares=M */
+        double ms = -1;
+        kv_number(line, "frequency", &proto.frequency);
+        kv_number(line, "duration", &proto.duration);
+        kv_number(line, "max_shares", &ms);
+        if (!(proto.frequency > 0)) proto.frequency = 0;
+        proto.max_shares = ms >= 0 && ms < 2147483647.0 ? (int)ms : -1;
         int rc = kelp_kv_get(line, ',', "src_name", proto.src, sizeof proto.src);
         if (rc != 1 || !proto.src[0]) return kelp_fail(d, KELP_ERR_PARSE, "src_name is a required field");
         if (kelp_kv_get(line, ',', "dest_name", proto.alias, sizeof proto.alias) < 0) return kelp_fail(d, KELP_ERR_PARSE, "dest_name too long");
@@ -466,6 +490,18 @@ int kelp_bridge_pshare_input(const char *line, kelp_bridge_route *routes, size_t
         if (rv[i] != ' ' && rv[i] != '\t') white[w++] = rv[i] == '&' ? ',' : rv[i];
     white[w] = 0;
     return KELP_OK;
+}
+
+bool kelp_bridge_share_active(const kelp_bridge_route *r, const kelp_bridge_share *s, double now)
+{
+    if (!isfinite(now)) return false;
+    if (r->limited) {
+        if (r->duration == 0 && s->done < r->max_shares) return true;
+        if (r->duration >= 0 && now - s->created > r->duration) return false;
+        if (r->max_shares >= 0 && s->done >= r->max_shares) return false;
+    }
+    /* 1/frequency since the last share; a step back (now before it) shares again */
+    return !(r->frequency > 0 && s->done > 0 && now >= s->last_sent && now - s->last_sent < 1.0 / r->frequency);
 }
 
 int kelp_bridge_pshare_cmd(const char *s)

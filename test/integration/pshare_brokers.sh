@@ -196,6 +196,8 @@ ok "shore: PSHARE_INPUT_SUMMARY and PHI_HOST_INFO as 24.8 posts them"
 for v in alpha bravo; do
   E=$T/$v/ev.txt
   n=$([ $v = alpha ] && echo 2 || echo 3); p=$([ $v = alpha ] && echo 1 || echo 2)
+  # 24.8's uFldNodeBroker posts its process id at start-up
+  grep -qE "^[0-9.]+ uFldNodeBroker UFLDNODEBROKER_PID [1-9][0-9]*$" $E || fail "$v: no UFLDNODEBROKER_PID"
   # the ping bridge, every iteration until the first ack, then never again
   t_ack=$(tim1 $E NODE_BROKER_ACK)
   [ -n "$t_ack" ] || fail "$v: no NODE_BROKER_ACK"

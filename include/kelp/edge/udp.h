@@ -15,6 +15,15 @@ extern "C" {
  *  otherwise), with a receive buffer of rcvbuf bytes when > 0. @return fd, or <0 with the reason in d. */
 KELP_MUST_CHECK int kelp_udp_open(uint16_t port, int rcvbuf, kelp_diag *d);
 
+/** A non-blocking UDP socket listening to multicast group:port (address reuse on, so several
+ *  listeners on one host share the port), receive buffer rcvbuf when > 0.
+ *  @return fd, or <0 with the reason in d. */
+KELP_MUST_CHECK int kelp_udp_open_group(const char *group, uint16_t port, int rcvbuf, kelp_diag *d);
+
+/** Multicast sending on fd: hop limit ttl (0 keeps it on this host) and loop-back on, so
+ *  listeners on this host hear it. @return 0 or KELP_ERR_IO. */
+KELP_MUST_CHECK int kelp_udp_multicast_tx(int fd, int ttl);
+
 /** Resolve an IPv4 host name or dotted address. @return 0 or KELP_ERR_NOTFOUND. */
 KELP_MUST_CHECK int kelp_udp_resolve(const char *host, uint16_t port, struct sockaddr_in *out);
 
