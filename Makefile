@@ -78,7 +78,7 @@ SOCORE  := $(BUILD)/libkelp_core.so.$(VERSION)
 SOEDGE  := $(BUILD)/libkelp.so.$(VERSION)
 
 .PHONY: all deps test unit integration conformance check-alloc firmware cross asan lint fuzz bench install \
-        demo demo-xrelay spy-jar clean tests-bin unit-noerrmsg
+        demo demo-xrelay spy-jar clean tests-bin unit-noerrmsg asan-build asan-test
 .DEFAULT_GOAL := all
 
 all: $(LIBCORE) $(LIBEDGE) $(LIBPLOT) $(LIBVIEWER) $(SOCORE) $(SOEDGE) $(APP_BINS) scripts
@@ -223,10 +223,16 @@ cross:
 # KELP_ASAN_IT_SKIP.
 KELP_ASAN_IT_SKIP ?= can_vm acomms_e2e_loss acomms_e2e_polled basic_ccl btr_ctd encounter fleet_demo commander_console \
                      spy_xvfb viewer_browser udpm_interop
-asan:
+# asan = asan-build then asan-test (CI builds while the plain tests run)
+asan: asan-build
+	@$(MAKE) --no-print-directory asan-test
+
+asan-build:
 	@$(MAKE) --no-print-directory BUILD=build-asan CC=gcc \
 	  OPT="-O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" \
 	  LDFLAGS="-fsanitize=address,undefined" all tests-bin
+
+asan-test:
 	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  KELP_IT_SKIP="$(KELP_ASAN_IT_SKIP)" scripts/run-tests.sh build-asan
 
