@@ -46,10 +46,10 @@ for i in $(seq 1 300); do
   awk -v h="$minh" 'BEGIN{exit !(h >= 0 && h <= 8)}' && break
   sleep 0.1
 done
-# let it settle: the helm completes waypt_return (its capture radius is inside the 8 m above) and
-# has nothing left to do; under a loaded machine (ASan, CI) that can take some seconds of wall time
+# let it settle: the helm completes waypt_return and has nothing left to do (the summary is the
+# IVPHELM_SUMMARY variable's, not PHELMIVP_STATUS's list of names that mentions it)
 done_both() {
-  $BIN/kelp-logcheck run.lcm --print 2>/dev/null | grep IVPHELM_SUMMARY | tail -1 |
+  $BIN/kelp-logcheck run.lcm --print 2>/dev/null | awk '$3=="IVPHELM_SUMMARY"' | tail -1 |
     grep -qE "completed_bhvs=(transit_to_point:waypt_return|waypt_return:transit_to_point)"
 }
 for i in $(seq 1 150); do done_both && break; sleep 0.1; done
@@ -65,8 +65,8 @@ grep -qE "^[0-9.]+ pHelmIvP RETURN true$" log.txt || fail "the endflag RETURN=tr
 grep -qE "^[0-9.]+ kelp-poke DEPLOY true$" log.txt || fail "DEPLOY poke not in the log"
 grep -qE "pHelmIvP IVPHELM_BHV_ACTIVE transit_to_point" log.txt || fail "transit_to_point never active"
 grep -qE "pHelmIvP IVPHELM_BHV_ACTIVE waypt_return" log.txt || fail "waypt_return never active"
-grep "IVPHELM_SUMMARY" log.txt | tail -1 | grep -qE "completed_bhvs=(transit_to_point:waypt_return|waypt_return:transit_to_point)" ||
-  { grep IVPHELM_SUMMARY log.txt | tail -1; fail "both behaviours should be completed at the end"; }
+awk '$3=="IVPHELM_SUMMARY"' log.txt | tail -1 | grep -qE "completed_bhvs=(transit_to_point:waypt_return|waypt_return:transit_to_point)" ||
+  { awk '$3=="IVPHELM_SUMMARY"' log.txt | tail -1; fail "both behaviours should be completed at the end"; }
 grep -qE "pNodeReporter NODE_REPORT_LOCAL NAME=alder,TYPE=UUV,TIME=[0-9.]+,X=-?[0-9.]+,Y=-?[0-9.]+,LAT=43\.82[0-9]+,LON=-70\.3[0-9]+,SPD=" log.txt ||
   fail "no NODE_REPORT_LOCAL in the uField format"
 # the picture

@@ -75,20 +75,25 @@ awk -v a="$end_t" -v b="$th" 'BEGIN{exit !(a - b > 10)}' || fail "run too short 
 [ "$last_h" = "180" ] || fail "final heading $last_h, expected 180"
 mid_h=$(awk -v th="$th" '$2=="uSimMarine" && $3=="NAV_HEADING" && $1 > th + 4.4 && $1 < th + 4.6 {print $4; exit}' log.txt)
 [ -n "$mid_h" ] && awk -v h="$mid_h" 'BEGIN{exit !(h > 128 && h < 142)}' || fail "heading 4.5 s into the turn is '$mid_h', expected about 135"
-# node reports: the uField format, LAT/LON from X/Y by the MOOS local grid (awk has no asin:
-# asin(u) = atan2(u, sqrt(1-u^2)))
+# node reports: the uField format, LAT/LON from X/Y by UTM as MOOS-IvP 24.8 (kelp/geo.h): the
+# reported LAT/LON taken back to UTM metres from the datum by the USGS series (zone 19) must be
+# the reported X/Y (MOOS's inverse places a point within a metre; at these distances, a cm)
 grep -E "^[0-9.]+ pNodeReporter NODE_REPORT_LOCAL " log.txt | tail -1 > rep.txt
 [ -s rep.txt ] || fail "no NODE_REPORT_LOCAL"
 grep -qE "NODE_REPORT_LOCAL NAME=alpha,TYPE=kayak,TIME=[0-9]+\.[0-9]{2},X=-?[0-9]+\.[0-9]{2},Y=-?[0-9]+\.[0-9]{2},LAT=43\.[0-9]{6},LON=-70\.[0-9]{6},SPD=2\.00,HDG=180\.00,YAW=-1\.5707963,DEPTH=0\.00,LENGTH=3\.8,MODE=NOHELM-EVER,INDEX=[1-9][0-9]*$" rep.txt ||
   { cat rep.txt; fail "NODE_REPORT_LOCAL not in the expected format"; }
-awk '{ split($4, f, ","); for (i in f) { split(f[i], kv, "="); v[kv[1]] = kv[2] }
-       pi = atan2(0, -1); a = 6378137; b = 6356752; lat0 = 43.8253; lon0 = -70.3304
-       t = sin(lat0*pi/180)/cos(lat0*pi/180); R = b*sqrt(1+t*t)/sqrt(b*b/(a*a)+t*t)
-       u = v["Y"]/R; lat = lat0 + atan2(u, sqrt(1-u*u))*180/pi
-       w = v["X"]/(R*cos(lat0*pi/180)); lon = lon0 + atan2(w, sqrt(1-w*w))*180/pi
-       dl = lat - v["LAT"]; dn = lon - v["LON"]; if (dl<0) dl=-dl; if (dn<0) dn=-dn
-       printf "report X=%s Y=%s LAT=%s LON=%s (formula %.6f %.6f)\n", v["X"], v["Y"], v["LAT"], v["LON"], lat, lon
-       exit !(dl < 2e-6 && dn < 2e-6) }' rep.txt || fail "LAT/LON do not match the local grid conversion"
+awk 'function utm(lat, lon, o,   e2, ep, p, s, c, t, N, T, C, A, M) {
+         e2 = 0.00669438; ep = e2/(1-e2); p = lat*pi/180; s = sin(p); c = cos(p); t = s/c
+         N = 6378137/sqrt(1-e2*s*s); T = t*t; C = ep*c*c; A = c*(lon+69)*pi/180
+         M = 6378137*((1-e2/4-3*e2^2/64-5*e2^3/256)*p - (3*e2/8+3*e2^2/32+45*e2^3/1024)*sin(2*p) \
+             + (15*e2^2/256+45*e2^3/1024)*sin(4*p) - (35*e2^3/3072)*sin(6*p))
+         o[1] = 0.9996*N*(A+(1-T+C)*A^3/6+(5-18*T+T*T+72*C-58*ep)*A^5/120)
+         o[2] = 0.9996*(M+N*t*(A*A/2+(5-T+9*C+4*C*C)*A^4/24+(61-58*T+T*T+600*C-330*ep)*A^6/720)) }
+     { split($4, f, ","); for (i in f) { split(f[i], kv, "="); v[kv[1]] = kv[2] }
+       pi = atan2(0, -1); utm(43.8253, -70.3304, o0); utm(v["LAT"], v["LON"], o)
+       dx = o[1] - o0[1] - v["X"]; dy = o[2] - o0[2] - v["Y"]
+       printf "report X=%s Y=%s LAT=%s LON=%s (back to UTM: %.3f %.3f)\n", v["X"], v["Y"], v["LAT"], v["LON"], o[1]-o0[1], o[2]-o0[2]
+       exit !(sqrt(dx*dx + dy*dy) < 0.15) }' rep.txt || fail "LAT/LON are not X/Y by UTM"
 # kelp-plot on the run
 $BIN/kelp-plot run.lcm -o run.png -o run.svg > plot.out || { cat plot.out; fail "kelp-plot failed"; }
 grep -qE "^alpha +report " plot.out || { cat plot.out; fail "no alpha track"; }
