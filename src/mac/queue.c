@@ -82,9 +82,27 @@ int kelp_queue_init(kelp_queue_mgr *m, int modem_id, kelp_queue *queues, size_t 
     return KELP_OK;
 }
 
+/* The time step rule (docs/ARCHITECTURE.md): after the clock steps back, every stored time moves
+ * back as far, so a blackout or a ttl keeps what remained of it instead of lasting the step too
+ * (a send time an hour ahead would black a queue out for an hour).  A step forward is elapsed
+ * time: blackouts end, old messages expire, one frame per request as always. */
+static void clock_step(kelp_queue_mgr *m, kelp_time now)
+{
+    double back = kelp_clock_back(&m->clock, now);
+    if (back <= 0.0) return;
+    m->count.clock_steps++;
+    for (size_t k = 0; k < m->nq; k++) {
+        kelp_queue *q = &m->q[k];
+        q->last_send -= back;
+        for (int32_t i = q->head; i >= 0; i = m->pool[i].next)
+            if (m->pool[i].msg.has_time) m->pool[i].msg.time -= back;
+    }
+}
+
 int kelp_queue_add(kelp_queue_mgr *m, const kelp_queue_cfg *cfg, kelp_time now)
 {
     if (!m || !cfg || !kelp_time_ok(now)) return KELP_ERR_ARG;
+    clock_step(m, now);
     if (cfg->key.type != KELP_QUEUE_DCCL && cfg->key.type != KELP_QUEUE_CCL) return KELP_ERR_ARG;
     if (find_q(m, cfg->key)) return kelp_fail(&m->diag, KELP_ERR_EXISTS, "queue: duplicate key");
     if (cfg->key.type == KELP_QUEUE_DCCL &&
@@ -360,23 +378,6 @@ static int stitch(kelp_queue_mgr *m, const kelp_queue_request *req, kelp_acomms_
         out->ack_requested = m->packet_ack;
         out->has_ack = true;
         return KELP_OK;
-    }
-}
-
-/* The time step rule (docs/ARCHITECTURE.md): after the clock steps back, every stored time moves
- * back as far, so a blackout or a ttl keeps what remained of it instead of lasting the step too
- * (a send time an hour ahead would black a queue out for an hour).  A step forward is elapsed
- * time: blackouts end, old messages expire, one frame per request as always. */
-static void clock_step(kelp_queue_mgr *m, kelp_time now)
-{
-    double back = kelp_clock_back(&m->clock, now);
-    if (back <= 0.0) return;
-    m->count.clock_steps++;
-    for (size_t k = 0; k < m->nq; k++) {
-        kelp_queue *q = &m->q[k];
-        q->last_send -= back;
-        for (int32_t i = q->head; i >= 0; i = m->pool[i].next)
-            if (m->pool[i].msg.has_time) m->pool[i].msg.time -= back;
     }
 }
 

@@ -1,0 +1,294 @@
+/* The time step rule (docs/ARCHITECTURE.md, "When the clock steps"): every time-driven core
+ * state machine driven through a clock step of +1 s, +1 h, +1 day, -1 s, -1 h, and a NaN or
+ * infinite `now` (refused, then the clock goes on).  Each case checks the rule against the
+ * machine's own period: outputs per period bounded after the step, work resumes within one
+ * period, nothing negative in what it reports.  Loop index = the step (STEP[]), so a failure
+ * names the step. */
+#include <check.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <kelp/mac.h>
+#include <kelp/mmdriver.h>
+#include <kelp/queue.h>
+#include <kelp/util.h>
+
+static const double STEP[] = { 1.0, 3600.0, 86400.0, -1.0, -3600.0, NAN, INFINITY };
+#define NSTEP ((int)(sizeof STEP / sizeof STEP[0]))
+static const kelp_time T0 = 1704196800.0; /* 2024-01-02 12:00:00 UTC */
+
+/* the clock offset a step leaves behind (a refused `now` leaves none) */
+static double offset_of(double step)
+{
+    return isfinite(step) ? step : 0.0;
+}
+
+/* ------------------------------------------------------------------ TDMA MAC */
+
+#define MAC_DT 0.5       /* the caller's tick */
+#define MAC_BEFORE 100.0 /* seconds of normal running before the step */
+#define MAC_AFTER 200.0  /* and after */
+
+typedef struct mac_run {
+    int first_after;   /* seconds from the step to the first action after it (-1: none) */
+    int max_per_tick;  /* slot starts in one tick instant */
+    int late;          /* actions fired outside their own slot's time */
+    int actions_after;
+} mac_run;
+
+static void mac_ticks(kelp_mac *m, kelp_time now, kelp_time step_at, bool after, mac_run *r)
+{
+    kelp_mac_action a;
+    int n = 0;
+    while (n < 100 && kelp_mac_tick(m, now, &a) == KELP_OK) {
+        n++;
+        if (a.kind == KELP_MAC_ACT_NONE || !after) continue;
+        unsigned len = m->type == KELP_MAC_AUTO_DECENTRALIZED ? m->slot_seconds : m->slot[a.slot_index].slot_seconds;
+        if (now < a.slot_start || now >= a.slot_start + len) r->late++;
+        if (r->first_after < 0) r->first_after = (int)ceil(now - step_at);
+        r->actions_after++;
+    }
+    if (n > r->max_per_tick) r->max_per_tick = n;
+}
+
+/* run a MAC through the step; AUTO hears modems 2 and 3 every 10 s of its clock */
+static void mac_drive(kelp_mac *m, double step, mac_run *r)
+{
+    memset(r, 0, sizeof *r);
+    r->first_after = -1;
+    kelp_time step_at = T0 + MAC_BEFORE;
+    for (double t = T0; t < step_at; t += MAC_DT) {
+        if (fmod(t - T0, 10.0) == 0.0) {
+            kelp_mac_heard(m, 2, t);
+            kelp_mac_heard(m, 3, t);
+        }
+        mac_ticks(m, t, step_at, false, r);
+    }
+    kelp_mac_action a;
+    if (!isfinite(step)) {
+        ck_assert_int_eq(kelp_mac_tick(m, step, &a), KELP_ERR_ARG);
+        kelp_mac_heard(m, 4, step); /* ignored */
+        kelp_mac_slot s;
+        kelp_mac_slot_default(&s, 1);
+        ck_assert_int_eq(kelp_mac_add_slot(m, &s, step), KELP_ERR_ARG);
+    }
+    kelp_time from = step_at + offset_of(step);
+    for (double k = 0; k < MAC_AFTER; k += MAC_DT) {
+        kelp_time t = from + k;
+        if (fmod(k, 10.0) == 0.0) {
+            kelp_mac_heard(m, 2, t);
+            kelp_mac_heard(m, 3, t);
+        }
+        mac_ticks(m, t, from, true, r);
+    }
+}
+
+static void mac_check(const kelp_mac *m, const mac_run *r, double step)
+{
+    unsigned longest = 0;
+    for (size_t i = 0; i < m->n; i++)
+        if (m->slot[i].slot_seconds > longest) longest = m->slot[i].slot_seconds;
+    unsigned cycle = kelp_mac_cycle_length(m);
+    ck_assert_msg(r->max_per_tick <= 1, "step %g: %d slots started in one tick", step, r->max_per_tick);
+    ck_assert_msg(r->late == 0, "step %g: %d actions outside their slot", step, r->late);
+    ck_assert_msg(r->first_after >= 0 && r->first_after <= (int)(cycle + longest) + 1,
+                  "step %g: first action %d s after the step (cycle %u s)", step, r->first_after, cycle);
+    /* at most one action per slot time of our own */
+    ck_assert_int_le(r->actions_after, (int)(MAC_AFTER / 10.0) + 1);
+}
+
+START_TEST(mac_fixed_step)
+{
+    double step = STEP[_i];
+    kelp_mac_slot sl[3];
+    kelp_mac_slot_default(&sl[0], 1);
+    kelp_mac_slot_default(&sl[1], 2);
+    kelp_mac_slot_default(&sl[2], 1);
+    for (int i = 0; i < 3; i++) sl[i].slot_seconds = 10;
+    sl[2].dest = 3;
+    kelp_mac_cfg cfg;
+    kelp_mac_cfg_default(&cfg);
+    cfg.type = KELP_MAC_FIXED_DECENTRALIZED;
+    cfg.modem_id = 1;
+    cfg.slots = sl;
+    cfg.nslots = 3;
+    static kelp_mac m;
+    ck_assert_int_eq(kelp_mac_init(&m, &cfg, T0), KELP_OK);
+    mac_run r;
+    mac_drive(&m, step, &r);
+    mac_check(&m, &r, step);
+}
+END_TEST
+
+START_TEST(mac_auto_step)
+{
+    double step = STEP[_i];
+    kelp_mac_cfg cfg;
+    kelp_mac_cfg_default(&cfg);
+    cfg.type = KELP_MAC_AUTO_DECENTRALIZED;
+    cfg.modem_id = 1;
+    cfg.slot_seconds = 10;
+    static kelp_mac m;
+    ck_assert_int_eq(kelp_mac_init(&m, &cfg, T0), KELP_OK);
+    mac_run r;
+    mac_drive(&m, step, &r);
+    mac_check(&m, &r, step);
+    ck_assert_uint_eq(m.n, 4); /* blank, 1, 2, 3: nobody expired for good */
+}
+END_TEST
+
+/* ------------------------------------------------------------------ priority queue */
+
+static kelp_queue tq[2];
+static kelp_queue_entry tpool[8];
+static kelp_queue_mgr TQ;
+
+static kelp_acomms_msg tmsg(uint8_t x, kelp_time t)
+{
+    kelp_acomms_msg m;
+    memset(&m, 0, sizeof m);
+    kelp_queue_header h = { KELP_DCCL_CCL_ID, 10, 43200, 1, 0, false, false, 0 };
+    kelp_queue_header_write(&h, m.data);
+    m.data[6] = x;
+    m.len = 7;
+    m.dest = 0;
+    m.key.type = KELP_QUEUE_DCCL;
+    m.key.id = 10;
+    m.has_time = true;
+    m.time = t;
+    return m;
+}
+
+/* blackout 10 s, ttl 100 s: m1 sent just before the step, m2 must leave the queue (sent, or
+ * expired by a step beyond its ttl) within the blackout of the step; a priority is never negative */
+START_TEST(queue_step)
+{
+    double step = STEP[_i];
+    ck_assert_int_eq(kelp_queue_init(&TQ, 1, tq, 2, tpool, 8, NULL, NULL, NULL), KELP_OK);
+    kelp_queue_cfg c;
+    kelp_queue_cfg_default(&c, KELP_QUEUE_DCCL, 10);
+    c.ack = false;
+    c.blackout_time = 10;
+    c.ttl = 100;
+    c.newest_first = false;
+    ck_assert_int_eq(kelp_queue_add(&TQ, &c, T0), KELP_OK);
+    kelp_acomms_msg m1 = tmsg(1, T0 + 20), m2 = tmsg(2, T0 + 20), out;
+    ck_assert_int_eq(kelp_queue_push(&TQ, &m1, T0 + 20), KELP_OK);
+    ck_assert_int_eq(kelp_queue_push(&TQ, &m2, T0 + 20), KELP_OK);
+    kelp_queue_request req = { -1, 0, 32 };
+    kelp_queue_do_work(&TQ, T0 + 20);
+    ck_assert_int_eq(kelp_queue_data_request(&TQ, &req, T0 + 20, &out), KELP_OK);
+    ck_assert_uint_eq(out.len, 7);
+    kelp_queue_key key = { KELP_QUEUE_DCCL, 10 };
+    kelp_time step_at = T0 + 21;
+    if (!isfinite(step)) {
+        kelp_queue_do_work(&TQ, step);
+        ck_assert_int_eq(kelp_queue_data_request(&TQ, &req, step, &out), KELP_ERR_ARG);
+        double p;
+        ck_assert_int_eq(kelp_queue_priority(&TQ, key, step, &p), KELP_ERR_ARG);
+    }
+    kelp_time from = step_at + offset_of(step);
+    int left = -1, frames = 0;
+    for (int k = 0; k <= 60; k++) {
+        kelp_time t = from + k;
+        kelp_queue_do_work(&TQ, t);
+        double p;
+        ck_assert_int_eq(kelp_queue_priority(&TQ, key, t, &p), KELP_OK);
+        ck_assert_msg(p >= 0.0, "step %g: priority %g at +%d s", step, p, k);
+        ck_assert_int_eq(kelp_queue_data_request(&TQ, &req, t, &out), KELP_OK);
+        if (out.len) frames++;
+        if (left < 0 && kelp_queue_size(&TQ, key) == 0) left = k;
+    }
+    ck_assert_msg(left >= 0 && left <= 10, "step %g: m2 still queued %d s after the step", step, left);
+    ck_assert_int_le(frames, 1); /* one message left: at most one frame */
+}
+END_TEST
+
+/* ------------------------------------------------------------------ Micro-Modem driver */
+
+/* a modem that answers every command by echoing it ($CCxxx -> $CAxxx) at the next tick */
+static char mm_pend[16][KELP_MAX_NMEA_LINE + 8];
+static int mm_npend, mm_lines;
+
+static void mm_w(const char *b, size_t n, void *u)
+{
+    (void)u;
+    mm_lines++;
+    if (mm_npend < 16 && n < sizeof mm_pend[0] && n > 3 && b[0] == '$') {
+        memcpy(mm_pend[mm_npend], b, n);
+        mm_pend[mm_npend][n] = '\0';
+        mm_npend++;
+    }
+}
+
+static void mm_answer(kelp_mmdriver *mm, kelp_time now)
+{
+    int n = mm_npend;
+    mm_npend = 0;
+    for (int i = 0; i < n; i++) {
+        char body[KELP_MAX_NMEA_LINE + 8], line[KELP_MAX_NMEA_LINE + 16];
+        const char *star = strchr(mm_pend[i], '*');
+        size_t len = star ? (size_t)(star - mm_pend[i]) : strlen(mm_pend[i]);
+        memcpy(body, mm_pend[i], len);
+        body[len] = '\0';
+        body[2] = 'A'; /* $CC -> $CA */
+        unsigned x = 0;
+        for (const char *p = body + 1; *p; p++) x ^= (unsigned char)*p;
+        snprintf(line, sizeof line, "%s*%02X\r\n", body, x);
+        ck_assert_int_eq(kelp_mmdriver_feed(mm, (const uint8_t *)line, strlen(line), now), KELP_OK);
+    }
+}
+
+/* the step comes 0.5 s after start (the $CCCLK is out, its one-second pause running, no answer
+ * yet): the start-up commands must all be answered and the clock set within MODEM_WAIT and the
+ * pause after the step, with no more than one re-send each and the modem never declared dead */
+START_TEST(mmdriver_step)
+{
+    double step = STEP[_i];
+    static kelp_mmdriver mm;
+    kelp_mmdriver_cfg cfg;
+    memset(&cfg, 0, sizeof cfg);
+    cfg.modem_id = 1;
+    cfg.reset_nvram = true;
+    cfg.nvram_cfg[0] = "DTO,2";
+    cfg.n_nvram = 1;
+    static const kelp_mmdriver_ops ops = { mm_w, NULL, NULL };
+    mm_npend = mm_lines = 0;
+    ck_assert_int_eq(kelp_mmdriver_init(&mm, &cfg, &ops, NULL), KELP_OK);
+    ck_assert_int_eq(kelp_mmdriver_start(&mm, T0), KELP_OK);
+    mm_npend = 0; /* the modem missed the $CCCLK */
+    kelp_time step_at = T0 + 0.5;
+    if (!isfinite(step)) {
+        ck_assert_int_eq(kelp_mmdriver_tick(&mm, step), KELP_ERR_ARG);
+        ck_assert_int_eq(kelp_mmdriver_feed(&mm, (const uint8_t *)"x", 1, step), KELP_ERR_ARG);
+        ck_assert_int_eq(kelp_mmdriver_initiate_transmission(&mm, 1, 2, 0, step), KELP_ERR_ARG);
+    }
+    kelp_time from = step_at + offset_of(step);
+    int lines_before = mm_lines, done = -1;
+    for (int k = 0; k <= 600; k++) {
+        kelp_time t = from + k * 0.1;
+        ck_assert_int_eq(kelp_mmdriver_tick(&mm, t), KELP_OK);
+        mm_answer(&mm, t);
+        if (done < 0 && mm.clock_set && mm.out_n == 0) done = k;
+    }
+    ck_assert_msg(done >= 0 && done <= (KELP_MMDRIVER_MODEM_WAIT + 2) * 10,
+                  "step %g: start-up not done %.1f s after the step", step, done / 10.0);
+    ck_assert_uint_le(mm.count.retries, 1);
+    ck_assert_uint_eq(mm.count.deaths, 0);
+    /* CLK (again), CFG ALL, CFG SRC, CFG DTO, CFQ, plus one re-send and one more CLK */
+    ck_assert_int_le(mm_lines - lines_before, 8);
+}
+END_TEST
+
+Suite *kelp_timefaults_suite(void)
+{
+    Suite *s = suite_create("timefaults");
+    TCase *tc = tcase_create("acomms");
+    tcase_add_loop_test(tc, mac_fixed_step, 0, NSTEP);
+    tcase_add_loop_test(tc, mac_auto_step, 0, NSTEP);
+    tcase_add_loop_test(tc, queue_step, 0, NSTEP);
+    tcase_add_loop_test(tc, mmdriver_step, 0, NSTEP);
+    suite_add_tcase(s, tc);
+    return s;
+}
