@@ -11,7 +11,9 @@
 
 #include <kelp/mac.h>
 #include <kelp/mmdriver.h>
+#include <kelp/pid.h>
 #include <kelp/queue.h>
+#include <kelp/sim.h>
 #include <kelp/util.h>
 
 static const double STEP[] = { 1.0, 3600.0, 86400.0, -1.0, -3600.0, NAN, INFINITY };
@@ -281,6 +283,123 @@ START_TEST(mmdriver_step)
 }
 END_TEST
 
+/* ------------------------------------------------------------------ pMarinePID and uSimMarine */
+
+typedef struct pubs {
+    double rudder;  /* the last DESIRED_RUDDER */
+    int n_rudder;
+    bool bad;       /* a non-finite value published */
+} pubs;
+
+static void pid_sink(void *ctx, const char *var, bool is_string, const char *sval, double dval)
+{
+    pubs *p = ctx;
+    (void)sval;
+    if (!is_string && !isfinite(dval)) p->bad = true;
+    if (!strcmp(var, "DESIRED_RUDDER")) p->rudder = dval, p->n_rudder++;
+}
+
+static void pid_feed(kelp_marine_pid *m, kelp_time t)
+{
+    ck_assert_int_eq(kelp_marine_pid_mail(m, "NAV_HEADING", false, NULL, 350, t), 1);
+    ck_assert_int_eq(kelp_marine_pid_mail(m, "NAV_SPEED", false, NULL, 1, t), 1);
+    ck_assert_int_eq(kelp_marine_pid_mail(m, "DESIRED_HEADING", false, NULL, 10, t), 1);
+    ck_assert_int_eq(kelp_marine_pid_mail(m, "DESIRED_SPEED", false, NULL, 2, t), 1);
+}
+
+/* a 20 degree heading error held: the yaw loop's integral grows by ki * e * dt each 0.1 s run;
+ * a step must not be a dt (an hour of integral, a NaN rudder), nor stop the rudder for an hour */
+START_TEST(pid_step)
+{
+    double step = STEP[_i];
+    kelp_marine_pid_cfg c;
+    kelp_marine_pid_cfg_default(&c);
+    c.active_start = true;
+    c.yaw[0] = 0.5;  /* kp */
+    c.yaw[2] = 0.01; /* ki */
+    c.yaw[3] = 50;   /* integral limit */
+    c.speed_factor = 20;
+    c.max_rudder = 100;
+    static kelp_marine_pid m;
+    ck_assert_int_eq(kelp_marine_pid_init(&m, &c, T0), 0);
+    pubs p = { 0, 0, false };
+    kelp_time t = T0;
+    for (int k = 0; k < 100; k++, t += 0.1) {
+        pid_feed(&m, t);
+        kelp_marine_pid_iterate(&m, t, pid_sink, &p);
+    }
+    double before = p.rudder;
+    if (!isfinite(step)) kelp_marine_pid_iterate(&m, step, pid_sink, &p);
+    kelp_time from = t + offset_of(step);
+    int n0 = p.n_rudder, first = -1;
+    double jump = 0;
+    for (int k = 0; k < 50; k++) {
+        kelp_time tk = from + k * 0.1;
+        pid_feed(&m, tk);
+        int n = p.n_rudder;
+        kelp_marine_pid_iterate(&m, tk, pid_sink, &p);
+        if (p.n_rudder > n && first < 0) {
+            first = k;
+            jump = fabs(p.rudder - before);
+        }
+    }
+    ck_assert_msg(!p.bad, "step %g: a non-finite value published", step);
+    ck_assert_msg(first >= 0 && first <= 10, "step %g: no rudder for %d runs after the step", step, first);
+    ck_assert_msg(jump < 1.0, "step %g: the rudder jumped by %g at the step", step, jump);
+    ck_assert_int_ge(p.n_rudder - n0, 40);
+}
+END_TEST
+
+typedef struct simpos {
+    double x, y;
+} simpos;
+
+static void usim_sink(void *ctx, const char *var, bool is_string, const char *sval, double dval)
+{
+    simpos *p = ctx;
+    (void)is_string, (void)sval;
+    if (!strcmp(var, "NAV_X")) p->x = dval;
+    if (!strcmp(var, "NAV_Y")) p->y = dval;
+}
+
+/* at 2 m/s, 10 Hz: a step is not dead-reckoned (an hour or a day of travel in one iteration), and
+ * after a step back the vehicle moves on at once */
+START_TEST(usim_step)
+{
+    double step = STEP[_i];
+    static kelp_usim u;
+    kelp_usim_defaults(&u, NULL, NULL);
+    ck_assert_int_eq(kelp_usim_config(&u, "START_SPEED", "2", NULL), 1);
+    ck_assert_int_eq(kelp_usim_config(&u, "START_HEADING", "90", NULL), 1);
+    ck_assert_int_eq(kelp_usim_start(&u, NULL, T0), KELP_OK);
+    simpos p = { 0, 0 };
+    kelp_time t = T0;
+    for (int k = 0; k < 50; k++, t += 0.1) {
+        (void)kelp_usim_mail(&u, "DESIRED_THRUST", false, NULL, 40, t);
+        (void)kelp_usim_iterate(&u, t, usim_sink, &p);
+    }
+    ck_assert(p.x > 1.0); /* it moves */
+    if (!isfinite(step)) ck_assert_int_eq(kelp_usim_iterate(&u, step, usim_sink, &p), KELP_ERR_ARG);
+    kelp_time from = t + offset_of(step);
+    simpos prev = p;
+    double most = 0;
+    int moved = -1;
+    for (int k = 0; k < 50; k++) {
+        kelp_time tk = from + k * 0.1;
+        (void)kelp_usim_mail(&u, "DESIRED_THRUST", false, NULL, 40, tk);
+        (void)kelp_usim_iterate(&u, tk, usim_sink, &p);
+        double d = hypot(p.x - prev.x, p.y - prev.y);
+        if (d > most) most = d;
+        if (d > 0 && moved < 0 && k > 0) moved = k;
+        prev = p;
+    }
+    ck_assert_msg(isfinite(p.x) && isfinite(p.y), "step %g: position not finite", step);
+    ck_assert_msg(most < 5.0 + fmax(0.0, offset_of(step) <= 1.0 ? 2.0 * offset_of(step) : 0.0),
+                  "step %g: %g m in one iteration", step, most);
+    ck_assert_msg(moved >= 0 && moved <= 2, "step %g: standing still %d iterations after the step", step, moved);
+}
+END_TEST
+
 Suite *kelp_timefaults_suite(void)
 {
     Suite *s = suite_create("timefaults");
@@ -289,6 +408,10 @@ Suite *kelp_timefaults_suite(void)
     tcase_add_loop_test(tc, mac_auto_step, 0, NSTEP);
     tcase_add_loop_test(tc, queue_step, 0, NSTEP);
     tcase_add_loop_test(tc, mmdriver_step, 0, NSTEP);
+    suite_add_tcase(s, tc);
+    tc = tcase_create("sim");
+    tcase_add_loop_test(tc, pid_step, 0, NSTEP);
+    tcase_add_loop_test(tc, usim_step, 0, NSTEP);
     suite_add_tcase(s, tc);
     return s;
 }

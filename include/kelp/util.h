@@ -86,10 +86,10 @@ typedef struct kelp_clock {
  *  what remains of each wait is kept), else 0. */
 double kelp_clock_back(kelp_clock *c, double now);
 
-/** The step of an integrator (a simulator or a controller): seconds since the previous `now`,
- *  or 0 (nothing to integrate, no division) for the first call, a backward step, or a forward
- *  step beyond max_dt, which is taken as a clock step and not as elapsed time. */
-double kelp_clock_dt(kelp_clock *c, double now, double max_dt);
+/** Record `now` (a kelp_time_ok one).  @return the clock step, signed: now minus the previous
+ *  `now` when it is negative (a backward step) or beyond max_fwd (a forward step an integrator
+ *  or controller must not take as elapsed time), else 0. */
+double kelp_clock_step(kelp_clock *c, double now, double max_fwd);
 
 /* ---- big-endian integers in byte buffers (wire headers) ---- */
 
