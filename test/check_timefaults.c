@@ -14,6 +14,7 @@
 #include <kelp/pid.h>
 #include <kelp/queue.h>
 #include <kelp/sim.h>
+#include <kelp/timerscript.h>
 #include <kelp/util.h>
 
 static const double STEP[] = { 1.0, 3600.0, 86400.0, -1.0, -3600.0, NAN, INFINITY };
@@ -400,6 +401,59 @@ START_TEST(usim_step)
 }
 END_TEST
 
+/* ------------------------------------------------------------------ uField tools: a counting sink */
+
+typedef struct count_sink {
+    const char *var; /* the variable counted */
+    int n;           /* its postings */
+    double last;     /* its last double value */
+    bool negative;   /* a value of `neg_var` below zero */
+    const char *neg_var;
+} count_sink;
+
+static void count_pub(void *ctx, const char *var, bool is_string, const char *sval, double dval)
+{
+    count_sink *c = ctx;
+    (void)sval;
+    if (c->var && !strcmp(var, c->var)) c->n++, c->last = dval;
+    if (c->neg_var && !is_string && !strcmp(var, c->neg_var) && dval < 0) c->negative = true;
+}
+
+/* ------------------------------------------------------------------ uTimerScript */
+
+/* events at 10, 20, ..., 100 s of script time; the step comes at 35 s: each event is posted once,
+ * never two in one iteration, and the next one within 10 s of the step */
+START_TEST(timerscript_step)
+{
+    double step = STEP[_i];
+    static kelp_ts_cfg c;
+    static kelp_ts ts;
+    kelp_ts_cfg_default(&c, "uTimerScript", "alpha");
+    for (int k = 1; k <= 10; k++) {
+        char ev[64];
+        snprintf(ev, sizeof ev, "var=EV, val=%d, time=%d", k, 10 * k);
+        ck_assert_int_eq(kelp_ts_cfg_add_event(&c, ev, NULL), KELP_OK);
+    }
+    ck_assert_int_eq(kelp_ts_init(&ts, &c, 1), KELP_OK);
+    count_sink cs = { "EV", 0, 0, false, NULL };
+    kelp_field_sink out = { &cs, count_pub, NULL };
+    kelp_time t = T0;
+    for (; t < T0 + 35; t += 0.5) ck_assert_int_le(kelp_ts_iterate(&ts, t, &out), 1);
+    ck_assert_int_eq(cs.n, 3);
+    if (!isfinite(step)) ck_assert_int_eq(kelp_ts_iterate(&ts, step, &out), KELP_ERR_ARG);
+    kelp_time from = t + offset_of(step);
+    int most = 0, next = -1;
+    for (int k = 0; k < 200; k++) {
+        int n = kelp_ts_iterate(&ts, from + k * 0.5, &out);
+        if (n > most) most = n;
+        if (n > 0 && next < 0) next = k;
+    }
+    ck_assert_msg(most <= 1, "step %g: %d events in one iteration", step, most);
+    ck_assert_msg(next >= 0 && next <= 21, "step %g: next event %d iterations after the step", step, next);
+    ck_assert_int_eq(cs.n, 10);
+}
+END_TEST
+
 Suite *kelp_timefaults_suite(void)
 {
     Suite *s = suite_create("timefaults");
@@ -412,6 +466,9 @@ Suite *kelp_timefaults_suite(void)
     tc = tcase_create("sim");
     tcase_add_loop_test(tc, pid_step, 0, NSTEP);
     tcase_add_loop_test(tc, usim_step, 0, NSTEP);
+    suite_add_tcase(s, tc);
+    tc = tcase_create("field");
+    tcase_add_loop_test(tc, timerscript_step, 0, NSTEP);
     suite_add_tcase(s, tc);
     return s;
 }
