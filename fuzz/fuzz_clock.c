@@ -43,8 +43,10 @@ static void tick_mac(kelp_time now)
     int started = 0;
     while (kelp_mac_tick(&mac, now, &a) == KELP_OK) {
         if (++started > 1) abort(); /* a burst of slots at one instant */
+        /* the MAC compares whole microseconds (as Goby), so this does too */
         unsigned len = mac.slot[a.slot_index < mac.n ? a.slot_index : 0].slot_seconds;
-        if (now < a.slot_start || now >= a.slot_start + (len ? len : 1)) abort(); /* outside its slot */
+        long long now_us = llround(now * 1e6), start_us = llround(a.slot_start * 1e6);
+        if (now_us < start_us || now_us >= start_us + (long long)(len ? len : 1) * 1000000LL) abort(); /* outside its slot */
     }
 }
 

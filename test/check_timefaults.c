@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <kelp/field.h>
 #include <kelp/mac.h>
 #include <kelp/mmdriver.h>
 #include <kelp/pid.h>
@@ -454,6 +455,55 @@ START_TEST(timerscript_step)
 }
 END_TEST
 
+/* ------------------------------------------------------------------ uFldNodeComms */
+
+static kelp_field_ncomms nc; /* 3 MB */
+static char nc_rep[16384];
+
+static void nc_second(kelp_time t, const kelp_field_sink *out)
+{
+    char b[256];
+    for (int v = 0; v < 2; v++) {
+        snprintf(b, sizeof b, "NAME=%s,TYPE=UUV,TIME=%.2f,X=%d,Y=0,SPD=1,HDG=90,DEPTH=0", v ? "bravo" : "alpha", t,
+                 v * 50);
+        ck_assert_int_eq(kelp_field_ncomms_mail(&nc, "NODE_REPORT", true, b, 0, "t", t, out), 1);
+    }
+    ck_assert_int_eq(kelp_field_ncomms_mail(&nc, "NODE_MESSAGE", true, "src_node=alpha,dest_node=bravo,var_name=M,string_val=hi",
+                                            0, "t", t, out), 1);
+    (void)kelp_field_ncomms_iterate(&nc, t, out);
+}
+
+/* reports every second, a message every second held to MIN_MSG_INTERVAL 30 s: after the step a
+ * message goes within the interval, at most one per interval, and no age in the report is < 0 */
+START_TEST(nodecomms_step)
+{
+    double step = STEP[_i];
+    kelp_field_ncomms_cfg cfg;
+    kelp_field_ncomms_cfg_default(&cfg);
+    ck_assert_int_eq(kelp_field_ncomms_init(&nc, &cfg), 0);
+    count_sink cs = { "NODE_MESSAGE_BRAVO", 0, 0, false, NULL };
+    kelp_field_sink out = { &cs, count_pub, NULL };
+    kelp_time t = T0;
+    for (; t < T0 + 100; t += 1) nc_second(t, &out);
+    ck_assert_int_eq(cs.n, 4); /* 0, 30, 60, 90 */
+    if (!isfinite(step)) {
+        ck_assert_uint_eq(kelp_field_ncomms_iterate(&nc, step, &out), 0);
+        ck_assert_int_eq(kelp_field_ncomms_mail(&nc, "NODE_REPORT", true, "NAME=x", 0, "t", step, &out), KELP_ERR_ARG);
+    }
+    kelp_time from = t + offset_of(step);
+    int first = -1, n0 = cs.n;
+    for (int k = 0; k < 100; k++) {
+        int n = cs.n;
+        nc_second(from + k, &out);
+        if (cs.n > n && first < 0) first = k;
+    }
+    ck_assert_msg(first >= 0 && first <= 30, "step %g: first message %d s after the step", step, first);
+    ck_assert_msg(cs.n - n0 <= 4, "step %g: %d messages in 100 s", step, cs.n - n0);
+    ck_assert_int_eq(kelp_field_ncomms_report(&nc, from + 100, nc_rep, sizeof nc_rep), KELP_OK);
+    ck_assert_msg(strstr(nc_rep, "(-") == NULL, "step %g: a negative age in the report:\n%s", step, nc_rep);
+}
+END_TEST
+
 Suite *kelp_timefaults_suite(void)
 {
     Suite *s = suite_create("timefaults");
@@ -469,6 +519,7 @@ Suite *kelp_timefaults_suite(void)
     suite_add_tcase(s, tc);
     tc = tcase_create("field");
     tcase_add_loop_test(tc, timerscript_step, 0, NSTEP);
+    tcase_add_loop_test(tc, nodecomms_step, 0, NSTEP);
     suite_add_tcase(s, tc);
     return s;
 }
