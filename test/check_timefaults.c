@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <kelp/bus.h>
 #include <kelp/field.h>
 #include <kelp/mac.h>
 #include <kelp/mmdriver.h>
@@ -504,6 +505,74 @@ START_TEST(nodecomms_step)
 }
 END_TEST
 
+/* ------------------------------------------------------------------ the bus: retained values, sync, limits */
+
+static struct {
+    kelp_bus bus;
+    kelp_bus_sub subs[4];
+    kelp_var cache[8];
+    kelp_var rx;
+    uint8_t scratch[16384];
+    kelp_loopback_port port;
+    kelp_loopback net;
+    int got[2];
+} TB;
+
+static void tb_on(const kelp_var *v, void *u)
+{
+    (void)u;
+    TB.got[v->name[0] == 'Y']++;
+}
+
+static void tb_write(const char *name, kelp_time stamp, kelp_time now)
+{
+    static kelp_var v;
+    memset(&v, 0, sizeof v);
+    snprintf(v.name, sizeof v.name, "%s", name);
+    snprintf(v.source, sizeof v.source, "pWriter");
+    snprintf(v.community, sizeof v.community, "c");
+    v.time = stamp;
+    v.kind = KELP_VAR_DOUBLE;
+    uint8_t buf[512];
+    size_t n;
+    ck_assert_int_eq(kelp_var_encode(&v, buf, sizeof buf, &n), 0);
+    ck_assert_int_eq(kelp_bus_receive(&TB.bus, name, buf, n, now), 0);
+}
+
+/* A peer writes X on its own (steady) clock while ours steps: the future-time check must not
+ * refuse the peer for the length of a backward step.  Y is written on a clock that steps with
+ * ours: the subscription's 0.5 s rate limit must not hold it back for the length of the step. */
+START_TEST(bus_step)
+{
+    double step = STEP[_i];
+    memset(&TB, 0, sizeof TB);
+    kelp_loopback_init(&TB.net);
+    kelp_bus_transport tr;
+    kelp_loopback_transport(&TB.net, &TB.port, &tr);
+    kelp_bus_storage st = { TB.subs, 4, TB.cache, 8, TB.scratch, sizeof TB.scratch, &TB.rx };
+    ck_assert_int_eq(kelp_bus_init(&TB.bus, "pA", "c", "KELP_SYNC_pA", &tr, &st, tb_on, NULL), 0);
+    kelp_bus_limits lim;
+    kelp_bus_limits_default(&lim);
+    lim.time_margin = KELP_BUS_TIME_MARGIN;
+    ck_assert_int_eq(kelp_bus_set_limits(&TB.bus, &lim), 0);
+    ck_assert_int_eq(kelp_bus_register(&TB.bus, "X", 0, T0), 0);
+    ck_assert_int_eq(kelp_bus_register(&TB.bus, "Y", 0.5, T0), 0);
+    for (int k = 0; k < 20; k++) {
+        tb_write("X", T0 + k, T0 + k);
+        tb_write("Y", T0 + k, T0 + k);
+    }
+    ck_assert_int_eq(TB.got[0], 20);
+    ck_assert_int_eq(TB.got[1], 20);
+    double off = offset_of(step);
+    for (int k = 20; k < 40; k++) {
+        tb_write("X", T0 + k, T0 + k + off);
+        tb_write("Y", T0 + k + off, T0 + k + off);
+    }
+    ck_assert_msg(TB.got[0] == 40, "step %g: %d of 20 X after the step", step, TB.got[0] - 20);
+    ck_assert_msg(TB.got[1] >= 39, "step %g: %d of 20 Y after the step", step, TB.got[1] - 20);
+}
+END_TEST
+
 Suite *kelp_timefaults_suite(void)
 {
     Suite *s = suite_create("timefaults");
@@ -516,6 +585,9 @@ Suite *kelp_timefaults_suite(void)
     tc = tcase_create("sim");
     tcase_add_loop_test(tc, pid_step, 0, NSTEP);
     tcase_add_loop_test(tc, usim_step, 0, NSTEP);
+    suite_add_tcase(s, tc);
+    tc = tcase_create("bus");
+    tcase_add_loop_test(tc, bus_step, 0, NSTEP);
     suite_add_tcase(s, tc);
     tc = tcase_create("field");
     tcase_add_loop_test(tc, timerscript_step, 0, NSTEP);
