@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include <kelp/bus.h>
+#include <kelp/can.h>
 #include <kelp/field.h>
 #include <kelp/mac.h>
 #include <kelp/mmdriver.h>
@@ -573,6 +574,62 @@ START_TEST(bus_step)
 }
 END_TEST
 
+/* ------------------------------------------------------------------ CAN reassembly */
+
+#define CAN_MAXF 64
+static struct {
+    kelp_can_frame f[CAN_MAXF];
+    int n;
+} CF;
+
+static int can_emit(void *user, const kelp_can_frame *f)
+{
+    (void)user;
+    if (CF.n >= CAN_MAXF) return KELP_ERR_NOSPACE;
+    CF.f[CF.n++] = *f;
+    return 0;
+}
+
+/* every reassembly slot holds a partial message when the clock steps (timeout 1 s): a new
+ * message must get through within a timeout of the step, not after it */
+START_TEST(can_step)
+{
+    double step = STEP[_i];
+    static kelp_can_dict d;
+    static kelp_can_rx rx;
+    static kelp_can_tx tx;
+    kelp_can_dict_init(&d);
+    ck_assert_int_eq(kelp_can_dict_add(&d, 12, "STATUS_TEXT"), 0);
+    kelp_can_rx_init(&rx, 1.0);
+    ck_assert_int_eq(kelp_can_tx_init(&tx, 5, false), 0);
+    kelp_can_msg m, out;
+    memset(&m, 0, sizeof m);
+    m.name = "STATUS_TEXT";
+    m.kind = KELP_CAN_KIND_STRING;
+    m.sval = (const uint8_t *)"a status line long enough for several classic frames";
+    m.slen = strlen((const char *)m.sval);
+    for (unsigned k = 0; k < KELP_CAN_SLOTS; k++) { /* the first frame of each: a slot each */
+        CF.n = 0;
+        ck_assert_int_gt(kelp_can_send(&tx, &d, &m, can_emit, NULL), 1);
+        ck_assert_int_eq(kelp_can_rx_frame(&rx, &d, &CF.f[0], T0 + 0.5, &out), 0);
+    }
+    if (!isfinite(step)) {
+        kelp_can_rx_expire(&rx, step);
+        ck_assert_uint_eq(rx.st.timed_out, 0);
+        ck_assert_int_eq(kelp_can_rx_frame(&rx, &d, &CF.f[1], step, &out), KELP_ERR_ARG);
+    }
+    kelp_time from = T0 + 0.6 + offset_of(step);
+    int got = -1;
+    for (int k = 0; k < 30 && got < 0; k++) { /* a new message every 0.1 s */
+        CF.n = 0;
+        ck_assert_int_gt(kelp_can_send(&tx, &d, &m, can_emit, NULL), 1);
+        for (int i = 0; i < CF.n; i++)
+            if (kelp_can_rx_frame(&rx, &d, &CF.f[i], from + 0.1 * k, &out) == 1) got = k;
+    }
+    ck_assert_msg(got >= 0 && got <= 11, "step %g: no message through %d x 0.1 s after the step", step, got);
+}
+END_TEST
+
 Suite *kelp_timefaults_suite(void)
 {
     Suite *s = suite_create("timefaults");
@@ -588,6 +645,7 @@ Suite *kelp_timefaults_suite(void)
     suite_add_tcase(s, tc);
     tc = tcase_create("bus");
     tcase_add_loop_test(tc, bus_step, 0, NSTEP);
+    tcase_add_loop_test(tc, can_step, 0, NSTEP);
     suite_add_tcase(s, tc);
     tc = tcase_create("field");
     tcase_add_loop_test(tc, timerscript_step, 0, NSTEP);
