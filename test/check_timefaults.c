@@ -19,6 +19,7 @@
 #include <kelp/sim.h>
 #include <kelp/timerscript.h>
 #include <kelp/util.h>
+#include <kelp/viewer.h>
 
 static const double STEP[] = { 1.0, 3600.0, 86400.0, -1.0, -3600.0, NAN, INFINITY };
 #define NSTEP ((int)(sizeof STEP / sizeof STEP[0]))
@@ -630,6 +631,36 @@ START_TEST(can_step)
 }
 END_TEST
 
+/* ------------------------------------------------------------------ kelp-viewer staleness */
+
+/* a vehicle reports every second until the step and never again: it must turn stale within the
+ * threshold (60 s) of the step (and not be dropped before: removal is later) */
+START_TEST(viewer_step)
+{
+    double step = STEP[_i];
+    static kelp_viewer v;
+    kelp_viewer_init(&v);
+    const char *r = "NAME=alpha,TYPE=kayak,X=10,Y=-20,HDG=90,SPD=1.5";
+    kelp_time t = T0;
+    for (; t < T0 + 10; t += 1) {
+        ck_assert_int_eq(kelp_viewer_mail(&v, "NODE_REPORT", r, strlen(r), t), 1);
+        (void)kelp_viewer_tick(&v, t);
+    }
+    if (!isfinite(step)) {
+        ck_assert_int_eq(kelp_viewer_mail(&v, "NODE_REPORT", r, strlen(r), step), KELP_ERR_ARG);
+        ck_assert_int_eq(kelp_viewer_tick(&v, step), 0);
+    }
+    kelp_time from = t + offset_of(step);
+    int stale = -1;
+    for (int k = 0; k <= 120 && stale < 0; k++) {
+        (void)kelp_viewer_tick(&v, from + k);
+        if (v.veh[0].stale || v.veh[0].gone) stale = k;
+    }
+    ck_assert_msg(stale >= 0 && stale <= (int)KELP_VIEWER_STALE_DEFAULT + 1, "step %g: stale %d s after the step", step,
+                  stale);
+}
+END_TEST
+
 Suite *kelp_timefaults_suite(void)
 {
     Suite *s = suite_create("timefaults");
@@ -650,6 +681,7 @@ Suite *kelp_timefaults_suite(void)
     tc = tcase_create("field");
     tcase_add_loop_test(tc, timerscript_step, 0, NSTEP);
     tcase_add_loop_test(tc, nodecomms_step, 0, NSTEP);
+    tcase_add_loop_test(tc, viewer_step, 0, NSTEP);
     suite_add_tcase(s, tc);
     return s;
 }
