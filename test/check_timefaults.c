@@ -14,6 +14,7 @@
 #include <kelp/field.h>
 #include <kelp/mac.h>
 #include <kelp/mmdriver.h>
+#include <kelp/pathcheck.h>
 #include <kelp/pid.h>
 #include <kelp/queue.h>
 #include <kelp/sim.h>
@@ -661,6 +662,43 @@ START_TEST(viewer_step)
 }
 END_TEST
 
+/* ------------------------------------------------------------------ uFldPathCheck */
+
+/* a vehicle at 1 m/s reports every second on its own clock, which steps with ours: reports must
+ * be taken again within a second of the step, and the speed over the history must stay ~1 m/s
+ * (not an average over the step) once the history has refilled */
+START_TEST(pathcheck_step)
+{
+    double step = STEP[_i];
+    static kelp_field_upc p;
+    kelp_field_upc_cfg cfg;
+    kelp_field_upc_cfg_default(&cfg);
+    ck_assert_int_eq(kelp_field_upc_init(&p, &cfg), 0);
+    kelp_field_sink out = { NULL, count_pub, NULL };
+    count_sink cs = { NULL, 0, 0, false, NULL };
+    out.ctx = &cs;
+    char r[160];
+    double x = 0;
+    kelp_time t = T0;
+    for (; t < T0 + 20; t += 1, x += 1) {
+        snprintf(r, sizeof r, "NAME=alpha,TYPE=kayak,TIME=%.2f,X=%.1f,Y=0,SPD=1,HDG=90", t, x);
+        ck_assert_int_eq(kelp_field_upc_mail(&p, "NODE_REPORT", true, r, t, &out), 1);
+    }
+    if (!isfinite(step)) ck_assert_int_eq(kelp_field_upc_mail(&p, "NODE_REPORT", true, r, step, &out), KELP_ERR_ARG);
+    kelp_time from = t + offset_of(step);
+    unsigned long before = p.node[0].reports;
+    for (int k = 0; k < 15; k++, x += 1) {
+        snprintf(r, sizeof r, "NAME=alpha,TYPE=kayak,TIME=%.2f,X=%.1f,Y=0,SPD=1,HDG=90", from + k, x);
+        ck_assert_int_eq(kelp_field_upc_mail(&p, "NODE_REPORT", true, r, from + k, &out), 1);
+        (void)kelp_field_upc_iterate(&p, from + k, &out);
+    }
+    ck_assert_msg(p.node[0].reports - before >= 14, "step %g: %lu of 15 reports taken", step,
+                  p.node[0].reports - before);
+    double v = kelp_field_upc_speed(&p.node[0]);
+    ck_assert_msg(fabs(v - 1.0) < 0.01, "step %g: speed %g after the step", step, v);
+}
+END_TEST
+
 Suite *kelp_timefaults_suite(void)
 {
     Suite *s = suite_create("timefaults");
@@ -682,6 +720,7 @@ Suite *kelp_timefaults_suite(void)
     tcase_add_loop_test(tc, timerscript_step, 0, NSTEP);
     tcase_add_loop_test(tc, nodecomms_step, 0, NSTEP);
     tcase_add_loop_test(tc, viewer_step, 0, NSTEP);
+    tcase_add_loop_test(tc, pathcheck_step, 0, NSTEP);
     suite_add_tcase(s, tc);
     return s;
 }
