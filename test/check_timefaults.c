@@ -699,6 +699,42 @@ START_TEST(pathcheck_step)
 }
 END_TEST
 
+/* ------------------------------------------------------------------ pNodeReporter */
+
+/* a report every 5 s (blackout), nav mail every second: after the step the reports resume
+ * within the blackout, at most one per blackout, and PNR_POST_GAP is never negative */
+START_TEST(nodereporter_step)
+{
+    double step = STEP[_i];
+    static kelp_field_nrep nr;
+    kelp_field_nrep_cfg cfg;
+    kelp_field_nrep_cfg_default(&cfg, "alpha");
+    cfg.blackout_interval = 5;
+    ck_assert_int_eq(kelp_field_nrep_init(&nr, &cfg, T0), 0);
+    count_sink cs = { "NODE_REPORT_LOCAL", 0, 0, false, "PNR_POST_GAP" };
+    kelp_field_sink out = { &cs, count_pub, NULL };
+    static const char *const navs[4] = { "NAV_X", "NAV_Y", "NAV_SPEED", "NAV_HEADING" };
+    kelp_time t = T0;
+    for (; t < T0 + 30; t += 1) {
+        for (int i = 0; i < 4; i++) ck_assert_int_eq(kelp_field_nrep_mail(&nr, navs[i], false, NULL, 1, &out), 1);
+        (void)kelp_field_nrep_iterate(&nr, t, &out);
+    }
+    ck_assert_int_ge(cs.n, 4);
+    if (!isfinite(step)) ck_assert_int_eq(kelp_field_nrep_iterate(&nr, step, &out), 0);
+    kelp_time from = t + offset_of(step);
+    int n0 = cs.n, first = -1;
+    for (int k = 0; k < 30; k++) {
+        int n = cs.n;
+        for (int i = 0; i < 4; i++) ck_assert_int_eq(kelp_field_nrep_mail(&nr, navs[i], false, NULL, 1, &out), 1);
+        (void)kelp_field_nrep_iterate(&nr, from + k, &out);
+        if (cs.n > n && first < 0) first = k;
+    }
+    ck_assert_msg(first >= 0 && first <= 6, "step %g: first report %d s after the step", step, first);
+    ck_assert_msg(cs.n - n0 <= 6, "step %g: %d reports in 30 s", step, cs.n - n0);
+    ck_assert_msg(!cs.negative, "step %g: a negative PNR_POST_GAP", step);
+}
+END_TEST
+
 Suite *kelp_timefaults_suite(void)
 {
     Suite *s = suite_create("timefaults");
@@ -721,6 +757,7 @@ Suite *kelp_timefaults_suite(void)
     tcase_add_loop_test(tc, nodecomms_step, 0, NSTEP);
     tcase_add_loop_test(tc, viewer_step, 0, NSTEP);
     tcase_add_loop_test(tc, pathcheck_step, 0, NSTEP);
+    tcase_add_loop_test(tc, nodereporter_step, 0, NSTEP);
     suite_add_tcase(s, tc);
     return s;
 }
