@@ -164,8 +164,10 @@ void kelp_marine_pid_iterate(kelp_marine_pid *m, kelp_time now, kelp_marine_pid_
     if (step != 0.0) {
         /* a clock step (back, or forward beyond the nav timeout) is not a dt: each loop's
          * previous run moves with it, so the next run sees dt 0 (previous output) */
-        kelp_pid *loops[4] = { &m->yaw, &m->speed, &m->z_to_pitch, &m->pitch };
-        for (int i = 0; i < 4; i++) loops[i]->t_old += step;
+        m->yaw.t_old += step;
+        m->speed.t_old += step;
+        m->z_to_pitch.t_old += step;
+        m->pitch.t_old += step;
         m->bias_t0 += step;
     }
     /* mail stamped before a backward step is not from the future: it counts from now */
