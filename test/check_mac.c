@@ -136,23 +136,27 @@ START_TEST(ping_and_lbl_slots_and_late_ticks)
     kelp_mac m;
     init_fixed(&m, KELP_MAC_FIXED_DECENTRALIZED, 1, sl, 2, AT(1, 0, 0));
     kelp_mac_action a;
-    /* 45 s late: every missed slot fires, one per call, in order */
-    kelp_time late = AT(1, 0, 20) + 45 * S;
-    ck_assert_int_eq(kelp_mac_tick(&m, late, &a), KELP_OK);
+    ck_assert_int_eq(kelp_mac_tick(&m, AT(1, 0, 20), &a), KELP_OK);
     ck_assert_int_eq(a.kind, KELP_MAC_ACT_RANGING);
     ck_assert_int_eq(a.ranging, KELP_RANGING_TWO_WAY_PING);
     ck_assert_int_eq(a.dest, 3);
     ck_assert_double_eq(a.slot_start, AT(1, 0, 20));
-    ck_assert_int_eq(kelp_mac_tick(&m, late, &a), KELP_OK);
+    /* late within its slot (9.5 s of 10): the slot still starts */
+    ck_assert_int_eq(kelp_mac_tick(&m, AT(1, 0, 39) + 0.5 * S, &a), KELP_OK);
     ck_assert_int_eq(a.ranging, KELP_RANGING_REMUS_LBL);
     ck_assert_double_eq(a.slot_start, AT(1, 0, 30));
-    ck_assert_int_eq(kelp_mac_tick(&m, late, &a), KELP_OK);
-    ck_assert_int_eq(kelp_mac_tick(&m, late, &a), KELP_OK);
-    ck_assert_double_eq(a.slot_start, AT(1, 0, 50));
-    ck_assert_int_eq(kelp_mac_tick(&m, late, &a), KELP_OK);
-    ck_assert_double_eq(a.slot_start, AT(1, 1, 0));
+    /* 45 s late (the clock stepped): the missed slots are not replayed; the cycle re-aligns to
+     * the next 20 s boundary after 01:01:25 and its first slot starts there */
+    kelp_time late = AT(1, 0, 40) + 45 * S;
     ck_assert_int_eq(kelp_mac_tick(&m, late, &a), KELP_ERR_EMPTY);
-    ck_assert_double_eq(kelp_mac_next_slot_time(&m), AT(1, 1, 10));
+    ck_assert_int_eq(a.kind, KELP_MAC_ACT_NONE);
+    ck_assert_uint_eq(m.clock_steps, 1);
+    ck_assert_double_eq(kelp_mac_next_slot_time(&m), AT(1, 1, 40));
+    ck_assert_int_eq(kelp_mac_tick(&m, late, &a), KELP_ERR_EMPTY);
+    ck_assert_int_eq(kelp_mac_tick(&m, AT(1, 1, 40), &a), KELP_OK);
+    ck_assert_int_eq(a.ranging, KELP_RANGING_TWO_WAY_PING);
+    ck_assert_double_eq(a.slot_start, AT(1, 1, 40));
+    ck_assert_double_eq(kelp_mac_next_slot_time(&m), AT(1, 1, 50));
 }
 END_TEST
 

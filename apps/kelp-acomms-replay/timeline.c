@@ -206,7 +206,7 @@ void replay_run_line(replay *r, char *line)
             replay_error(r, "bad MACUpdate: %s", kelp_diag_text(&why));
             return;
         }
-        int rc = kelp_acomms_node_mac_update(&r->h.node, &u, replay_sec(replay_sec(r->now_us)));
+        int rc = kelp_acomms_node_mac_update(&r->h.node, &u, replay_sec(r->now_us));
         replay_stamp(r);
         if (rc == KELP_ERR_NOTFOUND && u.dest != r->cfg.modem_id)
             fprintf(r->out, "mac_update ignored (dest %d is not us)\n", u.dest);
@@ -256,7 +256,7 @@ void replay_run_line(replay *r, char *line)
             replay_error(r, "heard needs a modem id");
             return;
         }
-        kelp_acomms_node_heard(&r->h.node, (int)v, replay_sec(replay_sec(r->now_us)));
+        kelp_acomms_node_heard(&r->h.node, (int)v, replay_sec(r->now_us));
         replay_stamp(r);
         fprintf(r->out, "heard id=%ld slots=%zu cycle=%u\n", v, r->h.node.mac.n, kelp_mac_cycle_length(&r->h.node.mac));
     } else if (!strcmp(w[0], "receive")) {

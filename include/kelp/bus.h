@@ -193,6 +193,7 @@ typedef struct kelp_bus {
     bool bridge;
     kelp_bus_sync_peer peers[KELP_BUS_SYNC_PEERS];
     double all_tokens, all_last;
+    kelp_time newest;      /* the newest `now` of kelp_bus_receive (0 none): the time step rule */
     kelp_sync_req sync_rx; /* scratch: the sync request being answered */
 } kelp_bus;
 

@@ -204,10 +204,13 @@ typedef struct kelp_can_rx {
 } kelp_can_rx;
 
 void kelp_can_rx_init(kelp_can_rx *rx, double timeout);
-/** Drop partial messages older than the timeout (counted timed_out). */
+/** Drop partial messages older than the timeout (counted timed_out).  The time step rule
+ *  (docs/ARCHITECTURE.md): a partial message started after `now` (the clock stepped back) waits
+ *  one timeout from now; a NaN or infinite `now` drops nothing. */
 void kelp_can_rx_expire(kelp_can_rx *rx, kelp_time now);
 /** Feed one frame. @return 1 when *out holds a complete message, 0 when the frame was used
- *  (or ignored as foreign), < 0 when it was refused (counted; never fatal). */
+ *  (or ignored as foreign), < 0 when it was refused (counted; never fatal), KELP_ERR_ARG
+ *  (not counted, nothing changed) for a NaN, infinite or absurd `now`. */
 KELP_MUST_CHECK int kelp_can_rx_frame(kelp_can_rx *rx, const kelp_can_dict *d, const kelp_can_frame *f, kelp_time now,
                       kelp_can_msg *out);
 

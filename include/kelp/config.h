@@ -229,6 +229,12 @@ KELP_STATIC_ASSERT(KELP_HELM_MAX_PTS >= 4, "KELP_HELM_MAX_PTS too small");
 #ifndef KELP_SIM_MAX_MAP
 #define KELP_SIM_MAX_MAP 16             /**< thrust_map points of the simulator */
 #endif
+#ifndef KELP_TIME_STEP_MAX
+#define KELP_TIME_STEP_MAX 300.0      /**< seconds: a longer gap between two iterations of a tool
+                                           that runs on elapsed time (uSimMarine, uTimerScript...)
+                                           is a clock step, not elapsed time (the time step rule,
+                                           docs/ARCHITECTURE.md) */
+#endif
 #ifndef KELP_SIM_MAX_SUBSTEPS
 #define KELP_SIM_MAX_SUBSTEPS 2000000L  /**< sub-steps one kelp_sim_step may take (a time jump bound) */
 #endif

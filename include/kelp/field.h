@@ -16,6 +16,7 @@
 #include <kelp/geo.h>
 #include <kelp/nodereport.h>
 #include <kelp/rng.h>
+#include <kelp/util.h>
 
 #ifdef __cplusplus
 extern "C" {

@@ -3,8 +3,13 @@
  * Time is an argument (kelp_time: UNIX UTC seconds).  Slot starts are whole seconds; the
  * manager compares times in whole microseconds (as Goby) after rounding `now`.  The manager
  * keeps the next slot start; the caller calls kelp_mac_tick(mac, now, &act) regularly (and
- * again while it returns an action: each call starts at most one slot, so a late caller gets
- * every missed slot, in order).
+ * again while it returns an action: each call starts at most one slot, so a caller late within
+ * a slot still starts it).  The time step rule (docs/ARCHITECTURE.md): a slot whose whole time
+ * has passed was missed (the clock stepped forward, or nobody ticked), and a next slot more than
+ * a cycle and the longest slot ahead means the clock stepped back: either way the tick re-aligns
+ * the cycle to the next boundary after `now` (counted in clock_steps) and starts nothing, so
+ * missed slots are never replayed as a burst.  A NaN, infinite or absurd `now` is refused
+ * (KELP_ERR_ARG) by every call that takes one (kelp_mac_heard ignores it).
  *
  * Cycle alignment (as Goby): cycle length D = sum of slot_seconds; a (re)started cycle begins at
  *   UTC midnight + (floor(tod / D) + 1) * D        (tod = whole seconds since UTC midnight)
@@ -106,6 +111,7 @@ typedef struct kelp_mac {
     kelp_time next_slot;     /**< start of the next slot (whole seconds) */
     unsigned long cycles_since_day_start; /**< k */
     uint32_t slots_fired;
+    uint32_t clock_steps;    /**< re-alignments after a clock step (or a missed slot) */
     kelp_diag diag;          /**< first error (too many slots / ids, bad configuration) */
 } kelp_mac;
 

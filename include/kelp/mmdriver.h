@@ -33,6 +33,7 @@
 #include <kelp/err.h>
 #include <kelp/mac.h>
 #include <kelp/nmea.h>
+#include <kelp/util.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -118,6 +119,7 @@ typedef struct kelp_mmdriver_cmd {
 
 typedef struct kelp_mmdriver_counters {
     uint32_t lines_in, lines_out, bad_lines, retries, give_ups, modem_errors, backlog_dropped, deaths;
+    uint32_t clock_steps;  /**< backward clock steps absorbed (the time step rule) */
 } kelp_mmdriver_counters;
 
 typedef struct kelp_mmdriver {
@@ -151,6 +153,7 @@ typedef struct kelp_mmdriver {
     double toa_frac;
     kelp_mmdriver_counters count;
     kelp_diag diag;                     /**< first error */
+    kelp_clock clock;                   /**< newest `now` seen (the time step rule) */
 } kelp_mmdriver;
 
 /** Configure (copies cfg).  KELP_ERR_ARG for modem_id outside 1..31 (0 is broadcast) or a bad

@@ -27,6 +27,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <kelp/config.h>
+#include <kelp/util.h>
 #include <kelp/err.h>
 
 #ifdef __cplusplus
@@ -79,6 +80,7 @@ typedef struct kelp_marine_pid {
     int sat[3];                    /**< last PID_MAX_SAT_* posted: -1 none, 0, 1 */
     double rudder_out, thrust_out, elevator_out;
     unsigned long iterations, tardy_helm_n, tardy_nav_n;
+    kelp_clock clock;              /**< previous `now` of iterate (the time step rule) */
 } kelp_marine_pid;
 
 /** pMarinePID's defaults: gains 0, limits 100, maxpitch 15 deg, maxelevator 13 deg,

@@ -25,6 +25,7 @@
 
 #include <kelp/config.h>
 #include <kelp/err.h>
+#include <kelp/util.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -137,6 +138,7 @@ typedef struct kelp_queue_counters {
     uint32_t rx_no_queue;   /**< pieces / CCL frames without a configured queue */
     uint32_t rx_malformed;  /**< frames too short, or stitched frames cut short */
     uint32_t pushed, rejected, expired, acked, dropped_overflow;
+    uint32_t clock_steps;   /**< backward clock steps absorbed (stored times moved back) */
 } kelp_queue_counters;
 
 typedef struct kelp_queue_mgr {
@@ -155,6 +157,7 @@ typedef struct kelp_queue_mgr {
     void *user;
     kelp_queue_counters count;
     kelp_diag diag;         /**< first error (code KELP_OK if none) */
+    kelp_clock clock;       /**< newest `now` of do_work / data_request (the time step rule) */
     /* scratch (not on the stack, which is small on firmware); all three can be in use at once:
      * a data request stitches `next` while an ON_DEMAND queue fills `fresh`, whose loopback
      * push receives it through `rx` */
@@ -197,7 +200,12 @@ int kelp_queue_ack(kelp_queue_mgr *m, int src, int dest, uint32_t frame);
  *  a CCL frame goes to its CCL queue.  @return number of pieces reported (>= 0). */
 int kelp_queue_receive(kelp_queue_mgr *m, const kelp_acomms_msg *frame);
 
-/** Expire old messages (do_work): per queue, from the oldest, while time + ttl < now. */
+/** Expire old messages (do_work): per queue, from the oldest, while time + ttl < now.
+ *  The time step rule (docs/ARCHITECTURE.md), here and in kelp_queue_data_request: a `now`
+ *  behind the newest one seen is a backward clock step, and every stored time (send times,
+ *  message times) moves back as far, so blackouts and ttls keep what remained of them; a step
+ *  forward is elapsed time.  A NaN, infinite or absurd `now` is ignored here and refused
+ *  (KELP_ERR_ARG) by the calls that return a status. */
 void kelp_queue_do_work(kelp_queue_mgr *m, kelp_time now);
 
 /** Empty a queue (emits QSIZE).  KELP_ERR_NOTFOUND if no such queue. */

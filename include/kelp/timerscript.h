@@ -37,6 +37,7 @@
 #include <kelp/field.h>
 #include <kelp/helm.h>
 #include <kelp/rng.h>
+#include <kelp/util.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -155,6 +156,7 @@ typedef struct kelp_ts {
     double start, prev, skip, pause_time, status_time;
     double db_start;
     bool db_set, db_from_mail;
+    kelp_clock clock;               /**< previous `now` of iterate (the time step rule) */
 } kelp_ts;
 
 /** Take a configuration (copied) and a seed. Draws at_start (and at_reset, at_post) random
@@ -170,7 +172,9 @@ void kelp_ts_set_db_start(kelp_ts *r, double t);
 int kelp_ts_mail(kelp_ts *r, const char *var, bool is_string, const char *sval, double dval, kelp_time now,
                  const kelp_field_sink *out);
 /** One iteration at MOOS time `now`: conditions, schedule, postings, resets, status.
- *  @return the number of events posted. */
+ *  A clock step back, or forward beyond KELP_TIME_STEP_MAX, is not script time (the time step
+ *  rule, docs/ARCHITECTURE.md).  @return the number of events posted, or KELP_ERR_ARG for a NaN,
+ *  infinite or absurd `now` (nothing done). */
 int kelp_ts_iterate(kelp_ts *r, kelp_time now, const kelp_field_sink *out);
 /** Expand the macros and {a op b} groups of `val` as a posting would (the event machinery's
  *  text step, also the fuzz entry): @return 1 when the result is a lone number (*dval set),

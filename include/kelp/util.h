@@ -63,6 +63,34 @@ int64_t kelp_days_from_civil(int64_t year, unsigned month, unsigned day);
 /** The date of a day number (days since 1970-01-01). */
 void kelp_civil_from_days(int64_t days, int64_t *year, unsigned *month, unsigned *day);
 
+/* ---- the time-step rule (docs/ARCHITECTURE.md, "When the clock steps") ---- */
+
+/** |now| at or beyond this many seconds is not a time (year 5138): whole microseconds of any
+ *  accepted time fit an int64 many times over. */
+#define KELP_TIME_LIMIT 1e11
+/** A `now` a core entry point accepts: finite and within KELP_TIME_LIMIT (NaN fails every
+ *  comparison, so it is refused too). */
+static inline bool kelp_time_ok(double t)
+{
+    return t > -KELP_TIME_LIMIT && t < KELP_TIME_LIMIT;
+}
+
+/** The newest `now` a state machine has seen, to tell a backward step (zeroed: none seen). */
+typedef struct kelp_clock {
+    double last;
+    bool seen;
+} kelp_clock;
+
+/** Record `now` (a kelp_time_ok one).  @return how far the clock went back from the newest
+ *  time seen (> 0: a backward step; the caller moves its stored times back by as much, so
+ *  what remains of each wait is kept), else 0. */
+double kelp_clock_back(kelp_clock *c, double now);
+
+/** Record `now` (a kelp_time_ok one).  @return the clock step, signed: now minus the previous
+ *  `now` when it is negative (a backward step) or beyond max_fwd (a forward step an integrator
+ *  or controller must not take as elapsed time), else 0. */
+double kelp_clock_step(kelp_clock *c, double now, double max_fwd);
+
 /* ---- big-endian integers in byte buffers (wire headers) ---- */
 
 void kelp_be_put32(uint8_t *p, uint32_t v);

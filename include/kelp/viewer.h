@@ -161,7 +161,10 @@ KELP_MUST_CHECK int kelp_viewer_poke_parse(const char *s, size_t len, kelp_viewe
  *  @return 1 the model changed, 0 not a viewer variable, <0 the value was refused (counted). */
 int kelp_viewer_mail(kelp_viewer *v, const char *var, const char *sval, size_t len, kelp_time now);
 
-/** Time passes: stale flags, stale removal, pulse expiry. @return 1 if anything changed. */
+/** Time passes: stale flags, stale removal, pulse expiry. @return 1 if anything changed.
+ *  The time step rule (docs/ARCHITECTURE.md): after a backward step a vehicle's last report
+ *  ages from `now`; a NaN or infinite `now` changes nothing (and kelp_viewer_mail refuses it,
+ *  KELP_ERR_ARG). */
 int kelp_viewer_tick(kelp_viewer *v, kelp_time now);
 
 /** Current sequence number (0 before any change). */

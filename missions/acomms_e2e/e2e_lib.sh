@@ -18,7 +18,8 @@ mission() {
 }
 
 # run NAME SECONDS NCOMMANDS SPACING, with LOSS GOTO RATE SLOT set (and TOPSIDE / AUV naming other
-# templates than topside.moos / auv.moos): the vehicle for SECONDS and
+# templates than topside.moos / auv.moos, and TOPSIDE_ENV environment assignments for the
+# topside's processes, e.g. KELP_CLOCK_STEPS): the vehicle for SECONDS and
 # the topside 6 s longer (so that whatever the vehicle sent has landed), the GoToCommands
 # goto_x=101.. poked into the topside SPACING s apart after start-up
 run() {
@@ -28,7 +29,7 @@ run() {
   bg lcm-logger --lcm-url="$URL1" -f $name.mm1.lcm -q
   bg lcm-logger --lcm-url="$URL2" -f $name.mm2.lcm -q
   sleep 0.3
-  $BIN/kelp-launch --run-seconds $((secs + 6)) --log-dir logs.$name.mm1 topside$name.moos > launch.$name.mm1 2>&1 & local L1=$!
+  env ${TOPSIDE_ENV:-} $BIN/kelp-launch --run-seconds $((secs + 6)) --log-dir logs.$name.mm1 topside$name.moos > launch.$name.mm1 2>&1 & local L1=$!
   $BIN/kelp-launch --run-seconds $secs --log-dir logs.$name.mm2 auv$name.moos > launch.$name.mm2 2>&1 & local L2=$!
   PIDS+=($L1 $L2)
   sleep 4 # start-up: $CCCLK, $CCCFG,SRC, $CCCFQ,ALL on both links

@@ -21,6 +21,7 @@
 #define MAX_WARN 32
 #define MAX_PUBS 64
 #define WARN_LEN 200
+#define KELP_APP_MAX_CLOCK_STEPS 8
 #define MAX_EVENTS 8
 #define MAX_REAL_HZ 1000.0          /* cap on Iterate rate in wall-clock Hz */
 #define STATUS_PERIOD_TTY 1.0       /* wall seconds between status reports on a terminal */
@@ -57,6 +58,9 @@ struct kelp_app {
     kelp_app_fd_cb xcb[8];
     int nxfd;
     bool quit;
+    /* clock steps for tests (KELP_CLOCK_STEPS): `by` seconds added from `at` s after start */
+    double steps_t0, step_at[KELP_APP_MAX_CLOCK_STEPS], step_by[KELP_APP_MAX_CLOCK_STEPS];
+    int nsteps;
     bool tty;
     bool verbose;
     /* what <NAME>_STATUS reports in MOOS's keys */
@@ -95,7 +99,40 @@ static double wall_now(void)
 double kelp_app_time(const kelp_app *app)
 {
     double w = wall_now();
-    return app->epoch + (w - app->epoch) * app->warp;
+    double offset = 0.0;
+    for (int i = 0; i < app->nsteps; i++)
+        if (w - app->steps_t0 >= app->step_at[i]) offset += app->step_by[i];
+    return app->epoch + (w - app->epoch) * app->warp + offset;
+}
+
+/* KELP_CLOCK_STEPS="AT:BY[,AT:BY...]" (tests of the time step rule, docs/ARCHITECTURE.md): from
+ * AT real seconds after start-up this process's clock is BY seconds off (the steps add up), as
+ * if the host's clock had been stepped; KELP_CLOCK_STEPS_APP=NAME keeps it to the app of that
+ * name.  Read once, at start-up; a malformed list is reported and ignored. */
+static void read_clock_steps(kelp_app *app)
+{
+    const char *e = getenv("KELP_CLOCK_STEPS");
+    const char *only = getenv("KELP_CLOCK_STEPS_APP");
+    app->nsteps = 0;
+    app->steps_t0 = wall_now();
+    if (!e || !*e || (only && *only && strcmp(only, app->name) != 0)) return;
+    for (const char *p = e; *p;) {
+        const char *comma = strchr(p, ',');
+        size_t len = comma ? (size_t)(comma - p) : strlen(p);
+        const char *colon = memchr(p, ':', len);
+        double at, by;
+        if (!colon || app->nsteps >= KELP_APP_MAX_CLOCK_STEPS ||
+            kelp_parse_finite(p, (size_t)(colon - p), &at) < 0 ||
+            kelp_parse_finite(colon + 1, len - (size_t)(colon - p) - 1, &by) < 0) {
+            fprintf(stderr, "%s: KELP_CLOCK_STEPS \"%s\" ignored (AT:BY[,AT:BY...], at most %d)\n", app->name, e,
+                    KELP_APP_MAX_CLOCK_STEPS);
+            app->nsteps = 0;
+            return;
+        }
+        app->step_at[app->nsteps] = at;
+        app->step_by[app->nsteps++] = by;
+        p += len + (comma ? 1 : 0);
+    }
 }
 
 /* the parameters every app accepts; only the first two are used, the rest are MOOS's and ignored */
@@ -919,6 +956,7 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
         free(app);
         return 1;
     }
+    read_clock_steps(app);
     const char *ep = getenv("KELP_WARP_EPOCH");
     app->epoch = 0.0;
     if (ep && kelp_parse_double(ep, strlen(ep), &app->epoch) < 0) app->epoch = 0.0;

@@ -289,6 +289,9 @@ static bool wanted(kelp_bus *b, const kelp_var *v, bool *rate_limited)
         kelp_bus_sub *s = &b->st.subs[i];
         if (s->wildcard ? !kelp_bus_match(s->pattern, v->name) : strcmp(s->pattern, v->name) != 0)
             continue;
+        /* the time step rule: a write more than an interval older than the last delivered one
+         * means the writer's clock stepped back; the interval restarts from it (no stall) */
+        if (v->time < s->last_delivered - s->min_interval) s->last_delivered = -1e300;
         if (s->min_interval > 0 && v->time - s->last_delivered < s->min_interval) {
             *rate_limited = true;
             continue;
@@ -470,8 +473,11 @@ int kelp_bus_receive(kelp_bus *b, const char *channel, const uint8_t *data, size
         b->stats.foreign_community++;
         return KELP_OK;
     }
-    /* a poisoned time would win every later "newer than" comparison in every cache */
-    if (!isfinite(v->time) || (b->lim.time_margin > 0 && v->time > now + b->lim.time_margin)) {
+    /* a poisoned time would win every later "newer than" comparison in every cache.  The time
+     * step rule: "ahead" is judged against the newest `now` seen, so after our own clock steps
+     * back the peers' writes (on the clock we had) are not refused for the length of the step */
+    if (isfinite(now) && now > b->newest) b->newest = now;
+    if (!isfinite(v->time) || (b->lim.time_margin > 0 && v->time > b->newest + b->lim.time_margin)) {
         b->stats.time_rejected++;
         return KELP_ERR_RANGE;
     }

@@ -228,8 +228,12 @@ void kelp_can_rx_init(kelp_can_rx *rx, double timeout)
 
 void kelp_can_rx_expire(kelp_can_rx *rx, kelp_time now)
 {
+    if (!kelp_time_ok(now)) return; /* the time step rule: a NaN would expire every transfer */
     for (size_t i = 0; i < KELP_CAN_SLOTS; i++) {
         kelp_can_slot *s = &rx->slots[i];
+        /* a transfer started "later" than now: the clock stepped back; its timeout counts
+         * from now, so a full table frees within one timeout and not after the step */
+        if (s->used && s->started > now) s->started = now;
         if (s->used && !(now - s->started <= rx->timeout)) {
             s->used = false;
             rx->st.timed_out++;
@@ -370,6 +374,7 @@ static bool complete(const kelp_can_slot *s)
 
 int kelp_can_rx_frame(kelp_can_rx *rx, const kelp_can_dict *d, const kelp_can_frame *f, kelp_time now, kelp_can_msg *out)
 {
+    if (!kelp_time_ok(now)) return KELP_ERR_ARG;
     rx->st.frames++;
     kelp_can_rx_expire(rx, now);
     if (f->id > KELP_CAN_EFF_MASK || KELP_CAN_ID_TAG(f->id) != KELP_CAN_TAG) {

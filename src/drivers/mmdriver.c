@@ -271,10 +271,31 @@ int kelp_mmdriver_init(kelp_mmdriver *mm, const kelp_mmdriver_cfg *cfg, const ke
     return KELP_OK;
 }
 
+/* The time step rule (docs/ARCHITECTURE.md): every entry point that takes `now` comes through
+ * here.  A backward step moves the driver's stored times back as far, so the pause after $CCCLK,
+ * the wait for a reply and the GPS interval keep what remained of them; and the modem's clock,
+ * set from ours, is now ahead by the step: beyond the allowed skew it is set again (one $CCCLK
+ * when the command queue is idle).  A forward step is elapsed time: at most one re-send, and
+ * the modem's next $CAREV shows its clock behind (as Goby checks). */
+static int mm_enter(kelp_mmdriver *mm, kelp_time now, int64_t *now_us)
+{
+    if (!mm || !kelp_time_ok(now)) return KELP_ERR_ARG;
+    *now_us = mm_us(now);
+    double back = kelp_clock_back(&mm->clock, now);
+    if (back > 0.0) {
+        mm->count.clock_steps++;
+        if (mm->hold_until > 0) mm->hold_until -= back;
+        mm->last_write -= back;
+        mm->last_gps -= back;
+        if (back > KELP_MMDRIVER_ALLOWED_SKEW) mm->clock_set = false;
+    }
+    return KELP_OK;
+}
+
 int kelp_mmdriver_start(kelp_mmdriver *mm, kelp_time now)
 {
-    const int64_t now_us = mm_us(now);
-    if (!mm || mm->modem_id < 1) return KELP_ERR_ARG;
+    int64_t now_us;
+    if (mm_enter(mm, now, &now_us) != KELP_OK || mm->modem_id < 1) return KELP_ERR_ARG;
     clear_out(mm);
     mm->waiting = false;
     mm->global_fail = mm->present_fail = 0;
@@ -369,8 +390,8 @@ static int write_cycle(kelp_mmdriver *mm, int src, int dest, unsigned rate, int6
 
 int kelp_mmdriver_initiate_transmission(kelp_mmdriver *mm, int src, int dest, unsigned rate, kelp_time now)
 {
-    const int64_t now_us = mm_us(now);
-    if (!mm) return KELP_ERR_ARG;
+    int64_t now_us;
+    if (mm_enter(mm, now, &now_us) != KELP_OK) return KELP_ERR_ARG;
     if (!mm->started) return KELP_ERR_STATE;
     if (rate > 5) return kelp_fail(&mm->diag, KELP_ERR_RANGE, "mmdriver: rate out of range (0..5)");
     mm->local_cccyc = true; /* we initiated: don't fetch data again on the $CACYC echo */
@@ -382,8 +403,8 @@ int kelp_mmdriver_initiate_transmission(kelp_mmdriver *mm, int src, int dest, un
 
 int kelp_mmdriver_transmit_frames(kelp_mmdriver *mm, unsigned rate, const kelp_mmdriver_frame *frames, size_t n, kelp_time now)
 {
-    const int64_t now_us = mm_us(now);
-    if (!mm || (n && !frames)) return KELP_ERR_ARG;
+    int64_t now_us;
+    if ((n && !frames) || mm_enter(mm, now, &now_us) != KELP_OK) return KELP_ERR_ARG;
     if (!mm->started) return KELP_ERR_STATE;
     if (rate > 5) return kelp_fail(&mm->diag, KELP_ERR_RANGE, "mmdriver: rate out of range (0..5)");
     if (n == 0) return KELP_OK; /* no data: no cycle, as a local slot with an empty queue */
@@ -405,8 +426,8 @@ int kelp_mmdriver_transmit_frames(kelp_mmdriver *mm, unsigned rate, const kelp_m
 int kelp_mmdriver_initiate_ranging(kelp_mmdriver *mm, int src, int dest, kelp_ranging_type type, unsigned max_range,
                              unsigned enable_beacons, kelp_time now)
 {
-    const int64_t now_us = mm_us(now);
-    if (!mm) return KELP_ERR_ARG;
+    int64_t now_us;
+    if (mm_enter(mm, now, &now_us) != KELP_OK) return KELP_ERR_ARG;
     if (!mm->started) return KELP_ERR_STATE;
     char buf[96];
     kelp_nmea_writer w;
@@ -729,8 +750,8 @@ static void drain_backlog(kelp_mmdriver *mm, int64_t now_us)
 
 int kelp_mmdriver_feed(kelp_mmdriver *mm, const uint8_t *bytes, size_t n, kelp_time now)
 {
-    const int64_t now_us = mm_us(now);
-    if (!mm || (n && !bytes)) return KELP_ERR_ARG;
+    int64_t now_us;
+    if ((n && !bytes) || mm_enter(mm, now, &now_us) != KELP_OK) return KELP_ERR_ARG;
     if (!mm->started) return KELP_ERR_STATE;
     if (!holding(mm, now_us) && mm->backlog_len) drain_backlog(mm, now_us);
     for (size_t i = 0; i < n; i++) {
@@ -746,8 +767,8 @@ int kelp_mmdriver_feed(kelp_mmdriver *mm, const uint8_t *bytes, size_t n, kelp_t
 
 int kelp_mmdriver_tick(kelp_mmdriver *mm, kelp_time now)
 {
-    const int64_t now_us = mm_us(now);
-    if (!mm) return KELP_ERR_ARG;
+    int64_t now_us;
+    if (mm_enter(mm, now, &now_us) != KELP_OK) return KELP_ERR_ARG;
     if (!mm->started) return KELP_ERR_STATE;
     if (mm->dead) return KELP_ERR_TIMEOUT;
     if (holding(mm, now_us)) return KELP_OK;

@@ -986,6 +986,28 @@ static int mail_factor(kelp_field_ncomms *c, const char *var, const char *s, boo
     return 1;
 }
 
+/* The time step rule (docs/ARCHITECTURE.md), where the tool acts (iterate, report): after a
+ * backward step no time this tool stamped with its own clock lies ahead of `now`; each is
+ * brought to `now`, so an interval (MIN_RPT_INTERVAL, MIN_MSG_INTERVAL, SHARED_NODE_REPORTS)
+ * blocks for at most its own length instead of the step, and no age in the report is negative.
+ * (Mail may arrive stamped out of order; it is not where a step is told.)  A report's own TIME is
+ * the sender's clock and stays.  A forward step is elapsed time: reports go stale until the next. */
+static bool clock_guard(kelp_field_ncomms *c, kelp_time now)
+{
+    if (!kelp_time_ok(now)) return false;
+    if (c->started && c->start > now) c->start = now;
+    for (unsigned i = 0; i < c->nnodes; i++) {
+        kelp_ncomms_node *nd = &c->node[i];
+        if (c->hot[i].t_recv > now) c->hot[i].t_recv = now;
+        if (nd->msg_time > now) nd->msg_time = now;
+        if (nd->ack_time > now) nd->ack_time = now;
+        if (nd->share_time > now) nd->share_time = now;
+    }
+    for (unsigned k = 0; k < KELP_NCOMMS_PAIR_SLOTS; k++)
+        if (c->pair[k].key && c->pair[k].t > now) c->pair[k].t = now;
+    return true;
+}
+
 int kelp_field_ncomms_mail(kelp_field_ncomms *c, const char *var, bool is_string, const char *sval, double dval,
                            const char *source, kelp_time now, const kelp_field_sink *out)
 {
@@ -994,6 +1016,7 @@ int kelp_field_ncomms_mail(kelp_field_ncomms *c, const char *var, bool is_string
     for (size_t i = 0; i < sizeof subs / sizeof subs[0]; i++)
         if (strcmp(var, subs[i]) == 0) ours = true;
     if (!ours) return 0;
+    if (!kelp_time_ok(now)) return KELP_ERR_ARG;
     if (!c->started) c->start = now, c->started = true;
     const char *s = is_string && sval ? sval : ""; /* a double where a string is read: "" (as 24.8) */
     if (!strcmp(var, "NODE_REPORT") || !strcmp(var, "NODE_REPORT_LOCAL")) return mail_report(c, var, s, now, out);
@@ -1039,6 +1062,7 @@ int kelp_field_ncomms_mail(kelp_field_ncomms *c, const char *var, bool is_string
 unsigned long kelp_field_ncomms_iterate(kelp_field_ncomms *c, kelp_time now, const kelp_field_sink *out)
 {
     unsigned long posts = 0;
+    if (!clock_guard(c, now)) return 0;
     c->now = now;
     if (!c->started) c->start = now, c->started = true;
     /* the senders in name order (24.8's map of new records) */
@@ -1141,6 +1165,7 @@ int kelp_field_ncomms_report(kelp_field_ncomms *c, kelp_time now, char *buf, siz
     rbuf r = { buf, cap, 0, false };
     if (cap == 0) return KELP_ERR_NOSPACE;
     buf[0] = 0;
+    if (!clock_guard(c, now)) return KELP_ERR_ARG;
     /* 24.8 prints "Share Reports" from min_rpt_interval (sic) */
     bool share_on = c->cfg.min_rpt_interval > 0;
     put(&r, "Configuration:  \n");

@@ -477,6 +477,15 @@ static int post(kelp_field_nrep *r, kelp_nodereport *n, const char *extra, bool 
 
 int kelp_field_nrep_iterate(kelp_field_nrep *r, kelp_time now, const kelp_field_sink *out)
 {
+    if (!kelp_time_ok(now)) return 0;
+    /* the time step rule (docs/ARCHITECTURE.md): after a backward step no time of our own clock
+     * lies ahead of now, so the blackout and platform gaps last at most their length and no gap
+     * or NOHELM age is negative */
+    if (r->last_post > now) r->last_post = now;
+    if (r->posted_at.time > now) r->posted_at.time = now;
+    if (r->helm_last > now) r->helm_last = now;
+    for (unsigned i = 0; i < KELP_NREP_MAX_PLAT; i++)
+        if (r->plat_sent[i] > now) r->plat_sent[i] = now;
     if (r->helm_mail) r->helm_last = now, r->helm_mail = false;
     for (int k = 0; k < 2; k++)
         if (r->nav[k].mail) r->nav[k].last = now, r->nav[k].mail = false;

@@ -92,11 +92,17 @@ static int node_report(kelp_field_upc *p, const char *s, kelp_time now, const ke
     kelp_upc_point pt = { r.x, r.y, t, 0 };
     if (n->n > 0) {
         const kelp_upc_point *prev = &n->hist[(n->head + n->n - 1) % cap];
-        if (!(t > prev->t)) { /* a repeat or out of order: not a new position */
+        /* the time step rule: a report KELP_TIME_STEP_MAX behind the previous one (the
+         * vehicle's clock stepped back) or ahead of it (stepped forward, or a long silence)
+         * starts the speed history again, so reports are not ignored for the length of the step
+         * and no speed is averaged over it; the distance still counts */
+        bool step = t < prev->t - KELP_TIME_STEP_MAX || t > prev->t + KELP_TIME_STEP_MAX;
+        if (!step && !(t > prev->t)) { /* a repeat or out of order: not a new position */
             n->ignored++;
             return 1;
         }
         pt.d = hypot(r.x - prev->x, r.y - prev->y);
+        if (step) n->n = 0, n->head = 0;
     }
     p->good++;
     n->reports++;
@@ -116,7 +122,7 @@ int kelp_field_upc_mail(kelp_field_upc *p, const char *var, bool is_string, cons
                         const kelp_field_sink *out)
 {
     if (kelp_strieq(var, "NODE_REPORT") || kelp_strieq(var, "NODE_REPORT_LOCAL")) {
-        if (!is_string || !sval) return KELP_ERR_ARG;
+        if (!is_string || !sval || !kelp_time_ok(now)) return KELP_ERR_ARG;
         return node_report(p, sval, now, out);
     }
     if (kelp_strieq(var, "UPC_TRIP_RESET") || kelp_strieq(var, "UPC_ODOMETRY_RESET")) {
@@ -185,7 +191,7 @@ int kelp_field_upc_report(const kelp_field_upc *p, kelp_time now, char *buf, siz
     field_putf(buf, cap, &k, "----------  ----------  ---------  ---------  --------\n");
     for (unsigned i = 0; i < p->nnodes; i++) {
         const kelp_upc_node *n = &p->node[i];
-        field_putf(buf, cap, &k, "%-10s  %10.1f  %9.1f  %9.1f  %8.2f\n", n->name, n->trip, n->total, now - n->last_recv,
+        field_putf(buf, cap, &k, "%-10s  %10.1f  %9.1f  %9.1f  %8.2f\n", n->name, n->trip, n->total, fmax(0.0, now - n->last_recv),
                    kelp_field_upc_speed(n));
     }
     return k + 1 >= cap ? KELP_ERR_NOSPACE : KELP_OK;

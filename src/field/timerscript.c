@@ -736,6 +736,17 @@ static void post_status(kelp_ts *r, kelp_time now, const kelp_field_sink *out)
 int kelp_ts_iterate(kelp_ts *r, kelp_time now, const kelp_field_sink *out)
 {
     const kelp_ts_cfg *c = &r->cfg;
+    if (!kelp_time_ok(now)) return KELP_ERR_ARG;
+    /* the time step rule: a clock step (back, or forward beyond KELP_TIME_STEP_MAX) is not script
+     * time: every reference moves with it, so no event fires early or late by the step, none is
+     * posted in a burst, and DBTIME / the status period never run backwards */
+    double step = kelp_clock_step(&r->clock, now, KELP_TIME_STEP_MAX);
+    if (step != 0.0) {
+        r->start += step;
+        if (r->prev >= 0) r->prev += step;
+        r->status_time += step;
+        r->db_start += step;
+    }
     if (!r->db_set) kelp_ts_set_db_start(r, now);
     /* as MOOS-IvP's uTimerScript: the status is owed to what this iteration does (a posting, a
      * change of conditions, a reset it makes, 5 s of silence), not to the mail before it */

@@ -1,5 +1,6 @@
 /* kelp: Goby 1.1 TDMA MAC (libamac mac_manager.cpp behaviour, goby-wire.md section 9). */
 #include <kelp/mac.h>
+#include <kelp/util.h>
 
 #include <math.h>
 #include <string.h>
@@ -133,7 +134,7 @@ static int add_slot(kelp_mac *mac, const kelp_mac_slot *s, kelp_time now)
 
 int kelp_mac_add_slot(kelp_mac *mac, const kelp_mac_slot *s, kelp_time now)
 {
-    if (!mac || !s) return KELP_ERR_ARG;
+    if (!mac || !s || !kelp_time_ok(now)) return KELP_ERR_ARG;
     if (mac->type == KELP_MAC_AUTO_DECENTRALIZED || mac->type == KELP_MAC_NONE) return KELP_ERR_STATE;
     kelp_mac_slot c = *s;
     c.never_expires = false;
@@ -149,7 +150,7 @@ static bool slot_eq(const kelp_mac_slot *a, const kelp_mac_slot *b)
 
 int kelp_mac_remove_slot(kelp_mac *mac, const kelp_mac_slot *s, kelp_time now)
 {
-    if (!mac || !s) return KELP_ERR_ARG;
+    if (!mac || !s || !kelp_time_ok(now)) return KELP_ERR_ARG;
     if (mac->type == KELP_MAC_AUTO_DECENTRALIZED || mac->type == KELP_MAC_NONE) return KELP_ERR_STATE;
     bool removed = false;
     for (size_t i = 0; i < mac->n; i++) {
@@ -174,7 +175,7 @@ void kelp_mac_clear(kelp_mac *mac)
 
 int kelp_mac_init(kelp_mac *mac, const kelp_mac_cfg *cfg, kelp_time now)
 {
-    if (!mac || !cfg || (cfg->nslots && !cfg->slots)) return KELP_ERR_ARG;
+    if (!mac || !cfg || (cfg->nslots && !cfg->slots) || !kelp_time_ok(now)) return KELP_ERR_ARG;
     memset(mac, 0, sizeof *mac);
     mac->type = cfg->type;
     mac->modem_id = cfg->modem_id;
@@ -222,7 +223,8 @@ static void expire_ids(kelp_mac *mac, kelp_time now)
     bool reset = false;
     size_t i = 0;
     while (i < mac->n) {
-        const kelp_mac_slot *s = &mac->slot[i];
+        kelp_mac_slot *s = &mac->slot[i];
+        if (s->last_heard > now) s->last_heard = now; /* heard "later": the clock stepped back */
         if (!s->never_expires && s->src != mac->modem_id && mac_us(s->last_heard) < limit) {
             memmove(&mac->slot[i], &mac->slot[i + 1], (mac->n - i - 1) * sizeof mac->slot[0]);
             mac->n--;
@@ -235,13 +237,36 @@ static void expire_ids(kelp_mac *mac, kelp_time now)
     if (reset) cycle_size_change(mac, now);
 }
 
+/* The time step rule (docs/ARCHITECTURE.md): the clock stepped when the slot that starts next
+ * has ended before `now` (its whole time missed: a tick is never that late otherwise), or lies
+ * further ahead than a cycle and the longest slot (the most a re-aligned cycle can be away). */
+static bool clock_stepped(const kelp_mac *mac, int64_t now_us)
+{
+    unsigned longest = 1;
+    for (size_t i = 0; i < mac->n; i++)
+        if (mac->slot[i].slot_seconds > longest) longest = mac->slot[i].slot_seconds;
+    unsigned own = mac->slot[mac->current].slot_seconds;
+    int64_t next_us = mac_us(mac->next_slot);
+    int64_t ahead_us = ((int64_t)kelp_mac_cycle_length(mac) + longest) * US_PER_S;
+    return now_us >= next_us + (int64_t)(own ? own : 1u) * US_PER_S || next_us - now_us > ahead_us;
+}
+
 int kelp_mac_tick(kelp_mac *mac, kelp_time now, kelp_mac_action *act)
 {
     if (!mac || !act) return KELP_ERR_ARG;
     memset(act, 0, sizeof *act);
     act->kind = KELP_MAC_ACT_NONE;
-    if (!mac->running || mac->n == 0 || mac_us(now) < mac_us(mac->next_slot)) return KELP_ERR_EMPTY;
+    if (!kelp_time_ok(now)) return KELP_ERR_ARG;
+    if (!mac->running || mac->n == 0) return KELP_ERR_EMPTY;
     if (mac->current >= mac->n) mac->current = 0;
+    if (clock_stepped(mac, mac_us(now))) {
+        /* the time step rule: no burst of missed slots, no wait for a slot an hour away */
+        mac->clock_steps++;
+        mac->current = 0;
+        cycle_size_change(mac, now);
+        return KELP_ERR_EMPTY;
+    }
+    if (mac_us(now) < mac_us(mac->next_slot)) return KELP_ERR_EMPTY;
     const kelp_mac_slot s = mac->slot[mac->current];
     bool send;
     switch (mac->type) {
@@ -283,7 +308,7 @@ int kelp_mac_tick(kelp_mac *mac, kelp_time now, kelp_mac_action *act)
 
 void kelp_mac_heard(kelp_mac *mac, int src, kelp_time now)
 {
-    if (!mac || mac->type != KELP_MAC_AUTO_DECENTRALIZED || src < 0) return;
+    if (!mac || mac->type != KELP_MAC_AUTO_DECENTRALIZED || src < 0 || !kelp_time_ok(now)) return;
     for (size_t i = 0; i < mac->n; i++) {
         if (mac->slot[i].src == src) {
             if (!mac->slot[i].never_expires) mac->slot[i].last_heard = now;
@@ -309,7 +334,7 @@ void kelp_mac_heard(kelp_mac *mac, int src, kelp_time now)
 int kelp_mac_update(kelp_mac *mac, int dest, kelp_mac_update_type type, const kelp_mac_slot *slots, size_t n,
                     kelp_time now)
 {
-    if (!mac || (n && !slots)) return KELP_ERR_ARG;
+    if (!mac || (n && !slots) || !kelp_time_ok(now)) return KELP_ERR_ARG;
     if (mac->type != KELP_MAC_FIXED_DECENTRALIZED && mac->type != KELP_MAC_POLLED) return KELP_ERR_STATE;
     if (dest != mac->modem_id) return KELP_ERR_NOTFOUND;
     int rc = KELP_OK;

@@ -1,6 +1,7 @@
 /* kelp: Goby 1.1 priority queue (libqueue), re-implemented from the behaviour described in
  * goby-wire.md section 8 (queue.cpp / queue_manager.cpp).  Core: no allocation, no I/O. */
 #include <kelp/queue.h>
+#include <kelp/util.h>
 
 #include <math.h>
 #include <stddef.h>
@@ -81,9 +82,27 @@ int kelp_queue_init(kelp_queue_mgr *m, int modem_id, kelp_queue *queues, size_t 
     return KELP_OK;
 }
 
+/* The time step rule (docs/ARCHITECTURE.md): after the clock steps back, every stored time moves
+ * back as far, so a blackout or a ttl keeps what remained of it instead of lasting the step too
+ * (a send time an hour ahead would black a queue out for an hour).  A step forward is elapsed
+ * time: blackouts end, old messages expire, one frame per request as always. */
+static void clock_step(kelp_queue_mgr *m, kelp_time now)
+{
+    double back = kelp_clock_back(&m->clock, now);
+    if (back <= 0.0) return;
+    m->count.clock_steps++;
+    for (size_t k = 0; k < m->nq; k++) {
+        kelp_queue *q = &m->q[k];
+        q->last_send -= back;
+        for (int32_t i = q->head; i >= 0; i = m->pool[i].next)
+            if (m->pool[i].msg.has_time) m->pool[i].msg.time -= back;
+    }
+}
+
 int kelp_queue_add(kelp_queue_mgr *m, const kelp_queue_cfg *cfg, kelp_time now)
 {
-    if (!m || !cfg) return KELP_ERR_ARG;
+    if (!m || !cfg || !kelp_time_ok(now)) return KELP_ERR_ARG;
+    clock_step(m, now);
     if (cfg->key.type != KELP_QUEUE_DCCL && cfg->key.type != KELP_QUEUE_CCL) return KELP_ERR_ARG;
     if (find_q(m, cfg->key)) return kelp_fail(&m->diag, KELP_ERR_EXISTS, "queue: duplicate key");
     if (cfg->key.type == KELP_QUEUE_DCCL &&
@@ -203,7 +222,7 @@ static double priority_of(const kelp_queue *q, kelp_time now)
 
 int kelp_queue_priority(const kelp_queue_mgr *m, kelp_queue_key key, kelp_time now, double *prio)
 {
-    if (!m || !prio) return KELP_ERR_ARG;
+    if (!m || !prio || !kelp_time_ok(now)) return KELP_ERR_ARG;
     const kelp_queue *q = find_q(m, key);
     if (!q) return KELP_ERR_NOTFOUND;
     *prio = priority_of(q, now);
@@ -364,7 +383,8 @@ static int stitch(kelp_queue_mgr *m, const kelp_queue_request *req, kelp_acomms_
 
 int kelp_queue_data_request(kelp_queue_mgr *m, const kelp_queue_request *req_in, kelp_time now, kelp_acomms_msg *out)
 {
-    if (!m || !req_in || !out) return KELP_ERR_ARG;
+    if (!m || !req_in || !out || !kelp_time_ok(now)) return KELP_ERR_ARG;
+    clock_step(m, now);
     kelp_queue_request req = *req_in;
     if (req.max_bytes == 0 || req.max_bytes > KELP_MAX_ACOMMS_FRAME) req.max_bytes = KELP_MAX_ACOMMS_FRAME;
     memset(out, 0, sizeof *out);
@@ -420,7 +440,8 @@ int kelp_queue_ack(kelp_queue_mgr *m, int src, int dest, uint32_t frame)
 
 void kelp_queue_do_work(kelp_queue_mgr *m, kelp_time now)
 {
-    if (!m) return;
+    if (!m || !kelp_time_ok(now)) return;
+    clock_step(m, now);
     for (size_t k = 0; k < m->nq; k++) {
         kelp_queue *q = &m->q[k];
         while (q->head >= 0) {

@@ -159,6 +159,21 @@ static void post_sat(kelp_marine_pid *m, kelp_marine_pid_sink sink, void *ctx, i
 
 void kelp_marine_pid_iterate(kelp_marine_pid *m, kelp_time now, kelp_marine_pid_sink sink, void *ctx)
 {
+    if (!kelp_time_ok(now)) return; /* the time step rule: no NaN reaches an actuator */
+    double step = kelp_clock_step(&m->clock, now, KELP_TIME_STEP_MAX);
+    if (step != 0.0) {
+        /* a clock step (back, or forward beyond KELP_TIME_STEP_MAX: not the nav timeout, which a
+         * warped mission's iterations may exceed) is not a dt: each loop's previous run moves
+         * with it, so the next run sees dt 0 (its previous output) */
+        m->yaw.t_old += step;
+        m->speed.t_old += step;
+        m->z_to_pitch.t_old += step;
+        m->pitch.t_old += step;
+        m->bias_t0 += step;
+    }
+    /* mail stamped before a backward step is not from the future: it counts from now */
+    if (m->last_helm > now) m->last_helm = now;
+    if (m->last_nav > now) m->last_nav = now;
     m->iterations++;
     if (!m->has_control) {
         if (m->allstop_posted) return;

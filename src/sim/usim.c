@@ -145,6 +145,10 @@ static void pid_out(void *ctx, const char *var, bool is_string, const char *sval
 int kelp_usim_iterate(kelp_usim *u, kelp_time now, kelp_usim_sink sink, void *ctx)
 {
     const kelp_sim_state *s = &u->sim.s;
+    if (!kelp_time_ok(now)) return KELP_ERR_ARG;
+    /* the time step rule: a clock step back, or forward beyond KELP_TIME_STEP_MAX, is not a dt
+     * (no dead reckoning over an hour the vehicle did not move): the simulation resumes from now */
+    if (now < u->sim.time || now - u->sim.time > KELP_TIME_STEP_MAX) u->sim.time = now;
     if (u->embedded_pid) {
         (void)kelp_marine_pid_mail(u->pid, "NAV_HEADING", false, NULL, s->heading, now);
         (void)kelp_marine_pid_mail(u->pid, "NAV_SPEED", false, NULL, s->speed, now);

@@ -540,6 +540,7 @@ static int mail_cast(kelp_viewer *v, const char *s, size_t len, kelp_time now)
 int kelp_viewer_mail(kelp_viewer *v, const char *var, const char *sval, size_t len, kelp_time now)
 {
     if (!v || !var || !sval) return 0;
+    if (!kelp_time_ok(now)) return KELP_ERR_ARG; /* a NaN arrival would never turn stale */
     /* (not NODE_REPORT_<VEHICLE>: uFldNodeComms's relayed copies, older than the originals) */
     if (kelp_strieq(var, "NODE_REPORT") || kelp_strieq(var, "NODE_REPORT_LOCAL")) return mail_report(v, sval, len, now);
     kelp_view_kind kind;
@@ -551,9 +552,13 @@ int kelp_viewer_mail(kelp_viewer *v, const char *var, const char *sval, size_t l
 int kelp_viewer_tick(kelp_viewer *v, kelp_time now)
 {
     int changed = 0;
+    if (!kelp_time_ok(now)) return 0;
     for (unsigned i = 0; i < v->nveh; i++) {
         kelp_viewer_vehicle *e = &v->veh[i];
         if (!e->used || e->gone) continue;
+        /* the time step rule: a report received "after" now (the clock stepped back) ages from
+         * now, so a vehicle gone silent turns stale one threshold later, not the step later */
+        if (e->t_rx > now) e->t_rx = now;
         double age = now - e->t_rx;
         if (v->stale_remove_thresh > 0 && age > v->stale_remove_thresh) {
             e->gone = true;

@@ -164,3 +164,27 @@ grep -q 'nmea-out \$CCCYC,0,1,3,2,1,3\*' o6.txt || { cat o6.txt; fail "CCCYC wit
 grep -q 'cycle: bad argument "a"' o6.txt || fail "bad frame hex accepted"
 grep -q 'cycle: rate 0 carries 1 frames' o6.txt || { cat o6.txt; fail "2 frames at rate 0 accepted"; }
 ok "caller frames: \$CCCYC with 3 frames, 1 given + 2 empty \$CCTXD, errors for bad input"
+
+# 7. the cycle changed while the MAC runs (ACOMMS_MAC_CYCLE_UPDATE): each change re-aligns the
+#    cycle to the next boundary of the new length (goby-wire.md 9.61) at the update's time.
+#    r.moos (test 4): FIXED, modem 1, slots (1->2, 10 s) (2->1, 10 s), start 00:00:07.
+#    - cycle 20 s from 00:00:20: our slot at t=13, 33
+#    - t=40 (00:00:47) ADD (1->3, 10 s): cycle 30 s from 00:01:00 (t=53): 53 idx0, 73 idx2, 83 idx0
+#    - t=100 (00:01:47) REMOVE (2->1): cycle 20 s from 00:02:00 (t=113): 113, 123, 133, 143
+#    A time handed to the MAC in the wrong unit re-aligned the cycle to 1970 and the replay
+#    printed every slot since then at one second without end, hence the timeout.
+cat > t7.txt <<'X'
+advance 40
+mac_update dest: 1 update_type: ADD slot { src: 1 dest: 3 rate: 0 type: SLOT_DATA slot_seconds: 10 }
+advance 60
+mac_update dest: 1 update_type: REMOVE slot { src: 2 dest: 1 rate: 0 type: SLOT_DATA slot_seconds: 10 }
+advance 50
+X
+timeout 20 "$R" --plain --moos r.moos --start 1262304007 t7.txt > o7.txt || { head -40 o7.txt; fail "replay 7 did not finish"; }
+grep -q '^ *40.000 mac_update slots=3 cycle=30$' o7.txt || { head -40 o7.txt; fail "ADD not applied"; }
+grep -q '^ *100.000 mac_update slots=2 cycle=20$' o7.txt || { cat o7.txt; fail "REMOVE not applied"; }
+got=$(awk '/ slot index=/{printf "%s:%s ", $1, $3}' o7.txt)
+want="13.000:index=0 33.000:index=0 53.000:index=0 73.000:index=2 83.000:index=0 113.000:index=0 123.000:index=1 133.000:index=0 143.000:index=1 "
+[ "$got" = "$want" ] || { head -40 o7.txt; echo "got  ${got:0:400}"; echo "want $want"; fail "not one slot per slot time across the updates"; }
+[ "$(awk '/ slot index=/{print $1}' o7.txt | sort | uniq -d | wc -l)" = 0 ] || fail "two slots at one time"
+ok "mac_update ADD then REMOVE while the MAC runs: 9 slots, one per slot time, re-aligned each time"
