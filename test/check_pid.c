@@ -186,12 +186,14 @@ START_TEST(sim_rudder_thrust_model)
     ck_assert_int_eq(kelp_sim_set_thrust(&sim, 40), 0);
     ck_assert(sim.actuated);
     ck_assert_int_eq(kelp_sim_step(&sim, 1), 0);
-    ck_assert(fabs(sim.s.speed - 2) < 1e-9 && fabs(sim.s.y - 2) < 1e-6);
-    /* full rudder: speed drops by turn_spd_loss; heading turns at 100 * 0.7 * (thrust/50) deg/s */
+    /* no acceleration limit: 2 m/s from the first 0.05 s sub-step, moved at the mean speed */
+    ck_assert(fabs(sim.s.speed - 2) < 1e-9 && fabs(sim.s.y - 1.95) < 1e-6);
+    /* full rudder: speed drops by turn_spd_loss to 1 m/s; the turn rate at 1 m/s is 70 x 1/5
+     * percent: 100 x 0.14 x (40/50) = 11.2 deg/s */
     ck_assert_int_eq(kelp_sim_set_rudder(&sim, 100), 0);
     ck_assert_int_eq(kelp_sim_step(&sim, 2), 0);
     ck_assert(fabs(sim.s.speed - 1) < 1e-9);
-    ck_assert(fabs(sim.s.heading - 56) < 1e-6);
+    ck_assert(fabs(sim.s.heading - 11.2) < 1e-6);
     /* no way on: the rudder does nothing; positive buoyancy rises */
     sim.p.buoyancy_rate = 0.1;
     sim.s.depth = 5;
@@ -218,7 +220,7 @@ START_TEST(sim_rudder_thrust_model)
     ck_assert_int_eq(kelp_sim_step(&sim, 6), 0);
     ck_assert(sim.sog > 1.0);
     /* acceleration limits apply in this model too */
-    sim.p.max_accel = 0.1;
+    sim.p.act_max_accel = 0.1;
     ck_assert_int_eq(kelp_sim_set_thrust(&sim, 100), 0);
     ck_assert_int_eq(kelp_sim_step(&sim, 7), 0);
     ck_assert(fabs(sim.s.speed - 1.1) < 1e-6);
@@ -233,6 +235,117 @@ START_TEST(sim_rudder_thrust_model)
 }
 END_TEST
 
+/* uSimMarineV22's turn model (SimEngine::propagateSpeed/propagateHeading, TurnSpeedMap), by
+ * hand: speed = thrust/20 x (1 - |rudder|/100 x 0.85); rate% = 70 x speed/5 (full from 5 m/s);
+ * deg/s = rudder x rate%/100 x thrust/50. Each case starts at its in-turn speed. */
+static const struct {
+    double thrust, rudder, null_speed, null_rate, speed, degps;
+} v22_turns[] = {
+    { 40, 10, 0, 0, 1.83, 2.0496 },       /* 2 m/s x 0.915; 25.62%; 10 x .2562 x .8 */
+    { 40, -30, 0, 0, 1.49, -5.0064 },     /* 2 x .745; 20.86%; -30 x .2086 x .8 */
+    { 100, 50, 0, 0, 2.875, 40.25 },      /* 5 x .575; 40.25%; 50 x .4025 x 2 */
+    { 60, 20, 0, 0, 2.49, 8.3664 },       /* 3 x .83; 34.86%; 20 x .3486 x 1.2 */
+    { 20, 100, 0, 0, 0.15, 0.84 },        /* 1 x .15; 2.1%; 100 x .021 x .4 */
+    { 40, 10, 1, 20, 1.83, 2.43 },        /* null 1 m/s at 20%: 20 + .83/4 x 50 = 30.375% */
+    { 40, 10, 2, 20, 1.83, 1.6 },         /* below the null speed: 20%; 10 x .2 x .8 */
+};
+
+START_TEST(sim_v22_turn_rate)
+{
+    kelp_sim_params p;
+    kelp_sim_params_default(&p);
+    ck_assert(p.act_max_accel == 0 && p.max_decel == 0.5 && p.act_turn_rate == 70 && p.turn_spd_loss == 0.85);
+    p.control = KELP_SIM_ACTUATED;
+    p.tsm_null_speed = v22_turns[_i].null_speed;
+    p.tsm_null_rate = v22_turns[_i].null_rate;
+    kelp_sim_state st = { 0, 0, 90, v22_turns[_i].speed, 0 };
+    kelp_sim sim;
+    ck_assert_int_eq(kelp_sim_init(&sim, &p, &st, 100), 0);
+    ck_assert_int_eq(kelp_sim_set_thrust(&sim, v22_turns[_i].thrust), 0);
+    ck_assert_int_eq(kelp_sim_set_rudder(&sim, v22_turns[_i].rudder), 0);
+    ck_assert_int_eq(kelp_sim_step(&sim, 102), 0);
+    ck_assert_double_eq_tol(sim.s.speed, v22_turns[_i].speed, 1e-9);
+    ck_assert_double_eq_tol(kelp_sim_angle180(sim.s.heading - 90), 2 * v22_turns[_i].degps, 1e-6);
+}
+END_TEST
+
+/* speed loss in a turn, V22's limits: no acceleration limit, deceleration 0.5 m/s^2; the
+ * turn-speed map keys; the thrust map from (0, 0) */
+START_TEST(sim_v22_speed)
+{
+    kelp_sim_params p;
+    kelp_sim_params_default(&p);
+    kelp_diag why = { 0 };
+    kelp_sim_state st = { 0, 0, 0, 2, 0 };
+    ck_assert_int_eq(kelp_sim_config_set(&p, &st, "turn_spd_map_null_speed", "0.5", &why), 1);
+    ck_assert_int_eq(kelp_sim_config_set(&p, &st, "TURN_SPD_MAP_NULL_RATE", "10", &why), 1);
+    ck_assert_int_lt(kelp_sim_config_set(&p, &st, "TURN_SPD_MAP_NULL_RATE", "101", &why), 0);
+    ck_assert_int_eq(kelp_sim_config_set(&p, &st, "TURN_SPD_MAP_FULL_SPEED", "1", &why), 1);
+    ck_assert(p.tsm_null_speed == 0.5 && p.tsm_null_rate == 10);
+    /* full speed stays 5 m/s whatever the key says: at 2.75 m/s halfway from 10% to 70% */
+    ck_assert_double_eq_tol(kelp_sim_turn_rate_at(&p, 2.75), 40, 1e-9);
+    ck_assert_double_eq_tol(kelp_sim_turn_rate_at(&p, 0.4), 10, 1e-9);
+    ck_assert_double_eq_tol(kelp_sim_turn_rate_at(&p, 7), 70, 1e-9);
+    /* a map without 0:0 interpolates from (0, 0); flat after its last point */
+    ck_assert_int_eq(kelp_sim_config_set(&p, &st, "thrust_map", "50:2, 80:3", &why), 1);
+    ck_assert_double_eq_tol(kelp_sim_thrust_speed(&p, 25), 1, 1e-12);
+    ck_assert_double_eq_tol(kelp_sim_thrust_speed(&p, 65), 2.5, 1e-12);
+    ck_assert_double_eq_tol(kelp_sim_thrust_speed(&p, 95), 3, 1e-12);
+    ck_assert(kelp_sim_thrust_speed(&p, 0) == 0);
+    p.nmap = 0;
+    p.control = KELP_SIM_ACTUATED;
+    kelp_sim sim;
+    ck_assert_int_eq(kelp_sim_init(&sim, &p, &st, 0), 0);
+    ck_assert_int_eq(kelp_sim_set_thrust(&sim, 40), 0);
+    ck_assert_int_eq(kelp_sim_set_rudder(&sim, 100), 0);
+    /* target 2 x 0.15 = 0.3 m/s; slowing at 0.5 m/s^2: 1.5 m/s after 1 s */
+    ck_assert_int_eq(kelp_sim_step(&sim, 1), 0);
+    ck_assert_double_eq_tol(sim.s.speed, 1.5, 1e-9);
+    /* rudder back to 0: no acceleration limit, 2 m/s at once */
+    ck_assert_int_eq(kelp_sim_set_rudder(&sim, 0), 0);
+    ck_assert_int_eq(kelp_sim_step(&sim, 1.05), 0);
+    ck_assert_double_eq_tol(sim.s.speed, 2, 1e-9);
+    /* MAX_ACCELERATION sets the limit of both models */
+    ck_assert_int_eq(kelp_sim_config_set(&p, &st, "MAX_ACCELERATION", "0.2", &why), 1);
+    ck_assert(p.act_max_accel == 0.2 && p.max_accel == 0.2);
+}
+END_TEST
+
+typedef struct srec {
+    char text[8][96];
+    int n;
+} srec;
+
+static void ssink(void *ctx, const char *var, bool is_string, const char *sval, double dval)
+{
+    srec *r = ctx;
+    (void)dval;
+    if (is_string && r->n < 8) snprintf(r->text[r->n++], sizeof r->text[0], "%s=%s", var, sval);
+}
+
+/* uSimMarineV22 posts SIMULATION_MODE (with its PID engine's depth control, on by default)
+ * and USM_DRIFT_SUMMARY at its first iteration and when drift arrives (USM_MOOSApp) */
+START_TEST(usim_v22_postings)
+{
+    static kelp_usim u;
+    kelp_usim_defaults(&u, NULL, NULL);
+    ck_assert_int_eq(kelp_usim_start(&u, NULL, 10), 0);
+    srec r = { 0 };
+    ck_assert_int_eq(kelp_usim_iterate(&u, 10.25, ssink, &r), 0);
+    ck_assert_int_eq(r.n, 2);
+    ck_assert_str_eq(r.text[0], "SIMULATION_MODE=TRUE");
+    ck_assert_str_eq(r.text[1], "USM_DRIFT_SUMMARY=ang=0, mag=0, xmag=0, ymag=0");
+    r.n = 0;
+    ck_assert_int_eq(kelp_usim_iterate(&u, 10.5, ssink, &r), 0);
+    ck_assert_int_eq(r.n, 1);
+    ck_assert_int_eq(kelp_usim_mail(&u, "DRIFT_X", false, NULL, 0.5, 10.6), 1);
+    r.n = 0;
+    ck_assert_int_eq(kelp_usim_iterate(&u, 10.75, ssink, &r), 0);
+    ck_assert_int_eq(r.n, 2);
+    ck_assert_str_eq(r.text[1], "USM_DRIFT_SUMMARY=ang=90, mag=0.5, xmag=0.5, ymag=0");
+}
+END_TEST
+
 Suite *kelp_pid_suite(void)
 {
     Suite *s = suite_create("pid");
@@ -241,6 +354,9 @@ Suite *kelp_pid_suite(void)
     tcase_add_test(tc, marine_pid_iteration);
     tcase_add_test(tc, marine_pid_speed_and_depth_loops);
     tcase_add_test(tc, sim_rudder_thrust_model);
+    tcase_add_loop_test(tc, sim_v22_turn_rate, 0, (int)(sizeof v22_turns / sizeof v22_turns[0]));
+    tcase_add_test(tc, sim_v22_speed);
+    tcase_add_test(tc, usim_v22_postings);
     suite_add_tcase(s, tc);
     return s;
 }
