@@ -89,11 +89,13 @@ START_TEST(marine_pid_iteration)
     ck_assert_int_eq(r.n, 2);
     ck_assert(last(&r, "DESIRED_RUDDER") == 0 && last(&r, "DESIRED_THRUST") == 0);
     ck_assert_int_eq(kelp_marine_pid_mail(&m, "MOOS_MANUAL_OVERRIDE", true, "false", 0, 0.3), 1);
-    /* in control, but no helm yet: thrust 0 (tardy) */
+    /* in control (PID_HAS_CONTROL), but no helm yet: rudder and thrust 0 */
     r.n = 0;
     kelp_marine_pid_iterate(&m, 0.4, sink, &r);
-    ck_assert_int_eq(r.n, 1);
-    ck_assert_str_eq(r.var[0], "DESIRED_THRUST");
+    ck_assert_int_eq(r.n, 3);
+    ck_assert_str_eq(r.var[0], "PID_HAS_CONTROL");
+    ck_assert(r.v[0] == 1);
+    ck_assert(last(&r, "DESIRED_RUDDER") == 0 && last(&r, "DESIRED_THRUST") == 0);
     /* heading 350, desired 10: the error wraps to 20 degrees: rudder +10 (right), thrust 2 x 20 */
     ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_HEADING", false, NULL, 350, 1), 1);
     ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_SPEED", false, NULL, 1, 1), 1);
@@ -115,19 +117,23 @@ START_TEST(marine_pid_iteration)
     r.n = 0;
     kelp_marine_pid_iterate(&m, 1.5, sink, &r);
     ck_assert(last(&r, "DESIRED_THRUST") == 0 && last(&r, "DESIRED_RUDDER") == 0);
-    /* the helm goes quiet for more than 2 s: thrust 0 only */
+    /* helm and nav quiet for more than 2 s: a PID_STALE for each of the four, rudder and thrust 0 */
     r.n = 0;
     kelp_marine_pid_iterate(&m, 4.0, sink, &r);
-    ck_assert_int_eq(r.n, 1);
-    ck_assert(last(&r, "DESIRED_THRUST") == 0);
-    ck_assert_uint_eq(m.tardy_helm_n, 2); /* before any helm mail, and now */
-    /* override again: one all-stop */
+    ck_assert_int_eq(r.n, 6);
+    ck_assert_str_eq(r.var[0], "PID_STALE");
+    ck_assert(last(&r, "DESIRED_THRUST") == 0 && last(&r, "DESIRED_RUDDER") == 0);
+    ck_assert_uint_eq(m.tardy_helm_n, 2);
+    ck_assert_uint_eq(m.tardy_nav_n, 2);
+    /* override again: PID_HAS_CONTROL false and one all-stop */
     ck_assert_int_eq(kelp_marine_pid_mail(&m, "MOOS_MANUAL_OVERIDE", true, "true", 0, 4.1), 1);
     ck_assert_int_lt(kelp_marine_pid_mail(&m, "MOOS_MANUAL_OVERRIDE", true, "perhaps", 0, 4.1), 0);
     r.n = 0;
     kelp_marine_pid_iterate(&m, 4.2, sink, &r);
     kelp_marine_pid_iterate(&m, 4.3, sink, &r);
-    ck_assert_int_eq(r.n, 2);
+    ck_assert_int_eq(r.n, 3);
+    ck_assert_str_eq(r.var[0], "PID_HAS_CONTROL");
+    ck_assert(r.v[0] == 0);
 }
 END_TEST
 
@@ -149,6 +155,8 @@ START_TEST(marine_pid_speed_and_depth_loops)
     ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_DEPTH", false, NULL, 10, 0), 1);
     ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_SPEED", false, NULL, 1, 0), 1);
     ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_DEPTH", false, NULL, 0, 0), 1);
+    ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_HEADING", false, NULL, 0, 0), 1);
+    ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_PITCH", false, NULL, 0, 0), 1);
     kelp_marine_pid_iterate(&m, 0.5, sink, &r);
     kelp_marine_pid_iterate(&m, 1.0, sink, &r);
     ck_assert(last(&r, "DESIRED_THRUST_PID") == 20); /* 10 + 10: incremental on the last thrust */
@@ -323,6 +331,64 @@ static void ssink(void *ctx, const char *var, bool is_string, const char *sval, 
     if (is_string && r->n < 8) snprintf(r->text[r->n++], sizeof r->text[0], "%s=%s", var, sval);
 }
 
+/* pMarinePIDV22's first command after the helm takes over (PIDEngine::setDesiredValues runs
+ * the heading loop only with thrust, ScalarPID::Run has no derivative on its first run): the
+ * heading error of the helm's first DESIRED_HEADING gives kp x error, not a derivative kick */
+START_TEST(marine_pid_first_command)
+{
+    kelp_marine_pid_cfg c;
+    kelp_marine_pid_cfg_default(&c);
+    c.active_start = true;
+    c.yaw[0] = 0.5;
+    c.yaw[1] = 10;
+    c.speed_factor = 20;
+    kelp_marine_pid m;
+    rec r = { 0 };
+    ck_assert_int_eq(kelp_marine_pid_init(&m, &c, 0), 0);
+    /* parked: desired speed 0, the vehicle's heading wanders */
+    for (int i = 0; i <= 10; i++) {
+        double t = i * 0.1;
+        ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_SPEED", false, NULL, 0, t), 1);
+        ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_HEADING", false, NULL, 0, t), 1);
+        ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_HEADING", false, NULL, i * 2.0, t), 1);
+        ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_SPEED", false, NULL, 0, t), 1);
+        kelp_marine_pid_iterate(&m, t, sink, &r);
+        ck_assert(last(&r, "DESIRED_RUDDER") == 0 && last(&r, "DESIRED_THRUST") == 0);
+    }
+    /* DEPLOY: heading 20, desired 110 at 2 m/s: rudder 0.5 x 90 = 45, thrust 40 */
+    ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_SPEED", false, NULL, 2, 1.1), 1);
+    ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_HEADING", false, NULL, 110, 1.1), 1);
+    ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_HEADING", false, NULL, 20, 1.1), 1);
+    kelp_marine_pid_iterate(&m, 1.1, sink, &r);
+    ck_assert_double_eq_tol(last(&r, "DESIRED_RUDDER"), 45, 1e-9);
+    ck_assert(last(&r, "DESIRED_THRUST") == 40);
+    /* the next run has a derivative: error -80, slope +100/s: 0.5 x -80 + 10 x 100, rudder clipped to -100 */
+    ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_HEADING", false, NULL, 30, 1.2), 1);
+    kelp_marine_pid_iterate(&m, 1.2, sink, &r);
+    ck_assert_double_eq_tol(last(&r, "DESIRED_RUDDER"), -100, 1e-9);
+}
+END_TEST
+
+/* PID_STALE's text (PIDEngine::checkForStaleness): the input and its age to 3 decimals */
+START_TEST(marine_pid_stale_text)
+{
+    kelp_marine_pid_cfg c;
+    kelp_marine_pid_cfg_default(&c);
+    c.active_start = true;
+    kelp_marine_pid m;
+    ck_assert_int_eq(kelp_marine_pid_init(&m, &c, 0), 0);
+    ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_SPEED", false, NULL, 1, 1), 1);
+    ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_HEADING", false, NULL, 0, 0.5), 1);
+    ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_HEADING", false, NULL, 0, 3), 1);
+    ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_SPEED", false, NULL, 0, 3), 1);
+    srec r = { 0 };
+    kelp_marine_pid_iterate(&m, 3.125, ssink, &r);
+    ck_assert_int_eq(r.n, 2);
+    ck_assert_str_eq(r.text[0], "PID_STALE=Stale DesHdg:2.625");
+    ck_assert_str_eq(r.text[1], "PID_STALE=Stale DesSpd:2.125");
+}
+END_TEST
+
 /* uSimMarineV22 posts SIMULATION_MODE (with its PID engine's depth control, on by default)
  * and USM_DRIFT_SUMMARY at its first iteration and when drift arrives (USM_MOOSApp) */
 START_TEST(usim_v22_postings)
@@ -357,6 +423,8 @@ Suite *kelp_pid_suite(void)
     tcase_add_loop_test(tc, sim_v22_turn_rate, 0, (int)(sizeof v22_turns / sizeof v22_turns[0]));
     tcase_add_test(tc, sim_v22_speed);
     tcase_add_test(tc, usim_v22_postings);
+    tcase_add_test(tc, marine_pid_first_command);
+    tcase_add_test(tc, marine_pid_stale_text);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -135,8 +135,10 @@ typedef struct pid_ctx {
 static void pid_out(void *ctx, const char *var, bool is_string, const char *sval, double dval)
 {
     pid_ctx *c = ctx;
-    (void)sval;
-    if (is_string) return;
+    if (is_string) { /* the engine's own notes, as uSimMarineV22 posts them */
+        if (!strcmp(var, "PID_STALE") || !strcmp(var, "PID_HAS_CONTROL")) c->sink(c->ctx, var, true, sval, 0);
+        return;
+    }
     int rc = 0;
     const char *post = NULL;
     if (!strncmp(var, "DESIRED_RUDDER", 14)) rc = kelp_sim_set_rudder(&c->u->sim, dval), post = c->u->post_rudder;
