@@ -11,7 +11,7 @@ void kelp_helm_config_default(kelp_helm_config *cfg)
 {
     memset(cfg, 0, sizeof *cfg);
     kelp_ivp_domain_init(&cfg->domain);
-    cfg->start_engaged = true;
+    cfg->start_engaged = false; /* HelmIvP: parked until an override lifts, or start_engaged */
     cfg->allow_park = true;
 }
 
@@ -1025,16 +1025,17 @@ static void post_outputs(kelp_helm *h)
     bool clear = !strcmp(r->allstop, "clear");
     if (!clear && h->engaged && h->cfg.park_on_allstop && h->cfg.allow_park)
         h->engaged = false; /* park until an override engages the helm again */
+    /* HelmIvP::postAllStop: the reason every iteration; the first iteration without a decision
+     * posts no zeros (a mode change gets one iteration to bring the next behaviour in) */
+    bool nodec = !strcmp(r->allstop, "NothingToDo") || !strncmp(r->allstop, "MissingDecVars", 14);
+    h->no_decisions = nodec ? h->no_decisions + 1 : 0;
+    sink(h, "IVPHELM_ALLSTOP", true, r->allstop, 0, NULL);
     for (unsigned d = 0; d < hd->dim; d++) {
         desired_name(hd->var[d].name, name, sizeof name);
-        if (!clear)
+        if (!clear && h->no_decisions != 1)
             sink(h, name, false, NULL, 0.0, NULL);
-        else if (r->decided[d])
+        else if (clear && r->decided[d])
             sink(h, name, false, NULL, r->decision[d], NULL);
-    }
-    if (strcmp(r->allstop, h->last_allstop) != 0) {
-        sink(h, "IVPHELM_ALLSTOP", true, r->allstop, 0, NULL);
-        memcpy(h->last_allstop, r->allstop, sizeof h->last_allstop);
     }
     /* behaviour lists */
     char (*lists)[256] = h->ws_out.lists, *cmpl = h->ws_out.lists[3];
