@@ -1101,6 +1101,47 @@ START_TEST(helm_starts_parked)
 }
 END_TEST
 
+/* pHelmIvP 24.8's other postings: IVPHELM_LEDGER_SUMMARY (ContactLedger::getSummary) once the
+ * navigation is known, MOOS_DEBUG with each all-stop reason (postAllStop's MOOSDebugWrite),
+ * TURN_RATE (PlatModelGenerator::getTurnRate: the mean heading change per iteration over 5 s),
+ * IVPHELM_COMPLETED_PENDING on change */
+START_TEST(helm_v248_postings)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_SimpleWaypoint\n{\n name = w\n speed = 2\n radius = 3\n ptx = 0\n pty = 50\n}\n");
+    static const double hdg[4] = { 0, 10, 30, 30 };
+    for (int i = 0; i < 4; i++) {
+        nav(0, i < 3 ? 0 : 49);
+        kelp_helm_mail_double(&g_h, "NAV_HEADING", hdg[i]);
+        kelp_helm_mail_double(&g_h, "NAV_SPEED", 2);
+        if (i == 1) {
+            ck_assert_int_eq(kelp_helm_ledger_report(&g_h, "NAME=ben,X=10,Y=0,SPD=1,HDG=0"), 0);
+            ck_assert_int_eq(kelp_helm_ledger_report(&g_h, "NAME=al,X=20,Y=0,SPD=1,HDG=0"), 0);
+            ck_assert_int_eq(kelp_helm_ledger_report(&g_h, "NAME=ben,X=11,Y=0,SPD=1,HDG=0"), 0);
+        }
+        ht_iter(i);
+        ck_assert(ht_has_str("MOOS_DEBUG", i < 3 ? "pHelmIvP AllStop: clear" : "pHelmIvP AllStop: NothingToDo"));
+        if (i == 0) {
+            ck_assert(ht_has_str("IVPHELM_LEDGER_SUMMARY", "now:0, reps:0, who:"));
+            ck_assert(ht_has_str("IVPHELM_COMPLETED_PENDING", "false"));
+            ck_assert(ht_num("TURN_RATE") == 0);
+        }
+    }
+    /* 0 -> 10 -> 30 -> 30: (10 + 20 + 0) / 3 per iteration */
+    ck_assert_double_eq_tol(ht_num("TURN_RATE"), 10, 1e-9);
+    ck_assert(ht_has_str("IVPHELM_LEDGER_SUMMARY", "now:2, reps:3, who:al,ben"));
+    ck_assert(ht_has_str("IVPHELM_COMPLETED_PENDING", "true")); /* arrived at (0,50) */
+    ht_iter(4);
+    ck_assert(ht_has_str("IVPHELM_COMPLETED_PENDING", "false"));
+    ht_iter(5);
+    ck_assert_uint_eq(ht_count("IVPHELM_COMPLETED_PENDING"), 0);
+    /* headings older than 5 s leave the average */
+    kelp_helm_mail_double(&g_h, "NAV_HEADING", 40);
+    ht_iter(20);
+    ck_assert(ht_num("TURN_RATE") == 0);
+}
+END_TEST
+
 static void tweak_park(kelp_helm_config *cfg)
 {
     cfg->allow_park = false;
@@ -1294,6 +1335,7 @@ Suite *kelp_helm_suite(void)
     tcase_add_test(tc, post_emessage_all_stop);
     tcase_add_test(tc, manual_override_parks);
     tcase_add_test(tc, helm_starts_parked);
+    tcase_add_test(tc, helm_v248_postings);
     tcase_add_test(tc, park_policies_and_other_override);
     tcase_add_test(tc, domain_lines);
     tcase_add_test(tc, optional_domain_variable);

@@ -464,6 +464,12 @@ typedef struct kelp_helm_post {
 
 typedef void (*kelp_helm_sink)(const kelp_helm_post *p, void *user);
 
+/** Headings kept for TURN_RATE (the last 5 s of iterations: 25 Hz fits) */
+#ifndef KELP_HELM_HDG_HIST
+#define KELP_HELM_HDG_HIST 128
+#endif
+#define KELP_HELM_TURN_WINDOW 5.0 /**< s of heading history TURN_RATE averages (PlatModelGenerator) */
+
 typedef struct kelp_helm_config {
     kelp_ivp_domain domain;            /**< the helm's IvP domain (Domain = lines) */
     bool optional[KELP_IVP_MAX_DIM];   /**< ":optional" domain variables (no all-stop if undecided) */
@@ -596,6 +602,11 @@ struct kelp_helm {
     kelp_ivp_problem prob;
     char last_lists[3][256];           /* last IVPHELM_BHV_ACTIVE / RUNNING / IDLE posted */
     unsigned no_decisions;             /* iterations in a row with NothingToDo / MissingDecVars */
+    unsigned long ledger_reports;      /* NODE_REPORTs taken into the ledger (IVPHELM_LEDGER_SUMMARY reps) */
+    double hdg_t[KELP_HELM_HDG_HIST], hdg_v[KELP_HELM_HDG_HIST]; /* TURN_RATE's heading history, a ring */
+    unsigned hdg_n, hdg_head;          /* entries, index of the newest */
+    unsigned ncompleted_seen;          /* behaviours marked completed at the last count */
+    int completed_pending_posted;      /* IVPHELM_COMPLETED_PENDING last posted: -1 none, 0, 1 */
     kelp_helm_mode modes[KELP_HELM_MAX_MODES];
     unsigned nmodes;
     char mode_posted[KELP_HELM_MAX_MODES][128]; /* last value posted per mode variable (by first entry) */
