@@ -1109,6 +1109,7 @@ START_TEST(helm_v248_postings)
 {
     ht_setup(DOM2, NULL);
     ht_load("Behavior = BHV_SimpleWaypoint\n{\n name = w\n speed = 2\n radius = 3\n ptx = 0\n pty = 50\n}\n");
+    ck_assert(ht_has_str("IVPHELM_MODESET", "")); /* at start, empty without modes */
     static const double hdg[4] = { 0, 10, 30, 30 };
     for (int i = 0; i < 4; i++) {
         nav(0, i < 3 ? 0 : 49);

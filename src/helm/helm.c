@@ -103,6 +103,10 @@ int kelp_helm_init(kelp_helm *h, const kelp_helm_config *cfg, const kelp_helm_me
     h->engaged = cfg->start_engaged;
     (void)helm_need_var(h, "MOOS_MANUAL_OVERIDE", 19);
     (void)helm_need_var(h, "MOOS_MANUAL_OVERRIDE", 20);
+    /* the platform model (TURN_RATE) reads the navigation whatever the behaviours need */
+    static const char *const nav[4] = {"NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"};
+    for (int i = 0; i < 4; i++)
+        (void)helm_need_var(h, nav[i], strlen(nav[i]));
     if (cfg->other_override[0]) (void)helm_need_var(h, cfg->other_override, strlen(cfg->other_override));
     strcpy(h->rep.allstop, "clear");
     h->completed_pending_posted = -1;
@@ -335,10 +339,10 @@ void kelp_helm_start(kelp_helm *h, kelp_time now)
     h->ib.curr_time = 0;
     char *buf = h->ws_out.buf; /* the postings workspace: idle until the first iteration posts */
     const size_t cap = sizeof h->ws_out.buf;
-    if (h->nmodes) {
+    buf[0] = 0; /* HelmIvP posts the mode set at start, empty without mode declarations */
+    if (h->nmodes)
         helm_mode_describe(h, buf, cap);
-        sink(h, "IVPHELM_MODESET", true, buf, 0, NULL);
-    }
+    sink(h, "IVPHELM_MODESET", true, buf, 0, NULL);
     helm_domain_string(&h->cfg.domain, buf, cap);
     sink(h, "IVPHELM_DOMAIN", true, buf, 0, NULL);
     /* one spawn event per behaviour of the files */
