@@ -35,11 +35,7 @@ grep -qE "^[0-9.]+ pHelmIvP MISSION complete$" log.txt ||
 awk '$2=="pHelmIvP" && $3=="IVPHELM_STATE" {print $4}' log.txt | uniq > states.txt
 [ "$(head -1 states.txt)" = PARK ] && grep -qx DRIVE states.txt || { cat states.txt; fail "the helm should start parked, then drive"; }
 # every survey point, then home
-awk '$2=="uSimMarineV22" && $3=="NAV_X" {x=$4; hx=1; next}
-     $2=="uSimMarineV22" && $3=="NAV_Y" && hx {
-       y=$4; split("60,-40 60,-100 100,-100 100,-40 0,-20", w, " ")
-       for (i = 1; i <= 5; i++) { split(w[i], p, ","); d = sqrt((x-p[1])^2 + (y-p[2])^2); if (m[i]=="" || d < m[i]) m[i] = d } }
-     END { for (i = 1; i <= 5; i++) printf "%.2f ", m[i]; print "" }' log.txt > closest.txt
+closest uSimMarineV22 "60,-40 60,-100 100,-100 100,-40 0,-20" log.txt > closest.txt
 read -a C < closest.txt
 for i in 0 1 2 3; do
   awk -v d="${C[$i]}" 'BEGIN{exit !(d <= 15)}' || fail "waypoint $((i+1)) missed: closest ${C[$i]} m (all: ${C[*]})"
