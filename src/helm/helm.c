@@ -1003,7 +1003,9 @@ KELP_NOINLINE static size_t cat_fixed(char *buf, size_t cap, const char *key, do
     return hx_cat(buf, cap, key, num, HX_END);
 }
 
-static void post_outputs(kelp_helm *h)
+static void post_completed_pending(kelp_helm *h);
+
+KELP_NOINLINE static void post_outputs(kelp_helm *h)
 {
     kelp_helm_report *r = &h->rep;
     const kelp_ivp_domain *hd = &h->cfg.domain;
@@ -1136,6 +1138,8 @@ static void post_outputs(kelp_helm *h)
     sink(h, "IVPHELM_TOTAL_PCS_FORMED", false, NULL, (double)r->total_pcs_formed, NULL);
     sink(h, "IVPHELM_TOTAL_PCS_CACHED", false, NULL, 0, NULL);
     sink(h, "IVPHELM_ITER", false, NULL, (double)h->iteration, NULL);
+    if (h->engaged)
+        post_completed_pending(h);
 }
 
 /* a new report keeping the running counts (not a copy of the whole report: stack; and out of
@@ -1155,7 +1159,7 @@ KELP_NOINLINE static void report_reset(kelp_helm_report *r)
 
 /* IVPHELM_LEDGER_SUMMARY as ContactLedger::getSummary(20): "now:2, reps:31, who:ben,cal", the
  * names in order, at most 20 */
-static void post_ledger_summary(kelp_helm *h)
+KELP_NOINLINE static void post_ledger_summary(kelp_helm *h)
 {
     char *buf = h->ws_out.buf, num[24];
     const size_t cap = sizeof h->ws_out.buf;
@@ -1192,7 +1196,7 @@ static double angle180(double a)
 
 /* TURN_RATE as PlatModelGenerator::getTurnRate: the headings of the last 5 s of decisions, the
  * mean signed change between consecutive ones (degrees per iteration, starboard positive) */
-static void post_turn_rate(kelp_helm *h, kelp_time now)
+KELP_NOINLINE static void post_turn_rate(kelp_helm *h, kelp_time now)
 {
     double x, y, hdg, spd;
     if (!kelp_helm_ib_double(&h->ib, "NAV_X", &x) || !kelp_helm_ib_double(&h->ib, "NAV_Y", &y) ||
@@ -1215,6 +1219,15 @@ static void post_turn_rate(kelp_helm *h, kelp_time now)
         total += angle180(newer - older);
     }
     sink(h, "TURN_RATE", false, NULL, h->hdg_n > 1 ? total / (double)(h->hdg_n - 1) : 0.0, NULL);
+}
+
+/* before the decision (out of line: not in kelp_helm_iterate's frame) */
+KELP_NOINLINE static void post_ledger_and_turn_rate(kelp_helm *h, kelp_time now)
+{
+    if (kelp_helm_ib_find(&h->ib, "NAV_X") >= 0 && kelp_helm_ib_find(&h->ib, "NAV_Y") >= 0)
+        post_ledger_summary(h);
+    if (h->engaged)
+        post_turn_rate(h, now);
 }
 
 /* IVPHELM_COMPLETED_PENDING on change: true in the iteration a behaviour completed */
@@ -1263,12 +1276,9 @@ int kelp_helm_iterate(kelp_helm *h, kelp_time now)
         h->last_engaged = h->engaged;
         h->last_engaged_post = h->ib.curr_time;
     }
-    if (kelp_helm_ib_find(&h->ib, "NAV_X") >= 0 && kelp_helm_ib_find(&h->ib, "NAV_Y") >= 0)
-        post_ledger_summary(h);
+    post_ledger_and_turn_rate(h, now);
     double (*clk)(void *) = h->cfg.cpu_clock;
     double t_start = clk ? clk(h->cfg.user) : 0;
-    if (h->engaged)
-        post_turn_rate(h, now);
     if (h->engaged) {
         bool *has_fn = h->ws_has_fn;
         memset(has_fn, 0, sizeof h->ws_has_fn);
@@ -1298,8 +1308,6 @@ int kelp_helm_iterate(kelp_helm *h, kelp_time now)
         h->qpool_used = 0;
     }
     post_outputs(h);
-    if (h->engaged)
-        post_completed_pending(h);
     helm_reap(h);
     kelp_helm_ib_clear_deltas(&h->ib);
     return 0;
