@@ -398,17 +398,51 @@ START_TEST(usim_v22_postings)
     ck_assert_int_eq(kelp_usim_start(&u, NULL, 10), 0);
     srec r = { 0 };
     ck_assert_int_eq(kelp_usim_iterate(&u, 10.25, ssink, &r), 0);
-    ck_assert_int_eq(r.n, 2);
-    ck_assert_str_eq(r.text[0], "SIMULATION_MODE=TRUE");
-    ck_assert_str_eq(r.text[1], "USM_DRIFT_SUMMARY=ang=0, mag=0, xmag=0, ymag=0");
+    ck_assert_int_eq(r.n, 1);
+    ck_assert_str_eq(r.text[0], "USM_DRIFT_SUMMARY=ang=0, mag=0, xmag=0, ymag=0");
     r.n = 0;
     ck_assert_int_eq(kelp_usim_iterate(&u, 10.5, ssink, &r), 0);
     ck_assert_int_eq(r.n, 1);
+    ck_assert_str_eq(r.text[0], "SIMULATION_MODE=TRUE");
     ck_assert_int_eq(kelp_usim_mail(&u, "DRIFT_X", false, NULL, 0.5, 10.6), 1);
     r.n = 0;
     ck_assert_int_eq(kelp_usim_iterate(&u, 10.75, ssink, &r), 0);
-    ck_assert_int_eq(r.n, 2);
-    ck_assert_str_eq(r.text[1], "USM_DRIFT_SUMMARY=ang=90, mag=0.5, xmag=0.5, ymag=0");
+    ck_assert_int_eq(r.n, 1);
+    ck_assert_str_eq(r.text[0], "USM_DRIFT_SUMMARY=ang=90, mag=0.5, xmag=0.5, ymag=0");
+}
+END_TEST
+
+typedef struct nrec {
+    int n_nav;
+    double speed;
+} nrec;
+
+static void navsink(void *ctx, const char *var, bool is_string, const char *sval, double dval)
+{
+    nrec *r = ctx;
+    (void)sval;
+    if (!is_string && !strcmp(var, "NAV_X")) r->n_nav++;
+    if (!is_string && !strcmp(var, "NAV_SPEED")) r->speed = dval;
+}
+
+/* USM_MOOSApp::postNodeRecordUpdate: the navigation every 2nd iteration (m_nav_modulo), from
+ * the second; NAV_SPEED snapped to 0.01 and at most max_speed (5 by default) */
+START_TEST(usim_v22_nav_modulo)
+{
+    static kelp_usim u;
+    kelp_usim_defaults(&u, NULL, NULL);
+    u.start.speed = 1.234;
+    ck_assert_int_eq(kelp_usim_start(&u, NULL, 10), 0);
+    nrec r = { 0, -1 };
+    for (int i = 1; i <= 4; i++) {
+        ck_assert_int_eq(kelp_usim_iterate(&u, 10 + 0.25 * i, navsink, &r), 0);
+        ck_assert_int_eq(r.n_nav, i / 2);
+    }
+    ck_assert_double_eq_tol(r.speed, 1.23, 1e-12);
+    u.sim.s.speed = 7.5;
+    ck_assert_int_eq(kelp_usim_iterate(&u, 11.25, navsink, &r), 0);
+    ck_assert_int_eq(kelp_usim_iterate(&u, 11.5, navsink, &r), 0);
+    ck_assert_double_eq_tol(r.speed, 5, 1e-12);
 }
 END_TEST
 
@@ -423,6 +457,7 @@ Suite *kelp_pid_suite(void)
     tcase_add_loop_test(tc, sim_v22_turn_rate, 0, (int)(sizeof v22_turns / sizeof v22_turns[0]));
     tcase_add_test(tc, sim_v22_speed);
     tcase_add_test(tc, usim_v22_postings);
+    tcase_add_test(tc, usim_v22_nav_modulo);
     tcase_add_test(tc, marine_pid_first_command);
     tcase_add_test(tc, marine_pid_stale_text);
     suite_add_tcase(s, tc);

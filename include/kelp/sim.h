@@ -176,6 +176,7 @@ typedef struct kelp_usim {
     struct kelp_marine_pid_cfg *pid_cfg;
     bool embedded_pid, paused, navpos_summary, have_geo;
     bool no_sim_mode;                  /**< DEPTH_CONTROL = false: no SIMULATION_MODE */
+    unsigned long iterations;          /**< kelp_usim_iterate calls */
     bool drift_fresh;                  /**< USM_DRIFT_SUMMARY due (start, drift mail) */
     char work[96];                     /**< scratch: USM_DRIFT_SUMMARY */
     kelp_geo geo;
@@ -183,6 +184,9 @@ typedef struct kelp_usim {
     char post_rudder[KELP_MAX_NAME], post_thrust[KELP_MAX_NAME];
     unsigned long mail[6], bad_mail, resets;
 } kelp_usim;
+
+#define KELP_USIM_NAV_MODULO 2        /**< navigation posted every 2nd iteration (uSimMarineV22) */
+#define KELP_USIM_NAV_MAX_SPEED 5.0   /**< m/s: NAV_SPEED's cap without MAX_SPEED (uSimMarineV22) */
 
 /** Defaults (prefix NAV); pid/pid_cfg may be NULL (no embedded PID possible). */
 void kelp_usim_defaults(kelp_usim *u, struct kelp_marine_pid *pid, struct kelp_marine_pid_cfg *pid_cfg);

@@ -167,6 +167,15 @@ static void drift_summary(kelp_usim *u, kelp_usim_sink sink, void *ctx)
     sink(ctx, "USM_DRIFT_SUMMARY", true, u->work, 0);
 }
 
+/* NAV_SPEED as uSimMarineV22 posts it: to the nearest 0.01 m/s (ties up), at most max_speed
+ * (5 m/s unless set) */
+static double nav_speed(const kelp_usim *u)
+{
+    double lim = u->sim.p.max_speed > 0 ? u->sim.p.max_speed : KELP_USIM_NAV_MAX_SPEED;
+    double v = floor(u->sim.s.speed / 0.01 + 0.5) * 0.01;
+    return v > lim ? lim : v;
+}
+
 int kelp_usim_iterate(kelp_usim *u, kelp_time now, kelp_usim_sink sink, void *ctx)
 {
     const kelp_sim_state *s = &u->sim.s;
@@ -181,9 +190,16 @@ int kelp_usim_iterate(kelp_usim *u, kelp_time now, kelp_usim_sink sink, void *ct
     int rc = u->paused ? KELP_OK : kelp_sim_step(&u->sim, now);
     if (u->paused || (rc == KELP_ERR_RANGE && now > u->sim.time))
         u->sim.time = now; /* paused, or a jump: resume from now */
+    /* uSimMarineV22 (postNodeRecordUpdate) posts the navigation every KELP_USIM_NAV_MODULO-th
+     * iteration, from the second */
+    if (u->drift_fresh) {
+        drift_summary(u, sink, ctx);
+        u->drift_fresh = false;
+    }
+    if (++u->iterations % KELP_USIM_NAV_MODULO != 0) return rc;
     static const char *const suffix[] = { "_X", "_Y", "_HEADING", "_SPEED", "_DEPTH", "_Z", "_YAW", "_PITCH",
                                           "_SPEED_OVER_GROUND", "_HEADING_OVER_GROUND" };
-    double v[10] = { s->x, s->y, s->heading, s->speed, s->depth, -s->depth, -kelp_sim_angle180(s->heading) * PI / 180.0,
+    double v[10] = { s->x, s->y, s->heading, nav_speed(u), s->depth, -s->depth, -kelp_sim_angle180(s->heading) * PI / 180.0,
                      u->sim.pitch, u->sim.sog, u->sim.hog };
     char name[48];
     for (int i = 0; i < 10; i++) {
@@ -201,10 +217,6 @@ int kelp_usim_iterate(kelp_usim *u, kelp_time now, kelp_usim_sink sink, void *ct
         sink(ctx, name, false, NULL, lon);
     } else if (u->have_geo && rc == KELP_OK) {
         rc = KELP_ERR_RANGE; /* too far from the datum */
-    }
-    if (u->drift_fresh) {
-        drift_summary(u, sink, ctx);
-        u->drift_fresh = false;
     }
     if (u->navpos_summary) {
         char buf[160];
