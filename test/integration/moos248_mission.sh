@@ -34,6 +34,12 @@ grep -qE "^[0-9.]+ pHelmIvP MISSION complete$" log.txt ||
 # parked until uTimerScript's override: PARK first, DRIVE later
 awk '$2=="pHelmIvP" && $3=="IVPHELM_STATE" {print $4}' log.txt | uniq > states.txt
 [ "$(head -1 states.txt)" = PARK ] && grep -qx DRIVE states.txt || { cat states.txt; fail "the helm should start parked, then drive"; }
+# from DRIVE to MISSION = complete the helm never posts DESIRED_SPEED 0, not even in the iteration
+# between the survey's end and the return (24.8's postAllStop holds one iteration)
+awk '$2=="pHelmIvP" && $3=="IVPHELM_STATE" && $4=="DRIVE" && !done {d=1}
+     $2=="pHelmIvP" && $3=="MISSION" {d=0; done=1}
+     d && $2=="pHelmIvP" && $3=="DESIRED_SPEED" && $4==0 {z++}
+     END {exit z > 0}' log.txt || fail "DESIRED_SPEED 0 posted while driving the survey"
 # every survey point, then home
 closest uSimMarineV22 "60,-40 60,-100 100,-100 100,-40 0,-20" log.txt > closest.txt
 read -a C < closest.txt
