@@ -67,6 +67,7 @@ int main(int argc, char **argv)
     unsigned long posts = 0;
     kelp_helm_config cfg;
     kelp_helm_config_default(&cfg);
+    cfg.start_engaged = true; /* driving from the start (the default parks, as 24.8) */
     kelp_diag e;
     kelp_diag_clear(&e);
     if (kelp_ivp_domain_parse(&cfg.domain, "course:0:359:360,speed:0:4:21", &e))

@@ -46,6 +46,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     /* the input as a behaviour file */
     kelp_helm_config cfg;
     kelp_helm_config_default(&cfg);
+    cfg.start_engaged = true; /* driving from the start (the default parks, as 24.8) */
     kelp_diag e = {0};
     if (kelp_ivp_domain_parse(&cfg.domain, "course:0:359:36,speed:0:4:9,depth:0:100:11", &e) != 0)
         abort();

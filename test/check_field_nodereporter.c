@@ -90,8 +90,10 @@ START_TEST(nrep_report_from_nav_and_helm)
     ck_assert_str_eq(r.var[1], "NODE_REPORT_LOCAL");
     ck_assert_str_eq(r.var[2], "PNR_POST_GAP");
     ck_assert_str_eq(r.val[0], r.val[1]);
-    ck_assert_str_eq(r.val[1], "NAME=alpha,TYPE=UUV,TIME=1252348077.59,X=51.71,Y=-35.50,LAT=43.824988,LON=-70.329750,"
-                               "SPD=2.00,HDG=118.85,DEPTH=4.63,LENGTH=3.8,MODE=MODE@ACTIVE:LOITERING,ALLSTOP=clear");
+    /* MOOS-IvP 24.8's layout (NodeRecord::getSpec): its order, DEP=, trailing zeros trimmed,
+     * LAT/LON to 8 decimals (UTM, kelp/geo.h) */
+    ck_assert_str_eq(r.val[1], "NAME=alpha,X=51.71,Y=-35.5,SPD=2,HDG=118.85,DEP=4.63,LAT=43.82498787,LON=-70.32974981,"
+                               "TYPE=UUV,MODE=MODE@ACTIVE:LOITERING,ALLSTOP=clear,TIME=1252348077.59,LENGTH=3.8");
     /* reported every iteration (MOOS-IvP), fresh mail or not; INDEX counts the earlier ones */
     ck_assert_int_eq(kelp_field_nrep_iterate(&nr, 1252348078, &sink), 1);
     ck_assert_int_eq(r.n, 5);
@@ -108,7 +110,8 @@ START_TEST(nrep_report_from_nav_and_helm)
     ck_assert_int_eq(kelp_nodereport_parse(r.val[5], strlen(r.val[5]), &back, NULL), 0);
     ck_assert(fabs(back.x - 51.71) < 0.006 && back.depth == 5 && back.index == 2);
     /* YAW: the heading as radians counter-clockwise from east, 7 decimals (MOOS-IvP's rule) */
-    ck_assert_msg(strstr(r.val[5], ",HDG=118.85,YAW=-0.5035275,DEPTH=5.00,") != NULL, "%s", r.val[5]);
+    ck_assert_msg(strstr(r.val[5], ",HDG=118.85,DEP=5,") != NULL, "%s", r.val[5]);
+    ck_assert_msg(strstr(r.val[5], ",INDEX=2,YAW=-0.5035275,TIME=1252348079,") != NULL, "%s", r.val[5]);
     /* the helm goes quiet: NOHELM-<seconds> after the threshold (5 s) */
     ck_assert_int_eq(kelp_field_nrep_iterate(&nr, 1252348090, &sink), 1);
     ck_assert_ptr_nonnull(strstr(r.val[7], "MODE=NOHELM-12"));
@@ -122,6 +125,7 @@ START_TEST(nrep_mode_sources_and_config)
     g_sink = sink;
     kelp_field_nrep_cfg cfg;
     kelp_field_nrep_cfg_default(&cfg, "bravo");
+    cfg.seed_format = true; /* the seed's layout, fixed decimals */
     snprintf(cfg.prefix, sizeof cfg.prefix, "GPS");
     snprintf(cfg.group, sizeof cfg.group, "red");
     snprintf(cfg.color, sizeof cfg.color, "green");
@@ -144,6 +148,7 @@ START_TEST(nrep_mode_sources_and_config)
     ck_assert_int_eq(kelp_field_nrep_iterate(&nr, 1, &sink), 1);
     ck_assert_str_eq(r.var[0], "MY_REPORT_FIRST");
     ck_assert_ptr_nonnull(strstr(r.val[1], "MODE=NOHELM-EVER"));
+    ck_assert_ptr_nonnull(strstr(r.val[1], "ALLSTOP=unknown")); /* NodeReporter: until the helm says */
     ck_assert_ptr_nonnull(strstr(r.val[1], "TIME=1.00,COLOR=green,LAT="));
     ck_assert_ptr_nonnull(strstr(r.val[1], ",DEP=0.00,"));
     ck_assert_ptr_nonnull(strstr(r.val[1], "GROUP=red,ID=439,FUEL_TYPE=diesel"));
@@ -161,6 +166,9 @@ START_TEST(nrep_mode_sources_and_config)
     ck_assert_int_eq(kelp_field_nrep_iterate(&nr, 3, &sink), 1);
     k = find_var(&r, "MY_REPORT");
     ck_assert_ptr_nonnull(strstr(r.val[k], "MODE=PARK,"));
+    ck_assert_int_eq(kelp_field_nrep_mail(&nr, "IVPHELM_STATE", true, "MALCONFIG", 0, &sink), 1);
+    ck_assert_int_eq(kelp_field_nrep_iterate(&nr, 4, &sink), 1);
+    ck_assert_ptr_nonnull(strstr(r.val[find_var(&r, "MY_REPORT")], "ALLSTOP=n/a"));
     ck_assert_ptr_null(strstr(r.val[k], "upt="));
     /* bad configuration */
     snprintf(cfg.name, sizeof cfg.name, "a,b");
@@ -205,6 +213,7 @@ START_TEST(nrep_blackout_extrap_fill_json_platform)
     /* use-latest: the pair updated last fills the other; JSON to its own variable */
     memset(&r, 0, sizeof r);
     kelp_field_nrep_cfg_default(&cfg, "echo");
+    cfg.seed_format = true;
     ck_assert_int_eq(kelp_geo_init(&cfg.geo, 43.825300, -70.330400), 0);
     cfg.have_geo = true;
     cfg.fill = KELP_NREP_FILL_LATEST;
@@ -237,6 +246,7 @@ START_TEST(nrep_blackout_extrap_fill_json_platform)
     /* an alternate solution (ground truth) reported under NAME_GT and its own group; COG */
     memset(&r, 0, sizeof r);
     kelp_field_nrep_cfg_default(&cfg, "fox");
+    cfg.seed_format = true;
     snprintf(cfg.alt_prefix, sizeof cfg.alt_prefix, "NAV_GT");
     snprintf(cfg.alt_group, sizeof cfg.alt_group, "blue");
     cfg.report_cog = true;

@@ -67,6 +67,7 @@ kelp_helm *ht_setup(const char *domain, const kelp_bhv_ops *const *types)
 {
     kelp_helm_config cfg;
     kelp_helm_config_default(&cfg);
+    cfg.start_engaged = true; /* most tests drive; helm_starts_parked checks the default */
     if (g_tweak) g_tweak(&cfg), g_tweak = NULL;
     kelp_diag e = {0};
     ck_assert_int_eq(kelp_ivp_domain_parse(&cfg.domain, domain, &e), 0);
@@ -1059,6 +1060,89 @@ START_TEST(manual_override_parks)
 }
 END_TEST
 
+static void tweak_default_start(kelp_helm_config *cfg)
+{
+    kelp_helm_config def;
+    kelp_helm_config_default(&def);
+    cfg->start_engaged = def.start_engaged;
+}
+
+/* HelmIvP (24.8): parked until MOOS_MANUAL_OVERRIDE = false unless start_engaged; while parked
+ * IVPHELM_STATE = PARK, IVPHELM_ALLSTOP = ManualOverride and the decision variables 0, every
+ * iteration (postAllStop); the first iteration with nothing to do posts no zeros */
+START_TEST(helm_starts_parked)
+{
+    g_tweak = tweak_default_start;
+    ht_setup(DOM2, NULL);
+    ht_load(ALDER);
+    nav(0, 0);
+    kelp_helm_mail_string(&g_h, "DEPLOY", "true");
+    for (int i = 0; i < 2; i++) {
+        ht_iter(i);
+        ck_assert(ht_has_str("IVPHELM_STATE", "PARK"));
+        ck_assert(ht_has_str("IVPHELM_ALLSTOP", "ManualOverride"));
+        ck_assert(ht_num("DESIRED_SPEED") == 0);
+    }
+    kelp_helm_mail_string(&g_h, "MOOS_MANUAL_OVERRIDE", "false");
+    ht_iter(2);
+    ck_assert(ht_has_str("IVPHELM_STATE", "DRIVE"));
+    ck_assert(ht_has_str("IVPHELM_ALLSTOP", "clear"));
+    ck_assert(ht_num("DESIRED_SPEED") == 2);
+    ht_iter(3); /* the reason again, unchanged */
+    ck_assert(ht_has_str("IVPHELM_ALLSTOP", "clear"));
+    /* DEPLOY off: nothing to do; no zeros on the first such iteration, zeros from the second */
+    kelp_helm_mail_string(&g_h, "DEPLOY", "false");
+    ht_iter(4);
+    ck_assert(ht_has_str("IVPHELM_ALLSTOP", "NothingToDo"));
+    ck_assert_uint_eq(ht_count("DESIRED_SPEED"), 0);
+    ck_assert_uint_eq(ht_count("DESIRED_HEADING"), 0);
+    ht_iter(5);
+    ck_assert(ht_num("DESIRED_SPEED") == 0);
+}
+END_TEST
+
+/* pHelmIvP 24.8's other postings: IVPHELM_LEDGER_SUMMARY (ContactLedger::getSummary) once the
+ * navigation is known, MOOS_DEBUG with each all-stop reason (postAllStop's MOOSDebugWrite),
+ * TURN_RATE (PlatModelGenerator::getTurnRate: the mean heading change per iteration over 5 s),
+ * IVPHELM_COMPLETED_PENDING on change */
+START_TEST(helm_v248_postings)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_SimpleWaypoint\n{\n name = w\n speed = 2\n radius = 3\n ptx = 0\n pty = 50\n}\n");
+    ck_assert(ht_has_str("IVPHELM_MODESET", "")); /* at start, empty without modes */
+    static const double hdg[4] = { 0, 10, 30, 30 };
+    for (int i = 0; i < 4; i++) {
+        nav(0, i < 3 ? 0 : 49);
+        kelp_helm_mail_double(&g_h, "NAV_HEADING", hdg[i]);
+        kelp_helm_mail_double(&g_h, "NAV_SPEED", 2);
+        if (i == 1) {
+            ck_assert_int_eq(kelp_helm_ledger_report(&g_h, "NAME=ben,X=10,Y=0,SPD=1,HDG=0"), 0);
+            ck_assert_int_eq(kelp_helm_ledger_report(&g_h, "NAME=al,X=20,Y=0,SPD=1,HDG=0"), 0);
+            ck_assert_int_eq(kelp_helm_ledger_report(&g_h, "NAME=ben,X=11,Y=0,SPD=1,HDG=0"), 0);
+        }
+        ht_iter(i);
+        ck_assert(ht_has_str("MOOS_DEBUG", i < 3 ? "pHelmIvP AllStop: clear" : "pHelmIvP AllStop: NothingToDo"));
+        if (i == 0) {
+            ck_assert(ht_has_str("IVPHELM_LEDGER_SUMMARY", "now:0, reps:0, who:"));
+            ck_assert(ht_has_str("IVPHELM_COMPLETED_PENDING", "false"));
+            ck_assert(ht_num("TURN_RATE") == 0);
+        }
+    }
+    /* 0 -> 10 -> 30 -> 30: (10 + 20 + 0) / 3 per iteration */
+    ck_assert_double_eq_tol(ht_num("TURN_RATE"), 10, 1e-9);
+    ck_assert(ht_has_str("IVPHELM_LEDGER_SUMMARY", "now:2, reps:3, who:al,ben"));
+    ck_assert(ht_has_str("IVPHELM_COMPLETED_PENDING", "true")); /* arrived at (0,50) */
+    ht_iter(4);
+    ck_assert(ht_has_str("IVPHELM_COMPLETED_PENDING", "false"));
+    ht_iter(5);
+    ck_assert_uint_eq(ht_count("IVPHELM_COMPLETED_PENDING"), 0);
+    /* headings older than 5 s leave the average */
+    kelp_helm_mail_double(&g_h, "NAV_HEADING", 40);
+    ht_iter(20);
+    ck_assert(ht_num("TURN_RATE") == 0);
+}
+END_TEST
+
 static void tweak_park(kelp_helm_config *cfg)
 {
     cfg->allow_park = false;
@@ -1147,7 +1231,7 @@ START_TEST(optional_domain_variable)
     kelp_helm_mail_string(&g_h, "DEPLOY", "true");
     ht_iter(0);
     ck_assert_str_eq(g_h.rep.allstop, "MissingDecVars:depth");
-    ck_assert(ht_num("DESIRED_SPEED") == 0);
+    ck_assert_uint_eq(ht_count("DESIRED_SPEED"), 0); /* the first such iteration posts no zeros */
     g_h.cfg.optional[2] = true;
     ht_iter(1);
     ck_assert_str_eq(g_h.rep.allstop, "clear");
@@ -1251,6 +1335,8 @@ Suite *kelp_helm_suite(void)
     tcase_add_test(tc, nostarve_all_stop_and_recovery);
     tcase_add_test(tc, post_emessage_all_stop);
     tcase_add_test(tc, manual_override_parks);
+    tcase_add_test(tc, helm_starts_parked);
+    tcase_add_test(tc, helm_v248_postings);
     tcase_add_test(tc, park_policies_and_other_override);
     tcase_add_test(tc, domain_lines);
     tcase_add_test(tc, optional_domain_variable);

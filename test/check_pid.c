@@ -89,11 +89,13 @@ START_TEST(marine_pid_iteration)
     ck_assert_int_eq(r.n, 2);
     ck_assert(last(&r, "DESIRED_RUDDER") == 0 && last(&r, "DESIRED_THRUST") == 0);
     ck_assert_int_eq(kelp_marine_pid_mail(&m, "MOOS_MANUAL_OVERRIDE", true, "false", 0, 0.3), 1);
-    /* in control, but no helm yet: thrust 0 (tardy) */
+    /* in control (PID_HAS_CONTROL), but no helm yet: rudder and thrust 0 */
     r.n = 0;
     kelp_marine_pid_iterate(&m, 0.4, sink, &r);
-    ck_assert_int_eq(r.n, 1);
-    ck_assert_str_eq(r.var[0], "DESIRED_THRUST");
+    ck_assert_int_eq(r.n, 3);
+    ck_assert_str_eq(r.var[0], "PID_HAS_CONTROL");
+    ck_assert(r.v[0] == 1);
+    ck_assert(last(&r, "DESIRED_RUDDER") == 0 && last(&r, "DESIRED_THRUST") == 0);
     /* heading 350, desired 10: the error wraps to 20 degrees: rudder +10 (right), thrust 2 x 20 */
     ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_HEADING", false, NULL, 350, 1), 1);
     ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_SPEED", false, NULL, 1, 1), 1);
@@ -115,19 +117,23 @@ START_TEST(marine_pid_iteration)
     r.n = 0;
     kelp_marine_pid_iterate(&m, 1.5, sink, &r);
     ck_assert(last(&r, "DESIRED_THRUST") == 0 && last(&r, "DESIRED_RUDDER") == 0);
-    /* the helm goes quiet for more than 2 s: thrust 0 only */
+    /* helm and nav quiet for more than 2 s: a PID_STALE for each of the four, rudder and thrust 0 */
     r.n = 0;
     kelp_marine_pid_iterate(&m, 4.0, sink, &r);
-    ck_assert_int_eq(r.n, 1);
-    ck_assert(last(&r, "DESIRED_THRUST") == 0);
-    ck_assert_uint_eq(m.tardy_helm_n, 2); /* before any helm mail, and now */
-    /* override again: one all-stop */
+    ck_assert_int_eq(r.n, 6);
+    ck_assert_str_eq(r.var[0], "PID_STALE");
+    ck_assert(last(&r, "DESIRED_THRUST") == 0 && last(&r, "DESIRED_RUDDER") == 0);
+    ck_assert_uint_eq(m.tardy_helm_n, 2);
+    ck_assert_uint_eq(m.tardy_nav_n, 2);
+    /* override again: PID_HAS_CONTROL false and one all-stop */
     ck_assert_int_eq(kelp_marine_pid_mail(&m, "MOOS_MANUAL_OVERIDE", true, "true", 0, 4.1), 1);
     ck_assert_int_lt(kelp_marine_pid_mail(&m, "MOOS_MANUAL_OVERRIDE", true, "perhaps", 0, 4.1), 0);
     r.n = 0;
     kelp_marine_pid_iterate(&m, 4.2, sink, &r);
     kelp_marine_pid_iterate(&m, 4.3, sink, &r);
-    ck_assert_int_eq(r.n, 2);
+    ck_assert_int_eq(r.n, 3);
+    ck_assert_str_eq(r.var[0], "PID_HAS_CONTROL");
+    ck_assert(r.v[0] == 0);
 }
 END_TEST
 
@@ -149,6 +155,8 @@ START_TEST(marine_pid_speed_and_depth_loops)
     ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_DEPTH", false, NULL, 10, 0), 1);
     ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_SPEED", false, NULL, 1, 0), 1);
     ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_DEPTH", false, NULL, 0, 0), 1);
+    ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_HEADING", false, NULL, 0, 0), 1);
+    ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_PITCH", false, NULL, 0, 0), 1);
     kelp_marine_pid_iterate(&m, 0.5, sink, &r);
     kelp_marine_pid_iterate(&m, 1.0, sink, &r);
     ck_assert(last(&r, "DESIRED_THRUST_PID") == 20); /* 10 + 10: incremental on the last thrust */
@@ -186,12 +194,14 @@ START_TEST(sim_rudder_thrust_model)
     ck_assert_int_eq(kelp_sim_set_thrust(&sim, 40), 0);
     ck_assert(sim.actuated);
     ck_assert_int_eq(kelp_sim_step(&sim, 1), 0);
-    ck_assert(fabs(sim.s.speed - 2) < 1e-9 && fabs(sim.s.y - 2) < 1e-6);
-    /* full rudder: speed drops by turn_spd_loss; heading turns at 100 * 0.7 * (thrust/50) deg/s */
+    /* no acceleration limit: 2 m/s from the first 0.05 s sub-step, moved at the mean speed */
+    ck_assert(fabs(sim.s.speed - 2) < 1e-9 && fabs(sim.s.y - 1.95) < 1e-6);
+    /* full rudder: speed drops by turn_spd_loss to 1 m/s; the turn rate at 1 m/s is 70 x 1/5
+     * percent: 100 x 0.14 x (40/50) = 11.2 deg/s */
     ck_assert_int_eq(kelp_sim_set_rudder(&sim, 100), 0);
     ck_assert_int_eq(kelp_sim_step(&sim, 2), 0);
     ck_assert(fabs(sim.s.speed - 1) < 1e-9);
-    ck_assert(fabs(sim.s.heading - 56) < 1e-6);
+    ck_assert(fabs(sim.s.heading - 11.2) < 1e-6);
     /* no way on: the rudder does nothing; positive buoyancy rises */
     sim.p.buoyancy_rate = 0.1;
     sim.s.depth = 5;
@@ -218,7 +228,7 @@ START_TEST(sim_rudder_thrust_model)
     ck_assert_int_eq(kelp_sim_step(&sim, 6), 0);
     ck_assert(sim.sog > 1.0);
     /* acceleration limits apply in this model too */
-    sim.p.max_accel = 0.1;
+    sim.p.act_max_accel = 0.1;
     ck_assert_int_eq(kelp_sim_set_thrust(&sim, 100), 0);
     ck_assert_int_eq(kelp_sim_step(&sim, 7), 0);
     ck_assert(fabs(sim.s.speed - 1.1) < 1e-6);
@@ -233,6 +243,209 @@ START_TEST(sim_rudder_thrust_model)
 }
 END_TEST
 
+/* uSimMarineV22's turn model (SimEngine::propagateSpeed/propagateHeading, TurnSpeedMap), by
+ * hand: speed = thrust/20 x (1 - |rudder|/100 x 0.85); rate% = 70 x speed/5 (full from 5 m/s);
+ * deg/s = rudder x rate%/100 x thrust/50. Each case starts at its in-turn speed. */
+static const struct {
+    double thrust, rudder, null_speed, null_rate, speed, degps;
+} v22_turns[] = {
+    { 40, 10, 0, 0, 1.83, 2.0496 },       /* 2 m/s x 0.915; 25.62%; 10 x .2562 x .8 */
+    { 40, -30, 0, 0, 1.49, -5.0064 },     /* 2 x .745; 20.86%; -30 x .2086 x .8 */
+    { 100, 50, 0, 0, 2.875, 40.25 },      /* 5 x .575; 40.25%; 50 x .4025 x 2 */
+    { 60, 20, 0, 0, 2.49, 8.3664 },       /* 3 x .83; 34.86%; 20 x .3486 x 1.2 */
+    { 20, 100, 0, 0, 0.15, 0.84 },        /* 1 x .15; 2.1%; 100 x .021 x .4 */
+    { 40, 10, 1, 20, 1.83, 2.43 },        /* null 1 m/s at 20%: 20 + .83/4 x 50 = 30.375% */
+    { 40, 10, 2, 20, 1.83, 1.6 },         /* below the null speed: 20%; 10 x .2 x .8 */
+};
+
+START_TEST(sim_v22_turn_rate)
+{
+    kelp_sim_params p;
+    kelp_sim_params_default(&p);
+    ck_assert(p.act_max_accel == 0 && p.max_decel == 0.5 && p.act_turn_rate == 70 && p.turn_spd_loss == 0.85);
+    p.control = KELP_SIM_ACTUATED;
+    p.tsm_null_speed = v22_turns[_i].null_speed;
+    p.tsm_null_rate = v22_turns[_i].null_rate;
+    kelp_sim_state st = { 0, 0, 90, v22_turns[_i].speed, 0 };
+    kelp_sim sim;
+    ck_assert_int_eq(kelp_sim_init(&sim, &p, &st, 100), 0);
+    ck_assert_int_eq(kelp_sim_set_thrust(&sim, v22_turns[_i].thrust), 0);
+    ck_assert_int_eq(kelp_sim_set_rudder(&sim, v22_turns[_i].rudder), 0);
+    ck_assert_int_eq(kelp_sim_step(&sim, 102), 0);
+    ck_assert_double_eq_tol(sim.s.speed, v22_turns[_i].speed, 1e-9);
+    ck_assert_double_eq_tol(kelp_sim_angle180(sim.s.heading - 90), 2 * v22_turns[_i].degps, 1e-6);
+}
+END_TEST
+
+/* speed loss in a turn, V22's limits: no acceleration limit, deceleration 0.5 m/s^2; the
+ * turn-speed map keys; the thrust map from (0, 0) */
+START_TEST(sim_v22_speed)
+{
+    kelp_sim_params p;
+    kelp_sim_params_default(&p);
+    kelp_diag why = { 0 };
+    kelp_sim_state st = { 0, 0, 0, 2, 0 };
+    ck_assert_int_eq(kelp_sim_config_set(&p, &st, "turn_spd_map_null_speed", "0.5", &why), 1);
+    ck_assert_int_eq(kelp_sim_config_set(&p, &st, "TURN_SPD_MAP_NULL_RATE", "10", &why), 1);
+    ck_assert_int_lt(kelp_sim_config_set(&p, &st, "TURN_SPD_MAP_NULL_RATE", "101", &why), 0);
+    ck_assert_int_eq(kelp_sim_config_set(&p, &st, "TURN_SPD_MAP_FULL_SPEED", "1", &why), 1);
+    ck_assert(p.tsm_null_speed == 0.5 && p.tsm_null_rate == 10);
+    /* full speed stays 5 m/s whatever the key says: at 2.75 m/s halfway from 10% to 70% */
+    ck_assert_double_eq_tol(kelp_sim_turn_rate_at(&p, 2.75), 40, 1e-9);
+    ck_assert_double_eq_tol(kelp_sim_turn_rate_at(&p, 0.4), 10, 1e-9);
+    ck_assert_double_eq_tol(kelp_sim_turn_rate_at(&p, 7), 70, 1e-9);
+    /* a map without 0:0 interpolates from (0, 0); flat after its last point */
+    ck_assert_int_eq(kelp_sim_config_set(&p, &st, "thrust_map", "50:2, 80:3", &why), 1);
+    ck_assert_double_eq_tol(kelp_sim_thrust_speed(&p, 25), 1, 1e-12);
+    ck_assert_double_eq_tol(kelp_sim_thrust_speed(&p, 65), 2.5, 1e-12);
+    ck_assert_double_eq_tol(kelp_sim_thrust_speed(&p, 95), 3, 1e-12);
+    ck_assert(kelp_sim_thrust_speed(&p, 0) == 0);
+    p.nmap = 0;
+    p.control = KELP_SIM_ACTUATED;
+    kelp_sim sim;
+    ck_assert_int_eq(kelp_sim_init(&sim, &p, &st, 0), 0);
+    ck_assert_int_eq(kelp_sim_set_thrust(&sim, 40), 0);
+    ck_assert_int_eq(kelp_sim_set_rudder(&sim, 100), 0);
+    /* target 2 x 0.15 = 0.3 m/s; slowing at 0.5 m/s^2: 1.5 m/s after 1 s */
+    ck_assert_int_eq(kelp_sim_step(&sim, 1), 0);
+    ck_assert_double_eq_tol(sim.s.speed, 1.5, 1e-9);
+    /* rudder back to 0: no acceleration limit, 2 m/s at once */
+    ck_assert_int_eq(kelp_sim_set_rudder(&sim, 0), 0);
+    ck_assert_int_eq(kelp_sim_step(&sim, 1.05), 0);
+    ck_assert_double_eq_tol(sim.s.speed, 2, 1e-9);
+    /* MAX_ACCELERATION sets the limit of both models */
+    ck_assert_int_eq(kelp_sim_config_set(&p, &st, "MAX_ACCELERATION", "0.2", &why), 1);
+    ck_assert(p.act_max_accel == 0.2 && p.max_accel == 0.2);
+}
+END_TEST
+
+typedef struct srec {
+    char text[8][96];
+    int n;
+} srec;
+
+static void ssink(void *ctx, const char *var, bool is_string, const char *sval, double dval)
+{
+    srec *r = ctx;
+    (void)dval;
+    if (is_string && r->n < 8) snprintf(r->text[r->n++], sizeof r->text[0], "%s=%s", var, sval);
+}
+
+/* pMarinePIDV22's first command after the helm takes over (PIDEngine::setDesiredValues runs
+ * the heading loop only with thrust, ScalarPID::Run has no derivative on its first run): the
+ * heading error of the helm's first DESIRED_HEADING gives kp x error, not a derivative kick */
+START_TEST(marine_pid_first_command)
+{
+    kelp_marine_pid_cfg c;
+    kelp_marine_pid_cfg_default(&c);
+    c.active_start = true;
+    c.yaw[0] = 0.5;
+    c.yaw[1] = 10;
+    c.speed_factor = 20;
+    kelp_marine_pid m;
+    rec r = { 0 };
+    ck_assert_int_eq(kelp_marine_pid_init(&m, &c, 0), 0);
+    /* parked: desired speed 0, the vehicle's heading wanders */
+    for (int i = 0; i <= 10; i++) {
+        double t = i * 0.1;
+        ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_SPEED", false, NULL, 0, t), 1);
+        ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_HEADING", false, NULL, 0, t), 1);
+        ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_HEADING", false, NULL, i * 2.0, t), 1);
+        ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_SPEED", false, NULL, 0, t), 1);
+        kelp_marine_pid_iterate(&m, t, sink, &r);
+        ck_assert(last(&r, "DESIRED_RUDDER") == 0 && last(&r, "DESIRED_THRUST") == 0);
+    }
+    /* DEPLOY: heading 20, desired 110 at 2 m/s: rudder 0.5 x 90 = 45, thrust 40 */
+    ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_SPEED", false, NULL, 2, 1.1), 1);
+    ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_HEADING", false, NULL, 110, 1.1), 1);
+    ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_HEADING", false, NULL, 20, 1.1), 1);
+    kelp_marine_pid_iterate(&m, 1.1, sink, &r);
+    ck_assert_double_eq_tol(last(&r, "DESIRED_RUDDER"), 45, 1e-9);
+    ck_assert(last(&r, "DESIRED_THRUST") == 40);
+    /* the next run has a derivative: error -80, slope +100/s: 0.5 x -80 + 10 x 100, rudder clipped to -100 */
+    ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_HEADING", false, NULL, 30, 1.2), 1);
+    kelp_marine_pid_iterate(&m, 1.2, sink, &r);
+    ck_assert_double_eq_tol(last(&r, "DESIRED_RUDDER"), -100, 1e-9);
+}
+END_TEST
+
+/* PID_STALE's text (PIDEngine::checkForStaleness): the input and its age to 3 decimals */
+START_TEST(marine_pid_stale_text)
+{
+    kelp_marine_pid_cfg c;
+    kelp_marine_pid_cfg_default(&c);
+    c.active_start = true;
+    kelp_marine_pid m;
+    ck_assert_int_eq(kelp_marine_pid_init(&m, &c, 0), 0);
+    ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_SPEED", false, NULL, 1, 1), 1);
+    ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_HEADING", false, NULL, 0, 0.5), 1);
+    ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_HEADING", false, NULL, 0, 3), 1);
+    ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_SPEED", false, NULL, 0, 3), 1);
+    srec r = { 0 };
+    kelp_marine_pid_iterate(&m, 3.125, ssink, &r);
+    ck_assert_int_eq(r.n, 2);
+    ck_assert_str_eq(r.text[0], "PID_STALE=Stale DesHdg:2.625");
+    ck_assert_str_eq(r.text[1], "PID_STALE=Stale DesSpd:2.125");
+}
+END_TEST
+
+/* uSimMarineV22 posts SIMULATION_MODE (with its PID engine's depth control, on by default)
+ * and USM_DRIFT_SUMMARY at its first iteration and when drift arrives (USM_MOOSApp) */
+START_TEST(usim_v22_postings)
+{
+    static kelp_usim u;
+    kelp_usim_defaults(&u, NULL, NULL);
+    ck_assert_int_eq(kelp_usim_start(&u, NULL, 10), 0);
+    srec r = { 0 };
+    ck_assert_int_eq(kelp_usim_iterate(&u, 10.25, ssink, &r), 0);
+    ck_assert_int_eq(r.n, 1);
+    ck_assert_str_eq(r.text[0], "USM_DRIFT_SUMMARY=ang=0, mag=0, xmag=0, ymag=0");
+    r.n = 0;
+    ck_assert_int_eq(kelp_usim_iterate(&u, 10.5, ssink, &r), 0);
+    ck_assert_int_eq(r.n, 1);
+    ck_assert_str_eq(r.text[0], "SIMULATION_MODE=TRUE");
+    ck_assert_int_eq(kelp_usim_mail(&u, "DRIFT_X", false, NULL, 0.5, 10.6), 1);
+    r.n = 0;
+    ck_assert_int_eq(kelp_usim_iterate(&u, 10.75, ssink, &r), 0);
+    ck_assert_int_eq(r.n, 1);
+    ck_assert_str_eq(r.text[0], "USM_DRIFT_SUMMARY=ang=90, mag=0.5, xmag=0.5, ymag=0");
+}
+END_TEST
+
+typedef struct nrec {
+    int n_nav;
+    double speed;
+} nrec;
+
+static void navsink(void *ctx, const char *var, bool is_string, const char *sval, double dval)
+{
+    nrec *r = ctx;
+    (void)sval;
+    if (!is_string && !strcmp(var, "NAV_X")) r->n_nav++;
+    if (!is_string && !strcmp(var, "NAV_SPEED")) r->speed = dval;
+}
+
+/* USM_MOOSApp::postNodeRecordUpdate: the navigation every 2nd iteration (m_nav_modulo), from
+ * the second; NAV_SPEED snapped to 0.01 and at most max_speed (5 by default) */
+START_TEST(usim_v22_nav_modulo)
+{
+    static kelp_usim u;
+    kelp_usim_defaults(&u, NULL, NULL);
+    u.start.speed = 1.234;
+    ck_assert_int_eq(kelp_usim_start(&u, NULL, 10), 0);
+    nrec r = { 0, -1 };
+    for (int i = 1; i <= 4; i++) {
+        ck_assert_int_eq(kelp_usim_iterate(&u, 10 + 0.25 * i, navsink, &r), 0);
+        ck_assert_int_eq(r.n_nav, i / 2);
+    }
+    ck_assert_double_eq_tol(r.speed, 1.23, 1e-12);
+    u.sim.s.speed = 7.5;
+    ck_assert_int_eq(kelp_usim_iterate(&u, 11.25, navsink, &r), 0);
+    ck_assert_int_eq(kelp_usim_iterate(&u, 11.5, navsink, &r), 0);
+    ck_assert_double_eq_tol(r.speed, 5, 1e-12);
+}
+END_TEST
+
 Suite *kelp_pid_suite(void)
 {
     Suite *s = suite_create("pid");
@@ -241,6 +454,12 @@ Suite *kelp_pid_suite(void)
     tcase_add_test(tc, marine_pid_iteration);
     tcase_add_test(tc, marine_pid_speed_and_depth_loops);
     tcase_add_test(tc, sim_rudder_thrust_model);
+    tcase_add_loop_test(tc, sim_v22_turn_rate, 0, (int)(sizeof v22_turns / sizeof v22_turns[0]));
+    tcase_add_test(tc, sim_v22_speed);
+    tcase_add_test(tc, usim_v22_postings);
+    tcase_add_test(tc, usim_v22_nav_modulo);
+    tcase_add_test(tc, marine_pid_first_command);
+    tcase_add_test(tc, marine_pid_stale_text);
     suite_add_tcase(s, tc);
     return s;
 }

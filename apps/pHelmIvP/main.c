@@ -150,6 +150,8 @@ static int startup(kelp_app *app, void *st)
         }
         kelp_mission_free(&mf);
         a->nfiles++;
+        /* HelmIvP::requestBehaviorLogging: ask the logger to keep a copy of each behaviour file */
+        KELP_IGNORE(kelp_app_notify_stringf(app, "PLOGGER_CMD", "COPY_FILE_REQUEST = %s", file));
     }
     if (a->nfiles == 0)
         return kelp_app_config_error(app, NULL, "ProcessConfig = %s needs a Behaviors = file.bhv line", kelp_app_name(app));
@@ -230,8 +232,8 @@ static const kelp_app_def def = {
         { "Behaviors", "alder.bhv", "required, repeatable: a behaviour file (relative to the mission)", NULL },
         { "Domain", "course:0:359:360", "required, repeatable: name:low:high:points[:optional]", NULL },
         { "Domain", "speed:0:4:21", NULL, NULL },
-        { "start_in_drive", "true", "false: PARK until MOOS_MANUAL_OVERIDE=false", NULL },
-        { "start_engaged", "true", "MOOS-IvP's newer name of start_in_drive (the later line wins)", NULL },
+        { "start_in_drive", "false", "true: DRIVE from the start; false: PARK until MOOS_MANUAL_OVERRIDE=false", NULL },
+        { "start_engaged", "false", "MOOS-IvP's newer name of start_in_drive (the later line wins)", NULL },
         { "allow_park", "true", "false: an override cannot park the helm once engaged", NULL },
         { "park_on_allstop", "false", "true: park on an all-stop", NULL },
         { "other_override_var", "AUTONOMY_OVERRIDE", "a variable read like MOOS_MANUAL_OVERRIDE", NULL },
@@ -255,7 +257,7 @@ static const kelp_app_def def = {
         { "DESIRED_HEADING", "118.8", "each decision variable of the Domain (DESIRED_<VAR>; zero on all-stop)" },
         { "DESIRED_SPEED", "2.0", NULL },
         { "IVPHELM_STATE", "DRIVE", "DRIVE or PARK" },
-        { "IVPHELM_ALLSTOP", "clear", "or NothingToDo, BehaviorError, ManualOverride, MissingDecVars:x" },
+        { "IVPHELM_ALLSTOP", "clear", "every iteration: or NothingToDo, BehaviorError, ManualOverride, MissingDecVars:x" },
         { "IVPHELM_SUMMARY", "iter=12,ofnum=1,var=course:195.0,var=speed:1.2,active_bhvs=loiter", NULL },
         { "IVPHELM_ITER", "12", NULL },
         { "IVPHELM_IPF_CNT", "1", NULL },
@@ -282,9 +284,16 @@ static const kelp_app_def def = {
           "each update read: success, param_error, duplicate or name_mismatch" },
         { "IVPHELM_REGISTER", "NAV_X", "each variable the helm registers for" },
         { "IVPHELM_CPU", "1.25", "the helm's CPU load (percent of one core)" },
+        { "IVPHELM_LEDGER_SUMMARY", "now:2, reps:31, who:ben,cal", "every iteration once NAV_X/NAV_Y are known" },
+        { "IVPHELM_COMPLETED_PENDING", "false", "on change: true in the iteration a behaviour completes" },
+        { "TURN_RATE", "1.5", "in DRIVE: mean heading change per iteration over the last 5 s (deg, starboard +)" },
+        { "MOOS_DEBUG", "pHelmIvP AllStop: clear", "with each IVPHELM_ALLSTOP (MOOS's debug channel)" },
+        { "PLOGGER_CMD", "COPY_FILE_REQUEST = alder.bhv", "at start, one per Behaviors file" },
+        { "WPT_ODO", "42.5", "BHV_Waypoint: metres travelled on the current leg (+ post_suffix)" },
         { "UH_<behaviour>", "points=0,0:10,10", "the behaviour's update replies" },
         { "VIEW_POINT", "x=10,y=20,label=alpha", "behaviour postings: VIEW_SEGLIST, VIEW_POLYGON, WPT_STAT,"
-          " WPT_INDEX, CYCLE_INDEX, LOITER_INDEX, LOITER_ACQUIRE, LOITER_REPORT, flags" },
+          " WPT_INDEX, CYCLE_INDEX (on change), LOITER_INDEX, LOITER_ACQUIRE, LOITER_REPORT, the variables"
+          " wpt_index_var / cycle_index_var name, flags" },
         { NULL, NULL, NULL } },
     .startup = startup,
     .on_mail = on_mail,

@@ -145,6 +145,8 @@ static const kelp_app_def def = {
         { "DESIRED_THRUST", "60", NULL },
         { "DESIRED_ELEVATOR", "-1.2", "degrees" },
         { "PID_MAX_SAT_HDG", "true", "on change; also PID_MAX_SAT_SPD, PID_MAX_SAT_DEP" },
+        { "PID_HAS_CONTROL", "true", "on MOOS_MANUAL_OVERRIDE = false; false when control is lost" },
+        { "PID_STALE", "Stale DesHdg:2.25", "per stale input (DesHdg, DesSpd, NavHdg, NavSpd, DesDepth, NavDep, NavPitch)" },
         { NULL, NULL, NULL } },
     .startup = startup,
     .on_mail = on_mail,

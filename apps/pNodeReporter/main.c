@@ -126,8 +126,9 @@ static int startup(kelp_app *app, void *st)
     }
     if ((n = kelp_app_param(app, "DEPTH_KEY"))) {
         if (kelp_mission_copy(n, buf, sizeof buf) < 0 || (strcmp(buf, "DEP") != 0 && strcmp(buf, "DEPTH") != 0))
-            return kelp_app_config_error(app, n, "DEPTH_KEY must be DEPTH (the seed's) or DEP (MOOS-IvP today)");
+            return kelp_app_config_error(app, n, "DEPTH_KEY must be DEP (MOOS-IvP 24.8's report) or DEPTH (the seed's)");
         c.dep_key = strcmp(buf, "DEP") == 0;
+        c.seed_format = !c.dep_key; /* DEPTH= comes with the seed's whole layout */
     }
     const char *fk[] = { "CROSS_FILL_POLICY", "CROSSFILL_POLICY" };
     for (int i = 0; i < 2; i++)
@@ -192,7 +193,7 @@ static void report(kelp_app *app, void *st, FILE *out)
 static const kelp_app_def def = {
     .name = "pNodeReporter",
     .pid_var = "PNODEREPORTER_PID",
-    .purpose = "Publish NODE_REPORT_LOCAL (NAME,TYPE,TIME,X,Y,LAT,LON,SPD,HDG,DEPTH,...) from NAV_* and the helm.",
+    .purpose = "Publish NODE_REPORT_LOCAL (NAME,X,Y,SPD,HDG,DEP,LAT,LON,TYPE,...,TIME) from NAV_* and the helm.",
     .params = (const kelp_app_param_info[]){
         { "PLATFORM_TYPE", "UUV", "TYPE= in the report", NULL },
         { "VESSEL_TYPE", "UUV", "older name of PLATFORM_TYPE", "PLATFORM_TYPE" },
@@ -210,7 +211,7 @@ static const kelp_app_def def = {
         { "NODE_REPORT_OUTPUT", "NODE_REPORT_LOCAL", "the variable the report is posted to", NULL },
         { "NODE_REPORT_SUMMARY", "NODE_REPORT_LOCAL", "older name of NODE_REPORT_OUTPUT", "NODE_REPORT_OUTPUT" },
         { "NODE_REPORT_VAR", "NODE_REPORT_LOCAL", "older name of NODE_REPORT_OUTPUT", "NODE_REPORT_OUTPUT" },
-        { "DEPTH_KEY", "DEPTH", "DEPTH (the seed's) or DEP (MOOS-IvP today)", NULL },
+        { "DEPTH_KEY", "DEP", "DEP: MOOS-IvP 24.8's report; DEPTH: the seed's (DEPTH=, fixed decimals, its order)", NULL },
         { "NOHELM_THRESHOLD", "5", "seconds without helm mail before MODE=NOHELM-<s>", NULL },
         { "BLACKOUT_INTERVAL", "0", "seconds between reports (0: every iteration)", NULL },
         { "BLACKOUT_VARIANCE", "0", "seconds, the interval varies by +- this", NULL },
@@ -255,8 +256,8 @@ static const kelp_app_def def = {
         { "<MODE_VAR>", "SURVEYING", "when MODE_VAR is set" },
         { NULL, NULL, NULL } },
     .publishes = (const kelp_app_var_info[]){
-        { "NODE_REPORT_LOCAL", "NAME=alpha,TYPE=UUV,TIME=1252348077.59,X=51.71,Y=-35.50,LAT=43.824981,"
-          "LON=-70.329755,SPD=2.00,HDG=118.85,DEPTH=4.63,LENGTH=3.8,MODE=LOITERING",
+        { "NODE_REPORT_LOCAL", "NAME=alpha,X=51.71,Y=-35.5,SPD=2,HDG=118.85,DEP=4.63,LAT=43.82498058,"
+          "LON=-70.3297551,TYPE=UUV,MODE=LOITERING,ALLSTOP=clear,TIME=1252348077.59,LENGTH=3.8",
           "every iteration once the navigation is valid (NODE_REPORT_OUTPUT; BLACKOUT_INTERVAL apart)" },
         { "NODE_REPORT_LOCAL_FIRST", "(the first report)", "once, a copy of the first report" },
         { "PNR_POST_GAP", "0.25", "seconds since the previous report" },

@@ -26,11 +26,9 @@ static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
     if (a->pass_start != is_pos) return is_pos ? 1 : 0;
     int rc = kelp_usim_config(&a->u, key, val, d);
     if (rc != 0) return rc;
-    /* MOOS-IvP 24.8 keys for what kelp does not simulate (sailing, the turn-speed map, a second
-     * state, reverse thrust): accepted so a 24.8 block loads, and reported as events */
-    static const char *const accepted[] = { "TURN_SPD_MAP_FULL_SPEED", "TURN_SPD_MAP_NULL_SPEED", "TURN_SPD_MAP_FULL_RATE",
-                                            "TURN_SPD_MAP_NULL_RATE",  "WIND_CONDITIONS",         "POLAR_PLOT",
-                                            "DUAL_STATE",              "THRUST_REFLECT",          "APP_LOGGING" };
+    /* MOOS-IvP 24.8 keys for what kelp does not simulate (sailing, a second state, reverse
+     * thrust): accepted so a 24.8 block loads, and reported as events */
+    static const char *const accepted[] = { "WIND_CONDITIONS", "POLAR_PLOT", "DUAL_STATE", "THRUST_REFLECT", "APP_LOGGING" };
     for (size_t i = 0; i < sizeof accepted / sizeof accepted[0]; i++)
         if (kelp_strieq_n(key, strlen(key), accepted[i])) {
             kelp_app_event(a->app, "%s accepted, not simulated", accepted[i]);
@@ -137,7 +135,8 @@ static const kelp_app_def def = {
           NULL },
         { "TURN_RATE", "20", "direct model: deg/s at full speed; rudder/thrust model: percent [0,100] (70)", NULL },
         { "TURN_SPEED", "0.5", "m/s: below it the direct model's turn rate scales with speed (0 = off)", NULL },
-        { "MAX_ACCELERATION", "0.5", "m/s^2 (0 = no limit)", NULL },
+        { "MAX_ACCELERATION", "0", "m/s^2 (0 = no limit; default 0 in the rudder/thrust model, 0.5 in the direct one)",
+          NULL },
         { "MAX_DECELERATION", "0.5", "m/s^2 (0 = no limit)", NULL },
         { "MAX_DEPTH_RATE", "0.5", "m/s (0 = no limit)", NULL },
         { "MAX_DEPTH_RATE_SPEED", "0", "m/s: depth rate scaled by speed/this (0 = off)", NULL },
@@ -185,11 +184,11 @@ static const kelp_app_def def = {
         { "SIM_INSTABILITY", "0", "embedded PID (as pMarinePID)", NULL },
         { "OUTPUT_SUFFIX", "_PID", "embedded PID (as pMarinePID)", NULL },
         { "IGNORE_NAV_YAW", "false", "embedded PID (as pMarinePID)", NULL },
-        { "TURN_SPD_MAP_NULL_SPEED", "0", "accepted, not simulated", "TURN_SPD_MAP_FULL_SPEED" },
-        { "TURN_SPD_MAP_FULL_RATE", "0", "accepted, not simulated", "TURN_SPD_MAP_FULL_SPEED" },
-        { "TURN_SPD_MAP_NULL_RATE", "0", "accepted, not simulated", "TURN_SPD_MAP_FULL_SPEED" },
+        { "TURN_SPD_MAP_NULL_SPEED", "0", "m/s: at and below it the rudder/thrust model turns at the null rate", NULL },
+        { "TURN_SPD_MAP_NULL_RATE", "0", "[0,100]: turn rate at the null speed (full: TURN_RATE from 5 m/s)", NULL },
+        { "TURN_SPD_MAP_FULL_RATE", "100", "[0,100]: used only with TURN_RATE = 0 (as uSimMarineV22)", NULL },
+        { "TURN_SPD_MAP_FULL_SPEED", "1", "accepted; uSimMarineV22 turns at the full rate from 5 m/s", NULL },
         { "POLAR_PLOT", "0,0: 90,80: 180,50", "accepted, not simulated", "WIND_CONDITIONS" },
-        { "TURN_SPD_MAP_FULL_SPEED", "1", "accepted, not simulated (also _NULL_SPEED, _FULL_RATE, _NULL_RATE)", NULL },
         { "WIND_CONDITIONS", "spd=3.3, dir=180", "accepted, not simulated (sailing; also POLAR_PLOT)", NULL },
         { "DUAL_STATE", "false", "accepted, not simulated", NULL },
         { "THRUST_REFLECT", "false", "accepted, not simulated (no reverse)", NULL },
@@ -219,6 +218,8 @@ static const kelp_app_def def = {
         { "NAV_LAT", "43.824981", "with LatOrigin/LongOrigin" },
         { "NAV_LONG", "-70.329755", "with LatOrigin/LongOrigin" },
         { "TRUE_X", "112.3", "also TRUE_Y" },
+        { "SIMULATION_MODE", "TRUE", "every iteration (not with DEPTH_CONTROL = false)" },
+        { "USM_DRIFT_SUMMARY", "ang=90, mag=1.5, xmag=1.5, ymag=0", "first iteration and after drift mail" },
         { "USM_NAVPOS_SUMMARY", "x=68.932,y=-60.32,lat=43.824767,lon=-70.3295309", "with POST_NAVPOS_SUMMARY" },
         { NULL, NULL, NULL } },
     .notes = "Globals used: LatOrigin, LongOrigin (for NAV_LAT/NAV_LONG).\n",

@@ -229,6 +229,7 @@ typedef struct kelp_bhv_wpt {          /* BHV_Waypoint */
     /* state */
     unsigned index;                    /* next point */
     unsigned long cycles;              /* completed passes */
+    unsigned long cycles_posted;       /* the CYCLE_INDEX last posted (0 before any) */
     unsigned long captured, slipped;   /* arrivals by capture / by slip radius */
     bool have_prev;                    /* trackline start known */
     kelp_bhv_pt prev;                  /* start of the current leg */
@@ -463,11 +464,18 @@ typedef struct kelp_helm_post {
 
 typedef void (*kelp_helm_sink)(const kelp_helm_post *p, void *user);
 
+/** Headings kept for TURN_RATE (the last 5 s of iterations: 25 Hz fits) */
+#ifndef KELP_HELM_HDG_HIST
+#define KELP_HELM_HDG_HIST 128
+#endif
+#define KELP_HELM_TURN_WINDOW 5.0 /**< s of heading history TURN_RATE averages (PlatModelGenerator) */
+
 typedef struct kelp_helm_config {
     kelp_ivp_domain domain;            /**< the helm's IvP domain (Domain = lines) */
     bool optional[KELP_IVP_MAX_DIM];   /**< ":optional" domain variables (no all-stop if undecided) */
     char us[KELP_MAX_NAME];            /**< vehicle (community) name */
-    bool start_engaged;                /**< start in DRIVE (MOOS start_in_drive); default true */
+    bool start_engaged;                /**< start in DRIVE (start_engaged, start_in_drive); default
+                                            false: PARK until MOOS_MANUAL_OVERRIDE = false (24.8) */
     bool allow_park;                   /**< an override may park the helm (default true) */
     bool park_on_allstop;              /**< park when the decision is an all-stop (default false) */
     char other_override[KELP_MAX_NAME];/**< another variable read like MOOS_MANUAL_OVERRIDE ("" none) */
@@ -593,7 +601,12 @@ struct kelp_helm {
     kelp_ivp_func fn[KELP_HELM_MAX_BHVS];   /* functions of the current iteration */
     kelp_ivp_problem prob;
     char last_lists[3][256];           /* last IVPHELM_BHV_ACTIVE / RUNNING / IDLE posted */
-    char last_allstop[96];
+    unsigned no_decisions;             /* iterations in a row with NothingToDo / MissingDecVars */
+    unsigned long ledger_reports;      /* NODE_REPORTs taken into the ledger (IVPHELM_LEDGER_SUMMARY reps) */
+    double hdg_t[KELP_HELM_HDG_HIST], hdg_v[KELP_HELM_HDG_HIST]; /* TURN_RATE's heading history, a ring */
+    unsigned hdg_n, hdg_head;          /* entries, index of the newest */
+    unsigned ncompleted_seen;          /* behaviours marked completed at the last count */
+    int completed_pending_posted;      /* IVPHELM_COMPLETED_PENDING last posted: -1 none, 0, 1 */
     kelp_helm_mode modes[KELP_HELM_MAX_MODES];
     unsigned nmodes;
     char mode_posted[KELP_HELM_MAX_MODES][128]; /* last value posted per mode variable (by first entry) */

@@ -78,6 +78,9 @@ typedef struct kelp_nodereport {
     long index;                  /**< reports posted before this one (written when not 0) */
     uint32_t fields;             /**< KELP_NR_* bits of the fields present */
     bool dep_key;                /**< format: write depth as DEP= (MOOS-IvP today) instead of DEPTH= */
+    bool moos248;                /**< format: MOOS-IvP 24.8's NodeRecord layout: NAME,X,Y,SPD,HDG,DEP,
+                                      LAT,LON,TYPE,COLOR,GROUP,MODE,ALLSTOP,INDEX,YAW,TIME,LENGTH, numbers
+                                      with trailing zeros trimmed (2 decimals; LAT/LON 8, YAW 7) */
     const char *extra;           /**< format: "K=V,K=V" appended as they are (may be NULL) */
 } kelp_nodereport;
 

@@ -9,14 +9,18 @@
  *
  * The engine (kelp_marine_pid) runs pMarinePID's iteration: without control (before
  * MOOS_MANUAL_OVERRIDE=false, unless active_start) it posts one all-stop (rudder, thrust
- * and, with depth control, elevator 0); with helm or navigation mail older than the tardy
- * thresholds it posts DESIRED_THRUST 0; otherwise
- *   rudder   = -PID_yaw(angle180(heading - desired)), clipped to maxrudder
+ * and, with depth control, elevator 0); in control it posts rudder, thrust (and elevator)
+ * every iteration, as pMarinePIDV22: all 0 until every input (desired heading and speed, nav
+ * heading and speed; with depth control desired depth, nav depth and pitch) has come since
+ * control was taken, and all 0 with one PID_STALE ("Stale DesHdg:2.5", DesSpd, NavHdg,
+ * NavSpd, DesDepth, NavDep, NavPitch) per input older than its tardy threshold; otherwise
  *   thrust   = desired speed * speed_factor, or (speed_factor 0) last thrust +
- *              PID_speed(desired - speed); never below 0; clipped to maxthrust;
- *              0 when the desired speed is within 0.001 of 0 (and then rudder 0 too)
+ *              PID_speed(desired - speed); below 0.01 it is 0; clipped to maxthrust
+ *   rudder   = -PID_yaw(angle180(heading - desired)), clipped to maxrudder, only with
+ *              thrust > 0 (else 0 and the loop does not run: its next run is a first run)
  *   elevator = degrees(PID_pitch(pitch - clip(PID_z(depth - desired), maxpitch))),
- *              clipped to maxelevator (depth control only)
+ *              clipped to maxelevator (depth control and thrust > 0 only)
+ * PID_HAS_CONTROL = true on each MOOS_MANUAL_OVERRIDE = false, false when control is lost.
  * Every loop's output limit is 100; maxrudder etc. clip after. Outputs go to
  * DESIRED_RUDDER/THRUST/ELEVATOR + output_suffix, and PID_MAX_SAT_HDG/SPD/DEP on change.
  * Core: no heap, no clock, no I/O.
@@ -35,6 +39,8 @@ extern "C" {
 #endif
 
 #define KELP_PID_HISTORY 9 /**< error slopes averaged for the derivative */
+#define KELP_PID_NSTAMP 7  /**< inputs timed: desired heading/speed/depth, nav heading/speed/depth/pitch */
+#define KELP_PID_MIN_THRUST 0.01 /**< a thrust below this is 0 (PIDEngine::setDesiredThrust) */
 
 typedef struct kelp_pid {
     double kp, kd, ki, integral_limit, output_limit;
@@ -81,6 +87,9 @@ typedef struct kelp_marine_pid {
     double rudder_out, thrust_out, elevator_out;
     unsigned long iterations, tardy_helm_n, tardy_nav_n;
     kelp_clock clock;              /**< previous `now` of iterate (the time step rule) */
+    double stamp[KELP_PID_NSTAMP]; /**< when each input last came; -1: not since control */
+    int say_control;               /**< PID_HAS_CONTROL due: 1 true, -1 false, 0 none */
+    char work[48];                 /**< scratch: a PID_STALE text */
 } kelp_marine_pid;
 
 /** pMarinePID's defaults: gains 0, limits 100, maxpitch 15 deg, maxelevator 13 deg,

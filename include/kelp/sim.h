@@ -11,22 +11,26 @@
  *            is scaled by min(1, speed / max_depth_rate_speed) (a vehicle needs way on to
  *            dive or climb); depth never goes above the surface (0)
  * A limit of 0 means "no limit" (the value jumps to the desired one).
- * Actuated mode (the rudder/thrust model of MOOS-IvP's uSimMarine, used once DESIRED_RUDDER,
- * DESIRED_THRUST or DESIRED_ELEVATOR arrive, or always with control = actuated): per
- * sub-step h, in this order
- *   speed    target = thrust_map(thrust) (or thrust / thrust_factor without a map; 0 for
- *            thrust <= 0) * (1 - |rudder|/100 * turn_spd_loss), then the acceleration and
- *            deceleration limits (0 = none)
- *   heading  with speed > 0: += rudder * (turn_rate/100) * h * (1 + (thrust - 50)/50),
- *            rudder clipped to +-100 and turn_rate to [0, 100] (a percent here)
+ * Actuated mode (the rudder/thrust model of MOOS-IvP 24.8's uSimMarineV22, used once
+ * DESIRED_RUDDER, DESIRED_THRUST or DESIRED_ELEVATOR arrive, or always with control =
+ * actuated): per sub-step h, in this order
+ *   speed    target = thrust_map(thrust) * (1 - |rudder|/100 * turn_spd_loss), then the
+ *            acceleration limit act_max_accel (default 0 = none) and the deceleration limit
+ *            max_decel (0 = none). The map interpolates from (0, 0) to its first point of
+ *            positive thrust and stays flat after its last; without a map thrust /
+ *            thrust_factor; 0 for thrust <= 0 (no reverse).
+ *   heading  with speed > 0: += rudder * (rate/100) * h * (1 + (thrust - 50)/50), rudder
+ *            clipped to +-100, where rate (a percent) comes from the turn-speed map at the
+ *            new speed: tsm_null_rate up to tsm_null_speed, act_turn_rate (turn_rate clipped
+ *            to [0, 100]) from KELP_SIM_TSM_FULL_SPEED (5 m/s) up, linear in between
  *   drift    heading += rotate_speed * h; position += (drift_x, drift_y) * h
  *   depth    speed <= 0: -= buoyancy_rate * h; else += (-buoyancy_rate + elevator/100 *
  *            max_depth_rate * sqrt(min(1, speed / max_depth_rate_speed))) * h
  * and the pitch is the angle of the last sub-step's climb (radians, nose up positive).
  * Direct mode keeps the drift too. Over-ground speed and heading come from the position's
  * change over the step.
- * Position integrates over each sub-step with the mean heading and mean speed of the
- * sub-step: x += v sin(h) dt, y += v cos(h) dt (compass heading: 0 = north = +y, 90 = east
+ * Position integrates over each sub-step with the mean heading (of the headings' unit
+ * vectors, in the actuated model) and mean speed of the sub-step: x += v sin(h) dt, y += v cos(h) dt (compass heading: 0 = north = +y, 90 = east
  * = +x). Time is an argument: kelp_sim_step(sim, now) advances from the last time to `now`
  * in equal sub-steps of at most `step` seconds, so results do not depend on how often the
  * caller steps beyond that resolution. Core: no heap, no clock, no I/O.
@@ -58,6 +62,11 @@ typedef struct kelp_sim_params {
     double act_turn_rate;        /**< percent [0, 100] (default 70) */
     double thrust_factor;        /**< speed = thrust / thrust_factor without a map (default 20) */
     double turn_spd_loss;        /**< [0, 1] (default 0.85) */
+    double act_max_accel;        /**< m/s^2 (default 0 = no limit, as uSimMarineV22) */
+    double tsm_null_speed;       /**< turn-speed map: m/s at and below which ... (default 0) */
+    double tsm_null_rate;        /**< ... the turn rate is this percent (default 0) */
+    double tsm_full_speed;       /**< accepted (default 1); V22 turns at full rate from 5 m/s */
+    double tsm_full_rate;        /**< percent (default 100), used only when turn_rate is 0 */
     double buoyancy_rate;        /**< m/s, positive rises (default 0) */
     double map_thrust[KELP_SIM_MAX_MAP], map_speed[KELP_SIM_MAX_MAP];
     unsigned nmap;               /**< thrust_map points, thrust ascending */
@@ -66,6 +75,13 @@ typedef struct kelp_sim_params {
 } kelp_sim_params;
 
 enum { KELP_SIM_AUTO = 0, KELP_SIM_DIRECT, KELP_SIM_ACTUATED };
+
+/** m/s from which the actuated model turns at its full rate (uSimMarineV22 fixes it at 5,
+ *  whatever turn_spd_map_full_speed says) */
+#define KELP_SIM_TSM_FULL_SPEED 5.0
+
+/** Turn rate (percent) of the actuated model at `speed` through the turn-speed map. */
+double kelp_sim_turn_rate_at(const kelp_sim_params *p, double speed);
 
 /** Vehicle state. heading in [0, 360). */
 typedef struct kelp_sim_state {
@@ -117,7 +133,8 @@ double kelp_sim_thrust_speed(const kelp_sim_params *p, double thrust);
  *  START_POS, START_X/Y/HEADING/SPEED/DEPTH (into *st when st), TURN_RATE, TURN_SPEED,
  *  MAX_ACCELERATION, MAX_DECELERATION, MAX_DEPTH_RATE, MAX_DEPTH_RATE_SPEED, MAX_SPEED,
  *  SIM_STEP, THRUST_FACTOR, THRUST_MAP, TURN_SPD_LOSS, BUOYANCY_RATE, DRIFT_X, DRIFT_Y,
- *  DRIFT_VECTOR, ROTATE_SPEED, CONTROL. @return 1 taken, 0 not a simulator key, <0 (reason in d). */
+ *  DRIFT_VECTOR, ROTATE_SPEED, CONTROL, TURN_SPD_MAP_NULL_SPEED/_NULL_RATE/_FULL_SPEED/_FULL_RATE
+ *  (MAX_ACCELERATION sets both models' limits). @return 1 taken, 0 not a simulator key, <0 (reason in d). */
 KELP_MUST_CHECK int kelp_sim_config_set(kelp_sim_params *p, kelp_sim_state *st, const char *key, const char *val,
                                         kelp_diag *d);
 
@@ -147,7 +164,9 @@ typedef void (*kelp_usim_sink)(void *ctx, const char *var, bool is_string, const
 /** uSimMarine's logic around kelp_sim: configuration keys, mail, and each iteration's
  *  navigation publications (<PREFIX>_X, _Y, _HEADING, _SPEED, _DEPTH, _Z, _YAW (radians,
  *  -heading), _PITCH, _SPEED_OVER_GROUND, _HEADING_OVER_GROUND, _LAT, _LONG with a datum,
- *  TRUE_X, TRUE_Y, USM_NAVPOS_SUMMARY when asked). With any YAW_PID_ key the embedded PID
+ *  TRUE_X, TRUE_Y, SIMULATION_MODE = TRUE (not with DEPTH_CONTROL = false, as uSimMarineV22),
+ *  USM_NAVPOS_SUMMARY when asked, USM_DRIFT_SUMMARY on the first iteration and after drift
+ *  mail). With any YAW_PID_ key the embedded PID
  *  (kelp_marine_pid) turns DESIRED_HEADING/SPEED/DEPTH into the actuators itself. */
 typedef struct kelp_usim {
     kelp_sim sim;
@@ -156,11 +175,18 @@ typedef struct kelp_usim {
     struct kelp_marine_pid *pid;       /**< caller storage for the embedded PID (may be NULL) */
     struct kelp_marine_pid_cfg *pid_cfg;
     bool embedded_pid, paused, navpos_summary, have_geo;
+    bool no_sim_mode;                  /**< DEPTH_CONTROL = false: no SIMULATION_MODE */
+    unsigned long iterations;          /**< kelp_usim_iterate calls */
+    bool drift_fresh;                  /**< USM_DRIFT_SUMMARY due (start, drift mail) */
+    char work[96];                     /**< scratch: USM_DRIFT_SUMMARY */
     kelp_geo geo;
     char prefix[24];
     char post_rudder[KELP_MAX_NAME], post_thrust[KELP_MAX_NAME];
     unsigned long mail[6], bad_mail, resets;
 } kelp_usim;
+
+#define KELP_USIM_NAV_MODULO 2        /**< navigation posted every 2nd iteration (uSimMarineV22) */
+#define KELP_USIM_NAV_MAX_SPEED 5.0   /**< m/s: NAV_SPEED's cap without MAX_SPEED (uSimMarineV22) */
 
 /** Defaults (prefix NAV); pid/pid_cfg may be NULL (no embedded PID possible). */
 void kelp_usim_defaults(kelp_usim *u, struct kelp_marine_pid *pid, struct kelp_marine_pid_cfg *pid_cfg);

@@ -75,9 +75,13 @@ int kelp_nodereport_format(const kelp_nodereport *r, char *buf, size_t cap, size
         {"GROUP", offsetof(kelp_nodereport, group), KELP_NR_GROUP, true, 0, false},
         {"INDEX", 0, KELP_NR_INDEX, false, 0, false},
     };
+    /* NodeRecord::getSpec (MOOS-IvP 24.8): its order, every number trimmed */
+    static const unsigned char order248[] = { 0, 4, 5, 8, 9, 11, 6, 7, 1, 3, 15, 13, 14, 16, 10, 2, 12 };
+    _Static_assert(sizeof order248 == sizeof f / sizeof f[0], "every field in the 24.8 order");
     int rc = KELP_OK;
     const char *base = (const char *)r;
-    for (size_t i = 0; i < sizeof f / sizeof f[0] && rc == KELP_OK; i++) {
+    for (size_t j = 0; j < sizeof f / sizeof f[0] && rc == KELP_OK; j++) {
+        size_t i = r->moos248 ? order248[j] : j;
         if (!(r->fields & f[i].bit)) continue;
         bool index = f[i].bit == KELP_NR_INDEX;
         if (index && !r->index) continue;
@@ -85,7 +89,8 @@ int kelp_nodereport_format(const kelp_nodereport *r, char *buf, size_t cap, size
         double num = 0;
         if (index) num = (double)r->index;
         else if (!f[i].text) memcpy(&num, base + f[i].off, sizeof num);
-        rc = put_field(buf, cap, &n, key, f[i].text ? base + f[i].off : NULL, num, f[i].dec, f[i].strip);
+        unsigned dec = r->moos248 && (f[i].bit == KELP_NR_LAT || f[i].bit == KELP_NR_LON) ? 8 : f[i].dec;
+        rc = put_field(buf, cap, &n, key, f[i].text ? base + f[i].off : NULL, num, (int)dec, f[i].strip || r->moos248);
     }
     if (rc == KELP_OK && r->extra && r->extra[0]) {
         rc = field_put_str(buf, cap, &n, ",");

@@ -31,6 +31,7 @@ void kelp_field_nrep_cfg_default(kelp_field_nrep_cfg *cfg, const char *community
     set_text(cfg->plat_var, sizeof cfg->plat_var, "PLATFORM_REPORT_LOCAL");
     set_text(cfg->prefix, sizeof cfg->prefix, "NAV");
     cfg->nohelm_threshold = 5;
+    cfg->dep_key = true; /* NodeRecord::getSpec (24.8) writes DEP= */
     cfg->nav_grace_period = -1;
     cfg->extrap_pos = 0.25;
     cfg->extrap_hdg = 1;
@@ -192,6 +193,7 @@ int kelp_field_nrep_init(kelp_field_nrep *r, const kelp_field_nrep_cfg *cfg, kel
     r->start = now;
     r->helm_last = -1;
     r->last_post = -1;
+    set_text(r->allstop, sizeof r->allstop, "unknown"); /* NodeReporter: ALLSTOP=unknown until the helm says */
     r->blackout = cfg->blackout_interval;
     for (unsigned i = 0; i < KELP_NREP_MAX_PLAT; i++) r->plat_sent[i] = -1;
     kelp_rng_seed(&r->rng, cfg->seed ^ 0x6a09e667f3bcc909ull);
@@ -286,6 +288,7 @@ int kelp_field_nrep_mail(kelp_field_nrep *r, const char *var, bool is_string, co
     if (strcmp(var, "IVPHELM_STATE") == 0) {
         copy_field(r->helm_state, sval);
         r->helm_mail = true;
+        if (!strncmp(sval, "MALCONFIG", 9)) copy_field(r->allstop, "n/a");
     } else if (strcmp(var, "IVPHELM_ALLSTOP") == 0) {
         copy_field(r->allstop, sval);
     } else if (strcmp(var, "IVPHELM_SUMMARY") == 0) {
@@ -423,6 +426,7 @@ static bool build(kelp_field_nrep *r, const kelp_nrep_nav *nv, const char *name,
     if (r->cfg.hdg_error != 0) n->hdg = fmod(fmod(n->hdg + r->cfg.hdg_error, 360.0) + 360.0, 360.0);
     n->depth = nv->v[KELP_NREP_DEP];
     n->dep_key = r->cfg.dep_key;
+    n->moos248 = !r->cfg.seed_format;
     if (nv->have[KELP_NREP_YAW]) {
         /* MOOS-IvP reports the heading as radians counter-clockwise from east in [-pi, pi] */
         double a = (90.0 - n->hdg) * NREP_PI / 180.0;

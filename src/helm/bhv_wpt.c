@@ -21,7 +21,7 @@
 static void wpt_reset(kelp_bhv_wpt *s)
 {
     s->index = 0;
-    s->cycles = 0;
+    s->cycles = s->cycles_posted = 0;
     s->captured = s->slipped = 0;
     s->have_prev = false;
     s->have_mark = false;
@@ -265,7 +265,7 @@ static void wpt_idle(kelp_bhv *b)
 
 static void post_stat(kelp_bhv *b, double dist)
 {
-    const kelp_bhv_wpt *s = &b->u.wpt;
+    kelp_bhv_wpt *s = &b->u.wpt;
     char buf[KELP_MAX_NAME * 2 + 160];
     double eta = s->speed > 0 ? dist / s->speed : -1;
     char ix[24], hc[24], ht[24], cy[24], ds[32], et[32];
@@ -282,8 +282,11 @@ static void post_stat(kelp_bhv *b, double dist)
         kelp_bhv_post_string(b, var, buf, NULL);
     if (report_name(s, s->var_index, var, sizeof var))
         kelp_bhv_post_double(b, var, (double)s->index, NULL);
-    if (report_name(s, s->var_cyindex, var, sizeof var))
+    /* BHV_Waypoint posts the cycle count when it changes from the last it posted (0 at first) */
+    if (s->cycles != s->cycles_posted && report_name(s, s->var_cyindex, var, sizeof var)) {
         kelp_bhv_post_double(b, var, (double)s->cycles, NULL);
+        s->cycles_posted = s->cycles;
+    }
 }
 
 static void post_pairs(kelp_bhv *b, const kelp_bhv_flag *f, unsigned n)

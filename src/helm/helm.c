@@ -11,7 +11,7 @@ void kelp_helm_config_default(kelp_helm_config *cfg)
 {
     memset(cfg, 0, sizeof *cfg);
     kelp_ivp_domain_init(&cfg->domain);
-    cfg->start_engaged = true;
+    cfg->start_engaged = false; /* HelmIvP: parked until an override lifts, or start_engaged */
     cfg->allow_park = true;
 }
 
@@ -103,8 +103,13 @@ int kelp_helm_init(kelp_helm *h, const kelp_helm_config *cfg, const kelp_helm_me
     h->engaged = cfg->start_engaged;
     (void)helm_need_var(h, "MOOS_MANUAL_OVERIDE", 19);
     (void)helm_need_var(h, "MOOS_MANUAL_OVERRIDE", 20);
+    /* the platform model (TURN_RATE) reads the navigation whatever the behaviours need */
+    static const char *const nav[4] = {"NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"};
+    for (int i = 0; i < 4; i++)
+        (void)helm_need_var(h, nav[i], strlen(nav[i]));
     if (cfg->other_override[0]) (void)helm_need_var(h, cfg->other_override, strlen(cfg->other_override));
     strcpy(h->rep.allstop, "clear");
+    h->completed_pending_posted = -1;
     return 0;
 }
 
@@ -334,10 +339,10 @@ void kelp_helm_start(kelp_helm *h, kelp_time now)
     h->ib.curr_time = 0;
     char *buf = h->ws_out.buf; /* the postings workspace: idle until the first iteration posts */
     const size_t cap = sizeof h->ws_out.buf;
-    if (h->nmodes) {
+    buf[0] = 0; /* HelmIvP posts the mode set at start, empty without mode declarations */
+    if (h->nmodes)
         helm_mode_describe(h, buf, cap);
-        sink(h, "IVPHELM_MODESET", true, buf, 0, NULL);
-    }
+    sink(h, "IVPHELM_MODESET", true, buf, 0, NULL);
     helm_domain_string(&h->cfg.domain, buf, cap);
     sink(h, "IVPHELM_DOMAIN", true, buf, 0, NULL);
     /* one spawn event per behaviour of the files */
@@ -998,7 +1003,9 @@ KELP_NOINLINE static size_t cat_fixed(char *buf, size_t cap, const char *key, do
     return hx_cat(buf, cap, key, num, HX_END);
 }
 
-static void post_outputs(kelp_helm *h)
+static void post_completed_pending(kelp_helm *h);
+
+KELP_NOINLINE static void post_outputs(kelp_helm *h)
 {
     kelp_helm_report *r = &h->rep;
     const kelp_ivp_domain *hd = &h->cfg.domain;
@@ -1025,16 +1032,20 @@ static void post_outputs(kelp_helm *h)
     bool clear = !strcmp(r->allstop, "clear");
     if (!clear && h->engaged && h->cfg.park_on_allstop && h->cfg.allow_park)
         h->engaged = false; /* park until an override engages the helm again */
+    /* HelmIvP::postAllStop: the reason every iteration; the first iteration without a decision
+     * posts no zeros (a mode change gets one iteration to bring the next behaviour in) */
+    bool nodec = !strcmp(r->allstop, "NothingToDo") || !strncmp(r->allstop, "MissingDecVars", 14);
+    h->no_decisions = nodec ? h->no_decisions + 1 : 0;
+    sink(h, "IVPHELM_ALLSTOP", true, r->allstop, 0, NULL);
+    /* and the same through MOOSDebugWrite, which MOOS posts as MOOS_DEBUG */
+    hx_cat(buf, bufcap, "pHelmIvP AllStop: ", r->allstop, HX_END);
+    sink(h, "MOOS_DEBUG", true, buf, 0, NULL);
     for (unsigned d = 0; d < hd->dim; d++) {
         desired_name(hd->var[d].name, name, sizeof name);
-        if (!clear)
+        if (!clear && h->no_decisions != 1)
             sink(h, name, false, NULL, 0.0, NULL);
-        else if (r->decided[d])
+        else if (clear && r->decided[d])
             sink(h, name, false, NULL, r->decision[d], NULL);
-    }
-    if (strcmp(r->allstop, h->last_allstop) != 0) {
-        sink(h, "IVPHELM_ALLSTOP", true, r->allstop, 0, NULL);
-        memcpy(h->last_allstop, r->allstop, sizeof h->last_allstop);
     }
     /* behaviour lists */
     char (*lists)[256] = h->ws_out.lists, *cmpl = h->ws_out.lists[3];
@@ -1127,6 +1138,8 @@ static void post_outputs(kelp_helm *h)
     sink(h, "IVPHELM_TOTAL_PCS_FORMED", false, NULL, (double)r->total_pcs_formed, NULL);
     sink(h, "IVPHELM_TOTAL_PCS_CACHED", false, NULL, 0, NULL);
     sink(h, "IVPHELM_ITER", false, NULL, (double)h->iteration, NULL);
+    if (h->engaged)
+        post_completed_pending(h);
 }
 
 /* a new report keeping the running counts (not a copy of the whole report: stack; and out of
@@ -1142,6 +1155,95 @@ KELP_NOINLINE static void report_reset(kelp_helm_report *r)
     r->max_solve_time = max_solve;
     r->max_loop_time = max_loop;
     r->total_pcs_formed = total_pcs;
+}
+
+/* IVPHELM_LEDGER_SUMMARY as ContactLedger::getSummary(20): "now:2, reps:31, who:ben,cal", the
+ * names in order, at most 20 */
+KELP_NOINLINE static void post_ledger_summary(kelp_helm *h)
+{
+    char *buf = h->ws_out.buf, num[24];
+    const size_t cap = sizeof h->ws_out.buf;
+    hx_fmt_ulong(num, sizeof num, h->ncontacts);
+    size_t n = hx_cat(buf, cap, "now:", num, HX_END);
+    hx_fmt_ulong(num, sizeof num, h->ledger_reports);
+    n += hx_cat(buf + n, cap - n, ", reps:", num, ", who:", HX_END);
+    const char *last = NULL;
+    for (unsigned k = 0; k < h->ncontacts && k < 20; k++) {
+        const char *next = NULL;
+        for (unsigned i = 0; i < h->ncontacts; i++) {
+            const char *c = h->ledger[i].name;
+            if ((!last || strcmp(c, last) > 0) && (!next || strcmp(c, next) < 0))
+                next = c;
+        }
+        if (!next)
+            break;
+        n += hx_cat(buf + n, cap - n, k ? "," : "", next, HX_END);
+        last = next;
+    }
+    sink(h, "IVPHELM_LEDGER_SUMMARY", true, buf, 0, NULL);
+}
+
+/* a heading change in (-180, 180] */
+static double angle180(double a)
+{
+    a = fmod(a, 360.0);
+    if (a > 180.0)
+        a -= 360.0;
+    else if (a <= -180.0)
+        a += 360.0;
+    return a;
+}
+
+/* TURN_RATE as PlatModelGenerator::getTurnRate: the headings of the last 5 s of decisions, the
+ * mean signed change between consecutive ones (degrees per iteration, starboard positive) */
+KELP_NOINLINE static void post_turn_rate(kelp_helm *h, kelp_time now)
+{
+    double x, y, hdg, spd;
+    if (!kelp_helm_ib_double(&h->ib, "NAV_X", &x) || !kelp_helm_ib_double(&h->ib, "NAV_Y", &y) ||
+        !kelp_helm_ib_double(&h->ib, "NAV_HEADING", &hdg) || !kelp_helm_ib_double(&h->ib, "NAV_SPEED", &spd))
+        return;
+    h->hdg_head = (h->hdg_head + 1) % KELP_HELM_HDG_HIST;
+    h->hdg_t[h->hdg_head] = now, h->hdg_v[h->hdg_head] = hdg;
+    if (h->hdg_n < KELP_HELM_HDG_HIST)
+        h->hdg_n++;
+    while (h->hdg_n > 0) { /* drop the entries older than the window */
+        unsigned oldest = (h->hdg_head + KELP_HELM_HDG_HIST + 1 - h->hdg_n) % KELP_HELM_HDG_HIST;
+        if (now - h->hdg_t[oldest] <= KELP_HELM_TURN_WINDOW)
+            break;
+        h->hdg_n--;
+    }
+    double total = 0;
+    for (unsigned k = 1; k < h->hdg_n; k++) {
+        double newer = h->hdg_v[(h->hdg_head + KELP_HELM_HDG_HIST - k + 1) % KELP_HELM_HDG_HIST];
+        double older = h->hdg_v[(h->hdg_head + KELP_HELM_HDG_HIST - k) % KELP_HELM_HDG_HIST];
+        total += angle180(newer - older);
+    }
+    sink(h, "TURN_RATE", false, NULL, h->hdg_n > 1 ? total / (double)(h->hdg_n - 1) : 0.0, NULL);
+}
+
+/* before the decision (out of line: not in kelp_helm_iterate's frame) */
+KELP_NOINLINE static void post_ledger_and_turn_rate(kelp_helm *h, kelp_time now)
+{
+    if (kelp_helm_ib_find(&h->ib, "NAV_X") >= 0 && kelp_helm_ib_find(&h->ib, "NAV_Y") >= 0)
+        post_ledger_summary(h);
+    if (h->engaged)
+        post_turn_rate(h, now);
+}
+
+/* IVPHELM_COMPLETED_PENDING on change: true in the iteration a behaviour completed */
+static void post_completed_pending(kelp_helm *h)
+{
+    unsigned n = 0;
+    for (unsigned i = 0; i < h->nbhv; i++)
+        n += h->bhv[i].completed;
+    int pending = n > h->ncompleted_seen;
+    h->ncompleted_seen = n;
+    if (pending != h->completed_pending_posted) {
+        char it[24];
+        hx_fmt_ulong(it, sizeof it, h->iteration);
+        sink(h, "IVPHELM_COMPLETED_PENDING", true, pending ? "true" : "false", 0, it);
+        h->completed_pending_posted = pending;
+    }
 }
 
 int kelp_helm_iterate(kelp_helm *h, kelp_time now)
@@ -1174,6 +1276,7 @@ int kelp_helm_iterate(kelp_helm *h, kelp_time now)
         h->last_engaged = h->engaged;
         h->last_engaged_post = h->ib.curr_time;
     }
+    post_ledger_and_turn_rate(h, now);
     double (*clk)(void *) = h->cfg.cpu_clock;
     double t_start = clk ? clk(h->cfg.user) : 0;
     if (h->engaged) {

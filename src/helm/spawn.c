@@ -241,6 +241,7 @@ int kelp_helm_ledger_report(kelp_helm *h, const char *report)
     c->spd = (r.fields & KELP_NR_SPD) ? r.spd : 0;
     c->utc = (r.fields & KELP_NR_TIME) ? r.time : -1;
     c->seen = h->ib.curr_time;
+    h->ledger_reports++;
     return 0;
 }
 

@@ -36,7 +36,6 @@ int kelp_sim_config_set(kelp_sim_params *p, kelp_sim_state *st, const char *key,
 {
     static const struct { const char *key; size_t off; double lo; } nums[] = {
         { "TURN_SPEED", offsetof(kelp_sim_params, turn_speed), 0 },
-        { "MAX_ACCELERATION", offsetof(kelp_sim_params, max_accel), 0 },
         { "MAX_DECELERATION", offsetof(kelp_sim_params, max_decel), 0 },
         { "MAX_DEPTH_RATE", offsetof(kelp_sim_params, max_depth_rate), 0 },
         { "MAX_DEPTH_RATE_SPEED", offsetof(kelp_sim_params, max_depth_rate_speed), 0 },
@@ -59,6 +58,21 @@ int kelp_sim_config_set(kelp_sim_params *p, kelp_sim_state *st, const char *key,
         if (rc > 0) p->turn_rate = num, p->act_turn_rate = num > 100 ? 100 : num;
         return rc;
     }
+    if (key_is(key, "MAX_ACCELERATION")) {
+        int rc = number(val, 0, HUGE_VAL, &num, d, "must be a number >= 0");
+        if (rc > 0) p->max_accel = p->act_max_accel = num;
+        return rc;
+    }
+    static const struct { const char *key; size_t off; double lo, hi; } tsm[] = {
+        { "TURN_SPD_MAP_NULL_SPEED", offsetof(kelp_sim_params, tsm_null_speed), 0, HUGE_VAL },
+        { "TURN_SPD_MAP_FULL_SPEED", offsetof(kelp_sim_params, tsm_full_speed), 1e-9, HUGE_VAL },
+        { "TURN_SPD_MAP_NULL_RATE", offsetof(kelp_sim_params, tsm_null_rate), 0, 100 },
+        { "TURN_SPD_MAP_FULL_RATE", offsetof(kelp_sim_params, tsm_full_rate), 1e-9, 100 },
+    };
+    for (size_t i = 0; i < sizeof tsm / sizeof tsm[0]; i++)
+        if (key_is(key, tsm[i].key))
+            return number(val, tsm[i].lo, tsm[i].hi, (double *)(void *)((char *)p + tsm[i].off), d,
+                          "out of range (speeds > 0 m/s, rates in [0,100])");
     if (key_is(key, "TURN_SPD_LOSS")) return number(val, 0, 1, &p->turn_spd_loss, d, "must be in [0, 1]");
     if (key_is(key, "THRUST_MAP")) {
         int rc = kelp_sim_parse_thrust_map(val, p);

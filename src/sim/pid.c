@@ -90,6 +90,7 @@ int kelp_marine_pid_init(kelp_marine_pid *m, const kelp_marine_pid_cfg *cfg, kel
     kelp_pid_init(&m->pitch, cfg->pitch[0], cfg->pitch[1], cfg->pitch[2], cfg->pitch[3], 100);
     m->has_control = cfg->active_start;
     m->last_helm = m->last_nav = -1;
+    for (int i = 0; i < KELP_PID_NSTAMP; i++) m->stamp[i] = -1;
     m->bias_t0 = now;
     m->bias_side = 1;
     m->sat[0] = m->sat[1] = m->sat[2] = -1;
@@ -108,9 +109,19 @@ int kelp_marine_pid_mail(kelp_marine_pid *m, const char *var, bool is_string, co
 {
     if (!strcmp(var, "MOOS_MANUAL_OVERRIDE") || !strcmp(var, "MOOS_MANUAL_OVERIDE")) {
         if (!is_string || !sval) return KELP_ERR_PARSE;
-        if (kelp_strieq_n(sval, strlen(sval), "false")) m->has_control = true;
-        else if (kelp_strieq_n(sval, strlen(sval), "true")) m->has_control = false, m->allstop_posted = false;
-        else return KELP_ERR_PARSE;
+        /* PIDEngine::setPIDOverride: lifting an override forgets every input's time (each must
+         * come anew); PID_HAS_CONTROL says true on each lift, false when control is lost */
+        if (kelp_strieq_n(sval, strlen(sval), "false")) {
+            if (!m->has_control)
+                for (int i = 0; i < KELP_PID_NSTAMP; i++) m->stamp[i] = -1;
+            m->has_control = true;
+            m->say_control = 1;
+        } else if (kelp_strieq_n(sval, strlen(sval), "true")) {
+            if (m->has_control) m->say_control = -1;
+            m->has_control = false, m->allstop_posted = false;
+        } else {
+            return KELP_ERR_PARSE;
+        }
         return 1;
     }
     static const char *const names[] = { "DESIRED_HEADING", "DESIRED_SPEED", "DESIRED_DEPTH", "NAV_HEADING", "NAV_YAW",
@@ -121,6 +132,8 @@ int kelp_marine_pid_mail(kelp_marine_pid *m, const char *var, bool is_string, co
     if (k < 0) return 0;
     double v;
     if (!num_of(is_string, sval, dval, &v)) return KELP_ERR_PARSE;
+    static const signed char stamp_of[] = { 0, 1, 2, 3, 3, 4, 5, 6, -1 };
+    if (stamp_of[k] >= 0 && !(k == 4 && m->cfg.ignore_nav_yaw)) m->stamp[stamp_of[k]] = now;
     switch (k) {
     case 0: m->des_heading = v, m->last_helm = now; break;
     case 1: m->des_speed = v, m->last_helm = now; break;
@@ -157,6 +170,40 @@ static void post_sat(kelp_marine_pid *m, kelp_marine_pid_sink sink, void *ctx, i
     sink(ctx, v[i], true, sat ? "true" : "false", 0);
 }
 
+static void post_outputs(kelp_marine_pid *m, kelp_marine_pid_sink sink, void *ctx, double r, double t, double el)
+{
+    m->rudder_out = r, m->thrust_out = t, m->elevator_out = el;
+    out_num(m, sink, ctx, "DESIRED_RUDDER", r);
+    out_num(m, sink, ctx, "DESIRED_THRUST", t);
+    m->thrust = t;
+    if (m->cfg.depth_control) out_num(m, sink, ctx, "DESIRED_ELEVATOR", el);
+    m->allstop_posted = false;
+}
+
+/* PIDEngine::checkForStaleness: one PID_STALE per input older than its threshold, with its age
+ * to 3 decimals (trailing zeros trimmed). @return the inputs found stale (0: none). */
+static int stale_inputs(kelp_marine_pid *m, kelp_time now, kelp_marine_pid_sink sink, void *ctx)
+{
+    static const char *const what[KELP_PID_NSTAMP] = { "DesHdg", "DesSpd", "DesDepth", "NavHdg",
+                                                       "NavSpd", "NavDep",  "NavPitch" };
+    static const int order[KELP_PID_NSTAMP] = { 0, 1, 3, 4, 2, 5, 6 };
+    int n = 0;
+    for (int j = 0; j < KELP_PID_NSTAMP; j++) {
+        int i = order[j];
+        if (i == 2 && !m->cfg.depth_control) break;
+        double age = now - m->stamp[i];
+        if (age <= (i == 0 || i == 1 || i == 2 ? m->cfg.tardy_helm : m->cfg.tardy_nav)) continue;
+        int len = kelp_snprintf(m->work, sizeof m->work, "Stale %s:", what[i]);
+        if (len > 0 && (size_t)len < sizeof m->work &&
+            kelp_fmt_fixed(m->work + len, sizeof m->work - (size_t)len, age, 3, true) >= 0)
+            sink(ctx, "PID_STALE", true, m->work, 0);
+        n++;
+        if (i <= 2) m->tardy_helm_n++;
+        else m->tardy_nav_n++;
+    }
+    return n;
+}
+
 void kelp_marine_pid_iterate(kelp_marine_pid *m, kelp_time now, kelp_marine_pid_sink sink, void *ctx)
 {
     if (!kelp_time_ok(now)) return; /* the time step rule: no NaN reaches an actuator */
@@ -175,6 +222,8 @@ void kelp_marine_pid_iterate(kelp_marine_pid *m, kelp_time now, kelp_marine_pid_
     if (m->last_helm > now) m->last_helm = now;
     if (m->last_nav > now) m->last_nav = now;
     m->iterations++;
+    if (m->say_control) sink(ctx, "PID_HAS_CONTROL", true, m->say_control > 0 ? "true" : "false", 0);
+    m->say_control = 0;
     if (!m->has_control) {
         if (m->allstop_posted) return;
         out_num(m, sink, ctx, "DESIRED_RUDDER", 0);
@@ -183,25 +232,16 @@ void kelp_marine_pid_iterate(kelp_marine_pid *m, kelp_time now, kelp_marine_pid_
         m->allstop_posted = true;
         return;
     }
-    bool tardy_helm = m->last_helm < 0 || now - m->last_helm > m->cfg.tardy_helm;
-    bool tardy_nav = m->last_nav < 0 || now - m->last_nav > m->cfg.tardy_nav;
-    if (tardy_helm || tardy_nav) {
+    /* PIDEngine::setDesiredValues: all zero until each input has come once, and while one is
+     * stale */
+    bool waiting = m->stamp[0] < 0 || m->stamp[1] < 0 || m->stamp[3] < 0 || m->stamp[4] < 0 ||
+                   (m->cfg.depth_control && (m->stamp[2] < 0 || m->stamp[5] < 0 || m->stamp[6] < 0));
+    if (waiting || stale_inputs(m, now, sink, ctx) > 0) {
         m->paused = true;
-        if (tardy_helm) m->tardy_helm_n++;
-        else m->tardy_nav_n++;
-        out_num(m, sink, ctx, "DESIRED_THRUST", 0);
-        m->thrust = 0;
+        post_outputs(m, sink, ctx, 0, 0, 0);
         return;
     }
-    double e = kelp_sim_angle180(m->heading - kelp_sim_angle180(m->des_heading)), r = 0, t = 0, el = 0;
-    if (kelp_pid_run(&m->yaw, e, now, &r) < 0) return;
-    r = -r;
-    if (fabs(r) > m->cfg.max_rudder) r = r < 0 ? -m->cfg.max_rudder : m->cfg.max_rudder;
-    if (m->cfg.sim_instability > 0) {
-        double d = now - m->bias_t0;
-        if (d > BIAS_PERIOD) d = 0, m->bias_t0 = now, m->bias_side = -m->bias_side;
-        r += m->bias_side * (d / BIAS_PERIOD) * m->cfg.sim_instability;
-    }
+    double r = 0, t = 0, el = 0;
     if (m->cfg.speed_factor != 0) {
         t = m->des_speed * m->cfg.speed_factor;
     } else {
@@ -209,9 +249,22 @@ void kelp_marine_pid_iterate(kelp_marine_pid *m, kelp_time now, kelp_marine_pid_
         if (kelp_pid_run(&m->speed, m->des_speed - m->speed_now, now, &dt) < 0) return;
         t = m->thrust + dt;
     }
-    if (t < 0) t = 0;
+    if (t < KELP_PID_MIN_THRUST) t = 0;
     if (t > m->cfg.max_thrust) t = m->cfg.max_thrust;
-    if (m->cfg.depth_control) {
+    /* the heading and depth loops run only with thrust: their first run after a stop is a
+     * ScalarPID first run (no derivative), so a new DESIRED_HEADING gives no kick */
+    if (t > 0) {
+        double e = kelp_sim_angle180(m->heading - kelp_sim_angle180(m->des_heading));
+        if (kelp_pid_run(&m->yaw, e, now, &r) < 0) return;
+        r = -r;
+        if (m->cfg.sim_instability > 0) {
+            double d = now - m->bias_t0;
+            if (d > BIAS_PERIOD) d = 0, m->bias_t0 = now, m->bias_side = -m->bias_side;
+            r += m->bias_side * (d / BIAS_PERIOD) * m->cfg.sim_instability;
+        }
+        if (fabs(r) > m->cfg.max_rudder) r = r < 0 ? -m->cfg.max_rudder : m->cfg.max_rudder;
+    }
+    if (t > 0 && m->cfg.depth_control) {
         double want_pitch = 0, max_pitch = m->cfg.max_pitch_deg / RAD2DEG;
         if (kelp_pid_run(&m->z_to_pitch, m->depth - m->des_depth, now, &want_pitch) < 0) return;
         if (fabs(want_pitch) > max_pitch) want_pitch = want_pitch < 0 ? -max_pitch : max_pitch;
@@ -219,15 +272,8 @@ void kelp_marine_pid_iterate(kelp_marine_pid *m, kelp_time now, kelp_marine_pid_
         el *= RAD2DEG;
         if (fabs(el) > m->cfg.max_elevator) el = el < 0 ? -m->cfg.max_elevator : m->cfg.max_elevator;
     }
-    if (fabs(m->des_speed) <= 0.001) t = 0;
-    if (t == 0) r = 0;
     m->paused = false;
-    m->rudder_out = r, m->thrust_out = t, m->elevator_out = el;
-    out_num(m, sink, ctx, "DESIRED_RUDDER", r);
-    out_num(m, sink, ctx, "DESIRED_THRUST", t);
-    m->thrust = t;
-    if (m->cfg.depth_control) out_num(m, sink, ctx, "DESIRED_ELEVATOR", el);
-    m->allstop_posted = false;
+    post_outputs(m, sink, ctx, r, t, el);
     post_sat(m, sink, ctx, 0, m->yaw.saturated);
     if (m->cfg.speed_factor == 0) post_sat(m, sink, ctx, 1, m->speed.saturated);
     if (m->cfg.depth_control) post_sat(m, sink, ctx, 2, m->z_to_pitch.saturated || m->pitch.saturated);

@@ -44,6 +44,11 @@ void kelp_sim_params_default(kelp_sim_params *p)
     p->act_turn_rate = 70.0;
     p->thrust_factor = 20.0;
     p->turn_spd_loss = 0.85;
+    p->act_max_accel = 0.0;
+    p->tsm_null_speed = 0.0;
+    p->tsm_null_rate = 0.0;
+    p->tsm_full_speed = 1.0;
+    p->tsm_full_rate = 100.0;
     p->buoyancy_rate = 0.0;
     p->nmap = 0;
     p->drift_x = p->drift_y = p->rotate_speed = 0.0;
@@ -57,6 +62,8 @@ int kelp_sim_init(kelp_sim *sim, const kelp_sim_params *p, const kelp_sim_state 
     if (!nonneg(p->turn_rate) || !nonneg(p->turn_speed) || !nonneg(p->max_accel) || !nonneg(p->max_decel) || !nonneg(p->max_depth_rate) ||
         !nonneg(p->max_depth_rate_speed) || !nonneg(p->max_speed) || !isfinite(p->step) || p->step <= 0.0 ||
         !nonneg(p->act_turn_rate) || !nonneg(p->thrust_factor) || !nonneg(p->turn_spd_loss) || p->turn_spd_loss > 1 ||
+        !nonneg(p->act_max_accel) || !nonneg(p->tsm_null_speed) || !nonneg(p->tsm_null_rate) || p->tsm_null_rate > 100 ||
+        !isfinite(p->tsm_full_speed) || p->tsm_full_speed <= 0 || !nonneg(p->tsm_full_rate) || p->tsm_full_rate > 100 ||
         !isfinite(p->buoyancy_rate) || !isfinite(p->drift_x) || !isfinite(p->drift_y) || !isfinite(p->rotate_speed) ||
         p->nmap > KELP_SIM_MAX_MAP || p->control < KELP_SIM_AUTO || p->control > KELP_SIM_ACTUATED)
         return KELP_ERR_ARG;
@@ -112,16 +119,33 @@ int kelp_sim_parse_thrust_map(const char *s, kelp_sim_params *p)
     return KELP_OK;
 }
 
+/* uSimMarineV22's thrust map (ThrustMap::getSpeedValue): positive thrust interpolates over
+ * the points of positive thrust, from (0, 0) to the first and flat after the last; zero or
+ * negative thrust gives no forward speed (kelp has no reverse) */
 double kelp_sim_thrust_speed(const kelp_sim_params *p, double thrust)
 {
-    if (p->nmap == 0) return (thrust <= 0 || p->thrust_factor <= 0) ? 0.0 : thrust / p->thrust_factor;
-    if (thrust <= p->map_thrust[0]) return p->map_speed[0];
-    for (unsigned i = 1; i < p->nmap; i++)
-        if (thrust <= p->map_thrust[i]) {
-            double f = (thrust - p->map_thrust[i - 1]) / (p->map_thrust[i] - p->map_thrust[i - 1]);
-            return p->map_speed[i - 1] + f * (p->map_speed[i] - p->map_speed[i - 1]);
-        }
-    return p->map_speed[p->nmap - 1];
+    if (thrust <= 0) return 0.0;
+    if (p->nmap == 0) return p->thrust_factor <= 0 ? 0.0 : thrust / p->thrust_factor;
+    double t0 = 0.0, v0 = 0.0;
+    for (unsigned i = 0; i < p->nmap; i++) {
+        if (p->map_thrust[i] <= 0) continue;
+        if (thrust <= p->map_thrust[i]) return v0 + (thrust - t0) / (p->map_thrust[i] - t0) * (p->map_speed[i] - v0);
+        t0 = p->map_thrust[i], v0 = p->map_speed[i];
+    }
+    return v0;
+}
+
+/* uSimMarineV22's turn-speed map (SimEngine::propagateHeading, TurnSpeedMap::getTurnRate):
+ * the full rate is turn_rate (the configured full rate when turn_rate is 0, which V22 does not
+ * take), the full speed 5 m/s; a null value above its full value is lowered to it */
+double kelp_sim_turn_rate_at(const kelp_sim_params *p, double speed)
+{
+    double full_rate = p->act_turn_rate > 0 ? (p->act_turn_rate > 100 ? 100 : p->act_turn_rate) : p->tsm_full_rate;
+    double null_rate = p->tsm_null_rate > full_rate ? full_rate : p->tsm_null_rate;
+    double null_speed = p->tsm_null_speed > KELP_SIM_TSM_FULL_SPEED ? KELP_SIM_TSM_FULL_SPEED : p->tsm_null_speed;
+    if (speed <= null_speed) return null_rate;
+    if (speed >= KELP_SIM_TSM_FULL_SPEED) return full_rate;
+    return null_rate + (speed - null_speed) / (KELP_SIM_TSM_FULL_SPEED - null_speed) * (full_rate - null_rate);
 }
 
 int kelp_sim_set_heading(kelp_sim *sim, double deg)
@@ -155,25 +179,27 @@ static double approach(double v, double target, double lim)
     return v + d;
 }
 
-/* MOOS-IvP uSimMarine's rudder/thrust model, one sub-step (see sim.h) */
+/* uSimMarineV22's rudder/thrust model, one sub-step (see sim.h): SimEngine::propagateSpeed,
+ * propagateHeading, then propagate (mean speed, mean heading) */
 static void substep_actuated(kelp_sim *sim, double h)
 {
     const kelp_sim_params *p = &sim->p;
     kelp_sim_state *s = &sim->s;
-    double v0 = s->speed;
-    double target = kelp_sim_thrust_speed(p, sim->thrust) * (1.0 - fabs(sim->rudder) / 100.0 * p->turn_spd_loss);
-    if (target < 0.0) target = 0.0;
+    double v0 = s->speed, h0 = s->heading;
+    double target = kelp_sim_thrust_speed(p, sim->thrust);
     if (p->max_speed > 0.0 && target > p->max_speed) target = p->max_speed;
-    double lim = target > v0 ? p->max_accel : p->max_decel;
+    target *= 1.0 - fabs(sim->rudder) / 100.0 * p->turn_spd_loss;
+    double lim = target > v0 ? p->act_max_accel : p->max_decel;
     s->speed = approach(v0, target, lim > 0.0 ? lim * h : 0.0);
-    double rate = p->act_turn_rate > 100.0 ? 100.0 : p->act_turn_rate;
+    double rate = kelp_sim_turn_rate_at(p, s->speed);
     double dh = s->speed > 0.0 ? sim->rudder * (rate / 100.0) * h * (1.0 + (sim->thrust - 50.0) / 50.0) : 0.0;
     dh += p->rotate_speed * h;
     s->heading = kelp_sim_angle360(s->heading + dh);
-    double r = s->heading * DEG2RAD;
-    s->x += s->speed * sin(r) * h;
-    s->y += s->speed * cos(r) * h;
-    sim->odometer += s->speed * h;
+    double vmid = (v0 + s->speed) / 2.0;
+    double hmid = atan2(sin(h0 * DEG2RAD) + sin(s->heading * DEG2RAD), cos(h0 * DEG2RAD) + cos(s->heading * DEG2RAD));
+    s->x += vmid * sin(hmid) * h;
+    s->y += vmid * cos(hmid) * h;
+    sim->odometer += vmid * h;
     double rate_z = -p->buoyancy_rate;
     if (s->speed > 0.0) {
         double pct = 1.0;

@@ -28,6 +28,7 @@ int kelp_usim_config(kelp_usim *u, const char *key, const char *val, kelp_diag *
     if (rc != 0) return rc;
     if (u->pid_cfg && (rc = kelp_marine_pid_cfg_set(u->pid_cfg, key, val, d)) != 0) {
         if (rc > 0 && kelp_strieq_n(key, 7, "YAW_PID")) u->embedded_pid = true;
+        if (rc > 0 && kelp_strieq(key, "DEPTH_CONTROL")) u->no_sim_mode = !u->pid_cfg->depth_control;
         return rc;
     }
     if (kelp_strieq(key, "PREFIX")) {
@@ -64,6 +65,7 @@ int kelp_usim_start(kelp_usim *u, const kelp_geo *geo, kelp_time now)
     if (u->embedded_pid) u->p.control = KELP_SIM_ACTUATED;
     if (kelp_sim_init(&u->sim, &u->p, &u->start, now) < 0) return KELP_ERR_ARG;
     if (u->embedded_pid && (!u->pid || kelp_marine_pid_init(u->pid, u->pid_cfg, now) < 0)) return KELP_ERR_ARG;
+    u->drift_fresh = true;
     u->have_geo = geo != NULL;
     if (geo) u->geo = *geo;
     return KELP_OK;
@@ -113,6 +115,7 @@ int kelp_usim_mail(kelp_usim *u, const char *var, bool is_string, const char *sv
     else {
         double *f[4] = { &u->sim.p.drift_x, &u->sim.p.drift_y, &u->sim.p.rotate_speed, &u->sim.p.buoyancy_rate };
         *f[k - 6] = d;
+        if (k < 8) u->drift_fresh = true;
     }
     if (rc < 0) {
         u->bad_mail++;
@@ -132,14 +135,45 @@ typedef struct pid_ctx {
 static void pid_out(void *ctx, const char *var, bool is_string, const char *sval, double dval)
 {
     pid_ctx *c = ctx;
-    (void)sval;
-    if (is_string) return;
+    if (is_string) { /* the engine's own notes, as uSimMarineV22 posts them */
+        if (!strcmp(var, "PID_STALE") || !strcmp(var, "PID_HAS_CONTROL")) c->sink(c->ctx, var, true, sval, 0);
+        return;
+    }
     int rc = 0;
     const char *post = NULL;
     if (!strncmp(var, "DESIRED_RUDDER", 14)) rc = kelp_sim_set_rudder(&c->u->sim, dval), post = c->u->post_rudder;
     else if (!strncmp(var, "DESIRED_THRUST", 14)) rc = kelp_sim_set_thrust(&c->u->sim, dval), post = c->u->post_thrust;
     else if (!strncmp(var, "DESIRED_ELEVATOR", 16)) rc = kelp_sim_set_elevator(&c->u->sim, dval);
     if (rc == 0 && post && post[0]) c->sink(c->ctx, post, false, NULL, dval);
+}
+
+/* USM_DRIFT_SUMMARY as uSimMarineV22 (USM_Model::getDriftSummary): the drift's direction and
+ * size to 2 decimals, its components to 3, trailing zeros trimmed */
+static void drift_summary(kelp_usim *u, kelp_usim_sink sink, void *ctx)
+{
+    double dx = u->sim.p.drift_x, dy = u->sim.p.drift_y;
+    double v[4] = { kelp_sim_bearing(0, 0, dx, dy), hypot(dx, dy), dx, dy };
+    static const char *const key[4] = { "ang=", ", mag=", ", xmag=", ", ymag=" };
+    char *b = u->work, *end = u->work + sizeof u->work;
+    for (int i = 0; i < 4 && b < end; i++) {
+        size_t kl = strlen(key[i]);
+        if ((size_t)(end - b) <= kl) break;
+        memcpy(b, key[i], kl + 1);
+        b += kl;
+        int n = kelp_fmt_fixed(b, (size_t)(end - b), v[i], i < 2 ? 2 : 3, true);
+        if (n < 0 || n >= end - b) break;
+        b += n;
+    }
+    sink(ctx, "USM_DRIFT_SUMMARY", true, u->work, 0);
+}
+
+/* NAV_SPEED as uSimMarineV22 posts it: to the nearest 0.01 m/s (ties up), at most max_speed
+ * (5 m/s unless set) */
+static double nav_speed(const kelp_usim *u)
+{
+    double lim = u->sim.p.max_speed > 0 ? u->sim.p.max_speed : KELP_USIM_NAV_MAX_SPEED;
+    double v = floor(u->sim.s.speed / 0.01 + 0.5) * 0.01;
+    return v > lim ? lim : v;
 }
 
 int kelp_usim_iterate(kelp_usim *u, kelp_time now, kelp_usim_sink sink, void *ctx)
@@ -160,15 +194,23 @@ int kelp_usim_iterate(kelp_usim *u, kelp_time now, kelp_usim_sink sink, void *ct
     int rc = u->paused ? KELP_OK : kelp_sim_step(&u->sim, now);
     if (u->paused || (rc == KELP_ERR_RANGE && now > u->sim.time))
         u->sim.time = now; /* paused, or a jump: resume from now */
+    /* uSimMarineV22 (postNodeRecordUpdate) posts the navigation every KELP_USIM_NAV_MODULO-th
+     * iteration, from the second */
+    if (u->drift_fresh) {
+        drift_summary(u, sink, ctx);
+        u->drift_fresh = false;
+    }
+    if (++u->iterations % KELP_USIM_NAV_MODULO != 0) return rc;
     static const char *const suffix[] = { "_X", "_Y", "_HEADING", "_SPEED", "_DEPTH", "_Z", "_YAW", "_PITCH",
                                           "_SPEED_OVER_GROUND", "_HEADING_OVER_GROUND" };
-    double v[10] = { s->x, s->y, s->heading, s->speed, s->depth, -s->depth, -kelp_sim_angle180(s->heading) * PI / 180.0,
+    double v[10] = { s->x, s->y, s->heading, nav_speed(u), s->depth, -s->depth, -kelp_sim_angle180(s->heading) * PI / 180.0,
                      u->sim.pitch, u->sim.sog, u->sim.hog };
     char name[48];
     for (int i = 0; i < 10; i++) {
         kelp_snprintf(name, sizeof name, "%s%s", u->prefix, suffix[i]);
         sink(ctx, name, false, NULL, v[i]);
     }
+    if (!u->no_sim_mode) sink(ctx, "SIMULATION_MODE", true, "TRUE", 0);
     sink(ctx, "TRUE_X", false, NULL, s->x);
     sink(ctx, "TRUE_Y", false, NULL, s->y);
     double lat = 0, lon = 0;

@@ -67,8 +67,8 @@ grep -qE "pHelmIvP IVPHELM_BHV_ACTIVE transit_to_point" log.txt || fail "transit
 grep -qE "pHelmIvP IVPHELM_BHV_ACTIVE waypt_return" log.txt || fail "waypt_return never active"
 awk '$3=="IVPHELM_SUMMARY"' log.txt | tail -1 | grep -qE "completed_bhvs=(transit_to_point:waypt_return|waypt_return:transit_to_point)" ||
   { awk '$3=="IVPHELM_SUMMARY"' log.txt | tail -1; fail "both behaviours should be completed at the end"; }
-grep -qE "pNodeReporter NODE_REPORT_LOCAL NAME=alder,TYPE=UUV,TIME=[0-9.]+,X=-?[0-9.]+,Y=-?[0-9.]+,LAT=43\.82[0-9]+,LON=-70\.3[0-9]+,SPD=" log.txt ||
-  fail "no NODE_REPORT_LOCAL in the uField format"
+grep -qE "pNodeReporter NODE_REPORT_LOCAL NAME=alder,X=-?[0-9.]+,Y=-?[0-9.]+,SPD=[0-9.]+,HDG=[0-9.]+,DEP=[0-9.]+,LAT=43\.82[0-9]+,LON=-70\.3[0-9]+,TYPE=UUV," log.txt ||
+  fail "no NODE_REPORT_LOCAL in MOOS-IvP 24.8's format"
 # the picture
 $BIN/kelp-plot run.lcm -o alder.png -o alder.svg --title "Alder (seed 004, 5.3)" > plot.out || { cat plot.out; fail "kelp-plot failed"; }
 cat plot.out

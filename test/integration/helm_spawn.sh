@@ -40,6 +40,7 @@ ProcessConfig = pHelmIvP
   AppTick    = 10
   CommsTick  = 10
   Behaviors  = alder.bhv
+  start_engaged = true   // drive from the start (24.8 parks until MOOS_MANUAL_OVERRIDE = false)
   Verbose    = quiet
   Domain     = course:0:359:360
   Domain     = speed:0:4:21

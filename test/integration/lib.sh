@@ -27,6 +27,15 @@ trap cleanup EXIT
 bg() { "$@" & PIDS+=($!); }
 fail() { echo "FAIL: $*"; exit 1; }
 ok() { echo "ok: $*"; }
+# closest APP "x1,y1 x2,y2 ..." LOG: the closest approach (m, 2 decimals) of APP's NAV_X/NAV_Y
+# postings in a kelp-logcheck --print listing to each point, one line, space separated
+closest() {
+  awk -v app="$1" -v pts="$2" '$2==app && $3=="NAV_X" {x=$4; hx=1; next}
+     $2==app && $3=="NAV_Y" && hx {
+       y=$4; n = split(pts, w, " ")
+       for (i = 1; i <= n; i++) { split(w[i], p, ","); d = sqrt((x-p[1])^2 + (y-p[2])^2); if (m[i]=="" || d < m[i]) m[i] = d } }
+     END { n = split(pts, w, " "); for (i = 1; i <= n; i++) printf "%.2f ", m[i]; print "" }' "$3"
+}
 # wait_for FILE PATTERN SECONDS
 wait_for() {
   local f=$1 pat=$2 s=${3:-10} i=0

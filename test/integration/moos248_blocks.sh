@@ -28,8 +28,8 @@ wait 2>/dev/null || true
 PIDS=()
 "$BIN/kelp-logcheck" --print n.lcmlog > n.txt || fail "log undecodable"
 line=$(grep ' NODE_REPORT_LOCAL ' n.txt | tail -1)
-echo "$line" | grep -q '{"NAME":"alpha","TYPE":"glider",' || fail "not the JSON report: $line"
-for k in '"COLOR":"green"' '"GROUP":"tango"' '"ID":439' '"FUEL_TYPE":"diesel"' '"upt":7.250' '"LENGTH":8' '"HDG":95.00'; do
+echo "$line" | grep -q '{"NAME":"alpha","X":' || fail "not the JSON report (24.8's order): $line"
+for k in '"TYPE":"glider"' '"COLOR":"green"' '"GROUP":"tango"' '"ID":439' '"FUEL_TYPE":"diesel"' '"upt":7.250' '"LENGTH":8' '"HDG":95,' '"DEP":3,'; do
   echo "$line" | grep -qF "$k" || fail "no $k in $line"
 done
 ok "pNodeReporter on the 24.8 block: $line"

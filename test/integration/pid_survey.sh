@@ -25,11 +25,7 @@ grep -qE "^[0-9.]+ pHelmIvP MISSION complete$" log.txt ||
 grep -qE " pMarinePID DESIRED_RUDDER " log.txt || fail "pMarinePID posted no DESIRED_RUDDER"
 grep -qE " pMarinePID DESIRED_THRUST 40$" log.txt || fail "pMarinePID posted no DESIRED_THRUST 40 (2 m/s x SPEED_FACTOR 20)"
 # closest approach to each waypoint
-awk '$2=="uSimMarine" && $3=="NAV_X" {x=$4; hx=1; next}
-     $2=="uSimMarine" && $3=="NAV_Y" && hx {
-       y=$4; split("60,-40 60,-100 100,-100 100,-40 140,-40", w, " ")
-       for (i = 1; i <= 5; i++) { split(w[i], p, ","); d = sqrt((x-p[1])^2 + (y-p[2])^2); if (m[i]=="" || d < m[i]) m[i] = d } }
-     END { for (i = 1; i <= 5; i++) printf "%.2f ", m[i]; print "" }' log.txt > closest.txt
+closest uSimMarine "60,-40 60,-100 100,-100 100,-40 140,-40" log.txt > closest.txt
 read -a C < closest.txt
 for i in 0 1 2 3 4; do
   awk -v d="${C[$i]}" 'BEGIN{exit !(d <= 5)}' || fail "waypoint $((i+1)) missed: closest ${C[$i]} m > capture radius 5 (all: ${C[*]})"

@@ -80,7 +80,10 @@ mid_h=$(awk -v th="$th" '$2=="uSimMarine" && $3=="NAV_HEADING" && $1 > th + 4.4 
 # the reported X/Y (MOOS's inverse places a point within a metre; at these distances, a cm)
 grep -E "^[0-9.]+ pNodeReporter NODE_REPORT_LOCAL " log.txt | tail -1 > rep.txt
 [ -s rep.txt ] || fail "no NODE_REPORT_LOCAL"
-grep -qE "NODE_REPORT_LOCAL NAME=alpha,TYPE=kayak,TIME=[0-9]+\.[0-9]{2},X=-?[0-9]+\.[0-9]{2},Y=-?[0-9]+\.[0-9]{2},LAT=43\.[0-9]{6},LON=-70\.[0-9]{6},SPD=2\.00,HDG=180\.00,YAW=-1\.5707963,DEPTH=0\.00,LENGTH=3\.8,MODE=NOHELM-EVER,INDEX=[1-9][0-9]*$" rep.txt ||
+# (MOOS-IvP 24.8's NodeRecord layout: DEP=, trailing zeros trimmed, LAT/LON to 8 decimals,
+# ALLSTOP=unknown without a helm)
+N='-?[0-9]+(\.[0-9]{1,2})?'
+grep -qE "NODE_REPORT_LOCAL NAME=alpha,X=$N,Y=$N,SPD=2,HDG=180,DEP=0,LAT=43\.[0-9]{1,8},LON=-70\.[0-9]{1,8},TYPE=kayak,MODE=NOHELM-EVER,ALLSTOP=unknown,INDEX=[1-9][0-9]*,YAW=-1\.5707963,TIME=[0-9]+(\.[0-9]{1,2})?,LENGTH=3\.8$" rep.txt ||
   { cat rep.txt; fail "NODE_REPORT_LOCAL not in the expected format"; }
 awk 'function utm(lat, lon, o,   e2, ep, p, s, c, t, N, T, C, A, M) {
          e2 = 0.00669438; ep = e2/(1-e2); p = lat*pi/180; s = sin(p); c = cos(p); t = s/c
