@@ -34,6 +34,7 @@ non-zero unless a row of the allow file (a markdown table: | scenario | figure |
 | kelp does | why |, scenario and figure as fnmatch globs) lists them.
 """
 import argparse
+import bisect
 import collections
 import fnmatch
 import json
@@ -392,17 +393,28 @@ def report_id(val):
     return (m.group(1), float(t.group(1))) if m and t else None
 
 
+_relay_cache = {}
+
+
 def relayed_anywhere(rows, r, half):
     """Whether any uFldNodeComms relay (NODE_REPORT_*) in rows carries the report r carries."""
     rid = report_id(r["val"]) if r["type"] == "string" else None
     if rid is None:
         return True
-    for x in rows:
-        if x["src"] == "uFldNodeComms" and x["var"].startswith("NODE_REPORT_") and x["type"] == "string":
-            xid = report_id(x["val"])
-            if xid and xid[0] == rid[0] and abs(xid[1] - rid[1]) < half:
-                return True
-    return False
+    key = id(rows)
+    if key not in _relay_cache or _relay_cache[key][0] is not rows:
+        idx = collections.defaultdict(list)
+        for x in rows:
+            if x["src"] == "uFldNodeComms" and x["var"].startswith("NODE_REPORT_") and x["type"] == "string":
+                xid = report_id(x["val"])
+                if xid:
+                    idx[xid[0]].append(xid[1])
+        for v in idx.values():
+            v.sort()
+        _relay_cache[key] = (rows, idx)
+    times = _relay_cache[key][1].get(rid[0], [])
+    i = bisect.bisect_left(times, rid[1] - half)
+    return i < len(times) and times[i] < rid[1] + half
 
 
 def scenario_rate(scn_path):
