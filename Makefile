@@ -40,7 +40,9 @@ LCM_CFLAGS := $(shell pkg-config --cflags lcm 2>/dev/null)
 # apps add cairo (kelp-plot)
 EDGE_LIBS := $(shell pkg-config --libs lcm 2>/dev/null) -lexpat -lmbedtls -lmbedx509 -lmbedcrypto \
             -lserialport -lm -lpthread -lutil $(shell pkg-config --libs ncurses 2>/dev/null || echo -lncurses)
-EXT_LIBS := $(EDGE_LIBS) $(shell pkg-config --libs cairo 2>/dev/null)
+CAIRO_LIBS := $(shell pkg-config --libs cairo 2>/dev/null || echo -lcairo)
+MHD_LIBS := $(shell pkg-config --libs libmicrohttpd 2>/dev/null || echo -lmicrohttpd)
+EXT_LIBS := $(EDGE_LIBS) $(CAIRO_LIBS)
 CHECK_LIBS := $(shell pkg-config --libs check 2>/dev/null)
 
 CORE_SRC := $(filter-out src/app/%,$(sort $(wildcard src/*/*.c)))
@@ -76,12 +78,14 @@ LIBVIEWER := $(BUILD)/libkelp_viewer.a
 SOMAJOR := $(firstword $(subst ., ,$(VERSION)))
 SOCORE  := $(BUILD)/libkelp_core.so.$(VERSION)
 SOEDGE  := $(BUILD)/libkelp.so.$(VERSION)
+SOPLOT  := $(BUILD)/libkelp_plot.so.$(VERSION)
+SOVIEWER := $(BUILD)/libkelp_viewer.so.$(VERSION)
 
 .PHONY: all deps test unit integration conformance check-alloc firmware cross asan lint fuzz bench install \
         demo demo-xrelay spy-jar clean tests-bin unit-noerrmsg asan-build asan-test
 .DEFAULT_GOAL := all
 
-all: $(LIBCORE) $(LIBEDGE) $(LIBPLOT) $(LIBVIEWER) $(SOCORE) $(SOEDGE) $(APP_BINS) scripts
+all: $(LIBCORE) $(LIBEDGE) $(LIBPLOT) $(LIBVIEWER) $(SOCORE) $(SOEDGE) $(SOPLOT) $(SOVIEWER) $(APP_BINS) scripts
 
 deps:
 	@scripts/deps.sh build
@@ -121,15 +125,18 @@ $(LIBVIEWER): $(VIEWER_OBJ)
 	rm -f $@ && $(AR) rcs $@ $^
 $(VIEWER_OBJ): CPPFLAGS += $(shell pkg-config --cflags libmicrohttpd 2>/dev/null)
 
-# shared libraries with sonames (libkelp_core.so.0, libkelp.so.0) and the usual links
-$(SOCORE): $(CORE_OBJ)
-	$(CC) -shared -Wl,-soname,libkelp_core.so.$(SOMAJOR) -Wl,--no-undefined $(LDFLAGS) -o $@ $^ -lm
-	ln -sf $(notdir $@) $(BUILD)/libkelp_core.so.$(SOMAJOR) && ln -sf libkelp_core.so.$(SOMAJOR) $(BUILD)/libkelp_core.so
-
-$(SOEDGE): $(EDGE_OBJ) $(SOCORE)
-	$(CC) -shared -Wl,-soname,libkelp.so.$(SOMAJOR) -Wl,--no-undefined $(LDFLAGS) -o $@ $(EDGE_OBJ) \
-	  -L$(BUILD) -lkelp_core $(EDGE_LIBS)
-	ln -sf $(notdir $@) $(BUILD)/libkelp.so.$(SOMAJOR) && ln -sf libkelp.so.$(SOMAJOR) $(BUILD)/libkelp.so
+# shared libraries with sonames (libkelp_core.so.0, libkelp.so.0, libkelp_plot.so.0,
+# libkelp_viewer.so.0) and the usual links; each names what it needs (--no-undefined)
+# $(call SO_RULE,name,objects,prerequisite libraries,link arguments)
+define SO_RULE
+$(BUILD)/$(1).so.$(VERSION): $(2) $(3)
+	$$(CC) -shared -Wl,-soname,$(1).so.$(SOMAJOR) -Wl,--no-undefined $$(LDFLAGS) -o $$@ $(2) $(4)
+	ln -sf $(1).so.$(VERSION) $(BUILD)/$(1).so.$(SOMAJOR) && ln -sf $(1).so.$(SOMAJOR) $(BUILD)/$(1).so
+endef
+$(eval $(call SO_RULE,libkelp_core,$(CORE_OBJ),,-lm))
+$(eval $(call SO_RULE,libkelp,$(EDGE_OBJ),$(SOCORE),-L$(BUILD) -lkelp_core $(EDGE_LIBS)))
+$(eval $(call SO_RULE,libkelp_plot,$(PLOT_OBJ),$(SOEDGE),-L$(BUILD) -lkelp -lkelp_core $(CAIRO_LIBS) -lm))
+$(eval $(call SO_RULE,libkelp_viewer,$(VIEWER_OBJ),$(SOEDGE),-L$(BUILD) -lkelp -lkelp_core $(MHD_LIBS) -lpthread))
 
 # ---------------------------------------------------------------- apps
 define APP_RULE
@@ -141,7 +148,7 @@ $(foreach a,$(APPS),$(eval $(call APP_RULE,$(a))))
 $(patsubst %.c,$(BUILD)/obj/%.o,$(wildcard apps/*/*.c)): CPPFLAGS += $(LCM_CFLAGS)
 # per-app libraries (target-specific, so only that program links them; ncurses is in libkelp's terminal helper)
 $(BUILD)/bin/kelp-moos2sql: EXT_LIBS += $(shell pkg-config --libs sqlite3 2>/dev/null || echo -lsqlite3)
-$(BUILD)/bin/kelp-viewer: EXT_LIBS += $(shell pkg-config --libs libmicrohttpd 2>/dev/null || echo -lmicrohttpd)
+$(BUILD)/bin/kelp-viewer: EXT_LIBS += $(MHD_LIBS)
 
 scripts: $(addprefix $(BUILD)/bin/,$(SCRIPTS))
 $(BUILD)/bin/kelp-%: tools/kelp-% Makefile

@@ -13,15 +13,17 @@
 # vehicle sends a DCCL FleetStatus (missions/fleet/fleet_status.xml) to the shoreside modem in
 # its TDMA slot, the shoreside decodes and acknowledges it; the summary counts them per vehicle
 # and the picture shows a comms pulse per message received.
-# Runs inside a private network namespace when root (nothing leaves the machine); otherwise
-# on the host with ttl=0.
+# Runs inside a private network namespace when root (nothing leaves the machine; the viewer's
+# page is forwarded to this host's 127.0.0.1, see fleet_private_netns_forward); otherwise on
+# the host with ttl=0. After the run (unless KELP_DEMO_HEADLESS=1) the page replays the run's
+# shoreside log (kelp-viewer --log: time slider) until Ctrl-C.
 #   usage: scripts/demo-fleet.sh [BUILD_DIR]
 #   env: DEMO_WARP (10), DEMO_TIMEOUT (75 s wall), DEMO_DIR (build/demo-fleet: missions, logs, picture),
 #        DEMO_ACOMMS_LOSS (0: probability that the simulated channel loses a packet / data frame),
 #        DEMO_FLEET (missions/fleet/fleet.conf: the vehicles), DEMO_VIEWER_PORT (8080: kelp-viewer's page),
 #        DEMO_NO_DEPLOY=1 (do not poke DEPLOY: press the page's DEPLOY button instead),
-#        DEMO_NETNS=0 (run on the host, so a browser there can open the page; root only),
-#        KELP_DEMO_HEADLESS=1 (CI: the URL is printed and nothing waits for a browser; the default too)
+#        DEMO_NETNS=0 (run on the host instead of a private network namespace; root only),
+#        KELP_DEMO_HEADLESS=1 (CI: end after the run; otherwise the replay is served until Ctrl-C)
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 B=$(cd "${1:-$ROOT/build}" && pwd)
@@ -29,7 +31,7 @@ WARP=${DEMO_WARP:-10}
 TIMEOUT=${DEMO_TIMEOUT:-75}
 . "$ROOT/scripts/fleet-lib.sh"
 [ "${DEMO_NETNS:-1}" = 0 ] && export KELP_IN_NETNS=
-[ "${DEMO_NETNS:-1}" = 0 ] || fleet_private_netns "$0" "$@"
+[ "${DEMO_NETNS:-1}" = 0 ] || fleet_private_netns_forward "${DEMO_VIEWER_PORT:-8080}" "$0" "$@"
 for p in kelp-launch kelp-poke kelp-bridge kelp-plot kelp-viewer kelp-logcheck uSimMarine pNodeReporter pAcommsHandler kelp-modemsim; do
   [ -x "$B/bin/$p" ] || { echo "demo-fleet: $B/bin/$p not built (run make)"; exit 1; }
 done
@@ -88,10 +90,12 @@ fleet_start $((TIMEOUT + 10)) "${NAMES[@]}"
 # the uField handshake: each vehicle's uFldNodeBroker pings the shoreside (TRY_SHORE_HOST),
 # uFldShoreBroker acknowledges and registers the bridges both ways
 fleet_wait_handshake "$SHORE_BRIDGE" "${NAMES[@]}" || { echo "demo-fleet: not every vehicle found the shoreside"; exit 1; }
-where=" (inside the demo's network namespace; DEMO_NETNS=0 serves it on this host)"
-[ -n "${KELP_IN_NETNS:-}" ] || where=""
-echo "== kelp-viewer (pMarineViewer role): http://127.0.0.1:$VIEWER_PORT/$where"
-[ "${KELP_DEMO_HEADLESS:-1}" = 1 ] || echo "   open it in a browser; the demo goes on without waiting"
+# the page's address on this host: forwarded out of the namespace (KELP_DEMO_PAGE_PORT), or
+# the viewer's own port when the demo runs on the host (or inside a test's namespace)
+PAGE_URL=http://127.0.0.1:${KELP_DEMO_PAGE_PORT:-$VIEWER_PORT}/
+HEADLESS=${KELP_DEMO_HEADLESS:-0}
+echo "== kelp-viewer (pMarineViewer role): $PAGE_URL   <- open it in a browser on this machine"
+[ "$HEADLESS" = 1 ] || echo "   the demo goes on without waiting; after the run the page replays it until Ctrl-C"
 sleep 1
 if [ "${DEMO_NO_DEPLOY:-0}" = 1 ]; then
   echo "== DEPLOY: waiting for the page's DEPLOY button (DEMO_NO_DEPLOY=1)"
@@ -182,4 +186,17 @@ echo "   comms pulses drawn: $(awk '$2=="uFldNodeComms" && $3=="VIEW_COMMS_PULSE
 echo "== picture: $W/fleet.png (and fleet.svg); logs: $W/*.lcm"
 grep -E "^(vehicle|alpha|bravo|charlie|[a-z]+ +report)" plot.out | head -8
 [ $rc_launch -eq 0 ] || echo "demo-fleet: a launcher did not end cleanly (see $W/launch_*.out)"
-[ $done_all -eq 1 ] && [ $ok_all -eq 1 ] && [ $rc_launch -eq 0 ]
+status=0
+[ $done_all -eq 1 ] && [ $ok_all -eq 1 ] && [ $rc_launch -eq 0 ] || status=1
+[ "$HEADLESS" = 1 ] && exit $status
+
+# ---- after the run: the same page replays the shoreside log (time slider) until Ctrl-C
+"$B/bin/kelp-viewer" --log shoreside.lcm --port "$VIEWER_PORT" shoreside.moos > replay.out 2>&1 &
+REPLAY=$!; PIDS+=($REPLAY)
+for _ in $(seq 100); do grep -q "^kelp-viewer: replaying" replay.out && break; kill -0 $REPLAY 2>/dev/null || break; sleep 0.1; done
+grep -q "^kelp-viewer: replaying" replay.out || { cat replay.out; echo "demo-fleet: the replay did not start"; exit 1; }
+echo "== the run's replay (kelp-viewer --log shoreside.lcm): $PAGE_URL   <- reload the page; Ctrl-C ends the demo"
+trap 'trap "" INT TERM; kill -INT $REPLAY 2>/dev/null || true' INT TERM
+wait $REPLAY || true
+echo "== demo over"
+exit $status

@@ -15,6 +15,47 @@ fleet_private_netns() {
   fi
 }
 
+# the same, with the demo's web page on this host: the script runs in a private network namespace
+# (root only; otherwise on the host, where the page already is) and this host's 127.0.0.1:PORT
+# (the next free port after it when taken) is forwarded into the namespace's 127.0.0.1:PORT:
+# socat listens here and, per connection, starts a socat inside the namespace (nsenter into
+# the namespace of the script's process) connected to the page. The fleet stays in its
+# namespace; only that one TCP port is reachable, and only from this host. The host side
+# exports KELP_DEMO_PAGE_PORT (the port to print), waits for the script, stops the forwarder
+# and exits with the script's status; a Ctrl-C reaches the script (same process group), a
+# TERM sent to the host side alone is passed on to it.
+# usage: fleet_private_netns_forward PORT "$0" "$@"
+fleet_private_netns_forward() {
+  local port=$1; shift
+  if [ -n "${KELP_IN_NETNS:-}" ] || [ "$(id -u)" -ne 0 ] || ! command -v unshare >/dev/null; then
+    fleet_private_netns "$@"
+    return
+  fi
+  local p tool
+  for tool in socat nsenter ss; do
+    command -v $tool >/dev/null || { echo "demo: $tool missing (scripts/deps.sh build installs it)"; exit 1; }
+  done
+  for p in $(seq "$port" $((port + 20))) ""; do
+    [ -n "$p" ] && [ -z "$(ss -Hltn "sport = :$p" 2>/dev/null)" ] && break
+  done
+  [ -n "$p" ] || { echo "demo: 127.0.0.1:$port..$((port + 20)) all taken on this host (DEMO_VIEWER_PORT=N)"; exit 1; }
+  export KELP_IN_NETNS=1 KELP_DEMO_PAGE_PORT=$p
+  # (a shell starts a background command with SIGINT ignored: the script gets it back, so a
+  # Ctrl-C, which the terminal sends to the whole process group, reaches it)
+  env --default-signal=INT unshare -n "$@" &
+  local inner=$! rc=0
+  socat -lpfleet-forward "TCP-LISTEN:$p,bind=127.0.0.1,reuseaddr,fork" \
+        "EXEC:nsenter --net=/proc/$inner/ns/net socat STDIO TCP\:127.0.0.1\:$port" 2>/dev/null &
+  local fwd=$!
+  trap 'kill -TERM $inner 2>/dev/null || true' TERM
+  trap : INT
+  wait $inner || rc=$?
+  while kill -0 $inner 2>/dev/null; do rc=0; wait $inner || rc=$?; done
+  kill $fwd 2>/dev/null || true
+  wait $fwd 2>/dev/null || true
+  exit $rc
+}
+
 trim() { local s=$1; s=${s#"${s%%[![:space:]]*}"}; s=${s%"${s##*[![:space:]]}"}; printf '%s' "$s"; }
 
 # fill $(NAME) macros of a template from the NAME=value arguments that follow it
@@ -84,6 +125,7 @@ fleet_stop() {
 
 fleet_cleanup() {
   local p
+  trap '' INT TERM   # a second Ctrl-C must not cut the cleanup short
   for p in "${PIDS[@]:-}"; do [ -n "$p" ] && kill "$p" 2>/dev/null || true; done
   wait 2>/dev/null || true
 }

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # make install: libraries (static and shared, with sonames), headers, apps, lcmtypes, the
-# pkg-config files kelp-core.pc (the allocation-free core alone) and kelp.pc (core + edge), and
-# kelp_types.jar (lcm-spy's view of kelp's types, for bin/kelp-spy) when the build has it.
+# pkg-config files kelp-core.pc (the allocation-free core alone), kelp.pc (core + edge),
+# kelp-plot.pc (include/kelp/edge/plot.h: scenes and cairo pictures) and kelp-viewer.pc
+# (include/kelp/edge/viewer.h: the web server and replay, libmicrohttpd), and kelp_types.jar (lcm-spy's view of kelp's types, for bin/kelp-spy) when the build has it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 B=${1:-build}
@@ -12,7 +13,7 @@ install -d "$L/pkgconfig" "$D$P/include/kelp/edge" "$D$P/bin" "$D$P/share/kelp/l
 install -m 644 "$B/libkelp_core.a" "$B/libkelp.a" "$B/libkelp_plot.a" "$B/libkelp_viewer.a" "$L/"
 # kelp-viewer's page (found as <bin>/../share/kelp/viewer)
 install -m 644 share/viewer/index.html share/viewer/viewer.js share/viewer/viewer.css "$D$P/share/kelp/viewer/"
-for lib in libkelp_core libkelp; do
+for lib in libkelp_core libkelp libkelp_plot libkelp_viewer; do
   install -m 755 "$B/$lib.so.$V" "$L/"
   ln -sf "$lib.so.$V" "$L/$lib.so.$M"
   ln -sf "$lib.so.$M" "$L/$lib.so"
@@ -28,32 +29,32 @@ if [ -f "$B/kelp_types.jar" ]; then
 else
   echo "install.sh: $B/kelp_types.jar not built (make spy-jar: needs javac and liblcm-java): kelp-spy will not find kelp's types" >&2
 fi
-cat > "$L/pkgconfig/kelp-core.pc" <<PC
+# pc NAME DESCRIPTION LIB REQUIRES REQUIRES_PRIVATE LIBS_PRIVATE: one pkg-config file
+pc() {
+  cat > "$L/pkgconfig/$1.pc" <<PC
 prefix=$P
 exec_prefix=\${prefix}
 libdir=\${prefix}/lib
 includedir=\${prefix}/include
 
-Name: kelp-core
-Description: kelp's allocation-free core: IvP solver, DCCL, priority queue, TDMA MAC, Micro-Modem protocol
+Name: $1
+Description: $2
 Version: $V
-Libs: -L\${libdir} -lkelp_core
-Libs.private: -lm
+${4:+Requires: $4
+}${5:+Requires.private: $5
+}Libs: -L\${libdir} -l$3
+Libs.private: $6
 Cflags: -I\${includedir}
 PC
-cat > "$L/pkgconfig/kelp.pc" <<PC
-prefix=$P
-exec_prefix=\${prefix}
-libdir=\${prefix}/lib
-includedir=\${prefix}/include
-
-Name: kelp
-Description: autonomy and acoustic-communications library for marine vehicle computers (LCM transport)
-Version: $V
-Requires: kelp-core = $V
-Requires.private: lcm expat
-Libs: -L\${libdir} -lkelp
-Libs.private: -lmbedtls -lmbedx509 -lmbedcrypto -lserialport -lm -lpthread -lutil
-Cflags: -I\${includedir}
-PC
+}
+pc kelp-core "kelp's allocation-free core: IvP solver, DCCL, priority queue, TDMA MAC, Micro-Modem protocol" \
+  kelp_core "" "" "-lm"
+pc kelp "autonomy and acoustic-communications library for marine vehicle computers (LCM transport)" \
+  kelp "kelp-core = $V" "lcm expat ncurses" "-lmbedtls -lmbedx509 -lmbedcrypto -lserialport -lm -lpthread -lutil"
+pc kelp-plot "kelp's mission pictures: scenes from LCM logs, PNG/SVG through cairo (kelp/edge/plot.h)" \
+  kelp_plot "kelp = $V" "cairo" "-lm"
+# (libmicrohttpd by name: its own .pc's static closure wants gnutls' private -dev packages, and
+# no libmicrohttpd type is in kelp's header)
+pc kelp-viewer "kelp's pMarineViewer role: the web server and log replay (kelp/edge/viewer.h)" \
+  kelp_viewer "kelp = $V" "" "-lmicrohttpd -lpthread"
 echo "installed into $D$P"

@@ -173,6 +173,30 @@ static void shutdown_(kelp_app *app, void *st)
     if (s->out && s->out != stderr) fflush(s->out);
 }
 
+/* --send NAME and --wait S are parsed by the runner from this table (so --help lists them);
+ * the field=value words after --send NAME are taken out of argv before it runs */
+enum { OPT_SEND = 1000, OPT_WAIT };
+static const kelp_cli_opt cmdr_opts[] = {
+    { "send", required_argument, OPT_SEND, "NAME", "script: send message NAME with the field=value words that follow, then exit" },
+    { "wait", required_argument, OPT_WAIT, "SECONDS", "with --send: wait for the ack (exit 0) or expiry/timeout (exit 1)" },
+    { NULL, 0, 0, NULL, NULL },
+};
+
+static int cmdr_arg(void *state, int val, const char *arg, kelp_diag *d)
+{
+    cmdr_app *s = state;
+    if (val == OPT_SEND) {
+        s->send_name = arg;
+        return 0;
+    }
+    if (val == OPT_WAIT) {
+        if (kelp_parse_finite(arg, strlen(arg), &s->wait) < 0 || s->wait < 0)
+            return kelp_fail(d, KELP_ERR_PARSE, "--wait wants seconds");
+        return 0;
+    }
+    return kelp_fail(d, KELP_ERR_PARSE, "unexpected argument");
+}
+
 static const kelp_app_def def = {
     .name = "kelp-commander",
     .moos_name = "iCommander",
@@ -198,6 +222,8 @@ static const kelp_app_def def = {
         {NULL, NULL, NULL}},
     .notes = "Command line: MISSION.moos [--send NAME field=value ... [--wait SECONDS]]\n"
              "Globals used: Community, LatOrigin, LongOrigin, modem_id_lookup_path.\n",
+    .opts = cmdr_opts,
+    .on_arg = cmdr_arg,
     .startup = startup,
     .on_mail = on_mail,
     .iterate = iterate,
@@ -209,19 +235,13 @@ int main(int argc, char **argv)
     static cmdr_app s;
     static char *args[256];
     int n = 0;
-    for (int i = 0; i < argc && n < 255; i++) {
-        if (strcmp(argv[i], "--send") == 0 && i + 1 < argc) {
-            s.send_name = argv[++i];
+    for (int i = 0; i < argc && n < 254; i++) {
+        args[n++] = argv[i];
+        bool send = strcmp(argv[i], "--send") == 0 && i + 1 < argc;
+        if (send) args[n++] = argv[++i];
+        if (send || strncmp(argv[i], "--send=", 7) == 0) {
             s.send_args = &argv[i + 1];
             while (i + 1 < argc && strncmp(argv[i + 1], "--", 2) != 0) i++, s.n_send_args++;
-        } else if (strcmp(argv[i], "--wait") == 0 && i + 1 < argc) {
-            if (kelp_parse_finite(argv[i + 1], strlen(argv[i + 1]), &s.wait) < 0 || s.wait < 0) {
-                fprintf(stderr, "kelp-commander: --wait wants seconds\n");
-                return 2;
-            }
-            i++;
-        } else {
-            args[n++] = argv[i];
         }
     }
     args[n] = NULL;

@@ -176,7 +176,7 @@ static const kelp_cli cli = {
     .name = "kelp-moos2sql",
     .purpose = "Record node reports, contact reports and decoded acoustic status messages into SQLite and write\n"
                "a Google Earth KML of the fleet, live (an app: see --example, --interface) or from an LCM log.",
-    .synopsis = "[OPTIONS] --log=LOG\n[--alias=NAME] MISSION.moos [NAME]    (live app; see --example, --interface)",
+    .synopsis = "[OPTIONS] --log=LOG\n[--alias=NAME] [--verbose] MISSION.moos [NAME]    (live app; see --example, --interface)",
     .opts = (const kelp_cli_opt[]){
         { "log", required_argument, OPT_LOG, "LOG", "read this LCM log (kelp-record, lcm-logger)" },
         { "db", required_argument, OPT_DB, "FILE", "the database (default moos2sql.db)" },

@@ -40,7 +40,7 @@ static const kelp_cli cli = {
                "or NAV_X/NAV_Y per community, with names; VIEW_POINT/POLYGON/SEGLIST/CIRCLE/MARKER/COMMS_PULSE/\n"
                "RANGE_PULSE; metre grid, legend) to PNG and SVG, or runs live as a shoreside viewer app.",
     .synopsis = "[OPTIONS] LOG [LOG...]\n"
-                "[--alias=NAME] MISSION.moos [NAME]    (live viewer app; see --example, --interface)",
+                "[--alias=NAME] [--verbose] MISSION.moos [NAME]    (live viewer app; see --example, --interface)",
     .opts = (const kelp_cli_opt[]){
         { "output", required_argument, 'o', "OUT.png|OUT.svg", "write this picture (repeatable, up to 8)" },
         { "title", required_argument, OPT_TITLE, "T", "picture title" },

@@ -400,8 +400,8 @@ void kelp_acomms_config_default(kelp_acomms_config *cfg);
 /** Read the pAcommsHandler block (node index `block` of m; globals of m fill the fallbacks).
  *  Relative message-file and lookup paths are taken relative to `base_dir` (the mission's
  *  directory; NULL = as written).  Unknown fields, bad enums and out-of-range numbers are
- *  errors: "line N: key: reason" in d (and N in d->line; d may be NULL).  Values the seed
- *  defines as warnings (e.g. tcp sharing is experimental) go to warn (may be NULL).
+ *  errors: "line N: key: reason" in d (and N in d->line; d may be NULL).  Values the Goby 1.1 User
+ *  Manual defines as warnings (e.g. tcp sharing is experimental) go to warn (may be NULL).
  *  @return 0 or KELP_ERR_PARSE / KELP_ERR_ARG. */
 KELP_MUST_CHECK int kelp_acomms_config_read(const struct kelp_mission *m, int block, const char *base_dir,
                                             kelp_acomms_config *cfg, kelp_diag *d, char *warn, size_t warncap);

@@ -1,14 +1,14 @@
 /* kelp range sensors, part 1: what the beacon and contact range sensors share (kelp_rsense_*),
- * and uFldBeaconRangeSensor's logic (kelp_field_brs_*), uField seed chapter 10 and
- * ufield.md section 10, with MOOS-IvP 24.8's names accepted as aliases.
+ * and uFldBeaconRangeSensor's logic (kelp_field_brs_*), the uField Toolbox manual (MOOS-IvP 12.2)
+ * chapter 10, with MOOS-IvP 24.8's names accepted as aliases.
  *
  * Range model. A request from vehicle V reaches beacon B when
  *     reach(V) + pull(B) >= |VB|    (REACH_DISTANCE, alias 24.8's node_push_dist; beacon pull_dist, 0)
  * and B's report reaches vehicle U when
  *     report_range(B) + pull(U) >= |UB|   (report_range, alias 24.8's push_dist; node_pull_dist, 0)
- * where a negative distance ("nolimit") always passes. With the seed's parameters only (pulls
- * 0) this is the seed's rule; a 24.8 block that sets the push/pull distances gets 24.8's sums.
- * A solicited reply goes to every vehicle in report range (the seed), not only the requester.
+ * where a negative distance ("nolimit") always passes. With the 12.2 manual's parameters only
+ * (pulls 0) this is its rule; a 24.8 block that sets the push/pull distances gets 24.8's sums.
+ * A solicited reply goes to every vehicle in report range (the 12.2 manual), not only the requester.
  *
  * Randomness: RAND_MODE = kelp (the default; kelp_rng seeded by SEED_RANDOM) or glibc
  * (kelp_glibc_rand seeded 1, i.e. the rand() sequence of a program that never calls srand).
@@ -91,7 +91,7 @@ typedef struct kelp_rsense_node {
     unsigned long reports, pings, denied, accepted, heard;
 } kelp_rsense_node;
 
-/** Verbose console lines (may be NULL): the seed's event output. */
+/** Verbose console lines (may be NULL): the 12.2 manual's event output. */
 typedef void (*kelp_rsense_log_fn)(void *ctx, const char *line);
 
 /** The parameters both sensors take. */
@@ -99,7 +99,7 @@ typedef struct kelp_rsense_common {
     kelp_rsense_vmap ping_wait;  /**< PING_WAIT 30 s */
     kelp_rsense_vars report_vars;/**< REPORT_VARS (short) */
     kelp_rsense_noise noise;     /**< RN_ALGORITHM, RN_UNIFORM_PCT, RN_GAUSSIAN_SIGMA (none) */
-    bool ground_truth;           /**< GROUND_TRUTH (false, A60, A69) */
+    bool ground_truth;           /**< GROUND_TRUTH (false) */
     bool verbose;                /**< VERBOSE (false) */
     bool glibc;                  /**< RAND_MODE = glibc (default kelp) */
     uint64_t seed;               /**< SEED_RANDOM (1) */
@@ -167,7 +167,7 @@ typedef struct kelp_field_brs_cfg {
     kelp_rsense_common com;
     kelp_brs_payments payments;
     bool report_xy;              /**< REPORT_XY (false): x=,y= of the beacon in each report */
-    bool config_order;           /**< BEACON_ORDER = config (24.8); default reverse (the seed's listings) */
+    bool config_order;           /**< BEACON_ORDER = config (24.8); default reverse (the 12.2 manual's listings) */
     char ws_val[KELP_BRS_SPEC_LEN]; /**< workspace: the value being read by kelp_field_brs_config */
 } kelp_field_brs_cfg;
 
@@ -185,7 +185,7 @@ typedef struct kelp_field_brs {
     char ws_label[KELP_RSENSE_NAME + KELP_BRS_LABEL + 8]; /**< workspace: a pulse's label */
 } kelp_field_brs;
 
-/** The seed's defaults (ufield.md 10.1). */
+/** The defaults of the uField Toolbox manual (MOOS-IvP 12.2), section 10.1. */
 void kelp_field_brs_cfg_default(kelp_field_brs_cfg *cfg);
 /** One block parameter (case-insensitive, a trailing ';' ignored): BEACON,
  *  DEFAULT_BEACON_FREQ/_REPORT_RANGE/_WIDTH/_COLOR/_SHAPE (24.8: _PUSH_DIST, _PULL_DIST,

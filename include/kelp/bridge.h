@@ -2,7 +2,7 @@
  *
  * Routes come from static lines in the pMOOSBridge style,
  *   UDPSHARE = [VAR1,VAR2] -> community @ host:port [ALIAS1,ALIAS2]
- * and from run-time requests on PMB_REGISTER (uField seed):
+ * and from run-time requests on PMB_REGISTER (the uField Toolbox manual (MOOS-IvP 12.2)):
  *   src_var=DEPLOY_ALL,dest_community=henry,dest_host=10.0.0.5,dest_port=9200,dest_alias=DEPLOY
  *
  * Datagram (big-endian):

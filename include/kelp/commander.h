@@ -1,5 +1,5 @@
-/* kelp commander: the model behind kelp-commander (the iCommander role of Goby 1.1, seed 002
- * section 2.4, acomms.md 7.1). Core: no allocation, no I/O, no clock.
+/* kelp commander: the model behind kelp-commander (the iCommander role of Goby 1.1: the
+ * Goby 1.1 User Manual, section 2.4). Core: no allocation, no I/O, no clock.
  *
  * The console edits "open messages": one per DCCL message definition, each a row per field the
  * operator can see (renamed header fields such as <dest_id><name>Destination</name>, then the

@@ -44,8 +44,8 @@ extern "C" {
 #define KELP_CMGR_MAX_RETIRED (KELP_CMGR_MAX_CONTACTS + 50) /**< retired names before pruning */
 #define KELP_CMGR_MAX_EVENTS 8       /**< events kept for the report */
 #define KELP_CMGR_MAX_TEXT (KELP_MAX_SVAL + 1) /**< bytes of one summary value, with NUL */
-#define KELP_CMGR_CPA_HORIZON 36000.0 /**< s: CPA is sought within 10 hours (contactmgr.md 4.4) */
-/** 1: an alerted pair stays on while range <= cpa_range (Schmitt trigger, contactmgr.md A-1);
+#define KELP_CMGR_CPA_HORIZON 36000.0 /**< s: CPA is sought within 10 hours (as MOOS-IvP 24.8's pContactMgrV20) */
+/** 1: an alerted pair stays on while range <= cpa_range (Schmitt trigger, as 24.8's pContactMgrV20);
  *  0: the same test as turning on (MOOS-IvP's). */
 #define KELP_CMGR_HYSTERESIS 1
 
@@ -165,7 +165,7 @@ typedef struct kelp_cmgr {
                      ? (3 * KELP_CMGR_MAX_ID + 160) : (KELP_CMGR_NAME + KELP_CMGR_MAX_ID + 200)];
 } kelp_cmgr;
 
-/** Defaults (contactmgr.md 2.1) for ownship `ownship` (the community; its reports are dropped). */
+/** Defaults (the pContactMgrV20 documentation's) for ownship `ownship` (the community; its reports are dropped). */
 void kelp_cmgr_init(kelp_cmgr *c, const char *ownship);
 
 /** One mission parameter (name case-insensitive). An illegal value warns through out->warn and
@@ -190,10 +190,10 @@ int kelp_cmgr_mail(kelp_cmgr *c, const char *var, bool is_string, const char *sv
 KELP_MUST_CHECK int kelp_cmgr_alert_spec(kelp_cmgr *c, const char *spec, bool from_mail, const char *src, kelp_time now,
                                          const kelp_field_sink *out);
 
-/** One iteration at `now` (contactmgr.md 4.8). */
+/** One iteration at `now`, in 24.8's order. */
 void kelp_cmgr_iterate(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out);
 
-/** The terminal report (contactmgr.md 5, from "X/Y from Lat/Lon:" on). @return the length,
+/** The terminal report (24.8's, from "X/Y from Lat/Lon:" on). @return the length,
  *  or KELP_ERR_NOSPACE when cut. */
 int kelp_cmgr_report_text(const kelp_cmgr *c, kelp_time now, char *buf, size_t cap);
 

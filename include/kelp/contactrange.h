@@ -1,5 +1,5 @@
-/* kelp range sensors, part 2: uFldContactRangeSensor's logic (kelp_field_crs_*), uField seed
- * chapter 11 and ufield.md section 11, with MOOS-IvP 24.8's names accepted as aliases
+/* kelp range sensors, part 2: uFldContactRangeSensor's logic (kelp_field_crs_*), uField Toolbox
+ * manual (MOOS-IvP 12.2) chapter 11, with MOOS-IvP 24.8's names accepted as aliases
  * (push_dist = REACH_DISTANCE, pull_dist = REPLY_DISTANCE, echo_color = REPLY_COLOR).
  *
  * A ping from R (CRS_RANGE_REQUEST = name=R), honoured at most every PING_WAIT(R) seconds
@@ -8,7 +8,7 @@
  * 24.8's additions: allow_echo_types (target types), ignore_group, sensor_arc (relative
  * bearings R hears in, from R's HDG), display_pulses, and ECHO_FALLOFF = true (its
  * probabilistic detection beyond reach + reply, exp(3 (max - r) / max); off by default as the
- * seed has none). Randomness as in kelp/beaconrange.h (RAND_MODE, SEED_RANDOM).
+ * 12.2 manual has none). Randomness as in kelp/beaconrange.h (RAND_MODE, SEED_RANDOM).
  */
 #ifndef KELP_CONTACTRANGE_H
 #define KELP_CONTACTRANGE_H

@@ -166,7 +166,7 @@ int kelp_field_nrep_iterate(kelp_field_nrep *r, kelp_time now, const kelp_field_
 
 #define KELP_BROKER_IROUTES 192     /**< a pshare_iroutes / hostip_alts value */
 
-/** A host record (ufield.md 1.3): PHI_HOST_INFO, NODE_BROKER_PING or NODE_BROKER_ACK. Keys
+/** A host record (pHostInfo's, as the brokers exchange it): PHI_HOST_INFO, NODE_BROKER_PING or NODE_BROKER_ACK. Keys
  *  are read case-insensitively with the synonyms host/hostip/host_ip/ip, port/port_db,
  *  time_warp/timewarp; without port_udp, the port of the first host:port of a 24.8
  *  pshare_iroutes ("10.0.0.5:9200&multicast_8") is taken. Zero / "" means absent. */
@@ -241,7 +241,7 @@ int kelp_field_hostinfo_mail(kelp_field_hostinfo *h, const char *var, bool is_st
 /** One iteration; a post at the first, after HOST_INFO_REQUEST and every tenth (24.8):
  *  PHI_HOST_IP ("localhost", or DEFAULT_HOSTIP, when nothing was found), PHI_HOST_IP_ALL and
  *  PHI_HOST_IP_VERBOSE (both "" when nothing was found), PHI_HOST_PORT_DB, PHI_HOST_PORT_UDP
- *  when PMB_UDP_LISTEN told it (the seed's pMOOSBridge; the ports as strings), and
+ *  when PMB_UDP_LISTEN told it (the uField Toolbox manual's pMOOSBridge; the ports as strings), and
  *  PHI_HOST_INFO as 24.8's host record: community, hostip, port_db, port_udp (PMB_UDP_LISTEN's,
  *  or a single pshare route's), pshare_iroutes, hostip_alts (PHI_HOST_IP_ALL without hostip),
  *  timewarp (one decimal, trailing zeros dropped), "localhost" anywhere read as this host's
@@ -252,7 +252,7 @@ KELP_MUST_CHECK int kelp_field_hostinfo_report(const kelp_field_hostinfo *h, cha
 
 /* ------------------------------------------------------------------ uFldNodeComms */
 /* The shoreside relay of node reports and node messages between vehicles, as MOOS-IvP 24.8's
- * uFldNodeComms does it (the uField seed's chapter 5 plus min_rpt_interval, msg_groups,
+ * uFldNodeComms does it (the uField Toolbox manual (MOOS-IvP 12.2) chapter 5 plus min_rpt_interval, msg_groups,
  * drop_percentage, shared_node_reports, MEDIATED_MESSAGE / ACK_MESSAGE, UNC_COMMS_RANGE...):
  *
  * - a report goes through 24.8's contact ledger (kelp_nodereport_ledger: type, length, COG;
@@ -474,10 +474,10 @@ typedef struct kelp_field_text {
 } kelp_field_text;
 
 /** One NODE_MESSAGE "src_node=alpha,dest_node=bravo,var_name=SPEED,double_val=2.5"
- *  (ufield.md 1.2), read as MOOS-IvP 24.8 reads it (string2NodeMessage): items cut at ','
+ *  (the uField Toolbox manual's), read as MOOS-IvP 24.8 reads it (string2NodeMessage): items cut at ','
  *  outside quotes and braces (parseStringQ: an unclosed quote or brace runs to the end), the
  *  key before the first '=' in any case, key and value blank-stripped, the last of a repeated
- *  key wins, unknown keys ignored. The seed's spellings are read too: dest_name for dest_node,
+ *  key wins, unknown keys ignored. The 12.2 manual's spellings are read too: dest_name for dest_node,
  *  src_var for var_name (var_name wins when both are given), "dest_node;bravo". string_val
  *  loses its enclosing quotes once when string_val_quoted=true and once more if still quoted. */
 typedef struct kelp_node_message {
@@ -632,7 +632,7 @@ typedef struct kelp_ufs_row {
 typedef struct kelp_field_ufs {
     kelp_field_ufs_cfg cfg;
     uint32_t layout_mask[KELP_UFS_MAX_LAYOUTS]; /**< [n-1]: the columns of layout (n); layout 1 is
-                                                     the last LAYOUT line (ufield.md 7.3, A29) */
+                                                     the last LAYOUT line (as 24.8 does) */
     unsigned unmatched;                         /**< LAYOUT names matching no alias or field */
     char first_unmatched[KELP_UFS_FIELD_LEN];
     kelp_ufs_row row[KELP_UFS_MAX_ROWS];        /**< sorted by name, case-insensitive */
@@ -690,8 +690,9 @@ size_t kelp_field_ufs_render(kelp_field_ufs *s, char *buf, size_t cap);
 
 /** The two command models. 24.8 (the default): the brokers drive pShare (kelp-bridge running
  *  as pShare) with PSHARE_CMD "cmd=output,src_name=..,dest_name=..,route=..", ping on
- *  NODE_BROKER_PING_<n> and ack with 24.8's host records. Seed (pmb = true, a mission with a
- *  pMOOSBridge block): PMB_REGISTER to kelp-bridge as pMOOSBridge, the seed's records. */
+ *  NODE_BROKER_PING_<n> and ack with 24.8's host records. uField Toolbox 12.2 (pmb = true, a
+ *  mission with a pMOOSBridge block): PMB_REGISTER to kelp-bridge as pMOOSBridge, the 12.2
+ *  manual's records. */
 
 
 /** Parse a host record. @return 0; KELP_ERR_PARSE (not key=value pairs, a bad number or
@@ -750,8 +751,8 @@ typedef struct kelp_field_nbroker_cfg {
     double warp;                               /**< MOOSTimeWarp (1) */
     double retry;                              /**< RETRY_INTERVAL: s without an ack before the ping
                                                     registrations are posted again (10) */
-    bool auto_realmcast, auto_appcast, auto_pshare_vars; /**< AUTO_BRIDGE_* (24.8: true; seed: false) */
-    bool pmb;                                  /**< the seed's model (PMB_REGISTER); false: 24.8's */
+    bool auto_realmcast, auto_appcast, auto_pshare_vars; /**< AUTO_BRIDGE_* (24.8: true; 12.2: false) */
+    bool pmb;                                  /**< the 12.2 manual's model (PMB_REGISTER); false: 24.8's */
     kelp_diag ws_diag;                         /**< workspace: why a try host or an ack was refused */
 } kelp_field_nbroker_cfg;
 
@@ -777,7 +778,7 @@ typedef struct kelp_field_nbroker {
 
 /** Defaults, 24.8's: no keyword, no try hosts, no bridges, warp 1, the AUTO_BRIDGE_* on. */
 void kelp_field_nbroker_cfg_default(kelp_field_nbroker_cfg *cfg);
-/** The seed's model (a mission with a pMOOSBridge block): PMB_REGISTER, the seed's ping and
+/** The uField Toolbox 12.2 model (a mission with a pMOOSBridge block): PMB_REGISTER, its ping and
  *  ack records and report, retry 10 s, auto bridges off. */
 void kelp_field_nbroker_cfg_seed(kelp_field_nbroker_cfg *cfg);
 /** One block parameter: KEYWORD, TRY_SHORE_HOST (an invalid one is kept for the report and
@@ -801,11 +802,11 @@ int kelp_field_nbroker_mail(kelp_field_nbroker *b, const char *var, bool is_stri
  *  NODE_BROKER_PING_<i> -> NODE_BROKER_PING to route i); once PHI_HOST_INFO gave
  *  pshare_iroutes and timewarp, NODE_BROKER_PING_<i> = the host record with time= and key=i
  *  when the last ping is older than 5 s (20 s while an ack came in the last 5 s).
- *  Seed: once the host info is complete, the ping registrations (one PMB_REGISTER per
+ *  uField Toolbox 12.2 (pmb): once the host info is complete, the ping registrations (one PMB_REGISTER per
  *  valid try host; again every RETRY_INTERVAL while no ack is heard), then one
  *  NODE_BROKER_PING. @return the number of posts. */
 int kelp_field_nbroker_iterate(kelp_field_nbroker *b, kelp_time now, const kelp_field_sink *out);
-/** The report into buf (24.8's layout; the seed's Listing 3 with pmb). @return 0, or
+/** The report into buf (24.8's layout; the 12.2 manual's Listing 3 with pmb). @return 0, or
  *  KELP_ERR_NOSPACE (truncated). */
 KELP_MUST_CHECK int kelp_field_nbroker_report(const kelp_field_nbroker *b, char *buf, size_t cap);
 
@@ -817,8 +818,8 @@ typedef struct kelp_field_sbroker_cfg {
     unsigned nvnodes;
     double warp;                                        /**< MOOSTimeWarp (1) */
     bool warn_stale;                                    /**< WARNING_ON_STALE (false) */
-    bool auto_realmcast, auto_appcast, auto_mhash;      /**< AUTO_BRIDGE_* (24.8: true; seed: false) */
-    bool pmb;                                           /**< the seed's model; false: 24.8's */
+    bool auto_realmcast, auto_appcast, auto_mhash;      /**< AUTO_BRIDGE_* (24.8: true; 12.2: false) */
+    bool pmb;                                           /**< the 12.2 manual's model; false: 24.8's */
     bool raw[KELP_BROKER_MAX_BRIDGES];                  /**< named by a BRIDGE line (its src as written
                                                              is in UFSB_BRIDGE_VARS) */
     char qbridge[KELP_BROKER_MAX_BRIDGES / 2][KELP_MAX_NAME]; /**< QBRIDGE names (UFSB_QBRIDGE_VARS) */
@@ -864,7 +865,7 @@ typedef struct kelp_field_sbroker {
 
 /** Defaults, 24.8's: no keyword, no bridges, warp 1, no stale warnings, the AUTO_BRIDGE_* on. */
 void kelp_field_sbroker_cfg_default(kelp_field_sbroker_cfg *cfg);
-/** The seed's model (PMB_REGISTER, the seed's records and report), auto bridges off. */
+/** The uField Toolbox 12.2 model (PMB_REGISTER, its records and report), auto bridges off. */
 void kelp_field_sbroker_cfg_seed(kelp_field_sbroker_cfg *cfg);
 /** One block parameter: BRIDGE ("src=V[, alias=A]"), QBRIDGE ("X[, Y ...]": X_ALL->X and
  *  X_$V->X each), KEYWORD, TRY_VNODE ("[route=]ip[:port]", port 9200), WARNING_ON_STALE,
@@ -897,7 +898,7 @@ int kelp_field_sbroker_iterate(kelp_field_sbroker *s, kelp_time now, const kelp_
  *  vehicle's last ping is younger than 10 s; every bridge is requested for every vehicle
  *  (PSHARE_CMD unless PSHARE_OUTPUT_SUMMARY lists it; PSHARE_TEST; UFSB_BRIDGE_VARS on a new
  *  name) 5 s after a new vehicle, the gap growing by 3 s per pass.
- *  The report at `now` into buf (24.8's layout; the seed's Listing 6 with pmb). @return 0 or
+ *  The report at `now` into buf (24.8's layout; the 12.2 manual's Listing 6 with pmb). @return 0 or
  *  KELP_ERR_NOSPACE. */
 KELP_MUST_CHECK int kelp_field_sbroker_report(const kelp_field_sbroker *s, kelp_time now, char *buf, size_t cap);
 

@@ -1,6 +1,6 @@
 /* kelp uFldHazardSensor: a simulated side-looking sonar hazard detector and classifier for
- * many vehicles over a field of hazard and benign objects (uField seed chapter 9, ufield.md
- * section 9, with MOOS-IvP 24.8's additions).
+ * many vehicles over a field of hazard and benign objects (the uField Toolbox
+ * manual, MOOS-IvP 12.2, chapter 9, with MOOS-IvP 24.8's additions).
  *
  * Field: objects "x=..,y=..,type=hazard|benign[,label=..,color=..,shape=..,width=..]", from
  * HAZARD lines of the block or a hazard file (lines with or without "hazard =", as gen_hazards
@@ -37,7 +37,7 @@
  *
  * Also: VIEW_MARKER per object at the first iteration (SHOW_HAZARDS) and again on PMV_CONNECT,
  * UHZ_OPTIONS_SUMMARY "width=10,exp=6,pclass=0.93:width=25,..." at the first iteration and
- * every OPTIONS_SUMMARY_INTERVAL s, and the terminal report (Listing 21, or the seed's
+ * every OPTIONS_SUMMARY_INTERVAL s, and the terminal report (Listing 21, or the 12.2 manual's
  * one-character trace when VERBOSE is false).
  *
  * Randomness: a kelp_rng in the state seeded from cfg.seed (the app: a fixed seed unless
@@ -157,7 +157,7 @@ typedef struct kelp_field_uhz {
     kelp_nodereport ws_report;             /**< workspace: the node report being read */
 } kelp_field_uhz;
 
-/** Defaults of the seed (section 9.1, with ufield.md 14's choices). */
+/** Defaults of the uField Toolbox manual (12.2, section 9.1). */
 void kelp_field_uhz_cfg_default(kelp_field_uhz_cfg *cfg);
 /** One block parameter (key case-insensitive): DEFAULT_{HAZARD,BENIGN}_{SHAPE,COLOR,WIDTH},
  *  SWATH_TRANSPARENCY, SWATH_LENGTH, OPTIONS_SUMMARY_INTERVAL, SHOW_HAZARDS, SHOW_SWATH,
@@ -184,7 +184,7 @@ const char *kelp_field_uhz_subscription(unsigned i);
 int kelp_field_uhz_mail(kelp_field_uhz *h, const char *var, const char *sval, kelp_time now, const kelp_field_sink *out);
 /** Iterate at `now`: markers and the options summary when due, classify answers. */
 void kelp_field_uhz_iterate(kelp_field_uhz *h, kelp_time now, const kelp_field_sink *out);
-/** The default setting index (ufield.md 9.3), or -1 with no settings. */
+/** The default setting index (the 12.2 manual's section 9.3), or -1 with no settings. */
 int kelp_field_uhz_default_setting(const kelp_field_uhz_cfg *cfg);
 /** Index of a vehicle (case-insensitive), or -1. */
 int kelp_field_uhz_find(const kelp_field_uhz *h, const char *name);

@@ -92,8 +92,8 @@ int kelp_helm_ib_find(const kelp_helm_ib *ib, const char *name);
 
 /* ------------------------------------------------------------------ run conditions */
 
-/** Check the syntax of a run condition. Grammar (seed: "VAR = value", "(K <= 4)"; the rest
- *  is kelp's resolution of ambiguity H1):
+/** Check the syntax of a run condition. Grammar (the IvPBuild guide, MIT-CSAIL-TR-2009-037:
+ *  "VAR = value", "(K <= 4)"; the rest is kelp's reading of what it leaves open):
  *    expr     := term { ("or" | "||") term }
  *    term     := factor { ("and" | "&&") factor }
  *    factor   := ("not" | "!") factor | "(" expr ")" | relation
@@ -192,7 +192,7 @@ typedef struct kelp_bhv_flag {
 /* Built-in behaviour state. */
 typedef struct kelp_bhv_pt { double x, y; } kelp_bhv_pt;
 
-typedef struct kelp_bhv_swpt {         /* BHV_SimpleWaypoint (seed ch. 5) */
+typedef struct kelp_bhv_swpt {         /* BHV_SimpleWaypoint (MIT-CSAIL-TR-2009-037 ch. 5) */
     kelp_bhv_pt nextpt;
     double desired_speed, arrival_radius;
     bool reflector;                    /* ipf_type */

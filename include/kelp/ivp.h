@@ -6,7 +6,7 @@
  * Everything here is allocation-free: the caller owns every struct and passes piece and work
  * storage, sized with the *_max_pieces / *_work_size queries. Too little storage gives
  * KELP_ERR_NOSPACE, never a truncated function. Nothing keeps global state; every call is
- * re-entrant on distinct objects. Builders (ZAIC, Reflector) follow the seed's error model:
+ * re-entrant on distinct objects. Builders (ZAIC, Reflector) follow the IvPBuild guide's error model (MIT-CSAIL-TR-2009-037):
  * a fatal configuration error sets ok=false for good and extraction then fails with
  * KELP_ERR_STATE; warnings accumulate in warn[] (fatal or not, joined with " # ").
  * The text parsers and the solver say why they failed through a kelp_diag (err.h; NULL
@@ -198,7 +198,7 @@ KELP_MUST_CHECK int kelp_ivp_couple(const kelp_ivp_func *a, double wa, const kel
 
 /* ------------------------------------------------------------------ piece shapes, points, regions */
 
-/** Parse a seed ch.9 string "discrete @ x:5,y:5" / "native @ x:5,y:25" as a piece SHAPE (edge
+/** Parse an IvPBuild guide ch. 9 string "discrete @ x:5,y:5" / "native @ x:5,y:25" as a piece SHAPE (edge
  * lengths in points per variable; native lengths are divided by delta and rounded, .5 up).
  * Every domain variable must be given exactly once. Result: edge[d] >= 1 points. */
 KELP_MUST_CHECK int kelp_ivp_parse_shape(const kelp_ivp_domain *d, const char *s, uint32_t *edge, kelp_diag *diag);
@@ -239,7 +239,7 @@ typedef struct kelp_ivp_reflector {
 typedef struct kelp_ivp_pq_entry { double key; uint32_t piece; } kelp_ivp_pq_entry;
 
 KELP_MUST_CHECK int kelp_ivp_reflector_init(kelp_ivp_reflector *r, const kelp_ivp_domain *dom, kelp_ivp_aof_fn aof, void *user);
-/** setParam(name, value) with the seed's names: uniform_amount, uniform_piece, strict_range,
+/** setParam(name, value) with the IvPBuild guide's names: uniform_amount, uniform_piece, strict_range,
  * refine_region, refine_piece, refine_point (accepted and validated; it does not change the build),
  * smart_amount, smart_percent, smart_thresh, auto_peak, auto_peak_max_pcs. Names and values are
  * case-insensitive and trimmed. A bad name or value is fatal (ok=false) and returns
@@ -305,7 +305,7 @@ typedef struct kelp_ivp_spec {
 
 /** Parse a SPEC string (see kelp-ivp). Unknown keys, repeated keys, bad numbers, flags on a later
  * component and trailing text are errors naming the token. Omitted keys take the builder
- * defaults (summitdelta 50 on added peak components, as the seed's addComponent). The flags
+ * defaults (summitdelta 50 on added peak components, as the IvPBuild guide's addComponent). The flags
  * insist/wrap/sum default to off in the text form. */
 KELP_MUST_CHECK int kelp_ivp_spec_parse(kelp_ivp_spec *sp, const char *s, kelp_diag *diag);
 size_t kelp_ivp_spec_max_pieces(const kelp_ivp_spec *sp, const kelp_ivp_domain *dom, const char *var);

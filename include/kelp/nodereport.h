@@ -1,6 +1,6 @@
 /* kelp node reports and viewer artifacts: the strings a shoreside consumes.
  *
- * NODE_REPORT / NODE_REPORT_LOCAL (pNodeReporter role; uField seed section "NODE_REPORT"):
+ * NODE_REPORT / NODE_REPORT_LOCAL (pNodeReporter role; the uField Toolbox manual's NODE_REPORT):
  *
  *   NAME=alpha,TYPE=UUV,TIME=1252348077.59,X=51.71,Y=-35.50,LAT=43.824981,
  *   LON=-70.329755,SPD=2.00,HDG=118.85,DEPTH=4.63,LENGTH=3.8,MODE=LOITERING
@@ -26,7 +26,7 @@
  *                     edge_color=..,fill_color=..,time=..,edge_size=1
  *   VIEW_RANGE_PULSE  x=..,y=..,radius=40,duration=15,fill=0.25,fill_color=green,label=04,
  *                     edge_color=green,time=..,edge_size=1   (these are also the defaults)
- * Pairs are split at commas outside braces; a value holding a further " key=value" (the seed's
+ * Pairs are split at commas outside braces; a value holding a further " key=value" (the uField Toolbox manual's
  * "type=waypoint source=transit") is split at that space. Unknown keys are ignored.
  *
  * Core: allocation-free, no I/O. Parsers are safe on arbitrary bytes (fuzzed).
@@ -168,7 +168,7 @@ typedef struct kelp_view {
 } kelp_view;
 
 /** The kind posted on a variable: VIEW_POINT, VIEW_CIRCLE, VIEW_POLYGON, VIEW_SEGLIST,
- *  VIEW_MARKER, VIEW_COMMS_PULSE (also the seed's VIEW_COMM_PULSE spelling), VIEW_RANGE_PULSE
+ *  VIEW_MARKER, VIEW_COMMS_PULSE (also the uField Toolbox manual's VIEW_COMM_PULSE spelling), VIEW_RANGE_PULSE
  *  (case-insensitive). @return 0 or KELP_ERR_NOTFOUND. */
 KELP_MUST_CHECK int kelp_view_kind_of(const char *var, kelp_view_kind *out);
 

@@ -1,8 +1,9 @@
 /* kelp uFldPathCheck: speed and odometry of every vehicle, computed on the shoreside from the
- * positions and time stamps of its node reports (uField seed chapter 8, ufield.md section 8).
+ * positions and time stamps of its node reports (the uField Toolbox manual (MOOS-IvP 12.2),
+ * chapter 8).
  *
  *   in:  NODE_REPORT, NODE_REPORT_LOCAL (NAME, X, Y, TIME), UPC_TRIP_RESET = alpha
- *        (UPC_ODOMETRY_RESET, named in the seed's section 8.2, is a synonym)
+ *        (UPC_ODOMETRY_RESET, named in the 12.2 manual's section 8.2, is a synonym)
  *   out: UPC_ODOMETRY_REPORT = vname=alpha,total_dist=4205.4,trip_dist=1105.2   (1 decimal)
  *        UPC_SPEED_REPORT    = vname=alpha,avg_speed=2.21                        (2 decimals)
  *

@@ -245,7 +245,7 @@ typedef struct kelp_remus_codec_cfg {
     kelp_dccl_builtin *geo;                  /**< modem-id table and LatOrigin/LongOrigin (caller's) */
 } kelp_remus_codec_cfg;
 
-/** Defaults of seed 002 section 2.5 (acomms.md 7.2); geo NULL. */
+/** Defaults of the Goby 1.1 User Manual, section 2.5; geo NULL. */
 void kelp_remus_codec_cfg_default(kelp_remus_codec_cfg *c);
 
 enum { KELP_REMUS_NAV_X, KELP_REMUS_NAV_Y, KELP_REMUS_NAV_HEADING, KELP_REMUS_NAV_SPEED, KELP_REMUS_NAV_DEPTH,

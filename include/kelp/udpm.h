@@ -29,6 +29,10 @@
 #include <kelp/config.h>
 #include <kelp/err.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #define KELP_UDPM_MAGIC_SHORT 0x4c433032u /**< "LC02" */
 #define KELP_UDPM_MAGIC_FRAG 0x4c433033u  /**< "LC03" */
 #define KELP_UDPM_SHORT_HDR 8u            /**< bytes in a short-message header */
@@ -162,5 +166,9 @@ KELP_MUST_CHECK int kelp_udpm_url_parse(const char *url, kelp_udpm_url *out);
  *  @return 0, KELP_ERR_RANGE (server_port not an integer in 1..65535 or lcm_url not a
  *  valid udpm URL), KELP_ERR_NOSPACE. */
 KELP_MUST_CHECK int kelp_udpm_community_url(const char *lcm_url, const char *server_port, char *buf, size_t cap);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

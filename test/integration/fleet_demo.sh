@@ -10,7 +10,7 @@ if [ ! -x "$BIN/pHelmIvP" ]; then echo "SKIP: pHelmIvP not built (the helm is on
 command -v lcm-logger >/dev/null || fail "lcm-logger missing (liblcm-bin)"
 cd $T
 start=$(date +%s)
-DEMO_DIR=$T/demo DEMO_TIMEOUT=50 "$KELP_ROOT/scripts/demo-fleet.sh" "$BUILD" > demo.out 2>&1 || { tail -40 demo.out; fail "demo-fleet.sh failed"; }
+DEMO_DIR=$T/demo DEMO_TIMEOUT=50 KELP_DEMO_HEADLESS=1 "$KELP_ROOT/scripts/demo-fleet.sh" "$BUILD" > demo.out 2>&1 || { tail -40 demo.out; fail "demo-fleet.sh failed"; }
 el=$(( $(date +%s) - start ))
 sed -n '/^== summary/,$p' demo.out
 [ $el -le 60 ] || fail "the demo took ${el}s (more than a minute)"

@@ -26,7 +26,7 @@ rows() { sqlite3 "$1" "SELECT count(*) FROM $2"; }
 log=${M2S_DEMO_LOG:-}
 if [ -z "$log" ]; then
   [ -x "$BIN/pHelmIvP" ] || fail "pHelmIvP not built"
-  DEMO_DIR=$T/demo DEMO_TIMEOUT=30 "$KELP_ROOT/scripts/demo-fleet.sh" "$BUILD" > demo.out 2>&1 || { tail -20 demo.out; fail "demo-fleet.sh"; }
+  DEMO_DIR=$T/demo DEMO_TIMEOUT=30 KELP_DEMO_HEADLESS=1 "$KELP_ROOT/scripts/demo-fleet.sh" "$BUILD" > demo.out 2>&1 || { tail -20 demo.out; fail "demo-fleet.sh"; }
   log=$T/demo/shoreside.lcm
 fi
 "$BIN/kelp-logcheck" --print "$log" > log.txt 2> /dev/null || true

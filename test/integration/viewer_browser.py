@@ -179,8 +179,9 @@ def replay(url, out, live_json):
     res = {}
     try:
         d.get(url)
-        r = wait(d, "const S = window.kelpViewer; return S.replay && Object.keys(S.vehicles).length >= 1 && S.replay", 20,
-                 "the replay state and a vehicle")
+        # (the log starts with the recorders, before the vehicles are bridged to the shoreside:
+        # the vehicles are looked for by seeking, below)
+        r = wait(d, "const S = window.kelpViewer; return S.replay", 20, "the replay state")
         if d.find_element("id", "replay").get_attribute("hidden"):
             fail("replay controls hidden")
         span = r["t1"] - r["t0"]
@@ -209,22 +210,28 @@ def replay(url, out, live_json):
             if abs(w["x"] - v["x"]) + abs(w["y"] - v["y"]) > 80:
                 fail("%s: replay (%.1f, %.1f), live (%.1f, %.1f)" % (n, w["x"], w["y"], v["x"], v["y"]))
         # near the start (before DEPLOY): the vehicles at their start points, the slider there
-        at_start, _, slider = seek(0.05, "the replay at 5%")
+        # (the first 5 % step at which every vehicle is there, before the live check's time)
+        frac, fr_live = 0.05, (live["now"] - r["t0"]) / span
+        while True:
+            at_start, _, slider = seek(frac, "the replay at %d%%" % round(frac * 100))
+            if all(n in at_start["veh"] for n in live["veh"]) or frac + 0.05 >= fr_live - 0.05:
+                break
+            frac += 0.05
         moved = [n for n in live["veh"] if n in at_start["veh"] and
                  abs(at_start["veh"][n]["x"] - at_live["veh"][n]["x"]) + abs(at_start["veh"][n]["y"] - at_live["veh"][n]["y"]) > 1]
         if len(moved) < len(live["veh"]):
             fail("seeking back moved only %s: %s / %s" % (moved, at_start, at_live))
-        if abs(int(slider) - 50) > 10:
-            fail("slider at %s after seeking to 5%%" % slider)
+        if abs(int(slider) - round(frac * 1000)) > 10:
+            fail("slider at %s after seeking to %d%%" % (slider, round(frac * 100)))
         d.find_element("id", "play").click()
         t = d.execute_script("return window.kelpViewer.replay.t")
         wait(d, "const R = window.kelpViewer.replay; return R.playing && R.t > %f" % (t + 0.5), 8, "play to advance")
-        res = {"at_live": at_live, "at_start": at_start, "slider": slider}
+        res = {"at_live": at_live, "at_start": at_start, "slider": slider, "slider_frac": frac}
     finally:
         d.quit()
     json.dump(res, open(out, "w"), indent=1)
-    print("replay: paused, seeked to the live check's time (same reports) and back to 5%% (slider %s, %d vehicles back at"
-          " their starts), playing again" % (slider, len(moved)))
+    print("replay: paused, seeked to the live check's time (same reports) and back to %d%% (slider %s, %d vehicles back at"
+          " their starts), playing again" % (round(res["slider_frac"] * 100), res["slider"], len(res["at_start"]["veh"])))
 
 
 if __name__ == "__main__":

@@ -9,6 +9,10 @@
 #include <kelp/bus.h>
 #include <kelp/nodereport.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct kelp_plot_pt {
     double t, x, y, hdg, spd;
 } kelp_plot_pt;
@@ -94,5 +98,9 @@ KELP_MUST_CHECK int kelp_plot_color(const char *name, double rgb[3]);
 void kelp_plot_print_summary(const kelp_plot_scene *s, FILE *out);
 /** One line per pair of tracks: "closest NAME NAME D m at T s (x,y) (x,y)". */
 void kelp_plot_print_closest(const kelp_plot_scene *s, FILE *out);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -23,6 +23,10 @@
 #include <kelp/udpm.h>
 #include <kelp/err.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 #define KELP_UDPM_DEFAULT_RECV_BUF 4194304L   /**< SO_RCVBUF when the URL gives none (bytes) */
 #define KELP_UDPM_DEFAULT_QUEUE 16777216L     /**< receive queue when the URL gives none (bytes) */
 #define KELP_UDPM_REASM_SLOTS 8               /**< fragmented messages assembled at once */
@@ -59,5 +63,9 @@ KELP_MUST_CHECK int kelp_udpm_sock_next(kelp_udpm_sock *s, kelp_udpm_msg *out);
  *  size), KELP_ERR_IO. */
 KELP_MUST_CHECK int kelp_udpm_sock_publish(kelp_udpm_sock *s, const char *channel, const void *data, size_t len);
 void kelp_udpm_sock_get_stats(kelp_udpm_sock *s, kelp_udpm_sock_stats *out);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif
