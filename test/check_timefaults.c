@@ -508,6 +508,56 @@ START_TEST(nodecomms_step)
 }
 END_TEST
 
+/* ------------------------------------------------------------------ uFldMessageHandler */
+
+static kelp_field_umh umh;
+static char umh_rep[8192];
+
+/* a message to bravo every second, iterations every 0.25 s (AppTick 4) */
+static void umh_second(kelp_time t, const kelp_field_sink *out, int *most)
+{
+    ck_assert_int_eq(kelp_field_umh_mail(&umh, "NODE_MESSAGE", true,
+                                         "src_node=alpha,dest_node=bravo,var_name=FOO,string_val=x", t, out), 1);
+    for (int q = 0; q < 4; q++) {
+        int n = kelp_field_umh_iterate(&umh, t + 0.25 * q, out);
+        if (most && n > *most) *most = n;
+    }
+}
+
+/* every message is posted when it comes, summaries at most one per iteration, and the report's
+ * ages ("Time since last Msg", the table's Elapsed) are never negative */
+START_TEST(msghandler_step)
+{
+    double step = STEP[_i];
+    kelp_field_umh_cfg cfg;
+    kelp_field_umh_cfg_default(&cfg, "bravo");
+    kelp_field_umh_init(&umh, &cfg);
+    count_sink cs = { "FOO", 0, 0, false, NULL };
+    kelp_field_sink out = { &cs, count_pub, NULL };
+    kelp_time t = T0;
+    for (; t < T0 + 100; t += 1) umh_second(t, &out, NULL);
+    ck_assert_int_eq(cs.n, 100);
+    if (!isfinite(step)) {
+        ck_assert_int_eq(kelp_field_umh_mail(&umh, "NODE_MESSAGE", true,
+                                             "src_node=alpha,dest_node=bravo,var_name=FOO,string_val=x", step, &out),
+                         KELP_ERR_ARG);
+        ck_assert_int_eq(kelp_field_umh_iterate(&umh, step, &out), 0);
+    }
+    kelp_time from = t + offset_of(step);
+    /* the report right after the step, before any new message: no negative age */
+    ck_assert_uint_gt(kelp_field_umh_report(&umh, from, umh_rep, sizeof umh_rep), 0);
+    ck_assert_msg(strstr(umh_rep, "Msg: -") == NULL && strstr(umh_rep, "200    -") == NULL && strstr(umh_rep, "100    -") == NULL,
+                  "step %g: a negative age in the report:\n%s", step, umh_rep);
+    int most = 0;
+    for (int k = 0; k < 100; k++) umh_second(from + k, &out, &most);
+    ck_assert_int_eq(cs.n, 200);
+    ck_assert_int_le(most, 1);
+    ck_assert_uint_gt(kelp_field_umh_report(&umh, from + 100, umh_rep, sizeof umh_rep), 0);
+    ck_assert_msg(strstr(umh_rep, "Time since last Msg: 1.0\n") != NULL && strstr(umh_rep, "alpha   200    1.0 ") != NULL,
+                  "step %g: the ages in the report:\n%s", step, umh_rep);
+}
+END_TEST
+
 /* ------------------------------------------------------------------ the bus: retained values, sync, limits */
 
 static struct {
@@ -755,6 +805,7 @@ Suite *kelp_timefaults_suite(void)
     tc = tcase_create("field");
     tcase_add_loop_test(tc, timerscript_step, 0, NSTEP);
     tcase_add_loop_test(tc, nodecomms_step, 0, NSTEP);
+    tcase_add_loop_test(tc, msghandler_step, 0, NSTEP);
     tcase_add_loop_test(tc, viewer_step, 0, NSTEP);
     tcase_add_loop_test(tc, pathcheck_step, 0, NSTEP);
     tcase_add_loop_test(tc, nodereporter_step, 0, NSTEP);

@@ -560,6 +560,7 @@ typedef struct kelp_field_umh {
     bool summary_due;
     unsigned long iter;                      /* iterations, for 24.8's summary on 1, 101, 201, ... */
     double last_summary;
+    kelp_clock clock;                        /* the newest `now` seen (the time step rule) */
     char post[KELP_MAX_SVAL + 1];            /**< the string value being posted */
     kelp_diag diag;                          /**< workspace: why the last NODE_MESSAGE was invalid */
 } kelp_field_umh;

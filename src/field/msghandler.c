@@ -433,10 +433,25 @@ static int bad(kelp_field_umh *h, kelp_umh_list *l, unsigned long *ctr, const ch
     return KELP_ERR_ARG;
 }
 
+/* the time step rule (docs/ARCHITECTURE.md): a `now` that is no time is refused; after a step
+ * back the stored times move back by the step, so no age in the report is negative */
+static bool clock_ok(kelp_field_umh *h, kelp_time now)
+{
+    if (!kelp_time_ok(now)) return false;
+    double back = kelp_clock_back(&h->clock, now);
+    if (back > 0) {
+        if (h->last_msg >= 0) h->last_msg -= back;
+        h->last_summary -= back;
+        for (unsigned i = 0; i < h->nsrc; i++) h->src[i].last -= back;
+    }
+    return true;
+}
+
 int kelp_field_umh_mail(kelp_field_umh *h, const char *var, bool is_string, const char *sval, kelp_time now,
                         const kelp_field_sink *out)
 {
     if (strcmp(var, "NODE_MESSAGE") != 0) return 0;
+    if (!clock_ok(h, now)) return KELP_ERR_ARG;
     h->total++;
     h->last_msg = now;
     /* a double: 24.8 reads its (empty) string, an invalid message listed as "" */
@@ -487,6 +502,7 @@ int kelp_field_umh_mail(kelp_field_umh *h, const char *var, bool is_string, cons
 int kelp_field_umh_iterate(kelp_field_umh *h, kelp_time now, const kelp_field_sink *out)
 {
     /* MOOS-IvP 24.8: after an iteration with NODE_MESSAGE mail, and on iterations 1, 101, 201, ... */
+    if (!clock_ok(h, now)) return 0;
     h->iter++;
     if (!h->summary_due && h->iter % 100 != 1) return 0;
     char buf[128];
@@ -610,6 +626,7 @@ static void draw(table *t, const char *c, size_t n)
 size_t kelp_field_umh_report(kelp_field_umh *h, kelp_time now, char *buf, size_t cap)
 {
     if (!buf || !cap) return 0;
+    if (!clock_ok(h, now)) now = h->clock.last; /* a `now` that is no time: the newest one seen */
     outbuf o = { buf, cap, 0 };
     buf[0] = 0;
     h->reports++;
