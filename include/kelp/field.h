@@ -100,7 +100,7 @@ typedef struct kelp_field_nrep_cfg {
     bool allow_color_change;               /**< NODE_COLOR_CHANGE may change COLOR */
     bool coord_global;                     /**< COORD_POLICY_GLOBAL: no X/Y in reports */
     bool dep_key;                          /**< depth written as DEP= (default; DEPTH_KEY = DEPTH: DEPTH=) */
-    bool seed_format;                      /**< the seed's layout (fixed decimals) instead of 24.8's */
+    bool seed_format;                      /**< the 2012 uField layout (fixed decimals) instead of 24.8's */
     double hdg_error;                      /**< HDG_ERROR: degrees added to the reported heading */
     kelp_nrep_fill fill;                   /**< CROSS_FILL_POLICY (needs the datum) */
     bool extrap;                           /**< EXTRAP_ENABLED: skip reports a receiver can extrapolate */
