@@ -132,9 +132,17 @@ START_TEST(value_string_forms)
     kelp_dccl_val_set_double(&v, 1e20, 15);
     (void)kelp_dccl_val_to_str(&v, s, sizeof s, NULL);
     ck_assert_str_eq(s, "1e+20");
+    /* a negative precision: the C++ stream's default, 6, as Goby 1.1 prints it (fixed while
+     * log10(|d|) + precision <= 15) */
     kelp_dccl_val_set_double(&v, 1230, -1);
     (void)kelp_dccl_val_to_str(&v, s, sizeof s, NULL);
-    ck_assert_str_eq(s, "1230");
+    ck_assert_str_eq(s, "1230.000000");
+    kelp_dccl_val_set_double(&v, 0, -2);
+    (void)kelp_dccl_val_to_str(&v, s, sizeof s, NULL);
+    ck_assert_str_eq(s, "0.000000");
+    kelp_dccl_val_set_double(&v, 1e20, -1);
+    (void)kelp_dccl_val_to_str(&v, s, sizeof s, NULL);
+    ck_assert_str_eq(s, "1e+20");
     kelp_dccl_val_set_long(&v, -5);
     (void)kelp_dccl_val_to_str(&v, s, sizeof s, NULL);
     ck_assert_str_eq(s, "-5");

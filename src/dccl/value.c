@@ -355,11 +355,14 @@ size_t dccl_fmt_g(double d, int prec, char *out, size_t cap)
 #endif
 
 /* MessageVal::get(std::string&) for doubles: fixed with `precision` decimals when
- * log10(|d|) + precision <= 15, else %.{precision}g; a negative precision comes
- * back as a negative stream precision, i.e. %g. */
+ * log10(|d|) + precision <= 15, else %.{precision}g. A negative precision comes back as a
+ * negative stream precision, which the C++ library takes as its default, 6, in either
+ * notation: 0 -> "0.000000", 1230 -> "1230.000000", 1e20 -> "1e+20". */
 static size_t dbl_to_str(double d, int p, char *out, size_t cap)
 {
-    if (p < 0) return dccl_fmt_g(d, -1, out, cap);
+    if (p < 0)
+        return log10(fabs(d)) + p <= KELP_DCCL_MAX_DBL_PRECISION ? dccl_fmt_fixed(d, 6, out, cap)
+                                                                 : dccl_fmt_g(d, 6, out, cap);
     if (log10(fabs(d)) + p <= KELP_DCCL_MAX_DBL_PRECISION) return dccl_fmt_fixed(d, p, out, cap);
     return dccl_fmt_g(d, p, out, cap);
 }
