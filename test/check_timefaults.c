@@ -558,6 +558,44 @@ START_TEST(msghandler_step)
 }
 END_TEST
 
+/* ------------------------------------------------------------------ uFldNodeBroker's pings */
+
+static kelp_field_nbroker nb;
+
+/* 24.8's model: with no ack, a NODE_BROKER_PING_0 every 5 s (KELP_BROKER_PING_FAST) */
+START_TEST(nodebroker_step)
+{
+    double step = STEP[_i];
+    kelp_field_nbroker_cfg cfg;
+    kelp_diag why = {0};
+    kelp_field_nbroker_cfg_default(&cfg);
+    ck_assert_int_eq(kelp_field_nbroker_config(&cfg, "TRY_SHORE_HOST", "pshare_route=198.51.100.1:9300", &why), 1);
+    kelp_field_nbroker_init(&nb, &cfg);
+    count_sink cs = { "NODE_BROKER_PING_0", 0, 0, false, NULL };
+    kelp_field_sink out = { &cs, count_pub, NULL };
+    const char *phi = "community=alpha,hostip=198.51.100.2,port_db=9000,port_udp=9301,"
+                      "pshare_iroutes=198.51.100.2:9301,timewarp=1";
+    kelp_time t = T0;
+    ck_assert_int_eq(kelp_field_nbroker_mail(&nb, "PHI_HOST_INFO", true, phi, t, &out), 1);
+    for (; t < T0 + 100; t += 0.25) (void)kelp_field_nbroker_iterate(&nb, t, &out);
+    ck_assert_int_ge(cs.n, 18);
+    if (!isfinite(step)) {
+        ck_assert_int_eq(kelp_field_nbroker_mail(&nb, "PHI_HOST_INFO", true, phi, step, &out), KELP_ERR_ARG);
+        ck_assert_int_eq(kelp_field_nbroker_iterate(&nb, step, &out), 0);
+    }
+    kelp_time from = t + offset_of(step);
+    int n0 = cs.n, first = -1, most = 0;
+    for (int k = 0; k < 400; k++) {
+        int n = cs.n;
+        (void)kelp_field_nbroker_iterate(&nb, from + 0.25 * k, &out);
+        if (cs.n - n > most) most = cs.n - n;
+        if (cs.n > n && first < 0) first = k;
+    }
+    ck_assert_msg(first >= 0 && first * 0.25 <= 5.25, "step %g: first ping %.2f s after the step", step, first * 0.25);
+    ck_assert_msg(most <= 1 && cs.n - n0 <= 21, "step %g: %d pings in 100 s (%d in one iteration)", step, cs.n - n0, most);
+}
+END_TEST
+
 /* ------------------------------------------------------------------ the bus: retained values, sync, limits */
 
 static struct {
@@ -806,6 +844,7 @@ Suite *kelp_timefaults_suite(void)
     tcase_add_loop_test(tc, timerscript_step, 0, NSTEP);
     tcase_add_loop_test(tc, nodecomms_step, 0, NSTEP);
     tcase_add_loop_test(tc, msghandler_step, 0, NSTEP);
+    tcase_add_loop_test(tc, nodebroker_step, 0, NSTEP);
     tcase_add_loop_test(tc, viewer_step, 0, NSTEP);
     tcase_add_loop_test(tc, pathcheck_step, 0, NSTEP);
     tcase_add_loop_test(tc, nodereporter_step, 0, NSTEP);

@@ -772,6 +772,7 @@ typedef struct kelp_field_nbroker {
     /* 24.8's model */
     kelp_broker_shore sh[KELP_BROKER_MAX_TRY]; /**< per valid try host, config order */
     double ping_at, ok_ack_at;                 /**< last ping, last valid ack (long ago at start) */
+    kelp_clock clock;                          /**< the newest `now` seen (the time step rule) */
     unsigned long pshare_cmds;
     char ws[KELP_MAX_SVAL];                    /**< workspace of one call (keeps the stack under 1 KB) */
     kelp_broker_host ws_host;                  /**< workspace: a record being parsed */

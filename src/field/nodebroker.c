@@ -525,14 +525,31 @@ static int report24(const kelp_field_nbroker *b, char *buf, size_t cap)
     return full ? KELP_ERR_NOSPACE : KELP_OK;
 }
 
+/* the time step rule (docs/ARCHITECTURE.md): a `now` that is no time is refused; after a step
+ * back every stored time moves back by the step, so each wait (ping interval, retry, the host
+ * info request) keeps what remained of it instead of stalling for the step */
+static bool clock_ok(kelp_field_nbroker *b, kelp_time now)
+{
+    if (!kelp_time_ok(now)) return false;
+    double back = kelp_clock_back(&b->clock, now);
+    if (back > 0) {
+        double *t[] = { &b->host_req_at, &b->routes_at, &b->last_ack, &b->ping_at, &b->ok_ack_at };
+        for (size_t i = 0; i < sizeof t / sizeof t[0]; i++)
+            if (*t[i] > -KELP_TIME_LIMIT && *t[i] != -1) *t[i] -= back; /* not "never" (-1, -1e300) */
+    }
+    return true;
+}
+
 int kelp_field_nbroker_mail(kelp_field_nbroker *b, const char *var, bool is_string, const char *sval, kelp_time now,
                             const kelp_field_sink *out)
 {
+    if (!clock_ok(b, now)) return KELP_ERR_ARG;
     return b->cfg.pmb ? seed_mail(b, var, is_string, sval, now, out) : mail24(b, var, is_string, sval, now, out);
 }
 
 int kelp_field_nbroker_iterate(kelp_field_nbroker *b, kelp_time now, const kelp_field_sink *out)
 {
+    if (!clock_ok(b, now)) return 0;
     b->iterations++;
     return b->cfg.pmb ? seed_iterate(b, now, out) : iterate24(b, now, out);
 }
