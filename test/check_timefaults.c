@@ -596,6 +596,51 @@ START_TEST(nodebroker_step)
 }
 END_TEST
 
+/* ------------------------------------------------------------------ uFldShoreBroker's passes */
+
+static kelp_field_sbroker sbk;
+
+/* 24.8's model: a vehicle pings every 5 s; the shore's bridge-request passes (PSHARE_CMD) come
+ * at a gap growing by 3 s a pass; after a step the next pass is at most one gap away */
+START_TEST(shorebroker_step)
+{
+    double step = STEP[_i];
+    kelp_field_sbroker_cfg cfg;
+    kelp_diag why = {0};
+    kelp_field_sbroker_cfg_default(&cfg);
+    ck_assert_int_eq(kelp_field_sbroker_config(&cfg, "QBRIDGE", "DEPLOY", &why), 1);
+    kelp_field_sbroker_init(&sbk, &cfg);
+    count_sink cs = { "PSHARE_CMD", 0, 0, false, NULL };
+    kelp_field_sink out = { &cs, count_pub, NULL };
+    const char *phi = "community=shoreside,hostip=10.0.0.1,port_db=9000,port_udp=9300,pshare_iroutes=10.0.0.1:9300,"
+                      "hostip_alts=,timewarp=1";
+    const char *ping = "community=alpha,hostip=10.0.0.2,port_db=9001,port_udp=9201,pshare_iroutes=10.0.0.2:9201,"
+                       "timewarp=1,time=0,key=0";
+    kelp_time t = T0;
+    ck_assert_int_eq(kelp_field_sbroker_mail(&sbk, "PHI_HOST_INFO", true, phi, t, &out), 1);
+    for (int k = 0; k < 200; k++, t += 0.5) {
+        if (k % 10 == 0) ck_assert_int_ge(kelp_field_sbroker_mail(&sbk, "NODE_BROKER_PING", true, ping, t, &out), 0);
+        (void)kelp_field_sbroker_iterate(&sbk, t, &out);
+    }
+    ck_assert_int_gt(cs.n, 0);
+    double gap = sbk.cmd_interval;
+    if (!isfinite(step)) {
+        ck_assert_int_eq(kelp_field_sbroker_mail(&sbk, "NODE_BROKER_PING", true, ping, step, &out), KELP_ERR_ARG);
+        ck_assert_int_eq(kelp_field_sbroker_iterate(&sbk, step, &out), 0);
+    }
+    kelp_time from = t + offset_of(step);
+    int first = -1;
+    for (int k = 0; k < 400; k++) {
+        int n = cs.n;
+        if (k % 10 == 0) ck_assert_int_ge(kelp_field_sbroker_mail(&sbk, "NODE_BROKER_PING", true, ping, from + 0.5 * k, &out), 0);
+        (void)kelp_field_sbroker_iterate(&sbk, from + 0.5 * k, &out);
+        if (cs.n > n && first < 0) first = k;
+    }
+    ck_assert_msg(first >= 0 && first * 0.5 <= gap + 0.5, "step %g: first pass %.1f s after the step (gap %.0f s)", step,
+                  first * 0.5, gap);
+}
+END_TEST
+
 /* ------------------------------------------------------------------ the bus: retained values, sync, limits */
 
 static struct {
@@ -845,6 +890,7 @@ Suite *kelp_timefaults_suite(void)
     tcase_add_loop_test(tc, nodecomms_step, 0, NSTEP);
     tcase_add_loop_test(tc, msghandler_step, 0, NSTEP);
     tcase_add_loop_test(tc, nodebroker_step, 0, NSTEP);
+    tcase_add_loop_test(tc, shorebroker_step, 0, NSTEP);
     tcase_add_loop_test(tc, viewer_step, 0, NSTEP);
     tcase_add_loop_test(tc, pathcheck_step, 0, NSTEP);
     tcase_add_loop_test(tc, nodereporter_step, 0, NSTEP);

@@ -856,6 +856,7 @@ typedef struct kelp_field_sbroker {
     char last_register[KELP_BROKER_MSG];
     /* 24.8's model */
     double cmd_at, cmd_interval;          /**< bridge requests: last pass, the gap to the next */
+    kelp_clock clock;                     /**< the newest `now` seen (the time step rule) */
     bool ack_bridge;                      /**< NODE_BROKER_ACK_$V -> NODE_BROKER_ACK listed */
     unsigned long pshare_cmds, tests;     /**< PSHARE_CMD posted, PSHARE_TEST count */
     char summary[KELP_BROKER_SUMMARY];    /**< the last PSHARE_OUTPUT_SUMMARY */

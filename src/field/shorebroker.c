@@ -723,14 +723,32 @@ static int report24(const kelp_field_sbroker *s, kelp_time now, char *buf, size_
     return full ? KELP_ERR_NOSPACE : KELP_OK;
 }
 
+/* the time step rule (docs/ARCHITECTURE.md): a `now` that is no time is refused; after a step
+ * back every stored time of this clock moves back by the step (the bridge-request pass, the
+ * counts, the vehicles' last pings: none stalls or goes stale for the step) */
+static bool clock_ok(kelp_field_sbroker *s, kelp_time now)
+{
+    if (!kelp_time_ok(now)) return false;
+    double back = kelp_clock_back(&s->clock, now);
+    if (back > 0) {
+        double *t[] = { &s->host_req_at, &s->vnode_reg_at, &s->vnode_post_at, &s->count_at, &s->cmd_at };
+        for (size_t i = 0; i < sizeof t / sizeof t[0]; i++)
+            if (*t[i] > -KELP_TIME_LIMIT && *t[i] != -1) *t[i] -= back; /* not "never" (-1, -1e300) */
+        for (unsigned i = 0; i < s->nnodes; i++) s->node[i].last_ping -= back;
+    }
+    return true;
+}
+
 int kelp_field_sbroker_mail(kelp_field_sbroker *s, const char *var, bool is_string, const char *sval, kelp_time now,
                             const kelp_field_sink *out)
 {
+    if (!clock_ok(s, now)) return KELP_ERR_ARG;
     return s->cfg.pmb ? seed_mail(s, var, is_string, sval, now, out) : mail24(s, var, is_string, sval, now, out);
 }
 
 int kelp_field_sbroker_iterate(kelp_field_sbroker *s, kelp_time now, const kelp_field_sink *out)
 {
+    if (!clock_ok(s, now)) return 0;
     s->iterations++;
     return s->cfg.pmb ? seed_iterate(s, now, out) : iterate24(s, now, out);
 }
