@@ -17,8 +17,8 @@ sleep 1
 $BIN/kelp-launch --run-seconds 120 --log-dir logs alpha.moos > launch.out 2>&1 & LP=$!; PIDS+=($LP)
 # the survey and the return take about 180 s of MOOS time: 18 s at warp 10 (up to a minute on a
 # loaded machine; the launcher's own limit is beyond that)
-for i in $(seq 1 120); do
-  sleep 0.5
+for i in $(seq 1 40); do
+  sleep 2 # each look decodes the whole log: not too often
   $BIN/kelp-logcheck run.lcm --print 2>/dev/null | grep -qE " pHelmIvP MISSION complete$" && break
 done
 sleep 0.5
