@@ -313,7 +313,13 @@ def compare(scn, golden_dir, kelp_dir):
             # a comms pulse's far end is the target's latest position when the relay is made: the
             # same pulse one report of the target earlier or later is the iteration's phase
             if scn.startswith("nodecomms_") and var == "VIEW_COMMS_PULSE":
-                miss, extra = pair_pulses(miss, extra, report_index(G), report_index(K), tol)
+                gi, ki = report_index(G), report_index(K)
+                miss, extra = pair_pulses(miss, extra, gi, ki, tol)
+                # a pulse goes with a relay: a pulse of a report the other side relayed to no one
+                # (two of its reports in one iteration) is the same phase as above
+                gt, kt = report_times(Gr), report_times(Kr)
+                miss = [r for r in miss if not pulse_unrelayed(r, gi, kt, Kr, report_half)]
+                extra = [r for r in extra if not pulse_unrelayed(r, ki, gt, Gr, report_half)]
             # the window's end: a posting within tol of it may fall either side
             miss = [r for r in miss if r["t"] <= dur - tol]
             extra = [r for r in extra if r["t"] <= dur - tol]
@@ -350,6 +356,32 @@ def report_index(rows):
                 out.setdefault((round(float(f["X"]), 2), round(float(f["Y"]), 2)), (f["NAME"], n[f["NAME"]]))
                 n[f["NAME"]] += 1
     return out
+
+
+def report_times(rows):
+    """(vehicle, index of its report) -> the report's TIME (after rel()), over the driver's node
+    reports, counted as report_index counts them."""
+    out, n = {}, collections.Counter()
+    for r in rows:
+        if r["src"] == "driver" and r["var"] == "NODE_REPORT" and r["type"] == "string":
+            rid = report_id(r["val"])
+            if rid:
+                out[(rid[0], n[rid[0]])] = rid[1]
+                n[rid[0]] += 1
+    return out
+
+
+def pulse_unrelayed(r, idx, other_times, other_rows, half):
+    """Whether the report a pulse starts from was relayed to no one on the other side."""
+    d = dict(kv_pairs(r["val"]) or [])
+    try:
+        src = idx.get((round(float(d.get("sx", "nan")), 2), round(float(d.get("sy", "nan")), 2)))
+    except ValueError:
+        return False
+    t = other_times.get(src) if src else None
+    if t is None:
+        return False
+    return not relayed_anywhere(other_rows, {"type": "string", "val": "NAME=%s,TIME=%.6f" % (src[0], t)}, half)
 
 
 def pair_pulses(miss, extra, gidx, kidx, tol):
