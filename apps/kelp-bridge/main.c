@@ -6,7 +6,6 @@
  * received datagrams may publish here). A bridged variable is never forwarded again, a route
  * is added once, a replayed datagram is refused (kelp/bridge.h); the datagrams are kelp's. */
 #include <errno.h>
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -66,24 +65,13 @@ static void send_route(kelp_app *app, bridge *b, size_t i, const kelp_var *v, do
     else b->tx++, b->sent[i]++, b->share[i].done++, b->share[i].last_sent = now;
 }
 
-/* 24.8: stating a route again resets its limits and its clock; with duration = 0 it shares
- * the latest value once */
+/* 24.8: stating a route again resets its limits and its clock (kelp_bridge_share_restate) */
 static void restate_route(kelp_app *app, bridge *b, const kelp_bridge_route *r)
 {
-    for (size_t i = 0; i < b->nroutes; i++) {
-        kelp_bridge_route *q = &b->rt[i];
-        if (strcmp(q->src, r->src) != 0 || strcmp(q->alias, r->alias) != 0 || q->multicast != r->multicast ||
-            q->port != r->port || strcmp(q->host, r->host) != 0)
-            continue;
-        q->limited = r->limited, q->frequency = r->frequency, q->duration = r->duration, q->max_shares = r->max_shares;
-        b->share[i] = (kelp_bridge_share){ .created = kelp_app_time(app) };
-        if (r->limited && r->duration == 0) {
-            q->max_shares = 1, q->duration = INFINITY;
-            const kelp_var *v = kelp_bus_cached(kelp_app_bus(app), r->src);
-            if (v) send_route(app, b, i, v, kelp_app_time(app));
-        }
-        return;
-    }
+    long i = kelp_bridge_table_find(b->rt, b->nroutes, r);
+    if (i < 0 || !kelp_bridge_share_restate(&b->rt[i], &b->share[i], r, kelp_app_time(app))) return;
+    const kelp_var *v = kelp_bus_cached(kelp_app_bus(app), r->src);
+    if (v) send_route(app, b, (size_t)i, v, kelp_app_time(app));
 }
 
 static int add_route(kelp_app *app, bridge *b, const kelp_bridge_route *r)

@@ -120,6 +120,11 @@ int kelp_bridge_pshare_cmd(const char *s);
  *  PSHARE_INPUT_SUMMARY (input true): "host:port,<addr>:<port>:multicast_N" in address order.
  *  @return 0 or KELP_ERR_NOSPACE (cut). */
 KELP_MUST_CHECK int kelp_bridge_pshare_summary(const kelp_bridge_route *r, size_t n, bool input, char *buf, size_t cap);
+/** The index of the route with r's src, alias and destination in tab, or -1. */
+long kelp_bridge_table_find(const kelp_bridge_route *tab, size_t n, const kelp_bridge_route *r);
+/** A route stated again (24.8): q takes r's limits and s starts over at now. @return true when
+ *  r has duration = 0: q then shares the latest value once (max_shares 1, no end). */
+bool kelp_bridge_share_restate(kelp_bridge_route *q, kelp_bridge_share *s, const kelp_bridge_route *r, double now);
 /** Add r to a route table unless the same src, alias and destination is there.
  *  @return 1 added, 0 there already, KELP_ERR_NOSPACE full. */
 KELP_MUST_CHECK int kelp_bridge_table_add(kelp_bridge_route *tab, size_t *n, size_t cap, const kelp_bridge_route *r);

@@ -560,14 +560,29 @@ int kelp_bridge_pshare_summary(const kelp_bridge_route *r, size_t n, bool input,
     return len + 1 >= cap ? KELP_ERR_NOSPACE : KELP_OK;
 }
 
-int kelp_bridge_table_add(kelp_bridge_route *tab, size_t *n, size_t cap, const kelp_bridge_route *r)
+long kelp_bridge_table_find(const kelp_bridge_route *tab, size_t n, const kelp_bridge_route *r)
 {
-    for (size_t i = 0; i < *n; i++) {
+    for (size_t i = 0; i < n; i++) {
         const kelp_bridge_route *o = &tab[i];
         if (strcmp(o->src, r->src) == 0 && strcmp(o->alias, r->alias) == 0 && strcmp(o->host, r->host) == 0 &&
             o->port == r->port && o->multicast == r->multicast)
-            return 0;
+            return (long)i;
     }
+    return -1;
+}
+
+bool kelp_bridge_share_restate(kelp_bridge_route *q, kelp_bridge_share *s, const kelp_bridge_route *r, double now)
+{
+    q->limited = r->limited, q->frequency = r->frequency, q->duration = r->duration, q->max_shares = r->max_shares;
+    *s = (kelp_bridge_share){ .created = now };
+    if (!(r->limited && r->duration == 0)) return false;
+    q->max_shares = 1, q->duration = INFINITY;
+    return true;
+}
+
+int kelp_bridge_table_add(kelp_bridge_route *tab, size_t *n, size_t cap, const kelp_bridge_route *r)
+{
+    if (kelp_bridge_table_find(tab, *n, r) >= 0) return 0;
     if (*n >= cap) return KELP_ERR_NOSPACE;
     tab[(*n)++] = *r;
     return 1;
