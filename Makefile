@@ -217,23 +217,19 @@ firmware:
 cross:
 	@scripts/cross.sh $(ARCH)
 
-# Left out under ASan (each runs in make test): can_vm, whose microVM runs a static program and
-# the plain build's apps, never the ASan binaries; and the long, sleep-bound variants whose
-# programs another test already runs under ASan: acomms_e2e_loss and acomms_e2e_polled
-# (acomms_e2e, poller), basic_ccl and btr_ctd (ccl_and_dccl), encounter (contactmgr,
-# helm_spawn, ufield_fleet), fleet_demo (the same apps in their own tests), commander_console
-# (commander); spy_xvfb, whose subject is lcm-spy (Java) and the kelp-spy script (the
-# mission's apps run under ASan in alder_mission); viewer_browser (the fleet demo again, with
-# Chromium; kelp-viewer's server runs under ASan in viewer_http); udpm_interop, whose subject is
-# throughput against liblcm (ASan's slowdown drops 200 kB bursts; the same receive and
-# reassembly paths run under ASan in udpm_attack and the fuzz targets); moos248_mission (five apps
-# at MOOSTimeWarp 10 for 250 MOOS s: under ASan it starves the tests beside it; the same apps run
-# under ASan in sim_apps, pid_survey, helm_basic and timerscript); acomms_clockstep (a minute of
-# a modem pair whose subject, the MAC and queue through clock steps, runs under ASan in the
-# timefaults suite and acomms_e2e). Override with
-# KELP_ASAN_IT_SKIP.
-KELP_ASAN_IT_SKIP ?= can_vm acomms_e2e_loss acomms_e2e_polled basic_ccl btr_ctd encounter fleet_demo commander_console \
-                     spy_xvfb viewer_browser udpm_interop moos248_mission acomms_clockstep
+# The integration tests that run again under ASan + UBSan (each runs plainly in make test): the
+# ones that put bad or hostile input into the apps and their edge code (bad_input, udpm_attack,
+# app_faults, launch_faults, the replayed and serial modem paths, the logs), and one short test
+# for each app family (bus, field tools, helm, acomms codecs, viewer, bridge). The long,
+# sleep-bound variants (acomms_e2e*, encounter, the fleet demo, the 24.8 mission, moos2sql,
+# the browser and Xvfb tests) repeat these programs for minutes of simulated time and stay in
+# make test only; the core under them runs under ASan in the unit suites (timefaults included)
+# and in the fuzz targets. Override with KELP_ASAN_IT="name ...".
+KELP_ASAN_IT ?= bad_input udpm_attack app_faults launch_faults bus_burst lcm_log alog_roundtrip alog2rng \
+                acomms_handler_replay acomms_handler_serialport acomms_handler_modem modemsim_pty premuscodec \
+                general_codec poller dccl_gen commander nodecomms msghandler_scope hostinfo late_registrant \
+                communities_isolated contactmgr hazards beacons timerscript helm_basic helm_spawn kelp_ivp_cpa \
+                viewer_http bridge_two_hosts pshare_multicast sim_apps
 # asan = asan-build then asan-test (CI builds while the plain tests run)
 asan: asan-build
 	@$(MAKE) --no-print-directory asan-test
@@ -245,10 +241,10 @@ asan-build:
 
 asan-test:
 	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-	  KELP_IT_SKIP="$(KELP_ASAN_IT_SKIP)" scripts/run-tests.sh build-asan
+	  KELP_IT_ONLY="$(KELP_ASAN_IT)" scripts/run-tests.sh build-asan
 
 lint:
-	@scripts/lint.sh
+	@LINT_ANALYZER=$(or $(LINT_ANALYZER),deep) scripts/lint.sh
 
 fuzz:
 	@FUZZ_SECONDS=$(FUZZ_SECONDS) scripts/fuzz.sh $(FUZZERS)

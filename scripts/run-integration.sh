@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Run each test/integration/*.sh, several at a time (KELP_IT_JOBS, default 3): every test
 # makes its own network namespace(s) and LCM port, so they cannot hear each other.
-# KELP_IT=pattern runs a subset; KELP_IT_SKIP="name ..." leaves those out. Each test's output is kept and shown when it fails.
+# KELP_IT=pattern runs a subset; KELP_IT_ONLY="name ..." runs just those; KELP_IT_SKIP="name ..." leaves those out. Each test's output is kept and shown when it fails.
 set -uo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 export BUILD=${BUILD:-$here/build} KELP_ROOT=$here
@@ -13,6 +13,7 @@ for t in "$here"/test/integration/*.sh; do
   n=$(basename "$t" .sh)
   case "$n" in lib*) continue ;; esac
   [ -n "${KELP_IT:-}" ] && [[ "$n" != *${KELP_IT}* ]] && continue
+  if [ -n "${KELP_IT_ONLY:-}" ] && [[ " $KELP_IT_ONLY " != *" $n "* ]]; then continue; fi
   if [[ " ${KELP_IT_SKIP:-} " == *" $n "* ]]; then echo "SKIP $n (KELP_IT_SKIP: it runs in make test)"; continue; fi
   tests+=("$t")
 done

@@ -806,6 +806,7 @@ def run(args):
     used_open = set()
     table = []
     status = 0
+    failing = []
     for scn in args.scenarios:
         figs = compare(scn, args.golden, args.kelp)
         gated = any(fnmatch.fnmatch(scn, g) for g in GATED)
@@ -830,6 +831,7 @@ def run(args):
                 nopen += 1
             elif gated:
                 status = 1
+                failing.append("%s %s: %s" % (scn, f.fid, f.detail))
             print("   %-6s %s: %s" % (tag, f.fid, f.detail))
         table.append((scn, len(figs), agreed, listed, nopen, gated))
     print()
@@ -848,6 +850,9 @@ def run(args):
     for i, o in enumerate(opened):
         if i not in used_open and any(fnmatch.fnmatch(s, o[0]) for s in args.scenarios):
             print("note: test/conformance/open.txt line no longer needed: %s %s" % o)
+    # the gated differences again, last, where a log's tail shows them
+    for line in failing:
+        print("DIFF (gated) %s" % line)
     print("conformance: %s" % ("PASS" if status == 0 else "FAIL (a gated figure differs and is neither an upstream defect in docs/CONFORMANCE.md nor open in test/conformance/open.txt)"))
     return status
 
