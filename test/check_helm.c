@@ -878,6 +878,46 @@ START_TEST(duration_expiry)
 }
 END_TEST
 
+/* The time step rule (docs/ARCHITECTURE.md): a clock step is not helm time. Before it, +1 h
+ * completed every behaviour with a duration at once; -1 h stalled them for an hour (elapsed
+ * time negative) and reported a duration status above the duration itself. */
+START_TEST(duration_across_clock_steps)
+{
+    ht_setup(DOM2, probe_types);
+    ht_load("Behavior = BHV_Probe\n{\n name = p\n duration = 100\n duration_status = DS\n"
+            " condition = GO = 1\n}\n");
+    kelp_helm_mail_double(&g_h, "GO", 1);
+    for (int t = 0; t <= 5; t++) ht_iter(t); /* the clock started at 0: 5 s used */
+    unsigned long it = g_h.iteration;
+    /* NaN, an infinity, an absurd time: refused, nothing changes */
+    ck_assert_int_eq(kelp_helm_iterate(&g_h, NAN), KELP_ERR_ARG);
+    ck_assert_int_eq(kelp_helm_iterate(&g_h, INFINITY), KELP_ERR_ARG);
+    ck_assert_int_eq(kelp_helm_iterate(&g_h, 1e300), KELP_ERR_ARG);
+    ck_assert_uint_eq(g_h.iteration, it);
+    /* +1 h: still running, 95 s left, one iteration's postings */
+    ht_iter(3605);
+    ck_assert_int_eq(bhv("p")->state, KELP_BHV_RUNNING);
+    ck_assert_uint_eq(g_h.clock_steps, 1);
+    ht_iter(3606); /* one second of helm time since the step */
+    ck_assert_uint_eq(ht_count("DS"), 1);
+    ck_assert_double_eq_tol(ht_num("DS"), 94, 1e-9);
+    for (int t = 3607; t < 3695; t++) ht_iter(t);
+    ck_assert_int_eq(bhv("p")->state, KELP_BHV_RUNNING);
+    /* -1 h (10 s used since the step): no stall, no status above the duration */
+    ht_iter(95); /* helm time carries on at 5 + 89 = 94 s */
+    ck_assert_int_eq(bhv("p")->state, KELP_BHV_RUNNING);
+    ck_assert_uint_eq(g_h.clock_steps, 2);
+    ht_iter(96);
+    ck_assert_double_eq_tol(ht_num("DS"), 5, 1e-9); /* helm time 95 */
+    for (int t = 97; t <= 100; t++) ht_iter(t); /* helm time 99 */
+    ck_assert_int_eq(bhv("p")->state, KELP_BHV_RUNNING);
+    ht_iter(101);
+    ck_assert_int_eq(bhv("p")->state, KELP_BHV_COMPLETED); /* 100 s of helm time */
+    /* +1 s is time, not a step */
+    ck_assert_uint_eq(g_h.clock_steps, 2);
+}
+END_TEST
+
 START_TEST(duration_keeps_ticking_while_idle)
 {
     ht_setup(DOM2, probe_types);
@@ -1326,6 +1366,7 @@ Suite *kelp_helm_suite(void)
     tcase_add_test(tc, summary_goal_domain_halt);
     tcase_add_test(tc, flags_runx_config_spawnx);
     tcase_add_test(tc, duration_expiry);
+    tcase_add_test(tc, duration_across_clock_steps);
     tcase_add_test(tc, duration_keeps_ticking_while_idle);
     tcase_add_test(tc, duration_idle_decay_false_pauses);
     tcase_add_test(tc, duration_status_rounding);

@@ -39,6 +39,32 @@ static kelp_ivp_func spec_func(const char *dom, const char *spec)
 }
 
 /* ---------------------------------------------------------------- domain (tests 1-4) */
+/* the tiling check answers no to a gap, an overlap, a piece outside the domain */
+START_TEST(tiles_gap_overlap_outside)
+{
+    kelp_ivp_domain d;
+    kelp_diag e = {0};
+    ck_assert_int_eq(kelp_ivp_domain_parse(&d, "x:0:9:10,y:0:4:5", &e), 0);
+    kelp_ivp_piece store[8];
+    kelp_ivp_func f;
+    const double sl[2] = {0, 0};
+    const int32_t lo1[2] = {0, 0}, hi1[2] = {4, 4}, lo2[2] = {5, 0}, hi2[2] = {9, 4};
+    ck_assert_int_eq(kelp_ivp_func_init(&f, &d, store, 8), 0);
+    ck_assert_int_eq(kelp_ivp_func_add(&f, lo1, hi1, sl, 1), 0);
+    ck_assert(!kelp_ivp_func_tiles(&f)); /* half the domain */
+    ck_assert_int_eq(kelp_ivp_func_add(&f, lo2, hi2, sl, 2), 0);
+    ck_assert(kelp_ivp_func_tiles(&f)); /* two halves */
+    /* an overlap that keeps the volume: x 0..5 and 5..9 on row 0 miss (4,0)... as bounds */
+    store[0].hi[0] = 5;
+    store[1].lo[0] = 5, store[1].hi[1] = 3; /* volumes 30 + 20 = 50, (5,0) twice, (5..9,4) never */
+    ck_assert(!kelp_ivp_func_tiles(&f));
+    store[0].hi[0] = 4, store[1].lo[0] = 5, store[1].hi[1] = 4;
+    ck_assert(kelp_ivp_func_tiles(&f));
+    store[1].hi[0] = 10; /* outside the domain */
+    ck_assert(!kelp_ivp_func_tiles(&f));
+}
+END_TEST
+
 START_TEST(domain_listing16)
 {
     kelp_ivp_domain d;
@@ -589,6 +615,7 @@ Suite *kelp_ivp_suite(void)
     Suite *s = suite_create("ivp");
     TCase *tc = tcase_create("core");
     tcase_add_test(tc, domain_listing16);
+    tcase_add_test(tc, tiles_gap_overlap_outside);
     tcase_add_test(tc, domain_values_and_snap);
     tcase_add_loop_test(tc, domain_bad_text, 0, (int)(sizeof bad_domains / sizeof bad_domains[0]));
     tcase_add_test(tc, strings_shape_point_region);

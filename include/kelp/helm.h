@@ -33,6 +33,7 @@
 #include <kelp/err.h>
 #include <kelp/ivp.h>
 #include <kelp/mission.h>
+#include <kelp/util.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -595,7 +596,9 @@ struct kelp_helm {
     unsigned nfilter;
     bool engaged;
     bool started;
-    double t0;
+    double t0;                      /* MOOS time of helm time 0; moved by a clock step (below) */
+    kelp_clock clock;               /* the newest `now`, to tell a clock step */
+    unsigned long clock_steps;      /* clock steps taken out of helm time */
     unsigned long iteration;
     kelp_helm_report rep;
     kelp_ivp_func fn[KELP_HELM_MAX_BHVS];   /* functions of the current iteration */

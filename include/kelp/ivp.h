@@ -112,7 +112,8 @@ void kelp_ivp_func_scale(kelp_ivp_func *f, double w);
  * function lacks spans its full range with slope 0. KELP_ERR_NOTFOUND if a function variable is
  * missing from big, KELP_ERR_RANGE if its extents differ. */
 KELP_MUST_CHECK int kelp_ivp_func_align(kelp_ivp_func *f, const kelp_ivp_domain *big);
-/** Check that the pieces tile the domain: every point covered exactly once. Cost: O(points*pieces). */
+/** Check that the pieces tile the domain: every point covered exactly once (each piece inside
+ *  the domain, no two sharing a point, volumes adding up to the domain's). Cost: O(pieces^2). */
 bool kelp_ivp_func_tiles(const kelp_ivp_func *f);
 
 /* ------------------------------------------------------------------ ZAIC_PEAK / LEQ / HEQ */

@@ -453,6 +453,12 @@ void helm_expand_macros(const kelp_bhv *b, const char *in, char *out, size_t cap
     size_t n = 0;
     unsigned found = 0;
     bool other = false;
+    if (solo) *solo = false;
+    if (!cap) return;
+    if (!b) {
+        out[0] = '\0';
+        return;
+    }
     while (*in && n + 1 < cap) {
         char *val = out + n; /* a macro's value is written in place (no copy on the stack) */
         size_t room = cap - n;
@@ -1248,10 +1254,18 @@ static void post_completed_pending(kelp_helm *h)
 
 int kelp_helm_iterate(kelp_helm *h, kelp_time now)
 {
-    if (!h)
+    if (!h || !kelp_time_ok(now))
         return KELP_ERR_ARG;
     if (!h->started)
         kelp_helm_start(h, now);
+    /* the time step rule: a step back, or forward beyond KELP_TIME_STEP_MAX, is not helm time.
+     * Helm time (durations, perpetual and idle decay, updates, starve times, the IB's stamps)
+     * carries on from the last iteration; t0 + helm time stays the caller's clock */
+    double step = kelp_clock_step(&h->clock, now, KELP_TIME_STEP_MAX);
+    if (step != 0.0) {
+        h->t0 += step;
+        h->clock_steps++;
+    }
     h->iteration++;
     h->ib.curr_time = now - h->t0;
     for (unsigned i = 0; i < h->ib.nvar; i++)

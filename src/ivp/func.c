@@ -157,33 +157,45 @@ int kelp_ivp_func_align(kelp_ivp_func *f, const kelp_ivp_domain *big)
     return 0;
 }
 
-static bool tiles_rec(const kelp_ivp_func *f, uint32_t *ix, unsigned d)
+/* Every grid point covered exactly once, told without visiting the points: each piece lies in
+ * the domain, no two pieces share a point, and their volumes add up to the domain's. Disjoint
+ * boxes inside the domain whose volumes sum to its volume cover it. */
+static bool pieces_overlap(const kelp_ivp_piece *a, const kelp_ivp_piece *b, unsigned dim)
 {
-    if (d == f->dom.dim) {
-        unsigned hits = 0;
-        for (size_t i = 0; i < f->n; i++) {
-            const kelp_ivp_piece *p = &f->pcs[i];
-            unsigned e;
-            for (e = 0; e < f->dom.dim; e++)
-                if ((int32_t)ix[e] < p->lo[e] || (int32_t)ix[e] > p->hi[e])
-                    break;
-            if (e == f->dom.dim)
-                hits++;
-        }
-        return hits == 1;
-    }
-    for (uint32_t k = 0; k < f->dom.var[d].points; k++) {
-        ix[d] = k;
-        if (!tiles_rec(f, ix, d + 1))
+    for (unsigned d = 0; d < dim; d++)
+        if (a->hi[d] < b->lo[d] || b->hi[d] < a->lo[d])
             return false;
-    }
     return true;
 }
 
 bool kelp_ivp_func_tiles(const kelp_ivp_func *f)
 {
-    uint32_t ix[KELP_IVP_MAX_DIM] = {0};
     if (f->dom.dim == 0)
         return false;
-    return tiles_rec(f, ix, 0);
+    uint64_t total = 1, sum = 0;
+    for (unsigned d = 0; d < f->dom.dim; d++) {
+        uint64_t pts = f->dom.var[d].points;
+        if (pts == 0 || total > UINT64_MAX / pts)
+            return false;
+        total *= pts;
+    }
+    for (size_t i = 0; i < f->n; i++) {
+        const kelp_ivp_piece *p = &f->pcs[i];
+        uint64_t vol = 1;
+        for (unsigned d = 0; d < f->dom.dim; d++) {
+            if (p->lo[d] < 0 || p->lo[d] > p->hi[d] || (uint64_t)p->hi[d] >= f->dom.var[d].points)
+                return false;
+            vol *= (uint64_t)(p->hi[d] - p->lo[d]) + 1; /* within total: the piece is in the domain */
+        }
+        sum += vol;
+        if (sum > total)
+            return false;
+    }
+    if (sum != total)
+        return false;
+    for (size_t i = 0; i < f->n; i++)
+        for (size_t j = i + 1; j < f->n; j++)
+            if (pieces_overlap(&f->pcs[i], &f->pcs[j], f->dom.dim))
+                return false;
+    return true;
 }

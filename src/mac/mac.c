@@ -77,7 +77,7 @@ static int blank_index(const kelp_mac *mac)
 static void position_blank(kelp_mac *mac)
 {
     int bi = blank_index(mac);
-    if (bi < 0) return;
+    if (bi < 0 || mac->n == 0) return;
     unsigned len = kelp_mac_cycle_length(mac);
     unsigned sum = 0;
     for (size_t i = 0; i < mac->n; i++) sum += (unsigned)mac->slot[i].src;

@@ -93,7 +93,11 @@ bg "$BIN/kelp-record" -q --lcm-url="$KELP_LCM_URL" -f live.lcmlog
 sleep 0.5
 "$M2S" live.moos > live.out 2>&1 & M2S_PID=$!
 PIDS+=($M2S_PID)
-sleep 0.5
+# the schema is there before the reader starts (a loaded machine may take longer than 0.5 s)
+for _ in $(seq 100); do
+  [ "$(sqlite3 live.db "SELECT count(*) FROM sqlite_master WHERE name = 'status'" 2> /dev/null)" = 1 ] && break
+  sleep 0.1
+done
 bg "$BIN/uTimerScript" live.moos > uts.out 2>&1
 # the reader: a query every 50 ms while the writer writes; any failure is recorded
 ( while :; do sqlite3 live.db "SELECT count(*), max(time) FROM status; SELECT count(*) FROM track" > /dev/null 2>> reader.err ||
