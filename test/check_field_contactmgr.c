@@ -1051,6 +1051,24 @@ START_TEST(cm_retire_flags)
 }
 END_TEST
 
+/* 24.8 (PlatformAlertRecord): a contact's alert counts survive its retirement */
+START_TEST(cm_counts_survive_retirement)
+{
+    cfg("contact_max_age = 5");
+    fixture_f();
+    rpt("gus", 0, 15);
+    it();
+    NOW = 1006;
+    it();
+    ck_assert_str_eq(last("CONTACTS_RETIRED"), "gus");
+    mail_s("NODE_REPORT", "NAME=gus,TIME=1006,X=0,Y=15");
+    it();
+    ck_assert_int_eq(count("CONTACT_INFO"), 2);
+    const char *r = report();
+    ck_assert_msg(strstr(r, "gus          15.0    2         1\n") != NULL, "%s", r);
+}
+END_TEST
+
 /* ------------------------------------------------------------------ scale and limits */
 
 START_TEST(cm_many_contacts_cut)
@@ -1218,6 +1236,7 @@ Suite *kelp_field_contactmgr_suite(void)
     tcase_add_test(tc, cm_alert_range_zero_filters_only);
     tcase_add_test(tc, cm_able_vars);
     tcase_add_test(tc, cm_retire_flags);
+    tcase_add_test(tc, cm_counts_survive_retirement);
     suite_add_tcase(s, tc);
     return s;
 }

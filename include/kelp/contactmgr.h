@@ -47,6 +47,7 @@ extern "C" {
 #define KELP_CMGR_CPA_HORIZON 36000.0 /**< s: CPA is sought within 10 hours (as MOOS-IvP 24.8's pContactMgrV20) */
 #define KELP_CMGR_REJECT_MARGIN 1.05 /**< a contact is retired beyond reject_range x this (24.8's margin) */
 #define KELP_CMGR_MAX_ABLE 25        /**< recently disabled (and enabled) contact names kept */
+#define KELP_CMGR_MAX_TALLY KELP_CMGR_MAX_CONTACTS /**< names whose alert counts are kept (beyond: not counted) */
 #define KELP_CMGR_MAX_FILTERED 64    /**< names refused by the filters between two iterations (retire flags) */
 
 KELP_STATIC_ASSERT(KELP_CMGR_MAX_ALERTS <= 32, "alert cells are bits of a uint32_t");
@@ -146,6 +147,10 @@ typedef struct kelp_cmgr {
     char filtered[KELP_CMGR_MAX_FILTERED][KELP_CMGR_NAME]; /**< refused since the last iteration, ascending */
     unsigned nfiltered;
     double early_warning_time;
+    /** alerts posted ever / active per lower-case name; kept across retirement (24.8's
+     *  PlatformAlertRecord keeps them when a contact leaves) */
+    struct { char name[KELP_CMGR_NAME]; uint32_t total, active; } tally[KELP_CMGR_MAX_TALLY];
+    unsigned ntally;
     unsigned long events_made;              /**< events ever made (kelp_cmgr_event) */
     kelp_cmgr_report report[KELP_CMGR_MAX_REPORTS];
     unsigned nreports;

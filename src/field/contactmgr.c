@@ -1150,6 +1150,31 @@ static void verbose(kelp_cmgr *c, const kelp_cmgr_alert *a, const kelp_cmgr_cont
     post_s(out, "ALERT_VERBOSE", m);
 }
 
+/* the alert counts of a name (lower case) */
+static int tally_find(const kelp_cmgr *c, const char *name)
+{
+    for (unsigned i = 0; i < c->ntally; i++)
+        if (strcmp(c->tally[i].name, name) == 0) return (int)i;
+    return -1;
+}
+
+static void tally_count(kelp_cmgr *c, const char *name, bool on)
+{
+    char low[KELP_CMGR_NAME];
+    size_t i;
+    for (i = 0; name[i] && i + 1 < sizeof low; i++) low[i] = (name[i] >= 'A' && name[i] <= 'Z') ? (char)(name[i] + 32) : name[i];
+    low[i] = 0;
+    int t = tally_find(c, low);
+    if (t < 0) {
+        if (!on || c->ntally == KELP_CMGR_MAX_TALLY) return;
+        t = (int)c->ntally++;
+        memcpy(c->tally[t].name, low, i + 1);
+        c->tally[t].total = c->tally[t].active = 0;
+    }
+    if (on) c->tally[t].total++, c->tally[t].active++;
+    else if (c->tally[t].active > 0) c->tally[t].active--;
+}
+
 static void check_alerts(kelp_cmgr *c, kelp_cmgr_contact *k, kelp_time now, const kelp_field_sink *out)
 {
     unsigned ids[KELP_CMGR_MAX_ALERTS];
@@ -1173,10 +1198,12 @@ static void check_alerts(kelp_cmgr *c, kelp_cmgr_contact *k, kelp_time now, cons
         if (now_on) {
             k->alerted |= 1u << ai;
             k->total++, k->active++;
+            tally_count(c, k->name, true);
             post_flags(c, k, a->on, a->non, now, out);
         } else {
             k->alerted &= ~(1u << ai);
             k->active--;
+            tally_count(c, k->name, false);
             post_flags(c, k, a->off, a->noff, now, out);
         }
         if (c->alert_verbose) verbose(c, a, k, now_on, out);
@@ -1546,10 +1573,15 @@ int kelp_cmgr_report_text(const kelp_cmgr *c, kelp_time now, char *buf, size_t c
     if (rows > 7) rows = 7;
     size_t w0 = 7, w1 = 6, w2 = 6;
     char rng[7][32], tot[7][16];
+    uint32_t act[7];
     for (unsigned i = 0; i < rows; i++) {
         const kelp_cmgr_contact *k = &c->contact[c->order[i]];
         fmtf(rng[i], sizeof rng[i], k->range, 1);
-        (void)kelp_snprintf(tot[i], sizeof tot[i], "%u", (unsigned)k->total);
+        /* 24.8 looks the counts up by the name as reported, kept by the lower-case name: a name
+         * with capitals shows 0 */
+        int t = tally_find(c, k->name);
+        act[i] = t < 0 ? 0 : c->tally[t].active;
+        (void)kelp_snprintf(tot[i], sizeof tot[i], "%u", t < 0 ? 0u : (unsigned)c->tally[t].total);
         if (strlen(k->name) > w0) w0 = strlen(k->name);
         if (strlen(rng[i]) > w1) w1 = strlen(rng[i]);
         if (strlen(tot[i]) > w2) w2 = strlen(tot[i]);
@@ -1561,7 +1593,7 @@ int kelp_cmgr_report_text(const kelp_cmgr *c, kelp_time now, char *buf, size_t c
     field_putf(buf, cap, &n, "%.*s    %.*s    %.*s    ------\n", W0, dash, W1, dash, W2, dash);
     for (unsigned i = 0; i < rows; i++) {
         const kelp_cmgr_contact *k = &c->contact[c->order[i]];
-        field_putf(buf, cap, &n, "%-*s    %*s    %-*s    %u\n", W0, k->name, W1, rng[i], W2, tot[i], (unsigned)k->active);
+        field_putf(buf, cap, &n, "%-*s    %*s    %-*s    %u\n", W0, k->name, W1, rng[i], W2, tot[i], (unsigned)act[i]);
     }
     field_putf(buf, cap, &n, "\nCustom Contact Reports:\n-----------------------\n");
     /* columns 5 spaces apart, in variable name order */
