@@ -169,7 +169,12 @@ START_TEST(cm_config_report_1)
     ck_assert_ptr_nonnull(strstr(one, "1 ID: K8\n"));
     ck_assert_ptr_nonnull(strstr(one, "Alert Ranges: 20/30\n"));
     ck_assert_ptr_nonnull(strstr(one, "OnFlag: SAY_MOOS=alarm\n"));
-    ck_assert_ptr_nonnull(strstr(one, "OffFlag: SAY_MOOS=ok\n"));
+    /* 24.8 (CMAlert::getSummary) labels an off flag "OnFlag" too; its report starts with the
+     * ownship group (ContactMgrV20::buildReport) and names a mission alert's source "general" */
+    ck_assert_ptr_nonnull(strstr(one, "OnFlag: SAY_MOOS=ok\n"));
+    ck_assert_ptr_nonnull(strstr(one, "  Source: general\n"));
+    ck_assert_int_eq(strncmp(one, "Ownship Group:      not specified\nOwnship Type:       not specified\n", 66), 0);
+    ck_assert_ptr_nonnull(strstr(one, "Early Warning Time: -1\n"));
     ck_assert_int_eq(R->nwarn, 0);
     setup();
     cfg("alert = id=K8, on_flag=SAY_MOOS=alarm");
@@ -330,7 +335,7 @@ static bool alerts_once(const char *extra, double x, double y)
 START_TEST(cm_trigger_15_to_20)
 {
     ck_assert(!alerts_once(NULL, 0, 25)); /* 15 */
-    ck_assert_str_eq(last("CONTACTS_UNALERTED"), "(gus,avd)");
+    ck_assert_int_eq(count("CONTACTS_UNALERTED"), 0); /* 24.8 posts no such list */
     ck_assert_int_eq(count("CONTACTS_ALERTED"), 0);
     ck_assert(alerts_once(NULL, 0, 20));                /* 16 */
     ck_assert(alerts_once("HDG=180,SPD=1", 0, 25));     /* 17 contact B */
@@ -346,20 +351,27 @@ START_TEST(cm_off_21_22_23)
     rpt("gus", 0, 15);
     it();
     clear();
-    rptx("gus", 0, 25, "HDG=0,SPD=2"); /* 22: opening inside cpa_range: stays on */
+    rptx("gus", 0, 19, "HDG=0,SPD=2"); /* opening, inside alert_range: stays on */
     it();
     ck_assert_int_eq(count("CONTACT_DONE"), 0);
+    /* 22: opening beyond alert_range but inside cpa_range: 24.8 (checkAlertApplies) ends the
+     * alert, its CPA (now) being beyond alert_range too */
+    rptx("gus", 0, 25, "HDG=0,SPD=2");
+    it();
+    ck_assert_str_eq(last("CONTACT_DONE"), "gus");
+    rpt("gus", 0, 15);
+    it();
+    clear();
     rpt("gus", 0, 31); /* 21 */
     it();
     ck_assert_str_eq(last("CONTACT_DONE"), "gus");
     ck_assert_str_eq(last("CONTACTS_ALERTED"), "");
-    ck_assert_str_eq(last("CONTACTS_UNALERTED"), "(gus,avd)");
     ck_assert_str_eq(last("CONTACTS_COUNT"), "0");
     rpt("gus", 0, 15); /* 23 */
     it();
     ck_assert_int_eq(count("CONTACT_INFO"), 1);
     const char *r = report();
-    ck_assert_ptr_nonnull(strstr(r, "gus          15.0    2         1     \n"));
+    ck_assert_ptr_nonnull(strstr(r, "gus          15.0    3         1\n"));
 }
 END_TEST
 
@@ -397,7 +409,8 @@ START_TEST(cm_ownship_bad_26_27)
     ck_assert_ptr_null(last("CONTACTS_LIST"));
     ck_assert_int_lt(mail_s("NODE_REPORT", "TYPE=kayak,X=0,Y=5"), 0);
     ck_assert_int_gt(R->nwarn, 0);
-    ck_assert_str_eq(last("CONTACT_MGR_WARNING"), "Bad Node Report Received");
+    ck_assert_int_eq(count("CONTACT_MGR_WARNING"), 0); /* not 24.8's */
+    ck_assert(warned("Bad Mail: NODE_REPORT:"));
     it();
     ck_assert_ptr_null(last("CONTACTS_LIST"));
     ck_assert_int_eq(C->ncontacts, 0);
@@ -552,7 +565,7 @@ START_TEST(cm_alert_filters_41_42)
     it();
     ck_assert_int_eq(count("SAY_MOOS"), 0);
     ck_assert_str_eq(last("CONTACTS_LIST"), "hal");
-    ck_assert_str_eq(last("CONTACTS_UNALERTED"), "(hal,K8)");
+    ck_assert_ptr_null(last("CONTACTS_ALERTED")); /* empty from the start: not posted */
     mail_s("NODE_REPORT", "NAME=ike,GROUP=blue_team,TIME=1000,X=0,Y=10");
     mail_s("NODE_REPORT", "NAME=jon,GROUP=red_team,TIME=1000,X=0,Y=10");
     it();
@@ -572,7 +585,6 @@ START_TEST(cm_alert_filters_41_42)
     rpt("a", 0, -35);
     it();
     ck_assert_str_eq(last("CONTACTS_ALERTED"), "");
-    ck_assert_str_eq(last("CONTACTS_UNALERTED"), "(a,k8)");
     ck_assert_str_eq(last("CONTACTS_LIST"), "a");
 }
 END_TEST
@@ -582,16 +594,17 @@ END_TEST
 START_TEST(cm_reject_43_44_45)
 {
     fixture_f();
+    /* 24.8 (checkForNewRetiredContacts) takes a far contact in and retires it at the next
+     * iteration, beyond reject_range x 1.05 */
     rpt("far", 0, 2500);
     it();
-    ck_assert_ptr_null(last("CONTACTS_LIST"));
-    ck_assert_ptr_null(last("CONTACTS_RETIRED"));
-    rpt("near", 0, 1900);
+    ck_assert_str_eq(last("CONTACTS_RETIRED"), "far");
+    rpt("near", 0, 2050); /* beyond reject_range, within its margin */
     it();
     ck_assert_str_eq(last("CONTACTS_LIST"), "near");
     rpt("near", 0, 2200);
     it();
-    ck_assert_str_eq(last("CONTACTS_RETIRED"), "near");
+    ck_assert_str_eq(last("CONTACTS_RETIRED"), "near,far");
     ck_assert_str_eq(last("CONTACTS_LIST"), "");
     setup();
     cfg("reject_range = off");
@@ -740,7 +753,7 @@ START_TEST(cm_closest_61_62_63)
     ck_assert_str_eq(last("CONTACT_CLOSEST"), "a");
     ck_assert_str_eq(last("CONTACT_CLOSEST_TIME"), "1000");
     ck_assert_str_eq(last("CONTACT_CLOSEST_RANGE"), "48");
-    ck_assert_str_eq(last("CONTACT_RANGES"), "48.32,56.3,112.08");
+    ck_assert_str_eq(last("CONTACT_RANGES"), "48.3,56.3,112.1"); /* 24.8: one decimal, every iteration */
     clear();
     NOW = 1005;
     rpt("z", 0, 10);
@@ -748,7 +761,7 @@ START_TEST(cm_closest_61_62_63)
     ck_assert_str_eq(last("CONTACT_CLOSEST"), "z");
     ck_assert_str_eq(last("CONTACT_CLOSEST_TIME"), "1005");
     ck_assert_str_eq(last("CONTACT_CLOSEST_RANGE"), "10");
-    ck_assert_str_eq(last("CONTACT_RANGES"), "10,48.32,56.3,112.08");
+    ck_assert_str_eq(last("CONTACT_RANGES"), "10,48.3,56.3,112.1");
     clear();
     rpt("a", 0, 48.9);
     it();
@@ -897,7 +910,6 @@ START_TEST(cm_coords_80_to_85)
     it();
     ck_assert_str_eq(last("R_HI"), "ben");
     ck_assert_str_eq(last("R_LO"), "");
-    ck_assert_ptr_nonnull(strstr(report(), "X/Y from Lat/Lon:   true\n"));
     geo_setup("lazy_lat_lon", true); /* 81 */
     ck_assert_int_eq(mail_s("NODE_REPORT", "NAME=ben,TIME=1000,X=0,Y=10,LAT=43.8262,LON=-70.3304"), 1);
     it();
@@ -909,14 +921,14 @@ START_TEST(cm_coords_80_to_85)
     ck_assert_double_eq_tol(C->contact[kelp_cmgr_find(C, "ben")].range, 99.972, 0.001);
     geo_setup("verbatim", true); /* 83 */
     ck_assert_int_lt(mail_s("NODE_REPORT", "NAME=ben,TIME=1000,LAT=43.8262,LON=-70.3304"), 0);
-    ck_assert_str_eq(last("CONTACT_MGR_WARNING"), "Bad Node Report Received");
+    ck_assert_int_eq(count("CONTACT_MGR_WARNING"), 0); /* not 24.8's */
+    ck_assert(warned("Bad Mail: NODE_REPORT:"));
     it();
     ck_assert_ptr_null(last("CONTACTS_LIST"));
     geo_setup("lazy_lat_lon", false); /* 84 */
     ck_assert(warned("No LatOrigin"));
     ck_assert(warned("No LongOrigin"));
     ck_assert(warned("Wont derive"));
-    ck_assert_ptr_nonnull(strstr(report(), "X/Y from Lat/Lon:   false\n"));
     ck_assert_int_lt(mail_s("NODE_REPORT", "NAME=ben,TIME=1000,LAT=43.8262,LON=-70.3304"), 0);
     geo_setup("lazy_lat_lon", true); /* 85 */
     ck_assert_int_eq(mail_s("NODE_REPORT", "NAME=ben,TIME=1000,LAT=43.8253,LON=-70.3292"), 1);
@@ -977,10 +989,83 @@ START_TEST(cm_verbose_89_report_91)
     ck_assert_int_ge(a, 0);
     ck_assert_int_gt(b, a);
     const char *r = report();
-    ck_assert_ptr_nonnull(strstr(r, "gus          15.0    1         1     \n"));
-    ck_assert_ptr_nonnull(strstr(r, "]: CONTACT_INFO=name=avd_gus # contact=gus\n"));
+    ck_assert_ptr_nonnull(strstr(r, "gus          15.0    1         1\n"));
+    ck_assert_str_eq(kelp_cmgr_event(C, C->events_made - 1), "CONTACT_INFO=name=avd_gus # contact=gus");
     ck_assert_ptr_nonnull(strstr(r, "       List: gus\n"));
     ck_assert_ptr_nonnull(strstr(r, "    Alerted: (gus,avd)\n"));
+}
+END_TEST
+
+/* 24.8 (ContactMgrV20::handleMailModEnableContact): disable_var/enable_var/expunge_var */
+START_TEST(cm_able_vars)
+{
+    cfg("disable_var = CMGR_DISABLE");
+    cfg("enable_var = CMGR_ENABLE");
+    cfg("expunge_var = CMGR_EXPUNGE");
+    cfg("able_flag = ABLE_CHANGED = true");
+    cfg("disable_flag = DISABLED_CONTACT = $[RECENT_DISABLED]/$[TOTAL_DISABLED]");
+    cfg("enable_flag = ENABLED_CONTACT = 1");
+    ck_assert_int_eq(R->nwarn, 0);
+    done();
+    ck_assert_int_eq(mail_s("CMGR_DISABLE", "contact=k2"), 1);
+    ck_assert_str_eq(last("BHV_ABLE_FILTER"), "contact=k2,action=disable");
+    ck_assert_str_eq(last("ABLE_CHANGED"), "true");
+    ck_assert_str_eq(last("DISABLED_CONTACT"), "k2/1");
+    ck_assert_int_eq(mail_s("CMGR_ENABLE", "contact=k2"), 1);
+    ck_assert_str_eq(last("BHV_ABLE_FILTER"), "contact=k2,action=enable");
+    ck_assert_str_eq(last("ENABLED_CONTACT"), "1");
+    ck_assert_int_eq(count("ABLE_CHANGED"), 2);
+    /* a bare name goes to the helm, with no flags */
+    ck_assert_int_eq(mail_s("CMGR_DISABLE", "k1"), 1);
+    ck_assert_str_eq(last("BHV_ABLE_FILTER"), "contact=k1,action=disable");
+    ck_assert_int_eq(count("ABLE_CHANGED"), 2);
+    ck_assert_int_eq(mail_s("CMGR_EXPUNGE", "vsource=ais"), 1);
+    ck_assert_str_eq(last("BHV_ABLE_FILTER"), "vsource=ais,action=expunge");
+    ck_assert_int_lt(mail_s("CMGR_EXPUNGE", "foo=bar"), 0);
+    ck_assert(warned("Bad Mail: CMGR_EXPUNGE:"));
+}
+END_TEST
+
+/* 24.8 (checkForNewRetiredContacts): retire flags for each retired contact, and for each name
+ * the filters refused since the last iteration, in the ledger or not */
+START_TEST(cm_retire_flags)
+{
+    cfg("ignore_group = red");
+    cfg("contact_max_age = 5");
+    cfg("retire_flag = RETIRED = $[CONTACT]");
+    fixture_f();
+    mail_s("NODE_REPORT", "NAME=r1,GROUP=red,TIME=1000,X=0,Y=10");
+    mail_s("NODE_REPORT", "NAME=b1,GROUP=blue,TIME=1000,X=0,Y=10");
+    it();
+    ck_assert_str_eq(last("RETIRED"), "r1");
+    ck_assert_int_eq(count("RETIRED"), 1);
+    mail_s("NODE_REPORT", "NAME=r1,GROUP=red,TIME=1000,X=0,Y=10");
+    it();
+    ck_assert_int_eq(count("RETIRED"), 2); /* while it stays refused */
+    it();
+    ck_assert_int_eq(count("RETIRED"), 2);
+    NOW = 1006;
+    it();
+    ck_assert_str_eq(last("RETIRED"), "b1");
+    ck_assert_str_eq(last("CONTACTS_RETIRED"), "b1");
+}
+END_TEST
+
+/* 24.8 (PlatformAlertRecord): a contact's alert counts survive its retirement */
+START_TEST(cm_counts_survive_retirement)
+{
+    cfg("contact_max_age = 5");
+    fixture_f();
+    rpt("gus", 0, 15);
+    it();
+    NOW = 1006;
+    it();
+    ck_assert_str_eq(last("CONTACTS_RETIRED"), "gus");
+    mail_s("NODE_REPORT", "NAME=gus,TIME=1006,X=0,Y=15");
+    it();
+    ck_assert_int_eq(count("CONTACT_INFO"), 2);
+    const char *r = report();
+    ck_assert_msg(strstr(r, "gus          15.0    2         1\n") != NULL, "%s", r);
 }
 END_TEST
 
@@ -1149,6 +1234,9 @@ Suite *kelp_field_contactmgr_suite(void)
     tcase_add_test(tc, cm_hold_relbng_maxsize);
     tcase_add_test(tc, cm_hold_latches_drive);
     tcase_add_test(tc, cm_alert_range_zero_filters_only);
+    tcase_add_test(tc, cm_able_vars);
+    tcase_add_test(tc, cm_retire_flags);
+    tcase_add_test(tc, cm_counts_survive_retirement);
     suite_add_tcase(s, tc);
     return s;
 }

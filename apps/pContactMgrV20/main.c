@@ -14,7 +14,16 @@ typedef struct cmgr_app {
     kelp_cmgr *core;           /* about 1.3 MB: on the heap (reachable until exit) */
     kelp_field_sink sink, cfg_sink;
     char text[32768];          /* the terminal report */
+    unsigned long events_shown; /* the core's events already in the AppCast */
 } cmgr_app;
+
+/* the core's new events into the AppCast's events */
+static void forward_events(cmgr_app *a)
+{
+    const char *e;
+    for (; a->events_shown < a->core->events_made; a->events_shown++)
+        if ((e = kelp_cmgr_event(a->core, a->events_shown)) != NULL) kelp_app_event(a->app, "%s", e);
+}
 
 static void publish(void *ctx, const char *var, bool is_string, const char *sval, double dval)
 {
@@ -58,8 +67,12 @@ static int startup(kelp_app *app, void *st)
     const char *v;
     for (unsigned i = 0; (v = kelp_cmgr_subscription(i)) != NULL; i++)
         if (kelp_app_register(app, v, 0) < 0) return kelp_app_config_error(app, NULL, "cannot register %s", v);
-    KELP_IGNORE(kelp_app_notify_double(app, "PCONTACTMGR_PID", (double)getpid()));
+    const char *able[3] = { a->core->disable_var, a->core->enable_var, a->core->expunge_var };
+    for (int i = 0; i < 3; i++)
+        if (able[i][0] && kelp_app_register(app, able[i], 0) < 0)
+            return kelp_app_config_error(app, NULL, "cannot register %s", able[i]);
     KELP_IGNORE(kelp_app_notify_double(app, "PCONTACTMGRV20_PID", (double)getpid()));
+    a->events_shown = a->core->events_made;
     return 0;
 }
 
@@ -69,6 +82,7 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
     if (v->kind == KELP_VAR_BINARY) return;
     (void)kelp_cmgr_mail(a->core, v->name, v->kind == KELP_VAR_STRING, v->sval, v->dval, kelp_app_time(app), v->source,
                          &a->sink);
+    forward_events(a);
 }
 
 static int iterate(kelp_app *app, void *st, double now)
@@ -76,6 +90,7 @@ static int iterate(kelp_app *app, void *st, double now)
     cmgr_app *a = st;
     (void)app;
     kelp_cmgr_iterate(a->core, now, &a->sink);
+    forward_events(a);
     return 0;
 }
 
@@ -131,17 +146,18 @@ static const kelp_app_def def = {
         { "ownship_group", "blue_team", "informational", NULL },
         { "ownship_type", "kayak", "informational", NULL },
         { "hold_alerts_for_helm", "false", "no alerts until IVPHELM_STATE=DRIVE (default false)", NULL },
-        { "disable_var", "DISABLE_TARGET", "24.8.x: accepted, not implemented", NULL },
-        { "enable_var", "REENABLE_TARGET", "24.8.x: accepted, not implemented", NULL },
-        { "able_flag", "MOOS_VAR = val", "24.8.x: accepted, not implemented", NULL },
-        { "disable_flag", "MOOS_VAR = val", "24.8.x: accepted, not implemented", NULL },
-        { "enable_flag", "MOOS_VAR = val", "24.8.x: accepted, not implemented", NULL },
-        { "early_warning_time", "30", "24.8.x: accepted, not implemented", NULL },
+        { "disable_var", "DISABLE_TARGET", "mail: contact=<name> or vsource=<src>: BHV_ABLE_FILTER, action=disable", NULL },
+        { "enable_var", "REENABLE_TARGET", "the same, action=enable", NULL },
+        { "expunge_var", "EXPUNGE_TARGET", "the same, action=expunge", NULL },
+        { "able_flag", "MOOS_VAR = val", "posted at a contact's disable or enable", NULL },
+        { "disable_flag", "MOOS_VAR = val", "posted at a contact's disable ($[RECENT_DISABLED] $[TOTAL_DISABLED] $[ALL_DISABLED])", NULL },
+        { "enable_flag", "MOOS_VAR = val", "posted at a contact's enable ($[RECENT_ENABLED])", NULL },
+        { "early_warning_time", "30", "s: shown in the report (early warnings: not implemented)", NULL },
         { "early_warning_radii", "true", "24.8.x: accepted, not implemented", NULL },
         { "ewarn_radii_color", "yellow", "24.8.x: accepted, not implemented", NULL },
         { "early_warning_flag", "MOOS_VAR = val", "24.8.x: accepted, not implemented", NULL },
         { "cease_warning_flag", "MOOS_VAR = val", "24.8.x: accepted, not implemented", NULL },
-        { "retire_flag", "MOOS_VAR = val", "24.8.x: accepted, not implemented", NULL },
+        { "retire_flag", "MOOS_VAR = val", "posted per retired or refused contact ($[CONTACT] $[UTC])", NULL },
         { "app_logging", "false", "accepted (record the bus with kelp-record)", NULL },
         { "default_alert_range_color", "gray70", "older name", "alert_range_color" },
         { "default_cpa_range_color", "gray30", "older name", "cpa_range_color" },
@@ -162,7 +178,6 @@ static const kelp_app_def def = {
         { "<alert flags>", "CONTACT_INFO=name=avd_alpha # contact=alpha", "on_flag / off_flag postings" },
         { "CONTACTS_LIST", "delta,gus,henry", NULL },
         { "CONTACTS_ALERTED", "(delta,avd)(gus,avd)", NULL },
-        { "CONTACTS_UNALERTED", "(henry,avd)", NULL },
         { "CONTACTS_COUNT", "2", "alerted pairs" },
         { "CONTACTS_RETIRED", "bravo,foxtrot", "newest first" },
         { "CONTACTS_RECAP", "vname=delta,range=193.10,age=11.30 # vname=gus,range=48.20,age=0.70", NULL },
@@ -173,9 +188,8 @@ static const kelp_app_def def = {
         { "CONTACT_RANGES", "18.2,48.2,193.1", "if post_all_ranges" },
         { "<report var>", "vid_0027,vid_0197", "BCM_REPORT_REQUEST's var" },
         { "ALERT_VERBOSE", "new_contact=gus", "if alert_verbose" },
-        { "CONTACT_MGR_WARNING", "Bad Node Report Received", NULL },
+        { "BHV_ABLE_FILTER", "contact=henry,action=disable", "at disable_var/enable_var/expunge_var mail" },
         { "VIEW_CIRCLE", "x=-150.3,y=-117.5,radius=10,duration=3,label=avd_in,edge_color=gray70", "if display_radii" },
-        { "PCONTACTMGR_PID", "3988", "also PCONTACTMGRV20_PID" },
         { "PCONTACTMGRV20_PID", "3988", NULL },
         { NULL, NULL, NULL } },
     .notes = "Globals used: Community (ownship), LatOrigin, LongOrigin.\n",

@@ -45,9 +45,10 @@ extern "C" {
 #define KELP_CMGR_MAX_EVENTS 8       /**< events kept for the report */
 #define KELP_CMGR_MAX_TEXT (KELP_MAX_SVAL + 1) /**< bytes of one summary value, with NUL */
 #define KELP_CMGR_CPA_HORIZON 36000.0 /**< s: CPA is sought within 10 hours (as MOOS-IvP 24.8's pContactMgrV20) */
-/** 1: an alerted pair stays on while range <= cpa_range (Schmitt trigger, as 24.8's pContactMgrV20);
- *  0: the same test as turning on (MOOS-IvP's). */
-#define KELP_CMGR_HYSTERESIS 1
+#define KELP_CMGR_REJECT_MARGIN 1.05 /**< a contact is retired beyond reject_range x this (24.8's margin) */
+#define KELP_CMGR_MAX_ABLE 25        /**< recently disabled (and enabled) contact names kept */
+#define KELP_CMGR_MAX_TALLY KELP_CMGR_MAX_CONTACTS /**< names whose alert counts are kept (beyond: not counted) */
+#define KELP_CMGR_MAX_FILTERED 64    /**< names refused by the filters between two iterations (retire flags) */
 
 KELP_STATIC_ASSERT(KELP_CMGR_MAX_ALERTS <= 32, "alert cells are bits of a uint32_t");
 KELP_STATIC_ASSERT(KELP_CMGR_MAX_CONTACTS <= 65535, "contact slots are uint16_t");
@@ -136,6 +137,21 @@ typedef struct kelp_cmgr {
     /* retired names, oldest first */
     char retired[KELP_CMGR_MAX_RETIRED][KELP_CMGR_NAME];
     unsigned nretired;
+    /* disable/enable/expunge (24.8's BHV_ABLE_FILTER), retire flags */
+    char disable_var[KELP_CMGR_MAX_ID], enable_var[KELP_CMGR_MAX_ID], expunge_var[KELP_CMGR_MAX_ID];
+    char able_flag[KELP_CMGR_MAX_FLAGS][KELP_CMGR_MAX_FLAG], disable_flag[KELP_CMGR_MAX_FLAGS][KELP_CMGR_MAX_FLAG];
+    char enable_flag[KELP_CMGR_MAX_FLAGS][KELP_CMGR_MAX_FLAG], retire_flag[KELP_CMGR_MAX_FLAGS][KELP_CMGR_MAX_FLAG];
+    unsigned nable_flag, ndisable_flag, nenable_flag, nretire_flag;
+    char disabled_c[KELP_CMGR_MAX_ABLE][KELP_CMGR_NAME], enabled_c[KELP_CMGR_MAX_ABLE][KELP_CMGR_NAME]; /**< newest first */
+    unsigned ndisabled_c, nenabled_c;
+    char filtered[KELP_CMGR_MAX_FILTERED][KELP_CMGR_NAME]; /**< refused since the last iteration, ascending */
+    unsigned nfiltered;
+    double early_warning_time;
+    /** alerts posted ever / active per lower-case name; kept across retirement (24.8's
+     *  PlatformAlertRecord keeps them when a contact leaves) */
+    struct { char name[KELP_CMGR_NAME]; uint32_t total, active; } tally[KELP_CMGR_MAX_TALLY];
+    unsigned ntally;
+    unsigned long events_made;              /**< events ever made (kelp_cmgr_event) */
     kelp_cmgr_report report[KELP_CMGR_MAX_REPORTS];
     unsigned nreports;
     /* what was last posted */
@@ -199,6 +215,10 @@ int kelp_cmgr_report_text(const kelp_cmgr *c, kelp_time now, char *buf, size_t c
 
 /** The effective CPA range of an alert: max(cpa_range, alert_range). */
 double kelp_cmgr_cpa_range(const kelp_cmgr_alert *a);
+
+/** Event number `seq` (0, 1, ... up to events_made - 1) while still kept, else NULL: an app
+ *  forwards the events it has not shown yet to its AppCast. */
+const char *kelp_cmgr_event(const kelp_cmgr *c, unsigned long seq);
 
 /** Contact index by name (binary search), or -1. */
 int kelp_cmgr_find(const kelp_cmgr *c, const char *name);

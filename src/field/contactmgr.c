@@ -44,6 +44,14 @@ static void event(kelp_cmgr *c, kelp_time now, const char *fmt, ...)
     c->event_time[i] = now - (c->t_start < 0 ? now : c->t_start);
     c->event_head = (i + 1) % KELP_CMGR_MAX_EVENTS;
     if (c->nevents < KELP_CMGR_MAX_EVENTS) c->nevents++;
+    c->events_made++;
+}
+
+const char *kelp_cmgr_event(const kelp_cmgr *c, unsigned long seq)
+{
+    if (seq >= c->events_made || c->events_made - seq > c->nevents) return NULL;
+    unsigned back = (unsigned)(c->events_made - seq); /* 1 = the newest */
+    return c->event[(c->event_head + KELP_CMGR_MAX_EVENTS - back) % KELP_CMGR_MAX_EVENTS];
 }
 
 static void copyz(char *dst, size_t cap, const char *s, size_t n)
@@ -108,6 +116,40 @@ static void fmtf(char *buf, size_t cap, double v, unsigned dec)
     if (kelp_fmt_fixed(buf, cap, v, dec, false) < 0) copyz(buf, cap, "nan", 3);
 }
 
+/* $[KEY] replaced by val throughout buf (in place, cut at cap) */
+static void macro_sub(char *buf, size_t cap, const char *key, const char *val)
+{
+    for (int form = 0; form < 2; form++) { /* $(KEY), then $[KEY], as 24.8's macroExpand */
+        char pat[40];
+        int pl = kelp_snprintf(pat, sizeof pat, form ? "$[%s]" : "$(%s)", key);
+        size_t vl = strlen(val);
+        char *p = buf;
+        while (pl > 0 && (p = strstr(p, pat)) != NULL) {
+            size_t tail = strlen(p + pl);
+            if ((size_t)(p - buf) + vl + tail + 1 > cap) return;
+            memmove(p + vl, p + pl, tail + 1);
+            memcpy(p, val, vl);
+            p += vl;
+        }
+    }
+}
+
+/* a manager-level flag "VAR=value": its variable into c->ws_flag[0]; a number is posted as a
+ * double (its event with 4 decimals at most, as 24.8's postFlags). @return true when posted. */
+static bool flag_number(kelp_cmgr *c, const char *flag, kelp_time now, const kelp_field_sink *out)
+{
+    const char *eq = strchr(flag, '=');
+    char *var = c->ws_flag[0];
+    copyz(var, KELP_CMGR_MAX_FLAG, flag, (size_t)(eq - flag));
+    double d;
+    if (kelp_parse_finite(eq + 1, strlen(eq + 1), &d) < 0) return false;
+    char num[48];
+    fmtx(num, sizeof num, d, 4);
+    post_d(out, var, d);
+    event(c, now, "%s=%s", var, num);
+    return true;
+}
+
 /* ------------------------------------------------------------------ init */
 
 static void filter_init(kelp_cmgr_filter *f)
@@ -135,6 +177,7 @@ void kelp_cmgr_init(kelp_cmgr *c, const char *ownship)
     c->prev_relbng = NAN;
     c->last_recap = -INFINITY;
     c->t_start = -1;
+    c->early_warning_time = -1;
     for (unsigned i = 0; i < KELP_CMGR_MAX_CONTACTS; i++) c->spare[i] = (uint16_t)(KELP_CMGR_MAX_CONTACTS - 1 - i);
     c->nspare = KELP_CMGR_MAX_CONTACTS;
 }
@@ -294,6 +337,18 @@ static int alert_find(const kelp_cmgr *c, const char *id, size_t il)
     for (unsigned i = 0; i < c->nalerts; i++)
         if (strlen(c->alert[i].id) == il && memcmp(c->alert[i].id, id, il) == 0) return (int)i;
     return -1;
+}
+
+/* alert indices in ascending id order (24.8 keeps its alerts in a map by id) */
+static unsigned sorted_alerts(const kelp_cmgr *c, unsigned *ids)
+{
+    unsigned n = 0;
+    for (unsigned i = 0; i < c->nalerts; i++) {
+        unsigned j = n++;
+        while (j > 0 && strcmp(c->alert[ids[j - 1]].id, c->alert[i].id) > 0) ids[j] = ids[j - 1], j--;
+        ids[j] = i;
+    }
+    return n;
 }
 
 static bool alert_valid(const kelp_cmgr_alert *a)
@@ -599,10 +654,31 @@ static int config_other(kelp_cmgr *c, const char *key, const char *val, const ke
         warnf(c, out, "%s is deprecated (give it in an alert): ignored", key);
         return 1;
     }
-    /* 24.8.x features kelp does not implement: accepted so a 24.8 block loads */
-    static const char *const later[] = { "disable_var", "enable_var", "able_flag", "disable_flag", "enable_flag",
-                                         "early_warning_time", "early_warning_radii", "ewarn_radii_color",
-                                         "early_warning_flag", "cease_warning_flag", "retire_flag", "app_logging" };
+    struct { const char *k; char *dst; } vars[] = {
+        { "disable_var", c->disable_var }, { "enable_var", c->enable_var }, { "expunge_var", c->expunge_var } };
+    for (size_t i = 0; i < sizeof vars / sizeof vars[0]; i++)
+        if (keyis(key, kl, vars[i].k, NULL)) {
+            for (size_t j = 0; j < vl; j++)
+                if (v[j] == ' ' || v[j] == '\t') return cfg_bad(c, out, key, val, "must be a variable name");
+            copyz(vars[i].dst, KELP_CMGR_MAX_ID, v, vl);
+            return 1;
+        }
+    struct { const char *k; char (*list)[KELP_CMGR_MAX_FLAG]; unsigned *n; } flags[] = {
+        { "able_flag", c->able_flag, &c->nable_flag },       { "disable_flag", c->disable_flag, &c->ndisable_flag },
+        { "enable_flag", c->enable_flag, &c->nenable_flag }, { "retire_flag", c->retire_flag, &c->nretire_flag } };
+    for (size_t i = 0; i < sizeof flags / sizeof flags[0]; i++)
+        if (keyis(key, kl, flags[i].k, NULL)) {
+            if (add_flag(flags[i].list, flags[i].n, v, vl) < 0) return cfg_bad(c, out, key, val, "must be VAR=value");
+            return 1;
+        }
+    if (keyis(key, kl, "early_warning_time", NULL)) {
+        if (num_ge0(v, vl, &d) < 0) return cfg_bad(c, out, key, val, "must be a number >= 0");
+        c->early_warning_time = d;
+        return 1;
+    }
+    /* 24.8 features kelp does not implement yet: accepted so a 24.8 block loads */
+    static const char *const later[] = { "early_warning_radii", "ewarn_radii_color", "early_warning_flag",
+                                         "cease_warning_flag", "app_logging" };
     for (size_t i = 0; i < sizeof later / sizeof later[0]; i++)
         if (keyis(key, kl, later[i], NULL)) return 1;
     int rc = filter_param(c, &c->filter, key, kl, v, vl, out, &strict);
@@ -669,11 +745,22 @@ static void retired_remove(kelp_cmgr *c, const char *name)
         }
 }
 
+/* a name the filters refused since the last iteration (ascending, once; 24.8 retires it and
+ * posts the retire flags for it at the next iteration, in the ledger or not) */
+static void filtered_add(kelp_cmgr *c, const char *name)
+{
+    unsigned i = 0;
+    while (i < c->nfiltered && strcmp(c->filtered[i], name) < 0) i++;
+    if ((i < c->nfiltered && strcmp(c->filtered[i], name) == 0) || c->nfiltered == KELP_CMGR_MAX_FILTERED) return;
+    memmove(c->filtered[i + 1], c->filtered[i], (size_t)(c->nfiltered - i) * KELP_CMGR_NAME);
+    copyz(c->filtered[i], KELP_CMGR_NAME, name, strlen(name));
+    c->nfiltered++;
+}
+
 static int bad_report(kelp_cmgr *c, const kelp_field_sink *out, const char *why)
 {
     c->reports_bad++;
-    warnf(c, out, "Bad Mail: NODE_REPORT: %s", why);
-    post_s(out, "CONTACT_MGR_WARNING", "Bad Node Report Received");
+    warnf(c, out, "Bad Mail: NODE_REPORT:%s", why);
     return KELP_ERR_PARSE;
 }
 
@@ -695,10 +782,10 @@ KELP_NOINLINE static int node_report(kelp_cmgr *c, const char *s, kelp_time now,
     int ci = kelp_cmgr_find(c, r->name);
     if (!filter_ok(&c->filter, r->name, r->type, r->group, r->x, r->y)) {
         if (ci >= 0) c->contact[ci].filtered = true;
+        filtered_add(c, r->name);
         return 1;
     }
     if (ci < 0) {
-        if (c->reject_range > 0 && hypot(c->osx - r->x, c->osy - r->y) > c->reject_range) return 1;
         if (c->ncontacts >= KELP_CMGR_MAX_CONTACTS) {
             warnf(c, out, "more than %d contacts: %s dropped", KELP_CMGR_MAX_CONTACTS, r->name);
             return KELP_ERR_NOSPACE;
@@ -718,8 +805,8 @@ KELP_NOINLINE static int node_report(kelp_cmgr *c, const char *s, kelp_time now,
             (void)kelp_snprintf(m, sizeof m, "new_contact=%s", r->name);
             post_s(out, "ALERT_VERBOSE", m);
         }
-        retired_remove(c, r->name);
     }
+    retired_remove(c, r->name); /* 24.8: at every accepted report */
     kelp_cmgr_contact *k = &c->contact[ci];
     memcpy(k->type, r->type, sizeof k->type);
     memcpy(k->group, r->group, sizeof k->group);
@@ -819,6 +906,88 @@ KELP_NOINLINE static int display_radii(kelp_cmgr *c, const char *s, kelp_time no
     return 1;
 }
 
+/* the able/disable/enable flags: a number is posted as a double; a string with 24.8's macros
+ * $[RECENT_DISABLED] $[RECENT_ENABLED] $[TOTAL_DISABLED] $[ALL_DISABLED] expanded */
+static void post_able_flags(kelp_cmgr *c, char (*flags)[KELP_CMGR_MAX_FLAG], unsigned n, kelp_time now,
+                            const kelp_field_sink *out)
+{
+    for (unsigned i = 0; i < n; i++) {
+        const char *eq = strchr(flags[i], '=');
+        char *var = c->ws_flag[0], *val = c->ws.str;
+        if (flag_number(c, flags[i], now, out)) continue;
+        copyz(val, sizeof c->ws.str, eq + 1, strlen(eq + 1));
+        if (c->ndisabled_c) macro_sub(val, sizeof c->ws.str, "RECENT_DISABLED", c->disabled_c[0]);
+        if (c->nenabled_c) macro_sub(val, sizeof c->ws.str, "RECENT_ENABLED", c->enabled_c[0]);
+        char num[16];
+        (void)kelp_snprintf(num, sizeof num, "%u", c->ndisabled_c);
+        macro_sub(val, sizeof c->ws.str, "TOTAL_DISABLED", num);
+        if (strstr(val, "$[ALL_DISABLED]")) {
+            sbuf sb;
+            sb_init(&sb, c->text, sizeof c->text);
+            for (unsigned j = 0; j < c->ndisabled_c; j++) (void)sb_item(&sb, ",", c->disabled_c[j]);
+            macro_sub(val, sizeof c->ws.str, "ALL_DISABLED", c->text);
+        }
+        if (val[0]) post_s(out, var, val);
+        event(c, now, "%s=%.*s", var, KELP_CMGR_MAX_FLAG, val);
+    }
+}
+
+/* name to the front of list (newest first), out of other; at most KELP_CMGR_MAX_ABLE kept */
+static void able_list_add(char (*list)[KELP_CMGR_NAME], unsigned *n, char (*other)[KELP_CMGR_NAME], unsigned *no,
+                          const char *name)
+{
+    for (unsigned i = 0; i < *no; i++)
+        if (strcmp(other[i], name) == 0) {
+            memmove(other[i], other[i + 1], (size_t)(*no - i - 1) * KELP_CMGR_NAME);
+            (*no)--;
+            break;
+        }
+    for (unsigned i = 0; i < *n; i++)
+        if (strcmp(list[i], name) == 0) {
+            memmove(list[i], list[i + 1], (size_t)(*n - i - 1) * KELP_CMGR_NAME);
+            (*n)--;
+            break;
+        }
+    if (*n == KELP_CMGR_MAX_ABLE) (*n)--;
+    memmove(list[1], list[0], (size_t)*n * KELP_CMGR_NAME);
+    copyz(list[0], KELP_CMGR_NAME, name, strlen(name));
+    (*n)++;
+}
+
+/* disable_var / enable_var / expunge_var mail (24.8's handleMailModEnableContact): a bare
+ * contact name, or contact=<name>, or vsource=<source>, goes to the helm as BHV_ABLE_FILTER =
+ * "contact=<name>,action=<action>"; only the contact= form records the contact and posts the
+ * able flag and the disable or enable flags. @return 1, or <0 when the value names nothing. */
+KELP_NOINLINE static int able_mail(kelp_cmgr *c, const char *s, const char *action, kelp_time now,
+                                   const kelp_field_sink *out)
+{
+    char id[KELP_CMGR_NAME] = "", vsrc[KELP_CMGR_NAME] = "";
+    char *m = c->ws_view;
+    if (!strchr(s, '=') && !strchr(s, ',')) {
+        const char *p = s;
+        size_t n = strlen(s);
+        trim(&p, &n);
+        if (n == 0 || n >= KELP_CMGR_NAME) return KELP_ERR_ARG;
+        (void)kelp_snprintf(m, sizeof c->ws_view, "contact=%.*s", (int)n, p);
+    } else if (kelp_kv_get(s, ',', "contact", id, sizeof id) == 1 && id[0])
+        (void)kelp_snprintf(m, sizeof c->ws_view, "contact=%s", id);
+    else if (kelp_kv_get(s, ',', "vsource", vsrc, sizeof vsrc) == 1 && vsrc[0])
+        (void)kelp_snprintf(m, sizeof c->ws_view, "vsource=%s", vsrc);
+    else
+        return KELP_ERR_ARG;
+    size_t ml = strlen(m);
+    (void)kelp_snprintf(m + ml, sizeof c->ws_view - ml, ",action=%s", action);
+    post_s(out, "BHV_ABLE_FILTER", m);
+    if (!id[0] || action[0] == 'x' || strcmp(action, "expunge") == 0) return 1;
+    bool dis = strcmp(action, "disable") == 0;
+    if (dis) able_list_add(c->disabled_c, &c->ndisabled_c, c->enabled_c, &c->nenabled_c, id);
+    else able_list_add(c->enabled_c, &c->nenabled_c, c->disabled_c, &c->ndisabled_c, id);
+    post_able_flags(c, c->able_flag, c->nable_flag, now, out);
+    if (dis) post_able_flags(c, c->disable_flag, c->ndisable_flag, now, out);
+    else post_able_flags(c, c->enable_flag, c->nenable_flag, now, out);
+    return 1;
+}
+
 int kelp_cmgr_mail(kelp_cmgr *c, const char *var, bool is_string, const char *sval, double dval, kelp_time now,
                    const char *src, const kelp_field_sink *out)
 {
@@ -834,6 +1003,16 @@ int kelp_cmgr_mail(kelp_cmgr *c, const char *var, bool is_string, const char *sv
             *nav[i] = dval;
             return 1;
         }
+    if ((c->disable_var[0] && strcmp(var, c->disable_var) == 0) || (c->enable_var[0] && strcmp(var, c->enable_var) == 0) ||
+        (c->expunge_var[0] && strcmp(var, c->expunge_var) == 0)) {
+        const char *action = strcmp(var, c->disable_var) == 0 ? "disable" : strcmp(var, c->enable_var) == 0 ? "enable"
+                                                                                                          : "expunge";
+        if (!is_string || !sval || able_mail(c, sval, action, now, out) < 0) {
+            warnf(c, out, "Bad Mail: %s:", var);
+            return KELP_ERR_ARG;
+        }
+        return 1;
+    }
     if (strcmp(var, "IVPHELM_STATE") == 0) {
         if (is_string && kelp_strieq(sval, "DRIVE")) c->helm_drive = true; /* latched, as MOOS-IvP */
         return 1;
@@ -971,27 +1150,60 @@ static void verbose(kelp_cmgr *c, const kelp_cmgr_alert *a, const kelp_cmgr_cont
     post_s(out, "ALERT_VERBOSE", m);
 }
 
+/* the alert counts of a name (lower case) */
+static int tally_find(const kelp_cmgr *c, const char *name)
+{
+    for (unsigned i = 0; i < c->ntally; i++)
+        if (strcmp(c->tally[i].name, name) == 0) return (int)i;
+    return -1;
+}
+
+static void tally_count(kelp_cmgr *c, const char *name, bool on)
+{
+    char low[KELP_CMGR_NAME];
+    size_t i;
+    for (i = 0; name[i] && i + 1 < sizeof low; i++) low[i] = (name[i] >= 'A' && name[i] <= 'Z') ? (char)(name[i] + 32) : name[i];
+    low[i] = 0;
+    int t = tally_find(c, low);
+    if (t < 0) {
+        if (!on || c->ntally == KELP_CMGR_MAX_TALLY) return;
+        t = (int)c->ntally++;
+        memcpy(c->tally[t].name, low, i + 1);
+        c->tally[t].total = c->tally[t].active = 0;
+    }
+    if (on) c->tally[t].total++, c->tally[t].active++;
+    else if (c->tally[t].active > 0) c->tally[t].active--;
+}
+
 static void check_alerts(kelp_cmgr *c, kelp_cmgr_contact *k, kelp_time now, const kelp_field_sink *out)
 {
-    for (unsigned ai = 0; ai < c->nalerts; ai++) {
+    unsigned ids[KELP_CMGR_MAX_ALERTS];
+    unsigned nids = sorted_alerts(c, ids); /* 24.8 checks its alerts in id order */
+    for (unsigned j = 0; j < nids; j++) {
+        unsigned ai = ids[j];
         kelp_cmgr_alert *a = &c->alert[ai];
         if (a->disabled) continue;
         double cpa = kelp_cmgr_cpa_range(a);
         bool was = (k->alerted >> ai) & 1u;
         bool base = alert_valid(a) && now - k->time <= c->contact_max_age &&
                     filter_ok(&a->filter, k->name, k->type, k->group, k->x, k->y);
-        /* alert_range 0: the range criterion is off, the alert applies on its filters (MOOS-IvP) */
+        /* 24.8 (ContactMgrV20::checkAlertApplies): with alert_range > 0 a pair applies while the
+         * contact is within cpa_range and either within alert_range or its CPA is; the same
+         * test turns a pair on and off (an opening contact goes off once beyond alert_range).
+         * alert_range 0: the range criterion is off, the alert applies on its filters. */
         bool ranged = a->alert_range > 0;
-        bool on_test = !ranged || k->range <= a->alert_range || (k->range <= cpa && k->range_cpa <= a->alert_range);
-        bool now_on = base && ((was && KELP_CMGR_HYSTERESIS) ? (!ranged || k->range <= cpa) : on_test);
+        bool now_on = base && (!ranged || (k->range <= cpa && (k->range <= a->alert_range ||
+                                                                k->range_cpa <= a->alert_range)));
         if (now_on == was) continue;
         if (now_on) {
             k->alerted |= 1u << ai;
             k->total++, k->active++;
+            tally_count(c, k->name, true);
             post_flags(c, k, a->on, a->non, now, out);
         } else {
             k->alerted &= ~(1u << ai);
             k->active--;
+            tally_count(c, k->name, false);
             post_flags(c, k, a->off, a->noff, now, out);
         }
         if (c->alert_verbose) verbose(c, a, k, now_on, out);
@@ -1057,30 +1269,61 @@ static void heapsort(kelp_cmgr_sortkey *a, unsigned n)
     }
 }
 
-static void retire(kelp_cmgr *c, kelp_time now)
+/* the retire flags for one name: $[CONTACT] and $[UTC] expanded (24.8's postRetireFlags) */
+static void retire_flags(kelp_cmgr *c, const char *name, kelp_time now, const kelp_field_sink *out)
 {
+    for (unsigned i = 0; i < c->nretire_flag; i++) {
+        const char *f = c->retire_flag[i], *eq = strchr(f, '=');
+        char *var = c->ws_flag[0], *val = c->ws.str;
+        if (flag_number(c, f, now, out)) continue;
+        char t[48];
+        fmtx(t, sizeof t, now, 3);
+        copyz(val, sizeof c->ws.str, eq + 1, strlen(eq + 1));
+        macro_sub(val, sizeof c->ws.str, "CONTACT", name);
+        macro_sub(val, sizeof c->ws.str, "UTC", t);
+        if (val[0]) post_s(out, var, val);
+        event(c, now, "%s=%.*s", var, KELP_CMGR_MAX_FLAG, val);
+    }
+}
+
+static void retire(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
+{
+    /* 24.8 counts the refused names that are not in the ledger with those to retire when it
+     * decides whether max_contacts calls for culling */
     unsigned nr = 0;
+    for (unsigned i = 0; i < c->nfiltered; i++) nr += kelp_cmgr_find(c, c->filtered[i]) < 0;
     for (unsigned i = 0; i < c->ncontacts; i++) {
         kelp_cmgr_contact *k = &c->contact[c->order[i]];
         k->retire = k->filtered || now - k->time > c->contact_max_age ||
-                    (c->reject_range > 0 && k->range > c->reject_range);
+                    (c->reject_range > 0 && k->range > c->reject_range * KELP_CMGR_REJECT_MARGIN);
         nr += k->retire;
     }
-    if (c->ncontacts - nr > c->max_contacts)
+    if (c->ncontacts > nr + c->max_contacts)
         for (unsigned i = 0; i < c->ncontacts; i++) {
             kelp_cmgr_contact *k = &c->contact[c->order[i]];
             if (!k->retire && now - k->time > c->contact_max_age / 2) k->retire = true, nr++;
         }
-    if (c->ncontacts - nr > c->max_contacts) {
+    if (c->ncontacts > nr + c->max_contacts) {
         /* keep the max_contacts closest: sort the rest by range (farthest, then later, last) */
         kelp_cmgr_sortkey *sk = c->sortbuf;
         unsigned m = 0;
         for (unsigned i = 0; i < c->ncontacts; i++)
             if (!c->contact[c->order[i]].retire) sk[m++] = (kelp_cmgr_sortkey){ c->contact[c->order[i]].range, i };
         heapsort(sk, m);
-        for (unsigned j = m; j-- > 0 && c->ncontacts - nr > c->max_contacts;)
+        for (unsigned j = m; j-- > 0 && c->ncontacts > nr + c->max_contacts;)
             c->contact[c->order[sk[j].pos]].retire = true, nr++;
     }
+    /* retire flags, in name order over the retired contacts and the refused names */
+    if (c->nretire_flag) {
+        unsigned f = 0;
+        for (unsigned i = 0; i <= c->ncontacts; i++) {
+            const kelp_cmgr_contact *k = i < c->ncontacts ? &c->contact[c->order[i]] : NULL;
+            for (; f < c->nfiltered && (!k || strcmp(c->filtered[f], k->name) <= 0); f++)
+                if (!k || strcmp(c->filtered[f], k->name) < 0) retire_flags(c, c->filtered[f], now, out);
+            if (k && k->retire) retire_flags(c, k->name, now, out);
+        }
+    }
+    c->nfiltered = 0;
     if (!nr) return;
     unsigned w = 0;
     for (unsigned i = 0; i < c->ncontacts; i++) {
@@ -1176,7 +1419,7 @@ static void summaries(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
             post_s(out, "CONTACT_CLOSEST", close->name);
             post_d(out, "CONTACT_CLOSEST_TIME", now);
         }
-        double r = round(close->range);
+        double r = trunc(close->range); /* 24.8 truncates to an integer */
         if (c->post_closest_range && r != c->prev_closest_range) {
             c->prev_closest_range = r;
             post_d(out, "CONTACT_CLOSEST_RANGE", r);
@@ -1201,22 +1444,29 @@ static void summaries(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
         c->prev_count = count;
         post_d(out, "CONTACTS_COUNT", count);
     }
-    for (int want = 1; want >= 0; want--) {
+    /* CONTACTS_ALERTED: (name in lower case, alert id) pairs, ids in ascending order (24.8's
+     * PlatformAlertRecord); 24.8 posts no list of the unalerted pairs */
+    {
         sb_init(&sb, c->text, sizeof c->text);
         char pair[KELP_CMGR_NAME + KELP_CMGR_MAX_ID + 4];
+        unsigned ids[KELP_CMGR_MAX_ALERTS];
+        unsigned nids = sorted_alerts(c, ids);
         for (unsigned i = 0; i < c->ncontacts && !sb.cut; i++) {
             const kelp_cmgr_contact *k = &c->contact[c->order[i]];
-            for (unsigned ai = 0; ai < c->nalerts; ai++)
-                if ((int)((k->alerted >> ai) & 1u) == want) {
-                    (void)kelp_snprintf(pair, sizeof pair, "(%s,%s)", k->name, c->alert[ai].id);
+            for (unsigned j = 0; j < nids; j++)
+                if ((k->alerted >> ids[j]) & 1u) {
+                    int pl = kelp_snprintf(pair, sizeof pair, "(%s,%s)", k->name, c->alert[ids[j]].id);
+                    for (int q = 1; q < pl && pair[q] != ','; q++)
+                        if (pair[q] >= 'A' && pair[q] <= 'Z') pair[q] = (char)(pair[q] - 'A' + 'a');
                     (void)sb_item(&sb, "", pair);
                 }
         }
-        post_text(c, want ? "CONTACTS_ALERTED" : "CONTACTS_UNALERTED", &sb,
-                  want ? c->prev_alerted : c->prev_unalerted, false, out);
+        post_text(c, "CONTACTS_ALERTED", &sb, c->prev_alerted, false, out);
     }
-    /* CONTACTS_RECAP */
-    if (c->recap_interval >= 0 && now - c->last_recap >= c->recap_interval) {
+    /* CONTACTS_RECAP: 24.8 posts once more than recap_interval has passed; its iterations run
+     * a little over their period, kelp's on time, so the test allows a millisecond (as the app
+     * runner's status test) to post every interval, not every interval plus one iteration */
+    if (c->recap_interval > 0 && now - c->last_recap > c->recap_interval - 1e-3) {
         c->last_recap = now;
         sb_init(&sb, c->text, sizeof c->text);
         for (unsigned i = 0; i < c->ncontacts && !sb.cut; i++) {
@@ -1237,10 +1487,10 @@ static void summaries(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
         sb_init(&sb, c->text, sizeof c->text);
         for (unsigned i = 0; i < c->ncontacts && !sb.cut; i++) {
             char r[32];
-            fmtx(r, sizeof r, sk[i].v, 2);
+            fmtx(r, sizeof r, sk[i].v, 1);
             (void)sb_item(&sb, ",", r);
         }
-        post_text(c, "CONTACT_RANGES", &sb, c->prev_ranges, false, out);
+        post_text(c, "CONTACT_RANGES", &sb, c->prev_ranges, true, out); /* every iteration, as 24.8 */
     }
 }
 
@@ -1252,7 +1502,7 @@ void kelp_cmgr_iterate(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
     if (!c->hold_alerts_for_helm || c->helm_drive)
         for (unsigned i = 0; i < c->ncontacts; i++) check_alerts(c, &c->contact[c->order[i]], now, out);
     visuals(c, now, out);
-    retire(c, now);
+    retire(c, now, out);
     custom_reports(c, now, out);
     summaries(c, now, out);
 }
@@ -1265,76 +1515,111 @@ int kelp_cmgr_report_text(const kelp_cmgr *c, kelp_time now, char *buf, size_t c
     char a[32], b[32];
     (void)now;
     buf[0] = 0;
-    field_putf(buf, cap, &n, "X/Y from Lat/Lon:   %s\n", c->have_geo ? "true" : "false");
+    /* 24.8's buildReport: header, alert configurations (in id order), status, tables */
+    field_putf(buf, cap, &n, "Ownship Group:      %s\n", c->ownship_group[0] ? c->ownship_group : "not specified");
+    field_putf(buf, cap, &n, "Ownship Type:       %s\n", c->ownship_type[0] ? c->ownship_type : "not specified");
     fmtx(a, sizeof a, c->contact_max_age, 2);
     field_putf(buf, cap, &n, "Contact Max Age:    %s\n", a);
     fmtx(a, sizeof a, c->reject_range, 2);
     field_putf(buf, cap, &n, "Reject Range:       %s\n", c->reject_range > 0 ? a : "off");
+    field_putf(buf, cap, &n, "Early Warning Time: %g\n", c->early_warning_time);
+    if (c->disable_var[0]) field_putf(buf, cap, &n, "Disable Var:        %s\n", c->disable_var);
+    if (c->enable_var[0]) field_putf(buf, cap, &n, "Enable Var:         %s\n", c->enable_var);
     field_putf(buf, cap, &n, "BCM_ALERT_REQUESTs: %lu\n", c->alert_requests);
     field_putf(buf, cap, &n, "DisplayRadii:       %s\n\n", c->display_radii ? "true" : "false");
     field_putf(buf, cap, &n, "Alert Configurations (%u):\n---------------------\n", c->nalerts);
     static const char *const kinds[3] = { "name", "type", "group" };
-    for (unsigned i = 0; i < c->nalerts; i++) {
-        const kelp_cmgr_alert *al = &c->alert[i];
-        field_putf(buf, cap, &n, "%u ID: %s%s\n", i + 1, al->id, al->disabled ? " (disabled)" : "");
+    unsigned ids[KELP_CMGR_MAX_ALERTS];
+    unsigned nids = sorted_alerts(c, ids);
+    for (unsigned j = 0; j < nids; j++) {
+        const kelp_cmgr_alert *al = &c->alert[ids[j]];
+        field_putf(buf, cap, &n, "%u ID: %s\n", j + 1, al->id);
         fmtx(a, sizeof a, al->alert_range, 2);
         fmtx(b, sizeof b, kelp_cmgr_cpa_range(al), 2);
         if (al->have_range) field_putf(buf, cap, &n, "  Alert Ranges: %s/%s\n", a, b);
-        else field_putf(buf, cap, &n, "  Alert Ranges: unspecified\n");
-        field_putf(buf, cap, &n, "  Source: %s\n", al->source[0] ? al->source : "--");
+        else field_putf(buf, cap, &n, "  Alert Ranges: unspecified/%s\n", al->have_cpa ? b : "unspecified");
+        field_putf(buf, cap, &n, "  Source: %s\n", al->source[0] ? al->source : "general");
+        /* 24.8 labels the off flags "OnFlag" too */
         for (unsigned f = 0; f < al->non; f++) field_putf(buf, cap, &n, "  OnFlag: %s\n", al->on[f]);
-        for (unsigned f = 0; f < al->noff; f++) field_putf(buf, cap, &n, "  OffFlag: %s\n", al->off[f]);
-        bool strict = false;
-        for (int k = 0; k < 3; k++)
-            for (int ign = 0; ign < 2; ign++) {
-                for (unsigned e = 0; e < al->filter.nlist[k][ign]; e++)
-                    field_putf(buf, cap, &n, "  %s_%s=%s\n", ign ? "ignore" : "match", kinds[k], al->filter.list[k][ign][e]);
-                if (ign && k && al->filter.nlist[k][ign]) strict = al->filter.strict_ignore;
+        for (unsigned f = 0; f < al->noff; f++) field_putf(buf, cap, &n, "  OnFlag: %s\n", al->off[f]);
+        /* the filter summary in 24.8's order: groups, names, types (ignore before match), regions */
+        static const int korder[3] = { 2, 0, 1 };
+        for (int kk = 0; kk < 3; kk++)
+            for (int ign = 1; ign >= 0; ign--)
+                for (unsigned e = 0; e < al->filter.nlist[korder[kk]][ign]; e++)
+                    field_putf(buf, cap, &n, "  %s_%s=%s\n", ign ? "ignore" : "match", kinds[korder[kk]],
+                               al->filter.list[korder[kk]][ign][e]);
+        for (int ign = 1; ign >= 0; ign--)
+            for (unsigned r = 0; r < al->filter.nregion[ign]; r++) {
+                const kelp_cmgr_poly *pg = &al->filter.region[ign][r];
+                field_putf(buf, cap, &n, "  %s_region=pts={", ign ? "ignore" : "match");
+                for (unsigned v = 0; v < pg->n; v++) {
+                    fmtx(a, sizeof a, pg->pts[v][0], 2);
+                    fmtx(b, sizeof b, pg->pts[v][1], 2);
+                    field_putf(buf, cap, &n, "%s%s,%s", v ? ":" : "", a, b);
+                }
+                field_putf(buf, cap, &n, "}\n");
             }
-        for (int ign = 0; ign < 2; ign++)
-            for (unsigned r = 0; r < al->filter.nregion[ign]; r++)
-                field_putf(buf, cap, &n, "  %s_region=(%u vertices)\n", ign ? "ignore" : "match",
-                           al->filter.region[ign][r].n);
-        if (strict) field_putf(buf, cap, &n, "  strict_ignore=true\n");
+        if (al->filter.nlist[1][1] || al->filter.nlist[2][1])
+            field_putf(buf, cap, &n, "  strict_ignore=%s\n", al->filter.strict_ignore ? "true" : "false");
     }
     field_putf(buf, cap, &n, "\nAlert Status Summary: \n----------------------\n");
     field_putf(buf, cap, &n, "       List: %.300s\n    Alerted: %.300s\n    Retired: %.300s\n      Recap: %.300s\n\n",
                c->prev_list, c->prev_alerted, c->prev_retired, c->prev_recap);
     field_putf(buf, cap, &n, "Contact Status Summary:\n-----------------------\n");
-    /* column widths: widest cell */
+    /* 24.8's table: columns 4 spaces apart, as wide as their widest cell, the range
+     * right-justified, the last column not padded; the first 7 contacts */
     unsigned rows = c->ncontacts;
     if (rows > 7) rows = 7;
-    size_t w0 = 7, w1 = 6;
-    char rng[7][32];
+    size_t w0 = 7, w1 = 6, w2 = 6;
+    char rng[7][32], tot[7][16];
+    uint32_t act[7];
     for (unsigned i = 0; i < rows; i++) {
         const kelp_cmgr_contact *k = &c->contact[c->order[i]];
         fmtf(rng[i], sizeof rng[i], k->range, 1);
+        /* 24.8 looks the counts up by the name as reported, kept by the lower-case name: a name
+         * with capitals shows 0 */
+        int t = tally_find(c, k->name);
+        act[i] = t < 0 ? 0 : c->tally[t].active;
+        (void)kelp_snprintf(tot[i], sizeof tot[i], "%u", t < 0 ? 0u : (unsigned)c->tally[t].total);
         if (strlen(k->name) > w0) w0 = strlen(k->name);
         if (strlen(rng[i]) > w1) w1 = strlen(rng[i]);
+        if (strlen(tot[i]) > w2) w2 = strlen(tot[i]);
     }
-    int W0 = (int)w0, W1 = (int)w1;
-    field_putf(buf, cap, &n, "%-*s    %*s    %-6s    %-6s\n", W0, "Contact", W1, "Range", "Alerts", "Alerts");
-    field_putf(buf, cap, &n, "%-*s    %*s    %-6s    %-6s\n", W0, "", W1, "Actual", "Total", "Active");
-    field_putf(buf, cap, &n, "%.*s    %.*s    ------    ------\n", W0, "----------------------------------------------",
-               W1, "------------------------------");
+    int W0 = (int)w0, W1 = (int)w1, W2 = (int)w2;
+    static const char dash[] = "----------------------------------------------------------------";
+    field_putf(buf, cap, &n, "%-*s    %*s    %-*s    %s\n", W0, "Contact", W1, "Range", W2, "Alerts", "Alerts");
+    field_putf(buf, cap, &n, "%-*s    %*s    %-*s    %s\n", W0, "", W1, "Actual", W2, "Total", "Active");
+    field_putf(buf, cap, &n, "%.*s    %.*s    %.*s    ------\n", W0, dash, W1, dash, W2, dash);
     for (unsigned i = 0; i < rows; i++) {
         const kelp_cmgr_contact *k = &c->contact[c->order[i]];
-        field_putf(buf, cap, &n, "%-*s    %*s    %-6u    %-6u\n", W0, k->name, W1, rng[i], (unsigned)k->total,
-                   (unsigned)k->active);
+        field_putf(buf, cap, &n, "%-*s    %*s    %-*s    %u\n", W0, k->name, W1, rng[i], W2, tot[i], (unsigned)act[i]);
     }
     field_putf(buf, cap, &n, "\nCustom Contact Reports:\n-----------------------\n");
-    field_putf(buf, cap, &n, "VarName     Range     Group     VType     Contacts\n"
-                             "-------     -----     -----     -----     --------\n");
+    /* columns 5 spaces apart, in variable name order */
+    size_t cw[5] = { 7, 5, 5, 5, 8 };
+    bool done[KELP_CMGR_MAX_REPORTS] = { false };
     for (unsigned i = 0; i < c->nreports; i++) {
         const kelp_cmgr_report *r = &c->report[i];
         fmtx(a, sizeof a, r->range, 2);
-        field_putf(buf, cap, &n, "%-7s     %5s     %-5s     %-5s     %u\n", r->var, a, r->group, r->type, r->count);
+        size_t l[3] = { strlen(r->var), strlen(a), strlen(r->group) };
+        for (int q = 0; q < 3; q++)
+            if (l[q] > cw[q]) cw[q] = l[q];
+        if (strlen(r->type) > cw[3]) cw[3] = strlen(r->type);
     }
-    field_putf(buf, cap, &n, "\nMost Recent Events (%u):\n", c->nevents);
-    for (unsigned i = 0; i < c->nevents; i++) {
-        unsigned e = (c->event_head + KELP_CMGR_MAX_EVENTS - 1 - i) % KELP_CMGR_MAX_EVENTS;
-        fmtf(a, sizeof a, c->event_time[e], 2);
-        field_putf(buf, cap, &n, "[%s]: %s\n", a, c->event[e]);
+    field_putf(buf, cap, &n, "%-*s     %*s     %-*s     %-*s     Contacts\n", (int)cw[0], "VarName", (int)cw[1], "Range",
+               (int)cw[2], "Group", (int)cw[3], "VType");
+    field_putf(buf, cap, &n, "%.*s     %.*s     %.*s     %.*s     --------\n", (int)cw[0], dash, (int)cw[1], dash,
+               (int)cw[2], dash, (int)cw[3], dash);
+    for (unsigned round = 0; round < c->nreports; round++) {
+        unsigned r = KELP_CMGR_MAX_REPORTS;
+        for (unsigned i = 0; i < c->nreports; i++)
+            if (!done[i] && (r == KELP_CMGR_MAX_REPORTS || strcmp(c->report[i].var, c->report[r].var) < 0)) r = i;
+        done[r] = true;
+        const kelp_cmgr_report *rp = &c->report[r];
+        fmtx(a, sizeof a, rp->range, 2);
+        field_putf(buf, cap, &n, "%-*s     %*s     %-*s     %-*s     %u\n", (int)cw[0], rp->var, (int)cw[1], a,
+                   (int)cw[2], rp->group, (int)cw[3], rp->type, rp->count);
     }
     return n + 1 >= cap ? KELP_ERR_NOSPACE : (int)n;
 }

@@ -349,6 +349,8 @@ def compare(scn, golden_dir, kelp_dir):
         figs.extend(nodecomms_figures(Gwr, Kwr, tol, dur))
     if scn.startswith("msghandler_"):
         figs.extend(msghandler_figures(Gwr, Kwr, tol))
+    if scn.startswith("cmgr_"):
+        figs.extend(cmgr_figures(Gwr, Kwr, tol, dur))
     return figs
 
 
@@ -785,6 +787,48 @@ def msghandler_figures(G, K, tol):
 
     ok = (sub(gu, ku) and len(ku) - len(gu) <= close) or (sub(ku, gu) and len(gu) - len(ku) <= close)
     figs.append(Figure("summary/sequence", ok, "" if ok else "24.8 %s, kelp %s" % (short(gu, 150), short(ku, 150))))
+    return figs
+
+
+def cmgr_figures(G, K, tol, dur):
+    """pContactMgrV20: per alert flag and contact, the windows the flag was posted in (when, in
+    order); the retired lists in order; the contacts each recap names (its ages are the
+    iteration's phase against the reports', not behaviour)."""
+    figs = []
+    app = "pContactMgrV20"
+    summary = {"CONTACTS_LIST", "CONTACTS_ALERTED", "CONTACTS_RETIRED", "CONTACTS_RECAP", "CONTACTS_COUNT",
+               "CONTACT_CLOSEST", "CONTACT_CLOSEST_TIME", "APPCAST", "PCONTACTMGRV20_STATUS", "VIEW_CIRCLE",
+               "BHV_ABLE_FILTER", "ALERT_VERBOSE", "CONTACT_RANGES", "CONTACT_CLOSEST_RANGE", "CONTACT_CLOSEST_RELBNG"}
+
+    def flags(rows):
+        out = collections.defaultdict(list)
+        for r in rows:
+            if r["src"] == app and r["type"] == "string" and r["var"] not in summary and not r["var"].endswith("_PID"):
+                out[(r["var"], r["val"])].append(r["t"])
+        return out
+
+    gf, kf = flags(G), flags(K)
+    for key in sorted(set(gf) | set(kf)):
+        a, b = gf.get(key, []), kf.get(key, [])
+        ok = len(a) == len(b) and all(abs(x - y) <= tol for x, y in zip(a, b) if x <= dur - tol and y <= dur - tol)
+        figs.append(Figure("alert/%s=%s" % key, ok, "" if ok else "24.8 at %s, kelp at %s" % (
+            ["%.2f" % x for x in a], ["%.2f" % x for x in b])))
+
+    def seq(rows, var):
+        out = []
+        for r in rows:
+            if r["src"] == app and r["var"] == var and (not out or out[-1] != r["val"]):
+                out.append(r["val"])
+        return out
+
+    a, b = seq(G, "CONTACTS_RETIRED"), seq(K, "CONTACTS_RETIRED")
+    figs.append(Figure("retired/sequence", a == b, "" if a == b else "24.8 %s, kelp %s" % (short(a, 150), short(b, 150))))
+    names = lambda v: tuple(re.findall(r"vname=([^,]*)", v))
+    a = [names(v) for v in seq(G, "CONTACTS_RECAP")]
+    b = [names(v) for v in seq(K, "CONTACTS_RECAP")]
+    a = [x for i, x in enumerate(a) if i == 0 or a[i - 1] != x]
+    b = [x for i, x in enumerate(b) if i == 0 or b[i - 1] != x]
+    figs.append(Figure("recap/contacts", a == b, "" if a == b else "24.8 %s, kelp %s" % (short(a, 150), short(b, 150))))
     return figs
 
 

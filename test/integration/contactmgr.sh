@@ -44,6 +44,7 @@ last() { awk -v v="$1" '$3==v {sub(/^[^ ]+ [^ ]+ [^ ]+ /, ""); x=$0} END{print x
 [ "$(last CONTACT_CLOSEST)" = gus ] || fail "CONTACT_CLOSEST '$(last CONTACT_CLOSEST)'"
 [ "$(last CONTACT_CLOSEST_RANGE)" = 15 ] || fail "CONTACT_CLOSEST_RANGE '$(last CONTACT_CLOSEST_RANGE)'"
 last CONTACTS_RECAP | grep -q "^vname=ben,range=100.00,age=" || fail "CONTACTS_RECAP '$(last CONTACTS_RECAP)'"
-[ -n "$(last PCONTACTMGR_PID)" ] && [ -n "$(last PCONTACTMGRV20_PID)" ] || fail "no PID posted"
+[ -n "$(last PCONTACTMGRV20_PID)" ] || fail "no PID posted"
+[ -z "$(last PCONTACTMGR_PID)" ] || fail "PCONTACTMGR_PID is not 24.8's"
 grep -q ' CONTACT_INFO ' c.txt && [ "$(grep -c ' CONTACT_INFO ' c.txt)" = 1 ] || fail "CONTACT_INFO posted $(grep -c ' CONTACT_INFO ' c.txt) times"
 ok "CONTACT_INFO=$(last CONTACT_INFO); SAY_MOOS=$(last SAY_MOOS); CONTACTS_LIST=$(last CONTACTS_LIST); CONTACTS_ALERTED=$(last CONTACTS_ALERTED)"
