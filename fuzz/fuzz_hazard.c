@@ -26,7 +26,7 @@ static void hazard(uint8_t opt, const char *t)
     if (rc < 0 && why.code == KELP_OK) abort();
     if (rc == 1 && C.nobjects != before + 1) abort();
     if (rc == 1 && (!C.object[0].label[0] || strlen(C.object[0].label) >= KELP_UHZ_LABEL_LEN)) abort();
-    static const char *const keys[] = { "sensor_config", "hazard", "show_reports", "swath_length", "verbose",
+    static const char *const keys[] = { "sensor_config", "hazard", "show_reports", "swath_length", "rn_algorithm",
                                         "default_hazard_color", "random_seed", "min_reset_interval" };
     kelp_diag_clear(&why);
     rc = kelp_field_uhz_config(&C, keys[opt % 8], t, &why);
@@ -34,21 +34,21 @@ static void hazard(uint8_t opt, const char *t)
     (void)kelp_field_uhz_config(&C, "sensor_config", "width=25,exp=4,pclass=0.9,max=1", &why);
     (void)kelp_field_uhz_config(&C, "sensor_config", "width=10,exp=6,pclass=0.95", &why);
     (void)kelp_field_uhz_hazard_line(&C, "x=1,y=1,type=hazard,label=12", &why);
-    (void)kelp_field_uhz_hazard_line(&C, "x=-3,y=2,type=benign", &why);
-    C.verbose = opt & 0x10;
+    (void)kelp_field_uhz_hazard_line(&C, "x=-3,y=2,type=benign,label=b,hr=0.3,aspect=40,aspect_min=10,aspect_max=30", &why);
+    C.ignore_resemblances = opt & 0x10;
     if (kelp_field_uhz_init(&H, &C) != 0) abort();
     kelp_field_sink sink = { NULL, check_publish, NULL };
     static const char *const vars[] = { "NODE_REPORT", "UHZ_SENSOR_REQUEST", "UHZ_CONFIG_REQUEST",
                                         "UHZ_CLASSIFY_REQUEST" };
-    (void)kelp_field_uhz_mail(&H, "NODE_REPORT", "NAME=archie,X=0,Y=0,HDG=0", 0, &sink);
-    (void)kelp_field_uhz_mail(&H, "UHZ_SENSOR_REQUEST", "vname=archie", 0, &sink);
+    (void)kelp_field_uhz_mail(&H, "NODE_REPORT", "NAME=archie,X=0,Y=0,HDG=0", "archie", 0, &sink);
+    (void)kelp_field_uhz_mail(&H, "UHZ_SENSOR_REQUEST", "vname=archie", "archie", 0, &sink);
     for (int i = 0; i < 4; i++) {
-        (void)kelp_field_uhz_mail(&H, vars[(opt >> 5) % 4], t, i, &sink);
-        (void)kelp_field_uhz_mail(&H, vars[i], t, i, &sink);
+        (void)kelp_field_uhz_mail(&H, vars[(opt >> 5) % 4], t, "archie", i, &sink);
+        (void)kelp_field_uhz_mail(&H, vars[i], t, t, i, &sink);
         kelp_field_uhz_iterate(&H, 40.0 * i, &sink);
     }
     char buf[4096];
-    (void)kelp_field_uhz_report(&H, 100, buf, sizeof buf);
+    (void)kelp_field_uhz_report(&H, t, 100, buf, sizeof buf);
     if (strlen(buf) >= sizeof buf) abort();
 }
 

@@ -293,6 +293,14 @@ def compare(scn, golden_dir, kelp_dir):
             figs.append(format_figure(var, raw[("g", app, var)], raw[("k", app, var)]))
             if PERIODIC_SKIP_VALUES.match(var):
                 continue
+            # uFldHazardSensor's classify answers and options summary: hazard_figures
+            if scn.startswith("hazard_") and app == "uFldHazardSensor" and HAZARD_OWN_VALUES.match(var):
+                g = [r for r in g if not hazard_classify_circle(r)]
+                k = [r for r in k if not hazard_classify_circle(r)]
+                gp = [r for r in gp if not hazard_classify_circle(r)]
+                kp = [r for r in kp if not hazard_classify_circle(r)]
+                if var != "VIEW_CIRCLE":
+                    continue
             # uFldNodeComms relays, on each iteration, the latest report of each vehicle: when two
             # of a vehicle's reports arrive within one iteration (the iteration's phase against
             # the reports', not behaviour) the older is relayed to no one. A relay one side made
@@ -351,6 +359,8 @@ def compare(scn, golden_dir, kelp_dir):
         figs.extend(msghandler_figures(Gwr, Kwr, tol))
     if scn.startswith("cmgr_"):
         figs.extend(cmgr_figures(Gwr, Kwr, tol, dur))
+    if scn.startswith("hazard_"):
+        figs.extend(hazard_figures(Gwr, Kwr, tol, 1.0 / ticks.get("uFldHazardSensor", 4) * warp, G, K))
     return figs
 
 
@@ -829,6 +839,91 @@ def cmgr_figures(G, K, tol, dur):
     a = [x for i, x in enumerate(a) if i == 0 or a[i - 1] != x]
     b = [x for i, x in enumerate(b) if i == 0 or b[i - 1] != x]
     figs.append(Figure("recap/contacts", a == b, "" if a == b else "24.8 %s, kelp %s" % (short(a, 150), short(b, 150))))
+    return figs
+
+
+HAZARD_OWN_VALUES = re.compile(r"^UHZ_HAZARD_REPORT(_.*)?$|^UHZ_OPTIONS_SUMMARY$|^VIEW_CIRCLE$")
+
+
+def hazard_classify_circle(r):
+    """A classify answer's circle (5 vertices); a detection's has 12."""
+    return r["var"] == "VIEW_CIRCLE" and ",vertices=5," in str(r["val"])
+
+
+def hazard_figures(G, K, tol, period, Gall, Kall):
+    """uFldHazardSensor: who detected what in which order, the classifications answered, the
+    options summary, and the AppCast's statistics table.
+
+    A classify answer comes min_classify_interval after the previous one, at the first iteration
+    that finds the interval over: each answer may come one iteration period later on one side
+    than on the other, and the slips add up along the queue. So the answers are compared by
+    sequence (vehicle, label, type said), the first within tol, and each interval between two
+    answers within tol of the recording's. The options summary is posted at start-up and every
+    options_summary_interval after: its phase is the app's start (not behaviour), so it is
+    compared by value and interval."""
+    figs = []
+
+    def seq(rows, var, keys):
+        out = []
+        for r in rows:
+            if r["var"] == var and r["src"] == "uFldHazardSensor":
+                d = dict(kv_pairs(r["val"]))
+                out.append((r["t"], tuple(d.get(x, "") for x in keys)))
+        return out
+
+    gd, kd = seq(G, "UHZ_DETECTION_REPORT", ("vname", "label")), seq(K, "UHZ_DETECTION_REPORT", ("vname", "label"))
+    a, b = [x for _, x in gd], [x for _, x in kd]
+    ok = a == b
+    figs.append(Figure("hazard/detections", ok, "" if ok else "24.8 %s; kelp %s" % (short(a, 150), short(b, 150))))
+
+    ga, ka = seq(G, "UHZ_HAZARD_REPORT", ("vname", "label", "type")), seq(K, "UHZ_HAZARD_REPORT", ("vname", "label", "type"))
+    ok = [x for _, x in ga] == [x for _, x in ka]
+    d = "" if ok else "24.8 %s; kelp %s" % (short([x for _, x in ga], 150), short([x for _, x in ka], 150))
+    if ok and ga:
+        gi = [q[0] - p[0] for p, q in zip(ga, ga[1:])]
+        ki = [q[0] - p[0] for p, q in zip(ka, ka[1:])]
+        ok = abs(ga[0][0] - ka[0][0]) <= tol and all(abs(x - y) <= tol for x, y in zip(gi, ki))
+        d = "" if ok else "first 24.8 %.2f kelp %.2f; intervals 24.8 %s kelp %s" % (
+            ga[0][0], ka[0][0], ["%.2f" % x for x in gi], ["%.2f" % x for x in ki])
+    figs.append(Figure("hazard/classifications", ok, d))
+    gc = sorted(str(r["val"]).split(",time=")[0] for r in G if hazard_classify_circle(r))
+    kc = sorted(str(r["val"]).split(",time=")[0] for r in K if hazard_classify_circle(r))
+    figs.append(Figure("hazard/classify_circles", gc == kc, "" if gc == kc else "24.8 %s; kelp %s" % (short(gc, 120), short(kc, 120))))
+
+    def summaries(rows):
+        rs = [r for r in rows if r["var"] == "UHZ_OPTIONS_SUMMARY" and r["src"] == "uFldHazardSensor"]
+        ts = [r["t"] for r in rs]
+        return sorted({str(r["val"]) for r in rs}), ((ts[-1] - ts[0]) / (len(ts) - 1) if len(ts) > 1 else None)
+
+    (gv, gcad), (kv, kcad) = summaries(Gall), summaries(Kall)
+    ok = gv == kv and gcad is not None and kcad is not None and abs(gcad - kcad) <= period
+    figs.append(Figure("hazard/options_summary", ok, "" if ok else "24.8 %s every %s s; kelp %s every %s s" % (
+        gv, gcad, kv, kcad)))
+
+    # the AppCast's per-vehicle rows (the settings and the statistics), times masked
+    def rows(rows_):
+        casts = [r for r in rows_ if r["var"] == "APPCAST" and r["src"] == "uFldHazardSensor"]
+        if not casts:
+            return None
+        lines = appcast_fields(casts[-1]["val"]).get("messages", "").split("!@")
+        out, dashes = [], 0
+        for ln in lines:
+            if ln.startswith("-----"):
+                dashes += 1
+                continue
+            if dashes >= 2 and ln.strip():
+                out.append(re.sub(r"\(\d+\)", "(#)", " ".join(ln.split())))
+        return out
+
+    gr, kr = rows(Gall), rows(Kall)
+    if gr is not None and kr is not None:
+        def close(x, y):  # sensor requests grow with time: the counters' tolerance
+            xs, ys = x.split(), y.split()
+            return len(xs) == len(ys) and all(
+                p == q or (p.isdigit() and q.isdigit() and int(p) > 20 and abs(int(p) - int(q)) <= max(1, 0.02 * int(p)))
+                for p, q in zip(xs, ys))
+        ok = len(gr) == len(kr) and all(close(x, y) for x, y in zip(gr, kr))
+        figs.append(Figure("hazard/appcast_stats", ok, "" if ok else "24.8 %s; kelp %s" % (gr, kr)))
     return figs
 
 

@@ -96,18 +96,22 @@ done
 # swept objects: for each UHZ_SENSOR_REQUEST the shoreside handled, the objects inside the
 # requester's swath (width 25, length 8) at its last node report. "loose": a 3 m margin (the
 # order of arrival can differ slightly between the sensor and the recorder); "sure": 3 m inside.
+# 24.8's swath: L m ahead and behind, W m to each side
 awk -v W=25 -v L=8 '
-  FNR == NR { split($0, f, /[=,]/); ox[n] = f[2]; oy[n] = f[4]; oh[n] = (f[6] == "hazard"); n++; next }
-  $3 == "NODE_REPORT" { nm = ""; split($4, kv, ","); for (i in kv) { split(kv[i], p, "=")
-      if (p[1] == "NAME") nm = p[2]; else if (p[1] == "X") x = p[2]; else if (p[1] == "Y") y = p[2]; else if (p[1] == "HDG") h = p[2] }
-    if (nm != "") { VX[nm] = x; VY[nm] = y; VH[nm] = h } next }
-  $3 == "UHZ_SENSOR_REQUEST" { split($4, p, "="); v = p[2]; if (!(v in VX)) next
+  function look(v, req,   r, i, dx, dy, a, c) {
     r = VH[v] * 3.14159265358979 / 180
     for (i = 0; i < n; i++) { dx = ox[i] - VX[v]; dy = oy[i] - VY[v]
       a = dx * sin(r) + dy * cos(r); c = dx * cos(r) - dy * sin(r); a = a < 0 ? -a : a; c = c < 0 ? -c : c
-      if (a <= L / 2 + 3 && c <= W / 2 + 3) loose[v "," i] = 1
-      if (a <= L / 2 - 1.5 && c <= W / 2 - 3) sure[v "," i] = 1 } next }
-  $3 == "UHZ_DETECTION_REPORT" { split($4, kv, ","); v = ""; lb = ""
+      if (a <= L + 3 && c <= W + 3) loose[v "," i] = 1
+      if (req && a <= L - 1.5 && c <= W - 3) sure[v "," i] = 1 } }
+  FNR == NR { split($0, f, /[=,]/); ox[n] = f[2]; oy[n] = f[4]; oh[n] = (f[6] == "hazard"); n++; next }
+  $3 == "NODE_REPORT" { nm = ""; split($4, kv, ","); for (i in kv) { split(kv[i], p, "=")
+      if (p[1] == "NAME") nm = p[2]; else if (p[1] == "X") x = p[2]; else if (p[1] == "Y") y = p[2]; else if (p[1] == "HDG") h = p[2] }
+    if (nm != "") { VX[nm] = x; VY[nm] = y; VH[nm] = h; if (nm in on) look(nm, 0) } next }
+  # the sensor stays on between requests (24.8 looks every iteration): any position counts
+  # for "loose"; only those at requests for "surely swept"
+  $3 == "UHZ_SENSOR_REQUEST" { split($4, p, "="); v = p[2]; on[v] = 1; if (v in VX) look(v, 1); next }
+  $3 == "UHZ_DETECTION_REPORT" && $2 == "uFldHazardSensor" { split($4, kv, ","); v = ""; lb = ""
     for (i in kv) { split(kv[i], p, "="); if (p[1] == "vname") v = p[2]; if (p[1] == "label") lb = p[2] }
     ndet++; det[v "," lb] = 1; if (!((v "," lb) in loose)) { bad++; print "outside the swath: " $4 > "/dev/stderr" } next }
   $3 == "UHZ_HAZARD_REPORT" { nhaz++; next }
@@ -116,21 +120,21 @@ awk -v W=25 -v L=8 '
 read NDET NHAZ BAD SH DH SB DB < swept.txt
 [ "$NDET" -gt 0 ] || { tail -40 logs_shoreside/uFldHazardSensor.log; fail "no detection report"; }
 [ "$BAD" -eq 0 ] || fail "$BAD detections of objects outside the requester's swath"
-[ "$NHAZ" -eq "$NDET" ] || fail "$NHAZ hazard reports for $NDET detections (one each expected)"
+[ "$NHAZ" -eq 0 ] || fail "$NHAZ hazard reports without a classify request"
 [ "$SH" -ge 4 ] || fail "only $SH hazards surely swept: the surveys did not cover the field"
 # P_D = 0.9: at least 60% of the surely-swept hazards detected (binomial: fails with p < 0.01 for >= 4)
 awk -v d="$DH" -v s="$SH" 'BEGIN { exit !(d >= 0.6 * s) }' || fail "$DH of $SH swept hazards detected (P_D 0.9)"
 ok "detections: $NDET, all of objects inside the swath; hazards swept $SH, detected $DH; benign swept $SB, detected $DB (P_FA 0.66)"
 
-# reports reach the vehicles (bridged UHZ_HAZARD_REPORT_<V> -> UHZ_HAZARD_REPORT), with the ack
+# reports reach the vehicles (bridged UHZ_DETECTION_REPORT_<V> -> UHZ_DETECTION_REPORT), with the ack
 for v in archie betty; do
   V=$(echo $v | tr a-z A-Z)
-  ns=$(awk -v N=UHZ_HAZARD_REPORT_$V '$3 == N' shore.txt | wc -l)
-  nv=$(awk '$3 == "UHZ_HAZARD_REPORT" && $4 ~ /^x=/' $v.txt | wc -l)
-  [ "$nv" -eq "$ns" ] || fail "$v received $nv of its $ns hazard reports"
-  grep -q " UHZ_CONFIG_ACK width=25,pd=0.9,pfa=0.66,pclass=0.85$" $v.txt || fail "$v: no UHZ_CONFIG_ACK"
+  ns=$(awk -v N=UHZ_DETECTION_REPORT_$V '$3 == N' shore.txt | wc -l)
+  nv=$(awk '$3 == "UHZ_DETECTION_REPORT" && $4 ~ /^x=/' $v.txt | wc -l)
+  [ "$nv" -eq "$ns" ] || fail "$v received $nv of its $ns detection reports"
+  grep -q " UHZ_CONFIG_ACK vname=$v,width=25,pd=0.9,pfa=0.656,pclass=0.85$" $v.txt || fail "$v: no UHZ_CONFIG_ACK"
 done
-ok "hazard reports and config acks reach both vehicles"
+ok "detection reports and config acks reach both vehicles"
 
 # path check: the last odometry of each vehicle against its own NAV_X/NAV_Y track, and speeds
 for v in archie betty; do
