@@ -177,14 +177,14 @@ $(BUILD)/test/check_edge: test/check_main.c $(EDGE_TESTS) $(FAKES) $(BUILD)/gen/
 tests-bin: $(BUILD)/test/check_core $(BUILD)/test/check_edge
 
 unit: tests-bin
-	@$(BUILD)/test/check_core && $(BUILD)/test/check_edge
+	@scripts/run-suites.sh $(BUILD)/test/check_core && scripts/run-suites.sh $(BUILD)/test/check_edge
 
 # the unit tests again with the messages of kelp_diag compiled out (-DKELP_NO_ERRMSG): codes,
 # lines and columns must be the same; tests read a message only through kelp_diag_text()
 # and compare it under #ifndef KELP_NO_ERRMSG
 unit-noerrmsg:
 	@$(MAKE) --no-print-directory BUILD=$(BUILD)-noerrmsg CPPFLAGS_EXTRA=-DKELP_NO_ERRMSG tests-bin
-	@$(BUILD)-noerrmsg/test/check_core && $(BUILD)-noerrmsg/test/check_edge
+	@scripts/run-suites.sh $(BUILD)-noerrmsg/test/check_core && scripts/run-suites.sh $(BUILD)-noerrmsg/test/check_edge
 
 # the conformance suite: recorded runs of the real MOOS-IvP 24.8 apps replayed on kelp
 # (test/conformance/run.sh, compare.py; the recordings: test/conformance/moos-ivp-24.8/README.md);

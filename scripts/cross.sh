@@ -35,4 +35,4 @@ $TRIPLE-gcc -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE -O2 -g -Wall -Wextra -Werro
 file $O/check_core | sed 's/,.*//'
 # qemu-user runs the code 5-20x slower than the host (more on a loaded one): Check's per-test
 # timeout (4 s) is scaled so that the long randomized checks (200,000 numbers against strtod) finish
-CK_TIMEOUT_MULTIPLIER=${CK_TIMEOUT_MULTIPLIER:-15} $QEMU ./$O/check_core
+CK_TIMEOUT_MULTIPLIER=${CK_TIMEOUT_MULTIPLIER:-15} scripts/run-suites.sh ./$O/check_core $QEMU
