@@ -45,6 +45,7 @@ extern "C" {
 #define KELP_RSENSE_MAX_VCFG 32     /**< per-vehicle entries of one parameter (REACH_DISTANCE = henry = 40) */
 #endif
 #define KELP_RSENSE_NAME KELP_NODEREPORT_MAX_FIELD
+#define KELP_RSENSE_LEDGER_WHO 4    /**< names in the AppCast's ledger line (24.8's getSummary) */
 
 typedef enum kelp_rsense_noise_alg {
     KELP_RSENSE_NOISE_NONE = 0,
@@ -87,8 +88,13 @@ typedef struct kelp_rsense_node {
     char name[KELP_RSENSE_NAME]; /**< as it arrived (compared case-insensitively) */
     char type[KELP_RSENSE_NAME];
     double x, y, hdg;
-    double clock;                /**< ping-wait clock (starts at the tool's start) */
+    double clock;                /**< ping-wait clock: the last paid request (valid once pinged) */
+    bool pinged;                 /**< 24.8's clock starts at 0: a first request is always in time */
     unsigned long reports, pings, denied, accepted, heard;
+    unsigned long unsol;         /**< unsolicited reports received (BRS) */
+    unsigned long replied;       /**< replies received (BRS Rep'd) */
+    unsigned long too_far;       /**< beacons or contacts out of range of an honoured request */
+    unsigned long echoes_sent;   /**< CRS: times this vehicle was reported to a pinger */
 } kelp_rsense_node;
 
 /** Verbose console lines (may be NULL): the 12.2 manual's event output. */
@@ -153,7 +159,8 @@ typedef struct kelp_brs_beacon {
     double freq_lo, freq_hi;     /**< unsolicited period s, fixed (lo == hi) or uniform; < 0 never */
     double push;                 /**< report_range m (< 0 nolimit) */
     double pull;                 /**< 24.8 pull_dist m, added to reach (0) */
-    double next;                 /**< time of the next unsolicited report (-1 none yet) */
+    double ts;                   /**< time stamp of its last report (24.8's setTimeStamp) */
+    double cur;                  /**< the period drawn at the last time stamp (-1 never) */
     bool freq_set;               /**< freq given on its own line (24.8 draws then) */
     unsigned long heard, replies, unsol;
 } kelp_brs_beacon;
@@ -206,6 +213,11 @@ int kelp_field_brs_mail(kelp_field_brs *b, const char *var, bool is_string, cons
 unsigned long kelp_field_brs_iterate(kelp_field_brs *b, kelp_time now, const kelp_field_sink *out);
 /** The startup block of Listing 25 ("SRS Model - # Beacons: ..."). @return 0 or KELP_ERR_NOSPACE. */
 KELP_MUST_CHECK int kelp_field_brs_summary(const kelp_field_brs *b, char *buf, size_t cap);
+/** The AppCast report as 24.8's buildReport lays it out: "Beacons(N):" and the beacon table
+ *  (ID, X, Y, Freq, Pings Unsol/Recvd/Gen'd, Noise, Push/Pull Dist), "Vehicles(N):" and the
+ *  vehicle table (VName, Push/Pull Dist, Unsol Rec'd, Pings Gen'd/Rep'd, Too Freq/Far), then
+ *  "Ledger: now:N, reps:R, who:a,b,..". @return 0 or KELP_ERR_NOSPACE. */
+KELP_MUST_CHECK int kelp_field_brs_report(const kelp_field_brs *b, char *buf, size_t cap);
 /** Index of a beacon by label, or -1. */
 int kelp_field_brs_find(const kelp_field_brs *b, const char *label);
 

@@ -72,7 +72,7 @@ void broker_table(char *buf, size_t cap, size_t *n, bool *full, unsigned ncols, 
 /** The same table with `sep` blanks between columns and the columns whose bit is set in
  *  `right` right-justified (ACTable's setColumnJustify); at most FIELD_ACTABLE_MAX_COLS
  *  columns, cells of at most 63 bytes. */
-#define FIELD_ACTABLE_MAX_COLS 12
+#define FIELD_ACTABLE_MAX_COLS 17 /* uFldScope: VName and 16 scope columns */
 void field_actable(char *buf, size_t cap, size_t *n, bool *full, unsigned ncols, unsigned nrows, unsigned header_rows,
                    unsigned sep, unsigned right, broker_cell_fn cell, const void *ctx);
 /** Same community, host, ports and warp. */
