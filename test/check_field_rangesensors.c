@@ -611,7 +611,7 @@ START_TEST(brs_request_warnings_and_table)
                           "------  ----  ----  -----  -----  -----  ----  ---\n"
                           "indigo  inf   100   0      2      1      1     1\n"
                           "\n"
-                          "Ledger: now:1, reps:1, who:indigo\n\n");
+                          "Ledger: now:1, reps:1, who:indigo\n");
 }
 END_TEST
 

@@ -539,6 +539,6 @@ int kelp_field_brs_report(const kelp_field_brs *b, char *buf, size_t cap)
     broker_put(buf, cap, &n, &full, "\n\nLedger: now:%u, reps:%lu, who:", b->nnodes, reps);
     for (unsigned u = 0; u < b->nnodes && u < KELP_RSENSE_LEDGER_WHO; u++)
         broker_put(buf, cap, &n, &full, "%s%s", u ? "," : "", b->node[u].name);
-    broker_put(buf, cap, &n, &full, "\n\n"); /* 24.8's last endl and the one AppCasting adds */
+    broker_put(buf, cap, &n, &full, "\n");
     return full ? KELP_ERR_NOSPACE : KELP_OK;
 }
