@@ -6,18 +6,24 @@
  *     reach(V) + pull(B) >= |VB|    (REACH_DISTANCE, alias 24.8's node_push_dist; beacon pull_dist, 0)
  * and B's report reaches vehicle U when
  *     report_range(B) + pull(U) >= |UB|   (report_range, alias 24.8's push_dist; node_pull_dist, 0)
- * where a negative distance ("nolimit") always passes. With the 12.2 manual's parameters only
- * (pulls 0) this is its rule; a 24.8 block that sets the push/pull distances gets 24.8's sums.
- * A solicited reply goes to every vehicle in report range (the 12.2 manual), not only the requester.
+ * where a negative distance ("nolimit") always passes (24.8's pingTrans; its defaults: node push
+ * and pull 100, beacon push and pull 50). A solicited reply goes to the requester only; an
+ * unsolicited one (a beacon with a freq, more than its period after its last report) to every
+ * vehicle in reach. A vehicle's ping-wait clock starts at 0 (24.8): its first request is in time.
+ * A request is "name=V" (24.8 reads name= only); an empty or unknown V is refused with 24.8's
+ * run warnings ("Failed Range Request: Unknown vehicle[V]", "Bad Mail: BRS_RANGE_REQUEST").
+ * The ground-truth reports come only with noise (RN_ALGORITHM) and GROUND_TRUTH (true).
  *
  * Randomness: RAND_MODE = kelp (the default; kelp_rng seeded by SEED_RANDOM) or glibc
  * (kelp_glibc_rand seeded 1, i.e. the rand() sequence of a program that never calls srand).
  * In glibc mode the values are drawn where and as MOOS-IvP 24.8 draws them, with its
- * arithmetic: uniform noise (rand() % 10000) / 5000 - 1, an unsolicited interval
- * lo + (rand() % 1000) / 1000 * (hi - lo) (drawn when a beacon's freq is configured, on its
- * first iteration, after each unsolicited post and after each solicited reply, also for a
- * fixed freq), gaussian noise MOOSWhiteNoise's polar method with its cached second value.
- * Set BEACON_ORDER = config as well to iterate beacons in 24.8's order.
+ * arithmetic: uniform noise (rand() % 10000) / 5000 - 1, one per report; an unsolicited
+ * interval lo + (rand() % 1000) / 1000 * (hi - lo) (drawn when a beacon's freq is configured,
+ * on the first iteration, when an unsolicited broadcast stamps the beacon, before its reports,
+ * and after each solicited reply, also for a fixed freq); gaussian noise (kelp's RN_ALGORITHM
+ * = gaussian) MOOSWhiteNoise's polar method with its cached second value. RN_UNIFORM_PCT alone
+ * sets the fraction, not the algorithm (24.8). Beacons go in 24.8's order by default (its
+ * mission reader hands the block over last line first: BEACON_ORDER = reverse).
  */
 #ifndef KELP_BEACONRANGE_H
 #define KELP_BEACONRANGE_H
