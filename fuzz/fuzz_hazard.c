@@ -57,7 +57,7 @@ static void pathcheck(const char *t)
     kelp_field_upc_cfg c;
     kelp_diag why = { 0 };
     kelp_field_upc_cfg_default(&c);
-    if (kelp_field_upc_config(&c, "history", t, &why) < 0 && why.code == KELP_OK) abort();
+    if (kelp_field_upc_config(&c, "history_length", t, &why) < 0 && why.code == KELP_OK) abort();
     if (kelp_field_upc_init(&P, &c) != 0) abort();
     kelp_field_sink sink = { NULL, check_publish, NULL };
     (void)kelp_field_upc_mail(&P, "NODE_REPORT", true, "NAME=a,X=0,Y=0,TIME=1", 1, &sink);
@@ -65,7 +65,7 @@ static void pathcheck(const char *t)
     (void)kelp_field_upc_mail(&P, "UPC_TRIP_RESET", true, t, 3, &sink);
     (void)kelp_field_upc_iterate(&P, 3, &sink);
     char buf[2048];
-    (void)kelp_field_upc_report(&P, 4, buf, sizeof buf);
+    (void)kelp_field_upc_report(&P, 4, 1, buf, sizeof buf);
     if (strlen(buf) >= sizeof buf) abort();
 }
 

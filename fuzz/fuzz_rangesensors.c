@@ -87,5 +87,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (b->nbeacons > KELP_BRS_MAX_BEACONS || b->nnodes > KELP_RSENSE_MAX_NODES) abort();
     (void)kelp_field_brs_summary(b, text, sizeof text);
     (void)kelp_field_crs_summary(c, text, sizeof text);
+    (void)kelp_field_brs_report(b, text, sizeof text); /* the AppCast tables: always terminated */
+    if (strlen(text) >= sizeof text) abort();
+    (void)kelp_field_crs_report(c, text, sizeof text);
+    if (strlen(text) >= sizeof text) abort();
     return 0;
 }

@@ -26,9 +26,11 @@ static void pub(void *ctx, const char *var, bool is_string, const char *sval, do
     r->n++;
 }
 
+static char last_warn[256];
+
 static void wrn(void *ctx, const char *msg)
 {
-    (void)msg;
+    snprintf(last_warn, sizeof last_warn, "%s", msg);
     ((rec *)ctx)->warns++;
 }
 
@@ -114,13 +116,14 @@ START_TEST(brs_indigo_ranges)
     ck_assert_str_eq(nth(&r, "BRS_RANGE_REPORT", 1), "vname=indigo,range=515.6779,id=02,time=100.846");
     ck_assert_str_eq(nth(&r, "BRS_RANGE_REPORT", 2), "vname=indigo,range=304.6305,id=01,time=100.846");
     ck_assert_int_eq(count(&r, "VIEW_RANGE_PULSE"), 4);
-    ck_assert_str_eq(nth(&r, "VIEW_RANGE_PULSE", 0), "x=-97.65,y=-64.84,radius=50,duration=6,label=indigo_ping,"
-                                                     "edge_color=white,fill_color=white,time=100.85,edge_size=1");
-    ck_assert_str_eq(nth(&r, "VIEW_RANGE_PULSE", 1), "x=0,y=-200,radius=40,duration=15,label=03_reply,"
-                                                     "edge_color=pink,fill_color=pink,time=100.85,edge_size=1");
+    /* 24.8's pulses: <v>_range_req (radius 40, 6 s), the beacon's label (40, 15 s), fill 0.9 */
+    ck_assert_str_eq(nth(&r, "VIEW_RANGE_PULSE", 0), "x=-97.65,y=-64.84,radius=40,fill=0.9,label=indigo_range_req,"
+                                                     "edge_color=white,fill_color=white,time=100.85,duration=6,edge_size=1");
+    ck_assert_str_eq(nth(&r, "VIEW_RANGE_PULSE", 1), "x=0,y=-200,radius=40,fill=0.9,label=03,"
+                                                     "edge_color=pink,fill_color=pink,time=100.85,duration=15,edge_size=1");
     ck_assert_str_eq(r.var[1], "BRS_RANGE_REPORT"); /* report, then its beacon's pulse */
     ck_assert_str_eq(r.var[2], "VIEW_RANGE_PULSE");
-    ck_assert(strncmp(nth(&r, "VIEW_RANGE_PULSE", 3), "x=200,y=0,radius=40,duration=15,", 32) == 0);
+    ck_assert(strncmp(nth(&r, "VIEW_RANGE_PULSE", 3), "x=200,y=0,radius=40,fill=0.9,label=01,", 38) == 0);
     ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT_GT"), 0);
     r.n = 0;
     nrep(&B, NULL, "indigo", -197.96, -129.16, 160, &r);
@@ -176,19 +179,24 @@ START_TEST(brs_ping_payments)
     ck_assert_int_eq(accepted(waits[0], 500, t5, 2, &m), 1);
     /* upon_response with a report: the clock restarts */
     ck_assert_int_eq(accepted(waits[2], 10, t5, 2, &m), 1);
-    /* 10.5.15 / A83: the clock starts at the start: a request sooner than ping_wait is denied */
+    /* 24.8: a vehicle's clock starts at 0, not at the start: its first request is honoured
+     * however soon after the start, and the next one ping_wait after it */
     rec r = { 0 };
-    brs_start(&B, waits[0], 0);
-    nrep(&B, NULL, "v", 10, 0, 0, &r);
+    brs_start(&B, waits[0], 20);
+    nrep(&B, NULL, "v", 10, 0, 20, &r);
     breq(&B, "v", 30, &r);
-    ck_assert_uint_eq(B.accepted, 0);
+    ck_assert_uint_eq(B.accepted, 1);
+    breq(&B, "v", 89, &r);
+    breq(&B, "v", 90, &r);
+    ck_assert_uint_eq(B.accepted, 2);
 }
 END_TEST
 
-/* 10.5.6, 10.5.7: reach per vehicle, report range, bystanders hear too */
+/* reach per vehicle, report range; only the requester hears the replies (24.8) */
 START_TEST(brs_reach_and_report_range)
 {
     static const char *const cfg[] = { "reach_distance", "henry = 40", "reach_distance", "default = 1000",
+                                       "default_beacon_pull_dist", "0", "node_pull_dist", "default = 0",
                                        "ping_wait", "0", "beacon", "x=0,y=0,label=01",
                                        "beacon", "x=80,y=0,label=02,report_range=nolimit", NULL };
     rec r = { 0 };
@@ -197,7 +205,7 @@ START_TEST(brs_reach_and_report_range)
     breq(&B, "henry", 1, &r);
     ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT"), 1);
     ck_assert_str_eq(nth(&r, "BRS_RANGE_REPORT", 0), "vname=henry,range=30,id=02,time=1");
-    static const char *const cfg7[] = { "reach_distance", "default = nolimit", "ping_wait", "0",
+    static const char *const cfg7[] = { "reach_distance", "default = nolimit", "ping_wait", "0", "node_pull_dist", "0",
                                         "beacon", "x=0,y=0,label=03,report_range=80", NULL };
     brs_start(&B, cfg7, 0);
     r.n = 0;
@@ -205,11 +213,10 @@ START_TEST(brs_reach_and_report_range)
     nrep(&B, NULL, "gilda", 0, 90, 0, &r);
     nrep(&B, NULL, "ike", 0, -60, 0, &r);
     breq(&B, "henry", 1, &r);
-    ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT"), 2);
+    ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT"), 1); /* ike is in range but did not ask */
     ck_assert_str_eq(nth(&r, "BRS_RANGE_REPORT", 0), "vname=henry,range=50,id=03,time=1");
-    ck_assert_str_eq(nth(&r, "BRS_RANGE_REPORT", 1), "vname=ike,range=60,id=03,time=1");
     /* 24.8's pulls: a node pull lets gilda hear, a beacon pull extends henry's reach */
-    static const char *const cfg8[] = { "reach_distance", "default = 10", "node_pull_dist", "gilda = 15",
+    static const char *const cfg8[] = { "reach_distance", "default = 10", "node_pull_dist", "default = 0",
                                         "ping_wait", "0", "beacon", "x=0,y=0,label=03,report_range=80,pull_dist=45",
                                         NULL };
     brs_start(&B, cfg8, 0);
@@ -217,7 +224,8 @@ START_TEST(brs_reach_and_report_range)
     nrep(&B, NULL, "henry", 50, 0, 0, &r);
     nrep(&B, NULL, "gilda", 0, 90, 0, &r);
     breq(&B, "henry", 1, &r);
-    ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT"), 2);
+    ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT"), 1);
+    ck_assert_uint_eq(B.node[1].too_far, 0);
 }
 END_TEST
 
@@ -243,7 +251,19 @@ START_TEST(brs_report_vars_ground_truth)
         ck_assert(fabs(num(rp, "range") - 500) <= 0.12 * 500 + 1e-9);
         ck_assert(fabs(num(rp, "range") - 500) > 1e-6); /* noisy */
         if (want_l[m]) ck_assert_str_eq(nth(&r, "BRS_RANGE_REPORT_GT_INDIGO", 0), "range=500,id=01,time=1");
+        /* 24.8 upper-cases the name for the long form first: the short GT report of "both" */
+        if (m == 2) ck_assert_str_eq(nth(&r, "BRS_RANGE_REPORT_GT", 0), "vname=INDIGO,range=500,id=01,time=1");
+        if (m == 0) ck_assert_str_eq(nth(&r, "BRS_RANGE_REPORT_GT", 0), "vname=indigo,range=500,id=01,time=1");
     }
+    /* ground truth without noise: none (24.8 posts it only with an rn_algorithm) */
+    const char *cfg0[] = { "ground_truth", "true", "rn_uniform_pct", "0.5", "ping_wait", "0", "reach_distance", "nolimit",
+                           "beacon", "x=0,y=0,label=01,push_dist=nolimit", NULL };
+    rec r = { 0 };
+    brs_start(&B, cfg0, 0);
+    nrep(&B, NULL, "indigo", 300, 400, 0, &r);
+    breq(&B, "indigo", 1, &r);
+    ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT_GT"), 0);
+    ck_assert_str_eq(nth(&r, "BRS_RANGE_REPORT", 0), "vname=indigo,range=500,id=01,time=1"); /* pct alone: no noise */
 }
 END_TEST
 
@@ -264,14 +284,14 @@ START_TEST(brs_unsolicited)
     nrep(&B, NULL, "ike", 20, 10, 0, &r);
     (void)kelp_field_brs_iterate(&B, 0, &sink);
     ck_assert_int_eq(count(&r, "VIEW_MARKER"), 2);
-    (void)kelp_field_brs_iterate(&B, 89.9, &sink);
+    (void)kelp_field_brs_iterate(&B, 90, &sink); /* 24.8: more than freq after the stamp */
     ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT"), 0);
-    ck_assert_uint_eq(kelp_field_brs_iterate(&B, 90, &sink), 2); /* both vehicles */
-    ck_assert_str_eq(nth(&r, "BRS_RANGE_REPORT", 0), "vname=ike,range=22.3607,id=02,time=90");
-    ck_assert(strstr(nth(&r, "VIEW_RANGE_PULSE", 0), "label=02_reply,edge_color=green") != NULL);
-    breq(&B, "indigo", 100, &r); /* solicited at 100: the next unsolicited is at 190 */
-    ck_assert_uint_eq(kelp_field_brs_iterate(&B, 189.9, &sink), 0);
-    ck_assert_uint_eq(kelp_field_brs_iterate(&B, 190, &sink), 2);
+    ck_assert_uint_eq(kelp_field_brs_iterate(&B, 90.25, &sink), 2); /* both vehicles */
+    ck_assert_str_eq(nth(&r, "BRS_RANGE_REPORT", 0), "vname=ike,range=22.3607,id=02,time=90.25");
+    ck_assert(strstr(nth(&r, "VIEW_RANGE_PULSE", 0), "label=02,edge_color=pink") != NULL);
+    breq(&B, "indigo", 100, &r); /* solicited at 100: the next unsolicited after 190 */
+    ck_assert_uint_eq(kelp_field_brs_iterate(&B, 190, &sink), 0);
+    ck_assert_uint_eq(kelp_field_brs_iterate(&B, 190.25, &sink), 2);
     /* 60:120: every interval in [60,120], and not all the same */
     static const char *const cfg2[] = { "default_beacon_freq", "60:120", "beacon", "x=0,y=0,label=01", NULL };
     brs_start(&B, cfg2, 0);
@@ -312,27 +332,32 @@ START_TEST(brs_beacons_markers)
     ck_assert_uint_eq(B.nbeacons, 4);
     (void)kelp_field_brs_iterate(&B, 0, &sink);
     ck_assert_int_eq(count(&r, "VIEW_MARKER"), 4);
-    ck_assert_str_eq(nth(&r, "VIEW_MARKER", 0), "x=5,y=5,label=3,color=orange,type=circle,width=4");
-    ck_assert_str_eq(nth(&r, "VIEW_MARKER", 1), "x=0,y=-200,label=03,color=orange,type=circle,width=4");
-    ck_assert_str_eq(nth(&r, "VIEW_MARKER", 2), "x=401,y=-200,label=02,color=orange,type=circle,width=4");
-    ck_assert_str_eq(nth(&r, "VIEW_MARKER", 3), "x=200,y=0,label=01,color=orange,type=circle,width=4");
+    /* 24.8's XYMarker spec: no label */
+    ck_assert_str_eq(nth(&r, "VIEW_MARKER", 0), "x=5,y=5,width=4,primary_color=orange,type=circle");
+    ck_assert_str_eq(nth(&r, "VIEW_MARKER", 1), "x=0,y=-200,width=4,primary_color=orange,type=circle");
+    ck_assert_str_eq(nth(&r, "VIEW_MARKER", 2), "x=401,y=-200,width=4,primary_color=orange,type=circle");
+    ck_assert_str_eq(nth(&r, "VIEW_MARKER", 3), "x=200,y=0,width=4,primary_color=orange,type=circle");
     (void)kelp_field_brs_iterate(&B, 1, &sink);
     ck_assert_int_eq(count(&r, "VIEW_MARKER"), 4); /* once */
     char buf[2048];
     ck_assert_int_eq(kelp_field_brs_summary(&B, buf, sizeof buf), 0);
-    ck_assert(strstr(buf, "SRS Model - # Beacons: 4\n  [0]:x=5,y=5,label=3,") != NULL);
+    ck_assert(strstr(buf, "SRS Model - # Beacons: 4\n  [0]:x=5,y=5,width=4,") != NULL);
     ck_assert(strstr(buf, "Default Beacon Color: orange\nDefault Beacon Shape: circle\nDefault Beacon Width: 4\n"));
     /* beacon_order = config */
     static const char *const cfgc[] = { "beacon_order", "config", "beacon", "label=01, x=200, y=0",
                                         "beacon", "label=02, x=400, y=-200", NULL };
     brs_start(&B, cfgc, 0);
     ck_assert_str_eq(B.beacon[0].label, "01");
-    /* unknown requester: nothing posted, a warning */
+    /* unknown requester, or vname= (24.8 reads name= only): refused, nothing posted, warned
+     * "Failed Range Request: Unknown vehicle[..]" and "Bad Mail" */
     brs_start(&B, listing24, 0);
+    nrep(&B, NULL, "indigo", 0, 0, 1, &r);
     r.n = r.warns = 0;
-    breq(&B, "nobody", 100, &r);
+    ck_assert_int_lt(kelp_field_brs_mail(&B, "BRS_RANGE_REQUEST", true, "name=nobody", 100, &sink), 0);
+    ck_assert_str_eq(last_warn, "Bad Mail: BRS_RANGE_REQUEST");
+    ck_assert_int_lt(kelp_field_brs_mail(&B, "BRS_RANGE_REQUEST", true, "vname=indigo", 100, &sink), 0);
     ck_assert_int_eq(r.n, 0);
-    ck_assert_int_eq(r.warns, 1);
+    ck_assert_int_eq(r.warns, 4);
     /* bad mail: a warning, no crash, state kept */
     ck_assert_int_lt(kelp_field_brs_mail(&B, "BRS_RANGE_REQUEST", true, "garbage", 1, &sink), 0);
     ck_assert_int_lt(kelp_field_brs_mail(&B, "NODE_REPORT", true, "NAME=x", 1, &sink), 0);
@@ -379,7 +404,8 @@ static void creq(const char *name, double now, rec *r)
     ck_assert_int_eq(kelp_field_crs_mail(&C, "CRS_RANGE_REQUEST", true, s, now, &sink), 1);
 }
 
-static const char *const none[] = { "ping_wait", "0", NULL };
+/* kelp's ECHO_FALLOFF = false: no echo beyond reach + reply (24.8's chance: crs_echo_falloff) */
+static const char *const none[] = { "ping_wait", "0", "echo_falloff", "false", NULL };
 
 /* 11.5.1 to 11.5.5: reach + reply */
 START_TEST(crs_reach_reply)
@@ -397,14 +423,15 @@ START_TEST(crs_reach_reply)
     ck_assert_int_eq(count(&r, "CRS_RANGE_REPORT"), 0);
     ck_assert_int_eq(count(&r, "VIEW_RANGE_PULSE"), 1); /* accepted: the ping pulse */
     static const char *const c3[] = { "ping_wait", "0", "reach_distance", "default = 120", "reply_distance",
-                                      "default = 80", NULL };
+                                      "default = 80.01", "echo_falloff", "false", NULL };
     crs_start(c3, 0);
     r.n = 0;
     nrep(NULL, &C, "archie", 0, 0, 0, &r);
     nrep(NULL, &C, "jackal", 200, 0, 0, &r);
     creq("archie", 1, &r);
     ck_assert_int_eq(count(&r, "CRS_RANGE_REPORT"), 1);
-    static const char *const c4[] = { "ping_wait", "0", "push_dist", "victor = 250", "pull_dist", "victor = 20", NULL };
+    static const char *const c4[] = { "ping_wait", "0", "push_dist", "victor = 250", "pull_dist", "victor = 20",
+                                      "echo_falloff", "false", NULL };
     crs_start(c4, 0);
     r.n = 0;
     nrep(NULL, &C, "victor", 0, 0, 0, &r);
@@ -465,10 +492,11 @@ START_TEST(crs_reports_pulses)
     ck_assert_str_eq(nth(&r, "CRS_RANGE_REPORT_GT", 0), "vname=archie,range=174.1391,target=jackal,time=23588509131.764");
     double v = num(nth(&r, "CRS_RANGE_REPORT", 0), "range");
     ck_assert(v >= 167.1735 && v <= 181.1047);
-    ck_assert_str_eq(nth(&r, "VIEW_RANGE_PULSE", 0), "x=-49.31,y=-38.86,radius=50,duration=6,label=archie_ping,"
-                                                     "edge_color=white,fill_color=white,time=23588509131.76,edge_size=1");
-    ck_assert_str_eq(nth(&r, "VIEW_RANGE_PULSE", 1), "x=-187.67,y=-144.6,radius=40,duration=15,label=jackal_reply,"
-                                                     "edge_color=chartreuse,fill_color=chartreuse,time=23588509131.76");
+    ck_assert_str_eq(nth(&r, "VIEW_RANGE_PULSE", 0), "x=-49.31,y=-38.86,radius=50,fill=0.9,label=archie_ping,"
+                                                     "edge_color=white,fill_color=white,time=23588509131.76,duration=6,edge_size=1");
+    ck_assert_str_eq(nth(&r, "VIEW_RANGE_PULSE", 1), "x=-187.67,y=-144.6,radius=40,fill=0.9,label=jackal_echo,"
+                                                     "edge_color=chartreuse,fill_color=chartreuse,time=23588509131.76,"
+                                                     "duration=15,edge_size=1");
     ck_assert_int_eq(count(&r, "CRS_RANGE_REPORT_JACKAL"), 0); /* only the requester */
     const double pairs[][5] = { { -141.97, -94.55, -191.18, -215.82, 130.8741 },
                                 { -197.98, -128.86, -161.42, -250.59, 127.1016 },
@@ -492,9 +520,11 @@ START_TEST(crs_reports_pulses)
     ck_assert_str_eq(nth(&r, "CRS_RANGE_REPORT_ARCHIE", 0), "range=50,target=jackal,time=1");
     ck_assert_str_eq(nth(&r, "CRS_RANGE_REPORT_GT_ARCHIE", 0), "range=50,target=jackal,time=1");
     r.n = r.warns = 0;
-    creq("ghost", 2, &r);
-    ck_assert_int_eq(r.n, 0);
-    ck_assert_int_eq(r.warns, 1);
+    kelp_field_sink sk = { &r, pub, wrn };
+    ck_assert_int_lt(kelp_field_crs_mail(&C, "CRS_RANGE_REQUEST", true, "name=ghost", 2, &sk), 0);
+    ck_assert_int_eq(r.n, 0); /* refused, answered by nothing */
+    ck_assert_int_eq(r.warns, 2);
+    ck_assert_str_eq(last_warn, "Bad Mail: CRS_RANGE_REQUEST");
     /* 24.8: allowed echo types, ignored group, sensor arcs, no pulses */
     static const char *const c24[] = { "ping_wait", "0", "allow_echo_types", "kayak", "display_pulses", "false", NULL };
     crs_start(c24, 0);
@@ -516,16 +546,169 @@ START_TEST(crs_reports_pulses)
     kelp_field_crs_cfg cc;
     kelp_field_crs_cfg_default(&cc);
     kelp_diag why = { 0 };
-    ck_assert_int_eq(kelp_field_crs_config(&cc, "ignore_group", "red", &why), 1);
+    /* 24.8 has no ignore_group (an unhandled line): the vehicle stays */
+    ck_assert_int_eq(kelp_field_crs_config(&cc, "ignore_group", "red", &why), 0);
     kelp_field_crs_init(&C, &cc, 0);
     kelp_field_sink sink = { &r, pub, wrn };
     ck_assert_int_eq(kelp_field_crs_mail(&C, "NODE_REPORT", true, "NAME=a,X=1,Y=2,GROUP=red", 0, &sink), 1);
-    ck_assert_uint_eq(C.nnodes, 0);
+    ck_assert_uint_eq(C.nnodes, 1);
     ck_assert_int_lt(kelp_field_crs_config(&cc, "sensor_arc", "45", &why), 0);
     ck_assert_int_lt(kelp_field_crs_config(&cc, "reach_distance", "far", &why), 0);
     char buf[2048];
     ck_assert_int_eq(kelp_field_crs_summary(&C, buf, sizeof buf), 0);
     ck_assert(strstr(buf, "Default Reach Distance: 100\nDefault Reply Distance: 100\nDefault Ping Wait: 30\n"));
+}
+END_TEST
+
+
+/* 24.8's rules of a request: a too-frequent one is warned; events as 24.8 reports them; the
+ * AppCast's beacon and vehicle tables */
+static char events[16][128];
+static int nevents;
+
+static void event_log(void *ctx, const char *line)
+{
+    (void)ctx;
+    if (nevents < 16) snprintf(events[nevents++], sizeof events[0], "%s", line);
+}
+
+START_TEST(brs_request_warnings_and_table)
+{
+    static const char *const cfg[] = { "ping_payments", "upon_accept", "node_push_dist", "default = nolimit",
+                                       "ping_wait", "default = 10", "default_beacon_push_dist", "100",
+                                       "default_beacon_pull_dist", "100", "beacon", "label=01, x=200, y=0",
+                                       "beacon", "label=03, x=0, y=-200, push_dist=20", NULL };
+    kelp_field_brs_cfg c;
+    brs_cfg(&c, cfg);
+    c.com.log = event_log;
+    kelp_diag why = { 0 };
+    ck_assert_int_eq(kelp_field_brs_init(&B, &c, 0, &why), 0);
+    rec r = { 0 };
+    kelp_field_sink sink = { &r, pub, wrn };
+    nevents = 0;
+    nrep(&B, NULL, "indigo", 23.76, 0, 5, &r);
+    breq(&B, "indigo", 5, &r);
+    ck_assert_str_eq(events[0], "Valid Range Req from indigo. Checking beacon ranges...");
+    ck_assert_str_eq(events[1], "Beacon[03]  <----  Ping from indigo");
+    ck_assert_str_eq(events[2], "Beacon[01]  <----  Ping from indigo");
+    ck_assert_str_eq(events[3], "Beacon[01]    -->  Range Reply to indigo");
+    ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT"), 1);
+    breq(&B, "indigo", 10, &r);
+    ck_assert_str_eq(last_warn, "Failed Range Req from indigo: exceeds query freq.");
+    ck_assert_int_lt(kelp_field_brs_mail(&B, "BRS_RANGE_REQUEST", true, "name=zed", 11, &sink), 0);
+    char buf[2048];
+    ck_assert_int_eq(kelp_field_brs_report(&B, buf, sizeof buf), 0);
+    ck_assert_str_eq(buf, "Beacons(2):\n"
+                          "                     Pings  Pings  Pings         Push  Pull\n"
+                          "ID    X     Y  Freq  Unsol  Recvd  Gen'd  Noise  Dist  Dist\n"
+                          "--  ---  ----  ----  -----  -----  -----  -----  ----  ----\n"
+                          "03    0  -200  poll  0      1      0      0      20    100\n"
+                          "01  200     0  poll  0      1      1      0      100   100\n"
+                          "\n"
+                          "Vehicles(1):\n"
+                          "        Push  Pull  Unsol  Pings  Pings  Too   Too\n"
+                          "VName   Dist  Dist  Rec'd  Gen'd  Rep'd  Freq  Far\n"
+                          "------  ----  ----  -----  -----  -----  ----  ---\n"
+                          "indigo  inf   100   0      2      1      1     1\n"
+                          "\n"
+                          "Ledger: now:1, reps:1, who:indigo\n");
+}
+END_TEST
+
+/* 24.8's draws in order: a freq'd beacon's broadcast stamps (one interval draw) before its
+ * reports (one noise draw each, vehicles in name order); values as rand() after srand(1) */
+START_TEST(brs_glibc_unsolicited_order)
+{
+    static const char *const cfg[] = { "rand_mode", "glibc", "rn_algorithm", "uniform,pct=0.1",
+                                       "default_beacon_push_dist", "nolimit", "beacon", "x=0,y=0,label=01,freq=50", NULL };
+    rec r = { 0 };
+    kelp_field_sink sink = { &r, pub, wrn };
+    brs_start(&B, cfg, 0);
+    nrep(&B, NULL, "bob", 0, 30, 0, &r);
+    nrep(&B, NULL, "al", 0, 40, 0, &r);
+    (void)kelp_field_brs_iterate(&B, 0, &sink); /* the first stamp: draw 2 */
+    srand(1);
+    (void)rand();
+    double period = 50; /* freq 50: 50 + pct x 0 */
+    (void)rand();
+    ck_assert_uint_eq(kelp_field_brs_iterate(&B, period, &sink), 0);
+    ck_assert_uint_eq(kelp_field_brs_iterate(&B, period + 0.25, &sink), 2);
+    (void)rand(); /* the new stamp's draw comes first */
+    double w_al = 40 + (((double)(rand() % 10000) / 5000) - 1) * 0.1 * 40;
+    double w_bob = 30 + (((double)(rand() % 10000) / 5000) - 1) * 0.1 * 30;
+    ck_assert(strncmp(nth(&r, "BRS_RANGE_REPORT", 0), "vname=al,", 9) == 0);
+    ck_assert_double_eq_tol(num(nth(&r, "BRS_RANGE_REPORT", 0), "range"), w_al, 1e-4);
+    ck_assert_double_eq_tol(num(nth(&r, "BRS_RANGE_REPORT", 1), "range"), w_bob, 1e-4);
+    ck_assert_uint_eq(B.rand.draws, 5);
+    ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT_GT"), 2); /* noise and ground_truth (24.8's default true) */
+}
+END_TEST
+
+/* 24.8's echo beyond push + pull: one draw per such target, heard with probability
+ * exp(3 (max - r) / max); within, strictly less than max, no draw */
+START_TEST(crs_echo_falloff)
+{
+    static const char *const cfg[] = { "ping_wait", "0", "rand_mode", "glibc", NULL };
+    rec r = { 0 };
+    crs_start(cfg, 0);
+    nrep(NULL, &C, "archie", 0, 0, 0, &r);
+    nrep(NULL, &C, "gilda", 250, 0, 0, &r); /* max 200: p = exp(-0.75) */
+    int heard = 0;
+    srand(1);
+    int want = 0;
+    for (int i = 0; i < 2000; i++) {
+        unsigned long before = C.reports;
+        creq("archie", i + 1, &r);
+        heard += C.reports > before;
+        want += ((double)(rand() % 10000) / 10000) <= exp(-0.75);
+    }
+    ck_assert_int_eq(heard, want);
+    ck_assert_uint_eq(C.rand.draws, 2000);
+    ck_assert(fabs(heard / 2000.0 - exp(-0.75)) < 0.04);
+    /* at exactly push + pull: not surely heard (24.8 compares strictly), one draw */
+    nrep(NULL, &C, "gilda", 200, 0, 3000, &r);
+    creq("archie", 3001, &r);
+    ck_assert_uint_eq(C.rand.draws, 2001);
+    /* 24.8's clock starts at 0: the first ping is honoured even right after the start */
+    crs_start((const char *const[]){ NULL }, 100);
+    nrep(NULL, &C, "archie", 0, 0, 100, &r);
+    creq("archie", 101, &r);
+    ck_assert_uint_eq(C.accepted, 1);
+    creq("archie", 130, &r);
+    ck_assert_uint_eq(C.accepted, 1);
+}
+END_TEST
+
+START_TEST(crs_appcast_table)
+{
+    static const char *const cfg[] = { "push_distance", "archie = 190", "ping_wait", "archie = 32",
+                                       "rn_gaussian_sigma", "50", NULL };
+    rec r = { 0 };
+    crs_start(cfg, 0);
+    const double at[2][2] = { { -185.91, -155.84 }, { -59.5, -40 } }; /* the recording's t=5 */
+    nrep(NULL, &C, "jackal", at[0][0], at[0][1], 0, &r);
+    nrep(NULL, &C, "archie", at[1][0], at[1][1], 0, &r);
+    for (int k = 0; k < 2; k++) creq("archie", 5 + 10 * k, &r);
+    ck_assert_int_eq(count(&r, "CRS_RANGE_REPORT"), 1);
+    ck_assert_int_eq(count(&r, "CRS_RANGE_REPORT_GT"), 0); /* rn_gaussian_sigma alone: no noise */
+    char buf[2048];
+    ck_assert_int_eq(kelp_field_crs_report(&C, buf, sizeof buf), 0);
+    ck_assert_str_eq(buf, "Default Ping Wait:        30\n"
+                          "Random Noise Algorithm:   \n"
+                          "Random Noise Uniform Pct: 0\n"
+                          "Gaussian Noise:           50\n"
+                          "Ping Color:               white\n"
+                          "Echo Color:               chartreuse\n"
+                          "Ground Truth Reporting:   true\n"
+                          "Ignore Group:             \n"
+                          "Total Node Reports:       2\n"
+                          "\n"
+                          "Vehicles(2):\n"
+                          "        Ping  Push  Pull  Pings  Echos  Too   Too  Echos  Pos\n"
+                          "VName   Wait  Dist  Dist  Gen'd  Rec'd  Freq  Far  Sent\n"
+                          "------  ----  ----  ----  -----  -----  ----  ---  -----  -------------\n"
+                          "archie  32    190   100   2      1      1     0    0      -59.5,-40.0\n"
+                          "jackal  30    100   100   0      0      0     0    1      -185.9,-155.8\n");
 }
 END_TEST
 
@@ -632,6 +815,10 @@ Suite *kelp_field_rangesensors_suite(void)
     tcase_add_test(tc, brs_unsolicited);
     tcase_add_test(tc, brs_beacons_markers);
     tcase_add_test(tc, crs_reach_reply);
+    tcase_add_test(tc, brs_request_warnings_and_table);
+    tcase_add_test(tc, brs_glibc_unsolicited_order);
+    tcase_add_test(tc, crs_echo_falloff);
+    tcase_add_test(tc, crs_appcast_table);
     tcase_add_test(tc, crs_ping_wait);
     tcase_add_test(tc, crs_reports_pulses);
     tcase_add_test(tc, noise_statistics);

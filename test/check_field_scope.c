@@ -83,6 +83,23 @@ START_TEST(ufs_alias_and_vname)
 }
 END_TEST
 
+/* the APPCAST carries 24.8's table (ACTable: VName and the headers, dashes, a row per vehicle) */
+START_TEST(ufs_appcast_table)
+{
+    static const char *const cfg[][2] = { { "SCOPE", "var=NODE_REPORT,key=NAME,fld=MODE" },
+                                          { "SCOPE", "var=SPEED_REPORT,key=vname,fld=avg_spd,alias=speed" } };
+    setup(cfg, 2);
+    ck_assert_int_eq(kelp_field_ufs_mail(&s, "NODE_REPORT", true, "NAME=bravo,MODE=PARK"), 1);
+    ck_assert_int_eq(kelp_field_ufs_mail(&s, "SPEED_REPORT", true, "vname=alpha,avg_spd=2.21"), 1);
+    char buf[512];
+    ck_assert_uint_gt(kelp_field_ufs_table(&s, buf, sizeof buf), 0);
+    ck_assert_str_eq(buf, "VName  MODE  speed\n"
+                          "-----  ----  -----\n"
+                          "alpha        2.21\n"
+                          "bravo  PARK\n");
+}
+END_TEST
+
 /* 7.5.3: a field no message carries stays empty; a message without the key is ignored */
 START_TEST(ufs_missing_field_and_key)
 {
@@ -309,6 +326,7 @@ Suite *kelp_field_scope_suite(void)
     TCase *tc = tcase_create("ufs");
     tcase_add_test(tc, ufs_node_report_mode);
     tcase_add_test(tc, ufs_alias_and_vname);
+    tcase_add_test(tc, ufs_appcast_table);
     tcase_add_test(tc, ufs_missing_field_and_key);
     tcase_add_test(tc, ufs_listing16_view_all);
     tcase_add_test(tc, ufs_layout_cycle);

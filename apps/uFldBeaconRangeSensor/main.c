@@ -28,8 +28,8 @@ static void warn(void *ctx, const char *msg) { kelp_app_run_warning(((brs_app *)
 static void log_line(void *ctx, const char *line)
 {
     brs_app *a = ctx;
-    printf("%s\n", line); /* VERBOSE = true: the seed's event output */
-    kelp_app_event(a->app, "%s", line);
+    if (a->cfg.com.verbose) printf("%s\n", line);
+    kelp_app_event(a->app, "%s", line); /* 24.8's reportEvent */
 }
 
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
@@ -91,7 +91,7 @@ static void report(kelp_app *app, void *st, FILE *out)
 {
     brs_app *a = st;
     (void)app;
-    if (kelp_field_brs_summary(&a->core, a->text, sizeof a->text) < 0) fputs("(summary truncated)\n", out);
+    if (kelp_field_brs_report(&a->core, a->text, sizeof a->text) < 0) fputs("(report truncated)\n", out);
     fputs(a->text, out);
 }
 
@@ -103,25 +103,25 @@ static const kelp_app_def def = {
         { "BEACON", "x=200, y=435, label=01, report_range=45", "x, y (required), label, freq, shape, width, color, "
           "report_range (push_dist), pull_dist; repeat; a label given again replaces that beacon", NULL },
         { "DEFAULT_BEACON_FREQ", "never", "unsolicited period: never (default), <secs> or <a>:<b> (uniform)", NULL },
-        { "DEFAULT_BEACON_REPORT_RANGE", "100", "m (default 100) within which a vehicle hears a beacon; nolimit", NULL },
-        { "DEFAULT_BEACON_PUSH_DIST", "100", "24.8 name of DEFAULT_BEACON_REPORT_RANGE", "DEFAULT_BEACON_REPORT_RANGE" },
-        { "DEFAULT_BEACON_PULL_DIST", "0", "m added to a vehicle's reach (24.8; default 0)", NULL },
+        { "DEFAULT_BEACON_REPORT_RANGE", "50", "m (default 50, 24.8's) a beacon's reply carries; nolimit", NULL },
+        { "DEFAULT_BEACON_PUSH_DIST", "50", "24.8 name of DEFAULT_BEACON_REPORT_RANGE", "DEFAULT_BEACON_REPORT_RANGE" },
+        { "DEFAULT_BEACON_PULL_DIST", "50", "m added to a vehicle's reach (default 50, 24.8's)", NULL },
         { "DEFAULT_BEACON_WIDTH", "4", "m (default 4) when rendered", NULL },
         { "DEFAULT_BEACON_COLOR", "orange", "default orange", NULL },
         { "DEFAULT BEACON_COLOR", "orange", "24.8's --example spelling", "DEFAULT_BEACON_COLOR" },
         { "DEFAULT_BEACON_SHAPE", "circle", "circle (default), square, diamond, triangle, ...", NULL },
         { "REACH_DISTANCE", "default = 100", "[<vname>|default =] m or nolimit a vehicle's request carries (100)", NULL },
         { "NODE_PUSH_DIST", "default = 100", "24.8 name of REACH_DISTANCE", "REACH_DISTANCE" },
-        { "NODE_PULL_DIST", "default = 0", "[<vname>|default =] m added to the beacons' report range (0)", NULL },
+        { "NODE_PULL_DIST", "default = 100", "[<vname>|default =] m added to the beacons' report range (100)", NULL },
         { "PING_WAIT", "default = 30", "[<vname>|default =] s between honoured requests (30)", NULL },
-        { "PING_PAYMENTS", "upon_accept", "upon_accept (default, alias upon_receipt), upon_request, upon_response", NULL },
+        { "PING_PAYMENTS", "upon_response", "upon_response (default, 24.8's), upon_accept (alias upon_receipt), upon_request", NULL },
         { "REPORT_VARS", "short", "short (BRS_RANGE_REPORT), long (BRS_RANGE_REPORT_<V>) or both", NULL },
-        { "GROUND_TRUTH", "false", "also post BRS_RANGE_REPORT_GT, the noiseless range (default false)", NULL },
+        { "GROUND_TRUTH", "true", "with noise, also post BRS_RANGE_REPORT_GT, the noiseless range (default true)", NULL },
         { "RN_ALGORITHM", "uniform,pct=0", "noise: uniform,pct=<[0,1]> or gaussian,sigma=<m> (default none)", NULL },
-        { "RN_UNIFORM_PCT", "0", "uniform noise of this fraction of the range", "RN_ALGORITHM" },
-        { "RN_GAUSSIAN_SIGMA", "0", "gaussian noise of this sigma in m", "RN_ALGORITHM" },
+        { "RN_UNIFORM_PCT", "0", "the fraction of RN_ALGORITHM = uniform (alone: no noise, as 24.8)", "RN_ALGORITHM" },
+        { "RN_GAUSSIAN_SIGMA", "0", "the sigma of RN_ALGORITHM = gaussian (kelp's)", "RN_ALGORITHM" },
         { "REPORT_XY", "false", "x=,y= of the beacon in each report (default false)", NULL },
-        { "BEACON_ORDER", "reverse", "reverse (the seed's listings, default) or config (24.8's order)", NULL },
+        { "BEACON_ORDER", "reverse", "reverse (24.8's: its mission reader hands the block over backwards; default) or config", NULL },
         { "RAND_MODE", "kelp", "kelp (seeded by SEED_RANDOM) or glibc (rand() unseeded, as MOOS-IvP)", NULL },
         { "SEED_RANDOM", "1", "seed of the kelp generator (default 1)", NULL },
         { "VERBOSE", "false", "print events (default false; --verbose also)", NULL },
@@ -137,15 +137,16 @@ static const kelp_app_def def = {
         { "BRS_RANGE_REPORT_<VNAME>", "range=166.7446,id=03,time=23371445385.6", "REPORT_VARS long/both" },
         { "BRS_RANGE_REPORT_GT", "vname=indigo,range=166.7446,id=03,time=23371445385.6", "GROUND_TRUTH" },
         { "BRS_RANGE_REPORT_GT_<VNAME>", "range=166.7446,id=03,time=23371445385.6", "GROUND_TRUTH, long/both" },
-        { "VIEW_MARKER", "x=0,y=-200,label=03,color=orange,type=circle,width=4", "once per beacon" },
-        { "VIEW_RANGE_PULSE", "x=-97.65,y=-64.84,radius=50,duration=6,label=indigo_ping,edge_color=white,"
-                              "fill_color=white,time=3892830128.5,edge_size=1", "request white, reply pink, unsolicited green" },
+        { "VIEW_MARKER", "x=0,y=-200,width=5,primary_color=red,type=triangle", "once per beacon" },
+        { "VIEW_RANGE_PULSE", "x=23.76,y=0,radius=40,fill=0.9,label=indigo_range_req,edge_color=white,fill_color=white,"
+                              "time=1795285739.73,duration=6,edge_size=1", "request <v>_range_req white; a beacon's <label> pink" },
         { NULL, NULL, NULL } },
     .notes = "Globals used: LatOrigin and LongOrigin (optional: X,Y for reports with only LAT,LON).\n",
     .startup = startup,
     .on_mail = on_mail,
     .iterate = iterate,
     .report = report,
+    .unhandled_prefix = "Unhandled config line: ", /* 24.8's warning for an unhandled line */
 };
 
 int main(int argc, char **argv)

@@ -29,8 +29,8 @@ static void warn(void *ctx, const char *msg) { kelp_app_run_warning(((crs_app *)
 static void log_line(void *ctx, const char *line)
 {
     crs_app *a = ctx;
-    printf("%s\n", line);
-    kelp_app_event(a->app, "%s", line);
+    if (a->cfg.com.verbose) printf("%s\n", line);
+    kelp_app_event(a->app, "%s", line); /* 24.8's reportEvent */
 }
 
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
@@ -78,7 +78,7 @@ static void report(kelp_app *app, void *st, FILE *out)
 {
     crs_app *a = st;
     (void)app;
-    if (kelp_field_crs_summary(&a->core, a->text, sizeof a->text) < 0) fputs("(summary truncated)\n", out);
+    if (kelp_field_crs_report(&a->core, a->text, sizeof a->text) < 0) fputs("(report truncated)\n", out);
     fputs(a->text, out);
 }
 
@@ -89,22 +89,23 @@ static const kelp_app_def def = {
     .params = (const kelp_app_param_info[]){
         { "REACH_DISTANCE", "default = 100", "[<vname>|default =] m or nolimit the pinger's ping reaches (100)", NULL },
         { "PUSH_DIST", "default = 100", "24.8 name of REACH_DISTANCE", "REACH_DISTANCE" },
+        { "PUSH_DISTANCE", "default = 100", "24.8 name of REACH_DISTANCE", "REACH_DISTANCE" },
         { "REPLY_DISTANCE", "default = 100", "[<vname>|default =] m or nolimit a target's echo carries (100)", NULL },
         { "PULL_DIST", "default = 100", "24.8 name of REPLY_DISTANCE", "REPLY_DISTANCE" },
+        { "PULL_DISTANCE", "default = 100", "24.8 name of REPLY_DISTANCE", "REPLY_DISTANCE" },
         { "PING_WAIT", "default = 30", "[<vname>|default =] s between honoured pings (30)", NULL },
         { "REPORT_VARS", "short", "short (CRS_RANGE_REPORT), long (CRS_RANGE_REPORT_<V>) or both", NULL },
-        { "GROUND_TRUTH", "false", "also post CRS_RANGE_REPORT_GT, the noiseless range (default false)", NULL },
+        { "GROUND_TRUTH", "true", "with noise, also post CRS_RANGE_REPORT_GT, the noiseless range (default true)", NULL },
         { "PING_COLOR", "white", "colour of the ping pulse (default white)", NULL },
         { "REPLY_COLOR", "chartreuse", "colour of the reply pulse (default chartreuse)", NULL },
         { "ECHO_COLOR", "chartreuse", "24.8 name of REPLY_COLOR", "REPLY_COLOR" },
         { "DISPLAY_PULSES", "true", "post VIEW_RANGE_PULSE (default true)", NULL },
         { "RN_ALGORITHM", "uniform,pct=0", "noise: uniform,pct=<[0,1]> or gaussian,sigma=<m> (default none)", NULL },
-        { "RN_UNIFORM_PCT", "0", "uniform noise of this fraction of the range", "RN_ALGORITHM" },
-        { "RN_GAUSSIAN_SIGMA", "0", "gaussian noise of this sigma in m", "RN_ALGORITHM" },
+        { "RN_UNIFORM_PCT", "0", "the fraction of RN_ALGORITHM = uniform (alone: no noise, as 24.8)", "RN_ALGORITHM" },
+        { "RN_GAUSSIAN_SIGMA", "0", "the sigma of RN_ALGORITHM = gaussian (kelp's; alone: no noise, as 24.8)", "RN_ALGORITHM" },
         { "ALLOW_ECHO_TYPES", "uuv", "only targets of these node report TYPEs answer (default all)", NULL },
-        { "IGNORE_GROUP", "blue", "vehicles of this GROUP are ignored (default none)", NULL },
         { "SENSOR_ARC", "360", "relative bearings heard: 360 (default) or <a>:<b>[,<a>:<b>]", NULL },
-        { "ECHO_FALLOFF", "false", "24.8's chance of an echo beyond reach + reply (default false)", NULL },
+        { "ECHO_FALLOFF", "true", "24.8's chance of an echo beyond reach + reply (default true; kelp's switch)", NULL },
         { "RAND_MODE", "kelp", "kelp (seeded by SEED_RANDOM) or glibc (rand() unseeded, as MOOS-IvP)", NULL },
         { "SEED_RANDOM", "1", "seed of the kelp generator (default 1)", NULL },
         { "VERBOSE", "false", "print events (default false; --verbose also)", NULL },
@@ -120,13 +121,14 @@ static const kelp_app_def def = {
         { "CRS_RANGE_REPORT_<VNAME>", "range=176.6565,target=jackal,time=23588509131.764", "the requester; long/both" },
         { "CRS_RANGE_REPORT_GT", "vname=archie,range=174.1391,target=jackal,time=23588509131.764", "GROUND_TRUTH" },
         { "CRS_RANGE_REPORT_GT_<VNAME>", "range=174.1391,target=jackal,time=23588509131.764", "GROUND_TRUTH, long" },
-        { "VIEW_RANGE_PULSE", "x=-49.31,y=-38.86,radius=50,duration=6,label=archie_ping,edge_color=white,"
-                              "fill_color=white,time=23588509131.76,edge_size=1", "ping, and reply at each target" },
+        { "VIEW_RANGE_PULSE", "x=-59.5,y=-40,radius=50,fill=0.9,label=archie_ping,edge_color=white,fill_color=white,"
+                              "time=1795284917.5,duration=6,edge_size=1", "<v>_ping, and <t>_echo at each target" },
         { NULL, NULL, NULL } },
     .notes = "Globals used: LatOrigin and LongOrigin (optional: X,Y for reports with only LAT,LON).\n",
     .startup = startup,
     .on_mail = on_mail,
     .report = report,
+    .unhandled_prefix = "Unhandled config: ", /* 24.8's warning for an unhandled line */
 };
 
 int main(int argc, char **argv)

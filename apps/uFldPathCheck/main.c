@@ -1,5 +1,5 @@
 /* uFldPathCheck: each vehicle's odometry and speed, computed on the shoreside from its node
- * reports (uField seed chapter 8). The logic is kelp_field_upc in the core
+ * reports, as MOOS-IvP 24.8's uFldPathCheck. The logic is kelp_field_upc in the core
  * (include/kelp/pathcheck.h); this file reads the block and wires the core to the bus. */
 #include <stdio.h>
 #include <string.h>
@@ -30,7 +30,10 @@ static void warn(void *ctx, const char *msg)
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     upc_app *a = ctx;
-    return kelp_field_upc_config(&a->cfg, key, val, d);
+    int rc = kelp_field_upc_config(&a->cfg, key, val, d);
+    if (rc != 0) return rc;
+    /* 24.8's AppCasting parameters are taken quietly; the runner warns of the rest as 24.8 */
+    return kelp_strieq(key, "APP_LOGGING") || kelp_strieq(key, "MAX_APPCAST_EVENTS");
 }
 
 static int startup(kelp_app *app, void *st)
@@ -41,11 +44,10 @@ static int startup(kelp_app *app, void *st)
     kelp_field_upc_cfg_default(&a->cfg);
     int rc = kelp_app_param_foreach(app, param, a);
     if (rc < 0) return rc;
-    if (kelp_field_upc_init(&a->core, &a->cfg) < 0) return kelp_app_config_error(app, NULL, "bad HISTORY");
+    if (kelp_field_upc_init(&a->core, &a->cfg) < 0) return kelp_app_config_error(app, NULL, "bad HISTORY_LENGTH");
     const char *v;
     for (unsigned i = 0; (v = kelp_field_upc_subscription(i)) != NULL; i++)
         if (kelp_app_register(app, v, 0) < 0) return kelp_app_config_error(app, NULL, "cannot register %s", v);
-    kelp_app_event(app, "history %u", a->cfg.history);
     return 0;
 }
 
@@ -67,7 +69,7 @@ static int iterate(kelp_app *app, void *st, double now)
 static void report(kelp_app *app, void *st, FILE *out)
 {
     upc_app *a = st;
-    if (kelp_field_upc_report(&a->core, kelp_app_time(app), a->text, sizeof a->text) < 0)
+    if (kelp_field_upc_report(&a->core, kelp_app_time(app), kelp_app_warp(app), a->text, sizeof a->text) < 0)
         fputs("(report truncated)\n", out);
     fputs(a->text, out);
 }
@@ -76,26 +78,27 @@ static const kelp_app_def def = {
     .name = "uFldPathCheck",
     .purpose = "Speed and odometry of every vehicle, computed on the shoreside from its node reports.",
     .synopsis = "Typically run in a shoreside community. Takes node reports from remote vehicles and computes\n"
-                "each one's present speed (distance over time along its last HISTORY positions) and the\n"
-                "distance travelled (total and since the last trip reset), posted in two short reports.",
+                "each one's present speed (the mean leg speed along its last HISTORY_LENGTH reports, posted\n"
+                "every iteration) and the distance travelled (total and since the last trip reset).",
     .params = (const kelp_app_param_info[]){
-        { "HISTORY", "10", "positions in the speed queue (default 10), 2..100", NULL },
-        { "HISTORY_LENGTH", "10", "MOOS-IvP 24.8's name of HISTORY", "HISTORY" },
+        { "HISTORY_LENGTH", "10", "reports in the speed queue (default 10), 2..100", NULL },
+        { "APP_LOGGING", "true", "accepted (record the bus with kelp-record)", NULL },
+        { "MAX_APPCAST_EVENTS", "8", "accepted", NULL },
         { NULL, NULL, NULL, NULL } },
     .subscribes = (const kelp_app_var_info[]){
         { "NODE_REPORT", "NAME=alpha,TYPE=UUV,TIME=1252348077.59,X=51.71,Y=-35.50,SPD=2.0,HDG=118.8", "NAME, X, Y, TIME" },
         { "NODE_REPORT_LOCAL", "NAME=alpha,TYPE=UUV,TIME=1252348077.59,X=51.71,Y=-35.50", NULL },
         { "UPC_TRIP_RESET", "alpha", "resets alpha's trip_dist" },
-        { "UPC_ODOMETRY_RESET", "alpha", "the same (seed section 8.2's name)" },
         { NULL, NULL, NULL } },
     .publishes = (const kelp_app_var_info[]){
-        { "UPC_ODOMETRY_REPORT", "vname=alpha,total_dist=4205.4,trip_dist=1105.2", "after each update" },
-        { "UPC_SPEED_REPORT", "vname=alpha,avg_speed=2.21", "after each update" },
+        { "UPC_SPEED_REPORT", "vname=alpha,avg_spd=2.21", "every iteration, per vehicle with two reports" },
+        { "UPC_ODOMETRY_REPORT", "vname=alpha,total_dist=4205.4,trip_dist=1105.2", "after each change" },
         { NULL, NULL, NULL } },
     .startup = startup,
     .on_mail = on_mail,
     .iterate = iterate,
     .report = report,
+    .unhandled_prefix = "Unhandled config line: ", /* 24.8's reportUnhandledConfigWarning */
 };
 
 int main(int argc, char **argv)

@@ -79,10 +79,11 @@ static int iterate(kelp_app *app, void *st, double now)
 
 static void report(kelp_app *app, void *st, FILE *out)
 {
-    const kelp_field_ufs *c = &((scope *)st)->core;
+    scope *s = st;
     (void)app;
-    fprintf(out, "%u scope elements, %u layouts, %u vehicles; %lu reports received (%lu malformed); %lu tables drawn\n",
-            c->cfg.nelem, c->cfg.nlayout, c->nrow, c->mail, c->bad_mail, c->reports);
+    /* the APPCAST carries the table, as 24.8's (a MOOS user reads it with uMAC) */
+    (void)kelp_field_ufs_table(&s->core, s->text, sizeof s->text);
+    fputs(s->text, out);
 }
 
 static void shutdown_(kelp_app *app, void *st)

@@ -86,6 +86,9 @@ typedef struct kelp_app_def {
     /** The variable the app posts its process id to at start-up, where MOOS-IvP 24.8's app
      *  does (e.g. "PHELMIVP_PID"), or NULL. */
     const char *pid_var;
+    /** When set, a parameter nobody read warns as MOOS-IvP 24.8's app does: this prefix, then
+     *  "<key>=<value>" (e.g. "Unhandled config line: "), instead of kelp's "unknown parameter". */
+    const char *unhandled_prefix;
 } kelp_app_def;
 
 /** Run the app; returns the process exit status. */

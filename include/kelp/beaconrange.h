@@ -6,18 +6,24 @@
  *     reach(V) + pull(B) >= |VB|    (REACH_DISTANCE, alias 24.8's node_push_dist; beacon pull_dist, 0)
  * and B's report reaches vehicle U when
  *     report_range(B) + pull(U) >= |UB|   (report_range, alias 24.8's push_dist; node_pull_dist, 0)
- * where a negative distance ("nolimit") always passes. With the 12.2 manual's parameters only
- * (pulls 0) this is its rule; a 24.8 block that sets the push/pull distances gets 24.8's sums.
- * A solicited reply goes to every vehicle in report range (the 12.2 manual), not only the requester.
+ * where a negative distance ("nolimit") always passes (24.8's pingTrans; its defaults: node push
+ * and pull 100, beacon push and pull 50). A solicited reply goes to the requester only; an
+ * unsolicited one (a beacon with a freq, more than its period after its last report) to every
+ * vehicle in reach. A vehicle's ping-wait clock starts at 0 (24.8): its first request is in time.
+ * A request is "name=V" (24.8 reads name= only); an empty or unknown V is refused with 24.8's
+ * run warnings ("Failed Range Request: Unknown vehicle[V]", "Bad Mail: BRS_RANGE_REQUEST").
+ * The ground-truth reports come only with noise (RN_ALGORITHM) and GROUND_TRUTH (true).
  *
  * Randomness: RAND_MODE = kelp (the default; kelp_rng seeded by SEED_RANDOM) or glibc
  * (kelp_glibc_rand seeded 1, i.e. the rand() sequence of a program that never calls srand).
  * In glibc mode the values are drawn where and as MOOS-IvP 24.8 draws them, with its
- * arithmetic: uniform noise (rand() % 10000) / 5000 - 1, an unsolicited interval
- * lo + (rand() % 1000) / 1000 * (hi - lo) (drawn when a beacon's freq is configured, on its
- * first iteration, after each unsolicited post and after each solicited reply, also for a
- * fixed freq), gaussian noise MOOSWhiteNoise's polar method with its cached second value.
- * Set BEACON_ORDER = config as well to iterate beacons in 24.8's order.
+ * arithmetic: uniform noise (rand() % 10000) / 5000 - 1, one per report; an unsolicited
+ * interval lo + (rand() % 1000) / 1000 * (hi - lo) (drawn when a beacon's freq is configured,
+ * on the first iteration, when an unsolicited broadcast stamps the beacon, before its reports,
+ * and after each solicited reply, also for a fixed freq); gaussian noise (kelp's RN_ALGORITHM
+ * = gaussian) MOOSWhiteNoise's polar method with its cached second value. RN_UNIFORM_PCT alone
+ * sets the fraction, not the algorithm (24.8). Beacons go in 24.8's order by default (its
+ * mission reader hands the block over last line first: BEACON_ORDER = reverse).
  */
 #ifndef KELP_BEACONRANGE_H
 #define KELP_BEACONRANGE_H
@@ -45,6 +51,7 @@ extern "C" {
 #define KELP_RSENSE_MAX_VCFG 32     /**< per-vehicle entries of one parameter (REACH_DISTANCE = henry = 40) */
 #endif
 #define KELP_RSENSE_NAME KELP_NODEREPORT_MAX_FIELD
+#define KELP_RSENSE_LEDGER_WHO 4    /**< names in the AppCast's ledger line (24.8's getSummary) */
 
 typedef enum kelp_rsense_noise_alg {
     KELP_RSENSE_NOISE_NONE = 0,
@@ -87,8 +94,13 @@ typedef struct kelp_rsense_node {
     char name[KELP_RSENSE_NAME]; /**< as it arrived (compared case-insensitively) */
     char type[KELP_RSENSE_NAME];
     double x, y, hdg;
-    double clock;                /**< ping-wait clock (starts at the tool's start) */
+    double clock;                /**< ping-wait clock: the last paid request (valid once pinged) */
+    bool pinged;                 /**< 24.8's clock starts at 0: a first request is always in time */
     unsigned long reports, pings, denied, accepted, heard;
+    unsigned long unsol;         /**< unsolicited reports received (BRS) */
+    unsigned long replied;       /**< replies received (BRS Rep'd) */
+    unsigned long too_far;       /**< beacons or contacts out of range of an honoured request */
+    unsigned long echoes_sent;   /**< CRS: times this vehicle was reported to a pinger */
 } kelp_rsense_node;
 
 /** Verbose console lines (may be NULL): the 12.2 manual's event output. */
@@ -153,7 +165,8 @@ typedef struct kelp_brs_beacon {
     double freq_lo, freq_hi;     /**< unsolicited period s, fixed (lo == hi) or uniform; < 0 never */
     double push;                 /**< report_range m (< 0 nolimit) */
     double pull;                 /**< 24.8 pull_dist m, added to reach (0) */
-    double next;                 /**< time of the next unsolicited report (-1 none yet) */
+    double ts;                   /**< time stamp of its last report (24.8's setTimeStamp) */
+    double cur;                  /**< the period drawn at the last time stamp (-1 never) */
     bool freq_set;               /**< freq given on its own line (24.8 draws then) */
     unsigned long heard, replies, unsol;
 } kelp_brs_beacon;
@@ -206,6 +219,11 @@ int kelp_field_brs_mail(kelp_field_brs *b, const char *var, bool is_string, cons
 unsigned long kelp_field_brs_iterate(kelp_field_brs *b, kelp_time now, const kelp_field_sink *out);
 /** The startup block of Listing 25 ("SRS Model - # Beacons: ..."). @return 0 or KELP_ERR_NOSPACE. */
 KELP_MUST_CHECK int kelp_field_brs_summary(const kelp_field_brs *b, char *buf, size_t cap);
+/** The AppCast report as 24.8's buildReport lays it out: "Beacons(N):" and the beacon table
+ *  (ID, X, Y, Freq, Pings Unsol/Recvd/Gen'd, Noise, Push/Pull Dist), "Vehicles(N):" and the
+ *  vehicle table (VName, Push/Pull Dist, Unsol Rec'd, Pings Gen'd/Rep'd, Too Freq/Far), then
+ *  "Ledger: now:N, reps:R, who:a,b,..". @return 0 or KELP_ERR_NOSPACE. */
+KELP_MUST_CHECK int kelp_field_brs_report(const kelp_field_brs *b, char *buf, size_t cap);
 /** Index of a beacon by label, or -1. */
 int kelp_field_brs_find(const kelp_field_brs *b, const char *label);
 

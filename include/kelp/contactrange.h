@@ -2,13 +2,15 @@
  * manual (MOOS-IvP 12.2) chapter 11, with MOOS-IvP 24.8's names accepted as aliases
  * (push_dist = REACH_DISTANCE, pull_dist = REPLY_DISTANCE, echo_color = REPLY_COLOR).
  *
- * A ping from R (CRS_RANGE_REQUEST = name=R), honoured at most every PING_WAIT(R) seconds
- * (the clock restarts only when a ping is honoured), reports the range to every other known
- * vehicle T with |RT| <= reach(R) + reply(T), or either nolimit; only R gets the reports.
- * 24.8's additions: allow_echo_types (target types), ignore_group, sensor_arc (relative
- * bearings R hears in, from R's HDG), display_pulses, and ECHO_FALLOFF = true (its
- * probabilistic detection beyond reach + reply, exp(3 (max - r) / max); off by default as the
- * 12.2 manual has none). Randomness as in kelp/beaconrange.h (RAND_MODE, SEED_RANDOM).
+ * A ping from R (CRS_RANGE_REQUEST = name=R; an empty or unknown name is refused with 24.8's
+ * warnings and answered by nothing), honoured at most every PING_WAIT(R) seconds (a first ping
+ * always: 24.8's clock starts at 0; the clock restarts only when a ping is honoured), reports
+ * the range to every other known vehicle T of an allowed type with |RT| < reach(R) + reply(T),
+ * or either nolimit; beyond that with probability exp(3 (max - r) / max), one random draw per
+ * target (24.8's rule; ECHO_FALLOFF = false, kelp's, turns it off); only R gets the reports.
+ * allow_echo_types (target types), sensor_arc (relative bearings R hears in, from R's HDG),
+ * display_pulses as 24.8. 24.8 has no IGNORE_GROUP (an unhandled line) and takes
+ * RN_GAUSSIAN_SIGMA without using it. Randomness as in kelp/beaconrange.h (RAND_MODE).
  */
 #ifndef KELP_CONTACTRANGE_H
 #define KELP_CONTACTRANGE_H
@@ -28,10 +30,9 @@ typedef struct kelp_field_crs_cfg {
     kelp_rsense_vmap reply;      /**< REPLY_DISTANCE (pull_dist) 100 */
     kelp_rsense_common com;
     bool display_pulses;         /**< DISPLAY_PULSES (true) */
-    bool echo_falloff;           /**< ECHO_FALLOFF (false) */
+    bool echo_falloff;           /**< ECHO_FALLOFF (true, 24.8's rule) */
     char ping_color[KELP_VIEW_MAX_FIELD];   /**< PING_COLOR (white) */
     char reply_color[KELP_VIEW_MAX_FIELD];  /**< REPLY_COLOR / ECHO_COLOR (chartreuse) */
-    char ignore_group[KELP_RSENSE_NAME];    /**< IGNORE_GROUP ("" none) */
     char types[KELP_CRS_MAX_TYPES][KELP_RSENSE_NAME]; /**< ALLOW_ECHO_TYPES (none: all) */
     unsigned ntypes;
     double arc[KELP_CRS_MAX_ARCS][2];       /**< SENSOR_ARC "a:b" relative bearings (none: all) */
@@ -45,7 +46,7 @@ typedef struct kelp_field_crs {
     unsigned nnodes;
     kelp_rsense_rand rand;
     double start;
-    unsigned long requests, denied, accepted, reports, bad_mail, unknown, too_far;
+    unsigned long requests, denied, accepted, reports, bad_mail, unknown, too_far, node_reports;
     kelp_diag diag; /**< workspace: why the last node report was refused */
 } kelp_field_crs;
 
@@ -61,6 +62,11 @@ const char *kelp_field_crs_subscription(unsigned i);
 /** NODE_REPORT, NODE_REPORT_LOCAL, CRS_RANGE_REQUEST. @return 1 used, 0 not ours, <0 bad. */
 int kelp_field_crs_mail(kelp_field_crs *c, const char *var, bool is_string, const char *sval, kelp_time now,
                         const kelp_field_sink *out);
+/** The AppCast report as 24.8's buildReport lays it out: the settings (Default Ping Wait,
+ *  noise, colours, ground truth, Ignore Group, Total Node Reports) and "Vehicles(N):" with the
+ *  table VName, Ping Wait, Push/Pull Dist, Pings Gen'd, Echos Rec'd, Too Freq/Far, Echos Sent,
+ *  Pos. @return 0 or KELP_ERR_NOSPACE. */
+KELP_MUST_CHECK int kelp_field_crs_report(const kelp_field_crs *c, char *buf, size_t cap);
 /** The startup block of Listing 29 ("Default Reach Distance: ..."). @return 0 or KELP_ERR_NOSPACE. */
 KELP_MUST_CHECK int kelp_field_crs_summary(const kelp_field_crs *c, char *buf, size_t cap);
 

@@ -668,6 +668,10 @@ bool kelp_field_ufs_due(const kelp_field_ufs *s);
  *  padded to their widest entry and two spaces apart. Counts a report; clears the request.
  *  @return the length written. */
 size_t kelp_field_ufs_render(kelp_field_ufs *s, char *buf, size_t cap);
+/** The AppCast report as 24.8's uFldScope builds it: "VName" and the current layout's
+ *  headers, a dashed line, one row per vehicle (ACTable: columns two blanks apart).
+ *  @return the length written (cut to fit). */
+size_t kelp_field_ufs_table(const kelp_field_ufs *s, char *buf, size_t cap);
 
 /* ------------------------------------------------------------------ uFldNodeBroker / uFldShoreBroker */
 

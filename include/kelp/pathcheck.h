@@ -1,17 +1,23 @@
 /* kelp uFldPathCheck: speed and odometry of every vehicle, computed on the shoreside from the
- * positions and time stamps of its node reports (the uField Toolbox manual (MOOS-IvP 12.2),
- * chapter 8).
+ * positions and time stamps of its node reports, as MOOS-IvP 24.8's uFldPathCheck does
+ * (ivp/src/uFldPathCheck/PathCheck_MOOSApp.cpp).
  *
- *   in:  NODE_REPORT, NODE_REPORT_LOCAL (NAME, X, Y, TIME), UPC_TRIP_RESET = alpha
- *        (UPC_ODOMETRY_RESET, named in the 12.2 manual's section 8.2, is a synonym)
- *   out: UPC_ODOMETRY_REPORT = vname=alpha,total_dist=4205.4,trip_dist=1105.2   (1 decimal)
- *        UPC_SPEED_REPORT    = vname=alpha,avg_speed=2.21                        (2 decimals)
+ *   in:  NODE_REPORT, NODE_REPORT_LOCAL (NAME, X, Y, SPD, HDG, TIME), UPC_TRIP_RESET = alpha
+ *   out: UPC_SPEED_REPORT    = vname=alpha,avg_spd=2.21                        (2 decimals)
+ *        UPC_ODOMETRY_REPORT = vname=alpha,total_dist=4205.4,trip_dist=1105.2   (1 decimal)
  *
- * Per vehicle, each report (x, y, t = TIME, or the arrival time without TIME) older than or
- * as old as the last one is ignored; otherwise the step from the last position is added to
- * total_dist and trip_dist and the point joins a queue of the last HISTORY points. avg_speed
- * is the distance along the queue over its time span (0 with one point). Each iteration
- * posts both reports for every vehicle updated (or trip-reset) since the last one.
+ * Per vehicle (names compared exactly, kept in strcmp order), every valid report (NAME, X, Y,
+ * SPD and HDG; or NAME, LAT, LON, SPD, HDG) joins a queue of the last HISTORY_LENGTH records
+ * (x, y, TIME; the arrival time when TIME is missing); a report's TIME is data, never checked
+ * against the clock. Once the queue already holds two records, the step from its newest record
+ * is added to total_dist and trip_dist (so the leg from the first report to the second is never
+ * counted) and the vehicle's odometry is marked changed. Each iteration posts UPC_SPEED_REPORT
+ * for every vehicle with two records or more: the mean of the per-leg speeds along the queue
+ * (leg distance over leg TIME difference; a leg whose TIME difference is not positive is left
+ * out, where 24.8 divides by it: docs/CONFORMANCE.md), then UPC_ODOMETRY_REPORT for every
+ * vehicle marked changed. UPC_TRIP_RESET = <vname> zeroes the trip of a vehicle with a counted
+ * leg (posted with the next change); otherwise the warning "Invalid TRIP_RESET: <vname>".
+ * A bad report warns "Invalid NODE_REPORT: <report>".
  *
  * Core: no allocation, no I/O, no clock; time comes in as an argument.
  */
@@ -34,36 +40,39 @@ extern "C" {
 #define KELP_UPC_MAX_HISTORY 100 /**< largest HISTORY accepted (points per vehicle) */
 #endif
 #define KELP_UPC_DEFAULT_HISTORY 10
+#define KELP_UPC_WARN_LEN 600    /**< bytes of one warning (the report it quotes is cut) */
 
 typedef struct kelp_upc_point {
-    double x, y, t;
-    double d;                    /**< distance from the point before (0 for the first) */
+    double x, y, t;              /**< position and the report's TIME */
 } kelp_upc_point;
 
 typedef struct kelp_upc_node {
-    char name[KELP_NODEREPORT_MAX_FIELD]; /**< as first received */
-    kelp_upc_point hist[KELP_UPC_MAX_HISTORY]; /**< ring of the last `history` points */
+    char name[KELP_NODEREPORT_MAX_FIELD]; /**< exactly as received */
+    kelp_upc_point hist[KELP_UPC_MAX_HISTORY]; /**< ring of the last `history` records */
     unsigned head, n;            /**< oldest index, count */
     double total, trip;          /**< metres */
     double last_recv;            /**< arrival time of the last report */
-    unsigned long reports, ignored;
-    bool updated;                /**< to be posted at the next iteration */
+    unsigned long reports;       /**< valid reports taken */
+    bool has_dist;               /**< a leg was counted (24.8: the vehicle has odometry) */
+    bool changed;                /**< odometry to be posted at the next iteration */
 } kelp_upc_node;
 
 typedef struct kelp_field_upc_cfg {
-    unsigned history;            /**< HISTORY (HISTORY_LENGTH in 24.8): points in the speed queue (10), 2.. */
+    unsigned history;            /**< HISTORY_LENGTH: records in the speed queue (10), 2..KELP_UPC_MAX_HISTORY */
 } kelp_field_upc_cfg;
 
 typedef struct kelp_field_upc {
     kelp_field_upc_cfg cfg;
     /* private */
-    kelp_upc_node node[KELP_UPC_MAX_NODES];
+    kelp_upc_node node[KELP_UPC_MAX_NODES]; /**< sorted by name (strcmp) */
     unsigned nnodes;
     unsigned long good, bad, resets, bad_resets, full;
+    char ws[KELP_UPC_WARN_LEN];  /**< workspace: a warning being built */
 } kelp_field_upc;
 
 void kelp_field_upc_cfg_default(kelp_field_upc_cfg *cfg);
-/** One block parameter: HISTORY or HISTORY_LENGTH (an integer 2..KELP_UPC_MAX_HISTORY).
+/** One block parameter: HISTORY_LENGTH (an integer 2..KELP_UPC_MAX_HISTORY). Any other key
+ *  is not taken (24.8 warns "Unhandled config line: <line>"; the app does).
  *  @return 1 taken, 0 not its key, <0 (reason in d). */
 KELP_MUST_CHECK int kelp_field_upc_config(kelp_field_upc_cfg *cfg, const char *key, const char *val, kelp_diag *d);
 /** Start empty with cfg (copied). @return 0 or KELP_ERR_ARG (history out of range). */
@@ -71,17 +80,22 @@ KELP_MUST_CHECK int kelp_field_upc_init(kelp_field_upc *p, const kelp_field_upc_
 /** The variables to subscribe to, one per call (i from 0) until NULL. */
 const char *kelp_field_upc_subscription(unsigned i);
 /** One mail at `now`. @return 1 used, 0 not ours, <0 bad value (a warning through
- *  out->warn, which may be NULL as may out). */
+ *  out->warn, which may be NULL as may out: "Invalid NODE_REPORT: ..", "Invalid TRIP_RESET: ..").
+ *  A bad `now` (kelp_time_ok) is refused with KELP_ERR_ARG. */
 int kelp_field_upc_mail(kelp_field_upc *p, const char *var, bool is_string, const char *sval, kelp_time now,
                         const kelp_field_sink *out);
-/** Post the reports of the vehicles updated since the last call. @return posts made. */
+/** Post UPC_SPEED_REPORT for every vehicle with two records or more, then UPC_ODOMETRY_REPORT
+ *  for each vehicle whose odometry changed since the last call. @return posts made. */
 unsigned kelp_field_upc_iterate(kelp_field_upc *p, kelp_time now, const kelp_field_sink *out);
-/** avg_speed of a vehicle (m/s) by the rule above. */
+/** avg_spd of a vehicle (m/s) by the rule above (0 with fewer than two records). */
 double kelp_field_upc_speed(const kelp_upc_node *n);
-/** Index of a vehicle (case-insensitive), or -1. */
+/** Index of a vehicle (exact name), or -1. */
 int kelp_field_upc_find(const kelp_field_upc *p, const char *name);
-/** The terminal report (counts and one row per vehicle). @return 0 or KELP_ERR_NOSPACE. */
-KELP_MUST_CHECK int kelp_field_upc_report(const kelp_field_upc *p, kelp_time now, char *buf, size_t cap);
+/** The AppCast report as 24.8 lays it out: the good and bad report counts, "MOOS Time Warp"
+ *  (warp), and the table Node | TripDist | Distance | ReportAge | Speed | AvgSpeed (ACTable,
+ *  three blanks apart) with one row per vehicle with odometry; 24.8 writes those rows outside
+ *  its table, run together (docs/CONFORMANCE.md). @return 0 or KELP_ERR_NOSPACE. */
+KELP_MUST_CHECK int kelp_field_upc_report(const kelp_field_upc *p, kelp_time now, double warp, char *buf, size_t cap);
 
 #ifdef __cplusplus
 }

@@ -1021,7 +1021,11 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
          i = kelp_mission_next(&app->mf.m, app->block, i, NULL)) {
         const kelp_mission_node *n = &app->mf.m.nodes[i];
         if (in_table(common_params, n)) continue;
-        if (!app->used[i])
+        if (!app->used[i] && def->unhandled_prefix) {
+            char val[512];
+            if (kelp_mission_copy(n, val, sizeof val) < 0) val[0] = 0;
+            kelp_app_config_warning(app, "%s%.*s=%s", def->unhandled_prefix, (int)n->klen, n->key, val);
+        } else if (!app->used[i])
             kelp_app_config_warning(app, "line %d: unknown parameter %.*s", n->line, (int)n->klen, n->key);
         else if (!in_table(def->params, n))
             kelp_app_config_warning(app, "line %d: parameter %.*s is read but missing from %s --example", n->line,

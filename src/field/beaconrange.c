@@ -9,7 +9,7 @@
 #include "field_int.h"
 #include "rangesense_int.h"
 
-#define BRS_REQ_RADIUS 50.0   /* the request pulse at the vehicle (the Indigo log) */
+#define BRS_REQ_RADIUS 40.0   /* the request pulse at the vehicle (24.8's handleRangeRequest) */
 #define BRS_REQ_DURATION 6.0
 #define BRS_REPLY_RADIUS 40.0 /* a beacon's pulse */
 #define BRS_REPLY_DURATION 15.0
@@ -22,13 +22,15 @@ void kelp_field_brs_cfg_default(kelp_field_brs_cfg *cfg)
     rs_copy(d->color, sizeof d->color, "orange", 6); /* A50 */
     d->width = 4;
     d->freq_lo = d->freq_hi = -1; /* never */
-    d->push = 100;                /* DEFAULT_BEACON_REPORT_RANGE */
-    d->pull = 0;
-    d->next = -1;
-    cfg->reach.dflt = 100;        /* A61 */
-    cfg->node_pull.dflt = 0;
+    d->push = 50;                 /* 24.8's BRS_App(): the default beacon's push and pull 50 */
+    d->pull = 50;
+    d->ts = 0;
+    d->cur = -1;
+    cfg->reach.dflt = 100;        /* node push 100, pull 100 (24.8) */
+    cfg->node_pull.dflt = 100;
     kelp_rsense_common_default(&cfg->com);
-    cfg->payments = KELP_BRS_UPON_ACCEPT; /* A51 */
+    cfg->com.ground_truth = true; /* 24.8: true (posted only with noise) */
+    cfg->payments = KELP_BRS_UPON_RESPONSE; /* 24.8's default */
 }
 
 /* "never", "<s>" or "<a>:<b>"; a period <= 0 is never (A84) */
@@ -48,7 +50,6 @@ static int parse_freq(const char *v, size_t n, double *lo, double *hi)
         return KELP_ERR_PARSE;
     }
     if (a < 0) return KELP_ERR_PARSE;
-    if (b <= 0) a = b = -1;
     *lo = a;
     *hi = b;
     return KELP_OK;
@@ -214,7 +215,7 @@ int kelp_field_brs_init(kelp_field_brs *b, const kelp_field_brs_cfg *cfg, kelp_t
         kelp_brs_beacon t = cfg->dflt;
         if (parse_beacon(&t, cfg->spec[i], d) < 0) return KELP_ERR_PARSE;
         if (t.freq_set && t.freq_lo >= 0) (void)kelp_rsense_interval(&b->rand, 0, 1);
-        t.next = -1;
+        t.ts = 0;
         if (!t.label[0]) kelp_snprintf(t.label, sizeof t.label, "%u", b->nbeacons); /* A42: 0-based index */
         int at = kelp_field_brs_find(b, t.label);
         if (at >= 0) {
@@ -239,99 +240,106 @@ const char *kelp_field_brs_subscription(unsigned i)
     return i < sizeof subs / sizeof subs[0] ? subs[i] : NULL;
 }
 
-static void log_line(const kelp_field_brs *b, const char *a, const char *c, const char *d, const char *e)
-{
-    if (b->cfg.com.verbose) rs_log(b->cfg.com.log, b->cfg.com.log_ctx, a, c, d, e, RS_END);
-}
 
-/* every vehicle within B's report range gets a report. @return reports to `to` (or all) */
-static unsigned long broadcast(kelp_field_brs *b, kelp_brs_beacon *bc, kelp_time now, const kelp_field_sink *out, int to,
-                               const char *indent)
+/* one range report from beacon bc to vehicle v (24.8's postBeaconRangeReport): the noise is
+ * drawn here; the ground truth only with noise and GROUND_TRUTH */
+static void brs_report(kelp_field_brs *b, const kelp_brs_beacon *bc, const kelp_rsense_node *v, double r, kelp_time now,
+                       const kelp_field_sink *out)
 {
-    unsigned long got = 0;
-    for (unsigned u = 0; u < b->nnodes; u++) {
-        kelp_rsense_node *v = &b->node[u];
-        double r = hypot(v->x - bc->x, v->y - bc->y);
-        if (!rs_trans(bc->push, kelp_rsense_vmap_get(&b->cfg.node_pull, v->name), r)) continue;
-        double noisy = kelp_rsense_noisy(&b->rand, &b->cfg.com.noise, r);
-        double xy[2] = { bc->x, bc->y };
-        const double *pxy = b->cfg.report_xy ? xy : NULL;
-        rs_post_report(out, "BRS", false, b->cfg.com.report_vars, v->name, noisy, "id", bc->label, pxy, now);
-        if (b->cfg.com.ground_truth) rs_post_report(out, "BRS", true, b->cfg.com.report_vars, v->name, r, "id", bc->label, pxy, now);
-        v->heard++;
-        b->reports++;
-        if (b->cfg.com.verbose)
-            rs_log(b->cfg.com.log, b->cfg.com.log_ctx, indent, "Range report sent from beacon[", bc->label, "] to vehicle[",
-                   v->name, "]", RS_END);
-        if (to < 0 || (unsigned)to == u) got++;
+    const kelp_rsense_common *c = &b->cfg.com;
+    double noisy = kelp_rsense_noisy(&b->rand, &c->noise, r);
+    double xy[2] = { bc->x, bc->y };
+    const double *pxy = b->cfg.report_xy ? xy : NULL;
+    rs_post_report(out, "BRS", false, c->report_vars, v->name, noisy, "id", bc->label, pxy, now);
+    if (c->noise.alg != KELP_RSENSE_NOISE_NONE && c->ground_truth) {
+        /* 24.8 upper-cases its vname for the long form and keeps it for the short GT report */
+        char *un = b->ws_label;
+        rs_copy(un, sizeof b->ws_label, v->name, strlen(v->name));
+        if (c->report_vars == KELP_RSENSE_BOTH) rs_upper(un);
+        rs_post_report(out, "BRS", true, c->report_vars, un, r, "id", bc->label, pxy, now);
     }
-    return got;
+    b->reports++;
 }
 
+/* the beacon's time stamp (24.8's setTimeStamp: a new period is drawn when it has a freq) */
 static void reset_timer(kelp_field_brs *b, kelp_brs_beacon *bc, kelp_time now)
 {
+    bc->ts = now;
     if (bc->freq_lo < 0) return;
-    bc->next = now + kelp_rsense_interval(&b->rand, bc->freq_lo, bc->freq_hi);
+    bc->cur = kelp_rsense_interval(&b->rand, bc->freq_lo, bc->freq_hi);
 }
 
-KELP_NOINLINE static void log_elapsed(kelp_field_brs *b, double elapsed)
+static void ev(kelp_field_brs *b, bool verbose_only, const char *a, const char *c, const char *d, const char *e)
 {
-    char e[64];
-    size_t n = 0;
-    (void)field_put_fixed(e, sizeof e, &n, elapsed, 5, false);
-    log_line(b, "  Elapsed time: ", e, NULL, NULL);
+    if (!verbose_only || b->cfg.com.verbose) rs_log(b->cfg.com.log, b->cfg.com.log_ctx, a, c, d, e, RS_END);
 }
 
 static int request(kelp_field_brs *b, const char *s, kelp_time now, const kelp_field_sink *out)
 {
     char name[KELP_RSENSE_NAME];
     b->requests++;
-    if (rs_request_name(s, name, sizeof name) < 0) {
-        b->bad_mail++;
-        rs_warn(out, "BRS_RANGE_REQUEST without name=: ", s, RS_END);
-        return KELP_ERR_PARSE;
-    }
-    log_line(b, "Range request received from: ", name, NULL, NULL);
-    int i = rs_find(b->node, b->nnodes, name);
-    if (i < 0) { /* no node report: nothing to measure from (A, 10.5.15) */
+    /* 24.8 reads name= only; an empty or unknown name is refused and answered by nothing */
+    if (rs_request_name(s, name, sizeof name) < 0) name[0] = 0;
+    int i = name[0] ? rs_find(b->node, b->nnodes, name) : -1;
+    if (i < 0) {
         b->unknown++;
         b->denied++;
-        log_line(b, "  Denied: no node report from ", name, NULL, NULL);
-        rs_warn(out, "range request from a vehicle with no node report: ", name, RS_END);
-        return 1;
+        b->bad_mail++;
+        rs_warn(out, "Failed Range Request: Unknown vehicle[", name, "]", RS_END);
+        ev(b, false, "Failed Range Request: Unknown vehicle[", name, "]", NULL);
+        rs_warn(out, "Bad Mail: BRS_RANGE_REQUEST", RS_END);
+        return KELP_ERR_NOTFOUND;
     }
     kelp_rsense_node *v = &b->node[i];
     v->pings++;
     double elapsed = now - v->clock;
-    if (b->cfg.com.verbose) log_elapsed(b, elapsed);
-    if (elapsed < kelp_rsense_vmap_get(&b->cfg.com.ping_wait, v->name)) {
-        if (b->cfg.payments == KELP_BRS_UPON_REQUEST) v->clock = now;
+    bool allowed = !v->pinged || elapsed >= kelp_rsense_vmap_get(&b->cfg.com.ping_wait, v->name);
+    if (b->cfg.payments == KELP_BRS_UPON_REQUEST) v->clock = now, v->pinged = true;
+    if (!allowed) {
         v->denied++;
         b->denied++;
-        log_line(b, "  Denied: Range Request exceeds maximum ping frequency.", NULL, NULL, NULL);
+        rs_warn(out, "Failed Range Req from ", v->name, ": exceeds query freq.", RS_END);
+        if (b->cfg.com.verbose) {
+            char e[64];
+            size_t n = 0;
+            (void)field_put_fixed(e, sizeof e, &n, elapsed, 5, false);
+            ev(b, true, "Failed Range Req from ", v->name, ": exceeds query frequency.", NULL);
+            ev(b, true, "  Elapsed time for ", v->name, ": ", e);
+        }
         return 1;
     }
     v->accepted++;
     b->accepted++;
-    if (b->cfg.payments != KELP_BRS_UPON_RESPONSE) v->clock = now;
-    log_line(b, "    Query accepted by uFldBeaconRangeSensor.", NULL, NULL, NULL);
+    ev(b, false, "Valid Range Req from ", v->name, ". Checking beacon ranges...", NULL);
+    if (b->cfg.payments == KELP_BRS_UPON_ACCEPT) {
+        ev(b, true, "  Range Request resets the clock for vehicle ", v->name, NULL, NULL);
+        v->clock = now, v->pinged = true;
+    }
     char *label = b->ws_label;
-    kelp_snprintf(label, sizeof b->ws_label, "%s_ping", v->name);
-    rs_pulse(out, v->x, v->y, BRS_REQ_RADIUS, BRS_REQ_DURATION, label, "white", now, true);
+    kelp_snprintf(label, sizeof b->ws_label, "%s_range_req", v->name);
+    rs_pulse(out, v->x, v->y, BRS_REQ_RADIUS, BRS_REQ_DURATION, label, "white", now);
     double reach = kelp_rsense_vmap_get(&b->cfg.reach, v->name);
-    unsigned long got = 0;
+    double pull = kelp_rsense_vmap_get(&b->cfg.node_pull, v->name);
     for (unsigned k = 0; k < b->nbeacons; k++) {
         kelp_brs_beacon *bc = &b->beacon[k];
-        if (!rs_trans(reach, bc->pull, hypot(v->x - bc->x, v->y - bc->y))) continue;
-        bc->heard++;
-        bc->replies++;
-        got += broadcast(b, bc, now, out, i, "    ");
-        char *bl = b->ws_label;
-        kelp_snprintf(bl, sizeof b->ws_label, "%s_reply", bc->label);
-        rs_pulse(out, bc->x, bc->y, BRS_REPLY_RADIUS, BRS_REPLY_DURATION, bl, "pink", now, true);
-        reset_timer(b, bc, now);
+        double r = hypot(v->x - bc->x, v->y - bc->y);
+        bool replied = false;
+        if (rs_trans(reach, bc->pull, r)) {
+            bc->heard++;
+            ev(b, false, "Beacon[", bc->label, "]  <----  Ping from ", v->name);
+            if (rs_trans(bc->push, pull, r)) { /* only the requester hears the reply */
+                bc->replies++;
+                v->replied++;
+                if (b->cfg.payments == KELP_BRS_UPON_RESPONSE) v->clock = now, v->pinged = true;
+                ev(b, false, "Beacon[", bc->label, "]    -->  Range Reply to ", v->name);
+                brs_report(b, bc, v, r, now, out);
+                rs_pulse(out, bc->x, bc->y, BRS_REPLY_RADIUS, BRS_REPLY_DURATION, bc->label, "pink", now);
+                reset_timer(b, bc, now);
+                replied = true;
+            }
+        }
+        if (!replied) v->too_far++;
     }
-    if (b->cfg.payments == KELP_BRS_UPON_RESPONSE && got > 0) v->clock = now;
     return 1;
 }
 
@@ -353,25 +361,26 @@ int kelp_field_brs_mail(kelp_field_brs *b, const char *var, bool is_string, cons
     int rc = rs_node_report(b->node, &b->nnodes, sval, &b->cfg.com.geo, b->cfg.com.have_geo, NULL, b->start, &idx, &first, &b->diag);
     if (rc < 0) {
         b->bad_mail++;
-        rs_warn(out, "bad ", var, ": ", kelp_diag_text(&b->diag), RS_END);
+        rs_warn(out, "Bad Mail: ", var, " ", kelp_diag_text(&b->diag), RS_END);
         return rc;
     }
-    if (first) log_line(b, "Received first NODE_REPORT for: ", b->node[idx].name, NULL, NULL);
+    (void)idx, (void)first;
     return 1;
 }
 
 static void marker(const kelp_brs_beacon *bc, char *buf, size_t cap)
 {
+    /* 24.8's postVisuals: an XYMarker with no label: x, y, width, primary_color, type */
     size_t n = 0;
     int rc = field_put_str(buf, cap, &n, "x=");
     if (rc == 0) rc = field_put_fixed(buf, cap, &n, bc->x, 2, true);
     if (rc == 0) rc = field_put_str(buf, cap, &n, ",y=");
     if (rc == 0) rc = field_put_fixed(buf, cap, &n, bc->y, 2, true);
-    if (rc == 0) field_putf(buf, cap, &n, ",label=%s,color=%s,type=%s", bc->label, bc->color, bc->shape);
     if (rc == 0 && bc->width > 0) {
         rc = field_put_str(buf, cap, &n, ",width=");
         if (rc == 0) rc = field_put_fixed(buf, cap, &n, bc->width, 2, true);
     }
+    if (rc == 0) field_putf(buf, cap, &n, ",primary_color=%s,type=%s", bc->color, bc->shape);
     if (rc < 0 && cap) buf[0] = 0;
 }
 
@@ -384,26 +393,33 @@ KELP_NOINLINE static void start_beacons(kelp_field_brs *b, const kelp_field_sink
         char buf[256];
         marker(&b->beacon[k], buf, sizeof buf);
         if (buf[0]) out->publish(out->ctx, "VIEW_MARKER", true, buf, 0);
-        reset_timer(b, &b->beacon[k], b->start);
     }
 }
 
 unsigned long kelp_field_brs_iterate(kelp_field_brs *b, kelp_time now, const kelp_field_sink *out)
 {
     unsigned long before = b->reports;
-    if (!b->started) start_beacons(b, out);
-    bool said = false;
+    if (!b->started) { /* 24.8's first iteration stamps every beacon */
+        start_beacons(b, out);
+        for (unsigned k = 0; k < b->nbeacons; k++) reset_timer(b, &b->beacon[k], now);
+    }
     for (unsigned k = 0; k < b->nbeacons; k++) {
         kelp_brs_beacon *bc = &b->beacon[k];
-        if (bc->freq_lo < 0 || bc->next < 0 || now < bc->next) continue;
+        if (!(bc->freq_lo >= 0 && bc->cur > 0 && now - bc->ts > bc->cur)) continue;
         reset_timer(b, bc, now);
+        rs_pulse(out, bc->x, bc->y, BRS_REPLY_RADIUS, BRS_REPLY_DURATION, bc->label, "pink", now);
         bc->unsol++;
-        if (!said) log_line(b, "Unsolicited beacon reports:", NULL, NULL, NULL);
-        said = true;
-        (void)broadcast(b, bc, now, out, -1, "  ");
-        char *bl = b->ws_label;
-        kelp_snprintf(bl, sizeof b->ws_label, "%s_reply", bc->label);
-        rs_pulse(out, bc->x, bc->y, BRS_REPLY_RADIUS, BRS_REPLY_DURATION, bl, "green", now, true);
+        for (unsigned u = 0; u < b->nnodes; u++) { /* every vehicle in the beacon's reach */
+            kelp_rsense_node *v = &b->node[u];
+            double r = hypot(v->x - bc->x, v->y - bc->y);
+            if (rs_trans(bc->push, kelp_rsense_vmap_get(&b->cfg.node_pull, v->name), r)) {
+                v->unsol++;
+                ev(b, false, "Beacon[", bc->label, "]  ))-->  Range Broadcast to ", v->name);
+                brs_report(b, bc, v, r, now, out);
+            } else {
+                ev(b, true, "Beacon[", bc->label, "]  XX-->  Failed Range Brdcast to ", v->name);
+            }
+        }
     }
     return b->reports - before;
 }
@@ -428,4 +444,101 @@ int kelp_field_brs_summary(const kelp_field_brs *b, char *buf, size_t cap)
     field_putf(buf, cap, &n, "Requests: %lu (accepted %lu, denied %lu), range reports: %lu, random draws: %lu\n",
                b->requests, b->accepted, b->denied, b->reports, b->rand.draws);
     return n + 1 >= cap ? KELP_ERR_NOSPACE : KELP_OK;
+}
+
+/* ------------------------------------------------------------------ the AppCast */
+
+typedef struct brs_tab {
+    const kelp_field_brs *b;
+} brs_tab;
+
+/* doubleToStringX(v, 1), or "inf" for a negative distance when inf */
+static const char *num1(double v, bool inf, char *tmp, size_t cap)
+{
+    if (inf && v < 0) return "inf";
+    size_t k = 0;
+    if (field_put_fixed(tmp, cap, &k, v, 1, true) < 0) return "?";
+    return tmp;
+}
+
+static const char *count(unsigned long v, char *tmp, size_t cap)
+{
+    kelp_snprintf(tmp, cap, "%lu", v);
+    return tmp;
+}
+
+static const char *beacon_cell(const void *ctx, unsigned row, unsigned col, char *tmp, size_t cap)
+{
+    static const char *const h0[] = { "", "", "", "", "Pings", "Pings", "Pings", "", "Push", "Pull" };
+    static const char *const h1[] = { "ID", "X", "Y", "Freq", "Unsol", "Recvd", "Gen'd", "Noise", "Dist", "Dist" };
+    if (row == 0) return h0[col];
+    if (row == 1) return h1[col];
+    const kelp_brs_beacon *bc = &((const brs_tab *)ctx)->b->beacon[row - 2];
+    size_t k = 0;
+    switch (col) {
+    case 0: return bc->label;
+    case 1: return num1(bc->x, false, tmp, cap);
+    case 2: return num1(bc->y, false, tmp, cap);
+    case 3: /* 24.8's getFreqSetting */
+        if (bc->freq_lo < 0) return "poll";
+        if (bc->freq_lo == bc->freq_hi) {
+            if (field_put_fixed(tmp, cap, &k, bc->cur, 1, false) < 0) return "?";
+            return tmp;
+        }
+        (void)field_put_str(tmp, cap, &k, "[");
+        (void)field_put_fixed(tmp, cap, &k, bc->freq_lo, 1, true);
+        (void)field_put_str(tmp, cap, &k, ":");
+        (void)field_put_fixed(tmp, cap, &k, bc->freq_hi, 1, true);
+        (void)field_put_str(tmp, cap, &k, "]");
+        return tmp;
+    case 4: return count(bc->unsol, tmp, cap);
+    case 5: return count(bc->heard, tmp, cap);
+    case 6: return count(bc->replies, tmp, cap);
+    case 7: return "0";
+    case 8: return num1(bc->push, false, tmp, cap);
+    default: return num1(bc->pull, false, tmp, cap);
+    }
+}
+
+static const char *vehicle_cell(const void *ctx, unsigned row, unsigned col, char *tmp, size_t cap)
+{
+    static const char *const h0[] = { "", "Push", "Pull", "Unsol", "Pings", "Pings", "Too", "Too" };
+    static const char *const h1[] = { "VName", "Dist", "Dist", "Rec'd", "Gen'd", "Rep'd", "Freq", "Far" };
+    if (row == 0) return h0[col];
+    if (row == 1) return h1[col];
+    const kelp_field_brs *b = ((const brs_tab *)ctx)->b;
+    const kelp_rsense_node *v = &b->node[row - 2];
+    switch (col) {
+    case 0:
+        rs_copy(tmp, cap, v->name, strlen(v->name));
+        rs_lower(tmp);
+        return tmp;
+    case 1: return num1(kelp_rsense_vmap_get(&b->cfg.reach, v->name), true, tmp, cap);
+    case 2: return num1(kelp_rsense_vmap_get(&b->cfg.node_pull, v->name), true, tmp, cap);
+    case 3: return count(v->unsol, tmp, cap);
+    case 4: return count(v->pings, tmp, cap);
+    case 5: return count(v->replied, tmp, cap);
+    case 6: return count(v->denied, tmp, cap);
+    default: return count(v->too_far, tmp, cap);
+    }
+}
+
+int kelp_field_brs_report(const kelp_field_brs *b, char *buf, size_t cap)
+{
+    size_t n = 0;
+    bool full = false;
+    if (!cap) return KELP_ERR_NOSPACE;
+    buf[0] = 0;
+    brs_tab t = { b };
+    broker_put(buf, cap, &n, &full, "Beacons(%u):\n", b->nbeacons);
+    field_actable(buf, cap, &n, &full, 10, b->nbeacons + 2, 2, 2, 0x6u, beacon_cell, &t);
+    broker_put(buf, cap, &n, &full, "\n\nVehicles(%u):\n", b->nnodes);
+    field_actable(buf, cap, &n, &full, 8, b->nnodes + 2, 2, 2, 0, vehicle_cell, &t);
+    unsigned long reps = 0;
+    for (unsigned u = 0; u < b->nnodes; u++) reps += b->node[u].reports;
+    broker_put(buf, cap, &n, &full, "\n\nLedger: now:%u, reps:%lu, who:", b->nnodes, reps);
+    for (unsigned u = 0; u < b->nnodes && u < KELP_RSENSE_LEDGER_WHO; u++)
+        broker_put(buf, cap, &n, &full, "%s%s", u ? "," : "", b->node[u].name);
+    broker_put(buf, cap, &n, &full, "\n");
+    return full ? KELP_ERR_NOSPACE : KELP_OK;
 }

@@ -298,12 +298,18 @@ void broker_block(char *buf, size_t cap, size_t *n, bool *full, const char *labe
 void broker_table(char *buf, size_t cap, size_t *n, bool *full, unsigned ncols, unsigned nrows, unsigned header_rows,
                   broker_cell_fn cell, const void *ctx)
 {
-    /* 24.8's ACTable: columns as wide as their widest cell, two blanks apart, a dashed line
+    field_actable(buf, cap, n, full, ncols, nrows, header_rows, 2, 0, cell, ctx);
+}
+
+void field_actable(char *buf, size_t cap, size_t *n, bool *full, unsigned ncols, unsigned nrows, unsigned header_rows,
+                   unsigned sep, unsigned right, broker_cell_fn cell, const void *ctx)
+{
+    /* 24.8's ACTable: columns as wide as their widest cell, `sep` blanks apart, a dashed line
      * after the header rows, trailing blanks removed, no newline after the last row */
-    enum { MAXC = 8 };
+    enum { MAXC = FIELD_ACTABLE_MAX_COLS };
     static const char dashes[] = "--------------------------------------------------------------------------------";
     size_t w[MAXC] = { 0 };
-    char tmp[48];
+    char tmp[64];
     if (ncols > MAXC) return;
     for (unsigned r = 0; r < nrows; r++)
         for (unsigned c = 0; c < ncols; c++) {
@@ -318,9 +324,11 @@ void broker_table(char *buf, size_t cap, size_t *n, bool *full, unsigned ncols, 
         for (unsigned c = 0; c < ncols; c++) {
             if (dash)
                 broker_put(buf, cap, n, full, "%.*s", (int)(w[c] < sizeof dashes - 1 ? w[c] : sizeof dashes - 1), dashes);
+            else if (right & (1u << c))
+                broker_put(buf, cap, n, full, "%*s", (int)w[c], cell(ctx, src, c, tmp, sizeof tmp));
             else
                 broker_put(buf, cap, n, full, "%-*s", (int)w[c], cell(ctx, src, c, tmp, sizeof tmp));
-            if (c + 1 < ncols) broker_put(buf, cap, n, full, "  ");
+            if (c + 1 < ncols) broker_put(buf, cap, n, full, "%*s", (int)sep, "");
         }
         while (*n > start && *n < cap && buf[*n - 1] == ' ') buf[--*n] = 0;
         if (r < nrows) broker_put(buf, cap, n, full, "\n");

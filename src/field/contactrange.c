@@ -20,6 +20,8 @@ void kelp_field_crs_cfg_default(kelp_field_crs_cfg *cfg)
     cfg->reply.dflt = 100;
     kelp_rsense_common_default(&cfg->com);
     cfg->display_pulses = true;
+    cfg->echo_falloff = true;     /* 24.8: echoes beyond push + pull are probabilistic */
+    cfg->com.ground_truth = true; /* 24.8: true (posted only with noise) */
     rs_copy(cfg->ping_color, sizeof cfg->ping_color, "white", 5);
     rs_copy(cfg->reply_color, sizeof cfg->reply_color, "chartreuse", 10);
 }
@@ -89,7 +91,6 @@ int kelp_field_crs_config(kelp_field_crs_cfg *cfg, const char *key, const char *
     if (kelp_strieq_n(key, kl, "PING_COLOR")) return put_word(cfg->ping_color, sizeof cfg->ping_color, v, n, d);
     if (kelp_strieq_n(key, kl, "REPLY_COLOR") || kelp_strieq_n(key, kl, "ECHO_COLOR"))
         return put_word(cfg->reply_color, sizeof cfg->reply_color, v, n, d);
-    if (kelp_strieq_n(key, kl, "IGNORE_GROUP")) return put_word(cfg->ignore_group, sizeof cfg->ignore_group, v, n, d);
     if (kelp_strieq_n(key, kl, "ALLOW_ECHO_TYPES")) return set_types(cfg, v, n, d);
     if (kelp_strieq_n(key, kl, "SENSOR_ARC")) return set_arcs(cfg, v, n, d);
     if (kelp_strieq_n(key, kl, "DISPLAY_PULSES") || kelp_strieq_n(key, kl, "ECHO_FALLOFF")) {
@@ -139,79 +140,87 @@ static bool in_arc(const kelp_field_crs *c, const kelp_rsense_node *r, const kel
     return false;
 }
 
-static void say(const kelp_field_crs *c, const char *a, const char *b, const char *d, const char *e)
+static void ev(const kelp_field_crs *c, const char *a, const char *b, const char *d, const char *e)
 {
-    if (c->cfg.com.verbose) rs_log(c->cfg.com.log, c->cfg.com.log_ctx, a, b, d, e, RS_END);
+    rs_log(c->cfg.com.log, c->cfg.com.log_ctx, a, b, d, e, RS_END);
+}
+
+/* whether T hears R's ping (24.8's handleRangeRequest): always with a nolimit, surely within
+ * push + pull (strictly), beyond it with probability exp(3 (max - r) / max) (one draw) */
+static bool heard(kelp_field_crs *c, double push, double pull, double d)
+{
+    if (push < 0 || pull < 0) return true;
+    double max = push + pull;
+    if (max > d) return true;
+    if (!c->cfg.echo_falloff) return false;
+    double u = kelp_rsense_unit(&c->rand);
+    return max > 0 && u <= exp((max - d) * 3.0 / max); /* max 0: 24.8 divides by it */
 }
 
 static int request(kelp_field_crs *c, const char *s, kelp_time now, const kelp_field_sink *out)
 {
     char name[KELP_RSENSE_NAME];
     c->requests++;
-    if (rs_request_name(s, name, sizeof name) < 0) {
-        c->bad_mail++;
-        rs_warn(out, "CRS_RANGE_REQUEST without name=: ", s, RS_END);
-        return KELP_ERR_PARSE;
-    }
-    say(c, "Range request received from: ", name, NULL, NULL);
-    int ri = rs_find(c->node, c->nnodes, name);
-    if (ri < 0) { /* 11.5.12: no reports and no pulse */
+    if (rs_request_name(s, name, sizeof name) < 0) name[0] = 0; /* 24.8 reads name= only */
+    int ri = name[0] ? rs_find(c->node, c->nnodes, name) : -1;
+    if (ri < 0) { /* refused, answered by nothing */
         c->unknown++;
         c->denied++;
-        say(c, "  Denied: no node report from ", name, NULL, NULL);
-        rs_warn(out, "range request from a vehicle with no node report: ", name, RS_END);
-        return 1;
+        c->bad_mail++;
+        rs_warn(out, "Failed Range Request: Unknown vehicle[", name, "]", RS_END);
+        ev(c, "Failed Range Request: Unknown vehicle[", name, "]", NULL);
+        rs_warn(out, "Bad Mail: CRS_RANGE_REQUEST", RS_END);
+        return KELP_ERR_NOTFOUND;
     }
     kelp_rsense_node *r = &c->node[ri];
     r->pings++;
     double elapsed = now - r->clock;
-    if (c->cfg.com.verbose) {
+    if (r->pinged && elapsed < kelp_rsense_vmap_get(&c->cfg.com.ping_wait, r->name)) { /* ignored: no reset */
         char e[64];
         size_t n = 0;
-        (void)field_put_fixed(e, sizeof e, &n, elapsed, 5, false);
-        say(c, "  Elapsed time: ", e, NULL, NULL);
-    }
-    if (elapsed < kelp_rsense_vmap_get(&c->cfg.com.ping_wait, r->name)) { /* ignored: no reset */
+        (void)field_put_fixed(e, sizeof e, &n, elapsed, 2, false);
         r->denied++;
         c->denied++;
-        say(c, "  Denied: Range Request exceeds maximum ping frequency.", NULL, NULL, NULL);
+        ev(c, r->name, "  ----))  XXX too frequent. (", e, ")");
         return 1;
     }
     r->accepted++;
     c->accepted++;
+    ev(c, r->name, "  ----))  ", NULL, NULL);
     r->clock = now;
-    say(c, "  Range Request accepted by uFldContactRangeSensor.", NULL, NULL, NULL);
-    say(c, "  Range Request resets the clock for vehicle.", NULL, NULL, NULL);
+    r->pinged = true;
     char label[KELP_RSENSE_NAME + 8];
     if (c->cfg.display_pulses) {
         kelp_snprintf(label, sizeof label, "%s_ping", r->name);
-        rs_pulse(out, r->x, r->y, CRS_PING_RADIUS, CRS_PING_DURATION, label, c->cfg.ping_color, now, true);
+        rs_pulse(out, r->x, r->y, CRS_PING_RADIUS, CRS_PING_DURATION, label, c->cfg.ping_color, now);
     }
     double reach = kelp_rsense_vmap_get(&c->cfg.reach, r->name);
     for (unsigned ti = 0; ti < c->nnodes; ti++) {
-        const kelp_rsense_node *t = &c->node[ti];
+        kelp_rsense_node *t = &c->node[ti];
         if ((int)ti == ri || !type_allowed(c, t)) continue;
         double d = hypot(t->x - r->x, t->y - r->y);
-        double reply = kelp_rsense_vmap_get(&c->cfg.reply, t->name);
-        bool heard = rs_trans(reach, reply, d); /* A65 */
-        if (!heard && c->cfg.echo_falloff && reach + reply > 0) /* 24.8: exp(3 (max - r) / max) */
-            heard = kelp_rsense_unit(&c->rand) <= exp((reach + reply - d) * 3.0 / (reach + reply));
-        if (!heard || !in_arc(c, r, t)) {
+        bool h = heard(c, reach, kelp_rsense_vmap_get(&c->cfg.reply, t->name), d);
+        if (!h || !in_arc(c, r, t)) {
+            r->too_far++;
             c->too_far++;
             continue;
         }
+        r->heard++;
+        t->echoes_sent++;
+        char ru[KELP_RSENSE_NAME], tu[KELP_RSENSE_NAME];
+        rs_copy(ru, sizeof ru, r->name, strlen(r->name));
+        rs_copy(tu, sizeof tu, t->name, strlen(t->name));
+        rs_upper(ru);
+        rs_upper(tu);
+        ev(c, ru, "  <--   ", tu, NULL);
         double noisy = kelp_rsense_noisy(&c->rand, &c->cfg.com.noise, d);
-        if (c->cfg.com.verbose)
-            rs_log(c->cfg.com.log, c->cfg.com.log_ctx, "  Range Report sent from targ vehicle[", t->name,
-                   "] to receiver vehicle[", r->name, "]", RS_END);
         rs_post_report(out, "CRS", false, c->cfg.com.report_vars, r->name, noisy, "target", t->name, NULL, now);
-        if (c->cfg.com.ground_truth)
+        if (c->cfg.com.noise.alg != KELP_RSENSE_NOISE_NONE && c->cfg.com.ground_truth)
             rs_post_report(out, "CRS", true, c->cfg.com.report_vars, r->name, d, "target", t->name, NULL, now);
         c->reports++;
-        r->heard++;
         if (c->cfg.display_pulses) {
-            kelp_snprintf(label, sizeof label, "%s_reply", t->name);
-            rs_pulse(out, t->x, t->y, CRS_REPLY_RADIUS, CRS_REPLY_DURATION, label, c->cfg.reply_color, now, false);
+            kelp_snprintf(label, sizeof label, "%s_echo", t->name);
+            rs_pulse(out, t->x, t->y, CRS_REPLY_RADIUS, CRS_REPLY_DURATION, label, c->cfg.reply_color, now);
         }
     }
     return 1;
@@ -232,14 +241,15 @@ int kelp_field_crs_mail(kelp_field_crs *c, const char *var, bool is_string, cons
     int idx;
     bool first;
     kelp_diag_clear(&c->diag);
-    int rc = rs_node_report(c->node, &c->nnodes, sval, &c->cfg.com.geo, c->cfg.com.have_geo, c->cfg.ignore_group,
-                            c->start, &idx, &first, &c->diag);
+    int rc = rs_node_report(c->node, &c->nnodes, sval, &c->cfg.com.geo, c->cfg.com.have_geo, NULL, c->start, &idx,
+                            &first, &c->diag);
     if (rc < 0) {
         c->bad_mail++;
-        rs_warn(out, "bad ", var, ": ", kelp_diag_text(&c->diag), RS_END);
+        rs_warn(out, "Bad Mail: ", var, " ", kelp_diag_text(&c->diag), RS_END);
         return rc;
     }
-    if (rc > 0 && first) say(c, "Received first NODE_REPORT for: ", c->node[idx].name, NULL, NULL);
+    c->node_reports++;
+    (void)idx, (void)first;
     return 1;
 }
 
@@ -285,4 +295,71 @@ int kelp_field_crs_summary(const kelp_field_crs *c, char *buf, size_t cap)
     field_putf(buf, cap, &n, "Requests: %lu (accepted %lu, denied %lu), range reports: %lu, random draws: %lu\n",
                c->requests, c->accepted, c->denied, c->reports, c->rand.draws);
     return n + 1 >= cap ? KELP_ERR_NOSPACE : KELP_OK;
+}
+
+/* ------------------------------------------------------------------ the AppCast */
+
+/* ostream's << double for the settings: up to 6 decimals, trailing zeros dropped */
+static void put_g(char *buf, size_t cap, size_t *n, bool *full, const char *label, double v)
+{
+    char t[48];
+    size_t k = 0;
+    if (field_put_fixed(t, sizeof t, &k, v, 6, true) < 0) t[0] = 0;
+    broker_put(buf, cap, n, full, "%s%s\n", label, t);
+}
+
+static const char *crs_cell(const void *ctx, unsigned row, unsigned col, char *tmp, size_t cap)
+{
+    static const char *const h0[] = { "", "Ping", "Push", "Pull", "Pings", "Echos", "Too", "Too", "Echos", "Pos" };
+    static const char *const h1[] = { "VName", "Wait", "Dist", "Dist", "Gen'd", "Rec'd", "Freq", "Far", "Sent", "" };
+    if (row == 0) return h0[col];
+    if (row == 1) return h1[col];
+    const kelp_field_crs *c = ctx;
+    const kelp_rsense_node *v = &c->node[row - 2];
+    size_t k = 0;
+    double dv;
+    unsigned long uv;
+    switch (col) {
+    case 0: return v->name;
+    case 1: dv = kelp_rsense_vmap_get(&c->cfg.com.ping_wait, v->name); break;
+    case 2: dv = kelp_rsense_vmap_get(&c->cfg.reach, v->name); break;
+    case 3: dv = kelp_rsense_vmap_get(&c->cfg.reply, v->name); break;
+    case 4: uv = v->pings; goto count;
+    case 5: uv = v->heard; goto count;
+    case 6: uv = v->denied; goto count;
+    case 7: uv = v->too_far; goto count;
+    case 8: uv = v->echoes_sent; goto count;
+    default:
+        field_putf(tmp, cap, &k, "%.1f,%.1f", v->x, v->y);
+        return tmp;
+    }
+    if (col > 1 && dv < 0) return "inf";
+    if (field_put_fixed(tmp, cap, &k, dv, 1, true) < 0) return "?";
+    return tmp;
+count:
+    kelp_snprintf(tmp, cap, "%lu", uv);
+    return tmp;
+}
+
+int kelp_field_crs_report(const kelp_field_crs *c, char *buf, size_t cap)
+{
+    size_t n = 0;
+    bool full = false;
+    if (!cap) return KELP_ERR_NOSPACE;
+    buf[0] = 0;
+    const kelp_rsense_common *k = &c->cfg.com;
+    static const char *const alg[] = { "", "uniform", "gaussian" };
+    put_g(buf, cap, &n, &full, "Default Ping Wait:        ", k->ping_wait.dflt);
+    broker_put(buf, cap, &n, &full, "Random Noise Algorithm:   %s\n", alg[k->noise.alg]);
+    put_g(buf, cap, &n, &full, "Random Noise Uniform Pct: ", k->noise.pct);
+    put_g(buf, cap, &n, &full, "Gaussian Noise:           ", k->noise.sigma);
+    broker_put(buf, cap, &n, &full, "Ping Color:               %s\nEcho Color:               %s\n", c->cfg.ping_color,
+               c->cfg.reply_color);
+    broker_put(buf, cap, &n, &full, "Ground Truth Reporting:   %s\nIgnore Group:             \n",
+               k->ground_truth ? "true" : "false");
+    /* 24.8 never counts its node reports (always 0): kelp counts them (docs/CONFORMANCE.md) */
+    broker_put(buf, cap, &n, &full, "Total Node Reports:       %lu\n\nVehicles(%u):\n", c->node_reports, c->nnodes);
+    field_actable(buf, cap, &n, &full, 10, c->nnodes + 2, 2, 2, 0, crs_cell, c);
+    broker_put(buf, cap, &n, &full, "\n");
+    return full ? KELP_ERR_NOSPACE : KELP_OK;
 }

@@ -69,6 +69,12 @@ typedef const char *(*broker_cell_fn)(const void *ctx, unsigned row, unsigned co
 /** 24.8's ACTable (two blanks apart, dashes after header_rows rows) appended to a report. */
 void broker_table(char *buf, size_t cap, size_t *n, bool *full, unsigned ncols, unsigned nrows, unsigned header_rows,
                   broker_cell_fn cell, const void *ctx);
+/** The same table with `sep` blanks between columns and the columns whose bit is set in
+ *  `right` right-justified (ACTable's setColumnJustify); at most FIELD_ACTABLE_MAX_COLS
+ *  columns, cells of at most 63 bytes. */
+#define FIELD_ACTABLE_MAX_COLS 17 /* uFldScope: VName and 16 scope columns */
+void field_actable(char *buf, size_t cap, size_t *n, bool *full, unsigned ncols, unsigned nrows, unsigned header_rows,
+                   unsigned sep, unsigned right, broker_cell_fn cell, const void *ctx);
 /** Same community, host, ports and warp. */
 bool broker_same_host(const struct kelp_broker_host *a, const struct kelp_broker_host *b);
 

@@ -3,6 +3,7 @@
 #include <string.h>
 #include <kelp/pathcheck.h>
 #include <kelp/kv.h>
+#include <kelp/nodereport.h>
 #include <kelp/util.h>
 #include "field_int.h"
 
@@ -14,15 +15,12 @@ void kelp_field_upc_cfg_default(kelp_field_upc_cfg *cfg)
 
 int kelp_field_upc_config(kelp_field_upc_cfg *cfg, const char *key, const char *val, kelp_diag *d)
 {
-    size_t kl = strlen(key);
-    if (!kelp_strieq_n(key, kl, "HISTORY") && !kelp_strieq_n(key, kl, "HISTORY_LENGTH")) return 0;
-    size_t vl = strlen(val);
-    /* the seed's own example writes "HISTORY = 10 (Default)": read the leading number */
-    size_t e = 0;
-    while (e < vl && val[e] != ' ' && val[e] != '\t' && val[e] != '(' && val[e] != ';') e++;
+    /* 24.8 takes HISTORY_LENGTH only (an integer above 1); "history" and the rest are
+     * unhandled lines */
+    if (!kelp_strieq(key, "HISTORY_LENGTH")) return 0;
     long h;
-    if (kelp_parse_long(val, e, &h) < 0 || h < 2 || h > KELP_UPC_MAX_HISTORY) {
-        return kelp_fail(d, KELP_ERR_ARG, "HISTORY: an integer from 2 to KELP_UPC_MAX_HISTORY");
+    if (kelp_parse_long(val, strlen(val), &h) < 0 || h < 2 || h > KELP_UPC_MAX_HISTORY) {
+        return kelp_fail(d, KELP_ERR_ARG, "HISTORY_LENGTH: an integer from 2 to KELP_UPC_MAX_HISTORY");
     }
     cfg->history = (unsigned)h;
     return 1;
@@ -38,115 +36,120 @@ int kelp_field_upc_init(kelp_field_upc *p, const kelp_field_upc_cfg *cfg)
 
 const char *kelp_field_upc_subscription(unsigned i)
 {
-    static const char *const subs[] = { "NODE_REPORT", "NODE_REPORT_LOCAL", "UPC_TRIP_RESET", "UPC_ODOMETRY_RESET" };
+    static const char *const subs[] = { "NODE_REPORT", "NODE_REPORT_LOCAL", "UPC_TRIP_RESET" };
     return i < sizeof subs / sizeof subs[0] ? subs[i] : NULL;
 }
 
 int kelp_field_upc_find(const kelp_field_upc *p, const char *name)
 {
-    size_t nl = strlen(name);
     for (unsigned i = 0; i < p->nnodes; i++)
-        if (kelp_strieq_n(name, nl, p->node[i].name)) return (int)i;
+        if (strcmp(name, p->node[i].name) == 0) return (int)i;
     return -1;
 }
 
-static void warn(const kelp_field_sink *out, const char *msg)
+/* "<what><text>" through the sink's warn, the text cut to the workspace */
+static void warn2(kelp_field_upc *p, const kelp_field_sink *out, const char *what, const char *text)
 {
-    if (out && out->warn) out->warn(out->ctx, msg);
+    if (!out || !out->warn) return;
+    size_t k = 0;
+    p->ws[0] = 0;
+    (void)field_put_str(p->ws, sizeof p->ws, &k, what);
+    size_t room = sizeof p->ws - 1 - k, tl = strlen(text);
+    memcpy(p->ws + k, text, tl < room ? tl : room);
+    p->ws[k + (tl < room ? tl : room)] = 0;
+    out->warn(out->ctx, p->ws);
 }
 
 double kelp_field_upc_speed(const kelp_upc_node *n)
 {
-    if (n->n < 2) return 0;
-    unsigned cap = KELP_UPC_MAX_HISTORY;
-    const kelp_upc_point *first = &n->hist[n->head];
-    const kelp_upc_point *last = &n->hist[(n->head + n->n - 1) % cap];
-    double dist = 0;
-    for (unsigned i = 1; i < n->n; i++) dist += n->hist[(n->head + i) % cap].d;
-    double dt = last->t - first->t;
-    return dt > 0 ? dist / dt : 0;
+    /* the mean of the per-leg speeds along the queue (24.8's computeAndPostSpeeds); a leg
+     * whose time difference is not positive is left out (24.8 divides by it) */
+    unsigned cap = KELP_UPC_MAX_HISTORY, legs = 0;
+    double sum = 0;
+    for (unsigned i = 1; i < n->n; i++) {
+        const kelp_upc_point *a = &n->hist[(n->head + i - 1) % cap];
+        const kelp_upc_point *b = &n->hist[(n->head + i) % cap];
+        double dt = b->t - a->t;
+        if (!(dt > 0)) continue;
+        sum += hypot(b->x - a->x, b->y - a->y) / dt;
+        legs++;
+    }
+    return legs ? sum / legs : 0;
+}
+
+/* NodeRecord::valid(): NAME, X, Y, SPD and HDG, or NAME, LAT, LON, SPD and HDG */
+static bool record_valid(const kelp_nodereport *r)
+{
+    unsigned need = KELP_NR_NAME | KELP_NR_SPD | KELP_NR_HDG;
+    if ((r->fields & need) != need || !r->name[0]) return false;
+    return (r->fields & (KELP_NR_X | KELP_NR_Y)) == (KELP_NR_X | KELP_NR_Y) ||
+           (r->fields & (KELP_NR_LAT | KELP_NR_LON)) == (KELP_NR_LAT | KELP_NR_LON);
 }
 
 static int node_report(kelp_field_upc *p, const char *s, kelp_time now, const kelp_field_sink *out)
 {
     kelp_nodereport r;
-    if (kelp_nodereport_parse(s, strlen(s), &r, NULL) < 0 || !(r.fields & KELP_NR_X) || !(r.fields & KELP_NR_Y)) {
+    if (kelp_nodereport_parse(s, strlen(s), &r, NULL) < 0 || !record_valid(&r)) {
         p->bad++;
-        warn(out, "uFldPathCheck: invalid NODE_REPORT (NAME, X and Y required)");
+        warn2(p, out, "Invalid NODE_REPORT: ", s);
         return KELP_ERR_PARSE;
     }
     int i = kelp_field_upc_find(p, r.name);
     if (i < 0) {
         if (p->nnodes >= KELP_UPC_MAX_NODES) {
             p->full++;
-            warn(out, "uFldPathCheck: too many vehicles (KELP_UPC_MAX_NODES)");
+            warn2(p, out, "uFldPathCheck: too many vehicles (KELP_UPC_MAX_NODES): ", r.name);
             return KELP_ERR_NOSPACE;
         }
-        i = (int)p->nnodes++;
-        memcpy(p->node[i].name, r.name, sizeof r.name);
-    }
-    kelp_upc_node *n = &p->node[i];
-    double t = (r.fields & KELP_NR_TIME) ? r.time : now;
-    n->last_recv = now;
-    unsigned cap = KELP_UPC_MAX_HISTORY;
-    kelp_upc_point pt = { r.x, r.y, t, 0 };
-    if (n->n > 0) {
-        const kelp_upc_point *prev = &n->hist[(n->head + n->n - 1) % cap];
-        /* the time step rule: a report KELP_TIME_STEP_MAX behind the previous one (the
-         * vehicle's clock stepped back) or ahead of it (stepped forward, or a long silence)
-         * starts the speed history again, so reports are not ignored for the length of the step
-         * and no speed is averaged over it; the distance still counts */
-        bool step = t < prev->t - KELP_TIME_STEP_MAX || t > prev->t + KELP_TIME_STEP_MAX;
-        if (!step && !(t > prev->t)) { /* a repeat or out of order: not a new position */
-            n->ignored++;
-            return 1;
-        }
-        pt.d = hypot(r.x - prev->x, r.y - prev->y);
-        if (step) n->n = 0, n->head = 0;
+        unsigned at = 0; /* 24.8 keeps its vehicles in a std::map: strcmp order */
+        while (at < p->nnodes && strcmp(p->node[at].name, r.name) < 0) at++;
+        memmove(&p->node[at + 1], &p->node[at], (p->nnodes - at) * sizeof p->node[0]);
+        memset(&p->node[at], 0, sizeof p->node[at]);
+        memcpy(p->node[at].name, r.name, sizeof r.name);
+        p->nnodes++;
+        i = (int)at;
     }
     p->good++;
+    kelp_upc_node *n = &p->node[i];
+    n->last_recv = now;
     n->reports++;
-    n->total += pt.d;
-    n->trip += pt.d;
-    if (n->n == p->cfg.history) { /* drop the oldest */
+    unsigned cap = KELP_UPC_MAX_HISTORY;
+    double x = (r.fields & KELP_NR_X) ? r.x : 0, y = (r.fields & KELP_NR_Y) ? r.y : 0;
+    if (n->n > 1) { /* 24.8: the odometer runs once two records are held */
+        const kelp_upc_point *prev = &n->hist[(n->head + n->n - 1) % cap];
+        double d = hypot(prev->x - x, prev->y - y);
+        n->total += d;
+        n->trip += d;
+        n->has_dist = true;
+        n->changed = true;
+    }
+    n->hist[(n->head + n->n) % cap] = (kelp_upc_point){ x, y, (r.fields & KELP_NR_TIME) ? r.time : now };
+    n->n++;
+    if (n->n > p->cfg.history) { /* drop the oldest */
         n->head = (n->head + 1) % cap;
         n->n--;
     }
-    n->hist[(n->head + n->n) % cap] = pt;
-    n->n++;
-    n->updated = true;
     return 1;
 }
 
 int kelp_field_upc_mail(kelp_field_upc *p, const char *var, bool is_string, const char *sval, kelp_time now,
                         const kelp_field_sink *out)
 {
-    if (kelp_strieq(var, "NODE_REPORT") || kelp_strieq(var, "NODE_REPORT_LOCAL")) {
+    if (strcmp(var, "NODE_REPORT") == 0 || strcmp(var, "NODE_REPORT_LOCAL") == 0) {
         if (!is_string || !sval || !kelp_time_ok(now)) return KELP_ERR_ARG;
         return node_report(p, sval, now, out);
     }
-    if (kelp_strieq(var, "UPC_TRIP_RESET") || kelp_strieq(var, "UPC_ODOMETRY_RESET")) {
+    if (strcmp(var, "UPC_TRIP_RESET") == 0) {
         if (!is_string || !sval) return KELP_ERR_ARG;
-        /* the vehicle's name, or a "vname=alpha" pair */
-        char name[KELP_NODEREPORT_MAX_FIELD];
-        const char *s = sval;
-        if (strchr(sval, '=')) {
-            if (kelp_kv_get(sval, ',', "vname", name, sizeof name) != 1) name[0] = 0;
-            s = name;
-        }
-        size_t a = 0, b = strlen(s);
-        while (a < b && (s[a] == ' ' || s[a] == '\t' || s[a] == '"')) a++;
-        while (b > a && (s[b - 1] == ' ' || s[b - 1] == '\t' || s[b - 1] == '"')) b--;
-        for (unsigned i = 0; i < p->nnodes; i++) {
-            if (kelp_strieq_n(s + a, b - a, p->node[i].name)) {
-                p->node[i].trip = 0;
-                p->node[i].updated = true;
-                p->resets++;
-                return 1;
-            }
+        /* 24.8: the value is the name, exactly; only a vehicle with odometry has a trip */
+        int i = kelp_field_upc_find(p, sval);
+        if (i >= 0 && p->node[i].has_dist) {
+            p->node[i].trip = 0;
+            p->resets++;
+            return 1;
         }
         p->bad_resets++;
-        warn(out, "uFldPathCheck: trip reset for an unknown vehicle");
+        warn2(p, out, "Invalid TRIP_RESET: ", sval);
         return KELP_ERR_NOTFOUND;
     }
     return 0;
@@ -156,43 +159,80 @@ unsigned kelp_field_upc_iterate(kelp_field_upc *p, kelp_time now, const kelp_fie
 {
     (void)now;
     unsigned posts = 0;
+    char buf[160];
     for (unsigned i = 0; i < p->nnodes; i++) {
-        kelp_upc_node *n = &p->node[i];
-        if (!n->updated) continue;
-        n->updated = false;
-        char buf[160];
+        const kelp_upc_node *n = &p->node[i];
+        if (n->n < 2) continue;
         size_t k = 0;
-        field_putf(buf, sizeof buf, &k, "vname=%s,total_dist=", n->name);
-        int rc = field_put_fixed(buf, sizeof buf, &k, n->total, 1, false);
-        if (rc == 0) rc = field_put_str(buf, sizeof buf, &k, ",trip_dist=");
-        if (rc == 0) rc = field_put_fixed(buf, sizeof buf, &k, n->trip, 1, false);
-        if (rc == 0 && out) {
-            out->publish(out->ctx, "UPC_ODOMETRY_REPORT", true, buf, 0);
+        /* 24.8's doubleToString is printf's "%.2f" (an exact tie rounds to even) */
+        field_putf(buf, sizeof buf, &k, "vname=%s,avg_spd=%.2f", n->name, kelp_field_upc_speed(n));
+        if (k + 1 < sizeof buf && out) {
+            out->publish(out->ctx, "UPC_SPEED_REPORT", true, buf, 0);
             posts++;
         }
-        k = 0;
-        field_putf(buf, sizeof buf, &k, "vname=%s,avg_speed=", n->name);
-        rc = field_put_fixed(buf, sizeof buf, &k, kelp_field_upc_speed(n), 2, false);
-        if (rc == 0 && out) {
-            out->publish(out->ctx, "UPC_SPEED_REPORT", true, buf, 0);
+    }
+    for (unsigned i = 0; i < p->nnodes; i++) {
+        kelp_upc_node *n = &p->node[i];
+        if (!n->changed) continue;
+        n->changed = false;
+        size_t k = 0;
+        field_putf(buf, sizeof buf, &k, "vname=%s,total_dist=%.1f,trip_dist=%.1f", n->name, n->total, n->trip);
+        if (k + 1 < sizeof buf && out) {
+            out->publish(out->ctx, "UPC_ODOMETRY_REPORT", true, buf, 0);
             posts++;
         }
     }
     return posts;
 }
 
-int kelp_field_upc_report(const kelp_field_upc *p, kelp_time now, char *buf, size_t cap)
+typedef struct upc_table {
+    const kelp_field_upc *p;
+    kelp_time now;
+} upc_table;
+
+/* the index of the row-th vehicle with odometry (24.8's table lists those) */
+static unsigned upc_row(const kelp_field_upc *p, unsigned row)
+{
+    unsigned i = 0;
+    for (; i < p->nnodes; i++)
+        if (p->node[i].has_dist && row-- == 0) break;
+    return i;
+}
+
+static const char *upc_cell(const void *ctx, unsigned row, unsigned col, char *tmp, size_t cap)
+{
+    static const char *const hdr[] = { "Node", "TripDist", "Distance", "ReportAge", "Speed", "AvgSpeed" };
+    const upc_table *t = ctx;
+    if (row == 0) return hdr[col];
+    const kelp_upc_node *n = &t->p->node[upc_row(t->p, row - 1)];
+    double v;
+    switch (col) {
+    case 0: return n->name;
+    case 1: v = n->trip; break;
+    case 2: v = n->total; break;
+    case 3: v = t->now - n->last_recv; break;
+    default: return "n/a"; /* 24.8 shows n/a for both speeds */
+    }
+    size_t k = 0;
+    field_putf(tmp, cap, &k, "%.1f", v);
+    return tmp;
+}
+
+int kelp_field_upc_report(const kelp_field_upc *p, kelp_time now, double warp, char *buf, size_t cap)
 {
     size_t k = 0;
-    if (cap) buf[0] = 0;
-    field_putf(buf, cap, &k, " Node Reports Recd (good): %lu\n Node Reports Recd (bad):  %lu\n", p->good, p->bad);
-    field_putf(buf, cap, &k, " Trip resets: %lu (unknown vehicle: %lu)\n\n", p->resets, p->bad_resets);
-    field_putf(buf, cap, &k, "Node          TripDist   Distance  ReportAge  AvgSpeed\n");
-    field_putf(buf, cap, &k, "----------  ----------  ---------  ---------  --------\n");
-    for (unsigned i = 0; i < p->nnodes; i++) {
-        const kelp_upc_node *n = &p->node[i];
-        field_putf(buf, cap, &k, "%-10s  %10.1f  %9.1f  %9.1f  %8.2f\n", n->name, n->trip, n->total, fmax(0.0, now - n->last_recv),
-                   kelp_field_upc_speed(n));
-    }
-    return k + 1 >= cap ? KELP_ERR_NOSPACE : KELP_OK;
+    bool full = false;
+    if (!cap) return KELP_ERR_NOSPACE;
+    buf[0] = 0;
+    char w[40];
+    size_t wn = 0;
+    if (field_put_fixed(w, sizeof w, &wn, warp, 6, true) < 0) w[0] = 0; /* ostream's 1, 2.5 */
+    broker_put(buf, cap, &k, &full, " Node Reports Recd (good): %lu\n Node Reports Recd (bad):  %lu\n", p->good, p->bad);
+    broker_put(buf, cap, &k, &full, " MOOS Time Warp:           %s\n\n", w);
+    upc_table tab = { p, now };
+    unsigned rows = 0;
+    for (unsigned i = 0; i < p->nnodes; i++) rows += p->node[i].has_dist;
+    field_actable(buf, cap, &k, &full, 6, rows + 1, 1, 3, 0, upc_cell, &tab);
+    broker_put(buf, cap, &k, &full, "\n");
+    return full ? KELP_ERR_NOSPACE : KELP_OK;
 }

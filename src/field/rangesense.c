@@ -134,10 +134,9 @@ int kelp_rsense_common_config(kelp_rsense_common *c, const char *key, const char
     }
     if (kelp_strieq_n(key, kl, "RN_ALGORITHM")) return kelp_rsense_noise_set(&c->noise, v, d);
     if (kelp_strieq_n(key, kl, "RN_UNIFORM_PCT") || kelp_strieq_n(key, kl, "RN_GAUSSIAN_SIGMA")) {
-        /* the same as RN_ALGORITHM = uniform,pct=V (or gaussian,sigma=V) */
+        /* 24.8 sets the value only: the noise is on only with RN_ALGORITHM */
         bool uni = kelp_strieq_n(key, kl, "RN_UNIFORM_PCT");
         kelp_rsense_noise t = c->noise;
-        t.alg = uni ? KELP_RSENSE_NOISE_UNIFORM : KELP_RSENSE_NOISE_GAUSSIAN;
         int rc = noise_value(&t, uni, v, n, d);
         if (rc < 0) return rc;
         c->noise = t;
@@ -313,7 +312,7 @@ int rs_node_report(kelp_rsense_node *nodes, unsigned *n, const char *s, const ke
         memmove(&nodes[at + 1], &nodes[at], (*n - at) * sizeof nodes[0]);
         memset(&nodes[at], 0, sizeof nodes[at]);
         rs_copy(nodes[at].name, sizeof nodes[at].name, r.name, strlen(r.name));
-        nodes[at].clock = start;
+        nodes[at].clock = start; /* unused until pinged: 24.8's clock starts at 0 */
         (*n)++;
         i = (int)at;
         *first = true;
@@ -330,18 +329,23 @@ int rs_node_report(kelp_rsense_node *nodes, unsigned *n, const char *s, const ke
 
 int rs_request_name(const char *s, char *name, size_t cap)
 {
-    int rc = kelp_kv_get(s, ',', "name", name, cap);
-    if (rc == 0) rc = kelp_kv_get(s, ',', "vname", name, cap);
+    int rc = kelp_kv_get(s, ',', "name", name, cap); /* 24.8 reads name= only (vname= is no name) */
     if (rc <= 0 || !*name) return KELP_ERR_PARSE;
     return KELP_OK;
 }
 
 /* ------------------------------------------------------------------ posts */
 
-static void upper(char *s)
+void rs_upper(char *s)
 {
     for (; *s; s++)
         if (*s >= 'a' && *s <= 'z') *s = (char)(*s - 'a' + 'A');
+}
+
+void rs_lower(char *s)
+{
+    for (; *s; s++)
+        if (*s >= 'A' && *s <= 'Z') *s = (char)(*s - 'A' + 'a');
 }
 
 #define RS_REPORT_BODY 256 /* bytes of a report body, terminator included */
@@ -384,7 +388,7 @@ KELP_NOINLINE static int post_report(const kelp_field_sink *out, const char *pfx
     if (rc == 0) rc = field_put_str(var, sizeof var, &v, "_");
     if (rc == 0) rc = field_put_str(var, sizeof var, &v, vname);
     if (rc == 0 && vars != KELP_RSENSE_SHORT) {
-        upper(var);
+        rs_upper(var);
         out->publish(out->ctx, var, true, full + b, 0);
     }
     return KELP_OK;
@@ -398,7 +402,7 @@ void rs_post_report(const kelp_field_sink *out, const char *pfx, bool gt, kelp_r
 }
 
 void rs_pulse(const kelp_field_sink *out, double x, double y, double radius, double duration, const char *label,
-              const char *color, kelp_time now, bool edge_size)
+              const char *color, kelp_time now)
 {
     char buf[320];
     size_t n = 0;
@@ -408,19 +412,17 @@ void rs_pulse(const kelp_field_sink *out, double x, double y, double radius, dou
     if (rc == 0) rc = field_put_fixed(buf, sizeof buf, &n, y, 2, true);
     if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",radius=");
     if (rc == 0) rc = field_put_fixed(buf, sizeof buf, &n, radius, 2, true);
+    if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",fill=0.9,label=");
+    if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, label);
+    if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",edge_color=");
+    if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, color);
+    if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",fill_color=");
+    if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, color);
+    if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",time=");
+    if (rc == 0) rc = field_put_fixed(buf, sizeof buf, &n, now, 2, true);
     if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",duration=");
     if (rc == 0) rc = field_put_fixed(buf, sizeof buf, &n, duration, 2, true);
-    if (rc == 0) {
-        rc = field_put_str(buf, sizeof buf, &n, ",label=");
-        if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, label);
-        if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",edge_color=");
-        if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, color);
-        if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",fill_color=");
-        if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, color);
-        if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",time=");
-        if (rc == 0) rc = field_put_fixed(buf, sizeof buf, &n, now, 2, true);
-    }
-    if (rc == 0 && edge_size) rc = field_put_str(buf, sizeof buf, &n, ",edge_size=1");
+    if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",edge_size=1");
     if (rc < 0) {
         rs_warn(out, "cannot format a range pulse ", label, RS_END);
         return;

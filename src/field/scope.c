@@ -322,3 +322,38 @@ size_t kelp_field_ufs_render(kelp_field_ufs *s, char *buf, size_t cap)
     s->reports++;
     return o.n;
 }
+
+/* the e-th element shown in the current layout, or -1 */
+static int shown_elem(const kelp_field_ufs *s, unsigned k)
+{
+    uint32_t mask = s->layout ? s->layout_mask[s->layout - 1] : 0xffffffffu;
+    unsigned ne = s->cfg.nelem < KELP_UFS_MAX_ELEMS ? s->cfg.nelem : KELP_UFS_MAX_ELEMS;
+    for (unsigned e = 0; e < ne; e++)
+        if ((mask & (1u << e)) && k-- == 0) return (int)e;
+    return -1;
+}
+
+static const char *table_cell(const void *ctx, unsigned row, unsigned col, char *tmp, size_t cap)
+{
+    const kelp_field_ufs *s = ctx;
+    (void)tmp, (void)cap;
+    int e = col ? shown_elem(s, col - 1) : -1;
+    if (row == 0) return col == 0 ? UFS_NAME_HDR : e >= 0 ? header(&s->cfg.elem[e]) : "";
+    const kelp_ufs_row *r = &s->row[row - 1];
+    return col == 0 ? r->name : e >= 0 ? r->cell[e] : "";
+}
+
+size_t kelp_field_ufs_table(const kelp_field_ufs *s, char *buf, size_t cap)
+{
+    if (!buf || !cap) return 0;
+    size_t n = 0;
+    bool full = false;
+    buf[0] = 0;
+    unsigned cols = 1;
+    while (shown_elem(s, cols - 1) >= 0) cols++;
+    unsigned nr = s->nrow < KELP_UFS_MAX_ROWS ? s->nrow : KELP_UFS_MAX_ROWS;
+    /* 24.8's buildReport: ACTable(columns, 2), the header row, dashes, a row per vehicle */
+    field_actable(buf, cap, &n, &full, cols, nr + 1, 1, 2, 0, table_cell, s);
+    broker_put(buf, cap, &n, &full, "\n");
+    return n;
+}

@@ -43,7 +43,7 @@ import os
 import re
 import sys
 
-GATED = ["nodecomms_*", "msghandler_*"]
+GATED = ["nodecomms_*", "msghandler_*", "pathcheck_g1", "crs_e1_nonoise"]
 # values that are measured timings (uFldNodeComms's RTE: real seconds between two of its
 # iterations that saw a vehicle's report) are compared by count and format only
 PERIODIC_SKIP_VALUES = re.compile(r".*_STATUS$|^APPCAST$|.*_ITER_(GAP|LEN)$|.*_PID$|^RTE$")
@@ -130,8 +130,8 @@ def kv_pairs(val):
 class Norm:
     """Values made comparable: absolute MOOS times inside strings become scenario times."""
 
-    def __init__(self, t0, tol):
-        self.t0, self.tol = t0, tol
+    def __init__(self, t0, tol, ntol=0.05):
+        self.t0, self.tol, self.ntol = t0, tol, ntol
 
     def tokens(self, val):
         if not isinstance(val, str):
@@ -162,7 +162,7 @@ class Norm:
             if ka == "t" and times and abs(va - vb) > self.tol:
                 return False
             # positions and speeds computed at a post time that jitters by milliseconds
-            if ka == "n" and abs(va - vb) > 0.05 + 1e-6 * abs(va):
+            if ka == "n" and abs(va - vb) > self.ntol + 1e-6 * abs(va):
                 return False
         return True
 
@@ -306,6 +306,10 @@ def compare(scn, golden_dir, kelp_dir):
             # the reports', not behaviour) the older is relayed to no one. A relay one side made
             # of a report the other side relayed to no one at all is that, not a difference.
             vnorm = norm
+            if scn.startswith("pathcheck_") and var == "UPC_ODOMETRY_REPORT":
+                # sums of positions the driver rounds to 0.01 at its own post times, printed to
+                # one decimal: two runs may print one unit (0.1) apart
+                vnorm = Norm(1e12, tol, ntol=0.1)
             if scn.startswith("nodecomms_") and var.startswith("NODE_REPORT_") and app == "uFldNodeComms":
                 g = [r for r in g if relayed_anywhere(Kr, r, report_half)]
                 k = [r for r in k if relayed_anywhere(Gr, r, report_half)]
@@ -361,6 +365,11 @@ def compare(scn, golden_dir, kelp_dir):
         figs.extend(cmgr_figures(Gwr, Kwr, tol, dur))
     if scn.startswith("hazard_"):
         figs.extend(hazard_figures(Gwr, Kwr, tol, 1.0 / ticks.get("uFldHazardSensor", 4) * warp, G, K))
+    vmax = scenario_speed(os.path.join(golden_dir, "missions", scn + ".scn"))
+    if scn.startswith("pathcheck_"):
+        figs.extend(pathcheck_figures(G, K, Gwr, Kwr, tol, dur, vmax))
+    if scn.startswith("brs_") or scn.startswith("crs_"):
+        figs.extend(rangesensor_figures(G, K, Gwr, Kwr, tol, vmax, "BRS" if scn.startswith("brs_") else "CRS"))
     return figs
 
 
@@ -924,6 +933,148 @@ def hazard_figures(G, K, tol, period, Gall, Kall):
                 for p, q in zip(xs, ys))
         ok = len(gr) == len(kr) and all(close(x, y) for x, y in zip(gr, kr))
         figs.append(Figure("hazard/appcast_stats", ok, "" if ok else "24.8 %s; kelp %s" % (gr, kr)))
+    return figs
+
+
+def series_match(a, b, tol, vtol, lo, hi):
+    """Rows (t, values) of one side each with a row of the other within tol in time whose values
+    are all within vtol; only rows with lo <= t <= hi are checked. Returns the first unmatched
+    (side, row) or None."""
+    for side, xs, ys in (("24.8", a, b), ("kelp", b, a)):
+        for t, v in xs:
+            if t < lo or t > hi:
+                continue
+            if not any(abs(t - u) <= tol and len(v) == len(w) and all(abs(p - q) <= vtol for p, q in zip(v, w))
+                       for u, w in ys):
+                return side, t, v
+    return None
+
+
+def pathcheck_figures(G, K, Gw, Kw, tol, dur, vmax):
+    """uFldPathCheck: per vehicle, the speed series (avg_spd, every iteration) and the odometry
+    series (total_dist, trip_dist; one printed unit apart at most), and the AppCast's counts and
+    its per-vehicle trip and total distances (24.8 writes its rows run together before its
+    table: they are read from there)."""
+    figs = []
+
+    def series(rows, var, keys):
+        out = collections.defaultdict(list)
+        for r in rows:
+            if r["var"] == var and r["src"] == "uFldPathCheck" and r["type"] == "string":
+                d = dict(kv_pairs(r["val"]) or [])
+                if "vname" in d and all(is_num(d.get(k, "")) for k in keys):
+                    out[d["vname"]].append((r["t"], tuple(float(d[k]) for k in keys)))
+        return out
+
+    for var, keys, vtol, name in (("UPC_SPEED_REPORT", ("avg_spd",), 0.011, "speed"),
+                                  ("UPC_ODOMETRY_REPORT", ("total_dist", "trip_dist"), 0.1 + 1e-6, "odometry")):
+        gs, ks = series(Gw, var, keys), series(Kw, var, keys)
+        for v in sorted(set(gs) | set(ks)):
+            a, b = gs.get(v, []), ks.get(v, [])
+            rate = len(a) / dur if a else 0
+            ok = bool(a) and bool(b) and abs(len(a) - len(b)) <= math.ceil(rate * 2 * tol) + 1
+            bad = series_match(a, b, tol, vtol, tol, dur - tol) if ok else None
+            d = "" if ok and not bad else ("24.8 %d posts, kelp %d" % (len(a), len(b)) if not ok else
+                                            "%s t=%.2f %s has no match" % bad)
+            figs.append(Figure("%s/%s" % (name, v), ok and not bad, d))
+    g = [r for r in G if r["var"] == "APPCAST" and r["src"] == "uFldPathCheck"]
+    k = [r for r in K if r["var"] == "APPCAST" and r["src"] == "uFldPathCheck"]
+    if g and k:
+        gm, km = appcast_fields(g[-1]["val"]).get("messages", ""), appcast_fields(k[-1]["val"]).get("messages", "")
+        cnt = lambda m: [int(x) for x in re.findall(r"Recd \((?:good|bad)\):\s+(\d+)", m)]
+        a, b = cnt(gm), cnt(km)
+        ok = len(a) == 2 and len(b) == 2 and abs(a[0] - b[0]) <= max(1, 0.02 * a[0]) and a[1] == b[1]
+        figs.append(Figure("appcast/uFldPathCheck/received", ok, "" if ok else "24.8 %s, kelp %s" % (a, b)))
+        names = sorted(set(series(Gw, "UPC_ODOMETRY_REPORT", ())) | set(series(Kw, "UPC_ODOMETRY_REPORT", ())))
+
+        def rows(m):
+            """the rows of a table, else 24.8's run-together text"""
+            out = {}
+            for line in m.split("!@"):
+                f = line.split()
+                if len(f) == 6 and f[4:] == ["n/a", "n/a"] and all(is_num(x) for x in f[1:4]):
+                    out[f[0]] = tuple(float(x) for x in f[1:4])
+            if not out:
+                for v in names:
+                    x = re.search(re.escape(v) + r"(-?\d+\.\d)(-?\d+\.\d)(-?\d+\.\d)n/an/a", m)
+                    if x:
+                        out[v] = tuple(float(y) for y in x.groups())
+            return out
+
+        grows, krows = rows(gm), rows(km)
+        # trip and total at the request: what a vehicle moves within the timing tolerance
+        dtol = vmax * tol + 0.1
+        ok = set(grows) == set(krows) and all(abs(grows[v][i] - krows[v][i]) <= dtol for v in grows for i in (0, 1))
+        figs.append(Figure("appcast/uFldPathCheck/table", ok, "" if ok else "24.8 %s, kelp %s" % (grows, krows)))
+    return figs
+
+
+def rangesensor_figures(G, K, Gw, Kw, tol, vmax, pfx):
+    """uFldBeaconRangeSensor / uFldContactRangeSensor: per request of the script, who is answered
+    by which beacon or contact at what range (ranges within what the vehicles move in tol); the
+    noise factors (reported / ground-truth range, in order) when ground truth is posted; the
+    AppCast's vehicle table (its counters per vehicle)."""
+    figs = []
+    app = "uFldBeaconRangeSensor" if pfx == "BRS" else "uFldContactRangeSensor"
+    key = "id" if pfx == "BRS" else "target"
+
+    def answers(rows):
+        reqs = [r for r in rows if r["var"] == pfx + "_RANGE_REQUEST" and r["src"] == "driver"]
+        reps = [r for r in rows if r["var"] == pfx + "_RANGE_REPORT" and r["src"] == app and r["type"] == "string"]
+        out = []
+        for i, q in enumerate(reqs):
+            end = reqs[i + 1]["t"] if i + 1 < len(reqs) else q["t"] + 2 * tol
+            got = []
+            for r in reps:
+                if q["t"] <= r["t"] < end:
+                    d = dict(kv_pairs(r["val"]) or [])
+                    got.append((d.get("vname", ""), d.get(key, ""), float(d["range"]) if is_num(d.get("range", "")) else None))
+            out.append((q["val"], got))
+        return out
+
+    ga, ka = answers(Gw), answers(Kw)
+    rtol = 2 * vmax * tol + 0.01
+    for i, (req, got) in enumerate(ga):
+        kgot = ka[i][1] if i < len(ka) else None
+        ok = kgot is not None and len(got) == len(kgot) and all(
+            a[0] == b[0] and a[1] == b[1] and (a[2] is None) == (b[2] is None) and (a[2] is None or abs(a[2] - b[2]) <= rtol)
+            for a, b in zip(got, kgot))
+        fmt = lambda x: ", ".join("%s<-%s %.1f" % (v, w, r if r is not None else float("nan")) for v, w, r in x) or "nothing"
+        figs.append(Figure("answer/%02d" % (i + 1), ok, "" if ok else "request '%s' at #%d: 24.8 %s; kelp %s" % (
+            req, i + 1, fmt(got), fmt(kgot) if kgot is not None else "no such request")))
+
+    def factors(rows):
+        noisy = [r for r in rows if r["var"] == pfx + "_RANGE_REPORT" and r["src"] == app]
+        gt = [r for r in rows if r["var"] == pfx + "_RANGE_REPORT_GT" and r["src"] == app]
+        out = []
+        for a, b in zip(noisy, gt):
+            x, y = dict(kv_pairs(a["val"]) or []).get("range"), dict(kv_pairs(b["val"]) or []).get("range")
+            if is_num(x or "") and is_num(y or "") and float(y) > 0:
+                out.append(float(x) / float(y))
+        return out
+
+    gf, kf = factors(Gw), factors(Kw)
+    if gf or kf:
+        ok = len(gf) == len(kf) and all(abs(a - b) <= 1e-3 for a, b in zip(gf, kf))
+        first = next((i for i, (a, b) in enumerate(zip(gf, kf)) if abs(a - b) > 1e-3), min(len(gf), len(kf)))
+        figs.append(Figure("noise/factors", ok, "" if ok else "%d and %d factors, the first %d agree" % (len(gf), len(kf), first)))
+    g = [r for r in G if r["var"] == "APPCAST" and r["src"] == app]
+    k = [r for r in K if r["var"] == "APPCAST" and r["src"] == app]
+    if g and k:
+        def table(m):
+            lines = m.split("!@")
+            at = next((i for i, x in enumerate(lines) if x.startswith("Vehicles(")), None)
+            rows = {}
+            if at is not None:
+                for x in lines[at + 4:]:
+                    f = x.split()
+                    if not f:
+                        break
+                    rows[f[0]] = [c for c in f[1:] if re.fullmatch(r"\d+", c)]
+            return rows
+        a, b = table(appcast_fields(g[-1]["val"]).get("messages", "")), table(appcast_fields(k[-1]["val"]).get("messages", ""))
+        ok = a == b and bool(a)
+        figs.append(Figure("appcast/%s/vehicles" % app, ok, "" if ok else "24.8 %s, kelp %s" % (a, b)))
     return figs
 
 

@@ -33,7 +33,7 @@ grep -q "Configuration warnings: 0" logs/uFldBeaconRangeSensor.log 2>/dev/null |
   { tail -20 logs/uFldBeaconRangeSensor.log 2>/dev/null; echo "(no config-warning line in the sensor's log)"; }
 grep -q "Configuration warnings: 0" logs/uTimerScript.log || { tail -20 logs/uTimerScript.log; fail "uTimerScript's block"; }
 [ "$(grep -c ' uFldBeaconRangeSensor VIEW_MARKER ' log.txt)" -eq 3 ] || fail "not 3 VIEW_MARKERs"
-grep -q ' uFldBeaconRangeSensor VIEW_MARKER x=0,y=-200,label=03,color=red,type=triangle,width=5$' log.txt ||
+grep -q ' uFldBeaconRangeSensor VIEW_MARKER x=0,y=-200,width=5,primary_color=red,type=triangle$' log.txt ||
   fail "beacon 03's marker: $(grep VIEW_MARKER log.txt | head -1)"
 awk -v TOL=2 '
   function hyp(a, b) { return sqrt(a * a + b * b) }
@@ -55,7 +55,7 @@ awk -v TOL=2 '
     if (req == 0 && (dep == "" || $1 - dep < 25 - 0.5)) { print "FAIL: first request at " $1 ", deployed at " dep; bad = 1 }
     if (req && ($1 - rt < 25 - 0.5 || $1 - rt > 35 + 5)) { print "FAIL: a request " $1 - rt " s after the one before"; bad = 1 }
     req++; rt = $1; honoured = 0 }
-  $2 == "uFldBeaconRangeSensor" && $3 == "VIEW_RANGE_PULSE" && $4 ~ /label=indigo_ping/ {
+  $2 == "uFldBeaconRangeSensor" && $3 == "VIEW_RANGE_PULSE" && $4 ~ /label=indigo_range_req/ {
     if (seq != "" && seq != order) { print "FAIL: reports in order [" seq "]"; bad = 1 }
     if (!req || honoured) { print "FAIL: a white pulse with no request before it"; bad = 1 }
     seq = ""; acc++; honoured = 1

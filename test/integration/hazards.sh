@@ -141,14 +141,14 @@ for v in archie betty; do
   odo=$(grep " UPC_ODOMETRY_REPORT vname=$v," shore.txt | tail -1 | sed 's/.*total_dist=\([0-9.]*\).*/\1/')
   nav=$(awk '$3 == "NAV_X" { x = $4; hx = 1 } $3 == "NAV_Y" && hx { if (n++) d += sqrt((x - px)^2 + ($4 - py)^2); px = x; py = $4 }
              END { printf "%.1f", d }' $v.txt)
-  # the median avg_speed while cruising (above 1 m/s): TIME stamps jitter, single reports spike
-  spd=$(grep " UPC_SPEED_REPORT vname=$v," shore.txt | sed 's/.*avg_speed=//' | awk '$1 > 1' | sort -g |
+  # the median avg_spd while cruising (above 1 m/s): TIME stamps jitter, single reports spike
+  spd=$(grep " UPC_SPEED_REPORT vname=$v," shore.txt | sed 's/.*avg_spd=//' | awk '$1 > 1' | sort -g |
         awk '{ a[NR] = $1 } END { if (NR) print a[int((NR + 1) / 2)] }')
   [ -n "$odo" ] && [ -n "$spd" ] || fail "$v: no UPC reports"
   awk -v o="$odo" -v n="$nav" 'BEGIN { d = o - n; if (d < 0) d = -d; exit !(n > 100 && d <= 0.05 * n + 5) }' ||
     fail "$v: odometry $odo m, its track $nav m"
-  awk -v s="$spd" 'BEGIN { exit !(s >= 1.8 && s <= 2.2) }' || fail "$v: cruising avg_speed $spd (median), cruise is 2 m/s"
-  ok "$v: odometry $odo m against its track $nav m; cruising avg_speed $spd m/s (median)"
+  awk -v s="$spd" 'BEGIN { exit !(s >= 1.8 && s <= 2.2) }' || fail "$v: cruising avg_spd $spd (median), cruise is 2 m/s"
+  ok "$v: odometry $odo m against its track $nav m; cruising avg_spd $spd m/s (median)"
 done
 if "$BIN/kelp-plot" -q -o field.png shore.lcm 2> plot.err; then
   [ -s field.png ] || fail "kelp-plot wrote no picture"
