@@ -82,7 +82,7 @@ SOPLOT  := $(BUILD)/libkelp_plot.so.$(VERSION)
 SOVIEWER := $(BUILD)/libkelp_viewer.so.$(VERSION)
 
 .PHONY: all deps test unit integration conformance check-alloc firmware cross asan lint fuzz bench install \
-        demo demo-xrelay spy-jar clean tests-bin unit-noerrmsg asan-build asan-test
+        demo demo-xrelay spy-jar clean tests-bin unit-noerrmsg asan-build asan-test asan-unit asan-it
 .DEFAULT_GOAL := all
 
 all: $(LIBCORE) $(LIBEDGE) $(LIBPLOT) $(LIBVIEWER) $(SOCORE) $(SOEDGE) $(SOPLOT) $(SOVIEWER) $(APP_BINS) scripts
@@ -239,9 +239,15 @@ asan-build:
 	  OPT="-O1 -g -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all" \
 	  LDFLAGS="-fsanitize=address,undefined" all tests-bin
 
+# Check timeouts x3: ASan runs the CPU-heavy suites (the solver tables) 20-30x slower
+ASAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 CK_TIMEOUT_MULTIPLIER=3
 asan-test:
-	@ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-	  KELP_IT_ONLY="$(KELP_ASAN_IT)" scripts/run-tests.sh build-asan
+	@$(ASAN_ENV) KELP_IT_ONLY="$(KELP_ASAN_IT)" scripts/run-tests.sh build-asan
+# the two halves, for CI: the unit suites (CPU-bound, no timing marks) and the integration tests
+asan-unit:
+	@$(ASAN_ENV) scripts/run-suites.sh build-asan/test/check_core && $(ASAN_ENV) scripts/run-suites.sh build-asan/test/check_edge
+asan-it:
+	@$(ASAN_ENV) KELP_IT_ONLY="$(KELP_ASAN_IT)" BUILD=$(abspath build-asan) scripts/run-integration.sh
 
 lint:
 	@LINT_ANALYZER=$(or $(LINT_ANALYZER),deep) scripts/lint.sh
