@@ -228,8 +228,8 @@ cross:
 KELP_ASAN_IT ?= bad_input udpm_attack app_faults launch_faults bus_burst lcm_log alog_roundtrip alog2rng \
                 acomms_handler_replay acomms_handler_serialport acomms_handler_modem modemsim_pty premuscodec \
                 general_codec poller dccl_gen commander nodecomms msghandler_scope hostinfo late_registrant \
-                communities_isolated contactmgr hazards beacons timerscript helm_basic helm_spawn kelp_ivp_cpa \
-                viewer_http bridge_two_hosts pshare_multicast sim_apps
+                communities_isolated contactmgr beacons timerscript helm_basic helm_spawn kelp_ivp_cpa \
+                viewer_http bridge_two_hosts pshare_multicast
 # asan = asan-build then asan-test (CI builds while the plain tests run)
 asan: asan-build
 	@$(MAKE) --no-print-directory asan-test

@@ -11,6 +11,7 @@
 
 #include <kelp/bus.h>
 #include <kelp/can.h>
+#include <kelp/contactmgr.h>
 #include <kelp/field.h>
 #include <kelp/mac.h>
 #include <kelp/mmdriver.h>
@@ -868,6 +869,49 @@ START_TEST(nodereporter_step)
 }
 END_TEST
 
+/* ------------------------------------------------------------------ pContactMgrV20 */
+
+/* CONTACTS_RECAP every second (recap_interval 1), a contact reporting every second with its own
+ * TIME: after the step the recap resumes within a second, at most one per iteration; a refused
+ * `now` changes nothing */
+START_TEST(contactmgr_step)
+{
+    double step = STEP[_i];
+    static kelp_cmgr c;
+    kelp_cmgr_init(&c, "abe");
+    count_sink cs = { "CONTACTS_RECAP", 0, 0, false, NULL };
+    kelp_field_sink out = { &cs, count_pub, NULL };
+    kelp_cmgr_config_done(&c, false, 0, false, 0, &out);
+    char r[160];
+    kelp_time t = T0;
+    for (int i = 0; i < 4; i++) ck_assert_int_eq(kelp_cmgr_mail(&c, (const char *[]){ "NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED" }[i], false, NULL, 0, t, NULL, &out), 1);
+    for (; t < T0 + 20; t += 1) {
+        snprintf(r, sizeof r, "NAME=ben,TYPE=kayak,TIME=%.2f,X=100,Y=0,SPD=0,HDG=90", t);
+        (void)kelp_cmgr_mail(&c, "NODE_REPORT", true, r, 0, t, NULL, &out);
+        kelp_cmgr_iterate(&c, t, &out);
+    }
+    ck_assert_int_ge(cs.n, 18);
+    if (!isfinite(step)) {
+        unsigned long it = c.iterations;
+        ck_assert_int_eq(kelp_cmgr_mail(&c, "NODE_REPORT", true, r, 0, step, NULL, &out), KELP_ERR_ARG);
+        kelp_cmgr_iterate(&c, step, &out);
+        ck_assert_uint_eq(c.iterations, it);
+    }
+    kelp_time from = t + offset_of(step);
+    int n0 = cs.n, first = -1;
+    for (int k = 0; k < 15; k++) {
+        int n = cs.n;
+        snprintf(r, sizeof r, "NAME=ben,TYPE=kayak,TIME=%.2f,X=100,Y=0,SPD=0,HDG=90", from + k);
+        (void)kelp_cmgr_mail(&c, "NODE_REPORT", true, r, 0, from + k, NULL, &out);
+        kelp_cmgr_iterate(&c, from + k, &out);
+        ck_assert_int_le(cs.n - n, 1);
+        if (cs.n > n && first < 0) first = k;
+    }
+    ck_assert_msg(first >= 0 && first <= 1, "step %g: first recap %d s after the step", step, first);
+    ck_assert_msg(cs.n - n0 >= 13, "step %g: %d recaps in 15 s", step, cs.n - n0);
+}
+END_TEST
+
 Suite *kelp_timefaults_suite(void)
 {
     Suite *s = suite_create("timefaults");
@@ -894,6 +938,7 @@ Suite *kelp_timefaults_suite(void)
     tcase_add_loop_test(tc, viewer_step, 0, NSTEP);
     tcase_add_loop_test(tc, pathcheck_step, 0, NSTEP);
     tcase_add_loop_test(tc, nodereporter_step, 0, NSTEP);
+    tcase_add_loop_test(tc, contactmgr_step, 0, NSTEP);
     suite_add_tcase(s, tc);
     return s;
 }

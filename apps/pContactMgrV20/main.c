@@ -20,9 +20,10 @@ typedef struct cmgr_app {
 /* the core's new events into the AppCast's events */
 static void forward_events(cmgr_app *a)
 {
-    const char *e;
-    for (; a->events_shown < a->core->events_made; a->events_shown++)
-        if ((e = kelp_cmgr_event(a->core, a->events_shown)) != NULL) kelp_app_event(a->app, "%s", e);
+    for (; a->events_shown < a->core->events_made; a->events_shown++) {
+        const char *e = kelp_cmgr_event(a->core, a->events_shown);
+        if (e) kelp_app_event(a->app, "%s", e);
+    }
 }
 
 static void publish(void *ctx, const char *var, bool is_string, const char *sval, double dval)

@@ -33,6 +33,7 @@
 #include <kelp/config.h>
 #include <kelp/err.h>
 #include <kelp/field.h>
+#include <kelp/util.h>
 #include <kelp/geo.h>
 #include <kelp/rng.h>
 
@@ -135,6 +136,8 @@ KELP_MUST_CHECK int kelp_rsense_vmap_set(kelp_rsense_vmap *m, const char *val, b
  *  @return 1 or <0 (reason in d). */
 KELP_MUST_CHECK int kelp_rsense_noise_set(kelp_rsense_noise *n, const char *val, kelp_diag *d);
 void kelp_rsense_rand_init(kelp_rsense_rand *r, bool glibc, uint64_t seed);
+/** The time step rule: move the vehicles' ping-wait clocks back by a backward clock step. */
+void kelp_rsense_nodes_back(kelp_rsense_node *node, unsigned n, double back);
 /** The noisy range (draws one value for uniform, MOOSWhiteNoise's pattern for gaussian,
  *  nothing for none). */
 double kelp_rsense_noisy(kelp_rsense_rand *r, const kelp_rsense_noise *n, double range);
@@ -192,6 +195,7 @@ typedef struct kelp_field_brs {
     unsigned nnodes;
     kelp_rsense_rand rand;
     double start;
+    kelp_clock clk;              /**< the newest `now` (the time step rule) */
     bool started;                /**< markers posted, timers drawn (first iterate) */
     unsigned long requests, denied, accepted, reports, bad_mail, unknown;
     kelp_diag diag; /**< workspace: why the last node report was refused */

@@ -26,6 +26,7 @@
 #include <kelp/field.h>
 #include <kelp/geo.h>
 #include <kelp/nodereport.h>
+#include <kelp/util.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -162,6 +163,8 @@ typedef struct kelp_cmgr {
     /* counters and events */
     unsigned long alert_requests, iterations, truncations, reports_in, reports_bad;
     double t_start;
+    kelp_clock clock;                       /**< the newest `now` (the time step rule) */
+    unsigned long clock_steps;              /**< clock steps back taken out of own times */
     char event[KELP_CMGR_MAX_EVENTS][KELP_CMGR_MAX_FLAG + 64];
     double event_time[KELP_CMGR_MAX_EVENTS];
     unsigned nevents, event_head;

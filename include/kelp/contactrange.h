@@ -46,6 +46,7 @@ typedef struct kelp_field_crs {
     unsigned nnodes;
     kelp_rsense_rand rand;
     double start;
+    kelp_clock clk;              /**< the newest `now` (the time step rule) */
     unsigned long requests, denied, accepted, reports, bad_mail, unknown, too_far, node_reports;
     kelp_diag diag; /**< workspace: why the last node report was refused */
 } kelp_field_crs;

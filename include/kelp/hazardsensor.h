@@ -44,8 +44,8 @@
  * warnings through kelp_field_uhz_set_log, run warnings through the sink's warn, each with
  * 24.8's text (a mail 24.8 does not handle also warns "Unhandled mail: <VAR>").
  *
- * Randomness: glibc's rand() sequence (kelp_glibc_rand) seeded with cfg.seed: 1, what a
- * program that never calls srand gets (SEED_RANDOM = false), so a run draws what 24.8 draws.
+ * Randomness: glibc's rand() sequence (kelp_glibc_rand) seeded with cfg.seed (1 is what a
+ * program that never calls srand gets: SEED_RANDOM = false), so a run draws what 24.8 draws.
  *
  * Core: no allocation, no I/O, no clock.
  */
@@ -58,6 +58,8 @@
 #include <kelp/config.h>
 #include <kelp/field.h>
 #include <kelp/rng.h>
+#include <kelp/util.h>
+#include <kelp/nodereport.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -164,9 +166,15 @@ typedef struct kelp_field_uhz {
     kelp_glibc_rand rand;
     bool markers_due, summary_posted;
     double last_summary;
+    kelp_clock clk;                     /**< the newest `now` (the time step rule) */
     kelp_uhz_log_fn event, cfg_warning;
     void *log_ctx;
     char ws[KELP_UHZ_SUMMARY_LEN];         /**< workspace of one call (keeps the stack under 1 KB) */
+    char ws_line[320];                     /**< workspace: a detection or hazard report */
+    char ws_var[KELP_MAX_NAME + 24];       /**< workspace: its per-vehicle variable */
+    char ws_circle[320];                   /**< workspace: a VIEW_CIRCLE */
+    char ws_vname[KELP_NODEREPORT_MAX_FIELD]; /**< workspace: a classify request's vehicle */
+    char ws_label[KELP_UHZ_LABEL_LEN];     /**< and its object */
     kelp_nodereport ws_report;             /**< workspace: the node report being read */
 } kelp_field_uhz;
 

@@ -343,12 +343,27 @@ static int request(kelp_field_brs *b, const char *s, kelp_time now, const kelp_f
     return 1;
 }
 
+/* The time step rule: a `now` that is no time is refused; on a step back the ping-wait clocks,
+ * the beacons' time stamps and the start move back with it, so no wait outlasts its period */
+static bool brs_clock(kelp_field_brs *b, kelp_time now)
+{
+    if (!kelp_time_ok(now)) return false;
+    double back = kelp_clock_back(&b->clk, now);
+    if (back > 0) {
+        kelp_rsense_nodes_back(b->node, b->nnodes, back);
+        for (unsigned k = 0; k < b->nbeacons; k++) b->beacon[k].ts -= back;
+        b->start -= back;
+    }
+    return true;
+}
+
 int kelp_field_brs_mail(kelp_field_brs *b, const char *var, bool is_string, const char *sval, kelp_time now,
                         const kelp_field_sink *out)
 {
     bool nr = strcmp(var, "NODE_REPORT") == 0 || strcmp(var, "NODE_REPORT_LOCAL") == 0;
     bool rq = strcmp(var, "BRS_RANGE_REQUEST") == 0;
     if (!nr && !rq) return 0;
+    if (!brs_clock(b, now)) return KELP_ERR_ARG;
     if (!is_string || !sval) {
         b->bad_mail++;
         rs_warn(out, var, " must be a string", RS_END);
@@ -399,6 +414,7 @@ KELP_NOINLINE static void start_beacons(kelp_field_brs *b, const kelp_field_sink
 unsigned long kelp_field_brs_iterate(kelp_field_brs *b, kelp_time now, const kelp_field_sink *out)
 {
     unsigned long before = b->reports;
+    if (!brs_clock(b, now)) return 0;
     if (!b->started) { /* 24.8's first iteration stamps every beacon */
         start_beacons(b, out);
         for (unsigned k = 0; k < b->nbeacons; k++) reset_timer(b, &b->beacon[k], now);
@@ -449,6 +465,7 @@ int kelp_field_brs_summary(const kelp_field_brs *b, char *buf, size_t cap)
 /* ------------------------------------------------------------------ the AppCast */
 
 typedef struct brs_tab {
+    // cppcheck-suppress unusedStructMember ; read through the table callbacks' context pointer
     const kelp_field_brs *b;
 } brs_tab;
 

@@ -988,10 +988,27 @@ KELP_NOINLINE static int able_mail(kelp_cmgr *c, const char *s, const char *acti
     return 1;
 }
 
+/* The time step rule: a `now` that is no time is refused; on a step back, the manager's own
+ * times (recap, custom report requests, the start its events count from) move back with it.
+ * Contact report times are the contacts' data and stay. */
+static bool clock_in(kelp_cmgr *c, kelp_time now)
+{
+    if (!kelp_time_ok(now)) return false;
+    double back = kelp_clock_back(&c->clock, now);
+    if (back > 0) {
+        c->clock_steps++;
+        if (c->t_start >= 0) c->t_start -= back;
+        c->last_recap -= back;
+        for (unsigned i = 0; i < c->nreports; i++) c->report[i].req_time -= back;
+    }
+    if (c->t_start < 0) c->t_start = now;
+    return true;
+}
+
 int kelp_cmgr_mail(kelp_cmgr *c, const char *var, bool is_string, const char *sval, double dval, kelp_time now,
                    const char *src, const kelp_field_sink *out)
 {
-    if (c->t_start < 0) c->t_start = now;
+    if (!clock_in(c, now)) return KELP_ERR_ARG;
     double *nav[4] = { &c->osx, &c->osy, &c->osh, &c->osv };
     static const char *const navn[4] = { "NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED" };
     for (int i = 0; i < 4; i++)
@@ -1496,7 +1513,7 @@ static void summaries(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
 
 void kelp_cmgr_iterate(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
 {
-    if (c->t_start < 0) c->t_start = now;
+    if (!clock_in(c, now)) return;
     c->iterations++;
     for (unsigned i = 0; i < c->ncontacts; i++) ranges(c, &c->contact[c->order[i]], now);
     if (!c->hold_alerts_for_helm || c->helm_drive)
@@ -1602,7 +1619,7 @@ int kelp_cmgr_report_text(const kelp_cmgr *c, kelp_time now, char *buf, size_t c
     for (unsigned i = 0; i < c->nreports; i++) {
         const kelp_cmgr_report *r = &c->report[i];
         fmtx(a, sizeof a, r->range, 2);
-        size_t l[3] = { strlen(r->var), strlen(a), strlen(r->group) };
+        const size_t l[3] = { strlen(r->var), strlen(a), strlen(r->group) };
         for (int q = 0; q < 3; q++)
             if (l[q] > cw[q]) cw[q] = l[q];
         if (strlen(r->type) > cw[3]) cw[3] = strlen(r->type);
@@ -1615,6 +1632,7 @@ int kelp_cmgr_report_text(const kelp_cmgr *c, kelp_time now, char *buf, size_t c
         unsigned r = KELP_CMGR_MAX_REPORTS;
         for (unsigned i = 0; i < c->nreports; i++)
             if (!done[i] && (r == KELP_CMGR_MAX_REPORTS || strcmp(c->report[i].var, c->report[r].var) < 0)) r = i;
+        if (r >= KELP_CMGR_MAX_REPORTS) break; /* every report shown */
         done[r] = true;
         const kelp_cmgr_report *rp = &c->report[r];
         fmtx(a, sizeof a, rp->range, 2);

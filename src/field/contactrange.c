@@ -232,6 +232,13 @@ int kelp_field_crs_mail(kelp_field_crs *c, const char *var, bool is_string, cons
     bool nr = strcmp(var, "NODE_REPORT") == 0 || strcmp(var, "NODE_REPORT_LOCAL") == 0;
     bool rq = strcmp(var, "CRS_RANGE_REQUEST") == 0;
     if (!nr && !rq) return 0;
+    /* the time step rule: no time refused; a step back moves the ping-wait clocks with it */
+    if (!kelp_time_ok(now)) return KELP_ERR_ARG;
+    double back = kelp_clock_back(&c->clk, now);
+    if (back > 0) {
+        kelp_rsense_nodes_back(c->node, c->nnodes, back);
+        c->start -= back;
+    }
     if (!is_string || !sval) {
         c->bad_mail++;
         rs_warn(out, var, " must be a string", RS_END);

@@ -653,24 +653,25 @@ static void post_circle(kelp_field_uhz *h, const kelp_uhz_object *o, unsigned ve
                         const char *fill, double edge_size, double transparency, bool duration, kelp_time now,
                         const kelp_field_sink *out)
 {
-    char b[320];
+    char *b = h->ws_circle; /* workspace: posted from detection reports and classify answers */
+    const size_t bcap = sizeof h->ws_circle;
     size_t k = 0;
-    field_putf(b, sizeof b, &k, "x=");
-    put_num(b, sizeof b, &k, o->x, 2, true);
-    field_putf(b, sizeof b, &k, ",y=");
-    put_num(b, sizeof b, &k, o->y, 2, true);
-    field_putf(b, sizeof b, &k, ",radius=");
-    put_num(b, sizeof b, &k, KELP_UHZ_CIRCLE_RADIUS, 2, true);
-    field_putf(b, sizeof b, &k, ",vertices=%u,edge_color=%s,fill_color=%s,time=", vertices, edge, fill);
-    put_num(b, sizeof b, &k, now, 2, true);
+    field_putf(b, bcap, &k, "x=");
+    put_num(b, bcap, &k, o->x, 2, true);
+    field_putf(b, bcap, &k, ",y=");
+    put_num(b, bcap, &k, o->y, 2, true);
+    field_putf(b, bcap, &k, ",radius=");
+    put_num(b, bcap, &k, KELP_UHZ_CIRCLE_RADIUS, 2, true);
+    field_putf(b, bcap, &k, ",vertices=%u,edge_color=%s,fill_color=%s,time=", vertices, edge, fill);
+    put_num(b, bcap, &k, now, 2, true);
     if (duration) {
-        field_putf(b, sizeof b, &k, ",duration=");
-        put_num(b, sizeof b, &k, h->cfg.show_reports < 0 ? -1 : h->cfg.show_reports, 2, true);
+        field_putf(b, bcap, &k, ",duration=");
+        put_num(b, bcap, &k, h->cfg.show_reports < 0 ? -1 : h->cfg.show_reports, 2, true);
     }
-    field_putf(b, sizeof b, &k, ",vertex_size=0,edge_size=");
-    put_num(b, sizeof b, &k, edge_size, 1, true);
-    field_putf(b, sizeof b, &k, ",fill_transparency=");
-    put_num(b, sizeof b, &k, transparency, 2, true);
+    field_putf(b, bcap, &k, ",vertex_size=0,edge_size=");
+    put_num(b, bcap, &k, edge_size, 1, true);
+    field_putf(b, bcap, &k, ",fill_transparency=");
+    put_num(b, bcap, &k, transparency, 2, true);
     post(out, "VIEW_CIRCLE", b);
 }
 
@@ -682,14 +683,14 @@ static bool circles_shown(const kelp_field_uhz *h)
 static void detection_report(kelp_field_uhz *h, kelp_uhz_node *n, const kelp_uhz_object *o, kelp_time now,
                              const kelp_field_sink *out)
 {
-    char b[320], var[KELP_MAX_NAME + 24];
+    char *b = h->ws_line, *var = h->ws_var; /* workspace (the stack stays under 1 KB) */
     size_t k = 0;
-    object_spec(b, sizeof b, &k, o, NULL, true);
+    object_spec(b, sizeof h->ws_line, &k, o, NULL, true);
     size_t body = k;
-    field_putf(b, sizeof b, &k, ",vname=%s", n->name);
+    field_putf(b, sizeof h->ws_line, &k, ",vname=%s", n->name);
     post(out, "UHZ_DETECTION_REPORT", b);
     b[body] = 0;
-    var_for(var, sizeof var, "UHZ_DETECTION_REPORT", n->name);
+    var_for(var, sizeof h->ws_var, "UHZ_DETECTION_REPORT", n->name);
     post(out, var, b);
     if (n->passes < KELP_UHZ_MAX_PASSES) n->pass_hdg[(n->pass_i + n->passes) % KELP_UHZ_MAX_PASSES] = n->hdg;
     n->passes++;
@@ -867,9 +868,9 @@ static void queue_push(kelp_uhz_node *n, kelp_uhz_entry e, bool top)
 KELP_NOINLINE static int classify_request(kelp_field_uhz *h, const char *s, kelp_time now,
                                           const kelp_field_sink *out)
 {
-    char vname[KELP_NODEREPORT_MAX_FIELD], label[KELP_UHZ_LABEL_LEN], pr[64] = "50", act[16];
-    (void)value_of(s, "vname", vname, sizeof vname);
-    (void)value_of(s, "label", label, sizeof label);
+    char *vname = h->ws_vname, *label = h->ws_label, pr[64] = "50", act[16]; /* workspace: the stack */
+    (void)value_of(s, "vname", vname, sizeof h->ws_vname);
+    (void)value_of(s, "label", label, sizeof h->ws_label);
     if (!value_of(s, "priority", pr, sizeof pr)) copyn(pr, sizeof pr, "50", 2);
     (void)value_of(s, "action", act, sizeof act);
     int ni = kelp_field_uhz_find(h, vname);
@@ -997,10 +998,29 @@ static void post_markers(kelp_field_uhz *h, const kelp_field_sink *out)
     }
 }
 
+/* The time step rule: a `now` that is no time is refused; on a step back the sensor's own times
+ * (the summary, each vehicle's last reset, request and classify answer) move back with it, so
+ * min_reset_interval, a request's life and min_classify_interval last no longer than set */
+static bool uhz_clock(kelp_field_uhz *h, kelp_time now)
+{
+    if (!kelp_time_ok(now)) return false;
+    double back = kelp_clock_back(&h->clk, now);
+    if (back > 0) {
+        h->last_summary -= back;
+        for (unsigned i = 0; i < h->nnodes; i++) {
+            kelp_uhz_node *n = &h->node[i];
+            n->reset_time -= back, n->pd_reset_time -= back;
+            n->last_request -= back, n->last_classify -= back;
+        }
+    }
+    return true;
+}
+
 int kelp_field_uhz_mail(kelp_field_uhz *h, const char *var, const char *sval, const char *community, kelp_time now,
                         const kelp_field_sink *out)
 {
     int rc;
+    if (!uhz_clock(h, now)) return KELP_ERR_ARG;
     if (strcmp(var, "PMV_CONNECT") == 0) {
         post_markers(h, out);
         return 1;
@@ -1017,6 +1037,7 @@ int kelp_field_uhz_mail(kelp_field_uhz *h, const char *var, const char *sval, co
 
 void kelp_field_uhz_iterate(kelp_field_uhz *h, kelp_time now, const kelp_field_sink *out)
 {
+    if (!uhz_clock(h, now)) return;
     if (h->markers_due) {
         h->markers_due = false;
         post_markers(h, out);
@@ -1039,12 +1060,12 @@ void kelp_field_uhz_iterate(kelp_field_uhz *h, kelp_time now, const kelp_field_s
         memmove(&n->queue[0], &n->queue[1], (n->nqueue - 1) * sizeof n->queue[0]);
         n->nqueue--;
         const kelp_uhz_object *o = &h->cfg.object[e.obj];
-        char b[320], var[KELP_MAX_NAME + 24];
+        char *b = h->ws_line, *var = h->ws_var;
         size_t k = 0;
-        field_putf(b, sizeof b, &k, "vname=%s,", n->name);
+        field_putf(b, sizeof h->ws_line, &k, "vname=%s,", n->name);
         size_t body = k;
-        object_spec(b, sizeof b, &k, o, e.said_hazard ? "hazard" : "benign", false);
-        var_for(var, sizeof var, "UHZ_HAZARD_REPORT", n->name);
+        object_spec(b, sizeof h->ws_line, &k, o, e.said_hazard ? "hazard" : "benign", false);
+        var_for(var, sizeof h->ws_var, "UHZ_HAZARD_REPORT", n->name);
         post(out, var, b + body);
         n->classify_answ++;
         post(out, "UHZ_HAZARD_REPORT", b);

@@ -206,6 +206,11 @@ int kelp_rsense_noise_set(kelp_rsense_noise *n, const char *val, kelp_diag *d)
     return 1;
 }
 
+void kelp_rsense_nodes_back(kelp_rsense_node *node, unsigned n, double back)
+{
+    for (unsigned i = 0; i < n; i++) node[i].clock -= back;
+}
+
 void kelp_rsense_rand_init(kelp_rsense_rand *r, bool glibc, uint64_t seed)
 {
     memset(r, 0, sizeof *r);

@@ -328,6 +328,7 @@ static int shown_elem(const kelp_field_ufs *s, unsigned k)
 {
     uint32_t mask = s->layout ? s->layout_mask[s->layout - 1] : 0xffffffffu;
     unsigned ne = s->cfg.nelem < KELP_UFS_MAX_ELEMS ? s->cfg.nelem : KELP_UFS_MAX_ELEMS;
+    // cppcheck-suppress knownConditionTrueFalse ; nelem comes from the configuration
     for (unsigned e = 0; e < ne; e++)
         if ((mask & (1u << e)) && k-- == 0) return (int)e;
     return -1;
