@@ -136,6 +136,8 @@ KELP_MUST_CHECK int kelp_rsense_vmap_set(kelp_rsense_vmap *m, const char *val, b
  *  @return 1 or <0 (reason in d). */
 KELP_MUST_CHECK int kelp_rsense_noise_set(kelp_rsense_noise *n, const char *val, kelp_diag *d);
 void kelp_rsense_rand_init(kelp_rsense_rand *r, bool glibc, uint64_t seed);
+/** Bytes of the workspace a range report is built in (the sensor's, off the stack). */
+#define KELP_RSENSE_POST_WS (320 + KELP_MAX_NAME + KELP_RSENSE_NAME)
 /** The time step rule: move the vehicles' ping-wait clocks back by a backward clock step. */
 void kelp_rsense_nodes_back(kelp_rsense_node *node, unsigned n, double back);
 /** The noisy range (draws one value for uniform, MOOSWhiteNoise's pattern for gaussian,
@@ -200,6 +202,7 @@ typedef struct kelp_field_brs {
     unsigned long requests, denied, accepted, reports, bad_mail, unknown;
     kelp_diag diag; /**< workspace: why the last node report was refused */
     char ws_label[KELP_RSENSE_NAME + KELP_BRS_LABEL + 8]; /**< workspace: a pulse's label */
+    char ws_post[KELP_RSENSE_POST_WS]; /**< workspace: a range report being built */
 } kelp_field_brs;
 
 /** The defaults of the uField Toolbox manual (MOOS-IvP 12.2), section 10.1. */

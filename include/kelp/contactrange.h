@@ -49,6 +49,7 @@ typedef struct kelp_field_crs {
     kelp_clock clk;              /**< the newest `now` (the time step rule) */
     unsigned long requests, denied, accepted, reports, bad_mail, unknown, too_far, node_reports;
     kelp_diag diag; /**< workspace: why the last node report was refused */
+    char ws_post[KELP_RSENSE_POST_WS]; /**< workspace: a range report being built */
 } kelp_field_crs;
 
 void kelp_field_crs_cfg_default(kelp_field_crs_cfg *cfg);

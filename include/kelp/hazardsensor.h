@@ -81,6 +81,7 @@ extern "C" {
 #define KELP_UHZ_MAX_PASSES 32      /**< headings of detections kept for classify requests */
 #define KELP_UHZ_LABEL_LEN 32       /**< bytes of an object label / type / colour / shape, with NUL */
 #define KELP_UHZ_SUMMARY_LEN 1024   /**< bytes of UHZ_OPTIONS_SUMMARY, with NUL */
+#define KELP_UHZ_MSG_LEN 200        /**< bytes of an event or warning line, with NUL */
 #define KELP_UHZ_DEFAULT_PD 0.9
 #define KELP_UHZ_CIRCLE_RADIUS 10.0 /**< m, VIEW_CIRCLE around a reported object */
 #define KELP_UHZ_REQUEST_LIFE 600.0 /**< s a sensor request keeps the sensor on */
@@ -173,6 +174,7 @@ typedef struct kelp_field_uhz {
     char ws_line[320];                     /**< workspace: a detection or hazard report */
     char ws_var[KELP_MAX_NAME + 24];       /**< workspace: its per-vehicle variable */
     char ws_circle[320];                   /**< workspace: a VIEW_CIRCLE */
+    char ws_msg[KELP_UHZ_MSG_LEN];         /**< workspace: an event or warning line */
     char ws_vname[KELP_NODEREPORT_MAX_FIELD]; /**< workspace: a classify request's vehicle */
     char ws_label[KELP_UHZ_LABEL_LEN];     /**< and its object */
     kelp_nodereport ws_report;             /**< workspace: the node report being read */

@@ -250,13 +250,13 @@ static void brs_report(kelp_field_brs *b, const kelp_brs_beacon *bc, const kelp_
     double noisy = kelp_rsense_noisy(&b->rand, &c->noise, r);
     double xy[2] = { bc->x, bc->y };
     const double *pxy = b->cfg.report_xy ? xy : NULL;
-    rs_post_report(out, "BRS", false, c->report_vars, v->name, noisy, "id", bc->label, pxy, now);
+    rs_post_report(out, "BRS", false, c->report_vars, v->name, noisy, "id", bc->label, pxy, now, b->ws_post);
     if (c->noise.alg != KELP_RSENSE_NOISE_NONE && c->ground_truth) {
         /* 24.8 upper-cases its vname for the long form and keeps it for the short GT report */
         char *un = b->ws_label;
         rs_copy(un, sizeof b->ws_label, v->name, strlen(v->name));
         if (c->report_vars == KELP_RSENSE_BOTH) rs_upper(un);
-        rs_post_report(out, "BRS", true, c->report_vars, un, r, "id", bc->label, pxy, now);
+        rs_post_report(out, "BRS", true, c->report_vars, un, r, "id", bc->label, pxy, now, b->ws_post);
     }
     b->reports++;
 }
@@ -317,7 +317,7 @@ static int request(kelp_field_brs *b, const char *s, kelp_time now, const kelp_f
     }
     char *label = b->ws_label;
     kelp_snprintf(label, sizeof b->ws_label, "%s_range_req", v->name);
-    rs_pulse(out, v->x, v->y, BRS_REQ_RADIUS, BRS_REQ_DURATION, label, "white", now);
+    rs_pulse(out, v->x, v->y, BRS_REQ_RADIUS, BRS_REQ_DURATION, label, "white", now, b->ws_post);
     double reach = kelp_rsense_vmap_get(&b->cfg.reach, v->name);
     double pull = kelp_rsense_vmap_get(&b->cfg.node_pull, v->name);
     for (unsigned k = 0; k < b->nbeacons; k++) {
@@ -333,7 +333,7 @@ static int request(kelp_field_brs *b, const char *s, kelp_time now, const kelp_f
                 if (b->cfg.payments == KELP_BRS_UPON_RESPONSE) v->clock = now, v->pinged = true;
                 ev(b, false, "Beacon[", bc->label, "]    -->  Range Reply to ", v->name);
                 brs_report(b, bc, v, r, now, out);
-                rs_pulse(out, bc->x, bc->y, BRS_REPLY_RADIUS, BRS_REPLY_DURATION, bc->label, "pink", now);
+                rs_pulse(out, bc->x, bc->y, BRS_REPLY_RADIUS, BRS_REPLY_DURATION, bc->label, "pink", now, b->ws_post);
                 reset_timer(b, bc, now);
                 replied = true;
             }
@@ -423,7 +423,7 @@ unsigned long kelp_field_brs_iterate(kelp_field_brs *b, kelp_time now, const kel
         kelp_brs_beacon *bc = &b->beacon[k];
         if (!(bc->freq_lo >= 0 && bc->cur > 0 && now - bc->ts > bc->cur)) continue;
         reset_timer(b, bc, now);
-        rs_pulse(out, bc->x, bc->y, BRS_REPLY_RADIUS, BRS_REPLY_DURATION, bc->label, "pink", now);
+        rs_pulse(out, bc->x, bc->y, BRS_REPLY_RADIUS, BRS_REPLY_DURATION, bc->label, "pink", now, b->ws_post);
         bc->unsol++;
         for (unsigned u = 0; u < b->nnodes; u++) { /* every vehicle in the beacon's reach */
             kelp_rsense_node *v = &b->node[u];

@@ -546,7 +546,9 @@ static int cfg_bad(kelp_cmgr *c, const kelp_field_sink *out, const char *key, co
     return 1;
 }
 
+#define CONFIG_FILTER 2 /* config_other: not one of its parameters */
 KELP_NOINLINE static int config_other(kelp_cmgr *c, const char *key, const char *val, const kelp_field_sink *out);
+KELP_NOINLINE static int config_filter(kelp_cmgr *c, const char *key, const char *val, const kelp_field_sink *out);
 
 int kelp_cmgr_config(kelp_cmgr *c, const char *key, const char *val, const kelp_field_sink *out)
 {
@@ -554,7 +556,8 @@ int kelp_cmgr_config(kelp_cmgr *c, const char *key, const char *val, const kelp_
         if (kelp_cmgr_alert_spec(c, val, false, NULL, 0, out) < 0) return 1; /* warned; the line is dropped */
         return 1;
     }
-    return config_other(c, key, val, out); /* (its locals off the alert path) */
+    int rc = config_other(c, key, val, out); /* (its locals off the alert path) */
+    return rc == CONFIG_FILTER ? config_filter(c, key, val, out) : rc;
 }
 
 static int config_other(kelp_cmgr *c, const char *key, const char *val, const kelp_field_sink *out)
@@ -563,7 +566,7 @@ static int config_other(kelp_cmgr *c, const char *key, const char *val, const ke
     const char *v = val;
     trim(&v, &vl);
     double d;
-    bool b, strict;
+    bool b;
     if (keyis(key, kl, "contact_max_age", "max_contact_age")) {
         if (num_ge0(v, vl, &d) < 0) return cfg_bad(c, out, key, val, "must be a number >= 0");
         c->contact_max_age = d;
@@ -681,6 +684,16 @@ static int config_other(kelp_cmgr *c, const char *key, const char *val, const ke
                                          "cease_warning_flag", "app_logging" };
     for (size_t i = 0; i < sizeof later / sizeof later[0]; i++)
         if (keyis(key, kl, later[i], NULL)) return 1;
+    return CONFIG_FILTER; /* a filter parameter or none: config_filter, off this frame */
+}
+
+/* the contact filter's parameters (match_*, ignore_*, strict_ignore) */
+KELP_NOINLINE static int config_filter(kelp_cmgr *c, const char *key, const char *val, const kelp_field_sink *out)
+{
+    size_t kl = strlen(key), vl = strlen(val);
+    const char *v = val;
+    bool strict;
+    trim(&v, &vl);
     int rc = filter_param(c, &c->filter, key, kl, v, vl, out, &strict);
     return rc < 0 ? 1 : rc;
 }
@@ -1192,7 +1205,7 @@ static void tally_count(kelp_cmgr *c, const char *name, bool on)
     else if (c->tally[t].active > 0) c->tally[t].active--;
 }
 
-static void check_alerts(kelp_cmgr *c, kelp_cmgr_contact *k, kelp_time now, const kelp_field_sink *out)
+KELP_NOINLINE static void check_alerts(kelp_cmgr *c, kelp_cmgr_contact *k, kelp_time now, const kelp_field_sink *out)
 {
     unsigned ids[KELP_CMGR_MAX_ALERTS];
     unsigned nids = sorted_alerts(c, ids); /* 24.8 checks its alerts in id order */
@@ -1241,7 +1254,7 @@ static void circle(kelp_cmgr *c, double r, const char *label, const char *suffix
     post_s(out, "VIEW_CIRCLE", m);
 }
 
-static void visuals(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
+KELP_NOINLINE static void visuals(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
 {
     if (!c->display_radii || c->nalerts == 0) return;
     if (!c->display_id[0]) memcpy(c->display_id, c->alert[0].id, sizeof c->display_id);
@@ -1303,7 +1316,7 @@ static void retire_flags(kelp_cmgr *c, const char *name, kelp_time now, const ke
     }
 }
 
-static void retire(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
+KELP_NOINLINE static void retire(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
 {
     /* 24.8 counts the refused names that are not in the ledger with those to retire when it
      * decides whether max_contacts calls for culling */
@@ -1375,7 +1388,7 @@ static void post_text(kelp_cmgr *c, const char *var, sbuf *sb, char *prev, bool 
     if (changed(prev, sb->b) || always) post_s(out, var, sb->b);
 }
 
-static void custom_reports(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
+KELP_NOINLINE static void custom_reports(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
 {
     for (unsigned i = 0; i < c->nreports;)
         if (now - c->report[i].req_time > c->range_report_timeout) c->report[i] = c->report[--c->nreports];
@@ -1409,7 +1422,7 @@ static void custom_reports(kelp_cmgr *c, kelp_time now, const kelp_field_sink *o
     }
 }
 
-static void summaries(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
+KELP_NOINLINE static void summaries(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
 {
     sbuf sb;
     /* CONTACTS_RETIRED, newest first, then prune */
@@ -1589,7 +1602,7 @@ int kelp_cmgr_report_text(const kelp_cmgr *c, kelp_time now, char *buf, size_t c
     unsigned rows = c->ncontacts;
     if (rows > 7) rows = 7;
     size_t w0 = 7, w1 = 6, w2 = 6;
-    char rng[7][32], tot[7][16];
+    char rng[7][20], tot[7][16]; /* a range to 0.1 m: up to 1e17 m fits */
     uint32_t act[7];
     for (unsigned i = 0; i < rows; i++) {
         const kelp_cmgr_contact *k = &c->contact[c->order[i]];

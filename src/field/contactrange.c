@@ -192,7 +192,7 @@ static int request(kelp_field_crs *c, const char *s, kelp_time now, const kelp_f
     char label[KELP_RSENSE_NAME + 8];
     if (c->cfg.display_pulses) {
         kelp_snprintf(label, sizeof label, "%s_ping", r->name);
-        rs_pulse(out, r->x, r->y, CRS_PING_RADIUS, CRS_PING_DURATION, label, c->cfg.ping_color, now);
+        rs_pulse(out, r->x, r->y, CRS_PING_RADIUS, CRS_PING_DURATION, label, c->cfg.ping_color, now, c->ws_post);
     }
     double reach = kelp_rsense_vmap_get(&c->cfg.reach, r->name);
     for (unsigned ti = 0; ti < c->nnodes; ti++) {
@@ -214,13 +214,13 @@ static int request(kelp_field_crs *c, const char *s, kelp_time now, const kelp_f
         rs_upper(tu);
         ev(c, ru, "  <--   ", tu, NULL);
         double noisy = kelp_rsense_noisy(&c->rand, &c->cfg.com.noise, d);
-        rs_post_report(out, "CRS", false, c->cfg.com.report_vars, r->name, noisy, "target", t->name, NULL, now);
+        rs_post_report(out, "CRS", false, c->cfg.com.report_vars, r->name, noisy, "target", t->name, NULL, now, c->ws_post);
         if (c->cfg.com.noise.alg != KELP_RSENSE_NOISE_NONE && c->cfg.com.ground_truth)
-            rs_post_report(out, "CRS", true, c->cfg.com.report_vars, r->name, d, "target", t->name, NULL, now);
+            rs_post_report(out, "CRS", true, c->cfg.com.report_vars, r->name, d, "target", t->name, NULL, now, c->ws_post);
         c->reports++;
         if (c->cfg.display_pulses) {
             kelp_snprintf(label, sizeof label, "%s_echo", t->name);
-            rs_pulse(out, t->x, t->y, CRS_REPLY_RADIUS, CRS_REPLY_DURATION, label, c->cfg.reply_color, now);
+            rs_pulse(out, t->x, t->y, CRS_REPLY_RADIUS, CRS_REPLY_DURATION, label, c->cfg.reply_color, now, c->ws_post);
         }
     }
     return 1;

@@ -61,7 +61,7 @@ static int num(const char *v, size_t n, double *out)
 static void summary_prepend(kelp_field_uhz_cfg *cfg, const char *w, size_t wl, const char *e, size_t el,
                             const char *c, size_t cl, unsigned mx)
 {
-    char piece[200];
+    char piece[128]; /* "width=..,exp=..,class=..,max=..": numbers from one config line */
     size_t k = 0;
     field_putf(piece, sizeof piece, &k, "width=%.*s,exp=%.*s,class=%.*s", (int)wl, w, (int)el, e, (int)cl, c);
     if (mx) field_putf(piece, sizeof piece, &k, ",max=%u", mx);
@@ -376,12 +376,11 @@ bool kelp_field_uhz_in_swath(double vx, double vy, double hdg, double width, dou
 /* ---- logging ---- */
 
 /* a formatted line to fn (events, configuration and run warnings); nothing when fn is NULL */
-static void vline(void (*fn)(void *, const char *), void *ctx, const char *fmt, va_list ap) KELP_PRINTF(3, 0);
-static void vline(void (*fn)(void *, const char *), void *ctx, const char *fmt, va_list ap)
+static void vline(void (*fn)(void *, const char *), void *ctx, char *t, const char *fmt, va_list ap) KELP_PRINTF(4, 0);
+static void vline(void (*fn)(void *, const char *), void *ctx, char *t, const char *fmt, va_list ap)
 {
     if (!fn) return;
-    char t[200];
-    (void)kelp_vsnprintf(t, sizeof t, fmt, ap);
+    (void)kelp_vsnprintf(t, KELP_UHZ_MSG_LEN, fmt, ap); /* t: the sensor's workspace, off the stack */
     fn(ctx, t);
 }
 
@@ -390,7 +389,7 @@ static void event(kelp_field_uhz *h, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    vline(h->event, h->log_ctx, fmt, ap);
+    vline(h->event, h->log_ctx, h->ws_msg, fmt, ap);
     va_end(ap);
 }
 
@@ -399,16 +398,16 @@ static void cfg_warning(kelp_field_uhz *h, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    vline(h->cfg_warning, h->log_ctx, fmt, ap);
+    vline(h->cfg_warning, h->log_ctx, h->ws_msg, fmt, ap);
     va_end(ap);
 }
 
-static void warn(const kelp_field_sink *out, const char *fmt, ...) KELP_PRINTF(2, 3);
-static void warn(const kelp_field_sink *out, const char *fmt, ...)
+static void warn(kelp_field_uhz *h, const kelp_field_sink *out, const char *fmt, ...) KELP_PRINTF(3, 4);
+static void warn(kelp_field_uhz *h, const kelp_field_sink *out, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    vline(out ? out->warn : NULL, out ? out->ctx : NULL, fmt, ap);
+    vline(out ? out->warn : NULL, out ? out->ctx : NULL, h->ws_msg, fmt, ap);
     va_end(ap);
 }
 
@@ -457,7 +456,7 @@ static kelp_uhz_node *node_get(kelp_field_uhz *h, const char *name, const kelp_f
     if (i < h->nnodes && strcmp(h->node[i].name, name) == 0) return &h->node[i];
     if (!name[0] || strlen(name) >= KELP_NODEREPORT_MAX_FIELD) return NULL;
     if (h->nnodes >= KELP_UHZ_MAX_NODES) {
-        warn(out, "uFldHazardSensor: too many vehicles (KELP_UHZ_MAX_NODES)");
+        warn(h, out, "uFldHazardSensor: too many vehicles (KELP_UHZ_MAX_NODES)");
         return NULL;
     }
     memmove(&h->node[i + 1], &h->node[i], (h->nnodes - i) * sizeof h->node[0]);
@@ -512,18 +511,18 @@ static unsigned holders(const kelp_field_uhz *h, double width, const kelp_uhz_no
 
 static void post_ack(kelp_field_uhz *h, const kelp_uhz_node *n, const kelp_field_sink *out)
 {
-    char b[256], var[KELP_MAX_NAME + 16];
+    char *b = h->ws_line, *var = h->ws_var; /* workspace (the stack stays under 1 KB) */
+    const size_t bc = sizeof h->ws_line;
     size_t k = 0;
-    (void)h;
-    field_putf(b, sizeof b, &k, "vname=%s,width=", n->name);
-    put_num(b, sizeof b, &k, n->width, 1, true);
-    field_putf(b, sizeof b, &k, ",pd=");
-    put_num(b, sizeof b, &k, n->pd, 3, true);
-    field_putf(b, sizeof b, &k, ",pfa=");
-    put_num(b, sizeof b, &k, n->pfa, 3, true);
-    field_putf(b, sizeof b, &k, ",pclass=");
-    put_num(b, sizeof b, &k, n->pclass, 3, true);
-    var_for(var, sizeof var, "UHZ_CONFIG_ACK", n->name);
+    field_putf(b, bc, &k, "vname=%s,width=", n->name);
+    put_num(b, bc, &k, n->width, 1, true);
+    field_putf(b, bc, &k, ",pd=");
+    put_num(b, bc, &k, n->pd, 3, true);
+    field_putf(b, bc, &k, ",pfa=");
+    put_num(b, bc, &k, n->pfa, 3, true);
+    field_putf(b, bc, &k, ",pclass=");
+    put_num(b, bc, &k, n->pclass, 3, true);
+    var_for(var, sizeof h->ws_var, "UHZ_CONFIG_ACK", n->name);
     post(out, var, b);
 }
 
@@ -576,7 +575,7 @@ static bool set_pd(kelp_field_uhz *h, kelp_uhz_node *n, double pd, kelp_time now
     event(h, "Setting sensor PD settings for: %s", n->name);
     if (!n->have_setting) (void)set_setting(h, n, 0, 0, true, now, out);
     if (!n->have_setting) {
-        warn(out, "Failed Configuration Ack for Unknown Vehicle: %s", n->name);
+        warn(h, out, "Failed Configuration Ack for Unknown Vehicle: %s", n->name);
         return true;
     }
     n->pd = pd < 0 ? 0 : pd > 1 ? 1 : pd;
@@ -789,13 +788,13 @@ KELP_NOINLINE static void sense(kelp_field_uhz *h, kelp_uhz_node *n, kelp_time n
 {
     post(out, "PSR", n->name);
     if (!n->have_report) {
-        warn(out, "No NODE_REPORT received for %s", n->name);
+        warn(h, out, "No NODE_REPORT received for %s", n->name);
         return;
     }
     if (!n->have_setting) (void)set_setting(h, n, 0, 0, true, now, out);
     bool on = !(turn_rate(n, KELP_UHZ_TURN_WINDOW) > h->cfg.max_turn_rate) && !(n->spd > h->cfg.max_vehicle_speed);
     if (!n->have_setting) {
-        warn(out, "Cant update poly for: %s. swath_wid unknown", n->name);
+        warn(h, out, "Cant update poly for: %s. swath_wid unknown", n->name);
         return;
     }
     if (h->cfg.show_swath) post_swath(h, n, on, out);
@@ -828,7 +827,7 @@ static int sensor_request(kelp_field_uhz *h, const char *s, kelp_time now, const
     char vname[KELP_NODEREPORT_MAX_FIELD];
     (void)value_of(s, "vname", vname, sizeof vname);
     if (!vname[0]) {
-        warn(out, "Sensor detect request with null node name");
+        warn(h, out, "Sensor detect request with null node name");
         return KELP_ERR_PARSE;
     }
     kelp_uhz_node *n = node_get(h, vname, out);
@@ -868,7 +867,7 @@ static void queue_push(kelp_uhz_node *n, kelp_uhz_entry e, bool top)
 KELP_NOINLINE static int classify_request(kelp_field_uhz *h, const char *s, kelp_time now,
                                           const kelp_field_sink *out)
 {
-    char *vname = h->ws_vname, *label = h->ws_label, pr[64] = "50", act[16]; /* workspace: the stack */
+    char *vname = h->ws_vname, *label = h->ws_label, pr[32] = "50", act[16]; /* workspace: the stack */
     (void)value_of(s, "vname", vname, sizeof h->ws_vname);
     (void)value_of(s, "label", label, sizeof h->ws_label);
     if (!value_of(s, "priority", pr, sizeof pr)) copyn(pr, sizeof pr, "50", 2);
@@ -884,34 +883,34 @@ KELP_NOINLINE static int classify_request(kelp_field_uhz *h, const char *s, kelp
     if (n) n->classify_reqs++;
     double priority;
     if (!vname[0]) {
-        warn(out, "Classify request with null vehicle name");
+        warn(h, out, "Classify request with null vehicle name");
         return KELP_ERR_PARSE;
     }
     if (!label[0]) {
-        warn(out, "Classify request with null label");
+        warn(h, out, "Classify request with null label");
         return KELP_ERR_PARSE;
     }
     if (num(pr, strlen(pr), &priority) < 0) {
-        warn(out, "Classify request with bad priority:%s", pr);
+        warn(h, out, "Classify request with bad priority:%s", pr);
         return KELP_ERR_PARSE;
     }
     unsigned oi = h->cfg.nobjects;
     for (unsigned i = 0; i < h->cfg.nobjects; i++)
         if (strcmp(h->cfg.object[i].label, label) == 0) oi = i;
     if (oi == h->cfg.nobjects) {
-        warn(out, "%s class req for unknown haz label:%s", vname, label);
+        warn(h, out, "%s class req for unknown haz label:%s", vname, label);
         return KELP_ERR_NOTFOUND;
     }
     if (!n || !n->have_setting) {
-        warn(out, "Error: No classifier config info for: %s", vname);
+        warn(h, out, "Error: No classifier config info for: %s", vname);
         return KELP_ERR_NOTFOUND;
     }
     if (n->passes == 0) {
-        warn(out, "Sensor classify request saturated: %s", n->name);
+        warn(h, out, "Sensor classify request saturated: %s", n->name);
         return KELP_ERR_DENIED;
     }
     if (n->nqueue >= KELP_UHZ_MAX_QUEUE) {
-        warn(out, "uFldHazardSensor: classify queue full for %s (KELP_UHZ_MAX_QUEUE)", n->name);
+        warn(h, out, "uFldHazardSensor: classify queue full for %s (KELP_UHZ_MAX_QUEUE)", n->name);
         return KELP_ERR_NOSPACE;
     }
     double hdg = n->pass_hdg[n->pass_i];
@@ -957,7 +956,7 @@ KELP_NOINLINE static int node_report(kelp_field_uhz *h, const char *s, kelp_time
     kelp_nodereport *r = &h->ws_report; /* workspace: no report on the stack */
     if (kelp_nodereport_parse(s, strlen(s), r, NULL) < 0 || !(r->fields & KELP_NR_X) || !(r->fields & KELP_NR_Y)) {
         post(out, "UHZ_DEBUG", "Invalid incoming node report");
-        warn(out, "ERROR: Unhandled node record");
+        warn(h, out, "ERROR: Unhandled node record");
         return KELP_ERR_PARSE;
     }
     kelp_uhz_node *n = node_get(h, r->name, out);
@@ -1031,7 +1030,7 @@ int kelp_field_uhz_mail(kelp_field_uhz *h, const char *var, const char *sval, co
     else if (strcmp(var, "UHZ_CONFIG_REQUEST") == 0) rc = config_request(h, sval, community, now, out);
     else if (strcmp(var, "UHZ_CLASSIFY_REQUEST") == 0) rc = classify_request(h, sval, now, out);
     else return 0;
-    if (rc < 0) warn(out, "Unhandled mail: %s", var);
+    if (rc < 0) warn(h, out, "Unhandled mail: %s", var);
     return rc;
 }
 

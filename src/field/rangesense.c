@@ -359,39 +359,40 @@ void rs_lower(char *s)
  * its message buffer is not stacked on this one) */
 KELP_NOINLINE static int post_report(const kelp_field_sink *out, const char *pfx, bool gt, kelp_rsense_vars vars,
                                      const char *vname, double range, const char *key, const char *id,
-                                     const double *xy, kelp_time now)
+                                     const double *xy, kelp_time now, char *ws)
 {
     /* one buffer, "vname=<vname>," then the body: the short form posts it all, the long form
-     * the body alone (no second buffer, no printf on this path: it runs under every mail) */
-    char full[320], var[KELP_MAX_NAME + KELP_RSENSE_NAME];
+     * the body alone (no printf on this path: it runs under every mail); both in the caller's
+     * workspace, off the stack */
+    char *full = ws, *var = ws + 320;
     size_t n = 0;
-    int rc = field_put_str(full, sizeof full, &n, "vname=");
-    if (rc == 0) rc = field_put_str(full, sizeof full, &n, vname);
-    if (rc == 0) rc = field_put_str(full, sizeof full, &n, ",");
+    int rc = field_put_str(full, (size_t)320, &n, "vname=");
+    if (rc == 0) rc = field_put_str(full, (size_t)320, &n, vname);
+    if (rc == 0) rc = field_put_str(full, (size_t)320, &n, ",");
     const size_t b = n;
-    if (rc == 0) rc = field_put_str(full, sizeof full, &n, "range=");
-    if (rc == 0) rc = field_put_fixed(full, sizeof full, &n, range, 4, true);
+    if (rc == 0) rc = field_put_str(full, (size_t)320, &n, "range=");
+    if (rc == 0) rc = field_put_fixed(full, (size_t)320, &n, range, 4, true);
     if (rc == 0 && key) {
-        rc = field_put_str(full, sizeof full, &n, ",");
-        if (rc == 0) rc = field_put_str(full, sizeof full, &n, key);
-        if (rc == 0) rc = field_put_str(full, sizeof full, &n, "=");
-        if (rc == 0) rc = field_put_str(full, sizeof full, &n, id);
+        rc = field_put_str(full, (size_t)320, &n, ",");
+        if (rc == 0) rc = field_put_str(full, (size_t)320, &n, key);
+        if (rc == 0) rc = field_put_str(full, (size_t)320, &n, "=");
+        if (rc == 0) rc = field_put_str(full, (size_t)320, &n, id);
         if (rc == 0 && xy) {
-            rc = field_put_str(full, sizeof full, &n, ",x=");
-            if (rc == 0) rc = field_put_fixed(full, sizeof full, &n, xy[0], 2, true);
-            if (rc == 0) rc = field_put_str(full, sizeof full, &n, ",y=");
-            if (rc == 0) rc = field_put_fixed(full, sizeof full, &n, xy[1], 2, true);
+            rc = field_put_str(full, (size_t)320, &n, ",x=");
+            if (rc == 0) rc = field_put_fixed(full, (size_t)320, &n, xy[0], 2, true);
+            if (rc == 0) rc = field_put_str(full, (size_t)320, &n, ",y=");
+            if (rc == 0) rc = field_put_fixed(full, (size_t)320, &n, xy[1], 2, true);
         }
     }
-    if (rc == 0) rc = field_put_str(full, sizeof full, &n, ",time=");
-    if (rc == 0) rc = field_put_fixed(full, sizeof full, &n, now, 3, true);
+    if (rc == 0) rc = field_put_str(full, (size_t)320, &n, ",time=");
+    if (rc == 0) rc = field_put_fixed(full, (size_t)320, &n, now, 3, true);
     if (rc < 0 || n - b >= RS_REPORT_BODY) return KELP_ERR_NOSPACE; /* the body's limit as before */
     size_t v = 0;
-    rc = field_put_str(var, sizeof var, &v, pfx);
-    if (rc == 0) rc = field_put_str(var, sizeof var, &v, gt ? "_RANGE_REPORT_GT" : "_RANGE_REPORT");
+    rc = field_put_str(var, (size_t)(KELP_MAX_NAME + KELP_RSENSE_NAME), &v, pfx);
+    if (rc == 0) rc = field_put_str(var, (size_t)(KELP_MAX_NAME + KELP_RSENSE_NAME), &v, gt ? "_RANGE_REPORT_GT" : "_RANGE_REPORT");
     if (rc == 0 && vars != KELP_RSENSE_LONG) out->publish(out->ctx, var, true, full, 0);
-    if (rc == 0) rc = field_put_str(var, sizeof var, &v, "_");
-    if (rc == 0) rc = field_put_str(var, sizeof var, &v, vname);
+    if (rc == 0) rc = field_put_str(var, (size_t)(KELP_MAX_NAME + KELP_RSENSE_NAME), &v, "_");
+    if (rc == 0) rc = field_put_str(var, (size_t)(KELP_MAX_NAME + KELP_RSENSE_NAME), &v, vname);
     if (rc == 0 && vars != KELP_RSENSE_SHORT) {
         rs_upper(var);
         out->publish(out->ctx, var, true, full + b, 0);
@@ -400,34 +401,35 @@ KELP_NOINLINE static int post_report(const kelp_field_sink *out, const char *pfx
 }
 
 void rs_post_report(const kelp_field_sink *out, const char *pfx, bool gt, kelp_rsense_vars vars, const char *vname,
-                    double range, const char *key, const char *id, const double *xy, kelp_time now)
+                    double range, const char *key, const char *id, const double *xy, kelp_time now,
+                    char ws[KELP_RSENSE_POST_WS])
 {
-    if (post_report(out, pfx, gt, vars, vname, range, key, id, xy, now) < 0)
+    if (post_report(out, pfx, gt, vars, vname, range, key, id, xy, now, ws) < 0)
         rs_warn(out, "cannot format a range report for ", vname, RS_END);
 }
 
 void rs_pulse(const kelp_field_sink *out, double x, double y, double radius, double duration, const char *label,
-              const char *color, kelp_time now)
+              const char *color, kelp_time now, char ws[KELP_RSENSE_POST_WS])
 {
-    char buf[320];
+    char *buf = ws; /* the caller's workspace, off the stack */
     size_t n = 0;
-    int rc = field_put_str(buf, sizeof buf, &n, "x=");
-    if (rc == 0) rc = field_put_fixed(buf, sizeof buf, &n, x, 2, true);
-    if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",y=");
-    if (rc == 0) rc = field_put_fixed(buf, sizeof buf, &n, y, 2, true);
-    if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",radius=");
-    if (rc == 0) rc = field_put_fixed(buf, sizeof buf, &n, radius, 2, true);
-    if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",fill=0.9,label=");
-    if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, label);
-    if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",edge_color=");
-    if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, color);
-    if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",fill_color=");
-    if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, color);
-    if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",time=");
-    if (rc == 0) rc = field_put_fixed(buf, sizeof buf, &n, now, 2, true);
-    if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",duration=");
-    if (rc == 0) rc = field_put_fixed(buf, sizeof buf, &n, duration, 2, true);
-    if (rc == 0) rc = field_put_str(buf, sizeof buf, &n, ",edge_size=1");
+    int rc = field_put_str(buf, (size_t)320, &n, "x=");
+    if (rc == 0) rc = field_put_fixed(buf, (size_t)320, &n, x, 2, true);
+    if (rc == 0) rc = field_put_str(buf, (size_t)320, &n, ",y=");
+    if (rc == 0) rc = field_put_fixed(buf, (size_t)320, &n, y, 2, true);
+    if (rc == 0) rc = field_put_str(buf, (size_t)320, &n, ",radius=");
+    if (rc == 0) rc = field_put_fixed(buf, (size_t)320, &n, radius, 2, true);
+    if (rc == 0) rc = field_put_str(buf, (size_t)320, &n, ",fill=0.9,label=");
+    if (rc == 0) rc = field_put_str(buf, (size_t)320, &n, label);
+    if (rc == 0) rc = field_put_str(buf, (size_t)320, &n, ",edge_color=");
+    if (rc == 0) rc = field_put_str(buf, (size_t)320, &n, color);
+    if (rc == 0) rc = field_put_str(buf, (size_t)320, &n, ",fill_color=");
+    if (rc == 0) rc = field_put_str(buf, (size_t)320, &n, color);
+    if (rc == 0) rc = field_put_str(buf, (size_t)320, &n, ",time=");
+    if (rc == 0) rc = field_put_fixed(buf, (size_t)320, &n, now, 2, true);
+    if (rc == 0) rc = field_put_str(buf, (size_t)320, &n, ",duration=");
+    if (rc == 0) rc = field_put_fixed(buf, (size_t)320, &n, duration, 2, true);
+    if (rc == 0) rc = field_put_str(buf, (size_t)320, &n, ",edge_size=1");
     if (rc < 0) {
         rs_warn(out, "cannot format a range pulse ", label, RS_END);
         return;

@@ -19,11 +19,12 @@ int rs_request_name(const char *s, char *name, size_t cap);
 /** Post a range report: <pfx>_RANGE_REPORT "vname=V,range=R,<key>=<id>[,x=..,y=..],time=T"
  *  and/or <pfx>_RANGE_REPORT_<V> without vname (gt: <pfx>_RANGE_REPORT_GT[_<V>]). */
 void rs_post_report(const kelp_field_sink *out, const char *pfx, bool gt, kelp_rsense_vars vars, const char *vname,
-                    double range, const char *key, const char *id, const double *xy, double now);
+                    double range, const char *key, const char *id, const double *xy, double now,
+                    char ws[KELP_RSENSE_POST_WS]);
 /** VIEW_RANGE_PULSE as 24.8's XYRangePulse spec with fill 0.9:
  *  "x=..,y=..,radius=..,fill=0.9,label=..,edge_color=C,fill_color=C,time=..,duration=..,edge_size=1". */
 void rs_pulse(const kelp_field_sink *out, double x, double y, double radius, double duration, const char *label,
-              const char *color, double now);
+              const char *color, double now, char ws[KELP_RSENSE_POST_WS]);
 /** Ends the piece lists of rs_log and rs_warn. */
 #define RS_END ((const char *)0)
 /** A verbose line made of pieces (no format strings from data); NULL ends the list. */
