@@ -29,7 +29,7 @@
 #include <kelp/edge/mission.h>
 
 #define MAX_VARS 512
-#define STOP_GRACE_S 3.0
+#define STOP_GRACE_S 10.0 /* a loaded machine (CI) can take more than 3 s to end a fleet of apps */
 
 typedef struct varstat {
     char name[KELP_MAX_NAME];

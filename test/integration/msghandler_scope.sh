@@ -82,8 +82,12 @@ if [ -z "${NO_TMUX:-}" ] && command -v tmux > /dev/null; then
   TM="tmux -L kelp-it-$$"
   $TM -f /dev/null new-session -d -s ufs -x 120 -y 20 "$BIN/uFldScope $T/bravo.moos; sleep 30" ||
     fail "tmux would not start"
-  sleep 2
-  $TM capture-pane -p -t ufs > pane1.txt
+  # the first table: up to 10 s on a loaded machine
+  for _ in $(seq 50); do
+    sleep 0.2
+    $TM capture-pane -p -t ufs > pane1.txt
+    grep -q 'STREAMING(A)' pane1.txt && break
+  done
   $TM send-keys -t ufs l
   sleep 1
   $TM capture-pane -p -t ufs > pane2.txt
