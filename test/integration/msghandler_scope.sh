@@ -86,7 +86,7 @@ if [ -z "${NO_TMUX:-}" ] && command -v tmux > /dev/null; then
   for _ in $(seq 50); do
     sleep 0.2
     $TM capture-pane -p -t ufs > pane1.txt
-    grep -q 'STREAMING(A)' pane1.txt && break
+    grep -q '^VName    Time           MODE                   speed  trip_dist  STREAMING(A)' pane1.txt && break
   done
   $TM send-keys -t ufs l
   sleep 1
