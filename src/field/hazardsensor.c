@@ -867,6 +867,7 @@ static void queue_push(kelp_uhz_node *n, kelp_uhz_entry e, bool top)
 KELP_NOINLINE static int classify_request(kelp_field_uhz *h, const char *s, kelp_time now,
                                           const kelp_field_sink *out)
 {
+    if (!h || !s) return KELP_ERR_ARG;
     char *vname = h->ws_vname, *label = h->ws_label, pr[32] = "50", act[16]; /* workspace: the stack */
     (void)value_of(s, "vname", vname, sizeof h->ws_vname);
     (void)value_of(s, "label", label, sizeof h->ws_label);
@@ -879,10 +880,10 @@ KELP_NOINLINE static int classify_request(kelp_field_uhz *h, const char *s, kelp
         event(h, "Classify Queue cleared for %s", n->name);
         return 1;
     }
-    if (vname[0] && !n) n = node_get(h, vname, out);
+    if (h->ws_vname[0] && !n) n = node_get(h, h->ws_vname, out);
     if (n) n->classify_reqs++;
     double priority;
-    if (!vname[0]) {
+    if (!h->ws_vname[0]) {
         warn(h, out, "Classify request with null vehicle name");
         return KELP_ERR_PARSE;
     }
