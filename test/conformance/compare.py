@@ -1228,57 +1228,47 @@ def self_test(args):
         if not want <= failed or not any(x.startswith("message/") for x in failed):
             print("self-test: the comparator missed a change")
             return 1
-        # a4: one pulse's far end two reports of its target away (one is the iteration's phase)
-        scn = "nodecomms_a4_rates"
-        rows = load_rows(os.path.join(args.golden, "golden", scn + ".jsonl"))
-        done = False
-        for i, r in enumerate(rows):
+        def mutate_one(scn, change, want, what):
+            """change the first row change() returns a new row for; the figure want must fail"""
+            rows = load_rows(os.path.join(args.golden, "golden", scn + ".jsonl"))
+            done = False
+            for i, r in enumerate(rows):
+                new = None if done else change(r)
+                if new is not None:
+                    rows[i], done = new, True
+            with open(os.path.join(d, scn + ".jsonl"), "w") as f:
+                for r in rows:
+                    f.write(json.dumps(r) + "\n")
+            failed = {f.fid for f in compare(scn, args.golden, d) if not f.ok}
+            print("self-test mutated %s: failing figures %s" % (scn, sorted(failed)))
+            if not done or want not in failed:
+                print("self-test: the comparator missed %s" % what)
+                return False
+            return True
+
+        def pulse_two_reports_off(r):  # v2 moves 1 m a report (2 m/s, 2 Hz)
             m = re.search(r",tx=([-\d.]+),", r["val"]) if r["var"] == "VIEW_COMMS_PULSE" and r["t"] > 20 else None
-            if m and "label=v32v2" in r["val"] and not done:  # v2 moves 1 m a report (2 m/s, 2 Hz)
-                rows[i] = dict(r, val=r["val"].replace(m.group(0), ",tx=%g," % (float(m.group(1)) + 2), 1))
-                done = True
-        with open(os.path.join(d, scn + ".jsonl"), "w") as f:
-            for r in rows:
-                f.write(json.dumps(r) + "\n")
-        figs = compare(scn, args.golden, d)
-        failed = {f.fid for f in figs if not f.ok}
-        print("self-test mutated %s: failing figures %s" % (scn, sorted(failed)))
-        if not done or "values/VIEW_COMMS_PULSE" not in failed:
-            print("self-test: the comparator missed a pulse two reports off")
-            return 1
-        # g1: one odometry value off by half a metre between its neighbours (not a skipped one)
-        scn = "pathcheck_g1"
-        rows = load_rows(os.path.join(args.golden, "golden", scn + ".jsonl"))
-        done = False
-        for i, r in enumerate(rows):
-            if r["var"] == "UPC_ODOMETRY_REPORT" and "vname=v3" in r["val"] and r["t"] > 17 and not done:
-                rows[i] = dict(r, val=re.sub(r"total_dist=([\d.]+)", lambda m: "total_dist=%.1f" % (float(m.group(1)) + 0.5), r["val"]))
-                done = True
-        with open(os.path.join(d, scn + ".jsonl"), "w") as f:
-            for r in rows:
-                f.write(json.dumps(r) + "\n")
-        figs = compare(scn, args.golden, d)
-        failed = {f.fid for f in figs if not f.ok}
-        print("self-test mutated %s: failing figures %s" % (scn, sorted(failed)))
-        if not done or "odometry/v3" not in failed:
-            print("self-test: the comparator missed a changed odometry value")
-            return 1
+            if not m or "label=v32v2" not in r["val"]:
+                return None
+            return dict(r, val=r["val"].replace(m.group(0), ",tx=%g," % (float(m.group(1)) + 2), 1))
+
+        def odometry_off(r):
+            if r["var"] != "UPC_ODOMETRY_REPORT" or "vname=v3" not in r["val"] or r["t"] <= 17:
+                return None
+            return dict(r, val=re.sub(r"total_dist=([\d.]+)", lambda m: "total_dist=%.1f" % (float(m.group(1)) + 0.5), r["val"]))
+
+        def summary_off(r):
+            if r["var"] != "UMH_SUMMARY_MSGS" or r["t"] <= 10:
+                return None
+            return dict(r, val=re.sub(r"valid=(\d+)", lambda m: "valid=%d" % (int(m.group(1)) + 1), r["val"]))
+
+        # a4: one pulse's far end two reports of its target away (one is the iteration's phase);
+        # g1: one odometry value off by half a metre between its neighbours (not a skipped one);
         # b1: one summary's count changed (not a repeat, not superseded within an iteration)
-        scn = "msghandler_b1_default"
-        rows = load_rows(os.path.join(args.golden, "golden", scn + ".jsonl"))
-        done = False
-        for i, r in enumerate(rows):
-            if r["var"] == "UMH_SUMMARY_MSGS" and r["t"] > 10 and not done:
-                rows[i] = dict(r, val=re.sub(r"valid=(\d+)", lambda m: "valid=%d" % (int(m.group(1)) + 1), r["val"]))
-                done = True
-        with open(os.path.join(d, scn + ".jsonl"), "w") as f:
-            for r in rows:
-                f.write(json.dumps(r) + "\n")
-        figs = compare(scn, args.golden, d)
-        failed = {f.fid for f in figs if not f.ok}
-        print("self-test mutated %s: failing figures %s" % (scn, sorted(failed)))
-        if not done or "values/UMH_SUMMARY_MSGS" not in failed:
-            print("self-test: the comparator missed a changed summary")
+        if not (mutate_one("nodecomms_a4_rates", pulse_two_reports_off, "values/VIEW_COMMS_PULSE",
+                           "a pulse two reports off")
+                and mutate_one("pathcheck_g1", odometry_off, "odometry/v3", "a changed odometry value")
+                and mutate_one("msghandler_b1_default", summary_off, "values/UMH_SUMMARY_MSGS", "a changed summary")):
             return 1
     if bad:
         print("self-test: the recording does not agree with itself")
