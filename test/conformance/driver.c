@@ -3,7 +3,8 @@
  *   conform-driver SCENARIO.scn MISSION.moos OUT.jsonl [OUT.meta.json]
  *
  * It joins the mission's community as the client "driver", waits `settle` real seconds (t0 is
- * the MOOS time then, fixed when it joins: join time + settle x warp), plays the .scn script (at, every, appcast, vehicle; `@MOOSTIME` expanded) and records
+ * the MOOS time then: join time + settle x warp, later on a loaded host until every app of the
+ * mission's ANTLER block has posted, see main), plays the .scn script (at, every, appcast, vehicle; `@MOOSTIME` expanded) and records
  * every notification it receives as one JSON row, in the layout of the recordings (README of
  * ../shared/conformance/moos-ivp-24.8): t (the poster's time - t0), trx (our receive time -
  * t0), var, type, val, src, aux, community. Its own posts come back over the bus as they do
@@ -69,6 +70,9 @@ typedef struct recorder {
     char names[MAX_COUNTED][KELP_MAX_NAME];
     unsigned long counts[MAX_COUNTED];
     int nnames;
+    char apps[MAX_PATTERNS][KELP_MAX_NAME]; /* the mission's launched apps (ANTLER Run lines) */
+    bool heard[MAX_PATTERNS];               /* each has posted something: it is up */
+    int napps;
 } recorder;
 
 static double wall(void)
@@ -262,9 +266,11 @@ static bool recorded(const scenario *s, const char *name)
 static void on_var(const kelp_var *v, void *user)
 {
     recorder *r = user;
+    for (int i = 0; i < r->napps; i++)
+        if (strcmp(r->apps[i], v->source) == 0) r->heard[i] = true;
     if (!r->started || !recorded(r->s, v->name)) return;
-    double trx = moos_now() - r->t0;
-    fprintf(r->out, "{\"t\":%.4f,\"trx\":%.4f,\"var\":", v->time - r->t0, trx);
+    /* absolute times here: t0 is final only once every app is up (rebase() makes them relative) */
+    fprintf(r->out, "{\"t\":%.4f,\"trx\":%.4f,\"var\":", v->time, moos_now());
     json_str(r->out, v->name, strlen(v->name));
     if (v->kind == KELP_VAR_DOUBLE) fprintf(r->out, ",\"type\":\"double\",\"val\":%.17g", v->dval);
     else {
@@ -283,6 +289,53 @@ static void on_var(const kelp_var *v, void *user)
     while (i < r->nnames && strcmp(r->names[i], v->name) != 0) i++;
     if (i == r->nnames && r->nnames < MAX_COUNTED) snprintf(r->names[r->nnames++], KELP_MAX_NAME, "%s", v->name);
     if (i < MAX_COUNTED) r->counts[i]++;
+}
+
+/* the apps the mission launches: "Run = prog [@ config] [~ name]" of ProcessConfig = ANTLER,
+ * less the MOOSDB (kelp has none) */
+static void read_apps(const kelp_mission *m, recorder *r)
+{
+    int b = kelp_mission_block(m, "ProcessConfig", "ANTLER");
+    if (b < 0) return;
+    for (int k = kelp_mission_next(m, b, -1, "Run"); k >= 0 && r->napps < MAX_PATTERNS;
+         k = kelp_mission_next(m, b, k, "Run")) {
+        char line[256], name[KELP_MAX_NAME];
+        if (kelp_mission_copy(&m->nodes[k], line, sizeof line) < 0) continue;
+        const char *tilde = strchr(line, '~');
+        const char *from = tilde ? tilde + 1 : line;
+        if (sscanf(from, " %63[^ @~\t]", name) != 1 || strcmp(name, "MOOSDB") == 0) continue;
+        snprintf(r->apps[r->napps++], KELP_MAX_NAME, "%s", name);
+    }
+}
+
+static int apps_up(const recorder *r)
+{
+    int n = 0;
+    for (int i = 0; i < r->napps; i++) n += r->heard[i];
+    return n;
+}
+
+/* the rows were written with absolute times: rewrite them relative to t0 */
+static int rebase(const char *tmp, const char *out, double t0)
+{
+    FILE *in = fopen(tmp, "r"), *o = fopen(out, "w");
+    if (!in || !o) {
+        if (in) fclose(in);
+        if (o) fclose(o);
+        return bad(in ? out : tmp, 0, "cannot open");
+    }
+    static char line[8 * KELP_MAX_SVAL + 512];
+    int rc = 0;
+    while (fgets(line, sizeof line, in)) {
+        double t, trx;
+        int used = 0;
+        if (sscanf(line, "{\"t\":%lf,\"trx\":%lf%n", &t, &trx, &used) != 2 || used == 0) { rc = -1; break; }
+        fprintf(o, "{\"t\":%.4f,\"trx\":%.4f%s", t - t0, trx - t0, line + used);
+    }
+    fclose(in);
+    if (fclose(o) != 0) rc = -1;
+    remove(tmp);
+    return rc < 0 ? bad(out, 0, "cannot rewrite the rows") : 0;
 }
 
 /* a number as the vehicle reports write it: two decimals, trailing zeros and dot removed */
@@ -386,10 +439,13 @@ int main(int argc, char **argv)
     g_warp = s.warp > 0 ? s.warp : 1;
     static recorder r;
     r.s = &s;
+    read_apps(&mf.m, &r);
     r.t0 = moos_now() + s.settle * g_warp;
     r.started = true;
-    r.out = fopen(argv[3], "w");
-    if (!r.out) return bad(argv[3], 0, "cannot write"), 2;
+    char tmp[600];
+    snprintf(tmp, sizeof tmp, "%s.abs", argv[3]);
+    r.out = fopen(tmp, "w");
+    if (!r.out) return bad(tmp, 0, "cannot write"), 2;
     kelp_diag err = {0};
     kelp_lcmbus *lb = kelp_lcmbus_open(url, "driver", community, on_var, &r, &err);
     if (!lb) {
@@ -400,9 +456,30 @@ int main(int argc, char **argv)
     if (s.nsub == 0) snprintf(s.sub[s.nsub++], KELP_MAX_NAME, "*");
     for (int i = 0; i < s.nsub; i++)
         if (kelp_bus_register(bus, s.sub[i], 0, moos_now()) < 0) return bad(argv[1], 0, "cannot register"), 1;
-    /* settle: wake in time for t0, the vehicles' first reports are stamped with it */
-    for (double left; (left = (r.t0 - moos_now()) / g_warp) > 0;)
-        KELP_IGNORE(kelp_lcmbus_handle(lb, left < 0.02 ? (int)(left * 1000.0) : 20, moos_now()));
+    /* settle: `settle` real seconds from joining, as recorded. On a loaded host an app may not
+     * be up by then (the recordings' apps were started before their driver): t0 then waits
+     * until every launched app has posted, plus one second for its first iterations, at most
+     * READY_MAX_S. Wake in time for t0, the vehicles' first reports are stamped with it. */
+    const double READY_MAX_S = 30;
+    double joined = wall();
+    bool all_up = r.napps == 0;
+    for (double left; (left = (r.t0 - moos_now()) / g_warp) > 0 || !all_up;) {
+        if (!all_up && apps_up(&r) == r.napps) {
+            all_up = true;
+            double ready_t0 = moos_now() + 1.0 * g_warp;
+            if (ready_t0 > r.t0) r.t0 = ready_t0;
+            continue;
+        }
+        if (!all_up && wall() - joined > READY_MAX_S) {
+            fprintf(stderr, "conform-driver: %d of %d apps heard after %.0f s; starting\n", apps_up(&r), r.napps,
+                    READY_MAX_S);
+            all_up = true;
+            continue;
+        }
+        int ms = left < 0.02 && left > 0 ? (int)(left * 1000.0) : 20;
+        KELP_IGNORE(kelp_lcmbus_handle(lb, ms, moos_now()));
+    }
+    fprintf(stderr, "conform-driver: %d apps up, t0 %.2f s after joining\n", r.napps, wall() - joined);
     unsigned long posts = 0;
     for (;;) {
         double t = moos_now() - r.t0;
@@ -432,7 +509,7 @@ int main(int argc, char **argv)
             vehicle *v = &s.veh[i];
             while (v->next <= t && v->next < v->t1) {
                 double now = moos_now();
-                if (post_vehicle(bus, v, now - r.t0, now, &posts) < 0) fprintf(stderr, "conform-driver: post failed\n");
+                if (post_vehicle(bus, v, v->next, now, &posts) < 0) fprintf(stderr, "conform-driver: post failed\n");
                 v->next += 1.0 / v->rate;
             }
             if (v->next < v->t1 && v->next < next) next = v->next;
@@ -447,6 +524,7 @@ int main(int argc, char **argv)
     while (wall() < until) KELP_IGNORE(kelp_lcmbus_handle(lb, 20, moos_now()));
     r.started = false;
     fclose(r.out);
+    if (rebase(tmp, argv[3], r.t0) < 0) return 2;
     if (argc > 4) {
         FILE *m = fopen(argv[4], "w");
         if (!m) return bad(argv[4], 0, "cannot write"), 2;

@@ -142,6 +142,9 @@ def live(url, out, shot, poke):
         res["ui"]["readout"], res["ui"]["panel"].count("\n") + 1, res["ui"]["zoom"][0], res["ui"]["zoom"][1]))
 
 
+LAG_S = 4.0
+
+
 def check(out, logtxt, warp):
     res = json.load(open(out))
     st = res["state"]
@@ -166,12 +169,18 @@ def check(out, logtxt, warp):
         err = ((x - v["x"]) ** 2 + (y - v["y"]) ** 2) ** 0.5
         if err > 1.0:
             fail("%s: page (%.2f, %.2f), log (%.2f, %.2f): %.2f m apart" % (name, v["x"], v["y"], x, y, err))
-        # it is the last one: nothing newer was posted more than a second (wall) before the page's time
-        older = [r for r in rs if r[0] <= st["now"] - 1.0 * warp]
-        if older and float(max(older, key=lambda r: float(r[1]))[1]) > v["rtime"] + 1e-6:
-            fail("%s: the page shows TIME=%s but the log had %s a second earlier" % (name, want, max(older)[1]))
-        print("ok: %s at (%.2f, %.2f), its report TIME=%s in the log at (%.2f, %.2f): %.3f m" % (name, v["x"], v["y"],
-                                                                                                  want, x, y, err))
+        # it is live: no report newer than the page's was logged more than LAG_S (wall) before the
+        # page's time. The viewer reads the bus once per AppTick; on a loaded CI host its process
+        # and the browser wait their turn (2.5 s seen), so the bound is 4 s, not one tick.
+        older = [r for r in rs if r[0] <= st["now"] - LAG_S * warp]
+        newest = max(older, key=lambda r: float(r[1])) if older else None
+        if newest and float(newest[1]) > v["rtime"] + 1e-6:
+            fail("%s: the page shows TIME=%s but the log had %s %g s (wall) earlier" % (name, want, newest[1], LAG_S))
+        logged = [float(r[1]) for r in rs if r[0] <= st["now"]]
+        lag = max(logged) - v["rtime"] if logged else 0.0
+        print("ok: %s at (%.2f, %.2f), its report TIME=%s in the log at (%.2f, %.2f): %.3f m; the newest"
+              " logged report is %.2f MOOS s newer (%.2f wall s at warp %g)"
+              % (name, v["x"], v["y"], want, x, y, err, max(lag, 0.0), max(lag, 0.0) / warp, warp))
 
 
 def replay(url, out, live_json):
