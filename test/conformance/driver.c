@@ -360,7 +360,7 @@ static void vehicle_at(const vehicle *v, double t, double *x, double *y, double 
         double dx = v->px[i + 1] - v->px[i], dy = v->py[i + 1] - v->py[i], l = hypot(dx, dy);
         double h = atan2(dx, dy) * 180.0 / M_PI;
         if (h < 0) h += 360.0;
-        if (go <= l || i + 2 == v->npts) {
+        if (go < l || i + 2 == v->npts) { /* on a vertex: the next leg, as recorded */
             double f = l > 0 ? (go < l ? go : l) / l : 0;
             *x = v->px[i] + dx * f, *y = v->py[i] + dy * f, *hdg = h;
             *spd = go < l ? v->spd : 0;
