@@ -7,12 +7,16 @@
 #include <check.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
+#include <kelp/beaconrange.h>
 #include <kelp/bus.h>
+#include <kelp/contactrange.h>
 #include <kelp/can.h>
 #include <kelp/contactmgr.h>
 #include <kelp/field.h>
+#include <kelp/hazardsensor.h>
 #include <kelp/mac.h>
 #include <kelp/mmdriver.h>
 #include <kelp/pathcheck.h>
@@ -912,6 +916,223 @@ START_TEST(contactmgr_step)
 }
 END_TEST
 
+/* ------------------------------------------------------------------ the range and hazard sensors */
+
+/* when each action of one kind came after the step, and what the sensors published meanwhile */
+#define SENSE_MAX 64
+typedef struct sense_log {
+    double at[SENSE_MAX];
+    int n;
+    bool bad;    /* a range= that is negative or not finite */
+    int posts;   /* everything published after the step */
+    const char *watch[2]; /* variables counted in hits[] */
+    int hits[2];
+} sense_log;
+
+static void sense_pub(void *ctx, const char *var, bool is_string, const char *sval, double dval)
+{
+    sense_log *l = ctx;
+    l->posts++;
+    for (int i = 0; i < 2; i++)
+        if (l->watch[i] && !strcmp(var, l->watch[i])) l->hits[i]++;
+    if (!is_string) {
+        if (!isfinite(dval)) l->bad = true;
+        return;
+    }
+    const char *r = strstr(sval, "range=");
+    if (r && (r == sval || r[-1] == ',')) {
+        double v = strtod(r + 6, NULL);
+        if (!isfinite(v) || v < 0) l->bad = true;
+    }
+}
+
+static void sense_mark(sense_log *l, double t)
+{
+    if (l->n < SENSE_MAX) l->at[l->n++] = t;
+}
+
+/* the rule on one kind of action after the step: the first within `first_by` seconds, then at
+ * least `period` apart (at most one per period, nothing missed replayed) */
+static void sense_check(const sense_log *l, double step, const char *what, double first_by, double period)
+{
+    ck_assert_msg(l->n > 0 && l->at[0] <= first_by, "step %g: %s first %g s after the step (%d in all)", step, what,
+                  l->n ? l->at[0] : -1.0, l->n);
+    for (int i = 1; i < l->n; i++)
+        ck_assert_msg(l->at[i] - l->at[i - 1] >= period - 1e-9, "step %g: %s at %g and %g s after the step", step,
+                      what, l->at[i - 1], l->at[i]);
+    ck_assert_msg(!l->bad, "step %g: a negative or non-finite value published", step);
+}
+
+/* uFldBeaconRangeSensor: ping_wait 30, a beacon broadcasting unsolicited every 10 s, archie
+ * reporting every second and asking every 5 s. After the step a request is honoured again within
+ * one ping wait and a request interval, requests at most one per ping wait, the beacon's
+ * broadcasts resume within 10 s, one per 10 s (a step is no reason for a burst) */
+START_TEST(brs_step)
+{
+    double step = STEP[_i];
+    static kelp_field_brs b;
+    kelp_field_brs_cfg c;
+    kelp_field_brs_cfg_default(&c);
+    kelp_diag why = { 0 };
+    static const char *const lines[] = { "ping_wait", "30", "reach_distance", "default = nolimit",
+                                         "default_beacon_report_range", "nolimit", "beacon", "label=b1,x=0,y=0,freq=10",
+                                         NULL };
+    for (int i = 0; lines[i]; i += 2) ck_assert_int_ge(kelp_field_brs_config(&c, lines[i], lines[i + 1], &why), 1);
+    ck_assert_int_eq(kelp_field_brs_init(&b, &c, T0, &why), 0);
+    sense_log pings = { 0 }, unsol = { 0 };
+    kelp_field_sink out = { &pings, sense_pub, NULL };
+    char r[160];
+    kelp_time t = T0;
+    for (; t < T0 + 60; t += 1) {
+        snprintf(r, sizeof r, "NAME=archie,TYPE=kayak,TIME=%.2f,X=10,Y=0,SPD=1,HDG=90", t);
+        ck_assert_int_eq(kelp_field_brs_mail(&b, "NODE_REPORT", true, r, t, &out), 1);
+        if (fmod(t - T0, 5.0) == 0.0) ck_assert_int_eq(kelp_field_brs_mail(&b, "BRS_RANGE_REQUEST", true, "name=archie", t, &out), 1);
+        (void)kelp_field_brs_iterate(&b, t, &out);
+    }
+    ck_assert_uint_ge(b.accepted, 2);
+    if (!isfinite(step)) {
+        unsigned long acc = b.accepted, req = b.requests, unsol0 = b.beacon[0].unsol;
+        ck_assert_int_eq(kelp_field_brs_mail(&b, "BRS_RANGE_REQUEST", true, "name=archie", step, &out), KELP_ERR_ARG);
+        ck_assert_uint_eq(kelp_field_brs_iterate(&b, step, &out), 0);
+        ck_assert_uint_eq(b.accepted, acc);
+        ck_assert_uint_eq(b.requests, req);
+        ck_assert_uint_eq(b.beacon[0].unsol, unsol0);
+    }
+    kelp_time from = t + offset_of(step);
+    pings.posts = 0;
+    for (int k = 0; k < 120; k++) {
+        kelp_time now = from + k;
+        snprintf(r, sizeof r, "NAME=archie,TYPE=kayak,TIME=%.2f,X=10,Y=0,SPD=1,HDG=90", now);
+        ck_assert_int_eq(kelp_field_brs_mail(&b, "NODE_REPORT", true, r, now, &out), 1);
+        unsigned long acc = b.accepted, u = b.beacon[0].unsol;
+        if (k % 5 == 0) ck_assert_int_eq(kelp_field_brs_mail(&b, "BRS_RANGE_REQUEST", true, "name=archie", now, &out), 1);
+        if (b.accepted > acc) sense_mark(&pings, k);
+        (void)kelp_field_brs_iterate(&b, now, &out);
+        ck_assert_uint_le(b.beacon[0].unsol - u, 1);
+        if (b.beacon[0].unsol > u) sense_mark(&unsol, k);
+    }
+    sense_check(&pings, step, "an honoured request", 30 + 5, 30);
+    sense_check(&unsol, step, "an unsolicited broadcast", 10 + 1, 10);
+    ck_assert_int_le(pings.posts, 200); /* pulses and reports, not a burst */
+}
+END_TEST
+
+/* uFldContactRangeSensor: ping_wait 30, archie asking every 5 s with jackal in reach: an echo
+ * within one ping wait and a request interval of the step, then one per ping wait */
+START_TEST(crs_step)
+{
+    double step = STEP[_i];
+    static kelp_field_crs cr;
+    kelp_field_crs_cfg c;
+    kelp_field_crs_cfg_default(&c);
+    kelp_diag why = { 0 };
+    static const char *const lines[] = { "ping_wait", "30", "reach_distance", "default = nolimit", "echo_falloff", "false", NULL };
+    for (int i = 0; lines[i]; i += 2) ck_assert_int_eq(kelp_field_crs_config(&c, lines[i], lines[i + 1], &why), 1);
+    kelp_field_crs_init(&cr, &c, T0);
+    sense_log pings = { 0 };
+    kelp_field_sink out = { &pings, sense_pub, NULL };
+    char r[160];
+    kelp_time t = T0;
+    for (; t < T0 + 60; t += 1) {
+        snprintf(r, sizeof r, "NAME=archie,TYPE=kayak,TIME=%.2f,X=0,Y=0,SPD=1,HDG=90", t);
+        ck_assert_int_eq(kelp_field_crs_mail(&cr, "NODE_REPORT", true, r, t, &out), 1);
+        snprintf(r, sizeof r, "NAME=jackal,TYPE=kayak,TIME=%.2f,X=50,Y=0,SPD=1,HDG=90", t);
+        ck_assert_int_eq(kelp_field_crs_mail(&cr, "NODE_REPORT", true, r, t, &out), 1);
+        if (fmod(t - T0, 5.0) == 0.0) ck_assert_int_eq(kelp_field_crs_mail(&cr, "CRS_RANGE_REQUEST", true, "name=archie", t, &out), 1);
+    }
+    ck_assert_uint_ge(cr.accepted, 2);
+    if (!isfinite(step)) {
+        unsigned long acc = cr.accepted, req = cr.requests;
+        ck_assert_int_eq(kelp_field_crs_mail(&cr, "CRS_RANGE_REQUEST", true, "name=archie", step, &out), KELP_ERR_ARG);
+        ck_assert_int_eq(kelp_field_crs_mail(&cr, "NODE_REPORT", true, r, step, &out), KELP_ERR_ARG);
+        ck_assert_uint_eq(cr.accepted, acc);
+        ck_assert_uint_eq(cr.requests, req);
+    }
+    kelp_time from = t + offset_of(step);
+    unsigned long reports0 = cr.reports;
+    for (int k = 0; k < 120; k++) {
+        kelp_time now = from + k;
+        snprintf(r, sizeof r, "NAME=archie,TYPE=kayak,TIME=%.2f,X=0,Y=0,SPD=1,HDG=90", now);
+        ck_assert_int_eq(kelp_field_crs_mail(&cr, "NODE_REPORT", true, r, now, &out), 1);
+        snprintf(r, sizeof r, "NAME=jackal,TYPE=kayak,TIME=%.2f,X=50,Y=0,SPD=1,HDG=90", now);
+        ck_assert_int_eq(kelp_field_crs_mail(&cr, "NODE_REPORT", true, r, now, &out), 1);
+        unsigned long acc = cr.accepted;
+        if (k % 5 == 0) ck_assert_int_eq(kelp_field_crs_mail(&cr, "CRS_RANGE_REQUEST", true, "name=archie", now, &out), 1);
+        if (cr.accepted > acc) sense_mark(&pings, k);
+    }
+    sense_check(&pings, step, "an honoured request", 30 + 5, 30);
+    ck_assert_uint_eq(cr.reports - reports0, (unsigned long)pings.n); /* jackal echoes each */
+}
+END_TEST
+
+/* uFldHazardSensor: the options summary every 10 s, archie's sensor on (a request every second,
+ * a PSR each iteration), a classify request for h1 every 5 s answered at most every 5 s
+ * (min_classify_interval). After the step: the summary within 10 s and one per 10 s, the PSR on
+ * the first iteration (the request's life moves with the clock), the answers within two
+ * intervals and at most one per interval */
+START_TEST(uhz_step)
+{
+    double step = STEP[_i];
+    static kelp_field_uhz_cfg c;
+    static kelp_field_uhz h;
+    kelp_field_uhz_cfg_default(&c);
+    kelp_diag why = { 0 };
+    static const char *const lines[] = { "sensor_config", "width=25, exp=4, pclass=0.63", "swath_length", "5",
+                                         "min_classify_interval", "5", "options_summary_interval", "10",
+                                         "seed_random", "false", "hazard", "x=0,y=5,label=h1,type=hazard", NULL };
+    for (int i = 0; lines[i]; i += 2) ck_assert_int_eq(kelp_field_uhz_config(&c, lines[i], lines[i + 1], &why), 1);
+    ck_assert_int_eq(kelp_field_uhz_init(&h, &c), 0);
+    sense_log sum = { 0 }, psr = { 0 }, answers = { 0 }, all = { .watch = { "UHZ_OPTIONS_SUMMARY", "PSR" } };
+    kelp_field_sink out = { &all, sense_pub, NULL };
+    char r[160];
+    kelp_time t = T0;
+    snprintf(r, sizeof r, "NAME=archie,TYPE=UUV,TIME=%.2f,X=0,Y=0,SPD=2,HDG=90", t);
+    ck_assert_int_eq(kelp_field_uhz_mail(&h, "NODE_REPORT", r, "archie", t, &out), 1);
+    ck_assert_int_eq(kelp_field_uhz_mail(&h, "UHZ_CONFIG_REQUEST", "vname=archie,width=25,pd=1", "archie", t, &out), 1);
+    for (; t < T0 + 30; t += 1) {
+        snprintf(r, sizeof r, "NAME=archie,TYPE=UUV,TIME=%.2f,X=0,Y=0,SPD=2,HDG=90", t);
+        ck_assert_int_eq(kelp_field_uhz_mail(&h, "NODE_REPORT", r, "archie", t, &out), 1);
+        ck_assert_int_eq(kelp_field_uhz_mail(&h, "UHZ_SENSOR_REQUEST", "vname=archie", "archie", t, &out), 1);
+        if (fmod(t - T0, 5.0) == 0.0)
+            (void)kelp_field_uhz_mail(&h, "UHZ_CLASSIFY_REQUEST", "vname=archie,label=h1", "archie", t, &out);
+        kelp_field_uhz_iterate(&h, t, &out);
+    }
+    unsigned long answered = h.node[0].classify_answ;
+    ck_assert_uint_ge(answered, 1);
+    if (!isfinite(step)) {
+        ck_assert_int_eq(kelp_field_uhz_mail(&h, "UHZ_SENSOR_REQUEST", "vname=archie", "archie", step, &out), KELP_ERR_ARG);
+        ck_assert_int_eq(kelp_field_uhz_mail(&h, "UHZ_CLASSIFY_REQUEST", "vname=archie,label=h1", "archie", step, &out),
+                         KELP_ERR_ARG);
+        kelp_field_uhz_iterate(&h, step, &out);
+        ck_assert_uint_eq(h.node[0].classify_answ, answered);
+    }
+    kelp_time from = t + offset_of(step);
+    for (int k = 0; k < 60; k++) {
+        kelp_time now = from + k;
+        snprintf(r, sizeof r, "NAME=archie,TYPE=UUV,TIME=%.2f,X=0,Y=0,SPD=2,HDG=90", now);
+        ck_assert_int_eq(kelp_field_uhz_mail(&h, "NODE_REPORT", r, "archie", now, &out), 1);
+        if (k > 0) ck_assert_int_eq(kelp_field_uhz_mail(&h, "UHZ_SENSOR_REQUEST", "vname=archie", "archie", now, &out), 1);
+        if (k % 5 == 0) (void)kelp_field_uhz_mail(&h, "UHZ_CLASSIFY_REQUEST", "vname=archie,label=h1", "archie", now, &out);
+        unsigned long a = h.node[0].classify_answ;
+        all.hits[0] = all.hits[1] = 0;
+        kelp_field_uhz_iterate(&h, now, &out);
+        ck_assert_int_le(all.hits[0], 1);
+        ck_assert_int_le(all.hits[1], 1);
+        if (all.hits[0]) sense_mark(&sum, k);
+        if (all.hits[1]) sense_mark(&psr, k);
+        ck_assert_uint_le(h.node[0].classify_answ - a, 1);
+        if (h.node[0].classify_answ > a) sense_mark(&answers, k);
+    }
+    sense_check(&sum, step, "the options summary", 10, 10);
+    sense_check(&psr, step, "a PSR", 1, 1); /* forward past its life: on at the next request */
+    /* answers only while archie has passes left: none may come closer than the interval */
+    for (int i = 1; i < answers.n; i++)
+        ck_assert_msg(answers.at[i] - answers.at[i - 1] >= 5, "step %g: classify answers at %g and %g s", step,
+                      answers.at[i - 1], answers.at[i]);
+    ck_assert_msg(!all.bad, "step %g: a negative or non-finite value published", step);
+}
+END_TEST
+
 Suite *kelp_timefaults_suite(void)
 {
     Suite *s = suite_create("timefaults");
@@ -939,6 +1160,11 @@ Suite *kelp_timefaults_suite(void)
     tcase_add_loop_test(tc, pathcheck_step, 0, NSTEP);
     tcase_add_loop_test(tc, nodereporter_step, 0, NSTEP);
     tcase_add_loop_test(tc, contactmgr_step, 0, NSTEP);
+    suite_add_tcase(s, tc);
+    tc = tcase_create("sensors");
+    tcase_add_loop_test(tc, brs_step, 0, NSTEP);
+    tcase_add_loop_test(tc, crs_step, 0, NSTEP);
+    tcase_add_loop_test(tc, uhz_step, 0, NSTEP);
     suite_add_tcase(s, tc);
     return s;
 }
