@@ -67,6 +67,11 @@ $BIN/kelp-poke alder.moos DEPLOY:=true > /dev/null
 sleep 1.0
 $BIN/kelp-poke alder.moos NAV_X=58 NAV_Y=-38 > /dev/null
 sleep 1.0
+# a loaded host may take longer than a second for the arrival's iteration: up to 10 s more
+for _ in $(seq 1 20); do
+  $BIN/kelp-logcheck run.lcmlog --print 2>/dev/null | grep -q " pHelmIvP RETURN true" && break
+  sleep 0.5
+done
 kill -INT $LG; wait $LG 2>/dev/null || true
 $BIN/kelp-logcheck run.lcmlog --print > log.txt || { tail helm.out; fail "log does not decode"; }
 grep -q " pHelmIvP DEPLOY false" log.txt || { grep DEPLOY log.txt; fail "initialize DEPLOY = false not published"; }

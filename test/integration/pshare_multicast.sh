@@ -76,14 +76,19 @@ ok "multicast_7: 20 of 20 values, renamed FAST -> FAST_IN"
 n=$(count SLOW_IN)
 [ "$n" -ge 3 ] && [ "$n" -le 6 ] || fail "SLOW_IN @2 over ~2 s: $n shares ($(vals SLOW_IN))"
 ok "SLOW@2: $n shares of 20 values over 2 s ($(vals SLOW_IN))"
-[ "$(vals FEW)" = "1 2 3 20 " ] || fail "FEW max_shares=3 then duration=0: '$(vals FEW)', wanted '1 2 3 20'"
-ok "FEW: max_shares = 3, then duration = 0 restated: the latest value once (1 2 3 20)"
+# the pokes run as separate processes 0.1 s apart: a loaded host may start one late, so the
+# order they posted in is FAST_IN's (every value shared, same route), not necessarily 1..20
+order=$(vals FAST_IN)
+read -ra ord <<< "$order"
+few_want="${ord[0]} ${ord[1]} ${ord[2]} ${ord[19]} "
+[ "$(vals FEW)" = "$few_want" ] || fail "FEW max_shares=3 then duration=0: '$(vals FEW)', wanted '$few_want' (posting order: $order)"
+ok "FEW: max_shares = 3, then duration = 0 restated: the latest value once ($few_want)"
 b=$(vals BRIEF)
 case "$b" in *99*) fail "BRIEF shared after its 3 s duration: $b" ;; esac
 n=$(count BRIEF)
 [ "$n" -ge 1 ] && [ "$n" -le 19 ] || fail "BRIEF: $n shares; wanted the first ones only, until 3 s after the start ($b)"
-last=$(awk -v v=BRIEF '$3==v {print $4}' shore.txt | tail -1)
-[ "$(vals BRIEF)" = "$(seq -s ' ' 1 "$last") " ] || fail "BRIEF: not the first $n values in order: $b"
+brief_want=$(echo "${ord[@]:0:$n}" | tr -s ' ')" "
+[ "$(vals BRIEF)" = "$brief_want" ] || fail "BRIEF: not the first $n values in posting order: $b (posting order: $order)"
 ok "BRIEF: the first $n values (until 3 s after the start), none after"
 [ "$(vals OTHER)" = "42 " ] || fail "OTHER over 239.1.2.3:30004: '$(vals OTHER)'"
 ok "multicast_address / multicast_base_port: OTHER over 239.1.2.3:30004"
