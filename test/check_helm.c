@@ -619,11 +619,19 @@ START_TEST(condition_transitions_and_flags)
     ck_assert_str_eq(g_h.rep.allstop, "MissingDecVars:course"); /* course undecided */
     ck_assert(ht_num("DESIRED_SPEED") == 0);                      /* so all-stop zeros */
     ck_assert(ht_has_str("BHV_ERROR", "MissingDecVars:course"));
+    /* the function, serialised as 24.8's BHV_IPF: context "<iteration>:<behaviour>" */
+    ck_assert_uint_eq(ht_count("BHV_IPF"), 1);
+    char ctx[32];
+    snprintf(ctx, sizeof ctx, ",%lu:p,", g_h.iteration);
+    ck_assert_msg(!strncmp(ht_last("BHV_IPF")->sval, "H,", 2) && strstr(ht_last("BHV_IPF")->sval, ctx),
+                  "%s", ht_last("BHV_IPF")->sval);
+    ck_assert_uint_eq(g_h.ipf_posted, 1);
     /* no function again: inactive flag */
     kelp_helm_mail_string(&g_h, "PROBE_FN", "no");
     ht_iter(4);
     ck_assert_int_eq(bhv("p")->state, KELP_BHV_RUNNING);
     ck_assert(ht_count("INACTF") == 1 && ht_count("IDLEF") == 0);
+    ck_assert_uint_eq(ht_count("BHV_IPF"), 0);
     /* condition false: idle again */
     kelp_helm_mail_string(&g_h, "GO", "false");
     ht_iter(5);

@@ -610,6 +610,40 @@ START_TEST(coupler_argmax_and_range)
 }
 END_TEST
 
+/* BHV_IPF's string (MOOS-IvP 24.8's FunctionEncoder layout), worked by hand: two pieces over
+ * course x speed, weights slope per variable then the constant, four decimals with the point
+ * kept ("2."), an exact zero "0", a tiny value "0.0000"; pwt and bounds compacted */
+START_TEST(func_to_ipf)
+{
+    kelp_ivp_domain d;
+    kelp_ivp_domain_init(&d);
+    ck_assert_int_eq(kelp_ivp_domain_add(&d, "course", 0, 359, 360), 0);
+    ck_assert_int_eq(kelp_ivp_domain_add(&d, "speed", 0, 4, 21), 0);
+    kelp_ivp_piece store[2];
+    kelp_ivp_func f;
+    ck_assert_int_eq(kelp_ivp_func_init(&f, &d, store, 2), 0);
+    ck_assert_int_eq(kelp_ivp_func_add(&f, (const int32_t[]){ 0, 0 }, (const int32_t[]){ 179, 20 },
+                                       (const double[]){ 0.5, 0 }, 2), 0);
+    ck_assert_int_eq(kelp_ivp_func_add(&f, (const int32_t[]){ 180, 0 }, (const int32_t[]){ 359, 20 },
+                                       (const double[]){ -0.0625, 0.00001 }, 112.34567), 0);
+    f.pwt = 150;
+    char buf[512];
+    int n = kelp_ivp_func_to_ipf(&f, "12:waypt_survey", NULL, buf, sizeof buf);
+    const char *want = "H,15,12:waypt_survey,2,2,1,150,D,course;0;359;360:speed;0;4;21,G,359,20,F,"
+                       "0,179,0,20,0.5,0,2.,180,359,0,20,-0.0625,0.0000,112.3457";
+    ck_assert_str_eq(buf, want);
+    ck_assert_int_eq(n, (int)strlen(want));
+    int32_t gel[2] = { 2, 2 };
+    f.pwt = 87.5;
+    ck_assert_int_gt(kelp_ivp_func_to_ipf(&f, "3:avd_ben", gel, buf, sizeof buf), 0);
+    ck_assert_ptr_nonnull(strstr(buf, ",1,87.5,D,"));
+    ck_assert_ptr_nonnull(strstr(buf, ",G,2,2,F,"));
+    /* too small: refused, not truncated silently */
+    ck_assert_int_eq(kelp_ivp_func_to_ipf(&f, "3:avd_ben", gel, buf, 40), KELP_ERR_NOSPACE);
+    ck_assert_int_eq(kelp_ivp_func_to_ipf(NULL, "x", NULL, buf, sizeof buf), KELP_ERR_ARG);
+}
+END_TEST
+
 Suite *kelp_ivp_suite(void)
 {
     Suite *s = suite_create("ivp");
@@ -634,6 +668,7 @@ Suite *kelp_ivp_suite(void)
     tcase_add_loop_test(tc, spec_bad_text, 0, (int)(sizeof bad_specs / sizeof bad_specs[0]));
     tcase_add_test(tc, func_normalize_align);
     tcase_add_test(tc, coupler_argmax_and_range);
+    tcase_add_test(tc, func_to_ipf);
     suite_add_tcase(s, tc);
     return s;
 }

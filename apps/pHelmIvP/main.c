@@ -210,6 +210,7 @@ static void report(kelp_app *app, void *st, FILE *out)
         fprintf(out, "  %-24s %-20s %s\n", h->bhv[i].name, h->bhv[i].type, kelp_bhv_state_name(h->bhv[i].state));
     fprintf(out, "  posts %lu   BHV_WARNING %lu   BHV_ERROR %lu   buffer drops %lu   post drops %lu\n", a->posts,
             h->rep.warnings, h->rep.errors, h->ib.dropped, h->posts_dropped);
+    fprintf(out, "  BHV_IPF %lu   too long for one value %lu\n", h->ipf_posted, h->ipf_oversize);
 }
 
 static void shutdown_app(kelp_app *app, void *st)
@@ -289,6 +290,9 @@ static const kelp_app_def def = {
         { "TURN_RATE", "1.5", "in DRIVE: mean heading change per iteration over the last 5 s (deg, starboard +)" },
         { "MOOS_DEBUG", "pHelmIvP AllStop: clear", "with each IVPHELM_ALLSTOP (MOOS's debug channel)" },
         { "PLOGGER_CMD", "COPY_FILE_REQUEST = alder.bhv", "at start, one per Behaviors file" },
+        { "BHV_IPF", "H,14,12:waypt_survey,2,36,1,100,D,course;0;359;360:speed;0;4;21,G,359,20,F,0,9,...",
+          "each iteration, per behaviour with a function: MOOS-IvP's IPF string (pMarineViewer's function"
+          " view); one longer than a bus value is counted in the report, not posted" },
         { "WPT_ODO", "42.5", "BHV_Waypoint: metres travelled on the current leg (+ post_suffix)" },
         { "UH_<behaviour>", "points=0,0:10,10", "the behaviour's update replies" },
         { "VIEW_POINT", "x=10,y=20,label=alpha", "behaviour postings: VIEW_SEGLIST, VIEW_POLYGON, WPT_STAT,"

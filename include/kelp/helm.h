@@ -332,6 +332,8 @@ struct kelp_bhv {
     char us[KELP_MAX_NAME];            /**< vehicle name (MOOS "us", default: helm's) */
     double pwt;                        /**< priority weight, default 100 */
     double pwt_factor;                 /**< set by on_run to scale pwt for this function (reset to 1) */
+    bool ipf_gel_set;                  /**< on_run built its function with the Reflector: BHV_IPF's */
+    int32_t ipf_gel[KELP_IVP_MAX_DIM]; /**< grid element box is its uniform piece (extent - 1) */
     kelp_ivp_domain dom;               /**< behaviour's (sub)domain; dim 0 = null */
     char cond[KELP_HELM_MAX_CONDS][KELP_HELM_MAX_COND_LEN];
     unsigned ncond;
@@ -623,6 +625,8 @@ struct kelp_helm {
         char lists[4][256], tmp[256];
         char mode_value[KELP_HELM_MAX_MODES][128]; /**< this iteration's value of each mode variable */
     } ws_out;
+    char ws_ipf[KELP_MAX_SVAL + 1];    /* workspace: one BHV_IPF string */
+    unsigned long ipf_posted, ipf_oversize; /**< BHV_IPF postings; functions too long for one value */
     struct {                        /* workspace of a behaviour's updates (keeps the stack small) */
         char val[KELP_HELM_MAX_SVAL], bad[KELP_HELM_MAX_SVAL - 128], msg[KELP_HELM_MAX_SVAL];
         char param[KELP_MAX_NAME];

@@ -106,6 +106,12 @@ KELP_MUST_CHECK int kelp_ivp_func_range(const kelp_ivp_func *f, double *min, dou
 /** Map [min,max] onto [base, base+range] (no-op for a flat function), exactly as PDMap::normalize:
  * cst += base-min, then every coefficient *= range/(max-min). */
 KELP_MUST_CHECK int kelp_ivp_func_normalize(kelp_ivp_func *f, double base, double range);
+/** The function as the IPF string of MOOS-IvP's BHV_IPF (its FunctionEncoder's layout, see
+ *  src/ivp/ipf.c): context "<iteration>:<behaviour>", gel the grid element box's upper index per
+ *  dimension (NULL: each variable's last index). @return the length, KELP_ERR_NOSPACE when it
+ *  does not fit in cap (buf then holds a truncated prefix), KELP_ERR_ARG. */
+KELP_MUST_CHECK int kelp_ivp_func_to_ipf(const kelp_ivp_func *f, const char *context, const int32_t *gel, char *buf,
+                                         size_t cap);
 /** Multiply every coefficient by w (PDMap::applyWeight). */
 void kelp_ivp_func_scale(kelp_ivp_func *f, double w);
 /** Align to a larger domain in place: variables are re-ordered to big's order and a variable the

@@ -361,6 +361,11 @@ static const char *mapped(const kelp_bhv *b, const char *var)
     return var;
 }
 
+const char *helm_bhv_var(const kelp_bhv *b, const char *var)
+{
+    return mapped(b, var);
+}
+
 static void post(kelp_bhv *b, const char *var, bool is_str, const char *s, double d, const char *key)
 {
     if (!b->helm || !var)

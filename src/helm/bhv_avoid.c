@@ -549,6 +549,11 @@ static int build(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     }
     int rc = kelp_ivp_reflector_create(&r, amount, -1, 0, w->out, cap, w->pq, kelp_ivp_reflector_work_len(cap), out);
     if (rc < 0) return rc;
+    if (r.have_uniform_piece) { /* BHV_IPF's grid element box: the uniform piece */
+        b->ipf_gel_set = true;
+        for (unsigned d = 0; d < r.dom.dim && d < KELP_IVP_MAX_DIM; d++)
+            b->ipf_gel[d] = (int32_t)r.uniform_piece[d] - 1;
+    }
     return kelp_ivp_func_normalize(out, 0, 100);
 }
 

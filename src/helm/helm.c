@@ -854,6 +854,27 @@ KELP_NOINLINE static void post_status(kelp_bhv *b, kelp_bhv_state ns)
     kelp_bhv_post_string(b, "BHV_STATUS", msg, b->name);
 }
 
+/* BHV_IPF: the function as MOOS-IvP 24.8's helm posts it each iteration a behaviour makes one
+ * (BehaviorSet, the FunctionEncoder's string with context "<iteration>:<behaviour>"), through
+ * the behaviour's post_mapping. Several KB a piece, it goes straight to the sink (not through
+ * the postings pool or the info buffer); one longer than a bus value (KELP_MAX_SVAL) is not
+ * posted and counted (ipf_oversize). */
+KELP_NOINLINE static void post_ipf(kelp_helm *h, const kelp_bhv *b, const kelp_ivp_func *f)
+{
+    const char *var = helm_bhv_var(b, "BHV_IPF");
+    if (hx_ieq(var, "silent"))
+        return;
+    char ctx[KELP_MAX_NAME + 24], it[24];
+    hx_fmt_ulong(it, sizeof it, h->iteration);
+    hx_cat(ctx, sizeof ctx, it, ":", b->name, HX_END);
+    if (kelp_ivp_func_to_ipf(f, ctx, b->ipf_gel_set ? b->ipf_gel : NULL, h->ws_ipf, sizeof h->ws_ipf) < 0) {
+        h->ipf_oversize++;
+        return;
+    }
+    h->ipf_posted++;
+    sink(h, var, true, h->ws_ipf, 0, ctx);
+}
+
 /* The running state of behaviour i (onRunState): RUNNING, or ACTIVE when it made a function
  * (*made). Out of line: its work descriptor stays off the updates path. */
 KELP_NOINLINE static kelp_bhv_state run_state(kelp_helm *h, unsigned i, kelp_bhv_state old, size_t *pool_used, bool *made)
@@ -868,6 +889,7 @@ KELP_NOINLINE static kelp_bhv_state run_state(kelp_helm *h, unsigned i, kelp_bhv
                         h->mem.dwork, h->mem.dwork_cap, h->mem.pq, h->mem.pq_cap};
     kelp_ivp_func *f = &h->fn[i];
     b->pwt_factor = 1.0;
+    b->ipf_gel_set = false;
     int rc = b->ops->on_run ? b->ops->on_run(b, &w, f) : 0;
     helm_post_flags(b, KELP_FLAG_RUNX);
     if (rc == 1 && f->n > 0 && !func_finite(f)) {
@@ -878,6 +900,7 @@ KELP_NOINLINE static kelp_bhv_state run_state(kelp_helm *h, unsigned i, kelp_bhv
     if (rc == 1 && f->n > 0 && pwt > 0) {
         f->pwt = pwt;
         *made = true;
+        post_ipf(h, b, f);
         *pool_used += f->n;
         if (old != KELP_BHV_ACTIVE)
             helm_post_flags(b, KELP_FLAG_ACTIVE);

@@ -49,6 +49,8 @@ size_t hx_cat(char *buf, size_t cap, ...);
 int helm_fail(kelp_helm *h, int line, int code, ...);
 
 /* helm internals used by bhv.c */
+/* the variable a behaviour's posting goes to (its post_mapping; "silent": none) */
+const char *helm_bhv_var(const kelp_bhv *b, const char *var);
 void helm_queue_post(kelp_helm *h, const kelp_bhv *b, const char *var, bool is_str, const char *sval, double dval,
                      const char *key);
 int helm_need_var(kelp_helm *h, const char *name, size_t n);
