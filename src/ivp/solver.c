@@ -141,6 +141,9 @@ static size_t total_pieces(const kelp_ivp_problem *p)
     return t;
 }
 
+/* Optimal points kept as a list (checked one by one) before the summed-area table takes over. */
+#define GRID_LIST 8
+
 /* Bytes of the grid path on top of the search's own storage. */
 static size_t grid_size(const kelp_ivp_problem *p)
 {
@@ -151,6 +154,7 @@ static size_t grid_size(const kelp_ivp_problem *p)
     sz += align8(sizeof(uint16_t) * g);                     /* functions covering, in order */
     sz += align8(sizeof(uint32_t) * gp);                    /* optimal points, summed area */
     sz += align8(sizeof(uint32_t) * (total_pieces(p) + p->nf + 1)); /* candidates per function */
+    sz += align8(sizeof(int32_t) * D * GRID_LIST);          /* a few optimal points, listed */
     return sz;
 }
 
@@ -358,19 +362,27 @@ typedef struct gridw {
     uint16_t *cover;
     uint32_t *sat;
     uint32_t *cand;
+    int32_t *list;            /* na <= GRID_LIST: the optimal points, D coordinates each */
+    uint32_t na;
     size_t g, gp;
     size_t stride[D], pstride[D];
 } gridw;
 
-/* Paint function i (pieces aligned to the problem domain) onto the grid. */
+/* Paint function i (pieces aligned to the problem domain) onto the grid. The grid's arrays are
+ * held in locals so the stores do not make the compiler reload them (or the piece) per point. */
 static void grid_paint(gridw *gw, const sfunc *F, unsigned i, unsigned dim)
 {
     unsigned last = dim - 1;
+    double *total = gw->total, *fval = gw->fval;
+    uint16_t *cover = gw->cover;
+    const uint16_t mine = (uint16_t)i, done = (uint16_t)(i + 1);
     for (uint32_t j = 0; j < F->n; j++) {
         const spiece *q = &F->p[j];
         int32_t x[D];
         for (unsigned e = 0; e < dim; e++)
             x[e] = q->lo[e];
+        const int32_t t0 = q->lo[last], t1 = q->hi[last];
+        const double sl = q->s[last];
         for (;;) {
             double base = q->c;
             size_t off = 0;
@@ -378,18 +390,17 @@ static void grid_paint(gridw *gw, const sfunc *F, unsigned i, unsigned dim)
                 base += q->s[e] * (double)x[e];
                 off += gw->stride[e] * (size_t)x[e];
             }
-            double sl = q->s[last];
-            for (int32_t t = q->lo[last]; t <= q->hi[last]; t++) {
+            for (int32_t t = t0; t <= t1; t++) {
                 size_t o = off + (size_t)t;
                 double v = base + sl * (double)t;
-                uint16_t c = gw->cover[o];
-                if (c == i) { /* covered by every earlier function, first piece of this one */
-                    gw->cover[o] = (uint16_t)(i + 1);
-                    gw->fval[o] = v;
-                    gw->total[o] = i ? gw->total[o] + v : v;
-                } else if (c == i + 1 && v > gw->fval[o]) { /* an overlapping piece, larger */
-                    gw->total[o] += v - gw->fval[o];
-                    gw->fval[o] = v;
+                uint16_t c = cover[o];
+                if (c == mine) { /* covered by every earlier function, first piece of this one */
+                    cover[o] = done;
+                    fval[o] = v;
+                    total[o] += v;
+                } else if (c == done && v > fval[o]) { /* an overlapping piece, larger */
+                    total[o] += v - fval[o];
+                    fval[o] = v;
                 }
             }
             unsigned e = last;
@@ -404,9 +415,27 @@ static void grid_paint(gridw *gw, const sfunc *F, unsigned i, unsigned dim)
     }
 }
 
-/* Optimal points in box [lo, hi] (summed-area table, inclusion-exclusion over the corners). */
+/* Optimal points in box [lo, hi] (summed-area table, inclusion-exclusion over the corners);
+ * with a short list, whether there is one. */
 static uint32_t grid_count(const gridw *gw, const int32_t *lo, const int32_t *hi, unsigned dim)
 {
+    if (gw->na <= GRID_LIST) {
+        for (uint32_t a = 0; a < gw->na; a++) {
+            const int32_t *x = &gw->list[a * D];
+            unsigned e = 0;
+            while (e < dim && x[e] >= lo[e] && x[e] <= hi[e])
+                e++;
+            if (e == dim)
+                return 1;
+        }
+        return 0;
+    }
+    if (dim == 2) {
+        size_t s0 = gw->pstride[0];
+        size_t a = s0 * (size_t)lo[0], b = s0 * (size_t)(hi[0] + 1);
+        return gw->sat[b + (size_t)hi[1] + 1] - gw->sat[a + (size_t)hi[1] + 1] - gw->sat[b + (size_t)lo[1]] +
+               gw->sat[a + (size_t)lo[1]];
+    }
     uint32_t n = 0;
     for (unsigned m = 0; m < (1u << dim); m++) {
         size_t o = 0;
@@ -440,6 +469,9 @@ static int grid_solve(kelp_ivp_problem *p, const sfunc *sf, snode *node, double 
     w += align8(sizeof(uint32_t) * gw.gp);
     uint32_t *cstart = (uint32_t *)(void *)w;
     gw.cand = cstart + k + 1;
+    w += align8(sizeof(uint32_t) * (total_pieces(p) + k + 1));
+    gw.list = (int32_t *)(void *)w;
+    gw.na = 0;
     size_t st = 1, pst = 1;
     for (unsigned e = dim; e-- > 0;) {
         gw.stride[e] = st;
@@ -448,6 +480,8 @@ static int grid_solve(kelp_ivp_problem *p, const sfunc *sf, snode *node, double 
         pst *= (size_t)p->dom.var[e].points + 1u;
     }
     memset(gw.cover, 0, sizeof(uint16_t) * gw.g);
+    for (size_t o = 0; o < gw.g; o++)
+        gw.total[o] = 0.0;
     for (unsigned i = 0; i < k; i++)
         grid_paint(&gw, &sf[i], i, dim);
     double G = -INFINITY;
@@ -465,14 +499,17 @@ static int grid_solve(kelp_ivp_problem *p, const sfunc *sf, snode *node, double 
             size_t po = 0;
             for (unsigned e = 0; e < dim; e++)
                 po += gw.pstride[e] * (size_t)(x[e] + 1);
-            gw.sat[po] = gw.cover[o] == k && gw.total[o] >= lim;
+            bool opt = gw.cover[o] == k && gw.total[o] >= lim;
+            gw.sat[po] = opt;
+            if (opt && gw.na++ < GRID_LIST)
+                memcpy(&gw.list[(gw.na - 1) * D], x, sizeof x);
             for (unsigned e = dim; e-- > 0;) {
                 if (++x[e] < (int32_t)p->dom.var[e].points)
                     break;
                 x[e] = 0;
             }
         }
-        for (unsigned e = 0; e < dim; e++) /* prefix sums along each variable in turn */
+        for (unsigned e = 0; e < dim && gw.na > GRID_LIST; e++) /* prefix sums along each variable */
             for (size_t po = 0; po < gw.gp; po++)
                 if ((po / gw.pstride[e]) % ((size_t)p->dom.var[e].points + 1u) != 0)
                     gw.sat[po] += gw.sat[po - gw.pstride[e]];
