@@ -3,7 +3,10 @@
  * A BHV_AvoidCollision template spawns one instance per contact from CONTACT_INFO alerts (as
  * the contact manager posts them); a BHV_Waypoint runs beside them. Contacts sit on a ring 60
  * to 160 m around the area ownship circles in, report at 1 Hz (the helm runs at 4 Hz), and
- * all instances are active every iteration. Prints the median wall time per iteration (ns). */
+ * all instances are active every iteration. Prints the median wall time per iteration (ns),
+ * the median build (all behaviours' functions) and solve times (us) the helm measured, the
+ * pieces and the last decision. bench/helm_spawn.sh compiles the helm with room for 50
+ * spawned instances (-DKELP_HELM_MAX_SPAWNED). */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
 #include <stdio.h>
@@ -86,7 +89,7 @@ int main(int argc, char **argv)
         return 1;
     }
     kelp_helm_start(&h, 0);
-    double *t = calloc((size_t)n, sizeof *t), *tc = calloc((size_t)n, sizeof *tc);
+    double *t = calloc((size_t)n, sizeof *t), *tc = calloc((size_t)n, sizeof *tc), *ts = calloc((size_t)n, sizeof *ts);
     for (long i = 0; i < n; i++) {
         double now = 0.25 * (double)(i + 1), a = (double)i * 0.01;
         kelp_helm_mail_double(&h, "NAV_X", 20 * cos(a));
@@ -110,6 +113,7 @@ int main(int argc, char **argv)
             return 1;
         t[i] = now_ns() - t0;
         tc[i] = h.rep.create_time * 1e9;
+        ts[i] = h.rep.solve_time * 1e9;
         if (h.rep.ofnum != (unsigned)ns + 1) {
             fprintf(stderr, "only %u of %d functions (%s)\n", h.rep.ofnum, ns + 1, h.rep.allstop);
             return 1;
@@ -117,12 +121,14 @@ int main(int argc, char **argv)
     }
     qsort(t, (size_t)n, sizeof *t, cmp);
     qsort(tc, (size_t)n, sizeof *tc, cmp);
+    qsort(ts, (size_t)n, sizeof *ts, cmp);
     size_t pieces = 0;
     for (unsigned i = 0; i < h.nbhv; i++)
         pieces += h.fn[i].n;
-    printf("median_ns %.0f build_us %.0f pieces %zu decision %.0f/%.1f\n", t[n / 2], tc[n / 2] / 1000, pieces,
-           h.rep.decision[0], h.rep.decision[1]);
+    printf("median_ns %.0f build_us %.0f solve_us %.0f pieces %zu decision %.0f/%.1f\n", t[n / 2], tc[n / 2] / 1000,
+           ts[n / 2] / 1000, pieces, h.rep.decision[0], h.rep.decision[1]);
     free(t);
     free(tc);
+    free(ts);
     return 0;
 }

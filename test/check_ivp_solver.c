@@ -152,15 +152,26 @@ static void check_same(const kelp_ivp_domain *d, kelp_ivp_func *f, unsigned k)
         ck_assert_int_eq(kelp_ivp_problem_add(&p, &f[i]), 0);
         ref_add(&s, &f[i]);
     }
-    kelp_ivp_result r;
-    size_t ws = kelp_ivp_solve_work_size(&p);
+    kelp_ivp_result r, rg;
+    size_t ws = kelp_ivp_solve_work_size(&p), wg = kelp_ivp_solve_grid_work_size(&p);
     ck_assert_uint_le(ws, sizeof s_work);
+    ck_assert_uint_ge(wg, ws);
+    /* the grid path (when the domain allows it) must answer as the search alone */
+    int rcg = wg <= sizeof s_work ? kelp_ivp_solve(&p, s_work, wg, &rg) : 1;
     int rc = kelp_ivp_solve(&p, s_work, ws, &r);
+    if (rcg != 1) {
+        ck_assert_int_eq(rcg, rc);
+        if (rc == 0) {
+            ck_assert_msg(rg.value == r.value, "grid value %a, search %a", rg.value, r.value);
+            for (unsigned v = 0; v < d->dim; v++)
+                ck_assert_uint_eq(rg.ix[v], r.ix[v]);
+        }
+    }
     if (s.k == 0) {
         ck_assert_int_eq(rc, KELP_ERR_EMPTY);
         return;
     }
-    int32_t lo[KELP_IVP_MAX_DIM], hi[KELP_IVP_MAX_DIM];
+    int32_t lo[KELP_IVP_MAX_DIM] = {0}, hi[KELP_IVP_MAX_DIM] = {0};
     double z[KELP_IVP_MAX_DIM] = {0};
     for (unsigned v = 0; v < d->dim; v++) {
         lo[v] = 0;
@@ -695,6 +706,82 @@ START_TEST(zaic_peak_random_vs_reference)
 }
 END_TEST
 
+/* The grid path against brute force over the grid: 21 random functions over course x speed
+ * (360 x 21, the helm's domain), each a tiling of random boxes with random planes (values in
+ * [0,100], many plateaus at 0 and 100 as an avoidance function has). The optimum must be the
+ * brute-force maximum of the weighted sum at every point, the decision a point reaching it, and
+ * the answer the plain search's, bit for bit. Deterministic seeds. */
+static kelp_ivp_piece bf_store[21][2560];
+
+static void bf_tiling(kelp_ivp_func *f, kelp_ivp_piece *store, const kelp_ivp_domain *d)
+{
+    ck_assert_int_eq(kelp_ivp_func_init(f, d, store, 2560), 0);
+    int32_t e0 = 3 + rn(30), e1 = 1 + rn(7);
+    for (int32_t a = 0; a < (int32_t)d->var[0].points; a += e0)
+        for (int32_t b = 0; b < (int32_t)d->var[1].points; b += e1) {
+            int32_t lo[2] = {a, b}, hi[2] = {a + e0 - 1, b + e1 - 1};
+            if (hi[0] >= (int32_t)d->var[0].points) hi[0] = (int32_t)d->var[0].points - 1;
+            if (hi[1] >= (int32_t)d->var[1].points) hi[1] = (int32_t)d->var[1].points - 1;
+            double sl[2] = {0, 0}, c;
+            int kind = rn(4);
+            if (kind == 0) {
+                c = 0;
+            } else if (kind == 1) {
+                c = 100;
+            } else { /* a plane from 0..100 at the low corner, staying in [0,100] over the box */
+                double v0 = rr(0, 100), r0 = hi[0] - lo[0], r1 = hi[1] - lo[1];
+                double room = (100 - v0) / 2, s0 = r0 > 0 ? rr(-v0 / 2, room) / r0 : 0, s1 = r1 > 0 ? rr(-v0 / 2, room) / r1 : 0;
+                sl[0] = s0, sl[1] = s1;
+                c = v0 - s0 * lo[0] - s1 * lo[1];
+            }
+            ck_assert_int_eq(kelp_ivp_func_add(f, lo, hi, sl, c), 0);
+        }
+}
+
+START_TEST(solver_grid_vs_brute_force)
+{
+    rseed(9100u + (unsigned)_i);
+    kelp_ivp_domain d = mkdom("course:0:359:360,speed:0:4:21");
+    static kelp_ivp_func f[21];
+    unsigned k = 21;
+    kelp_ivp_problem p;
+    kelp_ivp_problem_init(&p, &d);
+    for (unsigned i = 0; i < k; i++) {
+        bf_tiling(&f[i], bf_store[i], &d);
+        f[i].pwt = i == 0 ? 100 : 50 + 10 * rn(16);
+        ck_assert(kelp_ivp_func_tiles(&f[i]));
+        ck_assert_int_eq(kelp_ivp_problem_add(&p, &f[i]), 0);
+    }
+    size_t wg = kelp_ivp_solve_grid_work_size(&p), ws = kelp_ivp_solve_work_size(&p);
+    ck_assert_uint_gt(wg, ws);
+    ck_assert_uint_le(wg, sizeof s_work);
+    kelp_ivp_result rg, r;
+    ck_assert_int_eq(kelp_ivp_solve(&p, s_work, wg, &rg), 0);
+    /* brute force: every point, every function */
+    double best = -INFINITY, at = 0;
+    for (uint32_t a = 0; a < d.var[0].points; a++)
+        for (uint32_t b = 0; b < d.var[1].points; b++) {
+            uint32_t ix[2] = {a, b};
+            double tot = 0;
+            for (unsigned i = 0; i < k; i++) {
+                double v;
+                ck_assert_int_eq(kelp_ivp_func_eval(&f[i], ix, &v), 0);
+                tot += v * f[i].pwt;
+            }
+            if (tot > best) best = tot;
+            if (a == rg.ix[0] && b == rg.ix[1]) at = tot;
+        }
+    ck_assert_double_eq_tol(rg.value, best, 1e-7);
+    ck_assert_double_eq_tol(at, best, 1e-7);
+    if (_i < 3) { /* the plain search on these is slow (exponential in plateaus): a few only */
+        ck_assert_int_eq(kelp_ivp_solve(&p, s_work, ws, &r), 0);
+        ck_assert_msg(rg.value == r.value, "grid value %a, search %a", rg.value, r.value);
+        ck_assert_uint_eq(rg.ix[0], r.ix[0]);
+        ck_assert_uint_eq(rg.ix[1], r.ix[1]);
+    }
+}
+END_TEST
+
 Suite *kelp_ivp_solver_suite(void)
 {
     Suite *s = suite_create("ivp_solver");
@@ -705,6 +792,7 @@ Suite *kelp_ivp_solver_suite(void)
     tcase_add_test(tc, solver_rounding_better_leaf_wins);
     tcase_add_loop_test(tc, solver_bench_problem_vs_reference, 0, 10);
     tcase_add_loop_test(tc, zaic_peak_random_vs_reference, 0, 50);
+    tcase_add_loop_test(tc, solver_grid_vs_brute_force, 0, 20);
     suite_add_tcase(s, tc);
     return s;
 }

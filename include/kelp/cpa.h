@@ -92,6 +92,14 @@ KELP_MUST_CHECK int kelp_cpa_fast_init(kelp_cpa_fast *f, const kelp_cpa_vessel *
 /** CPA range if ownship takes course osh at speed osv now (negative osv taken as 0);
  *  *tcpa (if not NULL) gets its time. Equal to kelp_cpa_eval's cpa for the same pair. */
 double kelp_cpa_fast_eval(const kelp_cpa_fast *f, double osh, double osv, double *tcpa);
+/** The unit heading vector (east, north) of heading h in degrees, as the CPA engine turns a
+ *  heading into a velocity (exact at the quadrant headings). */
+void kelp_cpa_unit(double hdg, double *ux, double *uy);
+/** kelp_cpa_fast_eval with ownship's heading given as its unit vector from kelp_cpa_unit,
+ *  without the trigonometry (a caller evaluating many speeds per course takes the unit vectors
+ *  once per course): the same closest approach, its length within an ulp of
+ *  kelp_cpa_fast_eval's (a square root in place of hypot). */
+double kelp_cpa_fast_eval_unit(const kelp_cpa_fast *f, double ux, double uy, double osv, double *tcpa);
 
 #ifdef __cplusplus
 }

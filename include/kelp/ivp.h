@@ -289,8 +289,19 @@ void kelp_ivp_problem_init(kelp_ivp_problem *p, const kelp_ivp_domain *dom);
  * variable must be a problem variable with equal extents (else KELP_ERR_NOTFOUND/RANGE). The
  * function is referenced, not copied, and must outlive the solve; it is never modified. */
 KELP_MUST_CHECK int kelp_ivp_problem_add(kelp_ivp_problem *p, const kelp_ivp_func *f);
-/** Bytes of work storage kelp_ivp_solve needs. */
+#ifndef KELP_IVP_SOLVE_GRID_MAX
+#define KELP_IVP_SOLVE_GRID_MAX 65536 /**< domain points up to which the solver can use its grid path */
+#endif
+KELP_STATIC_ASSERT(KELP_IVP_MAX_FUNCS < 65535, "the grid path counts functions in 16 bits");
+
+/** Bytes of work storage kelp_ivp_solve needs (the branch-and-bound search alone). */
 size_t kelp_ivp_solve_work_size(const kelp_ivp_problem *p);
+/** Bytes with which kelp_ivp_solve takes its grid path: a domain of at most
+ * KELP_IVP_SOLVE_GRID_MAX points is evaluated point by point first (about 20 bytes per point
+ * plus 4 per piece), and the search then follows only the boxes that hold an optimal point.
+ * Same answer as the search alone, at a cost near one evaluation of every function at every
+ * point. Larger domains: equal to kelp_ivp_solve_work_size. */
+size_t kelp_ivp_solve_grid_work_size(const kelp_ivp_problem *p);
 /** Maximise sum_i pwt_i * f_i (f_i normalised to [0,100] first when its range exceeds 100) by
  * branch and bound, choosing exactly what MOOS-IvP's IvPProblem chooses: the first optimum in
  * depth-first order (first function's pieces in stored order, then the next function's

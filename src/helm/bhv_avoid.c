@@ -315,14 +315,40 @@ double kelp_bhv_avoid_relevance(double range, double inner, double outer, int gr
     return p;
 }
 
-double kelp_bhv_avoid_aof_eval(const double *pt, void *user)
+/* MOOS-IvP's metric: CPA range to utility */
+static inline double cpa_utility(const kelp_bhv_avoid_aof *f, double cpa)
 {
-    const kelp_bhv_avoid_aof *f = user;
-    double cpa = kelp_cpa_fast_eval(&f->cpa, pt[f->icrs], pt[f->ispd], NULL);
     if (cpa < f->min_util) return 0;
     if (cpa > f->max_util) return 100;
     if (f->max_util <= f->min_util) return 100;
     return 25.0 + 75.0 * (cpa - f->min_util) / (f->max_util - f->min_util);
+}
+
+double kelp_bhv_avoid_aof_eval(const double *pt, void *user)
+{
+    const kelp_bhv_avoid_aof *f = user;
+    return cpa_utility(f, kelp_cpa_fast_eval(&f->cpa, pt[f->icrs], pt[f->ispd], NULL));
+}
+
+/* The same AOF with the course's unit vectors taken once per build (the Reflector samples
+ * every course some dozen times): unit[2 i], unit[2 i + 1] for course index i, in the helm's
+ * dwork scratch. Values are kelp_bhv_avoid_aof_eval's to within an ulp of the CPA range
+ * (kelp_cpa_fast_eval_unit). */
+typedef struct avd_tab {
+    kelp_bhv_avoid_aof f;
+    const double *unit;
+    double low, delta;
+    uint32_t points;
+} avd_tab;
+
+static double avd_tab_eval(const double *pt, void *user)
+{
+    const avd_tab *t = user;
+    double c = pt[t->f.icrs], x = t->delta > 0 ? (c - t->low) / t->delta : 0;
+    uint32_t i = x > 0 ? (uint32_t)(x + 0.5) : 0;
+    if (i >= t->points || (double)i * t->delta + t->low != c) /* not a domain point: the plain way */
+        return kelp_bhv_avoid_aof_eval(pt, (void *)&t->f);
+    return cpa_utility(&t->f, kelp_cpa_fast_eval_unit(&t->f.cpa, t->unit[2 * i], t->unit[2 * i + 1], pt[t->f.ispd], NULL));
 }
 
 /* distance a contact travelled dt seconds after its report, speed decaying from d1 to d2 */
@@ -529,22 +555,36 @@ static void avd_idle(kelp_bhv *b)
 static int build(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
 {
     kelp_bhv_avoid *a = &b->u.avoid;
-    kelp_bhv_avoid_aof f;
-    f.icrs = kelp_ivp_domain_index(&b->dom, "course");
-    f.ispd = kelp_ivp_domain_index(&b->dom, "speed");
-    if (f.icrs < 0 || f.ispd < 0) return KELP_ERR_NOTFOUND;
-    f.min_util = a->range <= a->min_util_cpa_dist ? a->range / 2 : a->min_util_cpa_dist;
-    f.max_util = a->max_util_cpa_dist;
+    avd_tab t;
+    kelp_bhv_avoid_aof *f = &t.f;
+    f->icrs = kelp_ivp_domain_index(&b->dom, "course");
+    f->ispd = kelp_ivp_domain_index(&b->dom, "speed");
+    if (f->icrs < 0 || f->ispd < 0) return KELP_ERR_NOTFOUND;
+    f->min_util = a->range <= a->min_util_cpa_dist ? a->range / 2 : a->min_util_cpa_dist;
+    f->max_util = a->max_util_cpa_dist;
     kelp_cpa_vessel cn = {a->cn.x, a->cn.y, a->cn.hdg, a->cn.spd};
-    if (kelp_cpa_fast_init(&f.cpa, &cn, a->osx, a->osy, a->time_on_leg) != KELP_OK) return KELP_ERR_ARG;
+    if (kelp_cpa_fast_init(&f->cpa, &cn, a->osx, a->osy, a->time_on_leg) != KELP_OK) return KELP_ERR_ARG;
+    const kelp_ivp_var *cv = &b->dom.var[f->icrs];
+    kelp_ivp_aof_fn aof = kelp_bhv_avoid_aof_eval;
+    void *user = f;
+    if (w->dwork && w->dwork_cap / 2 >= cv->points) { /* room for the course table */
+        for (uint32_t i = 0; i < cv->points; i++)
+            kelp_cpa_unit(kelp_ivp_domain_value(&b->dom, (unsigned)f->icrs, i), &w->dwork[2 * i], &w->dwork[2 * i + 1]);
+        t.unit = w->dwork;
+        t.low = cv->low;
+        t.delta = cv->delta;
+        t.points = cv->points;
+        aof = avd_tab_eval;
+        user = &t;
+    }
     size_t cap = w->out_cap < w->pq_cap ? w->out_cap : w->pq_cap;
     kelp_ivp_reflector r;
     /* a failed init leaves r.ok false: kelp_ivp_reflector_create then fails with KELP_ERR_STATE */
-    hx_ignore(kelp_ivp_reflector_init(&r, &b->dom, kelp_bhv_avoid_aof_eval, &f));
+    hx_ignore(kelp_ivp_reflector_init(&r, &b->dom, aof, user));
     int amount = -1;
     if (kelp_ivp_reflector_set_param(&r, "uniform_piece", AVD_PIECE) != 0 ||
         kelp_ivp_reflector_max_pieces(&r, -1, -1) > cap) { /* a small pool: as many pieces as fit */
-        hx_ignore(kelp_ivp_reflector_init(&r, &b->dom, kelp_bhv_avoid_aof_eval, &f));
+        hx_ignore(kelp_ivp_reflector_init(&r, &b->dom, aof, user));
         amount = (int)(cap > 2 ? cap / 2 : 1);
     }
     int rc = kelp_ivp_reflector_create(&r, amount, -1, 0, w->out, cap, w->pq, kelp_ivp_reflector_work_len(cap), out);

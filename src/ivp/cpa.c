@@ -186,3 +186,25 @@ double kelp_cpa_fast_eval(const kelp_cpa_fast *f, double osh, double osv, double
     velocity(osh, osv, &ovx, &ovy);
     return closest(f->dx, f->dy, f->cvx - ovx, f->cvy - ovy, f->tol, tcpa);
 }
+
+void kelp_cpa_unit(double hdg, double *ux, double *uy)
+{
+    sincosd(hdg, ux, uy);
+}
+
+double kelp_cpa_fast_eval_unit(const kelp_cpa_fast *f, double ux, double uy, double osv, double *tcpa)
+{
+    double v = osv > 0 ? osv : 0; /* as velocity() */
+    double dx = f->dx, dy = f->dy, wx = f->cvx - v * ux, wy = f->cvy - v * uy;
+    /* closest(), with the length as sqrt of the sum of squares (within an ulp of hypot, a
+     * tenth of its cost; no overflow at any distance a helm sees) */
+    double ww = wx * wx + wy * wy, t = 0.0;
+    if (ww > 0.0) {
+        t = -(dx * wx + dy * wy) / ww;
+        if (t < 0.0) t = 0.0;
+        if (f->tol > 0.0 && t > f->tol) t = f->tol;
+    }
+    if (tcpa) *tcpa = t;
+    double ex = dx + wx * t, ey = dy + wy * t;
+    return sqrt(ex * ex + ey * ey);
+}

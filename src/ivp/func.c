@@ -81,11 +81,17 @@ int kelp_ivp_func_range(const kelp_ivp_func *f, double *min, double *max)
 {
     if (f->n == 0)
         return KELP_ERR_EMPTY;
-    double lo = kelp_ivp_piece_min(&f->pcs[0], f->dom.dim);
-    double hi = kelp_ivp_piece_max(&f->pcs[0], f->dom.dim);
-    for (size_t i = 1; i < f->n; i++) {
-        double a = kelp_ivp_piece_min(&f->pcs[i], f->dom.dim);
-        double b = kelp_ivp_piece_max(&f->pcs[i], f->dom.dim);
+    unsigned dim = f->dom.dim;
+    double lo = kelp_ivp_piece_min(&f->pcs[0], dim);
+    double hi = kelp_ivp_piece_max(&f->pcs[0], dim);
+    for (size_t i = 1; i < f->n; i++) { /* kelp_ivp_piece_min / _max in one pass, inline */
+        const kelp_ivp_piece *p = &f->pcs[i];
+        double a = p->cst, b = p->cst;
+        for (unsigned d = 0; d < dim; d++) {
+            double s = p->slope[d], l = s * (double)p->lo[d], h = s * (double)p->hi[d];
+            a += s < 0 ? h : l;
+            b += s < 0 ? l : h;
+        }
         if (a < lo)
             lo = a;
         if (b > hi)

@@ -115,6 +115,55 @@ typedef struct seg {
     double base, slope;
 } seg;
 
+/* The grid path (see kelp_ivp_solve_grid_work_size): points of the problem domain, or 0 when
+ * the domain has more than KELP_IVP_SOLVE_GRID_MAX points. */
+static size_t grid_points(const kelp_ivp_problem *p, size_t *padded)
+{
+    size_t g = 1, gp = 1;
+    if (padded)
+        *padded = 0;
+    for (unsigned e = 0; e < p->dom.dim; e++) {
+        g *= p->dom.var[e].points;
+        gp *= (size_t)p->dom.var[e].points + 1u;
+        if (g > KELP_IVP_SOLVE_GRID_MAX)
+            return 0;
+    }
+    if (padded)
+        *padded = gp;
+    return p->dom.dim ? g : 0;
+}
+
+static size_t total_pieces(const kelp_ivp_problem *p)
+{
+    size_t t = 0;
+    for (unsigned i = 0; i < p->nf; i++)
+        t += p->f[i]->n;
+    return t;
+}
+
+/* Optimal points kept as a list (checked one by one) before the summed-area table takes over. */
+#define GRID_LIST 8
+
+/* Bytes of the grid path on top of the search's own storage. */
+static size_t grid_size(const kelp_ivp_problem *p)
+{
+    size_t gp = 0, g = grid_points(p, &gp);
+    if (!g)
+        return 0;
+    size_t sz = 2 * align8(sizeof(double) * g);            /* total, the function's value */
+    sz += align8(sizeof(uint16_t) * g);                     /* functions covering, in order */
+    sz += align8(sizeof(uint32_t) * gp);                    /* optimal points, summed area */
+    sz += align8(sizeof(uint32_t) * (total_pieces(p) + p->nf + 1)); /* candidates per function */
+    sz += align8(sizeof(int32_t) * D * GRID_LIST);          /* a few optimal points, listed */
+    return sz;
+}
+
+size_t kelp_ivp_solve_grid_work_size(const kelp_ivp_problem *p)
+{
+    size_t g = grid_size(p);
+    return kelp_ivp_solve_work_size(p) + (g ? g + 8u : 0u);
+}
+
 size_t kelp_ivp_solve_work_size(const kelp_ivp_problem *p)
 {
     size_t k = p->nf;
@@ -293,6 +342,258 @@ static double majorant(const sfunc *sf, const kelp_ivp_domain *dom, brow *const 
     return res;
 }
 
+/* ------------------------------------------------------------------ the grid path
+ *
+ * When the problem domain has at most KELP_IVP_SOLVE_GRID_MAX points and the caller gives the
+ * storage (kelp_ivp_solve_grid_work_size), the objective is first evaluated at every point:
+ * each function paints its pieces onto the grid (where pieces overlap, the larger value: a leaf
+ * may combine any intersecting pieces), so total[x] is the best leaf value at x and its maximum
+ * G is the optimum. The search then walks the same depth-first order as above but keeps only
+ * nodes whose box holds a point within tol of G (a summed-area table of those points answers
+ * in 2^dim reads), and at each level only the pieces that hold such a point. The first optimum
+ * lies in such a box (its value at its maximising corner is G up to rounding, far below tol),
+ * and so does every leaf that could tie with it or beat it, so the answer is the exhaustive
+ * search's. Cost: one pass over the grid per function (about the pieces' points) plus, per
+ * level, the few pieces near the optimum; with a plateau of optimal points the search visits
+ * the leaves over the plateau. */
+
+typedef struct gridw {
+    double *total, *fval;
+    uint16_t *cover;
+    uint32_t *sat;
+    uint32_t *cand;
+    int32_t *list;            /* na <= GRID_LIST: the optimal points, D coordinates each */
+    uint32_t na;
+    size_t g, gp;
+    size_t stride[D], pstride[D];
+} gridw;
+
+/* Paint function i (pieces aligned to the problem domain) onto the grid. The grid's arrays are
+ * held in locals so the stores do not make the compiler reload them (or the piece) per point. */
+static void grid_paint(gridw *gw, const sfunc *F, unsigned i, unsigned dim)
+{
+    unsigned last = dim - 1;
+    double *total = gw->total, *fval = gw->fval;
+    uint16_t *cover = gw->cover;
+    const uint16_t mine = (uint16_t)i, done = (uint16_t)(i + 1);
+    for (uint32_t j = 0; j < F->n; j++) {
+        const spiece *q = &F->p[j];
+        int32_t x[D];
+        for (unsigned e = 0; e < dim; e++)
+            x[e] = q->lo[e];
+        const int32_t t0 = q->lo[last], t1 = q->hi[last];
+        const double sl = q->s[last];
+        for (;;) {
+            double base = q->c;
+            size_t off = 0;
+            for (unsigned e = 0; e < last; e++) {
+                base += q->s[e] * (double)x[e];
+                off += gw->stride[e] * (size_t)x[e];
+            }
+            for (int32_t t = t0; t <= t1; t++) {
+                size_t o = off + (size_t)t;
+                double v = base + sl * (double)t;
+                uint16_t c = cover[o];
+                if (c == mine) { /* covered by every earlier function, first piece of this one */
+                    cover[o] = done;
+                    fval[o] = v;
+                    total[o] += v;
+                } else if (c == done && v > fval[o]) { /* an overlapping piece, larger */
+                    total[o] += v - fval[o];
+                    fval[o] = v;
+                }
+            }
+            unsigned e = last;
+            while (e-- > 0) {
+                if (++x[e] <= q->hi[e])
+                    break;
+                x[e] = q->lo[e];
+            }
+            if (e == (unsigned)-1)
+                break;
+        }
+    }
+}
+
+/* Optimal points in box [lo, hi] (summed-area table, inclusion-exclusion over the corners);
+ * with a short list, whether there is one. */
+static uint32_t grid_count(const gridw *gw, const int32_t *lo, const int32_t *hi, unsigned dim)
+{
+    if (gw->na <= GRID_LIST) {
+        for (uint32_t a = 0; a < gw->na; a++) {
+            const int32_t *x = &gw->list[a * D];
+            unsigned e = 0;
+            while (e < dim && x[e] >= lo[e] && x[e] <= hi[e])
+                e++;
+            if (e == dim)
+                return 1;
+        }
+        return 0;
+    }
+    if (dim == 2) {
+        size_t s0 = gw->pstride[0];
+        size_t a = s0 * (size_t)lo[0], b = s0 * (size_t)(hi[0] + 1);
+        return gw->sat[b + (size_t)hi[1] + 1] - gw->sat[a + (size_t)hi[1] + 1] - gw->sat[b + (size_t)lo[1]] +
+               gw->sat[a + (size_t)lo[1]];
+    }
+    uint32_t n = 0;
+    for (unsigned m = 0; m < (1u << dim); m++) {
+        size_t o = 0;
+        unsigned low = 0;
+        for (unsigned e = 0; e < dim; e++) {
+            if ((m >> e) & 1u) {
+                o += gw->pstride[e] * (size_t)(hi[e] + 1);
+            } else {
+                o += gw->pstride[e] * (size_t)lo[e];
+                low++;
+            }
+        }
+        n += (low & 1u) ? (uint32_t)0 - gw->sat[o] : gw->sat[o];
+    }
+    return n;
+}
+
+static int grid_solve(kelp_ivp_problem *p, const sfunc *sf, snode *node, double margin, unsigned char *w,
+                      kelp_ivp_result *res)
+{
+    unsigned k = p->nf, dim = p->dom.dim;
+    gridw gw;
+    gw.g = grid_points(p, &gw.gp);
+    gw.total = (double *)(void *)w;
+    w += align8(sizeof(double) * gw.g);
+    gw.fval = (double *)(void *)w;
+    w += align8(sizeof(double) * gw.g);
+    gw.cover = (uint16_t *)(void *)w;
+    w += align8(sizeof(uint16_t) * gw.g);
+    gw.sat = (uint32_t *)(void *)w;
+    w += align8(sizeof(uint32_t) * gw.gp);
+    uint32_t *cstart = (uint32_t *)(void *)w;
+    gw.cand = cstart + k + 1;
+    w += align8(sizeof(uint32_t) * (total_pieces(p) + k + 1));
+    gw.list = (int32_t *)(void *)w;
+    gw.na = 0;
+    size_t st = 1, pst = 1;
+    for (unsigned e = dim; e-- > 0;) {
+        gw.stride[e] = st;
+        gw.pstride[e] = pst;
+        st *= p->dom.var[e].points;
+        pst *= (size_t)p->dom.var[e].points + 1u;
+    }
+    memset(gw.cover, 0, sizeof(uint16_t) * gw.g);
+    for (size_t o = 0; o < gw.g; o++)
+        gw.total[o] = 0.0;
+    for (unsigned i = 0; i < k; i++)
+        grid_paint(&gw, &sf[i], i, dim);
+    double G = -INFINITY;
+    for (size_t o = 0; o < gw.g; o++)
+        if (gw.cover[o] == k && gw.total[o] > G)
+            G = gw.total[o];
+    if (G == -INFINITY)
+        return ivp_fail(&p->diag, KELP_ERR_INFEASIBLE, "solver: no point is covered by every function", NULL, 0);
+    /* summed-area table of the points within tol of G, padded by one on the low side */
+    double lim = G - 4.0 * margin;
+    memset(gw.sat, 0, sizeof(uint32_t) * gw.gp);
+    {
+        int32_t x[D] = {0};
+        for (size_t o = 0; o < gw.g; o++) {
+            size_t po = 0;
+            for (unsigned e = 0; e < dim; e++)
+                po += gw.pstride[e] * (size_t)(x[e] + 1);
+            bool opt = gw.cover[o] == k && gw.total[o] >= lim;
+            gw.sat[po] = opt;
+            if (opt && gw.na++ < GRID_LIST)
+                memcpy(&gw.list[(gw.na - 1) * D], x, sizeof x);
+            for (unsigned e = dim; e-- > 0;) {
+                if (++x[e] < (int32_t)p->dom.var[e].points)
+                    break;
+                x[e] = 0;
+            }
+        }
+        for (unsigned e = 0; e < dim && gw.na > GRID_LIST; e++) /* prefix sums along each variable */
+            for (size_t po = 0; po < gw.gp; po++)
+                if ((po / gw.pstride[e]) % ((size_t)p->dom.var[e].points + 1u) != 0)
+                    gw.sat[po] += gw.sat[po - gw.pstride[e]];
+    }
+    /* per function, the pieces (stored order) holding an optimal point */
+    uint32_t nc = 0;
+    for (unsigned i = 0; i < k; i++) {
+        cstart[i] = nc;
+        for (uint32_t j = 0; j < sf[i].n; j++)
+            if (grid_count(&gw, sf[i].p[j].lo, sf[i].p[j].hi, dim))
+                gw.cand[nc++] = j;
+    }
+    cstart[k] = nc;
+
+    bool found = false;
+    double best = 0;
+    int32_t blo[D], bhi[D];
+    double bs[D];
+    unsigned long leaves = 0;
+    for (unsigned e = 0; e < dim; e++) {
+        node[0].lo[e] = 0;
+        node[0].hi[e] = (int32_t)p->dom.var[e].points - 1;
+        node[0].s[e] = 0;
+    }
+    node[0].c = 0;
+    node[0].next = cstart[0];
+    unsigned l = 0;
+    for (;;) {
+        snode *cur = &node[l];
+        if (cur->next >= cstart[l + 1]) {
+            if (l == 0)
+                break;
+            l--;
+            continue;
+        }
+        const spiece *q = &sf[l].p[gw.cand[cur->next++]];
+        snode *nx = &node[l + 1];
+        unsigned e;
+        for (e = 0; e < dim; e++) {
+            int32_t a = cur->lo[e] > q->lo[e] ? cur->lo[e] : q->lo[e];
+            int32_t b = cur->hi[e] < q->hi[e] ? cur->hi[e] : q->hi[e];
+            if (a > b)
+                break;
+            nx->lo[e] = a;
+            nx->hi[e] = b;
+        }
+        if (e < dim || !grid_count(&gw, nx->lo, nx->hi, dim))
+            continue;
+        if (l == 0) {
+            for (e = 0; e < dim; e++)
+                nx->s[e] = q->s[e];
+            nx->c = q->c;
+        } else {
+            for (e = 0; e < dim; e++)
+                nx->s[e] = cur->s[e] + q->s[e];
+            nx->c = cur->c + q->c;
+        }
+        if (l + 1 == k) {
+            double v = box_max(nx->lo, nx->hi, nx->s, nx->c, dim);
+            leaves++;
+            if (!found || v > best) {
+                found = true;
+                best = v;
+                memcpy(blo, nx->lo, sizeof blo);
+                memcpy(bhi, nx->hi, sizeof bhi);
+                memcpy(bs, nx->s, sizeof bs);
+            }
+            continue;
+        }
+        nx->next = cstart[l + 1];
+        l++;
+    }
+    res->leaves = leaves;
+    if (!found) /* cannot happen: a point within tol of G lies in some leaf */
+        return ivp_fail(&p->diag, KELP_ERR_INFEASIBLE, "solver: no point is covered by every function", NULL, 0);
+    for (unsigned e = 0; e < dim; e++) {
+        uint32_t ix = (uint32_t)(bs[e] < 0 ? blo[e] : bhi[e]);
+        res->ix[e] = ix;
+        res->val[e] = kelp_ivp_domain_value(&p->dom, e, ix);
+    }
+    res->value = best;
+    return 0;
+}
+
 int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_result *res)
 {
     if (!p || !res)
@@ -373,6 +674,10 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
                 s->mag = g;
         }
         magsum += s->mag;
+    }
+    if (grid_size(p) && work_size >= kelp_ivp_solve_grid_work_size(p)) {
+        double gmargin = 1e-12 * (double)(k + dim + 8) * (4.0 * magsum + 1.0);
+        return grid_solve(p, sf, node, gmargin, (unsigned char *)(((uintptr_t)w + 7u) & ~(uintptr_t)7u), res);
     }
     /* suffix[i]: sum of the global maxima of functions i..k-1; br[i*D+e] and sk[i]: the separable
      * bound of functions i..k-1. */
