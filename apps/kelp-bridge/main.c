@@ -11,7 +11,7 @@
 #include <string.h>
 #include <time.h>
 #include <mbedtls/md.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/bridge.h>
 #include <kelp/edge/udp.h>
 

@@ -13,7 +13,7 @@
  * the interface goes down and comes back. Wire format: docs/CAN.md. */
 #include <stdio.h>
 #include <string.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/can.h>
 #include <kelp/edge/can.h>
 

@@ -7,7 +7,7 @@
 #include <stdio.h>
 
 #include <kelp/acomms.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/commander.h>
 #include <kelp/edge/dccl.h>
 

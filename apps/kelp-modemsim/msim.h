@@ -2,7 +2,7 @@
 #ifndef KELP_MODEMSIM_APP_H
 #define KELP_MODEMSIM_APP_H
 
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/edge/hostport.h>
 #include <kelp/lcmbus.h>
 #include <kelp/modemsim.h>

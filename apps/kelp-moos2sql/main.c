@@ -10,7 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/edge/lcmlog.h>
 #include <kelp/util.h>
 #include "store.h"

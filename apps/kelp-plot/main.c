@@ -14,7 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <lcm/eventlog.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/edge/plot.h>
 
 /* "WxH" with both in range; 0 or -1 */

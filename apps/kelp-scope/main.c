@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/edge/term.h>
 #include <kelp/util.h>
 #include <kelp/xms.h>

@@ -5,7 +5,7 @@
 #include <stdio.h>
 
 #include <kelp/acomms.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/link.h>
 
 /* the core handler (kelp_acomms_handler) and what it is wired to */

@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include <kelp/poller.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/mac.h>
 #include <kelp/modemsim.h>
 

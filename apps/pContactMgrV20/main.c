@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/contactmgr.h>
 
 typedef struct cmgr_app {

@@ -9,7 +9,7 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/helm.h>
 #include <kelp/edge/mission.h>
 

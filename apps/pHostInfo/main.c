@@ -8,7 +8,7 @@
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/field.h>
 
 typedef struct hostinfo {

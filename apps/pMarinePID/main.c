@@ -4,7 +4,7 @@
  * the engine to the bus. */
 #include <stdio.h>
 #include <string.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/pid.h>
 
 typedef struct mpid {

@@ -7,7 +7,7 @@
 #include <unistd.h>
 #include <stdio.h>
 #include <string.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/field.h>
 
 typedef struct nrep {

@@ -7,7 +7,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/edge/dccl.h>
 #include <kelp/remus.h>
 

@@ -2,7 +2,7 @@
  * received on INCOMING_VAR, made in Iterate; also <OUTGOING_VAR>_ITER_HZ and _POST_HZ. */
 #include <stdio.h>
 #include <string.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 
 typedef struct xrelay {
     char in[KELP_MAX_NAME], out[KELP_MAX_NAME];

@@ -4,7 +4,7 @@
  * file reads the block and wires the core to the bus. */
 #include <stdio.h>
 #include <string.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/beaconrange.h>
 #include <kelp/util.h>
 

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/hazardsensor.h>
 #include <kelp/util.h>
 

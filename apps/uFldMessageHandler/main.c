@@ -6,7 +6,7 @@
  * aux_info = node+app) as its MOOS source-aux. */
 #include <stdio.h>
 #include <string.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/field.h>
 
 typedef struct umh {

@@ -8,7 +8,7 @@
  *    iteration, the registrations again every RETRY_INTERVAL while no ack is heard. */
 #include <stdio.h>
 #include <string.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/field.h>
 
 typedef struct nbroker {

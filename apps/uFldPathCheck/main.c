@@ -3,7 +3,7 @@
  * (include/kelp/pathcheck.h); this file reads the block and wires the core to the bus. */
 #include <stdio.h>
 #include <string.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/pathcheck.h>
 #include <kelp/util.h>
 

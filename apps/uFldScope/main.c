@@ -8,7 +8,7 @@
  * FIFO), one character each. */
 #include <stdio.h>
 #include <unistd.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/edge/term.h>
 #include <kelp/field.h>
 

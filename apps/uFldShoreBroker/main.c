@@ -7,7 +7,7 @@
  *  - the seed's (a pMOOSBridge block): PMB_REGISTER, an ack per accepted ping. */
 #include <stdio.h>
 #include <string.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/field.h>
 
 typedef struct sbroker {

@@ -5,7 +5,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/geo.h>
 #include <kelp/pid.h>
 #include <kelp/sim.h>

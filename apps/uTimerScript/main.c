@@ -5,7 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 #include <unistd.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/timerscript.h>
 #include <kelp/util.h>
 

@@ -12,7 +12,7 @@
 #include <time.h>
 #include <unistd.h>
 #include <sys/resource.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 #include <kelp/appcast.h>
 #include <kelp/kv.h>
 #include <kelp/lcmbus.h>

@@ -4,7 +4,7 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 
 #ifndef KELP_VERSION
 #define KELP_VERSION "unknown"

@@ -5,7 +5,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include <kelp/app.h>
+#include <kelp/edge/app.h>
 
 enum { OPT_RAW = 300 };
 

@@ -20,7 +20,7 @@
  *   // argv[optind..argc-1] are the positional arguments
  *
  * --help is generated from the same table the options are parsed with, so the two cannot
- * drift. MOOS-role apps do not call this directly: kelp_app_run() (kelp/app.h) does, adding
+ * drift. MOOS-role apps do not call this directly: kelp_app_run() (kelp/edge/app.h) does, adding
  * --example/-e, --interface/-i, --alias=NAME and --verbose.
  */
 #ifndef KELP_EDGE_CLI_H

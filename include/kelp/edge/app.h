@@ -16,8 +16,8 @@
  * $KELP_WARP_EPOCH (optional, inherited by every app a launcher starts) or 0, so by default
  * every process computes the same warped clock without coordination, as MOOS does.
  */
-#ifndef KELP_APP_H
-#define KELP_APP_H
+#ifndef KELP_EDGE_APP_H
+#define KELP_EDGE_APP_H
 
 #include <stdio.h>
 #include <stdbool.h>
