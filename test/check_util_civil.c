@@ -1,4 +1,4 @@
-/* util: civil dates and hex (src/util/civil.c, src/util/hex.c). */
+/* util: civil dates, hex and white space (src/util/civil.c, src/util/hex.c, src/util/parse.c). */
 #include <check.h>
 #include <string.h>
 #include <kelp/util.h>
@@ -41,12 +41,30 @@ START_TEST(hex_digits_and_bytes)
 }
 END_TEST
 
+START_TEST(space_and_trim)
+{
+    const char *ws = " \t\r\n\f\v";
+    for (const char *c = ws; *c; c++) ck_assert(kelp_util_is_space(*c));
+    ck_assert(!kelp_util_is_space('x') && !kelp_util_is_space('\0') && !kelp_util_is_space('_'));
+    const char *s = " \t a b\r\n";
+    size_t n = strlen(s);
+    kelp_util_trim(&s, &n);
+    ck_assert_uint_eq(n, 3);
+    ck_assert(memcmp(s, "a b", 3) == 0);
+    const char *e = " \t ";
+    n = strlen(e);
+    kelp_util_trim(&e, &n);
+    ck_assert_uint_eq(n, 0);
+}
+END_TEST
+
 Suite *kelp_util_civil_suite(void)
 {
     Suite *s = suite_create("util_civil");
     TCase *tc = tcase_create("core");
     tcase_add_test(tc, civil_dates);
     tcase_add_test(tc, hex_digits_and_bytes);
+    tcase_add_test(tc, space_and_trim);
     suite_add_tcase(s, tc);
     return s;
 }

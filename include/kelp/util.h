@@ -13,6 +13,13 @@
 extern "C" {
 #endif
 
+/* ---- text ---- */
+
+/** C-locale white space: ' ', '\t', '\r', '\n', '\f', '\v'. */
+bool kelp_util_is_space(char c);
+/** Narrow [*s, *s + *n) to drop leading and trailing white space (kelp_util_is_space). */
+void kelp_util_trim(const char **s, size_t *n);
+
 /* ---- numbers: one parser and one formatter for every module ---- */
 
 /** Strict number parsing (the whole string, surrounding white space allowed, no trailing junk;

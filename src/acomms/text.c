@@ -379,14 +379,6 @@ static tk lex(lexer *lx)
     return t;
 }
 
-static int hexval(char c)
-{
-    if (c >= '0' && c <= '9') return c - '0';
-    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-    return -1;
-}
-
 /* unescape one quoted literal (with its quotes; without the closing one if !closed) and append
  * to out; KELP_ERR_NOSPACE if full. out NULL: only check and count (the value is not used). */
 static int unescape(const char *s, size_t n, bool closed, uint8_t *out, size_t cap, size_t *len)
@@ -412,7 +404,7 @@ static int unescape(const char *s, size_t n, bool closed, uint8_t *out, size_t c
             case 'x':
             case 'X': {
                 int v = 0, k = 0;
-                while (k < 2 && i < n && hexval(s[i]) >= 0) v = v * 16 + hexval(s[i++]), k++;
+                while (k < 2 && i < n && kelp_hex_digit(s[i]) >= 0) v = v * 16 + kelp_hex_digit(s[i++]), k++;
                 if (!k) return KELP_ERR_PARSE;
                 c = (uint8_t)v;
                 break;

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <kelp/edge/launch.h>
+#include <kelp/util.h>
 
 const char *kelp_launch_map_prog(const char *p)
 {
@@ -23,13 +24,14 @@ const char *kelp_launch_map_prog(const char *p)
     return p;
 }
 
+/* trim a C string in place */
 static void trim(char *s)
 {
-    char *a = s;
-    while (*a == ' ' || *a == '\t') a++;
-    memmove(s, a, strlen(a) + 1);
+    const char *a = s;
     size_t n = strlen(s);
-    while (n && (s[n - 1] == ' ' || s[n - 1] == '\t')) s[--n] = 0;
+    kelp_util_trim(&a, &n);
+    memmove(s, a, n);
+    s[n] = 0;
 }
 
 int kelp_launch_plan_read(kelp_launch_plan *p, const kelp_mission *m, const char *mission, const char *bindir,

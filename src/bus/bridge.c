@@ -333,11 +333,6 @@ static void bridge_putf(char *buf, size_t cap, size_t *len, const char *fmt, ...
 }
 
 /* s[0..len) trimmed of blanks */
-static void trim_n(const char **s, size_t *len)
-{
-    while (*len && (**s == ' ' || **s == '\t')) (*s)++, (*len)--;
-    while (*len && ((*s)[*len - 1] == ' ' || (*s)[*len - 1] == '\t')) (*len)--;
-}
 
 /* one route "host:port[:udp]" or "multicast_N" (optionally "dest:" before it when dest is
  * non-NULL, the shorthand) into r; "@freq" after it is dropped */
@@ -347,12 +342,12 @@ static int one_route(const char *s, size_t len, kelp_bridge_route *r, char *dest
     if (at) { /* "@F": F shares per second (24.8: anything not a number is 0, every notification) */
         const char *f = at + 1;
         size_t fl = len - (size_t)(f - s);
-        trim_n(&f, &fl);
+        kelp_util_trim(&f, &fl);
         double hz;
         r->frequency = kelp_parse_finite(f, fl, &hz) == 0 && hz > 0 ? hz : 0;
         len = (size_t)(at - s);
     }
-    trim_n(&s, &len);
+    kelp_util_trim(&s, &len);
     const char *part[4];
     size_t pl[4], np = 0, a = 0;
     for (size_t i = 0; i <= len; i++)
@@ -361,7 +356,7 @@ static int one_route(const char *s, size_t len, kelp_bridge_route *r, char *dest
             part[np] = s + a, pl[np++] = i - a;
             a = i + 1;
         }
-    for (size_t i = 0; i < np; i++) trim_n(&part[i], &pl[i]);
+    for (size_t i = 0; i < np; i++) kelp_util_trim(&part[i], &pl[i]);
     const char *last = part[np - 1];
     if (pl[np - 1] > 10 && strncmp(last, "multicast_", 10) == 0) { /* [dest:]multicast_N */
         long ch;
@@ -399,7 +394,7 @@ static int route_list(const char *s, size_t len, const kelp_bridge_route *proto,
         const char *it = s + a;
         size_t il = i - a;
         a = i + 1;
-        trim_n(&it, &il);
+        kelp_util_trim(&it, &il);
         if (!il) continue;
         if (*n >= cap) return kelp_fail(d, KELP_ERR_NOSPACE, "too many routes");
         kelp_bridge_route *r = &routes[*n];
@@ -465,7 +460,7 @@ int kelp_bridge_pshare_output(const char *line, kelp_bridge_route *routes, size_
     if (!arrow) return kelp_fail(d, KELP_ERR_PARSE, "expected src_name=.., route=.. or X->route");
     const char *src = line;
     size_t sl = (size_t)(arrow - line);
-    trim_n(&src, &sl);
+    kelp_util_trim(&src, &sl);
     if (!sl || sl >= sizeof proto.src) return kelp_fail(d, KELP_ERR_PARSE, "bad variable name before ->");
     memcpy(proto.src, src, sl);
     memcpy(proto.alias, src, sl);

@@ -9,6 +9,7 @@
  */
 #include <string.h>
 #include <kelp/mission.h>
+#include <kelp/util.h>
 
 #define MAX_DEPTH 16
 
@@ -56,11 +57,6 @@ static int add(ps *p, kelp_mission_kind kind, const char *k, size_t kl, const ch
     return (int)m->nnodes++;
 }
 
-static void trim(const char **a, size_t *n)
-{
-    while (*n && sp(**a)) { (*a)++; (*n)--; }
-    while (*n && sp((*a)[*n - 1])) (*n)--;
-}
 
 /* End of the current line's content, without a "//" comment (only at line start or after
  * white space, so that "udpm://host" survives). */
@@ -205,7 +201,7 @@ int kelp_mission_parse(kelp_mission *m, const char *text, size_t len, kelp_missi
         size_t end = line_end(&p, p.pos, &next);
         const char *a = p.s + p.pos;
         size_t n = end - p.pos;
-        trim(&a, &n);
+        kelp_util_trim(&a, &n);
         int line = p.line;
         if (n == 0) {
             p.pos = next;
@@ -232,7 +228,7 @@ int kelp_mission_parse(kelp_mission *m, const char *text, size_t len, kelp_missi
              * kept as the block's last child, key "}else" */
             const char *w = a + 1;
             size_t wl = n - 1;
-            trim(&w, &wl);
+            kelp_util_trim(&w, &wl);
             if (wl && w[0] != '}' && w[0] != '#' && !(wl > 1 && w[0] == '/' && w[1] == '/') &&
                 p.stack_set[p.depth - 1]) {
                 size_t k = 0;
@@ -252,14 +248,14 @@ int kelp_mission_parse(kelp_mission *m, const char *text, size_t len, kelp_missi
         if (i < n && a[i] == '=' && a[0] != '[') {
             const char *k = a, *v = a + i + 1;
             size_t kl = i, vl = n - i - 1;
-            trim(&k, &kl);
-            trim(&v, &vl);
+            kelp_util_trim(&k, &kl);
+            kelp_util_trim(&v, &vl);
             if (kl == 0) return fail(&p, line, "missing parameter name before '='");
             /* "Kind = Name {" on one line, or "Kind = Name" with '{' on the next */
             bool brace_here = vl > 0 && v[vl - 1] == '{';
             if (brace_here) {
                 vl--;
-                trim(&v, &vl);
+                kelp_util_trim(&v, &vl);
             }
             size_t nn;
             size_t la = next;
@@ -270,7 +266,7 @@ int kelp_mission_parse(kelp_mission *m, const char *text, size_t len, kelp_missi
                     size_t e2 = line_end(&p, la, &nn);
                     const char *b = p.s + la;
                     size_t bl = e2 - la;
-                    trim(&b, &bl);
+                    kelp_util_trim(&b, &bl);
                     if (bl == 0) { la = nn; continue; }
                     is_block = b[0] == '{';
                     break;

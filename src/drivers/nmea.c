@@ -7,10 +7,6 @@
 
 static const char HEXU[] = "0123456789ABCDEF";
 
-static bool is_space(char c)
-{
-    return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
-}
 
 
 uint8_t kelp_nmea_checksum(const char *s, size_t n)
@@ -24,8 +20,8 @@ int kelp_nmea_parse(const char *line, size_t len, kelp_nmea_sentence *out)
 {
     if (!line || !out) return KELP_ERR_ARG;
     /* trim, as boost::trim in Goby's driver and NMEASentence */
-    while (len > 0 && is_space(line[0])) { line++; len--; }
-    while (len > 0 && is_space(line[len - 1])) len--;
+    while (len > 0 && kelp_util_is_space(line[0])) { line++; len--; }
+    while (len > 0 && kelp_util_is_space(line[len - 1])) len--;
     out->nfields = 0;
     out->had_checksum = false;
     out->talker[0] = out->id[0] = '\0';
@@ -150,7 +146,7 @@ int kelp_nmea_reader_feed(kelp_nmea_reader *r, uint8_t byte, const char **line, 
     if ((char)byte != r->delim) {
         if (r->overflow) return KELP_ERR_PARTIAL;
         /* skip leading whitespace (the '\n' of "\r\n" when reading with '\r') */
-        if (r->len == 0 && is_space((char)byte)) return KELP_ERR_PARTIAL;
+        if (r->len == 0 && kelp_util_is_space((char)byte)) return KELP_ERR_PARTIAL;
         if (r->len >= KELP_MAX_NMEA_LINE) {
             r->overflow = true;
             r->len = 0;
@@ -166,7 +162,7 @@ int kelp_nmea_reader_feed(kelp_nmea_reader *r, uint8_t byte, const char **line, 
     }
     size_t n = r->len;
     r->len = 0;
-    while (n > 0 && is_space(r->line[n - 1])) n--;
+    while (n > 0 && kelp_util_is_space(r->line[n - 1])) n--;
     if (n == 0) return KELP_ERR_PARTIAL;
     r->line[n] = '\0';
     r->count.lines++;

@@ -61,11 +61,6 @@ static void copyz(char *dst, size_t cap, const char *s, size_t n)
     dst[n] = 0;
 }
 
-static void trim(const char **p, size_t *n)
-{
-    while (*n && (**p == ' ' || **p == '\t')) (*p)++, (*n)--;
-    while (*n && ((*p)[*n - 1] == ' ' || (*p)[*n - 1] == '\t' || (*p)[*n - 1] == '\r')) (*n)--;
-}
 
 static void unquote(const char **p, size_t *n)
 {
@@ -193,7 +188,7 @@ double kelp_cmgr_cpa_range(const kelp_cmgr_alert *a)
 static int filter_add_list(kelp_cmgr *c, kelp_cmgr_filter *f, int kind, int ign, const char *v, size_t vl,
                            const kelp_field_sink *out, bool quiet)
 {
-    trim(&v, &vl);
+    kelp_util_trim(&v, &vl);
     if (vl >= 2 && v[0] == '{' && v[vl - 1] == '}') v++, vl -= 2;
     size_t pos = 0;
     const char *it;
@@ -359,14 +354,14 @@ static bool alert_valid(const kelp_cmgr_alert *a)
 /* "VAR=value" (value quotes stripped) into a flag list, unless there already */
 static int add_flag(char (*list)[KELP_CMGR_MAX_FLAG], unsigned *n, const char *v, size_t vl)
 {
-    trim(&v, &vl);
+    kelp_util_trim(&v, &vl);
     unquote(&v, &vl);
     const char *eq = memchr(v, '=', vl);
     if (!eq) return KELP_ERR_PARSE;
     const char *var = v, *val = eq + 1;
     size_t varl = (size_t)(eq - v), vall = vl - varl - 1;
-    trim(&var, &varl);
-    trim(&val, &vall);
+    kelp_util_trim(&var, &varl);
+    kelp_util_trim(&val, &vall);
     unquote(&val, &vall);
     if (varl == 0 || varl + vall + 2 > KELP_CMGR_MAX_FLAG) return KELP_ERR_PARSE;
     char f[KELP_CMGR_MAX_FLAG];
@@ -423,10 +418,10 @@ static int split_comps(const char *spec, comp *cp, unsigned *ncp)
         if (*ncp >= MAX_COMPS) return KELP_ERR_NOSPACE;
         comp *p = &cp[(*ncp)++];
         p->k = it, p->kl = (size_t)(eq - it);
-        trim(&p->k, &p->kl);
+        kelp_util_trim(&p->k, &p->kl);
         const char *v = eq + 1;
         size_t vl = il - (size_t)(v - it);
-        trim(&v, &vl);
+        kelp_util_trim(&v, &vl);
         if (vl + 1 > sizeof p->v) return KELP_ERR_RANGE;
         memcpy(p->v, v, vl);
         p->v[vl] = 0;
@@ -564,7 +559,7 @@ static int config_other(kelp_cmgr *c, const char *key, const char *val, const ke
 {
     size_t kl = strlen(key), vl = strlen(val);
     const char *v = val;
-    trim(&v, &vl);
+    kelp_util_trim(&v, &vl);
     double d;
     bool b;
     if (keyis(key, kl, "contact_max_age", "max_contact_age")) {
@@ -693,7 +688,7 @@ KELP_NOINLINE static int config_filter(kelp_cmgr *c, const char *key, const char
     size_t kl = strlen(key), vl = strlen(val);
     const char *v = val;
     bool strict;
-    trim(&v, &vl);
+    kelp_util_trim(&v, &vl);
     int rc = filter_param(c, &c->filter, key, kl, v, vl, out, &strict);
     return rc < 0 ? 1 : rc;
 }
@@ -841,7 +836,7 @@ KELP_NOINLINE static int report_request(kelp_cmgr *c, const char *s, kelp_time n
 {
     size_t len = strlen(s), pos = 0, kl, vl;
     const char *p = s, *k, *v;
-    trim(&p, &len);
+    kelp_util_trim(&p, &len);
     unquote(&p, &len);
     char *str = c->ws.str; /* (a workspace) */
     copyz(str, sizeof c->ws.str, p, len);
@@ -904,7 +899,7 @@ KELP_NOINLINE static int display_radii(kelp_cmgr *c, const char *s, kelp_time no
 {
     const char *p = s;
     size_t n = strlen(s);
-    trim(&p, &n);
+    kelp_util_trim(&p, &n);
     if (kelp_strieq_n(p, n, "true") || kelp_strieq_n(p, n, "on")) c->display_radii = true;
     else if (kelp_strieq_n(p, n, "false") || kelp_strieq_n(p, n, "off")) c->display_radii = false;
     else if (kelp_strieq_n(p, n, "toggle")) c->display_radii = !c->display_radii;
@@ -979,7 +974,7 @@ KELP_NOINLINE static int able_mail(kelp_cmgr *c, const char *s, const char *acti
     if (!strchr(s, '=') && !strchr(s, ',')) {
         const char *p = s;
         size_t n = strlen(s);
-        trim(&p, &n);
+        kelp_util_trim(&p, &n);
         if (n == 0 || n >= KELP_CMGR_NAME) return KELP_ERR_ARG;
         (void)kelp_snprintf(m, sizeof c->ws_view, "contact=%.*s", (int)n, p);
     } else if (kelp_kv_get(s, ',', "contact", id, sizeof id) == 1 && id[0])

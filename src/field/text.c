@@ -9,13 +9,6 @@
 #include <kelp/util.h>
 #include "field_int.h"
 
-static bool is_ws(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; }
-
-static void trim(const char **p, size_t *n)
-{
-    while (*n && is_ws(**p)) (*p)++, (*n)--;
-    while (*n && is_ws((*p)[*n - 1])) (*n)--;
-}
 
 int field_next_item(const char *s, size_t len, size_t *pos, char sep, const char **item, size_t *ilen)
 {
@@ -43,7 +36,7 @@ int field_next_item(const char *s, size_t len, size_t *pos, char sep, const char
         size_t n = i - *pos;
         *pos = (i < len && s[i] == sep) ? i + 1 : len;
         if (i < len && s[i] == '\0') *pos = len;
-        trim(&p, &n);
+        kelp_util_trim(&p, &n);
         if (n == 0) continue;
         *item = p;
         *ilen = n;
@@ -86,8 +79,8 @@ int field_for_pairs(const char *s, size_t len, char sep, field_pair_fn fn, void 
             }
             const char *k = it, *v = it + eq + 1;
             size_t kl = eq, vl = il - eq - 1;
-            trim(&k, &kl);
-            trim(&v, &vl);
+            kelp_util_trim(&k, &kl);
+            kelp_util_trim(&v, &vl);
             if (kl == 0) {
                 return kelp_fail(d, KELP_ERR_PARSE, "empty key");
             }
@@ -96,19 +89,19 @@ int field_for_pairs(const char *s, size_t len, char sep, field_pair_fn fn, void 
             size_t rest = vl;
             if (eq2 < vl) {
                 size_t sp = eq2;
-                while (sp > 0 && !is_ws(v[sp - 1])) sp--;
+                while (sp > 0 && !kelp_util_is_space(v[sp - 1])) sp--;
                 if (sp > 0) rest = sp - 1;
             }
             size_t cur = rest;
             const char *cv = v;
-            trim(&cv, &cur);
+            kelp_util_trim(&cv, &cur);
             if (cur >= 2 && cv[0] == '"' && cv[cur - 1] == '"') cv++, cur -= 2;
             rc = fn(ctx, k, kl, cv, cur);
             if (rc < 0) return rc;
             if (rest >= vl) break;
             it = v + rest + 1;
             il = vl - rest - 1;
-            trim(&it, &il);
+            kelp_util_trim(&it, &il);
             if (il == 0) break;
         }
     }

@@ -133,11 +133,6 @@ static const char *find(const char *s, size_t len, const char *sep)
     return NULL;
 }
 
-static void trim(const char **s, size_t *n)
-{
-    while (*n && (**s == ' ' || **s == '\t')) (*s)++, (*n)--;
-    while (*n && ((*s)[*n - 1] == ' ' || (*s)[*n - 1] == '\t')) (*n)--;
-}
 
 /* a field's text as kelp_appcast_format would write it: up to a NUL, "!@" as "!_" */
 static void copy(char *dst, size_t cap, const char *s, size_t n)
@@ -169,7 +164,7 @@ static void split_list(const char *v, size_t vl, char (*list)[KELP_APPCAST_ITEM]
         size_t n = e ? (size_t)(e - v) : vl;
         const char *item = v;
         size_t il = n;
-        trim(&item, &il);
+        kelp_util_trim(&item, &il);
         if (il && *count < KELP_APPCAST_ITEMS) {
             if (counts) {
                 /* "count:text" */
@@ -177,7 +172,7 @@ static void split_list(const char *v, size_t vl, char (*list)[KELP_APPCAST_ITEM]
                 size_t cl = c ? (size_t)(c - item) : 0;
                 counts[*count] = c ? to_ul(item, cl) : 1;
                 if (c) item += cl + 1, il -= cl + 1;
-                trim(&item, &il);
+                kelp_util_trim(&item, &il);
             }
             copy(list[*count], KELP_APPCAST_ITEM, item, il);
             if (list[*count][0]) (*count)++; /* a NUL may have emptied it */
@@ -200,8 +195,8 @@ static bool next_part(const char **s, size_t *len, const char **k, size_t *kl, c
     *k = *s, *v = eq ? eq + 1 : NULL;
     *kl = eq ? (size_t)(eq - *s) : n, *vl = eq ? n - *kl - 1 : 0;
     *has_eq = eq != NULL;
-    trim(k, kl);
-    if (eq) trim(v, vl);
+    kelp_util_trim(k, kl);
+    if (eq) kelp_util_trim(v, vl);
     *len = e ? *len - n - 3 : 0;
     *s = e ? e + 3 : *s + n;
     return true;

@@ -15,9 +15,15 @@ static const double pow10_exact[] = { 1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  
                                       1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
                                       1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22 };
 
-static bool is_space(char c)
+bool kelp_util_is_space(char c)
 {
     return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v';
+}
+
+void kelp_util_trim(const char **s, size_t *n)
+{
+    while (*n && kelp_util_is_space(**s)) (*s)++, (*n)--;
+    while (*n && kelp_util_is_space((*s)[*n - 1])) (*n)--;
 }
 
 static char lower(char c)
@@ -194,8 +200,8 @@ static double refine(const digs *dig, int nd, int e10, bool sticky, double z)
 int kelp_parse_double(const char *s, size_t len, double *out)
 {
     size_t i = 0;
-    while (i < len && is_space(s[i])) i++;
-    while (len > i && is_space(s[len - 1])) len--;
+    while (i < len && kelp_util_is_space(s[i])) i++;
+    while (len > i && kelp_util_is_space(s[len - 1])) len--;
     if (i >= len) return KELP_ERR_PARSE;
     bool neg = false;
     if (s[i] == '+' || s[i] == '-') neg = s[i++] == '-';
@@ -282,8 +288,8 @@ int kelp_parse_finite(const char *s, size_t len, double *out)
 
 int kelp_parse_bool(const char *s, size_t len, bool *out)
 {
-    while (len && is_space(*s)) s++, len--;
-    while (len && is_space(s[len - 1])) len--;
+    while (len && kelp_util_is_space(*s)) s++, len--;
+    while (len && kelp_util_is_space(s[len - 1])) len--;
     if (kelp_strieq_n(s, len, "true") || kelp_strieq_n(s, len, "yes") || kelp_strieq_n(s, len, "1")) *out = true;
     else if (kelp_strieq_n(s, len, "false") || kelp_strieq_n(s, len, "no") || kelp_strieq_n(s, len, "0")) *out = false;
     else return KELP_ERR_PARSE;
@@ -300,8 +306,8 @@ bool kelp_strieq(const char *a, const char *b)
 int kelp_parse_llong(const char *s, size_t len, long long *out)
 {
     size_t i = 0;
-    while (i < len && is_space(s[i])) i++;
-    while (len > i && is_space(s[len - 1])) len--;
+    while (i < len && kelp_util_is_space(s[i])) i++;
+    while (len > i && kelp_util_is_space(s[len - 1])) len--;
     if (i >= len) return KELP_ERR_PARSE;
     bool neg = false;
     if (s[i] == '+' || s[i] == '-') neg = s[i++] == '-';

@@ -100,16 +100,6 @@ static void jw_knum(jw *w, bool *first, const char *key, double val, unsigned de
 
 /* ------------------------------------------------------------------ text helpers */
 
-static bool is_space(char c)
-{
-    return c == ' ' || c == '\t' || c == '\r' || c == '\n';
-}
-
-static void trim(const char **s, size_t *n)
-{
-    while (*n && is_space(**s)) (*s)++, (*n)--;
-    while (*n && is_space((*s)[*n - 1])) (*n)--;
-}
 
 static int copy_text(char *dst, size_t cap, const char *s, size_t n)
 {
@@ -159,16 +149,16 @@ int kelp_viewer_set_image(kelp_viewer *v, const char *url, double lat_n, double 
 int kelp_viewer_poke_parse(const char *s, size_t len, kelp_viewer_poke *out)
 {
     memset(out, 0, sizeof *out);
-    trim(&s, &len);
+    kelp_util_trim(&s, &len);
     const char *eq = memchr(s, '=', len);
     if (!eq) return KELP_ERR_PARSE;
     const char *var = s, *val = eq + 1;
     size_t vn = (size_t)(eq - s), n = len - vn - 1;
-    trim(&var, &vn);
-    trim(&val, &n);
+    kelp_util_trim(&var, &vn);
+    kelp_util_trim(&val, &n);
     if (vn == 0) return KELP_ERR_PARSE;
     for (size_t i = 0; i < vn; i++)
-        if (is_space(var[i]) || var[i] == '#' || var[i] == ',') return KELP_ERR_PARSE;
+        if (kelp_util_is_space(var[i]) || var[i] == '#' || var[i] == ',') return KELP_ERR_PARSE;
     if (copy_text(out->var, sizeof out->var, var, vn) < 0) return KELP_ERR_RANGE;
     if (n >= 2 && val[0] == '"' && val[n - 1] == '"') {
         out->is_string = true;
@@ -192,7 +182,7 @@ static int next_part(const char *s, size_t n, size_t *pos, const char **part, si
     *part = start;
     *plen = k;
     *pos += k + 1;
-    trim(part, plen);
+    kelp_util_trim(part, plen);
     return 1;
 }
 

@@ -3,6 +3,7 @@
 #include <ctype.h>
 #include <string.h>
 #include <kelp/edge/plot.h>
+#include <kelp/util.h>
 
 static const struct {
     const char *name;
@@ -30,14 +31,6 @@ static const struct {
     {"wheat", 0xf5deb3},        {"lavender", 0xe6e6fa},       {"mintcream", 0xf5fffa},    {"bisque", 0xffe4c4},
 };
 
-static int hexval(char c)
-{
-    if (c >= '0' && c <= '9') return c - '0';
-    c = (char)tolower((unsigned char)c);
-    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-    return -1;
-}
-
 int kelp_plot_color(const char *name, double rgb[3])
 {
     char n[64] = "";
@@ -58,7 +51,7 @@ int kelp_plot_color(const char *name, double rgb[3])
         if (m != 6) return -1;
         unsigned v = 0;
         for (int i = 0; i < 6; i++) {
-            int x = hexval(d[i]);
+            int x = kelp_hex_digit(d[i]);
             if (x < 0) return -1;
             v = v * 16 + (unsigned)x;
         }
