@@ -5,6 +5,7 @@
 #include <string.h>
 #include <kelp/bus.h>
 #include <kelp/bridge.h>
+#include <kelp/loopback.h>
 
 static int fake_hmac(const uint8_t *key, size_t keylen, const uint8_t *data, size_t len, uint8_t out[32], void *user)
 {

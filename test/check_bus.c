@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <stdio.h>
 #include <kelp/bus.h>
+#include <kelp/loopback.h>
 
 /* ------------------------------------------------------------------ a test client */
 typedef struct tclient {

@@ -8,6 +8,7 @@
 #include <string.h>
 #include <kelp/bridge.h>
 #include <kelp/can.h>
+#include <kelp/canbridge.h>
 
 #define MAXF 80
 typedef struct rec {

@@ -6,6 +6,7 @@
 #include <string.h>
 #include <kelp/pid.h>
 #include <kelp/sim.h>
+#include <kelp/usim.h>
 
 START_TEST(scalar_pid_rules)
 {

@@ -26,6 +26,8 @@
 #include <kelp/timerscript.h>
 #include <kelp/util.h>
 #include <kelp/viewer.h>
+#include <kelp/loopback.h>
+#include <kelp/usim.h>
 
 static const double STEP[] = { 1.0, 3600.0, 86400.0, -1.0, -3600.0, NAN, INFINITY };
 #define NSTEP ((int)(sizeof STEP / sizeof STEP[0]))

@@ -16,6 +16,7 @@
 #include <kelp/edge/app.h>
 #include <kelp/can.h>
 #include <kelp/edge/can.h>
+#include <kelp/canbridge.h>
 
 typedef struct canbr {
     kelp_canbridge b;

@@ -9,6 +9,7 @@
 #include <kelp/geo.h>
 #include <kelp/pid.h>
 #include <kelp/sim.h>
+#include <kelp/usim.h>
 
 typedef struct usim {
     kelp_app *app;

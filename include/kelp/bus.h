@@ -23,23 +23,14 @@
 #include <stdbool.h>
 #include <kelp/config.h>
 #include <kelp/err.h>
+#include <kelp/var.h>
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-typedef enum kelp_var_kind {
-    KELP_VAR_DOUBLE = 0,
-    KELP_VAR_STRING = 1,
-    KELP_VAR_BINARY = 2
-} kelp_var_kind;
-
-#define KELP_VAR_FLAG_SYNC 0x01u    /**< replay of a retained value for a late registrant */
-#define KELP_VAR_FLAG_BRIDGED 0x02u /**< arrived from another community through a bridge */
-
-/** LCM fingerprints of kelp.var_t and kelp.sync_req_t (lcmtypes/), as lcm-gen computes them;
- *  a unit test checks them against the generated code, so a change to a .lcm file is caught. */
-#define KELP_VAR_FINGERPRINT UINT64_C(0x0ba5b50d8930056a)
+/** LCM fingerprint of kelp.sync_req_t (lcmtypes/), as lcm-gen computes it; a unit test checks
+ *  it against the generated code. (kelp.var_t's is in kelp/var.h.) */
 #define KELP_SYNC_REQ_FINGERPRINT UINT64_C(0xbd478c3a05578b77)
 
 /** Channel on which sync requests travel. */
@@ -48,36 +39,6 @@ typedef enum kelp_var_kind {
 #define KELP_BUS_SYNC_REPLY_PREFIX "KELP_SYNC_"
 /** Bytes of the app name a reply channel carries. */
 #define KELP_BUS_REPLY_APP_LEN 24
-
-/** One variable write. Strings are NUL-terminated in sval; slen excludes the NUL. */
-typedef struct kelp_var {
-    double time;                     /**< MOOS time (s since 1970, times MOOSTimeWarp) */
-    char name[KELP_MAX_NAME];
-    char source[KELP_MAX_NAME];
-    char source_aux[KELP_MAX_NAME];  /**< MOOS source-aux ("" when the writer set none) */
-    char community[KELP_MAX_NAME];
-    kelp_var_kind kind;
-    uint8_t flags;
-    double dval;
-    size_t slen;
-    char sval[KELP_MAX_SVAL + 1];    /**< string, or binary bytes for KELP_VAR_BINARY */
-} kelp_var;
-
-/* ------------------------------------------------------------------ wire format */
-
-/** Bytes needed to encode v as an LCM kelp.var_t datagram (with fingerprint). */
-size_t kelp_var_encoded_size(const kelp_var *v);
-
-/** Encode v in LCM's kelp.var_t layout. @param[out] len bytes written.
- *  @return 0, KELP_ERR_NOSPACE if cap is too small, KELP_ERR_ARG on a bad var. */
-KELP_MUST_CHECK int kelp_var_encode(const kelp_var *v, uint8_t *buf, size_t cap, size_t *len);
-
-/** Decode and validate one datagram. Every length is checked against the datagram before
- *  use; strings must be NUL-terminated where the layout says; names and values that do not
- *  fit kelp_var are rejected, never truncated. Safe on arbitrary bytes.
- *  @return 0, KELP_ERR_DEFMISMATCH (fingerprint), KELP_ERR_TRUNCATED, KELP_ERR_RANGE
- *  (a length beyond kelp's limits), KELP_ERR_PARSE (missing NUL, bad kind). */
-KELP_MUST_CHECK int kelp_var_decode(const uint8_t *buf, size_t len, kelp_var *out);
 
 /** A decoded sync request. */
 typedef struct kelp_sync_req {
@@ -252,36 +213,6 @@ const kelp_var *kelp_bus_cached(const kelp_bus *b, const char *name);
 KELP_MUST_CHECK int kelp_bus_retain_all(kelp_bus *b, kelp_time now);
 
 const kelp_bus_stats *kelp_bus_get_stats(const kelp_bus *b);
-
-/* ------------------------------------------------------------------ loopback transport */
-
-/** An in-process "network": every client attached receives every datagram published by any
- *  client attached (including itself, as LCM multicast loops back). Publishing queues the
- *  datagram in a FIFO; delivery runs when the outermost publish returns (or on
- *  kelp_loopback_pump), so handlers that publish never recurse. Allocation-free. */
-typedef struct kelp_loopback {
-    /* private */
-    kelp_bus *clients[KELP_MAX_LOOPBACK_CLIENTS];
-    size_t nclients;
-    kelp_time now;
-    uint8_t fifo[KELP_LOOPBACK_FIFO];   /* records: u16 chan len, chan, u32 len, data */
-    size_t head, tail;
-    bool pumping;
-    uint64_t dropped;                     /* datagrams dropped: FIFO full */
-} kelp_loopback;
-
-typedef struct kelp_loopback_port {
-    kelp_loopback *net;
-} kelp_loopback_port;
-
-void kelp_loopback_init(kelp_loopback *net);
-/** Set the time handed to receivers' kelp_bus_receive (the "now" of delivery). */
-void kelp_loopback_set_time(kelp_loopback *net, kelp_time now);
-/** Fill a transport for a client; attach the client after kelp_bus_init. */
-void kelp_loopback_transport(kelp_loopback *net, kelp_loopback_port *port, kelp_bus_transport *tr);
-KELP_MUST_CHECK int kelp_loopback_attach(kelp_loopback *net, kelp_bus *b);
-/** Deliver everything queued. */
-void kelp_loopback_pump(kelp_loopback *net);
 
 #ifdef __cplusplus
 }

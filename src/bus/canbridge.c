@@ -2,6 +2,7 @@
 #include <string.h>
 #include <kelp/bridge.h>
 #include <kelp/can.h>
+#include <kelp/canbridge.h>
 #include "bus_int.h"
 
 int kelp_canbridge_init(kelp_canbridge *b, unsigned node, bool fd, double timeout)

@@ -1,6 +1,7 @@
 /* kelp bus: in-process loopback transport (for unit tests and single-image firmware). */
 #include <string.h>
 #include <kelp/bus.h>
+#include <kelp/loopback.h>
 
 void kelp_loopback_init(kelp_loopback *net)
 {

@@ -6,6 +6,7 @@
 #include <kelp/pid.h>
 #include <kelp/sim.h>
 #include <kelp/util.h>
+#include <kelp/usim.h>
 
 #define PI 3.14159265358979323846
 

@@ -27,6 +27,7 @@
 #include <kelp/can.h>
 #include <kelp/util.h>
 #include <kelp/edge/can.h>
+#include <kelp/canbridge.h>
 #include "can_node.h"
 
 static int failures;

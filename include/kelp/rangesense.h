@@ -1,0 +1,131 @@
+/* kelp range sensors, part 0: what the beacon and contact range sensors share (kelp_rsense_*:
+ * node table, per-vehicle parameter maps, range noise, the kelp or glibc random draws). The
+ * sensors are in kelp/beaconrange.h and kelp/contactrange.h; the range model and the glibc
+ * mode are described in kelp/beaconrange.h. */
+#ifndef KELP_RANGESENSE_H
+#define KELP_RANGESENSE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <kelp/config.h>
+#include <kelp/err.h>
+#include <kelp/field.h>
+#include <kelp/util.h>
+#include <kelp/geo.h>
+#include <kelp/rng.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------------------ shared */
+
+#ifndef KELP_RSENSE_MAX_NODES
+#define KELP_RSENSE_MAX_NODES 128   /**< vehicles known from node reports */
+#endif
+#ifndef KELP_RSENSE_MAX_VCFG
+#define KELP_RSENSE_MAX_VCFG 32     /**< per-vehicle entries of one parameter (REACH_DISTANCE = henry = 40) */
+#endif
+#define KELP_RSENSE_NAME KELP_NODEREPORT_MAX_FIELD
+#define KELP_RSENSE_LEDGER_WHO 4    /**< names in the AppCast's ledger line (24.8's getSummary) */
+
+typedef enum kelp_rsense_noise_alg {
+    KELP_RSENSE_NOISE_NONE = 0,
+    KELP_RSENSE_NOISE_UNIFORM,   /**< r + U(-pct r, +pct r) */
+    KELP_RSENSE_NOISE_GAUSSIAN   /**< r + N(0, sigma) */
+} kelp_rsense_noise_alg;
+
+typedef enum kelp_rsense_vars {
+    KELP_RSENSE_SHORT = 0,       /**< <PFX>_RANGE_REPORT with vname= */
+    KELP_RSENSE_LONG,            /**< <PFX>_RANGE_REPORT_<VNAME> */
+    KELP_RSENSE_BOTH
+} kelp_rsense_vars;
+
+/** One parameter given per vehicle: `default = v`, `<vname> = v`, or a bare `v`. A negative
+ *  value is "nolimit". */
+typedef struct kelp_rsense_vmap {
+    double dflt;
+    char name[KELP_RSENSE_MAX_VCFG][KELP_RSENSE_NAME];
+    double v[KELP_RSENSE_MAX_VCFG];
+    unsigned n;
+} kelp_rsense_vmap;
+
+/** The random source (in the tool's struct; no global state). */
+typedef struct kelp_rsense_rand {
+    bool glibc;                  /**< RAND_MODE = glibc */
+    kelp_rng rng;
+    kelp_glibc_rand g;
+    bool have_gset;              /**< MOOSWhiteNoise's cached second deviate */
+    double gset;
+    unsigned long draws;         /**< values drawn so far */
+} kelp_rsense_rand;
+
+typedef struct kelp_rsense_noise {
+    kelp_rsense_noise_alg alg;
+    double pct;                  /**< uniform: fraction of the range in [0,1] */
+    double sigma;                /**< gaussian: metres */
+} kelp_rsense_noise;
+
+typedef struct kelp_rsense_node {
+    char name[KELP_RSENSE_NAME]; /**< as it arrived (compared case-insensitively) */
+    char type[KELP_RSENSE_NAME];
+    double x, y, hdg;
+    double clock;                /**< ping-wait clock: the last paid request (valid once pinged) */
+    bool pinged;                 /**< 24.8's clock starts at 0: a first request is always in time */
+    unsigned long reports, pings, denied, accepted, heard;
+    unsigned long unsol;         /**< unsolicited reports received (BRS) */
+    unsigned long replied;       /**< replies received (BRS Rep'd) */
+    unsigned long too_far;       /**< beacons or contacts out of range of an honoured request */
+    unsigned long echoes_sent;   /**< CRS: times this vehicle was reported to a pinger */
+} kelp_rsense_node;
+
+/** Verbose console lines (may be NULL): the 12.2 manual's event output. */
+typedef void (*kelp_rsense_log_fn)(void *ctx, const char *line);
+
+/** The parameters both sensors take. */
+typedef struct kelp_rsense_common {
+    kelp_rsense_vmap ping_wait;  /**< PING_WAIT 30 s */
+    kelp_rsense_vars report_vars;/**< REPORT_VARS (short) */
+    kelp_rsense_noise noise;     /**< RN_ALGORITHM, RN_UNIFORM_PCT, RN_GAUSSIAN_SIGMA (none) */
+    bool ground_truth;           /**< GROUND_TRUTH (false) */
+    bool verbose;                /**< VERBOSE (false) */
+    bool glibc;                  /**< RAND_MODE = glibc (default kelp) */
+    uint64_t seed;               /**< SEED_RANDOM (1) */
+    kelp_geo geo;                /**< datum for reports with only LAT,LON */
+    bool have_geo;
+    kelp_rsense_log_fn log;      /**< verbose lines (NULL: none) */
+    void *log_ctx;
+} kelp_rsense_common;
+
+void kelp_rsense_common_default(kelp_rsense_common *c);
+/** PING_WAIT, REPORT_VARS, RN_ALGORITHM, RN_UNIFORM_PCT, RN_GAUSSIAN_SIGMA, GROUND_TRUTH,
+ *  VERBOSE, RAND_MODE, SEED_RANDOM (v already trimmed). @return 1, 0 not one, <0 (reason in d). */
+KELP_MUST_CHECK int kelp_rsense_common_config(kelp_rsense_common *c, const char *key, const char *v, kelp_diag *d);
+
+/** Value of name in m (default when not listed). */
+double kelp_rsense_vmap_get(const kelp_rsense_vmap *m, const char *name);
+/** Apply "default = v", "<vname> = v" or "v" (v a number, or nolimit/unlimited = -1 when
+ *  allow_nolimit). @return 1, or <0 (reason in d). */
+KELP_MUST_CHECK int kelp_rsense_vmap_set(kelp_rsense_vmap *m, const char *val, bool allow_nolimit, kelp_diag *d);
+/** RN_ALGORITHM: "uniform,pct=0.12", "gaussian,sigma=1.5" (also "gauss"), "none".
+ *  @return 1 or <0 (reason in d). */
+KELP_MUST_CHECK int kelp_rsense_noise_set(kelp_rsense_noise *n, const char *val, kelp_diag *d);
+void kelp_rsense_rand_init(kelp_rsense_rand *r, bool glibc, uint64_t seed);
+/** Bytes of the workspace a range report is built in (the sensor's, off the stack). */
+#define KELP_RSENSE_POST_WS (320 + KELP_MAX_NAME + KELP_RSENSE_NAME)
+/** The time step rule: move the vehicles' ping-wait clocks back by a backward clock step. */
+void kelp_rsense_nodes_back(kelp_rsense_node *node, unsigned n, double back);
+/** The noisy range (draws one value for uniform, MOOSWhiteNoise's pattern for gaussian,
+ *  nothing for none). */
+double kelp_rsense_noisy(kelp_rsense_rand *r, const kelp_rsense_noise *n, double range);
+/** Uniform in [lo, hi] as the mode draws it (glibc: lo + (rand()%1000)/1000*(hi-lo)). */
+double kelp_rsense_interval(kelp_rsense_rand *r, double lo, double hi);
+/** Uniform in [0,1) (glibc: (rand()%10000)/10000). */
+double kelp_rsense_unit(kelp_rsense_rand *r);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
