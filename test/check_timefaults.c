@@ -312,12 +312,12 @@ static void pid_sink(void *ctx, const char *var, bool is_string, const char *sva
     if (!strcmp(var, "DESIRED_RUDDER")) p->rudder = dval, p->n_rudder++;
 }
 
-static void pid_feed(kelp_marine_pid *m, kelp_time t)
+static void pid_feed(kelp_pid_marine *m, kelp_time t)
 {
-    ck_assert_int_eq(kelp_marine_pid_mail(m, "NAV_HEADING", false, NULL, 350, t), 1);
-    ck_assert_int_eq(kelp_marine_pid_mail(m, "NAV_SPEED", false, NULL, 1, t), 1);
-    ck_assert_int_eq(kelp_marine_pid_mail(m, "DESIRED_HEADING", false, NULL, 10, t), 1);
-    ck_assert_int_eq(kelp_marine_pid_mail(m, "DESIRED_SPEED", false, NULL, 2, t), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(m, "NAV_HEADING", false, NULL, 350, t), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(m, "NAV_SPEED", false, NULL, 1, t), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(m, "DESIRED_HEADING", false, NULL, 10, t), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(m, "DESIRED_SPEED", false, NULL, 2, t), 1);
 }
 
 /* a 20 degree heading error held: the yaw loop's integral grows by ki * e * dt each 0.1 s run;
@@ -325,24 +325,24 @@ static void pid_feed(kelp_marine_pid *m, kelp_time t)
 START_TEST(pid_step)
 {
     double step = STEP[_i];
-    kelp_marine_pid_cfg c;
-    kelp_marine_pid_cfg_default(&c);
+    kelp_pid_marine_cfg c;
+    kelp_pid_marine_cfg_default(&c);
     c.active_start = true;
     c.yaw[0] = 0.5;  /* kp */
     c.yaw[2] = 0.01; /* ki */
     c.yaw[3] = 50;   /* integral limit */
     c.speed_factor = 20;
     c.max_rudder = 100;
-    static kelp_marine_pid m;
-    ck_assert_int_eq(kelp_marine_pid_init(&m, &c, T0), 0);
+    static kelp_pid_marine m;
+    ck_assert_int_eq(kelp_pid_marine_init(&m, &c, T0), 0);
     pubs p = { 0, 0, false };
     kelp_time t = T0;
     for (int k = 0; k < 100; k++, t += 0.1) {
         pid_feed(&m, t);
-        kelp_marine_pid_iterate(&m, t, pid_sink, &p);
+        kelp_pid_marine_iterate(&m, t, pid_sink, &p);
     }
     double before = p.rudder;
-    if (!isfinite(step)) kelp_marine_pid_iterate(&m, step, pid_sink, &p);
+    if (!isfinite(step)) kelp_pid_marine_iterate(&m, step, pid_sink, &p);
     kelp_time from = t + offset_of(step);
     int n0 = p.n_rudder, first = -1;
     double jump = 0;
@@ -350,7 +350,7 @@ START_TEST(pid_step)
         kelp_time tk = from + k * 0.1;
         pid_feed(&m, tk);
         int n = p.n_rudder;
-        kelp_marine_pid_iterate(&m, tk, pid_sink, &p);
+        kelp_pid_marine_iterate(&m, tk, pid_sink, &p);
         if (p.n_rudder > n && first < 0) {
             first = k;
             jump = fabs(p.rudder - before);
@@ -438,25 +438,25 @@ static void count_pub(void *ctx, const char *var, bool is_string, const char *sv
 START_TEST(timerscript_step)
 {
     double step = STEP[_i];
-    static kelp_ts_cfg c;
-    static kelp_ts ts;
-    kelp_ts_cfg_default(&c, "uTimerScript", "alpha");
+    static kelp_timerscript_cfg c;
+    static kelp_timerscript ts;
+    kelp_timerscript_cfg_default(&c, "uTimerScript", "alpha");
     for (int k = 1; k <= 10; k++) {
         char ev[64];
         snprintf(ev, sizeof ev, "var=EV, val=%d, time=%d", k, 10 * k);
-        ck_assert_int_eq(kelp_ts_cfg_add_event(&c, ev, NULL), KELP_OK);
+        ck_assert_int_eq(kelp_timerscript_cfg_add_event(&c, ev, NULL), KELP_OK);
     }
-    ck_assert_int_eq(kelp_ts_init(&ts, &c, 1), KELP_OK);
+    ck_assert_int_eq(kelp_timerscript_init(&ts, &c, 1), KELP_OK);
     count_sink cs = { "EV", 0, 0, false, NULL };
     kelp_field_sink out = { &cs, count_pub, NULL };
     kelp_time t = T0;
-    for (; t < T0 + 35; t += 0.5) ck_assert_int_le(kelp_ts_iterate(&ts, t, &out), 1);
+    for (; t < T0 + 35; t += 0.5) ck_assert_int_le(kelp_timerscript_iterate(&ts, t, &out), 1);
     ck_assert_int_eq(cs.n, 3);
-    if (!isfinite(step)) ck_assert_int_eq(kelp_ts_iterate(&ts, step, &out), KELP_ERR_ARG);
+    if (!isfinite(step)) ck_assert_int_eq(kelp_timerscript_iterate(&ts, step, &out), KELP_ERR_ARG);
     kelp_time from = t + offset_of(step);
     int most = 0, next = -1;
     for (int k = 0; k < 200; k++) {
-        int n = kelp_ts_iterate(&ts, from + k * 0.5, &out);
+        int n = kelp_timerscript_iterate(&ts, from + k * 0.5, &out);
         if (n > most) most = n;
         if (n > 0 && next < 0) next = k;
     }
@@ -810,10 +810,10 @@ END_TEST
 START_TEST(pathcheck_step)
 {
     double step = STEP[_i];
-    static kelp_field_upc p;
-    kelp_field_upc_cfg cfg;
-    kelp_field_upc_cfg_default(&cfg);
-    ck_assert_int_eq(kelp_field_upc_init(&p, &cfg), 0);
+    static kelp_pathcheck p;
+    kelp_pathcheck_cfg cfg;
+    kelp_pathcheck_cfg_default(&cfg);
+    ck_assert_int_eq(kelp_pathcheck_init(&p, &cfg), 0);
     kelp_field_sink out = { NULL, count_pub, NULL };
     count_sink cs = { NULL, 0, 0, false, NULL };
     out.ctx = &cs;
@@ -822,19 +822,19 @@ START_TEST(pathcheck_step)
     kelp_time t = T0;
     for (; t < T0 + 20; t += 1, x += 1) {
         snprintf(r, sizeof r, "NAME=alpha,TYPE=kayak,TIME=%.2f,X=%.1f,Y=0,SPD=1,HDG=90", t, x);
-        ck_assert_int_eq(kelp_field_upc_mail(&p, "NODE_REPORT", true, r, t, &out), 1);
+        ck_assert_int_eq(kelp_pathcheck_mail(&p, "NODE_REPORT", true, r, t, &out), 1);
     }
-    if (!isfinite(step)) ck_assert_int_eq(kelp_field_upc_mail(&p, "NODE_REPORT", true, r, step, &out), KELP_ERR_ARG);
+    if (!isfinite(step)) ck_assert_int_eq(kelp_pathcheck_mail(&p, "NODE_REPORT", true, r, step, &out), KELP_ERR_ARG);
     kelp_time from = t + offset_of(step);
     unsigned long before = p.node[0].reports;
     for (int k = 0; k < 15; k++, x += 1) {
         snprintf(r, sizeof r, "NAME=alpha,TYPE=kayak,TIME=%.2f,X=%.1f,Y=0,SPD=1,HDG=90", from + k, x);
-        ck_assert_int_eq(kelp_field_upc_mail(&p, "NODE_REPORT", true, r, from + k, &out), 1);
-        (void)kelp_field_upc_iterate(&p, from + k, &out);
+        ck_assert_int_eq(kelp_pathcheck_mail(&p, "NODE_REPORT", true, r, from + k, &out), 1);
+        (void)kelp_pathcheck_iterate(&p, from + k, &out);
     }
     ck_assert_msg(p.node[0].reports - before >= 14, "step %g: %lu of 15 reports taken", step,
                   p.node[0].reports - before);
-    double v = kelp_field_upc_speed(&p.node[0]);
+    double v = kelp_pathcheck_speed(&p.node[0]);
     ck_assert_msg(fabs(v - 1.0) < 0.01, "step %g: speed %g after the step", step, v);
 }
 END_TEST
@@ -883,24 +883,24 @@ END_TEST
 START_TEST(contactmgr_step)
 {
     double step = STEP[_i];
-    static kelp_cmgr c;
-    kelp_cmgr_init(&c, "abe");
+    static kelp_contactmgr c;
+    kelp_contactmgr_init(&c, "abe");
     count_sink cs = { "CONTACTS_RECAP", 0, 0, false, NULL };
     kelp_field_sink out = { &cs, count_pub, NULL };
-    kelp_cmgr_config_done(&c, false, 0, false, 0, &out);
+    kelp_contactmgr_config_done(&c, false, 0, false, 0, &out);
     char r[160];
     kelp_time t = T0;
-    for (int i = 0; i < 4; i++) ck_assert_int_eq(kelp_cmgr_mail(&c, (const char *[]){ "NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED" }[i], false, NULL, 0, t, NULL, &out), 1);
+    for (int i = 0; i < 4; i++) ck_assert_int_eq(kelp_contactmgr_mail(&c, (const char *[]){ "NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED" }[i], false, NULL, 0, t, NULL, &out), 1);
     for (; t < T0 + 20; t += 1) {
         snprintf(r, sizeof r, "NAME=ben,TYPE=kayak,TIME=%.2f,X=100,Y=0,SPD=0,HDG=90", t);
-        (void)kelp_cmgr_mail(&c, "NODE_REPORT", true, r, 0, t, NULL, &out);
-        kelp_cmgr_iterate(&c, t, &out);
+        (void)kelp_contactmgr_mail(&c, "NODE_REPORT", true, r, 0, t, NULL, &out);
+        kelp_contactmgr_iterate(&c, t, &out);
     }
     ck_assert_int_ge(cs.n, 18);
     if (!isfinite(step)) {
         unsigned long it = c.iterations;
-        ck_assert_int_eq(kelp_cmgr_mail(&c, "NODE_REPORT", true, r, 0, step, NULL, &out), KELP_ERR_ARG);
-        kelp_cmgr_iterate(&c, step, &out);
+        ck_assert_int_eq(kelp_contactmgr_mail(&c, "NODE_REPORT", true, r, 0, step, NULL, &out), KELP_ERR_ARG);
+        kelp_contactmgr_iterate(&c, step, &out);
         ck_assert_uint_eq(c.iterations, it);
     }
     kelp_time from = t + offset_of(step);
@@ -908,8 +908,8 @@ START_TEST(contactmgr_step)
     for (int k = 0; k < 15; k++) {
         int n = cs.n;
         snprintf(r, sizeof r, "NAME=ben,TYPE=kayak,TIME=%.2f,X=100,Y=0,SPD=0,HDG=90", from + k);
-        (void)kelp_cmgr_mail(&c, "NODE_REPORT", true, r, 0, from + k, NULL, &out);
-        kelp_cmgr_iterate(&c, from + k, &out);
+        (void)kelp_contactmgr_mail(&c, "NODE_REPORT", true, r, 0, from + k, NULL, &out);
+        kelp_contactmgr_iterate(&c, from + k, &out);
         ck_assert_int_le(cs.n - n, 1);
         if (cs.n > n && first < 0) first = k;
     }
@@ -972,30 +972,30 @@ static void sense_check(const sense_log *l, double step, const char *what, doubl
 START_TEST(brs_step)
 {
     double step = STEP[_i];
-    static kelp_field_brs b;
-    kelp_field_brs_cfg c;
-    kelp_field_brs_cfg_default(&c);
+    static kelp_beaconrange b;
+    kelp_beaconrange_cfg c;
+    kelp_beaconrange_cfg_default(&c);
     kelp_diag why = { 0 };
     static const char *const lines[] = { "ping_wait", "30", "reach_distance", "default = nolimit",
                                          "default_beacon_report_range", "nolimit", "beacon", "label=b1,x=0,y=0,freq=10",
                                          NULL };
-    for (int i = 0; lines[i]; i += 2) ck_assert_int_ge(kelp_field_brs_config(&c, lines[i], lines[i + 1], &why), 1);
-    ck_assert_int_eq(kelp_field_brs_init(&b, &c, T0, &why), 0);
+    for (int i = 0; lines[i]; i += 2) ck_assert_int_ge(kelp_beaconrange_config(&c, lines[i], lines[i + 1], &why), 1);
+    ck_assert_int_eq(kelp_beaconrange_init(&b, &c, T0, &why), 0);
     sense_log pings = { 0 }, unsol = { 0 };
     kelp_field_sink out = { &pings, sense_pub, NULL };
     char r[160];
     kelp_time t = T0;
     for (; t < T0 + 60; t += 1) {
         snprintf(r, sizeof r, "NAME=archie,TYPE=kayak,TIME=%.2f,X=10,Y=0,SPD=1,HDG=90", t);
-        ck_assert_int_eq(kelp_field_brs_mail(&b, "NODE_REPORT", true, r, t, &out), 1);
-        if (fmod(t - T0, 5.0) == 0.0) ck_assert_int_eq(kelp_field_brs_mail(&b, "BRS_RANGE_REQUEST", true, "name=archie", t, &out), 1);
-        (void)kelp_field_brs_iterate(&b, t, &out);
+        ck_assert_int_eq(kelp_beaconrange_mail(&b, "NODE_REPORT", true, r, t, &out), 1);
+        if (fmod(t - T0, 5.0) == 0.0) ck_assert_int_eq(kelp_beaconrange_mail(&b, "BRS_RANGE_REQUEST", true, "name=archie", t, &out), 1);
+        (void)kelp_beaconrange_iterate(&b, t, &out);
     }
     ck_assert_uint_ge(b.accepted, 2);
     if (!isfinite(step)) {
         unsigned long acc = b.accepted, req = b.requests, unsol0 = b.beacon[0].unsol;
-        ck_assert_int_eq(kelp_field_brs_mail(&b, "BRS_RANGE_REQUEST", true, "name=archie", step, &out), KELP_ERR_ARG);
-        ck_assert_uint_eq(kelp_field_brs_iterate(&b, step, &out), 0);
+        ck_assert_int_eq(kelp_beaconrange_mail(&b, "BRS_RANGE_REQUEST", true, "name=archie", step, &out), KELP_ERR_ARG);
+        ck_assert_uint_eq(kelp_beaconrange_iterate(&b, step, &out), 0);
         ck_assert_uint_eq(b.accepted, acc);
         ck_assert_uint_eq(b.requests, req);
         ck_assert_uint_eq(b.beacon[0].unsol, unsol0);
@@ -1005,11 +1005,11 @@ START_TEST(brs_step)
     for (int k = 0; k < 120; k++) {
         kelp_time now = from + k;
         snprintf(r, sizeof r, "NAME=archie,TYPE=kayak,TIME=%.2f,X=10,Y=0,SPD=1,HDG=90", now);
-        ck_assert_int_eq(kelp_field_brs_mail(&b, "NODE_REPORT", true, r, now, &out), 1);
+        ck_assert_int_eq(kelp_beaconrange_mail(&b, "NODE_REPORT", true, r, now, &out), 1);
         unsigned long acc = b.accepted, u = b.beacon[0].unsol;
-        if (k % 5 == 0) ck_assert_int_eq(kelp_field_brs_mail(&b, "BRS_RANGE_REQUEST", true, "name=archie", now, &out), 1);
+        if (k % 5 == 0) ck_assert_int_eq(kelp_beaconrange_mail(&b, "BRS_RANGE_REQUEST", true, "name=archie", now, &out), 1);
         if (b.accepted > acc) sense_mark(&pings, k);
-        (void)kelp_field_brs_iterate(&b, now, &out);
+        (void)kelp_beaconrange_iterate(&b, now, &out);
         ck_assert_uint_le(b.beacon[0].unsol - u, 1);
         if (b.beacon[0].unsol > u) sense_mark(&unsol, k);
     }
@@ -1024,29 +1024,29 @@ END_TEST
 START_TEST(crs_step)
 {
     double step = STEP[_i];
-    static kelp_field_crs cr;
-    kelp_field_crs_cfg c;
-    kelp_field_crs_cfg_default(&c);
+    static kelp_contactrange cr;
+    kelp_contactrange_cfg c;
+    kelp_contactrange_cfg_default(&c);
     kelp_diag why = { 0 };
     static const char *const lines[] = { "ping_wait", "30", "reach_distance", "default = nolimit", "echo_falloff", "false", NULL };
-    for (int i = 0; lines[i]; i += 2) ck_assert_int_eq(kelp_field_crs_config(&c, lines[i], lines[i + 1], &why), 1);
-    kelp_field_crs_init(&cr, &c, T0);
+    for (int i = 0; lines[i]; i += 2) ck_assert_int_eq(kelp_contactrange_config(&c, lines[i], lines[i + 1], &why), 1);
+    kelp_contactrange_init(&cr, &c, T0);
     sense_log pings = { 0 };
     kelp_field_sink out = { &pings, sense_pub, NULL };
     char r[160];
     kelp_time t = T0;
     for (; t < T0 + 60; t += 1) {
         snprintf(r, sizeof r, "NAME=archie,TYPE=kayak,TIME=%.2f,X=0,Y=0,SPD=1,HDG=90", t);
-        ck_assert_int_eq(kelp_field_crs_mail(&cr, "NODE_REPORT", true, r, t, &out), 1);
+        ck_assert_int_eq(kelp_contactrange_mail(&cr, "NODE_REPORT", true, r, t, &out), 1);
         snprintf(r, sizeof r, "NAME=jackal,TYPE=kayak,TIME=%.2f,X=50,Y=0,SPD=1,HDG=90", t);
-        ck_assert_int_eq(kelp_field_crs_mail(&cr, "NODE_REPORT", true, r, t, &out), 1);
-        if (fmod(t - T0, 5.0) == 0.0) ck_assert_int_eq(kelp_field_crs_mail(&cr, "CRS_RANGE_REQUEST", true, "name=archie", t, &out), 1);
+        ck_assert_int_eq(kelp_contactrange_mail(&cr, "NODE_REPORT", true, r, t, &out), 1);
+        if (fmod(t - T0, 5.0) == 0.0) ck_assert_int_eq(kelp_contactrange_mail(&cr, "CRS_RANGE_REQUEST", true, "name=archie", t, &out), 1);
     }
     ck_assert_uint_ge(cr.accepted, 2);
     if (!isfinite(step)) {
         unsigned long acc = cr.accepted, req = cr.requests;
-        ck_assert_int_eq(kelp_field_crs_mail(&cr, "CRS_RANGE_REQUEST", true, "name=archie", step, &out), KELP_ERR_ARG);
-        ck_assert_int_eq(kelp_field_crs_mail(&cr, "NODE_REPORT", true, r, step, &out), KELP_ERR_ARG);
+        ck_assert_int_eq(kelp_contactrange_mail(&cr, "CRS_RANGE_REQUEST", true, "name=archie", step, &out), KELP_ERR_ARG);
+        ck_assert_int_eq(kelp_contactrange_mail(&cr, "NODE_REPORT", true, r, step, &out), KELP_ERR_ARG);
         ck_assert_uint_eq(cr.accepted, acc);
         ck_assert_uint_eq(cr.requests, req);
     }
@@ -1055,11 +1055,11 @@ START_TEST(crs_step)
     for (int k = 0; k < 120; k++) {
         kelp_time now = from + k;
         snprintf(r, sizeof r, "NAME=archie,TYPE=kayak,TIME=%.2f,X=0,Y=0,SPD=1,HDG=90", now);
-        ck_assert_int_eq(kelp_field_crs_mail(&cr, "NODE_REPORT", true, r, now, &out), 1);
+        ck_assert_int_eq(kelp_contactrange_mail(&cr, "NODE_REPORT", true, r, now, &out), 1);
         snprintf(r, sizeof r, "NAME=jackal,TYPE=kayak,TIME=%.2f,X=50,Y=0,SPD=1,HDG=90", now);
-        ck_assert_int_eq(kelp_field_crs_mail(&cr, "NODE_REPORT", true, r, now, &out), 1);
+        ck_assert_int_eq(kelp_contactrange_mail(&cr, "NODE_REPORT", true, r, now, &out), 1);
         unsigned long acc = cr.accepted;
-        if (k % 5 == 0) ck_assert_int_eq(kelp_field_crs_mail(&cr, "CRS_RANGE_REQUEST", true, "name=archie", now, &out), 1);
+        if (k % 5 == 0) ck_assert_int_eq(kelp_contactrange_mail(&cr, "CRS_RANGE_REQUEST", true, "name=archie", now, &out), 1);
         if (cr.accepted > acc) sense_mark(&pings, k);
     }
     sense_check(&pings, step, "an honoured request", 30 + 5, 30);
@@ -1075,49 +1075,49 @@ END_TEST
 START_TEST(uhz_step)
 {
     double step = STEP[_i];
-    static kelp_field_uhz_cfg c;
-    static kelp_field_uhz h;
-    kelp_field_uhz_cfg_default(&c);
+    static kelp_hazardsensor_cfg c;
+    static kelp_hazardsensor h;
+    kelp_hazardsensor_cfg_default(&c);
     kelp_diag why = { 0 };
     static const char *const lines[] = { "sensor_config", "width=25, exp=4, pclass=0.63", "swath_length", "5",
                                          "min_classify_interval", "5", "options_summary_interval", "10",
                                          "seed_random", "false", "hazard", "x=0,y=5,label=h1,type=hazard", NULL };
-    for (int i = 0; lines[i]; i += 2) ck_assert_int_eq(kelp_field_uhz_config(&c, lines[i], lines[i + 1], &why), 1);
-    ck_assert_int_eq(kelp_field_uhz_init(&h, &c), 0);
+    for (int i = 0; lines[i]; i += 2) ck_assert_int_eq(kelp_hazardsensor_config(&c, lines[i], lines[i + 1], &why), 1);
+    ck_assert_int_eq(kelp_hazardsensor_init(&h, &c), 0);
     sense_log sum = { 0 }, psr = { 0 }, answers = { 0 }, all = { .watch = { "UHZ_OPTIONS_SUMMARY", "PSR" } };
     kelp_field_sink out = { &all, sense_pub, NULL };
     char r[160];
     kelp_time t = T0;
     snprintf(r, sizeof r, "NAME=archie,TYPE=UUV,TIME=%.2f,X=0,Y=0,SPD=2,HDG=90", t);
-    ck_assert_int_eq(kelp_field_uhz_mail(&h, "NODE_REPORT", r, "archie", t, &out), 1);
-    ck_assert_int_eq(kelp_field_uhz_mail(&h, "UHZ_CONFIG_REQUEST", "vname=archie,width=25,pd=1", "archie", t, &out), 1);
+    ck_assert_int_eq(kelp_hazardsensor_mail(&h, "NODE_REPORT", r, "archie", t, &out), 1);
+    ck_assert_int_eq(kelp_hazardsensor_mail(&h, "UHZ_CONFIG_REQUEST", "vname=archie,width=25,pd=1", "archie", t, &out), 1);
     for (; t < T0 + 30; t += 1) {
         snprintf(r, sizeof r, "NAME=archie,TYPE=UUV,TIME=%.2f,X=0,Y=0,SPD=2,HDG=90", t);
-        ck_assert_int_eq(kelp_field_uhz_mail(&h, "NODE_REPORT", r, "archie", t, &out), 1);
-        ck_assert_int_eq(kelp_field_uhz_mail(&h, "UHZ_SENSOR_REQUEST", "vname=archie", "archie", t, &out), 1);
+        ck_assert_int_eq(kelp_hazardsensor_mail(&h, "NODE_REPORT", r, "archie", t, &out), 1);
+        ck_assert_int_eq(kelp_hazardsensor_mail(&h, "UHZ_SENSOR_REQUEST", "vname=archie", "archie", t, &out), 1);
         if (fmod(t - T0, 5.0) == 0.0)
-            (void)kelp_field_uhz_mail(&h, "UHZ_CLASSIFY_REQUEST", "vname=archie,label=h1", "archie", t, &out);
-        kelp_field_uhz_iterate(&h, t, &out);
+            (void)kelp_hazardsensor_mail(&h, "UHZ_CLASSIFY_REQUEST", "vname=archie,label=h1", "archie", t, &out);
+        kelp_hazardsensor_iterate(&h, t, &out);
     }
     unsigned long answered = h.node[0].classify_answ;
     ck_assert_uint_ge(answered, 1);
     if (!isfinite(step)) {
-        ck_assert_int_eq(kelp_field_uhz_mail(&h, "UHZ_SENSOR_REQUEST", "vname=archie", "archie", step, &out), KELP_ERR_ARG);
-        ck_assert_int_eq(kelp_field_uhz_mail(&h, "UHZ_CLASSIFY_REQUEST", "vname=archie,label=h1", "archie", step, &out),
+        ck_assert_int_eq(kelp_hazardsensor_mail(&h, "UHZ_SENSOR_REQUEST", "vname=archie", "archie", step, &out), KELP_ERR_ARG);
+        ck_assert_int_eq(kelp_hazardsensor_mail(&h, "UHZ_CLASSIFY_REQUEST", "vname=archie,label=h1", "archie", step, &out),
                          KELP_ERR_ARG);
-        kelp_field_uhz_iterate(&h, step, &out);
+        kelp_hazardsensor_iterate(&h, step, &out);
         ck_assert_uint_eq(h.node[0].classify_answ, answered);
     }
     kelp_time from = t + offset_of(step);
     for (int k = 0; k < 60; k++) {
         kelp_time now = from + k;
         snprintf(r, sizeof r, "NAME=archie,TYPE=UUV,TIME=%.2f,X=0,Y=0,SPD=2,HDG=90", now);
-        ck_assert_int_eq(kelp_field_uhz_mail(&h, "NODE_REPORT", r, "archie", now, &out), 1);
-        if (k > 0) ck_assert_int_eq(kelp_field_uhz_mail(&h, "UHZ_SENSOR_REQUEST", "vname=archie", "archie", now, &out), 1);
-        if (k % 5 == 0) (void)kelp_field_uhz_mail(&h, "UHZ_CLASSIFY_REQUEST", "vname=archie,label=h1", "archie", now, &out);
+        ck_assert_int_eq(kelp_hazardsensor_mail(&h, "NODE_REPORT", r, "archie", now, &out), 1);
+        if (k > 0) ck_assert_int_eq(kelp_hazardsensor_mail(&h, "UHZ_SENSOR_REQUEST", "vname=archie", "archie", now, &out), 1);
+        if (k % 5 == 0) (void)kelp_hazardsensor_mail(&h, "UHZ_CLASSIFY_REQUEST", "vname=archie,label=h1", "archie", now, &out);
         unsigned long a = h.node[0].classify_answ;
         all.hits[0] = all.hits[1] = 0;
-        kelp_field_uhz_iterate(&h, now, &out);
+        kelp_hazardsensor_iterate(&h, now, &out);
         ck_assert_int_le(all.hits[0], 1);
         ck_assert_int_le(all.hits[1], 1);
         if (all.hits[0]) sense_mark(&sum, k);

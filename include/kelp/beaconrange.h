@@ -1,4 +1,4 @@
-/* kelp range sensors, part 1: uFldBeaconRangeSensor's logic (kelp_field_brs_*), the uField Toolbox manual (MOOS-IvP 12.2)
+/* kelp range sensors, part 1: uFldBeaconRangeSensor's logic (kelp_beaconrange_*), the uField Toolbox manual (MOOS-IvP 12.2)
  * chapter 10, with MOOS-IvP 24.8's names accepted as aliases.
  *
  * Range model. A request from vehicle V reaches beacon B when
@@ -14,7 +14,7 @@
  * The ground-truth reports come only with noise (RN_ALGORITHM) and GROUND_TRUTH (true).
  *
  * Randomness: RAND_MODE = kelp (the default; kelp_rng seeded by SEED_RANDOM) or glibc
- * (kelp_glibc_rand seeded 1, i.e. the rand() sequence of a program that never calls srand).
+ * (kelp_rng_glibc seeded 1, i.e. the rand() sequence of a program that never calls srand).
  * In glibc mode the values are drawn where and as MOOS-IvP 24.8 draws them, with its
  * arithmetic: uniform noise (rand() % 10000) / 5000 - 1, one per report; an unsolicited
  * interval lo + (rand() % 1000) / 1000 * (hi - lo) (drawn when a beacon's freq is configured,
@@ -48,7 +48,7 @@ extern "C" {
 #endif
 #define KELP_BRS_SPEC_LEN 256    /**< bytes of one BEACON line, with NUL */
 #define KELP_BRS_LABEL 32
-/** The warning of kelp_field_brs_config's result 2 (a BEACON's query_range). */
+/** The warning of kelp_beaconrange_config's result 2 (a BEACON's query_range). */
 #define KELP_BRS_WARN_QUERY_RANGE "query_range is not used (report_range is): ignored"
 
 typedef enum kelp_brs_payments {
@@ -71,26 +71,26 @@ typedef struct kelp_brs_beacon {
     unsigned long heard, replies, unsol;
 } kelp_brs_beacon;
 
-typedef struct kelp_field_brs_cfg {
+typedef struct kelp_beaconrange_cfg {
     kelp_brs_beacon dflt;        /**< DEFAULT_BEACON_* (orange circle 4 m, report range 100, never) */
     char spec[KELP_BRS_MAX_BEACONS][KELP_BRS_SPEC_LEN]; /**< BEACON lines, applied after the defaults */
     unsigned nspec;
-    kelp_rsense_vmap reach;      /**< REACH_DISTANCE (node_push_dist) 100 */
-    kelp_rsense_vmap node_pull;  /**< 24.8 node_pull_dist (0) */
-    kelp_rsense_common com;
+    kelp_rangesense_vmap reach;      /**< REACH_DISTANCE (node_push_dist) 100 */
+    kelp_rangesense_vmap node_pull;  /**< 24.8 node_pull_dist (0) */
+    kelp_rangesense_common com;
     kelp_brs_payments payments;
     bool report_xy;              /**< REPORT_XY (false): x=,y= of the beacon in each report */
     bool config_order;           /**< BEACON_ORDER = config (24.8); default reverse (the 12.2 manual's listings) */
-    char ws_val[KELP_BRS_SPEC_LEN]; /**< workspace: the value being read by kelp_field_brs_config */
-} kelp_field_brs_cfg;
+    char ws_val[KELP_BRS_SPEC_LEN]; /**< workspace: the value being read by kelp_beaconrange_config */
+} kelp_beaconrange_cfg;
 
-typedef struct kelp_field_brs {
-    kelp_field_brs_cfg cfg;
+typedef struct kelp_beaconrange {
+    kelp_beaconrange_cfg cfg;
     kelp_brs_beacon beacon[KELP_BRS_MAX_BEACONS]; /**< in iteration order */
     unsigned nbeacons;
-    kelp_rsense_node node[KELP_RSENSE_MAX_NODES]; /**< sorted by name (strcmp), as 24.8's map */
+    kelp_rangesense_node node[KELP_RSENSE_MAX_NODES]; /**< sorted by name (strcmp), as 24.8's map */
     unsigned nnodes;
-    kelp_rsense_rand rand;
+    kelp_rangesense_rand rand;
     double start;
     kelp_clock clk;              /**< the newest `now` (the time step rule) */
     bool started;                /**< markers posted, timers drawn (first iterate) */
@@ -98,36 +98,36 @@ typedef struct kelp_field_brs {
     kelp_diag diag; /**< workspace: why the last node report was refused */
     char ws_label[KELP_RSENSE_NAME + KELP_BRS_LABEL + 8]; /**< workspace: a pulse's label */
     char ws_post[KELP_RSENSE_POST_WS]; /**< workspace: a range report being built */
-} kelp_field_brs;
+} kelp_beaconrange;
 
 /** The defaults of the uField Toolbox manual (MOOS-IvP 12.2), section 10.1. */
-void kelp_field_brs_cfg_default(kelp_field_brs_cfg *cfg);
+void kelp_beaconrange_cfg_default(kelp_beaconrange_cfg *cfg);
 /** One block parameter (case-insensitive, a trailing ';' ignored): BEACON,
  *  DEFAULT_BEACON_FREQ/_REPORT_RANGE/_WIDTH/_COLOR/_SHAPE (24.8: _PUSH_DIST, _PULL_DIST,
  *  and its example's "default beacon_color"), REACH_DISTANCE (node_push_dist),
  *  NODE_PULL_DIST, PING_WAIT, PING_PAYMENTS, REPORT_VARS, GROUND_TRUTH, RN_ALGORITHM,
  *  RN_UNIFORM_PCT, RN_GAUSSIAN_SIGMA, VERBOSE, REPORT_XY, BEACON_ORDER, RAND_MODE,
  *  SEED_RANDOM. @return 1 taken, 2 taken with the warning KELP_BRS_WARN_QUERY_RANGE, 0 not its key, <0 (reason in d). */
-KELP_MUST_CHECK int kelp_field_brs_config(kelp_field_brs_cfg *cfg, const char *key, const char *val, kelp_diag *d);
+KELP_MUST_CHECK int kelp_beaconrange_config(kelp_beaconrange_cfg *cfg, const char *key, const char *val, kelp_diag *d);
 /** Build the beacons and start at `now`. @return@return 0, or <0 (reason in d) (a bad BEACON). */
-KELP_MUST_CHECK int kelp_field_brs_init(kelp_field_brs *b, const kelp_field_brs_cfg *cfg, kelp_time now, kelp_diag *d);
-const char *kelp_field_brs_subscription(unsigned i);
+KELP_MUST_CHECK int kelp_beaconrange_init(kelp_beaconrange *b, const kelp_beaconrange_cfg *cfg, kelp_time now, kelp_diag *d);
+const char *kelp_beaconrange_subscription(unsigned i);
 /** NODE_REPORT, NODE_REPORT_LOCAL, BRS_RANGE_REQUEST. @return 1 used, 0 not ours, <0 bad
  *  (a warning through out->warn). */
-int kelp_field_brs_mail(kelp_field_brs *b, const char *var, bool is_string, const char *sval, kelp_time now,
+int kelp_beaconrange_mail(kelp_beaconrange *b, const char *var, bool is_string, const char *sval, kelp_time now,
                         const kelp_field_sink *out);
 /** First call: VIEW_MARKER per beacon, unsolicited timers drawn. Then unsolicited reports.
  *  @return the range reports posted. */
-unsigned long kelp_field_brs_iterate(kelp_field_brs *b, kelp_time now, const kelp_field_sink *out);
+unsigned long kelp_beaconrange_iterate(kelp_beaconrange *b, kelp_time now, const kelp_field_sink *out);
 /** The startup block of Listing 25 ("SRS Model - # Beacons: ..."). @return 0 or KELP_ERR_NOSPACE. */
-KELP_MUST_CHECK int kelp_field_brs_summary(const kelp_field_brs *b, char *buf, size_t cap);
+KELP_MUST_CHECK int kelp_beaconrange_summary(const kelp_beaconrange *b, char *buf, size_t cap);
 /** The AppCast report as 24.8's buildReport lays it out: "Beacons(N):" and the beacon table
  *  (ID, X, Y, Freq, Pings Unsol/Recvd/Gen'd, Noise, Push/Pull Dist), "Vehicles(N):" and the
  *  vehicle table (VName, Push/Pull Dist, Unsol Rec'd, Pings Gen'd/Rep'd, Too Freq/Far), then
  *  "Ledger: now:N, reps:R, who:a,b,..". @return 0 or KELP_ERR_NOSPACE. */
-KELP_MUST_CHECK int kelp_field_brs_report(const kelp_field_brs *b, char *buf, size_t cap);
+KELP_MUST_CHECK int kelp_beaconrange_report(const kelp_beaconrange *b, char *buf, size_t cap);
 /** Index of a beacon by label, or -1. */
-int kelp_field_brs_find(const kelp_field_brs *b, const char *label);
+int kelp_beaconrange_find(const kelp_beaconrange *b, const char *label);
 
 #ifdef __cplusplus
 }

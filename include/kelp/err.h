@@ -1,7 +1,7 @@
 /* kelp: status codes shared by every module.
  *
  * Every status-returning function returns 0 (KELP_OK) or one negative kelp_err.
- * kelp_strerror() turns a code into constant text; it never allocates.
+ * kelp_err_str() turns a code into constant text; it never allocates.
  */
 #ifndef KELP_ERR_H
 #define KELP_ERR_H
@@ -47,7 +47,7 @@ typedef enum kelp_err {
 } kelp_err;
 
 /** Constant text for a status code; unknown codes give "unknown error". */
-const char *kelp_strerror(int code);
+const char *kelp_err_str(int code);
 
 #ifdef __cplusplus
 }

@@ -1,4 +1,4 @@
-/* kelp range sensors, part 0: what the beacon and contact range sensors share (kelp_rsense_*:
+/* kelp range sensors, part 0: what the beacon and contact range sensors share (kelp_rangesense_*:
  * node table, per-vehicle parameter maps, range noise, the kelp or glibc random draws). The
  * sensors are in kelp/beaconrange.h and kelp/contactrange.h; the range model and the glibc
  * mode are described in kelp/beaconrange.h. */
@@ -30,44 +30,44 @@ extern "C" {
 #define KELP_RSENSE_NAME KELP_NODEREPORT_MAX_FIELD
 #define KELP_RSENSE_LEDGER_WHO 4    /**< names in the AppCast's ledger line (24.8's getSummary) */
 
-typedef enum kelp_rsense_noise_alg {
+typedef enum kelp_rangesense_noise_alg {
     KELP_RSENSE_NOISE_NONE = 0,
     KELP_RSENSE_NOISE_UNIFORM,   /**< r + U(-pct r, +pct r) */
     KELP_RSENSE_NOISE_GAUSSIAN   /**< r + N(0, sigma) */
-} kelp_rsense_noise_alg;
+} kelp_rangesense_noise_alg;
 
-typedef enum kelp_rsense_vars {
+typedef enum kelp_rangesense_vars {
     KELP_RSENSE_SHORT = 0,       /**< <PFX>_RANGE_REPORT with vname= */
     KELP_RSENSE_LONG,            /**< <PFX>_RANGE_REPORT_<VNAME> */
     KELP_RSENSE_BOTH
-} kelp_rsense_vars;
+} kelp_rangesense_vars;
 
 /** One parameter given per vehicle: `default = v`, `<vname> = v`, or a bare `v`. A negative
  *  value is "nolimit". */
-typedef struct kelp_rsense_vmap {
+typedef struct kelp_rangesense_vmap {
     double dflt;
     char name[KELP_RSENSE_MAX_VCFG][KELP_RSENSE_NAME];
     double v[KELP_RSENSE_MAX_VCFG];
     unsigned n;
-} kelp_rsense_vmap;
+} kelp_rangesense_vmap;
 
 /** The random source (in the tool's struct; no global state). */
-typedef struct kelp_rsense_rand {
+typedef struct kelp_rangesense_rand {
     bool glibc;                  /**< RAND_MODE = glibc */
     kelp_rng rng;
-    kelp_glibc_rand g;
+    kelp_rng_glibc g;
     bool have_gset;              /**< MOOSWhiteNoise's cached second deviate */
     double gset;
     unsigned long draws;         /**< values drawn so far */
-} kelp_rsense_rand;
+} kelp_rangesense_rand;
 
-typedef struct kelp_rsense_noise {
-    kelp_rsense_noise_alg alg;
+typedef struct kelp_rangesense_noise {
+    kelp_rangesense_noise_alg alg;
     double pct;                  /**< uniform: fraction of the range in [0,1] */
     double sigma;                /**< gaussian: metres */
-} kelp_rsense_noise;
+} kelp_rangesense_noise;
 
-typedef struct kelp_rsense_node {
+typedef struct kelp_rangesense_node {
     char name[KELP_RSENSE_NAME]; /**< as it arrived (compared case-insensitively) */
     char type[KELP_RSENSE_NAME];
     double x, y, hdg;
@@ -78,51 +78,51 @@ typedef struct kelp_rsense_node {
     unsigned long replied;       /**< replies received (BRS Rep'd) */
     unsigned long too_far;       /**< beacons or contacts out of range of an honoured request */
     unsigned long echoes_sent;   /**< CRS: times this vehicle was reported to a pinger */
-} kelp_rsense_node;
+} kelp_rangesense_node;
 
 /** Verbose console lines (may be NULL): the 12.2 manual's event output. */
-typedef void (*kelp_rsense_log_fn)(void *ctx, const char *line);
+typedef void (*kelp_rangesense_log_fn)(void *ctx, const char *line);
 
 /** The parameters both sensors take. */
-typedef struct kelp_rsense_common {
-    kelp_rsense_vmap ping_wait;  /**< PING_WAIT 30 s */
-    kelp_rsense_vars report_vars;/**< REPORT_VARS (short) */
-    kelp_rsense_noise noise;     /**< RN_ALGORITHM, RN_UNIFORM_PCT, RN_GAUSSIAN_SIGMA (none) */
+typedef struct kelp_rangesense_common {
+    kelp_rangesense_vmap ping_wait;  /**< PING_WAIT 30 s */
+    kelp_rangesense_vars report_vars;/**< REPORT_VARS (short) */
+    kelp_rangesense_noise noise;     /**< RN_ALGORITHM, RN_UNIFORM_PCT, RN_GAUSSIAN_SIGMA (none) */
     bool ground_truth;           /**< GROUND_TRUTH (false) */
     bool verbose;                /**< VERBOSE (false) */
     bool glibc;                  /**< RAND_MODE = glibc (default kelp) */
     uint64_t seed;               /**< SEED_RANDOM (1) */
     kelp_geo geo;                /**< datum for reports with only LAT,LON */
     bool have_geo;
-    kelp_rsense_log_fn log;      /**< verbose lines (NULL: none) */
+    kelp_rangesense_log_fn log;      /**< verbose lines (NULL: none) */
     void *log_ctx;
-} kelp_rsense_common;
+} kelp_rangesense_common;
 
-void kelp_rsense_common_default(kelp_rsense_common *c);
+void kelp_rangesense_common_default(kelp_rangesense_common *c);
 /** PING_WAIT, REPORT_VARS, RN_ALGORITHM, RN_UNIFORM_PCT, RN_GAUSSIAN_SIGMA, GROUND_TRUTH,
  *  VERBOSE, RAND_MODE, SEED_RANDOM (v already trimmed). @return 1, 0 not one, <0 (reason in d). */
-KELP_MUST_CHECK int kelp_rsense_common_config(kelp_rsense_common *c, const char *key, const char *v, kelp_diag *d);
+KELP_MUST_CHECK int kelp_rangesense_common_config(kelp_rangesense_common *c, const char *key, const char *v, kelp_diag *d);
 
 /** Value of name in m (default when not listed). */
-double kelp_rsense_vmap_get(const kelp_rsense_vmap *m, const char *name);
+double kelp_rangesense_vmap_get(const kelp_rangesense_vmap *m, const char *name);
 /** Apply "default = v", "<vname> = v" or "v" (v a number, or nolimit/unlimited = -1 when
  *  allow_nolimit). @return 1, or <0 (reason in d). */
-KELP_MUST_CHECK int kelp_rsense_vmap_set(kelp_rsense_vmap *m, const char *val, bool allow_nolimit, kelp_diag *d);
+KELP_MUST_CHECK int kelp_rangesense_vmap_set(kelp_rangesense_vmap *m, const char *val, bool allow_nolimit, kelp_diag *d);
 /** RN_ALGORITHM: "uniform,pct=0.12", "gaussian,sigma=1.5" (also "gauss"), "none".
  *  @return 1 or <0 (reason in d). */
-KELP_MUST_CHECK int kelp_rsense_noise_set(kelp_rsense_noise *n, const char *val, kelp_diag *d);
-void kelp_rsense_rand_init(kelp_rsense_rand *r, bool glibc, uint64_t seed);
+KELP_MUST_CHECK int kelp_rangesense_noise_set(kelp_rangesense_noise *n, const char *val, kelp_diag *d);
+void kelp_rangesense_rand_init(kelp_rangesense_rand *r, bool glibc, uint64_t seed);
 /** Bytes of the workspace a range report is built in (the sensor's, off the stack). */
 #define KELP_RSENSE_POST_WS (320 + KELP_MAX_NAME + KELP_RSENSE_NAME)
 /** The time step rule: move the vehicles' ping-wait clocks back by a backward clock step. */
-void kelp_rsense_nodes_back(kelp_rsense_node *node, unsigned n, double back);
+void kelp_rangesense_nodes_back(kelp_rangesense_node *node, unsigned n, double back);
 /** The noisy range (draws one value for uniform, MOOSWhiteNoise's pattern for gaussian,
  *  nothing for none). */
-double kelp_rsense_noisy(kelp_rsense_rand *r, const kelp_rsense_noise *n, double range);
+double kelp_rangesense_noisy(kelp_rangesense_rand *r, const kelp_rangesense_noise *n, double range);
 /** Uniform in [lo, hi] as the mode draws it (glibc: lo + (rand()%1000)/1000*(hi-lo)). */
-double kelp_rsense_interval(kelp_rsense_rand *r, double lo, double hi);
+double kelp_rangesense_interval(kelp_rangesense_rand *r, double lo, double hi);
 /** Uniform in [0,1) (glibc: (rand()%10000)/10000). */
-double kelp_rsense_unit(kelp_rsense_rand *r);
+double kelp_rangesense_unit(kelp_rangesense_rand *r);
 
 #ifdef __cplusplus
 }

@@ -78,7 +78,7 @@ int kelp_helm_parse_points(const char *str, kelp_bhv_pt *pts, size_t cap, unsign
     char tmp[8];
     if (kelp_kv_get(b, ',', "radius", tmp, sizeof tmp) == 1)
         return parse_radial(b, pts, cap, n);
-    if ((b[0] == 'p' || b[0] == 'P') && kelp_strieq_n(b, 3, "pts")) {
+    if ((b[0] == 'p' || b[0] == 'P') && kelp_util_strieq_n(b, 3, "pts")) {
         const char *eq = strchr(b, '=');
         if (!eq)
             return KELP_ERR_PARSE;
@@ -159,7 +159,7 @@ int bhv_zaic1(kelp_bhv *b, const kelp_helm_work *w, const char *var, double summ
         hx_cat(msg, sizeof msg, var, " ZAIC problems ", z.warn, HX_END);
         if (msg[0] >= 'a' && msg[0] <= 'z')
             msg[0] = (char)(msg[0] - 'a' + 'A');
-        kelp_bhv_post_warning(b, msg);
+        kelp_helm_bhv_post_warning(b, msg);
         return KELP_ERR_STATE;
     }
     return kelp_ivp_zaic_peak_extract(&z, true, w->dwork, w->dwork_cap, w->out, w->out_cap, out);

@@ -53,7 +53,7 @@ static void put_ulong(ipf_out *o, unsigned long v)
 static void put_compact(ipf_out *o, double v)
 {
     char b[48];
-    if (kelp_fmt_fixed(b, sizeof b, v, 5, true) < 0) {
+    if (kelp_util_fmt_fixed(b, sizeof b, v, 5, true) < 0) {
         o->full = true;
         return;
     }

@@ -51,7 +51,7 @@ int kelp_plot_color(const char *name, double rgb[3])
         if (m != 6) return -1;
         unsigned v = 0;
         for (int i = 0; i < 6; i++) {
-            int x = kelp_hex_digit(d[i]);
+            int x = kelp_util_hex_digit(d[i]);
             if (x < 0) return -1;
             v = v * 16 + (unsigned)x;
         }
