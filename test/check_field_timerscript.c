@@ -89,7 +89,7 @@ static double first_post(const char *var, double t0, double t1)
 {
     for (double t = t0; t <= t1 + 1e-9; t += 0.25) {
         int before = count(&R, var);
-        (void)kelp_timerscript_iterate(&ts, t, &sink);
+        ck_assert_int_ge(kelp_timerscript_iterate(&ts, t, &sink), 0);
         if (count(&R, var) > before) return t;
     }
     return -1;

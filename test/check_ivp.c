@@ -353,7 +353,7 @@ START_TEST(peak_defaults_and_errors)
     /* a default component on a domain containing 0: max at 0, min elsewhere (sdelta ignored, pw=0) */
     kelp_ivp_zaic_peak y;
     ck_assert_int_eq(kelp_ivp_zaic_peak_init(&y, &d, "x"), 0);
-    (void)kelp_ivp_zaic_peak_add_component(&y);
+    ck_assert_int_eq(kelp_ivp_zaic_peak_add_component(&y), 1);
     ck_assert_double_eq(kelp_ivp_zaic_peak_value(&y, 0, true), 100);
     ck_assert_double_eq(kelp_ivp_zaic_peak_value(&y, 1, true), 0);
     /* T-P7 */

@@ -388,8 +388,8 @@ START_TEST(usim_step)
     simpos p = { 0, 0 };
     kelp_time t = T0;
     for (int k = 0; k < 50; k++, t += 0.1) {
-        (void)kelp_usim_mail(&u, "DESIRED_THRUST", false, NULL, 40, t);
-        (void)kelp_usim_iterate(&u, t, usim_sink, &p);
+        ck_assert_int_eq(kelp_usim_mail(&u, "DESIRED_THRUST", false, NULL, 40, t), 1);
+        ck_assert_int_ge(kelp_usim_iterate(&u, t, usim_sink, &p), 0);
     }
     ck_assert(p.x > 1.0); /* it moves */
     if (!isfinite(step)) ck_assert_int_eq(kelp_usim_iterate(&u, step, usim_sink, &p), KELP_ERR_ARG);
@@ -399,8 +399,8 @@ START_TEST(usim_step)
     int moved = -1;
     for (int k = 0; k < 50; k++) {
         kelp_time tk = from + k * 0.1;
-        (void)kelp_usim_mail(&u, "DESIRED_THRUST", false, NULL, 40, tk);
-        (void)kelp_usim_iterate(&u, tk, usim_sink, &p);
+        ck_assert_int_eq(kelp_usim_mail(&u, "DESIRED_THRUST", false, NULL, 40, tk), 1);
+        ck_assert_int_ge(kelp_usim_iterate(&u, tk, usim_sink, &p), 0);
         double d = hypot(p.x - prev.x, p.y - prev.y);
         if (d > most) most = d;
         if (d > 0 && moved < 0 && k > 0) moved = k;
@@ -857,7 +857,7 @@ START_TEST(nodereporter_step)
     kelp_time t = T0;
     for (; t < T0 + 30; t += 1) {
         for (int i = 0; i < 4; i++) ck_assert_int_eq(kelp_field_nrep_mail(&nr, navs[i], false, NULL, 1, &out), 1);
-        (void)kelp_field_nrep_iterate(&nr, t, &out);
+        ck_assert_int_ge(kelp_field_nrep_iterate(&nr, t, &out), 0);
     }
     ck_assert_int_ge(cs.n, 4);
     if (!isfinite(step)) ck_assert_int_eq(kelp_field_nrep_iterate(&nr, step, &out), 0);
@@ -866,7 +866,7 @@ START_TEST(nodereporter_step)
     for (int k = 0; k < 30; k++) {
         int n = cs.n;
         for (int i = 0; i < 4; i++) ck_assert_int_eq(kelp_field_nrep_mail(&nr, navs[i], false, NULL, 1, &out), 1);
-        (void)kelp_field_nrep_iterate(&nr, from + k, &out);
+        ck_assert_int_ge(kelp_field_nrep_iterate(&nr, from + k, &out), 0);
         if (cs.n > n && first < 0) first = k;
     }
     ck_assert_msg(first >= 0 && first <= 6, "step %g: first report %d s after the step", step, first);
@@ -893,7 +893,7 @@ START_TEST(contactmgr_step)
     for (int i = 0; i < 4; i++) ck_assert_int_eq(kelp_contactmgr_mail(&c, (const char *[]){ "NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED" }[i], false, NULL, 0, t, NULL, &out), 1);
     for (; t < T0 + 20; t += 1) {
         snprintf(r, sizeof r, "NAME=ben,TYPE=kayak,TIME=%.2f,X=100,Y=0,SPD=0,HDG=90", t);
-        (void)kelp_contactmgr_mail(&c, "NODE_REPORT", true, r, 0, t, NULL, &out);
+        ck_assert_int_eq(kelp_contactmgr_mail(&c, "NODE_REPORT", true, r, 0, t, NULL, &out), 1);
         kelp_contactmgr_iterate(&c, t, &out);
     }
     ck_assert_int_ge(cs.n, 18);
@@ -908,7 +908,7 @@ START_TEST(contactmgr_step)
     for (int k = 0; k < 15; k++) {
         int n = cs.n;
         snprintf(r, sizeof r, "NAME=ben,TYPE=kayak,TIME=%.2f,X=100,Y=0,SPD=0,HDG=90", from + k);
-        (void)kelp_contactmgr_mail(&c, "NODE_REPORT", true, r, 0, from + k, NULL, &out);
+        ck_assert_int_eq(kelp_contactmgr_mail(&c, "NODE_REPORT", true, r, 0, from + k, NULL, &out), 1);
         kelp_contactmgr_iterate(&c, from + k, &out);
         ck_assert_int_le(cs.n - n, 1);
         if (cs.n > n && first < 0) first = k;

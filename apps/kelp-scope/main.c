@@ -123,7 +123,8 @@ static void on_key(kelp_app *app, void *st, int fd)
 static int startup(kelp_app *app, void *st)
 {
     scope *s = st;
-    if (s->history) (void)kelp_xms_add_var(&s->core, s->history, true); /* history mode if alone */
+    /* history mode if alone; a name the scope refuses is simply not shown (as uXMS) */
+    if (s->history) KELP_IGNORE(kelp_xms_add_var(&s->core, s->history, true));
     int rc = kelp_app_param_foreach(app, param, s);
     if (rc < 0) return rc;
     const char *extra = getenv("KELP_SCOPE_VARS");

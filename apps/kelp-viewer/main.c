@@ -163,7 +163,8 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
 {
     viewer *s = st;
     if (v->kind != KELP_VAR_STRING) return;
-    (void)kelp_viewer_mail(&s->model, v->name, v->sval, strlen(v->sval), kelp_app_time(app));
+    /* a refused value is counted by the model (its status page shows it) */
+    KELP_IGNORE(kelp_viewer_mail(&s->model, v->name, v->sval, strlen(v->sval), kelp_app_time(app)));
 }
 
 static int iterate(kelp_app *app, void *st, double now)

@@ -81,8 +81,9 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
 {
     cmgr_app *a = st;
     if (v->kind == KELP_VAR_BINARY) return;
-    (void)kelp_contactmgr_mail(a->core, v->name, v->kind == KELP_VAR_STRING, v->sval, v->dval, kelp_app_time(app), v->source,
-                         &a->sink);
+    /* refused mail is warned through the sink and counted by the core */
+    KELP_IGNORE(kelp_contactmgr_mail(a->core, v->name, v->kind == KELP_VAR_STRING, v->sval, v->dval, kelp_app_time(app),
+                                     v->source, &a->sink));
     forward_events(a);
 }
 

@@ -170,14 +170,15 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
     nrep *r = st;
     (void)app;
     if (v->kind == KELP_VAR_BINARY) return;
-    (void)kelp_field_nrep_mail(&r->core, v->name, v->kind == KELP_VAR_STRING, v->sval, v->dval, &r->sink);
+    /* refused mail is warned through the sink and counted by the core */
+    KELP_IGNORE(kelp_field_nrep_mail(&r->core, v->name, v->kind == KELP_VAR_STRING, v->sval, v->dval, &r->sink));
 }
 
 static int iterate(kelp_app *app, void *st, double now)
 {
     nrep *r = st;
-    (void)app;
-    (void)kelp_field_nrep_iterate(&r->core, now, &r->sink);
+    if (kelp_field_nrep_iterate(&r->core, now, &r->sink) < 0)
+        kelp_app_run_warning(app, "NODE_REPORT not posted: it does not fit a report");
     return 0;
 }
 

@@ -94,8 +94,9 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
 {
     premus *p = st;
     if (v->kind == KELP_VAR_BINARY) return;
-    (void)kelp_remus_codec_mail(&p->core, v->name, v->kind == KELP_VAR_STRING, v->sval, v->dval, kelp_app_time(app),
-                                &p->sink);
+    /* refused mail is warned through the sink and counted by the core */
+    KELP_IGNORE(kelp_remus_codec_mail(&p->core, v->name, v->kind == KELP_VAR_STRING, v->sval, v->dval, kelp_app_time(app),
+                                      &p->sink));
 }
 
 static int iterate(kelp_app *app, void *st, double now)

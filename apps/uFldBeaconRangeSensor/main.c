@@ -76,7 +76,8 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
 {
     brs_app *a = st;
     if (v->kind == KELP_VAR_BINARY) return;
-    (void)kelp_beaconrange_mail(&a->core, v->name, v->kind == KELP_VAR_STRING, v->sval, kelp_app_time(app), &a->sink);
+    /* refused mail is warned through the sink and counted by the core */
+    KELP_IGNORE(kelp_beaconrange_mail(&a->core, v->name, v->kind == KELP_VAR_STRING, v->sval, kelp_app_time(app), &a->sink));
 }
 
 static int iterate(kelp_app *app, void *st, double now)

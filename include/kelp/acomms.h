@@ -290,10 +290,11 @@ KELP_MUST_CHECK int kelp_acomms_node_mac_update(kelp_acomms_node *n, const kelp_
 /** A data request as the modem would make it; the FRAME_OUT event is emitted too. */
 KELP_MUST_CHECK int kelp_acomms_node_data_request(kelp_acomms_node *n, const kelp_queue_request *req, kelp_time now,
                                                   kelp_acomms_msg *out);
-/** A modem ack of `frame` from src (dest must be us).  @return messages acknowledged. */
-int kelp_acomms_node_ack(kelp_acomms_node *n, int src, int dest, uint32_t frame, kelp_time now);
-/** A frame received from the modem. */
-int kelp_acomms_node_receive(kelp_acomms_node *n, const kelp_acomms_msg *frame, kelp_time now);
+/** A modem ack of `frame` from src (dest must be us).  @return messages acknowledged, or
+ *  KELP_ERR_ARG (n NULL). */
+KELP_MUST_CHECK int kelp_acomms_node_ack(kelp_acomms_node *n, int src, int dest, uint32_t frame, kelp_time now);
+/** A frame received from the modem. @return pieces reported, or KELP_ERR_ARG (NULL n or frame). */
+KELP_MUST_CHECK int kelp_acomms_node_receive(kelp_acomms_node *n, const kelp_acomms_msg *frame, kelp_time now);
 /** Modem `src` was heard (MAC auto-discovery). */
 void kelp_acomms_node_heard(kelp_acomms_node *n, int src, kelp_time now);
 

@@ -114,8 +114,8 @@ KELP_MUST_CHECK int kelp_beaconrange_init(kelp_beaconrange *b, const kelp_beacon
 const char *kelp_beaconrange_subscription(unsigned i);
 /** NODE_REPORT, NODE_REPORT_LOCAL, BRS_RANGE_REQUEST. @return 1 used, 0 not ours, <0 bad
  *  (a warning through out->warn). */
-int kelp_beaconrange_mail(kelp_beaconrange *b, const char *var, bool is_string, const char *sval, kelp_time now,
-                        const kelp_field_sink *out);
+KELP_MUST_CHECK int kelp_beaconrange_mail(kelp_beaconrange *b, const char *var, bool is_string, const char *sval, kelp_time now,
+                                        const kelp_field_sink *out);
 /** First call: VIEW_MARKER per beacon, unsolicited timers drawn. Then unsolicited reports.
  *  @return the range reports posted. */
 unsigned long kelp_beaconrange_iterate(kelp_beaconrange *b, kelp_time now, const kelp_field_sink *out);

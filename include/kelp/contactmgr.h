@@ -201,8 +201,8 @@ const char *kelp_contactmgr_subscription(unsigned i);
 
 /** One mail at `now` from app `src` (may be NULL). @return 1 handled, 0 not ours,
  *  <0 bad mail (already warned through out). */
-int kelp_contactmgr_mail(kelp_contactmgr *c, const char *var, bool is_string, const char *sval, double dval, kelp_time now,
-                   const char *src, const kelp_field_sink *out);
+KELP_MUST_CHECK int kelp_contactmgr_mail(kelp_contactmgr *c, const char *var, bool is_string, const char *sval, double dval, kelp_time now,
+                                   const char *src, const kelp_field_sink *out);
 
 /** Apply an alert spec (as an "alert" line when from_mail is false, else BCM_ALERT_REQUEST).
  *  @return 1 applied, <0 rejected (warned). */
@@ -214,7 +214,7 @@ void kelp_contactmgr_iterate(kelp_contactmgr *c, kelp_time now, const kelp_field
 
 /** The terminal report (24.8's, from "X/Y from Lat/Lon:" on). @return the length,
  *  or KELP_ERR_NOSPACE when cut. */
-int kelp_contactmgr_report_text(const kelp_contactmgr *c, kelp_time now, char *buf, size_t cap);
+KELP_MUST_CHECK int kelp_contactmgr_report_text(const kelp_contactmgr *c, kelp_time now, char *buf, size_t cap);
 
 /** The effective CPA range of an alert: max(cpa_range, alert_range). */
 double kelp_contactmgr_cpa_range(const kelp_contactmgr_alert *a);

@@ -62,8 +62,8 @@ KELP_MUST_CHECK int kelp_contactrange_config(kelp_contactrange_cfg *cfg, const c
 void kelp_contactrange_init(kelp_contactrange *c, const kelp_contactrange_cfg *cfg, kelp_time now);
 const char *kelp_contactrange_subscription(unsigned i);
 /** NODE_REPORT, NODE_REPORT_LOCAL, CRS_RANGE_REQUEST. @return 1 used, 0 not ours, <0 bad. */
-int kelp_contactrange_mail(kelp_contactrange *c, const char *var, bool is_string, const char *sval, kelp_time now,
-                        const kelp_field_sink *out);
+KELP_MUST_CHECK int kelp_contactrange_mail(kelp_contactrange *c, const char *var, bool is_string, const char *sval, kelp_time now,
+                                        const kelp_field_sink *out);
 /** The AppCast report as 24.8's buildReport lays it out: the settings (Default Ping Wait,
  *  noise, colours, ground truth, Ignore Group, Total Node Reports) and "Vehicles(N):" with the
  *  table VName, Ping Wait, Push/Pull Dist, Pings Gen'd, Echos Rec'd, Too Freq/Far, Echos Sent,

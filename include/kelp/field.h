@@ -151,8 +151,8 @@ KELP_MUST_CHECK int kelp_field_nrep_init(kelp_field_nrep *r, const kelp_field_nr
 const char *kelp_field_nrep_subscription(const kelp_field_nrep *r, unsigned i);
 /** One mail. Returns 1 when it was used, 0 when not for this tool, <0 (and a warning) when
  *  bad (a navigation value that is not a finite number). */
-int kelp_field_nrep_mail(kelp_field_nrep *r, const char *var, bool is_string, const char *sval, double dval,
-                         const kelp_field_sink *out);
+KELP_MUST_CHECK int kelp_field_nrep_mail(kelp_field_nrep *r, const char *var, bool is_string, const char *sval, double dval,
+                                         const kelp_field_sink *out);
 /** Iterate at `now` (pNodeReporter's rule): a report when the navigation is valid (a
  *  position, speed and heading; or the grace period is over) and the blackout interval has
  *  passed, unless a receiver could extrapolate it. The first goes to <OUT>_FIRST too; each is
@@ -160,7 +160,7 @@ int kelp_field_nrep_mail(kelp_field_nrep *r, const char *var, bool is_string, co
  *  name and group) follows while that solution had mail in the last 5 s. MODE is NOHELM-EVER / NOHELM-<s> without helm mail for
  *  nohelm_threshold s, else the helm state, or the helm's modes in DRIVE.
  *  Returns 1 when a report was published, 0 when none was due, <0 on a formatting error. */
-int kelp_field_nrep_iterate(kelp_field_nrep *r, kelp_time now, const kelp_field_sink *out);
+KELP_MUST_CHECK int kelp_field_nrep_iterate(kelp_field_nrep *r, kelp_time now, const kelp_field_sink *out);
 
 /* ------------------------------------------------------------------ pHostInfo */
 
@@ -237,7 +237,7 @@ void kelp_field_hostinfo_set(kelp_field_hostinfo *h, const char *const *ifnames,
 /** HOST_INFO_REQUEST (any value: look again, post again), PMB_UDP_LISTEN (port),
  *  PSHARE_INPUT_SUMMARY ("localhost:9200:udp,1.2.3.4:2000:multicast_23" is kept as 24.8 keeps
  *  it: "localhost:9200&multicast_23"). @return 1 used, 0 not ours, <0 bad value. */
-int kelp_field_hostinfo_mail(kelp_field_hostinfo *h, const char *var, bool is_string, const char *sval, double dval);
+KELP_MUST_CHECK int kelp_field_hostinfo_mail(kelp_field_hostinfo *h, const char *var, bool is_string, const char *sval, double dval);
 /** One iteration; a post at the first, after HOST_INFO_REQUEST and every tenth (24.8):
  *  PHI_HOST_IP ("localhost", or DEFAULT_HOSTIP, when nothing was found), PHI_HOST_IP_ALL and
  *  PHI_HOST_IP_VERBOSE (both "" when nothing was found), PHI_HOST_PORT_DB, PHI_HOST_PORT_UDP
@@ -451,8 +451,8 @@ const char *kelp_field_ncomms_subscription(unsigned i);
  *  UNC_DROP_PCT, UNC_VIEW_NODE_RPT_PULSES, UNC_SHARED_NODE_REPORTS. Returns 1 used, 0 not
  *  ours, <0 when the value is refused, with 24.8's run warning through out->warn ("Bad Mail:
  *  <VAR>", for a report with the reason: "Bad Mail: NODE_REPORT Missing timestamp."). */
-int kelp_field_ncomms_mail(kelp_field_ncomms *c, const char *var, bool is_string, const char *sval, double dval,
-                           const char *source, kelp_time now, const kelp_field_sink *out);
+KELP_MUST_CHECK int kelp_field_ncomms_mail(kelp_field_ncomms *c, const char *var, bool is_string, const char *sval, double dval,
+                                           const char *source, kelp_time now, const kelp_field_sink *out);
 /** Iterate at `now`: relay every report received since the last iteration (senders in name
  *  order; NODE_REPORT_UNC and RTE with SHARED_NODE_REPORTS), route the queued messages, then
  *  the acks (sources in name order), forget vehicles silent for 20 x STALE_TIME. @return the
@@ -583,8 +583,8 @@ void kelp_field_umh_init(kelp_field_umh *h, const kelp_field_umh_cfg *cfg);
  *  the MOOS source-aux), then the MSG_FLAGs. Invalid: counted and listed with the reason, no
  *  flag. Rejected: counted and listed, then the BAD_MSG_FLAGs. A double is an invalid "".
  *  @return 1 posted, KELP_ERR_PARSE invalid, KELP_ERR_ARG rejected (addressing). */
-int kelp_field_umh_mail(kelp_field_umh *h, const char *var, bool is_string, const char *sval, kelp_time now,
-                        const kelp_field_sink *out);
+KELP_MUST_CHECK int kelp_field_umh_mail(kelp_field_umh *h, const char *var, bool is_string, const char *sval, kelp_time now,
+                                        const kelp_field_sink *out);
 /** One iteration: UMH_SUMMARY_MSGS "total=..,valid=..,rejected=.." (MOOS-IvP 24.8: valid counts
  *  every well-formed message, rejected ones included; the invalid are total - valid) after an
  *  iteration that had NODE_MESSAGE mail and on iterations 1, 101, 201, ... as 24.8 posts it.
@@ -656,7 +656,7 @@ const char *kelp_field_ufs_subscription(const kelp_field_ufs *s, unsigned i);
  *  name stand for each other), the vehicle's cell becomes the element's field (empty when the
  *  report lacks it). @return 1 used, 0 not for us, KELP_ERR_PARSE (a double, or malformed
  *  pairs: what could be read is used). */
-int kelp_field_ufs_mail(kelp_field_ufs *s, const char *var, bool is_string, const char *sval);
+KELP_MUST_CHECK int kelp_field_ufs_mail(kelp_field_ufs *s, const char *var, bool is_string, const char *sval);
 /** A key press: l/L cycle A, 1..k, A; a/A toggle A and the last layout; p/P/space pause (and
  *  refresh once); r/R stream; h/H help (again: paused). @return 1 when the view changed or a
  *  refresh is asked for, 0 for other keys. */
@@ -802,8 +802,8 @@ const char *kelp_field_nbroker_subscription(unsigned i);
  *  new shore or after RETRY_INTERVAL of silence, every BRIDGE is registered to it; then
  *  NODE_PSHARE_VARS, the bridges' aliases comma-joined, as 24.8 posts it);
  *  TRY_SHORE_HOST (24.8: a try host added at run time). @return 1 used, 0 not ours, <0 bad. */
-int kelp_field_nbroker_mail(kelp_field_nbroker *b, const char *var, bool is_string, const char *sval, kelp_time now,
-                            const kelp_field_sink *out);
+KELP_MUST_CHECK int kelp_field_nbroker_mail(kelp_field_nbroker *b, const char *var, bool is_string, const char *sval, kelp_time now,
+                                            const kelp_field_sink *out);
 /** Iterate. 24.8: while no try host has acked, the ping bridges (PSHARE_CMD
  *  NODE_BROKER_PING_<i> -> NODE_BROKER_PING to route i); once PHI_HOST_INFO gave
  *  pshare_iroutes and timewarp, NODE_BROKER_PING_<i> = the host record with time= and key=i
@@ -893,8 +893,8 @@ const char *kelp_field_sbroker_subscription(unsigned i);
  *  NODE_BROKER_ACK_$V and every source expanded for a vehicle, as MOOS-IvP 24.8 posts it);
  *  then the ack NODE_BROKER_ACK_<V> and NODE_BROKER_VACK are posted. @return 1 used, 0 not
  *  ours, <0 bad. */
-int kelp_field_sbroker_mail(kelp_field_sbroker *s, const char *var, bool is_string, const char *sval, kelp_time now,
-                            const kelp_field_sink *out);
+KELP_MUST_CHECK int kelp_field_sbroker_mail(kelp_field_sbroker *s, const char *var, bool is_string, const char *sval, kelp_time now,
+                                            const kelp_field_sink *out);
 /** Iterate: UFSB_QBRIDGE_VARS (the QBRIDGE names, sorted; once), stale warnings,
  *  UFSB_NODE_COUNT (on change, else every 30 s), try_vnode registrations (every 30 s) and
  *  TRY_SHORE_HOST (every 10 s). @return the number of posts. */

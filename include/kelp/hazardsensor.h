@@ -207,8 +207,8 @@ const char *kelp_hazardsensor_subscription(unsigned i);
 /** One mail at `now` from `community` (the mail's, "" when unknown): NODE_REPORT,
  *  UHZ_SENSOR_REQUEST, UHZ_CONFIG_REQUEST, UHZ_CLASSIFY_REQUEST, PMV_CONNECT.
  *  @return 1 handled, 0 not ours, <0 not handled (warned "Unhandled mail: <VAR>"). */
-int kelp_hazardsensor_mail(kelp_hazardsensor *h, const char *var, const char *sval, const char *community, kelp_time now,
-                        const kelp_field_sink *out);
+KELP_MUST_CHECK int kelp_hazardsensor_mail(kelp_hazardsensor *h, const char *var, const char *sval, const char *community, kelp_time now,
+                                        const kelp_field_sink *out);
 /** Iterate at `now`: markers when due, the options summary, every live sensor request,
  *  classify answers. */
 void kelp_hazardsensor_iterate(kelp_hazardsensor *h, kelp_time now, const kelp_field_sink *out);

@@ -110,7 +110,7 @@ int kelp_helm_ib_find(const kelp_helm_ib *ib, const char *name);
 KELP_MUST_CHECK int kelp_helm_cond_check(const char *cond, void (*on_var)(const char *var, size_t len, void *user),
                                          void *user);
 /** Evaluate a condition against the buffer: 1 true, 0 false, KELP_ERR_PARSE. */
-int kelp_helm_cond_eval(const char *cond, const kelp_helm_ib *ib);
+KELP_MUST_CHECK int kelp_helm_cond_eval(const char *cond, const kelp_helm_ib *ib);
 
 /* ------------------------------------------------------------------ behaviours */
 

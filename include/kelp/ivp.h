@@ -143,7 +143,7 @@ typedef struct kelp_ivp_zaic_peak {
 KELP_MUST_CHECK int kelp_ivp_zaic_peak_init(kelp_ivp_zaic_peak *z, const kelp_ivp_domain *dom, const char *var);
 /** addComponent(): returns the new index (1 on the first call) or KELP_ERR_NOSPACE (fatal).
  * New component: summit=0, peakwidth=0, basewidth=0, summitdelta=50, minutil=0, maxutil=100. */
-int kelp_ivp_zaic_peak_add_component(kelp_ivp_zaic_peak *z);
+KELP_MUST_CHECK int kelp_ivp_zaic_peak_add_component(kelp_ivp_zaic_peak *z);
 /* Setters return 0 or a negative code; a bad index is fatal (KELP_ERR_RANGE). A summit outside the
  * domain is kept as given (so summitinsist can act) with a warning. Negative widths are clipped to 0
  * with a warning. summitdelta < 0 and min >= max are fatal; summitdelta > max-min is clipped. */
@@ -264,9 +264,9 @@ size_t kelp_ivp_reflector_work_len(size_t cap);
  * smart_thresh used when smart_amount >= 0) override setParam values; pass -1 to use them.
  * Runs the reflector-script: uniform, directed refinement, smart refinement, auto-peak.
  * The result is NOT normalised. Returns the piece count (>0) or a negative code. */
-int kelp_ivp_reflector_create(kelp_ivp_reflector *r, int uniform_amount, int smart_amount, double smart_thresh,
-                              kelp_ivp_piece *store, size_t cap, kelp_ivp_pq_entry *work, size_t work_len,
-                              kelp_ivp_func *out);
+KELP_MUST_CHECK int kelp_ivp_reflector_create(kelp_ivp_reflector *r, int uniform_amount, int smart_amount, double smart_thresh,
+                                              kelp_ivp_piece *store, size_t cap, kelp_ivp_pq_entry *work, size_t work_len,
+                                              kelp_ivp_func *out);
 
 /* ------------------------------------------------------------------ solver */
 

@@ -186,7 +186,7 @@ typedef struct kelp_modemsim_event {
  *  "modem=1,event=rx,kind=data,src=2,dest=1,frame=1,range=750.0,travel=0.5000".
  *  @return 1 when written, 0 for the other event kinds, KELP_ERR_NOSPACE. */
 struct kelp_modemsim;
-int kelp_modemsim_event_format(const struct kelp_modemsim *m, const kelp_modemsim_event *e, char *buf, size_t cap);
+KELP_MUST_CHECK int kelp_modemsim_event_format(const struct kelp_modemsim *m, const kelp_modemsim_event *e, char *buf, size_t cap);
 
 typedef struct kelp_modemsim_ops {
     void (*write)(const char *bytes, size_t len, void *user);

@@ -82,8 +82,8 @@ const char *kelp_pathcheck_subscription(unsigned i);
 /** One mail at `now`. @return 1 used, 0 not ours, <0 bad value (a warning through
  *  out->warn, which may be NULL as may out: "Invalid NODE_REPORT: ..", "Invalid TRIP_RESET: ..").
  *  A bad `now` (kelp_util_time_ok) is refused with KELP_ERR_ARG. */
-int kelp_pathcheck_mail(kelp_pathcheck *p, const char *var, bool is_string, const char *sval, kelp_time now,
-                        const kelp_field_sink *out);
+KELP_MUST_CHECK int kelp_pathcheck_mail(kelp_pathcheck *p, const char *var, bool is_string, const char *sval, kelp_time now,
+                                        const kelp_field_sink *out);
 /** Post UPC_SPEED_REPORT for every vehicle with two records or more, then UPC_ODOMETRY_REPORT
  *  for each vehicle whose odometry changed since the last call. @return posts made. */
 unsigned kelp_pathcheck_iterate(kelp_pathcheck *p, kelp_time now, const kelp_field_sink *out);

@@ -105,8 +105,8 @@ KELP_MUST_CHECK int kelp_pid_marine_cfg_set(kelp_pid_marine_cfg *c, const char *
 KELP_MUST_CHECK int kelp_pid_marine_init(kelp_pid_marine *m, const kelp_pid_marine_cfg *cfg, kelp_time now);
 /** Mail: DESIRED_HEADING/SPEED/DEPTH, NAV_HEADING/YAW/SPEED/DEPTH/PITCH, SPEED_FACTOR,
  *  MOOS_MANUAL_OVERRIDE (and OVERIDE) "true"/"false". @return 1 used, 0 not ours, <0 bad. */
-int kelp_pid_marine_mail(kelp_pid_marine *m, const char *var, bool is_string, const char *sval, double dval,
-                         kelp_time now);
+KELP_MUST_CHECK int kelp_pid_marine_mail(kelp_pid_marine *m, const char *var, bool is_string, const char *sval, double dval,
+                                         kelp_time now);
 /** One iteration at `now`, publishing through sink. */
 void kelp_pid_marine_iterate(kelp_pid_marine *m, kelp_time now, kelp_pid_marine_sink sink, void *ctx);
 

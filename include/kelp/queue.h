@@ -240,7 +240,7 @@ typedef void (*kelp_unstitch_fn)(const uint8_t *piece, size_t len, unsigned dccl
  *  @return number of pieces, or KELP_ERR_PARSE (not DCCL / < 6 bytes) or KELP_ERR_TRUNCATED
  *  (a multimessage piece without its size byte or without a following header; the pieces before
  *  it were still reported). */
-int kelp_queue_unstitch(const uint8_t *d, size_t n, kelp_unstitch_fn fn, void *user);
+KELP_MUST_CHECK int kelp_queue_unstitch(const uint8_t *d, size_t n, kelp_unstitch_fn fn, void *user);
 
 #ifdef __cplusplus
 }

@@ -286,8 +286,8 @@ KELP_MUST_CHECK int kelp_remus_codec_init(kelp_remus_codec *t, const kelp_remus_
 /** The variables to register for, i = 0, 1, ... until NULL. */
 const char *kelp_remus_codec_subscription(const kelp_remus_codec *t, unsigned i);
 /** One piece of mail. @return 1 if it was used, 0 if not ours, <0 if refused (warned). */
-int kelp_remus_codec_mail(kelp_remus_codec *t, const char *var, bool is_string, const char *sval, double dval,
-                          kelp_time now, const kelp_field_sink *sink);
+KELP_MUST_CHECK int kelp_remus_codec_mail(kelp_remus_codec *t, const char *var, bool is_string, const char *sval, double dval,
+                                          kelp_time now, const kelp_field_sink *sink);
 /** Make the State when due. @return 1 if one was published, 0 otherwise. */
 int kelp_remus_codec_iterate(kelp_remus_codec *t, kelp_time now, const kelp_field_sink *sink);
 

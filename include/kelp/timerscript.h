@@ -169,19 +169,19 @@ const char *kelp_timerscript_subscription(const kelp_timerscript *r, unsigned i)
  *  first iteration's time (or a DB_UPTIME mail) is used. */
 void kelp_timerscript_set_db_start(kelp_timerscript *r, double t);
 /** One mail. @return 1 used, 0 not for this tool, <0 (and a warning) when bad. */
-int kelp_timerscript_mail(kelp_timerscript *r, const char *var, bool is_string, const char *sval, double dval, kelp_time now,
-                 const kelp_field_sink *out);
+KELP_MUST_CHECK int kelp_timerscript_mail(kelp_timerscript *r, const char *var, bool is_string, const char *sval, double dval, kelp_time now,
+                                 const kelp_field_sink *out);
 /** One iteration at MOOS time `now`: conditions, schedule, postings, resets, status.
  *  A clock step back, or forward beyond KELP_TIME_STEP_MAX, is not script time (the time step
  *  rule, docs/ARCHITECTURE.md).  @return the number of events posted, or KELP_ERR_ARG for a NaN,
  *  infinite or absurd `now` (nothing done). */
-int kelp_timerscript_iterate(kelp_timerscript *r, kelp_time now, const kelp_field_sink *out);
+KELP_MUST_CHECK int kelp_timerscript_iterate(kelp_timerscript *r, kelp_time now, const kelp_field_sink *out);
 /** Expand the macros and {a op b} groups of `val` as a posting would (the event machinery's
  *  text step, also the fuzz entry): @return 1 when the result is a lone number (*dval set),
  *  0 for text, KELP_ERR_NOSPACE when it does not fit. */
 KELP_MUST_CHECK int kelp_timerscript_expand(kelp_timerscript *r, const char *val, kelp_time now, char *out, size_t cap, double *dval);
 /** The status string. @return its length or KELP_ERR_NOSPACE. */
-int kelp_timerscript_status(const kelp_timerscript *r, char *buf, size_t cap);
+KELP_MUST_CHECK int kelp_timerscript_status(const kelp_timerscript *r, char *buf, size_t cap);
 
 #ifdef __cplusplus
 }

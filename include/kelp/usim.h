@@ -58,9 +58,9 @@ KELP_MUST_CHECK int kelp_usim_start(kelp_usim *u, const kelp_geo *geo, kelp_time
 const char *kelp_usim_subscription(unsigned i);
 /** Mail: DESIRED_*, USM_RESET, USM_SIM_PAUSED, DRIFT_X/Y, ROTATE_SPEED, BUOYANCY_RATE.
  *  @return 1 used, 0 not ours, <0 bad (a warning's worth). */
-int kelp_usim_mail(kelp_usim *u, const char *var, bool is_string, const char *sval, double dval, kelp_time now);
+KELP_MUST_CHECK int kelp_usim_mail(kelp_usim *u, const char *var, bool is_string, const char *sval, double dval, kelp_time now);
 /** Step to `now` and publish. @return 0, or <0 when the step failed (resumed from now). */
-int kelp_usim_iterate(kelp_usim *u, kelp_time now, kelp_usim_sink sink, void *ctx);
+KELP_MUST_CHECK int kelp_usim_iterate(kelp_usim *u, kelp_time now, kelp_usim_sink sink, void *ctx);
 
 #ifdef __cplusplus
 }

@@ -38,7 +38,7 @@ KELP_MUST_CHECK int kelp_util_parse_llong(const char *s, size_t len, long long *
  *  zeros of the fraction (and a bare '.'). Non-finite values print as nan, inf, -inf. Writes
  *  at most cap-1 characters and a NUL; returns the length the whole text needs (as snprintf),
  *  or KELP_ERR_RANGE when |v| x 10^dec reaches 9e18 (nothing written). */
-int kelp_util_fmt_fixed(char *buf, size_t cap, double v, unsigned dec, bool strip);
+KELP_MUST_CHECK int kelp_util_fmt_fixed(char *buf, size_t cap, double v, unsigned dec, bool strip);
 
 /** snprintf for the core: the C library's on a hosted system; on newlib (firmware) kelp's own
  *  (newlib's links malloc, and its nano variant prints no floating point). Flags - 0 + space #,

@@ -159,7 +159,7 @@ KELP_MUST_CHECK int kelp_viewer_poke_parse(const char *s, size_t len, kelp_viewe
 
 /** Mail: NODE_REPORT, NODE_REPORT_LOCAL, VIEW_*, APPCAST (other variables are not the viewer's: 0).
  *  @return 1 the model changed, 0 not a viewer variable, <0 the value was refused (counted). */
-int kelp_viewer_mail(kelp_viewer *v, const char *var, const char *sval, size_t len, kelp_time now);
+KELP_MUST_CHECK int kelp_viewer_mail(kelp_viewer *v, const char *var, const char *sval, size_t len, kelp_time now);
 
 /** Time passes: stale flags, stale removal, pulse expiry. @return 1 if anything changed.
  *  The time step rule (docs/ARCHITECTURE.md): after a backward step a vehicle's last report

@@ -105,7 +105,7 @@ void kelp_xms_init(kelp_xms *x);
 KELP_MUST_CHECK int kelp_xms_config(kelp_xms *x, const char *key, const char *val, kelp_diag *d);
 /** Add a variable to the scope list (history: also the history variable, if none yet).
  *  Names containing "uXMS" or white space are refused (0); 1 added or present; KELP_ERR_NOSPACE table full. */
-int kelp_xms_add_var(kelp_xms *x, const char *name, bool history);
+KELP_MUST_CHECK int kelp_xms_add_var(kelp_xms *x, const char *name, bool history);
 /** Add a comma-separated list of variables. @return 0, or KELP_ERR_PARSE / KELP_ERR_RANGE when
  *  one was refused or too long (the others are added). */
 KELP_MUST_CHECK int kelp_xms_add_vars(kelp_xms *x, const char *list);

@@ -80,8 +80,11 @@ void kelp_commander_describe(const kelp_dccl_field *f, char *out, size_t cap)
     switch (f->type) {
     case KELP_DCCL_T_INT:
     case KELP_DCCL_T_FLOAT:
-        (void)kelp_util_fmt_fixed(lo, sizeof lo, f->min, (unsigned)(f->precision > 0 ? f->precision : 0), false);
-        (void)kelp_util_fmt_fixed(hi, sizeof hi, f->max, (unsigned)(f->precision > 0 ? f->precision : 0), false);
+        /* a bound beyond fmt_fixed's range (|v| x 10^dec >= 9e18: nothing written) in %g */
+        if (kelp_util_fmt_fixed(lo, sizeof lo, f->min, (unsigned)(f->precision > 0 ? f->precision : 0), false) < 0)
+            (void)kelp_util_snprintf(lo, sizeof lo, "%g", f->min);
+        if (kelp_util_fmt_fixed(hi, sizeof hi, f->max, (unsigned)(f->precision > 0 ? f->precision : 0), false) < 0)
+            (void)kelp_util_snprintf(hi, sizeof hi, "%g", f->max);
         n = kelp_util_snprintf(out, cap, "(%s) range: %s to %s", kelp_commander_type_name(f), lo, hi);
         if (f->type == KELP_DCCL_T_FLOAT && n > 0 && (size_t)n < cap)
             n += kelp_util_snprintf(out + n, cap - (size_t)n, ", %d decimal places", f->precision);

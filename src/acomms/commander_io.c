@@ -45,7 +45,8 @@ static int resolve(const kelp_commander *c, const kelp_commander_msg *m, const c
             return kelp_fail(d, KELP_ERR_PARSE, "x/y special without LatOrigin/LongOrigin");
         }
         kelp_dccl_geo_local2latlon(c->geo, x, y, &lat, &lon);
-        (void)kelp_util_fmt_fixed(out, cap, v[0] == 'x' ? lon : lat, 7, true);
+        if (kelp_util_fmt_fixed(out, cap, v[0] == 'x' ? lon : lat, 7, true) < 0)
+            return kelp_fail(d, KELP_ERR_RANGE, "x/y special: position out of range");
         return KELP_OK;
     bad:
         return kelp_fail(d, KELP_ERR_PARSE, "an x(lon)N:/y(lat)N: special without its pair");

@@ -165,8 +165,8 @@ int kelp_ivp_spec_build(const kelp_ivp_spec *sp, const kelp_ivp_domain *dom, con
             return ivp_fail(diag, rc, "spec: cannot build ZAIC_PEAK on", var, strlen(var));
         for (unsigned i = 0; i < sp->ncomp; i++) {
             const kelp_ivp_zaic_comp *c = &sp->comp[i];
-            if (i > 0)
-                (void)kelp_ivp_zaic_peak_add_component(z);
+            if (i > 0) /* a full component table is fatal: z->ok is false, checked below */
+                KELP_IGNORE(kelp_ivp_zaic_peak_add_component(z));
             ivp_ignore(kelp_ivp_zaic_peak_set_params(z, c->summit, c->peakwidth, c->basewidth, c->summitdelta, c->minutil,
                                                 c->maxutil, i));
         }

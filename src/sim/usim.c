@@ -185,10 +185,12 @@ int kelp_usim_iterate(kelp_usim *u, kelp_time now, kelp_usim_sink sink, void *ct
      * (no dead reckoning over an hour the vehicle did not move): the simulation resumes from now */
     if (now < u->sim.time || now - u->sim.time > KELP_TIME_STEP_MAX) u->sim.time = now;
     if (u->embedded_pid) {
-        (void)kelp_pid_marine_mail(u->pid, "NAV_HEADING", false, NULL, s->heading, now);
-        (void)kelp_pid_marine_mail(u->pid, "NAV_SPEED", false, NULL, s->speed, now);
-        (void)kelp_pid_marine_mail(u->pid, "NAV_DEPTH", false, NULL, s->depth, now);
-        (void)kelp_pid_marine_mail(u->pid, "NAV_PITCH", false, NULL, u->sim.pitch, now);
+        /* the simulation's own state: the PID refuses only a non-finite value, and a refused
+         * one leaves its previous value in place, as a bad NAV_* mail would */
+        KELP_IGNORE(kelp_pid_marine_mail(u->pid, "NAV_HEADING", false, NULL, s->heading, now));
+        KELP_IGNORE(kelp_pid_marine_mail(u->pid, "NAV_SPEED", false, NULL, s->speed, now));
+        KELP_IGNORE(kelp_pid_marine_mail(u->pid, "NAV_DEPTH", false, NULL, s->depth, now));
+        KELP_IGNORE(kelp_pid_marine_mail(u->pid, "NAV_PITCH", false, NULL, u->sim.pitch, now));
         pid_ctx c = { u, sink, ctx };
         kelp_pid_marine_iterate(u->pid, now, pid_out, &c);
     }

@@ -277,7 +277,8 @@ static int config_action(kelp_viewer *v, const char *val, bool separator, kelp_d
         char num[32];
         const char *kv = pk.sval;
         if (!pk.is_string) {
-            (void)kelp_util_fmt_fixed(num, sizeof num, pk.dval, 6, true);
+            if (kelp_util_fmt_fixed(num, sizeof num, pk.dval, 6, true) < 0) /* beyond its range */
+                (void)kelp_util_snprintf(num, sizeof num, "%g", pk.dval);
             kv = num;
         }
         if (copy_text(key, sizeof key, kv, strlen(kv)) < 0 || !key[0]) return kelp_fail(d, KELP_ERR_PARSE, "bad menu_key");
@@ -292,7 +293,8 @@ static int config_action(kelp_viewer *v, const char *val, bool separator, kelp_d
         c->separator = separator;
         memcpy(c->key, key, sizeof c->key);
         char num[40];
-        if (!pk.is_string) (void)kelp_util_fmt_fixed(num, sizeof num, pk.dval, 9, true);
+        if (!pk.is_string && kelp_util_fmt_fixed(num, sizeof num, pk.dval, 9, true) < 0) /* beyond its range */
+            (void)kelp_util_snprintf(num, sizeof num, "%g", pk.dval);
         (void)kelp_util_snprintf(c->label, sizeof c->label, "%s=%s", pk.var, pk.is_string ? pk.sval : num); /* cut if long */
         c->pokes[0] = pk;
         c->npokes = 1;
@@ -623,7 +625,8 @@ static void json_cfg(const kelp_viewer *v, jw *w)
         for (unsigned k = 0; k < c->npokes; k++) {
             const kelp_viewer_poke *p = &c->pokes[k];
             char txt[KELP_MAX_NAME + KELP_VIEWER_MAX_POKE_VAL + 8], num[40];
-            if (!p->is_string) (void)kelp_util_fmt_fixed(num, sizeof num, p->dval, 9, true);
+            if (!p->is_string && kelp_util_fmt_fixed(num, sizeof num, p->dval, 9, true) < 0) /* beyond its range */
+                (void)kelp_util_snprintf(num, sizeof num, "%g", p->dval);
             (void)kelp_util_snprintf(txt, sizeof txt, "%s=%s", p->var, p->is_string ? p->sval : num);
             if (k) jw_lit(w, ",");
             jw_str(w, txt);

@@ -298,7 +298,8 @@ static void add_published(kelp_xms *x, const char *status_var, const char *repor
         char save = *e;
         *e = 0;
         while (*s == ' ') s++;
-        if (*s && strcmp(s, status_var) != 0) (void)kelp_xms_add_var(x, s, false);
+        /* a name the scope refuses (or a full table) is simply not shown, as uXMS */
+        if (*s && strcmp(s, status_var) != 0) KELP_IGNORE(kelp_xms_add_var(x, s, false));
         *e = save;
     }
 }
@@ -359,7 +360,7 @@ int kelp_xms_mail(kelp_xms *x, const char *name, bool is_string, const char *sva
     if (x->disp_all &&
         (x->disp_all_really || (!ends_with(name, "_STATUS") && strcmp(name, "APPCAST") != 0 &&
                                 strcmp(name, "DB_RWSUMMARY") != 0 && strcmp(name, "DB_VARSUMMARY") != 0)))
-        (void)kelp_xms_add_var(x, name, false);
+        KELP_IGNORE(kelp_xms_add_var(x, name, false)); /* display-all: a full table shows what fits */
     unsigned at;
     if (!find_var(x, name, &at)) return 0;
     kelp_xms_proc *pr = proc_seen(x, source);

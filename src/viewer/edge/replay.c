@@ -262,7 +262,8 @@ int kelp_viewer_replay_main(int argc, char **argv)
             changed = true;
         }
         for (; next < np && posts[next].t <= t; next++)
-            (void)kelp_viewer_mail(v, posts[next].var, posts[next].val, strlen(posts[next].val), posts[next].t);
+            /* a refused value is counted by the model, as live */
+            KELP_IGNORE(kelp_viewer_mail(v, posts[next].var, posts[next].val, strlen(posts[next].val), posts[next].t));
         (void)kelp_viewer_tick(v, t);
         if (changed || wn >= next_state) {
             char js[256];
