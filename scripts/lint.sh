@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
 # Static analysis, clean at this level (the build fails on any finding):
+#  - the public header rules (scripts/lint_api.py, a second): every function of
+#    include/kelp/X.h is kelp_X_*, every prototype returning a status is KELP_MUST_CHECK
 #  - cppcheck: warning, style, performance, portability over src/ (core and edge) and apps/
 #  - clang-tidy: clang-analyzer-*, bugprone-* (minus the purely stylistic
 #    easily-swappable-parameters and reserved-identifier, which the lcm-gen headers trip),
@@ -10,6 +12,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 inc="-Iinclude -Ibuild/gen $(pkg-config --cflags-only-I lcm)"
+echo "== header rules"
+python3 scripts/lint_api.py
 make --no-print-directory all >/dev/null
 echo "== cppcheck"
 cppcheck -j "$(nproc)" --enable=warning,style,performance,portability --std=c11 --inline-suppr --error-exitcode=1 -q \
