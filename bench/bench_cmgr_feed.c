@@ -64,7 +64,7 @@ int main(int argc, char **argv)
     long per_q = (n + 3) / 4;
     for (int q = 0; q < quarters; q++) {
         double qt = t0 + q * 0.25;
-        for (double now; (now = wall()) < qt;) (void)kelp_lcmbus_handle(lb, (int)((qt - now) * 1000) > 0 ? 1 : 0, now);
+        for (double now; (now = wall()) < qt;) KELP_IGNORE(kelp_lcmbus_handle(lb, (int)((qt - now) * 1000) > 0 ? 1 : 0, now));
         if (kelp_bus_notify_double(bus, "NAV_X", 0.5 * (qt - t0), qt) < 0) return 1;
         if (kelp_bus_notify_double(bus, "NAV_Y", 0, qt) < 0) return 1;
         if (kelp_bus_notify_double(bus, "NAV_HEADING", 90, qt) < 0) return 1;
@@ -72,13 +72,13 @@ int main(int argc, char **argv)
         for (long i = (q % 4) * per_q; i < n && i < (q % 4 + 1) * per_q; i++) {
             double due = qt + 0.25 * (double)(i % per_q) / (double)per_q, t = due - t0, h = pos[3 * i + 2];
             for (double now; (now = wall()) < due;)
-                (void)kelp_lcmbus_handle(lb, (int)((due - now) * 1000) > 0 ? 1 : 0, now);
+                KELP_IGNORE(kelp_lcmbus_handle(lb, (int)((due - now) * 1000) > 0 ? 1 : 0, now));
             snprintf(rpt, sizeof rpt, "NAME=vessel_%04ld,TYPE=ship,TIME=%.2f,X=%.2f,Y=%.2f,SPD=2.00,HDG=%.2f,DEP=0,LENGTH=20",
                      i, due, pos[3 * i] + 2 * t * sin(h * PI / 180), pos[3 * i + 1] + 2 * t * cos(h * PI / 180), h);
             if (kelp_bus_notify_string(bus, "NODE_REPORT", rpt, due) == 0) sent++;
         }
     }
-    for (double until = wall() + 1.0; wall() < until;) (void)kelp_lcmbus_handle(lb, 20, wall());
+    for (double until = wall() + 1.0; wall() < until;) KELP_IGNORE(kelp_lcmbus_handle(lb, 20, wall()));
     printf("feed N %ld sent %lu listed %lu\n", n, sent, listed);
     free(pos);
     kelp_lcmbus_close(lb);

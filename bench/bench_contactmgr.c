@@ -76,13 +76,13 @@ int main(int argc, char **argv)
     for (int k = 0; k < steps; k++) {
         double now = t0 + k * 0.25, osx = 0.5 * now - 0.5 * t0, osy = 0;
         double c0 = cpu_s();
-        (void)kelp_contactmgr_mail(c, "NAV_X", false, NULL, osx, now, "uSimMarine", &sink);
-        (void)kelp_contactmgr_mail(c, "NAV_Y", false, NULL, osy, now, "uSimMarine", &sink);
-        (void)kelp_contactmgr_mail(c, "NAV_HEADING", false, NULL, 90, now, "uSimMarine", &sink);
-        (void)kelp_contactmgr_mail(c, "NAV_SPEED", false, NULL, 2, now, "uSimMarine", &sink);
+        KELP_IGNORE(kelp_contactmgr_mail(c, "NAV_X", false, NULL, osx, now, "uSimMarine", &sink));
+        KELP_IGNORE(kelp_contactmgr_mail(c, "NAV_Y", false, NULL, osy, now, "uSimMarine", &sink));
+        KELP_IGNORE(kelp_contactmgr_mail(c, "NAV_HEADING", false, NULL, 90, now, "uSimMarine", &sink));
+        KELP_IGNORE(kelp_contactmgr_mail(c, "NAV_SPEED", false, NULL, 2, now, "uSimMarine", &sink));
         if (k % 4 == 0)
-            (void)kelp_contactmgr_mail(c, "BCM_REPORT_REQUEST", true, "var=CONTACTS_200, range=200", 0, now, "pHelmIvP",
-                                 &sink);
+            KELP_IGNORE(kelp_contactmgr_mail(c, "BCM_REPORT_REQUEST", true, "var=CONTACTS_200, range=200", 0, now, "pHelmIvP",
+                                 &sink));
         for (int i = k % 4; i < n; i += 4) {
             double t = now - t0;
             double px = x[i] + 2 * t * sin(h[i] * PI / 180), py = y[i] + 2 * t * cos(h[i] * PI / 180);

@@ -54,14 +54,14 @@ int main(int argc, char **argv)
         kelp_ivp_func f;
         if (zaic) {
             kelp_ivp_zaic_peak z;
-            (void)kelp_ivp_zaic_peak_init(&z, &d, "course");
-            (void)kelp_ivp_zaic_peak_set_params(&z, 123.69, 10, 150, 20, 0, 100, 0);
+            KELP_IGNORE(kelp_ivp_zaic_peak_init(&z, &d, "course"));
+            KELP_IGNORE(kelp_ivp_zaic_peak_set_params(&z, 123.69, 10, 150, 20, 0, 100, 0));
             z.wrap = true;
             if (kelp_ivp_zaic_peak_extract(&z, true, work, 4096, store, 4096, &f))
                 return 1;
         } else {
             kelp_ivp_reflector r;
-            (void)kelp_ivp_reflector_init(&r, &d, aof, NULL);
+            KELP_IGNORE(kelp_ivp_reflector_init(&r, &d, aof, NULL));
             if (kelp_ivp_reflector_create(&r, 1000, -1, 0, store, 4096, pq, 4096, &f) < 0)
                 return 1;
         }

@@ -83,14 +83,14 @@ int main(int argc, char **argv)
         for (int i = 0; i < nv; i++) {
             double due = round_t + 0.25 * i / n;
             for (double now; (now = wall()) < due;)
-                (void)kelp_lcmbus_handle(lb, (int)((due - now) * 1000) > 0 ? 1 : 0, now);
+                KELP_IGNORE(kelp_lcmbus_handle(lb, (int)((due - now) * 1000) > 0 ? 1 : 0, now));
             int gx = i % side, gy = i / side;
             snprintf(rpt, sizeof rpt, "NAME=v%d,TYPE=UUV,TIME=%.3f,X=%.1f,Y=%.1f,SPD=1,HDG=90,DEP=0,LENGTH=4", i, round_t,
                      60.0 * gx, 60.0 * gy);
             if (kelp_bus_notify_string(bus, "NODE_REPORT", rpt, round_t) == 0) sent++;
         }
     }
-    for (double until = wall() + 1.5; wall() < until;) (void)kelp_lcmbus_handle(lb, 20, wall());
+    for (double until = wall() + 1.5; wall() < until;) KELP_IGNORE(kelp_lcmbus_handle(lb, 20, wall()));
     unsigned long owed = pairs * (unsigned long)(f.rounds > 2 ? f.rounds - 2 : 0);
     if (getenv("FEED_ROUNDS"))
         for (int k = 0; k < f.rounds && k < 4096; k++) fprintf(stderr, "round %d: %lu of %lu\n", k, f.per_round[k], pairs);

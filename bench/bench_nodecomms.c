@@ -69,7 +69,7 @@ int main(int argc, char **argv)
                      i, now, x[i], y[i]);
             if (kelp_field_ncomms_mail(c, "NODE_REPORT", true, buf, 0, "bench", now, &sink) != 1) return 1;
         }
-        (void)kelp_field_ncomms_iterate(c, now, &sink);
+        KELP_IGNORE(kelp_field_ncomms_iterate(c, now, &sink));
         cpu += cpu_s() - t0;
     }
     printf("N %d  cpu_pct %.2f  relayed %lu  owed %ld  pulses %lu  scanned %lu  struct_bytes %zu\n", n,

@@ -50,7 +50,7 @@ int main(int argc, char **argv)
         for (long i = 0; i < n; i++) {
             double due = round_t + 0.25 * (double)i / (double)n;
             for (double now; (now = wall()) < due;)
-                (void)kelp_lcmbus_handle(lb, (int)((due - now) * 1000) > 0 ? 1 : 0, now);
+                KELP_IGNORE(kelp_lcmbus_handle(lb, (int)((due - now) * 1000) > 0 ? 1 : 0, now));
             double a = 0.05 * k + (double)i, cx = 200.0 * (double)(i % side), cy = 200.0 * (double)(i / side);
             snprintf(rpt, sizeof rpt, "NAME=v%ld,TYPE=%s,TIME=%.3f,X=%.2f,Y=%.2f,SPD=2,HDG=%.1f,DEP=0,LENGTH=4,MODE=SURVEY",
                      i, types[i % 4], round_t, cx + 40 * cos(a), cy + 40 * sin(a), fmod(360.0 - a * 57.29578, 360.0));

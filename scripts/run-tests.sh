@@ -9,7 +9,7 @@ for t in "$B/test/check_core" "$B/test/check_edge"; do
 done
 echo "== benchmarks compile"
 for b in bench/*.c; do
-  if ! ${CC:-gcc} -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE -fsyntax-only -Wall -Werror -Iinclude -I"$B/gen" \
+  if ! ${CC:-gcc} -std=c11 -D_DEFAULT_SOURCE -D_GNU_SOURCE -c -o /dev/null -Wall -Wextra -Werror -Iinclude -I"$B/gen" \
        $(pkg-config --cflags lcm 2>/dev/null) "$b"; then echo "benchmark $b does not compile"; fail=1; fi
 done
 echo "== integration"
