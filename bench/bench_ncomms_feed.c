@@ -95,6 +95,13 @@ int main(int argc, char **argv)
     if (getenv("FEED_ROUNDS"))
         for (int k = 0; k < f.rounds && k < 4096; k++) fprintf(stderr, "round %d: %lu of %lu\n", k, f.per_round[k], pairs);
     printf("feed N %ld rounds %d relayed %lu owed %lu sent %lu\n", n, f.rounds, f.relayed, owed, sent);
+    /* where relays were lost on this side: the feeder's socket (kernel drops show in
+     * /proc/net/udp), its receive queue, or never sent */
+    kelp_udpm_sock_stats st;
+    kelp_lcmbus_get_stats(lb, &st);
+    fprintf(stderr, "feeder socket: %llu datagrams read, %llu messages queued, %llu queue drops, %llu sent, %llu send errors,"
+                    " receive buffer %d B\n", (unsigned long long)st.rx.datagrams, (unsigned long long)st.queued,
+            (unsigned long long)st.queue_dropped, (unsigned long long)st.sent, (unsigned long long)st.send_errors, st.recv_buf);
     kelp_lcmbus_close(lb);
     return 0;
 }

@@ -38,7 +38,10 @@ for n in ${NCOMMS_BENCH_N:-10 100 500 2000}; do
   "$B/bin/uFldNodeComms" "$W/nc.moos" > "$W/app_$n.log" 2>&1 & app=$!
   sleep 1
   c0=$(cpu_of $app); t0=$(date +%s.%N)
-  out=$("$B/bench/bench_ncomms_feed" "$n" 10)
+  out=$("$B/bench/bench_ncomms_feed" "$n" 10 2>"$W/feed_$n.err")
+  # where relays are lost: the feeder's socket (datagrams read, queue drops), the app's report
+  # (mail received, published, transport drops), the kernel (/proc/net/udp drops)
+  [ "$n" = "${NCOMMS_BENCH_N##* }" ] && { cat "$W/feed_$n.err"; grep -E "^(Mail|Transport):" "$W/app_$n.log" | tail -2; } >&2
   c1=$(cpu_of $app); t1=$(date +%s.%N)
   kill -INT $app; wait $app 2>/dev/null
   read -r _ _ N _ _ _ rel _ owed _ sent <<<"$out"
