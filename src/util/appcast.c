@@ -145,7 +145,7 @@ static void copy(char *dst, size_t cap, const char *s, size_t n)
             i++;
         }
     }
-    while (o && (dst[o - 1] == ' ' || dst[o - 1] == '\t')) o--; /* a NUL cut the text short of its trim */
+    while (o && kelp_util_is_space(dst[o - 1])) o--; /* a NUL cut the text short of its trim (the same white space) */
     dst[o] = '\0';
 }
 
