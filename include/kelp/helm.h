@@ -641,6 +641,21 @@ struct kelp_helm {
     bool ws_has_fn[KELP_HELM_MAX_BHVS];
     /** workspace of a spawn: the requested name and the instance's full name */
     char ws_spawn_name[2][KELP_MAX_NAME];
+    /** workspace of the built-in behaviours (keeps the stack small, as the firmware's 1 KB
+     *  bound on every path through the behaviour tables needs). One behaviour callback runs
+     *  at a time and none of them re-enters the helm; each member belongs to the one function
+     *  named, so a member is never in use twice at once. */
+    struct {
+        kelp_ivp_zaic_peak zaic;               /* bhv_zaic1: the ZAIC being built */
+        char zaic_msg[KELP_IVP_MAX_WARN + 48]; /* bhv_zaic1: its warning */
+        kelp_ivp_func cs[2];                   /* bhv_course_speed_zaic_ratio: speed and course */
+        char msg[KELP_HELM_MAX_SVAL];          /* kelp_bhv_post_warning / _error: "name: msg" */
+        kelp_ivp_reflector refl;               /* a behaviour's Reflector (SimpleWaypoint, AvoidCollision) */
+        kelp_bhv_pt pts[KELP_HELM_MAX_PTS];    /* a polygon or point list being parsed or tested */
+        char post[KELP_HELM_MAX_SVAL];         /* a posting being composed by a behaviour callback */
+        char post2[KELP_HELM_MAX_SVAL / 2];    /* ... a second part of it */
+        char num[12][32];                      /* ... numbers formatted for it */
+    } ws_bhv;
 };
 
 /** Initialise an empty helm. The storage in mem must outlive the helm. */

@@ -51,11 +51,11 @@ static int loiter_set_param(kelp_bhv *b, const char *p, const char *v)
     double d;
     bool num = hx_number(v, strlen(v), &d);
     if (!strcmp(p, "polygon") || !strcmp(p, "points")) {
-        kelp_bhv_pt pts[KELP_HELM_MAX_PTS];
+        kelp_bhv_pt *pts = b->helm->ws_bhv.pts;  /* parsed aside: a bad polygon changes nothing */
         unsigned n;
         if (kelp_helm_parse_points(v, pts, KELP_HELM_MAX_PTS, &n) != 0 || n < 3)
             return KELP_ERR_PARSE;
-        memcpy(s->given, pts, sizeof pts);
+        memcpy(s->given, pts, sizeof s->given);
         s->ngiven = n;
         order(s);
         return 0;

@@ -93,11 +93,11 @@ static int wpt_set_param(kelp_bhv *b, const char *p, const char *v)
     double d;
     bool num = hx_number(v, strlen(v), &d);
     if (!strcmp(p, "points") || !strcmp(p, "polygon") || !strcmp(p, "point")) {
-        kelp_bhv_pt pts[KELP_HELM_MAX_PTS];
+        kelp_bhv_pt *pts = b->helm->ws_bhv.pts;  /* parsed aside: a bad list changes nothing */
         unsigned n;
         if (kelp_helm_parse_points(v, pts, KELP_HELM_MAX_PTS, &n) != 0)
             return KELP_ERR_PARSE;
-        memcpy(s->pts, pts, sizeof pts);
+        memcpy(s->pts, pts, sizeof s->pts);
         s->npts = n;
         wpt_reset(s);
         return 0;
@@ -471,13 +471,16 @@ static int wpt_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
 static void wpt_post_config(kelp_bhv *b)
 {
     const kelp_bhv_wpt *s = &b->u.wpt;
-    char buf[KELP_HELM_MAX_SVAL], sp[32], sa[32], ld[32], dm[32], cr[32], sr[32], rt[32], ix[24], rp[24];
-    size_t n = hx_cat(buf, sizeof buf, "type=BHV_Waypoint,name=", b->name, ",points=", HX_END);
+    /* the text and its numbers are composed in the helm's behaviour workspace */
+    char *buf = b->helm->ws_bhv.post, (*nb)[32] = b->helm->ws_bhv.num;
+    char *sp = nb[0], *sa = nb[1], *ld = nb[2], *dm = nb[3], *cr = nb[4], *sr = nb[5], *rt = nb[6], *ix = nb[7],
+         *rp = nb[8], *x = nb[9], *y = nb[10];
+    const size_t cap = sizeof b->helm->ws_bhv.post, ncap = sizeof nb[0];
+    size_t n = hx_cat(buf, cap, "type=BHV_Waypoint,name=", b->name, ",points=", HX_END);
     for (unsigned i = 0; i < s->npts; i++) {
-        char x[32], y[32];
-        hx_fmt_x(x, sizeof x, s->pts[i].x, 2);
-        hx_fmt_x(y, sizeof y, s->pts[i].y, 2);
-        n += hx_cat(buf + n, sizeof buf - n, i ? ":" : "pts={", x, ",", y, i + 1 == s->npts ? "}" : "", HX_END);
+        hx_fmt_x(x, ncap, s->pts[i].x, 2);
+        hx_fmt_x(y, ncap, s->pts[i].y, 2);
+        n += hx_cat(buf + n, cap - n, i ? ":" : "pts={", x, ",", y, i + 1 == s->npts ? "}" : "", HX_END);
     }
     struct { char *dst; double v; unsigned dec; } num[] = {
         {sp, s->speed, 1},       {sa, s->speed_alt, 1},      {ld, s->lead, 1},
@@ -485,9 +488,9 @@ static void wpt_post_config(kelp_bhv *b)
         {rt, s->course_pct / 100.0, 2}};
     for (size_t i = 0; i < sizeof num / sizeof num[0]; i++)
         hx_fmt_x(num[i].dst, 32, num[i].v, num[i].dec);
-    hx_fmt_ulong(ix, sizeof ix, s->index);
-    hx_fmt_ulong(rp, sizeof rp, s->repeat < 0 ? 0 : (unsigned long)s->repeat);
-    n += hx_cat(buf + n, sizeof buf - n, ",speed=", sp, ",speed_alt=", sa, ",currix=", ix,
+    hx_fmt_ulong(ix, ncap, s->index);
+    hx_fmt_ulong(rp, ncap, s->repeat < 0 ? 0 : (unsigned long)s->repeat);
+    n += hx_cat(buf + n, cap - n, ",speed=", sp, ",speed_alt=", sa, ",currix=", ix,
                 ",greedy_tour=false,use_alt_speed=", s->use_alt_speed ? "true" : "false", ",wpt_status=", s->var_report,
                 ",wpt_dist_to_prev=", s->var_dist_prev, ",wpt_dist_to_next=", s->var_dist_next, ",wpt_index=",
                 s->var_index, ",cycle_index_var=", s->var_cyindex, ",post_suffix=", s->suffix[0] ? s->suffix + 1 : "",
@@ -496,9 +499,9 @@ static void wpt_post_config(kelp_bhv *b)
                 ",efficiency_measure=", s->efficiency ? "all" : "off", ",capture_radius=", cr, ",slip_radius=", sr,
                 HX_END);
     if (s->capture_line)
-        n += hx_cat(buf + n, sizeof buf - n, ",capture_line=",
+        n += hx_cat(buf + n, cap - n, ",capture_line=",
                     s->capture_radius == 0 && s->slip_radius == 0 ? "absolute" : "true", HX_END);
-    hx_cat(buf + n, sizeof buf - n, ",crs_spd_zaic_ratio=", rt, HX_END);
+    hx_cat(buf + n, cap - n, ",crs_spd_zaic_ratio=", rt, HX_END);
     kelp_bhv_post_string(b, "BHV_SETTINGS", buf, "repeatable");
 }
 

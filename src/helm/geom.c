@@ -147,22 +147,22 @@ int kelp_helm_parse_points(const char *str, kelp_bhv_pt *pts, size_t cap, unsign
 int bhv_zaic1(kelp_bhv *b, const kelp_helm_work *w, const char *var, double summit, double pw, double bw, double sd,
               bool wrap, kelp_ivp_func *out)
 {
-    kelp_ivp_zaic_peak z;
-    hx_ignore(kelp_ivp_zaic_peak_init(&z, &b->dom, var));
-    hx_ignore(kelp_ivp_zaic_peak_set_summit(&z, summit, 0));
-    hx_ignore(kelp_ivp_zaic_peak_set_peakwidth(&z, pw, 0));
-    hx_ignore(kelp_ivp_zaic_peak_set_basewidth(&z, bw, 0));
-    hx_ignore(kelp_ivp_zaic_peak_set_summitdelta(&z, sd, 0));
-    z.wrap = wrap;
-    if (!z.ok) {
-        char msg[KELP_IVP_MAX_WARN + 48];
-        hx_cat(msg, sizeof msg, var, " ZAIC problems ", z.warn, HX_END);
+    kelp_ivp_zaic_peak *z = &b->helm->ws_bhv.zaic;
+    hx_ignore(kelp_ivp_zaic_peak_init(z, &b->dom, var));
+    hx_ignore(kelp_ivp_zaic_peak_set_summit(z, summit, 0));
+    hx_ignore(kelp_ivp_zaic_peak_set_peakwidth(z, pw, 0));
+    hx_ignore(kelp_ivp_zaic_peak_set_basewidth(z, bw, 0));
+    hx_ignore(kelp_ivp_zaic_peak_set_summitdelta(z, sd, 0));
+    z->wrap = wrap;
+    if (!z->ok) {
+        char *msg = b->helm->ws_bhv.zaic_msg;
+        hx_cat(msg, sizeof b->helm->ws_bhv.zaic_msg, var, " ZAIC problems ", z->warn, HX_END);
         if (msg[0] >= 'a' && msg[0] <= 'z')
             msg[0] = (char)(msg[0] - 'a' + 'A');
         kelp_bhv_post_warning(b, msg);
         return KELP_ERR_STATE;
     }
-    return kelp_ivp_zaic_peak_extract(&z, true, w->dwork, w->dwork_cap, w->out, w->out_cap, out);
+    return kelp_ivp_zaic_peak_extract(z, true, w->dwork, w->dwork_cap, w->out, w->out_cap, out);
 }
 
 int bhv_course_speed_zaic(kelp_bhv *b, const kelp_helm_work *w, double course, double speed, double spw, double sbw,
@@ -180,17 +180,17 @@ int bhv_course_speed_zaic_ratio(kelp_bhv *b, const kelp_helm_work *w, double cou
     size_t ns = b->dom.var[is].points;
     if (w->tmp_cap <= ns)
         return KELP_ERR_NOSPACE;
-    kelp_ivp_func spd, crs;
+    kelp_ivp_func *spd = &b->helm->ws_bhv.cs[0], *crs = &b->helm->ws_bhv.cs[1];
     kelp_helm_work ws = *w, wc = *w;
     ws.out = w->tmp;
     ws.out_cap = ns;
     wc.out = w->tmp + ns;
     wc.out_cap = w->tmp_cap - ns;
-    int rc = bhv_zaic1(b, &ws, "speed", speed, spw, sbw, ssd, false, &spd);
+    int rc = bhv_zaic1(b, &ws, "speed", speed, spw, sbw, ssd, false, spd);
     if (rc < 0)
         return rc;
-    rc = bhv_zaic1(b, &wc, "course", course, 0, 180.0, 0, true, &crs);
+    rc = bhv_zaic1(b, &wc, "course", course, 0, 180.0, 0, true, crs);
     if (rc < 0)
         return rc;
-    return kelp_ivp_couple(&crs, course_pct, &spd, 100 - course_pct, true, 0, 100, w->out, w->out_cap, out);
+    return kelp_ivp_couple(crs, course_pct, spd, 100 - course_pct, true, 0, 100, w->out, w->out_cap, out);
 }
