@@ -110,9 +110,9 @@ static int add_name(char list[][KELP_MAX_NAME], unsigned *n, const char other[][
     return ok ? 0 : KELP_ERR_PARSE;
 }
 
-static int add_region(char list[][KELP_HELM_MAX_FLAG_VAL], unsigned *n, const char *v)
+/* pts: room for KELP_HELM_MAX_PTS points to check the polygon with (the helm's workspace) */
+static int add_region(char list[][KELP_HELM_MAX_FLAG_VAL], unsigned *n, const char *v, kelp_bhv_pt *pts)
 {
-    kelp_bhv_pt pts[KELP_HELM_MAX_PTS];
     unsigned np;
     if (*n >= KELP_BHV_AVD_MAX_REGION || kelp_helm_parse_points(v, pts, KELP_HELM_MAX_PTS, &np) < 0 || np < 3 ||
         !hx_copy(list[*n], KELP_HELM_MAX_FLAG_VAL, v, strlen(v)))
@@ -191,8 +191,8 @@ static int avd_set_param(kelp_bhv *b, const char *p, const char *v)
     if (!strcmp(p, "match_type") || !strcmp(p, "contact_type_required"))
         return add_name(a->match_type, &a->nmatch_type, a->ignore_type, a->nignore_type, v);
     if (!strcmp(p, "ignore_type")) return add_name(a->ignore_type, &a->nignore_type, a->match_type, a->nmatch_type, v);
-    if (!strcmp(p, "match_region")) return add_region(a->match_region, &a->nmatch_region, v);
-    if (!strcmp(p, "ignore_region")) return add_region(a->ignore_region, &a->nignore_region, v);
+    if (!strcmp(p, "match_region")) return add_region(a->match_region, &a->nmatch_region, v, b->helm->ws_bhv.pts);
+    if (!strcmp(p, "ignore_region")) return add_region(a->ignore_region, &a->nignore_region, v, b->helm->ws_bhv.pts);
     if (!strcmp(p, "strict_ignore")) {
         bool t;
         if (set_bool(v, &t) < 0) return KELP_ERR_PARSE;
@@ -294,12 +294,14 @@ static void avd_helm_start(kelp_bhv *b)
     const kelp_bhv_avoid *a = &b->u.avoid;
     if (a->no_alert_request || !b->updates[0] || !hx_ieq(b->templating, "spawn"))
         return;
-    char req[KELP_HELM_MAX_SVAL], ar[32], cr[32], filt[KELP_HELM_MAX_SVAL / 2];
-    hx_fmt_x(ar, sizeof ar, a->pwt_outer_dist, 1);
-    hx_fmt_x(cr, sizeof cr, a->completed_dist, 1);
-    (void)filter_summary(a, filt, sizeof filt);
+    /* composed in the helm's behaviour workspace */
+    char *req = b->helm->ws_bhv.post, *filt = b->helm->ws_bhv.post2, *ar = b->helm->ws_bhv.num[0],
+         *cr = b->helm->ws_bhv.num[1];
+    hx_fmt_x(ar, sizeof b->helm->ws_bhv.num[0], a->pwt_outer_dist, 1);
+    hx_fmt_x(cr, sizeof b->helm->ws_bhv.num[1], a->completed_dist, 1);
+    (void)filter_summary(a, filt, sizeof b->helm->ws_bhv.post2);
     /* MOOS-IvP's exact string, separators included (augmentSpec joins the summary with ",") */
-    hx_cat(req, sizeof req, "id=", b->name, ", on_flag=", b->updates, "=name=$[VNAME] # contact=$[VNAME]",
+    hx_cat(req, sizeof b->helm->ws_bhv.post, "id=", b->name, ", on_flag=", b->updates, "=name=$[VNAME] # contact=$[VNAME]",
            ",alert_range=", ar, ", cpa_range=", cr, filt[0] ? "," : "", filt, HX_END);
     kelp_bhv_post_string(b, "BCM_ALERT_REQUEST", req, NULL);
 }
@@ -394,9 +396,9 @@ static bool kind_ok(const char mt[][KELP_MAX_NAME], unsigned nm, const char ig[]
     return true;
 }
 
-static bool in_polygon(const char *spec, double x, double y)
+/* p: room for KELP_HELM_MAX_PTS points (the helm's workspace) */
+static bool in_polygon(const char *spec, double x, double y, kelp_bhv_pt *p)
 {
-    kelp_bhv_pt p[KELP_HELM_MAX_PTS];
     unsigned n;
     if (kelp_helm_parse_points(spec, p, KELP_HELM_MAX_PTS, &n) < 0 || n < 3) return false;
     bool in = false;
@@ -407,7 +409,7 @@ static bool in_polygon(const char *spec, double x, double y)
 }
 
 /* filterCheckHolds: only the exit_on_filter_* checks end the behaviour */
-static bool filter_holds(const kelp_bhv_avoid *a)
+static bool filter_holds(const kelp_bhv_avoid *a, kelp_bhv_pt *pts)
 {
     bool strict = a->strict_ignore != 0; /* MOOS-IvP's filter sets default to strict */
     if (a->exit_on_filter_vtype &&
@@ -418,9 +420,9 @@ static bool filter_holds(const kelp_bhv_avoid *a)
         return false;
     if (a->exit_on_filter_region) {
         bool any = a->nmatch_region == 0;
-        for (unsigned i = 0; i < a->nmatch_region; i++) any = any || in_polygon(a->match_region[i], a->cn.x, a->cn.y);
+        for (unsigned i = 0; i < a->nmatch_region; i++) any = any || in_polygon(a->match_region[i], a->cn.x, a->cn.y, pts);
         for (unsigned i = 0; i < a->nignore_region; i++)
-            if (in_polygon(a->ignore_region[i], a->cn.x, a->cn.y)) any = false;
+            if (in_polygon(a->ignore_region[i], a->cn.x, a->cn.y, pts)) any = false;
         if (!any) return false;
     }
     return true;
@@ -523,7 +525,7 @@ static void avd_idle(kelp_bhv *b)
     kelp_bhv_avoid *a = &b->u.avoid;
     if (!update_info(b)) return;
     post_range(b);
-    if (!filter_holds(a) || a->range >= a->completed_dist * 1.1) kelp_bhv_set_complete(b);
+    if (!filter_holds(a, b->helm->ws_bhv.pts) || a->range >= a->completed_dist * 1.1) kelp_bhv_set_complete(b);
 }
 
 static int build(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
@@ -558,7 +560,7 @@ static int avd_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     if (!update_info(b)) return 0;
     post_range(b);
     contact_flags(b);
-    if (!filter_holds(a) || a->range >= a->completed_dist * 1.1) {
+    if (!filter_holds(a, b->helm->ws_bhv.pts) || a->range >= a->completed_dist * 1.1) {
         post_bearing_line(b, false);
         kelp_bhv_set_complete(b);
         return 0;
