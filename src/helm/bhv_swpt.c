@@ -127,11 +127,11 @@ static int build_reflector(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *
     a.max_speed = b->dom.var[a.ispd].high;
     if (a.max_speed <= 0)
         return KELP_ERR_RANGE; /* initialize() fails */
-    kelp_ivp_reflector r;
-    hx_ignore(kelp_ivp_reflector_init(&r, &b->dom, kelp_bhv_swpt_aof_eval, &a));
+    kelp_ivp_reflector *r = &b->helm->ws_bhv.refl;   /* the helm's workspace, not the stack */
+    hx_ignore(kelp_ivp_reflector_init(r, &b->dom, kelp_bhv_swpt_aof_eval, &a));
     /* the Reflector wants as many work entries as piece capacity */
     size_t cap = w->out_cap < w->pq_cap ? w->out_cap : w->pq_cap;
-    int rc = kelp_ivp_reflector_create(&r, SWPT_REFLECTOR_PIECES, -1, 0, w->out, cap, w->pq, kelp_ivp_reflector_work_len(cap), out);
+    int rc = kelp_ivp_reflector_create(r, SWPT_REFLECTOR_PIECES, -1, 0, w->out, cap, w->pq, kelp_ivp_reflector_work_len(cap), out);
     return rc < 0 ? rc : 0;
 }
 
