@@ -540,16 +540,16 @@ static int build(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     kelp_cpa_vessel cn = {a->cn.x, a->cn.y, a->cn.hdg, a->cn.spd};
     if (kelp_cpa_fast_init(&f.cpa, &cn, a->osx, a->osy, a->time_on_leg) != KELP_OK) return KELP_ERR_ARG;
     size_t cap = w->out_cap < w->pq_cap ? w->out_cap : w->pq_cap;
-    kelp_ivp_reflector r;
-    /* a failed init leaves r.ok false: kelp_ivp_reflector_create then fails with KELP_ERR_STATE */
-    hx_ignore(kelp_ivp_reflector_init(&r, &b->dom, kelp_bhv_avoid_aof_eval, &f));
+    kelp_ivp_reflector *r = &b->helm->ws_bhv.refl;   /* the helm's workspace, not the stack */
+    /* a failed init leaves r->ok false: kelp_ivp_reflector_create then fails with KELP_ERR_STATE */
+    hx_ignore(kelp_ivp_reflector_init(r, &b->dom, kelp_bhv_avoid_aof_eval, &f));
     int amount = -1;
-    if (kelp_ivp_reflector_set_param(&r, "uniform_piece", AVD_PIECE) != 0 ||
-        kelp_ivp_reflector_max_pieces(&r, -1, -1) > cap) { /* a small pool: as many pieces as fit */
-        hx_ignore(kelp_ivp_reflector_init(&r, &b->dom, kelp_bhv_avoid_aof_eval, &f));
+    if (kelp_ivp_reflector_set_param(r, "uniform_piece", AVD_PIECE) != 0 ||
+        kelp_ivp_reflector_max_pieces(r, -1, -1) > cap) { /* a small pool: as many pieces as fit */
+        hx_ignore(kelp_ivp_reflector_init(r, &b->dom, kelp_bhv_avoid_aof_eval, &f));
         amount = (int)(cap > 2 ? cap / 2 : 1);
     }
-    int rc = kelp_ivp_reflector_create(&r, amount, -1, 0, w->out, cap, w->pq, kelp_ivp_reflector_work_len(cap), out);
+    int rc = kelp_ivp_reflector_create(r, amount, -1, 0, w->out, cap, w->pq, kelp_ivp_reflector_work_len(cap), out);
     if (rc < 0) return rc;
     return kelp_ivp_func_normalize(out, 0, 100);
 }
