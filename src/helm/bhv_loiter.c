@@ -123,18 +123,19 @@ static double seg_dist(kelp_bhv_pt a, kelp_bhv_pt b, double x, double y)
 static void post_polygon(kelp_bhv *b, bool active)
 {
     const kelp_bhv_loiter *s = &b->u.loiter;
-    char buf[KELP_HELM_MAX_SVAL];
-    size_t n = hx_cat(buf, sizeof buf, "pts={", HX_END);
+    /* composed in the helm's behaviour workspace */
+    char *buf = b->helm->ws_bhv.post, (*nb)[32] = b->helm->ws_bhv.num;
+    char *x = nb[0], *y = nb[1], *vs = nb[2], *es = nb[3];
+    const size_t cap = sizeof b->helm->ws_bhv.post;
+    size_t n = hx_cat(buf, cap, "pts={", HX_END);
     for (unsigned i = 0; i < s->ngiven; i++) {
-        char x[32], y[32];
-        hx_fmt_double(x, sizeof x, s->given[i].x);
-        hx_fmt_double(y, sizeof y, s->given[i].y);
-        n += hx_cat(buf + n, sizeof buf - n, i ? ":" : "", x, ",", y, HX_END);
+        hx_fmt_double(x, sizeof nb[0], s->given[i].x);
+        hx_fmt_double(y, sizeof nb[0], s->given[i].y);
+        n += hx_cat(buf + n, cap - n, i ? ":" : "", x, ",", y, HX_END);
     }
-    char vs[32], es[32];
-    hx_fmt_double(vs, sizeof vs, s->hints.vertex_size);
-    hx_fmt_double(es, sizeof es, s->hints.edge_size);
-    hx_cat(buf + n, sizeof buf - n, "},label=", b->name, ",active=", active ? "true" : "false", ",edge_color=",
+    hx_fmt_double(vs, sizeof nb[0], s->hints.vertex_size);
+    hx_fmt_double(es, sizeof nb[0], s->hints.edge_size);
+    hx_cat(buf + n, cap - n, "},label=", b->name, ",active=", active ? "true" : "false", ",edge_color=",
            s->hints.edge_color, ",vertex_color=", s->hints.vertex_color, ",label_color=", s->hints.label_color,
            ",vertex_size=", vs, ",edge_size=", es, HX_END);
     kelp_bhv_post_string(b, "VIEW_POLYGON", buf, NULL);
@@ -228,21 +229,23 @@ static void loiter_post_config(kelp_bhv *b)
         x0 = fmin(x0, s->given[i].x), x1 = fmax(x1, s->given[i].x);
         y0 = fmin(y0, s->given[i].y), y1 = fmax(y1, s->given[i].y);
     }
-    char buf[KELP_HELM_MAX_SVAL], cx[32], cy[32], sp[32];
-    hx_fmt_fixed(cx, sizeof cx, (x0 + x1) / 2, 2);
-    hx_fmt_fixed(cy, sizeof cy, (y0 + y1) / 2, 2);
-    hx_fmt_fixed(sp, sizeof sp, s->speed, 1);
-    size_t n = hx_cat(buf, sizeof buf, "type=BHV_Loiter,name=", b->name, ",x=", cx, ",y=", cy, ",clockwise=",
+    /* composed in the helm's behaviour workspace */
+    char *buf = b->helm->ws_bhv.post, (*nb)[32] = b->helm->ws_bhv.num;
+    char *cx = nb[0], *cy = nb[1], *sp = nb[2], *x = nb[3], *y = nb[4];
+    const size_t cap = sizeof b->helm->ws_bhv.post;
+    hx_fmt_fixed(cx, sizeof nb[0], (x0 + x1) / 2, 2);
+    hx_fmt_fixed(cy, sizeof nb[0], (y0 + y1) / 2, 2);
+    hx_fmt_fixed(sp, sizeof nb[0], s->speed, 1);
+    size_t n = hx_cat(buf, cap, "type=BHV_Loiter,name=", b->name, ",x=", cx, ",y=", cy, ",clockwise=",
                       s->clockwise == 1 ? "true" : "false", ",dynamic_clockwise=", s->clockwise < 0 ? "true" : "false",
                       ",center_activate=", s->center_activate ? "true" : "false", ",desired_speed=", sp,
                       ",polygon=\"pts={", HX_END);
     for (unsigned i = 0; i < s->ngiven; i++) {
-        char x[32], y[32];
-        hx_fmt_x(x, sizeof x, s->given[i].x, 2);
-        hx_fmt_x(y, sizeof y, s->given[i].y, 2);
-        n += hx_cat(buf + n, sizeof buf - n, i ? ":" : "", x, ",", y, HX_END);
+        hx_fmt_x(x, sizeof nb[0], s->given[i].x, 2);
+        hx_fmt_x(y, sizeof nb[0], s->given[i].y, 2);
+        n += hx_cat(buf + n, cap - n, i ? ":" : "", x, ",", y, HX_END);
     }
-    hx_cat(buf + n, sizeof buf - n, "}\"", HX_END);
+    hx_cat(buf + n, cap - n, "}\"", HX_END);
     kelp_bhv_post_string(b, "BHV_SETTINGS", buf, "repeatable");
 }
 
