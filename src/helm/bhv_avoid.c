@@ -448,9 +448,11 @@ static void post_bearing_line(kelp_bhv *b, bool active)
 {
     const kelp_bhv_avoid *a = &b->u.avoid;
     if (!a->bearing_line_show) return;
-    char spec[KELP_HELM_MAX_SVAL];
+    /* composed in the helm's behaviour workspace */
+    char *spec = b->helm->ws_bhv.post, (*nb)[32] = b->helm->ws_bhv.num;
+    const size_t cap = sizeof b->helm->ws_bhv.post;
     if (!active) {
-        hx_cat(spec, sizeof spec, "pts={0,0:9,0:0,9},active=false,label=", b->us, "_", b->name, HX_END);
+        hx_cat(spec, cap, "pts={0,0:9,0:0,9},active=false,label=", b->us, "_", b->name, HX_END);
         kelp_bhv_post_string(b, "VIEW_SEGLIST", spec, NULL);
         return;
     }
@@ -458,13 +460,13 @@ static void post_bearing_line(kelp_bhv *b, bool active)
     const char *color = NULL;
     for (unsigned i = 0; i < a->nlines && !color; i++)
         if (index <= a->line_thresh[i]) color = a->line_color[i];
-    char x1[32], y1[32], x2[32], y2[32], t[32];
-    hx_fmt_x(x1, sizeof x1, a->osx, 1);
-    hx_fmt_x(y1, sizeof y1, a->osy, 1);
-    hx_fmt_x(x2, sizeof x2, a->cn.x, 1);
-    hx_fmt_x(y2, sizeof y2, a->cn.y, 1);
-    hx_fmt_x(t, sizeof t, b->helm->t0 + kelp_bhv_buf_now(b), 2);
-    hx_cat(spec, sizeof spec, "pts={", x1, ",", y1, ":", x2, ",", y2, "},label=", b->us, "_", b->name,
+    char *x1 = nb[0], *y1 = nb[1], *x2 = nb[2], *y2 = nb[3], *t = nb[4];
+    hx_fmt_x(x1, sizeof nb[0], a->osx, 1);
+    hx_fmt_x(y1, sizeof nb[0], a->osy, 1);
+    hx_fmt_x(x2, sizeof nb[0], a->cn.x, 1);
+    hx_fmt_x(y2, sizeof nb[0], a->cn.y, 1);
+    hx_fmt_x(t, sizeof nb[0], b->helm->t0 + kelp_bhv_buf_now(b), 2);
+    hx_cat(spec, cap, "pts={", x1, ",", y1, ":", x2, ",", y2, "},label=", b->us, "_", b->name,
            ",label_color=", a->bearing_line_label_show ? "white" : "pink", color ? ",edge_color=" : "",
            color ? color : "", ",time=", t, ",duration=100", HX_END);
     kelp_bhv_post_string(b, "VIEW_SEGLIST", spec, NULL);
