@@ -631,8 +631,13 @@ struct kelp_helm {
      *  set_param must not call kelp_bhv_set_param again */
     char ws_param[KELP_HELM_MAX_SVAL];
     char ws_pname[KELP_MAX_NAME];      /**< ... and the lower-cased parameter name */
+    /** workspace of kelp_helm_load_bhv: a behaviour's type, then each of its parameters' names
+     *  (one at a time; keeps the stack small) */
+    char ws_key[KELP_MAX_NAME];
     /** workspace of a flag's value with its macros expanded (keeps the stack small) */
     char ws_flag[KELP_HELM_MAX_SVAL];
+    /** workspace of the macro expansion: a number formatted for $[PWT] / $[UTC] */
+    char ws_macro[48];
     /** workspace of the general parameters' VAR=value checks (kelp_bhv_set_param) */
     kelp_helm_pair ws_pair;
     /** workspace of the solve: the sub-domain the objective functions span */
@@ -651,10 +656,17 @@ struct kelp_helm {
         kelp_ivp_func cs[2];                   /* bhv_course_speed_zaic_ratio: speed and course */
         char msg[KELP_HELM_MAX_SVAL];          /* kelp_bhv_post_warning / _error: "name: msg" */
         kelp_ivp_reflector refl;               /* a behaviour's Reflector (SimpleWaypoint, AvoidCollision) */
+        kelp_bhv_avoid_aof avd_aof;            /* build (AvoidCollision): the objective refl samples */
+        kelp_bhv_swpt_aof swpt_aof;            /* build_reflector (SimpleWaypoint): the same */
         kelp_bhv_pt pts[KELP_HELM_MAX_PTS];    /* a polygon or point list being parsed or tested */
+        /* The posting helpers of a behaviour callback (post_polygon, post_stat, ...) compose in
+         * these one after another: the helm copies each posting when it is queued, so a helper
+         * is done with them when it returns, and none calls another while it holds them. */
         char post[KELP_HELM_MAX_SVAL];         /* a posting being composed by a behaviour callback */
         char post2[KELP_HELM_MAX_SVAL / 2];    /* ... a second part of it */
         char num[12][32];                      /* ... numbers formatted for it */
+        char var[KELP_MAX_NAME + 24];          /* ... the variable it goes to (a name + post_suffix) */
+        kelp_helm_pair pair;                   /* contact_flags (AvoidCollision): a cnflag's VAR=value */
     } ws_bhv;
 };
 

@@ -337,6 +337,24 @@ static double extrap_dist(double v, double dt, double d1, double d2)
     return v * d1 + v / 2 * (d2 - d1);
 }
 
+/* range and its rate from the CPA of contact and ownship now (out of line: its locals are not
+ * on the stack while update_info reads the buffer or posts) */
+KELP_NOINLINE static bool range_update(kelp_bhv *b)
+{
+    kelp_bhv_avoid *a = &b->u.avoid;
+    kelp_cpa_vessel cn = {a->cn.x, a->cn.y, a->cn.hdg, a->cn.spd}, os = {a->osx, a->osy, a->osh, a->osv};
+    kelp_cpa_result r;
+    if (kelp_cpa_eval(&cn, &os, a->time_on_leg, &r) != KELP_OK) {
+        kelp_bhv_post_warning(b, "non-finite contact or ownship state");
+        return false;
+    }
+    a->prev_range = a->have_range ? a->range : r.range;
+    a->have_range = true;
+    a->range = r.range;
+    a->roc = r.roc;
+    return true;
+}
+
 /* updatePlatformInfo: ownship from NAV_*, the contact from the ledger. false: none this time */
 static bool update_info(kelp_bhv *b)
 {
@@ -355,8 +373,8 @@ static bool update_info(kelp_bhv *b)
     }
     const kelp_helm_contact *c = kelp_helm_contact_get(b->helm, a->contact);
     if (!c) { /* MOOS-IvP: an error, or nothing at all with on_no_contact_ok */
-        char msg[KELP_MAX_NAME + 48];
-        hx_cat(msg, sizeof msg, a->contact, " x/y/heading/speed info not found", HX_END);
+        char *msg = b->helm->ws_bhv.post; /* the helm's behaviour workspace; the bound as before */
+        hx_cat(msg, KELP_MAX_NAME + 48, a->contact, " x/y/heading/speed info not found", HX_END);
         if (!a->on_no_contact_ok) kelp_bhv_post_error(b, msg);
         return false;
     }
@@ -368,18 +386,9 @@ static bool update_info(kelp_bhv *b)
         a->cn.x += d * sin(h);
         a->cn.y += d * cos(h);
     }
-    kelp_cpa_vessel cn = {a->cn.x, a->cn.y, a->cn.hdg, a->cn.spd}, os = {a->osx, a->osy, a->osh, a->osv};
-    kelp_cpa_result r;
-    if (kelp_cpa_eval(&cn, &os, a->time_on_leg, &r) != KELP_OK) {
-        kelp_bhv_post_warning(b, "non-finite contact or ownship state");
-        return false;
-    }
-    a->prev_range = a->have_range ? a->range : r.range;
-    a->have_range = true;
-    a->range = r.range;
-    a->roc = r.roc;
-    return true;
+    return range_update(b);
 }
+
 
 static bool in_list(const char list[][KELP_MAX_NAME], unsigned n, const char *v)
 {
@@ -396,11 +405,13 @@ static bool kind_ok(const char mt[][KELP_MAX_NAME], unsigned nm, const char ig[]
     return true;
 }
 
-/* p: room for KELP_HELM_MAX_PTS points (the helm's workspace) */
-static bool in_polygon(const char *spec, double x, double y, kelp_bhv_pt *p)
+/* p: room for KELP_HELM_MAX_PTS points (the helm's workspace). The contact's position is read
+ * after the parse (no doubles held across it: the stack under the parse stays small) */
+static bool in_polygon(const char *spec, const kelp_helm_contact *c, kelp_bhv_pt *p)
 {
     unsigned n;
     if (kelp_helm_parse_points(spec, p, KELP_HELM_MAX_PTS, &n) < 0 || n < 3) return false;
+    double x = c->x, y = c->y;
     bool in = false;
     for (unsigned i = 0, j = n - 1; i < n; j = i++)
         if ((p[i].y > y) != (p[j].y > y) && x < (p[j].x - p[i].x) * (y - p[i].y) / (p[j].y - p[i].y) + p[i].x)
@@ -420,9 +431,9 @@ static bool filter_holds(const kelp_bhv_avoid *a, kelp_bhv_pt *pts)
         return false;
     if (a->exit_on_filter_region) {
         bool any = a->nmatch_region == 0;
-        for (unsigned i = 0; i < a->nmatch_region; i++) any = any || in_polygon(a->match_region[i], a->cn.x, a->cn.y, pts);
+        for (unsigned i = 0; i < a->nmatch_region; i++) any = any || in_polygon(a->match_region[i], &a->cn, pts);
         for (unsigned i = 0; i < a->nignore_region; i++)
-            if (in_polygon(a->ignore_region[i], a->cn.x, a->cn.y, pts)) any = false;
+            if (in_polygon(a->ignore_region[i], &a->cn, pts)) any = false;
         if (!any) return false;
     }
     return true;
@@ -486,8 +497,20 @@ bool helm_avoid_macro(const kelp_bhv *b, const char *m, size_t ml, char *val, si
             const char *s = mac[i].what == 0 ? a->contact : mac[i].what == 1 ? a->cn.type : a->cn.group;
             return hx_copy(val, cap, s, strlen(s));
         }
-        const double d[] = {a->range, a->cn.x, a->cn.y, a->cn.hdg, a->cn.spd, a->osx, a->osy, a->osh, a->osv};
-        hx_fmt_x(val, cap, d[mac[i].what - 3], mac[i].dec);
+        /* (picked by a switch, not from an array of the nine built on the stack) */
+        double d;
+        switch (mac[i].what) {
+        case 3: d = a->range; break;
+        case 4: d = a->cn.x; break;
+        case 5: d = a->cn.y; break;
+        case 6: d = a->cn.hdg; break;
+        case 7: d = a->cn.spd; break;
+        case 8: d = a->osx; break;
+        case 9: d = a->osy; break;
+        case 10: d = a->osh; break;
+        default: d = a->osv; break;
+        }
+        hx_fmt_x(val, cap, d, mac[i].dec);
         return true;
     }
     return false;
@@ -496,7 +519,7 @@ bool helm_avoid_macro(const kelp_bhv *b, const char *m, size_t ml, char *val, si
 /* cnflag "<R VAR=val" / ">R VAR=val": posted while the contact is within / beyond R;
  * "@<R" / "@>R": posted once when the range crosses R inward / outward since the last update.
  * Event tags (@cpa, @os_passed_cn, ...) are accepted and not posted. */
-static void contact_flags(kelp_bhv *b)
+KELP_NOINLINE static void contact_flags(kelp_bhv *b)
 {
     const kelp_bhv_avoid *a = &b->u.avoid;
     for (unsigned i = 0; i < a->ncnflag; i++) {
@@ -507,18 +530,18 @@ static void contact_flags(kelp_bhv *b)
         if (t[0] != '<' && t[0] != '>') continue;
         const char *sp = strpbrk(t, " \t");
         double r;
-        kelp_helm_pair p;
-        if (!sp || !hx_number(t + 1, (size_t)(sp - t - 1), &r) || !hx_pair(sp + 1, &p)) continue;
+        kelp_helm_pair *p = &b->helm->ws_bhv.pair; /* the helm's workspace, not the stack */
+        if (!sp || !hx_number(t + 1, (size_t)(sp - t - 1), &r) || !hx_pair(sp + 1, p)) continue;
         bool post;
         if (once && t[0] == '<') post = a->range <= r && a->prev_range > r;
         else if (once) post = a->range >= r && a->prev_range < r;
         else post = t[0] == '<' ? a->range <= r : a->range >= r;
         if (!post) continue;
-        if (!p.is_str) {
-            kelp_bhv_post_double(b, p.var, p.dval, "repeatable");
+        if (!p->is_str) {
+            kelp_bhv_post_double(b, p->var, p->dval, "repeatable");
             continue;
         }
-        helm_post_flag_string(b, p.var, p.sval, "repeatable");
+        helm_post_flag_string(b, p->var, p->sval, "repeatable");
     }
 }
 
@@ -530,28 +553,38 @@ static void avd_idle(kelp_bhv *b)
     if (!filter_holds(a, b->helm->ws_bhv.pts) || a->range >= a->completed_dist * 1.1) kelp_bhv_set_complete(b);
 }
 
-static int build(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
+/* the objective the Reflector samples, in the helm's workspace (out of line: its locals are
+ * not on the stack while the Reflector runs) */
+KELP_NOINLINE static int aof_setup(kelp_bhv *b, kelp_bhv_avoid_aof *f)
 {
-    kelp_bhv_avoid *a = &b->u.avoid;
-    kelp_bhv_avoid_aof f;
-    f.icrs = kelp_ivp_domain_index(&b->dom, "course");
-    f.ispd = kelp_ivp_domain_index(&b->dom, "speed");
-    if (f.icrs < 0 || f.ispd < 0) return KELP_ERR_NOTFOUND;
-    f.min_util = a->range <= a->min_util_cpa_dist ? a->range / 2 : a->min_util_cpa_dist;
-    f.max_util = a->max_util_cpa_dist;
+    const kelp_bhv_avoid *a = &b->u.avoid;
+    f->icrs = kelp_ivp_domain_index(&b->dom, "course");
+    f->ispd = kelp_ivp_domain_index(&b->dom, "speed");
+    if (f->icrs < 0 || f->ispd < 0) return KELP_ERR_NOTFOUND;
+    f->min_util = a->range <= a->min_util_cpa_dist ? a->range / 2 : a->min_util_cpa_dist;
+    f->max_util = a->max_util_cpa_dist;
     kelp_cpa_vessel cn = {a->cn.x, a->cn.y, a->cn.hdg, a->cn.spd};
-    if (kelp_cpa_fast_init(&f.cpa, &cn, a->osx, a->osy, a->time_on_leg) != KELP_OK) return KELP_ERR_ARG;
+    if (kelp_cpa_fast_init(&f->cpa, &cn, a->osx, a->osy, a->time_on_leg) != KELP_OK) return KELP_ERR_ARG;
+    return 0;
+}
+
+/* (out of line: its locals are not on the stack while avd_run tests the regions) */
+KELP_NOINLINE static int build(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
+{
+    kelp_bhv_avoid_aof *f = &b->helm->ws_bhv.avd_aof; /* the helm's workspace, not the stack */
+    int rc = aof_setup(b, f);
+    if (rc < 0) return rc;
     size_t cap = w->out_cap < w->pq_cap ? w->out_cap : w->pq_cap;
     kelp_ivp_reflector *r = &b->helm->ws_bhv.refl;   /* the helm's workspace, not the stack */
     /* a failed init leaves r->ok false: kelp_ivp_reflector_create then fails with KELP_ERR_STATE */
-    hx_ignore(kelp_ivp_reflector_init(r, &b->dom, kelp_bhv_avoid_aof_eval, &f));
+    hx_ignore(kelp_ivp_reflector_init(r, &b->dom, kelp_bhv_avoid_aof_eval, f));
     int amount = -1;
     if (kelp_ivp_reflector_set_param(r, "uniform_piece", AVD_PIECE) != 0 ||
         kelp_ivp_reflector_max_pieces(r, -1, -1) > cap) { /* a small pool: as many pieces as fit */
-        hx_ignore(kelp_ivp_reflector_init(r, &b->dom, kelp_bhv_avoid_aof_eval, &f));
+        hx_ignore(kelp_ivp_reflector_init(r, &b->dom, kelp_bhv_avoid_aof_eval, f));
         amount = (int)(cap > 2 ? cap / 2 : 1);
     }
-    int rc = kelp_ivp_reflector_create(r, amount, -1, 0, w->out, cap, w->pq, kelp_ivp_reflector_work_len(cap), out);
+    rc = kelp_ivp_reflector_create(r, amount, -1, 0, w->out, cap, w->pq, kelp_ivp_reflector_work_len(cap), out);
     if (rc < 0) return rc;
     return kelp_ivp_func_normalize(out, 0, 100);
 }
