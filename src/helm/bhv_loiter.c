@@ -148,7 +148,10 @@ static void loiter_idle(kelp_bhv *b)
         post_polygon(b, false);
 }
 
-static int loiter_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
+/* onRunState up to the objective: the vertex to steer for, reports and the course to it (*crs);
+ * false when no objective is made this time. Out of line: its locals are not on the stack under
+ * the IvP build that follows. */
+KELP_NOINLINE static bool loiter_advance(kelp_bhv *b, double *crs)
 {
     kelp_bhv_loiter *s = &b->u.loiter;
     double x, y;
@@ -156,10 +159,10 @@ static int loiter_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     bool ok2 = kelp_bhv_buf_double(b, "NAV_Y", &y);
     if (!ok1 || !ok2) {
         kelp_bhv_post_warning(b, "No ownship X/Y info in info_buffer.");
-        return 0;
+        return false;
     }
     if (s->npts < 3)
-        return 0;
+        return false;
     if (!s->started && s->center_activate && s->ngiven > 0) {
         /* the polygon moves so that its centre is where the vehicle is now */
         double cx = 0, cy = 0;
@@ -170,7 +173,7 @@ static int loiter_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
         order(s);
     }
     if (s->npts < 3)
-        return 0;
+        return false;
     if (!s->started) {
         /* start at the nearest vertex */
         double best = INFINITY;
@@ -198,22 +201,32 @@ static int loiter_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
         s->min_dist = INFINITY;
         cur = s->pts[s->index];
     }
-    char rep[128];
-    char ix[24], vr[24];
-    hx_fmt_ulong(ix, sizeof ix, s->index);
-    hx_fmt_ulong(vr, sizeof vr, s->laps_pts);
-    hx_cat(rep, sizeof rep, "mode=", s->acquiring ? "acquiring" : "loitering", ",index=", ix, ",vertices_reached=", vr,
-           HX_END);
-    char vn[3][KELP_MAX_NAME];
-    hx_cat(vn[0], sizeof vn[0], "LOITER_INDEX", s->suffix, HX_END);
-    hx_cat(vn[1], sizeof vn[1], "LOITER_ACQUIRE", s->suffix, HX_END);
-    hx_cat(vn[2], sizeof vn[2], "LOITER_REPORT", s->suffix, HX_END);
-    kelp_bhv_post_double(b, vn[0], (double)s->index, NULL);
-    kelp_bhv_post_double(b, vn[1], s->acquiring ? 1.0 : 0.0, NULL);
-    kelp_bhv_post_string(b, vn[2], rep, NULL);
-    post_polygon(b, true);
-    double crs = kelp_helm_relang(x, y, cur.x, cur.y);
-    if (bhv_course_speed_zaic(b, w, crs, s->speed, 0.5, 1.0, 0.8, out) < 0) {
+    /* the report and the variable names are composed in the helm's behaviour workspace (each
+     * posting is copied by the helm, so a name's buffer is free again for the next) */
+    char *rep = b->helm->ws_bhv.post2, *vn = b->helm->ws_bhv.var, *ix = b->helm->ws_bhv.num[0],
+         *vr = b->helm->ws_bhv.num[1];
+    const size_t ncap = sizeof b->helm->ws_bhv.num[0], vcap = sizeof b->helm->ws_bhv.var;
+    hx_fmt_ulong(ix, ncap, s->index);
+    hx_fmt_ulong(vr, ncap, s->laps_pts);
+    hx_cat(rep, sizeof b->helm->ws_bhv.post2, "mode=", s->acquiring ? "acquiring" : "loitering", ",index=", ix,
+           ",vertices_reached=", vr, HX_END);
+    hx_cat(vn, vcap, "LOITER_INDEX", s->suffix, HX_END);
+    kelp_bhv_post_double(b, vn, (double)s->index, NULL);
+    hx_cat(vn, vcap, "LOITER_ACQUIRE", s->suffix, HX_END);
+    kelp_bhv_post_double(b, vn, s->acquiring ? 1.0 : 0.0, NULL);
+    hx_cat(vn, vcap, "LOITER_REPORT", s->suffix, HX_END);
+    kelp_bhv_post_string(b, vn, rep, NULL);
+    post_polygon(b, true); /* (uses post and num[0..3]: the report is posted by now) */
+    *crs = kelp_helm_relang(x, y, cur.x, cur.y);
+    return true;
+}
+
+static int loiter_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
+{
+    double crs;
+    if (!loiter_advance(b, &crs))
+        return 0;
+    if (bhv_course_speed_zaic(b, w, crs, b->u.loiter.speed, 0.5, 1.0, 0.8, out) < 0) {
         kelp_bhv_post_warning(b, "Problem Creating the IvP Function");
         return 0;
     }
