@@ -39,12 +39,12 @@ int main(int argc, char **argv)
     if (argc < 3) { fprintf(stderr, "usage: bench_cmgr_feed N SECONDS\n"); return 2; }
     long n = 0;
     double secs = 0;
-    if (kelp_parse_long(argv[1], strlen(argv[1]), &n) != 0 || kelp_parse_double(argv[2], strlen(argv[2]), &secs) != 0 ||
+    if (kelp_util_parse_long(argv[1], strlen(argv[1]), &n) != 0 || kelp_util_parse_double(argv[2], strlen(argv[2]), &secs) != 0 ||
         n < 1 || n > 5000 || !(secs > 0))
         return 2;
     char url[512];
     kelp_diag err = {0};
-    if (kelp_lcm_url(NULL, url, sizeof url) < 0) return 1;
+    if (kelp_lcmbus_url(NULL, url, sizeof url) < 0) return 1;
     kelp_lcmbus *lb = kelp_lcmbus_open(url, "bench_cmgr_feed", "abe", on_var, NULL, &err);
     if (!lb) { fprintf(stderr, "%s\n", kelp_diag_text(&err)); return 1; }
     kelp_bus *bus = kelp_lcmbus_bus(lb);

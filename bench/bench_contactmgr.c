@@ -47,21 +47,21 @@ int main(int argc, char **argv)
     int n = atoi(argv[1]);
     double secs = argc > 2 ? atof(argv[2]) : 10;
     if (n < 1 || n > KELP_CMGR_MAX_CONTACTS || !(secs > 0)) return 2;
-    kelp_cmgr *c = malloc(sizeof *c);
+    kelp_contactmgr *c = malloc(sizeof *c);
     double *x = malloc(sizeof(double) * (size_t)n * 3), *y = x + n, *h = y + n;
     char *seen = calloc((size_t)n, 1);
     if (!c || !x || !seen) return 1;
     kelp_field_sink sink = { NULL, pub, warn };
-    kelp_cmgr_init(c, "ownship");
+    kelp_contactmgr_init(c, "ownship");
     char mc[32];
     snprintf(mc, sizeof mc, "%d", n);
-    if (kelp_cmgr_config(c, "max_contacts", mc, &sink) != 1 ||
-        kelp_cmgr_config(c, "alert", "id=avd, alert_range=80, cpa_range=100, "
+    if (kelp_contactmgr_config(c, "max_contacts", mc, &sink) != 1 ||
+        kelp_contactmgr_config(c, "alert", "id=avd, alert_range=80, cpa_range=100, "
                                      "on_flag=CONTACT_INFO=name=avd_$[VNAME] # contact=$[VNAME]", &sink) != 1 ||
-        kelp_cmgr_config(c, "post_all_ranges", "true", &sink) != 1 ||
-        kelp_cmgr_config(c, "post_closest_range", "true", &sink) != 1)
+        kelp_contactmgr_config(c, "post_all_ranges", "true", &sink) != 1 ||
+        kelp_contactmgr_config(c, "post_closest_range", "true", &sink) != 1)
         return 1;
-    kelp_cmgr_config_done(c, false, 0, false, 0, &sink);
+    kelp_contactmgr_config_done(c, false, 0, false, 0, &sink);
     uint64_t rng = 88172645463325252ull;
     for (int i = 0; i < n; i++) {
         rng ^= rng << 13, rng ^= rng >> 7, rng ^= rng << 17;
@@ -76,21 +76,21 @@ int main(int argc, char **argv)
     for (int k = 0; k < steps; k++) {
         double now = t0 + k * 0.25, osx = 0.5 * now - 0.5 * t0, osy = 0;
         double c0 = cpu_s();
-        (void)kelp_cmgr_mail(c, "NAV_X", false, NULL, osx, now, "uSimMarine", &sink);
-        (void)kelp_cmgr_mail(c, "NAV_Y", false, NULL, osy, now, "uSimMarine", &sink);
-        (void)kelp_cmgr_mail(c, "NAV_HEADING", false, NULL, 90, now, "uSimMarine", &sink);
-        (void)kelp_cmgr_mail(c, "NAV_SPEED", false, NULL, 2, now, "uSimMarine", &sink);
+        (void)kelp_contactmgr_mail(c, "NAV_X", false, NULL, osx, now, "uSimMarine", &sink);
+        (void)kelp_contactmgr_mail(c, "NAV_Y", false, NULL, osy, now, "uSimMarine", &sink);
+        (void)kelp_contactmgr_mail(c, "NAV_HEADING", false, NULL, 90, now, "uSimMarine", &sink);
+        (void)kelp_contactmgr_mail(c, "NAV_SPEED", false, NULL, 2, now, "uSimMarine", &sink);
         if (k % 4 == 0)
-            (void)kelp_cmgr_mail(c, "BCM_REPORT_REQUEST", true, "var=CONTACTS_200, range=200", 0, now, "pHelmIvP",
+            (void)kelp_contactmgr_mail(c, "BCM_REPORT_REQUEST", true, "var=CONTACTS_200, range=200", 0, now, "pHelmIvP",
                                  &sink);
         for (int i = k % 4; i < n; i += 4) {
             double t = now - t0;
             double px = x[i] + 2 * t * sin(h[i] * PI / 180), py = y[i] + 2 * t * cos(h[i] * PI / 180);
             snprintf(buf, sizeof buf, "NAME=vessel_%04d,TYPE=ship,TIME=%.2f,X=%.2f,Y=%.2f,LAT=43.8,LON=-70.3,"
                      "SPD=2.00,HDG=%.2f,DEPTH=0.00,LENGTH=20,MODE=SURVEY", i, now, px, py, h[i]);
-            if (kelp_cmgr_mail(c, "NODE_REPORT", true, buf, 0, now, "uFldNodeBroker", &sink) != 1) return 1;
+            if (kelp_contactmgr_mail(c, "NODE_REPORT", true, buf, 0, now, "uFldNodeBroker", &sink) != 1) return 1;
         }
-        kelp_cmgr_iterate(c, now, &sink);
+        kelp_contactmgr_iterate(c, now, &sink);
         cpu += cpu_s() - c0;
         for (int i = k % 4; i < n; i += 4) { /* owed: within the alert range at least once (first time) */
             double t = now - t0;

@@ -40,7 +40,7 @@ static void on_var(const kelp_var *v, void *user)
     if (!t) { f->other++; return; }
     const char *e = strchr(t, ',');
     double tv = 0;
-    if (kelp_parse_double(t + 5, e ? (size_t)(e - t - 5) : strlen(t + 5), &tv) != 0) { f->other++; return; }
+    if (kelp_util_parse_double(t + 5, e ? (size_t)(e - t - 5) : strlen(t + 5), &tv) != 0) { f->other++; return; }
     int round = (int)lround((tv - f->t0) / 0.25);
     if (round >= 0 && round < 4096) f->per_round[round]++;
     if (round >= 1 && round < f->rounds - 1) f->relayed++;
@@ -52,12 +52,12 @@ int main(int argc, char **argv)
     if (argc < 3) { fprintf(stderr, "usage: bench_ncomms_feed N SECONDS\n"); return 2; }
     long n = 0;
     double secs = 0;
-    if (kelp_parse_long(argv[1], strlen(argv[1]), &n) != 0 || kelp_parse_double(argv[2], strlen(argv[2]), &secs) != 0 ||
+    if (kelp_util_parse_long(argv[1], strlen(argv[1]), &n) != 0 || kelp_util_parse_double(argv[2], strlen(argv[2]), &secs) != 0 ||
         n < 2 || n > 5000 || !(secs > 0))
         return 2;
     char url[512];
     kelp_diag err = {0};
-    if (kelp_lcm_url(NULL, url, sizeof url) < 0) return 1;
+    if (kelp_lcmbus_url(NULL, url, sizeof url) < 0) return 1;
     static feed f;
     kelp_lcmbus *lb = kelp_lcmbus_open(url, "bench_ncomms_feed", "shoreside", on_var, &f, &err);
     if (!lb) { fprintf(stderr, "%s\n", kelp_diag_text(&err)); return 1; }

@@ -30,11 +30,11 @@ void fw_node_frame(fw_node *n, const kelp_can_frame *f, double now)
 /* "thrust=42.5,commands=3" (kelp's own formatter: no stdio in the image) */
 static size_t status_text(const fw_node *n, char *p, size_t cap)
 {
-    int k = kelp_snprintf(p, cap, "thrust=");
-    int w = kelp_fmt_fixed(p + k, cap - (size_t)k, n->thrust, 2, true);
-    if (w < 0) w = kelp_snprintf(p + k, cap - (size_t)k, "range");
+    int k = kelp_util_snprintf(p, cap, "thrust=");
+    int w = kelp_util_fmt_fixed(p + k, cap - (size_t)k, n->thrust, 2, true);
+    if (w < 0) w = kelp_util_snprintf(p + k, cap - (size_t)k, "range");
     k += w;
-    k += kelp_snprintf(p + k, cap - (size_t)k, ",commands=%lu", n->commands);
+    k += kelp_util_snprintf(p + k, cap - (size_t)k, ",commands=%lu", n->commands);
     return (size_t)k < cap ? (size_t)k : cap - 1;
 }
 

@@ -7,5 +7,5 @@ int main(void);
 int main(void)
 {
     volatile int rc = 0;
-    return kelp_strerror(rc)[0] == 'o' ? 0 : 1;
+    return kelp_err_str(rc)[0] == 'o' ? 0 : 1;
 }

@@ -27,19 +27,19 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     static char rep[16384];
     switch (data[0] % 5) {
     case 0: {
-        kelp_broker_host h;
-        if (kelp_broker_host_parse(t, &h, &why) == 0) {
-            if (kelp_broker_host_complete(&h) && (!h.community[0] || !h.host[0] || !h.port_udp)) abort();
+        kelp_field_broker_host h;
+        if (kelp_field_broker_host_parse(t, &h, &why) == 0) {
+            if (kelp_field_broker_host_complete(&h) && (!h.community[0] || !h.host[0] || !h.port_udp)) abort();
             if (h.port_udp > 65535 || h.port_db > 65535) abort();
         } else if (why.code == KELP_OK)
             abort(); /* a refusal says why */
         break;
     }
     case 1: {
-        kelp_broker_try tr;
-        kelp_broker_bridge b;
-        if (kelp_broker_try_parse(t, &tr, &why) == 0 && (!tr.host[0] || tr.port == 0 || tr.port > 65535)) abort();
-        if (kelp_broker_bridge_parse(t, &b, &why) == 0 && (!b.src[0] || !b.alias[0])) abort();
+        kelp_field_broker_try tr;
+        kelp_field_broker_bridge b;
+        if (kelp_field_broker_try_parse(t, &tr, &why) == 0 && (!tr.host[0] || tr.port == 0 || tr.port > 65535)) abort();
+        if (kelp_field_broker_bridge_parse(t, &b, &why) == 0 && (!b.src[0] || !b.alias[0])) abort();
         break;
     }
     case 2: {

@@ -38,7 +38,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             (v.kind == KELP_VAR_DOUBLE && memcmp(&w.dval, &v.dval, sizeof w.dval)))
             abort();
     }
-    (void)kelp_sync_req_decode(buf, n, &q);
+    (void)kelp_bus_sync_req_decode(buf, n, &q);
     {
         /* bridge frames through a receiver whose peer table persists across inputs */
         static kelp_bridge_peer peers[3];

@@ -100,7 +100,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
         default: t = now = T0 + d; break;
         }
-        bool ok = kelp_time_ok(t);
+        bool ok = kelp_util_time_ok(t);
         kelp_acomms_msg m, out;
         switch (op / 4 % 4) {
         case 0: {

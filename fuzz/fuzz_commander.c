@@ -1,4 +1,4 @@
-/* Fuzz the kelp-commander save-file reader (kelp_cmdr_load) and, on what loads, save and send.
+/* Fuzz the kelp-commander save-file reader (kelp_commander_load) and, on what loads, save and send.
  * The first half of the input (up to a NUL) is the save file, against a fixed message set. */
 #include <stdint.h>
 #include <stdlib.h>
@@ -27,9 +27,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     static bool ready;
     static kelp_dccl_builtin geo;
     static kelp_dccl_modem_entry modems[2];
-    static kelp_cmdr c;
+    static kelp_commander c;
     static char text[65536], out[65536];
-    static kelp_cmdr_pub pubs[KELP_CMDR_MAX_PUBS];
+    static kelp_commander_pub pubs[KELP_CMDR_MAX_PUBS];
     if (!ready) {
         kelp_dccl_loaded_init(&ld);
         if (kelp_dccl_load_buffer(&ld, "f.xml", XML, sizeof XML - 1, NULL, NULL) != 0) abort();
@@ -40,12 +40,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (size >= sizeof text) size = sizeof text - 1;
     memcpy(text, data, size);
     text[size] = 0;
-    kelp_cmdr_init(&c, &ld.set, &geo);
+    kelp_commander_init(&c, &ld.set, &geo);
     c.force_xy_only = size & 1;
     size_t n;
-    (void)kelp_cmdr_load(&c, text, NULL);
-    if (kelp_cmdr_save(&c, out, sizeof out, &n) == 0 && strlen(out) != n) abort();
-    for (unsigned i = 0; i < c.n_open; i++) (void)kelp_cmdr_send(&c, i, 1.7e9, pubs, KELP_CMDR_MAX_PUBS, &n, NULL);
-    (void)kelp_cmdr_ack_note(&c, true, text, 1.7e9, out, sizeof out);
+    (void)kelp_commander_load(&c, text, NULL);
+    if (kelp_commander_save(&c, out, sizeof out, &n) == 0 && strlen(out) != n) abort();
+    for (unsigned i = 0; i < c.n_open; i++) (void)kelp_commander_send(&c, i, 1.7e9, pubs, KELP_CMDR_MAX_PUBS, &n, NULL);
+    (void)kelp_commander_ack_note(&c, true, text, 1.7e9, out, sizeof out);
     return 0;
 }

@@ -32,7 +32,7 @@ static void on_warn(void *ctx, const char *msg)
     if (!ctx || !msg) abort();
 }
 
-static kelp_cmgr *core;
+static kelp_contactmgr *core;
 static char text[1 << 16];
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
@@ -40,8 +40,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     unsigned long posts = 0;
     if (!core && !(core = malloc(sizeof *core))) return 0;
-    kelp_cmgr *c = core;
-    kelp_cmgr_init(c, "abe");
+    kelp_contactmgr *c = core;
+    kelp_contactmgr_init(c, "abe");
     kelp_field_sink sink = { &posts, on_post, on_warn };
     for (int pass = 0; pass < 2; pass++) {
         const uint8_t *p = data, *end = data + size;
@@ -60,22 +60,22 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             memcpy(v, p + 1, len - 1);
             v[len - 1] = 0;
             if (param) {
-                if (kelp_cmgr_config(c, keys[sel % NK], v, &sink) < 0) abort();
+                if (kelp_contactmgr_config(c, keys[sel % NK], v, &sink) < 0) abort();
             } else {
                 const char *var = vars[sel % NV];
                 bool num = var[0] == 'N' && var[1] == 'A';
-                (void)kelp_cmgr_mail(c, var, !num, v, num ? (double)(int8_t)v[0] * 7.5 : 0, now, "fuzz", &sink);
+                (void)kelp_contactmgr_mail(c, var, !num, v, num ? (double)(int8_t)v[0] * 7.5 : 0, now, "fuzz", &sink);
                 if (++rec % 3 == 0) {
                     now += (double)(sel % 40);
-                    kelp_cmgr_iterate(c, now, &sink);
-                    (void)kelp_cmgr_report_text(c, now, text, sizeof text);
+                    kelp_contactmgr_iterate(c, now, &sink);
+                    (void)kelp_contactmgr_report_text(c, now, text, sizeof text);
                 }
             }
             free(v);
         }
-        if (pass == 0) kelp_cmgr_config_done(c, true, 43.8253, true, -70.3304, &sink);
+        if (pass == 0) kelp_contactmgr_config_done(c, true, 43.8253, true, -70.3304, &sink);
     }
-    kelp_cmgr_iterate(c, 5000, &sink);
+    kelp_contactmgr_iterate(c, 5000, &sink);
     if (c->ncontacts > KELP_CMGR_MAX_CONTACTS || c->ncontacts + c->nspare != KELP_CMGR_MAX_CONTACTS) abort();
     for (unsigned k = 1; k < c->ncontacts; k++)
         if (strcmp(c->contact[c->order[k - 1]].name, c->contact[c->order[k]].name) >= 0) abort();

@@ -31,7 +31,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     static kelp_view v;
     for (int k = 0; k < KELP_VIEW_NKINDS; k++) {
         kelp_diag_clear(&why);
-        rc = kelp_view_parse((kelp_view_kind)k, s, size, &v, &why);
+        rc = kelp_nodereport_view_parse((kelp_view_kind)k, s, size, &v, &why);
         if (rc < 0 && why.code == KELP_OK) abort();
         if (rc == 0 && v.npts > KELP_VIEW_MAX_PTS) abort();
     }

@@ -31,15 +31,15 @@ static void warn(void *ctx, const char *msg)
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    static kelp_field_brs *b;
-    static kelp_field_crs *c;
+    static kelp_beaconrange *b;
+    static kelp_contactrange *c;
     static char text[1 << 14];
     if (!b) b = malloc(sizeof *b);
     if (!c) c = malloc(sizeof *c);
-    static kelp_field_brs_cfg bc;
-    static kelp_field_crs_cfg cc;
-    kelp_field_brs_cfg_default(&bc);
-    kelp_field_crs_cfg_default(&cc);
+    static kelp_beaconrange_cfg bc;
+    static kelp_contactrange_cfg cc;
+    kelp_beaconrange_cfg_default(&bc);
+    kelp_contactrange_cfg_default(&cc);
     kelp_field_sink sink = { NULL, pub, warn };
     bool ok = true;
     for (int pass = 0; pass < 2; pass++) {
@@ -57,17 +57,17 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 v[vl] = 0;
                 if (pass == 0 && sel >= 0xC0) {
                     kelp_diag why = { 0 };
-                    int rc = kelp_field_brs_config(&bc, keys[sel % NK], v, &why);
+                    int rc = kelp_beaconrange_config(&bc, keys[sel % NK], v, &why);
                     if (rc < 0 && why.code == KELP_OK) abort();
                     kelp_diag_clear(&why);
-                    rc = kelp_field_crs_config(&cc, keys[sel % NK], v, &why);
+                    rc = kelp_contactrange_config(&cc, keys[sel % NK], v, &why);
                     if (rc < 0 && why.code == KELP_OK) abort();
                 } else if (pass == 1 && sel < 0xC0) {
-                    (void)kelp_field_brs_mail(b, vars[sel % NV], (sel & 0x40) == 0, v, now, &sink);
-                    (void)kelp_field_crs_mail(c, vars[sel % NV], (sel & 0x40) == 0, v, now, &sink);
+                    (void)kelp_beaconrange_mail(b, vars[sel % NV], (sel & 0x40) == 0, v, now, &sink);
+                    (void)kelp_contactrange_mail(c, vars[sel % NV], (sel & 0x40) == 0, v, now, &sink);
                     if (++rec % 4 == 0) {
                         now += (sel & 0x3F) * 2.5;
-                        (void)kelp_field_brs_iterate(b, now, &sink);
+                        (void)kelp_beaconrange_iterate(b, now, &sink);
                     }
                 }
                 free(v);
@@ -76,20 +76,20 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         }
         if (pass == 0) {
             kelp_diag why = { 0 };
-            ok = kelp_field_brs_init(b, &bc, 0, &why) == 0;
+            ok = kelp_beaconrange_init(b, &bc, 0, &why) == 0;
             if (!ok && why.code == KELP_OK) abort();
-            if (!ok) kelp_field_brs_cfg_default(&bc), ok = kelp_field_brs_init(b, &bc, 0, &why) == 0;
-            kelp_field_crs_init(c, &cc, 0);
+            if (!ok) kelp_beaconrange_cfg_default(&bc), ok = kelp_beaconrange_init(b, &bc, 0, &why) == 0;
+            kelp_contactrange_init(c, &cc, 0);
         }
     }
     if (!ok) abort();
     if (b->accepted + b->denied > b->requests || c->accepted + c->denied > c->requests) abort();
     if (b->nbeacons > KELP_BRS_MAX_BEACONS || b->nnodes > KELP_RSENSE_MAX_NODES) abort();
-    (void)kelp_field_brs_summary(b, text, sizeof text);
-    (void)kelp_field_crs_summary(c, text, sizeof text);
-    (void)kelp_field_brs_report(b, text, sizeof text); /* the AppCast tables: always terminated */
+    (void)kelp_beaconrange_summary(b, text, sizeof text);
+    (void)kelp_contactrange_summary(c, text, sizeof text);
+    (void)kelp_beaconrange_report(b, text, sizeof text); /* the AppCast tables: always terminated */
     if (strlen(text) >= sizeof text) abort();
-    (void)kelp_field_crs_report(c, text, sizeof text);
+    (void)kelp_contactrange_report(c, text, sizeof text);
     if (strlen(text) >= sizeof text) abort();
     return 0;
 }

@@ -78,9 +78,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             memset(&st, 0, sizeof st);
             kelp_sim_params_default(&p);
             if (kelp_sim_config_set(&p, &st, t, eq + 1, &dg) > 0 && p.nmap > KELP_SIM_MAX_MAP) abort();
-            kelp_marine_pid_cfg c;
-            kelp_marine_pid_cfg_default(&c);
-            (void)kelp_marine_pid_cfg_set(&c, t, eq + 1, &dg);
+            kelp_pid_marine_cfg c;
+            kelp_pid_marine_cfg_default(&c);
+            (void)kelp_pid_marine_cfg_set(&c, t, eq + 1, &dg);
         }
         break;
     }

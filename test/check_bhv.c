@@ -108,16 +108,16 @@ START_TEST(swpt_reflector_aof_values)
     kelp_bhv_swpt_aof a = {2.0, 0, 0, 60, -40, 0, 0, 4, 0, 1};
     a.angle_to_wpt = kelp_helm_relang(0, 0, 60, -40);
     double on[2] = {a.angle_to_wpt, 2.0};
-    ck_assert(fabs(kelp_bhv_swpt_aof_eval(on, &a) - 100) < 1e-9);
+    ck_assert(fabs(kelp_helm_bhv_swpt_aof_eval(on, &a) - 100) < 1e-9);
     double back[2] = {a.angle_to_wpt + 180, 2.0};
     /* roc -2: diff 4 -> 50; rod 180*2 -> 50; speed exact -> 100: 37.5 + 10 + 5 */
-    ck_assert(fabs(kelp_bhv_swpt_aof_eval(back, &a) - 52.5) < 1e-9);
+    ck_assert(fabs(kelp_helm_bhv_swpt_aof_eval(back, &a) - 52.5) < 1e-9);
     double slow[2] = {a.angle_to_wpt, 0.0};
     /* roc 0: diff 2 -> 75; rod 0 -> 100; speed diff 2 of range 2 -> 0: 56.25 + 20 + 0 */
-    ck_assert(fabs(kelp_bhv_swpt_aof_eval(slow, &a) - 76.25) < 1e-9);
+    ck_assert(fabs(kelp_helm_bhv_swpt_aof_eval(slow, &a) - 76.25) < 1e-9);
     double fast[2] = {a.angle_to_wpt, 4.0};
     /* roc 4: diff -2 -> *-0.5 = 1 -> 87.5; rod 0 -> 100; speed diff 2 -> 0: 65.625 + 20 */
-    ck_assert(fabs(kelp_bhv_swpt_aof_eval(fast, &a) - 85.625) < 1e-9);
+    ck_assert(fabs(kelp_helm_bhv_swpt_aof_eval(fast, &a) - 85.625) < 1e-9);
 }
 END_TEST
 
@@ -406,7 +406,7 @@ START_TEST(waypoint_lead)
     nav(5, 20);
     ht_iter(1); /* track point (0, 20 + 10): relAng((5,20),(0,30)) = 333.43 */
     ck_assert_msg(ht_num("DESIRED_HEADING") == 333, "heading %g", ht_num("DESIRED_HEADING"));
-    ck_assert_int_eq(kelp_bhv_set_param(find("w"), "lead", "0"), 0);
+    ck_assert_int_eq(kelp_helm_bhv_set_param(find("w"), "lead", "0"), 0);
     nav(5, 21);
     ht_iter(2); /* lead off: straight at (0,100): 356.4 */
     ck_assert(ht_num("DESIRED_HEADING") == 356);
@@ -453,9 +453,9 @@ START_TEST(waypoint_capture_line)
     ck_assert_uint_eq(find("w")->u.wpt.index, 1);
     ck_assert_ptr_nonnull(strstr(ht_last("WPT_STAT")->sval, "hits=1/1"));
     /* absolute: radii zero, only the line counts */
-    ck_assert_int_eq(kelp_bhv_set_param(find("w"), "capture_line", "absolute"), 0);
+    ck_assert_int_eq(kelp_helm_bhv_set_param(find("w"), "capture_line", "absolute"), 0);
     ck_assert(find("w")->u.wpt.capture_radius == 0 && find("w")->u.wpt.slip_radius == 0);
-    ck_assert_int_lt(kelp_bhv_set_param(find("w"), "capture_line", "maybe"), 0);
+    ck_assert_int_lt(kelp_helm_bhv_set_param(find("w"), "capture_line", "maybe"), 0);
 }
 END_TEST
 
@@ -484,9 +484,9 @@ START_TEST(waypoint_reports_and_hints)
     ck_assert_ptr_nonnull(ht_last("WPT_EFFICIENCY_LEG"));
     ck_assert_str_eq(ht_last("WPT_EFFICIENCY_LEG")->sval, "linear_dist=19.5,odo_dist=19.5,efficiency=100.0");
     ck_assert(ht_num("WPT_ODO_A") < 1e-9); /* the next leg's odometry starts over */
-    ck_assert_int_lt(kelp_bhv_set_param(find("w"), "crs_spd_zaic_ratio", "100"), 0);
-    ck_assert_int_lt(kelp_bhv_set_param(find("w"), "wpt_status_var", "A B"), 0);
-    ck_assert_int_lt(kelp_bhv_set_param(find("w"), "capture_radius", "0"), 0);
+    ck_assert_int_lt(kelp_helm_bhv_set_param(find("w"), "crs_spd_zaic_ratio", "100"), 0);
+    ck_assert_int_lt(kelp_helm_bhv_set_param(find("w"), "wpt_status_var", "A B"), 0);
+    ck_assert_int_lt(kelp_helm_bhv_set_param(find("w"), "capture_radius", "0"), 0);
 }
 END_TEST
 
@@ -609,11 +609,11 @@ START_TEST(constant_depth_speed_heading)
     ck_assert(fabs(ht_num("DESIRED_SPEED") - 1.2) < 1e-9);
     ck_assert(ht_num("DESIRED_HEADING") == 270);
     kelp_helm_mail_string(ht_helm(), "X", "y");
-    ck_assert_int_eq(kelp_bhv_set_param(b, "depth", "55"), 0);
+    ck_assert_int_eq(kelp_helm_bhv_set_param(b, "depth", "55"), 0);
     ht_iter(1);
     ck_assert(ht_num("DESIRED_DEPTH") == 55);
-    ck_assert_int_eq(kelp_bhv_set_param(b, "depth", "-3"), KELP_ERR_PARSE);
-    ck_assert_int_eq(kelp_bhv_set_param(b, "peakwidth", "abc"), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_helm_bhv_set_param(b, "depth", "-3"), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_helm_bhv_set_param(b, "peakwidth", "abc"), KELP_ERR_PARSE);
 }
 END_TEST
 
@@ -722,10 +722,10 @@ START_TEST(priority_weights_trade_off)
             "Behavior = BHV_ConstantSpeed\n{\n name = s\n speed = 1\n}\n");
     ht_iter(0);
     ck_assert(ht_num("DESIRED_HEADING") == 180);
-    ck_assert_int_eq(kelp_bhv_set_param(find("a"), "pwt", "500"), 0);
+    ck_assert_int_eq(kelp_helm_bhv_set_param(find("a"), "pwt", "500"), 0);
     ht_iter(1);
     ck_assert(ht_num("DESIRED_HEADING") == 90);
-    ck_assert_int_eq(kelp_bhv_set_param(find("a"), "pwt", "0"), 0); /* weight 0: no function */
+    ck_assert_int_eq(kelp_helm_bhv_set_param(find("a"), "pwt", "0"), 0); /* weight 0: no function */
     ht_iter(2);
     ck_assert(ht_num("DESIRED_HEADING") == 180);
     ck_assert_int_eq(find("a")->state, KELP_BHV_RUNNING);

@@ -194,11 +194,11 @@ START_TEST(sync_req_roundtrip_and_reject)
     strcpy(q.patterns[1], "*_HZ");
     uint8_t buf[1024];
     size_t n;
-    ck_assert_int_eq(kelp_sync_req_encode(&q, buf, sizeof buf, &n), 0);
-    ck_assert_int_eq(kelp_sync_req_decode(buf, n, &r), 0);
+    ck_assert_int_eq(kelp_bus_sync_req_encode(&q, buf, sizeof buf, &n), 0);
+    ck_assert_int_eq(kelp_bus_sync_req_decode(buf, n, &r), 0);
     ck_assert_str_eq(r.patterns[1], "*_HZ");
     ck_assert_uint_eq(r.npatterns, 2);
-    for (size_t k = 0; k < n; k++) ck_assert_int_lt(kelp_sync_req_decode(buf, k, &r), 0);
+    for (size_t k = 0; k < n; k++) ck_assert_int_lt(kelp_bus_sync_req_decode(buf, k, &r), 0);
 }
 END_TEST
 

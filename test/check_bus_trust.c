@@ -86,7 +86,7 @@ static int feed_sync(tb *t, const char *requester, const char *community, const 
     strcpy(q.patterns[0], pattern);
     uint8_t buf[4096];
     size_t n = 0;
-    ck_assert_int_eq(kelp_sync_req_encode(&q, buf, sizeof buf, &n), 0);
+    ck_assert_int_eq(kelp_bus_sync_req_encode(&q, buf, sizeof buf, &n), 0);
     return kelp_bus_receive(&t->bus, KELP_BUS_SYNC_CHANNEL, buf, n, now);
 }
 

@@ -76,17 +76,17 @@ static void cfg_node(kelp_field_nbroker_cfg *c, const char *const *lines)
 
 START_TEST(host_record_synonyms)
 {
-    kelp_broker_host h;
+    kelp_field_broker_host h;
     kelp_diag why = { 0 };
-    ck_assert_int_eq(kelp_broker_host_parse(JAMES_PHI, &h, &why), 0);
+    ck_assert_int_eq(kelp_field_broker_host_parse(JAMES_PHI, &h, &why), 0);
     ck_assert_str_eq(h.community, "james");
     ck_assert_str_eq(h.host, "10.0.0.8");
     ck_assert_uint_eq(h.port_db, 9204);
     ck_assert_uint_eq(h.port_udp, 9304);
     ck_assert(h.have_warp && h.warp == 1);
-    ck_assert(kelp_broker_host_complete(&h));
+    ck_assert(kelp_field_broker_host_complete(&h));
     /* the seed's ping, broken over two lines with spaces */
-    ck_assert_int_eq(kelp_broker_host_parse("community=henry,host=192.168.1.22,port=9000,port_udp=9200,  \n"
+    ck_assert_int_eq(kelp_field_broker_host_parse("community=henry,host=192.168.1.22,port=9000,port_udp=9200,  \n"
                                             "keyword=lemon,time_warp=10,time=1325178800.81",
                                             &h, &why),
                      0);
@@ -94,57 +94,57 @@ START_TEST(host_record_synonyms)
     ck_assert(h.warp == 10 && h.have_time && h.time > 1325178800.80 && h.time < 1325178800.82);
     ck_assert_uint_eq(h.port_db, 9000);
     /* 24.8: host_ip / port_db / pshare_iroutes */
-    ck_assert_int_eq(kelp_broker_host_parse("community=abe,host_ip=192.168.7.6,port_db=9000,"
+    ck_assert_int_eq(kelp_field_broker_host_parse("community=abe,host_ip=192.168.7.6,port_db=9000,"
                                             "pshare_iroutes=multicast_8&192.168.7.6:9201,time_warp=5,key=1",
                                             &h, &why),
                      0);
     ck_assert_uint_eq(h.port_udp, 9201);
     ck_assert_str_eq(h.host, "192.168.7.6");
     /* incomplete and malformed */
-    ck_assert_int_eq(kelp_broker_host_parse("community=james,hostip=10.0.0.8,port_db=9204", &h, &why), 0);
-    ck_assert(!kelp_broker_host_complete(&h));
-    ck_assert_int_eq(kelp_broker_host_parse("community=james,port_udp=99999", &h, &why), KELP_ERR_PARSE);
-    ck_assert_int_eq(kelp_broker_host_parse("community=james,time_warp=0", &h, &why), KELP_ERR_PARSE);
-    ck_assert_int_eq(kelp_broker_host_parse("community", &h, &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_field_broker_host_parse("community=james,hostip=10.0.0.8,port_db=9204", &h, &why), 0);
+    ck_assert(!kelp_field_broker_host_complete(&h));
+    ck_assert_int_eq(kelp_field_broker_host_parse("community=james,port_udp=99999", &h, &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_field_broker_host_parse("community=james,time_warp=0", &h, &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_field_broker_host_parse("community", &h, &why), KELP_ERR_PARSE);
 }
 END_TEST
 
 START_TEST(try_and_bridge_lines)
 {
-    kelp_broker_try t;
-    kelp_broker_bridge b;
+    kelp_field_broker_try t;
+    kelp_field_broker_bridge b;
     kelp_diag why = { 0 };
-    ck_assert_int_eq(kelp_broker_try_parse("host_ip=localhost, port_udp=9200, community=topside", &t, &why), 0);
+    ck_assert_int_eq(kelp_field_broker_try_parse("host_ip=localhost, port_udp=9200, community=topside", &t, &why), 0);
     ck_assert_str_eq(t.host, "localhost");
     ck_assert_str_eq(t.community, "topside");
     ck_assert_uint_eq(t.port, 9200);
-    ck_assert_int_eq(kelp_broker_try_parse("hostip=128.30.24.232, port_udp=9200", &t, &why), 0);
+    ck_assert_int_eq(kelp_field_broker_try_parse("hostip=128.30.24.232, port_udp=9200", &t, &why), 0);
     ck_assert_str_eq(t.community, "");
-    ck_assert_int_eq(kelp_broker_try_parse("pshare_route=192.168.0.122:9301", &t, &why), 0);
+    ck_assert_int_eq(kelp_field_broker_try_parse("pshare_route=192.168.0.122:9301", &t, &why), 0);
     ck_assert_str_eq(t.host, "192.168.0.122");
     ck_assert_uint_eq(t.port, 9301);
-    ck_assert_int_eq(kelp_broker_try_parse("pshare_route=multicast_8", &t, &why), KELP_ERR_UNSUPPORTED);
-    ck_assert_int_eq(kelp_broker_try_parse("pshare_route=localhost", &t, &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_field_broker_try_parse("pshare_route=multicast_8", &t, &why), KELP_ERR_UNSUPPORTED);
+    ck_assert_int_eq(kelp_field_broker_try_parse("pshare_route=localhost", &t, &why), KELP_ERR_PARSE);
     kelp_diag_clear(&why);
-    ck_assert_int_eq(kelp_broker_try_parse("port_udp=9200", &t, &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_field_broker_try_parse("port_udp=9200", &t, &why), KELP_ERR_PARSE);
     ck_diag(&why, KELP_ERR_PARSE, "no host_ip");
     ck_assert_int_eq(why.line, 0); /* one value: no line of its own */
     /* first error wins: a second failure keeps the first reason */
-    ck_assert_int_eq(kelp_broker_try_parse("host_ip=localhost", &t, &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_field_broker_try_parse("host_ip=localhost", &t, &why), KELP_ERR_PARSE);
     ck_diag_msg(&why, "no host_ip");
     kelp_diag_clear(&why);
-    ck_assert_int_eq(kelp_broker_try_parse("pshare_route=multicast_8", &t, &why), KELP_ERR_UNSUPPORTED);
+    ck_assert_int_eq(kelp_field_broker_try_parse("pshare_route=multicast_8", &t, &why), KELP_ERR_UNSUPPORTED);
     ck_diag(&why, KELP_ERR_UNSUPPORTED, "a multicast route (kelp-bridge sends unicast UDP only)");
-    ck_assert_int_eq(kelp_broker_try_parse("port_udp=9200", &t, NULL), KELP_ERR_PARSE); /* NULL: no record */
-    ck_assert_int_eq(kelp_broker_try_parse("host_ip=localhost", &t, &why), KELP_ERR_PARSE);
-    ck_assert_int_eq(kelp_broker_try_parse("host_ip=localhost, port_udp=x", &t, &why), KELP_ERR_PARSE);
-    ck_assert_int_eq(kelp_broker_bridge_parse("src=VIEW_POINT", &b, &why), 0);
+    ck_assert_int_eq(kelp_field_broker_try_parse("port_udp=9200", &t, NULL), KELP_ERR_PARSE); /* NULL: no record */
+    ck_assert_int_eq(kelp_field_broker_try_parse("host_ip=localhost", &t, &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_field_broker_try_parse("host_ip=localhost, port_udp=x", &t, &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_field_broker_bridge_parse("src=VIEW_POINT", &b, &why), 0);
     ck_assert_str_eq(b.alias, "VIEW_POINT");
-    ck_assert_int_eq(kelp_broker_bridge_parse("src=NODE_REPORT_LOCAL, alias=NODE_REPORT", &b, &why), 0);
+    ck_assert_int_eq(kelp_field_broker_bridge_parse("src=NODE_REPORT_LOCAL, alias=NODE_REPORT", &b, &why), 0);
     ck_assert_str_eq(b.src, "NODE_REPORT_LOCAL");
     ck_assert_str_eq(b.alias, "NODE_REPORT");
-    ck_assert_int_eq(kelp_broker_bridge_parse("alias=NODE_REPORT", &b, &why), KELP_ERR_PARSE);
-    ck_assert_int_eq(kelp_broker_bridge_parse("src=A, dest=B", &b, &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_field_broker_bridge_parse("alias=NODE_REPORT", &b, &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_field_broker_bridge_parse("src=A, dest=B", &b, &why), KELP_ERR_PARSE);
 }
 END_TEST
 
@@ -946,24 +946,24 @@ START_TEST(hr24_spec_order)
 {
     /* HostRecord::getSpec: community, hostip, port_db, port_udp, pshare_iroutes, keyword,
      * hostip_alts (own address out), timewarp, time, key */
-    kelp_broker_host h;
+    kelp_field_broker_host h;
     kelp_diag why = { 0 };
-    ck_assert_int_eq(kelp_broker_host_parse("timewarp=2,hostip_alts=10.0.0.2,10.9.9.9,community=alpha,"
+    ck_assert_int_eq(kelp_field_broker_host_parse("timewarp=2,hostip_alts=10.0.0.2,10.9.9.9,community=alpha,"
                                             "pshare_iroutes=10.0.0.2:9201,port_db=9001,hostip=10.0.0.2,keyword=lemon",
                                             &h, &why),
                      0);
-    ck_assert(kelp_broker_host_valid(&h));
+    ck_assert(kelp_field_broker_host_valid(&h));
     ck_assert(h.have_port_udp && h.port_udp == 9201); /* a single route gives port_udp */
     char buf[512];
-    ck_assert_int_eq(kelp_broker_host_spec(&h, "100.00", "0", buf, sizeof buf), 0);
+    ck_assert_int_eq(kelp_field_broker_host_spec(&h, "100.00", "0", buf, sizeof buf), 0);
     ck_assert_str_eq(buf, "community=alpha,hostip=10.0.0.2,port_db=9001,port_udp=9201,pshare_iroutes=10.0.0.2:9201,"
                           "keyword=lemon,hostip_alts=,timewarp=2,time=100.00,key=0");
     /* two routes: no port_udp; no port_db: not valid */
-    ck_assert_int_eq(kelp_broker_host_parse("community=a,hostip=localhost,pshare_iroutes=10.0.0.2:9201&multicast_8", &h, &why), 0);
+    ck_assert_int_eq(kelp_field_broker_host_parse("community=a,hostip=localhost,pshare_iroutes=10.0.0.2:9201&multicast_8", &h, &why), 0);
     ck_assert(!h.have_port_udp);
-    ck_assert(!kelp_broker_host_valid(&h));
-    ck_assert_int_eq(kelp_broker_host_parse("community=a,hostip=host.example,port_db=9000", &h, &why), 0);
-    ck_assert(!kelp_broker_host_valid(&h)); /* hostip must be a dotted quad or localhost */
+    ck_assert(!kelp_field_broker_host_valid(&h));
+    ck_assert_int_eq(kelp_field_broker_host_parse("community=a,hostip=host.example,port_db=9000", &h, &why), 0);
+    ck_assert(!kelp_field_broker_host_valid(&h)); /* hostip must be a dotted quad or localhost */
 }
 END_TEST
 

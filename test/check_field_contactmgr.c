@@ -20,7 +20,7 @@ typedef struct rec {
 } rec;
 
 static rec *R;
-static kelp_cmgr *C;
+static kelp_contactmgr *C;
 static double NOW = 1000;
 
 static void pub(void *ctx, const char *var, bool is_string, const char *sval, double dval)
@@ -83,7 +83,7 @@ static void setup(void)
     if (!R) R = malloc(sizeof *R);
     ck_assert_ptr_nonnull(C);
     ck_assert_ptr_nonnull(R);
-    kelp_cmgr_init(C, "abe");
+    kelp_contactmgr_init(C, "abe");
     clear();
     S = (kelp_field_sink){ R, pub, wrn };
     NOW = 1000;
@@ -103,12 +103,12 @@ static void cfg(const char *line)
     key[kl] = 0;
     const char *v = eq + 1;
     while (*v == ' ') v++;
-    ck_assert_int_eq(kelp_cmgr_config(C, key, v, &S), 1);
+    ck_assert_int_eq(kelp_contactmgr_config(C, key, v, &S), 1);
 }
 
 static void done(void)
 {
-    kelp_cmgr_config_done(C, false, 0, false, 0, &S);
+    kelp_contactmgr_config_done(C, false, 0, false, 0, &S);
 }
 
 static void fixture_f(void)
@@ -121,15 +121,15 @@ static void fixture_f(void)
 
 static int mail_s(const char *var, const char *val)
 {
-    return kelp_cmgr_mail(C, var, true, val, 0, NOW, "pHelmIvP", &S);
+    return kelp_contactmgr_mail(C, var, true, val, 0, NOW, "pHelmIvP", &S);
 }
 
 static void nav(double x, double y, double h, double v)
 {
-    ck_assert_int_eq(kelp_cmgr_mail(C, "NAV_X", false, NULL, x, NOW, NULL, &S), 1);
-    ck_assert_int_eq(kelp_cmgr_mail(C, "NAV_Y", false, NULL, y, NOW, NULL, &S), 1);
-    ck_assert_int_eq(kelp_cmgr_mail(C, "NAV_HEADING", false, NULL, h, NOW, NULL, &S), 1);
-    ck_assert_int_eq(kelp_cmgr_mail(C, "NAV_SPEED", false, NULL, v, NOW, NULL, &S), 1);
+    ck_assert_int_eq(kelp_contactmgr_mail(C, "NAV_X", false, NULL, x, NOW, NULL, &S), 1);
+    ck_assert_int_eq(kelp_contactmgr_mail(C, "NAV_Y", false, NULL, y, NOW, NULL, &S), 1);
+    ck_assert_int_eq(kelp_contactmgr_mail(C, "NAV_HEADING", false, NULL, h, NOW, NULL, &S), 1);
+    ck_assert_int_eq(kelp_contactmgr_mail(C, "NAV_SPEED", false, NULL, v, NOW, NULL, &S), 1);
 }
 
 /* report n@(x,y); extra pairs come first, so they win over the defaults */
@@ -148,13 +148,13 @@ static void rpt(const char *n, double x, double y)
 
 static void it(void)
 {
-    kelp_cmgr_iterate(C, NOW, &S);
+    kelp_contactmgr_iterate(C, NOW, &S);
 }
 
 static const char *report(void)
 {
     static char buf[32768];
-    ck_assert_int_ge(kelp_cmgr_report_text(C, NOW, buf, sizeof buf), 0);
+    ck_assert_int_ge(kelp_contactmgr_report_text(C, NOW, buf, sizeof buf), 0);
     return buf;
 }
 
@@ -283,7 +283,7 @@ START_TEST(cm_helm_request_12)
     ck_assert_int_eq(R->nwarn, 0);
     ck_assert_uint_eq(C->nalerts, 2);
     ck_assert_double_eq(C->alert[1].alert_range, 50);
-    ck_assert_double_eq(kelp_cmgr_cpa_range(&C->alert[1]), 75);
+    ck_assert_double_eq(kelp_contactmgr_cpa_range(&C->alert[1]), 75);
     ck_assert_uint_eq(C->alert[1].filter.nlist[0][0], 2);
     ck_assert_uint_eq(C->alert[1].filter.nlist[1][1], 2);
     ck_assert_str_eq(C->alert[1].on[0], "CONTACT_INFO=name=$[VNAME] # contact=$[VNAME]");
@@ -828,9 +828,9 @@ START_TEST(cm_decay_67_68_69)
             ck_assert_int_eq(count("NEAR"), 0);
     }
     const double dt[] = { 10, 15, 20, 25, 30, 100 }, want[] = { 20, 30, 38.333333, 43.333333, 45, 45 };
-    for (int i = 0; i < 6; i++) ck_assert_double_eq_tol(kelp_cmgr_extrap_dist(2, dt[i], 15, 30), want[i], 1e-5);
-    ck_assert_double_eq(kelp_cmgr_extrap_dist(2, 10, 0, 0), 0);
-    ck_assert_double_eq(kelp_cmgr_extrap_dist(2, -5, 15, 30), 0);
+    for (int i = 0; i < 6; i++) ck_assert_double_eq_tol(kelp_contactmgr_extrap_dist(2, dt[i], 15, 30), want[i], 1e-5);
+    ck_assert_double_eq(kelp_contactmgr_extrap_dist(2, 10, 0, 0), 0);
+    ck_assert_double_eq(kelp_contactmgr_extrap_dist(2, -5, 15, 30), 0);
 }
 END_TEST
 
@@ -856,7 +856,7 @@ static bool alert_case(const double *o, const double *k, double a, double cr, do
     snprintf(b, sizeof b, "NAME=k,TIME=1000,X=%g,Y=%g,HDG=%g,SPD=%g", k[0], k[1], k[2], k[3]);
     ck_assert_int_eq(mail_s("NODE_REPORT", b), 1);
     it();
-    int ci = kelp_cmgr_find(C, "k");
+    int ci = kelp_contactmgr_find(C, "k");
     ck_assert_int_ge(ci, 0);
     *cpa = C->contact[ci].range_cpa;
     return count("T") == 1;
@@ -880,7 +880,7 @@ START_TEST(cm_cpa_geometry_70_to_79)
         bool y1 = alert_case(g[i].o, g[i].c, g[i].a1, g[i].c1, &cpa);
         ck_assert_msg(y1 == g[i].yes1, "case %zu first outcome", i + 70);
         ck_assert_msg(fabs(cpa - g[i].cpa) < 1e-3, "case %zu cpa %f", i + 70, cpa);
-        ck_assert_double_eq_tol(C->contact[kelp_cmgr_find(C, "k")].range, g[i].range, 1e-3);
+        ck_assert_double_eq_tol(C->contact[kelp_contactmgr_find(C, "k")].range, g[i].range, 1e-3);
         bool y2 = alert_case(g[i].o, g[i].c, g[i].a2, g[i].c2, &cpa);
         ck_assert_msg(y2 == g[i].yes2, "case %zu second outcome", i + 70);
     }
@@ -898,7 +898,7 @@ static void geo_setup(const char *mode, bool origin)
     char line[64];
     snprintf(line, sizeof line, "contact_local_coords = %s", mode);
     cfg(line);
-    kelp_cmgr_config_done(C, origin, 43.825300, origin, -70.330400, &S);
+    kelp_contactmgr_config_done(C, origin, 43.825300, origin, -70.330400, &S);
     ck_assert_int_eq(mail_s("BCM_REPORT_REQUEST", "var=R_HI, range=100.5"), 1);
     ck_assert_int_eq(mail_s("BCM_REPORT_REQUEST", "var=R_LO, range=99.5"), 1);
 }
@@ -913,12 +913,12 @@ START_TEST(cm_coords_80_to_85)
     geo_setup("lazy_lat_lon", true); /* 81 */
     ck_assert_int_eq(mail_s("NODE_REPORT", "NAME=ben,TIME=1000,X=0,Y=10,LAT=43.8262,LON=-70.3304"), 1);
     it();
-    ck_assert_double_eq_tol(C->contact[kelp_cmgr_find(C, "ben")].range, 10, 1e-9);
+    ck_assert_double_eq_tol(C->contact[kelp_contactmgr_find(C, "ben")].range, 10, 1e-9);
     geo_setup("force_lat_lon", true); /* 82 */
     ck_assert_int_eq(mail_s("NODE_REPORT", "NAME=ben,TIME=1000,X=0,Y=10,LAT=43.8262,LON=-70.3304"), 1);
     it();
     /* UTM as 24.8 (PROJ: 1.6075 m east, 99.9591 m north of the datum in zone 19) */
-    ck_assert_double_eq_tol(C->contact[kelp_cmgr_find(C, "ben")].range, 99.972, 0.001);
+    ck_assert_double_eq_tol(C->contact[kelp_contactmgr_find(C, "ben")].range, 99.972, 0.001);
     geo_setup("verbatim", true); /* 83 */
     ck_assert_int_lt(mail_s("NODE_REPORT", "NAME=ben,TIME=1000,LAT=43.8262,LON=-70.3304"), 0);
     ck_assert_int_eq(count("CONTACT_MGR_WARNING"), 0); /* not 24.8's */
@@ -932,7 +932,7 @@ START_TEST(cm_coords_80_to_85)
     ck_assert_int_lt(mail_s("NODE_REPORT", "NAME=ben,TIME=1000,LAT=43.8262,LON=-70.3304"), 0);
     geo_setup("lazy_lat_lon", true); /* 85 */
     ck_assert_int_eq(mail_s("NODE_REPORT", "NAME=ben,TIME=1000,LAT=43.8253,LON=-70.3292"), 1);
-    int ci = kelp_cmgr_find(C, "ben");
+    int ci = kelp_contactmgr_find(C, "ben");
     /* UTM as 24.8 (PROJ: the datum's parallel curves 1.55 m south of grid east at 96 m) */
     ck_assert_double_eq_tol(C->contact[ci].x, 96.4919, 0.001);
     ck_assert_double_eq_tol(C->contact[ci].y, -1.5511, 0.001);
@@ -990,7 +990,7 @@ START_TEST(cm_verbose_89_report_91)
     ck_assert_int_gt(b, a);
     const char *r = report();
     ck_assert_ptr_nonnull(strstr(r, "gus          15.0    1         1\n"));
-    ck_assert_str_eq(kelp_cmgr_event(C, C->events_made - 1), "CONTACT_INFO=name=avd_gus # contact=gus");
+    ck_assert_str_eq(kelp_contactmgr_event(C, C->events_made - 1), "CONTACT_INFO=name=avd_gus # contact=gus");
     ck_assert_ptr_nonnull(strstr(r, "       List: gus\n"));
     ck_assert_ptr_nonnull(strstr(r, "    Alerted: (gus,avd)\n"));
 }
@@ -1092,8 +1092,8 @@ START_TEST(cm_many_contacts_cut)
     for (unsigned i = 1; i < C->ncontacts; i++)
         ck_assert_int_lt(strcmp(C->contact[C->order[i - 1]].name, C->contact[C->order[i]].name), 0);
     /* lookups find every one */
-    ck_assert_int_ge(kelp_cmgr_find(C, "vehicle_1234"), 0);
-    ck_assert_int_lt(kelp_cmgr_find(C, "vehicle_9999"), 0);
+    ck_assert_int_ge(kelp_contactmgr_find(C, "vehicle_1234"), 0);
+    ck_assert_int_lt(kelp_contactmgr_find(C, "vehicle_9999"), 0);
 }
 END_TEST
 
@@ -1108,7 +1108,7 @@ START_TEST(cm_bad_config_values)
     ck_assert_double_eq(C->contact_max_age, 600);
     ck_assert_double_eq(C->decay[0], 15);
     ck_assert_double_eq(C->reject_range, 2000);
-    ck_assert_int_eq(kelp_cmgr_config(C, "no_such_param", "1", &S), 0);
+    ck_assert_int_eq(kelp_contactmgr_config(C, "no_such_param", "1", &S), 0);
     cfg("max_contact_age = 60");
     cfg("contacts_recap_interval = 2");
     cfg("max_retired_hist = 7");

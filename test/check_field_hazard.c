@@ -61,8 +61,8 @@ static int count(const rec *r, const char *var)
     return c;
 }
 
-static kelp_field_uhz_cfg C;
-static kelp_field_uhz H;
+static kelp_hazardsensor_cfg C;
+static kelp_hazardsensor H;
 static rec R;
 static kelp_field_sink S = { &R, pub, wrn };
 
@@ -78,23 +78,23 @@ static void scenario(const char *const *objects)
                                          "seed_random", "false", NULL };
     kelp_diag why = { 0 };
     memset(&R, 0, sizeof R);
-    kelp_field_uhz_cfg_default(&C);
-    for (int i = 0; lines[i]; i += 2) ck_assert_int_eq(kelp_field_uhz_config(&C, lines[i], lines[i + 1], &why), 1);
-    for (int i = 0; objects && objects[i]; i++) ck_assert_int_eq(kelp_field_uhz_config(&C, "hazard", objects[i], &why), 1);
-    ck_assert_int_eq(kelp_field_uhz_init(&H, &C), 0);
-    kelp_field_uhz_set_log(&H, evt, cfgw, &R);
+    kelp_hazardsensor_cfg_default(&C);
+    for (int i = 0; lines[i]; i += 2) ck_assert_int_eq(kelp_hazardsensor_config(&C, lines[i], lines[i + 1], &why), 1);
+    for (int i = 0; objects && objects[i]; i++) ck_assert_int_eq(kelp_hazardsensor_config(&C, "hazard", objects[i], &why), 1);
+    ck_assert_int_eq(kelp_hazardsensor_init(&H, &C), 0);
+    kelp_hazardsensor_set_log(&H, evt, cfgw, &R);
 }
 
 static void nr(const char *name, double x, double y, double hdg, double now)
 {
     char b[160];
     snprintf(b, sizeof b, "NAME=%s,TYPE=UUV,TIME=1.00,X=%.3f,Y=%.3f,SPD=2,HDG=%.3f", name, x, y, hdg);
-    ck_assert_int_eq(kelp_field_uhz_mail(&H, "NODE_REPORT", b, "archie", now, &S), 1);
+    ck_assert_int_eq(kelp_hazardsensor_mail(&H, "NODE_REPORT", b, "archie", now, &S), 1);
 }
 
 static int mail(const char *var, const char *val, const char *community, double now)
 {
-    return kelp_field_uhz_mail(&H, var, val, community, now, &S);
+    return kelp_hazardsensor_mail(&H, var, val, community, now, &S);
 }
 
 /* archie at the origin heading east, width 25 at `pd`, one sensor request and one iteration at t=1 */
@@ -104,18 +104,18 @@ static void sweep_once(const char *const *objects, const char *pd_request)
     nr("archie", 0, 0, 90, 1);
     ck_assert_int_eq(mail("UHZ_CONFIG_REQUEST", pd_request, "archie", 1), 1);
     ck_assert_int_eq(mail("UHZ_SENSOR_REQUEST", "vname=archie", "archie", 1), 1);
-    kelp_field_uhz_iterate(&H, 1, &S);
+    kelp_hazardsensor_iterate(&H, 1, &S);
 }
 
 /* 24.8's swath: swath_length ahead and behind, the width to each side */
 START_TEST(uhz_swath_each_side)
 {
-    ck_assert(kelp_field_uhz_in_swath(0, 0, 90, 25, 5, 0, -20));  /* 20 m abeam: inside 25 m */
-    ck_assert(kelp_field_uhz_in_swath(0, 0, 90, 25, 5, 4.5, 24)); /* 4.5 m ahead */
-    ck_assert(kelp_field_uhz_in_swath(0, 0, 90, 25, 5, 4.99, 24.99)); /* near the corner */
-    ck_assert(!kelp_field_uhz_in_swath(0, 0, 90, 25, 5, 0, 26));
-    ck_assert(!kelp_field_uhz_in_swath(0, 0, 90, 25, 5, 5.5, 0));
-    ck_assert(kelp_field_uhz_in_swath(0, 0, 0, 25, 5, 24, 4));
+    ck_assert(kelp_hazardsensor_in_swath(0, 0, 90, 25, 5, 0, -20));  /* 20 m abeam: inside 25 m */
+    ck_assert(kelp_hazardsensor_in_swath(0, 0, 90, 25, 5, 4.5, 24)); /* 4.5 m ahead */
+    ck_assert(kelp_hazardsensor_in_swath(0, 0, 90, 25, 5, 4.99, 24.99)); /* near the corner */
+    ck_assert(!kelp_hazardsensor_in_swath(0, 0, 90, 25, 5, 0, 26));
+    ck_assert(!kelp_hazardsensor_in_swath(0, 0, 90, 25, 5, 5.5, 0));
+    ck_assert(kelp_hazardsensor_in_swath(0, 0, 0, 25, 5, 24, 4));
 }
 END_TEST
 
@@ -127,7 +127,7 @@ START_TEST(uhz_swath_every_iteration)
     ck_assert_int_eq(mail("UHZ_CONFIG_REQUEST", "vname=archie,width=25,pd=0.9", "archie", 1), 1);
     ck_assert_int_eq(mail("UHZ_SENSOR_REQUEST", "vname=archie", "archie", 2), 1);
     R.n = 0;
-    for (int i = 0; i < 3; i++) kelp_field_uhz_iterate(&H, 2 + 0.25 * i, &S);
+    for (int i = 0; i < 3; i++) kelp_hazardsensor_iterate(&H, 2 + 0.25 * i, &S);
     ck_assert_int_eq(count(&R, "PSR"), 3);
     ck_assert_int_eq(count(&R, "VIEW_POLYGON"), 3);
     ck_assert_str_eq(get(&R, "PSR"), "archie");
@@ -136,7 +136,7 @@ START_TEST(uhz_swath_every_iteration)
                                               "edge_size=0,fill_transparency=0.2");
     /* 600 s after the last request the sensor is off: no more PSR */
     R.n = 0;
-    kelp_field_uhz_iterate(&H, 602.5, &S);
+    kelp_hazardsensor_iterate(&H, 602.5, &S);
     ck_assert_int_eq(count(&R, "PSR"), 0);
 }
 END_TEST
@@ -146,7 +146,7 @@ START_TEST(uhz_psr_unknown_vehicle)
 {
     scenario(NULL);
     ck_assert_int_eq(mail("UHZ_SENSOR_REQUEST", "vname=nobody", "archie", 1), 1);
-    kelp_field_uhz_iterate(&H, 1, &S);
+    kelp_hazardsensor_iterate(&H, 1, &S);
     ck_assert_str_eq(get(&R, "PSR"), "nobody");
     ck_assert_str_eq(R.warn[0], "No NODE_REPORT received for nobody");
 }
@@ -183,7 +183,7 @@ START_TEST(uhz_default_setting)
     scenario(NULL);
     nr("betty", 45, -28, 90, 1);
     ck_assert_int_eq(mail("UHZ_SENSOR_REQUEST", "vname=betty", "archie", 6), 1);
-    kelp_field_uhz_iterate(&H, 6, &S);
+    kelp_hazardsensor_iterate(&H, 6, &S);
     ck_assert_str_eq(get(&R, "UHZ_CONFIG_ACK_BETTY"), "vname=betty,width=25,pd=0.9,pfa=0.656,pclass=0.63");
 }
 END_TEST
@@ -192,13 +192,13 @@ END_TEST
 START_TEST(uhz_options_summary)
 {
     scenario(NULL);
-    kelp_field_uhz_iterate(&H, 0, &S);
+    kelp_hazardsensor_iterate(&H, 0, &S);
     ck_assert_str_eq(get(&R, "UHZ_OPTIONS_SUMMARY"),
                      "width=50,exp=2,class=0.55:width=25,exp=4,class=0.63:width=10,exp=6,class=0.70:width=5,exp=8,class=0.88,max=1");
     R.n = 0;
-    kelp_field_uhz_iterate(&H, 9, &S);
+    kelp_hazardsensor_iterate(&H, 9, &S);
     ck_assert_int_eq(count(&R, "UHZ_OPTIONS_SUMMARY"), 0);
-    kelp_field_uhz_iterate(&H, 10, &S);
+    kelp_hazardsensor_iterate(&H, 10, &S);
     ck_assert_int_eq(count(&R, "UHZ_OPTIONS_SUMMARY"), 1);
 }
 END_TEST
@@ -208,7 +208,7 @@ START_TEST(uhz_markers)
 {
     static const char *const objs[] = { "x=15, y=-12, label=h1, type=hazard", "x=30, y=-8,  label=b1, type=benign", NULL };
     scenario(objs);
-    kelp_field_uhz_iterate(&H, 0, &S);
+    kelp_hazardsensor_iterate(&H, 0, &S);
     ck_assert_str_eq(R.var[0], "VIEW_MARKER");
     ck_assert_str_eq(R.val[0], "x=30,y=-8,width=8,primary_color=light_blue,type=square,label=b1,fill_transparency=0.5");
     ck_assert_str_eq(R.val[1], "x=15,y=-12,width=8,primary_color=red,type=triangle,label=h1");
@@ -231,7 +231,7 @@ START_TEST(uhz_detection_fixed_seed)
     ck_assert_int_eq(count(&R, "VIEW_CIRCLE"), 1);
     /* still inside: no new draw */
     R.n = 0;
-    kelp_field_uhz_iterate(&H, 1.25, &S);
+    kelp_hazardsensor_iterate(&H, 1.25, &S);
     ck_assert_int_eq(count(&R, "UHZ_DETECTION_REPORT"), 0);
 }
 END_TEST
@@ -244,7 +244,7 @@ START_TEST(uhz_sensor_off_turning)
     nr("archie", 0, 0, 90, 1);
     nr("archie", 0, 0, 100, 1.5); /* 20 deg/s */
     ck_assert_int_eq(mail("UHZ_SENSOR_REQUEST", "vname=archie", "archie", 1.5), 1);
-    kelp_field_uhz_iterate(&H, 1.5, &S);
+    kelp_hazardsensor_iterate(&H, 1.5, &S);
     ck_assert(strstr(get(&R, "VIEW_POLYGON"), "fill_color=red") != NULL);
     ck_assert_int_eq(count(&R, "UHZ_DETECTION_REPORT"), 0);
 }
@@ -266,12 +266,12 @@ START_TEST(uhz_classify_queue)
     ck_assert_str_eq(R.warn[0], "Classify request with bad priority:abc");
     ck_assert_int_lt(mail("UHZ_CLASSIFY_REQUEST", "vname=archie,label=zz", "archie", 10), 0);
     ck_assert_str_eq(R.warn[2], "archie class req for unknown haz label:zz");
-    kelp_field_uhz_iterate(&H, 14.75, &S);
+    kelp_hazardsensor_iterate(&H, 14.75, &S);
     ck_assert_int_eq(count(&R, "UHZ_HAZARD_REPORT"), 0);
     const char *order[3] = { "label=h1", "label=h3", "label=h2" };
     for (int i = 0; i < 3; i++) {
         R.n = 0;
-        kelp_field_uhz_iterate(&H, 15 + 5 * i, &S);
+        kelp_hazardsensor_iterate(&H, 15 + 5 * i, &S);
         ck_assert_int_eq(count(&R, "UHZ_HAZARD_REPORT"), 1);
         ck_assert(strstr(get(&R, "UHZ_HAZARD_REPORT_ARCHIE"), order[i]) != NULL);
     }
@@ -288,8 +288,8 @@ START_TEST(uhz_classify_dice)
     ck_assert_int_lt(mail("UHZ_CLASSIFY_REQUEST", "vname=archie,label=b1", "archie", 2), 0);
     ck_assert_str_eq(R.warn[0], "Sensor classify request saturated: archie");
     R.n = 0;
-    kelp_field_uhz_iterate(&H, 7, &S);
-    kelp_field_uhz_iterate(&H, 12, &S);
+    kelp_hazardsensor_iterate(&H, 7, &S);
+    kelp_hazardsensor_iterate(&H, 12, &S);
     /* rand #3 1681692777 % 10001 / 10000 = 0.4625 < 0.63: h2 said hazard; #4 1714636915 % 10001
      * / 10000 = 0.5469 < 0.63: b1 said benign */
     int first = 0;
@@ -311,9 +311,9 @@ START_TEST(uhz_report_tables)
     nr("archie", 0, 0, 90, 1);
     ck_assert_int_eq(mail("UHZ_CONFIG_REQUEST", "vname=archie,width=25,pd=0.9", "archie", 7), 1);
     ck_assert_int_eq(mail("UHZ_SENSOR_REQUEST", "vname=archie", "archie", 8), 1);
-    kelp_field_uhz_iterate(&H, 8, &S);
+    kelp_hazardsensor_iterate(&H, 8, &S);
     char buf[4096];
-    ck_assert_int_eq(kelp_field_uhz_report(&H, NULL, 0, buf, sizeof buf), 0);
+    ck_assert_int_eq(kelp_hazardsensor_report(&H, NULL, 0, buf, sizeof buf), 0);
     ck_assert(strstr(buf, "Hazard File: (None provided.) \n     Hazard: 1\n     Benign: 0\n") == buf);
     ck_assert(strstr(buf, "Width  Exp  Classify  Max\n-----  ---  --------  ---\n5.0    8.0  0.880     1\n") != NULL);
     ck_assert(strstr(buf, "archie   25.0   0.900  0.656  0.630   1          1(7)    0(0)\n\n\n") != NULL);
@@ -330,11 +330,11 @@ START_TEST(uhz_gen_points)
     kelp_rng_seed(&g, 7);
     double x, y;
     for (int i = 0; i < 1000; i++) {
-        ck_assert_int_eq(kelp_field_uhz_random_point(sq, 4, &g, &x, &y), 0);
+        ck_assert_int_eq(kelp_hazardsensor_random_point(sq, 4, &g, &x, &y), 0);
         ck_assert(x >= 0 && x <= 50 && y >= 0 && y <= 50);
     }
-    ck_assert(kelp_field_uhz_in_convex(sq, 4, 50, 25)); /* on an edge */
-    ck_assert_int_eq(kelp_field_uhz_random_point(line, 3, &g, &x, &y), KELP_ERR_ARG);
+    ck_assert(kelp_hazardsensor_in_convex(sq, 4, 50, 25)); /* on an edge */
+    ck_assert_int_eq(kelp_hazardsensor_random_point(line, 3, &g, &x, &y), KELP_ERR_ARG);
 }
 END_TEST
 
@@ -342,12 +342,12 @@ END_TEST
 START_TEST(uhz_hazard_lines)
 {
     kelp_diag why = { 0 };
-    kelp_field_uhz_cfg_default(&C);
-    ck_assert_int_eq(kelp_field_uhz_hazard_line(&C, "hazard = x=1,y=2,type=hazard,label=a", &why), 1);
-    ck_assert_int_lt(kelp_field_uhz_hazard_line(&C, "hazard = x=1,y=2,label=b", &why), 0);
-    ck_assert_int_lt(kelp_field_uhz_hazard_line(&C, "hazard = x=1,y=2,type=benign", &why), 0);
-    ck_assert_int_lt(kelp_field_uhz_hazard_line(&C, "hazard = x=1,y=2,type=benign,label=a", &why), 0);
-    ck_assert_int_eq(kelp_field_uhz_hazard_line(&C, "// comment", &why), 0);
+    kelp_hazardsensor_cfg_default(&C);
+    ck_assert_int_eq(kelp_hazardsensor_hazard_line(&C, "hazard = x=1,y=2,type=hazard,label=a", &why), 1);
+    ck_assert_int_lt(kelp_hazardsensor_hazard_line(&C, "hazard = x=1,y=2,label=b", &why), 0);
+    ck_assert_int_lt(kelp_hazardsensor_hazard_line(&C, "hazard = x=1,y=2,type=benign", &why), 0);
+    ck_assert_int_lt(kelp_hazardsensor_hazard_line(&C, "hazard = x=1,y=2,type=benign,label=a", &why), 0);
+    ck_assert_int_eq(kelp_hazardsensor_hazard_line(&C, "// comment", &why), 0);
     ck_assert_int_eq(C.nobjects, 1u);
 }
 END_TEST

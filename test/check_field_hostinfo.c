@@ -206,9 +206,9 @@ START_TEST(hostinfo_pshare_iroutes)
     ck_assert_str_eq(get(&r, "PHI_HOST_INFO"),
                      "community=alpha,hostip=10.0.0.5,port_db=9000,"
                      "pshare_iroutes=10.0.0.5:9200&multicast_23&5.6.7.8:9300,hostip_alts=,timewarp=1");
-    kelp_broker_host bh;
+    kelp_field_broker_host bh;
     kelp_diag why = { 0 };
-    ck_assert_int_eq(kelp_broker_host_parse(get(&r, "PHI_HOST_INFO"), &bh, &why), 0);
+    ck_assert_int_eq(kelp_field_broker_host_parse(get(&r, "PHI_HOST_INFO"), &bh, &why), 0);
     ck_assert_uint_eq(bh.port_udp, 9200);
 }
 END_TEST

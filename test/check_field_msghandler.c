@@ -221,7 +221,7 @@ START_TEST(umh_invalid)
 #ifndef KELP_NO_ERRMSG
     ck_assert_str_eq(h.last_invalid.why[0], invalid[_i].why); /* the diag's text */
 #else
-    ck_assert_str_eq(h.last_invalid.why[0], kelp_strerror(KELP_ERR_PARSE));
+    ck_assert_str_eq(h.last_invalid.why[0], kelp_err_str(KELP_ERR_PARSE));
 #endif
     ck_assert_str_eq(h.last_invalid.msg[0], invalid[_i].msg);
     ck_assert_int_lt(find(&r, "X"), 0);

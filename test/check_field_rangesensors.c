@@ -57,39 +57,39 @@ static double num(const char *s, const char *key)
     return atof(v);
 }
 
-static void brs_cfg(kelp_field_brs_cfg *c, const char *const *lines)
+static void brs_cfg(kelp_beaconrange_cfg *c, const char *const *lines)
 {
-    kelp_field_brs_cfg_default(c);
+    kelp_beaconrange_cfg_default(c);
     for (; *lines; lines += 2) {
         kelp_diag why = { 0 };
-        int rc = kelp_field_brs_config(c, lines[0], lines[1], &why);
+        int rc = kelp_beaconrange_config(c, lines[0], lines[1], &why);
         ck_assert_msg(rc >= 1, "%s = %s: %s", lines[0], lines[1], kelp_diag_text(&why));
     }
 }
 
-static void brs_start(kelp_field_brs *b, const char *const *lines, double start)
+static void brs_start(kelp_beaconrange *b, const char *const *lines, double start)
 {
-    kelp_field_brs_cfg c;
+    kelp_beaconrange_cfg c;
     brs_cfg(&c, lines);
     kelp_diag why = { 0 };
-    ck_assert_int_eq(kelp_field_brs_init(b, &c, start, &why), 0);
+    ck_assert_int_eq(kelp_beaconrange_init(b, &c, start, &why), 0);
 }
 
-static void nrep(kelp_field_brs *b, kelp_field_crs *c, const char *name, double x, double y, double now, rec *r)
+static void nrep(kelp_beaconrange *b, kelp_contactrange *c, const char *name, double x, double y, double now, rec *r)
 {
     char s[200];
     kelp_field_sink sink = { r, pub, wrn };
     snprintf(s, sizeof s, "NAME=%s,TYPE=UUV,TIME=%.2f,X=%.2f,Y=%.2f,SPD=1,HDG=90,DEPTH=0", name, now, x, y);
-    if (b) ck_assert_int_eq(kelp_field_brs_mail(b, "NODE_REPORT", true, s, now, &sink), 1);
-    if (c) ck_assert_int_eq(kelp_field_crs_mail(c, "NODE_REPORT_LOCAL", true, s, now, &sink), 1);
+    if (b) ck_assert_int_eq(kelp_beaconrange_mail(b, "NODE_REPORT", true, s, now, &sink), 1);
+    if (c) ck_assert_int_eq(kelp_contactrange_mail(c, "NODE_REPORT_LOCAL", true, s, now, &sink), 1);
 }
 
-static void breq(kelp_field_brs *b, const char *name, double now, rec *r)
+static void breq(kelp_beaconrange *b, const char *name, double now, rec *r)
 {
     char s[64];
     kelp_field_sink sink = { r, pub, wrn };
     snprintf(s, sizeof s, "name=%s", name);
-    ck_assert_int_eq(kelp_field_brs_mail(b, "BRS_RANGE_REQUEST", true, s, now, &sink), 1);
+    ck_assert_int_eq(kelp_beaconrange_mail(b, "BRS_RANGE_REQUEST", true, s, now, &sink), 1);
 }
 
 static const char *const listing24[] = {
@@ -99,15 +99,15 @@ static const char *const listing24[] = {
 };
 
 /* 10.5.1, 10.5.2: the Indigo log's ranges, order 03 02 01, the pulses */
-static kelp_field_brs B; /* large: not on the stack */
-static kelp_field_crs C;
+static kelp_beaconrange B; /* large: not on the stack */
+static kelp_contactrange C;
 
 START_TEST(brs_indigo_ranges)
 {
     rec r = { 0 };
     kelp_field_sink sink = { &r, pub, wrn };
     brs_start(&B, listing24, 0);
-    (void)kelp_field_brs_iterate(&B, 0, &sink);
+    (void)kelp_beaconrange_iterate(&B, 0, &sink);
     r.n = 0;
     nrep(&B, NULL, "indigo", -97.65, -64.84, 100, &r);
     breq(&B, "indigo", 100.846, &r);
@@ -274,7 +274,7 @@ START_TEST(brs_unsolicited)
     kelp_field_sink sink = { &r, pub, wrn };
     brs_start(&B, listing24, 0);
     nrep(&B, NULL, "indigo", 10, 10, 0, &r);
-    for (double t = 0; t < 1000; t += 0.25) (void)kelp_field_brs_iterate(&B, t, &sink);
+    for (double t = 0; t < 1000; t += 0.25) (void)kelp_beaconrange_iterate(&B, t, &sink);
     ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT"), 0); /* never */
     static const char *const cfg[] = { "ping_wait", "0", "reach_distance", "default = nolimit",
                                        "beacon", "x=0,y=0,label=01", "beacon", "x=0,y=0,label=02,freq=90", NULL };
@@ -282,16 +282,16 @@ START_TEST(brs_unsolicited)
     r.n = 0;
     nrep(&B, NULL, "indigo", 10, 10, 0, &r);
     nrep(&B, NULL, "ike", 20, 10, 0, &r);
-    (void)kelp_field_brs_iterate(&B, 0, &sink);
+    (void)kelp_beaconrange_iterate(&B, 0, &sink);
     ck_assert_int_eq(count(&r, "VIEW_MARKER"), 2);
-    (void)kelp_field_brs_iterate(&B, 90, &sink); /* 24.8: more than freq after the stamp */
+    (void)kelp_beaconrange_iterate(&B, 90, &sink); /* 24.8: more than freq after the stamp */
     ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT"), 0);
-    ck_assert_uint_eq(kelp_field_brs_iterate(&B, 90.25, &sink), 2); /* both vehicles */
+    ck_assert_uint_eq(kelp_beaconrange_iterate(&B, 90.25, &sink), 2); /* both vehicles */
     ck_assert_str_eq(nth(&r, "BRS_RANGE_REPORT", 0), "vname=ike,range=22.3607,id=02,time=90.25");
     ck_assert(strstr(nth(&r, "VIEW_RANGE_PULSE", 0), "label=02,edge_color=pink") != NULL);
     breq(&B, "indigo", 100, &r); /* solicited at 100: the next unsolicited after 190 */
-    ck_assert_uint_eq(kelp_field_brs_iterate(&B, 190, &sink), 0);
-    ck_assert_uint_eq(kelp_field_brs_iterate(&B, 190.25, &sink), 2);
+    ck_assert_uint_eq(kelp_beaconrange_iterate(&B, 190, &sink), 0);
+    ck_assert_uint_eq(kelp_beaconrange_iterate(&B, 190.25, &sink), 2);
     /* 60:120: every interval in [60,120], and not all the same */
     static const char *const cfg2[] = { "default_beacon_freq", "60:120", "beacon", "x=0,y=0,label=01", NULL };
     brs_start(&B, cfg2, 0);
@@ -300,7 +300,7 @@ START_TEST(brs_unsolicited)
     double last = 0, lo = 1e9, hi = 0;
     int posts = 0;
     for (double t = 0; t < 20000; t += 0.5)
-        if (kelp_field_brs_iterate(&B, t, &sink) > 0) {
+        if (kelp_beaconrange_iterate(&B, t, &sink) > 0) {
             double d = t - last;
             lo = d < lo ? d : lo;
             hi = d > hi ? d : hi;
@@ -314,7 +314,7 @@ START_TEST(brs_unsolicited)
     brs_start(&B, cfg3, 0);
     r.n = 0;
     nrep(&B, NULL, "indigo", 10, 10, 0, &r);
-    for (double t = 0; t < 100; t += 0.25) (void)kelp_field_brs_iterate(&B, t, &sink);
+    for (double t = 0; t < 100; t += 0.25) (void)kelp_beaconrange_iterate(&B, t, &sink);
     ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT"), 0);
 }
 END_TEST
@@ -330,17 +330,17 @@ START_TEST(brs_beacons_markers)
     kelp_field_sink sink = { &r, pub, wrn };
     brs_start(&B, cfg, 0);
     ck_assert_uint_eq(B.nbeacons, 4);
-    (void)kelp_field_brs_iterate(&B, 0, &sink);
+    (void)kelp_beaconrange_iterate(&B, 0, &sink);
     ck_assert_int_eq(count(&r, "VIEW_MARKER"), 4);
     /* 24.8's XYMarker spec: no label */
     ck_assert_str_eq(nth(&r, "VIEW_MARKER", 0), "x=5,y=5,width=4,primary_color=orange,type=circle");
     ck_assert_str_eq(nth(&r, "VIEW_MARKER", 1), "x=0,y=-200,width=4,primary_color=orange,type=circle");
     ck_assert_str_eq(nth(&r, "VIEW_MARKER", 2), "x=401,y=-200,width=4,primary_color=orange,type=circle");
     ck_assert_str_eq(nth(&r, "VIEW_MARKER", 3), "x=200,y=0,width=4,primary_color=orange,type=circle");
-    (void)kelp_field_brs_iterate(&B, 1, &sink);
+    (void)kelp_beaconrange_iterate(&B, 1, &sink);
     ck_assert_int_eq(count(&r, "VIEW_MARKER"), 4); /* once */
     char buf[2048];
-    ck_assert_int_eq(kelp_field_brs_summary(&B, buf, sizeof buf), 0);
+    ck_assert_int_eq(kelp_beaconrange_summary(&B, buf, sizeof buf), 0);
     ck_assert(strstr(buf, "SRS Model - # Beacons: 4\n  [0]:x=5,y=5,width=4,") != NULL);
     ck_assert(strstr(buf, "Default Beacon Color: orange\nDefault Beacon Shape: circle\nDefault Beacon Width: 4\n"));
     /* beacon_order = config */
@@ -353,32 +353,32 @@ START_TEST(brs_beacons_markers)
     brs_start(&B, listing24, 0);
     nrep(&B, NULL, "indigo", 0, 0, 1, &r);
     r.n = r.warns = 0;
-    ck_assert_int_lt(kelp_field_brs_mail(&B, "BRS_RANGE_REQUEST", true, "name=nobody", 100, &sink), 0);
+    ck_assert_int_lt(kelp_beaconrange_mail(&B, "BRS_RANGE_REQUEST", true, "name=nobody", 100, &sink), 0);
     ck_assert_str_eq(last_warn, "Bad Mail: BRS_RANGE_REQUEST");
-    ck_assert_int_lt(kelp_field_brs_mail(&B, "BRS_RANGE_REQUEST", true, "vname=indigo", 100, &sink), 0);
+    ck_assert_int_lt(kelp_beaconrange_mail(&B, "BRS_RANGE_REQUEST", true, "vname=indigo", 100, &sink), 0);
     ck_assert_int_eq(r.n, 0);
     ck_assert_int_eq(r.warns, 4);
     /* bad mail: a warning, no crash, state kept */
-    ck_assert_int_lt(kelp_field_brs_mail(&B, "BRS_RANGE_REQUEST", true, "garbage", 1, &sink), 0);
-    ck_assert_int_lt(kelp_field_brs_mail(&B, "NODE_REPORT", true, "NAME=x", 1, &sink), 0);
-    ck_assert_int_lt(kelp_field_brs_mail(&B, "NODE_REPORT", false, NULL, 1, &sink), 0);
-    ck_assert_int_eq(kelp_field_brs_mail(&B, "OTHER", true, "x", 1, &sink), 0);
+    ck_assert_int_lt(kelp_beaconrange_mail(&B, "BRS_RANGE_REQUEST", true, "garbage", 1, &sink), 0);
+    ck_assert_int_lt(kelp_beaconrange_mail(&B, "NODE_REPORT", true, "NAME=x", 1, &sink), 0);
+    ck_assert_int_lt(kelp_beaconrange_mail(&B, "NODE_REPORT", false, NULL, 1, &sink), 0);
+    ck_assert_int_eq(kelp_beaconrange_mail(&B, "OTHER", true, "x", 1, &sink), 0);
     ck_assert_uint_eq(B.nbeacons, 3);
     /* config errors and warnings */
-    kelp_field_brs_cfg c;
-    kelp_field_brs_cfg_default(&c);
+    kelp_beaconrange_cfg c;
+    kelp_beaconrange_cfg_default(&c);
     kelp_diag why = { 0 };
-    ck_assert_int_lt(kelp_field_brs_config(&c, "beacon", "y=3, label=01", &why), 0); /* no x */
-    ck_assert_int_lt(kelp_field_brs_config(&c, "beacon", "x=1,y=3,freq=9:3", &why), 0);
-    ck_assert_int_lt(kelp_field_brs_config(&c, "ping_payments", "sometimes", &why), 0);
-    ck_assert_int_lt(kelp_field_brs_config(&c, "rn_algorithm", "pink", &why), 0);
-    ck_assert_int_eq(kelp_field_brs_config(&c, "beacon", "x=1,y=3,query_range=40", &why), 2); /* A52 */
-    ck_assert_int_eq(kelp_field_brs_config(&c, "ping_wait", "henry = 120;", &why), 1);
-    ck_assert_double_eq(kelp_rsense_vmap_get(&c.com.ping_wait, "HENRY"), 120);
-    ck_assert_double_eq(kelp_rsense_vmap_get(&c.com.ping_wait, "ike"), 30);
-    ck_assert_int_eq(kelp_field_brs_config(&c, "default beacon_color", "blue", &why), 1);
+    ck_assert_int_lt(kelp_beaconrange_config(&c, "beacon", "y=3, label=01", &why), 0); /* no x */
+    ck_assert_int_lt(kelp_beaconrange_config(&c, "beacon", "x=1,y=3,freq=9:3", &why), 0);
+    ck_assert_int_lt(kelp_beaconrange_config(&c, "ping_payments", "sometimes", &why), 0);
+    ck_assert_int_lt(kelp_beaconrange_config(&c, "rn_algorithm", "pink", &why), 0);
+    ck_assert_int_eq(kelp_beaconrange_config(&c, "beacon", "x=1,y=3,query_range=40", &why), 2); /* A52 */
+    ck_assert_int_eq(kelp_beaconrange_config(&c, "ping_wait", "henry = 120;", &why), 1);
+    ck_assert_double_eq(kelp_rangesense_vmap_get(&c.com.ping_wait, "HENRY"), 120);
+    ck_assert_double_eq(kelp_rangesense_vmap_get(&c.com.ping_wait, "ike"), 30);
+    ck_assert_int_eq(kelp_beaconrange_config(&c, "default beacon_color", "blue", &why), 1);
     ck_assert_str_eq(c.dflt.color, "blue");
-    ck_assert_int_eq(kelp_field_brs_config(&c, "nonsense", "1", &why), 0);
+    ck_assert_int_eq(kelp_beaconrange_config(&c, "nonsense", "1", &why), 0);
 }
 END_TEST
 
@@ -386,14 +386,14 @@ END_TEST
 
 static void crs_start(const char *const *lines, double start)
 {
-    kelp_field_crs_cfg c;
-    kelp_field_crs_cfg_default(&c);
+    kelp_contactrange_cfg c;
+    kelp_contactrange_cfg_default(&c);
     for (; *lines; lines += 2) {
         kelp_diag why = { 0 };
-        int rc = kelp_field_crs_config(&c, lines[0], lines[1], &why);
+        int rc = kelp_contactrange_config(&c, lines[0], lines[1], &why);
         ck_assert_msg(rc == 1, "%s = %s: %s", lines[0], lines[1], kelp_diag_text(&why));
     }
-    kelp_field_crs_init(&C, &c, start);
+    kelp_contactrange_init(&C, &c, start);
 }
 
 static void creq(const char *name, double now, rec *r)
@@ -401,7 +401,7 @@ static void creq(const char *name, double now, rec *r)
     char s[64];
     kelp_field_sink sink = { r, pub, wrn };
     snprintf(s, sizeof s, "name=%s", name);
-    ck_assert_int_eq(kelp_field_crs_mail(&C, "CRS_RANGE_REQUEST", true, s, now, &sink), 1);
+    ck_assert_int_eq(kelp_contactrange_mail(&C, "CRS_RANGE_REQUEST", true, s, now, &sink), 1);
 }
 
 /* kelp's ECHO_FALLOFF = false: no echo beyond reach + reply (24.8's chance: crs_echo_falloff) */
@@ -521,7 +521,7 @@ START_TEST(crs_reports_pulses)
     ck_assert_str_eq(nth(&r, "CRS_RANGE_REPORT_GT_ARCHIE", 0), "range=50,target=jackal,time=1");
     r.n = r.warns = 0;
     kelp_field_sink sk = { &r, pub, wrn };
-    ck_assert_int_lt(kelp_field_crs_mail(&C, "CRS_RANGE_REQUEST", true, "name=ghost", 2, &sk), 0);
+    ck_assert_int_lt(kelp_contactrange_mail(&C, "CRS_RANGE_REQUEST", true, "name=ghost", 2, &sk), 0);
     ck_assert_int_eq(r.n, 0); /* refused, answered by nothing */
     ck_assert_int_eq(r.warns, 2);
     ck_assert_str_eq(last_warn, "Bad Mail: CRS_RANGE_REQUEST");
@@ -543,19 +543,19 @@ START_TEST(crs_reports_pulses)
     creq("archie", 1, &r);
     ck_assert_int_eq(count(&r, "CRS_RANGE_REPORT"), 1);
     ck_assert(strstr(nth(&r, "CRS_RANGE_REPORT", 0), "target=lima") != NULL);
-    kelp_field_crs_cfg cc;
-    kelp_field_crs_cfg_default(&cc);
+    kelp_contactrange_cfg cc;
+    kelp_contactrange_cfg_default(&cc);
     kelp_diag why = { 0 };
     /* 24.8 has no ignore_group (an unhandled line): the vehicle stays */
-    ck_assert_int_eq(kelp_field_crs_config(&cc, "ignore_group", "red", &why), 0);
-    kelp_field_crs_init(&C, &cc, 0);
+    ck_assert_int_eq(kelp_contactrange_config(&cc, "ignore_group", "red", &why), 0);
+    kelp_contactrange_init(&C, &cc, 0);
     kelp_field_sink sink = { &r, pub, wrn };
-    ck_assert_int_eq(kelp_field_crs_mail(&C, "NODE_REPORT", true, "NAME=a,X=1,Y=2,GROUP=red", 0, &sink), 1);
+    ck_assert_int_eq(kelp_contactrange_mail(&C, "NODE_REPORT", true, "NAME=a,X=1,Y=2,GROUP=red", 0, &sink), 1);
     ck_assert_uint_eq(C.nnodes, 1);
-    ck_assert_int_lt(kelp_field_crs_config(&cc, "sensor_arc", "45", &why), 0);
-    ck_assert_int_lt(kelp_field_crs_config(&cc, "reach_distance", "far", &why), 0);
+    ck_assert_int_lt(kelp_contactrange_config(&cc, "sensor_arc", "45", &why), 0);
+    ck_assert_int_lt(kelp_contactrange_config(&cc, "reach_distance", "far", &why), 0);
     char buf[2048];
-    ck_assert_int_eq(kelp_field_crs_summary(&C, buf, sizeof buf), 0);
+    ck_assert_int_eq(kelp_contactrange_summary(&C, buf, sizeof buf), 0);
     ck_assert(strstr(buf, "Default Reach Distance: 100\nDefault Reply Distance: 100\nDefault Ping Wait: 30\n"));
 }
 END_TEST
@@ -578,11 +578,11 @@ START_TEST(brs_request_warnings_and_table)
                                        "ping_wait", "default = 10", "default_beacon_push_dist", "100",
                                        "default_beacon_pull_dist", "100", "beacon", "label=01, x=200, y=0",
                                        "beacon", "label=03, x=0, y=-200, push_dist=20", NULL };
-    kelp_field_brs_cfg c;
+    kelp_beaconrange_cfg c;
     brs_cfg(&c, cfg);
     c.com.log = event_log;
     kelp_diag why = { 0 };
-    ck_assert_int_eq(kelp_field_brs_init(&B, &c, 0, &why), 0);
+    ck_assert_int_eq(kelp_beaconrange_init(&B, &c, 0, &why), 0);
     rec r = { 0 };
     kelp_field_sink sink = { &r, pub, wrn };
     nevents = 0;
@@ -595,9 +595,9 @@ START_TEST(brs_request_warnings_and_table)
     ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT"), 1);
     breq(&B, "indigo", 10, &r);
     ck_assert_str_eq(last_warn, "Failed Range Req from indigo: exceeds query freq.");
-    ck_assert_int_lt(kelp_field_brs_mail(&B, "BRS_RANGE_REQUEST", true, "name=zed", 11, &sink), 0);
+    ck_assert_int_lt(kelp_beaconrange_mail(&B, "BRS_RANGE_REQUEST", true, "name=zed", 11, &sink), 0);
     char buf[2048];
-    ck_assert_int_eq(kelp_field_brs_report(&B, buf, sizeof buf), 0);
+    ck_assert_int_eq(kelp_beaconrange_report(&B, buf, sizeof buf), 0);
     ck_assert_str_eq(buf, "Beacons(2):\n"
                           "                     Pings  Pings  Pings         Push  Pull\n"
                           "ID    X     Y  Freq  Unsol  Recvd  Gen'd  Noise  Dist  Dist\n"
@@ -626,13 +626,13 @@ START_TEST(brs_glibc_unsolicited_order)
     brs_start(&B, cfg, 0);
     nrep(&B, NULL, "bob", 0, 30, 0, &r);
     nrep(&B, NULL, "al", 0, 40, 0, &r);
-    (void)kelp_field_brs_iterate(&B, 0, &sink); /* the first stamp: draw 2 */
+    (void)kelp_beaconrange_iterate(&B, 0, &sink); /* the first stamp: draw 2 */
     srand(1);
     (void)rand();
     double period = 50; /* freq 50: 50 + pct x 0 */
     (void)rand();
-    ck_assert_uint_eq(kelp_field_brs_iterate(&B, period, &sink), 0);
-    ck_assert_uint_eq(kelp_field_brs_iterate(&B, period + 0.25, &sink), 2);
+    ck_assert_uint_eq(kelp_beaconrange_iterate(&B, period, &sink), 0);
+    ck_assert_uint_eq(kelp_beaconrange_iterate(&B, period + 0.25, &sink), 2);
     (void)rand(); /* the new stamp's draw comes first */
     double w_al = 40 + (((double)(rand() % 10000) / 5000) - 1) * 0.1 * 40;
     double w_bob = 30 + (((double)(rand() % 10000) / 5000) - 1) * 0.1 * 30;
@@ -692,7 +692,7 @@ START_TEST(crs_appcast_table)
     ck_assert_int_eq(count(&r, "CRS_RANGE_REPORT"), 1);
     ck_assert_int_eq(count(&r, "CRS_RANGE_REPORT_GT"), 0); /* rn_gaussian_sigma alone: no noise */
     char buf[2048];
-    ck_assert_int_eq(kelp_field_crs_report(&C, buf, sizeof buf), 0);
+    ck_assert_int_eq(kelp_contactrange_report(&C, buf, sizeof buf), 0);
     ck_assert_str_eq(buf, "Default Ping Wait:        30\n"
                           "Random Noise Algorithm:   \n"
                           "Random Noise Uniform Pct: 0\n"
@@ -714,16 +714,16 @@ END_TEST
 
 /* ------------------------------------------------------------------ noise and draws */
 
-static void stats(bool glibc, kelp_rsense_noise_alg alg, double par, double *mean, double *sd, double *lo, double *hi)
+static void stats(bool glibc, kelp_rangesense_noise_alg alg, double par, double *mean, double *sd, double *lo, double *hi)
 {
-    kelp_rsense_rand rr;
-    kelp_rsense_rand_init(&rr, glibc, 12345);
-    kelp_rsense_noise n = { alg, par, par };
+    kelp_rangesense_rand rr;
+    kelp_rangesense_rand_init(&rr, glibc, 12345);
+    kelp_rangesense_noise n = { alg, par, par };
     double s = 0, s2 = 0;
     *lo = 1e300;
     *hi = -1e300;
     for (int i = 0; i < 10000; i++) {
-        double v = kelp_rsense_noisy(&rr, &n, 100.0);
+        double v = kelp_rangesense_noisy(&rr, &n, 100.0);
         s += v;
         s2 += v * v;
         *lo = v < *lo ? v : *lo;
@@ -752,20 +752,20 @@ END_TEST
 /* glibc mode: rand()'s values after srand(1), MOOS-IvP's arithmetic, one draw per value */
 START_TEST(glibc_draws_match_rand)
 {
-    kelp_rsense_rand rr;
-    kelp_rsense_rand_init(&rr, true, 99);
-    kelp_rsense_noise n = { KELP_RSENSE_NOISE_UNIFORM, 0.12, 0 };
+    kelp_rangesense_rand rr;
+    kelp_rangesense_rand_init(&rr, true, 99);
+    kelp_rangesense_noise n = { KELP_RSENSE_NOISE_UNIFORM, 0.12, 0 };
     srand(1);
     for (int i = 0; i < 1000; i++) {
         double want = 250.0 + (((double)(rand() % 10000) / 5000) - 1) * 0.12 * 250.0;
-        ck_assert_double_eq(kelp_rsense_noisy(&rr, &n, 250.0), want);
+        ck_assert_double_eq(kelp_rangesense_noisy(&rr, &n, 250.0), want);
         double iv = 60 + ((double)(rand() % 1000) / 1000) * 60;
-        ck_assert_double_eq(kelp_rsense_interval(&rr, 60, 120), iv);
+        ck_assert_double_eq(kelp_rangesense_interval(&rr, 60, 120), iv);
     }
     ck_assert_uint_eq(rr.draws, 2000);
     /* gaussian: the polar method on rand()/RAND_MAX, second deviate cached */
-    kelp_rsense_rand_init(&rr, true, 0);
-    kelp_rsense_noise gn = { KELP_RSENSE_NOISE_GAUSSIAN, 0, 1.5 };
+    kelp_rangesense_rand_init(&rr, true, 0);
+    kelp_rangesense_noise gn = { KELP_RSENSE_NOISE_GAUSSIAN, 0, 1.5 };
     srand(1);
     for (int i = 0; i < 200; i++) {
         double v1, v2, s;
@@ -775,8 +775,8 @@ START_TEST(glibc_draws_match_rand)
             s = v1 * v1 + v2 * v2;
         } while (s > 1 || s == 0);
         double fac = sqrt(-2 * log(s) / s);
-        ck_assert_double_eq_tol(kelp_rsense_noisy(&rr, &gn, 10), 10 + v2 * fac * 1.5, 1e-12);
-        ck_assert_double_eq_tol(kelp_rsense_noisy(&rr, &gn, 10), 10 + v1 * fac * 1.5, 1e-12);
+        ck_assert_double_eq_tol(kelp_rangesense_noisy(&rr, &gn, 10), 10 + v2 * fac * 1.5, 1e-12);
+        ck_assert_double_eq_tol(kelp_rangesense_noisy(&rr, &gn, 10), 10 + v1 * fac * 1.5, 1e-12);
     }
     /* the beacon sensor in glibc mode: a freq'd beacon draws at config, at the first
      * iteration, and on each reply; each report one noise value */
@@ -788,7 +788,7 @@ START_TEST(glibc_draws_match_rand)
     kelp_field_sink sink = { &r, pub, wrn };
     brs_start(&B, cfg, 0);
     ck_assert_uint_eq(B.rand.draws, 1);
-    (void)kelp_field_brs_iterate(&B, 0, &sink);
+    (void)kelp_beaconrange_iterate(&B, 0, &sink);
     ck_assert_uint_eq(B.rand.draws, 2);
     nrep(&B, NULL, "v", 0, 50, 0, &r);
     breq(&B, "v", 1, &r);

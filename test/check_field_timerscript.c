@@ -58,29 +58,29 @@ static int nth(const rec *r, const char *var, int k)
     return -1;
 }
 
-static kelp_ts ts; /* large: not on the stack */
-static kelp_ts_cfg cfg;
+static kelp_timerscript ts; /* large: not on the stack */
+static kelp_timerscript_cfg cfg;
 static rec R;
 static kelp_field_sink sink = { &R, pub, wrn };
 
 static void setup_cfg(const char *const *lines)
 {
     memset(&R, 0, sizeof R);
-    kelp_ts_cfg_default(&cfg, "uTimerScript", "archie");
+    kelp_timerscript_cfg_default(&cfg, "uTimerScript", "archie");
     for (int i = 0; lines[i]; i += 2) {
         kelp_diag why = { 0 };
-        int rc = kelp_ts_cfg_set(&cfg, lines[i], lines[i + 1], &why);
+        int rc = kelp_timerscript_cfg_set(&cfg, lines[i], lines[i + 1], &why);
         ck_assert_msg(rc == 1, "%s = %s: %d %s", lines[i], lines[i + 1], rc, kelp_diag_text(&why));
     }
-    ck_assert_int_eq(kelp_ts_init(&ts, &cfg, 42), 0);
-    kelp_ts_set_db_start(&ts, 1000);
+    ck_assert_int_eq(kelp_timerscript_init(&ts, &cfg, 42), 0);
+    kelp_timerscript_set_db_start(&ts, 1000);
 }
 
 /* iterate every 0.25 s from t0 to t1 */
 static int run(double t0, double t1)
 {
     int n = 0;
-    for (double t = t0; t <= t1 + 1e-9; t += 0.25) n += kelp_ts_iterate(&ts, t, &sink);
+    for (double t = t0; t <= t1 + 1e-9; t += 0.25) n += kelp_timerscript_iterate(&ts, t, &sink);
     return n;
 }
 
@@ -89,7 +89,7 @@ static double first_post(const char *var, double t0, double t1)
 {
     for (double t = t0; t <= t1 + 1e-9; t += 0.25) {
         int before = count(&R, var);
-        (void)kelp_ts_iterate(&ts, t, &sink);
+        (void)kelp_timerscript_iterate(&ts, t, &sink);
         if (count(&R, var) > before) return t;
     }
     return -1;
@@ -214,10 +214,10 @@ START_TEST(ts_macros)
                                      "event", "var=M3, val=\"{2*4}\", time=3", "event", "var=UNK, val=$[NOPE] {a+b}, time=3",
                                      NULL });
     bool navx = false;
-    for (unsigned i = 0; kelp_ts_subscription(&ts, i); i++) navx = navx || !strcmp(kelp_ts_subscription(&ts, i), "NAV_X");
+    for (unsigned i = 0; kelp_timerscript_subscription(&ts, i); i++) navx = navx || !strcmp(kelp_timerscript_subscription(&ts, i), "NAV_X");
     ck_assert(navx); /* registered because a value uses it */
-    ck_assert_int_eq(kelp_ts_mail(&ts, "NAV_X", false, "", 12.345, 1000, &sink), 1);
-    ck_assert_int_eq(kelp_ts_mail(&ts, "NAV_Y", false, "", -7, 1000, &sink), 1);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "NAV_X", false, "", 12.345, 1000, &sink), 1);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "NAV_Y", false, "", -7, 1000, &sink), 1);
     run(1000, 1005);
     int db = nth(&R, "DB", 0), utc = nth(&R, "UTC", 0);
     ck_assert(!R.str[db] && R.d[db] == 1.0); /* a lone time macro posts a number */
@@ -240,11 +240,11 @@ START_TEST(ts_macros)
     /* a lone time macro posts the time itself (MOOS-IvP Notify(var, db_uptime)), not its 2-decimal text */
     char buf[64];
     double d = 0;
-    ck_assert_int_eq(kelp_ts_expand(&ts, "$[DBTIME]", 1001.123456, buf, sizeof buf, &d), 1);
+    ck_assert_int_eq(kelp_timerscript_expand(&ts, "$[DBTIME]", 1001.123456, buf, sizeof buf, &d), 1);
     ck_assert_msg(fabs(d - 1.123456) < 1e-9, "DBTIME %.9f", d);
-    ck_assert_int_eq(kelp_ts_expand(&ts, "$(UTC)", 1001.123456, buf, sizeof buf, &d), 1);
+    ck_assert_int_eq(kelp_timerscript_expand(&ts, "$(UTC)", 1001.123456, buf, sizeof buf, &d), 1);
     ck_assert_msg(d == 1001.123456, "UTC %.9f", d);
-    ck_assert_int_eq(kelp_ts_expand(&ts, "t=$[UTCTIME]", 1001.123456, buf, sizeof buf, &d), 0);
+    ck_assert_int_eq(kelp_timerscript_expand(&ts, "t=$[UTCTIME]", 1001.123456, buf, sizeof buf, &d), 0);
     ck_assert_str_eq(buf, "t=1001.12"); /* inside text: 2 decimals */
 }
 END_TEST
@@ -253,12 +253,12 @@ START_TEST(ts_condition)
 {
     setup_cfg((const char *const[]){ "event", "var=REQ, val=go, time=5", "condition", "NAV_SPEED > 0", NULL });
     bool sub = false;
-    for (unsigned i = 0; kelp_ts_subscription(&ts, i); i++) sub = sub || !strcmp(kelp_ts_subscription(&ts, i), "NAV_SPEED");
+    for (unsigned i = 0; kelp_timerscript_subscription(&ts, i); i++) sub = sub || !strcmp(kelp_timerscript_subscription(&ts, i), "NAV_SPEED");
     ck_assert(sub);
     run(1000, 1020);
     ck_assert_int_eq(count(&R, "REQ"), 0);
     ck_assert(strstr(last(&R, "UTS_STATUS"), "conditions_ok=false"));
-    ck_assert_int_eq(kelp_ts_mail(&ts, "NAV_SPEED", false, "", 1.5, 1020, &sink), 1);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "NAV_SPEED", false, "", 1.5, 1020, &sink), 1);
     /* time before the condition held does not count */
     ck_assert(first_post("REQ", 1020.25, 1040) == 1025.0);
     ck_assert(strstr(last(&R, "UTS_STATUS"), "conditions_ok=true"));
@@ -272,28 +272,28 @@ START_TEST(ts_pause_and_commands)
     run(1000, 1020);
     ck_assert_int_eq(count(&R, "E1"), 0);
     ck_assert(strstr(last(&R, "UTS_STATUS"), "paused=true"));
-    ck_assert_int_eq(kelp_ts_mail(&ts, "UTS_PAUSE", true, "false", 0, 1020, &sink), 1);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "UTS_PAUSE", true, "false", 0, 1020, &sink), 1);
     ck_assert(first_post("E1", 1020.25, 1040) == 1030.0);
     ck_assert(strstr(last(&R, "UTS_STATUS"), "paused=false"));
-    ck_assert_int_eq(kelp_ts_mail(&ts, "UTS_PAUSE", true, "toggle", 0, 1030, &sink), 1);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "UTS_PAUSE", true, "toggle", 0, 1030, &sink), 1);
     run(1030.25, 1200);
     ck_assert_int_eq(count(&R, "E2"), 0);
-    ck_assert_int_eq(kelp_ts_mail(&ts, "UTS_PAUSE", true, "TOGGLE", 0, 1200, &sink), 1);
-    ck_assert_int_lt(kelp_ts_mail(&ts, "UTS_PAUSE", true, "maybe", 0, 1200, &sink), 0);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "UTS_PAUSE", true, "TOGGLE", 0, 1200, &sink), 1);
+    ck_assert_int_lt(kelp_timerscript_mail(&ts, "UTS_PAUSE", true, "maybe", 0, 1200, &sink), 0);
     /* forward 80 s: E2 (script 100) is due at script 20 after the forward */
-    ck_assert_int_eq(kelp_ts_mail(&ts, "UTS_FORWARD", false, "", 80, 1200, &sink), 1);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "UTS_FORWARD", false, "", 80, 1200, &sink), 1);
     double t2 = first_post("E2", 1200.25, 1300);
     ck_assert_msg(t2 >= 1209.75 && t2 <= 1210.25, "E2 at %g", t2);
     /* forward 0: straight to the next event */
-    ck_assert_int_eq(kelp_ts_mail(&ts, "UTS_FORWARD", false, "", 0, t2, &sink), 1);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "UTS_FORWARD", false, "", 0, t2, &sink), 1);
     ck_assert(first_post("E3", t2 + 0.25, t2 + 1) == t2 + 0.25);
     /* reset: the script starts over */
-    ck_assert_int_eq(kelp_ts_mail(&ts, "UTS_RESET", true, "reset", 0, t2 + 1, &sink), 1);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "UTS_RESET", true, "reset", 0, t2 + 1, &sink), 1);
     double t1b = first_post("E1", t2 + 1, t2 + 30);
     ck_assert_msg(t1b >= t2 + 11 && t1b <= t2 + 11.5, "E1 again at %g (reset at %g)", t1b, t2 + 1);
     ck_assert(strstr(last(&R, "UTS_STATUS"), "resets=1/any"));
     /* UTS_NEXT also jumps */
-    ck_assert_int_eq(kelp_ts_mail(&ts, "UTS_NEXT", true, "next", 0, t1b, &sink), 1);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "UTS_NEXT", true, "next", 0, t1b, &sink), 1);
     ck_assert(first_post("E2", t1b + 0.25, t1b + 1) == t1b + 0.25);
 }
 END_TEST
@@ -343,8 +343,8 @@ START_TEST(ts_status_format)
     /* a command by mail (here a pause) brings no status of its own: MOOS-IvP's Iterate starts by
      * clearing the need, so only a posting, a change of conditions, a reset made by the iteration
      * or 5 s without a status make one */
-    ck_assert_int_eq(kelp_ts_mail(&ts, "UTS_PAUSE", true, "true", 0, 1002.1, &sink), 1);
-    ck_assert_int_eq(kelp_ts_mail(&ts, "UTS_FORWARD", false, "", 0.5, 1002.1, &sink), 1);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "UTS_PAUSE", true, "true", 0, 1002.1, &sink), 1);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "UTS_FORWARD", false, "", 0.5, 1002.1, &sink), 1);
     run(1002.25, 1004); /* nothing else changed: no status within 5 s */
     ck_assert_int_eq(count(&R, "UTS_STATUS"), n);
     run(1004.25, 1008);
@@ -364,23 +364,23 @@ START_TEST(ts_upon_awake)
     /* reset: conditions failing then holding again start the script over */
     setup_cfg((const char *const[]){ "event", "var=A, val=1, time=5", "event", "var=B, val=1, time=50", "condition",
                                      "GO = true", "upon_awake", "reset", NULL });
-    ck_assert_int_eq(kelp_ts_mail(&ts, "GO", true, "true", 0, 1000, &sink), 1);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "GO", true, "true", 0, 1000, &sink), 1);
     ck_assert(first_post("A", 1000, 1010) == 1005.0);
-    ck_assert_int_eq(kelp_ts_mail(&ts, "GO", true, "false", 0, 1010, &sink), 1);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "GO", true, "false", 0, 1010, &sink), 1);
     run(1010, 1020);
-    ck_assert_int_eq(kelp_ts_mail(&ts, "GO", true, "true", 0, 1020, &sink), 1);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "GO", true, "true", 0, 1020, &sink), 1);
     double t = first_post("A", 1020, 1040);
     ck_assert_msg(t >= 1025 && t <= 1025.5, "A again at %g", t);
     ck_assert(strstr(last(&R, "UTS_STATUS"), "resets=1/any"));
     /* n/a: it resumes where it was */
     setup_cfg((const char *const[]){ "event", "var=A, val=1, time=5", "event", "var=B, val=1, time=20", "condition",
                                      "GO = true", NULL });
-    ck_assert_int_eq(kelp_ts_mail(&ts, "GO", true, "true", 0, 1000, &sink), 1);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "GO", true, "true", 0, 1000, &sink), 1);
     run(1000, 1010);
-    ck_assert_int_eq(kelp_ts_mail(&ts, "GO", true, "false", 0, 1010, &sink), 1);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "GO", true, "false", 0, 1010, &sink), 1);
     run(1010.25, 1100);
     ck_assert_int_eq(count(&R, "B"), 0);
-    ck_assert_int_eq(kelp_ts_mail(&ts, "GO", true, "TRUE", 0, 1100, &sink), 1);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "GO", true, "TRUE", 0, 1100, &sink), 1);
     t = first_post("B", 1100.25, 1200);
     ck_assert_msg(t >= 1110 && t <= 1110.5, "B at %g", t);
     ck_assert_int_eq(count(&R, "A"), 1);
@@ -391,16 +391,16 @@ START_TEST(ts_atomic)
 {
     setup_cfg((const char *const[]){ "event", "var=A, val=1, time=5", "event", "var=B, val=1, time=10", "condition",
                                      "GO = true", "script_atomic", "true", NULL });
-    ck_assert_int_eq(kelp_ts_mail(&ts, "GO", true, "true", 0, 1000, &sink), 1);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "GO", true, "true", 0, 1000, &sink), 1);
     ck_assert(first_post("A", 1000, 1006) == 1005.0);
-    ck_assert_int_eq(kelp_ts_mail(&ts, "GO", true, "false", 0, 1006, &sink), 1);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "GO", true, "false", 0, 1006, &sink), 1);
     ck_assert(first_post("B", 1006.25, 1020) == 1010.0); /* a started pass completes */
     /* not atomic: B waits */
     setup_cfg((const char *const[]){ "event", "var=A, val=1, time=5", "event", "var=B, val=1, time=10", "condition",
                                      "GO = true", NULL });
-    ck_assert_int_eq(kelp_ts_mail(&ts, "GO", true, "true", 0, 1000, &sink), 1);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "GO", true, "true", 0, 1000, &sink), 1);
     run(1000, 1006);
-    ck_assert_int_eq(kelp_ts_mail(&ts, "GO", true, "false", 0, 1006, &sink), 1);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "GO", true, "false", 0, 1006, &sink), 1);
     run(1006.25, 1020);
     ck_assert_int_eq(count(&R, "B"), 0);
 }
@@ -412,10 +412,10 @@ START_TEST(ts_block_on_and_quit)
                                      "pGenerateInfo, pPostValues", NULL });
     run(1000, 1010);
     ck_assert_int_eq(count(&R, "A"), 0);
-    ck_assert_int_eq(kelp_ts_mail(&ts, "DB_CLIENTS", true, "pGenerateInfo,uTimerScript", 0, 1010, &sink), 1);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "DB_CLIENTS", true, "pGenerateInfo,uTimerScript", 0, 1010, &sink), 1);
     run(1010.25, 1020);
     ck_assert_int_eq(count(&R, "A"), 0);
-    ck_assert_int_eq(kelp_ts_mail(&ts, "PPOSTVALUES_STATUS", true, "iter=1", 0, 1020, &sink), 1);
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "PPOSTVALUES_STATUS", true, "iter=1", 0, 1020, &sink), 1);
     ck_assert(!ts.quit);
     ck_assert(first_post("A", 1020.25, 1030) == 1021.0); /* blocked time does not count */
     ck_assert(first_post("EXITED_NORMALLY", 1021.25, 1030) == 1022.0);
@@ -427,7 +427,7 @@ END_TEST
 START_TEST(ts_time_zero_db_start_and_db_uptime)
 {
     setup_cfg((const char *const[]){ "event", "var=A, val=$[DBTIME], time=10", "time_zero", "db_start", NULL });
-    ck_assert_int_eq(kelp_ts_mail(&ts, "DB_UPTIME", false, "", 7, 1500, &sink), 1); /* the DB started at 1493 */
+    ck_assert_int_eq(kelp_timerscript_mail(&ts, "DB_UPTIME", false, "", 7, 1500, &sink), 1); /* the DB started at 1493 */
     ck_assert(first_post("A", 1500, 1600) == 1503.0);
     ck_assert_str_eq(last(&R, "A"), "10");
 }
@@ -468,9 +468,9 @@ static const char *const bad_cfg[][2] = {
 
 START_TEST(ts_bad_config)
 {
-    kelp_ts_cfg_default(&cfg, "uTimerScript", "archie");
+    kelp_timerscript_cfg_default(&cfg, "uTimerScript", "archie");
     kelp_diag why = { 0 };
-    ck_assert_msg(kelp_ts_cfg_set(&cfg, bad_cfg[_i][0], bad_cfg[_i][1], &why) < 0, "%s = %s accepted", bad_cfg[_i][0],
+    ck_assert_msg(kelp_timerscript_cfg_set(&cfg, bad_cfg[_i][0], bad_cfg[_i][1], &why) < 0, "%s = %s accepted", bad_cfg[_i][0],
                   bad_cfg[_i][1]);
     ck_assert_int_ne(why.code, 0);
     ck_assert_int_eq(cfg.nev, 0);
@@ -480,17 +480,17 @@ END_TEST
 
 START_TEST(ts_unknown_key_and_dup_randvar)
 {
-    kelp_ts_cfg_default(&cfg, "uTimerScript", "archie");
+    kelp_timerscript_cfg_default(&cfg, "uTimerScript", "archie");
     kelp_diag why = { 0 };
-    ck_assert_int_eq(kelp_ts_cfg_set(&cfg, "colour", "red", &why), 0);
-    ck_assert_int_eq(kelp_ts_cfg_set(&cfg, "rand_var", "varname=X, min=0, max=1, key=at_post", &why), 1);
-    ck_assert_int_lt(kelp_ts_cfg_set(&cfg, "rand_var", "varname=X, min=0, max=1, key=at_post", &why), 0);
-    ck_assert_int_eq(kelp_ts_cfg_set(&cfg, "reset_max", "unlimited", &why), 1);
+    ck_assert_int_eq(kelp_timerscript_cfg_set(&cfg, "colour", "red", &why), 0);
+    ck_assert_int_eq(kelp_timerscript_cfg_set(&cfg, "rand_var", "varname=X, min=0, max=1, key=at_post", &why), 1);
+    ck_assert_int_lt(kelp_timerscript_cfg_set(&cfg, "rand_var", "varname=X, min=0, max=1, key=at_post", &why), 0);
+    ck_assert_int_eq(kelp_timerscript_cfg_set(&cfg, "reset_max", "unlimited", &why), 1);
     ck_assert_int_eq(cfg.reset_max, -1);
-    ck_assert_int_eq(kelp_ts_cfg_set(&cfg, "RESET_TIME", "end", &why), 1);
+    ck_assert_int_eq(kelp_timerscript_cfg_set(&cfg, "RESET_TIME", "end", &why), 1);
     ck_assert(cfg.reset_time == 0);
     /* a value with commas inside quotes, and braces */
-    ck_assert_int_eq(kelp_ts_cfg_set(&cfg, "event", "var=M, val=\"a=1,b=2\", time=3", &why), 1);
+    ck_assert_int_eq(kelp_timerscript_cfg_set(&cfg, "event", "var=M, val=\"a=1,b=2\", time=3", &why), 1);
     ck_assert_str_eq(cfg.ev[0].val, "a=1,b=2");
     ck_assert(cfg.ev[0].quoted && cfg.ev[0].tmin == 3 && cfg.ev[0].tmax == 3);
 }
@@ -508,8 +508,8 @@ START_TEST(ts_reproducible_from_seed)
     run(1000, 1500);
     ck_assert_int_eq(first.n, R.n);
     for (int i = 0; i < R.n; i++) ck_assert_str_eq(first.val[i], R.val[i]);
-    ck_assert_int_eq(kelp_ts_init(&ts, &cfg, 43), 0);
-    kelp_ts_set_db_start(&ts, 1000);
+    ck_assert_int_eq(kelp_timerscript_init(&ts, &cfg, 43), 0);
+    kelp_timerscript_set_db_start(&ts, 1000);
     memset(&R, 0, sizeof R);
     run(1000, 1500);
     bool differs = R.n != first.n;

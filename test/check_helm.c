@@ -181,7 +181,7 @@ static void probe_init(kelp_bhv *b)
     kelp_ivp_domain d;
     if (kelp_ivp_domain_sub(&b->helm->cfg.domain, "speed", &d) == 0)
         b->dom = d;
-    ck_assert_int_eq(kelp_bhv_add_info_vars(b, "PROBE_FN, PROBE_ERR, PROBE_DONE, PROBE_VEC, PROBE_INT"), 0);
+    ck_assert_int_eq(kelp_helm_bhv_add_info_vars(b, "PROBE_FN, PROBE_ERR, PROBE_DONE, PROBE_VEC, PROBE_INT"), 0);
 }
 
 static int probe_set(kelp_bhv *b, const char *p, const char *v)
@@ -189,7 +189,7 @@ static int probe_set(kelp_bhv *b, const char *p, const char *v)
     probe_state *s = (probe_state *)(void *)b->u.raw;
     double d;
     if (!strcmp(p, "level")) {
-        if (kelp_parse_double(v, strlen(v), &d) || d < 0)
+        if (kelp_util_parse_double(v, strlen(v), &d) || d < 0)
             return KELP_ERR_PARSE;
         s->level = d;
         return 0;
@@ -203,18 +203,18 @@ static int probe_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     char buf[32];
     double d;
     s->nvec = 0;
-    while (s->nvec < 8 && kelp_bhv_buf_delta(b, "PROBE_VEC", s->nvec, &s->vec[s->nvec], NULL))
+    while (s->nvec < 8 && kelp_helm_bhv_buf_delta(b, "PROBE_VEC", s->nvec, &s->vec[s->nvec], NULL))
         s->nvec++;
-    s->seen_now = kelp_bhv_buf_now(b);
-    s->seen_time = kelp_bhv_buf_time(b, "PROBE_VEC");
-    if (kelp_bhv_buf_double(b, "PROBE_INT", &d))
-        kelp_bhv_post_int(b, "PROBE_INT_OUT", d, NULL);
-    if (kelp_bhv_buf_double(b, "PROBE_ERR", &d) && d == 1)
-        kelp_bhv_post_error(b, "probe error");
-    if (kelp_bhv_buf_double(b, "PROBE_DONE", &d) && d == 1)
-        kelp_bhv_set_complete(b);
-    kelp_bhv_post_double(b, "PROBE_LEVEL", s->level, NULL);
-    if (!kelp_bhv_buf_string(b, "PROBE_FN", buf, sizeof buf) || strcmp(buf, "yes"))
+    s->seen_now = kelp_helm_bhv_buf_now(b);
+    s->seen_time = kelp_helm_bhv_buf_time(b, "PROBE_VEC");
+    if (kelp_helm_bhv_buf_double(b, "PROBE_INT", &d))
+        kelp_helm_bhv_post_int(b, "PROBE_INT_OUT", d, NULL);
+    if (kelp_helm_bhv_buf_double(b, "PROBE_ERR", &d) && d == 1)
+        kelp_helm_bhv_post_error(b, "probe error");
+    if (kelp_helm_bhv_buf_double(b, "PROBE_DONE", &d) && d == 1)
+        kelp_helm_bhv_set_complete(b);
+    kelp_helm_bhv_post_double(b, "PROBE_LEVEL", s->level, NULL);
+    if (!kelp_helm_bhv_buf_string(b, "PROBE_FN", buf, sizeof buf) || strcmp(buf, "yes"))
         return 0;
     kelp_ivp_zaic_peak z;
     ck_assert_int_eq(kelp_ivp_zaic_peak_init(&z, &b->dom, "speed"), 0);
@@ -459,7 +459,7 @@ START_TEST(general_parameters)
     ck_assert_int_eq(kelp_helm_add(&g_h, "BHV_SimpleWaypoint", &b), 0);
     const param_case *c = &g_params[_i];
     b->fail = NULL;
-    int rc = kelp_bhv_set_param(b, c->param, c->value);
+    int rc = kelp_helm_bhv_set_param(b, c->param, c->value);
     ck_assert_msg((rc == 0) == (c->ok == 1), "%s = %s: rc %d", c->param, c->value, rc);
     if (!c->ok)
         ck_assert_ptr_nonnull(b->fail);
@@ -474,26 +474,26 @@ START_TEST(parameter_values_stored)
     ck_assert_str_eq(b->name, "simple_waypoint");  /* Listing 9 default name */
     ck_assert(b->pwt == 100);                       /* default priority */
     ck_assert(b->duration < 0 && b->duration_idle_decay && !b->perpetual);
-    ck_assert_int_eq(kelp_bhv_set_param(b, "priority", "35"), 0);
+    ck_assert_int_eq(kelp_helm_bhv_set_param(b, "priority", "35"), 0);
     ck_assert(b->pwt == 35);
-    ck_assert_int_eq(kelp_bhv_set_param(b, "perpetual", "TRUE"), 0);
+    ck_assert_int_eq(kelp_helm_bhv_set_param(b, "perpetual", "TRUE"), 0);
     ck_assert(b->perpetual);
-    ck_assert_int_eq(kelp_bhv_set_param(b, "endflag", "RETURN = true"), 0);
-    ck_assert_int_eq(kelp_bhv_set_param(b, "endflag", "COUNT = 3"), 0);
-    ck_assert_int_eq(kelp_bhv_set_param(b, "endflag", "MSG = \"42\""), 0);
+    ck_assert_int_eq(kelp_helm_bhv_set_param(b, "endflag", "RETURN = true"), 0);
+    ck_assert_int_eq(kelp_helm_bhv_set_param(b, "endflag", "COUNT = 3"), 0);
+    ck_assert_int_eq(kelp_helm_bhv_set_param(b, "endflag", "MSG = \"42\""), 0);
     ck_assert_uint_eq(b->nflag, 3);
     ck_assert_str_eq(b->flag[0].p.var, "RETURN");
     ck_assert(b->flag[0].p.is_str && !strcmp(b->flag[0].p.sval, "true"));
     ck_assert(!b->flag[1].p.is_str && b->flag[1].p.dval == 3);  /* numbers post as doubles */
     ck_assert(b->flag[2].p.is_str && !strcmp(b->flag[2].p.sval, "42"));
-    ck_assert_int_eq(kelp_bhv_set_param(b, "nostarve", "NAV_X, NAV_Y, 5.0"), 0);
+    ck_assert_int_eq(kelp_helm_bhv_set_param(b, "nostarve", "NAV_X, NAV_Y, 5.0"), 0);
     ck_assert_uint_eq(b->nstarve, 2);
     ck_assert_str_eq(b->starve[1], "NAV_Y");
     ck_assert(b->starve_time == 5.0);
-    ck_assert_int_eq(kelp_bhv_set_param(b, "duration_reset", "BRAVO_TIMER_RESET = true"), 0);
+    ck_assert_int_eq(kelp_helm_bhv_set_param(b, "duration_reset", "BRAVO_TIMER_RESET = true"), 0);
     ck_assert_str_eq(b->duration_reset_var, "BRAVO_TIMER_RESET");
     ck_assert_str_eq(b->duration_reset_val, "true");
-    ck_assert_int_eq(kelp_bhv_set_param(b, "PTY", "-40"), 0);
+    ck_assert_int_eq(kelp_helm_bhv_set_param(b, "PTY", "-40"), 0);
     ck_assert(b->u.swpt.nextpt.y == -40);
 }
 END_TEST
@@ -1253,7 +1253,7 @@ START_TEST(domain_lines)
     ck_diag(&why, KELP_ERR_PARSE, "expected name:low:high:points[:optional]");
     kelp_diag_clear(&why);
     ck_assert_int_eq(kelp_helm_config_add_domain(&cfg, "course:0:1:2", &why), KELP_ERR_EXISTS);
-    ck_assert_str_eq(kelp_diag_text(&why), kelp_strerror(KELP_ERR_EXISTS));
+    ck_assert_str_eq(kelp_diag_text(&why), kelp_err_str(KELP_ERR_EXISTS));
     kelp_diag_clear(&why);
     ck_assert_int_lt(kelp_helm_config_add_domain(&cfg, "x:0:1:0", &why), 0);
     ck_assert_int_lt(kelp_helm_config_add_domain(&cfg, "x:0:1:2:maybe", &why), 0);
@@ -1311,7 +1311,7 @@ START_TEST(duplicate_filter_and_post_int)
     ck_assert_uint_eq(ht_count("PROBE_LEVEL"), 0);  /* unchanged: filtered */
     ck_assert_uint_eq(ht_count("PROBE_INT_OUT"), 0); /* 3.2 -> 3 again: filtered */
     kelp_helm_mail_string(&g_h, "PROBE_UPD", "x");
-    ck_assert_int_eq(kelp_bhv_set_param(bhv("p"), "level", "2"), 0);
+    ck_assert_int_eq(kelp_helm_bhv_set_param(bhv("p"), "level", "2"), 0);
     ht_iter(2);
     ck_assert(ht_num("PROBE_LEVEL") == 2);
 }

@@ -267,26 +267,26 @@ START_TEST(of_values_and_relevance)
     kelp_cpa_vessel cn = {100, 0, 270, 2};
     ck_assert_int_eq(kelp_cpa_fast_init(&f.cpa, &cn, 0, 0, 120), KELP_OK);
     double p[2] = {90, 2};
-    ck_assert_double_eq(kelp_bhv_avoid_aof_eval(p, &f), 0);         /* straight at it */
+    ck_assert_double_eq(kelp_helm_bhv_avoid_aof_eval(p, &f), 0);         /* straight at it */
     p[1] = 0;                                                       /* stop: CPA = 0 as it comes on */
-    ck_assert_double_eq(kelp_bhv_avoid_aof_eval(p, &f), 0);
+    ck_assert_double_eq(kelp_helm_bhv_avoid_aof_eval(p, &f), 0);
     p[0] = 0, p[1] = 2;                                             /* north at 2: CPA = 100/sqrt2 */
-    ck_assert_double_eq_tol(kelp_bhv_avoid_aof_eval(p, &f), 25 + 75 * (100 / sqrt(2) - 10) / 65, 1e-9);
+    ck_assert_double_eq_tol(kelp_helm_bhv_avoid_aof_eval(p, &f), 25 + 75 * (100 / sqrt(2) - 10) / 65, 1e-9);
     kelp_cpa_vessel far = {0, 200, 0, 0};
     ck_assert_int_eq(kelp_cpa_fast_init(&f.cpa, &far, 0, 0, 120), KELP_OK);
     p[0] = 180;
-    ck_assert_double_eq(kelp_bhv_avoid_aof_eval(p, &f), 100);
+    ck_assert_double_eq(kelp_helm_bhv_avoid_aof_eval(p, &f), 100);
     /* relevance by grade */
-    ck_assert_double_eq(kelp_bhv_avoid_relevance(250, 50, 200, 0), 0);
-    ck_assert_double_eq(kelp_bhv_avoid_relevance(200, 50, 200, 0), 0);
-    ck_assert_double_eq_tol(kelp_bhv_avoid_relevance(125, 50, 200, 0), 0.5, 1e-12);
-    ck_assert_double_eq_tol(kelp_bhv_avoid_relevance(125, 50, 200, 1), 0.25, 1e-12);
-    ck_assert_double_eq_tol(kelp_bhv_avoid_relevance(125, 50, 200, 2), pow(0.5, 1.5), 1e-12);
-    ck_assert_double_eq(kelp_bhv_avoid_relevance(50, 50, 200, 2), 1);
+    ck_assert_double_eq(kelp_helm_bhv_avoid_relevance(250, 50, 200, 0), 0);
+    ck_assert_double_eq(kelp_helm_bhv_avoid_relevance(200, 50, 200, 0), 0);
+    ck_assert_double_eq_tol(kelp_helm_bhv_avoid_relevance(125, 50, 200, 0), 0.5, 1e-12);
+    ck_assert_double_eq_tol(kelp_helm_bhv_avoid_relevance(125, 50, 200, 1), 0.25, 1e-12);
+    ck_assert_double_eq_tol(kelp_helm_bhv_avoid_relevance(125, 50, 200, 2), pow(0.5, 1.5), 1e-12);
+    ck_assert_double_eq(kelp_helm_bhv_avoid_relevance(50, 50, 200, 2), 1);
     /* inside the inner ring MOOS-IvP's getRelevance keeps grading past 1 (it does not cap) */
-    ck_assert_double_eq_tol(kelp_bhv_avoid_relevance(5, 50, 200, 1), 1.3 * 1.3, 1e-12);
-    ck_assert_double_eq_tol(kelp_bhv_avoid_relevance(20, 50, 200, 0), 1.2, 1e-12);
-    ck_assert_double_eq(kelp_bhv_avoid_relevance(5, 50, 50, 0), 1); /* degenerate rings: 1 */
+    ck_assert_double_eq_tol(kelp_helm_bhv_avoid_relevance(5, 50, 200, 1), 1.3 * 1.3, 1e-12);
+    ck_assert_double_eq_tol(kelp_helm_bhv_avoid_relevance(20, 50, 200, 0), 1.2, 1e-12);
+    ck_assert_double_eq(kelp_helm_bhv_avoid_relevance(5, 50, 50, 0), 1); /* degenerate rings: 1 */
 }
 END_TEST
 

@@ -547,7 +547,7 @@ START_TEST(file_lines)
 #ifndef KELP_NO_ERRMSG
     ck_assert_str_eq(kelp_diag_text(&e), "file: bad pwt 'x'");
 #else
-    ck_assert_str_eq(kelp_diag_text(&e), kelp_strerror(KELP_ERR_PARSE));
+    ck_assert_str_eq(kelp_diag_text(&e), kelp_err_str(KELP_ERR_PARSE));
 #endif
     kelp_diag_clear(&e);
     ck_assert_int_eq(kelp_ivp_spec_parse(&fl.a, "peak(summit=1,summit=2)", &e), KELP_ERR_PARSE);

@@ -200,7 +200,7 @@ static const struct { const char *s; double v; int rc; } nums[] = {
 START_TEST(strict_numbers)
 {
     double v = -1;
-    int rc = kelp_parse_double(nums[_i].s, strlen(nums[_i].s), &v);
+    int rc = kelp_util_parse_double(nums[_i].s, strlen(nums[_i].s), &v);
     ck_assert_msg(rc == nums[_i].rc, "'%s' rc %d", nums[_i].s, rc);
     if (rc == 0) ck_assert_msg(v == nums[_i].v, "'%s' -> %.17g", nums[_i].s, v);
 }
@@ -209,12 +209,12 @@ END_TEST
 START_TEST(strict_long)
 {
     long v;
-    ck_assert_int_eq(kelp_parse_long("9000", 4, &v), 0);
+    ck_assert_int_eq(kelp_util_parse_long("9000", 4, &v), 0);
     ck_assert_int_eq(v, 9000);
-    ck_assert_int_eq(kelp_parse_long("-3", 2, &v), 0);
+    ck_assert_int_eq(kelp_util_parse_long("-3", 2, &v), 0);
     ck_assert_int_eq(v, -3);
-    ck_assert_int_eq(kelp_parse_long("3.5", 3, &v), KELP_ERR_PARSE);
-    ck_assert_int_eq(kelp_parse_long("99999999999999999999999", 23, &v), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_util_parse_long("3.5", 3, &v), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_util_parse_long("99999999999999999999999", 23, &v), KELP_ERR_RANGE);
 }
 END_TEST
 

@@ -4,16 +4,16 @@
 #include <string.h>
 #include <kelp/moos2sql.h>
 
-static int classify(const kelp_m2s_cfg *c, const char *var, const char *val, kelp_m2s_record *r, kelp_diag *why)
+static int classify(const kelp_moos2sql_cfg *c, const char *var, const char *val, kelp_moos2sql_record *r, kelp_diag *why)
 {
-    return kelp_m2s_classify(c, var, "shoreside", 1000.5, true, val, strlen(val), 0, r, why);
+    return kelp_moos2sql_classify(c, var, "shoreside", 1000.5, true, val, strlen(val), 0, r, why);
 }
 
 START_TEST(m2s_status_from_node_report)
 {
-    kelp_m2s_cfg c;
-    kelp_m2s_cfg_default(&c);
-    kelp_m2s_record r;
+    kelp_moos2sql_cfg c;
+    kelp_moos2sql_cfg_default(&c);
+    kelp_moos2sql_record r;
     kelp_diag why = { 0 };
     ck_assert_int_eq(classify(&c, "NODE_REPORT", "NAME=alpha,TYPE=UUV,TIME=1252348077.59,X=51.71,Y=-35.50,LAT=43.824981,"
                                                  "LON=-70.329755,SPD=2.00,HDG=118.85,DEPTH=4.63,LENGTH=3.8,MODE=LOITERING",
@@ -31,18 +31,18 @@ START_TEST(m2s_status_from_node_report)
     /* no position: rejected with a reason; a number: rejected; not ours: 0 */
     ck_assert_int_lt(classify(&c, "NODE_REPORT", "NAME=alpha,SPD=2", &r, &why), 0);
     ck_assert_int_ne(why.code, 0);
-    ck_assert_int_lt(kelp_m2s_classify(&c, "NODE_REPORT", "s", 1, false, NULL, 0, 3, &r, &why), 0);
+    ck_assert_int_lt(kelp_moos2sql_classify(&c, "NODE_REPORT", "s", 1, false, NULL, 0, 3, &r, &why), 0);
     ck_assert_int_eq(classify(&c, "NAV_X", "3", &r, &why), 0);
     /* the text must end at its length (as a kelp_var's does) */
-    ck_assert_int_lt(kelp_m2s_classify(&c, "NODE_REPORT", "s", 1, true, "NAME=a,X=1,Y=2", 6, 0, &r, &why), 0);
+    ck_assert_int_lt(kelp_moos2sql_classify(&c, "NODE_REPORT", "s", 1, true, "NAME=a,X=1,Y=2", 6, 0, &r, &why), 0);
 }
 END_TEST
 
 START_TEST(m2s_contact_counts)
 {
-    kelp_m2s_cfg c;
-    kelp_m2s_cfg_default(&c);
-    kelp_m2s_record r;
+    kelp_moos2sql_cfg c;
+    kelp_moos2sql_cfg_default(&c);
+    kelp_moos2sql_record r;
     ck_assert_int_eq(classify(&c, "CONTACTS_LIST", "delta,gus,charlie,henry", &r, NULL), 1);
     ck_assert_int_eq(r.kind, KELP_M2S_CONTACT);
     ck_assert_str_eq(r.name, "shoreside"); /* the ownship: the community that posted it */
@@ -53,7 +53,7 @@ START_TEST(m2s_contact_counts)
     ck_assert_int_eq(r.count, 2);
     ck_assert_int_eq(classify(&c, "CONTACTS_RETIRED", "", &r, NULL), 1);
     ck_assert_int_eq(r.count, 0);
-    ck_assert_int_eq(kelp_m2s_classify(&c, "CONTACTS_COUNT", "alpha", 5, false, NULL, 0, 3, &r, NULL), 1);
+    ck_assert_int_eq(kelp_moos2sql_classify(&c, "CONTACTS_COUNT", "alpha", 5, false, NULL, 0, 3, &r, NULL), 1);
     ck_assert(r.is_number);
     ck_assert_int_eq(r.count, 3);
     ck_assert_int_eq(classify(&c, "CONTACT_RANGES", "48.32,56.3,112.08", &r, NULL), 1);
@@ -63,9 +63,9 @@ END_TEST
 
 START_TEST(m2s_track_from_status_message)
 {
-    kelp_m2s_cfg c;
-    kelp_m2s_cfg_default(&c);
-    kelp_m2s_record r;
+    kelp_moos2sql_cfg c;
+    kelp_moos2sql_cfg_default(&c);
+    kelp_moos2sql_record r;
     kelp_diag why = { 0 };
     ck_assert_int_eq(classify(&c, "STATUS_REPORT", "dest=1,name=bravo,nav_x=15.0,nav_y=10.0,heading=0,speed=0.5,behavior=", &r, &why), 1);
     ck_assert_int_eq(r.kind, KELP_M2S_TRACK);
@@ -86,47 +86,47 @@ END_TEST
 
 START_TEST(m2s_config)
 {
-    kelp_m2s_cfg c;
-    kelp_m2s_cfg_default(&c);
+    kelp_moos2sql_cfg c;
+    kelp_moos2sql_cfg_default(&c);
     kelp_diag why = { 0 };
     ck_assert_str_eq(c.database, "moos2sql.db");
-    ck_assert_int_eq(kelp_m2s_config(&c, "track_var", " MY_STATUS , NODE_REPORT_LOCAL", &why), 1);
-    ck_assert_int_eq(kelp_m2s_kind_of(&c, "MY_STATUS"), KELP_M2S_TRACK);
-    ck_assert_int_eq(kelp_m2s_kind_of(&c, "NODE_REPORT_LOCAL"), KELP_M2S_TRACK); /* moved: the last word wins */
-    ck_assert_int_eq(kelp_m2s_kind_of(&c, "NODE_REPORT"), KELP_M2S_STATUS);
-    ck_assert_int_eq(kelp_m2s_config(&c, "COMMIT_PERIOD", "0.6", &why), KELP_ERR_PARSE);
-    ck_assert_int_eq(kelp_m2s_config(&c, "COMMIT_PERIOD", "0.5", &why), 1);
-    ck_assert_int_eq(kelp_m2s_config(&c, "KML_PERIOD", "0", &why), KELP_ERR_PARSE);
-    ck_assert_int_eq(kelp_m2s_config(&c, "DATABASE", "", &why), KELP_ERR_ARG);
-    ck_assert_int_eq(kelp_m2s_config(&c, "KML_FILE", "", &why), 1);
+    ck_assert_int_eq(kelp_moos2sql_config(&c, "track_var", " MY_STATUS , NODE_REPORT_LOCAL", &why), 1);
+    ck_assert_int_eq(kelp_moos2sql_kind_of(&c, "MY_STATUS"), KELP_M2S_TRACK);
+    ck_assert_int_eq(kelp_moos2sql_kind_of(&c, "NODE_REPORT_LOCAL"), KELP_M2S_TRACK); /* moved: the last word wins */
+    ck_assert_int_eq(kelp_moos2sql_kind_of(&c, "NODE_REPORT"), KELP_M2S_STATUS);
+    ck_assert_int_eq(kelp_moos2sql_config(&c, "COMMIT_PERIOD", "0.6", &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_moos2sql_config(&c, "COMMIT_PERIOD", "0.5", &why), 1);
+    ck_assert_int_eq(kelp_moos2sql_config(&c, "KML_PERIOD", "0", &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_moos2sql_config(&c, "DATABASE", "", &why), KELP_ERR_ARG);
+    ck_assert_int_eq(kelp_moos2sql_config(&c, "KML_FILE", "", &why), 1);
     ck_assert_str_eq(c.kml, "");
-    ck_assert_int_eq(kelp_m2s_config(&c, "FOO", "1", &why), 0);
-    ck_assert_uint_ge(kelp_m2s_nmigrations, 2);
-    ck_assert_ptr_nonnull(strstr(kelp_m2s_migrations[0], "CREATE INDEX status_name_time ON status (name, time)"));
+    ck_assert_int_eq(kelp_moos2sql_config(&c, "FOO", "1", &why), 0);
+    ck_assert_uint_ge(kelp_moos2sql_nmigrations, 2);
+    ck_assert_ptr_nonnull(strstr(kelp_moos2sql_migrations[0], "CREATE INDEX status_name_time ON status (name, time)"));
 }
 END_TEST
 
 START_TEST(m2s_fleet_kml)
 {
-    kelp_m2s_cfg c;
-    kelp_m2s_cfg_default(&c);
-    static kelp_m2s_fleet f;
-    kelp_m2s_fleet_init(&f);
-    kelp_m2s_record r;
+    kelp_moos2sql_cfg c;
+    kelp_moos2sql_cfg_default(&c);
+    static kelp_moos2sql_fleet f;
+    kelp_moos2sql_fleet_init(&f);
+    kelp_moos2sql_record r;
     /* x/y only without a datum: no position */
     ck_assert_int_eq(classify(&c, "NODE_REPORT", "NAME=zed,X=10,Y=0,TIME=1795715787.32", &r, NULL), 1);
-    ck_assert_int_eq(kelp_m2s_fleet_update(&f, &c, &r), 0);
+    ck_assert_int_eq(kelp_moos2sql_fleet_update(&f, &c, &r), 0);
     ck_assert_int_eq(kelp_geo_init(&c.datum, 43.8253, -70.3304), 0);
     c.have_datum = true;
-    ck_assert_int_eq(kelp_m2s_fleet_update(&f, &c, &r), 1);
+    ck_assert_int_eq(kelp_moos2sql_fleet_update(&f, &c, &r), 1);
     ck_assert_int_eq(classify(&c, "NODE_REPORT", "NAME=a<b>&,LAT=43.5,LON=-70.25,HDG=90,MODE=X&Y,TIME=0", &r, NULL), 1);
-    ck_assert_int_eq(kelp_m2s_fleet_update(&f, &c, &r), 1);
+    ck_assert_int_eq(kelp_moos2sql_fleet_update(&f, &c, &r), 1);
     ck_assert_int_eq(classify(&c, "NODE_REPORT", "NAME=zed,X=0,Y=0,TIME=1795715790", &r, NULL), 1);
-    ck_assert_int_eq(kelp_m2s_fleet_update(&f, &c, &r), 1);
+    ck_assert_int_eq(kelp_moos2sql_fleet_update(&f, &c, &r), 1);
     ck_assert_uint_eq(f.n, 2);
     ck_assert(f.changed);
     static char buf[8192];
-    int n = kelp_m2s_kml(&f, "fleet & co", buf, sizeof buf);
+    int n = kelp_moos2sql_kml(&f, "fleet & co", buf, sizeof buf);
     ck_assert_int_gt(n, 0);
     ck_assert_uint_eq((size_t)n, strlen(buf));
     ck_assert(!f.changed);
@@ -140,8 +140,8 @@ START_TEST(m2s_fleet_kml)
     ck_assert_ptr_nonnull(strstr(buf, "<Point><coordinates>-70.3304000,43.8253000,0</coordinates>"));
     /* name order: "a<b>..." before "zed" */
     ck_assert(strstr(buf, "a&lt;b") < strstr(buf, "<name>zed"));
-    ck_assert_int_eq(kelp_m2s_kml(&f, NULL, buf, 200), KELP_ERR_NOSPACE);
-    n = kelp_m2s_kml_link(NULL, "dir/f&.kml", 5, buf, sizeof buf);
+    ck_assert_int_eq(kelp_moos2sql_kml(&f, NULL, buf, 200), KELP_ERR_NOSPACE);
+    n = kelp_moos2sql_kml_link(NULL, "dir/f&.kml", 5, buf, sizeof buf);
     ck_assert_int_gt(n, 0);
     ck_assert_ptr_nonnull(strstr(buf, "<href>dir/f&amp;.kml</href>"));
     ck_assert_ptr_nonnull(strstr(buf, "<refreshInterval>5</refreshInterval>"));
@@ -153,13 +153,13 @@ START_TEST(m2s_escape_drops_controls)
 {
     char buf[16];
     size_t len = 0;
-    ck_assert_int_eq(kelp_m2s_xml_escape(buf, sizeof buf, &len, "a\001b\tc", 5), 0);
+    ck_assert_int_eq(kelp_moos2sql_xml_escape(buf, sizeof buf, &len, "a\001b\tc", 5), 0);
     ck_assert_str_eq(buf, "ab\tc");
     len = 0;
-    ck_assert_int_eq(kelp_m2s_xml_escape(buf, sizeof buf, &len, "'\"", 2), 0);
+    ck_assert_int_eq(kelp_moos2sql_xml_escape(buf, sizeof buf, &len, "'\"", 2), 0);
     ck_assert_str_eq(buf, "&apos;&quot;");
     len = 0;
-    ck_assert_int_eq(kelp_m2s_xml_escape(buf, 5, &len, "&&", 2), KELP_ERR_NOSPACE);
+    ck_assert_int_eq(kelp_moos2sql_xml_escape(buf, 5, &len, "&&", 2), KELP_ERR_NOSPACE);
 }
 END_TEST
 

@@ -183,7 +183,7 @@ static kelp_view V;
 
 static int vparse(kelp_view_kind k, const char *s, kelp_diag *why)
 {
-    return kelp_view_parse(k, s, strlen(s), &V, why);
+    return kelp_nodereport_view_parse(k, s, strlen(s), &V, why);
 }
 
 /* MOOS-IvP 24.8's node record (what uFldNodeComms relays): the readers take it (COG, DEP,
@@ -221,17 +221,17 @@ END_TEST
 START_TEST(test_view_kinds)
 {
     kelp_view_kind k;
-    ck_assert_int_eq(kelp_view_kind_of("VIEW_POINT", &k), KELP_OK);
+    ck_assert_int_eq(kelp_nodereport_view_kind_of("VIEW_POINT", &k), KELP_OK);
     ck_assert_int_eq(k, KELP_VIEW_POINT);
-    ck_assert_int_eq(kelp_view_kind_of("view_seglist", &k), KELP_OK);
+    ck_assert_int_eq(kelp_nodereport_view_kind_of("view_seglist", &k), KELP_OK);
     ck_assert_int_eq(k, KELP_VIEW_SEGLIST);
-    ck_assert_int_eq(kelp_view_kind_of("VIEW_COMM_PULSE", &k), KELP_OK);
+    ck_assert_int_eq(kelp_nodereport_view_kind_of("VIEW_COMM_PULSE", &k), KELP_OK);
     ck_assert_int_eq(k, KELP_VIEW_COMMS_PULSE);
-    ck_assert_int_eq(kelp_view_kind_of("VIEW_COMMS_PULSE", &k), KELP_OK);
-    ck_assert_int_eq(kelp_view_kind_of("VIEW_RANGE_PULSE", &k), KELP_OK);
+    ck_assert_int_eq(kelp_nodereport_view_kind_of("VIEW_COMMS_PULSE", &k), KELP_OK);
+    ck_assert_int_eq(kelp_nodereport_view_kind_of("VIEW_RANGE_PULSE", &k), KELP_OK);
     ck_assert_int_eq(k, KELP_VIEW_RANGE_PULSE);
-    ck_assert_int_eq(kelp_view_kind_of("NODE_REPORT", &k), KELP_ERR_NOTFOUND);
-    ck_assert_str_eq(kelp_view_var(KELP_VIEW_MARKER), "VIEW_MARKER");
+    ck_assert_int_eq(kelp_nodereport_view_kind_of("NODE_REPORT", &k), KELP_ERR_NOTFOUND);
+    ck_assert_str_eq(kelp_nodereport_view_var(KELP_VIEW_MARKER), "VIEW_MARKER");
 }
 END_TEST
 

@@ -69,68 +69,68 @@ static double last(const rec *r, const char *var)
 
 START_TEST(marine_pid_iteration)
 {
-    kelp_marine_pid_cfg c;
-    kelp_marine_pid_cfg_default(&c);
+    kelp_pid_marine_cfg c;
+    kelp_pid_marine_cfg_default(&c);
     kelp_diag why = { 0 };
-    ck_assert_int_eq(kelp_marine_pid_cfg_set(&c, "yaw_pid_kp", "0.5", &why), 1);
-    ck_assert_int_eq(kelp_marine_pid_cfg_set(&c, "YAW_PID_KI_LIMIT", "0.2", &why), 1);
+    ck_assert_int_eq(kelp_pid_marine_cfg_set(&c, "yaw_pid_kp", "0.5", &why), 1);
+    ck_assert_int_eq(kelp_pid_marine_cfg_set(&c, "YAW_PID_KI_LIMIT", "0.2", &why), 1);
     ck_assert(c.yaw[3] == 0.2);
-    ck_assert_int_eq(kelp_marine_pid_cfg_set(&c, "MAXRUDDER", "30", &why), 1);
-    ck_assert_int_eq(kelp_marine_pid_cfg_set(&c, "speed_factor", "20", &why), 1);
-    ck_assert_int_lt(kelp_marine_pid_cfg_set(&c, "speed_factor", "101", &why), 0);
-    ck_assert_int_lt(kelp_marine_pid_cfg_set(&c, "depth_control", "maybe", &why), 0);
-    ck_assert_int_eq(kelp_marine_pid_cfg_set(&c, "NAV_X", "1", &why), 0);
-    kelp_marine_pid m;
+    ck_assert_int_eq(kelp_pid_marine_cfg_set(&c, "MAXRUDDER", "30", &why), 1);
+    ck_assert_int_eq(kelp_pid_marine_cfg_set(&c, "speed_factor", "20", &why), 1);
+    ck_assert_int_lt(kelp_pid_marine_cfg_set(&c, "speed_factor", "101", &why), 0);
+    ck_assert_int_lt(kelp_pid_marine_cfg_set(&c, "depth_control", "maybe", &why), 0);
+    ck_assert_int_eq(kelp_pid_marine_cfg_set(&c, "NAV_X", "1", &why), 0);
+    kelp_pid_marine m;
     rec r = { 0 };
-    ck_assert_int_eq(kelp_marine_pid_init(&m, &c, 0), 0);
+    ck_assert_int_eq(kelp_pid_marine_init(&m, &c, 0), 0);
     /* not in control: one all-stop, then silence */
-    kelp_marine_pid_iterate(&m, 0.1, sink, &r);
-    kelp_marine_pid_iterate(&m, 0.2, sink, &r);
+    kelp_pid_marine_iterate(&m, 0.1, sink, &r);
+    kelp_pid_marine_iterate(&m, 0.2, sink, &r);
     ck_assert_int_eq(r.n, 2);
     ck_assert(last(&r, "DESIRED_RUDDER") == 0 && last(&r, "DESIRED_THRUST") == 0);
-    ck_assert_int_eq(kelp_marine_pid_mail(&m, "MOOS_MANUAL_OVERRIDE", true, "false", 0, 0.3), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "MOOS_MANUAL_OVERRIDE", true, "false", 0, 0.3), 1);
     /* in control (PID_HAS_CONTROL), but no helm yet: rudder and thrust 0 */
     r.n = 0;
-    kelp_marine_pid_iterate(&m, 0.4, sink, &r);
+    kelp_pid_marine_iterate(&m, 0.4, sink, &r);
     ck_assert_int_eq(r.n, 3);
     ck_assert_str_eq(r.var[0], "PID_HAS_CONTROL");
     ck_assert(r.v[0] == 1);
     ck_assert(last(&r, "DESIRED_RUDDER") == 0 && last(&r, "DESIRED_THRUST") == 0);
     /* heading 350, desired 10: the error wraps to 20 degrees: rudder +10 (right), thrust 2 x 20 */
-    ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_HEADING", false, NULL, 350, 1), 1);
-    ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_SPEED", false, NULL, 1, 1), 1);
-    ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_HEADING", false, NULL, 10, 1), 1);
-    ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_SPEED", false, NULL, 2, 1), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "NAV_HEADING", false, NULL, 350, 1), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "NAV_SPEED", false, NULL, 1, 1), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "DESIRED_HEADING", false, NULL, 10, 1), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "DESIRED_SPEED", false, NULL, 2, 1), 1);
     r.n = 0;
-    kelp_marine_pid_iterate(&m, 1.1, sink, &r);
+    kelp_pid_marine_iterate(&m, 1.1, sink, &r);
     ck_assert(fabs(last(&r, "DESIRED_RUDDER") - 10) < 1e-9);
     ck_assert(last(&r, "DESIRED_THRUST") == 40);
     ck_assert(last(&r, "PID_MAX_SAT_HDG") == 0);
     /* a big error: clipped to maxrudder 30; NAV_YAW gives the heading as -yaw in degrees */
-    ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_YAW", false, NULL, 3.14159265358979 / 2, 1.2), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "NAV_YAW", false, NULL, 3.14159265358979 / 2, 1.2), 1);
     ck_assert(fabs(m.heading - 270) < 1e-6);
     r.n = 0;
-    kelp_marine_pid_iterate(&m, 1.3, sink, &r);
+    kelp_pid_marine_iterate(&m, 1.3, sink, &r);
     ck_assert(fabs(last(&r, "DESIRED_RUDDER") - 30) < 1e-9);
     /* desired speed 0: thrust 0 and rudder 0 */
-    ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_SPEED", false, NULL, 0, 1.4), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "DESIRED_SPEED", false, NULL, 0, 1.4), 1);
     r.n = 0;
-    kelp_marine_pid_iterate(&m, 1.5, sink, &r);
+    kelp_pid_marine_iterate(&m, 1.5, sink, &r);
     ck_assert(last(&r, "DESIRED_THRUST") == 0 && last(&r, "DESIRED_RUDDER") == 0);
     /* helm and nav quiet for more than 2 s: a PID_STALE for each of the four, rudder and thrust 0 */
     r.n = 0;
-    kelp_marine_pid_iterate(&m, 4.0, sink, &r);
+    kelp_pid_marine_iterate(&m, 4.0, sink, &r);
     ck_assert_int_eq(r.n, 6);
     ck_assert_str_eq(r.var[0], "PID_STALE");
     ck_assert(last(&r, "DESIRED_THRUST") == 0 && last(&r, "DESIRED_RUDDER") == 0);
     ck_assert_uint_eq(m.tardy_helm_n, 2);
     ck_assert_uint_eq(m.tardy_nav_n, 2);
     /* override again: PID_HAS_CONTROL false and one all-stop */
-    ck_assert_int_eq(kelp_marine_pid_mail(&m, "MOOS_MANUAL_OVERIDE", true, "true", 0, 4.1), 1);
-    ck_assert_int_lt(kelp_marine_pid_mail(&m, "MOOS_MANUAL_OVERRIDE", true, "perhaps", 0, 4.1), 0);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "MOOS_MANUAL_OVERIDE", true, "true", 0, 4.1), 1);
+    ck_assert_int_lt(kelp_pid_marine_mail(&m, "MOOS_MANUAL_OVERRIDE", true, "perhaps", 0, 4.1), 0);
     r.n = 0;
-    kelp_marine_pid_iterate(&m, 4.2, sink, &r);
-    kelp_marine_pid_iterate(&m, 4.3, sink, &r);
+    kelp_pid_marine_iterate(&m, 4.2, sink, &r);
+    kelp_pid_marine_iterate(&m, 4.3, sink, &r);
     ck_assert_int_eq(r.n, 3);
     ck_assert_str_eq(r.var[0], "PID_HAS_CONTROL");
     ck_assert(r.v[0] == 0);
@@ -139,26 +139,26 @@ END_TEST
 
 START_TEST(marine_pid_speed_and_depth_loops)
 {
-    kelp_marine_pid_cfg c;
-    kelp_marine_pid_cfg_default(&c);
+    kelp_pid_marine_cfg c;
+    kelp_pid_marine_cfg_default(&c);
     c.active_start = true;
     c.speed[0] = 10; /* speed PID: thrust grows by 10 per m/s of error each run */
     c.depth_control = true;
     c.z_to_pitch[0] = 0.1;
     c.pitch[0] = 1;
     snprintf(c.suffix, sizeof c.suffix, "_PID");
-    kelp_marine_pid m;
+    kelp_pid_marine m;
     rec r = { 0 };
-    ck_assert_int_eq(kelp_marine_pid_init(&m, &c, 0), 0);
-    ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_SPEED", false, NULL, 2, 0), 1);
-    ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_HEADING", false, NULL, 0, 0), 1);
-    ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_DEPTH", false, NULL, 10, 0), 1);
-    ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_SPEED", false, NULL, 1, 0), 1);
-    ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_DEPTH", false, NULL, 0, 0), 1);
-    ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_HEADING", false, NULL, 0, 0), 1);
-    ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_PITCH", false, NULL, 0, 0), 1);
-    kelp_marine_pid_iterate(&m, 0.5, sink, &r);
-    kelp_marine_pid_iterate(&m, 1.0, sink, &r);
+    ck_assert_int_eq(kelp_pid_marine_init(&m, &c, 0), 0);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "DESIRED_SPEED", false, NULL, 2, 0), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "DESIRED_HEADING", false, NULL, 0, 0), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "DESIRED_DEPTH", false, NULL, 10, 0), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "NAV_SPEED", false, NULL, 1, 0), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "NAV_DEPTH", false, NULL, 0, 0), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "NAV_HEADING", false, NULL, 0, 0), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "NAV_PITCH", false, NULL, 0, 0), 1);
+    kelp_pid_marine_iterate(&m, 0.5, sink, &r);
+    kelp_pid_marine_iterate(&m, 1.0, sink, &r);
     ck_assert(last(&r, "DESIRED_THRUST_PID") == 20); /* 10 + 10: incremental on the last thrust */
     /* 10 m too shallow: pitch wanted -1 rad, clipped to -15 degrees; elevator +15 deg -> 13 */
     ck_assert(fabs(last(&r, "DESIRED_ELEVATOR_PID") - 13) < 1e-9);
@@ -336,35 +336,35 @@ static void ssink(void *ctx, const char *var, bool is_string, const char *sval, 
  * heading error of the helm's first DESIRED_HEADING gives kp x error, not a derivative kick */
 START_TEST(marine_pid_first_command)
 {
-    kelp_marine_pid_cfg c;
-    kelp_marine_pid_cfg_default(&c);
+    kelp_pid_marine_cfg c;
+    kelp_pid_marine_cfg_default(&c);
     c.active_start = true;
     c.yaw[0] = 0.5;
     c.yaw[1] = 10;
     c.speed_factor = 20;
-    kelp_marine_pid m;
+    kelp_pid_marine m;
     rec r = { 0 };
-    ck_assert_int_eq(kelp_marine_pid_init(&m, &c, 0), 0);
+    ck_assert_int_eq(kelp_pid_marine_init(&m, &c, 0), 0);
     /* parked: desired speed 0, the vehicle's heading wanders */
     for (int i = 0; i <= 10; i++) {
         double t = i * 0.1;
-        ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_SPEED", false, NULL, 0, t), 1);
-        ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_HEADING", false, NULL, 0, t), 1);
-        ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_HEADING", false, NULL, i * 2.0, t), 1);
-        ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_SPEED", false, NULL, 0, t), 1);
-        kelp_marine_pid_iterate(&m, t, sink, &r);
+        ck_assert_int_eq(kelp_pid_marine_mail(&m, "DESIRED_SPEED", false, NULL, 0, t), 1);
+        ck_assert_int_eq(kelp_pid_marine_mail(&m, "DESIRED_HEADING", false, NULL, 0, t), 1);
+        ck_assert_int_eq(kelp_pid_marine_mail(&m, "NAV_HEADING", false, NULL, i * 2.0, t), 1);
+        ck_assert_int_eq(kelp_pid_marine_mail(&m, "NAV_SPEED", false, NULL, 0, t), 1);
+        kelp_pid_marine_iterate(&m, t, sink, &r);
         ck_assert(last(&r, "DESIRED_RUDDER") == 0 && last(&r, "DESIRED_THRUST") == 0);
     }
     /* DEPLOY: heading 20, desired 110 at 2 m/s: rudder 0.5 x 90 = 45, thrust 40 */
-    ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_SPEED", false, NULL, 2, 1.1), 1);
-    ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_HEADING", false, NULL, 110, 1.1), 1);
-    ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_HEADING", false, NULL, 20, 1.1), 1);
-    kelp_marine_pid_iterate(&m, 1.1, sink, &r);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "DESIRED_SPEED", false, NULL, 2, 1.1), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "DESIRED_HEADING", false, NULL, 110, 1.1), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "NAV_HEADING", false, NULL, 20, 1.1), 1);
+    kelp_pid_marine_iterate(&m, 1.1, sink, &r);
     ck_assert_double_eq_tol(last(&r, "DESIRED_RUDDER"), 45, 1e-9);
     ck_assert(last(&r, "DESIRED_THRUST") == 40);
     /* the next run has a derivative: error -80, slope +100/s: 0.5 x -80 + 10 x 100, rudder clipped to -100 */
-    ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_HEADING", false, NULL, 30, 1.2), 1);
-    kelp_marine_pid_iterate(&m, 1.2, sink, &r);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "NAV_HEADING", false, NULL, 30, 1.2), 1);
+    kelp_pid_marine_iterate(&m, 1.2, sink, &r);
     ck_assert_double_eq_tol(last(&r, "DESIRED_RUDDER"), -100, 1e-9);
 }
 END_TEST
@@ -372,17 +372,17 @@ END_TEST
 /* PID_STALE's text (PIDEngine::checkForStaleness): the input and its age to 3 decimals */
 START_TEST(marine_pid_stale_text)
 {
-    kelp_marine_pid_cfg c;
-    kelp_marine_pid_cfg_default(&c);
+    kelp_pid_marine_cfg c;
+    kelp_pid_marine_cfg_default(&c);
     c.active_start = true;
-    kelp_marine_pid m;
-    ck_assert_int_eq(kelp_marine_pid_init(&m, &c, 0), 0);
-    ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_SPEED", false, NULL, 1, 1), 1);
-    ck_assert_int_eq(kelp_marine_pid_mail(&m, "DESIRED_HEADING", false, NULL, 0, 0.5), 1);
-    ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_HEADING", false, NULL, 0, 3), 1);
-    ck_assert_int_eq(kelp_marine_pid_mail(&m, "NAV_SPEED", false, NULL, 0, 3), 1);
+    kelp_pid_marine m;
+    ck_assert_int_eq(kelp_pid_marine_init(&m, &c, 0), 0);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "DESIRED_SPEED", false, NULL, 1, 1), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "DESIRED_HEADING", false, NULL, 0, 0.5), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "NAV_HEADING", false, NULL, 0, 3), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "NAV_SPEED", false, NULL, 0, 3), 1);
     srec r = { 0 };
-    kelp_marine_pid_iterate(&m, 3.125, ssink, &r);
+    kelp_pid_marine_iterate(&m, 3.125, ssink, &r);
     ck_assert_int_eq(r.n, 2);
     ck_assert_str_eq(r.text[0], "PID_STALE=Stale DesHdg:2.625");
     ck_assert_str_eq(r.text[1], "PID_STALE=Stale DesSpd:2.125");

@@ -306,12 +306,12 @@ static void pid_sink(void *ctx, const char *var, bool is_string, const char *sva
     if (!strcmp(var, "DESIRED_RUDDER")) p->rudder = dval, p->n_rudder++;
 }
 
-static void pid_feed(kelp_marine_pid *m, kelp_time t)
+static void pid_feed(kelp_pid_marine *m, kelp_time t)
 {
-    ck_assert_int_eq(kelp_marine_pid_mail(m, "NAV_HEADING", false, NULL, 350, t), 1);
-    ck_assert_int_eq(kelp_marine_pid_mail(m, "NAV_SPEED", false, NULL, 1, t), 1);
-    ck_assert_int_eq(kelp_marine_pid_mail(m, "DESIRED_HEADING", false, NULL, 10, t), 1);
-    ck_assert_int_eq(kelp_marine_pid_mail(m, "DESIRED_SPEED", false, NULL, 2, t), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(m, "NAV_HEADING", false, NULL, 350, t), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(m, "NAV_SPEED", false, NULL, 1, t), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(m, "DESIRED_HEADING", false, NULL, 10, t), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(m, "DESIRED_SPEED", false, NULL, 2, t), 1);
 }
 
 /* a 20 degree heading error held: the yaw loop's integral grows by ki * e * dt each 0.1 s run;
@@ -319,24 +319,24 @@ static void pid_feed(kelp_marine_pid *m, kelp_time t)
 START_TEST(pid_step)
 {
     double step = STEP[_i];
-    kelp_marine_pid_cfg c;
-    kelp_marine_pid_cfg_default(&c);
+    kelp_pid_marine_cfg c;
+    kelp_pid_marine_cfg_default(&c);
     c.active_start = true;
     c.yaw[0] = 0.5;  /* kp */
     c.yaw[2] = 0.01; /* ki */
     c.yaw[3] = 50;   /* integral limit */
     c.speed_factor = 20;
     c.max_rudder = 100;
-    static kelp_marine_pid m;
-    ck_assert_int_eq(kelp_marine_pid_init(&m, &c, T0), 0);
+    static kelp_pid_marine m;
+    ck_assert_int_eq(kelp_pid_marine_init(&m, &c, T0), 0);
     pubs p = { 0, 0, false };
     kelp_time t = T0;
     for (int k = 0; k < 100; k++, t += 0.1) {
         pid_feed(&m, t);
-        kelp_marine_pid_iterate(&m, t, pid_sink, &p);
+        kelp_pid_marine_iterate(&m, t, pid_sink, &p);
     }
     double before = p.rudder;
-    if (!isfinite(step)) kelp_marine_pid_iterate(&m, step, pid_sink, &p);
+    if (!isfinite(step)) kelp_pid_marine_iterate(&m, step, pid_sink, &p);
     kelp_time from = t + offset_of(step);
     int n0 = p.n_rudder, first = -1;
     double jump = 0;
@@ -344,7 +344,7 @@ START_TEST(pid_step)
         kelp_time tk = from + k * 0.1;
         pid_feed(&m, tk);
         int n = p.n_rudder;
-        kelp_marine_pid_iterate(&m, tk, pid_sink, &p);
+        kelp_pid_marine_iterate(&m, tk, pid_sink, &p);
         if (p.n_rudder > n && first < 0) {
             first = k;
             jump = fabs(p.rudder - before);
@@ -432,25 +432,25 @@ static void count_pub(void *ctx, const char *var, bool is_string, const char *sv
 START_TEST(timerscript_step)
 {
     double step = STEP[_i];
-    static kelp_ts_cfg c;
-    static kelp_ts ts;
-    kelp_ts_cfg_default(&c, "uTimerScript", "alpha");
+    static kelp_timerscript_cfg c;
+    static kelp_timerscript ts;
+    kelp_timerscript_cfg_default(&c, "uTimerScript", "alpha");
     for (int k = 1; k <= 10; k++) {
         char ev[64];
         snprintf(ev, sizeof ev, "var=EV, val=%d, time=%d", k, 10 * k);
-        ck_assert_int_eq(kelp_ts_cfg_add_event(&c, ev, NULL), KELP_OK);
+        ck_assert_int_eq(kelp_timerscript_cfg_add_event(&c, ev, NULL), KELP_OK);
     }
-    ck_assert_int_eq(kelp_ts_init(&ts, &c, 1), KELP_OK);
+    ck_assert_int_eq(kelp_timerscript_init(&ts, &c, 1), KELP_OK);
     count_sink cs = { "EV", 0, 0, false, NULL };
     kelp_field_sink out = { &cs, count_pub, NULL };
     kelp_time t = T0;
-    for (; t < T0 + 35; t += 0.5) ck_assert_int_le(kelp_ts_iterate(&ts, t, &out), 1);
+    for (; t < T0 + 35; t += 0.5) ck_assert_int_le(kelp_timerscript_iterate(&ts, t, &out), 1);
     ck_assert_int_eq(cs.n, 3);
-    if (!isfinite(step)) ck_assert_int_eq(kelp_ts_iterate(&ts, step, &out), KELP_ERR_ARG);
+    if (!isfinite(step)) ck_assert_int_eq(kelp_timerscript_iterate(&ts, step, &out), KELP_ERR_ARG);
     kelp_time from = t + offset_of(step);
     int most = 0, next = -1;
     for (int k = 0; k < 200; k++) {
-        int n = kelp_ts_iterate(&ts, from + k * 0.5, &out);
+        int n = kelp_timerscript_iterate(&ts, from + k * 0.5, &out);
         if (n > most) most = n;
         if (n > 0 && next < 0) next = k;
     }
@@ -804,10 +804,10 @@ END_TEST
 START_TEST(pathcheck_step)
 {
     double step = STEP[_i];
-    static kelp_field_upc p;
-    kelp_field_upc_cfg cfg;
-    kelp_field_upc_cfg_default(&cfg);
-    ck_assert_int_eq(kelp_field_upc_init(&p, &cfg), 0);
+    static kelp_pathcheck p;
+    kelp_pathcheck_cfg cfg;
+    kelp_pathcheck_cfg_default(&cfg);
+    ck_assert_int_eq(kelp_pathcheck_init(&p, &cfg), 0);
     kelp_field_sink out = { NULL, count_pub, NULL };
     count_sink cs = { NULL, 0, 0, false, NULL };
     out.ctx = &cs;
@@ -816,19 +816,19 @@ START_TEST(pathcheck_step)
     kelp_time t = T0;
     for (; t < T0 + 20; t += 1, x += 1) {
         snprintf(r, sizeof r, "NAME=alpha,TYPE=kayak,TIME=%.2f,X=%.1f,Y=0,SPD=1,HDG=90", t, x);
-        ck_assert_int_eq(kelp_field_upc_mail(&p, "NODE_REPORT", true, r, t, &out), 1);
+        ck_assert_int_eq(kelp_pathcheck_mail(&p, "NODE_REPORT", true, r, t, &out), 1);
     }
-    if (!isfinite(step)) ck_assert_int_eq(kelp_field_upc_mail(&p, "NODE_REPORT", true, r, step, &out), KELP_ERR_ARG);
+    if (!isfinite(step)) ck_assert_int_eq(kelp_pathcheck_mail(&p, "NODE_REPORT", true, r, step, &out), KELP_ERR_ARG);
     kelp_time from = t + offset_of(step);
     unsigned long before = p.node[0].reports;
     for (int k = 0; k < 15; k++, x += 1) {
         snprintf(r, sizeof r, "NAME=alpha,TYPE=kayak,TIME=%.2f,X=%.1f,Y=0,SPD=1,HDG=90", from + k, x);
-        ck_assert_int_eq(kelp_field_upc_mail(&p, "NODE_REPORT", true, r, from + k, &out), 1);
-        (void)kelp_field_upc_iterate(&p, from + k, &out);
+        ck_assert_int_eq(kelp_pathcheck_mail(&p, "NODE_REPORT", true, r, from + k, &out), 1);
+        (void)kelp_pathcheck_iterate(&p, from + k, &out);
     }
     ck_assert_msg(p.node[0].reports - before >= 14, "step %g: %lu of 15 reports taken", step,
                   p.node[0].reports - before);
-    double v = kelp_field_upc_speed(&p.node[0]);
+    double v = kelp_pathcheck_speed(&p.node[0]);
     ck_assert_msg(fabs(v - 1.0) < 0.01, "step %g: speed %g after the step", step, v);
 }
 END_TEST
@@ -877,24 +877,24 @@ END_TEST
 START_TEST(contactmgr_step)
 {
     double step = STEP[_i];
-    static kelp_cmgr c;
-    kelp_cmgr_init(&c, "abe");
+    static kelp_contactmgr c;
+    kelp_contactmgr_init(&c, "abe");
     count_sink cs = { "CONTACTS_RECAP", 0, 0, false, NULL };
     kelp_field_sink out = { &cs, count_pub, NULL };
-    kelp_cmgr_config_done(&c, false, 0, false, 0, &out);
+    kelp_contactmgr_config_done(&c, false, 0, false, 0, &out);
     char r[160];
     kelp_time t = T0;
-    for (int i = 0; i < 4; i++) ck_assert_int_eq(kelp_cmgr_mail(&c, (const char *[]){ "NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED" }[i], false, NULL, 0, t, NULL, &out), 1);
+    for (int i = 0; i < 4; i++) ck_assert_int_eq(kelp_contactmgr_mail(&c, (const char *[]){ "NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED" }[i], false, NULL, 0, t, NULL, &out), 1);
     for (; t < T0 + 20; t += 1) {
         snprintf(r, sizeof r, "NAME=ben,TYPE=kayak,TIME=%.2f,X=100,Y=0,SPD=0,HDG=90", t);
-        (void)kelp_cmgr_mail(&c, "NODE_REPORT", true, r, 0, t, NULL, &out);
-        kelp_cmgr_iterate(&c, t, &out);
+        (void)kelp_contactmgr_mail(&c, "NODE_REPORT", true, r, 0, t, NULL, &out);
+        kelp_contactmgr_iterate(&c, t, &out);
     }
     ck_assert_int_ge(cs.n, 18);
     if (!isfinite(step)) {
         unsigned long it = c.iterations;
-        ck_assert_int_eq(kelp_cmgr_mail(&c, "NODE_REPORT", true, r, 0, step, NULL, &out), KELP_ERR_ARG);
-        kelp_cmgr_iterate(&c, step, &out);
+        ck_assert_int_eq(kelp_contactmgr_mail(&c, "NODE_REPORT", true, r, 0, step, NULL, &out), KELP_ERR_ARG);
+        kelp_contactmgr_iterate(&c, step, &out);
         ck_assert_uint_eq(c.iterations, it);
     }
     kelp_time from = t + offset_of(step);
@@ -902,8 +902,8 @@ START_TEST(contactmgr_step)
     for (int k = 0; k < 15; k++) {
         int n = cs.n;
         snprintf(r, sizeof r, "NAME=ben,TYPE=kayak,TIME=%.2f,X=100,Y=0,SPD=0,HDG=90", from + k);
-        (void)kelp_cmgr_mail(&c, "NODE_REPORT", true, r, 0, from + k, NULL, &out);
-        kelp_cmgr_iterate(&c, from + k, &out);
+        (void)kelp_contactmgr_mail(&c, "NODE_REPORT", true, r, 0, from + k, NULL, &out);
+        kelp_contactmgr_iterate(&c, from + k, &out);
         ck_assert_int_le(cs.n - n, 1);
         if (cs.n > n && first < 0) first = k;
     }

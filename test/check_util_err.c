@@ -4,9 +4,9 @@
 
 START_TEST(strerror_known_and_unknown)
 {
-    ck_assert_str_eq(kelp_strerror(KELP_OK), "ok");
-    ck_assert_str_eq(kelp_strerror(KELP_ERR_NOSPACE), "storage too small");
-    ck_assert_str_eq(kelp_strerror(12345), "unknown error");
+    ck_assert_str_eq(kelp_err_str(KELP_OK), "ok");
+    ck_assert_str_eq(kelp_err_str(KELP_ERR_NOSPACE), "storage too small");
+    ck_assert_str_eq(kelp_err_str(12345), "unknown error");
 }
 END_TEST
 

@@ -10,7 +10,7 @@
 static const char *fx(double v, unsigned dec, bool strip)
 {
     static char buf[64];
-    ck_assert_int_ge(kelp_fmt_fixed(buf, sizeof buf, v, dec, strip), 0);
+    ck_assert_int_ge(kelp_util_fmt_fixed(buf, sizeof buf, v, dec, strip), 0);
     return buf;
 }
 
@@ -37,10 +37,10 @@ START_TEST(fmt_fixed_strip_special_and_space)
     ck_assert_str_eq(fx(-INFINITY, 2, false), "-inf");
     ck_assert_str_eq(fx(0.1234567891, 12, false), "0.123456789"); /* at most 9 decimals */
     char small[4];
-    ck_assert_int_eq(kelp_fmt_fixed(small, sizeof small, 12345.5, 1, false), 7); /* needed length */
+    ck_assert_int_eq(kelp_util_fmt_fixed(small, sizeof small, 12345.5, 1, false), 7); /* needed length */
     ck_assert_str_eq(small, "123");                                              /* truncated, NUL */
     char b[32] = "untouched";
-    ck_assert_int_eq(kelp_fmt_fixed(b, sizeof b, 1e19, 2, false), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_util_fmt_fixed(b, sizeof b, 1e19, 2, false), KELP_ERR_RANGE);
     ck_assert_str_eq(b, "untouched");
     /* whole and fraction kept apart: exact where |v| * 10^dec would pass 2^53 */
     ck_assert_str_eq(fx(1e18, 2, false), "1000000000000000000.00");
@@ -52,21 +52,21 @@ END_TEST
 START_TEST(parse_finite_and_strieq)
 {
     double v = 0;
-    ck_assert_int_eq(kelp_parse_finite(" 12.5e1 ", 8, &v), KELP_OK);
+    ck_assert_int_eq(kelp_util_parse_finite(" 12.5e1 ", 8, &v), KELP_OK);
     ck_assert(v == 125.0);
-    ck_assert_int_eq(kelp_parse_finite("inf", 3, &v), KELP_ERR_PARSE);
-    ck_assert_int_eq(kelp_parse_finite("nan", 3, &v), KELP_ERR_PARSE);
-    ck_assert_int_eq(kelp_parse_finite("1e400", 5, &v), KELP_ERR_PARSE);
-    ck_assert_int_eq(kelp_parse_double("1e400", 5, &v), KELP_OK);
+    ck_assert_int_eq(kelp_util_parse_finite("inf", 3, &v), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_util_parse_finite("nan", 3, &v), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_util_parse_finite("1e400", 5, &v), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_util_parse_double("1e400", 5, &v), KELP_OK);
     ck_assert(isinf(v));
-    ck_assert_int_eq(kelp_parse_finite("0.1", 3, &v), KELP_OK);
+    ck_assert_int_eq(kelp_util_parse_finite("0.1", 3, &v), KELP_OK);
     ck_assert(v == 0.1);
-    ck_assert(kelp_strieq("Waypoint", "WAYPOINT"));
-    ck_assert(!kelp_strieq("Waypoint", "WAYPOINTS"));
-    ck_assert(!kelp_strieq("", "a"));
-    ck_assert(kelp_strieq("", ""));
-    ck_assert(kelp_strieq_n("SPEEDx", 5, "speed"));
-    ck_assert(!kelp_strieq_n("SPE", 3, "speed"));
+    ck_assert(kelp_util_strieq("Waypoint", "WAYPOINT"));
+    ck_assert(!kelp_util_strieq("Waypoint", "WAYPOINTS"));
+    ck_assert(!kelp_util_strieq("", "a"));
+    ck_assert(kelp_util_strieq("", ""));
+    ck_assert(kelp_util_strieq_n("SPEEDx", 5, "speed"));
+    ck_assert(!kelp_util_strieq_n("SPE", 3, "speed"));
 }
 END_TEST
 
@@ -114,7 +114,7 @@ START_TEST(parse_double_agrees_with_strtod)
             len = snprintf(buf, sizeof buf, "%.17g", ldexp((double)(rnd() >> 11), (int)(rnd() % 2100) - 1100));
         }
         double want = strtod(buf, NULL), got = -1;
-        ck_assert_int_eq(kelp_parse_double(buf, (size_t)len, &got), KELP_OK);
+        ck_assert_int_eq(kelp_util_parse_double(buf, (size_t)len, &got), KELP_OK);
         if (memcmp(&want, &got, sizeof got) != 0)
             ck_abort_msg("%s: strtod %.17g, kelp %.17g", buf, want, got);
         n++;
@@ -132,13 +132,13 @@ START_TEST(parse_format_parse_is_stable)
     for (size_t i = 0; i < sizeof in / sizeof in[0]; i++) {
         double a, b;
         char t[64];
-        ck_assert_int_eq(kelp_parse_double(in[i], strlen(in[i]), &a), KELP_OK);
+        ck_assert_int_eq(kelp_util_parse_double(in[i], strlen(in[i]), &a), KELP_OK);
         ck_assert(a == strtod(in[i], NULL));
-        int n = kelp_fmt_fixed(t, sizeof t, a, 6, false);
+        int n = kelp_util_fmt_fixed(t, sizeof t, a, 6, false);
         if (n < 0 || n >= (int)sizeof t) continue; /* beyond the formatter's range */
-        ck_assert_int_eq(kelp_parse_double(t, (size_t)n, &b), KELP_OK);
+        ck_assert_int_eq(kelp_util_parse_double(t, (size_t)n, &b), KELP_OK);
         char u[64];
-        ck_assert_int_eq(kelp_fmt_fixed(u, sizeof u, b, 6, false), n);
+        ck_assert_int_eq(kelp_util_fmt_fixed(u, sizeof u, b, 6, false), n);
         ck_assert_str_eq(t, u);
     }
 }
@@ -162,19 +162,19 @@ END_TEST
 START_TEST(big_endian_bytes)
 {
     uint8_t b[8];
-    kelp_be_put64(b, 0x0102030405060708ull);
+    kelp_util_be_put64(b, 0x0102030405060708ull);
     ck_assert_uint_eq(b[0], 1);
     ck_assert_uint_eq(b[7], 8);
-    ck_assert(kelp_be_get64(b) == 0x0102030405060708ull);
-    kelp_be_put32(b, 0xdeadbeefu);
+    ck_assert(kelp_util_be_get64(b) == 0x0102030405060708ull);
+    kelp_util_be_put32(b, 0xdeadbeefu);
     ck_assert_uint_eq(b[0], 0xde);
     ck_assert_uint_eq(b[3], 0xef);
-    ck_assert_uint_eq(kelp_be_get32(b), 0xdeadbeefu);
+    ck_assert_uint_eq(kelp_util_be_get32(b), 0xdeadbeefu);
     long l;
-    ck_assert_int_eq(kelp_parse_long(" -42 ", 5, &l), KELP_OK);
+    ck_assert_int_eq(kelp_util_parse_long(" -42 ", 5, &l), KELP_OK);
     ck_assert_int_eq(l, -42);
-    ck_assert_int_eq(kelp_parse_long("99999999999999999999", 20, &l), KELP_ERR_RANGE);
-    ck_assert_int_eq(kelp_parse_long("4x", 2, &l), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_util_parse_long("99999999999999999999", 20, &l), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_util_parse_long("4x", 2, &l), KELP_ERR_PARSE);
 }
 END_TEST
 

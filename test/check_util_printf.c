@@ -11,7 +11,7 @@ static int own(char *buf, size_t cap, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    int n = kelp_vsnprintf_own(buf, cap, fmt, ap);
+    int n = kelp_util_vsnprintf_own(buf, cap, fmt, ap);
     va_end(ap);
     return n;
 }
@@ -61,7 +61,7 @@ START_TEST(exponent_and_general)
     char rb[40]; /* beyond 15 digits: not printf's exact expansion, but the same double back */
     double back = 0;
     ck_assert_int_gt(own(rb, sizeof rb, "%.17g", 0.1), 0);
-    ck_assert_int_eq(kelp_parse_double(rb, strlen(rb), &back), 0);
+    ck_assert_int_eq(kelp_util_parse_double(rb, strlen(rb), &back), 0);
     ck_assert(back == 0.1);
     SAME("%#g %#.3g", 1.0, 2.5);
     SAME("%g|%8.3g|%-8.3g|", 1e100, 3.14159, 3.14159);
@@ -71,7 +71,7 @@ END_TEST
 START_TEST(truncation_and_return)
 {
     char b[8];
-    ck_assert_int_eq(kelp_snprintf(b, sizeof b, "%s=%d", "speed", 12345), 11);
+    ck_assert_int_eq(kelp_util_snprintf(b, sizeof b, "%s=%d", "speed", 12345), 11);
     ck_assert_str_eq(b, "speed=1");
     char z[1] = "x";
     ck_assert_int_eq(own(z, 0, "%d", 5), 1); /* cap 0: nothing written */

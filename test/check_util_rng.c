@@ -10,12 +10,12 @@ START_TEST(glibc_rand_sequence)
 {
     const unsigned seeds[] = {1, 0, 42, 20250101, 0xFFFFFFFFu};
     for (size_t k = 0; k < sizeof seeds / sizeof seeds[0]; k++) {
-        kelp_glibc_rand g;
-        kelp_glibc_rand_seed(&g, seeds[k]);
+        kelp_rng_glibc g;
+        kelp_rng_glibc_seed(&g, seeds[k]);
         srand(seeds[k]);
         for (int i = 0; i < 1000; i++) {
             int want = rand();
-            int32_t got = kelp_glibc_rand_next(&g);
+            int32_t got = kelp_rng_glibc_next(&g);
             if (got != want) ck_abort_msg("seed %u value %d: libc %d, kelp %d", seeds[k], i, want, (int)got);
         }
     }

@@ -95,7 +95,7 @@ static bool report(const table *tb, const kelp_post *e, char *id, char *range, c
 {
     if (!e->is_string || !is_report(tb, e->var)) return false;
     char vn[64];
-    if (tb->vname && (kelp_kv_get(e->sval, ',', "vname", vn, sizeof vn) != 1 || !kelp_strieq(vn, tb->vname))) return false;
+    if (tb->vname && (kelp_kv_get(e->sval, ',', "vname", vn, sizeof vn) != 1 || !kelp_util_strieq(vn, tb->vname))) return false;
     if (kelp_kv_get(e->sval, ',', "range", range, ID_LEN) != 1) return false;
     if (kelp_kv_get(e->sval, ',', "id", id, ID_LEN) != 1 && kelp_kv_get(e->sval, ',', "target", id, ID_LEN) != 1)
         snprintf(id, ID_LEN, "range");
@@ -107,12 +107,12 @@ static bool report(const table *tb, const kelp_post *e, char *id, char *range, c
 static int pass(const char *path, table *tb, bool print)
 {
     kelp_diag err = {0};
-    kelp_postlog *p = kelp_postlog_open(path, NULL, &err);
+    kelp_alog_postlog *p = kelp_alog_postlog_open(path, NULL, &err);
     if (!p) return fprintf(stderr, "alog2rng: %s\n", kelp_diag_text(&err)), -1;
     kelp_post e;
     int rc;
     char id[ID_LEN], range[ID_LEN], key[64];
-    while ((rc = kelp_postlog_next(p, &e)) > 0) {
+    while ((rc = kelp_alog_postlog_next(p, &e)) > 0) {
         static const char *const navs[] = { "NAV_X", "NAV_Y", "NAV_HEADING", "NAV_HDG" };
         for (int k = 0; k < 4; k++)
             if (!e.is_string && strcmp(e.var, navs[k]) == 0) tb->nav[k < 3 ? k : 2] = e.dval, tb->nav_ok[k < 3 ? k : 2] = true;
@@ -120,14 +120,14 @@ static int pass(const char *path, table *tb, bool print)
         int i = id_index(tb, id, !print);
         if (!print) {
             char t[64];
-            size_t tl = (size_t)snprintf(t, sizeof t, "%.3f", e.time - kelp_postlog_start(p));
+            size_t tl = (size_t)snprintf(t, sizeof t, "%.3f", e.time - kelp_alog_postlog_start(p));
             if (tl > tb->wtime) tb->wtime = tl;
             if (strlen(range) > tb->wrange) tb->wrange = strlen(range);
             continue;
         }
         if (tb->flat) {
             char t[64];
-            snprintf(t, sizeof t, "%.3f", e.time - kelp_postlog_start(p));
+            snprintf(t, sizeof t, "%.3f", e.time - kelp_alog_postlog_start(p));
             cell(tb, true, t, tb->wtime + 1);
             cell(tb, false, id, tb->wid + 1);
             cell(tb, false, range, tb->wrange);
@@ -136,11 +136,11 @@ static int pass(const char *path, table *tb, bool print)
             continue;
         }
         if (i < 0) continue;
-        if (tb->open && (tb->have[i] || strcmp(key, tb->key) != 0 || (!key[0] && fabs(e.time - kelp_postlog_start(p) - tb->t) > 0.5)))
+        if (tb->open && (tb->have[i] || strcmp(key, tb->key) != 0 || (!key[0] && fabs(e.time - kelp_alog_postlog_start(p) - tb->t) > 0.5)))
             emit(tb);
         if (!tb->open) {
             tb->open = true;
-            tb->t = e.time - kelp_postlog_start(p);
+            tb->t = e.time - kelp_alog_postlog_start(p);
             memcpy(tb->row_nav, tb->nav, sizeof tb->nav);
             memcpy(tb->row_nav_ok, tb->nav_ok, sizeof tb->nav_ok);
             snprintf(tb->key, sizeof tb->key, "%s", key);
@@ -149,7 +149,7 @@ static int pass(const char *path, table *tb, bool print)
         tb->have[i] = true;
     }
     if (print) emit(tb);
-    kelp_postlog_close(p);
+    kelp_alog_postlog_close(p);
     if (rc < 0) return fprintf(stderr, "alog2rng: read error in %s\n", path), -1;
     return 0;
 }
@@ -180,20 +180,20 @@ int main(int argc, char **argv)
         switch (c) {
         case KELP_CLI_EXIT: return status;
         case 'n':
-            if (kelp_parse_bool(optarg, strlen(optarg), &tb.with_nav) < 0) return kelp_cli_error(&cli, "--nav takes true or false");
+            if (kelp_util_parse_bool(optarg, strlen(optarg), &tb.with_nav) < 0) return kelp_cli_error(&cli, "--nav takes true or false");
             break;
         case 'r': tb.var = optarg; break;
         case 'V': tb.vname = optarg; break;
         case 'H': tb.header = false; break;
         case 'd':
-            if (kelp_strieq(optarg, "tab")) tb.delim = DELIM_TAB;
-            else if (kelp_strieq(optarg, "space")) tb.delim = DELIM_SPACE;
-            else if (kelp_strieq(optarg, "padded")) tb.delim = DELIM_PADDED;
+            if (kelp_util_strieq(optarg, "tab")) tb.delim = DELIM_TAB;
+            else if (kelp_util_strieq(optarg, "space")) tb.delim = DELIM_SPACE;
+            else if (kelp_util_strieq(optarg, "padded")) tb.delim = DELIM_PADDED;
             else return kelp_cli_error(&cli, "--delim takes tab, space or padded");
             break;
         case 'R':
-            if (kelp_strieq(optarg, "table")) tb.flat = false;
-            else if (kelp_strieq(optarg, "flat") || kelp_strieq(optarg, "default")) tb.flat = true;
+            if (kelp_util_strieq(optarg, "table")) tb.flat = false;
+            else if (kelp_util_strieq(optarg, "flat") || kelp_util_strieq(optarg, "default")) tb.flat = true;
             else return kelp_cli_error(&cli, "--report takes table or flat");
             break;
         case 1000: verbose = true; break;

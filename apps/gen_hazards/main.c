@@ -21,19 +21,19 @@ typedef struct objset {
 static int parse_set(const char *s, objset *o)
 {
     const char *comma = strchr(s, ',');
-    if (!comma || kelp_parse_long(s, (size_t)(comma - s), &o->count) < 0 || o->count < 0 || o->count > GEN_MAX_OBJECTS)
+    if (!comma || kelp_util_parse_long(s, (size_t)(comma - s), &o->count) < 0 || o->count < 0 || o->count > GEN_MAX_OBJECTS)
         return -1;
     const char *t = comma + 1;
     while (*t == ' ') t++;
-    if (!kelp_strieq(t, "hazard") && !kelp_strieq(t, "benign")) return -1;
-    kelp_snprintf(o->type, sizeof o->type, "%s", kelp_strieq(t, "hazard") ? "hazard" : "benign");
+    if (!kelp_util_strieq(t, "hazard") && !kelp_util_strieq(t, "benign")) return -1;
+    kelp_util_snprintf(o->type, sizeof o->type, "%s", kelp_util_strieq(t, "hazard") ? "hazard" : "benign");
     return 0;
 }
 
 /* 1 decimal, trailing zeros dropped (the seed's "x=32.6,y=38") */
 static void fmt1(char *b, size_t cap, double v)
 {
-    if (kelp_fmt_fixed(b, cap, v, 1, true) < 0) kelp_snprintf(b, cap, "0");
+    if (kelp_util_fmt_fixed(b, cap, v, 1, true) < 0) kelp_util_snprintf(b, cap, "0");
 }
 
 int main(int argc, char **argv)
@@ -66,14 +66,14 @@ int main(int argc, char **argv)
         } else if (opt == 'p') {
             char spec[4096];
             kelp_diag dg = { 0 };
-            int n = kelp_snprintf(spec, sizeof spec, "pts={%s}", optarg);
-            if (n < 0 || (size_t)n >= sizeof spec || kelp_view_parse(KELP_VIEW_POLYGON, spec, strlen(spec), &poly, &dg) < 0 ||
+            int n = kelp_util_snprintf(spec, sizeof spec, "pts={%s}", optarg);
+            if (n < 0 || (size_t)n >= sizeof spec || kelp_nodereport_view_parse(KELP_VIEW_POLYGON, spec, strlen(spec), &poly, &dg) < 0 ||
                 poly.npts < 3)
                 return kelp_cli_error(&cli, "bad --polygon '%s': %s", optarg, dg.code ? kelp_diag_text(&dg) : "three vertices or more");
             have_poly = true;
         } else if (opt == 's') {
             long long v;
-            if (kelp_parse_llong(optarg, strlen(optarg), &v) < 0) return kelp_cli_error(&cli, "bad --seed '%s'", optarg);
+            if (kelp_util_parse_llong(optarg, strlen(optarg), &v) < 0) return kelp_cli_error(&cli, "bad --seed '%s'", optarg);
             seed = (unsigned long long)v;
             have_seed = true;
         } else if (opt == 'l') {
@@ -94,14 +94,14 @@ int main(int argc, char **argv)
             double x, y, rx, ry;
             int tries = 0;
             do { /* the printed (rounded) point must lie in the polygon too */
-                if (kelp_field_uhz_random_point(pts, poly.npts, &rng, &x, &y) < 0) {
+                if (kelp_hazardsensor_random_point(pts, poly.npts, &rng, &x, &y) < 0) {
                     fprintf(stderr, "gen_hazards: the polygon has no area (is it convex?)\n");
                     return 1;
                 }
                 fmt1(xs, sizeof xs, x);
                 fmt1(ys, sizeof ys, y);
-                if (kelp_parse_double(xs, strlen(xs), &rx) < 0 || kelp_parse_double(ys, strlen(ys), &ry) < 0) rx = ry = 0;
-            } while (!kelp_field_uhz_in_convex(pts, poly.npts, rx, ry) && ++tries < 1000);
+                if (kelp_util_parse_double(xs, strlen(xs), &rx) < 0 || kelp_util_parse_double(ys, strlen(ys), &ry) < 0) rx = ry = 0;
+            } while (!kelp_hazardsensor_in_convex(pts, poly.npts, rx, ry) && ++tries < 1000);
             if (labels) printf("x=%s,y=%s,type=%s,label=%ld\n", xs, ys, set[s].type, index);
             else printf("x=%s,y=%s,type=%s\n", xs, ys, set[s].type);
             index++;

@@ -138,12 +138,12 @@ static void advance_to(replay *r, int64_t t_us)
 
 bool replay_num(const char *s, double *out)
 {
-    return s && *s && kelp_parse_double(s, strlen(s), out) == KELP_OK;
+    return s && *s && kelp_util_parse_double(s, strlen(s), out) == KELP_OK;
 }
 
 bool replay_int(const char *s, long *out)
 {
-    return s && *s && kelp_parse_long(s, strlen(s), out) == KELP_OK;
+    return s && *s && kelp_util_parse_long(s, strlen(s), out) == KELP_OK;
 }
 
 /* "key=value" option among the remaining words */
@@ -172,7 +172,7 @@ bool replay_known_opts(replay *r, char **w, int n, const char *const *keys)
 
 int replay_hex_bytes(const char *h, uint8_t *out, size_t cap, size_t *n)
 {
-    return kelp_hex_decode(h, strlen(h), out, cap, n);
+    return kelp_util_hex_decode(h, strlen(h), out, cap, n);
 }
 
 /* ------------------------------------------------------------------ the timeline */
@@ -211,7 +211,7 @@ void replay_run_line(replay *r, char *line)
         if (rc == KELP_ERR_NOTFOUND && u.dest != r->cfg.modem_id)
             fprintf(r->out, "mac_update ignored (dest %d is not us)\n", u.dest);
         else if (rc == KELP_ERR_NOTFOUND) fprintf(r->out, "mac_update remove: no such slot\n");
-        else if (rc) fprintf(r->out, "mac_update refused (%s)\n", kelp_strerror(rc));
+        else if (rc) fprintf(r->out, "mac_update refused (%s)\n", kelp_err_str(rc));
         else fprintf(r->out, "mac_update slots=%zu cycle=%u\n", r->h.node.mac.n, kelp_mac_cycle_length(&r->h.node.mac));
         return;
     }

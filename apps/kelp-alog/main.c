@@ -32,16 +32,16 @@ typedef struct opts {
 static int to_alog(const char *in, const char *outp, const opts *o)
 {
     kelp_diag err = {0};
-    kelp_postlog *p = kelp_postlog_open(in, NULL, &err);
+    kelp_alog_postlog *p = kelp_alog_postlog_open(in, NULL, &err);
     if (!p) return fprintf(stderr, "kelp-alog: %s\n", kelp_diag_text(&err)), 1;
-    if (kelp_postlog_is_alog(p)) {
-        kelp_postlog_close(p);
+    if (kelp_alog_postlog_is_alog(p)) {
+        kelp_alog_postlog_close(p);
         return fprintf(stderr, "kelp-alog: %s is already an .alog\n", in), 1;
     }
     bool std_out = strcmp(outp, "-") == 0;
     FILE *f = std_out ? stdout : fopen(outp, "w");
     if (!f) {
-        kelp_postlog_close(p);
+        kelp_alog_postlog_close(p);
         return fprintf(stderr, "kelp-alog: cannot write %s\n", outp), 1;
     }
     static char line[KELP_MAX_SVAL + 512];
@@ -49,19 +49,19 @@ static int to_alog(const char *in, const char *outp, const opts *o)
     kelp_post e;
     long n = 0, bad = 0;
     int rc;
-    while ((rc = kelp_postlog_next(p, &e)) > 0) {
+    while ((rc = kelp_alog_postlog_next(p, &e)) > 0) {
         if (n == 0 && bad == 0) {
             time_t now = time(NULL);
             snprintf(comm, sizeof comm, "%s", e.community);
             fprintf(f, "%s\n%%%% LOG FILE:       %s\n%%%% FILE OPENED ON  %s%%%% LOGSTART        %20.16g\n",
-                    KELP_ALOG_BANNER, outp, ctime(&now), kelp_postlog_start(p));
+                    KELP_ALOG_BANNER, outp, ctime(&now), kelp_alog_postlog_start(p));
             if (o->mark) fprintf(f, "%%%% DATATYPE MARKING ON\n");
             if (comm[0]) fprintf(f, "%%%% COMMUNITY       %s\n", comm);
             fprintf(f, "%s\n", KELP_ALOG_BANNER);
         }
         if (strcmp(e.community, comm) != 0 && e.community[0]) snprintf(src, sizeof src, "%s@%s", e.src, e.community);
         else snprintf(src, sizeof src, "%s", e.src);
-        int k = kelp_alog_format_line(line, sizeof line, e.time - kelp_postlog_start(p), e.var, src[0] ? src : "unknown",
+        int k = kelp_alog_format_line(line, sizeof line, e.time - kelp_alog_postlog_start(p), e.var, src[0] ? src : "unknown",
                                       e.is_string, e.sval, e.dval, o->dp, o->mark);
         if (k < 0) {
             bad++; /* a value with a line break, a name with white space */
@@ -70,8 +70,8 @@ static int to_alog(const char *in, const char *outp, const opts *o)
         fwrite(line, 1, (size_t)k, f);
         n++;
     }
-    kelp_postlog_stats st = kelp_postlog_get_stats(p);
-    kelp_postlog_close(p);
+    kelp_alog_postlog_stats st = kelp_alog_postlog_get_stats(p);
+    kelp_alog_postlog_close(p);
     if ((std_out ? fflush(f) : fclose(f)) != 0 || rc < 0) return fprintf(stderr, "kelp-alog: read or write error\n"), 1;
     fprintf(std_out ? stderr : stdout, "kelp-alog: %ld postings written to %s; skipped %zu (sync, binary, other types) and %ld (not "
            "representable on a line)%s\n", n, outp, st.skipped, bad, st.damaged ? "; the log has damaged stretches" : "");
@@ -81,15 +81,15 @@ static int to_alog(const char *in, const char *outp, const opts *o)
 static int to_lcm(const char *in, const char *outp, const opts *o)
 {
     kelp_diag err = {0};
-    kelp_postlog *p = kelp_postlog_open(in, o->community, &err);
+    kelp_alog_postlog *p = kelp_alog_postlog_open(in, o->community, &err);
     if (!p) return fprintf(stderr, "kelp-alog: %s\n", kelp_diag_text(&err)), 1;
-    if (!kelp_postlog_is_alog(p)) {
-        kelp_postlog_close(p);
+    if (!kelp_alog_postlog_is_alog(p)) {
+        kelp_alog_postlog_close(p);
         return fprintf(stderr, "kelp-alog: %s is an LCM log already\n", in), 1;
     }
     FILE *f = fopen(outp, "wb");
     if (!f) {
-        kelp_postlog_close(p);
+        kelp_alog_postlog_close(p);
         return fprintf(stderr, "kelp-alog: cannot write %s\n", outp), 1;
     }
     static kelp_var v;
@@ -98,7 +98,7 @@ static int to_lcm(const char *in, const char *outp, const opts *o)
     long n = 0, bad = 0;
     int rc;
     bool werr = false;
-    while ((rc = kelp_postlog_next(p, &e)) > 0) {
+    while ((rc = kelp_alog_postlog_next(p, &e)) > 0) {
         memset(&v, 0, sizeof v);
         v.time = e.time;
         snprintf(v.name, sizeof v.name, "%s", e.var);
@@ -122,8 +122,8 @@ static int to_lcm(const char *in, const char *outp, const opts *o)
                fwrite(buf, 1, len, f) != len;
         n++;
     }
-    kelp_postlog_stats st = kelp_postlog_get_stats(p);
-    kelp_postlog_close(p);
+    kelp_alog_postlog_stats st = kelp_alog_postlog_get_stats(p);
+    kelp_alog_postlog_close(p);
     if (fclose(f) != 0 || werr || rc < 0) return fprintf(stderr, "kelp-alog: read or write error\n"), 1;
     printf("kelp-alog: %ld postings written to %s; skipped %zu bad line(s), %ld not encodable\n", n, outp, st.skipped, bad);
     return n ? 0 : 1;
@@ -150,7 +150,7 @@ int main(int argc, char **argv)
         switch (c) {
         case KELP_CLI_EXIT: return status;
         case 'p':
-            if (kelp_parse_long(optarg, strlen(optarg), &dp) < 0 || dp < 0 || dp > 9)
+            if (kelp_util_parse_long(optarg, strlen(optarg), &dp) < 0 || dp < 0 || dp > 9)
                 return kelp_cli_error(&cli, "--precision takes 0..9");
             o.dp = (int)dp;
             break;

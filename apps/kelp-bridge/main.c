@@ -116,7 +116,7 @@ static void on_udp(kelp_app *app, void *st, int fd)
         else if (rc == KELP_ERR_RANGE)
             b->rx_oversize++, kelp_app_run_warning(app, "oversize value (%zu-byte datagram, values up to %d bytes): dropped",
                                                    n, KELP_MAX_SVAL);
-        else if (rc < 0) b->rx_bad++, kelp_app_run_warning(app, "malformed bridge datagram: %s", kelp_strerror(rc));
+        else if (rc < 0) b->rx_bad++, kelp_app_run_warning(app, "malformed bridge datagram: %s", kelp_err_str(rc));
         else if (!kelp_bridge_allowed(b->allow, b->rxv->name)) {
             b->rx_denied++;
             kelp_app_run_warning(app, "%s from %s is not on the ALLOW list: dropped", b->rxv->name, b->rxv->community);
@@ -202,7 +202,7 @@ static int startup(kelp_app *app, void *st)
     b->rxv = malloc(sizeof *b->rxv);
     b->sock = -1;
     b->summary_at = kelp_app_time(app);
-    b->pshare = !kelp_strieq(kelp_app_name(app), "pMOOSBridge");
+    b->pshare = !kelp_util_strieq(kelp_app_name(app), "pMOOSBridge");
     if (b->pshare) {
         size_t i = 0; /* 24.8: <APPNAME>_CMD, upper case */
         for (const char *p = kelp_app_name(app); *p && i + 5 < sizeof b->cmd_var; p++)

@@ -21,7 +21,7 @@
 static double num(const char *s)
 {
     double d;
-    if (kelp_parse_double(s, strlen(s), &d) < 0) {
+    if (kelp_util_parse_double(s, strlen(s), &d) < 0) {
         fprintf(stderr, "kelp-busperf: '%s' is not a number\n", s);
         exit(2);
     }
@@ -122,7 +122,7 @@ int main(int argc, char **argv)
     const char *mode = argv[1];
     long n = (argc > 2 && strcmp(mode, "junk") != 0) ? (long)num(argv[2]) : 10000;
     char url[512];
-    if (kelp_lcm_url(NULL, url, sizeof url) < 0) return 1;
+    if (kelp_lcmbus_url(NULL, url, sizeof url) < 0) return 1;
     static ctr c;
     c.want = n;
     int raw = strncmp(mode, "raw-", 4) == 0;

@@ -1,6 +1,6 @@
 /* kelp-commander (the iCommander role): state shared by main.c (configuration, bus, the
  * scripted --send mode) and console.c (the ncurses console). The model is the core
- * kelp_cmdr (include/kelp/commander.h). */
+ * kelp_commander (include/kelp/commander.h). */
 #ifndef KELP_COMMANDER_APP_H
 #define KELP_COMMANDER_APP_H
 
@@ -21,7 +21,7 @@ typedef struct cmdr_app {
     kelp_dccl_loaded ld;
     kelp_dccl_builtin geo;
     kelp_dccl_modem_entry modems[64];
-    kelp_cmdr core;
+    kelp_commander core;
     char base_dir[512];
     char load[CMDR_MAX_LOAD][KELP_ACOMMS_MAX_PATH];
     unsigned n_load;

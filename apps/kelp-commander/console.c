@@ -34,7 +34,7 @@ static bool commit(cmdr_app *s, console *c)
     kelp_diag_clear(&why);
     if (!c->typing) return true;
     c->typing = false;
-    if (kelp_cmdr_set(&s->core, (unsigned)c->msg, c->row, c->buf, &why) < 0) {
+    if (kelp_commander_set(&s->core, (unsigned)c->msg, c->row, c->buf, &why) < 0) {
         status(c, "refused \"%s\": %s", c->buf, kelp_diag_text(&why));
         return false;
     }
@@ -52,8 +52,8 @@ static void insert(cmdr_app *s, console *c, const char *v)
 
 static void key_edit(cmdr_app *s, console *c, int k)
 {
-    const kelp_cmdr_msg *m = &s->core.open[c->msg];
-    const kelp_dccl_field *f = kelp_cmdr_row_field(m, c->row);
+    const kelp_commander_msg *m = &s->core.open[c->msg];
+    const kelp_dccl_field *f = kelp_commander_row_field(m, c->row);
     bool num = f->type == KELP_DCCL_T_INT || f->type == KELP_DCCL_T_FLOAT || f->type == KELP_DCCL_T_HEAD_TIME;
     size_t n = strlen(c->buf);
     if (k == KEY_UP || k == KEY_DOWN) {
@@ -69,7 +69,7 @@ static void key_edit(cmdr_app *s, console *c, int k)
     } else if (num && !c->typing && k == 't') {
         insert(s, c, "_time");
     } else if (f->type == KELP_DCCL_T_FLOAT && !c->typing && (k == 'y' || k == 'x')) {
-        (void)snprintf(c->buf, sizeof c->buf, "%s%u:", k == 'y' ? "y(lat)" : "x(lon)", kelp_cmdr_next_xy(m));
+        (void)snprintf(c->buf, sizeof c->buf, "%s%u:", k == 'y' ? "y(lat)" : "x(lon)", kelp_commander_next_xy(m));
         c->typing = true;
     } else if (k >= 32 && k < 127) {
         if (!c->typing) c->buf[0] = 0, n = 0;
@@ -90,11 +90,11 @@ static void menu_action(cmdr_app *s, console *c)
         c->screen_id = SCR_TEXT;
         break;
     case 2: {
-        kelp_cmdr_pub p[KELP_CMDR_MAX_PUBS];
+        kelp_commander_pub p[KELP_CMDR_MAX_PUBS];
         size_t n;
         kelp_diag why;
         kelp_diag_clear(&why);
-        if (kelp_cmdr_send(&s->core, (unsigned)c->msg, kelp_app_time(s->app), p, KELP_CMDR_MAX_PUBS, &n, &why) < 0) {
+        if (kelp_commander_send(&s->core, (unsigned)c->msg, kelp_app_time(s->app), p, KELP_CMDR_MAX_PUBS, &n, &why) < 0) {
             (void)snprintf(c->text, sizeof c->text, "cannot be sent: %s\n", why.code ? kelp_diag_text(&why) : "too long");
         } else {
             size_t at = 0;
@@ -111,14 +111,14 @@ static void menu_action(cmdr_app *s, console *c)
     case 3: c->screen_id = SCR_QUICK, c->sel = 0; break;
     case 4: insert(s, c, "_time"); break;
     case 5:
-        (void)snprintf(t, sizeof t, "y(lat)%u:", kelp_cmdr_next_xy(&s->core.open[c->msg]));
+        (void)snprintf(t, sizeof t, "y(lat)%u:", kelp_commander_next_xy(&s->core.open[c->msg]));
         (void)snprintf(c->buf, sizeof c->buf, "%s", t);
         c->typing = true;
         c->screen_id = SCR_EDIT;
         break;
     case 6: insert(s, c, s->cfg.community); break;
     case 7: c->screen_id = SCR_MODEM, c->sel = 0; break;
-    case 8: kelp_cmdr_clear(&s->core, (unsigned)c->msg), c->screen_id = SCR_EDIT; break;
+    case 8: kelp_commander_clear(&s->core, (unsigned)c->msg), c->screen_id = SCR_EDIT; break;
     case 9: c->screen_id = SCR_MAIN, c->sel = 0; break;
     default: c->screen_id = SCR_EDIT; break;
     }
@@ -186,7 +186,7 @@ static void key(cmdr_app *s, console *c, int k)
     switch (c->screen_id) {
     case SCR_MAIN: main_action(s, c); break;
     case SCR_SELECT: {
-        int m = kelp_cmdr_open(&s->core, s->ld.set.msgs[c->sel]->name);
+        int m = kelp_commander_open(&s->core, s->ld.set.msgs[c->sel]->name);
         if (m >= 0) edit(c, m);
         break;
     }

@@ -60,10 +60,10 @@ static int note_box(cmdr_app *s, int y)
 
 static void draw_edit(cmdr_app *s, console *c, int y)
 {
-    const kelp_cmdr_msg *m = &s->core.open[c->msg];
-    const kelp_dccl_field *f = kelp_cmdr_row_field(m, c->row);
+    const kelp_commander_msg *m = &s->core.open[c->msg];
+    const kelp_dccl_field *f = kelp_commander_row_field(m, c->row);
     char d[512];
-    kelp_cmdr_describe(f, d, sizeof d);
+    kelp_commander_describe(f, d, sizeof d);
     y = linef(y, "|Editing message variable %u of %u: %s", c->row + 1, m->n_rows, f->name);
     y = linef(y, "|%s", d);
     y = linef(y, "|%s", c->status);
@@ -76,10 +76,10 @@ static void draw_edit(cmdr_app *s, console *c, int y)
     int room = LINES - y, first = (int)c->row - room + 1;
     if (first < 0) first = 0;
     for (unsigned r = (unsigned)first; r < m->n_rows && y < LINES; r++) {
-        const kelp_dccl_field *rf = kelp_cmdr_row_field(m, r);
+        const kelp_dccl_field *rf = kelp_commander_row_field(m, r);
         const char *v = (r == c->row && c->typing) ? c->buf : m->val[r];
         if (r == c->row) attron(A_REVERSE);
-        y = linef(y, "|%u. %s (%s) |%s|", r + 1, rf->name, kelp_cmdr_type_name(rf), v);
+        y = linef(y, "|%u. %s (%s) |%s|", r + 1, rf->name, kelp_commander_type_name(rf), v);
         if (r == c->row) attroff(A_REVERSE);
     }
 }

@@ -31,7 +31,7 @@ int cmdr_load_file(cmdr_app *s, const char *path, kelp_diag *d)
     text[n] = 0;
     kelp_diag why;
     kelp_diag_clear(&why);
-    int rc = kelp_cmdr_load(&s->core, text, &why);
+    int rc = kelp_commander_load(&s->core, text, &why);
     if (rc < 0) {
         (void)kelp_failf(d, rc, "%s:%d: %s", p, why.line, kelp_diag_text(&why));
         (void)kelp_diag_where(d, why.line, 0);
@@ -45,7 +45,7 @@ int cmdr_save_file(cmdr_app *s, const char *path, kelp_diag *d)
     size_t n;
     char p[1024];
     full_path(s, path, p, sizeof p);
-    if (kelp_cmdr_save(&s->core, text, sizeof text, &n) < 0) return kelp_fail(d, KELP_ERR_NOSPACE, "too much to save");
+    if (kelp_commander_save(&s->core, text, sizeof text, &n) < 0) return kelp_fail(d, KELP_ERR_NOSPACE, "too much to save");
     FILE *f = fopen(p, "w");
     if (!f || fwrite(text, 1, n, f) != n) {
         if (f) fclose(f);
@@ -57,13 +57,13 @@ int cmdr_save_file(cmdr_app *s, const char *path, kelp_diag *d)
 /* publish a message's variables for pAcommsHandler; text gets what was sent (or why not) */
 int cmdr_send(cmdr_app *s, unsigned msg, char *text, size_t cap)
 {
-    kelp_cmdr_pub pubs[KELP_CMDR_MAX_PUBS];
+    kelp_commander_pub pubs[KELP_CMDR_MAX_PUBS];
     size_t n, at = 0;
     kelp_diag why;
     kelp_diag_clear(&why);
-    int rc = kelp_cmdr_send(&s->core, msg, kelp_app_time(s->app), pubs, KELP_CMDR_MAX_PUBS, &n, &why);
+    int rc = kelp_commander_send(&s->core, msg, kelp_app_time(s->app), pubs, KELP_CMDR_MAX_PUBS, &n, &why);
     if (rc < 0) {
-        (void)snprintf(text, cap, "not sent: %s", kelp_diag_text(&why)[0] ? kelp_diag_text(&why) : kelp_strerror(rc));
+        (void)snprintf(text, cap, "not sent: %s", kelp_diag_text(&why)[0] ? kelp_diag_text(&why) : kelp_err_str(rc));
         return rc;
     }
     text[0] = 0;

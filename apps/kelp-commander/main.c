@@ -1,6 +1,6 @@
 /* kelp-commander: the iCommander role of Goby 1.1 (seed 002 section 2.4, acomms.md 7.1): a
  * console that loads the DCCL XML files pAcommsHandler loads and sends command messages by
- * publishing the variables pAcommsHandler builds them from. The model is the core kelp_cmdr
+ * publishing the variables pAcommsHandler builds them from. The model is the core kelp_commander
  * (include/kelp/commander.h); console.c draws it with ncurses; this file reads the block,
  * wires the bus and runs the scripted mode:
  *
@@ -44,7 +44,7 @@ static int extra_field(void *ctx, const kelp_mission_node *n, kelp_diag *d)
 
 static int script_fields(cmdr_app *s)
 {
-    int m = kelp_cmdr_open(&s->core, s->send_name);
+    int m = kelp_commander_open(&s->core, s->send_name);
     if (m < 0) return kelp_app_config_error(s->app, NULL, "--send %s: no such message in the XML files", s->send_name);
     for (int i = 0; i < s->n_send_args; i++) {
         char buf[KELP_CMDR_VAL + KELP_DCCL_MAX_NAME];
@@ -57,9 +57,9 @@ static int script_fields(cmdr_app *s)
             return kelp_app_config_error(s->app, NULL, "--send: \"%s\" is not field=value", s->send_args[i]);
         ((char *)k)[kl] = 0;
         ((char *)v)[vl] = 0;
-        int row = kelp_cmdr_row(&s->core.open[m], k);
+        int row = kelp_commander_row(&s->core.open[m], k);
         if (row < 0) return kelp_app_config_error(s->app, NULL, "--send: %s has no field %s", s->send_name, k);
-        if (kelp_cmdr_set(&s->core, (unsigned)m, (unsigned)row, v, &why) < 0)
+        if (kelp_commander_set(&s->core, (unsigned)m, (unsigned)row, v, &why) < 0)
             return kelp_app_config_error(s->app, NULL, "--send: %s=%s: %s", k, v, kelp_diag_text(&why));
     }
     return KELP_OK;
@@ -90,7 +90,7 @@ static int startup(kelp_app *app, void *st)
             return kelp_app_config_error(app, NULL, "%s", kelp_diag_text(&d));
     if (!s->cfg.nfiles) kelp_app_config_warning(app, "no dccl_cfg message_file: import one from the main menu");
     bool xy = s->core.force_xy_only;
-    kelp_cmdr_init(&s->core, &s->ld.set, &s->geo);
+    kelp_commander_init(&s->core, &s->ld.set, &s->geo);
     s->core.force_xy_only = xy;
     for (unsigned i = 0; i < s->n_load; i++)
         if (cmdr_load_file(s, s->load[i], &d) < 0) return kelp_app_config_error(app, NULL, "load: %s", kelp_diag_text(&d));
@@ -121,7 +121,7 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
     cmdr_app *s = st;
     bool ack = strcmp(v->name, "ACOMMS_ACK") == 0;
     if (v->kind == KELP_VAR_STRING && (ack || strcmp(v->name, "ACOMMS_EXPIRE") == 0)) {
-        if (kelp_cmdr_ack_note(&s->core, ack, v->sval, kelp_app_time(app), s->note, sizeof s->note) < 0) return;
+        if (kelp_commander_ack_note(&s->core, ack, v->sval, kelp_app_time(app), s->note, sizeof s->note) < 0) return;
         if (s->console) cmdr_console_note(s);
         if (!s->console && !s->send_name) fprintf(s->out, "%s\n", s->note), fflush(s->out);
         if (s->send_name && s->sent && strstr(s->note, s->send_name)) {
@@ -190,7 +190,7 @@ static int cmdr_arg(void *state, int val, const char *arg, kelp_diag *d)
         return 0;
     }
     if (val == OPT_WAIT) {
-        if (kelp_parse_finite(arg, strlen(arg), &s->wait) < 0 || s->wait < 0)
+        if (kelp_util_parse_finite(arg, strlen(arg), &s->wait) < 0 || s->wait < 0)
             return kelp_fail(d, KELP_ERR_PARSE, "--wait wants seconds");
         return 0;
     }

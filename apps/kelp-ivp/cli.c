@@ -33,7 +33,7 @@ int kivp_usage(void)
 int kivp_fail(const char *where, const kelp_diag *d, int rc)
 {
     fprintf(stderr, "kelp-ivp: %s%s%s\n", where ? where : "", where ? ": " : "",
-            d && d->code != KELP_OK ? kelp_diag_text(d) : kelp_strerror(rc));
+            d && d->code != KELP_OK ? kelp_diag_text(d) : kelp_err_str(rc));
     return 1;
 }
 
@@ -150,7 +150,7 @@ int kivp_build_couple(const kelp_ivp_domain *dom, const kelp_ivp_spec *a, const 
     free(fs.pcs);
     if (rc) {
         free(st);
-        (void)kelp_failf(d, rc, "couple failed: %s", kelp_strerror(rc));
+        (void)kelp_failf(d, rc, "couple failed: %s", kelp_err_str(rc));
     }
     return rc;
 }

@@ -9,7 +9,7 @@
 static void num(const char *name, double v)
 {
     char buf[64];
-    if (kelp_fmt_fixed(buf, sizeof buf, v, 6, true) < 0)
+    if (kelp_util_fmt_fixed(buf, sizeof buf, v, 6, true) < 0)
         (void)snprintf(buf, sizeof buf, "%g", v);
     printf("%s=%s\n", name, buf);
 }
@@ -25,7 +25,7 @@ int kivp_cmd_cpa(int argc, char **argv)
         return kivp_usage();
     double a[9] = {0, 0, 0, 0, 0, 0, 0, 0, 120};
     for (int i = 2; i < argc; i++)
-        if (kelp_parse_double(argv[i], strlen(argv[i]), &a[i - 2]) != 0) {
+        if (kelp_util_parse_double(argv[i], strlen(argv[i]), &a[i - 2]) != 0) {
             fprintf(stderr, "kelp-ivp: cpa: '%s' is not a number\n", argv[i]);
             return 1;
         }

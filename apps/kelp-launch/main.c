@@ -186,7 +186,7 @@ int main(int argc, char **argv)
         switch (opt) {
         case KELP_CLI_EXIT: return status;
         case 's':
-            if (kelp_parse_double(optarg, strlen(optarg), &run_seconds) < 0)
+            if (kelp_util_parse_double(optarg, strlen(optarg), &run_seconds) < 0)
                 return kelp_cli_error(&cli, "bad --run-seconds '%s'", optarg);
             break;
         case 'd': logdir = optarg; break;
@@ -226,7 +226,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "%s:%d: Community too long\n", mission, m->nodes[ix].line);
         return 1;
     }
-    if (kelp_lcm_mission_url(m, url, sizeof url, &ix) < 0) {
+    if (kelp_lcmbus_mission_url(m, url, sizeof url, &ix) < 0) {
         fprintf(stderr, "%s:%d: bad LCM_URL or ServerPort\n", mission, ix);
         return 1;
     }
@@ -238,7 +238,7 @@ int main(int argc, char **argv)
      * set KELP_WARP_EPOCH to warp relative to a chosen instant instead; it is passed on. */
     double ep = 0;
     const char *eps = getenv("KELP_WARP_EPOCH");
-    if (eps && kelp_parse_double(eps, strlen(eps), &ep) < 0) ep = 0;
+    if (eps && kelp_util_parse_double(eps, strlen(eps), &ep) < 0) ep = 0;
     double warp = 1;
     ix = kelp_mission_next(m, -1, -1, "MOOSTimeWarp");
     if (ix >= 0 && kelp_mission_double(&m->nodes[ix], &warp) < 0) warp = 1;

@@ -33,7 +33,7 @@ static double mono(void)
 static long num(const char *s)
 {
     long v;
-    if (kelp_parse_long(s, strlen(s), &v) < 0 || v < 0) {
+    if (kelp_util_parse_long(s, strlen(s), &v) < 0 || v < 0) {
         fprintf(stderr, "kelp-lcmprobe: '%s' is not a count\n", s);
         exit(2);
     }
@@ -232,7 +232,7 @@ int main(int argc, char **argv)
         if (o == 'c') chan = optarg;
     }
     char url[600];
-    if (kelp_lcm_url(url_in, url, sizeof url) < 0) return 1;
+    if (kelp_lcmbus_url(url_in, url, sizeof url) < 0) return 1;
     if (url_in) snprintf(url, sizeof url, "%s", url_in);
     int rest = argc - optind;
     char **a = argv + optind;

@@ -67,7 +67,7 @@ int main(int argc, char **argv)
         int ok = 0;
         if (strcmp(channel, KELP_BUS_SYNC_CHANNEL) == 0) {
             kelp_sync_req_t g;
-            ok = kelp_sync_req_decode(data, (size_t)datalen, &q) == 0 &&
+            ok = kelp_bus_sync_req_decode(data, (size_t)datalen, &q) == 0 &&
                  kelp_sync_req_t_decode(data, 0, datalen, &g) == datalen;
             if (ok) {
                 ok = strcmp(g.reply_channel, q.reply_channel) == 0 && g.npatterns == q.npatterns;

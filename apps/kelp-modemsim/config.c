@@ -39,7 +39,7 @@ static int parse_xyz(const char *s, double *x, double *y, double *z)
                 return -1;
             }
         }
-        if (kelp_parse_double(b, strlen(b), dst[i]) < 0 || !isfinite(*dst[i])) return -1;
+        if (kelp_util_parse_double(b, strlen(b), dst[i]) < 0 || !isfinite(*dst[i])) return -1;
     }
     return 0;
 }

@@ -109,7 +109,7 @@ static int startup(kelp_app *app, void *st)
     kelp_modemsim_ops ops = { host_write, channel_tx, on_event };
     kelp_time now = kelp_app_time(app);
     if ((rc = kelp_modemsim_init(&s->m, &c, &ops, s, now)) < 0)
-        return kelp_app_config_error(app, NULL, "bad modem configuration: %s", kelp_strerror(rc));
+        return kelp_app_config_error(app, NULL, "bad modem configuration: %s", kelp_err_str(rc));
     /* the host link */
     kelp_diag err = {0};
     if (s->tcp_port) {
@@ -127,7 +127,7 @@ static int startup(kelp_app *app, void *st)
     /* the channel: the community bus, or a bus of its own shared by several communities */
     if (s->channel_url[0]) {
         char url[512];
-        /* not kelp_lcm_url (it prefers $KELP_LCM_URL): the channel URL is explicit */
+        /* not kelp_lcmbus_url (it prefers $KELP_LCM_URL): the channel URL is explicit */
         if (strncmp(s->channel_url, "udpm://", 7) == 0 && !strstr(s->channel_url, "recv_buf_size"))
             snprintf(url, sizeof url, "%s%crecv_buf_size=%d", s->channel_url, strchr(s->channel_url, '?') ? '&' : '?',
                      KELP_LCM_RECV_BUF);

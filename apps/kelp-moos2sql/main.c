@@ -5,7 +5,7 @@
  *   kelp-moos2sql MISSION.moos [NAME]          live, in a community (ProcessConfig = iMOOS2SQL)
  *   kelp-moos2sql [OPTIONS] --log=LOG          from an LCM log
  *
- * The classification, schema and KML are the core kelp_m2s (include/kelp/moos2sql.h); the
+ * The classification, schema and KML are the core kelp_moos2sql (include/kelp/moos2sql.h); the
  * database is store.c. */
 #include <stdio.h>
 #include <stdlib.h>
@@ -16,8 +16,8 @@
 #include "store.h"
 
 typedef struct m2s {
-    kelp_m2s_cfg cfg;
-    kelp_m2s_fleet fleet;
+    kelp_moos2sql_cfg cfg;
+    kelp_moos2sql_fleet fleet;
     m2s_store *store;
     double kml_last;
     unsigned long bad, ignored;
@@ -29,11 +29,11 @@ typedef struct m2s {
 /* one posting: classify, store, update the fleet; -1 when the database fails */
 static int take(m2s *s, const kelp_var *v, char *err, size_t cap)
 {
-    kelp_m2s_record r;
+    kelp_moos2sql_record r;
     kelp_diag dg = { 0 };
     bool str = v->kind == KELP_VAR_STRING;
     if (v->kind == KELP_VAR_BINARY || !s->store) return 0;
-    int rc = kelp_m2s_classify(&s->cfg, v->name, v->community, v->time, str, v->sval, str ? v->slen : 0, v->dval, &r, &dg);
+    int rc = kelp_moos2sql_classify(&s->cfg, v->name, v->community, v->time, str, v->sval, str ? v->slen : 0, v->dval, &r, &dg);
     if (rc == 0) {
         s->ignored++;
         return 0;
@@ -43,7 +43,7 @@ static int take(m2s *s, const kelp_var *v, char *err, size_t cap)
         snprintf(s->last_bad, sizeof s->last_bad, "%s: %s", v->name, dg.code ? kelp_diag_text(&dg) : "unreadable");
         return 0;
     }
-    (void)kelp_m2s_fleet_update(&s->fleet, &s->cfg, &r);
+    (void)kelp_moos2sql_fleet_update(&s->fleet, &s->cfg, &r);
     return m2s_store_put(s->store, &r, err, cap);
 }
 
@@ -68,14 +68,14 @@ static void summary(m2s *s, FILE *out)
 
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
-    return kelp_m2s_config(&((m2s *)ctx)->cfg, key, val, d);
+    return kelp_moos2sql_config(&((m2s *)ctx)->cfg, key, val, d);
 }
 
 static int startup(kelp_app *app, void *st)
 {
     m2s *s = st;
-    kelp_m2s_cfg_default(&s->cfg);
-    kelp_m2s_fleet_init(&s->fleet);
+    kelp_moos2sql_cfg_default(&s->cfg);
+    kelp_moos2sql_fleet_init(&s->fleet);
     int rc = kelp_app_param_foreach(app, param, s);
     if (rc < 0) return rc;
     double lat, lon;
@@ -190,8 +190,8 @@ static const kelp_cli cli = {
 static int from_log(int argc, char **argv)
 {
     static m2s s;
-    kelp_m2s_cfg_default(&s.cfg);
-    kelp_m2s_fleet_init(&s.fleet);
+    kelp_moos2sql_cfg_default(&s.cfg);
+    kelp_moos2sql_fleet_init(&s.fleet);
     const char *log = NULL;
     kelp_diag dg = { 0 };
     int c, status;
@@ -199,12 +199,12 @@ static int from_log(int argc, char **argv)
         if (c == KELP_CLI_EXIT) return status;
         const char *key = c == OPT_DB ? "DATABASE" : c == OPT_KML ? "KML_FILE" : c == OPT_LINK ? "KML_LINK_FILE" : NULL;
         if (c == OPT_LOG) log = optarg;
-        if (key && kelp_m2s_config(&s.cfg, key, optarg, &dg) < 0) return kelp_cli_error(&cli, "%s: %s", key, kelp_diag_text(&dg));
+        if (key && kelp_moos2sql_config(&s.cfg, key, optarg, &dg) < 0) return kelp_cli_error(&cli, "%s: %s", key, kelp_diag_text(&dg));
         if (c == OPT_DATUM) {
             double lat, lon;
             char *comma = strchr(optarg, ',');
-            if (!comma || kelp_parse_finite(optarg, (size_t)(comma - optarg), &lat) < 0 ||
-                kelp_parse_finite(comma + 1, strlen(comma + 1), &lon) < 0 || kelp_geo_init(&s.cfg.datum, lat, lon) < 0)
+            if (!comma || kelp_util_parse_finite(optarg, (size_t)(comma - optarg), &lat) < 0 ||
+                kelp_util_parse_finite(comma + 1, strlen(comma + 1), &lon) < 0 || kelp_geo_init(&s.cfg.datum, lat, lon) < 0)
                 return kelp_cli_error(&cli, "--datum LAT,LON");
             s.cfg.have_datum = true;
         }

@@ -49,16 +49,16 @@ static int user_version(sqlite3 *db, unsigned *out)
 static int migrate(m2s_store *s, char *err, size_t cap)
 {
     if (user_version(s->db, &s->version) < 0) return fail(s->db, "reading user_version", err, cap);
-    if (s->version > kelp_m2s_nmigrations) {
+    if (s->version > kelp_moos2sql_nmigrations) {
         snprintf(err, cap, "the database's schema version %u is newer than this program's (%u)", s->version,
-                 kelp_m2s_nmigrations);
+                 kelp_moos2sql_nmigrations);
         return -1;
     }
-    for (unsigned v = s->version; v < kelp_m2s_nmigrations; v++) {
+    for (unsigned v = s->version; v < kelp_moos2sql_nmigrations; v++) {
         char bump[64];
         snprintf(bump, sizeof bump, "PRAGMA user_version = %u;", v + 1);
         if (exec(s->db, "BEGIN IMMEDIATE", "begin migration", err, cap) < 0) return -1;
-        if (exec(s->db, kelp_m2s_migrations[v], "migration", err, cap) < 0 ||
+        if (exec(s->db, kelp_moos2sql_migrations[v], "migration", err, cap) < 0 ||
             exec(s->db, bump, "migration version", err, cap) < 0) {
             sqlite3_exec(s->db, "ROLLBACK", NULL, NULL, NULL);
             return -1;
@@ -107,7 +107,7 @@ static void bind_num(sqlite3_stmt *st, int i, bool have, double v)
     else sqlite3_bind_null(st, i);
 }
 
-int m2s_store_put(m2s_store *s, const kelp_m2s_record *r, char *err, size_t cap)
+int m2s_store_put(m2s_store *s, const kelp_moos2sql_record *r, char *err, size_t cap)
 {
     if (r->kind < KELP_M2S_STATUS || r->kind > KELP_M2S_TRACK) return 0;
     int k = (int)r->kind - 1;
@@ -211,20 +211,20 @@ static void link_href(const char *kml, const char *link, char *out, size_t cap)
     snprintf(out, cap, "%s", realpath(kml, abs) ? abs : kml);
 }
 
-int m2s_write_kml(kelp_m2s_fleet *f, const char *kml, const char *link, double refresh, char *err, size_t cap)
+int m2s_write_kml(kelp_moos2sql_fleet *f, const char *kml, const char *link, double refresh, char *err, size_t cap)
 {
     size_t bufcap = 4096 + (size_t)KELP_M2S_MAX_VEHICLES * 1536;
     char *buf = malloc(bufcap);
     if (!buf) return snprintf(err, cap, "out of memory"), -1;
     int rc = 0;
-    int n = kelp_m2s_kml(f, "kelp fleet", buf, bufcap);
+    int n = kelp_moos2sql_kml(f, "kelp fleet", buf, bufcap);
     if (n < 0 || m2s_write_file(kml, buf, (size_t)n) < 0) {
         snprintf(err, cap, "cannot write %s", kml);
         rc = -1;
     } else if (link[0]) {
         char href[PATH_MAX];
         link_href(kml, link, href, sizeof href);
-        n = kelp_m2s_kml_link("kelp fleet", href, refresh, buf, bufcap);
+        n = kelp_moos2sql_kml_link("kelp fleet", href, refresh, buf, bufcap);
         if (n < 0 || m2s_write_file(link, buf, (size_t)n) < 0) {
             snprintf(err, cap, "cannot write %s", link);
             rc = -1;

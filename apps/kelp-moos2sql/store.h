@@ -7,11 +7,11 @@
 typedef struct m2s_store m2s_store;
 
 /** Open (create) the database: WAL journal, synchronous=NORMAL (a committed transaction
- *  survives the process being killed), migrations applied up to kelp_m2s_nmigrations.
+ *  survives the process being killed), migrations applied up to kelp_moos2sql_nmigrations.
  *  commit_period: seconds a transaction stays open at most. NULL with err on failure. */
 m2s_store *m2s_store_open(const char *path, double commit_period, char *err, size_t cap);
 /** Insert one record (inside the open transaction, begun if none). 0 or -1 with err. */
-int m2s_store_put(m2s_store *s, const kelp_m2s_record *r, char *err, size_t cap);
+int m2s_store_put(m2s_store *s, const kelp_moos2sql_record *r, char *err, size_t cap);
 /** Commit the open transaction when it is commit_period old (force: now). 0 or -1. */
 int m2s_store_tick(m2s_store *s, int force, char *err, size_t cap);
 /** Rows inserted and committed, per kind (index kind - 1). */
@@ -24,5 +24,5 @@ void m2s_store_close(m2s_store *s);
 int m2s_write_file(const char *path, const char *text, size_t len);
 /** The fleet's KML to kml and, when link is not "", the NetworkLink file pointing at it.
  *  0 or -1 with err. */
-int m2s_write_kml(kelp_m2s_fleet *f, const char *kml, const char *link, double refresh, char *err, size_t cap);
+int m2s_write_kml(kelp_moos2sql_fleet *f, const char *kml, const char *link, double refresh, char *err, size_t cap);
 #endif

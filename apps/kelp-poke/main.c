@@ -117,7 +117,7 @@ int main(int argc, char **argv)
         memcpy(p->name, a, nl);
         p->name[nl] = 0;
         memcpy(p->value, eq + 1, strlen(eq + 1) + 1);
-        if (!p->is_string && kelp_parse_double(p->value, strlen(p->value), &p->d) < 0) p->is_string = 1;
+        if (!p->is_string && kelp_util_parse_double(p->value, strlen(p->value), &p->d) < 0) p->is_string = 1;
         n++;
     }
     char community[KELP_MAX_NAME] = "kelp", url[512];
@@ -128,8 +128,8 @@ int main(int argc, char **argv)
     if (gi >= 0 && kelp_mission_double(&mf.m.nodes[gi], &warp) < 0) warp = 1;
     const char *ep = getenv("KELP_WARP_EPOCH");
     double epoch = 0;
-    if (ep && kelp_parse_double(ep, strlen(ep), &epoch) < 0) epoch = 0;
-    if (kelp_lcm_mission_url(&mf.m, url, sizeof url, &gi) < 0) {
+    if (ep && kelp_util_parse_double(ep, strlen(ep), &epoch) < 0) epoch = 0;
+    if (kelp_lcmbus_mission_url(&mf.m, url, sizeof url, &gi) < 0) {
         fprintf(stderr, "%s:%d: bad LCM_URL or ServerPort\n", argv[1], gi);
         return 1;
     }
@@ -164,7 +164,7 @@ int main(int argc, char **argv)
         int r = pokes[i].is_string ? kelp_bus_notify_string(bus, pokes[i].name, pokes[i].value, MOOSNOW())
                                    : kelp_bus_notify_double(bus, pokes[i].name, pokes[i].d, MOOSNOW());
         if (r < 0) {
-            fprintf(stderr, "kelp-poke: publish %s failed: %s\n", pokes[i].name, kelp_strerror(r));
+            fprintf(stderr, "kelp-poke: publish %s failed: %s\n", pokes[i].name, kelp_err_str(r));
             rc = 1;
         }
     }

@@ -73,12 +73,12 @@ int main(int argc, char **argv)
     if (!file) return kelp_cli_error(&cli, "FILE is required");
     char url[600];
     if (url_in && *url_in) {
-        /* an explicit URL wins over $KELP_LCM_URL; add the receive buffer as kelp_lcm_url does */
+        /* an explicit URL wins over $KELP_LCM_URL; add the receive buffer as kelp_lcmbus_url does */
         if (strncmp(url_in, "udpm://", 7) == 0 && !strstr(url_in, "recv_buf_size"))
             snprintf(url, sizeof url, "%s%crecv_buf_size=%d", url_in, strchr(url_in, '?') ? '&' : '?', KELP_LCM_RECV_BUF);
         else
             snprintf(url, sizeof url, "%s", url_in);
-    } else if (kelp_lcm_url(NULL, url, sizeof url) < 0) {
+    } else if (kelp_lcmbus_url(NULL, url, sizeof url) < 0) {
         return 1;
     }
     static rec r;

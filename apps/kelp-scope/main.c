@@ -77,7 +77,7 @@ static int on_arg(void *st, int val, const char *arg, kelp_diag *dg)
         return 0;
     case OPT_TRUNC:
     case OPT_TERMINT:
-        if (kelp_parse_finite(arg, strlen(arg), &d) < 0 || d < 0) return kelp_fail(dg, KELP_ERR_ARG, "expected a number >= 0");
+        if (kelp_util_parse_finite(arg, strlen(arg), &d) < 0 || d < 0) return kelp_fail(dg, KELP_ERR_ARG, "expected a number >= 0");
         if (val == OPT_TRUNC) kelp_xms_set_trunc(x, d > 1000 ? 1000 : (unsigned)d);
         else x->term_interval = d > 10 ? 10 : d;
         return 0;

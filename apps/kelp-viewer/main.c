@@ -43,7 +43,7 @@ static int on_arg(void *st, int val, const char *arg, kelp_diag *d)
     viewer *s = st;
     switch (val) {
     case OPT_PORT:
-        if (kelp_parse_long(arg, strlen(arg), &s->opt_port) < 0 || s->opt_port < 0 || s->opt_port > 65535)
+        if (kelp_util_parse_long(arg, strlen(arg), &s->opt_port) < 0 || s->opt_port < 0 || s->opt_port > 65535)
             return kelp_fail(d, KELP_ERR_ARG, "--port: 0..65535");
         return 0;
     case OPT_BIND: s->opt_bind = arg; return 0;
@@ -62,7 +62,7 @@ static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
         {"port", s->port_s, sizeof s->port_s}, {"token", s->token, sizeof s->token},
         {"bind", s->bind, sizeof s->bind}, {"tiff_file", s->image, sizeof s->image}};
     for (size_t i = 0; i < sizeof own / sizeof own[0]; i++) {
-        if (!kelp_strieq(key, own[i].key)) continue;
+        if (!kelp_util_strieq(key, own[i].key)) continue;
         if (strlen(val) >= own[i].cap) return kelp_fail(d, KELP_ERR_ARG, "too long");
         memcpy(own[i].dst, val, strlen(val) + 1);
         return 1;
@@ -118,7 +118,7 @@ static int startup(kelp_app *app, void *st)
     s->hc.port = 8080;
     if (s->port_s[0]) {
         long p;
-        if (kelp_parse_long(s->port_s, strlen(s->port_s), &p) < 0 || p < 0 || p > 65535)
+        if (kelp_util_parse_long(s->port_s, strlen(s->port_s), &p) < 0 || p < 0 || p > 65535)
             return kelp_app_config_error(app, kelp_app_param(app, "port"), "port: 0..65535");
         s->hc.port = (unsigned)p;
     }

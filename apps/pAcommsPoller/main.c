@@ -40,7 +40,7 @@ static int publish(kelp_app *app, poller *p)
     int rc = kelp_poller_format_update(p->modem_id, KELP_MAC_UPDATE_REPLACE, p->list.slot, p->list.paused ? 0 : p->list.n,
                                        p->last_update, sizeof p->last_update, &len);
     if (rc < 0) {
-        kelp_app_run_warning(app, "update too long: %s", kelp_strerror(rc));
+        kelp_app_run_warning(app, "update too long: %s", kelp_err_str(rc));
         return rc;
     }
     if (kelp_app_notify_string(app, p->update_var, p->last_update) < 0) return KELP_ERR_IO;

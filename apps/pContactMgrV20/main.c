@@ -1,6 +1,6 @@
 /* pContactMgrV20: the contact manager (seed 003; shared/spec/contactmgr.md): contacts from
  * NODE_REPORT, alerts by range and CPA range with flag macros, filters, retirement, summaries,
- * custom range reports, range rings. The logic is kelp_cmgr in the core; this file reads the
+ * custom range reports, range rings. The logic is kelp_contactmgr in the core; this file reads the
  * block and wires the core to the bus. */
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,7 +11,7 @@
 
 typedef struct cmgr_app {
     kelp_app *app;
-    kelp_cmgr *core;           /* about 1.3 MB: on the heap (reachable until exit) */
+    kelp_contactmgr *core;           /* about 1.3 MB: on the heap (reachable until exit) */
     kelp_field_sink sink, cfg_sink;
     char text[32768];          /* the terminal report */
     unsigned long events_shown; /* the core's events already in the AppCast */
@@ -21,7 +21,7 @@ typedef struct cmgr_app {
 static void forward_events(cmgr_app *a)
 {
     for (; a->events_shown < a->core->events_made; a->events_shown++) {
-        const char *e = kelp_cmgr_event(a->core, a->events_shown);
+        const char *e = kelp_contactmgr_event(a->core, a->events_shown);
         if (e) kelp_app_event(a->app, "%s", e);
     }
 }
@@ -47,7 +47,7 @@ static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     cmgr_app *a = ctx;
     (void)d;
-    return kelp_cmgr_config(a->core, key, val, &a->cfg_sink);
+    return kelp_contactmgr_config(a->core, key, val, &a->cfg_sink);
 }
 
 static int startup(kelp_app *app, void *st)
@@ -58,15 +58,15 @@ static int startup(kelp_app *app, void *st)
     a->cfg_sink = (kelp_field_sink){ a, publish, cfg_warn };
     a->core = malloc(sizeof *a->core);
     if (!a->core) return kelp_app_config_error(app, NULL, "out of memory");
-    kelp_cmgr_init(a->core, kelp_app_community(app));
+    kelp_contactmgr_init(a->core, kelp_app_community(app));
     int rc = kelp_app_param_foreach(app, param, a);
     if (rc < 0) return rc;
     double lat0 = 0, lon0 = 0;
     bool hl = kelp_app_global_double(app, "LatOrigin", &lat0) == 1;
     bool hn = kelp_app_global_double(app, "LongOrigin", &lon0) == 1;
-    kelp_cmgr_config_done(a->core, hl, lat0, hn, lon0, &a->cfg_sink);
+    kelp_contactmgr_config_done(a->core, hl, lat0, hn, lon0, &a->cfg_sink);
     const char *v;
-    for (unsigned i = 0; (v = kelp_cmgr_subscription(i)) != NULL; i++)
+    for (unsigned i = 0; (v = kelp_contactmgr_subscription(i)) != NULL; i++)
         if (kelp_app_register(app, v, 0) < 0) return kelp_app_config_error(app, NULL, "cannot register %s", v);
     const char *able[3] = { a->core->disable_var, a->core->enable_var, a->core->expunge_var };
     for (int i = 0; i < 3; i++)
@@ -81,7 +81,7 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
 {
     cmgr_app *a = st;
     if (v->kind == KELP_VAR_BINARY) return;
-    (void)kelp_cmgr_mail(a->core, v->name, v->kind == KELP_VAR_STRING, v->sval, v->dval, kelp_app_time(app), v->source,
+    (void)kelp_contactmgr_mail(a->core, v->name, v->kind == KELP_VAR_STRING, v->sval, v->dval, kelp_app_time(app), v->source,
                          &a->sink);
     forward_events(a);
 }
@@ -90,7 +90,7 @@ static int iterate(kelp_app *app, void *st, double now)
 {
     cmgr_app *a = st;
     (void)app;
-    kelp_cmgr_iterate(a->core, now, &a->sink);
+    kelp_contactmgr_iterate(a->core, now, &a->sink);
     forward_events(a);
     return 0;
 }
@@ -99,7 +99,7 @@ static void report(kelp_app *app, void *st, FILE *out)
 {
     cmgr_app *a = st;
     if (!a->core) return;
-    if (kelp_cmgr_report_text(a->core, kelp_app_time(app), a->text, sizeof a->text) < 0) fputs("(report cut)\n", out);
+    if (kelp_contactmgr_report_text(a->core, kelp_app_time(app), a->text, sizeof a->text) < 0) fputs("(report cut)\n", out);
     fputs(a->text, out);
 }
 

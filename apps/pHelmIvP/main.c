@@ -207,7 +207,7 @@ static void report(kelp_app *app, void *st, FILE *out)
         if (h->rep.decided[d])
             fprintf(out, "  decision %s = %.2f\n", h->cfg.domain.var[d].name, h->rep.decision[d]);
     for (unsigned i = 0; i < h->nbhv; i++)
-        fprintf(out, "  %-24s %-20s %s\n", h->bhv[i].name, h->bhv[i].type, kelp_bhv_state_name(h->bhv[i].state));
+        fprintf(out, "  %-24s %-20s %s\n", h->bhv[i].name, h->bhv[i].type, kelp_helm_bhv_state_name(h->bhv[i].state));
     fprintf(out, "  posts %lu   BHV_WARNING %lu   BHV_ERROR %lu   buffer drops %lu   post drops %lu\n", a->posts,
             h->rep.warnings, h->rep.errors, h->ib.dropped, h->posts_dropped);
 }

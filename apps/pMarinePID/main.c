@@ -1,6 +1,6 @@
 /* pMarinePID: heading, speed and depth PID loops from the helm's DESIRED_* to
  * DESIRED_RUDDER/THRUST/ELEVATOR (the MOOS-IvP pMarinePID / pMarinePIDV22 role). The logic is
- * the core engine kelp_marine_pid (include/kelp/pid.h); this file reads the block and wires
+ * the core engine kelp_pid_marine (include/kelp/pid.h); this file reads the block and wires
  * the engine to the bus. */
 #include <stdio.h>
 #include <string.h>
@@ -9,8 +9,8 @@
 
 typedef struct mpid {
     kelp_app *app;
-    kelp_marine_pid m;
-    kelp_marine_pid_cfg cfg;
+    kelp_pid_marine m;
+    kelp_pid_marine_cfg cfg;
     unsigned long bad_mail;
 } mpid;
 
@@ -25,12 +25,12 @@ static void sink(void *ctx, const char *var, bool is_string, const char *sval, d
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     mpid *p = ctx;
-    int rc = kelp_marine_pid_cfg_set(&p->cfg, key, val, d);
+    int rc = kelp_pid_marine_cfg_set(&p->cfg, key, val, d);
     if (rc != 0) return rc;
     static const char *const accepted[] = { "VERBOSE", "MAX_SAT_HDG_DEBUG", "MAX_SAT_SPD_DEBUG", "MAX_SAT_DEP_DEBUG",
                                             "AppTick", "CommsTick" };
     for (size_t i = 0; i < sizeof accepted / sizeof accepted[0]; i++)
-        if (kelp_strieq_n(key, strlen(key), accepted[i])) return 1;
+        if (kelp_util_strieq_n(key, strlen(key), accepted[i])) return 1;
     return 0;
 }
 
@@ -38,10 +38,10 @@ static int startup(kelp_app *app, void *st)
 {
     mpid *p = st;
     p->app = app;
-    kelp_marine_pid_cfg_default(&p->cfg);
+    kelp_pid_marine_cfg_default(&p->cfg);
     int rc = kelp_app_param_foreach(app, param, p);
     if (rc < 0) return rc;
-    if (kelp_marine_pid_init(&p->m, &p->cfg, kelp_app_time(app)) < 0)
+    if (kelp_pid_marine_init(&p->m, &p->cfg, kelp_app_time(app)) < 0)
         return kelp_app_config_error(app, NULL, "limits and thresholds must be numbers >= 0");
     static const char *const subs[] = { "DESIRED_HEADING", "DESIRED_SPEED", "DESIRED_DEPTH",       "NAV_HEADING",
                                         "NAV_YAW",         "NAV_SPEED",     "NAV_DEPTH",           "NAV_PITCH",
@@ -58,7 +58,7 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
 {
     mpid *p = st;
     if (v->kind == KELP_VAR_BINARY || !strcmp(v->name, "PID_VERBOSE")) return;
-    int rc = kelp_marine_pid_mail(&p->m, v->name, v->kind == KELP_VAR_STRING, v->sval, v->dval, kelp_app_time(app));
+    int rc = kelp_pid_marine_mail(&p->m, v->name, v->kind == KELP_VAR_STRING, v->sval, v->dval, kelp_app_time(app));
     if (rc < 0) {
         p->bad_mail++;
         kelp_app_run_warning(app, "%s: not a usable value; ignored", v->name);
@@ -69,13 +69,13 @@ static int iterate(kelp_app *app, void *st, double now)
 {
     mpid *p = st;
     (void)app;
-    kelp_marine_pid_iterate(&p->m, now, sink, p);
+    kelp_pid_marine_iterate(&p->m, now, sink, p);
     return 0;
 }
 
 static void report(kelp_app *app, void *st, FILE *out)
 {
-    const kelp_marine_pid *m = &((mpid *)st)->m;
+    const kelp_pid_marine *m = &((mpid *)st)->m;
     (void)app;
     fprintf(out, "Control: %s%s   iterations %lu   tardy helm %lu   tardy nav %lu\n",
             m->has_control ? "ACTIVE" : "OVERRIDDEN (all stop)", m->paused ? " (paused)" : "", m->iterations,

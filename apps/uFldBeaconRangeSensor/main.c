@@ -1,6 +1,6 @@
 /* uFldBeaconRangeSensor: range-only sensing to fixed beacons, solicited (BRS_RANGE_REQUEST)
  * or on each beacon's own schedule, with optional noise (uField seed chapter 10, with
- * MOOS-IvP 24.8's names). The logic is kelp_field_brs in the core (kelp/beaconrange.h); this
+ * MOOS-IvP 24.8's names). The logic is kelp_beaconrange in the core (kelp/beaconrange.h); this
  * file reads the block and wires the core to the bus. */
 #include <stdio.h>
 #include <string.h>
@@ -10,8 +10,8 @@
 
 typedef struct brs_app {
     kelp_app *app;
-    kelp_field_brs core;
-    kelp_field_brs_cfg cfg;
+    kelp_beaconrange core;
+    kelp_beaconrange_cfg cfg;
     kelp_field_sink sink;
     char text[8192];
 } brs_app;
@@ -35,13 +35,13 @@ static void log_line(void *ctx, const char *line)
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     brs_app *a = ctx;
-    int rc = kelp_field_brs_config(&a->cfg, key, val, d);
+    int rc = kelp_beaconrange_config(&a->cfg, key, val, d);
     if (rc == 2) {
         kelp_app_config_warning(a->app, "%s = %s: %s", key, val, KELP_BRS_WARN_QUERY_RANGE);
         return 1;
     }
     if (rc != 0) return rc;
-    if (kelp_strieq(key, "APP_LOGGING")) return 1; /* 24.8: record the bus with kelp-record instead */
+    if (kelp_util_strieq(key, "APP_LOGGING")) return 1; /* 24.8: record the bus with kelp-record instead */
     return 0;
 }
 
@@ -50,7 +50,7 @@ static int startup(kelp_app *app, void *st)
     brs_app *a = st;
     a->app = app;
     a->sink = (kelp_field_sink){ a, publish, warn };
-    kelp_field_brs_cfg_default(&a->cfg);
+    kelp_beaconrange_cfg_default(&a->cfg);
     int rc = kelp_app_param_foreach(app, param, a);
     if (rc < 0) return rc;
     double lat0, lon0;
@@ -59,13 +59,13 @@ static int startup(kelp_app *app, void *st)
     a->cfg.com.log = log_line;
     a->cfg.com.log_ctx = a;
     kelp_diag dg = { 0 };
-    if (kelp_field_brs_init(&a->core, &a->cfg, kelp_app_time(app), &dg) < 0)
+    if (kelp_beaconrange_init(&a->core, &a->cfg, kelp_app_time(app), &dg) < 0)
         return kelp_app_config_error(app, NULL, "BEACON: %s", dg.code ? kelp_diag_text(&dg) : "bad");
     const char *v;
-    for (unsigned i = 0; (v = kelp_field_brs_subscription(i)) != NULL; i++)
+    for (unsigned i = 0; (v = kelp_beaconrange_subscription(i)) != NULL; i++)
         if (kelp_app_register(app, v, 0) < 0) return kelp_app_config_error(app, NULL, "cannot register %s", v);
     printf("Simulated Range Sensor starting...\n");
-    if (kelp_field_brs_summary(&a->core, a->text, sizeof a->text) < 0) fputs("(summary truncated)\n", stdout);
+    if (kelp_beaconrange_summary(&a->core, a->text, sizeof a->text) < 0) fputs("(summary truncated)\n", stdout);
     fputs(a->text, stdout);
     printf("Simulated Range Sensor started.\n");
     fflush(stdout);
@@ -76,14 +76,14 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
 {
     brs_app *a = st;
     if (v->kind == KELP_VAR_BINARY) return;
-    (void)kelp_field_brs_mail(&a->core, v->name, v->kind == KELP_VAR_STRING, v->sval, kelp_app_time(app), &a->sink);
+    (void)kelp_beaconrange_mail(&a->core, v->name, v->kind == KELP_VAR_STRING, v->sval, kelp_app_time(app), &a->sink);
 }
 
 static int iterate(kelp_app *app, void *st, double now)
 {
     brs_app *a = st;
     (void)app;
-    (void)kelp_field_brs_iterate(&a->core, now, &a->sink);
+    (void)kelp_beaconrange_iterate(&a->core, now, &a->sink);
     return 0;
 }
 
@@ -91,7 +91,7 @@ static void report(kelp_app *app, void *st, FILE *out)
 {
     brs_app *a = st;
     (void)app;
-    if (kelp_field_brs_report(&a->core, a->text, sizeof a->text) < 0) fputs("(report truncated)\n", out);
+    if (kelp_beaconrange_report(&a->core, a->text, sizeof a->text) < 0) fputs("(report truncated)\n", out);
     fputs(a->text, out);
 }
 

@@ -1,6 +1,6 @@
 /* uFldContactRangeSensor: a simulated active sonar; a vehicle's ping (CRS_RANGE_REQUEST) is
  * answered with the range to each other vehicle within reach + reply, with optional noise
- * (uField seed chapter 11, with MOOS-IvP 24.8's names). The logic is kelp_field_crs in the
+ * (uField seed chapter 11, with MOOS-IvP 24.8's names). The logic is kelp_contactrange in the
  * core (kelp/contactrange.h); this file reads the block and wires the core to the bus. */
 #include <stdio.h>
 #include <string.h>
@@ -10,8 +10,8 @@
 
 typedef struct crs_app {
     kelp_app *app;
-    kelp_field_crs core;
-    kelp_field_crs_cfg cfg;
+    kelp_contactrange core;
+    kelp_contactrange_cfg cfg;
     kelp_field_sink sink;
     char text[8192];
 } crs_app;
@@ -36,9 +36,9 @@ static void log_line(void *ctx, const char *line)
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     crs_app *a = ctx;
-    int rc = kelp_field_crs_config(&a->cfg, key, val, d);
+    int rc = kelp_contactrange_config(&a->cfg, key, val, d);
     if (rc != 0) return rc;
-    if (kelp_strieq(key, "APP_LOGGING")) return 1; /* 24.8: record the bus with kelp-record instead */
+    if (kelp_util_strieq(key, "APP_LOGGING")) return 1; /* 24.8: record the bus with kelp-record instead */
     return 0;
 }
 
@@ -47,7 +47,7 @@ static int startup(kelp_app *app, void *st)
     crs_app *a = st;
     a->app = app;
     a->sink = (kelp_field_sink){ a, publish, warn };
-    kelp_field_crs_cfg_default(&a->cfg);
+    kelp_contactrange_cfg_default(&a->cfg);
     int rc = kelp_app_param_foreach(app, param, a);
     if (rc < 0) return rc;
     double lat0, lon0;
@@ -55,12 +55,12 @@ static int startup(kelp_app *app, void *st)
         a->cfg.com.have_geo = kelp_geo_init(&a->cfg.com.geo, lat0, lon0) == 0;
     a->cfg.com.log = log_line;
     a->cfg.com.log_ctx = a;
-    kelp_field_crs_init(&a->core, &a->cfg, kelp_app_time(app));
+    kelp_contactrange_init(&a->core, &a->cfg, kelp_app_time(app));
     const char *v;
-    for (unsigned i = 0; (v = kelp_field_crs_subscription(i)) != NULL; i++)
+    for (unsigned i = 0; (v = kelp_contactrange_subscription(i)) != NULL; i++)
         if (kelp_app_register(app, v, 0) < 0) return kelp_app_config_error(app, NULL, "cannot register %s", v);
     printf("Simulated Active Sonar starting...\n-----\n");
-    if (kelp_field_crs_summary(&a->core, a->text, sizeof a->text) < 0) fputs("(summary truncated)\n", stdout);
+    if (kelp_contactrange_summary(&a->core, a->text, sizeof a->text) < 0) fputs("(summary truncated)\n", stdout);
     fputs(a->text, stdout);
     printf("-----\nSimulated Active Sonar started.\n");
     fflush(stdout);
@@ -71,14 +71,14 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
 {
     crs_app *a = st;
     if (v->kind == KELP_VAR_BINARY) return;
-    (void)kelp_field_crs_mail(&a->core, v->name, v->kind == KELP_VAR_STRING, v->sval, kelp_app_time(app), &a->sink);
+    (void)kelp_contactrange_mail(&a->core, v->name, v->kind == KELP_VAR_STRING, v->sval, kelp_app_time(app), &a->sink);
 }
 
 static void report(kelp_app *app, void *st, FILE *out)
 {
     crs_app *a = st;
     (void)app;
-    if (kelp_field_crs_report(&a->core, a->text, sizeof a->text) < 0) fputs("(report truncated)\n", out);
+    if (kelp_contactrange_report(&a->core, a->text, sizeof a->text) < 0) fputs("(report truncated)\n", out);
     fputs(a->text, out);
 }
 

@@ -1,6 +1,6 @@
 /* uFldHazardSensor: a simulated hazard sensor (detection on a ROC curve, classification on
  * request) for every vehicle over a field of hazard and benign objects, as MOOS-IvP 24.8's
- * build of the app behaves. The logic is kelp_field_uhz in the core
+ * build of the app behaves. The logic is kelp_hazardsensor in the core
  * (include/kelp/hazardsensor.h); this file reads the block and the hazard file and wires the
  * core to the bus. */
 #include <stdio.h>
@@ -13,8 +13,8 @@
 
 typedef struct uhz_app {
     kelp_app *app;
-    kelp_field_uhz *core;      /* about 200 KB: on the heap (freed at exit) */
-    kelp_field_uhz_cfg *cfg;
+    kelp_hazardsensor *core;      /* about 200 KB: on the heap (freed at exit) */
+    kelp_hazardsensor_cfg *cfg;
     kelp_field_sink sink;
     char file[512];            /* the AppCast's "Hazard File:" ("": none given) */
     char text[16384];
@@ -50,7 +50,7 @@ static FILE *open_hazards(uhz_app *a, const char *name)
     const char *slash = m ? strrchr(m, '/') : NULL;
     if (!f && name[0] != '/' && slash) {
         char path[1024];
-        kelp_snprintf(path, sizeof path, "%.*s/%s", (int)(slash - m), m, name);
+        kelp_util_snprintf(path, sizeof path, "%.*s/%s", (int)(slash - m), m, name);
         f = fopen(path, "r");
     }
     return f;
@@ -66,13 +66,13 @@ static int read_hazard_file(uhz_app *a, const char *name)
     while (f && fgets(line, sizeof line, f)) {
         lines++;
         kelp_diag dg = { 0 };
-        if (kelp_field_uhz_hazard_line(a->cfg, line, &dg) < 0) {
+        if (kelp_hazardsensor_hazard_line(a->cfg, line, &dg) < 0) {
             line[strcspn(line, "\r\n")] = 0;
             kelp_app_config_warning(a->app, "Poorly specified hazard: %s", line);
         }
     }
     if (f) fclose(f);
-    kelp_snprintf(a->file, sizeof a->file, lines ? "%s" : "Error reading: %s", name);
+    kelp_util_snprintf(a->file, sizeof a->file, lines ? "%s" : "Error reading: %s", name);
     if (!lines) kelp_app_config_warning(a->app, "Unhandled config line: hazard_file = %s", name);
     return 1;
 }
@@ -80,15 +80,15 @@ static int read_hazard_file(uhz_app *a, const char *name)
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     uhz_app *a = ctx;
-    if (kelp_strieq(key, "HAZARD_FILE")) return read_hazard_file(a, val);
+    if (kelp_util_strieq(key, "HAZARD_FILE")) return read_hazard_file(a, val);
     /* 24.8's AppCasting settings: kelp's runner has its own */
-    if (kelp_strieq(key, "TERM_REPORT_INTERVAL") || kelp_strieq(key, "MAX_APPCAST_EVENTS") ||
-        kelp_strieq(key, "MAX_APPCAST_RUN_WARNINGS"))
+    if (kelp_util_strieq(key, "TERM_REPORT_INTERVAL") || kelp_util_strieq(key, "MAX_APPCAST_EVENTS") ||
+        kelp_util_strieq(key, "MAX_APPCAST_RUN_WARNINGS"))
         return 1;
     kelp_diag why = { 0 };
-    int rc = kelp_field_uhz_config(a->cfg, key, val, &why);
+    int rc = kelp_hazardsensor_config(a->cfg, key, val, &why);
     if (rc < 0) { /* 24.8 warns and goes on */
-        if (kelp_strieq(key, "HAZARD")) kelp_app_config_warning(a->app, "%s", kelp_diag_text(&why));
+        if (kelp_util_strieq(key, "HAZARD")) kelp_app_config_warning(a->app, "%s", kelp_diag_text(&why));
         else kelp_app_config_warning(a->app, "%s = %s: %s", key, val, kelp_diag_text(&why));
         return 1;
     }
@@ -104,17 +104,17 @@ static int startup(kelp_app *app, void *st)
     a->cfg = malloc(sizeof *a->cfg);
     a->core = malloc(sizeof *a->core);
     if (!a->cfg || !a->core) return kelp_app_config_error(app, NULL, "out of memory");
-    kelp_field_uhz_cfg_default(a->cfg);
+    kelp_hazardsensor_cfg_default(a->cfg);
     int rc = kelp_app_param_foreach(app, param, a);
     if (rc < 0) return rc;
     /* SEED_RANDOM = true (24.8's default): srand(time(NULL)) */
     if (a->cfg->seed_random) a->cfg->seed = (uint32_t)time(NULL);
     if (a->cfg->nobjects == 0) kelp_app_config_warning(app, "No Hazard Field Laydown Provided.");
     if (a->cfg->nsettings == 0) kelp_app_config_warning(app, "Sensor was configured with NO sensor_config properties!");
-    if (kelp_field_uhz_init(a->core, a->cfg) < 0) return kelp_app_config_error(app, NULL, "bad configuration");
-    kelp_field_uhz_set_log(a->core, event, cfg_warning, a);
+    if (kelp_hazardsensor_init(a->core, a->cfg) < 0) return kelp_app_config_error(app, NULL, "bad configuration");
+    kelp_hazardsensor_set_log(a->core, event, cfg_warning, a);
     const char *v;
-    for (unsigned i = 0; (v = kelp_field_uhz_subscription(i)) != NULL; i++)
+    for (unsigned i = 0; (v = kelp_hazardsensor_subscription(i)) != NULL; i++)
         if (kelp_app_register(app, v, 0) < 0) return kelp_app_config_error(app, NULL, "cannot register %s", v);
     return 0;
 }
@@ -123,7 +123,7 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
 {
     uhz_app *a = st;
     if (v->kind == KELP_VAR_BINARY) return;
-    if (kelp_field_uhz_mail(a->core, v->name, v->kind == KELP_VAR_STRING ? v->sval : NULL, v->community,
+    if (kelp_hazardsensor_mail(a->core, v->name, v->kind == KELP_VAR_STRING ? v->sval : NULL, v->community,
                             kelp_app_time(app), &a->sink) == 0)
         kelp_app_run_warning(app, "Unhandled mail: %s", v->name);
 }
@@ -132,7 +132,7 @@ static int iterate(kelp_app *app, void *st, double now)
 {
     uhz_app *a = st;
     (void)app;
-    kelp_field_uhz_iterate(a->core, now, &a->sink);
+    kelp_hazardsensor_iterate(a->core, now, &a->sink);
     return 0;
 }
 
@@ -140,7 +140,7 @@ static void report(kelp_app *app, void *st, FILE *out)
 {
     uhz_app *a = st;
     if (!a->core) return;
-    if (kelp_field_uhz_report(a->core, a->file[0] ? a->file : NULL, kelp_app_start_time(app), a->text,
+    if (kelp_hazardsensor_report(a->core, a->file[0] ? a->file : NULL, kelp_app_start_time(app), a->text,
                               sizeof a->text) < 0)
         fputs("(report truncated)\n", out);
     fputs(a->text, out);

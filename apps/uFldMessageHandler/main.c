@@ -28,7 +28,7 @@ static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
     umh *u = ctx;
     int rc = kelp_field_umh_config(&u->cfg, key, val, d);
     if (rc != 0) return rc;
-    if (kelp_strieq_n(key, strlen(key), "APP_LOGGING")) {
+    if (kelp_util_strieq_n(key, strlen(key), "APP_LOGGING")) {
         kelp_app_event(u->app, "APP_LOGGING accepted (record the bus with kelp-record)");
         return 1;
     }

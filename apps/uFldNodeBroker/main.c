@@ -40,7 +40,7 @@ static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
     if (rc != 0) return rc;
     static const char *const accepted[] = { "APP_LOGGING", "MAX_APPCAST_EVENTS" };
     for (size_t i = 0; i < sizeof accepted / sizeof accepted[0]; i++)
-        if (kelp_strieq_n(key, strlen(key), accepted[i])) return 1;
+        if (kelp_util_strieq_n(key, strlen(key), accepted[i])) return 1;
     return 0;
 }
 

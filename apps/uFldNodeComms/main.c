@@ -34,7 +34,7 @@ static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
     ncomms *a = ctx;
     int rc = kelp_field_ncomms_config(&a->cfg, key, val, d);
     if (rc != 0) return rc;
-    if (kelp_strieq_n(key, strlen(key), "APP_LOGGING")) {
+    if (kelp_util_strieq_n(key, strlen(key), "APP_LOGGING")) {
         kelp_app_event(a->app, "APP_LOGGING accepted (record the bus with kelp-record)");
         return 1;
     }

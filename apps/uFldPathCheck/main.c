@@ -1,5 +1,5 @@
 /* uFldPathCheck: each vehicle's odometry and speed, computed on the shoreside from its node
- * reports, as MOOS-IvP 24.8's uFldPathCheck. The logic is kelp_field_upc in the core
+ * reports, as MOOS-IvP 24.8's uFldPathCheck. The logic is kelp_pathcheck in the core
  * (include/kelp/pathcheck.h); this file reads the block and wires the core to the bus. */
 #include <stdio.h>
 #include <string.h>
@@ -9,8 +9,8 @@
 
 typedef struct upc_app {
     kelp_app *app;
-    kelp_field_upc core;
-    kelp_field_upc_cfg cfg;
+    kelp_pathcheck core;
+    kelp_pathcheck_cfg cfg;
     kelp_field_sink sink;
     char text[32768];
 } upc_app;
@@ -30,10 +30,10 @@ static void warn(void *ctx, const char *msg)
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     upc_app *a = ctx;
-    int rc = kelp_field_upc_config(&a->cfg, key, val, d);
+    int rc = kelp_pathcheck_config(&a->cfg, key, val, d);
     if (rc != 0) return rc;
     /* 24.8's AppCasting parameters are taken quietly; the runner warns of the rest as 24.8 */
-    return kelp_strieq(key, "APP_LOGGING") || kelp_strieq(key, "MAX_APPCAST_EVENTS");
+    return kelp_util_strieq(key, "APP_LOGGING") || kelp_util_strieq(key, "MAX_APPCAST_EVENTS");
 }
 
 static int startup(kelp_app *app, void *st)
@@ -41,12 +41,12 @@ static int startup(kelp_app *app, void *st)
     upc_app *a = st;
     a->app = app;
     a->sink = (kelp_field_sink){ a, publish, warn };
-    kelp_field_upc_cfg_default(&a->cfg);
+    kelp_pathcheck_cfg_default(&a->cfg);
     int rc = kelp_app_param_foreach(app, param, a);
     if (rc < 0) return rc;
-    if (kelp_field_upc_init(&a->core, &a->cfg) < 0) return kelp_app_config_error(app, NULL, "bad HISTORY_LENGTH");
+    if (kelp_pathcheck_init(&a->core, &a->cfg) < 0) return kelp_app_config_error(app, NULL, "bad HISTORY_LENGTH");
     const char *v;
-    for (unsigned i = 0; (v = kelp_field_upc_subscription(i)) != NULL; i++)
+    for (unsigned i = 0; (v = kelp_pathcheck_subscription(i)) != NULL; i++)
         if (kelp_app_register(app, v, 0) < 0) return kelp_app_config_error(app, NULL, "cannot register %s", v);
     return 0;
 }
@@ -55,21 +55,21 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
 {
     upc_app *a = st;
     if (v->kind != KELP_VAR_STRING) return;
-    (void)kelp_field_upc_mail(&a->core, v->name, true, v->sval, kelp_app_time(app), &a->sink);
+    (void)kelp_pathcheck_mail(&a->core, v->name, true, v->sval, kelp_app_time(app), &a->sink);
 }
 
 static int iterate(kelp_app *app, void *st, double now)
 {
     upc_app *a = st;
     (void)app;
-    (void)kelp_field_upc_iterate(&a->core, now, &a->sink);
+    (void)kelp_pathcheck_iterate(&a->core, now, &a->sink);
     return 0;
 }
 
 static void report(kelp_app *app, void *st, FILE *out)
 {
     upc_app *a = st;
-    if (kelp_field_upc_report(&a->core, kelp_app_time(app), kelp_app_warp(app), a->text, sizeof a->text) < 0)
+    if (kelp_pathcheck_report(&a->core, kelp_app_time(app), kelp_app_warp(app), a->text, sizeof a->text) < 0)
         fputs("(report truncated)\n", out);
     fputs(a->text, out);
 }

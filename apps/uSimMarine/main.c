@@ -13,8 +13,8 @@
 typedef struct usim {
     kelp_app *app;
     kelp_usim u;
-    kelp_marine_pid pid;
-    kelp_marine_pid_cfg pid_cfg;
+    kelp_pid_marine pid;
+    kelp_pid_marine_cfg pid_cfg;
     bool pass_start;
 } usim;
 
@@ -22,7 +22,7 @@ typedef struct usim {
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     usim *a = ctx;
-    bool is_pos = kelp_strieq_n(key, strlen(key), "START_POS");
+    bool is_pos = kelp_util_strieq_n(key, strlen(key), "START_POS");
     if (a->pass_start != is_pos) return is_pos ? 1 : 0;
     int rc = kelp_usim_config(&a->u, key, val, d);
     if (rc != 0) return rc;
@@ -30,7 +30,7 @@ static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
      * thrust): accepted so a 24.8 block loads, and reported as events */
     static const char *const accepted[] = { "WIND_CONDITIONS", "POLAR_PLOT", "DUAL_STATE", "THRUST_REFLECT", "APP_LOGGING" };
     for (size_t i = 0; i < sizeof accepted / sizeof accepted[0]; i++)
-        if (kelp_strieq_n(key, strlen(key), accepted[i])) {
+        if (kelp_util_strieq_n(key, strlen(key), accepted[i])) {
             kelp_app_event(a->app, "%s accepted, not simulated", accepted[i]);
             return 1;
         }
@@ -94,7 +94,7 @@ static int iterate(kelp_app *app, void *st, double now)
 {
     usim *a = st;
     int rc = kelp_usim_iterate(&a->u, now, publish, a);
-    if (rc < 0) kelp_app_run_warning(app, "step to %.3f: %s", now, kelp_strerror(rc));
+    if (rc < 0) kelp_app_run_warning(app, "step to %.3f: %s", now, kelp_err_str(rc));
     return 0;
 }
 

@@ -1,6 +1,6 @@
 /* uTimerScript: a script of timed postings (fixed or random times and values), paused,
  * forwarded and reset from the bus, optionally gated by conditions. The logic is the core
- * kelp_ts (include/kelp/timerscript.h); this file wires it to the bus. Random draws are
+ * kelp_timerscript (include/kelp/timerscript.h); this file wires it to the bus. Random draws are
  * seeded from the pid and the clock unless `seed` is given (a reproducible run). */
 #include <stdio.h>
 #include <string.h>
@@ -11,8 +11,8 @@
 
 typedef struct uts {
     kelp_app *app;
-    kelp_ts_cfg cfg;
-    kelp_ts core;
+    kelp_timerscript_cfg cfg;
+    kelp_timerscript core;
     kelp_field_sink sink;
     double seed;
     bool seeded;
@@ -30,10 +30,10 @@ static void warn(void *ctx, const char *msg) { kelp_app_run_warning(((uts *)ctx)
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     uts *u = ctx;
-    int rc = kelp_ts_cfg_set(&u->cfg, key, val, d);
+    int rc = kelp_timerscript_cfg_set(&u->cfg, key, val, d);
     if (rc != 0) return rc;
-    if (kelp_strieq(key, "seed")) {
-        if (kelp_parse_finite(val, strlen(val), &u->seed) < 0 || u->seed < 0) {
+    if (kelp_util_strieq(key, "seed")) {
+        if (kelp_util_parse_finite(val, strlen(val), &u->seed) < 0 || u->seed < 0) {
             return kelp_fail(d, KELP_ERR_PARSE, "seed must be a whole number >= 0");
         }
         u->seeded = true;
@@ -41,8 +41,8 @@ static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
     }
     static const char *const accepted[] = { "AppTick", "CommsTick", "app_logging", "MaxAppTick" };
     for (size_t i = 0; i < sizeof accepted / sizeof accepted[0]; i++)
-        if (kelp_strieq(key, accepted[i])) return 1;
-    if (kelp_strieq(key, "rand_pair") || kelp_strieq(key, "randpair")) {
+        if (kelp_util_strieq(key, accepted[i])) return 1;
+    if (kelp_util_strieq(key, "rand_pair") || kelp_util_strieq(key, "randpair")) {
         return kelp_fail(d, KELP_ERR_UNSUPPORTED, "rand_pair is not supported by kelp's uTimerScript (use two rand_var lines)");
     }
     return 0;
@@ -53,15 +53,15 @@ static int startup(kelp_app *app, void *st)
     uts *u = st;
     u->app = app;
     u->sink = (kelp_field_sink){ u, publish, warn };
-    kelp_ts_cfg_default(&u->cfg, kelp_app_name(app), kelp_app_community(app));
+    kelp_timerscript_cfg_default(&u->cfg, kelp_app_name(app), kelp_app_community(app));
     int rc = kelp_app_param_foreach(app, param, u);
     if (rc < 0) return rc;
     if (u->cfg.nev == 0) kelp_app_config_warning(app, "no event: the script posts nothing");
     uint64_t seed = u->seeded ? (uint64_t)u->seed : ((uint64_t)getpid() << 32) ^ (uint64_t)(kelp_app_time(app) * 1e6);
-    if (kelp_ts_init(&u->core, &u->cfg, seed) < 0) return kelp_app_config_error(app, NULL, "a condition does not parse");
-    kelp_ts_set_db_start(&u->core, kelp_app_start_time(app)); /* until a DB_UPTIME mail says otherwise */
+    if (kelp_timerscript_init(&u->core, &u->cfg, seed) < 0) return kelp_app_config_error(app, NULL, "a condition does not parse");
+    kelp_timerscript_set_db_start(&u->core, kelp_app_start_time(app)); /* until a DB_UPTIME mail says otherwise */
     const char *s;
-    for (unsigned i = 0; (s = kelp_ts_subscription(&u->core, i)) != NULL; i++)
+    for (unsigned i = 0; (s = kelp_timerscript_subscription(&u->core, i)) != NULL; i++)
         if (kelp_app_register(app, s, 0) < 0) return kelp_app_config_error(app, NULL, "cannot register %s", s);
     kelp_app_event(app, "%u event(s), %u random variable(s), %u condition(s), seed %llu", u->cfg.nev, u->cfg.nrv,
                    u->cfg.ncond, (unsigned long long)seed);
@@ -72,14 +72,14 @@ static void on_mail(kelp_app *app, void *st, const kelp_var *v)
 {
     uts *u = st;
     if (v->kind == KELP_VAR_BINARY) return;
-    if (kelp_ts_mail(&u->core, v->name, v->kind == KELP_VAR_STRING, v->sval, v->dval, kelp_app_time(app), &u->sink) < 0)
+    if (kelp_timerscript_mail(&u->core, v->name, v->kind == KELP_VAR_STRING, v->sval, v->dval, kelp_app_time(app), &u->sink) < 0)
         kelp_app_run_warning(app, "%s: not a usable value; ignored", v->name);
 }
 
 static int iterate(kelp_app *app, void *st, double now)
 {
     uts *u = st;
-    (void)kelp_ts_iterate(&u->core, now, &u->sink);
+    (void)kelp_timerscript_iterate(&u->core, now, &u->sink);
     if (u->core.quit) {
         kelp_app_event(app, "quitting by design (a quit event)");
         kelp_app_quit(app);
@@ -90,7 +90,7 @@ static int iterate(kelp_app *app, void *st, double now)
 static void report(kelp_app *app, void *st, FILE *out)
 {
     const uts *u = st;
-    const kelp_ts *r = &u->core;
+    const kelp_timerscript *r = &u->core;
     (void)app;
     fprintf(out, "Script %s: %u element(s) (%u posted this pass), %lu reset(s)%s\n", r->cfg.script_name, r->cfg.nev,
             r->posted_local, r->resets, r->cfg.reset_max < 0 ? "" : " (limited)");
@@ -106,7 +106,7 @@ static void report(kelp_app *app, void *st, FILE *out)
     fprintf(out, "P/Tot  P/Loc  T/Total   T/Local  Variable/Var\n");
     unsigned n = r->nlog < KELP_TS_LOG ? r->nlog : KELP_TS_LOG;
     for (unsigned k = r->nlog - n; k < r->nlog; k++) {
-        const kelp_ts_logline *l = &r->log[k % KELP_TS_LOG];
+        const kelp_timerscript_logline *l = &r->log[k % KELP_TS_LOG];
         fprintf(out, "%-5lu  %-5u  %-8.2f  %-7.2f  %s\n", l->total, l->local, l->db_time, l->script_time, l->text);
     }
 }

@@ -1,5 +1,5 @@
-/* kelp range sensors, part 1: what the beacon and contact range sensors share (kelp_rsense_*),
- * and uFldBeaconRangeSensor's logic (kelp_field_brs_*), the uField Toolbox manual (MOOS-IvP 12.2)
+/* kelp range sensors, part 1: what the beacon and contact range sensors share (kelp_rangesense_*),
+ * and uFldBeaconRangeSensor's logic (kelp_beaconrange_*), the uField Toolbox manual (MOOS-IvP 12.2)
  * chapter 10, with MOOS-IvP 24.8's names accepted as aliases.
  *
  * Range model. A request from vehicle V reaches beacon B when
@@ -15,7 +15,7 @@
  * The ground-truth reports come only with noise (RN_ALGORITHM) and GROUND_TRUTH (true).
  *
  * Randomness: RAND_MODE = kelp (the default; kelp_rng seeded by SEED_RANDOM) or glibc
- * (kelp_glibc_rand seeded 1, i.e. the rand() sequence of a program that never calls srand).
+ * (kelp_rng_glibc seeded 1, i.e. the rand() sequence of a program that never calls srand).
  * In glibc mode the values are drawn where and as MOOS-IvP 24.8 draws them, with its
  * arithmetic: uniform noise (rand() % 10000) / 5000 - 1, one per report; an unsolicited
  * interval lo + (rand() % 1000) / 1000 * (hi - lo) (drawn when a beacon's freq is configured,
@@ -44,7 +44,7 @@ extern "C" {
 /* ------------------------------------------------------------------ shared */
 
 #ifndef KELP_RSENSE_MAX_NODES
-/** The warning of kelp_field_brs_config's result 2 (a BEACON's query_range). */
+/** The warning of kelp_beaconrange_config's result 2 (a BEACON's query_range). */
 #define KELP_BRS_WARN_QUERY_RANGE "query_range is not used (report_range is): ignored"
 #define KELP_RSENSE_MAX_NODES 128   /**< vehicles known from node reports */
 #endif
@@ -54,44 +54,44 @@ extern "C" {
 #define KELP_RSENSE_NAME KELP_NODEREPORT_MAX_FIELD
 #define KELP_RSENSE_LEDGER_WHO 4    /**< names in the AppCast's ledger line (24.8's getSummary) */
 
-typedef enum kelp_rsense_noise_alg {
+typedef enum kelp_rangesense_noise_alg {
     KELP_RSENSE_NOISE_NONE = 0,
     KELP_RSENSE_NOISE_UNIFORM,   /**< r + U(-pct r, +pct r) */
     KELP_RSENSE_NOISE_GAUSSIAN   /**< r + N(0, sigma) */
-} kelp_rsense_noise_alg;
+} kelp_rangesense_noise_alg;
 
-typedef enum kelp_rsense_vars {
+typedef enum kelp_rangesense_vars {
     KELP_RSENSE_SHORT = 0,       /**< <PFX>_RANGE_REPORT with vname= */
     KELP_RSENSE_LONG,            /**< <PFX>_RANGE_REPORT_<VNAME> */
     KELP_RSENSE_BOTH
-} kelp_rsense_vars;
+} kelp_rangesense_vars;
 
 /** One parameter given per vehicle: `default = v`, `<vname> = v`, or a bare `v`. A negative
  *  value is "nolimit". */
-typedef struct kelp_rsense_vmap {
+typedef struct kelp_rangesense_vmap {
     double dflt;
     char name[KELP_RSENSE_MAX_VCFG][KELP_RSENSE_NAME];
     double v[KELP_RSENSE_MAX_VCFG];
     unsigned n;
-} kelp_rsense_vmap;
+} kelp_rangesense_vmap;
 
 /** The random source (in the tool's struct; no global state). */
-typedef struct kelp_rsense_rand {
+typedef struct kelp_rangesense_rand {
     bool glibc;                  /**< RAND_MODE = glibc */
     kelp_rng rng;
-    kelp_glibc_rand g;
+    kelp_rng_glibc g;
     bool have_gset;              /**< MOOSWhiteNoise's cached second deviate */
     double gset;
     unsigned long draws;         /**< values drawn so far */
-} kelp_rsense_rand;
+} kelp_rangesense_rand;
 
-typedef struct kelp_rsense_noise {
-    kelp_rsense_noise_alg alg;
+typedef struct kelp_rangesense_noise {
+    kelp_rangesense_noise_alg alg;
     double pct;                  /**< uniform: fraction of the range in [0,1] */
     double sigma;                /**< gaussian: metres */
-} kelp_rsense_noise;
+} kelp_rangesense_noise;
 
-typedef struct kelp_rsense_node {
+typedef struct kelp_rangesense_node {
     char name[KELP_RSENSE_NAME]; /**< as it arrived (compared case-insensitively) */
     char type[KELP_RSENSE_NAME];
     double x, y, hdg;
@@ -102,51 +102,51 @@ typedef struct kelp_rsense_node {
     unsigned long replied;       /**< replies received (BRS Rep'd) */
     unsigned long too_far;       /**< beacons or contacts out of range of an honoured request */
     unsigned long echoes_sent;   /**< CRS: times this vehicle was reported to a pinger */
-} kelp_rsense_node;
+} kelp_rangesense_node;
 
 /** Verbose console lines (may be NULL): the 12.2 manual's event output. */
-typedef void (*kelp_rsense_log_fn)(void *ctx, const char *line);
+typedef void (*kelp_rangesense_log_fn)(void *ctx, const char *line);
 
 /** The parameters both sensors take. */
-typedef struct kelp_rsense_common {
-    kelp_rsense_vmap ping_wait;  /**< PING_WAIT 30 s */
-    kelp_rsense_vars report_vars;/**< REPORT_VARS (short) */
-    kelp_rsense_noise noise;     /**< RN_ALGORITHM, RN_UNIFORM_PCT, RN_GAUSSIAN_SIGMA (none) */
+typedef struct kelp_rangesense_common {
+    kelp_rangesense_vmap ping_wait;  /**< PING_WAIT 30 s */
+    kelp_rangesense_vars report_vars;/**< REPORT_VARS (short) */
+    kelp_rangesense_noise noise;     /**< RN_ALGORITHM, RN_UNIFORM_PCT, RN_GAUSSIAN_SIGMA (none) */
     bool ground_truth;           /**< GROUND_TRUTH (false) */
     bool verbose;                /**< VERBOSE (false) */
     bool glibc;                  /**< RAND_MODE = glibc (default kelp) */
     uint64_t seed;               /**< SEED_RANDOM (1) */
     kelp_geo geo;                /**< datum for reports with only LAT,LON */
     bool have_geo;
-    kelp_rsense_log_fn log;      /**< verbose lines (NULL: none) */
+    kelp_rangesense_log_fn log;      /**< verbose lines (NULL: none) */
     void *log_ctx;
-} kelp_rsense_common;
+} kelp_rangesense_common;
 
-void kelp_rsense_common_default(kelp_rsense_common *c);
+void kelp_rangesense_common_default(kelp_rangesense_common *c);
 /** PING_WAIT, REPORT_VARS, RN_ALGORITHM, RN_UNIFORM_PCT, RN_GAUSSIAN_SIGMA, GROUND_TRUTH,
  *  VERBOSE, RAND_MODE, SEED_RANDOM (v already trimmed). @return 1, 0 not one, <0 (reason in d). */
-KELP_MUST_CHECK int kelp_rsense_common_config(kelp_rsense_common *c, const char *key, const char *v, kelp_diag *d);
+KELP_MUST_CHECK int kelp_rangesense_common_config(kelp_rangesense_common *c, const char *key, const char *v, kelp_diag *d);
 
 /** Value of name in m (default when not listed). */
-double kelp_rsense_vmap_get(const kelp_rsense_vmap *m, const char *name);
+double kelp_rangesense_vmap_get(const kelp_rangesense_vmap *m, const char *name);
 /** Apply "default = v", "<vname> = v" or "v" (v a number, or nolimit/unlimited = -1 when
  *  allow_nolimit). @return 1, or <0 (reason in d). */
-KELP_MUST_CHECK int kelp_rsense_vmap_set(kelp_rsense_vmap *m, const char *val, bool allow_nolimit, kelp_diag *d);
+KELP_MUST_CHECK int kelp_rangesense_vmap_set(kelp_rangesense_vmap *m, const char *val, bool allow_nolimit, kelp_diag *d);
 /** RN_ALGORITHM: "uniform,pct=0.12", "gaussian,sigma=1.5" (also "gauss"), "none".
  *  @return 1 or <0 (reason in d). */
-KELP_MUST_CHECK int kelp_rsense_noise_set(kelp_rsense_noise *n, const char *val, kelp_diag *d);
-void kelp_rsense_rand_init(kelp_rsense_rand *r, bool glibc, uint64_t seed);
+KELP_MUST_CHECK int kelp_rangesense_noise_set(kelp_rangesense_noise *n, const char *val, kelp_diag *d);
+void kelp_rangesense_rand_init(kelp_rangesense_rand *r, bool glibc, uint64_t seed);
 /** Bytes of the workspace a range report is built in (the sensor's, off the stack). */
 #define KELP_RSENSE_POST_WS (320 + KELP_MAX_NAME + KELP_RSENSE_NAME)
 /** The time step rule: move the vehicles' ping-wait clocks back by a backward clock step. */
-void kelp_rsense_nodes_back(kelp_rsense_node *node, unsigned n, double back);
+void kelp_rangesense_nodes_back(kelp_rangesense_node *node, unsigned n, double back);
 /** The noisy range (draws one value for uniform, MOOSWhiteNoise's pattern for gaussian,
  *  nothing for none). */
-double kelp_rsense_noisy(kelp_rsense_rand *r, const kelp_rsense_noise *n, double range);
+double kelp_rangesense_noisy(kelp_rangesense_rand *r, const kelp_rangesense_noise *n, double range);
 /** Uniform in [lo, hi] as the mode draws it (glibc: lo + (rand()%1000)/1000*(hi-lo)). */
-double kelp_rsense_interval(kelp_rsense_rand *r, double lo, double hi);
+double kelp_rangesense_interval(kelp_rangesense_rand *r, double lo, double hi);
 /** Uniform in [0,1) (glibc: (rand()%10000)/10000). */
-double kelp_rsense_unit(kelp_rsense_rand *r);
+double kelp_rangesense_unit(kelp_rangesense_rand *r);
 
 /* ------------------------------------------------------------------ uFldBeaconRangeSensor */
 
@@ -176,26 +176,26 @@ typedef struct kelp_brs_beacon {
     unsigned long heard, replies, unsol;
 } kelp_brs_beacon;
 
-typedef struct kelp_field_brs_cfg {
+typedef struct kelp_beaconrange_cfg {
     kelp_brs_beacon dflt;        /**< DEFAULT_BEACON_* (orange circle 4 m, report range 100, never) */
     char spec[KELP_BRS_MAX_BEACONS][KELP_BRS_SPEC_LEN]; /**< BEACON lines, applied after the defaults */
     unsigned nspec;
-    kelp_rsense_vmap reach;      /**< REACH_DISTANCE (node_push_dist) 100 */
-    kelp_rsense_vmap node_pull;  /**< 24.8 node_pull_dist (0) */
-    kelp_rsense_common com;
+    kelp_rangesense_vmap reach;      /**< REACH_DISTANCE (node_push_dist) 100 */
+    kelp_rangesense_vmap node_pull;  /**< 24.8 node_pull_dist (0) */
+    kelp_rangesense_common com;
     kelp_brs_payments payments;
     bool report_xy;              /**< REPORT_XY (false): x=,y= of the beacon in each report */
     bool config_order;           /**< BEACON_ORDER = config (24.8); default reverse (the 12.2 manual's listings) */
-    char ws_val[KELP_BRS_SPEC_LEN]; /**< workspace: the value being read by kelp_field_brs_config */
-} kelp_field_brs_cfg;
+    char ws_val[KELP_BRS_SPEC_LEN]; /**< workspace: the value being read by kelp_beaconrange_config */
+} kelp_beaconrange_cfg;
 
-typedef struct kelp_field_brs {
-    kelp_field_brs_cfg cfg;
+typedef struct kelp_beaconrange {
+    kelp_beaconrange_cfg cfg;
     kelp_brs_beacon beacon[KELP_BRS_MAX_BEACONS]; /**< in iteration order */
     unsigned nbeacons;
-    kelp_rsense_node node[KELP_RSENSE_MAX_NODES]; /**< sorted by name (strcmp), as 24.8's map */
+    kelp_rangesense_node node[KELP_RSENSE_MAX_NODES]; /**< sorted by name (strcmp), as 24.8's map */
     unsigned nnodes;
-    kelp_rsense_rand rand;
+    kelp_rangesense_rand rand;
     double start;
     kelp_clock clk;              /**< the newest `now` (the time step rule) */
     bool started;                /**< markers posted, timers drawn (first iterate) */
@@ -203,36 +203,36 @@ typedef struct kelp_field_brs {
     kelp_diag diag; /**< workspace: why the last node report was refused */
     char ws_label[KELP_RSENSE_NAME + KELP_BRS_LABEL + 8]; /**< workspace: a pulse's label */
     char ws_post[KELP_RSENSE_POST_WS]; /**< workspace: a range report being built */
-} kelp_field_brs;
+} kelp_beaconrange;
 
 /** The defaults of the uField Toolbox manual (MOOS-IvP 12.2), section 10.1. */
-void kelp_field_brs_cfg_default(kelp_field_brs_cfg *cfg);
+void kelp_beaconrange_cfg_default(kelp_beaconrange_cfg *cfg);
 /** One block parameter (case-insensitive, a trailing ';' ignored): BEACON,
  *  DEFAULT_BEACON_FREQ/_REPORT_RANGE/_WIDTH/_COLOR/_SHAPE (24.8: _PUSH_DIST, _PULL_DIST,
  *  and its example's "default beacon_color"), REACH_DISTANCE (node_push_dist),
  *  NODE_PULL_DIST, PING_WAIT, PING_PAYMENTS, REPORT_VARS, GROUND_TRUTH, RN_ALGORITHM,
  *  RN_UNIFORM_PCT, RN_GAUSSIAN_SIGMA, VERBOSE, REPORT_XY, BEACON_ORDER, RAND_MODE,
  *  SEED_RANDOM. @return 1 taken, 2 taken with the warning KELP_BRS_WARN_QUERY_RANGE, 0 not its key, <0 (reason in d). */
-KELP_MUST_CHECK int kelp_field_brs_config(kelp_field_brs_cfg *cfg, const char *key, const char *val, kelp_diag *d);
+KELP_MUST_CHECK int kelp_beaconrange_config(kelp_beaconrange_cfg *cfg, const char *key, const char *val, kelp_diag *d);
 /** Build the beacons and start at `now`. @return@return 0, or <0 (reason in d) (a bad BEACON). */
-KELP_MUST_CHECK int kelp_field_brs_init(kelp_field_brs *b, const kelp_field_brs_cfg *cfg, kelp_time now, kelp_diag *d);
-const char *kelp_field_brs_subscription(unsigned i);
+KELP_MUST_CHECK int kelp_beaconrange_init(kelp_beaconrange *b, const kelp_beaconrange_cfg *cfg, kelp_time now, kelp_diag *d);
+const char *kelp_beaconrange_subscription(unsigned i);
 /** NODE_REPORT, NODE_REPORT_LOCAL, BRS_RANGE_REQUEST. @return 1 used, 0 not ours, <0 bad
  *  (a warning through out->warn). */
-int kelp_field_brs_mail(kelp_field_brs *b, const char *var, bool is_string, const char *sval, kelp_time now,
+int kelp_beaconrange_mail(kelp_beaconrange *b, const char *var, bool is_string, const char *sval, kelp_time now,
                         const kelp_field_sink *out);
 /** First call: VIEW_MARKER per beacon, unsolicited timers drawn. Then unsolicited reports.
  *  @return the range reports posted. */
-unsigned long kelp_field_brs_iterate(kelp_field_brs *b, kelp_time now, const kelp_field_sink *out);
+unsigned long kelp_beaconrange_iterate(kelp_beaconrange *b, kelp_time now, const kelp_field_sink *out);
 /** The startup block of Listing 25 ("SRS Model - # Beacons: ..."). @return 0 or KELP_ERR_NOSPACE. */
-KELP_MUST_CHECK int kelp_field_brs_summary(const kelp_field_brs *b, char *buf, size_t cap);
+KELP_MUST_CHECK int kelp_beaconrange_summary(const kelp_beaconrange *b, char *buf, size_t cap);
 /** The AppCast report as 24.8's buildReport lays it out: "Beacons(N):" and the beacon table
  *  (ID, X, Y, Freq, Pings Unsol/Recvd/Gen'd, Noise, Push/Pull Dist), "Vehicles(N):" and the
  *  vehicle table (VName, Push/Pull Dist, Unsol Rec'd, Pings Gen'd/Rep'd, Too Freq/Far), then
  *  "Ledger: now:N, reps:R, who:a,b,..". @return 0 or KELP_ERR_NOSPACE. */
-KELP_MUST_CHECK int kelp_field_brs_report(const kelp_field_brs *b, char *buf, size_t cap);
+KELP_MUST_CHECK int kelp_beaconrange_report(const kelp_beaconrange *b, char *buf, size_t cap);
 /** Index of a beacon by label, or -1. */
-int kelp_field_brs_find(const kelp_field_brs *b, const char *label);
+int kelp_beaconrange_find(const kelp_beaconrange *b, const char *label);
 
 #ifdef __cplusplus
 }

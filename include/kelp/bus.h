@@ -89,14 +89,14 @@ typedef struct kelp_sync_req {
     char patterns[KELP_MAX_SYNC_PATTERNS][KELP_MAX_NAME];
 } kelp_sync_req;
 
-KELP_MUST_CHECK int kelp_sync_req_encode(const kelp_sync_req *r, uint8_t *buf, size_t cap, size_t *len);
-KELP_MUST_CHECK int kelp_sync_req_decode(const uint8_t *buf, size_t len, kelp_sync_req *out);
+KELP_MUST_CHECK int kelp_bus_sync_req_encode(const kelp_sync_req *r, uint8_t *buf, size_t cap, size_t *len);
+KELP_MUST_CHECK int kelp_bus_sync_req_decode(const uint8_t *buf, size_t len, kelp_sync_req *out);
 
 /** Glob match: '*' matches any run (also empty), '?' one character; anything else literal. */
 bool kelp_bus_match(const char *pattern, const char *name);
 
 /** Copy s into a name field; KELP_ERR_RANGE when it does not fit (never truncates). */
-KELP_MUST_CHECK int kelp_name_set(char dst[KELP_MAX_NAME], const char *s);
+KELP_MUST_CHECK int kelp_bus_name_set(char dst[KELP_MAX_NAME], const char *s);
 
 /* ------------------------------------------------------------------ the client */
 

@@ -34,72 +34,72 @@ extern "C" {
 #define KELP_CMDR_PUBLEN 2048    /**< bytes of one publication */
 #define KELP_CMDR_MAX_PUBS 8     /**< publications of one send */
 
-typedef struct kelp_cmdr_msg {
+typedef struct kelp_commander_msg {
     const kelp_dccl_msgdef *def;
     unsigned n_rows;
     unsigned short field[KELP_CMDR_MAX_ROWS]; /**< index into def->fields per row */
     char val[KELP_CMDR_MAX_ROWS][KELP_CMDR_VAL];
     bool edited;
-} kelp_cmdr_msg;
+} kelp_commander_msg;
 
-typedef struct kelp_cmdr {
+typedef struct kelp_commander {
     const kelp_dccl_set *set;
     kelp_dccl_builtin *geo;   /**< LatOrigin/LongOrigin and the modem-id table (may be NULL) */
     bool force_xy_only;       /**< accept only the x/y specials in latitude/longitude fields */
-    kelp_cmdr_msg open[KELP_CMDR_MAX_OPEN];
+    kelp_commander_msg open[KELP_CMDR_MAX_OPEN];
     unsigned n_open;
     int active;               /**< open message edited last, or -1 */
-    char line[KELP_CMDR_VAL + 2 * KELP_DCCL_MAX_NAME]; /**< scratch: the line kelp_cmdr_load reads */
-} kelp_cmdr;
+    char line[KELP_CMDR_VAL + 2 * KELP_DCCL_MAX_NAME]; /**< scratch: the line kelp_commander_load reads */
+} kelp_commander;
 
 /** One publication of a send. */
-typedef struct kelp_cmdr_pub {
+typedef struct kelp_commander_pub {
     char var[KELP_DCCL_MAX_NAME];
     char val[KELP_CMDR_PUBLEN];
-} kelp_cmdr_pub;
+} kelp_commander_pub;
 
-void kelp_cmdr_init(kelp_cmdr *c, const kelp_dccl_set *set, kelp_dccl_builtin *geo);
+void kelp_commander_init(kelp_commander *c, const kelp_dccl_set *set, kelp_dccl_builtin *geo);
 /** Open (or find the open) message named `name`; returns its index or KELP_ERR_NOTFOUND /
  *  KELP_ERR_NOSPACE. A new message starts with statics filled and every other value empty. */
-KELP_MUST_CHECK int kelp_cmdr_open(kelp_cmdr *c, const char *name);
+KELP_MUST_CHECK int kelp_commander_open(kelp_commander *c, const char *name);
 /** Row of the field named `name` (case-sensitive), or -1. */
-int kelp_cmdr_row(const kelp_cmdr_msg *m, const char *name);
-const kelp_dccl_field *kelp_cmdr_row_field(const kelp_cmdr_msg *m, unsigned row);
+int kelp_commander_row(const kelp_commander_msg *m, const char *name);
+const kelp_dccl_field *kelp_commander_row_field(const kelp_commander_msg *m, unsigned row);
 /** Type word shown on a row: "static", "int", "float", "bool", "string", "enum", "hex". */
-const char *kelp_cmdr_type_name(const kelp_dccl_field *f);
+const char *kelp_commander_type_name(const kelp_dccl_field *f);
 /** One line telling what the field accepts ("(static) you cannot change the value of this
  *  field", "(int) range: 0 to 10000", ...). */
-void kelp_cmdr_describe(const kelp_dccl_field *f, char *out, size_t cap);
+void kelp_commander_describe(const kelp_dccl_field *f, char *out, size_t cap);
 /** Check a value for a field. "" (not given) and the specials are accepted where they apply.
  *  @return 0, or KELP_ERR_RANGE / KELP_ERR_PARSE with d's message (d may be NULL). */
-KELP_MUST_CHECK int kelp_cmdr_check(const kelp_cmdr *c, const kelp_dccl_field *f, const char *val, kelp_diag *d);
+KELP_MUST_CHECK int kelp_commander_check(const kelp_commander *c, const kelp_dccl_field *f, const char *val, kelp_diag *d);
 /** Check and store; the message becomes the active one. */
-KELP_MUST_CHECK int kelp_cmdr_set(kelp_cmdr *c, unsigned msg, unsigned row, const char *val, kelp_diag *d);
+KELP_MUST_CHECK int kelp_commander_set(kelp_commander *c, unsigned msg, unsigned row, const char *val, kelp_diag *d);
 /** Clear every value (statics stay). */
-void kelp_cmdr_clear(kelp_cmdr *c, unsigned msg);
+void kelp_commander_clear(kelp_commander *c, unsigned msg);
 /** The next free pair number of the x/y special in a message (1, 2, ...). */
-unsigned kelp_cmdr_next_xy(const kelp_cmdr_msg *m);
+unsigned kelp_commander_next_xy(const kelp_commander_msg *m);
 /** Build the publications of a send at UNIX time `now`. KELP_ERR_NOSPACE when they do not
  *  fit (no message in d); KELP_ERR_PARSE (with d's message) for an x/y special without its
  *  pair or without LatOrigin. */
-KELP_MUST_CHECK int kelp_cmdr_send(const kelp_cmdr *c, unsigned msg, kelp_time now, kelp_cmdr_pub *out, size_t cap,
+KELP_MUST_CHECK int kelp_commander_send(const kelp_commander *c, unsigned msg, kelp_time now, kelp_commander_pub *out, size_t cap,
                                    size_t *n, kelp_diag *d);
 
 /* ---- save files: plain text, "message = NAME" opens a message, then "field = value" lines;
  *      '#' starts a comment line ---- */
 /** Write every open message. @return KELP_ERR_NOSPACE when it does not fit. */
-KELP_MUST_CHECK int kelp_cmdr_save(const kelp_cmdr *c, char *out, size_t cap, size_t *len);
+KELP_MUST_CHECK int kelp_commander_save(const kelp_commander *c, char *out, size_t cap, size_t *len);
 /** Read a save file (NUL-terminated text) into open messages. Stops at the first bad line.
  *  @return 0, or KELP_ERR_PARSE / KELP_ERR_NOTFOUND / KELP_ERR_RANGE / KELP_ERR_NOSPACE with
  *  the bad line (1-based) in d->line and the reason in d's message. */
-KELP_MUST_CHECK int kelp_cmdr_load(kelp_cmdr *c, const char *text, kelp_diag *d);
+KELP_MUST_CHECK int kelp_commander_load(kelp_commander *c, const char *text, kelp_diag *d);
 
 /* ---- acks and expiries (ACOMMS_ACK / ACOMMS_EXPIRE of pAcommsHandler) ---- */
 /** The on-screen note for an ACOMMS_ACK (ack = true) or ACOMMS_EXPIRE text:
  *  "Message acknowledged from queue: NAME\n for destination: N\n at time: 2011-Mar-03 22:38:12".
  *  The queue is named from the DCCL id in the data; `now` (UNIX) is used when the text has no
  *  time. @return 0 or KELP_ERR_PARSE. */
-KELP_MUST_CHECK int kelp_cmdr_ack_note(const kelp_cmdr *c, bool ack, const char *text, kelp_time now, char *out,
+KELP_MUST_CHECK int kelp_commander_ack_note(const kelp_commander *c, bool ack, const char *text, kelp_time now, char *out,
                                        size_t cap);
 
 #ifdef __cplusplus

@@ -56,63 +56,63 @@ KELP_STATIC_ASSERT(KELP_CMGR_MAX_CONTACTS <= 65535, "contact slots are uint16_t"
 
 enum { KELP_CMGR_VERBATIM = 0, KELP_CMGR_LAZY_LATLON, KELP_CMGR_FORCE_LATLON };
 
-typedef struct kelp_cmgr_poly {
+typedef struct kelp_contactmgr_poly {
     unsigned n;
     double pts[KELP_CMGR_MAX_REGION_PTS][2];
-} kelp_cmgr_poly;
+} kelp_contactmgr_poly;
 
 /** One filter set (global or per alert). Lists: [kind: 0 name, 1 type, 2 group][0 match, 1 ignore]. */
-typedef struct kelp_cmgr_filter {
+typedef struct kelp_contactmgr_filter {
     char list[3][2][KELP_CMGR_MAX_FILTER][KELP_CMGR_NAME];
     unsigned nlist[3][2];
-    kelp_cmgr_poly region[2][KELP_CMGR_MAX_REGIONS];
+    kelp_contactmgr_poly region[2][KELP_CMGR_MAX_REGIONS];
     unsigned nregion[2];
     bool strict_ignore;
-} kelp_cmgr_filter;
+} kelp_contactmgr_filter;
 
-typedef struct kelp_cmgr_alert {
+typedef struct kelp_contactmgr_alert {
     char id[KELP_CMGR_MAX_ID];
     char source[KELP_CMGR_MAX_ID];       /**< "" for the mission file */
     char range_color[KELP_CMGR_MAX_ID], cpa_color[KELP_CMGR_MAX_ID]; /**< "" = the global ones */
-    double alert_range, cpa_range;       /**< cpa_range as given (effective: kelp_cmgr_cpa_range) */
+    double alert_range, cpa_range;       /**< cpa_range as given (effective: kelp_contactmgr_cpa_range) */
     bool have_range, have_cpa, disabled;
     char on[KELP_CMGR_MAX_FLAGS][KELP_CMGR_MAX_FLAG], off[KELP_CMGR_MAX_FLAGS][KELP_CMGR_MAX_FLAG];
     unsigned non, noff;
-    kelp_cmgr_filter filter;
-} kelp_cmgr_alert;
+    kelp_contactmgr_filter filter;
+} kelp_contactmgr_alert;
 
-typedef struct kelp_cmgr_contact {
+typedef struct kelp_contactmgr_contact {
     char name[KELP_CMGR_NAME], type[KELP_CMGR_NAME], group[KELP_CMGR_NAME];
     double x, y, lat, lon, hdg, spd, dep, time;  /**< the last report */
     double range, range_extrap, range_cpa;       /**< this iteration's */
     uint32_t alerted;                            /**< bit a: the pair (this, alert a) is on */
     uint32_t total, active;                      /**< alerts posted ever / now */
     bool used, has_ll, retire, filtered;
-} kelp_cmgr_contact;
+} kelp_contactmgr_contact;
 
-typedef struct kelp_cmgr_report {
+typedef struct kelp_contactmgr_report {
     char var[KELP_CMGR_MAX_ID], group[KELP_CMGR_NAME], type[KELP_CMGR_NAME];
     double range, req_time;
     bool force;
     unsigned count;                  /**< names in the last list posted */
     char last[KELP_CMGR_MAX_TEXT];
-} kelp_cmgr_report;
+} kelp_contactmgr_report;
 
-typedef struct kelp_cmgr_sortkey {
+typedef struct kelp_contactmgr_sortkey {
     double v;
     unsigned pos;
-} kelp_cmgr_sortkey;
+} kelp_contactmgr_sortkey;
 
 /** One key=value component of an alert request (a workspace entry). */
-typedef struct kelp_cmgr_comp {
+typedef struct kelp_contactmgr_comp {
     const char *k;
     size_t kl;
     char v[KELP_CMGR_MAX_FLAG];
     size_t vl;
-} kelp_cmgr_comp;
+} kelp_contactmgr_comp;
 #define KELP_CMGR_MAX_COMPS 24          /**< components of one alert request */
 
-typedef struct kelp_cmgr {
+typedef struct kelp_contactmgr {
     /* configuration */
     char ownship[KELP_CMGR_MAX_ID], ownship_group[KELP_CMGR_MAX_ID], ownship_type[KELP_CMGR_MAX_ID];
     double contact_max_age, reject_range;   /**< reject_range < 0: off */
@@ -125,16 +125,16 @@ typedef struct kelp_cmgr {
     int coords;                             /**< KELP_CMGR_VERBATIM ... */
     kelp_geo geo;
     bool have_geo;                          /**< geodesy usable (a non-verbatim mode and a datum) */
-    kelp_cmgr_filter filter;
-    kelp_cmgr_alert alert[KELP_CMGR_MAX_ALERTS];
+    kelp_contactmgr_filter filter;
+    kelp_contactmgr_alert alert[KELP_CMGR_MAX_ALERTS];
     unsigned nalerts;
     /* ownship */
     double osx, osy, osh, osv;
     /* contacts: slots, and their indices in ascending name order */
-    kelp_cmgr_contact contact[KELP_CMGR_MAX_CONTACTS];
+    kelp_contactmgr_contact contact[KELP_CMGR_MAX_CONTACTS];
     uint16_t order[KELP_CMGR_MAX_CONTACTS], spare[KELP_CMGR_MAX_CONTACTS];
     unsigned ncontacts, nspare;
-    kelp_cmgr_sortkey sortbuf[KELP_CMGR_MAX_CONTACTS]; /**< scratch */
+    kelp_contactmgr_sortkey sortbuf[KELP_CMGR_MAX_CONTACTS]; /**< scratch */
     /* retired names, oldest first */
     char retired[KELP_CMGR_MAX_RETIRED][KELP_CMGR_NAME];
     unsigned nretired;
@@ -152,8 +152,8 @@ typedef struct kelp_cmgr {
      *  PlatformAlertRecord keeps them when a contact leaves) */
     struct { char name[KELP_CMGR_NAME]; uint32_t total, active; } tally[KELP_CMGR_MAX_TALLY];
     unsigned ntally;
-    unsigned long events_made;              /**< events ever made (kelp_cmgr_event) */
-    kelp_cmgr_report report[KELP_CMGR_MAX_REPORTS];
+    unsigned long events_made;              /**< events ever made (kelp_contactmgr_event) */
+    kelp_contactmgr_report report[KELP_CMGR_MAX_REPORTS];
     unsigned nreports;
     /* what was last posted */
     char prev_list[KELP_CMGR_MAX_TEXT], prev_alerted[KELP_CMGR_MAX_TEXT], prev_unalerted[KELP_CMGR_MAX_TEXT];
@@ -170,8 +170,8 @@ typedef struct kelp_cmgr {
     unsigned nevents, event_head;
     char text[KELP_CMGR_MAX_TEXT];          /**< scratch */
     struct {                                /* workspace of one call (keeps the stack under 1 KB) */
-        kelp_cmgr_alert alert;              /**< an alert request applied to a copy first */
-        kelp_cmgr_comp comp[KELP_CMGR_MAX_COMPS]; /**< its components */
+        kelp_contactmgr_alert alert;              /**< an alert request applied to a copy first */
+        kelp_contactmgr_comp comp[KELP_CMGR_MAX_COMPS]; /**< its components */
         kelp_view view;                     /**< a region parsed as a polygon */
         char str[KELP_CMGR_MAX_TEXT];       /**< a report request's text, a flag's expanded value */
     } ws;
@@ -182,52 +182,52 @@ typedef struct kelp_cmgr {
     /** workspace: a VIEW_CIRCLE or ALERT_VERBOSE being formatted */
     char ws_view[(3 * KELP_CMGR_MAX_ID + 160) > (KELP_CMGR_NAME + KELP_CMGR_MAX_ID + 200)
                      ? (3 * KELP_CMGR_MAX_ID + 160) : (KELP_CMGR_NAME + KELP_CMGR_MAX_ID + 200)];
-} kelp_cmgr;
+} kelp_contactmgr;
 
 /** Defaults (the pContactMgrV20 documentation's) for ownship `ownship` (the community; its reports are dropped). */
-void kelp_cmgr_init(kelp_cmgr *c, const char *ownship);
+void kelp_contactmgr_init(kelp_contactmgr *c, const char *ownship);
 
 /** One mission parameter (name case-insensitive). An illegal value warns through out->warn and
  *  keeps the default. @return 1 taken (also when warned), 0 not a parameter of ours. */
-KELP_MUST_CHECK int kelp_cmgr_config(kelp_cmgr *c, const char *key, const char *val, const kelp_field_sink *out);
+KELP_MUST_CHECK int kelp_contactmgr_config(kelp_contactmgr *c, const char *key, const char *val, const kelp_field_sink *out);
 
 /** After the block: the datum (have_* false when LatOrigin/LongOrigin are missing), then alert
  *  validity ("Invalid alert config:<id>") and the geodesy warnings. */
-void kelp_cmgr_config_done(kelp_cmgr *c, bool have_lat, double lat0, bool have_lon, double lon0,
+void kelp_contactmgr_config_done(kelp_contactmgr *c, bool have_lat, double lat0, bool have_lon, double lon0,
                            const kelp_field_sink *out);
 
 /** The variables to subscribe to: i = 0, 1, ... until NULL. */
-const char *kelp_cmgr_subscription(unsigned i);
+const char *kelp_contactmgr_subscription(unsigned i);
 
 /** One mail at `now` from app `src` (may be NULL). @return 1 handled, 0 not ours,
  *  <0 bad mail (already warned through out). */
-int kelp_cmgr_mail(kelp_cmgr *c, const char *var, bool is_string, const char *sval, double dval, kelp_time now,
+int kelp_contactmgr_mail(kelp_contactmgr *c, const char *var, bool is_string, const char *sval, double dval, kelp_time now,
                    const char *src, const kelp_field_sink *out);
 
 /** Apply an alert spec (as an "alert" line when from_mail is false, else BCM_ALERT_REQUEST).
  *  @return 1 applied, <0 rejected (warned). */
-KELP_MUST_CHECK int kelp_cmgr_alert_spec(kelp_cmgr *c, const char *spec, bool from_mail, const char *src, kelp_time now,
+KELP_MUST_CHECK int kelp_contactmgr_alert_spec(kelp_contactmgr *c, const char *spec, bool from_mail, const char *src, kelp_time now,
                                          const kelp_field_sink *out);
 
 /** One iteration at `now`, in 24.8's order. */
-void kelp_cmgr_iterate(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out);
+void kelp_contactmgr_iterate(kelp_contactmgr *c, kelp_time now, const kelp_field_sink *out);
 
 /** The terminal report (24.8's, from "X/Y from Lat/Lon:" on). @return the length,
  *  or KELP_ERR_NOSPACE when cut. */
-int kelp_cmgr_report_text(const kelp_cmgr *c, kelp_time now, char *buf, size_t cap);
+int kelp_contactmgr_report_text(const kelp_contactmgr *c, kelp_time now, char *buf, size_t cap);
 
 /** The effective CPA range of an alert: max(cpa_range, alert_range). */
-double kelp_cmgr_cpa_range(const kelp_cmgr_alert *a);
+double kelp_contactmgr_cpa_range(const kelp_contactmgr_alert *a);
 
 /** Event number `seq` (0, 1, ... up to events_made - 1) while still kept, else NULL: an app
  *  forwards the events it has not shown yet to its AppCast. */
-const char *kelp_cmgr_event(const kelp_cmgr *c, unsigned long seq);
+const char *kelp_contactmgr_event(const kelp_contactmgr *c, unsigned long seq);
 
 /** Contact index by name (binary search), or -1. */
-int kelp_cmgr_find(const kelp_cmgr *c, const char *name);
+int kelp_contactmgr_find(const kelp_contactmgr *c, const char *name);
 
 /** Distance a contact at speed v has run dt s after its report, with decay (d1, d2). */
-double kelp_cmgr_extrap_dist(double v, double dt, double d1, double d2);
+double kelp_contactmgr_extrap_dist(double v, double dt, double d1, double d2);
 
 #ifdef __cplusplus
 }

@@ -1,7 +1,7 @@
 /* kelp: status codes shared by every module.
  *
  * Every status-returning function returns 0 (KELP_OK) or one negative kelp_err.
- * kelp_strerror() turns a code into constant text; it never allocates.
+ * kelp_err_str() turns a code into constant text; it never allocates.
  */
 #ifndef KELP_ERR_H
 #define KELP_ERR_H
@@ -47,7 +47,7 @@ typedef enum kelp_err {
 } kelp_err;
 
 /** Constant text for a status code; unknown codes give "unknown error". */
-const char *kelp_strerror(int code);
+const char *kelp_err_str(int code);
 
 /* ---- diagnostics: the one error path of every parser and configuration call ----
  *
@@ -58,7 +58,7 @@ const char *kelp_strerror(int code);
  *
  * Built with -DKELP_NO_ERRMSG the message text is compiled out (the struct shrinks to three
  * ints and no message string is linked into the image); the code, line and column remain, and
- * kelp_diag_text() answers kelp_strerror(code). A program and the kelp library it links must
+ * kelp_diag_text() answers kelp_err_str(code). A program and the kelp library it links must
  * agree on KELP_NO_ERRMSG, as on the other KELP_* build limits. */
 #ifndef KELP_DIAG_MSG_MAX
 #define KELP_DIAG_MSG_MAX 160 /**< message bytes, terminator included */
@@ -80,7 +80,7 @@ void kelp_diag_clear(kelp_diag *d);
  *  msg may be NULL. With KELP_NO_ERRMSG use the macros below so the text is not linked in. */
 int kelp_diag_set(kelp_diag *d, int code, const char *msg);
 
-/** As kelp_diag_set with a kelp_snprintf format (truncated to KELP_DIAG_MSG_MAX - 1 bytes). */
+/** As kelp_diag_set with a kelp_util_snprintf format (truncated to KELP_DIAG_MSG_MAX - 1 bytes). */
 int kelp_diag_setf(kelp_diag *d, int code, const char *fmt, ...) KELP_PRINTF(3, 4);
 
 /** Add the place of a recorded failure: line and col are set only where still 0, so the
@@ -88,7 +88,7 @@ int kelp_diag_setf(kelp_diag *d, int code, const char *fmt, ...) KELP_PRINTF(3, 
  *  the recorded code (KELP_OK when none). */
 int kelp_diag_where(kelp_diag *d, int line, int col);
 
-/** The message, or kelp_strerror(code) when there is none (or when compiled out); "" for a
+/** The message, or kelp_err_str(code) when there is none (or when compiled out); "" for a
  *  cleared record. Never NULL; d may be NULL (gives ""). */
 const char *kelp_diag_text(const kelp_diag *d);
 

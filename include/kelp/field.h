@@ -170,7 +170,7 @@ int kelp_field_nrep_iterate(kelp_field_nrep *r, kelp_time now, const kelp_field_
  *  are read case-insensitively with the synonyms host/hostip/host_ip/ip, port/port_db,
  *  time_warp/timewarp; without port_udp, the port of the first host:port of a 24.8
  *  pshare_iroutes ("10.0.0.5:9200&multicast_8") is taken. Zero / "" means absent. */
-typedef struct kelp_broker_host {
+typedef struct kelp_field_broker_host {
     char community[KELP_MAX_NAME];
     char host[KELP_MAX_NAME];
     unsigned port_db, port_udp;
@@ -188,7 +188,7 @@ typedef struct kelp_broker_host {
     bool have_port_db;
     bool have_port_udp;                /**< 24.8's record has port_udp: given, or the port of a
                                             single-route pshare_iroutes ("10.0.0.5:9200") */
-} kelp_broker_host;
+} kelp_field_broker_host;
 
 #define KELP_HOSTINFO_MAX_ADDRS 16
 
@@ -224,7 +224,7 @@ typedef struct kelp_field_hostinfo {
     /* workspace of one call (keeps the stack under 1 KB) */
     char ws_all[KELP_HOSTINFO_MAX_ADDRS * 17 + 1], ws_verbose[KELP_HOSTINFO_MAX_ADDRS * 50 + 1], ws_info[1024];
     char ws_spec[1024];
-    kelp_broker_host ws_rec;
+    kelp_field_broker_host ws_rec;
 } kelp_field_hostinfo;
 
 void kelp_field_hostinfo_cfg_default(kelp_field_hostinfo_cfg *c);
@@ -702,56 +702,56 @@ size_t kelp_field_ufs_table(const kelp_field_ufs *s, char *buf, size_t cap);
 
 /** Parse a host record. @return 0; KELP_ERR_PARSE (not key=value pairs, a bad number or
  *  port) or KELP_ERR_RANGE (a value too long), the reason in d. Completeness is separate. */
-KELP_MUST_CHECK int kelp_broker_host_parse(const char *s, kelp_broker_host *h, kelp_diag *d);
+KELP_MUST_CHECK int kelp_field_broker_host_parse(const char *s, kelp_field_broker_host *h, kelp_diag *d);
 /** Complete: community, host and port_udp (what a node broker needs to reach the shore). */
-bool kelp_broker_host_complete(const kelp_broker_host *h);
+bool kelp_field_broker_host_complete(const kelp_field_broker_host *h);
 /** 24.8's HostRecord::valid(): a community, an IPv4 dotted quad or "localhost" as host, a port_db. */
-bool kelp_broker_host_valid(const kelp_broker_host *h);
+bool kelp_field_broker_host_valid(const kelp_field_broker_host *h);
 /** 24.8's HostRecord::getSpec() into buf: community, hostip, port_db, port_udp,
  *  pshare_iroutes, keyword, hostip_alts (the host's own address taken out), timewarp, then
  *  `time` and `key` when non-NULL. @return 0 or KELP_ERR_NOSPACE. */
-KELP_MUST_CHECK int kelp_broker_host_spec(const kelp_broker_host *h, const char *time, const char *key, char *buf,
+KELP_MUST_CHECK int kelp_field_broker_host_spec(const kelp_field_broker_host *h, const char *time, const char *key, char *buf,
                                           size_t cap);
 
 /** A bridge to request: local src (macros $V $v $N on the shore) and the remote alias. */
-typedef struct kelp_broker_bridge {
+typedef struct kelp_field_broker_bridge {
     char src[KELP_MAX_NAME], alias[KELP_MAX_NAME];
-} kelp_broker_bridge;
+} kelp_field_broker_bridge;
 
 /** A candidate shoreside: its bridge's UDP address and community ("" unknown). */
-typedef struct kelp_broker_try {
+typedef struct kelp_field_broker_try {
     char host[KELP_MAX_NAME], community[KELP_MAX_NAME];
     unsigned port;
     char route[KELP_BROKER_ROUTE];     /**< 24.8: the pshare_route as written (host:port or multicast_N) */
-} kelp_broker_try;
+} kelp_field_broker_try;
 
 /** 24.8's TRY_SHORE_HOST: only "pshare_route=R", R a "host:port" (host a dotted quad,
  *  localhost or a name) or "multicast_N". @return 0 or KELP_ERR_PARSE (reason in d). */
-KELP_MUST_CHECK int kelp_broker_try_parse_pshare(const char *s, kelp_broker_try *t, kelp_diag *d);
+KELP_MUST_CHECK int kelp_field_broker_try_parse_pshare(const char *s, kelp_field_broker_try *t, kelp_diag *d);
 
 /** What a node broker knows of one try host (24.8's per-route columns). */
-typedef struct kelp_broker_shore {
+typedef struct kelp_field_broker_shore {
     char community[KELP_MAX_NAME], ip[KELP_MAX_NAME], warp[24];
     unsigned long pings, acks;
     bool bridged;                      /**< the user bridges were requested to this route */
-} kelp_broker_shore;
+} kelp_field_broker_shore;
 
 /** Parse one TRY_SHORE_HOST: "host_ip=H, port_udp=P[, community=C]" (hostip too) or 24.8's
  *  "pshare_route=H:P". A multicast_N route is KELP_ERR_UNSUPPORTED (kelp-bridge is unicast);
  *  anything else missing or malformed KELP_ERR_PARSE; d says which. */
-KELP_MUST_CHECK int kelp_broker_try_parse(const char *s, kelp_broker_try *t, kelp_diag *d);
+KELP_MUST_CHECK int kelp_field_broker_try_parse(const char *s, kelp_field_broker_try *t, kelp_diag *d);
 /** Parse one BRIDGE: "src=V[, alias=A]" (alias defaults to src). */
-KELP_MUST_CHECK int kelp_broker_bridge_parse(const char *s, kelp_broker_bridge *b, kelp_diag *d);
+KELP_MUST_CHECK int kelp_field_broker_bridge_parse(const char *s, kelp_field_broker_bridge *b, kelp_diag *d);
 
 typedef struct kelp_field_nbroker_cfg {
     char keyword[KELP_MAX_NAME];              /**< KEYWORD ("" none) */
-    kelp_broker_try tryh[KELP_BROKER_MAX_TRY];/**< valid TRY_SHORE_HOSTs, config order */
+    kelp_field_broker_try tryh[KELP_BROKER_MAX_TRY];/**< valid TRY_SHORE_HOSTs, config order */
     unsigned ntry;
     char bad_try[KELP_BROKER_MAX_TRY][KELP_BROKER_LINE]; /**< invalid lines, as written */
     char bad_why[KELP_BROKER_MAX_TRY][KELP_BROKER_WHY]; /**< why each is invalid (the diag's text) */
     bool bad_multicast[KELP_BROKER_MAX_TRY];   /**< a 24.8 multicast route: valid there, not here */
     unsigned nbad_try;
-    kelp_broker_bridge bridge[KELP_BROKER_MAX_BRIDGES]; /**< BRIDGE, config order */
+    kelp_field_broker_bridge bridge[KELP_BROKER_MAX_BRIDGES]; /**< BRIDGE, config order */
     unsigned nbridges;
     double warp;                               /**< MOOSTimeWarp (1) */
     double retry;                              /**< RETRY_INTERVAL: s without an ack before the ping
@@ -763,10 +763,10 @@ typedef struct kelp_field_nbroker_cfg {
 
 typedef struct kelp_field_nbroker {
     kelp_field_nbroker_cfg cfg;
-    kelp_broker_host node;                     /**< the last complete PHI_HOST_INFO */
+    kelp_field_broker_host node;                     /**< the last complete PHI_HOST_INFO */
     bool have_node;
     double host_req_at;                        /**< last HOST_INFO_REQUEST (-1 never) */
-    kelp_broker_host shore;                    /**< the shore of the last valid ack */
+    kelp_field_broker_host shore;                    /**< the shore of the last valid ack */
     bool have_shore;
     bool bridged;                              /**< BRIDGEs registered to `shore` */
     bool routes_posted;                        /**< ping registrations posted at least once */
@@ -774,12 +774,12 @@ typedef struct kelp_field_nbroker {
     unsigned long iterations, ok_phi, bad_phi, phi_changes, registers, pings, ok_ack, bad_ack;
     char last_register[KELP_BROKER_MSG];
     /* 24.8's model */
-    kelp_broker_shore sh[KELP_BROKER_MAX_TRY]; /**< per valid try host, config order */
+    kelp_field_broker_shore sh[KELP_BROKER_MAX_TRY]; /**< per valid try host, config order */
     double ping_at, ok_ack_at;                 /**< last ping, last valid ack (long ago at start) */
     kelp_clock clock;                          /**< the newest `now` seen (the time step rule) */
     unsigned long pshare_cmds;
     char ws[KELP_MAX_SVAL];                    /**< workspace of one call (keeps the stack under 1 KB) */
-    kelp_broker_host ws_host;                  /**< workspace: a record being parsed */
+    kelp_field_broker_host ws_host;                  /**< workspace: a record being parsed */
 } kelp_field_nbroker;
 
 /** Defaults, 24.8's: no keyword, no try hosts, no bridges, warp 1, the AUTO_BRIDGE_* on. */
@@ -818,9 +818,9 @@ KELP_MUST_CHECK int kelp_field_nbroker_report(const kelp_field_nbroker *b, char 
 
 typedef struct kelp_field_sbroker_cfg {
     char keyword[KELP_MAX_NAME];                        /**< KEYWORD ("" none) */
-    kelp_broker_bridge bridge[KELP_BROKER_MAX_BRIDGES]; /**< BRIDGE and QBRIDGE, config order */
+    kelp_field_broker_bridge bridge[KELP_BROKER_MAX_BRIDGES]; /**< BRIDGE and QBRIDGE, config order */
     unsigned nbridges;
-    kelp_broker_try vnode[KELP_BROKER_MAX_VNODES];      /**< 24.8 try_vnode routes */
+    kelp_field_broker_try vnode[KELP_BROKER_MAX_VNODES];      /**< 24.8 try_vnode routes */
     unsigned nvnodes;
     double warp;                                        /**< MOOSTimeWarp (1) */
     bool warn_stale;                                    /**< WARNING_ON_STALE (false) */
@@ -833,8 +833,8 @@ typedef struct kelp_field_sbroker_cfg {
 } kelp_field_sbroker_cfg;
 
 /** One vehicle as the shore knows it. */
-typedef struct kelp_broker_node {
-    kelp_broker_host rec;                 /**< its last ping */
+typedef struct kelp_field_broker_node {
+    kelp_field_broker_host rec;                 /**< its last ping */
     char status[KELP_MAX_NAME];           /**< ok, timewarp (<shore>!=<node>), keyword, invalid */
     double last_ping, skew;
     unsigned index;                       /**< $N: 1-based order of first acceptance (0 never) */
@@ -844,14 +844,14 @@ typedef struct kelp_broker_node {
     bool stale;
     unsigned long pings, acks;
     unsigned nset;                        /**< 24.8: bridges requested so far (UFSB_BRIDGE_VARS) */
-} kelp_broker_node;
+} kelp_field_broker_node;
 
 typedef struct kelp_field_sbroker {
     kelp_field_sbroker_cfg cfg;
-    kelp_broker_host shore;               /**< the last PHI_HOST_INFO */
+    kelp_field_broker_host shore;               /**< the last PHI_HOST_INFO */
     bool have_shore;                      /**< complete */
     double host_req_at;                   /**< last HOST_INFO_REQUEST (-1 never) */
-    kelp_broker_node node[KELP_BROKER_MAX_NODES];
+    kelp_field_broker_node node[KELP_BROKER_MAX_NODES];
     unsigned nnodes, naccepted;
     double vnode_reg_at, vnode_post_at, count_at; /**< -1 never */
     unsigned count_posted;
@@ -867,7 +867,7 @@ typedef struct kelp_field_sbroker {
     /* workspace of one call (keeps the stack under 1 KB): the bridge-name candidates, a list */
     uint16_t ws_idx[(KELP_BROKER_MAX_BRIDGES + 1) * (KELP_BROKER_MAX_NODES + 1)];
     char ws[KELP_MAX_SVAL];
-    kelp_broker_host ws_host;      /**< workspace: the pinging node's host record */
+    kelp_field_broker_host ws_host;      /**< workspace: the pinging node's host record */
 } kelp_field_sbroker;
 
 /** Defaults, 24.8's: no keyword, no bridges, warp 1, no stale warnings, the AUTO_BRIDGE_* on. */

@@ -40,11 +40,11 @@
  *   VIEW_CIRCLE (red: said hazard, white: benign; 5 vertices)
  *
  * Also: VIEW_MARKER per object at the first iteration (SHOW_HAZARDS) and on PMV_CONNECT; the
- * AppCast report (kelp_field_uhz_report) with 24.8's tables; events and configuration
- * warnings through kelp_field_uhz_set_log, run warnings through the sink's warn, each with
+ * AppCast report (kelp_hazardsensor_report) with 24.8's tables; events and configuration
+ * warnings through kelp_hazardsensor_set_log, run warnings through the sink's warn, each with
  * 24.8's text (a mail 24.8 does not handle also warns "Unhandled mail: <VAR>").
  *
- * Randomness: glibc's rand() sequence (kelp_glibc_rand) seeded with cfg.seed (1 is what a
+ * Randomness: glibc's rand() sequence (kelp_rng_glibc) seeded with cfg.seed (1 is what a
  * program that never calls srand gets: SEED_RANDOM = false), so a run draws what 24.8 draws.
  *
  * Core: no allocation, no I/O, no clock.
@@ -103,7 +103,7 @@ typedef struct kelp_uhz_setting {
     unsigned max;                       /**< vehicles besides the asker allowed on it; 0 no limit */
 } kelp_uhz_setting;
 
-typedef struct kelp_field_uhz_cfg {
+typedef struct kelp_hazardsensor_cfg {
     char hazard_shape[KELP_UHZ_LABEL_LEN], hazard_color[KELP_UHZ_LABEL_LEN];  /**< triangle, red */
     char benign_shape[KELP_UHZ_LABEL_LEN], benign_color[KELP_UHZ_LABEL_LEN];  /**< triangle, light_blue */
     double hazard_width, benign_width;  /**< 8, 8 */
@@ -125,7 +125,7 @@ typedef struct kelp_field_uhz_cfg {
     char summary[KELP_UHZ_SUMMARY_LEN]; /**< UHZ_OPTIONS_SUMMARY, built as lines arrive */
     kelp_uhz_object object[KELP_UHZ_MAX_OBJECTS];
     unsigned nobjects, nhazard, nbenign;
-} kelp_field_uhz_cfg;
+} kelp_hazardsensor_cfg;
 
 typedef struct kelp_uhz_entry {
     unsigned obj;                       /**< object index */
@@ -159,12 +159,12 @@ typedef struct kelp_uhz_node {
 /** Events and configuration warnings of 24.8's AppCast (either may be NULL). */
 typedef void (*kelp_uhz_log_fn)(void *ctx, const char *msg);
 
-typedef struct kelp_field_uhz {
-    kelp_field_uhz_cfg cfg;             /**< settings sorted by width, objects by label */
+typedef struct kelp_hazardsensor {
+    kelp_hazardsensor_cfg cfg;             /**< settings sorted by width, objects by label */
     /* private */
     kelp_uhz_node node[KELP_UHZ_MAX_NODES]; /**< by name */
     unsigned nnodes;
-    kelp_glibc_rand rand;
+    kelp_rng_glibc rand;
     bool markers_due, summary_posted;
     double last_summary;
     kelp_clock clk;                     /**< the newest `now` (the time step rule) */
@@ -178,56 +178,56 @@ typedef struct kelp_field_uhz {
     char ws_vname[KELP_NODEREPORT_MAX_FIELD]; /**< workspace: a classify request's vehicle */
     char ws_label[KELP_UHZ_LABEL_LEN];     /**< and its object */
     kelp_nodereport ws_report;             /**< workspace: the node report being read */
-} kelp_field_uhz;
+} kelp_hazardsensor;
 
 /** 24.8's defaults. */
-void kelp_field_uhz_cfg_default(kelp_field_uhz_cfg *cfg);
+void kelp_hazardsensor_cfg_default(kelp_hazardsensor_cfg *cfg);
 /** One block parameter (key case-insensitive): DEFAULT_{HAZARD,BENIGN}_{SHAPE,COLOR,WIDTH},
  *  SWATH_TRANSPARENCY, SWATH_LENGTH, OPTIONS_SUMMARY_INTERVAL, SHOW_HAZARDS, SHOW_SWATH,
  *  SHOW_REPORTS / SHOW_DETECTIONS (seconds, or unlimited/nolimit), SHOW_PD, SHOW_PFA,
  *  SEED_RANDOM, RANDOM_SEED (kelp: the srand seed), MIN_RESET_INTERVAL, MIN_CLASSIFY_INTERVAL
  *  (CLASSIFY_PERIOD), MAX_TURN_RATE, MAX_VEHICLE_SPEED, IGNORE_RESEMBLANCES, RN_ALGORITHM,
  *  RN_UNIFORM_PCT (taken, unused, as in 24.8), SENSOR_CONFIG, HAZARD. Not HAZARD_FILE: the
- *  app reads the file and gives each line to kelp_field_uhz_hazard_line. A value may end in
+ *  app reads the file and gives each line to kelp_hazardsensor_hazard_line. A value may end in
  *  "// comment". @return 1 taken, 0 not its key, <0 (24.8's warning text in d). */
-KELP_MUST_CHECK int kelp_field_uhz_config(kelp_field_uhz_cfg *cfg, const char *key, const char *val,
+KELP_MUST_CHECK int kelp_hazardsensor_config(kelp_hazardsensor_cfg *cfg, const char *key, const char *val,
                                           kelp_diag *d);
 /** One line of a hazard file: "hazard = x=..,y=..,type=..,label=.." (or a bare "x=..,..").
  *  @return 1 object added, 0 a blank/comment line or another key (skipped), <0 (reason in d)
  *  (missing x, y, type or label, a duplicate label, KELP_ERR_NOSPACE when full). */
-KELP_MUST_CHECK int kelp_field_uhz_hazard_line(kelp_field_uhz_cfg *cfg, const char *line, kelp_diag *d);
+KELP_MUST_CHECK int kelp_hazardsensor_hazard_line(kelp_hazardsensor_cfg *cfg, const char *line, kelp_diag *d);
 /** One "width=..,exp=..,class=..[,max=..]" setting. @return 0 or <0 (reason in d). */
-KELP_MUST_CHECK int kelp_field_uhz_add_setting(kelp_field_uhz_cfg *cfg, const char *spec, kelp_diag *d);
+KELP_MUST_CHECK int kelp_hazardsensor_add_setting(kelp_hazardsensor_cfg *cfg, const char *spec, kelp_diag *d);
 /** Start with cfg (copied; settings sorted by width, objects by label). @return 0. */
-KELP_MUST_CHECK int kelp_field_uhz_init(kelp_field_uhz *h, const kelp_field_uhz_cfg *cfg);
+KELP_MUST_CHECK int kelp_hazardsensor_init(kelp_hazardsensor *h, const kelp_hazardsensor_cfg *cfg);
 /** Where events and configuration warnings go (NULL: dropped). */
-void kelp_field_uhz_set_log(kelp_field_uhz *h, kelp_uhz_log_fn event, kelp_uhz_log_fn cfg_warning, void *ctx);
+void kelp_hazardsensor_set_log(kelp_hazardsensor *h, kelp_uhz_log_fn event, kelp_uhz_log_fn cfg_warning, void *ctx);
 /** The variables to subscribe to, one per call (i from 0) until NULL. */
-const char *kelp_field_uhz_subscription(unsigned i);
+const char *kelp_hazardsensor_subscription(unsigned i);
 /** One mail at `now` from `community` (the mail's, "" when unknown): NODE_REPORT,
  *  UHZ_SENSOR_REQUEST, UHZ_CONFIG_REQUEST, UHZ_CLASSIFY_REQUEST, PMV_CONNECT.
  *  @return 1 handled, 0 not ours, <0 not handled (warned "Unhandled mail: <VAR>"). */
-int kelp_field_uhz_mail(kelp_field_uhz *h, const char *var, const char *sval, const char *community, kelp_time now,
+int kelp_hazardsensor_mail(kelp_hazardsensor *h, const char *var, const char *sval, const char *community, kelp_time now,
                         const kelp_field_sink *out);
 /** Iterate at `now`: markers when due, the options summary, every live sensor request,
  *  classify answers. */
-void kelp_field_uhz_iterate(kelp_field_uhz *h, kelp_time now, const kelp_field_sink *out);
+void kelp_hazardsensor_iterate(kelp_hazardsensor *h, kelp_time now, const kelp_field_sink *out);
 /** Index of a vehicle (exact name), or -1. */
-int kelp_field_uhz_find(const kelp_field_uhz *h, const char *name);
+int kelp_hazardsensor_find(const kelp_hazardsensor *h, const char *name);
 /** Whether (ox, oy) lies in the swath of a vehicle at (vx, vy) heading hdg degrees: width m
  *  to each side, length m ahead and behind (edges included). */
-bool kelp_field_uhz_in_swath(double vx, double vy, double hdg, double width, double length, double ox, double oy);
+bool kelp_hazardsensor_in_swath(double vx, double vy, double hdg, double width, double length, double ox, double oy);
 /** gen_hazards: whether (x, y) lies in the convex polygon pts[0..n) (either winding; on an
  *  edge counts as inside). */
-bool kelp_field_uhz_in_convex(const double (*pts)[2], size_t n, double x, double y);
+bool kelp_hazardsensor_in_convex(const double (*pts)[2], size_t n, double x, double y);
 /** gen_hazards: a point uniformly at random in the convex polygon pts[0..n) (rejection in
  *  its bounding box, at most 100,000 tries). @return 0, KELP_ERR_ARG (fewer than 3 vertices,
  *  or no area), KELP_ERR_INFEASIBLE (no point found). */
-KELP_MUST_CHECK int kelp_field_uhz_random_point(const double (*pts)[2], size_t n, kelp_rng *rng, double *x, double *y);
+KELP_MUST_CHECK int kelp_hazardsensor_random_point(const double (*pts)[2], size_t n, kelp_rng *rng, double *x, double *y);
 /** 24.8's AppCast report: the hazard file (`file`, NULL: "None provided."), the settings
  *  table, each vehicle's setting and statistics (times relative to `start`).
  *  @return 0 or KELP_ERR_NOSPACE (truncated). */
-KELP_MUST_CHECK int kelp_field_uhz_report(const kelp_field_uhz *h, const char *file, kelp_time start, char *buf,
+KELP_MUST_CHECK int kelp_hazardsensor_report(const kelp_hazardsensor *h, const char *file, kelp_time start, char *buf,
                                           size_t cap);
 
 #ifdef __cplusplus

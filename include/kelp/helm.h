@@ -126,7 +126,7 @@ typedef enum kelp_bhv_state {
     KELP_BHV_COMPLETED
 } kelp_bhv_state;
 
-const char *kelp_bhv_state_name(kelp_bhv_state s);
+const char *kelp_helm_bhv_state_name(kelp_bhv_state s);
 
 /** Storage a behaviour uses to build its function in onRunState. out/out_cap: pieces of the
  *  returned function (valid until the solve of this iteration). tmp, dwork, pq: scratch. */
@@ -151,7 +151,7 @@ typedef struct kelp_bhv_ops {
      *  <0 = not recognised or malformed. Called after the general parameters declined. */
     int (*set_param)(kelp_bhv *b, const char *param, const char *value);
     /** After the .bhv parameters and after each applied update (onSetParamComplete). <0 at
-     *  startup refuses the configuration (with kelp_bhv_fail's reason). May be NULL. */
+     *  startup refuses the configuration (with kelp_helm_bhv_fail's reason). May be NULL. */
     int (*params_done)(kelp_bhv *b);
     /** onIdleState. May be NULL. */
     void (*on_idle)(kelp_bhv *b);
@@ -385,33 +385,33 @@ struct kelp_bhv {
 /* ---- implementor-invoked utilities (section 4.5.1) ---- */
 
 /** Post end flags (and inactive flags); completed from the next iteration unless perpetual. */
-void kelp_bhv_set_complete(kelp_bhv *b);
+void kelp_helm_bhv_set_complete(kelp_bhv *b);
 /** addInfoVars("NAV_X, NAV_Y"): one or comma-separated; duplicates ignored. <0 when full. */
-KELP_MUST_CHECK int kelp_bhv_add_info_vars(kelp_bhv *b, const char *names);
-bool kelp_bhv_buf_double(const kelp_bhv *b, const char *var, double *out);
-bool kelp_bhv_buf_string(const kelp_bhv *b, const char *var, char *buf, size_t cap);
-double kelp_bhv_buf_time(const kelp_bhv *b, const char *var);
-double kelp_bhv_buf_now(const kelp_bhv *b);
-unsigned kelp_bhv_buf_ndeltas(const kelp_bhv *b, const char *var);
-bool kelp_bhv_buf_delta(const kelp_bhv *b, const char *var, unsigned k, double *dval, const char **sval);
+KELP_MUST_CHECK int kelp_helm_bhv_add_info_vars(kelp_bhv *b, const char *names);
+bool kelp_helm_bhv_buf_double(const kelp_bhv *b, const char *var, double *out);
+bool kelp_helm_bhv_buf_string(const kelp_bhv *b, const char *var, char *buf, size_t cap);
+double kelp_helm_bhv_buf_time(const kelp_bhv *b, const char *var);
+double kelp_helm_bhv_buf_now(const kelp_bhv *b);
+unsigned kelp_helm_bhv_buf_ndeltas(const kelp_bhv *b, const char *var);
+bool kelp_helm_bhv_buf_delta(const kelp_bhv *b, const char *var, unsigned k, double *dval, const char **sval);
 /** postMessage: queued for the end of the iteration. key NULL/"" = default key; "repeatable"
  *  bypasses the duplicate filter. post_mapping applies (a mapping to "silent" drops it). */
-void kelp_bhv_post_string(kelp_bhv *b, const char *var, const char *val, const char *key);
-void kelp_bhv_post_double(kelp_bhv *b, const char *var, double val, const char *key);
-void kelp_bhv_post_bool(kelp_bhv *b, const char *var, bool val, const char *key);
+void kelp_helm_bhv_post_string(kelp_bhv *b, const char *var, const char *val, const char *key);
+void kelp_helm_bhv_post_double(kelp_bhv *b, const char *var, double val, const char *key);
+void kelp_helm_bhv_post_bool(kelp_bhv *b, const char *var, bool val, const char *key);
 /** postIntMessage: rounded to the nearest integer (2.6 -> 3, -2.6 -> -3). */
-void kelp_bhv_post_int(kelp_bhv *b, const char *var, double val, const char *key);
+void kelp_helm_bhv_post_int(kelp_bhv *b, const char *var, double val, const char *key);
 /** postWMessage: BHV_WARNING = "<name>: <msg>" (repeatable). */
-void kelp_bhv_post_warning(kelp_bhv *b, const char *msg);
+void kelp_helm_bhv_post_warning(kelp_bhv *b, const char *msg);
 /** postEMessage: BHV_ERROR = "<name>: <msg>" (repeatable); state_ok=false -> helm all-stop. */
-void kelp_bhv_post_error(kelp_bhv *b, const char *msg);
+void kelp_helm_bhv_post_error(kelp_bhv *b, const char *msg);
 /** Record why a parameter was refused (first wins) and return KELP_ERR_PARSE. */
-KELP_MUST_CHECK int kelp_bhv_fail(kelp_bhv *b, const char *why);
+KELP_MUST_CHECK int kelp_helm_bhv_fail(kelp_bhv *b, const char *why);
 
 /** setParam as the helm applies it: general parameters (section 4.2) first, then the type's.
  *  param is matched case-insensitively. 0 or <0 (b->fail says why). b must belong to a helm
  *  (kelp_helm_add): the trimmed value is kept in the helm's ws_param (KELP_ERR_ARG otherwise). */
-KELP_MUST_CHECK int kelp_bhv_set_param(kelp_bhv *b, const char *param, const char *value);
+KELP_MUST_CHECK int kelp_helm_bhv_set_param(kelp_bhv *b, const char *param, const char *value);
 
 /** relAng: compass bearing from (xa,ya) to (xb,yb) in [0,360): 0 = +y, 90 = +x; 0 if equal. */
 double kelp_helm_relang(double xa, double ya, double xb, double yb);
@@ -438,11 +438,11 @@ typedef struct kelp_bhv_avoid_aof {
     double min_util, max_util;
     int icrs, ispd;
 } kelp_bhv_avoid_aof;
-double kelp_bhv_avoid_aof_eval(const double *pt, void *user);
+double kelp_helm_bhv_avoid_aof_eval(const double *pt, void *user);
 /** Priority factor at range: 0 at or beyond outer, 1 at inner, graded by (outer - range) /
  *  (outer - inner) (grade 0 linear, 1 quadratic, 2 quasi = power 1.5), that fraction going on
  *  past 1 inside inner as MOOS-IvP's getRelevance; 1 when outer <= inner. */
-double kelp_bhv_avoid_relevance(double range, double inner, double outer, int grade);
+double kelp_helm_bhv_avoid_relevance(double range, double inner, double outer, int grade);
 
 /** The AOF_SimpleWaypoint objective (0..100) at (course, speed) for the reflector build. */
 typedef struct kelp_bhv_swpt_aof {
@@ -450,7 +450,7 @@ typedef struct kelp_bhv_swpt_aof {
     double angle_to_wpt, min_speed, max_speed;
     int icrs, ispd;                    /* indices of course and speed in the domain */
 } kelp_bhv_swpt_aof;
-double kelp_bhv_swpt_aof_eval(const double *pt, void *user);
+double kelp_helm_bhv_swpt_aof_eval(const double *pt, void *user);
 
 /* ------------------------------------------------------------------ the helm */
 
@@ -627,8 +627,8 @@ struct kelp_helm {
         char val[KELP_HELM_MAX_SVAL], bad[KELP_HELM_MAX_SVAL - 128], msg[KELP_HELM_MAX_SVAL];
         char param[KELP_MAX_NAME];
     } ws_upd;
-    /** workspace of kelp_bhv_set_param (the trimmed value; keeps the stack small): a behaviour's
-     *  set_param must not call kelp_bhv_set_param again */
+    /** workspace of kelp_helm_bhv_set_param (the trimmed value; keeps the stack small): a behaviour's
+     *  set_param must not call kelp_helm_bhv_set_param again */
     char ws_param[KELP_HELM_MAX_SVAL];
     char ws_pname[KELP_MAX_NAME];      /**< ... and the lower-cased parameter name */
     /** workspace of kelp_helm_load_bhv: a behaviour's type, then each of its parameters' names
@@ -638,7 +638,7 @@ struct kelp_helm {
     char ws_flag[KELP_HELM_MAX_SVAL];
     /** workspace of the macro expansion: a number formatted for $[PWT] / $[UTC] */
     char ws_macro[48];
-    /** workspace of the general parameters' VAR=value checks (kelp_bhv_set_param) */
+    /** workspace of the general parameters' VAR=value checks (kelp_helm_bhv_set_param) */
     kelp_helm_pair ws_pair;
     /** workspace of the solve: the sub-domain the objective functions span */
     kelp_ivp_domain ws_sub;
@@ -654,7 +654,7 @@ struct kelp_helm {
         kelp_ivp_zaic_peak zaic;               /* bhv_zaic1: the ZAIC being built */
         char zaic_msg[KELP_IVP_MAX_WARN + 48]; /* bhv_zaic1: its warning */
         kelp_ivp_func cs[2];                   /* bhv_course_speed_zaic_ratio: speed and course */
-        char msg[KELP_HELM_MAX_SVAL];          /* kelp_bhv_post_warning / _error: "name: msg" */
+        char msg[KELP_HELM_MAX_SVAL];          /* kelp_helm_bhv_post_warning / _error: "name: msg" */
         kelp_ivp_reflector refl;               /* a behaviour's Reflector (SimpleWaypoint, AvoidCollision) */
         kelp_bhv_avoid_aof avd_aof;            /* build (AvoidCollision): the objective refl samples */
         kelp_bhv_swpt_aof swpt_aof;            /* build_reflector (SimpleWaypoint): the same */
@@ -673,7 +673,7 @@ struct kelp_helm {
 /** Initialise an empty helm. The storage in mem must outlive the helm. */
 KELP_MUST_CHECK int kelp_helm_init(kelp_helm *h, const kelp_helm_config *cfg, const kelp_helm_mem *mem);
 /** Instantiate a behaviour of a registered type (constructor run). KELP_ERR_NOTFOUND for an
- *  unknown type, KELP_ERR_NOSPACE when full. Then set parameters with kelp_bhv_set_param
+ *  unknown type, KELP_ERR_NOSPACE when full. Then set parameters with kelp_helm_bhv_set_param
  *  and call kelp_helm_configured(). */
 KELP_MUST_CHECK int kelp_helm_add(kelp_helm *h, const char *type, kelp_bhv **out);
 /** Add an initialize line ("initialize VAR = value"; defer: "initialize_", posted only if

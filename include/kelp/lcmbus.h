@@ -25,16 +25,16 @@ typedef struct kelp_lcmbus kelp_lcmbus;
 
 /** Resolve the URL for a community: $KELP_LCM_URL, else mission_url (may be NULL), else
  *  the default. Writes into buf. */
-KELP_MUST_CHECK int kelp_lcm_url(const char *mission_url, char *buf, size_t cap);
+KELP_MUST_CHECK int kelp_lcmbus_url(const char *mission_url, char *buf, size_t cap);
 
 /** The URL of the community a mission describes: $KELP_LCM_URL, else the global LCM_URL,
  *  else udpm://239.255.76.67:<ServerPort>?ttl=0 when ServerPort is set (one port per
- *  community, see kelp_udpm_community_url), else the default; then as kelp_lcm_url.
+ *  community, see kelp_udpm_community_url), else the default; then as kelp_lcmbus_url.
  *  @param[out] line the offending mission line on error (0 if none).
  *  @return 0, KELP_ERR_RANGE (bad LCM_URL or ServerPort), KELP_ERR_NOSPACE. */
-KELP_MUST_CHECK int kelp_lcm_mission_url(const kelp_mission *m, char *buf, size_t cap, int *line);
+KELP_MUST_CHECK int kelp_lcmbus_mission_url(const kelp_mission *m, char *buf, size_t cap, int *line);
 
-/** Open a client. @param url LCM URL (see kelp_lcm_url); @return NULL on failure with a
+/** Open a client. @param url LCM URL (see kelp_lcmbus_url); @return NULL on failure with a
  *  reason in d. */
 kelp_lcmbus *kelp_lcmbus_open(const char *url, const char *app, const char *community, kelp_bus_handler handler,
                               void *user, kelp_diag *d);

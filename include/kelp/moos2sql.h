@@ -49,9 +49,9 @@ extern "C" {
 #define KELP_M2S_MAX_VEHICLES 64  /**< vehicles in the fleet (KML) */
 #define KELP_M2S_PATH 256         /**< bytes of a path parameter, with NUL */
 
-typedef enum kelp_m2s_kind { KELP_M2S_NONE = 0, KELP_M2S_STATUS, KELP_M2S_CONTACT, KELP_M2S_TRACK } kelp_m2s_kind;
+typedef enum kelp_moos2sql_kind { KELP_M2S_NONE = 0, KELP_M2S_STATUS, KELP_M2S_CONTACT, KELP_M2S_TRACK } kelp_moos2sql_kind;
 
-typedef struct kelp_m2s_cfg {
+typedef struct kelp_moos2sql_cfg {
     char vars[3][KELP_M2S_MAX_VARS][KELP_MAX_NAME]; /**< [kind - 1]: the variables recorded */
     unsigned nvars[3];
     char database[KELP_M2S_PATH];  /**< DATABASE (default moos2sql.db) */
@@ -61,22 +61,22 @@ typedef struct kelp_m2s_cfg {
     double commit_period;          /**< COMMIT_PERIOD: s between commits (default 0.25, <= 0.5) */
     bool have_datum;
     kelp_geo datum;                /**< for x/y-only positions */
-} kelp_m2s_cfg;
+} kelp_moos2sql_cfg;
 
 /** Defaults: the variables listed above, the paths, 2 s, 0.25 s, no datum. */
-void kelp_m2s_cfg_default(kelp_m2s_cfg *c);
+void kelp_moos2sql_cfg_default(kelp_moos2sql_cfg *c);
 
 /** One ProcessConfig parameter: DATABASE, KML_FILE, KML_LINK_FILE, KML_PERIOD (> 0),
  *  COMMIT_PERIOD (in (0, 0.5]), STATUS_VAR, CONTACT_VAR, TRACK_VAR (repeatable; comma lists
  *  too; a variable names one kind only, the last word wins).
  *  @return 1 taken, 0 not ours, <0 (reason in d). */
-KELP_MUST_CHECK int kelp_m2s_config(kelp_m2s_cfg *c, const char *key, const char *val, kelp_diag *d);
+KELP_MUST_CHECK int kelp_moos2sql_config(kelp_moos2sql_cfg *c, const char *key, const char *val, kelp_diag *d);
 
 /** The kind recorded for a variable (exact name). */
-kelp_m2s_kind kelp_m2s_kind_of(const kelp_m2s_cfg *c, const char *var);
+kelp_moos2sql_kind kelp_moos2sql_kind_of(const kelp_moos2sql_cfg *c, const char *var);
 
-typedef struct kelp_m2s_record {
-    kelp_m2s_kind kind;
+typedef struct kelp_moos2sql_record {
+    kelp_moos2sql_kind kind;
     const char *var;               /**< the posting's variable (the caller's string) */
     const char *community;         /**< where it was heard (the caller's string) */
     double time;
@@ -88,55 +88,55 @@ typedef struct kelp_m2s_record {
     kelp_nodereport nr;            /**< status: the report; track: the position fields found
                                         (fields bits KELP_NR_X.. KELP_NR_DEPTH, name in name) */
     long count;                    /**< contact: items listed */
-} kelp_m2s_record;
+} kelp_moos2sql_record;
 
 /** Classify one posting. sval/slen is the text of a string posting (a NUL at sval[slen] and
  *  none before, as in kelp_var), dval the value of a number posting (is_string false).
  *  @return 1 (out filled), 0 (not a recorded variable), KELP_ERR_PARSE / KELP_ERR_RANGE
  *  (a recorded variable whose value cannot be read: d says why; not recorded). */
-KELP_MUST_CHECK int kelp_m2s_classify(const kelp_m2s_cfg *c, const char *var, const char *community, double time,
-                                      bool is_string, const char *sval, size_t slen, double dval, kelp_m2s_record *out,
+KELP_MUST_CHECK int kelp_moos2sql_classify(const kelp_moos2sql_cfg *c, const char *var, const char *community, double time,
+                                      bool is_string, const char *sval, size_t slen, double dval, kelp_moos2sql_record *out,
                                       kelp_diag *d);
 
 /* ------------------------------------------------------------------ the fleet and KML */
 
-typedef struct kelp_m2s_vehicle {
+typedef struct kelp_moos2sql_vehicle {
     char name[KELP_NODEREPORT_MAX_FIELD];
     char type[KELP_NODEREPORT_MAX_FIELD];
     char mode[KELP_NODEREPORT_MAX_FIELD];
     double time, lat, lon, hdg, spd, depth; /**< hdg, spd, depth NaN when unknown */
     unsigned long reports;
-} kelp_m2s_vehicle;
+} kelp_moos2sql_vehicle;
 
-typedef struct kelp_m2s_fleet {
-    kelp_m2s_vehicle v[KELP_M2S_MAX_VEHICLES];
+typedef struct kelp_moos2sql_fleet {
+    kelp_moos2sql_vehicle v[KELP_M2S_MAX_VEHICLES];
     unsigned n;
-    bool changed;                  /**< a position arrived since the last kelp_m2s_kml */
+    bool changed;                  /**< a position arrived since the last kelp_moos2sql_kml */
     unsigned long dropped;         /**< positions of vehicles beyond KELP_M2S_MAX_VEHICLES */
-} kelp_m2s_fleet;
+} kelp_moos2sql_fleet;
 
-void kelp_m2s_fleet_init(kelp_m2s_fleet *f);
+void kelp_moos2sql_fleet_init(kelp_moos2sql_fleet *f);
 /** Take the position of a status or track record (with a name and a position; x/y need the
  *  datum). @return 1 taken, 0 not a position. */
-int kelp_m2s_fleet_update(kelp_m2s_fleet *f, const kelp_m2s_cfg *c, const kelp_m2s_record *r);
+int kelp_moos2sql_fleet_update(kelp_moos2sql_fleet *f, const kelp_moos2sql_cfg *c, const kelp_moos2sql_record *r);
 
 /** The KML document (UTF-8, XML text escaped), vehicles in name order. title may be NULL.
  *  @return its length, or KELP_ERR_NOSPACE when cap is too small (buf then holds nothing
  *  usable). Clears f->changed. */
-KELP_MUST_CHECK int kelp_m2s_kml(kelp_m2s_fleet *f, const char *title, char *buf, size_t cap);
+KELP_MUST_CHECK int kelp_moos2sql_kml(kelp_moos2sql_fleet *f, const char *title, char *buf, size_t cap);
 
-/** The NetworkLink document: href (escaped) reloaded every refresh s. @return as kelp_m2s_kml. */
-KELP_MUST_CHECK int kelp_m2s_kml_link(const char *title, const char *href, double refresh, char *buf, size_t cap);
+/** The NetworkLink document: href (escaped) reloaded every refresh s. @return as kelp_moos2sql_kml. */
+KELP_MUST_CHECK int kelp_moos2sql_kml_link(const char *title, const char *href, double refresh, char *buf, size_t cap);
 
 /** Append s (n bytes) to buf at *len as XML character data (&amp; &lt; &gt; &quot; &apos;;
  *  control bytes other than tab/newline dropped). @return 0 or KELP_ERR_NOSPACE. */
-KELP_MUST_CHECK int kelp_m2s_xml_escape(char *buf, size_t cap, size_t *len, const char *s, size_t n);
+KELP_MUST_CHECK int kelp_moos2sql_xml_escape(char *buf, size_t cap, size_t *len, const char *s, size_t n);
 
 /* ------------------------------------------------------------------ the schema */
 
 /** The migrations, in order; migration i (0-based) brings user_version from i to i + 1. */
-extern const char *const kelp_m2s_migrations[];
-extern const unsigned kelp_m2s_nmigrations;
+extern const char *const kelp_moos2sql_migrations[];
+extern const unsigned kelp_moos2sql_nmigrations;
 
 #ifdef __cplusplus
 }

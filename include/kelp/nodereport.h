@@ -170,17 +170,17 @@ typedef struct kelp_view {
 /** The kind posted on a variable: VIEW_POINT, VIEW_CIRCLE, VIEW_POLYGON, VIEW_SEGLIST,
  *  VIEW_MARKER, VIEW_COMMS_PULSE (also the uField Toolbox manual's VIEW_COMM_PULSE spelling), VIEW_RANGE_PULSE
  *  (case-insensitive). @return 0 or KELP_ERR_NOTFOUND. */
-KELP_MUST_CHECK int kelp_view_kind_of(const char *var, kelp_view_kind *out);
+KELP_MUST_CHECK int kelp_nodereport_view_kind_of(const char *var, kelp_view_kind *out);
 
 /** The canonical variable name of a kind. */
-const char *kelp_view_var(kelp_view_kind kind);
+const char *kelp_nodereport_view_var(kelp_view_kind kind);
 
 /** Parse one posting. Required: POINT, CIRCLE, MARKER, RANGE_PULSE an x and y (CIRCLE also a
  *  radius > 0); COMMS_PULSE sx, sy, tx, ty; POLYGON and SEGLIST at least one vertex unless
  *  the posting is an erase (active=false).
  *  @return 0; KELP_ERR_PARSE (reason in d); KELP_ERR_RANGE (text too long); KELP_ERR_NOSPACE
  *  (more than KELP_VIEW_MAX_PTS vertices). */
-KELP_MUST_CHECK int kelp_view_parse(kelp_view_kind kind, const char *s, size_t len, kelp_view *out, kelp_diag *d);
+KELP_MUST_CHECK int kelp_nodereport_view_parse(kelp_view_kind kind, const char *s, size_t len, kelp_view *out, kelp_diag *d);
 
 #ifdef __cplusplus
 }

@@ -57,45 +57,45 @@ typedef struct kelp_upc_node {
     bool changed;                /**< odometry to be posted at the next iteration */
 } kelp_upc_node;
 
-typedef struct kelp_field_upc_cfg {
+typedef struct kelp_pathcheck_cfg {
     unsigned history;            /**< HISTORY_LENGTH: records in the speed queue (10), 2..KELP_UPC_MAX_HISTORY */
-} kelp_field_upc_cfg;
+} kelp_pathcheck_cfg;
 
-typedef struct kelp_field_upc {
-    kelp_field_upc_cfg cfg;
+typedef struct kelp_pathcheck {
+    kelp_pathcheck_cfg cfg;
     /* private */
     kelp_upc_node node[KELP_UPC_MAX_NODES]; /**< sorted by name (strcmp) */
     unsigned nnodes;
     unsigned long good, bad, resets, bad_resets, full;
     char ws[KELP_UPC_WARN_LEN];  /**< workspace: a warning being built */
-} kelp_field_upc;
+} kelp_pathcheck;
 
-void kelp_field_upc_cfg_default(kelp_field_upc_cfg *cfg);
+void kelp_pathcheck_cfg_default(kelp_pathcheck_cfg *cfg);
 /** One block parameter: HISTORY_LENGTH (an integer 2..KELP_UPC_MAX_HISTORY). Any other key
  *  is not taken (24.8 warns "Unhandled config line: <line>"; the app does).
  *  @return 1 taken, 0 not its key, <0 (reason in d). */
-KELP_MUST_CHECK int kelp_field_upc_config(kelp_field_upc_cfg *cfg, const char *key, const char *val, kelp_diag *d);
+KELP_MUST_CHECK int kelp_pathcheck_config(kelp_pathcheck_cfg *cfg, const char *key, const char *val, kelp_diag *d);
 /** Start empty with cfg (copied). @return 0 or KELP_ERR_ARG (history out of range). */
-KELP_MUST_CHECK int kelp_field_upc_init(kelp_field_upc *p, const kelp_field_upc_cfg *cfg);
+KELP_MUST_CHECK int kelp_pathcheck_init(kelp_pathcheck *p, const kelp_pathcheck_cfg *cfg);
 /** The variables to subscribe to, one per call (i from 0) until NULL. */
-const char *kelp_field_upc_subscription(unsigned i);
+const char *kelp_pathcheck_subscription(unsigned i);
 /** One mail at `now`. @return 1 used, 0 not ours, <0 bad value (a warning through
  *  out->warn, which may be NULL as may out: "Invalid NODE_REPORT: ..", "Invalid TRIP_RESET: ..").
- *  A bad `now` (kelp_time_ok) is refused with KELP_ERR_ARG. */
-int kelp_field_upc_mail(kelp_field_upc *p, const char *var, bool is_string, const char *sval, kelp_time now,
+ *  A bad `now` (kelp_util_time_ok) is refused with KELP_ERR_ARG. */
+int kelp_pathcheck_mail(kelp_pathcheck *p, const char *var, bool is_string, const char *sval, kelp_time now,
                         const kelp_field_sink *out);
 /** Post UPC_SPEED_REPORT for every vehicle with two records or more, then UPC_ODOMETRY_REPORT
  *  for each vehicle whose odometry changed since the last call. @return posts made. */
-unsigned kelp_field_upc_iterate(kelp_field_upc *p, kelp_time now, const kelp_field_sink *out);
+unsigned kelp_pathcheck_iterate(kelp_pathcheck *p, kelp_time now, const kelp_field_sink *out);
 /** avg_spd of a vehicle (m/s) by the rule above (0 with fewer than two records). */
-double kelp_field_upc_speed(const kelp_upc_node *n);
+double kelp_pathcheck_speed(const kelp_upc_node *n);
 /** Index of a vehicle (exact name), or -1. */
-int kelp_field_upc_find(const kelp_field_upc *p, const char *name);
+int kelp_pathcheck_find(const kelp_pathcheck *p, const char *name);
 /** The AppCast report as 24.8 lays it out: the good and bad report counts, "MOOS Time Warp"
  *  (warp), and the table Node | TripDist | Distance | ReportAge | Speed | AvgSpeed (ACTable,
  *  three blanks apart) with one row per vehicle with odometry; 24.8 writes those rows outside
  *  its table, run together (docs/CONFORMANCE.md). @return 0 or KELP_ERR_NOSPACE. */
-KELP_MUST_CHECK int kelp_field_upc_report(const kelp_field_upc *p, kelp_time now, double warp, char *buf, size_t cap);
+KELP_MUST_CHECK int kelp_pathcheck_report(const kelp_pathcheck *p, kelp_time now, double warp, char *buf, size_t cap);
 
 #ifdef __cplusplus
 }

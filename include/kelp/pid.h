@@ -7,7 +7,7 @@
  * grows by ki * e * dt and is clipped to +-integral_limit (ki <= 0 clears it); the output
  * kp*e + kd*de/dt + integral is clipped to +-output_limit, which sets `saturated`.
  *
- * The engine (kelp_marine_pid) runs pMarinePID's iteration: without control (before
+ * The engine (kelp_pid_marine) runs pMarinePID's iteration: without control (before
  * MOOS_MANUAL_OVERRIDE=false, unless active_start) it posts one all-stop (rudder, thrust
  * and, with depth control, elevator 0); in control it posts rudder, thrust (and elevator)
  * every iteration, as pMarinePIDV22: all 0 until every input (desired heading and speed, nav
@@ -58,7 +58,7 @@ void kelp_pid_init(kelp_pid *p, double kp, double kd, double ki, double integral
  *  (nothing changes). */
 KELP_MUST_CHECK int kelp_pid_run(kelp_pid *p, double e, double t, double *out);
 
-typedef struct kelp_marine_pid_cfg {
+typedef struct kelp_pid_marine_cfg {
     double yaw[4], speed[4], z_to_pitch[4], pitch[4]; /**< kp, kd, ki, integral limit */
     double max_rudder, max_thrust, max_pitch_deg, max_elevator;
     double speed_factor;           /**< 0: the speed PID sets thrust */
@@ -68,13 +68,13 @@ typedef struct kelp_marine_pid_cfg {
     double sim_instability;        /**< rudder bias amplitude, alternating every 10 s */
     char suffix[16];               /**< output_suffix */
     bool ignore_nav_yaw;
-} kelp_marine_pid_cfg;
+} kelp_pid_marine_cfg;
 
 /** Publication: one variable, a number or (flags/debug) a string. */
-typedef void (*kelp_marine_pid_sink)(void *ctx, const char *var, bool is_string, const char *sval, double dval);
+typedef void (*kelp_pid_marine_sink)(void *ctx, const char *var, bool is_string, const char *sval, double dval);
 
-typedef struct kelp_marine_pid {
-    kelp_marine_pid_cfg cfg;
+typedef struct kelp_pid_marine {
+    kelp_pid_marine_cfg cfg;
     kelp_pid yaw, speed, z_to_pitch, pitch;
     bool has_control, allstop_posted, paused;
     double des_heading, des_speed, des_depth;
@@ -90,25 +90,25 @@ typedef struct kelp_marine_pid {
     double stamp[KELP_PID_NSTAMP]; /**< when each input last came; -1: not since control */
     int say_control;               /**< PID_HAS_CONTROL due: 1 true, -1 false, 0 none */
     char work[48];                 /**< scratch: a PID_STALE text */
-} kelp_marine_pid;
+} kelp_pid_marine;
 
 /** pMarinePID's defaults: gains 0, limits 100, maxpitch 15 deg, maxelevator 13 deg,
  *  speed_factor 0 (the speed PID), tardy thresholds 2 s, no depth control, not active. */
-void kelp_marine_pid_cfg_default(kelp_marine_pid_cfg *c);
+void kelp_pid_marine_cfg_default(kelp_pid_marine_cfg *c);
 /** One configuration key (MOOS-IvP's names, any case): YAW_PID_, SPEED_PID_, Z_TO_PITCH_PID_,
  *  PITCH_PID_ + KP/KD/KI/INTEGRAL_LIMIT/KI_LIMIT, MAXRUDDER, MAXTHRUST, MAXPITCH,
  *  MAXELEVATOR, SPEED_FACTOR, TARDY_HELM_THRESHOLD, TARDY_NAV_THRESHOLD, SIM_INSTABILITY,
  *  DEPTH_CONTROL, ACTIVE_START, IGNORE_NAV_YAW, OUTPUT_SUFFIX.
  *  @return 1 taken, 0 not a PID key, <0 (reason in d). */
-KELP_MUST_CHECK int kelp_marine_pid_cfg_set(kelp_marine_pid_cfg *c, const char *key, const char *val, kelp_diag *d);
+KELP_MUST_CHECK int kelp_pid_marine_cfg_set(kelp_pid_marine_cfg *c, const char *key, const char *val, kelp_diag *d);
 /** @return 0, KELP_ERR_ARG for a negative or non-finite limit or threshold. */
-KELP_MUST_CHECK int kelp_marine_pid_init(kelp_marine_pid *m, const kelp_marine_pid_cfg *cfg, kelp_time now);
+KELP_MUST_CHECK int kelp_pid_marine_init(kelp_pid_marine *m, const kelp_pid_marine_cfg *cfg, kelp_time now);
 /** Mail: DESIRED_HEADING/SPEED/DEPTH, NAV_HEADING/YAW/SPEED/DEPTH/PITCH, SPEED_FACTOR,
  *  MOOS_MANUAL_OVERRIDE (and OVERIDE) "true"/"false". @return 1 used, 0 not ours, <0 bad. */
-int kelp_marine_pid_mail(kelp_marine_pid *m, const char *var, bool is_string, const char *sval, double dval,
+int kelp_pid_marine_mail(kelp_pid_marine *m, const char *var, bool is_string, const char *sval, double dval,
                          kelp_time now);
 /** One iteration at `now`, publishing through sink. */
-void kelp_marine_pid_iterate(kelp_marine_pid *m, kelp_time now, kelp_marine_pid_sink sink, void *ctx);
+void kelp_pid_marine_iterate(kelp_pid_marine *m, kelp_time now, kelp_pid_marine_sink sink, void *ctx);
 
 #ifdef __cplusplus
 }

@@ -2,7 +2,7 @@
  * struct (no global state), so a run is reproducible from its seed.
  *
  *   kelp_rng        splitmix64: the generator for simulation noise, drops and draws.
- *   kelp_glibc_rand the sequence glibc's rand() gives after srand(seed) (seed 1 is what a
+ *   kelp_rng_glibc the sequence glibc's rand() gives after srand(seed) (seed 1 is what a
  *                   program that never calls srand gets), so a kelp run can be set beside a
  *                   MOOS-IvP tool that calls rand() unseeded. The recurrence is glibc's
  *                   documented TYPE_3 additive feedback generator (r[i] = r[i-3] + r[i-31]
@@ -32,15 +32,15 @@ double kelp_rng_gauss(kelp_rng *r, double mean, double sigma);
 
 #define KELP_GLIBC_RAND_MAX 2147483647
 
-typedef struct kelp_glibc_rand {
+typedef struct kelp_rng_glibc {
     int32_t r[34]; /* the last 34 words of the recurrence, a ring */
     unsigned i;    /* index of the oldest */
-} kelp_glibc_rand;
+} kelp_rng_glibc;
 
 /** As srand(seed); seed 0 acts as 1, as glibc's does. */
-void kelp_glibc_rand_seed(kelp_glibc_rand *g, uint32_t seed);
+void kelp_rng_glibc_seed(kelp_rng_glibc *g, uint32_t seed);
 /** As rand(): 0 .. KELP_GLIBC_RAND_MAX. */
-int32_t kelp_glibc_rand_next(kelp_glibc_rand *g);
+int32_t kelp_rng_glibc_next(kelp_rng_glibc *g);
 
 #ifdef __cplusplus
 }

@@ -167,13 +167,13 @@ typedef void (*kelp_usim_sink)(void *ctx, const char *var, bool is_string, const
  *  TRUE_X, TRUE_Y, SIMULATION_MODE = TRUE (not with DEPTH_CONTROL = false, as uSimMarineV22),
  *  USM_NAVPOS_SUMMARY when asked, USM_DRIFT_SUMMARY on the first iteration and after drift
  *  mail). With any YAW_PID_ key the embedded PID
- *  (kelp_marine_pid) turns DESIRED_HEADING/SPEED/DEPTH into the actuators itself. */
+ *  (kelp_pid_marine) turns DESIRED_HEADING/SPEED/DEPTH into the actuators itself. */
 typedef struct kelp_usim {
     kelp_sim sim;
     kelp_sim_params p;
     kelp_sim_state start;
-    struct kelp_marine_pid *pid;       /**< caller storage for the embedded PID (may be NULL) */
-    struct kelp_marine_pid_cfg *pid_cfg;
+    struct kelp_pid_marine *pid;       /**< caller storage for the embedded PID (may be NULL) */
+    struct kelp_pid_marine_cfg *pid_cfg;
     bool embedded_pid, paused, navpos_summary, have_geo;
     bool no_sim_mode;                  /**< DEPTH_CONTROL = false: no SIMULATION_MODE */
     unsigned long iterations;          /**< kelp_usim_iterate calls */
@@ -189,7 +189,7 @@ typedef struct kelp_usim {
 #define KELP_USIM_NAV_MAX_SPEED 5.0   /**< m/s: NAV_SPEED's cap without MAX_SPEED (uSimMarineV22) */
 
 /** Defaults (prefix NAV); pid/pid_cfg may be NULL (no embedded PID possible). */
-void kelp_usim_defaults(kelp_usim *u, struct kelp_marine_pid *pid, struct kelp_marine_pid_cfg *pid_cfg);
+void kelp_usim_defaults(kelp_usim *u, struct kelp_pid_marine *pid, struct kelp_pid_marine_cfg *pid_cfg);
 /** One block key (the simulator's, the embedded PID's, PREFIX, SIM_PAUSE,
  *  POST_NAVPOS_SUMMARY, POST_DES_RUDDER, POST_DES_THRUST). START_POS should come before
  *  START_X etc. @return 1 taken, 0 not ours, <0 (reason in d). */

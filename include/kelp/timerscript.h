@@ -68,34 +68,34 @@ enum { KELP_TS_RV_AT_START, KELP_TS_RV_AT_RESET, KELP_TS_RV_AT_POST };
 enum { KELP_TS_RV_UNIFORM, KELP_TS_RV_GAUSSIAN };
 
 /** A value drawn uniformly in [min, max] each time the script is scheduled. */
-typedef struct kelp_ts_span {
+typedef struct kelp_timerscript_span {
     double min, max;
-} kelp_ts_span;
+} kelp_timerscript_span;
 
-typedef struct kelp_ts_event {
+typedef struct kelp_timerscript_event {
     char var[KELP_MAX_NAME];
     char val[KELP_TS_MAX_VAL];
     bool quoted;          /**< the value was in double quotes: always posted as a string */
     bool quit;            /**< a `quit` event: posts EXITED_NORMALLY = <app name>, then the app ends */
     double tmin, tmax;    /**< script seconds */
-} kelp_ts_event;
+} kelp_timerscript_event;
 
-typedef struct kelp_ts_randvar {
+typedef struct kelp_timerscript_randvar {
     char name[KELP_MAX_NAME];
     int type;             /**< KELP_TS_RV_UNIFORM or _GAUSSIAN */
     int key;              /**< KELP_TS_RV_AT_START, _AT_RESET or _AT_POST: when a new value is drawn */
     double min, max, mu, sigma, snap;
-} kelp_ts_randvar;
+} kelp_timerscript_randvar;
 
-typedef struct kelp_ts_cfg {
+typedef struct kelp_timerscript_cfg {
     char app_name[KELP_MAX_NAME];   /**< for quit events (EXITED_NORMALLY's value) */
     char community[KELP_MAX_NAME];  /**< $[VNAME] */
     char script_name[KELP_MAX_NAME];
     char var_forward[KELP_MAX_NAME], var_pause[KELP_MAX_NAME], var_reset[KELP_MAX_NAME];
     char var_status[KELP_MAX_NAME], var_next[KELP_MAX_NAME];
-    kelp_ts_event ev[KELP_TS_MAX_EVENTS];
+    kelp_timerscript_event ev[KELP_TS_MAX_EVENTS];
     unsigned nev;
-    kelp_ts_randvar rv[KELP_TS_MAX_RANDVARS];
+    kelp_timerscript_randvar rv[KELP_TS_MAX_RANDVARS];
     unsigned nrv;
     char cond[KELP_TS_MAX_CONDS][KELP_HELM_MAX_COND_LEN];
     unsigned ncond;
@@ -106,30 +106,30 @@ typedef struct kelp_ts_cfg {
     bool time_zero_db;              /**< time_zero = db_start */
     long reset_max;                 /**< -1: no limit */
     double reset_time;              /**< -1 none, 0 all-posted, >0 at that script time */
-    kelp_ts_span warp, delay_start, delay_reset;
-} kelp_ts_cfg;
+    kelp_timerscript_span warp, delay_start, delay_reset;
+} kelp_timerscript_cfg;
 
 /** Defaults: UTS_* variables, script_name unnamed, shuffle on, verbose on, no limit, warp 1. */
-void kelp_ts_cfg_default(kelp_ts_cfg *c, const char *app_name, const char *community);
+void kelp_timerscript_cfg_default(kelp_timerscript_cfg *c, const char *app_name, const char *community);
 
 /** One configuration line. @return 1 taken, 0 not a uTimerScript parameter, <0 (KELP_ERR_PARSE,
  *  KELP_ERR_NOSPACE) with the reason in d when the value is bad. */
-KELP_MUST_CHECK int kelp_ts_cfg_set(kelp_ts_cfg *c, const char *key, const char *val, kelp_diag *d);
+KELP_MUST_CHECK int kelp_timerscript_cfg_set(kelp_timerscript_cfg *c, const char *key, const char *val, kelp_diag *d);
 /** The event parser alone (`var=..., val=..., time=..., amt=..., quit`): appends amt events. */
-KELP_MUST_CHECK int kelp_ts_cfg_add_event(kelp_ts_cfg *c, const char *spec, kelp_diag *d);
+KELP_MUST_CHECK int kelp_timerscript_cfg_add_event(kelp_timerscript_cfg *c, const char *spec, kelp_diag *d);
 /** The random-variable parser alone (`varname=X, min=0, max=1, key=at_post[, type=gaussian,
  *  mu=.., sigma=..][, snap=..]`). */
-KELP_MUST_CHECK int kelp_ts_cfg_add_randvar(kelp_ts_cfg *c, const char *spec, kelp_diag *d);
+KELP_MUST_CHECK int kelp_timerscript_cfg_add_randvar(kelp_timerscript_cfg *c, const char *spec, kelp_diag *d);
 
-typedef struct kelp_ts_logline {
+typedef struct kelp_timerscript_logline {
     unsigned long total;
     unsigned local;
     double db_time, script_time;
     char text[96];                  /**< "VAR = value" (cut) */
-} kelp_ts_logline;
+} kelp_timerscript_logline;
 
-typedef struct kelp_ts {
-    kelp_ts_cfg cfg;
+typedef struct kelp_timerscript {
+    kelp_timerscript_cfg cfg;
     /* read-only for callers */
     double t[KELP_TS_MAX_EVENTS];   /**< each event's time this pass, script seconds */
     bool posted[KELP_TS_MAX_EVENTS];
@@ -146,7 +146,7 @@ typedef struct kelp_ts {
     double nav_x, nav_y;
     char sub[KELP_TS_MAX_SUBS][KELP_MAX_NAME];
     unsigned nsub;
-    kelp_ts_logline log[KELP_TS_LOG];
+    kelp_timerscript_logline log[KELP_TS_LOG];
     unsigned nlog;                  /**< postings logged (ring index nlog % KELP_TS_LOG) */
     unsigned long bad_mail;
     /* private */
@@ -157,31 +157,31 @@ typedef struct kelp_ts {
     double db_start;
     bool db_set, db_from_mail;
     kelp_clock clock;               /**< previous `now` of iterate (the time step rule) */
-} kelp_ts;
+} kelp_timerscript;
 
 /** Take a configuration (copied) and a seed. Draws at_start (and at_reset, at_post) random
  *  variables. @return 0, or KELP_ERR_PARSE when a condition does not parse. */
-KELP_MUST_CHECK int kelp_ts_init(kelp_ts *r, const kelp_ts_cfg *c, uint64_t seed);
+KELP_MUST_CHECK int kelp_timerscript_init(kelp_timerscript *r, const kelp_timerscript_cfg *c, uint64_t seed);
 /** i-th variable to register for (commands, DB_UPTIME, DB_CLIENTS, <APP>_STATUS of block_on
  *  apps, NAV_X/NAV_Y when a value uses them, condition variables), or NULL past the end. */
-const char *kelp_ts_subscription(const kelp_ts *r, unsigned i);
+const char *kelp_timerscript_subscription(const kelp_timerscript *r, unsigned i);
 /** When the DB started, MOOS time ($[DBTIME]'s origin and time_zero = db_start's); else the
  *  first iteration's time (or a DB_UPTIME mail) is used. */
-void kelp_ts_set_db_start(kelp_ts *r, double t);
+void kelp_timerscript_set_db_start(kelp_timerscript *r, double t);
 /** One mail. @return 1 used, 0 not for this tool, <0 (and a warning) when bad. */
-int kelp_ts_mail(kelp_ts *r, const char *var, bool is_string, const char *sval, double dval, kelp_time now,
+int kelp_timerscript_mail(kelp_timerscript *r, const char *var, bool is_string, const char *sval, double dval, kelp_time now,
                  const kelp_field_sink *out);
 /** One iteration at MOOS time `now`: conditions, schedule, postings, resets, status.
  *  A clock step back, or forward beyond KELP_TIME_STEP_MAX, is not script time (the time step
  *  rule, docs/ARCHITECTURE.md).  @return the number of events posted, or KELP_ERR_ARG for a NaN,
  *  infinite or absurd `now` (nothing done). */
-int kelp_ts_iterate(kelp_ts *r, kelp_time now, const kelp_field_sink *out);
+int kelp_timerscript_iterate(kelp_timerscript *r, kelp_time now, const kelp_field_sink *out);
 /** Expand the macros and {a op b} groups of `val` as a posting would (the event machinery's
  *  text step, also the fuzz entry): @return 1 when the result is a lone number (*dval set),
  *  0 for text, KELP_ERR_NOSPACE when it does not fit. */
-KELP_MUST_CHECK int kelp_ts_expand(kelp_ts *r, const char *val, kelp_time now, char *out, size_t cap, double *dval);
+KELP_MUST_CHECK int kelp_timerscript_expand(kelp_timerscript *r, const char *val, kelp_time now, char *out, size_t cap, double *dval);
 /** The status string. @return its length or KELP_ERR_NOSPACE. */
-int kelp_ts_status(const kelp_ts *r, char *buf, size_t cap);
+int kelp_timerscript_status(const kelp_timerscript *r, char *buf, size_t cap);
 
 #ifdef __cplusplus
 }

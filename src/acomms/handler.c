@@ -60,7 +60,7 @@ static void say(kelp_acomms_handler *h, bool warning, const char *fmt, ...)
     if (!fn) return;
     va_list ap;
     va_start(ap, fmt);
-    (void)kelp_vsnprintf(h->line, sizeof h->line, fmt, ap); /* NOLINT(clang-analyzer-valist.Uninitialized) */
+    (void)kelp_util_vsnprintf(h->line, sizeof h->line, fmt, ap); /* NOLINT(clang-analyzer-valist.Uninitialized) */
     va_end(ap);
     fn(h->sink.ctx, h->line);
 }
@@ -133,7 +133,7 @@ static const char *describe(kelp_acomms_handler *h, const kelp_acomms_msg *m)
 
 static void keep_line(char (*ring)[KELP_ACOMMS_NMEA_KEEP_LEN], unsigned *n, const char *raw)
 {
-    (void)kelp_snprintf(ring[*n % KELP_ACOMMS_NMEA_KEEP], KELP_ACOMMS_NMEA_KEEP_LEN, "%s", raw);
+    (void)kelp_util_snprintf(ring[*n % KELP_ACOMMS_NMEA_KEEP], KELP_ACOMMS_NMEA_KEEP_LEN, "%s", raw);
     (*n)++;
 }
 
@@ -155,7 +155,7 @@ static void incoming_dccl(kelp_acomms_handler *h, const kelp_acomms_msg *m)
     if (rc == KELP_ERR_STATE) return; /* NO_DECODE */
     if (rc) {
         h->count.decode_errors++;
-        WARN(h, "cannot decode a received DCCL message: %s", reason(h, kelp_strerror(rc)));
+        WARN(h, "cannot decode a received DCCL message: %s", reason(h, kelp_err_str(rc)));
         return;
     }
     h->count.decoded++;
@@ -259,7 +259,7 @@ static void on_driver_event(kelp_acomms_handler *h, const kelp_mmdriver_event *e
         break;
     case KELP_MMDRIVER_EV_BAD_LINE:
         h->count.bad_lines++;
-        WARN(h, "bad line from the modem ignored (%s)", kelp_strerror(e->err));
+        WARN(h, "bad line from the modem ignored (%s)", kelp_err_str(e->err));
         break;
     case KELP_MMDRIVER_EV_RETRY:
         h->count.retries++;
@@ -327,7 +327,7 @@ static void outgoing_dccl(kelp_acomms_handler *h, size_t idx)
     if (rc == KELP_ERR_PARTIAL) return; /* <repeat>: still collecting */
     if (rc) {
         h->count.encode_errors++;
-        WARN(h, "cannot encode %s: %s", info.name, reason(h, kelp_strerror(rc)));
+        WARN(h, "cannot encode %s: %s", info.name, reason(h, kelp_err_str(rc)));
         return;
     }
     h->count.encoded++;
@@ -341,7 +341,7 @@ static void outgoing_dccl(kelp_acomms_handler *h, size_t idx)
     rc = kelp_acomms_node_push(&h->node, m, h->now);
     if (rc) {
         h->count.push_errors++;
-        WARN(h, "cannot queue %s: %s", info.name, kelp_strerror(rc));
+        WARN(h, "cannot queue %s: %s", info.name, kelp_err_str(rc));
     } else {
         h->count.pushed++;
     }
@@ -529,7 +529,7 @@ static void mail_ccl(kelp_acomms_handler *h, const kelp_acomms_qname *n, const k
     int rc = kelp_acomms_node_push(&h->node, m, now);
     if (rc) {
         h->count.push_errors++;
-        WARN(h, "cannot queue %s: %s", v->name, node_reason(h, kelp_strerror(rc)));
+        WARN(h, "cannot queue %s: %s", v->name, node_reason(h, kelp_err_str(rc)));
     } else {
         h->count.pushed++;
     }
@@ -571,7 +571,7 @@ static void mail_command(kelp_acomms_handler *h, const kelp_var *v, kelp_time no
     }
     int rc = kelp_acomms_node_mac_update(&h->node, u, now);
     if (rc == KELP_ERR_NOTFOUND) return; /* for another modem */
-    if (rc) WARN(h, "MAC update refused: %s", node_reason(h, kelp_strerror(rc)));
+    if (rc) WARN(h, "MAC update refused: %s", node_reason(h, kelp_err_str(rc)));
     else EVENT(h, "MAC cycle updated: %zu slot(s), cycle %u s", u->nslots, kelp_mac_cycle_length(&h->node.mac));
 }
 

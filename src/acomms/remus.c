@@ -218,11 +218,11 @@ void kelp_remus_gfi_pitch_oil_decode(uint16_t code, double *gfi, double *pitch, 
 
 uint32_t kelp_remus_time_date_encode(int64_t unix_s)
 {
-    int64_t days = kelp_floor_div(unix_s, 86400);
+    int64_t days = kelp_util_floor_div(unix_s, 86400);
     int64_t sod = unix_s - days * 86400;
     int64_t year;
     unsigned mon, mday;
-    kelp_civil_from_days(days, &year, &mon, &mday);
+    kelp_util_civil_from_days(days, &year, &mon, &mday);
     uint32_t hour = (uint32_t)(sod / 3600), min = (uint32_t)(sod / 60 % 60),
              sec = (uint32_t)(sod % 60);
     return (sec >> 2) | (min << 4) | (hour << 10) | ((uint32_t)mday << 15) | ((uint32_t)mon << 20);
@@ -244,10 +244,10 @@ int kelp_remus_time_date_to_unix(uint32_t code, int64_t year, int64_t *unix_s)
     if (t.month < 1 || t.month > 12 || t.day < 1 || t.hour > 23 || t.minute > 59 ||
         t.second > 59)
         return KELP_ERR_RANGE;
-    int64_t d = kelp_days_from_civil(year, t.month, t.day);
+    int64_t d = kelp_util_days_from_civil(year, t.month, t.day);
     int64_t y2;
     unsigned m2, d2;
-    kelp_civil_from_days(d, &y2, &m2, &d2);
+    kelp_util_civil_from_days(d, &y2, &m2, &d2);
     if (y2 != year || m2 != t.month || d2 != t.day) return KELP_ERR_RANGE; /* e.g. Feb 30 */
     *unix_s = d * 86400 + t.hour * 3600 + t.minute * 60 + t.second;
     return KELP_OK;

@@ -20,8 +20,8 @@ void kelp_remus_codec_cfg_default(kelp_remus_codec_cfg *c)
     memset(c, 0, sizeof *c);
     c->status_interval = 10;
     for (int k = 0; k < KELP_REMUS_NVARS; k++) {
-        (void)kelp_snprintf(c->in_var[k], sizeof c->in_var[k], "IN_REMUS_%s_HEX_30B", KIND_NAME[k]);
-        (void)kelp_snprintf(c->out_var[k], sizeof c->out_var[k], "OUT_REMUS_%s_HEX_30B", KIND_NAME[k]);
+        (void)kelp_util_snprintf(c->in_var[k], sizeof c->in_var[k], "IN_REMUS_%s_HEX_30B", KIND_NAME[k]);
+        (void)kelp_util_snprintf(c->out_var[k], sizeof c->out_var[k], "OUT_REMUS_%s_HEX_30B", KIND_NAME[k]);
     }
 }
 
@@ -55,7 +55,7 @@ KELP_PRINTF(3, 4) static void warnf(kelp_remus_codec *t, const kelp_field_sink *
     if (!sink->warn) return;
     va_list ap;
     va_start(ap, fmt);
-    (void)kelp_vsnprintf(t->warn, sizeof t->warn, fmt, ap);
+    (void)kelp_util_vsnprintf(t->warn, sizeof t->warn, fmt, ap);
     va_end(ap);
     sink->warn(sink->ctx, t->warn);
 }
@@ -68,7 +68,7 @@ static void pub_d(const kelp_field_sink *sink, const char *var, double v)
 /* Goby's as<string>(double): boost::lexical_cast, 17 significant digits */
 static int append_kv(char *buf, size_t cap, size_t *off, const char *key, double v)
 {
-    int n = kelp_snprintf(buf + *off, cap - *off, ",%s=%.17g", key, v);
+    int n = kelp_util_snprintf(buf + *off, cap - *off, ",%s=%.17g", key, v);
     if (n < 0 || (size_t)n >= cap - *off) return KELP_ERR_NOSPACE;
     *off += (size_t)n;
     return KELP_OK;
@@ -88,7 +88,7 @@ static void publish_contact(kelp_remus_codec *t, const contact *c, const char *k
 
     enum { STATUS_CAP = 1024 }; /* bytes of a STATUS_REPORT_IN, with NUL */
     char *status = t->work.in.text;
-    int n = kelp_snprintf(status, STATUS_CAP, "MessageType=CCL_STATUS,Node=%d", c->node);
+    int n = kelp_util_snprintf(status, STATUS_CAP, "MessageType=CCL_STATUS,Node=%d", c->node);
     size_t off = n > 0 ? (size_t)n : 0;
     int rc = append_kv(status, STATUS_CAP, &off, "Timestamp", now);
     if (!rc) rc = append_kv(status, STATUS_CAP, &off, "Latitude", c->lat);
@@ -97,7 +97,7 @@ static void publish_contact(kelp_remus_codec *t, const contact *c, const char *k
     if (!rc) rc = append_kv(status, STATUS_CAP, &off, "Heading", c->hdg);
     if (!rc) rc = append_kv(status, STATUS_CAP, &off, "Depth", c->depth);
     if (!rc && kind_extra) {
-        n = kelp_snprintf(status + off, STATUS_CAP - off, "%s", kind_extra);
+        n = kelp_util_snprintf(status + off, STATUS_CAP - off, "%s", kind_extra);
         if (n < 0 || (size_t)n >= STATUS_CAP - off) rc = KELP_ERR_NOSPACE;
     }
     if (!rc) sink->publish(sink->ctx, "STATUS_REPORT_IN", true, status, 0);
@@ -112,16 +112,16 @@ static void publish_contact(kelp_remus_codec *t, const contact *c, const char *k
     const double val[] = {now, x, y, c->lat, c->lon, c->spd, c->depth, c->hdg};
     for (size_t k = 0; k < sizeof suffix / sizeof suffix[0]; k++) {
         char *var = t->work.in.var;
-        n = kelp_snprintf(var, sizeof t->work.in.var, "%s_NAV_%s", up, suffix[k]);
+        n = kelp_util_snprintf(var, sizeof t->work.in.var, "%s_NAV_%s", up, suffix[k]);
         if (n > 0 && (size_t)n < sizeof t->work.in.var) pub_d(sink, var, val[k]);
     }
 
     kelp_nodereport *r = &t->work.in.report;
     kelp_nodereport_init(r);
-    (void)kelp_snprintf(r->name, sizeof r->name, "%s", c->name);
-    (void)kelp_snprintf(r->type, sizeof r->type, "%s", c->type);
-    (void)kelp_snprintf(r->mode, sizeof r->mode, "NOMOOS");
-    (void)kelp_snprintf(r->allstop, sizeof r->allstop, "NotUsingIvP");
+    (void)kelp_util_snprintf(r->name, sizeof r->name, "%s", c->name);
+    (void)kelp_util_snprintf(r->type, sizeof r->type, "%s", c->type);
+    (void)kelp_util_snprintf(r->mode, sizeof r->mode, "NOMOOS");
+    (void)kelp_util_snprintf(r->allstop, sizeof r->allstop, "NotUsingIvP");
     r->time = now, r->x = x, r->y = y, r->lat = c->lat, r->lon = c->lon;
     r->spd = c->spd, r->hdg = c->hdg, r->depth = c->depth, r->length = 4.0;
     r->fields = KELP_NR_NAME | KELP_NR_TYPE | KELP_NR_TIME | KELP_NR_X | KELP_NR_Y | KELP_NR_LAT | KELP_NR_LON |
@@ -153,7 +153,7 @@ KELP_PRINTF(2, 3) static void sb_add(sb *b, const char *fmt, ...)
     if (b->bad) return;
     va_list ap;
     va_start(ap, fmt);
-    int n = kelp_vsnprintf(b->buf + b->off, b->cap - b->off, fmt, ap);
+    int n = kelp_util_vsnprintf(b->buf + b->off, b->cap - b->off, fmt, ap);
     va_end(ap);
     if (n < 0 || (size_t)n >= b->cap - b->off) b->bad = true;
     else b->off += (size_t)n;
@@ -233,7 +233,7 @@ static int incoming(kelp_remus_codec *t, int kind, const char *text, kelp_time n
     t->received[kind]++;
     const kelp_dccl_modem_entry *e = lookup(t->cfg.geo, m->src);
     char idname[16];
-    (void)kelp_snprintf(idname, sizeof idname, "%d", m->src);
+    (void)kelp_util_snprintf(idname, sizeof idname, "%d", m->src);
     contact c = {m->src, e ? e->name : idname, e ? e->type : "unknown_type", 0, 0, 0, 0, 0};
     if (kind == KELP_REMUS_STATE_VAR) {
         kelp_remus_state s;
@@ -246,7 +246,7 @@ static int incoming(kelp_remus_codec *t, int kind, const char *text, kelp_time n
         double g, p, o;
         kelp_remus_gfi_pitch_oil_decode(s.gfi_pitch_oil, &g, &p, &o);
         char *extra = t->work.in.extra;
-        int n = kelp_snprintf(extra, sizeof t->work.in.extra,
+        int n = kelp_util_snprintf(extra, sizeof t->work.in.extra,
                          ",GoalLatitude=%.17g,GoalLongitude=%.17g,Batterypercent=%u,GFI=%.17g,Pitch=%.17g,Oil=%.17g",
                          kelp_remus_latlon_decode(s.lat_goal), kelp_remus_latlon_decode(s.lon_goal),
                          (unsigned)s.battery_percent, g, p, o);
@@ -272,7 +272,7 @@ static double kv_num(const char *s, const char *key)
 {
     char v[64];
     double d = 0;
-    if (kelp_kv_get(s, ',', key, v, sizeof v) != 1 || kelp_parse_double(v, strlen(v), &d) != KELP_OK || !isfinite(d))
+    if (kelp_kv_get(s, ',', key, v, sizeof v) != 1 || kelp_util_parse_double(v, strlen(v), &d) != KELP_OK || !isfinite(d))
         return 0;
     return d;
 }
@@ -286,7 +286,7 @@ static uint8_t byte_of(double v)
 static int outgoing_command(kelp_remus_codec *t, const char *s, const kelp_field_sink *sink)
 {
     char v[64];
-    if (!s || kelp_kv_get(s, ',', "MessageType", v, sizeof v) != 1 || !kelp_strieq(v, "CCL_REDIRECT")) return 0;
+    if (!s || kelp_kv_get(s, ',', "MessageType", v, sizeof v) != 1 || !kelp_util_strieq(v, "CCL_REDIRECT")) return 0;
     kelp_remus_redirect *r = &t->work.out.redirect;
     memset(r, 0, sizeof *r);
     r->lat = kv_num(s, "Latitude");
@@ -294,7 +294,7 @@ static int outgoing_command(kelp_remus_codec *t, const char *s, const kelp_field
     if (kelp_kv_get(s, ',', "SpeedDepthFlags", v, sizeof v) == 1) {
         const char *h = (v[0] == '0' && (v[1] == 'x' || v[1] == 'X')) ? v + 2 : v;
         unsigned x = 0;
-        for (size_t i = 0; h[i] && kelp_hex_digit(h[i]) >= 0; i++) x = (x << 4 | (unsigned)kelp_hex_digit(h[i])) & 0xFFu;
+        for (size_t i = 0; h[i] && kelp_util_hex_digit(h[i]) >= 0; i++) x = (x << 4 | (unsigned)kelp_util_hex_digit(h[i])) & 0xFFu;
         r->speed_depth_flags = (uint8_t)x;
     }
     r->transit_depth = kv_num(s, "TransitDepth");
@@ -325,18 +325,18 @@ static int outgoing_command(kelp_remus_codec *t, const char *s, const kelp_field
 int kelp_remus_codec_mail(kelp_remus_codec *t, const char *var, bool is_string, const char *sval, double dval,
                           kelp_time now, const kelp_field_sink *sink)
 {
-    if (kelp_strieq(var, "OUTGOING_COMMAND")) return is_string ? outgoing_command(t, sval, sink) : 0;
+    if (kelp_util_strieq(var, "OUTGOING_COMMAND")) return is_string ? outgoing_command(t, sval, sink) : 0;
     for (int k = 0; k < KELP_REMUS_NVARS; k++)
-        if (kelp_strieq(var, t->cfg.in_var[k])) return is_string ? incoming(t, k, sval, now, sink) : 0;
-    if (kelp_strieq(var, "MODEM_ID")) {
+        if (kelp_util_strieq(var, t->cfg.in_var[k])) return is_string ? incoming(t, k, sval, now, sink) : 0;
+    if (kelp_util_strieq(var, "MODEM_ID")) {
         double v = dval;
-        if (is_string && (!sval || kelp_parse_double(sval, strlen(sval), &v) != KELP_OK)) v = NAN;
+        if (is_string && (!sval || kelp_util_parse_double(sval, strlen(sval), &v) != KELP_OK)) v = NAN;
         if (!isfinite(v) || v < 0 || v > 31) return 0;
         t->my_id = (int)v;
         return 1;
     }
     for (int k = 0; k < KELP_REMUS_NNAV; k++)
-        if (kelp_strieq(var, NAV_VAR[k])) {
+        if (kelp_util_strieq(var, NAV_VAR[k])) {
             if (is_string || !isfinite(dval)) return 0;
             t->nav[k] = dval;
             t->have[k] = true;

@@ -66,7 +66,7 @@ static void tw_field(tw *w, const char *name)
 static void tw_long(tw *w, long v)
 {
     char tmp[24];
-    kelp_snprintf(tmp, sizeof tmp, "%ld", v);
+    kelp_util_snprintf(tmp, sizeof tmp, "%ld", v);
     tw_puts(w, tmp);
 }
 
@@ -81,9 +81,9 @@ static void tw_double(tw *w, double v)
         tw_puts(w, v < 0 ? "-inf" : "inf");
         return;
     }
-    kelp_snprintf(tmp, sizeof tmp, "%.15g", v);
+    kelp_util_snprintf(tmp, sizeof tmp, "%.15g", v);
     double back = 0;
-    if (kelp_parse_double(tmp, strlen(tmp), &back) != KELP_OK || back != v) kelp_snprintf(tmp, sizeof tmp, "%.17g", v);
+    if (kelp_util_parse_double(tmp, strlen(tmp), &back) != KELP_OK || back != v) kelp_util_snprintf(tmp, sizeof tmp, "%.17g", v);
     tw_puts(w, tmp);
 }
 
@@ -146,9 +146,9 @@ int kelp_acomms_time_text(kelp_time t, char *buf, size_t cap)
     if (frac < 0) frac += 1000000;
     int n;
     if (frac)
-        n = kelp_snprintf(buf, cap, "%04d-%s-%02d %02d:%02d:%02d.%06ld", y, MONTHS[(mo - 1) % 12], d, h, mi, s, (long)frac);
+        n = kelp_util_snprintf(buf, cap, "%04d-%s-%02d %02d:%02d:%02d.%06ld", y, MONTHS[(mo - 1) % 12], d, h, mi, s, (long)frac);
     else
-        n = kelp_snprintf(buf, cap, "%04d-%s-%02d %02d:%02d:%02d", y, MONTHS[(mo - 1) % 12], d, h, mi, s);
+        n = kelp_util_snprintf(buf, cap, "%04d-%s-%02d %02d:%02d:%02d", y, MONTHS[(mo - 1) % 12], d, h, mi, s);
     return (n < 0 || (size_t)n >= cap) ? KELP_ERR_NOSPACE : KELP_OK;
 }
 
@@ -546,7 +546,7 @@ static int val_long(const tf_val *v, long long lo, long long hi, long long *out)
     const char *s = v->s;
     size_t n = v->n;
     if (n && s[0] == '+') s++, n--;
-    if (kelp_parse_llong(s, n, &x) != KELP_OK) return KELP_ERR_PARSE;
+    if (kelp_util_parse_llong(s, n, &x) != KELP_OK) return KELP_ERR_PARSE;
     if (x < lo || x > hi) return KELP_ERR_RANGE;
     *out = x;
     return KELP_OK;

@@ -122,8 +122,8 @@ static void read_clock_steps(kelp_app *app)
         const char *colon = memchr(p, ':', len);
         double at, by;
         if (!colon || app->nsteps >= KELP_APP_MAX_CLOCK_STEPS ||
-            kelp_parse_finite(p, (size_t)(colon - p), &at) < 0 ||
-            kelp_parse_finite(colon + 1, len - (size_t)(colon - p) - 1, &by) < 0) {
+            kelp_util_parse_finite(p, (size_t)(colon - p), &at) < 0 ||
+            kelp_util_parse_finite(colon + 1, len - (size_t)(colon - p) - 1, &by) < 0) {
             fprintf(stderr, "%s: KELP_CLOCK_STEPS \"%s\" ignored (AT:BY[,AT:BY...], at most %d)\n", app->name, e,
                     KELP_APP_MAX_CLOCK_STEPS);
             app->nsteps = 0;
@@ -288,7 +288,7 @@ int kelp_app_param_foreach(kelp_app *app, kelp_app_param_fn fn, void *ctx)
         key[n->klen] = 0;
         if (kelp_mission_copy(n, val, sizeof val) < 0) return kelp_app_config_error(app, n, "%s: value too long", key);
         int rc = fn(ctx, key, val, &d);
-        if (rc < 0) return kelp_app_config_error(app, n, "%s = %s: %s", key, val, d.code ? kelp_diag_text(&d) : kelp_strerror(rc));
+        if (rc < 0) return kelp_app_config_error(app, n, "%s = %s: %s", key, val, d.code ? kelp_diag_text(&d) : kelp_err_str(rc));
         if (rc > 0) kelp_app_param_used(app, n);
     }
     return 0;
@@ -492,7 +492,7 @@ static void report(kelp_app *app, FILE *out)
     fprintf(out, "Run warnings: %d\n", app->nrun_warn + (st->bad ? 1 : 0));
     if (st->bad)
         fprintf(out, "  [bad] %llu malformed datagrams rejected (last: %s)\n", (unsigned long long)st->bad,
-                kelp_strerror(st->last_bad_err));
+                kelp_err_str(st->last_bad_err));
     for (int i = 0; i < app->nrun_warn; i++) fprintf(out, "  [%lux] %s\n", app->run_warn_count[i], app->run_warn[i]);
     if (app->run_dropped) fprintf(out, "  (%lu older distinct warnings dropped)\n", app->run_dropped);
     if (app->nevents) {
@@ -545,7 +545,7 @@ static void cast_fill(kelp_app *app, kelp_appcast *ac)
         snprintf(ac->events[ac->nevents++], KELP_APPCAST_ITEM, "%s", app->events[i]);
     const kelp_bus_stats *st = kelp_bus_get_stats(kelp_lcmbus_bus(app->lb));
     if (st->bad) {
-        snprintf(ac->run[0], KELP_APPCAST_ITEM, "malformed datagrams rejected (last: %s)", kelp_strerror(st->last_bad_err));
+        snprintf(ac->run[0], KELP_APPCAST_ITEM, "malformed datagrams rejected (last: %s)", kelp_err_str(st->last_bad_err));
         ac->run_count[0] = (unsigned long)st->bad;
         ac->run_total = ac->run_count[0];
         ac->nrun = 1;
@@ -675,7 +675,7 @@ static void publish_status(kelp_app *app)
     name_list(subs, sizeof subs, (const char *)bus->st.subs + offsetof(kelp_bus_sub, pattern), sizeof bus->st.subs[0],
               bus->nsubs_used);
     char head[256];
-    if (kelp_snprintf(head, sizeof head, "AppErrorFlag=false,Uptime=%g,cpuload=%.4g,memory_kb=%.4g,memory_max_kb=%.4g,",
+    if (kelp_util_snprintf(head, sizeof head, "AppErrorFlag=false,Uptime=%g,cpuload=%.4g,memory_kb=%.4g,memory_max_kb=%.4g,",
                       kelp_app_time(app) - app->start, app->cpuload, (double)mem, (double)mem_max) < 0)
         return;
     KELP_IGNORE(kelp_app_notify_stringf(app, var, "%sMOOSName=%s,Publishing=\"%s\",Subscribing=\"%s\"", head,
@@ -716,7 +716,7 @@ static bool appcasting_mail(kelp_app *app, const kelp_var *v)
         char appname[KELP_MAX_NAME] = "", durs[32] = "";
         double dur = 0;
         if (kelp_kv_get(v->sval, ',', "app", appname, sizeof appname) < 0) appname[0] = 0;
-        if (kelp_kv_get(v->sval, ',', "duration", durs, sizeof durs) <= 0 || kelp_parse_double(durs, strlen(durs), &dur) < 0)
+        if (kelp_kv_get(v->sval, ',', "duration", durs, sizeof durs) <= 0 || kelp_util_parse_double(durs, strlen(durs), &dur) < 0)
             dur = 0;
         if (strcmp(appname, app->name) != 0 && strcmp(appname, "all") != 0 && strcmp(appname, "any") != 0) return true;
         app->lcast_duration = dur < 0 ? 0 : dur > 30 ? 30 : dur;
@@ -959,9 +959,9 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
     read_clock_steps(app);
     const char *ep = getenv("KELP_WARP_EPOCH");
     app->epoch = 0.0;
-    if (ep && kelp_parse_double(ep, strlen(ep), &app->epoch) < 0) app->epoch = 0.0;
+    if (ep && kelp_util_parse_double(ep, strlen(ep), &app->epoch) < 0) app->epoch = 0.0;
     int uline = 0;
-    if (kelp_lcm_mission_url(&app->mf.m, app->url, sizeof app->url, &uline) < 0) {
+    if (kelp_lcmbus_mission_url(&app->mf.m, app->url, sizeof app->url, &uline) < 0) {
         fprintf(stderr, "%s:%d: bad LCM_URL or ServerPort (udpm://GROUP:PORT?..., port 1..65535)\n", mission, uline);
         kelp_mission_free(&app->mf);
         free(app);

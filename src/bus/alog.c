@@ -31,7 +31,7 @@ int kelp_alog_parse_line(const char *line, size_t len, kelp_alog_line *out)
     const char *t;
     size_t tl;
     (void)word(line, len, &i, &t, &tl);
-    if (kelp_parse_finite(t, tl, &out->time) < 0) return KELP_ERR_PARSE;
+    if (kelp_util_parse_finite(t, tl, &out->time) < 0) return KELP_ERR_PARSE;
     if (!word(line, len, &i, &out->var, &out->var_len) || !word(line, len, &i, &out->src, &out->src_len))
         return KELP_ERR_PARSE;
     while (i < len && ws(line[i])) i++;
@@ -49,7 +49,7 @@ static bool banner_key(const char *line, size_t len, const char *key, size_t *af
     if (i == 0) return false;
     while (i < len && ws(line[i])) i++;
     size_t kl = strlen(key);
-    if (len - i < kl || !kelp_strieq_n(line + i, kl, key)) return false;
+    if (len - i < kl || !kelp_util_strieq_n(line + i, kl, key)) return false;
     *after = i + kl;
     return true;
 }
@@ -59,7 +59,7 @@ int kelp_alog_parse_logstart(const char *line, size_t len, double *t)
     size_t a;
     while (len && (line[len - 1] == '\r' || line[len - 1] == '\n' || ws(line[len - 1]))) len--;
     if (!banner_key(line, len, "LOGSTART", &a)) return 0;
-    return kelp_parse_finite(line + a, len - a, t) < 0 ? KELP_ERR_PARSE : 1;
+    return kelp_util_parse_finite(line + a, len - a, t) < 0 ? KELP_ERR_PARSE : 1;
 }
 
 bool kelp_alog_is_marking(const char *line, size_t len)
@@ -71,12 +71,12 @@ bool kelp_alog_is_marking(const char *line, size_t len)
 int kelp_alog_value(const char *val, size_t len, bool marking, double *d, const char **s, size_t *slen)
 {
     if (marking && len >= 2 && (val[0] == 'D' || val[0] == 'S') && val[1] == ':') {
-        if (val[0] == 'D') return kelp_parse_finite(val + 2, len - 2, d) < 0 ? KELP_ERR_PARSE : 1;
+        if (val[0] == 'D') return kelp_util_parse_finite(val + 2, len - 2, d) < 0 ? KELP_ERR_PARSE : 1;
         *s = val + 2;
         *slen = len - 2;
         return 0;
     }
-    if (len && kelp_parse_finite(val, len, d) == 0) return 1;
+    if (len && kelp_util_parse_finite(val, len, d) == 0) return 1;
     *s = val;
     *slen = len;
     return 0;
@@ -107,8 +107,8 @@ static void pad(out *o, size_t from, size_t width)
 static void num(out *o, double v, int dp)
 {
     char t[64];
-    int k = dp < 0 ? -1 : kelp_fmt_fixed(t, sizeof t, v, (unsigned)dp, false);
-    if (k < 0) k = kelp_snprintf(t, sizeof t, "%.17g", v); /* exact, or too large for fixed decimals */
+    int k = dp < 0 ? -1 : kelp_util_fmt_fixed(t, sizeof t, v, (unsigned)dp, false);
+    if (k < 0) k = kelp_util_snprintf(t, sizeof t, "%.17g", v); /* exact, or too large for fixed decimals */
     if (k < 0 || (size_t)k >= sizeof t) o->full = true;
     else put(o, t, (size_t)k);
 }

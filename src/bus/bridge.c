@@ -50,7 +50,7 @@ static int bracket_list(const char **ps, char *base, size_t stride, int cap, boo
 static int parse_port(const char *s, size_t len, uint16_t *port)
 {
     long p;
-    if (kelp_parse_long(s, len, &p) < 0 || p < 1 || p > 65535) return KELP_ERR_PARSE;
+    if (kelp_util_parse_long(s, len, &p) < 0 || p < 1 || p > 65535) return KELP_ERR_PARSE;
     *port = (uint16_t)p;
     return KELP_OK;
 }
@@ -141,8 +141,8 @@ int kelp_bridge_frame(kelp_bridge_tx *tx, const kelp_var *v, const char *as, con
     if (cap < KELP_BRIDGE_HDR_LEN) return KELP_ERR_NOSPACE;
     memcpy(buf, KELP_BRIDGE_MAGIC, 4);
     buf[4] = keylen ? KELP_BRIDGE_F_AUTH : 0;
-    kelp_be_put64(buf + 5, tx->epoch);
-    kelp_be_put64(buf + 13, tx->seq + 1);
+    kelp_util_be_put64(buf + 5, tx->epoch);
+    kelp_util_be_put64(buf + 13, tx->seq + 1);
     const char *name = (as && *as) ? as : v->name;
     size_t n = 0;
     /* encode with the alias name and the BRIDGED flag without copying the value */
@@ -233,7 +233,7 @@ int kelp_bridge_unframe(kelp_bridge_rx *rx, const uint8_t *buf, size_t len, cons
     int rc = kelp_var_decode(buf + KELP_BRIDGE_HDR_LEN, body, out);
     if (rc < 0) return rc;
     if (rx) {
-        rc = replay_check(rx, out->community, kelp_be_get64(buf + 5), kelp_be_get64(buf + 13));
+        rc = replay_check(rx, out->community, kelp_util_be_get64(buf + 5), kelp_util_be_get64(buf + 13));
         if (rc < 0) return rc;
     }
     out->flags |= KELP_VAR_FLAG_BRIDGED;
@@ -327,7 +327,7 @@ static void bridge_putf(char *buf, size_t cap, size_t *len, const char *fmt, ...
 {
     va_list ap;
     va_start(ap, fmt);
-    int k = kelp_vsnprintf(buf + (*len < cap ? *len : cap - 1), *len < cap ? cap - *len : 1, fmt, ap);
+    int k = kelp_util_vsnprintf(buf + (*len < cap ? *len : cap - 1), *len < cap ? cap - *len : 1, fmt, ap);
     va_end(ap);
     if (k > 0) *len += (size_t)k;
 }
@@ -349,7 +349,7 @@ static int one_route(const char *s, size_t len, kelp_bridge_route *r, char *dest
         size_t fl = len - (size_t)(f - s);
         trim_n(&f, &fl);
         double hz;
-        r->frequency = kelp_parse_finite(f, fl, &hz) == 0 && hz > 0 ? hz : 0;
+        r->frequency = kelp_util_parse_finite(f, fl, &hz) == 0 && hz > 0 ? hz : 0;
         len = (size_t)(at - s);
     }
     trim_n(&s, &len);
@@ -365,7 +365,7 @@ static int one_route(const char *s, size_t len, kelp_bridge_route *r, char *dest
     const char *last = part[np - 1];
     if (pl[np - 1] > 10 && strncmp(last, "multicast_", 10) == 0) { /* [dest:]multicast_N */
         long ch;
-        if (np > (dest ? 2u : 1u) || kelp_parse_long(last + 10, pl[np - 1] - 10, &ch) < 0 || ch < 0 || ch > 255)
+        if (np > (dest ? 2u : 1u) || kelp_util_parse_long(last + 10, pl[np - 1] - 10, &ch) < 0 || ch < 0 || ch > 255)
             return kelp_fail(d, KELP_ERR_PARSE, "bad multicast_N route");
         if (np == 2 && (pl[0] == 0 || pl[0] >= KELP_MAX_NAME)) return kelp_fail(d, KELP_ERR_PARSE, "bad name in a route");
         if (np == 2) memcpy(dest, part[0], pl[0]), dest[pl[0]] = 0;
@@ -419,14 +419,14 @@ static bool kv_find(const char *line, const char *key, const char **v, size_t *v
     size_t pos = 0, kl;
     const char *k;
     while (kelp_kv_next(line, ',', &pos, &k, &kl, v, vl) == 1)
-        if (kelp_strieq_n(k, kl, key)) return true;
+        if (kelp_util_strieq_n(k, kl, key)) return true;
     return false;
 }
 
 static bool names_route(const char *line)
 {
     for (const char *p = line; *p; p++)
-        if ((p[0] == 'r' || p[0] == 'R') && kelp_strieq_n(p, 5, "route")) return true;
+        if ((p[0] == 'r' || p[0] == 'R') && kelp_util_strieq_n(p, 5, "route")) return true;
     return false;
 }
 
@@ -436,7 +436,7 @@ static void kv_number(const char *line, const char *key, double *out)
     const char *v;
     size_t vl;
     double x;
-    if (kv_find(line, key, &v, &vl) && kelp_parse_finite(v, vl, &x) == 0) *out = x;
+    if (kv_find(line, key, &v, &vl) && kelp_util_parse_finite(v, vl, &x) == 0) *out = x;
 }
 
 int kelp_bridge_pshare_output(const char *line, kelp_bridge_route *routes, size_t cap, size_t *n, kelp_diag *d)
@@ -508,7 +508,7 @@ int kelp_bridge_pshare_cmd(const char *s)
 {
     char cmd[16];
     if (kelp_kv_get(s, ',', "cmd", cmd, sizeof cmd) != 1) return 0;
-    return kelp_strieq_n(cmd, strlen(cmd), "output") ? 1 : kelp_strieq_n(cmd, strlen(cmd), "input") ? 2 : 0;
+    return kelp_util_strieq_n(cmd, strlen(cmd), "output") ? 1 : kelp_util_strieq_n(cmd, strlen(cmd), "input") ? 2 : 0;
 }
 
 static void put_addr(char *buf, size_t cap, size_t *len, const kelp_bridge_route *r)

@@ -37,9 +37,9 @@ int kelp_bus_init(kelp_bus *b, const char *app, const char *community, const cha
     if ((st->nsubs && !st->subs) || (st->ncache && !st->cache)) return KELP_ERR_ARG;
     memset(b, 0, sizeof *b);
     int rc;
-    if ((rc = kelp_name_set(b->app, app)) < 0) return rc;
-    if ((rc = kelp_name_set(b->community, community)) < 0) return rc;
-    if ((rc = kelp_name_set(b->reply_channel, reply_channel)) < 0) return rc;
+    if ((rc = kelp_bus_name_set(b->app, app)) < 0) return rc;
+    if ((rc = kelp_bus_name_set(b->community, community)) < 0) return rc;
+    if ((rc = kelp_bus_name_set(b->reply_channel, reply_channel)) < 0) return rc;
     b->tr = *tr;
     b->st = *st;
     b->handler = handler;
@@ -429,7 +429,7 @@ int kelp_bus_receive(kelp_bus *b, const char *channel, const uint8_t *data, size
     int rc;
     if (strcmp(channel, KELP_BUS_SYNC_CHANNEL) == 0) {
         kelp_sync_req *q = &b->sync_rx;
-        rc = kelp_sync_req_decode(data, len, q);
+        rc = kelp_bus_sync_req_decode(data, len, q);
         if (rc < 0) {
             b->stats.bad++;
             b->stats.last_bad_err = rc;

@@ -9,7 +9,7 @@ int kelp_var_encode_parts(double time, const char *name, const char *source, con
                           const char *community, kelp_var_kind kind, double dval, const char *val, size_t vlen,
                           uint8_t flags, uint8_t *buf, size_t cap, size_t *len);
 
-/** A sync request for one pattern, encoded from its parts (as kelp_sync_req_encode of a
+/** A sync request for one pattern, encoded from its parts (as kelp_bus_sync_req_encode of a
  *  kelp_sync_req holding them, without building one). */
 int kelp_sync_req_encode_one(double time, const char *requester, const char *community, const char *reply_channel,
                              const char *pattern, uint8_t *buf, size_t cap, size_t *len);

@@ -32,7 +32,7 @@ int kelp_can_dict_parse(kelp_can_dict *dict, const char *spec, kelp_diag *d)
     while ((rc = kelp_kv_next(spec, ',', &pos, &k, &klen, &v, &vlen)) == 1) {
         long id;
         char name[KELP_CAN_NAME];
-        if (kelp_parse_long(k, klen, &id) < 0 || id < 0 || id >= (long)KELP_CAN_VAR_NAMED) return kelp_fail(d, KELP_ERR_PARSE, "variable id must be 0-510");
+        if (kelp_util_parse_long(k, klen, &id) < 0 || id < 0 || id >= (long)KELP_CAN_VAR_NAMED) return kelp_fail(d, KELP_ERR_PARSE, "variable id must be 0-510");
         if (vlen == 0 || vlen >= sizeof name) return kelp_fail(d, KELP_ERR_PARSE, "name empty or longer than 63");
         memcpy(name, v, vlen);
         name[vlen] = 0;
@@ -84,12 +84,12 @@ static void put_f64(uint8_t *p, double d)
 {
     uint64_t u;
     memcpy(&u, &d, sizeof u);
-    kelp_be_put64(p, u);
+    kelp_util_be_put64(p, u);
 }
 
 static double get_f64(const uint8_t *p)
 {
-    uint64_t u = kelp_be_get64(p);
+    uint64_t u = kelp_util_be_get64(p);
     double d;
     memcpy(&d, &u, sizeof d);
     return d;
@@ -151,13 +151,13 @@ static int encode_body(kelp_can_tx *tx, const kelp_can_msg *m, bool named, size_
         uint32_t u;
         memcpy(&u, &f, sizeof u);
         if (n + 4 > KELP_CAN_MAX_BODY) return KELP_ERR_RANGE;
-        kelp_be_put32(b + n, u);
+        kelp_util_be_put32(b + n, u);
         n += 4;
         break;
     }
     case KELP_CAN_KIND_I32:
         if (n + 4 > KELP_CAN_MAX_BODY || !(m->dval >= -2147483648.0 && m->dval <= 2147483647.0)) return KELP_ERR_RANGE;
-        kelp_be_put32(b + n, (uint32_t)(int32_t)m->dval);
+        kelp_util_be_put32(b + n, (uint32_t)(int32_t)m->dval);
         n += 4;
         break;
     default:
@@ -228,7 +228,7 @@ void kelp_can_rx_init(kelp_can_rx *rx, double timeout)
 
 void kelp_can_rx_expire(kelp_can_rx *rx, kelp_time now)
 {
-    if (!kelp_time_ok(now)) return; /* the time step rule: a NaN would expire every transfer */
+    if (!kelp_util_time_ok(now)) return; /* the time step rule: a NaN would expire every transfer */
     for (size_t i = 0; i < KELP_CAN_SLOTS; i++) {
         kelp_can_slot *s = &rx->slots[i];
         /* a transfer started "later" than now: the clock stepped back; its timeout counts
@@ -288,7 +288,7 @@ static int decode_body(kelp_can_rx *rx, const kelp_can_dict *d, uint32_t id, con
         break;
     case KELP_CAN_KIND_F32: {
         if (rest != 4) return KELP_ERR_PARSE;
-        uint32_t u = kelp_be_get32(b + n);
+        uint32_t u = kelp_util_be_get32(b + n);
         float f;
         memcpy(&f, &u, sizeof f);
         out->dval = f;
@@ -297,7 +297,7 @@ static int decode_body(kelp_can_rx *rx, const kelp_can_dict *d, uint32_t id, con
     }
     case KELP_CAN_KIND_I32:
         if (rest != 4) return KELP_ERR_PARSE;
-        out->dval = (double)(int32_t)kelp_be_get32(b + n);
+        out->dval = (double)(int32_t)kelp_util_be_get32(b + n);
         out->kind = KELP_CAN_KIND_F64;
         break;
     default:
@@ -374,7 +374,7 @@ static bool complete(const kelp_can_slot *s)
 
 int kelp_can_rx_frame(kelp_can_rx *rx, const kelp_can_dict *d, const kelp_can_frame *f, kelp_time now, kelp_can_msg *out)
 {
-    if (!kelp_time_ok(now)) return KELP_ERR_ARG;
+    if (!kelp_util_time_ok(now)) return KELP_ERR_ARG;
     rx->st.frames++;
     kelp_can_rx_expire(rx, now);
     if (f->id > KELP_CAN_EFF_MASK || KELP_CAN_ID_TAG(f->id) != KELP_CAN_TAG) {
@@ -474,11 +474,11 @@ int kelp_can_msg_to_var(const kelp_can_msg *m, const char *as, kelp_time now, ke
 {
     memset(v, 0, offsetof(kelp_var, sval));
     v->sval[0] = 0;
-    if (kelp_name_set(v->name, (as && *as) ? as : m->name) < 0) return KELP_ERR_RANGE;
+    if (kelp_bus_name_set(v->name, (as && *as) ? as : m->name) < 0) return KELP_ERR_RANGE;
     if (m->source) {
-        if (kelp_name_set(v->source, m->source) < 0) return KELP_ERR_RANGE;
+        if (kelp_bus_name_set(v->source, m->source) < 0) return KELP_ERR_RANGE;
     } else {
-        (void)kelp_snprintf(v->source, sizeof v->source, "can%u", (unsigned)m->node);
+        (void)kelp_util_snprintf(v->source, sizeof v->source, "can%u", (unsigned)m->node);
     }
     v->time = m->has_time ? m->time : now;
     if (m->kind == KELP_CAN_KIND_STRING || m->kind == KELP_CAN_KIND_BINARY) {

@@ -279,7 +279,7 @@ int kelp_mission_parse(kelp_mission *m, const char *text, size_t len, kelp_missi
             if (is_block) {
                 if (vl == 0) return fail(&p, line, "block header without a name");
                 if ((rc = add(&p, KELP_MN_BLOCK, k, kl, v, vl, false, line)) < 0) return rc;
-                bool is_set = kl > 4 && kelp_strieq_n(k, 3, "set") && sp(k[3]);
+                bool is_set = kl > 4 && kelp_util_strieq_n(k, 3, "set") && sp(k[3]);
                 if (brace_here) {
                     if (p.depth >= MAX_DEPTH) return fail(&p, line, "blocks nested too deeply");
                     p.stack_pb[p.depth] = false;
@@ -337,12 +337,12 @@ int kelp_mission_parse(kelp_mission *m, const char *text, size_t len, kelp_missi
 
 bool kelp_mission_key_is(const kelp_mission_node *n, const char *key)
 {
-    return kelp_strieq_n(n->key, n->klen, key);
+    return kelp_util_strieq_n(n->key, n->klen, key);
 }
 
 bool kelp_mission_val_is(const kelp_mission_node *n, const char *val)
 {
-    return kelp_strieq_n(n->val, n->vlen, val);
+    return kelp_util_strieq_n(n->val, n->vlen, val);
 }
 
 int kelp_mission_block(const kelp_mission *m, const char *kind, const char *name)
@@ -385,7 +385,7 @@ int kelp_mission_copy(const kelp_mission_node *n, char *buf, size_t cap)
 
 int kelp_mission_double(const kelp_mission_node *n, double *out)
 {
-    return kelp_parse_double(n->val, n->vlen, out);
+    return kelp_util_parse_double(n->val, n->vlen, out);
 }
 
 int kelp_mission_bool(const kelp_mission_node *n, bool *out)

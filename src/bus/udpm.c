@@ -300,7 +300,7 @@ static int parse_group(const char *s, size_t n, uint32_t *out)
         while (e < n && s[e] != '.') e++;
         if ((part < 3) != (e < n)) return KELP_ERR_PARSE;
         long v;
-        if (e == a || e - a > 3 || kelp_parse_long(s + a, e - a, &v) < 0 || v < 0 || v > 255) return KELP_ERR_PARSE;
+        if (e == a || e - a > 3 || kelp_util_parse_long(s + a, e - a, &v) < 0 || v < 0 || v > 255) return KELP_ERR_PARSE;
         g = g << 8 | (uint32_t)v;
         a = e + 1;
     }
@@ -324,7 +324,7 @@ int kelp_udpm_url_parse(const char *url, kelp_udpm_url *out)
     if ((out->group >> 28) != 0xEu) return KELP_ERR_RANGE; /* not 224.0.0.0/4 */
     if (colon) {
         long p;
-        if (kelp_parse_long(colon + 1, hl - gl - 1, &p) < 0) return KELP_ERR_PARSE;
+        if (kelp_util_parse_long(colon + 1, hl - gl - 1, &p) < 0) return KELP_ERR_PARSE;
         if (p < 1 || p > 65535) return KELP_ERR_RANGE;
         out->port = (uint16_t)p;
     }
@@ -335,15 +335,15 @@ int kelp_udpm_url_parse(const char *url, kelp_udpm_url *out)
     while ((rc = kelp_kv_next(q + 1, '&', &pos, &k, &kl, &v, &vl)) != 0) {
         if (rc < 0) return rc;
         long n;
-        if (kelp_strieq_n(k, kl, "transmit_only")) continue;
-        if (kelp_parse_long(v, vl, &n) < 0) return KELP_ERR_PARSE;
-        if (kelp_strieq_n(k, kl, "ttl")) {
+        if (kelp_util_strieq_n(k, kl, "transmit_only")) continue;
+        if (kelp_util_parse_long(v, vl, &n) < 0) return KELP_ERR_PARSE;
+        if (kelp_util_strieq_n(k, kl, "ttl")) {
             if (n < 0 || n > 255) return KELP_ERR_RANGE;
             out->ttl = (int)n;
-        } else if (kelp_strieq_n(k, kl, "recv_buf_size")) {
+        } else if (kelp_util_strieq_n(k, kl, "recv_buf_size")) {
             if (n < 0 || n > (1L << 30)) return KELP_ERR_RANGE;
             out->recv_buf_size = n;
-        } else if (kelp_strieq_n(k, kl, "queue_size")) {
+        } else if (kelp_util_strieq_n(k, kl, "queue_size")) {
             if (n < 0 || n > (1L << 30)) return KELP_ERR_RANGE;
             out->queue_size = n;
         } else {
@@ -369,7 +369,7 @@ int kelp_udpm_community_url(const char *lcm_url, const char *server_port, char *
     if (!server_port || !*server_port) return KELP_OK;
     long port;
     size_t pl = strlen(server_port);
-    if (kelp_parse_long(server_port, pl, &port) < 0 || port < 1 || port > 65535) return KELP_ERR_RANGE;
+    if (kelp_util_parse_long(server_port, pl, &port) < 0 || port < 1 || port > 65535) return KELP_ERR_RANGE;
     if (sizeof pre - 1 + pl + sizeof post > cap) return KELP_ERR_NOSPACE;
     size_t o = sizeof pre - 1;
     memcpy(buf, pre, o);

@@ -217,7 +217,7 @@ static void sync_req_head(wr *w, double time, const char *requester, const char 
     put_u8(w, (uint8_t)npatterns);
 }
 
-int kelp_sync_req_encode(const kelp_sync_req *q, uint8_t *buf, size_t cap, size_t *len)
+int kelp_bus_sync_req_encode(const kelp_sync_req *q, uint8_t *buf, size_t cap, size_t *len)
 {
     if (!q || !len || q->npatterns > KELP_MAX_SYNC_PATTERNS) return KELP_ERR_ARG;
     wr w = { buf, cap, 0, 0 };
@@ -240,7 +240,7 @@ int kelp_sync_req_encode_one(double time, const char *requester, const char *com
     return KELP_OK;
 }
 
-int kelp_sync_req_decode(const uint8_t *buf, size_t len, kelp_sync_req *out)
+int kelp_bus_sync_req_decode(const uint8_t *buf, size_t len, kelp_sync_req *out)
 {
     if (!out) return KELP_ERR_ARG;
     if (!buf) return len ? KELP_ERR_ARG : KELP_ERR_TRUNCATED;
@@ -264,7 +264,7 @@ int kelp_sync_req_decode(const uint8_t *buf, size_t len, kelp_sync_req *out)
     return KELP_OK;
 }
 
-int kelp_name_set(char dst[KELP_MAX_NAME], const char *s)
+int kelp_bus_name_set(char dst[KELP_MAX_NAME], const char *s)
 {
     if (!s) return KELP_ERR_ARG;
     size_t n = strlen(s);

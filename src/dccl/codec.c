@@ -270,7 +270,7 @@ static int put_string(enc_ctx *e, const kelp_dccl_field *f, const kelp_dccl_val 
         if (n < 2 * m || (n == 2 * m && v->cut)) return kelp_fail(&e->cx->diag, KELP_ERR_PARSE, "hex value too short");
         if (n > 2 * m || v->cut) return kelp_fail(&e->cx->diag, KELP_ERR_PARSE, "hex value too long");
         for (i = 0; i < 2 * m; i++)
-            if (kelp_hex_digit(s[i]) < 0) return kelp_fail(&e->cx->diag, KELP_ERR_PARSE, "hex value has a non-hex character");
+            if (kelp_util_hex_digit(s[i]) < 0) return kelp_fail(&e->cx->diag, KELP_ERR_PARSE, "hex value has a non-hex character");
     } else {
         /* Goby ORs each char sign-extended into the field: a byte >= 0x80 sets
          * every higher bit of the field, i.e. all earlier bytes become 0xff. */
@@ -283,7 +283,7 @@ static int put_string(enc_ctx *e, const kelp_dccl_field *f, const kelp_dccl_val 
         size_t b = p >> 3;
         for (i = 0; i < m; i++) {
             uint8_t byte;
-            if (hex) byte = (uint8_t)(kelp_hex_digit(s[2 * i]) << 4 | kelp_hex_digit(s[2 * i + 1]));
+            if (hex) byte = (uint8_t)(kelp_util_hex_digit(s[2 * i]) << 4 | kelp_util_hex_digit(s[2 * i + 1]));
             else if (i < high) byte = 0xff;
             else byte = i < n ? (uint8_t)s[i] : 0;
             or_byte(buf, b + i, (uint8_t)(byte >> sh));

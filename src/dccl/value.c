@@ -25,7 +25,7 @@ double dccl_pow10(int p)
 
 bool dccl_ieq(const char *a, size_t an, const char *b)
 {
-    return kelp_strieq_n(a, an, b);
+    return kelp_util_strieq_n(a, an, b);
 }
 
 /* ------------------------------------------------------------------ setters */
@@ -156,7 +156,7 @@ bool kelp_dccl_parse_double(const char *s, size_t n, double *out)
     /* the util parser: exact for what DCCL values carry, no allocation */
     {
         double v;
-        if (kelp_parse_double(s, n, &v) != KELP_OK || isinf(v)) return false;
+        if (kelp_util_parse_double(s, n, &v) != KELP_OK || isinf(v)) return false;
         *out = v;
     }
 #endif
@@ -258,7 +258,7 @@ size_t dccl_fmt_long(int64_t l, char *out, size_t cap)
 size_t dccl_fmt_fixed(double d, int prec, char *out, size_t cap)
 {
     char buf[DCCL_NUMBUF];
-    int n = kelp_snprintf(buf, sizeof buf, "%.*f", prec < 0 ? 6 : prec, d);
+    int n = kelp_util_snprintf(buf, sizeof buf, "%.*f", prec < 0 ? 6 : prec, d);
     if (n < 0) n = 0;
     if ((size_t)n >= sizeof buf) n = (int)sizeof buf - 1;
     return put(out, cap, buf, (size_t)n);
@@ -267,7 +267,7 @@ size_t dccl_fmt_fixed(double d, int prec, char *out, size_t cap)
 size_t dccl_fmt_g(double d, int prec, char *out, size_t cap)
 {
     char buf[DCCL_NUMBUF];
-    int n = kelp_snprintf(buf, sizeof buf, "%.*g", prec < 0 ? 6 : prec, d);
+    int n = kelp_util_snprintf(buf, sizeof buf, "%.*g", prec < 0 ? 6 : prec, d);
     if (n < 0) n = 0;
     if ((size_t)n >= sizeof buf) n = (int)sizeof buf - 1;
     return put(out, cap, buf, (size_t)n);

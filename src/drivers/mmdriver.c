@@ -33,11 +33,11 @@ static kelp_time mm_time(int64_t us)
 void kelp_mmdriver_civil(kelp_time t, int *year, int *month, int *day, int *hour, int *minute, int *second)
 {
     const int64_t unix_us = mm_us(t);
-    int64_t days = kelp_floor_div(unix_us, US_PER_DAY);
+    int64_t days = kelp_util_floor_div(unix_us, US_PER_DAY);
     int64_t tod = (unix_us - days * US_PER_DAY) / US_PER_S;
     int64_t y;
     unsigned m, d;
-    kelp_civil_from_days(days, &y, &m, &d);
+    kelp_util_civil_from_days(days, &y, &m, &d);
     if (year) *year = (int)y;
     if (month) *month = (int)m;
     if (day) *day = (int)d;
@@ -68,7 +68,7 @@ static bool nmea_time(const char *t, int64_t now_us, int64_t *out)
         }
         micro = (int64_t)((double)f * pow(10.0, 6.0 - (double)nf));
     }
-    int64_t midnight = kelp_floor_div(now_us, US_PER_DAY) * US_PER_DAY;
+    int64_t midnight = kelp_util_floor_div(now_us, US_PER_DAY) * US_PER_DAY;
     *out = midnight + ((int64_t)v[0] * 3600 + v[1] * 60 + v[2]) * US_PER_S + micro;
     return true;
 }
@@ -279,9 +279,9 @@ int kelp_mmdriver_init(kelp_mmdriver *mm, const kelp_mmdriver_cfg *cfg, const ke
  * the modem's next $CAREV shows its clock behind (as Goby checks). */
 static int mm_enter(kelp_mmdriver *mm, kelp_time now, int64_t *now_us)
 {
-    if (!mm || !kelp_time_ok(now)) return KELP_ERR_ARG;
+    if (!mm || !kelp_util_time_ok(now)) return KELP_ERR_ARG;
     *now_us = mm_us(now);
-    double back = kelp_clock_back(&mm->clock, now);
+    double back = kelp_util_clock_back(&mm->clock, now);
     if (back > 0.0) {
         mm->count.clock_steps++;
         if (mm->hold_until > 0) mm->hold_until -= back;
@@ -508,7 +508,7 @@ static int clk(kelp_mmdriver *mm, const kelp_nmea_sentence *s, int64_t now_us)
     for (unsigned i = 0; i < 6; i++)
         if (field_u(s, i + 1, &v[i]) != KELP_OK) return KELP_ERR_PARSE;
     if (v[1] < 1 || v[1] > 12 || v[2] < 1 || v[2] > 31 || v[0] < 1400 || v[0] > 9999) return KELP_ERR_RANGE;
-    int64_t reported = (kelp_days_from_civil(v[0], (unsigned)v[1], (unsigned)v[2]) * 86400 + v[3] * 3600 + v[4] * 60 + v[5]) *
+    int64_t reported = (kelp_util_days_from_civil(v[0], (unsigned)v[1], (unsigned)v[2]) * 86400 + v[3] * 3600 + v[4] * 60 + v[5]) *
                        US_PER_S;
     if (reported >= now_us - KELP_MMDRIVER_ALLOWED_SKEW * US_PER_S) set_clock_state(mm, true, now_us);
     return KELP_OK;
@@ -608,7 +608,7 @@ static void process_sentence(kelp_mmdriver *mm, const char *line, size_t len, in
         if (field_u(s, 1, &a) != KELP_OK || field_u(s, 2, &b) != KELP_OK || field_u(s, 4, &d) != KELP_OK ||
             (strcmp(ackf, "0") != 0 && strcmp(ackf, "1") != 0) || s->nfields < 6) {
             rc = KELP_ERR_PARSE;
-        } else if ((rc = kelp_hex_decode(kelp_nmea_field(s, 5), strlen(kelp_nmea_field(s, 5)), data, sizeof mm->rxdata, &dl)) == KELP_OK) {
+        } else if ((rc = kelp_util_hex_decode(kelp_nmea_field(s, 5), strlen(kelp_nmea_field(s, 5)), data, sizeof mm->rxdata, &dl)) == KELP_OK) {
             rx->has_src = true;
             rx->src = (int)a;
             rx->dest = (int)b;
@@ -688,7 +688,7 @@ static void process_sentence(kelp_mmdriver *mm, const char *line, size_t len, in
         mm->toa_pending = false;
         int64_t t;
         if (field_u(s, 2, &a) == KELP_OK && a == 3 && nmea_time(kelp_nmea_field(s, 1), now_us, &t)) {
-            int64_t us = t - kelp_floor_div(t, US_PER_S) * US_PER_S;
+            int64_t us = t - kelp_util_floor_div(t, US_PER_S) * US_PER_S;
             mm->toa_frac = (double)us / 1e6;
             mm->toa_pending = true;
         }

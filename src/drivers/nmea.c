@@ -34,7 +34,7 @@ int kelp_nmea_parse(const char *line, size_t len, kelp_nmea_sentence *out)
     if (len > KELP_MAX_NMEA_LINE) return KELP_ERR_NOSPACE;
     /* checksum first: "*hh" must be the last three characters */
     if (len > 3 && line[len - 3] == '*') {
-        int h = kelp_hex_digit(line[len - 2]), l = kelp_hex_digit(line[len - 1]);
+        int h = kelp_util_hex_digit(line[len - 2]), l = kelp_util_hex_digit(line[len - 1]);
         if (h < 0 || l < 0) return KELP_ERR_PARSE;
         if (kelp_nmea_checksum(line + 1, len - 4) != (uint8_t)(h * 16 + l)) return KELP_ERR_CHECKSUM;
         out->had_checksum = true;

@@ -14,7 +14,7 @@
 #define BRS_REPLY_RADIUS 40.0 /* a beacon's pulse */
 #define BRS_REPLY_DURATION 15.0
 
-void kelp_field_brs_cfg_default(kelp_field_brs_cfg *cfg)
+void kelp_beaconrange_cfg_default(kelp_beaconrange_cfg *cfg)
 {
     memset(cfg, 0, sizeof *cfg);
     kelp_brs_beacon *d = &cfg->dflt;
@@ -28,7 +28,7 @@ void kelp_field_brs_cfg_default(kelp_field_brs_cfg *cfg)
     d->cur = -1;
     cfg->reach.dflt = 100;        /* node push 100, pull 100 (24.8) */
     cfg->node_pull.dflt = 100;
-    kelp_rsense_common_default(&cfg->com);
+    kelp_rangesense_common_default(&cfg->com);
     cfg->com.ground_truth = true; /* 24.8: true (posted only with noise) */
     cfg->payments = KELP_BRS_UPON_RESPONSE; /* 24.8's default */
 }
@@ -36,16 +36,16 @@ void kelp_field_brs_cfg_default(kelp_field_brs_cfg *cfg)
 /* "never", "<s>" or "<a>:<b>"; a period <= 0 is never (A84) */
 static int parse_freq(const char *v, size_t n, double *lo, double *hi)
 {
-    if (kelp_strieq_n(v, n, "never")) {
+    if (kelp_util_strieq_n(v, n, "never")) {
         *lo = *hi = -1;
         return KELP_OK;
     }
     const char *c = memchr(v, ':', n);
     double a, b;
     if (!c) {
-        if (kelp_parse_double(v, n, &a) < 0 || !isfinite(a)) return KELP_ERR_PARSE;
+        if (kelp_util_parse_double(v, n, &a) < 0 || !isfinite(a)) return KELP_ERR_PARSE;
         b = a;
-    } else if (kelp_parse_double(v, (size_t)(c - v), &a) < 0 || kelp_parse_double(c + 1, n - (size_t)(c - v) - 1, &b) < 0 ||
+    } else if (kelp_util_parse_double(v, (size_t)(c - v), &a) < 0 || kelp_util_parse_double(c + 1, n - (size_t)(c - v) - 1, &b) < 0 ||
                !isfinite(a) || !isfinite(b) || a > b) {
         return KELP_ERR_PARSE;
     }
@@ -57,12 +57,12 @@ static int parse_freq(const char *v, size_t n, double *lo, double *hi)
 
 static int parse_dist(const char *v, size_t n, double *out)
 {
-    if (kelp_strieq_n(v, n, "nolimit") || kelp_strieq_n(v, n, "unlimited")) {
+    if (kelp_util_strieq_n(v, n, "nolimit") || kelp_util_strieq_n(v, n, "unlimited")) {
         *out = -1;
         return KELP_OK;
     }
     double d;
-    if (kelp_parse_double(v, n, &d) < 0 || !isfinite(d)) return KELP_ERR_PARSE;
+    if (kelp_util_parse_double(v, n, &d) < 0 || !isfinite(d)) return KELP_ERR_PARSE;
     *out = d;
     return KELP_OK;
 }
@@ -80,45 +80,45 @@ static int beacon_prop(kelp_brs_beacon *b, const char *k, size_t kl, const char 
                        kelp_diag *d)
 {
     double dv;
-    if (kelp_strieq_n(k, kl, "x") || kelp_strieq_n(k, kl, "y")) {
-        if (kelp_parse_double(v, vl, &dv) < 0 || !isfinite(dv)) return kelp_fail(d, KELP_ERR_PARSE, "x and y must be numbers");
+    if (kelp_util_strieq_n(k, kl, "x") || kelp_util_strieq_n(k, kl, "y")) {
+        if (kelp_util_parse_double(v, vl, &dv) < 0 || !isfinite(dv)) return kelp_fail(d, KELP_ERR_PARSE, "x and y must be numbers");
         if (*k == 'x' || *k == 'X') b->x = dv, have_xy[0] = true;
         else b->y = dv, have_xy[1] = true;
         return 1;
     }
-    if (kelp_strieq_n(k, kl, "freq")) {
+    if (kelp_util_strieq_n(k, kl, "freq")) {
         if (parse_freq(v, vl, &b->freq_lo, &b->freq_hi) < 0)
             return kelp_fail(d, KELP_ERR_PARSE, "freq must be never, <secs> or <a>:<b> with 0 <= a <= b");
         b->freq_set = true;
         return 1;
     }
-    if (kelp_strieq_n(k, kl, "report_range") || kelp_strieq_n(k, kl, "push_dist")) {
+    if (kelp_util_strieq_n(k, kl, "report_range") || kelp_util_strieq_n(k, kl, "push_dist")) {
         if (parse_dist(v, vl, &b->push) < 0) return kelp_fail(d, KELP_ERR_PARSE, "report_range must be a number or nolimit");
         return 1;
     }
-    if (kelp_strieq_n(k, kl, "pull_dist")) {
+    if (kelp_util_strieq_n(k, kl, "pull_dist")) {
         if (parse_dist(v, vl, &b->pull) < 0) return kelp_fail(d, KELP_ERR_PARSE, "pull_dist must be a number or nolimit");
         return 1;
     }
-    if (kelp_strieq_n(k, kl, "width")) {
-        if (kelp_parse_double(v, vl, &dv) < 0 || !isfinite(dv) || dv < 0)
+    if (kelp_util_strieq_n(k, kl, "width")) {
+        if (kelp_util_parse_double(v, vl, &dv) < 0 || !isfinite(dv) || dv < 0)
             return kelp_fail(d, KELP_ERR_PARSE, "width must be a number >= 0");
         b->width = dv;
         return 1;
     }
-    if (kelp_strieq_n(k, kl, "label")) {
+    if (kelp_util_strieq_n(k, kl, "label")) {
         if (put_text(b->label, sizeof b->label, v, vl) < 0) return kelp_fail(d, KELP_ERR_PARSE, "bad label");
         return 1;
     }
-    if (kelp_strieq_n(k, kl, "color")) {
+    if (kelp_util_strieq_n(k, kl, "color")) {
         if (put_text(b->color, sizeof b->color, v, vl) < 0) return kelp_fail(d, KELP_ERR_PARSE, "bad color");
         return 1;
     }
-    if (kelp_strieq_n(k, kl, "shape") || kelp_strieq_n(k, kl, "type")) {
+    if (kelp_util_strieq_n(k, kl, "shape") || kelp_util_strieq_n(k, kl, "type")) {
         if (put_text(b->shape, sizeof b->shape, v, vl) < 0) return kelp_fail(d, KELP_ERR_PARSE, "bad shape");
         return 1;
     }
-    if (kelp_strieq_n(k, kl, "query_range")) { /* A52: listed, never described */
+    if (kelp_util_strieq_n(k, kl, "query_range")) { /* A52: listed, never described */
         return 2; /* A52: the caller warns KELP_BRS_WARN_QUERY_RANGE */
     }
     return 0;
@@ -146,14 +146,14 @@ static int parse_beacon(kelp_brs_beacon *b, const char *s, kelp_diag *d)
     return res;
 }
 
-int kelp_field_brs_config(kelp_field_brs_cfg *cfg, const char *key, const char *val, kelp_diag *d)
+int kelp_beaconrange_config(kelp_beaconrange_cfg *cfg, const char *key, const char *val, kelp_diag *d)
 {
     char *v = cfg->ws_val;
     int nv = rs_value(val, v, sizeof cfg->ws_val, d);
     if (nv < 0) return nv;
     size_t n = (size_t)nv, kl = strlen(key);
     bool have_xy[2];
-    if (kelp_strieq_n(key, kl, "BEACON")) {
+    if (kelp_util_strieq_n(key, kl, "BEACON")) {
         kelp_brs_beacon t = cfg->dflt;
         int rc = parse_beacon(&t, v, d);
         if (rc < 0) return rc;
@@ -169,55 +169,55 @@ int kelp_field_brs_config(kelp_field_brs_cfg *cfg, const char *key, const char *
         { "DEFAULT_BEACON_SHAPE", "shape" },
     };
     for (size_t i = 0; i < sizeof dflt_keys / sizeof dflt_keys[0]; i++)
-        if (kelp_strieq_n(key, kl, dflt_keys[i][0])) {
+        if (kelp_util_strieq_n(key, kl, dflt_keys[i][0])) {
             int rc = beacon_prop(&cfg->dflt, dflt_keys[i][1], strlen(dflt_keys[i][1]), v, n, have_xy, d);
             return rc < 0 ? rc : 1;
         }
-    if (kelp_strieq_n(key, kl, "REACH_DISTANCE") || kelp_strieq_n(key, kl, "NODE_PUSH_DIST"))
-        return kelp_rsense_vmap_set(&cfg->reach, v, true, d);
-    if (kelp_strieq_n(key, kl, "NODE_PULL_DIST")) return kelp_rsense_vmap_set(&cfg->node_pull, v, true, d);
-    if (kelp_strieq_n(key, kl, "PING_PAYMENTS")) {
-        if (kelp_strieq_n(v, n, "upon_accept") || kelp_strieq_n(v, n, "upon_receipt")) cfg->payments = KELP_BRS_UPON_ACCEPT;
-        else if (kelp_strieq_n(v, n, "upon_request")) cfg->payments = KELP_BRS_UPON_REQUEST;
-        else if (kelp_strieq_n(v, n, "upon_response")) cfg->payments = KELP_BRS_UPON_RESPONSE;
+    if (kelp_util_strieq_n(key, kl, "REACH_DISTANCE") || kelp_util_strieq_n(key, kl, "NODE_PUSH_DIST"))
+        return kelp_rangesense_vmap_set(&cfg->reach, v, true, d);
+    if (kelp_util_strieq_n(key, kl, "NODE_PULL_DIST")) return kelp_rangesense_vmap_set(&cfg->node_pull, v, true, d);
+    if (kelp_util_strieq_n(key, kl, "PING_PAYMENTS")) {
+        if (kelp_util_strieq_n(v, n, "upon_accept") || kelp_util_strieq_n(v, n, "upon_receipt")) cfg->payments = KELP_BRS_UPON_ACCEPT;
+        else if (kelp_util_strieq_n(v, n, "upon_request")) cfg->payments = KELP_BRS_UPON_REQUEST;
+        else if (kelp_util_strieq_n(v, n, "upon_response")) cfg->payments = KELP_BRS_UPON_RESPONSE;
         else return kelp_fail(d, KELP_ERR_PARSE, "must be upon_accept, upon_request or upon_response");
         return 1;
     }
-    if (kelp_strieq_n(key, kl, "REPORT_XY")) {
-        if (kelp_parse_bool(v, n, &cfg->report_xy) < 0) return kelp_fail(d, KELP_ERR_PARSE, "must be true or false");
+    if (kelp_util_strieq_n(key, kl, "REPORT_XY")) {
+        if (kelp_util_parse_bool(v, n, &cfg->report_xy) < 0) return kelp_fail(d, KELP_ERR_PARSE, "must be true or false");
         return 1;
     }
-    if (kelp_strieq_n(key, kl, "BEACON_ORDER")) {
-        if (kelp_strieq_n(v, n, "config")) cfg->config_order = true;
-        else if (kelp_strieq_n(v, n, "reverse")) cfg->config_order = false;
+    if (kelp_util_strieq_n(key, kl, "BEACON_ORDER")) {
+        if (kelp_util_strieq_n(v, n, "config")) cfg->config_order = true;
+        else if (kelp_util_strieq_n(v, n, "reverse")) cfg->config_order = false;
         else return kelp_fail(d, KELP_ERR_PARSE, "must be reverse or config");
         return 1;
     }
-    return kelp_rsense_common_config(&cfg->com, key, v, d);
+    return kelp_rangesense_common_config(&cfg->com, key, v, d);
 }
 
-int kelp_field_brs_find(const kelp_field_brs *b, const char *label)
+int kelp_beaconrange_find(const kelp_beaconrange *b, const char *label)
 {
     for (unsigned i = 0; i < b->nbeacons; i++)
         if (strcmp(b->beacon[i].label, label) == 0) return (int)i;
     return -1;
 }
 
-int kelp_field_brs_init(kelp_field_brs *b, const kelp_field_brs_cfg *cfg, kelp_time now, kelp_diag *d)
+int kelp_beaconrange_init(kelp_beaconrange *b, const kelp_beaconrange_cfg *cfg, kelp_time now, kelp_diag *d)
 {
     memset(b, 0, sizeof *b);
     b->cfg = *cfg;
     b->start = now;
-    kelp_rsense_rand_init(&b->rand, cfg->com.glibc, cfg->com.seed);
+    kelp_rangesense_rand_init(&b->rand, cfg->com.glibc, cfg->com.seed);
     /* 24.8 draws an interval when a freq is configured: the default's line, then each beacon's */
-    if (cfg->dflt.freq_set && cfg->dflt.freq_lo >= 0) (void)kelp_rsense_interval(&b->rand, 0, 1);
+    if (cfg->dflt.freq_set && cfg->dflt.freq_lo >= 0) (void)kelp_rangesense_interval(&b->rand, 0, 1);
     for (unsigned i = 0; i < cfg->nspec; i++) {
         kelp_brs_beacon t = cfg->dflt;
         if (parse_beacon(&t, cfg->spec[i], d) < 0) return KELP_ERR_PARSE;
-        if (t.freq_set && t.freq_lo >= 0) (void)kelp_rsense_interval(&b->rand, 0, 1);
+        if (t.freq_set && t.freq_lo >= 0) (void)kelp_rangesense_interval(&b->rand, 0, 1);
         t.ts = 0;
-        if (!t.label[0]) kelp_snprintf(t.label, sizeof t.label, "%u", b->nbeacons); /* A42: 0-based index */
-        int at = kelp_field_brs_find(b, t.label);
+        if (!t.label[0]) kelp_util_snprintf(t.label, sizeof t.label, "%u", b->nbeacons); /* A42: 0-based index */
+        int at = kelp_beaconrange_find(b, t.label);
         if (at >= 0) {
             b->beacon[at] = t; /* the same label overwrites */
             continue;
@@ -235,7 +235,7 @@ int kelp_field_brs_init(kelp_field_brs *b, const kelp_field_brs_cfg *cfg, kelp_t
 
 static const char *const subs[] = { "NODE_REPORT", "NODE_REPORT_LOCAL", "BRS_RANGE_REQUEST" };
 
-const char *kelp_field_brs_subscription(unsigned i)
+const char *kelp_beaconrange_subscription(unsigned i)
 {
     return i < sizeof subs / sizeof subs[0] ? subs[i] : NULL;
 }
@@ -243,11 +243,11 @@ const char *kelp_field_brs_subscription(unsigned i)
 
 /* one range report from beacon bc to vehicle v (24.8's postBeaconRangeReport): the noise is
  * drawn here; the ground truth only with noise and GROUND_TRUTH */
-static void brs_report(kelp_field_brs *b, const kelp_brs_beacon *bc, const kelp_rsense_node *v, double r, kelp_time now,
+static void brs_report(kelp_beaconrange *b, const kelp_brs_beacon *bc, const kelp_rangesense_node *v, double r, kelp_time now,
                        const kelp_field_sink *out)
 {
-    const kelp_rsense_common *c = &b->cfg.com;
-    double noisy = kelp_rsense_noisy(&b->rand, &c->noise, r);
+    const kelp_rangesense_common *c = &b->cfg.com;
+    double noisy = kelp_rangesense_noisy(&b->rand, &c->noise, r);
     double xy[2] = { bc->x, bc->y };
     const double *pxy = b->cfg.report_xy ? xy : NULL;
     rs_post_report(out, "BRS", false, c->report_vars, v->name, noisy, "id", bc->label, pxy, now, b->ws_post);
@@ -262,19 +262,19 @@ static void brs_report(kelp_field_brs *b, const kelp_brs_beacon *bc, const kelp_
 }
 
 /* the beacon's time stamp (24.8's setTimeStamp: a new period is drawn when it has a freq) */
-static void reset_timer(kelp_field_brs *b, kelp_brs_beacon *bc, kelp_time now)
+static void reset_timer(kelp_beaconrange *b, kelp_brs_beacon *bc, kelp_time now)
 {
     bc->ts = now;
     if (bc->freq_lo < 0) return;
-    bc->cur = kelp_rsense_interval(&b->rand, bc->freq_lo, bc->freq_hi);
+    bc->cur = kelp_rangesense_interval(&b->rand, bc->freq_lo, bc->freq_hi);
 }
 
-static void ev(kelp_field_brs *b, bool verbose_only, const char *a, const char *c, const char *d, const char *e)
+static void ev(kelp_beaconrange *b, bool verbose_only, const char *a, const char *c, const char *d, const char *e)
 {
     if (!verbose_only || b->cfg.com.verbose) rs_log(b->cfg.com.log, b->cfg.com.log_ctx, a, c, d, e, RS_END);
 }
 
-static int request(kelp_field_brs *b, const char *s, kelp_time now, const kelp_field_sink *out)
+static int request(kelp_beaconrange *b, const char *s, kelp_time now, const kelp_field_sink *out)
 {
     char name[KELP_RSENSE_NAME];
     b->requests++;
@@ -290,10 +290,10 @@ static int request(kelp_field_brs *b, const char *s, kelp_time now, const kelp_f
         rs_warn(out, "Bad Mail: BRS_RANGE_REQUEST", RS_END);
         return KELP_ERR_NOTFOUND;
     }
-    kelp_rsense_node *v = &b->node[i];
+    kelp_rangesense_node *v = &b->node[i];
     v->pings++;
     double elapsed = now - v->clock;
-    bool allowed = !v->pinged || elapsed >= kelp_rsense_vmap_get(&b->cfg.com.ping_wait, v->name);
+    bool allowed = !v->pinged || elapsed >= kelp_rangesense_vmap_get(&b->cfg.com.ping_wait, v->name);
     if (b->cfg.payments == KELP_BRS_UPON_REQUEST) v->clock = now, v->pinged = true;
     if (!allowed) {
         v->denied++;
@@ -316,10 +316,10 @@ static int request(kelp_field_brs *b, const char *s, kelp_time now, const kelp_f
         v->clock = now, v->pinged = true;
     }
     char *label = b->ws_label;
-    kelp_snprintf(label, sizeof b->ws_label, "%s_range_req", v->name);
+    kelp_util_snprintf(label, sizeof b->ws_label, "%s_range_req", v->name);
     rs_pulse(out, v->x, v->y, BRS_REQ_RADIUS, BRS_REQ_DURATION, label, "white", now, b->ws_post);
-    double reach = kelp_rsense_vmap_get(&b->cfg.reach, v->name);
-    double pull = kelp_rsense_vmap_get(&b->cfg.node_pull, v->name);
+    double reach = kelp_rangesense_vmap_get(&b->cfg.reach, v->name);
+    double pull = kelp_rangesense_vmap_get(&b->cfg.node_pull, v->name);
     for (unsigned k = 0; k < b->nbeacons; k++) {
         kelp_brs_beacon *bc = &b->beacon[k];
         double r = hypot(v->x - bc->x, v->y - bc->y);
@@ -345,19 +345,19 @@ static int request(kelp_field_brs *b, const char *s, kelp_time now, const kelp_f
 
 /* The time step rule: a `now` that is no time is refused; on a step back the ping-wait clocks,
  * the beacons' time stamps and the start move back with it, so no wait outlasts its period */
-static bool brs_clock(kelp_field_brs *b, kelp_time now)
+static bool brs_clock(kelp_beaconrange *b, kelp_time now)
 {
-    if (!kelp_time_ok(now)) return false;
-    double back = kelp_clock_back(&b->clk, now);
+    if (!kelp_util_time_ok(now)) return false;
+    double back = kelp_util_clock_back(&b->clk, now);
     if (back > 0) {
-        kelp_rsense_nodes_back(b->node, b->nnodes, back);
+        kelp_rangesense_nodes_back(b->node, b->nnodes, back);
         for (unsigned k = 0; k < b->nbeacons; k++) b->beacon[k].ts -= back;
         b->start -= back;
     }
     return true;
 }
 
-int kelp_field_brs_mail(kelp_field_brs *b, const char *var, bool is_string, const char *sval, kelp_time now,
+int kelp_beaconrange_mail(kelp_beaconrange *b, const char *var, bool is_string, const char *sval, kelp_time now,
                         const kelp_field_sink *out)
 {
     bool nr = strcmp(var, "NODE_REPORT") == 0 || strcmp(var, "NODE_REPORT_LOCAL") == 0;
@@ -401,7 +401,7 @@ static void marker(const kelp_brs_beacon *bc, char *buf, size_t cap)
 
 /* the first iteration: markers posted, timers drawn (its marker buffer stays off the report
  * path's stack) */
-KELP_NOINLINE static void start_beacons(kelp_field_brs *b, const kelp_field_sink *out)
+KELP_NOINLINE static void start_beacons(kelp_beaconrange *b, const kelp_field_sink *out)
 {
     b->started = true;
     for (unsigned k = 0; k < b->nbeacons; k++) {
@@ -411,7 +411,7 @@ KELP_NOINLINE static void start_beacons(kelp_field_brs *b, const kelp_field_sink
     }
 }
 
-unsigned long kelp_field_brs_iterate(kelp_field_brs *b, kelp_time now, const kelp_field_sink *out)
+unsigned long kelp_beaconrange_iterate(kelp_beaconrange *b, kelp_time now, const kelp_field_sink *out)
 {
     unsigned long before = b->reports;
     if (!brs_clock(b, now)) return 0;
@@ -426,9 +426,9 @@ unsigned long kelp_field_brs_iterate(kelp_field_brs *b, kelp_time now, const kel
         rs_pulse(out, bc->x, bc->y, BRS_REPLY_RADIUS, BRS_REPLY_DURATION, bc->label, "pink", now, b->ws_post);
         bc->unsol++;
         for (unsigned u = 0; u < b->nnodes; u++) { /* every vehicle in the beacon's reach */
-            kelp_rsense_node *v = &b->node[u];
+            kelp_rangesense_node *v = &b->node[u];
             double r = hypot(v->x - bc->x, v->y - bc->y);
-            if (rs_trans(bc->push, kelp_rsense_vmap_get(&b->cfg.node_pull, v->name), r)) {
+            if (rs_trans(bc->push, kelp_rangesense_vmap_get(&b->cfg.node_pull, v->name), r)) {
                 v->unsol++;
                 ev(b, false, "Beacon[", bc->label, "]  ))-->  Range Broadcast to ", v->name);
                 brs_report(b, bc, v, r, now, out);
@@ -440,7 +440,7 @@ unsigned long kelp_field_brs_iterate(kelp_field_brs *b, kelp_time now, const kel
     return b->reports - before;
 }
 
-int kelp_field_brs_summary(const kelp_field_brs *b, char *buf, size_t cap)
+int kelp_beaconrange_summary(const kelp_beaconrange *b, char *buf, size_t cap)
 {
     size_t n = 0;
     if (!cap) return KELP_ERR_NOSPACE;
@@ -466,7 +466,7 @@ int kelp_field_brs_summary(const kelp_field_brs *b, char *buf, size_t cap)
 
 typedef struct brs_tab {
     // cppcheck-suppress unusedStructMember ; read through the table callbacks' context pointer
-    const kelp_field_brs *b;
+    const kelp_beaconrange *b;
 } brs_tab;
 
 /* doubleToStringX(v, 1), or "inf" for a negative distance when inf */
@@ -480,7 +480,7 @@ static const char *num1(double v, bool inf, char *tmp, size_t cap)
 
 static const char *count(unsigned long v, char *tmp, size_t cap)
 {
-    kelp_snprintf(tmp, cap, "%lu", v);
+    kelp_util_snprintf(tmp, cap, "%lu", v);
     return tmp;
 }
 
@@ -523,15 +523,15 @@ static const char *vehicle_cell(const void *ctx, unsigned row, unsigned col, cha
     static const char *const h1[] = { "VName", "Dist", "Dist", "Rec'd", "Gen'd", "Rep'd", "Freq", "Far" };
     if (row == 0) return h0[col];
     if (row == 1) return h1[col];
-    const kelp_field_brs *b = ((const brs_tab *)ctx)->b;
-    const kelp_rsense_node *v = &b->node[row - 2];
+    const kelp_beaconrange *b = ((const brs_tab *)ctx)->b;
+    const kelp_rangesense_node *v = &b->node[row - 2];
     switch (col) {
     case 0:
         rs_copy(tmp, cap, v->name, strlen(v->name));
         rs_lower(tmp);
         return tmp;
-    case 1: return num1(kelp_rsense_vmap_get(&b->cfg.reach, v->name), true, tmp, cap);
-    case 2: return num1(kelp_rsense_vmap_get(&b->cfg.node_pull, v->name), true, tmp, cap);
+    case 1: return num1(kelp_rangesense_vmap_get(&b->cfg.reach, v->name), true, tmp, cap);
+    case 2: return num1(kelp_rangesense_vmap_get(&b->cfg.node_pull, v->name), true, tmp, cap);
     case 3: return count(v->unsol, tmp, cap);
     case 4: return count(v->pings, tmp, cap);
     case 5: return count(v->replied, tmp, cap);
@@ -540,7 +540,7 @@ static const char *vehicle_cell(const void *ctx, unsigned row, unsigned col, cha
     }
 }
 
-int kelp_field_brs_report(const kelp_field_brs *b, char *buf, size_t cap)
+int kelp_beaconrange_report(const kelp_beaconrange *b, char *buf, size_t cap)
 {
     size_t n = 0;
     bool full = false;

@@ -14,7 +14,7 @@
 int broker_port(const char *v, size_t vl, unsigned *out)
 {
     long p;
-    if (kelp_parse_long(v, vl, &p) < 0 || p < 1 || p > PORT_MAX) return KELP_ERR_PARSE;
+    if (kelp_util_parse_long(v, vl, &p) < 0 || p < 1 || p > PORT_MAX) return KELP_ERR_PARSE;
     *out = (unsigned)p;
     return KELP_OK;
 }
@@ -26,13 +26,13 @@ bool broker_bool(const char *v, bool *out)
     while (v[n] && v[n] != ' ' && v[n] != '\t') n++;
     const char *rest = v + n;
     while (*rest == ' ' || *rest == '\t') rest++;
-    if (*rest && !kelp_strieq_n(rest, strlen(rest), "(default)")) return false;
-    if (kelp_parse_bool(v, n, out) != KELP_OK) return false;
+    if (*rest && !kelp_util_strieq_n(rest, strlen(rest), "(default)")) return false;
+    if (kelp_util_parse_bool(v, n, out) != KELP_OK) return false;
     return true;
 }
 
 typedef struct host_ctx {
-    kelp_broker_host *h;
+    kelp_field_broker_host *h;
     kelp_diag *d;
     unsigned iroute_port;
     bool udp_given;
@@ -41,7 +41,7 @@ typedef struct host_ctx {
 bool field_ip_ok(const char *s, size_t n)
 {
     /* 24.8's isValidIPAddress: "localhost" (any case) or four numbers 0..255 */
-    if (kelp_strieq_n(s, n, "localhost")) return true;
+    if (kelp_util_strieq_n(s, n, "localhost")) return true;
     size_t i = 0;
     for (int part = 0; part < 4; part++) {
         if (part && (i >= n || s[i++] != '.')) return false;
@@ -73,18 +73,18 @@ static unsigned route_port(const char *v, size_t vl)
 static int host_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl)
 {
     host_ctx *c = ctx;
-    kelp_broker_host *h = c->h;
-    if (kelp_strieq_n(k, kl, "community") || kelp_strieq_n(k, kl, "vname"))
+    kelp_field_broker_host *h = c->h;
+    if (kelp_util_strieq_n(k, kl, "community") || kelp_util_strieq_n(k, kl, "vname"))
         return text_to(h->community, sizeof h->community, v, vl, c->d);
-    if (kelp_strieq_n(k, kl, "key")) return text_to(h->key, sizeof h->key, v, vl, c->d);
-    if (kelp_strieq_n(k, kl, "hostip_alts")) return text_to(h->alts, sizeof h->alts, v, vl, c->d);
-    if (kelp_strieq_n(k, kl, "host") || kelp_strieq_n(k, kl, "hostip") || kelp_strieq_n(k, kl, "host_ip") ||
-        kelp_strieq_n(k, kl, "ip"))
+    if (kelp_util_strieq_n(k, kl, "key")) return text_to(h->key, sizeof h->key, v, vl, c->d);
+    if (kelp_util_strieq_n(k, kl, "hostip_alts")) return text_to(h->alts, sizeof h->alts, v, vl, c->d);
+    if (kelp_util_strieq_n(k, kl, "host") || kelp_util_strieq_n(k, kl, "hostip") || kelp_util_strieq_n(k, kl, "host_ip") ||
+        kelp_util_strieq_n(k, kl, "ip"))
         return text_to(h->host, sizeof h->host, v, vl, c->d);
-    if (kelp_strieq_n(k, kl, "keyword")) return text_to(h->keyword, sizeof h->keyword, v, vl, c->d);
-    if (kelp_strieq_n(k, kl, "status")) return text_to(h->status, sizeof h->status, v, vl, c->d);
-    bool db = kelp_strieq_n(k, kl, "port") || kelp_strieq_n(k, kl, "port_db");
-    if (db || kelp_strieq_n(k, kl, "port_udp")) {
+    if (kelp_util_strieq_n(k, kl, "keyword")) return text_to(h->keyword, sizeof h->keyword, v, vl, c->d);
+    if (kelp_util_strieq_n(k, kl, "status")) return text_to(h->status, sizeof h->status, v, vl, c->d);
+    bool db = kelp_util_strieq_n(k, kl, "port") || kelp_util_strieq_n(k, kl, "port_db");
+    if (db || kelp_util_strieq_n(k, kl, "port_udp")) {
         if (broker_port(v, vl, db ? &h->port_db : &h->port_udp) < 0) {
             return kelp_fail(c->d, KELP_ERR_PARSE, "bad port");
         }
@@ -92,8 +92,8 @@ static int host_pair(void *ctx, const char *k, size_t kl, const char *v, size_t 
         else c->udp_given = h->have_port_udp = true;
         return KELP_OK;
     }
-    bool warp = kelp_strieq_n(k, kl, "time_warp") || kelp_strieq_n(k, kl, "timewarp");
-    if (warp || kelp_strieq_n(k, kl, "time")) {
+    bool warp = kelp_util_strieq_n(k, kl, "time_warp") || kelp_util_strieq_n(k, kl, "timewarp");
+    if (warp || kelp_util_strieq_n(k, kl, "time")) {
         double d;
         if (sim_number(v, vl, &d) < 0 || (warp && !(d > 0))) {
             return kelp_fail(c->d, KELP_ERR_PARSE, warp ? "bad time_warp" : "bad time");
@@ -105,7 +105,7 @@ static int host_pair(void *ctx, const char *k, size_t kl, const char *v, size_t 
         h->time = d, h->have_time = true;
         return KELP_OK;
     }
-    if (kelp_strieq_n(k, kl, "pshare_iroutes")) {
+    if (kelp_util_strieq_n(k, kl, "pshare_iroutes")) {
         int rc = text_to(h->iroutes, sizeof h->iroutes, v, vl, c->d);
         if (rc < 0) return rc;
         /* 24.8 (HostRecord::setPShareIRoutes): without port_udp so far, what follows the
@@ -115,7 +115,7 @@ static int host_pair(void *ctx, const char *k, size_t kl, const char *v, size_t 
         if (!c->udp_given && colon && broker_port(colon + 1, vl - (size_t)(colon + 1 - v), &p) == 0)
             h->port_udp = p, h->have_port_udp = true, c->udp_given = true;
     }
-    if (kelp_strieq_n(k, kl, "pshare_iroutes") && !c->iroute_port) {
+    if (kelp_util_strieq_n(k, kl, "pshare_iroutes") && !c->iroute_port) {
         /* "localhost:9200&multicast_8": the first unicast route's port */
         size_t a = 0;
         while (a < vl && !c->iroute_port) {
@@ -128,7 +128,7 @@ static int host_pair(void *ctx, const char *k, size_t kl, const char *v, size_t 
     return KELP_OK; /* other keys (24.8's id, key, ...) are ignored */
 }
 
-int kelp_broker_host_parse(const char *s, kelp_broker_host *h, kelp_diag *d)
+int kelp_field_broker_host_parse(const char *s, kelp_field_broker_host *h, kelp_diag *d)
 {
     memset(h, 0, sizeof *h);
     if (!s) {
@@ -151,12 +151,12 @@ int kelp_broker_host_parse(const char *s, kelp_broker_host *h, kelp_diag *d)
     return KELP_OK;
 }
 
-bool kelp_broker_host_complete(const kelp_broker_host *h)
+bool kelp_field_broker_host_complete(const kelp_field_broker_host *h)
 {
     return h->community[0] && h->host[0] && h->port_udp;
 }
 
-bool kelp_broker_host_valid(const kelp_broker_host *h)
+bool kelp_field_broker_host_valid(const kelp_field_broker_host *h)
 {
     return h->community[0] && field_ip_ok(h->host, strlen(h->host)) && h->have_port_db;
 }
@@ -176,7 +176,7 @@ static int put_without(char *buf, size_t cap, size_t *n, const char *s, const ch
     return KELP_OK;
 }
 
-int kelp_broker_host_spec(const kelp_broker_host *h, const char *time, const char *key, char *buf, size_t cap)
+int kelp_field_broker_host_spec(const kelp_field_broker_host *h, const char *time, const char *key, char *buf, size_t cap)
 {
     size_t n = 0;
     int rc = field_put_str(buf, cap, &n, "community=");
@@ -192,7 +192,7 @@ int kelp_broker_host_spec(const kelp_broker_host *h, const char *time, const cha
         if (rc == 0) {
             size_t at = n;
             char pat[KELP_MAX_NAME + 1];
-            kelp_snprintf(pat, sizeof pat, "%s,", h->host);
+            kelp_util_snprintf(pat, sizeof pat, "%s,", h->host);
             rc = put_without(buf, cap, &n, h->alts, pat);
             if (rc == 0 && h->host[0]) { /* second pass over what the first one wrote */
                 size_t end = n, w = at, hl = strlen(h->host);
@@ -213,7 +213,7 @@ int kelp_broker_host_spec(const kelp_broker_host *h, const char *time, const cha
     return rc < 0 ? KELP_ERR_NOSPACE : KELP_OK;
 }
 
-int kelp_broker_try_parse_pshare(const char *s, kelp_broker_try *t, kelp_diag *d)
+int kelp_field_broker_try_parse_pshare(const char *s, kelp_field_broker_try *t, kelp_diag *d)
 {
     /* 24.8 (NodeBroker::handleConfigTryShoreHost, isValidPShareRoute): pshare_route= only */
     memset(t, 0, sizeof *t);
@@ -239,7 +239,7 @@ int kelp_broker_try_parse_pshare(const char *s, kelp_broker_try *t, kelp_diag *d
     const char *colon = strchr(r, ':');
     long ch;
     if (!colon) {
-        if (rl > 10 && strncmp(r, "multicast_", 10) == 0 && kelp_parse_long(r + 10, rl - 10, &ch) == 0 && ch >= 0)
+        if (rl > 10 && strncmp(r, "multicast_", 10) == 0 && kelp_util_parse_long(r + 10, rl - 10, &ch) == 0 && ch >= 0)
             return KELP_OK;
         return kelp_fail(d, KELP_ERR_PARSE, "pshare_route is neither host:port nor multicast_N");
     }
@@ -336,7 +336,7 @@ void field_actable(char *buf, size_t cap, size_t *n, bool *full, unsigned ncols,
 }
 
 typedef struct try_ctx {
-    kelp_broker_try *t;
+    kelp_field_broker_try *t;
     kelp_diag *d;
     bool route, multicast;
 } try_ctx;
@@ -344,19 +344,19 @@ typedef struct try_ctx {
 static int try_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl)
 {
     try_ctx *c = ctx;
-    kelp_broker_try *t = c->t;
-    if (kelp_strieq_n(k, kl, "host_ip") || kelp_strieq_n(k, kl, "hostip"))
+    kelp_field_broker_try *t = c->t;
+    if (kelp_util_strieq_n(k, kl, "host_ip") || kelp_util_strieq_n(k, kl, "hostip"))
         return text_to(t->host, sizeof t->host, v, vl, c->d);
-    if (kelp_strieq_n(k, kl, "community")) return text_to(t->community, sizeof t->community, v, vl, c->d);
-    if (kelp_strieq_n(k, kl, "port_udp")) {
+    if (kelp_util_strieq_n(k, kl, "community")) return text_to(t->community, sizeof t->community, v, vl, c->d);
+    if (kelp_util_strieq_n(k, kl, "port_udp")) {
         if (broker_port(v, vl, &t->port) < 0) {
             return kelp_fail(c->d, KELP_ERR_PARSE, "bad port_udp");
         }
         return KELP_OK;
     }
-    if (kelp_strieq_n(k, kl, "pshare_route") || kelp_strieq_n(k, kl, "route")) {
+    if (kelp_util_strieq_n(k, kl, "pshare_route") || kelp_util_strieq_n(k, kl, "route")) {
         c->route = true;
-        if (vl >= 9 && kelp_strieq_n(v, 9, "multicast")) {
+        if (vl >= 9 && kelp_util_strieq_n(v, 9, "multicast")) {
             c->multicast = true;
             return KELP_OK;
         }
@@ -370,7 +370,7 @@ static int try_pair(void *ctx, const char *k, size_t kl, const char *v, size_t v
     return kelp_fail(c->d, KELP_ERR_PARSE, "unknown key");
 }
 
-int kelp_broker_try_parse(const char *s, kelp_broker_try *t, kelp_diag *d)
+int kelp_field_broker_try_parse(const char *s, kelp_field_broker_try *t, kelp_diag *d)
 {
     memset(t, 0, sizeof *t);
     if (!s) {
@@ -398,19 +398,19 @@ static bool var_ok(const char *s)
 }
 
 typedef struct bridge_ctx {
-    kelp_broker_bridge *b;
+    kelp_field_broker_bridge *b;
     kelp_diag *d;
 } bridge_ctx;
 
 static int bridge_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl)
 {
     bridge_ctx *c = ctx;
-    if (kelp_strieq_n(k, kl, "src")) return text_to(c->b->src, sizeof c->b->src, v, vl, c->d);
-    if (kelp_strieq_n(k, kl, "alias")) return text_to(c->b->alias, sizeof c->b->alias, v, vl, c->d);
+    if (kelp_util_strieq_n(k, kl, "src")) return text_to(c->b->src, sizeof c->b->src, v, vl, c->d);
+    if (kelp_util_strieq_n(k, kl, "alias")) return text_to(c->b->alias, sizeof c->b->alias, v, vl, c->d);
     return kelp_fail(c->d, KELP_ERR_PARSE, "unknown key (src=, alias=)");
 }
 
-int kelp_broker_bridge_parse(const char *s, kelp_broker_bridge *b, kelp_diag *d)
+int kelp_field_broker_bridge_parse(const char *s, kelp_field_broker_bridge *b, kelp_diag *d)
 {
     memset(b, 0, sizeof *b);
     if (!s) {
@@ -426,7 +426,7 @@ int kelp_broker_bridge_parse(const char *s, kelp_broker_bridge *b, kelp_diag *d)
     return KELP_OK;
 }
 
-int broker_add_bridge(kelp_broker_bridge *list, unsigned *n, const char *src, const char *alias, kelp_diag *d)
+int broker_add_bridge(kelp_field_broker_bridge *list, unsigned *n, const char *src, const char *alias, kelp_diag *d)
 {
     for (unsigned i = 0; i < *n; i++)
         if (strcmp(list[i].src, src) == 0 && strcmp(list[i].alias, alias) == 0) return 1; /* listed already */
@@ -468,7 +468,7 @@ int broker_register(const kelp_field_sink *out, const char *src, const char *com
     return 1;
 }
 
-int broker_host_format(const kelp_broker_host *h, const char *keyword, double warp, kelp_time now, const char *status,
+int broker_host_format(const kelp_field_broker_host *h, const char *keyword, double warp, kelp_time now, const char *status,
                        char *buf, size_t cap)
 {
     size_t n = 0;
@@ -491,7 +491,7 @@ int broker_host_format(const kelp_broker_host *h, const char *keyword, double wa
     return rc;
 }
 
-bool broker_same_host(const kelp_broker_host *a, const kelp_broker_host *b)
+bool broker_same_host(const kelp_field_broker_host *a, const kelp_field_broker_host *b)
 {
     return strcmp(a->community, b->community) == 0 && strcmp(a->host, b->host) == 0 && a->port_db == b->port_db &&
            a->port_udp == b->port_udp && a->have_warp == b->have_warp && (!a->have_warp || a->warp == b->warp);
@@ -505,7 +505,7 @@ void broker_put(char *buf, size_t cap, size_t *n, bool *full, const char *fmt, .
     }
     va_list ap;
     va_start(ap, fmt);
-    int w = kelp_vsnprintf(buf + *n, cap - *n, fmt, ap);
+    int w = kelp_util_vsnprintf(buf + *n, cap - *n, fmt, ap);
     va_end(ap);
     if (w < 0 || (size_t)w >= cap - *n) {
         *full = true;

@@ -12,13 +12,13 @@
 #define PI 3.14159265358979323846
 
 /* a warning formatted in the manager's workspace (c->ws_warn: no message buffer on the stack) */
-static void warnf(kelp_cmgr *c, const kelp_field_sink *out, const char *fmt, ...) KELP_PRINTF(3, 4);
-static void warnf(kelp_cmgr *c, const kelp_field_sink *out, const char *fmt, ...)
+static void warnf(kelp_contactmgr *c, const kelp_field_sink *out, const char *fmt, ...) KELP_PRINTF(3, 4);
+static void warnf(kelp_contactmgr *c, const kelp_field_sink *out, const char *fmt, ...)
 {
     if (!out || !out->warn) return;
     va_list ap;
     va_start(ap, fmt);
-    (void)kelp_vsnprintf(c->ws_warn, sizeof c->ws_warn, fmt, ap);
+    (void)kelp_util_vsnprintf(c->ws_warn, sizeof c->ws_warn, fmt, ap);
     va_end(ap);
     out->warn(out->ctx, c->ws_warn);
 }
@@ -33,13 +33,13 @@ static void post_d(const kelp_field_sink *out, const char *var, double d)
     if (out && out->publish) out->publish(out->ctx, var, false, NULL, d);
 }
 
-static void event(kelp_cmgr *c, kelp_time now, const char *fmt, ...) KELP_PRINTF(3, 4);
-static void event(kelp_cmgr *c, kelp_time now, const char *fmt, ...)
+static void event(kelp_contactmgr *c, kelp_time now, const char *fmt, ...) KELP_PRINTF(3, 4);
+static void event(kelp_contactmgr *c, kelp_time now, const char *fmt, ...)
 {
     unsigned i = c->event_head;
     va_list ap;
     va_start(ap, fmt);
-    (void)kelp_vsnprintf(c->event[i], sizeof c->event[i], fmt, ap);
+    (void)kelp_util_vsnprintf(c->event[i], sizeof c->event[i], fmt, ap);
     va_end(ap);
     c->event_time[i] = now - (c->t_start < 0 ? now : c->t_start);
     c->event_head = (i + 1) % KELP_CMGR_MAX_EVENTS;
@@ -47,7 +47,7 @@ static void event(kelp_cmgr *c, kelp_time now, const char *fmt, ...)
     c->events_made++;
 }
 
-const char *kelp_cmgr_event(const kelp_cmgr *c, unsigned long seq)
+const char *kelp_contactmgr_event(const kelp_contactmgr *c, unsigned long seq)
 {
     if (seq >= c->events_made || c->events_made - seq > c->nevents) return NULL;
     unsigned back = (unsigned)(c->events_made - seq); /* 1 = the newest */
@@ -74,7 +74,7 @@ static void unquote(const char **p, size_t *n)
 
 static bool keyis(const char *k, size_t kl, const char *a, const char *b)
 {
-    return kelp_strieq_n(k, kl, a) || (b && kelp_strieq_n(k, kl, b));
+    return kelp_util_strieq_n(k, kl, a) || (b && kelp_util_strieq_n(k, kl, b));
 }
 
 /* ------------------------------------------------------------------ text lists */
@@ -108,12 +108,12 @@ static bool sb_item(sbuf *s, const char *sep, const char *item)
 
 static void fmtx(char *buf, size_t cap, double v, unsigned dec)
 {
-    if (kelp_fmt_fixed(buf, cap, v, dec, true) < 0) copyz(buf, cap, "nan", 3);
+    if (kelp_util_fmt_fixed(buf, cap, v, dec, true) < 0) copyz(buf, cap, "nan", 3);
 }
 
 static void fmtf(char *buf, size_t cap, double v, unsigned dec)
 {
-    if (kelp_fmt_fixed(buf, cap, v, dec, false) < 0) copyz(buf, cap, "nan", 3);
+    if (kelp_util_fmt_fixed(buf, cap, v, dec, false) < 0) copyz(buf, cap, "nan", 3);
 }
 
 /* $[KEY] replaced by val throughout buf (in place, cut at cap) */
@@ -121,7 +121,7 @@ static void macro_sub(char *buf, size_t cap, const char *key, const char *val)
 {
     for (int form = 0; form < 2; form++) { /* $(KEY), then $[KEY], as 24.8's macroExpand */
         char pat[40];
-        int pl = kelp_snprintf(pat, sizeof pat, form ? "$[%s]" : "$(%s)", key);
+        int pl = kelp_util_snprintf(pat, sizeof pat, form ? "$[%s]" : "$(%s)", key);
         size_t vl = strlen(val);
         char *p = buf;
         while (pl > 0 && (p = strstr(p, pat)) != NULL) {
@@ -136,13 +136,13 @@ static void macro_sub(char *buf, size_t cap, const char *key, const char *val)
 
 /* a manager-level flag "VAR=value": its variable into c->ws_flag[0]; a number is posted as a
  * double (its event with 4 decimals at most, as 24.8's postFlags). @return true when posted. */
-static bool flag_number(kelp_cmgr *c, const char *flag, kelp_time now, const kelp_field_sink *out)
+static bool flag_number(kelp_contactmgr *c, const char *flag, kelp_time now, const kelp_field_sink *out)
 {
     const char *eq = strchr(flag, '=');
     char *var = c->ws_flag[0];
     copyz(var, KELP_CMGR_MAX_FLAG, flag, (size_t)(eq - flag));
     double d;
-    if (kelp_parse_finite(eq + 1, strlen(eq + 1), &d) < 0) return false;
+    if (kelp_util_parse_finite(eq + 1, strlen(eq + 1), &d) < 0) return false;
     char num[48];
     fmtx(num, sizeof num, d, 4);
     post_d(out, var, d);
@@ -152,13 +152,13 @@ static bool flag_number(kelp_cmgr *c, const char *flag, kelp_time now, const kel
 
 /* ------------------------------------------------------------------ init */
 
-static void filter_init(kelp_cmgr_filter *f)
+static void filter_init(kelp_contactmgr_filter *f)
 {
     memset(f, 0, sizeof *f);
     f->strict_ignore = true;
 }
 
-void kelp_cmgr_init(kelp_cmgr *c, const char *ownship)
+void kelp_contactmgr_init(kelp_contactmgr *c, const char *ownship)
 {
     memset(c, 0, sizeof *c);
     copyz(c->ownship, sizeof c->ownship, ownship ? ownship : "", ownship ? strlen(ownship) : 0);
@@ -182,7 +182,7 @@ void kelp_cmgr_init(kelp_cmgr *c, const char *ownship)
     c->nspare = KELP_CMGR_MAX_CONTACTS;
 }
 
-double kelp_cmgr_cpa_range(const kelp_cmgr_alert *a)
+double kelp_contactmgr_cpa_range(const kelp_contactmgr_alert *a)
 {
     return a->have_cpa && a->cpa_range > a->alert_range ? a->cpa_range : a->alert_range;
 }
@@ -190,7 +190,7 @@ double kelp_cmgr_cpa_range(const kelp_cmgr_alert *a)
 /* ------------------------------------------------------------------ filters */
 
 /* "a,b, c" or "{a,b}" into a list (case kept; compared case-insensitively) */
-static int filter_add_list(kelp_cmgr *c, kelp_cmgr_filter *f, int kind, int ign, const char *v, size_t vl,
+static int filter_add_list(kelp_contactmgr *c, kelp_contactmgr_filter *f, int kind, int ign, const char *v, size_t vl,
                            const kelp_field_sink *out, bool quiet)
 {
     trim(&v, &vl);
@@ -208,10 +208,10 @@ static int filter_add_list(kelp_cmgr *c, kelp_cmgr_filter *f, int kind, int ign,
         }
         bool dup = false;
         for (unsigned i = 0; i < f->nlist[kind][ign]; i++)
-            if (kelp_strieq_n(it, il, f->list[kind][ign][i]) && strlen(f->list[kind][ign][i]) == il) dup = true;
+            if (kelp_util_strieq_n(it, il, f->list[kind][ign][i]) && strlen(f->list[kind][ign][i]) == il) dup = true;
         if (dup) continue;
         for (unsigned i = 0; i < f->nlist[kind][!ign]; i++)
-            if (!quiet && kelp_strieq_n(it, il, f->list[kind][!ign][i]) && strlen(f->list[kind][!ign][i]) == il)
+            if (!quiet && kelp_util_strieq_n(it, il, f->list[kind][!ign][i]) && strlen(f->list[kind][!ign][i]) == il)
                 warnf(c, out, "%.*s is both matched and ignored: ignored", (int)il, it);
         if (f->nlist[kind][ign] >= KELP_CMGR_MAX_FILTER) {
             warnf(c, out, "more than %d filter entries", KELP_CMGR_MAX_FILTER);
@@ -227,9 +227,9 @@ static double cross(const double *o, const double *a, const double *b)
     return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
 }
 
-static int parse_poly(const char *v, size_t vl, kelp_cmgr_poly *p, kelp_view *view)
+static int parse_poly(const char *v, size_t vl, kelp_contactmgr_poly *p, kelp_view *view)
 {
-    if (kelp_view_parse(KELP_VIEW_POLYGON, v, vl, view, NULL) < 0 || view->npts < 3 ||
+    if (kelp_nodereport_view_parse(KELP_VIEW_POLYGON, v, vl, view, NULL) < 0 || view->npts < 3 ||
         view->npts > KELP_CMGR_MAX_REGION_PTS)
         return KELP_ERR_PARSE;
     p->n = (unsigned)view->npts;
@@ -244,7 +244,7 @@ static int parse_poly(const char *v, size_t vl, kelp_cmgr_poly *p, kelp_view *vi
     return sign ? KELP_OK : KELP_ERR_ARG;
 }
 
-static bool in_poly(const kelp_cmgr_poly *p, double x, double y)
+static bool in_poly(const kelp_contactmgr_poly *p, double x, double y)
 {
     int sign = 0;
     double pt[2] = { x, y };
@@ -257,7 +257,7 @@ static bool in_poly(const kelp_cmgr_poly *p, double x, double y)
     return true;
 }
 
-static int filter_add_region(kelp_cmgr *c, kelp_cmgr_filter *f, int ign, const char *v, size_t vl,
+static int filter_add_region(kelp_contactmgr *c, kelp_contactmgr_filter *f, int ign, const char *v, size_t vl,
                              const kelp_field_sink *out)
 {
     kelp_view *ws = &c->ws.view;
@@ -274,15 +274,15 @@ static int filter_add_region(kelp_cmgr *c, kelp_cmgr_filter *f, int ign, const c
     return 1;
 }
 
-static bool listed(const kelp_cmgr_filter *f, int kind, int ign, const char *s)
+static bool listed(const kelp_contactmgr_filter *f, int kind, int ign, const char *s)
 {
     for (unsigned i = 0; i < f->nlist[kind][ign]; i++)
-        if (kelp_strieq(f->list[kind][ign][i], s)) return true;
+        if (kelp_util_strieq(f->list[kind][ign][i], s)) return true;
     return false;
 }
 
 /* contactmgr.md 4.9: every kind must pass; any ignore hit rejects */
-static bool filter_ok(const kelp_cmgr_filter *f, const char *name, const char *type, const char *group, double x,
+static bool filter_ok(const kelp_contactmgr_filter *f, const char *name, const char *type, const char *group, double x,
                       double y)
 {
     const char *val[3] = { name, type, group };
@@ -304,7 +304,7 @@ static bool filter_ok(const kelp_cmgr_filter *f, const char *name, const char *t
 }
 
 /* a filter key of either level: 1 taken, 0 not a filter key, <0 bad value */
-static int filter_param(kelp_cmgr *c, kelp_cmgr_filter *f, const char *k, size_t kl, const char *v, size_t vl,
+static int filter_param(kelp_contactmgr *c, kelp_contactmgr_filter *f, const char *k, size_t kl, const char *v, size_t vl,
                         const kelp_field_sink *out, bool *is_strict)
 {
     static const char *const kinds[3] = { "name", "type", "group" };
@@ -312,15 +312,15 @@ static int filter_param(kelp_cmgr *c, kelp_cmgr_filter *f, const char *k, size_t
     for (int ign = 0; ign < 2; ign++) {
         const char *pre = ign ? "ignore_" : "match_";
         size_t pl = strlen(pre);
-        if (kl <= pl || !kelp_strieq_n(k, pl, pre)) continue;
+        if (kl <= pl || !kelp_util_strieq_n(k, pl, pre)) continue;
         for (int kind = 0; kind < 3; kind++)
-            if (kelp_strieq_n(k + pl, kl - pl, kinds[kind])) return filter_add_list(c, f, kind, ign, v, vl, out, false);
-        if (kelp_strieq_n(k + pl, kl - pl, "region")) return filter_add_region(c, f, ign, v, vl, out);
+            if (kelp_util_strieq_n(k + pl, kl - pl, kinds[kind])) return filter_add_list(c, f, kind, ign, v, vl, out, false);
+        if (kelp_util_strieq_n(k + pl, kl - pl, "region")) return filter_add_region(c, f, ign, v, vl, out);
     }
-    if (kelp_strieq_n(k, kl, "strict_ignore")) {
+    if (kelp_util_strieq_n(k, kl, "strict_ignore")) {
         *is_strict = true;
         bool b;
-        if (kelp_parse_bool(v, vl, &b) < 0) {
+        if (kelp_util_parse_bool(v, vl, &b) < 0) {
             warnf(c, out, "strict_ignore must be true or false: %.*s", (int)vl, v);
             return KELP_ERR_PARSE;
         }
@@ -332,7 +332,7 @@ static int filter_param(kelp_cmgr *c, kelp_cmgr_filter *f, const char *k, size_t
 
 /* ------------------------------------------------------------------ alerts */
 
-static int alert_find(const kelp_cmgr *c, const char *id, size_t il)
+static int alert_find(const kelp_contactmgr *c, const char *id, size_t il)
 {
     for (unsigned i = 0; i < c->nalerts; i++)
         if (strlen(c->alert[i].id) == il && memcmp(c->alert[i].id, id, il) == 0) return (int)i;
@@ -340,7 +340,7 @@ static int alert_find(const kelp_cmgr *c, const char *id, size_t il)
 }
 
 /* alert indices in ascending id order (24.8 keeps its alerts in a map by id) */
-static unsigned sorted_alerts(const kelp_cmgr *c, unsigned *ids)
+static unsigned sorted_alerts(const kelp_contactmgr *c, unsigned *ids)
 {
     unsigned n = 0;
     for (unsigned i = 0; i < c->nalerts; i++) {
@@ -351,7 +351,7 @@ static unsigned sorted_alerts(const kelp_cmgr *c, unsigned *ids)
     return n;
 }
 
-static bool alert_valid(const kelp_cmgr_alert *a)
+static bool alert_valid(const kelp_contactmgr_alert *a)
 {
     return a->id[0] && a->have_range && (a->non + a->noff) > 0;
 }
@@ -382,7 +382,7 @@ static int add_flag(char (*list)[KELP_CMGR_MAX_FLAG], unsigned *n, const char *v
 }
 
 #define MAX_COMPS KELP_CMGR_MAX_COMPS
-typedef kelp_cmgr_comp comp;
+typedef kelp_contactmgr_comp comp;
 
 static bool alert_key_known(const char *k, size_t kl)
 {
@@ -392,13 +392,13 @@ static bool alert_key_known(const char *k, size_t kl)
                                         "strict_ignore", "alert_range_color", "cpa_range_color", "var", "val",
                                         "pattern", "action" };
     for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++)
-        if (kelp_strieq_n(k, kl, keys[i])) return true;
+        if (kelp_util_strieq_n(k, kl, keys[i])) return true;
     return false;
 }
 
 static int num_ge0(const char *v, size_t vl, double *out)
 {
-    return kelp_parse_finite(v, vl, out) < 0 || *out < 0 ? KELP_ERR_PARSE : KELP_OK;
+    return kelp_util_parse_finite(v, vl, out) < 0 || *out < 0 ? KELP_ERR_PARSE : KELP_OK;
 }
 
 static int split_comps(const char *spec, comp *cp, unsigned *ncp)
@@ -435,7 +435,7 @@ static int split_comps(const char *spec, comp *cp, unsigned *ncp)
     return rc < 0 ? KELP_ERR_PARSE : KELP_OK;
 }
 
-static int spec_reject(kelp_cmgr *c, const kelp_field_sink *out, bool from_mail, const char *spec, const char *why, const char *k,
+static int spec_reject(kelp_contactmgr *c, const kelp_field_sink *out, bool from_mail, const char *spec, const char *why, const char *k,
                        size_t kl)
 {
     if (from_mail) warnf(c, out, "Unhandled Alert Request: %s (%s%s%.*s)", spec, why, k ? ": " : "", (int)kl, k ? k : "");
@@ -445,15 +445,15 @@ static int spec_reject(kelp_cmgr *c, const kelp_field_sink *out, bool from_mail,
 }
 
 /* the seed's var=/val= pair as one on_flag "VAR=val" (its buffer off the component path) */
-KELP_NOINLINE static int legacy_flag(kelp_cmgr_alert *a, const char *var, const char *val)
+KELP_NOINLINE static int legacy_flag(kelp_contactmgr_alert *a, const char *var, const char *val)
 {
     char f[KELP_CMGR_MAX_FLAG];
-    int fl = kelp_snprintf(f, sizeof f, "%s=%s", var, val ? val : "");
+    int fl = kelp_util_snprintf(f, sizeof f, "%s=%s", var, val ? val : "");
     if (fl < 0 || (size_t)fl >= sizeof f) return KELP_ERR_NOSPACE;
     return add_flag(a->on, &a->non, f, (size_t)fl);
 }
 
-int kelp_cmgr_alert_spec(kelp_cmgr *c, const char *spec, bool from_mail, const char *src, kelp_time now,
+int kelp_contactmgr_alert_spec(kelp_contactmgr *c, const char *spec, bool from_mail, const char *src, kelp_time now,
                          const kelp_field_sink *out)
 {
     comp *cp = c->ws.comp;
@@ -463,15 +463,15 @@ int kelp_cmgr_alert_spec(kelp_cmgr *c, const char *spec, bool from_mail, const c
     for (unsigned i = 0; i < n; i++) {
         if (!alert_key_known(cp[i].k, cp[i].kl))
             return spec_reject(c, out, from_mail, spec, "unhandled alert config component", cp[i].k, cp[i].kl);
-        if (kelp_strieq_n(cp[i].k, cp[i].kl, "id")) id = &cp[i];
-        if (kelp_strieq_n(cp[i].k, cp[i].kl, "action")) action = &cp[i];
+        if (kelp_util_strieq_n(cp[i].k, cp[i].kl, "id")) id = &cp[i];
+        if (kelp_util_strieq_n(cp[i].k, cp[i].kl, "action")) action = &cp[i];
     }
     if (!id || id->vl == 0 || id->vl >= KELP_CMGR_MAX_ID)
         return spec_reject(c, out, from_mail, spec, "alert without an id", NULL, 0);
     int ai = alert_find(c, id->v, id->vl);
     if (action) {
-        bool dis = kelp_strieq(action->v, "disable");
-        if (!dis && !kelp_strieq(action->v, "enable"))
+        bool dis = kelp_util_strieq(action->v, "disable");
+        if (!dis && !kelp_util_strieq(action->v, "enable"))
             return spec_reject(c, out, from_mail, spec, "action must be enable or disable", NULL, 0);
         if (ai < 0) {
             if (!dis) return 1;
@@ -486,7 +486,7 @@ int kelp_cmgr_alert_spec(kelp_cmgr *c, const char *spec, bool from_mail, const c
         return 1;
     }
     /* apply to a copy, so a bad component leaves the alert as it was */
-    kelp_cmgr_alert *a = &c->ws.alert; /* (a workspace: ~15 KB) */
+    kelp_contactmgr_alert *a = &c->ws.alert; /* (a workspace: ~15 KB) */
     if (ai >= 0) *a = c->alert[ai];
     else {
         if (c->nalerts >= KELP_CMGR_MAX_ALERTS) return spec_reject(c, out, from_mail, spec, "too many alerts", NULL, 0);
@@ -540,27 +540,27 @@ int kelp_cmgr_alert_spec(kelp_cmgr *c, const char *spec, bool from_mail, const c
 
 /* ------------------------------------------------------------------ configuration */
 
-static int cfg_bad(kelp_cmgr *c, const kelp_field_sink *out, const char *key, const char *val, const char *why)
+static int cfg_bad(kelp_contactmgr *c, const kelp_field_sink *out, const char *key, const char *val, const char *why)
 {
     warnf(c, out, "%s = %s: %s; default kept", key, val, why);
     return 1;
 }
 
 #define CONFIG_FILTER 2 /* config_other: not one of its parameters */
-KELP_NOINLINE static int config_other(kelp_cmgr *c, const char *key, const char *val, const kelp_field_sink *out);
-KELP_NOINLINE static int config_filter(kelp_cmgr *c, const char *key, const char *val, const kelp_field_sink *out);
+KELP_NOINLINE static int config_other(kelp_contactmgr *c, const char *key, const char *val, const kelp_field_sink *out);
+KELP_NOINLINE static int config_filter(kelp_contactmgr *c, const char *key, const char *val, const kelp_field_sink *out);
 
-int kelp_cmgr_config(kelp_cmgr *c, const char *key, const char *val, const kelp_field_sink *out)
+int kelp_contactmgr_config(kelp_contactmgr *c, const char *key, const char *val, const kelp_field_sink *out)
 {
     if (keyis(key, strlen(key), "alert", NULL)) {
-        if (kelp_cmgr_alert_spec(c, val, false, NULL, 0, out) < 0) return 1; /* warned; the line is dropped */
+        if (kelp_contactmgr_alert_spec(c, val, false, NULL, 0, out) < 0) return 1; /* warned; the line is dropped */
         return 1;
     }
     int rc = config_other(c, key, val, out); /* (its locals off the alert path) */
     return rc == CONFIG_FILTER ? config_filter(c, key, val, out) : rc;
 }
 
-static int config_other(kelp_cmgr *c, const char *key, const char *val, const kelp_field_sink *out)
+static int config_other(kelp_contactmgr *c, const char *key, const char *val, const kelp_field_sink *out)
 {
     size_t kl = strlen(key), vl = strlen(val);
     const char *v = val;
@@ -573,13 +573,13 @@ static int config_other(kelp_cmgr *c, const char *key, const char *val, const ke
         return 1;
     }
     if (keyis(key, kl, "reject_range", NULL)) {
-        if (kelp_strieq_n(v, vl, "off")) c->reject_range = -1;
-        else if (kelp_parse_finite(v, vl, &d) < 0 || d <= 0) return cfg_bad(c, out, key, val, "must be > 0 or off");
+        if (kelp_util_strieq_n(v, vl, "off")) c->reject_range = -1;
+        else if (kelp_util_parse_finite(v, vl, &d) < 0 || d <= 0) return cfg_bad(c, out, key, val, "must be > 0 or off");
         else c->reject_range = d;
         return 1;
     }
     if (keyis(key, kl, "recap_interval", "contacts_recap_interval")) {
-        if (kelp_strieq_n(v, vl, "off")) c->recap_interval = -1;
+        if (kelp_util_strieq_n(v, vl, "off")) c->recap_interval = -1;
         else if (num_ge0(v, vl, &d) < 0) return cfg_bad(c, out, key, val, "must be >= 0 or off");
         else c->recap_interval = d;
         return 1;
@@ -600,7 +600,7 @@ static int config_other(kelp_cmgr *c, const char *key, const char *val, const ke
     }
     long l;
     if (keyis(key, kl, "max_contacts", NULL)) {
-        if (kelp_parse_long(v, vl, &l) < 0 || l < 1) return cfg_bad(c, out, key, val, "must be an integer >= 1");
+        if (kelp_util_parse_long(v, vl, &l) < 0 || l < 1) return cfg_bad(c, out, key, val, "must be an integer >= 1");
         if (l > KELP_CMGR_MAX_CONTACTS) {
             warnf(c, out, "max_contacts %ld above this build's %d: clamped", l, KELP_CMGR_MAX_CONTACTS);
             l = KELP_CMGR_MAX_CONTACTS;
@@ -609,7 +609,7 @@ static int config_other(kelp_cmgr *c, const char *key, const char *val, const ke
         return 1;
     }
     if (keyis(key, kl, "max_retired_history", "max_retired_hist")) {
-        if (kelp_parse_long(v, vl, &l) < 0) return cfg_bad(c, out, key, val, "must be an integer in [1,50]");
+        if (kelp_util_parse_long(v, vl, &l) < 0) return cfg_bad(c, out, key, val, "must be an integer in [1,50]");
         if (l < 1 || l > 50) {
             warnf(c, out, "%s = %s: outside [1,50]: clamped", key, val);
             l = l < 1 ? 1 : 50;
@@ -618,7 +618,7 @@ static int config_other(kelp_cmgr *c, const char *key, const char *val, const ke
         return 1;
     }
     if (keyis(key, kl, "range_report_maxsize", NULL)) {
-        if (kelp_parse_long(v, vl, &l) < 0 || l < 1) return cfg_bad(c, out, key, val, "must be an integer >= 1");
+        if (kelp_util_parse_long(v, vl, &l) < 0 || l < 1) return cfg_bad(c, out, key, val, "must be an integer >= 1");
         c->range_report_maxsize = l > KELP_CMGR_MAX_REPORTS ? KELP_CMGR_MAX_REPORTS : (unsigned)l;
         return 1;
     }
@@ -630,7 +630,7 @@ static int config_other(kelp_cmgr *c, const char *key, const char *val, const ke
     };
     for (size_t i = 0; i < sizeof bools / sizeof bools[0]; i++)
         if (keyis(key, kl, bools[i].k, bools[i].alias)) {
-            if (kelp_parse_bool(v, vl, &b) < 0) return cfg_bad(c, out, key, val, "must be true or false");
+            if (kelp_util_parse_bool(v, vl, &b) < 0) return cfg_bad(c, out, key, val, "must be true or false");
             *bools[i].dst = b;
             return 1;
         }
@@ -647,9 +647,9 @@ static int config_other(kelp_cmgr *c, const char *key, const char *val, const ke
             return 1;
         }
     if (keyis(key, kl, "contact_local_coords", NULL)) {
-        if (kelp_strieq_n(v, vl, "verbatim")) c->coords = KELP_CMGR_VERBATIM;
-        else if (kelp_strieq_n(v, vl, "lazy_lat_lon")) c->coords = KELP_CMGR_LAZY_LATLON;
-        else if (kelp_strieq_n(v, vl, "force_lat_lon")) c->coords = KELP_CMGR_FORCE_LATLON;
+        if (kelp_util_strieq_n(v, vl, "verbatim")) c->coords = KELP_CMGR_VERBATIM;
+        else if (kelp_util_strieq_n(v, vl, "lazy_lat_lon")) c->coords = KELP_CMGR_LAZY_LATLON;
+        else if (kelp_util_strieq_n(v, vl, "force_lat_lon")) c->coords = KELP_CMGR_FORCE_LATLON;
         else return cfg_bad(c, out, key, val, "must be verbatim, lazy_lat_lon or force_lat_lon");
         return 1;
     }
@@ -688,7 +688,7 @@ static int config_other(kelp_cmgr *c, const char *key, const char *val, const ke
 }
 
 /* the contact filter's parameters (match_*, ignore_*, strict_ignore) */
-KELP_NOINLINE static int config_filter(kelp_cmgr *c, const char *key, const char *val, const kelp_field_sink *out)
+KELP_NOINLINE static int config_filter(kelp_contactmgr *c, const char *key, const char *val, const kelp_field_sink *out)
 {
     size_t kl = strlen(key), vl = strlen(val);
     const char *v = val;
@@ -698,7 +698,7 @@ KELP_NOINLINE static int config_filter(kelp_cmgr *c, const char *key, const char
     return rc < 0 ? 1 : rc;
 }
 
-void kelp_cmgr_config_done(kelp_cmgr *c, bool have_lat, double lat0, bool have_lon, double lon0,
+void kelp_contactmgr_config_done(kelp_contactmgr *c, bool have_lat, double lat0, bool have_lon, double lon0,
                            const kelp_field_sink *out)
 {
     for (unsigned i = 0; i < c->nalerts; i++)
@@ -714,7 +714,7 @@ void kelp_cmgr_config_done(kelp_cmgr *c, bool have_lat, double lat0, bool have_l
         warnf(c, out, "Wont derive x/y from lat/lon in node reports.");
 }
 
-const char *kelp_cmgr_subscription(unsigned i)
+const char *kelp_contactmgr_subscription(unsigned i)
 {
     static const char *const subs[] = { "NODE_REPORT", "NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED",
                                         "BCM_ALERT_REQUEST", "BCM_REPORT_REQUEST", "BCM_DISPLAY_RADII",
@@ -724,7 +724,7 @@ const char *kelp_cmgr_subscription(unsigned i)
 
 /* ------------------------------------------------------------------ contacts */
 
-int kelp_cmgr_find(const kelp_cmgr *c, const char *name)
+int kelp_contactmgr_find(const kelp_contactmgr *c, const char *name)
 {
     unsigned lo = 0, hi = c->ncontacts;
     while (lo < hi) {
@@ -737,7 +737,7 @@ int kelp_cmgr_find(const kelp_cmgr *c, const char *name)
     return -1;
 }
 
-static unsigned order_pos(const kelp_cmgr *c, const char *name)
+static unsigned order_pos(const kelp_contactmgr *c, const char *name)
 {
     unsigned lo = 0, hi = c->ncontacts;
     while (lo < hi) {
@@ -748,7 +748,7 @@ static unsigned order_pos(const kelp_cmgr *c, const char *name)
     return lo;
 }
 
-static void retired_remove(kelp_cmgr *c, const char *name)
+static void retired_remove(kelp_contactmgr *c, const char *name)
 {
     for (unsigned i = 0; i < c->nretired; i++)
         if (strcmp(c->retired[i], name) == 0) {
@@ -760,7 +760,7 @@ static void retired_remove(kelp_cmgr *c, const char *name)
 
 /* a name the filters refused since the last iteration (ascending, once; 24.8 retires it and
  * posts the retire flags for it at the next iteration, in the ledger or not) */
-static void filtered_add(kelp_cmgr *c, const char *name)
+static void filtered_add(kelp_contactmgr *c, const char *name)
 {
     unsigned i = 0;
     while (i < c->nfiltered && strcmp(c->filtered[i], name) < 0) i++;
@@ -770,20 +770,20 @@ static void filtered_add(kelp_cmgr *c, const char *name)
     c->nfiltered++;
 }
 
-static int bad_report(kelp_cmgr *c, const kelp_field_sink *out, const char *why)
+static int bad_report(kelp_contactmgr *c, const kelp_field_sink *out, const char *why)
 {
     c->reports_bad++;
     warnf(c, out, "Bad Mail: NODE_REPORT:%s", why);
     return KELP_ERR_PARSE;
 }
 
-KELP_NOINLINE static int node_report(kelp_cmgr *c, const char *s, kelp_time now, const kelp_field_sink *out)
+KELP_NOINLINE static int node_report(kelp_contactmgr *c, const char *s, kelp_time now, const kelp_field_sink *out)
 {
     kelp_nodereport *r = &c->ws_report; /* workspace: no report on the stack */
     c->reports_in++;
     kelp_diag_clear(&c->diag);
     if (kelp_nodereport_parse(s, strlen(s), r, &c->diag) < 0) return bad_report(c, out, kelp_diag_text(&c->diag));
-    if (kelp_strieq(r->name, c->ownship)) return 1;
+    if (kelp_util_strieq(r->name, c->ownship)) return 1;
     bool have_xy = (r->fields & (KELP_NR_X | KELP_NR_Y)) == (KELP_NR_X | KELP_NR_Y);
     bool have_ll = (r->fields & (KELP_NR_LAT | KELP_NR_LON)) == (KELP_NR_LAT | KELP_NR_LON);
     if (c->have_geo && have_ll && (c->coords == KELP_CMGR_FORCE_LATLON || !have_xy)) {
@@ -792,7 +792,7 @@ KELP_NOINLINE static int node_report(kelp_cmgr *c, const char *s, kelp_time now,
     }
     if (!have_xy) return bad_report(c, out, "no X/Y (LAT/LON are not used with contact_local_coords = verbatim)");
     if (!have_ll && c->have_geo && kelp_geo_to_latlon(&c->geo, r->x, r->y, &r->lat, &r->lon) == 0) have_ll = true;
-    int ci = kelp_cmgr_find(c, r->name);
+    int ci = kelp_contactmgr_find(c, r->name);
     if (!filter_ok(&c->filter, r->name, r->type, r->group, r->x, r->y)) {
         if (ci >= 0) c->contact[ci].filtered = true;
         filtered_add(c, r->name);
@@ -808,19 +808,19 @@ KELP_NOINLINE static int node_report(kelp_cmgr *c, const char *s, kelp_time now,
         memmove(&c->order[pos + 1], &c->order[pos], (c->ncontacts - pos) * sizeof c->order[0]);
         c->order[pos] = (uint16_t)ci;
         c->ncontacts++;
-        kelp_cmgr_contact *k = &c->contact[ci];
+        kelp_contactmgr_contact *k = &c->contact[ci];
         memset(k, 0, sizeof *k);
         k->used = true;
         memcpy(k->name, r->name, sizeof k->name);
         k->range = k->range_extrap = k->range_cpa = hypot(c->osx - r->x, c->osy - r->y);
         if (c->alert_verbose) {
             char m[KELP_CMGR_NAME + 16];
-            (void)kelp_snprintf(m, sizeof m, "new_contact=%s", r->name);
+            (void)kelp_util_snprintf(m, sizeof m, "new_contact=%s", r->name);
             post_s(out, "ALERT_VERBOSE", m);
         }
     }
     retired_remove(c, r->name); /* 24.8: at every accepted report */
-    kelp_cmgr_contact *k = &c->contact[ci];
+    kelp_contactmgr_contact *k = &c->contact[ci];
     memcpy(k->type, r->type, sizeof k->type);
     memcpy(k->group, r->group, sizeof k->group);
     k->x = r->x, k->y = r->y;
@@ -836,8 +836,8 @@ KELP_NOINLINE static int node_report(kelp_cmgr *c, const char *s, kelp_time now,
 
 /* ------------------------------------------------------------------ requests */
 
-/* (out of line, here and below: their locals stay off kelp_cmgr_mail's alert path) */
-KELP_NOINLINE static int report_request(kelp_cmgr *c, const char *s, kelp_time now, const char *src, const kelp_field_sink *out)
+/* (out of line, here and below: their locals stay off kelp_contactmgr_mail's alert path) */
+KELP_NOINLINE static int report_request(kelp_contactmgr *c, const char *s, kelp_time now, const char *src, const kelp_field_sink *out)
 {
     size_t len = strlen(s), pos = 0, kl, vl;
     const char *p = s, *k, *v;
@@ -862,7 +862,7 @@ KELP_NOINLINE static int report_request(kelp_cmgr *c, const char *s, kelp_time n
         else if (keyis(k, kl, "type", NULL))
             copyz(type, sizeof type, v, vl);
         else if (keyis(k, kl, "refresh", NULL))
-            bad = kelp_parse_bool(v, vl, &refresh) < 0;
+            bad = kelp_util_parse_bool(v, vl, &refresh) < 0;
         else if (!keyis(k, kl, "reason", NULL))
             bad = true;
     }
@@ -872,7 +872,7 @@ KELP_NOINLINE static int report_request(kelp_cmgr *c, const char *s, kelp_time n
         return KELP_ERR_PARSE;
     }
     event(c, now, "New BCM_REPORT_REQUEST (src=%s): %.*s", src ? src : "", KELP_CMGR_MAX_FLAG, str);
-    kelp_cmgr_report *r = NULL;
+    kelp_contactmgr_report *r = NULL;
     for (unsigned i = 0; i < c->nreports; i++)
         if (strcmp(c->report[i].var, var) == 0) r = &c->report[i];
     if (!r) {
@@ -900,14 +900,14 @@ KELP_NOINLINE static int report_request(kelp_cmgr *c, const char *s, kelp_time n
     return 1;
 }
 
-KELP_NOINLINE static int display_radii(kelp_cmgr *c, const char *s, kelp_time now, const kelp_field_sink *out)
+KELP_NOINLINE static int display_radii(kelp_contactmgr *c, const char *s, kelp_time now, const kelp_field_sink *out)
 {
     const char *p = s;
     size_t n = strlen(s);
     trim(&p, &n);
-    if (kelp_strieq_n(p, n, "true") || kelp_strieq_n(p, n, "on")) c->display_radii = true;
-    else if (kelp_strieq_n(p, n, "false") || kelp_strieq_n(p, n, "off")) c->display_radii = false;
-    else if (kelp_strieq_n(p, n, "toggle")) c->display_radii = !c->display_radii;
+    if (kelp_util_strieq_n(p, n, "true") || kelp_util_strieq_n(p, n, "on")) c->display_radii = true;
+    else if (kelp_util_strieq_n(p, n, "false") || kelp_util_strieq_n(p, n, "off")) c->display_radii = false;
+    else if (kelp_util_strieq_n(p, n, "toggle")) c->display_radii = !c->display_radii;
     else if (alert_find(c, p, n) >= 0) {
         c->display_radii = true;
         copyz(c->display_id, sizeof c->display_id, p, n);
@@ -921,7 +921,7 @@ KELP_NOINLINE static int display_radii(kelp_cmgr *c, const char *s, kelp_time no
 
 /* the able/disable/enable flags: a number is posted as a double; a string with 24.8's macros
  * $[RECENT_DISABLED] $[RECENT_ENABLED] $[TOTAL_DISABLED] $[ALL_DISABLED] expanded */
-static void post_able_flags(kelp_cmgr *c, char (*flags)[KELP_CMGR_MAX_FLAG], unsigned n, kelp_time now,
+static void post_able_flags(kelp_contactmgr *c, char (*flags)[KELP_CMGR_MAX_FLAG], unsigned n, kelp_time now,
                             const kelp_field_sink *out)
 {
     for (unsigned i = 0; i < n; i++) {
@@ -932,7 +932,7 @@ static void post_able_flags(kelp_cmgr *c, char (*flags)[KELP_CMGR_MAX_FLAG], uns
         if (c->ndisabled_c) macro_sub(val, sizeof c->ws.str, "RECENT_DISABLED", c->disabled_c[0]);
         if (c->nenabled_c) macro_sub(val, sizeof c->ws.str, "RECENT_ENABLED", c->enabled_c[0]);
         char num[16];
-        (void)kelp_snprintf(num, sizeof num, "%u", c->ndisabled_c);
+        (void)kelp_util_snprintf(num, sizeof num, "%u", c->ndisabled_c);
         macro_sub(val, sizeof c->ws.str, "TOTAL_DISABLED", num);
         if (strstr(val, "$[ALL_DISABLED]")) {
             sbuf sb;
@@ -971,7 +971,7 @@ static void able_list_add(char (*list)[KELP_CMGR_NAME], unsigned *n, char (*othe
  * contact name, or contact=<name>, or vsource=<source>, goes to the helm as BHV_ABLE_FILTER =
  * "contact=<name>,action=<action>"; only the contact= form records the contact and posts the
  * able flag and the disable or enable flags. @return 1, or <0 when the value names nothing. */
-KELP_NOINLINE static int able_mail(kelp_cmgr *c, const char *s, const char *action, kelp_time now,
+KELP_NOINLINE static int able_mail(kelp_contactmgr *c, const char *s, const char *action, kelp_time now,
                                    const kelp_field_sink *out)
 {
     char id[KELP_CMGR_NAME] = "", vsrc[KELP_CMGR_NAME] = "";
@@ -981,15 +981,15 @@ KELP_NOINLINE static int able_mail(kelp_cmgr *c, const char *s, const char *acti
         size_t n = strlen(s);
         trim(&p, &n);
         if (n == 0 || n >= KELP_CMGR_NAME) return KELP_ERR_ARG;
-        (void)kelp_snprintf(m, sizeof c->ws_view, "contact=%.*s", (int)n, p);
+        (void)kelp_util_snprintf(m, sizeof c->ws_view, "contact=%.*s", (int)n, p);
     } else if (kelp_kv_get(s, ',', "contact", id, sizeof id) == 1 && id[0])
-        (void)kelp_snprintf(m, sizeof c->ws_view, "contact=%s", id);
+        (void)kelp_util_snprintf(m, sizeof c->ws_view, "contact=%s", id);
     else if (kelp_kv_get(s, ',', "vsource", vsrc, sizeof vsrc) == 1 && vsrc[0])
-        (void)kelp_snprintf(m, sizeof c->ws_view, "vsource=%s", vsrc);
+        (void)kelp_util_snprintf(m, sizeof c->ws_view, "vsource=%s", vsrc);
     else
         return KELP_ERR_ARG;
     size_t ml = strlen(m);
-    (void)kelp_snprintf(m + ml, sizeof c->ws_view - ml, ",action=%s", action);
+    (void)kelp_util_snprintf(m + ml, sizeof c->ws_view - ml, ",action=%s", action);
     post_s(out, "BHV_ABLE_FILTER", m);
     if (!id[0] || action[0] == 'x' || strcmp(action, "expunge") == 0) return 1;
     bool dis = strcmp(action, "disable") == 0;
@@ -1004,10 +1004,10 @@ KELP_NOINLINE static int able_mail(kelp_cmgr *c, const char *s, const char *acti
 /* The time step rule: a `now` that is no time is refused; on a step back, the manager's own
  * times (recap, custom report requests, the start its events count from) move back with it.
  * Contact report times are the contacts' data and stay. */
-static bool clock_in(kelp_cmgr *c, kelp_time now)
+static bool clock_in(kelp_contactmgr *c, kelp_time now)
 {
-    if (!kelp_time_ok(now)) return false;
-    double back = kelp_clock_back(&c->clock, now);
+    if (!kelp_util_time_ok(now)) return false;
+    double back = kelp_util_clock_back(&c->clock, now);
     if (back > 0) {
         c->clock_steps++;
         if (c->t_start >= 0) c->t_start -= back;
@@ -1018,7 +1018,7 @@ static bool clock_in(kelp_cmgr *c, kelp_time now)
     return true;
 }
 
-int kelp_cmgr_mail(kelp_cmgr *c, const char *var, bool is_string, const char *sval, double dval, kelp_time now,
+int kelp_contactmgr_mail(kelp_contactmgr *c, const char *var, bool is_string, const char *sval, double dval, kelp_time now,
                    const char *src, const kelp_field_sink *out)
 {
     if (!clock_in(c, now)) return KELP_ERR_ARG;
@@ -1044,7 +1044,7 @@ int kelp_cmgr_mail(kelp_cmgr *c, const char *var, bool is_string, const char *sv
         return 1;
     }
     if (strcmp(var, "IVPHELM_STATE") == 0) {
-        if (is_string && kelp_strieq(sval, "DRIVE")) c->helm_drive = true; /* latched, as MOOS-IvP */
+        if (is_string && kelp_util_strieq(sval, "DRIVE")) c->helm_drive = true; /* latched, as MOOS-IvP */
         return 1;
     }
     bool ours = strcmp(var, "NODE_REPORT") == 0 || strcmp(var, "BCM_ALERT_REQUEST") == 0 ||
@@ -1058,7 +1058,7 @@ int kelp_cmgr_mail(kelp_cmgr *c, const char *var, bool is_string, const char *sv
     if (strcmp(var, "BCM_ALERT_REQUEST") == 0) {
         c->alert_requests++;
         event(c, now, "New BCM_ALERT_REQUEST (src=%s): %.*s", src ? src : "", KELP_CMGR_MAX_FLAG, sval);
-        return kelp_cmgr_alert_spec(c, sval, true, src, now, out);
+        return kelp_contactmgr_alert_spec(c, sval, true, src, now, out);
     }
     if (strcmp(var, "BCM_REPORT_REQUEST") == 0) return report_request(c, sval, now, src, out);
     return display_radii(c, sval, now, out);
@@ -1066,7 +1066,7 @@ int kelp_cmgr_mail(kelp_cmgr *c, const char *var, bool is_string, const char *sv
 
 /* ------------------------------------------------------------------ iterate */
 
-double kelp_cmgr_extrap_dist(double v, double dt, double d1, double d2)
+double kelp_contactmgr_extrap_dist(double v, double dt, double d1, double d2)
 {
     if (!(dt > 0)) return 0;
     if (dt <= d1) return v * dt;
@@ -1074,10 +1074,10 @@ double kelp_cmgr_extrap_dist(double v, double dt, double d1, double d2)
     return v * d1 + (d2 > d1 ? (v / 2) * (d2 - d1) : 0);
 }
 
-static void ranges(kelp_cmgr *c, kelp_cmgr_contact *k, kelp_time now)
+static void ranges(kelp_contactmgr *c, kelp_contactmgr_contact *k, kelp_time now)
 {
     k->range = hypot(c->osx - k->x, c->osy - k->y);
-    double dist = kelp_cmgr_extrap_dist(k->spd, now - k->time, c->decay[0], c->decay[1]);
+    double dist = kelp_contactmgr_extrap_dist(k->spd, now - k->time, c->decay[0], c->decay[1]);
     double h = k->hdg * PI / 180;
     double ex = k->x + dist * sin(h), ey = k->y + dist * cos(h);
     k->range_extrap = hypot(c->osx - ex, c->osy - ey);
@@ -1086,7 +1086,7 @@ static void ranges(kelp_cmgr *c, kelp_cmgr_contact *k, kelp_time now)
 
 /* expand the macros of s into out for contact k */
 /* the value of macro i of expand's list (no table of eleven doubles on the stack) */
-static double macro_value(const kelp_cmgr_contact *k, kelp_time now, size_t i)
+static double macro_value(const kelp_contactmgr_contact *k, kelp_time now, size_t i)
 {
     switch (i) {
     case 0: return k->x;
@@ -1103,7 +1103,7 @@ static double macro_value(const kelp_cmgr_contact *k, kelp_time now, size_t i)
     }
 }
 
-static void expand(const kelp_cmgr_contact *k, kelp_time now, const char *s, char *out, size_t cap)
+static void expand(const kelp_contactmgr_contact *k, kelp_time now, const char *s, char *out, size_t cap)
 {
     size_t n = 0;
     while (*s && n + 1 < cap) {
@@ -1117,9 +1117,9 @@ static void expand(const kelp_cmgr_contact *k, kelp_time now, const char *s, cha
         size_t ml = (size_t)(end - m);
         char num[48];
         const char *val;
-        if (kelp_strieq_n(m, ml, "VNAME")) val = k->name;
-        else if (kelp_strieq_n(m, ml, "VTYPE")) val = k->type;
-        else if (kelp_strieq_n(m, ml, "GROUP")) val = k->group;
+        if (kelp_util_strieq_n(m, ml, "VNAME")) val = k->name;
+        else if (kelp_util_strieq_n(m, ml, "VTYPE")) val = k->type;
+        else if (kelp_util_strieq_n(m, ml, "GROUP")) val = k->group;
         else {
             static const char *const nm[] = { "X", "Y", "LAT", "LON", "HDG", "SPD", "DEP", "UTIME", "UTC", "TIME",
                                               "RANGE" };
@@ -1141,7 +1141,7 @@ static void expand(const kelp_cmgr_contact *k, kelp_time now, const char *s, cha
     out[n] = 0;
 }
 
-static void post_flags(kelp_cmgr *c, const kelp_cmgr_contact *k, char (*flags)[KELP_CMGR_MAX_FLAG], unsigned n,
+static void post_flags(kelp_contactmgr *c, const kelp_contactmgr_contact *k, char (*flags)[KELP_CMGR_MAX_FLAG], unsigned n,
                        kelp_time now, const kelp_field_sink *out)
 {
     for (unsigned i = 0; i < n; i++) {
@@ -1152,7 +1152,7 @@ static void post_flags(kelp_cmgr *c, const kelp_cmgr_contact *k, char (*flags)[K
         expand(k, now, raw, var, KELP_CMGR_MAX_FLAG);
         double d;
         if (!var[0]) continue;
-        if (kelp_parse_finite(eq + 1, strlen(eq + 1), &d) == 0) {
+        if (kelp_util_parse_finite(eq + 1, strlen(eq + 1), &d) == 0) {
             post_d(out, var, d);
             event(c, now, "%s=%s", var, eq + 1);
             continue;
@@ -1164,31 +1164,31 @@ static void post_flags(kelp_cmgr *c, const kelp_cmgr_contact *k, char (*flags)[K
     }
 }
 
-static void verbose(kelp_cmgr *c, const kelp_cmgr_alert *a, const kelp_cmgr_contact *k, bool on, const kelp_field_sink *out)
+static void verbose(kelp_contactmgr *c, const kelp_contactmgr_alert *a, const kelp_contactmgr_contact *k, bool on, const kelp_field_sink *out)
 {
     char r[32], cr[32], ra[32], rc[32], *m = c->ws_view;
     fmtx(r, sizeof r, a->alert_range, 1);
-    fmtx(cr, sizeof cr, kelp_cmgr_cpa_range(a), 1);
+    fmtx(cr, sizeof cr, kelp_contactmgr_cpa_range(a), 1);
     fmtf(ra, sizeof ra, k->range, 1);
     fmtf(rc, sizeof rc, k->range_cpa, 1);
     if (on)
-        (void)kelp_snprintf(m, sizeof c->ws_view, "contact=%s,alert_id=%s,off-->alerted,alert_range=%s,alert_range_cpa=%s,"
+        (void)kelp_util_snprintf(m, sizeof c->ws_view, "contact=%s,alert_id=%s,off-->alerted,alert_range=%s,alert_range_cpa=%s,"
                             "range_actual=%s,range_cpa=%s", k->name, a->id, r, cr, ra, rc);
     else
-        (void)kelp_snprintf(m, sizeof c->ws_view, "contact=%s,alert_id=%s,alerted-->off,alert_range=%s,alert_range_cpa=%s,"
+        (void)kelp_util_snprintf(m, sizeof c->ws_view, "contact=%s,alert_id=%s,alerted-->off,alert_range=%s,alert_range_cpa=%s,"
                             "range_actual=%s", k->name, a->id, r, cr, ra);
     post_s(out, "ALERT_VERBOSE", m);
 }
 
 /* the alert counts of a name (lower case) */
-static int tally_find(const kelp_cmgr *c, const char *name)
+static int tally_find(const kelp_contactmgr *c, const char *name)
 {
     for (unsigned i = 0; i < c->ntally; i++)
         if (strcmp(c->tally[i].name, name) == 0) return (int)i;
     return -1;
 }
 
-static void tally_count(kelp_cmgr *c, const char *name, bool on)
+static void tally_count(kelp_contactmgr *c, const char *name, bool on)
 {
     char low[KELP_CMGR_NAME];
     size_t i;
@@ -1205,15 +1205,15 @@ static void tally_count(kelp_cmgr *c, const char *name, bool on)
     else if (c->tally[t].active > 0) c->tally[t].active--;
 }
 
-KELP_NOINLINE static void check_alerts(kelp_cmgr *c, kelp_cmgr_contact *k, kelp_time now, const kelp_field_sink *out)
+KELP_NOINLINE static void check_alerts(kelp_contactmgr *c, kelp_contactmgr_contact *k, kelp_time now, const kelp_field_sink *out)
 {
     unsigned ids[KELP_CMGR_MAX_ALERTS];
     unsigned nids = sorted_alerts(c, ids); /* 24.8 checks its alerts in id order */
     for (unsigned j = 0; j < nids; j++) {
         unsigned ai = ids[j];
-        kelp_cmgr_alert *a = &c->alert[ai];
+        kelp_contactmgr_alert *a = &c->alert[ai];
         if (a->disabled) continue;
-        double cpa = kelp_cmgr_cpa_range(a);
+        double cpa = kelp_contactmgr_cpa_range(a);
         bool was = (k->alerted >> ai) & 1u;
         bool base = alert_valid(a) && now - k->time <= c->contact_max_age &&
                     filter_ok(&a->filter, k->name, k->type, k->group, k->x, k->y);
@@ -1240,7 +1240,7 @@ KELP_NOINLINE static void check_alerts(kelp_cmgr *c, kelp_cmgr_contact *k, kelp_
     }
 }
 
-static void circle(kelp_cmgr *c, double r, const char *label, const char *suffix, const char *color,
+static void circle(kelp_contactmgr *c, double r, const char *label, const char *suffix, const char *color,
                    kelp_time now, const kelp_field_sink *out)
 {
     char x[32], y[32], rad[32], t[32], *m = c->ws_view;
@@ -1248,21 +1248,21 @@ static void circle(kelp_cmgr *c, double r, const char *label, const char *suffix
     fmtx(y, sizeof y, c->osy, 2);
     fmtx(rad, sizeof rad, r, 2);
     fmtx(t, sizeof t, now, 2);
-    bool off = !color[0] || kelp_strieq(color, "invisible") || kelp_strieq(color, "empty") || r <= 0;
-    (void)kelp_snprintf(m, sizeof c->ws_view, "x=%s,y=%s,radius=%s,duration=3%s,label=%s%s,edge_color=%s,time=%s,"
+    bool off = !color[0] || kelp_util_strieq(color, "invisible") || kelp_util_strieq(color, "empty") || r <= 0;
+    (void)kelp_util_snprintf(m, sizeof c->ws_view, "x=%s,y=%s,radius=%s,duration=3%s,label=%s%s,edge_color=%s,time=%s,"
                         "vertex_size=0,edge_size=1", x, y, rad, off ? ",active=false" : "", label, suffix, color, t);
     post_s(out, "VIEW_CIRCLE", m);
 }
 
-KELP_NOINLINE static void visuals(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
+KELP_NOINLINE static void visuals(kelp_contactmgr *c, kelp_time now, const kelp_field_sink *out)
 {
     if (!c->display_radii || c->nalerts == 0) return;
     if (!c->display_id[0]) memcpy(c->display_id, c->alert[0].id, sizeof c->display_id);
     int ai = alert_find(c, c->display_id, strlen(c->display_id));
     if (ai < 0) return;
-    const kelp_cmgr_alert *a = &c->alert[ai];
+    const kelp_contactmgr_alert *a = &c->alert[ai];
     circle(c, a->alert_range, a->id, "_in", a->range_color[0] ? a->range_color : c->alert_color, now, out);
-    double cpa = kelp_cmgr_cpa_range(a);
+    double cpa = kelp_contactmgr_cpa_range(a);
     if (cpa > a->alert_range)
         circle(c, cpa, a->id, "_out", a->cpa_color[0] ? a->cpa_color : c->cpa_color, now, out);
 }
@@ -1271,36 +1271,36 @@ KELP_NOINLINE static void visuals(kelp_cmgr *c, kelp_time now, const kelp_field_
  * enough: the key is made unique by the index's list position) */
 
 
-static bool before(kelp_cmgr_sortkey a, kelp_cmgr_sortkey b)
+static bool before(kelp_contactmgr_sortkey a, kelp_contactmgr_sortkey b)
 {
     return a.v < b.v || (a.v == b.v && a.pos < b.pos);
 }
 
-static void sift(kelp_cmgr_sortkey *a, unsigned i, unsigned n)
+static void sift(kelp_contactmgr_sortkey *a, unsigned i, unsigned n)
 {
     for (;;) {
         unsigned l = 2 * i + 1, big = i;
         if (l < n && before(a[big], a[l])) big = l;
         if (l + 1 < n && before(a[big], a[l + 1])) big = l + 1;
         if (big == i) return;
-        kelp_cmgr_sortkey t = a[i];
+        kelp_contactmgr_sortkey t = a[i];
         a[i] = a[big], a[big] = t;
         i = big;
     }
 }
 
-static void heapsort(kelp_cmgr_sortkey *a, unsigned n)
+static void heapsort(kelp_contactmgr_sortkey *a, unsigned n)
 {
     for (unsigned i = n / 2; i-- > 0;) sift(a, i, n);
     for (unsigned end = n; end-- > 1;) {
-        kelp_cmgr_sortkey t = a[0];
+        kelp_contactmgr_sortkey t = a[0];
         a[0] = a[end], a[end] = t;
         sift(a, 0, end);
     }
 }
 
 /* the retire flags for one name: $[CONTACT] and $[UTC] expanded (24.8's postRetireFlags) */
-static void retire_flags(kelp_cmgr *c, const char *name, kelp_time now, const kelp_field_sink *out)
+static void retire_flags(kelp_contactmgr *c, const char *name, kelp_time now, const kelp_field_sink *out)
 {
     for (unsigned i = 0; i < c->nretire_flag; i++) {
         const char *f = c->retire_flag[i], *eq = strchr(f, '=');
@@ -1316,29 +1316,29 @@ static void retire_flags(kelp_cmgr *c, const char *name, kelp_time now, const ke
     }
 }
 
-KELP_NOINLINE static void retire(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
+KELP_NOINLINE static void retire(kelp_contactmgr *c, kelp_time now, const kelp_field_sink *out)
 {
     /* 24.8 counts the refused names that are not in the ledger with those to retire when it
      * decides whether max_contacts calls for culling */
     unsigned nr = 0;
-    for (unsigned i = 0; i < c->nfiltered; i++) nr += kelp_cmgr_find(c, c->filtered[i]) < 0;
+    for (unsigned i = 0; i < c->nfiltered; i++) nr += kelp_contactmgr_find(c, c->filtered[i]) < 0;
     for (unsigned i = 0; i < c->ncontacts; i++) {
-        kelp_cmgr_contact *k = &c->contact[c->order[i]];
+        kelp_contactmgr_contact *k = &c->contact[c->order[i]];
         k->retire = k->filtered || now - k->time > c->contact_max_age ||
                     (c->reject_range > 0 && k->range > c->reject_range * KELP_CMGR_REJECT_MARGIN);
         nr += k->retire;
     }
     if (c->ncontacts > nr + c->max_contacts)
         for (unsigned i = 0; i < c->ncontacts; i++) {
-            kelp_cmgr_contact *k = &c->contact[c->order[i]];
+            kelp_contactmgr_contact *k = &c->contact[c->order[i]];
             if (!k->retire && now - k->time > c->contact_max_age / 2) k->retire = true, nr++;
         }
     if (c->ncontacts > nr + c->max_contacts) {
         /* keep the max_contacts closest: sort the rest by range (farthest, then later, last) */
-        kelp_cmgr_sortkey *sk = c->sortbuf;
+        kelp_contactmgr_sortkey *sk = c->sortbuf;
         unsigned m = 0;
         for (unsigned i = 0; i < c->ncontacts; i++)
-            if (!c->contact[c->order[i]].retire) sk[m++] = (kelp_cmgr_sortkey){ c->contact[c->order[i]].range, i };
+            if (!c->contact[c->order[i]].retire) sk[m++] = (kelp_contactmgr_sortkey){ c->contact[c->order[i]].range, i };
         heapsort(sk, m);
         for (unsigned j = m; j-- > 0 && c->ncontacts > nr + c->max_contacts;)
             c->contact[c->order[sk[j].pos]].retire = true, nr++;
@@ -1347,7 +1347,7 @@ KELP_NOINLINE static void retire(kelp_cmgr *c, kelp_time now, const kelp_field_s
     if (c->nretire_flag) {
         unsigned f = 0;
         for (unsigned i = 0; i <= c->ncontacts; i++) {
-            const kelp_cmgr_contact *k = i < c->ncontacts ? &c->contact[c->order[i]] : NULL;
+            const kelp_contactmgr_contact *k = i < c->ncontacts ? &c->contact[c->order[i]] : NULL;
             for (; f < c->nfiltered && (!k || strcmp(c->filtered[f], k->name) <= 0); f++)
                 if (!k || strcmp(c->filtered[f], k->name) < 0) retire_flags(c, c->filtered[f], now, out);
             if (k && k->retire) retire_flags(c, k->name, now, out);
@@ -1358,7 +1358,7 @@ KELP_NOINLINE static void retire(kelp_cmgr *c, kelp_time now, const kelp_field_s
     unsigned w = 0;
     for (unsigned i = 0; i < c->ncontacts; i++) {
         uint16_t ci = c->order[i];
-        kelp_cmgr_contact *k = &c->contact[ci];
+        kelp_contactmgr_contact *k = &c->contact[ci];
         if (!k->retire) {
             c->order[w++] = ci;
             continue;
@@ -1382,13 +1382,13 @@ static bool changed(char *prev, const char *now_s)
     return true;
 }
 
-static void post_text(kelp_cmgr *c, const char *var, sbuf *sb, char *prev, bool always, const kelp_field_sink *out)
+static void post_text(kelp_contactmgr *c, const char *var, sbuf *sb, char *prev, bool always, const kelp_field_sink *out)
 {
     if (sb->cut) c->truncations++;
     if (changed(prev, sb->b) || always) post_s(out, var, sb->b);
 }
 
-KELP_NOINLINE static void custom_reports(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
+KELP_NOINLINE static void custom_reports(kelp_contactmgr *c, kelp_time now, const kelp_field_sink *out)
 {
     for (unsigned i = 0; i < c->nreports;)
         if (now - c->report[i].req_time > c->range_report_timeout) c->report[i] = c->report[--c->nreports];
@@ -1401,15 +1401,15 @@ KELP_NOINLINE static void custom_reports(kelp_cmgr *c, kelp_time now, const kelp
             if (!done[i] && (r == KELP_CMGR_MAX_REPORTS || strcmp(c->report[i].var, c->report[r].var) < 0)) r = i;
         if (r == KELP_CMGR_MAX_REPORTS) break;
         done[r] = true;
-        kelp_cmgr_report *rp = &c->report[r];
+        kelp_contactmgr_report *rp = &c->report[r];
         sbuf sb;
         sb_init(&sb, c->text, sizeof c->text);
         unsigned count = 0;
         for (unsigned j = 0; j < c->ncontacts; j++) {
-            const kelp_cmgr_contact *k = &c->contact[c->order[j]];
+            const kelp_contactmgr_contact *k = &c->contact[c->order[j]];
             if (!(k->range_extrap < rp->range)) continue;
-            if (rp->group[0] && !kelp_strieq(rp->group, k->group)) continue;
-            if (rp->type[0] && !kelp_strieq(rp->type, k->type)) continue;
+            if (rp->group[0] && !kelp_util_strieq(rp->group, k->group)) continue;
+            if (rp->type[0] && !kelp_util_strieq(rp->type, k->type)) continue;
             count += sb_item(&sb, ",", k->name);
         }
         if (sb.cut) c->truncations++;
@@ -1422,7 +1422,7 @@ KELP_NOINLINE static void custom_reports(kelp_cmgr *c, kelp_time now, const kelp
     }
 }
 
-KELP_NOINLINE static void summaries(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
+KELP_NOINLINE static void summaries(kelp_contactmgr *c, kelp_time now, const kelp_field_sink *out)
 {
     sbuf sb;
     /* CONTACTS_RETIRED, newest first, then prune */
@@ -1436,9 +1436,9 @@ KELP_NOINLINE static void summaries(kelp_cmgr *c, kelp_time now, const kelp_fiel
     }
     /* CONTACTS_LIST; the closest */
     sb_init(&sb, c->text, sizeof c->text);
-    const kelp_cmgr_contact *close = NULL;
+    const kelp_contactmgr_contact *close = NULL;
     for (unsigned i = 0; i < c->ncontacts; i++) {
-        const kelp_cmgr_contact *k = &c->contact[c->order[i]];
+        const kelp_contactmgr_contact *k = &c->contact[c->order[i]];
         (void)sb_item(&sb, ",", k->name);
         if (!close || k->range < close->range) close = k;
     }
@@ -1482,10 +1482,10 @@ KELP_NOINLINE static void summaries(kelp_cmgr *c, kelp_time now, const kelp_fiel
         unsigned ids[KELP_CMGR_MAX_ALERTS];
         unsigned nids = sorted_alerts(c, ids);
         for (unsigned i = 0; i < c->ncontacts && !sb.cut; i++) {
-            const kelp_cmgr_contact *k = &c->contact[c->order[i]];
+            const kelp_contactmgr_contact *k = &c->contact[c->order[i]];
             for (unsigned j = 0; j < nids; j++)
                 if ((k->alerted >> ids[j]) & 1u) {
-                    int pl = kelp_snprintf(pair, sizeof pair, "(%s,%s)", k->name, c->alert[ids[j]].id);
+                    int pl = kelp_util_snprintf(pair, sizeof pair, "(%s,%s)", k->name, c->alert[ids[j]].id);
                     for (int q = 1; q < pl && pair[q] != ','; q++)
                         if (pair[q] >= 'A' && pair[q] <= 'Z') pair[q] = (char)(pair[q] - 'A' + 'a');
                     (void)sb_item(&sb, "", pair);
@@ -1500,19 +1500,19 @@ KELP_NOINLINE static void summaries(kelp_cmgr *c, kelp_time now, const kelp_fiel
         c->last_recap = now;
         sb_init(&sb, c->text, sizeof c->text);
         for (unsigned i = 0; i < c->ncontacts && !sb.cut; i++) {
-            const kelp_cmgr_contact *k = &c->contact[c->order[i]];
+            const kelp_contactmgr_contact *k = &c->contact[c->order[i]];
             char r[32], a[32], e[KELP_CMGR_NAME + 80];
             fmtf(r, sizeof r, k->range, 2);
             fmtf(a, sizeof a, now - k->time, 2);
-            (void)kelp_snprintf(e, sizeof e, "vname=%s,range=%s,age=%s", k->name, r, a);
+            (void)kelp_util_snprintf(e, sizeof e, "vname=%s,range=%s,age=%s", k->name, r, a);
             (void)sb_item(&sb, " # ", e);
         }
         post_text(c, "CONTACTS_RECAP", &sb, c->prev_recap, true, out);
     }
     /* CONTACT_RANGES */
     if (c->post_all_ranges && c->ncontacts) {
-        kelp_cmgr_sortkey *sk = c->sortbuf;
-        for (unsigned i = 0; i < c->ncontacts; i++) sk[i] = (kelp_cmgr_sortkey){ c->contact[c->order[i]].range, i };
+        kelp_contactmgr_sortkey *sk = c->sortbuf;
+        for (unsigned i = 0; i < c->ncontacts; i++) sk[i] = (kelp_contactmgr_sortkey){ c->contact[c->order[i]].range, i };
         heapsort(sk, c->ncontacts);
         sb_init(&sb, c->text, sizeof c->text);
         for (unsigned i = 0; i < c->ncontacts && !sb.cut; i++) {
@@ -1524,7 +1524,7 @@ KELP_NOINLINE static void summaries(kelp_cmgr *c, kelp_time now, const kelp_fiel
     }
 }
 
-void kelp_cmgr_iterate(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
+void kelp_contactmgr_iterate(kelp_contactmgr *c, kelp_time now, const kelp_field_sink *out)
 {
     if (!clock_in(c, now)) return;
     c->iterations++;
@@ -1539,7 +1539,7 @@ void kelp_cmgr_iterate(kelp_cmgr *c, kelp_time now, const kelp_field_sink *out)
 
 /* ------------------------------------------------------------------ report */
 
-int kelp_cmgr_report_text(const kelp_cmgr *c, kelp_time now, char *buf, size_t cap)
+int kelp_contactmgr_report_text(const kelp_contactmgr *c, kelp_time now, char *buf, size_t cap)
 {
     size_t n = 0;
     char a[32], b[32];
@@ -1562,10 +1562,10 @@ int kelp_cmgr_report_text(const kelp_cmgr *c, kelp_time now, char *buf, size_t c
     unsigned ids[KELP_CMGR_MAX_ALERTS];
     unsigned nids = sorted_alerts(c, ids);
     for (unsigned j = 0; j < nids; j++) {
-        const kelp_cmgr_alert *al = &c->alert[ids[j]];
+        const kelp_contactmgr_alert *al = &c->alert[ids[j]];
         field_putf(buf, cap, &n, "%u ID: %s\n", j + 1, al->id);
         fmtx(a, sizeof a, al->alert_range, 2);
-        fmtx(b, sizeof b, kelp_cmgr_cpa_range(al), 2);
+        fmtx(b, sizeof b, kelp_contactmgr_cpa_range(al), 2);
         if (al->have_range) field_putf(buf, cap, &n, "  Alert Ranges: %s/%s\n", a, b);
         else field_putf(buf, cap, &n, "  Alert Ranges: unspecified/%s\n", al->have_cpa ? b : "unspecified");
         field_putf(buf, cap, &n, "  Source: %s\n", al->source[0] ? al->source : "general");
@@ -1581,7 +1581,7 @@ int kelp_cmgr_report_text(const kelp_cmgr *c, kelp_time now, char *buf, size_t c
                                al->filter.list[korder[kk]][ign][e]);
         for (int ign = 1; ign >= 0; ign--)
             for (unsigned r = 0; r < al->filter.nregion[ign]; r++) {
-                const kelp_cmgr_poly *pg = &al->filter.region[ign][r];
+                const kelp_contactmgr_poly *pg = &al->filter.region[ign][r];
                 field_putf(buf, cap, &n, "  %s_region=pts={", ign ? "ignore" : "match");
                 for (unsigned v = 0; v < pg->n; v++) {
                     fmtx(a, sizeof a, pg->pts[v][0], 2);
@@ -1605,13 +1605,13 @@ int kelp_cmgr_report_text(const kelp_cmgr *c, kelp_time now, char *buf, size_t c
     char rng[7][20], tot[7][16]; /* a range to 0.1 m: up to 1e17 m fits */
     uint32_t act[7];
     for (unsigned i = 0; i < rows; i++) {
-        const kelp_cmgr_contact *k = &c->contact[c->order[i]];
+        const kelp_contactmgr_contact *k = &c->contact[c->order[i]];
         fmtf(rng[i], sizeof rng[i], k->range, 1);
         /* 24.8 looks the counts up by the name as reported, kept by the lower-case name: a name
          * with capitals shows 0 */
         int t = tally_find(c, k->name);
         act[i] = t < 0 ? 0 : c->tally[t].active;
-        (void)kelp_snprintf(tot[i], sizeof tot[i], "%u", t < 0 ? 0u : (unsigned)c->tally[t].total);
+        (void)kelp_util_snprintf(tot[i], sizeof tot[i], "%u", t < 0 ? 0u : (unsigned)c->tally[t].total);
         if (strlen(k->name) > w0) w0 = strlen(k->name);
         if (strlen(rng[i]) > w1) w1 = strlen(rng[i]);
         if (strlen(tot[i]) > w2) w2 = strlen(tot[i]);
@@ -1622,7 +1622,7 @@ int kelp_cmgr_report_text(const kelp_cmgr *c, kelp_time now, char *buf, size_t c
     field_putf(buf, cap, &n, "%-*s    %*s    %-*s    %s\n", W0, "", W1, "Actual", W2, "Total", "Active");
     field_putf(buf, cap, &n, "%.*s    %.*s    %.*s    ------\n", W0, dash, W1, dash, W2, dash);
     for (unsigned i = 0; i < rows; i++) {
-        const kelp_cmgr_contact *k = &c->contact[c->order[i]];
+        const kelp_contactmgr_contact *k = &c->contact[c->order[i]];
         field_putf(buf, cap, &n, "%-*s    %*s    %-*s    %u\n", W0, k->name, W1, rng[i], W2, tot[i], (unsigned)act[i]);
     }
     field_putf(buf, cap, &n, "\nCustom Contact Reports:\n-----------------------\n");
@@ -1630,7 +1630,7 @@ int kelp_cmgr_report_text(const kelp_cmgr *c, kelp_time now, char *buf, size_t c
     size_t cw[5] = { 7, 5, 5, 5, 8 };
     bool done[KELP_CMGR_MAX_REPORTS] = { false };
     for (unsigned i = 0; i < c->nreports; i++) {
-        const kelp_cmgr_report *r = &c->report[i];
+        const kelp_contactmgr_report *r = &c->report[i];
         fmtx(a, sizeof a, r->range, 2);
         const size_t l[3] = { strlen(r->var), strlen(a), strlen(r->group) };
         for (int q = 0; q < 3; q++)
@@ -1647,7 +1647,7 @@ int kelp_cmgr_report_text(const kelp_cmgr *c, kelp_time now, char *buf, size_t c
             if (!done[i] && (r == KELP_CMGR_MAX_REPORTS || strcmp(c->report[i].var, c->report[r].var) < 0)) r = i;
         if (r >= KELP_CMGR_MAX_REPORTS) break; /* every report shown */
         done[r] = true;
-        const kelp_cmgr_report *rp = &c->report[r];
+        const kelp_contactmgr_report *rp = &c->report[r];
         fmtx(a, sizeof a, rp->range, 2);
         field_putf(buf, cap, &n, "%-*s     %*s     %-*s     %-*s     %u\n", (int)cw[0], rp->var, (int)cw[1], a,
                    (int)cw[2], rp->group, (int)cw[3], rp->type, rp->count);

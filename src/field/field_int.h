@@ -38,21 +38,21 @@ int sim_number(const char *v, size_t vl, double *out);
 
 /* ---- the brokers (src/field/broker.c) ---- */
 struct kelp_field_sink;
-struct kelp_broker_bridge;
-struct kelp_broker_host;
+struct kelp_field_broker_bridge;
+struct kelp_field_broker_host;
 /** A port 1..65535. */
 int broker_port(const char *v, size_t vl, unsigned *out);
 /** true/false/yes/no, optionally followed by 24.8's "(default)"; false when neither. */
 bool broker_bool(const char *v, bool *out);
 /** Append src->alias unless listed already. @return 1, or <0 (reason in d). */
-int broker_add_bridge(struct kelp_broker_bridge *list, unsigned *n, const char *src, const char *alias,
+int broker_add_bridge(struct kelp_field_broker_bridge *list, unsigned *n, const char *src, const char *alias,
                       kelp_diag *d);
 /** Post PMB_REGISTER "src_var=..,dest_community=..,dest_host=..,dest_port=..,dest_alias=.."
  *  (dest_community left out when NULL); a copy goes to last. @return 1 or <0. */
 int broker_register(const struct kelp_field_sink *out, const char *src, const char *community, const char *host,
                     unsigned port, const char *alias, char *last, size_t cap);
 /** "community=..,host=..[,port=..],port_udp=..[,keyword=..],time_warp=..,time=..[,status=..]" */
-int broker_host_format(const struct kelp_broker_host *h, const char *keyword, double warp, double now,
+int broker_host_format(const struct kelp_field_broker_host *h, const char *keyword, double warp, double now,
                        const char *status, char *buf, size_t cap);
 /** snprintf at buf + *n (a report); *full when it ran out of room. */
 void broker_put(char *buf, size_t cap, size_t *n, bool *full, const char *fmt, ...) KELP_PRINTF(5, 6);
@@ -76,6 +76,6 @@ void broker_table(char *buf, size_t cap, size_t *n, bool *full, unsigned ncols, 
 void field_actable(char *buf, size_t cap, size_t *n, bool *full, unsigned ncols, unsigned nrows, unsigned header_rows,
                    unsigned sep, unsigned right, broker_cell_fn cell, const void *ctx);
 /** Same community, host, ports and warp. */
-bool broker_same_host(const struct kelp_broker_host *a, const struct kelp_broker_host *b);
+bool broker_same_host(const struct kelp_field_broker_host *a, const struct kelp_field_broker_host *b);
 
 #endif

@@ -22,7 +22,7 @@ static void copyn(char *dst, size_t cap, const char *s, size_t n)
     dst[n] = 0;
 }
 
-void kelp_field_uhz_cfg_default(kelp_field_uhz_cfg *c)
+void kelp_hazardsensor_cfg_default(kelp_hazardsensor_cfg *c)
 {
     memset(c, 0, sizeof *c);
     copyn(c->hazard_shape, sizeof c->hazard_shape, "triangle", 8);
@@ -54,11 +54,11 @@ static size_t clean_len(const char *v)
 
 static int num(const char *v, size_t n, double *out)
 {
-    return kelp_parse_finite(v, n, out) < 0 ? KELP_ERR_PARSE : KELP_OK;
+    return kelp_util_parse_finite(v, n, out) < 0 ? KELP_ERR_PARSE : KELP_OK;
 }
 
 /* a summary piece: "width=<w>,exp=<e>,class=<c>[,max=<n>]" with the numbers as written */
-static void summary_prepend(kelp_field_uhz_cfg *cfg, const char *w, size_t wl, const char *e, size_t el,
+static void summary_prepend(kelp_hazardsensor_cfg *cfg, const char *w, size_t wl, const char *e, size_t el,
                             const char *c, size_t cl, unsigned mx)
 {
     char piece[128]; /* "width=..,exp=..,class=..,max=..": numbers from one config line */
@@ -72,7 +72,7 @@ static void summary_prepend(kelp_field_uhz_cfg *cfg, const char *w, size_t wl, c
     if (old) cfg->summary[k] = ':';
 }
 
-int kelp_field_uhz_add_setting(kelp_field_uhz_cfg *cfg, const char *spec, kelp_diag *d)
+int kelp_hazardsensor_add_setting(kelp_hazardsensor_cfg *cfg, const char *spec, kelp_diag *d)
 {
     const char *sw = NULL, *se = NULL, *sc = NULL, *sm = "0";
     size_t wl = 0, el = 0, cl = 0, ml = 1;
@@ -81,10 +81,10 @@ int kelp_field_uhz_add_setting(kelp_field_uhz_cfg *cfg, const char *spec, kelp_d
     size_t kl, vl;
     int rc;
     while ((rc = kelp_kv_next(spec, ',', &pos, &k, &kl, &v, &vl)) == 1) {
-        if (kelp_strieq_n(k, kl, "width")) sw = v, wl = vl;
-        else if (kelp_strieq_n(k, kl, "exp")) se = v, el = vl;
-        else if (kelp_strieq_n(k, kl, "class") || kelp_strieq_n(k, kl, "pclass")) sc = v, cl = vl;
-        else if (kelp_strieq_n(k, kl, "max")) sm = v, ml = vl;
+        if (kelp_util_strieq_n(k, kl, "width")) sw = v, wl = vl;
+        else if (kelp_util_strieq_n(k, kl, "exp")) se = v, el = vl;
+        else if (kelp_util_strieq_n(k, kl, "class") || kelp_util_strieq_n(k, kl, "pclass")) sc = v, cl = vl;
+        else if (kelp_util_strieq_n(k, kl, "max")) sm = v, ml = vl;
     }
     double w, e, pc, mx;
     if (rc < 0 || !sw || !se || !sc || num(sw, wl, &w) < 0 || num(se, el, &e) < 0 || num(sc, cl, &pc) < 0 ||
@@ -108,7 +108,7 @@ static bool known_shape(const char *v, size_t n)
 {
     static const char *const shapes[] = { "circle", "diamond", "square", "triangle", "efield", "gateway" };
     for (size_t i = 0; i < sizeof shapes / sizeof shapes[0]; i++)
-        if (kelp_strieq_n(v, n, shapes[i])) return true;
+        if (kelp_util_strieq_n(v, n, shapes[i])) return true;
     return false;
 }
 
@@ -127,26 +127,26 @@ static int parse_object(kelp_uhz_object *o, const char *s, kelp_diag *d)
         while (vl && (v[vl - 1] == '\r' || v[vl - 1] == '\n')) vl--;
         double dv = 0;
         bool isnum = num(v, vl, &dv) == KELP_OK;
-        if (kelp_strieq_n(k, kl, "x") && isnum) o->x = dv, hx = true;
-        else if (kelp_strieq_n(k, kl, "y") && isnum) o->y = dv, hy = true;
-        else if (kelp_strieq_n(k, kl, "hr") && isnum) o->hr = dv, o->has_hr = true;
-        else if (kelp_strieq_n(k, kl, "aspect") && isnum) {
+        if (kelp_util_strieq_n(k, kl, "x") && isnum) o->x = dv, hx = true;
+        else if (kelp_util_strieq_n(k, kl, "y") && isnum) o->y = dv, hy = true;
+        else if (kelp_util_strieq_n(k, kl, "hr") && isnum) o->hr = dv, o->has_hr = true;
+        else if (kelp_util_strieq_n(k, kl, "aspect") && isnum) {
             if (dv >= 0 && dv < 360) o->aspect = dv, o->has_aspect = true;
-        } else if (kelp_strieq_n(k, kl, "aspect_min") && isnum) {
+        } else if (kelp_util_strieq_n(k, kl, "aspect_min") && isnum) {
             if (dv >= 0 && dv <= 90 && (!o->has_aspect_max || (dv <= o->aspect_max && dv + o->aspect_max <= 90)))
                 o->aspect_min = dv, o->has_aspect_min = true;
-        } else if (kelp_strieq_n(k, kl, "aspect_max") && isnum) {
+        } else if (kelp_util_strieq_n(k, kl, "aspect_max") && isnum) {
             if (dv >= 0 && dv <= 90 && (!o->has_aspect_min || (dv >= o->aspect_min && dv + o->aspect_min <= 90)))
                 o->aspect_max = dv, o->has_aspect_max = true;
-        } else if (kelp_strieq_n(k, kl, "width")) {
+        } else if (kelp_util_strieq_n(k, kl, "width")) {
             if (isnum && dv >= 0) o->width = dv;
-        } else if (kelp_strieq_n(k, kl, "hazard")) {
+        } else if (kelp_util_strieq_n(k, kl, "hazard")) {
             copyn(hazard_field, sizeof hazard_field, v, vl);
         } else {
-            char *dst = kelp_strieq_n(k, kl, "type")    ? o->type
-                        : kelp_strieq_n(k, kl, "label") ? o->label
-                        : kelp_strieq_n(k, kl, "color") ? o->color
-                        : kelp_strieq_n(k, kl, "shape") ? o->shape
+            char *dst = kelp_util_strieq_n(k, kl, "type")    ? o->type
+                        : kelp_util_strieq_n(k, kl, "label") ? o->label
+                        : kelp_util_strieq_n(k, kl, "color") ? o->color
+                        : kelp_util_strieq_n(k, kl, "shape") ? o->shape
                                                         : NULL;
             if (!dst) continue; /* source= and others: not used */
             if (dst == o->shape && !known_shape(v, vl)) continue;
@@ -167,12 +167,12 @@ static int parse_object(kelp_uhz_object *o, const char *s, kelp_diag *d)
 
 /* bare: a hazard file's line without "hazard =" (kelp's extension: gen_hazards' output), whose
  * object may go without a label (it gets its index) */
-static int add_object(kelp_field_uhz_cfg *cfg, const char *s, bool bare, kelp_diag *d)
+static int add_object(kelp_hazardsensor_cfg *cfg, const char *s, bool bare, kelp_diag *d)
 {
     kelp_uhz_object o;
     int rc = parse_object(&o, s, d);
     if (rc < 0) return rc;
-    if (bare && !o.label[0]) kelp_snprintf(o.label, sizeof o.label, "%u", cfg->nobjects);
+    if (bare && !o.label[0]) kelp_util_snprintf(o.label, sizeof o.label, "%u", cfg->nobjects);
     if (!o.type[0]) {
         return kelp_failf(d, KELP_ERR_PARSE, "Hazard specified with no type: %s", s);
     }
@@ -192,7 +192,7 @@ static int add_object(kelp_field_uhz_cfg *cfg, const char *s, bool bare, kelp_di
     return 1;
 }
 
-int kelp_field_uhz_hazard_line(kelp_field_uhz_cfg *cfg, const char *line, kelp_diag *d)
+int kelp_hazardsensor_hazard_line(kelp_hazardsensor_cfg *cfg, const char *line, kelp_diag *d)
 {
     const char *s = line;
     while (*s == ' ' || *s == '\t') s++;
@@ -201,17 +201,17 @@ int kelp_field_uhz_hazard_line(kelp_field_uhz_cfg *cfg, const char *line, kelp_d
     if (!eq) return 0; /* 24.8 skips a line that is not "hazard = ..." */
     size_t kl = (size_t)(eq - s);
     while (kl && (s[kl - 1] == ' ' || s[kl - 1] == '\t')) kl--;
-    bool bare = !kelp_strieq_n(s, kl, "hazard");
+    bool bare = !kelp_util_strieq_n(s, kl, "hazard");
     if (!bare) s = eq + 1;
-    else if (!kelp_strieq_n(s, kl, "x") && !kelp_strieq_n(s, kl, "y") && !kelp_strieq_n(s, kl, "type") &&
-             !kelp_strieq_n(s, kl, "label"))
+    else if (!kelp_util_strieq_n(s, kl, "x") && !kelp_util_strieq_n(s, kl, "y") && !kelp_util_strieq_n(s, kl, "type") &&
+             !kelp_util_strieq_n(s, kl, "label"))
         return 0;
     return add_object(cfg, s, bare, d);
 }
 
 static int set_bool(bool *dst, const char *v, size_t n, kelp_diag *d)
 {
-    if (kelp_parse_bool(v, n, dst) < 0) {
+    if (kelp_util_parse_bool(v, n, dst) < 0) {
         return kelp_fail(d, KELP_ERR_PARSE, "true or false");
     }
     return 1;
@@ -236,7 +236,7 @@ static int set_text(char *dst, const char *v, size_t n, kelp_diag *d)
     return 1;
 }
 
-int kelp_field_uhz_config(kelp_field_uhz_cfg *c, const char *key, const char *val, kelp_diag *d)
+int kelp_hazardsensor_config(kelp_hazardsensor_cfg *c, const char *key, const char *val, kelp_diag *d)
 {
     size_t kl = strlen(key);
     size_t n = clean_len(val);
@@ -245,9 +245,9 @@ int kelp_field_uhz_config(kelp_field_uhz_cfg *c, const char *key, const char *va
         return kelp_fail(d, KELP_ERR_RANGE, "value too long");
     }
     copyn(text, sizeof text, val, n);
-#define K(name) kelp_strieq_n(key, kl, name)
+#define K(name) kelp_util_strieq_n(key, kl, name)
     if (K("SENSOR_CONFIG")) {
-        int rc = kelp_field_uhz_add_setting(c, text, d);
+        int rc = kelp_hazardsensor_add_setting(c, text, d);
         return rc < 0 ? rc : 1;
     }
     if (K("HAZARD")) return add_object(c, text, false, d);
@@ -266,7 +266,7 @@ int kelp_field_uhz_config(kelp_field_uhz_cfg *c, const char *key, const char *va
     if (K("MIN_CLASSIFY_INTERVAL") || K("CLASSIFY_PERIOD"))
         return set_num(&c->min_classify_interval, text, n, -1e9, 1e9, d);
     if (K("SHOW_REPORTS") || K("SHOW_DETECTIONS")) {
-        if (kelp_strieq_n(text, n, "unlimited") || kelp_strieq_n(text, n, "nolimit")) {
+        if (kelp_util_strieq_n(text, n, "unlimited") || kelp_util_strieq_n(text, n, "nolimit")) {
             c->show_reports = -1;
             return 1;
         }
@@ -283,14 +283,14 @@ int kelp_field_uhz_config(kelp_field_uhz_cfg *c, const char *key, const char *va
         return set_num(&unused, text, n, 0, 1, d);
     }
     if (K("RN_ALGORITHM")) { /* 24.8 takes "uniform[,pct=..]" and never applies it */
-        if (n < 7 || !kelp_strieq_n(text, 7, "uniform") || (n > 7 && text[7] != ',')) {
+        if (n < 7 || !kelp_util_strieq_n(text, 7, "uniform") || (n > 7 && text[7] != ',')) {
             return kelp_fail(d, KELP_ERR_PARSE, "uniform[,pct=..]");
         }
         return 1;
     }
     if (K("RANDOM_SEED")) {
         long long s;
-        if (kelp_parse_llong(text, n, &s) < 0) {
+        if (kelp_util_parse_llong(text, n, &s) < 0) {
             return kelp_fail(d, KELP_ERR_PARSE, "an integer");
         }
         c->seed = (uint32_t)s;
@@ -300,7 +300,7 @@ int kelp_field_uhz_config(kelp_field_uhz_cfg *c, const char *key, const char *va
     return 0;
 }
 
-int kelp_field_uhz_init(kelp_field_uhz *h, const kelp_field_uhz_cfg *cfg)
+int kelp_hazardsensor_init(kelp_hazardsensor *h, const kelp_hazardsensor_cfg *cfg)
 {
     memset(h, 0, sizeof *h);
     h->cfg = *cfg;
@@ -325,26 +325,26 @@ int kelp_field_uhz_init(kelp_field_uhz *h, const kelp_field_uhz_cfg *cfg)
         }
         o[j] = t;
     }
-    kelp_glibc_rand_seed(&h->rand, cfg->seed);
+    kelp_rng_glibc_seed(&h->rand, cfg->seed);
     h->markers_due = true;
     return KELP_OK;
 }
 
-void kelp_field_uhz_set_log(kelp_field_uhz *h, kelp_uhz_log_fn event, kelp_uhz_log_fn cfg_warning, void *ctx)
+void kelp_hazardsensor_set_log(kelp_hazardsensor *h, kelp_uhz_log_fn event, kelp_uhz_log_fn cfg_warning, void *ctx)
 {
     h->event = event;
     h->cfg_warning = cfg_warning;
     h->log_ctx = ctx;
 }
 
-const char *kelp_field_uhz_subscription(unsigned i)
+const char *kelp_hazardsensor_subscription(unsigned i)
 {
     static const char *const subs[] = { "NODE_REPORT", "UHZ_SENSOR_REQUEST", "UHZ_CLASSIFY_REQUEST",
                                         "UHZ_CONFIG_REQUEST", "PMV_CONNECT" };
     return i < sizeof subs / sizeof subs[0] ? subs[i] : NULL;
 }
 
-int kelp_field_uhz_find(const kelp_field_uhz *h, const char *name)
+int kelp_hazardsensor_find(const kelp_hazardsensor *h, const char *name)
 {
     for (unsigned i = 0; i < h->nnodes; i++)
         if (strcmp(name, h->node[i].name) == 0) return (int)i;
@@ -365,12 +365,12 @@ static void swath_corners(double vx, double vy, double hdg, double width, double
     }
 }
 
-bool kelp_field_uhz_in_swath(double vx, double vy, double hdg, double width, double length, double ox, double oy)
+bool kelp_hazardsensor_in_swath(double vx, double vy, double hdg, double width, double length, double ox, double oy)
 {
     if (!(width > 0) || !(length > 0)) return false; /* no area: 24.8's polygon is not convex */
     double c[4][2];
     swath_corners(vx, vy, hdg, width, length, c);
-    return kelp_field_uhz_in_convex((const double(*)[2])c, 4, ox, oy);
+    return kelp_hazardsensor_in_convex((const double(*)[2])c, 4, ox, oy);
 }
 
 /* ---- logging ---- */
@@ -380,12 +380,12 @@ static void vline(void (*fn)(void *, const char *), void *ctx, char *t, const ch
 static void vline(void (*fn)(void *, const char *), void *ctx, char *t, const char *fmt, va_list ap)
 {
     if (!fn) return;
-    (void)kelp_vsnprintf(t, KELP_UHZ_MSG_LEN, fmt, ap); /* t: the sensor's workspace, off the stack */
+    (void)kelp_util_vsnprintf(t, KELP_UHZ_MSG_LEN, fmt, ap); /* t: the sensor's workspace, off the stack */
     fn(ctx, t);
 }
 
-static void event(kelp_field_uhz *h, const char *fmt, ...) KELP_PRINTF(2, 3);
-static void event(kelp_field_uhz *h, const char *fmt, ...)
+static void event(kelp_hazardsensor *h, const char *fmt, ...) KELP_PRINTF(2, 3);
+static void event(kelp_hazardsensor *h, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
@@ -393,8 +393,8 @@ static void event(kelp_field_uhz *h, const char *fmt, ...)
     va_end(ap);
 }
 
-static void cfg_warning(kelp_field_uhz *h, const char *fmt, ...) KELP_PRINTF(2, 3);
-static void cfg_warning(kelp_field_uhz *h, const char *fmt, ...)
+static void cfg_warning(kelp_hazardsensor *h, const char *fmt, ...) KELP_PRINTF(2, 3);
+static void cfg_warning(kelp_hazardsensor *h, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
@@ -402,8 +402,8 @@ static void cfg_warning(kelp_field_uhz *h, const char *fmt, ...)
     va_end(ap);
 }
 
-static void warn(kelp_field_uhz *h, const kelp_field_sink *out, const char *fmt, ...) KELP_PRINTF(3, 4);
-static void warn(kelp_field_uhz *h, const kelp_field_sink *out, const char *fmt, ...)
+static void warn(kelp_hazardsensor *h, const kelp_field_sink *out, const char *fmt, ...) KELP_PRINTF(3, 4);
+static void warn(kelp_hazardsensor *h, const kelp_field_sink *out, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
@@ -439,7 +439,7 @@ static bool value_of(const char *s, const char *key, char *out, size_t cap)
     bool found = false;
     out[0] = 0;
     while (kelp_kv_next(s, ',', &pos, &k, &kl, &v, &vl) == 1)
-        if (kelp_strieq_n(k, kl, key)) {
+        if (kelp_util_strieq_n(k, kl, key)) {
             copyn(out, cap, v, vl);
             found = true;
         }
@@ -449,7 +449,7 @@ static bool value_of(const char *s, const char *key, char *out, size_t cap)
 /* ---- vehicles ---- */
 
 /* the vehicle named `name`, made (in name order) when new; NULL when there is no room */
-static kelp_uhz_node *node_get(kelp_field_uhz *h, const char *name, const kelp_field_sink *out)
+static kelp_uhz_node *node_get(kelp_hazardsensor *h, const char *name, const kelp_field_sink *out)
 {
     unsigned i = 0;
     while (i < h->nnodes && strcmp(h->node[i].name, name) < 0) i++;
@@ -501,7 +501,7 @@ static double turn_rate(const kelp_uhz_node *n, double window)
 }
 
 /* other vehicles holding a setting of this width */
-static unsigned holders(const kelp_field_uhz *h, double width, const kelp_uhz_node *except)
+static unsigned holders(const kelp_hazardsensor *h, double width, const kelp_uhz_node *except)
 {
     unsigned c = 0;
     for (unsigned i = 0; i < h->nnodes; i++)
@@ -509,7 +509,7 @@ static unsigned holders(const kelp_field_uhz *h, double width, const kelp_uhz_no
     return c;
 }
 
-static void post_ack(kelp_field_uhz *h, const kelp_uhz_node *n, const kelp_field_sink *out)
+static void post_ack(kelp_hazardsensor *h, const kelp_uhz_node *n, const kelp_field_sink *out)
 {
     char *b = h->ws_line, *var = h->ws_var; /* workspace (the stack stays under 1 KB) */
     const size_t bc = sizeof h->ws_line;
@@ -527,7 +527,7 @@ static void post_ack(kelp_field_uhz *h, const kelp_uhz_node *n, const kelp_field
 }
 
 /* 24.8's setVehicleSensorSetting: the setting nearest `width` (guess: the middle width, pd 0.9) */
-static bool set_setting(kelp_field_uhz *h, kelp_uhz_node *n, double width, double pd, bool guess, kelp_time now,
+static bool set_setting(kelp_hazardsensor *h, kelp_uhz_node *n, double width, double pd, bool guess, kelp_time now,
                         const kelp_field_sink *out)
 {
     event(h, "Setting sensor settings for: %s", n->name);
@@ -570,7 +570,7 @@ static bool set_setting(kelp_field_uhz *h, kelp_uhz_node *n, double width, doubl
     return true;
 }
 
-static bool set_pd(kelp_field_uhz *h, kelp_uhz_node *n, double pd, kelp_time now, const kelp_field_sink *out)
+static bool set_pd(kelp_hazardsensor *h, kelp_uhz_node *n, double pd, kelp_time now, const kelp_field_sink *out)
 {
     event(h, "Setting sensor PD settings for: %s", n->name);
     if (!n->have_setting) (void)set_setting(h, n, 0, 0, true, now, out);
@@ -586,7 +586,7 @@ static bool set_pd(kelp_field_uhz *h, kelp_uhz_node *n, double pd, kelp_time now
     return true;
 }
 
-static int config_request(kelp_field_uhz *h, const char *s, const char *community, kelp_time now,
+static int config_request(kelp_hazardsensor *h, const char *s, const char *community, kelp_time now,
                           const kelp_field_sink *out)
 {
     char vname[KELP_NODEREPORT_MAX_FIELD], ws[64], ps[64];
@@ -648,7 +648,7 @@ static void object_spec(char *b, size_t cap, size_t *k, const kelp_uhz_object *o
 
 /* 24.8's XYCircle spec of a report: radius 10, `vertices`, edge and fill colours, time,
  * duration (detections), vertex size 0, edge size, transparency */
-static void post_circle(kelp_field_uhz *h, const kelp_uhz_object *o, unsigned vertices, const char *edge,
+static void post_circle(kelp_hazardsensor *h, const kelp_uhz_object *o, unsigned vertices, const char *edge,
                         const char *fill, double edge_size, double transparency, bool duration, kelp_time now,
                         const kelp_field_sink *out)
 {
@@ -674,12 +674,12 @@ static void post_circle(kelp_field_uhz *h, const kelp_uhz_object *o, unsigned ve
     post(out, "VIEW_CIRCLE", b);
 }
 
-static bool circles_shown(const kelp_field_uhz *h)
+static bool circles_shown(const kelp_hazardsensor *h)
 {
     return h->cfg.show_reports == -1 || h->cfg.show_reports > 0;
 }
 
-static void detection_report(kelp_field_uhz *h, kelp_uhz_node *n, const kelp_uhz_object *o, kelp_time now,
+static void detection_report(kelp_hazardsensor *h, kelp_uhz_node *n, const kelp_uhz_object *o, kelp_time now,
                              const kelp_field_sink *out)
 {
     char *b = h->ws_line, *var = h->ws_var; /* workspace (the stack stays under 1 KB) */
@@ -714,7 +714,7 @@ static double degrade(const kelp_uhz_object *o, double hdg)
     return p < 0 ? 0 : p > 1 ? 1 : p;
 }
 
-static bool roll_normal(kelp_field_uhz *h, const kelp_uhz_node *n, const kelp_uhz_object *o, double roll)
+static bool roll_normal(kelp_hazardsensor *h, const kelp_uhz_node *n, const kelp_uhz_object *o, double roll)
 {
     if (is_hazard(o)) return roll < n->pd;
     if (h->event) {
@@ -729,7 +729,7 @@ static bool roll_normal(kelp_field_uhz *h, const kelp_uhz_node *n, const kelp_uh
     return roll < thresh;
 }
 
-static bool roll_aspect(kelp_field_uhz *h, const kelp_uhz_node *n, const kelp_uhz_object *o, double roll)
+static bool roll_aspect(kelp_hazardsensor *h, const kelp_uhz_node *n, const kelp_uhz_object *o, double roll)
 {
     if (!o->has_aspect || !o->has_aspect_min || !o->has_aspect_max) return roll_normal(h, n, o, roll);
     double dp = degrade(o, n->hdg), new_exp = n->exp - dp * (n->exp - 1);
@@ -755,7 +755,7 @@ static bool roll_aspect(kelp_field_uhz *h, const kelp_uhz_node *n, const kelp_uh
     return roll < thresh;
 }
 
-static void post_swath(kelp_field_uhz *h, const kelp_uhz_node *n, bool on, const kelp_field_sink *out)
+static void post_swath(kelp_hazardsensor *h, const kelp_uhz_node *n, bool on, const kelp_field_sink *out)
 {
     double c[4][2];
     swath_corners(n->x, n->y, n->hdg, n->width, h->cfg.swath_length, c);
@@ -784,7 +784,7 @@ static void post_swath(kelp_field_uhz *h, const kelp_uhz_node *n, bool on, const
     post(out, "VIEW_POLYGON", b);
 }
 
-KELP_NOINLINE static void sense(kelp_field_uhz *h, kelp_uhz_node *n, kelp_time now, const kelp_field_sink *out)
+KELP_NOINLINE static void sense(kelp_hazardsensor *h, kelp_uhz_node *n, kelp_time now, const kelp_field_sink *out)
 {
     post(out, "PSR", n->name);
     if (!n->have_report) {
@@ -801,7 +801,7 @@ KELP_NOINLINE static void sense(kelp_field_uhz *h, kelp_uhz_node *n, kelp_time n
     if (!on) return;
     for (unsigned i = 0; i < h->cfg.nobjects; i++) {
         const kelp_uhz_object *o = &h->cfg.object[i];
-        bool in = kelp_field_uhz_in_swath(n->x, n->y, n->hdg, n->width, h->cfg.swath_length, o->x, o->y);
+        bool in = kelp_hazardsensor_in_swath(n->x, n->y, n->hdg, n->width, h->cfg.swath_length, o->x, o->y);
         uint8_t bit = (uint8_t)(1u << (i & 7));
         bool was = (n->inside[i >> 3] & bit) != 0;
         if (in) n->inside[i >> 3] |= bit;
@@ -809,7 +809,7 @@ KELP_NOINLINE static void sense(kelp_field_uhz *h, kelp_uhz_node *n, kelp_time n
         if (!in || was) continue;
         if (is_hazard(o)) n->haz_chances++;
         else n->ben_chances++;
-        double roll = (double)(kelp_glibc_rand_next(&h->rand) % 10000) / 10000;
+        double roll = (double)(kelp_rng_glibc_next(&h->rand) % 10000) / 10000;
         bool normal = roll_normal(h, n, o, roll);
         bool aspect = roll_aspect(h, n, o, roll); /* 24.8 rolls both, always */
         if (normal) {
@@ -822,7 +822,7 @@ KELP_NOINLINE static void sense(kelp_field_uhz *h, kelp_uhz_node *n, kelp_time n
     }
 }
 
-static int sensor_request(kelp_field_uhz *h, const char *s, kelp_time now, const kelp_field_sink *out)
+static int sensor_request(kelp_hazardsensor *h, const char *s, kelp_time now, const kelp_field_sink *out)
 {
     char vname[KELP_NODEREPORT_MAX_FIELD];
     (void)value_of(s, "vname", vname, sizeof vname);
@@ -864,7 +864,7 @@ static void queue_push(kelp_uhz_node *n, kelp_uhz_entry e, bool top)
     else queue_insert(n, e);
 }
 
-KELP_NOINLINE static int classify_request(kelp_field_uhz *h, const char *s, kelp_time now,
+KELP_NOINLINE static int classify_request(kelp_hazardsensor *h, const char *s, kelp_time now,
                                           const kelp_field_sink *out)
 {
     if (!h || !s) return KELP_ERR_ARG;
@@ -873,7 +873,7 @@ KELP_NOINLINE static int classify_request(kelp_field_uhz *h, const char *s, kelp
     (void)value_of(s, "label", label, sizeof h->ws_label);
     if (!value_of(s, "priority", pr, sizeof pr)) copyn(pr, sizeof pr, "50", 2);
     (void)value_of(s, "action", act, sizeof act);
-    int ni = kelp_field_uhz_find(h, vname);
+    int ni = kelp_hazardsensor_find(h, vname);
     kelp_uhz_node *n = ni < 0 ? NULL : &h->node[ni];
     if (n && n->have_queue && strcmp(act, "clear") == 0) {
         n->nqueue = 0;
@@ -923,7 +923,7 @@ KELP_NOINLINE static int classify_request(kelp_field_uhz *h, const char *s, kelp
     if (!truth && o->has_hr && !h->cfg.ignore_resemblances) pcp += (1 - pc) * (1 - o->hr);
     double pcdp = pcp;
     if (o->has_aspect && o->has_aspect_min && o->has_aspect_max) pcdp = 0.5 + (1 - degrade(o, hdg)) * (pcp - 0.5);
-    double dice = (double)(kelp_glibc_rand_next(&h->rand) % 10001) / 10000;
+    double dice = (double)(kelp_rng_glibc_next(&h->rand) % 10001) / 10000;
     bool said = truth, affected = false;
     if (dice > pcdp) {
         said = !truth;
@@ -952,7 +952,7 @@ KELP_NOINLINE static int classify_request(kelp_field_uhz *h, const char *s, kelp
     return 1;
 }
 
-KELP_NOINLINE static int node_report(kelp_field_uhz *h, const char *s, kelp_time now, const kelp_field_sink *out)
+KELP_NOINLINE static int node_report(kelp_hazardsensor *h, const char *s, kelp_time now, const kelp_field_sink *out)
 {
     kelp_nodereport *r = &h->ws_report; /* workspace: no report on the stack */
     if (kelp_nodereport_parse(s, strlen(s), r, NULL) < 0 || !(r->fields & KELP_NR_X) || !(r->fields & KELP_NR_Y)) {
@@ -971,9 +971,9 @@ KELP_NOINLINE static int node_report(kelp_field_uhz *h, const char *s, kelp_time
     return 1;
 }
 
-static void post_markers(kelp_field_uhz *h, const kelp_field_sink *out)
+static void post_markers(kelp_hazardsensor *h, const kelp_field_sink *out)
 {
-    const kelp_field_uhz_cfg *c = &h->cfg;
+    const kelp_hazardsensor_cfg *c = &h->cfg;
     if (!c->show_hazards) return;
     for (unsigned i = 0; i < c->nobjects; i++) {
         const kelp_uhz_object *o = &c->object[i];
@@ -1001,10 +1001,10 @@ static void post_markers(kelp_field_uhz *h, const kelp_field_sink *out)
 /* The time step rule: a `now` that is no time is refused; on a step back the sensor's own times
  * (the summary, each vehicle's last reset, request and classify answer) move back with it, so
  * min_reset_interval, a request's life and min_classify_interval last no longer than set */
-static bool uhz_clock(kelp_field_uhz *h, kelp_time now)
+static bool uhz_clock(kelp_hazardsensor *h, kelp_time now)
 {
-    if (!kelp_time_ok(now)) return false;
-    double back = kelp_clock_back(&h->clk, now);
+    if (!kelp_util_time_ok(now)) return false;
+    double back = kelp_util_clock_back(&h->clk, now);
     if (back > 0) {
         h->last_summary -= back;
         for (unsigned i = 0; i < h->nnodes; i++) {
@@ -1016,7 +1016,7 @@ static bool uhz_clock(kelp_field_uhz *h, kelp_time now)
     return true;
 }
 
-int kelp_field_uhz_mail(kelp_field_uhz *h, const char *var, const char *sval, const char *community, kelp_time now,
+int kelp_hazardsensor_mail(kelp_hazardsensor *h, const char *var, const char *sval, const char *community, kelp_time now,
                         const kelp_field_sink *out)
 {
     int rc;
@@ -1035,7 +1035,7 @@ int kelp_field_uhz_mail(kelp_field_uhz *h, const char *var, const char *sval, co
     return rc;
 }
 
-void kelp_field_uhz_iterate(kelp_field_uhz *h, kelp_time now, const kelp_field_sink *out)
+void kelp_hazardsensor_iterate(kelp_hazardsensor *h, kelp_time now, const kelp_field_sink *out)
 {
     if (!uhz_clock(h, now)) return;
     if (h->markers_due) {
@@ -1080,7 +1080,7 @@ void kelp_field_uhz_iterate(kelp_field_uhz *h, kelp_time now, const kelp_field_s
 /* ---- the AppCast report ---- */
 
 typedef struct report_ctx {
-    const kelp_field_uhz *h;
+    const kelp_hazardsensor *h;
     kelp_time start;
     unsigned *rows; /* vehicles with a setting, by name */
 } report_ctx;
@@ -1088,7 +1088,7 @@ typedef struct report_ctx {
 static const char *settings_cell(const void *ctx, unsigned row, unsigned col, char *tmp, size_t cap)
 {
     static const char *const head[4] = { "Width", "Exp", "Classify", "Max" };
-    const kelp_field_uhz *h = ctx;
+    const kelp_hazardsensor *h = ctx;
     if (row == 0) return head[col];
     const kelp_uhz_setting *s = &h->cfg.setting[row - 1];
     size_t k = 0;
@@ -1153,7 +1153,7 @@ static const char *stats_cell(const void *ctx, unsigned row, unsigned col, char 
     return tmp;
 }
 
-int kelp_field_uhz_report(const kelp_field_uhz *h, const char *file, kelp_time start, char *buf, size_t cap)
+int kelp_hazardsensor_report(const kelp_hazardsensor *h, const char *file, kelp_time start, char *buf, size_t cap)
 {
     size_t n = 0;
     bool full = false;
@@ -1176,7 +1176,7 @@ int kelp_field_uhz_report(const kelp_field_uhz *h, const char *file, kelp_time s
 
 /* ---- gen_hazards ---- */
 
-bool kelp_field_uhz_in_convex(const double (*pts)[2], size_t n, double x, double y)
+bool kelp_hazardsensor_in_convex(const double (*pts)[2], size_t n, double x, double y)
 {
     int sign = 0;
     for (size_t i = 0; i < n; i++) {
@@ -1192,7 +1192,7 @@ bool kelp_field_uhz_in_convex(const double (*pts)[2], size_t n, double x, double
 
 #define GEN_MAX_TRIES 100000
 
-int kelp_field_uhz_random_point(const double (*pts)[2], size_t n, kelp_rng *rng, double *x, double *y)
+int kelp_hazardsensor_random_point(const double (*pts)[2], size_t n, kelp_rng *rng, double *x, double *y)
 {
     if (n < 3) return KELP_ERR_ARG;
     double x0 = pts[0][0], x1 = x0, y0 = pts[0][1], y1 = y0, area = 0;
@@ -1205,7 +1205,7 @@ int kelp_field_uhz_random_point(const double (*pts)[2], size_t n, kelp_rng *rng,
     if (!(fabs(area) > 0)) return KELP_ERR_ARG;
     for (int t = 0; t < GEN_MAX_TRIES; t++) {
         double px = kelp_rng_range(rng, x0, x1), py = kelp_rng_range(rng, y0, y1);
-        if (kelp_field_uhz_in_convex(pts, n, px, py)) {
+        if (kelp_hazardsensor_in_convex(pts, n, px, py)) {
             *x = px;
             *y = py;
             return KELP_OK;

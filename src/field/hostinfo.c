@@ -33,7 +33,7 @@ void kelp_field_hostinfo_init(kelp_field_hostinfo *h, const kelp_field_hostinfo_
 /* a dotted quad of four numbers 0..255 */
 static bool quad_ok(const char *s)
 {
-    return !kelp_strieq(s, "localhost") && field_ip_ok(s, strlen(s));
+    return !kelp_util_strieq(s, "localhost") && field_ip_ok(s, strlen(s));
 }
 
 static int rank(const char *ifname, char *label, size_t cap)
@@ -89,15 +89,15 @@ static void iroutes(const char *s, char *out, size_t cap)
         size_t prl = c2 ? il - (size_t)(c2 + 1 - it) : 3;
         char host[16];
         long port;
-        bool host_ok = kelp_strieq_n(it, hl, "localhost");
+        bool host_ok = kelp_util_strieq_n(it, hl, "localhost");
         if (!host_ok && hl < sizeof host) {
             memcpy(host, it, hl);
             host[hl] = 0;
             host_ok = quad_ok(host);
         }
-        if (!host_ok || prl == 0 || memchr(proto, ':', prl) || kelp_parse_long(c1 + 1, pl, &port) < 0) continue;
-        size_t keep = kelp_strieq_n(proto, prl, "udp") ? hl + 1 + pl : prl;
-        const char *from = kelp_strieq_n(proto, prl, "udp") ? it : proto;
+        if (!host_ok || prl == 0 || memchr(proto, ':', prl) || kelp_util_parse_long(c1 + 1, pl, &port) < 0) continue;
+        size_t keep = kelp_util_strieq_n(proto, prl, "udp") ? hl + 1 + pl : prl;
+        const char *from = kelp_util_strieq_n(proto, prl, "udp") ? it : proto;
         if (n + (n ? 1 : 0) + keep + 1 > cap) break;
         if (n) out[n++] = '&';
         memcpy(out + n, from, keep);
@@ -115,7 +115,7 @@ int kelp_field_hostinfo_mail(kelp_field_hostinfo *h, const char *var, bool is_st
     }
     if (!strcmp(var, "PMB_UDP_LISTEN")) {
         double p = dval;
-        if (is_string && (!sval || kelp_parse_double(sval, strlen(sval), &p) < 0)) return KELP_ERR_PARSE;
+        if (is_string && (!sval || kelp_util_parse_double(sval, strlen(sval), &p) < 0)) return KELP_ERR_PARSE;
         if (!(p >= 1 && p <= 65535)) return KELP_ERR_RANGE;
         h->port_udp = p; /* in PHI_HOST_INFO from the next post (24.8 waits too) */
         return 1;
@@ -137,10 +137,10 @@ int kelp_field_hostinfo_iterate(kelp_field_hostinfo *h, const kelp_field_sink *o
     h->post_due = false;
     const char *best = h->cfg.default_ip;
     /* PREFER_INTERFACE: an interface name (any case), or 24.8's "wifi" for the wireless one */
-    bool wifi = kelp_strieq(h->cfg.prefer_if, "wifi");
+    bool wifi = kelp_util_strieq(h->cfg.prefer_if, "wifi");
     for (unsigned i = 0; i < h->naddr && best == h->cfg.default_ip; i++)
         if (h->cfg.prefer_if[0] &&
-            (kelp_strieq(h->addr[i].ifname, h->cfg.prefer_if) || (wifi && !strcmp(h->addr[i].source, "LINUX_WIFI"))))
+            (kelp_util_strieq(h->addr[i].ifname, h->cfg.prefer_if) || (wifi && !strcmp(h->addr[i].source, "LINUX_WIFI"))))
             best = h->addr[i].ip;
     if (best == h->cfg.default_ip && h->naddr) best = h->addr[0].ip;
     if (h->cfg.force_ip[0]) best = h->cfg.force_ip;
@@ -150,14 +150,14 @@ int kelp_field_hostinfo_iterate(kelp_field_hostinfo *h, const kelp_field_sink *o
     all[0] = verbose[0] = 0;
     size_t na = 0, nv = 0;
     if (h->cfg.force_ip[0]) { /* 24.8: the forced address alone */
-        kelp_snprintf(all, all_cap, "%s", h->cfg.force_ip);
-        kelp_snprintf(verbose, verbose_cap, "USER_HARD_CONFIGURED=%s", h->cfg.force_ip);
+        kelp_util_snprintf(all, all_cap, "%s", h->cfg.force_ip);
+        kelp_util_snprintf(verbose, verbose_cap, "USER_HARD_CONFIGURED=%s", h->cfg.force_ip);
     }
     for (unsigned i = 0; i < h->naddr && !h->cfg.force_ip[0]; i++) {
         bool seen = false;
         for (unsigned k = 0; k < i; k++) seen = seen || !strcmp(h->addr[k].ip, h->addr[i].ip);
-        if (!seen) na += (size_t)kelp_snprintf(all + na, all_cap - na, "%s%s", na ? "," : "", h->addr[i].ip);
-        nv += (size_t)kelp_snprintf(verbose + nv, verbose_cap - nv, "%s%s=%s", nv ? "," : "", h->addr[i].source,
+        if (!seen) na += (size_t)kelp_util_snprintf(all + na, all_cap - na, "%s%s", na ? "," : "", h->addr[i].ip);
+        nv += (size_t)kelp_util_snprintf(verbose + nv, verbose_cap - nv, "%s%s=%s", nv ? "," : "", h->addr[i].source,
                                h->addr[i].ip);
     }
     out->publish(out->ctx, "PHI_HOST_IP", true, h->best, 0);
@@ -165,15 +165,15 @@ int kelp_field_hostinfo_iterate(kelp_field_hostinfo *h, const kelp_field_sink *o
     out->publish(out->ctx, "PHI_HOST_IP_VERBOSE", true, verbose, 0);
     char port[24]; /* the ports are posted as strings, as 24.8's pHostInfo posts them */
     if (h->cfg.port_db > 0) {
-        kelp_snprintf(port, sizeof port, "%.0f", h->cfg.port_db);
+        kelp_util_snprintf(port, sizeof port, "%.0f", h->cfg.port_db);
         out->publish(out->ctx, "PHI_HOST_PORT_DB", true, port, 0);
     }
     if (h->port_udp > 0) { /* the seed's pMOOSBridge port (PMB_UDP_LISTEN) */
-        kelp_snprintf(port, sizeof port, "%.0f", h->port_udp);
+        kelp_util_snprintf(port, sizeof port, "%.0f", h->port_udp);
         out->publish(out->ctx, "PHI_HOST_PORT_UDP", true, port, 0);
     }
     /* 24.8's host record (HostRecord::getSpec), "localhost" anywhere in it read as our address */
-    kelp_broker_host *rec = &h->ws_rec;
+    kelp_field_broker_host *rec = &h->ws_rec;
     memset(rec, 0, sizeof *rec);
     copy(rec->community, sizeof rec->community, h->cfg.community);
     copy(rec->host, sizeof rec->host, h->best);
@@ -187,7 +187,7 @@ int kelp_field_hostinfo_iterate(kelp_field_hostinfo *h, const kelp_field_sink *o
     if (h->port_udp > 0) rec->port_udp = (unsigned)h->port_udp, rec->have_port_udp = true;
     else if (colon && broker_port(colon + 1, strlen(colon + 1), &p) == 0) rec->port_udp = p, rec->have_port_udp = true;
     char *spec = h->ws_spec, *info = h->ws_info;
-    if (kelp_broker_host_spec(rec, NULL, NULL, spec, sizeof h->ws_spec) < 0) return 0;
+    if (kelp_field_broker_host_spec(rec, NULL, NULL, spec, sizeof h->ws_spec) < 0) return 0;
     size_t m = 0;
     info[0] = 0;
     for (const char *q = spec; *q;) {
@@ -210,7 +210,7 @@ int kelp_field_hostinfo_report(const kelp_field_hostinfo *h, char *buf, size_t c
     if (!buf || !cap) return KELP_ERR_NOSPACE;
     buf[0] = 0;
     char port[24] = "";
-    if (h->cfg.port_db > 0) kelp_snprintf(port, sizeof port, "%.0f", h->cfg.port_db);
+    if (h->cfg.port_db > 0) kelp_util_snprintf(port, sizeof port, "%.0f", h->cfg.port_db);
     broker_put(buf, cap, &n, &full, "\n  PHI_HOST_IP:          %s%s\n", h->best,
                h->best[0] && strcmp(h->best, h->cfg.default_ip) != 0 ? ""
                : h->cfg.force_ip[0]                                 ? "DEFAULT HOSTIP FORCED"

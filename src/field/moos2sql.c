@@ -13,7 +13,7 @@ static const char *const default_vars[3][10] = {
     { "STATUS_REPORT", "STATUS_SUMMARY", "STATUS_REPORT_IN", NULL },
 };
 
-const char *const kelp_m2s_migrations[] = {
+const char *const kelp_moos2sql_migrations[] = {
     /* 1: the three tables and their (name, time) indexes */
     "CREATE TABLE status (id INTEGER PRIMARY KEY, time REAL NOT NULL, name TEXT NOT NULL, community TEXT NOT NULL,"
     " var TEXT NOT NULL, type TEXT, mode TEXT, x REAL, y REAL, lat REAL, lon REAL, spd REAL, hdg REAL, depth REAL,"
@@ -30,7 +30,7 @@ const char *const kelp_m2s_migrations[] = {
     "CREATE INDEX contact_time ON contact (time);"
     "CREATE INDEX track_time ON track (time);",
 };
-const unsigned kelp_m2s_nmigrations = sizeof kelp_m2s_migrations / sizeof kelp_m2s_migrations[0];
+const unsigned kelp_moos2sql_nmigrations = sizeof kelp_moos2sql_migrations / sizeof kelp_moos2sql_migrations[0];
 
 static void copyz(char *dst, size_t cap, const char *s, size_t n)
 {
@@ -39,21 +39,21 @@ static void copyz(char *dst, size_t cap, const char *s, size_t n)
     dst[n] = 0;
 }
 
-static int find_var(const kelp_m2s_cfg *c, unsigned k, const char *var, size_t n)
+static int find_var(const kelp_moos2sql_cfg *c, unsigned k, const char *var, size_t n)
 {
     for (unsigned i = 0; i < c->nvars[k]; i++)
         if (strlen(c->vars[k][i]) == n && memcmp(c->vars[k][i], var, n) == 0) return (int)i;
     return -1;
 }
 
-static void drop_var(kelp_m2s_cfg *c, unsigned k, unsigned i)
+static void drop_var(kelp_moos2sql_cfg *c, unsigned k, unsigned i)
 {
     memmove(c->vars[k][i], c->vars[k][i + 1], (size_t)(c->nvars[k] - i - 1) * sizeof c->vars[k][0]);
     c->nvars[k]--;
 }
 
 /* add var to kind k, removing it from the others */
-static int add_var(kelp_m2s_cfg *c, unsigned k, const char *var, size_t n)
+static int add_var(kelp_moos2sql_cfg *c, unsigned k, const char *var, size_t n)
 {
     if (n == 0) return 0;
     if (n >= KELP_MAX_NAME) return KELP_ERR_RANGE;
@@ -67,7 +67,7 @@ static int add_var(kelp_m2s_cfg *c, unsigned k, const char *var, size_t n)
     return 0;
 }
 
-void kelp_m2s_cfg_default(kelp_m2s_cfg *c)
+void kelp_moos2sql_cfg_default(kelp_moos2sql_cfg *c)
 {
     memset(c, 0, sizeof *c);
     for (unsigned k = 0; k < 3; k++)
@@ -90,28 +90,28 @@ static int set_path(char *dst, const char *val, kelp_diag *d)
     return 1;
 }
 
-int kelp_m2s_config(kelp_m2s_cfg *c, const char *key, const char *val, kelp_diag *d)
+int kelp_moos2sql_config(kelp_moos2sql_cfg *c, const char *key, const char *val, kelp_diag *d)
 {
     static const char *const kinds[3] = { "STATUS_VAR", "CONTACT_VAR", "TRACK_VAR" };
-    if (kelp_strieq(key, "DATABASE")) {
+    if (kelp_util_strieq(key, "DATABASE")) {
         if (!val[0]) {
             return kelp_fail(d, KELP_ERR_ARG, "a database path is required");
         }
         return set_path(c->database, val, d);
     }
-    if (kelp_strieq(key, "KML_FILE")) return set_path(c->kml, val, d);
-    if (kelp_strieq(key, "KML_LINK_FILE")) return set_path(c->kml_link, val, d);
-    if (kelp_strieq(key, "KML_PERIOD") || kelp_strieq(key, "COMMIT_PERIOD")) {
-        bool kml = kelp_strieq(key, "KML_PERIOD");
+    if (kelp_util_strieq(key, "KML_FILE")) return set_path(c->kml, val, d);
+    if (kelp_util_strieq(key, "KML_LINK_FILE")) return set_path(c->kml_link, val, d);
+    if (kelp_util_strieq(key, "KML_PERIOD") || kelp_util_strieq(key, "COMMIT_PERIOD")) {
+        bool kml = kelp_util_strieq(key, "KML_PERIOD");
         double dv;
-        if (kelp_parse_finite(val, strlen(val), &dv) < 0 || !(dv > 0) || (!kml && dv > 0.5)) {
+        if (kelp_util_parse_finite(val, strlen(val), &dv) < 0 || !(dv > 0) || (!kml && dv > 0.5)) {
             return kelp_fail(d, KELP_ERR_PARSE, kml ? "a number of seconds > 0" : "a number of seconds in (0, 0.5]");
         }
         *(kml ? &c->kml_period : &c->commit_period) = dv;
         return 1;
     }
     for (unsigned k = 0; k < 3; k++) {
-        if (!kelp_strieq(key, kinds[k])) continue;
+        if (!kelp_util_strieq(key, kinds[k])) continue;
         for (const char *p = val; *p;) {
             size_t n = strcspn(p, ",");
             const char *s = p;
@@ -129,11 +129,11 @@ int kelp_m2s_config(kelp_m2s_cfg *c, const char *key, const char *val, kelp_diag
     return 0;
 }
 
-kelp_m2s_kind kelp_m2s_kind_of(const kelp_m2s_cfg *c, const char *var)
+kelp_moos2sql_kind kelp_moos2sql_kind_of(const kelp_moos2sql_cfg *c, const char *var)
 {
     size_t n = strlen(var);
     for (unsigned k = 0; k < 3; k++)
-        if (find_var(c, k, var, n) >= 0) return (kelp_m2s_kind)(k + 1);
+        if (find_var(c, k, var, n) >= 0) return (kelp_moos2sql_kind)(k + 1);
     return KELP_M2S_NONE;
 }
 
@@ -155,7 +155,7 @@ static long count_items(const char *s, size_t n)
 }
 
 /* track: the fields of a key=value status message */
-static int read_track(const char *s, kelp_m2s_record *out, kelp_diag *d)
+static int read_track(const char *s, kelp_moos2sql_record *out, kelp_diag *d)
 {
     static const struct { const char *key; uint32_t bit; } keys[] = {
         { "nav_x", KELP_NR_X }, { "x", KELP_NR_X }, { "nav_y", KELP_NR_Y }, { "y", KELP_NR_Y },
@@ -170,8 +170,8 @@ static int read_track(const char *s, kelp_m2s_record *out, kelp_diag *d)
     const char *k, *v;
     int rc;
     while ((rc = kelp_kv_next(s, ',', &pos, &k, &kl, &v, &vl)) == 1) {
-        if (!out->name[0] && (kelp_strieq_n(k, kl, "name") || kelp_strieq_n(k, kl, "vname") ||
-                              kelp_strieq_n(k, kl, "node"))) {
+        if (!out->name[0] && (kelp_util_strieq_n(k, kl, "name") || kelp_util_strieq_n(k, kl, "vname") ||
+                              kelp_util_strieq_n(k, kl, "node"))) {
             if (vl >= sizeof out->name) {
                 return kelp_fail(d, KELP_ERR_RANGE, "vehicle name too long");
             }
@@ -179,9 +179,9 @@ static int read_track(const char *s, kelp_m2s_record *out, kelp_diag *d)
             continue;
         }
         for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++) {
-            if (!kelp_strieq_n(k, kl, keys[i].key)) continue;
+            if (!kelp_util_strieq_n(k, kl, keys[i].key)) continue;
             double dv;
-            if ((r->fields & keys[i].bit) || kelp_parse_finite(v, vl, &dv) < 0) break; /* first wins; text ignored */
+            if ((r->fields & keys[i].bit) || kelp_util_parse_finite(v, vl, &dv) < 0) break; /* first wins; text ignored */
             double *dst = keys[i].bit == KELP_NR_X     ? &r->x
                           : keys[i].bit == KELP_NR_Y   ? &r->y
                           : keys[i].bit == KELP_NR_LAT ? &r->lat
@@ -200,10 +200,10 @@ static int read_track(const char *s, kelp_m2s_record *out, kelp_diag *d)
     return 0;
 }
 
-int kelp_m2s_classify(const kelp_m2s_cfg *c, const char *var, const char *community, double time, bool is_string,
-                      const char *sval, size_t slen, double dval, kelp_m2s_record *out, kelp_diag *d)
+int kelp_moos2sql_classify(const kelp_moos2sql_cfg *c, const char *var, const char *community, double time, bool is_string,
+                      const char *sval, size_t slen, double dval, kelp_moos2sql_record *out, kelp_diag *d)
 {
-    kelp_m2s_kind kind = kelp_m2s_kind_of(c, var);
+    kelp_moos2sql_kind kind = kelp_moos2sql_kind_of(c, var);
     if (kind == KELP_M2S_NONE) return 0;
     memset(out, 0, sizeof *out);
     kelp_nodereport_init(&out->nr);
@@ -238,12 +238,12 @@ int kelp_m2s_classify(const kelp_m2s_cfg *c, const char *var, const char *commun
 
 /* ------------------------------------------------------------------ the fleet */
 
-void kelp_m2s_fleet_init(kelp_m2s_fleet *f)
+void kelp_moos2sql_fleet_init(kelp_moos2sql_fleet *f)
 {
     memset(f, 0, sizeof *f);
 }
 
-int kelp_m2s_fleet_update(kelp_m2s_fleet *f, const kelp_m2s_cfg *c, const kelp_m2s_record *r)
+int kelp_moos2sql_fleet_update(kelp_moos2sql_fleet *f, const kelp_moos2sql_cfg *c, const kelp_moos2sql_record *r)
 {
     if ((r->kind != KELP_M2S_STATUS && r->kind != KELP_M2S_TRACK) || !r->name[0]) return 0;
     const kelp_nodereport *n = &r->nr;
@@ -272,7 +272,7 @@ int kelp_m2s_fleet_update(kelp_m2s_fleet *f, const kelp_m2s_cfg *c, const kelp_m
         memset(&f->v[i], 0, sizeof f->v[i]);
         copyz(f->v[i].name, sizeof f->v[i].name, r->name, strlen(r->name));
     }
-    kelp_m2s_vehicle *v = &f->v[i];
+    kelp_moos2sql_vehicle *v = &f->v[i];
     v->time = (n->fields & KELP_NR_TIME) ? n->time : r->time;
     v->lat = lat;
     v->lon = lon;
@@ -288,7 +288,7 @@ int kelp_m2s_fleet_update(kelp_m2s_fleet *f, const kelp_m2s_cfg *c, const kelp_m
 
 /* ------------------------------------------------------------------ KML */
 
-int kelp_m2s_xml_escape(char *buf, size_t cap, size_t *len, const char *s, size_t n)
+int kelp_moos2sql_xml_escape(char *buf, size_t cap, size_t *len, const char *s, size_t n)
 {
     for (size_t i = 0; i < n; i++) {
         unsigned char ch = (unsigned char)s[i];
@@ -319,7 +319,7 @@ static void put(wbuf *w, const char *fmt, ...)
     if (w->full) return;
     va_list ap;
     va_start(ap, fmt);
-    int n = kelp_vsnprintf(w->buf + w->len, w->cap - w->len, fmt, ap);
+    int n = kelp_util_vsnprintf(w->buf + w->len, w->cap - w->len, fmt, ap);
     va_end(ap);
     if (n < 0 || (size_t)n >= w->cap - w->len) w->full = true;
     else w->len += (size_t)n;
@@ -327,7 +327,7 @@ static void put(wbuf *w, const char *fmt, ...)
 
 static void put_text(wbuf *w, const char *s)
 {
-    if (!w->full && kelp_m2s_xml_escape(w->buf, w->cap, &w->len, s, strlen(s)) < 0) w->full = true;
+    if (!w->full && kelp_moos2sql_xml_escape(w->buf, w->cap, &w->len, s, strlen(s)) < 0) w->full = true;
 }
 
 /* ISO 8601 UTC of a time in seconds since 1970 (MOOS time) */
@@ -335,11 +335,11 @@ static void iso_time(double t, char *out, size_t cap)
 {
     if (!isfinite(t) || t < 0 || t > 253402300799.0) t = 0;
     int64_t s = (int64_t)floor(t);
-    int64_t days = kelp_floor_div(s, 86400), sec = s - days * 86400;
+    int64_t days = kelp_util_floor_div(s, 86400), sec = s - days * 86400;
     int64_t y;
     unsigned mo, d;
-    kelp_civil_from_days(days, &y, &mo, &d);
-    (void)kelp_snprintf(out, cap, "%04lld-%02u-%02uT%02u:%02u:%02uZ", (long long)y, mo, d, (unsigned)(sec / 3600),
+    kelp_util_civil_from_days(days, &y, &mo, &d);
+    (void)kelp_util_snprintf(out, cap, "%04lld-%02u-%02uT%02u:%02u:%02uZ", (long long)y, mo, d, (unsigned)(sec / 3600),
                         (unsigned)(sec / 60 % 60), (unsigned)(sec % 60));
 }
 
@@ -354,11 +354,11 @@ static wbuf start(char *buf, size_t cap, const char *title, const char *elem)
     return w;
 }
 
-int kelp_m2s_kml(kelp_m2s_fleet *f, const char *title, char *buf, size_t cap)
+int kelp_moos2sql_kml(kelp_moos2sql_fleet *f, const char *title, char *buf, size_t cap)
 {
     wbuf w = start(buf, cap, title, "Document");
     for (unsigned i = 0; i < f->n; i++) {
-        const kelp_m2s_vehicle *v = &f->v[i];
+        const kelp_moos2sql_vehicle *v = &f->v[i];
         char when[40];
         iso_time(v->time, when, sizeof when);
         put(&w, "<Placemark id=\"v%u\">\n<name>", i);
@@ -379,7 +379,7 @@ int kelp_m2s_kml(kelp_m2s_fleet *f, const char *title, char *buf, size_t cap)
     return (int)w.len;
 }
 
-int kelp_m2s_kml_link(const char *title, const char *href, double refresh, char *buf, size_t cap)
+int kelp_moos2sql_kml_link(const char *title, const char *href, double refresh, char *buf, size_t cap)
 {
     if (!isfinite(refresh) || refresh <= 0) refresh = 2;
     wbuf w = start(buf, cap, title, "NetworkLink");

@@ -14,7 +14,7 @@
 
 static bool key_is(const char *k, size_t kl, const char *a, const char *b)
 {
-    return kelp_strieq_n(k, kl, a) || (b && kelp_strieq_n(k, kl, b));
+    return kelp_util_strieq_n(k, kl, a) || (b && kelp_util_strieq_n(k, kl, b));
 }
 
 static void set_text(kelp_field_text *t, const char *v, size_t vl)
@@ -80,8 +80,8 @@ static double atof_n(const char *v, size_t vl)
     if (i < vl && (v[i] == '+' || v[i] == '-')) i++;
     const char *w = v + i;
     size_t wl = vl - i, end;
-    if (wl >= 8 && kelp_strieq_n(w, 8, "infinity")) end = i + 8;
-    else if (wl >= 3 && (kelp_strieq_n(w, 3, "inf") || kelp_strieq_n(w, 3, "nan"))) end = i + 3;
+    if (wl >= 8 && kelp_util_strieq_n(w, 8, "infinity")) end = i + 8;
+    else if (wl >= 3 && (kelp_util_strieq_n(w, 3, "inf") || kelp_util_strieq_n(w, 3, "nan"))) end = i + 3;
     else {
         size_t digits = 0;
         for (; i < vl && v[i] >= '0' && v[i] <= '9'; i++) digits++;
@@ -99,7 +99,7 @@ static double atof_n(const char *v, size_t vl)
         }
     }
     double d;
-    return kelp_parse_double(v + b, end - b, &d) == 0 ? d : 0.0;
+    return kelp_util_parse_double(v + b, end - b, &d) == 0 ? d : 0.0;
 }
 
 /* a MOOS variable name we are willing to post */
@@ -129,8 +129,8 @@ static void take_pair(kelp_node_message *m, kelp_field_text *var_alt, kelp_field
     } else if (key_is(k, kl, "color", NULL)) set_text(&m->color, v, vl);
     else if (key_is(k, kl, "ack_id", "msg_id")) set_text(&m->ack_id, v, vl);
     /* as 24.8: only "true" (any case) sets these, and nothing clears them again */
-    else if (key_is(k, kl, "string_val_quoted", NULL) && kelp_strieq_n(v, vl, "true")) m->string_val_quoted = true;
-    else if (key_is(k, kl, "ack", NULL) && kelp_strieq_n(v, vl, "true")) m->ack = true;
+    else if (key_is(k, kl, "string_val_quoted", NULL) && kelp_util_strieq_n(v, vl, "true")) m->string_val_quoted = true;
+    else if (key_is(k, kl, "ack", NULL) && kelp_util_strieq_n(v, vl, "true")) m->ack = true;
     else if (key_is(k, kl, "double_val", NULL)) {
         set_text(dval, v, vl);
         m->has_double = true;
@@ -172,7 +172,7 @@ int kelp_field_nodemsg_parse(const char *s, size_t len, kelp_node_message *m, ke
     if (!m->var_name.n) return kelp_fail(d, KELP_ERR_PARSE, "no var_name");
     if (string_set && m->has_double) return kelp_fail(d, KELP_ERR_PARSE, "both string_val and double_val");
     if (!name_ok(m->var_name.p, m->var_name.n)) return kelp_fail(d, KELP_ERR_PARSE, "var_name is not a variable name");
-    if (kelp_strieq_n(m->var_name.p, m->var_name.n, "NODE_MESSAGE")) return kelp_fail(d, KELP_ERR_PARSE, "var_name NODE_MESSAGE would loop");
+    if (kelp_util_strieq_n(m->var_name.p, m->var_name.n, "NODE_MESSAGE")) return kelp_fail(d, KELP_ERR_PARSE, "var_name NODE_MESSAGE would loop");
     /* 24.8 posts a string only when one is left after the quotes; otherwise the double
      * (0 when there is none), read as atof reads it */
     m->has_string = m->string_val.n > 0;
@@ -187,7 +187,7 @@ bool kelp_field_nodemsg_to(const kelp_node_message *m, const char *me)
     const char *it;
     size_t il;
     while (field_next_item(m->dest_node.p, m->dest_node.n, &pos, ':', &it, &il) == 1)
-        if (kelp_strieq_n(it, il, me)) return true;
+        if (kelp_util_strieq_n(it, il, me)) return true;
     return false;
 }
 
@@ -212,10 +212,10 @@ void kelp_field_umh_cfg_default(kelp_field_umh_cfg *c, const char *community)
 static int parse_bool(const char *val, bool *out, kelp_diag *d)
 {
     size_t n = strlen(val);
-    if (kelp_strieq_n(val, n, "on")) *out = true;
-    else if (kelp_strieq_n(val, n, "off")) *out = false;
-    else if (kelp_strieq_n(val, n, "toggle")) *out = !*out;
-    else if (kelp_parse_bool(val, n, out) != KELP_OK) return kelp_fail(d, KELP_ERR_PARSE, "expected true or false");
+    if (kelp_util_strieq_n(val, n, "on")) *out = true;
+    else if (kelp_util_strieq_n(val, n, "off")) *out = false;
+    else if (kelp_util_strieq_n(val, n, "toggle")) *out = !*out;
+    else if (kelp_util_parse_bool(val, n, out) != KELP_OK) return kelp_fail(d, KELP_ERR_PARSE, "expected true or false");
     return 1;
 }
 
@@ -304,9 +304,9 @@ static int parse_flag(kelp_umh_flag *f, unsigned *n, const char *val, kelp_diag 
 int kelp_field_umh_config(kelp_field_umh_cfg *c, const char *key, const char *val, kelp_diag *d)
 {
     size_t kl = strlen(key), vl = strlen(val);
-    if (kelp_strieq_n(key, kl, "VERBOSE")) return parse_bool(val, &c->verbose, d);
-    if (kelp_strieq_n(key, kl, "STRICT_ADDRESSING")) return parse_bool(val, &c->strict, d);
-    if (kelp_strieq_n(key, kl, "AUX_INFO")) {
+    if (kelp_util_strieq_n(key, kl, "VERBOSE")) return parse_bool(val, &c->verbose, d);
+    if (kelp_util_strieq_n(key, kl, "STRICT_ADDRESSING")) return parse_bool(val, &c->strict, d);
+    if (kelp_util_strieq_n(key, kl, "AUX_INFO")) {
         /* as 24.8 compares them: exactly these two, in lower case */
         if (strcmp(val, "node") == 0) c->aux_app = false;
         else if (strcmp(val, "node+app") == 0) c->aux_app = true;
@@ -315,7 +315,7 @@ int kelp_field_umh_config(kelp_field_umh_cfg *c, const char *key, const char *va
         }
         return 1;
     }
-    if (kelp_strieq_n(key, kl, "APPCAST_TRUNC_MSG")) {
+    if (kelp_util_strieq_n(key, kl, "APPCAST_TRUNC_MSG")) {
         /* 24.8: a number (MBUtils' isNumber) read as atoi; below 0 is 0 */
         if (!moos_number(val, vl)) {
             return kelp_fail(d, KELP_ERR_PARSE, "expected a number of characters (0: whole)");
@@ -324,8 +324,8 @@ int kelp_field_umh_config(kelp_field_umh_cfg *c, const char *key, const char *va
         c->trunc = n <= 0 ? 0u : n >= 2147483647.0 ? 2147483647u : (unsigned)n;
         return 1;
     }
-    if (kelp_strieq_n(key, kl, "MSG_FLAG")) return parse_flag(c->msg_flag, &c->nmsg_flag, val, d);
-    if (kelp_strieq_n(key, kl, "BAD_MSG_FLAG")) return parse_flag(c->bad_flag, &c->nbad_flag, val, d);
+    if (kelp_util_strieq_n(key, kl, "MSG_FLAG")) return parse_flag(c->msg_flag, &c->nmsg_flag, val, d);
+    if (kelp_util_strieq_n(key, kl, "BAD_MSG_FLAG")) return parse_flag(c->bad_flag, &c->nbad_flag, val, d);
     return 0;
 }
 
@@ -367,7 +367,7 @@ static void expand(const kelp_field_umh *h, const char *in, char *out, size_t ca
             size_t ml = strlen(names[i]);
             if (strncmp(in, names[i], ml) != 0) continue;
             char num[24];
-            int k = kelp_snprintf(num, sizeof num, "%lu", vals[i]);
+            int k = kelp_util_snprintf(num, sizeof num, "%lu", vals[i]);
             if (k > 0 && n + (size_t)k < cap) {
                 memcpy(out + n, num, (size_t)k);
                 n += (size_t)k;
@@ -394,11 +394,11 @@ static void post_flags(const kelp_field_umh *h, const kelp_umh_flag *f, unsigned
 }
 
 /* MBUtils' doubleToStringX(v, 6): "%.6f" without trailing zeros and point, never "-0" (past
- * kelp_fmt_fixed's range, as 24.8 does it: "%.6e" above 2^128, and its zeros stripped too) */
+ * kelp_util_fmt_fixed's range, as 24.8 does it: "%.6e" above 2^128, and its zeros stripped too) */
 static void double_x(char *buf, size_t cap, double v)
 {
-    if (kelp_fmt_fixed(buf, cap, v, 6, true) >= 0) return;
-    kelp_snprintf(buf, cap, v > 0x1p128 ? "%.6e" : "%.6f", v);
+    if (kelp_util_fmt_fixed(buf, cap, v, 6, true) >= 0) return;
+    kelp_util_snprintf(buf, cap, v > 0x1p128 ? "%.6e" : "%.6f", v);
     size_t n = strlen(buf);
     if (!strchr(buf, '.')) return;
     while (n && buf[n - 1] == '0') n--;
@@ -437,8 +437,8 @@ static int bad(kelp_field_umh *h, kelp_umh_list *l, unsigned long *ctr, const ch
  * back the stored times move back by the step, so no age in the report is negative */
 static bool clock_ok(kelp_field_umh *h, kelp_time now)
 {
-    if (!kelp_time_ok(now)) return false;
-    double back = kelp_clock_back(&h->clock, now);
+    if (!kelp_util_time_ok(now)) return false;
+    double back = kelp_util_clock_back(&h->clock, now);
     if (back > 0) {
         if (h->last_msg >= 0) h->last_msg -= back;
         h->last_summary -= back;
@@ -507,7 +507,7 @@ int kelp_field_umh_iterate(kelp_field_umh *h, kelp_time now, const kelp_field_si
     if (!h->summary_due && h->iter % 100 != 1) return 0;
     char buf[128];
     /* seed 6.1.2: total, valid and rejected; written as 24.8 writes it */
-    kelp_snprintf(buf, sizeof buf, "total=%lu,valid=%lu,rejected=%lu", h->total, h->valid, h->rejected);
+    kelp_util_snprintf(buf, sizeof buf, "total=%lu,valid=%lu,rejected=%lu", h->total, h->valid, h->rejected);
     out->publish(out->ctx, "UMH_SUMMARY_MSGS", true, buf, 0);
     h->summary_due = false;
     h->last_summary = now;
@@ -588,9 +588,9 @@ static void walk_table(const kelp_field_umh *h, kelp_time now, cell_fn fn, table
         prev = s->name;
         char num[32];
         cells(t, fn, s->name);
-        kelp_snprintf(num, sizeof num, "%lu", s->total);
+        kelp_util_snprintf(num, sizeof num, "%lu", s->total);
         cells(t, fn, num);
-        kelp_snprintf(num, sizeof num, "%.1f", now - s->last);
+        kelp_util_snprintf(num, sizeof num, "%.1f", now - s->last);
         cells(t, fn, num);
         cells(t, fn, s->var);
         cells(t, fn, s->val);

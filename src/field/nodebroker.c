@@ -47,10 +47,10 @@ static void keep_bad(kelp_field_nbroker_cfg *cfg, const char *line, const char *
  * same pshare_route again (24.8) */
 static int add_try(kelp_field_nbroker_cfg *cfg, const char *val)
 {
-    kelp_broker_try t;
+    kelp_field_broker_try t;
     kelp_diag *d = &cfg->ws_diag;
     kelp_diag_clear(d);
-    int rc = cfg->pmb ? kelp_broker_try_parse(val, &t, d) : kelp_broker_try_parse_pshare(val, &t, d);
+    int rc = cfg->pmb ? kelp_field_broker_try_parse(val, &t, d) : kelp_field_broker_try_parse_pshare(val, &t, d);
     if (rc < 0) {
         keep_bad(cfg, val, kelp_diag_text(d), rc == KELP_ERR_UNSUPPORTED);
         return 0;
@@ -71,34 +71,34 @@ static int add_try(kelp_field_nbroker_cfg *cfg, const char *val)
 int kelp_field_nbroker_config(kelp_field_nbroker_cfg *cfg, const char *key, const char *val, kelp_diag *d)
 {
     size_t kl = strlen(key);
-    if (kelp_strieq_n(key, kl, "KEYWORD")) {
+    if (kelp_util_strieq_n(key, kl, "KEYWORD")) {
         if (strlen(val) >= sizeof cfg->keyword || strpbrk(val, " ,=")) {
             return kelp_fail(d, KELP_ERR_PARSE, "one word without ',' or '=', up to 63 characters");
         }
         memcpy(cfg->keyword, val, strlen(val) + 1);
         return 1;
     }
-    if (kelp_strieq_n(key, kl, "TRY_SHORE_HOST")) {
+    if (kelp_util_strieq_n(key, kl, "TRY_SHORE_HOST")) {
         /* an invalid one is listed in the report (seed 2.2); 24.8 warns of a duplicate */
         if (add_try(cfg, val) < 0) return kelp_fail(d, KELP_ERR_EXISTS, "Duplicate try_shore_host");
         return 1;
     }
-    if (kelp_strieq_n(key, kl, "BRIDGE")) {
-        kelp_broker_bridge b;
-        if (kelp_broker_bridge_parse(val, &b, d) < 0) return KELP_ERR_PARSE;
+    if (kelp_util_strieq_n(key, kl, "BRIDGE")) {
+        kelp_field_broker_bridge b;
+        if (kelp_field_broker_bridge_parse(val, &b, d) < 0) return KELP_ERR_PARSE;
         return broker_add_bridge(cfg->bridge, &cfg->nbridges, b.src, b.alias, d);
     }
-    if (kelp_strieq_n(key, kl, "RETRY_INTERVAL")) {
+    if (kelp_util_strieq_n(key, kl, "RETRY_INTERVAL")) {
         double dv;
-        if (kelp_parse_double(val, strlen(val), &dv) < 0 || !(dv > 0 && dv < 1e6)) {
+        if (kelp_util_parse_double(val, strlen(val), &dv) < 0 || !(dv > 0 && dv < 1e6)) {
             return kelp_fail(d, KELP_ERR_PARSE, "seconds > 0");
         }
         cfg->retry = dv;
         return 1;
     }
-    bool *flag = kelp_strieq_n(key, kl, "AUTO_BRIDGE_REALMCAST") ? &cfg->auto_realmcast
-                 : kelp_strieq_n(key, kl, "AUTO_BRIDGE_APPCAST") ? &cfg->auto_appcast
-                 : kelp_strieq_n(key, kl, "AUTO_BRIDGE_PSHARE_VARS") ? &cfg->auto_pshare_vars
+    bool *flag = kelp_util_strieq_n(key, kl, "AUTO_BRIDGE_REALMCAST") ? &cfg->auto_realmcast
+                 : kelp_util_strieq_n(key, kl, "AUTO_BRIDGE_APPCAST") ? &cfg->auto_appcast
+                 : kelp_util_strieq_n(key, kl, "AUTO_BRIDGE_PSHARE_VARS") ? &cfg->auto_pshare_vars
                                                                     : NULL;
     if (flag) {
         if (!broker_bool(val, flag)) {
@@ -131,7 +131,7 @@ const char *kelp_field_nbroker_subscription(unsigned i)
     return i < 3 ? subs[i] : NULL;
 }
 
-static int ping_route(kelp_field_nbroker *b, const kelp_broker_try *t, const kelp_field_sink *out)
+static int ping_route(kelp_field_nbroker *b, const kelp_field_broker_try *t, const kelp_field_sink *out)
 {
     int rc = broker_register(out, "NODE_BROKER_PING", t->community[0] ? t->community : NB_DEFAULT_SHORE, t->host,
                              t->port, "NODE_BROKER_PING", b->last_register, sizeof b->last_register);
@@ -143,7 +143,7 @@ static int user_bridges(kelp_field_nbroker *b, const kelp_field_sink *out)
 {
     int posts = 0;
     for (unsigned i = 0; i < b->cfg.nbridges; i++) {
-        const kelp_broker_bridge *br = &b->cfg.bridge[i];
+        const kelp_field_broker_bridge *br = &b->cfg.bridge[i];
         if (broker_register(out, br->src, b->shore.community, b->shore.host, b->shore.port_udp, br->alias,
                             b->last_register, sizeof b->last_register) > 0)
             b->registers++, posts++;
@@ -159,12 +159,12 @@ static void warn(const kelp_field_sink *out, const char *msg)
 
 static int ack_mail(kelp_field_nbroker *b, const char *sval, kelp_time now, const kelp_field_sink *out)
 {
-    kelp_broker_host *hp = &b->ws_host;
+    kelp_field_broker_host *hp = &b->ws_host;
 #define h (*hp)
     kelp_diag *d = &b->cfg.ws_diag;
     kelp_diag_clear(d);
-    int rc = kelp_broker_host_parse(sval, &h, d);
-    if (rc == 0 && !kelp_broker_host_complete(&h)) rc = kelp_fail(d, KELP_ERR_PARSE, "no community, host or port_udp");
+    int rc = kelp_field_broker_host_parse(sval, &h, d);
+    if (rc == 0 && !kelp_field_broker_host_complete(&h)) rc = kelp_fail(d, KELP_ERR_PARSE, "no community, host or port_udp");
     if (rc == 0 && h.have_warp && h.warp != b->cfg.warp) rc = kelp_fail(d, KELP_ERR_STATE, "another time warp");
     if (rc == 0 && h.keyword[0] && b->cfg.keyword[0] && strcmp(h.keyword, b->cfg.keyword) != 0)
         rc = kelp_fail(d, KELP_ERR_DENIED, "another keyword");
@@ -172,7 +172,7 @@ static int ack_mail(kelp_field_nbroker *b, const char *sval, kelp_time now, cons
     if (rc < 0) {
         b->bad_ack++;
         char msg[128];
-        kelp_snprintf(msg, sizeof msg, "bad NODE_BROKER_ACK: %s", kelp_diag_text(d));
+        kelp_util_snprintf(msg, sizeof msg, "bad NODE_BROKER_ACK: %s", kelp_diag_text(d));
         warn(out, msg);
         return rc;
     }
@@ -201,8 +201,8 @@ KELP_NOINLINE static int seed_mail(kelp_field_nbroker *b, const char *var, bool 
                      const kelp_field_sink *out)
 {
     if (strcmp(var, "PHI_HOST_INFO") == 0) {
-        kelp_broker_host *h = &b->ws_host;
-        if (!is_string || kelp_broker_host_parse(sval, h, NULL) < 0 || !kelp_broker_host_complete(h)) {
+        kelp_field_broker_host *h = &b->ws_host;
+        if (!is_string || kelp_field_broker_host_parse(sval, h, NULL) < 0 || !kelp_field_broker_host_complete(h)) {
             b->bad_phi++;
             return KELP_ERR_PARSE;
         }
@@ -256,13 +256,13 @@ KELP_NOINLINE static int seed_iterate(kelp_field_nbroker *b, kelp_time now, cons
     return posts + 1;
 }
 
-static void host_block(char *buf, size_t cap, size_t *n, bool *full, const char *title, const kelp_broker_host *h,
+static void host_block(char *buf, size_t cap, size_t *n, bool *full, const char *title, const kelp_field_broker_host *h,
                        bool have)
 {
     char db[12] = "", udp[12] = "", warp[24] = "";
     size_t wn = 0;
-    if (have && h->port_db) kelp_snprintf(db, sizeof db, "%u", h->port_db);
-    if (have && h->port_udp) kelp_snprintf(udp, sizeof udp, "%u", h->port_udp);
+    if (have && h->port_db) kelp_util_snprintf(db, sizeof db, "%u", h->port_db);
+    if (have && h->port_udp) kelp_util_snprintf(udp, sizeof udp, "%u", h->port_udp);
     if (have && h->have_warp && field_put_fixed(warp, sizeof warp, &wn, h->warp, 6, true) < 0) warp[0] = 0;
     broker_put(buf, cap, n, full,
         "%s: %s\n    HostIP: %s\n    Port (DB): %s\n    Port (UDP): %s\n    Time Warp: %s\n", title,
@@ -325,7 +325,7 @@ static int ping_bridges(kelp_field_nbroker *b, unsigned from, unsigned to, const
     int posts = 0;
     for (unsigned i = from; i < to; i++) {
         char src[32];
-        kelp_snprintf(src, sizeof src, "NODE_BROKER_PING_%u", i);
+        kelp_util_snprintf(src, sizeof src, "NODE_BROKER_PING_%u", i);
         posts += cmd(b, src, "NODE_BROKER_PING", b->cfg.tryh[i].route, out);
     }
     return posts;
@@ -345,10 +345,10 @@ KELP_NOINLINE static void warn24(kelp_field_nbroker *b, const kelp_field_sink *o
 
 static int ack24(kelp_field_nbroker *b, const char *sval, kelp_time now, const kelp_field_sink *out)
 {
-    kelp_broker_host *h = &b->ws_host; /* the ack's record */
+    kelp_field_broker_host *h = &b->ws_host; /* the ack's record */
     long ix = -1;
-    bool ok = kelp_broker_host_parse(sval, h, NULL) == 0 && kelp_broker_host_valid(h);
-    if (ok && (!h->key[0] || kelp_parse_long(h->key, strlen(h->key), &ix) < 0 || ix < 0 || (unsigned long)ix >= b->cfg.ntry))
+    bool ok = kelp_field_broker_host_parse(sval, h, NULL) == 0 && kelp_field_broker_host_valid(h);
+    if (ok && (!h->key[0] || kelp_util_parse_long(h->key, strlen(h->key), &ix) < 0 || ix < 0 || (unsigned long)ix >= b->cfg.ntry))
         ok = false;
     if (!ok) {
         b->bad_ack++;
@@ -356,7 +356,7 @@ static int ack24(kelp_field_nbroker *b, const char *sval, kelp_time now, const k
         return KELP_ERR_PARSE;
     }
     b->shore = *h;
-    kelp_broker_shore *sh = &b->sh[ix];
+    kelp_field_broker_shore *sh = &b->sh[ix];
     memcpy(sh->community, h->community, sizeof sh->community);
     memcpy(sh->ip, h->host, sizeof sh->ip);
     memcpy(sh->warp, h->warp_s, sizeof sh->warp);
@@ -385,14 +385,14 @@ KELP_NOINLINE static int mail24(kelp_field_nbroker *b, const char *var, bool is_
                   const kelp_field_sink *out)
 {
     if (strcmp(var, "PHI_HOST_INFO") == 0) {
-        kelp_broker_host *h = &b->ws_host;
-        if (!is_string || !sval || kelp_broker_host_parse(sval, h, NULL) < 0 || !kelp_broker_host_valid(h)) {
+        kelp_field_broker_host *h = &b->ws_host;
+        if (!is_string || !sval || kelp_field_broker_host_parse(sval, h, NULL) < 0 || !kelp_field_broker_host_valid(h)) {
             b->bad_phi++;
             warn24(b, out, "Invalid PHI_HOST_INFO recd: ", sval && is_string ? sval : "", "");
             return KELP_ERR_PARSE;
         }
         b->ok_phi++;
-        const kelp_broker_host *o = &b->node;
+        const kelp_field_broker_host *o = &b->node;
         if (strcmp(o->community, h->community) != 0 || strcmp(o->warp_s, h->warp_s) != 0 || strcmp(o->host, h->host) != 0 ||
             o->port_db != h->port_db || o->have_port_db != h->have_port_db || o->port_udp != h->port_udp ||
             o->have_port_udp != h->have_port_udp || strcmp(o->iroutes, h->iroutes) != 0)
@@ -435,9 +435,9 @@ KELP_NOINLINE static int iterate24(kelp_field_nbroker *b, kelp_time now, const k
         double thresh = now - b->ok_ack_at > KELP_BROKER_PING_FAST ? KELP_BROKER_PING_FAST : KELP_BROKER_PING_SLOW;
         if (!(now - b->ping_at > thresh)) continue;
         char key[16], var[40];
-        kelp_snprintf(key, sizeof key, "%u", i);
-        kelp_snprintf(var, sizeof var, "NODE_BROKER_PING_%u", i);
-        if (kelp_broker_host_spec(&b->node, tstamp, key, b->ws, sizeof b->ws) < 0) continue;
+        kelp_util_snprintf(key, sizeof key, "%u", i);
+        kelp_util_snprintf(var, sizeof var, "NODE_BROKER_PING_%u", i);
+        if (kelp_field_broker_host_spec(&b->node, tstamp, key, b->ws, sizeof b->ws) < 0) continue;
         out->publish(out->ctx, var, true, b->ws, 0);
         b->sh[i].pings++;
         b->pings++;
@@ -453,12 +453,12 @@ static const char *shore_cell(const void *ctx, unsigned row, unsigned col, char 
                                             { "Name", "Route", "Sent", "Acked", "Address", "Warp" } };
     const kelp_field_nbroker *b = ctx;
     if (row < 2) return head[row][col];
-    const kelp_broker_shore *sh = &b->sh[row - 2];
+    const kelp_field_broker_shore *sh = &b->sh[row - 2];
     switch (col) {
     case 0: return sh->community;
     case 1: return b->cfg.tryh[row - 2].route;
-    case 2: kelp_snprintf(tmp, cap, "%lu", sh->pings); return tmp;
-    case 3: kelp_snprintf(tmp, cap, "%lu", sh->acks); return tmp;
+    case 2: kelp_util_snprintf(tmp, cap, "%lu", sh->pings); return tmp;
+    case 3: kelp_util_snprintf(tmp, cap, "%lu", sh->acks); return tmp;
     case 4: return sh->ip;
     default: return sh->warp;
     }
@@ -468,7 +468,7 @@ static int report24(const kelp_field_nbroker *b, char *buf, size_t cap)
 {
     size_t n = 0;
     bool full = false;
-    const kelp_broker_host *h = &b->node;
+    const kelp_field_broker_host *h = &b->node;
     static const char rule[] = "===========================================================\n";
     broker_put(buf, cap, &n, &full,
                "\n  Total OK  PHI_HOST_INFO    received: %lu\n"
@@ -478,15 +478,15 @@ static int report24(const kelp_field_nbroker *b, char *buf, size_t cap)
                "  Total BAD NODE_BROKER_ACK  received: %lu\n\n",
                b->ok_phi, b->bad_phi, b->phi_changes, b->pshare_cmds, b->bad_ack);
     char port_db[12] = "";
-    if (h->have_port_db) kelp_snprintf(port_db, sizeof port_db, "%u", h->port_db);
+    if (h->have_port_db) kelp_util_snprintf(port_db, sizeof port_db, "%u", h->port_db);
     broker_put(buf, cap, &n, &full,
                "%s             Vehicle Node Information:\n%s\n"
                "     Community: %s\n        HostIP: %s\n   Port MOOSDB: %s\n     Time Warp: %s\n   TryHost IPs: ",
                rule, rule, h->community, h->host, port_db, h->warp_s);
     bool first = true;
     for (unsigned i = 0; i < b->cfg.ntry; i++) { /* the real addresses among the routes */
-        const kelp_broker_try *t = &b->cfg.tryh[i];
-        if (!t->host[0] || kelp_strieq(t->host, "localhost") || !field_ip_ok(t->host, strlen(t->host))) continue;
+        const kelp_field_broker_try *t = &b->cfg.tryh[i];
+        if (!t->host[0] || kelp_util_strieq(t->host, "localhost") || !field_ip_ok(t->host, strlen(t->host))) continue;
         broker_put(buf, cap, &n, &full, "%s%s", first ? "" : ",", t->host);
         first = false;
     }
@@ -530,8 +530,8 @@ static int report24(const kelp_field_nbroker *b, char *buf, size_t cap)
  * info request) keeps what remained of it instead of stalling for the step */
 static bool clock_ok(kelp_field_nbroker *b, kelp_time now)
 {
-    if (!kelp_time_ok(now)) return false;
-    double back = kelp_clock_back(&b->clock, now);
+    if (!kelp_util_time_ok(now)) return false;
+    double back = kelp_util_clock_back(&b->clock, now);
     if (back > 0) {
         double *t[] = { &b->host_req_at, &b->routes_at, &b->last_ack, &b->ping_at, &b->ok_ack_at };
         for (size_t i = 0; i < sizeof t / sizeof t[0]; i++)

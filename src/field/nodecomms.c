@@ -36,7 +36,7 @@ static char up(char ch) { return (char)(ch >= 'a' && ch <= 'z' ? ch - 'a' + 'A' 
 static int parse_num(const char *v, double *out)
 {
     double d;
-    if (kelp_parse_double(v, strlen(v), &d) < 0 || !isfinite(d)) return KELP_ERR_PARSE;
+    if (kelp_util_parse_double(v, strlen(v), &d) < 0 || !isfinite(d)) return KELP_ERR_PARSE;
     *out = d;
     return KELP_OK;
 }
@@ -112,8 +112,8 @@ static int parse_factor(const char *val, bool stealth, char *vname, size_t cap, 
 static int parse_share(const char *v, double *out)
 {
     double d;
-    if (kelp_strieq(v, "true")) *out = NC_SHARE_TRUE; /* a number is seconds, not a bool ("1" = 1 s) */
-    else if (kelp_strieq(v, "false")) *out = -1;
+    if (kelp_util_strieq(v, "true")) *out = NC_SHARE_TRUE; /* a number is seconds, not a bool ("1" = 1 s) */
+    else if (kelp_util_strieq(v, "false")) *out = -1;
     else if (parse_num(v, &d) == 0 && d >= 0) *out = d;
     else return KELP_ERR_PARSE;
     return KELP_OK;
@@ -147,12 +147,12 @@ int kelp_field_ncomms_config(kelp_field_ncomms_cfg *cfg, const char *key, const 
         { "MIN_RPT_INTERVAL", &cfg->min_rpt_interval, -INFINITY }, { "PULSE_DURATION", &cfg->pulse_duration, -INFINITY },
         { "DROP_PERCENTAGE", &cfg->drop_pct, 0 },
     };
-    if (kelp_strieq_n(key, kl, "COMMS_RANGE") && kelp_strieq_n(v, n, "nolimit")) {
+    if (kelp_util_strieq_n(key, kl, "COMMS_RANGE") && kelp_util_strieq_n(v, n, "nolimit")) {
         cfg->comms_range = -1;
         return 1;
     }
     for (size_t i = 0; i < sizeof nums / sizeof nums[0]; i++)
-        if (kelp_strieq_n(key, kl, nums[i].k)) {
+        if (kelp_util_strieq_n(key, kl, nums[i].k)) {
             if (parse_num(v, &dv) < 0 || dv < nums[i].lo) {
                 return kelp_fail(d, KELP_ERR_PARSE, nums[i].lo == 0 ? "must be a number >= 0" : "must be a number");
             }
@@ -162,9 +162,9 @@ int kelp_field_ncomms_config(kelp_field_ncomms_cfg *cfg, const char *key, const 
             *nums[i].dst = dv;
             return 1;
         }
-    if (kelp_strieq_n(key, kl, "MAX_MSG_LENGTH")) {
+    if (kelp_util_strieq_n(key, kl, "MAX_MSG_LENGTH")) {
         long l;
-        if (kelp_parse_long(v, n, &l) < 0 || l < 0) {
+        if (kelp_util_parse_long(v, n, &l) < 0 || l < 0) {
             return kelp_fail(d, KELP_ERR_PARSE, "must be a count of characters >= 0");
         }
         cfg->max_msg_length = (unsigned long)l;
@@ -176,24 +176,24 @@ int kelp_field_ncomms_config(kelp_field_ncomms_cfg *cfg, const char *key, const 
         { "VIEW_NODE_RPT_PULSES", &cfg->view_node_rpt_pulses },
     };
     for (size_t i = 0; i < sizeof bools / sizeof bools[0]; i++)
-        if (kelp_strieq_n(key, kl, bools[i].k)) {
-            if (kelp_parse_bool(v, n, &b) < 0) {
+        if (kelp_util_strieq_n(key, kl, bools[i].k)) {
+            if (kelp_util_parse_bool(v, n, &b) < 0) {
                 return kelp_fail(d, KELP_ERR_PARSE, "must be true or false");
             }
             *bools[i].dst = b;
             return 1;
         }
-    if (kelp_strieq_n(key, kl, "SHARED_NODE_REPORTS")) {
+    if (kelp_util_strieq_n(key, kl, "SHARED_NODE_REPORTS")) {
         if (parse_share(v, &cfg->share_interval) < 0) {
             return kelp_fail(d, KELP_ERR_PARSE, "must be true, false or seconds >= 0");
         }
         return 1;
     }
-    if (kelp_strieq_n(key, kl, "MSG_COLOR")) return set_color(cfg->msg_color, sizeof cfg->msg_color, v, d);
-    if (kelp_strieq_n(key, kl, "MSG_REPEAT_COLOR"))
+    if (kelp_util_strieq_n(key, kl, "MSG_COLOR")) return set_color(cfg->msg_color, sizeof cfg->msg_color, v, d);
+    if (kelp_util_strieq_n(key, kl, "MSG_REPEAT_COLOR"))
         return set_color(cfg->msg_repeat_color, sizeof cfg->msg_repeat_color, v, d);
-    bool st = kelp_strieq_n(key, kl, "STEALTH");
-    if (st || kelp_strieq_n(key, kl, "EARANGE")) {
+    bool st = kelp_util_strieq_n(key, kl, "STEALTH");
+    if (st || kelp_util_strieq_n(key, kl, "EARANGE")) {
         kelp_ncomms_factor f;
         memset(&f, 0, sizeof f);
         int rc = parse_factor(v, st, f.vname, sizeof f.vname, st ? &f.stealth : &f.earange, d);
@@ -402,19 +402,19 @@ static void nm_parse(const char *s, size_t len, nmsg *m)
     const char *k, *v;
     bool sval_quoted = false;
     while (next_pair(s, len, &pos, &k, &kl, &v, &vl) == 1) {
-        if (kelp_strieq_n(k, kl, "src_node")) m->src = v, m->srcl = vl;
-        else if (kelp_strieq_n(k, kl, "src_app")) m->app = v, m->appl = vl;
-        else if (kelp_strieq_n(k, kl, "src_bhv")) m->bhv = v, m->bhvl = vl;
-        else if (kelp_strieq_n(k, kl, "dest_node")) m->dest = v, m->destl = vl;
-        else if (kelp_strieq_n(k, kl, "dest_group")) m->group = v, m->groupl = vl;
-        else if (kelp_strieq_n(k, kl, "var_name")) m->var = v, m->varl = vl;
-        else if (kelp_strieq_n(k, kl, "string_val")) m->sval = v, m->svall = vl;
-        else if (kelp_strieq_n(k, kl, "color")) {
+        if (kelp_util_strieq_n(k, kl, "src_node")) m->src = v, m->srcl = vl;
+        else if (kelp_util_strieq_n(k, kl, "src_app")) m->app = v, m->appl = vl;
+        else if (kelp_util_strieq_n(k, kl, "src_bhv")) m->bhv = v, m->bhvl = vl;
+        else if (kelp_util_strieq_n(k, kl, "dest_node")) m->dest = v, m->destl = vl;
+        else if (kelp_util_strieq_n(k, kl, "dest_group")) m->group = v, m->groupl = vl;
+        else if (kelp_util_strieq_n(k, kl, "var_name")) m->var = v, m->varl = vl;
+        else if (kelp_util_strieq_n(k, kl, "string_val")) m->sval = v, m->svall = vl;
+        else if (kelp_util_strieq_n(k, kl, "color")) {
             if (vl && !memchr(v, ' ', vl)) m->color = v, m->colorl = vl; /* a colour name */
-        } else if (kelp_strieq_n(k, kl, "ack_id")) m->id = v, m->idl = vl;
-        else if (kelp_strieq_n(k, kl, "string_val_quoted") && kelp_strieq_n(v, vl, "true")) sval_quoted = true;
-        else if (kelp_strieq_n(k, kl, "ack") && kelp_strieq_n(v, vl, "true")) m->ack = true;
-        else if (kelp_strieq_n(k, kl, "double_val")) m->dval = v, m->dvall = vl, m->has_dval = true;
+        } else if (kelp_util_strieq_n(k, kl, "ack_id")) m->id = v, m->idl = vl;
+        else if (kelp_util_strieq_n(k, kl, "string_val_quoted") && kelp_util_strieq_n(v, vl, "true")) sval_quoted = true;
+        else if (kelp_util_strieq_n(k, kl, "ack") && kelp_util_strieq_n(v, vl, "true")) m->ack = true;
+        else if (kelp_util_strieq_n(k, kl, "double_val")) m->dval = v, m->dvall = vl, m->has_dval = true;
     }
     /* quotes added to hide separators come off, unless the value still holds one */
     m->sval_unquote = sval_quoted && quoted(m->sval, m->svall) && !memchr(m->sval + 1, ',', m->svall - 2);
@@ -460,7 +460,7 @@ static int nm_spec(const nmsg *m, const char *app, char *b, size_t cap)
     rc |= put_pair(b, cap, &n, "color", m->color, m->colorl);
     if (m->has_dval) {
         double d = 0; /* atof: what does not read as a number is 0 */
-        if (kelp_parse_double(m->dval, m->dvall, &d) < 0 || !isfinite(d)) d = 0;
+        if (kelp_util_parse_double(m->dval, m->dvall, &d) < 0 || !isfinite(d)) d = 0;
         if (rc == KELP_OK) {
             if (n) rc = field_put_str(b, cap, &n, ",");
             if (rc == KELP_OK) rc = field_put_str(b, cap, &n, "double_val=");
@@ -486,11 +486,11 @@ static bool am_parse(const char *s, size_t len, amsg *m)
     size_t pos = 0, kl, vl;
     const char *k, *v;
     while (next_pair(s, len, &pos, &k, &kl, &v, &vl) == 1) {
-        if (kelp_strieq_n(k, kl, "src")) {
+        if (kelp_util_strieq_n(k, kl, "src")) {
             if (!has_white(v, vl) && !(vl == m->destl && !memcmp(v, m->dest ? m->dest : "", vl))) m->src = v, m->srcl = vl;
-        } else if (kelp_strieq_n(k, kl, "dest")) {
+        } else if (kelp_util_strieq_n(k, kl, "dest")) {
             if (!has_white(v, vl) && !(vl == m->srcl && !memcmp(v, m->src ? m->src : "", vl))) m->dest = v, m->destl = vl;
-        } else if (kelp_strieq_n(k, kl, "id")) {
+        } else if (kelp_util_strieq_n(k, kl, "id")) {
             m->id = v, m->idl = vl;
         }
     }
@@ -570,7 +570,7 @@ static void pulse(kelp_field_ncomms *c, int s, int d, const char *ptype, const c
 {
     bool autoc = color == NULL;
     if (!(c->cfg.pulse_duration > 0) || s == d) return;
-    if (!autoc && (kelp_strieq(color, "off") || kelp_strieq(color, "invisible"))) return;
+    if (!autoc && (kelp_util_strieq(color, "off") || kelp_util_strieq(color, "invisible"))) return;
     char *b = c->ws_pulse;
     const size_t cap = sizeof c->ws_pulse;
     size_t n = 0;
@@ -994,7 +994,7 @@ static int mail_factor(kelp_field_ncomms *c, const char *var, const char *s, boo
  * the sender's clock and stays.  A forward step is elapsed time: reports go stale until the next. */
 static bool clock_guard(kelp_field_ncomms *c, kelp_time now)
 {
-    if (!kelp_time_ok(now)) return false;
+    if (!kelp_util_time_ok(now)) return false;
     if (c->started && c->start > now) c->start = now;
     for (unsigned i = 0; i < c->nnodes; i++) {
         kelp_ncomms_node *nd = &c->node[i];
@@ -1016,7 +1016,7 @@ int kelp_field_ncomms_mail(kelp_field_ncomms *c, const char *var, bool is_string
     for (size_t i = 0; i < sizeof subs / sizeof subs[0]; i++)
         if (strcmp(var, subs[i]) == 0) ours = true;
     if (!ours) return 0;
-    if (!kelp_time_ok(now)) return KELP_ERR_ARG;
+    if (!kelp_util_time_ok(now)) return KELP_ERR_ARG;
     if (!c->started) c->start = now, c->started = true;
     const char *s = is_string && sval ? sval : ""; /* a double where a string is read: "" (as 24.8) */
     if (!strcmp(var, "NODE_REPORT") || !strcmp(var, "NODE_REPORT_LOCAL")) return mail_report(c, var, s, now, out);
@@ -1025,7 +1025,7 @@ int kelp_field_ncomms_mail(kelp_field_ncomms *c, const char *var, bool is_string
     if (!strcmp(var, "UNC_STEALTH")) return mail_factor(c, var, s, true, out);
     if (!strcmp(var, "UNC_EARANGE")) return mail_factor(c, var, s, false, out);
     if (!strcmp(var, "UNC_VIEW_NODE_RPT_PULSES")) {
-        if (kelp_parse_bool(s, strlen(s), &c->view_rpt_pulses) < 0) {
+        if (kelp_util_parse_bool(s, strlen(s), &c->view_rpt_pulses) < 0) {
             bad_mail(c, out, var, NULL);
             return KELP_ERR_PARSE;
         }
@@ -1114,14 +1114,14 @@ static void put_num(rbuf *r, double v, int dec, bool strip)
 {
     char t[48];
     size_t n = 0;
-    if (field_put_fixed(t, sizeof t, &n, v, dec, strip) < 0) kelp_snprintf(t, sizeof t, "%g", v);
+    if (field_put_fixed(t, sizeof t, &n, v, dec, strip) < 0) kelp_util_snprintf(t, sizeof t, "%g", v);
     put(r, t);
 }
 
 static void put_ul(rbuf *r, unsigned long v)
 {
     char t[24];
-    kelp_snprintf(t, sizeof t, "%lu", v);
+    kelp_util_snprintf(t, sizeof t, "%lu", v);
     put(r, t);
 }
 
@@ -1192,7 +1192,7 @@ int kelp_field_ncomms_report(kelp_field_ncomms *c, kelp_time now, char *buf, siz
     double elapsed_app = now - c->start;
     char cnt[24];
     put(&r, "Node Report Summary\n======================================\n     Total Received: ");
-    kelp_snprintf(cnt, sizeof cnt, "%lu", c->rpts_rcvd);
+    kelp_util_snprintf(cnt, sizeof cnt, "%lu", c->rpts_rcvd);
     put_pad(&r, cnt, 10, false);
     put(&r, "Elapsed      Rate\n");
     for (unsigned j = 0; j < c->nnodes; j++) {
@@ -1202,7 +1202,7 @@ int kelp_field_ncomms_report(kelp_field_ncomms *c, kelp_time now, char *buf, siz
         put(&r, "  ");
         put_pad(&r, nd->name, 17, true);
         put(&r, ": ");
-        kelp_snprintf(cnt, sizeof cnt, "%lu", nd->rpts_rcvd);
+        kelp_util_snprintf(cnt, sizeof cnt, "%lu", nd->rpts_rcvd);
         put_pad(&r, cnt, 7, false);
         put_paren(&r, "(", now - c->hot[i].t_recv, 1, ")", 8);
         if (elapsed_app > 0) put_paren(&r, "[", (double)nd->rpts_rcvd / elapsed_app, 2, "]", 12);

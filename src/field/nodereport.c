@@ -122,7 +122,7 @@ uint32_t bit;
 static uint32_t nr_key_bit(const char *k, size_t kl)
 {
     for (size_t i = 0; i < sizeof nr_keys / sizeof nr_keys[0]; i++)
-        if (kelp_strieq_n(k, kl, nr_keys[i].key)) return nr_keys[i].bit;
+        if (kelp_util_strieq_n(k, kl, nr_keys[i].key)) return nr_keys[i].bit;
     return 0;
 }
 
@@ -350,7 +350,7 @@ int kelp_nodereport_ledger(kelp_nodereport *r, const double *prev_xy, kelp_diag 
                                         "bcrayx", "smr", "smrx",  "skyw", "skywalker", "quad", "quadcopter"};
     if (!(r->fields & KELP_NR_TYPE)) r->type[0] = 0;
     bool is_known = false;
-    for (size_t i = 0; i < sizeof known / sizeof known[0] && !is_known; i++) is_known = kelp_strieq(r->type, known[i]);
+    for (size_t i = 0; i < sizeof known / sizeof known[0] && !is_known; i++) is_known = kelp_util_strieq(r->type, known[i]);
     if (strcmp(r->type, "uuv") == 0) set_type(r, "auv");
     else if (!is_known) set_type(r, "ship");
     if ((!strcmp(r->type, "auv") || !strcmp(r->type, "glider")) && !(r->fields & KELP_NR_DEPTH))

@@ -82,7 +82,7 @@ static bool span_usable(const char *v, size_t vl)
 
 static bool span_num(const char *v, size_t vl, double *d)
 {
-    return kelp_parse_double(v, vl, d) == KELP_OK && isfinite(*d);
+    return kelp_util_parse_double(v, vl, d) == KELP_OK && isfinite(*d);
 }
 
 int kelp_field_nrep_add_plat(kelp_field_nrep_cfg *cfg, const char *spec, kelp_diag *d)
@@ -105,9 +105,9 @@ int kelp_field_nrep_add_plat(kelp_field_nrep_cfg *cfg, const char *spec, kelp_di
     size_t pos = 0, kl, vl;
     const char *k, *v;
     while (n > 0 && item_next(comma + 1, &pos, &k, &kl, &v, &vl)) {
-        if (kelp_strieq_n(k, kl, "gap") && span_num(v, vl, &p.gap)) {
+        if (kelp_util_strieq_n(k, kl, "gap") && span_num(v, vl, &p.gap)) {
             if (p.gap < 0) p.gap = 0;
-        } else if (kelp_strieq_n(k, kl, "alias") && span_usable(v, vl)) {
+        } else if (kelp_util_strieq_n(k, kl, "alias") && span_usable(v, vl)) {
             span_text(p.alias, sizeof p.alias, v, vl);
         } else {
             return kelp_fail(d, KELP_ERR_PARSE, "unknown or bad item (gap=S, alias=A)");
@@ -134,13 +134,13 @@ int kelp_field_nrep_add_rider(kelp_field_nrep_cfg *cfg, const char *spec, kelp_d
     const char *k, *v;
     while (n > 0 && item_next(spec, &pos, &k, &kl, &v, &vl)) {
         double dv;
-        if (kelp_strieq_n(k, kl, "var") && vl > 0) {
+        if (kelp_util_strieq_n(k, kl, "var") && vl > 0) {
             span_text(r.var, sizeof r.var, v, vl);
-        } else if (kelp_strieq_n(k, kl, "rfld") && span_usable(v, vl)) {
+        } else if (kelp_util_strieq_n(k, kl, "rfld") && span_usable(v, vl)) {
             span_text(r.field, sizeof r.field, v, vl);
-        } else if (kelp_strieq_n(k, kl, "policy") && (kelp_strieq_n(v, vl, "always") || kelp_strieq_n(v, vl, "updated"))) {
-            r.updated_only = kelp_strieq_n(v, vl, "updated");
-        } else if (kelp_strieq_n(k, kl, "prec") && span_num(v, vl, &dv) && dv >= 0 && dv <= 9 && dv == (int)dv) {
+        } else if (kelp_util_strieq_n(k, kl, "policy") && (kelp_util_strieq_n(v, vl, "always") || kelp_util_strieq_n(v, vl, "updated"))) {
+            r.updated_only = kelp_util_strieq_n(v, vl, "updated");
+        } else if (kelp_util_strieq_n(k, kl, "prec") && span_num(v, vl, &dv) && dv >= 0 && dv <= 9 && dv == (int)dv) {
             r.prec = (int)dv;
         } else {
             return kelp_fail(d, KELP_ERR_PARSE, "expected var=V, policy=always|updated, rfld=F, prec=0..9");
@@ -165,7 +165,7 @@ int kelp_field_nrep_parse_fill(const char *s, kelp_nrep_fill *out)
     if (n >= sizeof t) return KELP_ERR_PARSE;
     for (size_t i = 0; i <= n; i++) t[i] = s[i] == '_' ? '-' : s[i];
     for (int i = 0; i < 5; i++)
-        if (kelp_strieq(t, names[i])) {
+        if (kelp_util_strieq(t, names[i])) {
             *out = (kelp_nrep_fill)i;
             return KELP_OK;
         }
@@ -184,7 +184,7 @@ int kelp_field_nrep_init(kelp_field_nrep *r, const kelp_field_nrep_cfg *cfg, kel
         const char *pre = k ? cfg->alt_prefix : cfg->prefix;
         r->nav[k].last = -1;
         for (int i = 0; i < KELP_NREP_NAV && pre[0]; i++) {
-            int n = kelp_snprintf(r->nav[k].var[i], sizeof r->nav[k].var[i], "%s%s", pre, nav_suffix[i]);
+            int n = kelp_util_snprintf(r->nav[k].var[i], sizeof r->nav[k].var[i], "%s%s", pre, nav_suffix[i]);
             if (n < 0 || (size_t)n >= sizeof r->nav[k].var[i]) return KELP_ERR_RANGE;
         }
     }
@@ -238,8 +238,8 @@ static void value_text(char *dst, bool is_string, const char *sval, double dval,
         copy_field(dst, sval ? sval : "");
     } else {
         char b[64];
-        if (prec >= 0) kelp_snprintf(b, sizeof b, "%.*f", prec, dval);
-        else kelp_snprintf(b, sizeof b, "%.6g", dval);
+        if (prec >= 0) kelp_util_snprintf(b, sizeof b, "%.*f", prec, dval);
+        else kelp_util_snprintf(b, sizeof b, "%.6g", dval);
         copy_field(dst, b);
     }
 }
@@ -248,10 +248,10 @@ static int nav_mail(kelp_field_nrep *r, kelp_nrep_nav *nv, int i, const char *va
                     const kelp_field_sink *out)
 {
     double d = dval;
-    if (is_string && (!sval || kelp_parse_double(sval, strlen(sval), &d) < 0)) d = NAN;
+    if (is_string && (!sval || kelp_util_parse_double(sval, strlen(sval), &d) < 0)) d = NAN;
     if (!isfinite(d)) {
         char msg[KELP_MAX_NAME + 48];
-        kelp_snprintf(msg, sizeof msg, "%s is not a finite number; ignored", var);
+        kelp_util_snprintf(msg, sizeof msg, "%s is not a finite number; ignored", var);
         r->bad_mail++;
         warn(out, msg);
         return KELP_ERR_RANGE;
@@ -331,7 +331,7 @@ static void mode_of(const kelp_field_nrep *r, kelp_time now, char *mode, size_t 
     } else if (r->helm_last < 0) {
         set_text(mode, cap, "NOHELM-EVER");
     } else if (now - r->helm_last > r->cfg.nohelm_threshold) {
-        kelp_snprintf(mode, cap, "NOHELM-%.0f", now - r->helm_last);
+        kelp_util_snprintf(mode, cap, "NOHELM-%.0f", now - r->helm_last);
     } else if (!strncmp(r->helm_state, "DRIVE", 5) && r->helm_modes[0] && strcmp(r->helm_modes, "none") != 0) {
         set_text(mode, cap, r->helm_modes);
     } else {
@@ -344,10 +344,10 @@ static void extras(kelp_field_nrep *r, char *buf, size_t cap)
 {
     size_t o = 0;
     buf[0] = 0;
-    if (r->cfg.aspect[0]) o = (size_t)kelp_snprintf(buf, cap, "%s", r->cfg.aspect);
+    if (r->cfg.aspect[0]) o = (size_t)kelp_util_snprintf(buf, cap, "%s", r->cfg.aspect);
     for (unsigned i = 0; i < r->cfg.nriders && o < cap; i++) {
         if (!r->rider_have[i] || (r->cfg.rider[i].updated_only && !r->rider_new[i])) continue;
-        o += (size_t)kelp_snprintf(buf + o, cap - o, "%s%s=%s", o ? "," : "", r->cfg.rider[i].field, r->rider_val[i]);
+        o += (size_t)kelp_util_snprintf(buf + o, cap - o, "%s%s=%s", o ? "," : "", r->cfg.rider[i].field, r->rider_val[i]);
         r->rider_new[i] = false;
     }
     if (o >= cap) buf[0] = 0; /* would not fit: none rather than half a pair */
@@ -364,8 +364,8 @@ static int to_json(const char *csp, char *buf, size_t cap)
     buf[o++] = '{';
     while ((rc = kelp_kv_next(csp, ',', &pos, &k, &kl, &v, &vl)) == 1) {
         double d;
-        bool num = v && kelp_parse_double(v, vl, &d) == KELP_OK && isfinite(d);
-        int w = kelp_snprintf(buf + o, cap - o, "%s\"%.*s\":%s%.*s%s", o > 1 ? "," : "", (int)kl, k, num ? "" : "\"",
+        bool num = v && kelp_util_parse_double(v, vl, &d) == KELP_OK && isfinite(d);
+        int w = kelp_util_snprintf(buf + o, cap - o, "%s\"%.*s\":%s%.*s%s", o > 1 ? "," : "", (int)kl, k, num ? "" : "\"",
                          (int)(v ? vl : 0), v ? v : "", num ? "" : "\"");
         if (w < 0 || (size_t)w >= cap - o) return KELP_ERR_NOSPACE;
         o += (size_t)w;
@@ -380,12 +380,12 @@ static void platform_report(kelp_field_nrep *r, kelp_time now, const kelp_field_
 {
     char *buf = r->ws.text;
     const size_t cap = sizeof r->ws.text;
-    int o = kelp_snprintf(buf, cap, "platform=%s,utc_time=%.2f", r->cfg.name, now);
+    int o = kelp_util_snprintf(buf, cap, "platform=%s,utc_time=%.2f", r->cfg.name, now);
     bool any = false;
     for (unsigned i = 0; i < r->cfg.nplat; i++) {
         if (!r->plat_new[i] || (r->plat_sent[i] >= 0 && now - r->plat_sent[i] <= r->cfg.plat[i].gap)) continue;
         const char *nm = r->cfg.plat[i].alias[0] ? r->cfg.plat[i].alias : r->cfg.plat[i].var;
-        int w = kelp_snprintf(buf + o, cap - (size_t)o, ",%s=%s", nm, r->plat_val[i]);
+        int w = kelp_util_snprintf(buf + o, cap - (size_t)o, ",%s=%s", nm, r->plat_val[i]);
         if (w < 0 || (size_t)w >= cap - (size_t)o) break;
         o += w;
         r->plat_new[i] = false;
@@ -448,7 +448,7 @@ static void extras_with_cog(kelp_field_nrep *r, const kelp_nrep_nav *nv, char *b
     extras(r, buf, cap);
     if (!r->cfg.report_cog || !nv->have[KELP_NREP_COG]) return;
     size_t o = strlen(buf);
-    int w = kelp_snprintf(buf + o, cap - o, "%sCOG=%.2f", o ? "," : "", nv->v[KELP_NREP_COG]);
+    int w = kelp_util_snprintf(buf + o, cap - o, "%sCOG=%.2f", o ? "," : "", nv->v[KELP_NREP_COG]);
     if (w < 0 || (size_t)w >= cap - o) buf[o] = 0;
 }
 
@@ -471,7 +471,7 @@ static int post(kelp_field_nrep *r, kelp_nodereport *n, const char *extra, bool 
     const char *main_text = r->cfg.json_only && want_json ? json : text;
     if (first) {
         char v[KELP_MAX_NAME + 8];
-        kelp_snprintf(v, sizeof v, "%.*s_FIRST", KELP_MAX_NAME - 1, r->cfg.out_var);
+        kelp_util_snprintf(v, sizeof v, "%.*s_FIRST", KELP_MAX_NAME - 1, r->cfg.out_var);
         out->publish(out->ctx, v, true, main_text, 0);
     }
     out->publish(out->ctx, r->cfg.out_var, true, main_text, 0);
@@ -481,7 +481,7 @@ static int post(kelp_field_nrep *r, kelp_nodereport *n, const char *extra, bool 
 
 int kelp_field_nrep_iterate(kelp_field_nrep *r, kelp_time now, const kelp_field_sink *out)
 {
-    if (!kelp_time_ok(now)) return 0;
+    if (!kelp_util_time_ok(now)) return 0;
     /* the time step rule (docs/ARCHITECTURE.md): after a backward step no time of our own clock
      * lies ahead of now, so the blackout and platform gaps last at most their length and no gap
      * or NOHELM age is negative */
@@ -522,7 +522,7 @@ int kelp_field_nrep_iterate(kelp_field_nrep *r, kelp_time now, const kelp_field_
     if (r->cfg.alt_prefix[0] && r->nav[1].last >= 0 && now - r->nav[1].last < 5) {
         char name[KELP_NODEREPORT_MAX_FIELD * 2];
         const char *an = r->cfg.alt_name[0] ? r->cfg.alt_name : "_GT";
-        kelp_snprintf(name, sizeof name, "%s%s", an[0] == '_' ? r->cfg.name : "", an);
+        kelp_util_snprintf(name, sizeof name, "%s%s", an[0] == '_' ? r->cfg.name : "", an);
         kelp_nodereport *g = &r->ws.alt;
         if (build(r, &r->nav[1], name, r->cfg.alt_group[0] ? r->cfg.alt_group : r->cfg.group, now, out, g)) {
             g->index = (long)r->posted;

@@ -7,26 +7,26 @@
 #include <kelp/util.h>
 #include "field_int.h"
 
-void kelp_field_upc_cfg_default(kelp_field_upc_cfg *cfg)
+void kelp_pathcheck_cfg_default(kelp_pathcheck_cfg *cfg)
 {
     memset(cfg, 0, sizeof *cfg);
     cfg->history = KELP_UPC_DEFAULT_HISTORY;
 }
 
-int kelp_field_upc_config(kelp_field_upc_cfg *cfg, const char *key, const char *val, kelp_diag *d)
+int kelp_pathcheck_config(kelp_pathcheck_cfg *cfg, const char *key, const char *val, kelp_diag *d)
 {
     /* 24.8 takes HISTORY_LENGTH only (an integer above 1); "history" and the rest are
      * unhandled lines */
-    if (!kelp_strieq(key, "HISTORY_LENGTH")) return 0;
+    if (!kelp_util_strieq(key, "HISTORY_LENGTH")) return 0;
     long h;
-    if (kelp_parse_long(val, strlen(val), &h) < 0 || h < 2 || h > KELP_UPC_MAX_HISTORY) {
+    if (kelp_util_parse_long(val, strlen(val), &h) < 0 || h < 2 || h > KELP_UPC_MAX_HISTORY) {
         return kelp_fail(d, KELP_ERR_ARG, "HISTORY_LENGTH: an integer from 2 to KELP_UPC_MAX_HISTORY");
     }
     cfg->history = (unsigned)h;
     return 1;
 }
 
-int kelp_field_upc_init(kelp_field_upc *p, const kelp_field_upc_cfg *cfg)
+int kelp_pathcheck_init(kelp_pathcheck *p, const kelp_pathcheck_cfg *cfg)
 {
     memset(p, 0, sizeof *p);
     if (cfg->history < 2 || cfg->history > KELP_UPC_MAX_HISTORY) return KELP_ERR_ARG;
@@ -34,13 +34,13 @@ int kelp_field_upc_init(kelp_field_upc *p, const kelp_field_upc_cfg *cfg)
     return KELP_OK;
 }
 
-const char *kelp_field_upc_subscription(unsigned i)
+const char *kelp_pathcheck_subscription(unsigned i)
 {
     static const char *const subs[] = { "NODE_REPORT", "NODE_REPORT_LOCAL", "UPC_TRIP_RESET" };
     return i < sizeof subs / sizeof subs[0] ? subs[i] : NULL;
 }
 
-int kelp_field_upc_find(const kelp_field_upc *p, const char *name)
+int kelp_pathcheck_find(const kelp_pathcheck *p, const char *name)
 {
     for (unsigned i = 0; i < p->nnodes; i++)
         if (strcmp(name, p->node[i].name) == 0) return (int)i;
@@ -48,7 +48,7 @@ int kelp_field_upc_find(const kelp_field_upc *p, const char *name)
 }
 
 /* "<what><text>" through the sink's warn, the text cut to the workspace */
-static void warn2(kelp_field_upc *p, const kelp_field_sink *out, const char *what, const char *text)
+static void warn2(kelp_pathcheck *p, const kelp_field_sink *out, const char *what, const char *text)
 {
     if (!out || !out->warn) return;
     size_t k = 0;
@@ -60,7 +60,7 @@ static void warn2(kelp_field_upc *p, const kelp_field_sink *out, const char *wha
     out->warn(out->ctx, p->ws);
 }
 
-double kelp_field_upc_speed(const kelp_upc_node *n)
+double kelp_pathcheck_speed(const kelp_upc_node *n)
 {
     /* the mean of the per-leg speeds along the queue (24.8's computeAndPostSpeeds); a leg
      * whose time difference is not positive is left out (24.8 divides by it) */
@@ -86,7 +86,7 @@ static bool record_valid(const kelp_nodereport *r)
            (r->fields & (KELP_NR_LAT | KELP_NR_LON)) == (KELP_NR_LAT | KELP_NR_LON);
 }
 
-static int node_report(kelp_field_upc *p, const char *s, kelp_time now, const kelp_field_sink *out)
+static int node_report(kelp_pathcheck *p, const char *s, kelp_time now, const kelp_field_sink *out)
 {
     kelp_nodereport r;
     if (kelp_nodereport_parse(s, strlen(s), &r, NULL) < 0 || !record_valid(&r)) {
@@ -94,7 +94,7 @@ static int node_report(kelp_field_upc *p, const char *s, kelp_time now, const ke
         warn2(p, out, "Invalid NODE_REPORT: ", s);
         return KELP_ERR_PARSE;
     }
-    int i = kelp_field_upc_find(p, r.name);
+    int i = kelp_pathcheck_find(p, r.name);
     if (i < 0) {
         if (p->nnodes >= KELP_UPC_MAX_NODES) {
             p->full++;
@@ -132,17 +132,17 @@ static int node_report(kelp_field_upc *p, const char *s, kelp_time now, const ke
     return 1;
 }
 
-int kelp_field_upc_mail(kelp_field_upc *p, const char *var, bool is_string, const char *sval, kelp_time now,
+int kelp_pathcheck_mail(kelp_pathcheck *p, const char *var, bool is_string, const char *sval, kelp_time now,
                         const kelp_field_sink *out)
 {
     if (strcmp(var, "NODE_REPORT") == 0 || strcmp(var, "NODE_REPORT_LOCAL") == 0) {
-        if (!is_string || !sval || !kelp_time_ok(now)) return KELP_ERR_ARG;
+        if (!is_string || !sval || !kelp_util_time_ok(now)) return KELP_ERR_ARG;
         return node_report(p, sval, now, out);
     }
     if (strcmp(var, "UPC_TRIP_RESET") == 0) {
         if (!is_string || !sval) return KELP_ERR_ARG;
         /* 24.8: the value is the name, exactly; only a vehicle with odometry has a trip */
-        int i = kelp_field_upc_find(p, sval);
+        int i = kelp_pathcheck_find(p, sval);
         if (i >= 0 && p->node[i].has_dist) {
             p->node[i].trip = 0;
             p->resets++;
@@ -155,7 +155,7 @@ int kelp_field_upc_mail(kelp_field_upc *p, const char *var, bool is_string, cons
     return 0;
 }
 
-unsigned kelp_field_upc_iterate(kelp_field_upc *p, kelp_time now, const kelp_field_sink *out)
+unsigned kelp_pathcheck_iterate(kelp_pathcheck *p, kelp_time now, const kelp_field_sink *out)
 {
     (void)now;
     unsigned posts = 0;
@@ -165,7 +165,7 @@ unsigned kelp_field_upc_iterate(kelp_field_upc *p, kelp_time now, const kelp_fie
         if (n->n < 2) continue;
         size_t k = 0;
         /* 24.8's doubleToString is printf's "%.2f" (an exact tie rounds to even) */
-        field_putf(buf, sizeof buf, &k, "vname=%s,avg_spd=%.2f", n->name, kelp_field_upc_speed(n));
+        field_putf(buf, sizeof buf, &k, "vname=%s,avg_spd=%.2f", n->name, kelp_pathcheck_speed(n));
         if (k + 1 < sizeof buf && out) {
             out->publish(out->ctx, "UPC_SPEED_REPORT", true, buf, 0);
             posts++;
@@ -186,12 +186,12 @@ unsigned kelp_field_upc_iterate(kelp_field_upc *p, kelp_time now, const kelp_fie
 }
 
 typedef struct upc_table {
-    const kelp_field_upc *p;
+    const kelp_pathcheck *p;
     kelp_time now;
 } upc_table;
 
 /* the index of the row-th vehicle with odometry (24.8's table lists those) */
-static unsigned upc_row(const kelp_field_upc *p, unsigned row)
+static unsigned upc_row(const kelp_pathcheck *p, unsigned row)
 {
     unsigned i = 0;
     for (; i < p->nnodes; i++)
@@ -218,7 +218,7 @@ static const char *upc_cell(const void *ctx, unsigned row, unsigned col, char *t
     return tmp;
 }
 
-int kelp_field_upc_report(const kelp_field_upc *p, kelp_time now, double warp, char *buf, size_t cap)
+int kelp_pathcheck_report(const kelp_pathcheck *p, kelp_time now, double warp, char *buf, size_t cap)
 {
     size_t k = 0;
     bool full = false;

@@ -41,26 +41,26 @@ bool rs_trans(double push, double pull, double d)
 
 /* ------------------------------------------------------------------ per-vehicle values */
 
-double kelp_rsense_vmap_get(const kelp_rsense_vmap *m, const char *name)
+double kelp_rangesense_vmap_get(const kelp_rangesense_vmap *m, const char *name)
 {
     for (unsigned i = 0; i < m->n; i++)
-        if (kelp_strieq(m->name[i], name)) return m->v[i];
+        if (kelp_util_strieq(m->name[i], name)) return m->v[i];
     return m->dflt;
 }
 
 static int parse_dist(const char *s, size_t n, bool allow_nolimit, double *out)
 {
-    if (allow_nolimit && (kelp_strieq_n(s, n, "nolimit") || kelp_strieq_n(s, n, "unlimited"))) {
+    if (allow_nolimit && (kelp_util_strieq_n(s, n, "nolimit") || kelp_util_strieq_n(s, n, "unlimited"))) {
         *out = -1;
         return KELP_OK;
     }
     double d;
-    if (kelp_parse_double(s, n, &d) < 0 || !isfinite(d)) return KELP_ERR_PARSE;
+    if (kelp_util_parse_double(s, n, &d) < 0 || !isfinite(d)) return KELP_ERR_PARSE;
     *out = d;
     return KELP_OK;
 }
 
-int kelp_rsense_vmap_set(kelp_rsense_vmap *m, const char *val, bool allow_nolimit, kelp_diag *d)
+int kelp_rangesense_vmap_set(kelp_rangesense_vmap *m, const char *val, bool allow_nolimit, kelp_diag *d)
 {
     const char *eq = strchr(val, '=');
     const char *name = NULL;
@@ -81,7 +81,7 @@ int kelp_rsense_vmap_set(kelp_rsense_vmap *m, const char *val, bool allow_nolimi
         return kelp_fail(d, KELP_ERR_PARSE, allow_nolimit ? "must be [<vname>|default =] <number or nolimit>" : "must be [<vname>|default =] <number>");
     }
     if (!allow_nolimit && dv < 0) dv = 0; /* a negative ping wait: no wait */
-    if (!name || kelp_strieq_n(name, nl, "default")) {
+    if (!name || kelp_util_strieq_n(name, nl, "default")) {
         m->dflt = dv;
         return 1;
     }
@@ -89,7 +89,7 @@ int kelp_rsense_vmap_set(kelp_rsense_vmap *m, const char *val, bool allow_nolimi
         return kelp_fail(d, KELP_ERR_PARSE, "bad vehicle name");
     }
     for (unsigned i = 0; i < m->n; i++)
-        if (kelp_strieq_n(name, nl, m->name[i])) {
+        if (kelp_util_strieq_n(name, nl, m->name[i])) {
             m->v[i] = dv;
             return 1;
         }
@@ -103,7 +103,7 @@ int kelp_rsense_vmap_set(kelp_rsense_vmap *m, const char *val, bool allow_nolimi
 
 /* ------------------------------------------------------------------ common parameters */
 
-void kelp_rsense_common_default(kelp_rsense_common *c)
+void kelp_rangesense_common_default(kelp_rangesense_common *c)
 {
     memset(c, 0, sizeof *c);
     c->ping_wait.dflt = 30; /* A63 */
@@ -112,52 +112,52 @@ void kelp_rsense_common_default(kelp_rsense_common *c)
 }
 
 /* one pct= (clipped to [0,1] as 24.8 does) or sigma= (at least 0) value into t */
-static int noise_value(kelp_rsense_noise *t, bool pct, const char *v, size_t vl, kelp_diag *d)
+static int noise_value(kelp_rangesense_noise *t, bool pct, const char *v, size_t vl, kelp_diag *d)
 {
     double dv;
-    if (kelp_parse_double(v, vl, &dv) < 0 || !isfinite(dv)) return kelp_fail(d, KELP_ERR_PARSE, "bad number");
+    if (kelp_util_parse_double(v, vl, &dv) < 0 || !isfinite(dv)) return kelp_fail(d, KELP_ERR_PARSE, "bad number");
     if (pct) t->pct = dv < 0 ? 0 : dv > 1 ? 1 : dv;
     else t->sigma = dv < 0 ? 0 : dv;
     return 1;
 }
 
-int kelp_rsense_common_config(kelp_rsense_common *c, const char *key, const char *v, kelp_diag *d)
+int kelp_rangesense_common_config(kelp_rangesense_common *c, const char *key, const char *v, kelp_diag *d)
 {
     size_t kl = strlen(key), n = strlen(v);
-    if (kelp_strieq_n(key, kl, "PING_WAIT")) return kelp_rsense_vmap_set(&c->ping_wait, v, false, d);
-    if (kelp_strieq_n(key, kl, "REPORT_VARS")) {
-        if (kelp_strieq_n(v, n, "short")) c->report_vars = KELP_RSENSE_SHORT;
-        else if (kelp_strieq_n(v, n, "long")) c->report_vars = KELP_RSENSE_LONG;
-        else if (kelp_strieq_n(v, n, "both")) c->report_vars = KELP_RSENSE_BOTH;
+    if (kelp_util_strieq_n(key, kl, "PING_WAIT")) return kelp_rangesense_vmap_set(&c->ping_wait, v, false, d);
+    if (kelp_util_strieq_n(key, kl, "REPORT_VARS")) {
+        if (kelp_util_strieq_n(v, n, "short")) c->report_vars = KELP_RSENSE_SHORT;
+        else if (kelp_util_strieq_n(v, n, "long")) c->report_vars = KELP_RSENSE_LONG;
+        else if (kelp_util_strieq_n(v, n, "both")) c->report_vars = KELP_RSENSE_BOTH;
         else return kelp_fail(d, KELP_ERR_PARSE, "must be short, long or both");
         return 1;
     }
-    if (kelp_strieq_n(key, kl, "RN_ALGORITHM")) return kelp_rsense_noise_set(&c->noise, v, d);
-    if (kelp_strieq_n(key, kl, "RN_UNIFORM_PCT") || kelp_strieq_n(key, kl, "RN_GAUSSIAN_SIGMA")) {
+    if (kelp_util_strieq_n(key, kl, "RN_ALGORITHM")) return kelp_rangesense_noise_set(&c->noise, v, d);
+    if (kelp_util_strieq_n(key, kl, "RN_UNIFORM_PCT") || kelp_util_strieq_n(key, kl, "RN_GAUSSIAN_SIGMA")) {
         /* 24.8 sets the value only: the noise is on only with RN_ALGORITHM */
-        bool uni = kelp_strieq_n(key, kl, "RN_UNIFORM_PCT");
-        kelp_rsense_noise t = c->noise;
+        bool uni = kelp_util_strieq_n(key, kl, "RN_UNIFORM_PCT");
+        kelp_rangesense_noise t = c->noise;
         int rc = noise_value(&t, uni, v, n, d);
         if (rc < 0) return rc;
         c->noise = t;
         return 1;
     }
-    if (kelp_strieq_n(key, kl, "GROUND_TRUTH") || kelp_strieq_n(key, kl, "VERBOSE")) {
+    if (kelp_util_strieq_n(key, kl, "GROUND_TRUTH") || kelp_util_strieq_n(key, kl, "VERBOSE")) {
         bool f;
-        if (kelp_parse_bool(v, n, &f) < 0) return kelp_fail(d, KELP_ERR_PARSE, "must be true or false");
-        if (kelp_strieq_n(key, kl, "VERBOSE")) c->verbose = f;
+        if (kelp_util_parse_bool(v, n, &f) < 0) return kelp_fail(d, KELP_ERR_PARSE, "must be true or false");
+        if (kelp_util_strieq_n(key, kl, "VERBOSE")) c->verbose = f;
         else c->ground_truth = f;
         return 1;
     }
-    if (kelp_strieq_n(key, kl, "RAND_MODE")) {
-        if (kelp_strieq_n(v, n, "glibc")) c->glibc = true;
-        else if (kelp_strieq_n(v, n, "kelp")) c->glibc = false;
+    if (kelp_util_strieq_n(key, kl, "RAND_MODE")) {
+        if (kelp_util_strieq_n(v, n, "glibc")) c->glibc = true;
+        else if (kelp_util_strieq_n(v, n, "kelp")) c->glibc = false;
         else return kelp_fail(d, KELP_ERR_PARSE, "must be kelp or glibc");
         return 1;
     }
-    if (kelp_strieq_n(key, kl, "SEED_RANDOM")) {
+    if (kelp_util_strieq_n(key, kl, "SEED_RANDOM")) {
         long long s;
-        if (kelp_parse_llong(v, n, &s) < 0) return kelp_fail(d, KELP_ERR_PARSE, "must be an integer");
+        if (kelp_util_parse_llong(v, n, &s) < 0) return kelp_fail(d, KELP_ERR_PARSE, "must be an integer");
         c->seed = (uint64_t)s;
         return 1;
     }
@@ -166,18 +166,18 @@ int kelp_rsense_common_config(kelp_rsense_common *c, const char *key, const char
 
 /* ------------------------------------------------------------------ noise */
 
-int kelp_rsense_noise_set(kelp_rsense_noise *n, const char *val, kelp_diag *d)
+int kelp_rangesense_noise_set(kelp_rangesense_noise *n, const char *val, kelp_diag *d)
 {
     const char *c = strchr(val, ',');
     size_t al = c ? (size_t)(c - val) : strlen(val);
     while (al && blank(val[al - 1])) al--;
     while (al && blank(*val)) val++, al--;
-    kelp_rsense_noise t = *n;
-    if (kelp_strieq_n(val, al, "uniform")) {
+    kelp_rangesense_noise t = *n;
+    if (kelp_util_strieq_n(val, al, "uniform")) {
         t.alg = KELP_RSENSE_NOISE_UNIFORM;
-    } else if (kelp_strieq_n(val, al, "gaussian") || kelp_strieq_n(val, al, "gauss")) {
+    } else if (kelp_util_strieq_n(val, al, "gaussian") || kelp_util_strieq_n(val, al, "gauss")) {
         t.alg = KELP_RSENSE_NOISE_GAUSSIAN;
-    } else if (kelp_strieq_n(val, al, "none") && !c) {
+    } else if (kelp_util_strieq_n(val, al, "none") && !c) {
         n->alg = KELP_RSENSE_NOISE_NONE;
         return 1;
     } else {
@@ -189,10 +189,10 @@ int kelp_rsense_noise_set(kelp_rsense_noise *n, const char *val, kelp_diag *d)
         size_t kl, vl;
         int rc;
         while ((rc = kelp_kv_next(c + 1, ',', &pos, &k, &kl, &v, &vl)) == 1) {
-            bool pct = kelp_strieq_n(k, kl, "pct");
-            if (!pct && !kelp_strieq_n(k, kl, "sigma")) {
+            bool pct = kelp_util_strieq_n(k, kl, "pct");
+            if (!pct && !kelp_util_strieq_n(k, kl, "sigma")) {
                 double dv;
-                if (kelp_parse_double(v, vl, &dv) < 0 || !isfinite(dv)) return kelp_fail(d, KELP_ERR_PARSE, "bad number");
+                if (kelp_util_parse_double(v, vl, &dv) < 0 || !isfinite(dv)) return kelp_fail(d, KELP_ERR_PARSE, "bad number");
                 return kelp_fail(d, KELP_ERR_PARSE, "unknown noise parameter (pct or sigma)");
             }
             int vr = noise_value(&t, pct, v, vl, d);
@@ -206,26 +206,26 @@ int kelp_rsense_noise_set(kelp_rsense_noise *n, const char *val, kelp_diag *d)
     return 1;
 }
 
-void kelp_rsense_nodes_back(kelp_rsense_node *node, unsigned n, double back)
+void kelp_rangesense_nodes_back(kelp_rangesense_node *node, unsigned n, double back)
 {
     for (unsigned i = 0; i < n; i++) node[i].clock -= back;
 }
 
-void kelp_rsense_rand_init(kelp_rsense_rand *r, bool glibc, uint64_t seed)
+void kelp_rangesense_rand_init(kelp_rangesense_rand *r, bool glibc, uint64_t seed)
 {
     memset(r, 0, sizeof *r);
     r->glibc = glibc;
     kelp_rng_seed(&r->rng, seed);
-    kelp_glibc_rand_seed(&r->g, 1); /* a program that never calls srand */
+    kelp_rng_glibc_seed(&r->g, 1); /* a program that never calls srand */
 }
 
-static int32_t grand(kelp_rsense_rand *r)
+static int32_t grand(kelp_rangesense_rand *r)
 {
     r->draws++;
-    return kelp_glibc_rand_next(&r->g);
+    return kelp_rng_glibc_next(&r->g);
 }
 
-static double kuni(kelp_rsense_rand *r)
+static double kuni(kelp_rangesense_rand *r)
 {
     r->draws++;
     return kelp_rng_uniform(&r->rng);
@@ -233,7 +233,7 @@ static double kuni(kelp_rsense_rand *r)
 
 /* MOOSWhiteNoise: Marsaglia's polar method on rand()/RAND_MAX, the second deviate kept for
  * the next call */
-static double white_noise(kelp_rsense_rand *r, double sigma)
+static double white_noise(kelp_rangesense_rand *r, double sigma)
 {
     if (r->have_gset) {
         r->have_gset = false;
@@ -251,7 +251,7 @@ static double white_noise(kelp_rsense_rand *r, double sigma)
     return v2 * fac * sigma;
 }
 
-double kelp_rsense_noisy(kelp_rsense_rand *r, const kelp_rsense_noise *n, double range)
+double kelp_rangesense_noisy(kelp_rangesense_rand *r, const kelp_rangesense_noise *n, double range)
 {
     switch (n->alg) {
     case KELP_RSENSE_NOISE_UNIFORM: {
@@ -268,27 +268,27 @@ double kelp_rsense_noisy(kelp_rsense_rand *r, const kelp_rsense_noise *n, double
     }
 }
 
-double kelp_rsense_interval(kelp_rsense_rand *r, double lo, double hi)
+double kelp_rangesense_interval(kelp_rangesense_rand *r, double lo, double hi)
 {
     double u = r->glibc ? (double)(grand(r) % 1000) / 1000.0 : kuni(r);
     return lo + u * (hi - lo);
 }
 
-double kelp_rsense_unit(kelp_rsense_rand *r)
+double kelp_rangesense_unit(kelp_rangesense_rand *r)
 {
     return r->glibc ? (double)(grand(r) % 10000) / 10000.0 : kuni(r);
 }
 
 /* ------------------------------------------------------------------ vehicles */
 
-int rs_find(const kelp_rsense_node *nodes, unsigned n, const char *name)
+int rs_find(const kelp_rangesense_node *nodes, unsigned n, const char *name)
 {
     for (unsigned i = 0; i < n; i++)
-        if (kelp_strieq(nodes[i].name, name)) return (int)i;
+        if (kelp_util_strieq(nodes[i].name, name)) return (int)i;
     return -1;
 }
 
-int rs_node_report(kelp_rsense_node *nodes, unsigned *n, const char *s, const kelp_geo *geo, bool have_geo,
+int rs_node_report(kelp_rangesense_node *nodes, unsigned *n, const char *s, const kelp_geo *geo, bool have_geo,
                    const char *ignore_group, double start, int *idx, bool *first, kelp_diag *d)
 {
     kelp_nodereport r;
@@ -301,7 +301,7 @@ int rs_node_report(kelp_rsense_node *nodes, unsigned *n, const char *s, const ke
         }
     }
     int i = rs_find(nodes, *n, r.name);
-    if (ignore_group && *ignore_group && (r.fields & KELP_NR_GROUP) && kelp_strieq(r.group, ignore_group)) {
+    if (ignore_group && *ignore_group && (r.fields & KELP_NR_GROUP) && kelp_util_strieq(r.group, ignore_group)) {
         if (i >= 0) { /* 24.8 ignore_group: the vehicle is forgotten */
             memmove(&nodes[i], &nodes[i + 1], (*n - (unsigned)i - 1) * sizeof nodes[0]);
             (*n)--;
@@ -322,7 +322,7 @@ int rs_node_report(kelp_rsense_node *nodes, unsigned *n, const char *s, const ke
         i = (int)at;
         *first = true;
     }
-    kelp_rsense_node *v = &nodes[i];
+    kelp_rangesense_node *v = &nodes[i];
     v->x = r.x;
     v->y = r.y;
     if (r.fields & KELP_NR_HDG) v->hdg = r.hdg;
@@ -357,7 +357,7 @@ void rs_lower(char *s)
 
 /* rs_post_report's posts; KELP_ERR_NOSPACE when the report does not fit (the caller warns:
  * its message buffer is not stacked on this one) */
-KELP_NOINLINE static int post_report(const kelp_field_sink *out, const char *pfx, bool gt, kelp_rsense_vars vars,
+KELP_NOINLINE static int post_report(const kelp_field_sink *out, const char *pfx, bool gt, kelp_rangesense_vars vars,
                                      const char *vname, double range, const char *key, const char *id,
                                      const double *xy, kelp_time now, char *ws)
 {
@@ -400,7 +400,7 @@ KELP_NOINLINE static int post_report(const kelp_field_sink *out, const char *pfx
     return KELP_OK;
 }
 
-void rs_post_report(const kelp_field_sink *out, const char *pfx, bool gt, kelp_rsense_vars vars, const char *vname,
+void rs_post_report(const kelp_field_sink *out, const char *pfx, bool gt, kelp_rangesense_vars vars, const char *vname,
                     double range, const char *key, const char *id, const double *xy, kelp_time now,
                     char ws[KELP_RSENSE_POST_WS])
 {
@@ -445,7 +445,7 @@ static void join(char *buf, size_t cap, const char *a, va_list ap)
         if (field_put_str(buf, cap, &n, p) < 0) break;
 }
 
-void rs_log(kelp_rsense_log_fn fn, void *ctx, const char *a, ...)
+void rs_log(kelp_rangesense_log_fn fn, void *ctx, const char *a, ...)
 {
     if (!fn) return;
     char buf[256];

@@ -8,17 +8,17 @@ int rs_value(const char *val, char *v, size_t cap, kelp_diag *d);
 /** A negative push or pull is "nolimit": always heard; else push + pull >= d. */
 bool rs_trans(double push, double pull, double d);
 /** Index of a vehicle (case-insensitive), or -1. */
-int rs_find(const kelp_rsense_node *nodes, unsigned n, const char *name);
+int rs_find(const kelp_rangesense_node *nodes, unsigned n, const char *name);
 /** Apply a node report: 1 stored (*idx; *first on the first report of that vehicle), 0 when
  *  its GROUP is `ignore_group` (the vehicle is dropped), <0 (reason in d). Vehicles stay sorted
  *  by name; a new vehicle has not pinged (24.8's clock at 0). */
-int rs_node_report(kelp_rsense_node *nodes, unsigned *n, const char *s, const kelp_geo *geo, bool have_geo,
+int rs_node_report(kelp_rangesense_node *nodes, unsigned *n, const char *s, const kelp_geo *geo, bool have_geo,
                    const char *ignore_group, double start, int *idx, bool *first, kelp_diag *d);
 /** The name of a "name=V" request (24.8 reads name= only), or <0. */
 int rs_request_name(const char *s, char *name, size_t cap);
 /** Post a range report: <pfx>_RANGE_REPORT "vname=V,range=R,<key>=<id>[,x=..,y=..],time=T"
  *  and/or <pfx>_RANGE_REPORT_<V> without vname (gt: <pfx>_RANGE_REPORT_GT[_<V>]). */
-void rs_post_report(const kelp_field_sink *out, const char *pfx, bool gt, kelp_rsense_vars vars, const char *vname,
+void rs_post_report(const kelp_field_sink *out, const char *pfx, bool gt, kelp_rangesense_vars vars, const char *vname,
                     double range, const char *key, const char *id, const double *xy, double now,
                     char ws[KELP_RSENSE_POST_WS]);
 /** VIEW_RANGE_PULSE as 24.8's XYRangePulse spec with fill 0.9:
@@ -28,7 +28,7 @@ void rs_pulse(const kelp_field_sink *out, double x, double y, double radius, dou
 /** Ends the piece lists of rs_log and rs_warn. */
 #define RS_END ((const char *)0)
 /** A verbose line made of pieces (no format strings from data); NULL ends the list. */
-void rs_log(kelp_rsense_log_fn fn, void *ctx, const char *a, ...);
+void rs_log(kelp_rangesense_log_fn fn, void *ctx, const char *a, ...);
 /** Warn through the sink with pieces; NULL ends the list. */
 void rs_warn(const kelp_field_sink *out, const char *a, ...);
 /** Upper-case / lower-case ASCII letters in place. */

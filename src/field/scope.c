@@ -34,14 +34,14 @@ static int add_scope(kelp_field_ufs_cfg *c, const char *val, kelp_diag *d)
     while ((rc = kelp_kv_next(val, ',', &pos, &k, &kl, &v, &vl)) == 1) {
         char *dst = NULL;
         size_t cap = KELP_UFS_FIELD_LEN;
-        if (kelp_strieq_n(k, kl, "var")) dst = e.var, cap = sizeof e.var;
-        else if (kelp_strieq_n(k, kl, "key")) dst = e.key;
-        else if (kelp_strieq_n(k, kl, "fld") || kelp_strieq_n(k, kl, "field")) dst = e.fld;
-        else if (kelp_strieq_n(k, kl, "alias")) dst = e.alias;
-        else if (kelp_strieq_n(k, kl, "color")) dst = e.color;
-        else if (kelp_strieq_n(k, kl, "xcolor")) dst = e.xcolor;
-        else if (kelp_strieq_n(k, kl, "xthresh")) {
-            if (kelp_parse_double(v, vl, &e.xthresh) < 0 || !(e.xthresh >= 0)) {
+        if (kelp_util_strieq_n(k, kl, "var")) dst = e.var, cap = sizeof e.var;
+        else if (kelp_util_strieq_n(k, kl, "key")) dst = e.key;
+        else if (kelp_util_strieq_n(k, kl, "fld") || kelp_util_strieq_n(k, kl, "field")) dst = e.fld;
+        else if (kelp_util_strieq_n(k, kl, "alias")) dst = e.alias;
+        else if (kelp_util_strieq_n(k, kl, "color")) dst = e.color;
+        else if (kelp_util_strieq_n(k, kl, "xcolor")) dst = e.xcolor;
+        else if (kelp_util_strieq_n(k, kl, "xthresh")) {
+            if (kelp_util_parse_double(v, vl, &e.xthresh) < 0 || !(e.xthresh >= 0)) {
                 return kelp_fail(d, KELP_ERR_PARSE, "xthresh must be a number >= 0");
             }
             continue;
@@ -65,8 +65,8 @@ static int add_scope(kelp_field_ufs_cfg *c, const char *val, kelp_diag *d)
 int kelp_field_ufs_config(kelp_field_ufs_cfg *c, const char *key, const char *val, kelp_diag *d)
 {
     size_t kl = strlen(key);
-    if (kelp_strieq_n(key, kl, "SCOPE")) return add_scope(c, val, d);
-    if (!kelp_strieq_n(key, kl, "LAYOUT")) return 0;
+    if (kelp_util_strieq_n(key, kl, "SCOPE")) return add_scope(c, val, d);
+    if (!kelp_util_strieq_n(key, kl, "LAYOUT")) return 0;
     if (c->nlayout >= KELP_UFS_MAX_LAYOUTS) {
         return kelp_fail(d, KELP_ERR_NOSPACE, "too many LAYOUT entries (at most 8)");
     }
@@ -102,9 +102,9 @@ void kelp_field_ufs_init(kelp_field_ufs *s, const kelp_field_ufs_cfg *cfg)
         while (field_next_item(text, len, &pos, ',', &it, &il) == 1) {
             bool hit = false;
             for (unsigned i = 0; i < s->cfg.nelem; i++)
-                if (kelp_strieq_n(it, il, header(&s->cfg.elem[i]))) s->layout_mask[l] |= 1u << i, hit = true;
+                if (kelp_util_strieq_n(it, il, header(&s->cfg.elem[i]))) s->layout_mask[l] |= 1u << i, hit = true;
             for (unsigned i = 0; i < s->cfg.nelem && !hit; i++)
-                if (kelp_strieq_n(it, il, s->cfg.elem[i].fld)) s->layout_mask[l] |= 1u << i, hit = true;
+                if (kelp_util_strieq_n(it, il, s->cfg.elem[i].fld)) s->layout_mask[l] |= 1u << i, hit = true;
             if (!hit && s->unmatched++ == 0)
                 (void)copy_fit(s->first_unmatched, sizeof s->first_unmatched, it,
                                il < KELP_UFS_FIELD_LEN ? il : KELP_UFS_FIELD_LEN - 1);
@@ -127,7 +127,7 @@ const char *kelp_field_ufs_subscription(const kelp_field_ufs *s, unsigned i)
 static bool is_name_key(const char *k)
 {
     size_t n = strlen(k);
-    return kelp_strieq_n(k, n, "name") || kelp_strieq_n(k, n, "vname");
+    return kelp_util_strieq_n(k, n, "name") || kelp_util_strieq_n(k, n, "vname");
 }
 
 /* the value of `key` in a report (vname and name stand for each other); *bad counts
@@ -143,7 +143,7 @@ static bool lookup(const char *s, const char *key, const char **v, size_t *vl, u
             (*bad)++;
             continue;
         }
-        if (kelp_strieq_n(k, kl, key) || (name && (kelp_strieq_n(k, kl, "name") || kelp_strieq_n(k, kl, "vname"))))
+        if (kelp_util_strieq_n(k, kl, key) || (name && (kelp_util_strieq_n(k, kl, "name") || kelp_util_strieq_n(k, kl, "vname"))))
             return true;
     }
     return false;

@@ -47,8 +47,8 @@ static int qbridge(kelp_field_sbroker_cfg *cfg, const char *val, kelp_diag *d)
         bool known = false;
         for (unsigned i = 0; i < cfg->nqbridge && !known; i++) known = strcmp(cfg->qbridge[i], name) == 0;
         if (!known && cfg->nqbridge < KELP_BROKER_MAX_BRIDGES / 2) memcpy(cfg->qbridge[cfg->nqbridge++], name, il + 1);
-        kelp_snprintf(all, sizeof all, "%s_ALL", name);
-        kelp_snprintf(each, sizeof each, "%s_$V", name);
+        kelp_util_snprintf(all, sizeof all, "%s_ALL", name);
+        kelp_util_snprintf(each, sizeof each, "%s_$V", name);
         if (broker_add_bridge(cfg->bridge, &cfg->nbridges, all, name, d) < 0 ||
             broker_add_bridge(cfg->bridge, &cfg->nbridges, each, name, d) < 0)
             return KELP_ERR_NOSPACE;
@@ -73,9 +73,9 @@ static int raw_bridge(kelp_field_sbroker_cfg *cfg, const char *src, const char *
 static int vnode(kelp_field_sbroker_cfg *cfg, const char *val, kelp_diag *d)
 {
     const char *v = val;
-    if (kelp_strieq_n(v, strlen(v) < 6 ? strlen(v) : 6, "route=")) v += 6;
+    if (kelp_util_strieq_n(v, strlen(v) < 6 ? strlen(v) : 6, "route=")) v += 6;
     while (*v == ' ') v++;
-    kelp_broker_try t;
+    kelp_field_broker_try t;
     memset(&t, 0, sizeof t);
     const char *colon = strrchr(v, ':');
     size_t hl = colon ? (size_t)(colon - v) : strlen(v);
@@ -99,24 +99,24 @@ static int vnode(kelp_field_sbroker_cfg *cfg, const char *val, kelp_diag *d)
 int kelp_field_sbroker_config(kelp_field_sbroker_cfg *cfg, const char *key, const char *val, kelp_diag *d)
 {
     size_t kl = strlen(key);
-    if (kelp_strieq_n(key, kl, "BRIDGE")) {
-        kelp_broker_bridge b;
-        if (kelp_broker_bridge_parse(val, &b, d) < 0) return KELP_ERR_PARSE;
+    if (kelp_util_strieq_n(key, kl, "BRIDGE")) {
+        kelp_field_broker_bridge b;
+        if (kelp_field_broker_bridge_parse(val, &b, d) < 0) return KELP_ERR_PARSE;
         return raw_bridge(cfg, b.src, b.alias, d);
     }
-    if (kelp_strieq_n(key, kl, "QBRIDGE")) return qbridge(cfg, val, d);
-    if (kelp_strieq_n(key, kl, "KEYWORD")) {
+    if (kelp_util_strieq_n(key, kl, "QBRIDGE")) return qbridge(cfg, val, d);
+    if (kelp_util_strieq_n(key, kl, "KEYWORD")) {
         if (strlen(val) >= sizeof cfg->keyword || strpbrk(val, " ,=")) {
             return kelp_fail(d, KELP_ERR_PARSE, "one word without ',' or '=', up to 63 characters");
         }
         memcpy(cfg->keyword, val, strlen(val) + 1);
         return 1;
     }
-    if (kelp_strieq_n(key, kl, "TRY_VNODE")) return vnode(cfg, val, d);
-    bool *flag = kelp_strieq_n(key, kl, "WARNING_ON_STALE") ? &cfg->warn_stale
-                 : kelp_strieq_n(key, kl, "AUTO_BRIDGE_REALMCAST") ? &cfg->auto_realmcast
-                 : kelp_strieq_n(key, kl, "AUTO_BRIDGE_APPCAST") ? &cfg->auto_appcast
-                 : kelp_strieq_n(key, kl, "AUTO_BRIDGE_MHASH") ? &cfg->auto_mhash
+    if (kelp_util_strieq_n(key, kl, "TRY_VNODE")) return vnode(cfg, val, d);
+    bool *flag = kelp_util_strieq_n(key, kl, "WARNING_ON_STALE") ? &cfg->warn_stale
+                 : kelp_util_strieq_n(key, kl, "AUTO_BRIDGE_REALMCAST") ? &cfg->auto_realmcast
+                 : kelp_util_strieq_n(key, kl, "AUTO_BRIDGE_APPCAST") ? &cfg->auto_appcast
+                 : kelp_util_strieq_n(key, kl, "AUTO_BRIDGE_MHASH") ? &cfg->auto_mhash
                                                                 : NULL;
     if (flag) {
         if (!broker_bool(val, flag)) {
@@ -171,7 +171,7 @@ static int expand(const char *src, const char *community, unsigned index, char *
         if (p[0] == '$' && (p[1] == 'V' || p[1] == 'v')) {
             put = community, upper = p[1] == 'V', p++;
         } else if (p[0] == '$' && p[1] == 'N') {
-            kelp_snprintf(num, sizeof num, "%u", index);
+            kelp_util_snprintf(num, sizeof num, "%u", index);
             put = num, p++;
         } else
             put = one;
@@ -185,7 +185,7 @@ static int expand(const char *src, const char *community, unsigned index, char *
     return KELP_OK;
 }
 
-static int reg(kelp_field_sbroker *s, const kelp_broker_node *nd, const char *src, const char *alias,
+static int reg(kelp_field_sbroker *s, const kelp_field_broker_node *nd, const char *src, const char *alias,
                const kelp_field_sink *out)
 {
     char var[KELP_MAX_NAME];
@@ -220,7 +220,7 @@ static void cand(const kelp_field_sbroker *s, unsigned v, char *buf, size_t cap)
         memcpy(buf, SB_ACK_SRC, sizeof SB_ACK_SRC);
         return;
     }
-    const kelp_broker_node *nd = &s->node[v / SB_PER_NODE - 1];
+    const kelp_field_broker_node *nd = &s->node[v / SB_PER_NODE - 1];
     unsigned b = v % SB_PER_NODE;
     unsigned index = s->cfg.pmb ? nd->index : v / SB_PER_NODE; /* 24.8: $N is the position in the list */
     if (expand(b < s->cfg.nbridges ? s->cfg.bridge[b].src : SB_ACK_SRC, nd->rec.community, index, buf, cap) < 0)
@@ -270,25 +270,25 @@ static void post_bridge_vars(kelp_field_sbroker *s, const kelp_field_sink *out)
     out->publish(out->ctx, "UFSB_BRIDGE_VARS", true, list, 0);
 }
 
-static kelp_broker_node *find(kelp_field_sbroker *s, const char *community, const kelp_field_sink *out)
+static kelp_field_broker_node *find(kelp_field_sbroker *s, const char *community, const kelp_field_sink *out)
 {
     for (unsigned i = 0; i < s->nnodes; i++)
-        if (kelp_strieq_n(s->node[i].rec.community, strlen(s->node[i].rec.community), community)) return &s->node[i];
+        if (kelp_util_strieq_n(s->node[i].rec.community, strlen(s->node[i].rec.community), community)) return &s->node[i];
     if (s->nnodes >= KELP_BROKER_MAX_NODES) {
         s->full++;
         warn(out, "too many vehicles (KELP_BROKER_MAX_NODES): ", community, " ignored");
         return NULL;
     }
-    kelp_broker_node *nd = &s->node[s->nnodes++];
+    kelp_field_broker_node *nd = &s->node[s->nnodes++];
     memset(nd, 0, sizeof *nd);
     return nd;
 }
 
 static int ping_mail(kelp_field_sbroker *s, const char *sval, kelp_time now, const kelp_field_sink *out)
 {
-    kelp_broker_host *h = &s->ws_host; /* (a workspace) */
+    kelp_field_broker_host *h = &s->ws_host; /* (a workspace) */
     s->pings++;
-    if (kelp_broker_host_parse(sval, h, NULL) < 0 || !h->community[0] || strpbrk(h->community, " ")) {
+    if (kelp_field_broker_host_parse(sval, h, NULL) < 0 || !h->community[0] || strpbrk(h->community, " ")) {
         s->bad_pings++;
         return KELP_ERR_PARSE;
     }
@@ -296,15 +296,15 @@ static int ping_mail(kelp_field_sbroker *s, const char *sval, kelp_time now, con
         s->early_pings++; /* nothing to ack with until our own host info is complete */
         return 1;
     }
-    kelp_broker_node *nd = find(s, h->community, out);
+    kelp_field_broker_node *nd = find(s, h->community, out);
     if (!nd) return KELP_ERR_NOSPACE;
     nd->pings++;
     nd->last_ping = now;
     nd->stale = false;
     nd->skew = h->have_time ? now - h->time : 0;
-    if (!kelp_broker_host_complete(h)) {
+    if (!kelp_field_broker_host_complete(h)) {
         if (!nd->rec.community[0]) memcpy(nd->rec.community, h->community, sizeof h->community);
-        kelp_snprintf(nd->status, sizeof nd->status, "invalid");
+        kelp_util_snprintf(nd->status, sizeof nd->status, "invalid");
         s->bad_pings++;
         return KELP_ERR_PARSE;
     }
@@ -312,16 +312,16 @@ static int ping_mail(kelp_field_sbroker *s, const char *sval, kelp_time now, con
     if (!h->have_warp || h->warp != s->cfg.warp) {
         char w[2][24];
         size_t n0 = 0, n1 = 0;
-        if (field_put_fixed(w[0], sizeof w[0], &n0, s->cfg.warp, 6, true) < 0) kelp_snprintf(w[0], sizeof w[0], "?");
-        if (!h->have_warp || field_put_fixed(w[1], sizeof w[1], &n1, h->warp, 6, true) < 0) kelp_snprintf(w[1], sizeof w[1], "?");
-        kelp_snprintf(nd->status, sizeof nd->status, "timewarp (%s!=%s)", w[0], w[1]);
+        if (field_put_fixed(w[0], sizeof w[0], &n0, s->cfg.warp, 6, true) < 0) kelp_util_snprintf(w[0], sizeof w[0], "?");
+        if (!h->have_warp || field_put_fixed(w[1], sizeof w[1], &n1, h->warp, 6, true) < 0) kelp_util_snprintf(w[1], sizeof w[1], "?");
+        kelp_util_snprintf(nd->status, sizeof nd->status, "timewarp (%s!=%s)", w[0], w[1]);
         return 1;
     }
     if (s->cfg.keyword[0] && strcmp(s->cfg.keyword, h->keyword) != 0) {
-        kelp_snprintf(nd->status, sizeof nd->status, "keyword");
+        kelp_util_snprintf(nd->status, sizeof nd->status, "keyword");
         return 1;
     }
-    kelp_snprintf(nd->status, sizeof nd->status, "ok");
+    kelp_util_snprintf(nd->status, sizeof nd->status, "ok");
     if (!nd->index) nd->index = ++s->naccepted;
     bool moved = nd->bridged && (strcmp(nd->bridged_host, h->host) != 0 || nd->bridged_port != h->port_udp);
     if (!nd->bridged || moved) {
@@ -348,9 +348,9 @@ static int ping_mail(kelp_field_sbroker *s, const char *sval, kelp_time now, con
 /* the shoreside's own PHI_HOST_INFO (out of line: its host record is not on the ping path) */
 KELP_NOINLINE static int host_info(kelp_field_sbroker *s, bool is_string, const char *sval)
 {
-    kelp_broker_host *h = &s->ws_host;
+    kelp_field_broker_host *h = &s->ws_host;
     s->phi++;
-    if (!is_string || kelp_broker_host_parse(sval, h, NULL) < 0 || !kelp_broker_host_complete(h))
+    if (!is_string || kelp_field_broker_host_parse(sval, h, NULL) < 0 || !kelp_field_broker_host_complete(h))
         return KELP_ERR_PARSE;
     s->shore = *h;
     s->have_shore = true;
@@ -399,7 +399,7 @@ KELP_NOINLINE static int qvars(kelp_field_sbroker *s, const kelp_field_sink *out
 KELP_NOINLINE static int stale_and_count(kelp_field_sbroker *s, kelp_time now, const kelp_field_sink *out)
 {
     for (unsigned i = 0; i < s->nnodes; i++) {
-        kelp_broker_node *nd = &s->node[i];
+        kelp_field_broker_node *nd = &s->node[i];
         bool stale = now - nd->last_ping > KELP_BROKER_STALE;
         if (stale && !nd->stale && s->cfg.warn_stale) warn(out, "Node ", nd->rec.community, " is stale.");
         nd->stale = stale;
@@ -429,7 +429,7 @@ KELP_NOINLINE static int seed_iterate(kelp_field_sbroker *s, kelp_time now, cons
     }
     if (s->cfg.nvnodes && s->have_shore && (s->vnode_post_at < 0 || now - s->vnode_post_at > SB_VNODE_POST_EVERY)) {
         char v[KELP_BROKER_MSG];
-        kelp_snprintf(v, sizeof v, "pshare_route=%s:%u", s->shore.host, s->shore.port_udp);
+        kelp_util_snprintf(v, sizeof v, "pshare_route=%s:%u", s->shore.host, s->shore.port_udp);
         out->publish(out->ctx, "TRY_SHORE_HOST", true, v, 0);
         s->vnode_post_at = now;
         posts++;
@@ -442,7 +442,7 @@ static int seed_report(const kelp_field_sbroker *s, kelp_time now, char *buf, si
     size_t n = 0, wn = 0;
     bool full = false;
     char warp[24];
-    if (field_put_fixed(warp, sizeof warp, &wn, s->cfg.warp, 6, true) < 0) kelp_snprintf(warp, sizeof warp, "?");
+    if (field_put_fixed(warp, sizeof warp, &wn, s->cfg.warp, 6, true) < 0) kelp_util_snprintf(warp, sizeof warp, "?");
     broker_put(buf, cap, &n, &full,
                "ShoreBroker Status ----- (%lu)\n"
                "MOOS Time Warp:          %s\n"
@@ -454,7 +454,7 @@ static int seed_report(const kelp_field_sbroker *s, kelp_time now, char *buf, si
                s->iterations, warp, s->phi, s->pings, s->acks, s->registers, "Node", "IPAddress", "Status", "Elapsed",
                "Skew");
     for (unsigned i = 0; i < s->nnodes; i++) {
-        const kelp_broker_node *nd = &s->node[i];
+        const kelp_field_broker_node *nd = &s->node[i];
         broker_put(buf, cap, &n, &full, "%-13s %-12s %-10s %-8.1f %.4f\n", nd->rec.community, nd->rec.host, nd->status,
                    now - nd->last_ping, nd->skew);
     }
@@ -481,9 +481,9 @@ static void localhost_to(char *dst, size_t cap, const char *s, const char *ip)
 
 static int ping24(kelp_field_sbroker *s, const char *sval, kelp_time now, const kelp_field_sink *out)
 {
-    kelp_broker_host *h = &s->ws_host;
+    kelp_field_broker_host *h = &s->ws_host;
     s->pings++;
-    if (kelp_broker_host_parse(sval, h, NULL) < 0 || !kelp_broker_host_valid(h)) {
+    if (kelp_field_broker_host_parse(sval, h, NULL) < 0 || !kelp_field_broker_host_valid(h)) {
         s->bad_pings++;
         if (out->warn) out->warn(out->ctx, "Invalid Incoming NODE_BROKER_PING");
         return KELP_ERR_PARSE;
@@ -492,16 +492,16 @@ static int ping24(kelp_field_sbroker *s, const char *sval, kelp_time now, const 
      * with 5 decimals, trailing zeros dropped), or another keyword */
     char status[KELP_MAX_NAME], ours[24];
     size_t wn = 0;
-    if (field_put_fixed(ours, sizeof ours, &wn, s->cfg.warp, 5, true) < 0) kelp_snprintf(ours, sizeof ours, "?");
-    kelp_snprintf(status, sizeof status, "ok");
+    if (field_put_fixed(ours, sizeof ours, &wn, s->cfg.warp, 5, true) < 0) kelp_util_snprintf(ours, sizeof ours, "?");
+    kelp_util_snprintf(status, sizeof status, "ok");
     if (strcmp(ours, h->warp_s) != 0) {
-        kelp_snprintf(status, sizeof status, "timewarp (%s!=%s)", ours, h->warp_s);
+        kelp_util_snprintf(status, sizeof status, "timewarp (%s!=%s)", ours, h->warp_s);
         if (out->warn) out->warn(out->ctx, status);
     }
-    if (s->cfg.keyword[0] && strcmp(s->cfg.keyword, h->keyword) != 0) kelp_snprintf(status, sizeof status, "keyword_mismatch");
+    if (s->cfg.keyword[0] && strcmp(s->cfg.keyword, h->keyword) != 0) kelp_util_snprintf(status, sizeof status, "keyword_mismatch");
     double skew = now - (h->have_time ? h->time : 0);
     for (unsigned j = 0; j < s->nnodes; j++) {
-        kelp_broker_node *nd = &s->node[j];
+        kelp_field_broker_node *nd = &s->node[j];
         if (strcmp(nd->rec.community, h->community) != 0) continue;
         nd->last_ping = now; /* a known vehicle: its first record stays (24.8) */
         nd->skew += skew;
@@ -514,7 +514,7 @@ static int ping24(kelp_field_sbroker *s, const char *sval, kelp_time now, const 
         warn(out, "too many vehicles (KELP_BROKER_MAX_NODES): ", h->community, " ignored");
         return KELP_ERR_NOSPACE;
     }
-    kelp_broker_node *nd = &s->node[s->nnodes++];
+    kelp_field_broker_node *nd = &s->node[s->nnodes++];
     memset(nd, 0, sizeof *nd);
     nd->rec = *h;
     if (strcmp(h->host, s->shore.host) != 0) localhost_to(nd->rec.iroutes, sizeof nd->rec.iroutes, h->iroutes, h->host);
@@ -570,7 +570,7 @@ static bool in_set(const kelp_field_sbroker *s, const char *name)
 /* bridge k (the ack bridge when k == nbridges) requested for vehicle j */
 static void request(kelp_field_sbroker *s, unsigned j, unsigned k, const kelp_field_sink *out)
 {
-    kelp_broker_node *nd = &s->node[j];
+    kelp_field_broker_node *nd = &s->node[j];
     const char *src = k < s->cfg.nbridges ? s->cfg.bridge[k].src : SB_ACK_SRC;
     const char *alias = k < s->cfg.nbridges ? s->cfg.bridge[k].alias : "NODE_BROKER_ACK";
     char var[KELP_MAX_NAME];
@@ -612,12 +612,12 @@ KELP_NOINLINE static int iterate24(kelp_field_sbroker *s, kelp_time now, const k
     if (s->have_shore) {
         char *ack = s->ws;
         for (unsigned j = 0; j < s->nnodes; j++) {
-            kelp_broker_node *nd = &s->node[j];
+            kelp_field_broker_node *nd = &s->node[j];
             if (!(now - nd->last_ping < KELP_BROKER_ACK_WINDOW)) continue;
             char var[KELP_MAX_NAME];
             size_t n = 0;
             if (expand("NODE_BROKER_ACK_$V", nd->rec.community, 0, var, sizeof var) < 0 ||
-                kelp_broker_host_spec(&s->shore, NULL, NULL, ack, sizeof s->ws) < 0)
+                kelp_field_broker_host_spec(&s->shore, NULL, NULL, ack, sizeof s->ws) < 0)
                 continue;
             n = strlen(ack);
             field_putf(ack, sizeof s->ws, &n, ",status=%s", nd->status);
@@ -635,7 +635,7 @@ KELP_NOINLINE static int iterate24(kelp_field_sbroker *s, kelp_time now, const k
         s->vnode_reg_at = now;
         for (unsigned i = 0; i < s->cfg.nvnodes; i++) {
             char route[KELP_BROKER_ROUTE];
-            kelp_snprintf(route, sizeof route, "%s:%u", s->cfg.vnode[i].host, s->cfg.vnode[i].port);
+            kelp_util_snprintf(route, sizeof route, "%s:%u", s->cfg.vnode[i].host, s->cfg.vnode[i].port);
             if (broker_pshare_cmd(out, "TRY_SHORE_HOST", "TRY_SHORE_HOST", route, s->last_register,
                                   sizeof s->last_register) > 0)
                 s->pshare_cmds++, posts++;
@@ -645,7 +645,7 @@ KELP_NOINLINE static int iterate24(kelp_field_sbroker *s, kelp_time now, const k
         s->vnode_post_at = now;
         for (unsigned i = 0; i < s->cfg.nvnodes && s->shore.host[0] && s->shore.have_port_udp; i++) {
             char v[KELP_BROKER_ROUTE + 16];
-            kelp_snprintf(v, sizeof v, "pshare_route=%s:%u", s->shore.host, s->shore.port_udp);
+            kelp_util_snprintf(v, sizeof v, "pshare_route=%s:%u", s->shore.host, s->shore.port_udp);
             out->publish(out->ctx, "TRY_SHORE_HOST", true, v, 0);
             posts++;
         }
@@ -659,7 +659,7 @@ KELP_NOINLINE static int mail24(kelp_field_sbroker *s, const char *var, bool is_
     if (strcmp(var, "NODE_BROKER_PING") == 0) return ping24(s, is_string && sval ? sval : "", now, out);
     if (strcmp(var, "PHI_HOST_INFO") == 0) {
         s->phi++;
-        if (!is_string || !sval || kelp_broker_host_parse(sval, &s->shore, NULL) < 0 || !kelp_broker_host_valid(&s->shore)) {
+        if (!is_string || !sval || kelp_field_broker_host_parse(sval, &s->shore, NULL) < 0 || !kelp_field_broker_host_valid(&s->shore)) {
             memset(&s->shore, 0, sizeof s->shore); /* 24.8 keeps an empty record */
             s->have_shore = false;
             return KELP_ERR_PARSE;
@@ -691,14 +691,14 @@ static const char *node_cell(const void *ctx, unsigned row, unsigned col, char *
                                             { "Name", "Address", "Status", "Time", "Input Route(s)", "Skew" } };
     const rep_ctx *c = ctx;
     if (row < 2) return head[row][col];
-    const kelp_broker_node *nd = &c->s->node[row - 2];
+    const kelp_field_broker_node *nd = &c->s->node[row - 2];
     switch (col) {
     case 0: return nd->rec.community;
     case 1: return nd->rec.host;
     case 2: return nd->status;
-    case 3: kelp_snprintf(tmp, cap, "%.1f", c->now - nd->last_ping); return tmp;
+    case 3: kelp_util_snprintf(tmp, cap, "%.1f", c->now - nd->last_ping); return tmp;
     case 4: return nd->rec.iroutes;
-    default: kelp_snprintf(tmp, cap, "%.4f", nd->pings ? nd->skew / (double)nd->pings : 0.0); return tmp;
+    default: kelp_util_snprintf(tmp, cap, "%.4f", nd->pings ? nd->skew / (double)nd->pings : 0.0); return tmp;
     }
 }
 
@@ -707,9 +707,9 @@ static int report24(const kelp_field_sbroker *s, kelp_time now, char *buf, size_
     size_t n = 0;
     bool full = false;
     static const char rule[] = "===========================================================\n";
-    const kelp_broker_host *h = &s->shore;
+    const kelp_field_broker_host *h = &s->shore;
     char port_db[12] = "";
-    if (h->have_port_db) kelp_snprintf(port_db, sizeof port_db, "%u", h->port_db);
+    if (h->have_port_db) kelp_util_snprintf(port_db, sizeof port_db, "%u", h->port_db);
     broker_put(buf, cap, &n, &full,
                "\n Total PHI_HOST_INFO    received: %lu\n Total NODE_BROKER_PING received: %lu\n"
                " Total NODE_BROKER_ACK    posted: %lu\n Total PSHARE_CMD         posted: %lu\n\n"
@@ -728,8 +728,8 @@ static int report24(const kelp_field_sbroker *s, kelp_time now, char *buf, size_
  * counts, the vehicles' last pings: none stalls or goes stale for the step) */
 static bool clock_ok(kelp_field_sbroker *s, kelp_time now)
 {
-    if (!kelp_time_ok(now)) return false;
-    double back = kelp_clock_back(&s->clock, now);
+    if (!kelp_util_time_ok(now)) return false;
+    double back = kelp_util_clock_back(&s->clock, now);
     if (back > 0) {
         double *t[] = { &s->host_req_at, &s->vnode_reg_at, &s->vnode_post_at, &s->count_at, &s->cmd_at };
         for (size_t i = 0; i < sizeof t / sizeof t[0]; i++)

@@ -128,7 +128,7 @@ int field_copy_text(char *dst, size_t cap, const char *v, size_t vl)
 int sim_number(const char *v, size_t vl, double *out)
 {
     double d;
-    if (kelp_parse_double(v, vl, &d) < 0 || !isfinite(d)) return KELP_ERR_PARSE;
+    if (kelp_util_parse_double(v, vl, &d) < 0 || !isfinite(d)) return KELP_ERR_PARSE;
     /* no position, speed, heading or time of a vehicle is this large; beyond it a value
      * would not survive format -> parse exactly */
     if (d > SIM_MAX_ABS_NUMBER || d < -SIM_MAX_ABS_NUMBER) return KELP_ERR_PARSE;
@@ -148,7 +148,7 @@ int field_put_str(char *buf, size_t cap, size_t *n, const char *s)
 int field_put_fixed(char *buf, size_t cap, size_t *n, double v, int dec, bool strip)
 {
     if (!isfinite(v)) return KELP_ERR_ARG;
-    int len = kelp_fmt_fixed(buf + *n, cap > *n ? cap - *n : 0, v, dec < 0 ? 0u : (unsigned)dec, strip);
+    int len = kelp_util_fmt_fixed(buf + *n, cap > *n ? cap - *n : 0, v, dec < 0 ? 0u : (unsigned)dec, strip);
     if (len < 0) return len;
     if (*n + (size_t)len + 1 > cap) {
         if (cap > *n) buf[*n] = '\0';
@@ -163,7 +163,7 @@ void field_putf(char *buf, size_t cap, size_t *n, const char *fmt, ...)
     if (!cap || *n + 1 >= cap) return;
     va_list ap;
     va_start(ap, fmt);
-    int k = kelp_vsnprintf(buf + *n, cap - *n, fmt, ap);
+    int k = kelp_util_vsnprintf(buf + *n, cap - *n, fmt, ap);
     va_end(ap);
     if (k < 0) return;
     *n += (size_t)k;

@@ -10,7 +10,7 @@
 
 #define TS_RAND_DIGITS_MAX 20 /* $(1) .. $(20) */
 
-static bool key_is(const char *k, size_t kl, const char *z) { return kelp_strieq_n(k, kl, z); }
+static bool key_is(const char *k, size_t kl, const char *z) { return kelp_util_strieq_n(k, kl, z); }
 
 static int copy_name(char *dst, const char *v, size_t vl, kelp_diag *d)
 {
@@ -25,13 +25,13 @@ static int copy_name(char *dst, const char *v, size_t vl, kelp_diag *d)
 }
 
 /* "A" or "A:B" with lo <= A <= B */
-static int parse_span(const char *v, size_t vl, double lo, kelp_ts_span *out, kelp_diag *d)
+static int parse_span(const char *v, size_t vl, double lo, kelp_timerscript_span *out, kelp_diag *d)
 {
     const char *colon = memchr(v, ':', vl);
     size_t al = colon ? (size_t)(colon - v) : vl;
     double a, b;
-    if (kelp_parse_finite(v, al, &a) < 0 ||
-        (colon ? kelp_parse_finite(colon + 1, vl - al - 1, &b) < 0 : (b = a, false))) {
+    if (kelp_util_parse_finite(v, al, &a) < 0 ||
+        (colon ? kelp_util_parse_finite(colon + 1, vl - al - 1, &b) < 0 : (b = a, false))) {
         return kelp_fail(d, KELP_ERR_PARSE, "expected a number or a range A:B");
     }
     if (a < lo || b < a) {
@@ -52,7 +52,7 @@ static void copy_cut(char dst[KELP_MAX_NAME], const char *s)
     dst[n] = 0;
 }
 
-void kelp_ts_cfg_default(kelp_ts_cfg *c, const char *app_name, const char *community)
+void kelp_timerscript_cfg_default(kelp_timerscript_cfg *c, const char *app_name, const char *community)
 {
     memset(c, 0, sizeof *c);
     copy_cut(c->app_name, app_name ? app_name : "uTimerScript");
@@ -68,7 +68,7 @@ void kelp_ts_cfg_default(kelp_ts_cfg *c, const char *app_name, const char *commu
     c->upon_awake = KELP_TS_AWAKE_NA;
     c->reset_max = -1;
     c->reset_time = -1;
-    c->warp = (kelp_ts_span){ 1, 1 };
+    c->warp = (kelp_timerscript_span){ 1, 1 };
 }
 
 /* ---- event = var=..., val=..., time=..., amt=..., quit ---- */
@@ -99,9 +99,9 @@ static int put_idx(char *dst, const char *src, unsigned idx, kelp_diag *d)
     return KELP_OK;
 }
 
-int kelp_ts_cfg_add_event(kelp_ts_cfg *c, const char *spec, kelp_diag *d)
+int kelp_timerscript_cfg_add_event(kelp_timerscript_cfg *c, const char *spec, kelp_diag *d)
 {
-    kelp_ts_event e;
+    kelp_timerscript_event e;
     memset(&e, 0, sizeof e);
     const char *val = NULL;
     size_t vall = 0;
@@ -127,11 +127,11 @@ int kelp_ts_cfg_add_event(kelp_ts_cfg *c, const char *spec, kelp_diag *d)
         } else if (key_is(k, kl, "val")) {
             val = v, vall = vl;
         } else if (key_is(k, kl, "amt")) {
-            if (kelp_parse_long(v, vl, &amt) < 0 || amt < 1 || amt > KELP_TS_MAX_EVENTS) {
+            if (kelp_util_parse_long(v, vl, &amt) < 0 || amt < 1 || amt > KELP_TS_MAX_EVENTS) {
                 return kelp_fail(d, KELP_ERR_PARSE, "amt must be a whole number from 1");
             }
         } else if (key_is(k, kl, "time")) {
-            kelp_ts_span s = { 0, 0 };
+            kelp_timerscript_span s = { 0, 0 };
             if (parse_span(v, vl, 0, &s, d) < 0) return KELP_ERR_PARSE;
             e.tmin = s.min, e.tmax = s.max;
         } else {
@@ -161,7 +161,7 @@ int kelp_ts_cfg_add_event(kelp_ts_cfg *c, const char *spec, kelp_diag *d)
         return kelp_fail(d, KELP_ERR_NOSPACE, "too many events");
     }
     for (long i = 0; i < amt; i++) {
-        kelp_ts_event *ev = &c->ev[c->nev];
+        kelp_timerscript_event *ev = &c->ev[c->nev];
         *ev = e;
         if (put_idx(ev->val, e.val, c->nev, d) < 0) return KELP_ERR_NOSPACE;
         c->nev++;
@@ -171,9 +171,9 @@ int kelp_ts_cfg_add_event(kelp_ts_cfg *c, const char *spec, kelp_diag *d)
 
 /* ---- rand_var = varname=X, min=.., max=.., key=at_post|at_start|at_reset ---- */
 
-int kelp_ts_cfg_add_randvar(kelp_ts_cfg *c, const char *spec, kelp_diag *d)
+int kelp_timerscript_cfg_add_randvar(kelp_timerscript_cfg *c, const char *spec, kelp_diag *d)
 {
-    kelp_ts_randvar v;
+    kelp_timerscript_randvar v;
     memset(&v, 0, sizeof v);
     v.key = -1;
     v.snap = 0.001;
@@ -184,7 +184,7 @@ int kelp_ts_cfg_add_randvar(kelp_ts_cfg *c, const char *spec, kelp_diag *d)
     int rc;
     while ((rc = kelp_kv_next(spec, ',', &pos, &k, &kl, &val, &vl)) == 1) {
         double dv = 0;
-        bool num = kelp_parse_finite(val, vl, &dv) == 0;
+        bool num = kelp_util_parse_finite(val, vl, &dv) == 0;
         if (key_is(k, kl, "varname")) {
             if (copy_name(v.name, val, vl, d) < 0) return KELP_ERR_PARSE;
         } else if (key_is(k, kl, "key")) {
@@ -222,7 +222,7 @@ int kelp_ts_cfg_add_randvar(kelp_ts_cfg *c, const char *spec, kelp_diag *d)
     if (v.type == KELP_TS_RV_GAUSSIAN && (!have_mu || !have_sigma)) return kelp_fail(d, KELP_ERR_PARSE, "a gaussian needs mu and sigma");
     if (v.type == KELP_TS_RV_GAUSSIAN && v.sigma < 0) return kelp_fail(d, KELP_ERR_PARSE, "sigma is negative");
     for (unsigned i = 0; i < c->nrv; i++)
-        if (kelp_strieq(c->rv[i].name, v.name)) {
+        if (kelp_util_strieq(c->rv[i].name, v.name)) {
             return kelp_fail(d, KELP_ERR_PARSE, "duplicate random variable");
         }
     if (c->nrv >= KELP_TS_MAX_RANDVARS) {
@@ -238,20 +238,20 @@ static int set_var(char *dst, const char *v, kelp_diag *d) { return copy_name(ds
 
 static int set_bool(bool *dst, const char *v, kelp_diag *d)
 {
-    if (kelp_parse_bool(v, strlen(v), dst) < 0) {
+    if (kelp_util_parse_bool(v, strlen(v), dst) < 0) {
         return kelp_fail(d, KELP_ERR_PARSE, "expected true or false");
     }
     return 1;
 }
 
-static int add_block(kelp_ts_cfg *c, const char *v, kelp_diag *d)
+static int add_block(kelp_timerscript_cfg *c, const char *v, kelp_diag *d)
 {
     size_t pos = 0, len = strlen(v), il;
     const char *it;
     int rc;
     while ((rc = field_next_item(v, len, &pos, ',', &it, &il)) == 1) {
         for (unsigned i = 0; i < c->nblock; i++)
-            if (kelp_strieq_n(it, il, c->block[i])) {
+            if (kelp_util_strieq_n(it, il, c->block[i])) {
                 return kelp_fail(d, KELP_ERR_PARSE, "duplicate block_on app");
             }
         if (c->nblock >= KELP_TS_MAX_BLOCK) {
@@ -263,75 +263,75 @@ static int add_block(kelp_ts_cfg *c, const char *v, kelp_diag *d)
     return rc < 0 ? kelp_fail(d, KELP_ERR_PARSE, "unbalanced quote") : 1;
 }
 
-int kelp_ts_cfg_set(kelp_ts_cfg *c, const char *key, const char *v, kelp_diag *d)
+int kelp_timerscript_cfg_set(kelp_timerscript_cfg *c, const char *key, const char *v, kelp_diag *d)
 {
     size_t vl = strlen(v);
-    kelp_ts_span s;
-    if (kelp_strieq(key, "event")) return kelp_ts_cfg_add_event(c, v, d) < 0 ? KELP_ERR_PARSE : 1;
-    if (kelp_strieq(key, "rand_var") || kelp_strieq(key, "randvar"))
-        return kelp_ts_cfg_add_randvar(c, v, d) < 0 ? KELP_ERR_PARSE : 1;
-    if (kelp_strieq(key, "paused")) return set_bool(&c->paused, v, d);
-    if (kelp_strieq(key, "script_atomic")) return set_bool(&c->atomic, v, d);
-    if (kelp_strieq(key, "shuffle")) return set_bool(&c->shuffle, v, d);
-    if (kelp_strieq(key, "verbose")) return set_bool(&c->verbose, v, d);
-    if (kelp_strieq(key, "upon_awake")) {
-        if (kelp_strieq(v, "reset")) c->upon_awake = KELP_TS_AWAKE_RESET;
-        else if (kelp_strieq(v, "restart")) c->upon_awake = KELP_TS_AWAKE_RESTART;
-        else if (kelp_strieq(v, "n/a")) c->upon_awake = KELP_TS_AWAKE_NA;
+    kelp_timerscript_span s;
+    if (kelp_util_strieq(key, "event")) return kelp_timerscript_cfg_add_event(c, v, d) < 0 ? KELP_ERR_PARSE : 1;
+    if (kelp_util_strieq(key, "rand_var") || kelp_util_strieq(key, "randvar"))
+        return kelp_timerscript_cfg_add_randvar(c, v, d) < 0 ? KELP_ERR_PARSE : 1;
+    if (kelp_util_strieq(key, "paused")) return set_bool(&c->paused, v, d);
+    if (kelp_util_strieq(key, "script_atomic")) return set_bool(&c->atomic, v, d);
+    if (kelp_util_strieq(key, "shuffle")) return set_bool(&c->shuffle, v, d);
+    if (kelp_util_strieq(key, "verbose")) return set_bool(&c->verbose, v, d);
+    if (kelp_util_strieq(key, "upon_awake")) {
+        if (kelp_util_strieq(v, "reset")) c->upon_awake = KELP_TS_AWAKE_RESET;
+        else if (kelp_util_strieq(v, "restart")) c->upon_awake = KELP_TS_AWAKE_RESTART;
+        else if (kelp_util_strieq(v, "n/a")) c->upon_awake = KELP_TS_AWAKE_NA;
         else {
             return kelp_fail(d, KELP_ERR_PARSE, "expected reset, restart or n/a");
         }
         return 1;
     }
-    if (kelp_strieq(key, "time_zero")) {
-        if (kelp_strieq(v, "db_start")) c->time_zero_db = true;
-        else if (kelp_strieq(v, "script_start")) c->time_zero_db = false;
+    if (kelp_util_strieq(key, "time_zero")) {
+        if (kelp_util_strieq(v, "db_start")) c->time_zero_db = true;
+        else if (kelp_util_strieq(v, "script_start")) c->time_zero_db = false;
         else {
             return kelp_fail(d, KELP_ERR_PARSE, "expected db_start or script_start");
         }
         return 1;
     }
-    if (kelp_strieq(key, "reset_max")) {
+    if (kelp_util_strieq(key, "reset_max")) {
         long n;
-        if (kelp_strieq(v, "nolimit") || kelp_strieq(v, "any") || kelp_strieq(v, "unlimited")) c->reset_max = -1;
-        else if (kelp_parse_long(v, vl, &n) == 0 && n >= 0) c->reset_max = n;
+        if (kelp_util_strieq(v, "nolimit") || kelp_util_strieq(v, "any") || kelp_util_strieq(v, "unlimited")) c->reset_max = -1;
+        else if (kelp_util_parse_long(v, vl, &n) == 0 && n >= 0) c->reset_max = n;
         else {
             return kelp_fail(d, KELP_ERR_PARSE, "expected a whole number >= 0 or nolimit");
         }
         return 1;
     }
-    if (kelp_strieq(key, "reset_time")) {
+    if (kelp_util_strieq(key, "reset_time")) {
         double dv;
-        if (kelp_strieq(v, "all-posted") || kelp_strieq(v, "end")) c->reset_time = 0;
-        else if (kelp_strieq(v, "none")) c->reset_time = -1;
-        else if (kelp_parse_finite(v, vl, &dv) == 0 && dv > 0) c->reset_time = dv;
+        if (kelp_util_strieq(v, "all-posted") || kelp_util_strieq(v, "end")) c->reset_time = 0;
+        else if (kelp_util_strieq(v, "none")) c->reset_time = -1;
+        else if (kelp_util_parse_finite(v, vl, &dv) == 0 && dv > 0) c->reset_time = dv;
         else {
             return kelp_fail(d, KELP_ERR_PARSE, "expected none, all-posted or seconds > 0");
         }
         return 1;
     }
-    if (kelp_strieq(key, "script_name")) {
+    if (kelp_util_strieq(key, "script_name")) {
         if (vl == 0 || field_copy_text(c->script_name, sizeof c->script_name, v, vl) < 0) {
             return kelp_fail(d, KELP_ERR_PARSE, "empty or too long");
         }
         return 1;
     }
-    if (kelp_strieq(key, "forward_var") || kelp_strieq(key, "forward_variable"))
+    if (kelp_util_strieq(key, "forward_var") || kelp_util_strieq(key, "forward_variable"))
         return set_var(c->var_forward, v, d) < 0 ? KELP_ERR_PARSE : 1;
-    if (kelp_strieq(key, "reset_var") || kelp_strieq(key, "reset_variable"))
+    if (kelp_util_strieq(key, "reset_var") || kelp_util_strieq(key, "reset_variable"))
         return set_var(c->var_reset, v, d) < 0 ? KELP_ERR_PARSE : 1;
-    if (kelp_strieq(key, "pause_var") || kelp_strieq(key, "pause_variable"))
+    if (kelp_util_strieq(key, "pause_var") || kelp_util_strieq(key, "pause_variable"))
         return set_var(c->var_pause, v, d) < 0 ? KELP_ERR_PARSE : 1;
-    if (kelp_strieq(key, "status_var")) return set_var(c->var_status, v, d) < 0 ? KELP_ERR_PARSE : 1;
-    if (kelp_strieq(key, "next_var")) return set_var(c->var_next, v, d) < 0 ? KELP_ERR_PARSE : 1;
-    if (kelp_strieq(key, "block_on")) return add_block(c, v, d);
-    if (kelp_strieq(key, "time_warp") || kelp_strieq(key, "delay_start") || kelp_strieq(key, "delay_reset")) {
-        bool warp = kelp_strieq(key, "time_warp");
+    if (kelp_util_strieq(key, "status_var")) return set_var(c->var_status, v, d) < 0 ? KELP_ERR_PARSE : 1;
+    if (kelp_util_strieq(key, "next_var")) return set_var(c->var_next, v, d) < 0 ? KELP_ERR_PARSE : 1;
+    if (kelp_util_strieq(key, "block_on")) return add_block(c, v, d);
+    if (kelp_util_strieq(key, "time_warp") || kelp_util_strieq(key, "delay_start") || kelp_util_strieq(key, "delay_reset")) {
+        bool warp = kelp_util_strieq(key, "time_warp");
         if (parse_span(v, vl, warp ? 1e-9 : 0, &s, d) < 0) return KELP_ERR_PARSE;
-        *(warp ? &c->warp : kelp_strieq(key, "delay_start") ? &c->delay_start : &c->delay_reset) = s;
+        *(warp ? &c->warp : kelp_util_strieq(key, "delay_start") ? &c->delay_start : &c->delay_reset) = s;
         return 1;
     }
-    if (kelp_strieq(key, "condition")) {
+    if (kelp_util_strieq(key, "condition")) {
         if (c->ncond >= KELP_TS_MAX_CONDS) {
             return kelp_fail(d, KELP_ERR_NOSPACE, "too many conditions");
         }
@@ -349,7 +349,7 @@ int kelp_ts_cfg_set(kelp_ts_cfg *c, const char *key, const char *v, kelp_diag *d
 
 /* ---- state ---- */
 
-static void add_sub(kelp_ts *r, const char *name, size_t len)
+static void add_sub(kelp_timerscript *r, const char *name, size_t len)
 {
     if (len == 0 || len >= KELP_MAX_NAME) return;
     for (unsigned i = 0; i < r->nsub; i++)
@@ -362,26 +362,26 @@ static void add_sub(kelp_ts *r, const char *name, size_t len)
 
 static void on_cond_var(const char *var, size_t len, void *user) { add_sub(user, var, len); }
 
-static double draw(kelp_ts *r, kelp_ts_span s) { return s.max > s.min ? s.min + kelp_rng_uniform(&r->rng) * (s.max - s.min) : s.min; }
+static double draw(kelp_timerscript *r, kelp_timerscript_span s) { return s.max > s.min ? s.min + kelp_rng_uniform(&r->rng) * (s.max - s.min) : s.min; }
 
-static void draw_randvars(kelp_ts *r, int key)
+static void draw_randvars(kelp_timerscript *r, int key)
 {
     for (unsigned i = 0; i < r->cfg.nrv; i++) {
-        const kelp_ts_randvar *v = &r->cfg.rv[i];
+        const kelp_timerscript_randvar *v = &r->cfg.rv[i];
         if (v->key != key) continue;
         double x = v->type == KELP_TS_RV_GAUSSIAN ? kelp_rng_gauss(&r->rng, v->mu, v->sigma)
-                                                  : draw(r, (kelp_ts_span){ v->min, v->max });
+                                                  : draw(r, (kelp_timerscript_span){ v->min, v->max });
         x = floor(x / v->snap + 0.5) * v->snap;
         if (x < v->min) x = v->min;
         if (x > v->max) x = v->max;
         r->rv_val[i] = x;
-        if (kelp_fmt_fixed(r->rv_text[i], sizeof r->rv_text[i], x, v->type == KELP_TS_RV_GAUSSIAN ? 5 : 3, true) < 0)
+        if (kelp_util_fmt_fixed(r->rv_text[i], sizeof r->rv_text[i], x, v->type == KELP_TS_RV_GAUSSIAN ? 5 : 3, true) < 0)
             memcpy(r->rv_text[i], "nan", 4);
     }
 }
 
 /* does an event value hold $[name] or $(name)? */
-static bool uses(const kelp_ts_cfg *c, const char *name)
+static bool uses(const kelp_timerscript_cfg *c, const char *name)
 {
     size_t n = strlen(name);
     for (unsigned i = 0; i < c->nev; i++)
@@ -391,7 +391,7 @@ static bool uses(const kelp_ts_cfg *c, const char *name)
     return false;
 }
 
-int kelp_ts_init(kelp_ts *r, const kelp_ts_cfg *c, uint64_t seed)
+int kelp_timerscript_init(kelp_timerscript *r, const kelp_timerscript_cfg *c, uint64_t seed)
 {
     memset(r, 0, sizeof *r);
     r->cfg = *c;
@@ -422,9 +422,9 @@ int kelp_ts_init(kelp_ts *r, const kelp_ts_cfg *c, uint64_t seed)
     return KELP_OK;
 }
 
-const char *kelp_ts_subscription(const kelp_ts *r, unsigned i) { return i < r->nsub ? r->sub[i] : NULL; }
+const char *kelp_timerscript_subscription(const kelp_timerscript *r, unsigned i) { return i < r->nsub ? r->sub[i] : NULL; }
 
-void kelp_ts_set_db_start(kelp_ts *r, double t)
+void kelp_timerscript_set_db_start(kelp_timerscript *r, double t)
 {
     r->db_start = t;
     r->db_set = true;
@@ -436,7 +436,7 @@ static void warn(const kelp_field_sink *out, const char *msg)
 }
 
 /* script time of the next unposted event (its delay included), or -1 */
-static double next_time(const kelp_ts *r)
+static double next_time(const kelp_timerscript *r)
 {
     double delay = r->resets ? r->delay_reset : r->delay_start, best = -1;
     for (unsigned i = 0; i < r->cfg.nev; i++)
@@ -444,7 +444,7 @@ static double next_time(const kelp_ts *r)
     return best;
 }
 
-static void reset(kelp_ts *r)
+static void reset(kelp_timerscript *r)
 {
     if (r->cfg.reset_max >= 0 && r->resets >= (unsigned long)r->cfg.reset_max) return;
     r->resets++;
@@ -452,22 +452,22 @@ static void reset(kelp_ts *r)
     r->started = false;
 }
 
-static void block_clear(kelp_ts *r, const char *app, size_t len)
+static void block_clear(kelp_timerscript *r, const char *app, size_t len)
 {
     bool any = false;
     for (unsigned i = 0; i < r->cfg.nblock; i++) {
-        if (kelp_strieq_n(app, len, r->cfg.block[i])) r->block_seen[i] = true;
+        if (kelp_util_strieq_n(app, len, r->cfg.block[i])) r->block_seen[i] = true;
         any = any || !r->block_seen[i];
     }
     r->blocked_any = any;
 }
 
-int kelp_ts_mail(kelp_ts *r, const char *var, bool is_string, const char *sval, double dval, kelp_time now,
+int kelp_timerscript_mail(kelp_timerscript *r, const char *var, bool is_string, const char *sval, double dval, kelp_time now,
                  const kelp_field_sink *out)
 {
-    const kelp_ts_cfg *c = &r->cfg;
+    const kelp_timerscript_cfg *c = &r->cfg;
     double d = dval;
-    bool num = !is_string || kelp_parse_finite(sval, strlen(sval), &d) == 0;
+    bool num = !is_string || kelp_util_parse_finite(sval, strlen(sval), &d) == 0;
     if (strcmp(var, c->var_forward) == 0) {
         if (!num || !isfinite(d)) {
             r->bad_mail++;
@@ -488,16 +488,16 @@ int kelp_ts_mail(kelp_ts *r, const char *var, bool is_string, const char *sval, 
         return 1;
     }
     if (strcmp(var, c->var_reset) == 0) {
-        if (is_string && (kelp_strieq(sval, "reset") || kelp_strieq(sval, "true"))) reset(r);
+        if (is_string && (kelp_util_strieq(sval, "reset") || kelp_util_strieq(sval, "true"))) reset(r);
         return 1;
     }
     if (strcmp(var, c->var_pause) == 0) {
-        if (!is_string || !(kelp_strieq(sval, "true") || kelp_strieq(sval, "false") || kelp_strieq(sval, "toggle"))) {
+        if (!is_string || !(kelp_util_strieq(sval, "true") || kelp_util_strieq(sval, "false") || kelp_util_strieq(sval, "toggle"))) {
             r->bad_mail++;
             warn(out, "pause: expected true, false or toggle");
             return KELP_ERR_PARSE;
         }
-        r->paused = kelp_strieq(sval, "toggle") ? !r->paused : kelp_strieq(sval, "true");
+        r->paused = kelp_util_strieq(sval, "toggle") ? !r->paused : kelp_util_strieq(sval, "true");
         if (kelp_helm_ib_set_string(&r->ib, var, sval, now, false) < 0) r->bad_mail++;
         return 1;
     }
@@ -518,7 +518,7 @@ int kelp_ts_mail(kelp_ts *r, const char *var, bool is_string, const char *sval, 
         size_t vl = strlen(var);
         if (vl > 7 && strcmp(var + vl - 7, "_STATUS") == 0) {
             for (unsigned i = 0; i < c->nblock; i++)
-                if (kelp_strieq_n(var, vl - 7, c->block[i])) block_clear(r, var, vl - 7), used = 1;
+                if (kelp_util_strieq_n(var, vl - 7, c->block[i])) block_clear(r, var, vl - 7), used = 1;
         }
     }
     /* every value is kept for the conditions */
@@ -550,24 +550,24 @@ static void put(obuf *o, const char *s, size_t len)
 static void put_num(obuf *o, double v, unsigned dec)
 {
     char t[48];
-    int k = kelp_fmt_fixed(t, sizeof t, v, dec, dec != 2);
+    int k = kelp_util_fmt_fixed(t, sizeof t, v, dec, dec != 2);
     if (k < 0 || (size_t)k >= sizeof t) o->full = true;
     else put(o, t, (size_t)k);
 }
 
 /* the value of macro name[0..nl), written to o; false when it is no macro */
-static bool macro(kelp_ts *r, const char *name, size_t nl, kelp_time now, obuf *o)
+static bool macro(kelp_timerscript *r, const char *name, size_t nl, kelp_time now, obuf *o)
 {
-    if (kelp_strieq_n(name, nl, "DBTIME")) put_num(o, now - r->db_start, 2);
-    else if (kelp_strieq_n(name, nl, "UTCTIME") || kelp_strieq_n(name, nl, "UTC")) put_num(o, now, 2);
-    else if (kelp_strieq_n(name, nl, "TCOUNT")) put_num(o, (double)r->posted_total, 0);
-    else if (kelp_strieq_n(name, nl, "COUNT")) put_num(o, (double)r->posted_local, 0);
-    else if (kelp_strieq_n(name, nl, "NAV_X")) put_num(o, r->nav_x, 2);
-    else if (kelp_strieq_n(name, nl, "NAV_Y")) put_num(o, r->nav_y, 2);
-    else if (kelp_strieq_n(name, nl, "VNAME")) put(o, r->cfg.community, strlen(r->cfg.community));
+    if (kelp_util_strieq_n(name, nl, "DBTIME")) put_num(o, now - r->db_start, 2);
+    else if (kelp_util_strieq_n(name, nl, "UTCTIME") || kelp_util_strieq_n(name, nl, "UTC")) put_num(o, now, 2);
+    else if (kelp_util_strieq_n(name, nl, "TCOUNT")) put_num(o, (double)r->posted_total, 0);
+    else if (kelp_util_strieq_n(name, nl, "COUNT")) put_num(o, (double)r->posted_local, 0);
+    else if (kelp_util_strieq_n(name, nl, "NAV_X")) put_num(o, r->nav_x, 2);
+    else if (kelp_util_strieq_n(name, nl, "NAV_Y")) put_num(o, r->nav_y, 2);
+    else if (kelp_util_strieq_n(name, nl, "VNAME")) put(o, r->cfg.community, strlen(r->cfg.community));
     else {
         long digits;
-        if (kelp_parse_long(name, nl, &digits) == 0 && digits >= 1 && digits <= TS_RAND_DIGITS_MAX && name[0] != ' ') {
+        if (kelp_util_parse_long(name, nl, &digits) == 0 && digits >= 1 && digits <= TS_RAND_DIGITS_MAX && name[0] != ' ') {
             char t[TS_RAND_DIGITS_MAX];
             size_t k = 0;
             for (long i = 0; i < digits; i++) {
@@ -609,7 +609,7 @@ static bool math_pass(char *s, size_t cap)
     for (const char *ops = "*/+-"; *ops && !op; ops++) op = memchr(e, *ops, el);
     if (!op) return false;
     double a, b, v;
-    if (kelp_parse_finite(e, (size_t)(op - e), &a) < 0 || kelp_parse_finite(op + 1, el - (size_t)(op - e) - 1, &b) < 0)
+    if (kelp_util_parse_finite(e, (size_t)(op - e), &a) < 0 || kelp_util_parse_finite(op + 1, el - (size_t)(op - e) - 1, &b) < 0)
         return false;
     if (neg) a = -a;
     switch (*op) {
@@ -619,7 +619,7 @@ static bool math_pass(char *s, size_t cap)
     default: v = a - b; break;
     }
     char t[48];
-    int k = isfinite(v) ? kelp_fmt_fixed(t, sizeof t, v, 6, true) : -1;
+    int k = isfinite(v) ? kelp_util_fmt_fixed(t, sizeof t, v, 6, true) : -1;
     if (k < 0 || (size_t)k >= sizeof t) return false;
     size_t tail = strlen(close + 1), head = (size_t)(open - s);
     if (head + (size_t)k + tail + 1 > cap) return false;
@@ -628,7 +628,7 @@ static bool math_pass(char *s, size_t cap)
     return true;
 }
 
-int kelp_ts_expand(kelp_ts *r, const char *val, kelp_time now, char *out, size_t cap, double *dval)
+int kelp_timerscript_expand(kelp_timerscript *r, const char *val, kelp_time now, char *out, size_t cap, double *dval)
 {
     if (!cap) return KELP_ERR_NOSPACE;
     obuf o = { out, cap, 0, false };
@@ -639,14 +639,14 @@ int kelp_ts_expand(kelp_ts *r, const char *val, kelp_time now, char *out, size_t
     if (vl > 3 && val[0] == '$' && ((val[1] == '[' && val[vl - 1] == ']') || (val[1] == '(' && val[vl - 1] == ')'))) {
         const char *nm = val + 2;
         size_t nl = vl - 3;
-        if (kelp_strieq_n(nm, nl, "DBTIME") || kelp_strieq_n(nm, nl, "UTCTIME") || kelp_strieq_n(nm, nl, "UTC") ||
-            kelp_strieq_n(nm, nl, "COUNT") || kelp_strieq_n(nm, nl, "TCOUNT")) {
+        if (kelp_util_strieq_n(nm, nl, "DBTIME") || kelp_util_strieq_n(nm, nl, "UTCTIME") || kelp_util_strieq_n(nm, nl, "UTC") ||
+            kelp_util_strieq_n(nm, nl, "COUNT") || kelp_util_strieq_n(nm, nl, "TCOUNT")) {
             (void)macro(r, nm, nl, now, &o);
             if (o.full) return KELP_ERR_NOSPACE;
             /* the number posted is the time or count itself; the text (2 decimals) is for the log */
-            if (kelp_strieq_n(nm, nl, "DBTIME")) *dval = now - r->db_start;
-            else if (kelp_strieq_n(nm, nl, "UTCTIME") || kelp_strieq_n(nm, nl, "UTC")) *dval = now;
-            else if (kelp_parse_finite(out, o.n, dval) < 0) return 0;
+            if (kelp_util_strieq_n(nm, nl, "DBTIME")) *dval = now - r->db_start;
+            else if (kelp_util_strieq_n(nm, nl, "UTCTIME") || kelp_util_strieq_n(nm, nl, "UTC")) *dval = now;
+            else if (kelp_util_parse_finite(out, o.n, dval) < 0) return 0;
             return 1;
         }
     }
@@ -665,17 +665,17 @@ int kelp_ts_expand(kelp_ts *r, const char *val, kelp_time now, char *out, size_t
     if (o.full) return KELP_ERR_NOSPACE;
     for (int k = 0; k < KELP_TS_MATH_PASSES && math_pass(out, cap); k++) {
     }
-    return kelp_parse_finite(out, strlen(out), dval) == 0 ? 1 : 0;
+    return kelp_util_parse_finite(out, strlen(out), dval) == 0 ? 1 : 0;
 }
 
 /* ---- iteration ---- */
 
-static void schedule(kelp_ts *r, kelp_time now)
+static void schedule(kelp_timerscript *r, kelp_time now)
 {
-    const kelp_ts_cfg *c = &r->cfg;
+    const kelp_timerscript_cfg *c = &r->cfg;
     bool first = !r->drawn;
     if (c->shuffle || first)
-        for (unsigned i = 0; i < c->nev; i++) r->t[i] = draw(r, (kelp_ts_span){ c->ev[i].tmin, c->ev[i].tmax });
+        for (unsigned i = 0; i < c->nev; i++) r->t[i] = draw(r, (kelp_timerscript_span){ c->ev[i].tmin, c->ev[i].tmax });
     r->drawn = true;
     r->warp = draw(r, c->warp);
     r->delay_start = draw(r, c->delay_start);
@@ -692,19 +692,19 @@ static void schedule(kelp_ts *r, kelp_time now)
     r->started = true;
 }
 
-static bool conditions(kelp_ts *r)
+static bool conditions(kelp_timerscript *r)
 {
     for (unsigned i = 0; i < r->cfg.ncond; i++)
         if (kelp_helm_cond_eval(r->cfg.cond[i], &r->ib) != 1) return false;
     return true;
 }
 
-static void post_event(kelp_ts *r, unsigned i, kelp_time now, const kelp_field_sink *out)
+static void post_event(kelp_timerscript *r, unsigned i, kelp_time now, const kelp_field_sink *out)
 {
-    const kelp_ts_event *e = &r->cfg.ev[i];
+    const kelp_timerscript_event *e = &r->cfg.ev[i];
     char text[KELP_TS_MAX_VAL];
     double d = 0;
-    int rc = kelp_ts_expand(r, e->val, now, text, sizeof text, &d);
+    int rc = kelp_timerscript_expand(r, e->val, now, text, sizeof text, &d);
     if (rc < 0) {
         warn(out, "an event's value does not fit once expanded: posted unexpanded");
         (void)field_copy_text(text, sizeof text, e->val, strlen(e->val));
@@ -713,7 +713,7 @@ static void post_event(kelp_ts *r, unsigned i, kelp_time now, const kelp_field_s
     if (e->quit) r->quit = true;
     bool as_num = rc == 1 && !e->quoted;
     out->publish(out->ctx, e->var, !as_num, text, d);
-    kelp_ts_logline *l = &r->log[r->nlog++ % KELP_TS_LOG];
+    kelp_timerscript_logline *l = &r->log[r->nlog++ % KELP_TS_LOG];
     l->total = r->posted_total + 1;
     l->local = r->posted_local + 1;
     l->db_time = now - r->db_start;
@@ -725,29 +725,29 @@ static void post_event(kelp_ts *r, unsigned i, kelp_time now, const kelp_field_s
 
 #define TS_STATUS_MAX 400 /* the fixed text, a script name and four numbers */
 
-static void post_status(kelp_ts *r, kelp_time now, const kelp_field_sink *out)
+static void post_status(kelp_timerscript *r, kelp_time now, const kelp_field_sink *out)
 {
     char st[TS_STATUS_MAX];
-    if (kelp_ts_status(r, st, sizeof st) > 0) out->publish(out->ctx, r->cfg.var_status, true, st, 0);
+    if (kelp_timerscript_status(r, st, sizeof st) > 0) out->publish(out->ctx, r->cfg.var_status, true, st, 0);
     r->status_ever = true;
     r->status_time = now;
 }
 
-int kelp_ts_iterate(kelp_ts *r, kelp_time now, const kelp_field_sink *out)
+int kelp_timerscript_iterate(kelp_timerscript *r, kelp_time now, const kelp_field_sink *out)
 {
-    const kelp_ts_cfg *c = &r->cfg;
-    if (!kelp_time_ok(now)) return KELP_ERR_ARG;
+    const kelp_timerscript_cfg *c = &r->cfg;
+    if (!kelp_util_time_ok(now)) return KELP_ERR_ARG;
     /* the time step rule: a clock step (back, or forward beyond KELP_TIME_STEP_MAX) is not script
      * time: every reference moves with it, so no event fires early or late by the step, none is
      * posted in a burst, and DBTIME / the status period never run backwards */
-    double step = kelp_clock_step(&r->clock, now, KELP_TIME_STEP_MAX);
+    double step = kelp_util_clock_step(&r->clock, now, KELP_TIME_STEP_MAX);
     if (step != 0.0) {
         r->start += step;
         if (r->prev >= 0) r->prev += step;
         r->status_time += step;
         r->db_start += step;
     }
-    if (!r->db_set) kelp_ts_set_db_start(r, now);
+    if (!r->db_set) kelp_timerscript_set_db_start(r, now);
     /* as MOOS-IvP's uTimerScript: the status is owed to what this iteration does (a posting, a
      * change of conditions, a reset it makes, 5 s of silence), not to the mail before it */
     r->status_due = false;
@@ -786,14 +786,14 @@ int kelp_ts_iterate(kelp_ts *r, kelp_time now, const kelp_field_sink *out)
         if (all && c->reset_time == 0) reset(r);
     }
     if (c->reset_time > 0 && r->elapsed >= c->reset_time) reset(r);
-    if (r->status_due && c->var_status[0] && !kelp_strieq(c->var_status, "silent")) post_status(r, now, out);
+    if (r->status_due && c->var_status[0] && !kelp_util_strieq(c->var_status, "silent")) post_status(r, now, out);
     r->status_due = false;
     return posted;
 }
 
-int kelp_ts_status(const kelp_ts *r, char *buf, size_t cap)
+int kelp_timerscript_status(const kelp_timerscript *r, char *buf, size_t cap)
 {
-    const kelp_ts_cfg *c = &r->cfg;
+    const kelp_timerscript_cfg *c = &r->cfg;
     size_t n = 0;
     static const char *const awake[] = { "n/a", "reset", "restart" };
     field_putf(buf, cap, &n, "name=%s, elapsed_time=", c->script_name);

@@ -9,20 +9,20 @@ static const char *const var_names[KELP_VIEW_NKINDS] = {
     "VIEW_POINT", "VIEW_CIRCLE", "VIEW_POLYGON", "VIEW_SEGLIST", "VIEW_MARKER", "VIEW_COMMS_PULSE", "VIEW_RANGE_PULSE",
 };
 
-const char *kelp_view_var(kelp_view_kind kind)
+const char *kelp_nodereport_view_var(kelp_view_kind kind)
 {
     return (unsigned)kind < KELP_VIEW_NKINDS ? var_names[kind] : "?";
 }
 
-int kelp_view_kind_of(const char *var, kelp_view_kind *out)
+int kelp_nodereport_view_kind_of(const char *var, kelp_view_kind *out)
 {
     if (!var) return KELP_ERR_NOTFOUND;
     for (int k = 0; k < KELP_VIEW_NKINDS; k++)
-        if (kelp_strieq_n(var, strlen(var), var_names[k])) {
+        if (kelp_util_strieq_n(var, strlen(var), var_names[k])) {
             *out = (kelp_view_kind)k;
             return KELP_OK;
         }
-    if (kelp_strieq_n(var, strlen(var), "VIEW_COMM_PULSE")) { /* seed 000 spelling */
+    if (kelp_util_strieq_n(var, strlen(var), "VIEW_COMM_PULSE")) { /* seed 000 spelling */
         *out = KELP_VIEW_COMMS_PULSE;
         return KELP_OK;
     }
@@ -113,7 +113,7 @@ static int on_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl
         {"beam_width", 0, offsetof(kelp_view, beam_width)},
     };
     for (size_t i = 0; i < sizeof nums / sizeof nums[0]; i++)
-        if (kelp_strieq_n(k, kl, nums[i].key)) {
+        if (kelp_util_strieq_n(k, kl, nums[i].key)) {
             double d;
             if (sim_number(v, vl, &d) < 0) {
                 return kelp_fail(p->d, KELP_ERR_PARSE, "bad number");
@@ -138,16 +138,16 @@ static int on_pair(void *ctx, const char *k, size_t kl, const char *v, size_t vl
         {"label_color", offsetof(kelp_view, label_color)},
     };
     for (size_t i = 0; i < sizeof texts / sizeof texts[0]; i++)
-        if (kelp_strieq_n(k, kl, texts[i].key)) return set_text(p, (char *)w + texts[i].off, v, vl);
-    if (kelp_strieq_n(k, kl, "active")) {
-        if (kelp_strieq_n(v, vl, "true")) w->active = true;
-        else if (kelp_strieq_n(v, vl, "false")) w->active = false;
+        if (kelp_util_strieq_n(k, kl, texts[i].key)) return set_text(p, (char *)w + texts[i].off, v, vl);
+    if (kelp_util_strieq_n(k, kl, "active")) {
+        if (kelp_util_strieq_n(v, vl, "true")) w->active = true;
+        else if (kelp_util_strieq_n(v, vl, "false")) w->active = false;
         else {
             return kelp_fail(p->d, KELP_ERR_PARSE, "active must be true or false");
         }
         return KELP_OK;
     }
-    if (kelp_strieq_n(k, kl, "pts")) {
+    if (kelp_util_strieq_n(k, kl, "pts")) {
         if (vl < 2 || v[0] != '{' || v[vl - 1] != '}') {
             return kelp_fail(p->d, KELP_ERR_PARSE, "pts must be {x,y:x,y:...}");
         }
@@ -199,7 +199,7 @@ static bool has_eq_outside_braces(const char *s, size_t len)
     return false;
 }
 
-int kelp_view_parse(kelp_view_kind kind, const char *s, size_t len, kelp_view *out, kelp_diag *d)
+int kelp_nodereport_view_parse(kelp_view_kind kind, const char *s, size_t len, kelp_view *out, kelp_diag *d)
 {
     if (!s || !out || (unsigned)kind >= KELP_VIEW_NKINDS) {
         return kelp_fail(d, KELP_ERR_ARG, "bad argument");

@@ -4,7 +4,7 @@
 #include <kelp/kv.h>
 #include "helm_int.h"
 
-const char *kelp_bhv_state_name(kelp_bhv_state s)
+const char *kelp_helm_bhv_state_name(kelp_bhv_state s)
 {
     switch (s) {
     case KELP_BHV_IDLE: return "idle";
@@ -26,7 +26,7 @@ void bhv_defaults(kelp_bhv *b)
     b->dur_reset_stamp = -1;
 }
 
-int kelp_bhv_fail(kelp_bhv *b, const char *why)
+int kelp_helm_bhv_fail(kelp_bhv *b, const char *why)
 {
     if (!b->fail)
         b->fail = why;
@@ -56,10 +56,10 @@ static void cond_var(const char *var, size_t len, void *user)
 static int add_flag(kelp_bhv *b, kelp_bhv_flag_kind kind, const char *v)
 {
     if (b->nflag >= KELP_HELM_MAX_FLAGS)
-        return kelp_bhv_fail(b, "too many flags");
+        return kelp_helm_bhv_fail(b, "too many flags");
     kelp_bhv_flag *f = &b->flag[b->nflag];
     if (!hx_pair(v, &f->p))
-        return kelp_bhv_fail(b, "a flag is VAR=value");
+        return kelp_helm_bhv_fail(b, "a flag is VAR=value");
     f->kind = kind;
     b->nflag++;
     return 0;
@@ -69,7 +69,7 @@ static int copy_name(kelp_bhv *b, char *dst, const char *v, bool need)
 {
     size_t n = strlen(v);
     if (!hx_varname(v, n))
-        return kelp_bhv_fail(b, "bad variable name");
+        return kelp_helm_bhv_fail(b, "bad variable name");
     memcpy(dst, v, n + 1);
     if (need && b->helm)
         (void)helm_need_var(b->helm, v, n);
@@ -81,11 +81,11 @@ static int copy_name(kelp_bhv *b, char *dst, const char *v, bool need)
 KELP_NOINLINE static int add_condition(kelp_bhv *b, const char *v, size_t vn)
 {
     if (b->ncond >= KELP_HELM_MAX_CONDS)
-        return kelp_bhv_fail(b, "too many conditions");
+        return kelp_helm_bhv_fail(b, "too many conditions");
     if (vn >= KELP_HELM_MAX_COND_LEN)
-        return kelp_bhv_fail(b, "condition too long");
+        return kelp_helm_bhv_fail(b, "condition too long");
     if (kelp_helm_cond_check(v, cond_var, b) != 0)
-        return kelp_bhv_fail(b, "malformed condition");
+        return kelp_helm_bhv_fail(b, "malformed condition");
     memcpy(b->cond[b->ncond++], v, vn + 1);
     return 0;
 }
@@ -106,17 +106,17 @@ static int general_param(kelp_bhv *b, const char *p, const char *v)
     double d;
     if (!strcmp(p, "name") || !strcmp(p, "descriptor")) {
         if (vn == 0 || !hx_copy(b->name, sizeof b->name, v, vn))
-            return kelp_bhv_fail(b, "bad name");
+            return kelp_helm_bhv_fail(b, "bad name");
         return 0;
     }
     if (!strcmp(p, "us")) {
         if (vn == 0 || !hx_copy(b->us, sizeof b->us, v, vn))
-            return kelp_bhv_fail(b, "bad vehicle name");
+            return kelp_helm_bhv_fail(b, "bad vehicle name");
         return 0;
     }
     if (!strcmp(p, "pwt") || !strcmp(p, "priority") || !strcmp(p, "priwt")) {
         if (!hx_number(v, vn, &d) || d < 0)
-            return kelp_bhv_fail(b, "priority must be a number >= 0");
+            return kelp_helm_bhv_fail(b, "priority must be a number >= 0");
         b->pwt = d;
         return 0;
     }
@@ -133,13 +133,13 @@ static int general_param(kelp_bhv *b, const char *p, const char *v)
     }
     if (!strcmp(p, "templating")) {
         if (!hx_ieq(v, "disallowed") && !hx_ieq(v, "clone") && !hx_ieq(v, "spawn"))
-            return kelp_bhv_fail(b, "templating is disallowed, clone or spawn");
+            return kelp_helm_bhv_fail(b, "templating is disallowed, clone or spawn");
         (void)hx_copy(b->templating, sizeof b->templating, v, vn);
         return 0;
     }
     if (!strcmp(p, "max_spawnings")) {
         if (!hx_number(v, vn, &d) || d < 0 || d != floor(d))
-            return kelp_bhv_fail(b, "max_spawnings is a whole number >= 0");
+            return kelp_helm_bhv_fail(b, "max_spawnings is a whole number >= 0");
         b->max_spawnings = (unsigned long)d;
         return 0;
     }
@@ -155,51 +155,51 @@ static int general_param(kelp_bhv *b, const char *p, const char *v)
             return 0;
         }
         if (!hx_number(v, vn, &d) || d <= 0)
-            return kelp_bhv_fail(b, "duration must be a positive number");
+            return kelp_helm_bhv_fail(b, "duration must be a positive number");
         b->duration = d;
         return 0;
     }
     if (!strcmp(p, "duration_status"))
         return copy_name(b, b->duration_status, v, false);
     if (!strcmp(p, "duration_reset")) {
-        kelp_helm_pair *pr = &b->helm->ws_pair; /* workspace (kelp_bhv_set_param checked helm) */
+        kelp_helm_pair *pr = &b->helm->ws_pair; /* workspace (kelp_helm_bhv_set_param checked helm) */
         if (!hx_pair(v, pr))
-            return kelp_bhv_fail(b, "duration_reset is VAR=value");
+            return kelp_helm_bhv_fail(b, "duration_reset is VAR=value");
         const char *eq = strchr(v, '=');
         const char *rv = eq + 1;
         size_t rn = strlen(rv);
         hx_trim(&rv, &rn);
         if (!hx_copy(b->duration_reset_val, sizeof b->duration_reset_val, rv, rn))
-            return kelp_bhv_fail(b, "duration_reset value too long");
+            return kelp_helm_bhv_fail(b, "duration_reset value too long");
         return copy_name(b, b->duration_reset_var, pr->var, true);
     }
     if (!strcmp(p, "duration_idle_decay")) {
         if (!parse_bool(v, &b->duration_idle_decay))
-            return kelp_bhv_fail(b, "duration_idle_decay is true or false");
+            return kelp_helm_bhv_fail(b, "duration_idle_decay is true or false");
         return 0;
     }
     if (!strcmp(p, "perpetual")) {
         if (!parse_bool(v, &b->perpetual))
-            return kelp_bhv_fail(b, "perpetual is true or false");
+            return kelp_helm_bhv_fail(b, "perpetual is true or false");
         return 0;
     }
     if (!strcmp(p, "post_mapping")) {
         const char *c = strchr(v, ',');
         if (!c)
-            return kelp_bhv_fail(b, "post_mapping is OLD, NEW");
+            return kelp_helm_bhv_fail(b, "post_mapping is OLD, NEW");
         const char *l = v, *r = c + 1;
         size_t ln = (size_t)(c - v), rn = strlen(r);
         hx_trim(&l, &ln);
         hx_trim(&r, &rn);
         if (!hx_varname(l, ln) || !hx_varname(r, rn))
-            return kelp_bhv_fail(b, "post_mapping is OLD, NEW");
+            return kelp_helm_bhv_fail(b, "post_mapping is OLD, NEW");
         unsigned i;
         for (i = 0; i < b->nmap; i++)
-            if (kelp_strieq_n(l, ln, b->map_from[i]) && strlen(b->map_from[i]) == ln)
+            if (kelp_util_strieq_n(l, ln, b->map_from[i]) && strlen(b->map_from[i]) == ln)
                 break;
         if (i == b->nmap) {
             if (b->nmap >= KELP_HELM_MAX_MAPPINGS)
-                return kelp_bhv_fail(b, "too many post_mapping lines");
+                return kelp_helm_bhv_fail(b, "too many post_mapping lines");
             b->nmap++;
         }
         (void)hx_copy(b->map_from[i], KELP_MAX_NAME, l, ln);
@@ -209,9 +209,9 @@ static int general_param(kelp_bhv *b, const char *p, const char *v)
     if (!strcmp(p, "nostarve") || !strcmp(p, "no_starve")) {
         const char *last = strrchr(v, ',');
         if (!last)
-            return kelp_bhv_fail(b, "nostarve is VAR, ..., VAR, seconds");
+            return kelp_helm_bhv_fail(b, "nostarve is VAR, ..., VAR, seconds");
         if (!hx_number(last + 1, strlen(last + 1), &d) || d <= 0)
-            return kelp_bhv_fail(b, "nostarve time must be a positive number");
+            return kelp_helm_bhv_fail(b, "nostarve time must be a positive number");
         /* two passes over the list: check every name, then copy (no copy of the table on the stack) */
         unsigned n = 0;
         for (int pass = 0; pass < 2; pass++) {
@@ -222,14 +222,14 @@ static int general_param(kelp_bhv *b, const char *p, const char *v)
                 size_t wn = (size_t)(c - s);
                 hx_trim(&w, &wn);
                 if (!hx_varname(w, wn) || n >= KELP_HELM_MAX_INFOVARS)
-                    return kelp_bhv_fail(b, "nostarve is VAR, ..., VAR, seconds");
+                    return kelp_helm_bhv_fail(b, "nostarve is VAR, ..., VAR, seconds");
                 if (pass)
                     (void)hx_copy(b->starve[n], KELP_MAX_NAME, w, wn);
                 n++;
                 s = c + 1;
             }
             if (n == 0)
-                return kelp_bhv_fail(b, "nostarve names no variable");
+                return kelp_helm_bhv_fail(b, "nostarve names no variable");
         }
         b->nstarve = n;
         b->starve_time = d;
@@ -241,7 +241,7 @@ static int general_param(kelp_bhv *b, const char *p, const char *v)
     return KELP_ERR_NOTFOUND;
 }
 
-int kelp_bhv_set_param(kelp_bhv *b, const char *param, const char *value)
+int kelp_helm_bhv_set_param(kelp_bhv *b, const char *param, const char *value)
 {
     if (!b || !b->helm || !param || !value)
         return KELP_ERR_ARG;
@@ -255,28 +255,28 @@ int kelp_bhv_set_param(kelp_bhv *b, const char *param, const char *value)
     }
     char *lp = b->helm->ws_pname, *val = b->helm->ws_param;
     if (pn == 0 || pn >= sizeof b->helm->ws_pname)
-        return kelp_bhv_fail(b, "bad parameter name");
+        return kelp_helm_bhv_fail(b, "bad parameter name");
     for (size_t i = 0; i < pn; i++)
         lp[i] = hx_lower(p[i]);
     lp[pn] = '\0';
     if (!hx_copy(val, sizeof b->helm->ws_param, v, vn))
-        return kelp_bhv_fail(b, "value too long");
+        return kelp_helm_bhv_fail(b, "value too long");
     int rc = bhv_general_param(b, lp, val);
     if (rc != KELP_ERR_NOTFOUND)
         return rc;
     if (!b->ops->set_param)
-        return kelp_bhv_fail(b, "unknown parameter");
+        return kelp_helm_bhv_fail(b, "unknown parameter");
     rc = b->ops->set_param(b, lp, val);
     if (rc == KELP_ERR_NOTFOUND)
-        return kelp_bhv_fail(b, "unknown parameter");
+        return kelp_helm_bhv_fail(b, "unknown parameter");
     if (rc < 0)
-        return kelp_bhv_fail(b, "bad value");
+        return kelp_helm_bhv_fail(b, "bad value");
     return 0;
 }
 
 /* ---------------------------------------------------------------- utilities */
 
-void kelp_bhv_set_complete(kelp_bhv *b)
+void kelp_helm_bhv_set_complete(kelp_bhv *b)
 {
     helm_post_flags(b, KELP_FLAG_END);
     helm_post_flags(b, KELP_FLAG_INACTIVE);
@@ -293,7 +293,7 @@ void bhv_use_subdomain(kelp_bhv *b, const char *vars)
         kelp_ivp_domain_init(&b->dom);
 }
 
-int kelp_bhv_add_info_vars(kelp_bhv *b, const char *names)
+int kelp_helm_bhv_add_info_vars(kelp_bhv *b, const char *names)
 {
     const char *s = names;
     int rc = 0;
@@ -323,32 +323,32 @@ int kelp_bhv_add_info_vars(kelp_bhv *b, const char *names)
     return rc;
 }
 
-bool kelp_bhv_buf_double(const kelp_bhv *b, const char *var, double *out)
+bool kelp_helm_bhv_buf_double(const kelp_bhv *b, const char *var, double *out)
 {
     return kelp_helm_ib_double(&b->helm->ib, var, out);
 }
 
-bool kelp_bhv_buf_string(const kelp_bhv *b, const char *var, char *buf, size_t cap)
+bool kelp_helm_bhv_buf_string(const kelp_bhv *b, const char *var, char *buf, size_t cap)
 {
     return kelp_helm_ib_string(&b->helm->ib, var, buf, cap);
 }
 
-double kelp_bhv_buf_time(const kelp_bhv *b, const char *var)
+double kelp_helm_bhv_buf_time(const kelp_bhv *b, const char *var)
 {
     return kelp_helm_ib_time(&b->helm->ib, var);
 }
 
-double kelp_bhv_buf_now(const kelp_bhv *b)
+double kelp_helm_bhv_buf_now(const kelp_bhv *b)
 {
     return b->helm->ib.curr_time;
 }
 
-unsigned kelp_bhv_buf_ndeltas(const kelp_bhv *b, const char *var)
+unsigned kelp_helm_bhv_buf_ndeltas(const kelp_bhv *b, const char *var)
 {
     return kelp_helm_ib_ndeltas(&b->helm->ib, var);
 }
 
-bool kelp_bhv_buf_delta(const kelp_bhv *b, const char *var, unsigned k, double *dval, const char **sval)
+bool kelp_helm_bhv_buf_delta(const kelp_bhv *b, const char *var, unsigned k, double *dval, const char **sval)
 {
     return kelp_helm_ib_delta(&b->helm->ib, var, k, dval, sval);
 }
@@ -371,22 +371,22 @@ static void post(kelp_bhv *b, const char *var, bool is_str, const char *s, doubl
     helm_queue_post(b->helm, b, var, is_str, s, d, key);
 }
 
-void kelp_bhv_post_string(kelp_bhv *b, const char *var, const char *val, const char *key)
+void kelp_helm_bhv_post_string(kelp_bhv *b, const char *var, const char *val, const char *key)
 {
     post(b, var, true, val ? val : "", 0, key);
 }
 
-void kelp_bhv_post_double(kelp_bhv *b, const char *var, double val, const char *key)
+void kelp_helm_bhv_post_double(kelp_bhv *b, const char *var, double val, const char *key)
 {
     post(b, var, false, NULL, val, key);
 }
 
-void kelp_bhv_post_bool(kelp_bhv *b, const char *var, bool val, const char *key)
+void kelp_helm_bhv_post_bool(kelp_bhv *b, const char *var, bool val, const char *key)
 {
     post(b, var, true, val ? "true" : "false", 0, key);
 }
 
-void kelp_bhv_post_int(kelp_bhv *b, const char *var, double val, const char *key)
+void kelp_helm_bhv_post_int(kelp_bhv *b, const char *var, double val, const char *key)
 {
     post(b, var, false, NULL, floor(val + 0.5), key);
 }
@@ -407,13 +407,13 @@ static void post_msg(kelp_bhv *b, const char *var, const char *msg)
     post(b, var, true, buf, 0, "repeatable");
 }
 
-void kelp_bhv_post_warning(kelp_bhv *b, const char *msg)
+void kelp_helm_bhv_post_warning(kelp_bhv *b, const char *msg)
 {
     if (msg && *msg)
         post_msg(b, "BHV_WARNING", msg);
 }
 
-void kelp_bhv_post_error(kelp_bhv *b, const char *msg)
+void kelp_helm_bhv_post_error(kelp_bhv *b, const char *msg)
 {
     post_msg(b, "BHV_ERROR", msg ? msg : "");
     b->state_ok = false;

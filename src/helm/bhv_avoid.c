@@ -34,13 +34,13 @@ static void avd_init(kelp_bhv *b)
     a->decay_end = 30;
     a->on_no_contact_ok = true;
     a->strict_ignore = -1;
-    hx_ignore(kelp_bhv_add_info_vars(b, "NAV_X, NAV_Y, NAV_SPEED, NAV_HEADING, NODE_REPORT")); /* a constructor cannot fail: a full list only skips the registration */
+    hx_ignore(kelp_helm_bhv_add_info_vars(b, "NAV_X, NAV_Y, NAV_SPEED, NAV_HEADING, NODE_REPORT")); /* a constructor cannot fail: a full list only skips the registration */
 }
 
 static int set_bool(const char *v, bool *out)
 {
     bool t;
-    if (kelp_parse_bool(v, strlen(v), &t) != 0)
+    if (kelp_util_parse_bool(v, strlen(v), &t) != 0)
         return KELP_ERR_PARSE;
     *out = t;
     return 0;
@@ -137,9 +137,9 @@ static int set_lines(kelp_bhv_avoid *a, const char *v)
         hx_trim(&l, &ln);
         hx_trim(&r, &rn);
         double d;
-        if (ln == 4 && kelp_strieq_n(l, ln, "info") && rn == 5 && !strncmp(r, "range", 5))
+        if (ln == 4 && kelp_util_strieq_n(l, ln, "info") && rn == 5 && !strncmp(r, "range", 5))
             a->bearing_info_range = true;
-        else if (ln == 4 && kelp_strieq_n(l, ln, "info") && rn == 9 && !strncmp(r, "relevance", 9))
+        else if (ln == 4 && kelp_util_strieq_n(l, ln, "info") && rn == 9 && !strncmp(r, "relevance", 9))
             a->bearing_info_range = false;
         else if (valid && ln > 0 && hx_number(r, rn, &d) && a->nlines < KELP_BHV_AVD_MAX_LINES &&
                  hx_copy(a->line_color[a->nlines], sizeof a->line_color[0], l, ln)) {
@@ -303,10 +303,10 @@ static void avd_helm_start(kelp_bhv *b)
     /* MOOS-IvP's exact string, separators included (augmentSpec joins the summary with ",") */
     hx_cat(req, sizeof b->helm->ws_bhv.post, "id=", b->name, ", on_flag=", b->updates, "=name=$[VNAME] # contact=$[VNAME]",
            ",alert_range=", ar, ", cpa_range=", cr, filt[0] ? "," : "", filt, HX_END);
-    kelp_bhv_post_string(b, "BCM_ALERT_REQUEST", req, NULL);
+    kelp_helm_bhv_post_string(b, "BCM_ALERT_REQUEST", req, NULL);
 }
 
-double kelp_bhv_avoid_relevance(double range, double inner, double outer, int grade)
+double kelp_helm_bhv_avoid_relevance(double range, double inner, double outer, int grade)
 {
     if (range >= outer) return 0;
     if (outer <= inner) return 1; /* degenerate rings (MOOS-IvP would divide by zero) */
@@ -317,7 +317,7 @@ double kelp_bhv_avoid_relevance(double range, double inner, double outer, int gr
     return p;
 }
 
-double kelp_bhv_avoid_aof_eval(const double *pt, void *user)
+double kelp_helm_bhv_avoid_aof_eval(const double *pt, void *user)
 {
     const kelp_bhv_avoid_aof *f = user;
     double cpa = kelp_cpa_fast_eval(&f->cpa, pt[f->icrs], pt[f->ispd], NULL);
@@ -345,7 +345,7 @@ KELP_NOINLINE static bool range_update(kelp_bhv *b)
     kelp_cpa_vessel cn = {a->cn.x, a->cn.y, a->cn.hdg, a->cn.spd}, os = {a->osx, a->osy, a->osh, a->osv};
     kelp_cpa_result r;
     if (kelp_cpa_eval(&cn, &os, a->time_on_leg, &r) != KELP_OK) {
-        kelp_bhv_post_warning(b, "non-finite contact or ownship state");
+        kelp_helm_bhv_post_warning(b, "non-finite contact or ownship state");
         return false;
     }
     a->prev_range = a->have_range ? a->range : r.range;
@@ -359,28 +359,28 @@ KELP_NOINLINE static bool range_update(kelp_bhv *b)
 static bool update_info(kelp_bhv *b)
 {
     kelp_bhv_avoid *a = &b->u.avoid;
-    bool ok = kelp_bhv_buf_double(b, "NAV_X", &a->osx);
-    ok = kelp_bhv_buf_double(b, "NAV_Y", &a->osy) && ok;
-    ok = kelp_bhv_buf_double(b, "NAV_HEADING", &a->osh) && ok;
-    ok = kelp_bhv_buf_double(b, "NAV_SPEED", &a->osv) && ok;
+    bool ok = kelp_helm_bhv_buf_double(b, "NAV_X", &a->osx);
+    ok = kelp_helm_bhv_buf_double(b, "NAV_Y", &a->osy) && ok;
+    ok = kelp_helm_bhv_buf_double(b, "NAV_HEADING", &a->osh) && ok;
+    ok = kelp_helm_bhv_buf_double(b, "NAV_SPEED", &a->osv) && ok;
     if (!ok) {
-        kelp_bhv_post_warning(b, "No ownship NAV_X/NAV_Y/NAV_HEADING/NAV_SPEED info in info_buffer.");
+        kelp_helm_bhv_post_warning(b, "No ownship NAV_X/NAV_Y/NAV_HEADING/NAV_SPEED info in info_buffer.");
         return false;
     }
     if (!a->contact[0]) {
-        if (!a->on_no_contact_ok) kelp_bhv_post_error(b, "contact IDX not set.");
+        if (!a->on_no_contact_ok) kelp_helm_bhv_post_error(b, "contact IDX not set.");
         return false;
     }
     const kelp_helm_contact *c = kelp_helm_contact_get(b->helm, a->contact);
     if (!c) { /* MOOS-IvP: an error, or nothing at all with on_no_contact_ok */
         char *msg = b->helm->ws_bhv.post; /* the helm's behaviour workspace; the bound as before */
         hx_cat(msg, KELP_MAX_NAME + 48, a->contact, " x/y/heading/speed info not found", HX_END);
-        if (!a->on_no_contact_ok) kelp_bhv_post_error(b, msg);
+        if (!a->on_no_contact_ok) kelp_helm_bhv_post_error(b, msg);
         return false;
     }
     a->cn = *c;
     if (a->extrapolate && c->utc >= 0) {
-        kelp_time now = b->helm->t0 + kelp_bhv_buf_now(b);
+        kelp_time now = b->helm->t0 + kelp_helm_bhv_buf_now(b);
         double d = extrap_dist(c->spd > 0 ? c->spd : 0, now - c->utc, a->decay_start, a->decay_end);
         double h = c->hdg * 0.017453292519943295;
         a->cn.x += d * sin(h);
@@ -445,10 +445,10 @@ static void post_range(kelp_bhv *b)
     if (!a->post_per_contact_info) return;
     char var[KELP_MAX_NAME + 16];
     hx_cat(var, sizeof var, "CLSG_SPD_AVD_", a->contact, HX_END);
-    kelp_bhv_post_double(b, var, floor(a->roc * 10 + 0.5) / 10, NULL);
+    kelp_helm_bhv_post_double(b, var, floor(a->roc * 10 + 0.5) / 10, NULL);
     hx_cat(var, sizeof var, "RANGE_AVD_", a->contact, HX_END);
-    if (a->range <= 10) kelp_bhv_post_double(b, var, a->range, NULL);
-    else kelp_bhv_post_int(b, var, a->range, NULL);
+    if (a->range <= 10) kelp_helm_bhv_post_double(b, var, a->range, NULL);
+    else kelp_helm_bhv_post_int(b, var, a->range, NULL);
 }
 
 /* IvPContactBehavior::postViewableBearingLine: XYSegList's spec, points to 1 decimal, label
@@ -464,7 +464,7 @@ static void post_bearing_line(kelp_bhv *b, bool active)
     const size_t cap = sizeof b->helm->ws_bhv.post;
     if (!active) {
         hx_cat(spec, cap, "pts={0,0:9,0:0,9},active=false,label=", b->us, "_", b->name, HX_END);
-        kelp_bhv_post_string(b, "VIEW_SEGLIST", spec, NULL);
+        kelp_helm_bhv_post_string(b, "VIEW_SEGLIST", spec, NULL);
         return;
     }
     double index = a->bearing_info_range ? a->range : a->relevance;
@@ -476,11 +476,11 @@ static void post_bearing_line(kelp_bhv *b, bool active)
     hx_fmt_x(y1, sizeof nb[0], a->osy, 1);
     hx_fmt_x(x2, sizeof nb[0], a->cn.x, 1);
     hx_fmt_x(y2, sizeof nb[0], a->cn.y, 1);
-    hx_fmt_x(t, sizeof nb[0], b->helm->t0 + kelp_bhv_buf_now(b), 2);
+    hx_fmt_x(t, sizeof nb[0], b->helm->t0 + kelp_helm_bhv_buf_now(b), 2);
     hx_cat(spec, cap, "pts={", x1, ",", y1, ":", x2, ",", y2, "},label=", b->us, "_", b->name,
            ",label_color=", a->bearing_line_label_show ? "white" : "pink", color ? ",edge_color=" : "",
            color ? color : "", ",time=", t, ",duration=100", HX_END);
-    kelp_bhv_post_string(b, "VIEW_SEGLIST", spec, NULL);
+    kelp_helm_bhv_post_string(b, "VIEW_SEGLIST", spec, NULL);
 }
 
 bool helm_avoid_macro(const kelp_bhv *b, const char *m, size_t ml, char *val, size_t cap)
@@ -538,7 +538,7 @@ KELP_NOINLINE static void contact_flags(kelp_bhv *b)
         else post = t[0] == '<' ? a->range <= r : a->range >= r;
         if (!post) continue;
         if (!p->is_str) {
-            kelp_bhv_post_double(b, p->var, p->dval, "repeatable");
+            kelp_helm_bhv_post_double(b, p->var, p->dval, "repeatable");
             continue;
         }
         helm_post_flag_string(b, p->var, p->sval, "repeatable");
@@ -550,7 +550,7 @@ static void avd_idle(kelp_bhv *b)
     kelp_bhv_avoid *a = &b->u.avoid;
     if (!update_info(b)) return;
     post_range(b);
-    if (!filter_holds(a, b->helm->ws_bhv.pts) || a->range >= a->completed_dist * 1.1) kelp_bhv_set_complete(b);
+    if (!filter_holds(a, b->helm->ws_bhv.pts) || a->range >= a->completed_dist * 1.1) kelp_helm_bhv_set_complete(b);
 }
 
 /* the objective the Reflector samples, in the helm's workspace (out of line: its locals are
@@ -577,11 +577,11 @@ KELP_NOINLINE static int build(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_fu
     size_t cap = w->out_cap < w->pq_cap ? w->out_cap : w->pq_cap;
     kelp_ivp_reflector *r = &b->helm->ws_bhv.refl;   /* the helm's workspace, not the stack */
     /* a failed init leaves r->ok false: kelp_ivp_reflector_create then fails with KELP_ERR_STATE */
-    hx_ignore(kelp_ivp_reflector_init(r, &b->dom, kelp_bhv_avoid_aof_eval, f));
+    hx_ignore(kelp_ivp_reflector_init(r, &b->dom, kelp_helm_bhv_avoid_aof_eval, f));
     int amount = -1;
     if (kelp_ivp_reflector_set_param(r, "uniform_piece", AVD_PIECE) != 0 ||
         kelp_ivp_reflector_max_pieces(r, -1, -1) > cap) { /* a small pool: as many pieces as fit */
-        hx_ignore(kelp_ivp_reflector_init(r, &b->dom, kelp_bhv_avoid_aof_eval, f));
+        hx_ignore(kelp_ivp_reflector_init(r, &b->dom, kelp_helm_bhv_avoid_aof_eval, f));
         amount = (int)(cap > 2 ? cap / 2 : 1);
     }
     rc = kelp_ivp_reflector_create(r, amount, -1, 0, w->out, cap, w->pq, kelp_ivp_reflector_work_len(cap), out);
@@ -597,16 +597,16 @@ static int avd_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     contact_flags(b);
     if (!filter_holds(a, b->helm->ws_bhv.pts) || a->range >= a->completed_dist * 1.1) {
         post_bearing_line(b, false);
-        kelp_bhv_set_complete(b);
+        kelp_helm_bhv_set_complete(b);
         return 0;
     }
-    a->relevance = kelp_bhv_avoid_relevance(a->range, a->pwt_inner_dist, a->pwt_outer_dist, a->pwt_grade);
+    a->relevance = kelp_helm_bhv_avoid_relevance(a->range, a->pwt_inner_dist, a->pwt_outer_dist, a->pwt_grade);
     if (a->relevance <= 0) {
         post_bearing_line(b, false);
         return 0;
     }
     if (build(b, w, out) < 0) {
-        kelp_bhv_post_warning(b, "Unable to build the AvoidCollision objective function.");
+        kelp_helm_bhv_post_warning(b, "Unable to build the AvoidCollision objective function.");
         return 0;
     }
     b->pwt_factor = a->relevance;

@@ -54,13 +54,13 @@ static int c1_set_param(kelp_bhv *b, const char *p, const char *v)
     if (!strcmp(p, k->mismatch)) {
         if (!hx_copy(s->mismatch_var, sizeof s->mismatch_var, v, strlen(v)) || strpbrk(v, " ,="))
             return KELP_ERR_PARSE;
-        return kelp_bhv_add_info_vars(b, k->nav) < 0 ? KELP_ERR_NOSPACE : 0;
+        return kelp_helm_bhv_add_info_vars(b, k->nav) < 0 ? KELP_ERR_NOSPACE : 0;
     }
     if (k == &K_HEADING && !strcmp(p, "complete_thresh")) {
         if (!num || d < 0)
             return KELP_ERR_PARSE;
         s->complete_thresh = d;
-        return kelp_bhv_add_info_vars(b, k->nav) < 0 ? KELP_ERR_NOSPACE : 0;
+        return kelp_helm_bhv_add_info_vars(b, k->nav) < 0 ? KELP_ERR_NOSPACE : 0;
     }
     double *dst = !strcmp(p, "peakwidth") ? &s->peakwidth
                   : !strcmp(p, "basewidth") ? &s->basewidth
@@ -77,7 +77,7 @@ static int c1_set_param(kelp_bhv *b, const char *p, const char *v)
 static int c1_params_done(kelp_bhv *b)
 {
     if (!b->u.c1.have_value)
-        return kelp_bhv_fail(b, kind_of(b) == &K_DEPTH ? "depth not set"
+        return kelp_helm_bhv_fail(b, kind_of(b) == &K_DEPTH ? "depth not set"
                                 : kind_of(b) == &K_SPEED ? "speed not set" : "heading not set");
     return 0;
 }
@@ -94,7 +94,7 @@ static int c1_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
             v -= 360;
     }
     kelp_time now;
-    if ((s->mismatch_var[0] || s->complete_thresh > 0) && kelp_bhv_buf_double(b, k->nav, &now)) {
+    if ((s->mismatch_var[0] || s->complete_thresh > 0) && kelp_helm_bhv_buf_double(b, k->nav, &now)) {
         double diff = fabs(v - now);
         if (k->wrap) {
             diff = fmod(diff, 360.0);
@@ -102,14 +102,14 @@ static int c1_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
                 diff = 360 - diff;
         }
         if (s->mismatch_var[0])
-            kelp_bhv_post_double(b, s->mismatch_var, diff, NULL);
+            kelp_helm_bhv_post_double(b, s->mismatch_var, diff, NULL);
         if (s->complete_thresh > 0 && diff <= s->complete_thresh) {
-            kelp_bhv_set_complete(b);
+            kelp_helm_bhv_set_complete(b);
             return 0;
         }
     }
     if (bhv_zaic1(b, w, k->var, v, s->peakwidth, s->basewidth, s->summitdelta, k->wrap, out) < 0) {
-        kelp_bhv_post_warning(b, "Problem Creating the IvP Function");
+        kelp_helm_bhv_post_warning(b, "Problem Creating the IvP Function");
         return 0;
     }
     return 1;

@@ -20,7 +20,7 @@ static void loiter_init(kelp_bhv *b)
     s->clockwise = 1;
     s->min_dist = INFINITY;
     bhv_hints_default(&s->hints);
-    hx_ignore(kelp_bhv_add_info_vars(b, "NAV_X, NAV_Y")); /* a constructor cannot fail: a full list only skips the registration */
+    hx_ignore(kelp_helm_bhv_add_info_vars(b, "NAV_X, NAV_Y")); /* a constructor cannot fail: a full list only skips the registration */
 }
 
 static double signed_area(const kelp_bhv_pt *p, unsigned n)
@@ -99,7 +99,7 @@ static int loiter_set_param(kelp_bhv *b, const char *p, const char *v)
 static int loiter_params_done(kelp_bhv *b)
 {
     if (b->u.loiter.npts < 3)
-        return kelp_bhv_fail(b, "no polygon given");
+        return kelp_helm_bhv_fail(b, "no polygon given");
     return 0;
 }
 
@@ -138,7 +138,7 @@ static void post_polygon(kelp_bhv *b, bool active)
     hx_cat(buf + n, cap - n, "},label=", b->name, ",active=", active ? "true" : "false", ",edge_color=",
            s->hints.edge_color, ",vertex_color=", s->hints.vertex_color, ",label_color=", s->hints.label_color,
            ",vertex_size=", vs, ",edge_size=", es, HX_END);
-    kelp_bhv_post_string(b, "VIEW_POLYGON", buf, NULL);
+    kelp_helm_bhv_post_string(b, "VIEW_POLYGON", buf, NULL);
 }
 
 static void loiter_idle(kelp_bhv *b)
@@ -155,10 +155,10 @@ KELP_NOINLINE static bool loiter_advance(kelp_bhv *b, double *crs)
 {
     kelp_bhv_loiter *s = &b->u.loiter;
     double x, y;
-    bool ok1 = kelp_bhv_buf_double(b, "NAV_X", &x);
-    bool ok2 = kelp_bhv_buf_double(b, "NAV_Y", &y);
+    bool ok1 = kelp_helm_bhv_buf_double(b, "NAV_X", &x);
+    bool ok2 = kelp_helm_bhv_buf_double(b, "NAV_Y", &y);
     if (!ok1 || !ok2) {
-        kelp_bhv_post_warning(b, "No ownship X/Y info in info_buffer.");
+        kelp_helm_bhv_post_warning(b, "No ownship X/Y info in info_buffer.");
         return false;
     }
     if (s->npts < 3)
@@ -211,11 +211,11 @@ KELP_NOINLINE static bool loiter_advance(kelp_bhv *b, double *crs)
     hx_cat(rep, sizeof b->helm->ws_bhv.post2, "mode=", s->acquiring ? "acquiring" : "loitering", ",index=", ix,
            ",vertices_reached=", vr, HX_END);
     hx_cat(vn, vcap, "LOITER_INDEX", s->suffix, HX_END);
-    kelp_bhv_post_double(b, vn, (double)s->index, NULL);
+    kelp_helm_bhv_post_double(b, vn, (double)s->index, NULL);
     hx_cat(vn, vcap, "LOITER_ACQUIRE", s->suffix, HX_END);
-    kelp_bhv_post_double(b, vn, s->acquiring ? 1.0 : 0.0, NULL);
+    kelp_helm_bhv_post_double(b, vn, s->acquiring ? 1.0 : 0.0, NULL);
     hx_cat(vn, vcap, "LOITER_REPORT", s->suffix, HX_END);
-    kelp_bhv_post_string(b, vn, rep, NULL);
+    kelp_helm_bhv_post_string(b, vn, rep, NULL);
     post_polygon(b, true); /* (uses post and num[0..3]: the report is posted by now) */
     *crs = kelp_helm_relang(x, y, cur.x, cur.y);
     return true;
@@ -227,7 +227,7 @@ static int loiter_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     if (!loiter_advance(b, &crs))
         return 0;
     if (bhv_course_speed_zaic(b, w, crs, b->u.loiter.speed, 0.5, 1.0, 0.8, out) < 0) {
-        kelp_bhv_post_warning(b, "Problem Creating the IvP Function");
+        kelp_helm_bhv_post_warning(b, "Problem Creating the IvP Function");
         return 0;
     }
     return 1;
@@ -259,7 +259,7 @@ static void loiter_post_config(kelp_bhv *b)
         n += hx_cat(buf + n, cap - n, i ? ":" : "", x, ",", y, HX_END);
     }
     hx_cat(buf + n, cap - n, "}\"", HX_END);
-    kelp_bhv_post_string(b, "BHV_SETTINGS", buf, "repeatable");
+    kelp_helm_bhv_post_string(b, "BHV_SETTINGS", buf, "repeatable");
 }
 
 const kelp_bhv_ops kelp_bhv_loiter_ops = {

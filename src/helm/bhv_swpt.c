@@ -17,7 +17,7 @@ static void swpt_init(kelp_bhv *b)
     s->reflector = false;
     s->osx = s->osy = 0;
     s->nextpt.x = s->nextpt.y = 0;
-    hx_ignore(kelp_bhv_add_info_vars(b, "NAV_X, NAV_Y")); /* a constructor cannot fail: a full list only skips the registration */
+    hx_ignore(kelp_helm_bhv_add_info_vars(b, "NAV_X, NAV_Y")); /* a constructor cannot fail: a full list only skips the registration */
 }
 
 /* Listing 10 */
@@ -70,7 +70,7 @@ static void post_view_point(kelp_bhv *b, bool viewable)
     hx_fmt_double(y, sizeof b->helm->ws_bhv.num[1], s->nextpt.y);
     hx_cat(spec, cap, "label=", b->us[0] ? b->us : "vehicle", "'s next waypoint,type=waypoint,source=", b->name,
            ",x=", x, ",y=", y, ",active=", viewable ? "true" : "false", HX_END);
-    kelp_bhv_post_string(b, "VIEW_POINT", spec, NULL);
+    kelp_helm_bhv_post_string(b, "VIEW_POINT", spec, NULL);
 }
 
 static void swpt_idle(kelp_bhv *b)
@@ -84,7 +84,7 @@ static double angle360(double a)
     return a < 0 ? a + 360.0 : a;
 }
 
-double kelp_bhv_swpt_aof_eval(const double *pt, void *user)
+double kelp_helm_bhv_swpt_aof_eval(const double *pt, void *user)
 {
     const kelp_bhv_swpt_aof *a = user;
     double crs = pt[a->icrs], spd = pt[a->ispd];
@@ -131,7 +131,7 @@ static int build_reflector(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *
     if (a->max_speed <= 0)
         return KELP_ERR_RANGE; /* initialize() fails */
     kelp_ivp_reflector *r = &b->helm->ws_bhv.refl;   /* the helm's workspace, not the stack */
-    hx_ignore(kelp_ivp_reflector_init(r, &b->dom, kelp_bhv_swpt_aof_eval, a));
+    hx_ignore(kelp_ivp_reflector_init(r, &b->dom, kelp_helm_bhv_swpt_aof_eval, a));
     /* the Reflector wants as many work entries as piece capacity */
     size_t cap = w->out_cap < w->pq_cap ? w->out_cap : w->pq_cap;
     int rc = kelp_ivp_reflector_create(r, SWPT_REFLECTOR_PIECES, -1, 0, w->out, cap, w->pq, kelp_ivp_reflector_work_len(cap), out);
@@ -142,15 +142,15 @@ static int build_reflector(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *
 static int swpt_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
 {
     kelp_bhv_swpt *s = &b->u.swpt;
-    bool ok1 = kelp_bhv_buf_double(b, "NAV_X", &s->osx);
-    bool ok2 = kelp_bhv_buf_double(b, "NAV_Y", &s->osy);
+    bool ok1 = kelp_helm_bhv_buf_double(b, "NAV_X", &s->osx);
+    bool ok2 = kelp_helm_bhv_buf_double(b, "NAV_Y", &s->osy);
     if (!ok1 || !ok2) {
-        kelp_bhv_post_warning(b, "No ownship X/Y info in info_buffer.");
+        kelp_helm_bhv_post_warning(b, "No ownship X/Y info in info_buffer.");
         return 0;
     }
     double dist = hypot(s->nextpt.x - s->osx, s->nextpt.y - s->osy);
     if (dist <= s->arrival_radius) {
-        kelp_bhv_set_complete(b);
+        kelp_helm_bhv_set_complete(b);
         post_view_point(b, false);
         return 0;
     }
@@ -164,7 +164,7 @@ static int swpt_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
         rc = build_reflector(b, w, out);
     }
     if (rc < 0) {
-        kelp_bhv_post_warning(b, "Problem Creating the IvP Function");
+        kelp_helm_bhv_post_warning(b, "Problem Creating the IvP Function");
         return 0;
     }
     return 1;

@@ -49,7 +49,7 @@ static void wpt_init(kelp_bhv *b)
     bhv_hints_default(&s->hints);
     s->odo_virgin = true;
     wpt_reset(s);
-    hx_ignore(kelp_bhv_add_info_vars(b, "NAV_X, NAV_Y")); /* a constructor cannot fail: a full list only skips the registration */
+    hx_ignore(kelp_helm_bhv_add_info_vars(b, "NAV_X, NAV_Y")); /* a constructor cannot fail: a full list only skips the registration */
 }
 
 static int add_flag(kelp_bhv_flag *arr, unsigned *n, unsigned cap, const char *v)
@@ -195,7 +195,7 @@ static int wpt_set_param(kelp_bhv *b, const char *p, const char *v)
 static int wpt_params_done(kelp_bhv *b)
 {
     if (b->u.wpt.npts == 0)
-        return kelp_bhv_fail(b, "no points given");
+        return kelp_helm_bhv_fail(b, "no points given");
     return 0;
 }
 
@@ -225,7 +225,7 @@ static void post_seglist(kelp_bhv *b, bool active)
         hx_cat(buf + n, cap - n, ",vertex_color=", s->hints.vertex_color, ",edge_color=", s->hints.edge_color,
                ",label_color=", s->hints.label_color, ",vertex_size=", vs, ",edge_size=", es, HX_END);
     }
-    kelp_bhv_post_string(b, "VIEW_SEGLIST", buf, NULL);
+    kelp_helm_bhv_post_string(b, "VIEW_SEGLIST", buf, NULL);
 }
 
 static void post_point(kelp_bhv *b, kelp_bhv_pt p, bool active)
@@ -245,7 +245,7 @@ static void post_point(kelp_bhv *b, kelp_bhv_pt p, bool active)
         hx_cat(spec + n, cap - n, ",vertex_color=", s->hints.nextpt_color, ",label_color=", s->hints.nextpt_lcolor,
                ",vertex_size=", vs, HX_END);
     }
-    kelp_bhv_post_string(b, "VIEW_POINT", spec, NULL);
+    kelp_helm_bhv_post_string(b, "VIEW_POINT", spec, NULL);
 }
 
 /* a report under its configured name plus post_suffix; "silent" posts nothing */
@@ -285,12 +285,12 @@ static void post_stat(kelp_bhv *b, double dist)
     hx_cat(buf, cap, "vname=", b->us[0] ? b->us : "vehicle", ",behavior-name=", b->name, ",index=", ix, ",hits=", hc,
            "/", ht, ",cycles=", cy, ",dist=", ds, ",eta=", et, HX_END);
     if (report_name(s, s->var_report, var, vcap))
-        kelp_bhv_post_string(b, var, buf, NULL);
+        kelp_helm_bhv_post_string(b, var, buf, NULL);
     if (report_name(s, s->var_index, var, vcap))
-        kelp_bhv_post_double(b, var, (double)s->index, NULL);
+        kelp_helm_bhv_post_double(b, var, (double)s->index, NULL);
     /* BHV_Waypoint posts the cycle count when it changes from the last it posted (0 at first) */
     if (s->cycles != s->cycles_posted && report_name(s, s->var_cyindex, var, vcap)) {
-        kelp_bhv_post_double(b, var, (double)s->cycles, NULL);
+        kelp_helm_bhv_post_double(b, var, (double)s->cycles, NULL);
         s->cycles_posted = s->cycles;
     }
 }
@@ -299,9 +299,9 @@ static void post_pairs(kelp_bhv *b, const kelp_bhv_flag *f, unsigned n)
 {
     for (unsigned i = 0; i < n; i++) {
         if (f[i].p.is_str)
-            kelp_bhv_post_string(b, f[i].p.var, f[i].p.sval, "repeatable");
+            kelp_helm_bhv_post_string(b, f[i].p.var, f[i].p.sval, "repeatable");
         else
-            kelp_bhv_post_double(b, f[i].p.var, f[i].p.dval, "repeatable");
+            kelp_helm_bhv_post_double(b, f[i].p.var, f[i].p.dval, "repeatable");
     }
 }
 
@@ -328,13 +328,13 @@ KELP_NOINLINE static void odo_mark_leg(kelp_bhv *b, bool first)
         s->eff_odo += s->odo_leg;
         char *buf = b->helm->ws_bhv.post; /* the helm's behaviour workspace; 160 bytes as before */
         const size_t cap = 160;
-        kelp_snprintf(buf, cap, "linear_dist=%.1f,odo_dist=%.1f,efficiency=%.1f", linear, s->odo_leg,
+        kelp_util_snprintf(buf, cap, "linear_dist=%.1f,odo_dist=%.1f,efficiency=%.1f", linear, s->odo_leg,
                  100.0 * linear / s->odo_leg);
-        kelp_bhv_post_string(b, "WPT_EFFICIENCY_LEG", buf, "repeatable");
+        kelp_helm_bhv_post_string(b, "WPT_EFFICIENCY_LEG", buf, "repeatable");
         double eff = s->eff_odo > 0 ? 100.0 * s->eff_linear / s->eff_odo : 0;
-        kelp_snprintf(buf, cap, "linear_dist=%.1f,odo_dist=%.1f,efficiency=%.1f", s->eff_linear, s->eff_odo, eff);
-        kelp_bhv_post_string(b, "WPT_EFFICIENCY_SUM", buf, NULL);
-        kelp_bhv_post_double(b, "WPT_EFFICIENCY_VAL", eff, NULL);
+        kelp_util_snprintf(buf, cap, "linear_dist=%.1f,odo_dist=%.1f,efficiency=%.1f", s->eff_linear, s->eff_odo, eff);
+        kelp_helm_bhv_post_string(b, "WPT_EFFICIENCY_SUM", buf, NULL);
+        kelp_helm_bhv_post_double(b, "WPT_EFFICIENCY_VAL", eff, NULL);
     }
     s->odo_setx = s->osx;
     s->odo_sety = s->osy;
@@ -396,10 +396,10 @@ KELP_NOINLINE static kelp_bhv_pt track_point(kelp_bhv_wpt *s, kelp_bhv_pt cur)
 KELP_NOINLINE static bool wpt_advance(kelp_bhv *b, double *crs)
 {
     kelp_bhv_wpt *s = &b->u.wpt;
-    bool ok1 = kelp_bhv_buf_double(b, "NAV_X", &s->osx);
-    bool ok2 = kelp_bhv_buf_double(b, "NAV_Y", &s->osy);
+    bool ok1 = kelp_helm_bhv_buf_double(b, "NAV_X", &s->osx);
+    bool ok2 = kelp_helm_bhv_buf_double(b, "NAV_Y", &s->osy);
     if (!ok1 || !ok2) {
-        kelp_bhv_post_warning(b, "No ownship X/Y info in info_buffer.");
+        kelp_helm_bhv_post_warning(b, "No ownship X/Y info in info_buffer.");
         return false;
     }
     if (s->npts == 0)
@@ -451,7 +451,7 @@ KELP_NOINLINE static bool wpt_advance(kelp_bhv *b, double *crs)
                 post_stat(b, 0);
                 post_point(b, cur, false);
                 post_seglist(b, false);
-                kelp_bhv_set_complete(b);
+                kelp_helm_bhv_set_complete(b);
                 return false;
             }
         }
@@ -461,14 +461,14 @@ KELP_NOINLINE static bool wpt_advance(kelp_bhv *b, double *crs)
     kelp_bhv_pt tp = track_point(s, cur);
     char *var = b->helm->ws_bhv.var; /* the helm's behaviour workspace */
     hx_cat(var, sizeof b->helm->ws_bhv.var, "WPT_ODO", s->suffix, HX_END);
-    kelp_bhv_post_double(b, var, s->odo_leg, NULL);
+    kelp_helm_bhv_post_double(b, var, s->odo_leg, NULL);
     post_stat(b, dist);
     post_point(b, cur, true);
     post_seglist(b, true);
     if (s->var_dist_prev[0])
-        kelp_bhv_post_double(b, s->var_dist_prev, hypot(s->prev.x - s->osx, s->prev.y - s->osy), NULL);
+        kelp_helm_bhv_post_double(b, s->var_dist_prev, hypot(s->prev.x - s->osx, s->prev.y - s->osy), NULL);
     if (s->var_dist_next[0])
-        kelp_bhv_post_double(b, s->var_dist_next, dist, NULL);
+        kelp_helm_bhv_post_double(b, s->var_dist_next, dist, NULL);
     *crs = kelp_helm_relang(s->osx, s->osy, tp.x, tp.y);
     return true;
 }
@@ -481,7 +481,7 @@ static int wpt_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
         return 0;
     double speed = s->use_alt_speed && s->speed_alt >= 0 ? s->speed_alt : s->speed;
     if (bhv_course_speed_zaic_ratio(b, w, crs, speed, 0.5, 1.0, 0.8, s->course_pct, out) < 0) {
-        kelp_bhv_post_warning(b, "Problem Creating the IvP Function");
+        kelp_helm_bhv_post_warning(b, "Problem Creating the IvP Function");
         return 0;
     }
     return 1;
@@ -522,7 +522,7 @@ static void wpt_post_config(kelp_bhv *b)
         n += hx_cat(buf + n, cap - n, ",capture_line=",
                     s->capture_radius == 0 && s->slip_radius == 0 ? "absolute" : "true", HX_END);
     hx_cat(buf + n, cap - n, ",crs_spd_zaic_ratio=", rt, HX_END);
-    kelp_bhv_post_string(b, "BHV_SETTINGS", buf, "repeatable");
+    kelp_helm_bhv_post_string(b, "BHV_SETTINGS", buf, "repeatable");
 }
 
 const kelp_bhv_ops kelp_bhv_waypoint_ops = {

@@ -100,11 +100,11 @@ static void next(cparse *p)
             j++;
         t.k = T_WORD;
         t.n = j - i;
-        if (kelp_strieq_n(t.s, t.n, "and"))
+        if (kelp_util_strieq_n(t.s, t.n, "and"))
             t.k = T_AND;
-        else if (kelp_strieq_n(t.s, t.n, "or"))
+        else if (kelp_util_strieq_n(t.s, t.n, "or"))
             t.k = T_OR;
-        else if (kelp_strieq_n(t.s, t.n, "not"))
+        else if (kelp_util_strieq_n(t.s, t.n, "not"))
             t.k = T_NOT;
         i = j;
     } else {
@@ -157,7 +157,7 @@ static void var_value(cparse *p, const tok *t, val *v)
         v->s = x->sval;
         v->n = strlen(x->sval);
         /* hx_number's reading, straight into v (one frame less on this deep path) */
-        v->is_num = kelp_parse_double(v->s, v->n, &v->num) == KELP_OK && isfinite(v->num);
+        v->is_num = kelp_util_parse_double(v->s, v->n, &v->num) == KELP_OK && isfinite(v->num);
         if (!v->is_num)
             v->num = 0;
     } else {
@@ -168,7 +168,7 @@ static void var_value(cparse *p, const tok *t, val *v)
 
 static bool is_bool_lit(const val *v)
 {
-    return v->literal && (kelp_strieq_n(v->s, v->n, "true") || kelp_strieq_n(v->s, v->n, "false"));
+    return v->literal && (kelp_util_strieq_n(v->s, v->n, "true") || kelp_util_strieq_n(v->s, v->n, "false"));
 }
 
 static int cmp_str(const val *a, const val *b, bool ci)

@@ -28,7 +28,7 @@ static bool kv_find(const char *s, const char *key, const char **v, size_t *vl)
     const char *k;
     int rc;
     while ((rc = kelp_kv_next(s, ',', &pos, &k, &kl, v, vl)) != 0)
-        if (rc > 0 && kelp_strieq_n(k, kl, key))
+        if (rc > 0 && kelp_util_strieq_n(k, kl, key))
             return true;
     return false;
 }
@@ -157,13 +157,13 @@ int kelp_helm_parse_points(const char *str, kelp_bhv_pt *pts, size_t cap, unsign
     const char *v;
     size_t vl;
     if (kv_find(b, "format", &v, &vl) && vl < 32) {
-        if (!kelp_strieq_n(v, vl, "radial"))
+        if (!kelp_util_strieq_n(v, vl, "radial"))
             return KELP_ERR_UNSUPPORTED;
         return parse_radial(b, pts, cap, n);
     }
     if (kv_find(b, "radius", &v, &vl) && vl < 8)
         return parse_radial(b, pts, cap, n);
-    if ((b[0] == 'p' || b[0] == 'P') && kelp_strieq_n(b, 3, "pts")) {
+    if ((b[0] == 'p' || b[0] == 'P') && kelp_util_strieq_n(b, 3, "pts")) {
         const char *eq = strchr(b, '=');
         if (!eq)
             return KELP_ERR_PARSE;
@@ -198,7 +198,7 @@ int bhv_zaic1(kelp_bhv *b, const kelp_helm_work *w, const char *var, double summ
         hx_cat(msg, sizeof b->helm->ws_bhv.zaic_msg, var, " ZAIC problems ", z->warn, HX_END);
         if (msg[0] >= 'a' && msg[0] <= 'z')
             msg[0] = (char)(msg[0] - 'a' + 'A');
-        kelp_bhv_post_warning(b, msg);
+        kelp_helm_bhv_post_warning(b, msg);
         return KELP_ERR_STATE;
     }
     return kelp_ivp_zaic_peak_extract(z, true, w->dwork, w->dwork_cap, w->out, w->out_cap, out);

@@ -36,8 +36,8 @@ int kelp_helm_config_add_domain(kelp_helm_config *cfg, const char *spec, kelp_di
     char name[KELP_MAX_NAME];
     if (nt < 4 || nt > 5 || len[0] == 0 || len[0] >= sizeof name)
         return kelp_fail(d, KELP_ERR_PARSE, "expected name:low:high:points[:optional]");
-    if (kelp_parse_double(tok[1], len[1], &lo) || kelp_parse_double(tok[2], len[2], &hi) ||
-        kelp_parse_long(tok[3], len[3], &pts) || pts < 1 || pts > 100000)
+    if (kelp_util_parse_double(tok[1], len[1], &lo) || kelp_util_parse_double(tok[2], len[2], &hi) ||
+        kelp_util_parse_long(tok[3], len[3], &pts) || pts < 1 || pts > 100000)
         return kelp_fail(d, KELP_ERR_PARSE, "bad low, high or points (1..100000)");
     if (nt == 5 && (len[4] != 8 || strncmp(tok[4], "optional", 8) != 0))
         return kelp_fail(d, KELP_ERR_PARSE, "the fifth field may only be 'optional'");
@@ -46,7 +46,7 @@ int kelp_helm_config_add_domain(kelp_helm_config *cfg, const char *spec, kelp_di
     unsigned v = cfg->domain.dim;
     int rc = kelp_ivp_domain_add(&cfg->domain, name, lo, hi, (uint32_t)pts);
     if (rc < 0)
-        return kelp_diag_set(d, rc, NULL); /* the text: kelp_strerror(rc) */
+        return kelp_diag_set(d, rc, NULL); /* the text: kelp_err_str(rc) */
     cfg->optional[v] = nt == 5;
     return KELP_OK;
 }
@@ -218,20 +218,20 @@ int kelp_helm_load_bhv(kelp_helm *h, const kelp_mission *m)
         const kelp_mission_node *nd = &m->nodes[i];
         if (nd->parent >= 0)
             continue;
-        if (nd->kind == KELP_MN_PARAM && nd->klen >= 10 && kelp_strieq_n(nd->key, 10, "initialize") &&
+        if (nd->kind == KELP_MN_PARAM && nd->klen >= 10 && kelp_util_strieq_n(nd->key, 10, "initialize") &&
             (nd->klen == 10 || nd->key[10] == '_' || hx_is_space(nd->key[10]))) {
             int rc = load_init(h, nd);
             if (rc < 0)
                 return rc;
             continue;
         }
-        if (nd->kind == KELP_MN_BLOCK && nd->klen > 4 && kelp_strieq_n(nd->key, 3, "set") && hx_is_space(nd->key[3])) {
+        if (nd->kind == KELP_MN_BLOCK && nd->klen > 4 && kelp_util_strieq_n(nd->key, 3, "set") && hx_is_space(nd->key[3])) {
             int rc = helm_mode_load(h, m, i);
             if (rc < 0)
                 return rc;
             continue;
         }
-        if (nd->kind == KELP_MN_BLOCK && kelp_strieq_n(nd->key, nd->klen, "Behavior")) {
+        if (nd->kind == KELP_MN_BLOCK && kelp_util_strieq_n(nd->key, nd->klen, "Behavior")) {
             char *type = h->ws_key; /* the helm's workspace, not the stack */
             if (!hx_copy(type, sizeof h->ws_key, nd->val, nd->vlen))
                 return helm_fail(h, nd->line, KELP_ERR_PARSE, "behaviour type too long", HX_END);
@@ -252,7 +252,7 @@ int kelp_helm_load_bhv(kelp_helm *h, const kelp_mission *m)
                 if (!hx_copy(key, sizeof h->ws_key, c->key, c->klen) || !hx_copy(val, sizeof h->ws_upd.val, c->val, c->vlen))
                     return helm_fail(h, c->line, KELP_ERR_PARSE, "parameter or value too long", HX_END);
                 b->fail = NULL;
-                if (kelp_bhv_set_param(b, key, val) < 0) {
+                if (kelp_helm_bhv_set_param(b, key, val) < 0) {
                     return helm_fail(h, c->line, KELP_ERR_PARSE, "behaviour ", b->name, ": bad parameter ", key, " (",
                                      b->fail ? b->fail : "rejected", ")", HX_END);
                 }
@@ -480,7 +480,7 @@ void helm_expand_macros(const kelp_bhv *b, const char *in, char *out, size_t cap
                         g = num;
                     }
                 } else if (ml == 3 && !strncmp(m, "UTC", ml) && b->helm) {
-                    hx_fmt_x(num, sizeof b->helm->ws_macro, b->helm->t0 + kelp_bhv_buf_now(b), 3);
+                    hx_fmt_x(num, sizeof b->helm->ws_macro, b->helm->t0 + kelp_helm_bhv_buf_now(b), 3);
                     g = num;
                 }
                 if (g) have = hx_copy(val, room, g, strlen(g));
@@ -510,9 +510,9 @@ void helm_post_flag_string(kelp_bhv *b, const char *var, const char *sval, const
     double d;
     helm_expand_macros(b, sval, val, sizeof b->helm->ws_flag, &solo);
     if (solo && hx_number(val, strlen(val), &d))
-        kelp_bhv_post_double(b, var, d, key);
+        kelp_helm_bhv_post_double(b, var, d, key);
     else
-        kelp_bhv_post_string(b, var, val, key);
+        kelp_helm_bhv_post_string(b, var, val, key);
 }
 
 void helm_post_flags(kelp_bhv *b, kelp_bhv_flag_kind kind)
@@ -527,7 +527,7 @@ void helm_post_flags(kelp_bhv *b, kelp_bhv_flag_kind kind)
         if (f->p.is_str)
             helm_post_flag_string(b, f->p.var, f->p.sval, key);
         else
-            kelp_bhv_post_double(b, f->p.var, f->p.dval, key);
+            kelp_helm_bhv_post_double(b, f->p.var, f->p.dval, key);
     }
 }
 
@@ -607,7 +607,7 @@ static void duration_reset(kelp_bhv *b)
     b->dur_start = -1;
     b->dur_idle_time = 0;
     if (b->duration_status[0] && b->duration >= 0)
-        kelp_bhv_post_double(b, b->duration_status, b->duration, NULL);
+        kelp_helm_bhv_post_double(b, b->duration_status, b->duration, NULL);
 }
 
 KELP_NOINLINE static void post_duration_status(kelp_bhv *b, kelp_time now)
@@ -621,9 +621,9 @@ KELP_NOINLINE static void post_duration_status(kelp_bhv *b, kelp_time now)
     if (rem < 0)
         rem = 0;
     if (rem < 10)
-        kelp_bhv_post_double(b, b->duration_status, floor(rem * 100 + 0.5) / 100, NULL);
+        kelp_helm_bhv_post_double(b, b->duration_status, floor(rem * 100 + 0.5) / 100, NULL);
     else
-        kelp_bhv_post_int(b, b->duration_status, rem, NULL);
+        kelp_helm_bhv_post_int(b, b->duration_status, rem, NULL);
 }
 
 static void update_state_durations(kelp_bhv *b, bool idle, kelp_time now)
@@ -665,7 +665,7 @@ static bool repeatable_update(const char *s)
     static const char *const words[] = {"toggle", "engage", "mod"};
     for (const char *p = s; *p; p++)
         for (int w = 0; w < 3; w++)
-            if (strlen(p) >= strlen(words[w]) && kelp_strieq_n(p, strlen(words[w]), words[w]))
+            if (strlen(p) >= strlen(words[w]) && kelp_util_strieq_n(p, strlen(words[w]), words[w]))
                 return true;
     return false;
 }
@@ -707,7 +707,7 @@ KELP_NOINLINE static const char *apply_update(kelp_helm *h, kelp_bhv *b, const c
         size_t pn = e ? (size_t)(e - p) : strlen(p);
         b->fail = NULL;
         bool parsed = helm_update_piece(p, pn, param, paramcap, val, valcap);
-        if (!parsed || (strcmp(param, "name") != 0 && kelp_bhv_set_param(b, param, val) < 0)) {
+        if (!parsed || (strcmp(param, "name") != 0 && kelp_helm_bhv_set_param(b, param, val) < 0)) {
             ok = false;
             const char *pp = p;
             size_t ppn = pn;
@@ -731,8 +731,8 @@ KELP_NOINLINE static const char *apply_update(kelp_helm *h, kelp_bhv *b, const c
         b->bad_updates++;
         char *msg = h->ws_upd.msg;
         hx_cat(msg, sizeof h->ws_upd.msg, "Faulty update for behavior: ", b->name, ". Bad parameter(s): ", bad, ".", HX_END);
-        kelp_bhv_post_string(b, "BHV_WARNING", msg, NULL);
-        kelp_bhv_post_string(b, "BHV_CONFIG_WARNING", msg, NULL);
+        kelp_helm_bhv_post_string(b, "BHV_WARNING", msg, NULL);
+        kelp_helm_bhv_post_string(b, "BHV_CONFIG_WARNING", msg, NULL);
         return "param_error";
     }
     b->good_updates++;
@@ -760,7 +760,7 @@ KELP_NOINLINE static void update_summary(kelp_bhv *b, bool any)
         hx_fmt_ulong(f, sizeof f, b->bad_updates);
         hx_cat(var, sizeof var, "UH_", b->name, HX_END);
         hx_cat(msg, sizeof msg, g, " update(s), and ", f, " failure(s)", HX_END);
-        kelp_bhv_post_string(b, var, msg, NULL);
+        kelp_helm_bhv_post_string(b, var, msg, NULL);
     }
 }
 
@@ -803,7 +803,7 @@ KELP_NOINLINE static void post_starved(kelp_bhv *b, const char *var)
     char msg[KELP_MAX_NAME + 96], secs[32];
     hx_fmt_double(secs, sizeof secs, b->starve_time);
     hx_cat(msg, sizeof msg, b->name, ": VarStarve: ", var, " older than ", secs, " s", HX_END);
-    kelp_bhv_post_string(b, "BHV_ERROR", msg, NULL);
+    kelp_helm_bhv_post_string(b, "BHV_ERROR", msg, NULL);
     b->state_ok = false;
 }
 
@@ -814,13 +814,13 @@ KELP_NOINLINE static kelp_bhv_state runnable(kelp_helm *h, kelp_bhv *b)
         if (kelp_helm_cond_eval(b->cond[i], &h->ib) != 1)
             return KELP_BHV_IDLE;
     if (duration_exceeded(b, now)) {
-        kelp_bhv_set_complete(b);
+        kelp_helm_bhv_set_complete(b);
         if (!b->perpetual)
             return KELP_BHV_COMPLETED;
         duration_reset(b);
     }
     if (b->dom.dim == 0) {
-        kelp_bhv_post_error(b, "Null IvPDomain given to Behavior");
+        kelp_helm_bhv_post_error(b, "Null IvPDomain given to Behavior");
         return KELP_BHV_IDLE;
     }
     for (unsigned i = 0; i < b->nstarve; i++) {
@@ -853,7 +853,7 @@ KELP_NOINLINE static void post_status(kelp_bhv *b, kelp_bhv_state ns)
     const char *st = b->completed ? "completed" : stname[ns <= KELP_BHV_COMPLETED ? ns : 0];
     char msg[KELP_MAX_NAME + 96];
     hx_cat(msg, sizeof msg, "name=", b->name, ",state=", st, ",updates=", b->update_summary, HX_END);
-    kelp_bhv_post_string(b, "BHV_STATUS", msg, b->name);
+    kelp_helm_bhv_post_string(b, "BHV_STATUS", msg, b->name);
 }
 
 /* The running state of behaviour i (onRunState): RUNNING, or ACTIVE when it made a function
@@ -873,7 +873,7 @@ KELP_NOINLINE static kelp_bhv_state run_state(kelp_helm *h, unsigned i, kelp_bhv
     int rc = b->ops->on_run ? b->ops->on_run(b, &w, f) : 0;
     helm_post_flags(b, KELP_FLAG_RUNX);
     if (rc == 1 && f->n > 0 && !func_finite(f)) {
-        kelp_bhv_post_error(b, "NaN detected in IvP Function");
+        kelp_helm_bhv_post_error(b, "NaN detected in IvP Function");
         rc = 0;
     }
     double pwt = b->pwt * (b->pwt_factor >= 0 ? b->pwt_factor : 0);
@@ -954,7 +954,7 @@ static void list_append(char *buf, size_t cap, const char *name, char sep)
 KELP_NOINLINE static void solve_failed(kelp_helm *h, int rc)
 {
     char msg[220];
-    hx_cat(msg, sizeof msg, "pHelmIvP: IvP solve failed: ", kelp_strerror(rc), " (", kelp_diag_text(&h->prob.diag), ")", HX_END);
+    hx_cat(msg, sizeof msg, "pHelmIvP: IvP solve failed: ", kelp_err_str(rc), " (", kelp_diag_text(&h->prob.diag), ")", HX_END);
     sink(h, "BHV_ERROR", true, msg, 0, NULL);
     h->rep.halted = true;
     hx_copy(h->rep.halt_msg, sizeof h->rep.halt_msg, msg + 10, strlen(msg + 10));
@@ -1256,14 +1256,14 @@ static void post_completed_pending(kelp_helm *h)
 
 int kelp_helm_iterate(kelp_helm *h, kelp_time now)
 {
-    if (!h || !kelp_time_ok(now))
+    if (!h || !kelp_util_time_ok(now))
         return KELP_ERR_ARG;
     if (!h->started)
         kelp_helm_start(h, now);
     /* the time step rule: a step back, or forward beyond KELP_TIME_STEP_MAX, is not helm time.
      * Helm time (durations, perpetual and idle decay, updates, starve times, the IB's stamps)
      * carries on from the last iteration; t0 + helm time stays the caller's clock */
-    double step = kelp_clock_step(&h->clock, now, KELP_TIME_STEP_MAX);
+    double step = kelp_util_clock_step(&h->clock, now, KELP_TIME_STEP_MAX);
     if (step != 0.0) {
         h->t0 += step;
         h->clock_steps++;

@@ -85,7 +85,7 @@ static bool apply_pieces(kelp_helm *h, kelp_bhv *b, const char *s)
         if (!helm_update_piece(p, pn, param, sizeof param, val, sizeof h->ws_upd.val))
             return false;
         b->fail = NULL;
-        if (strcmp(param, "name") != 0 && kelp_bhv_set_param(b, param, val) < 0)
+        if (strcmp(param, "name") != 0 && kelp_helm_bhv_set_param(b, param, val) < 0)
             return false;
         if (!e)
             return true;
@@ -206,7 +206,7 @@ void helm_reap(kelp_helm *h)
 const kelp_helm_contact *kelp_helm_contact_get(const kelp_helm *h, const char *name)
 {
     for (unsigned i = 0; i < h->ncontacts; i++)
-        if (kelp_strieq_n(name, strlen(name), h->ledger[i].name) && strlen(h->ledger[i].name) == strlen(name))
+        if (kelp_util_strieq_n(name, strlen(name), h->ledger[i].name) && strlen(h->ledger[i].name) == strlen(name))
             return &h->ledger[i];
     return NULL;
 }

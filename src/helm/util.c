@@ -17,7 +17,7 @@ char hx_lower(char c)
 
 bool hx_ieq(const char *a, const char *b)
 {
-    return kelp_strieq(a, b);
+    return kelp_util_strieq(a, b);
 }
 
 void hx_trim(const char **s, size_t *n)
@@ -45,7 +45,7 @@ bool hx_number(const char *s, size_t n, double *out)
     if (n == 0)
         return false;
     double v;
-    if (kelp_parse_double(s, n, &v) != 0 || !isfinite(v))
+    if (kelp_util_parse_double(s, n, &v) != 0 || !isfinite(v))
         return false;
     *out = v;
     return true;
@@ -125,7 +125,7 @@ void hx_fmt_ulong(char *buf, size_t cap, unsigned long v)
  * util formatter, with fewer decimals where a large value leaves no room for them */
 static void fmt_fixed(char *buf, size_t cap, double v, unsigned dec, bool strip)
 {
-    while (kelp_fmt_fixed(buf, cap, v, dec, strip) < 0 && dec > 0)
+    while (kelp_util_fmt_fixed(buf, cap, v, dec, strip) < 0 && dec > 0)
         dec--;
 }
 

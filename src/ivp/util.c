@@ -66,7 +66,7 @@ void ivp_trim(const char **s, size_t *n)
 
 int ivp_word_eq(const char *s, size_t n, const char *word)
 {
-    return kelp_strieq_n(s, n, word);
+    return kelp_util_strieq_n(s, n, word);
 }
 
 /* A finite number filling the whole span (no white space): the util parser */
@@ -74,7 +74,7 @@ int ivp_parse_double(const char *s, size_t n, double *out)
 {
     if (n == 0 || s[0] == ' ' || s[0] == '\t' || s[n - 1] == ' ' || s[n - 1] == '\t')
         return KELP_ERR_PARSE;
-    return kelp_parse_finite(s, n, out);
+    return kelp_util_parse_finite(s, n, out);
 }
 
 int ivp_parse_long(const char *s, size_t n, long *out)

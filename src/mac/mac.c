@@ -134,7 +134,7 @@ static int add_slot(kelp_mac *mac, const kelp_mac_slot *s, kelp_time now)
 
 int kelp_mac_add_slot(kelp_mac *mac, const kelp_mac_slot *s, kelp_time now)
 {
-    if (!mac || !s || !kelp_time_ok(now)) return KELP_ERR_ARG;
+    if (!mac || !s || !kelp_util_time_ok(now)) return KELP_ERR_ARG;
     if (mac->type == KELP_MAC_AUTO_DECENTRALIZED || mac->type == KELP_MAC_NONE) return KELP_ERR_STATE;
     kelp_mac_slot c = *s;
     c.never_expires = false;
@@ -150,7 +150,7 @@ static bool slot_eq(const kelp_mac_slot *a, const kelp_mac_slot *b)
 
 int kelp_mac_remove_slot(kelp_mac *mac, const kelp_mac_slot *s, kelp_time now)
 {
-    if (!mac || !s || !kelp_time_ok(now)) return KELP_ERR_ARG;
+    if (!mac || !s || !kelp_util_time_ok(now)) return KELP_ERR_ARG;
     if (mac->type == KELP_MAC_AUTO_DECENTRALIZED || mac->type == KELP_MAC_NONE) return KELP_ERR_STATE;
     bool removed = false;
     for (size_t i = 0; i < mac->n; i++) {
@@ -175,7 +175,7 @@ void kelp_mac_clear(kelp_mac *mac)
 
 int kelp_mac_init(kelp_mac *mac, const kelp_mac_cfg *cfg, kelp_time now)
 {
-    if (!mac || !cfg || (cfg->nslots && !cfg->slots) || !kelp_time_ok(now)) return KELP_ERR_ARG;
+    if (!mac || !cfg || (cfg->nslots && !cfg->slots) || !kelp_util_time_ok(now)) return KELP_ERR_ARG;
     memset(mac, 0, sizeof *mac);
     mac->type = cfg->type;
     mac->modem_id = cfg->modem_id;
@@ -256,7 +256,7 @@ int kelp_mac_tick(kelp_mac *mac, kelp_time now, kelp_mac_action *act)
     if (!mac || !act) return KELP_ERR_ARG;
     memset(act, 0, sizeof *act);
     act->kind = KELP_MAC_ACT_NONE;
-    if (!kelp_time_ok(now)) return KELP_ERR_ARG;
+    if (!kelp_util_time_ok(now)) return KELP_ERR_ARG;
     if (!mac->running || mac->n == 0) return KELP_ERR_EMPTY;
     if (mac->current >= mac->n) mac->current = 0;
     if (clock_stepped(mac, mac_us(now))) {
@@ -308,7 +308,7 @@ int kelp_mac_tick(kelp_mac *mac, kelp_time now, kelp_mac_action *act)
 
 void kelp_mac_heard(kelp_mac *mac, int src, kelp_time now)
 {
-    if (!mac || mac->type != KELP_MAC_AUTO_DECENTRALIZED || src < 0 || !kelp_time_ok(now)) return;
+    if (!mac || mac->type != KELP_MAC_AUTO_DECENTRALIZED || src < 0 || !kelp_util_time_ok(now)) return;
     for (size_t i = 0; i < mac->n; i++) {
         if (mac->slot[i].src == src) {
             if (!mac->slot[i].never_expires) mac->slot[i].last_heard = now;
@@ -334,7 +334,7 @@ void kelp_mac_heard(kelp_mac *mac, int src, kelp_time now)
 int kelp_mac_update(kelp_mac *mac, int dest, kelp_mac_update_type type, const kelp_mac_slot *slots, size_t n,
                     kelp_time now)
 {
-    if (!mac || (n && !slots) || !kelp_time_ok(now)) return KELP_ERR_ARG;
+    if (!mac || (n && !slots) || !kelp_util_time_ok(now)) return KELP_ERR_ARG;
     if (mac->type != KELP_MAC_FIXED_DECENTRALIZED && mac->type != KELP_MAC_POLLED) return KELP_ERR_STATE;
     if (dest != mac->modem_id) return KELP_ERR_NOTFOUND;
     int rc = KELP_OK;

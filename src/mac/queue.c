@@ -88,7 +88,7 @@ int kelp_queue_init(kelp_queue_mgr *m, int modem_id, kelp_queue *queues, size_t 
  * time: blackouts end, old messages expire, one frame per request as always. */
 static void clock_step(kelp_queue_mgr *m, kelp_time now)
 {
-    double back = kelp_clock_back(&m->clock, now);
+    double back = kelp_util_clock_back(&m->clock, now);
     if (back <= 0.0) return;
     m->count.clock_steps++;
     for (size_t k = 0; k < m->nq; k++) {
@@ -101,7 +101,7 @@ static void clock_step(kelp_queue_mgr *m, kelp_time now)
 
 int kelp_queue_add(kelp_queue_mgr *m, const kelp_queue_cfg *cfg, kelp_time now)
 {
-    if (!m || !cfg || !kelp_time_ok(now)) return KELP_ERR_ARG;
+    if (!m || !cfg || !kelp_util_time_ok(now)) return KELP_ERR_ARG;
     clock_step(m, now);
     if (cfg->key.type != KELP_QUEUE_DCCL && cfg->key.type != KELP_QUEUE_CCL) return KELP_ERR_ARG;
     if (find_q(m, cfg->key)) return kelp_fail(&m->diag, KELP_ERR_EXISTS, "queue: duplicate key");
@@ -222,7 +222,7 @@ static double priority_of(const kelp_queue *q, kelp_time now)
 
 int kelp_queue_priority(const kelp_queue_mgr *m, kelp_queue_key key, kelp_time now, double *prio)
 {
-    if (!m || !prio || !kelp_time_ok(now)) return KELP_ERR_ARG;
+    if (!m || !prio || !kelp_util_time_ok(now)) return KELP_ERR_ARG;
     const kelp_queue *q = find_q(m, key);
     if (!q) return KELP_ERR_NOTFOUND;
     *prio = priority_of(q, now);
@@ -383,7 +383,7 @@ static int stitch(kelp_queue_mgr *m, const kelp_queue_request *req, kelp_acomms_
 
 int kelp_queue_data_request(kelp_queue_mgr *m, const kelp_queue_request *req_in, kelp_time now, kelp_acomms_msg *out)
 {
-    if (!m || !req_in || !out || !kelp_time_ok(now)) return KELP_ERR_ARG;
+    if (!m || !req_in || !out || !kelp_util_time_ok(now)) return KELP_ERR_ARG;
     clock_step(m, now);
     kelp_queue_request req = *req_in;
     if (req.max_bytes == 0 || req.max_bytes > KELP_MAX_ACOMMS_FRAME) req.max_bytes = KELP_MAX_ACOMMS_FRAME;
@@ -440,7 +440,7 @@ int kelp_queue_ack(kelp_queue_mgr *m, int src, int dest, uint32_t frame)
 
 void kelp_queue_do_work(kelp_queue_mgr *m, kelp_time now)
 {
-    if (!m || !kelp_time_ok(now)) return;
+    if (!m || !kelp_util_time_ok(now)) return;
     clock_step(m, now);
     for (size_t k = 0; k < m->nq; k++) {
         kelp_queue *q = &m->q[k];

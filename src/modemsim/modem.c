@@ -73,7 +73,7 @@ static size_t put_digits(char *b, unsigned long v, unsigned width)
 /* HHMMSS of a modem clock time */
 static void hhmmss(int64_t clock_us, char out[7])
 {
-    int64_t tod = (clock_us - kelp_floor_div(clock_us, US_PER_DAY) * US_PER_DAY) / US_PER_S;
+    int64_t tod = (clock_us - kelp_util_floor_div(clock_us, US_PER_DAY) * US_PER_DAY) / US_PER_S;
     (void)put_digits(out, (unsigned long)(tod / 3600), 2);
     (void)put_digits(out + 2, (unsigned long)(tod / 60 % 60), 2);
     (void)put_digits(out + 4, (unsigned long)(tod % 60), 2);
@@ -518,7 +518,7 @@ static void cmd_clk(kelp_modemsim *m, const kelp_nmea_sentence *s, const char *l
         host_error(m, ERR_FIELD, "BAD_CLK_FIELD", line, KELP_ERR_PARSE, now_us);
         return;
     }
-    int64_t t = (kelp_days_from_civil(v[0], (unsigned)v[1], (unsigned)v[2]) * 86400 + v[3] * 3600 + v[4] * 60 + v[5]) *
+    int64_t t = (kelp_util_days_from_civil(v[0], (unsigned)v[1], (unsigned)v[2]) * 86400 + v[3] * 3600 + v[4] * 60 + v[5]) *
                 US_PER_S;
     m->clock_offset_us = t - now_us;
     emit(m, KELP_MODEMSIM_EV_INFO, NULL, 0, KELP_MODEMSIM_LOSS_NONE, "clock set", 0, now_us);
@@ -655,7 +655,7 @@ static void cmd_txd(kelp_modemsim *m, const kelp_nmea_sentence *s, const char *l
     memset(f, 0, sizeof *f);
     size_t n = 0;
     size_t cap = m->cyc.active ? kelp_modemsim_rate_bytes[m->cyc.rate] : KELP_MAX_ACOMMS_FRAME;
-    int rc = kelp_hex_decode(kelp_nmea_field(s, 4), strlen(kelp_nmea_field(s, 4)), f->data, cap, &n);
+    int rc = kelp_util_hex_decode(kelp_nmea_field(s, 4), strlen(kelp_nmea_field(s, 4)), f->data, cap, &n);
     if (rc) {
         host_error(m, ERR_FIELD, rc == KELP_ERR_RANGE ? "TXD_TOO_LONG" : "BAD_TXD_HEX", line, rc, now_us);
         return;
@@ -715,7 +715,7 @@ static void cmd_muc(kelp_modemsim *m, const kelp_nmea_sentence *s, const char *l
     bool ok = s->nfields == 4 && field_range(s, 1, 0, KELP_MODEMSIM_MAX_ID, &src) &&
               field_range(s, 2, 0, KELP_MODEMSIM_MAX_ID, &dest) && hl >= 1 && hl <= 4;
     for (size_t i = 0; ok && i < hl; i++) {
-        int d = kelp_hex_digit(h[i]);
+        int d = kelp_util_hex_digit(h[i]);
         if (d < 0) ok = false;
         else v = v * 16 + d;
     }
@@ -1079,7 +1079,7 @@ static void lbl_reply(kelp_modemsim *m, int64_t now_us)
     int64_t c = clock_us(m, now_us);
     char t[16];
     hhmmss(c, t);
-    int64_t cs = (c - kelp_floor_div(c, US_PER_S) * US_PER_S) / 10000;
+    int64_t cs = (c - kelp_util_floor_div(c, US_PER_S) * US_PER_S) / 10000;
     t[6] = '.';
     (void)put_digits(t + 7, (unsigned long)cs, 2);
     kelp_nmea_writer_str(&w, t);
@@ -1184,16 +1184,16 @@ int kelp_modemsim_event_format(const kelp_modemsim *m, const kelp_modemsim_event
     switch (e->kind) {
     case KELP_MODEMSIM_EV_TX:
         if (!p) return 0;
-        n = kelp_snprintf(buf, cap, "modem=%d,event=tx,kind=%s,src=%d,dest=%d,frames=%d,rate=%d", kelp_modemsim_src(m),
+        n = kelp_util_snprintf(buf, cap, "modem=%d,event=tx,kind=%s,src=%d,dest=%d,frames=%d,rate=%d", kelp_modemsim_src(m),
                      pkt_kind_name(p->kind), p->src, p->dest, p->kind == KELP_MODEMSIM_PKT_DATA ? p->nframes : 0, p->rate);
         break;
     case KELP_MODEMSIM_EV_RX:
         if (!p) return 0;
-        n = kelp_snprintf(buf, cap, "modem=%d,event=rx,kind=%s,src=%d,dest=%d,frame=%u,range=%.1f,travel=%.4f",
+        n = kelp_util_snprintf(buf, cap, "modem=%d,event=rx,kind=%s,src=%d,dest=%d,frame=%u,range=%.1f,travel=%.4f",
                      kelp_modemsim_src(m), pkt_kind_name(p->kind), p->src, p->dest, e->frame, e->range_m, e->travel_s);
         break;
     case KELP_MODEMSIM_EV_LOST:
-        n = kelp_snprintf(buf, cap, "modem=%d,event=lost,kind=%s,src=%d,dest=%d,frame=%u,reason=%s", kelp_modemsim_src(m),
+        n = kelp_util_snprintf(buf, cap, "modem=%d,event=lost,kind=%s,src=%d,dest=%d,frame=%u,reason=%s", kelp_modemsim_src(m),
                      p ? pkt_kind_name(p->kind) : "?", p ? p->src : 0, p ? p->dest : 0, e->frame,
                      pkt_loss_name(e->loss));
         break;

@@ -60,7 +60,7 @@ int kelp_poller_parse_slot(const char *spec, unsigned default_seconds, kelp_mac_
             }
             continue;
         }
-        if (kelp_parse_long(v, vl, &n) != KELP_OK) {
+        if (kelp_util_parse_long(v, vl, &n) != KELP_OK) {
             return kelp_fail(d, KELP_ERR_PARSE, KEYS[which]);
         }
         switch (which) {

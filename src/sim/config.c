@@ -7,14 +7,14 @@
 
 static bool key_is(const char *key, const char *name)
 {
-    return kelp_strieq_n(key, strlen(key), name);
+    return kelp_util_strieq_n(key, strlen(key), name);
 }
 
 static int number(const char *val, double lo, double hi, double *out, kelp_diag *d, const char *msg)
 {
     double x;
     (void)msg; /* unused with KELP_NO_ERRMSG */
-    if (kelp_parse_double(val, strlen(val), &x) < 0 || !isfinite(x) || x < lo || x > hi) {
+    if (kelp_util_parse_double(val, strlen(val), &x) < 0 || !isfinite(x) || x < lo || x > hi) {
         return kelp_fail(d, KELP_ERR_RANGE, msg);
     }
     *out = x;
@@ -24,8 +24,8 @@ static int number(const char *val, double lo, double hi, double *out, kelp_diag 
 static int boolean(const char *val, bool *out, kelp_diag *d)
 {
     size_t n = strlen(val);
-    if (kelp_strieq_n(val, n, "true") || kelp_strieq_n(val, n, "yes") || !strcmp(val, "1")) *out = true;
-    else if (kelp_strieq_n(val, n, "false") || kelp_strieq_n(val, n, "no") || !strcmp(val, "0")) *out = false;
+    if (kelp_util_strieq_n(val, n, "true") || kelp_util_strieq_n(val, n, "yes") || !strcmp(val, "1")) *out = true;
+    else if (kelp_util_strieq_n(val, n, "false") || kelp_util_strieq_n(val, n, "no") || !strcmp(val, "0")) *out = false;
     else {
         return kelp_fail(d, KELP_ERR_PARSE, "must be true or false");
     }
@@ -82,7 +82,7 @@ int kelp_sim_config_set(kelp_sim_params *p, kelp_sim_state *st, const char *key,
     if (key_is(key, "DRIFT_VECTOR")) { /* "heading, magnitude" */
         const char *c = strchr(val, ',');
         double h, m;
-        if (!c || kelp_parse_double(val, (size_t)(c - val), &h) < 0 || kelp_parse_double(c + 1, strlen(c + 1), &m) < 0 ||
+        if (!c || kelp_util_parse_double(val, (size_t)(c - val), &h) < 0 || kelp_util_parse_double(c + 1, strlen(c + 1), &m) < 0 ||
             !isfinite(h) || !isfinite(m)) {
             return kelp_fail(d, KELP_ERR_PARSE, "expected heading,magnitude");
         }
@@ -92,9 +92,9 @@ int kelp_sim_config_set(kelp_sim_params *p, kelp_sim_state *st, const char *key,
     }
     if (key_is(key, "CONTROL")) {
         size_t n = strlen(val);
-        if (kelp_strieq_n(val, n, "auto")) p->control = KELP_SIM_AUTO;
-        else if (kelp_strieq_n(val, n, "direct")) p->control = KELP_SIM_DIRECT;
-        else if (kelp_strieq_n(val, n, "actuated") || kelp_strieq_n(val, n, "rudder")) p->control = KELP_SIM_ACTUATED;
+        if (kelp_util_strieq_n(val, n, "auto")) p->control = KELP_SIM_AUTO;
+        else if (kelp_util_strieq_n(val, n, "direct")) p->control = KELP_SIM_DIRECT;
+        else if (kelp_util_strieq_n(val, n, "actuated") || kelp_util_strieq_n(val, n, "rudder")) p->control = KELP_SIM_ACTUATED;
         else {
             return kelp_fail(d, KELP_ERR_PARSE, "must be auto, direct or actuated");
         }
@@ -117,19 +117,19 @@ int kelp_sim_config_set(kelp_sim_params *p, kelp_sim_state *st, const char *key,
     return 0;
 }
 
-int kelp_marine_pid_cfg_set(kelp_marine_pid_cfg *c, const char *key, const char *val, kelp_diag *d)
+int kelp_pid_marine_cfg_set(kelp_pid_marine_cfg *c, const char *key, const char *val, kelp_diag *d)
 {
     static const struct { const char *prefix; size_t off; } loops[] = {
-        { "YAW_PID_", offsetof(kelp_marine_pid_cfg, yaw) },
-        { "SPEED_PID_", offsetof(kelp_marine_pid_cfg, speed) },
-        { "Z_TO_PITCH_PID_", offsetof(kelp_marine_pid_cfg, z_to_pitch) },
-        { "PITCH_PID_", offsetof(kelp_marine_pid_cfg, pitch) },
+        { "YAW_PID_", offsetof(kelp_pid_marine_cfg, yaw) },
+        { "SPEED_PID_", offsetof(kelp_pid_marine_cfg, speed) },
+        { "Z_TO_PITCH_PID_", offsetof(kelp_pid_marine_cfg, z_to_pitch) },
+        { "PITCH_PID_", offsetof(kelp_pid_marine_cfg, pitch) },
     };
     static const char *const gains[] = { "KP", "KD", "KI", "INTEGRAL_LIMIT", "KI_LIMIT" };
     size_t kl = strlen(key);
     for (size_t i = 0; i < 4; i++) {
         size_t pl = strlen(loops[i].prefix);
-        if (kl <= pl || !kelp_strieq_n(key, pl, loops[i].prefix)) continue;
+        if (kl <= pl || !kelp_util_strieq_n(key, pl, loops[i].prefix)) continue;
         for (int g = 0; g < 5; g++)
             if (key_is(key + pl, gains[g])) {
                 double *v = (double *)(void *)((char *)c + loops[i].off);
@@ -137,14 +137,14 @@ int kelp_marine_pid_cfg_set(kelp_marine_pid_cfg *c, const char *key, const char 
             }
     }
     static const struct { const char *key; size_t off; double hi; } nums[] = {
-        { "MAXRUDDER", offsetof(kelp_marine_pid_cfg, max_rudder), HUGE_VAL },
-        { "MAXTHRUST", offsetof(kelp_marine_pid_cfg, max_thrust), HUGE_VAL },
-        { "MAXPITCH", offsetof(kelp_marine_pid_cfg, max_pitch_deg), 90 },
-        { "MAXELEVATOR", offsetof(kelp_marine_pid_cfg, max_elevator), HUGE_VAL },
-        { "SPEED_FACTOR", offsetof(kelp_marine_pid_cfg, speed_factor), 100 },
-        { "TARDY_HELM_THRESHOLD", offsetof(kelp_marine_pid_cfg, tardy_helm), HUGE_VAL },
-        { "TARDY_NAV_THRESHOLD", offsetof(kelp_marine_pid_cfg, tardy_nav), HUGE_VAL },
-        { "SIM_INSTABILITY", offsetof(kelp_marine_pid_cfg, sim_instability), 100 },
+        { "MAXRUDDER", offsetof(kelp_pid_marine_cfg, max_rudder), HUGE_VAL },
+        { "MAXTHRUST", offsetof(kelp_pid_marine_cfg, max_thrust), HUGE_VAL },
+        { "MAXPITCH", offsetof(kelp_pid_marine_cfg, max_pitch_deg), 90 },
+        { "MAXELEVATOR", offsetof(kelp_pid_marine_cfg, max_elevator), HUGE_VAL },
+        { "SPEED_FACTOR", offsetof(kelp_pid_marine_cfg, speed_factor), 100 },
+        { "TARDY_HELM_THRESHOLD", offsetof(kelp_pid_marine_cfg, tardy_helm), HUGE_VAL },
+        { "TARDY_NAV_THRESHOLD", offsetof(kelp_pid_marine_cfg, tardy_nav), HUGE_VAL },
+        { "SIM_INSTABILITY", offsetof(kelp_pid_marine_cfg, sim_instability), 100 },
     };
     for (size_t i = 0; i < sizeof nums / sizeof nums[0]; i++)
         if (key_is(key, nums[i].key))

@@ -58,7 +58,7 @@ int kelp_pid_run(kelp_pid *p, double e, double t, double *out)
     return KELP_OK;
 }
 
-void kelp_marine_pid_cfg_default(kelp_marine_pid_cfg *c)
+void kelp_pid_marine_cfg_default(kelp_pid_marine_cfg *c)
 {
     memset(c, 0, sizeof *c);
     c->max_rudder = c->max_thrust = 100;
@@ -72,7 +72,7 @@ static bool lim_ok(double v)
     return isfinite(v) && v >= 0;
 }
 
-int kelp_marine_pid_init(kelp_marine_pid *m, const kelp_marine_pid_cfg *cfg, kelp_time now)
+int kelp_pid_marine_init(kelp_pid_marine *m, const kelp_pid_marine_cfg *cfg, kelp_time now)
 {
     if (!lim_ok(cfg->max_rudder) || !lim_ok(cfg->max_thrust) || !lim_ok(cfg->max_pitch_deg) ||
         !lim_ok(cfg->max_elevator) || !lim_ok(cfg->speed_factor) || !lim_ok(cfg->tardy_helm) ||
@@ -99,24 +99,24 @@ int kelp_marine_pid_init(kelp_marine_pid *m, const kelp_marine_pid_cfg *cfg, kel
 
 static bool num_of(bool is_string, const char *sval, double dval, double *out)
 {
-    if (is_string) return sval && kelp_parse_double(sval, strlen(sval), out) == KELP_OK && isfinite(*out);
+    if (is_string) return sval && kelp_util_parse_double(sval, strlen(sval), out) == KELP_OK && isfinite(*out);
     *out = dval;
     return isfinite(dval);
 }
 
-int kelp_marine_pid_mail(kelp_marine_pid *m, const char *var, bool is_string, const char *sval, double dval,
+int kelp_pid_marine_mail(kelp_pid_marine *m, const char *var, bool is_string, const char *sval, double dval,
                          kelp_time now)
 {
     if (!strcmp(var, "MOOS_MANUAL_OVERRIDE") || !strcmp(var, "MOOS_MANUAL_OVERIDE")) {
         if (!is_string || !sval) return KELP_ERR_PARSE;
         /* PIDEngine::setPIDOverride: lifting an override forgets every input's time (each must
          * come anew); PID_HAS_CONTROL says true on each lift, false when control is lost */
-        if (kelp_strieq_n(sval, strlen(sval), "false")) {
+        if (kelp_util_strieq_n(sval, strlen(sval), "false")) {
             if (!m->has_control)
                 for (int i = 0; i < KELP_PID_NSTAMP; i++) m->stamp[i] = -1;
             m->has_control = true;
             m->say_control = 1;
-        } else if (kelp_strieq_n(sval, strlen(sval), "true")) {
+        } else if (kelp_util_strieq_n(sval, strlen(sval), "true")) {
             if (m->has_control) m->say_control = -1;
             m->has_control = false, m->allstop_posted = false;
         } else {
@@ -155,14 +155,14 @@ int kelp_marine_pid_mail(kelp_marine_pid *m, const char *var, bool is_string, co
     return 1;
 }
 
-static void out_num(const kelp_marine_pid *m, kelp_marine_pid_sink sink, void *ctx, const char *base, double v)
+static void out_num(const kelp_pid_marine *m, kelp_pid_marine_sink sink, void *ctx, const char *base, double v)
 {
     char var[KELP_MAX_NAME];
-    kelp_snprintf(var, sizeof var, "%s%s", base, m->cfg.suffix);
+    kelp_util_snprintf(var, sizeof var, "%s%s", base, m->cfg.suffix);
     sink(ctx, var, false, NULL, v);
 }
 
-static void post_sat(kelp_marine_pid *m, kelp_marine_pid_sink sink, void *ctx, int i, bool sat)
+static void post_sat(kelp_pid_marine *m, kelp_pid_marine_sink sink, void *ctx, int i, bool sat)
 {
     static const char *const v[3] = { "PID_MAX_SAT_HDG", "PID_MAX_SAT_SPD", "PID_MAX_SAT_DEP" };
     if (m->sat[i] == (int)sat) return;
@@ -170,7 +170,7 @@ static void post_sat(kelp_marine_pid *m, kelp_marine_pid_sink sink, void *ctx, i
     sink(ctx, v[i], true, sat ? "true" : "false", 0);
 }
 
-static void post_outputs(kelp_marine_pid *m, kelp_marine_pid_sink sink, void *ctx, double r, double t, double el)
+static void post_outputs(kelp_pid_marine *m, kelp_pid_marine_sink sink, void *ctx, double r, double t, double el)
 {
     m->rudder_out = r, m->thrust_out = t, m->elevator_out = el;
     out_num(m, sink, ctx, "DESIRED_RUDDER", r);
@@ -182,7 +182,7 @@ static void post_outputs(kelp_marine_pid *m, kelp_marine_pid_sink sink, void *ct
 
 /* PIDEngine::checkForStaleness: one PID_STALE per input older than its threshold, with its age
  * to 3 decimals (trailing zeros trimmed). @return the inputs found stale (0: none). */
-static int stale_inputs(kelp_marine_pid *m, kelp_time now, kelp_marine_pid_sink sink, void *ctx)
+static int stale_inputs(kelp_pid_marine *m, kelp_time now, kelp_pid_marine_sink sink, void *ctx)
 {
     static const char *const what[KELP_PID_NSTAMP] = { "DesHdg", "DesSpd", "DesDepth", "NavHdg",
                                                        "NavSpd", "NavDep",  "NavPitch" };
@@ -193,9 +193,9 @@ static int stale_inputs(kelp_marine_pid *m, kelp_time now, kelp_marine_pid_sink 
         if (i == 2 && !m->cfg.depth_control) break;
         double age = now - m->stamp[i];
         if (age <= (i == 0 || i == 1 || i == 2 ? m->cfg.tardy_helm : m->cfg.tardy_nav)) continue;
-        int len = kelp_snprintf(m->work, sizeof m->work, "Stale %s:", what[i]);
+        int len = kelp_util_snprintf(m->work, sizeof m->work, "Stale %s:", what[i]);
         if (len > 0 && (size_t)len < sizeof m->work &&
-            kelp_fmt_fixed(m->work + len, sizeof m->work - (size_t)len, age, 3, true) >= 0)
+            kelp_util_fmt_fixed(m->work + len, sizeof m->work - (size_t)len, age, 3, true) >= 0)
             sink(ctx, "PID_STALE", true, m->work, 0);
         n++;
         if (i <= 2) m->tardy_helm_n++;
@@ -204,10 +204,10 @@ static int stale_inputs(kelp_marine_pid *m, kelp_time now, kelp_marine_pid_sink 
     return n;
 }
 
-void kelp_marine_pid_iterate(kelp_marine_pid *m, kelp_time now, kelp_marine_pid_sink sink, void *ctx)
+void kelp_pid_marine_iterate(kelp_pid_marine *m, kelp_time now, kelp_pid_marine_sink sink, void *ctx)
 {
-    if (!kelp_time_ok(now)) return; /* the time step rule: no NaN reaches an actuator */
-    double step = kelp_clock_step(&m->clock, now, KELP_TIME_STEP_MAX);
+    if (!kelp_util_time_ok(now)) return; /* the time step rule: no NaN reaches an actuator */
+    double step = kelp_util_clock_step(&m->clock, now, KELP_TIME_STEP_MAX);
     if (step != 0.0) {
         /* a clock step (back, or forward beyond KELP_TIME_STEP_MAX: not the nav timeout, which a
          * warped mission's iterations may exceed) is not a dt: each loop's previous run moves

@@ -107,7 +107,7 @@ int kelp_sim_parse_thrust_map(const char *s, kelp_sim_params *p)
         if (!end) end = c + strlen(c);
         if (!colon || colon > end) return KELP_ERR_PARSE;
         double t, v;
-        if (kelp_parse_double(c, (size_t)(colon - c), &t) < 0 || kelp_parse_double(colon + 1, (size_t)(end - colon - 1), &v) < 0 ||
+        if (kelp_util_parse_double(c, (size_t)(colon - c), &t) < 0 || kelp_util_parse_double(colon + 1, (size_t)(end - colon - 1), &v) < 0 ||
             !isfinite(t) || !isfinite(v) || t < -100 || t > 100 || (n && t <= p->map_thrust[n - 1]))
             return KELP_ERR_PARSE;
         if (n >= KELP_SIM_MAX_MAP) return KELP_ERR_NOSPACE;
@@ -287,14 +287,14 @@ int kelp_sim_step(kelp_sim *sim, kelp_time now)
 
 static int set_field(kelp_sim_state *st, const char *k, size_t kl, double v)
 {
-    if (kelp_strieq_n(k, kl, "x")) st->x = v;
-    else if (kelp_strieq_n(k, kl, "y")) st->y = v;
-    else if (kelp_strieq_n(k, kl, "heading") || kelp_strieq_n(k, kl, "hdg") || kelp_strieq_n(k, kl, "deg"))
+    if (kelp_util_strieq_n(k, kl, "x")) st->x = v;
+    else if (kelp_util_strieq_n(k, kl, "y")) st->y = v;
+    else if (kelp_util_strieq_n(k, kl, "heading") || kelp_util_strieq_n(k, kl, "hdg") || kelp_util_strieq_n(k, kl, "deg"))
         st->heading = kelp_sim_angle360(v);
-    else if (kelp_strieq_n(k, kl, "speed") || kelp_strieq_n(k, kl, "spd")) {
+    else if (kelp_util_strieq_n(k, kl, "speed") || kelp_util_strieq_n(k, kl, "spd")) {
         if (v < 0.0) return KELP_ERR_ARG;
         st->speed = v;
-    } else if (kelp_strieq_n(k, kl, "depth") || kelp_strieq_n(k, kl, "dep")) {
+    } else if (kelp_util_strieq_n(k, kl, "depth") || kelp_util_strieq_n(k, kl, "dep")) {
         if (v < 0.0) return KELP_ERR_ARG;
         st->depth = v;
     } else
@@ -313,7 +313,7 @@ int kelp_sim_parse_start(const char *s, kelp_sim_state *st)
         int rc, n = 0;
         while ((rc = kelp_kv_next(s, ',', &pos, &k, &kl, &v, &vl)) == 1) {
             double d;
-            if (kelp_parse_double(v, vl, &d) < 0 || !isfinite(d)) return KELP_ERR_PARSE;
+            if (kelp_util_parse_double(v, vl, &d) < 0 || !isfinite(d)) return KELP_ERR_PARSE;
             rc = set_field(&tmp, k, kl, d);
             if (rc < 0) return rc;
             n++;
@@ -329,7 +329,7 @@ int kelp_sim_parse_start(const char *s, kelp_sim_state *st)
             size_t len = e ? (size_t)(e - p) : strlen(p);
             double d;
             if (i >= 5) return KELP_ERR_PARSE;
-            if (kelp_parse_double(p, len, &d) < 0 || !isfinite(d)) return KELP_ERR_PARSE;
+            if (kelp_util_parse_double(p, len, &d) < 0 || !isfinite(d)) return KELP_ERR_PARSE;
             int rc = set_field(&tmp, order[i], strlen(order[i]), d);
             if (rc < 0) return rc;
             i++;

@@ -9,14 +9,14 @@
 
 #define PI 3.14159265358979323846
 
-void kelp_usim_defaults(kelp_usim *u, struct kelp_marine_pid *pid, struct kelp_marine_pid_cfg *pid_cfg)
+void kelp_usim_defaults(kelp_usim *u, struct kelp_pid_marine *pid, struct kelp_pid_marine_cfg *pid_cfg)
 {
     memset(u, 0, sizeof *u);
     kelp_sim_params_default(&u->p);
     u->pid = pid;
     u->pid_cfg = pid_cfg;
     if (pid_cfg) {
-        kelp_marine_pid_cfg_default(pid_cfg);
+        kelp_pid_marine_cfg_default(pid_cfg);
         pid_cfg->active_start = true; /* embedded: no override handshake */
     }
     memcpy(u->prefix, "NAV", 4);
@@ -26,12 +26,12 @@ int kelp_usim_config(kelp_usim *u, const char *key, const char *val, kelp_diag *
 {
     int rc = kelp_sim_config_set(&u->p, &u->start, key, val, d);
     if (rc != 0) return rc;
-    if (u->pid_cfg && (rc = kelp_marine_pid_cfg_set(u->pid_cfg, key, val, d)) != 0) {
-        if (rc > 0 && kelp_strieq_n(key, 7, "YAW_PID")) u->embedded_pid = true;
-        if (rc > 0 && kelp_strieq(key, "DEPTH_CONTROL")) u->no_sim_mode = !u->pid_cfg->depth_control;
+    if (u->pid_cfg && (rc = kelp_pid_marine_cfg_set(u->pid_cfg, key, val, d)) != 0) {
+        if (rc > 0 && kelp_util_strieq_n(key, 7, "YAW_PID")) u->embedded_pid = true;
+        if (rc > 0 && kelp_util_strieq(key, "DEPTH_CONTROL")) u->no_sim_mode = !u->pid_cfg->depth_control;
         return rc;
     }
-    if (kelp_strieq(key, "PREFIX")) {
+    if (kelp_util_strieq(key, "PREFIX")) {
         size_t n = strlen(val);
         while (n && val[n - 1] == '_') n--; /* MOOS-IvP 24.8 writes "NAV_" */
         if (n == 0 || n >= sizeof u->prefix) {
@@ -41,15 +41,15 @@ int kelp_usim_config(kelp_usim *u, const char *key, const char *val, kelp_diag *
         u->prefix[n] = 0;
         return 1;
     }
-    if (kelp_strieq(key, "SIM_PAUSE") || kelp_strieq(key, "POST_NAVPOS_SUMMARY")) {
-        bool b = kelp_strieq(val, "true");
-        if (!b && !kelp_strieq(val, "false")) {
+    if (kelp_util_strieq(key, "SIM_PAUSE") || kelp_util_strieq(key, "POST_NAVPOS_SUMMARY")) {
+        bool b = kelp_util_strieq(val, "true");
+        if (!b && !kelp_util_strieq(val, "false")) {
             return kelp_fail(d, KELP_ERR_PARSE, "must be true or false");
         }
-        *(kelp_strieq(key, "SIM_PAUSE") ? &u->paused : &u->navpos_summary) = b;
+        *(kelp_util_strieq(key, "SIM_PAUSE") ? &u->paused : &u->navpos_summary) = b;
         return 1;
     }
-    char *dst = kelp_strieq(key, "POST_DES_RUDDER") ? u->post_rudder : kelp_strieq(key, "POST_DES_THRUST") ? u->post_thrust : NULL;
+    char *dst = kelp_util_strieq(key, "POST_DES_RUDDER") ? u->post_rudder : kelp_util_strieq(key, "POST_DES_THRUST") ? u->post_thrust : NULL;
     if (dst) {
         if (strlen(val) >= KELP_MAX_NAME || !strcmp(val, "DESIRED_RUDDER") || !strcmp(val, "DESIRED_THRUST")) {
             return kelp_fail(d, KELP_ERR_PARSE, "a variable name other than DESIRED_RUDDER/DESIRED_THRUST");
@@ -64,7 +64,7 @@ int kelp_usim_start(kelp_usim *u, const kelp_geo *geo, kelp_time now)
 {
     if (u->embedded_pid) u->p.control = KELP_SIM_ACTUATED;
     if (kelp_sim_init(&u->sim, &u->p, &u->start, now) < 0) return KELP_ERR_ARG;
-    if (u->embedded_pid && (!u->pid || kelp_marine_pid_init(u->pid, u->pid_cfg, now) < 0)) return KELP_ERR_ARG;
+    if (u->embedded_pid && (!u->pid || kelp_pid_marine_init(u->pid, u->pid_cfg, now) < 0)) return KELP_ERR_ARG;
     u->drift_fresh = true;
     u->have_geo = geo != NULL;
     if (geo) u->geo = *geo;
@@ -95,17 +95,17 @@ int kelp_usim_mail(kelp_usim *u, const char *var, bool is_string, const char *sv
         return 1;
     }
     if (k == 11) {
-        u->paused = is_string && sval && kelp_strieq(sval, "true");
+        u->paused = is_string && sval && kelp_util_strieq(sval, "true");
         return 1;
     }
     double d = dval;
-    if (is_string && (!sval || kelp_parse_double(sval, strlen(sval), &d) < 0)) d = NAN;
+    if (is_string && (!sval || kelp_util_parse_double(sval, strlen(sval), &d) < 0)) d = NAN;
     if (!isfinite(d)) {
         u->bad_mail++;
         return KELP_ERR_ARG;
     }
     int rc = KELP_OK;
-    if (k < 3 && u->embedded_pid) rc = kelp_marine_pid_mail(u->pid, var, false, NULL, d, now) < 0 ? KELP_ERR_ARG : KELP_OK;
+    if (k < 3 && u->embedded_pid) rc = kelp_pid_marine_mail(u->pid, var, false, NULL, d, now) < 0 ? KELP_ERR_ARG : KELP_OK;
     else if (k == 0) rc = kelp_sim_set_heading(&u->sim, d);
     else if (k == 1) rc = kelp_sim_set_speed(&u->sim, d);
     else if (k == 2) rc = kelp_sim_set_depth(&u->sim, d);
@@ -160,7 +160,7 @@ static void drift_summary(kelp_usim *u, kelp_usim_sink sink, void *ctx)
         if ((size_t)(end - b) <= kl) break;
         memcpy(b, key[i], kl + 1);
         b += kl;
-        int n = kelp_fmt_fixed(b, (size_t)(end - b), v[i], i < 2 ? 2 : 3, true);
+        int n = kelp_util_fmt_fixed(b, (size_t)(end - b), v[i], i < 2 ? 2 : 3, true);
         if (n < 0 || n >= end - b) break;
         b += n;
     }
@@ -179,17 +179,17 @@ static double nav_speed(const kelp_usim *u)
 int kelp_usim_iterate(kelp_usim *u, kelp_time now, kelp_usim_sink sink, void *ctx)
 {
     const kelp_sim_state *s = &u->sim.s;
-    if (!kelp_time_ok(now)) return KELP_ERR_ARG;
+    if (!kelp_util_time_ok(now)) return KELP_ERR_ARG;
     /* the time step rule: a clock step back, or forward beyond KELP_TIME_STEP_MAX, is not a dt
      * (no dead reckoning over an hour the vehicle did not move): the simulation resumes from now */
     if (now < u->sim.time || now - u->sim.time > KELP_TIME_STEP_MAX) u->sim.time = now;
     if (u->embedded_pid) {
-        (void)kelp_marine_pid_mail(u->pid, "NAV_HEADING", false, NULL, s->heading, now);
-        (void)kelp_marine_pid_mail(u->pid, "NAV_SPEED", false, NULL, s->speed, now);
-        (void)kelp_marine_pid_mail(u->pid, "NAV_DEPTH", false, NULL, s->depth, now);
-        (void)kelp_marine_pid_mail(u->pid, "NAV_PITCH", false, NULL, u->sim.pitch, now);
+        (void)kelp_pid_marine_mail(u->pid, "NAV_HEADING", false, NULL, s->heading, now);
+        (void)kelp_pid_marine_mail(u->pid, "NAV_SPEED", false, NULL, s->speed, now);
+        (void)kelp_pid_marine_mail(u->pid, "NAV_DEPTH", false, NULL, s->depth, now);
+        (void)kelp_pid_marine_mail(u->pid, "NAV_PITCH", false, NULL, u->sim.pitch, now);
         pid_ctx c = { u, sink, ctx };
-        kelp_marine_pid_iterate(u->pid, now, pid_out, &c);
+        kelp_pid_marine_iterate(u->pid, now, pid_out, &c);
     }
     int rc = u->paused ? KELP_OK : kelp_sim_step(&u->sim, now);
     if (u->paused || (rc == KELP_ERR_RANGE && now > u->sim.time))
@@ -207,7 +207,7 @@ int kelp_usim_iterate(kelp_usim *u, kelp_time now, kelp_usim_sink sink, void *ct
                      u->sim.pitch, u->sim.sog, u->sim.hog };
     char name[48];
     for (int i = 0; i < 10; i++) {
-        kelp_snprintf(name, sizeof name, "%s%s", u->prefix, suffix[i]);
+        kelp_util_snprintf(name, sizeof name, "%s%s", u->prefix, suffix[i]);
         sink(ctx, name, false, NULL, v[i]);
     }
     if (!u->no_sim_mode) sink(ctx, "SIMULATION_MODE", true, "TRUE", 0);
@@ -215,16 +215,16 @@ int kelp_usim_iterate(kelp_usim *u, kelp_time now, kelp_usim_sink sink, void *ct
     sink(ctx, "TRUE_Y", false, NULL, s->y);
     double lat = 0, lon = 0;
     if (u->have_geo && kelp_geo_to_latlon(&u->geo, s->x, s->y, &lat, &lon) == 0) {
-        kelp_snprintf(name, sizeof name, "%s_LAT", u->prefix);
+        kelp_util_snprintf(name, sizeof name, "%s_LAT", u->prefix);
         sink(ctx, name, false, NULL, lat);
-        kelp_snprintf(name, sizeof name, "%s_LONG", u->prefix);
+        kelp_util_snprintf(name, sizeof name, "%s_LONG", u->prefix);
         sink(ctx, name, false, NULL, lon);
     } else if (u->have_geo && rc == KELP_OK) {
         rc = KELP_ERR_RANGE; /* too far from the datum */
     }
     if (u->navpos_summary) {
         char buf[160];
-        kelp_snprintf(buf, sizeof buf, "x=%.3f,y=%.3f,lat=%.7f,lon=%.7f", s->x, s->y, lat, lon);
+        kelp_util_snprintf(buf, sizeof buf, "x=%.3f,y=%.3f,lat=%.7f,lon=%.7f", s->x, s->y, lat, lon);
         sink(ctx, "USM_NAVPOS_SUMMARY", true, buf, 0);
     }
     return rc;

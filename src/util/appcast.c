@@ -49,7 +49,7 @@ static void put_text(out *o, const char *s, size_t n)
 static void put_ul(out *o, unsigned long v)
 {
     char t[24];
-    int n = kelp_snprintf(t, sizeof t, "%lu", v);
+    int n = kelp_util_snprintf(t, sizeof t, "%lu", v);
     put(o, t, (size_t)n);
 }
 
@@ -157,7 +157,7 @@ static void copy(char *dst, size_t cap, const char *s, size_t n)
 static unsigned long to_ul(const char *s, size_t n)
 {
     long v = 0;
-    return kelp_parse_long(s, n, &v) == KELP_OK && v > 0 ? (unsigned long)v : 0;
+    return kelp_util_parse_long(s, n, &v) == KELP_OK && v > 0 ? (unsigned long)v : 0;
 }
 
 /* the items of a "!@"-separated list, each into list[*count] (trimmed) */
@@ -213,7 +213,7 @@ int kelp_appcast_field(const char *s, size_t len, const char *key, char *dst, si
     size_t kl, vl;
     bool eq;
     while (next_part(&s, &len, &k, &kl, &v, &vl, &eq))
-        if (eq && kl == strlen(key) && kelp_strieq_n(k, kl, key)) {
+        if (eq && kl == strlen(key) && kelp_util_strieq_n(k, kl, key)) {
             if (cap) copy(dst, cap, v, vl);
             return 1;
         }
@@ -231,14 +231,14 @@ int kelp_appcast_parse(const char *s, size_t len, kelp_appcast *out_, kelp_diag 
         if (kl && !eq) return kelp_fail(d, KELP_ERR_PARSE, "a part without '='");
         if (kl == 0) {
             /* empty part */
-        } else if (kelp_strieq_n(k, kl, "proc")) {
+        } else if (kelp_util_strieq_n(k, kl, "proc")) {
             copy(out_->proc, sizeof out_->proc, v, vl);
             have_proc = out_->proc[0] != '\0';
-        } else if (kelp_strieq_n(k, kl, "node")) {
+        } else if (kelp_util_strieq_n(k, kl, "node")) {
             copy(out_->node, sizeof out_->node, v, vl);
-        } else if (kelp_strieq_n(k, kl, "iter")) {
+        } else if (kelp_util_strieq_n(k, kl, "iter")) {
             out_->iter = to_ul(v, vl);
-        } else if (kelp_strieq_n(k, kl, "messages")) {
+        } else if (kelp_util_strieq_n(k, kl, "messages")) {
             size_t o = 0;
             while (vl) {
                 const char *ie = find(v, vl, ISEP);
@@ -256,13 +256,13 @@ int kelp_appcast_parse(const char *s, size_t len, kelp_appcast *out_, kelp_diag 
                 vl -= il + 2;
             }
             out_->messages[o] = '\0';
-        } else if (kelp_strieq_n(k, kl, "config_warnings")) {
+        } else if (kelp_util_strieq_n(k, kl, "config_warnings")) {
             split_list(v, vl, out_->cfg, &out_->ncfg, NULL);
-        } else if (kelp_strieq_n(k, kl, "events")) {
+        } else if (kelp_util_strieq_n(k, kl, "events")) {
             split_list(v, vl, out_->events, &out_->nevents, NULL);
-        } else if (kelp_strieq_n(k, kl, "run_warnings")) {
+        } else if (kelp_util_strieq_n(k, kl, "run_warnings")) {
             split_list(v, vl, out_->run, &out_->nrun, out_->run_count);
-        } else if (kelp_strieq_n(k, kl, "run_warning_total")) {
+        } else if (kelp_util_strieq_n(k, kl, "run_warning_total")) {
             out_->run_total = to_ul(v, vl);
         }
     }
@@ -278,8 +278,8 @@ int kelp_appcast_render(const kelp_appcast *ac, char *buf, size_t cap, size_t *l
     if (cap) buf[0] = '\0';
     static const char rule[] = "==============================================================\n";
     char t[KELP_APPCAST_NAME * 2 + 64], w[48];
-    int tn = kelp_snprintf(t, sizeof t, "%s %s", ac->proc, ac->node);
-    int wn = kelp_snprintf(w, sizeof w, "%u/%lu(%lu)", ac->ncfg, ac->run_total, ac->iter);
+    int tn = kelp_util_snprintf(t, sizeof t, "%s %s", ac->proc, ac->node);
+    int wn = kelp_util_snprintf(w, sizeof w, "%u/%lu(%lu)", ac->ncfg, ac->run_total, ac->iter);
     puts_(&o, rule);
     puts_(&o, t);
     for (int pad = 62 - tn - wn; pad > 0; pad--) put(&o, " ", 1);
@@ -288,19 +288,19 @@ int kelp_appcast_render(const kelp_appcast *ac, char *buf, size_t cap, size_t *l
     puts_(&o, rule);
     char line[KELP_APPCAST_ITEM + 48];
     if (ac->ncfg) {
-        kelp_snprintf(line, sizeof line, "Configuration Warnings: %u\n", ac->ncfg);
+        kelp_util_snprintf(line, sizeof line, "Configuration Warnings: %u\n", ac->ncfg);
         puts_(&o, line);
         for (unsigned i = 0; i < ac->ncfg; i++) {
-            kelp_snprintf(line, sizeof line, " [%u of %u]: %s\n", i + 1, ac->ncfg, ac->cfg[i]);
+            kelp_util_snprintf(line, sizeof line, " [%u of %u]: %s\n", i + 1, ac->ncfg, ac->cfg[i]);
             puts_(&o, line);
         }
         puts_(&o, "\n");
     }
     if (ac->run_total) {
-        kelp_snprintf(line, sizeof line, "Runtime Warnings: %lu\n", ac->run_total);
+        kelp_util_snprintf(line, sizeof line, "Runtime Warnings: %lu\n", ac->run_total);
         puts_(&o, line);
         for (unsigned i = 0; i < ac->nrun; i++) {
-            kelp_snprintf(line, sizeof line, " [%lu]: %s\n", ac->run_count[i], ac->run[i]);
+            kelp_util_snprintf(line, sizeof line, " [%lu]: %s\n", ac->run_count[i], ac->run[i]);
             puts_(&o, line);
         }
         puts_(&o, "\n");
@@ -310,7 +310,7 @@ int kelp_appcast_render(const kelp_appcast *ac, char *buf, size_t cap, size_t *l
     if (ac->nevents) {
         static const char erule[] = "===================================================================\n";
         puts_(&o, erule);
-        kelp_snprintf(line, sizeof line, "Most Recent Events (%u):\n", ac->nevents);
+        kelp_util_snprintf(line, sizeof line, "Most Recent Events (%u):\n", ac->nevents);
         puts_(&o, line);
         puts_(&o, erule);
         for (unsigned i = ac->nevents; i-- > 0;) {
@@ -335,13 +335,13 @@ int kelp_appcast_req_parse(const char *s, size_t len, kelp_appcast_req *r)
     const char *nul = memchr(s, '\0', len);
     if (nul) len = (size_t)(nul - s); /* a C string's end, wherever the length says */
     while ((rc = kelp_kv_next_n(s, len, ',', &pos, &k, &kl, &v, &vl)) == 1) {
-        if (kelp_strieq_n(k, kl, "node")) copy(r->node, sizeof r->node, v, vl);
-        else if (kelp_strieq_n(k, kl, "app")) copy(r->app, sizeof r->app, v, vl);
-        else if (kelp_strieq_n(k, kl, "key")) copy(r->key, sizeof r->key, v, vl);
-        else if (kelp_strieq_n(k, kl, "thresh")) copy(r->thresh, sizeof r->thresh, v, vl);
-        else if (kelp_strieq_n(k, kl, "duration")) {
+        if (kelp_util_strieq_n(k, kl, "node")) copy(r->node, sizeof r->node, v, vl);
+        else if (kelp_util_strieq_n(k, kl, "app")) copy(r->app, sizeof r->app, v, vl);
+        else if (kelp_util_strieq_n(k, kl, "key")) copy(r->key, sizeof r->key, v, vl);
+        else if (kelp_util_strieq_n(k, kl, "thresh")) copy(r->thresh, sizeof r->thresh, v, vl);
+        else if (kelp_util_strieq_n(k, kl, "duration")) {
             double d = 0;
-            if (kelp_parse_finite(v, vl, &d) != KELP_OK) d = 0; /* as atof: junk is 0 */
+            if (kelp_util_parse_finite(v, vl, &d) != KELP_OK) d = 0; /* as atof: junk is 0 */
             r->duration = d < 0 ? 0 : d > 30 ? 30 : d;
         }
     }

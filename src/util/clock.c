@@ -4,7 +4,7 @@
  * from elapsed time, except by a machine that knows its largest sensible step. */
 #include <kelp/util.h>
 
-double kelp_clock_step(kelp_clock *c, double now, double max_fwd)
+double kelp_util_clock_step(kelp_clock *c, double now, double max_fwd)
 {
     double d = c->seen ? now - c->last : 0.0;
     c->last = now;
@@ -12,8 +12,8 @@ double kelp_clock_step(kelp_clock *c, double now, double max_fwd)
     return (d < 0.0 || d > max_fwd) ? d : 0.0;
 }
 
-double kelp_clock_back(kelp_clock *c, double now)
+double kelp_util_clock_back(kelp_clock *c, double now)
 {
-    double d = kelp_clock_step(c, now, KELP_TIME_LIMIT * 2);
+    double d = kelp_util_clock_step(c, now, KELP_TIME_LIMIT * 2);
     return d < 0.0 ? -d : 0.0;
 }

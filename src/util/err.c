@@ -4,7 +4,7 @@
 #include <kelp/err.h>
 #include <kelp/util.h>
 
-const char *kelp_strerror(int code)
+const char *kelp_err_str(int code)
 {
     switch (code) {
     case KELP_OK: return "ok";
@@ -65,7 +65,7 @@ int kelp_diag_setf(kelp_diag *d, int code, const char *fmt, ...)
 #ifndef KELP_NO_ERRMSG
     va_list ap;
     va_start(ap, fmt);
-    (void)kelp_vsnprintf(d->msg, sizeof d->msg, fmt, ap);
+    (void)kelp_util_vsnprintf(d->msg, sizeof d->msg, fmt, ap);
     va_end(ap);
 #else
     (void)fmt;
@@ -87,5 +87,5 @@ const char *kelp_diag_text(const kelp_diag *d)
 #ifndef KELP_NO_ERRMSG
     if (d->msg[0]) return d->msg;
 #endif
-    return kelp_strerror(d->code);
+    return kelp_err_str(d->code);
 }

@@ -4,7 +4,7 @@
 #include <stdint.h>
 #include <kelp/util.h>
 
-int kelp_fmt_fixed(char *buf, size_t cap, double v, unsigned dec, bool strip)
+int kelp_util_fmt_fixed(char *buf, size_t cap, double v, unsigned dec, bool strip)
 {
     static const double pow10[] = {1, 10, 100, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
     char t[32]; /* sign, 19 digits, point, 9 decimals */

@@ -1,7 +1,7 @@
 /* Hexadecimal digits, byte strings and big-endian integers. */
 #include <kelp/util.h>
 
-int kelp_hex_digit(char c)
+int kelp_util_hex_digit(char c)
 {
     if (c >= '0' && c <= '9') return c - '0';
     if (c >= 'a' && c <= 'f') return c - 'a' + 10;
@@ -9,12 +9,12 @@ int kelp_hex_digit(char c)
     return -1;
 }
 
-int kelp_hex_decode(const char *hex, size_t n, uint8_t *out, size_t cap, size_t *len)
+int kelp_util_hex_decode(const char *hex, size_t n, uint8_t *out, size_t cap, size_t *len)
 {
     if (n % 2) return KELP_ERR_PARSE;
     if (n / 2 > cap) return KELP_ERR_NOSPACE;
     for (size_t i = 0; i < n; i += 2) {
-        int a = kelp_hex_digit(hex[i]), b = kelp_hex_digit(hex[i + 1]);
+        int a = kelp_util_hex_digit(hex[i]), b = kelp_util_hex_digit(hex[i + 1]);
         if (a < 0 || b < 0) return KELP_ERR_PARSE;
         out[i / 2] = (uint8_t)(a * 16 + b);
     }
@@ -22,24 +22,24 @@ int kelp_hex_decode(const char *hex, size_t n, uint8_t *out, size_t cap, size_t 
     return KELP_OK;
 }
 
-void kelp_be_put32(uint8_t *p, uint32_t v)
+void kelp_util_be_put32(uint8_t *p, uint32_t v)
 {
     for (int i = 3; i >= 0; i--, v >>= 8) p[i] = (uint8_t)v;
 }
 
-void kelp_be_put64(uint8_t *p, uint64_t v)
+void kelp_util_be_put64(uint8_t *p, uint64_t v)
 {
     for (int i = 7; i >= 0; i--, v >>= 8) p[i] = (uint8_t)v;
 }
 
-uint32_t kelp_be_get32(const uint8_t *p)
+uint32_t kelp_util_be_get32(const uint8_t *p)
 {
     uint32_t v = 0;
     for (int i = 0; i < 4; i++) v = v << 8 | p[i];
     return v;
 }
 
-uint64_t kelp_be_get64(const uint8_t *p)
+uint64_t kelp_util_be_get64(const uint8_t *p)
 {
     uint64_t v = 0;
     for (int i = 0; i < 8; i++) v = v << 8 | p[i];

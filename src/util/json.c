@@ -1,7 +1,7 @@
 /* A byte string as a JSON string literal. */
 #include <kelp/util.h>
 
-size_t kelp_json_quote(char *buf, size_t cap, const char *s, size_t n)
+size_t kelp_util_json_quote(char *buf, size_t cap, const char *s, size_t n)
 {
     static const char hex[] = "0123456789abcdef";
     size_t o = 0;

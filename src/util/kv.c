@@ -46,7 +46,7 @@ int kelp_kv_get(const char *s, char sep, const char *key, char *out, size_t cap)
     int rc;
     while ((rc = kelp_kv_next(s, sep, &pos, &k, &kl, &v, &vl)) != 0) {
         if (rc < 0) continue; /* skip malformed items; others may still hold the key */
-        if (kelp_strieq_n(k, kl, key)) {
+        if (kelp_util_strieq_n(k, kl, key)) {
             if (vl + 1 > cap) return KELP_ERR_NOSPACE;
             memcpy(out, v, vl);
             out[vl] = 0;

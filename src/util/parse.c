@@ -25,7 +25,7 @@ static char lower(char c)
     return (c >= 'A' && c <= 'Z') ? (char)(c - 'A' + 'a') : c;
 }
 
-bool kelp_strieq_n(const char *s, size_t len, const char *z)
+bool kelp_util_strieq_n(const char *s, size_t len, const char *z)
 {
     size_t i = 0;
     for (; i < len; i++) {
@@ -191,7 +191,7 @@ static double refine(const digs *dig, int nd, int e10, bool sticky, double z)
     return z;
 }
 
-int kelp_parse_double(const char *s, size_t len, double *out)
+int kelp_util_parse_double(const char *s, size_t len, double *out)
 {
     size_t i = 0;
     while (i < len && is_space(s[i])) i++;
@@ -200,11 +200,11 @@ int kelp_parse_double(const char *s, size_t len, double *out)
     bool neg = false;
     if (s[i] == '+' || s[i] == '-') neg = s[i++] == '-';
     if (i < len && (len - i == 3 || len - i == 8) &&
-        (kelp_strieq_n(s + i, len - i, "inf") || kelp_strieq_n(s + i, len - i, "infinity"))) {
+        (kelp_util_strieq_n(s + i, len - i, "inf") || kelp_util_strieq_n(s + i, len - i, "infinity"))) {
         *out = neg ? -INFINITY : INFINITY;
         return KELP_OK;
     }
-    if (i < len && len - i == 3 && kelp_strieq_n(s + i, 3, "nan")) {
+    if (i < len && len - i == 3 && kelp_util_strieq_n(s + i, 3, "nan")) {
         *out = NAN;
         return KELP_OK;
     }
@@ -270,34 +270,34 @@ int kelp_parse_double(const char *s, size_t len, double *out)
     return KELP_OK;
 }
 
-int kelp_parse_finite(const char *s, size_t len, double *out)
+int kelp_util_parse_finite(const char *s, size_t len, double *out)
 {
     double v;
-    int rc = kelp_parse_double(s, len, &v);
+    int rc = kelp_util_parse_double(s, len, &v);
     if (rc != KELP_OK) return rc;
     if (!isfinite(v)) return KELP_ERR_PARSE;
     *out = v;
     return KELP_OK;
 }
 
-int kelp_parse_bool(const char *s, size_t len, bool *out)
+int kelp_util_parse_bool(const char *s, size_t len, bool *out)
 {
     while (len && is_space(*s)) s++, len--;
     while (len && is_space(s[len - 1])) len--;
-    if (kelp_strieq_n(s, len, "true") || kelp_strieq_n(s, len, "yes") || kelp_strieq_n(s, len, "1")) *out = true;
-    else if (kelp_strieq_n(s, len, "false") || kelp_strieq_n(s, len, "no") || kelp_strieq_n(s, len, "0")) *out = false;
+    if (kelp_util_strieq_n(s, len, "true") || kelp_util_strieq_n(s, len, "yes") || kelp_util_strieq_n(s, len, "1")) *out = true;
+    else if (kelp_util_strieq_n(s, len, "false") || kelp_util_strieq_n(s, len, "no") || kelp_util_strieq_n(s, len, "0")) *out = false;
     else return KELP_ERR_PARSE;
     return KELP_OK;
 }
 
-bool kelp_strieq(const char *a, const char *b)
+bool kelp_util_strieq(const char *a, const char *b)
 {
     for (; *a && *b; a++, b++)
         if (lower(*a) != lower(*b)) return false;
     return *a == *b;
 }
 
-int kelp_parse_llong(const char *s, size_t len, long long *out)
+int kelp_util_parse_llong(const char *s, size_t len, long long *out)
 {
     size_t i = 0;
     while (i < len && is_space(s[i])) i++;
@@ -316,10 +316,10 @@ int kelp_parse_llong(const char *s, size_t len, long long *out)
     return KELP_OK;
 }
 
-int kelp_parse_long(const char *s, size_t len, long *out)
+int kelp_util_parse_long(const char *s, size_t len, long *out)
 {
     long long v;
-    int rc = kelp_parse_llong(s, len, &v);
+    int rc = kelp_util_parse_llong(s, len, &v);
     if (rc != KELP_OK) return rc;
     if (v < LONG_MIN || v > LONG_MAX) return KELP_ERR_RANGE;
     *out = (long)v;

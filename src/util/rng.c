@@ -44,7 +44,7 @@ static int32_t park_miller(int32_t x)
     return w < 0 ? w + 2147483647 : w;
 }
 
-static uint32_t step(kelp_glibc_rand *g)
+static uint32_t step(kelp_rng_glibc *g)
 {
     /* the new word r[n] = r[n-3] + r[n-31]; with the ring's oldest at i (= r[n-34]) */
     unsigned i = g->i;
@@ -54,7 +54,7 @@ static uint32_t step(kelp_glibc_rand *g)
     return v;
 }
 
-void kelp_glibc_rand_seed(kelp_glibc_rand *g, uint32_t seed)
+void kelp_rng_glibc_seed(kelp_rng_glibc *g, uint32_t seed)
 {
     g->r[0] = (int32_t)(seed ? seed : 1);
     for (int k = 1; k < 31; k++) g->r[k] = park_miller(g->r[k - 1]);
@@ -63,7 +63,7 @@ void kelp_glibc_rand_seed(kelp_glibc_rand *g, uint32_t seed)
     for (int k = 0; k < 310; k++) (void)step(g);
 }
 
-int32_t kelp_glibc_rand_next(kelp_glibc_rand *g)
+int32_t kelp_rng_glibc_next(kelp_rng_glibc *g)
 {
     return (int32_t)(step(g) >> 1);
 }

@@ -1,7 +1,7 @@
 /* kelp util: snprintf for the core.
  *
- * On a hosted C library kelp_snprintf is the library's vsnprintf. On newlib (vehicle
- * firmware) it is kelp_vsnprintf_own below: newlib's snprintf links malloc (its string sink
+ * On a hosted C library kelp_util_snprintf is the library's vsnprintf. On newlib (vehicle
+ * firmware) it is kelp_util_vsnprintf_own below: newlib's snprintf links malloc (its string sink
  * can grow a buffer) and newlib nano prints no floating point at all, while the core both
  * must not allocate and prints numbers ("%.1f", "%g"). The own formatter does what the core
  * uses: flags - 0 + space #, width and precision (also *), lengths hh h l ll z j t, and
@@ -111,7 +111,7 @@ static size_t fmt_ef(char *body, size_t cap, double v, char c, bool upper, int p
         unsigned ae = (unsigned)(e < 0 ? -e : e);
         if (ae < 10) body[n++] = '0';
         n += utoa(ae, 10, false, body + n);
-    } else if (prec > 9 || v >= 9e18 / pow(10.0, prec)) { /* beyond kelp_fmt_fixed: digit by digit */
+    } else if (prec > 9 || v >= 9e18 / pow(10.0, prec)) { /* beyond kelp_util_fmt_fixed: digit by digit */
         int e0 = v == 0 ? 0 : (int)floor(log10(v));
         int sig = e0 + 1 + prec, e = 0;
         if (sig > 17) sig = 17;
@@ -173,7 +173,7 @@ KELP_NOINLINE static void fmt_float(out *o, double v, char conv, int prec, int w
     field(o, pre, body, n, width, left, zero);
 }
 
-int kelp_vsnprintf_own(char *buf, size_t cap, const char *fmt, va_list ap)
+int kelp_util_vsnprintf_own(char *buf, size_t cap, const char *fmt, va_list ap)
 {
     out o = { buf, cap, 0 };
     for (const char *p = fmt; *p; p++) {
@@ -257,20 +257,20 @@ int kelp_vsnprintf_own(char *buf, size_t cap, const char *fmt, va_list ap)
     return o.n > INT_MAX ? INT_MAX : (int)o.n;
 }
 
-int kelp_vsnprintf(char *buf, size_t cap, const char *fmt, va_list ap)
+int kelp_util_vsnprintf(char *buf, size_t cap, const char *fmt, va_list ap)
 {
 #if defined(__NEWLIB__) || defined(KELP_OWN_PRINTF)
-    return kelp_vsnprintf_own(buf, cap, fmt, ap);
+    return kelp_util_vsnprintf_own(buf, cap, fmt, ap);
 #else
     return vsnprintf(buf, cap, fmt, ap); /* NOLINT(clang-analyzer-valist.Uninitialized): the caller's va_start */
 #endif
 }
 
-int kelp_snprintf(char *buf, size_t cap, const char *fmt, ...)
+int kelp_util_snprintf(char *buf, size_t cap, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    int n = kelp_vsnprintf(buf, cap, fmt, ap);
+    int n = kelp_util_vsnprintf(buf, cap, fmt, ap);
     va_end(ap);
     return n;
 }

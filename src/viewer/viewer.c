@@ -64,7 +64,7 @@ static void jw_str(jw *w, const char *s)
 static void jw_num(jw *w, double v, unsigned dec)
 {
     char tmp[40];
-    int n = isfinite(v) ? kelp_fmt_fixed(tmp, sizeof tmp, v, dec, true) : -1;
+    int n = isfinite(v) ? kelp_util_fmt_fixed(tmp, sizeof tmp, v, dec, true) : -1;
     if (n < 0 || (size_t)n >= sizeof tmp) jw_lit(w, "null");
     else jw_raw(w, tmp, (size_t)n);
 }
@@ -72,7 +72,7 @@ static void jw_num(jw *w, double v, unsigned dec)
 static void jw_uint(jw *w, unsigned long v)
 {
     char tmp[24];
-    int n = kelp_snprintf(tmp, sizeof tmp, "%lu", v);
+    int n = kelp_util_snprintf(tmp, sizeof tmp, "%lu", v);
     if (n > 0) jw_raw(w, tmp, (size_t)n);
 }
 
@@ -122,7 +122,7 @@ static int copy_text(char *dst, size_t cap, const char *s, size_t n)
 static bool starts_with_ci(const char *s, const char *prefix)
 {
     size_t n = strlen(prefix);
-    return strlen(s) >= n && kelp_strieq_n(s, n, prefix);
+    return strlen(s) >= n && kelp_util_strieq_n(s, n, prefix);
 }
 
 /* ------------------------------------------------------------------ set-up */
@@ -174,7 +174,7 @@ int kelp_viewer_poke_parse(const char *s, size_t len, kelp_viewer_poke *out)
         out->is_string = true;
         return copy_text(out->sval, sizeof out->sval, val + 1, n - 2);
     }
-    if (n > 0 && kelp_parse_finite(val, n, &out->dval) == 0) {
+    if (n > 0 && kelp_util_parse_finite(val, n, &out->dval) == 0) {
         out->is_string = false;
         return KELP_OK;
     }
@@ -207,9 +207,9 @@ static unsigned button_slot(const char *key)
     if (!starts_with_ci(key, "button_")) return 0;
     const char *w = key + 7;
     for (unsigned i = 0; i < 20; i++)
-        if (kelp_strieq(w, button_words[i])) return i + 1;
+        if (kelp_util_strieq(w, button_words[i])) return i + 1;
     long k;
-    if (kelp_parse_long(w, strlen(w), &k) == 0 && k >= 1 && k <= 20) return (unsigned)k;
+    if (kelp_util_parse_long(w, strlen(w), &k) == 0 && k >= 1 && k <= 20) return (unsigned)k;
     return 0;
 }
 
@@ -247,7 +247,7 @@ static int config_button(kelp_viewer *v, unsigned slot, const char *val, kelp_di
         kelp_viewer_poke pk;
         int rc = kelp_viewer_poke_parse(p, pl, &pk);
         if (rc < 0) return kelp_fail(d, rc, "a poke is VAR=value");
-        if (kelp_strieq(pk.var, "color")) {
+        if (kelp_util_strieq(pk.var, "color")) {
             const char *cv = pk.is_string ? pk.sval : "";
             if (copy_text(nc->color, sizeof nc->color, cv, strlen(cv)) < 0) return kelp_fail(d, KELP_ERR_RANGE, "colour too long");
             continue;
@@ -280,14 +280,14 @@ static int config_action(kelp_viewer *v, const char *val, bool separator, kelp_d
         if (pl == 0) continue;
         int rc = kelp_viewer_poke_parse(p, pl, &pk);
         if (rc < 0) return kelp_fail(d, rc, "an action is VAR=value # VAR=value ...");
-        if (!kelp_strieq(pk.var, "menu_key")) {
+        if (!kelp_util_strieq(pk.var, "menu_key")) {
             pairs++;
             continue;
         }
         char num[32];
         const char *kv = pk.sval;
         if (!pk.is_string) {
-            (void)kelp_fmt_fixed(num, sizeof num, pk.dval, 6, true);
+            (void)kelp_util_fmt_fixed(num, sizeof num, pk.dval, 6, true);
             kv = num;
         }
         if (copy_text(key, sizeof key, kv, strlen(kv)) < 0 || !key[0]) return kelp_fail(d, KELP_ERR_PARSE, "bad menu_key");
@@ -296,14 +296,14 @@ static int config_action(kelp_viewer *v, const char *val, bool separator, kelp_d
     if (v->ncmds + pairs > KELP_VIEWER_MAX_CMDS) return kelp_fail(d, KELP_ERR_NOSPACE, "too many buttons and actions");
     pos = 0;
     while (next_part(val, n, &pos, &p, &pl)) {
-        if (pl == 0 || kelp_viewer_poke_parse(p, pl, &pk) < 0 || kelp_strieq(pk.var, "menu_key")) continue;
+        if (pl == 0 || kelp_viewer_poke_parse(p, pl, &pk) < 0 || kelp_util_strieq(pk.var, "menu_key")) continue;
         kelp_viewer_cmd *c = cmd_new(v);
         c->kind = KELP_VIEWER_ACTION;
         c->separator = separator;
         memcpy(c->key, key, sizeof c->key);
         char num[40];
-        if (!pk.is_string) (void)kelp_fmt_fixed(num, sizeof num, pk.dval, 9, true);
-        (void)kelp_snprintf(c->label, sizeof c->label, "%s=%s", pk.var, pk.is_string ? pk.sval : num); /* cut if long */
+        if (!pk.is_string) (void)kelp_util_fmt_fixed(num, sizeof num, pk.dval, 9, true);
+        (void)kelp_util_snprintf(c->label, sizeof c->label, "%s=%s", pk.var, pk.is_string ? pk.sval : num); /* cut if long */
         c->pokes[0] = pk;
         c->npokes = 1;
         v->ncmds++;
@@ -332,19 +332,19 @@ int kelp_viewer_config(kelp_viewer *v, const char *key, const char *val, kelp_di
 {
     if (!key || !val) return 0;
     double dv;
-    if (kelp_strieq(key, "stale_report_thresh") || kelp_strieq(key, "stale_remove_thresh") ||
-        kelp_strieq(key, "trails_length")) {
-        if (kelp_parse_finite(val, strlen(val), &dv) < 0 || dv < 0)
+    if (kelp_util_strieq(key, "stale_report_thresh") || kelp_util_strieq(key, "stale_remove_thresh") ||
+        kelp_util_strieq(key, "trails_length")) {
+        if (kelp_util_parse_finite(val, strlen(val), &dv) < 0 || dv < 0)
             return kelp_fail(d, KELP_ERR_PARSE, "expected a number >= 0");
-        if (kelp_strieq(key, "stale_report_thresh")) v->stale_report_thresh = dv < KELP_VIEWER_STALE_MIN ? KELP_VIEWER_STALE_MIN : dv;
-        else if (kelp_strieq(key, "stale_remove_thresh")) v->stale_remove_thresh = dv;
+        if (kelp_util_strieq(key, "stale_report_thresh")) v->stale_report_thresh = dv < KELP_VIEWER_STALE_MIN ? KELP_VIEWER_STALE_MIN : dv;
+        else if (kelp_util_strieq(key, "stale_remove_thresh")) v->stale_remove_thresh = dv;
         else v->trails_length = dv < 1 ? 1 : dv > KELP_VIEWER_MAX_TRAIL ? KELP_VIEWER_MAX_TRAIL : (unsigned)dv;
         return 1;
     }
     unsigned slot = button_slot(key);
     if (slot) return config_button(v, slot, val, d);
-    if (kelp_strieq(key, "action")) return config_action(v, val, false, d);
-    if (kelp_strieq(key, "action+")) return config_action(v, val, true, d);
+    if (kelp_util_strieq(key, "action")) return config_action(v, val, false, d);
+    if (kelp_util_strieq(key, "action+")) return config_action(v, val, true, d);
     return 0;
 }
 
@@ -482,7 +482,7 @@ static int mail_view(kelp_viewer *v, kelp_view_kind kind, const char *s, size_t 
 {
     kelp_view *pv = &v->ws_view;
     memset(pv, 0, sizeof *pv);
-    if (kelp_view_parse(kind, s, len, pv, NULL) < 0) {
+    if (kelp_nodereport_view_parse(kind, s, len, pv, NULL) < 0) {
         v->stats.views_bad++;
         return KELP_ERR_PARSE;
     }
@@ -540,19 +540,19 @@ static int mail_cast(kelp_viewer *v, const char *s, size_t len, kelp_time now)
 int kelp_viewer_mail(kelp_viewer *v, const char *var, const char *sval, size_t len, kelp_time now)
 {
     if (!v || !var || !sval) return 0;
-    if (!kelp_time_ok(now)) return KELP_ERR_ARG; /* a NaN arrival would never turn stale */
+    if (!kelp_util_time_ok(now)) return KELP_ERR_ARG; /* a NaN arrival would never turn stale */
     /* (not NODE_REPORT_<VEHICLE>: uFldNodeComms's relayed copies, older than the originals) */
-    if (kelp_strieq(var, "NODE_REPORT") || kelp_strieq(var, "NODE_REPORT_LOCAL")) return mail_report(v, sval, len, now);
+    if (kelp_util_strieq(var, "NODE_REPORT") || kelp_util_strieq(var, "NODE_REPORT_LOCAL")) return mail_report(v, sval, len, now);
     kelp_view_kind kind;
-    if (kelp_view_kind_of(var, &kind) == 0) return mail_view(v, kind, sval, len, now);
-    if (kelp_strieq(var, "APPCAST")) return mail_cast(v, sval, len, now);
+    if (kelp_nodereport_view_kind_of(var, &kind) == 0) return mail_view(v, kind, sval, len, now);
+    if (kelp_util_strieq(var, "APPCAST")) return mail_cast(v, sval, len, now);
     return 0;
 }
 
 int kelp_viewer_tick(kelp_viewer *v, kelp_time now)
 {
     int changed = 0;
-    if (!kelp_time_ok(now)) return 0;
+    if (!kelp_util_time_ok(now)) return 0;
     for (unsigned i = 0; i < v->nveh; i++) {
         kelp_viewer_vehicle *e = &v->veh[i];
         if (!e->used || e->gone) continue;
@@ -633,8 +633,8 @@ static void json_cfg(const kelp_viewer *v, jw *w)
         for (unsigned k = 0; k < c->npokes; k++) {
             const kelp_viewer_poke *p = &c->pokes[k];
             char txt[KELP_MAX_NAME + KELP_VIEWER_MAX_POKE_VAL + 8], num[40];
-            if (!p->is_string) (void)kelp_fmt_fixed(num, sizeof num, p->dval, 9, true);
-            (void)kelp_snprintf(txt, sizeof txt, "%s=%s", p->var, p->is_string ? p->sval : num);
+            if (!p->is_string) (void)kelp_util_fmt_fixed(num, sizeof num, p->dval, 9, true);
+            (void)kelp_util_snprintf(txt, sizeof txt, "%s=%s", p->var, p->is_string ? p->sval : num);
             if (k) jw_lit(w, ",");
             jw_str(w, txt);
         }

@@ -65,10 +65,10 @@ static int find_var(const kelp_xms *x, const char *name, unsigned *at)
 static int set_content(kelp_xms *x, const char *mode, bool toggle)
 {
     kelp_xms_content c;
-    if (kelp_strieq(mode, "procs")) c = KELP_XMS_PROCS;
-    else if (kelp_strieq(mode, "scoping")) c = KELP_XMS_SCOPING;
-    else if (kelp_strieq(mode, "history")) c = KELP_XMS_HISTORY;
-    else if (kelp_strieq(mode, "help")) c = KELP_XMS_HELP;
+    if (kelp_util_strieq(mode, "procs")) c = KELP_XMS_PROCS;
+    else if (kelp_util_strieq(mode, "scoping")) c = KELP_XMS_SCOPING;
+    else if (kelp_util_strieq(mode, "history")) c = KELP_XMS_HISTORY;
+    else if (kelp_util_strieq(mode, "help")) c = KELP_XMS_HELP;
     else return KELP_ERR_PARSE;
     x->update_requested = true;
     if (c == x->content) {
@@ -90,9 +90,9 @@ int kelp_xms_set_content(kelp_xms *x, const char *mode, bool toggle)
 
 int kelp_xms_set_refresh(kelp_xms *x, const char *mode)
 {
-    if (kelp_strieq(mode, "events")) x->refresh = KELP_XMS_EVENTS;
-    else if (kelp_strieq(mode, "paused")) x->refresh = KELP_XMS_PAUSED;
-    else if (kelp_strieq(mode, "streaming")) x->refresh = KELP_XMS_STREAMING;
+    if (kelp_util_strieq(mode, "events")) x->refresh = KELP_XMS_EVENTS;
+    else if (kelp_util_strieq(mode, "paused")) x->refresh = KELP_XMS_PAUSED;
+    else if (kelp_util_strieq(mode, "streaming")) x->refresh = KELP_XMS_STREAMING;
     else return KELP_ERR_PARSE;
     return 0;
 }
@@ -177,9 +177,9 @@ void kelp_xms_set_columns(kelp_xms *x, const char *list)
     for (;;) {
         size_t n = strcspn(p, ",");
         while (n && *p == ' ') p++, n--;
-        if (n >= 6 && kelp_strieq_n(p, 6, "source")) x->disp_source = true;
-        else if (n >= 4 && kelp_strieq_n(p, 4, "time")) x->disp_time = true;
-        else if (n >= 9 && kelp_strieq_n(p, 9, "community")) x->disp_community = true;
+        if (n >= 6 && kelp_util_strieq_n(p, 6, "source")) x->disp_source = true;
+        else if (n >= 4 && kelp_util_strieq_n(p, 4, "time")) x->disp_time = true;
+        else if (n >= 9 && kelp_util_strieq_n(p, 9, "community")) x->disp_community = true;
         if (!p[n]) return;
         p += n + 1;
     }
@@ -201,7 +201,7 @@ void kelp_xms_set_trunc(kelp_xms *x, unsigned n)
 
 static int set_bool(bool *b, const char *val, kelp_diag *d)
 {
-    if (kelp_parse_bool(val, strlen(val), b) < 0) {
+    if (kelp_util_parse_bool(val, strlen(val), b) < 0) {
         return kelp_fail(d, KELP_ERR_PARSE, "expected true or false");
     }
     return 1;
@@ -210,61 +210,61 @@ static int set_bool(bool *b, const char *val, kelp_diag *d)
 int kelp_xms_config(kelp_xms *x, const char *key, const char *val, kelp_diag *d)
 {
     bool b = false;
-    if (kelp_strieq(key, "VAR")) {
+    if (kelp_util_strieq(key, "VAR")) {
         if (x->ignore_file_vars) return 1;
         (void)each_item(val, add_plain, x); /* taken: a bad name is skipped, as uXMS does */
         return 1;
     }
-    if (kelp_strieq(key, "HISTORY_VAR")) {
+    if (kelp_util_strieq(key, "HISTORY_VAR")) {
         if (has_white(val) || kelp_xms_add_var(x, val, true) <= 0) return kelp_fail(d, KELP_ERR_PARSE, "not one variable name");
         return 1;
     }
-    if (kelp_strieq(key, "SOURCE")) {
+    if (kelp_util_strieq(key, "SOURCE")) {
         if (kelp_xms_add_sources(x, val) < 0) return kelp_fail(d, KELP_ERR_PARSE, "expected comma-separated process names");
         return 1;
     }
-    if (kelp_strieq(key, "REFRESH_MODE")) {
+    if (kelp_util_strieq(key, "REFRESH_MODE")) {
         if (kelp_xms_set_refresh(x, val) < 0) return kelp_fail(d, KELP_ERR_PARSE, "expected events, paused or streaming");
         return 1;
     }
-    if (kelp_strieq(key, "CONTENT_MODE")) {
+    if (kelp_util_strieq(key, "CONTENT_MODE")) {
         if (set_content(x, val, false) < 0) return kelp_fail(d, KELP_ERR_PARSE, "expected scoping, history, procs or help");
         return 1;
     }
-    if (kelp_strieq(key, "PAUSED")) { /* deprecated: REFRESH_MODE */
+    if (kelp_util_strieq(key, "PAUSED")) { /* deprecated: REFRESH_MODE */
         if (set_bool(&b, val, d) < 0) return KELP_ERR_PARSE;
         x->refresh = b ? KELP_XMS_PAUSED : KELP_XMS_EVENTS;
         return 1;
     }
-    if (kelp_strieq(key, "DISPLAY_SOURCE")) return set_bool(&x->disp_source, val, d);
-    if (kelp_strieq(key, "DISPLAY_AUX_SOURCE")) return set_bool(&x->disp_source, val, d);
-    if (kelp_strieq(key, "DISPLAY_TIME")) return set_bool(&x->disp_time, val, d);
-    if (kelp_strieq(key, "DISPLAY_COMMUNITY")) return set_bool(&x->disp_community, val, d);
-    if (kelp_strieq(key, "DISPLAY_VIRGINS")) return set_bool(&x->disp_virgins, val, d);
-    if (kelp_strieq(key, "DISPLAY_HISTORY_VAR")) return set_bool(&x->disp_hist_var, val, d);
-    if (kelp_strieq(key, "WRAP_DATA")) return set_bool(&x->wrap_data, val, d);
-    if (kelp_strieq(key, "DISPLAY_ALL") || kelp_strieq(key, "DISPLAY_ALLL")) {
+    if (kelp_util_strieq(key, "DISPLAY_SOURCE")) return set_bool(&x->disp_source, val, d);
+    if (kelp_util_strieq(key, "DISPLAY_AUX_SOURCE")) return set_bool(&x->disp_source, val, d);
+    if (kelp_util_strieq(key, "DISPLAY_TIME")) return set_bool(&x->disp_time, val, d);
+    if (kelp_util_strieq(key, "DISPLAY_COMMUNITY")) return set_bool(&x->disp_community, val, d);
+    if (kelp_util_strieq(key, "DISPLAY_VIRGINS")) return set_bool(&x->disp_virgins, val, d);
+    if (kelp_util_strieq(key, "DISPLAY_HISTORY_VAR")) return set_bool(&x->disp_hist_var, val, d);
+    if (kelp_util_strieq(key, "WRAP_DATA")) return set_bool(&x->wrap_data, val, d);
+    if (kelp_util_strieq(key, "DISPLAY_ALL") || kelp_util_strieq(key, "DISPLAY_ALLL")) {
         if (set_bool(&b, val, d) < 0) return KELP_ERR_PARSE;
         if (!x->ignore_file_vars) {
             x->disp_all = b;
-            if (kelp_strieq(key, "DISPLAY_ALLL")) x->disp_all_really = b;
+            if (kelp_util_strieq(key, "DISPLAY_ALLL")) x->disp_all_really = b;
         }
         return 1;
     }
-    if (kelp_strieq(key, "TRUNC_DATA")) {
+    if (kelp_util_strieq(key, "TRUNC_DATA")) {
         if (set_bool(&b, val, d) < 0) return KELP_ERR_PARSE;
         if (b) x->trunc = x->trunc_start;
         return 1;
     }
-    if (kelp_strieq(key, "WRAP_DATA_LEN") || kelp_strieq(key, "TERM_REPORT_INTERVAL")) {
+    if (kelp_util_strieq(key, "WRAP_DATA_LEN") || kelp_util_strieq(key, "TERM_REPORT_INTERVAL")) {
         double num;
-        if (kelp_parse_finite(val, strlen(val), &num) < 0 || num < 0)
+        if (kelp_util_parse_finite(val, strlen(val), &num) < 0 || num < 0)
             return kelp_fail(d, KELP_ERR_PARSE, "expected a number >= 0");
-        if (kelp_strieq(key, "TERM_REPORT_INTERVAL")) x->term_interval = num > 10 ? 10 : num;
+        if (kelp_util_strieq(key, "TERM_REPORT_INTERVAL")) x->term_interval = num > 10 ? 10 : num;
         else x->wrap_len = num < 10 ? 10 : num > 120 ? 120 : (unsigned)num;
         return 1;
     }
-    if (kelp_strieq(key, "COLOR_MAP") || kelp_strieq(key, "COLORMAP")) return 1; /* no colours: accepted */
+    if (kelp_util_strieq(key, "COLOR_MAP") || kelp_util_strieq(key, "COLORMAP")) return 1; /* no colours: accepted */
     return 0;
 }
 
@@ -367,16 +367,16 @@ int kelp_xms_mail(kelp_xms *x, const char *name, bool is_string, const char *sva
     kelp_xms_entry *n = &x->ws_entry;
     *n = x->var[at];
     char num[40];
-    if (!is_string && kelp_fmt_fixed(num, sizeof num, dval, 6, true) < 0)
-        (void)kelp_snprintf(num, sizeof num, "%g", dval);
+    if (!is_string && kelp_util_fmt_fixed(num, sizeof num, dval, 6, true) < 0)
+        (void)kelp_util_snprintf(num, sizeof num, "%g", dval);
     copy(n->value, sizeof n->value, is_string ? sval : num);
     n->is_string = is_string;
     copy(n->source, sizeof n->source, source);
     copy(n->community, sizeof n->community, community);
-    if (kelp_fmt_fixed(n->time, sizeof n->time, time, 2, false) < 0) copy(n->time, sizeof n->time, "n/a");
+    if (kelp_util_fmt_fixed(n->time, sizeof n->time, time, 2, false) < 0) copy(n->time, sizeof n->time, "n/a");
     if (strcmp(name, x->history_var) == 0) {
         char *hv = x->ws_val;
-        if (is_string) (void)kelp_snprintf(hv, sizeof x->ws_val, "\"%s\"", sval);
+        if (is_string) (void)kelp_util_snprintf(hv, sizeof x->ws_val, "\"%s\"", sval);
         else copy(hv, sizeof x->ws_val, num);
         history_add(x, hv, source, time);
         x->history_event = true;
@@ -608,13 +608,13 @@ static bool shown(const kelp_xms *x, const kelp_xms_entry *e)
     if (!x->disp_virgins && strcmp(e->value, "n/a") == 0) return false;
     if (proc_hidden(x, e->source)) return false;
     size_t fl = strlen(x->filter);
-    return !fl || (strlen(e->name) >= fl && kelp_strieq_n(e->name, fl, x->filter));
+    return !fl || (strlen(e->name) >= fl && kelp_util_strieq_n(e->name, fl, x->filter));
 }
 
 static void scoping_rows(const kelp_xms *x, tab *t)
 {
     char value_hdr[64];
-    (void)kelp_snprintf(value_hdr, sizeof value_hdr, "VarValue (SCOPING:%s)", mode_name(x->refresh));
+    (void)kelp_util_snprintf(value_hdr, sizeof value_hdr, "VarValue (SCOPING:%s)", mode_name(x->refresh));
     const char *hdr[XMS_COLS] = { "VarName", x->disp_source ? "(S)ource" : "(S)", x->disp_time ? "(T)ime" : "(T)",
                                   x->disp_community ? "(C)ommunity" : "(C)", value_hdr };
     row(t, hdr);
@@ -630,8 +630,8 @@ static void scoping_rows(const kelp_xms *x, tab *t)
         if (strcmp(e->name, "APPCAST") == 0) val[strcspn(val, "!")] = 0;
         if (!e->is_string || strcmp(val, "n/a") == 0) copy(cell, cell_cap, val);
         else if (trunc && strlen(val) > trunc)
-            (void)kelp_snprintf(cell, cell_cap, "\"%.*s...\"", (int)trunc, val);
-        else (void)kelp_snprintf(cell, cell_cap, "\"%s\"", val);
+            (void)kelp_util_snprintf(cell, cell_cap, "\"%.*s...\"", (int)trunc, val);
+        else (void)kelp_util_snprintf(cell, cell_cap, "\"%s\"", val);
         const char *c[XMS_COLS] = { e->name, x->disp_source ? trunc_middle(e->source, 16, src, sizeof src) : "",
                                     x->disp_time ? e->time : "",
                                     x->disp_community ? trunc_middle(e->community, 14, com, sizeof com) : "", cell };
@@ -654,7 +654,7 @@ static void scoping_rows(const kelp_xms *x, tab *t)
 static void history_rows(const kelp_xms *x, tab *t)
 {
     char value_hdr[64];
-    (void)kelp_snprintf(value_hdr, sizeof value_hdr, "VarValue (HISTORY:%s)", mode_name(x->refresh));
+    (void)kelp_util_snprintf(value_hdr, sizeof value_hdr, "VarValue (HISTORY:%s)", mode_name(x->refresh));
     const char *hdr[4] = { x->disp_hist_var ? "(J)VarName" : "(J)", x->disp_source ? "(S)ource" : "(S)",
                            x->disp_time ? "(T)ime" : "(T)", value_hdr };
     row(t, hdr);
@@ -664,10 +664,10 @@ static void history_rows(const kelp_xms *x, tab *t)
         const kelp_xms_hist *h = &x->hist[(x->hist_head + k) % KELP_XMS_HIST_CAP];
         char tm[24], *cell = t->ws->ws_cell; /* workspace: no value-sized buffer on the stack */
         const size_t cell_cap = sizeof t->ws->ws_cell;
-        if (kelp_fmt_fixed(tm, sizeof tm, h->time, 2, false) < 0) copy(tm, sizeof tm, "n/a");
+        if (kelp_util_fmt_fixed(tm, sizeof tm, h->time, 2, false) < 0) copy(tm, sizeof tm, "n/a");
         if (x->trunc && strlen(h->value) > x->trunc)
-            (void)kelp_snprintf(cell, cell_cap, "(%u) %.*s...", h->count, (int)x->trunc, h->value);
-        else (void)kelp_snprintf(cell, cell_cap, "(%u) %s", h->count, h->value);
+            (void)kelp_util_snprintf(cell, cell_cap, "(%u) %.*s...", h->count, (int)x->trunc, h->value);
+        else (void)kelp_util_snprintf(cell, cell_cap, "(%u) %s", h->count, h->value);
         const char *c[4] = { x->disp_hist_var ? x->history_var : "", x->disp_source ? h->source : "",
                              x->disp_time ? tm : "", cell };
         row(t, c);
@@ -685,7 +685,7 @@ static void procs_rows(const kelp_xms *x, tab *t, kelp_time now)
         const kelp_xms_proc *p = &x->proc[i];
         char id[4] = { p->mask < 0 ? '-' : p->mask > 0 ? '+' : p->id, p->mask ? p->id : 0, 0, 0 };
         char age[24] = "-";
-        if (p->last_mail > 0 && kelp_fmt_fixed(age, sizeof age, now - p->last_mail, 2, false) < 0) copy(age, sizeof age, "-");
+        if (p->last_mail > 0 && kelp_util_fmt_fixed(age, sizeof age, now - p->last_mail, 2, false) < 0) copy(age, sizeof age, "-");
         const char *c[4] = { id, p->name, age, "-" };
         row(t, c);
     }
@@ -729,8 +729,8 @@ size_t kelp_xms_format(kelp_xms *x, kelp_time now, char *buf, size_t cap)
         }
     } else if (x->content == KELP_XMS_PROCS || x->entry_mode == KELP_XMS_EXCLUDE || x->entry_mode == KELP_XMS_INCLUDE) {
         char mode[40], line[160];
-        (void)kelp_snprintf(mode, sizeof mode, "(PROCESSES:%s)", mode_name(x->refresh));
-        int n = kelp_snprintf(line, sizeof line, "%78s\nuProcessWatch(0): not running\n", mode);
+        (void)kelp_util_snprintf(mode, sizeof mode, "(PROCESSES:%s)", mode_name(x->refresh));
+        int n = kelp_util_snprintf(line, sizeof line, "%78s\nuProcessWatch(0): not running\n", mode);
         put(&t, line, (size_t)n);
         t.ncol = 4;
         t.pad_last = true;
@@ -740,7 +740,7 @@ size_t kelp_xms_format(kelp_xms *x, kelp_time now, char *buf, size_t cap)
             procs_rows(x, &t, now);
         }
         if (x->entry_mode == KELP_XMS_EXCLUDE || x->entry_mode == KELP_XMS_INCLUDE) {
-            n = kelp_snprintf(line, sizeof line, "\n%s process > %s\n",
+            n = kelp_util_snprintf(line, sizeof line, "\n%s process > %s\n",
                               x->entry_mode == KELP_XMS_EXCLUDE ? "Exclude a" : "Include a", x->typed);
             put(&t, line, (size_t)n);
         }

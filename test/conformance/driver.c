@@ -97,7 +97,7 @@ static int bad(const char *file, int line, const char *what)
 
 static int num(const char *s, double *out)
 {
-    return kelp_parse_double(s, strlen(s), out) < 0 ? -1 : 0;
+    return kelp_util_parse_double(s, strlen(s), out) < 0 ? -1 : 0;
 }
 
 /* a vehicle's keys: name=..,x=..,pts=x1,y1:x2,y2,... (pts holds commas, so it runs to the next
@@ -245,11 +245,11 @@ static int parse_scn(const char *path, scenario *s)
     return rc;
 }
 
-/* s[0..n) as a JSON string (kelp_json_quote: plain ASCII, whatever the bytes) */
+/* s[0..n) as a JSON string (kelp_util_json_quote: plain ASCII, whatever the bytes) */
 static void json_str(FILE *f, const char *s, size_t n)
 {
     static char buf[6 * KELP_MAX_SVAL + 3];
-    size_t need = kelp_json_quote(buf, sizeof buf, s, n);
+    size_t need = kelp_util_json_quote(buf, sizeof buf, s, n);
     fwrite(buf, 1, need < sizeof buf ? need : sizeof buf - 1, f);
 }
 
@@ -341,7 +341,7 @@ static int rebase(const char *tmp, const char *out, double t0)
 /* a number as the vehicle reports write it: two decimals, trailing zeros and dot removed */
 static const char *n2(char *buf, double v)
 {
-    if (kelp_fmt_fixed(buf, 32, v, 2, true) < 0) snprintf(buf, 32, "0");
+    if (kelp_util_fmt_fixed(buf, 32, v, 2, true) < 0) snprintf(buf, 32, "0");
     return buf;
 }
 
@@ -433,9 +433,9 @@ int main(int argc, char **argv)
     if (gi >= 0 && kelp_mission_copy(&mf.m.nodes[gi], community, sizeof community) < 0) return 2;
     const char *env_url = getenv("KELP_LCM_URL");
     if (env_url) snprintf(url, sizeof url, "%s", env_url);
-    else if (kelp_lcm_mission_url(&mf.m, url, sizeof url, &gi) < 0) return bad(argv[2], gi, "bad LCM_URL or ServerPort"), 2;
+    else if (kelp_lcmbus_mission_url(&mf.m, url, sizeof url, &gi) < 0) return bad(argv[2], gi, "bad LCM_URL or ServerPort"), 2;
     const char *ep = getenv("KELP_WARP_EPOCH");
-    if (ep && kelp_parse_double(ep, strlen(ep), &g_epoch) < 0) g_epoch = 0;
+    if (ep && kelp_util_parse_double(ep, strlen(ep), &g_epoch) < 0) g_epoch = 0;
     g_warp = s.warp > 0 ? s.warp : 1;
     static recorder r;
     r.s = &s;
@@ -499,7 +499,7 @@ int main(int argc, char **argv)
                 } else {
                     rc = kelp_bus_notify_string(bus, e->var, val, now);
                 }
-                if (rc < 0) fprintf(stderr, "conform-driver: post %s: %s\n", e->var, kelp_strerror(rc));
+                if (rc < 0) fprintf(stderr, "conform-driver: post %s: %s\n", e->var, kelp_err_str(rc));
                 posts++;
                 e->next = e->dt > 0 && e->next + e->dt < e->t1 ? e->next + e->dt : -1;
             }

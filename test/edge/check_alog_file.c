@@ -34,28 +34,28 @@ START_TEST(alog_postings_with_banner_marks_and_communities)
     char path[] = "/tmp/kelp-alog-XXXXXX";
     temp(path, text, n);
     kelp_diag err = {0};
-    kelp_postlog *p = kelp_postlog_open(path, "dflt", &err);
+    kelp_alog_postlog *p = kelp_alog_postlog_open(path, "dflt", &err);
     ck_assert_ptr_nonnull(p);
-    ck_assert(kelp_postlog_is_alog(p));
+    ck_assert(kelp_alog_postlog_is_alog(p));
     kelp_post e;
-    ck_assert_int_eq(kelp_postlog_next(p, &e), 1);
-    ck_assert_double_eq(kelp_postlog_start(p), 1000.5);
+    ck_assert_int_eq(kelp_alog_postlog_next(p, &e), 1);
+    ck_assert_double_eq(kelp_alog_postlog_start(p), 1000.5);
     ck_assert_str_eq(e.var, "NAV_X");
     ck_assert_str_eq(e.community, "alpha");
     ck_assert(!e.is_string && e.dval == -99.371 && e.time == 1001.0);
-    ck_assert_int_eq(kelp_postlog_next(p, &e), 1);
+    ck_assert_int_eq(kelp_alog_postlog_next(p, &e), 1);
     ck_assert_str_eq(e.src, "kelp-poke");
     ck_assert_str_eq(e.community, "bravo");
     ck_assert(e.is_string);
     ck_assert_str_eq(e.sval, "12");
-    ck_assert_int_eq(kelp_postlog_next(p, &e), 1);
+    ck_assert_int_eq(kelp_alog_postlog_next(p, &e), 1);
     ck_assert_str_eq(e.var, "LAST");
     ck_assert_str_eq(e.sval, "two  words");
-    ck_assert_int_eq(kelp_postlog_next(p, &e), 0);
-    kelp_postlog_stats st = kelp_postlog_get_stats(p);
+    ck_assert_int_eq(kelp_alog_postlog_next(p, &e), 0);
+    kelp_alog_postlog_stats st = kelp_alog_postlog_get_stats(p);
     ck_assert_uint_eq(st.posts, 3);
     ck_assert_uint_eq(st.skipped, 2); /* the bad line and the long one */
-    kelp_postlog_close(p);
+    kelp_alog_postlog_close(p);
     unlink(path);
 }
 END_TEST
@@ -90,22 +90,22 @@ START_TEST(lcm_postings_skip_sync_and_binary)
     char path[] = "/tmp/kelp-alog-lcm-XXXXXX";
     temp(path, (const char *)file, n);
     kelp_diag err = {0};
-    kelp_postlog *p = kelp_postlog_open(path, NULL, &err);
+    kelp_alog_postlog *p = kelp_alog_postlog_open(path, NULL, &err);
     ck_assert_ptr_nonnull(p);
-    ck_assert(!kelp_postlog_is_alog(p));
-    ck_assert(isnan(kelp_postlog_start(p)));
+    ck_assert(!kelp_alog_postlog_is_alog(p));
+    ck_assert(isnan(kelp_alog_postlog_start(p)));
     kelp_post e;
-    ck_assert_int_eq(kelp_postlog_next(p, &e), 1);
+    ck_assert_int_eq(kelp_alog_postlog_next(p, &e), 1);
     ck_assert_str_eq(e.var, "X");
     ck_assert(!e.is_string && e.dval == 2.5 && e.time == 50 && e.log_us == 50000000);
-    ck_assert_double_eq(kelp_postlog_start(p), 50);
-    ck_assert_int_eq(kelp_postlog_next(p, &e), 1);
+    ck_assert_double_eq(kelp_alog_postlog_start(p), 50);
+    ck_assert_int_eq(kelp_alog_postlog_next(p, &e), 1);
     ck_assert_str_eq(e.var, "S");
     ck_assert_str_eq(e.sval, "abc");
     ck_assert_str_eq(e.community, "alpha");
-    ck_assert_int_eq(kelp_postlog_next(p, &e), 0);
-    ck_assert_uint_eq(kelp_postlog_get_stats(p).skipped, 2);
-    kelp_postlog_close(p);
+    ck_assert_int_eq(kelp_alog_postlog_next(p, &e), 0);
+    ck_assert_uint_eq(kelp_alog_postlog_get_stats(p).skipped, 2);
+    kelp_alog_postlog_close(p);
     unlink(path);
 }
 END_TEST

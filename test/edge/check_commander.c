@@ -45,7 +45,7 @@ static const char XML[] =
 static kelp_dccl_loaded ld;
 static kelp_dccl_builtin geo;
 static kelp_dccl_modem_entry modems[4];
-static kelp_cmdr c;
+static kelp_commander c;
 
 static void setup(void)
 {
@@ -53,7 +53,7 @@ static void setup(void)
     ck_assert_int_eq(kelp_dccl_load_buffer(&ld, "t.xml", XML, sizeof XML - 1, NULL, NULL), 0);
     kelp_dccl_builtin_init(&geo, modems, 4);
     kelp_dccl_builtin_set_origin(&geo, 42.35, -70.95);
-    kelp_cmdr_init(&c, &ld.set, &geo);
+    kelp_commander_init(&c, &ld.set, &geo);
 }
 
 static void teardown(void)
@@ -64,61 +64,61 @@ static void teardown(void)
 START_TEST(cmdr_rows_and_checks)
 {
     kelp_diag why = {0};
-    int m = kelp_cmdr_open(&c, "GoToCommand");
+    int m = kelp_commander_open(&c, "GoToCommand");
     ck_assert_int_eq(m, 0);
-    ck_assert_int_eq(kelp_cmdr_open(&c, "GoToCommand"), 0);
-    ck_assert_int_eq(kelp_cmdr_open(&c, "Nope"), KELP_ERR_NOTFOUND);
-    const kelp_cmdr_msg *g = &c.open[0];
+    ck_assert_int_eq(kelp_commander_open(&c, "GoToCommand"), 0);
+    ck_assert_int_eq(kelp_commander_open(&c, "Nope"), KELP_ERR_NOTFOUND);
+    const kelp_commander_msg *g = &c.open[0];
     ck_assert_uint_eq(g->n_rows, 7); /* Destination (renamed header) + 6 layout fields */
-    ck_assert_str_eq(kelp_cmdr_row_field(g, 0)->name, "Destination");
-    ck_assert_str_eq(kelp_cmdr_row_field(g, 1)->name, "type");
-    ck_assert_str_eq(kelp_cmdr_type_name(kelp_cmdr_row_field(g, 1)), "static");
+    ck_assert_str_eq(kelp_commander_row_field(g, 0)->name, "Destination");
+    ck_assert_str_eq(kelp_commander_row_field(g, 1)->name, "type");
+    ck_assert_str_eq(kelp_commander_type_name(kelp_commander_row_field(g, 1)), "static");
     ck_assert_str_eq(g->val[1], "goto");
-    ck_assert_str_eq(kelp_cmdr_type_name(kelp_cmdr_row_field(g, 2)), "int");
+    ck_assert_str_eq(kelp_commander_type_name(kelp_commander_row_field(g, 2)), "int");
     char d[128];
-    kelp_cmdr_describe(kelp_cmdr_row_field(g, 1), d, sizeof d);
+    kelp_commander_describe(kelp_commander_row_field(g, 1), d, sizeof d);
     ck_assert_str_eq(d, "(static) you cannot change the value of this field");
-    kelp_cmdr_describe(kelp_cmdr_row_field(g, 2), d, sizeof d);
+    kelp_commander_describe(kelp_commander_row_field(g, 2), d, sizeof d);
     ck_assert_str_eq(d, "(int) range: 0 to 10000");
-    kelp_cmdr_describe(kelp_cmdr_row_field(g, 6), d, sizeof d);
+    kelp_commander_describe(kelp_commander_row_field(g, 6), d, sizeof d);
     ck_assert_str_eq(d, "(float) range: 0.00 to 3.00, 2 decimal places");
-    ck_assert_int_eq(kelp_cmdr_set(&c, 0, 1, "stop", &why), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_commander_set(&c, 0, 1, "stop", &why), KELP_ERR_RANGE);
     kelp_diag_clear(&why);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 0, 2, "10001", &why), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_commander_set(&c, 0, 2, "10001", &why), KELP_ERR_RANGE);
     ck_diag(&why, KELP_ERR_RANGE, "out of range");
-    ck_assert_int_eq(kelp_cmdr_set(&c, 0, 2, "-1", &why), KELP_ERR_RANGE);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 0, 2, "1.5", &why), KELP_ERR_PARSE);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 0, 2, "abc", &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_commander_set(&c, 0, 2, "-1", &why), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_commander_set(&c, 0, 2, "1.5", &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_commander_set(&c, 0, 2, "abc", &why), KELP_ERR_PARSE);
     ck_assert_int_eq(c.active, -1);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 0, 2, "10000", &why), 0);
+    ck_assert_int_eq(kelp_commander_set(&c, 0, 2, "10000", &why), 0);
     ck_assert_int_eq(c.active, 0);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 0, 0, "32", &why), KELP_ERR_RANGE);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 0, 0, "31", &why), 0);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 0, 4, "maybe", &why), KELP_ERR_PARSE);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 0, 4, "true", &why), 0);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 0, 5, "12345678901", &why), KELP_ERR_RANGE);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 0, 5, "1234567890", &why), 0);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 0, 6, "3.01", &why), KELP_ERR_RANGE);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 0, 6, "_time", &why), 0);
-    int w = kelp_cmdr_open(&c, "Where");
+    ck_assert_int_eq(kelp_commander_set(&c, 0, 0, "32", &why), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_commander_set(&c, 0, 0, "31", &why), 0);
+    ck_assert_int_eq(kelp_commander_set(&c, 0, 4, "maybe", &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_commander_set(&c, 0, 4, "true", &why), 0);
+    ck_assert_int_eq(kelp_commander_set(&c, 0, 5, "12345678901", &why), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_commander_set(&c, 0, 5, "1234567890", &why), 0);
+    ck_assert_int_eq(kelp_commander_set(&c, 0, 6, "3.01", &why), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_commander_set(&c, 0, 6, "_time", &why), 0);
+    int w = kelp_commander_open(&c, "Where");
     ck_assert_int_eq(w, 1);
-    ck_assert_str_eq(kelp_cmdr_row_field(&c.open[1], 0)->name, "When");
-    ck_assert_int_eq(kelp_cmdr_set(&c, 1, 3, "fly", &why), KELP_ERR_RANGE);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 1, 3, "go", &why), 0);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 1, 4, "1,2,3,4", &why), KELP_ERR_RANGE);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 1, 4, "1,10", &why), KELP_ERR_RANGE);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 1, 4, "1,2,3", &why), 0);
+    ck_assert_str_eq(kelp_commander_row_field(&c.open[1], 0)->name, "When");
+    ck_assert_int_eq(kelp_commander_set(&c, 1, 3, "fly", &why), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_commander_set(&c, 1, 3, "go", &why), 0);
+    ck_assert_int_eq(kelp_commander_set(&c, 1, 4, "1,2,3,4", &why), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_commander_set(&c, 1, 4, "1,10", &why), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_commander_set(&c, 1, 4, "1,2,3", &why), 0);
     c.force_xy_only = true;
-    ck_assert_int_eq(kelp_cmdr_set(&c, 1, 1, "42.5", &why), KELP_ERR_PARSE);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 1, 1, "y(lat)1:100", &why), 0);
-    kelp_cmdr_clear(&c, 0);
+    ck_assert_int_eq(kelp_commander_set(&c, 1, 1, "42.5", &why), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_commander_set(&c, 1, 1, "y(lat)1:100", &why), 0);
+    kelp_commander_clear(&c, 0);
     ck_assert_str_eq(c.open[0].val[1], "goto");
     ck_assert_str_eq(c.open[0].val[2], "");
 }
 END_TEST
 
 /* what pAcommsHandler makes of the publications: source, encode, decode */
-static void through_handler(const kelp_cmdr_pub *p, size_t n, const kelp_dccl_msgdef *def, kelp_dccl_val *out)
+static void through_handler(const kelp_commander_pub *p, size_t n, const kelp_dccl_msgdef *def, kelp_dccl_val *out)
 {
     kelp_dccl_var vars[KELP_CMDR_MAX_PUBS];
     static kelp_dccl_val in[64];
@@ -137,18 +137,18 @@ static void through_handler(const kelp_cmdr_pub *p, size_t n, const kelp_dccl_ms
 START_TEST(cmdr_send_is_what_the_handler_reads)
 {
     kelp_diag why = {0};
-    kelp_cmdr_pub p[KELP_CMDR_MAX_PUBS];
+    kelp_commander_pub p[KELP_CMDR_MAX_PUBS];
     size_t n;
     static kelp_dccl_val out[64];
     char s[64];
-    ck_assert_int_eq(kelp_cmdr_open(&c, "GoToCommand"), 0);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 0, 0, "2", &why), 0);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 0, 2, "101", &why), 0);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 0, 3, "294", &why), 0);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 0, 4, "true", &why), 0);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 0, 5, "make_toast", &why), 0);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 0, 6, "2.3", &why), 0);
-    ck_assert_int_eq(kelp_cmdr_send(&c, 0, 1700000000.0, p, KELP_CMDR_MAX_PUBS, &n, &why), 0);
+    ck_assert_int_eq(kelp_commander_open(&c, "GoToCommand"), 0);
+    ck_assert_int_eq(kelp_commander_set(&c, 0, 0, "2", &why), 0);
+    ck_assert_int_eq(kelp_commander_set(&c, 0, 2, "101", &why), 0);
+    ck_assert_int_eq(kelp_commander_set(&c, 0, 3, "294", &why), 0);
+    ck_assert_int_eq(kelp_commander_set(&c, 0, 4, "true", &why), 0);
+    ck_assert_int_eq(kelp_commander_set(&c, 0, 5, "make_toast", &why), 0);
+    ck_assert_int_eq(kelp_commander_set(&c, 0, 6, "2.3", &why), 0);
+    ck_assert_int_eq(kelp_commander_send(&c, 0, 1700000000.0, p, KELP_CMDR_MAX_PUBS, &n, &why), 0);
     ck_assert_uint_eq(n, 2);
     ck_assert_str_eq(p[0].var, "SPECIAL_INSTRUCTIONS");
     ck_assert_str_eq(p[0].val, "new_instructions=make_toast");
@@ -164,16 +164,16 @@ START_TEST(cmdr_send_is_what_the_handler_reads)
     ck_assert_str_eq(s, "2");
 
     /* specials: _time, the x/y pair, arrays in {} */
-    ck_assert_int_eq(kelp_cmdr_open(&c, "Where"), 1);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 1, 0, "_time", &why), 0);
-    ck_assert_uint_eq(kelp_cmdr_next_xy(&c.open[1]), 1);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 1, 1, "y(lat)1:1000", &why), 0);
-    ck_assert_int_eq(kelp_cmdr_send(&c, 1, 1700000000.0, p, KELP_CMDR_MAX_PUBS, &n, &why), KELP_ERR_PARSE);
-    ck_assert_uint_eq(kelp_cmdr_next_xy(&c.open[1]), 1);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 1, 2, "x(lon)1:0", &why), 0);
-    ck_assert_uint_eq(kelp_cmdr_next_xy(&c.open[1]), 2);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 1, 4, "1,2,3", &why), 0);
-    ck_assert_int_eq(kelp_cmdr_send(&c, 1, 1700000123.7, p, KELP_CMDR_MAX_PUBS, &n, &why), 0);
+    ck_assert_int_eq(kelp_commander_open(&c, "Where"), 1);
+    ck_assert_int_eq(kelp_commander_set(&c, 1, 0, "_time", &why), 0);
+    ck_assert_uint_eq(kelp_commander_next_xy(&c.open[1]), 1);
+    ck_assert_int_eq(kelp_commander_set(&c, 1, 1, "y(lat)1:1000", &why), 0);
+    ck_assert_int_eq(kelp_commander_send(&c, 1, 1700000000.0, p, KELP_CMDR_MAX_PUBS, &n, &why), KELP_ERR_PARSE);
+    ck_assert_uint_eq(kelp_commander_next_xy(&c.open[1]), 1);
+    ck_assert_int_eq(kelp_commander_set(&c, 1, 2, "x(lon)1:0", &why), 0);
+    ck_assert_uint_eq(kelp_commander_next_xy(&c.open[1]), 2);
+    ck_assert_int_eq(kelp_commander_set(&c, 1, 4, "1,2,3", &why), 0);
+    ck_assert_int_eq(kelp_commander_send(&c, 1, 1700000123.7, p, KELP_CMDR_MAX_PUBS, &n, &why), 0);
     ck_assert_uint_eq(n, 1);
     double lat, lon;
     kelp_dccl_geo_local2latlon(&geo, 0, 1000, &lat, &lon);
@@ -198,31 +198,31 @@ START_TEST(cmdr_save_load)
     kelp_diag why = {0};
     char buf[2048];
     size_t len;
-    ck_assert_int_eq(kelp_cmdr_open(&c, "GoToCommand"), 0);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 0, 2, "101", &why), 0);
-    ck_assert_int_eq(kelp_cmdr_set(&c, 0, 5, "a b", &why), 0);
-    ck_assert_int_eq(kelp_cmdr_save(&c, buf, sizeof buf, &len), 0);
+    ck_assert_int_eq(kelp_commander_open(&c, "GoToCommand"), 0);
+    ck_assert_int_eq(kelp_commander_set(&c, 0, 2, "101", &why), 0);
+    ck_assert_int_eq(kelp_commander_set(&c, 0, 5, "a b", &why), 0);
+    ck_assert_int_eq(kelp_commander_save(&c, buf, sizeof buf, &len), 0);
     ck_assert_str_eq(buf, "# kelp-commander saved messages\nmessage = GoToCommand\ngoto_x = 101\nnew_instructions = a b\n");
-    ck_assert_int_eq(kelp_cmdr_save(&c, buf, 40, &len), KELP_ERR_NOSPACE);
-    kelp_cmdr d;
-    kelp_cmdr_init(&d, &ld.set, &geo);
-    ck_assert_int_eq(kelp_cmdr_load(&d, "# x\n\nmessage = Where\n mode = go \r\nmessage=GoToCommand\ngoto_x=7", &why), 0);
+    ck_assert_int_eq(kelp_commander_save(&c, buf, 40, &len), KELP_ERR_NOSPACE);
+    kelp_commander d;
+    kelp_commander_init(&d, &ld.set, &geo);
+    ck_assert_int_eq(kelp_commander_load(&d, "# x\n\nmessage = Where\n mode = go \r\nmessage=GoToCommand\ngoto_x=7", &why), 0);
     ck_assert_uint_eq(d.n_open, 2);
     ck_assert_str_eq(d.open[0].val[3], "go");
     ck_assert_str_eq(d.open[1].val[2], "7");
     kelp_diag_clear(&why);
-    ck_assert_int_eq(kelp_cmdr_load(&d, "message = Where\nmode = fly\n", &why), KELP_ERR_RANGE);
+    ck_assert_int_eq(kelp_commander_load(&d, "message = Where\nmode = fly\n", &why), KELP_ERR_RANGE);
     ck_assert_int_eq(why.code, KELP_ERR_RANGE);
     ck_assert_int_eq(why.line, 2);
     ck_diag_msg(&why, "not one of the enum values");
     kelp_diag_clear(&why);
-    ck_assert_int_eq(kelp_cmdr_load(&d, "message = Where\n\nmessage = Nope\n", &why), KELP_ERR_NOTFOUND);
+    ck_assert_int_eq(kelp_commander_load(&d, "message = Where\n\nmessage = Nope\n", &why), KELP_ERR_NOTFOUND);
     ck_assert_int_eq(why.code, KELP_ERR_NOTFOUND);
     ck_assert_int_eq(why.line, 3);
-    ck_assert_int_eq(kelp_cmdr_load(&d, "goto_x = 1\n", NULL), KELP_ERR_PARSE);
-    ck_assert_int_eq(kelp_cmdr_load(&d, "message = Where\nbogus\n", NULL), KELP_ERR_PARSE);
-    ck_assert_int_eq(kelp_cmdr_load(&d, "message = Nope\n", NULL), KELP_ERR_NOTFOUND);
-    ck_assert_int_eq(kelp_cmdr_load(&d, "message = Where\nnofield = 1\n", NULL), KELP_ERR_NOTFOUND);
+    ck_assert_int_eq(kelp_commander_load(&d, "goto_x = 1\n", NULL), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_commander_load(&d, "message = Where\nbogus\n", NULL), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_commander_load(&d, "message = Nope\n", NULL), KELP_ERR_NOTFOUND);
+    ck_assert_int_eq(kelp_commander_load(&d, "message = Where\nnofield = 1\n", NULL), KELP_ERR_NOTFOUND);
 }
 END_TEST
 
@@ -232,12 +232,12 @@ START_TEST(cmdr_ack_note)
     /* 2011-Mar-03 22:38:12 UTC = 1299191892 */
     const char *ack = "base { src: 2 dest: 1 time: \"2011-Mar-03 22:38:12.000000\" } frame: 0 orig_msg { base "
                       "{ src: 1 dest: 5 time: \"2011-Mar-03 22:38:00.000000\" } data: \"\\040\\000\\200\\000\\000\\020\" }";
-    ck_assert_int_eq(kelp_cmdr_ack_note(&c, true, ack, 1299191892.4, out, sizeof out), 0);
+    ck_assert_int_eq(kelp_commander_ack_note(&c, true, ack, 1299191892.4, out, sizeof out), 0);
     ck_assert_str_eq(out, "Message acknowledged from queue: GoToCommand\n for destination: 5\n at time: 2011-Mar-03 22:38:12");
-    ck_assert_int_eq(kelp_cmdr_ack_note(&c, false, "orig_msg { base { src: 1 dest: 5 } data: \"\\040\\000\\200\\000\\000\\020\" }",
+    ck_assert_int_eq(kelp_commander_ack_note(&c, false, "orig_msg { base { src: 1 dest: 5 } data: \"\\040\\000\\200\\000\\000\\020\" }",
                                         1299191892.0, out, sizeof out), 0);
     ck_assert_str_eq(out, "Message expired from queue: GoToCommand\n for destination: 5\n at time: 2011-Mar-03 22:38:12");
-    ck_assert_int_eq(kelp_cmdr_ack_note(&c, true, "frame: 0", 0, out, sizeof out), KELP_ERR_PARSE);
+    ck_assert_int_eq(kelp_commander_ack_note(&c, true, "frame: 0", 0, out, sizeof out), KELP_ERR_PARSE);
 }
 END_TEST
 

@@ -69,7 +69,7 @@ static int get_str(rd *r, const kelp_mission_node *n, char *buf, size_t cap)
 static int get_long(rd *r, const kelp_mission_node *n, long long lo, long long hi, long long *out)
 {
     long long v = 0;
-    if (n->kind != KELP_MN_FIELD || n->quoted || kelp_parse_llong(n->val, n->vlen, &v) != KELP_OK)
+    if (n->kind != KELP_MN_FIELD || n->quoted || kelp_util_parse_llong(n->val, n->vlen, &v) != KELP_OK)
         return fail(r, n, "expected an integer, got \"%.*s\"", (int)n->vlen, n->val ? n->val : "");
     if (v < lo || v > hi) return fail(r, n, "%lld is out of range %lld..%lld", v, lo, hi);
     *out = v;
@@ -95,12 +95,12 @@ static int get_enum(rd *r, const kelp_mission_node *n, const char *const *names,
 {
     if (n->kind != KELP_MN_FIELD) return fail(r, n, "expected an enum value");
     for (size_t i = 0; i < count; i++)
-        if (kelp_strieq_n(n->val, n->vlen, names[i]) && strlen(names[i]) == n->vlen) {
+        if (kelp_util_strieq_n(n->val, n->vlen, names[i]) && strlen(names[i]) == n->vlen) {
             *out = values[i];
             return KELP_OK;
         }
     long long v = 0;
-    if (!n->quoted && kelp_parse_llong(n->val, n->vlen, &v) == KELP_OK)
+    if (!n->quoted && kelp_util_parse_llong(n->val, n->vlen, &v) == KELP_OK)
         for (size_t i = 0; i < count; i++)
             if (values[i] == v) {
                 *out = values[i];
@@ -672,7 +672,7 @@ int kelp_acomms_config_read_extra(const struct kelp_mission *m, int block, const
         c->modem_id = r.dccl_modem_id;
     } else if (!modem_id_node) {
         long long gv;
-        if ((g = global(m, "modem_id")) && kelp_parse_llong(g->val, g->vlen, &gv) == KELP_OK && gv >= 1 && gv <= 31) {
+        if ((g = global(m, "modem_id")) && kelp_util_parse_llong(g->val, g->vlen, &gv) == KELP_OK && gv >= 1 && gv <= 31) {
             c->modem_id = (int)gv;
             warn(&r, g, "modem_id taken from the global modem_id = %lld (Goby 1.1 requires it in the block)", gv);
         } else {

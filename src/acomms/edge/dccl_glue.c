@@ -308,7 +308,7 @@ static int codec_fail(kelp_acomms_dccl *d, kelp_diag *diag, int rc, const char *
 #ifdef KELP_NO_ERRMSG
     (void)d, (void)dflt;
 #endif
-    return kelp_fail(diag, rc, d->cx.diag.code ? kelp_diag_text(&d->cx.diag) : dflt); /* NULL: kelp_strerror */
+    return kelp_fail(diag, rc, d->cx.diag.code ? kelp_diag_text(&d->cx.diag) : dflt); /* NULL: kelp_err_str */
 }
 
 static int encode_vals(kelp_acomms_dccl *d, const kelp_dccl_msgdef *def, const kelp_dccl_val *vals, double now,
@@ -472,7 +472,7 @@ int kelp_acomms_dccl_describe(kelp_acomms_dccl *d, const uint8_t *in, size_t n, 
     kelp_diag_clear(&why);
     int rc = decode_into(d, in, n, now, &def, &i, &why);
     if (rc) {
-        snprintf(buf, cap, "(cannot decode: %s)", why.code ? kelp_diag_text(&why) : kelp_strerror(rc));
+        snprintf(buf, cap, "(cannot decode: %s)", why.code ? kelp_diag_text(&why) : kelp_err_str(rc));
         return rc;
     }
     size_t o = 0;

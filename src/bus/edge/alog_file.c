@@ -12,7 +12,7 @@
 
 #define POSTLOG_LINE_MAX (KELP_MAX_SVAL + 512)
 
-struct kelp_postlog {
+struct kelp_alog_postlog {
     bool alog, marking;
     double start;
     kelp_lcmlog_reader *lcm;
@@ -21,12 +21,12 @@ struct kelp_postlog {
     char line[POSTLOG_LINE_MAX + 2];
     char var[KELP_MAX_NAME], src[KELP_MAX_NAME], comm[KELP_MAX_NAME], def_comm[KELP_MAX_NAME];
     char sval[KELP_MAX_SVAL + 1];
-    kelp_postlog_stats st;
+    kelp_alog_postlog_stats st;
 };
 
-kelp_postlog *kelp_postlog_open(const char *path, const char *default_community, kelp_diag *d)
+kelp_alog_postlog *kelp_alog_postlog_open(const char *path, const char *default_community, kelp_diag *d)
 {
-    kelp_postlog *p = calloc(1, sizeof *p);
+    kelp_alog_postlog *p = calloc(1, sizeof *p);
     if (!p) {
         (void)kelp_fail(d, KELP_ERR_IO, "out of memory");
         return NULL;
@@ -57,11 +57,11 @@ kelp_postlog *kelp_postlog_open(const char *path, const char *default_community,
     return p;
 }
 
-bool kelp_postlog_is_alog(const kelp_postlog *p) { return p->alog; }
-double kelp_postlog_start(const kelp_postlog *p) { return p->start; }
-kelp_postlog_stats kelp_postlog_get_stats(const kelp_postlog *p) { return p->st; }
+bool kelp_alog_postlog_is_alog(const kelp_alog_postlog *p) { return p->alog; }
+double kelp_alog_postlog_start(const kelp_alog_postlog *p) { return p->start; }
+kelp_alog_postlog_stats kelp_alog_postlog_get_stats(const kelp_alog_postlog *p) { return p->st; }
 
-static int next_lcm(kelp_postlog *p, kelp_post *out)
+static int next_lcm(kelp_alog_postlog *p, kelp_post *out)
 {
     kelp_lcmlog_event ev;
     const char *channel;
@@ -93,7 +93,7 @@ static bool copy(char *dst, size_t cap, const char *s, size_t n)
     return true;
 }
 
-static int next_alog(kelp_postlog *p, kelp_post *out)
+static int next_alog(kelp_alog_postlog *p, kelp_post *out)
 {
     while (fgets(p->line, sizeof p->line, p->f)) {
         size_t len = strlen(p->line);
@@ -144,9 +144,9 @@ static int next_alog(kelp_postlog *p, kelp_post *out)
     return ferror(p->f) ? KELP_ERR_IO : 0;
 }
 
-int kelp_postlog_next(kelp_postlog *p, kelp_post *out) { return p->alog ? next_alog(p, out) : next_lcm(p, out); }
+int kelp_alog_postlog_next(kelp_alog_postlog *p, kelp_post *out) { return p->alog ? next_alog(p, out) : next_lcm(p, out); }
 
-void kelp_postlog_close(kelp_postlog *p)
+void kelp_alog_postlog_close(kelp_alog_postlog *p)
 {
     if (!p) return;
     if (p->lcm) kelp_lcmlog_close(p->lcm);

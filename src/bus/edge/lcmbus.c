@@ -20,7 +20,7 @@ struct kelp_lcmbus {
     kelp_bus_storage st;
 };
 
-int kelp_lcm_url(const char *mission_url, char *buf, size_t cap)
+int kelp_lcmbus_url(const char *mission_url, char *buf, size_t cap)
 {
     const char *u = getenv("KELP_LCM_URL");
     if (!u || !*u) u = mission_url;
@@ -33,7 +33,7 @@ int kelp_lcm_url(const char *mission_url, char *buf, size_t cap)
     return (n < 0 || (size_t)n >= cap) ? KELP_ERR_NOSPACE : KELP_OK;
 }
 
-int kelp_lcm_mission_url(const kelp_mission *m, char *buf, size_t cap, int *line)
+int kelp_lcmbus_mission_url(const kelp_mission *m, char *buf, size_t cap, int *line)
 {
     char murl[400] = "", port[16] = "", url[512];
     static const char *const keys[2] = { "LCM_URL", "ServerPort" };
@@ -54,7 +54,7 @@ int kelp_lcm_mission_url(const kelp_mission *m, char *buf, size_t cap, int *line
         *line = i >= 0 ? m->nodes[i].line : 0;
         return rc;
     }
-    return kelp_lcm_url(url[0] ? url : NULL, buf, cap);
+    return kelp_lcmbus_url(url[0] ? url : NULL, buf, cap);
 }
 
 /* Only channels some registration (or the sync protocol) asked for reach the bus. */
@@ -71,7 +71,7 @@ static int tr_subscribe(void *ctx, const char *pattern)
     for (size_t i = 0; i < lb->npat; i++)
         if (strcmp(lb->pat[i], pattern) == 0) return KELP_OK;
     if (lb->npat >= KELP_LCMBUS_MAX_PATTERNS) return KELP_ERR_NOSPACE;
-    return kelp_name_set(lb->pat[lb->npat++], pattern);
+    return kelp_bus_name_set(lb->pat[lb->npat++], pattern);
 }
 
 static int tr_publish(void *ctx, const char *channel, const uint8_t *data, size_t len)
@@ -124,7 +124,7 @@ kelp_lcmbus *kelp_lcmbus_open(const char *url, const char *app, const char *comm
     kelp_bus_transport tr = { tr_publish, tr_subscribe, lb };
     int rc = kelp_bus_init(&lb->bus, app, community, reply, &tr, &lb->st, handler, user);
     if (rc < 0) {
-        (void)kelp_failf(d, KELP_ERR_IO, "bus init: %s", kelp_strerror(rc));
+        (void)kelp_failf(d, KELP_ERR_IO, "bus init: %s", kelp_err_str(rc));
         kelp_lcmbus_close(lb);
         return NULL;
     }

@@ -33,7 +33,7 @@ int kelp_mission_load_text(kelp_mission_file *f, const char *name, const char *t
         if (rc == KELP_ERR_PARSE)
             snprintf(f->error, sizeof f->error, "%s:%d: %s", name, f->m.diag.line, kelp_diag_text(&f->m.diag));
         else
-            snprintf(f->error, sizeof f->error, "%s: %s", name, kelp_strerror(rc));
+            snprintf(f->error, sizeof f->error, "%s: %s", name, kelp_err_str(rc));
         free(f->text);
         f->text = NULL;
         f->m.nodes = NULL;

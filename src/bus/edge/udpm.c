@@ -310,7 +310,7 @@ static kelp_udpm_sock *open_sock(const char *url, int listen, kelp_diag *d)
     int rc = kelp_udpm_url_parse(url, &u);
     if (rc < 0) {
         (void)kelp_failf(d, KELP_ERR_IO, "bad URL '%s': %s (expected udpm://GROUP:PORT?ttl=N&recv_buf_size=B)", url,
-                 kelp_strerror(rc));
+                 kelp_err_str(rc));
         return NULL;
     }
     kelp_udpm_sock *s = calloc(1, sizeof *s);

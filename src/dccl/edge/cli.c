@@ -346,7 +346,7 @@ int kelp_dccl_cli_main(int argc, char **argv)
         free(count);
         if (rc) {
             fprintf(stderr, "kelp-dccl: encode %s failed: %s (%s)\n", def->name, cx.diag.code ? kelp_diag_text(&cx.diag) : "",
-                    kelp_strerror(rc));
+                    kelp_err_str(rc));
             status = 1;
             goto done;
         }
@@ -380,7 +380,7 @@ int kelp_dccl_cli_main(int argc, char **argv)
         }
         if (rc) {
             fprintf(stderr, "kelp-dccl: decode %s failed: %s (%s)\n", def->name, cx.diag.code ? kelp_diag_text(&cx.diag) : "",
-                    kelp_strerror(rc));
+                    kelp_err_str(rc));
             free(vals);
             status = 1;
             goto done;
@@ -408,7 +408,7 @@ int kelp_dccl_cli_main(int argc, char **argv)
             rc = kelp_dccl_publish_all(&cx, def, vals, def->n_slots, pubs, cap, &np);
             if (rc) {
                 fprintf(stderr, "kelp-dccl: publish %s failed: %s (%s)\n", def->name, cx.diag.code ? kelp_diag_text(&cx.diag) : "",
-                        kelp_strerror(rc));
+                        kelp_err_str(rc));
                 status = 1;
             } else {
                 for (j = 0; j < np; j++) {

@@ -84,7 +84,7 @@ static void add_view(kelp_plot_scene *s, const kelp_var *var, kelp_view_kind kin
 {
     kelp_view v;
     kelp_diag dg = { 0 };
-    if (kelp_view_parse(kind, var->sval, var->slen, &v, &dg) < 0) {
+    if (kelp_nodereport_view_parse(kind, var->sval, var->slen, &v, &dg) < 0) {
         s->bad_views++;
         snprintf(s->last_bad, sizeof s->last_bad, "%s: %s", var->name, dg.code ? kelp_diag_text(&dg) : "?");
         return;
@@ -125,7 +125,7 @@ static void add_view(kelp_plot_scene *s, const kelp_var *var, kelp_view_kind kin
 static double num(const kelp_var *v)
 {
     double d = v->dval;
-    if (v->kind == KELP_VAR_STRING && kelp_parse_double(v->sval, v->slen, &d) < 0) return NAN;
+    if (v->kind == KELP_VAR_STRING && kelp_util_parse_double(v->sval, v->slen, &d) < 0) return NAN;
     if (v->kind == KELP_VAR_BINARY) return NAN;
     return d;
 }
@@ -175,7 +175,7 @@ void kelp_plot_scene_add_var(kelp_plot_scene *s, const kelp_var *v)
     }
     if (strncmp(v->name, "VIEW_", 5) == 0 && v->kind == KELP_VAR_STRING) {
         kelp_view_kind k;
-        if (kelp_view_kind_of(v->name, &k) == 0) {
+        if (kelp_nodereport_view_kind_of(v->name, &k) == 0) {
             add_view(s, v, k);
         }
     }
@@ -264,7 +264,7 @@ void kelp_plot_print_summary(const kelp_plot_scene *s, FILE *out)
     for (size_t i = 0; i < s->nviews; i++) nk[s->views[i].v.kind]++;
     fprintf(out, "artifacts:");
     for (int k = 0; k < KELP_VIEW_NKINDS; k++)
-        if (nk[k]) fprintf(out, " %s=%lu", kelp_view_var((kelp_view_kind)k), nk[k]);
+        if (nk[k]) fprintf(out, " %s=%lu", kelp_nodereport_view_var((kelp_view_kind)k), nk[k]);
     if (!s->nviews) fprintf(out, " none");
     fprintf(out, "\n");
     if (s->bad_reports || s->bad_views)

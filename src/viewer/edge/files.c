@@ -95,8 +95,8 @@ int kelp_viewer_read_info(const char *path, double *lat_n, double *lat_s, double
         size_t kl = strlen(k);
         while (kl && (k[kl - 1] == ' ' || k[kl - 1] == '\t')) k[--kl] = '\0';
         for (unsigned i = 0; i < 4; i++) {
-            if (!kelp_strieq(k, keys[i])) continue;
-            if (kelp_parse_finite(v, strlen(v), dst[i]) < 0) {
+            if (!kelp_util_strieq(k, keys[i])) continue;
+            if (kelp_util_parse_finite(v, strlen(v), dst[i]) < 0) {
                 (void)kelp_failf(d, KELP_ERR_IO, "%s:%u: %s: not a number", path, lineno, keys[i]);
                 fclose(f);
                 return KELP_ERR_PARSE;

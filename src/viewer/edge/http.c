@@ -369,7 +369,7 @@ static enum MHD_Result handle_post(kelp_viewer_http *h, struct MHD_Connection *c
     if (!strcmp(url, "/cmd")) {
         const char *i = MHD_lookup_connection_value(c, MHD_GET_ARGUMENT_KIND, "i");
         long k;
-        if (!i || kelp_parse_long(i, strlen(i), &k) < 0 || k < 0 || k >= KELP_VIEWER_MAX_CMDS)
+        if (!i || kelp_util_parse_long(i, strlen(i), &k) < 0 || k < 0 || k >= KELP_VIEWER_MAX_CMDS)
             return reply_text(c, MHD_HTTP_BAD_REQUEST, "bad command index\n");
         queue_req(h, KELP_VIEWER_REQ_CMD, (unsigned)k, 0);
         return reply_text(c, MHD_HTTP_OK, "ok\n");
@@ -378,7 +378,7 @@ static enum MHD_Result handle_post(kelp_viewer_http *h, struct MHD_Connection *c
         const char *op = MHD_lookup_connection_value(c, MHD_GET_ARGUMENT_KIND, "op");
         const char *vs = MHD_lookup_connection_value(c, MHD_GET_ARGUMENT_KIND, "v");
         double val = 0;
-        if (vs && kelp_parse_finite(vs, strlen(vs), &val) < 0) return reply_text(c, MHD_HTTP_BAD_REQUEST, "bad v\n");
+        if (vs && kelp_util_parse_finite(vs, strlen(vs), &val) < 0) return reply_text(c, MHD_HTTP_BAD_REQUEST, "bad v\n");
         kelp_viewer_req_kind kind;
         if (op && !strcmp(op, "play")) kind = KELP_VIEWER_REQ_PLAY;
         else if (op && !strcmp(op, "pause")) kind = KELP_VIEWER_REQ_PAUSE;

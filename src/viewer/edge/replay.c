@@ -44,7 +44,7 @@ static bool wanted(const char *var)
 {
     kelp_view_kind k;
     return !strcmp(var, "NODE_REPORT") || !strcmp(var, "NODE_REPORT_LOCAL") || !strcmp(var, "APPCAST") ||
-           kelp_view_kind_of(var, &k) == 0;
+           kelp_nodereport_view_kind_of(var, &k) == 0;
 }
 
 static void free_posts(post *posts, size_t n)
@@ -58,14 +58,14 @@ static void free_posts(post *posts, size_t n)
 
 static int load(const char *path, post **out, size_t *n, kelp_diag *d)
 {
-    kelp_postlog *pl = kelp_postlog_open(path, "shoreside", d);
+    kelp_alog_postlog *pl = kelp_alog_postlog_open(path, "shoreside", d);
     if (!pl) return -1;
     size_t cap = 0;
     kelp_post p;
     int rc;
     *out = NULL;
     *n = 0;
-    while ((rc = kelp_postlog_next(pl, &p)) == 1) {
+    while ((rc = kelp_alog_postlog_next(pl, &p)) == 1) {
         if (!p.is_string || !wanted(p.var)) continue;
         if (*n == cap) {
             cap = cap ? cap * 2 : 1024;
@@ -84,7 +84,7 @@ static int load(const char *path, post **out, size_t *n, kelp_diag *d)
         }
         (*n)++;
     }
-    kelp_postlog_close(pl);
+    kelp_alog_postlog_close(pl);
     if (rc < 0) {
         (void)kelp_failf(d, KELP_ERR_IO, "%s: read error", path);
         free_posts(*out, *n);
@@ -130,9 +130,9 @@ static void mission_config(kelp_viewer *v, const char *path, const char *name, c
         kelp_diag dg = { 0 };
         if (kelp_viewer_config(v, key, val, &dg) < 0)
             fprintf(stderr, "kelp-viewer: %s:%d: %s\n", path, nd->line, dg.code ? kelp_diag_text(&dg) : "refused");
-        else if (kelp_strieq(key, "port")) copy(port, 16, val);
-        else if (kelp_strieq(key, "token")) copy(token, 128, val);
-        else if (kelp_strieq(key, "tiff_file")) copy(image, cap, val);
+        else if (kelp_util_strieq(key, "port")) copy(port, 16, val);
+        else if (kelp_util_strieq(key, "token")) copy(token, 128, val);
+        else if (kelp_util_strieq(key, "tiff_file")) copy(image, cap, val);
     }
     kelp_mission_free(&mf);
 }
@@ -171,11 +171,11 @@ int kelp_viewer_replay_main(int argc, char **argv)
         case O_DOCROOT: docroot = optarg; break;
         case O_PAUSED: playing = false; break;
         case O_PORT:
-            if (kelp_parse_long(optarg, strlen(optarg), &port) < 0 || port < 0 || port > 65535)
+            if (kelp_util_parse_long(optarg, strlen(optarg), &port) < 0 || port < 0 || port > 65535)
                 return kelp_cli_error(&cli, "--port: 0..65535");
             break;
         case O_SPEED:
-            if (kelp_parse_finite(optarg, strlen(optarg), &speed) < 0 || speed < 1 || speed > SPEED_MAX)
+            if (kelp_util_parse_finite(optarg, strlen(optarg), &speed) < 0 || speed < 1 || speed > SPEED_MAX)
                 return kelp_cli_error(&cli, "--speed: 1..20");
             break;
         default: return 2;
@@ -191,7 +191,7 @@ int kelp_viewer_replay_main(int argc, char **argv)
     if (mission) mission_config(v, mission, optind + 1 < argc ? argv[optind + 1] : NULL, port_s, token, image, sizeof image);
     kelp_viewer_http_cfg hc = {bind, 8080, tok ? tok : token, docroot, NULL, 0};
     long p2;
-    if (port_s[0] && kelp_parse_long(port_s, strlen(port_s), &p2) == 0 && p2 >= 0 && p2 <= 65535) hc.port = (unsigned)p2;
+    if (port_s[0] && kelp_util_parse_long(port_s, strlen(port_s), &p2) == 0 && p2 >= 0 && p2 <= 65535) hc.port = (unsigned)p2;
     if (port >= 0) hc.port = (unsigned)port;
     if (!docroot && kelp_viewer_docroot(droot, sizeof droot) < 0) {
         fprintf(stderr, "kelp-viewer: the page's files (share/viewer) not found: use --docroot\n");
