@@ -53,9 +53,11 @@ for msg in "block not closed: missing '}'" "protobuf-style 'key: value' outside"
   if grep -qF "$msg" <<<"$str_noerr"; then echo "firmware: '$msg' is in the KELP_NO_ERRMSG image"; exit 1; fi
 done
 echo "firmware: no diagnostic text in the KELP_NO_ERRMSG image"
-echo "== worst-case stack of the public core entry points (Cortex-M4 -Os; calls through function pointers not followed)"
+echo "== worst-case stack of the public core entry points (Cortex-M4 -Os; calls through the core's function tables followed)"
 # (tiles_rec, the one recursion, descends once per domain variable: at most KELP_IVP_MAX_DIM
-# rounds of 32 bytes under kelp_ivp_func_tiles, which stays far under the limit)
+# rounds of 32 bytes under kelp_ivp_func_tiles, which stays far under the limit). An indirect call
+# reaches every core function a const table puts in its slot (the behaviours' kelp_bhv_ops, the
+# DCCL algorithms); sinks and callbacks the library's caller supplies are listed, not followed.
 python3 scripts/stack_report.py --fail --limit 1024 --top ${FW_STACK_TOP:-15} "$O"/obj/*.ci
 # The CAN node example (firmware/can_node.c): kelp's CAN framing with the firmware's own
 # capacities (2 reassembly slots, 128-byte messages, 8 dictionary entries), linked with only

@@ -250,6 +250,13 @@ static const pts_case g_pts[] = {
     {"format=radial, x=0, radius=5, pts=4", -1, 0, 0, 0, 0},
     {"format=radial, x=0, y=0, radius=5, pts=2", -1, 0, 0, 0, 0},
     {"x=5", -1, 0, 0, 0, 0},
+    /* keys read in place: a radius alone means radial, keys and format any case, the first wins */
+    {"x=0, y=0, radius=10, pts=4", 4, 0, 10, -10, 0},
+    {"FORMAT=Radial, X=0, Y=0, RADIUS=10, PTS=4", 4, 0, 10, -10, 0},
+    {"format=radial, x=0, y=0, radius=10, pts=4, x=99", 4, 0, 10, -10, 0},
+    /* a number's text: 63 bytes read, 64 refused */
+    {"x=5.0000000000000000000000000000000000000000000000000000000000000,y=6", 1, 5, 6, 5, 6},
+    {"x=5.00000000000000000000000000000000000000000000000000000000000000,y=6", -1, 0, 0, 0, 0},
 };
 
 START_TEST(points_formats)

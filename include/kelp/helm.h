@@ -635,8 +635,13 @@ struct kelp_helm {
      *  set_param must not call kelp_helm_bhv_set_param again */
     char ws_param[KELP_HELM_MAX_SVAL];
     char ws_pname[KELP_MAX_NAME];      /**< ... and the lower-cased parameter name */
+    /** workspace of kelp_helm_load_bhv: a behaviour's type, then each of its parameters' names
+     *  (one at a time; keeps the stack small) */
+    char ws_key[KELP_MAX_NAME];
     /** workspace of a flag's value with its macros expanded (keeps the stack small) */
     char ws_flag[KELP_HELM_MAX_SVAL];
+    /** workspace of the macro expansion: a number formatted for $[PWT] / $[UTC] */
+    char ws_macro[48];
     /** workspace of the general parameters' VAR=value checks (kelp_helm_bhv_set_param) */
     kelp_helm_pair ws_pair;
     /** workspace of the solve: the sub-domain the objective functions span */
@@ -645,6 +650,28 @@ struct kelp_helm {
     bool ws_has_fn[KELP_HELM_MAX_BHVS];
     /** workspace of a spawn: the requested name and the instance's full name */
     char ws_spawn_name[2][KELP_MAX_NAME];
+    /** workspace of the built-in behaviours (keeps the stack small, as the firmware's 1 KB
+     *  bound on every path through the behaviour tables needs). One behaviour callback runs
+     *  at a time and none of them re-enters the helm; each member belongs to the one function
+     *  named, so a member is never in use twice at once. */
+    struct {
+        kelp_ivp_zaic_peak zaic;               /* bhv_zaic1: the ZAIC being built */
+        char zaic_msg[KELP_IVP_MAX_WARN + 48]; /* bhv_zaic1: its warning */
+        kelp_ivp_func cs[2];                   /* bhv_course_speed_zaic_ratio: speed and course */
+        char msg[KELP_HELM_MAX_SVAL];          /* kelp_helm_bhv_post_warning / _error: "name: msg" */
+        kelp_ivp_reflector refl;               /* a behaviour's Reflector (SimpleWaypoint, AvoidCollision) */
+        kelp_bhv_avoid_aof avd_aof;            /* build (AvoidCollision): the objective refl samples */
+        kelp_bhv_swpt_aof swpt_aof;            /* build_reflector (SimpleWaypoint): the same */
+        kelp_bhv_pt pts[KELP_HELM_MAX_PTS];    /* a polygon or point list being parsed or tested */
+        /* The posting helpers of a behaviour callback (post_polygon, post_stat, ...) compose in
+         * these one after another: the helm copies each posting when it is queued, so a helper
+         * is done with them when it returns, and none calls another while it holds them. */
+        char post[KELP_HELM_MAX_SVAL];         /* a posting being composed by a behaviour callback */
+        char post2[KELP_HELM_MAX_SVAL / 2];    /* ... a second part of it */
+        char num[12][32];                      /* ... numbers formatted for it */
+        char var[KELP_MAX_NAME + 24];          /* ... the variable it goes to (a name + post_suffix) */
+        kelp_helm_pair pair;                   /* contact_flags (AvoidCollision): a cnflag's VAR=value */
+    } ws_bhv;
 };
 
 /** Initialise an empty helm. The storage in mem must outlive the helm. */

@@ -398,10 +398,12 @@ void kelp_helm_bhv_post_int(kelp_bhv *b, const char *var, double val, const char
 
 static void post_msg(kelp_bhv *b, const char *var, const char *msg)
 {
-    char buf[KELP_HELM_MAX_SVAL];
+    if (!b->helm)
+        return;
+    char *buf = b->helm->ws_bhv.msg;
     size_t n = strlen(b->name), m = strlen(msg);
-    if (n + 2 + m + 1 > sizeof buf)
-        m = sizeof buf - n - 3;
+    if (n + 2 + m + 1 > sizeof b->helm->ws_bhv.msg)
+        m = sizeof b->helm->ws_bhv.msg - n - 3;
     memcpy(buf, b->name, n);
     buf[n] = ':';
     buf[n + 1] = ' ';

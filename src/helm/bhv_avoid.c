@@ -110,9 +110,9 @@ static int add_name(char list[][KELP_MAX_NAME], unsigned *n, const char other[][
     return ok ? 0 : KELP_ERR_PARSE;
 }
 
-static int add_region(char list[][KELP_HELM_MAX_FLAG_VAL], unsigned *n, const char *v)
+/* pts: room for KELP_HELM_MAX_PTS points to check the polygon with (the helm's workspace) */
+static int add_region(char list[][KELP_HELM_MAX_FLAG_VAL], unsigned *n, const char *v, kelp_bhv_pt *pts)
 {
-    kelp_bhv_pt pts[KELP_HELM_MAX_PTS];
     unsigned np;
     if (*n >= KELP_BHV_AVD_MAX_REGION || kelp_helm_parse_points(v, pts, KELP_HELM_MAX_PTS, &np) < 0 || np < 3 ||
         !hx_copy(list[*n], KELP_HELM_MAX_FLAG_VAL, v, strlen(v)))
@@ -191,8 +191,8 @@ static int avd_set_param(kelp_bhv *b, const char *p, const char *v)
     if (!strcmp(p, "match_type") || !strcmp(p, "contact_type_required"))
         return add_name(a->match_type, &a->nmatch_type, a->ignore_type, a->nignore_type, v);
     if (!strcmp(p, "ignore_type")) return add_name(a->ignore_type, &a->nignore_type, a->match_type, a->nmatch_type, v);
-    if (!strcmp(p, "match_region")) return add_region(a->match_region, &a->nmatch_region, v);
-    if (!strcmp(p, "ignore_region")) return add_region(a->ignore_region, &a->nignore_region, v);
+    if (!strcmp(p, "match_region")) return add_region(a->match_region, &a->nmatch_region, v, b->helm->ws_bhv.pts);
+    if (!strcmp(p, "ignore_region")) return add_region(a->ignore_region, &a->nignore_region, v, b->helm->ws_bhv.pts);
     if (!strcmp(p, "strict_ignore")) {
         bool t;
         if (set_bool(v, &t) < 0) return KELP_ERR_PARSE;
@@ -294,12 +294,14 @@ static void avd_helm_start(kelp_bhv *b)
     const kelp_bhv_avoid *a = &b->u.avoid;
     if (a->no_alert_request || !b->updates[0] || !hx_ieq(b->templating, "spawn"))
         return;
-    char req[KELP_HELM_MAX_SVAL], ar[32], cr[32], filt[KELP_HELM_MAX_SVAL / 2];
-    hx_fmt_x(ar, sizeof ar, a->pwt_outer_dist, 1);
-    hx_fmt_x(cr, sizeof cr, a->completed_dist, 1);
-    (void)filter_summary(a, filt, sizeof filt);
+    /* composed in the helm's behaviour workspace */
+    char *req = b->helm->ws_bhv.post, *filt = b->helm->ws_bhv.post2, *ar = b->helm->ws_bhv.num[0],
+         *cr = b->helm->ws_bhv.num[1];
+    hx_fmt_x(ar, sizeof b->helm->ws_bhv.num[0], a->pwt_outer_dist, 1);
+    hx_fmt_x(cr, sizeof b->helm->ws_bhv.num[1], a->completed_dist, 1);
+    (void)filter_summary(a, filt, sizeof b->helm->ws_bhv.post2);
     /* MOOS-IvP's exact string, separators included (augmentSpec joins the summary with ",") */
-    hx_cat(req, sizeof req, "id=", b->name, ", on_flag=", b->updates, "=name=$[VNAME] # contact=$[VNAME]",
+    hx_cat(req, sizeof b->helm->ws_bhv.post, "id=", b->name, ", on_flag=", b->updates, "=name=$[VNAME] # contact=$[VNAME]",
            ",alert_range=", ar, ", cpa_range=", cr, filt[0] ? "," : "", filt, HX_END);
     kelp_helm_bhv_post_string(b, "BCM_ALERT_REQUEST", req, NULL);
 }
@@ -335,7 +337,7 @@ double kelp_helm_bhv_avoid_aof_eval(const double *pt, void *user)
  * dwork scratch. Values are kelp_helm_bhv_avoid_aof_eval's to within an ulp of the CPA range
  * (kelp_cpa_fast_eval_unit). */
 typedef struct avd_tab {
-    kelp_bhv_avoid_aof f;
+    const kelp_bhv_avoid_aof *f;    /* in the helm's workspace */
     const double *unit;
     double low, delta;
     uint32_t points;
@@ -344,11 +346,11 @@ typedef struct avd_tab {
 static double avd_tab_eval(const double *pt, void *user)
 {
     const avd_tab *t = user;
-    double c = pt[t->f.icrs], x = t->delta > 0 ? (c - t->low) / t->delta : 0;
+    double c = pt[t->f->icrs], x = t->delta > 0 ? (c - t->low) / t->delta : 0;
     uint32_t i = x > 0 ? (uint32_t)(x + 0.5) : 0;
     if (i >= t->points || (double)i * t->delta + t->low != c) /* not a domain point: the plain way */
-        return kelp_helm_bhv_avoid_aof_eval(pt, (void *)&t->f);
-    return cpa_utility(&t->f, kelp_cpa_fast_eval_unit(&t->f.cpa, t->unit[2 * i], t->unit[2 * i + 1], pt[t->f.ispd], NULL));
+        return kelp_helm_bhv_avoid_aof_eval(pt, (void *)t->f);
+    return cpa_utility(t->f, kelp_cpa_fast_eval_unit(&t->f->cpa, t->unit[2 * i], t->unit[2 * i + 1], pt[t->f->ispd], NULL));
 }
 
 /* distance a contact travelled dt seconds after its report, speed decaying from d1 to d2 */
@@ -359,6 +361,24 @@ static double extrap_dist(double v, double dt, double d1, double d2)
     if (d2 <= d1) return v * d1;
     if (dt <= d2) return v * d1 + (v + v * (1 - (dt - d1) / (d2 - d1))) / 2 * (dt - d1);
     return v * d1 + v / 2 * (d2 - d1);
+}
+
+/* range and its rate from the CPA of contact and ownship now (out of line: its locals are not
+ * on the stack while update_info reads the buffer or posts) */
+KELP_NOINLINE static bool range_update(kelp_bhv *b)
+{
+    kelp_bhv_avoid *a = &b->u.avoid;
+    kelp_cpa_vessel cn = {a->cn.x, a->cn.y, a->cn.hdg, a->cn.spd}, os = {a->osx, a->osy, a->osh, a->osv};
+    kelp_cpa_result r;
+    if (kelp_cpa_eval(&cn, &os, a->time_on_leg, &r) != KELP_OK) {
+        kelp_helm_bhv_post_warning(b, "non-finite contact or ownship state");
+        return false;
+    }
+    a->prev_range = a->have_range ? a->range : r.range;
+    a->have_range = true;
+    a->range = r.range;
+    a->roc = r.roc;
+    return true;
 }
 
 /* updatePlatformInfo: ownship from NAV_*, the contact from the ledger. false: none this time */
@@ -379,8 +399,8 @@ static bool update_info(kelp_bhv *b)
     }
     const kelp_helm_contact *c = kelp_helm_contact_get(b->helm, a->contact);
     if (!c) { /* MOOS-IvP: an error, or nothing at all with on_no_contact_ok */
-        char msg[KELP_MAX_NAME + 48];
-        hx_cat(msg, sizeof msg, a->contact, " x/y/heading/speed info not found", HX_END);
+        char *msg = b->helm->ws_bhv.post; /* the helm's behaviour workspace; the bound as before */
+        hx_cat(msg, KELP_MAX_NAME + 48, a->contact, " x/y/heading/speed info not found", HX_END);
         if (!a->on_no_contact_ok) kelp_helm_bhv_post_error(b, msg);
         return false;
     }
@@ -392,18 +412,9 @@ static bool update_info(kelp_bhv *b)
         a->cn.x += d * sin(h);
         a->cn.y += d * cos(h);
     }
-    kelp_cpa_vessel cn = {a->cn.x, a->cn.y, a->cn.hdg, a->cn.spd}, os = {a->osx, a->osy, a->osh, a->osv};
-    kelp_cpa_result r;
-    if (kelp_cpa_eval(&cn, &os, a->time_on_leg, &r) != KELP_OK) {
-        kelp_helm_bhv_post_warning(b, "non-finite contact or ownship state");
-        return false;
-    }
-    a->prev_range = a->have_range ? a->range : r.range;
-    a->have_range = true;
-    a->range = r.range;
-    a->roc = r.roc;
-    return true;
+    return range_update(b);
 }
+
 
 static bool in_list(const char list[][KELP_MAX_NAME], unsigned n, const char *v)
 {
@@ -420,11 +431,13 @@ static bool kind_ok(const char mt[][KELP_MAX_NAME], unsigned nm, const char ig[]
     return true;
 }
 
-static bool in_polygon(const char *spec, double x, double y)
+/* p: room for KELP_HELM_MAX_PTS points (the helm's workspace). The contact's position is read
+ * after the parse (no doubles held across it: the stack under the parse stays small) */
+static bool in_polygon(const char *spec, const kelp_helm_contact *c, kelp_bhv_pt *p)
 {
-    kelp_bhv_pt p[KELP_HELM_MAX_PTS];
     unsigned n;
     if (kelp_helm_parse_points(spec, p, KELP_HELM_MAX_PTS, &n) < 0 || n < 3) return false;
+    double x = c->x, y = c->y;
     bool in = false;
     for (unsigned i = 0, j = n - 1; i < n; j = i++)
         if ((p[i].y > y) != (p[j].y > y) && x < (p[j].x - p[i].x) * (y - p[i].y) / (p[j].y - p[i].y) + p[i].x)
@@ -433,7 +446,7 @@ static bool in_polygon(const char *spec, double x, double y)
 }
 
 /* filterCheckHolds: only the exit_on_filter_* checks end the behaviour */
-static bool filter_holds(const kelp_bhv_avoid *a)
+static bool filter_holds(const kelp_bhv_avoid *a, kelp_bhv_pt *pts)
 {
     bool strict = a->strict_ignore != 0; /* MOOS-IvP's filter sets default to strict */
     if (a->exit_on_filter_vtype &&
@@ -444,9 +457,9 @@ static bool filter_holds(const kelp_bhv_avoid *a)
         return false;
     if (a->exit_on_filter_region) {
         bool any = a->nmatch_region == 0;
-        for (unsigned i = 0; i < a->nmatch_region; i++) any = any || in_polygon(a->match_region[i], a->cn.x, a->cn.y);
+        for (unsigned i = 0; i < a->nmatch_region; i++) any = any || in_polygon(a->match_region[i], &a->cn, pts);
         for (unsigned i = 0; i < a->nignore_region; i++)
-            if (in_polygon(a->ignore_region[i], a->cn.x, a->cn.y)) any = false;
+            if (in_polygon(a->ignore_region[i], &a->cn, pts)) any = false;
         if (!any) return false;
     }
     return true;
@@ -472,9 +485,11 @@ static void post_bearing_line(kelp_bhv *b, bool active)
 {
     const kelp_bhv_avoid *a = &b->u.avoid;
     if (!a->bearing_line_show) return;
-    char spec[KELP_HELM_MAX_SVAL];
+    /* composed in the helm's behaviour workspace */
+    char *spec = b->helm->ws_bhv.post, (*nb)[32] = b->helm->ws_bhv.num;
+    const size_t cap = sizeof b->helm->ws_bhv.post;
     if (!active) {
-        hx_cat(spec, sizeof spec, "pts={0,0:9,0:0,9},active=false,label=", b->us, "_", b->name, HX_END);
+        hx_cat(spec, cap, "pts={0,0:9,0:0,9},active=false,label=", b->us, "_", b->name, HX_END);
         kelp_helm_bhv_post_string(b, "VIEW_SEGLIST", spec, NULL);
         return;
     }
@@ -482,13 +497,13 @@ static void post_bearing_line(kelp_bhv *b, bool active)
     const char *color = NULL;
     for (unsigned i = 0; i < a->nlines && !color; i++)
         if (index <= a->line_thresh[i]) color = a->line_color[i];
-    char x1[32], y1[32], x2[32], y2[32], t[32];
-    hx_fmt_x(x1, sizeof x1, a->osx, 1);
-    hx_fmt_x(y1, sizeof y1, a->osy, 1);
-    hx_fmt_x(x2, sizeof x2, a->cn.x, 1);
-    hx_fmt_x(y2, sizeof y2, a->cn.y, 1);
-    hx_fmt_x(t, sizeof t, b->helm->t0 + kelp_helm_bhv_buf_now(b), 2);
-    hx_cat(spec, sizeof spec, "pts={", x1, ",", y1, ":", x2, ",", y2, "},label=", b->us, "_", b->name,
+    char *x1 = nb[0], *y1 = nb[1], *x2 = nb[2], *y2 = nb[3], *t = nb[4];
+    hx_fmt_x(x1, sizeof nb[0], a->osx, 1);
+    hx_fmt_x(y1, sizeof nb[0], a->osy, 1);
+    hx_fmt_x(x2, sizeof nb[0], a->cn.x, 1);
+    hx_fmt_x(y2, sizeof nb[0], a->cn.y, 1);
+    hx_fmt_x(t, sizeof nb[0], b->helm->t0 + kelp_helm_bhv_buf_now(b), 2);
+    hx_cat(spec, cap, "pts={", x1, ",", y1, ":", x2, ",", y2, "},label=", b->us, "_", b->name,
            ",label_color=", a->bearing_line_label_show ? "white" : "pink", color ? ",edge_color=" : "",
            color ? color : "", ",time=", t, ",duration=100", HX_END);
     kelp_helm_bhv_post_string(b, "VIEW_SEGLIST", spec, NULL);
@@ -508,8 +523,20 @@ bool helm_avoid_macro(const kelp_bhv *b, const char *m, size_t ml, char *val, si
             const char *s = mac[i].what == 0 ? a->contact : mac[i].what == 1 ? a->cn.type : a->cn.group;
             return hx_copy(val, cap, s, strlen(s));
         }
-        const double d[] = {a->range, a->cn.x, a->cn.y, a->cn.hdg, a->cn.spd, a->osx, a->osy, a->osh, a->osv};
-        hx_fmt_x(val, cap, d[mac[i].what - 3], mac[i].dec);
+        /* (picked by a switch, not from an array of the nine built on the stack) */
+        double d;
+        switch (mac[i].what) {
+        case 3: d = a->range; break;
+        case 4: d = a->cn.x; break;
+        case 5: d = a->cn.y; break;
+        case 6: d = a->cn.hdg; break;
+        case 7: d = a->cn.spd; break;
+        case 8: d = a->osx; break;
+        case 9: d = a->osy; break;
+        case 10: d = a->osh; break;
+        default: d = a->osv; break;
+        }
+        hx_fmt_x(val, cap, d, mac[i].dec);
         return true;
     }
     return false;
@@ -518,7 +545,7 @@ bool helm_avoid_macro(const kelp_bhv *b, const char *m, size_t ml, char *val, si
 /* cnflag "<R VAR=val" / ">R VAR=val": posted while the contact is within / beyond R;
  * "@<R" / "@>R": posted once when the range crosses R inward / outward since the last update.
  * Event tags (@cpa, @os_passed_cn, ...) are accepted and not posted. */
-static void contact_flags(kelp_bhv *b)
+KELP_NOINLINE static void contact_flags(kelp_bhv *b)
 {
     const kelp_bhv_avoid *a = &b->u.avoid;
     for (unsigned i = 0; i < a->ncnflag; i++) {
@@ -529,18 +556,18 @@ static void contact_flags(kelp_bhv *b)
         if (t[0] != '<' && t[0] != '>') continue;
         const char *sp = strpbrk(t, " \t");
         double r;
-        kelp_helm_pair p;
-        if (!sp || !hx_number(t + 1, (size_t)(sp - t - 1), &r) || !hx_pair(sp + 1, &p)) continue;
+        kelp_helm_pair *p = &b->helm->ws_bhv.pair; /* the helm's workspace, not the stack */
+        if (!sp || !hx_number(t + 1, (size_t)(sp - t - 1), &r) || !hx_pair(sp + 1, p)) continue;
         bool post;
         if (once && t[0] == '<') post = a->range <= r && a->prev_range > r;
         else if (once) post = a->range >= r && a->prev_range < r;
         else post = t[0] == '<' ? a->range <= r : a->range >= r;
         if (!post) continue;
-        if (!p.is_str) {
-            kelp_helm_bhv_post_double(b, p.var, p.dval, "repeatable");
+        if (!p->is_str) {
+            kelp_helm_bhv_post_double(b, p->var, p->dval, "repeatable");
             continue;
         }
-        helm_post_flag_string(b, p.var, p.sval, "repeatable");
+        helm_post_flag_string(b, p->var, p->sval, "repeatable");
     }
 }
 
@@ -549,14 +576,14 @@ static void avd_idle(kelp_bhv *b)
     kelp_bhv_avoid *a = &b->u.avoid;
     if (!update_info(b)) return;
     post_range(b);
-    if (!filter_holds(a) || a->range >= a->completed_dist * 1.1) kelp_helm_bhv_set_complete(b);
+    if (!filter_holds(a, b->helm->ws_bhv.pts) || a->range >= a->completed_dist * 1.1) kelp_helm_bhv_set_complete(b);
 }
 
-static int build(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
+/* the objective the Reflector samples, in the helm's workspace (out of line: its locals are
+ * not on the stack while the Reflector runs) */
+KELP_NOINLINE static int aof_setup(kelp_bhv *b, kelp_bhv_avoid_aof *f)
 {
-    kelp_bhv_avoid *a = &b->u.avoid;
-    avd_tab t;
-    kelp_bhv_avoid_aof *f = &t.f;
+    const kelp_bhv_avoid *a = &b->u.avoid;
     f->icrs = kelp_ivp_domain_index(&b->dom, "course");
     f->ispd = kelp_ivp_domain_index(&b->dom, "speed");
     if (f->icrs < 0 || f->ispd < 0) return KELP_ERR_NOTFOUND;
@@ -564,9 +591,19 @@ static int build(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     f->max_util = a->max_util_cpa_dist;
     kelp_cpa_vessel cn = {a->cn.x, a->cn.y, a->cn.hdg, a->cn.spd};
     if (kelp_cpa_fast_init(&f->cpa, &cn, a->osx, a->osy, a->time_on_leg) != KELP_OK) return KELP_ERR_ARG;
+    return 0;
+}
+
+/* (out of line: its locals are not on the stack while avd_run tests the regions) */
+KELP_NOINLINE static int build(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
+{
+    kelp_bhv_avoid_aof *f = &b->helm->ws_bhv.avd_aof; /* the helm's workspace, not the stack */
+    int rc = aof_setup(b, f);
+    if (rc < 0) return rc;
     const kelp_ivp_var *cv = &b->dom.var[f->icrs];
     kelp_ivp_aof_fn aof = kelp_helm_bhv_avoid_aof_eval;
     void *user = f;
+    avd_tab t = {f, NULL, 0, 0, 0};
     if (w->dwork && w->dwork_cap / 2 >= cv->points) { /* room for the course table */
         for (uint32_t i = 0; i < cv->points; i++)
             kelp_cpa_unit(kelp_ivp_domain_value(&b->dom, (unsigned)f->icrs, i), &w->dwork[2 * i], &w->dwork[2 * i + 1]);
@@ -578,21 +615,21 @@ static int build(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
         user = &t;
     }
     size_t cap = w->out_cap < w->pq_cap ? w->out_cap : w->pq_cap;
-    kelp_ivp_reflector r;
-    /* a failed init leaves r.ok false: kelp_ivp_reflector_create then fails with KELP_ERR_STATE */
-    hx_ignore(kelp_ivp_reflector_init(&r, &b->dom, aof, user));
+    kelp_ivp_reflector *r = &b->helm->ws_bhv.refl;   /* the helm's workspace, not the stack */
+    /* a failed init leaves r->ok false: kelp_ivp_reflector_create then fails with KELP_ERR_STATE */
+    hx_ignore(kelp_ivp_reflector_init(r, &b->dom, aof, user));
     int amount = -1;
-    if (kelp_ivp_reflector_set_param(&r, "uniform_piece", AVD_PIECE) != 0 ||
-        kelp_ivp_reflector_max_pieces(&r, -1, -1) > cap) { /* a small pool: as many pieces as fit */
-        hx_ignore(kelp_ivp_reflector_init(&r, &b->dom, aof, user));
+    if (kelp_ivp_reflector_set_param(r, "uniform_piece", AVD_PIECE) != 0 ||
+        kelp_ivp_reflector_max_pieces(r, -1, -1) > cap) { /* a small pool: as many pieces as fit */
+        hx_ignore(kelp_ivp_reflector_init(r, &b->dom, aof, user));
         amount = (int)(cap > 2 ? cap / 2 : 1);
     }
-    int rc = kelp_ivp_reflector_create(&r, amount, -1, 0, w->out, cap, w->pq, kelp_ivp_reflector_work_len(cap), out);
+    rc = kelp_ivp_reflector_create(r, amount, -1, 0, w->out, cap, w->pq, kelp_ivp_reflector_work_len(cap), out);
     if (rc < 0) return rc;
-    if (r.have_uniform_piece) { /* BHV_IPF's grid element box: the uniform piece */
+    if (r->have_uniform_piece) { /* BHV_IPF's grid element box: the uniform piece */
         b->ipf_gel_set = true;
-        for (unsigned d = 0; d < r.dom.dim && d < KELP_IVP_MAX_DIM; d++)
-            b->ipf_gel[d] = (int32_t)r.uniform_piece[d] - 1;
+        for (unsigned d = 0; d < r->dom.dim && d < KELP_IVP_MAX_DIM; d++)
+            b->ipf_gel[d] = (int32_t)r->uniform_piece[d] - 1;
     }
     return kelp_ivp_func_normalize(out, 0, 100);
 }
@@ -603,7 +640,7 @@ static int avd_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     if (!update_info(b)) return 0;
     post_range(b);
     contact_flags(b);
-    if (!filter_holds(a) || a->range >= a->completed_dist * 1.1) {
+    if (!filter_holds(a, b->helm->ws_bhv.pts) || a->range >= a->completed_dist * 1.1) {
         post_bearing_line(b, false);
         kelp_helm_bhv_set_complete(b);
         return 0;

@@ -51,11 +51,11 @@ static int loiter_set_param(kelp_bhv *b, const char *p, const char *v)
     double d;
     bool num = hx_number(v, strlen(v), &d);
     if (!strcmp(p, "polygon") || !strcmp(p, "points")) {
-        kelp_bhv_pt pts[KELP_HELM_MAX_PTS];
+        kelp_bhv_pt *pts = b->helm->ws_bhv.pts;  /* parsed aside: a bad polygon changes nothing */
         unsigned n;
         if (kelp_helm_parse_points(v, pts, KELP_HELM_MAX_PTS, &n) != 0 || n < 3)
             return KELP_ERR_PARSE;
-        memcpy(s->given, pts, sizeof pts);
+        memcpy(s->given, pts, sizeof s->given);
         s->ngiven = n;
         order(s);
         return 0;
@@ -123,18 +123,19 @@ static double seg_dist(kelp_bhv_pt a, kelp_bhv_pt b, double x, double y)
 static void post_polygon(kelp_bhv *b, bool active)
 {
     const kelp_bhv_loiter *s = &b->u.loiter;
-    char buf[KELP_HELM_MAX_SVAL];
-    size_t n = hx_cat(buf, sizeof buf, "pts={", HX_END);
+    /* composed in the helm's behaviour workspace */
+    char *buf = b->helm->ws_bhv.post, (*nb)[32] = b->helm->ws_bhv.num;
+    char *x = nb[0], *y = nb[1], *vs = nb[2], *es = nb[3];
+    const size_t cap = sizeof b->helm->ws_bhv.post;
+    size_t n = hx_cat(buf, cap, "pts={", HX_END);
     for (unsigned i = 0; i < s->ngiven; i++) {
-        char x[32], y[32];
-        hx_fmt_double(x, sizeof x, s->given[i].x);
-        hx_fmt_double(y, sizeof y, s->given[i].y);
-        n += hx_cat(buf + n, sizeof buf - n, i ? ":" : "", x, ",", y, HX_END);
+        hx_fmt_double(x, sizeof nb[0], s->given[i].x);
+        hx_fmt_double(y, sizeof nb[0], s->given[i].y);
+        n += hx_cat(buf + n, cap - n, i ? ":" : "", x, ",", y, HX_END);
     }
-    char vs[32], es[32];
-    hx_fmt_double(vs, sizeof vs, s->hints.vertex_size);
-    hx_fmt_double(es, sizeof es, s->hints.edge_size);
-    hx_cat(buf + n, sizeof buf - n, "},label=", b->name, ",active=", active ? "true" : "false", ",edge_color=",
+    hx_fmt_double(vs, sizeof nb[0], s->hints.vertex_size);
+    hx_fmt_double(es, sizeof nb[0], s->hints.edge_size);
+    hx_cat(buf + n, cap - n, "},label=", b->name, ",active=", active ? "true" : "false", ",edge_color=",
            s->hints.edge_color, ",vertex_color=", s->hints.vertex_color, ",label_color=", s->hints.label_color,
            ",vertex_size=", vs, ",edge_size=", es, HX_END);
     kelp_helm_bhv_post_string(b, "VIEW_POLYGON", buf, NULL);
@@ -147,7 +148,10 @@ static void loiter_idle(kelp_bhv *b)
         post_polygon(b, false);
 }
 
-static int loiter_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
+/* onRunState up to the objective: the vertex to steer for, reports and the course to it (*crs);
+ * false when no objective is made this time. Out of line: its locals are not on the stack under
+ * the IvP build that follows. */
+KELP_NOINLINE static bool loiter_advance(kelp_bhv *b, double *crs)
 {
     kelp_bhv_loiter *s = &b->u.loiter;
     double x, y;
@@ -155,10 +159,10 @@ static int loiter_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     bool ok2 = kelp_helm_bhv_buf_double(b, "NAV_Y", &y);
     if (!ok1 || !ok2) {
         kelp_helm_bhv_post_warning(b, "No ownship X/Y info in info_buffer.");
-        return 0;
+        return false;
     }
     if (s->npts < 3)
-        return 0;
+        return false;
     if (!s->started && s->center_activate && s->ngiven > 0) {
         /* the polygon moves so that its centre is where the vehicle is now */
         double cx = 0, cy = 0;
@@ -169,7 +173,7 @@ static int loiter_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
         order(s);
     }
     if (s->npts < 3)
-        return 0;
+        return false;
     if (!s->started) {
         /* start at the nearest vertex */
         double best = INFINITY;
@@ -197,22 +201,32 @@ static int loiter_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
         s->min_dist = INFINITY;
         cur = s->pts[s->index];
     }
-    char rep[128];
-    char ix[24], vr[24];
-    hx_fmt_ulong(ix, sizeof ix, s->index);
-    hx_fmt_ulong(vr, sizeof vr, s->laps_pts);
-    hx_cat(rep, sizeof rep, "mode=", s->acquiring ? "acquiring" : "loitering", ",index=", ix, ",vertices_reached=", vr,
-           HX_END);
-    char vn[3][KELP_MAX_NAME];
-    hx_cat(vn[0], sizeof vn[0], "LOITER_INDEX", s->suffix, HX_END);
-    hx_cat(vn[1], sizeof vn[1], "LOITER_ACQUIRE", s->suffix, HX_END);
-    hx_cat(vn[2], sizeof vn[2], "LOITER_REPORT", s->suffix, HX_END);
-    kelp_helm_bhv_post_double(b, vn[0], (double)s->index, NULL);
-    kelp_helm_bhv_post_double(b, vn[1], s->acquiring ? 1.0 : 0.0, NULL);
-    kelp_helm_bhv_post_string(b, vn[2], rep, NULL);
-    post_polygon(b, true);
-    double crs = kelp_helm_relang(x, y, cur.x, cur.y);
-    if (bhv_course_speed_zaic(b, w, crs, s->speed, 0.5, 1.0, 0.8, out) < 0) {
+    /* the report and the variable names are composed in the helm's behaviour workspace (each
+     * posting is copied by the helm, so a name's buffer is free again for the next) */
+    char *rep = b->helm->ws_bhv.post2, *vn = b->helm->ws_bhv.var, *ix = b->helm->ws_bhv.num[0],
+         *vr = b->helm->ws_bhv.num[1];
+    const size_t ncap = sizeof b->helm->ws_bhv.num[0], vcap = sizeof b->helm->ws_bhv.var;
+    hx_fmt_ulong(ix, ncap, s->index);
+    hx_fmt_ulong(vr, ncap, s->laps_pts);
+    hx_cat(rep, sizeof b->helm->ws_bhv.post2, "mode=", s->acquiring ? "acquiring" : "loitering", ",index=", ix,
+           ",vertices_reached=", vr, HX_END);
+    hx_cat(vn, vcap, "LOITER_INDEX", s->suffix, HX_END);
+    kelp_helm_bhv_post_double(b, vn, (double)s->index, NULL);
+    hx_cat(vn, vcap, "LOITER_ACQUIRE", s->suffix, HX_END);
+    kelp_helm_bhv_post_double(b, vn, s->acquiring ? 1.0 : 0.0, NULL);
+    hx_cat(vn, vcap, "LOITER_REPORT", s->suffix, HX_END);
+    kelp_helm_bhv_post_string(b, vn, rep, NULL);
+    post_polygon(b, true); /* (uses post and num[0..3]: the report is posted by now) */
+    *crs = kelp_helm_relang(x, y, cur.x, cur.y);
+    return true;
+}
+
+static int loiter_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
+{
+    double crs;
+    if (!loiter_advance(b, &crs))
+        return 0;
+    if (bhv_course_speed_zaic(b, w, crs, b->u.loiter.speed, 0.5, 1.0, 0.8, out) < 0) {
         kelp_helm_bhv_post_warning(b, "Problem Creating the IvP Function");
         return 0;
     }
@@ -228,21 +242,23 @@ static void loiter_post_config(kelp_bhv *b)
         x0 = fmin(x0, s->given[i].x), x1 = fmax(x1, s->given[i].x);
         y0 = fmin(y0, s->given[i].y), y1 = fmax(y1, s->given[i].y);
     }
-    char buf[KELP_HELM_MAX_SVAL], cx[32], cy[32], sp[32];
-    hx_fmt_fixed(cx, sizeof cx, (x0 + x1) / 2, 2);
-    hx_fmt_fixed(cy, sizeof cy, (y0 + y1) / 2, 2);
-    hx_fmt_fixed(sp, sizeof sp, s->speed, 1);
-    size_t n = hx_cat(buf, sizeof buf, "type=BHV_Loiter,name=", b->name, ",x=", cx, ",y=", cy, ",clockwise=",
+    /* composed in the helm's behaviour workspace */
+    char *buf = b->helm->ws_bhv.post, (*nb)[32] = b->helm->ws_bhv.num;
+    char *cx = nb[0], *cy = nb[1], *sp = nb[2], *x = nb[3], *y = nb[4];
+    const size_t cap = sizeof b->helm->ws_bhv.post;
+    hx_fmt_fixed(cx, sizeof nb[0], (x0 + x1) / 2, 2);
+    hx_fmt_fixed(cy, sizeof nb[0], (y0 + y1) / 2, 2);
+    hx_fmt_fixed(sp, sizeof nb[0], s->speed, 1);
+    size_t n = hx_cat(buf, cap, "type=BHV_Loiter,name=", b->name, ",x=", cx, ",y=", cy, ",clockwise=",
                       s->clockwise == 1 ? "true" : "false", ",dynamic_clockwise=", s->clockwise < 0 ? "true" : "false",
                       ",center_activate=", s->center_activate ? "true" : "false", ",desired_speed=", sp,
                       ",polygon=\"pts={", HX_END);
     for (unsigned i = 0; i < s->ngiven; i++) {
-        char x[32], y[32];
-        hx_fmt_x(x, sizeof x, s->given[i].x, 2);
-        hx_fmt_x(y, sizeof y, s->given[i].y, 2);
-        n += hx_cat(buf + n, sizeof buf - n, i ? ":" : "", x, ",", y, HX_END);
+        hx_fmt_x(x, sizeof nb[0], s->given[i].x, 2);
+        hx_fmt_x(y, sizeof nb[0], s->given[i].y, 2);
+        n += hx_cat(buf + n, cap - n, i ? ":" : "", x, ",", y, HX_END);
     }
-    hx_cat(buf + n, sizeof buf - n, "}\"", HX_END);
+    hx_cat(buf + n, cap - n, "}\"", HX_END);
     kelp_helm_bhv_post_string(b, "BHV_SETTINGS", buf, "repeatable");
 }
 

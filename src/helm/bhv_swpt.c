@@ -62,10 +62,13 @@ static int swpt_set_param(kelp_bhv *b, const char *p, const char *v)
 static void post_view_point(kelp_bhv *b, bool viewable)
 {
     const kelp_bhv_swpt *s = &b->u.swpt;
-    char x[32], y[32], spec[KELP_MAX_NAME * 2 + 128];
-    hx_fmt_double(x, sizeof x, s->nextpt.x);
-    hx_fmt_double(y, sizeof y, s->nextpt.y);
-    hx_cat(spec, sizeof spec, "label=", b->us[0] ? b->us : "vehicle", "'s next waypoint,type=waypoint,source=", b->name,
+    /* composed in the helm's behaviour workspace (the text's bound as before: two names and 128) */
+    char *spec = b->helm->ws_bhv.post, *x = b->helm->ws_bhv.num[0], *y = b->helm->ws_bhv.num[1];
+    const size_t cap = KELP_MAX_NAME * 2 + 128;
+    KELP_STATIC_ASSERT(KELP_MAX_NAME * 2 + 128 <= sizeof b->helm->ws_bhv.post, "VIEW_POINT text fits ws_bhv.post");
+    hx_fmt_double(x, sizeof b->helm->ws_bhv.num[0], s->nextpt.x);
+    hx_fmt_double(y, sizeof b->helm->ws_bhv.num[1], s->nextpt.y);
+    hx_cat(spec, cap, "label=", b->us[0] ? b->us : "vehicle", "'s next waypoint,type=waypoint,source=", b->name,
            ",x=", x, ",y=", y, ",active=", viewable ? "true" : "false", HX_END);
     kelp_helm_bhv_post_string(b, "VIEW_POINT", spec, NULL);
 }
@@ -112,26 +115,26 @@ double kelp_helm_bhv_swpt_aof_eval(const double *pt, void *user)
 static int build_reflector(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
 {
     const kelp_bhv_swpt *s = &b->u.swpt;
-    kelp_bhv_swpt_aof a;
-    a.icrs = kelp_ivp_domain_index(&b->dom, "course");
-    a.ispd = kelp_ivp_domain_index(&b->dom, "speed");
-    if (a.icrs < 0 || a.ispd < 0)
+    kelp_bhv_swpt_aof *a = &b->helm->ws_bhv.swpt_aof; /* the helm's workspace, not the stack */
+    a->icrs = kelp_ivp_domain_index(&b->dom, "course");
+    a->ispd = kelp_ivp_domain_index(&b->dom, "speed");
+    if (a->icrs < 0 || a->ispd < 0)
         return KELP_ERR_NOTFOUND;
-    a.desired_speed = s->desired_speed;
-    a.osx = s->osx;
-    a.osy = s->osy;
-    a.ptx = s->nextpt.x;
-    a.pty = s->nextpt.y;
-    a.angle_to_wpt = kelp_helm_relang(a.osx, a.osy, a.ptx, a.pty);
-    a.min_speed = b->dom.var[a.ispd].low;
-    a.max_speed = b->dom.var[a.ispd].high;
-    if (a.max_speed <= 0)
+    a->desired_speed = s->desired_speed;
+    a->osx = s->osx;
+    a->osy = s->osy;
+    a->ptx = s->nextpt.x;
+    a->pty = s->nextpt.y;
+    a->angle_to_wpt = kelp_helm_relang(a->osx, a->osy, a->ptx, a->pty);
+    a->min_speed = b->dom.var[a->ispd].low;
+    a->max_speed = b->dom.var[a->ispd].high;
+    if (a->max_speed <= 0)
         return KELP_ERR_RANGE; /* initialize() fails */
-    kelp_ivp_reflector r;
-    hx_ignore(kelp_ivp_reflector_init(&r, &b->dom, kelp_helm_bhv_swpt_aof_eval, &a));
+    kelp_ivp_reflector *r = &b->helm->ws_bhv.refl;   /* the helm's workspace, not the stack */
+    hx_ignore(kelp_ivp_reflector_init(r, &b->dom, kelp_helm_bhv_swpt_aof_eval, a));
     /* the Reflector wants as many work entries as piece capacity */
     size_t cap = w->out_cap < w->pq_cap ? w->out_cap : w->pq_cap;
-    int rc = kelp_ivp_reflector_create(&r, SWPT_REFLECTOR_PIECES, -1, 0, w->out, cap, w->pq, kelp_ivp_reflector_work_len(cap), out);
+    int rc = kelp_ivp_reflector_create(r, SWPT_REFLECTOR_PIECES, -1, 0, w->out, cap, w->pq, kelp_ivp_reflector_work_len(cap), out);
     return rc < 0 ? rc : 0;
 }
 

@@ -93,11 +93,11 @@ static int wpt_set_param(kelp_bhv *b, const char *p, const char *v)
     double d;
     bool num = hx_number(v, strlen(v), &d);
     if (!strcmp(p, "points") || !strcmp(p, "polygon") || !strcmp(p, "point")) {
-        kelp_bhv_pt pts[KELP_HELM_MAX_PTS];
+        kelp_bhv_pt *pts = b->helm->ws_bhv.pts;  /* parsed aside: a bad list changes nothing */
         unsigned n;
         if (kelp_helm_parse_points(v, pts, KELP_HELM_MAX_PTS, &n) != 0)
             return KELP_ERR_PARSE;
-        memcpy(s->pts, pts, sizeof pts);
+        memcpy(s->pts, pts, sizeof s->pts);
         s->npts = n;
         wpt_reset(s);
         return 0;
@@ -207,21 +207,22 @@ static kelp_bhv_pt point(const kelp_bhv_wpt *s, unsigned i)
 static void post_seglist(kelp_bhv *b, bool active)
 {
     const kelp_bhv_wpt *s = &b->u.wpt;
-    char buf[KELP_HELM_MAX_SVAL];
-    size_t n = hx_cat(buf, sizeof buf, "pts={", HX_END);
+    /* composed in the helm's behaviour workspace */
+    char *buf = b->helm->ws_bhv.post, (*nb)[32] = b->helm->ws_bhv.num;
+    char *x = nb[0], *y = nb[1], *vs = nb[2], *es = nb[3];
+    const size_t cap = sizeof b->helm->ws_bhv.post, ncap = sizeof nb[0];
+    size_t n = hx_cat(buf, cap, "pts={", HX_END);
     for (unsigned i = 0; i < s->npts; i++) {
-        char x[32], y[32];
         kelp_bhv_pt p = point(s, i);
-        hx_fmt_double(x, sizeof x, p.x);
-        hx_fmt_double(y, sizeof y, p.y);
-        n += hx_cat(buf + n, sizeof buf - n, i ? ":" : "", x, ",", y, HX_END);
+        hx_fmt_double(x, ncap, p.x);
+        hx_fmt_double(y, ncap, p.y);
+        n += hx_cat(buf + n, cap - n, i ? ":" : "", x, ",", y, HX_END);
     }
-    n += hx_cat(buf + n, sizeof buf - n, "},label=", b->name, ",active=", active ? "true" : "false", HX_END);
+    n += hx_cat(buf + n, cap - n, "},label=", b->name, ",active=", active ? "true" : "false", HX_END);
     if (active) {
-        char vs[32], es[32];
-        hx_fmt_double(vs, sizeof vs, s->hints.vertex_size);
-        hx_fmt_double(es, sizeof es, s->hints.edge_size);
-        hx_cat(buf + n, sizeof buf - n, ",vertex_color=", s->hints.vertex_color, ",edge_color=", s->hints.edge_color,
+        hx_fmt_double(vs, ncap, s->hints.vertex_size);
+        hx_fmt_double(es, ncap, s->hints.edge_size);
+        hx_cat(buf + n, cap - n, ",vertex_color=", s->hints.vertex_color, ",edge_color=", s->hints.edge_color,
                ",label_color=", s->hints.label_color, ",vertex_size=", vs, ",edge_size=", es, HX_END);
     }
     kelp_helm_bhv_post_string(b, "VIEW_SEGLIST", buf, NULL);
@@ -230,15 +231,18 @@ static void post_seglist(kelp_bhv *b, bool active)
 static void post_point(kelp_bhv *b, kelp_bhv_pt p, bool active)
 {
     const kelp_bhv_wpt *s = &b->u.wpt;
-    char x[32], y[32], spec[KELP_MAX_NAME * 2 + 256];
-    hx_fmt_double(x, sizeof x, p.x);
-    hx_fmt_double(y, sizeof y, p.y);
-    size_t n = hx_cat(spec, sizeof spec, "label=", b->us[0] ? b->us : "vehicle", "'s next waypoint,type=waypoint,source=",
+    /* composed in the helm's behaviour workspace (the text's bound as before: two names and 256) */
+    char *spec = b->helm->ws_bhv.post, (*nb)[32] = b->helm->ws_bhv.num;
+    char *x = nb[0], *y = nb[1], *vs = nb[2];
+    const size_t cap = KELP_MAX_NAME * 2 + 256, ncap = sizeof nb[0];
+    KELP_STATIC_ASSERT(KELP_MAX_NAME * 2 + 256 <= sizeof b->helm->ws_bhv.post, "VIEW_POINT text fits ws_bhv.post");
+    hx_fmt_double(x, ncap, p.x);
+    hx_fmt_double(y, ncap, p.y);
+    size_t n = hx_cat(spec, cap, "label=", b->us[0] ? b->us : "vehicle", "'s next waypoint,type=waypoint,source=",
                       b->name, ",x=", x, ",y=", y, ",active=", active ? "true" : "false", HX_END);
     if (active) {
-        char vs[32];
-        hx_fmt_double(vs, sizeof vs, s->hints.nextpt_vertex_size);
-        hx_cat(spec + n, sizeof spec - n, ",vertex_color=", s->hints.nextpt_color, ",label_color=", s->hints.nextpt_lcolor,
+        hx_fmt_double(vs, ncap, s->hints.nextpt_vertex_size);
+        hx_cat(spec + n, cap - n, ",vertex_color=", s->hints.nextpt_color, ",label_color=", s->hints.nextpt_lcolor,
                ",vertex_size=", vs, HX_END);
     }
     kelp_helm_bhv_post_string(b, "VIEW_POINT", spec, NULL);
@@ -266,24 +270,26 @@ static void wpt_idle(kelp_bhv *b)
 static void post_stat(kelp_bhv *b, double dist)
 {
     kelp_bhv_wpt *s = &b->u.wpt;
-    char buf[KELP_MAX_NAME * 2 + 160];
+    /* composed in the helm's behaviour workspace (the text's bound as before: two names and 160) */
+    char *buf = b->helm->ws_bhv.post, (*nb)[32] = b->helm->ws_bhv.num, *var = b->helm->ws_bhv.var;
+    char *ix = nb[0], *hc = nb[1], *ht = nb[2], *cy = nb[3], *ds = nb[4], *et = nb[5];
+    const size_t cap = KELP_MAX_NAME * 2 + 160, ncap = sizeof nb[0], vcap = sizeof b->helm->ws_bhv.var;
+    KELP_STATIC_ASSERT(KELP_MAX_NAME * 2 + 160 <= sizeof b->helm->ws_bhv.post, "WPT_STAT text fits ws_bhv.post");
     double eta = s->speed > 0 ? dist / s->speed : -1;
-    char ix[24], hc[24], ht[24], cy[24], ds[32], et[32];
-    hx_fmt_ulong(ix, sizeof ix, s->index);
-    hx_fmt_ulong(hc, sizeof hc, s->captured);
-    hx_fmt_ulong(ht, sizeof ht, s->captured + s->slipped);
-    hx_fmt_ulong(cy, sizeof cy, s->cycles);
-    hx_fmt_fixed(ds, sizeof ds, dist, 0);
-    hx_fmt_fixed(et, sizeof et, eta, 0);
-    hx_cat(buf, sizeof buf, "vname=", b->us[0] ? b->us : "vehicle", ",behavior-name=", b->name, ",index=", ix, ",hits=", hc,
+    hx_fmt_ulong(ix, ncap, s->index);
+    hx_fmt_ulong(hc, ncap, s->captured);
+    hx_fmt_ulong(ht, ncap, s->captured + s->slipped);
+    hx_fmt_ulong(cy, ncap, s->cycles);
+    hx_fmt_fixed(ds, ncap, dist, 0);
+    hx_fmt_fixed(et, ncap, eta, 0);
+    hx_cat(buf, cap, "vname=", b->us[0] ? b->us : "vehicle", ",behavior-name=", b->name, ",index=", ix, ",hits=", hc,
            "/", ht, ",cycles=", cy, ",dist=", ds, ",eta=", et, HX_END);
-    char var[KELP_MAX_NAME + 24];
-    if (report_name(s, s->var_report, var, sizeof var))
+    if (report_name(s, s->var_report, var, vcap))
         kelp_helm_bhv_post_string(b, var, buf, NULL);
-    if (report_name(s, s->var_index, var, sizeof var))
+    if (report_name(s, s->var_index, var, vcap))
         kelp_helm_bhv_post_double(b, var, (double)s->index, NULL);
     /* BHV_Waypoint posts the cycle count when it changes from the last it posted (0 at first) */
-    if (s->cycles != s->cycles_posted && report_name(s, s->var_cyindex, var, sizeof var)) {
+    if (s->cycles != s->cycles_posted && report_name(s, s->var_cyindex, var, vcap)) {
         kelp_helm_bhv_post_double(b, var, (double)s->cycles, NULL);
         s->cycles_posted = s->cycles;
     }
@@ -310,7 +316,8 @@ static void odo_update(kelp_bhv_wpt *s)
     s->odo_py = s->osy;
 }
 
-static void odo_mark_leg(kelp_bhv *b, bool first)
+/* (out of line, as track_point: their locals are not on the stack under wpt_run's IvP build) */
+KELP_NOINLINE static void odo_mark_leg(kelp_bhv *b, bool first)
 {
     kelp_bhv_wpt *s = &b->u.wpt;
     if (!s->efficiency)
@@ -319,12 +326,13 @@ static void odo_mark_leg(kelp_bhv *b, bool first)
         double linear = hypot(s->osx - s->odo_setx, s->osy - s->odo_sety);
         s->eff_linear += linear;
         s->eff_odo += s->odo_leg;
-        char buf[160];
-        kelp_util_snprintf(buf, sizeof buf, "linear_dist=%.1f,odo_dist=%.1f,efficiency=%.1f", linear, s->odo_leg,
+        char *buf = b->helm->ws_bhv.post; /* the helm's behaviour workspace; 160 bytes as before */
+        const size_t cap = 160;
+        kelp_util_snprintf(buf, cap, "linear_dist=%.1f,odo_dist=%.1f,efficiency=%.1f", linear, s->odo_leg,
                  100.0 * linear / s->odo_leg);
         kelp_helm_bhv_post_string(b, "WPT_EFFICIENCY_LEG", buf, "repeatable");
         double eff = s->eff_odo > 0 ? 100.0 * s->eff_linear / s->eff_odo : 0;
-        kelp_util_snprintf(buf, sizeof buf, "linear_dist=%.1f,odo_dist=%.1f,efficiency=%.1f", s->eff_linear, s->eff_odo, eff);
+        kelp_util_snprintf(buf, cap, "linear_dist=%.1f,odo_dist=%.1f,efficiency=%.1f", s->eff_linear, s->eff_odo, eff);
         kelp_helm_bhv_post_string(b, "WPT_EFFICIENCY_SUM", buf, NULL);
         kelp_helm_bhv_post_double(b, "WPT_EFFICIENCY_VAL", eff, NULL);
     }
@@ -358,7 +366,7 @@ static bool leg_anchor(kelp_bhv_wpt *s, kelp_bhv_pt *a)
 
 /* the point to steer at: the waypoint, or with a lead distance a point on the leg ahead of the
  * vehicle's perpendicular projection on it */
-static kelp_bhv_pt track_point(kelp_bhv_wpt *s, kelp_bhv_pt cur)
+KELP_NOINLINE static kelp_bhv_pt track_point(kelp_bhv_wpt *s, kelp_bhv_pt cur)
 {
     kelp_bhv_pt a;
     if (!(s->lead > 0) || !leg_anchor(s, &a))
@@ -382,17 +390,20 @@ static kelp_bhv_pt track_point(kelp_bhv_wpt *s, kelp_bhv_pt cur)
     return tp;
 }
 
-static int wpt_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
+/* onRunState up to the objective: captures, reports and the course to steer (*crs); false when
+ * no objective is made this time. Out of line: its locals are not on the stack under the IvP
+ * build that follows. */
+KELP_NOINLINE static bool wpt_advance(kelp_bhv *b, double *crs)
 {
     kelp_bhv_wpt *s = &b->u.wpt;
     bool ok1 = kelp_helm_bhv_buf_double(b, "NAV_X", &s->osx);
     bool ok2 = kelp_helm_bhv_buf_double(b, "NAV_Y", &s->osy);
     if (!ok1 || !ok2) {
         kelp_helm_bhv_post_warning(b, "No ownship X/Y info in info_buffer.");
-        return 0;
+        return false;
     }
     if (s->npts == 0)
-        return 0;
+        return false;
     if (!s->have_prev || s->restart || b->state == KELP_BHV_IDLE || b->state == KELP_BHV_NONE) {
         /* the capture line of the first leg is measured from where the vehicle is when the
          * behaviour (re)starts; odometry picks up from here */
@@ -420,7 +431,6 @@ static int wpt_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     }
     if (dist < s->min_dist)
         s->min_dist = dist;
-    char var[KELP_MAX_NAME + 24];
     if (captured || slipped) {
         if (captured)
             s->captured++;
@@ -442,14 +452,15 @@ static int wpt_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
                 post_point(b, cur, false);
                 post_seglist(b, false);
                 kelp_helm_bhv_set_complete(b);
-                return 0;
+                return false;
             }
         }
         cur = point(s, s->index);
         dist = hypot(cur.x - s->osx, cur.y - s->osy);
     }
     kelp_bhv_pt tp = track_point(s, cur);
-    hx_cat(var, sizeof var, "WPT_ODO", s->suffix, HX_END);
+    char *var = b->helm->ws_bhv.var; /* the helm's behaviour workspace */
+    hx_cat(var, sizeof b->helm->ws_bhv.var, "WPT_ODO", s->suffix, HX_END);
     kelp_helm_bhv_post_double(b, var, s->odo_leg, NULL);
     post_stat(b, dist);
     post_point(b, cur, true);
@@ -458,8 +469,17 @@ static int wpt_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
         kelp_helm_bhv_post_double(b, s->var_dist_prev, hypot(s->prev.x - s->osx, s->prev.y - s->osy), NULL);
     if (s->var_dist_next[0])
         kelp_helm_bhv_post_double(b, s->var_dist_next, dist, NULL);
+    *crs = kelp_helm_relang(s->osx, s->osy, tp.x, tp.y);
+    return true;
+}
+
+static int wpt_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
+{
+    const kelp_bhv_wpt *s = &b->u.wpt;
+    double crs;
+    if (!wpt_advance(b, &crs))
+        return 0;
     double speed = s->use_alt_speed && s->speed_alt >= 0 ? s->speed_alt : s->speed;
-    double crs = kelp_helm_relang(s->osx, s->osy, tp.x, tp.y);
     if (bhv_course_speed_zaic_ratio(b, w, crs, speed, 0.5, 1.0, 0.8, s->course_pct, out) < 0) {
         kelp_helm_bhv_post_warning(b, "Problem Creating the IvP Function");
         return 0;
@@ -471,13 +491,16 @@ static int wpt_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
 static void wpt_post_config(kelp_bhv *b)
 {
     const kelp_bhv_wpt *s = &b->u.wpt;
-    char buf[KELP_HELM_MAX_SVAL], sp[32], sa[32], ld[32], dm[32], cr[32], sr[32], rt[32], ix[24], rp[24];
-    size_t n = hx_cat(buf, sizeof buf, "type=BHV_Waypoint,name=", b->name, ",points=", HX_END);
+    /* the text and its numbers are composed in the helm's behaviour workspace */
+    char *buf = b->helm->ws_bhv.post, (*nb)[32] = b->helm->ws_bhv.num;
+    char *sp = nb[0], *sa = nb[1], *ld = nb[2], *dm = nb[3], *cr = nb[4], *sr = nb[5], *rt = nb[6], *ix = nb[7],
+         *rp = nb[8], *x = nb[9], *y = nb[10];
+    const size_t cap = sizeof b->helm->ws_bhv.post, ncap = sizeof nb[0];
+    size_t n = hx_cat(buf, cap, "type=BHV_Waypoint,name=", b->name, ",points=", HX_END);
     for (unsigned i = 0; i < s->npts; i++) {
-        char x[32], y[32];
-        hx_fmt_x(x, sizeof x, s->pts[i].x, 2);
-        hx_fmt_x(y, sizeof y, s->pts[i].y, 2);
-        n += hx_cat(buf + n, sizeof buf - n, i ? ":" : "pts={", x, ",", y, i + 1 == s->npts ? "}" : "", HX_END);
+        hx_fmt_x(x, ncap, s->pts[i].x, 2);
+        hx_fmt_x(y, ncap, s->pts[i].y, 2);
+        n += hx_cat(buf + n, cap - n, i ? ":" : "pts={", x, ",", y, i + 1 == s->npts ? "}" : "", HX_END);
     }
     struct { char *dst; double v; unsigned dec; } num[] = {
         {sp, s->speed, 1},       {sa, s->speed_alt, 1},      {ld, s->lead, 1},
@@ -485,9 +508,9 @@ static void wpt_post_config(kelp_bhv *b)
         {rt, s->course_pct / 100.0, 2}};
     for (size_t i = 0; i < sizeof num / sizeof num[0]; i++)
         hx_fmt_x(num[i].dst, 32, num[i].v, num[i].dec);
-    hx_fmt_ulong(ix, sizeof ix, s->index);
-    hx_fmt_ulong(rp, sizeof rp, s->repeat < 0 ? 0 : (unsigned long)s->repeat);
-    n += hx_cat(buf + n, sizeof buf - n, ",speed=", sp, ",speed_alt=", sa, ",currix=", ix,
+    hx_fmt_ulong(ix, ncap, s->index);
+    hx_fmt_ulong(rp, ncap, s->repeat < 0 ? 0 : (unsigned long)s->repeat);
+    n += hx_cat(buf + n, cap - n, ",speed=", sp, ",speed_alt=", sa, ",currix=", ix,
                 ",greedy_tour=false,use_alt_speed=", s->use_alt_speed ? "true" : "false", ",wpt_status=", s->var_report,
                 ",wpt_dist_to_prev=", s->var_dist_prev, ",wpt_dist_to_next=", s->var_dist_next, ",wpt_index=",
                 s->var_index, ",cycle_index_var=", s->var_cyindex, ",post_suffix=", s->suffix[0] ? s->suffix + 1 : "",
@@ -496,9 +519,9 @@ static void wpt_post_config(kelp_bhv *b)
                 ",efficiency_measure=", s->efficiency ? "all" : "off", ",capture_radius=", cr, ",slip_radius=", sr,
                 HX_END);
     if (s->capture_line)
-        n += hx_cat(buf + n, sizeof buf - n, ",capture_line=",
+        n += hx_cat(buf + n, cap - n, ",capture_line=",
                     s->capture_radius == 0 && s->slip_radius == 0 ? "absolute" : "true", HX_END);
-    hx_cat(buf + n, sizeof buf - n, ",crs_spd_zaic_ratio=", rt, HX_END);
+    hx_cat(buf + n, cap - n, ",crs_spd_zaic_ratio=", rt, HX_END);
     kelp_helm_bhv_post_string(b, "BHV_SETTINGS", buf, "repeatable");
 }
 

@@ -19,24 +19,41 @@ double kelp_helm_relang(double xa, double ya, double xb, double yb)
     return a;
 }
 
-static bool kv_num(const char *s, const char *key, double *out, bool *present)
+/* The value under key in "k=v,..." (the first pair with that key, trimmed), read in place:
+ * no copy on the stack, which the polygon parse under AvoidCollision's run needs for the
+ * firmware's 1 KB. A malformed item is skipped, as kelp_kv_get does. */
+static bool kv_find(const char *s, const char *key, const char **v, size_t *vl)
 {
-    char v[64];
-    int rc = kelp_kv_get(s, ',', key, v, sizeof v);
-    *present = rc == 1;
-    if (rc != 1)
-        return rc == 0;
-    return hx_number(v, strlen(v), out);
+    size_t pos = 0, kl;
+    const char *k;
+    int rc;
+    while ((rc = kelp_kv_next(s, ',', &pos, &k, &kl, v, vl)) != 0)
+        if (rc > 0 && kelp_util_strieq_n(k, kl, key))
+            return true;
+    return false;
 }
 
-static int parse_radial(const char *s, kelp_bhv_pt *pts, size_t cap, unsigned *n)
+/* The number under key; a value of 64 bytes or more is refused (as when it was copied into 64). */
+static bool kv_num(const char *s, const char *key, double *out, bool *present)
 {
-    double x, y, r, np, snap = 0;
-    bool px, py, pr, pn, ps;
-    if (!kv_num(s, "x", &x, &px) || !kv_num(s, "y", &y, &py) || !kv_num(s, "radius", &r, &pr) ||
-        !kv_num(s, "pts", &np, &pn) || !kv_num(s, "snap", &snap, &ps))
-        return KELP_ERR_PARSE;
-    if (!px || !py || !pr || !pn || r <= 0 || np < 3 || np != floor(np) || snap < 0)
+    const char *v;
+    size_t vl;
+    *present = false;
+    if (!kv_find(s, key, &v, &vl))
+        return true;
+    if (vl >= 64)
+        return false;
+    *present = true;
+    return hx_number(v, vl, out);
+}
+
+/* The radial polygon of v = {x, y, radius, pts, snap}: pts points on the circle, snapped to a
+ * grid of snap when snap > 0. Out of line: its locals are not on the stack while parse_radial
+ * reads the numbers. */
+KELP_NOINLINE static int radial_make(const double *v, kelp_bhv_pt *pts, size_t cap, unsigned *n)
+{
+    double x = v[0], y = v[1], r = v[2], np = v[3], snap = v[4];
+    if (r <= 0 || np < 3 || np != floor(np) || snap < 0)
         return KELP_ERR_PARSE;
     if (np > (double)cap)
         return KELP_ERR_NOSPACE;
@@ -55,46 +72,25 @@ static int parse_radial(const char *s, kelp_bhv_pt *pts, size_t cap, unsigned *n
     return 0;
 }
 
-int kelp_helm_parse_points(const char *str, kelp_bhv_pt *pts, size_t cap, unsigned *n)
+static int parse_radial(const char *s, kelp_bhv_pt *pts, size_t cap, unsigned *n)
 {
-    const char *s = str;
-    size_t len = strlen(s);
-    hx_trim(&s, &len);
-    /* read in place (no copy): every reader below trims or stops at its own delimiters */
-    if (len == 0 || len >= KELP_HELM_MAX_SVAL)
-        return KELP_ERR_PARSE;
-    const char *b = s;
-    if (!strncmp(b, "radial::", 8) || !strncmp(b, "radial:", 7)) {
-        b += b[7] == ':' ? 8 : 7;
-        return parse_radial(b, pts, cap, n);
-    }
-    char fmt[32];
-    int rc = kelp_kv_get(b, ',', "format", fmt, sizeof fmt);
-    if (rc == 1) {
-        if (!hx_ieq(fmt, "radial"))
-            return KELP_ERR_UNSUPPORTED;
-        return parse_radial(b, pts, cap, n);
-    }
-    char tmp[8];
-    if (kelp_kv_get(b, ',', "radius", tmp, sizeof tmp) == 1)
-        return parse_radial(b, pts, cap, n);
-    if ((b[0] == 'p' || b[0] == 'P') && kelp_util_strieq_n(b, 3, "pts")) {
-        const char *eq = strchr(b, '=');
-        if (!eq)
+    /* read one after another into an array (no five live doubles across the calls) */
+    static const char *const key[5] = {"x", "y", "radius", "pts", "snap"};
+    double v[5] = {0, 0, 0, 0, 0}; /* snap 0 when absent */
+    bool missing = false;
+    for (unsigned i = 0; i < 5; i++) {
+        bool present;
+        if (!kv_num(s, key[i], &v[i], &present))
             return KELP_ERR_PARSE;
-        b = eq + 1;
-    } else if (strchr(b, '=')) {
-        double x, y;
-        bool px, py;
-        if (!kv_num(b, "x", &x, &px) || !kv_num(b, "y", &y, &py) || !px || !py)
-            return KELP_ERR_PARSE;
-        if (cap < 1)
-            return KELP_ERR_NOSPACE;
-        pts[0].x = x;
-        pts[0].y = y;
-        *n = 1;
-        return 0;
+        missing = missing || (i < 4 && !present);
     }
+    return missing ? KELP_ERR_PARSE : radial_make(v, pts, cap, n);
+}
+
+/* "x1,y1:x2,y2:..." with one level of braces or parentheses around it and "(x,y)" items
+ * allowed. Out of line: its locals are not on the stack under the radial parse. */
+KELP_NOINLINE static int parse_list(const char *b, kelp_bhv_pt *pts, size_t cap, unsigned *n)
+{
     /* strip one level of braces or parentheses */
     size_t bl = strlen(b);
     const char *t = b;
@@ -144,25 +140,68 @@ int kelp_helm_parse_points(const char *str, kelp_bhv_pt *pts, size_t cap, unsign
     return 0;
 }
 
+int kelp_helm_parse_points(const char *str, kelp_bhv_pt *pts, size_t cap, unsigned *n)
+{
+    const char *s = str;
+    size_t len = strlen(s);
+    hx_trim(&s, &len);
+    /* read in place (no copy): every reader below trims or stops at its own delimiters */
+    if (len == 0 || len >= KELP_HELM_MAX_SVAL)
+        return KELP_ERR_PARSE;
+    const char *b = s;
+    if (!strncmp(b, "radial::", 8) || !strncmp(b, "radial:", 7)) {
+        b += b[7] == ':' ? 8 : 7;
+        return parse_radial(b, pts, cap, n);
+    }
+    /* (the values were read into 32 and 8 bytes: a longer one did not count, and still does not) */
+    const char *v;
+    size_t vl;
+    if (kv_find(b, "format", &v, &vl) && vl < 32) {
+        if (!kelp_util_strieq_n(v, vl, "radial"))
+            return KELP_ERR_UNSUPPORTED;
+        return parse_radial(b, pts, cap, n);
+    }
+    if (kv_find(b, "radius", &v, &vl) && vl < 8)
+        return parse_radial(b, pts, cap, n);
+    if ((b[0] == 'p' || b[0] == 'P') && kelp_util_strieq_n(b, 3, "pts")) {
+        const char *eq = strchr(b, '=');
+        if (!eq)
+            return KELP_ERR_PARSE;
+        b = eq + 1;
+    } else if (strchr(b, '=')) {
+        double x, y;
+        bool px, py;
+        if (!kv_num(b, "x", &x, &px) || !kv_num(b, "y", &y, &py) || !px || !py)
+            return KELP_ERR_PARSE;
+        if (cap < 1)
+            return KELP_ERR_NOSPACE;
+        pts[0].x = x;
+        pts[0].y = y;
+        *n = 1;
+        return 0;
+    }
+    return parse_list(b, pts, cap, n);
+}
+
 int bhv_zaic1(kelp_bhv *b, const kelp_helm_work *w, const char *var, double summit, double pw, double bw, double sd,
               bool wrap, kelp_ivp_func *out)
 {
-    kelp_ivp_zaic_peak z;
-    hx_ignore(kelp_ivp_zaic_peak_init(&z, &b->dom, var));
-    hx_ignore(kelp_ivp_zaic_peak_set_summit(&z, summit, 0));
-    hx_ignore(kelp_ivp_zaic_peak_set_peakwidth(&z, pw, 0));
-    hx_ignore(kelp_ivp_zaic_peak_set_basewidth(&z, bw, 0));
-    hx_ignore(kelp_ivp_zaic_peak_set_summitdelta(&z, sd, 0));
-    z.wrap = wrap;
-    if (!z.ok) {
-        char msg[KELP_IVP_MAX_WARN + 48];
-        hx_cat(msg, sizeof msg, var, " ZAIC problems ", z.warn, HX_END);
+    kelp_ivp_zaic_peak *z = &b->helm->ws_bhv.zaic;
+    hx_ignore(kelp_ivp_zaic_peak_init(z, &b->dom, var));
+    hx_ignore(kelp_ivp_zaic_peak_set_summit(z, summit, 0));
+    hx_ignore(kelp_ivp_zaic_peak_set_peakwidth(z, pw, 0));
+    hx_ignore(kelp_ivp_zaic_peak_set_basewidth(z, bw, 0));
+    hx_ignore(kelp_ivp_zaic_peak_set_summitdelta(z, sd, 0));
+    z->wrap = wrap;
+    if (!z->ok) {
+        char *msg = b->helm->ws_bhv.zaic_msg;
+        hx_cat(msg, sizeof b->helm->ws_bhv.zaic_msg, var, " ZAIC problems ", z->warn, HX_END);
         if (msg[0] >= 'a' && msg[0] <= 'z')
             msg[0] = (char)(msg[0] - 'a' + 'A');
         kelp_helm_bhv_post_warning(b, msg);
         return KELP_ERR_STATE;
     }
-    return kelp_ivp_zaic_peak_extract(&z, true, w->dwork, w->dwork_cap, w->out, w->out_cap, out);
+    return kelp_ivp_zaic_peak_extract(z, true, w->dwork, w->dwork_cap, w->out, w->out_cap, out);
 }
 
 int bhv_course_speed_zaic(kelp_bhv *b, const kelp_helm_work *w, double course, double speed, double spw, double sbw,
@@ -180,17 +219,17 @@ int bhv_course_speed_zaic_ratio(kelp_bhv *b, const kelp_helm_work *w, double cou
     size_t ns = b->dom.var[is].points;
     if (w->tmp_cap <= ns)
         return KELP_ERR_NOSPACE;
-    kelp_ivp_func spd, crs;
-    kelp_helm_work ws = *w, wc = *w;
-    ws.out = w->tmp;
-    ws.out_cap = ns;
-    wc.out = w->tmp + ns;
-    wc.out_cap = w->tmp_cap - ns;
-    int rc = bhv_zaic1(b, &ws, "speed", speed, spw, sbw, ssd, false, &spd);
+    kelp_ivp_func *spd = &b->helm->ws_bhv.cs[0], *crs = &b->helm->ws_bhv.cs[1];
+    kelp_helm_work wz = *w; /* one copy: the speed ZAIC's pieces, then the course ZAIC's, in tmp */
+    wz.out = w->tmp;
+    wz.out_cap = ns;
+    int rc = bhv_zaic1(b, &wz, "speed", speed, spw, sbw, ssd, false, spd);
     if (rc < 0)
         return rc;
-    rc = bhv_zaic1(b, &wc, "course", course, 0, 180.0, 0, true, &crs);
+    wz.out = w->tmp + ns;
+    wz.out_cap = w->tmp_cap - ns;
+    rc = bhv_zaic1(b, &wz, "course", course, 0, 180.0, 0, true, crs);
     if (rc < 0)
         return rc;
-    return kelp_ivp_couple(&crs, course_pct, &spd, 100 - course_pct, true, 0, 100, w->out, w->out_cap, out);
+    return kelp_ivp_couple(crs, course_pct, spd, 100 - course_pct, true, 0, 100, w->out, w->out_cap, out);
 }

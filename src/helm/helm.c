@@ -232,8 +232,8 @@ int kelp_helm_load_bhv(kelp_helm *h, const kelp_mission *m)
             continue;
         }
         if (nd->kind == KELP_MN_BLOCK && kelp_util_strieq_n(nd->key, nd->klen, "Behavior")) {
-            char type[KELP_MAX_NAME];
-            if (!hx_copy(type, sizeof type, nd->val, nd->vlen))
+            char *type = h->ws_key; /* the helm's workspace, not the stack */
+            if (!hx_copy(type, sizeof h->ws_key, nd->val, nd->vlen))
                 return helm_fail(h, nd->line, KELP_ERR_PARSE, "behaviour type too long", HX_END);
             kelp_bhv *b;
             int rc = kelp_helm_add(h, type, &b);
@@ -246,10 +246,10 @@ int kelp_helm_load_bhv(kelp_helm *h, const kelp_mission *m)
                 const kelp_mission_node *c = &m->nodes[j];
                 if (c->parent != (int)i)
                     continue;
-                char key[KELP_MAX_NAME], *val = h->ws_upd.val; /* (idle while loading) */
+                char *key = h->ws_key, *val = h->ws_upd.val; /* (idle while loading; the type is done with) */
                 if (c->kind != KELP_MN_PARAM)
                     return helm_fail(h, c->line, KELP_ERR_PARSE, "expected parameter = value", HX_END);
-                if (!hx_copy(key, sizeof key, c->key, c->klen) || !hx_copy(val, sizeof h->ws_upd.val, c->val, c->vlen))
+                if (!hx_copy(key, sizeof h->ws_key, c->key, c->klen) || !hx_copy(val, sizeof h->ws_upd.val, c->val, c->vlen))
                     return helm_fail(h, c->line, KELP_ERR_PARSE, "parameter or value too long", HX_END);
                 b->fail = NULL;
                 if (kelp_helm_bhv_set_param(b, key, val) < 0) {
@@ -259,8 +259,8 @@ int kelp_helm_load_bhv(kelp_helm *h, const kelp_mission *m)
             }
             continue;
         }
-        char key[KELP_MAX_NAME];
-        if (!hx_copy(key, sizeof key, nd->key, nd->klen))
+        char *key = h->ws_key;
+        if (!hx_copy(key, sizeof h->ws_key, nd->key, nd->klen))
             key[0] = '\0';
         return helm_fail(h, nd->line, KELP_ERR_PARSE, "unexpected line in a behaviour file: ", key, HX_END);
     }
@@ -470,15 +470,17 @@ void helm_expand_macros(const kelp_bhv *b, const char *in, char *out, size_t cap
                 const char *m = in + 2;
                 size_t ml = (size_t)(end - m);
                 const char *g = NULL;
-                char num[48];
+                char *num = b->helm ? b->helm->ws_macro : NULL; /* the helm's workspace, not the stack */
                 if (ml == 7 && !strncmp(m, "OWNSHIP", ml)) g = b->us;
                 else if (ml == 7 && !strncmp(m, "BHVNAME", ml)) g = b->name;
                 else if (ml == 7 && !strncmp(m, "BHVTYPE", ml)) g = b->type;
                 else if (ml == 3 && !strncmp(m, "PWT", ml)) {
-                    hx_fmt_x(num, sizeof num, b->pwt, 3);
-                    g = num;
+                    if (num) {
+                        hx_fmt_x(num, sizeof b->helm->ws_macro, b->pwt, 3);
+                        g = num;
+                    }
                 } else if (ml == 3 && !strncmp(m, "UTC", ml) && b->helm) {
-                    hx_fmt_x(num, sizeof num, b->helm->t0 + kelp_helm_bhv_buf_now(b), 3);
+                    hx_fmt_x(num, sizeof b->helm->ws_macro, b->helm->t0 + kelp_helm_bhv_buf_now(b), 3);
                     g = num;
                 }
                 if (g) have = hx_copy(val, room, g, strlen(g));

@@ -2,18 +2,21 @@
 #include <string.h>
 #include "ivp_int.h"
 
-/* Coefficients of piece p after PDMap::normalize(0, w) given the function's min/max. */
-static void norm_piece(const kelp_ivp_piece *p, unsigned dim, double lo, double hi, double w, kelp_ivp_piece *q)
+/* Piece p after PDMap::normalize(0, w) given the function's min/max, written into q's variables
+ * at..at+dim-1 (bounds, and slopes + 0.0); returns its constant. Written straight into the output
+ * piece, no piece copies on the stack (kelp_ivp_couple runs under the helm's 1 KB firmware bound). */
+static double put_norm(const kelp_ivp_piece *p, unsigned dim, double lo, double hi, double w, kelp_ivp_piece *q,
+                       unsigned at)
 {
-    *q = *p;
-    double er = hi - lo;
-    if (er <= 0)
-        return;
-    double badj = 0.0 - lo, radj = w / er;
-    q->cst += badj;
-    for (unsigned d = 0; d < dim; d++)
-        q->slope[d] *= radj;
-    q->cst *= radj;
+    double er = hi - lo, radj = er > 0 ? w / er : 1.0, cst = p->cst;
+    if (er > 0)
+        cst = (cst + (0.0 - lo)) * radj;
+    for (unsigned d = 0; d < dim; d++) {
+        q->lo[at + d] = p->lo[d];
+        q->hi[at + d] = p->hi[d];
+        q->slope[at + d] = (er > 0 ? p->slope[d] * radj : p->slope[d]) + 0.0;
+    }
+    return cst;
 }
 
 int kelp_ivp_couple(const kelp_ivp_func *a, double wa, const kelp_ivp_func *b, double wb, bool normalize,
@@ -23,43 +26,32 @@ int kelp_ivp_couple(const kelp_ivp_func *a, double wa, const kelp_ivp_func *b, d
         return KELP_ERR_ARG;
     if (normalize && !(nmin < nmax))
         return KELP_ERR_ARG;
-    kelp_ivp_domain u = a->dom;
-    for (unsigned d = 0; d < b->dom.dim; d++) {
+    for (unsigned d = 0; d < b->dom.dim; d++)
         if (kelp_ivp_domain_index(&a->dom, b->dom.var[d].name) >= 0)
             return KELP_ERR_ARG; /* variable sets must be disjoint */
-        const kelp_ivp_var *v = &b->dom.var[d];
-        int rc = kelp_ivp_domain_add(&u, v->name, v->low, v->high, v->points);
-        if (rc)
-            return rc;
-    }
+    if (a->dom.dim + b->dom.dim > KELP_IVP_MAX_DIM)
+        return KELP_ERR_NOSPACE;
     if (a->n > cap / b->n)
         return KELP_ERR_NOSPACE;
-    int rc = kelp_ivp_func_init(out, &u, store, cap);
-    if (rc)
-        return rc;
     double alo, ahi, blo, bhi;
+    int rc;
     if ((rc = kelp_ivp_func_range(a, &alo, &ahi)) || (rc = kelp_ivp_func_range(b, &blo, &bhi)))
         return rc;
+    /* the joint domain (a's variables, then b's) is built in out itself, not in a copy on the stack */
+    if ((rc = kelp_ivp_func_init(out, &a->dom, store, cap)))
+        return rc;
+    for (unsigned d = 0; d < b->dom.dim; d++) {
+        const kelp_ivp_var *v = &b->dom.var[d];
+        if ((rc = kelp_ivp_domain_add(&out->dom, v->name, v->low, v->high, v->points)))
+            return rc;
+    }
     unsigned da = a->dom.dim, db = b->dom.dim;
     for (size_t i = 0; i < a->n; i++) {
-        kelp_ivp_piece pa;
-        norm_piece(&a->pcs[i], da, alo, ahi, wa, &pa);
         for (size_t j = 0; j < b->n; j++) {
-            kelp_ivp_piece pb;
-            norm_piece(&b->pcs[j], db, blo, bhi, wb, &pb);
             kelp_ivp_piece *q = &out->pcs[out->n++];
             memset(q, 0, sizeof *q);
-            for (unsigned d = 0; d < da; d++) {
-                q->lo[d] = pa.lo[d];
-                q->hi[d] = pa.hi[d];
-                q->slope[d] = pa.slope[d] + 0.0;
-            }
-            for (unsigned d = 0; d < db; d++) {
-                q->lo[da + d] = pb.lo[d];
-                q->hi[da + d] = pb.hi[d];
-                q->slope[da + d] = 0.0 + pb.slope[d];
-            }
-            q->cst = pa.cst + pb.cst;
+            double ca = put_norm(&a->pcs[i], da, alo, ahi, wa, q, 0);
+            q->cst = ca + put_norm(&b->pcs[j], db, blo, bhi, wb, q, da);
         }
     }
     if (normalize)
