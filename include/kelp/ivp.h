@@ -240,6 +240,7 @@ typedef struct kelp_ivp_reflector {
     int auto_peak_max_pcs;           /**< <=0: no limit */
     bool ok;
     char warn[KELP_IVP_MAX_WARN];
+    kelp_diag ws_diag;               /**< workspace of kelp_ivp_reflector_set_param (a parse's reason) */
 } kelp_ivp_reflector;
 
 /** Priority-queue entry used in the Reflector's work storage. */

@@ -86,8 +86,8 @@ int kelp_ivp_reflector_set_param(kelp_ivp_reflector *r, const char *name, const 
     const char *s = name, *v = value;
     ivp_trim(&s, &n);
     ivp_trim(&v, &vn);
-    kelp_diag diag;
-    kelp_diag_clear(&diag);
+    kelp_diag *diag = &r->ws_diag; /* in the Reflector, not on the stack */
+    kelp_diag_clear(diag);
     int rc;
     if (ivp_word_eq(s, n, "uniform_amount") || ivp_word_eq(s, n, "smart_amount") || ivp_word_eq(s, n, "smart_percent") ||
         ivp_word_eq(s, n, "smart_thresh") || ivp_word_eq(s, n, "auto_peak_max_pcs")) {
@@ -111,9 +111,9 @@ int kelp_ivp_reflector_set_param(kelp_ivp_reflector *r, const char *name, const 
         return 0;
     }
     if (ivp_word_eq(s, n, "uniform_piece")) {
-        rc = kelp_ivp_parse_shape(&r->dom, value, r->uniform_piece, &diag);
+        rc = kelp_ivp_parse_shape(&r->dom, value, r->uniform_piece, diag);
         if (rc)
-            return fatal(r, rc, "uniform_piece", kelp_diag_text(&diag));
+            return fatal(r, rc, "uniform_piece", kelp_diag_text(diag));
         r->have_uniform_piece = true;
         return 0;
     }
@@ -122,27 +122,27 @@ int kelp_ivp_reflector_set_param(kelp_ivp_reflector *r, const char *name, const 
             return fatal(r, KELP_ERR_STATE, "refine_region", "refine_region and refine_piece must be added in pairs");
         if (r->nrefine >= KELP_IVP_MAX_REFINE)
             return fatal(r, KELP_ERR_NOSPACE, "refine_region", "too many refine regions");
-        rc = kelp_ivp_parse_region(&r->dom, value, r->refine_lo[r->nrefine], r->refine_hi[r->nrefine], &diag);
+        rc = kelp_ivp_parse_region(&r->dom, value, r->refine_lo[r->nrefine], r->refine_hi[r->nrefine], diag);
         if (rc)
-            return fatal(r, rc, "refine_region", kelp_diag_text(&diag));
+            return fatal(r, rc, "refine_region", kelp_diag_text(diag));
         r->refine_pending = true;
         return 0;
     }
     if (ivp_word_eq(s, n, "refine_piece")) {
         if (!r->refine_pending)
             return fatal(r, KELP_ERR_STATE, "refine_piece", "refine_region and refine_piece must be added in pairs");
-        rc = kelp_ivp_parse_shape(&r->dom, value, r->refine_piece[r->nrefine], &diag);
+        rc = kelp_ivp_parse_shape(&r->dom, value, r->refine_piece[r->nrefine], diag);
         if (rc)
-            return fatal(r, rc, "refine_piece", kelp_diag_text(&diag));
+            return fatal(r, rc, "refine_piece", kelp_diag_text(diag));
         r->refine_pending = false;
         r->nrefine++;
         return 0;
     }
     if (ivp_word_eq(s, n, "refine_point")) {
         uint32_t ix[D];
-        rc = kelp_ivp_parse_point(&r->dom, value, ix, &diag);
+        rc = kelp_ivp_parse_point(&r->dom, value, ix, diag);
         if (rc)
-            return fatal(r, rc, "refine_point", kelp_diag_text(&diag));
+            return fatal(r, rc, "refine_point", kelp_diag_text(diag));
         return 0;
     }
     return fatal(r, KELP_ERR_NOTFOUND, name, "unhandled parameter");
@@ -367,19 +367,41 @@ static IVP_ALWAYS_INLINE double regress_n(const kelp_ivp_reflector *r, kelp_ivp_
     return sqrt(err);
 }
 
+/* one out-of-line scored fit per dimension count (as fit below: only the one called is on the
+ * stack) */
+static KELP_NOINLINE double regress1(const kelp_ivp_reflector *r, kelp_ivp_piece *p)
+{
+    return regress_n(r, p, 1, true);
+}
+
+static KELP_NOINLINE double regress2(const kelp_ivp_reflector *r, kelp_ivp_piece *p)
+{
+    return regress_n(r, p, 2, true);
+}
+
+static KELP_NOINLINE double regress3(const kelp_ivp_reflector *r, kelp_ivp_piece *p)
+{
+    return regress_n(r, p, 3, true);
+}
+
+static KELP_NOINLINE double regressn(const kelp_ivp_reflector *r, kelp_ivp_piece *p)
+{
+    return regress_n(r, p, r->dom.dim, true);
+}
+
 static double regress(const kelp_ivp_reflector *r, kelp_ivp_piece *p)
 {
     switch (r->dom.dim) {
-    case 1: return regress_n(r, p, 1, true);
-    case 2: return regress_n(r, p, 2, true);
-    case 3: return regress_n(r, p, 3, true);
-    default: return regress_n(r, p, r->dom.dim, true);
+    case 1: return regress1(r, p);
+    case 2: return regress2(r, p);
+    case 3: return regress3(r, p);
+    default: return regressn(r, p);
     }
 }
 
 /* regress_n's fit for two variables written out: the same samples, the same arithmetic in the
  * same order (so the same bits), without the loops over corner masks. */
-static void fit2(const kelp_ivp_reflector *r, kelp_ivp_piece *p)
+static KELP_NOINLINE void fit2(const kelp_ivp_reflector *r, kelp_ivp_piece *p)
 {
     const int32_t l0 = p->lo[0], h0 = p->hi[0], l1 = p->lo[1], h1 = p->hi[1];
     const int32_t c0 = (l0 + h0) / 2, c1 = (l1 + h1) / 2;
@@ -475,13 +497,30 @@ static void fit2(const kelp_ivp_reflector *r, kelp_ivp_piece *p)
 }
 
 /* The fit alone (no score): pieces whose score nobody reads. */
+/* one out-of-line fit per dimension count: each inlines regress_n with its own locals, and
+ * only the one called is on the stack (inlined together they summed to 400 B on Cortex-M4) */
+static KELP_NOINLINE void fit1(const kelp_ivp_reflector *r, kelp_ivp_piece *p)
+{
+    (void)regress_n(r, p, 1, false);
+}
+
+static KELP_NOINLINE void fit3(const kelp_ivp_reflector *r, kelp_ivp_piece *p)
+{
+    (void)regress_n(r, p, 3, false);
+}
+
+static KELP_NOINLINE void fitn(const kelp_ivp_reflector *r, kelp_ivp_piece *p)
+{
+    (void)regress_n(r, p, r->dom.dim, false);
+}
+
 static void fit(const kelp_ivp_reflector *r, kelp_ivp_piece *p)
 {
     switch (r->dom.dim) {
-    case 1: (void)regress_n(r, p, 1, false); break;
+    case 1: fit1(r, p); break;
     case 2: fit2(r, p); break;
-    case 3: (void)regress_n(r, p, 3, false); break;
-    default: (void)regress_n(r, p, r->dom.dim, false); break;
+    case 3: fit3(r, p); break;
+    default: fitn(r, p); break;
     }
 }
 
@@ -601,6 +640,149 @@ static bool overlaps(unsigned dim, const kelp_ivp_piece *p, const int32_t *lo, c
     return true;
 }
 
+/* Directed refinement of region k (out of line, as the two stages after it: each stage's
+ * piece copies are on the stack only while it runs) */
+static KELP_NOINLINE int refine_region(const kelp_ivp_reflector *r, kelp_ivp_func *out, kelp_ivp_pq_entry *work, unsigned k)
+{
+    unsigned dim = r->dom.dim;
+    int rc;
+    const int32_t *rlo = r->refine_lo[k], *rhi = r->refine_hi[k];
+    size_t n0 = out->n;
+    for (size_t i = 0; i < n0; i++) {
+        kelp_ivp_piece *p = &out->pcs[i];
+        if (!overlaps(dim, p, rlo, rhi))
+            continue;
+        kelp_ivp_piece rest = *p;
+        bool first = true;
+        for (unsigned d = 0; d < dim; d++) {
+            for (int side = 0; side < 2; side++) {
+                bool above = side == 0 && rest.hi[d] > rhi[d], below = side == 1 && rest.lo[d] < rlo[d];
+                if (!above && !below)
+                    continue;
+                size_t at;
+                if (first) {
+                    at = i; /* p itself: rest holds its copy */
+                } else {
+                    if (out->n >= out->cap)
+                        return KELP_ERR_NOSPACE;
+                    at = out->n++;
+                }
+                /* the fragment cut off rest, built in place (no second piece on the stack) */
+                kelp_ivp_piece *dst = &out->pcs[at];
+                *dst = rest;
+                if (above) {
+                    dst->lo[d] = rhi[d] + 1;
+                    rest.hi[d] = rhi[d];
+                } else {
+                    dst->hi[d] = rlo[d] - 1;
+                    rest.lo[d] = rlo[d];
+                }
+                work[at].key = regress(r, dst);
+                first = false;
+            }
+        }
+        if (first)
+            p->lo[0] = -1; /* wholly inside the region: dead, removed below */
+    }
+    size_t w = 0;
+    for (size_t i = 0; i < out->n; i++) {
+        if (out->pcs[i].lo[0] < 0)
+            continue;
+        out->pcs[w] = out->pcs[i];
+        work[w] = work[i];
+        w++;
+    }
+    out->n = w;
+    size_t t0 = out->n;
+    if ((rc = tile(out, rlo, rhi, r->refine_piece[k])))
+        return rc;
+    for (size_t i = t0; i < out->n; i++)
+        work[i].key = regress(r, &out->pcs[i]);
+    return 0;
+}
+
+/* Smart refinement: split the worst-fitting pieces, up to sa more (or smart_percent) */
+static KELP_NOINLINE int smart_refine(const kelp_ivp_reflector *r, kelp_ivp_func *out, kelp_ivp_pq_entry *work, int sa,
+                                      double sthresh)
+{
+    unsigned dim = r->dom.dim;
+    size_t extra = sa > 0 ? (size_t)sa : 0;
+    if (r->smart_percent > 0) {
+        size_t pe = out->n * (size_t)r->smart_percent / 100u;
+        if (pe > extra)
+            extra = pe;
+    }
+    if (extra > 0) {
+        size_t hn = out->n;
+        for (size_t i = 0; i < hn; i++)
+            work[i].piece = (uint32_t)i;
+        heapify(work, hn);
+        size_t made = 0;
+        while (made < extra && hn > 0) {
+            if (work[0].key < sthresh)
+                break;
+            uint32_t pi = work[0].piece;
+            kelp_ivp_piece q;
+            if (!split(dim, &out->pcs[pi], &q)) {
+                work[0].key = -1.0; /* a single point cannot be split; sink it */
+                heap_down(work, hn, 0);
+                if (work[0].key < 0)
+                    break;
+                continue;
+            }
+            if (out->n >= out->cap)
+                return KELP_ERR_NOSPACE;
+            size_t qi = out->n++;
+            out->pcs[qi] = q;
+            work[0].key = regress(r, &out->pcs[pi]);
+            heap_down(work, hn, 0);
+            work[hn].key = regress(r, &out->pcs[qi]);
+            work[hn].piece = (uint32_t)qi;
+            heap_up(work, hn);
+            hn++;
+            made++;
+        }
+    }
+    return 0;
+}
+
+/* Auto-peak: split the pieces holding the maximum until it is a point */
+static KELP_NOINLINE int auto_peak(const kelp_ivp_reflector *r, kelp_ivp_func *out, kelp_ivp_pq_entry *work)
+{
+    unsigned dim = r->dom.dim;
+    size_t hn = out->n;
+    for (size_t i = 0; i < hn; i++) {
+        work[i].key = kelp_ivp_piece_max(&out->pcs[i], dim);
+        work[i].piece = (uint32_t)i;
+    }
+    heapify(work, hn);
+    size_t made = 0;
+    for (;;) {
+        uint32_t pi = work[0].piece;
+        if (is_point(dim, &out->pcs[pi]))
+            break;
+        if (r->auto_peak_max_pcs > 0 && made >= (size_t)r->auto_peak_max_pcs)
+            break;
+        kelp_ivp_piece q;
+        if (!split(dim, &out->pcs[pi], &q))
+            break;
+        if (out->n >= out->cap)
+            return KELP_ERR_NOSPACE;
+        size_t qi = out->n++;
+        out->pcs[qi] = q;
+        fit(r, &out->pcs[pi]);
+        fit(r, &out->pcs[qi]);
+        work[0].key = kelp_ivp_piece_max(&out->pcs[pi], dim);
+        heap_down(work, hn, 0);
+        work[hn].key = kelp_ivp_piece_max(&out->pcs[qi], dim);
+        work[hn].piece = (uint32_t)qi;
+        heap_up(work, hn);
+        hn++;
+        made++;
+    }
+    return 0;
+}
+
 int kelp_ivp_reflector_create(kelp_ivp_reflector *r, int uniform_amount, int smart_amount, double smart_thresh,
                               kelp_ivp_piece *store, size_t cap, kelp_ivp_pq_entry *work, size_t work_len,
                               kelp_ivp_func *out)
@@ -641,132 +823,16 @@ int kelp_ivp_reflector_create(kelp_ivp_reflector *r, int uniform_amount, int sma
     }
 
     /* 2. directed refinement */
-    for (unsigned k = 0; k < r->nrefine; k++) {
-        const int32_t *rlo = r->refine_lo[k], *rhi = r->refine_hi[k];
-        size_t n0 = out->n;
-        for (size_t i = 0; i < n0; i++) {
-            kelp_ivp_piece *p = &out->pcs[i];
-            if (!overlaps(dim, p, rlo, rhi))
-                continue;
-            kelp_ivp_piece rest = *p;
-            bool first = true;
-            for (unsigned d = 0; d < dim; d++) {
-                for (int side = 0; side < 2; side++) {
-                    kelp_ivp_piece frag = rest;
-                    if (side == 0 && rest.hi[d] > rhi[d]) {
-                        frag.lo[d] = rhi[d] + 1;
-                        rest.hi[d] = rhi[d];
-                    } else if (side == 1 && rest.lo[d] < rlo[d]) {
-                        frag.hi[d] = rlo[d] - 1;
-                        rest.lo[d] = rlo[d];
-                    } else {
-                        continue;
-                    }
-                    kelp_ivp_piece *dst;
-                    size_t at;
-                    if (first) {
-                        at = i;
-                    } else {
-                        if (out->n >= out->cap)
-                            return KELP_ERR_NOSPACE;
-                        at = out->n++;
-                    }
-                    dst = &out->pcs[at];
-                    *dst = frag;
-                    work[at].key = regress(r, dst);
-                    first = false;
-                }
-            }
-            if (first)
-                p->lo[0] = -1; /* wholly inside the region: dead, removed below */
-        }
-        size_t w = 0;
-        for (size_t i = 0; i < out->n; i++) {
-            if (out->pcs[i].lo[0] < 0)
-                continue;
-            out->pcs[w] = out->pcs[i];
-            work[w] = work[i];
-            w++;
-        }
-        out->n = w;
-        size_t t0 = out->n;
-        if ((rc = tile(out, rlo, rhi, r->refine_piece[k])))
+    for (unsigned k = 0; k < r->nrefine; k++)
+        if ((rc = refine_region(r, out, work, k)))
             return rc;
-        for (size_t i = t0; i < out->n; i++)
-            work[i].key = regress(r, &out->pcs[i]);
-    }
 
     /* 3. smart refinement */
-    size_t extra = sa > 0 ? (size_t)sa : 0;
-    if (r->smart_percent > 0) {
-        size_t pe = out->n * (size_t)r->smart_percent / 100u;
-        if (pe > extra)
-            extra = pe;
-    }
-    if (extra > 0) {
-        size_t hn = out->n;
-        for (size_t i = 0; i < hn; i++)
-            work[i].piece = (uint32_t)i;
-        heapify(work, hn);
-        size_t made = 0;
-        while (made < extra && hn > 0) {
-            if (work[0].key < sthresh)
-                break;
-            uint32_t pi = work[0].piece;
-            kelp_ivp_piece q;
-            if (!split(dim, &out->pcs[pi], &q)) {
-                work[0].key = -1.0; /* a single point cannot be split; sink it */
-                heap_down(work, hn, 0);
-                if (work[0].key < 0)
-                    break;
-                continue;
-            }
-            if (out->n >= out->cap)
-                return KELP_ERR_NOSPACE;
-            size_t qi = out->n++;
-            out->pcs[qi] = q;
-            work[0].key = regress(r, &out->pcs[pi]);
-            heap_down(work, hn, 0);
-            work[hn].key = regress(r, &out->pcs[qi]);
-            work[hn].piece = (uint32_t)qi;
-            heap_up(work, hn);
-            hn++;
-            made++;
-        }
-    }
+    if ((rc = smart_refine(r, out, work, sa, sthresh)))
+        return rc;
 
     /* 4. auto-peak */
-    if (r->auto_peak) {
-        size_t hn = out->n;
-        for (size_t i = 0; i < hn; i++) {
-            work[i].key = kelp_ivp_piece_max(&out->pcs[i], dim);
-            work[i].piece = (uint32_t)i;
-        }
-        heapify(work, hn);
-        size_t made = 0;
-        for (;;) {
-            uint32_t pi = work[0].piece;
-            if (is_point(dim, &out->pcs[pi]))
-                break;
-            if (r->auto_peak_max_pcs > 0 && made >= (size_t)r->auto_peak_max_pcs)
-                break;
-            kelp_ivp_piece q;
-            if (!split(dim, &out->pcs[pi], &q))
-                break;
-            if (out->n >= out->cap)
-                return KELP_ERR_NOSPACE;
-            size_t qi = out->n++;
-            out->pcs[qi] = q;
-            fit(r, &out->pcs[pi]);
-            fit(r, &out->pcs[qi]);
-            work[0].key = kelp_ivp_piece_max(&out->pcs[pi], dim);
-            heap_down(work, hn, 0);
-            work[hn].key = kelp_ivp_piece_max(&out->pcs[qi], dim);
-            work[hn].piece = (uint32_t)qi;
-            heap_up(work, hn);
-            hn++;
-            made++;
-        }
-    }
+    if (r->auto_peak && (rc = auto_peak(r, out, work)))
+        return rc;
     return (int)out->n;
 }
