@@ -378,7 +378,7 @@ static void grid_paint(gridw *gw, const sfunc *F, unsigned i, unsigned dim)
     const uint16_t mine = (uint16_t)i, done = (uint16_t)(i + 1);
     for (uint32_t j = 0; j < F->n; j++) {
         const spiece *q = &F->p[j];
-        int32_t x[D];
+        int32_t x[D] = {0}; /* dim <= D: every coordinate used is set below */
         for (unsigned e = 0; e < dim; e++)
             x[e] = q->lo[e];
         const int32_t t0 = q->lo[last], t1 = q->hi[last];

@@ -142,7 +142,7 @@ static void round_trip(double thrust, const char *what)
     const kelp_var *s = published("FW_STATUS", NULL);
     char want[64];
     char num[32];
-    (void)kelp_util_fmt_fixed(num, sizeof num, thrust, 2, true);
+    if (kelp_util_fmt_fixed(num, sizeof num, thrust, 2, true) < 0) snprintf(num, sizeof num, "%g", thrust);
     snprintf(want, sizeof want, "thrust=%s,commands=%lu", num, n_cmd);
     CHECK(s && strcmp(s->sval, want) == 0, "%s: FW_STATUS '%s' want '%s'", what, s ? s->sval : "-", want);
     printf("CAN_VM %s: THRUST_CMD %g reached the firmware; NAV_DEPTH_FW %g and FW_STATUS '%s' came back\n", what,

@@ -103,7 +103,13 @@ bg "$BIN/uTimerScript" live.moos > uts.out 2>&1
 ( while :; do sqlite3 live.db "SELECT count(*), max(time) FROM status; SELECT count(*) FROM track" > /dev/null 2>> reader.err ||
     echo "query failed" >> reader.err; sleep 0.05; done ) & READER=$!
 PIDS+=($READER)
+# kill while it writes, once enough is in (4 s here; a loaded host may take longer, up to 30 s)
 sleep 4
+for _ in $(seq 260); do
+  [ "$(rows live.db status 2>/dev/null || echo 0)" -gt 50 ] && [ "$(rows live.db contact 2>/dev/null || echo 0)" -gt 50 ] &&
+    [ "$(rows live.db track 2>/dev/null || echo 0)" -gt 20 ] && break
+  sleep 0.1
+done
 kill_time=$(date +%s.%N)
 kill -9 $M2S_PID
 wait $M2S_PID 2> /dev/null || true
