@@ -626,6 +626,7 @@ struct kelp_helm {
         char mode_value[KELP_HELM_MAX_MODES][128]; /**< this iteration's value of each mode variable */
     } ws_out;
     char ws_ipf[KELP_MAX_SVAL + 1];    /* workspace: one BHV_IPF string */
+    kelp_helm_work ws_work;            /* workspace: the storage handed to a behaviour's on_run */
     unsigned long ipf_posted, ipf_oversize; /**< BHV_IPF postings; functions too long for one value */
     struct {                        /* workspace of a behaviour's updates (keeps the stack small) */
         char val[KELP_HELM_MAX_SVAL], bad[KELP_HELM_MAX_SVAL - 128], msg[KELP_HELM_MAX_SVAL];

@@ -887,12 +887,13 @@ KELP_NOINLINE static kelp_bhv_state run_state(kelp_helm *h, unsigned i, kelp_bhv
     if (old == KELP_BHV_IDLE || old == KELP_BHV_NONE)
         helm_post_flags(b, KELP_FLAG_RUN);
     post_duration_status(b, now);
-    kelp_helm_work w = {h->mem.pool + *pool_used, h->mem.pool_cap - *pool_used, h->mem.tmp, h->mem.tmp_cap,
-                        h->mem.dwork, h->mem.dwork_cap, h->mem.pq, h->mem.pq_cap};
+    kelp_helm_work *w = &h->ws_work; /* in the helm, not on the stack */
+    *w = (kelp_helm_work){h->mem.pool + *pool_used, h->mem.pool_cap - *pool_used, h->mem.tmp, h->mem.tmp_cap,
+                          h->mem.dwork, h->mem.dwork_cap, h->mem.pq, h->mem.pq_cap};
     kelp_ivp_func *f = &h->fn[i];
     b->pwt_factor = 1.0;
     b->ipf_gel_set = false;
-    int rc = b->ops->on_run ? b->ops->on_run(b, &w, f) : 0;
+    int rc = b->ops->on_run ? b->ops->on_run(b, w, f) : 0;
     helm_post_flags(b, KELP_FLAG_RUNX);
     if (rc == 1 && f->n > 0 && !func_finite(f)) {
         kelp_helm_bhv_post_error(b, "NaN detected in IvP Function");
