@@ -15,7 +15,10 @@ mkdir -p "$B/bench"
 gcc -std=c11 -O2 -D_DEFAULT_SOURCE -D_GNU_SOURCE -Iinclude $(pkg-config --cflags lcm) -o "$B/bench/bench_ncomms_feed" \
   bench/bench_ncomms_feed.c "$B/libkelp.a" "$B/libkelp_core.a" $(pkg-config --libs lcm) -lexpat -lmbedtls -lmbedx509 \
   -lmbedcrypto -lserialport -lm -lpthread -lutil || exit 1
-export KELP_LCM_URL="udpm://239.255.76.67:7799?ttl=0"
+# the shoreside publishes ~60,000 relays and as many pulses a second: it asks for a 4 MB send
+# buffer (kelp's send_buf_size; the kernel's default 208 KB fills whenever the loopback's
+# delivery falls behind, and each full buffer puts the sender to sleep)
+export KELP_LCM_URL="udpm://239.255.76.67:7799?ttl=0&send_buf_size=${NCOMMS_SNDBUF:-4194304}"
 W=$(mktemp -d /tmp/kelp-ncbench.XXXXXX)
 trap 'rm -rf "$W"' EXIT
 cat > "$W/nc.moos" <<M
@@ -41,9 +44,12 @@ for n in ${NCOMMS_BENCH_N:-10 100 500 2000}; do
   out=$("$B/bench/bench_ncomms_feed" "$n" 10 2>"$W/feed_$n.err")
   # where relays are lost: the feeder's socket (datagrams read, queue drops), the app's report
   # (mail received, published, transport drops), the kernel (/proc/net/udp drops)
-  [ "$n" = "${NCOMMS_BENCH_N##* }" ] && { cat "$W/feed_$n.err"; grep -E "^(Mail|Transport):" "$W/app_$n.log" | tail -2; } >&2
   c1=$(cpu_of $app); t1=$(date +%s.%N)
   kill -INT $app; wait $app 2>/dev/null
+  if [ "$n" = "${NCOMMS_BENCH_N##* }" ]; then
+    cat "$W/feed_$n.err"; grep -E "^(Mail|Transport|Sent):" "$W/app_$n.log" | tail -3
+    awk '/^uFldNodeComms/ {it=$NF} /elapsed/ {for (i=1;i<=NF;i++) if ($i=="elapsed") el=$(i+1)} END {if (el>0) printf "app: %d iterations in %.1f s: %.1f Hz (AppTick 10)\n", it, el, it/el}' "$W/app_$n.log"
+  fi >&2
   read -r _ _ N _ _ _ rel _ owed _ sent <<<"$out"
   pct=$(awk -v a="$c0" -v b="$c1" -v s="$t0" -v e="$t1" -v hz="$tick" 'BEGIN{printf "%.1f", 100 * (b - a) / hz / (e - s)}')
   mark=""; [ "${rel:-0}" = "${owed:-x}" ] || mark="  (relayed != owed)"

@@ -390,6 +390,10 @@ START_TEST(url_parse)
     ck_assert_int_eq(kelp_udpm_url_parse("udpm://239.1.2.3:9000?ttl=1&queue_size=1000&transmit_only=true", &u), 0);
     ck_assert_int_eq(u.ttl, 1);
     ck_assert_int_eq(u.queue_size, 1000);
+    ck_assert_int_eq(u.send_buf_size, 0);
+    ck_assert_int_eq(kelp_udpm_url_parse("udpm://239.1.2.3:9000?ttl=0&send_buf_size=4194304", &u), 0);
+    ck_assert_int_eq(u.send_buf_size, 4194304);
+    ck_assert_int_eq(kelp_udpm_url_parse("udpm://239.1.2.3:9000?send_buf_size=-1", &u), KELP_ERR_RANGE);
     ck_assert_int_eq(kelp_udpm_url_parse("memq://", &u), KELP_ERR_UNSUPPORTED);
     ck_assert_int_eq(kelp_udpm_url_parse("udpm://10.0.0.1:7667", &u), KELP_ERR_RANGE);
     ck_assert_int_eq(kelp_udpm_url_parse("udpm://239.1.2:7667", &u), KELP_ERR_PARSE);

@@ -49,6 +49,8 @@ void kelp_lcmbus_ignore_own(kelp_lcmbus *lb, bool on);
 KELP_MUST_CHECK int kelp_lcmbus_handle(kelp_lcmbus *lb, int timeout_ms, kelp_time now);
 /** Transport counters (bad datagrams, reassembly timeouts, queue drops...). */
 void kelp_lcmbus_get_stats(kelp_lcmbus *lb, kelp_udpm_sock_stats *out);
+/** Cork the bus's socket (kelp_udpm_sock_cork): postings wait for one batched send at uncork. */
+void kelp_lcmbus_cork(kelp_lcmbus *lb, bool on);
 /** Publish raw bytes on a channel (bridges, tools). */
 KELP_MUST_CHECK int kelp_lcmbus_publish_raw(kelp_lcmbus *lb, const char *channel, const void *data, size_t len);
 

@@ -139,20 +139,22 @@ KELP_MUST_CHECK int kelp_udpm_datagram(const char *channel, const uint8_t *data,
 
 /* ------------------------------------------------------------------ URLs */
 
-/** A parsed udpm URL: udpm://A.B.C.D:PORT?ttl=N&recv_buf_size=BYTES&queue_size=BYTES
- *  (the LCM form; queue_size is kelp's: bytes of the receive queue). */
+/** A parsed udpm URL: udpm://A.B.C.D:PORT?ttl=N&recv_buf_size=BYTES&queue_size=BYTES&send_buf_size=BYTES
+ *  (the LCM form; queue_size and send_buf_size are kelp's: bytes of the receive queue, and
+ *  the SO_SNDBUF a publisher of many thousand messages a second asks for). */
 typedef struct kelp_udpm_url {
     uint32_t group;          /**< IPv4 multicast group, host order */
     uint16_t port;
     int ttl;                 /**< 0..255; LCM's default is 0 */
     long recv_buf_size;      /**< SO_RCVBUF request, 0 = not given */
     long queue_size;         /**< receive queue bytes, 0 = not given */
+    long send_buf_size;      /**< SO_SNDBUF request, 0 = not given (the kernel's default) */
 } kelp_udpm_url;
 
 #define KELP_UDPM_DEFAULT_PORT 7667u
 
 /** Parse a udpm URL. The group must be a multicast address (224.0.0.0/4); a missing port
- *  is LCM's 7667; the options are ttl, recv_buf_size, queue_size and LCM's obsolete
+ *  is LCM's 7667; the options are ttl, recv_buf_size, queue_size, send_buf_size and LCM's obsolete
  *  transmit_only (ignored). @return 0, KELP_ERR_UNSUPPORTED (not udpm://), KELP_ERR_PARSE
  *  (address, port, option, unknown key), KELP_ERR_RANGE (a value out of range). */
 KELP_MUST_CHECK int kelp_udpm_url_parse(const char *url, kelp_udpm_url *out);

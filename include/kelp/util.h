@@ -105,6 +105,11 @@ void kelp_util_be_put64(uint8_t *p, uint64_t v);
 uint32_t kelp_util_be_get32(const uint8_t *p);
 uint64_t kelp_util_be_get64(const uint8_t *p);
 
+/* ---- hashing ---- */
+
+/** FNV-1a over n bytes (table lookups by name; not for anything adversarial). */
+uint32_t kelp_util_hash(const char *s, size_t n);
+
 /* ---- hexadecimal ---- */
 
 /** The value of a hex digit (either case), or -1. */

@@ -15,6 +15,7 @@
 #include <kelp/edge/app.h>
 #include <kelp/appcast.h>
 #include <kelp/kv.h>
+#include <kelp/util.h>
 #include <kelp/lcmbus.h>
 #include <kelp/edge/mission.h>
 
@@ -65,6 +66,7 @@ struct kelp_app {
     bool verbose;
     /* what <NAME>_STATUS reports in MOOS's keys */
     char pubs[MAX_PUBS][KELP_MAX_NAME];
+    uint32_t pubhash[MAX_PUBS];      /* kelp_util_hash of each (a shoreside publishes thousands of names) */
     int npubs;
     double cpu_wall, cpu_proc, cpuload;
     double last_status;              /* MOOS time of the last <NAME>_STATUS (-1: none yet) */
@@ -173,9 +175,14 @@ static void on_var(const kelp_var *v, void *user)
 /* the names this app has published (for Publishing= in <NAME>_STATUS) */
 static void note_pub(kelp_app *app, const char *name)
 {
+    size_t n = strlen(name);
+    uint32_t h = kelp_util_hash(name, n);
     for (int i = 0; i < app->npubs; i++)
-        if (strcmp(app->pubs[i], name) == 0) return;
-    if (app->npubs < MAX_PUBS && strlen(name) < KELP_MAX_NAME) snprintf(app->pubs[app->npubs++], KELP_MAX_NAME, "%s", name);
+        if (app->pubhash[i] == h && strcmp(app->pubs[i], name) == 0) return;
+    if (app->npubs < MAX_PUBS && n < KELP_MAX_NAME) {
+        app->pubhash[app->npubs] = h;
+        memcpy(app->pubs[app->npubs++], name, n + 1);
+    }
 }
 
 /* ------------------------------------------------------------------ API */
@@ -481,6 +488,8 @@ static void report(kelp_app *app, FILE *out)
             (unsigned long long)ts.rx.timeouts, (unsigned long long)ts.queue_dropped,
             (unsigned long long)st->foreign_community, (unsigned long long)st->time_rejected,
             (unsigned long long)st->type_refused, (unsigned long long)st->sync_limited + (unsigned long long)st->sync_bad_reply);
+    fprintf(out, "Sent: %llu messages (%llu batches), %llu send errors, send buffer %d B\n", (unsigned long long)ts.sent,
+            (unsigned long long)ts.send_batches, (unsigned long long)ts.send_errors, ts.send_buf);
     if (app->def->report) {
         fprintf(out, "------------------------------------------------------------------\n");
         app->def->report(app, app->state, out);
@@ -1058,7 +1067,9 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
         }
         next_iter += period;
         if (next_iter < w) next_iter = w + period; /* overran: do not try to catch up */
-        /* OnNewMail (only when mail arrived), then Iterate */
+        /* OnNewMail (only when mail arrived), then Iterate; what they post goes to the bus
+         * in batches at the end (a MOOS app's postings also wait for its comms thread) */
+        kelp_lcmbus_cork(app->lb, true);
         for (size_t i = 0; i < app->nmail; i++) {
             if (strcmp(app->mail[i].name, "APPCAST_REQ") == 0) appcast_request(app, &app->mail[i]);
             else if (appcasting_mail(app, &app->mail[i])) continue;
@@ -1093,6 +1104,7 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
             publish_status(app);
             app->last_status = now;
         }
+        kelp_lcmbus_cork(app->lb, false);
     }
     if (def->shutdown) def->shutdown(app, state);
     app->tty = false;

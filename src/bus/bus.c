@@ -10,6 +10,7 @@
 #include <math.h>
 #include <string.h>
 #include <kelp/bus.h>
+#include <kelp/util.h>
 #include "bus_int.h"
 
 static bool has_wildcard(const char *s)
@@ -55,9 +56,7 @@ int kelp_bus_init(kelp_bus *b, const char *app, const char *community, const cha
 #if KELP_BUS_CACHE_HASH > 0
 static size_t name_hash(const char *s)
 {
-    uint32_t h = 2166136261u; /* FNV-1a */
-    while (*s) h = (h ^ (uint8_t)*s++) * 16777619u;
-    return (size_t)h & (KELP_BUS_CACHE_HASH - 1);
+    return (size_t)kelp_util_hash(s, strlen(s)) & (KELP_BUS_CACHE_HASH - 1);
 }
 
 /* the index covers the cache when it holds at most half as many variables as it has slots

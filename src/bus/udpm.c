@@ -346,6 +346,9 @@ int kelp_udpm_url_parse(const char *url, kelp_udpm_url *out)
         } else if (kelp_util_strieq_n(k, kl, "queue_size")) {
             if (n < 0 || n > (1L << 30)) return KELP_ERR_RANGE;
             out->queue_size = n;
+        } else if (kelp_util_strieq_n(k, kl, "send_buf_size")) {
+            if (n < 0 || n > (1L << 30)) return KELP_ERR_RANGE;
+            out->send_buf_size = n;
         } else {
             return KELP_ERR_PARSE;
         }

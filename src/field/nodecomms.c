@@ -209,17 +209,10 @@ int kelp_field_ncomms_config(kelp_field_ncomms_cfg *cfg, const char *key, const 
 
 /* ------------------------------------------------------------------ the vehicle table */
 
-static uint32_t name_hash(const char *s, size_t n)
-{
-    uint32_t h = 2166136261u;
-    for (size_t i = 0; i < n; i++) h = (h ^ (uint8_t)s[i]) * 16777619u;
-    return h;
-}
-
 /* a vehicle by its exact name (24.8's maps are keyed by the name as written) */
 static int find_n(const kelp_field_ncomms *c, const char *s, size_t n)
 {
-    uint32_t h = name_hash(s, n);
+    uint32_t h = kelp_util_hash(s, n);
     for (uint32_t i = 0; i < KELP_NCOMMS_NAME_SLOTS; i++) {
         int16_t slot = c->name_slot[(h + i) & (KELP_NCOMMS_NAME_SLOTS - 1)];
         if (slot == 0) return -1;
@@ -247,7 +240,7 @@ static int node_get(kelp_field_ncomms *c, const char *s, size_t n)
     kelp_ncomms_hot *h = &c->hot[c->nnodes];
     h->bucket = -1;
     h->next = h->prev = -1;
-    uint32_t hh = name_hash(s, n);
+    uint32_t hh = kelp_util_hash(s, n);
     for (uint32_t k = 0;; k++) {
         int16_t *slot = &c->name_slot[(hh + k) & (KELP_NCOMMS_NAME_SLOTS - 1)];
         if (*slot == 0) {
@@ -1065,8 +1058,13 @@ unsigned long kelp_field_ncomms_iterate(kelp_field_ncomms *c, kelp_time now, con
     if (!clock_guard(c, now)) return 0;
     c->now = now;
     if (!c->started) c->start = now, c->started = true;
-    /* the senders in name order (24.8's map of new records) */
-    for (unsigned i = 1; i < c->nupd; i++) {
+    /* the senders in name order (24.8's map of new records): from the fleet's name order when
+     * many reported (a shoreside of thousands: linear), else sorted in place */
+    if ((unsigned long)c->nupd * c->nupd > c->nnodes) {
+        unsigned k = 0;
+        for (unsigned i = 0; i < c->nnodes && k < c->nupd; i++)
+            if (c->node[c->sorted[i]].updated) c->upd[k++] = c->sorted[i];
+    } else for (unsigned i = 1; i < c->nupd; i++) {
         uint16_t t = c->upd[i];
         unsigned j = i;
         for (; j > 0 && strcmp(c->node[c->upd[j - 1]].name, c->node[t].name) > 0; j--) c->upd[j] = c->upd[j - 1];

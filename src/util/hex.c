@@ -1,5 +1,12 @@
-/* Hexadecimal digits, byte strings and big-endian integers. */
+/* Hexadecimal digits, byte strings, big-endian integers and the name hash. */
 #include <kelp/util.h>
+
+uint32_t kelp_util_hash(const char *s, size_t n)
+{
+    uint32_t h = 2166136261u;
+    for (size_t i = 0; i < n; i++) h = (h ^ (uint8_t)s[i]) * 16777619u;
+    return h;
+}
 
 int kelp_util_hex_digit(char c)
 {

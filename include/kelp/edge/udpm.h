@@ -42,6 +42,8 @@ typedef struct kelp_udpm_sock_stats {
     uint64_t sent;            /**< messages published */
     uint64_t send_errors;     /**< messages whose sendmsg failed */
     int recv_buf;             /**< SO_RCVBUF the kernel granted (bytes) */
+    uint64_t send_batches;    /**< sendmmsg batches of a corked socket */
+    int send_buf;             /**< SO_SNDBUF the kernel granted (bytes) */
 } kelp_udpm_sock_stats;
 
 /** Open and join. @return NULL on failure, with the reason in d. */
@@ -63,6 +65,14 @@ KELP_MUST_CHECK int kelp_udpm_sock_next(kelp_udpm_sock *s, kelp_udpm_msg *out);
  *  size), KELP_ERR_IO. */
 KELP_MUST_CHECK int kelp_udpm_sock_publish(kelp_udpm_sock *s, const char *channel, const void *data, size_t len);
 void kelp_udpm_sock_get_stats(kelp_udpm_sock *s, kelp_udpm_sock_stats *out);
+/** Cork (on) or uncork (off, which sends what waits). While corked, short messages are
+ *  copied into a batch that goes to the kernel in one sendmmsg when it fills, at
+ *  kelp_udpm_sock_flush, at uncork or at close; fragmented messages flush it and go at once,
+ *  so the order of publication is kept. An app corks around its iteration: thousands of
+ *  postings then cost tens of system calls, not thousands. */
+void kelp_udpm_sock_cork(kelp_udpm_sock *s, bool on);
+/** Send what a corked socket holds (it stays corked). */
+void kelp_udpm_sock_flush(kelp_udpm_sock *s);
 
 #ifdef __cplusplus
 }

@@ -184,6 +184,11 @@ void kelp_lcmbus_get_stats(kelp_lcmbus *lb, kelp_udpm_sock_stats *out)
     kelp_udpm_sock_get_stats(lb->sock, out);
 }
 
+void kelp_lcmbus_cork(kelp_lcmbus *lb, bool on)
+{
+    if (lb) kelp_udpm_sock_cork(lb->sock, on);
+}
+
 int kelp_lcmbus_publish_raw(kelp_lcmbus *lb, const char *channel, const void *data, size_t len)
 {
     return tr_publish(lb, channel, data, len);

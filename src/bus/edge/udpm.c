@@ -25,6 +25,8 @@
 #define REC_ALIGN 8u
 #define RECV_BATCH 64         /* datagrams drained before the queue lock is taken for stats */
 #define IDLE_POLL_MS 250      /* wake at least this often to time out reassembly slots */
+#define SEND_BATCH 64         /* datagrams a corked socket hands the kernel in one sendmmsg */
+#define SEND_BATCH_BYTES (256u * 1024u)
 
 struct kelp_udpm_sock {
     int rfd, sfd, evfd, stopfd;
@@ -45,6 +47,15 @@ struct kelp_udpm_sock {
     pthread_mutex_t slock;
     uint32_t seqno;
     uint64_t sent, send_errors;
+    /* corked (kelp_udpm_sock_cork): short messages wait here, whole datagrams, for one
+     * sendmmsg at the flush; allocated at the first cork */
+    bool corked;
+    uint8_t *batch;
+    size_t batch_used;
+    unsigned nbatch;
+    struct mmsghdr bmsg[SEND_BATCH];
+    struct iovec biov[SEND_BATCH];
+    uint64_t batches;
     /* ignore our own datagrams (kelp_udpm_sock_ignore_own): set by the owner, read by the
      * receive thread, which attaches the kernel filter on the first own datagram it sees */
     volatile int ignore_own;
@@ -220,6 +231,50 @@ int kelp_udpm_sock_next(kelp_udpm_sock *s, kelp_udpm_msg *out)
     return 1;
 }
 
+/* hand the batch to the kernel; called with slock held. A datagram the kernel refuses is
+ * counted as a send error and the rest still go. */
+static void flush_locked(kelp_udpm_sock *s)
+{
+    unsigned done = 0;
+    for (unsigned i = 0; i < s->nbatch; i++) {
+        memset(&s->bmsg[i], 0, sizeof s->bmsg[i]);
+        s->bmsg[i].msg_hdr.msg_iov = &s->biov[i];
+        s->bmsg[i].msg_hdr.msg_iovlen = 1;
+    }
+    while (done < s->nbatch) {
+        int n = sendmmsg(s->sfd, &s->bmsg[done], s->nbatch - done, 0);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            s->send_errors++; /* this one; the kernel stops at the first that fails */
+            done++;
+            continue;
+        }
+        s->sent += (uint64_t)n;
+        done += (unsigned)n;
+    }
+    if (s->nbatch) s->batches++;
+    s->nbatch = 0;
+    s->batch_used = 0;
+}
+
+void kelp_udpm_sock_cork(kelp_udpm_sock *s, bool on)
+{
+    if (!s) return;
+    pthread_mutex_lock(&s->slock);
+    if (on && !s->batch) s->batch = malloc(SEND_BATCH_BYTES); /* none: publish sends at once */
+    if (!on && s->nbatch) flush_locked(s);
+    s->corked = on;
+    pthread_mutex_unlock(&s->slock);
+}
+
+void kelp_udpm_sock_flush(kelp_udpm_sock *s)
+{
+    if (!s) return;
+    pthread_mutex_lock(&s->slock);
+    if (s->nbatch) flush_locked(s);
+    pthread_mutex_unlock(&s->slock);
+}
+
 int kelp_udpm_sock_publish(kelp_udpm_sock *s, const char *channel, const void *data, size_t len)
 {
     if (!s || !channel || (!data && len)) return KELP_ERR_ARG;
@@ -234,6 +289,20 @@ int kelp_udpm_sock_publish(kelp_udpm_sock *s, const char *channel, const void *d
     mh.msg_iov = iov;
     pthread_mutex_lock(&s->slock);
     uint32_t seq = s->seqno++;
+    size_t dlen = KELP_UDPM_SHORT_HDR + cl + 1 + len;
+    if (nfrags == 0 && s->corked && s->batch && dlen <= SEND_BATCH_BYTES) {
+        if (s->nbatch == SEND_BATCH || s->batch_used + dlen > SEND_BATCH_BYTES) flush_locked(s);
+        uint8_t *p = s->batch + s->batch_used;
+        kelp_udpm_put_short_header(p, seq);
+        memcpy(p + KELP_UDPM_SHORT_HDR, channel, cl + 1);
+        if (len) memcpy(p + KELP_UDPM_SHORT_HDR + cl + 1, data, len);
+        s->biov[s->nbatch] = (struct iovec){ p, dlen };
+        s->nbatch++;
+        s->batch_used += dlen;
+        pthread_mutex_unlock(&s->slock);
+        return KELP_OK;
+    }
+    if (s->nbatch) flush_locked(s); /* a fragmented message keeps its place in the order */
     if (nfrags == 0) {
         kelp_udpm_put_short_header(hdr, seq);
         struct iovec one[3] = { { hdr, KELP_UDPM_SHORT_HDR }, { (void *)channel, cl + 1 }, { (void *)data, len } };
@@ -276,6 +345,13 @@ void kelp_udpm_sock_get_stats(kelp_udpm_sock *s, kelp_udpm_sock_stats *out)
     pthread_mutex_unlock(&s->qlock);
     pthread_mutex_lock(&s->slock);
     out->sent = s->sent;
+    out->send_batches = s->batches;
+    {
+        int sb = 0;
+        socklen_t sl = sizeof sb;
+        (void)getsockopt(s->sfd, SOL_SOCKET, SO_SNDBUF, &sb, &sl);
+        out->send_buf = sb;
+    }
     out->send_errors = s->send_errors;
     pthread_mutex_unlock(&s->slock);
 }
@@ -295,6 +371,12 @@ static int open_tx(kelp_udpm_sock *s, const kelp_udpm_url *u, kelp_diag *d)
     if (setsockopt(s->sfd, IPPROTO_IP, IP_MULTICAST_TTL, &ttl, sizeof ttl) < 0 ||
         setsockopt(s->sfd, IPPROTO_IP, IP_MULTICAST_LOOP, &loop, sizeof loop) < 0)
         return fail(s, d, "multicast ttl/loop", errno) ? 0 : -1;
+    if (u->send_buf_size > 0) {
+        /* beyond net.core.wmem_max only with CAP_NET_ADMIN; otherwise what the kernel allows */
+        int sb = (int)u->send_buf_size;
+        if (setsockopt(s->sfd, SOL_SOCKET, SO_SNDBUFFORCE, &sb, sizeof sb) < 0)
+            (void)setsockopt(s->sfd, SOL_SOCKET, SO_SNDBUF, &sb, sizeof sb);
+    }
     if (connect(s->sfd, (struct sockaddr *)&s->dest, sizeof s->dest) < 0)
         return fail(s, d, "no route to the multicast group (see README)", errno) ? 0 : -1;
     /* sequence numbers start somewhere different per socket, as a restarted sender's
@@ -369,7 +451,10 @@ void kelp_udpm_sock_close(kelp_udpm_sock *s)
         pthread_join(s->th, NULL);
     }
     if (s->rfd >= 0) close(s->rfd);
-    if (s->sfd >= 0) close(s->sfd);
+    if (s->sfd >= 0) {
+        kelp_udpm_sock_flush(s); /* what a corked owner left */
+        close(s->sfd);
+    }
     if (s->evfd >= 0) close(s->evfd);
     if (s->stopfd >= 0) close(s->stopfd);
     pthread_mutex_destroy(&s->qlock);
@@ -377,6 +462,7 @@ void kelp_udpm_sock_close(kelp_udpm_sock *s)
     free(s->q);
     free(s->slotmem);
     free(s->dg);
+    free(s->batch);
     free(s);
 }
 
