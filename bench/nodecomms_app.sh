@@ -36,22 +36,30 @@ ProcessConfig = uFldNodeComms
 M
 tick=$(getconf CLK_TCK)
 cpu_of() { awk '{print $14 + $15}' "/proc/$1/stat"; }
-printf "%6s %10s %10s %10s %10s\n" N "cpu %core" relayed owed sent
+sys_of() { awk '{print $15}' "/proc/$1/stat"; }
+ksirq() { ps -eo comm=,time= | awk '/^ksoftirqd/ {split($2,a,":"); s += a[1]*3600 + a[2]*60 + a[3]} END {print s + 0}'; }
+printf "%6s %10s %8s %10s %10s %10s %10s\n" N "cpu %core" "sys %" relayed owed sent "us/post"
 for n in ${NCOMMS_BENCH_N:-10 100 500 2000}; do
   "$B/bin/uFldNodeComms" "$W/nc.moos" > "$W/app_$n.log" 2>&1 & app=$!
   sleep 1
-  c0=$(cpu_of $app); t0=$(date +%s.%N)
+  c0=$(cpu_of $app); s0=$(sys_of $app); k0=$(ksirq); t0=$(date +%s.%N)
   out=$("$B/bench/bench_ncomms_feed" "$n" 10 2>"$W/feed_$n.err")
   # where relays are lost: the feeder's socket (datagrams read, queue drops), the app's report
   # (mail received, published, transport drops), the kernel (/proc/net/udp drops)
-  c1=$(cpu_of $app); t1=$(date +%s.%N)
+  c1=$(cpu_of $app); s1=$(sys_of $app); k1=$(ksirq); t1=$(date +%s.%N)
   kill -INT $app; wait $app 2>/dev/null
+  posts=$(sed -n 's/^Sent: \([0-9]*\) messages.*/\1/p' "$W/app_$n.log" | tail -1)
   if [ "$n" = "${NCOMMS_BENCH_N##* }" ]; then
     cat "$W/feed_$n.err"; grep -E "^(Mail|Transport|Sent):" "$W/app_$n.log" | tail -3
+    echo "kernel's ksoftirqd threads (network delivery deferred from the senders): $(awk -v a="$k0" -v b="$k1" 'BEGIN{print b - a}') s of CPU in the window"
     awk '/^uFldNodeComms/ {it=$NF} /elapsed/ {for (i=1;i<=NF;i++) if ($i=="elapsed") el=$(i+1)} END {if (el>0) printf "app: %d iterations in %.1f s: %.1f Hz (AppTick 10)\n", it, el, it/el}' "$W/app_$n.log"
   fi >&2
   read -r _ _ N _ _ _ rel _ owed _ sent <<<"$out"
   pct=$(awk -v a="$c0" -v b="$c1" -v s="$t0" -v e="$t1" -v hz="$tick" 'BEGIN{printf "%.1f", 100 * (b - a) / hz / (e - s)}')
+  spct=$(awk -v a="$s0" -v b="$s1" -v c0="$c0" -v c1="$c1" 'BEGIN{printf "%.0f", (c1 > c0 ? 100 * (b - a) / (c1 - c0) : 0)}')
+  # CPU per posting (relays, pulses, status) over the app's whole run (its CPU is nearly all
+  # in the feeding window)
+  upp=$(awk -v b="$c1" -v hz="$tick" -v p="${posts:-0}" 'BEGIN{printf "%.1f", (p > 0 ? 1e6 * b / hz / p : 0)}')
   mark=""; [ "${rel:-0}" = "${owed:-x}" ] || mark="  (relayed != owed)"
-  printf "%6s %10s %10s %10s %10s%s\n" "$N" "$pct" "$rel" "$owed" "$sent" "$mark"
+  printf "%6s %10s %8s %10s %10s %10s %10s%s\n" "$N" "$pct" "$spct" "$rel" "$owed" "$sent" "$upp" "$mark"
 done
