@@ -6,6 +6,7 @@
 #include <string.h>
 #include <kelp/util.h>
 #include <kelp/kv.h>
+#include <kelp/rng.h>
 
 static const char *fx(double v, unsigned dec, bool strip)
 {
@@ -16,15 +17,52 @@ static const char *fx(double v, unsigned dec, bool strip)
 
 START_TEST(fmt_fixed_rounding_and_sign)
 {
-    ck_assert_str_eq(fx(2.5, 0, false), "3");        /* half away from zero */
-    ck_assert_str_eq(fx(-2.5, 0, false), "-3");
+    /* as printf rounds (MOOS-IvP's and Goby's number strings): on the exact binary value, an
+     * exact half to the even digit */
+    ck_assert_str_eq(fx(2.5, 0, false), "2");
+    ck_assert_str_eq(fx(3.5, 0, false), "4");
+    ck_assert_str_eq(fx(-2.5, 0, false), "-2");
+    ck_assert_str_eq(fx(1309.5, 0, false), "1310");
     ck_assert_str_eq(fx(1.005, 2, false), "1.00");   /* 1.005 is 1.00499999999999989... */
-    ck_assert_str_eq(fx(0.125, 2, false), "0.13");
+    ck_assert_str_eq(fx(0.125, 2, false), "0.12");   /* exact half: even */
+    ck_assert_str_eq(fx(0.375, 2, false), "0.38");
+    ck_assert_str_eq(fx(0.35, 1, false), "0.3");     /* 0.34999999999999997... */
+    ck_assert_str_eq(fx(12.25, 1, false), "12.2");
+    ck_assert_str_eq(fx(2.675, 2, false), "2.67");
+    ck_assert_str_eq(fx(0.45, 1, false), "0.5");     /* 0.45000000000000001... */
     ck_assert_str_eq(fx(-0.0004, 3, false), "0.000"); /* never "-0" */
     ck_assert_str_eq(fx(-0.0, 0, false), "0");
     ck_assert_str_eq(fx(123.456, 1, false), "123.5");
     ck_assert_str_eq(fx(7, 3, false), "7.000");
     ck_assert_str_eq(fx(1e12 + 0.25, 2, false), "1000000000000.25");
+}
+END_TEST
+
+/* against the C library's %.*f on values that sit on or near a half (decimal steps of a
+ * half unit, binary fractions, random): the same text, every decimal count */
+START_TEST(fmt_fixed_as_printf)
+{
+    kelp_rng r;
+    kelp_rng_seed(&r, 29);
+    unsigned long n = 0;
+    for (int i = 0; i < 20000; i++) {
+        double v;
+        switch (i % 4) {
+        case 0: v = (double)((long)(kelp_rng_next(&r) % 200001) - 100000) / 1000.0; break;
+        case 1: v = (double)((long)(kelp_rng_next(&r) % 2000001) - 1000000) / 200.0; break;
+        case 2: v = ldexp((double)(kelp_rng_next(&r) % 1000000007), -(int)(kelp_rng_next(&r) % 40)); break;
+        default: v = ((double)(kelp_rng_next(&r) % 2000001) - 1000000.0) * 1e-3 * (double)(kelp_rng_next(&r) % 1000); break;
+        }
+        for (unsigned d = 0; d <= 9; d++) {
+            char want[64];
+            snprintf(want, sizeof want, "%.*f", (int)d, v);
+            const char *w = want;
+            if (want[0] == '-' && strspn(want + 1, "0.") == strlen(want + 1)) w = want + 1; /* kelp: never -0 */
+            ck_assert_msg(strcmp(fx(v, d, false), w) == 0, "%.17g at %u: kelp %s, printf %s", v, d, fx(v, d, false), w);
+            n++;
+        }
+    }
+    ck_assert_uint_eq(n, 200000);
 }
 END_TEST
 
@@ -185,6 +223,7 @@ Suite *kelp_util_num_suite(void)
     TCase *tc = tcase_create("core");
     tcase_add_test(tc, fmt_fixed_rounding_and_sign);
     tcase_add_test(tc, fmt_fixed_strip_special_and_space);
+    tcase_add_test(tc, fmt_fixed_as_printf);
     tcase_add_test(tc, parse_finite_and_strieq);
     tcase_add_test(tc, parse_format_parse_is_stable);
     tcase_add_test(tc, big_endian_bytes);

@@ -34,7 +34,9 @@ KELP_MUST_CHECK int kelp_util_parse_bool(const char *s, size_t len, bool *out);
 /** The same for long long (64-bit on every target, so uint32 values fit on 32-bit ARM). */
 KELP_MUST_CHECK int kelp_util_parse_llong(const char *s, size_t len, long long *out);
 
-/** v with dec decimals (0..9), rounded half away from zero, never "-0"; strip drops trailing
+/** v with dec decimals (0..9), rounded as printf's %.*f rounds (on the double's exact value,
+ *  so 0.35 gives 0.3 and 2.675 gives 2.67; an exact half goes to the even digit: 2.5 gives 2,
+ *  0.125 gives 0.12), as MOOS-IvP's and Goby's sprintf/ostream formatting does; never "-0"; strip drops trailing
  *  zeros of the fraction (and a bare '.'). Non-finite values print as nan, inf, -inf. Writes
  *  at most cap-1 characters and a NUL; returns the length the whole text needs (as snprintf),
  *  or KELP_ERR_RANGE when |v| x 10^dec reaches 9e18 (nothing written). */

@@ -9,7 +9,6 @@
 #include <kelp/util.h>
 #include "field_int.h"
 
-#define DEG2RAD 0.017453292519943295
 #define RULE "============================================"
 /* 24.8's classify queue orders equal priorities first come, first served by taking
  * n / 1e6 off the n-th entry's priority */
@@ -186,7 +185,13 @@ static int add_object(kelp_hazardsensor_cfg *cfg, const char *s, bool bare, kelp
     if (cfg->nobjects >= KELP_UHZ_MAX_OBJECTS) {
         return kelp_fail(d, KELP_ERR_NOSPACE, "hazard: too many objects (KELP_UHZ_MAX_OBJECTS)");
     }
-    cfg->object[cfg->nobjects++] = o;
+    /* kept in label order, as 24.8's map of hazards: sensing visits them (and rolls its dice)
+     * and the markers are drawn in that order */
+    unsigned at = cfg->nobjects;
+    while (at > 0 && strcmp(cfg->object[at - 1].label, o.label) > 0) at--;
+    memmove(&cfg->object[at + 1], &cfg->object[at], (cfg->nobjects - at) * sizeof cfg->object[0]);
+    cfg->object[at] = o;
+    cfg->nobjects++;
     if (strcmp(o.type, "hazard") == 0) cfg->nhazard++;
     else cfg->nbenign++;
     return 1;
@@ -353,16 +358,30 @@ int kelp_hazardsensor_find(const kelp_hazardsensor *h, const char *name)
 
 /* The swath's corners as 24.8 builds them: from the vehicle, at hdg + 90 -/+ phi and the
  * opposites, hypot = width / cos(phi) away, phi = atan(length / width). */
+/* the point dist away from (cx, cy) at compass angle deg, in 24.8's order of operations (so
+ * it prints to the same digit at a tie): the angle brought into [0, 360) by whole turns, a
+ * point exactly on an axis without sin/cos, else radians as (deg / 180) x pi */
+static void project(double deg, double dist, double cx, double cy, double *x, double *y)
+{
+    if (!(fabs(deg) < 1e6)) deg = isfinite(deg) ? fmod(deg, 360.0) : 0; /* a wild angle: no long loop */
+    while (deg >= 360.0) deg -= 360.0;
+    while (deg < 0.0) deg += 360.0;
+    if (deg == 0 || deg == 90 || deg == 180 || deg == 270) {
+        *x = cx + (deg == 90 ? dist : deg == 270 ? -dist : 0);
+        *y = cy + (deg == 0 ? dist : deg == 180 ? -dist : 0);
+        return;
+    }
+    double r = (deg / 180.0) * M_PI;
+    *x = cx + sin(r) * dist;
+    *y = cy + cos(r) * dist;
+}
+
 static void swath_corners(double vx, double vy, double hdg, double width, double length, double c[4][2])
 {
     double phi = atan(length / width), hyp = width / cos(phi);
-    phi /= DEG2RAD;
+    phi = (phi / M_PI) * 180; /* 24.8's degrees */
     const double a[4] = { hdg + (90 - phi), hdg + (90 + phi), hdg + (90 - phi) + 180, hdg + (90 + phi) + 180 };
-    for (int i = 0; i < 4; i++) {
-        double r = fmod(a[i], 360.0) * DEG2RAD;
-        c[i][0] = vx + sin(r) * hyp;
-        c[i][1] = vy + cos(r) * hyp;
-    }
+    for (int i = 0; i < 4; i++) project(a[i], hyp, vx, vy, &c[i][0], &c[i][1]);
 }
 
 bool kelp_hazardsensor_in_swath(double vx, double vy, double hdg, double width, double length, double ox, double oy)
@@ -971,6 +990,29 @@ KELP_NOINLINE static int node_report(kelp_hazardsensor *h, const char *s, kelp_t
     return 1;
 }
 
+/* An object's aspect as 24.8 draws it: a gray line through it along the aspect, 15 m each way,
+ * or 5 + 25 x (mean of aspect_min and aspect_max) / 90 when both are given. */
+static void post_aspect_line(const kelp_uhz_object *o, const kelp_field_sink *out)
+{
+    double len = 15;
+    if (o->has_aspect_min && o->has_aspect_max) len = 5 + ((o->aspect_min + o->aspect_max) / 2.0 / 90) * 25;
+    double x1, y1, x2, y2;
+    project(o->aspect, len, o->x, o->y, &x1, &y1);
+    project(o->aspect + 180, len, o->x, o->y, &x2, &y2);
+    char b[160];
+    size_t k = 0;
+    field_putf(b, sizeof b, &k, "pts={");
+    put_num(b, sizeof b, &k, x1, 1, true);
+    field_putf(b, sizeof b, &k, ",");
+    put_num(b, sizeof b, &k, y1, 1, true);
+    field_putf(b, sizeof b, &k, ":");
+    put_num(b, sizeof b, &k, x2, 1, true);
+    field_putf(b, sizeof b, &k, ",");
+    put_num(b, sizeof b, &k, y2, 1, true);
+    field_putf(b, sizeof b, &k, "},edge_color=gray70,vertex_size=0,edge_size=1");
+    post(out, "VIEW_SEGLIST", b);
+}
+
 static void post_markers(kelp_hazardsensor *h, const kelp_field_sink *out)
 {
     const kelp_hazardsensor_cfg *c = &h->cfg;
@@ -995,6 +1037,7 @@ static void post_markers(kelp_hazardsensor *h, const kelp_field_sink *out)
             put_num(b, sizeof b, &k, t < 0 ? 0 : t > 1 ? 1 : t, 2, true);
         }
         post(out, "VIEW_MARKER", b);
+        if (o->has_aspect && o->aspect > 0) post_aspect_line(o, out);
     }
 }
 

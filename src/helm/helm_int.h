@@ -34,7 +34,7 @@ bool hx_pair_value(const char *v, size_t n, kelp_helm_pair *out);
 bool hx_varname(const char *s, size_t n);
 /** Numbers as text without stdio (newlib's snprintf would pull in malloc on firmware):
  *  hx_fmt_double: up to 6 decimals, trailing zeros dropped ("-0" -> "0"; >= 1e12 as m.mmmmmme+N);
- *  hx_fmt_fixed: exactly dec decimals (rounded half away from zero). */
+ *  hx_fmt_fixed: exactly dec decimals (rounded as printf rounds: kelp_util_fmt_fixed). */
 void hx_fmt_double(char *buf, size_t cap, double v);
 void hx_fmt_fixed(char *buf, size_t cap, double v, unsigned dec);
 /** At most dec decimals, trailing zeros and a bare '.' dropped ("2.50" -> "2.5", "3.0" -> "3"). */

@@ -4,6 +4,21 @@
 #include <stdint.h>
 #include <kelp/util.h>
 
+/* frac x p rounded to an integer as printf rounds: on the exact value of the double (0.35 is
+ * 0.34999.. and gives 0.3 at one decimal), an exact half to the even neighbour. fma gives
+ * frac x p - c with one rounding, so its sign is exact. 0 <= frac < 1, p <= 1e9; whole_odd:
+ * the whole part is odd (the digit that decides a half when there are no decimals). */
+static uint64_t round_exact(double frac, double p, bool whole_odd)
+{
+    double c = floor(frac * p);
+    if (fma(frac, p, -c) < 0) c -= 1;         /* the product rounded up past an integer */
+    else if (fma(frac, p, -(c + 1)) >= 0) c += 1;
+    double h = fma(frac, p, -(c + 0.5));
+    bool odd = p == 1 ? whole_odd : fmod(c, 2.0) != 0; /* no decimals: the units digit decides */
+    if (h > 0 || (h == 0 && odd)) c += 1;
+    return (uint64_t)c;
+}
+
 int kelp_util_fmt_fixed(char *buf, size_t cap, double v, unsigned dec, bool strip)
 {
     static const double pow10[] = {1, 10, 100, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
@@ -20,7 +35,7 @@ int kelp_util_fmt_fixed(char *buf, size_t cap, double v, unsigned dec, bool stri
         if (w >= 9.0e18) return KELP_ERR_RANGE;
         uint64_t ipart = (uint64_t)w;
         uint64_t scale = (uint64_t)pow10[dec];
-        uint64_t f = (uint64_t)floor((fabs(v) - w) * pow10[dec] + 0.5);
+        uint64_t f = round_exact(fabs(v) - w, pow10[dec], (ipart & 1) != 0);
         if (f >= scale) { f -= scale; ipart++; }
         bool any = ipart != 0 || f != 0;
         uint64_t u = f;
