@@ -141,6 +141,26 @@ START_TEST(uhz_swath_every_iteration)
 }
 END_TEST
 
+/* corners at a tie print as 24.8's do (recorded: gus at 16.25,-12 heading 90, width 20, swath
+ * length 4 drew x 20.3 and 12.2: its arithmetic lands a hair above and below the halves) */
+START_TEST(uhz_swath_corner_digits)
+{
+    kelp_diag why = { 0 };
+    memset(&R, 0, sizeof R);
+    kelp_hazardsensor_cfg_default(&C);
+    ck_assert_int_eq(kelp_hazardsensor_config(&C, "sensor_config", "width=20, exp=5, pclass=0.75", &why), 1);
+    ck_assert_int_eq(kelp_hazardsensor_config(&C, "swath_length", "4", &why), 1);
+    ck_assert_int_eq(kelp_hazardsensor_init(&H, &C), 0);
+    nr("gus", 16.25, -12, 90, 1);
+    ck_assert_int_eq(mail("UHZ_CONFIG_REQUEST", "vname=gus,width=20,pd=0.8", "gus", 1), 1);
+    ck_assert_int_eq(mail("UHZ_SENSOR_REQUEST", "vname=gus", "gus", 1), 1);
+    kelp_hazardsensor_iterate(&H, 1, &S);
+    ck_assert_ptr_nonnull(get(&R, "VIEW_POLYGON"));
+    static const char want[] = "pts={20.3,-32:12.2,-32:12.2,8:20.3,8},label=sensor_swath_gus,";
+    ck_assert_msg(!strncmp(get(&R, "VIEW_POLYGON"), want, sizeof want - 1), "%s", get(&R, "VIEW_POLYGON"));
+}
+END_TEST
+
 /* a request from a vehicle with no node report: PSR and 24.8's run warning */
 START_TEST(uhz_psr_unknown_vehicle)
 {
@@ -215,6 +235,26 @@ START_TEST(uhz_markers)
     R.n = 0;
     ck_assert_int_eq(mail("PMV_CONNECT", "true", "archie", 1), 1);
     ck_assert_int_eq(count(&R, "VIEW_MARKER"), 2);
+}
+END_TEST
+
+/* an object with an aspect gets 24.8's line through it: 15 m each way, or 5 + 25 x the mean of
+ * aspect_min and aspect_max over 90; on an axis exactly without sin/cos; none at aspect 0 */
+START_TEST(uhz_aspect_line)
+{
+    static const char *const objs[] = { "x=40, y=-25, label=a2, type=hazard, aspect=45",
+                                        "x=30, y=-65, label=c4, type=benign, aspect=90",
+                                        "x=0, y=0, label=z0, type=hazard, aspect=0",
+                                        "x=10, y=10, label=m1, type=hazard, aspect=30, aspect_min=20, aspect_max=40", NULL };
+    scenario(objs);
+    kelp_hazardsensor_iterate(&H, 0, &S);
+    ck_assert_int_eq(count(&R, "VIEW_MARKER"), 4);
+    ck_assert_int_eq(count(&R, "VIEW_SEGLIST"), 3);
+    /* in label order, each after its marker: a2, c4, m1 (z0 has aspect 0) */
+    ck_assert_str_eq(R.val[1], "pts={50.6,-14.4:29.4,-35.6},edge_color=gray70,vertex_size=0,edge_size=1");
+    ck_assert_str_eq(R.val[3], "pts={45,-65:15,-65},edge_color=gray70,vertex_size=0,edge_size=1");
+    /* 5 + 25 x (30 / 90) = 13.33 m at 30 degrees */
+    ck_assert_str_eq(R.val[5], "pts={16.7,21.5:3.3,-1.5},edge_color=gray70,vertex_size=0,edge_size=1");
 }
 END_TEST
 
@@ -364,6 +404,8 @@ Suite *kelp_field_hazard_suite(void)
     tcase_add_test(tc, uhz_default_setting);
     tcase_add_test(tc, uhz_options_summary);
     tcase_add_test(tc, uhz_markers);
+    tcase_add_test(tc, uhz_aspect_line);
+    tcase_add_test(tc, uhz_swath_corner_digits);
     tcase_add_test(tc, uhz_detection_fixed_seed);
     tcase_add_test(tc, uhz_sensor_off_turning);
     tcase_add_test(tc, uhz_classify_queue);

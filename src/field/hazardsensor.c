@@ -185,13 +185,7 @@ static int add_object(kelp_hazardsensor_cfg *cfg, const char *s, bool bare, kelp
     if (cfg->nobjects >= KELP_UHZ_MAX_OBJECTS) {
         return kelp_fail(d, KELP_ERR_NOSPACE, "hazard: too many objects (KELP_UHZ_MAX_OBJECTS)");
     }
-    /* kept in label order, as 24.8's map of hazards: sensing visits them (and rolls its dice)
-     * and the markers are drawn in that order */
-    unsigned at = cfg->nobjects;
-    while (at > 0 && strcmp(cfg->object[at - 1].label, o.label) > 0) at--;
-    memmove(&cfg->object[at + 1], &cfg->object[at], (cfg->nobjects - at) * sizeof cfg->object[0]);
-    cfg->object[at] = o;
-    cfg->nobjects++;
+    cfg->object[cfg->nobjects++] = o;
     if (strcmp(o.type, "hazard") == 0) cfg->nhazard++;
     else cfg->nbenign++;
     return 1;
@@ -996,19 +990,18 @@ static void post_aspect_line(const kelp_uhz_object *o, const kelp_field_sink *ou
 {
     double len = 15;
     if (o->has_aspect_min && o->has_aspect_max) len = 5 + ((o->aspect_min + o->aspect_max) / 2.0 / 90) * 25;
-    double x1, y1, x2, y2;
-    project(o->aspect, len, o->x, o->y, &x1, &y1);
-    project(o->aspect + 180, len, o->x, o->y, &x2, &y2);
+    double e[2][2];
+    project(o->aspect, len, o->x, o->y, &e[0][0], &e[0][1]);
+    project(o->aspect + 180, len, o->x, o->y, &e[1][0], &e[1][1]);
     char b[160];
     size_t k = 0;
     field_putf(b, sizeof b, &k, "pts={");
-    put_num(b, sizeof b, &k, x1, 1, true);
-    field_putf(b, sizeof b, &k, ",");
-    put_num(b, sizeof b, &k, y1, 1, true);
-    field_putf(b, sizeof b, &k, ":");
-    put_num(b, sizeof b, &k, x2, 1, true);
-    field_putf(b, sizeof b, &k, ",");
-    put_num(b, sizeof b, &k, y2, 1, true);
+    for (int i = 0; i < 2; i++) {
+        field_putf(b, sizeof b, &k, i ? ":" : "");
+        put_num(b, sizeof b, &k, e[i][0], 1, true);
+        field_putf(b, sizeof b, &k, ",");
+        put_num(b, sizeof b, &k, e[i][1], 1, true);
+    }
     field_putf(b, sizeof b, &k, "},edge_color=gray70,vertex_size=0,edge_size=1");
     post(out, "VIEW_SEGLIST", b);
 }
