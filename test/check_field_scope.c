@@ -70,16 +70,19 @@ START_TEST(ufs_node_report_mode)
 }
 END_TEST
 
-/* 7.5.2: alias is the header; vname matches a NAME key too (A28) */
+/* 7.5.2: alias is the header. Keys and fields match exactly, as 24.8's token parse (the
+ * seed let vname and NAME stand for each other): a report without the key is the row "" */
 START_TEST(ufs_alias_and_vname)
 {
     static const char *const cfg[][2] = { { "SCOPE", "var = SPEED_REPORT, key = vname, fld = avg_speed, alias = speed" } };
     setup(cfg, 1);
     ck_assert_int_eq(kelp_field_ufs_mail(&s, "SPEED_REPORT", true, "vname=alpha,avg_speed=2.21"), 1);
     ck_assert_int_eq(kelp_field_ufs_mail(&s, "SPEED_REPORT", true, "NAME=bravo, AVG_SPEED = 1.5"), 1);
-    ck_assert_str_eq(line(0), "VName  speed  STREAMING(A)");
-    ck_assert_str_eq(line(2), "alpha  2.21");
-    ck_assert_str_eq(line(3), "bravo  1.5");
+    ck_assert_int_eq(kelp_field_ufs_mail(&s, "SPEED_REPORT", true, " vname = charlie , avg_speed = 0.5 "), 1);
+    ck_assert_str_eq(line(0), "VName    speed  STREAMING(A)");
+    ck_assert_str_eq(line(2), "");             /* "" (bravo's report: no vname, no avg_speed) */
+    ck_assert_str_eq(line(3), "alpha    2.21");
+    ck_assert_str_eq(line(4), "charlie  0.5"); /* blanks around keys and values are trimmed */
 }
 END_TEST
 
@@ -100,20 +103,23 @@ START_TEST(ufs_appcast_table)
 }
 END_TEST
 
-/* 7.5.3: a field no message carries stays empty; a message without the key is ignored */
+/* 7.5.3: a field no message carries stays empty; a message without the key is the row "" */
 START_TEST(ufs_missing_field_and_key)
 {
     static const char *const cfg[][2] = { { "SCOPE", "var=R,key=vname,fld=a" }, { "SCOPE", "var=R,key=vname,fld=battery" } };
     setup(cfg, 2);
     ck_assert_int_eq(kelp_field_ufs_mail(&s, "R", true, "vname=alpha,a=1"), 1);
-    ck_assert_int_eq(kelp_field_ufs_mail(&s, "R", true, "who=bravo,a=2"), 0);
-    ck_assert_uint_eq(s.nrow, 1);
-    ck_assert_str_eq(s.row[0].cell[0], "1");
-    ck_assert_str_eq(s.row[0].cell[1], "");
-    ck_assert_str_eq(line(2), "alpha  1");
+    ck_assert_int_eq(kelp_field_ufs_mail(&s, "R", true, "who=bravo,a=2"), 1);
+    ck_assert_int_eq(kelp_field_ufs_mail(&s, "R", true, ""), 0); /* an empty posting is not kept */
+    ck_assert_uint_eq(s.nrow, 2);
+    ck_assert_str_eq(s.row[0].name, "");
+    ck_assert_str_eq(s.row[0].cell[0], "2");
+    ck_assert_str_eq(s.row[1].cell[0], "1");
+    ck_assert_str_eq(s.row[1].cell[1], "");
+    ck_assert_str_eq(line(3), "alpha  1");
     /* a newer report without the field empties its cell (the latest report is what shows) */
     ck_assert_int_eq(kelp_field_ufs_mail(&s, "R", true, "vname=alpha,b=3"), 1);
-    ck_assert_str_eq(s.row[0].cell[0], "");
+    ck_assert_str_eq(s.row[1].cell[0], "");
 }
 END_TEST
 
@@ -126,13 +132,16 @@ START_TEST(ufs_listing16_view_all)
     ck_assert_str_eq(kelp_field_ufs_subscription(&s, 2), "ODOMETRY_REPORT");
     ck_assert_ptr_null(kelp_field_ufs_subscription(&s, 3));
     ck_assert_uint_eq(s.unmatched, 0);
+    /* the listing keys NODE_REPORT by vname, which node reports carry as NAME: 24.8 shows
+     * their fields in the row "" (the latest report) */
     ck_assert_int_eq(kelp_field_ufs_mail(&s, "NODE_REPORT", true, "NAME=gilda,TIME=2651922526.73,MODE=MODE@ACTIVE:LOITERING"), 1);
     ck_assert_int_eq(kelp_field_ufs_mail(&s, "SPEED_REPORT", true, "vname=gilda,avg_speed=1.06"), 1);
     ck_assert_int_eq(kelp_field_ufs_mail(&s, "ODOMETRY_REPORT", true, "vname=gilda,trip_dist=517.1,total_dist=517.1"), 1);
     ck_assert_int_eq(kelp_field_ufs_mail(&s, "NODE_REPORT", true, "NAME=henry,TIME=2651922526.54,MODE=MODE@ACTIVE:LOITERING"), 1);
+    ck_assert_int_eq(kelp_field_ufs_mail(&s, "NODE_REPORT", true, "vname=gilda,TIME=2651922527.5,MODE=PARK"), 1);
     ck_assert_str_eq(line(0), "VName  Time           MODE                   speed  trip_dist  total_dist  STREAMING(A)");
-    ck_assert_str_eq(line(2), "gilda  2651922526.73  MODE@ACTIVE:LOITERING  1.06   517.1      517.1");
-    ck_assert_str_eq(line(3), "henry  2651922526.54  MODE@ACTIVE:LOITERING");
+    ck_assert_str_eq(line(2), "       2651922526.54  MODE@ACTIVE:LOITERING");
+    ck_assert_str_eq(line(3), "gilda  2651922527.5   PARK                   1.06   517.1      517.1");
 }
 END_TEST
 
@@ -231,25 +240,34 @@ START_TEST(ufs_rows_sorted)
     ck_assert_int_eq(kelp_field_ufs_mail(&s, "R", true, "vname=charlie,m=RETURNING"), 1);
     ck_assert_int_eq(kelp_field_ufs_mail(&s, "R", true, "vname=alpha,m=LOITERING"), 1);
     ck_assert_int_eq(kelp_field_ufs_mail(&s, "R", true, "vname=Bravo,m=PARK"), 1);
-    ck_assert_int_eq(kelp_field_ufs_mail(&s, "R", true, "vname=ALPHA,m=SURVEY"), 1); /* same vehicle */
-    ck_assert_uint_eq(s.nrow, 3);
-    ck_assert_str_eq(line(2), "alpha    SURVEY");
+    ck_assert_int_eq(kelp_field_ufs_mail(&s, "R", true, "vname=ALPHA,m=SURVEY"), 1); /* another name */
+    ck_assert_uint_eq(s.nrow, 4);
+    ck_assert_str_eq(line(2), "ALPHA    SURVEY"); /* byte order, as 24.8's set of names */
     ck_assert_str_eq(line(3), "Bravo    PARK");
-    ck_assert_str_eq(line(4), "charlie  RETURNING");
+    ck_assert_str_eq(line(4), "alpha    LOITERING");
+    ck_assert_str_eq(line(5), "charlie  RETURNING");
 }
 END_TEST
 
-/* elements without key take another's for the same variable (24.8's example), else NAME */
+/* a variable's key is its last SCOPE line's, as 24.8's: the earlier line without one takes it,
+ * and a variable whose last line has none is not shown */
 START_TEST(ufs_default_key)
 {
     static const char *const cfg[][2] = { { "SCOPE", "var=NODE_REPORT,fld=TIME,alias=Time" },
                                           { "SCOPE", "var=NODE_REPORT,key=vname,fld=MODE" },
-                                          { "SCOPE", "var=OTHER,fld=x" } };
-    setup(cfg, 3);
+                                          { "SCOPE", "var=OTHER,fld=x" },
+                                          { "SCOPE", "var=THIRD,key=id,fld=y" },
+                                          { "SCOPE", "var=THIRD,fld=z" } };
+    setup(cfg, 5);
     ck_assert_str_eq(s.cfg.elem[0].key, "vname");
-    ck_assert_str_eq(s.cfg.elem[2].key, "NAME");
-    ck_assert_int_eq(kelp_field_ufs_mail(&s, "OTHER", true, "vname=a,x=5"), 1);
-    ck_assert_str_eq(s.row[0].cell[2], "5");
+    ck_assert_str_eq(s.cfg.elem[2].key, "");
+    ck_assert_str_eq(s.cfg.elem[3].key, "");
+    ck_assert_int_eq(kelp_field_ufs_mail(&s, "OTHER", true, "vname=a,x=5"), 0);
+    ck_assert_int_eq(kelp_field_ufs_mail(&s, "THIRD", true, "id=a,y=5"), 0);
+    ck_assert_uint_eq(s.nrow, 0);
+    ck_assert_int_eq(kelp_field_ufs_mail(&s, "NODE_REPORT", true, "vname=a,TIME=3,MODE=M"), 1);
+    ck_assert_str_eq(s.row[0].cell[0], "3");
+    ck_assert_str_eq(s.row[0].cell[1], "M");
 }
 END_TEST
 
@@ -286,11 +304,16 @@ START_TEST(ufs_bad_mail)
     static const char *const cfg[][2] = { { "SCOPE", "var=R,key=vname,fld=m" } };
     setup(cfg, 1);
     ck_assert_int_eq(kelp_field_ufs_mail(&s, "R", false, NULL), KELP_ERR_PARSE);
+    /* an item that is not one key=value pair ends 24.8's search: m is not found after it */
     ck_assert_int_eq(kelp_field_ufs_mail(&s, "R", true, "vname=alpha,junk,m=7"), KELP_ERR_PARSE);
     ck_assert_uint_eq(s.bad_mail, 2);
+    ck_assert_str_eq(s.row[0].cell[0], "");
+    ck_assert_int_eq(kelp_field_ufs_mail(&s, "R", true, "vname=alpha,m=7,junk"), 1);
     ck_assert_str_eq(s.row[0].cell[0], "7");
+    ck_assert_int_eq(kelp_field_ufs_mail(&s, "R", true, "vname=alpha,q=a=b,m=8"), KELP_ERR_PARSE);
+    ck_assert_str_eq(s.row[0].cell[0], "");
     ck_assert_int_eq(kelp_field_ufs_mail(&s, "NOT_SCOPED", true, "vname=alpha,m=1"), 0);
-    ck_assert_uint_eq(s.mail, 2);
+    ck_assert_uint_eq(s.mail, 4);
     /* a long value is cut to the cell */
     char big[200];
     snprintf(big, sizeof big, "vname=alpha,m=%0120d", 5);

@@ -87,12 +87,12 @@ void kelp_field_ufs_init(kelp_field_ufs *s, const kelp_field_ufs_cfg *cfg)
     memset(s, 0, sizeof *s);
     s->cfg = *cfg;
     s->last_layout = 1;
-    /* an element without a key takes another's on the same variable, else NAME (~vname) */
+    /* a variable's key is the key of its last SCOPE line, as 24.8's (a line without one
+     * leaves the variable keyless: its reports are then not shown) */
     for (unsigned i = 0; i < s->cfg.nelem; i++) {
         kelp_ufs_elem *e = &s->cfg.elem[i];
-        for (unsigned j = 0; j < s->cfg.nelem && !e->key[0]; j++)
-            if (s->cfg.elem[j].key[0] && !strcmp(s->cfg.elem[j].var, e->var)) memcpy(e->key, s->cfg.elem[j].key, sizeof e->key);
-        if (!e->key[0]) memcpy(e->key, "NAME", 5);
+        for (unsigned j = i + 1; j < s->cfg.nelem; j++)
+            if (!strcmp(s->cfg.elem[j].var, e->var)) memcpy(e->key, s->cfg.elem[j].key, sizeof e->key);
     }
     /* layout (n) is LAYOUT line nlayout-n+1: the last line is (1) */
     for (unsigned l = 0; l < s->cfg.nlayout; l++) {
@@ -124,47 +124,32 @@ const char *kelp_field_ufs_subscription(const kelp_field_ufs *s, unsigned i)
 
 /* ------------------------------------------------------------------ mail */
 
-static bool is_name_key(const char *k)
-{
-    size_t n = strlen(k);
-    return kelp_util_strieq_n(k, n, "name") || kelp_util_strieq_n(k, n, "vname");
-}
-
-/* the value of `key` in a report (vname and name stand for each other); *bad counts
- * malformed items, which are skipped */
+/* the value of `key` in a report as 24.8's token parse finds it: the first pair whose key
+ * is exactly `key` (case and all); an item before it that is not one key=value pair ends
+ * the search with nothing (and is counted in *bad) */
 static bool lookup(const char *s, const char *key, const char **v, size_t *vl, unsigned *bad)
 {
-    bool name = is_name_key(key);
-    size_t pos = 0, kl;
+    size_t pos = 0, kl, n = strlen(key);
     const char *k;
     int rc;
     while ((rc = kelp_kv_next(s, ',', &pos, &k, &kl, v, vl)) != 0) {
-        if (rc < 0) {
+        if (rc < 0 || memchr(*v, '=', *vl)) {
             (*bad)++;
-            continue;
+            return false;
         }
-        if (kelp_util_strieq_n(k, kl, key) || (name && (kelp_util_strieq_n(k, kl, "name") || kelp_util_strieq_n(k, kl, "vname"))))
-            return true;
+        if (kl == n && !memcmp(k, key, n)) return true;
     }
     return false;
-}
-
-static int icmp(const char *a, const char *b)
-{
-    for (;; a++, b++) {
-        int x = (*a >= 'A' && *a <= 'Z') ? *a + 32 : *a, y = (*b >= 'A' && *b <= 'Z') ? *b + 32 : *b;
-        if (x != y || !x) return x - y;
-    }
 }
 
 /* the row of vehicle name[0..n), made in name order when new; NULL when full or bad */
 static kelp_ufs_row *row_for(kelp_field_ufs *s, const char *name, size_t n)
 {
     char nm[KELP_UFS_FIELD_LEN];
-    if (!n || !copy_fit(nm, sizeof nm, name, n)) return NULL;
+    if (!copy_fit(nm, sizeof nm, name, n)) return NULL;
     unsigned at = 0;
     for (; at < s->nrow; at++) {
-        int c = icmp(s->row[at].name, nm);
+        int c = strcmp(s->row[at].name, nm); /* 24.8's set of names: byte order, "" first */
         if (c == 0) return &s->row[at];
         if (c > 0) break;
     }
@@ -189,14 +174,15 @@ int kelp_field_ufs_mail(kelp_field_ufs *s, const char *var, bool is_string, cons
         s->bad_mail++;
         return KELP_ERR_PARSE;
     }
+    if (!*sval) return 0; /* 24.8 keeps no empty posting */
     unsigned bad = 0;
     bool used = false;
     for (unsigned e = 0; e < s->cfg.nelem; e++) {
         const kelp_ufs_elem *el = &s->cfg.elem[e];
-        if (strcmp(el->var, var) != 0) continue;
-        const char *nv, *fv;
-        size_t nl, fl;
-        if (!lookup(sval, el->key, &nv, &nl, &bad)) continue;
+        if (strcmp(el->var, var) != 0 || !el->key[0]) continue; /* keyless: not shown */
+        const char *nv = "", *fv;
+        size_t nl = 0, fl;
+        if (!lookup(sval, el->key, &nv, &nl, &bad)) nv = "", nl = 0; /* the row named "" */
         kelp_ufs_row *r = row_for(s, nv, nl);
         if (!r) continue;
         char *cell = r->cell[e];

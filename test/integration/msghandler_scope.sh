@@ -38,8 +38,8 @@ ProcessConfig = uFldMessageHandler
 ProcessConfig = uFldScope
 {
   AppTick = 4
-  SCOPE = var=NODE_REPORT,key=vname,fld=TIME,alias=Time
-  SCOPE = var=NODE_REPORT,key=vname,fld=MODE
+  SCOPE = var=NODE_REPORT,key=NAME,fld=TIME,alias=Time
+  SCOPE = var=NODE_REPORT,key=NAME,fld=MODE
   SCOPE = var=SPEED_REPORT,key=vname,fld=avg_speed,alias=speed
   SCOPE = var=ODOMETRY_REPORT,key=vname,fld=trip_dist
   LAYOUT = trip_dist
