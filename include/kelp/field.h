@@ -609,7 +609,7 @@ size_t kelp_field_umh_report(kelp_field_umh *h, kelp_time now, char *buf, size_t
  *  xcolor, xthresh, kept for a terminal that shows colours). */
 typedef struct kelp_ufs_elem {
     char var[KELP_MAX_NAME];
-    char key[KELP_UFS_FIELD_LEN];   /**< "" until init: another element's key for the same var, else name */
+    char key[KELP_UFS_FIELD_LEN];   /**< as written; at init every element of a var takes its last line's ("": not shown) */
     char fld[KELP_UFS_FIELD_LEN];
     char alias[KELP_UFS_FIELD_LEN]; /**< the column header ("" = fld) */
     char color[KELP_UFS_FIELD_LEN], xcolor[KELP_UFS_FIELD_LEN];
