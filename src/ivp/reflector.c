@@ -37,6 +37,11 @@ int kelp_ivp_reflector_init(kelp_ivp_reflector *r, const kelp_ivp_domain *dom, k
     return 0;
 }
 
+void kelp_ivp_reflector_set_line(kelp_ivp_reflector *r, kelp_ivp_aof_line_fn line)
+{
+    r->aof_line = line;
+}
+
 static int fatal(kelp_ivp_reflector *r, int code, const char *name, const char *what)
 {
     char buf[KELP_IVP_MAX_WARN];
@@ -399,46 +404,20 @@ static double regress(const kelp_ivp_reflector *r, kelp_ivp_piece *p)
     }
 }
 
-/* regress_n's fit for two variables written out: the same samples, the same arithmetic in the
- * same order (so the same bits), without the loops over corner masks. */
-static KELP_NOINLINE void fit2(const kelp_ivp_reflector *r, kelp_ivp_piece *p)
+/* fit2's fit from its samples: the corners cv (index bit 0: variable 0 high, bit 1: variable 1
+ * high) and, with `center`, the value at the centre point (c0, c1). */
+static IVP_ALWAYS_INLINE void fit2_from(bool strict, kelp_ivp_piece *p, const double *cv, double cval, bool center,
+                                        int32_t c0, int32_t c1)
 {
     const int32_t l0 = p->lo[0], h0 = p->hi[0], l1 = p->lo[1], h1 = p->hi[1];
-    const int32_t c0 = (l0 + h0) / 2, c1 = (l1 + h1) / 2;
-    const kelp_ivp_var *v0 = &r->dom.var[0], *v1 = &r->dom.var[1];
-    /* native values as kelp_ivp_domain_value */
-    double a0 = ((double)(uint32_t)l0 * v0->delta) + v0->low, b0 = ((double)(uint32_t)h0 * v0->delta) + v0->low;
-    double a1 = ((double)(uint32_t)l1 * v1->delta) + v1->low, b1 = ((double)(uint32_t)h1 * v1->delta) + v1->low;
-    double pt[2];
-    double cv[4];
-    pt[0] = a0, pt[1] = a1;
-    cv[0] = r->aof(pt, r->aof_user);
-    if (l0 == h0) {
-        cv[1] = cv[0];
-    } else {
-        pt[0] = b0, pt[1] = a1;
-        cv[1] = r->aof(pt, r->aof_user);
-    }
-    if (l1 == h1) {
-        cv[2] = cv[0];
-    } else {
-        pt[0] = a0, pt[1] = b1;
-        cv[2] = r->aof(pt, r->aof_user);
-    }
-    if (l0 == h0) {
-        cv[3] = cv[2];
-    } else if (l1 == h1) {
-        cv[3] = cv[1];
-    } else {
-        pt[0] = b0, pt[1] = b1;
-        cv[3] = r->aof(pt, r->aof_user);
-    }
-    bool center = h0 - l0 >= 2 || h1 - l1 >= 2;
-    double cval = 0.0;
-    if (center) {
-        pt[0] = ((double)(uint32_t)c0 * v0->delta) + v0->low;
-        pt[1] = ((double)(uint32_t)c1 * v1->delta) + v1->low;
-        cval = r->aof(pt, r->aof_user);
+    if (strict && cv[0] - cv[0] == 0 && cv[1] == cv[0] && cv[2] == cv[0] && cv[3] == cv[0] &&
+        (!center || cval == cv[0])) {
+        /* a flat piece (common: a utility at its cap): the fit below gives slopes +0 and a
+         * constant clamped into [cv[0], cv[0]], so cv[0] itself (a zero as +0, as the sum gives) */
+        p->slope[0] = 0.0;
+        p->slope[1] = 0.0;
+        p->cst = cv[0] + 0.0;
+        return;
     }
     double hv = cv[0], lv = cv[0];
     for (unsigned i = 1; i < 4; i++) {
@@ -487,13 +466,112 @@ static KELP_NOINLINE void fit2(const kelp_ivp_reflector *r, kelp_ivp_piece *p)
             mini = imin;
     }
     double c = total / (double)ns;
-    if (r->strict_range) {
+    if (strict) {
         if (c > maxi)
             c = maxi;
         if (c < mini)
             c = mini;
     }
     p->cst = c;
+}
+
+/* regress_n's fit for two variables written out: the same samples, the same arithmetic in the
+ * same order (so the same bits), without the loops over corner masks. */
+static KELP_NOINLINE void fit2(const kelp_ivp_reflector *r, kelp_ivp_piece *p)
+{
+    const int32_t l0 = p->lo[0], h0 = p->hi[0], l1 = p->lo[1], h1 = p->hi[1];
+    const int32_t c0 = (l0 + h0) / 2, c1 = (l1 + h1) / 2;
+    const kelp_ivp_var *v0 = &r->dom.var[0], *v1 = &r->dom.var[1];
+    /* native values as kelp_ivp_domain_value */
+    double a0 = ((double)(uint32_t)l0 * v0->delta) + v0->low, b0 = ((double)(uint32_t)h0 * v0->delta) + v0->low;
+    double a1 = ((double)(uint32_t)l1 * v1->delta) + v1->low, b1 = ((double)(uint32_t)h1 * v1->delta) + v1->low;
+    double pt[2];
+    double cv[4];
+    pt[0] = a0, pt[1] = a1;
+    cv[0] = r->aof(pt, r->aof_user);
+    if (l0 == h0) {
+        cv[1] = cv[0];
+    } else {
+        pt[0] = b0, pt[1] = a1;
+        cv[1] = r->aof(pt, r->aof_user);
+    }
+    if (l1 == h1) {
+        cv[2] = cv[0];
+    } else {
+        pt[0] = a0, pt[1] = b1;
+        cv[2] = r->aof(pt, r->aof_user);
+    }
+    if (l0 == h0) {
+        cv[3] = cv[2];
+    } else if (l1 == h1) {
+        cv[3] = cv[1];
+    } else {
+        pt[0] = b0, pt[1] = b1;
+        cv[3] = r->aof(pt, r->aof_user);
+    }
+    bool center = h0 - l0 >= 2 || h1 - l1 >= 2;
+    double cval = 0.0;
+    if (center) {
+        pt[0] = ((double)(uint32_t)c0 * v0->delta) + v0->low;
+        pt[1] = ((double)(uint32_t)c1 * v1->delta) + v1->low;
+        cval = r->aof(pt, r->aof_user);
+    }
+    fit2_from(r->strict_range, p, cv, cval, center, c0, c1);
+}
+
+/* Uniform pieces of a 2-D domain sampled a row at a time through the line sampler: per row of
+ * tiles (variable 0 from a0 to h0) and up to KELP_IVP_LINE_CHUNK tiles along variable 1, one
+ * line at a0 and one at h0 through the tiles' low and high ends, one at the centre c0 through
+ * the tiles' centres; then fit2's fit from those samples. The points and values are fit2's (a
+ * point met twice, as a tile one point wide, is sampled twice: the AOF gives the same value),
+ * the pieces are in tile's order. */
+static KELP_NOINLINE int uniform2_line(kelp_ivp_reflector *r, kelp_ivp_func *out, const uint32_t *edge)
+{
+    const kelp_ivp_var *v0 = &r->dom.var[0], *v1 = &r->dom.var[1];
+    const int32_t n0 = (int32_t)v0->points, n1 = (int32_t)v1->points, e0 = (int32_t)edge[0], e1 = (int32_t)edge[1];
+    const size_t C = KELP_IVP_LINE_CHUNK;
+    double *xe = r->ws_line, *ya = xe + 2 * C, *yb = ya + 2 * C, *xc = yb + 2 * C, *yc = xc + C;
+    double pt[2];
+    for (int32_t a0 = 0; a0 < n0; a0 += e0) {
+        const int32_t h0 = a0 + e0 - 1 < n0 ? a0 + e0 - 1 : n0 - 1, c0 = (a0 + h0) / 2;
+        for (int32_t s = 0; s < n1; s += e1 * (int32_t)C) {
+            unsigned nt = 0, ncen = 0;
+            for (int32_t a1 = s; a1 < n1 && nt < C; a1 += e1, nt++) {
+                const int32_t h1 = a1 + e1 - 1 < n1 ? a1 + e1 - 1 : n1 - 1;
+                xe[2 * nt] = ((double)(uint32_t)a1 * v1->delta) + v1->low;
+                xe[2 * nt + 1] = ((double)(uint32_t)h1 * v1->delta) + v1->low;
+                if (h0 - a0 >= 2 || h1 - a1 >= 2)
+                    xc[ncen++] = ((double)(uint32_t)((a1 + h1) / 2) * v1->delta) + v1->low;
+            }
+            if (out->cap - out->n < nt)
+                return KELP_ERR_NOSPACE;
+            pt[1] = 0.0;
+            pt[0] = ((double)(uint32_t)a0 * v0->delta) + v0->low;
+            r->aof_line(pt, 1, xe, 2 * nt, ya, r->aof_user);
+            if (h0 != a0) {
+                pt[0] = ((double)(uint32_t)h0 * v0->delta) + v0->low;
+                r->aof_line(pt, 1, xe, 2 * nt, yb, r->aof_user);
+            }
+            if (ncen) {
+                pt[0] = ((double)(uint32_t)c0 * v0->delta) + v0->low;
+                r->aof_line(pt, 1, xc, ncen, yc, r->aof_user);
+            }
+            const double *hb = h0 != a0 ? yb : ya;
+            unsigned k = 0;
+            int32_t a1 = s;
+            for (unsigned t = 0; t < nt; t++, a1 += e1) {
+                const int32_t h1 = a1 + e1 - 1 < n1 ? a1 + e1 - 1 : n1 - 1;
+                kelp_ivp_piece *p = &out->pcs[out->n++];
+                memset(p, 0, sizeof *p);
+                p->lo[0] = a0, p->hi[0] = h0, p->lo[1] = a1, p->hi[1] = h1;
+                double cv[4] = {ya[2 * t], hb[2 * t], ya[2 * t + 1], hb[2 * t + 1]};
+                bool center = h0 - a0 >= 2 || h1 - a1 >= 2;
+                fit2_from(r->strict_range, p, cv, center ? yc[k] : 0.0, center, c0, (a1 + h1) / 2);
+                k += center;
+            }
+        }
+    }
+    return 0;
 }
 
 /* The fit alone (no score): pieces whose score nobody reads. */
@@ -811,15 +889,20 @@ int kelp_ivp_reflector_create(kelp_ivp_reflector *r, int uniform_amount, int sma
         lo[d] = 0;
         hi[d] = (int32_t)r->dom.var[d].points - 1;
     }
-    if ((rc = tile(out, lo, hi, edge)))
-        return rc;
     /* scores are read only by smart refinement */
     bool scored = sa > 0 || r->smart_percent > 0;
-    for (size_t i = 0; i < out->n; i++) {
-        if (scored)
-            work[i].key = regress(r, &out->pcs[i]);
-        else
-            fit(r, &out->pcs[i]);
+    if (r->aof_line && dim == 2 && !scored) {
+        if ((rc = uniform2_line(r, out, edge)))
+            return rc;
+    } else {
+        if ((rc = tile(out, lo, hi, edge)))
+            return rc;
+        for (size_t i = 0; i < out->n; i++) {
+            if (scored)
+                work[i].key = regress(r, &out->pcs[i]);
+            else
+                fit(r, &out->pcs[i]);
+        }
     }
 
     /* 2. directed refinement */
