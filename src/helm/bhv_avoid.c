@@ -350,7 +350,8 @@ static void avd_line(const double *pt, unsigned d, const double *x, unsigned n, 
     }
     double ux, uy;
     kelp_cpa_unit(pt[f->icrs], &ux, &uy);
-    const double dx = f->cpa.dx, dy = f->cpa.dy, cvx = f->cpa.cvx, cvy = f->cpa.cvy, tol = f->cpa.tol;
+    const double dx = f->cpa.dx, dy = f->cpa.dy, cvx = f->cpa.cvx, cvy = f->cpa.cvy;
+    const double tmax = f->cpa.tol > 0.0 ? f->cpa.tol : INFINITY; /* t > tmax: t > tol with tol > 0 */
     /* q > far: sqrt(q) > max_util surely (the margin is far above sqrt's rounding) */
     const double far = f->min_util <= f->max_util && f->max_util >= 0 ? f->max_util * f->max_util * (1 + 1e-9) : INFINITY;
     for (unsigned i = 0; i < n; i++) {
@@ -360,7 +361,7 @@ static void avd_line(const double *pt, unsigned d, const double *x, unsigned n, 
         if (ww > 0.0) {
             t = -(dx * wx + dy * wy) / ww;
             if (t < 0.0) t = 0.0;
-            if (tol > 0.0 && t > tol) t = tol;
+            if (t > tmax) t = tmax;
         }
         double ex = dx + wx * t, ey = dy + wy * t, q = ex * ex + ey * ey;
         out[i] = q > far ? 100.0 : cpa_utility(f, sqrt(q));

@@ -453,19 +453,20 @@ static IVP_ALWAYS_INLINE void fit2_from(bool strict, kelp_ivp_piece *p, const do
     const double xs1[5] = {(double)l1, (double)l1, (double)h1, (double)h1, (double)c1};
     const double val[5] = {cv[0], cv[1], cv[2], cv[3], cval};
     unsigned ns = center ? 5u : 4u;
-    double total = 0, maxi = 0, mini = 0;
+    /* regress_n's bounds min_i (hv - plane_i) and max_i (lv - plane_i) taken as hv - max plane
+     * and lv - min plane: rounding is monotonic, so the same values */
+    double total = 0, pmax = 0, pmin = 0;
     for (unsigned i = 0; i < ns; i++) {
         double plane = 0;
         plane += s0 * xs0[i];
         plane += s1 * xs1[i];
         total += val[i] - plane;
-        double imax = hv - plane, imin = lv - plane;
-        if (i == 0 || imax < maxi)
-            maxi = imax;
-        if (i == 0 || imin > mini)
-            mini = imin;
+        if (i == 0 || plane > pmax)
+            pmax = plane;
+        if (i == 0 || plane < pmin)
+            pmin = plane;
     }
-    double c = total / (double)ns;
+    double c = total / (double)ns, maxi = hv - pmax, mini = lv - pmin;
     if (strict) {
         if (c > maxi)
             c = maxi;

@@ -179,7 +179,13 @@ size_t kelp_ivp_solve_work_size(const kelp_ivp_problem *p)
     return sz;
 }
 
-static inline double box_max(const int32_t *lo, const int32_t *hi, const double *s, double c, unsigned dim)
+#if defined(__GNUC__)
+#define IVP_SOLVE_INLINE inline __attribute__((always_inline))
+#else
+#define IVP_SOLVE_INLINE inline
+#endif
+
+static IVP_SOLVE_INLINE double box_max(const int32_t *lo, const int32_t *hi, const double *s, double c, unsigned dim)
 {
     double v = c;
     for (unsigned d = 0; d < dim; d++)
@@ -370,8 +376,50 @@ typedef struct gridw {
 
 /* Paint function i (pieces aligned to the problem domain) onto the grid. The grid's arrays are
  * held in locals so the stores do not make the compiler reload them (or the piece) per point. */
+/* One row of a piece along the last variable, indices t0..t1 (arrays from the row's start). */
+static IVP_SOLVE_INLINE void paint_row(double *total, double *fval, uint16_t *cover, int32_t t0, int32_t t1, double base,
+                                       double sl, uint16_t mine, uint16_t done)
+{
+    for (int32_t t = t0; t <= t1; t++) {
+        double v = base + sl * (double)t;
+        uint16_t c = cover[t];
+        if (c == mine) { /* covered by every earlier function, first piece of this one */
+            cover[t] = done;
+            fval[t] = v;
+            total[t] += v;
+        } else if (c == done && v > fval[t]) { /* an overlapping piece, larger */
+            total[t] += v - fval[t];
+            fval[t] = v;
+        }
+    }
+}
+
+/* grid_paint for two variables (the same values: base = c + s0 x, then base + s1 t) */
+static void grid_paint2(gridw *gw, const sfunc *F, unsigned i)
+{
+    double *total = gw->total, *fval = gw->fval;
+    uint16_t *cover = gw->cover;
+    const uint16_t mine = (uint16_t)i, done = (uint16_t)(i + 1);
+    const size_t st0 = gw->stride[0];
+    for (uint32_t j = 0; j < F->n; j++) {
+        const spiece *q = &F->p[j];
+        const int32_t t0 = q->lo[1], t1 = q->hi[1], x1 = q->hi[0];
+        const double c0 = q->c, s0 = q->s[0], sl = q->s[1];
+        for (int32_t x = q->lo[0]; x <= x1; x++) {
+            double base = c0;
+            base += s0 * (double)x;
+            size_t off = st0 * (size_t)x;
+            paint_row(total + off, fval + off, cover + off, t0, t1, base, sl, mine, done);
+        }
+    }
+}
+
 static void grid_paint(gridw *gw, const sfunc *F, unsigned i, unsigned dim)
 {
+    if (dim == 2) {
+        grid_paint2(gw, F, i);
+        return;
+    }
     unsigned last = dim - 1;
     double *total = gw->total, *fval = gw->fval;
     uint16_t *cover = gw->cover;
@@ -390,19 +438,7 @@ static void grid_paint(gridw *gw, const sfunc *F, unsigned i, unsigned dim)
                 base += q->s[e] * (double)x[e];
                 off += gw->stride[e] * (size_t)x[e];
             }
-            for (int32_t t = t0; t <= t1; t++) {
-                size_t o = off + (size_t)t;
-                double v = base + sl * (double)t;
-                uint16_t c = cover[o];
-                if (c == mine) { /* covered by every earlier function, first piece of this one */
-                    cover[o] = done;
-                    fval[o] = v;
-                    total[o] += v;
-                } else if (c == done && v > fval[o]) { /* an overlapping piece, larger */
-                    total[o] += v - fval[o];
-                    fval[o] = v;
-                }
-            }
+            paint_row(total + off, fval + off, cover + off, t0, t1, base, sl, mine, done);
             unsigned e = last;
             while (e-- > 0) {
                 if (++x[e] <= q->hi[e])
@@ -594,6 +630,45 @@ static int grid_solve(kelp_ivp_problem *p, const sfunc *sf, snode *node, double 
     return 0;
 }
 
+/* A function's pieces, normalised (norm), weighted and aligned to the problem's variables
+ * (map), with its global max and magnitude. Inlined with constant dimensions for the common
+ * 2-D case (the same arithmetic in the same order). */
+static IVP_SOLVE_INLINE void prep_func(sfunc *s, const kelp_ivp_func *f, const kelp_ivp_domain *pd, const int *map, bool norm,
+                                       double badj, double radj, double pwt, unsigned dim, unsigned fdim)
+{
+    s->gmax = -INFINITY;
+    s->mag = 0;
+    for (size_t j = 0; j < f->n; j++) {
+        const kelp_ivp_piece *q = &f->pcs[j];
+        spiece *t = &s->p[j];
+        for (unsigned e = 0; e < dim; e++) {
+            t->lo[e] = 0;
+            t->hi[e] = (int32_t)pd->var[e].points - 1;
+            t->s[e] = 0.0;
+        }
+        double c = q->cst;
+        if (norm)
+            c = (c + badj) * radj;
+        t->c = c * pwt;
+        for (unsigned d = 0; d < fdim; d++) {
+            double sl = q->slope[d];
+            if (norm)
+                sl *= radj;
+            t->lo[map[d]] = q->lo[d];
+            t->hi[map[d]] = q->hi[d];
+            t->s[map[d]] = sl * pwt;
+        }
+        double m = box_max(t->lo, t->hi, t->s, t->c, dim);
+        if (m > s->gmax)
+            s->gmax = m;
+        double g = fabs(t->c);
+        for (unsigned e = 0; e < dim; e++)
+            g += fabs(t->s[e]) * (double)(pd->var[e].points - 1);
+        if (g > s->mag)
+            s->mag = g;
+    }
+}
+
 int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_result *res)
 {
     if (!p || !res)
@@ -642,37 +717,10 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
         if (f->n && kelp_ivp_func_range(f, &lo, &hi) == 0 && hi - lo > 100)
             norm = true;
         double badj = 0.0 - lo, radj = norm ? 100.0 / (hi - lo) : 1.0, pwt = f->pwt;
-        s->gmax = -INFINITY;
-        s->mag = 0;
-        for (size_t j = 0; j < f->n; j++) {
-            const kelp_ivp_piece *q = &f->pcs[j];
-            spiece *t = &s->p[j];
-            for (unsigned e = 0; e < dim; e++) {
-                t->lo[e] = 0;
-                t->hi[e] = (int32_t)p->dom.var[e].points - 1;
-                t->s[e] = 0.0;
-            }
-            double c = q->cst;
-            if (norm)
-                c = (c + badj) * radj;
-            t->c = c * pwt;
-            for (unsigned d = 0; d < f->dom.dim; d++) {
-                double sl = q->slope[d];
-                if (norm)
-                    sl *= radj;
-                t->lo[map[d]] = q->lo[d];
-                t->hi[map[d]] = q->hi[d];
-                t->s[map[d]] = sl * pwt;
-            }
-            double m = box_max(t->lo, t->hi, t->s, t->c, dim);
-            if (m > s->gmax)
-                s->gmax = m;
-            double g = fabs(t->c);
-            for (unsigned e = 0; e < dim; e++)
-                g += fabs(t->s[e]) * (double)(p->dom.var[e].points - 1);
-            if (g > s->mag)
-                s->mag = g;
-        }
+        if (dim == 2 && f->dom.dim == 2 && map[0] == 0 && map[1] == 1)
+            prep_func(s, f, &p->dom, map, norm, badj, radj, pwt, 2, 2);
+        else
+            prep_func(s, f, &p->dom, map, norm, badj, radj, pwt, dim, f->dom.dim);
         magsum += s->mag;
     }
     if (grid_size(p) && work_size >= kelp_ivp_solve_grid_work_size(p)) {
