@@ -451,6 +451,104 @@ static void grid_paint(gridw *gw, const sfunc *F, unsigned i, unsigned dim)
     }
 }
 
+/* Whether F's pieces tile the grid in tile order (the Reflector's uniform pieces: equal boxes
+ * from the low corner, the last variable fastest, clipped at the domain's end): then every
+ * point lies in exactly one piece. */
+static bool tiles_grid(const sfunc *F, const kelp_ivp_domain *dom, unsigned dim)
+{
+    if (F->n == 0)
+        return false;
+    int32_t edge[D], cur[D];
+    for (unsigned e = 0; e < dim; e++) {
+        edge[e] = F->p[0].hi[e] - F->p[0].lo[e] + 1;
+        cur[e] = 0;
+        if (edge[e] < 1)
+            return false;
+    }
+    if (dim == 2) { /* the same walk, unrolled */
+        const int32_t n0 = (int32_t)dom->var[0].points, n1 = (int32_t)dom->var[1].points;
+        const spiece *q = F->p, *end = F->p + F->n;
+        for (int32_t a = 0; a < n0; a += edge[0]) {
+            const int32_t h0 = a + edge[0] - 1 < n0 ? a + edge[0] - 1 : n0 - 1;
+            for (int32_t b = 0; b < n1; b += edge[1], q++) {
+                if (q == end || q->lo[0] != a || q->hi[0] != h0 || q->lo[1] != b ||
+                    q->hi[1] != (b + edge[1] - 1 < n1 ? b + edge[1] - 1 : n1 - 1))
+                    return false;
+            }
+        }
+        return q == end;
+    }
+    for (uint32_t j = 0; j < F->n; j++) {
+        const spiece *q = &F->p[j];
+        for (unsigned e = 0; e < dim; e++) {
+            int32_t last = (int32_t)dom->var[e].points - 1, hi = cur[e] + edge[e] - 1;
+            if (q->lo[e] != cur[e] || q->hi[e] != (hi < last ? hi : last))
+                return false;
+        }
+        unsigned e = dim;
+        while (e-- > 0) {
+            cur[e] += edge[e];
+            if (cur[e] < (int32_t)dom->var[e].points)
+                break;
+            cur[e] = 0;
+        }
+        if (e == (unsigned)-1) /* wrapped: the grid is covered */
+            return j + 1 == F->n;
+    }
+    return false;
+}
+
+/* Add a function that tiles the grid (tiles_grid): each point's one value, no coverage to
+ * count and no overlap to resolve; the values are grid_paint's. */
+static void grid_add(gridw *gw, const sfunc *F, unsigned dim)
+{
+    double *total = gw->total;
+    unsigned last = dim - 1;
+    if (dim == 2) { /* grid_paint2's loops */
+        const size_t st0 = gw->stride[0];
+        for (uint32_t j = 0; j < F->n; j++) {
+            const spiece *q = &F->p[j];
+            const int32_t t0 = q->lo[1], t1 = q->hi[1], x1 = q->hi[0];
+            const double c0 = q->c, s0 = q->s[0], sl = q->s[1];
+            for (int32_t x = q->lo[0]; x <= x1; x++) {
+                double base = c0;
+                base += s0 * (double)x;
+                double *row = total + st0 * (size_t)x;
+                for (int32_t t = t0; t <= t1; t++)
+                    row[t] += base + sl * (double)t;
+            }
+        }
+        return;
+    }
+    for (uint32_t j = 0; j < F->n; j++) {
+        const spiece *q = &F->p[j];
+        const int32_t t0 = q->lo[last], t1 = q->hi[last];
+        const double sl = q->s[last];
+        int32_t x[D] = {0};
+        for (unsigned e = 0; e < dim; e++)
+            x[e] = q->lo[e];
+        for (;;) {
+            double base = q->c;
+            size_t off = 0;
+            for (unsigned e = 0; e < last; e++) {
+                base += q->s[e] * (double)x[e];
+                off += gw->stride[e] * (size_t)x[e];
+            }
+            double *row = total + off;
+            for (int32_t t = t0; t <= t1; t++)
+                row[t] += base + sl * (double)t;
+            unsigned e = last;
+            while (e-- > 0) {
+                if (++x[e] <= q->hi[e])
+                    break;
+                x[e] = q->lo[e];
+            }
+            if (e == (unsigned)-1)
+                break;
+        }
+    }
+}
+
 /* Optimal points in box [lo, hi] (summed-area table, inclusion-exclusion over the corners);
  * with a short list, whether there is one. */
 static uint32_t grid_count(const gridw *gw, const int32_t *lo, const int32_t *hi, unsigned dim)
@@ -518,11 +616,17 @@ static int grid_solve(kelp_ivp_problem *p, const sfunc *sf, snode *node, double 
     memset(gw.cover, 0, sizeof(uint16_t) * gw.g);
     for (size_t o = 0; o < gw.g; o++)
         gw.total[o] = 0.0;
-    for (unsigned i = 0; i < k; i++)
-        grid_paint(&gw, &sf[i], i, dim);
+    unsigned painted = 0; /* functions painted with coverage counted (the others tile the grid) */
+    for (unsigned i = 0; i < k; i++) {
+        if (tiles_grid(&sf[i], &p->dom, dim))
+            grid_add(&gw, &sf[i], dim);
+        else
+            grid_paint(&gw, &sf[i], painted++, dim);
+    }
+    const uint16_t all = (uint16_t)painted;
     double G = -INFINITY;
     for (size_t o = 0; o < gw.g; o++)
-        if (gw.cover[o] == k && gw.total[o] > G)
+        if (gw.cover[o] == all && gw.total[o] > G)
             G = gw.total[o];
     if (G == -INFINITY)
         return ivp_fail(&p->diag, KELP_ERR_INFEASIBLE, "solver: no point is covered by every function", NULL, 0);
@@ -535,7 +639,7 @@ static int grid_solve(kelp_ivp_problem *p, const sfunc *sf, snode *node, double 
             size_t po = 0;
             for (unsigned e = 0; e < dim; e++)
                 po += gw.pstride[e] * (size_t)(x[e] + 1);
-            bool opt = gw.cover[o] == k && gw.total[o] >= lim;
+            bool opt = gw.cover[o] == all && gw.total[o] >= lim;
             gw.sat[po] = opt;
             if (opt && gw.na++ < GRID_LIST)
                 memcpy(&gw.list[(gw.na - 1) * D], x, sizeof x);
