@@ -332,6 +332,22 @@ double kelp_helm_bhv_avoid_aof_eval(const double *pt, void *user)
     return cpa_utility(f, kelp_cpa_fast_eval(&f->cpa, pt[f->icrs], pt[f->ispd], NULL));
 }
 
+/* the utility of squared CPA range q (q > far: beyond max_util surely, 100) */
+static inline double avd_util_q(const kelp_bhv_avoid_aof *f, double q, double far)
+{
+    return q > far ? 100.0 : cpa_utility(f, sqrt(q));
+}
+
+#if defined(__GNUC__)
+typedef double avd_v2 __attribute__((vector_size(16)));
+typedef long long avd_m2 __attribute__((vector_size(16)));
+/* lane by lane: m ? a : b (m from a vector comparison: all ones or all zeros) */
+static inline avd_v2 avd_sel(avd_m2 m, avd_v2 a, avd_v2 b)
+{
+    return (avd_v2)(((avd_m2)a & m) | ((avd_m2)b & ~m));
+}
+#endif
+
 /* The same AOF along a line of speeds at one course (the Reflector's line sampler): the
  * course's unit vector once, then per speed kelp_cpa_fast_eval_unit's closest approach, the
  * same arithmetic in the same order (so the same bits), its square root taken only where the
@@ -354,7 +370,26 @@ static void avd_line(const double *pt, unsigned d, const double *x, unsigned n, 
     const double tmax = f->cpa.tol > 0.0 ? f->cpa.tol : INFINITY; /* t > tmax: t > tol with tol > 0 */
     /* q > far: sqrt(q) > max_util surely (the margin is far above sqrt's rounding) */
     const double far = f->min_util <= f->max_util && f->max_util >= 0 ? f->max_util * f->max_util * (1 + 1e-9) : INFINITY;
-    for (unsigned i = 0; i < n; i++) {
+    unsigned i = 0;
+#if defined(__GNUC__)
+    /* two speeds at a time in GCC's vector extension (each lane the scalar loop's operations,
+     * so the same bits; a target without vectors gets them one by one) */
+    const avd_v2 DX = {dx, dx}, DY = {dy, dy}, CX = {cvx, cvx}, CY = {cvy, cvy}, UX = {ux, ux}, UY = {uy, uy};
+    const avd_v2 ZERO = {0.0, 0.0}, TMAX = {tmax, tmax};
+    for (; i + 2 <= n; i += 2) {
+        avd_v2 xv;
+        memcpy(&xv, x + i, sizeof xv);
+        avd_v2 v = avd_sel(xv > ZERO, xv, ZERO);
+        avd_v2 wx = CX - v * UX, wy = CY - v * UY;
+        avd_v2 ww = wx * wx + wy * wy;
+        avd_v2 t = avd_sel(ww > ZERO, -(DX * wx + DY * wy) / ww, ZERO);
+        t = avd_sel(t < ZERO, ZERO, t);
+        t = avd_sel(t > TMAX, TMAX, t);
+        avd_v2 ex = DX + wx * t, ey = DY + wy * t, q = ex * ex + ey * ey;
+        memcpy(out + i, &q, sizeof q);
+    }
+#endif
+    for (; i < n; i++) {
         double v = x[i] > 0 ? x[i] : 0;
         double wx = cvx - v * ux, wy = cvy - v * uy;
         double ww = wx * wx + wy * wy, t = 0.0;
@@ -363,9 +398,11 @@ static void avd_line(const double *pt, unsigned d, const double *x, unsigned n, 
             if (t < 0.0) t = 0.0;
             if (t > tmax) t = tmax;
         }
-        double ex = dx + wx * t, ey = dy + wy * t, q = ex * ex + ey * ey;
-        out[i] = q > far ? 100.0 : cpa_utility(f, sqrt(q));
+        double ex = dx + wx * t, ey = dy + wy * t;
+        out[i] = ex * ex + ey * ey;
     }
+    for (i = 0; i < n; i++) /* squared ranges to utilities */
+        out[i] = avd_util_q(f, out[i], far);
 }
 
 /* distance a contact travelled dt seconds after its report, speed decaying from d1 to d2 */

@@ -524,28 +524,32 @@ static KELP_NOINLINE void fit2(const kelp_ivp_reflector *r, kelp_ivp_piece *p)
  * tiles (variable 0 from a0 to h0) and up to KELP_IVP_LINE_CHUNK tiles along variable 1, one
  * line at a0 and one at h0 through the tiles' low and high ends, one at the centre c0 through
  * the tiles' centres; then fit2's fit from those samples. The points and values are fit2's (a
- * point met twice, as a tile one point wide, is sampled twice: the AOF gives the same value),
- * the pieces are in tile's order. */
+ * point met twice, as a tile one point wide, is sampled twice: the AOF gives the same value;
+ * a centre no piece needs may be sampled and not used), the pieces are in tile's order. */
 static KELP_NOINLINE int uniform2_line(kelp_ivp_reflector *r, kelp_ivp_func *out, const uint32_t *edge)
 {
     const kelp_ivp_var *v0 = &r->dom.var[0], *v1 = &r->dom.var[1];
     const int32_t n0 = (int32_t)v0->points, n1 = (int32_t)v1->points, e0 = (int32_t)edge[0], e1 = (int32_t)edge[1];
-    const size_t C = KELP_IVP_LINE_CHUNK;
+    const uint32_t T0 = tiles_on((uint32_t)n0, (uint32_t)e0), T1 = tiles_on((uint32_t)n1, (uint32_t)e1);
+    if (out->cap - out->n < (size_t)T0 * T1)
+        return KELP_ERR_NOSPACE;
+    const uint32_t C = KELP_IVP_LINE_CHUNK;
     double *xe = r->ws_line, *ya = xe + 2 * C, *yb = ya + 2 * C, *xc = yb + 2 * C, *yc = xc + C;
+    kelp_ivp_piece *row = out->pcs + out->n;
+    const bool strict = r->strict_range;
     double pt[2];
-    for (int32_t a0 = 0; a0 < n0; a0 += e0) {
-        const int32_t h0 = a0 + e0 - 1 < n0 ? a0 + e0 - 1 : n0 - 1, c0 = (a0 + h0) / 2;
-        for (int32_t s = 0; s < n1; s += e1 * (int32_t)C) {
-            unsigned nt = 0, ncen = 0;
-            for (int32_t a1 = s; a1 < n1 && nt < C; a1 += e1, nt++) {
-                const int32_t h1 = a1 + e1 - 1 < n1 ? a1 + e1 - 1 : n1 - 1;
-                xe[2 * nt] = ((double)(uint32_t)a1 * v1->delta) + v1->low;
-                xe[2 * nt + 1] = ((double)(uint32_t)h1 * v1->delta) + v1->low;
-                if (h0 - a0 >= 2 || h1 - a1 >= 2)
-                    xc[ncen++] = ((double)(uint32_t)((a1 + h1) / 2) * v1->delta) + v1->low;
-            }
-            if (out->cap - out->n < nt)
-                return KELP_ERR_NOSPACE;
+    for (uint32_t s = 0; s < T1; s += C) {
+        const uint32_t nt = T1 - s < C ? T1 - s : C;
+        bool wide = false; /* some tile of the chunk spans three points or more of variable 1 */
+        for (uint32_t t = 0; t < nt; t++) {
+            const int32_t a1 = (int32_t)(s + t) * e1, h1 = a1 + e1 - 1 < n1 ? a1 + e1 - 1 : n1 - 1;
+            xe[2 * t] = ((double)(uint32_t)a1 * v1->delta) + v1->low;
+            xe[2 * t + 1] = ((double)(uint32_t)h1 * v1->delta) + v1->low;
+            xc[t] = ((double)(uint32_t)((a1 + h1) / 2) * v1->delta) + v1->low;
+            wide = wide || h1 - a1 >= 2;
+        }
+        for (uint32_t r0 = 0; r0 < T0; r0++) {
+            const int32_t a0 = (int32_t)r0 * e0, h0 = a0 + e0 - 1 < n0 ? a0 + e0 - 1 : n0 - 1, c0 = (a0 + h0) / 2;
             pt[1] = 0.0;
             pt[0] = ((double)(uint32_t)a0 * v0->delta) + v0->low;
             r->aof_line(pt, 1, xe, 2 * nt, ya, r->aof_user);
@@ -553,25 +557,24 @@ static KELP_NOINLINE int uniform2_line(kelp_ivp_reflector *r, kelp_ivp_func *out
                 pt[0] = ((double)(uint32_t)h0 * v0->delta) + v0->low;
                 r->aof_line(pt, 1, xe, 2 * nt, yb, r->aof_user);
             }
-            if (ncen) {
+            const bool wrow = h0 - a0 >= 2;
+            if (wrow || wide) {
                 pt[0] = ((double)(uint32_t)c0 * v0->delta) + v0->low;
-                r->aof_line(pt, 1, xc, ncen, yc, r->aof_user);
+                r->aof_line(pt, 1, xc, nt, yc, r->aof_user);
             }
             const double *hb = h0 != a0 ? yb : ya;
-            unsigned k = 0;
-            int32_t a1 = s;
-            for (unsigned t = 0; t < nt; t++, a1 += e1) {
-                const int32_t h1 = a1 + e1 - 1 < n1 ? a1 + e1 - 1 : n1 - 1;
-                kelp_ivp_piece *p = &out->pcs[out->n++];
+            kelp_ivp_piece *p = row + (size_t)r0 * T1 + s;
+            for (uint32_t t = 0; t < nt; t++, p++) {
+                const int32_t a1 = (int32_t)(s + t) * e1, h1 = a1 + e1 - 1 < n1 ? a1 + e1 - 1 : n1 - 1;
                 memset(p, 0, sizeof *p);
                 p->lo[0] = a0, p->hi[0] = h0, p->lo[1] = a1, p->hi[1] = h1;
                 double cv[4] = {ya[2 * t], hb[2 * t], ya[2 * t + 1], hb[2 * t + 1]};
-                bool center = h0 - a0 >= 2 || h1 - a1 >= 2;
-                fit2_from(r->strict_range, p, cv, center ? yc[k] : 0.0, center, c0, (a1 + h1) / 2);
-                k += center;
+                bool center = wrow || h1 - a1 >= 2;
+                fit2_from(strict, p, cv, center ? yc[t] : 0.0, center, c0, (a1 + h1) / 2);
             }
         }
     }
+    out->n += (size_t)T0 * T1;
     return 0;
 }
 
