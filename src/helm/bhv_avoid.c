@@ -364,8 +364,12 @@ static void avd_line(const double *pt, unsigned d, const double *x, unsigned n, 
         }
         return;
     }
-    double ux, uy;
-    kelp_cpa_unit(pt[f->icrs], &ux, &uy);
+    double c = pt[f->icrs], ux, uy, xi = f->unit_delta > 0 ? (c - f->unit_low) / f->unit_delta : 0;
+    uint32_t k = xi > 0 && xi < (double)f->unit_n ? (uint32_t)(xi + 0.5) : 0;
+    if (k < f->unit_n && (double)k * f->unit_delta + f->unit_low == c) /* the course's kept unit vector */
+        ux = f->unit[2 * k], uy = f->unit[2 * k + 1];
+    else
+        kelp_cpa_unit(c, &ux, &uy);
     const double dx = f->cpa.dx, dy = f->cpa.dy, cvx = f->cpa.cvx, cvy = f->cpa.cvy;
     const double tmax = f->cpa.tol > 0.0 ? f->cpa.tol : INFINITY; /* t > tmax: t > tol with tol > 0 */
     /* q > far: sqrt(q) > max_util surely (the margin is far above sqrt's rounding) */
@@ -639,6 +643,12 @@ KELP_NOINLINE static int aof_setup(kelp_bhv *b, kelp_bhv_avoid_aof *f)
     f->icrs = kelp_ivp_domain_index(&b->dom, "course");
     f->ispd = kelp_ivp_domain_index(&b->dom, "speed");
     if (f->icrs < 0 || f->ispd < 0) return KELP_ERR_NOTFOUND;
+    const kelp_ivp_var *cv = &b->dom.var[f->icrs];
+    if (cv->points <= KELP_BHV_AVD_UNITS && (f->unit_n != cv->points || f->unit_low != cv->low || f->unit_delta != cv->delta)) {
+        for (uint32_t i = 0; i < cv->points; i++)
+            kelp_cpa_unit(kelp_ivp_domain_value(&b->dom, (unsigned)f->icrs, i), &f->unit[2 * i], &f->unit[2 * i + 1]);
+        f->unit_n = cv->points, f->unit_low = cv->low, f->unit_delta = cv->delta;
+    }
     f->min_util = a->range <= a->min_util_cpa_dist ? a->range / 2 : a->min_util_cpa_dist;
     f->max_util = a->max_util_cpa_dist;
     kelp_cpa_vessel cn = {a->cn.x, a->cn.y, a->cn.hdg, a->cn.spd};
