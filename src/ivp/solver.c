@@ -39,6 +39,8 @@ typedef struct sfunc {
     uint32_t n;
     double gmax;              /* max over all pieces */
     double mag;               /* max over pieces of |c| + sum |s_d| * (points_d - 1) */
+    bool tiled;               /* the grid path: the pieces tile the grid (tiles_grid) ... */
+    int32_t edge[D];          /* ... with this tile */
 } sfunc;
 
 typedef struct snode {
@@ -451,14 +453,23 @@ static void grid_paint(gridw *gw, const sfunc *F, unsigned i, unsigned dim)
     }
 }
 
+static bool tiles_walk(sfunc *F, const kelp_ivp_domain *dom, unsigned dim);
+
 /* Whether F's pieces tile the grid in tile order (the Reflector's uniform pieces: equal boxes
  * from the low corner, the last variable fastest, clipped at the domain's end): then every
  * point lies in exactly one piece. */
-static bool tiles_grid(const sfunc *F, const kelp_ivp_domain *dom, unsigned dim)
+static bool tiles_grid(sfunc *F, const kelp_ivp_domain *dom, unsigned dim)
+{
+    F->tiled = tiles_walk(F, dom, dim);
+    return F->tiled;
+}
+
+/* (tiles_grid's walk; F->edge gets the tile) */
+static bool tiles_walk(sfunc *F, const kelp_ivp_domain *dom, unsigned dim)
 {
     if (F->n == 0)
         return false;
-    int32_t edge[D], cur[D];
+    int32_t *edge = F->edge, cur[D];
     for (unsigned e = 0; e < dim; e++) {
         edge[e] = F->p[0].hi[e] - F->p[0].lo[e] + 1;
         cur[e] = 0;
@@ -498,6 +509,17 @@ static bool tiles_grid(const sfunc *F, const kelp_ivp_domain *dom, unsigned dim)
     return false;
 }
 
+/* The piece of a tiled function (tiles_grid) holding point x. */
+static uint32_t tile_index(const sfunc *F, const kelp_ivp_domain *dom, const int32_t *x, unsigned dim)
+{
+    uint32_t j = 0;
+    for (unsigned e = 0; e < dim; e++) {
+        uint32_t across = ((uint32_t)dom->var[e].points + (uint32_t)F->edge[e] - 1) / (uint32_t)F->edge[e];
+        j = j * across + (uint32_t)(x[e] / F->edge[e]);
+    }
+    return j;
+}
+
 /* Add a function that tiles the grid (tiles_grid): each point's one value, no coverage to
  * count and no overlap to resolve; the values are grid_paint's. */
 static void grid_add(gridw *gw, const sfunc *F, unsigned dim)
@@ -513,9 +535,9 @@ static void grid_add(gridw *gw, const sfunc *F, unsigned dim)
             for (int32_t x = q->lo[0]; x <= x1; x++) {
                 double base = c0;
                 base += s0 * (double)x;
-                double *row = total + st0 * (size_t)x;
-                for (int32_t t = t0; t <= t1; t++)
-                    row[t] += base + sl * (double)t;
+                double *row = total + st0 * (size_t)x + t0, td = (double)t0; /* td: t, exactly */
+                for (int32_t m = t1 - t0; m >= 0; m--, row++, td += 1.0)
+                    *row += base + sl * td;
             }
         }
         return;
@@ -587,7 +609,7 @@ static uint32_t grid_count(const gridw *gw, const int32_t *lo, const int32_t *hi
     return n;
 }
 
-static int grid_solve(kelp_ivp_problem *p, const sfunc *sf, snode *node, double margin, unsigned char *w,
+static int grid_solve(kelp_ivp_problem *p, sfunc *sf, snode *node, double margin, unsigned char *w,
                       kelp_ivp_result *res)
 {
     unsigned k = p->nf, dim = p->dom.dim;
@@ -658,6 +680,19 @@ static int grid_solve(kelp_ivp_problem *p, const sfunc *sf, snode *node, double 
     uint32_t nc = 0;
     for (unsigned i = 0; i < k; i++) {
         cstart[i] = nc;
+        if (sf[i].tiled && gw.na <= GRID_LIST) { /* the tiles holding the listed points, in order */
+            for (uint32_t a = 0; a < gw.na; a++) {
+                uint32_t j = tile_index(&sf[i], &p->dom, &gw.list[a * D], dim), at = nc;
+                while (at > cstart[i] && gw.cand[at - 1] > j)
+                    at--;
+                if (at > cstart[i] && gw.cand[at - 1] == j)
+                    continue;
+                memmove(&gw.cand[at + 1], &gw.cand[at], sizeof(uint32_t) * (nc - at));
+                gw.cand[at] = j;
+                nc++;
+            }
+            continue;
+        }
         for (uint32_t j = 0; j < sf[i].n; j++)
             if (grid_count(&gw, sf[i].p[j].lo, sf[i].p[j].hi, dim))
                 gw.cand[nc++] = j;
