@@ -522,16 +522,16 @@ static uint32_t tile_index(const sfunc *F, const kelp_ivp_domain *dom, const int
 
 /* Add a function that tiles the grid (tiles_grid): each point's one value, no coverage to
  * count and no overlap to resolve; the values are grid_paint's. */
-static void grid_add(gridw *gw, const sfunc *F, unsigned dim)
+static void grid_add(gridw *gw, const sfunc *F, const double *co, unsigned dim)
 {
     double *total = gw->total;
-    unsigned last = dim - 1;
+    unsigned last = dim - 1, nco = dim + 1;
     if (dim == 2) { /* grid_paint2's loops */
         const size_t st0 = gw->stride[0];
         for (uint32_t j = 0; j < F->n; j++) {
             const spiece *q = &F->p[j];
             const int32_t t0 = q->lo[1], t1 = q->hi[1], x1 = q->hi[0];
-            const double c0 = q->c, s0 = q->s[0], sl = q->s[1];
+            const double c0 = co ? co[3 * j + 2] : q->c, s0 = co ? co[3 * j] : q->s[0], sl = co ? co[3 * j + 1] : q->s[1];
             for (int32_t x = q->lo[0]; x <= x1; x++) {
                 double base = c0;
                 base += s0 * (double)x;
@@ -544,16 +544,17 @@ static void grid_add(gridw *gw, const sfunc *F, unsigned dim)
     }
     for (uint32_t j = 0; j < F->n; j++) {
         const spiece *q = &F->p[j];
+        const double *cs = co ? co + (size_t)nco * j : q->s, cc = co ? co[(size_t)nco * j + dim] : q->c;
         const int32_t t0 = q->lo[last], t1 = q->hi[last];
-        const double sl = q->s[last];
+        const double sl = cs[last];
         int32_t x[D] = {0};
         for (unsigned e = 0; e < dim; e++)
             x[e] = q->lo[e];
         for (;;) {
-            double base = q->c;
+            double base = cc;
             size_t off = 0;
             for (unsigned e = 0; e < last; e++) {
-                base += q->s[e] * (double)x[e];
+                base += cs[e] * (double)x[e];
                 off += gw->stride[e] * (size_t)x[e];
             }
             double *row = total + off;
@@ -569,6 +570,14 @@ static void grid_add(gridw *gw, const sfunc *F, unsigned dim)
                 break;
         }
     }
+}
+
+static bool same_tile(const sfunc *a, const sfunc *b, unsigned dim)
+{
+    for (unsigned e = 0; e < dim; e++)
+        if (a->edge[e] != b->edge[e])
+            return false;
+    return true;
 }
 
 /* Optimal points in box [lo, hi] (summed-area table, inclusion-exclusion over the corners);
@@ -638,12 +647,42 @@ static int grid_solve(kelp_ivp_problem *p, sfunc *sf, snode *node, double margin
     memset(gw.cover, 0, sizeof(uint16_t) * gw.g);
     for (size_t o = 0; o < gw.g; o++)
         gw.total[o] = 0.0;
-    unsigned painted = 0; /* functions painted with coverage counted (the others tile the grid) */
+    /* Functions that tile the grid add each point's one value (no coverage to count); those
+     * sharing the first one's tile are summed plane by plane first (the coefficients in fval,
+     * free until a function is painted, when it holds dim + 1 doubles per tile) and added at
+     * once. A point's total then differs from the sum of its values by rounding only, far below
+     * the tolerance the search keeps around G, so the answer is the same. */
+    unsigned g0 = k, painted = 0; /* functions painted with coverage counted */
+    for (unsigned i = 0; i < k; i++)
+        if (tiles_grid(&sf[i], &p->dom, dim) && g0 == k)
+            g0 = i;
+    const unsigned nco = dim + 1;
+    bool grouped = g0 < k && (size_t)nco * sf[g0].n <= gw.g;
+    if (grouped) {
+        double *co = gw.fval;
+        for (uint32_t j = 0; j < sf[g0].n; j++) {
+            for (unsigned e = 0; e < dim; e++)
+                co[(size_t)nco * j + e] = sf[g0].p[j].s[e];
+            co[(size_t)nco * j + dim] = sf[g0].p[j].c;
+        }
+        for (unsigned i = g0 + 1; i < k; i++) {
+            if (!sf[i].tiled || !same_tile(&sf[i], &sf[g0], dim))
+                continue;
+            for (uint32_t j = 0; j < sf[i].n; j++) {
+                for (unsigned e = 0; e < dim; e++)
+                    co[(size_t)nco * j + e] += sf[i].p[j].s[e];
+                co[(size_t)nco * j + dim] += sf[i].p[j].c;
+            }
+        }
+        grid_add(&gw, &sf[g0], co, dim);
+    }
     for (unsigned i = 0; i < k; i++) {
-        if (tiles_grid(&sf[i], &p->dom, dim))
-            grid_add(&gw, &sf[i], dim);
-        else
+        if (sf[i].tiled) {
+            if (!grouped || !same_tile(&sf[i], &sf[g0], dim))
+                grid_add(&gw, &sf[i], NULL, dim);
+        } else {
             grid_paint(&gw, &sf[i], painted++, dim);
+        }
     }
     const uint16_t all = (uint16_t)painted;
     double G = -INFINITY;
