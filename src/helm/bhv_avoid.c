@@ -338,7 +338,8 @@ static inline double avd_util_q(const kelp_bhv_avoid_aof *f, double q, double fa
     return q > far ? 100.0 : cpa_utility(f, sqrt(q));
 }
 
-#if defined(__GNUC__)
+#if defined(__GNUC__) && (defined(__SSE2__) || defined(__aarch64__))
+#define AVD_VECTORS 1
 typedef double avd_v2 __attribute__((vector_size(16)));
 typedef long long avd_m2 __attribute__((vector_size(16)));
 /* lane by lane: m ? a : b (m from a vector comparison: all ones or all zeros) */
@@ -375,9 +376,9 @@ static void avd_line(const double *pt, unsigned d, const double *x, unsigned n, 
     /* q > far: sqrt(q) > max_util surely (the margin is far above sqrt's rounding) */
     const double far = f->min_util <= f->max_util && f->max_util >= 0 ? f->max_util * f->max_util * (1 + 1e-9) : INFINITY;
     unsigned i = 0;
-#if defined(__GNUC__)
-    /* two speeds at a time in GCC's vector extension (each lane the scalar loop's operations,
-     * so the same bits; a target without vectors gets them one by one) */
+#ifdef AVD_VECTORS
+    /* two speeds at a time in GCC's vector extension where the target has vectors of two
+     * doubles (each lane the scalar loop's operations, so the same bits); others one by one */
     const avd_v2 DX = {dx, dx}, DY = {dy, dy}, CX = {cvx, cvx}, CY = {cvy, cvy}, UX = {ux, ux}, UY = {uy, uy};
     const avd_v2 ZERO = {0.0, 0.0}, TMAX = {tmax, tmax};
     for (; i + 2 <= n; i += 2) {

@@ -10,7 +10,13 @@
  * Splits (smart and auto-peak) halve the longest edge (lowest dimension on ties), the first half
  * getting the extra point. Stored order: uniform tiles with the last variable varying fastest;
  * a refined piece keeps its slot for its first fragment, further fragments and tiles are
- * appended; a split piece keeps its slot for its first half and appends the second. */
+ * appended; a split piece keeps its slot for its first half and appends the second.
+ *
+ * With a line sampler (kelp_ivp_reflector_set_line), the uniform pieces of a 2-D build without
+ * scores take the same samples a row of tiles at a time (uniform2_line): an AOF that does part
+ * of its work once per line (AvoidCollision: the course's unit vector) then costs less per
+ * point, and a piece whose samples are all equal is fitted without the arithmetic (its slopes
+ * and constant are what the fit gives). */
 #include <string.h>
 #include <math.h>
 #include "ivp_int.h"
@@ -520,6 +526,25 @@ static KELP_NOINLINE void fit2(const kelp_ivp_reflector *r, kelp_ivp_piece *p)
     fit2_from(r->strict_range, p, cv, cval, center, c0, c1);
 }
 
+/* uniform2_line's pieces of one row of tiles: nt tiles from b[2] along variable 1 (tile b[3]
+ * points, n1 points in all), variable 0 from b[0] to b[1]; samples ya (low end of variable 0),
+ * yb (high end), each tile's low and high ends of variable 1 in turn, and yc (the centres;
+ * wrow: every tile has one, else only a tile three points wide along variable 1). Out of line,
+ * with its fit's locals: they are not on the stack while the line sampler runs. */
+static KELP_NOINLINE void fit_row(bool strict, kelp_ivp_piece *p, uint32_t nt, const int32_t *b, int32_t n1,
+                                  const double *ya, const double *yb, bool wrow, const double *yc)
+{
+    const int32_t a0 = b[0], h0 = b[1], e1 = b[3], c0 = (a0 + h0) / 2;
+    for (uint32_t t = 0; t < nt; t++, p++) {
+        const int32_t a1 = b[2] + (int32_t)t * e1, h1 = a1 + e1 - 1 < n1 ? a1 + e1 - 1 : n1 - 1;
+        memset(p, 0, sizeof *p);
+        p->lo[0] = a0, p->hi[0] = h0, p->lo[1] = a1, p->hi[1] = h1;
+        double cv[4] = {ya[2 * t], yb[2 * t], ya[2 * t + 1], yb[2 * t + 1]};
+        bool center = wrow || h1 - a1 >= 2;
+        fit2_from(strict, p, cv, center ? yc[t] : 0.0, center, c0, (a1 + h1) / 2);
+    }
+}
+
 /* Uniform pieces of a 2-D domain sampled a row at a time through the line sampler: per row of
  * tiles (variable 0 from a0 to h0) and up to KELP_IVP_LINE_CHUNK tiles along variable 1, one
  * line at a0 and one at h0 through the tiles' low and high ends, one at the centre c0 through
@@ -562,16 +587,8 @@ static KELP_NOINLINE int uniform2_line(kelp_ivp_reflector *r, kelp_ivp_func *out
                 pt[0] = ((double)(uint32_t)c0 * v0->delta) + v0->low;
                 r->aof_line(pt, 1, xc, nt, yc, r->aof_user);
             }
-            const double *hb = h0 != a0 ? yb : ya;
-            kelp_ivp_piece *p = row + (size_t)r0 * T1 + s;
-            for (uint32_t t = 0; t < nt; t++, p++) {
-                const int32_t a1 = (int32_t)(s + t) * e1, h1 = a1 + e1 - 1 < n1 ? a1 + e1 - 1 : n1 - 1;
-                memset(p, 0, sizeof *p);
-                p->lo[0] = a0, p->hi[0] = h0, p->lo[1] = a1, p->hi[1] = h1;
-                double cv[4] = {ya[2 * t], hb[2 * t], ya[2 * t + 1], hb[2 * t + 1]};
-                bool center = wrow || h1 - a1 >= 2;
-                fit2_from(strict, p, cv, center ? yc[t] : 0.0, center, c0, (a1 + h1) / 2);
-            }
+            const int32_t b[4] = {a0, h0, (int32_t)s * e1, e1};
+            fit_row(strict, row + (size_t)r0 * T1 + s, nt, b, n1, ya, h0 != a0 ? yb : ya, wrow, yc);
         }
     }
     out->n += (size_t)T0 * T1;

@@ -363,7 +363,10 @@ static double majorant(const sfunc *sf, const kelp_ivp_domain *dom, brow *const 
  * and so does every leaf that could tie with it or beat it, so the answer is the exhaustive
  * search's. Cost: one pass over the grid per function (about the pieces' points) plus, per
  * level, the few pieces near the optimum; with a plateau of optimal points the search visits
- * the leaves over the plateau. */
+ * the leaves over the plateau. A function whose pieces tile the grid (the Reflector's uniform
+ * pieces) needs no coverage count: it adds its value at each point, and the functions sharing a
+ * tile are summed plane by plane and added once; the pieces holding the listed optimal points
+ * are found by their tile index. */
 
 typedef struct gridw {
     double *total, *fval;
@@ -416,7 +419,7 @@ static void grid_paint2(gridw *gw, const sfunc *F, unsigned i)
     }
 }
 
-static void grid_paint(gridw *gw, const sfunc *F, unsigned i, unsigned dim)
+static KELP_NOINLINE void grid_paint(gridw *gw, const sfunc *F, unsigned i, unsigned dim)
 {
     if (dim == 2) {
         grid_paint2(gw, F, i);
@@ -522,11 +525,11 @@ static uint32_t tile_index(const sfunc *F, const kelp_ivp_domain *dom, const int
 
 /* Add a function that tiles the grid (tiles_grid): each point's one value, no coverage to
  * count and no overlap to resolve; the values are grid_paint's. */
-static void grid_add(gridw *gw, const sfunc *F, const double *co, unsigned dim)
+/* (two variables: grid_paint2's loops) */
+static KELP_NOINLINE void grid_add2(gridw *gw, const sfunc *F, const double *co)
 {
     double *total = gw->total;
-    unsigned last = dim - 1, nco = dim + 1;
-    if (dim == 2) { /* grid_paint2's loops */
+    {
         const size_t st0 = gw->stride[0];
         for (uint32_t j = 0; j < F->n; j++) {
             const spiece *q = &F->p[j];
@@ -540,8 +543,13 @@ static void grid_add(gridw *gw, const sfunc *F, const double *co, unsigned dim)
                     *row += base + sl * td;
             }
         }
-        return;
     }
+}
+
+static KELP_NOINLINE void grid_add_n(gridw *gw, const sfunc *F, const double *co, unsigned dim)
+{
+    double *total = gw->total;
+    unsigned last = dim - 1, nco = dim + 1;
     for (uint32_t j = 0; j < F->n; j++) {
         const spiece *q = &F->p[j];
         const double *cs = co ? co + (size_t)nco * j : q->s, cc = co ? co[(size_t)nco * j + dim] : q->c;
@@ -570,6 +578,16 @@ static void grid_add(gridw *gw, const sfunc *F, const double *co, unsigned dim)
                 break;
         }
     }
+}
+
+/* Add a function that tiles the grid (co: its coefficients, dim + 1 per piece, in place of the
+ * pieces' own) */
+static void grid_add(gridw *gw, const sfunc *F, const double *co, unsigned dim)
+{
+    if (dim == 2)
+        grid_add2(gw, F, co);
+    else
+        grid_add_n(gw, F, co, dim);
 }
 
 static bool same_tile(const sfunc *a, const sfunc *b, unsigned dim)
@@ -847,6 +865,16 @@ static IVP_SOLVE_INLINE void prep_func(sfunc *s, const kelp_ivp_func *f, const k
     }
 }
 
+/* prep_func, out of line (its locals are not on the stack while the search runs) */
+static KELP_NOINLINE void prep(sfunc *s, const kelp_ivp_func *f, const kelp_ivp_domain *pd, const int *map, bool norm,
+                               double badj, double radj, double pwt)
+{
+    if (pd->dim == 2 && f->dom.dim == 2 && map[0] == 0 && map[1] == 1)
+        prep_func(s, f, pd, map, norm, badj, radj, pwt, 2, 2);
+    else
+        prep_func(s, f, pd, map, norm, badj, radj, pwt, pd->dim, f->dom.dim);
+}
+
 int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_result *res)
 {
     if (!p || !res)
@@ -895,10 +923,7 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
         if (f->n && kelp_ivp_func_range(f, &lo, &hi) == 0 && hi - lo > 100)
             norm = true;
         double badj = 0.0 - lo, radj = norm ? 100.0 / (hi - lo) : 1.0, pwt = f->pwt;
-        if (dim == 2 && f->dom.dim == 2 && map[0] == 0 && map[1] == 1)
-            prep_func(s, f, &p->dom, map, norm, badj, radj, pwt, 2, 2);
-        else
-            prep_func(s, f, &p->dom, map, norm, badj, radj, pwt, dim, f->dom.dim);
+        prep(s, f, &p->dom, map, norm, badj, radj, pwt);
         magsum += s->mag;
     }
     if (grid_size(p) && work_size >= kelp_ivp_solve_grid_work_size(p)) {
