@@ -11,6 +11,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <kelp/cpa.h>
 #include <kelp/helm.h>
 #include <kelp/mission.h>
 
@@ -120,12 +121,65 @@ START_TEST(avoid_decisions_pinned)
 }
 END_TEST
 
+/* The objective as the helm sampled it point by point before the line sampler: the course's
+ * unit vector, kelp_cpa_fast_eval_unit's CPA range, MOOS-IvP's utility of it. */
+static double ref_aof(const double *pt, void *user)
+{
+    const kelp_bhv_avoid_aof *f = user;
+    double ux, uy;
+    kelp_cpa_unit(pt[f->icrs], &ux, &uy);
+    double c = kelp_cpa_fast_eval_unit(&f->cpa, ux, uy, pt[f->ispd], NULL);
+    if (c < f->min_util) return 0;
+    if (c > f->max_util || f->max_util <= f->min_util) return 100;
+    return 25.0 + 75.0 * (c - f->min_util) / (f->max_util - f->min_util);
+}
+
+/* The AvoidCollision function the helm built (through the Reflector's line sampler) is the
+ * point-by-point Reflector's, bit for bit: the last instance's function of the 20-contact
+ * encounter against a build of the same objective (the helm's workspace keeps it) through
+ * ref_aof; kelp_helm_bhv_avoid_aof_eval (hypot in place of the square root) within 1e-9. */
+START_TEST(avoid_function_as_point_build)
+{
+    static kelp_ivp_piece ref[4096];
+    static kelp_ivp_pq_entry w[4096];
+    double d[2 * PIN_PAIRS];
+    ck_assert_int_eq(pin_run(20, d), PIN_PAIRS);
+    unsigned i = p_h.nbhv - 1;
+    ck_assert_str_eq(p_h.bhv[i].ops->type, "BHV_AvoidCollision");
+    const kelp_ivp_func *got = &p_h.fn[i];
+    kelp_ivp_reflector r;
+    kelp_ivp_func f;
+    ck_assert_int_eq(kelp_ivp_reflector_init(&r, &p_h.bhv[i].dom, ref_aof, &p_h.ws_bhv.avd_aof), 0);
+    ck_assert_int_eq(kelp_ivp_reflector_set_param(&r, "uniform_piece", "discrete @ course:3,speed:3"), 0);
+    ck_assert_int_eq(kelp_ivp_reflector_create(&r, -1, -1, 0, ref, 4096, w, 4096, &f), (int)got->n);
+    ck_assert_int_eq(kelp_ivp_func_normalize(&f, 0, 100), 0);
+    unsigned flat = 0;
+    for (size_t j = 0; j < f.n; j++) {
+        const kelp_ivp_piece *a = &ref[j], *b = &got->pcs[j];
+        ck_assert(memcmp(a->lo, b->lo, sizeof a->lo) == 0 && memcmp(a->hi, b->hi, sizeof a->hi) == 0);
+        ck_assert_msg(a->slope[0] == b->slope[0] && a->slope[1] == b->slope[1] && a->cst == b->cst,
+                      "piece %zu: %.17g %.17g %.17g, point by point %.17g %.17g %.17g", j, b->slope[0], b->slope[1],
+                      b->cst, a->slope[0], a->slope[1], a->cst);
+        flat += a->slope[0] == 0 && a->slope[1] == 0;
+    }
+    ck_assert_uint_gt(flat, 0);            /* both kinds of piece met */
+    ck_assert_uint_lt(flat, (unsigned)f.n);
+    ck_assert_int_eq(kelp_ivp_reflector_init(&r, &p_h.bhv[i].dom, kelp_helm_bhv_avoid_aof_eval, &p_h.ws_bhv.avd_aof), 0);
+    ck_assert_int_eq(kelp_ivp_reflector_set_param(&r, "uniform_piece", "discrete @ course:3,speed:3"), 0);
+    ck_assert_int_eq(kelp_ivp_reflector_create(&r, -1, -1, 0, ref, 4096, w, 4096, &f), (int)got->n);
+    ck_assert_int_eq(kelp_ivp_func_normalize(&f, 0, 100), 0);
+    for (size_t j = 0; j < f.n; j++)
+        ck_assert(fabs(ref[j].cst - got->pcs[j].cst) < 1e-9 && fabs(ref[j].slope[1] - got->pcs[j].slope[1]) < 1e-9);
+}
+END_TEST
+
 Suite *kelp_helm_avoid_pin_suite(void)
 {
     Suite *s = suite_create("helm_avoid_pin");
     TCase *tc = tcase_create("pinned");
     tcase_set_timeout(tc, 120);
     tcase_add_loop_test(tc, avoid_decisions_pinned, 0, 3);
+    tcase_add_test(tc, avoid_function_as_point_build);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -562,6 +562,74 @@ START_TEST(file_lines)
 }
 END_TEST
 
+/* A capped bump (flat at both caps, sloped between), for the line sampler's test. */
+static double aof_capped(const double *pt, void *user)
+{
+    const gauss *g = user;
+    double v = aof_gauss(pt, user);
+    return v > 0.8 * g->range ? 0.8 * g->range : v < 0.1 * g->range ? 0.1 * g->range : v;
+}
+
+static unsigned line_calls;
+
+static void line_capped(const double *pt, unsigned d, const double *x, unsigned n, double *out, void *user)
+{
+    double q[2] = {pt[0], pt[1]};
+    line_calls++;
+    for (unsigned i = 0; i < n; i++) {
+        q[d] = x[i];
+        out[i] = aof_capped(q, user);
+    }
+}
+
+/* The line sampler gives the point-by-point build's pieces, bit for bit: uniform pieces of
+ * several shapes (tiles clipped at the domain's end, one point wide, more tiles per row than
+ * one chunk), strict and not; a scored build (smart refinement) does not use it. */
+START_TEST(line_sampler_same_pieces)
+{
+    static kelp_ivp_piece a[4096], b[4096];
+    static kelp_ivp_pq_entry w[4096];
+    const char *doms[] = {"x:0:359:360,y:0:4:21", "x:-10:10:41,y:0:1:7", "x:0:3:4,y:0:30:31"};
+    const char *shapes[] = {"discrete @ x:3,y:3", "discrete @ x:1,y:2", "discrete @ x:4,y:1", "discrete @ x:2,y:5"};
+    for (unsigned di = 0; di < 3; di++)
+        for (unsigned si = 0; si < 4; si++)
+            for (int strict = 0; strict < 2; strict++) {
+                kelp_ivp_domain d = mkdom(doms[di]);
+                gauss g = {d.var[0].low + 0.3 * (d.var[0].high - d.var[0].low), 2.0, 0.2 * (d.var[0].high - d.var[0].low), 100};
+                kelp_ivp_reflector r;
+                kelp_ivp_func fa, fb;
+                ck_assert_int_eq(kelp_ivp_reflector_init(&r, &d, aof_capped, &g), 0);
+                ck_assert_int_eq(kelp_ivp_reflector_set_param(&r, "uniform_piece", shapes[si]), 0);
+                ck_assert_int_eq(kelp_ivp_reflector_set_param(&r, "strict_range", strict ? "true" : "false"), 0);
+                int na = kelp_ivp_reflector_create(&r, -1, -1, 0, a, 4096, w, 4096, &fa);
+                kelp_ivp_reflector_set_line(&r, line_capped);
+                line_calls = 0;
+                int nb = kelp_ivp_reflector_create(&r, -1, -1, 0, b, 4096, w, 4096, &fb);
+                ck_assert_int_gt(na, 0);
+                ck_assert_int_eq(na, nb);
+                ck_assert_uint_gt(line_calls, 0);
+                for (int i = 0; i < na; i++) {
+                    ck_assert_msg(a[i].lo[0] == b[i].lo[0] && a[i].hi[0] == b[i].hi[0] && a[i].lo[1] == b[i].lo[1] &&
+                                      a[i].hi[1] == b[i].hi[1],
+                                  "%s %s piece %d: bounds differ", doms[di], shapes[si], i);
+                    ck_assert_msg(memcmp(a[i].slope, b[i].slope, sizeof a[i].slope) == 0 && memcmp(&a[i].cst, &b[i].cst, sizeof a[i].cst) == 0,
+                                  "%s %s piece %d: %.17g %.17g %.17g vs %.17g %.17g %.17g", doms[di], shapes[si], i,
+                                  a[i].slope[0], a[i].slope[1], a[i].cst, b[i].slope[0], b[i].slope[1], b[i].cst);
+                }
+            }
+    /* a scored build samples point by point */
+    kelp_ivp_domain d = mkdom("x:0:20:21,y:0:20:21");
+    gauss g = {5, 5, 4, 100};
+    kelp_ivp_reflector r;
+    kelp_ivp_func fb;
+    ck_assert_int_eq(kelp_ivp_reflector_init(&r, &d, aof_capped, &g), 0);
+    kelp_ivp_reflector_set_line(&r, line_capped);
+    line_calls = 0;
+    ck_assert_int_gt(kelp_ivp_reflector_create(&r, 20, 10, 0, b, 4096, w, 4096, &fb), 0);
+    ck_assert_uint_eq(line_calls, 0);
+}
+END_TEST
+
 Suite *kelp_ivp_reflect_suite(void)
 {
     Suite *s = suite_create("ivp_reflect");
@@ -577,6 +645,7 @@ Suite *kelp_ivp_reflect_suite(void)
     tcase_add_loop_test(tc, solver_matches_reference, 0, 60);
     tcase_add_test(tc, solver_plateau_weights_normalise);
     tcase_add_test(tc, file_lines);
+    tcase_add_test(tc, line_sampler_same_pieces);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -435,10 +435,19 @@ extern const kelp_bhv_ops kelp_bhv_constant_heading_ops;
 extern const kelp_bhv_ops kelp_bhv_avoid_collision_ops;
 /** BHV_AvoidCollision's objective at (course, speed): CPA range within the horizon mapped to
  *  utility 0 at or inside min_util_cpa_dist, 100 at or beyond max_util_cpa_dist, linear between. */
+#ifndef KELP_BHV_AVD_UNITS
+#define KELP_BHV_AVD_UNITS 360 /**< course points whose unit vectors AvoidCollision keeps between builds */
+#endif
 typedef struct kelp_bhv_avoid_aof {
     kelp_cpa_fast cpa;
     double min_util, max_util;
     int icrs, ispd;
+    /* private: unit[2 i], unit[2 i + 1] is kelp_cpa_unit of course i * unit_delta + unit_low
+     * (i < unit_n), kept from build to build: every instance's objective is set up in the
+     * helm's one workspace, so the trigonometry is done once per course domain */
+    uint32_t unit_n;
+    double unit_low, unit_delta;
+    double unit[2 * KELP_BHV_AVD_UNITS];
 } kelp_bhv_avoid_aof;
 double kelp_helm_bhv_avoid_aof_eval(const double *pt, void *user);
 /** Priority factor at range: 0 at or beyond outer, 1 at inner, graded by (outer - range) /

@@ -219,11 +219,19 @@ KELP_MUST_CHECK int kelp_ivp_parse_region(const kelp_ivp_domain *d, const char *
 
 /** The underlying function (AOF): native values in domain variable order. */
 typedef double (*kelp_ivp_aof_fn)(const double *pt, void *user);
+/** Optional companion of an AOF: its values along one line of the domain, out[i] = the AOF at
+ *  pt with variable d set to x[i] (i < n; pt's other coordinates fixed). It must give exactly
+ *  the AOF's values; it lets an AOF do once per line what it would otherwise redo per point. */
+typedef void (*kelp_ivp_aof_line_fn)(const double *pt, unsigned d, const double *x, unsigned n, double *out, void *user);
+
+/** Tiles of one row a line sampler is asked for at a time (the Reflector's own scratch). */
+#define KELP_IVP_LINE_CHUNK 8
 
 typedef struct kelp_ivp_reflector {
     kelp_ivp_domain dom;
     kelp_ivp_aof_fn aof;
     void *aof_user;
+    kelp_ivp_aof_line_fn aof_line;   /**< NULL unless kelp_ivp_reflector_set_line */
     int uniform_amount;              /**< <1: not given */
     bool have_uniform_piece;
     uint32_t uniform_piece[KELP_IVP_MAX_DIM];
@@ -241,12 +249,17 @@ typedef struct kelp_ivp_reflector {
     bool ok;
     char warn[KELP_IVP_MAX_WARN];
     kelp_diag ws_diag;               /**< workspace of kelp_ivp_reflector_set_param (a parse's reason) */
+    double ws_line[8 * KELP_IVP_LINE_CHUNK]; /**< workspace of create's line sampling */
 } kelp_ivp_reflector;
 
 /** Priority-queue entry used in the Reflector's work storage. */
 typedef struct kelp_ivp_pq_entry { double key; uint32_t piece; } kelp_ivp_pq_entry;
 
 KELP_MUST_CHECK int kelp_ivp_reflector_init(kelp_ivp_reflector *r, const kelp_ivp_domain *dom, kelp_ivp_aof_fn aof, void *user);
+/** Give the AOF's line sampler (after init). create then samples the uniform pieces of a 2-D
+ *  domain a row at a time through it (the same points, the same values, the same pieces);
+ *  refinement and scored builds still use the AOF point by point. */
+void kelp_ivp_reflector_set_line(kelp_ivp_reflector *r, kelp_ivp_aof_line_fn line);
 /** setParam(name, value) with the IvPBuild guide's names: uniform_amount, uniform_piece, strict_range,
  * refine_region, refine_piece, refine_point (accepted and validated; it does not change the build),
  * smart_amount, smart_percent, smart_thresh, auto_peak, auto_peak_max_pcs. Names and values are

@@ -332,25 +332,82 @@ double kelp_helm_bhv_avoid_aof_eval(const double *pt, void *user)
     return cpa_utility(f, kelp_cpa_fast_eval(&f->cpa, pt[f->icrs], pt[f->ispd], NULL));
 }
 
-/* The same AOF with the course's unit vectors taken once per build (the Reflector samples
- * every course some dozen times): unit[2 i], unit[2 i + 1] for course index i, in the helm's
- * dwork scratch. Values are kelp_helm_bhv_avoid_aof_eval's to within an ulp of the CPA range
- * (kelp_cpa_fast_eval_unit). */
-typedef struct avd_tab {
-    const kelp_bhv_avoid_aof *f;    /* in the helm's workspace */
-    const double *unit;
-    double low, delta;
-    uint32_t points;
-} avd_tab;
-
-static double avd_tab_eval(const double *pt, void *user)
+/* the utility of squared CPA range q (q > far: beyond max_util surely, 100) */
+static inline double avd_util_q(const kelp_bhv_avoid_aof *f, double q, double far)
 {
-    const avd_tab *t = user;
-    double c = pt[t->f->icrs], x = t->delta > 0 ? (c - t->low) / t->delta : 0;
-    uint32_t i = x > 0 ? (uint32_t)(x + 0.5) : 0;
-    if (i >= t->points || (double)i * t->delta + t->low != c) /* not a domain point: the plain way */
-        return kelp_helm_bhv_avoid_aof_eval(pt, (void *)t->f);
-    return cpa_utility(t->f, kelp_cpa_fast_eval_unit(&t->f->cpa, t->unit[2 * i], t->unit[2 * i + 1], pt[t->f->ispd], NULL));
+    return q > far ? 100.0 : cpa_utility(f, sqrt(q));
+}
+
+#if defined(__GNUC__) && (defined(__SSE2__) || defined(__aarch64__))
+#define AVD_VECTORS 1
+typedef double avd_v2 __attribute__((vector_size(16)));
+typedef long long avd_m2 __attribute__((vector_size(16)));
+/* lane by lane: m ? a : b (m from a vector comparison: all ones or all zeros) */
+static inline avd_v2 avd_sel(avd_m2 m, avd_v2 a, avd_v2 b)
+{
+    return (avd_v2)(((avd_m2)a & m) | ((avd_m2)b & ~m));
+}
+#endif
+
+/* The same AOF along a line of speeds at one course (the Reflector's line sampler): the
+ * course's unit vector once, then per speed kelp_cpa_fast_eval_unit's closest approach, the
+ * same arithmetic in the same order (so the same bits), its square root taken only where the
+ * utility is not already decided by the squared range (beyond max_util: 100). Other lines
+ * (course varying) go point by point. */
+static void avd_line(const double *pt, unsigned d, const double *x, unsigned n, double *out, void *user)
+{
+    const kelp_bhv_avoid_aof *f = user;
+    if ((int)d != f->ispd || f->icrs > 1 || f->ispd > 1) {
+        double q[2] = {pt[0], pt[1]};
+        for (unsigned i = 0; i < n; i++) {
+            q[d] = x[i];
+            out[i] = kelp_helm_bhv_avoid_aof_eval(q, user);
+        }
+        return;
+    }
+    double c = pt[f->icrs], ux, uy, xi = f->unit_delta > 0 ? (c - f->unit_low) / f->unit_delta : 0;
+    uint32_t k = xi > 0 && xi < (double)f->unit_n ? (uint32_t)(xi + 0.5) : 0;
+    if (k < f->unit_n && (double)k * f->unit_delta + f->unit_low == c) /* the course's kept unit vector */
+        ux = f->unit[2 * k], uy = f->unit[2 * k + 1];
+    else
+        kelp_cpa_unit(c, &ux, &uy);
+    const double dx = f->cpa.dx, dy = f->cpa.dy, cvx = f->cpa.cvx, cvy = f->cpa.cvy;
+    const double tmax = f->cpa.tol > 0.0 ? f->cpa.tol : INFINITY; /* t > tmax: t > tol with tol > 0 */
+    /* q > far: sqrt(q) > max_util surely (the margin is far above sqrt's rounding) */
+    const double far = f->min_util <= f->max_util && f->max_util >= 0 ? f->max_util * f->max_util * (1 + 1e-9) : INFINITY;
+    unsigned i = 0;
+#ifdef AVD_VECTORS
+    /* two speeds at a time in GCC's vector extension where the target has vectors of two
+     * doubles (each lane the scalar loop's operations, so the same bits); others one by one */
+    const avd_v2 DX = {dx, dx}, DY = {dy, dy}, CX = {cvx, cvx}, CY = {cvy, cvy}, UX = {ux, ux}, UY = {uy, uy};
+    const avd_v2 ZERO = {0.0, 0.0}, TMAX = {tmax, tmax};
+    for (; i + 2 <= n; i += 2) {
+        avd_v2 xv;
+        memcpy(&xv, x + i, sizeof xv);
+        avd_v2 v = avd_sel(xv > ZERO, xv, ZERO);
+        avd_v2 wx = CX - v * UX, wy = CY - v * UY;
+        avd_v2 ww = wx * wx + wy * wy;
+        avd_v2 t = avd_sel(ww > ZERO, -(DX * wx + DY * wy) / ww, ZERO);
+        t = avd_sel(t < ZERO, ZERO, t);
+        t = avd_sel(t > TMAX, TMAX, t);
+        avd_v2 ex = DX + wx * t, ey = DY + wy * t, q = ex * ex + ey * ey;
+        memcpy(out + i, &q, sizeof q);
+    }
+#endif
+    for (; i < n; i++) {
+        double v = x[i] > 0 ? x[i] : 0;
+        double wx = cvx - v * ux, wy = cvy - v * uy;
+        double ww = wx * wx + wy * wy, t = 0.0;
+        if (ww > 0.0) {
+            t = -(dx * wx + dy * wy) / ww;
+            if (t < 0.0) t = 0.0;
+            if (t > tmax) t = tmax;
+        }
+        double ex = dx + wx * t, ey = dy + wy * t;
+        out[i] = ex * ex + ey * ey;
+    }
+    for (i = 0; i < n; i++) /* squared ranges to utilities */
+        out[i] = avd_util_q(f, out[i], far);
 }
 
 /* distance a contact travelled dt seconds after its report, speed decaying from d1 to d2 */
@@ -587,6 +644,12 @@ KELP_NOINLINE static int aof_setup(kelp_bhv *b, kelp_bhv_avoid_aof *f)
     f->icrs = kelp_ivp_domain_index(&b->dom, "course");
     f->ispd = kelp_ivp_domain_index(&b->dom, "speed");
     if (f->icrs < 0 || f->ispd < 0) return KELP_ERR_NOTFOUND;
+    const kelp_ivp_var *cv = &b->dom.var[f->icrs];
+    if (cv->points <= KELP_BHV_AVD_UNITS && (f->unit_n != cv->points || f->unit_low != cv->low || f->unit_delta != cv->delta)) {
+        for (uint32_t i = 0; i < cv->points; i++)
+            kelp_cpa_unit(kelp_ivp_domain_value(&b->dom, (unsigned)f->icrs, i), &f->unit[2 * i], &f->unit[2 * i + 1]);
+        f->unit_n = cv->points, f->unit_low = cv->low, f->unit_delta = cv->delta;
+    }
     f->min_util = a->range <= a->min_util_cpa_dist ? a->range / 2 : a->min_util_cpa_dist;
     f->max_util = a->max_util_cpa_dist;
     kelp_cpa_vessel cn = {a->cn.x, a->cn.y, a->cn.hdg, a->cn.spd};
@@ -600,20 +663,8 @@ KELP_NOINLINE static int build(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_fu
     kelp_bhv_avoid_aof *f = &b->helm->ws_bhv.avd_aof; /* the helm's workspace, not the stack */
     int rc = aof_setup(b, f);
     if (rc < 0) return rc;
-    const kelp_ivp_var *cv = &b->dom.var[f->icrs];
     kelp_ivp_aof_fn aof = kelp_helm_bhv_avoid_aof_eval;
     void *user = f;
-    avd_tab t = {f, NULL, 0, 0, 0};
-    if (w->dwork && w->dwork_cap / 2 >= cv->points) { /* room for the course table */
-        for (uint32_t i = 0; i < cv->points; i++)
-            kelp_cpa_unit(kelp_ivp_domain_value(&b->dom, (unsigned)f->icrs, i), &w->dwork[2 * i], &w->dwork[2 * i + 1]);
-        t.unit = w->dwork;
-        t.low = cv->low;
-        t.delta = cv->delta;
-        t.points = cv->points;
-        aof = avd_tab_eval;
-        user = &t;
-    }
     size_t cap = w->out_cap < w->pq_cap ? w->out_cap : w->pq_cap;
     kelp_ivp_reflector *r = &b->helm->ws_bhv.refl;   /* the helm's workspace, not the stack */
     /* a failed init leaves r->ok false: kelp_ivp_reflector_create then fails with KELP_ERR_STATE */
@@ -624,6 +675,7 @@ KELP_NOINLINE static int build(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_fu
         hx_ignore(kelp_ivp_reflector_init(r, &b->dom, aof, user));
         amount = (int)(cap > 2 ? cap / 2 : 1);
     }
+    kelp_ivp_reflector_set_line(r, avd_line);
     rc = kelp_ivp_reflector_create(r, amount, -1, 0, w->out, cap, w->pq, kelp_ivp_reflector_work_len(cap), out);
     if (rc < 0) return rc;
     if (r->have_uniform_piece) { /* BHV_IPF's grid element box: the uniform piece */

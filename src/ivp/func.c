@@ -77,14 +77,14 @@ int kelp_ivp_func_eval(const kelp_ivp_func *f, const uint32_t *ix, double *out)
     return KELP_ERR_NOTFOUND;
 }
 
-int kelp_ivp_func_range(const kelp_ivp_func *f, double *min, double *max)
+/* min and max over pieces 1.. (kelp_ivp_piece_min / _max in one pass, inline); inlined with a
+ * constant dim for 2-D functions (the same arithmetic) */
+#if defined(__GNUC__)
+__attribute__((always_inline))
+#endif
+static inline void range_rest(const kelp_ivp_func *f, unsigned dim, double *lo, double *hi)
 {
-    if (f->n == 0)
-        return KELP_ERR_EMPTY;
-    unsigned dim = f->dom.dim;
-    double lo = kelp_ivp_piece_min(&f->pcs[0], dim);
-    double hi = kelp_ivp_piece_max(&f->pcs[0], dim);
-    for (size_t i = 1; i < f->n; i++) { /* kelp_ivp_piece_min / _max in one pass, inline */
+    for (size_t i = 1; i < f->n; i++) {
         const kelp_ivp_piece *p = &f->pcs[i];
         double a = p->cst, b = p->cst;
         for (unsigned d = 0; d < dim; d++) {
@@ -92,11 +92,24 @@ int kelp_ivp_func_range(const kelp_ivp_func *f, double *min, double *max)
             a += s < 0 ? h : l;
             b += s < 0 ? l : h;
         }
-        if (a < lo)
-            lo = a;
-        if (b > hi)
-            hi = b;
+        if (a < *lo)
+            *lo = a;
+        if (b > *hi)
+            *hi = b;
     }
+}
+
+int kelp_ivp_func_range(const kelp_ivp_func *f, double *min, double *max)
+{
+    if (f->n == 0)
+        return KELP_ERR_EMPTY;
+    unsigned dim = f->dom.dim;
+    double lo = kelp_ivp_piece_min(&f->pcs[0], dim);
+    double hi = kelp_ivp_piece_max(&f->pcs[0], dim);
+    if (dim == 2)
+        range_rest(f, 2, &lo, &hi);
+    else
+        range_rest(f, dim, &lo, &hi);
     *min = lo;
     *max = hi;
     return 0;
@@ -113,6 +126,8 @@ int kelp_ivp_func_normalize(kelp_ivp_func *f, double base, double range)
         return 0;
     double badj = base - lo;
     double radj = range / er;
+    if (badj == 0 && radj == 1)
+        return 0; /* already on [base, base + range]: every coefficient would stay as it is */
     for (size_t i = 0; i < f->n; i++) {
         kelp_ivp_piece *p = &f->pcs[i];
         p->cst += badj;

@@ -38,18 +38,31 @@ static void puts_(ipf_out *o, const char *s)
     put(o, s, strlen(s));
 }
 
+/* v in decimal at d (up to 20 digits); returns the length */
+static size_t fmt_ulong(char *d, unsigned long v)
+{
+    if (v < 1000) { /* the common case: piece bounds */
+        size_t n = v < 10 ? 1 : v < 100 ? 2 : 3;
+        for (size_t k = n; k-- > 0; v /= 10)
+            d[k] = (char)('0' + v % 10);
+        return n;
+    }
+    char t[24];
+    size_t k = sizeof t;
+    do {
+        t[--k] = (char)('0' + v % 10);
+        v /= 10;
+    } while (v);
+    memcpy(d, t + k, sizeof t - k);
+    return sizeof t - k;
+}
+
 static void put_ulong(ipf_out *o, unsigned long v)
 {
     char d[24];
-    size_t k = sizeof d;
-    do {
-        d[--k] = (char)('0' + v % 10);
-        v /= 10;
-    } while (v);
-    put(o, d + k, sizeof d - k);
+    put(o, d, fmt_ulong(d, v));
 }
 
-/* five decimals, trailing zeros and a bare point cut */
 static void put_compact(ipf_out *o, double v)
 {
     char b[48];
@@ -61,33 +74,76 @@ static void put_compact(ipf_out *o, double v)
 }
 
 /* a weight as the encoder writes it (see the file's comment) */
-static void put_weight(ipf_out *o, double w)
+/* a weight at d (at most WEIGHT_MAX characters); returns the length, 0 for a weight beyond
+ * the encoder's integer (not a value a function holds) */
+#define WEIGHT_MAX 24
+static size_t fmt_weight(char *d, double w)
 {
     if (w == 0) {
-        put(o, "0", 1);
-        return;
+        d[0] = '0';
+        return 1;
     }
+    size_t n = 0;
     if (w < 0) {
-        put(o, "-", 1);
+        d[n++] = '-';
         w = -w;
     }
-    if (w > 9e14) { /* beyond the encoder's integer: not a value a function holds */
-        o->full = true;
-        return;
-    }
+    if (w > 9e14)
+        return 0;
     unsigned long long iv = (unsigned long long)(w * 10000 + 0.5);
-    put_ulong(o, (unsigned long)(iv / 10000));
-    put(o, ".", 1);
+    n += fmt_ulong(d + n, (unsigned long)(iv / 10000));
+    d[n++] = '.';
     unsigned frac = (unsigned)(iv % 10000);
     if (iv == 0) {
-        put(o, "0000", 4);
+        memcpy(d + n, "0000", 4);
+        n += 4;
     } else if (frac) {
         char f[4];
         unsigned len = 4;
         for (int k = 3; k >= 0; k--, frac /= 10) f[k] = (char)('0' + frac % 10);
         while (len > 0 && f[len - 1] == '0') len--;
-        put(o, f, len);
+        memcpy(d + n, f, len);
+        n += len;
     }
+    return n;
+}
+
+static void put_weight(ipf_out *o, double w)
+{
+    char d[WEIGHT_MAX];
+    size_t n = fmt_weight(d, w);
+    if (n == 0) {
+        o->full = true;
+        return;
+    }
+    put(o, d, n);
+}
+
+/* One piece written straight into the buffer when it surely fits (bounds of at most 20
+ * digits, weights of at most WEIGHT_MAX characters, the separators, the terminating NUL);
+ * false (nothing written) otherwise, and the caller writes it piece by piece. */
+static bool put_piece_fast(ipf_out *o, const kelp_ivp_piece *p, unsigned dim, bool last)
+{
+    size_t need = (size_t)dim * 2 * 21 + ((size_t)dim + 1) * (WEIGHT_MAX + 1) + 1;
+    if (o->full || o->n + need >= o->cap)
+        return false;
+    char *d = o->buf + o->n, *d0 = d;
+    for (unsigned k = 0; k < dim; k++) {
+        d += fmt_ulong(d, (unsigned long)(p->lo[k] > 0 ? p->lo[k] : 0));
+        *d++ = ',';
+        d += fmt_ulong(d, (unsigned long)(p->hi[k] > 0 ? p->hi[k] : 0));
+        *d++ = ',';
+    }
+    for (unsigned k = 0; k <= dim; k++) {
+        size_t n = fmt_weight(d, k < dim ? p->slope[k] : p->cst);
+        if (n == 0)
+            return false; /* written past o->n only: the slow path redoes it and fails */
+        d += n;
+        if (!last || k < dim) *d++ = ',';
+    }
+    *d = '\0';
+    o->n += (size_t)(d - d0);
+    return true;
 }
 
 int kelp_ivp_func_to_ipf(const kelp_ivp_func *f, const char *context, const int32_t *gel, char *buf, size_t cap)
@@ -128,6 +184,8 @@ int kelp_ivp_func_to_ipf(const kelp_ivp_func *f, const char *context, const int3
     put(&o, "F,", 2);
     for (size_t i = 0; i < f->n && !o.full; i++) {
         const kelp_ivp_piece *p = &f->pcs[i];
+        if (put_piece_fast(&o, p, dim, i + 1 == f->n))
+            continue;
         for (unsigned d = 0; d < dim; d++) {
             put_ulong(&o, (unsigned long)(p->lo[d] > 0 ? p->lo[d] : 0));
             put(&o, ",", 1);

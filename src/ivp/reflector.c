@@ -10,7 +10,13 @@
  * Splits (smart and auto-peak) halve the longest edge (lowest dimension on ties), the first half
  * getting the extra point. Stored order: uniform tiles with the last variable varying fastest;
  * a refined piece keeps its slot for its first fragment, further fragments and tiles are
- * appended; a split piece keeps its slot for its first half and appends the second. */
+ * appended; a split piece keeps its slot for its first half and appends the second.
+ *
+ * With a line sampler (kelp_ivp_reflector_set_line), the uniform pieces of a 2-D build without
+ * scores take the same samples a row of tiles at a time (uniform2_line): an AOF that does part
+ * of its work once per line (AvoidCollision: the course's unit vector) then costs less per
+ * point, and a piece whose samples are all equal is fitted without the arithmetic (its slopes
+ * and constant are what the fit gives). */
 #include <string.h>
 #include <math.h>
 #include "ivp_int.h"
@@ -35,6 +41,11 @@ int kelp_ivp_reflector_init(kelp_ivp_reflector *r, const kelp_ivp_domain *dom, k
     r->aof = aof;
     r->aof_user = user;
     return 0;
+}
+
+void kelp_ivp_reflector_set_line(kelp_ivp_reflector *r, kelp_ivp_aof_line_fn line)
+{
+    r->aof_line = line;
 }
 
 static int fatal(kelp_ivp_reflector *r, int code, const char *name, const char *what)
@@ -399,6 +410,78 @@ static double regress(const kelp_ivp_reflector *r, kelp_ivp_piece *p)
     }
 }
 
+/* fit2's fit from its samples: the corners cv (index bit 0: variable 0 high, bit 1: variable 1
+ * high) and, with `center`, the value at the centre point (c0, c1). */
+static IVP_ALWAYS_INLINE void fit2_from(bool strict, kelp_ivp_piece *p, const double *cv, double cval, bool center,
+                                        int32_t c0, int32_t c1)
+{
+    const int32_t l0 = p->lo[0], h0 = p->hi[0], l1 = p->lo[1], h1 = p->hi[1];
+    if (strict && cv[0] - cv[0] == 0 && cv[1] == cv[0] && cv[2] == cv[0] && cv[3] == cv[0] &&
+        (!center || cval == cv[0])) {
+        /* a flat piece (common: a utility at its cap): the fit below gives slopes +0 and a
+         * constant clamped into [cv[0], cv[0]], so cv[0] itself (a zero as +0, as the sum gives) */
+        p->slope[0] = 0.0;
+        p->slope[1] = 0.0;
+        p->cst = cv[0] + 0.0;
+        return;
+    }
+    double hv = cv[0], lv = cv[0];
+    for (unsigned i = 1; i < 4; i++) {
+        if (cv[i] > hv)
+            hv = cv[i];
+        if (cv[i] < lv)
+            lv = cv[i];
+    }
+    if (center) {
+        if (cval > hv)
+            hv = cval;
+        if (cval < lv)
+            lv = cval;
+    }
+    double s0 = 0, s1 = 0, run0 = (double)(h0 - l0), run1 = (double)(h1 - l1);
+    if (run0 != 0) {
+        double rise = 0;
+        rise += cv[1] - cv[0];
+        rise += cv[3] - cv[2];
+        rise /= 2.0;
+        s0 = rise / run0;
+    }
+    if (run1 != 0) {
+        double rise = 0;
+        rise += cv[2] - cv[0];
+        rise += cv[3] - cv[1];
+        rise /= 2.0;
+        s1 = rise / run1;
+    }
+    p->slope[0] = s0;
+    p->slope[1] = s1;
+    const double xs0[5] = {(double)l0, (double)h0, (double)l0, (double)h0, (double)c0};
+    const double xs1[5] = {(double)l1, (double)l1, (double)h1, (double)h1, (double)c1};
+    const double val[5] = {cv[0], cv[1], cv[2], cv[3], cval};
+    unsigned ns = center ? 5u : 4u;
+    /* regress_n's bounds min_i (hv - plane_i) and max_i (lv - plane_i) taken as hv - max plane
+     * and lv - min plane: rounding is monotonic, so the same values */
+    double total = 0, pmax = 0, pmin = 0;
+    for (unsigned i = 0; i < ns; i++) {
+        double plane = 0;
+        plane += s0 * xs0[i];
+        plane += s1 * xs1[i];
+        total += val[i] - plane;
+        if (i == 0 || plane > pmax)
+            pmax = plane;
+        if (i == 0 || plane < pmin)
+            pmin = plane;
+    }
+    double c = total / (double)ns, maxi = hv - pmax, mini = lv - pmin;
+    if (strict) {
+        if (c > maxi)
+            c = maxi;
+        if (c < mini)
+            c = mini;
+    }
+    p->cst = c;
+}
+
 /* regress_n's fit for two variables written out: the same samples, the same arithmetic in the
  * same order (so the same bits), without the loops over corner masks. */
 static KELP_NOINLINE void fit2(const kelp_ivp_reflector *r, kelp_ivp_piece *p)
@@ -440,60 +523,76 @@ static KELP_NOINLINE void fit2(const kelp_ivp_reflector *r, kelp_ivp_piece *p)
         pt[1] = ((double)(uint32_t)c1 * v1->delta) + v1->low;
         cval = r->aof(pt, r->aof_user);
     }
-    double hv = cv[0], lv = cv[0];
-    for (unsigned i = 1; i < 4; i++) {
-        if (cv[i] > hv)
-            hv = cv[i];
-        if (cv[i] < lv)
-            lv = cv[i];
+    fit2_from(r->strict_range, p, cv, cval, center, c0, c1);
+}
+
+/* uniform2_line's pieces of one row of tiles: nt tiles from b[2] along variable 1 (tile b[3]
+ * points, n1 points in all), variable 0 from b[0] to b[1]; samples ya (low end of variable 0),
+ * yb (high end), each tile's low and high ends of variable 1 in turn, and yc (the centres;
+ * wrow: every tile has one, else only a tile three points wide along variable 1). Out of line,
+ * with its fit's locals: they are not on the stack while the line sampler runs. */
+static KELP_NOINLINE void fit_row(bool strict, kelp_ivp_piece *p, uint32_t nt, const int32_t *b, int32_t n1,
+                                  const double *ya, const double *yb, bool wrow, const double *yc)
+{
+    const int32_t a0 = b[0], h0 = b[1], e1 = b[3], c0 = (a0 + h0) / 2;
+    for (uint32_t t = 0; t < nt; t++, p++) {
+        const int32_t a1 = b[2] + (int32_t)t * e1, h1 = a1 + e1 - 1 < n1 ? a1 + e1 - 1 : n1 - 1;
+        memset(p, 0, sizeof *p);
+        p->lo[0] = a0, p->hi[0] = h0, p->lo[1] = a1, p->hi[1] = h1;
+        double cv[4] = {ya[2 * t], yb[2 * t], ya[2 * t + 1], yb[2 * t + 1]};
+        bool center = wrow || h1 - a1 >= 2;
+        fit2_from(strict, p, cv, center ? yc[t] : 0.0, center, c0, (a1 + h1) / 2);
     }
-    if (center) {
-        if (cval > hv)
-            hv = cval;
-        if (cval < lv)
-            lv = cval;
+}
+
+/* Uniform pieces of a 2-D domain sampled a row at a time through the line sampler: per row of
+ * tiles (variable 0 from a0 to h0) and up to KELP_IVP_LINE_CHUNK tiles along variable 1, one
+ * line at a0 and one at h0 through the tiles' low and high ends, one at the centre c0 through
+ * the tiles' centres; then fit2's fit from those samples. The points and values are fit2's (a
+ * point met twice, as a tile one point wide, is sampled twice: the AOF gives the same value;
+ * a centre no piece needs may be sampled and not used), the pieces are in tile's order. */
+static KELP_NOINLINE int uniform2_line(kelp_ivp_reflector *r, kelp_ivp_func *out, const uint32_t *edge)
+{
+    const kelp_ivp_var *v0 = &r->dom.var[0], *v1 = &r->dom.var[1];
+    const int32_t n0 = (int32_t)v0->points, n1 = (int32_t)v1->points, e0 = (int32_t)edge[0], e1 = (int32_t)edge[1];
+    const uint32_t T0 = tiles_on((uint32_t)n0, (uint32_t)e0), T1 = tiles_on((uint32_t)n1, (uint32_t)e1);
+    if (out->cap - out->n < (size_t)T0 * T1)
+        return KELP_ERR_NOSPACE;
+    const uint32_t C = KELP_IVP_LINE_CHUNK;
+    double *xe = r->ws_line, *ya = xe + 2 * C, *yb = ya + 2 * C, *xc = yb + 2 * C, *yc = xc + C;
+    kelp_ivp_piece *row = out->pcs + out->n;
+    const bool strict = r->strict_range;
+    double pt[2];
+    for (uint32_t s = 0; s < T1; s += C) {
+        const uint32_t nt = T1 - s < C ? T1 - s : C;
+        bool wide = false; /* some tile of the chunk spans three points or more of variable 1 */
+        for (uint32_t t = 0; t < nt; t++) {
+            const int32_t a1 = (int32_t)(s + t) * e1, h1 = a1 + e1 - 1 < n1 ? a1 + e1 - 1 : n1 - 1;
+            xe[2 * t] = ((double)(uint32_t)a1 * v1->delta) + v1->low;
+            xe[2 * t + 1] = ((double)(uint32_t)h1 * v1->delta) + v1->low;
+            xc[t] = ((double)(uint32_t)((a1 + h1) / 2) * v1->delta) + v1->low;
+            wide = wide || h1 - a1 >= 2;
+        }
+        for (uint32_t r0 = 0; r0 < T0; r0++) {
+            const int32_t a0 = (int32_t)r0 * e0, h0 = a0 + e0 - 1 < n0 ? a0 + e0 - 1 : n0 - 1, c0 = (a0 + h0) / 2;
+            pt[1] = 0.0;
+            pt[0] = ((double)(uint32_t)a0 * v0->delta) + v0->low;
+            r->aof_line(pt, 1, xe, 2 * nt, ya, r->aof_user);
+            if (h0 != a0) {
+                pt[0] = ((double)(uint32_t)h0 * v0->delta) + v0->low;
+                r->aof_line(pt, 1, xe, 2 * nt, yb, r->aof_user);
+            }
+            const bool wrow = h0 - a0 >= 2;
+            if (wrow || wide) {
+                pt[0] = ((double)(uint32_t)c0 * v0->delta) + v0->low;
+                r->aof_line(pt, 1, xc, nt, yc, r->aof_user);
+            }
+            const int32_t b[4] = {a0, h0, (int32_t)s * e1, e1};
+            fit_row(strict, row + (size_t)r0 * T1 + s, nt, b, n1, ya, h0 != a0 ? yb : ya, wrow, yc);
+        }
     }
-    double s0 = 0, s1 = 0, run0 = (double)(h0 - l0), run1 = (double)(h1 - l1);
-    if (run0 != 0) {
-        double rise = 0;
-        rise += cv[1] - cv[0];
-        rise += cv[3] - cv[2];
-        rise /= 2.0;
-        s0 = rise / run0;
-    }
-    if (run1 != 0) {
-        double rise = 0;
-        rise += cv[2] - cv[0];
-        rise += cv[3] - cv[1];
-        rise /= 2.0;
-        s1 = rise / run1;
-    }
-    p->slope[0] = s0;
-    p->slope[1] = s1;
-    const double xs0[5] = {(double)l0, (double)h0, (double)l0, (double)h0, (double)c0};
-    const double xs1[5] = {(double)l1, (double)l1, (double)h1, (double)h1, (double)c1};
-    const double val[5] = {cv[0], cv[1], cv[2], cv[3], cval};
-    unsigned ns = center ? 5u : 4u;
-    double total = 0, maxi = 0, mini = 0;
-    for (unsigned i = 0; i < ns; i++) {
-        double plane = 0;
-        plane += s0 * xs0[i];
-        plane += s1 * xs1[i];
-        total += val[i] - plane;
-        double imax = hv - plane, imin = lv - plane;
-        if (i == 0 || imax < maxi)
-            maxi = imax;
-        if (i == 0 || imin > mini)
-            mini = imin;
-    }
-    double c = total / (double)ns;
-    if (r->strict_range) {
-        if (c > maxi)
-            c = maxi;
-        if (c < mini)
-            c = mini;
-    }
-    p->cst = c;
+    out->n += (size_t)T0 * T1;
+    return 0;
 }
 
 /* The fit alone (no score): pieces whose score nobody reads. */
@@ -811,15 +910,20 @@ int kelp_ivp_reflector_create(kelp_ivp_reflector *r, int uniform_amount, int sma
         lo[d] = 0;
         hi[d] = (int32_t)r->dom.var[d].points - 1;
     }
-    if ((rc = tile(out, lo, hi, edge)))
-        return rc;
     /* scores are read only by smart refinement */
     bool scored = sa > 0 || r->smart_percent > 0;
-    for (size_t i = 0; i < out->n; i++) {
-        if (scored)
-            work[i].key = regress(r, &out->pcs[i]);
-        else
-            fit(r, &out->pcs[i]);
+    if (r->aof_line && dim == 2 && !scored) {
+        if ((rc = uniform2_line(r, out, edge)))
+            return rc;
+    } else {
+        if ((rc = tile(out, lo, hi, edge)))
+            return rc;
+        for (size_t i = 0; i < out->n; i++) {
+            if (scored)
+                work[i].key = regress(r, &out->pcs[i]);
+            else
+                fit(r, &out->pcs[i]);
+        }
     }
 
     /* 2. directed refinement */

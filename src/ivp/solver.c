@@ -39,6 +39,8 @@ typedef struct sfunc {
     uint32_t n;
     double gmax;              /* max over all pieces */
     double mag;               /* max over pieces of |c| + sum |s_d| * (points_d - 1) */
+    bool tiled;               /* the grid path: the pieces tile the grid (tiles_grid) ... */
+    int32_t edge[D];          /* ... with this tile */
 } sfunc;
 
 typedef struct snode {
@@ -179,7 +181,13 @@ size_t kelp_ivp_solve_work_size(const kelp_ivp_problem *p)
     return sz;
 }
 
-static inline double box_max(const int32_t *lo, const int32_t *hi, const double *s, double c, unsigned dim)
+#if defined(__GNUC__)
+#define IVP_SOLVE_INLINE inline __attribute__((always_inline))
+#else
+#define IVP_SOLVE_INLINE inline
+#endif
+
+static IVP_SOLVE_INLINE double box_max(const int32_t *lo, const int32_t *hi, const double *s, double c, unsigned dim)
 {
     double v = c;
     for (unsigned d = 0; d < dim; d++)
@@ -355,7 +363,10 @@ static double majorant(const sfunc *sf, const kelp_ivp_domain *dom, brow *const 
  * and so does every leaf that could tie with it or beat it, so the answer is the exhaustive
  * search's. Cost: one pass over the grid per function (about the pieces' points) plus, per
  * level, the few pieces near the optimum; with a plateau of optimal points the search visits
- * the leaves over the plateau. */
+ * the leaves over the plateau. A function whose pieces tile the grid (the Reflector's uniform
+ * pieces) needs no coverage count: it adds its value at each point, and the functions sharing a
+ * tile are summed plane by plane and added once; the pieces holding the listed optimal points
+ * are found by their tile index. */
 
 typedef struct gridw {
     double *total, *fval;
@@ -370,8 +381,50 @@ typedef struct gridw {
 
 /* Paint function i (pieces aligned to the problem domain) onto the grid. The grid's arrays are
  * held in locals so the stores do not make the compiler reload them (or the piece) per point. */
-static void grid_paint(gridw *gw, const sfunc *F, unsigned i, unsigned dim)
+/* One row of a piece along the last variable, indices t0..t1 (arrays from the row's start). */
+static IVP_SOLVE_INLINE void paint_row(double *total, double *fval, uint16_t *cover, int32_t t0, int32_t t1, double base,
+                                       double sl, uint16_t mine, uint16_t done)
 {
+    for (int32_t t = t0; t <= t1; t++) {
+        double v = base + sl * (double)t;
+        uint16_t c = cover[t];
+        if (c == mine) { /* covered by every earlier function, first piece of this one */
+            cover[t] = done;
+            fval[t] = v;
+            total[t] += v;
+        } else if (c == done && v > fval[t]) { /* an overlapping piece, larger */
+            total[t] += v - fval[t];
+            fval[t] = v;
+        }
+    }
+}
+
+/* grid_paint for two variables (the same values: base = c + s0 x, then base + s1 t) */
+static void grid_paint2(gridw *gw, const sfunc *F, unsigned i)
+{
+    double *total = gw->total, *fval = gw->fval;
+    uint16_t *cover = gw->cover;
+    const uint16_t mine = (uint16_t)i, done = (uint16_t)(i + 1);
+    const size_t st0 = gw->stride[0];
+    for (uint32_t j = 0; j < F->n; j++) {
+        const spiece *q = &F->p[j];
+        const int32_t t0 = q->lo[1], t1 = q->hi[1], x1 = q->hi[0];
+        const double c0 = q->c, s0 = q->s[0], sl = q->s[1];
+        for (int32_t x = q->lo[0]; x <= x1; x++) {
+            double base = c0;
+            base += s0 * (double)x;
+            size_t off = st0 * (size_t)x;
+            paint_row(total + off, fval + off, cover + off, t0, t1, base, sl, mine, done);
+        }
+    }
+}
+
+static KELP_NOINLINE void grid_paint(gridw *gw, const sfunc *F, unsigned i, unsigned dim)
+{
+    if (dim == 2) {
+        grid_paint2(gw, F, i);
+        return;
+    }
     unsigned last = dim - 1;
     double *total = gw->total, *fval = gw->fval;
     uint16_t *cover = gw->cover;
@@ -390,19 +443,7 @@ static void grid_paint(gridw *gw, const sfunc *F, unsigned i, unsigned dim)
                 base += q->s[e] * (double)x[e];
                 off += gw->stride[e] * (size_t)x[e];
             }
-            for (int32_t t = t0; t <= t1; t++) {
-                size_t o = off + (size_t)t;
-                double v = base + sl * (double)t;
-                uint16_t c = cover[o];
-                if (c == mine) { /* covered by every earlier function, first piece of this one */
-                    cover[o] = done;
-                    fval[o] = v;
-                    total[o] += v;
-                } else if (c == done && v > fval[o]) { /* an overlapping piece, larger */
-                    total[o] += v - fval[o];
-                    fval[o] = v;
-                }
-            }
+            paint_row(total + off, fval + off, cover + off, t0, t1, base, sl, mine, done);
             unsigned e = last;
             while (e-- > 0) {
                 if (++x[e] <= q->hi[e])
@@ -413,6 +454,148 @@ static void grid_paint(gridw *gw, const sfunc *F, unsigned i, unsigned dim)
                 break;
         }
     }
+}
+
+static bool tiles_walk(sfunc *F, const kelp_ivp_domain *dom, unsigned dim);
+
+/* Whether F's pieces tile the grid in tile order (the Reflector's uniform pieces: equal boxes
+ * from the low corner, the last variable fastest, clipped at the domain's end): then every
+ * point lies in exactly one piece. */
+static bool tiles_grid(sfunc *F, const kelp_ivp_domain *dom, unsigned dim)
+{
+    F->tiled = tiles_walk(F, dom, dim);
+    return F->tiled;
+}
+
+/* (tiles_grid's walk; F->edge gets the tile) */
+static bool tiles_walk(sfunc *F, const kelp_ivp_domain *dom, unsigned dim)
+{
+    if (F->n == 0)
+        return false;
+    int32_t *edge = F->edge, cur[D];
+    for (unsigned e = 0; e < dim; e++) {
+        edge[e] = F->p[0].hi[e] - F->p[0].lo[e] + 1;
+        cur[e] = 0;
+        if (edge[e] < 1)
+            return false;
+    }
+    if (dim == 2) { /* the same walk, unrolled */
+        const int32_t n0 = (int32_t)dom->var[0].points, n1 = (int32_t)dom->var[1].points;
+        const spiece *q = F->p, *end = F->p + F->n;
+        for (int32_t a = 0; a < n0; a += edge[0]) {
+            const int32_t h0 = a + edge[0] - 1 < n0 ? a + edge[0] - 1 : n0 - 1;
+            for (int32_t b = 0; b < n1; b += edge[1], q++) {
+                if (q == end || q->lo[0] != a || q->hi[0] != h0 || q->lo[1] != b ||
+                    q->hi[1] != (b + edge[1] - 1 < n1 ? b + edge[1] - 1 : n1 - 1))
+                    return false;
+            }
+        }
+        return q == end;
+    }
+    for (uint32_t j = 0; j < F->n; j++) {
+        const spiece *q = &F->p[j];
+        for (unsigned e = 0; e < dim; e++) {
+            int32_t last = (int32_t)dom->var[e].points - 1, hi = cur[e] + edge[e] - 1;
+            if (q->lo[e] != cur[e] || q->hi[e] != (hi < last ? hi : last))
+                return false;
+        }
+        unsigned e = dim;
+        while (e-- > 0) {
+            cur[e] += edge[e];
+            if (cur[e] < (int32_t)dom->var[e].points)
+                break;
+            cur[e] = 0;
+        }
+        if (e == (unsigned)-1) /* wrapped: the grid is covered */
+            return j + 1 == F->n;
+    }
+    return false;
+}
+
+/* The piece of a tiled function (tiles_grid) holding point x. */
+static uint32_t tile_index(const sfunc *F, const kelp_ivp_domain *dom, const int32_t *x, unsigned dim)
+{
+    uint32_t j = 0;
+    for (unsigned e = 0; e < dim; e++) {
+        uint32_t across = ((uint32_t)dom->var[e].points + (uint32_t)F->edge[e] - 1) / (uint32_t)F->edge[e];
+        j = j * across + (uint32_t)(x[e] / F->edge[e]);
+    }
+    return j;
+}
+
+/* Add a function that tiles the grid (tiles_grid): each point's one value, no coverage to
+ * count and no overlap to resolve; the values are grid_paint's. */
+/* (two variables: grid_paint2's loops) */
+static KELP_NOINLINE void grid_add2(gridw *gw, const sfunc *F, const double *co)
+{
+    double *total = gw->total;
+    {
+        const size_t st0 = gw->stride[0];
+        for (uint32_t j = 0; j < F->n; j++) {
+            const spiece *q = &F->p[j];
+            const int32_t t0 = q->lo[1], t1 = q->hi[1], x1 = q->hi[0];
+            const double c0 = co ? co[3 * j + 2] : q->c, s0 = co ? co[3 * j] : q->s[0], sl = co ? co[3 * j + 1] : q->s[1];
+            for (int32_t x = q->lo[0]; x <= x1; x++) {
+                double base = c0;
+                base += s0 * (double)x;
+                double *row = total + st0 * (size_t)x + t0, td = (double)t0; /* td: t, exactly */
+                for (int32_t m = t1 - t0; m >= 0; m--, row++, td += 1.0)
+                    *row += base + sl * td;
+            }
+        }
+    }
+}
+
+static KELP_NOINLINE void grid_add_n(gridw *gw, const sfunc *F, const double *co, unsigned dim)
+{
+    double *total = gw->total;
+    unsigned last = dim - 1, nco = dim + 1;
+    for (uint32_t j = 0; j < F->n; j++) {
+        const spiece *q = &F->p[j];
+        const double *cs = co ? co + (size_t)nco * j : q->s, cc = co ? co[(size_t)nco * j + dim] : q->c;
+        const int32_t t0 = q->lo[last], t1 = q->hi[last];
+        const double sl = cs[last];
+        int32_t x[D] = {0};
+        for (unsigned e = 0; e < dim; e++)
+            x[e] = q->lo[e];
+        for (;;) {
+            double base = cc;
+            size_t off = 0;
+            for (unsigned e = 0; e < last; e++) {
+                base += cs[e] * (double)x[e];
+                off += gw->stride[e] * (size_t)x[e];
+            }
+            double *row = total + off;
+            for (int32_t t = t0; t <= t1; t++)
+                row[t] += base + sl * (double)t;
+            unsigned e = last;
+            while (e-- > 0) {
+                if (++x[e] <= q->hi[e])
+                    break;
+                x[e] = q->lo[e];
+            }
+            if (e == (unsigned)-1)
+                break;
+        }
+    }
+}
+
+/* Add a function that tiles the grid (co: its coefficients, dim + 1 per piece, in place of the
+ * pieces' own) */
+static void grid_add(gridw *gw, const sfunc *F, const double *co, unsigned dim)
+{
+    if (dim == 2)
+        grid_add2(gw, F, co);
+    else
+        grid_add_n(gw, F, co, dim);
+}
+
+static bool same_tile(const sfunc *a, const sfunc *b, unsigned dim)
+{
+    for (unsigned e = 0; e < dim; e++)
+        if (a->edge[e] != b->edge[e])
+            return false;
+    return true;
 }
 
 /* Optimal points in box [lo, hi] (summed-area table, inclusion-exclusion over the corners);
@@ -453,7 +636,7 @@ static uint32_t grid_count(const gridw *gw, const int32_t *lo, const int32_t *hi
     return n;
 }
 
-static int grid_solve(kelp_ivp_problem *p, const sfunc *sf, snode *node, double margin, unsigned char *w,
+static int grid_solve(kelp_ivp_problem *p, sfunc *sf, snode *node, double margin, unsigned char *w,
                       kelp_ivp_result *res)
 {
     unsigned k = p->nf, dim = p->dom.dim;
@@ -482,11 +665,47 @@ static int grid_solve(kelp_ivp_problem *p, const sfunc *sf, snode *node, double 
     memset(gw.cover, 0, sizeof(uint16_t) * gw.g);
     for (size_t o = 0; o < gw.g; o++)
         gw.total[o] = 0.0;
+    /* Functions that tile the grid add each point's one value (no coverage to count); those
+     * sharing the first one's tile are summed plane by plane first (the coefficients in fval,
+     * free until a function is painted, when it holds dim + 1 doubles per tile) and added at
+     * once. A point's total then differs from the sum of its values by rounding only, far below
+     * the tolerance the search keeps around G, so the answer is the same. */
+    unsigned g0 = k, painted = 0; /* functions painted with coverage counted */
     for (unsigned i = 0; i < k; i++)
-        grid_paint(&gw, &sf[i], i, dim);
+        if (tiles_grid(&sf[i], &p->dom, dim) && g0 == k)
+            g0 = i;
+    const unsigned nco = dim + 1;
+    bool grouped = g0 < k && (size_t)nco * sf[g0].n <= gw.g;
+    if (grouped) {
+        double *co = gw.fval;
+        for (uint32_t j = 0; j < sf[g0].n; j++) {
+            for (unsigned e = 0; e < dim; e++)
+                co[(size_t)nco * j + e] = sf[g0].p[j].s[e];
+            co[(size_t)nco * j + dim] = sf[g0].p[j].c;
+        }
+        for (unsigned i = g0 + 1; i < k; i++) {
+            if (!sf[i].tiled || !same_tile(&sf[i], &sf[g0], dim))
+                continue;
+            for (uint32_t j = 0; j < sf[i].n; j++) {
+                for (unsigned e = 0; e < dim; e++)
+                    co[(size_t)nco * j + e] += sf[i].p[j].s[e];
+                co[(size_t)nco * j + dim] += sf[i].p[j].c;
+            }
+        }
+        grid_add(&gw, &sf[g0], co, dim);
+    }
+    for (unsigned i = 0; i < k; i++) {
+        if (sf[i].tiled) {
+            if (!grouped || !same_tile(&sf[i], &sf[g0], dim))
+                grid_add(&gw, &sf[i], NULL, dim);
+        } else {
+            grid_paint(&gw, &sf[i], painted++, dim);
+        }
+    }
+    const uint16_t all = (uint16_t)painted;
     double G = -INFINITY;
     for (size_t o = 0; o < gw.g; o++)
-        if (gw.cover[o] == k && gw.total[o] > G)
+        if (gw.cover[o] == all && gw.total[o] > G)
             G = gw.total[o];
     if (G == -INFINITY)
         return ivp_fail(&p->diag, KELP_ERR_INFEASIBLE, "solver: no point is covered by every function", NULL, 0);
@@ -499,7 +718,7 @@ static int grid_solve(kelp_ivp_problem *p, const sfunc *sf, snode *node, double 
             size_t po = 0;
             for (unsigned e = 0; e < dim; e++)
                 po += gw.pstride[e] * (size_t)(x[e] + 1);
-            bool opt = gw.cover[o] == k && gw.total[o] >= lim;
+            bool opt = gw.cover[o] == all && gw.total[o] >= lim;
             gw.sat[po] = opt;
             if (opt && gw.na++ < GRID_LIST)
                 memcpy(&gw.list[(gw.na - 1) * D], x, sizeof x);
@@ -518,6 +737,19 @@ static int grid_solve(kelp_ivp_problem *p, const sfunc *sf, snode *node, double 
     uint32_t nc = 0;
     for (unsigned i = 0; i < k; i++) {
         cstart[i] = nc;
+        if (sf[i].tiled && gw.na <= GRID_LIST) { /* the tiles holding the listed points, in order */
+            for (uint32_t a = 0; a < gw.na; a++) {
+                uint32_t j = tile_index(&sf[i], &p->dom, &gw.list[a * D], dim), at = nc;
+                while (at > cstart[i] && gw.cand[at - 1] > j)
+                    at--;
+                if (at > cstart[i] && gw.cand[at - 1] == j)
+                    continue;
+                memmove(&gw.cand[at + 1], &gw.cand[at], sizeof(uint32_t) * (nc - at));
+                gw.cand[at] = j;
+                nc++;
+            }
+            continue;
+        }
         for (uint32_t j = 0; j < sf[i].n; j++)
             if (grid_count(&gw, sf[i].p[j].lo, sf[i].p[j].hi, dim))
                 gw.cand[nc++] = j;
@@ -594,6 +826,55 @@ static int grid_solve(kelp_ivp_problem *p, const sfunc *sf, snode *node, double 
     return 0;
 }
 
+/* A function's pieces, normalised (norm), weighted and aligned to the problem's variables
+ * (map), with its global max and magnitude. Inlined with constant dimensions for the common
+ * 2-D case (the same arithmetic in the same order). */
+static IVP_SOLVE_INLINE void prep_func(sfunc *s, const kelp_ivp_func *f, const kelp_ivp_domain *pd, const int *map, bool norm,
+                                       double badj, double radj, double pwt, unsigned dim, unsigned fdim)
+{
+    s->gmax = -INFINITY;
+    s->mag = 0;
+    for (size_t j = 0; j < f->n; j++) {
+        const kelp_ivp_piece *q = &f->pcs[j];
+        spiece *t = &s->p[j];
+        for (unsigned e = 0; e < dim; e++) {
+            t->lo[e] = 0;
+            t->hi[e] = (int32_t)pd->var[e].points - 1;
+            t->s[e] = 0.0;
+        }
+        double c = q->cst;
+        if (norm)
+            c = (c + badj) * radj;
+        t->c = c * pwt;
+        for (unsigned d = 0; d < fdim; d++) {
+            double sl = q->slope[d];
+            if (norm)
+                sl *= radj;
+            t->lo[map[d]] = q->lo[d];
+            t->hi[map[d]] = q->hi[d];
+            t->s[map[d]] = sl * pwt;
+        }
+        double m = box_max(t->lo, t->hi, t->s, t->c, dim);
+        if (m > s->gmax)
+            s->gmax = m;
+        double g = fabs(t->c);
+        for (unsigned e = 0; e < dim; e++)
+            g += fabs(t->s[e]) * (double)(pd->var[e].points - 1);
+        if (g > s->mag)
+            s->mag = g;
+    }
+}
+
+/* prep_func, out of line (its locals are not on the stack while the search runs) */
+static KELP_NOINLINE void prep(sfunc *s, const kelp_ivp_func *f, const kelp_ivp_domain *pd, const int *map, bool norm,
+                               double badj, double radj, double pwt)
+{
+    if (pd->dim == 2 && f->dom.dim == 2 && map[0] == 0 && map[1] == 1)
+        prep_func(s, f, pd, map, norm, badj, radj, pwt, 2, 2);
+    else
+        prep_func(s, f, pd, map, norm, badj, radj, pwt, pd->dim, f->dom.dim);
+}
+
 int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_result *res)
 {
     if (!p || !res)
@@ -642,37 +923,7 @@ int kelp_ivp_solve(kelp_ivp_problem *p, void *work, size_t work_size, kelp_ivp_r
         if (f->n && kelp_ivp_func_range(f, &lo, &hi) == 0 && hi - lo > 100)
             norm = true;
         double badj = 0.0 - lo, radj = norm ? 100.0 / (hi - lo) : 1.0, pwt = f->pwt;
-        s->gmax = -INFINITY;
-        s->mag = 0;
-        for (size_t j = 0; j < f->n; j++) {
-            const kelp_ivp_piece *q = &f->pcs[j];
-            spiece *t = &s->p[j];
-            for (unsigned e = 0; e < dim; e++) {
-                t->lo[e] = 0;
-                t->hi[e] = (int32_t)p->dom.var[e].points - 1;
-                t->s[e] = 0.0;
-            }
-            double c = q->cst;
-            if (norm)
-                c = (c + badj) * radj;
-            t->c = c * pwt;
-            for (unsigned d = 0; d < f->dom.dim; d++) {
-                double sl = q->slope[d];
-                if (norm)
-                    sl *= radj;
-                t->lo[map[d]] = q->lo[d];
-                t->hi[map[d]] = q->hi[d];
-                t->s[map[d]] = sl * pwt;
-            }
-            double m = box_max(t->lo, t->hi, t->s, t->c, dim);
-            if (m > s->gmax)
-                s->gmax = m;
-            double g = fabs(t->c);
-            for (unsigned e = 0; e < dim; e++)
-                g += fabs(t->s[e]) * (double)(p->dom.var[e].points - 1);
-            if (g > s->mag)
-                s->mag = g;
-        }
+        prep(s, f, &p->dom, map, norm, badj, radj, pwt);
         magsum += s->mag;
     }
     if (grid_size(p) && work_size >= kelp_ivp_solve_grid_work_size(p)) {
