@@ -108,7 +108,7 @@ static void cfg(const char *line)
 
 static void done(void)
 {
-    kelp_contactmgr_config_done(C, false, 0, false, 0, &S);
+    kelp_contactmgr_config_done(C, true, 43.8253, true, -70.3304, &S); /* a mission with its datum */
 }
 
 static void fixture_f(void)
@@ -390,6 +390,7 @@ END_TEST
 
 START_TEST(cm_age_24_25)
 {
+    cfg("contact_max_age = 600");
     fixture_f();
     rpt("gus", 0, 15);
     it();
@@ -633,6 +634,7 @@ END_TEST
 
 START_TEST(cm_retired_46_47_48)
 {
+    cfg("contact_max_age = 600");
     cfg("max_retired_history = 2");
     fixture_f();
     const char *names[] = { "bravo", "foxtrot", "kilroy", "zulu" };
@@ -648,6 +650,7 @@ START_TEST(cm_retired_46_47_48)
         ck_assert_str_eq(last("CONTACTS_RETIRED"), want[i]);
     }
     setup(); /* 47 */
+    cfg("contact_max_age = 600");
     fixture_f();
     rpt("kilroy", 0, 100), rpt("bravo", 0, 100), rpt("foxtrot", 0, 100);
     NOW = 1601;
@@ -676,6 +679,7 @@ START_TEST(cm_forced_49_50_51)
     it();
     ck_assert_int_eq(count("W_OFF"), 0);
     setup(); /* 50 */
+    cfg("contact_max_age = 600");
     cfg("max_contacts = 2");
     done();
     mail_s("NODE_REPORT", "NAME=a,TIME=1000,X=0,Y=10");
@@ -944,9 +948,7 @@ START_TEST(cm_coords_80_to_85)
     it();
     ck_assert_ptr_null(last("CONTACTS_LIST"));
     geo_setup("lazy_lat_lon", false); /* 84 */
-    ck_assert(warned("No LatOrigin"));
-    ck_assert(warned("No LongOrigin"));
-    ck_assert(warned("Wont derive"));
+    ck_assert(warned("Lat or Lon Origin not set in *.moos file."));
     ck_assert_int_lt(mail_s("NODE_REPORT", "NAME=ben,TIME=1000,LAT=43.8262,LON=-70.3304"), 0);
     geo_setup("lazy_lat_lon", true); /* 85 */
     ck_assert_int_eq(mail_s("NODE_REPORT", "NAME=ben,TIME=1000,LAT=43.8253,LON=-70.3292"), 1);
@@ -1309,7 +1311,7 @@ START_TEST(cm_bad_config_values)
     cfg("contact_local_coords = sideways");
     cfg("alert_range = 40");
     ck_assert_int_eq(R->nwarn, 5);
-    ck_assert_double_eq(C->contact_max_age, 600);
+    ck_assert_double_eq(C->contact_max_age, 60); /* 24.8's default */
     ck_assert_double_eq(C->decay[0], 15);
     ck_assert_double_eq(C->reject_range, 2000);
     ck_assert_int_eq(kelp_contactmgr_config(C, "no_such_param", "1", &S), 0);
@@ -1415,6 +1417,25 @@ START_TEST(cm_alert_range_zero_filters_only)
 }
 END_TEST
 
+/* 24.8's defaults: contact_max_age 60 (its constructor), x/y derived from LAT/LON for a report
+ * without X/Y (its ledger, with the mission's datum), $[LAT]/$[LON] only as reported (0 else) */
+START_TEST(cm_defaults_24_8)
+{
+    ck_assert_double_eq(C->contact_max_age, 60);
+    cfg("alert = id=a, alert_range=200, on_flag=LL=$[LAT]/$[LON]/$[X]");
+    done();
+    ck_assert_int_eq(mail_s("NODE_REPORT", "NAME=ben,TIME=1000,LAT=43.8262,LON=-70.3304"), 1);
+    ck_assert_int_eq(mail_s("NODE_REPORT", "NAME=cal,TIME=1000,X=5,Y=5"), 1);
+    it();
+    ck_assert_str_eq(last("CONTACTS_LIST"), "ben,cal");
+    ck_assert_int_ge(index_of("LL", "0/0/5"), 0);
+    ck_assert_int_ge(index_of("LL", "43.8262/-70.3304/1.61"), 0); /* x in UTM as 24.8 (PROJ: 1.6075 m) */
+    NOW += 61;
+    it();
+    ck_assert_str_eq(last("CONTACTS_LIST"), "");
+}
+END_TEST
+
 Suite *kelp_field_contactmgr_suite(void)
 {
     Suite *s = suite_create("field_contactmgr");
@@ -1465,6 +1486,7 @@ Suite *kelp_field_contactmgr_suite(void)
     tcase_add_test(tc, cm_ledger_types);
     tcase_add_test(tc, cm_bad_request_keeps_alert);
     tcase_add_test(tc, cm_report_request_renewal);
+    tcase_add_test(tc, cm_defaults_24_8);
     suite_add_tcase(s, tc);
     return s;
 }

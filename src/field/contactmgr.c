@@ -157,10 +157,11 @@ void kelp_contactmgr_init(kelp_contactmgr *c, const char *ownship)
 {
     memset(c, 0, sizeof *c);
     copyz(c->ownship, sizeof c->ownship, ownship ? ownship : "", ownship ? strlen(ownship) : 0);
-    c->contact_max_age = 600;
+    c->contact_max_age = 60; /* 24.8's ContactMgrV20 constructor */
     c->reject_range = 2000;
     c->decay[0] = 15, c->decay[1] = 30;
     c->recap_interval = 1;
+    c->coords = KELP_CMGR_LAZY_LATLON; /* 24.8's ledger derives x/y from LAT/LON */
     c->range_report_timeout = 10;
     c->max_contacts = 500;
     c->max_retired = 5;
@@ -739,14 +740,14 @@ void kelp_contactmgr_config_done(kelp_contactmgr *c, bool have_lat, double lat0,
     for (unsigned i = 0; i < c->nalerts; i++)
         if (!alert_valid(&c->alert[i])) warnf(c, out, "Invalid alert config:%s", c->alert[i].id);
     c->have_geo = false;
-    if (c->coords == KELP_CMGR_VERBATIM) return;
-    if (!have_lat) warnf(c, out, "No LatOrigin in *.moos file");
-    if (!have_lon) warnf(c, out, "No LongOrigin set in *.moos file");
-    if (have_lat && have_lon && kelp_geo_init(&c->geo, lat0, lon0) == 0) {
-        c->have_geo = true;
-        event(c, 0, "Geodesy init ok: Will derive x/y from lat/lon in node reports.");
-    } else
-        warnf(c, out, "Wont derive x/y from lat/lon in node reports.");
+    if (c->coords == KELP_CMGR_VERBATIM) return; /* (kelp's option: 24.8 always derives) */
+    /* 24.8's OnStartUp and its ledger: x/y from LAT/LON for a report without X/Y */
+    if (!have_lat || !have_lon) {
+        warnf(c, out, "Lat or Lon Origin not set in *.moos file.");
+        return;
+    }
+    if (kelp_geo_init(&c->geo, lat0, lon0) == 0) c->have_geo = true;
+    else warnf(c, out, "Geodesy failed to initialize");
 }
 
 const char *kelp_contactmgr_subscription(unsigned i)
