@@ -35,6 +35,12 @@ static void publish(void *ctx, const char *var, bool is_string, const char *sval
 
 static void warn(void *ctx, const char *msg)
 {
+    /* 24.8 files a bad alert component as a configuration warning, mail or not (its
+     * handleConfigAlert); the request itself ("Unhandled Alert Request: ...") as a run warning */
+    if (strncmp(msg, "unhandled alert config component: ", 34) == 0) {
+        kelp_app_config_warning(((cmgr_app *)ctx)->app, "%s", msg);
+        return;
+    }
     kelp_app_run_warning(((cmgr_app *)ctx)->app, "%s", msg);
 }
 

@@ -4,10 +4,12 @@
  * Contacts come from NODE_REPORT mail; ownship from NAV_X/Y/HEADING/SPEED. Alerts (mission
  * "alert = ..." lines and BCM_ALERT_REQUEST mail, "id=..,alert_range=..,cpa_range=..,
  * on_flag=VAR=val,off_flag=..,<filters>") post their flags on the off->on and on->off
- * transitions of each (contact, alert) pair, with $[VNAME] $[VTYPE] $[GROUP] $[RANGE] $[LAT]
- * $[LON] $[X] $[Y] $[HDG] $[SPD] $[DEP] $[TIME] $[UTIME] (and %[..] lower-case forms)
- * expanded. Summaries CONTACTS_LIST/ALERTED/UNALERTED/COUNT/RETIRED/RECAP, CONTACT_CLOSEST*,
- * CONTACT_RANGES, custom BCM_REPORT_REQUEST reports, VIEW_CIRCLE range rings.
+ * transitions of each (contact, alert) pair, with MOOS-IvP 24.8's macros expanded exactly as
+ * it does ($[VNAME] $[VTYPE] $[GROUP] $[LAT] $[LON] $[X] $[Y] $[HDG] $[DEP] $[UTIME], %[VNAME]
+ * %[VTYPE] %[GROUP]; never $[SPD]). Early and cease warnings (early_warning_time, _flag,
+ * cease_warning_flag), summaries CONTACTS_LIST/ALERTED/COUNT/RETIRED/RECAP, CONTACT_CLOSEST*,
+ * CONTACT_RANGES, custom BCM_REPORT_REQUEST reports, VIEW_CIRCLE rings (alert_<ownship>,
+ * xewarn_<contact>). Contacts pass 24.8's contact ledger (uuv -> auv, unknown type -> ship).
  *
  * Core: allocation-free, no I/O, no clock: `now` comes in; posts and warnings go out through
  * a kelp_field_sink. The state is large (about 1.2 MB with the capacities below): keep it
