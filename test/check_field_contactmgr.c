@@ -1006,7 +1006,16 @@ START_TEST(cm_visuals_86_87_88)
     cfg("alert = id=q, on_flag=Q=1");
     done();
     it();
-    ck_assert_ptr_nonnull(strstr(last("VIEW_CIRCLE"), "radius=-1,active=false,label=alert_abe,edge_color=gray65,"));
+    ck_assert_ptr_nonnull(strstr(last("VIEW_CIRCLE"), "x=0,y=0,radius=0,active=false,label=alert_abe,edge_color=gray65,"));
+    setup(); /* every alert off: the same zero ring, wherever ownship is */
+    cfg("display_radii = true");
+    cfg("alert = id=q, on_flag=Q=1, alert_range=20");
+    done();
+    nav(7, 8, 0, 0);
+    ck_assert_int_eq(mail_s("BCM_ALERT_REQUEST", "id=q, action=disable"), 1);
+    it();
+    ck_assert_str_eq(last("VIEW_CIRCLE"), "x=0,y=0,radius=0,active=false,label=alert_abe,edge_color=gray65,"
+                                          "time=1000,duration=3,vertex_size=0,edge_size=1");
 }
 END_TEST
 

@@ -1298,9 +1298,11 @@ static void circle(kelp_contactmgr *c, double r, const char *label, const char *
                    const char *color, bool active, kelp_time now, const kelp_field_sink *out)
 {
     char x[32], y[32], rad[32], t[32], *m = c->ws_view;
-    fmtx(x, sizeof x, c->osx, 2);
-    fmtx(y, sizeof y, c->osy, 2);
-    fmtx(rad, sizeof rad, r, 2);
+    /* 24.8's XYCircle refuses a negative radius and keeps its zeros (recorded: a ring with all
+     * alerts off is "x=0,y=0,radius=0,active=false,...") */
+    fmtx(x, sizeof x, r < 0 ? 0 : c->osx, 2);
+    fmtx(y, sizeof y, r < 0 ? 0 : c->osy, 2);
+    fmtx(rad, sizeof rad, r < 0 ? 0 : r, 2);
     fmtx(t, sizeof t, now, 2);
     (void)kelp_util_snprintf(m, sizeof c->ws_view, "x=%s,y=%s,radius=%s%s,label=%s%.*s%s%s,edge_color=%s,time=%s,"
                         "duration=3,vertex_size=0,edge_size=1", x, y, rad, active ? "" : ",active=false", label,
