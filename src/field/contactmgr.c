@@ -500,10 +500,11 @@ int kelp_contactmgr_alert_spec(kelp_contactmgr *c, const char *spec, bool from_m
         warnf(c, out, "alert too long or with too many components: %s", spec);
         return KELP_ERR_RANGE;
     }
-    char id[KELP_CMGR_MAX_ID] = "no_id";
+    char *id = c->ws_flag[1]; /* (a workspace) */
+    memcpy(id, "no_id", 6);
     for (unsigned i = 0; i < n; i++)
         if (kelp_util_strieq_n(cp[i].k, cp[i].kl, "id") && cp[i].vl) {
-            copyz(id, sizeof id, cp[i].v, cp[i].vl);
+            copyz(id, KELP_CMGR_MAX_ID, cp[i].v, cp[i].vl);
             break;
         }
     char *low = c->ws.str;
@@ -529,6 +530,7 @@ int kelp_contactmgr_alert_spec(kelp_contactmgr *c, const char *spec, bool from_m
         filter_init(&na->filter);
         na->alert_range = na->cpa_range = -1;
         copyz(na->id, sizeof na->id, id, strlen(id));
+        id = na->id;
         for (unsigned k = 0; k < KELP_CMGR_MAX_CONTACTS; k++) c->contact[k].alerted &= ~(1u << ai);
     }
     kelp_contactmgr_alert *a = &c->alert[ai];
@@ -1124,6 +1126,14 @@ double kelp_contactmgr_extrap_dist(double v, double dt, double d1, double d2)
     return v * d1 + (d2 > d1 ? (v / 2) * (d2 - d1) : 0);
 }
 
+/* the rate of closure of contact k at (ex, ey) (out of line: the CPA result off the iteration's frame) */
+KELP_NOINLINE static double closure_rate(const kelp_contactmgr *c, const kelp_contactmgr_contact *k, double ex, double ey)
+{
+    kelp_cpa_vessel cn = { ex, ey, k->hdg, k->spd }, os = { c->osx, c->osy, c->osh, c->osv };
+    kelp_cpa_result res;
+    return kelp_cpa_eval(&cn, &os, KELP_CMGR_CPA_HORIZON, &res) == KELP_OK ? res.roc : 0;
+}
+
 static void ranges(kelp_contactmgr *c, kelp_contactmgr_contact *k, kelp_time now)
 {
     k->range = hypot(c->osx - k->x, c->osy - k->y);
@@ -1132,12 +1142,8 @@ static void ranges(kelp_contactmgr *c, kelp_contactmgr_contact *k, kelp_time now
     double ex = k->x + dist * sin(h), ey = k->y + dist * cos(h);
     k->range_extrap = hypot(c->osx - ex, c->osy - ey);
     k->range_cpa = kelp_cpa_range(ex, ey, k->hdg, k->spd, c->osx, c->osy, c->osh, c->osv, KELP_CMGR_CPA_HORIZON, NULL);
-    k->roc = 0;
-    if (c->early_warning_time > 0) { /* the rate of closure only feeds the early warnings */
-        kelp_cpa_vessel cn = { ex, ey, k->hdg, k->spd }, os = { c->osx, c->osy, c->osh, c->osv };
-        kelp_cpa_result res;
-        if (kelp_cpa_eval(&cn, &os, KELP_CMGR_CPA_HORIZON, &res) == KELP_OK) k->roc = res.roc;
-    }
+    /* the rate of closure only feeds the early warnings */
+    k->roc = c->early_warning_time > 0 ? closure_rate(c, k, ex, ey) : 0;
 }
 
 /* 24.8's postAlert macros, exactly (case and all): in a flag's variable $[X] $[Y] $[LAT] $[LON]
@@ -1210,8 +1216,8 @@ static void post_flags(kelp_contactmgr *c, const kelp_contactmgr_contact *k, cha
     }
 }
 
-static void verbose(kelp_contactmgr *c, const kelp_contactmgr_alert *a, const kelp_contactmgr_contact *k, bool on,
-                    kelp_time now, const kelp_field_sink *out)
+KELP_NOINLINE static void verbose(kelp_contactmgr *c, const kelp_contactmgr_alert *a, const kelp_contactmgr_contact *k,
+                                  bool on, kelp_time now, const kelp_field_sink *out)
 {
     char r[32], cr[32], ra[32], rc[48], aw[48], *m = c->ws_view;
     fmtx(r, sizeof r, a->alert_range, 1);
