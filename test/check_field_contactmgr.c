@@ -546,7 +546,7 @@ START_TEST(cm_filter_regions_37_38_39)
     it();
     ck_assert_str_eq(last("CONTACTS_LIST"), "d");
     setup(); /* non-convex: warned, rejected */
-    cfg("match_region = pts={0,0:10,0:1,1:0,10}");
+    ck_assert_int_eq(kelp_contactmgr_config(C, "match_region", "pts={0,0:10,0:1,1:0,10}", &S), 0); /* not taken */
     ck_assert(warned("non-convex"));
     ck_assert_uint_eq(C->filter.nregion[0], 0);
 }
@@ -1314,18 +1314,23 @@ END_TEST
 
 START_TEST(cm_bad_config_values)
 {
-    cfg("contact_max_age = -3");
-    cfg("decay = 30,15");
-    cfg("reject_range = far");
-    cfg("contact_local_coords = sideways");
-    cfg("alert_range = 40");
-    ck_assert_int_eq(R->nwarn, 5);
+    /* a value 24.8 refuses: the line is not taken (the app warns "Unhandled config line: ..."),
+     * the default stays; alert_range is warned deprecated, then not taken */
+    ck_assert_int_eq(kelp_contactmgr_config(C, "contact_max_age", "-3", &S), 0);
+    ck_assert_int_eq(kelp_contactmgr_config(C, "decay", "30,15", &S), 0);
+    ck_assert_int_eq(kelp_contactmgr_config(C, "reject_range", "far", &S), 0);
+    cfg("contact_local_coords = sideways"); /* 24.8 takes any value and ignores it */
+    ck_assert_int_eq(R->nwarn, 0);
+    ck_assert_int_eq(kelp_contactmgr_config(C, "alert_range", "40", &S), 0);
+    ck_assert(warned("alert_range is deprecated"));
+    ck_assert_int_eq(R->nwarn, 1);
     ck_assert_double_eq(C->contact_max_age, 60); /* 24.8's default */
     ck_assert_double_eq(C->decay[0], 15);
     ck_assert_double_eq(C->reject_range, 2000);
     ck_assert_int_eq(kelp_contactmgr_config(C, "no_such_param", "1", &S), 0);
     cfg("max_contact_age = 60");
     cfg("contacts_recap_interval = 2");
+    ck_assert(warned("contacts_recap_interval is deprecated. Use instead: recap_interval"));
     cfg("max_retired_hist = 7");
     ck_assert_double_eq(C->contact_max_age, 60);
     ck_assert_double_eq(C->recap_interval, 2);
@@ -1346,11 +1351,11 @@ START_TEST(cm_bad_config_values)
     /* an unbraced list: its second entry is a component of its own, unhandled; "range" is
      * not an alert component in 24.8 */
     clear();
-    cfg("alert = id=b, alert_range=70, match_group=usv,ship, on_flag=B=1");
+    ck_assert_int_eq(kelp_contactmgr_config(C, "alert", "id=b, alert_range=70, match_group=usv,ship, on_flag=B=1", &S), 0);
     ck_assert(warned("unhandled alert config component: ship"));
     ck_assert_double_eq(C->alert[2].alert_range, 70);
     ck_assert_uint_eq(C->alert[2].non, 0);
-    cfg("alert = id=b, range=80");
+    ck_assert_int_eq(kelp_contactmgr_config(C, "alert", "id=b, range=80", &S), 0);
     ck_assert(warned("unhandled alert config component: range"));
 }
 END_TEST

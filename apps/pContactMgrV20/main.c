@@ -119,6 +119,7 @@ static const kelp_app_def def = {
                 "sensor application or over a communications link. Minimally\n"
                 "it posts summary reports, but may also be configured to post\n"
                 "alerts with user-configured content about the contacts.",
+    .unhandled_prefix = "Unhandled config line: ", /* 24.8's reportUnhandledConfigWarning */
     .params = (const kelp_app_param_info[]){
         { "alert", "id=avd, on_flag=CONTACT_INFO=name=avd_$[VNAME] # contact=$[VNAME], alert_range=80, cpa_range=95",
           "an alert (repeat; lines with one id accumulate): id, alert_range, cpa_range, on_flag, off_flag, filters", NULL },

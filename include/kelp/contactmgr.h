@@ -197,8 +197,10 @@ typedef struct kelp_contactmgr {
 /** Defaults (the pContactMgrV20 documentation's) for ownship `ownship` (the community; its reports are dropped). */
 void kelp_contactmgr_init(kelp_contactmgr *c, const char *ownship);
 
-/** One mission parameter (name case-insensitive). An illegal value warns through out->warn and
- *  keeps the default. @return 1 taken (also when warned), 0 not a parameter of ours. */
+/** One mission parameter (name case-insensitive). @return 1 taken (also when warned), 0 not
+ *  taken: not a parameter of ours, a value 24.8 refuses (the default stays) or an alert line
+ *  with a component 24.8 does not take (warned through out->warn; the components before it
+ *  stay): the app reports such a line as 24.8 does ("Unhandled config line: key=value"). */
 KELP_MUST_CHECK int kelp_contactmgr_config(kelp_contactmgr *c, const char *key, const char *val, const kelp_field_sink *out);
 
 /** After the block: the datum (have_* false when LatOrigin/LongOrigin are missing), then alert

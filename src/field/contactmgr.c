@@ -576,10 +576,12 @@ int kelp_contactmgr_alert_spec(kelp_contactmgr *c, const char *spec, bool from_m
 
 /* ------------------------------------------------------------------ configuration */
 
+/* a value 24.8 does not take (why: what it takes): the line is not handled, the default stays
+ * (the app warns as 24.8's reportUnhandledConfigWarning: "Unhandled config line: key=value") */
 static int cfg_bad(kelp_contactmgr *c, const kelp_field_sink *out, const char *key, const char *val, const char *why)
 {
-    warnf(c, out, "%s = %s: %s; default kept", key, val, why);
-    return 1;
+    (void)c, (void)out, (void)key, (void)val, (void)why;
+    return 0;
 }
 
 #define CONFIG_FILTER 2 /* config_other: not one of its parameters */
@@ -588,10 +590,15 @@ KELP_NOINLINE static int config_filter(kelp_contactmgr *c, const char *key, cons
 
 int kelp_contactmgr_config(kelp_contactmgr *c, const char *key, const char *val, const kelp_field_sink *out)
 {
-    if (keyis(key, strlen(key), "alert", NULL)) {
-        if (kelp_contactmgr_alert_spec(c, val, false, NULL, 0, out) < 0) return 1; /* warned; the line is dropped */
-        return 1;
-    }
+    if (keyis(key, strlen(key), "alert", NULL)) /* a bad component: warned, and the line is unhandled (24.8) */
+        return kelp_contactmgr_alert_spec(c, val, false, NULL, 0, out) < 0 ? 0 : 1;
+    /* 24.8's handleConfigDeprecations: the older names are warned, then taken */
+    static const char *const renamed[3][2] = { { "default_alert_range_color", "alert_range_color" },
+                                               { "default_cpa_range_color", "cpa_range_color" },
+                                               { "contacts_recap_interval", "recap_interval" } };
+    for (int i = 0; i < 3; i++)
+        if (kelp_util_strieq(key, renamed[i][0]))
+            warnf(c, out, "%s is deprecated. Use instead: %s", renamed[i][0], renamed[i][1]);
     int rc = config_other(c, key, val, out); /* (its locals off the alert path) */
     return rc == CONFIG_FILTER ? config_filter(c, key, val, out) : rc;
 }
@@ -647,7 +654,7 @@ static int config_other(kelp_contactmgr *c, const char *key, const char *val, co
     if (keyis(key, kl, "max_retired_history", "max_retired_hist")) {
         if (kelp_util_parse_long(v, vl, &l) < 0) return cfg_bad(c, out, key, val, "must be an integer in [1,50]");
         if (l < 1 || l > 50) {
-            warnf(c, out, "%s = %s: outside [1,50]: clamped", key, val);
+            warnf(c, out, "max_retired_hist should be in range [1,50]");
             l = l < 1 ? 1 : 50;
         }
         c->max_retired = (unsigned)l;
@@ -688,12 +695,11 @@ static int config_other(kelp_contactmgr *c, const char *key, const char *val, co
         if (kelp_util_strieq_n(v, vl, "verbatim")) c->coords = KELP_CMGR_VERBATIM;
         else if (kelp_util_strieq_n(v, vl, "lazy_lat_lon")) c->coords = KELP_CMGR_LAZY_LATLON;
         else if (kelp_util_strieq_n(v, vl, "force_lat_lon")) c->coords = KELP_CMGR_FORCE_LATLON;
-        else return cfg_bad(c, out, key, val, "must be verbatim, lazy_lat_lon or force_lat_lon");
-        return 1;
+        return 1; /* (24.8 takes any value and ignores it) */
     }
-    if (keyis(key, kl, "alert_range", "alert_cpa_range")) {
-        warnf(c, out, "%s is deprecated (give it in an alert): ignored", key);
-        return 1;
+    if (keyis(key, kl, "alert_range", "alert_cpa_range")) { /* 24.8: warned, then unhandled */
+        warnf(c, out, "%s is deprecated", kelp_util_strieq(key, "alert_range") ? "alert_range" : "alert_cpa_range");
+        return 0;
     }
     struct { const char *k; char *dst; } vars[] = {
         { "disable_var", c->disable_var }, { "enable_var", c->enable_var }, { "expunge_var", c->expunge_var } };
@@ -733,7 +739,7 @@ KELP_NOINLINE static int config_filter(kelp_contactmgr *c, const char *key, cons
     bool strict;
     kelp_util_trim(&v, &vl);
     int rc = filter_param(c, &c->filter, key, kl, v, vl, out, &strict);
-    return rc < 0 ? 1 : rc;
+    return rc < 0 ? 0 : rc; /* a refused entry: the line is unhandled, as 24.8's */
 }
 
 void kelp_contactmgr_config_done(kelp_contactmgr *c, bool have_lat, double lat0, bool have_lon, double lon0,
