@@ -496,6 +496,7 @@ int kelp_contactmgr_alert_spec(kelp_contactmgr *c, const char *spec, bool from_m
 {
     comp *cp = c->ws.comp;
     unsigned n;
+    (void)now; /* (kept in the interface: the request's time) */
     if (split_comps(spec, cp, &n) < 0) {
         warnf(c, out, "alert too long or with too many components: %s", spec);
         return KELP_ERR_RANGE;
@@ -514,8 +515,7 @@ int kelp_contactmgr_alert_spec(kelp_contactmgr *c, const char *spec, bool from_m
     low[sl] = 0;
     bool dis = strstr(low, "action=disable") != NULL;
     if (dis || strstr(low, "action=enable")) {
-        if (strcmp(id, "no_id") != 0) alert_set_off(c, id, dis);
-        event(c, now, "alert %s %s", id, dis ? "disabled" : "enabled");
+        if (strcmp(id, "no_id") != 0) alert_set_off(c, id, dis); /* (no event of its own, as 24.8) */
         return 1;
     }
     int ai = alert_find(c, id, strlen(id));
