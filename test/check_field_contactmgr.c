@@ -108,7 +108,7 @@ static void cfg(const char *line)
 
 static void done(void)
 {
-    kelp_contactmgr_config_done(C, false, 0, false, 0, &S);
+    kelp_contactmgr_config_done(C, true, 43.8253, true, -70.3304, &S); /* a mission with its datum */
 }
 
 static void fixture_f(void)
@@ -194,11 +194,22 @@ START_TEST(cm_cpa_default_2_3)
     rptx("gus", 0, 25, "HDG=180,SPD=1");
     it();
     ck_assert_int_eq(count("SAY_MOOS"), 0);
+    /* 24.8's CMAlert: a cpa_range below alert_range lowers alert_range to it; an alert_range
+     * above cpa_range raises cpa_range to it: the later component wins, silently */
     setup();
     cfg("alert = id=K8, on_flag=SAY_MOOS=alarm, alert_range=20, cpa_range=10");
     done();
-    ck_assert(warned("cpa_range"));
+    ck_assert_int_eq(R->nwarn, 0);
+    ck_assert_ptr_nonnull(strstr(report(), "Alert Ranges: 10/10\n"));
+    setup();
+    cfg("alert = id=K8, on_flag=SAY_MOOS=alarm, cpa_range=10, alert_range=20");
+    done();
     ck_assert_ptr_nonnull(strstr(report(), "Alert Ranges: 20/20\n"));
+    setup(); /* only a cpa_range: the alert has no range and is invalid */
+    cfg("alert = id=K8, on_flag=SAY_MOOS=alarm, cpa_range=10");
+    done();
+    ck_assert(warned("Invalid alert config:K8"));
+    ck_assert_ptr_nonnull(strstr(report(), "Alert Ranges: unspecified/10\n"));
 }
 END_TEST
 
@@ -211,15 +222,16 @@ START_TEST(cm_invalid_4_6_7)
     it();
     ck_assert_ptr_null(strstr(last("CONTACTS_UNALERTED") ? last("CONTACTS_UNALERTED") : "", "never"));
     ck_assert_int_eq(count("CONTACTS_ALERTED"), 0);
-    /* 6: an unknown component rejects the request */
+    /* 6: an unknown component: 24.8 warns, drops it and the rest, keeps the alert */
     clear();
     ck_assert_int_lt(mail_s("BCM_ALERT_REQUEST", "id=k9, foo=bar, on_flag=X=1, alert_range=5"), 0);
-    ck_assert(warned("Unhandled Alert Request"));
-    ck_assert_ptr_null(strstr(report(), "ID: k9"));
-    /* 7: no flags: warned, never fires */
+    ck_assert(warned("unhandled alert config component: foo"));
+    ck_assert(warned("Unhandled Alert Request: id=k9, foo=bar, on_flag=X=1, alert_range=5"));
+    ck_assert_ptr_nonnull(strstr(report(), "ID: k9\n  Alert Ranges: unspecified/unspecified\n  Source: pHelmIvP\n"));
+    /* 7: no flags: not warned (24.8 checks validity at start-up only), never fires */
     clear();
     ck_assert_int_eq(mail_s("BCM_ALERT_REQUEST", "id=k9, alert_range=20"), 1);
-    ck_assert_int_gt(R->nwarn, 0);
+    ck_assert_int_eq(R->nwarn, 0);
     rpt("gus", 0, 4);
     it();
     ck_assert_ptr_null(last("CONTACTS_ALERTED"));
@@ -264,14 +276,15 @@ END_TEST
 START_TEST(cm_helm_request_12)
 {
     done();
-    ck_assert_int_eq(mail_s("BCM_ALERT_REQUEST", "id=avoid, alert_range=20, cpa_range=40, ignore_type=cargo, "
+    /* the alert sees the ledger's type: cargo (unknown) is a ship there */
+    ck_assert_int_eq(mail_s("BCM_ALERT_REQUEST", "id=avoid, alert_range=20, cpa_range=40, ignore_type=ship, "
                                                  "on_flag=CONTACT_INFO=name=avd_$[VNAME] # contact=$[VNAME]"),
                      1);
     mail_s("NODE_REPORT", "NAME=vessel_023,TYPE=cargo,TIME=1000,X=0,Y=10");
     it();
     ck_assert_int_eq(count("CONTACT_INFO"), 0);
     ck_assert_str_eq(last("CONTACTS_LIST"), "vessel_023");
-    mail_s("NODE_REPORT", "NAME=vessel_023,TYPE=tug,TIME=1000,X=0,Y=10");
+    mail_s("NODE_REPORT", "NAME=vessel_023,TYPE=kayak,TIME=1000,X=0,Y=10");
     it();
     ck_assert_str_eq(last("CONTACT_INFO"), "name=avd_vessel_023 # contact=vessel_023");
     /* BHV_AvoidCollision's own request string, filter summary and all */
@@ -377,6 +390,7 @@ END_TEST
 
 START_TEST(cm_age_24_25)
 {
+    cfg("contact_max_age = 600");
     fixture_f();
     rpt("gus", 0, 15);
     it();
@@ -433,9 +447,11 @@ START_TEST(cm_macros_28_29)
                                            "GROUP=Blue"),
                      1);
     it();
-    ck_assert_str_eq(last("INFO"), "alpha;51.71;-35.5;118.85;2;4.63;UUV;1252348077.59;43.824981;-70.329755");
+    /* 24.8's postAlert: $[SPD] never expands (it looks for "$[SPD}"), nor $[RANGE] or $[TIME];
+     * %[VNAME] keeps the case, %[VTYPE] and %[GROUP] are lower-cased */
+    ck_assert_str_eq(last("INFO"), "alpha;51.71;-35.5;118.85;$[SPD];4.63;UUV;1252348077.59;43.824981;-70.329755");
     ck_assert_str_eq(last("GRP_alpha"), "alpha");
-    ck_assert_str_eq(last("MORE"), "alpha/uuv/Blue/blue/5.76/1252348077.59/$[BOGUS]");
+    ck_assert_str_eq(last("MORE"), "alpha/uuv/Blue/blue/$[RANGE]/$[TIME]/$[BOGUS]");
 }
 END_TEST
 
@@ -530,7 +546,7 @@ START_TEST(cm_filter_regions_37_38_39)
     it();
     ck_assert_str_eq(last("CONTACTS_LIST"), "d");
     setup(); /* non-convex: warned, rejected */
-    cfg("match_region = pts={0,0:10,0:1,1:0,10}");
+    ck_assert_int_eq(kelp_contactmgr_config(C, "match_region", "pts={0,0:10,0:1,1:0,10}", &S), 0); /* not taken */
     ck_assert(warned("non-convex"));
     ck_assert_uint_eq(C->filter.nregion[0], 0);
 }
@@ -618,6 +634,7 @@ END_TEST
 
 START_TEST(cm_retired_46_47_48)
 {
+    cfg("contact_max_age = 600");
     cfg("max_retired_history = 2");
     fixture_f();
     const char *names[] = { "bravo", "foxtrot", "kilroy", "zulu" };
@@ -633,6 +650,7 @@ START_TEST(cm_retired_46_47_48)
         ck_assert_str_eq(last("CONTACTS_RETIRED"), want[i]);
     }
     setup(); /* 47 */
+    cfg("contact_max_age = 600");
     fixture_f();
     rpt("kilroy", 0, 100), rpt("bravo", 0, 100), rpt("foxtrot", 0, 100);
     NOW = 1601;
@@ -661,6 +679,7 @@ START_TEST(cm_forced_49_50_51)
     it();
     ck_assert_int_eq(count("W_OFF"), 0);
     setup(); /* 50 */
+    cfg("contact_max_age = 600");
     cfg("max_contacts = 2");
     done();
     mail_s("NODE_REPORT", "NAME=a,TIME=1000,X=0,Y=10");
@@ -690,10 +709,9 @@ START_TEST(cm_reports_52_to_55_60)
     ck_assert_str_eq(last("CONTACTS_050"), "ben,cal");
     clear(); /* 54 */
     ck_assert_int_eq(mail_s("BCM_REPORT_REQUEST", "var=CONTACTS_010, range=10"), 1);
+    it(); /* 24.8: a new report is posted when its list differs from "" (or on refresh) */
     it();
-    ck_assert_str_eq(last("CONTACTS_010"), "");
-    it();
-    ck_assert_int_eq(count("CONTACTS_010"), 1);
+    ck_assert_int_eq(count("CONTACTS_010"), 0);
     clear(); /* 55 */
     ck_assert_int_eq(mail_s("BCM_REPORT_REQUEST", "var=CONTACTS_050, range=50, refresh=true"), 1);
     it();
@@ -709,9 +727,12 @@ START_TEST(cm_reports_56_57_58)
     ck_assert_int_eq(mail_s("BCM_REPORT_REQUEST", "\"var=CONTACTS_200, range=200, type=sailboat, refresh=true\""), 1);
     rptx("ben", 0, 30, "GROUP=blueteam"), rptx("cal", 0, 20, "GROUP=red");
     rptx("a", 0, 100, "TYPE=sailboat"), rptx("b", 0, 100, "TYPE=kayak");
+    ck_assert_int_eq(mail_s("BCM_REPORT_REQUEST", "var=CONTACTS_SHIP, range=200, type=ship"), 1);
     it();
     ck_assert_str_eq(last("CONTACTS_050"), "ben");
-    ck_assert_str_eq(last("CONTACTS_200"), "a");
+    /* the ledger's types: the sailboat is a ship there */
+    ck_assert_str_eq(last("CONTACTS_200"), "");
+    ck_assert_str_eq(last("CONTACTS_SHIP"), "a");
     clear();
     ck_assert_int_lt(mail_s("BCM_REPORT_REQUEST", "var=CONTACTS_050"), 0);
     ck_assert(warned("Failed REPORT_REQUEST: var=CONTACTS_050"));
@@ -721,6 +742,8 @@ START_TEST(cm_reports_56_57_58)
 }
 END_TEST
 
+/* 24.8's pruneRangeReports: a report outlives range_report_timeout while there are no more
+ * than range_report_maxsize of them */
 START_TEST(cm_reports_timeout_59)
 {
     for (int variant = 0; variant < 3; variant++) {
@@ -735,8 +758,7 @@ START_TEST(cm_reports_timeout_59)
         NOW = variant == 0 ? 1005 : variant == 1 ? 1011 : 1030;
         rpt("ben", 0, 70);
         it();
-        if (variant == 1) ck_assert_int_eq(count("CONTACTS_050"), 0);
-        else ck_assert_str_eq(last("CONTACTS_050"), "");
+        ck_assert_str_eq(last("CONTACTS_050"), "");
     }
 }
 END_TEST
@@ -909,7 +931,7 @@ START_TEST(cm_coords_80_to_85)
     ck_assert_int_eq(mail_s("NODE_REPORT", "NAME=ben,TIME=1000,LAT=43.8262,LON=-70.3304"), 1);
     it();
     ck_assert_str_eq(last("R_HI"), "ben");
-    ck_assert_str_eq(last("R_LO"), "");
+    ck_assert_ptr_null(last("R_LO")); /* a new report's empty list is not posted */
     geo_setup("lazy_lat_lon", true); /* 81 */
     ck_assert_int_eq(mail_s("NODE_REPORT", "NAME=ben,TIME=1000,X=0,Y=10,LAT=43.8262,LON=-70.3304"), 1);
     it();
@@ -926,9 +948,7 @@ START_TEST(cm_coords_80_to_85)
     it();
     ck_assert_ptr_null(last("CONTACTS_LIST"));
     geo_setup("lazy_lat_lon", false); /* 84 */
-    ck_assert(warned("No LatOrigin"));
-    ck_assert(warned("No LongOrigin"));
-    ck_assert(warned("Wont derive"));
+    ck_assert(warned("Lat or Lon Origin not set in *.moos file."));
     ck_assert_int_lt(mail_s("NODE_REPORT", "NAME=ben,TIME=1000,LAT=43.8262,LON=-70.3304"), 0);
     geo_setup("lazy_lat_lon", true); /* 85 */
     ck_assert_int_eq(mail_s("NODE_REPORT", "NAME=ben,TIME=1000,LAT=43.8253,LON=-70.3292"), 1);
@@ -941,39 +961,234 @@ END_TEST
 
 /* ------------------------------------------------------------------ visuals, verbose, report */
 
+/* 24.8's postRadii (recorded: "x=0,y=0,radius=80,label=alert_abe,edge_color=gray65,time=..,
+ * duration=3,vertex_size=0,edge_size=1"): one ring per iteration at the largest cpa_range of the
+ * alerts not turned off, labelled alert_<ownship>; BCM_DISPLAY_RADII takes 24.8's booleans */
 START_TEST(cm_visuals_86_87_88)
 {
     cfg("display_radii = true");
     fixture_f();
+    cfg("alert = id=big, on_flag=B=1, alert_range=25, cpa_range=45");
     nav(10, 5, 0, 0);
     it();
-    ck_assert_int_eq(count("VIEW_CIRCLE"), 2);
-    ck_assert_int_ge(index_of("VIEW_CIRCLE", "x=10,y=5,radius=20,duration=3,label=avd_in,edge_color=gray70,time=1000,"
-                                             "vertex_size=0,edge_size=1"),
-                     0);
-    ck_assert_int_ge(index_of("VIEW_CIRCLE", "x=10,y=5,radius=30,duration=3,label=avd_out,edge_color=gray30,time=1000,"
-                                             "vertex_size=0,edge_size=1"),
-                     0);
+    ck_assert_int_eq(count("VIEW_CIRCLE"), 1);
+    ck_assert_str_eq(last("VIEW_CIRCLE"),
+                     "x=10,y=5,radius=45,label=alert_abe,edge_color=gray65,time=1000,duration=3,vertex_size=0,edge_size=1");
+    clear(); /* the alert turned off no longer counts */
+    ck_assert_int_eq(mail_s("BCM_ALERT_REQUEST", "id=big, action=disable"), 1);
+    it();
+    ck_assert_ptr_nonnull(strstr(last("VIEW_CIRCLE"), "radius=30,label=alert_abe,"));
     clear(); /* 88 */
     ck_assert_int_eq(mail_s("BCM_DISPLAY_RADII", "false"), 1);
     it();
     ck_assert_int_eq(count("VIEW_CIRCLE"), 0);
     ck_assert_int_eq(mail_s("BCM_DISPLAY_RADII", "toggle"), 1);
     it();
-    ck_assert_int_eq(count("VIEW_CIRCLE"), 2);
-    ck_assert_int_eq(mail_s("BCM_DISPLAY_RADII", "off"), 1);
-    ck_assert_int_eq(mail_s("BCM_DISPLAY_RADII", "avd"), 1);
+    ck_assert_int_eq(count("VIEW_CIRCLE"), 1);
+    ck_assert_int_eq(mail_s("BCM_DISPLAY_RADII", "no"), 1);
+    ck_assert(!C->display_radii);
+    ck_assert_int_eq(mail_s("BCM_DISPLAY_RADII", "yes"), 1);
     ck_assert(C->display_radii);
-    ck_assert_int_lt(mail_s("BCM_DISPLAY_RADII", "bogus"), 0);
-    ck_assert(warned("Failed attempt to set Display_radii set to: bogus"));
+    clear();
+    ck_assert_int_lt(mail_s("BCM_DISPLAY_RADII", "avd"), 0); /* an alert id is no boolean in 24.8 */
+    ck_assert(warned("Bad Mail: BCM_DISPLAY_RADII:"));
     ck_assert(C->display_radii);
-    setup(); /* 87 */
+    setup(); /* 87: an invisible colour, or no range: the ring is posted inactive */
     cfg("display_radii = true");
+    cfg("alert_range_color = invisible");
     cfg("alert = id=q, on_flag=Q=1, alert_range=20");
     done();
     it();
+    ck_assert_str_eq(last("VIEW_CIRCLE"), "x=0,y=0,radius=20,active=false,label=alert_abe,edge_color=invisible,"
+                                          "time=1000,duration=3,vertex_size=0,edge_size=1");
+    setup();
+    cfg("display_radii = true");
+    cfg("alert = id=q, on_flag=Q=1");
+    done();
+    it();
+    ck_assert_ptr_nonnull(strstr(last("VIEW_CIRCLE"), "x=0,y=0,radius=0,active=false,label=alert_abe,edge_color=gray65,"));
+    setup(); /* every alert off: the same zero ring, wherever ownship is */
+    cfg("display_radii = true");
+    cfg("alert = id=q, on_flag=Q=1, alert_range=20");
+    done();
+    nav(7, 8, 0, 0);
+    ck_assert_int_eq(mail_s("BCM_ALERT_REQUEST", "id=q, action=disable"), 1);
+    it();
+    ck_assert_str_eq(last("VIEW_CIRCLE"), "x=0,y=0,radius=0,active=false,label=alert_abe,edge_color=gray65,"
+                                          "time=1000,duration=3,vertex_size=0,edge_size=1");
+}
+END_TEST
+
+/* 24.8's checkForEarlyWarnings / checkForCeaseWarnings (recorded: "EW=c1|100.499|98.873|10|4.974|..",
+ * after_warning=4.76 in ALERT_VERBOSE, the cease flag once the extrapolated range opened
+ * beyond 1.05 x the range warned at) */
+START_TEST(cm_early_cease_warnings)
+{
+    cfg("early_warning_time = 4");
+    cfg("early_warning_flag = EW=$[CONTACT]|$[RNG]|$[RNG_EXT]|$[CPA]|$[ROC]|$(UTC)");
+    cfg("early_warning_flag = EWN=3");
+    cfg("cease_warning_flag = CW=$[CONTACT]|$[RNG]");
+    cfg("alert_verbose = true");
+    cfg("alert = id=avd, alert_range=50, cpa_range=80, on_flag=ON=$[VNAME]");
+    done();
+    /* closing at 5 m/s along y = 10: warned below 80 + 4 x roc */
+    double x = 110;
+    rptx("c1", x, 10, "HDG=270,SPD=5");
+    it();
+    ck_assert_int_eq(count("EW"), 0); /* range 110.5 > 80 + 4 x 4.98 */
+    ck_assert_double_eq_tol(C->contact[kelp_contactmgr_find(C, "c1")].will_warn, 80 + 4 * 5 * 110 / hypot(110, 10),
+                            1e-9);
+    NOW += 2, x -= 10; /* 100.499 > 80 + 4 x 4.975: not yet */
+    rptx("c1", x, 10, "HDG=270,SPD=5");
+    it();
+    ck_assert_int_eq(count("EW"), 0);
+    NOW += 1, x -= 5; /* 95.525 < 80 + 4 x 4.973 */
+    rptx("c1", x, 10, "HDG=270,SPD=5");
+    it();
+    ck_assert_str_eq(last("EW"), "c1|95.525|95.525|10|4.973|1003");
+    ck_assert_str_eq(last("EWN"), "3");
+    ck_assert(!R->str[index_of("EWN", NULL)]);
+    NOW += 1, x -= 5;
+    rptx("c1", x, 10, "HDG=270,SPD=5");
+    it();
+    ck_assert_int_eq(count("EW"), 1); /* once */
+    while (index_of("ON", NULL) < 0) { /* alerted within cpa_range 80 (its CPA 10 is within 50) */
+        NOW += 1, x -= 5;
+        rptx("c1", x, 10, "HDG=270,SPD=5");
+        it();
+    }
+    char v[256];
+    snprintf(v, sizeof v, "contact=c1,alert_id=avd,off-->alerted,alert_range=50,alert_range_cpa=80,range_actual=%.1f,"
+             "range_cpa=10.0,after_warning=%g", hypot(x, 10), NOW - 1003);
+    ck_assert_str_eq(last("ALERT_VERBOSE"), v);
+    ck_assert_double_eq_tol(x, 75, 1e-9);
+    ck_assert_int_eq(count("CW"), 0);
+    while (x > -100) { /* past ownship and opening */
+        NOW += 1, x -= 5;
+        rptx("c1", x, 10, "HDG=270,SPD=5");
+        it();
+        if (count("CW")) break;
+    }
+    /* ceased at the first extrapolated range beyond 1.05 x 95.525 = 100.3 */
+    ck_assert_double_eq_tol(x, -100, 1e-9);
+    snprintf(v, sizeof v, "c1|%.3f", hypot(x, 10));
+    ck_assert_str_eq(last("CW"), v);
+    ck_assert_int_eq(count("EW"), 1);
+    /* the report's early-warning lines (24.8 swaps the two counts' labels) */
+    ck_assert_ptr_nonnull(strstr(report(), "Early Warning Time: 4\nEarlyWarn Radii:    false\nEarlyWarn EWFlags:  1\n"
+                                          "EarlyWarn CWFlags:  2\nAlertsDisabled:     \nmax_alert_range:    80\n"));
+}
+END_TEST
+
+/* 24.8's postEarlyWarningRadii: "x=0,y=0,radius=99.97,label=xewarn_c1,label_color=gray50,
+ * edge_color=green,time=..,duration=3,vertex_size=0,edge_size=1" until the warning */
+START_TEST(cm_early_warning_radii)
+{
+    cfg("early_warning_time = 4");
+    cfg("early_warning_radii = true");
+    cfg("alert = id=avd, alert_range=50, cpa_range=80, on_flag=ON=$[VNAME]");
+    done();
+    rptx("c1", 0, 200, "HDG=180,SPD=5");
+    rptx("still", 0, 100, NULL);
+    it();
     ck_assert_int_eq(count("VIEW_CIRCLE"), 1);
-    ck_assert_ptr_nonnull(strstr(last("VIEW_CIRCLE"), "label=q_in"));
+    ck_assert_str_eq(last("VIEW_CIRCLE"), "x=0,y=0,radius=100,label=xewarn_c1,label_color=gray50,edge_color=green,"
+                                          "time=1000,duration=3,vertex_size=0,edge_size=1");
+    clear();
+    NOW += 1;
+    rptx("c1", 0, 99, "HDG=180,SPD=5");
+    it();
+    ck_assert_int_eq(count("VIEW_CIRCLE"), 0); /* warned: no ring */
+}
+END_TEST
+
+/* types through 24.8's contact ledger (recorded: a sailboat fires match_type=ship and not
+ * match_type=sailboat, uuv becomes auv, UUV stays as given, a glider without depth is refused
+ * as "Bad Mail: NODE_REPORT:1:g12:", a KAYAK never matches match_type=KAYAK: entries are kept
+ * in lower case and compared with the type as reported) */
+START_TEST(cm_ledger_types)
+{
+    cfg("alert = id=ships, alert_range=40, match_type=ship, on_flag=SHIP_ON=$[VNAME]/$[VTYPE]/%[VTYPE]");
+    cfg("alert = id=sb, alert_range=40, match_type=sailboat, on_flag=SB_ON=$[VNAME]");
+    cfg("alert = id=auvs, alert_range=40, match_type=auv, on_flag=AUV_ON=$[VNAME]/$[VTYPE]");
+    cfg("alert = id=bigk, alert_range=40, match_type=KAYAK, on_flag=K_ON=$[VNAME]/$[VTYPE]");
+    cfg("alert = id=blue, alert_range=40, match_group=BLUE, on_flag=G_ON=$[VNAME]");
+    done();
+    ck_assert_int_eq(mail_s("NODE_REPORT", "NAME=Sail,TYPE=sailboat,GROUP=BLUE,TIME=1000,X=30,Y=0"), 1);
+    ck_assert_int_eq(mail_s("NODE_REPORT", "NAME=u1,TYPE=uuv,TIME=1000,X=0,Y=35,DEP=2"), 1);
+    ck_assert_int_eq(mail_s("NODE_REPORT", "NAME=U2,TYPE=UUV,TIME=1000,X=0,Y=-36"), 1);
+    ck_assert_int_eq(mail_s("NODE_REPORT", "NAME=k9,TYPE=KAYAK,GROUP=blue,TIME=1000,X=-38,Y=0"), 1);
+    ck_assert_int_eq(mail_s("NODE_REPORT", "NAME=c1,TYPE=kayak,TIME=1000,X=-20,Y=0"), 1);
+    ck_assert_int_lt(mail_s("NODE_REPORT", "NAME=g1,TYPE=glider,TIME=1000,X=0,Y=-37"), 0);
+    ck_assert(warned("Bad Mail: NODE_REPORT:1:g12:"));
+    ck_assert_int_lt(mail_s("NODE_REPORT", "TYPE=kayak,X=1,Y=1"), 0);
+    ck_assert(warned("Bad Mail: NODE_REPORT:Empty vname"));
+    it();
+    ck_assert_str_eq(last("SHIP_ON"), "Sail/ship/ship");
+    ck_assert_int_eq(count("SB_ON"), 0);
+    ck_assert_str_eq(last("AUV_ON"), "u1/auv");
+    ck_assert_int_eq(count("AUV_ON"), 1);
+    ck_assert_str_eq(last("K_ON"), "c1/kayak");
+    ck_assert_int_eq(count("K_ON"), 1);
+    ck_assert_str_eq(last("G_ON"), "k9"); /* group blue matches BLUE's lower-case entry, BLUE does not */
+    ck_assert_int_eq(count("G_ON"), 1);
+    ck_assert_str_eq(last("CONTACTS_LIST"), "Sail,U2,c1,k9,u1");
+}
+END_TEST
+
+/* 24.8's handleConfigAlert on a request with a bad component (recorded: req1 "id=req1,
+ * alert_range=30, on_flag=REQ_ON=.., bogus=3" alerts; req5 "alert_range=off" is unhandled;
+ * off_flag "A=a # B=b" is two flags, an on_flag is one) */
+START_TEST(cm_bad_request_keeps_alert)
+{
+    done();
+    ck_assert_int_lt(mail_s("BCM_ALERT_REQUEST", "id=req1, alert_range=30, on_flag=REQ_ON=$[VNAME], bogus=3"), 0);
+    ck_assert(warned("unhandled alert config component: bogus"));
+    ck_assert(warned("Unhandled Alert Request: id=req1, alert_range=30, on_flag=REQ_ON=$[VNAME], bogus=3"));
+    ck_assert_int_lt(mail_s("BCM_ALERT_REQUEST", "id=req5, alert_range=off, on_flag=R5=1"), 0);
+    ck_assert(warned("unhandled alert config component: alert_range"));
+    ck_assert_int_eq(mail_s("BCM_ALERT_REQUEST", "id=req4, alert_range=25, on_flag=ON4=x # y=z, "
+                                                 "off_flag=REQ4_OFF=a # REQ4_OFF2=b"), 1);
+    ck_assert_uint_eq(C->alert[2].non, 1);
+    ck_assert_uint_eq(C->alert[2].noff, 2);
+    rpt("gus", 0, 20);
+    it();
+    ck_assert_str_eq(last("REQ_ON"), "gus");
+    ck_assert_int_eq(count("R5"), 0);
+    ck_assert_str_eq(last("ON4"), "x # y=z");
+    rpt("gus", 0, 40);
+    it();
+    ck_assert_str_eq(last("REQ4_OFF"), "a");
+    ck_assert_str_eq(last("REQ4_OFF2"), "b");
+    const char *r = report();
+    ck_assert_ptr_nonnull(strstr(r, "ID: req5\n  Alert Ranges: unspecified/unspecified\n  Source: pHelmIvP\n"));
+    ck_assert_ptr_nonnull(strstr(r, "  OnFlag: REQ4_OFF=a\n  OnFlag: REQ4_OFF2=b\n"));
+}
+END_TEST
+
+/* 24.8's handleMailReportRequest: the same variable and range renews the request only (the
+ * group given first stays); refresh posts the list once even when unchanged */
+START_TEST(cm_report_request_renewal)
+{
+    done();
+    rptx("ben", 0, 30, "GROUP=alpha");
+    rptx("cal", 0, 20, "GROUP=beta");
+    ck_assert_int_eq(mail_s("BCM_REPORT_REQUEST", "var=NEAR, range=40, group=alpha"), 1);
+    it();
+    ck_assert_str_eq(last("NEAR"), "ben");
+    clear();
+    ck_assert_int_eq(mail_s("BCM_REPORT_REQUEST", "var=NEAR, range=40, group=beta"), 1);
+    it();
+    ck_assert_int_eq(count("NEAR"), 0);
+    ck_assert_int_eq(mail_s("BCM_REPORT_REQUEST", "var=NEAR, range=40, refresh=TRUE"), 1);
+    it();
+    ck_assert_str_eq(last("NEAR"), "ben");
+    it();
+    ck_assert_int_eq(count("NEAR"), 1);
+    clear(); /* a new range starts the report afresh, with the group given now */
+    ck_assert_int_eq(mail_s("BCM_REPORT_REQUEST", "var=NEAR, range=41, group=beta"), 1);
+    it();
+    ck_assert_str_eq(last("NEAR"), "cal");
 }
 END_TEST
 
@@ -1099,34 +1314,49 @@ END_TEST
 
 START_TEST(cm_bad_config_values)
 {
-    cfg("contact_max_age = -3");
-    cfg("decay = 30,15");
-    cfg("reject_range = far");
-    cfg("contact_local_coords = sideways");
-    cfg("alert_range = 40");
-    ck_assert_int_eq(R->nwarn, 5);
-    ck_assert_double_eq(C->contact_max_age, 600);
+    /* a value 24.8 refuses: the line is not taken (the app warns "Unhandled config line: ..."),
+     * the default stays; alert_range is warned deprecated, then not taken */
+    ck_assert_int_eq(kelp_contactmgr_config(C, "contact_max_age", "-3", &S), 0);
+    ck_assert_int_eq(kelp_contactmgr_config(C, "decay", "30,15", &S), 0);
+    ck_assert_int_eq(kelp_contactmgr_config(C, "reject_range", "far", &S), 0);
+    cfg("contact_local_coords = sideways"); /* 24.8 takes any value and ignores it */
+    ck_assert_int_eq(R->nwarn, 0);
+    ck_assert_int_eq(kelp_contactmgr_config(C, "alert_range", "40", &S), 0);
+    ck_assert(warned("alert_range is deprecated"));
+    ck_assert_int_eq(R->nwarn, 1);
+    ck_assert_double_eq(C->contact_max_age, 60); /* 24.8's default */
     ck_assert_double_eq(C->decay[0], 15);
     ck_assert_double_eq(C->reject_range, 2000);
     ck_assert_int_eq(kelp_contactmgr_config(C, "no_such_param", "1", &S), 0);
     cfg("max_contact_age = 60");
     cfg("contacts_recap_interval = 2");
+    ck_assert(warned("contacts_recap_interval is deprecated. Use instead: recap_interval"));
     cfg("max_retired_hist = 7");
     ck_assert_double_eq(C->contact_max_age, 60);
     ck_assert_double_eq(C->recap_interval, 2);
     ck_assert_uint_eq(C->max_retired, 7);
-    /* alert without id: warned, nothing stored */
+    /* alert without id: 24.8 names it no_id */
     clear();
     cfg("alert = on_flag=A=1, alert_range=5");
-    ck_assert_int_eq(R->nwarn, 1);
-    ck_assert_uint_eq(C->nalerts, 0);
-    /* continuation tokens and legacy var/val */
-    cfg("alert = id=avd, range=80, match_group=usv,ship, var=CONTACT_INFO, val=\"name=$[VNAME]\"");
+    ck_assert_int_eq(R->nwarn, 0);
     ck_assert_uint_eq(C->nalerts, 1);
-    ck_assert_uint_eq(C->alert[0].filter.nlist[2][0], 2);
-    ck_assert_str_eq(C->alert[0].filter.list[2][0][1], "ship");
-    ck_assert_str_eq(C->alert[0].on[0], "CONTACT_INFO=name=$[VNAME]");
-    ck_assert_double_eq(C->alert[0].alert_range, 80);
+    ck_assert_str_eq(C->alert[0].id, "no_id");
+    /* a braced list and legacy var/val */
+    cfg("alert = id=avd, alert_range=80, match_group={usv,ship}, var=CONTACT_INFO, val=\"name=$[VNAME]\"");
+    ck_assert_uint_eq(C->nalerts, 2);
+    ck_assert_uint_eq(C->alert[1].filter.nlist[2][0], 2);
+    ck_assert_str_eq(C->alert[1].filter.list[2][0][1], "ship");
+    ck_assert_str_eq(C->alert[1].on[0], "CONTACT_INFO=name=$[VNAME]");
+    ck_assert_double_eq(C->alert[1].alert_range, 80);
+    /* an unbraced list: its second entry is a component of its own, unhandled; "range" is
+     * not an alert component in 24.8 */
+    clear();
+    ck_assert_int_eq(kelp_contactmgr_config(C, "alert", "id=b, alert_range=70, match_group=usv,ship, on_flag=B=1", &S), 0);
+    ck_assert(warned("unhandled alert config component: ship"));
+    ck_assert_double_eq(C->alert[2].alert_range, 70);
+    ck_assert_uint_eq(C->alert[2].non, 0);
+    ck_assert_int_eq(kelp_contactmgr_config(C, "alert", "id=b, range=80", &S), 0);
+    ck_assert(warned("unhandled alert config component: range"));
 }
 END_TEST
 
@@ -1144,17 +1374,26 @@ START_TEST(cm_hold_relbng_maxsize)
     ck_assert_int_eq(mail_s("IVPHELM_STATE", "DRIVE"), 1);
     it();
     ck_assert_str_eq(last("CONTACT_INFO"), "name=avd_gus # contact=gus");
-    /* three report variables with room for two: the least recently requested goes */
+    /* three report variables with room for two: 24.8 keeps all three until one is
+     * range_report_timeout old, then drops the oldest, one per iteration */
     ck_assert_int_eq(mail_s("BCM_REPORT_REQUEST", "var=R1, range=50"), 1);
     NOW += 1;
-    ck_assert_int_eq(mail_s("BCM_REPORT_REQUEST", "var=R2, range=50"), 1);
     ck_assert_int_eq(mail_s("BCM_REPORT_REQUEST", "var=R3, range=50"), 1);
+    ck_assert_int_eq(mail_s("BCM_REPORT_REQUEST", "var=R2, range=50"), 1);
     clear();
     it();
-    ck_assert_int_eq(count("R1"), 0);
+    ck_assert_str_eq(last("R1"), "gus");
     ck_assert_str_eq(last("R2"), "gus");
     ck_assert_str_eq(last("R3"), "gus");
     ck_assert_int_lt(index_of("R2", NULL), index_of("R3", NULL)); /* ascending var name */
+    NOW += 9.5; /* R1 10.5 s old, R2 and R3 9.5 */
+    rpt("gus", 0, 60);
+    clear();
+    it();
+    ck_assert_int_eq(count("R1"), 0);
+    ck_assert_str_eq(last("R2"), "");
+    ck_assert_str_eq(last("R3"), "");
+    ck_assert_uint_eq(C->nreports, 2);
 }
 END_TEST
 
@@ -1189,6 +1428,25 @@ START_TEST(cm_alert_range_zero_filters_only)
     rpt("far", 50, 300);  /* leaves the region: off */
     it();
     ck_assert_str_eq(last("OUT_REG"), "far");
+}
+END_TEST
+
+/* 24.8's defaults: contact_max_age 60 (its constructor), x/y derived from LAT/LON for a report
+ * without X/Y (its ledger, with the mission's datum), $[LAT]/$[LON] only as reported (0 else) */
+START_TEST(cm_defaults_24_8)
+{
+    ck_assert_double_eq(C->contact_max_age, 60);
+    cfg("alert = id=a, alert_range=200, on_flag=LL=$[LAT]/$[LON]/$[X]");
+    done();
+    ck_assert_int_eq(mail_s("NODE_REPORT", "NAME=ben,TIME=1000,LAT=43.8262,LON=-70.3304"), 1);
+    ck_assert_int_eq(mail_s("NODE_REPORT", "NAME=cal,TIME=1000,X=5,Y=5"), 1);
+    it();
+    ck_assert_str_eq(last("CONTACTS_LIST"), "ben,cal");
+    ck_assert_int_ge(index_of("LL", "0/0/5"), 0);
+    ck_assert_int_ge(index_of("LL", "43.8262/-70.3304/1.61"), 0); /* x in UTM as 24.8 (PROJ: 1.6075 m) */
+    NOW += 61;
+    it();
+    ck_assert_str_eq(last("CONTACTS_LIST"), "");
 }
 END_TEST
 
@@ -1237,6 +1495,12 @@ Suite *kelp_field_contactmgr_suite(void)
     tcase_add_test(tc, cm_able_vars);
     tcase_add_test(tc, cm_retire_flags);
     tcase_add_test(tc, cm_counts_survive_retirement);
+    tcase_add_test(tc, cm_early_cease_warnings);
+    tcase_add_test(tc, cm_early_warning_radii);
+    tcase_add_test(tc, cm_ledger_types);
+    tcase_add_test(tc, cm_bad_request_keeps_alert);
+    tcase_add_test(tc, cm_report_request_renewal);
+    tcase_add_test(tc, cm_defaults_24_8);
     suite_add_tcase(s, tc);
     return s;
 }

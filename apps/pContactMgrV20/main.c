@@ -35,6 +35,12 @@ static void publish(void *ctx, const char *var, bool is_string, const char *sval
 
 static void warn(void *ctx, const char *msg)
 {
+    /* 24.8 files a bad alert component as a configuration warning, mail or not (its
+     * handleConfigAlert); the request itself ("Unhandled Alert Request: ...") as a run warning */
+    if (strncmp(msg, "unhandled alert config component: ", 34) == 0) {
+        kelp_app_config_warning(((cmgr_app *)ctx)->app, "%s", msg);
+        return;
+    }
     kelp_app_run_warning(((cmgr_app *)ctx)->app, "%s", msg);
 }
 
@@ -113,6 +119,7 @@ static const kelp_app_def def = {
                 "sensor application or over a communications link. Minimally\n"
                 "it posts summary reports, but may also be configured to post\n"
                 "alerts with user-configured content about the contacts.",
+    .unhandled_prefix = "Unhandled config line: ", /* 24.8's reportUnhandledConfigWarning */
     .params = (const kelp_app_param_info[]){
         { "alert", "id=avd, on_flag=CONTACT_INFO=name=avd_$[VNAME] # contact=$[VNAME], alert_range=80, cpa_range=95",
           "an alert (repeat; lines with one id accumulate): id, alert_range, cpa_range, on_flag, off_flag, filters", NULL },
@@ -125,22 +132,22 @@ static const kelp_app_def def = {
         { "ignore_region", "pts={60,-40:60,-160:150,-160:150,-40}", "convex polygon whose contacts are ignored", NULL },
         { "match_region", "pts={60,70:60,160:150,160:150,70}", "convex polygon: only contacts inside one", NULL },
         { "strict_ignore", "true", "a contact without TYPE/GROUP fails ignore_type/_group (default true)", NULL },
-        { "contact_max_age", "600", "s after its last report a contact is retired (default 600)", NULL },
-        { "max_contact_age", "600", "the seed's other name", "contact_max_age" },
+        { "contact_max_age", "60", "s after its last report a contact is retired (default 60, as 24.8)", NULL },
+        { "max_contact_age", "60", "the seed's other name", "contact_max_age" },
         { "max_retired_history", "5", "retired names kept, 1..50 (default 5)", NULL },
         { "max_retired_hist", "5", "the seed's other name", "max_retired_history" },
         { "max_contacts", "500", "contacts held; the farthest are retired beyond (default 500)", NULL },
-        { "display_radii", "false", "VIEW_CIRCLE rings of one alert around ownship (default false)", NULL },
-        { "display_radii_id", "avd", "the alert drawn (default the first)", NULL },
+        { "display_radii", "false", "a VIEW_CIRCLE alert_<ownship> at the largest cpa_range (default false)", NULL },
+        { "display_radii_id", "avd", "accepted, unused (as 24.8)", NULL },
         { "alert_verbose", "false", "ALERT_VERBOSE postings (default false)", NULL },
-        { "alert_range_color", "gray70", "ring colour of alert_range (default gray70)", NULL },
-        { "cpa_range_color", "gray30", "ring colour of cpa_range (default gray30)", NULL },
+        { "alert_range_color", "gray65", "the ring's colour; invisible or empty: posted inactive (default gray65)", NULL },
+        { "cpa_range_color", "gray30", "accepted, unused (as 24.8)", NULL },
         { "decay", "15,30", "s: extrapolate at full speed to a, slowing to 0 at b (default 15,30)", NULL },
         { "recap_interval", "1", "s between CONTACTS_RECAP, or off (default 1)", NULL },
         { "contacts_recap_interval", "1", "the seed's other name", "recap_interval" },
         { "range_report_timeout", "10", "s a BCM_REPORT_REQUEST lives (default 10)", NULL },
-        { "range_report_maxsize", "20", "custom reports kept (default and most 20)", NULL },
-        { "contact_local_coords", "verbatim", "verbatim, lazy_lat_lon or force_lat_lon (default verbatim)", NULL },
+        { "range_report_maxsize", "20", "custom reports beyond which a timed-out one is dropped each iteration (default 20)", NULL },
+        { "contact_local_coords", "lazy_lat_lon", "lazy_lat_lon (24.8: X/Y from LAT/LON when absent), force_lat_lon or verbatim (default lazy_lat_lon)", NULL },
         { "post_closest_range", "false", "CONTACT_CLOSEST_RANGE (default false)", NULL },
         { "post_closest_relbng", "false", "CONTACT_CLOSEST_RELBNG (default false)", NULL },
         { "post_all_ranges", "false", "CONTACT_RANGES (default false)", NULL },
@@ -154,14 +161,14 @@ static const kelp_app_def def = {
         { "able_flag", "MOOS_VAR = val", "posted at a contact's disable or enable", NULL },
         { "disable_flag", "MOOS_VAR = val", "posted at a contact's disable ($[RECENT_DISABLED] $[TOTAL_DISABLED] $[ALL_DISABLED])", NULL },
         { "enable_flag", "MOOS_VAR = val", "posted at a contact's enable ($[RECENT_ENABLED])", NULL },
-        { "early_warning_time", "30", "s: shown in the report (early warnings: not implemented)", NULL },
-        { "early_warning_radii", "true", "24.8.x: accepted, not implemented", NULL },
-        { "ewarn_radii_color", "yellow", "24.8.x: accepted, not implemented", NULL },
-        { "early_warning_flag", "MOOS_VAR = val", "24.8.x: accepted, not implemented", NULL },
-        { "cease_warning_flag", "MOOS_VAR = val", "24.8.x: accepted, not implemented", NULL },
+        { "early_warning_time", "30", "s: warn a closing contact this long before the largest alert range (default off)", NULL },
+        { "early_warning_radii", "true", "VIEW_CIRCLE xewarn_<contact> at each warning range (default false)", NULL },
+        { "ewarn_radii_color", "yellow", "colour of those rings (default green)", NULL },
+        { "early_warning_flag", "MOOS_VAR = val", "posted at an early warning ($[CONTACT] $[RNG] $[RNG_EXT] $[CPA] $[ROC] $[UTC])", NULL },
+        { "cease_warning_flag", "MOOS_VAR = val", "posted when the warned contact opens beyond 1.05 x its warned range", NULL },
         { "retire_flag", "MOOS_VAR = val", "posted per retired or refused contact ($[CONTACT] $[UTC])", NULL },
         { "app_logging", "false", "accepted (record the bus with kelp-record)", NULL },
-        { "default_alert_range_color", "gray70", "older name", "alert_range_color" },
+        { "default_alert_range_color", "gray65", "older name", "alert_range_color" },
         { "default_cpa_range_color", "gray30", "older name", "cpa_range_color" },
         { NULL, NULL, NULL, NULL } },
     .subscribes = (const kelp_app_var_info[]){

