@@ -1064,21 +1064,30 @@ KELP_NOINLINE static void post_outputs(kelp_helm *h)
     bool clear = !strcmp(r->allstop, "clear");
     if (!clear && h->engaged && h->cfg.park_on_allstop && h->cfg.allow_park)
         h->engaged = false; /* park until an override engages the helm again */
-    /* HelmIvP::postAllStop: the reason every iteration; the first iteration without a decision
-     * posts no zeros (a mode change gets one iteration to bring the next behaviour in) */
-    bool nodec = !strcmp(r->allstop, "NothingToDo") || !strncmp(r->allstop, "MissingDecVars", 14);
-    h->no_decisions = nodec ? h->no_decisions + 1 : 0;
-    sink(h, "IVPHELM_ALLSTOP", true, r->allstop, 0, NULL);
-    /* and the same through MOOSDebugWrite, which MOOS posts as MOOS_DEBUG */
-    hx_cat(buf, bufcap, "pHelmIvP AllStop: ", r->allstop, HX_END);
-    sink(h, "MOOS_DEBUG", true, buf, 0, NULL);
-    for (unsigned d = 0; d < hd->dim; d++) {
-        desired_name(hd->var[d].name, name, sizeof name);
-        if (!clear && h->no_decisions != 1)
-            sink(h, name, false, NULL, 0.0, NULL);
-        else if (clear && r->decided[d])
-            sink(h, name, false, NULL, r->decision[d], NULL);
+    /* HelmIvP::postAllStop: the reason only when it differs from the one last posted (MOOS_DEBUG,
+     * then IVPHELM_ALLSTOP), the zeros with it; the first reason without a decision posts no
+     * zeros and is remembered as IncompleteOrEmptyDecision, so the next iteration posts it again
+     * with the zeros (a mode change gets one iteration to bring the next behaviour in) */
+    if (strcmp(r->allstop, h->allstop_posted) != 0) {
+        memcpy(h->allstop_posted, r->allstop, sizeof h->allstop_posted);
+        bool nodec = !strcmp(r->allstop, "NothingToDo") || !strncmp(r->allstop, "MissingDecVars", 14);
+        h->no_decisions = nodec ? h->no_decisions + 1 : 0;
+        hx_cat(buf, bufcap, "pHelmIvP AllStop: ", r->allstop, HX_END);
+        sink(h, "MOOS_DEBUG", true, buf, 0, NULL);
+        sink(h, "IVPHELM_ALLSTOP", true, r->allstop, 0, NULL);
+        if (!clear && h->no_decisions == 1)
+            strcpy(h->allstop_posted, "IncompleteOrEmptyDecision");
+        else if (!clear)
+            for (unsigned d = 0; d < hd->dim; d++) {
+                desired_name(hd->var[d].name, name, sizeof name);
+                sink(h, name, false, NULL, 0.0, NULL);
+            }
     }
+    for (unsigned d = 0; clear && d < hd->dim; d++)
+        if (r->decided[d]) {
+            desired_name(hd->var[d].name, name, sizeof name);
+            sink(h, name, false, NULL, r->decision[d], NULL);
+        }
     /* behaviour lists */
     char (*lists)[256] = h->ws_out.lists, *cmpl = h->ws_out.lists[3];
     lists[0][0] = lists[1][0] = lists[2][0] = cmpl[0] = 0;
