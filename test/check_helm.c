@@ -1136,13 +1136,18 @@ START_TEST(helm_starts_parked)
     ht_iter(1);
     ck_assert(ht_has_str("IVPHELM_STATE", "PARK"));
     ck_assert_uint_eq(ht_count("IVPHELM_ALLSTOP") + ht_count("MOOS_DEBUG") + ht_count("DESIRED_SPEED"), 0);
+    ck_assert_uint_eq(ht_count("IVPHELM_STATEVARS"), 0); /* posted by drive iterations */
     kelp_helm_mail_string(&g_h, "MOOS_MANUAL_OVERRIDE", "false");
     ht_iter(2);
     ck_assert(ht_has_str("IVPHELM_STATE", "DRIVE"));
     ck_assert(ht_has_str("IVPHELM_ALLSTOP", "clear"));
     ck_assert(ht_num("DESIRED_SPEED") == 2);
+    /* the conditions' and the end flag's variables, each once, in order */
+    ck_assert_str_eq(ht_last("IVPHELM_STATEVARS")->sval, "DEPLOY,RETURN");
+    ck_assert_uint_eq(ht_count("IVPHELM_UPDATEVARS"), 0); /* no behaviour has updates */
     ht_iter(3); /* the reason unchanged: not posted; the decision is */
     ck_assert_uint_eq(ht_count("IVPHELM_ALLSTOP"), 0);
+    ck_assert_uint_eq(ht_count("IVPHELM_STATEVARS"), 0); /* again only when the set grows */
     ck_assert(ht_num("DESIRED_SPEED") == 2);
     /* DEPLOY off: nothing to do; no zeros on the first such iteration, zeros on the second */
     kelp_helm_mail_string(&g_h, "DEPLOY", "false");

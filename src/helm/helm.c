@@ -363,20 +363,96 @@ void kelp_helm_start(kelp_helm *h, kelp_time now)
         if (h->tmpl[i].ops->on_helm_start)
             h->tmpl[i].ops->on_helm_start(&h->tmpl[i]);
     flush_posts(h);
-    /* the variables behaviour updates and mode declarations listen to */
-    size_t n = 0;
-    buf[0] = '\0';
-    for (unsigned i = 0; i < h->nbhv + h->ntmpl; i++) {
-        const kelp_bhv *b = i < h->nbhv ? &h->bhv[i] : &h->tmpl[i - h->nbhv];
-        if (b->updates[0])
-            n += hx_cat(buf + n, cap - n, n ? "," : "", b->updates, HX_END);
-    }
-    sink(h, "IVPHELM_UPDATEVARS", true, buf, 0, NULL);
-    helm_mode_vars(h, buf, cap);
-    sink(h, "IVPHELM_STATEVARS", true, buf, 0, NULL);
     for (unsigned i = 0; i < h->ninit; i++)
         if (!h->init_defer[i])
             post_init(h, &h->init[i]);
+}
+
+typedef struct varset {
+    char *buf;
+    size_t cap;
+    unsigned n;
+} varset;
+
+/* a name into a comma-joined list kept in ascending order, once (a std::set's order) */
+static void set_add(const char *var, size_t len, void *user)
+{
+    varset *l = user;
+    char name[KELP_MAX_NAME];
+    if (!hx_copy(name, sizeof name, var, len))
+        return;
+    char *p = l->buf;
+    while (*p) {
+        const char *e = strchr(p, ',');
+        size_t pl = e ? (size_t)(e - p) : strlen(p);
+        int c = strncmp(p, name, pl < len ? pl : len);
+        if (c == 0 && pl == len)
+            return;
+        if (c > 0 || (c == 0 && pl > len))
+            break;
+        p += pl + (e ? 1 : 0);
+    }
+    size_t used = strlen(l->buf), add = len + 1;
+    if (used + add + 1 > l->cap)
+        return;
+    size_t at = (size_t)(p - l->buf);
+    bool last = at >= used;
+    memmove(p + add, p, used - at + 1);
+    if (last && used) { /* after the last name: ",name" */
+        p[0] = ',';
+        memcpy(p + 1, name, len);
+    } else {
+        memcpy(p, name, len);
+        p[len] = ',';
+    }
+    if (!used)
+        p[len] = 0;
+    l->n++;
+}
+
+/* HelmIvP's lists of what the behaviours listen to, as each drive iteration posts them:
+ * IVPHELM_UPDATEVARS (BehaviorSet::getUpdateVarSummary: "name=VAR" of each behaviour with
+ * updates, by name) when it changes, IVPHELM_STATEVARS (getStateSpaceVars: the variables of
+ * the conditions and of the run, runx, idle, end, active and inactive flags, in order) when it
+ * grows; neither while empty */
+static void post_listen_vars(kelp_helm *h)
+{
+    char *buf = h->ws_out.buf;
+    const size_t cap = sizeof h->ws_out.buf;
+    buf[0] = 0;
+    size_t n = 0;
+    bool done[KELP_HELM_MAX_BHVS] = { false };
+    for (unsigned k = 0; k < h->nbhv; k++) { /* by name: the next smallest each time */
+        int pick = -1;
+        for (unsigned i = 0; i < h->nbhv; i++)
+            if (!done[i] && h->bhv[i].updates[0] && (pick < 0 || strcmp(h->bhv[i].name, h->bhv[pick].name) < 0))
+                pick = (int)i;
+        if (pick < 0)
+            break;
+        done[pick] = true;
+        n += hx_cat(buf + n, cap - n, n ? "," : "", h->bhv[pick].name, "=", h->bhv[pick].updates, HX_END);
+    }
+    if (buf[0] && strcmp(buf, h->updatevars_posted) != 0 && n < sizeof h->updatevars_posted) {
+        memcpy(h->updatevars_posted, buf, n + 1);
+        sink(h, "IVPHELM_UPDATEVARS", true, buf, 0, NULL);
+    }
+    buf[0] = 0;
+    varset l = { buf, cap, 0 };
+    for (unsigned i = 0; i < h->nbhv; i++) {
+        const kelp_bhv *b = &h->bhv[i];
+        for (unsigned c = 0; c < b->ncond; c++)
+            hx_ignore(kelp_helm_cond_check(b->cond[c], set_add, &l));
+        for (unsigned f = 0; f < b->nflag; f++) {
+            kelp_bhv_flag_kind k = b->flag[f].kind;
+            if (k == KELP_FLAG_RUN || k == KELP_FLAG_RUNX || k == KELP_FLAG_IDLE || k == KELP_FLAG_END ||
+                k == KELP_FLAG_ACTIVE || k == KELP_FLAG_INACTIVE)
+                set_add(b->flag[f].p.var, strlen(b->flag[f].p.var), &l);
+        }
+    }
+    if (l.n > h->statevars_posted) {
+        h->statevars_posted = l.n;
+        sink(h, "IVPHELM_STATEVARS", true, buf, 0, NULL);
+    }
 }
 
 static bool override_mail(kelp_helm *h, const char *var, const char *v)
@@ -1346,6 +1422,7 @@ int kelp_helm_iterate(kelp_helm *h, kelp_time now)
                 hx_copy(err, sizeof r->halt_msg - 12, " - unknown - ", 13);
         } else
             solve(h, has_fn);
+        post_listen_vars(h);
         if (clk) {
             double t_end = clk(h->cfg.user);
             r->create_time = t_built - t_start;
