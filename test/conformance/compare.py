@@ -43,7 +43,7 @@ import os
 import re
 import sys
 
-GATED = ["nodecomms_*", "msghandler_*", "pathcheck_g1", "crs_e1_nonoise"]
+GATED = ["nodecomms_*", "msghandler_*", "pathcheck_g1", "crs_e1_nonoise", "vehicle_*"]
 # values that are measured timings (uFldNodeComms's RTE: real seconds between two of its
 # iterations that saw a vehicle's report) are compared by count and format only
 PERIODIC_SKIP_VALUES = re.compile(r".*_STATUS$|^APPCAST$|.*_ITER_(GAP|LEN)$|.*_PID$|^RTE$")
@@ -1100,6 +1100,7 @@ VEH_TRACK_M = 3.0
 VEH_EVENT_S = 1.5
 VEH_PEAK_PCT = 10.0
 VEH_CRUISE_PCT = 10.0
+VEH_TURN_RUDDER = 20.0  # a leg is a turn when the recording's rudder peaks at this or more
 
 
 def is_vehicle(G):
@@ -1111,8 +1112,8 @@ def vehicle_figures(G, K):
     """A simulated vehicle (uSimMarineV22 + pMarinePIDV22 + pHelmIvP) judged by what it does, each
     side's times taken from its first DEPLOY = true (its start, whoever posted it): the track at
     the recording's NAV_X/NAV_Y times (interpolated on kelp's), the helm's events (each
-    WPT_INDEX change: a waypoint arrival; each WPT_STAT with 'completed' and each IVPHELM_ALLSTOP
-    change: completions and mode changes) paired in order, the peak |DESIRED_RUDDER| between
+    WPT_INDEX change: a waypoint arrival; each IVPHELM_ALLSTOP change: a start, a completion, a
+    mode change) paired in order, the peak |DESIRED_RUDDER| between
     consecutive events (one turn per leg), and the median DESIRED_THRUST and NAV_SPEED while
     driving."""
     def side(rows):
@@ -1136,8 +1137,6 @@ def vehicle_figures(G, K):
                 if v != last_ix:
                     ev.append(("WPT_INDEX=%g" % v, r["t"] - t0))
                 last_ix = v
-            elif r["var"] == "WPT_STAT" and r["type"] == "string" and v.endswith(",completed"):
-                ev.append(("WPT_STAT completed", r["t"] - t0))
             elif r["var"] == "IVPHELM_ALLSTOP" and r["type"] == "string":
                 if v != last_stop:
                     ev.append(("IVPHELM_ALLSTOP=%s" % v, r["t"] - t0))
@@ -1196,8 +1195,9 @@ def vehicle_figures(G, K):
     gb = [0.0] + [t for _, t in g["events"]] + [end + 1.0]
     kb = [0.0] + [t for _, t in k["events"]] + [max([t for _, t in k["events"]] + [end]) + 1.0]
     gp, kp = peaks(g, gb), peaks(k, kb)
+    # a leg whose peak is below VEH_TURN_RUDDER is no turn (a straight leg's corrections)
     bad = [(i + 1, a, b) for i, (a, b) in enumerate(zip(gp, kp))
-           if abs(a) >= 1.0 and abs(abs(b) - abs(a)) > VEH_PEAK_PCT / 100.0 * abs(a)]
+           if abs(a) >= VEH_TURN_RUDDER and abs(abs(b) - abs(a)) > VEH_PEAK_PCT / 100.0 * abs(a)]
     ok = len(gp) == len(kp) and not bad
     figs.append(Figure("vehicle/rudder_peaks", ok, "" if ok else "legs 24.8 %d kelp %d; %s" % (
         len(gp), len(kp), ", ".join("leg %d: 24.8 %.1f, kelp %.1f" % x for x in bad[:4]))))

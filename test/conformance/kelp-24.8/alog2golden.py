@@ -8,7 +8,7 @@ The log must be written with MarkDataType = true (D:/S: before each value) and L
 The scripted client that played the .scn (uPokeDB, or any client named by --driver) is renamed
 "driver", as the driver's own posts are in the recordings. t0 is the time of the driver's
 first post minus the script time of that post (the first `at` line), so script times line up.
-Rows of the MOOSDB (DB_*) and of pLogger are left out (kelp has neither); a notification that
+Rows of the MOOSDB (DB_*), of pLogger and the poking client's own (its status) are left out (kelp has neither); a notification that
 pLogger wrote twice (same time, variable, source and value) is kept once. trx is not known from a
 log: it is set to t.
 """
@@ -24,6 +24,7 @@ def main():
     driver = opts.get("driver", "uPokeDB")
     warp = duration = None
     first_at = None
+    posted = set()  # the variables the script posts
     for line in open(scn):
         w = line.split("#")[0].split()
         if not w:
@@ -32,8 +33,10 @@ def main():
             warp = float(w[1])
         elif w[0] == "duration":
             duration = float(w[1])
-        elif w[0] == "at" and first_at is None:
-            first_at = float(w[1])
+        elif w[0] == "at":
+            posted.add(w[3])
+            if first_at is None:
+                first_at = float(w[1])
     logstart, community = None, ""
     rows, seen = [], set()
     for line in open(alog, errors="replace"):
@@ -60,6 +63,8 @@ def main():
             continue  # a continuation line of a multi-line value
         src, _, aux = srcaux.partition(":")
         if src == driver:
+            if var not in posted:
+                continue  # the poking client's own status, not the script's
             src = "driver"
         key = (p[0], var, srcaux, val)
         if key in seen:

@@ -50,12 +50,12 @@ start=$(date +%s.%N)
 awk '$1=="at" {v = $5; for (i = 6; i <= NF; i++) v = v " " $i; a[$2] = a[$2] " " $4 ($3 == "str" ? ":=" : "=") v}
      END {for (t in a) print t a[t]}' "$here/missions/$scn.scn" | sort -n | while read -r t posts; do
   now=$(date +%s.%N)
-  d=$(awk -v s="$start" -v n="$now" -v t="$t" -v w="$warp" 'BEGIN{d = s + t / w - n; print d > 0 ? d : 0}')
+  d=$(awk -v s="$start" -v n="$now" -v t="$t" -v w="$warp" 'BEGIN{d = s + t / w - n; print (d > 0 ? d : 0)}')
   sleep "$d"
   # shellcheck disable=SC2086
   "$BIN/uPokeDB" "$scn.moos" $posts > /dev/null 2>&1
 done
-sleep "$(awk -v d="$dur" -v w="$warp" -v s="$start" -v n="$(date +%s.%N)" 'BEGIN{x = s + d / w + 1 - n; print x > 0 ? x : 0}')"
+sleep "$(awk -v d="$dur" -v w="$warp" -v s="$start" -v n="$(date +%s.%N)" 'BEGIN{x = s + d / w + 1 - n; print (x > 0 ? x : 0)}')"
 for p in "${pids[@]}"; do kill -INT "$p" 2>/dev/null; done
 sleep 1
 for p in "${pids[@]}"; do kill -KILL "$p" 2>/dev/null; done
