@@ -1104,7 +1104,9 @@ VEH_TURN_RUDDER = 20.0  # a leg is a turn when the recording's rudder peaks at t
 
 
 def is_vehicle(G):
-    names = {r["var"] for r in G}
+    """A simulated vehicle: NAV_X and NAV_Y posted by an app of the mission (not by the driver's
+    synthesised vehicles)."""
+    names = {r["var"] for r in G if r["src"] != "driver"}
     return "NAV_X" in names and "NAV_Y" in names
 
 
