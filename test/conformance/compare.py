@@ -1397,6 +1397,29 @@ def self_test(args):
     if bad:
         print("self-test: the recording does not agree with itself")
         return 1
+    # the vehicle comparator, on kelp's own vehicle recordings: each agrees with itself, and a
+    # vehicle 4 m off its track, a helm 2 s late or a rudder at 80 % is caught
+    own = os.path.join(os.path.dirname(os.path.abspath(__file__)), "kelp-24.8")
+    for f in sorted(os.listdir(os.path.join(own, "missions"))) if os.path.isdir(os.path.join(own, "missions")) else []:
+        if not f.endswith(".scn"):
+            continue
+        G = load_rows(os.path.join(own, "golden", f[:-4] + ".jsonl"))
+        if not is_vehicle(G):
+            continue
+        dep = min(r["t"] for r in G if r["var"] == "DEPLOY" and r["val"] == "true")
+        cases = [("itself", lambda r: r, set()),
+                 ("4 m east", lambda r: dict(r, val=r["val"] + 4) if r["var"] == "NAV_X" and r["t"] > dep + 20 else r,
+                  {"vehicle/track"}),
+                 ("helm 2 s late", lambda r: dict(r, t=r["t"] + 2) if r["src"] == "pHelmIvP" and r["t"] > dep + 20 else r,
+                  {"vehicle/events"}),
+                 ("rudder x 0.8", lambda r: dict(r, val=r["val"] * 0.8) if r["var"] == "DESIRED_RUDDER" else r,
+                  {"vehicle/rudder_peaks"})]
+        for name, fn, want in cases:
+            failed = {x.fid for x in vehicle_figures(G, [fn(r) for r in G]) if not x.ok}
+            print("self-test %s, %s: failing vehicle figures %s" % (f[:-4], name, sorted(failed)))
+            if not want <= failed or (not want and failed):
+                print("self-test: the vehicle comparator should fail %s" % sorted(want))
+                return 1
     print("self-test: ok")
     return 0
 
