@@ -217,9 +217,15 @@ START_TEST(alder_mission_flown)
     ck_assert_int_eq(find("waypt_return")->state, KELP_BHV_COMPLETED);
     ck_assert_msg(hypot(x, y) <= 8.0, "final (%g,%g)", x, y);
     ck_assert_msg(i * dt < 80, "took %g s", i * dt);
+    /* the zeros come once, with the second iteration of NothingToDo (postAllStop holds one):
+     * the last speed posted is 0 */
+    if (ht_last("DESIRED_SPEED"))
+        sp = ht_num("DESIRED_SPEED");
     ht_iter(i * dt + dt);
     ck_assert_str_eq(h->rep.allstop, "NothingToDo");
-    ck_assert(ht_num("DESIRED_SPEED") == 0);
+    if (ht_last("DESIRED_SPEED"))
+        sp = ht_num("DESIRED_SPEED");
+    ck_assert(sp == 0);
 }
 END_TEST
 
@@ -679,10 +685,12 @@ START_TEST(helm_interface_publications)
     ck_assert_uint_eq(ht_count("IVPHELM_LIFE_EVENT"), 2);
     ck_assert_str_eq(ht_last("IVPHELM_LIFE_EVENT")->sval,
                      "time=0.00, iter=0, bname=ch, btype=BHV_ConstantHeading, event=spawn, seed=helm startup");
-    ck_assert_str_eq(ht_last("IVPHELM_UPDATEVARS")->sval, "WPT_UPDATES");
-    ck_assert_str_eq(ht_last("IVPHELM_STATEVARS")->sval, "DEPLOY");
+    /* what the behaviours listen to: posted by the first drive iteration, not at start */
+    ck_assert_uint_eq(ht_count("IVPHELM_UPDATEVARS") + ht_count("IVPHELM_STATEVARS"), 0);
     nav(0, 0);
     ht_iter(0);
+    ck_assert_str_eq(ht_last("IVPHELM_UPDATEVARS")->sval, "wpt=WPT_UPDATES");
+    ck_assert_str_eq(ht_last("IVPHELM_STATEVARS")->sval, "MODE");
     ck_assert(ht_num("IVPHELM_BHV_CNT") == 2 && ht_num("IVPHELM_BHV_CNT_EVER") == 2);
     ck_assert(ht_num("IVPHELM_BHV_RUNNING_CNT") + ht_num("IVPHELM_BHV_ACTIVE_CNT") == 2);
     ck_assert(ht_num("IVPHELM_BHV_DISABLED_CNT") == 0);

@@ -608,7 +608,9 @@ START_TEST(condition_transitions_and_flags)
     ck_assert_int_eq(bhv("p")->state, KELP_BHV_RUNNING);
     ck_assert(ht_count("RUNF") == 1 && ht_count("ACTF") == 0);
     ck_assert_str_eq(g_h.rep.allstop, "NothingToDo");
-    ck_assert(ht_num("DESIRED_SPEED") == 0 && ht_num("DESIRED_HEADING") == 0);
+    /* the zeros came once, on iteration 1 (postAllStop posts a reason only when it changes) */
+    ck_assert_uint_eq(ht_count("DESIRED_SPEED"), 0);
+    ck_assert_uint_eq(ht_count("IVPHELM_ALLSTOP"), 0);
     /* function produced: active */
     kelp_helm_mail_string(&g_h, "PROBE_FN", "yes");
     ht_iter(3);
@@ -1116,8 +1118,10 @@ static void tweak_default_start(kelp_helm_config *cfg)
 }
 
 /* HelmIvP (24.8): parked until MOOS_MANUAL_OVERRIDE = false unless start_engaged; while parked
- * IVPHELM_STATE = PARK, IVPHELM_ALLSTOP = ManualOverride and the decision variables 0, every
- * iteration (postAllStop); the first iteration with nothing to do posts no zeros */
+ * IVPHELM_STATE = PARK every iteration; postAllStop posts IVPHELM_ALLSTOP (and the decision
+ * variables' zeros) only when the reason changes: ManualOverride once; the first iteration with
+ * nothing to do posts the reason without zeros, the next posts it again with the zeros, then
+ * nothing until the reason changes */
 START_TEST(helm_starts_parked)
 {
     g_tweak = tweak_default_start;
@@ -1125,27 +1129,37 @@ START_TEST(helm_starts_parked)
     ht_load(ALDER);
     nav(0, 0);
     kelp_helm_mail_string(&g_h, "DEPLOY", "true");
-    for (int i = 0; i < 2; i++) {
-        ht_iter(i);
-        ck_assert(ht_has_str("IVPHELM_STATE", "PARK"));
-        ck_assert(ht_has_str("IVPHELM_ALLSTOP", "ManualOverride"));
-        ck_assert(ht_num("DESIRED_SPEED") == 0);
-    }
+    ht_iter(0);
+    ck_assert(ht_has_str("IVPHELM_STATE", "PARK"));
+    ck_assert(ht_has_str("IVPHELM_ALLSTOP", "ManualOverride"));
+    ck_assert(ht_num("DESIRED_SPEED") == 0 && ht_num("DESIRED_HEADING") == 0);
+    ht_iter(1);
+    ck_assert(ht_has_str("IVPHELM_STATE", "PARK"));
+    ck_assert_uint_eq(ht_count("IVPHELM_ALLSTOP") + ht_count("MOOS_DEBUG") + ht_count("DESIRED_SPEED"), 0);
+    ck_assert_uint_eq(ht_count("IVPHELM_STATEVARS"), 0); /* posted by drive iterations */
     kelp_helm_mail_string(&g_h, "MOOS_MANUAL_OVERRIDE", "false");
     ht_iter(2);
     ck_assert(ht_has_str("IVPHELM_STATE", "DRIVE"));
     ck_assert(ht_has_str("IVPHELM_ALLSTOP", "clear"));
     ck_assert(ht_num("DESIRED_SPEED") == 2);
-    ht_iter(3); /* the reason again, unchanged */
-    ck_assert(ht_has_str("IVPHELM_ALLSTOP", "clear"));
-    /* DEPLOY off: nothing to do; no zeros on the first such iteration, zeros from the second */
+    /* the conditions' and the end flag's variables, each once, in order */
+    ck_assert_str_eq(ht_last("IVPHELM_STATEVARS")->sval, "DEPLOY,RETURN");
+    ck_assert_uint_eq(ht_count("IVPHELM_UPDATEVARS"), 0); /* no behaviour has updates */
+    ht_iter(3); /* the reason unchanged: not posted; the decision is */
+    ck_assert_uint_eq(ht_count("IVPHELM_ALLSTOP"), 0);
+    ck_assert_uint_eq(ht_count("IVPHELM_STATEVARS"), 0); /* again only when the set grows */
+    ck_assert(ht_num("DESIRED_SPEED") == 2);
+    /* DEPLOY off: nothing to do; no zeros on the first such iteration, zeros on the second */
     kelp_helm_mail_string(&g_h, "DEPLOY", "false");
     ht_iter(4);
     ck_assert(ht_has_str("IVPHELM_ALLSTOP", "NothingToDo"));
     ck_assert_uint_eq(ht_count("DESIRED_SPEED"), 0);
     ck_assert_uint_eq(ht_count("DESIRED_HEADING"), 0);
     ht_iter(5);
+    ck_assert(ht_has_str("IVPHELM_ALLSTOP", "NothingToDo"));
     ck_assert(ht_num("DESIRED_SPEED") == 0);
+    ht_iter(6);
+    ck_assert_uint_eq(ht_count("IVPHELM_ALLSTOP") + ht_count("DESIRED_SPEED") + ht_count("DESIRED_HEADING"), 0);
 }
 END_TEST
 
@@ -1169,7 +1183,10 @@ START_TEST(helm_v248_postings)
             ck_assert_int_eq(kelp_helm_ledger_report(&g_h, "NAME=ben,X=11,Y=0,SPD=1,HDG=0"), 0);
         }
         ht_iter(i);
-        ck_assert(ht_has_str("MOOS_DEBUG", i < 3 ? "pHelmIvP AllStop: clear" : "pHelmIvP AllStop: NothingToDo"));
+        if (i == 0 || i == 3) /* each reason once, when it changes */
+            ck_assert(ht_has_str("MOOS_DEBUG", i == 0 ? "pHelmIvP AllStop: clear" : "pHelmIvP AllStop: NothingToDo"));
+        else
+            ck_assert_uint_eq(ht_count("MOOS_DEBUG"), 0);
         if (i == 0) {
             ck_assert(ht_has_str("IVPHELM_LEDGER_SUMMARY", "now:0, reps:0, who:"));
             ck_assert(ht_has_str("IVPHELM_COMPLETED_PENDING", "false"));

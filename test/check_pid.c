@@ -126,13 +126,14 @@ START_TEST(marine_pid_iteration)
     ck_assert(last(&r, "DESIRED_THRUST") == 0 && last(&r, "DESIRED_RUDDER") == 0);
     ck_assert_uint_eq(m.tardy_helm_n, 2);
     ck_assert_uint_eq(m.tardy_nav_n, 2);
-    /* override again: PID_HAS_CONTROL false and one all-stop */
+    /* override again: PID_HAS_CONTROL false; the all-stop zeros came with the staleness, so
+     * none again (MarinePID::postPengineResults posts them once per loss of control) */
     ck_assert_int_eq(kelp_pid_marine_mail(&m, "MOOS_MANUAL_OVERIDE", true, "true", 0, 4.1), 1);
     ck_assert_int_lt(kelp_pid_marine_mail(&m, "MOOS_MANUAL_OVERRIDE", true, "perhaps", 0, 4.1), 0);
     r.n = 0;
     kelp_pid_marine_iterate(&m, 4.2, sink, &r);
     kelp_pid_marine_iterate(&m, 4.3, sink, &r);
-    ck_assert_int_eq(r.n, 3);
+    ck_assert_int_eq(r.n, 1);
     ck_assert_str_eq(r.var[0], "PID_HAS_CONTROL");
     ck_assert(r.v[0] == 0);
 }
@@ -195,8 +196,10 @@ START_TEST(sim_rudder_thrust_model)
     ck_assert_int_eq(kelp_sim_set_thrust(&sim, 40), 0);
     ck_assert(sim.actuated);
     ck_assert_int_eq(kelp_sim_step(&sim, 1), 0);
-    /* no acceleration limit: 2 m/s from the first 0.05 s sub-step, moved at the mean speed */
-    ck_assert(fabs(sim.s.speed - 2) < 1e-9 && fabs(sim.s.y - 1.95) < 1e-6);
+    /* no acceleration limit: 2 m/s at once; one step per call (uSimMarineV22 propagates once
+     * per iteration): moved at the mean of 0 and 2 m/s for 1 s, and that mean, 1 m/s, is the
+     * vehicle's speed after the step */
+    ck_assert(fabs(sim.s.speed - 1) < 1e-9 && fabs(sim.s.y - 1) < 1e-9);
     /* full rudder: speed drops by turn_spd_loss to 1 m/s; the turn rate at 1 m/s is 70 x 1/5
      * percent: 100 x 0.14 x (40/50) = 11.2 deg/s */
     ck_assert_int_eq(kelp_sim_set_rudder(&sim, 100), 0);
@@ -208,10 +211,12 @@ START_TEST(sim_rudder_thrust_model)
     sim.s.depth = 5;
     ck_assert_int_eq(kelp_sim_set_thrust(&sim, 0), 0);
     ck_assert_int_eq(kelp_sim_step(&sim, 3), 0);
-    ck_assert(sim.s.speed == 0);
+    ck_assert(fabs(sim.s.speed - 0.5) < 1e-9); /* (1 + 0) / 2: the mean halves each step */
     double h = sim.s.heading;
+    ck_assert(fabs(h - 11.2) < 1e-6);          /* the new speed is 0: no turn */
     ck_assert_int_eq(kelp_sim_step(&sim, 4), 0);
     ck_assert(sim.s.heading == h);
+    ck_assert(fabs(sim.s.speed - 0.25) < 1e-9);
     ck_assert(fabs(sim.s.depth - 4.8) < 1e-6);
     /* elevator dives with way on, limited by max_depth_rate x sqrt(speed share) */
     sim.p.buoyancy_rate = 0;
@@ -221,7 +226,8 @@ START_TEST(sim_rudder_thrust_model)
     ck_assert_int_eq(kelp_sim_set_thrust(&sim, 20), 0); /* 1 m/s: sqrt(1/4) = 0.5 */
     ck_assert_int_eq(kelp_sim_set_elevator(&sim, 100), 0);
     ck_assert_int_eq(kelp_sim_step(&sim, 5), 0);
-    ck_assert(fabs(sim.s.depth - (4.8 + 0.25)) < 1e-6);
+    ck_assert(fabs(sim.s.depth - (4.8 + 0.25)) < 1e-6); /* at the new speed, 1 m/s */
+    ck_assert(fabs(sim.s.speed - 0.625) < 1e-9);
     ck_assert(sim.pitch < 0); /* nose down */
     /* over ground: a drift adds to the track */
     sim.p.drift_x = 1;
@@ -232,7 +238,8 @@ START_TEST(sim_rudder_thrust_model)
     sim.p.act_max_accel = 0.1;
     ck_assert_int_eq(kelp_sim_set_thrust(&sim, 100), 0);
     ck_assert_int_eq(kelp_sim_step(&sim, 7), 0);
-    ck_assert(fabs(sim.s.speed - 1.1) < 1e-6);
+    /* from (0.625 + 1) / 2 = 0.8125 (the drift's step) up 0.1 to 0.9125: their mean */
+    ck_assert(fabs(sim.s.speed - 0.8625) < 1e-9);
     /* CONTROL = direct ignores the actuators */
     kelp_sim_params d;
     kelp_sim_params_default(&d);
@@ -307,13 +314,14 @@ START_TEST(sim_v22_speed)
     ck_assert_int_eq(kelp_sim_init(&sim, &p, &st, 0), 0);
     ck_assert_int_eq(kelp_sim_set_thrust(&sim, 40), 0);
     ck_assert_int_eq(kelp_sim_set_rudder(&sim, 100), 0);
-    /* target 2 x 0.15 = 0.3 m/s; slowing at 0.5 m/s^2: 1.5 m/s after 1 s */
+    /* target 2 x 0.15 = 0.3 m/s; slowing at 0.5 m/s^2: 1.5 m/s after 1 s; the speed is the
+     * step's mean, 1.75 */
     ck_assert_int_eq(kelp_sim_step(&sim, 1), 0);
-    ck_assert_double_eq_tol(sim.s.speed, 1.5, 1e-9);
+    ck_assert_double_eq_tol(sim.s.speed, 1.75, 1e-9);
     /* rudder back to 0: no acceleration limit, 2 m/s at once */
     ck_assert_int_eq(kelp_sim_set_rudder(&sim, 0), 0);
     ck_assert_int_eq(kelp_sim_step(&sim, 1.05), 0);
-    ck_assert_double_eq_tol(sim.s.speed, 2, 1e-9);
+    ck_assert_double_eq_tol(sim.s.speed, 1.875, 1e-9); /* (1.75 + 2) / 2 */
     /* MAX_ACCELERATION sets the limit of both models */
     ck_assert_int_eq(kelp_sim_config_set(&p, &st, "MAX_ACCELERATION", "0.2", &why), 1);
     ck_assert(p.act_max_accel == 0.2 && p.max_accel == 0.2);
@@ -390,6 +398,44 @@ START_TEST(marine_pid_stale_text)
 }
 END_TEST
 
+/* a stale helm takes control away (PIDEngine::hasControl): pMarinePIDV22 posts the zeros
+ * once (MarinePID::postPengineResults), nothing more while stale, its outputs again when the
+ * helm is back */
+START_TEST(marine_pid_stale_allstop)
+{
+    kelp_pid_marine_cfg c;
+    kelp_pid_marine_cfg_default(&c);
+    c.active_start = true;
+    c.speed_factor = 20;
+    c.yaw[0] = 1;
+    kelp_pid_marine m;
+    ck_assert_int_eq(kelp_pid_marine_init(&m, &c, 0), 0);
+    rec r = { 0 };
+    for (int i = 0; i <= 40; i++) {
+        double t = i * 0.25;
+        if (t <= 1 || t >= 8) { /* the helm from 0 to 1 s and from 8 s */
+            ck_assert_int_eq(kelp_pid_marine_mail(&m, "DESIRED_SPEED", false, NULL, 2, t), 1);
+            ck_assert_int_eq(kelp_pid_marine_mail(&m, "DESIRED_HEADING", false, NULL, 10, t), 1);
+        }
+        ck_assert_int_eq(kelp_pid_marine_mail(&m, "NAV_HEADING", false, NULL, 0, t), 1);
+        ck_assert_int_eq(kelp_pid_marine_mail(&m, "NAV_SPEED", false, NULL, 2, t), 1);
+        r.n = 0;
+        kelp_pid_marine_iterate(&m, t, sink, &r);
+        unsigned posted = 0;
+        for (int k = 0; k < r.n; k++)
+            posted += !strncmp(r.var[k], "DESIRED_", 8);
+        if (t <= 3) /* fresh (up to 2 s old) */
+            ck_assert(posted == 2 && last(&r, "DESIRED_THRUST") == 40 && last(&r, "DESIRED_RUDDER") == 10);
+        else if (t == 3.25) /* stale: the zeros once */
+            ck_assert(posted == 2 && last(&r, "DESIRED_THRUST") == 0 && last(&r, "DESIRED_RUDDER") == 0);
+        else if (t < 8)
+            ck_assert_uint_eq(posted, 0);
+        else
+            ck_assert(posted == 2 && last(&r, "DESIRED_THRUST") == 40);
+    }
+}
+END_TEST
+
 /* uSimMarineV22 posts SIMULATION_MODE (with its PID engine's depth control, on by default)
  * and USM_DRIFT_SUMMARY at its first iteration and when drift arrives (USM_MOOSApp) */
 START_TEST(usim_v22_postings)
@@ -461,6 +507,7 @@ Suite *kelp_pid_suite(void)
     tcase_add_test(tc, usim_v22_nav_modulo);
     tcase_add_test(tc, marine_pid_first_command);
     tcase_add_test(tc, marine_pid_stale_text);
+    tcase_add_test(tc, marine_pid_stale_allstop);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -616,6 +616,9 @@ struct kelp_helm {
     kelp_ivp_problem prob;
     char last_lists[3][256];           /* last IVPHELM_BHV_ACTIVE / RUNNING / IDLE posted */
     unsigned no_decisions;             /* iterations in a row with NothingToDo / MissingDecVars */
+    char updatevars_posted[256];       /* IVPHELM_UPDATEVARS last posted ("": none yet) */
+    unsigned statevars_posted;         /* names in the IVPHELM_STATEVARS last posted */
+    char allstop_posted[96];           /* the all-stop reason last posted ("" at start): posted again only when it changes */
     unsigned long ledger_reports;      /* NODE_REPORTs taken into the ledger (IVPHELM_LEDGER_SUMMARY reps) */
     double hdg_t[KELP_HELM_HDG_HIST], hdg_v[KELP_HELM_HDG_HIST]; /* TURN_RATE's heading history, a ring */
     unsigned hdg_n, hdg_head;          /* entries, index of the newest */

@@ -14,19 +14,23 @@
  * A limit of 0 means "no limit" (the value jumps to the desired one).
  * Actuated mode (the rudder/thrust model of MOOS-IvP 24.8's uSimMarineV22, used once
  * DESIRED_RUDDER, DESIRED_THRUST or DESIRED_ELEVATOR arrive, or always with control =
- * actuated): per sub-step h, in this order
- *   speed    target = thrust_map(thrust) * (1 - |rudder|/100 * turn_spd_loss), then the
+ * actuated): ONE step per kelp_sim_step call, h = the whole time since the last (V22
+ * propagates once per iteration, and its speed is a mean over the step, so the step is part
+ * of the model), in this order
+ *   speed    v1 = thrust_map(thrust) * (1 - |rudder|/100 * turn_spd_loss), then the
  *            acceleration limit act_max_accel (default 0 = none) and the deceleration limit
- *            max_decel (0 = none). The map interpolates from (0, 0) to its first point of
- *            positive thrust and stays flat after its last; without a map thrust /
- *            thrust_factor; 0 for thrust <= 0 (no reverse).
- *   heading  with speed > 0: += rudder * (rate/100) * h * (1 + (thrust - 50)/50), rudder
- *            clipped to +-100, where rate (a percent) comes from the turn-speed map at the
- *            new speed: tsm_null_rate up to tsm_null_speed, act_turn_rate (turn_rate clipped
+ *            max_decel (0 = none) from the speed v0 before the step. The map interpolates
+ *            from (0, 0) to its first point of positive thrust and stays flat after its last;
+ *            without a map thrust / thrust_factor; 0 for thrust <= 0 (no reverse).
+ *   heading  with v1 != 0: += rudder * (rate/100) * h * (1 + (thrust - 50)/50), rudder
+ *            clipped to +-100, where rate (a percent) comes from the turn-speed map at v1: tsm_null_rate up to tsm_null_speed, act_turn_rate (turn_rate clipped
  *            to [0, 100]) from KELP_SIM_TSM_FULL_SPEED (5 m/s) up, linear in between
  *   drift    heading += rotate_speed * h; position += (drift_x, drift_y) * h
- *   depth    speed <= 0: -= buoyancy_rate * h; else += (-buoyancy_rate + elevator/100 *
- *            max_depth_rate * sqrt(min(1, speed / max_depth_rate_speed))) * h
+ *   depth    v1 <= 0: -= buoyancy_rate * h; else += (-buoyancy_rate + elevator/100 *
+ *            max_depth_rate * sqrt(min(1, v1 / max_depth_rate_speed))) * h
+ *   position moves at the mean speed (v0 + v1) / 2 along the mean heading, and that mean is
+ *            the vehicle's speed after the step (so a step to a new target covers half the
+ *            change: the speed approaches its target by halves, step by step)
  * and the pitch is the angle of the last sub-step's climb (radians, nose up positive).
  * Direct mode keeps the drift too. Over-ground speed and heading come from the position's
  * change over the step.

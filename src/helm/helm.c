@@ -363,20 +363,96 @@ void kelp_helm_start(kelp_helm *h, kelp_time now)
         if (h->tmpl[i].ops->on_helm_start)
             h->tmpl[i].ops->on_helm_start(&h->tmpl[i]);
     flush_posts(h);
-    /* the variables behaviour updates and mode declarations listen to */
-    size_t n = 0;
-    buf[0] = '\0';
-    for (unsigned i = 0; i < h->nbhv + h->ntmpl; i++) {
-        const kelp_bhv *b = i < h->nbhv ? &h->bhv[i] : &h->tmpl[i - h->nbhv];
-        if (b->updates[0])
-            n += hx_cat(buf + n, cap - n, n ? "," : "", b->updates, HX_END);
-    }
-    sink(h, "IVPHELM_UPDATEVARS", true, buf, 0, NULL);
-    helm_mode_vars(h, buf, cap);
-    sink(h, "IVPHELM_STATEVARS", true, buf, 0, NULL);
     for (unsigned i = 0; i < h->ninit; i++)
         if (!h->init_defer[i])
             post_init(h, &h->init[i]);
+}
+
+typedef struct varset {
+    char *buf;
+    size_t cap;
+    unsigned n;
+} varset;
+
+/* a name into a comma-joined list kept in ascending order, once (a std::set's order) */
+static void set_add(const char *var, size_t len, void *user)
+{
+    varset *l = user;
+    char name[KELP_MAX_NAME];
+    if (!hx_copy(name, sizeof name, var, len))
+        return;
+    char *p = l->buf;
+    while (*p) {
+        const char *e = strchr(p, ',');
+        size_t pl = e ? (size_t)(e - p) : strlen(p);
+        int c = strncmp(p, name, pl < len ? pl : len);
+        if (c == 0 && pl == len)
+            return;
+        if (c > 0 || (c == 0 && pl > len))
+            break;
+        p += pl + (e ? 1 : 0);
+    }
+    size_t used = strlen(l->buf), add = len + 1;
+    if (used + add + 1 > l->cap)
+        return;
+    size_t at = (size_t)(p - l->buf);
+    bool last = at >= used;
+    memmove(p + add, p, used - at + 1);
+    if (last && used) { /* after the last name: ",name" */
+        p[0] = ',';
+        memcpy(p + 1, name, len);
+    } else {
+        memcpy(p, name, len);
+        p[len] = ',';
+    }
+    if (!used)
+        p[len] = 0;
+    l->n++;
+}
+
+/* HelmIvP's lists of what the behaviours listen to, as each drive iteration posts them:
+ * IVPHELM_UPDATEVARS (BehaviorSet::getUpdateVarSummary: "name=VAR" of each behaviour with
+ * updates, by name) when it changes, IVPHELM_STATEVARS (getStateSpaceVars: the variables of
+ * the conditions and of the run, runx, idle, end, active and inactive flags, in order) when it
+ * grows; neither while empty */
+static void post_listen_vars(kelp_helm *h)
+{
+    char *buf = h->ws_out.buf;
+    const size_t cap = sizeof h->ws_out.buf;
+    buf[0] = 0;
+    size_t n = 0;
+    bool done[KELP_HELM_MAX_BHVS] = { false };
+    for (unsigned k = 0; k < h->nbhv; k++) { /* by name: the next smallest each time */
+        int pick = -1;
+        for (unsigned i = 0; i < h->nbhv; i++)
+            if (!done[i] && h->bhv[i].updates[0] && (pick < 0 || strcmp(h->bhv[i].name, h->bhv[pick].name) < 0))
+                pick = (int)i;
+        if (pick < 0)
+            break;
+        done[pick] = true;
+        n += hx_cat(buf + n, cap - n, n ? "," : "", h->bhv[pick].name, "=", h->bhv[pick].updates, HX_END);
+    }
+    if (buf[0] && strcmp(buf, h->updatevars_posted) != 0 && n < sizeof h->updatevars_posted) {
+        memcpy(h->updatevars_posted, buf, n + 1);
+        sink(h, "IVPHELM_UPDATEVARS", true, buf, 0, NULL);
+    }
+    buf[0] = 0;
+    varset l = { buf, cap, 0 };
+    for (unsigned i = 0; i < h->nbhv; i++) {
+        const kelp_bhv *b = &h->bhv[i];
+        for (unsigned c = 0; c < b->ncond; c++)
+            hx_ignore(kelp_helm_cond_check(b->cond[c], set_add, &l));
+        for (unsigned f = 0; f < b->nflag; f++) {
+            kelp_bhv_flag_kind k = b->flag[f].kind;
+            if (k == KELP_FLAG_RUN || k == KELP_FLAG_RUNX || k == KELP_FLAG_IDLE || k == KELP_FLAG_END ||
+                k == KELP_FLAG_ACTIVE || k == KELP_FLAG_INACTIVE)
+                set_add(b->flag[f].p.var, strlen(b->flag[f].p.var), &l);
+        }
+    }
+    if (l.n > h->statevars_posted) {
+        h->statevars_posted = l.n;
+        sink(h, "IVPHELM_STATEVARS", true, buf, 0, NULL);
+    }
 }
 
 static bool override_mail(kelp_helm *h, const char *var, const char *v)
@@ -1064,21 +1140,30 @@ KELP_NOINLINE static void post_outputs(kelp_helm *h)
     bool clear = !strcmp(r->allstop, "clear");
     if (!clear && h->engaged && h->cfg.park_on_allstop && h->cfg.allow_park)
         h->engaged = false; /* park until an override engages the helm again */
-    /* HelmIvP::postAllStop: the reason every iteration; the first iteration without a decision
-     * posts no zeros (a mode change gets one iteration to bring the next behaviour in) */
-    bool nodec = !strcmp(r->allstop, "NothingToDo") || !strncmp(r->allstop, "MissingDecVars", 14);
-    h->no_decisions = nodec ? h->no_decisions + 1 : 0;
-    sink(h, "IVPHELM_ALLSTOP", true, r->allstop, 0, NULL);
-    /* and the same through MOOSDebugWrite, which MOOS posts as MOOS_DEBUG */
-    hx_cat(buf, bufcap, "pHelmIvP AllStop: ", r->allstop, HX_END);
-    sink(h, "MOOS_DEBUG", true, buf, 0, NULL);
-    for (unsigned d = 0; d < hd->dim; d++) {
-        desired_name(hd->var[d].name, name, sizeof name);
-        if (!clear && h->no_decisions != 1)
-            sink(h, name, false, NULL, 0.0, NULL);
-        else if (clear && r->decided[d])
-            sink(h, name, false, NULL, r->decision[d], NULL);
+    /* HelmIvP::postAllStop: the reason only when it differs from the one last posted (MOOS_DEBUG,
+     * then IVPHELM_ALLSTOP), the zeros with it; the first reason without a decision posts no
+     * zeros and is remembered as IncompleteOrEmptyDecision, so the next iteration posts it again
+     * with the zeros (a mode change gets one iteration to bring the next behaviour in) */
+    if (strcmp(r->allstop, h->allstop_posted) != 0) {
+        memcpy(h->allstop_posted, r->allstop, sizeof h->allstop_posted);
+        bool nodec = !strcmp(r->allstop, "NothingToDo") || !strncmp(r->allstop, "MissingDecVars", 14);
+        h->no_decisions = nodec ? h->no_decisions + 1 : 0;
+        hx_cat(buf, bufcap, "pHelmIvP AllStop: ", r->allstop, HX_END);
+        sink(h, "MOOS_DEBUG", true, buf, 0, NULL);
+        sink(h, "IVPHELM_ALLSTOP", true, r->allstop, 0, NULL);
+        if (!clear && h->no_decisions == 1)
+            strcpy(h->allstop_posted, "IncompleteOrEmptyDecision");
+        else if (!clear)
+            for (unsigned d = 0; d < hd->dim; d++) {
+                desired_name(hd->var[d].name, name, sizeof name);
+                sink(h, name, false, NULL, 0.0, NULL);
+            }
     }
+    for (unsigned d = 0; clear && d < hd->dim; d++)
+        if (r->decided[d]) {
+            desired_name(hd->var[d].name, name, sizeof name);
+            sink(h, name, false, NULL, r->decision[d], NULL);
+        }
     /* behaviour lists */
     char (*lists)[256] = h->ws_out.lists, *cmpl = h->ws_out.lists[3];
     lists[0][0] = lists[1][0] = lists[2][0] = cmpl[0] = 0;
@@ -1337,6 +1422,7 @@ int kelp_helm_iterate(kelp_helm *h, kelp_time now)
                 hx_copy(err, sizeof r->halt_msg - 12, " - unknown - ", 13);
         } else
             solve(h, has_fn);
+        post_listen_vars(h);
         if (clk) {
             double t_end = clk(h->cfg.user);
             r->create_time = t_built - t_start;

@@ -88,7 +88,6 @@ int bhv_course_speed_zaic(kelp_bhv *b, const kelp_helm_work *w, double course, d
 int helm_mode_load(kelp_helm *h, const kelp_mission *m, size_t bi);
 void helm_mode_eval(kelp_helm *h, void (*post)(kelp_helm *h, const char *var, const char *val));
 void helm_mode_describe(const kelp_helm *h, char *buf, size_t cap);
-void helm_mode_vars(const kelp_helm *h, char *buf, size_t cap);
 /* the same with the course function's share of the coupling (MOOS-IvP crs_spd_zaic_ratio) */
 int bhv_course_speed_zaic_ratio(kelp_bhv *b, const kelp_helm_work *w, double course, double speed, double spw,
                                 double sbw, double ssd, double course_pct, kelp_ivp_func *out);

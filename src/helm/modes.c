@@ -144,35 +144,3 @@ void helm_mode_describe(const kelp_helm *h, char *buf, size_t cap)
             n += hx_cat(buf + n, cap - n, "#", parent, ",", e->elseval, HX_END);
     }
 }
-
-/* IVPHELM_STATEVARS: the variables the mode declarations' conditions read, comma-separated */
-typedef struct varlist {
-    char *buf;
-    size_t cap, n;
-} varlist;
-
-static void add_var(const char *var, size_t len, void *user)
-{
-    varlist *l = user;
-    char name[KELP_MAX_NAME];
-    if (!hx_copy(name, sizeof name, var, len))
-        return;
-    /* skip duplicates */
-    for (const char *p = l->buf; *p;) {
-        const char *e = strchr(p, ',');
-        size_t pl = e ? (size_t)(e - p) : strlen(p);
-        if (pl == len && !memcmp(p, name, len))
-            return;
-        p = e ? e + 1 : p + pl;
-    }
-    l->n += hx_cat(l->buf + l->n, l->cap - l->n, l->n ? "," : "", name, HX_END);
-}
-
-void helm_mode_vars(const kelp_helm *h, char *buf, size_t cap)
-{
-    varlist l = { buf, cap, 0 };
-    buf[0] = '\0';
-    for (unsigned i = 0; i < h->nmodes; i++)
-        for (unsigned c = 0; c < h->modes[i].ncond; c++)
-            hx_ignore(kelp_helm_cond_check(h->modes[i].cond[c], add_var, &l));
-}

@@ -118,7 +118,7 @@ int kelp_pid_marine_mail(kelp_pid_marine *m, const char *var, bool is_string, co
             m->say_control = 1;
         } else if (kelp_util_strieq_n(sval, strlen(sval), "true")) {
             if (m->has_control) m->say_control = -1;
-            m->has_control = false, m->allstop_posted = false;
+            m->has_control = false;
         } else {
             return KELP_ERR_PARSE;
         }
@@ -236,9 +236,19 @@ void kelp_pid_marine_iterate(kelp_pid_marine *m, kelp_time now, kelp_pid_marine_
      * stale */
     bool waiting = m->stamp[0] < 0 || m->stamp[1] < 0 || m->stamp[3] < 0 || m->stamp[4] < 0 ||
                    (m->cfg.depth_control && (m->stamp[2] < 0 || m->stamp[5] < 0 || m->stamp[6] < 0));
-    if (waiting || stale_inputs(m, now, sink, ctx) > 0) {
+    if (waiting) {
         m->paused = true;
         post_outputs(m, sink, ctx, 0, 0, 0);
+        return;
+    }
+    /* a stale input takes control away as an override does (PIDEngine::hasControl): the zeros
+     * once (MarinePID::postPengineResults), then nothing until the inputs are fresh again */
+    if (stale_inputs(m, now, sink, ctx) > 0) {
+        m->paused = true;
+        m->thrust = 0;
+        if (m->allstop_posted) return;
+        post_outputs(m, sink, ctx, 0, 0, 0);
+        m->allstop_posted = true;
         return;
     }
     double r = 0, t = 0, el = 0;

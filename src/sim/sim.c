@@ -179,8 +179,11 @@ static double approach(double v, double target, double lim)
     return v + d;
 }
 
-/* uSimMarineV22's rudder/thrust model, one sub-step (see sim.h): SimEngine::propagateSpeed,
- * propagateHeading, then propagate (mean speed, mean heading) */
+/* uSimMarineV22's rudder/thrust model, one step of h (SimEngine::propagateSpeed,
+ * propagateHeading, propagateDepth, then propagate): the new speed comes from the thrust map,
+ * the rudder's speed loss and the acceleration limits; the heading turns at the turn-speed
+ * map's rate for that new speed; the position moves at the mean of the previous and the new
+ * speed along the mean heading, and that mean becomes the vehicle's speed */
 static void substep_actuated(kelp_sim *sim, double h)
 {
     const kelp_sim_params *p = &sim->p;
@@ -190,27 +193,28 @@ static void substep_actuated(kelp_sim *sim, double h)
     if (p->max_speed > 0.0 && target > p->max_speed) target = p->max_speed;
     target *= 1.0 - fabs(sim->rudder) / 100.0 * p->turn_spd_loss;
     double lim = target > v0 ? p->act_max_accel : p->max_decel;
-    s->speed = approach(v0, target, lim > 0.0 ? lim * h : 0.0);
-    double rate = kelp_sim_turn_rate_at(p, s->speed);
-    double dh = s->speed > 0.0 ? sim->rudder * (rate / 100.0) * h * (1.0 + (sim->thrust - 50.0) / 50.0) : 0.0;
+    double v1 = approach(v0, target, lim > 0.0 ? lim * h : 0.0);
+    double rate = kelp_sim_turn_rate_at(p, v1);
+    double dh = v1 != 0.0 ? sim->rudder * (rate / 100.0) * h * (1.0 + (sim->thrust - 50.0) / 50.0) : 0.0;
     dh += p->rotate_speed * h;
     s->heading = kelp_sim_angle360(s->heading + dh);
-    double vmid = (v0 + s->speed) / 2.0;
-    double hmid = atan2(sin(h0 * DEG2RAD) + sin(s->heading * DEG2RAD), cos(h0 * DEG2RAD) + cos(s->heading * DEG2RAD));
-    s->x += vmid * sin(hmid) * h;
-    s->y += vmid * cos(hmid) * h;
-    sim->odometer += vmid * h;
     double rate_z = -p->buoyancy_rate;
-    if (s->speed > 0.0) {
+    if (v1 > 0.0) {
         double pct = 1.0;
-        if (p->max_depth_rate_speed > 0.0) pct = s->speed / p->max_depth_rate_speed < 1.0 ? s->speed / p->max_depth_rate_speed : 1.0;
+        if (p->max_depth_rate_speed > 0.0) pct = v1 / p->max_depth_rate_speed < 1.0 ? v1 / p->max_depth_rate_speed : 1.0;
         rate_z += sim->elevator / 100.0 * p->max_depth_rate * sqrt(pct);
-        sim->pitch = -atan2(rate_z, s->speed);
+        sim->pitch = -atan2(rate_z, v1);
     } else {
         sim->pitch = 0.0;
     }
     s->depth += rate_z * h;
     if (s->depth < 0.0) s->depth = 0.0;
+    double vmid = (v0 + v1) / 2.0;
+    double hmid = atan2(sin(h0 * DEG2RAD) + sin(s->heading * DEG2RAD), cos(h0 * DEG2RAD) + cos(s->heading * DEG2RAD));
+    s->x += vmid * sin(hmid) * h;
+    s->y += vmid * cos(hmid) * h;
+    s->speed = vmid;
+    sim->odometer += vmid * h;
 }
 
 static void substep(kelp_sim *sim, double h)
@@ -263,7 +267,9 @@ int kelp_sim_step(kelp_sim *sim, kelp_time now)
     double dt = now - sim->time;
     if (dt < 0.0) return KELP_ERR_RANGE;
     if (dt == 0.0) return KELP_OK;
-    double nd = ceil(dt / sim->p.step - 1e-9);
+    /* the actuated model steps once per call, as uSimMarineV22 once per iteration (its speed
+     * is a mean over the step, so the step is part of the model) */
+    double nd = sim->actuated ? 1.0 : ceil(dt / sim->p.step - 1e-9);
     if (nd < 1.0) nd = 1.0;
     if (nd > (double)KELP_SIM_MAX_SUBSTEPS) return KELP_ERR_RANGE;
     long n = (long)nd;

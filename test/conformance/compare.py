@@ -43,7 +43,7 @@ import os
 import re
 import sys
 
-GATED = ["nodecomms_*", "msghandler_*", "pathcheck_g1", "crs_e1_nonoise"]
+GATED = ["nodecomms_*", "msghandler_*", "pathcheck_g1", "crs_e1_nonoise", "vehicle_*"]
 # values that are measured timings (uFldNodeComms's RTE: real seconds between two of its
 # iterations that saw a vehicle's report) are compared by count and format only
 PERIODIC_SKIP_VALUES = re.compile(r".*_STATUS$|^APPCAST$|.*_ITER_(GAP|LEN)$|.*_PID$|^RTE$")
@@ -255,6 +255,7 @@ def compare(scn, golden_dir, kelp_dir):
     # the same report when their TIME= differ by less
     report_half = 0.5 / max([scenario_rate(os.path.join(golden_dir, "missions", scn + ".scn"))] + [1e-9])
 
+    vehicle = is_vehicle(G)
     apps = sorted(ticks)
     by = collections.defaultdict(list)  # the window's rows per (side, app, var)
     pre = collections.defaultdict(list)  # start-up rows (t < 0)
@@ -291,8 +292,8 @@ def compare(scn, golden_dir, kelp_dir):
                 figs.extend(appcast_figures(app, G, K))
                 continue
             figs.append(format_figure(var, raw[("g", app, var)], raw[("k", app, var)]))
-            if PERIODIC_SKIP_VALUES.match(var):
-                continue
+            if PERIODIC_SKIP_VALUES.match(var) or vehicle:
+                continue  # a vehicle's values: vehicle_figures judges what it does
             # uFldPathCheck's odometry: per vehicle in pathcheck_figures, where a value the other
             # side skipped (two of a vehicle's reports in one of its iterations) is told apart
             if scn.startswith("pathcheck_") and var == "UPC_ODOMETRY_REPORT":
@@ -369,6 +370,8 @@ def compare(scn, golden_dir, kelp_dir):
         figs.extend(cmgr_figures(Gwr, Kwr, tol, dur))
     if scn.startswith("hazard_"):
         figs.extend(hazard_figures(Gwr, Kwr, tol, 1.0 / ticks.get("uFldHazardSensor", 4) * warp, G, K))
+    if vehicle:
+        figs.extend(vehicle_figures(G, K))
     vmax = scenario_speed(os.path.join(golden_dir, "missions", scn + ".scn"))
     if scn.startswith("pathcheck_"):
         figs.extend(pathcheck_figures(G, K, Gwr, Kwr, tol, dur, vmax, 1.0 / ticks.get("uFldPathCheck", 4) * warp))
@@ -1090,6 +1093,127 @@ def rangesensor_figures(G, K, Gw, Kw, tol, vmax, pfx):
     return figs
 
 
+# the vehicle comparator's tolerances (issue 27's "done when"): the track within 3 m of 24.8's
+# at matched times from DEPLOY, each waypoint arrival and completion within 1.5 s, the rudder's
+# peak in each turn within 10 %, cruise thrust and speed within 10 %
+VEH_TRACK_M = 3.0
+VEH_EVENT_S = 1.5
+VEH_PEAK_PCT = 10.0
+VEH_CRUISE_PCT = 10.0
+VEH_TURN_RUDDER = 20.0  # a leg is a turn when the recording's rudder peaks at this or more
+
+
+def is_vehicle(G):
+    """A simulated vehicle: NAV_X and NAV_Y posted by an app of the mission (not by the driver's
+    synthesised vehicles)."""
+    names = {r["var"] for r in G if r["src"] != "driver"}
+    return "NAV_X" in names and "NAV_Y" in names
+
+
+def vehicle_figures(G, K):
+    """A simulated vehicle (uSimMarineV22 + pMarinePIDV22 + pHelmIvP) judged by what it does, each
+    side's times taken from its first DEPLOY = true (its start, whoever posted it): the track at
+    the recording's NAV_X/NAV_Y times (interpolated on kelp's), the helm's events (each
+    WPT_INDEX change: a waypoint arrival; each IVPHELM_ALLSTOP change: a start, a completion, a
+    mode change) paired in order, the peak |DESIRED_RUDDER| between
+    consecutive events (one turn per leg), and the median DESIRED_THRUST and NAV_SPEED while
+    driving."""
+    def side(rows):
+        rows = sorted(rows, key=lambda r: r["t"])
+        dep = [r["t"] for r in rows if r["var"] == "DEPLOY" and str(r["val"]).lower() == "true"]
+        t0 = dep[0] if dep else 0.0
+        track, x = [], None
+        for r in rows:
+            if r["var"] == "NAV_X" and r["type"] == "double":
+                x = float(r["val"])
+            elif r["var"] == "NAV_Y" and r["type"] == "double" and x is not None:
+                track.append((r["t"] - t0, x, float(r["val"])))
+        ev, last_ix, last_stop = [], None, None
+        for r in rows:
+            if r["t"] < t0:
+                if r["var"] == "IVPHELM_ALLSTOP":
+                    last_stop = r["val"]
+                continue
+            v = r["val"]
+            if r["var"] == "WPT_INDEX" and r["type"] == "double":
+                if v != last_ix:
+                    ev.append(("WPT_INDEX=%g" % v, r["t"] - t0))
+                last_ix = v
+            elif r["var"] == "IVPHELM_ALLSTOP" and r["type"] == "string":
+                if v != last_stop:
+                    ev.append(("IVPHELM_ALLSTOP=%s" % v, r["t"] - t0))
+                last_stop = v
+        series = lambda var: [(r["t"] - t0, float(r["val"])) for r in rows
+                              if r["var"] == var and r["type"] == "double" and r["t"] >= t0]
+        return dict(track=track, events=ev, rudder=series("DESIRED_RUDDER"),
+                    thrust=series("DESIRED_THRUST"), speed=series("NAV_SPEED"))
+
+    g, k = side(G), side(K)
+    figs = []
+    # the comparison runs to the recording's last event (the vehicle's last completion)
+    end = max([t for _, t in g["events"]] + [0.0])
+    if not k["track"]:
+        return [Figure("vehicle/track", False, "kelp posted no NAV_X/NAV_Y")]
+    kt = [p[0] for p in k["track"]]
+
+    def at(t):
+        i = bisect.bisect_left(kt, t)
+        if i <= 0:
+            return k["track"][0][1:]
+        if i >= len(kt):
+            return k["track"][-1][1:]
+        (ta, xa, ya), (tb, xb, yb) = k["track"][i - 1], k["track"][i]
+        f = (t - ta) / (tb - ta) if tb > ta else 0.0
+        return xa + f * (xb - xa), ya + f * (yb - ya)
+
+    dist = []
+    for t, x, y in g["track"]:
+        if 0 <= t <= end:
+            kx, ky = at(t)
+            dist.append((math.hypot(kx - x, ky - y), t))
+    if dist:
+        worst = max(dist)
+        med = sorted(d for d, _ in dist)[len(dist) // 2]
+        figs.append(Figure("vehicle/track", worst[0] <= VEH_TRACK_M, "max %.2f m at %.1f s from DEPLOY (median %.2f m, %d points; tolerance %.1f m)"
+                           % (worst[0], worst[1], med, len(dist), VEH_TRACK_M)))
+    else:
+        figs.append(Figure("vehicle/track", False, "the recording has no track after DEPLOY"))
+    # events in order: the same sequence, each within VEH_EVENT_S
+    gn, kn = [n for n, _ in g["events"]], [n for n, _ in k["events"]]
+    if gn != kn:
+        figs.append(Figure("vehicle/events", False, "24.8 %s; kelp %s" % (gn, kn)))
+    else:
+        worst = max([(abs(tk - tg), n, tg, tk) for (n, tg), (_, tk) in zip(g["events"], k["events"])] + [(0.0, "-", 0, 0)])
+        figs.append(Figure("vehicle/events", worst[0] <= VEH_EVENT_S, "%d events; worst %s at %.2f s (24.8) / %.2f s (kelp) from DEPLOY (tolerance %.1f s)"
+                           % (len(gn), worst[1], worst[2], worst[3], VEH_EVENT_S)))
+
+    def peaks(side_, bounds):
+        out = []
+        for lo, hi in zip(bounds, bounds[1:]):
+            w = [v for t, v in side_["rudder"] if lo <= t < hi]
+            out.append(max(w, key=abs) if w else 0.0)
+        return out
+
+    gb = [0.0] + [t for _, t in g["events"]] + [end + 1.0]
+    kb = [0.0] + [t for _, t in k["events"]] + [max([t for _, t in k["events"]] + [end]) + 1.0]
+    gp, kp = peaks(g, gb), peaks(k, kb)
+    # a leg whose peak is below VEH_TURN_RUDDER is no turn (a straight leg's corrections)
+    bad = [(i + 1, a, b) for i, (a, b) in enumerate(zip(gp, kp))
+           if abs(a) >= VEH_TURN_RUDDER and abs(abs(b) - abs(a)) > VEH_PEAK_PCT / 100.0 * abs(a)]
+    ok = len(gp) == len(kp) and not bad
+    figs.append(Figure("vehicle/rudder_peaks", ok, "" if ok else "legs 24.8 %d kelp %d; %s" % (
+        len(gp), len(kp), ", ".join("leg %d: 24.8 %.1f, kelp %.1f" % x for x in bad[:4]))))
+    for name in ("thrust", "speed"):
+        gv = sorted(v for t, v in g[name] if 0 <= t <= end and v > 0)
+        kv = sorted(v for t, v in k[name] if 0 <= t <= end and v > 0)
+        if not gv:
+            continue
+        a, b = gv[len(gv) // 2], kv[len(kv) // 2] if kv else 0.0
+        ok = abs(b - a) <= VEH_CRUISE_PCT / 100.0 * abs(a)
+        figs.append(Figure("vehicle/%s" % name, ok, "median while under way: 24.8 %.2f, kelp %.2f (tolerance %.0f %%)" % (a, b, VEH_CRUISE_PCT)))
+    return figs
+
+
 def load_allow(path):
     rows = []
     if not path or not os.path.exists(path):
@@ -1273,6 +1397,29 @@ def self_test(args):
     if bad:
         print("self-test: the recording does not agree with itself")
         return 1
+    # the vehicle comparator, on kelp's own vehicle recordings: each agrees with itself, and a
+    # vehicle 4 m off its track, a helm 2 s late or a rudder at 80 % is caught
+    own = os.path.join(os.path.dirname(os.path.abspath(__file__)), "kelp-24.8")
+    for f in sorted(os.listdir(os.path.join(own, "missions"))) if os.path.isdir(os.path.join(own, "missions")) else []:
+        if not f.endswith(".scn"):
+            continue
+        G = load_rows(os.path.join(own, "golden", f[:-4] + ".jsonl"))
+        if not is_vehicle(G):
+            continue
+        dep = min(r["t"] for r in G if r["var"] == "DEPLOY" and r["val"] == "true")
+        cases = [("itself", lambda r: r, set()),
+                 ("4 m east", lambda r: dict(r, val=r["val"] + 4) if r["var"] == "NAV_X" and r["t"] > dep + 20 else r,
+                  {"vehicle/track"}),
+                 ("helm 2 s late", lambda r: dict(r, t=r["t"] + 2) if r["src"] == "pHelmIvP" and r["t"] > dep + 20 else r,
+                  {"vehicle/events"}),
+                 ("rudder x 0.8", lambda r: dict(r, val=r["val"] * 0.8) if r["var"] == "DESIRED_RUDDER" else r,
+                  {"vehicle/rudder_peaks"})]
+        for name, fn, want in cases:
+            failed = {x.fid for x in vehicle_figures(G, [fn(r) for r in G]) if not x.ok}
+            print("self-test %s, %s: failing vehicle figures %s" % (f[:-4], name, sorted(failed)))
+            if not want <= failed or (not want and failed):
+                print("self-test: the vehicle comparator should fail %s" % sorted(want))
+                return 1
     print("self-test: ok")
     return 0
 

@@ -3,10 +3,12 @@
 #
 #   test/conformance/run.sh [SCENARIO ...]        (make conformance; default: every scenario)
 #
-# For each scenario of the recordings (below): the .moos
-# file is copied unchanged and only an ANTLER block is appended (one Run = line per
-# ProcessConfig block, under its 24.8 name: kelp-launch maps names such as uSimMarineV22 or
-# pShare to kelp's programs); in its own private network namespace (loopback only, ttl=0, its
+# For each scenario of the recordings (below), and of kelp's own recordings of the real apps in
+# test/conformance/kelp-24.8 (vehicle runs; with the default recordings only): the .moos file
+# and the files it names beside it (a Behaviors = .bhv) are copied unchanged and, unless the
+# mission has its own, an ANTLER block is appended (one Run = line per ProcessConfig block,
+# under its 24.8 name: kelp-launch maps names such as uSimMarineV22 or pShare to kelp's
+# programs); in its own private network namespace (loopback only, ttl=0, its
 # own port) kelp-launch starts the apps and conform-driver plays the .scn script and records
 # kelp's transcript. All scenarios run side by side (they mostly wait on MOOS time), then
 # compare.py compares each transcript with the recording, figure by figure, and prints the
@@ -30,29 +32,50 @@ mkdir -p "$OUT"
 scenarios=("$@")
 if [ ${#scenarios[@]} -eq 0 ]; then
   for f in "$CONF"/missions/*.scn; do scenarios+=("$(basename "$f" .scn)"); done
+  if [ -z "${KELP_CONF_DIR:-}" ]; then
+    for f in "$root"/test/conformance/kelp-24.8/missions/*.scn; do [ -f "$f" ] && scenarios+=("$(basename "$f" .scn)"); done
+  fi
 fi
+
+# the kelp-owned scenarios (vehicle runs of the real apps recorded for kelp): run beside the
+# recordings' unless a recordings directory or scenarios are named
+OWN=$root/test/conformance/kelp-24.8
+# where a scenario's files are: the recordings, else kelp's own
+conf_of() {
+  if [ -f "$CONF/missions/$1.scn" ]; then echo "$CONF"; elif [ -f "$OWN/missions/$1.scn" ]; then echo "$OWN"; fi
+}
 
 # one scenario, inside its own network namespace (re-entered through unshare)
 if [ "${1:-}" = --inside ]; then
-  scn=$2 port=$3
+  scn=$2 port=$3 SC=$4
   ip link set lo up && ip link set lo multicast on && ip route add 224.0.0.0/4 dev lo 2>/dev/null
   W=$(mktemp -d /tmp/kelp-conf-$scn.XXXXXX)
-  cp "$CONF/missions/$scn.moos" "$W/$scn.moos"
-  {
-    echo
-    echo "// appended by kelp's conformance runner: launch every block of this mission"
-    echo "ProcessConfig = ANTLER"
-    echo "{"
-    echo "  MSBetweenLaunches = 100"
-    echo "  Run = MOOSDB @ NewConsole = false"
-    sed -n 's/^[[:space:]]*ProcessConfig[[:space:]]*=[[:space:]]*\([A-Za-z0-9_]*\).*/\1/p' "$CONF/missions/$scn.moos" |
-      grep -v '^ANTLER$' | while read -r app; do echo "  Run = $app @ NewConsole = false"; done
-    echo "}"
-  } >> "$W/$scn.moos"
+  cp "$SC/missions/$scn.moos" "$W/$scn.moos"
+  # the files the mission names beside it (a Behaviors = .bhv, ...), copied unchanged
+  sed -n 's/^[^=/]*=[[:space:]]*\([^[:space:],@~]*\)[[:space:]]*$/\1/p' "$SC/missions/$scn.moos" | sort -u |
+    while read -r f; do
+      case "$f" in */*|.*|"") continue ;; esac
+      [ -f "$SC/missions/$f" ] && cp "$SC/missions/$f" "$W/$f"
+    done
+  # an ANTLER block of the mission's own is kept (its Run = lines name 24.8's apps, which
+  # kelp-launch maps); without one, one Run = line per ProcessConfig block
+  if ! grep -qiE '^[[:space:]]*ProcessConfig[[:space:]]*=[[:space:]]*ANTLER[[:space:]]*$' "$W/$scn.moos"; then
+    {
+      echo
+      echo "// appended by kelp's conformance runner: launch every block of this mission"
+      echo "ProcessConfig = ANTLER"
+      echo "{"
+      echo "  MSBetweenLaunches = 100"
+      echo "  Run = MOOSDB @ NewConsole = false"
+      sed -n 's/^[[:space:]]*ProcessConfig[[:space:]]*=[[:space:]]*\([A-Za-z0-9_]*\).*/\1/p' "$SC/missions/$scn.moos" |
+        grep -v '^ANTLER$' | while read -r app; do echo "  Run = $app @ NewConsole = false"; done
+      echo "}"
+    } >> "$W/$scn.moos"
+  fi
   export KELP_LCM_URL="udpm://239.255.76.67:$port?ttl=0"
   (cd "$W" && exec "$BUILD/bin/kelp-launch" "$scn.moos") > "$OUT/$scn.launch.log" 2>&1 &
   lp=$!
-  "$BUILD/test/conform-driver" "$CONF/missions/$scn.scn" "$W/$scn.moos" "$OUT/$scn.jsonl" "$OUT/$scn.meta.json" \
+  (cd "$W" && exec "$BUILD/test/conform-driver" "$SC/missions/$scn.scn" "$W/$scn.moos" "$OUT/$scn.jsonl" "$OUT/$scn.meta.json") \
     > "$OUT/$scn.driver.log" 2>&1
   rc=$?
   kill -INT $lp 2>/dev/null; wait $lp 2>/dev/null
@@ -66,11 +89,12 @@ echo "conformance: ${#scenarios[@]} scenarios side by side (recordings: $CONF)"
 pids=()
 i=0
 for scn in "${scenarios[@]}"; do
-  [ -f "$CONF/missions/$scn.scn" ] || { echo "conformance: no scenario $scn"; exit 2; }
+  sc=$(conf_of "$scn")
+  [ -n "$sc" ] || { echo "conformance: no scenario $scn"; exit 2; }
   rm -f "$OUT/$scn.jsonl" "$OUT/$scn.meta.json"
   port=$((7300 + i)); i=$((i + 1))
-  if [ "$(id -u)" -eq 0 ]; then unshare -n bash "$0" --inside "$scn" "$port" &
-  else unshare -rn bash "$0" --inside "$scn" "$port" & fi
+  if [ "$(id -u)" -eq 0 ]; then unshare -n bash "$0" --inside "$scn" "$port" "$sc" &
+  else unshare -rn bash "$0" --inside "$scn" "$port" "$sc" & fi
   pids+=($!)
 done
 fail=0
@@ -78,8 +102,17 @@ for k in "${!pids[@]}"; do
   if ! wait "${pids[$k]}"; then echo "conformance: ${scenarios[$k]}: the run failed (see $OUT/${scenarios[$k]}.driver.log)"; fail=1; fi
 done
 echo "conformance: runs done in $(( $(date +%s) - start )) s"
-python3 "$here/compare.py" --golden "$CONF" --kelp "$OUT" --allow "$root/docs/CONFORMANCE.md" --open "$here/open.txt" \
-  ${KELP_CONF_WRITE_OPEN:+--write-open "$KELP_CONF_WRITE_OPEN"} "${scenarios[@]}" |
-  tee "$OUT/report.txt"
-rc=${PIPESTATUS[0]}
+# compared per recordings directory: the recordings', then kelp's own
+rc=0
+: > "$OUT/report.txt"
+for sc in "$CONF" "$OWN"; do
+  list=()
+  for scn in "${scenarios[@]}"; do [ "$(conf_of "$scn")" = "$sc" ] && list+=("$scn"); done
+  [ ${#list[@]} -gt 0 ] || continue
+  python3 "$here/compare.py" --golden "$sc" --kelp "$OUT" --allow "$root/docs/CONFORMANCE.md" --open "$here/open.txt" \
+    ${KELP_CONF_WRITE_OPEN:+--write-open "$KELP_CONF_WRITE_OPEN.part"} "${list[@]}" | tee -a "$OUT/report.txt"
+  [ "${PIPESTATUS[0]}" -eq 0 ] || rc=1
+  [ -n "${KELP_CONF_WRITE_OPEN:-}" ] && cat "$KELP_CONF_WRITE_OPEN.part" >> "$KELP_CONF_WRITE_OPEN.all" && rm -f "$KELP_CONF_WRITE_OPEN.part"
+done
+[ -n "${KELP_CONF_WRITE_OPEN:-}" ] && mv "$KELP_CONF_WRITE_OPEN.all" "$KELP_CONF_WRITE_OPEN"
 [ $fail -eq 0 ] && [ "$rc" -eq 0 ]
