@@ -804,6 +804,92 @@ START_TEST(glibc_draws_match_rand)
 }
 END_TEST
 
+/* 24.8's ledger keys vehicles by their reported name (ContactLedger::hasVName is a map
+ * lookup): a request from "INDIGO" when "indigo" reports is an unknown vehicle, refused with
+ * both run warnings and answered by nothing (brs_n1_uniform: "Unknown vehicle[INDIGO]") */
+START_TEST(request_name_exact)
+{
+    static const char *const cfg[] = { "node_push_dist", "default = nolimit", "beacon", "label=01, x=200, y=0", NULL };
+    brs_start(&B, cfg, 0);
+    rec r = { 0 };
+    kelp_field_sink sink = { &r, pub, wrn };
+    nrep(&B, NULL, "indigo", 150, 0, 1, &r);
+    int w = r.warns;
+    ck_assert_int_lt(kelp_beaconrange_mail(&B, "BRS_RANGE_REQUEST", true, "name=INDIGO", 2, &sink), 0);
+    ck_assert_int_eq(r.warns - w, 2);
+    ck_assert_str_eq(last_warn, "Bad Mail: BRS_RANGE_REQUEST");
+    ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT"), 0);
+    ck_assert_uint_eq(B.node[0].pings, 0);
+    breq(&B, "indigo", 3, &r);
+    ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT"), 1);
+    /* two vehicles whose names differ in case are two vehicles */
+    nrep(&B, NULL, "Indigo", 160, 0, 4, &r);
+    ck_assert_uint_eq(B.nnodes, 2);
+
+    crs_start((const char *const[]){ NULL }, 0);
+    nrep(NULL, &C, "archie", 0, 0, 0, &r);
+    nrep(NULL, &C, "jackal", 10, 0, 0, &r);
+    w = r.warns;
+    ck_assert_int_lt(kelp_contactrange_mail(&C, "CRS_RANGE_REQUEST", true, "name=Archie", 1, &sink), 0);
+    ck_assert_int_eq(r.warns - w, 2);
+    ck_assert_uint_eq(C.accepted, 0);
+}
+END_TEST
+
+/* ping_wait at its boundary: 24.8 stamps a request with its previous iteration's time and its
+ * iterations run late, so a request exactly ping_wait after the last paid one is honoured
+ * (KELP_RSENSE_TIE_S); one 10 ms short is still too frequent */
+START_TEST(ping_wait_boundary)
+{
+    static const char *const cfg[] = { "node_push_dist", "default = nolimit", "ping_wait", "default = 10",
+                                       "ping_payments", "upon_accept", "beacon", "label=01, x=200, y=0", NULL };
+    brs_start(&B, cfg, 0);
+    rec r = { 0 };
+    nrep(&B, NULL, "indigo", 150, 0, 1, &r);
+    breq(&B, "indigo", 5.25, &r);
+    breq(&B, "indigo", 15.2496, &r); /* 9.9996 s: kelp's on-time iteration just short of 10 */
+    ck_assert_uint_eq(B.accepted, 2);
+    breq(&B, "indigo", 25.2396, &r); /* 9.99 s */
+    ck_assert_uint_eq(B.accepted, 2);
+    ck_assert_str_eq(last_warn, "Failed Range Req from indigo: exceeds query freq.");
+
+    static const char *const c2[] = { "ping_wait", "archie = 12", NULL };
+    crs_start(c2, 0);
+    nrep(NULL, &C, "archie", 0, 0, 0, &r);
+    creq("archie", 5, &r);
+    creq("archie", 16.9997, &r);
+    ck_assert_uint_eq(C.accepted, 2);
+    creq("archie", 28.98, &r);
+    ck_assert_uint_eq(C.accepted, 2);
+    ck_assert_uint_eq(C.denied, 1);
+}
+END_TEST
+
+/* 24.8's rn_algorithm takes "uniform" only: gaussian is an unhandled line and no noise
+ * (brs_n2_gauss, crs_n2_gauss); kelp keeps its gaussian unless RAND_MODE = glibc */
+START_TEST(gaussian_as_248)
+{
+    kelp_rangesense_common c;
+    kelp_diag d = { 0 };
+    kelp_rangesense_common_default(&c);
+    ck_assert_int_eq(kelp_rangesense_common_config(&c, "rn_algorithm", "gaussian,sigma=3", &d), 1);
+    ck_assert_int_eq(kelp_rangesense_common_config(&c, "rn_uniform_pct", "0.2", &d), 1);
+    ck_assert(!kelp_rangesense_common_as_248(&c)); /* kelp mode: its own gaussian */
+    ck_assert_int_eq(c.noise.alg, KELP_RSENSE_NOISE_GAUSSIAN);
+    ck_assert_int_eq(kelp_rangesense_common_config(&c, "RAND_MODE", "glibc", &d), 1);
+    ck_assert(kelp_rangesense_common_as_248(&c));
+    ck_assert_int_eq(c.noise.alg, KELP_RSENSE_NOISE_NONE);
+    /* a uniform line before the gaussian one stays, as 24.8 keeps it */
+    kelp_rangesense_common_default(&c);
+    ck_assert_int_eq(kelp_rangesense_common_config(&c, "RAND_MODE", "glibc", &d), 1);
+    ck_assert_int_eq(kelp_rangesense_common_config(&c, "rn_algorithm", "uniform,pct=0.1", &d), 1);
+    ck_assert_int_eq(kelp_rangesense_common_config(&c, "rn_algorithm", "gaussian", &d), 1);
+    ck_assert(kelp_rangesense_common_as_248(&c));
+    ck_assert_int_eq(c.noise.alg, KELP_RSENSE_NOISE_UNIFORM);
+    ck_assert(fabs(c.noise.pct - 0.1) < 1e-12);
+}
+END_TEST
+
 Suite *kelp_field_rangesensors_suite(void)
 {
     Suite *s = suite_create("field_rangesensors");
@@ -823,6 +909,9 @@ Suite *kelp_field_rangesensors_suite(void)
     tcase_add_test(tc, crs_reports_pulses);
     tcase_add_test(tc, noise_statistics);
     tcase_add_test(tc, glibc_draws_match_rand);
+    tcase_add_test(tc, request_name_exact);
+    tcase_add_test(tc, ping_wait_boundary);
+    tcase_add_test(tc, gaussian_as_248);
     suite_add_tcase(s, tc);
     return s;
 }

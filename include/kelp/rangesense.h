@@ -29,6 +29,15 @@ extern "C" {
 #endif
 #define KELP_RSENSE_NAME KELP_NODEREPORT_MAX_FIELD
 #define KELP_RSENSE_LEDGER_WHO 4    /**< names in the AppCast's ledger line (24.8's getSummary) */
+/** A request within this many seconds short of ping_wait after the last paid one is in time.
+ *  24.8 stamps a request with the MOOS time of its previous iteration and its iterations run
+ *  about 0.5 ms over their period (AppTick 4), so a request exactly ping_wait after the last
+ *  paid one is stamped a few milliseconds more than ping_wait later and honoured (every such
+ *  request of brs_d1_nonoise, 5 of 6 of crs_n1_uniform: the sixth came when its iteration
+ *  lattice had slipped a whole period, which no rule can foresee). kelp's runner iterates on
+ *  time, so the same request lands within microseconds either side of ping_wait: this margin
+ *  takes 24.8's usual answer. */
+#define KELP_RSENSE_TIE_S 1e-3
 
 typedef enum kelp_rangesense_noise_alg {
     KELP_RSENSE_NOISE_NONE = 0,
@@ -68,7 +77,7 @@ typedef struct kelp_rangesense_noise {
 } kelp_rangesense_noise;
 
 typedef struct kelp_rangesense_node {
-    char name[KELP_RSENSE_NAME]; /**< as it arrived (compared case-insensitively) */
+    char name[KELP_RSENSE_NAME]; /**< as it arrived (compared exactly, as 24.8's ledger) */
     char type[KELP_RSENSE_NAME];
     double x, y, hdg;
     double clock;                /**< ping-wait clock: the last paid request (valid once pinged) */
@@ -91,6 +100,7 @@ typedef struct kelp_rangesense_common {
     bool ground_truth;           /**< GROUND_TRUTH (false) */
     bool verbose;                /**< VERBOSE (false) */
     bool glibc;                  /**< RAND_MODE = glibc (default kelp) */
+    kelp_rangesense_noise_alg alg248; /**< the algorithm 24.8 would keep: only uniform is one of its */
     uint64_t seed;               /**< SEED_RANDOM (1) */
     kelp_geo geo;                /**< datum for reports with only LAT,LON */
     bool have_geo;
@@ -99,6 +109,11 @@ typedef struct kelp_rangesense_common {
 } kelp_rangesense_common;
 
 void kelp_rangesense_common_default(kelp_rangesense_common *c);
+/** RAND_MODE = glibc runs as MOOS-IvP 24.8, whose rn_algorithm knows only "uniform": there a
+ *  gaussian RN_ALGORITHM is an unhandled line (24.8's "Unhandled config..." warning, which the
+ *  app writes) and the noise stays what 24.8 keeps (uniform if a uniform line was given, else
+ *  none). Call once the block is read. @return true when the gaussian line was dropped. */
+bool kelp_rangesense_common_as_248(kelp_rangesense_common *c);
 /** PING_WAIT, REPORT_VARS, RN_ALGORITHM, RN_UNIFORM_PCT, RN_GAUSSIAN_SIGMA, GROUND_TRUTH,
  *  VERBOSE, RAND_MODE, SEED_RANDOM (v already trimmed). @return 1, 0 not one, <0 (reason in d). */
 KELP_MUST_CHECK int kelp_rangesense_common_config(kelp_rangesense_common *c, const char *key, const char *v, kelp_diag *d);

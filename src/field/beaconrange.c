@@ -293,7 +293,7 @@ static int request(kelp_beaconrange *b, const char *s, kelp_time now, const kelp
     kelp_rangesense_node *v = &b->node[i];
     v->pings++;
     double elapsed = now - v->clock;
-    bool allowed = !v->pinged || elapsed >= kelp_rangesense_vmap_get(&b->cfg.com.ping_wait, v->name);
+    bool allowed = rs_in_time(v, now, kelp_rangesense_vmap_get(&b->cfg.com.ping_wait, v->name));
     if (b->cfg.payments == KELP_BRS_UPON_REQUEST) v->clock = now, v->pinged = true;
     if (!allowed) {
         v->denied++;

@@ -111,6 +111,13 @@ void kelp_rangesense_common_default(kelp_rangesense_common *c)
     c->seed = 1;
 }
 
+bool kelp_rangesense_common_as_248(kelp_rangesense_common *c)
+{
+    if (!c->glibc || c->noise.alg != KELP_RSENSE_NOISE_GAUSSIAN) return false;
+    c->noise.alg = c->alg248;
+    return true;
+}
+
 /* one pct= (clipped to [0,1] as 24.8 does) or sigma= (at least 0) value into t */
 static int noise_value(kelp_rangesense_noise *t, bool pct, const char *v, size_t vl, kelp_diag *d)
 {
@@ -132,7 +139,11 @@ int kelp_rangesense_common_config(kelp_rangesense_common *c, const char *key, co
         else return kelp_fail(d, KELP_ERR_PARSE, "must be short, long or both");
         return 1;
     }
-    if (kelp_util_strieq_n(key, kl, "RN_ALGORITHM")) return kelp_rangesense_noise_set(&c->noise, v, d);
+    if (kelp_util_strieq_n(key, kl, "RN_ALGORITHM")) {
+        int rc = kelp_rangesense_noise_set(&c->noise, v, d);
+        if (rc == 1 && c->noise.alg == KELP_RSENSE_NOISE_UNIFORM) c->alg248 = KELP_RSENSE_NOISE_UNIFORM;
+        return rc;
+    }
     if (kelp_util_strieq_n(key, kl, "RN_UNIFORM_PCT") || kelp_util_strieq_n(key, kl, "RN_GAUSSIAN_SIGMA")) {
         /* 24.8 sets the value only: the noise is on only with RN_ALGORITHM */
         bool uni = kelp_util_strieq_n(key, kl, "RN_UNIFORM_PCT");
@@ -281,11 +292,17 @@ double kelp_rangesense_unit(kelp_rangesense_rand *r)
 
 /* ------------------------------------------------------------------ vehicles */
 
+/* 24.8's ledger keys vehicles by their name as reported: "INDIGO" is not "indigo" */
 int rs_find(const kelp_rangesense_node *nodes, unsigned n, const char *name)
 {
     for (unsigned i = 0; i < n; i++)
-        if (kelp_util_strieq(nodes[i].name, name)) return (int)i;
+        if (strcmp(nodes[i].name, name) == 0) return (int)i;
     return -1;
+}
+
+bool rs_in_time(const kelp_rangesense_node *v, double now, double wait)
+{
+    return !v->pinged || now - v->clock >= wait - KELP_RSENSE_TIE_S;
 }
 
 int rs_node_report(kelp_rangesense_node *nodes, unsigned *n, const char *s, const kelp_geo *geo, bool have_geo,
