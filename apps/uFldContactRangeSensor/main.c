@@ -50,6 +50,11 @@ static int startup(kelp_app *app, void *st)
     a->app = app;
     a->sink = (kelp_field_sink){ a, publish, warn };
     kelp_contactrange_cfg_default(&a->cfg);
+    char mode[16]; /* RAND_MODE first: in glibc mode the noise lines are read as 24.8 reads them */
+    if (kelp_app_param_str(app, "RAND_MODE", mode, sizeof mode) == 1) {
+        kelp_diag dm = { 0 };
+        KELP_IGNORE(kelp_rangesense_common_config(&a->cfg.com, "RAND_MODE", mode, &dm)); /* foreach says why */
+    }
     int rc = kelp_app_param_foreach(app, param, a);
     if (rc < 0) return rc;
     if (kelp_rangesense_common_as_248(&a->cfg.com)) /* RAND_MODE = glibc: 24.8 has no gaussian */

@@ -9,7 +9,7 @@
  * and pull 100, beacon push and pull 50). A solicited reply goes to the requester only; an
  * unsolicited one (a beacon with a freq, more than its period after its last report) to every
  * vehicle in reach. A vehicle's ping-wait clock starts at 0 (24.8): its first request is in time;
- * one within KELP_RSENSE_TIE_S short of ping_wait after the last paid one is in time too.
+ * one at ping_wait x (1 - KELP_RSENSE_LATE) after the last paid one is in time (24.8's late clock).
  * A request is "name=V" (24.8 reads name= only); an empty or unknown V is refused with 24.8's
  * run warnings ("Failed Range Request: Unknown vehicle[V]", "Bad Mail: BRS_RANGE_REQUEST");
  * V must be the name exactly as the vehicle reports it (24.8's ledger: "INDIGO" is unknown).
