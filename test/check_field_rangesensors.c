@@ -924,6 +924,31 @@ START_TEST(ledger_types)
 }
 END_TEST
 
+/* 24.8's BeaconBuoy compares a freq range's two texts, not its numbers: "6:14" is refused
+ * (brs_n3_unsol: default_beacon_freq = 6:14 left every beacon without one, "Unhandled config
+ * line"), "5:8" taken; in glibc mode kelp refuses as 24.8 does, a beacon's own freq silently */
+START_TEST(freq_text_order)
+{
+    kelp_beaconrange_cfg c;
+    kelp_diag d = { 0 };
+    kelp_beaconrange_cfg_default(&c);
+    ck_assert_int_eq(kelp_beaconrange_config(&c, "default_beacon_freq", "6:14", &d), 1); /* kelp mode: numbers */
+    ck_assert(c.dflt.freq_lo == 6 && c.dflt.freq_hi == 14);
+    kelp_beaconrange_cfg_default(&c);
+    ck_assert_int_eq(kelp_beaconrange_config(&c, "rand_mode", "glibc", &d), 1);
+    ck_assert_int_eq(kelp_beaconrange_config(&c, "default_beacon_freq", "6:14", &d), 0);
+    ck_assert(c.dflt.freq_lo < 0);
+    ck_assert_int_eq(kelp_beaconrange_config(&c, "default_beacon_freq", "5:8", &d), 1);
+    ck_assert_int_eq(kelp_beaconrange_config(&c, "beacon", "label=a, x=0, y=0, freq=20:100", &d), 1);
+    ck_assert_int_eq(kelp_beaconrange_config(&c, "beacon", "label=b, x=9, y=0, freq=12:30", &d), 1);
+    ck_assert_int_eq(kelp_beaconrange_init(&B, &c, 0, &d), 0);
+    int ia = kelp_beaconrange_find(&B, "a"), ib = kelp_beaconrange_find(&B, "b");
+    ck_assert(ia >= 0 && ib >= 0);
+    ck_assert(B.beacon[ia].freq_lo == 5 && B.beacon[ia].freq_hi == 8); /* kept the default */
+    ck_assert(B.beacon[ib].freq_lo == 12 && B.beacon[ib].freq_hi == 30);
+}
+END_TEST
+
 Suite *kelp_field_rangesensors_suite(void)
 {
     Suite *s = suite_create("field_rangesensors");
@@ -947,6 +972,7 @@ Suite *kelp_field_rangesensors_suite(void)
     tcase_add_test(tc, ping_wait_boundary);
     tcase_add_test(tc, gaussian_as_248);
     tcase_add_test(tc, ledger_types);
+    tcase_add_test(tc, freq_text_order);
     suite_add_tcase(s, tc);
     return s;
 }
