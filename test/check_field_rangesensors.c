@@ -890,6 +890,16 @@ START_TEST(gaussian_as_248)
     ck_assert(!kelp_rangesense_common_as_248(&c));
     ck_assert_int_eq(c.noise.alg, KELP_RSENSE_NOISE_UNIFORM);
     ck_assert(fabs(c.noise.pct - 0.1) < 1e-12);
+    /* 24.8 reads the block last line first: the first fraction in the file is the one it keeps
+     * (brs_n3_unsol: rn_algorithm = uniform,pct=0.05 then rn_uniform_pct = 0.25 drew with 0.05) */
+    ck_assert_int_eq(kelp_rangesense_common_config(&c, "rn_uniform_pct", "0.25", &d), 1);
+    ck_assert(fabs(c.noise.pct - 0.1) < 1e-12);
+    ck_assert_int_eq(kelp_rangesense_common_config(&c, "rn_algorithm", "uniform,pct=0.3", &d), 1);
+    ck_assert(fabs(c.noise.pct - 0.1) < 1e-12);
+    kelp_rangesense_common_default(&c); /* kelp mode: the last line wins */
+    ck_assert_int_eq(kelp_rangesense_common_config(&c, "rn_algorithm", "uniform,pct=0.05", &d), 1);
+    ck_assert_int_eq(kelp_rangesense_common_config(&c, "rn_uniform_pct", "0.25", &d), 1);
+    ck_assert(fabs(c.noise.pct - 0.25) < 1e-12);
 }
 END_TEST
 

@@ -35,7 +35,7 @@ extern "C" {
  *  when an on-time clock reads 0.2 % less: a request scripted exactly ping_wait after the last
  *  paid one is honoured (brs_d1_nonoise: 10.02 s apart; crs_n1_uniform: 12.01-12.02 s). kelp's
  *  runner iterates on time, give or take the host's scheduling. What 24.8 does when its own
- *  loop stalls a whole period (crs_n1_uniform at 37 s, brs_d1_nonoise at 45 s: a request then
+ *  loop stalls a whole period (crs_n1_uniform at 37 s, brs_d1_nonoise at 115 s: a request then
  *  comes 0.25 s short and is refused) no rule can foresee. */
 #define KELP_RSENSE_LATE 0.002
 
@@ -101,6 +101,9 @@ typedef struct kelp_rangesense_common {
     bool verbose;                /**< VERBOSE (false) */
     bool glibc;                  /**< RAND_MODE = glibc (default kelp) */
     kelp_rangesense_noise_alg alg248; /**< the algorithm 24.8 would keep: only uniform is one of its */
+    bool pct248;                 /**< glibc mode: the uniform fraction was given (24.8 reads the block
+                                      last line first, so the first of RN_UNIFORM_PCT and
+                                      RN_ALGORITHM's pct= in the file is the one it keeps) */
     uint64_t seed;               /**< SEED_RANDOM (1) */
     kelp_geo geo;                /**< datum for reports with only LAT,LON */
     bool have_geo;

@@ -152,8 +152,13 @@ int kelp_rangesense_common_config(kelp_rangesense_common *c, const char *key, co
     }
     if (kelp_util_strieq_n(key, kl, "RN_ALGORITHM")) {
         if (c->glibc && !word_is_uniform(v, n)) return 0; /* 24.8's rn_algorithm: an unhandled line */
+        double pct = c->noise.pct;
         int rc = kelp_rangesense_noise_set(&c->noise, v, d);
         if (rc == 1 && c->noise.alg == KELP_RSENSE_NOISE_UNIFORM) c->alg248 = KELP_RSENSE_NOISE_UNIFORM;
+        if (rc == 1 && c->glibc && strstr(v, "pct=")) { /* 24.8 reads the block last line first */
+            if (c->pct248) c->noise.pct = pct;
+            c->pct248 = true;
+        }
         return rc;
     }
     if (kelp_util_strieq_n(key, kl, "RN_UNIFORM_PCT") || kelp_util_strieq_n(key, kl, "RN_GAUSSIAN_SIGMA")) {
@@ -162,6 +167,10 @@ int kelp_rangesense_common_config(kelp_rangesense_common *c, const char *key, co
         kelp_rangesense_noise t = c->noise;
         int rc = noise_value(&t, uni, v, n, d);
         if (rc < 0) return rc;
+        if (uni && c->glibc) { /* 24.8 reads the block last line first: the first fraction stays */
+            if (c->pct248) return 1;
+            c->pct248 = true;
+        }
         c->noise = t;
         return 1;
     }
