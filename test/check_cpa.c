@@ -48,10 +48,14 @@ START_TEST(head_on)
     NEAR(r.rel_bearing, 0, 1e-12);
     NEAR(r.abs_bearing, 90, 1e-12);
     NEAR(r.cn_rel_bearing, 0, 1e-12);
-    ck_assert(r.os_crosses_cn_bow && !r.os_crosses_cn_stern);
-    NEAR(r.os_crosses_cn_bow_dist, 0, 0);
-    ck_assert(!r.os_passes_cn_port && !r.os_passes_cn_star);
-    ck_assert(r.cn_crosses_os_bow && !r.cn_passes_os_port && !r.cn_passes_os_star);
+    /* as MOOS-IvP 24.8: on the contact's bow line, moving square to nothing: no crossing (the
+     * bearing rate is 0 and ownship has no speed across the line), the bow distance is the
+     * range; the beam is passed to starboard at distance 0 */
+    ck_assert(!r.os_crosses_cn_bow && !r.os_crosses_cn_stern);
+    NEAR(r.os_crosses_cn_bow_dist, 100, 0);
+    ck_assert(!r.os_passes_cn_port && r.os_passes_cn_star);
+    NEAR(r.os_passes_cn_star_dist, 0, 0);
+    ck_assert(!r.cn_crosses_os_bow && !r.cn_passes_os_port && r.cn_passes_os_star);
     /* on each other's bow-stern line: both port and starboard, fore only */
     ck_assert(r.cn_fore_of_os && !r.cn_aft_of_os && r.cn_port_of_os && r.cn_star_of_os);
     ck_assert(r.os_fore_of_cn && !r.os_aft_of_cn && r.os_port_of_cn && r.os_star_of_cn);
@@ -63,9 +67,9 @@ START_TEST(head_on)
     r = eval(100, -10, 270, 2, 0, 0, 90, 2, 0);
     NEAR(r.cpa, 10, 1e-12);
     ck_assert(r.os_passes_cn_star && !r.os_passes_cn_port);
-    NEAR(r.os_passes_cn_star_dist, 10, 1e-12);
+    NEAR(r.os_passes_cn_star_dist, 10, 1e-9);
     ck_assert(r.cn_passes_os_star);
-    NEAR(r.cn_passes_os_star_dist, 10, 1e-12);
+    NEAR(r.cn_passes_os_star_dist, 10, 1e-9);
     ck_assert(!r.os_crosses_cn_bow && !r.os_crosses_cn_stern);
 }
 END_TEST
@@ -78,7 +82,7 @@ START_TEST(crossing)
     NEAR(r.cpa, 0, 1e-9);
     NEAR(r.tcpa, 50, 1e-9);
     ck_assert(r.os_crosses_cn_bow);
-    NEAR(r.os_crosses_cn_bow_dist, 0, 0);
+    NEAR(r.os_crosses_cn_bow_dist, 0, 1e-9);
     r = eval(100, -110, 0, 2, 0, 0, 90, 2, 0);
     ck_assert(r.os_crosses_cn_bow && !r.os_crosses_cn_stern);
     NEAR(r.os_crosses_cn_bow_dist, 10, 1e-9);
@@ -115,10 +119,10 @@ START_TEST(overtaking)
     r = eval(-20, 50, 0, 1, 0, 0, 0, 3, 0);
     NEAR(r.cpa, 20, 1e-12);
     ck_assert(r.os_passes_cn_star);
-    NEAR(r.os_passes_cn_star_dist, 20, 1e-12);
+    NEAR(r.os_passes_cn_star_dist, 20, 1e-9);
     ck_assert(!r.os_crosses_cn_bow && !r.os_crosses_cn_stern); /* parallel tracks never cross */
     ck_assert(r.cn_passes_os_port);
-    NEAR(r.cn_passes_os_port_dist, 20, 1e-12);
+    NEAR(r.cn_passes_os_port_dist, 20, 1e-9);
 }
 END_TEST
 
@@ -258,6 +262,43 @@ START_TEST(bearing_rate_numeric)
 }
 END_TEST
 
+/* MOOS-IvP 24.8's CPAEngine on 400 degenerate encounters (test/cpa_moos248.inc says how the
+ * table was made): every side, crossing and passing flag as 24.8 answers it, and the distances. */
+typedef struct cpa_fact {
+    double in[8];
+    const char *flags;
+    double dist[8];
+} cpa_fact;
+
+static const cpa_fact CPA_MOOS248[] = {
+#include "cpa_moos248.inc"
+};
+#define N_CPA_MOOS248 ((int)(sizeof CPA_MOOS248 / sizeof CPA_MOOS248[0]))
+
+START_TEST(moos248_degenerate)
+{
+    const cpa_fact *f = &CPA_MOOS248[_i];
+    kelp_cpa_result r = eval(f->in[0], f->in[1], f->in[2], f->in[3], f->in[4], f->in[5], f->in[6], f->in[7], 0);
+    const bool got[16] = {r.os_fore_of_cn, r.os_aft_of_cn, r.os_port_of_cn, r.os_star_of_cn,
+                          r.cn_fore_of_os, r.cn_aft_of_os, r.cn_port_of_os, r.cn_star_of_os,
+                          r.os_crosses_cn_bow, r.os_crosses_cn_stern, r.os_passes_cn_port, r.os_passes_cn_star,
+                          r.cn_crosses_os_bow, r.cn_crosses_os_stern, r.cn_passes_os_port, r.cn_passes_os_star};
+    const double dist[8] = {r.os_crosses_cn_bow_dist, r.os_crosses_cn_stern_dist, r.os_passes_cn_port_dist,
+                            r.os_passes_cn_star_dist, r.cn_crosses_os_bow_dist, r.cn_crosses_os_stern_dist,
+                            r.cn_passes_os_port_dist, r.cn_passes_os_star_dist};
+    static const char *const names[16] = {"os_fore", "os_aft", "os_port", "os_star", "cn_fore", "cn_aft",
+                                          "cn_port", "cn_star", "os_x_bow", "os_x_stern", "os_p_port",
+                                          "os_p_star", "cn_x_bow", "cn_x_stern", "cn_p_port", "cn_p_star"};
+    for (int k = 0; k < 16; k++)
+        ck_assert_msg(got[k] == (f->flags[k] == '1'), "row %d (%g %g %g %g / %g %g %g %g): %s is %d, 24.8 says %c",
+                      _i, f->in[0], f->in[1], f->in[2], f->in[3], f->in[4], f->in[5], f->in[6], f->in[7],
+                      names[k], got[k], f->flags[k]);
+    for (int k = 0; k < 8; k++)
+        ck_assert_msg(fabs(dist[k] - f->dist[k]) <= 1e-9 * (1 + fabs(f->dist[k])),
+                      "row %d: distance %d is %.17g, 24.8 says %.17g", _i, k, dist[k], f->dist[k]);
+}
+END_TEST
+
 Suite *kelp_cpa_suite(void)
 {
     Suite *s = suite_create("cpa");
@@ -271,6 +312,7 @@ Suite *kelp_cpa_suite(void)
     tcase_add_test(tc, negative_speed_and_wrapped_headings);
     tcase_add_test(tc, brute_force_10000);
     tcase_add_test(tc, bearing_rate_numeric);
+    tcase_add_loop_test(tc, moos248_degenerate, 0, N_CPA_MOOS248);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -804,6 +804,161 @@ START_TEST(glibc_draws_match_rand)
 }
 END_TEST
 
+/* 24.8's ledger keys vehicles by their reported name (ContactLedger::hasVName is a map
+ * lookup): a request from "INDIGO" when "indigo" reports is an unknown vehicle, refused with
+ * both run warnings and answered by nothing (brs_n1_uniform: "Unknown vehicle[INDIGO]") */
+START_TEST(request_name_exact)
+{
+    static const char *const cfg[] = { "node_push_dist", "default = nolimit", "beacon", "label=01, x=200, y=0", NULL };
+    brs_start(&B, cfg, 0);
+    rec r = { 0 };
+    kelp_field_sink sink = { &r, pub, wrn };
+    nrep(&B, NULL, "indigo", 150, 0, 1, &r);
+    int w = r.warns;
+    ck_assert_int_lt(kelp_beaconrange_mail(&B, "BRS_RANGE_REQUEST", true, "name=INDIGO", 2, &sink), 0);
+    ck_assert_int_eq(r.warns - w, 2);
+    ck_assert_str_eq(last_warn, "Bad Mail: BRS_RANGE_REQUEST");
+    ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT"), 0);
+    ck_assert_uint_eq(B.node[0].pings, 0);
+    breq(&B, "indigo", 3, &r);
+    ck_assert_int_eq(count(&r, "BRS_RANGE_REPORT"), 1);
+    /* two vehicles whose names differ in case are two vehicles */
+    nrep(&B, NULL, "Indigo", 160, 0, 4, &r);
+    ck_assert_uint_eq(B.nnodes, 2);
+
+    crs_start((const char *const[]){ NULL }, 0);
+    nrep(NULL, &C, "archie", 0, 0, 0, &r);
+    nrep(NULL, &C, "jackal", 10, 0, 0, &r);
+    w = r.warns;
+    ck_assert_int_lt(kelp_contactrange_mail(&C, "CRS_RANGE_REQUEST", true, "name=Archie", 1, &sink), 0);
+    ck_assert_int_eq(r.warns - w, 2);
+    ck_assert_uint_eq(C.accepted, 0);
+}
+END_TEST
+
+/* ping_wait at its boundary: 24.8 stamps a request with its previous iteration's time and its
+ * iterations run 0.2 % late, so a request scripted exactly ping_wait after the last paid one is
+ * honoured (KELP_RSENSE_LATE); one 30 ms short of 10 s (0.3 %) is still too frequent */
+START_TEST(ping_wait_boundary)
+{
+    static const char *const cfg[] = { "node_push_dist", "default = nolimit", "ping_wait", "default = 10",
+                                       "ping_payments", "upon_accept", "beacon", "label=01, x=200, y=0", NULL };
+    brs_start(&B, cfg, 0);
+    rec r = { 0 };
+    nrep(&B, NULL, "indigo", 150, 0, 1, &r);
+    breq(&B, "indigo", 5.25, &r);
+    breq(&B, "indigo", 15.2496, &r); /* 9.9996 s: kelp's on-time iteration just short of 10 */
+    ck_assert_uint_eq(B.accepted, 2);
+    breq(&B, "indigo", 25.2196, &r); /* 9.97 s */
+    ck_assert_uint_eq(B.accepted, 2);
+    ck_assert_str_eq(last_warn, "Failed Range Req from indigo: exceeds query freq.");
+
+    static const char *const c2[] = { "ping_wait", "archie = 12", NULL };
+    crs_start(c2, 0);
+    nrep(NULL, &C, "archie", 0, 0, 0, &r);
+    creq("archie", 5, &r);
+    creq("archie", 16.9997, &r);
+    ck_assert_uint_eq(C.accepted, 2);
+    creq("archie", 28.95, &r); /* 11.95 s */
+    ck_assert_uint_eq(C.accepted, 2);
+    ck_assert_uint_eq(C.denied, 1);
+}
+END_TEST
+
+/* 24.8's rn_algorithm takes "uniform" only: gaussian is an unhandled line and no noise
+ * (brs_n2_gauss, crs_n2_gauss); kelp keeps its gaussian unless RAND_MODE = glibc */
+START_TEST(gaussian_as_248)
+{
+    kelp_rangesense_common c;
+    kelp_diag d = { 0 };
+    kelp_rangesense_common_default(&c);
+    ck_assert_int_eq(kelp_rangesense_common_config(&c, "rn_algorithm", "gaussian,sigma=3", &d), 1);
+    ck_assert_int_eq(kelp_rangesense_common_config(&c, "rn_uniform_pct", "0.2", &d), 1);
+    ck_assert(!kelp_rangesense_common_as_248(&c)); /* kelp mode: its own gaussian */
+    ck_assert_int_eq(c.noise.alg, KELP_RSENSE_NOISE_GAUSSIAN);
+    ck_assert_int_eq(kelp_rangesense_common_config(&c, "RAND_MODE", "glibc", &d), 1);
+    ck_assert(kelp_rangesense_common_as_248(&c));
+    ck_assert_int_eq(c.noise.alg, KELP_RSENSE_NOISE_NONE);
+    /* glibc mode set first: any algorithm but "uniform" (24.8 compares the word exactly) is not
+     * a parameter (the app's unhandled-line warning) and a uniform line before it stays */
+    kelp_rangesense_common_default(&c);
+    ck_assert_int_eq(kelp_rangesense_common_config(&c, "RAND_MODE", "glibc", &d), 1);
+    ck_assert_int_eq(kelp_rangesense_common_config(&c, "rn_algorithm", " uniform ,pct=0.1", &d), 1);
+    ck_assert_int_eq(kelp_rangesense_common_config(&c, "rn_algorithm", "gaussian", &d), 0);
+    ck_assert_int_eq(kelp_rangesense_common_config(&c, "rn_algorithm", "Uniform,pct=0.3", &d), 0);
+    ck_assert_int_eq(kelp_rangesense_common_config(&c, "rn_algorithm", "none", &d), 0);
+    ck_assert(!kelp_rangesense_common_as_248(&c));
+    ck_assert_int_eq(c.noise.alg, KELP_RSENSE_NOISE_UNIFORM);
+    ck_assert(fabs(c.noise.pct - 0.1) < 1e-12);
+    /* 24.8 reads the block last line first: the first fraction in the file is the one it keeps
+     * (brs_n3_unsol: rn_algorithm = uniform,pct=0.05 then rn_uniform_pct = 0.25 drew with 0.05) */
+    ck_assert_int_eq(kelp_rangesense_common_config(&c, "rn_uniform_pct", "0.25", &d), 1);
+    ck_assert(fabs(c.noise.pct - 0.1) < 1e-12);
+    ck_assert_int_eq(kelp_rangesense_common_config(&c, "rn_algorithm", "uniform,pct=0.3", &d), 1);
+    ck_assert(fabs(c.noise.pct - 0.1) < 1e-12);
+    kelp_rangesense_common_default(&c); /* kelp mode: the last line wins */
+    ck_assert_int_eq(kelp_rangesense_common_config(&c, "rn_algorithm", "uniform,pct=0.05", &d), 1);
+    ck_assert_int_eq(kelp_rangesense_common_config(&c, "rn_uniform_pct", "0.25", &d), 1);
+    ck_assert(fabs(c.noise.pct - 0.25) < 1e-12);
+}
+END_TEST
+
+/* 24.8's ledger fixes types before the echo test reads them (ContactLedger::processNodeRecord):
+ * "uuv" is "auv", an unknown or absent type is "ship"; an auv or glider with no depth is
+ * refused (crs_n3_uniform: jackal, a uuv, never echoes for allow_echo_types = uuv,kayak,glider) */
+static void crs_raw(const char *report, rec *r, int want)
+{
+    kelp_field_sink sink = { r, pub, wrn };
+    if (want > 0) ck_assert_int_eq(kelp_contactrange_mail(&C, "NODE_REPORT", true, report, 1, &sink), 1);
+    else ck_assert_int_lt(kelp_contactrange_mail(&C, "NODE_REPORT", true, report, 1, &sink), 0);
+}
+
+START_TEST(ledger_types)
+{
+    static const char *const cfg[] = { "ping_wait", "0", "allow_echo_types", "uuv,ship", "display_pulses", "false", NULL };
+    crs_start(cfg, 0);
+    rec r = { 0 };
+    crs_raw("NAME=archie,TYPE=kayak,X=0,Y=0,SPD=0,HDG=0,DEP=0,TIME=1", &r, 1);
+    crs_raw("NAME=jackal,TYPE=uuv,X=10,Y=0,SPD=0,HDG=0,DEP=0,TIME=1", &r, 1);  /* auv: not listed */
+    crs_raw("NAME=boaty,TYPE=raft,X=20,Y=0,SPD=0,HDG=0,DEP=0,TIME=1", &r, 1);  /* ship */
+    crs_raw("NAME=plain,X=30,Y=0,SPD=0,HDG=0,DEP=0,TIME=1", &r, 1);            /* no type: ship */
+    int w = r.warns;
+    crs_raw("NAME=gilda,TYPE=glider,X=5,Y=5,SPD=0,HDG=0,TIME=1", &r, -1);
+    ck_assert_int_eq(r.warns - w, 1);
+    ck_assert_ptr_nonnull(strstr(last_warn, "underwater vehicle type with no depth reported"));
+    crs_raw("NAME=otto,TYPE=UUV,X=5,Y=5,SPD=0,HDG=0,TIME=1", &r, 1); /* "UUV" is not "uuv": kept, no depth needed */
+    creq("archie", 2, &r);
+    ck_assert_int_eq(count(&r, "CRS_RANGE_REPORT"), 3);
+    ck_assert_ptr_null(strstr(r.val[0], "jackal"));
+    for (int k = 0; k < 3; k++) ck_assert_ptr_null(strstr(nth(&r, "CRS_RANGE_REPORT", k), "target=jackal"));
+}
+END_TEST
+
+/* 24.8's BeaconBuoy compares a freq range's two texts, not its numbers: "6:14" is refused
+ * (brs_n3_unsol: default_beacon_freq = 6:14 left every beacon without one, "Unhandled config
+ * line"), "5:8" taken; in glibc mode kelp refuses as 24.8 does, a beacon's own freq silently */
+START_TEST(freq_text_order)
+{
+    kelp_beaconrange_cfg c;
+    kelp_diag d = { 0 };
+    kelp_beaconrange_cfg_default(&c);
+    ck_assert_int_eq(kelp_beaconrange_config(&c, "default_beacon_freq", "6:14", &d), 1); /* kelp mode: numbers */
+    ck_assert(c.dflt.freq_lo == 6 && c.dflt.freq_hi == 14);
+    kelp_beaconrange_cfg_default(&c);
+    ck_assert_int_eq(kelp_beaconrange_config(&c, "rand_mode", "glibc", &d), 1);
+    ck_assert_int_eq(kelp_beaconrange_config(&c, "default_beacon_freq", "6:14", &d), 0);
+    ck_assert(c.dflt.freq_lo < 0);
+    ck_assert_int_eq(kelp_beaconrange_config(&c, "default_beacon_freq", "5:8", &d), 1);
+    ck_assert_int_eq(kelp_beaconrange_config(&c, "beacon", "label=a, x=0, y=0, freq=20:100", &d), 1);
+    ck_assert_int_eq(kelp_beaconrange_config(&c, "beacon", "label=b, x=9, y=0, freq=12:30", &d), 1);
+    ck_assert_int_eq(kelp_beaconrange_init(&B, &c, 0, &d), 0);
+    int ia = kelp_beaconrange_find(&B, "a"), ib = kelp_beaconrange_find(&B, "b");
+    ck_assert(ia >= 0 && ib >= 0);
+    ck_assert(B.beacon[ia].freq_lo == 5 && B.beacon[ia].freq_hi == 8); /* kept the default */
+    ck_assert(B.beacon[ib].freq_lo == 12 && B.beacon[ib].freq_hi == 30);
+}
+END_TEST
+
 Suite *kelp_field_rangesensors_suite(void)
 {
     Suite *s = suite_create("field_rangesensors");
@@ -823,6 +978,11 @@ Suite *kelp_field_rangesensors_suite(void)
     tcase_add_test(tc, crs_reports_pulses);
     tcase_add_test(tc, noise_statistics);
     tcase_add_test(tc, glibc_draws_match_rand);
+    tcase_add_test(tc, request_name_exact);
+    tcase_add_test(tc, ping_wait_boundary);
+    tcase_add_test(tc, gaussian_as_248);
+    tcase_add_test(tc, ledger_types);
+    tcase_add_test(tc, freq_text_order);
     suite_add_tcase(s, tc);
     return s;
 }

@@ -13,6 +13,7 @@ typedef struct brs_app {
     kelp_beaconrange core;
     kelp_beaconrange_cfg cfg;
     kelp_field_sink sink;
+    char rn_line[192]; /* the last RN_ALGORITHM line, for 24.8's warning in glibc mode */
     char text[8192];
 } brs_app;
 
@@ -35,6 +36,7 @@ static void log_line(void *ctx, const char *line)
 static int param(void *ctx, const char *key, const char *val, kelp_diag *d)
 {
     brs_app *a = ctx;
+    if (kelp_util_strieq(key, "RN_ALGORITHM")) (void)kelp_util_snprintf(a->rn_line, sizeof a->rn_line, "%s=%s", key, val);
     int rc = kelp_beaconrange_config(&a->cfg, key, val, d);
     if (rc == 2) {
         kelp_app_config_warning(a->app, "%s = %s: %s", key, val, KELP_BRS_WARN_QUERY_RANGE);
@@ -51,8 +53,15 @@ static int startup(kelp_app *app, void *st)
     a->app = app;
     a->sink = (kelp_field_sink){ a, publish, warn };
     kelp_beaconrange_cfg_default(&a->cfg);
+    char mode[16]; /* RAND_MODE first: in glibc mode the noise lines are read as 24.8 reads them */
+    if (kelp_app_param_str(app, "RAND_MODE", mode, sizeof mode) == 1) {
+        kelp_diag dm = { 0 };
+        KELP_IGNORE(kelp_rangesense_common_config(&a->cfg.com, "RAND_MODE", mode, &dm)); /* foreach says why */
+    }
     int rc = kelp_app_param_foreach(app, param, a);
     if (rc < 0) return rc;
+    if (kelp_rangesense_common_as_248(&a->cfg.com)) /* RAND_MODE = glibc: 24.8 has no gaussian */
+        kelp_app_config_warning(app, "Unhandled config line: %s", a->rn_line);
     double lat0, lon0;
     if (kelp_app_global_double(app, "LatOrigin", &lat0) == 1 && kelp_app_global_double(app, "LongOrigin", &lon0) == 1)
         a->cfg.com.have_geo = kelp_geo_init(&a->cfg.com.geo, lat0, lon0) == 0;

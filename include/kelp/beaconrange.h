@@ -8,9 +8,11 @@
  * where a negative distance ("nolimit") always passes (24.8's pingTrans; its defaults: node push
  * and pull 100, beacon push and pull 50). A solicited reply goes to the requester only; an
  * unsolicited one (a beacon with a freq, more than its period after its last report) to every
- * vehicle in reach. A vehicle's ping-wait clock starts at 0 (24.8): its first request is in time.
+ * vehicle in reach. A vehicle's ping-wait clock starts at 0 (24.8): its first request is in time;
+ * one at ping_wait x (1 - KELP_RSENSE_LATE) after the last paid one is in time (24.8's late clock).
  * A request is "name=V" (24.8 reads name= only); an empty or unknown V is refused with 24.8's
- * run warnings ("Failed Range Request: Unknown vehicle[V]", "Bad Mail: BRS_RANGE_REQUEST").
+ * run warnings ("Failed Range Request: Unknown vehicle[V]", "Bad Mail: BRS_RANGE_REQUEST");
+ * V must be the name exactly as the vehicle reports it (24.8's ledger: "INDIGO" is unknown).
  * The ground-truth reports come only with noise (RN_ALGORITHM) and GROUND_TRUTH (true).
  *
  * Randomness: RAND_MODE = kelp (the default; kelp_rng seeded by SEED_RANDOM) or glibc
@@ -20,7 +22,8 @@
  * interval lo + (rand() % 1000) / 1000 * (hi - lo) (drawn when a beacon's freq is configured,
  * on the first iteration, when an unsolicited broadcast stamps the beacon, before its reports,
  * and after each solicited reply, also for a fixed freq); gaussian noise (kelp's RN_ALGORITHM
- * = gaussian) MOOSWhiteNoise's polar method with its cached second value. RN_UNIFORM_PCT alone
+ * = gaussian) MOOSWhiteNoise's polar method with its cached second value, except in glibc mode,
+ * which drops a gaussian RN_ALGORITHM as 24.8 does (kelp_rangesense_common_as_248). RN_UNIFORM_PCT alone
  * sets the fraction, not the algorithm (24.8). Beacons go in 24.8's order by default (its
  * mission reader hands the block over last line first: BEACON_ORDER = reverse).
  */

@@ -7,24 +7,32 @@
  *  - A negative speed is taken as 0 (a vessel is not driven astern by a report).
  *  - Non-finite input: KELP_ERR_ARG and a zeroed result.
  *  - No relative motion (both still, or identical velocities): cpa = range, tcpa = 0, roc = 0,
- *    bearing_rate = 0, nobody crosses or passes anybody.
+ *    bearing_rate = 0 (crossings and passings: see below).
  *  - Opening: cpa = range, tcpa = 0 (the closest point is now).
  *  - Horizon tol > 0: the CPA is sought in [0, tol]; tol <= 0 means no limit. Crossings and
- *    passings are not limited by the horizon (they describe the two legs as drawn).
+ *    passings are not limited by the horizon.
  *  - Contact on ownship (range 0): cpa = 0, tcpa = 0, roc = 0, bearing_rate = 0, bearings 0,
- *    fore/aft/port/starboard all false, no crossing and no passing.
- *  - Fore/aft and port/starboard come from the other vessel's relative bearing: abeam (90 or
- *    270) is both fore and aft, on the bow-stern line (0 or 180) is both port and starboard.
- *  - "os crosses cn's bow/stern": ownship's track relative to the contact meets the line of
- *    the contact's heading at a time t >= 0 (ownship may be on it now and moving across),
- *    ahead of the contact (bow) or behind it (stern); the distance is how far ahead/behind.
- *    A track that meets the contact itself (head-on, collision course) crosses the bow at
- *    distance 0. A track parallel to the contact's heading line never crosses.
- *  - "os passes cn port/starboard": ownship's relative track comes abeam of the contact (the
- *    line square to the contact's heading through it) at t >= 0 on its port or starboard
- *    side; the distance is the lateral offset then. Meeting the contact itself (offset 0)
- *    passes neither side. A track parallel to the beam line never passes.
- *  - The cn_* versions are the same with the roles of the two vessels swapped.
+ *    fore/aft/port/starboard all false.
+ *  - Sides, crossings and passings answer as MOOS-IvP 24.8's CPAEngine (lib_geometry) does, in
+ *    every degenerate case (test/cpa_moos248.inc holds 400 of its answers). "A about B" (os_*
+ *    is ownship about the contact, cn_* the contact about ownship) is 24.8's engine built on B
+ *    with A as ownship, evaluated at A's heading and speed:
+ *    - A's side of B from A's bearing relative to B's heading r (exact on the axes): fore
+ *      unless 90 < r < 270, aft if 90 <= r <= 270, port if r == 0 or r >= 180, starboard if
+ *      r <= 180 (on the bow-stern line both port and starboard, abeam both fore and aft).
+ *    - A's heading counts in whole degrees (truncated) for crossings and passings.
+ *    - crosses bow / stern: A on B's stern line crosses both; else A must move (speed > 0)
+ *      towards B's heading line, and the sign of the bearing rate picks bow or stern (a zero
+ *      rate is both). The distance is where A's track meets the line, ahead of (bow) or behind
+ *      (stern) B, at A's speed towards the line; A on B's bow (stern) line: the range is the
+ *      bow (stern) distance. Flag and distance are separate answers (24.8's two functions):
+ *      one may say "no" while the other gives a distance.
+ *    - passes port / starboard: A passes if it is abeam of B or on B, or closes B's beam along
+ *      B's heading; on B's port (starboard) beam it passes port (starboard) at the range;
+ *      otherwise the side is from the sign of the bearing rate (aft of B: positive is port;
+ *      fore of B: negative is port), starboard if not port. On B: neither.
+ *    - A distance is 0 where the event does not happen.
+ *    A negative speed is taken as 0 here too (24.8 takes a negative ownship speed as given).
  *  - roc (rate of closure) = -d(range)/dt now, positive when closing (m/s).
  *  - bearing_rate = d(abs_bearing)/dt now, degrees per second, positive clockwise.
  *  - rel_bearing: bearing of the contact from ownship relative to ownship's heading;

@@ -29,6 +29,15 @@ extern "C" {
 #endif
 #define KELP_RSENSE_NAME KELP_NODEREPORT_MAX_FIELD
 #define KELP_RSENSE_LEDGER_WHO 4    /**< names in the AppCast's ledger line (24.8's getSummary) */
+/** A request is in time once ping_wait x (1 - KELP_RSENSE_LATE) has passed since the last paid
+ *  one. 24.8 stamps a request with the MOOS time of its previous iteration, and its iterations
+ *  run about 0.5 ms over their 250 ms period (AppTick 4: 0.2 %), so its clock reads ping_wait
+ *  when an on-time clock reads 0.2 % less: a request scripted exactly ping_wait after the last
+ *  paid one is honoured (brs_d1_nonoise: 10.02 s apart; crs_n1_uniform: 12.01-12.02 s). kelp's
+ *  runner iterates on time, give or take the host's scheduling. What 24.8 does when its own
+ *  loop stalls a whole period (crs_n1_uniform at 37 s, brs_d1_nonoise at 115 s: a request then
+ *  comes 0.25 s short and is refused) no rule can foresee. */
+#define KELP_RSENSE_LATE 0.002
 
 typedef enum kelp_rangesense_noise_alg {
     KELP_RSENSE_NOISE_NONE = 0,
@@ -68,7 +77,7 @@ typedef struct kelp_rangesense_noise {
 } kelp_rangesense_noise;
 
 typedef struct kelp_rangesense_node {
-    char name[KELP_RSENSE_NAME]; /**< as it arrived (compared case-insensitively) */
+    char name[KELP_RSENSE_NAME]; /**< as it arrived (compared exactly, as 24.8's ledger) */
     char type[KELP_RSENSE_NAME];
     double x, y, hdg;
     double clock;                /**< ping-wait clock: the last paid request (valid once pinged) */
@@ -91,6 +100,10 @@ typedef struct kelp_rangesense_common {
     bool ground_truth;           /**< GROUND_TRUTH (false) */
     bool verbose;                /**< VERBOSE (false) */
     bool glibc;                  /**< RAND_MODE = glibc (default kelp) */
+    kelp_rangesense_noise_alg alg248; /**< the algorithm 24.8 would keep: only uniform is one of its */
+    bool pct248;                 /**< glibc mode: the uniform fraction was given (24.8 reads the block
+                                      last line first, so the first of RN_UNIFORM_PCT and
+                                      RN_ALGORITHM's pct= in the file is the one it keeps) */
     uint64_t seed;               /**< SEED_RANDOM (1) */
     kelp_geo geo;                /**< datum for reports with only LAT,LON */
     bool have_geo;
@@ -99,6 +112,12 @@ typedef struct kelp_rangesense_common {
 } kelp_rangesense_common;
 
 void kelp_rangesense_common_default(kelp_rangesense_common *c);
+/** RAND_MODE = glibc runs as MOOS-IvP 24.8, whose rn_algorithm knows only "uniform": once the
+ *  mode is set, kelp_rangesense_common_config returns 0 (not a parameter: the app's unhandled
+ *  line warning, as 24.8's) for any other RN_ALGORITHM, so the noise stays what 24.8 keeps. A
+ *  gaussian line read before RAND_MODE is dropped here (uniform if a uniform line was given,
+ *  else none): call once the block is read. @return true when it dropped one (the app warns). */
+bool kelp_rangesense_common_as_248(kelp_rangesense_common *c);
 /** PING_WAIT, REPORT_VARS, RN_ALGORITHM, RN_UNIFORM_PCT, RN_GAUSSIAN_SIGMA, GROUND_TRUTH,
  *  VERBOSE, RAND_MODE, SEED_RANDOM (v already trimmed). @return 1, 0 not one, <0 (reason in d). */
 KELP_MUST_CHECK int kelp_rangesense_common_config(kelp_rangesense_common *c, const char *key, const char *v, kelp_diag *d);

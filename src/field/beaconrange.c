@@ -33,6 +33,22 @@ void kelp_beaconrange_cfg_default(kelp_beaconrange_cfg *cfg)
     cfg->payments = KELP_BRS_UPON_RESPONSE; /* 24.8's default */
 }
 
+/* 24.8's BeaconBuoy refuses "<a>:<b>" when the text a sorts after the text b (it compares the two
+ * strings, not the numbers: "6:14" is refused, "5:8" taken); blanks around each are trimmed */
+static bool freq_text_refused(const char *v, size_t n)
+{
+    const char *c = memchr(v, ':', n);
+    if (!c) return false;
+    size_t la = (size_t)(c - v), lb = n - la - 1;
+    const char *a = v, *b = c + 1;
+    while (la && (*a == ' ' || *a == '\t')) a++, la--;
+    while (la && (a[la - 1] == ' ' || a[la - 1] == '\t')) la--;
+    while (lb && (*b == ' ' || *b == '\t')) b++, lb--;
+    while (lb && (b[lb - 1] == ' ' || b[lb - 1] == '\t')) lb--;
+    int cmp = memcmp(a, b, la < lb ? la : lb);
+    return cmp > 0 || (cmp == 0 && la > lb);
+}
+
 /* "never", "<s>" or "<a>:<b>"; a period <= 0 is never (A84) */
 static int parse_freq(const char *v, size_t n, double *lo, double *hi)
 {
@@ -76,7 +92,7 @@ static int put_text(char *dst, size_t cap, const char *v, size_t n)
 
 /* one beacon property (BEACON pairs and DEFAULT_BEACON_*). @return 1 taken, 2 taken with a
  * warning, 0 unknown key, <0 bad value */
-static int beacon_prop(kelp_brs_beacon *b, const char *k, size_t kl, const char *v, size_t vl, bool *have_xy,
+static int beacon_prop(kelp_brs_beacon *b, const char *k, size_t kl, const char *v, size_t vl, bool *have_xy, bool as248,
                        kelp_diag *d)
 {
     double dv;
@@ -87,6 +103,7 @@ static int beacon_prop(kelp_brs_beacon *b, const char *k, size_t kl, const char 
         return 1;
     }
     if (kelp_util_strieq_n(k, kl, "freq")) {
+        if (as248 && freq_text_refused(v, vl)) return 1; /* 24.8 keeps what it had, silently */
         if (parse_freq(v, vl, &b->freq_lo, &b->freq_hi) < 0)
             return kelp_fail(d, KELP_ERR_PARSE, "freq must be never, <secs> or <a>:<b> with 0 <= a <= b");
         b->freq_set = true;
@@ -125,7 +142,7 @@ static int beacon_prop(kelp_brs_beacon *b, const char *k, size_t kl, const char 
 }
 
 /* parse a BEACON line onto b (a copy of the defaults). @return 1, 2 (warning), <0 */
-static int parse_beacon(kelp_brs_beacon *b, const char *s, kelp_diag *d)
+static int parse_beacon(kelp_brs_beacon *b, const char *s, bool as248, kelp_diag *d)
 {
     size_t pos = 0;
     const char *k, *v;
@@ -135,7 +152,7 @@ static int parse_beacon(kelp_brs_beacon *b, const char *s, kelp_diag *d)
     b->label[0] = 0;
     b->freq_set = false;
     while ((rc = kelp_kv_next(s, ',', &pos, &k, &kl, &v, &vl)) == 1) {
-        int r = beacon_prop(b, k, kl, v, vl, have_xy, d);
+        int r = beacon_prop(b, k, kl, v, vl, have_xy, as248, d);
         if (r < 0) return r;
         if (r == 0) return kelp_fail(d, KELP_ERR_PARSE, "unknown beacon property (x, y, label, freq, shape, width, color, report_range, "
                                   "push_dist, pull_dist)");
@@ -155,7 +172,7 @@ int kelp_beaconrange_config(kelp_beaconrange_cfg *cfg, const char *key, const ch
     bool have_xy[2];
     if (kelp_util_strieq_n(key, kl, "BEACON")) {
         kelp_brs_beacon t = cfg->dflt;
-        int rc = parse_beacon(&t, v, d);
+        int rc = parse_beacon(&t, v, cfg->com.glibc, d);
         if (rc < 0) return rc;
         if (cfg->nspec >= KELP_BRS_MAX_BEACONS) return kelp_fail(d, KELP_ERR_NOSPACE, "too many BEACON lines");
         memcpy(cfg->spec[cfg->nspec++], v, n + 1);
@@ -170,7 +187,9 @@ int kelp_beaconrange_config(kelp_beaconrange_cfg *cfg, const char *key, const ch
     };
     for (size_t i = 0; i < sizeof dflt_keys / sizeof dflt_keys[0]; i++)
         if (kelp_util_strieq_n(key, kl, dflt_keys[i][0])) {
-            int rc = beacon_prop(&cfg->dflt, dflt_keys[i][1], strlen(dflt_keys[i][1]), v, n, have_xy, d);
+            /* glibc mode (24.8's behaviour): a refused default freq is an unhandled line */
+            if (cfg->com.glibc && i == 0 && freq_text_refused(v, n)) return 0;
+            int rc = beacon_prop(&cfg->dflt, dflt_keys[i][1], strlen(dflt_keys[i][1]), v, n, have_xy, false, d);
             return rc < 0 ? rc : 1;
         }
     if (kelp_util_strieq_n(key, kl, "REACH_DISTANCE") || kelp_util_strieq_n(key, kl, "NODE_PUSH_DIST"))
@@ -213,7 +232,7 @@ int kelp_beaconrange_init(kelp_beaconrange *b, const kelp_beaconrange_cfg *cfg, 
     if (cfg->dflt.freq_set && cfg->dflt.freq_lo >= 0) (void)kelp_rangesense_interval(&b->rand, 0, 1);
     for (unsigned i = 0; i < cfg->nspec; i++) {
         kelp_brs_beacon t = cfg->dflt;
-        if (parse_beacon(&t, cfg->spec[i], d) < 0) return KELP_ERR_PARSE;
+        if (parse_beacon(&t, cfg->spec[i], cfg->com.glibc, d) < 0) return KELP_ERR_PARSE;
         if (t.freq_set && t.freq_lo >= 0) (void)kelp_rangesense_interval(&b->rand, 0, 1);
         t.ts = 0;
         if (!t.label[0]) kelp_util_snprintf(t.label, sizeof t.label, "%u", b->nbeacons); /* A42: 0-based index */
@@ -293,7 +312,7 @@ static int request(kelp_beaconrange *b, const char *s, kelp_time now, const kelp
     kelp_rangesense_node *v = &b->node[i];
     v->pings++;
     double elapsed = now - v->clock;
-    bool allowed = !v->pinged || elapsed >= kelp_rangesense_vmap_get(&b->cfg.com.ping_wait, v->name);
+    bool allowed = rs_in_time(v, now, kelp_rangesense_vmap_get(&b->cfg.com.ping_wait, v->name));
     if (b->cfg.payments == KELP_BRS_UPON_REQUEST) v->clock = now, v->pinged = true;
     if (!allowed) {
         v->denied++;

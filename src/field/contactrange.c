@@ -175,7 +175,7 @@ static int request(kelp_contactrange *c, const char *s, kelp_time now, const kel
     kelp_rangesense_node *r = &c->node[ri];
     r->pings++;
     double elapsed = now - r->clock;
-    if (r->pinged && elapsed < kelp_rangesense_vmap_get(&c->cfg.com.ping_wait, r->name)) { /* ignored: no reset */
+    if (!rs_in_time(r, now, kelp_rangesense_vmap_get(&c->cfg.com.ping_wait, r->name))) { /* ignored: no reset */
         char e[64];
         size_t n = 0;
         (void)field_put_fixed(e, sizeof e, &n, elapsed, 2, false);

@@ -111,6 +111,13 @@ void kelp_rangesense_common_default(kelp_rangesense_common *c)
     c->seed = 1;
 }
 
+bool kelp_rangesense_common_as_248(kelp_rangesense_common *c)
+{
+    if (!c->glibc || c->noise.alg != KELP_RSENSE_NOISE_GAUSSIAN) return false;
+    c->noise.alg = c->alg248;
+    return true;
+}
+
 /* one pct= (clipped to [0,1] as 24.8 does) or sigma= (at least 0) value into t */
 static int noise_value(kelp_rangesense_noise *t, bool pct, const char *v, size_t vl, kelp_diag *d)
 {
@@ -119,6 +126,17 @@ static int noise_value(kelp_rangesense_noise *t, bool pct, const char *v, size_t
     if (pct) t->pct = dv < 0 ? 0 : dv > 1 ? 1 : dv;
     else t->sigma = dv < 0 ? 0 : dv;
     return 1;
+}
+
+/* the algorithm word of an RN_ALGORITHM value (before the first ',', blanks trimmed) is exactly
+ * "uniform": the only one 24.8 takes (case-sensitive, as its comparison) */
+static bool word_is_uniform(const char *v, size_t n)
+{
+    const char *comma = memchr(v, ',', n);
+    size_t e = comma ? (size_t)(comma - v) : n, b = 0;
+    while (b < e && (v[b] == ' ' || v[b] == '\t')) b++;
+    while (e > b && (v[e - 1] == ' ' || v[e - 1] == '\t')) e--;
+    return e - b == 7 && memcmp(v + b, "uniform", 7) == 0;
 }
 
 int kelp_rangesense_common_config(kelp_rangesense_common *c, const char *key, const char *v, kelp_diag *d)
@@ -132,13 +150,27 @@ int kelp_rangesense_common_config(kelp_rangesense_common *c, const char *key, co
         else return kelp_fail(d, KELP_ERR_PARSE, "must be short, long or both");
         return 1;
     }
-    if (kelp_util_strieq_n(key, kl, "RN_ALGORITHM")) return kelp_rangesense_noise_set(&c->noise, v, d);
+    if (kelp_util_strieq_n(key, kl, "RN_ALGORITHM")) {
+        if (c->glibc && !word_is_uniform(v, n)) return 0; /* 24.8's rn_algorithm: an unhandled line */
+        double pct = c->noise.pct;
+        int rc = kelp_rangesense_noise_set(&c->noise, v, d);
+        if (rc == 1 && c->noise.alg == KELP_RSENSE_NOISE_UNIFORM) c->alg248 = KELP_RSENSE_NOISE_UNIFORM;
+        if (rc == 1 && c->glibc && strstr(v, "pct=")) { /* 24.8 reads the block last line first */
+            if (c->pct248) c->noise.pct = pct;
+            c->pct248 = true;
+        }
+        return rc;
+    }
     if (kelp_util_strieq_n(key, kl, "RN_UNIFORM_PCT") || kelp_util_strieq_n(key, kl, "RN_GAUSSIAN_SIGMA")) {
         /* 24.8 sets the value only: the noise is on only with RN_ALGORITHM */
         bool uni = kelp_util_strieq_n(key, kl, "RN_UNIFORM_PCT");
         kelp_rangesense_noise t = c->noise;
         int rc = noise_value(&t, uni, v, n, d);
         if (rc < 0) return rc;
+        if (uni && c->glibc) { /* 24.8 reads the block last line first: the first fraction stays */
+            if (c->pct248) return 1;
+            c->pct248 = true;
+        }
         c->noise = t;
         return 1;
     }
@@ -281,11 +313,33 @@ double kelp_rangesense_unit(kelp_rangesense_rand *r)
 
 /* ------------------------------------------------------------------ vehicles */
 
+/* 24.8's ledger keys vehicles by their name as reported: "INDIGO" is not "indigo" */
 int rs_find(const kelp_rangesense_node *nodes, unsigned n, const char *name)
 {
     for (unsigned i = 0; i < n; i++)
-        if (kelp_util_strieq(nodes[i].name, name)) return (int)i;
+        if (strcmp(nodes[i].name, name) == 0) return (int)i;
     return -1;
+}
+
+bool rs_in_time(const kelp_rangesense_node *v, double now, double wait)
+{
+    return !v->pinged || now - v->clock >= wait * (1 - KELP_RSENSE_LATE);
+}
+
+/* The vehicle types 24.8's ledger knows (MBUtils' isKnownVehicleType, compared lower-case). */
+static const char *const KNOWN_TYPES[] = { "auv",   "kayak", "uuv",    "usv",   "glider",  "asv",  "ship",      "mokai",
+                                           "longship", "buoy", "heron", "swimmer", "cray", "bcray", "crayx", "wamv",
+                                           "bcrayx", "smr",   "smrx",   "skyw",  "skywalker", "quad", "quadcopter" };
+
+/* 24.8's ledger fixes a report's type before anyone reads it: "uuv" is "auv" and a type it does
+ * not know (an absent one too) is "ship"; a known type keeps its spelling */
+static const char *ledger_type(const kelp_nodereport *r)
+{
+    const char *t = (r->fields & KELP_NR_TYPE) ? r->type : "";
+    if (strcmp(t, "uuv") == 0) return "auv";
+    for (size_t k = 0; k < sizeof KNOWN_TYPES / sizeof KNOWN_TYPES[0]; k++)
+        if (kelp_util_strieq(t, KNOWN_TYPES[k])) return t;
+    return "ship";
 }
 
 int rs_node_report(kelp_rangesense_node *nodes, unsigned *n, const char *s, const kelp_geo *geo, bool have_geo,
@@ -300,6 +354,9 @@ int rs_node_report(kelp_rangesense_node *nodes, unsigned *n, const char *s, cons
             return kelp_fail(d, KELP_ERR_PARSE, "no X,Y (and no datum for LAT,LON)");
         }
     }
+    const char *type = ledger_type(&r);
+    if ((strcmp(type, "auv") == 0 || strcmp(type, "glider") == 0) && !(r.fields & KELP_NR_DEPTH))
+        return kelp_fail(d, KELP_ERR_PARSE, "underwater vehicle type with no depth reported"); /* 24.8's words */
     int i = rs_find(nodes, *n, r.name);
     if (ignore_group && *ignore_group && (r.fields & KELP_NR_GROUP) && kelp_util_strieq(r.group, ignore_group)) {
         if (i >= 0) { /* 24.8 ignore_group: the vehicle is forgotten */
@@ -326,7 +383,7 @@ int rs_node_report(kelp_rangesense_node *nodes, unsigned *n, const char *s, cons
     v->x = r.x;
     v->y = r.y;
     if (r.fields & KELP_NR_HDG) v->hdg = r.hdg;
-    if (r.fields & KELP_NR_TYPE) rs_copy(v->type, sizeof v->type, r.type, strlen(r.type));
+    rs_copy(v->type, sizeof v->type, type, strlen(type));
     v->reports++;
     *idx = i;
     return 1;

@@ -7,8 +7,10 @@
 int rs_value(const char *val, char *v, size_t cap, kelp_diag *d);
 /** A negative push or pull is "nolimit": always heard; else push + pull >= d. */
 bool rs_trans(double push, double pull, double d);
-/** Index of a vehicle (case-insensitive), or -1. */
+/** Index of a vehicle (its exact name, as 24.8's ledger), or -1. */
 int rs_find(const kelp_rangesense_node *nodes, unsigned n, const char *name);
+/* a request from v at now is in time for ping_wait `wait` (KELP_RSENSE_LATE) */
+bool rs_in_time(const kelp_rangesense_node *v, double now, double wait);
 /** Apply a node report: 1 stored (*idx; *first on the first report of that vehicle), 0 when
  *  its GROUP is `ignore_group` (the vehicle is dropped), <0 (reason in d). Vehicles stay sorted
  *  by name; a new vehicle has not pinged (24.8's clock at 0). */

@@ -55,9 +55,6 @@ static void velocity(double hdg, double spd, double *vx, double *vy)
     *vy = v * c;
 }
 
-/* rounding noise: a component this small relative to its vector's length counts as 0 */
-#define CPA_REL_EPS 1e-9
-
 /* true bearing of vector (dx, dy) in [0,360); 0 for the null vector */
 static double bearing(double dx, double dy)
 {
@@ -70,66 +67,161 @@ static bool vessel_ok(const kelp_cpa_vessel *v)
     return v && isfinite(v->x) && isfinite(v->y) && isfinite(v->hdg) && isfinite(v->spd);
 }
 
-/* How mover a (relative position r = a - b, relative velocity w = va - vb) meets the
- * reference vessel b of heading hb: crossings of b's heading line, passings of its beam. */
+/* ---- sides, crossings and passings as MOOS-IvP 24.8 decides them ----
+ * 24.8 (lib_geometry/CPAEngine.cpp) decides these from exact comparisons of bearings and of
+ * signs, so a degenerate encounter (a vessel on the other's bow-stern line or beam, still
+ * vessels, parallel tracks) is answered by how its arithmetic rounds. The quantities below are
+ * computed the same way so that every tie falls the same side: bearings from an arctangent of
+ * the absolute offsets (exact on the axes), angles wrapped by adding or removing whole turns,
+ * degrees to radians with a 12-digit pi, the mover's heading taken in whole degrees (24.8
+ * tabulates the mover's cosines per degree), the range from the expanded sum of squares. */
+
+static const double PI_12 = 3.14159265359;          /* 24.8's pi for degrees to radians */
+static const double PI_FULL = 3.14159265358979323846; /* and for radians to degrees */
+
+/* [0,360) by whole turns (fmod is exact; a tiny negative angle gives 360, as 24.8's does) */
+static double turn360(double a)
+{
+    a = fmod(a, 360.0);
+    if (a < 0) a += 360.0;
+    return a;
+}
+
+static double turn180(double a)
+{
+    a = turn360(a);
+    return a > 180 ? a - 360.0 : a;
+}
+
+/* cosine of the angle between directions a and b (degrees, within a turn of each other),
+ * exactly 0 when they are square */
+static double cos_apart(double a, double b)
+{
+    double d = a - b;
+    if (d > 180) d -= 360;
+    else if (d < -180) d += 360;
+    d = fabs(d);
+    return d == 90 ? 0 : cos(d / 180.0 * PI_12);
+}
+
+/* bearing of (xb, yb) from (xa, ya): exact on the axes, else from the arctangent of the
+ * absolute offsets measured from east (90) or west (270) */
+static double bearing_from(double xa, double ya, double xb, double yb)
+{
+    if (xa == xb && ya == yb) return 0;
+    if (ya == yb) return xa < xb ? 90.0 : 270.0;
+    if (xa == xb) return ya < yb ? 0.0 : 180.0;
+    double deg = atan(fabs(yb - ya) / fabs(xb - xa)) / PI_FULL * 180;
+    double b;
+    if (xb > xa) b = yb > ya ? -deg + 90 : deg + 90;
+    else b = yb > ya ? deg + 270 : -deg + 270;
+    return turn360(b);
+}
+
+/* A mover (a) about a reference vessel (b): what does not depend on the mover's velocity. */
 typedef struct encounter {
-    bool bow, stern, port, star;
-    double bow_d, stern_d, port_d, star_d;
+    double range, gam, eps;   /* range; its parts square to and along b's heading line */
+    double hb, vb;            /* b's heading [0,360) and speed (>= 0) */
+    double tangent;           /* direction square to the line of sight (bearing of b + 90) */
+    double vb_tangent;        /* b's speed along it */
+    double per_metre;         /* degrees of bearing per metre of tangential travel */
+    double theta_gam;         /* the direction from a's side of b's heading line towards it */
+    bool on, bowline, sternline, beam, fore, aft, port, star;
 } encounter;
 
-static void meet(double rx, double ry, double wx, double wy, double hb, encounter *e)
+static void encounter_init(encounter *e, const kelp_cpa_vessel *b, double ax, double ay)
 {
-    memset(e, 0, sizeof *e);
-    if (rx == 0 && ry == 0) return;
-    double fx, fy;
-    sincosd(hb, &fx, &fy);
-    double sx = fy, sy = -fx; /* forward and starboard units */
-    double ws = wx * sx + wy * sy, wf = wx * fx + wy * fy;
-    double weps = CPA_REL_EPS * hypot(wx, wy), reps = CPA_REL_EPS * hypot(rx, ry);
-    double ww = wx * wx + wy * wy;
-    if (ww > 0) { /* a collision course (head-on included) crosses the bow at 0, passes neither */
-        double tc = -(rx * wx + ry * wy) / ww;
-        if (tc >= 0 && hypot(rx + wx * tc, ry + wy * tc) <= reps) {
-            e->bow = true;
-            return;
-        }
-    }
-    if (fabs(ws) > weps) {
-        double t = -(rx * sx + ry * sy) / ws;
-        if (t >= 0) {
-            double a = (rx + wx * t) * fx + (ry + wy * t) * fy;
-            if (fabs(a) <= reps) a = 0;
-            if (a >= 0) e->bow = true, e->bow_d = a;
-            else e->stern = true, e->stern_d = -a;
-        }
-    }
-    if (fabs(wf) > weps) {
-        double t = -(rx * fx + ry * fy) / wf;
-        if (t >= 0) {
-            double b = (rx + wx * t) * sx + (ry + wy * t) * sy;
-            if (fabs(b) <= reps) b = 0;
-            if (b > 0) e->star = true, e->star_d = b;
-            else if (b < 0) e->port = true, e->port_d = -b;
-        }
+    e->hb = turn360(b->hdg);
+    e->vb = b->spd > 0 ? b->spd : 0;
+    double from_b = bearing_from(b->x, b->y, ax, ay);
+    double rel = turn360(from_b - e->hb); /* a's bearing relative to b's heading */
+    e->tangent = turn360(bearing_from(ax, ay, b->x, b->y) + 90);
+    double d = fabs(turn180(e->hb - e->tangent));
+    e->vb_tangent = d != 90 ? cos(d / 180.0 * PI_12) * e->vb : 0;
+    double k0 = ay * ay;
+    k0 += ax * ax;
+    k0 += (-2.0) * ay * b->y;
+    k0 += (-2.0) * ax * b->x;
+    k0 += b->y * b->y;
+    k0 += b->x * b->x;
+    e->range = sqrt(k0);
+    e->per_metre = 360 / (2 * e->range * PI_12);
+    e->on = ax == b->x && ay == b->y;
+    e->bowline = from_b == turn360(e->hb);
+    e->sternline = !e->bowline && from_b == turn360(e->hb - 180);
+    e->fore = !e->on && !(rel > 90 && rel < 270);
+    e->aft = !e->on && rel >= 90 && rel <= 270;
+    e->port = !e->on && (rel == 0 || (rel >= 180 && rel < 360));
+    e->star = !e->on && rel >= 0 && rel <= 180;
+    e->beam = e->on || (e->fore && e->aft);
+    e->theta_gam = e->port ? turn360(e->hb + 90) : turn360(e->hb - 90);
+    double r = rel > 180 ? rel - 360 : rel;
+    r = fabs(r);
+    if (r == 0 || r == 180) {
+        e->gam = 0;
+        e->eps = e->range;
+    } else {
+        e->gam = e->range * cos((90 - r) / 180.0 * PI_12);
+        e->eps = sqrt(e->range * e->range - e->gam * e->gam);
     }
 }
 
-/* side of the vessel at relative position (rx, ry) from a vessel of heading h */
-static void sides(double rx, double ry, double h, bool *fore, bool *aft, bool *port, bool *star)
+/* a distance as reported: the distance, 0 when it does not happen */
+static double reported(double x) { return x > 0 ? x : 0; }
+
+/* How the mover, heading h at speed v, meets b. */
+static void encounter_meet(const encounter *e, double h, double v, bool *bow, double *bow_d, bool *stern,
+                           double *stern_d, bool *port, double *port_d, bool *star, double *star_d)
 {
-    if (rx == 0 && ry == 0) {
-        *fore = *aft = *port = *star = false;
-        return;
+    v = v > 0 ? v : 0;
+    double hd = floor(turn360(h));
+    if (hd >= 360) hd = 0;
+    double g = cos_apart(hd, e->theta_gam) * v;    /* speed towards b's heading line */
+    double c = cos_apart(hd, e->hb) * v;           /* speed along b's heading */
+    double rate = (cos_apart(hd, e->tangent) * -v + e->vb_tangent) * e->per_metre; /* bearing rate */
+
+    /* crossing b's heading line: the side it crosses from the sign of the bearing rate */
+    *bow = e->sternline || (v > 0 && g > 0 && (e->port ? rate >= 0 : rate <= 0));
+    *stern = e->sternline || (v > 0 && g > 0 && (e->port ? rate <= 0 : rate >= 0));
+    /* where: from the time to reach the line at the speed towards it */
+    double xb = -1, xs = -1;
+    if (e->bowline) xb = e->range;
+    else if (!e->sternline && !e->on && g > 0) {
+        double t = e->gam / g, b_ahead = t * e->vb, a_ahead = t * c;
+        xb = a_ahead - b_ahead;
+        xb = e->fore ? xb + e->eps : xb - e->eps;
     }
-    double sh, ch, eps = CPA_REL_EPS * hypot(rx, ry);
-    sincosd(h, &sh, &ch);
-    double along = rx * sh + ry * ch, across = rx * ch - ry * sh;
-    if (fabs(along) <= eps) along = 0;
-    if (fabs(across) <= eps) across = 0;
-    *fore = along >= 0;
-    *aft = along <= 0;
-    *star = across >= 0;
-    *port = across <= 0;
+    if (e->sternline) xs = e->range;
+    else if (!e->bowline && !e->on && g > 0) {
+        double t = e->gam / g, b_ahead = t * e->vb, a_ahead = t * c;
+        xs = b_ahead;
+        xs = e->fore ? xs - e->eps : xs + e->eps;
+        xs -= a_ahead;
+    }
+    *bow_d = reported(xb);
+    *stern_d = reported(xs);
+
+    /* passing b's beam: the closing speed along b's heading line */
+    double closing = e->aft ? c - e->vb : e->vb - c;
+    bool passes = e->beam || closing > 0;
+    bool pp = false;
+    if (!e->on && passes) pp = e->fore && e->aft ? e->port : e->aft ? rate > 0 : rate < 0;
+    *port = pp;
+    *star = !e->on && passes && !pp;
+    double xp = -1, xt = -1;
+    if (e->on) {
+    } else if (e->beam) {
+        if (e->port) xp = e->range;
+        else if (e->star) xt = e->range;
+    } else if (closing > 0) {
+        double across = e->eps / closing * g; /* travel towards b's line until abeam */
+        if (e->port && across <= e->gam) xp = e->gam - across;
+        if (e->star && across > e->gam) xp = across - e->gam;
+        if (e->star && across <= e->gam) xt = e->gam - across;
+        if (e->port && across > e->gam) xt = across - e->gam;
+    }
+    *port_d = reported(xp);
+    *star_d = reported(xt);
 }
 
 int kelp_cpa_eval(const kelp_cpa_vessel *cn, const kelp_cpa_vessel *os, double tol, kelp_cpa_result *out)
@@ -154,19 +246,17 @@ int kelp_cpa_eval(const kelp_cpa_vessel *cn, const kelp_cpa_vessel *os, double t
     }
     out->roc += 0.0; /* -0 + 0 is +0: no "-0" printed */
     out->bearing_rate += 0.0;
-    sides(dx, dy, os->hdg, &out->cn_fore_of_os, &out->cn_aft_of_os, &out->cn_port_of_os, &out->cn_star_of_os);
-    sides(-dx, -dy, cn->hdg, &out->os_fore_of_cn, &out->os_aft_of_cn, &out->os_port_of_cn, &out->os_star_of_cn);
     encounter e;
-    meet(-dx, -dy, -wx, -wy, cn->hdg, &e); /* ownship about the contact */
-    out->os_crosses_cn_bow = e.bow, out->os_crosses_cn_bow_dist = e.bow_d;
-    out->os_crosses_cn_stern = e.stern, out->os_crosses_cn_stern_dist = e.stern_d;
-    out->os_passes_cn_port = e.port, out->os_passes_cn_port_dist = e.port_d;
-    out->os_passes_cn_star = e.star, out->os_passes_cn_star_dist = e.star_d;
-    meet(dx, dy, wx, wy, os->hdg, &e); /* the contact about ownship */
-    out->cn_crosses_os_bow = e.bow, out->cn_crosses_os_bow_dist = e.bow_d;
-    out->cn_crosses_os_stern = e.stern, out->cn_crosses_os_stern_dist = e.stern_d;
-    out->cn_passes_os_port = e.port, out->cn_passes_os_port_dist = e.port_d;
-    out->cn_passes_os_star = e.star, out->cn_passes_os_star_dist = e.star_d;
+    encounter_init(&e, cn, os->x, os->y); /* ownship about the contact */
+    out->os_fore_of_cn = e.fore, out->os_aft_of_cn = e.aft, out->os_port_of_cn = e.port, out->os_star_of_cn = e.star;
+    encounter_meet(&e, os->hdg, os->spd, &out->os_crosses_cn_bow, &out->os_crosses_cn_bow_dist,
+                   &out->os_crosses_cn_stern, &out->os_crosses_cn_stern_dist, &out->os_passes_cn_port,
+                   &out->os_passes_cn_port_dist, &out->os_passes_cn_star, &out->os_passes_cn_star_dist);
+    encounter_init(&e, os, cn->x, cn->y); /* the contact about ownship */
+    out->cn_fore_of_os = e.fore, out->cn_aft_of_os = e.aft, out->cn_port_of_os = e.port, out->cn_star_of_os = e.star;
+    encounter_meet(&e, cn->hdg, cn->spd, &out->cn_crosses_os_bow, &out->cn_crosses_os_bow_dist,
+                   &out->cn_crosses_os_stern, &out->cn_crosses_os_stern_dist, &out->cn_passes_os_port,
+                   &out->cn_passes_os_port_dist, &out->cn_passes_os_star, &out->cn_passes_os_star_dist);
     return KELP_OK;
 }
 

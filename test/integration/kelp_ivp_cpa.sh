@@ -7,7 +7,10 @@ get() { sed -n "s/^$1=//p" out; }
 "$BIN/kelp-ivp" cpa 100 0 270 2 0 0 90 2 > out || fail "head-on: exit $?"
 [ "$(get cpa)" = 0 ] && [ "$(get tcpa)" = 25 ] && [ "$(get roc)" = 4 ] && [ "$(get range)" = 100 ] \
   || fail "head-on: $(tr '\n' ' ' < out)"
-[ "$(get rel_bearing)" = 0 ] && [ "$(get abs_bearing)" = 90 ] && [ "$(get os_crosses_cn_bow)" = true ] \
+# as MOOS-IvP 24.8's CPAEngine: on the contact's bow line no crossing (bow distance: the range),
+# the beam passed to starboard at 0
+[ "$(get rel_bearing)" = 0 ] && [ "$(get abs_bearing)" = 90 ] && [ "$(get os_crosses_cn_bow)" = false ] \
+  && [ "$(get os_crosses_cn_bow_dist)" = 100 ] && [ "$(get os_passes_cn_star)" = true ] \
   || fail "head-on bearings: $(tr '\n' ' ' < out)"
 for k in cpa tcpa roc range bearing_rate rel_bearing abs_bearing os_fore_of_cn os_crosses_cn_bow \
          os_crosses_cn_stern_dist os_passes_cn_port os_passes_cn_star_dist; do
