@@ -2,6 +2,7 @@
  * or on each beacon's own schedule, with optional noise (uField seed chapter 10, with
  * MOOS-IvP 24.8's names). The logic is kelp_beaconrange in the core (kelp/beaconrange.h); this
  * file reads the block and wires the core to the bus. */
+#include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
 #include <kelp/edge/app.h>
@@ -57,6 +58,11 @@ static int startup(kelp_app *app, void *st)
     if (kelp_app_param_str(app, "RAND_MODE", mode, sizeof mode) == 1) {
         kelp_diag dm = { 0 };
         KELP_IGNORE(kelp_rangesense_common_config(&a->cfg.com, "RAND_MODE", mode, &dm)); /* foreach says why */
+    } else if (getenv("KELP_RAND_MODE")) { /* a 24.8 mission run unchanged: the mode from the environment */
+        kelp_diag dm = { 0 };
+        const char *e = getenv("KELP_RAND_MODE");
+        if (kelp_rangesense_common_config(&a->cfg.com, "RAND_MODE", e, &dm) < 0)
+            return kelp_app_config_error(app, NULL, "KELP_RAND_MODE=%s: %s", e, kelp_diag_text(&dm));
     }
     int rc = kelp_app_param_foreach(app, param, a);
     if (rc < 0) return rc;
@@ -132,7 +138,7 @@ static const kelp_app_def def = {
         { "RN_GAUSSIAN_SIGMA", "0", "the sigma of RN_ALGORITHM = gaussian (kelp's)", "RN_ALGORITHM" },
         { "REPORT_XY", "false", "x=,y= of the beacon in each report (default false)", NULL },
         { "BEACON_ORDER", "reverse", "reverse (24.8's: its mission reader hands the block over backwards; default) or config", NULL },
-        { "RAND_MODE", "kelp", "kelp (seeded by SEED_RANDOM) or glibc (rand() unseeded, as MOOS-IvP)", NULL },
+        { "RAND_MODE", "kelp", "kelp (seeded by SEED_RANDOM) or glibc (rand() unseeded, as MOOS-IvP; also $KELP_RAND_MODE when the block has none)", NULL },
         { "SEED_RANDOM", "1", "seed of the kelp generator (default 1)", NULL },
         { "VERBOSE", "false", "print events (default false; --verbose also)", NULL },
         { "APP_LOGGING", "true", "accepted (record the bus with kelp-record)", NULL },

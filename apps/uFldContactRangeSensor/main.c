@@ -2,6 +2,7 @@
  * answered with the range to each other vehicle within reach + reply, with optional noise
  * (uField seed chapter 11, with MOOS-IvP 24.8's names). The logic is kelp_contactrange in the
  * core (kelp/contactrange.h); this file reads the block and wires the core to the bus. */
+#include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
 #include <kelp/edge/app.h>
@@ -54,6 +55,11 @@ static int startup(kelp_app *app, void *st)
     if (kelp_app_param_str(app, "RAND_MODE", mode, sizeof mode) == 1) {
         kelp_diag dm = { 0 };
         KELP_IGNORE(kelp_rangesense_common_config(&a->cfg.com, "RAND_MODE", mode, &dm)); /* foreach says why */
+    } else if (getenv("KELP_RAND_MODE")) { /* a 24.8 mission run unchanged: the mode from the environment */
+        kelp_diag dm = { 0 };
+        const char *e = getenv("KELP_RAND_MODE");
+        if (kelp_rangesense_common_config(&a->cfg.com, "RAND_MODE", e, &dm) < 0)
+            return kelp_app_config_error(app, NULL, "KELP_RAND_MODE=%s: %s", e, kelp_diag_text(&dm));
     }
     int rc = kelp_app_param_foreach(app, param, a);
     if (rc < 0) return rc;
@@ -117,7 +123,7 @@ static const kelp_app_def def = {
         { "ALLOW_ECHO_TYPES", "uuv", "only targets of these node report TYPEs answer (default all)", NULL },
         { "SENSOR_ARC", "360", "relative bearings heard: 360 (default) or <a>:<b>[,<a>:<b>]", NULL },
         { "ECHO_FALLOFF", "true", "24.8's chance of an echo beyond reach + reply (default true; kelp's switch)", NULL },
-        { "RAND_MODE", "kelp", "kelp (seeded by SEED_RANDOM) or glibc (rand() unseeded, as MOOS-IvP)", NULL },
+        { "RAND_MODE", "kelp", "kelp (seeded by SEED_RANDOM) or glibc (rand() unseeded, as MOOS-IvP; also $KELP_RAND_MODE when the block has none)", NULL },
         { "SEED_RANDOM", "1", "seed of the kelp generator (default 1)", NULL },
         { "VERBOSE", "false", "print events (default false; --verbose also)", NULL },
         { "APP_LOGGING", "true", "accepted (record the bus with kelp-record)", NULL },
