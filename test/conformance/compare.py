@@ -614,6 +614,11 @@ def format_figure(var, g, k):
         probs.append("keys 24.8 %s, kelp %s" % (",".join(sorted(gs)[0]) if gs else "-", ",".join(sorted(ks)[0]) if ks else "-"))
     for key in sorted(set(gc) & set(kc)):
         a, b = gc[key], kc[key]
+        # two trimmed formats that differ in the most decimals seen: which values a run met is
+        # chance (kelp's punctual clock times 0.001 s past a tick print as x or x.5; 24.8's late
+        # ones as x.02)
+        if a.startswith("trimmed") and b.startswith("trimmed"):
+            continue
         if a != b and not (a.startswith("trimmed") and b in ("int",) or b.startswith("trimmed") and a == "int"):
             # a trimmed number that happened to be whole in one run is not a format difference
             if not (a.startswith("trimmed") and b.startswith("fixed") and int(b.split()[1]) <= int(a.split("=")[1])) and \
@@ -981,7 +986,11 @@ def pathcheck_figures(G, K, Gw, Kw, tol, dur, vmax, period):
                     out[d["vname"]].append((r["t"], tuple(float(d[k]) for k in keys)))
         return out
 
-    for var, keys, vtol, name in (("UPC_SPEED_REPORT", ("avg_spd",), 0.011, "speed"),
+    # avg_spd comes from the reports' TIME stamps, which are the driver's posting times: each
+    # driver's (24.8's and kelp's) posts a few ms off their schedule on a loaded host, so two
+    # runs' speeds differ by the speed x that jitter / the history's span (3 m/s x 0.005 s /
+    # 1 s = 0.015) besides the printed unit
+    for var, keys, vtol, name in (("UPC_SPEED_REPORT", ("avg_spd",), 0.031, "speed"),
                                   ("UPC_ODOMETRY_REPORT", ("total_dist", "trip_dist"), 0.1 + 1e-6, "odometry")):
         gs, ks = series(Gw, var, keys), series(Kw, var, keys)
         for v in sorted(set(gs) | set(ks)):
@@ -1425,6 +1434,9 @@ def self_test(args):
 
 
 def main():
+    if len(sys.argv) == 3 and sys.argv[1] == "--gated":
+        # run.sh asks which scenarios are gated (they run in a batch of their own)
+        sys.exit(0 if any(fnmatch.fnmatch(sys.argv[2], g) for g in GATED) else 1)
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--golden", required=True)
     ap.add_argument("--kelp")

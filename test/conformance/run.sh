@@ -86,13 +86,21 @@ fi
 
 start=$(date +%s)
 for scn in "${scenarios[@]}"; do [ -n "$(conf_of "$scn")" ] || { echo "conformance: no scenario $scn"; exit 2; }; done
-# two batches, each side by side (they mostly wait on MOOS time): the recordings' scenarios,
-# then kelp's own; one batch at a time keeps a 2-core host from slipping the apps' iterations
+# batches, each side by side (they mostly wait on MOOS time): the recordings' scenarios, then
+# kelp's own that are reported, then kelp's own that are gated (the vehicle runs); one batch
+# at a time keeps a 2-core host from slipping the apps' iterations
 fail=0
 i=0
-for sc in "$CONF" "$OWN"; do
+gated() { python3 "$here/compare.py" --gated "$1"; }
+for part in "$CONF" "$OWN:reported" "$OWN:gated"; do
+  sc=${part%%:*} kind=${part#"$sc"}
   batch=()
-  for scn in "${scenarios[@]}"; do [ "$(conf_of "$scn")" = "$sc" ] && batch+=("$scn"); done
+  for scn in "${scenarios[@]}"; do
+    [ "$(conf_of "$scn")" = "$sc" ] || continue
+    if [ "$kind" = ":reported" ]; then gated "$scn" && continue; fi
+    if [ "$kind" = ":gated" ]; then gated "$scn" || continue; fi
+    batch+=("$scn")
+  done
   [ ${#batch[@]} -gt 0 ] || continue
   echo "conformance: ${#batch[@]} scenarios side by side (recordings: $sc)"
   pids=()
