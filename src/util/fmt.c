@@ -10,11 +10,14 @@
  * the whole part is odd (the digit that decides a half when there are no decimals). */
 static uint64_t round_exact(double frac, double p, bool whole_odd)
 {
-    double c = floor(frac * p);
+    double t = frac * p, c = floor(t), r = t - c;
+    /* away from a half and from the integers the product's rounding (< 1e-7 here) cannot
+     * change the answer: most numbers end here, without fma */
+    if (r > 1e-6 && r < 1 - 1e-6 && fabs(r - 0.5) > 1e-6) return (uint64_t)c + (r > 0.5);
     if (fma(frac, p, -c) < 0) c -= 1;         /* the product rounded up past an integer */
     else if (fma(frac, p, -(c + 1)) >= 0) c += 1;
     double h = fma(frac, p, -(c + 0.5));
-    bool odd = p == 1 ? whole_odd : fmod(c, 2.0) != 0; /* no decimals: the units digit decides */
+    bool odd = p == 1 ? whole_odd : ((uint64_t)c & 1) != 0; /* no decimals: the units digit decides */
     if (h > 0 || (h == 0 && odd)) c += 1;
     return (uint64_t)c;
 }
