@@ -43,7 +43,8 @@ import os
 import re
 import sys
 
-GATED = ["nodecomms_*", "msghandler_*", "pathcheck_g1", "crs_e1_nonoise", "vehicle_*"]
+GATED = ["nodecomms_*", "msghandler_*", "pathcheck_g1", "crs_e1_nonoise", "vehicle_*", "cmgr_c*", "brs_d1_nonoise",
+         "hazard_f1_fixedseed"]
 # values that are measured timings (uFldNodeComms's RTE: real seconds between two of its
 # iterations that saw a vehicle's report) are compared by count and format only
 PERIODIC_SKIP_VALUES = re.compile(r".*_STATUS$|^APPCAST$|.*_ITER_(GAP|LEN)$|.*_PID$|^RTE$")
