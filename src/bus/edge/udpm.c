@@ -25,8 +25,6 @@
 #define REC_ALIGN 8u
 #define RECV_BATCH 64         /* datagrams drained before the queue lock is taken for stats */
 #define IDLE_POLL_MS 250      /* wake at least this often to time out reassembly slots */
-#define RX_COALESCE_MIN 8     /* a drain of this many datagrams or more means the bus is busy ... */
-#define RX_COALESCE_NS 2000000L /* ... and the next drain waits this long (2 ms) */
 #define SEND_BATCH 64         /* datagrams a corked socket hands the kernel in one sendmmsg */
 #define SEND_BATCH_BYTES (256u * 1024u)
 
@@ -167,17 +165,11 @@ static void *recv_main(void *arg)
             pthread_mutex_unlock(&s->qlock);
             continue;
         }
-        int got = 0;
-        bool drained = false;
         for (int i = 0; i < RECV_BATCH; i++) {
             struct sockaddr_in from = { 0 };
             socklen_t fl = sizeof from;
             ssize_t n = recvfrom(s->rfd, s->dg, KELP_UDPM_MAX_DATAGRAM + 1, MSG_DONTWAIT, (struct sockaddr *)&from, &fl);
-            if (n < 0) {
-                drained = true;
-                break;
-            }
-            got++;
+            if (n < 0) break;
             uint64_t sender = (uint64_t)ntohl(from.sin_addr.s_addr) << 16 | ntohs(from.sin_port);
             if (s->ignore_own) {
                 if (!s->own_port && own_datagram(s, &from)) {
@@ -199,13 +191,6 @@ static void *recv_main(void *arg)
         pthread_mutex_lock(&s->qlock);
         s->st.rx = s->rx.stats;
         pthread_mutex_unlock(&s->qlock);
-        /* a busy bus (a drain of many that emptied the socket): let the next datagrams gather
-         * for a moment instead of waking for each one; the senders then do not pay a wake-up
-         * per datagram either. A quiet bus is read at once. */
-        if (drained && got >= RX_COALESCE_MIN) {
-            struct timespec ts = { 0, RX_COALESCE_NS };
-            nanosleep(&ts, NULL);
-        }
     }
     return NULL;
 }
