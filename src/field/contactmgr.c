@@ -470,8 +470,8 @@ static int spec_reject(kelp_contactmgr *c, const kelp_field_sink *out, bool from
                        size_t kl)
 {
     char low[KELP_CMGR_MAX_ID];
-    size_t n = kl < sizeof low - 1 ? kl : sizeof low - 1;
-    for (size_t i = 0; i < n; i++) low[i] = (k[i] >= 'A' && k[i] <= 'Z') ? (char)(k[i] + 32) : k[i];
+    size_t n = 0;
+    for (; n < kl && n + 1 < sizeof low; n++) low[n] = (k[n] >= 'A' && k[n] <= 'Z') ? (char)(k[n] + 32) : k[n];
     low[n] = 0;
     warnf(c, out, "unhandled alert config component: %s", low);
     if (from_mail) warnf(c, out, "Unhandled Alert Request: %s", spec);
@@ -530,7 +530,6 @@ int kelp_contactmgr_alert_spec(kelp_contactmgr *c, const char *spec, bool from_m
         filter_init(&na->filter);
         na->alert_range = na->cpa_range = -1;
         copyz(na->id, sizeof na->id, id, strlen(id));
-        id = na->id;
         for (unsigned k = 0; k < KELP_CMGR_MAX_CONTACTS; k++) c->contact[k].alerted &= ~(1u << ai);
     }
     kelp_contactmgr_alert *a = &c->alert[ai];
@@ -1710,6 +1709,7 @@ int kelp_contactmgr_report_text(const kelp_contactmgr *c, kelp_time now, char *b
             int best = -1;
             for (unsigned i = 0; i < c->nalert_off; i++)
                 if (!done_id[i] && (best < 0 || strcmp(c->alert_off[i], c->alert_off[best]) < 0)) best = (int)i;
+            if (best < 0) break;
             done_id[best] = true;
             field_putf(buf, cap, &n, "%s%s", r ? "," : "", c->alert_off[best]);
         }

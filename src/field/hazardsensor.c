@@ -352,6 +352,8 @@ int kelp_hazardsensor_find(const kelp_hazardsensor *h, const char *name)
 
 /* The swath's corners as 24.8 builds them: from the vehicle, at hdg + 90 -/+ phi and the
  * opposites, hypot = width / cos(phi) away, phi = atan(length / width). */
+#define UHZ_PI 3.14159265358979323846 /* M_PI's value (strict C11 has no M_PI) */
+
 /* the point dist away from (cx, cy) at compass angle deg, in 24.8's order of operations (so
  * it prints to the same digit at a tie): the angle brought into [0, 360) by whole turns, a
  * point exactly on an axis without sin/cos, else radians as (deg / 180) x pi */
@@ -365,7 +367,7 @@ static void project(double deg, double dist, double cx, double cy, double *x, do
         *y = cy + (deg == 0 ? dist : deg == 180 ? -dist : 0);
         return;
     }
-    double r = (deg / 180.0) * M_PI;
+    double r = (deg / 180.0) * UHZ_PI;
     *x = cx + sin(r) * dist;
     *y = cy + cos(r) * dist;
 }
@@ -373,7 +375,7 @@ static void project(double deg, double dist, double cx, double cy, double *x, do
 static void swath_corners(double vx, double vy, double hdg, double width, double length, double c[4][2])
 {
     double phi = atan(length / width), hyp = width / cos(phi);
-    phi = (phi / M_PI) * 180; /* 24.8's degrees */
+    phi = (phi / UHZ_PI) * 180; /* 24.8's degrees */
     const double a[4] = { hdg + (90 - phi), hdg + (90 + phi), hdg + (90 - phi) + 180, hdg + (90 + phi) + 180 };
     for (int i = 0; i < 4; i++) project(a[i], hyp, vx, vy, &c[i][0], &c[i][1]);
 }
@@ -986,23 +988,24 @@ KELP_NOINLINE static int node_report(kelp_hazardsensor *h, const char *s, kelp_t
 
 /* An object's aspect as 24.8 draws it: a gray line through it along the aspect, 15 m each way,
  * or 5 + 25 x (mean of aspect_min and aspect_max) / 90 when both are given. */
-static void post_aspect_line(const kelp_uhz_object *o, const kelp_field_sink *out)
+KELP_NOINLINE static void post_aspect_line(kelp_hazardsensor *h, const kelp_uhz_object *o, const kelp_field_sink *out)
 {
     double len = 15;
     if (o->has_aspect_min && o->has_aspect_max) len = 5 + ((o->aspect_min + o->aspect_max) / 2.0 / 90) * 25;
     double e[2][2];
     project(o->aspect, len, o->x, o->y, &e[0][0], &e[0][1]);
     project(o->aspect + 180, len, o->x, o->y, &e[1][0], &e[1][1]);
-    char b[160];
+    char *b = h->ws;
+    const size_t cap = sizeof h->ws;
     size_t k = 0;
-    field_putf(b, sizeof b, &k, "pts={");
+    field_putf(b, cap, &k, "pts={");
     for (int i = 0; i < 2; i++) {
-        field_putf(b, sizeof b, &k, i ? ":" : "");
-        put_num(b, sizeof b, &k, e[i][0], 1, true);
-        field_putf(b, sizeof b, &k, ",");
-        put_num(b, sizeof b, &k, e[i][1], 1, true);
+        field_putf(b, cap, &k, i ? ":" : "");
+        put_num(b, cap, &k, e[i][0], 1, true);
+        field_putf(b, cap, &k, ",");
+        put_num(b, cap, &k, e[i][1], 1, true);
     }
-    field_putf(b, sizeof b, &k, "},edge_color=gray70,vertex_size=0,edge_size=1");
+    field_putf(b, cap, &k, "},edge_color=gray70,vertex_size=0,edge_size=1");
     post(out, "VIEW_SEGLIST", b);
 }
 
@@ -1013,24 +1016,25 @@ static void post_markers(kelp_hazardsensor *h, const kelp_field_sink *out)
     for (unsigned i = 0; i < c->nobjects; i++) {
         const kelp_uhz_object *o = &c->object[i];
         bool hz = is_hazard(o);
-        char b[256];
+        char *b = h->ws;
+        const size_t bcap = sizeof h->ws;
         size_t k = 0;
-        field_putf(b, sizeof b, &k, "x=");
-        put_num(b, sizeof b, &k, o->x, 2, true);
-        field_putf(b, sizeof b, &k, ",y=");
-        put_num(b, sizeof b, &k, o->y, 2, true);
-        field_putf(b, sizeof b, &k, ",width=");
-        put_num(b, sizeof b, &k, o->width >= 0 ? o->width : hz ? c->hazard_width : c->benign_width, 2, true);
-        field_putf(b, sizeof b, &k, ",primary_color=%s,type=%s,label=%s",
+        field_putf(b, bcap, &k, "x=");
+        put_num(b, bcap, &k, o->x, 2, true);
+        field_putf(b, bcap, &k, ",y=");
+        put_num(b, bcap, &k, o->y, 2, true);
+        field_putf(b, bcap, &k, ",width=");
+        put_num(b, bcap, &k, o->width >= 0 ? o->width : hz ? c->hazard_width : c->benign_width, 2, true);
+        field_putf(b, bcap, &k, ",primary_color=%s,type=%s,label=%s",
                    o->color[0] ? o->color : hz ? c->hazard_color : c->benign_color,
                    o->shape[0] ? o->shape : hz ? c->hazard_shape : c->benign_shape, o->label);
         if (!hz) { /* a benign marker shows its resemblance (0.5 unless hr given) */
             double t = 1 - o->hr;
-            field_putf(b, sizeof b, &k, ",fill_transparency=");
-            put_num(b, sizeof b, &k, t < 0 ? 0 : t > 1 ? 1 : t, 2, true);
+            field_putf(b, bcap, &k, ",fill_transparency=");
+            put_num(b, bcap, &k, t < 0 ? 0 : t > 1 ? 1 : t, 2, true);
         }
         post(out, "VIEW_MARKER", b);
-        if (o->has_aspect && o->aspect > 0) post_aspect_line(o, out);
+        if (o->has_aspect && o->aspect > 0) post_aspect_line(h, o, out);
     }
 }
 

@@ -136,7 +136,8 @@ static bool word_is_uniform(const char *v, size_t n)
     size_t e = comma ? (size_t)(comma - v) : n, b = 0;
     while (b < e && (v[b] == ' ' || v[b] == '\t')) b++;
     while (e > b && (v[e - 1] == ' ' || v[e - 1] == '\t')) e--;
-    return e - b == 7 && memcmp(v + b, "uniform", 7) == 0;
+    static const char word[] = "uniform";
+    return e - b == sizeof word - 1 && memcmp(v + b, word, sizeof word - 1) == 0;
 }
 
 int kelp_rangesense_common_config(kelp_rangesense_common *c, const char *key, const char *v, kelp_diag *d)

@@ -415,7 +415,7 @@ static void set_add(const char *var, size_t len, void *user)
  * updates, by name) when it changes, IVPHELM_STATEVARS (getStateSpaceVars: the variables of
  * the conditions and of the run, runx, idle, end, active and inactive flags, in order) when it
  * grows; neither while empty */
-static void post_listen_vars(kelp_helm *h)
+KELP_NOINLINE static void post_listen_vars(kelp_helm *h)
 {
     char *buf = h->ws_out.buf;
     const size_t cap = sizeof h->ws_out.buf;

@@ -95,8 +95,7 @@ static size_t fmt_weight(char *d, double w)
     d[n++] = '.';
     unsigned frac = (unsigned)(iv % 10000);
     if (iv == 0) {
-        memcpy(d + n, "0000", 4);
-        n += 4;
+        for (int z = 0; z < 4; z++) d[n++] = '0';
     } else if (frac) {
         char f[4];
         unsigned len = 4;

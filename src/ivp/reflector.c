@@ -564,7 +564,8 @@ static KELP_NOINLINE int uniform2_line(kelp_ivp_reflector *r, kelp_ivp_func *out
     const bool strict = r->strict_range;
     double pt[2];
     for (uint32_t s = 0; s < T1; s += C) {
-        const uint32_t nt = T1 - s < C ? T1 - s : C;
+        uint32_t nt = T1 - s; /* at least 1: s < T1 */
+        if (nt > C) nt = C;
         bool wide = false; /* some tile of the chunk spans three points or more of variable 1 */
         for (uint32_t t = 0; t < nt; t++) {
             const int32_t a1 = (int32_t)(s + t) * e1, h1 = a1 + e1 - 1 < n1 ? a1 + e1 - 1 : n1 - 1;

@@ -158,7 +158,11 @@ int kelp_pid_marine_mail(kelp_pid_marine *m, const char *var, bool is_string, co
 static void out_num(const kelp_pid_marine *m, kelp_pid_marine_sink sink, void *ctx, const char *base, double v)
 {
     char var[KELP_MAX_NAME];
-    kelp_util_snprintf(var, sizeof var, "%s%s", base, m->cfg.suffix);
+    size_t a = strlen(base), b = strlen(m->cfg.suffix); /* base is a short literal */
+    if (a + b >= sizeof var) b = sizeof var - 1 - a;
+    memcpy(var, base, a);
+    memcpy(var + a, m->cfg.suffix, b);
+    var[a + b] = 0;
     sink(ctx, var, false, NULL, v);
 }
 
