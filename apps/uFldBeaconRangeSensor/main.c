@@ -54,16 +54,13 @@ static int startup(kelp_app *app, void *st)
     a->app = app;
     a->sink = (kelp_field_sink){ a, publish, warn };
     kelp_beaconrange_cfg_default(&a->cfg);
-    char mode[16]; /* RAND_MODE first: in glibc mode the noise lines are read as 24.8 reads them */
-    if (kelp_app_param_str(app, "RAND_MODE", mode, sizeof mode) == 1) {
-        kelp_diag dm = { 0 };
-        KELP_IGNORE(kelp_rangesense_common_config(&a->cfg.com, "RAND_MODE", mode, &dm)); /* foreach says why */
-    } else if (getenv("KELP_RAND_MODE")) { /* a 24.8 mission run unchanged: the mode from the environment */
-        kelp_diag dm = { 0 };
-        const char *e = getenv("KELP_RAND_MODE");
-        if (kelp_rangesense_common_config(&a->cfg.com, "RAND_MODE", e, &dm) < 0)
-            return kelp_app_config_error(app, NULL, "KELP_RAND_MODE=%s: %s", e, kelp_diag_text(&dm));
-    }
+    /* RAND_MODE first (the block's, else $KELP_RAND_MODE): in glibc mode the noise lines are read
+     * as 24.8 reads them; a bad block value is said by foreach, a bad environment one here */
+    char mode[16];
+    const char *m = kelp_app_param_str(app, "RAND_MODE", mode, sizeof mode) == 1 ? mode : getenv("KELP_RAND_MODE");
+    kelp_diag dm = { 0 };
+    if (m && kelp_rangesense_common_config(&a->cfg.com, "RAND_MODE", m, &dm) < 0 && m != mode)
+        return kelp_app_config_error(app, NULL, "KELP_RAND_MODE=%s: %s", m, kelp_diag_text(&dm));
     int rc = kelp_app_param_foreach(app, param, a);
     if (rc < 0) return rc;
     if (kelp_rangesense_common_as_248(&a->cfg.com)) /* RAND_MODE = glibc: 24.8 has no gaussian */
