@@ -786,6 +786,49 @@ START_TEST(update_results_posted)
 }
 END_TEST
 
+/* 24.8's onSetParamComplete of a waypoint behaviour: the no-points warning's retraction, posted
+ * as a BHV_WARNING (its text) once per behaviour, counted as no warning; a single point with
+ * repeats warns */
+static bool g_retract_seen;
+static void retract_sink(const kelp_helm_post *p, void *user)
+{
+    if (p->retract) g_retract_seen = true;
+    ht_sink(p, user);
+}
+
+START_TEST(bhv_wpt_retract_warning)
+{
+    ht_setup(DOM2, NULL);
+    g_h.cfg.sink = retract_sink;
+    g_retract_seen = false;
+    ht_load("Behavior = BHV_Waypoint\n{\n name = survey\n speed = 2\n points = 0,0:100,0\n updates = WPT_UPDATE\n}\n"
+            "Behavior = BHV_Waypoint\n{\n name = home\n speed = 2\n points = 0,-20\n repeat = 2\n}\n");
+    ck_assert(ht_has_str("BHV_WARNING", "survey: No waypts given. Set val to empty if intentional"));
+    ck_assert(ht_has_str("BHV_WARNING", "home: No waypts given. Set val to empty if intentional"));
+    ck_assert(ht_has_str("BHV_WARNING", "home: cycles/repeats not supported with single waypt"));
+    ck_assert_uint_eq(ht_count("BHV_WARNING"), 3);
+    ck_assert(g_retract_seen);
+    ck_assert_uint_eq(g_h.rep.warnings, 1); /* the repeats warning only */
+    /* the order of 24.8: the warnings, then the settings */
+    unsigned iw = 0, is = 0;
+    for (unsigned i = 0; i < g_nposts; i++) {
+        if (!strcmp(g_posts[i].var, "BHV_WARNING") && strstr(g_posts[i].sval, "survey:")) iw = i + 1;
+        if (!strcmp(g_posts[i].var, "BHV_SETTINGS") && strstr(g_posts[i].sval, "name=survey")) is = i + 1;
+    }
+    ck_assert(iw > 0 && is > iw);
+    nav(0, -100);
+    ht_iter(1);
+    ck_assert_uint_eq(ht_count("BHV_WARNING"), 0);
+    /* an applied update runs onSetParamComplete again: the settings change, the retraction
+     * (same text, same key) is not posted again */
+    kelp_helm_mail_string(&g_h, "WPT_UPDATE", "speed = 1.5");
+    ht_iter(2);
+    ck_assert_uint_eq(ht_count("BHV_SETTINGS"), 1);
+    ck_assert_uint_eq(ht_count("BHV_WARNING"), 0);
+    ck_assert_uint_eq(g_h.rep.warnings, 1);
+}
+END_TEST
+
 /* BHV_SETTINGS (waypoint, loiter) at start; BHV_STATUS per behaviour with "n/a" without updates */
 START_TEST(bhv_settings_and_status)
 {
@@ -1388,6 +1431,7 @@ Suite *kelp_helm_suite(void)
     tcase_add_test(tc, updates_bad_pairs_ignored_with_warning);
     tcase_add_test(tc, update_results_posted);
     tcase_add_test(tc, bhv_settings_and_status);
+    tcase_add_test(tc, bhv_wpt_retract_warning);
     tcase_add_test(tc, summary_goal_domain_halt);
     tcase_add_test(tc, flags_runx_config_spawnx);
     tcase_add_test(tc, duration_expiry);

@@ -40,7 +40,7 @@ static void sink(const kelp_helm_post *p, void *user)
     else a->posts++;
     if (p->is_str && !strcmp(p->var, "IVPHELM_SUMMARY"))
         snprintf(a->last_summary, sizeof a->last_summary, "%s", p->sval);
-    if (p->is_str && (!strcmp(p->var, "BHV_WARNING") || !strcmp(p->var, "BHV_ERROR")))
+    if (p->is_str && !p->retract && (!strcmp(p->var, "BHV_WARNING") || !strcmp(p->var, "BHV_ERROR")))
         kelp_app_run_warning(a->app, "%s: %s", p->var, p->sval);
 }
 

@@ -405,6 +405,10 @@ void kelp_helm_bhv_post_bool(kelp_bhv *b, const char *var, bool val, const char 
 void kelp_helm_bhv_post_int(kelp_bhv *b, const char *var, double val, const char *key);
 /** postWMessage: BHV_WARNING = "<name>: <msg>" (repeatable). */
 void kelp_helm_bhv_post_warning(kelp_bhv *b, const char *msg);
+/** postRetractWMessage: BHV_WARNING = "<name>: <msg>" withdrawing that warning. 24.8 posts the
+ *  text as a BHV_WARNING too, once per behaviour and text (its "retract" key), and counts no
+ *  warning for it. */
+void kelp_helm_bhv_post_retract(kelp_bhv *b, const char *msg);
 /** postEMessage: BHV_ERROR = "<name>: <msg>" (repeatable); state_ok=false -> helm all-stop. */
 void kelp_helm_bhv_post_error(kelp_bhv *b, const char *msg);
 /** Record why a parameter was refused (first wins) and return KELP_ERR_PARSE. */
@@ -472,6 +476,8 @@ typedef struct kelp_helm_post {
     const char *sval;
     double dval;
     const char *aux;
+    bool retract; /**< a BHV_WARNING that withdraws an earlier one (MOOS-IvP's postRetractWMessage):
+                       posted as the warning's text, not counted as a warning */
 } kelp_helm_post;
 
 typedef void (*kelp_helm_sink)(const kelp_helm_post *p, void *user);

@@ -396,7 +396,7 @@ void kelp_helm_bhv_post_int(kelp_bhv *b, const char *var, double val, const char
     post(b, var, false, NULL, floor(val + 0.5), key);
 }
 
-static void post_msg(kelp_bhv *b, const char *var, const char *msg)
+static void post_msg_key(kelp_bhv *b, const char *var, const char *msg, const char *key)
 {
     if (!b->helm)
         return;
@@ -409,7 +409,18 @@ static void post_msg(kelp_bhv *b, const char *var, const char *msg)
     buf[n + 1] = ' ';
     memcpy(buf + n + 2, msg, m);
     buf[n + 2 + m] = '\0';
-    post(b, var, true, buf, 0, "repeatable");
+    post(b, var, true, buf, 0, key);
+}
+
+static void post_msg(kelp_bhv *b, const char *var, const char *msg)
+{
+    post_msg_key(b, var, msg, "repeatable");
+}
+
+void kelp_helm_bhv_post_retract(kelp_bhv *b, const char *msg)
+{
+    if (msg && *msg)
+        post_msg_key(b, "BHV_WARNING", msg, "retract");
 }
 
 void kelp_helm_bhv_post_warning(kelp_bhv *b, const char *msg)

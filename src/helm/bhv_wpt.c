@@ -487,10 +487,15 @@ static int wpt_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     return 1;
 }
 
-/* BHV_SETTINGS after configuration and each applied update (MOOS-IvP's postConfigStatus) */
+/* after configuration and each applied update (MOOS-IvP 24.8's onSetParamComplete): the
+ * single-point warning, the no-points warning's retraction (a behaviour here always has
+ * points), then BHV_SETTINGS (its postConfigStatus) */
 static void wpt_post_config(kelp_bhv *b)
 {
     const kelp_bhv_wpt *s = &b->u.wpt;
+    if (s->npts == 1 && s->repeat > 0)
+        kelp_helm_bhv_post_warning(b, "cycles/repeats not supported with single waypt");
+    kelp_helm_bhv_post_retract(b, "No waypts given. Set val to empty if intentional");
     /* the text and its numbers are composed in the helm's behaviour workspace */
     char *buf = b->helm->ws_bhv.post, (*nb)[32] = b->helm->ws_bhv.num;
     char *sp = nb[0], *sa = nb[1], *ld = nb[2], *dm = nb[3], *cr = nb[4], *sr = nb[5], *rt = nb[6], *ix = nb[7],

@@ -288,12 +288,18 @@ int kelp_helm_configured(kelp_helm *h)
     return 0;
 }
 
-static void sink(kelp_helm *h, const char *var, bool is_str, const char *s, double d, const char *aux)
+static void sink_post(kelp_helm *h, const char *var, bool is_str, const char *s, double d, const char *aux,
+                      bool retract)
 {
     if (!h->cfg.sink)
         return;
-    kelp_helm_post p = {var, is_str, is_str ? s : NULL, is_str ? 0 : d, aux};
+    kelp_helm_post p = {var, is_str, is_str ? s : NULL, is_str ? 0 : d, aux, retract};
     h->cfg.sink(&p, h->cfg.user);
+}
+
+static void sink(kelp_helm *h, const char *var, bool is_str, const char *s, double d, const char *aux)
+{
+    sink_post(h, var, is_str, s, d, aux, false);
 }
 
 void helm_sink(kelp_helm *h, const char *var, bool is_str, const char *s, double d, const char *aux)
@@ -647,14 +653,15 @@ static void flush_posts(kelp_helm *h)
             if (!filter_pass(h, k, v, b->uid))
                 continue;
         }
-        if (!strcmp(var, "BHV_WARNING"))
+        bool retract = !strcmp(var, "BHV_WARNING") && !strcmp(key, "retract");
+        if (!strcmp(var, "BHV_WARNING") && !retract)
             h->rep.warnings++;
         else if (!strcmp(var, "BHV_ERROR"))
             h->rep.errors++;
         char it[24];
         hx_fmt_ulong(it, sizeof it, h->iteration);
         hx_cat(aux, sizeof aux, it, ":", b->name, HX_END);
-        sink(h, var, q->is_str, sv, q->dval, aux);
+        sink_post(h, var, q->is_str, sv, q->dval, aux, retract);
     }
     h->nq = 0;
     h->qpool_used = 0;

@@ -592,6 +592,8 @@ def format_figure(var, g, k):
             keyseqs[tuple(x for x, _ in p)] += 1
             for key, v in p:
                 classes[key].add(num_class(v))
+                if num_class(v).startswith("d") and v.endswith("0"):
+                    zeros.add(key)  # a trailing zero kept: a fixed format, not a trimmed one
         return set(kinds), set(keyseqs), {key: describe(c) for key, c in classes.items()}
 
     def describe(c):
@@ -606,8 +608,11 @@ def format_figure(var, g, k):
             return "trimmed<=%d" % ds[-1]
         return "fixed %d" % ds[0]
 
+    zeros = set()
     gk, gs, gc = shape(g)
+    gz, zeros = zeros, set()
     kk, ks, kc = shape(k)
+    kz = zeros
     probs = []
     if gk != kk:
         probs.append("types 24.8 %s, kelp %s" % (sorted(gk), sorted(kk)))
@@ -624,6 +629,12 @@ def format_figure(var, g, k):
             # a trimmed number that happened to be whole in one run is not a format difference
             if not (a.startswith("trimmed") and b.startswith("fixed") and int(b.split()[1]) <= int(a.split("=")[1])) and \
                not (b.startswith("trimmed") and a.startswith("fixed") and int(a.split()[1]) <= int(b.split("=")[1])):
+                # two fixed counts, the longer never with a trailing zero: what printed fewer
+                # decimals may be the same trimmed format that met a value ending in zero
+                if a.startswith("fixed") and b.startswith("fixed"):
+                    na, nb = int(a.split()[1]), int(b.split()[1])
+                    if (na > nb and key not in gz) or (nb > na and key not in kz):
+                        continue
                 probs.append("%s: 24.8 %s, kelp %s" % (key, a, b))
     return Figure("format/%s" % var, not probs, "; ".join(probs))
 
@@ -1434,7 +1445,50 @@ def self_test(args):
     return 0
 
 
+def app_phase(golden_dir, scn):
+    """"APP PERIOD PHASE UPTIME" for a one-app mission: the app's iteration period (MOOS s,
+    1/AppTick), where in it the recorded app's posts of its first two seconds after t0 fell
+    (their median), and how long the recorded app had been up at t0 (from its first status'
+    Uptime). The driver starts the replay at that phase of kelp's app, the candidate nearest
+    that uptime, so that a report landing before or after an iteration, and what counts from
+    the app's start, replay as recorded. "" for a mission of several apps (one phase cannot fit
+    them all). 24.8's app slips against its clock by a fraction of a percent, so late in a run
+    its timers' phase is its own: docs/CONFORMANCE.md lists what that moves."""
+    apps, tick, cur = [], {}, None
+    for line in open(os.path.join(golden_dir, "missions", scn + ".moos")):
+        m = re.match(r"\s*ProcessConfig\s*=\s*(\w+)", line, re.I)
+        if m:
+            cur = m.group(1)
+            if cur.upper() not in ("ANTLER", "MOOSDB"):
+                apps.append(cur)
+            continue
+        m = re.match(r"\s*AppTick\s*=\s*([\d.]+)", line, re.I)
+        if m and cur:
+            tick[cur] = float(m.group(1))
+    if len(apps) != 1 or tick.get(apps[0], 4.0) <= 0:
+        return ""
+    app, period = apps[0], 1.0 / tick.get(apps[0], 4.0)
+    rows = load_rows(os.path.join(golden_dir, "golden", scn + ".jsonl"))
+    ts = [r["t"] % period for r in rows if r["src"] == app and 0 <= r["t"] < 2]
+    up = None
+    for r in rows:
+        if r["src"] == app and r["var"] == app.upper() + "_STATUS" and r["type"] == "string":
+            u = dict(kv_pairs(r["val"]) or []).get("Uptime", "")
+            if is_num(u):
+                up = float(u) - r["t"]
+                break
+    if not ts or up is None:
+        return ""
+    # around the first (a phase near 0 has neighbours just under the period)
+    d = sorted((t - ts[0] + period / 2) % period - period / 2 for t in ts)
+    return "%s %.6f %.6f %.4f" % (app, period, (ts[0] + d[len(d) // 2]) % period, up)
+
+
 def main():
+    if len(sys.argv) == 4 and sys.argv[1] == "--phase":
+        # run.sh asks where the recorded app's iterations fell: compare.py --phase DIR SCENARIO
+        print(app_phase(sys.argv[2], sys.argv[3]))
+        return 0
     if len(sys.argv) == 3 and sys.argv[1] == "--gated":
         # run.sh asks which scenarios are gated (they run in a batch of their own)
         sys.exit(0 if any(fnmatch.fnmatch(sys.argv[2], g) for g in GATED) else 1)

@@ -73,6 +73,9 @@ typedef struct recorder {
     char apps[MAX_PATTERNS][KELP_MAX_NAME]; /* the mission's launched apps (ANTLER Run lines) */
     bool heard[MAX_PATTERNS];               /* each has posted something: it is up */
     int napps;
+    char phase_app[KELP_MAX_NAME]; /* KELP_CONF_PHASE: t0 at this app's recorded phase */
+    double phase_period, phase, phase_up; /* its iteration period, phase and uptime at t0 */
+    double phase_seen, phase_start;       /* its last status post's time (else -1), its start */
 } recorder;
 
 static double wall(void)
@@ -268,6 +271,16 @@ static void on_var(const kelp_var *v, void *user)
     recorder *r = user;
     for (int i = 0; i < r->napps; i++)
         if (strcmp(r->apps[i], v->source) == 0) r->heard[i] = true;
+    size_t vl = strlen(v->name);
+    if (r->phase_app[0] && strcmp(v->source, r->phase_app) == 0 && vl > 7 && strcmp(v->name + vl - 7, "_STATUS") == 0 &&
+        v->kind == KELP_VAR_STRING) {
+        const char *u = strstr(v->sval, "Uptime=");
+        double up = 0;
+        if (u && kelp_util_parse_double(u + 7, strcspn(u + 7, ","), &up) == 0) {
+            r->phase_seen = v->time;
+            r->phase_start = v->time - up;
+        }
+    }
     if (!r->started || !recorded(r->s, v->name)) return;
     /* absolute times here: t0 is final only once every app is up (rebase() makes them relative) */
     fprintf(r->out, "{\"t\":%.4f,\"trx\":%.4f,\"var\":", v->time, moos_now());
@@ -371,7 +384,7 @@ static void vehicle_at(const vehicle *v, double t, double *x, double *y, double 
 }
 
 /* one update of a vehicle; adds the notifications made to *posts */
-static int post_vehicle(kelp_bus *bus, const vehicle *v, double t, double now, unsigned long *posts)
+static int post_vehicle(kelp_bus *bus, const vehicle *v, double t, double sched, double now, unsigned long *posts)
 {
     double x = 0, y = 0, h = 0, sp = 0;
     vehicle_at(v, t, &x, &y, &h, &sp);
@@ -395,7 +408,10 @@ static int post_vehicle(kelp_bus *bus, const vehicle *v, double t, double now, u
         if (v->mode[0]) o += snprintf(rep + o, sizeof rep - (size_t)o, ",MODE=%s", v->mode);
         o += snprintf(rep + o, sizeof rep - (size_t)o, ",LENGTH=%s", n2(b[5], v->len));
     }
-    snprintf(rep + o, sizeof rep - (size_t)o, ",TIME=%.3f", now);
+    /* TIME: the scheduled MOOS time. The recordings' driver posted within 0.5 ms of its
+     * schedule; a loaded host's lateness stamped in would move the apps' speeds (pathcheck's
+     * avg_spd from two TIMEs 0.25 s apart) by what the rig, not the app, did */
+    snprintf(rep + o, sizeof rep - (size_t)o, ",TIME=%.3f", sched);
     return rc | kelp_bus_notify_string(bus, v->var, rep, now);
 }
 
@@ -442,6 +458,10 @@ int main(int argc, char **argv)
     read_apps(&mf.m, &r);
     r.t0 = moos_now() + s.settle * g_warp;
     r.started = true;
+    r.phase_seen = -1;
+    const char *ph = getenv("KELP_CONF_PHASE");
+    if (ph && sscanf(ph, "%63s %lf %lf %lf", r.phase_app, &r.phase_period, &r.phase, &r.phase_up) != 4)
+        r.phase_app[0] = 0;
     char tmp[600];
     snprintf(tmp, sizeof tmp, "%s.abs", argv[3]);
     r.out = fopen(tmp, "w");
@@ -456,6 +476,13 @@ int main(int argc, char **argv)
     if (s.nsub == 0) snprintf(s.sub[s.nsub++], KELP_MAX_NAME, "*");
     for (int i = 0; i < s.nsub; i++)
         if (kelp_bus_register(bus, s.sub[i], 0, moos_now()) < 0) return bad(argv[1], 0, "cannot register"), 1;
+    /* joined: tell the runner (it starts the apps only then, so their start-up posts are heard
+     * on a loaded host too, as the recordings' driver heard them) */
+    const char *jf = getenv("KELP_CONF_JOINED");
+    if (jf && *jf) {
+        FILE *j = fopen(jf, "w");
+        if (j) fclose(j);
+    }
     /* settle: `settle` real seconds from joining, as recorded. On a loaded host an app may not
      * be up by then (the recordings' apps were started before their driver): t0 then waits
      * until every launched app has posted, plus one second for its first iterations, at most
@@ -478,6 +505,19 @@ int main(int argc, char **argv)
         }
         int ms = left < 0.02 && left > 0 ? (int)(left * 1000.0) : 20;
         KELP_IGNORE(kelp_lcmbus_handle(lb, ms, moos_now()));
+    }
+    /* phase: t0 such that the app's iterations fall where the recorded app's did (a report's
+     * arrival before or after an iteration replays as recorded) and, of those times, the one
+     * nearest the app's recorded uptime at t0 (what counts from its start), not yet past. The
+     * app's status is posted at an iteration: its time fixes kelp's app's phase. */
+    if (r.phase_app[0] && r.phase_seen > 0 && r.phase_period > 0) {
+        double base = r.phase_seen - r.phase, want = r.phase_start + r.phase_up;
+        double soon = moos_now() + 0.05 * g_warp;
+        double k = floor((want - base) / r.phase_period + 0.5);
+        r.t0 = base + k * r.phase_period;
+        while (r.t0 < soon) r.t0 += r.phase_period;
+        fprintf(stderr, "conform-driver: t0 at %s's recorded phase %.3f of %.3f s, up %.2f s (recorded %.2f)\n",
+                r.phase_app, r.phase, r.phase_period, r.t0 - r.phase_start, r.phase_up);
     }
     fprintf(stderr, "conform-driver: %d apps up, t0 %.2f s after joining\n", r.napps, wall() - joined);
     unsigned long posts = 0;
@@ -509,7 +549,7 @@ int main(int argc, char **argv)
             vehicle *v = &s.veh[i];
             while (v->next <= t && v->next < v->t1) {
                 double now = moos_now();
-                if (post_vehicle(bus, v, v->next, now, &posts) < 0) fprintf(stderr, "conform-driver: post failed\n");
+                if (post_vehicle(bus, v, v->next, now, now, &posts) < 0) fprintf(stderr, "conform-driver: post failed\n");
                 v->next += 1.0 / v->rate;
             }
             if (v->next < v->t1 && v->next < next) next = v->next;

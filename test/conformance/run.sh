@@ -9,8 +9,10 @@
 # mission has its own, an ANTLER block is appended (one Run = line per ProcessConfig block,
 # under its 24.8 name: kelp-launch maps names such as uSimMarineV22 or pShare to kelp's
 # programs); in its own private network namespace (loopback only, ttl=0, its
-# own port) kelp-launch starts the apps and conform-driver plays the .scn script and records
-# kelp's transcript. The scenarios run side by side in two batches (the recordings', then kelp's own), then
+# own port) conform-driver joins, then kelp-launch starts the apps (their start-up posts are
+# heard on a loaded host too); the driver starts the script with a one-app mission's app at the
+# recorded phase of its iterations and the recorded uptime (compare.py --phase), plays the .scn
+# script and records kelp's transcript. The scenarios run side by side in two batches (the recordings', then kelp's own), then
 # compare.py compares each transcript with the recording, figure by figure, and prints the
 # table. Output: $BUILD/conformance/<scenario>.{jsonl,meta.json,launch.log}, report.txt.
 # Exit status: 0 when every gated scenario agrees except for the differences listed in
@@ -73,10 +75,17 @@ if [ "${1:-}" = --inside ]; then
     } >> "$W/$scn.moos"
   fi
   export KELP_LCM_URL="udpm://239.255.76.67:$port?ttl=0"
+  # the driver joins first and the apps start once it has (it touches $W/.joined): what the
+  # apps post as they start is heard however loaded the host, as in the recordings
+  # and starts its script at the phase of the app's iterations the recording has
+  phase=$(python3 "$here/compare.py" --phase "$SC" "$scn")
+  (cd "$W" && export KELP_CONF_JOINED="$W/.joined" KELP_CONF_PHASE="$phase" && exec "$BUILD/test/conform-driver" "$SC/missions/$scn.scn" "$W/$scn.moos" \
+    "$OUT/$scn.jsonl" "$OUT/$scn.meta.json") > "$OUT/$scn.driver.log" 2>&1 &
+  dp=$!
+  for _ in $(seq 200); do [ -e "$W/.joined" ] || ! kill -0 $dp 2>/dev/null && break; sleep 0.05; done
   (cd "$W" && exec "$BUILD/bin/kelp-launch" "$scn.moos") > "$OUT/$scn.launch.log" 2>&1 &
   lp=$!
-  (cd "$W" && exec "$BUILD/test/conform-driver" "$SC/missions/$scn.scn" "$W/$scn.moos" "$OUT/$scn.jsonl" "$OUT/$scn.meta.json") \
-    > "$OUT/$scn.driver.log" 2>&1
+  wait $dp
   rc=$?
   kill -INT $lp 2>/dev/null; wait $lp 2>/dev/null
   cp "$W"/*.log "$OUT/" 2>/dev/null || true
