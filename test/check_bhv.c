@@ -26,6 +26,7 @@ const ht_post *ht_last(const char *var);
 unsigned ht_count(const char *var);
 bool ht_has_str(const char *var, const char *val);
 double ht_num(const char *var);
+bool ht_has_sub(const char *var, const char *sub);
 
 #define DOM2 "course:0:359:360,speed:0:4:21"
 
@@ -328,8 +329,16 @@ START_TEST(waypoint_sequence_flags_end)
     ht_iter(0);
     ck_assert(ht_num("WPT_INDEX") == 0);
     ck_assert(ht_num("DESIRED_HEADING") == 0 && ht_num("DESIRED_SPEED") == 1);
-    ck_assert(ht_has_str("WPT_STAT", "vname=alder,behavior-name=survey,index=0,hits=0/0,cycles=0,dist=10,eta=10"));
-    ck_assert(ht_has_str("VIEW_SEGLIST", "pts={0,10:10,10},label=survey,active=true,vertex_color=dodger_blue,edge_color=white,label_color=white,vertex_size=3,edge_size=1"));
+    /* eta: the distance over NAV_SPEED (24.8), "inf" while none came or the vehicle is stopped */
+    ck_assert(ht_has_str("WPT_STAT", "vname=alder,behavior-name=survey,index=0,hits=0/0,cycles=0,dist=10,eta=inf"));
+    /* 24.8's drawings: the seglist labelled <us>_<name>; the next point (key wpt); the track
+     * point only when more than 5 m from it (here the lead puts it on the next point: erased) */
+    ck_assert(ht_has_str("VIEW_SEGLIST", "pts={0,10:10,10},label=alder_survey,label_color=white,edge_color=white,vertex_color=dodger_blue,vertex_size=3,edge_size=1"));
+    ck_assert(ht_has_str("VIEW_POINT", "x=0,y=10,active=true,label=alder's nextpt,label_color=aqua,vertex_color=yellow,vertex_size=5"));
+    ck_assert(ht_has_str("VIEW_POINT", "x=0,y=0,active=false,label=alder's trackpt"));
+    kelp_helm_mail_double(ht_helm(), "NAV_SPEED", 0.5);
+    ht_iter(0.5);
+    ck_assert(ht_has_str("WPT_STAT", "vname=alder,behavior-name=survey,index=0,hits=0/0,cycles=0,dist=10,eta=20"));
     nav(0, 8.5);
     ht_iter(1); /* 1.5 m: captured, next point (10,10) */
     ck_assert(ht_num("HIT") == 1);
@@ -339,6 +348,9 @@ START_TEST(waypoint_sequence_flags_end)
     ht_iter(2);
     ck_assert(ht_has_str("DONE", "true"));
     ck_assert_uint_eq(ht_count("HIT"), 1);
+    /* the pass ends: 24.8's feedback, not a status line */
+    ck_assert_str_eq(ht_last("WPT_STAT")->sval, "behavior-name=survey,completed");
+    ck_assert_uint_eq(ht_count("WPT_STAT"), 1);
     ht_iter(3);
     ck_assert_int_eq(find("survey")->state, KELP_BHV_COMPLETED);
 }
@@ -353,7 +365,7 @@ START_TEST(waypoint_repeat_and_order)
     ht_iter(0);
     ck_assert(ht_num("DESIRED_HEADING") == 0);
     ck_assert_uint_eq(ht_count("CYCLE_INDEX"), 0); /* BHV_Waypoint: only when the count changes */
-    ck_assert(ht_has_str("VIEW_SEGLIST", "pts={0,20:0,10},label=w,active=true,vertex_color=dodger_blue,edge_color=white,label_color=white,vertex_size=3,edge_size=1")); /* reversed */
+    ck_assert(ht_has_str("VIEW_SEGLIST", "pts={0,20:0,10},label=alder_w,label_color=white,edge_color=white,vertex_color=dodger_blue,vertex_size=3,edge_size=1")); /* reversed */
     nav(0, 20);
     ht_iter(1);
     ck_assert(ht_num("WPT_INDEX") == 1);
@@ -362,6 +374,8 @@ START_TEST(waypoint_repeat_and_order)
     ht_iter(2); /* end of the first pass: repeat once */
     ck_assert(ht_num("LAP") == 1);
     ck_assert(ht_num("CYCLE_INDEX") == 1 && ht_num("WPT_INDEX") == 0);
+    ck_assert(ht_has_str("WPT_STAT", "behavior-name=w,cycled")); /* and the status line after it */
+    ck_assert_uint_eq(ht_count("WPT_STAT"), 2);
     ck_assert_uint_eq(ht_count("DONE"), 0);
     nav(0, 20);
     ht_iter(3);
@@ -479,7 +493,7 @@ START_TEST(waypoint_reports_and_hints)
     ck_assert(ht_num("DNEXT") == 20); /* order toggled: (0,20) first */
     ck_assert_ptr_nonnull(strstr(ht_last("VIEW_SEGLIST")->sval, "edge_color=red"));
     ck_assert_ptr_nonnull(strstr(ht_last("VIEW_SEGLIST")->sval, "vertex_size=5"));
-    ck_assert_ptr_nonnull(strstr(ht_last("VIEW_POINT")->sval, "vertex_color=green"));
+    ck_assert(ht_has_sub("VIEW_POINT", "active=true,label=alder's nextpt,label_color=aqua,vertex_color=green"));
     ck_assert(find("w")->u.wpt.course_pct == 80);
     nav(0, 8);
     ht_iter(1);
@@ -682,9 +696,7 @@ START_TEST(helm_interface_publications)
             "Behavior = BHV_Waypoint\n{\n name = wpt\n speed = 1\n points = 0,50\n updates = WPT_UPDATES\n}\n"
             "Behavior = BHV_ConstantHeading\n{\n name = ch\n heading = 90\n condition = MODE == INACTIVE\n}\n");
     ck_assert_str_eq(ht_last("IVPHELM_DOMAIN")->sval, "course,0,359,360:speed,0,4,21");
-    ck_assert_uint_eq(ht_count("IVPHELM_LIFE_EVENT"), 2);
-    ck_assert_str_eq(ht_last("IVPHELM_LIFE_EVENT")->sval,
-                     "time=0.00, iter=0, bname=ch, btype=BHV_ConstantHeading, event=spawn, seed=helm startup");
+    ck_assert_uint_eq(ht_count("IVPHELM_LIFE_EVENT"), 0); /* 24.8: by the first decision */
     /* what the behaviours listen to: posted by the first drive iteration, not at start */
     ck_assert_uint_eq(ht_count("IVPHELM_UPDATEVARS") + ht_count("IVPHELM_STATEVARS"), 0);
     nav(0, 0);
@@ -694,7 +706,11 @@ START_TEST(helm_interface_publications)
     ck_assert(ht_num("IVPHELM_BHV_CNT") == 2 && ht_num("IVPHELM_BHV_CNT_EVER") == 2);
     ck_assert(ht_num("IVPHELM_BHV_RUNNING_CNT") + ht_num("IVPHELM_BHV_ACTIVE_CNT") == 2);
     ck_assert(ht_num("IVPHELM_BHV_DISABLED_CNT") == 0);
-    ck_assert_str_eq(ht_last("IVPHELM_ENGAGED")->sval, "ENGAGED");
+    ck_assert_str_eq(ht_last("IVPHELM_STATE")->sval, "DRIVE");
+    ck_assert_uint_eq(ht_count("IVPHELM_LIFE_EVENT"), 2);
+    ck_assert_str_eq(ht_last("IVPHELM_LIFE_EVENT")->sval,
+                     "iter=0, bname=ch, btype=BHV_ConstantHeading, event=spawn, seed=helm_startup,iter=1");
+    ck_assert_uint_eq(ht_count("IVPHELM_ENGAGED"), 0); /* the seed era's heartbeat: 24.8 has none */
     ck_assert(fabs(ht_num("IVPHELM_CREATE_CPU") - 0.001) < 1e-9);
     ck_assert(fabs(ht_num("IVPHELM_LOOP_CPU") - 0.002) < 1e-9);
     const char *sum = ht_last("IVPHELM_SUMMARY")->sval;
@@ -704,9 +720,7 @@ START_TEST(helm_interface_publications)
     ck_assert_ptr_nonnull(strstr(sum, ",modes=MODE@INACTIVE"));
     ht_iter(0.5);
     ck_assert_uint_eq(ht_count("IVPHELM_BHV_CNT"), 0);  /* unchanged: not posted */
-    ck_assert_uint_eq(ht_count("IVPHELM_ENGAGED"), 0);  /* heartbeat once a second */
-    ht_iter(1.0);
-    ck_assert_uint_eq(ht_count("IVPHELM_ENGAGED"), 1);
+    ck_assert_uint_eq(ht_count("IVPHELM_STATE"), 1);  /* every iteration */
 }
 END_TEST
 

@@ -1180,9 +1180,13 @@ START_TEST(helm_starts_parked)
     ck_assert(ht_has_str("IVPHELM_STATE", "PARK"));
     ck_assert_uint_eq(ht_count("IVPHELM_ALLSTOP") + ht_count("MOOS_DEBUG") + ht_count("DESIRED_SPEED"), 0);
     ck_assert_uint_eq(ht_count("IVPHELM_STATEVARS"), 0); /* posted by drive iterations */
+    ck_assert_uint_eq(ht_count("IVPHELM_LIFE_EVENT"), 0); /* the first decision posts them */
     kelp_helm_mail_string(&g_h, "MOOS_MANUAL_OVERRIDE", "false");
     ht_iter(2);
     ck_assert(ht_has_str("IVPHELM_STATE", "DRIVE"));
+    /* helm time since the first iteration, 24.8's layout, the iteration appended */
+    ck_assert(ht_has_sub("IVPHELM_LIFE_EVENT", "iter=0,time=2.00, bname="));
+    ck_assert(ht_has_sub("IVPHELM_LIFE_EVENT", ", event=spawn, seed=helm_startup,iter=3"));
     ck_assert(ht_has_str("IVPHELM_ALLSTOP", "clear"));
     ck_assert(ht_num("DESIRED_SPEED") == 2);
     /* the conditions' and the end flag's variables, each once, in order */

@@ -270,14 +270,14 @@ static const kelp_app_def def = {
         { "IVPHELM_DOMAIN", "course,0,359,360:speed,0,4,21", NULL },
         { "IVPHELM_MODESET", "MODE#---,ACTIVE#---,INACTIVE#ACTIVE,SURVEYING#ACTIVE,RETURNING",
           "at start, when the behaviour file declares modes" },
-        { "IVPHELM_LIFE_EVENT", "time=0.00, iter=0, bname=loiter, btype=BHV_Loiter, event=spawn, seed=helm startup",
-          "also event=spawn/abort/death of template instances; IVPHELM_COMPLETED_COUNT" },
+        { "IVPHELM_LIFE_EVENT", "iter=0,time=10.96, bname=loiter, btype=BHV_Loiter, event=spawn, seed=helm_startup,iter=1",
+          "by the first decision; also event=spawn/abort/death of template instances; IVPHELM_COMPLETED_COUNT" },
         { "BCM_ALERT_REQUEST", "id=avd_, on_flag=CONTACT_INFO=name=$[VNAME] # contact=$[VNAME],alert_range=200, "
           "cpa_range=500", "at start, from BHV_AvoidCollision templates (templating = spawn)" },
         { "IVPHELM_UPDATEVARS", "UP_LOITER", "the variables behaviour updates and mode declarations listen to" },
         { "IVPHELM_STATEVARS", "DEPLOY,RETURN", "the variables the conditions read" },
-        { "IVPHELM_ENGAGED", "ENGAGED", "heartbeat (DISENGAGED when parked)" },
-        { "BHV_WARNING", "loiter: no points", "also BHV_ERROR, BHV_CONFIG_WARNING (a faulty update)" },
+        { "BHV_WARNING", "loiter: no points", "also BHV_ERROR, BHV_CONFIG_WARNING (a faulty update); a waypoint"
+          " behaviour posts its no-points retraction once (24.8)" },
         { "BHV_SETTINGS", "type=BHV_Waypoint,name=survey,points=pts={0,0:50,-20},speed=1.2,...", "after configuration"
           " and each applied update (waypoint, loiter)" },
         { "BHV_STATUS", "name=survey,state=active,updates=0/0", "per behaviour, when it changes" },

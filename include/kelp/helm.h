@@ -617,6 +617,8 @@ struct kelp_helm {
     kelp_clock clock;               /* the newest `now`, to tell a clock step */
     unsigned long clock_steps;      /* clock steps taken out of helm time */
     unsigned long iteration;
+    double first_iter_time;         /* helm time of the first iteration (life events' time=) */
+    bool startup_events_pending;    /* the behaviours' spawn events, posted by the first decision */
     kelp_helm_report rep;
     kelp_ivp_func fn[KELP_HELM_MAX_BHVS];   /* functions of the current iteration */
     kelp_ivp_problem prob;
@@ -635,8 +637,6 @@ struct kelp_helm {
     char mode_posted[KELP_HELM_MAX_MODES][128]; /* last value posted per mode variable (by first entry) */
     char mode_summary[KELP_HELM_MAX_SVAL];      /* "MODE@ACTIVE:SURVEYING#MODE2@X" after the iteration */
     unsigned last_cnt[5];              /* last IVPHELM_BHV_{,ACTIVE_,RUNNING_,IDLE_,DISABLED_}CNT posted + 1 */
-    double last_engaged_post;          /* buffer time of the last IVPHELM_ENGAGED */
-    bool last_engaged;
     kelp_diag diag;                    /**< configuration failure (first wins): code, .bhv line, reason */
     struct {                        /* workspace of one iteration's postings (keeps the stack small) */
         char buf[KELP_HELM_MAX_SVAL], dom[KELP_HELM_MAX_SVAL / 2];

@@ -49,7 +49,7 @@ static void wpt_init(kelp_bhv *b)
     bhv_hints_default(&s->hints);
     s->odo_virgin = true;
     wpt_reset(s);
-    hx_ignore(kelp_helm_bhv_add_info_vars(b, "NAV_X, NAV_Y")); /* a constructor cannot fail: a full list only skips the registration */
+    hx_ignore(kelp_helm_bhv_add_info_vars(b, "NAV_X, NAV_Y, NAV_SPEED")); /* a constructor cannot fail: a full list only skips the registration */
 }
 
 static int add_flag(kelp_bhv_flag *arr, unsigned *n, unsigned cap, const char *v)
@@ -204,31 +204,43 @@ static kelp_bhv_pt point(const kelp_bhv_wpt *s, unsigned i)
     return s->pts[s->reverse ? s->npts - 1 - i : i];
 }
 
-static void post_seglist(kelp_bhv *b, bool active)
+/* the seglist as 24.8 draws it (XYSegList's spec): active, its vertices to 3 decimals, the
+ * label "<us>_<name>" and the hints; erased (run -> idle), to 1 decimal with active=false and
+ * the label only; an edge_color "off"/"inactive" draws the erasing stub */
+KELP_NOINLINE static void post_seglist(kelp_bhv *b, bool active)
 {
     const kelp_bhv_wpt *s = &b->u.wpt;
     /* composed in the helm's behaviour workspace */
     char *buf = b->helm->ws_bhv.post, (*nb)[32] = b->helm->ws_bhv.num;
     char *x = nb[0], *y = nb[1], *vs = nb[2], *es = nb[3];
     const size_t cap = sizeof b->helm->ws_bhv.post, ncap = sizeof nb[0];
+    const char *us = b->us[0] ? b->us : "vehicle";
+    if (active && (hx_ieq(s->hints.edge_color, "off") || hx_ieq(s->hints.edge_color, "inactive"))) {
+        hx_cat(buf, cap, "pts={0,0:9,0:0,9},active=false,label=", us, "_", b->name, HX_END);
+        kelp_helm_bhv_post_string(b, "VIEW_SEGLIST", buf, NULL);
+        return;
+    }
     size_t n = hx_cat(buf, cap, "pts={", HX_END);
     for (unsigned i = 0; i < s->npts; i++) {
         kelp_bhv_pt p = point(s, i);
-        hx_fmt_double(x, ncap, p.x);
-        hx_fmt_double(y, ncap, p.y);
+        hx_fmt_x(x, ncap, p.x, active ? 3 : 1);
+        hx_fmt_x(y, ncap, p.y, active ? 3 : 1);
         n += hx_cat(buf + n, cap - n, i ? ":" : "", x, ",", y, HX_END);
     }
-    n += hx_cat(buf + n, cap - n, "},label=", b->name, ",active=", active ? "true" : "false", HX_END);
+    n += hx_cat(buf + n, cap - n, active ? "},label=" : "},active=false,label=", us, "_", b->name, HX_END);
     if (active) {
-        hx_fmt_double(vs, ncap, s->hints.vertex_size);
-        hx_fmt_double(es, ncap, s->hints.edge_size);
-        hx_cat(buf + n, cap - n, ",vertex_color=", s->hints.vertex_color, ",edge_color=", s->hints.edge_color,
-               ",label_color=", s->hints.label_color, ",vertex_size=", vs, ",edge_size=", es, HX_END);
+        hx_fmt_x(vs, ncap, s->hints.vertex_size, 1);
+        hx_fmt_x(es, ncap, s->hints.edge_size, 1);
+        hx_cat(buf + n, cap - n, ",label_color=", s->hints.label_color, ",edge_color=", s->hints.edge_color,
+               ",vertex_color=", s->hints.vertex_color, ",vertex_size=", vs, ",edge_size=", es, HX_END);
     }
     kelp_helm_bhv_post_string(b, "VIEW_SEGLIST", buf, NULL);
 }
 
-static void post_point(kelp_bhv *b, kelp_bhv_pt p, bool active)
+/* the next-point marker (key "wpt") and the track point (key "trk", drawn when it is more
+ * than 5 m from the next point) as 24.8 draws them (XYPoint's spec, coordinates to 2
+ * decimals); erased as "x=0,y=0,active=false,label=..". pt NULL: erase. */
+KELP_NOINLINE static void post_marker(kelp_bhv *b, bool track, const kelp_bhv_pt *pt)
 {
     const kelp_bhv_wpt *s = &b->u.wpt;
     /* composed in the helm's behaviour workspace (the text's bound as before: two names and 256) */
@@ -236,16 +248,22 @@ static void post_point(kelp_bhv *b, kelp_bhv_pt p, bool active)
     char *x = nb[0], *y = nb[1], *vs = nb[2];
     const size_t cap = KELP_MAX_NAME * 2 + 256, ncap = sizeof nb[0];
     KELP_STATIC_ASSERT(KELP_MAX_NAME * 2 + 256 <= sizeof b->helm->ws_bhv.post, "VIEW_POINT text fits ws_bhv.post");
-    hx_fmt_double(x, ncap, p.x);
-    hx_fmt_double(y, ncap, p.y);
-    size_t n = hx_cat(spec, cap, "label=", b->us[0] ? b->us : "vehicle", "'s next waypoint,type=waypoint,source=",
-                      b->name, ",x=", x, ",y=", y, ",active=", active ? "true" : "false", HX_END);
-    if (active) {
-        hx_fmt_double(vs, ncap, s->hints.nextpt_vertex_size);
-        hx_cat(spec + n, cap - n, ",vertex_color=", s->hints.nextpt_color, ",label_color=", s->hints.nextpt_lcolor,
-               ",vertex_size=", vs, HX_END);
+    const char *us = b->us[0] ? b->us : "vehicle", *what = track ? "'s trackpt" : "'s nextpt";
+    if (!pt) {
+        hx_cat(spec, cap, "x=0,y=0,active=false,label=", us, what, HX_END);
+    } else {
+        hx_fmt_x(x, ncap, pt->x, 2);
+        hx_fmt_x(y, ncap, pt->y, 2);
+        if (track)
+            hx_cat(spec, cap, "x=", x, ",y=", y, ",label=", us, what, ",label_color=", s->hints.nextpt_color,
+                   ",vertex_color=", s->hints.nextpt_color, ",vertex_size=4", HX_END);
+        else {
+            hx_fmt_x(vs, ncap, s->hints.nextpt_vertex_size, 1);
+            hx_cat(spec, cap, "x=", x, ",y=", y, ",active=true,label=", us, what, ",label_color=",
+                   s->hints.nextpt_lcolor, ",vertex_color=", s->hints.nextpt_color, ",vertex_size=", vs, HX_END);
+        }
     }
-    kelp_helm_bhv_post_string(b, "VIEW_POINT", spec, NULL);
+    kelp_helm_bhv_post_string(b, "VIEW_POINT", spec, track ? "trk" : "wpt");
 }
 
 /* a report under its configured name plus post_suffix; "silent" posts nothing */
@@ -261,13 +279,27 @@ static void wpt_idle(kelp_bhv *b)
 {
     kelp_bhv_wpt *s = &b->u.wpt;
     s->restart = true;
-    if (s->npts) {
+    /* on the way from running to idle, 24.8 erases its drawings (onRunToIdleState) */
+    if (s->npts && (b->state == KELP_BHV_RUNNING || b->state == KELP_BHV_ACTIVE)) {
+        post_marker(b, true, NULL);
+        post_marker(b, false, NULL);
         post_seglist(b, false);
-        post_point(b, point(s, s->index < s->npts ? s->index : 0), false);
     }
 }
 
-static void post_stat(kelp_bhv *b, double dist)
+/* BHV_Waypoint posts the cycle count when it changes from the last it posted (0 at first),
+ * also on the iteration the last pass completes */
+KELP_NOINLINE static void post_cycle_index(kelp_bhv *b)
+{
+    kelp_bhv_wpt *s = &b->u.wpt;
+    char *var = b->helm->ws_bhv.var;
+    if (s->cycles != s->cycles_posted && report_name(s, s->var_cyindex, var, sizeof b->helm->ws_bhv.var)) {
+        kelp_helm_bhv_post_double(b, var, (double)s->cycles, NULL);
+        s->cycles_posted = s->cycles;
+    }
+}
+
+KELP_NOINLINE static void post_stat(kelp_bhv *b, double dist)
 {
     kelp_bhv_wpt *s = &b->u.wpt;
     /* composed in the helm's behaviour workspace (the text's bound as before: two names and 160) */
@@ -275,24 +307,38 @@ static void post_stat(kelp_bhv *b, double dist)
     char *ix = nb[0], *hc = nb[1], *ht = nb[2], *cy = nb[3], *ds = nb[4], *et = nb[5];
     const size_t cap = KELP_MAX_NAME * 2 + 160, ncap = sizeof nb[0], vcap = sizeof b->helm->ws_bhv.var;
     KELP_STATIC_ASSERT(KELP_MAX_NAME * 2 + 160 <= sizeof b->helm->ws_bhv.post, "WPT_STAT text fits ws_bhv.post");
-    double eta = s->speed > 0 ? dist / s->speed : -1;
+    /* eta as 24.8 writes it: the distance over the vehicle's own speed (NAV_SPEED, 0 when none
+     * came), printed as printf prints the quotient: "inf" stopped, "-nan" stopped on the point */
+    double osv = 0;
+    if (!kelp_helm_bhv_buf_double(b, "NAV_SPEED", &osv) || !isfinite(osv))
+        osv = 0;
     hx_fmt_ulong(ix, ncap, s->index);
     hx_fmt_ulong(hc, ncap, s->captured);
     hx_fmt_ulong(ht, ncap, s->captured + s->slipped);
     hx_fmt_ulong(cy, ncap, s->cycles);
     hx_fmt_fixed(ds, ncap, dist, 0);
-    hx_fmt_fixed(et, ncap, eta, 0);
+    if (osv != 0)
+        hx_fmt_fixed(et, ncap, dist / osv, 0);
+    else
+        hx_copy(et, ncap, dist > 0 ? "inf" : "-nan", dist > 0 ? 3 : 4);
     hx_cat(buf, cap, "vname=", b->us[0] ? b->us : "vehicle", ",behavior-name=", b->name, ",index=", ix, ",hits=", hc,
            "/", ht, ",cycles=", cy, ",dist=", ds, ",eta=", et, HX_END);
     if (report_name(s, s->var_report, var, vcap))
         kelp_helm_bhv_post_string(b, var, buf, NULL);
     if (report_name(s, s->var_index, var, vcap))
         kelp_helm_bhv_post_double(b, var, (double)s->index, NULL);
-    /* BHV_Waypoint posts the cycle count when it changes from the last it posted (0 at first) */
-    if (s->cycles != s->cycles_posted && report_name(s, s->var_cyindex, var, vcap)) {
-        kelp_helm_bhv_post_double(b, var, (double)s->cycles, NULL);
-        s->cycles_posted = s->cycles;
-    }
+    post_cycle_index(b);
+}
+
+/* on the iteration a pass ends, 24.8 posts "behavior-name=<name>,completed" (or ",cycled")
+ * to the status variable */
+KELP_NOINLINE static void post_feedback(kelp_bhv *b, const char *what)
+{
+    kelp_bhv_wpt *s = &b->u.wpt;
+    char *buf = b->helm->ws_bhv.post, *var = b->helm->ws_bhv.var;
+    hx_cat(buf, sizeof b->helm->ws_bhv.post, "behavior-name=", b->name, ",", what, HX_END);
+    if (report_name(s, s->var_report, var, sizeof b->helm->ws_bhv.var))
+        kelp_helm_bhv_post_string(b, var, buf, NULL);
 }
 
 static void post_pairs(kelp_bhv *b, const kelp_bhv_flag *f, unsigned n)
@@ -446,11 +492,12 @@ KELP_NOINLINE static bool wpt_advance(kelp_bhv *b, double *crs)
             post_pairs(b, s->cycleflag, s->ncycleflag);
             if (s->repeat < 0 || s->cycles <= (unsigned long)s->repeat) {
                 s->index = 0;
+                post_feedback(b, "cycled");
             } else {
                 s->index = s->npts - 1;
-                post_stat(b, 0);
-                post_point(b, cur, false);
-                post_seglist(b, false);
+                post_feedback(b, "completed");
+                post_cycle_index(b);
+                post_marker(b, false, NULL); /* no next point: 24.8 erases the marker */
                 kelp_helm_bhv_set_complete(b);
                 return false;
             }
@@ -463,8 +510,9 @@ KELP_NOINLINE static bool wpt_advance(kelp_bhv *b, double *crs)
     hx_cat(var, sizeof b->helm->ws_bhv.var, "WPT_ODO", s->suffix, HX_END);
     kelp_helm_bhv_post_double(b, var, s->odo_leg, NULL);
     post_stat(b, dist);
-    post_point(b, cur, true);
     post_seglist(b, true);
+    post_marker(b, false, &cur);
+    post_marker(b, true, hypot(cur.x - tp.x, cur.y - tp.y) > 5 ? &tp : NULL);
     if (s->var_dist_prev[0])
         kelp_helm_bhv_post_double(b, s->var_dist_prev, hypot(s->prev.x - s->osx, s->prev.y - s->osy), NULL);
     if (s->var_dist_next[0])

@@ -307,6 +307,25 @@ void helm_sink(kelp_helm *h, const char *var, bool is_str, const char *s, double
     sink(h, var, is_str, s, d, aux);
 }
 
+void helm_life_event(kelp_helm *h, const char *bname, const char *btype, const char *event, const char *seed)
+{
+    char *buf = h->ws_upd.msg, it[24]; /* the update workspace: idle between updates */
+    const size_t cap = sizeof h->ws_upd.msg;
+    double ht = h->ib.curr_time - h->first_iter_time;
+    size_t n = hx_cat(buf, cap, "iter=0", HX_END);
+    if (ht > 0) {
+        char tm[40];
+        hx_fmt_fixed(tm, sizeof tm, ht, 2);
+        n += hx_cat(buf + n, cap - n, ",time=", tm, HX_END);
+    }
+    n += hx_cat(buf + n, cap - n, ", bname=", bname, ", btype=", btype, ", event=", event, HX_END);
+    if (seed && *seed)
+        n += hx_cat(buf + n, cap - n, ", seed=", seed, HX_END);
+    hx_fmt_ulong(it, sizeof it, h->iteration);
+    hx_cat(buf + n, cap - n, ",iter=", it, HX_END);
+    sink(h, "IVPHELM_LIFE_EVENT", true, buf, 0, NULL);
+}
+
 /* "course,0,359,360:speed,0,4,21" (IVPHELM_DOMAIN, the summary's ivpdomain) */
 static void helm_domain_string(const kelp_ivp_domain *dom, char *buf, size_t cap)
 {
@@ -351,12 +370,8 @@ void kelp_helm_start(kelp_helm *h, kelp_time now)
     sink(h, "IVPHELM_MODESET", true, buf, 0, NULL);
     helm_domain_string(&h->cfg.domain, buf, cap);
     sink(h, "IVPHELM_DOMAIN", true, buf, 0, NULL);
-    /* one spawn event per behaviour of the files */
-    for (unsigned i = 0; i < h->nbhv; i++) {
-        hx_cat(buf, cap, "time=0.00, iter=0, bname=", h->bhv[i].name, ", btype=", h->bhv[i].type,
-               ", event=spawn, seed=helm startup", HX_END);
-        sink(h, "IVPHELM_LIFE_EVENT", true, buf, 0, NULL);
-    }
+    /* one spawn event per behaviour of the files: posted by the first decision (24.8) */
+    h->startup_events_pending = true;
     /* each behaviour's BHV_SETTINGS (onSetParamComplete) */
     for (unsigned i = 0; i < h->nbhv; i++)
         if (h->bhv[i].ops->post_config)
@@ -1386,6 +1401,8 @@ int kelp_helm_iterate(kelp_helm *h, kelp_time now)
     }
     h->iteration++;
     h->ib.curr_time = now - h->t0;
+    if (h->iteration == 1)
+        h->first_iter_time = h->ib.curr_time;
     for (unsigned i = 0; i < h->ib.nvar; i++)
         if (h->ib.var[i].pending) {
             h->ib.var[i].time = h->ib.curr_time;
@@ -1403,11 +1420,6 @@ int kelp_helm_iterate(kelp_helm *h, kelp_time now)
     r->iteration = h->iteration;
     r->time = h->ib.curr_time;
     sink(h, "IVPHELM_STATE", true, h->engaged ? "DRIVE" : "PARK", 0, NULL);
-    if (h->iteration == 1 || h->engaged != h->last_engaged || h->ib.curr_time - h->last_engaged_post >= 1.0) {
-        sink(h, "IVPHELM_ENGAGED", true, h->engaged ? "ENGAGED" : "DISENGAGED", 0, NULL);
-        h->last_engaged = h->engaged;
-        h->last_engaged_post = h->ib.curr_time;
-    }
     post_ledger_and_turn_rate(h, now);
     double (*clk)(void *) = h->cfg.cpu_clock;
     double t_start = clk ? clk(h->cfg.user) : 0;
@@ -1421,6 +1433,11 @@ int kelp_helm_iterate(kelp_helm *h, kelp_time now)
                 r->pcs_formed += h->fn[i].n;
         }
         flush_posts(h);
+        if (h->startup_events_pending) { /* after the behaviours' postings, as 24.8 */
+            h->startup_events_pending = false;
+            for (unsigned i = 0; i < h->nbhv; i++)
+                helm_life_event(h, h->bhv[i].name, h->bhv[i].type, "spawn", "helm_startup");
+        }
         double t_built = clk ? clk(h->cfg.user) : 0;
         if (r->halted) { /* MOOS-IvP's halt message names the behaviour error */
             /* "BHV_ERROR: " (11 bytes) then the value, cut as in a buffer of sizeof halt_msg - 12 */

@@ -67,6 +67,9 @@ bool helm_avoid_macro(const kelp_bhv *b, const char *m, size_t ml, char *val, si
 void helm_post_flag_string(kelp_bhv *b, const char *var, const char *sval, const char *key);
 int bhv_general_param(kelp_bhv *b, const char *param, const char *value);
 void helm_sink(kelp_helm *h, const char *var, bool is_str, const char *s, double d, const char *aux);
+/* IVPHELM_LIFE_EVENT as 24.8 writes it: "iter=0[,time=<helm s since the first iteration>],
+ * bname=.., btype=.., event=..[, seed=..],iter=<helm iteration>" */
+void helm_life_event(kelp_helm *h, const char *bname, const char *btype, const char *event, const char *seed);
 /* one '#'-separated update piece "param = value" of s[0..pn), trimmed */
 bool helm_update_piece(const char *piece, size_t pn, char *param, size_t pcap, char *val, size_t vcap);
 /* templates and spawning (spawn.c) */

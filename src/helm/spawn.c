@@ -50,15 +50,7 @@ int helm_templates_extract(kelp_helm *h)
 
 static void life_event(kelp_helm *h, const kelp_bhv *b, const char *event, const char *seed)
 {
-    char *buf = h->ws_upd.msg, tm[32], it[24]; /* the update workspace: idle while spawning / reaping */
-    const size_t cap = sizeof h->ws_upd.msg;
-    hx_fmt_fixed(tm, sizeof tm, h->ib.curr_time, 2);
-    hx_fmt_ulong(it, sizeof it, h->iteration);
-    size_t n = hx_cat(buf, cap, "time=", tm, ", iter=", it, ", bname=", b->name, ", btype=", b->type,
-                      ", event=", event, HX_END);
-    if (seed && *seed)
-        hx_cat(buf + n, cap - n, ", seed=", seed, HX_END);
-    helm_sink(h, "IVPHELM_LIFE_EVENT", true, buf, 0, NULL);
+    helm_life_event(h, b->name, b->type, event, seed);
 }
 
 static void warn(kelp_helm *h, const char *a, const char *b, const char *c)

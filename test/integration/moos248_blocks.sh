@@ -52,5 +52,5 @@ t_first=$(awk '$3=="IVPHELM_STATE"{print $1; exit}' h.txt)
 t_hold=$(awk '$3=="PTASKMANAGER_STATUS"{print $1; exit}' h.txt)
 [ -n "$t_first" ] && [ -n "$t_hold" ] || fail "no IVPHELM_STATE ($t_first) or no poke ($t_hold)"
 awk -v a="$t_first" -v b="$t_hold" 'BEGIN{exit !(a >= b)}' || fail "the helm ran at $t_first before the last held app reported at $t_hold"
-grep -q ' IVPHELM_ENGAGED DISENGAGED' h.txt || fail "start_engaged = false: the helm should start disengaged"
-ok "pHelmIvP: held until $t_hold, then IVPHELM_STATE at $t_first, disengaged (start_engaged = false)"
+grep -q ' IVPHELM_STATE PARK' h.txt || fail "start_engaged = false: the helm should start parked"
+ok "pHelmIvP: held until $t_hold, then IVPHELM_STATE at $t_first, parked (start_engaged = false)"

@@ -30,7 +30,12 @@ sleep 0.5
 $BIN/kelp-poke topside.moos 'POLLER_COMMAND:=pause' > /dev/null
 sleep 0.5
 $BIN/kelp-poke topside.moos 'POLLER_COMMAND:=resume' > /dev/null
-sleep 1
+# until the logger has written the resumed list (a loaded host may take a while), at most 15 s
+for _ in $(seq 75); do
+  [ "$($BIN/kelp-logcheck log.lcm --print 2>/dev/null | grep -c ' POLLER_STATUS state=active,slots=3,cycle_seconds=25,updates=5')" -ge 1 ] && break
+  sleep 0.2
+done
+sleep 0.3
 kill ${PIDS[1]} ${PIDS[0]}
 wait ${PIDS[1]} 2>/dev/null || true
 sleep 0.3
