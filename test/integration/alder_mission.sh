@@ -14,7 +14,7 @@ sed -i "s/^MOOSTimeWarp *= *1 *$/MOOSTimeWarp = $WARP/" alder.moos
 grep -q "^MOOSTimeWarp = $WARP" alder.moos || fail "could not set MOOSTimeWarp"
 # one warped clock for the launcher, its apps and our pokes
 export KELP_WARP_EPOCH=$(date +%s.%N)
-lcm-logger --lcm-url="$KELP_LCM_URL" -f -q run.lcm > logger.out 2>&1 & LG=$!; PIDS+=($LG)
+$BIN/kelp-record --lcm-url="$KELP_LCM_URL" -f -q run.lcm > logger.out 2>&1 & LG=$!; PIDS+=($LG)
 sleep 1   # the logger must be listening before anything starts
 $BIN/kelp-launch --run-seconds 45 --log-dir logs alder.moos > launch.out 2>&1 & LP=$!; PIDS+=($LP)
 sleep 1.5

@@ -34,7 +34,7 @@ ProcessConfig = pGeneralCodec
   dccl_cfg { message_file { path: "simple_status.xml" } }
 }
 M
-bg lcm-logger --lcm-url="$KELP_LCM_URL" -f codec.lcm -q
+bg $BIN/kelp-record --lcm-url="$KELP_LCM_URL" -f codec.lcm -q
 sleep 0.3
 $BIN/kelp-launch --run-seconds 12 --log-dir logs codec.moos > launch.out 2>&1 & L=$!
 PIDS+=($L)

@@ -56,7 +56,7 @@ ProcessConfig = pHelmIvP
   Domain     = speed:0:4:21
 }
 M
-lcm-logger --lcm-url="$KELP_LCM_URL" -f run.lcmlog > logger.out 2>&1 & LG=$!
+$BIN/kelp-record --lcm-url="$KELP_LCM_URL" -f run.lcmlog > logger.out 2>&1 & LG=$!
 PIDS+=($LG)
 sleep 1   # the logger must be listening before anything starts
 bg $BIN/pHelmIvP alder.moos > helm.out 2>&1

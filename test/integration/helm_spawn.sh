@@ -46,7 +46,7 @@ ProcessConfig = pHelmIvP
   Domain     = speed:0:4:21
 }
 M
-lcm-logger --lcm-url="$KELP_LCM_URL" -f run.lcmlog > logger.out 2>&1 & LG=$!
+$BIN/kelp-record --lcm-url="$KELP_LCM_URL" -f run.lcmlog > logger.out 2>&1 & LG=$!
 PIDS+=($LG)
 sleep 1
 bg $BIN/pHelmIvP alder.moos > helm.out 2>&1

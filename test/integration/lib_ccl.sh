@@ -33,8 +33,8 @@ run_pair() {
   cp $dir/* .
   sh ./loopbacks
   unset KELP_LCM_URL # each community on its ServerPort
-  bg lcm-logger --lcm-url="udpm://239.255.76.67:9101?ttl=0" -f mm1.lcm -q
-  bg lcm-logger --lcm-url="udpm://239.255.76.67:9102?ttl=0" -f mm2.lcm -q
+  bg $BIN/kelp-record --lcm-url="udpm://239.255.76.67:9101?ttl=0" -f mm1.lcm -q
+  bg $BIN/kelp-record --lcm-url="udpm://239.255.76.67:9102?ttl=0" -f mm2.lcm -q
   sleep 0.3
   $BIN/kelp-launch --run-seconds $secs --log-dir logs.mm1 mm1.moos > launch.mm1 2>&1 & local L1=$!
   $BIN/kelp-launch --run-seconds $secs --log-dir logs.mm2 mm2.moos > launch.mm2 2>&1 & local L2=$!

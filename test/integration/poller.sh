@@ -17,7 +17,7 @@ ProcessConfig = pAcommsPoller
   legacy_update = true
 }
 EOF
-bg lcm-logger --lcm-url="$KELP_LCM_URL" -f log.lcm -q
+bg $BIN/kelp-record --lcm-url="$KELP_LCM_URL" -f log.lcm -q
 sleep 0.3
 bg $BIN/pAcommsPoller topside.moos > poller.out 2>&1
 sleep 1.5

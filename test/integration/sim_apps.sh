@@ -41,9 +41,9 @@ ProcessConfig = pNodeReporter
 M
 # one warped clock for the launcher, its apps and our pokes
 export KELP_WARP_EPOCH=$(date +%s.%N)
-lcm-logger --lcm-url="$KELP_LCM_URL" -f -q run.lcm > logger.out 2>&1 & LG=$!; PIDS+=($LG)
+$BIN/kelp-record --lcm-url="$KELP_LCM_URL" -f -q run.lcm > logger.out 2>&1 & LG=$!; PIDS+=($LG)
 # a second log with the simulator's NAV_* only: kelp-plot must fall back to NAV_X/NAV_Y
-lcm-logger --lcm-url="$KELP_LCM_URL" -c 'NAV_.*' -f -q nav.lcm > logger_nav.out 2>&1 & LGN=$!; PIDS+=($LGN)
+$BIN/kelp-record --lcm-url="$KELP_LCM_URL" -c 'NAV_.*' -f -q nav.lcm > logger_nav.out 2>&1 & LGN=$!; PIDS+=($LGN)
 sleep 0.4
 $BIN/kelp-launch --run-seconds 8 --log-dir logs sim.moos > launch.out 2>&1 & LP=$!; PIDS+=($LP)
 sleep 1.2
@@ -140,7 +140,7 @@ ok "bad configuration rejected with file:line"
 
 # ---- every VIEW_* kind (pokes in small groups: lcm-logger queues at most 30 per burst)
 printf 'Community = shoreside\n' > shore.moos
-lcm-logger --lcm-url="$KELP_LCM_URL" -f -q views.lcm > logger2.out 2>&1 & LG=$!; PIDS+=($LG)
+$BIN/kelp-record --lcm-url="$KELP_LCM_URL" -f -q views.lcm > logger2.out 2>&1 & LG=$!; PIDS+=($LG)
 sleep 0.4
 a=(); for i in $(seq 0 14); do a+=("NODE_REPORT:=NAME=alpha,TYPE=UUV,TIME=$((1000+i*10)),X=$((i*10)),Y=0,SPD=1.00,HDG=90.00,DEPTH=0.00"); done
 $BIN/kelp-poke shore.moos "${a[@]}" > /dev/null || fail poke
