@@ -21,7 +21,7 @@
 #define SNAP_M 0.1          /* the polygon's vertices are snapped to 0.1 m */
 #define MOD_RAD_MIN 5.0     /* mod_poly_rad never shrinks the polygon's radius below 5 m */
 #define SPEED_BASE 0.3      /* the speed peak's base width (peak width and summit delta 0) */
-#define SPIRAL_DEFAULT -2.0 /* the loiter engine's spiral factor before spiral_factor is set */
+#define SPIRAL_DEFAULT (-2.0) /* the loiter engine's spiral factor before spiral_factor is set */
 #define INT_POST_ABOVE 10.0 /* a distance or ETA above this is posted rounded to an integer */
 #define ZSPD_LOW 0.1        /* ipf_type = zaic_spd: the low speed (m/s) and its utility, */
 #define ZSPD_LOW_UTIL 85.0
@@ -872,6 +872,13 @@ static double clamp(double v, double lo, double hi)
     return v < lo ? lo : (v > hi ? hi : v);
 }
 
+/* the domain point nearest v (a half rounds up), within 0..top */
+static int dom_index(double v, double lo, double delta, int top)
+{
+    int i = (int)((v - lo) / delta + 0.5);
+    return i < 0 ? 0 : (i > top ? top : i);
+}
+
 /* ipf_type = zaic_spd: 24.8's loiter sets ZAIC_SPD to utility 100 at the speed, 85 at 0.1 m/s,
  * 20 at the speed + 0.4 and 0 at both ends of the domain (a point at an end takes the end's 0),
  * straight lines between the points (each snapped to the nearest domain point): into w->tmp */
@@ -884,25 +891,23 @@ KELP_NOINLINE static int zaic_spd(kelp_bhv *b, const kelp_helm_work *w, double s
     int top = (int)v->points - 1;
     double med = clamp(speed, lo, hi), low = fmin(clamp(ZSPD_LOW, lo, hi), med);
     double hgh = fmax(clamp(speed + ZSPD_ABOVE, lo, hi), med);
-    int ix[3];
-    const double at[3] = {low, med, hgh};
-    for (unsigned i = 0; i < 3; i++) {
-        ix[i] = (int)((at[i] - lo) / dl + 0.5);
-        ix[i] = ix[i] < 0 ? 0 : (ix[i] > top ? top : ix[i]);
-    }
-    ix[0] = ix[0] > ix[1] ? ix[1] : ix[0];
-    ix[2] = ix[2] < ix[1] ? ix[1] : ix[2];
+    /* the domain points of the low, desired and high speeds, in that order */
+    int i_lo = dom_index(low, lo, dl, top), i_med = dom_index(med, lo, dl, top), i_hi = dom_index(hgh, lo, dl, top);
+    if (i_lo > i_med)
+        i_lo = i_med;
+    if (i_hi < i_med)
+        i_hi = i_med;
     int32_t d[5];
     double r[5];
     unsigned k = 0;
-    if (ix[1] != 0)
+    if (i_med != 0)
         d[k] = 0, r[k++] = 0;
-    if (ix[0] != 0 && ix[0] != ix[1])
-        d[k] = ix[0], r[k++] = low == lo ? 0 : ZSPD_LOW_UTIL;
-    d[k] = ix[1], r[k++] = 100;
-    if (ix[2] != ix[1])
-        d[k] = ix[2], r[k++] = hgh == hi ? 0 : ZSPD_ABOVE_UTIL;
-    if (top != ix[2])
+    if (i_lo != 0 && i_lo != i_med)
+        d[k] = i_lo, r[k++] = low == lo ? 0 : ZSPD_LOW_UTIL;
+    d[k] = i_med, r[k++] = 100;
+    if (i_hi != i_med)
+        d[k] = i_hi, r[k++] = hgh == hi ? 0 : ZSPD_ABOVE_UTIL;
+    if (top != i_hi)
         d[k] = top, r[k++] = 0;
     spd->pcs = w->tmp;
     spd->cap = w->tmp_cap;
