@@ -425,15 +425,13 @@ static void spec_label(kelp_bhv_loiter *s, const char *v)
         }
 }
 
-/* polygon: parsed aside (a refused polygon changes nothing); convex or refused; snapped to
- * 0.1 m unless the snap would make it concave; ordered; the waypoint engine restarts on it */
-KELP_NOINLINE static int set_polygon(kelp_bhv *b, const char *v)
+/* a parsed polygon (n vertices in the helm's ws_bhv.pts) taken: convex or refused (nothing
+ * changes); snapped to 0.1 m unless the snap would make it concave; ordered; the waypoint
+ * engine restarts on it */
+KELP_NOINLINE static int take_polygon(kelp_bhv *b, const char *v, unsigned n)
 {
     kelp_bhv_loiter *s = &b->u.loiter;
-    kelp_bhv_pt *pts = b->helm->ws_bhv.pts;
-    unsigned n;
-    if (kelp_helm_parse_points(v, pts, KELP_HELM_MAX_PTS, &n) != 0)
-        return kelp_helm_bhv_fail(b, "polygon: not a polygon");
+    const kelp_bhv_pt *pts = b->helm->ws_bhv.pts;
     if (!poly_sides(pts, n, s->side)) { /* (the sides are scratch until the polygon is taken) */
         (void)poly_sides(s->pts, s->npts, s->side);
         return kelp_helm_bhv_fail(b, "polygon: not a convex polygon of three or more vertices");
@@ -453,9 +451,19 @@ KELP_NOINLINE static int set_polygon(kelp_bhv *b, const char *v)
     return 0;
 }
 
+/* polygon: parsed aside (in the helm's workspace: a refused polygon changes nothing). Out of
+ * line and small: the parse is the deepest call under a parameter. */
+KELP_NOINLINE static int set_polygon(kelp_bhv *b, const char *v)
+{
+    unsigned n;
+    if (kelp_helm_parse_points(v, b->helm->ws_bhv.pts, KELP_HELM_MAX_PTS, &n) != 0)
+        return kelp_helm_bhv_fail(b, "polygon: not a polygon");
+    return take_polygon(b, v, n);
+}
+
 /* mod_poly_rad: the polygon grows (or shrinks) by d, each vertex moved along its bearing from
  * the vertices' mean, to a largest radius of at least 5 m; the vertex steered for is kept */
-static void mod_poly_rad(kelp_bhv_loiter *s, double d)
+KELP_NOINLINE static void mod_poly_rad(kelp_bhv_loiter *s, double d)
 {
     kelp_bhv_pt c = poly_center(s);
     double cur = 0, mx = 0, my = 0;
@@ -475,7 +483,7 @@ static void mod_poly_rad(kelp_bhv_loiter *s, double d)
 }
 
 /* visual_hints: the shared hints plus the polygon's label and lcolor (label_color) */
-static int set_hints(kelp_bhv_loiter *s, const char *v)
+KELP_NOINLINE static int set_hints(kelp_bhv_loiter *s, const char *v)
 {
     int rc = bhv_set_hints(&s->hints, v);
     size_t pos = 0, kl, vl;
@@ -490,7 +498,7 @@ static int set_hints(kelp_bhv_loiter *s, const char *v)
 }
 
 /* post_suffix: "_" and the value upper-cased; an empty value or one with blanks is refused */
-static int set_suffix(kelp_bhv_loiter *s, const char *v)
+KELP_NOINLINE static int set_suffix(kelp_bhv_loiter *s, const char *v)
 {
     size_t n = strlen(v);
     if (n == 0 || n + 2 > sizeof s->suffix || strpbrk(v, " \t"))
@@ -505,7 +513,7 @@ static void update_center(kelp_bhv_loiter *s);
 
 /* center_assign (applied at once), xcenter_assign / ycenter_assign (added to the pending
  * assignment, applied at the next run iteration) */
-static int set_center(kelp_bhv_loiter *s, const char *p, const char *v)
+KELP_NOINLINE static int set_center(kelp_bhv_loiter *s, const char *p, const char *v)
 {
     size_t n = strlen(s->center_assign);
     if (!strcmp(p, "center_assign")) {
@@ -522,13 +530,12 @@ static int set_center(kelp_bhv_loiter *s, const char *p, const char *v)
     return 0;
 }
 
-static int loiter_set_param(kelp_bhv *b, const char *p, const char *v)
+/* the parameters other than polygon. Out of line: its locals are not under the polygon parse. */
+KELP_NOINLINE static int set_other(kelp_bhv *b, const char *p, const char *v)
 {
     kelp_bhv_loiter *s = &b->u.loiter;
     double d;
     bool num = hx_number(v, strlen(v), &d);
-    if (!strcmp(p, "polygon"))
-        return set_polygon(b, v);
     if (!strcmp(p, "center_assign") || !strcmp(p, "xcenter_assign") || !strcmp(p, "ycenter_assign"))
         return set_center(s, p, v);
     if (!strcmp(p, "mod_poly_rad")) {
@@ -586,6 +593,11 @@ static int loiter_set_param(kelp_bhv *b, const char *p, const char *v)
         return 0;
     }
     return KELP_ERR_NOTFOUND;
+}
+
+static int loiter_set_param(kelp_bhv *b, const char *p, const char *v)
+{
+    return !strcmp(p, "polygon") ? set_polygon(b, v) : set_other(b, p, v);
 }
 
 static int loiter_params_done(kelp_bhv *b)

@@ -115,8 +115,9 @@ static int parse_radial(const char *s, kelp_bhv_pt *pts, size_t cap, unsigned *n
     return missing ? KELP_ERR_PARSE : radial_make(v, pts, cap, n);
 }
 
-/* The short radial form "px, py, radius, pts[, snap[, label]]" (after "radial:"). */
-static int parse_short_radial(const char *s, kelp_bhv_pt *pts, size_t cap, unsigned *n)
+/* The short radial form "px, py, radius, pts[, snap[, label]]" (after "radial:"). Out of line:
+ * its numbers are not on the stack under the other forms' parses. */
+KELP_NOINLINE static int parse_short_radial(const char *s, kelp_bhv_pt *pts, size_t cap, unsigned *n)
 {
     double v[5] = {0, 0, 0, 0, 0};
     unsigned k = 0;
@@ -259,17 +260,6 @@ int bhv_course_speed_zaic(kelp_bhv *b, const kelp_helm_work *w, double course, d
     return bhv_course_speed_zaic_ratio(b, w, course, speed, spw, sbw, ssd, 50, out);
 }
 
-/* a one-variable ZAIC_PEAK into w->tmp[off .. off + cap). Out of line: the work copy is only
- * on the stack while the ZAIC is built, not under the coupling. */
-KELP_NOINLINE static int zaic_in_tmp(kelp_bhv *b, const kelp_helm_work *w, const char *var, const double *p, bool wrap,
-                                     size_t off, size_t cap, kelp_ivp_func *out)
-{
-    kelp_helm_work wz = *w;
-    wz.out = w->tmp + off;
-    wz.out_cap = cap;
-    return bhv_zaic1(b, &wz, var, p[0], p[1], p[2], p[3], wrap, out);
-}
-
 int bhv_course_speed_zaic_ratio(kelp_bhv *b, const kelp_helm_work *w, double course, double speed, double spw,
                                 double sbw, double ssd, double course_pct, kelp_ivp_func *out)
 {
@@ -279,9 +269,11 @@ int bhv_course_speed_zaic_ratio(kelp_bhv *b, const kelp_helm_work *w, double cou
     size_t ns = b->dom.var[is].points;
     if (w->tmp_cap <= ns)
         return KELP_ERR_NOSPACE;
-    kelp_ivp_func *spd = &b->helm->ws_bhv.cs[0]; /* its pieces first in tmp, the course's after them */
-    const double p[4] = {speed, spw, sbw, ssd};
-    int rc = zaic_in_tmp(b, w, "speed", p, false, 0, ns, spd);
+    kelp_ivp_func *spd = &b->helm->ws_bhv.cs[0];
+    kelp_helm_work wz = *w; /* the speed ZAIC's pieces first in tmp (the course's after them) */
+    wz.out = w->tmp;
+    wz.out_cap = ns;
+    int rc = bhv_zaic1(b, &wz, "speed", speed, spw, sbw, ssd, false, spd);
     if (rc < 0)
         return rc;
     return bhv_course_couple(b, w, course, spd, ns, course_pct, out);
@@ -293,8 +285,10 @@ int bhv_course_couple(kelp_bhv *b, const kelp_helm_work *w, double course, const
     if (used >= w->tmp_cap)
         return KELP_ERR_NOSPACE;
     kelp_ivp_func *crs = &b->helm->ws_bhv.cs[1];
-    const double p[4] = {course, 0, 180.0, 0};
-    int rc = zaic_in_tmp(b, w, "course", p, true, used, w->tmp_cap - used, crs);
+    kelp_helm_work wz = *w; /* the course ZAIC's pieces after the speed function's in tmp */
+    wz.out = w->tmp + used;
+    wz.out_cap = w->tmp_cap - used;
+    int rc = bhv_zaic1(b, &wz, "course", course, 0, 180.0, 0, true, crs);
     if (rc < 0)
         return rc;
     return kelp_ivp_couple(crs, course_pct, spd, 100 - course_pct, true, 0, 100, w->out, w->out_cap, out);
