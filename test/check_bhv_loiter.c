@@ -371,6 +371,17 @@ START_TEST(loiter_slingshot)
     ck_assert(ht_num("LOITER_BNG_TOTAL") == 180);
     ck_assert_str_eq(str("LOITER_COMPLETE"), "true");
     ck_assert(ht_find("lo")->completed);
+    /* any completion (here the duration) runs onCompleteState: the drawings erased, LOITER_COMPLETE */
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Loiter\n{\n name = lo\n speed = 1\n duration = 5\n" SQUARE "}\n");
+    nav(30, 10, 180, 1);
+    ht_iter(0);
+    ck_assert(ht_last("LOITER_COMPLETE") == NULL);
+    ht_iter(10);
+    ck_assert(ht_find("lo")->completed);
+    ck_assert_str_eq(str("LOITER_COMPLETE"), "true");
+    ck_assert_str_eq(str("VIEW_POLYGON"), "pts={0,0:20,0:20,-20:0,-20},active=false,label=alder_lo");
+    ck_assert_str_eq(str("VIEW_POINT"), "x=20,y=-20,active=false,label=alder_waypoint");
 }
 END_TEST
 

@@ -207,7 +207,7 @@ static int probe_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     return 1;
 }
 
-static const kelp_bhv_ops probe_ops = {"BHV_Probe", probe_init, probe_set, NULL, NULL, probe_run, NULL, NULL};
+static const kelp_bhv_ops probe_ops = {"BHV_Probe", probe_init, probe_set, NULL, NULL, probe_run, NULL, NULL, NULL};
 static const kelp_bhv_ops *const probe_types[] = {&probe_ops, &kelp_bhv_simple_waypoint_ops, NULL};
 
 static probe_state *probe(const char *name)

@@ -162,6 +162,9 @@ typedef struct kelp_bhv_ops {
     /** onHelmStart: once at kelp_helm_start, for every behaviour and every spawn template (a
      *  template posts its BCM_ALERT_REQUEST here). May be NULL. */
     void (*on_helm_start)(kelp_bhv *b);
+    /** onCompleteState: once, when the behaviour completes (kelp_helm_bhv_set_complete on a
+     *  behaviour that is not perpetual: its duration ran out, or it completed itself). May be NULL. */
+    void (*on_complete)(kelp_bhv *b);
 } kelp_bhv_ops;
 
 typedef enum kelp_bhv_flag_kind {
@@ -398,7 +401,8 @@ struct kelp_bhv {
 
 /* ---- implementor-invoked utilities (section 4.5.1) ---- */
 
-/** Post end flags (and inactive flags); completed from the next iteration unless perpetual. */
+/** Post end flags (and inactive flags); completed from the next iteration unless perpetual
+ *  (then the type's on_complete runs, once). */
 void kelp_helm_bhv_set_complete(kelp_bhv *b);
 /** addInfoVars("NAV_X, NAV_Y"): one or comma-separated; duplicates ignored. <0 when full. */
 KELP_MUST_CHECK int kelp_helm_bhv_add_info_vars(kelp_bhv *b, const char *names);

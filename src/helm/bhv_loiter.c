@@ -849,8 +849,8 @@ KELP_NOINLINE static void idle_to_run(kelp_bhv *b)
         reset_clockwise_best(s);
 }
 
-/* onCompleteState (slingshot done) */
-static void on_complete(kelp_bhv *b)
+/* onCompleteState: the slingshot done, the duration run out, ... */
+static void loiter_complete(kelp_bhv *b)
 {
     post_point(b, false);
     post_polygon(b, false);
@@ -979,11 +979,8 @@ static int loiter_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     post_polygon(b, true);
     post_point(b, true);
     post_status(b);
-    if (done) {
-        kelp_helm_bhv_set_complete(b);
-        if (b->completed)
-            on_complete(b);
-    }
+    if (done)
+        kelp_helm_bhv_set_complete(b); /* (on_complete then posts LOITER_COMPLETE) */
     if (rc < 0) {
         kelp_helm_bhv_post_warning(b, "Problem Creating the IvP Function");
         return 0;
@@ -999,4 +996,5 @@ const kelp_bhv_ops kelp_bhv_loiter_ops = {
     .on_idle = loiter_idle,
     .on_run = loiter_run,
     .post_config = loiter_post_config,
+    .on_complete = loiter_complete,
 };
