@@ -85,6 +85,7 @@ int main(int argc, char **argv)
         double a = (double)i * 0.01;
         kelp_helm_mail_double(&h, "NAV_X", 20 * cos(a));
         kelp_helm_mail_double(&h, "NAV_Y", -20 + 20 * sin(a));
+        kelp_helm_mail_double(&h, "NAV_HEADING", 90.0); /* BHV_Loiter needs a heading (24.8: an error without) */
         double t0 = now_ns();
         if (kelp_helm_iterate(&h, 0.25 * (double)(i + 1)))
             return 1;

@@ -1,6 +1,6 @@
 /* Behaviour unit tests: BHV_SimpleWaypoint against seed 004 chapter 5 (parameters, the ZAIC
  * pieces of Figure 5, the coupled function, the Reflector's underlying function, postings,
- * the Alder mission flown against a kinematic vehicle), BHV_Waypoint, BHV_Loiter and the
+ * the Alder mission flown against a kinematic vehicle), BHV_Waypoint and the
  * constant behaviours. Uses the ht_* harness of check_helm.c. */
 #include <check.h>
 #include "check_diag.h"
@@ -9,46 +9,14 @@
 #include <string.h>
 #include <kelp/helm.h>
 #include "../src/helm/helm_int.h"
-
-typedef struct ht_post {
-    char var[KELP_MAX_NAME];
-    bool is_str;
-    char sval[KELP_HELM_MAX_SVAL];
-    double dval;
-    unsigned long iter;
-} ht_post;
-kelp_helm *ht_helm(void);
-kelp_helm *ht_setup(const char *domain, const kelp_bhv_ops *const *types);
-void ht_load(const char *bhv);
-int ht_load_rc(const char *bhv);
-void ht_iter(double now);
-const ht_post *ht_last(const char *var);
-unsigned ht_count(const char *var);
-bool ht_has_str(const char *var, const char *val);
-double ht_num(const char *var);
-bool ht_has_sub(const char *var, const char *sub);
+#include "check_ht.h"
 
 #define DOM2 "course:0:359:360,speed:0:4:21"
-
-static kelp_bhv *find(const char *name)
-{
-    kelp_bhv *b = kelp_helm_find(ht_helm(), name);
-    ck_assert_msg(b != NULL, "no behaviour %s", name);
-    return b;
-}
 
 static void nav(double x, double y)
 {
     kelp_helm_mail_double(ht_helm(), "NAV_X", x);
     kelp_helm_mail_double(ht_helm(), "NAV_Y", y);
-}
-
-static double eval2(const kelp_ivp_func *f, uint32_t a, uint32_t b)
-{
-    uint32_t ix[2] = {a, b};
-    double v = NAN;
-    ck_assert_int_eq(kelp_ivp_func_eval(f, ix, &v), 0);
-    return v;
 }
 
 /* ---------------------------------------------------------------- relAng */
@@ -73,7 +41,7 @@ START_TEST(swpt_zaic_pieces_figure5)
      * (Figure 5), coupled 50/50 into 18 pieces normalised to [0,100] (Figure 6). */
     kelp_helm *h = ht_setup(DOM2, NULL);
     ht_load("Behavior = BHV_SimpleWaypoint\n{\n speed = 2.0\n ptx = 60\n pty = -40\n}\n");
-    kelp_bhv *b = find("simple_waypoint");
+    kelp_bhv *b = ht_find("simple_waypoint");
     kelp_helm_work w = {h->mem.pool, h->mem.pool_cap, h->mem.tmp, h->mem.tmp_cap, h->mem.dwork, h->mem.dwork_cap,
                         h->mem.pq, h->mem.pq_cap};
     kelp_ivp_func spd, crs, cp;
@@ -94,12 +62,12 @@ START_TEST(swpt_zaic_pieces_figure5)
     ck_assert_int_eq(kelp_ivp_func_range(&cp, &mn, &mx), 0);
     ck_assert(fabs(mx - 100) < 1e-9 && fabs(mn) < 1e-9);
     /* peak: course 124 (nearest point to 123.69), speed 2.0 (index 10) */
-    ck_assert(fabs(eval2(&cp, 124, 10) - 100) < 0.6);
-    ck_assert(eval2(&cp, 124, 10) > eval2(&cp, 123, 10));
-    ck_assert(eval2(&cp, 124, 10) > eval2(&cp, 124, 9));
-    ck_assert(eval2(&cp, 124, 10) > eval2(&cp, 124, 11));
+    ck_assert(fabs(ht_eval2(&cp, 124, 10) - 100) < 0.6);
+    ck_assert(ht_eval2(&cp, 124, 10) > ht_eval2(&cp, 123, 10));
+    ck_assert(ht_eval2(&cp, 124, 10) > ht_eval2(&cp, 124, 9));
+    ck_assert(ht_eval2(&cp, 124, 10) > ht_eval2(&cp, 124, 11));
     /* course 180 degrees off (304) at speed 0: the minimum */
-    ck_assert(fabs(eval2(&cp, 304, 0)) < 1.0);
+    ck_assert(fabs(ht_eval2(&cp, 304, 0)) < 1.0);
 }
 END_TEST
 
@@ -129,7 +97,7 @@ START_TEST(swpt_reflector_function)
     nav(58, -38);
     ht_iter(0);
     kelp_helm *h = ht_helm();
-    ck_assert_int_eq(find("waypt_return")->state, KELP_BHV_ACTIVE);
+    ck_assert_int_eq(ht_find("waypt_return")->state, KELP_BHV_ACTIVE);
     ck_assert(h->fn[0].n >= 500 && h->fn[0].n <= 1100); /* ~1000 requested pieces */
     double crs = ht_num("DESIRED_HEADING");
     ck_assert_msg(fabs(crs - 303.23) <= 3.0, "heading %g", crs);
@@ -144,7 +112,7 @@ START_TEST(swpt_no_nav_warning)
     ht_load("Behavior = BHV_SimpleWaypoint\n{\n name = transit\n speed = 2.0\n ptx = 60\n pty = -40\n}\n");
     ht_iter(0);
     ck_assert(ht_has_str("BHV_WARNING", "transit: No ownship X/Y info in info_buffer."));
-    ck_assert_int_eq(find("transit")->state, KELP_BHV_RUNNING); /* running, not active */
+    ck_assert_int_eq(ht_find("transit")->state, KELP_BHV_RUNNING); /* running, not active */
     ck_assert_str_eq(ht_helm()->rep.allstop, "NothingToDo");
     ck_assert_uint_eq(ht_count("DESIRED_SPEED"), 0); /* no zeros on the first such iteration */
     ht_iter(1);
@@ -168,15 +136,15 @@ START_TEST(swpt_view_point_and_arrival)
     ck_assert_uint_eq(ht_count("VIEW_POINT"), 0); /* unchanged: duplicate filter */
     nav(60, -31.9); /* 8.1 m: not yet */
     ht_iter(3);
-    ck_assert_int_eq(find("transit")->state, KELP_BHV_ACTIVE);
+    ck_assert_int_eq(ht_find("transit")->state, KELP_BHV_ACTIVE);
     ck_assert(ht_num("DESIRED_HEADING") == 180);
     nav(60, -32); /* exactly 8 m: arrived (dist <= radius) */
     ht_iter(4);
     ck_assert(ht_has_str("RETURN", "true"));
     ck_assert(ht_has_str("VIEW_POINT", "label=alder's next waypoint,type=waypoint,source=transit,x=60,y=-40,active=false"));
-    ck_assert_int_eq(find("transit")->state, KELP_BHV_RUNNING);
+    ck_assert_int_eq(ht_find("transit")->state, KELP_BHV_RUNNING);
     ht_iter(5);
-    ck_assert_int_eq(find("transit")->state, KELP_BHV_COMPLETED);
+    ck_assert_int_eq(ht_find("transit")->state, KELP_BHV_COMPLETED);
 }
 END_TEST
 
@@ -203,7 +171,7 @@ START_TEST(alder_mission_flown)
         ht_iter(i * dt);
         if (t_return < 0 && ht_has_str("RETURN", "true"))
             t_return = i * dt;
-        if (find("waypt_return")->state == KELP_BHV_COMPLETED)
+        if (ht_find("waypt_return")->state == KELP_BHV_COMPLETED)
             break;
         /* the vehicle keeps the last desired values through an iteration with none (the one
          * between the two legs: nothing to do, no zeros posted the first time) */
@@ -214,8 +182,8 @@ START_TEST(alder_mission_flown)
     }
     ck_assert_msg(closest <= 8.0, "closest approach to (60,-40): %g", closest);
     ck_assert_msg(t_return > 30 && t_return < 40, "RETURN at %g s (72 m at 2 m/s is 36 s)", t_return);
-    ck_assert_int_eq(find("transit_to_point")->state, KELP_BHV_COMPLETED);
-    ck_assert_int_eq(find("waypt_return")->state, KELP_BHV_COMPLETED);
+    ck_assert_int_eq(ht_find("transit_to_point")->state, KELP_BHV_COMPLETED);
+    ck_assert_int_eq(ht_find("waypt_return")->state, KELP_BHV_COMPLETED);
     ck_assert_msg(hypot(x, y) <= 8.0, "final (%g,%g)", x, y);
     ck_assert_msg(i * dt < 80, "took %g s", i * dt);
     /* the zeros come once, with the second iteration of NothingToDo (postAllStop holds one):
@@ -238,6 +206,10 @@ typedef struct pts_case {
     double x0, y0, xl, yl;
 } pts_case;
 
+#define R45 7.0710678118654755 /* 10 sin 45 */
+#define S22 0.38268343236508978  /* sin 22.5 */
+#define C22 0.92387953251128674  /* cos 22.5 */
+
 static const pts_case g_pts[] = {
     {"60,-40:60,-100:150,-100", 3, 60, -40, 150, -100},
     {"pts={0,0:10,0}", 2, 0, 0, 10, 0},
@@ -245,9 +217,13 @@ static const pts_case g_pts[] = {
     {"(50,50)", 1, 50, 50, 50, 50},
     {"0,0", 1, 0, 0, 0, 0},
     {"x=5,y=6", 1, 5, 6, 5, 6},
-    {"format=radial, x=0, y=0, radius=10, pts=4", 4, 0, 10, -10, 0},
-    {"radial:: x=100, y=-50, radius=20, pts=8", 8, 100, -30, 100 - 20 * 0.70710678, -50 + 20 * 0.70710678},
-    {"format=radial, x=0, y=0, radius=10, pts=6, snap=1", 6, 0, 10, -9, 5},
+    /* radial as 24.8 lays it out: the first vertex half a step clockwise of north */
+    {"format=radial, x=0, y=0, radius=10, pts=4", 4, R45, R45, -R45, R45},
+    {"radial:: x=100, y=-50, radius=20, pts=8", 8, 100 + 20 * S22, -50 + 20 * C22, 100 - 20 * S22, -50 + 20 * C22},
+    {"format=radial, x=0, y=0, radius=10, pts=6, snap=1", 6, 5, 9, -5, 9},
+    {"radial: 0, 0, 10, 4", 4, R45, R45, -R45, R45},
+    {"radial: 0, 0, 10, 4, 1, lbl", 4, 7, 7, -7, 7},
+    {"radial: 0, 0, 10", -1, 0, 0, 0, 0},
     {"", -1, 0, 0, 0, 0},
     {"1,2,3", -1, 0, 0, 0, 0},
     {"a,b", -1, 0, 0, 0, 0},
@@ -257,10 +233,11 @@ static const pts_case g_pts[] = {
     {"format=radial, x=0, radius=5, pts=4", -1, 0, 0, 0, 0},
     {"format=radial, x=0, y=0, radius=5, pts=2", -1, 0, 0, 0, 0},
     {"x=5", -1, 0, 0, 0, 0},
-    /* keys read in place: a radius alone means radial, keys and format any case, the first wins */
-    {"x=0, y=0, radius=10, pts=4", 4, 0, 10, -10, 0},
-    {"FORMAT=Radial, X=0, Y=0, RADIUS=10, PTS=4", 4, 0, 10, -10, 0},
-    {"format=radial, x=0, y=0, radius=10, pts=4, x=99", 4, 0, 10, -10, 0},
+    /* keys read in place: a radius without format=radial is no polygon (24.8's string2Poly),
+     * keys and format any case, the first wins */
+    {"x=0, y=0, radius=10, pts=4", -1, 0, 0, 0, 0},
+    {"FORMAT=Radial, X=0, Y=0, RADIUS=10, PTS=4", 4, R45, R45, -R45, R45},
+    {"format=radial, x=0, y=0, radius=10, pts=4, x=99", 4, R45, R45, -R45, R45},
     /* a number's text: 63 bytes read, 64 refused */
     {"x=5.0000000000000000000000000000000000000000000000000000000000000,y=6", 1, 5, 6, 5, 6},
     {"x=5.00000000000000000000000000000000000000000000000000000000000000,y=6", -1, 0, 0, 0, 0},
@@ -352,7 +329,7 @@ START_TEST(waypoint_sequence_flags_end)
     ck_assert_str_eq(ht_last("WPT_STAT")->sval, "behavior-name=survey,completed");
     ck_assert_uint_eq(ht_count("WPT_STAT"), 1);
     ht_iter(3);
-    ck_assert_int_eq(find("survey")->state, KELP_BHV_COMPLETED);
+    ck_assert_int_eq(ht_find("survey")->state, KELP_BHV_COMPLETED);
 }
 END_TEST
 
@@ -385,7 +362,7 @@ START_TEST(waypoint_repeat_and_order)
     ck_assert(ht_num("CYCLE_INDEX") == 2);
     ht_iter(5);
     ck_assert_uint_eq(ht_count("CYCLE_INDEX"), 0);
-    ck_assert_int_eq(find("w")->state, KELP_BHV_COMPLETED);
+    ck_assert_int_eq(ht_find("w")->state, KELP_BHV_COMPLETED);
 }
 END_TEST
 
@@ -397,10 +374,10 @@ START_TEST(waypoint_slip_radius)
     ht_iter(0);
     nav(3, 7); /* 4.24 m */
     ht_iter(1);
-    ck_assert_uint_eq(find("w")->u.wpt.index, 0);
+    ck_assert_uint_eq(ht_find("w")->u.wpt.index, 0);
     nav(3.5, 8); /* 4.03 m, closer */
     ht_iter(2);
-    ck_assert_uint_eq(find("w")->u.wpt.index, 0);
+    ck_assert_uint_eq(ht_find("w")->u.wpt.index, 0);
     nav(4, 11); /* 4.12 m: inside slip radius and moving away: counts as arrived */
     ht_iter(3);
     ck_assert(ht_num("WPT_INDEX") == 1);
@@ -426,7 +403,7 @@ START_TEST(waypoint_lead)
     nav(5, 20);
     ht_iter(1); /* track point (0, 20 + 10): relAng((5,20),(0,30)) = 333.43 */
     ck_assert_msg(ht_num("DESIRED_HEADING") == 333, "heading %g", ht_num("DESIRED_HEADING"));
-    ck_assert_int_eq(kelp_helm_bhv_set_param(find("w"), "lead", "0"), 0);
+    ck_assert_int_eq(kelp_helm_bhv_set_param(ht_find("w"), "lead", "0"), 0);
     nav(5, 21);
     ht_iter(2); /* lead off: straight at (0,100): 356.4 */
     ck_assert(ht_num("DESIRED_HEADING") == 356);
@@ -467,15 +444,15 @@ START_TEST(waypoint_capture_line)
     ht_iter(0);
     nav(6, 9);
     ht_iter(1); /* before the line y = 10 */
-    ck_assert_uint_eq(find("w")->u.wpt.index, 0);
+    ck_assert_uint_eq(ht_find("w")->u.wpt.index, 0);
     nav(8, 10.5); /* 8 m away but past the line */
     ht_iter(2);
-    ck_assert_uint_eq(find("w")->u.wpt.index, 1);
+    ck_assert_uint_eq(ht_find("w")->u.wpt.index, 1);
     ck_assert_ptr_nonnull(strstr(ht_last("WPT_STAT")->sval, "hits=1/1"));
     /* absolute: radii zero, only the line counts */
-    ck_assert_int_eq(kelp_helm_bhv_set_param(find("w"), "capture_line", "absolute"), 0);
-    ck_assert(find("w")->u.wpt.capture_radius == 0 && find("w")->u.wpt.slip_radius == 0);
-    ck_assert_int_lt(kelp_helm_bhv_set_param(find("w"), "capture_line", "maybe"), 0);
+    ck_assert_int_eq(kelp_helm_bhv_set_param(ht_find("w"), "capture_line", "absolute"), 0);
+    ck_assert(ht_find("w")->u.wpt.capture_radius == 0 && ht_find("w")->u.wpt.slip_radius == 0);
+    ck_assert_int_lt(kelp_helm_bhv_set_param(ht_find("w"), "capture_line", "maybe"), 0);
 }
 END_TEST
 
@@ -494,7 +471,7 @@ START_TEST(waypoint_reports_and_hints)
     ck_assert_ptr_nonnull(strstr(ht_last("VIEW_SEGLIST")->sval, "edge_color=red"));
     ck_assert_ptr_nonnull(strstr(ht_last("VIEW_SEGLIST")->sval, "vertex_size=5"));
     ck_assert(ht_has_sub("VIEW_POINT", "active=true,label=alder's nextpt,label_color=aqua,vertex_color=green"));
-    ck_assert(find("w")->u.wpt.course_pct == 80);
+    ck_assert(ht_find("w")->u.wpt.course_pct == 80);
     nav(0, 8);
     ht_iter(1);
     nav(0, 16);
@@ -504,9 +481,9 @@ START_TEST(waypoint_reports_and_hints)
     ck_assert_ptr_nonnull(ht_last("WPT_EFFICIENCY_LEG"));
     ck_assert_str_eq(ht_last("WPT_EFFICIENCY_LEG")->sval, "linear_dist=19.5,odo_dist=19.5,efficiency=100.0");
     ck_assert(ht_num("WPT_ODO_A") < 1e-9); /* the next leg's odometry starts over */
-    ck_assert_int_lt(kelp_helm_bhv_set_param(find("w"), "crs_spd_zaic_ratio", "100"), 0);
-    ck_assert_int_lt(kelp_helm_bhv_set_param(find("w"), "wpt_status_var", "A B"), 0);
-    ck_assert_int_lt(kelp_helm_bhv_set_param(find("w"), "capture_radius", "0"), 0);
+    ck_assert_int_lt(kelp_helm_bhv_set_param(ht_find("w"), "crs_spd_zaic_ratio", "100"), 0);
+    ck_assert_int_lt(kelp_helm_bhv_set_param(ht_find("w"), "wpt_status_var", "A B"), 0);
+    ck_assert_int_lt(kelp_helm_bhv_set_param(ht_find("w"), "capture_radius", "0"), 0);
 }
 END_TEST
 
@@ -523,59 +500,14 @@ START_TEST(waypoint_updates_points)
     /* Listing 6's poke: both parameters change in the same iteration */
     kelp_helm_mail_string(ht_helm(), "RETURN_UPDATES", "points = (50,50) # speed = 1.5");
     ht_iter(1);
-    kelp_bhv *b = find("WAYPT_RETURN");
+    kelp_bhv *b = ht_find("WAYPT_RETURN");
     ck_assert(b->u.wpt.npts == 1 && b->u.wpt.pts[0].x == 50 && b->u.wpt.pts[0].y == 50);
     ck_assert(b->u.wpt.speed == 1.5);
     ck_assert(ht_num("DESIRED_HEADING") == 18); /* relAng((0,-100),(50,50)) = 18.43 */
 }
 END_TEST
 
-/* ---------------------------------------------------------------- Loiter */
-
-START_TEST(loiter_acquire_then_loiter)
-{
-    ht_setup(DOM2, NULL);
-    ht_load("Behavior = BHV_Loiter\n{\n name = loiter\n speed = 1.5\n clockwise = true\n"
-            " polygon = format=radial, x=0, y=0, radius=10, pts=4\n}\n");
-    kelp_bhv *b = find("loiter");
-    ck_assert_uint_eq(b->u.loiter.npts, 4);
-    ck_assert(fabs(b->u.loiter.pts[1].x - 10) < 1e-9); /* N, E, S, W: clockwise already */
-    nav(0, 100);
-    ht_iter(0);
-    ck_assert(ht_num("LOITER_ACQUIRE") == 1);
-    ck_assert(ht_num("LOITER_INDEX") == 0); /* nearest vertex (0,10) */
-    ck_assert(ht_num("DESIRED_HEADING") == 180);
-    ck_assert(fabs(ht_num("DESIRED_SPEED") - 1.6) < 1e-9 || fabs(ht_num("DESIRED_SPEED") - 1.4) < 1e-9);
-    ck_assert(ht_has_str("VIEW_POLYGON", "pts={0,10:10,0:0,-10:-10,0},label=loiter,active=true,edge_color=white,"
-                                         "vertex_color=dodger_blue,label_color=white,vertex_size=3,edge_size=1"));
-    nav(0, 9);
-    ht_iter(1); /* vertex captured (1 m), inside: loitering, next vertex (10,0) */
-    ck_assert(ht_num("LOITER_ACQUIRE") == 0);
-    ck_assert(ht_num("LOITER_INDEX") == 1);
-    ck_assert(ht_num("DESIRED_HEADING") == 132); /* relAng((0,9),(10,0)) = 131.99 */
-    nav(9, 0);
-    ht_iter(2);
-    ck_assert(ht_num("LOITER_INDEX") == 2);
-    ck_assert(ht_num("DESIRED_HEADING") == 222); /* relAng((9,0),(0,-10)) = 221.99 */
-}
-END_TEST
-
-START_TEST(loiter_suffix_hints_center_activate)
-{
-    ht_setup(DOM2, NULL);
-    ht_load("Behavior = BHV_Loiter\n{\n name = lo\n speed = 1\n polygon = 0,10:10,0:0,-10:-10,0\n post_suffix = A\n"
-            " center_activate = true\n spiral_factor = -2\n visual_hints = edge_color=orange, vertex_size=2\n"
-            " visual_hints = nonsense=1\n}\n");
-    nav(100, 100);
-    ht_iter(0);
-    /* the reports carry the suffix; the polygon moved to the vehicle; the hints drew it */
-    ck_assert(ht_last("LOITER_INDEX_A") != NULL && ht_last("LOITER_INDEX") == NULL);
-    ck_assert(ht_has_str("VIEW_POLYGON", "pts={100,110:110,100:100,90:90,100},label=lo,active=true,edge_color=orange,"
-                                         "vertex_color=dodger_blue,label_color=white,vertex_size=2,edge_size=1"));
-    ck_assert_int_ne(ht_load_rc("Behavior = BHV_Loiter\n{\n name = bad\n polygon = 0,10:10,0:0,-10\n"
-                                " center_activate = maybe\n}\n"), 0);
-}
-END_TEST
+/* (BHV_Loiter: check_bhv_loiter.c) */
 
 START_TEST(constant_mismatch_and_complete_thresh)
 {
@@ -588,28 +520,12 @@ START_TEST(constant_mismatch_and_complete_thresh)
     ht_iter(0);
     ck_assert(fabs(ht_num("HDG_DIFF") - 30) < 1e-9); /* across north */
     ck_assert(fabs(ht_num("SPD_DIFF") - 0.5) < 1e-9);
-    ck_assert(find("ch")->state != KELP_BHV_COMPLETED);
+    ck_assert(ht_find("ch")->state != KELP_BHV_COMPLETED);
     kelp_helm_mail_double(ht_helm(), "NAV_HEADING", 353);
     ht_iter(1);
-    ck_assert(find("ch")->completed); /* within 5 degrees */
+    ck_assert(ht_find("ch")->completed); /* within 5 degrees */
     ht_iter(2);
-    ck_assert_int_eq(find("ch")->state, KELP_BHV_COMPLETED);
-}
-END_TEST
-
-START_TEST(loiter_counter_clockwise)
-{
-    ht_setup(DOM2, NULL);
-    ht_load("Behavior = BHV_Loiter\n{\n name = l\n speed = 1\n clockwise = false\n polygon = 0,10:10,0:0,-10:-10,0\n}\n");
-    kelp_bhv *b = find("l");
-    ck_assert(b->u.loiter.pts[0].x == -10 && b->u.loiter.pts[1].y == -10); /* reversed: W, S, E, N */
-    nav(0, 9);
-    ht_iter(0);
-    ck_assert(ht_num("LOITER_INDEX") == 0); /* N captured at once; after N comes W when counter-clockwise */
-    ht_iter(1);
-    ck_assert_uint_eq(b->u.loiter.index, 0);
-    ck_assert(ht_num("DESIRED_HEADING") == 228); /* relAng((0,9),(-10,0)) = 228.0 */
-    ck_assert_int_lt(ht_load_rc("Behavior = BHV_Loiter\n{\n polygon = 0,0:1,1\n}\n"), 0); /* < 3 vertices */
+    ck_assert_int_eq(ht_find("ch")->state, KELP_BHV_COMPLETED);
 }
 END_TEST
 
@@ -621,7 +537,7 @@ START_TEST(constant_depth_speed_heading)
     ht_load("Behavior = BHV_ConstantDepth\n{\n name = cd\n depth = 20\n}\n"
             "Behavior = BHV_ConstantSpeed\n{\n name = cs\n speed = 1.2\n}\n"
             "Behavior = BHV_ConstantHeading\n{\n name = ch\n heading = 270\n}\n");
-    kelp_bhv *b = find("cd");
+    kelp_bhv *b = ht_find("cd");
     ck_assert(b->u.c1.peakwidth == 3 && b->u.c1.basewidth == 100 && b->u.c1.summitdelta == 50);
     ht_iter(0);
     ck_assert_str_eq(ht_helm()->rep.allstop, "clear");
@@ -744,13 +660,13 @@ START_TEST(priority_weights_trade_off)
             "Behavior = BHV_ConstantSpeed\n{\n name = s\n speed = 1\n}\n");
     ht_iter(0);
     ck_assert(ht_num("DESIRED_HEADING") == 180);
-    ck_assert_int_eq(kelp_helm_bhv_set_param(find("a"), "pwt", "500"), 0);
+    ck_assert_int_eq(kelp_helm_bhv_set_param(ht_find("a"), "pwt", "500"), 0);
     ht_iter(1);
     ck_assert(ht_num("DESIRED_HEADING") == 90);
-    ck_assert_int_eq(kelp_helm_bhv_set_param(find("a"), "pwt", "0"), 0); /* weight 0: no function */
+    ck_assert_int_eq(kelp_helm_bhv_set_param(ht_find("a"), "pwt", "0"), 0); /* weight 0: no function */
     ht_iter(2);
     ck_assert(ht_num("DESIRED_HEADING") == 180);
-    ck_assert_int_eq(find("a")->state, KELP_BHV_RUNNING);
+    ck_assert_int_eq(ht_find("a")->state, KELP_BHV_RUNNING);
 }
 END_TEST
 
@@ -778,9 +694,6 @@ Suite *kelp_bhv_suite(void)
     tcase_add_test(tc, waypoint_capture_line);
     tcase_add_test(tc, waypoint_reports_and_hints);
     tcase_add_test(tc, waypoint_updates_points);
-    tcase_add_test(tc, loiter_acquire_then_loiter);
-    tcase_add_test(tc, loiter_counter_clockwise);
-    tcase_add_test(tc, loiter_suffix_hints_center_activate);
     tcase_add_test(tc, constant_mismatch_and_complete_thresh);
     tcase_add_test(tc, constant_depth_speed_heading);
     tcase_add_test(tc, constant_depth_needs_depth);

@@ -10,17 +10,11 @@
 #include <string.h>
 #include <kelp/helm.h>
 #include <kelp/mission.h>
+#include "check_ht.h"
 
 /* ---------------------------------------------------------------- harness */
 
 #define HT_MAXPOST 4096
-typedef struct ht_post {
-    char var[KELP_MAX_NAME];
-    bool is_str;
-    char sval[KELP_HELM_MAX_SVAL];
-    double dval;
-    unsigned long iter;
-} ht_post;
 
 static kelp_helm g_h;
 static kelp_ivp_piece g_pool[16384], g_tmp[4096];
@@ -45,16 +39,6 @@ static void ht_sink(const kelp_helm_post *p, void *user)
     q->iter = g_iter;
 }
 
-kelp_helm *ht_helm(void);
-kelp_helm *ht_setup(const char *domain, const kelp_bhv_ops *const *types);
-void ht_load(const char *bhv);
-int ht_load_rc(const char *bhv);
-void ht_iter(double now);
-const ht_post *ht_last(const char *var);
-unsigned ht_count(const char *var);
-bool ht_has_str(const char *var, const char *val);
-double ht_num(const char *var);
-bool ht_has_sub(const char *var, const char *sub);
 
 kelp_helm *ht_helm(void)
 {
@@ -223,7 +207,7 @@ static int probe_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     return 1;
 }
 
-static const kelp_bhv_ops probe_ops = {"BHV_Probe", probe_init, probe_set, NULL, NULL, probe_run, NULL, NULL};
+static const kelp_bhv_ops probe_ops = {"BHV_Probe", probe_init, probe_set, NULL, NULL, probe_run, NULL, NULL, NULL};
 static const kelp_bhv_ops *const probe_types[] = {&probe_ops, &kelp_bhv_simple_waypoint_ops, NULL};
 
 static probe_state *probe(const char *name)
@@ -846,8 +830,9 @@ START_TEST(bhv_settings_and_status)
                          "lead=8,lead_damper=-1,lead_to_start=false,order=normal,repeats=forever,efficiency_measure=off,"
                          "capture_radius=5,slip_radius=12,crs_spd_zaic_ratio=0.5"));
     ck_assert(ht_has_str("BHV_SETTINGS", "type=BHV_Loiter,name=loiter,x=20.00,y=-15.00,clockwise=false,"
-                         "dynamic_clockwise=false,center_activate=false,desired_speed=1.5,polygon=\"pts={0,0:40,0:40,-30:0,-30}\""));
+                         "dynamic_clockwise=false,center_activate=false,desired_speed=1.5,polygon=\"pts={0,-30:40,-30:40,0:0,0}\""));
     nav(0, -100);
+    kelp_helm_mail_double(&g_h, "NAV_HEADING", 0); /* the loiter needs a heading (24.8: an error without) */
     ht_iter(1);
     ck_assert(ht_has_str("BHV_STATUS", "name=survey,state=active,updates=n/a"));
     ck_assert(ht_has_str("BHV_STATUS", "name=loiter,state=idle,updates=n/a"));

@@ -8,24 +8,7 @@
 #include <string.h>
 #include <kelp/cpa.h>
 #include <kelp/helm.h>
-
-typedef struct ht_post {
-    char var[KELP_MAX_NAME];
-    bool is_str;
-    char sval[KELP_HELM_MAX_SVAL];
-    double dval;
-    unsigned long iter;
-} ht_post;
-kelp_helm *ht_helm(void);
-kelp_helm *ht_setup(const char *domain, const kelp_bhv_ops *const *types);
-void ht_load(const char *bhv);
-int ht_load_rc(const char *bhv);
-void ht_iter(double now);
-const ht_post *ht_last(const char *var);
-unsigned ht_count(const char *var);
-bool ht_has_str(const char *var, const char *val);
-double ht_num(const char *var);
-bool ht_has_sub(const char *var, const char *sub);
+#include "check_ht.h"
 
 #define DOM2 "course:0:359:360,speed:0:4:21"
 

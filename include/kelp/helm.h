@@ -162,6 +162,9 @@ typedef struct kelp_bhv_ops {
     /** onHelmStart: once at kelp_helm_start, for every behaviour and every spawn template (a
      *  template posts its BCM_ALERT_REQUEST here). May be NULL. */
     void (*on_helm_start)(kelp_bhv *b);
+    /** onCompleteState: once, when the behaviour completes (kelp_helm_bhv_set_complete on a
+     *  behaviour that is not perpetual: its duration ran out, or it completed itself). May be NULL. */
+    void (*on_complete)(kelp_bhv *b);
 } kelp_bhv_ops;
 
 typedef enum kelp_bhv_flag_kind {
@@ -245,23 +248,35 @@ typedef struct kelp_bhv_wpt {          /* BHV_Waypoint */
     double eff_linear, eff_odo;        /* sums over completed legs */
 } kelp_bhv_wpt;
 
-typedef struct kelp_bhv_loiter {       /* BHV_Loiter */
-    kelp_bhv_pt pts[KELP_HELM_MAX_PTS];  /* stored in visiting order (clockwise or not) */
+typedef struct kelp_bhv_loiter {       /* BHV_Loiter (MOOS-IvP 24.8's, with its loiter and waypoint engines) */
+    kelp_bhv_pt pts[KELP_HELM_MAX_PTS];  /* the polygon in visiting order (clockwise or not), 0.1 m snapped */
+    signed char side[KELP_HELM_MAX_PTS]; /* edge i -> i+1: the side the other vertices lie on (0/1; -1 mixed) */
     unsigned npts;
-    double speed, capture_radius, slip_radius, acquire_dist;
-    int clockwise;                     /* 1 true, 0 false, -1 best (keep the given order) */
-    kelp_bhv_pt given[KELP_HELM_MAX_PTS];  /* the polygon as configured */
-    unsigned ngiven;
+    bool convex;
+    /* configuration */
+    double speed, speed_alt;           /* speed_alt (with use_alt_speed) when >= 0 */
+    double capture_radius, slip_radius, acquire_dist;
+    double patience;                   /* the course function's share of the coupling, 1..99 (50) */
+    double slingshot;                  /* complete after this many degrees of bearing change; < 0 off */
+    double spiral_factor;              /* bonus (negative) of the vertex ahead when acquiring from inside */
+    bool clockwise, dynamic_clockwise, center_activate, use_alt_speed;
+    bool zaic_spd;                     /* ipf_type = zaic_spd: the speed function is ZAIC_SPD's */
+    kelp_bhv_hints hints;              /* visual_hints (label_color "" = not set) */
+    char poly_label[KELP_MAX_NAME];    /* visual_hints label= (the drawing's label; "" = <us>_<name>) */
+    char spec_label[KELP_MAX_NAME];    /* the polygon spec's own label= (in BHV_SETTINGS) */
+    char suffix[24];                   /* post_suffix: "_" and the value upper-cased */
+    char center_assign[KELP_HELM_MAX_FLAG_VAL]; /* a pending centre: present_position, "x,y", "x=..,y=.." */
+    bool center_pending;
     /* state */
-    unsigned index;
-    bool acquiring;
-    bool started;
-    double min_dist;
-    unsigned long laps_pts;            /* vertices reached */
-    kelp_bhv_hints hints;              /* visual_hints */
-    char suffix[24];                   /* post_suffix ("_" added) */
-    double spiral_factor;              /* accepted (MOOS-IvP's acquire spiral), not used */
-    bool center_activate;              /* re-centre the polygon on the vehicle at each activation */
+    unsigned index;                    /* the vertex steered for (the waypoint engine's current index) */
+    double cpa;                        /* closest approach to it so far; < 0: none yet */
+    unsigned long capture_hits, nonmono_hits;
+    bool acquire;                      /* acquire mode (true until a vertex is reached) */
+    unsigned char mode;                /* idle, stable, acquiring_/recovering_ external/internal */
+    double dist_to_poly, eta_to_poly;  /* inside: a negative distance */
+    double ptx, pty;                   /* the vertex steered for */
+    double osx, osy, osh, osv;         /* ownship at the last update */
+    double bng_total, bng_last;        /* slingshot: bearing change to the centre; last bearing (-1 none) */
 } kelp_bhv_loiter;
 
 #define KELP_BHV_AVD_MAX_FILTER 4      /* match_/ignore_ name, type, group entries of each kind */
@@ -386,7 +401,8 @@ struct kelp_bhv {
 
 /* ---- implementor-invoked utilities (section 4.5.1) ---- */
 
-/** Post end flags (and inactive flags); completed from the next iteration unless perpetual. */
+/** Post end flags (and inactive flags); completed from the next iteration unless perpetual
+ *  (then the type's on_complete runs, once). */
 void kelp_helm_bhv_set_complete(kelp_bhv *b);
 /** addInfoVars("NAV_X, NAV_Y"): one or comma-separated; duplicates ignored. <0 when full. */
 KELP_MUST_CHECK int kelp_helm_bhv_add_info_vars(kelp_bhv *b, const char *names);
@@ -422,8 +438,11 @@ KELP_MUST_CHECK int kelp_helm_bhv_set_param(kelp_bhv *b, const char *param, cons
 /** relAng: compass bearing from (xa,ya) to (xb,yb) in [0,360): 0 = +y, 90 = +x; 0 if equal. */
 double kelp_helm_relang(double xa, double ya, double xb, double yb);
 /** Parse a MOOS point list into pts: "x,y:x,y", "pts={x,y:x,y}", "{x,y:...}", "(x,y)",
- *  "x=1,y=2", or a regular polygon "format=radial, x=, y=, radius=, pts=[, snap=]"
- *  (first vertex straight north (+y) of the centre, then clockwise). */
+ *  "x=1,y=2", or a regular polygon "format=radial, x=, y=, radius=, pts=[, snap=]" (also
+ *  "radial:: x=, ..." and the short "radial: x, y, radius, pts[, snap]"), laid out as MOOS-IvP
+ *  24.8 does: the first vertex half a step clockwise of north of the centre (22.5 degrees for
+ *  8), then clockwise. A radius without format=radial is KELP_ERR_UNSUPPORTED (24.8 reads no
+ *  polygon from it). */
 KELP_MUST_CHECK int kelp_helm_parse_points(const char *s, kelp_bhv_pt *pts, size_t cap, unsigned *n);
 
 /** The built-in behaviour types (BHV_SimpleWaypoint, BHV_Waypoint, BHV_Loiter,

@@ -280,8 +280,11 @@ void kelp_helm_bhv_set_complete(kelp_bhv *b)
 {
     helm_post_flags(b, KELP_FLAG_END);
     helm_post_flags(b, KELP_FLAG_INACTIVE);
-    if (!b->perpetual)
-        b->completed = true;
+    if (b->perpetual || b->completed)
+        return;
+    b->completed = true;
+    if (b->ops->on_complete)
+        b->ops->on_complete(b);
 }
 
 void bhv_use_subdomain(kelp_bhv *b, const char *vars)

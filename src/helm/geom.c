@@ -6,6 +6,7 @@
 #include "helm_int.h"
 
 #define DEG_PER_RAD 57.29577951308232
+#define PI_DEG 3.14159265358979323846 /* pi, for degrees / 180 * pi as MOOS-IvP converts */
 
 double kelp_helm_relang(double xa, double ya, double xb, double yb)
 {
@@ -47,9 +48,34 @@ static bool kv_num(const char *s, const char *key, double *out, bool *present)
     return hx_number(v, vl, out);
 }
 
-/* The radial polygon of v = {x, y, radius, pts, snap}: pts points on the circle, snapped to a
- * grid of snap when snap > 0. Out of line: its locals are not on the stack while parse_radial
- * reads the numbers. */
+double bhv_snap_step(double v, double step)
+{
+    double q = v / step;
+    return (double)(long)(q < 0 ? q - 0.5 : q + 0.5) * step;
+}
+
+void bhv_project(double deg, double dist, double *x, double *y)
+{
+    if (deg == 90)
+        *x += dist;
+    else if (deg == 180)
+        *y -= dist;
+    else if (deg == 270)
+        *x -= dist;
+    else if (deg == 0)
+        *y += dist;
+    else {
+        double a = deg / 180.0 * PI_DEG;
+        *x += sin(a) * dist;
+        *y += cos(a) * dist;
+    }
+}
+
+/* The radial polygon of v = {x, y, radius, pts, snap} as MOOS-IvP 24.8 lays it out
+ * (XYFormatUtilsPoly's radial forms): pts vertices on the circle, the first half a step
+ * clockwise of north (22.5 degrees for 8), the bearings summed step by step; on an axis
+ * (0, 90, 180, 270) the vertex lies exactly on it. Snapped to a grid of snap when snap > 0.
+ * Out of line: its locals are not on the stack while parse_radial reads the numbers. */
 KELP_NOINLINE static int radial_make(const double *v, kelp_bhv_pt *pts, size_t cap, unsigned *n)
 {
     double x = v[0], y = v[1], r = v[2], np = v[3], snap = v[4];
@@ -57,16 +83,18 @@ KELP_NOINLINE static int radial_make(const double *v, kelp_bhv_pt *pts, size_t c
         return KELP_ERR_PARSE;
     if (np > (double)cap)
         return KELP_ERR_NOSPACE;
-    unsigned k = (unsigned)np;
-    for (unsigned i = 0; i < k; i++) {
-        double a = (360.0 * i / k) / DEG_PER_RAD;
-        double vx = x + r * sin(a), vy = y + r * cos(a);
+    double step = 360.0 / np;
+    unsigned k = 0;
+    for (double deg = step / 2; deg < 360 && k < cap; deg += step) {
+        double vx = x, vy = y;
+        bhv_project(deg, r, &vx, &vy);
         if (snap > 0) {
-            vx = floor(vx / snap + 0.5) * snap;
-            vy = floor(vy / snap + 0.5) * snap;
+            vx = bhv_snap_step(vx, snap);
+            vy = bhv_snap_step(vy, snap);
         }
-        pts[i].x = vx;
-        pts[i].y = vy;
+        pts[k].x = vx;
+        pts[k].y = vy;
+        k++;
     }
     *n = k;
     return 0;
@@ -85,6 +113,28 @@ static int parse_radial(const char *s, kelp_bhv_pt *pts, size_t cap, unsigned *n
         missing = missing || (i < 4 && !present);
     }
     return missing ? KELP_ERR_PARSE : radial_make(v, pts, cap, n);
+}
+
+/* The short radial form "px, py, radius, pts[, snap[, label]]" (after "radial:"). Out of line:
+ * its numbers are not on the stack under the other forms' parses. */
+KELP_NOINLINE static int parse_short_radial(const char *s, kelp_bhv_pt *pts, size_t cap, unsigned *n)
+{
+    double v[5] = {0, 0, 0, 0, 0};
+    unsigned k = 0;
+    const char *p = s;
+    for (;;) {
+        const char *c = strchr(p, ',');
+        size_t len = c ? (size_t)(c - p) : strlen(p);
+        if (k < 5 && !hx_number(p, len, &v[k]))
+            return KELP_ERR_PARSE;
+        k++;
+        if (!c)
+            break;
+        p = c + 1;
+    }
+    if (k < 4 || k > 6)
+        return KELP_ERR_PARSE;
+    return radial_make(v, pts, cap, n);
 }
 
 /* "x1,y1:x2,y2:..." with one level of braces or parentheses around it and "(x,y)" items
@@ -149,10 +199,10 @@ int kelp_helm_parse_points(const char *str, kelp_bhv_pt *pts, size_t cap, unsign
     if (len == 0 || len >= KELP_HELM_MAX_SVAL)
         return KELP_ERR_PARSE;
     const char *b = s;
-    if (!strncmp(b, "radial::", 8) || !strncmp(b, "radial:", 7)) {
-        b += b[7] == ':' ? 8 : 7;
-        return parse_radial(b, pts, cap, n);
-    }
+    if (!strncmp(b, "radial::", 8))
+        return parse_radial(b + 8, pts, cap, n);
+    if (!strncmp(b, "radial:", 7))
+        return parse_short_radial(b + 7, pts, cap, n);
     /* (the values were read into 32 and 8 bytes: a longer one did not count, and still does not) */
     const char *v;
     size_t vl;
@@ -161,8 +211,8 @@ int kelp_helm_parse_points(const char *str, kelp_bhv_pt *pts, size_t cap, unsign
             return KELP_ERR_UNSUPPORTED;
         return parse_radial(b, pts, cap, n);
     }
-    if (kv_find(b, "radius", &v, &vl) && vl < 8)
-        return parse_radial(b, pts, cap, n);
+    if (kv_find(b, "radius", &v, &vl))
+        return KELP_ERR_UNSUPPORTED; /* 24.8 reads a radial polygon only with format=radial */
     if ((b[0] == 'p' || b[0] == 'P') && kelp_util_strieq_n(b, 3, "pts")) {
         const char *eq = strchr(b, '=');
         if (!eq)
@@ -219,16 +269,26 @@ int bhv_course_speed_zaic_ratio(kelp_bhv *b, const kelp_helm_work *w, double cou
     size_t ns = b->dom.var[is].points;
     if (w->tmp_cap <= ns)
         return KELP_ERR_NOSPACE;
-    kelp_ivp_func *spd = &b->helm->ws_bhv.cs[0], *crs = &b->helm->ws_bhv.cs[1];
-    kelp_helm_work wz = *w; /* one copy: the speed ZAIC's pieces, then the course ZAIC's, in tmp */
+    kelp_ivp_func *spd = &b->helm->ws_bhv.cs[0];
+    kelp_helm_work wz = *w; /* the speed ZAIC's pieces first in tmp (the course's after them) */
     wz.out = w->tmp;
     wz.out_cap = ns;
     int rc = bhv_zaic1(b, &wz, "speed", speed, spw, sbw, ssd, false, spd);
     if (rc < 0)
         return rc;
-    wz.out = w->tmp + ns;
-    wz.out_cap = w->tmp_cap - ns;
-    rc = bhv_zaic1(b, &wz, "course", course, 0, 180.0, 0, true, crs);
+    return bhv_course_couple(b, w, course, spd, ns, course_pct, out);
+}
+
+int bhv_course_couple(kelp_bhv *b, const kelp_helm_work *w, double course, const kelp_ivp_func *spd, size_t used,
+                      double course_pct, kelp_ivp_func *out)
+{
+    if (used >= w->tmp_cap)
+        return KELP_ERR_NOSPACE;
+    kelp_ivp_func *crs = &b->helm->ws_bhv.cs[1];
+    kelp_helm_work wz = *w; /* the course ZAIC's pieces after the speed function's in tmp */
+    wz.out = w->tmp + used;
+    wz.out_cap = w->tmp_cap - used;
+    int rc = bhv_zaic1(b, &wz, "course", course, 0, 180.0, 0, true, crs);
     if (rc < 0)
         return rc;
     return kelp_ivp_couple(crs, course_pct, spd, 100 - course_pct, true, 0, 100, w->out, w->out_cap, out);

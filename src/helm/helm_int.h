@@ -94,9 +94,19 @@ void helm_mode_describe(const kelp_helm *h, char *buf, size_t cap);
 /* the same with the course function's share of the coupling (MOOS-IvP crs_spd_zaic_ratio) */
 int bhv_course_speed_zaic_ratio(kelp_bhv *b, const kelp_helm_work *w, double course, double speed, double spw,
                                 double sbw, double ssd, double course_pct, kelp_ivp_func *out);
+/* the course peak (peakwidth 0, basewidth 180, wrap) coupled with spd, a function over speed
+ * whose pieces take the first `used` of w->tmp: the course's share course_pct, into w->out */
+int bhv_course_couple(kelp_bhv *b, const kelp_helm_work *w, double course, const kelp_ivp_func *spd, size_t used,
+                      double course_pct, kelp_ivp_func *out);
 /** A one-variable ZAIC_PEAK over var into w->out. */
 int bhv_zaic1(kelp_bhv *b, const kelp_helm_work *w, const char *var, double summit, double pw, double bw, double sd,
               bool wrap, kelp_ivp_func *out);
+
+/* snapToStep as MOOS-IvP rounds: v to the nearest multiple of step, a tie away from zero */
+double bhv_snap_step(double v, double step);
+/* projectPoint: (*x, *y) moved dist along compass bearing deg (exactly along an axis at 0, 90,
+ * 180 and 270 degrees) */
+void bhv_project(double deg, double dist, double *x, double *y);
 
 /* Set a behaviour's domain to the helm domain's sub-domain over `vars` (e.g. "course,speed");
  * when the helm domain lacks them the domain is left empty, which configuration refuses. */
