@@ -177,8 +177,14 @@ sleep 1
 poke alpha "NODE_REPORT_LOCAL:=NAME=alpha,TYPE=kayak,X=10,Y=-5,SPD=1,HDG=90,TIME=1"
 poke bravo "NODE_REPORT_LOCAL:=NAME=bravo,TYPE=kayak,X=30,Y=-5,SPD=1,HDG=90,TIME=1"
 poke sh "NODE_MESSAGE_ALPHA:=src_node=shoreside,dest_node=alpha,var_name=RETURN,string_val=true" DEPLOY_ALL:=true
-# long enough for three pings of each vehicle (5 s, 20 s, 35 s of MOOS time at warp 4)
-while awk -v s="$start" -v n="$(date +%s.%N)" 'BEGIN{exit !(n - s < 11)}'; do sleep 0.5; done
+# until each vehicle has pinged three times (5 s, 20 s, 35 s of MOOS time at warp 4: about 9 s
+# from the brokers' start, later on a loaded host), then 1 s of acks; at most 20 s
+pings() { $BIN/kelp-logcheck $T/$1/bus.lcmlog --print 2>/dev/null | awk '$3=="NODE_BROKER_PING_0"' | wc -l; }
+while awk -v s="$start" -v n="$(date +%s.%N)" 'BEGIN{exit !(n - s < 20)}'; do
+  [ "$(pings alpha)" -ge 3 ] && [ "$(pings bravo)" -ge 3 ] && break
+  sleep 0.5
+done
+sleep 1
 for p in "${PIDS[@]}"; do kill -INT "$p" 2>/dev/null || true; done
 wait 2>/dev/null || true
 PIDS=()
