@@ -33,7 +33,7 @@ int kelp_helm_bhv_fail(kelp_bhv *b, const char *why)
     return KELP_ERR_PARSE;
 }
 
-static bool parse_bool(const char *v, bool *out)
+bool bhv_parse_true_false(const char *v, bool *out)
 {
     if (hx_ieq(v, "true")) {
         *out = true;
@@ -174,12 +174,12 @@ static int general_param(kelp_bhv *b, const char *p, const char *v)
         return copy_name(b, b->duration_reset_var, pr->var, true);
     }
     if (!strcmp(p, "duration_idle_decay")) {
-        if (!parse_bool(v, &b->duration_idle_decay))
+        if (!bhv_parse_true_false(v, &b->duration_idle_decay))
             return kelp_helm_bhv_fail(b, "duration_idle_decay is true or false");
         return 0;
     }
     if (!strcmp(p, "perpetual")) {
-        if (!parse_bool(v, &b->perpetual))
+        if (!bhv_parse_true_false(v, &b->perpetual))
             return kelp_helm_bhv_fail(b, "perpetual is true or false");
         return 0;
     }

@@ -375,15 +375,6 @@ static bool next_waypoint(kelp_bhv_loiter *s, double x, double y)
 
 /* ---------------------------------------------------------------- parameters */
 
-static bool is_true_false(const char *v, bool *out)
-{
-    if (hx_ieq(v, "true") || hx_ieq(v, "false")) {
-        *out = hx_ieq(v, "true");
-        return true;
-    }
-    return false;
-}
-
 /* MOOS-IvP's setBooleanOnString: true/on/yes, false/off/no, toggle (any case) */
 static bool parse_bool(const char *v, bool *out)
 {
@@ -547,7 +538,7 @@ KELP_NOINLINE static int set_other(kelp_bhv *b, const char *p, const char *v)
     if (!strcmp(p, "use_alt_speed"))
         return parse_bool(v, &s->use_alt_speed) ? 0 : KELP_ERR_PARSE;
     if (!strcmp(p, "center_activate"))
-        return is_true_false(v, &s->center_activate) ? 0 : KELP_ERR_PARSE;
+        return bhv_parse_true_false(v, &s->center_activate) ? 0 : KELP_ERR_PARSE;
     if (!strcmp(p, "clockwise")) {
         if (hx_ieq(v, "best")) {
             s->dynamic_clockwise = true;

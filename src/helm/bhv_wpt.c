@@ -63,13 +63,7 @@ static int add_flag(kelp_bhv_flag *arr, unsigned *n, unsigned cap, const char *v
 
 static int parse_bool(const char *v, bool *out)
 {
-    if (hx_ieq(v, "true"))
-        *out = true;
-    else if (hx_ieq(v, "false"))
-        *out = false;
-    else
-        return KELP_ERR_PARSE;
-    return 0;
+    return bhv_parse_true_false(v, out) ? 0 : KELP_ERR_PARSE;
 }
 
 /* a report variable name: no white space, not empty; "silent" (any case) turns it off */

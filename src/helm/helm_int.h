@@ -66,6 +66,8 @@ bool helm_avoid_macro(const kelp_bhv *b, const char *m, size_t ml, char *val, si
  * expands to a number posted as a number */
 void helm_post_flag_string(kelp_bhv *b, const char *var, const char *sval, const char *key);
 int bhv_general_param(kelp_bhv *b, const char *param, const char *value);
+/* "true" or "false" (any case) into *out; false for anything else (*out unchanged) */
+bool bhv_parse_true_false(const char *v, bool *out);
 void helm_sink(kelp_helm *h, const char *var, bool is_str, const char *s, double d, const char *aux);
 /* IVPHELM_LIFE_EVENT as 24.8 writes it: "iter=0[,time=<helm s since the first iteration>],
  * bname=.., btype=.., event=..[, seed=..],iter=<helm iteration>" */

@@ -48,11 +48,6 @@ int helm_templates_extract(kelp_helm *h)
     return 0;
 }
 
-static void life_event(kelp_helm *h, const kelp_bhv *b, const char *event, const char *seed)
-{
-    helm_life_event(h, b->name, b->type, event, seed);
-}
-
 static void warn(kelp_helm *h, const char *a, const char *b, const char *c)
 {
     char *msg = h->ws_upd.msg; /* the update workspace: idle while spawning */
@@ -136,7 +131,7 @@ static void spawn_one(kelp_helm *h, kelp_bhv *t, const char *req)
     (void)hx_copy(b->templating, sizeof b->templating, "disallowed", 10);
     b->fail = NULL;
     if (!apply_pieces(h, b, req) || (b->ops->params_done && b->ops->params_done(b) < 0)) {
-        life_event(h, b, "abort", req);
+        helm_life_event(h, b->name, b->type, "abort", req);
         warn(h, "Failed to spawn ", full, b->fail ? b->fail : ": bad configuration");
         return;
     }
@@ -144,7 +139,7 @@ static void spawn_one(kelp_helm *h, kelp_bhv *t, const char *req)
     h->nspawned++;
     h->bhv_cnt_ever++;
     t->spawns_made++;
-    life_event(h, b, "spawn", req);
+    helm_life_event(h, b->name, b->type, "spawn", req);
     helm_post_flags(b, KELP_FLAG_SPAWN);
     if (b->ops->post_config)
         b->ops->post_config(b);
@@ -172,7 +167,7 @@ void helm_reap(kelp_helm *h)
     for (unsigned i = 0; i < h->nbhv; i++) {
         kelp_bhv *b = &h->bhv[i];
         if (b->spawned && b->completed) {
-            life_event(h, b, "death", NULL);
+            helm_life_event(h, b->name, b->type, "death", NULL);
             unsigned f = 0; /* forget its duplicate-filter entries */
             for (unsigned j = 0; j < h->nfilter; j++)
                 if (h->filter[j].owner != b->uid)

@@ -1454,20 +1454,11 @@ def app_phase(golden_dir, scn):
     the app's start, replay as recorded. "" for a mission of several apps (one phase cannot fit
     them all). 24.8's app slips against its clock by a fraction of a percent, so late in a run
     its timers' phase is its own: docs/CONFORMANCE.md lists what that moves."""
-    apps, tick, cur = [], {}, None
-    for line in open(os.path.join(golden_dir, "missions", scn + ".moos")):
-        m = re.match(r"\s*ProcessConfig\s*=\s*(\w+)", line, re.I)
-        if m:
-            cur = m.group(1)
-            if cur.upper() not in ("ANTLER", "MOOSDB"):
-                apps.append(cur)
-            continue
-        m = re.match(r"\s*AppTick\s*=\s*([\d.]+)", line, re.I)
-        if m and cur:
-            tick[cur] = float(m.group(1))
-    if len(apps) != 1 or tick.get(apps[0], 4.0) <= 0:
+    tick, _ = mission_info(os.path.join(golden_dir, "missions", scn + ".moos"))
+    apps = [a for a in tick if a.upper() not in ("ANTLER", "MOOSDB")]
+    if len(apps) != 1 or tick[apps[0]] <= 0:
         return ""
-    app, period = apps[0], 1.0 / tick.get(apps[0], 4.0)
+    app, period = apps[0], 1.0 / tick[apps[0]]
     rows = load_rows(os.path.join(golden_dir, "golden", scn + ".jsonl"))
     ts = [r["t"] % period for r in rows if r["src"] == app and 0 <= r["t"] < 2]
     up = None
