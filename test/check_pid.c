@@ -49,6 +49,7 @@ END_TEST
 
 typedef struct rec {
     char var[32][32];
+    char s[32][256];
     double v[32];
     int n;
 } rec;
@@ -58,7 +59,15 @@ static void sink(void *ctx, const char *var, bool is_string, const char *sval, d
     rec *r = ctx;
     if (r->n >= 32) return;
     snprintf(r->var[r->n], sizeof r->var[0], "%s", var);
+    snprintf(r->s[r->n], sizeof r->s[0], "%s", is_string ? sval : "");
     r->v[r->n++] = is_string ? (strcmp(sval, "true") == 0) : dval;
+}
+
+static const char *last_s(const rec *r, const char *var)
+{
+    for (int i = r->n; i-- > 0;)
+        if (!strcmp(r->var[i], var)) return r->s[i];
+    return NULL;
 }
 
 static double last(const rec *r, const char *var)
@@ -106,7 +115,7 @@ START_TEST(marine_pid_iteration)
     kelp_pid_marine_iterate(&m, 1.1, sink, &r);
     ck_assert(fabs(last(&r, "DESIRED_RUDDER") - 10) < 1e-9);
     ck_assert(last(&r, "DESIRED_THRUST") == 40);
-    ck_assert(last(&r, "PID_MAX_SAT_HDG") == 0);
+    ck_assert(isnan(last(&r, "PID_MAX_SAT_HDG")) && isnan(last(&r, "PID_HDG_DEBUG"))); /* 24.8 never posts it */
     /* a big error: clipped to maxrudder 30; NAV_YAW gives the heading as -yaw in degrees */
     ck_assert_int_eq(kelp_pid_marine_mail(&m, "NAV_YAW", false, NULL, 3.14159265358979 / 2, 1.2), 1);
     ck_assert(fabs(m.heading - 270) < 1e-6);
@@ -139,6 +148,71 @@ START_TEST(marine_pid_iteration)
 }
 END_TEST
 
+/* heading_debug / speed_debug (PIDEngine's): the want/current/difference lines every
+ * iteration with thrust, and a saturated loop's steps as ScalarPID writes them */
+START_TEST(marine_pid_debug_postings)
+{
+    kelp_pid_marine_cfg c;
+    kelp_pid_marine_cfg_default(&c);
+    kelp_diag why = { 0 };
+    ck_assert_int_eq(kelp_pid_marine_cfg_set(&c, "yaw_pid_kp", "0.5", &why), 1);
+    ck_assert_int_eq(kelp_pid_marine_cfg_set(&c, "MAXRUDDER", "30", &why), 1);
+    ck_assert_int_eq(kelp_pid_marine_cfg_set(&c, "speed_factor", "20", &why), 1);
+    ck_assert_int_eq(kelp_pid_marine_cfg_set(&c, "heading_debug", "True", &why), 1);
+    ck_assert_int_eq(kelp_pid_marine_cfg_set(&c, "SPEED_DEBUG", " TRUE ", &why), 1);
+    ck_assert_int_eq(kelp_pid_marine_cfg_set(&c, "depth_debug", "yes", &why), 1); /* only "true" counts */
+    ck_assert(c.debug[0] && c.debug[1] && !c.debug[2]);
+    c.active_start = true;
+    kelp_pid_marine m;
+    rec r = { 0 };
+    ck_assert_int_eq(kelp_pid_marine_init(&m, &c, 0), 0);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "NAV_HEADING", false, NULL, 350, 1), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "NAV_SPEED", false, NULL, 1, 1), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "DESIRED_HEADING", false, NULL, 10, 1), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "DESIRED_SPEED", false, NULL, 2, 1), 1);
+    kelp_pid_marine_iterate(&m, 1.1, sink, &r);
+    ck_assert_str_eq(last_s(&r, "PID_SPD_DEBUG"),
+                     "PID_SPEED:  (Want):2.00000 (Curr):1.00000 (Diff):1.00000 (Fctr):20.00000 THRUST:40.00000");
+    ck_assert_str_eq(last_s(&r, "PID_HDG_DEBUG"),
+                     "PID_COURSE:  (Want):10.00000 (Curr):350.00000 (Diff):-20.00000 RUDDER:10.00000");
+    ck_assert(last_s(&r, "PID_MAX_SAT_HDG_DEBUG") == NULL); /* 10 is inside maxrudder 30 */
+    /* the engine's postings follow the outputs */
+    ck_assert_str_eq(r.var[r.n - 2], "PID_SPD_DEBUG");
+    /* heading 270: error -100, 0.5 x -100 = -50, the loop's limit is maxrudder (30): saturated */
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "NAV_HEADING", false, NULL, 270, 1.2), 1);
+    r.n = 0;
+    kelp_pid_marine_iterate(&m, 1.3, sink, &r);
+    ck_assert_str_eq(last_s(&r, "PID_MAX_SAT_HDG_DEBUG"),
+                     "dfeIn=-100.00000, dfErrorTime=1.30000, m_dfDT=0.20000, dfDiffNow=-400.00000, DiffHistSize=1, "
+                     "mdfeDiff(1)=-400.00000, mdfeDiff(2)=-400.00000, m_dfOut(1)-50, m_dfOut(1)-30");
+    ck_assert_str_eq(last_s(&r, "PID_HDG_DEBUG"),
+                     "PID_COURSE:  (Want):10.00000 (Curr):270.00000 (Diff):-100.00000 RUDDER:30.00000");
+    ck_assert(last(&r, "DESIRED_RUDDER") == 30);
+    /* thrust 0: no heading line (the loop does not run) */
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "DESIRED_SPEED", false, NULL, 0, 1.4), 1);
+    r.n = 0;
+    kelp_pid_marine_iterate(&m, 1.5, sink, &r);
+    ck_assert(last_s(&r, "PID_HDG_DEBUG") == NULL && last_s(&r, "PID_SPD_DEBUG") != NULL);
+    /* the integral's steps: ki > 0 and its limit */
+    kelp_pid p;
+    double out;
+    char t[KELP_PID_DEBUG_MAX];
+    kelp_pid_init(&p, 1, 0, 0.5, 0.25, 100);
+    ck_assert_int_eq(kelp_pid_run(&p, 2, 10, &out), 0);
+    ck_assert_int_gt(kelp_pid_debug_text(&p, t, sizeof t), 0);
+    ck_assert_str_eq(t, "dfeIn=2.00000, dfErrorTime=10.00000, m_dfKi0.50000, m_dfeSum(1)0.00000, "
+                        "m_dfIntegralLimit0.25000, m_dfOut(1)2");
+    ck_assert_int_eq(kelp_pid_run(&p, 2, 10.5, &out), 0);
+    ck_assert_int_gt(kelp_pid_debug_text(&p, t, sizeof t), 0);
+    ck_assert_str_eq(t, "dfeIn=2.00000, dfErrorTime=10.50000, m_dfDT=0.50000, dfDiffNow=0.00000, DiffHistSize=1, "
+                        "mdfeDiff(1)=0.00000, mdfeDiff(2)=0.00000, m_dfKi0.50000, m_dfeSum(1)0.50000, "
+                        "m_dfIntegralLimit0.25000, m_dfeSum(2)0.25000, m_dfOut(1)2.25");
+    ck_assert_int_eq(kelp_pid_run(&p, 2, 10.5, &out), 0); /* dt 0: stops after the time step */
+    ck_assert_int_gt(kelp_pid_debug_text(&p, t, sizeof t), 0);
+    ck_assert_str_eq(t, "dfeIn=2.00000, dfErrorTime=10.50000, m_dfDT=0.00000");
+}
+END_TEST
+
 START_TEST(marine_pid_speed_and_depth_loops)
 {
     kelp_pid_marine_cfg c;
@@ -164,7 +238,7 @@ START_TEST(marine_pid_speed_and_depth_loops)
     ck_assert(last(&r, "DESIRED_THRUST_PID") == 20); /* 10 + 10: incremental on the last thrust */
     /* 10 m too shallow: pitch wanted -1 rad, clipped to -15 degrees; elevator +15 deg -> 13 */
     ck_assert(fabs(last(&r, "DESIRED_ELEVATOR_PID") - 13) < 1e-9);
-    ck_assert(last(&r, "PID_MAX_SAT_DEP") == 0);
+    ck_assert(isnan(last(&r, "PID_MAX_SAT_DEP")) && isnan(last(&r, "PID_MAX_SAT_DEP_DEBUG"))); /* no depth_debug */
 }
 END_TEST
 
@@ -500,6 +574,7 @@ Suite *kelp_pid_suite(void)
     tcase_add_test(tc, scalar_pid_rules);
     tcase_add_test(tc, marine_pid_iteration);
     tcase_add_test(tc, marine_pid_speed_and_depth_loops);
+    tcase_add_test(tc, marine_pid_debug_postings);
     tcase_add_test(tc, sim_rudder_thrust_model);
     tcase_add_loop_test(tc, sim_v22_turn_rate, 0, (int)(sizeof v22_turns / sizeof v22_turns[0]));
     tcase_add_test(tc, sim_v22_speed);

@@ -153,6 +153,14 @@ int kelp_pid_marine_cfg_set(kelp_pid_marine_cfg *c, const char *key, const char 
     if (key_is(key, "DEPTH_CONTROL")) return boolean(val, &c->depth_control, d);
     if (key_is(key, "ACTIVE_START")) return boolean(val, &c->active_start, d);
     if (key_is(key, "IGNORE_NAV_YAW")) return boolean(val, &c->ignore_nav_yaw, d);
+    static const char *const dbg[3] = { "HEADING_DEBUG", "SPEED_DEBUG", "DEPTH_DEBUG" };
+    for (int i = 0; i < 3; i++)
+        if (key_is(key, dbg[i])) {
+            size_t n = strlen(val);
+            kelp_util_trim(&val, &n);
+            if (kelp_util_strieq_n(val, n, "true")) c->debug[i] = true;
+            return 1;
+        }
     if (key_is(key, "OUTPUT_SUFFIX")) {
         size_t n = strlen(val);
         if (n >= sizeof c->suffix || strpbrk(val, " ,=")) {

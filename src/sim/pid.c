@@ -30,32 +30,78 @@ static double clip_abs(double v, double lim, bool *hit)
 int kelp_pid_run(kelp_pid *p, double e, double t, double *out)
 {
     p->saturated = false;
+    p->last.e = e, p->last.t = t, p->last.stage = 0, p->last.sum_clipped = false;
     double diff = 0;
     if (p->runs > 0) {
         p->dt = t - p->t_old;
         if (p->dt < 0) return KELP_ERR_RANGE;
+        p->last.dt = p->dt, p->last.stage = 1;
         if (p->dt == 0) {
             *out = p->out;
             return KELP_OK;
         }
-        p->hist[p->head] = (e - p->e_old) / p->dt;
+        double slope = (e - p->e_old) / p->dt;
+        p->hist[p->head] = slope;
         p->head = (p->head + 1) % KELP_PID_HISTORY;
         if (p->nhist < KELP_PID_HISTORY) p->nhist++;
         for (unsigned i = 0; i < p->nhist; i++) diff += p->hist[i];
+        p->last.slope = slope, p->last.dsum = diff, p->last.nhist = p->nhist, p->last.stage = 2;
         diff /= p->nhist;
+        p->last.dmean = diff;
     }
     p->runs++;
     if (p->ki > 0) {
         p->sum += p->ki * e * p->dt;
-        if (fabs(p->sum) >= fabs(p->integral_limit)) p->sum = p->sum < 0 ? -fabs(p->integral_limit) : fabs(p->integral_limit);
+        p->last.sum1 = p->sum;
+        if (fabs(p->sum) >= fabs(p->integral_limit)) {
+            p->sum = p->sum < 0 ? -fabs(p->integral_limit) : fabs(p->integral_limit);
+            p->last.sum_clipped = true;
+        }
     } else {
         p->sum = 0;
     }
-    p->out = clip_abs(p->kp * e + p->kd * diff + p->sum, p->output_limit, &p->saturated);
+    p->last.out1 = p->kp * e + p->kd * diff + p->sum;
+    p->out = clip_abs(p->last.out1, p->output_limit, &p->saturated);
     p->e_old = e;
     p->t_old = t;
     *out = p->out;
     return KELP_OK;
+}
+
+/* one ", name" + value step of the debug text: fixed 5 decimals, or trimmed (x) */
+static void dbg_put(char *buf, size_t cap, size_t *k, const char *name, double v, bool x)
+{
+    char num[48];
+    if (kelp_util_fmt_fixed(num, sizeof num, v, 5, x) < 0) (void)kelp_util_snprintf(num, sizeof num, "%g", v);
+    int n = kelp_util_snprintf(buf + *k, cap - *k, "%s%s", name, num);
+    if (n > 0) *k = *k + (size_t)n < cap ? *k + (size_t)n : cap - 1;
+}
+
+int kelp_pid_debug_text(const kelp_pid *p, char *buf, size_t cap)
+{
+    if (!cap) return 0;
+    size_t k = 0;
+    buf[0] = 0;
+    dbg_put(buf, cap, &k, "dfeIn=", p->last.e, false);
+    dbg_put(buf, cap, &k, ", dfErrorTime=", p->last.t, false);
+    if (p->last.stage >= 1) dbg_put(buf, cap, &k, ", m_dfDT=", p->last.dt, false);
+    if (p->last.stage == 1) return (int)k;
+    if (p->last.stage == 2) {
+        dbg_put(buf, cap, &k, ", dfDiffNow=", p->last.slope, false);
+        int n = kelp_util_snprintf(buf + k, cap - k, ", DiffHistSize=%u", p->last.nhist);
+        if (n > 0) k = k + (size_t)n < cap ? k + (size_t)n : cap - 1;
+        dbg_put(buf, cap, &k, ", mdfeDiff(1)=", p->last.dsum, false);
+        dbg_put(buf, cap, &k, ", mdfeDiff(2)=", p->last.dmean, false);
+    }
+    if (p->ki > 0) {
+        dbg_put(buf, cap, &k, ", m_dfKi", p->ki, false);
+        dbg_put(buf, cap, &k, ", m_dfeSum(1)", p->last.sum1, false);
+        dbg_put(buf, cap, &k, ", m_dfIntegralLimit", p->integral_limit, false);
+        if (p->last.sum_clipped) dbg_put(buf, cap, &k, ", m_dfeSum(2)", p->sum, false);
+    }
+    dbg_put(buf, cap, &k, ", m_dfOut(1)", p->last.out1, true);
+    if (p->saturated) dbg_put(buf, cap, &k, ", m_dfOut(1)", p->out, true);
+    return (int)k;
 }
 
 void kelp_pid_marine_cfg_default(kelp_pid_marine_cfg *c)
@@ -84,16 +130,18 @@ int kelp_pid_marine_init(kelp_pid_marine *m, const kelp_pid_marine_cfg *cfg, kel
             if (!isfinite(g[i][k])) return KELP_ERR_ARG;
     memset(m, 0, sizeof *m);
     m->cfg = *cfg;
-    kelp_pid_init(&m->yaw, cfg->yaw[0], cfg->yaw[1], cfg->yaw[2], cfg->yaw[3], 100);
-    kelp_pid_init(&m->speed, cfg->speed[0], cfg->speed[1], cfg->speed[2], cfg->speed[3], 100);
-    kelp_pid_init(&m->z_to_pitch, cfg->z_to_pitch[0], cfg->z_to_pitch[1], cfg->z_to_pitch[2], cfg->z_to_pitch[3], 100);
-    kelp_pid_init(&m->pitch, cfg->pitch[0], cfg->pitch[1], cfg->pitch[2], cfg->pitch[3], 100);
+    /* each loop's output limit as PIDEngine sets it: maxrudder, maxthrust, maxpitch (radians),
+     * maxelevator (on the pitch loop's radians, as 24.8 does) */
+    kelp_pid_init(&m->yaw, cfg->yaw[0], cfg->yaw[1], cfg->yaw[2], cfg->yaw[3], cfg->max_rudder);
+    kelp_pid_init(&m->speed, cfg->speed[0], cfg->speed[1], cfg->speed[2], cfg->speed[3], cfg->max_thrust);
+    kelp_pid_init(&m->z_to_pitch, cfg->z_to_pitch[0], cfg->z_to_pitch[1], cfg->z_to_pitch[2], cfg->z_to_pitch[3],
+                  cfg->max_pitch_deg / RAD2DEG);
+    kelp_pid_init(&m->pitch, cfg->pitch[0], cfg->pitch[1], cfg->pitch[2], cfg->pitch[3], cfg->max_elevator);
     m->has_control = cfg->active_start;
     m->last_helm = m->last_nav = -1;
     for (int i = 0; i < KELP_PID_NSTAMP; i++) m->stamp[i] = -1;
     m->bias_t0 = now;
     m->bias_side = 1;
-    m->sat[0] = m->sat[1] = m->sat[2] = -1;
     return KELP_OK;
 }
 
@@ -166,12 +214,59 @@ static void out_num(const kelp_pid_marine *m, kelp_pid_marine_sink sink, void *c
     sink(ctx, var, false, NULL, v);
 }
 
-static void post_sat(kelp_pid_marine *m, kelp_pid_marine_sink sink, void *ctx, int i, bool sat)
+/* PIDEngine's debug postings (heading_debug etc.): a loop's steps when it saturated, and one
+ * line of want/current/difference/output, doubleToString's 5 decimals */
+static void post_debug_sat(kelp_pid_marine *m, kelp_pid_marine_sink sink, void *ctx, const char *var,
+                           const char *pre, const kelp_pid *p)
 {
-    static const char *const v[3] = { "PID_MAX_SAT_HDG", "PID_MAX_SAT_SPD", "PID_MAX_SAT_DEP" };
-    if (m->sat[i] == (int)sat) return;
-    m->sat[i] = sat;
-    sink(ctx, v[i], true, sat ? "true" : "false", 0);
+    if (!p->saturated) return;
+    size_t n = strlen(pre);
+    memcpy(m->dbg, pre, n + 1);
+    (void)kelp_pid_debug_text(p, m->dbg + n, sizeof m->dbg - n);
+    sink(ctx, var, true, m->dbg, 0);
+}
+
+static void post_debug_line(kelp_pid_marine *m, kelp_pid_marine_sink sink, void *ctx, const char *var,
+                            const char *head, const char *const *names, const double *v, unsigned nv)
+{
+    size_t k = 0;
+    int n = kelp_util_snprintf(m->dbg, sizeof m->dbg, "%s", head);
+    if (n > 0) k = (size_t)n < sizeof m->dbg ? (size_t)n : sizeof m->dbg - 1;
+    for (unsigned i = 0; i < nv; i++) {
+        n = kelp_util_snprintf(m->dbg + k, sizeof m->dbg - k, "%s", names[i]);
+        if (n > 0) k = k + (size_t)n < sizeof m->dbg ? k + (size_t)n : sizeof m->dbg - 1;
+        n = kelp_util_fmt_fixed(m->dbg + k, sizeof m->dbg - k, v[i], 5, false);
+        if (n > 0) k = k + (size_t)n < sizeof m->dbg ? k + (size_t)n : sizeof m->dbg - 1;
+    }
+    sink(ctx, var, true, m->dbg, 0);
+}
+
+KELP_NOINLINE static void post_debug(kelp_pid_marine *m, kelp_pid_marine_sink sink, void *ctx, double r, double t,
+                                     double el, double speed_delta)
+{
+    if (m->cfg.debug[1]) {
+        if (m->cfg.speed_factor == 0) post_debug_sat(m, sink, ctx, "PID_MAX_SAT_SPD_DEBUG", "", &m->speed);
+        static const char *const fct[5] = { " (Want):", " (Curr):", " (Diff):", " (Fctr):", " THRUST:" };
+        static const char *const dlt[5] = { " (Want):", " (Curr):", " (Diff):", " (Delt):", " THRUST:" };
+        double v[5] = { m->des_speed, m->speed_now, m->des_speed - m->speed_now,
+                        m->cfg.speed_factor != 0 ? m->cfg.speed_factor : speed_delta, t };
+        post_debug_line(m, sink, ctx, "PID_SPD_DEBUG", "PID_SPEED: ", m->cfg.speed_factor != 0 ? fct : dlt, v, 5);
+    }
+    if (!(t > 0)) return;
+    if (m->cfg.debug[0]) {
+        post_debug_sat(m, sink, ctx, "PID_MAX_SAT_HDG_DEBUG", "", &m->yaw);
+        static const char *const nm[4] = { " (Want):", " (Curr):", " (Diff):", " RUDDER:" };
+        double want = kelp_sim_angle180(m->des_heading);
+        double v[4] = { want, m->heading, kelp_sim_angle180(m->heading - want), r };
+        post_debug_line(m, sink, ctx, "PID_HDG_DEBUG", "PID_COURSE: ", nm, v, 4);
+    }
+    if (m->cfg.debug[2] && m->cfg.depth_control) {
+        post_debug_sat(m, sink, ctx, "PID_MAX_SAT_DEP_DEBUG", "Z:", &m->z_to_pitch);
+        post_debug_sat(m, sink, ctx, "PID_MAX_SAT_DEP_DEBUG", "P:", &m->pitch);
+        static const char *const nm[4] = { " (Want):", " (Curr):", " (Diff):", " ELEVATOR:" };
+        double v[4] = { m->des_depth, m->depth, m->depth - m->des_depth, el };
+        post_debug_line(m, sink, ctx, "PID_DEP_DEBUG", "PID_DEPTH: ", nm, v, 4);
+    }
 }
 
 static void post_outputs(kelp_pid_marine *m, kelp_pid_marine_sink sink, void *ctx, double r, double t, double el)
@@ -255,13 +350,12 @@ void kelp_pid_marine_iterate(kelp_pid_marine *m, kelp_time now, kelp_pid_marine_
         m->allstop_posted = true;
         return;
     }
-    double r = 0, t = 0, el = 0;
+    double r = 0, t = 0, el = 0, speed_delta = 0;
     if (m->cfg.speed_factor != 0) {
         t = m->des_speed * m->cfg.speed_factor;
     } else {
-        double dt = 0;
-        if (kelp_pid_run(&m->speed, m->des_speed - m->speed_now, now, &dt) < 0) return;
-        t = m->thrust + dt;
+        if (kelp_pid_run(&m->speed, m->des_speed - m->speed_now, now, &speed_delta) < 0) return;
+        t = m->thrust + speed_delta;
     }
     if (t < KELP_PID_MIN_THRUST) t = 0;
     if (t > m->cfg.max_thrust) t = m->cfg.max_thrust;
@@ -288,7 +382,5 @@ void kelp_pid_marine_iterate(kelp_pid_marine *m, kelp_time now, kelp_pid_marine_
     }
     m->paused = false;
     post_outputs(m, sink, ctx, r, t, el);
-    post_sat(m, sink, ctx, 0, m->yaw.saturated);
-    if (m->cfg.speed_factor == 0) post_sat(m, sink, ctx, 1, m->speed.saturated);
-    if (m->cfg.depth_control) post_sat(m, sink, ctx, 2, m->z_to_pitch.saturated || m->pitch.saturated);
+    post_debug(m, sink, ctx, r, t, el, speed_delta);
 }
