@@ -17,6 +17,7 @@ static void nav(double x, double y)
 {
     kelp_helm_mail_double(ht_helm(), "NAV_X", x);
     kelp_helm_mail_double(ht_helm(), "NAV_Y", y);
+    kelp_helm_mail_double(ht_helm(), "NAV_HEADING", 0); /* 24.8's waypoint needs a heading */
 }
 
 /* ---------------------------------------------------------------- relAng */
@@ -393,20 +394,21 @@ START_TEST(waypoint_lead)
     nav(0, 0);
     ht_iter(0);
     nav(5, 20);
-    ht_iter(1); /* straight at (0,100): relAng((5,20),(0,100)) = 356.4 */
-    ck_assert_msg(ht_num("DESIRED_HEADING") == 356, "heading %g", ht_num("DESIRED_HEADING"));
+    ht_iter(1); /* straight at (0,100): relAng((5,20),(0,100)) = 356.4; 24.8's course function also
+                 * leans toward ownship's heading (0 here: peak width 30, 5 of 20): 357 */
+    ck_assert_msg(ht_num("DESIRED_HEADING") == 357, "heading %g", ht_num("DESIRED_HEADING"));
 
     ht_setup(DOM2, NULL);
     ht_load("Behavior = BHV_Waypoint\n{\n name = w\n speed = 1\n points = 0,100\n lead = 10\n lead_to_start = true\n}\n");
     nav(0, 0);
     ht_iter(0); /* leg (0,0) -> (0,100) from where the vehicle started */
     nav(5, 20);
-    ht_iter(1); /* track point (0, 20 + 10): relAng((5,20),(0,30)) = 333.43 */
-    ck_assert_msg(ht_num("DESIRED_HEADING") == 333, "heading %g", ht_num("DESIRED_HEADING"));
+    ht_iter(1); /* track point (0, 20 + 10): relAng((5,20),(0,30)) = 333.43, 334 with the heading lean */
+    ck_assert_msg(ht_num("DESIRED_HEADING") == 334, "heading %g", ht_num("DESIRED_HEADING"));
     ck_assert_int_eq(kelp_helm_bhv_set_param(ht_find("w"), "lead", "0"), 0);
     nav(5, 21);
-    ht_iter(2); /* lead off: straight at (0,100): 356.4 */
-    ck_assert(ht_num("DESIRED_HEADING") == 356);
+    ht_iter(2); /* lead off: straight at (0,100): 356.4, 357 with the heading lean */
+    ck_assert(ht_num("DESIRED_HEADING") == 357);
 }
 END_TEST
 
@@ -417,8 +419,8 @@ START_TEST(waypoint_lead_second_leg_and_damper)
     nav(0, 1);
     ht_iter(0); /* captured (0,0); second leg (0,0)->(0,100) */
     nav(5, 20);
-    ht_iter(1); /* lead point (0,30): 333.43 */
-    ck_assert_msg(ht_num("DESIRED_HEADING") == 333, "heading %g", ht_num("DESIRED_HEADING"));
+    ht_iter(1); /* lead point (0,30): 333.43, 334 with the heading lean */
+    ck_assert_msg(ht_num("DESIRED_HEADING") == 334, "heading %g", ht_num("DESIRED_HEADING"));
     nav(-20, 120); /* beyond the leg's end: projection clipped to (0,100), no lead past it */
     ht_iter(2);
     ck_assert_msg(ht_num("DESIRED_HEADING") == 135, "heading %g", ht_num("DESIRED_HEADING"));

@@ -287,6 +287,7 @@ static const kelp_app_def def = {
         { "IVPHELM_CPU", "1.25", "the helm's CPU load (percent of one core)" },
         { "IVPHELM_LEDGER_SUMMARY", "now:2, reps:31, who:ben,cal", "every iteration once NAV_X/NAV_Y are known" },
         { "IVPHELM_COMPLETED_PENDING", "false", "on change: true in the iteration a behaviour completes" },
+        { "IVPHELM_COMPLETED_COUNT", "1", "on change: behaviours completed in this iteration" },
         { "TURN_RATE", "1.5", "in DRIVE: mean heading change per iteration over the last 5 s (deg, starboard +)" },
         { "MOOS_DEBUG", "pHelmIvP AllStop: clear", "with each IVPHELM_ALLSTOP (MOOS's debug channel)" },
         { "PLOGGER_CMD", "COPY_FILE_REQUEST = alder.bhv", "at start, one per Behaviors file" },

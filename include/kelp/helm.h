@@ -241,7 +241,7 @@ typedef struct kelp_bhv_wpt {          /* BHV_Waypoint */
     kelp_bhv_pt mark;
     double min_dist;                   /* closest approach to the current point so far */
     bool restart;                      /* re-seed the leg at the next run (idle->run) */
-    double osx, osy;
+    double osx, osy, osh;              /* ownship: NAV_X, NAV_Y, NAV_HEADING (0..360) */
     /* odometry (WPT_ODO, efficiency_measure) */
     bool odo_virgin;
     double odo_px, odo_py, odo_leg, odo_setx, odo_sety;
@@ -383,6 +383,7 @@ struct kelp_bhv {
     /* run state */
     kelp_bhv_state state;              /**< state reported for the last iteration */
     bool completed;                    /**< setComplete() was called (not perpetual) */
+    bool death_posted;                 /**< its IVPHELM_LIFE_EVENT death went out */
     bool state_ok;                     /**< cleared by postEMessage for this iteration */
     double state_entered;              /**< buffer time the current state began */
     bool dur_started;
@@ -635,7 +636,8 @@ struct kelp_helm {
     double t0;                      /* MOOS time of helm time 0; moved by a clock step (below) */
     kelp_clock clock;               /* the newest `now`, to tell a clock step */
     unsigned long clock_steps;      /* clock steps taken out of helm time */
-    unsigned long iteration;
+    unsigned long iteration;        /* every call of kelp_helm_iterate */
+    unsigned long dec_iter;         /* 24.8's helm iteration: the decisions made (engaged loops) */
     double first_iter_time;         /* helm time of the first iteration (life events' time=) */
     bool startup_events_pending;    /* the behaviours' spawn events, posted by the first decision */
     kelp_helm_report rep;
@@ -651,6 +653,7 @@ struct kelp_helm {
     unsigned hdg_n, hdg_head;          /* entries, index of the newest */
     unsigned ncompleted_seen;          /* behaviours marked completed at the last count */
     int completed_pending_posted;      /* IVPHELM_COMPLETED_PENDING last posted: -1 none, 0, 1 */
+    unsigned completed_count_posted;   /* IVPHELM_COMPLETED_COUNT last posted (0 at start) */
     kelp_helm_mode modes[KELP_HELM_MAX_MODES];
     unsigned nmodes;
     char mode_posted[KELP_HELM_MAX_MODES][128]; /* last value posted per mode variable (by first entry) */

@@ -281,6 +281,14 @@ static void wpt_idle(kelp_bhv *b)
     }
 }
 
+/* on completion 24.8 erases the route (its onRunToIdleState's erasables; the next-point marker's
+ * erasure went out with the completion) */
+static void wpt_complete(kelp_bhv *b)
+{
+    if (b->u.wpt.npts)
+        post_seglist(b, false);
+}
+
 /* BHV_Waypoint posts the cycle count when it changes from the last it posted (0 at first),
  * also on the iteration the last pass completes */
 KELP_NOINLINE static void post_cycle_index(kelp_bhv *b)
@@ -442,6 +450,13 @@ KELP_NOINLINE static bool wpt_advance(kelp_bhv *b, double *crs)
         kelp_helm_bhv_post_warning(b, "No ownship X/Y info in info_buffer.");
         return false;
     }
+    double h;
+    if (!kelp_helm_bhv_buf_double(b, "NAV_HEADING", &h)) {
+        kelp_helm_bhv_post_warning(b, "No ownship heading info in info_buffer.");
+        return false;
+    }
+    s->osh = fmod(h, 360.0);
+    if (s->osh < 0) s->osh += 360.0;
     if (s->npts == 0)
         return false;
     if (!s->have_prev || s->restart || b->state == KELP_BHV_IDLE || b->state == KELP_BHV_NONE) {
@@ -515,6 +530,36 @@ KELP_NOINLINE static bool wpt_advance(kelp_bhv *b, double *crs)
     return true;
 }
 
+/* MOOS-IvP 24.8's BHV_Waypoint objective (buildOF, ipf_type zaic): speed, a ZAIC peak at the
+ * cruise speed (peak width half of it, base width 1.6, summit delta 20, utilities 0..100);
+ * course, a wrapping ZAIC of two components summed: the bearing to the track point (peak width
+ * 0, base width 180, 0..100) and ownship's heading (peak width 30, base width 180, summit
+ * delta 5, 0..20), which damps a change of course; coupled course_pct : 100 - course_pct. */
+KELP_NOINLINE static int wpt_function(kelp_bhv *b, const kelp_helm_work *w, double crs, double osh, double speed,
+                                      double course_pct, kelp_ivp_func *out)
+{
+    int is = kelp_ivp_domain_index(&b->dom, "speed");
+    if (is < 0 || kelp_ivp_domain_index(&b->dom, "course") < 0)
+        return KELP_ERR_NOTFOUND;
+    size_t ns = b->dom.var[is].points;
+    if (w->tmp_cap <= ns)
+        return KELP_ERR_NOSPACE;
+    kelp_ivp_zaic_peak *z = &b->helm->ws_bhv.zaic;
+    kelp_ivp_func *spd = &b->helm->ws_bhv.cs[0], *cf = &b->helm->ws_bhv.cs[1];
+    int rc = kelp_ivp_zaic_peak_init(z, &b->dom, "speed");
+    if (rc >= 0) rc = kelp_ivp_zaic_peak_set_params(z, speed, speed / 2, 1.6, 20, 0, 100, 0);
+    if (rc >= 0) rc = kelp_ivp_zaic_peak_extract(z, true, w->dwork, w->dwork_cap, w->tmp, ns, spd);
+    if (rc < 0) return rc;
+    rc = kelp_ivp_zaic_peak_init(z, &b->dom, "course");
+    z->wrap = true;
+    if (rc >= 0) rc = kelp_ivp_zaic_peak_set_params(z, crs, 0, 180, 50, 0, 100, 0);
+    if (rc >= 0) rc = kelp_ivp_zaic_peak_add_component(z);
+    if (rc >= 0) rc = kelp_ivp_zaic_peak_set_params(z, osh, 30, 180, 5, 0, 20, 1);
+    if (rc >= 0) rc = kelp_ivp_zaic_peak_extract(z, false, w->dwork, w->dwork_cap, w->tmp + ns, w->tmp_cap - ns, cf);
+    if (rc < 0) return rc;
+    return kelp_ivp_couple(cf, course_pct, spd, 100 - course_pct, true, 0, 100, w->out, w->out_cap, out);
+}
+
 static int wpt_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
 {
     const kelp_bhv_wpt *s = &b->u.wpt;
@@ -522,7 +567,7 @@ static int wpt_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
     if (!wpt_advance(b, &crs))
         return 0;
     double speed = s->use_alt_speed && s->speed_alt >= 0 ? s->speed_alt : s->speed;
-    if (bhv_course_speed_zaic_ratio(b, w, crs, speed, 0.5, 1.0, 0.8, s->course_pct, out) < 0) {
+    if (wpt_function(b, w, crs, s->osh, speed, s->course_pct, out) < 0) {
         kelp_helm_bhv_post_warning(b, "Problem Creating the IvP Function");
         return 0;
     }
@@ -578,6 +623,7 @@ const kelp_bhv_ops kelp_bhv_waypoint_ops = {
     .set_param = wpt_set_param,
     .params_done = wpt_params_done,
     .on_idle = wpt_idle,
+    .on_complete = wpt_complete,
     .on_run = wpt_run,
     .post_config = wpt_post_config,
 };

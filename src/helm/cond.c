@@ -5,7 +5,7 @@
 #include "helm_int.h"
 
 enum tok_kind { T_END, T_LP, T_RP, T_OP, T_AND, T_OR, T_NOT, T_STR, T_WORD, T_VAR, T_BAD };
-enum rel_op { OP_EQ, OP_NE, OP_LT, OP_LE, OP_GT, OP_GE };
+enum rel_op { OP_EQ, OP_NE, OP_LT, OP_LE, OP_GT, OP_GE, OP_FEQ };
 
 typedef struct tok {
     enum tok_kind k;
@@ -49,7 +49,7 @@ static void next(cparse *p)
         i++;
     } else if (c == '=') {
         t.k = T_OP;
-        t.op = OP_EQ;
+        t.op = s[i + 1] == '=' ? OP_FEQ : OP_EQ;
         i += (s[i + 1] == '=') ? 2 : 1;
     } else if (c == '!' && s[i + 1] == '=') {
         t.k = T_OP;
@@ -194,6 +194,66 @@ KELP_NOINLINE static int cmp_fmt(const val *a, const val *b, bool ci)
     return a->s ? cmp_str(a, &t, ci) : cmp_str(&t, b, ci);
 }
 
+static bool has_sub(const char *s, size_t n, const char *t, size_t m)
+{
+    if (m > n) return false;
+    for (size_t i = 0; i + m <= n; i++)
+        if (!memcmp(s + i, t, m)) return true;
+    return false;
+}
+
+/* the k-th ':' component of s (blank ends stripped); false past the last */
+static bool component(const char *s, size_t n, unsigned k, const char **c, size_t *cn)
+{
+    size_t i = 0;
+    for (unsigned j = 0; j < k; j++) {
+        while (i < n && s[i] != ':') i++;
+        if (i >= n) return false;
+        i++;
+    }
+    size_t e = i;
+    while (e < n && s[e] != ':') e++;
+    while (i < e && hx_is_space(s[i])) i++;
+    while (e > i && hx_is_space(s[e - 1])) e--;
+    *c = s + i, *cn = e - i;
+    return true;
+}
+
+static unsigned components(const char *s, size_t n)
+{
+    unsigned c = 1;
+    for (size_t i = 0; i < n; i++) c += s[i] == ':';
+    return c;
+}
+
+static bool comp_eq(const char *a, size_t an, unsigned i, const char *b, size_t bn, unsigned j)
+{
+    const char *x, *y;
+    size_t xn, yn;
+    return component(a, an, i, &x, &xn) && component(b, bn, j, &y, &yn) && xn == yn && !memcmp(x, y, xn);
+}
+
+/* "==" between two strings, as MOOS-IvP's logic conditions (LogicUtils' field match): true when
+ * one side is a run of consecutive ':'-separated components of the other, blank ends stripped
+ * ("TRANSIT" == "ACTIVE:TRANSIT", "ACTIVE:TRANSIT" == "ACTIVE:TRANSIT:EAST"). 24.8 steps along
+ * the longer side by 1, then 2, ... and so misses runs of three or more components, even equal
+ * strings (docs/CONFORMANCE.md): kelp walks the run. */
+KELP_NOINLINE static bool field_match(const char *a, size_t an, const char *b, size_t bn)
+{
+    if (!has_sub(a, an, b, bn) && !has_sub(b, bn, a, an)) return false;
+    unsigned na = components(a, an), nb = components(b, bn);
+    const char *sh = b, *lo = a;
+    size_t shn = bn, lon = an;
+    unsigned ns = nb, nl = na;
+    if (na < nb) sh = a, shn = an, ns = na, lo = b, lon = bn, nl = nb;
+    for (unsigned j = 0; j + ns <= nl; j++) {
+        unsigned i = 0;
+        while (i < ns && comp_eq(sh, shn, i, lo, lon, j + i)) i++;
+        if (i == ns) return true;
+    }
+    return false;
+}
+
 static bool compare(const val *a, enum rel_op op, const val *b)
 {
     if (!a->known || !b->known)
@@ -201,14 +261,17 @@ static bool compare(const val *a, enum rel_op op, const val *b)
     int c;
     if (a->is_num && b->is_num) {
         c = a->num < b->num ? -1 : (a->num > b->num ? 1 : 0);
-    } else if (a->is_num != b->is_num && op != OP_EQ && op != OP_NE) {
+    } else if (op == OP_FEQ && a->s && b->s && !(a->is_num && b->is_num)) {
+        return field_match(a->s, a->n, b->s, b->n);
+    } else if (a->is_num != b->is_num && op != OP_EQ && op != OP_NE && op != OP_FEQ) {
         return false; /* ordering a number against a non-number */
     } else {
         bool ci = is_bool_lit(a) || is_bool_lit(b);
         c = a->s && b->s ? cmp_str(a, b, ci) : cmp_fmt(a, b, ci);
     }
     switch (op) {
-    case OP_EQ: return c == 0;
+    case OP_EQ:
+    case OP_FEQ: return c == 0;
     case OP_NE: return c != 0;
     case OP_LT: return c < 0;
     case OP_LE: return c <= 0;

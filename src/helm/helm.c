@@ -321,7 +321,7 @@ void helm_life_event(kelp_helm *h, const char *bname, const char *btype, const c
     n += hx_cat(buf + n, cap - n, ", bname=", bname, ", btype=", btype, ", event=", event, HX_END);
     if (seed && *seed)
         n += hx_cat(buf + n, cap - n, ", seed=", seed, HX_END);
-    hx_fmt_ulong(it, sizeof it, h->iteration);
+    hx_fmt_ulong(it, sizeof it, h->dec_iter);
     hx_cat(buf + n, cap - n, ",iter=", it, HX_END);
     sink(h, "IVPHELM_LIFE_EVENT", true, buf, 0, NULL);
 }
@@ -674,7 +674,7 @@ static void flush_posts(kelp_helm *h)
         else if (!strcmp(var, "BHV_ERROR"))
             h->rep.errors++;
         char it[24];
-        hx_fmt_ulong(it, sizeof it, h->iteration);
+        hx_fmt_ulong(it, sizeof it, h->dec_iter);
         hx_cat(aux, sizeof aux, it, ":", b->name, HX_END);
         sink_post(h, var, q->is_str, sv, q->dval, aux, retract);
     }
@@ -965,7 +965,7 @@ KELP_NOINLINE static void post_ipf(kelp_helm *h, const kelp_bhv *b, const kelp_i
     if (hx_ieq(var, "silent"))
         return;
     char ctx[KELP_MAX_NAME + 24], it[24];
-    hx_fmt_ulong(it, sizeof it, h->iteration);
+    hx_fmt_ulong(it, sizeof it, h->dec_iter);
     hx_cat(ctx, sizeof ctx, it, ":", b->name, HX_END);
     if (kelp_ivp_func_to_ipf(f, ctx, b->ipf_gel_set ? b->ipf_gel : NULL, h->ws_ipf, sizeof h->ws_ipf) < 0) {
         h->ipf_oversize++;
@@ -1192,7 +1192,9 @@ KELP_NOINLINE static void post_outputs(kelp_helm *h)
     r->nactive = r->nrunning = r->nidle = r->ncompleted = 0;
     for (unsigned i = 0; i < h->nbhv; i++) {
         const kelp_bhv *b = &h->bhv[i];
-        switch (b->state) {
+        /* a behaviour that completed this iteration is listed as completed at once (24.8
+         * removes it at the end of the iteration; its lists never show it running) */
+        switch (b->completed && b->state != KELP_BHV_NONE ? KELP_BHV_COMPLETED : b->state) {
         case KELP_BHV_ACTIVE: list_append(lists[0], sizeof lists[0], b->name, ','); r->nactive++; break;
         case KELP_BHV_RUNNING: list_append(lists[1], sizeof lists[1], b->name, ','); r->nrunning++; break;
         case KELP_BHV_IDLE: list_append(lists[2], sizeof lists[2], b->name, ','); r->nidle++; break;
@@ -1200,10 +1202,13 @@ KELP_NOINLINE static void post_outputs(kelp_helm *h)
         case KELP_BHV_NONE: break;
         }
     }
-    /* behaviour counts, posted when they change (kelp has no disabled behaviours: always 0) */
+    /* behaviour counts, posted when they change (kelp has no disabled behaviours: always 0);
+     * the count leaves out the behaviours completed before this iteration (24.8 removes a
+     * completed behaviour at the end of the iteration it completed in) */
     static const char *const cvar[5] = {"IVPHELM_BHV_CNT", "IVPHELM_BHV_ACTIVE_CNT", "IVPHELM_BHV_RUNNING_CNT",
                                         "IVPHELM_BHV_IDLE_CNT", "IVPHELM_BHV_DISABLED_CNT"};
-    const unsigned cnt[5] = {h->nbhv, r->nactive, r->nrunning, r->nidle, 0};
+    const unsigned cnt[5] = {h->nbhv - (h->ncompleted_seen < h->nbhv ? h->ncompleted_seen : h->nbhv), r->nactive,
+                             r->nrunning, r->nidle, 0};
     for (int k = 0; k < 5; k++)
         if (h->last_cnt[k] != cnt[k] + 1) {
             sink(h, cvar[k], false, NULL, (double)cnt[k], NULL);
@@ -1276,7 +1281,7 @@ KELP_NOINLINE static void post_outputs(kelp_helm *h)
     /* every iteration, as MOOS-IvP's helm; kelp builds each function anew (nothing cached) */
     sink(h, "IVPHELM_TOTAL_PCS_FORMED", false, NULL, (double)r->total_pcs_formed, NULL);
     sink(h, "IVPHELM_TOTAL_PCS_CACHED", false, NULL, 0, NULL);
-    sink(h, "IVPHELM_ITER", false, NULL, (double)h->iteration, NULL);
+    sink(h, "IVPHELM_ITER", false, NULL, (double)h->dec_iter, NULL);
     if (h->engaged)
         post_completed_pending(h);
 }
@@ -1369,19 +1374,26 @@ KELP_NOINLINE static void post_ledger_and_turn_rate(kelp_helm *h, kelp_time now)
         post_turn_rate(h, now);
 }
 
-/* IVPHELM_COMPLETED_PENDING on change: true in the iteration a behaviour completed */
+/* IVPHELM_COMPLETED_PENDING on change: true in the iteration a behaviour completed; then
+ * IVPHELM_COMPLETED_COUNT on change: how many completed in this iteration (24.8: the number its
+ * behaviour set removed), both with the iteration as source aux */
 static void post_completed_pending(kelp_helm *h)
 {
     unsigned n = 0;
     for (unsigned i = 0; i < h->nbhv; i++)
         n += h->bhv[i].completed;
-    int pending = n > h->ncompleted_seen;
+    unsigned now_done = n > h->ncompleted_seen ? n - h->ncompleted_seen : 0;
+    int pending = now_done > 0;
     h->ncompleted_seen = n;
+    char it[24];
+    hx_fmt_ulong(it, sizeof it, h->dec_iter);
     if (pending != h->completed_pending_posted) {
-        char it[24];
-        hx_fmt_ulong(it, sizeof it, h->iteration);
         sink(h, "IVPHELM_COMPLETED_PENDING", true, pending ? "true" : "false", 0, it);
         h->completed_pending_posted = pending;
+    }
+    if (now_done != h->completed_count_posted) {
+        sink(h, "IVPHELM_COMPLETED_COUNT", false, NULL, (double)now_done, it);
+        h->completed_count_posted = now_done;
     }
 }
 
@@ -1417,7 +1429,9 @@ int kelp_helm_iterate(kelp_helm *h, kelp_time now)
     helm_spawn(h);
     kelp_helm_report *r = &h->rep;
     report_reset(r);
-    r->iteration = h->iteration;
+    if (h->engaged) /* 24.8's helm iteration counts its decisions (HelmEngine), not parked loops */
+        h->dec_iter++;
+    r->iteration = h->dec_iter;
     r->time = h->ib.curr_time;
     sink(h, "IVPHELM_STATE", true, h->engaged ? "DRIVE" : "PARK", 0, NULL);
     post_ledger_and_turn_rate(h, now);

@@ -166,6 +166,12 @@ void helm_reap(kelp_helm *h)
     unsigned long removed = 0;
     for (unsigned i = 0; i < h->nbhv; i++) {
         kelp_bhv *b = &h->bhv[i];
+        /* 24.8 removes every completed behaviour with a death event; kelp keeps a configured
+         * one in its table (completed, never run again) and removes the spawned ones */
+        if (b->completed && !b->spawned && !b->death_posted) {
+            b->death_posted = true;
+            helm_life_event(h, b->name, b->type, "death", NULL);
+        }
         if (b->spawned && b->completed) {
             helm_life_event(h, b->name, b->type, "death", NULL);
             unsigned f = 0; /* forget its duplicate-filter entries */
@@ -182,9 +188,9 @@ void helm_reap(kelp_helm *h)
         k++;
     }
     h->nbhv = k;
-    if (removed) {
+    if (removed) { /* (their IVPHELM_COMPLETED_COUNT went out with the iteration's report) */
         h->completed_removed += removed;
-        helm_sink(h, "IVPHELM_COMPLETED_COUNT", false, NULL, (double)removed, NULL);
+        h->ncompleted_seen = h->ncompleted_seen > removed ? h->ncompleted_seen - (unsigned)removed : 0;
     }
 }
 

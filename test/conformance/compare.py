@@ -1219,8 +1219,11 @@ def vehicle_figures(G, K):
     kb = [0.0] + [t for _, t in k["events"]] + [max([t for _, t in k["events"]] + [end]) + 1.0]
     gp, kp = peaks(g, gb), peaks(k, kb)
     # a leg whose peak is below VEH_TURN_RUDDER is no turn (a straight leg's corrections)
+    # and a leg shorter than a second (a completion's iteration before the next behaviour takes
+    # over) holds a sample or two of a moving rudder, not a turn's peak
     bad = [(i + 1, a, b) for i, (a, b) in enumerate(zip(gp, kp))
-           if abs(a) >= VEH_TURN_RUDDER and abs(abs(b) - abs(a)) > VEH_PEAK_PCT / 100.0 * abs(a)]
+           if abs(a) >= VEH_TURN_RUDDER and gb[i + 1] - gb[i] >= 1.0
+           and abs(abs(b) - abs(a)) > VEH_PEAK_PCT / 100.0 * abs(a)]
     ok = len(gp) == len(kp) and not bad
     figs.append(Figure("vehicle/rudder_peaks", ok, "" if ok else "legs 24.8 %d kelp %d; %s" % (
         len(gp), len(kp), ", ".join("leg %d: 24.8 %.1f, kelp %.1f" % x for x in bad[:4]))))
