@@ -329,8 +329,19 @@ START_TEST(waypoint_sequence_flags_end)
     /* the pass ends: 24.8's feedback, not a status line */
     ck_assert_str_eq(ht_last("WPT_STAT")->sval, "behavior-name=survey,completed");
     ck_assert_uint_eq(ht_count("WPT_STAT"), 1);
+    /* 24.8 at completion: the route erased, a death event, one completed this iteration, the
+     * behaviour listed neither active nor running; counted out of the set the next iteration */
+    ck_assert(ht_has_str("VIEW_SEGLIST", "pts={0,10:10,10},active=false,label=alder_survey"));
+    ck_assert(ht_has_sub("IVPHELM_LIFE_EVENT", ", bname=survey, btype=BHV_Waypoint, event=death,iter=4")); /* the fourth decision */
+    ck_assert(ht_num("IVPHELM_COMPLETED_COUNT") == 1);
+    ck_assert(ht_has_str("IVPHELM_BHV_ACTIVE", ""));
+    ck_assert_uint_eq(ht_count("IVPHELM_BHV_RUNNING"), 0);
+    ck_assert_uint_eq(ht_count("IVPHELM_BHV_CNT"), 0);
     ht_iter(3);
     ck_assert_int_eq(ht_find("survey")->state, KELP_BHV_COMPLETED);
+    ck_assert(ht_num("IVPHELM_COMPLETED_COUNT") == 0);
+    ck_assert(ht_num("IVPHELM_BHV_CNT") == 0);
+    ck_assert_uint_eq(ht_count("IVPHELM_LIFE_EVENT"), 0);
 }
 END_TEST
 

@@ -623,11 +623,13 @@ START_TEST(condition_transitions_and_flags)
     ck_assert_str_eq(g_h.rep.allstop, "MissingDecVars:course"); /* course undecided */
     ck_assert(ht_num("DESIRED_SPEED") == 0);                      /* so all-stop zeros */
     ck_assert(ht_has_str("BHV_ERROR", "MissingDecVars:course"));
-    /* the function, serialised as 24.8's BHV_IPF: context "<iteration>:<behaviour>" */
+    /* the function, serialised as 24.8's BHV_IPF: context "<iteration>:<behaviour>", in one
+     * packet "P,<behaviour>^<iteration>,1,1," (HelmIvP's IvPFunctionToVector) */
     ck_assert_uint_eq(ht_count("BHV_IPF"), 1);
-    char ctx[32];
-    snprintf(ctx, sizeof ctx, ",%lu:p,", g_h.iteration);
-    ck_assert_msg(!strncmp(ht_last("BHV_IPF")->sval, "H,", 2) && strstr(ht_last("BHV_IPF")->sval, ctx),
+    char ctx[32], pk[32];
+    snprintf(ctx, sizeof ctx, ",%lu:p,", g_h.dec_iter);
+    snprintf(pk, sizeof pk, "P,p^%lu,1,1,H,", g_h.dec_iter);
+    ck_assert_msg(!strncmp(ht_last("BHV_IPF")->sval, pk, strlen(pk)) && strstr(ht_last("BHV_IPF")->sval, ctx),
                   "%s", ht_last("BHV_IPF")->sval);
     ck_assert_uint_eq(g_h.ipf_posted, 1);
     /* no function again: inactive flag */

@@ -505,6 +505,7 @@ typedef void (*kelp_helm_sink)(const kelp_helm_post *p, void *user);
 /** Headings kept for TURN_RATE (the last 5 s of iterations: 25 Hz fits) */
 #ifndef KELP_HELM_HDG_HIST
 #define KELP_HELM_HDG_HIST 128
+#define KELP_HELM_IPF_PACKET 2000 /**< size of a BHV_IPF packet (24.8's HelmIvP) */
 #endif
 #define KELP_HELM_TURN_WINDOW 5.0 /**< s of heading history TURN_RATE averages (PlatModelGenerator) */
 
@@ -658,7 +659,8 @@ struct kelp_helm {
     unsigned nmodes;
     char mode_posted[KELP_HELM_MAX_MODES][128]; /* last value posted per mode variable (by first entry) */
     char mode_summary[KELP_HELM_MAX_SVAL];      /* "MODE@ACTIVE:SURVEYING#MODE2@X" after the iteration */
-    unsigned last_cnt[5];              /* last IVPHELM_BHV_{,ACTIVE_,RUNNING_,IDLE_,DISABLED_}CNT posted + 1 */
+    unsigned last_cnt[5];              /* last IVPHELM_BHV_CNT, IVPHELM_BHV_CNT_EVER posted (0: none); [2] the
+                                          start-up zeros of the list counts posted */
     kelp_diag diag;                    /**< configuration failure (first wins): code, .bhv line, reason */
     struct {                        /* workspace of one iteration's postings (keeps the stack small) */
         char buf[KELP_HELM_MAX_SVAL], dom[KELP_HELM_MAX_SVAL / 2];
@@ -666,6 +668,7 @@ struct kelp_helm {
         char mode_value[KELP_HELM_MAX_MODES][128]; /**< this iteration's value of each mode variable */
     } ws_out;
     char ws_ipf[KELP_MAX_SVAL + 1];    /* workspace: one BHV_IPF string */
+    char ws_ipf_pkt[KELP_HELM_IPF_PACKET + 1]; /* workspace: one BHV_IPF packet */
     kelp_helm_work ws_work;            /* workspace: the storage handed to a behaviour's on_run */
     unsigned long ipf_posted, ipf_oversize; /**< BHV_IPF postings; functions too long for one value */
     struct {                        /* workspace of a behaviour's updates (keeps the stack small) */

@@ -538,15 +538,13 @@ KELP_NOINLINE static bool wpt_advance(kelp_bhv *b, double *crs)
 KELP_NOINLINE static int wpt_function(kelp_bhv *b, const kelp_helm_work *w, double crs, double osh, double speed,
                                       double course_pct, kelp_ivp_func *out)
 {
-    int is = kelp_ivp_domain_index(&b->dom, "speed");
-    if (is < 0 || kelp_ivp_domain_index(&b->dom, "course") < 0)
-        return KELP_ERR_NOTFOUND;
-    size_t ns = b->dom.var[is].points;
-    if (w->tmp_cap <= ns)
-        return KELP_ERR_NOSPACE;
+    size_t ns;
+    int rc = bhv_cs_speed_points(b, w, &ns);
+    if (rc < 0)
+        return rc;
     kelp_ivp_zaic_peak *z = &b->helm->ws_bhv.zaic;
     kelp_ivp_func *spd = &b->helm->ws_bhv.cs[0], *cf = &b->helm->ws_bhv.cs[1];
-    int rc = kelp_ivp_zaic_peak_init(z, &b->dom, "speed");
+    rc = kelp_ivp_zaic_peak_init(z, &b->dom, "speed");
     if (rc >= 0) rc = kelp_ivp_zaic_peak_set_params(z, speed, speed / 2, 1.6, 20, 0, 100, 0);
     if (rc >= 0) rc = kelp_ivp_zaic_peak_extract(z, true, w->dwork, w->dwork_cap, w->tmp, ns, spd);
     if (rc < 0) return rc;

@@ -260,20 +260,27 @@ int bhv_course_speed_zaic(kelp_bhv *b, const kelp_helm_work *w, double course, d
     return bhv_course_speed_zaic_ratio(b, w, course, speed, spw, sbw, ssd, 50, out);
 }
 
-int bhv_course_speed_zaic_ratio(kelp_bhv *b, const kelp_helm_work *w, double course, double speed, double spw,
-                                double sbw, double ssd, double course_pct, kelp_ivp_func *out)
+int bhv_cs_speed_points(const kelp_bhv *b, const kelp_helm_work *w, size_t *ns)
 {
     int is = kelp_ivp_domain_index(&b->dom, "speed");
     if (is < 0 || kelp_ivp_domain_index(&b->dom, "course") < 0)
         return KELP_ERR_NOTFOUND;
-    size_t ns = b->dom.var[is].points;
-    if (w->tmp_cap <= ns)
-        return KELP_ERR_NOSPACE;
+    *ns = b->dom.var[is].points;
+    return w->tmp_cap <= *ns ? KELP_ERR_NOSPACE : 0;
+}
+
+int bhv_course_speed_zaic_ratio(kelp_bhv *b, const kelp_helm_work *w, double course, double speed, double spw,
+                                double sbw, double ssd, double course_pct, kelp_ivp_func *out)
+{
+    size_t ns;
+    int rc = bhv_cs_speed_points(b, w, &ns);
+    if (rc < 0)
+        return rc;
     kelp_ivp_func *spd = &b->helm->ws_bhv.cs[0];
     kelp_helm_work wz = *w; /* the speed ZAIC's pieces first in tmp (the course's after them) */
     wz.out = w->tmp;
     wz.out_cap = ns;
-    int rc = bhv_zaic1(b, &wz, "speed", speed, spw, sbw, ssd, false, spd);
+    rc = bhv_zaic1(b, &wz, "speed", speed, spw, sbw, ssd, false, spd);
     if (rc < 0)
         return rc;
     return bhv_course_couple(b, w, course, spd, ns, course_pct, out);

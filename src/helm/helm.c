@@ -956,9 +956,12 @@ KELP_NOINLINE static void post_status(kelp_bhv *b, kelp_bhv_state ns)
 
 /* BHV_IPF: the function as MOOS-IvP 24.8's helm posts it each iteration a behaviour makes one
  * (BehaviorSet, the FunctionEncoder's string with context "<iteration>:<behaviour>"), through
- * the behaviour's post_mapping. Several KB a piece, it goes straight to the sink (not through
- * the postings pool or the info buffer); one longer than a bus value (KELP_MAX_SVAL) is not
- * posted and counted (ipf_oversize). */
+ * the behaviour's post_mapping, cut into packets as HelmIvP does (IvPFunctionToVector, 2,000
+ * characters: "P,<behaviour>^<iteration>,<packets>,<packet>,<part of the string>", a packet's
+ * part 2,000 less 50 and the id long), each with the behaviour's name as source aux. Several
+ * KB a function, it goes straight to the sink (not through the postings pool or the info
+ * buffer); one longer than a bus value (KELP_MAX_SVAL) is not posted and counted
+ * (ipf_oversize). */
 KELP_NOINLINE static void post_ipf(kelp_helm *h, const kelp_bhv *b, const kelp_ivp_func *f)
 {
     const char *var = helm_bhv_var(b, "BHV_IPF");
@@ -972,7 +975,21 @@ KELP_NOINLINE static void post_ipf(kelp_helm *h, const kelp_bhv *b, const kelp_i
         return;
     }
     h->ipf_posted++;
-    sink(h, var, true, h->ws_ipf, 0, ctx);
+    char id[KELP_MAX_NAME + 24], np[16], ip[16];
+    size_t idn = hx_cat(id, sizeof id, b->name, "^", it, HX_END);
+    size_t whole = strlen(h->ws_ipf), body = KELP_HELM_IPF_PACKET - (idn + 50);
+    unsigned long n = (unsigned long)(whole / body) + 1;
+    hx_fmt_ulong(np, sizeof np, n);
+    for (unsigned long i = 0; i < n; i++) {
+        hx_fmt_ulong(ip, sizeof ip, i + 1);
+        size_t k = hx_cat(h->ws_ipf_pkt, sizeof h->ws_ipf_pkt, "P,", id, ",", np, ",", ip, ",", HX_END);
+        size_t from = (size_t)i * body, len = from < whole ? whole - from : 0;
+        if (len > body) len = body;
+        if (len > sizeof h->ws_ipf_pkt - 1 - k) len = sizeof h->ws_ipf_pkt - 1 - k;
+        memcpy(h->ws_ipf_pkt + k, h->ws_ipf + from, len);
+        h->ws_ipf_pkt[k + len] = 0;
+        sink(h, var, true, h->ws_ipf_pkt, 0, b->name);
+    }
 }
 
 /* The running state of behaviour i (onRunState): RUNNING, or ACTIVE when it made a function
@@ -1202,20 +1219,29 @@ KELP_NOINLINE static void post_outputs(kelp_helm *h)
         case KELP_BHV_NONE: break;
         }
     }
-    /* behaviour counts, posted when they change (kelp has no disabled behaviours: always 0);
-     * the count leaves out the behaviours completed before this iteration (24.8 removes a
-     * completed behaviour at the end of the iteration it completed in) */
-    static const char *const cvar[5] = {"IVPHELM_BHV_CNT", "IVPHELM_BHV_ACTIVE_CNT", "IVPHELM_BHV_RUNNING_CNT",
-                                        "IVPHELM_BHV_IDLE_CNT", "IVPHELM_BHV_DISABLED_CNT"};
-    const unsigned cnt[5] = {h->nbhv - (h->ncompleted_seen < h->nbhv ? h->ncompleted_seen : h->nbhv), r->nactive,
-                             r->nrunning, r->nidle, 0};
-    for (int k = 0; k < 5; k++)
-        if (h->last_cnt[k] != cnt[k] + 1) {
-            sink(h, cvar[k], false, NULL, (double)cnt[k], NULL);
-            if (k == 0)
-                sink(h, "IVPHELM_BHV_CNT_EVER", false, NULL, (double)h->bhv_cnt_ever, NULL);
-            h->last_cnt[k] = cnt[k] + 1;
+    /* behaviour counts as 24.8's helm posts them: the four list counts 0 once at start-up;
+     * the behaviour count and the count ever made when they change (from 0), by the drive
+     * iterations; the count leaves out the behaviours completed before this iteration (24.8
+     * removes a completed behaviour at the end of the iteration it completed in). kelp has no
+     * disabled behaviours: their count stays 0 */
+    if (!h->last_cnt[2]) {
+        static const char *const zvar[4] = {"IVPHELM_BHV_ACTIVE_CNT", "IVPHELM_BHV_IDLE_CNT", "IVPHELM_BHV_RUNNING_CNT",
+                                            "IVPHELM_BHV_DISABLED_CNT"};
+        for (int k = 0; k < 4; k++)
+            sink(h, zvar[k], false, NULL, 0.0, NULL);
+        h->last_cnt[2] = 1;
+    }
+    if (h->engaged) {
+        unsigned bc = h->nbhv - (h->ncompleted_seen < h->nbhv ? h->ncompleted_seen : h->nbhv);
+        if (bc != h->last_cnt[0]) {
+            sink(h, "IVPHELM_BHV_CNT", false, NULL, (double)bc, NULL);
+            h->last_cnt[0] = bc;
         }
+        if (h->bhv_cnt_ever != h->last_cnt[1]) {
+            sink(h, "IVPHELM_BHV_CNT_EVER", false, NULL, (double)h->bhv_cnt_ever, NULL);
+            h->last_cnt[1] = (unsigned)h->bhv_cnt_ever;
+        }
+    }
     if (r->create_time > r->max_create_time)
         r->max_create_time = r->create_time;
     if (r->solve_time > r->max_solve_time)
@@ -1227,10 +1253,14 @@ KELP_NOINLINE static void post_outputs(kelp_helm *h)
         sink(h, "IVPHELM_CREATE_CPU", false, NULL, r->create_time, NULL);
         sink(h, "IVPHELM_LOOP_CPU", false, NULL, r->loop_time, NULL);
     }
+    /* each list, with its count, when it changes from the last posted (empty at first) */
     static const char *const lvar[3] = {"IVPHELM_BHV_ACTIVE", "IVPHELM_BHV_RUNNING", "IVPHELM_BHV_IDLE"};
+    static const char *const lcnt[3] = {"IVPHELM_BHV_ACTIVE_CNT", "IVPHELM_BHV_RUNNING_CNT", "IVPHELM_BHV_IDLE_CNT"};
+    const unsigned ln[3] = {r->nactive, r->nrunning, r->nidle};
     for (int k = 0; k < 3; k++)
-        if (h->iteration == 1 || strcmp(lists[k], h->last_lists[k]) != 0) {
+        if (strcmp(lists[k], h->last_lists[k]) != 0) {
             sink(h, lvar[k], true, lists[k], 0, NULL);
+            sink(h, lcnt[k], false, NULL, (double)ln[k], NULL);
             memcpy(h->last_lists[k], lists[k], sizeof lists[k]);
         }
     /* summary: key=value pairs; behaviour lists joined with ':' */

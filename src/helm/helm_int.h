@@ -94,6 +94,9 @@ int helm_mode_load(kelp_helm *h, const kelp_mission *m, size_t bi);
 void helm_mode_eval(kelp_helm *h, void (*post)(kelp_helm *h, const char *var, const char *val));
 void helm_mode_describe(const kelp_helm *h, char *buf, size_t cap);
 /* the same with the course function's share of the coupling (MOOS-IvP crs_spd_zaic_ratio) */
+/* the speed variable's points when the domain has course and speed and tmp holds more (the
+ * speed function goes first in tmp): 0, KELP_ERR_NOTFOUND or KELP_ERR_NOSPACE */
+int bhv_cs_speed_points(const kelp_bhv *b, const kelp_helm_work *w, size_t *ns);
 int bhv_course_speed_zaic_ratio(kelp_bhv *b, const kelp_helm_work *w, double course, double speed, double spw,
                                 double sbw, double ssd, double course_pct, kelp_ivp_func *out);
 /* the course peak (peakwidth 0, basewidth 180, wrap) coupled with spd, a function over speed
