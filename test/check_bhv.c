@@ -345,6 +345,33 @@ START_TEST(waypoint_sequence_flags_end)
 }
 END_TEST
 
+/* 24.8: a waypoint behaviour without points loads with a warning and makes no function;
+ * points = empty is silent; points = start takes the vehicle's position once it is known */
+START_TEST(waypoint_no_points_empty_start)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = w\n speed = 1\n updates = W_UPD\n}\n"
+            "Behavior = BHV_Waypoint\n{\n name = e\n speed = 1\n points = empty\n}\n"
+            "Behavior = BHV_Waypoint\n{\n name = s\n speed = 1\n pwt = 50\n points = start\n}\n");
+    ck_assert(ht_has_str("BHV_WARNING", "w: No waypts given. Set val to empty if intentional"));
+    ck_assert(!ht_has_sub("BHV_WARNING", "e: "));
+    ck_assert(!ht_has_sub("BHV_WARNING", "s: "));
+    ck_assert_uint_eq(ht_find("s")->u.wpt.npts, 0);
+    nav(3.25, -4.5);
+    ht_iter(0);
+    ck_assert_uint_eq(ht_find("w")->u.wpt.npts, 0);
+    ck_assert_uint_eq(ht_find("e")->u.wpt.npts, 0);
+    ck_assert_uint_eq(ht_find("s")->u.wpt.npts, 1);
+    ck_assert(ht_find("s")->u.wpt.pts[0].x == 3.25 && ht_find("s")->u.wpt.pts[0].y == -4.5);
+    /* points given later by an update: the behaviour drives */
+    kelp_helm_mail_string(ht_helm(), "W_UPD", "points = 3.25,20");
+    nav(3.25, 0);
+    ht_iter(1);
+    ck_assert_uint_eq(ht_find("w")->u.wpt.npts, 1);
+    ck_assert(ht_num("DESIRED_HEADING") == 0);
+}
+END_TEST
+
 START_TEST(waypoint_repeat_and_order)
 {
     ht_setup(DOM2, NULL);
@@ -700,6 +727,7 @@ Suite *kelp_bhv_suite(void)
     tcase_add_test(tc, points_capacity);
     tcase_add_test(tc, number_text);
     tcase_add_test(tc, waypoint_sequence_flags_end);
+    tcase_add_test(tc, waypoint_no_points_empty_start);
     tcase_add_test(tc, waypoint_repeat_and_order);
     tcase_add_test(tc, waypoint_slip_radius);
     tcase_add_test(tc, waypoint_lead);

@@ -561,7 +561,7 @@ static const bad_file g_bad[] = {
     {"initialize = 5\n", 1, "bad initialize"},
     {"initialize TWO WORDS = 5\n", 1, "bad initialize"},
     {"set MODE = ACTIVE\n", 1, "unexpected line"},
-    {"Behavior = BHV_Waypoint\n{\n speed = 2\n}\n", 1, "no points given"},
+    {"Behavior = BHV_Waypoint\n{\n speed = 2\n points = 1,2:zz\n}\n", 4, "bad parameter points"},
 };
 
 START_TEST(load_errors_name_the_line)

@@ -212,6 +212,7 @@ typedef struct kelp_bhv_hints {
 typedef struct kelp_bhv_wpt {          /* BHV_Waypoint */
     kelp_bhv_pt pts[KELP_HELM_MAX_PTS];
     unsigned npts;
+    unsigned char init;                /* points = empty (1) or start (2): no points on purpose */
     double speed, capture_radius, slip_radius, lead, lead_damper;
     double speed_alt;                  /* speed_alt (used with use_alt_speed), <0 unset */
     double course_pct;                 /* crs_spd_zaic_ratio: course share of the coupling, 1..99 */

@@ -87,6 +87,12 @@ static int wpt_set_param(kelp_bhv *b, const char *p, const char *v)
     double d;
     bool num = hx_number(v, strlen(v), &d);
     if (!strcmp(p, "points") || !strcmp(p, "polygon") || !strcmp(p, "point")) {
+        /* 24.8: "empty" leaves the list empty on purpose (no warning); "start" takes the
+         * vehicle's position once NAV_X/NAV_Y are known (onEveryState) */
+        if (hx_ieq(v, "empty") || hx_ieq(v, "start")) {
+            s->init = hx_ieq(v, "empty") ? 1 : 2;
+            return 0;
+        }
         kelp_bhv_pt *pts = b->helm->ws_bhv.pts;  /* parsed aside: a bad list changes nothing */
         unsigned n;
         if (kelp_helm_parse_points(v, pts, KELP_HELM_MAX_PTS, &n) != 0)
@@ -188,9 +194,22 @@ static int wpt_set_param(kelp_bhv *b, const char *p, const char *v)
 
 static int wpt_params_done(kelp_bhv *b)
 {
-    if (b->u.wpt.npts == 0)
-        return kelp_helm_bhv_fail(b, "no points given");
+    (void)b; /* no points is a warning (wpt_post_config), as 24.8's */
     return 0;
+}
+
+/* points = start: the vehicle's position, once known, becomes the one point (24.8's
+ * onEveryState, x and y to 3 decimals) */
+static void wpt_start_point(kelp_bhv *b)
+{
+    kelp_bhv_wpt *s = &b->u.wpt;
+    double x, y;
+    if (s->npts || s->init != 2 || !kelp_helm_bhv_buf_double(b, "NAV_X", &x) || !kelp_helm_bhv_buf_double(b, "NAV_Y", &y))
+        return;
+    s->pts[0].x = round(x * 1000) / 1000;
+    s->pts[0].y = round(y * 1000) / 1000;
+    s->npts = 1;
+    wpt_reset(s);
 }
 
 static kelp_bhv_pt point(const kelp_bhv_wpt *s, unsigned i)
@@ -272,6 +291,7 @@ static bool report_name(const kelp_bhv_wpt *s, const char *var, char *out, size_
 static void wpt_idle(kelp_bhv *b)
 {
     kelp_bhv_wpt *s = &b->u.wpt;
+    wpt_start_point(b);
     s->restart = true;
     /* on the way from running to idle, 24.8 erases its drawings (onRunToIdleState) */
     if (s->npts && (b->state == KELP_BHV_RUNNING || b->state == KELP_BHV_ACTIVE)) {
@@ -457,6 +477,7 @@ KELP_NOINLINE static bool wpt_advance(kelp_bhv *b, double *crs)
     }
     s->osh = fmod(h, 360.0);
     if (s->osh < 0) s->osh += 360.0;
+    wpt_start_point(b);
     if (s->npts == 0)
         return false;
     if (!s->have_prev || s->restart || b->state == KELP_BHV_IDLE || b->state == KELP_BHV_NONE) {
@@ -580,7 +601,10 @@ static void wpt_post_config(kelp_bhv *b)
     const kelp_bhv_wpt *s = &b->u.wpt;
     if (s->npts == 1 && s->repeat > 0)
         kelp_helm_bhv_post_warning(b, "cycles/repeats not supported with single waypt");
-    kelp_helm_bhv_post_retract(b, "No waypts given. Set val to empty if intentional");
+    if (s->npts)
+        kelp_helm_bhv_post_retract(b, "No waypts given. Set val to empty if intentional");
+    else if (!s->init)
+        kelp_helm_bhv_post_warning(b, "No waypts given. Set val to empty if intentional");
     /* the text and its numbers are composed in the helm's behaviour workspace */
     char *buf = b->helm->ws_bhv.post, (*nb)[32] = b->helm->ws_bhv.num;
     char *sp = nb[0], *sa = nb[1], *ld = nb[2], *dm = nb[3], *cr = nb[4], *sr = nb[5], *rt = nb[6], *ix = nb[7],
