@@ -261,7 +261,7 @@ static bool compare(const val *a, enum rel_op op, const val *b)
     int c;
     if (a->is_num && b->is_num) {
         c = a->num < b->num ? -1 : (a->num > b->num ? 1 : 0);
-    } else if (op == OP_FEQ && a->s && b->s && !(a->is_num && b->is_num)) {
+    } else if (op == OP_FEQ && a->s && b->s) { /* (two numbers compared above) */
         return field_match(a->s, a->n, b->s, b->n);
     } else if (a->is_num != b->is_num && op != OP_EQ && op != OP_NE && op != OP_FEQ) {
         return false; /* ordering a number against a non-number */

@@ -68,13 +68,17 @@ int kelp_pid_run(kelp_pid *p, double e, double t, double *out)
     return KELP_OK;
 }
 
-/* one ", name" + value step of the debug text: fixed 5 decimals, or trimmed (x) */
+/* one ", name" + value step of the debug text, appended in place (no formatter call: the
+ * firmware's stack bound): fixed 5 decimals, or trimmed (x) */
 static void dbg_put(char *buf, size_t cap, size_t *k, const char *name, double v, bool x)
 {
-    char num[48];
-    if (kelp_util_fmt_fixed(num, sizeof num, v, 5, x) < 0) (void)kelp_util_snprintf(num, sizeof num, "%g", v);
-    int n = kelp_util_snprintf(buf + *k, cap - *k, "%s%s", name, num);
-    if (n > 0) *k = *k + (size_t)n < cap ? *k + (size_t)n : cap - 1;
+    size_t n = strlen(name);
+    if (n > cap - 1 - *k) n = cap - 1 - *k;
+    memcpy(buf + *k, name, n);
+    *k += n;
+    buf[*k] = 0;
+    int w = kelp_util_fmt_fixed(buf + *k, cap - *k, v, 5, x);
+    if (w > 0) *k = *k + (size_t)w < cap ? *k + (size_t)w : cap - 1;
 }
 
 int kelp_pid_debug_text(const kelp_pid *p, char *buf, size_t cap)
@@ -88,8 +92,7 @@ int kelp_pid_debug_text(const kelp_pid *p, char *buf, size_t cap)
     if (p->last.stage == 1) return (int)k;
     if (p->last.stage == 2) {
         dbg_put(buf, cap, &k, ", dfDiffNow=", p->last.slope, false);
-        int n = kelp_util_snprintf(buf + k, cap - k, ", DiffHistSize=%u", p->last.nhist);
-        if (n > 0) k = k + (size_t)n < cap ? k + (size_t)n : cap - 1;
+        dbg_put(buf, cap, &k, ", DiffHistSize=", (double)p->last.nhist, true);
         dbg_put(buf, cap, &k, ", mdfeDiff(1)=", p->last.dsum, false);
         dbg_put(buf, cap, &k, ", mdfeDiff(2)=", p->last.dmean, false);
     }
@@ -229,14 +232,17 @@ static void post_debug_sat(kelp_pid_marine *m, kelp_pid_marine_sink sink, void *
 static void post_debug_line(kelp_pid_marine *m, kelp_pid_marine_sink sink, void *ctx, const char *var,
                             const char *head, const char *const *names, const double *v, unsigned nv)
 {
-    size_t k = 0;
-    int n = kelp_util_snprintf(m->dbg, sizeof m->dbg, "%s", head);
-    if (n > 0) k = (size_t)n < sizeof m->dbg ? (size_t)n : sizeof m->dbg - 1;
+    size_t k = 0, n = strlen(head);
+    memcpy(m->dbg, head, n + 1); /* a short literal */
+    k = n;
     for (unsigned i = 0; i < nv; i++) {
-        n = kelp_util_snprintf(m->dbg + k, sizeof m->dbg - k, "%s", names[i]);
-        if (n > 0) k = k + (size_t)n < sizeof m->dbg ? k + (size_t)n : sizeof m->dbg - 1;
-        n = kelp_util_fmt_fixed(m->dbg + k, sizeof m->dbg - k, v[i], 5, false);
-        if (n > 0) k = k + (size_t)n < sizeof m->dbg ? k + (size_t)n : sizeof m->dbg - 1;
+        n = strlen(names[i]);
+        if (n > sizeof m->dbg - 1 - k) n = sizeof m->dbg - 1 - k;
+        memcpy(m->dbg + k, names[i], n);
+        k += n;
+        m->dbg[k] = 0;
+        int w = kelp_util_fmt_fixed(m->dbg + k, sizeof m->dbg - k, v[i], 5, false);
+        if (w > 0) k = k + (size_t)w < sizeof m->dbg ? k + (size_t)w : sizeof m->dbg - 1;
     }
     sink(ctx, var, true, m->dbg, 0);
 }
