@@ -759,7 +759,8 @@ START_TEST(update_results_posted)
     kelp_helm_mail_string(&g_h, "WPT_UPDATE", "speed = 1.5");
     ht_iter(2);
     ck_assert(ht_has_str("IVPHELM_UPDATE_RESULT", "bhv=survey,var=WPT_UPDATE,time=2.00,result=success,val=speed = 1.5"));
-    ck_assert(ht_has_str("BHV_STATUS", "name=survey,state=active,updates=1/1"));
+    ck_assert(ht_has_sub("BHV_STATUS", "name=survey,pwt=100.00000,pcs=") &&
+              ht_has_sub("BHV_STATUS", ",state=active,updates=1/1"));
     ck_assert_uint_eq(ht_count("BHV_SETTINGS"), 1); /* re-posted after an applied update */
     kelp_helm_mail_string(&g_h, "WPT_UPDATE", "speed = 1.5");
     ht_iter(3);
@@ -778,7 +779,8 @@ START_TEST(update_results_posted)
     ht_iter(6);
     ck_assert(ht_has_str("IVPHELM_UPDATE_RESULT", "bhv=survey,var=WPT_UPDATE,time=6.00,result=param_error,val=speed = fast"));
     ck_assert(ht_has_str("BHV_CONFIG_WARNING", "Faulty update for behavior: survey. Bad parameter(s): speed."));
-    ck_assert(ht_has_str("BHV_STATUS", "name=survey,state=active,updates=2/3"));
+    ck_assert(ht_has_sub("BHV_STATUS", "name=survey,pwt=100.00000,pcs=") &&
+              ht_has_sub("BHV_STATUS", ",state=active,updates=2/3"));
     /* a repeated update carrying "toggle", "engage" or "mod" is applied again */
     kelp_helm_mail_string(&g_h, "WPT_UPDATE", "order = toggle");
     ht_iter(7);
@@ -854,14 +856,18 @@ START_TEST(bhv_settings_and_status)
     nav(0, -100);
     kelp_helm_mail_double(&g_h, "NAV_HEADING", 0); /* the loiter needs a heading (24.8: an error without) */
     ht_iter(1);
-    ck_assert(ht_has_str("BHV_STATUS", "name=survey,state=active,updates=n/a"));
-    ck_assert(ht_has_str("BHV_STATUS", "name=loiter,state=idle,updates=n/a"));
+    /* 24.8's: an active behaviour's weight and pieces, an idle one's failed condition (twice:
+     * asked before and after the run) */
+    char st[96];
+    snprintf(st, sizeof st, "name=survey,pwt=100.00000,pcs=%zu,state=active,updates=n/a", g_h.fn[0].n);
+    ck_assert_msg(ht_has_str("BHV_STATUS", st), "%s", st);
+    ck_assert(ht_has_str("BHV_STATUS", "name=loiter,pc=GO = true,pc=GO = true,state=idle,updates=n/a"));
     ht_iter(2);
     ck_assert_uint_eq(ht_count("BHV_STATUS"), 0);
     kelp_helm_mail_string(&g_h, "GO", "true");
     ht_iter(3);
-    ck_assert(ht_has_str("BHV_STATUS", "name=loiter,state=active,updates=n/a"));
-    ck_assert_uint_eq(ht_count("BHV_STATUS"), 1);
+    snprintf(st, sizeof st, "name=loiter,pwt=100.00000,pcs=%zu,state=active,updates=n/a", g_h.fn[1].n);
+    ck_assert_msg(ht_has_str("BHV_STATUS", st), "%s", st);
 }
 END_TEST
 

@@ -353,6 +353,7 @@ struct kelp_bhv {
     kelp_ivp_domain dom;               /**< behaviour's (sub)domain; dim 0 = null */
     char cond[KELP_HELM_MAX_CONDS][KELP_HELM_MAX_COND_LEN];
     unsigned ncond;
+    int failed_cond;                   /* the condition that kept it idle this iteration, -1 none */
     kelp_bhv_flag flag[KELP_HELM_MAX_FLAGS];
     unsigned nflag;
     unsigned long bhv_iter;            /**< helm iterations this behaviour has been through */
@@ -666,6 +667,7 @@ struct kelp_helm {
     struct {                        /* workspace of one iteration's postings (keeps the stack small) */
         char buf[KELP_HELM_MAX_SVAL], dom[KELP_HELM_MAX_SVAL / 2];
         char lists[4][256], tmp[256];
+        char status[KELP_HELM_MAX_SVAL]; /**< a BHV_STATUS text */
         char mode_value[KELP_HELM_MAX_MODES][128]; /**< this iteration's value of each mode variable */
     } ws_out;
     char ws_ipf[KELP_MAX_SVAL + 1];    /* workspace: one BHV_IPF string */

@@ -908,9 +908,12 @@ KELP_NOINLINE static void post_starved(kelp_bhv *b, const char *var)
 KELP_NOINLINE static kelp_bhv_state runnable(kelp_helm *h, kelp_bhv *b)
 {
     kelp_time now = h->ib.curr_time;
+    b->failed_cond = -1;
     for (unsigned i = 0; i < b->ncond; i++)
-        if (kelp_helm_cond_eval(b->cond[i], &h->ib) != 1)
+        if (kelp_helm_cond_eval(b->cond[i], &h->ib) != 1) {
+            b->failed_cond = (int)i;
             return KELP_BHV_IDLE;
+        }
     if (duration_exceeded(b, now)) {
         kelp_helm_bhv_set_complete(b);
         if (!b->perpetual)
@@ -944,13 +947,28 @@ static bool func_finite(const kelp_ivp_func *f)
 }
 
 /* produceOF for behaviour i; returns true when it produced a function into h->fn[i]. */
-/* BHV_STATUS: posted when it changes, keyed by the behaviour (MOOS-IvP's statusInfoPost) */
-KELP_NOINLINE static void post_status(kelp_bhv *b, kelp_bhv_state ns)
+/* BHV_STATUS: posted when it changes, keyed by the behaviour (MOOS-IvP 24.8's statusInfoPost):
+ * "name=<b>", an idle behaviour's failed condition as pc=<condition> (twice: 24.8 asks
+ * isRunnable before the run and again after it), an active one's pwt= (5 decimals) and pcs=
+ * (its pieces), then state= and updates= */
+KELP_NOINLINE static void post_status(kelp_helm *h, kelp_bhv *b, kelp_bhv_state ns, unsigned i)
 {
     static const char *const stname[] = {"idle", "idle", "running", "active", "completed"};
     const char *st = b->completed ? "completed" : stname[ns <= KELP_BHV_COMPLETED ? ns : 0];
-    char msg[KELP_MAX_NAME + 96];
-    hx_cat(msg, sizeof msg, "name=", b->name, ",state=", st, ",updates=", b->update_summary, HX_END);
+    char *msg = h->ws_out.status;
+    const size_t cap = sizeof h->ws_out.status;
+    size_t n = hx_cat(msg, cap, "name=", b->name, HX_END);
+    if (!b->completed && ns == KELP_BHV_IDLE && b->failed_cond >= 0 && (unsigned)b->failed_cond < b->ncond) {
+        const char *c = b->cond[b->failed_cond];
+        n += hx_cat(msg + n, cap - n, ",pc=", c, ",pc=", c, HX_END);
+    }
+    if (!b->completed && ns == KELP_BHV_ACTIVE) {
+        char pw[32], pc[24];
+        hx_fmt_fixed(pw, sizeof pw, h->fn[i].pwt, 5);
+        hx_fmt_ulong(pc, sizeof pc, (unsigned long)h->fn[i].n);
+        n += hx_cat(msg + n, cap - n, ",pwt=", pw, ",pcs=", pc, HX_END);
+    }
+    hx_cat(msg + n, cap - n, ",state=", st, ",updates=", b->update_summary, HX_END);
     kelp_helm_bhv_post_string(b, "BHV_STATUS", msg, b->name);
 }
 
@@ -1066,7 +1084,7 @@ KELP_NOINLINE static bool produce(kelp_helm *h, unsigned i, size_t *pool_used, b
     b->state = ns;
     if (made)
         h->rep.active_goal = true; /* kelp's behaviours are all goal (not constraint) behaviours */
-    post_status(b, ns);
+    post_status(h, b, ns, i);
     return made;
 }
 
