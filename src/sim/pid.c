@@ -232,18 +232,10 @@ static void post_debug_sat(kelp_pid_marine *m, kelp_pid_marine_sink sink, void *
 static void post_debug_line(kelp_pid_marine *m, kelp_pid_marine_sink sink, void *ctx, const char *var,
                             const char *head, const char *const *names, const double *v, unsigned nv)
 {
-    size_t k = 0, n = strlen(head);
-    memcpy(m->dbg, head, n + 1); /* a short literal */
-    k = n;
-    for (unsigned i = 0; i < nv; i++) {
-        n = strlen(names[i]);
-        if (n > sizeof m->dbg - 1 - k) n = sizeof m->dbg - 1 - k;
-        memcpy(m->dbg + k, names[i], n);
-        k += n;
-        m->dbg[k] = 0;
-        int w = kelp_util_fmt_fixed(m->dbg + k, sizeof m->dbg - k, v[i], 5, false);
-        if (w > 0) k = k + (size_t)w < sizeof m->dbg ? k + (size_t)w : sizeof m->dbg - 1;
-    }
+    size_t k = strlen(head); /* a short literal */
+    memcpy(m->dbg, head, k + 1);
+    for (unsigned i = 0; i < nv; i++)
+        dbg_put(m->dbg, sizeof m->dbg, &k, names[i], v[i], false);
     sink(ctx, var, true, m->dbg, 0);
 }
 
