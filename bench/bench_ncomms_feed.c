@@ -82,8 +82,11 @@ int main(int argc, char **argv)
         double round_t = f.t0 + k * 0.25;
         for (int i = 0; i < nv; i++) {
             double due = round_t + 0.25 * i / n;
-            for (double now; (now = wall()) < due;)
-                KELP_IGNORE(kelp_lcmbus_handle(lb, (int)((due - now) * 1000) > 0 ? 1 : 0, now));
+            /* wait in the bus's poll (whole milliseconds): a report is sent at most 1 ms
+             * late rather than the feeder spinning a core between reports and taking it
+             * from the app it measures */
+            for (double now; (now = wall()) < due - 0.0005;)
+                KELP_IGNORE(kelp_lcmbus_handle(lb, 1, now));
             int gx = i % side, gy = i / side;
             snprintf(rpt, sizeof rpt, "NAME=v%d,TYPE=UUV,TIME=%.3f,X=%.1f,Y=%.1f,SPD=1,HDG=90,DEP=0,LENGTH=4", i, round_t,
                      60.0 * gx, 60.0 * gy);

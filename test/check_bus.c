@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <stdio.h>
 #include <kelp/bus.h>
+#include <kelp/udpm.h>
 #include <kelp/loopback.h>
 
 /* ------------------------------------------------------------------ a test client */
@@ -123,9 +124,17 @@ START_TEST(var_decode_every_truncation)
         ck_assert_int_lt(kelp_var_decode(cut, k, &b), 0);
         free(cut);
     }
-    /* and one extra byte is rejected too */
-    buf[n] = 0;
+    /* a trailing byte other than zero is rejected; zero bytes are a publisher's padding
+     * (segmented sends) up to KELP_UDPM_PAD_MAX, and one more is rejected */
+    buf[n] = 1;
     ck_assert_int_eq(kelp_var_decode(buf, n + 1, &b), KELP_ERR_PARSE);
+    memset(buf + n, 0, KELP_UDPM_PAD_MAX + 1);
+    ck_assert_int_eq(kelp_var_decode(buf, n + 1, &b), 0);
+    ck_assert_str_eq(b.sval, "true");
+    ck_assert_int_eq(kelp_var_decode(buf, n + KELP_UDPM_PAD_MAX, &b), 0);
+    ck_assert_int_eq(kelp_var_decode(buf, n + KELP_UDPM_PAD_MAX + 1, &b), KELP_ERR_PARSE);
+    buf[n + 10] = 2; /* a non-zero byte inside the padding */
+    ck_assert_int_eq(kelp_var_decode(buf, n + 20, &b), KELP_ERR_PARSE);
 }
 END_TEST
 

@@ -15,6 +15,13 @@
 #include <kelp/bus.h>
 #include "kelp_var_t.h"
 #include "kelp_sync_req_t.h"
+#include <kelp/udpm.h>
+
+/* the lcm-gen decoder read every byte but a publisher's padding (segmented sends) */
+static bool decoded_all(int used, const void *data, int datalen)
+{
+    return used >= 0 && used <= datalen && kelp_udpm_padding_only(data, (size_t)used, (size_t)datalen);
+}
 
 typedef struct chan { char name[128]; long n, bad; char kind[16]; } chan;
 
@@ -68,7 +75,7 @@ int main(int argc, char **argv)
         if (strcmp(channel, KELP_BUS_SYNC_CHANNEL) == 0) {
             kelp_sync_req_t g;
             ok = kelp_bus_sync_req_decode(data, (size_t)datalen, &q) == 0 &&
-                 kelp_sync_req_t_decode(data, 0, datalen, &g) == datalen;
+                 decoded_all(kelp_sync_req_t_decode(data, 0, datalen, &g), data, datalen);
             if (ok) {
                 ok = strcmp(g.reply_channel, q.reply_channel) == 0 && g.npatterns == q.npatterns;
                 kelp_sync_req_t_decode_cleanup(&g);
@@ -77,7 +84,7 @@ int main(int argc, char **argv)
         } else {
             kelp_var_t g;
             ok = kelp_var_decode(data, (size_t)datalen, v) == 0 &&
-                 kelp_var_t_decode(data, 0, datalen, &g) == datalen;
+                 decoded_all(kelp_var_t_decode(data, 0, datalen, &g), data, datalen);
             if (ok) {
                 ok = strcmp(g.name, v->name) == 0 && strcmp(g.source, v->source) == 0 &&
                      strcmp(g.community, v->community) == 0 && g.kind == (int8_t)v->kind &&

@@ -149,12 +149,28 @@ typedef struct kelp_udpm_url {
     long recv_buf_size;      /**< SO_RCVBUF request, 0 = not given */
     long queue_size;         /**< receive queue bytes, 0 = not given */
     long send_buf_size;      /**< SO_SNDBUF request, 0 = not given (the kernel's default) */
+    int gso;                 /**< kelp's gso=0|1: segmented sends of a corked batch (1 unless gso=0) */
 } kelp_udpm_url;
+
+/** Most zero bytes a publisher may append to a short message's payload (kelp's segmented
+ *  sends pad the datagrams of one send to one size; LCM decoders read their fields and stop,
+ *  kelp's decoders accept at most this many trailing zero bytes). */
+#define KELP_UDPM_PAD_MAX 64u
+
+/** Whether buf[off, len) is nothing or a publisher's padding: at most KELP_UDPM_PAD_MAX zero
+ *  bytes (what a message's decoder may leave after its last field). */
+static inline bool kelp_udpm_padding_only(const uint8_t *buf, size_t off, size_t len)
+{
+    if (off > len || len - off > KELP_UDPM_PAD_MAX) return false;
+    for (size_t i = off; i < len; i++)
+        if (buf[i]) return false;
+    return true;
+}
 
 #define KELP_UDPM_DEFAULT_PORT 7667u
 
 /** Parse a udpm URL. The group must be a multicast address (224.0.0.0/4); a missing port
- *  is LCM's 7667; the options are ttl, recv_buf_size, queue_size, send_buf_size and LCM's obsolete
+ *  is LCM's 7667; the options are ttl, recv_buf_size, queue_size, send_buf_size, gso and LCM's obsolete
  *  transmit_only (ignored). @return 0, KELP_ERR_UNSUPPORTED (not udpm://), KELP_ERR_PARSE
  *  (address, port, option, unknown key), KELP_ERR_RANGE (a value out of range). */
 KELP_MUST_CHECK int kelp_udpm_url_parse(const char *url, kelp_udpm_url *out);

@@ -488,8 +488,9 @@ static void report(kelp_app *app, FILE *out)
             (unsigned long long)ts.rx.timeouts, (unsigned long long)ts.queue_dropped,
             (unsigned long long)st->foreign_community, (unsigned long long)st->time_rejected,
             (unsigned long long)st->type_refused, (unsigned long long)st->sync_limited + (unsigned long long)st->sync_bad_reply);
-    fprintf(out, "Sent: %llu messages (%llu batches), %llu send errors, send buffer %d B\n", (unsigned long long)ts.sent,
-            (unsigned long long)ts.send_batches, (unsigned long long)ts.send_errors, ts.send_buf);
+    fprintf(out, "Sent: %llu messages (%llu batches, %llu in %llu segmented sends), %llu send errors, send buffer %d B\n",
+            (unsigned long long)ts.sent, (unsigned long long)ts.send_batches, (unsigned long long)ts.gso_segments,
+            (unsigned long long)ts.gso_sends, (unsigned long long)ts.send_errors, ts.send_buf);
     if (app->def->report) {
         fprintf(out, "------------------------------------------------------------------\n");
         app->def->report(app, app->state, out);

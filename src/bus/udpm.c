@@ -315,6 +315,7 @@ int kelp_udpm_url_parse(const char *url, kelp_udpm_url *out)
     if (strncmp(url, scheme, sizeof scheme - 1) != 0) return KELP_ERR_UNSUPPORTED;
     memset(out, 0, sizeof *out);
     out->port = KELP_UDPM_DEFAULT_PORT;
+    out->gso = 1;
     const char *h = url + sizeof scheme - 1;
     const char *q = strchr(h, '?');
     size_t hl = q ? (size_t)(q - h) : strlen(h);
@@ -349,6 +350,9 @@ int kelp_udpm_url_parse(const char *url, kelp_udpm_url *out)
         } else if (kelp_util_strieq_n(k, kl, "send_buf_size")) {
             if (n < 0 || n > (1L << 30)) return KELP_ERR_RANGE;
             out->send_buf_size = n;
+        } else if (kelp_util_strieq_n(k, kl, "gso")) {
+            if (n != 0 && n != 1) return KELP_ERR_RANGE;
+            out->gso = (int)n;
         } else {
             return KELP_ERR_PARSE;
         }

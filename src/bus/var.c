@@ -10,6 +10,7 @@
  */
 #include <string.h>
 #include <kelp/bus.h>
+#include <kelp/udpm.h>
 #include "bus_int.h"
 
 typedef struct wr {
@@ -200,7 +201,7 @@ int kelp_var_decode(const uint8_t *buf, size_t len, kelp_var *out)
     r.off += nb;
     out->flags = (uint8_t)get_uN(&r, 1);
     if (r.err) return r.err;
-    if (r.off != len) return KELP_ERR_PARSE;          /* trailing bytes */
+    if (!kelp_udpm_padding_only(buf, r.off, len)) return KELP_ERR_PARSE; /* trailing bytes, not padding */
     if (out->name[0] == 0) return KELP_ERR_PARSE;
     return KELP_OK;
 }
@@ -259,7 +260,7 @@ int kelp_bus_sync_req_decode(const uint8_t *buf, size_t len, kelp_sync_req *out)
     out->npatterns = (uint16_t)n;
     for (int i = 0; i < n; i++) get_str(&r, out->patterns[i], sizeof out->patterns[i]);
     if (r.err) return r.err;
-    if (r.off != len) return KELP_ERR_PARSE;
+    if (!kelp_udpm_padding_only(buf, r.off, len)) return KELP_ERR_PARSE;
     if (out->reply_channel[0] == 0) return KELP_ERR_PARSE;
     return KELP_OK;
 }

@@ -1,16 +1,34 @@
 /* udpm_cork: a corked socket's postings arrive complete and in publication order.
  *
- *   udpm_cork URL
+ *   udpm_cork URL gso|plain
  *
  * A receiver and a sender join URL's group. The sender corks, publishes 300 short messages
  * with a fragmented one (100 kB) in the middle, checks how many the receiver saw while corked
  * (the batches that filled: a multiple of the batch, never a partial one), uncorks, and the
- * receiver must then hold all 301 in order. Prints the sender's stats. Exit 0 on success. */
+ * receiver must then hold all 301 in order. Prints the sender's stats. Exit 0 on success.
+ * With "gso" the sender must have used segmented sends (the URL leaves them on) and a message
+ * may arrive padded: its payload, then only zero bytes, at most KELP_UDPM_PAD_MAX of them
+ * (message 200 is 600 bytes, too long to share a send with its neighbours). With "plain"
+ * (the URL says gso=0) none may be used and every payload arrives exactly. */
 #include <poll.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <kelp/edge/udpm.h>
+#include <kelp/udpm.h>
+
+static int padded, gso_mode;
+static char medium[600];
+
+/* the payload message k was published with */
+static size_t payload(int k, char *v, size_t cap)
+{
+    if (k == 200) {
+        memcpy(v, medium, sizeof medium);
+        return sizeof medium;
+    }
+    return (size_t)snprintf(v, cap, "value %d", k);
+}
 
 static int take(kelp_udpm_sock *r, int want, int *next, int wait_ms)
 {
@@ -24,6 +42,18 @@ static int take(kelp_udpm_sock *r, int want, int *next, int wait_ms)
             else if (sscanf(m.channel, "C%d", &k) != 1) return fprintf(stderr, "FAIL: channel %s\n", m.channel), -1;
             if (k != *next) return fprintf(stderr, "FAIL: message %d arrived where %d was due\n", k, *next), -1;
             if (k == 150 && m.len != 100000) return fprintf(stderr, "FAIL: BIG has %zu bytes\n", m.len), -1;
+            if (k != 150) {
+                char v[sizeof medium];
+                size_t n = payload(k, v, sizeof v);
+                if (m.len < n || memcmp(m.data, v, n) != 0) return fprintf(stderr, "FAIL: message %d's payload\n", k), -1;
+                if (m.len > n) {
+                    if (!gso_mode) return fprintf(stderr, "FAIL: message %d padded without gso\n", k), -1;
+                    if (m.len - n > KELP_UDPM_PAD_MAX) return fprintf(stderr, "FAIL: message %d: %zu bytes of padding\n", k, m.len - n), -1;
+                    for (size_t i = n; i < m.len; i++)
+                        if (m.data[i]) return fprintf(stderr, "FAIL: message %d: padding byte %zu is not zero\n", k, i), -1;
+                    padded++;
+                }
+            }
             (*next)++;
             if (++got == want) return got;
             continue;
@@ -35,7 +65,9 @@ static int take(kelp_udpm_sock *r, int want, int *next, int wait_ms)
 
 int main(int argc, char **argv)
 {
-    if (argc != 2) return fprintf(stderr, "usage: udpm_cork URL\n"), 2;
+    if (argc != 3) return fprintf(stderr, "usage: udpm_cork URL gso|plain\n"), 2;
+    gso_mode = strcmp(argv[2], "gso") == 0;
+    memset(medium, 'm', sizeof medium);
     kelp_diag d = { 0 };
     kelp_udpm_sock *r = kelp_udpm_sock_open(argv[1], &d), *s = kelp_udpm_sock_open_tx(argv[1], &d);
     if (!r || !s) return fprintf(stderr, "FAIL: open: %s\n", kelp_diag_text(&d)), 1;
@@ -43,13 +75,14 @@ int main(int argc, char **argv)
     memset(big, 'x', sizeof big);
     kelp_udpm_sock_cork(s, true);
     for (int k = 0; k < 301; k++) {
-        char ch[16], v[32];
+        char ch[16];
         int rc;
         if (k == 150) rc = kelp_udpm_sock_publish(s, "BIG", big, sizeof big);
         else {
             snprintf(ch, sizeof ch, "C%d", k);
-            int n = snprintf(v, sizeof v, "value %d", k);
-            rc = kelp_udpm_sock_publish(s, ch, v, (size_t)n);
+            char pv[sizeof medium];
+            size_t n = payload(k, pv, sizeof pv);
+            rc = kelp_udpm_sock_publish(s, ch, pv, n);
         }
         if (rc != 0) return fprintf(stderr, "FAIL: publish %d: %d\n", k, rc), 1;
     }
@@ -69,6 +102,10 @@ int main(int argc, char **argv)
            (unsigned long long)st.sent, (unsigned long long)st.send_batches, (unsigned long long)st.send_errors);
     if (next != 301) return fprintf(stderr, "FAIL: %d of 301 arrived\n", next), 1;
     if (st.sent != 301 || st.send_batches < 4 || st.send_errors) return fprintf(stderr, "FAIL: sender stats\n"), 1;
+    printf("segmented sends: %llu carrying %llu messages; %d arrived padded\n", (unsigned long long)st.gso_sends,
+           (unsigned long long)st.gso_segments, padded);
+    if (gso_mode && (st.gso_sends == 0 || padded == 0)) return fprintf(stderr, "FAIL: no segmented send or no padding\n"), 1;
+    if (!gso_mode && st.gso_sends != 0) return fprintf(stderr, "FAIL: segmented sends with gso=0\n"), 1;
     kelp_udpm_sock_close(s);
     kelp_udpm_sock_close(r);
     return 0;

@@ -44,6 +44,8 @@ typedef struct kelp_udpm_sock_stats {
     int recv_buf;             /**< SO_RCVBUF the kernel granted (bytes) */
     uint64_t send_batches;    /**< sendmmsg batches of a corked socket */
     int send_buf;             /**< SO_SNDBUF the kernel granted (bytes) */
+    uint64_t gso_sends;       /**< segmented sends (UDP GSO) of a corked socket */
+    uint64_t gso_segments;    /**< messages that went in them */
 } kelp_udpm_sock_stats;
 
 /** Open and join. @return NULL on failure, with the reason in d. */

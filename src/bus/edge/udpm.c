@@ -16,6 +16,7 @@
 #include <unistd.h>
 #include <arpa/inet.h>
 #include <netinet/in.h>
+#include <netinet/udp.h>
 #include <sys/eventfd.h>
 #include <sys/socket.h>
 #include <sys/uio.h>
@@ -27,6 +28,13 @@
 #define IDLE_POLL_MS 250      /* wake at least this often to time out reassembly slots */
 #define SEND_BATCH 64         /* datagrams a corked socket hands the kernel in one sendmmsg */
 #define SEND_BATCH_BYTES (256u * 1024u)
+#ifndef UDP_SEGMENT
+#define UDP_SEGMENT 103       /* linux/udp.h, Linux 4.18 */
+#endif
+#define GSO_MAX_SEGS 64       /* the kernel's UDP_MAX_SEGMENTS */
+#define GSO_MAX_SEG 1400u     /* a segment's datagram fits an Ethernet MTU (1500 - IP - UDP) */
+#define GSO_MAX_BYTES 65000u  /* a segmented send is one UDP datagram to the kernel */
+#define GSO_CTL CMSG_SPACE(sizeof(uint16_t))
 
 struct kelp_udpm_sock {
     int rfd, sfd, evfd, stopfd;
@@ -56,6 +64,15 @@ struct kelp_udpm_sock {
     struct mmsghdr bmsg[SEND_BATCH];
     struct iovec biov[SEND_BATCH];
     uint64_t batches;
+    /* segmented sends (UDP GSO): consecutive short datagrams within KELP_UDPM_PAD_MAX bytes
+     * of each other go to the kernel as one send, padded with zeros to one size, and the
+     * kernel cuts them apart; a kernel that refuses turns them off for the socket */
+    bool gso_off;
+    uint8_t *gbuf;                        /* the padded copies, allocated with batch */
+    struct iovec giov[SEND_BATCH];
+    unsigned gfirst[SEND_BATCH], gcount[SEND_BATCH];
+    union { struct cmsghdr h; uint8_t b[GSO_CTL]; } gctl[SEND_BATCH]; /* aligned for cmsghdr */
+    uint64_t gso_sends, gso_segments;
     /* ignore our own datagrams (kelp_udpm_sock_ignore_own): set by the owner, read by the
      * receive thread, which attaches the kernel filter on the first own datagram it sees */
     volatile int ignore_own;
@@ -231,16 +248,16 @@ int kelp_udpm_sock_next(kelp_udpm_sock *s, kelp_udpm_msg *out)
     return 1;
 }
 
-/* hand the batch to the kernel; called with slock held. A datagram the kernel refuses is
- * counted as a send error and the rest still go. */
-static void flush_locked(kelp_udpm_sock *s)
+/* Send datagrams [from, nbatch) one message each; called with slock held. A datagram the
+ * kernel refuses is counted as a send error and the rest still go. */
+static void send_plain(kelp_udpm_sock *s, unsigned from)
 {
-    unsigned done = 0;
-    for (unsigned i = 0; i < s->nbatch; i++) {
+    for (unsigned i = from; i < s->nbatch; i++) {
         memset(&s->bmsg[i], 0, sizeof s->bmsg[i]);
         s->bmsg[i].msg_hdr.msg_iov = &s->biov[i];
         s->bmsg[i].msg_hdr.msg_iovlen = 1;
     }
+    unsigned done = from;
     while (done < s->nbatch) {
         int n = sendmmsg(s->sfd, &s->bmsg[done], s->nbatch - done, 0);
         if (n < 0) {
@@ -252,6 +269,94 @@ static void flush_locked(kelp_udpm_sock *s)
         s->sent += (uint64_t)n;
         done += (unsigned)n;
     }
+}
+
+/* One send of datagrams [i, j): padded to the longest (all but the last), one segment each. */
+static void gso_group(kelp_udpm_sock *s, unsigned g, unsigned i, unsigned j, size_t seg, size_t *goff)
+{
+    struct msghdr *h = &s->bmsg[g].msg_hdr;
+    memset(&s->bmsg[g], 0, sizeof s->bmsg[g]);
+    s->gfirst[g] = i;
+    s->gcount[g] = j - i;
+    if (j - i == 1) {
+        h->msg_iov = &s->biov[i];
+        h->msg_iovlen = 1;
+        return;
+    }
+    uint8_t *base = s->gbuf + *goff, *p = base;
+    for (unsigned k = i; k < j; k++) {
+        size_t l = s->biov[k].iov_len, take = k + 1 < j ? seg : l;
+        memcpy(p, s->biov[k].iov_base, l);
+        if (take > l) memset(p + l, 0, take - l);
+        p += take;
+    }
+    *goff += (size_t)(p - base);
+    s->giov[g] = (struct iovec){ base, (size_t)(p - base) };
+    h->msg_iov = &s->giov[g];
+    h->msg_iovlen = 1;
+    h->msg_control = s->gctl[g].b;
+    h->msg_controllen = GSO_CTL;
+    struct cmsghdr *c = CMSG_FIRSTHDR(h);
+    c->cmsg_level = SOL_UDP;
+    c->cmsg_type = UDP_SEGMENT;
+    c->cmsg_len = CMSG_LEN(sizeof(uint16_t));
+    uint16_t gs = (uint16_t)seg;
+    memcpy(CMSG_DATA(c), &gs, sizeof gs);
+}
+
+/* The batch as segmented sends; called with slock held. @return the first datagram not
+ * handed over: nbatch, or where a kernel without UDP segmentation refused (gso_off is then
+ * set and the caller sends the rest one by one). */
+static unsigned send_gso(kelp_udpm_sock *s)
+{
+    unsigned ng = 0;
+    size_t goff = 0;
+    for (unsigned i = 0; i < s->nbatch;) {
+        size_t lo = s->biov[i].iov_len, hi = lo;
+        unsigned j = i + 1;
+        if (hi <= GSO_MAX_SEG)
+            while (j < s->nbatch && j - i < GSO_MAX_SEGS) {
+                size_t l = s->biov[j].iov_len, nlo = l < lo ? l : lo, nhi = l > hi ? l : hi;
+                if (nhi > GSO_MAX_SEG || nhi - nlo > KELP_UDPM_PAD_MAX || nhi * (j - i + 1) > GSO_MAX_BYTES) break;
+                lo = nlo;
+                hi = nhi;
+                j++;
+            }
+        gso_group(s, ng++, i, j, hi, &goff);
+        i = j;
+    }
+    unsigned done = 0;
+    while (done < ng) {
+        int n = sendmmsg(s->sfd, &s->bmsg[done], ng - done, 0);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            if (s->gcount[done] > 1 && (errno == EINVAL || errno == EIO || errno == EOPNOTSUPP || errno == ENOPROTOOPT ||
+                                        errno == EMSGSIZE)) {
+                s->gso_off = true;
+                return s->gfirst[done];
+            }
+            s->send_errors += s->gcount[done]; /* the kernel stops at the first that fails */
+            done++;
+            continue;
+        }
+        for (unsigned k = done; k < done + (unsigned)n; k++) {
+            s->sent += s->gcount[k];
+            if (s->gcount[k] > 1) {
+                s->gso_sends++;
+                s->gso_segments += s->gcount[k];
+            }
+        }
+        done += (unsigned)n;
+    }
+    return s->nbatch;
+}
+
+/* hand the batch to the kernel; called with slock held */
+static void flush_locked(kelp_udpm_sock *s)
+{
+    unsigned from = 0;
+    if (!s->gso_off && s->gbuf) from = send_gso(s);
+    if (from < s->nbatch) send_plain(s, from);
     if (s->nbatch) s->batches++;
     s->nbatch = 0;
     s->batch_used = 0;
@@ -261,7 +366,10 @@ void kelp_udpm_sock_cork(kelp_udpm_sock *s, bool on)
 {
     if (!s) return;
     pthread_mutex_lock(&s->slock);
-    if (on && !s->batch) s->batch = malloc(SEND_BATCH_BYTES); /* none: publish sends at once */
+    if (on && !s->batch) {
+        s->batch = malloc(SEND_BATCH_BYTES); /* none: publish sends at once */
+        if (s->batch && !s->gso_off) s->gbuf = malloc(SEND_BATCH_BYTES + (size_t)SEND_BATCH * KELP_UDPM_PAD_MAX);
+    }
     if (!on && s->nbatch) flush_locked(s);
     s->corked = on;
     pthread_mutex_unlock(&s->slock);
@@ -353,6 +461,8 @@ void kelp_udpm_sock_get_stats(kelp_udpm_sock *s, kelp_udpm_sock_stats *out)
         out->send_buf = sb;
     }
     out->send_errors = s->send_errors;
+    out->gso_sends = s->gso_sends;
+    out->gso_segments = s->gso_segments;
     pthread_mutex_unlock(&s->slock);
 }
 
@@ -367,6 +477,7 @@ static int open_tx(kelp_udpm_sock *s, const kelp_udpm_url *u, kelp_diag *d)
 {
     s->sfd = socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
     if (s->sfd < 0) return fail(s, d, "socket", errno) ? 0 : -1;
+    s->gso_off = !u->gso;
     unsigned char ttl = (unsigned char)u->ttl, loop = 1;
     if (setsockopt(s->sfd, IPPROTO_IP, IP_MULTICAST_TTL, &ttl, sizeof ttl) < 0 ||
         setsockopt(s->sfd, IPPROTO_IP, IP_MULTICAST_LOOP, &loop, sizeof loop) < 0)
@@ -463,6 +574,7 @@ void kelp_udpm_sock_close(kelp_udpm_sock *s)
     free(s->slotmem);
     free(s->dg);
     free(s->batch);
+    free(s->gbuf);
     free(s);
 }
 
