@@ -102,8 +102,9 @@ int main(int argc, char **argv)
      * /proc/net/udp), its receive queue, or never sent */
     kelp_udpm_sock_stats st;
     kelp_lcmbus_get_stats(lb, &st);
-    fprintf(stderr, "feeder socket: %llu datagrams read, %llu messages queued, %llu queue drops, %llu sent, %llu send errors,"
-                    " receive buffer %d B\n", (unsigned long long)st.rx.datagrams, (unsigned long long)st.queued,
+    fprintf(stderr, "feeder socket: %llu datagrams read (%llu coalesced runs split), %llu messages queued, %llu queue drops,"
+                    " %llu sent, %llu send errors, receive buffer %d B\n", (unsigned long long)st.rx.datagrams,
+            (unsigned long long)st.gro_runs, (unsigned long long)st.queued,
             (unsigned long long)st.queue_dropped, (unsigned long long)st.sent, (unsigned long long)st.send_errors, st.recv_buf);
     kelp_lcmbus_close(lb);
     return 0;

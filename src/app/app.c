@@ -481,13 +481,14 @@ static void report(kelp_app *app, FILE *out)
     kelp_lcmbus_get_stats(app->lb, &ts);
     fprintf(out, "Transport: %llu datagrams, %llu rejected (%llu header, %llu channel, %llu fragment, %llu magic, "
                  "%llu too big), %llu reassembly timeouts, %llu queue drops; dropped %llu of another community, "
-                 "%llu with a bad time, %llu of another type than the variable's (MOOSDB rule); %llu sync replies withheld\n",
+                 "%llu with a bad time, %llu of another type than the variable's (MOOSDB rule); %llu sync replies withheld; %llu coalesced runs read\n",
             (unsigned long long)ts.rx.datagrams, (unsigned long long)ts.rx.bad, (unsigned long long)ts.rx.bad_header,
             (unsigned long long)ts.rx.bad_channel, (unsigned long long)ts.rx.bad_fragment,
             (unsigned long long)ts.rx.bad_magic, (unsigned long long)ts.rx.too_big,
             (unsigned long long)ts.rx.timeouts, (unsigned long long)ts.queue_dropped,
             (unsigned long long)st->foreign_community, (unsigned long long)st->time_rejected,
-            (unsigned long long)st->type_refused, (unsigned long long)st->sync_limited + (unsigned long long)st->sync_bad_reply);
+            (unsigned long long)st->type_refused, (unsigned long long)st->sync_limited + (unsigned long long)st->sync_bad_reply,
+            (unsigned long long)ts.gro_runs);
     fprintf(out, "Sent: %llu messages (%llu batches, %llu in %llu segmented sends), %llu send errors, send buffer %d B\n",
             (unsigned long long)ts.sent, (unsigned long long)ts.send_batches, (unsigned long long)ts.gso_segments,
             (unsigned long long)ts.gso_sends, (unsigned long long)ts.send_errors, ts.send_buf);

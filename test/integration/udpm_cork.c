@@ -9,7 +9,8 @@
  * With "gso" the sender must have used segmented sends (the URL leaves them on) and a message
  * may arrive padded: its payload, then only zero bytes, at most KELP_UDPM_PAD_MAX of them
  * (message 200 is 600 bytes, too long to share a send with its neighbours). With "plain"
- * (the URL says gso=0) none may be used and every payload arrives exactly. */
+ * (the URL says gso=0) none may be used and every payload arrives exactly. The receiver
+ * reads a segmented send whole (UDP GRO) and splits it, unless its URL says gso=0. */
 #include <poll.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -104,7 +105,13 @@ int main(int argc, char **argv)
     if (st.sent != 301 || st.send_batches < 4 || st.send_errors) return fprintf(stderr, "FAIL: sender stats\n"), 1;
     printf("segmented sends: %llu carrying %llu messages; %d arrived padded\n", (unsigned long long)st.gso_sends,
            (unsigned long long)st.gso_segments, padded);
+    kelp_udpm_sock_stats rs;
+    kelp_udpm_sock_get_stats(r, &rs);
+    printf("receiver: %llu datagrams, %llu coalesced runs split\n", (unsigned long long)rs.rx.datagrams,
+           (unsigned long long)rs.gro_runs);
     if (gso_mode && (st.gso_sends == 0 || padded == 0)) return fprintf(stderr, "FAIL: no segmented send or no padding\n"), 1;
+    if (gso_mode && rs.gro_runs == 0) return fprintf(stderr, "FAIL: the receiver read no coalesced run\n"), 1;
+    if (!gso_mode && rs.gro_runs != 0) return fprintf(stderr, "FAIL: coalesced runs with gso=0\n"), 1;
     if (!gso_mode && st.gso_sends != 0) return fprintf(stderr, "FAIL: segmented sends with gso=0\n"), 1;
     kelp_udpm_sock_close(s);
     kelp_udpm_sock_close(r);

@@ -46,6 +46,7 @@ typedef struct kelp_udpm_sock_stats {
     int send_buf;             /**< SO_SNDBUF the kernel granted (bytes) */
     uint64_t gso_sends;       /**< segmented sends (UDP GSO) of a corked socket */
     uint64_t gso_segments;    /**< messages that went in them */
+    uint64_t gro_runs;        /**< coalesced runs received (UDP GRO), each split into its datagrams */
 } kelp_udpm_sock_stats;
 
 /** Open and join. @return NULL on failure, with the reason in d. */

@@ -35,6 +35,10 @@
 #define GSO_MAX_SEG 1400u     /* a segment's datagram fits an Ethernet MTU (1500 - IP - UDP) */
 #define GSO_MAX_BYTES 65000u  /* a segmented send is one UDP datagram to the kernel */
 #define GSO_CTL CMSG_SPACE(sizeof(uint16_t))
+#ifndef UDP_GRO
+#define UDP_GRO 104           /* linux/udp.h, Linux 5.0 */
+#endif
+#define RX_BUF 65536u         /* a datagram, or a coalesced run of them (UDP GRO: at most 64 KiB) */
 
 struct kelp_udpm_sock {
     int rfd, sfd, evfd, stopfd;
@@ -184,9 +188,27 @@ static void *recv_main(void *arg)
         }
         for (int i = 0; i < RECV_BATCH; i++) {
             struct sockaddr_in from = { 0 };
-            socklen_t fl = sizeof from;
-            ssize_t n = recvfrom(s->rfd, s->dg, KELP_UDPM_MAX_DATAGRAM + 1, MSG_DONTWAIT, (struct sockaddr *)&from, &fl);
+            union { struct cmsghdr h; uint8_t b[CMSG_SPACE(sizeof(int))]; } ctl;
+            struct iovec iov = { s->dg, RX_BUF };
+            struct msghdr mh = { .msg_name = &from, .msg_namelen = sizeof from, .msg_iov = &iov, .msg_iovlen = 1,
+                                 .msg_control = ctl.b, .msg_controllen = sizeof ctl.b };
+            ssize_t n = recvmsg(s->rfd, &mh, MSG_DONTWAIT);
             if (n < 0) break;
+            if (mh.msg_flags & MSG_TRUNC) n = RX_BUF; /* (over 64 KiB: cannot be LCM's; feed() counts it) */
+            /* a coalesced run (UDP GRO: a sender's segmented send, or a NIC's coalescing) holds
+             * datagrams of seg bytes each, the last one shorter */
+            size_t seg = (size_t)n;
+            for (struct cmsghdr *c = CMSG_FIRSTHDR(&mh); c; c = CMSG_NXTHDR(&mh, c))
+                if (c->cmsg_level == SOL_UDP && c->cmsg_type == UDP_GRO) {
+                    int g;
+                    memcpy(&g, CMSG_DATA(c), sizeof g);
+                    if (g > 0 && (size_t)g < seg) seg = (size_t)g;
+                }
+            if (seg < (size_t)n) {
+                pthread_mutex_lock(&s->qlock);
+                s->st.gro_runs++;
+                pthread_mutex_unlock(&s->qlock);
+            }
             uint64_t sender = (uint64_t)ntohl(from.sin_addr.s_addr) << 16 | ntohs(from.sin_port);
             if (s->ignore_own) {
                 if (!s->own_port && own_datagram(s, &from)) {
@@ -196,13 +218,16 @@ static void *recv_main(void *arg)
                 /* (datagrams queued before the filter came are dropped here) */
                 if (s->own_port && from.sin_port == s->own_port && from.sin_addr.s_addr == s->own_ip) continue;
             }
-            kelp_udpm_msg m;
-            /* a datagram over the UDP maximum cannot come from LCM; feed() counts it */
-            if (kelp_udpm_feed(&s->rx, s->dg, (size_t)n, sender, now, &m) == 1) {
-                pthread_mutex_lock(&s->qlock);
-                enqueue(s, &m);
-                s->st.rx = s->rx.stats;
-                pthread_mutex_unlock(&s->qlock);
+            for (size_t off = 0; off < (size_t)n; off += seg) {
+                size_t len = (size_t)n - off < seg ? (size_t)n - off : seg;
+                kelp_udpm_msg m;
+                /* a datagram over the UDP maximum cannot come from LCM; feed() counts it */
+                if (kelp_udpm_feed(&s->rx, s->dg + off, len, sender, now, &m) == 1) {
+                    pthread_mutex_lock(&s->qlock);
+                    enqueue(s, &m);
+                    s->st.rx = s->rx.stats;
+                    pthread_mutex_unlock(&s->qlock);
+                }
             }
         }
         pthread_mutex_lock(&s->qlock);
@@ -524,7 +549,7 @@ static kelp_udpm_sock *open_sock(const char *url, int listen, kelp_diag *d)
     if (!listen) return s; /* publish only: no socket, thread or queue for our own echo */
     s->q = malloc(s->qcap);
     s->slotmem = malloc((size_t)KELP_UDPM_REASM_SLOTS * KELP_UDPM_REASM_CAP);
-    s->dg = malloc(KELP_UDPM_MAX_DATAGRAM + 1);
+    s->dg = malloc(RX_BUF);
     if (!s->q || !s->slotmem || !s->dg) return fail(s, d, "out of memory", 0);
     if (kelp_udpm_init(&s->rx, s->slots, KELP_UDPM_REASM_SLOTS, s->slotmem, KELP_UDPM_REASM_CAP,
                        KELP_UDPM_REASM_TIMEOUT) < 0)
@@ -542,6 +567,9 @@ static kelp_udpm_sock *open_sock(const char *url, int listen, kelp_diag *d)
     (void)getsockopt(s->rfd, SOL_SOCKET, SO_RCVBUF, &s->st.recv_buf, &rl);
     if (bind(s->rfd, (struct sockaddr *)&s->dest, sizeof s->dest) < 0)
         return fail(s, d, "bind to the multicast group", errno);
+    /* take a segmented send whole (one read, one copy, split here) rather than have the
+     * kernel cut it up for this socket; a kernel without UDP GRO delivers datagrams */
+    if (u.gso) (void)setsockopt(s->rfd, IPPROTO_UDP, UDP_GRO, &one, sizeof one);
     struct ip_mreq mr;
     mr.imr_multiaddr = s->dest.sin_addr;
     mr.imr_interface.s_addr = htonl(INADDR_ANY);
