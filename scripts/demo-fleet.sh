@@ -136,7 +136,7 @@ ok_all=1
 for v in "${NAMES[@]}"; do
   "$B/bin/kelp-logcheck" "$v.lcm" --print > "$v.txt" 2>/dev/null || true
   dist=$(awk -v v="$v" '$1==v && $2=="report" {print $4}' plot.out)
-  hits=$(awk '$2=="pHelmIvP" && $3=="WPT_HIT" {n[$4]++; t++} END{printf "%d (survey %d, return %d)", t, n["survey"], n["return"]}' "$v.txt")
+  hits=$(awk '$2=="pHelmIvP" && $3=="WPT_HIT" {split($4, w, ":"); n[w[1]]++; t++} END{printf "%d (survey %d, return %d)", t, n["survey"], n["return"]}' "$v.txt")
   cmpl=$(grep " pHelmIvP IVPHELM_SUMMARY " "$v.txt" | tail -1 | sed -n 's/.*completed_bhvs=\([^,]*\).*/\1/p')
   ncmpl=$(echo "${cmpl:-none}" | awk -F: '$1=="none"{print 0; exit} {print NF}')
   td=$(awk '$3=="DEPLOY" && $4=="true" {print $1; exit}' "$v.txt")

@@ -325,7 +325,9 @@ START_TEST(waypoint_sequence_flags_end)
     nav(9, 10.5);
     ht_iter(2);
     ck_assert(ht_has_str("DONE", "true"));
-    ck_assert_uint_eq(ht_count("HIT"), 1);
+    /* 24.8 posts the wptflags again at completion, through the duplicate filter: HIT = 1 again
+     * is not repeated */
+    ck_assert_uint_eq(ht_count("HIT"), 0);
     /* the pass ends: 24.8's feedback, not a status line */
     ck_assert_str_eq(ht_last("WPT_STAT")->sval, "behavior-name=survey,completed");
     ck_assert_uint_eq(ht_count("WPT_STAT"), 1);
@@ -488,7 +490,8 @@ START_TEST(waypoint_capture_line)
     nav(8, 10.5); /* 8 m away but past the line */
     ht_iter(2);
     ck_assert_uint_eq(ht_find("w")->u.wpt.index, 1);
-    ck_assert_ptr_nonnull(strstr(ht_last("WPT_STAT")->sval, "hits=1/1"));
+    /* 24.8's WaypointEngine counts a line crossing neither as a capture nor as a slip */
+    ck_assert_ptr_nonnull(strstr(ht_last("WPT_STAT")->sval, "hits=0/0"));
     /* absolute: radii zero, only the line counts */
     ck_assert_int_eq(kelp_helm_bhv_set_param(ht_find("w"), "capture_line", "absolute"), 0);
     ck_assert(ht_find("w")->u.wpt.capture_radius == 0 && ht_find("w")->u.wpt.slip_radius == 0);
@@ -517,13 +520,125 @@ START_TEST(waypoint_reports_and_hints)
     nav(0, 16);
     ht_iter(2);
     nav(0, 19.5);
-    ht_iter(3); /* leg done: 19.5 m straight from where the leg was marked, 19.5 m travelled */
-    ck_assert_ptr_nonnull(ht_last("WPT_EFFICIENCY_LEG"));
-    ck_assert_str_eq(ht_last("WPT_EFFICIENCY_LEG")->sval, "linear_dist=19.5,odo_dist=19.5,efficiency=100.0");
+    ht_iter(3); /* the first point: 24.8's first leg mark only marks (nothing posted) */
+    ck_assert_uint_eq(ht_count("WPT_EFF_SUMM_LEG_A"), 0);
     ck_assert(ht_num("WPT_ODO_A") < 1e-9); /* the next leg's odometry starts over */
+    nav(0, 15);
+    ht_iter(3.5);
+    nav(0, 10.5);
+    ht_iter(4); /* the second: 9 m straight, 9 m travelled, in 1 s (9 s at cruise speed 1) */
+    ck_assert_str_eq(ht_last("WPT_EFF_SUMM_LEG_A")->sval, "vname=alder, bhv_name=w, linear_dist=9, odo_dist=9, "
+                     "efficiency_dist=1, linear_time=9, odo_time=1, efficiency_time=9");
+    ck_assert_str_eq(ht_last("WPT_EFF_SUMM_ALL_A")->sval, "vname=alder, bhv_name=w, linear_dist=9, odo_dist=9, "
+                     "efficiency_dist=1, linear_time=9, odo_time=1, efficiency_time=9");
+    ck_assert(ht_num("WPT_EFF_DIST_LEG_A") == 1 && ht_num("WPT_EFF_DIST_ALL_A") == 1);
+    ck_assert(ht_num("WPT_EFF_TIME_LEG_A") == 9 && ht_num("WPT_EFF_TIME_ALL_A") == 9);
     ck_assert_int_lt(kelp_helm_bhv_set_param(ht_find("w"), "crs_spd_zaic_ratio", "100"), 0);
     ck_assert_int_lt(kelp_helm_bhv_set_param(ht_find("w"), "wpt_status_var", "A B"), 0);
     ck_assert_int_lt(kelp_helm_bhv_set_param(ht_find("w"), "capture_radius", "0"), 0);
+}
+END_TEST
+
+/* 24.8's wptflags: macros of the behaviour ($(PX),$(PY): the point just left; $(NX),$(NY):
+ * the next; $(NI), $(PI), $(CYCLES), $(WPTS_HIT), $[SPEED] ...), posted on the first run with
+ * wptflag_on_start, at each point and at completion, through the duplicate filter */
+START_TEST(waypoint_flag_macros_on_start)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = w\n speed = 1.5\n capture_radius = 2\n slip_radius = 0\n"
+            " points = 0,10:20,10\n wptflag_on_start = true\n wptflag = PREV=$(PX),$(PY)\n"
+            " wptflag = NEXT=$(NX),$(NY)\n wptflag = IX=$(NI)/$(PI)/$(WPTS_HIT)/$(WPTS)\n wptflag = N=$(NI)\n"
+            " configflag = CRUISE = $[SPEED]\n endflag = DONE = $(CYCLES)\n}\n");
+    nav(0, 0);
+    ht_iter(0); /* first run: the flags at once; the point just left is the first point itself */
+    ck_assert(ht_has_str("PREV", "0,10"));
+    ck_assert(ht_has_str("NEXT", "0,10"));
+    ck_assert(ht_has_str("IX", "0/-1/0/2"));
+    ck_assert(ht_num("N") == 0);           /* a lone macro that expands to a number: a number */
+    ck_assert(ht_num("CRUISE") == 1.5);
+    nav(0, 5);
+    ht_iter(1);
+    ck_assert_uint_eq(ht_count("PREV"), 0); /* nothing changed */
+    nav(0, 9);
+    ht_iter(2); /* captured (0,10): next (20,10); PREV=0,10 again is a duplicate (filtered) */
+    ck_assert_uint_eq(ht_count("PREV"), 0);
+    ck_assert(ht_has_str("NEXT", "20,10"));
+    ck_assert(ht_has_str("IX", "1/0/1/2"));
+    nav(19, 10.5);
+    ht_iter(3); /* completed: the flags once more; NEXT unchanged, so filtered as a duplicate */
+    ck_assert(ht_has_str("PREV", "20,10"));
+    ck_assert_uint_eq(ht_count("NEXT"), 0);
+    ck_assert(ht_has_str("IX", "0/1/2/2"));
+    ck_assert(ht_num("DONE") == 1); /* a waypoint's endflags expand its macros too (24.8's virtual expandMacros) */
+}
+END_TEST
+
+/* lead_condition: lead steering only while its condition holds ("VAR,val" read as VAR=val) */
+START_TEST(waypoint_lead_condition)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = w\n speed = 1\n points = 0,0:0,100\n lead = 10\n"
+            " lead_condition = LEAD_OK,true\n}\n");
+    nav(0, 1);
+    ht_iter(0); /* captured (0,0) */
+    nav(5, 20);
+    ht_iter(1); /* LEAD_OK unknown: straight at (0,100): 356.4, 357 with the heading lean */
+    ck_assert_msg(ht_num("DESIRED_HEADING") == 357, "heading %g", ht_num("DESIRED_HEADING"));
+    kelp_helm_mail_string(ht_helm(), "LEAD_OK", "true");
+    nav(5, 20);
+    ht_iter(2); /* lead point (0,30): 333.4, 334 */
+    ck_assert_msg(ht_num("DESIRED_HEADING") == 334, "heading %g", ht_num("DESIRED_HEADING"));
+    ck_assert_int_lt(kelp_helm_bhv_set_param(ht_find("w"), "lead_condition", "A = = 1"), 0);
+    ck_assert_int_eq(kelp_helm_bhv_set_param(ht_find("w"), "ipf_type", "zaic"), 0);
+    ck_assert_int_lt(kelp_helm_bhv_set_param(ht_find("w"), "ipf_type", "roc"), 0); /* not built here: refused */
+    ck_assert_int_eq(kelp_helm_bhv_set_param(ht_find("w"), "patience", "70"), 0);
+    ck_assert(ht_find("w")->u.wpt.course_pct == 70);
+}
+END_TEST
+
+/* a perpetual waypoint starts over from its first point after completing; reset_on_idle goes
+ * back to it when the behaviour idles; newpt adds a point, xpoints replaces them, index kept */
+START_TEST(waypoint_perpetual_reset_newpt)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = w\n speed = 1\n perpetual = true\n condition = GO = true\n"
+            " capture_radius = 2\n slip_radius = 0\n points = 0,10:0,20\n reset_on_idle = true\n"
+            " updates = W_UPD\n}\n");
+    kelp_helm_mail_string(ht_helm(), "GO", "true");
+    nav(0, 9);
+    ht_iter(0);
+    ck_assert_uint_eq(ht_find("w")->u.wpt.index, 1);
+    kelp_helm_mail_string(ht_helm(), "GO", "false");
+    ht_iter(1); /* idle: reset_on_idle */
+    ck_assert_uint_eq(ht_find("w")->u.wpt.index, 0);
+    kelp_helm_mail_string(ht_helm(), "GO", "true");
+    nav(0, 9);
+    ht_iter(2);
+    nav(0, 19);
+    ht_iter(3); /* completed, perpetual: ready at the first point again */
+    ck_assert(ht_has_str("WPT_STAT", "behavior-name=w,completed"));
+    ck_assert_uint_eq(ht_find("w")->u.wpt.index, 0);
+    ck_assert_int_ne(ht_find("w")->state, KELP_BHV_COMPLETED);
+    kelp_helm_mail_string(ht_helm(), "W_UPD", "newpt = 5,5");
+    ht_iter(4);
+    ck_assert_uint_eq(ht_find("w")->u.wpt.npts, 3);
+    ck_assert_int_lt(kelp_helm_bhv_set_param(ht_find("w"), "xpoints", "1,1:2,2"), 0); /* a different count */
+    ck_assert_int_eq(kelp_helm_bhv_set_param(ht_find("w"), "xpoints", "1,1:2,2:3,3"), 0);
+    ck_assert(ht_find("w")->u.wpt.pts[2].x == 3);
+}
+END_TEST
+
+/* BHV_SETTINGS as 24.8 wrote it for the recorded vehicle's return waypoint */
+START_TEST(waypoint_settings_string)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = waypt_return\n speed = 2.0\n capture_radius = 2.0\n"
+            " slip_radius = 8.0\n points = 0,-20\n}\n");
+    ck_assert(ht_has_str("BHV_SETTINGS", "type=BHV_Waypoint,name=waypt_return,points=pts={0,-20},speed=2,speed_alt=-1,"
+                         "currix=0,greedy_tour=false,use_alt_speed=false,wpt_status=WPT_STAT,wpt_dist_to_prev=,"
+                         "wpt_dist_to_next=,wpt_index=WPT_INDEX,cycle_index_var=CYCLE_INDEX,post_suffix=,post_suffix=,"
+                         "ipf_type=zaic,lead=-1,lead_damper=-1,lead_to_start=false,order=normal,repeats=0,"
+                         "efficiency_measure=off,capture_radius=2,slip_radius=8,crs_spd_zaic_ratio=50"));
 }
 END_TEST
 
@@ -735,6 +850,10 @@ Suite *kelp_bhv_suite(void)
     tcase_add_test(tc, waypoint_capture_line);
     tcase_add_test(tc, waypoint_reports_and_hints);
     tcase_add_test(tc, waypoint_updates_points);
+    tcase_add_test(tc, waypoint_flag_macros_on_start);
+    tcase_add_test(tc, waypoint_lead_condition);
+    tcase_add_test(tc, waypoint_perpetual_reset_newpt);
+    tcase_add_test(tc, waypoint_settings_string);
     tcase_add_test(tc, constant_mismatch_and_complete_thresh);
     tcase_add_test(tc, constant_depth_speed_heading);
     tcase_add_test(tc, constant_depth_needs_depth);

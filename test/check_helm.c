@@ -848,9 +848,9 @@ START_TEST(bhv_settings_and_status)
     ck_assert_uint_eq(ht_count("BHV_SETTINGS"), 2);
     ck_assert(ht_has_str("BHV_SETTINGS", "type=BHV_Waypoint,name=survey,points=pts={0,0:100,-20.25},speed=2.5,speed_alt=-1,"
                          "currix=0,greedy_tour=false,use_alt_speed=false,wpt_status=WPT_STAT,wpt_dist_to_prev=,"
-                         "wpt_dist_to_next=,wpt_index=WPT_INDEX,cycle_index_var=CYCLE_INDEX,post_suffix=,ipf_type=zaic,"
-                         "lead=8,lead_damper=-1,lead_to_start=false,order=normal,repeats=forever,efficiency_measure=off,"
-                         "capture_radius=5,slip_radius=12,crs_spd_zaic_ratio=0.5"));
+                         "wpt_dist_to_next=,wpt_index=WPT_INDEX,cycle_index_var=CYCLE_INDEX,post_suffix=,post_suffix=,"
+                         "ipf_type=zaic,lead=8,lead_damper=-1,lead_to_start=false,order=normal,repeats=forever,"
+                         "efficiency_measure=off,capture_radius=5,slip_radius=12,crs_spd_zaic_ratio=50"));
     ck_assert(ht_has_str("BHV_SETTINGS", "type=BHV_Loiter,name=loiter,x=20.00,y=-15.00,clockwise=false,"
                          "dynamic_clockwise=false,center_activate=false,desired_speed=1.5,polygon=\"pts={0,-30:40,-30:40,0:0,0}\""));
     nav(0, -100);

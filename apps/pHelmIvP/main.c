@@ -295,6 +295,9 @@ static const kelp_app_def def = {
           "each iteration, per behaviour with a function: MOOS-IvP's IPF string (pMarineViewer's function"
           " view); one longer than a bus value is counted in the report, not posted" },
         { "WPT_ODO", "42.5", "BHV_Waypoint: metres travelled on the current leg (+ post_suffix)" },
+        { "WPT_EFF_SUMM_LEG", "vname=abe, bhv_name=survey, linear_dist=42.1, odo_dist=43.8, efficiency_dist=0.961, ...",
+          "BHV_Waypoint with efficiency_measure = all, at each point after the first: the leg's and (WPT_EFF_SUMM_ALL)"
+          " the run's distances and times; WPT_EFF_DIST_LEG/_ALL, WPT_EFF_TIME_LEG/_ALL their ratios (+ post_suffix)" },
         { "UH_<behaviour>", "points=0,0:10,10", "the behaviour's update replies" },
         { "VIEW_POINT", "x=10,y=20,label=alpha", "behaviour postings: VIEW_SEGLIST, VIEW_POLYGON, WPT_STAT,"
           " WPT_INDEX, CYCLE_INDEX (on change), LOITER_INDEX, LOITER_ACQUIRE, LOITER_REPORT, the variables"

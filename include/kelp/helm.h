@@ -222,6 +222,11 @@ typedef struct kelp_bhv_wpt {          /* BHV_Waypoint */
     bool use_alt_speed;
     bool capture_line;                 /* crossing the line through the point, square to the leg */
     bool efficiency;                   /* efficiency_measure = all */
+    bool wpt_flag_on_start;            /* wptflag_on_start: the wptflags also when it first runs */
+    bool reset_on_idle;                /* reset_on_idle: back to the first point when it goes idle */
+    bool eager_prev;                   /* eager_prev_index_flag: $(PI) set as the flags post */
+    char lead_cond[2][KELP_HELM_MAX_COND_LEN]; /* lead_condition: lead steering only while all hold */
+    unsigned nlead_cond;
     kelp_bhv_flag cycleflag[4], wptflag[4];
     unsigned ncycleflag, nwptflag;
     char var_report[KELP_MAX_NAME];    /* WPT_STAT (wpt_status_var), "silent" */
@@ -235,7 +240,11 @@ typedef struct kelp_bhv_wpt {          /* BHV_Waypoint */
     unsigned index;                    /* next point */
     unsigned long cycles;              /* completed passes */
     unsigned long cycles_posted;       /* the CYCLE_INDEX last posted (0 before any) */
-    unsigned long captured, slipped;   /* arrivals by capture / by slip radius */
+    unsigned long captured, slipped;   /* arrivals by capture / by slip radius (a capture line's: neither) */
+    unsigned long repeats_done;        /* passes counted against repeat (24.8's repeats so far) */
+    bool wpt_flag_published;           /* the wptflags went out at least once */
+    int prev_index;                    /* $(PI): the previous point's index, -1 none */
+    kelp_bhv_pt nextpt;                /* $(NX), $(NY): the point steered for (0,0 before any) */
     bool have_prev;                    /* trackline start known */
     kelp_bhv_pt prev;                  /* start of the current leg */
     bool have_mark;                    /* where the vehicle was when the first leg began */
@@ -245,8 +254,10 @@ typedef struct kelp_bhv_wpt {          /* BHV_Waypoint */
     double osx, osy, osh;              /* ownship: NAV_X, NAV_Y, NAV_HEADING (0..360) */
     /* odometry (WPT_ODO, efficiency_measure) */
     bool odo_virgin;
-    double odo_px, odo_py, odo_leg, odo_setx, odo_sety;
-    double eff_linear, eff_odo;        /* sums over completed legs */
+    bool odo_set, odo_disq;            /* a leg's start is marked; the next mark only marks */
+    double odo_px, odo_py, odo_leg, odo_setx, odo_sety, odo_settime;
+    double eff_linear, eff_odo;        /* sums over measured legs: straight-line and travelled metres */
+    double eff_tlinear, eff_todo;      /* ... and seconds (straight line at cruise speed; taken) */
 } kelp_bhv_wpt;
 
 typedef struct kelp_bhv_loiter {       /* BHV_Loiter (MOOS-IvP 24.8's, with its loiter and waypoint engines) */

@@ -1,9 +1,12 @@
 /* kelp helm: BHV_Waypoint, the multi-point waypoint behaviour MOOS-IvP users expect:
- * points (or polygon), order, repeat, capture_radius, slip_radius, capture_line, lead,
- * lead_damper, lead_to_start, speed, speed_alt/use_alt_speed, crs_spd_zaic_ratio,
- * efficiency_measure, visual_hints, the names of its reports (wpt_status_var, wpt_index_var,
+ * points (or polygon; newpt adds one, xpoints replaces them keeping the index), order, repeat,
+ * capture_radius, slip_radius, capture_line, lead, lead_damper, lead_to_start, lead_condition,
+ * speed, speed_alt/use_alt_speed, crs_spd_zaic_ratio (patience), ipf_type (zaic),
+ * efficiency_measure, visual_hints, wptflag / wptflag_on_start / cycleflag, reset_on_idle,
+ * eager_prev_index_flag, the names of its reports (wpt_status_var, wpt_index_var,
  * cycle_index_var, post_suffix, wpt_dist_to_prev/next); posts WPT_STAT, WPT_INDEX,
- * CYCLE_INDEX, WPT_ODO, VIEW_POINT, VIEW_SEGLIST, and wptflag / cycleflag / endflag.
+ * CYCLE_INDEX, WPT_ODO, WPT_EFF_* (efficiency_measure = all), VIEW_POINT, VIEW_SEGLIST and
+ * its flags with MOOS-IvP 24.8's macros ($(NX), $(PX), $(NI), $(CYCLES), $[SPEED], ...).
  *
  * Steering follows MOOS-IvP's BHV_Waypoint: with a lead distance, the vehicle steers at a point
  * `lead` metres (times the damper factor near the trackline) beyond its perpendicular
@@ -23,6 +26,8 @@ static void wpt_reset(kelp_bhv_wpt *s)
     s->index = 0;
     s->cycles = s->cycles_posted = 0;
     s->captured = s->slipped = 0;
+    s->repeats_done = 0;
+    s->prev_index = -1;
     s->have_prev = false;
     s->have_mark = false;
     s->min_dist = INFINITY;
@@ -38,7 +43,7 @@ static void wpt_init(kelp_bhv *b)
     s->speed = 0;
     s->capture_radius = 3;
     s->slip_radius = 15;
-    s->lead = 0;
+    s->lead = -1;
     s->lead_damper = -1;
     s->speed_alt = -1;
     s->course_pct = 50;
@@ -48,6 +53,7 @@ static void wpt_init(kelp_bhv *b)
     SETSTR(s->var_cyindex, "CYCLE_INDEX");
     bhv_hints_default(&s->hints);
     s->odo_virgin = true;
+    s->odo_disq = true;
     wpt_reset(s);
     hx_ignore(kelp_helm_bhv_add_info_vars(b, "NAV_X, NAV_Y, NAV_SPEED")); /* a constructor cannot fail: a full list only skips the registration */
 }
@@ -81,6 +87,49 @@ static int set_var(char *dst, size_t cap, const char *v, bool empty_ok)
     return 0;
 }
 
+static void lead_var(const char *var, size_t len, void *user)
+{
+    kelp_bhv *b = user;
+    if (b->helm)
+        (void)helm_need_var(b->helm, var, len);
+}
+
+/* lead_condition: a run condition with ',' read as '=' (24.8 writes "VAR,val" too) */
+static int add_lead_condition(kelp_bhv *b, const char *v)
+{
+    kelp_bhv_wpt *s = &b->u.wpt;
+    size_t n = strlen(v);
+    if (s->nlead_cond >= sizeof s->lead_cond / sizeof s->lead_cond[0] || n >= sizeof s->lead_cond[0])
+        return KELP_ERR_NOSPACE;
+    char *c = s->lead_cond[s->nlead_cond];
+    for (size_t i = 0; i <= n; i++)
+        c[i] = v[i] == ',' ? '=' : v[i];
+    if (kelp_helm_cond_check(c, lead_var, b) != 0)
+        return KELP_ERR_PARSE;
+    s->nlead_cond++;
+    return 0;
+}
+
+/* newpt: one more point at the end; xpoints: new points of the same count, the index kept */
+KELP_NOINLINE static int wpt_more_points(kelp_bhv *b, const char *p, const char *v)
+{
+    kelp_bhv_wpt *s = &b->u.wpt;
+    kelp_bhv_pt *pts = b->helm->ws_bhv.pts;
+    unsigned n;
+    if (kelp_helm_parse_points(v, pts, KELP_HELM_MAX_PTS, &n) != 0)
+        return KELP_ERR_PARSE;
+    if (!strcmp(p, "newpt")) {
+        if (n != 1 || s->npts >= KELP_HELM_MAX_PTS)
+            return KELP_ERR_PARSE;
+        s->pts[s->npts++] = pts[0];
+        return 0;
+    }
+    if (n != s->npts)
+        return KELP_ERR_PARSE;
+    memcpy(s->pts, pts, sizeof s->pts);
+    return 0;
+}
+
 static int wpt_set_param(kelp_bhv *b, const char *p, const char *v)
 {
     kelp_bhv_wpt *s = &b->u.wpt;
@@ -102,12 +151,39 @@ static int wpt_set_param(kelp_bhv *b, const char *p, const char *v)
         wpt_reset(s);
         return 0;
     }
-    if (!strcmp(p, "speed"))
-        return num && d >= 0 ? (s->speed = d, 0) : KELP_ERR_PARSE;
-    if (!strcmp(p, "speed_alt"))
-        return num && d >= 0 ? (s->speed_alt = d, 0) : KELP_ERR_PARSE;
-    if (!strcmp(p, "use_alt_speed"))
-        return parse_bool(v, &s->use_alt_speed);
+    if (!strcmp(p, "newpt") || !strcmp(p, "xpoints"))
+        return wpt_more_points(b, p, v);
+    /* a change of speed starts the efficiency measure's leg afresh (24.8's odo_leg_disq) */
+    if (!strcmp(p, "speed")) {
+        if (!num || d < 0)
+            return KELP_ERR_PARSE;
+        s->odo_disq |= d != s->speed;
+        s->speed = d;
+        return 0;
+    }
+    if (!strcmp(p, "speed_alt")) {
+        if (!num || d < 0)
+            return KELP_ERR_PARSE;
+        s->odo_disq |= d != s->speed_alt;
+        s->speed_alt = d;
+        return 0;
+    }
+    if (!strcmp(p, "use_alt_speed")) {
+        bool was = s->use_alt_speed;
+        int rc = parse_bool(v, &s->use_alt_speed);
+        s->odo_disq |= was != s->use_alt_speed;
+        return rc;
+    }
+    if (!strcmp(p, "wptflag_on_start"))
+        return parse_bool(v, &s->wpt_flag_on_start);
+    if (!strcmp(p, "reset_on_idle"))
+        return parse_bool(v, &s->reset_on_idle);
+    if (!strcmp(p, "eager_prev_index_flag"))
+        return parse_bool(v, &s->eager_prev);
+    if (!strcmp(p, "lead_condition"))
+        return add_lead_condition(b, v);
+    if (!strcmp(p, "ipf_type") || !strcmp(p, "ipf-type")) /* zaic: the objective built here */
+        return hx_ieq(v, "zaic") ? 0 : KELP_ERR_UNSUPPORTED;
     if (!strcmp(p, "capture_radius") || !strcmp(p, "radius"))
         return num && d > 0 ? (s->capture_radius = d, 0) : KELP_ERR_PARSE;
     if (!strcmp(p, "slip_radius") || !strcmp(p, "nm_radius"))
@@ -120,13 +196,13 @@ static int wpt_set_param(kelp_bhv *b, const char *p, const char *v)
         }
         return parse_bool(v, &s->capture_line);
     }
-    if (!strcmp(p, "lead")) /* zero or less: off */
-        return num ? (s->lead = d > 0 ? d : 0, 0) : KELP_ERR_PARSE;
+    if (!strcmp(p, "lead")) /* zero or less: off (-1, as 24.8 keeps it) */
+        return num ? (s->lead = d > 0 ? d : -1, 0) : KELP_ERR_PARSE;
     if (!strcmp(p, "lead_damper"))
         return num && d > 0 ? (s->lead_damper = d, 0) : KELP_ERR_PARSE;
     if (!strcmp(p, "lead_to_start"))
         return parse_bool(v, &s->lead_to_start);
-    if (!strcmp(p, "crs_spd_zaic_ratio"))
+    if (!strcmp(p, "crs_spd_zaic_ratio") || !strcmp(p, "patience"))
         return num && d >= 1 && d <= 99 ? (s->course_pct = d, 0) : KELP_ERR_PARSE;
     if (!strcmp(p, "efficiency_measure")) {
         if (hx_ieq(v, "all") || hx_ieq(v, "off")) {
@@ -293,11 +369,26 @@ static void wpt_idle(kelp_bhv *b)
     kelp_bhv_wpt *s = &b->u.wpt;
     wpt_start_point(b);
     s->restart = true;
-    /* on the way from running to idle, 24.8 erases its drawings (onRunToIdleState) */
-    if (s->npts && (b->state == KELP_BHV_RUNNING || b->state == KELP_BHV_ACTIVE)) {
-        post_marker(b, true, NULL);
-        post_marker(b, false, NULL);
-        post_seglist(b, false);
+    /* on the way from running to idle (24.8's onRunToIdleState): the drawings erased, with
+     * reset_on_idle back to the first point, the efficiency leg dropped, and the distances to
+     * the previous and next points posted as -1 */
+    if (b->state == KELP_BHV_RUNNING || b->state == KELP_BHV_ACTIVE) {
+        if (s->npts) {
+            post_marker(b, true, NULL);
+            post_marker(b, false, NULL);
+            post_seglist(b, false);
+        }
+        if (s->reset_on_idle) {
+            s->index = 0;
+            s->repeats_done = 0;
+            s->prev_index = -1;
+        }
+        s->odo_set = false;
+        s->odo_disq = true;
+        if (s->var_dist_prev[0])
+            kelp_helm_bhv_post_double(b, s->var_dist_prev, -1, NULL);
+        if (s->var_dist_next[0])
+            kelp_helm_bhv_post_double(b, s->var_dist_next, -1, NULL);
     }
 }
 
@@ -363,13 +454,15 @@ KELP_NOINLINE static void post_feedback(kelp_bhv *b, const char *what)
         kelp_helm_bhv_post_string(b, var, buf, NULL);
 }
 
-static void post_pairs(kelp_bhv *b, const kelp_bhv_flag *f, unsigned n)
+/* wptflags (through the duplicate filter) and cycleflags (repeatable), macros expanded */
+static void post_pairs(kelp_bhv *b, const kelp_bhv_flag *f, unsigned n, bool repeatable)
 {
+    const char *key = repeatable ? "repeatable" : NULL;
     for (unsigned i = 0; i < n; i++) {
         if (f[i].p.is_str)
-            kelp_helm_bhv_post_string(b, f[i].p.var, f[i].p.sval, "repeatable");
+            helm_post_flag_string(b, f[i].p.var, f[i].p.sval, key);
         else
-            kelp_helm_bhv_post_double(b, f[i].p.var, f[i].p.dval, "repeatable");
+            kelp_helm_bhv_post_double(b, f[i].p.var, f[i].p.dval, key);
     }
 }
 
@@ -384,28 +477,63 @@ static void odo_update(kelp_bhv_wpt *s)
     s->odo_py = s->osy;
 }
 
-/* (out of line, as track_point: their locals are not on the stack under wpt_run's IvP build) */
-KELP_NOINLINE static void odo_mark_leg(kelp_bhv *b, bool first)
+/* A leg's end for efficiency_measure = all (24.8's markOdoLeg): the first mark after a start,
+ * an idle spell or a change of speed only marks; later ones post the leg's and the run's
+ * straight-line and travelled distances and times (straight-line time at cruise speed) and
+ * their ratios. Out of line, as track_point: its locals are not on the stack under the IvP
+ * build. */
+KELP_NOINLINE static void odo_mark_leg(kelp_bhv *b)
 {
     kelp_bhv_wpt *s = &b->u.wpt;
     if (!s->efficiency)
         return;
-    if (!first && s->odo_leg > 0) {
-        double linear = hypot(s->osx - s->odo_setx, s->osy - s->odo_sety);
-        s->eff_linear += linear;
-        s->eff_odo += s->odo_leg;
-        char *buf = b->helm->ws_bhv.post; /* the helm's behaviour workspace; 160 bytes as before */
-        const size_t cap = 160;
-        kelp_util_snprintf(buf, cap, "linear_dist=%.1f,odo_dist=%.1f,efficiency=%.1f", linear, s->odo_leg,
-                 100.0 * linear / s->odo_leg);
-        kelp_helm_bhv_post_string(b, "WPT_EFFICIENCY_LEG", buf, "repeatable");
-        double eff = s->eff_odo > 0 ? 100.0 * s->eff_linear / s->eff_odo : 0;
-        kelp_util_snprintf(buf, cap, "linear_dist=%.1f,odo_dist=%.1f,efficiency=%.1f", s->eff_linear, s->eff_odo, eff);
-        kelp_helm_bhv_post_string(b, "WPT_EFFICIENCY_SUM", buf, NULL);
-        kelp_helm_bhv_post_double(b, "WPT_EFFICIENCY_VAL", eff, NULL);
+    double now = kelp_helm_bhv_buf_now(b);
+    if (!s->odo_set || s->odo_disq) {
+        s->odo_setx = s->osx;
+        s->odo_sety = s->osy;
+        s->odo_settime = now;
+        s->odo_set = true;
+        s->odo_leg = 0;
+        s->odo_disq = false;
+        return;
+    }
+    double lin = hypot(s->osx - s->odo_setx, s->osy - s->odo_sety), tlin = 0;
+    s->eff_linear += lin;
+    if (s->speed > 0) {
+        tlin = lin / s->speed;
+        s->eff_tlinear += tlin;
+    }
+    double odo = s->odo_leg, todo = now - s->odo_settime;
+    s->eff_odo += odo;
+    s->eff_todo += todo;
+    double e_leg = odo > 0 ? lin / odo : 0, t_leg = todo > 0 ? tlin / todo : 0;
+    double e_all = s->eff_odo > 0 ? s->eff_linear / s->eff_odo : 0;
+    double t_all = s->eff_todo > 0 ? s->eff_tlinear / s->eff_todo : 0;
+    char *buf = b->helm->ws_bhv.post, *var = b->helm->ws_bhv.var; /* the helm's behaviour workspace */
+    const size_t cap = sizeof b->helm->ws_bhv.post, vcap = sizeof b->helm->ws_bhv.var;
+    const char *us = b->us[0] ? b->us : "vehicle";
+    for (int all = 0; all < 2; all++) {
+        char (*nb)[32] = b->helm->ws_bhv.num;
+        hx_fmt_x(nb[0], 32, all ? s->eff_linear : lin, 1);
+        hx_fmt_x(nb[1], 32, all ? s->eff_odo : odo, 1);
+        hx_fmt_x(nb[2], 32, all ? e_all : e_leg, 3);
+        hx_fmt_x(nb[3], 32, all ? s->eff_tlinear : tlin, 1);
+        hx_fmt_x(nb[4], 32, all ? s->eff_todo : todo, 1);
+        hx_fmt_x(nb[5], 32, all ? t_all : t_leg, 3);
+        hx_cat(buf, cap, "vname=", us, ", bhv_name=", b->name, ", linear_dist=", nb[0], ", odo_dist=", nb[1],
+               ", efficiency_dist=", nb[2], ", linear_time=", nb[3], ", odo_time=", nb[4], ", efficiency_time=", nb[5],
+               HX_END);
+        hx_cat(var, vcap, all ? "WPT_EFF_SUMM_ALL" : "WPT_EFF_SUMM_LEG", s->suffix, HX_END);
+        kelp_helm_bhv_post_string(b, var, buf, NULL);
+    }
+    static const char *const names[4] = { "WPT_EFF_DIST_ALL", "WPT_EFF_TIME_ALL", "WPT_EFF_DIST_LEG", "WPT_EFF_TIME_LEG" };
+    for (int i = 0; i < 4; i++) {
+        hx_cat(var, vcap, names[i], s->suffix, HX_END);
+        kelp_helm_bhv_post_double(b, var, i == 0 ? e_all : i == 1 ? t_all : i == 2 ? e_leg : t_leg, NULL);
     }
     s->odo_setx = s->osx;
     s->odo_sety = s->osy;
+    s->odo_settime = now;
     s->odo_leg = 0;
 }
 
@@ -458,10 +586,39 @@ KELP_NOINLINE static kelp_bhv_pt track_point(kelp_bhv_wpt *s, kelp_bhv_pt cur)
     return tp;
 }
 
+/* 24.8's WaypointEngine::setNextWaypoint: a capture strictly inside capture_radius; a slip
+ * when moving away after coming within slip_radius (only if it exceeds capture_radius);
+ * independently, crossing the line through the point square to the leg from the previous
+ * point (counted as neither). Out of line: its locals are not on wpt_advance's frame. */
+KELP_NOINLINE static bool wpt_arrived(kelp_bhv_wpt *s, kelp_bhv_pt cur, double dist)
+{
+    if (dist < s->min_dist)
+        s->min_dist = dist;
+    if (dist < s->capture_radius) {
+        s->captured++;
+        return true;
+    }
+    bool hit = false;
+    if (s->slip_radius > s->capture_radius && dist > s->min_dist && s->min_dist <= s->slip_radius) {
+        s->slipped++;
+        hit = true;
+    }
+    if (s->capture_line) {
+        /* past the line through the waypoint square to the leg from the previous point */
+        double lx = cur.x - s->prev.x, ly = cur.y - s->prev.y;
+        hit |= (lx != 0 || ly != 0) && (s->osx - cur.x) * lx + (s->osy - cur.y) * ly >= 0;
+    }
+    return hit;
+}
+
+#define WPT_EV_DONE 1u  /* wpt_advance: the list completed */
+#define WPT_EV_FLAGS 2u /* wpt_advance: the wptflags are due */
+#define WPT_EV_CYCLED 4u /* wpt_advance: a pass ended (cycleflags) */
+
 /* onRunState up to the objective: captures, reports and the course to steer (*crs); false when
  * no objective is made this time. Out of line: its locals are not on the stack under the IvP
  * build that follows. */
-KELP_NOINLINE static bool wpt_advance(kelp_bhv *b, double *crs)
+KELP_NOINLINE static bool wpt_advance(kelp_bhv *b, unsigned *ev)
 {
     kelp_bhv_wpt *s = &b->u.wpt;
     bool ok1 = kelp_helm_bhv_buf_double(b, "NAV_X", &s->osx);
@@ -482,73 +639,165 @@ KELP_NOINLINE static bool wpt_advance(kelp_bhv *b, double *crs)
         return false;
     if (!s->have_prev || s->restart || b->state == KELP_BHV_IDLE || b->state == KELP_BHV_NONE) {
         /* the capture line of the first leg is measured from where the vehicle is when the
-         * behaviour (re)starts; odometry picks up from here */
+         * behaviour first runs; odometry picks up from here; an efficiency leg interrupted by
+         * an idle spell is not measured (24.8's onIdleToRunState) */
         if (!s->have_prev) {
             s->prev.x = s->osx;
             s->prev.y = s->osy;
             s->have_prev = true;
-            s->odo_virgin = true;
-            odo_update(s);
-            odo_mark_leg(b, true);
         }
         s->odo_virgin = true;
+        s->odo_disq = true;
         s->restart = false;
         s->min_dist = INFINITY;
     }
     odo_update(s);
-    kelp_bhv_pt cur = point(s, s->index);
+    const unsigned this_i = s->index;
+    kelp_bhv_pt cur = point(s, this_i);
     double dist = hypot(cur.x - s->osx, cur.y - s->osy);
-    bool captured = dist <= s->capture_radius;
-    bool slipped = !captured && s->slip_radius > 0 && dist <= s->slip_radius && dist > s->min_dist;
-    if (!captured && !slipped && s->capture_line) {
-        /* past the line through the waypoint square to the leg from the previous point */
-        double lx = cur.x - s->prev.x, ly = cur.y - s->prev.y;
-        captured = (lx != 0 || ly != 0) && (s->osx - cur.x) * lx + (s->osy - cur.y) * ly >= 0;
-    }
-    if (dist < s->min_dist)
-        s->min_dist = dist;
-    if (captured || slipped) {
-        if (captured)
-            s->captured++;
-        else
-            s->slipped++;
-        post_pairs(b, s->wptflag, s->nwptflag);
-        odo_mark_leg(b, false);
-        s->prev = cur;
-        s->min_dist = INFINITY;
+    bool hit = wpt_arrived(s, cur, dist);
+    bool completed = false, cycled = false;
+    if (hit) {
+        odo_mark_leg(b);
         s->index++;
         if (s->index >= s->npts) {
             s->cycles++;
-            post_pairs(b, s->cycleflag, s->ncycleflag);
-            if (s->repeat < 0 || s->cycles <= (unsigned long)s->repeat) {
-                s->index = 0;
-                post_feedback(b, "cycled");
-            } else {
-                s->index = s->npts - 1;
-                post_feedback(b, "completed");
-                post_cycle_index(b);
-                post_marker(b, false, NULL); /* no next point: 24.8 erases the marker */
-                kelp_helm_bhv_set_complete(b);
-                return false;
-            }
+            s->index = 0;
+            s->repeats_done++;
+            cycled = true;
+            completed = !(s->repeat < 0 || s->repeats_done <= (unsigned long)s->repeat);
         }
-        cur = point(s, s->index);
-        dist = hypot(cur.x - s->osx, cur.y - s->osy);
     }
-    kelp_bhv_pt tp = track_point(s, cur);
     char *var = b->helm->ws_bhv.var; /* the helm's behaviour workspace */
     hx_cat(var, sizeof b->helm->ws_bhv.var, "WPT_ODO", s->suffix, HX_END);
     kelp_helm_bhv_post_double(b, var, s->odo_leg, NULL);
-    post_stat(b, dist);
-    post_seglist(b, true);
-    post_marker(b, false, &cur);
-    post_marker(b, true, hypot(cur.x - tp.x, cur.y - tp.y) > 5 ? &tp : NULL);
-    if (s->var_dist_prev[0])
-        kelp_helm_bhv_post_double(b, s->var_dist_prev, hypot(s->prev.x - s->osx, s->prev.y - s->osy), NULL);
-    if (s->var_dist_next[0])
-        kelp_helm_bhv_post_double(b, s->var_dist_next, dist, NULL);
-    *crs = kelp_helm_relang(s->osx, s->osy, tp.x, tp.y);
+    if (cycled) {
+        post_feedback(b, completed ? "completed" : "cycled");
+        *ev |= WPT_EV_CYCLED; /* the cycleflags: posted by the caller, off this frame */
+    }
+    if (completed) {
+        *ev |= WPT_EV_DONE; /* the caller completes the behaviour (its endflags), off this frame */
+        if (b->perpetual) { /* ready for the next traversal (24.8's resetForNewTraversal) */
+            s->repeats_done = 0;
+            s->min_dist = INFINITY;
+        }
+    } else {
+        s->nextpt = point(s, s->index);
+        cur = s->nextpt;
+        dist = hypot(cur.x - s->osx, cur.y - s->osy);
+        if (hit) /* an advance: the closest approach to the new point starts here; a new cycle starts afresh */
+            s->min_dist = cycled ? INFINITY : dist;
+    }
+    /* the wptflags: when the point steered for changed, a point was reached or the list
+     * completed, and with wptflag_on_start on the first run; $(PX),$(PY) then name the point
+     * just left, which starts the next leg */
+    if (hit || completed || cur.x != point(s, this_i).x || cur.y != point(s, this_i).y ||
+        (s->wpt_flag_on_start && !s->wpt_flag_published)) {
+        s->prev = point(s, this_i);
+        if (s->eager_prev)
+            s->prev_index = (int)this_i;
+        *ev |= WPT_EV_FLAGS; /* posted by the caller, off this frame */
+        s->wpt_flag_published = true;
+    }
+    if (completed) {
+        post_cycle_index(b);
+        post_marker(b, false, NULL); /* no next point: 24.8 erases the marker */
+        return false;
+    }
     return true;
+}
+
+/* the distance still to go in this pass: to the point steered for, then along the rest of the
+ * list (24.8's distToEndCycle); with the passes still owed (distToEndFinal), each a full list
+ * plus the leg back to its first point; -1 for endless repeats */
+static double dist_to_go(const kelp_bhv_wpt *s, bool all)
+{
+    if (all && s->repeat < 0)
+        return -1;
+    kelp_bhv_pt c = point(s, s->index);
+    double d = hypot(c.x - s->osx, c.y - s->osy), list = 0;
+    for (unsigned i = 0; i + 1 < s->npts; i++) {
+        kelp_bhv_pt p = point(s, i), q = point(s, i + 1);
+        double l = hypot(q.x - p.x, q.y - p.y);
+        list += l;
+        if (i >= s->index)
+            d += l;
+    }
+    unsigned long owed = all && (unsigned long)s->repeat > s->repeats_done ? (unsigned long)s->repeat - s->repeats_done : 0;
+    if (owed && s->npts) {
+        kelp_bhv_pt f = point(s, 0), l = point(s, s->npts - 1);
+        d += (double)owed * (list + hypot(f.x - l.x, f.y - l.y));
+    }
+    return d;
+}
+
+bool helm_wpt_macro(const kelp_bhv *b, const char *m, size_t ml, char *val, size_t cap)
+{
+    const kelp_bhv_wpt *s = &b->u.wpt;
+    /* a constant table: the macro, how it is written (0 text, 1 integer, 2 three decimals) */
+    static const struct { const char *m; unsigned char what, how; } mac[] = {
+        {"POINTS", 0, 0},    {"IPF_TYPE", 1, 0},  {"ORDER", 2, 0},      {"SPEED", 3, 2},   {"SPEED_ALT", 4, 2},
+        {"USE_SPEED_ALT", 5, 1}, {"WPT_FLAG_ON_START", 6, 1}, {"LEAD_TO_START", 7, 1}, {"LEAD_DAMPER", 8, 2},
+        {"NI", 9, 1},        {"IX", 9, 1},        {"NX", 10, 2},        {"NY", 11, 2},     {"PI", 12, 1},
+        {"PX", 13, 2},       {"X", 13, 2},        {"PY", 14, 2},        {"Y", 14, 2},      {"CYCLES", 15, 1},
+        {"CYCREM", 16, 1},   {"WPTS_HIT", 17, 1}, {"WPTS_REM", 18, 1},  {"WPTS", 19, 1},   {"CYC_DIST_TOGO", 20, 2},
+        {"ALL_DIST_TOGO", 21, 2}, {"OSX", 22, 2}, {"OSY", 23, 2},       {"OSH", 24, 2}};
+    for (size_t i = 0; i < sizeof mac / sizeof mac[0]; i++) {
+        if (strlen(mac[i].m) != ml || strncmp(m, mac[i].m, ml) != 0)
+            continue;
+        double d = 0;
+        switch (mac[i].what) {
+        case 0: { /* pts={x,y:...}, each number written in place (no buffers on the stack) */
+            size_t n = hx_cat(val, cap, "pts={", HX_END);
+            for (unsigned k = 0; k < s->npts && n + 2 < cap; k++) {
+                kelp_bhv_pt p = point(s, k);
+                n += hx_cat(val + n, cap - n, k ? ":" : "", HX_END);
+                hx_fmt_x(val + n, cap - n, p.x, 2);
+                n += strlen(val + n);
+                n += hx_cat(val + n, cap - n, ",", HX_END);
+                hx_fmt_x(val + n, cap - n, p.y, 2);
+                n += strlen(val + n);
+            }
+            hx_cat(val + n, cap - n, "}", HX_END);
+            return true;
+        }
+        case 1: return hx_copy(val, cap, "zaic", 4);
+        case 2: return s->reverse ? hx_copy(val, cap, "reverse", 7) : hx_copy(val, cap, "normal", 6);
+        case 3: d = s->speed; break;
+        case 4: d = s->speed_alt; break;
+        case 5: d = s->use_alt_speed; break;
+        case 6: d = s->wpt_flag_on_start; break;
+        case 7: d = s->lead_to_start; break;
+        case 8: d = s->lead_damper; break;
+        case 9: d = s->index; break;
+        case 10: d = s->nextpt.x; break;
+        case 11: d = s->nextpt.y; break;
+        case 12: d = s->prev_index; break;
+        case 13: d = s->have_prev ? s->prev.x : 0; break;
+        case 14: d = s->have_prev ? s->prev.y : 0; break;
+        case 15: d = (double)s->cycles; break;
+        case 16: d = s->repeat > 0 && (unsigned long)s->repeat > s->repeats_done ? (double)((unsigned long)s->repeat - s->repeats_done) : 0; break;
+        case 17: d = (double)(s->captured + s->slipped); break;
+        case 18: d = (double)(s->npts - s->index); break;
+        case 19: d = s->npts; break;
+        case 20: d = dist_to_go(s, false); break;
+        case 21: d = dist_to_go(s, true); break;
+        case 22: d = s->osx; break;
+        case 23: d = s->osy; break;
+        default: d = s->osh; break;
+        }
+        if (mac[i].how == 1) { /* an integer ($(PI) is -1 before any point) */
+            if (cap < 2)
+                return false;
+            if (d < 0)
+                val[0] = '-';
+            hx_fmt_ulong(val + (d < 0), cap - (d < 0), (unsigned long)fabs(d));
+        } else {
+            hx_fmt_x(val, cap, d, 3);
+        }
+        return true;
+    }
+    return false;
 }
 
 /* MOOS-IvP 24.8's BHV_Waypoint objective (buildOF, ipf_type zaic): speed, a ZAIC peak at the
@@ -579,12 +828,57 @@ KELP_NOINLINE static int wpt_function(kelp_bhv *b, const kelp_helm_work *w, doub
     return kelp_ivp_couple(cf, course_pct, spd, 100 - course_pct, true, 0, 100, w->out, w->out_cap, out);
 }
 
+/* the reports of a running iteration (status, route, markers, distances) and the course to
+ * steer, toward the track point (with lead) or the point itself. Called from wpt_run, not
+ * under wpt_advance's frame. */
+KELP_NOINLINE static double wpt_report(kelp_bhv *b, bool lead_ok)
+{
+    kelp_bhv_wpt *s = &b->u.wpt;
+    kelp_bhv_pt cur = point(s, s->index);
+    double dist = hypot(cur.x - s->osx, cur.y - s->osy);
+    kelp_bhv_pt tp = lead_ok ? track_point(s, cur) : cur;
+    post_stat(b, dist);
+    post_seglist(b, true);
+    post_marker(b, false, &cur);
+    post_marker(b, true, hypot(cur.x - tp.x, cur.y - tp.y) > 5 ? &tp : NULL);
+    if (s->var_dist_prev[0])
+        kelp_helm_bhv_post_double(b, s->var_dist_prev, hypot(s->prev.x - s->osx, s->prev.y - s->osy), NULL);
+    if (s->var_dist_next[0])
+        kelp_helm_bhv_post_double(b, s->var_dist_next, dist, NULL);
+    return kelp_helm_relang(s->osx, s->osy, tp.x, tp.y);
+}
+
+/* lead_condition: all must hold for lead steering (24.8's checkLeadConditions, each run);
+ * evaluated here, not under wpt_advance's frame */
+KELP_NOINLINE static bool wpt_lead_ok(const kelp_bhv *b)
+{
+    const kelp_bhv_wpt *s = &b->u.wpt;
+    for (unsigned i = 0; i < s->nlead_cond; i++)
+        if (kelp_helm_cond_eval(s->lead_cond[i], &b->helm->ib) != 1)
+            return false;
+    return true;
+}
+
 static int wpt_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
 {
     const kelp_bhv_wpt *s = &b->u.wpt;
-    double crs;
-    if (!wpt_advance(b, &crs))
+    unsigned ev = 0;
+    bool lead_ok = wpt_lead_ok(b);
+    bool go = wpt_advance(b, &ev);
+    /* what 24.8 posts inside its setNextWaypoint and onRunState, made here (same iteration):
+     * the wptflags with the state they name; then the previous index as $(PI) reads it next
+     * time (unless eager_prev_index_flag set it as the flags went); the completion's endflags */
+    if (ev & WPT_EV_CYCLED)
+        post_pairs(b, s->cycleflag, s->ncycleflag, true);
+    if (ev & WPT_EV_FLAGS)
+        post_pairs(b, s->wptflag, s->nwptflag, false);
+    if (go && !s->eager_prev)
+        b->u.wpt.prev_index = (int)s->index;
+    if (ev & WPT_EV_DONE)
+        kelp_helm_bhv_set_complete(b);
+    if (!go)
         return 0;
+    double crs = wpt_report(b, lead_ok);
     double speed = s->use_alt_speed && s->speed_alt >= 0 ? s->speed_alt : s->speed;
     if (wpt_function(b, w, crs, s->osh, speed, s->course_pct, out) < 0) {
         kelp_helm_bhv_post_warning(b, "Problem Creating the IvP Function");
@@ -595,7 +889,8 @@ static int wpt_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
 
 /* after configuration and each applied update (MOOS-IvP 24.8's onSetParamComplete): the
  * single-point warning, the no-points warning's retraction (a behaviour here always has
- * points), then BHV_SETTINGS (its postConfigStatus) */
+ * points), then BHV_SETTINGS as 24.8's postConfigStatus writes it (post_suffix twice, with
+ * its '_'; lead -1 when off; crs_spd_zaic_ratio as the course percentage) */
 static void wpt_post_config(kelp_bhv *b)
 {
     const kelp_bhv_wpt *s = &b->u.wpt;
@@ -619,7 +914,7 @@ static void wpt_post_config(kelp_bhv *b)
     struct { char *dst; double v; unsigned dec; } num[] = {
         {sp, s->speed, 1},       {sa, s->speed_alt, 1},      {ld, s->lead, 1},
         {dm, s->lead_damper, 1}, {cr, s->capture_radius, 1}, {sr, s->slip_radius, 1},
-        {rt, s->course_pct / 100.0, 2}};
+        {rt, s->course_pct, 2}};
     for (size_t i = 0; i < sizeof num / sizeof num[0]; i++)
         hx_fmt_x(num[i].dst, 32, num[i].v, num[i].dec);
     hx_fmt_ulong(ix, ncap, s->index);
@@ -627,7 +922,7 @@ static void wpt_post_config(kelp_bhv *b)
     n += hx_cat(buf + n, cap - n, ",speed=", sp, ",speed_alt=", sa, ",currix=", ix,
                 ",greedy_tour=false,use_alt_speed=", s->use_alt_speed ? "true" : "false", ",wpt_status=", s->var_report,
                 ",wpt_dist_to_prev=", s->var_dist_prev, ",wpt_dist_to_next=", s->var_dist_next, ",wpt_index=",
-                s->var_index, ",cycle_index_var=", s->var_cyindex, ",post_suffix=", s->suffix[0] ? s->suffix + 1 : "",
+                s->var_index, ",cycle_index_var=", s->var_cyindex, ",post_suffix=", s->suffix, ",post_suffix=", s->suffix,
                 ",ipf_type=zaic,lead=", ld, ",lead_damper=", dm, ",lead_to_start=", s->lead_to_start ? "true" : "false",
                 ",order=", s->reverse ? "reverse" : "normal", ",repeats=", s->repeat < 0 ? "forever" : rp,
                 ",efficiency_measure=", s->efficiency ? "all" : "off", ",capture_radius=", cr, ",slip_radius=", sr,

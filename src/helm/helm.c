@@ -582,6 +582,7 @@ void helm_expand_macros(const kelp_bhv *b, const char *in, char *out, size_t cap
                 }
                 if (g) have = hx_copy(val, room, g, strlen(g));
                 else if (b->ops == &kelp_bhv_avoid_collision_ops) have = helm_avoid_macro(b, m, ml, val, room);
+                else if (b->ops == &kelp_bhv_waypoint_ops) have = helm_wpt_macro(b, m, ml, val, room);
                 else if (ml == 7 && !strncmp(m, "CONTACT", ml)) have = hx_copy(val, room, "", 0);
             }
         }
@@ -1484,7 +1485,9 @@ int kelp_helm_iterate(kelp_helm *h, kelp_time now)
     sink(h, "IVPHELM_STATE", true, h->engaged ? "DRIVE" : "PARK", 0, NULL);
     post_ledger_and_turn_rate(h, now);
     double (*clk)(void *) = h->cfg.cpu_clock;
-    double t_start = clk ? clk(h->cfg.user) : 0;
+    /* the CPU clock's readings wait in the report (loop_time: the start; solve_time: the end of
+     * building) until the end is read: no doubles kept on this frame across the behaviours */
+    r->loop_time = clk ? clk(h->cfg.user) : 0;
     if (h->engaged) {
         bool *has_fn = h->ws_has_fn;
         memset(has_fn, 0, sizeof h->ws_has_fn);
@@ -1500,7 +1503,7 @@ int kelp_helm_iterate(kelp_helm *h, kelp_time now)
             for (unsigned i = 0; i < h->nbhv; i++)
                 helm_life_event(h, h->bhv[i].name, h->bhv[i].type, "spawn", "helm_startup");
         }
-        double t_built = clk ? clk(h->cfg.user) : 0;
+        r->solve_time = clk ? clk(h->cfg.user) : 0;
         if (r->halted) { /* MOOS-IvP's halt message names the behaviour error */
             /* "BHV_ERROR: " (11 bytes) then the value, cut as in a buffer of sizeof halt_msg - 12 */
             char *err = r->halt_msg + hx_cat(r->halt_msg, sizeof r->halt_msg, "BHV_ERROR: ", HX_END);
@@ -1510,7 +1513,7 @@ int kelp_helm_iterate(kelp_helm *h, kelp_time now)
             solve(h, has_fn);
         post_listen_vars(h);
         if (clk) {
-            double t_end = clk(h->cfg.user);
+            double t_end = clk(h->cfg.user), t_start = r->loop_time, t_built = r->solve_time;
             r->create_time = t_built - t_start;
             r->solve_time = t_end - t_built;
             r->loop_time = t_end - t_start;
@@ -1518,6 +1521,7 @@ int kelp_helm_iterate(kelp_helm *h, kelp_time now)
     } else {
         h->nq = 0;
         h->qpool_used = 0;
+        r->loop_time = 0; /* (held the clock's start reading) */
     }
     post_outputs(h);
     helm_reap(h);

@@ -62,6 +62,9 @@ void helm_expand_macros(const kelp_bhv *b, const char *in, char *out, size_t cap
 /* BHV_AvoidCollision's macros (CONTACT, OSX..OSV, CNX..CNV, CN_NAME, CN_VTYPE, CN_GROUP,
  * CN_RANGE, RANGE): the value of macro m (ml bytes) into val; false when not one of them */
 bool helm_avoid_macro(const kelp_bhv *b, const char *m, size_t ml, char *val, size_t cap);
+/* BHV_Waypoint's own macros (24.8's BHV_Waypoint::expandMacros): POINTS, SPEED, NX, NY, PX, PY,
+ * NI, PI, CYCLES, WPTS_HIT, ... */
+bool helm_wpt_macro(const kelp_bhv *b, const char *m, size_t ml, char *val, size_t cap);
 /* a flag's string value posted as IvPBehavior::postFlag: macros expanded, a lone macro that
  * expands to a number posted as a number */
 void helm_post_flag_string(kelp_bhv *b, const char *var, const char *sval, const char *key);
