@@ -573,6 +573,24 @@ START_TEST(waypoint_flag_macros_on_start)
 }
 END_TEST
 
+/* 24.8 (IvPBehavior::updatePlatformInfo): a waypoint that runs without ownship's position or
+ * heading posts a BHV_ERROR, which halts the helm; without points it stays quiet */
+START_TEST(waypoint_no_nav_is_error)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = w\n speed = 1\n points = 0,10\n}\n"
+            "Behavior = BHV_Waypoint\n{\n name = e\n speed = 1\n points = start\n}\n");
+    ht_iter(0);
+    ck_assert(ht_has_str("BHV_ERROR", "w: No ownship X/Y info in info_buffer."));
+    ck_assert(!ht_has_sub("BHV_ERROR", "e: "));
+    ck_assert(!ht_find("w")->state_ok);
+    kelp_helm_mail_double(ht_helm(), "NAV_X", 0);
+    kelp_helm_mail_double(ht_helm(), "NAV_Y", 0);
+    ht_iter(1);
+    ck_assert(ht_has_str("BHV_ERROR", "w: No ownship heading info in info_buffer."));
+}
+END_TEST
+
 /* lead_condition: lead steering only while its condition holds ("VAR,val" read as VAR=val) */
 START_TEST(waypoint_lead_condition)
 {
@@ -852,6 +870,7 @@ Suite *kelp_bhv_suite(void)
     tcase_add_test(tc, waypoint_updates_points);
     tcase_add_test(tc, waypoint_flag_macros_on_start);
     tcase_add_test(tc, waypoint_lead_condition);
+    tcase_add_test(tc, waypoint_no_nav_is_error);
     tcase_add_test(tc, waypoint_perpetual_reset_newpt);
     tcase_add_test(tc, waypoint_settings_string);
     tcase_add_test(tc, constant_mismatch_and_complete_thresh);

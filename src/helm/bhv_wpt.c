@@ -621,22 +621,25 @@ KELP_NOINLINE static bool wpt_arrived(kelp_bhv_wpt *s, kelp_bhv_pt cur, double d
 KELP_NOINLINE static bool wpt_advance(kelp_bhv *b, unsigned *ev)
 {
     kelp_bhv_wpt *s = &b->u.wpt;
+    /* 24.8: no points (points = start before the position is known included): nothing, quietly;
+     * then ownship's X/Y and heading must be known (IvPBehavior::updatePlatformInfo): a
+     * BHV_ERROR otherwise, which halts the helm */
+    wpt_start_point(b);
+    if (s->npts == 0)
+        return false;
     bool ok1 = kelp_helm_bhv_buf_double(b, "NAV_X", &s->osx);
     bool ok2 = kelp_helm_bhv_buf_double(b, "NAV_Y", &s->osy);
     if (!ok1 || !ok2) {
-        kelp_helm_bhv_post_warning(b, "No ownship X/Y info in info_buffer.");
+        kelp_helm_bhv_post_error(b, "No ownship X/Y info in info_buffer.");
         return false;
     }
     double h;
     if (!kelp_helm_bhv_buf_double(b, "NAV_HEADING", &h)) {
-        kelp_helm_bhv_post_warning(b, "No ownship heading info in info_buffer.");
+        kelp_helm_bhv_post_error(b, "No ownship heading info in info_buffer.");
         return false;
     }
     s->osh = fmod(h, 360.0);
     if (s->osh < 0) s->osh += 360.0;
-    wpt_start_point(b);
-    if (s->npts == 0)
-        return false;
     if (!s->have_prev || s->restart || b->state == KELP_BHV_IDLE || b->state == KELP_BHV_NONE) {
         /* the capture line of the first leg is measured from where the vehicle is when the
          * behaviour first runs; odometry picks up from here; an efficiency leg interrupted by
