@@ -547,13 +547,14 @@ START_TEST(waypoint_flag_macros_on_start)
     ht_setup(DOM2, NULL);
     ht_load("Behavior = BHV_Waypoint\n{\n name = w\n speed = 1.5\n capture_radius = 2\n slip_radius = 0\n"
             " points = 0,10:20,10\n wptflag_on_start = true\n wptflag = PREV=$(PX),$(PY)\n"
-            " wptflag = NEXT=$(NX),$(NY)\n wptflag = IX=$(NI)/$(PI)/$(WPTS_HIT)/$(WPTS)\n wptflag = N=$(NI)\n"
+            " wptflag = NEXT=$(NX),$(NY)\n wptflag = IX=$(NI)/$(PI)/$(WPTS_HIT)/$(WPTS)/$(OSX),$(OSY),$(OSV)\n"
+            " wptflag = N=$(NI)\n"
             " configflag = CRUISE = $[SPEED]\n endflag = DONE = $(CYCLES)\n}\n");
     nav(0, 0);
     ht_iter(0); /* first run: the flags at once; the point just left is the first point itself */
     ck_assert(ht_has_str("PREV", "0,10"));
     ck_assert(ht_has_str("NEXT", "0,10"));
-    ck_assert(ht_has_str("IX", "0/-1/0/2"));
+    ck_assert(ht_has_str("IX", "0/-1/0/2/0,0,0"));
     ck_assert(ht_num("N") == 0);           /* a lone macro that expands to a number: a number */
     ck_assert(ht_num("CRUISE") == 1.5);
     nav(0, 5);
@@ -563,12 +564,12 @@ START_TEST(waypoint_flag_macros_on_start)
     ht_iter(2); /* captured (0,10): next (20,10); PREV=0,10 again is a duplicate (filtered) */
     ck_assert_uint_eq(ht_count("PREV"), 0);
     ck_assert(ht_has_str("NEXT", "20,10"));
-    ck_assert(ht_has_str("IX", "1/0/1/2"));
+    ck_assert(ht_has_str("IX", "1/0/1/2/0,9,0"));
     nav(19, 10.5);
     ht_iter(3); /* completed: the flags once more; NEXT unchanged, so filtered as a duplicate */
     ck_assert(ht_has_str("PREV", "20,10"));
     ck_assert_uint_eq(ht_count("NEXT"), 0);
-    ck_assert(ht_has_str("IX", "0/1/2/2"));
+    ck_assert(ht_has_str("IX", "0/1/2/2/19,10.5,0"));
     ck_assert(ht_num("DONE") == 1); /* a waypoint's endflags expand its macros too (24.8's virtual expandMacros) */
 }
 END_TEST

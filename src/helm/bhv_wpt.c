@@ -744,7 +744,7 @@ bool helm_wpt_macro(const kelp_bhv *b, const char *m, size_t ml, char *val, size
         {"NI", 9, 1},        {"IX", 9, 1},        {"NX", 10, 2},        {"NY", 11, 2},     {"PI", 12, 1},
         {"PX", 13, 2},       {"X", 13, 2},        {"PY", 14, 2},        {"Y", 14, 2},      {"CYCLES", 15, 1},
         {"CYCREM", 16, 1},   {"WPTS_HIT", 17, 1}, {"WPTS_REM", 18, 1},  {"WPTS", 19, 1},   {"CYC_DIST_TOGO", 20, 2},
-        {"ALL_DIST_TOGO", 21, 2}, {"OSX", 22, 2}, {"OSY", 23, 2},       {"OSH", 24, 2}};
+        {"ALL_DIST_TOGO", 21, 2}, {"OSX", 22, 2}, {"OSY", 23, 2},       {"OSH", 24, 2},    {"OSV", 25, 2}};
     for (size_t i = 0; i < sizeof mac / sizeof mac[0]; i++) {
         if (strlen(mac[i].m) != ml || strncmp(m, mac[i].m, ml) != 0)
             continue;
@@ -787,7 +787,11 @@ bool helm_wpt_macro(const kelp_bhv *b, const char *m, size_t ml, char *val, size
         case 21: d = dist_to_go(s, true); break;
         case 22: d = s->osx; break;
         case 23: d = s->osy; break;
-        default: d = s->osh; break;
+        case 24: d = s->osh; break;
+        default: /* NAV_SPEED, 0 when none came (24.8's m_osv) */
+            if (!kelp_helm_bhv_buf_double(b, "NAV_SPEED", &d) || !isfinite(d))
+                d = 0;
+            break;
         }
         if (mac[i].how == 1) { /* an integer ($(PI) is -1 before any point) */
             if (cap < 2)
