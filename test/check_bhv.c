@@ -592,6 +592,44 @@ START_TEST(waypoint_no_nav_is_error)
 }
 END_TEST
 
+/* end_spd (24.8's setEndSpeed, buildOF): the cruise speed scaled down over the last slow_dist
+ * metres of the list, zero within stop_dist of its end */
+START_TEST(waypoint_end_speed)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = w\n speed = 2\n capture_radius = 1\n slip_radius = 0\n"
+            " points = 0,100\n end_spd = slow_dist=20, stop_dist=5\n}\n");
+    nav(0, 50);
+    ht_iter(0);
+    ck_assert(ht_num("DESIRED_SPEED") == 2);
+    nav(0, 88.75); /* 11.25 m to go: (11.25 - 5) / 15 of 2 = 0.833 */
+    ht_iter(1);
+    ck_assert_msg(ht_num("DESIRED_SPEED") > 0.5 && ht_num("DESIRED_SPEED") < 1.2, "speed %g", ht_num("DESIRED_SPEED"));
+    nav(0, 96); /* 4 m: stopped */
+    ht_iter(2);
+    ck_assert(ht_num("DESIRED_SPEED") == 0);
+    ck_assert_int_lt(kelp_helm_bhv_set_param(ht_find("w"), "end_spd", "slow_dist=5, stop_dist=10"), 0);
+    ck_assert_int_lt(kelp_helm_bhv_set_param(ht_find("w"), "end_spd", "slow_dist=5"), 0);
+    ck_assert_int_lt(kelp_helm_bhv_set_param(ht_find("w"), "end_spd", "slow_dist=5, fast=1"), 0);
+}
+END_TEST
+
+/* greedy_tour: the points reordered nearest-first from where the vehicle is when it first runs */
+START_TEST(waypoint_greedy_tour)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = w\n speed = 1\n points = 100,0:10,0:50,0:0,40\n"
+            " greedy_tour = true\n}\n");
+    ck_assert(ht_has_sub("BHV_SETTINGS", ",greedy_tour=true,"));
+    nav(0, 0);
+    ht_iter(0); /* from (0,0): (10,0); from it (50,0) at 40 m before (0,40) at 41.2; then (100,0), (0,40) */
+    const kelp_bhv_wpt *s = &ht_find("w")->u.wpt;
+    ck_assert(s->pts[0].x == 10 && s->pts[1].x == 50 && s->pts[2].x == 100 && s->pts[3].x == 0);
+    ck_assert(!s->greedy_pending);
+    ck_assert(ht_num("DESIRED_HEADING") == 90);
+}
+END_TEST
+
 /* lead_condition: lead steering only while its condition holds ("VAR,val" read as VAR=val) */
 START_TEST(waypoint_lead_condition)
 {
@@ -872,6 +910,8 @@ Suite *kelp_bhv_suite(void)
     tcase_add_test(tc, waypoint_flag_macros_on_start);
     tcase_add_test(tc, waypoint_lead_condition);
     tcase_add_test(tc, waypoint_no_nav_is_error);
+    tcase_add_test(tc, waypoint_end_speed);
+    tcase_add_test(tc, waypoint_greedy_tour);
     tcase_add_test(tc, waypoint_perpetual_reset_newpt);
     tcase_add_test(tc, waypoint_settings_string);
     tcase_add_test(tc, constant_mismatch_and_complete_thresh);

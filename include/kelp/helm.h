@@ -226,6 +226,8 @@ typedef struct kelp_bhv_wpt {          /* BHV_Waypoint */
     bool reset_on_idle;                /* reset_on_idle: back to the first point when it goes idle */
     bool eager_prev;                   /* eager_prev_index_flag: $(PI) set as the flags post */
     char lead_cond[2][KELP_HELM_MAX_COND_LEN]; /* lead_condition: lead steering only while all hold */
+    double slow_dist, stop_dist;       /* end_spd: slow down from slow_dist to stop at stop_dist (to the end; <0 off) */
+    bool greedy_pending;               /* greedy_tour: reorder the points nearest-first at the next run */
     unsigned nlead_cond;
     kelp_bhv_flag cycleflag[4], wptflag[4];
     unsigned ncycleflag, nwptflag;

@@ -97,6 +97,8 @@ int bhv_general_param(kelp_bhv *b, const char *p, const char *v)
 {
     if (!strcmp(p, "condition"))
         return add_condition(b, v, strlen(v));
+    if (!strcmp(p, "lead_condition") && b->ops == &kelp_bhv_waypoint_ops)
+        return helm_wpt_lead_condition(b, v) < 0 ? kelp_helm_bhv_fail(b, "bad value") : 0;
     return general_param(b, p, v);
 }
 

@@ -2,7 +2,7 @@
  * points (or polygon; newpt adds one, xpoints replaces them keeping the index), order, repeat,
  * capture_radius, slip_radius, capture_line, lead, lead_damper, lead_to_start, lead_condition,
  * speed, speed_alt/use_alt_speed, crs_spd_zaic_ratio (patience), ipf_type (zaic),
- * efficiency_measure, visual_hints, wptflag / wptflag_on_start / cycleflag, reset_on_idle,
+ * end_spd, greedy_tour, efficiency_measure, visual_hints, wptflag / wptflag_on_start / cycleflag, reset_on_idle,
  * eager_prev_index_flag, the names of its reports (wpt_status_var, wpt_index_var,
  * cycle_index_var, post_suffix, wpt_dist_to_prev/next); posts WPT_STAT, WPT_INDEX,
  * CYCLE_INDEX, WPT_ODO, WPT_EFF_* (efficiency_measure = all), VIEW_POINT, VIEW_SEGLIST and
@@ -45,6 +45,7 @@ static void wpt_init(kelp_bhv *b)
     s->slip_radius = 15;
     s->lead = -1;
     s->lead_damper = -1;
+    s->slow_dist = s->stop_dist = -1;
     s->speed_alt = -1;
     s->course_pct = 50;
     s->repeat = 0;
@@ -94,8 +95,9 @@ static void lead_var(const char *var, size_t len, void *user)
         (void)helm_need_var(b->helm, var, len);
 }
 
-/* lead_condition: a run condition with ',' read as '=' (24.8 writes "VAR,val" too) */
-static int add_lead_condition(kelp_bhv *b, const char *v)
+/* lead_condition: a run condition with ',' read as '=' (24.8 writes "VAR,val" too); reached
+ * through bhv_general_param, so its check runs on no deeper a stack than a condition's */
+int helm_wpt_lead_condition(kelp_bhv *b, const char *v)
 {
     kelp_bhv_wpt *s = &b->u.wpt;
     size_t n = strlen(v);
@@ -107,6 +109,30 @@ static int add_lead_condition(kelp_bhv *b, const char *v)
     if (kelp_helm_cond_check(c, lead_var, b) != 0)
         return KELP_ERR_PARSE;
     s->nlead_cond++;
+    return 0;
+}
+
+/* end_spd = slow_dist=D1, stop_dist=D2 (24.8's setEndSpeed): both needed, D1 > 0, 0 <= D2 <= D1 */
+KELP_NOINLINE static int set_end_speed(kelp_bhv_wpt *s, const char *v)
+{
+    double slow = -1, stop = -1, d;
+    size_t pos = 0, kl, vl;
+    const char *k, *val;
+    int rc;
+    while ((rc = kelp_kv_next(v, ',', &pos, &k, &kl, &val, &vl)) == 1) {
+        if (!hx_number(val, vl, &d))
+            return KELP_ERR_PARSE;
+        if (kl == 9 && !strncmp(k, "slow_dist", 9) && d > 0)
+            slow = d;
+        else if (kl == 9 && !strncmp(k, "stop_dist", 9) && d >= 0)
+            stop = d;
+        else
+            return KELP_ERR_PARSE;
+    }
+    if (rc < 0 || slow < 0 || stop < 0 || stop > slow)
+        return KELP_ERR_PARSE;
+    s->slow_dist = slow;
+    s->stop_dist = stop;
     return 0;
 }
 
@@ -180,8 +206,10 @@ static int wpt_set_param(kelp_bhv *b, const char *p, const char *v)
         return parse_bool(v, &s->reset_on_idle);
     if (!strcmp(p, "eager_prev_index_flag"))
         return parse_bool(v, &s->eager_prev);
-    if (!strcmp(p, "lead_condition"))
-        return add_lead_condition(b, v);
+    if (!strcmp(p, "end_spd"))
+        return set_end_speed(s, v);
+    if (!strcmp(p, "greedy_tour") || !strcmp(p, "shortest_tour"))
+        return parse_bool(v, &s->greedy_pending);
     if (!strcmp(p, "ipf_type") || !strcmp(p, "ipf-type")) /* zaic: the objective built here */
         return hx_ieq(v, "zaic") ? 0 : KELP_ERR_UNSUPPORTED;
     if (!strcmp(p, "capture_radius") || !strcmp(p, "radius"))
@@ -586,6 +614,34 @@ KELP_NOINLINE static kelp_bhv_pt track_point(kelp_bhv_wpt *s, kelp_bhv_pt cur)
     return tp;
 }
 
+/* greedy_tour (24.8's greedyPath, applied once ownship's position is known): from the vehicle,
+ * each next point the nearest of those not yet taken (the first of equals); the list then
+ * starts over as a new one */
+KELP_NOINLINE static void wpt_greedy(kelp_bhv_wpt *s)
+{
+    double x = s->osx, y = s->osy;
+    for (unsigned k = 0; k < s->npts; k++) { /* visiting positions k.. still free */
+        unsigned best = k;
+        double bd = -1;
+        for (unsigned j = k; j < s->npts; j++) {
+            kelp_bhv_pt p = point(s, j);
+            double d = hypot(p.x - x, p.y - y);
+            if (bd < 0 || d < bd) {
+                bd = d;
+                best = j;
+            }
+        }
+        /* swap visiting positions k and best in the stored order */
+        unsigned a = s->reverse ? s->npts - 1 - k : k, c = s->reverse ? s->npts - 1 - best : best;
+        kelp_bhv_pt t = s->pts[a];
+        s->pts[a] = s->pts[c];
+        s->pts[c] = t;
+        x = point(s, k).x;
+        y = point(s, k).y;
+    }
+    wpt_reset(s);
+}
+
 /* 24.8's WaypointEngine::setNextWaypoint: a capture strictly inside capture_radius; a slip
  * when moving away after coming within slip_radius (only if it exceeds capture_radius);
  * independently, crossing the line through the point square to the leg from the previous
@@ -640,6 +696,10 @@ KELP_NOINLINE static bool wpt_advance(kelp_bhv *b, unsigned *ev)
     }
     s->osh = fmod(h, 360.0);
     if (s->osh < 0) s->osh += 360.0;
+    if (s->greedy_pending) {
+        s->greedy_pending = false;
+        wpt_greedy(s);
+    }
     if (!s->have_prev || s->restart || b->state == KELP_BHV_IDLE || b->state == KELP_BHV_NONE) {
         /* the capture line of the first leg is measured from where the vehicle is when the
          * behaviour first runs; odometry picks up from here; an efficiency leg interrupted by
@@ -887,6 +947,13 @@ static int wpt_run(kelp_bhv *b, const kelp_helm_work *w, kelp_ivp_func *out)
         return 0;
     double crs = wpt_report(b, lead_ok);
     double speed = s->use_alt_speed && s->speed_alt >= 0 ? s->speed_alt : s->speed;
+    if (s->slow_dist > 0) { /* end_spd: over the distance still to go to the list's end (24.8's buildOF) */
+        double togo = dist_to_go(s, true); /* -1 with endless repeats: stopped, as 24.8 */
+        if (togo <= s->stop_dist)
+            speed = 0;
+        else if (togo < s->slow_dist)
+            speed *= s->slow_dist > s->stop_dist ? (togo - s->stop_dist) / (s->slow_dist - s->stop_dist) : 0;
+    }
     if (wpt_function(b, w, crs, s->osh, speed, s->course_pct, out) < 0) {
         kelp_helm_bhv_post_warning(b, "Problem Creating the IvP Function");
         return 0;
@@ -927,7 +994,7 @@ static void wpt_post_config(kelp_bhv *b)
     hx_fmt_ulong(ix, ncap, s->index);
     hx_fmt_ulong(rp, ncap, s->repeat < 0 ? 0 : (unsigned long)s->repeat);
     n += hx_cat(buf + n, cap - n, ",speed=", sp, ",speed_alt=", sa, ",currix=", ix,
-                ",greedy_tour=false,use_alt_speed=", s->use_alt_speed ? "true" : "false", ",wpt_status=", s->var_report,
+                ",greedy_tour=", s->greedy_pending ? "true" : "false", ",use_alt_speed=", s->use_alt_speed ? "true" : "false", ",wpt_status=", s->var_report,
                 ",wpt_dist_to_prev=", s->var_dist_prev, ",wpt_dist_to_next=", s->var_dist_next, ",wpt_index=",
                 s->var_index, ",cycle_index_var=", s->var_cyindex, ",post_suffix=", s->suffix, ",post_suffix=", s->suffix,
                 ",ipf_type=zaic,lead=", ld, ",lead_damper=", dm, ",lead_to_start=", s->lead_to_start ? "true" : "false",

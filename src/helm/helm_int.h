@@ -65,6 +65,8 @@ bool helm_avoid_macro(const kelp_bhv *b, const char *m, size_t ml, char *val, si
 /* BHV_Waypoint's own macros (24.8's BHV_Waypoint::expandMacros): POINTS, SPEED, NX, NY, PX, PY,
  * NI, PI, CYCLES, WPTS_HIT, ... */
 bool helm_wpt_macro(const kelp_bhv *b, const char *m, size_t ml, char *val, size_t cap);
+/* BHV_Waypoint's lead_condition (called from bhv_general_param) */
+int helm_wpt_lead_condition(kelp_bhv *b, const char *v);
 /* a flag's string value posted as IvPBehavior::postFlag: macros expanded, a lone macro that
  * expands to a number posted as a number */
 void helm_post_flag_string(kelp_bhv *b, const char *var, const char *sval, const char *key);
