@@ -46,7 +46,7 @@ bool bhv_parse_true_false(const char *v, bool *out)
     return false;
 }
 
-static void cond_var(const char *var, size_t len, void *user)
+void bhv_cond_var(const char *var, size_t len, void *user)
 {
     kelp_bhv *b = user;
     if (b->helm)
@@ -84,7 +84,7 @@ KELP_NOINLINE static int add_condition(kelp_bhv *b, const char *v, size_t vn)
         return kelp_helm_bhv_fail(b, "too many conditions");
     if (vn >= KELP_HELM_MAX_COND_LEN)
         return kelp_helm_bhv_fail(b, "condition too long");
-    if (kelp_helm_cond_check(v, cond_var, b) != 0)
+    if (kelp_helm_cond_check(v, bhv_cond_var, b) != 0)
         return kelp_helm_bhv_fail(b, "malformed condition");
     memcpy(b->cond[b->ncond++], v, vn + 1);
     return 0;

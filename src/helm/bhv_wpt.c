@@ -88,13 +88,6 @@ static int set_var(char *dst, size_t cap, const char *v, bool empty_ok)
     return 0;
 }
 
-static void lead_var(const char *var, size_t len, void *user)
-{
-    kelp_bhv *b = user;
-    if (b->helm)
-        (void)helm_need_var(b->helm, var, len);
-}
-
 /* lead_condition: a run condition with ',' read as '=' (24.8 writes "VAR,val" too); reached
  * through bhv_general_param, so its check runs on no deeper a stack than a condition's */
 int helm_wpt_lead_condition(kelp_bhv *b, const char *v)
@@ -106,7 +99,7 @@ int helm_wpt_lead_condition(kelp_bhv *b, const char *v)
     char *c = s->lead_cond[s->nlead_cond];
     for (size_t i = 0; i <= n; i++)
         c[i] = v[i] == ',' ? '=' : v[i];
-    if (kelp_helm_cond_check(c, lead_var, b) != 0)
+    if (kelp_helm_cond_check(c, bhv_cond_var, b) != 0)
         return KELP_ERR_PARSE;
     s->nlead_cond++;
     return 0;
@@ -180,18 +173,12 @@ static int wpt_set_param(kelp_bhv *b, const char *p, const char *v)
     if (!strcmp(p, "newpt") || !strcmp(p, "xpoints"))
         return wpt_more_points(b, p, v);
     /* a change of speed starts the efficiency measure's leg afresh (24.8's odo_leg_disq) */
-    if (!strcmp(p, "speed")) {
+    if (!strcmp(p, "speed") || !strcmp(p, "speed_alt")) {
+        double *dst = p[5] ? &s->speed_alt : &s->speed;
         if (!num || d < 0)
             return KELP_ERR_PARSE;
-        s->odo_disq |= d != s->speed;
-        s->speed = d;
-        return 0;
-    }
-    if (!strcmp(p, "speed_alt")) {
-        if (!num || d < 0)
-            return KELP_ERR_PARSE;
-        s->odo_disq |= d != s->speed_alt;
-        s->speed_alt = d;
+        s->odo_disq |= d != *dst;
+        *dst = d;
         return 0;
     }
     if (!strcmp(p, "use_alt_speed")) {

@@ -65,6 +65,8 @@ bool helm_avoid_macro(const kelp_bhv *b, const char *m, size_t ml, char *val, si
 /* BHV_Waypoint's own macros (24.8's BHV_Waypoint::expandMacros): POINTS, SPEED, NX, NY, PX, PY,
  * NI, PI, CYCLES, WPTS_HIT, ... */
 bool helm_wpt_macro(const kelp_bhv *b, const char *m, size_t ml, char *val, size_t cap);
+/* a condition's variable registered with the helm (kelp_helm_cond_check's callback; user: the kelp_bhv) */
+void bhv_cond_var(const char *var, size_t len, void *user);
 /* BHV_Waypoint's lead_condition (called from bhv_general_param) */
 int helm_wpt_lead_condition(kelp_bhv *b, const char *v);
 /* a flag's string value posted as IvPBehavior::postFlag: macros expanded, a lone macro that
