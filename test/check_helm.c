@@ -712,7 +712,9 @@ START_TEST(updates_valid_same_iteration)
     ck_assert_msg(fabs(ht_num("DESIRED_SPEED") - 1.5) < 0.11, "speed %g", ht_num("DESIRED_SPEED")); /* 1.5 is off the 0.2 grid */
     ck_assert(ht_num("DESIRED_HEADING") == 90);
     ck_assert(bhv("WAYPT_RETURN")->u.swpt.desired_speed == 1.5);
-    ck_assert(ht_has_str("UH_WAYPT_RETURN", "1 update(s), and 0 failure(s)"));
+    /* 24.8 counts it in the behaviour's updates=1/1 and posts no per-behaviour variable */
+    ck_assert_uint_eq(bhv("WAYPT_RETURN")->good_updates, 1);
+    ck_assert_uint_eq(ht_count("UH_WAYPT_RETURN"), 0);
     ck_assert_uint_eq(ht_count("BHV_WARNING"), 0);
 }
 END_TEST
@@ -729,7 +731,9 @@ START_TEST(updates_bad_pairs_ignored_with_warning)
     kelp_bhv *b = bhv("WAYPT_RETURN");
     ck_assert(b->u.swpt.desired_speed == 2.0); /* bad pair ignored */
     ck_assert(b->u.swpt.nextpt.x == 50);       /* good pair of the same update applied */
-    ck_assert(ht_has_str("UH_WAYPT_RETURN", "0 update(s), and 1 failure(s)"));
+    ck_assert_uint_eq(b->good_updates, 0);
+    ck_assert_uint_eq(b->bad_updates, 1);
+    ck_assert_uint_eq(ht_count("UH_WAYPT_RETURN"), 0);
     kelp_helm_mail_string(&g_h, "RETURN_UPDATES", "bogus = 1 # nonsense # speed = 3");
     ht_iter(1);
     ck_assert(ht_has_str("BHV_WARNING", "Faulty update for behavior: WAYPT_RETURN. Bad parameter(s): bogus,nonsense."));
@@ -1176,6 +1180,71 @@ static void tweak_default_start(kelp_helm_config *cfg)
  * variables' zeros) only when the reason changes: ManualOverride once; the first iteration with
  * nothing to do posts the reason without zeros, the next posts it again with the zeros, then
  * nothing until the reason changes */
+/* IVPHELM_REGISTER as 24.8's registerNewVariables (HelmIvP.cpp, BehaviorSet::getInfoVars /
+ * getNewInfoVars, IvPBehavior::getInfoVars): at the first engaged iteration each behaviour's
+ * information variables -- its conditions', its duration_reset variable, the ones it adds itself
+ * (BHV_Waypoint: NAV_X, NAV_Y, NAV_SPEED), its updates variable -- then the mode declarations',
+ * each once, in that order (the order of 24.8's s1_alpha recording); none while parked, none
+ * again after */
+START_TEST(register_info_vars_as_248)
+{
+    g_tweak = tweak_default_start;
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = survey\n condition = RETURN = false\n condition = DEPLOY = true\n"
+            " updates = WPT_UPDATE\n speed = 2\n points = 0,50:50,50\n}\n"
+            "Behavior = BHV_Waypoint\n{\n name = ret\n condition = RETURN = true\n condition = DEPLOY = true\n"
+            " updates = RETURN_UPDATE\n speed = 2\n points = 0,0\n}\n"
+            "Behavior = BHV_ConstantSpeed\n{\n name = cs\n condition = SPD = true\n speed = 0.5\n duration = 10\n"
+            " duration_reset = CONST_SPD_RESET = true\n updates = SPEED_UPDATE\n perpetual = true\n}\n");
+    nav(0, 0);
+    kelp_helm_mail_string(&g_h, "DEPLOY", "true");
+    ht_iter(0);
+    ck_assert(ht_has_str("IVPHELM_STATE", "PARK"));
+    ck_assert_uint_eq(ht_count("IVPHELM_REGISTER"), 0);
+    kelp_helm_mail_string(&g_h, "MOOS_MANUAL_OVERRIDE", "false");
+    ht_iter(1);
+    static const char *const want[] = {"RETURN", "DEPLOY", "NAV_X", "NAV_Y", "NAV_SPEED", "WPT_UPDATE",
+                                       "RETURN_UPDATE", "SPD", "CONST_SPD_RESET", "SPEED_UPDATE"};
+    unsigned k = 0;
+    for (unsigned i = 0; i < g_nposts; i++)
+        if (!strcmp(g_posts[i].var, "IVPHELM_REGISTER")) {
+            ck_assert_msg(k < sizeof want / sizeof want[0], "extra %s", g_posts[i].sval);
+            ck_assert_str_eq(g_posts[i].sval, want[k]);
+            k++;
+        }
+    ck_assert_uint_eq(k, sizeof want / sizeof want[0]);
+    ht_iter(2);
+    ck_assert_uint_eq(ht_count("IVPHELM_REGISTER"), 0);
+}
+END_TEST
+
+/* $[DUR_RUN_TIME] / $[DUR_IDLE_TIME] (IvPBehavior::expandMacros, updateStateDurations): the time
+ * the behaviour has spent running / idle, each iteration's time since the previous one counted,
+ * at the iteration's end, to the state it is in then; 3 decimals trimmed; 24.8's s1_alpha posts SUMMARY=speed=3,time=232.009 at its survey's end */
+START_TEST(macro_dur_run_time)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_Waypoint\n{\n name = s\n condition = GO = true\n speed = 2\n points = 0,1000\n"
+            " runflag = RUNT = $[DUR_RUN_TIME]\n activeflag = ACT = t=$[DUR_RUN_TIME],i=$[DUR_IDLE_TIME]\n"
+            " inactiveflag = OFF = i=$[DUR_IDLE_TIME]\n perpetual = true\n}\n");
+    nav(0, 0);
+    kelp_helm_mail_string(&g_h, "GO", "false");
+    ht_iter(0);
+    ht_iter(1.5); /* idle 1.5 s */
+    kelp_helm_mail_string(&g_h, "GO", "true");
+    ht_iter(2.0); /* running: the 0.5 s since 1.5 counts as running once this iteration ends */
+    ck_assert_msg(ht_has_str("ACT", "t=0,i=1.5"), "%s", ht_last("ACT") ? ht_last("ACT")->sval : "none");
+    ht_iter(2.25);
+    ht_iter(4.75);
+    kelp_helm_mail_string(&g_h, "GO", "false");
+    ht_iter(5.0); /* idle: 0.25 s more idle at this iteration's end; running 4.75 - 1.5 */
+    ck_assert_msg(ht_has_str("OFF", "i=1.5"), "%s", ht_last("OFF") ? ht_last("OFF")->sval : "none");
+    kelp_helm_mail_string(&g_h, "GO", "true");
+    ht_iter(6.125);
+    ck_assert_msg(ht_has_str("ACT", "t=3.25,i=1.75"), "%s", ht_last("ACT") ? ht_last("ACT")->sval : "none");
+}
+END_TEST
+
 START_TEST(helm_starts_parked)
 {
     g_tweak = tweak_default_start;
@@ -1462,6 +1531,8 @@ Suite *kelp_helm_suite(void)
     tcase_add_test(tc, post_emessage_all_stop);
     tcase_add_test(tc, manual_override_parks);
     tcase_add_test(tc, helm_starts_parked);
+    tcase_add_test(tc, register_info_vars_as_248);
+    tcase_add_test(tc, macro_dur_run_time);
     tcase_add_test(tc, helm_v248_postings);
     tcase_add_test(tc, park_policies_and_other_override);
     tcase_add_test(tc, domain_lines);

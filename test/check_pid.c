@@ -142,9 +142,13 @@ START_TEST(marine_pid_iteration)
     r.n = 0;
     kelp_pid_marine_iterate(&m, 4.2, sink, &r);
     kelp_pid_marine_iterate(&m, 4.3, sink, &r);
-    ck_assert_int_eq(r.n, 1);
+    /* PID_HAS_CONTROL, then at each iteration the four stale inputs again (24.8 checks them
+     * with or without control), no output */
+    ck_assert_int_eq(r.n, 9);
     ck_assert_str_eq(r.var[0], "PID_HAS_CONTROL");
     ck_assert(r.v[0] == 0);
+    for (int i = 1; i < 9; i++)
+        ck_assert_str_eq(r.var[i], "PID_STALE");
 }
 END_TEST
 
@@ -472,6 +476,31 @@ START_TEST(marine_pid_stale_text)
 }
 END_TEST
 
+/* without control (before DEPLOY, MOOS_MANUAL_OVERRIDE unset) PIDEngine::setDesiredValues still
+ * checks its inputs once each has come: 24.8's s1_alpha run posts "Stale DesSpd:2.936" 5 s
+ * before its DEPLOY; the outputs stay the one all-stop */
+START_TEST(marine_pid_stale_without_control)
+{
+    kelp_pid_marine_cfg c;
+    kelp_pid_marine_cfg_default(&c);
+    kelp_pid_marine m;
+    ck_assert_int_eq(kelp_pid_marine_init(&m, &c, 0), 0);
+    srec r = { 0 };
+    kelp_pid_marine_iterate(&m, 0.5, ssink, &r); /* nothing yet: the all-stop zeros only */
+    unsigned zeros = r.n;
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "DESIRED_SPEED", false, NULL, 0, 1), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "DESIRED_HEADING", false, NULL, 0, 1), 1);
+    kelp_pid_marine_iterate(&m, 3.5, ssink, &r); /* the nav has not come: waiting, no staleness */
+    ck_assert_uint_eq(r.n, zeros);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "NAV_HEADING", false, NULL, 0, 3.5), 1);
+    ck_assert_int_eq(kelp_pid_marine_mail(&m, "NAV_SPEED", false, NULL, 0, 3.5), 1);
+    kelp_pid_marine_iterate(&m, 3.75, ssink, &r);
+    ck_assert_uint_eq(r.n, zeros + 2);
+    ck_assert_str_eq(r.text[zeros], "PID_STALE=Stale DesHdg:2.75");
+    ck_assert_str_eq(r.text[zeros + 1], "PID_STALE=Stale DesSpd:2.75");
+}
+END_TEST
+
 /* a stale helm takes control away (PIDEngine::hasControl): pMarinePIDV22 posts the zeros
  * once (MarinePID::postPengineResults), nothing more while stale, its outputs again when the
  * helm is back */
@@ -582,6 +611,7 @@ Suite *kelp_pid_suite(void)
     tcase_add_test(tc, usim_v22_nav_modulo);
     tcase_add_test(tc, marine_pid_first_command);
     tcase_add_test(tc, marine_pid_stale_text);
+    tcase_add_test(tc, marine_pid_stale_without_control);
     tcase_add_test(tc, marine_pid_stale_allstop);
     suite_add_tcase(s, tc);
     return s;

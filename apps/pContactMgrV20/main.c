@@ -198,7 +198,7 @@ static const kelp_app_def def = {
         { "<report var>", "vid_0027,vid_0197", "BCM_REPORT_REQUEST's var" },
         { "ALERT_VERBOSE", "new_contact=gus", "if alert_verbose" },
         { "BHV_ABLE_FILTER", "contact=henry,action=disable", "at disable_var/enable_var/expunge_var mail" },
-        { "VIEW_CIRCLE", "x=-150.3,y=-117.5,radius=10,duration=3,label=avd_in,edge_color=gray70", "if display_radii" },
+        { "VIEW_CIRCLE", "x=-150.3,y=-117.5,radius=100,label=alert_ben,edge_color=gray65,time=17514261063.3,duration=3,vertex_size=0,edge_size=1", "if display_radii" },
         { "PCONTACTMGRV20_PID", "3988", NULL },
         { NULL, NULL, NULL } },
     .notes = "Globals used: Community (ownship), LatOrigin, LongOrigin.\n",

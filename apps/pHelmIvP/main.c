@@ -66,8 +66,11 @@ static double cpu_seconds(void *user)
 static void register_new(kelp_app *app, helm_app *a, bool starting)
 {
     for (const char *v; (v = kelp_helm_next_new_var(a->h)) != NULL;) {
-        if (kelp_app_register(app, v, 0) == 0) KELP_IGNORE(kelp_app_notify_string(app, "IVPHELM_REGISTER", v));
-        else if (starting) kelp_app_config_warning(app, "cannot register for %s", v);
+        /* at start-up each is announced (24.8's registerVariables); at run time the helm itself
+         * announces the behaviours' new information variables (registerNewVariables) */
+        if (kelp_app_register(app, v, 0) == 0) {
+            if (starting) KELP_IGNORE(kelp_app_notify_string(app, "IVPHELM_REGISTER", v));
+        } else if (starting) kelp_app_config_warning(app, "cannot register for %s", v);
         else kelp_app_run_warning(app, "cannot register for %s", v);
     }
 }
@@ -298,7 +301,6 @@ static const kelp_app_def def = {
         { "WPT_EFF_SUMM_LEG", "vname=abe, bhv_name=survey, linear_dist=42.1, odo_dist=43.8, efficiency_dist=0.961, ...",
           "BHV_Waypoint with efficiency_measure = all, at each point after the first: the leg's and (WPT_EFF_SUMM_ALL)"
           " the run's distances and times; WPT_EFF_DIST_LEG/_ALL, WPT_EFF_TIME_LEG/_ALL their ratios (+ post_suffix)" },
-        { "UH_<behaviour>", "points=0,0:10,10", "the behaviour's update replies" },
         { "VIEW_POINT", "x=10,y=20,label=alpha", "behaviour postings: VIEW_SEGLIST, VIEW_POLYGON, WPT_STAT,"
           " WPT_INDEX, CYCLE_INDEX (on change), LOITER_INDEX, LOITER_ACQUIRE, LOITER_REPORT, the variables"
           " wpt_index_var / cycle_index_var name, flags" },

@@ -403,6 +403,7 @@ struct kelp_bhv {
     double state_entered;              /**< buffer time the current state began */
     bool dur_started;
     double dur_start, dur_idle_time, dur_prev_time, dur_reset_stamp;
+    double dur_run_total, dur_idle_total; /**< $[DUR_RUN_TIME] / $[DUR_IDLE_TIME]: time running / idle since the start or a duration reset */
     bool dur_have_prev;
     const char *fail;                  /**< reason of a rejected parameter (first wins) */
     union {
@@ -639,6 +640,10 @@ struct kelp_helm {
     /* variables the helm needs (registration list) */
     char need[KELP_HELM_MAX_VARS][KELP_MAX_NAME];
     unsigned nneed, nneed_reported;
+    /* IVPHELM_REGISTER at run time (24.8's registerNewVariables): need[i] posted as one of the
+     * behaviours' information variables; the behaviour count (ever) at the last walk, plus 1 */
+    uint8_t info_posted[KELP_HELM_MAX_VARS];
+    unsigned long info_walked;
     /* postings of the current iteration */
     kelp_helm_qpost q[KELP_HELM_MAX_POSTS];
     unsigned nq;

@@ -1045,7 +1045,10 @@ int kelp_app_run(int argc, char **argv, const kelp_app_def *def, void *state)
     double real_hz = app->app_tick > 0 ? app->app_tick * app->warp : MAX_REAL_HZ;
     if (real_hz > MAX_REAL_HZ) real_hz = MAX_REAL_HZ;
     double period = 1.0 / real_hz;
-    double next_iter = wall_now();
+    /* a MOOS app's first Iterate comes one AppTick period after OnStartUp (its loop sleeps
+     * first): what counts from the start (m_start_time) and what counts from the first
+     * iteration are a period apart there and here */
+    double next_iter = wall_now() + period;
     double status_period = app->tty ? STATUS_PERIOD_TTY : STATUS_PERIOD_LOG;
     double next_status = wall_now() + (app->tty ? 0.5 : 2.0);
     int rc_exit = 0;

@@ -579,6 +579,10 @@ void helm_expand_macros(const kelp_bhv *b, const char *in, char *out, size_t cap
                 } else if (ml == 3 && !strncmp(m, "UTC", ml) && b->helm) {
                     hx_fmt_x(num, sizeof b->helm->ws_macro, b->helm->t0 + kelp_helm_bhv_buf_now(b), 3);
                     g = num;
+                } else if (num && ((ml == 12 && !strncmp(m, "DUR_RUN_TIME", ml)) ||
+                                   (ml == 13 && !strncmp(m, "DUR_IDLE_TIME", ml)))) {
+                    hx_fmt_x(num, sizeof b->helm->ws_macro, m[4] == 'R' ? b->dur_run_total : b->dur_idle_total, 3);
+                    g = num;
                 }
                 if (g) have = hx_copy(val, room, g, strlen(g));
                 else if (b->ops == &kelp_bhv_avoid_collision_ops) have = helm_avoid_macro(b, m, ml, val, room);
@@ -705,6 +709,7 @@ static void duration_reset(kelp_bhv *b)
     b->dur_started = false;
     b->dur_start = -1;
     b->dur_idle_time = 0;
+    b->dur_run_total = b->dur_idle_total = 0;
     if (b->duration_status[0] && b->duration >= 0)
         kelp_helm_bhv_post_double(b, b->duration_status, b->duration, NULL);
 }
@@ -729,6 +734,9 @@ static void update_state_durations(kelp_bhv *b, bool idle, kelp_time now)
 {
     if (b->dur_have_prev && idle && b->dur_started)
         b->dur_idle_time += now - b->dur_prev_time;
+    /* 24.8's updateStateDurations: the time since the last call counts to the state now */
+    if (b->dur_have_prev && now > b->dur_prev_time)
+        *(idle ? &b->dur_idle_total : &b->dur_run_total) += now - b->dur_prev_time;
     b->dur_have_prev = true;
     b->dur_prev_time = now;
 }
@@ -847,20 +855,15 @@ KELP_NOINLINE static void post_update_result(kelp_helm *h, const kelp_bhv *b, co
     sink(h, "IVPHELM_UPDATE_RESULT", true, msg, 0, NULL);
 }
 
-/* update_summary "good/attempted" and UH_<name> (out of line: its texts stay off the deep path) */
+/* update_summary "good/attempted" (out of line: its texts stay off the deep path); 24.8 posts
+ * no per-behaviour update variable (its results go out as IVPHELM_UPDATE_RESULT) */
 KELP_NOINLINE static void update_summary(kelp_bhv *b, bool any)
 {
     char g[24], t[24];
     hx_fmt_ulong(g, sizeof g, b->good_updates);
     hx_fmt_ulong(t, sizeof t, b->good_updates + b->bad_updates);
     hx_cat(b->update_summary, sizeof b->update_summary, g, "/", t, HX_END);
-    if (any || b->good_updates + b->bad_updates) {
-        char var[KELP_MAX_NAME + 4], msg[96], f[24];
-        hx_fmt_ulong(f, sizeof f, b->bad_updates);
-        hx_cat(var, sizeof var, "UH_", b->name, HX_END);
-        hx_cat(msg, sizeof msg, g, " update(s), and ", f, " failure(s)", HX_END);
-        kelp_helm_bhv_post_string(b, var, msg, NULL);
-    }
+    (void)any;
 }
 
 KELP_NOINLINE static void check_updates(kelp_helm *h, kelp_bhv *b)
@@ -1446,6 +1449,63 @@ static void post_completed_pending(kelp_helm *h)
     }
 }
 
+/* one of the behaviours' information variables, in 24.8's order: IVPHELM_REGISTER once each */
+static void info_var(const char *var, size_t len, void *user)
+{
+    kelp_helm *h = user;
+    if (helm_need_var(h, var, len) != 0)
+        return;
+    for (unsigned i = 0; i < h->nneed; i++)
+        if (strlen(h->need[i]) == len && !memcmp(h->need[i], var, len)) {
+            if (!h->info_posted[i]) {
+                h->info_posted[i] = 1;
+                sink(h, "IVPHELM_REGISTER", true, h->need[i], 0, NULL);
+            }
+            return;
+        }
+}
+
+static void info_name(kelp_helm *h, const char *var)
+{
+    if (var[0])
+        info_var(var, strlen(var), h);
+}
+
+/* IVPHELM_REGISTER as 24.8's registerNewVariables at each engaged iteration: the behaviours'
+ * information variables not announced before (BehaviorSet::getNewInfoVars), in its order: per
+ * behaviour the variables of its conditions, its duration_reset variable, then the ones it adds
+ * itself (BHV_Waypoint NAV_X, NAV_Y, NAV_SPEED; BHV_Loiter NAV_X, NAV_Y, NAV_HEADING, NAV_SPEED;
+ * a contact behaviour BHV_ABLE_FILTER), its updates variable and a waypoint's lead_condition
+ * variables; then the variables of the mode declarations' conditions. The walk is made again
+ * only when behaviours were added (spawned). */
+KELP_NOINLINE static void post_info_vars(kelp_helm *h)
+{
+    if (h->info_walked == h->bhv_cnt_ever + 1)
+        return;
+    h->info_walked = h->bhv_cnt_ever + 1;
+    for (unsigned i = 0; i < h->nbhv; i++) {
+        const kelp_bhv *b = &h->bhv[i];
+        for (unsigned k = 0; k < b->ncond; k++)
+            KELP_IGNORE(kelp_helm_cond_check(b->cond[k], info_var, h));
+        info_name(h, b->duration_reset_var);
+        if (b->ops == &kelp_bhv_waypoint_ops || b->ops == &kelp_bhv_loiter_ops) {
+            info_name(h, "NAV_X");
+            info_name(h, "NAV_Y");
+            if (b->ops == &kelp_bhv_loiter_ops)
+                info_name(h, "NAV_HEADING");
+            info_name(h, "NAV_SPEED");
+        } else if (b->ops == &kelp_bhv_avoid_collision_ops)
+            info_name(h, "BHV_ABLE_FILTER");
+        info_name(h, b->updates);
+        if (b->ops == &kelp_bhv_waypoint_ops)
+            for (unsigned k = 0; k < b->u.wpt.nlead_cond; k++)
+                KELP_IGNORE(kelp_helm_cond_check(b->u.wpt.lead_cond[k], info_var, h));
+    }
+    for (unsigned m = 0; m < h->nmodes; m++)
+        for (unsigned k = 0; k < h->modes[m].ncond; k++)
+            KELP_IGNORE(kelp_helm_cond_check(h->modes[m].cond[k], info_var, h));
+}
+
 int kelp_helm_iterate(kelp_helm *h, kelp_time now)
 {
     if (!h || !kelp_util_time_ok(now))
@@ -1489,6 +1549,7 @@ int kelp_helm_iterate(kelp_helm *h, kelp_time now)
      * building) until the end is read: no doubles kept on this frame across the behaviours */
     r->loop_time = clk ? clk(h->cfg.user) : 0;
     if (h->engaged) {
+        post_info_vars(h);
         bool *has_fn = h->ws_has_fn;
         memset(has_fn, 0, sizeof h->ws_has_fn);
         size_t pool_used = 0;

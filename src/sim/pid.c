@@ -321,7 +321,13 @@ void kelp_pid_marine_iterate(kelp_pid_marine *m, kelp_time now, kelp_pid_marine_
     m->iterations++;
     if (m->say_control) sink(ctx, "PID_HAS_CONTROL", true, m->say_control > 0 ? "true" : "false", 0);
     m->say_control = 0;
+    bool waiting = m->stamp[0] < 0 || m->stamp[1] < 0 || m->stamp[3] < 0 || m->stamp[4] < 0 ||
+                   (m->cfg.depth_control && (m->stamp[2] < 0 || m->stamp[5] < 0 || m->stamp[6] < 0));
     if (!m->has_control) {
+        /* PIDEngine::setDesiredValues runs at every iteration, control or not: once each input
+         * has come, a stale one is posted (24.8 before DEPLOY and after the helm's last
+         * decision) */
+        if (!waiting) (void)stale_inputs(m, now, sink, ctx);
         if (m->allstop_posted) return;
         out_num(m, sink, ctx, "DESIRED_RUDDER", 0);
         out_num(m, sink, ctx, "DESIRED_THRUST", 0);
@@ -331,8 +337,6 @@ void kelp_pid_marine_iterate(kelp_pid_marine *m, kelp_time now, kelp_pid_marine_
     }
     /* PIDEngine::setDesiredValues: all zero until each input has come once, and while one is
      * stale */
-    bool waiting = m->stamp[0] < 0 || m->stamp[1] < 0 || m->stamp[3] < 0 || m->stamp[4] < 0 ||
-                   (m->cfg.depth_control && (m->stamp[2] < 0 || m->stamp[5] < 0 || m->stamp[6] < 0));
     if (waiting) {
         m->paused = true;
         post_outputs(m, sink, ctx, 0, 0, 0);

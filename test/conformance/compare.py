@@ -1045,6 +1045,9 @@ def pathcheck_figures(G, K, Gw, Kw, tol, dur, vmax, period):
     return figs
 
 
+ANSWER_SKEW_S = 0.1
+
+
 def rangesensor_figures(G, K, Gw, Kw, tol, vmax, pfx):
     """uFldBeaconRangeSensor / uFldContactRangeSensor: per request of the script, who is answered
     by which beacon or contact at what range (ranges within what the vehicles move in tol); the
@@ -1058,11 +1061,16 @@ def rangesensor_figures(G, K, Gw, Kw, tol, vmax, pfx):
         reqs = [r for r in rows if r["var"] == pfx + "_RANGE_REQUEST" and r["src"] == "driver"]
         reps = [r for r in rows if r["var"] == pfx + "_RANGE_REPORT" and r["src"] == app and r["type"] == "string"]
         out = []
+        # a recording made over MOOS stamps the app's answers on the app's clock and the
+        # driver's requests at their script times: an answer can read up to ~0.05 s before its
+        # request (crs_n1_uniform: 4.955 for a request at 5.000); ANSWER_SKEW_S keeps it with its
+        # request (no app answers within 0.1 s of a request: they answer at their next iteration)
+        sk = ANSWER_SKEW_S
         for i, q in enumerate(reqs):
-            end = reqs[i + 1]["t"] if i + 1 < len(reqs) else q["t"] + 2 * tol
+            end = reqs[i + 1]["t"] - sk if i + 1 < len(reqs) else q["t"] + 2 * tol
             got = []
             for r in reps:
-                if q["t"] <= r["t"] < end:
+                if q["t"] - sk <= r["t"] < end:
                     d = dict(kv_pairs(r["val"]) or [])
                     got.append((d.get("vname", ""), d.get(key, ""), float(d["range"]) if is_num(d.get("range", "")) else None))
             out.append((q["val"], got))
@@ -1448,6 +1456,9 @@ def self_test(args):
     return 0
 
 
+FIRST_ITER_MAX_UP = 1.5
+
+
 def app_phase(golden_dir, scn):
     """"APP PERIOD PHASE UPTIME" for a one-app mission: the app's iteration period (MOOS s,
     1/AppTick), where in it the recorded app's posts of its first two seconds after t0 fell
@@ -1470,6 +1481,17 @@ def app_phase(golden_dir, scn):
             u = dict(kv_pairs(r["val"]) or []).get("Uptime", "")
             if is_num(u):
                 up = float(u) - r["t"]
+                # a MOOS app starts up (OnStartUp: m_start_time) once connected to its
+                # MOOSDB, 0.6-0.75 s after its process started in these recordings, and
+                # iterates first one period later (its first status, posted at its first
+                # iteration, says when: Uptime 0.85-1.01); kelp's app starts up at once and
+                # iterates first one period later too. What counts from the start-up (the
+                # hazard sensor's reset times) or from the first iteration (a beacon's
+                # unsolicited timer, 24.8's m_iteration == 1) lines up when kelp's uptime at t0
+                # is the recorded one less the connection time. A recording that begins after
+                # the first status keeps the uptime as it is.
+                if float(u) < FIRST_ITER_MAX_UP:
+                    up -= max(0.0, float(u) - period)
                 break
     if not ts or up is None:
         return ""

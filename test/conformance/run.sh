@@ -83,6 +83,12 @@ if [ "${1:-}" = --inside ]; then
     "$OUT/$scn.jsonl" "$OUT/$scn.meta.json") > "$OUT/$scn.driver.log" 2>&1 &
   dp=$!
   for _ in $(seq 200); do [ -e "$W/.joined" ] || ! kill -0 $dp 2>/dev/null && break; sleep 0.05; done
+  # a one-app mission whose recorded uptime at t0 is shorter than the driver's settle (the
+  # recorded app's first iteration came ~0.9 s after its start: compare.py --phase) starts that
+  # much later, so that kelp's app can be as young at t0 as the recorded one was
+  lag=$(awk -v up="$(echo "$phase" | awk '{print $4}')" '$1=="settle"{s=$2} $1=="warp"{w=$2}
+        END{if(up==""||w<=0){print 0; exit} d=s+0.1-up/w; print (d>0?d:0)}' "$SC/missions/$scn.scn")
+  sleep "$lag"
   (cd "$W" && exec "$BUILD/bin/kelp-launch" "$scn.moos") > "$OUT/$scn.launch.log" 2>&1 &
   lp=$!
   wait $dp
