@@ -730,7 +730,7 @@ KELP_NOINLINE static void post_duration_status(kelp_bhv *b, kelp_time now)
         kelp_helm_bhv_post_int(b, b->duration_status, rem, NULL);
 }
 
-static void update_state_durations(kelp_bhv *b, bool idle, kelp_time now)
+KELP_NOINLINE static void update_state_durations(kelp_bhv *b, bool idle, kelp_time now)
 {
     if (b->dur_have_prev && idle && b->dur_started)
         b->dur_idle_time += now - b->dur_prev_time;
