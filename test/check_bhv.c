@@ -882,6 +882,89 @@ START_TEST(priority_weights_trade_off)
 }
 END_TEST
 
+/* ---------------------------------------------------------------- BHV_StationKeep (24.8) */
+
+/* the station from station_pt; the first run only takes the station (24.8's updateInfoIn
+ * returns before measuring: speed 0 that time); then extra_speed beyond the outer radius,
+ * outer_speed scaled between the radii, 0 inside the inner one; the course toward the station;
+ * BHV_SETTINGS at the first run, the three circles, PSKEEP_MODE, DIST_TO_STATION */
+START_TEST(stationkeep_speeds_and_posts)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_StationKeep\n{\n name = sk\n station_pt = 0,-40\n inner_radius = 4\n"
+            " outer_radius = 15\n outer_speed = 1.2\n transit_speed = 2.5\n visual_hints = vertex_size=2, edge_color=gray\n}\n");
+    nav(0, 0); /* 40 m north of the station */
+    ht_iter(0);
+    ck_assert(ht_has_str("BHV_SETTINGS", "type=BHV_StationKeep,name=sk,x=0.00,y=-40.00,inner_radius=4.0,outer_radius=15.0,"
+                                         "hibernation_radius=-1.0,outer_speed=1.2,center_activate=false"));
+    ck_assert(ht_num("DESIRED_SPEED") == 0);
+    ck_assert(ht_has_str("VIEW_POLYGON", "radial:: x=0.0,y=-40.0,source=alder:sk,pts=32,edge_size=1,vertex_size=2,"
+                                         "edge_color=gray,label_color=white,vertex_color=red,label=alder"
+                                         ":station-keep-in,radius=4.0"));
+    ck_assert_uint_eq(ht_count("VIEW_POLYGON"), 2); /* no hibernation circle: its radius is not beyond the outer */
+    nav(0, 0);
+    ht_iter(0.25);
+    ck_assert(ht_num("DIST_TO_STATION") == 40);
+    ck_assert(ht_has_str("PSKEEP_MODE", "SEEKING_STATION"));
+    ck_assert_msg(fabs(ht_num("DESIRED_SPEED") - 2.4) < 1e-9 || fabs(ht_num("DESIRED_SPEED") - 2.6) < 1e-9, "%g",
+                  ht_num("DESIRED_SPEED")); /* 2.5 lies between two points of the 0.2 grid */
+    ck_assert(ht_num("DESIRED_HEADING") == 180);
+    ck_assert_uint_eq(ht_count("VIEW_POLYGON"), 0); /* unchanged: the duplicate filter keeps them */
+    nav(9.5, -40); /* between the radii: (9.5 - 4) / 11 x 1.2 = 0.6, course west */
+    ht_iter(0.5);
+    ck_assert(fabs(ht_num("DESIRED_SPEED") - 0.6) < 1e-9);
+    ck_assert(ht_num("DESIRED_HEADING") == 270);
+    nav(0, -37); /* inside the inner radius */
+    ht_iter(0.75);
+    ck_assert(ht_num("DESIRED_SPEED") == 0);
+    ck_assert(ht_has_str("PSKEEP_MODE", "HIBERNATING")); /* inside: hibernating (24.8 even without a radius) */
+}
+END_TEST
+
+/* hibernation_radius: drifting inside it (speed 0, HIBERNATING), seeking once beyond it, back to
+ * hibernating inside the inner radius; the circles made inactive when it stops running */
+START_TEST(stationkeep_hibernation)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_StationKeep\n{\n name = sk\n condition = GO = true\n station_pt = 0,0\n"
+            " hibernation_radius = 20\n}\n");
+    kelp_helm_mail_string(ht_helm(), "GO", "true");
+    nav(0, 10);
+    ht_iter(0);
+    ck_assert(ht_has_str("PSKEEP_MODE", "HIBERNATING"));
+    ck_assert(ht_has_sub("VIEW_POLYGON", "station-keep-hiber,radius=20.0"));
+    nav(0, 10);
+    ht_iter(0.25); /* inside the hibernation radius: still drifting */
+    ck_assert_uint_eq(ht_count("PSKEEP_MODE"), 0);
+    ck_assert(ht_num("DESIRED_SPEED") == 0);
+    nav(0, 21);
+    ht_iter(0.5);
+    ck_assert(ht_has_str("PSKEEP_MODE", "SEEKING_STATION"));
+    ck_assert(ht_num("DESIRED_SPEED") > 2);
+    nav(0, 3);
+    ht_iter(0.75);
+    ck_assert(ht_has_str("PSKEEP_MODE", "HIBERNATING"));
+    kelp_helm_mail_string(ht_helm(), "GO", "false");
+    ht_iter(1.0);
+    ck_assert(ht_has_sub("VIEW_POLYGON", "station-keep-out,radius=15.0,active=false"));
+}
+END_TEST
+
+/* center_activate: the station is where the vehicle is when it starts running */
+START_TEST(stationkeep_center_activate)
+{
+    ht_setup(DOM2, NULL);
+    ht_load("Behavior = BHV_StationKeep\n{\n name = sk\n center_activate = true\n}\n");
+    nav(30, 40);
+    ht_iter(0);
+    nav(30, 60);
+    ht_iter(0.25);
+    ck_assert(ht_num("DIST_TO_STATION") == 20);
+    ck_assert(ht_num("DESIRED_HEADING") == 180);
+    ck_assert_int_eq(ht_load_rc("Behavior = BHV_StationKeep\n{\n name = bad\n outer_radius = -3\n}\n") < 0, 1);
+}
+END_TEST
+
 Suite *kelp_bhv_suite(void);
 Suite *kelp_bhv_suite(void)
 {
@@ -889,6 +972,9 @@ Suite *kelp_bhv_suite(void)
     TCase *tc = tcase_create("behaviours");
     tcase_set_timeout(tc, 30);
     tcase_add_test(tc, relang_examples);
+    tcase_add_test(tc, stationkeep_speeds_and_posts);
+    tcase_add_test(tc, stationkeep_hibernation);
+    tcase_add_test(tc, stationkeep_center_activate);
     tcase_add_test(tc, swpt_zaic_pieces_figure5);
     tcase_add_test(tc, swpt_reflector_aof_values);
     tcase_add_test(tc, swpt_reflector_function);

@@ -35,7 +35,9 @@ typedef struct helm_app {
 static void sink(const kelp_helm_post *p, void *user)
 {
     helm_app *a = user;
-    int rc = p->is_str ? kelp_app_notify_string(a->app, p->var, p->sval) : kelp_app_notify_double(a->app, p->var, p->dval);
+    /* a behaviour's posting carries "<iteration>:<behaviour>" as its source aux (24.8's
+     * Notify(var, value, aux): pLogger writes pHelmIvP:12:survey) */
+    int rc = kelp_app_notify_aux(a->app, p->var, p->is_str, p->sval, p->dval, p->aux);
     if (rc < 0) kelp_app_run_warning(a->app, "publish of %s failed", p->var);
     else a->posts++;
     if (p->is_str && !strcmp(p->var, "IVPHELM_SUMMARY"))
@@ -75,6 +77,17 @@ static void register_new(kelp_app *app, helm_app *a, bool starting)
     }
 }
 
+/* the block's `key` lines (at most cap, else a configuration error), to be read last first */
+static int lines(kelp_app *app, const char *key, const kelp_mission_node **out, int cap)
+{
+    int n = 0;
+    for (const kelp_mission_node *l = NULL; (l = kelp_app_param_next(app, key, l)) != NULL;) {
+        if (n == cap) return kelp_app_config_error(app, l, "more than %d %s lines", cap, key);
+        out[n++] = l;
+    }
+    return n;
+}
+
 static int startup(kelp_app *app, void *st)
 {
     helm_app *a = st;
@@ -87,10 +100,19 @@ static int startup(kelp_app *app, void *st)
     cfg.cpu_clock = cpu_seconds;
     kelp_diag dd = {0};
     char buf[256];
-    for (const kelp_mission_node *n = NULL; (n = kelp_app_param_next(app, "Domain", n)) != NULL;)
+    /* MOOS's GetConfiguration hands a block's lines to the app last line first, and 24.8's
+     * helm adds its domain variables in that order: "domain = course..." then "domain =
+     * speed..." is the domain speed:course (IVPHELM_DOMAIN, the summary, DESIRED_SPEED posted
+     * before DESIRED_HEADING) */
+    const kelp_mission_node *dl[KELP_IVP_MAX_DIM];
+    int ndl = lines(app, "Domain", dl, KELP_IVP_MAX_DIM);
+    if (ndl < 0) return -1;
+    while (ndl > 0) {
+        const kelp_mission_node *n = dl[--ndl];
         if (kelp_mission_copy(n, buf, sizeof buf) != 0 || kelp_helm_config_add_domain(&cfg, buf, &dd) < 0)
             return kelp_app_config_error(app, n, "Domain '%.*s': %s", (int)n->vlen, n->val,
                                          dd.code != KELP_OK ? kelp_diag_text(&dd) : "too long");
+    }
     if (cfg.domain.dim == 0)
         return kelp_app_config_error(app, NULL, "ProcessConfig = %s needs Domain = name:low:high:points lines",
                                      kelp_app_name(app));
@@ -135,7 +157,12 @@ static int startup(kelp_app *app, void *st)
     if (kelp_helm_init(a->h, &cfg, &a->mem) < 0)
         return kelp_app_config_error(app, NULL, "helm init failed");
 
-    for (const kelp_mission_node *n = NULL; (n = kelp_app_param_next(app, "Behaviors", n)) != NULL;) {
+    /* the Behaviors lines last first, as 24.8's helm reads its block (the Domain lines above) */
+    const kelp_mission_node *bl[MAX_BHV_FILES];
+    int nbl = lines(app, "Behaviors", bl, MAX_BHV_FILES);
+    if (nbl < 0) return -1;
+    while (nbl > 0) {
+        const kelp_mission_node *n = bl[--nbl];
         char file[256];
         if (a->nfiles >= MAX_BHV_FILES || kelp_mission_copy(n, file, sizeof file) != 0)
             return kelp_app_config_error(app, n, "too many or too long Behaviors lines");
@@ -286,7 +313,8 @@ static const kelp_app_def def = {
         { "BHV_STATUS", "name=survey,state=active,updates=0/0", "per behaviour, when it changes" },
         { "IVPHELM_UPDATE_RESULT", "bhv=survey,var=WPT_UPDATE,time=12.25,result=success,val=speed=2",
           "each update read: success, param_error, duplicate or name_mismatch" },
-        { "IVPHELM_REGISTER", "NAV_X", "each variable the helm registers for" },
+        { "IVPHELM_REGISTER", "NAV_X", "each variable the helm registers for: at start, then the behaviours'"
+          " information variables at the first decision and when a behaviour is spawned" },
         { "IVPHELM_CPU", "1.25", "the helm's CPU load (percent of one core)" },
         { "IVPHELM_LEDGER_SUMMARY", "now:2, reps:31, who:ben,cal", "every iteration once NAV_X/NAV_Y are known" },
         { "IVPHELM_COMPLETED_PENDING", "false", "on change: true in the iteration a behaviour completes" },
@@ -304,6 +332,8 @@ static const kelp_app_def def = {
         { "VIEW_POINT", "x=10,y=20,label=alpha", "behaviour postings: VIEW_SEGLIST, VIEW_POLYGON, WPT_STAT,"
           " WPT_INDEX, CYCLE_INDEX (on change), LOITER_INDEX, LOITER_ACQUIRE, LOITER_REPORT, the variables"
           " wpt_index_var / cycle_index_var name, flags" },
+        { "DIST_TO_STATION", "12.4", "BHV_StationKeep each run; also PSKEEP_MODE (HIBERNATING, SEEKING_STATION),"
+          " its radii as VIEW_POLYGON" },
         { NULL, NULL, NULL } },
     .startup = startup,
     .on_mail = on_mail,

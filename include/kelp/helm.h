@@ -343,6 +343,20 @@ typedef struct kelp_bhv_avoid {        /* BHV_AvoidCollision (MOOS-IvP's paramet
     bool nav_warned;
 } kelp_bhv_avoid;
 
+#define KELP_SKEEP_HIST 240           /**< BHV_StationKeep's distance history: 10 s of iterations up to 24 Hz */
+typedef struct kelp_bhv_skeep {       /* BHV_StationKeep (MOOS-IvP 24.8's) */
+    double station_x, station_y;       /**< the station in use */
+    double static_x, static_y;         /**< station_pt / point */
+    bool static_defined, center_activate, center_pending, station_set, was_running;
+    double outer_radius, inner_radius, outer_speed, extra_speed, pskeep_radius, swing_time;
+    double dist, mark_time, osx, osy, osh;
+    uint8_t pskeep_state, transit_state; /**< hibernation and transit states (bhv_skeep.c) */
+    char vertex_color[24], edge_color[24], label_color[24];
+    double vertex_size, edge_size;
+    double hist_d[KELP_SKEEP_HIST], hist_t[KELP_SKEEP_HIST]; /**< distance history, a ring */
+    unsigned hist_n, hist_head;        /**< entries; index of the newest */
+} kelp_bhv_skeep;
+
 typedef struct kelp_bhv_c1 {           /* BHV_ConstantDepth / ConstantSpeed / ConstantHeading */
     double value, peakwidth, basewidth, summitdelta;
     bool have_value;
@@ -412,6 +426,7 @@ struct kelp_bhv {
         kelp_bhv_loiter loiter;
         kelp_bhv_c1 c1;
         kelp_bhv_avoid avoid;
+        kelp_bhv_skeep skeep;
         double raw[64];                /**< for behaviour types outside kelp (cast it) */
     } u;
 };
@@ -473,6 +488,7 @@ extern const kelp_bhv_ops kelp_bhv_constant_depth_ops;
 extern const kelp_bhv_ops kelp_bhv_constant_speed_ops;
 extern const kelp_bhv_ops kelp_bhv_constant_heading_ops;
 extern const kelp_bhv_ops kelp_bhv_avoid_collision_ops;
+extern const kelp_bhv_ops kelp_bhv_station_keep_ops;
 /** BHV_AvoidCollision's objective at (course, speed): CPA range within the horizon mapped to
  *  utility 0 at or inside min_util_cpa_dist, 100 at or beyond max_util_cpa_dist, linear between. */
 #ifndef KELP_BHV_AVD_UNITS

@@ -130,5 +130,6 @@ const kelp_bhv_ops kelp_bhv_constant_heading_ops = {
 
 const kelp_bhv_ops *const kelp_bhv_builtin_types[] = {
     &kelp_bhv_simple_waypoint_ops, &kelp_bhv_waypoint_ops, &kelp_bhv_loiter_ops,
-    &kelp_bhv_constant_depth_ops, &kelp_bhv_constant_speed_ops, &kelp_bhv_constant_heading_ops, &kelp_bhv_avoid_collision_ops, NULL,
+    &kelp_bhv_constant_depth_ops, &kelp_bhv_constant_speed_ops, &kelp_bhv_constant_heading_ops, &kelp_bhv_avoid_collision_ops,
+    &kelp_bhv_station_keep_ops, NULL,
 };

@@ -670,19 +670,8 @@ KELP_NOINLINE static bool wpt_advance(kelp_bhv *b, unsigned *ev)
     wpt_start_point(b);
     if (s->npts == 0)
         return false;
-    bool ok1 = kelp_helm_bhv_buf_double(b, "NAV_X", &s->osx);
-    bool ok2 = kelp_helm_bhv_buf_double(b, "NAV_Y", &s->osy);
-    if (!ok1 || !ok2) {
-        kelp_helm_bhv_post_error(b, "No ownship X/Y info in info_buffer.");
+    if (!bhv_platform_info(b, &s->osx, &s->osy, &s->osh))
         return false;
-    }
-    double h;
-    if (!kelp_helm_bhv_buf_double(b, "NAV_HEADING", &h)) {
-        kelp_helm_bhv_post_error(b, "No ownship heading info in info_buffer.");
-        return false;
-    }
-    s->osh = fmod(h, 360.0);
-    if (s->osh < 0) s->osh += 360.0;
     if (s->greedy_pending) {
         s->greedy_pending = false;
         wpt_greedy(s);

@@ -300,3 +300,21 @@ int bhv_course_couple(kelp_bhv *b, const kelp_helm_work *w, double course, const
         return rc;
     return kelp_ivp_couple(crs, course_pct, spd, 100 - course_pct, true, 0, 100, w->out, w->out_cap, out);
 }
+
+bool bhv_platform_info(kelp_bhv *b, double *osx, double *osy, double *osh)
+{
+    bool ok1 = kelp_helm_bhv_buf_double(b, "NAV_X", osx);
+    bool ok2 = kelp_helm_bhv_buf_double(b, "NAV_Y", osy);
+    if (!ok1 || !ok2) {
+        kelp_helm_bhv_post_error(b, "No ownship X/Y info in info_buffer.");
+        return false;
+    }
+    double h;
+    if (!kelp_helm_bhv_buf_double(b, "NAV_HEADING", &h)) {
+        kelp_helm_bhv_post_error(b, "No ownship heading info in info_buffer.");
+        return false;
+    }
+    *osh = fmod(h, 360.0);
+    if (*osh < 0) *osh += 360.0;
+    return true;
+}

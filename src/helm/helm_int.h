@@ -114,6 +114,9 @@ int bhv_course_couple(kelp_bhv *b, const kelp_helm_work *w, double course, const
 int bhv_zaic1(kelp_bhv *b, const kelp_helm_work *w, const char *var, double summit, double pw, double bw, double sd,
               bool wrap, kelp_ivp_func *out);
 
+/* IvPBehavior::updatePlatformInfo: ownship's X, Y and heading (in [0,360)) from the buffer; a
+ * BHV_ERROR (which halts the helm) and false when one is missing */
+bool bhv_platform_info(kelp_bhv *b, double *osx, double *osy, double *osh);
 /* snapToStep as MOOS-IvP rounds: v to the nearest multiple of step, a tie away from zero */
 double bhv_snap_step(double v, double step);
 /* projectPoint: (*x, *y) moved dist along compass bearing deg (exactly along an axis at 0, 90,

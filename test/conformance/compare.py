@@ -274,6 +274,17 @@ def compare(scn, golden_dir, kelp_dir):
         ok = gv == kv
         figs.append(Figure("vars/%s" % app, ok, "" if ok else "only 24.8: %s; only kelp: %s" % (
             sorted(gv - kv), sorted(kv - gv))))
+        # the source aux of an app's postings (the helm's "<iteration>:<behaviour>"): per variable
+        # the set of aux texts with their digits masked, where the recording has any
+        gaux, kaux = collections.defaultdict(set), collections.defaultdict(set)
+        for (s_, a_, v_), rr in by.items():
+            if a_ == app:
+                for r in rr:
+                    (gaux if s_ == "g" else kaux)[v_].add(re.sub(r"\d+", "#", r.get("aux") or ""))
+        bad = sorted(v for v in gaux if v in kaux and any(gaux[v]) and gaux[v] != kaux[v])
+        if any(any(x) for x in gaux.values()):
+            figs.append(Figure("aux/%s" % app, not bad, "" if not bad else "; ".join(
+                "%s: 24.8 %s, kelp %s" % (v, sorted(gaux[v]), sorted(kaux[v])) for v in bad[:4])))
         for var in sorted(gv | kv):
             g = by.get(("g", app, var), [])
             k = by.get(("k", app, var), [])
