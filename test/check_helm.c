@@ -759,6 +759,7 @@ START_TEST(update_results_posted)
     ht_setup(DOM2, NULL);
     ht_load("Behavior = BHV_Waypoint\n{\n name = survey\n speed = 2\n points = 0,0:100,0\n updates = WPT_UPDATE\n}\n");
     nav(0, -100);
+    ht_iter(1); /* the start-up settings go out with the first engaged iteration (24.8) */
     ck_assert_uint_eq(ht_count("BHV_SETTINGS"), 1);
     kelp_helm_mail_string(&g_h, "WPT_UPDATE", "speed = 1.5");
     ht_iter(2);
@@ -813,6 +814,8 @@ START_TEST(bhv_wpt_retract_warning)
     g_retract_seen = false;
     ht_load("Behavior = BHV_Waypoint\n{\n name = survey\n speed = 2\n points = 0,0:100,0\n updates = WPT_UPDATE\n}\n"
             "Behavior = BHV_Waypoint\n{\n name = home\n speed = 2\n points = 0,-20\n repeat = 2\n}\n");
+    nav(0, 0);
+    ht_iter(0); /* with the first engaged iteration (24.8) */
     ck_assert(ht_has_str("BHV_WARNING", "survey: No waypts given. Set val to empty if intentional"));
     ck_assert(ht_has_str("BHV_WARNING", "home: No waypts given. Set val to empty if intentional"));
     ck_assert(ht_has_str("BHV_WARNING", "home: cycles/repeats not supported with single waypt"));
@@ -847,6 +850,10 @@ START_TEST(bhv_settings_and_status)
             " capture_radius = 5\n slip_radius = 12\n repeat = forever\n}\n"
             "Behavior = BHV_Loiter\n{\n name = loiter\n speed = 1.5\n condition = GO = true\n"
             " polygon = 0,0:40,0:40,-30:0,-30\n clockwise = false\n}\n");
+    nav(0, -100);
+    kelp_helm_mail_double(&g_h, "NAV_HEADING", 0); /* the loiter needs a heading (24.8: an error without) */
+    ht_iter(1);
+    /* the start-up settings go out with the first engaged iteration (24.8) */
     const ht_post *p = ht_last("BHV_SETTINGS");
     ck_assert(p != NULL);
     ck_assert_uint_eq(ht_count("BHV_SETTINGS"), 2);
@@ -857,9 +864,6 @@ START_TEST(bhv_settings_and_status)
                          "efficiency_measure=off,capture_radius=5,slip_radius=12,crs_spd_zaic_ratio=50"));
     ck_assert(ht_has_str("BHV_SETTINGS", "type=BHV_Loiter,name=loiter,x=20.00,y=-15.00,clockwise=false,"
                          "dynamic_clockwise=false,center_activate=false,desired_speed=1.5,polygon=\"pts={0,-30:40,-30:40,0:0,0}\""));
-    nav(0, -100);
-    kelp_helm_mail_double(&g_h, "NAV_HEADING", 0); /* the loiter needs a heading (24.8: an error without) */
-    ht_iter(1);
     /* 24.8's: an active behaviour's weight and pieces, an idle one's failed condition (twice:
      * asked before and after the run) */
     char st[96];
@@ -1180,6 +1184,16 @@ static void tweak_default_start(kelp_helm_config *cfg)
  * variables' zeros) only when the reason changes: ManualOverride once; the first iteration with
  * nothing to do posts the reason without zeros, the next posts it again with the zeros, then
  * nothing until the reason changes */
+/* comms_policy (IvPBehavior::setParam): open, lean or dire, anything else refused */
+START_TEST(general_comms_policy)
+{
+    ht_setup(DOM2, NULL);
+    ck_assert_int_eq(ht_load_rc("Behavior = BHV_ConstantSpeed\n{\n name = a\n speed = 1\n comms_policy = lean\n}\n"), 0);
+    ht_setup(DOM2, NULL);
+    ck_assert_int_lt(ht_load_rc("Behavior = BHV_ConstantSpeed\n{\n name = a\n speed = 1\n comms_policy = loose\n}\n"), 0);
+}
+END_TEST
+
 /* IVPHELM_REGISTER as 24.8's registerNewVariables (HelmIvP.cpp, BehaviorSet::getInfoVars /
  * getNewInfoVars, IvPBehavior::getInfoVars): at the first engaged iteration each behaviour's
  * information variables -- its conditions', its duration_reset variable, the ones it adds itself
@@ -1532,6 +1546,7 @@ Suite *kelp_helm_suite(void)
     tcase_add_test(tc, manual_override_parks);
     tcase_add_test(tc, helm_starts_parked);
     tcase_add_test(tc, register_info_vars_as_248);
+    tcase_add_test(tc, general_comms_policy);
     tcase_add_test(tc, macro_dur_run_time);
     tcase_add_test(tc, helm_v248_postings);
     tcase_add_test(tc, park_policies_and_other_override);

@@ -677,6 +677,7 @@ struct kelp_helm {
     unsigned long dec_iter;         /* 24.8's helm iteration: the decisions made (engaged loops) */
     double first_iter_time;         /* helm time of the first iteration (life events' time=) */
     bool startup_events_pending;    /* the behaviours' spawn events, posted by the first decision */
+    bool config_pending;            /* the behaviours' start-up settings, posted by the first decision */
     kelp_helm_report rep;
     kelp_ivp_func fn[KELP_HELM_MAX_BHVS];   /* functions of the current iteration */
     kelp_ivp_problem prob;

@@ -116,6 +116,13 @@ static int general_param(kelp_bhv *b, const char *p, const char *v)
             return kelp_helm_bhv_fail(b, "bad vehicle name");
         return 0;
     }
+    if (!strcmp(p, "comms_policy")) {
+        /* 24.8's behaviour comms policy: open, lean or dire (it restricts offboard postings,
+         * which kelp's behaviours make none of); anything else is refused as 24.8 refuses it */
+        if (!hx_ieq(v, "open") && !hx_ieq(v, "lean") && !hx_ieq(v, "dire"))
+            return kelp_helm_bhv_fail(b, "comms_policy is open, lean or dire");
+        return 0;
+    }
     if (!strcmp(p, "pwt") || !strcmp(p, "priority") || !strcmp(p, "priwt")) {
         if (!hx_number(v, vn, &d) || d < 0)
             return kelp_helm_bhv_fail(b, "priority must be a number >= 0");

@@ -354,7 +354,7 @@ static void post_init(kelp_helm *h, const kelp_helm_pair *p)
 
 static void post_mode(kelp_helm *h, const char *var, const char *val)
 {
-    sink(h, var, true, val, 0, NULL);
+    sink(h, var, true, val, 0, "HELM_MODE"); /* 24.8's source aux for a mode variable */
 }
 
 void kelp_helm_start(kelp_helm *h, kelp_time now)
@@ -372,10 +372,10 @@ void kelp_helm_start(kelp_helm *h, kelp_time now)
     sink(h, "IVPHELM_DOMAIN", true, buf, 0, NULL);
     /* one spawn event per behaviour of the files: posted by the first decision (24.8) */
     h->startup_events_pending = true;
-    /* each behaviour's BHV_SETTINGS (onSetParamComplete) */
-    for (unsigned i = 0; i < h->nbhv; i++)
-        if (h->bhv[i].ops->post_config)
-            h->bhv[i].ops->post_config(&h->bhv[i]);
+    /* each behaviour's BHV_SETTINGS (onSetParamComplete): 24.8 calls it at start-up, and the
+     * messages wait in the behaviour until the first engaged iteration posts them (with that
+     * iteration's aux) */
+    h->config_pending = true;
     /* onHelmStart: behaviours, then templates (their alert requests) */
     for (unsigned i = 0; i < h->nbhv; i++)
         if (h->bhv[i].ops->on_helm_start)
@@ -1554,10 +1554,13 @@ int kelp_helm_iterate(kelp_helm *h, kelp_time now)
         memset(has_fn, 0, sizeof h->ws_has_fn);
         size_t pool_used = 0;
         for (unsigned i = 0; i < h->nbhv; i++) {
+            if (h->config_pending && h->bhv[i].ops->post_config)
+                h->bhv[i].ops->post_config(&h->bhv[i]);
             has_fn[i] = produce(h, i, &pool_used, &r->halted);
             if (has_fn[i])
                 r->pcs_formed += h->fn[i].n;
         }
+        h->config_pending = false;
         flush_posts(h);
         if (h->startup_events_pending) { /* after the behaviours' postings, as 24.8 */
             h->startup_events_pending = false;

@@ -275,13 +275,15 @@ def compare(scn, golden_dir, kelp_dir):
         figs.append(Figure("vars/%s" % app, ok, "" if ok else "only 24.8: %s; only kelp: %s" % (
             sorted(gv - kv), sorted(kv - gv))))
         # the source aux of an app's postings (the helm's "<iteration>:<behaviour>"): per variable
-        # the set of aux texts with their digits masked, where the recording has any
+        # the aux texts with their digits masked, where the recording has any; each of the
+        # recording's must be among kelp's (not the other way: the recordings miss the first
+        # posting of a variable new to the MOOSDB, and with it a behaviour's aux at times)
         gaux, kaux = collections.defaultdict(set), collections.defaultdict(set)
         for (s_, a_, v_), rr in by.items():
             if a_ == app:
                 for r in rr:
                     (gaux if s_ == "g" else kaux)[v_].add(re.sub(r"\d+", "#", r.get("aux") or ""))
-        bad = sorted(v for v in gaux if v in kaux and any(gaux[v]) and gaux[v] != kaux[v])
+        bad = sorted(v for v in gaux if v in kaux and any(gaux[v]) and not gaux[v] <= kaux[v])
         if any(any(x) for x in gaux.values()):
             figs.append(Figure("aux/%s" % app, not bad, "" if not bad else "; ".join(
                 "%s: 24.8 %s, kelp %s" % (v, sorted(gaux[v]), sorted(kaux[v])) for v in bad[:4])))
