@@ -73,17 +73,20 @@ static void hint(kelp_bhv_skeep *s, const char *h, size_t n)
     const char *v = eq + 1;
     while (vl && *v == ' ') v++, vl--;
     while (vl && v[vl - 1] == ' ') vl--;
+    static const char *const ckey[3] = {"vertex_color", "edge_color", "label_color"};
+    char *const cdst[3] = {s->vertex_color, s->edge_color, s->label_color};
+    for (int k = 0; k < 3; k++)
+        if (kl == strlen(ckey[k]) && !strncmp(h, ckey[k], kl)) {
+            if (vl && vl < sizeof s->vertex_color) hx_ignore(hx_copy(cdst[k], sizeof s->vertex_color, v, vl));
+            return;
+        }
     double d;
-    char *dst = kl == 12 && !strncmp(h, "vertex_color", 12) ? s->vertex_color
-              : kl == 10 && !strncmp(h, "edge_color", 10) ? s->edge_color
-              : kl == 11 && !strncmp(h, "label_color", 11) ? s->label_color : NULL;
-    if (dst) {
-        if (vl && vl < sizeof s->vertex_color) hx_ignore(hx_copy(dst, sizeof s->vertex_color, v, vl));
-    } else if (kl == 9 && !strncmp(h, "edge_size", 9) && hx_number(v, vl, &d)) {
+    if (!hx_number(v, vl, &d))
+        return;
+    if (kl == 9 && !strncmp(h, "edge_size", 9))
         s->edge_size = d;
-    } else if (kl == 11 && !strncmp(h, "vertex_size", 11) && hx_number(v, vl, &d)) {
+    else if (kl == 11 && !strncmp(h, "vertex_size", 11))
         s->vertex_size = d;
-    }
 }
 
 static int sk_set_param(kelp_bhv *b, const char *p, const char *v)
