@@ -844,8 +844,10 @@ START_TEST(helm_interface_publications)
     ck_assert(fabs(ht_num("IVPHELM_CREATE_CPU") - 0.001) < 1e-9);
     ck_assert(fabs(ht_num("IVPHELM_LOOP_CPU") - 0.002) < 1e-9);
     const char *sum = ht_last("IVPHELM_SUMMARY")->sval;
+    /* the first summary is whole (24.8's HelmReport): CPU times in 10 ms steps, 2 decimals */
     ck_assert_ptr_nonnull(strstr(sum, ",utc_time=1000.00,"));
-    ck_assert_ptr_nonnull(strstr(sum, ",create_time=0.0010,solve_time=0.0010,loop_time=0.0020,"));
+    ck_assert_msg(strstr(sum, ",solve_time=0.00,create_time=0.00,max_create_time=0.00,max_solve_time=0.00,"
+                              "max_loop_time=0.00,loop_time=0.00,") != NULL, "%s", sum);
     ck_assert_ptr_nonnull(strstr(sum, ",total_pcs_formed="));
     ck_assert_ptr_nonnull(strstr(sum, ",modes=MODE@INACTIVE"));
     ht_iter(0.5);

@@ -1494,16 +1494,25 @@ START_TEST(summary_and_lists)
     const ht_post *p = ht_last("IVPHELM_SUMMARY");
     ck_assert_ptr_nonnull(p);
     ck_assert_msg(strstr(p->sval, "iter=1,") == p->sval, "%s", p->sval);
+    /* 24.8's HelmReport layout, whole the first time */
     ck_assert_ptr_nonnull(strstr(p->sval, ",ofnum=1,"));
-    ck_assert_ptr_nonnull(strstr(p->sval, ",allstop=clear"));
-    ck_assert_ptr_nonnull(strstr(p->sval, ",var=course:124.00,var=speed:2.00"));
-    ck_assert_ptr_nonnull(strstr(p->sval, ",active_bhvs=transit_to_point,"));
-    ck_assert_ptr_nonnull(strstr(p->sval, ",idle_bhvs=waypt_return,"));
+    ck_assert_msg(strstr(p->sval, ",var=course:124,var=speed:2,halted=false,active_goal=true,modes=none,"
+                                  "running_bhvs=none,active_bhvs=transit_to_point$") != NULL, "%s", p->sval);
+    ck_assert_ptr_nonnull(strstr(p->sval, "$100.00000$"));
+    ck_assert_ptr_nonnull(strstr(p->sval, ",disabled_bhvs=none,idle_bhvs=waypt_return$"));
+    ck_assert_ptr_nonnull(strstr(p->sval, ",completed_bhvs=none,ivpdomain=\"course,0,359,360:speed,0,4,21\",halt_msg=none"));
     ck_assert(ht_has_str("IVPHELM_BHV_IDLE", "waypt_return"));
     ck_assert(ht_num("IVPHELM_ITER") == 1 && ht_num("IVPHELM_IPF_CNT") == 1);
     ck_assert(ht_num("IVPHELM_TOTAL_PCS_FORMED") > 0 && ht_num("IVPHELM_TOTAL_PCS_CACHED") == 0);
     ht_iter(1);
     ck_assert_uint_eq(ht_count("IVPHELM_BHV_IDLE"), 0); /* lists only on change */
+    p = ht_last("IVPHELM_SUMMARY"); /* then iter and utc_time, and only the fields that changed */
+    ck_assert_ptr_nonnull(p);
+    ck_assert_msg(strstr(p->sval, "iter=2,utc_time=") == p->sval && !strstr(p->sval, "idle_bhvs") &&
+                  !strstr(p->sval, "ivpdomain") && !strstr(p->sval, "halted"), "%s", p->sval);
+    kelp_helm_mail_string(&g_h, "IVPHELM_REJOURNAL", "true");
+    ht_iter(2);
+    ck_assert_ptr_nonnull(strstr(ht_last("IVPHELM_SUMMARY")->sval, ",ivpdomain=")); /* whole again */
 }
 END_TEST
 

@@ -281,6 +281,7 @@ static const kelp_app_def def = {
     .subscribes = (const kelp_app_var_info[]){
         { "MOOS_MANUAL_OVERIDE", "false", "true: all stop (PARK); false: DRIVE" },
         { "MOOS_MANUAL_OVERRIDE", "false", "same, correctly spelt" },
+        { "IVPHELM_REJOURNAL", "true", "the next IVPHELM_SUMMARY whole" },
         { "NAV_X", "112.3", "and every variable the behaviours use" },
         { "NAV_Y", "-99.1", NULL },
         { NULL, NULL, NULL } },
@@ -289,7 +290,9 @@ static const kelp_app_def def = {
         { "DESIRED_SPEED", "2.0", NULL },
         { "IVPHELM_STATE", "DRIVE", "DRIVE or PARK" },
         { "IVPHELM_ALLSTOP", "clear", "every iteration: or NothingToDo, BehaviorError, ManualOverride, MissingDecVars:x" },
-        { "IVPHELM_SUMMARY", "iter=12,ofnum=1,var=course:195.0,var=speed:1.2,active_bhvs=loiter", NULL },
+        { "IVPHELM_SUMMARY", "iter=12,utc_time=17514261063.25,var=speed:1.2,var=course:195,"
+          "active_bhvs=loiter$17514261051.50$100.00000$9$0.00000$n/a$1$$", "each decision, as 24.8's HelmReport:"
+          " iter and utc_time, then the fields that changed (all of them the first time and after IVPHELM_REJOURNAL)" },
         { "IVPHELM_ITER", "12", NULL },
         { "IVPHELM_IPF_CNT", "1", NULL },
         { "IVPHELM_TOTAL_PCS_FORMED", "1240", "every iteration; also IVPHELM_TOTAL_PCS_CACHED (0: kelp caches none)" },

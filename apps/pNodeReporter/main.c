@@ -247,7 +247,7 @@ static const kelp_app_def def = {
         { "NAV_HEADING", "118.8", "degrees" },
         { "NAV_DEPTH", "4.6", "meters" },
         { "IVPHELM_STATE", "DRIVE", NULL },
-        { "IVPHELM_SUMMARY", "iter=12,modes=MODE@ACTIVE:LOITERING,active_bhvs=loiter", "MODE= from modes=, else active_bhvs=" },
+        { "IVPHELM_SUMMARY", "iter=12,utc_time=17514261063.25,modes=MODE@ACTIVE:LOITERING", "MODE= from modes= (kept until the next modes=)" },
         { "IVPHELM_ALLSTOP", "clear", NULL },
         { "NAV_YAW", "118.8", "when it arrives, YAW= (the heading in radians, as MOOS-IvP writes it)" },
         { "NODE_COLOR_CHANGE", "yellow", "COLOR= when ALLOW_COLOR_CHANGE" },

@@ -417,6 +417,7 @@ struct kelp_bhv {
     double state_entered;              /**< buffer time the current state began */
     bool dur_started;
     double dur_start, dur_idle_time, dur_prev_time, dur_reset_stamp;
+    double cpu_total;                  /**< CPU seconds its runs took (IVPHELM_SUMMARY's active entry; kelp reads no clock per behaviour, so 0) */
     double dur_run_total, dur_idle_total; /**< $[DUR_RUN_TIME] / $[DUR_IDLE_TIME]: time running / idle since the start or a duration reset */
     bool dur_have_prev;
     const char *fail;                  /**< reason of a rejected parameter (first wins) */
@@ -623,6 +624,13 @@ typedef struct kelp_helm_report {
  * otherwise the conditions on the mode variable alone true gives the else value (if any); a
  * result is prefixed "PREFIX:" and is seen by the entries after it, so the last result wins
  * ("ACTIVE:SURVEYING"). */
+/** What the last IVPHELM_SUMMARY showed (HelmReport's previous report): a hash per field */
+typedef struct kelp_helm_sumprev {
+    bool valid;                        /**< a summary was posted */
+    bool cmpl_nonempty;                /**< its completed list was not empty */
+    uint64_t h[20];
+} kelp_helm_sumprev;
+
 typedef struct kelp_helm_mode {
     char var[KELP_MAX_NAME];
     char val[KELP_MAX_NAME];
@@ -678,6 +686,8 @@ struct kelp_helm {
     double first_iter_time;         /* helm time of the first iteration (life events' time=) */
     bool startup_events_pending;    /* the behaviours' spawn events, posted by the first decision */
     bool config_pending;            /* the behaviours' start-up settings, posted by the first decision */
+    kelp_helm_sumprev sum;          /* the last IVPHELM_SUMMARY's fields */
+    bool rejournal;                 /* IVPHELM_REJOURNAL: the next summary in full */
     kelp_helm_report rep;
     kelp_ivp_func fn[KELP_HELM_MAX_BHVS];   /* functions of the current iteration */
     kelp_ivp_problem prob;

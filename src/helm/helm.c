@@ -103,6 +103,7 @@ int kelp_helm_init(kelp_helm *h, const kelp_helm_config *cfg, const kelp_helm_me
     h->engaged = cfg->start_engaged;
     (void)helm_need_var(h, "MOOS_MANUAL_OVERIDE", 19);
     (void)helm_need_var(h, "MOOS_MANUAL_OVERRIDE", 20);
+    (void)helm_need_var(h, "IVPHELM_REJOURNAL", 17); /* a full IVPHELM_SUMMARY next time */
     /* the platform model (TURN_RATE) reads the navigation whatever the behaviours need */
     static const char *const nav[4] = {"NAV_X", "NAV_Y", "NAV_HEADING", "NAV_SPEED"};
     for (int i = 0; i < 4; i++)
@@ -490,6 +491,8 @@ static bool override_mail(kelp_helm *h, const char *var, const char *v)
 
 void kelp_helm_mail_double(kelp_helm *h, const char *var, double v)
 {
+    if (!strcmp(var, "IVPHELM_REJOURNAL"))
+        h->rejournal = true;
     if (override_mail(h, var, NULL))
         return;
     if (kelp_helm_ib_set_double(&h->ib, var, v, h->ib.curr_time, true) == 0)
@@ -500,6 +503,8 @@ void kelp_helm_mail_string(kelp_helm *h, const char *var, const char *v)
 {
     if (override_mail(h, var, v))
         return;
+    if (!strcmp(var, "IVPHELM_REJOURNAL"))
+        h->rejournal = true;
     if (kelp_helm_ib_set_string(&h->ib, var, v, h->ib.curr_time, true) == 0)
         h->ib.var[kelp_helm_ib_find(&h->ib, var)].pending = true;
 }
@@ -1164,15 +1169,130 @@ KELP_NOINLINE static void solve(kelp_helm *h, const bool *has_fn)
     }
 }
 
-/* key then v with dec decimals appended to buf; returns the length added */
-KELP_NOINLINE static size_t cat_fixed(char *buf, size_t cap, const char *key, double v, unsigned dec)
+static void post_completed_pending(kelp_helm *h);
+
+/* 24.8's CPU clock readings come in 10 ms steps: a time shown as its whole steps */
+static double tick10ms(double t)
 {
-    char num[32];
-    hx_fmt_fixed(num, sizeof num, v, dec);
-    return hx_cat(buf, cap, key, num, HX_END);
+    return floor(t * 100.0 + 1e-9) / 100.0;
 }
 
-static void post_completed_pending(kelp_helm *h);
+/* one field of the summary: ",key=" and the text, kept only when the text (hashed) changed
+ * since the last summary or the summary is a full one. @return the new length */
+static size_t sum_field(char *buf, size_t cap, size_t n, const char *key, const char *text, uint64_t *prev, bool full)
+{
+    uint64_t hv = hx_hash(HX_HASH_INIT, text, strlen(text));
+    if (!full && hv == *prev)
+        return n;
+    *prev = hv;
+    return n + hx_cat(buf + n, cap - n, ",", key, "=", text, HX_END);
+}
+
+/* a behaviour list as HelmReport writes it in full: entries joined with ':', each
+ * "name$<utc of its state, 2 decimals>$<updates>" (an active one:
+ * "name$<utc>$<pwt, 5 decimals>$<pieces>$<cpu, 5 decimals>$<updates>$<functions>$<mode>$<submode>") */
+KELP_NOINLINE static void sum_list(const kelp_helm *h, kelp_bhv_state st, char *out, size_t cap)
+{
+    size_t n = 0;
+    out[0] = 0;
+    for (unsigned i = 0; i < h->nbhv; i++) {
+        const kelp_bhv *b = &h->bhv[i];
+        kelp_bhv_state bs = b->completed && b->state != KELP_BHV_NONE ? KELP_BHV_COMPLETED : b->state;
+        if (bs != st)
+            continue;
+        char tm[32];
+        hx_fmt_fixed(tm, sizeof tm, h->t0 + b->state_entered, 2);
+        n += hx_cat(out + n, cap - n, n ? ":" : "", b->name, "$", tm, "$", HX_END);
+        if (st == KELP_BHV_ACTIVE) {
+            char pw[32], pc[24], cpu[32];
+            hx_fmt_fixed(pw, sizeof pw, b->pwt, 5);
+            hx_fmt_ulong(pc, sizeof pc, h->ws_has_fn[i] ? h->fn[i].n : 0);
+            hx_fmt_fixed(cpu, sizeof cpu, tick10ms(b->cpu_total), 5); /* kelp reads no clock per behaviour: 0 */
+            n += hx_cat(out + n, cap - n, pw, "$", pc, "$", cpu, "$", b->update_summary, "$1$$", HX_END);
+        } else
+            n += hx_cat(out + n, cap - n, b->update_summary, HX_END);
+    }
+}
+
+/* IVPHELM_SUMMARY as 24.8's HelmReport::getReportAsString: iter and utc_time always, then each
+ * field only when it changed since the last summary (all of them in the first one, and after
+ * IVPHELM_REJOURNAL): ofnum, total_pcs_formed (this iteration's), total_pcs_cached, warnings,
+ * the times (CPU seconds, 2 decimals), the decision (var=<name>:<value> per domain variable,
+ * varbalk when undecided), halted, active_goal, modes, the five behaviour lists, ivpdomain,
+ * halt_msg. Composed in the BHV_IPF workspace (free after the behaviours' runs). */
+KELP_NOINLINE static void post_summary(kelp_helm *h)
+{
+    const kelp_helm_report *r = &h->rep;
+    kelp_helm_sumprev *p = &h->sum;
+    const kelp_ivp_domain *hd = &h->cfg.domain;
+    char *buf = h->ws_ipf, *tmp = h->ws_out.tmp, num[40];
+    const size_t cap = sizeof h->ws_ipf;
+    const bool full = !p->valid || h->rejournal;
+    p->valid = true;
+    h->rejournal = false;
+    hx_fmt_ulong(num, sizeof num, r->iteration);
+    size_t n = hx_cat(buf, cap, "iter=", num, ",utc_time=", HX_END);
+    hx_fmt_fixed(num, sizeof num, h->t0 + r->time, 2);
+    n += hx_cat(buf + n, cap - n, num, HX_END);
+    hx_fmt_ulong(num, sizeof num, r->ofnum);
+    n = sum_field(buf, cap, n, "ofnum", num, &p->h[0], full);
+    hx_fmt_ulong(num, sizeof num, r->pcs_formed);
+    n = sum_field(buf, cap, n, "total_pcs_formed", num, &p->h[1], full);
+    n = sum_field(buf, cap, n, "total_pcs_cached", "0", &p->h[2], full); /* kelp caches none */
+    hx_fmt_ulong(num, sizeof num, r->warnings);
+    n = sum_field(buf, cap, n, "warnings", num, &p->h[3], full);
+    const double create = tick10ms(r->create_time), solved = tick10ms(r->solve_time);
+    const double tval[6] = {solved, create, tick10ms(r->max_create_time), tick10ms(r->max_solve_time),
+                            tick10ms(r->max_loop_time), create + solved};
+    static const char *const tkey[6] = {"solve_time", "create_time", "max_create_time", "max_solve_time",
+                                        "max_loop_time", "loop_time"};
+    for (int k = 0; k < 6; k++) {
+        hx_fmt_fixed(num, sizeof num, tval[k], 2);
+        n = sum_field(buf, cap, n, tkey[k], num, &p->h[4 + k], full);
+    }
+    /* the decision: one text of all its variables */
+    size_t t = 0;
+    tmp[0] = 0;
+    for (unsigned d = 0; d < hd->dim; d++) {
+        if (r->decided[d])
+            hx_fmt_x(num, sizeof num, r->decision[d], 5);
+        t += hx_cat(tmp + t, sizeof h->ws_out.tmp - t, d ? ",var=" : "var=", hd->var[d].name, ":",
+                    r->decided[d] ? num : "varbalk", HX_END);
+    }
+    uint64_t hv = hx_hash(HX_HASH_INIT, tmp, t);
+    if (full || hv != p->h[10])
+        n += hx_cat(buf + n, cap - n, ",", tmp, HX_END);
+    p->h[10] = hv;
+    n = sum_field(buf, cap, n, "halted", r->halted ? "true" : "false", &p->h[11], full);
+    n = sum_field(buf, cap, n, "active_goal", r->active_goal ? "true" : "false", &p->h[12], full);
+    n = sum_field(buf, cap, n, "modes", h->mode_summary[0] ? h->mode_summary : "none", &p->h[13], full);
+    /* the lists ("none" when empty; an emptied completed list is written empty, as 24.8 does) */
+    static const kelp_bhv_state lst[5] = {KELP_BHV_RUNNING, KELP_BHV_ACTIVE, KELP_BHV_NONE, KELP_BHV_IDLE,
+                                          KELP_BHV_COMPLETED};
+    static const char *const lkey[5] = {"running_bhvs", "active_bhvs", "disabled_bhvs", "idle_bhvs",
+                                        "completed_bhvs"};
+    char *lb = h->ws_out.buf;
+    for (int k = 0; k < 5; k++) {
+        if (lst[k] == KELP_BHV_NONE)
+            lb[0] = 0; /* kelp has no disabled behaviours */
+        else
+            sum_list(h, lst[k], lb, sizeof h->ws_out.buf);
+        hv = hx_hash(HX_HASH_INIT, lb, strlen(lb));
+        if (full || hv != p->h[14 + k]) {
+            const char *txt = lb[0] ? lb : (k == 4 && !full && p->cmpl_nonempty) ? "" : "none";
+            n += hx_cat(buf + n, cap - n, ",", lkey[k], "=", txt, HX_END);
+        }
+        p->h[14 + k] = hv;
+        if (k == 4)
+            p->cmpl_nonempty = lb[0] != 0;
+    }
+    if (full) {
+        helm_domain_string(hd, lb, sizeof h->ws_out.buf);
+        n += hx_cat(buf + n, cap - n, ",ivpdomain=\"", lb, "\"", HX_END);
+    }
+    (void)sum_field(buf, cap, n, "halt_msg", r->halt_msg[0] ? r->halt_msg : "none", &p->h[19], full);
+    sink(h, "IVPHELM_SUMMARY", true, buf, 0, NULL);
+}
 
 KELP_NOINLINE static void post_outputs(kelp_helm *h)
 {
@@ -1285,53 +1405,14 @@ KELP_NOINLINE static void post_outputs(kelp_helm *h)
             sink(h, lcnt[k], false, NULL, (double)ln[k], NULL);
             memcpy(h->last_lists[k], lists[k], sizeof lists[k]);
         }
-    /* summary: key=value pairs; behaviour lists joined with ':' */
-    char it[24], tm[32], of[24], wn[24];
-    hx_fmt_ulong(it, sizeof it, r->iteration);
-    hx_fmt_fixed(tm, sizeof tm, r->time, 2);
-    hx_fmt_ulong(of, sizeof of, r->ofnum);
-    hx_fmt_ulong(wn, sizeof wn, r->warnings);
-    size_t n = hx_cat(buf, bufcap, "iter=", it, ",time=", tm, ",ofnum=", of, ",warnings=", wn, ",halted=",
-                      r->halted ? "true" : "false", ",allstop=", r->allstop, HX_END);
-    for (unsigned d = 0; d < hd->dim; d++)
-        if (r->decided[d] && clear) {
-            char dv[32];
-            hx_fmt_fixed(dv, sizeof dv, r->decision[d], 2);
-            n += hx_cat(buf + n, bufcap - n, ",var=", hd->var[d].name, ":", dv, HX_END);
-        }
-    const char *keys[4] = {"active_bhvs", "running_bhvs", "idle_bhvs", "completed_bhvs"};
-    const char *vals[4] = {lists[0], lists[1], lists[2], cmpl};
-    for (int k = 0; k < 4; k++) {
-        char *tmp = h->ws_out.tmp;
-        memcpy(tmp, vals[k], sizeof h->ws_out.tmp);
-        for (char *c = tmp; *c; c++)
-            if (*c == ',')
-                *c = ':';
-        n += hx_cat(buf + n, bufcap - n, ",", keys[k], "=", tmp[0] ? tmp : "none", HX_END);
-    }
-    {
-        /* one number at a time, appended (the same text as one hx_cat of them all) */
-        static const char *const tkey[7] = {",utc_time=", ",create_time=", ",solve_time=", ",loop_time=",
-                                            ",max_create_time=", ",max_solve_time=", ",max_loop_time="};
-        const double tval[7] = {h->t0 + r->time, r->create_time, r->solve_time, r->loop_time,
-                                r->max_create_time, r->max_solve_time, r->max_loop_time};
-        for (int k = 0; k < 7; k++)
-            n += cat_fixed(buf + n, bufcap - n, tkey[k], tval[k], k ? 4 : 2);
-        char pf[24];
-        hx_fmt_ulong(pf, sizeof pf, r->total_pcs_formed);
-        n += hx_cat(buf + n, bufcap - n, ",total_pcs_formed=", pf,
-                    ",total_pcs_cached=0,disabled_bhvs=none,active_goal=", r->active_goal ? "true" : "false", HX_END);
-        char *dom = h->ws_out.dom;
-        helm_domain_string(hd, dom, sizeof h->ws_out.dom);
-        n += hx_cat(buf + n, bufcap - n, ",ivpdomain=\"", dom, "\",halt_msg=", r->halt_msg[0] ? r->halt_msg : "none",
-                    HX_END);
-    }
-    if (h->mode_summary[0])
-        hx_cat(buf + n, bufcap - n, ",modes=", h->mode_summary, HX_END);
-    sink(h, "IVPHELM_SUMMARY", true, buf, 0, NULL);
+    /* IVPHELM_SUMMARY: 24.8's HelmReport, by the engaged iterations only (a parked 24.8 helm
+     * returns before it) */
+    (void)clear, (void)buf, (void)bufcap, (void)lists, (void)cmpl;
+    if (h->engaged)
+        post_summary(h);
     sink(h, "IVPHELM_IPF_CNT", false, NULL, (double)r->ofnum, NULL);
     /* every iteration, as MOOS-IvP's helm; kelp builds each function anew (nothing cached) */
-    sink(h, "IVPHELM_TOTAL_PCS_FORMED", false, NULL, (double)r->total_pcs_formed, NULL);
+    sink(h, "IVPHELM_TOTAL_PCS_FORMED", false, NULL, (double)r->pcs_formed, NULL); /* 24.8: this iteration's */
     sink(h, "IVPHELM_TOTAL_PCS_CACHED", false, NULL, 0, NULL);
     sink(h, "IVPHELM_ITER", false, NULL, (double)h->dec_iter, NULL);
     if (h->engaged)
