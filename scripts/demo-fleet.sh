@@ -137,7 +137,10 @@ for v in "${NAMES[@]}"; do
   "$B/bin/kelp-logcheck" "$v.lcm" --print > "$v.txt" 2>/dev/null || true
   dist=$(awk -v v="$v" '$1==v && $2=="report" {print $4}' plot.out)
   hits=$(awk '$2=="pHelmIvP" && $3=="WPT_HIT" {split($4, w, ":"); n[w[1]]++; t++} END{printf "%d (survey %d, return %d)", t, n["survey"], n["return"]}' "$v.txt")
-  cmpl=$(grep " pHelmIvP IVPHELM_SUMMARY " "$v.txt" | tail -1 | sed -n 's/.*completed_bhvs=\([^,]*\).*/\1/p')
+  # (24.8's summary writes a field when it changes: the last completed_bhvs= written, its
+  # entries "name$time$updates" joined with ':')
+  cmpl=$(grep " pHelmIvP IVPHELM_SUMMARY " "$v.txt" | grep -o 'completed_bhvs=[^,]*' | tail -1 | sed 's/^completed_bhvs=//' |
+         awk -F: '{for (i = 1; i <= NF; i++) {sub(/\$.*/, "", $i); printf "%s%s", (i > 1 ? ":" : ""), $i}}')
   ncmpl=$(echo "${cmpl:-none}" | awk -F: '$1=="none"{print 0; exit} {print NF}')
   td=$(awk '$3=="DEPLOY" && $4=="true" {print $1; exit}' "$v.txt")
   tm=$(awk '$2=="pHelmIvP" && $3=="MISSION" && $4=="complete" {print $1; exit}' "$v.txt")
