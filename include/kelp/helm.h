@@ -417,7 +417,6 @@ struct kelp_bhv {
     double state_entered;              /**< buffer time the current state began */
     bool dur_started;
     double dur_start, dur_idle_time, dur_prev_time, dur_reset_stamp;
-    double cpu_total;                  /**< CPU seconds its runs took (IVPHELM_SUMMARY's active entry; kelp reads no clock per behaviour, so 0) */
     double dur_run_total, dur_idle_total; /**< $[DUR_RUN_TIME] / $[DUR_IDLE_TIME]: time running / idle since the start or a duration reset */
     bool dur_have_prev;
     const char *fail;                  /**< reason of a rejected parameter (first wins) */

@@ -1204,11 +1204,11 @@ KELP_NOINLINE static void sum_list(const kelp_helm *h, kelp_bhv_state st, char *
         hx_fmt_fixed(tm, sizeof tm, h->t0 + b->state_entered, 2);
         n += hx_cat(out + n, cap - n, n ? ":" : "", b->name, "$", tm, "$", HX_END);
         if (st == KELP_BHV_ACTIVE) {
-            char pw[32], pc[24], cpu[32];
+            char pw[32], pc[24];
             hx_fmt_fixed(pw, sizeof pw, b->pwt, 5);
             hx_fmt_ulong(pc, sizeof pc, h->ws_has_fn[i] ? h->fn[i].n : 0);
-            hx_fmt_fixed(cpu, sizeof cpu, tick10ms(b->cpu_total), 5); /* kelp reads no clock per behaviour: 0 */
-            n += hx_cat(out + n, cap - n, pw, "$", pc, "$", cpu, "$", b->update_summary, "$1$$", HX_END);
+            /* the behaviour's CPU: kelp reads no clock per behaviour */
+            n += hx_cat(out + n, cap - n, pw, "$", pc, "$0.00000$", b->update_summary, "$1$$", HX_END);
         } else
             n += hx_cat(out + n, cap - n, b->update_summary, HX_END);
     }
@@ -1407,7 +1407,6 @@ KELP_NOINLINE static void post_outputs(kelp_helm *h)
         }
     /* IVPHELM_SUMMARY: 24.8's HelmReport, by the engaged iterations only (a parked 24.8 helm
      * returns before it) */
-    (void)clear, (void)buf, (void)bufcap, (void)lists, (void)cmpl;
     if (h->engaged)
         post_summary(h);
     sink(h, "IVPHELM_IPF_CNT", false, NULL, (double)r->ofnum, NULL);
